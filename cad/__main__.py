@@ -1,0 +1,3 @@
+from cad.cli.app import main
+
+main()

@@ -1,0 +1,57 @@
+"""The ``hapticad`` typer application and its error boundary.
+
+Exit codes: 0 success, 1 a target missed (``check``), 2 bad input (one line on
+stderr naming the field and the reason, never a traceback).
+"""
+
+from __future__ import annotations
+
+import importlib
+import pkgutil
+import sys
+
+import typer
+
+from cad.errors import HapticadError, TargetMissed
+
+app = typer.Typer(
+    name="hapticad",
+    help="Parametric CAD generator for haptic-device hardware.",
+    no_args_is_help=True,
+    add_completion=False,
+    pretty_exceptions_enable=False,
+)
+
+
+def _register_commands() -> None:
+    import cad.cli as pkg
+
+    for mod in sorted(pkgutil.iter_modules(pkg.__path__), key=lambda m: m.name):
+        if mod.name.startswith("cmd_"):
+            importlib.import_module(f"cad.cli.{mod.name}").register(app)
+
+
+def fail(message: str, code: int = 2) -> typer.Exit:
+    """Print ``hapticad: error: <message>`` on stderr and return the Exit to raise."""
+    print(f"hapticad: error: {message}", file=sys.stderr)
+    return typer.Exit(code)
+
+
+def main() -> None:
+    """Console-script entry point: run the app, map errors to exit codes."""
+    _register_commands()
+    try:
+        app()
+    except TargetMissed as exc:
+        print(f"hapticad: {exc}", file=sys.stderr)
+        sys.exit(1)
+    except HapticadError as exc:
+        print(f"hapticad: error: {exc}", file=sys.stderr)
+        sys.exit(2)
+    except (OSError, UnicodeDecodeError) as exc:
+        print(f"hapticad: error: {exc}", file=sys.stderr)
+        sys.exit(2)
+
+
+if __name__ == "__main__":
+    main()

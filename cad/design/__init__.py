@@ -1,0 +1,53 @@
+"""Design files: TOML in, validated frozen dataclasses out.
+
+``load_design(path)`` reads a TOML file and dispatches on
+``[mechanism].family`` to the module that owns that family's schema
+(:data:`FAMILY_MODULES`). Each module exposes ``parse(raw, source) -> design``.
+Every problem is a :class:`cad.errors.DesignError` naming the dotted field.
+"""
+
+from __future__ import annotations
+
+import importlib
+from pathlib import Path
+from typing import Any
+
+from cad.design.fields import load_toml, require_table, require_str
+
+#: family name -> module owning its schema.
+FAMILY_MODULES: dict[str, str] = {
+    "hoeken": "cad.design.fourbar",
+    "roberts": "cad.design.fourbar",
+    "chebyshev": "cad.design.fourbar",
+    "chebyshev-v": "cad.design.fourbar",
+    "custom": "cad.design.fourbar",
+    "pantograph": "cad.design.pantograph",
+    "twin-pantograph": "cad.design.pantograph",
+    "haptic-pen": "cad.design.pantograph",
+    "powermouse": "cad.design.powermouse",
+}
+
+
+def family_of(raw: dict[str, Any]) -> str:
+    """Return ``[mechanism].family`` of a raw design, validated."""
+    mech = require_table(raw, "mechanism", "")
+    fam = require_str(mech, "family", "mechanism")
+    if fam not in FAMILY_MODULES:
+        known = ", ".join(sorted(FAMILY_MODULES))
+        from cad.errors import DesignError
+
+        raise DesignError("mechanism.family", f"unknown family {fam!r} (known: {known})")
+    return fam
+
+
+def parse_design(raw: dict[str, Any], source: str = "<design>"):
+    """Validate a raw design mapping and return the family's design object."""
+    fam = family_of(raw)
+    module = importlib.import_module(FAMILY_MODULES[fam])
+    return module.parse(raw, source)
+
+
+def load_design(path: str | Path):
+    """Load and validate a TOML design file (see README "Design files")."""
+    raw = load_toml(path)
+    return parse_design(raw, str(path))

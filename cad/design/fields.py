@@ -1,0 +1,132 @@
+"""Small validators used by every design schema.
+
+Each raises :class:`cad.errors.DesignError` with the dotted path of the field
+and the reason, quoting the value received.
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from collections.abc import Iterable
+from pathlib import Path
+from typing import Any
+
+from cad.errors import DesignError
+
+
+def _path(prefix: str, key: str) -> str:
+    return f"{prefix}.{key}" if prefix else key
+
+
+def load_toml(path: str | Path) -> dict[str, Any]:
+    """Read a TOML file; a missing file or bad syntax is a DesignError."""
+    p = Path(path)
+    if not p.is_file():
+        raise DesignError("design", f"file not found: {p}")
+    try:
+        with p.open("rb") as fh:
+            return tomllib.load(fh)
+    except tomllib.TOMLDecodeError as exc:
+        raise DesignError("design", f"{p} is not valid TOML ({exc})") from None
+    except UnicodeDecodeError:
+        raise DesignError("design", f"{p} is not UTF-8 text") from None
+
+
+def check_unknown(table: dict[str, Any], allowed: Iterable[str], prefix: str) -> None:
+    """Reject keys not in ``allowed`` (catches typos such as ``l1mm``)."""
+    allowed = set(allowed)
+    for key in table:
+        if key not in allowed:
+            hint = ", ".join(sorted(allowed))
+            raise DesignError(_path(prefix, key), f"unknown key (allowed: {hint})")
+
+
+def require_table(raw: dict[str, Any], key: str, prefix: str) -> dict[str, Any]:
+    """Return ``raw[key]`` which must be a TOML table."""
+    if key not in raw:
+        raise DesignError(_path(prefix, key), "missing table")
+    val = raw[key]
+    if not isinstance(val, dict):
+        raise DesignError(_path(prefix, key), f"must be a table, got {val!r}")
+    return val
+
+
+def optional_table(raw: dict[str, Any], key: str, prefix: str) -> dict[str, Any]:
+    """Return ``raw[key]`` if present (must be a table), else an empty dict."""
+    if key not in raw:
+        return {}
+    return require_table(raw, key, prefix)
+
+
+def require_str(table: dict[str, Any], key: str, prefix: str) -> str:
+    if key not in table:
+        raise DesignError(_path(prefix, key), "missing")
+    val = table[key]
+    if not isinstance(val, str) or not val:
+        raise DesignError(_path(prefix, key), f"must be a non-empty string, got {val!r}")
+    return val
+
+
+def _number(val: Any, field: str) -> float:
+    if isinstance(val, bool) or not isinstance(val, (int, float)):
+        raise DesignError(field, f"must be a number, got {val!r}")
+    x = float(val)
+    if not math.isfinite(x):
+        raise DesignError(field, f"must be finite, got {val!r}")
+    return x
+
+
+def require_number(table: dict[str, Any], key: str, prefix: str) -> float:
+    if key not in table:
+        raise DesignError(_path(prefix, key), "missing")
+    return _number(table[key], _path(prefix, key))
+
+
+def optional_number(table: dict[str, Any], key: str, prefix: str, default: float | None) -> float | None:
+    if key not in table:
+        return default
+    return _number(table[key], _path(prefix, key))
+
+
+def require_positive(table: dict[str, Any], key: str, prefix: str) -> float:
+    x = require_number(table, key, prefix)
+    if x <= 0:
+        raise DesignError(_path(prefix, key), f"must be > 0, got {table[key]!r}")
+    return x
+
+
+def optional_positive(table: dict[str, Any], key: str, prefix: str, default: float | None) -> float | None:
+    if key not in table:
+        return default
+    return require_positive(table, key, prefix)
+
+
+def require_nonnegative(table: dict[str, Any], key: str, prefix: str) -> float:
+    x = require_number(table, key, prefix)
+    if x < 0:
+        raise DesignError(_path(prefix, key), f"must be >= 0, got {table[key]!r}")
+    return x
+
+
+def optional_int(table: dict[str, Any], key: str, prefix: str, default: int, minimum: int | None = None) -> int:
+    if key not in table:
+        return default
+    val = table[key]
+    if isinstance(val, bool) or not isinstance(val, int):
+        raise DesignError(_path(prefix, key), f"must be an integer, got {val!r}")
+    if minimum is not None and val < minimum:
+        raise DesignError(_path(prefix, key), f"must be >= {minimum}, got {val!r}")
+    return val
+
+
+def number_list(table: dict[str, Any], key: str, prefix: str, length: int | None = None) -> list[float]:
+    if key not in table:
+        raise DesignError(_path(prefix, key), "missing")
+    val = table[key]
+    field = _path(prefix, key)
+    if not isinstance(val, list):
+        raise DesignError(field, f"must be a list of numbers, got {val!r}")
+    if length is not None and len(val) != length:
+        raise DesignError(field, f"must have {length} numbers, got {len(val)}")
+    return [_number(v, field) for v in val]

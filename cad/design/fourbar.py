@@ -1,0 +1,175 @@
+"""Four-bar design files (families hoeken, roberts, chebyshev, chebyshev-v, custom).
+
+Schema (units in key names; see README "Design files")::
+
+    name = "hoeken"                  # top level, required: output folder name
+
+    [mechanism]
+    family = "hoeken"                # hoeken | roberts | chebyshev | chebyshev-v | custom
+    stroke_mm = 50.0                 # named families: scale the paper's Fig. 2 proportions
+                                     # to this stroke (omit: the paper's own dimensions)
+    force_N = 5.0                    # force along the path for the torque metrics
+    # custom only (all required):
+    # l1_mm, l2_mm, l3_mm, l4_mm, l5_mm, le_mm, phi_e_deg, phi1_min_deg, phi1_max_deg, branch
+
+    [analysis]   samples = 2001      # optional
+    [inertia]    H11_kg_m2 = ...     # optional given inertia coefficients (all four)
+    [stiffness]  Fv_N_s_per_m, Fs_N, Te_s, encoder_resolution_m, xdot_max_m_per_s (optional, eq 25)
+    [parts]      part parameters (see cad/design/parts.py)
+    [targets]    see cad/design/targets.py
+    [fit]        free = ["parts.bar_thickness_mm", ...] (see `hapticad fit`)
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+from cad.design.fields import (
+    check_unknown,
+    optional_int,
+    optional_number,
+    optional_positive,
+    optional_table,
+    require_number,
+    require_positive,
+    require_str,
+    require_table,
+)
+from cad.design.targets import Target, parse_targets
+from cad.dynamics.inertia import InertiaCoefficients
+from cad.dynamics.stiffness import StiffnessInputs
+from cad.errors import DesignError, KinematicsError
+from cad.kinematics.families import FAMILIES, family_linkage
+from cad.kinematics.fourbar import FourBar, require_range
+
+FOURBAR_FAMILIES = (*FAMILIES, "custom")
+CUSTOM_KEYS = ("l1_mm", "l2_mm", "l3_mm", "l4_mm", "l5_mm", "le_mm", "phi_e_deg",
+               "phi1_min_deg", "phi1_max_deg", "branch")
+TOP_KEYS = ("name", "description", "mechanism", "analysis", "inertia", "stiffness", "parts",
+            "targets", "fit")
+
+
+@dataclass(frozen=True)
+class FourBarDesign:
+    """A validated four-bar design. Lengths mm, angles rad."""
+
+    name: str
+    source: str
+    family: str
+    linkage: FourBar
+    phi1_min_rad: float
+    phi1_max_rad: float
+    force_N: float
+    stroke_mm_requested: float | None
+    samples: int
+    inertia: InertiaCoefficients | None
+    stiffness: StiffnessInputs | None
+    parts: Any
+    targets: tuple[Target, ...]
+    fit_free: tuple[str, ...]
+    raw: dict = field(repr=False, compare=False, hash=False, default_factory=dict)
+
+    def resolved_linkage(self) -> dict[str, float | int | str]:
+        """The resolved linkage in design-file units (report.json / analyze --json)."""
+        fb = self.linkage
+        return {
+            "family": self.family,
+            "l1_mm": fb.l1_mm, "l2_mm": fb.l2_mm, "l3_mm": fb.l3_mm, "l4_mm": fb.l4_mm,
+            "l5_mm": fb.l5_mm, "le_mm": fb.le_mm, "phi_e_deg": math.degrees(fb.phi_e_rad),
+            "phi1_min_deg": math.degrees(self.phi1_min_rad),
+            "phi1_max_deg": math.degrees(self.phi1_max_rad),
+            "branch": fb.branch,
+        }
+
+
+def _parse_linkage(mech: dict[str, Any], family: str) -> tuple[FourBar, float, float, float | None]:
+    p = "mechanism"
+    if family == "custom":
+        allowed = ("family", "force_N", *CUSTOM_KEYS)
+        check_unknown(mech, allowed, p)
+        lengths = {k: require_positive(mech, k, p) for k in ("l1_mm", "l2_mm", "l3_mm")}
+        l4 = require_number(mech, "l4_mm", p)
+        l5 = require_number(mech, "l5_mm", p)
+        le = require_number(mech, "le_mm", p)
+        if le < 0:
+            raise DesignError("mechanism.le_mm", f"must be >= 0, got {mech['le_mm']!r}")
+        phi_e = math.radians(require_number(mech, "phi_e_deg", p))
+        lo = math.radians(require_number(mech, "phi1_min_deg", p))
+        hi = math.radians(require_number(mech, "phi1_max_deg", p))
+        if "branch" not in mech:
+            raise DesignError("mechanism.branch", "missing (the assembly mode must be explicit: +1 or -1)")
+        branch = mech["branch"]
+        if isinstance(branch, bool) or branch not in (1, -1):
+            raise DesignError("mechanism.branch", f"must be +1 or -1, got {branch!r}")
+        fb = FourBar(lengths["l1_mm"], lengths["l2_mm"], lengths["l3_mm"], l4, l5, le, phi_e, int(branch))
+        return fb, lo, hi, None
+    check_unknown(mech, ("family", "force_N", "stroke_mm"), p)
+    stroke = optional_positive(mech, "stroke_mm", p, None)
+    fb, lo, hi = family_linkage(family, stroke)
+    return fb, lo, hi, stroke
+
+
+def _parse_inertia(tab: dict[str, Any]) -> InertiaCoefficients | None:
+    if not tab:
+        return None
+    keys = ("H11_kg_m2", "H12_kg_m2", "H22_kg_m2", "H33_kg_m2", "beta2_deg")
+    check_unknown(tab, keys, "inertia")
+    vals = {k: require_number(tab, k, "inertia") for k in keys[:4]}
+    for k in ("H11_kg_m2", "H22_kg_m2", "H33_kg_m2"):
+        if vals[k] <= 0:
+            raise DesignError(f"inertia.{k}", f"must be > 0, got {vals[k]!r}")
+    beta = math.radians(optional_number(tab, "beta2_deg", "inertia", 0.0) or 0.0)
+    return InertiaCoefficients(vals["H11_kg_m2"], vals["H12_kg_m2"], vals["H22_kg_m2"],
+                               vals["H33_kg_m2"], beta)
+
+
+def _parse_stiffness(tab: dict[str, Any]) -> StiffnessInputs | None:
+    if not tab:
+        return None
+    keys = ("Fv_N_s_per_m", "Fs_N", "Te_s", "encoder_resolution_m", "xdot_max_m_per_s")
+    check_unknown(tab, keys, "stiffness")
+    return StiffnessInputs(*(require_positive(tab, k, "stiffness") for k in keys))
+
+
+def parse(raw: dict[str, Any], source: str = "<design>") -> FourBarDesign:
+    """Validate a raw four-bar design mapping (see module docstring)."""
+    check_unknown(raw, TOP_KEYS, "")
+    name = require_str(raw, "name", "")
+    if "/" in name or "\\" in name or name.startswith("."):
+        raise DesignError("name", f"must be a plain folder name, got {name!r}")
+    mech = require_table(raw, "mechanism", "")
+    family = require_str(mech, "family", "mechanism")
+    if family not in FOURBAR_FAMILIES:
+        raise DesignError("mechanism.family", f"unknown four-bar family {family!r}")
+    force = optional_positive(mech, "force_N", "mechanism", 5.0)
+    fb, lo, hi, stroke = _parse_linkage(mech, family)
+    if not hi > lo:
+        raise DesignError("mechanism.phi1_max_deg",
+                          f"must be > phi1_min_deg ({math.degrees(lo):g}), got {math.degrees(hi):g}")
+    if hi - lo >= 2 * math.pi:
+        raise DesignError("mechanism.phi1_max_deg", "the crank range must be less than 360 deg")
+    try:
+        require_range(fb, lo, hi)
+    except KinematicsError as exc:  # ClosureError, ToggleError, BranchJumpError
+        raise DesignError("mechanism", f"impossible range: {exc}") from None
+    analysis = optional_table(raw, "analysis", "")
+    check_unknown(analysis, ("samples",), "analysis")
+    samples = optional_int(analysis, "samples", "analysis", 2001, minimum=3)
+    from cad.design.parts import parse_parts
+
+    parts = parse_parts(optional_table(raw, "parts", ""), "parts")
+    targets = parse_targets(optional_table(raw, "targets", ""), "targets")
+    fit = optional_table(raw, "fit", "")
+    check_unknown(fit, ("free",), "fit")
+    free = fit.get("free", [])
+    if not isinstance(free, list) or not all(isinstance(s, str) for s in free):
+        raise DesignError("fit.free", f"must be a list of parameter names, got {free!r}")
+    return FourBarDesign(
+        name=name, source=source, family=family, linkage=fb, phi1_min_rad=lo, phi1_max_rad=hi,
+        force_N=float(force), stroke_mm_requested=stroke, samples=samples,
+        inertia=_parse_inertia(optional_table(raw, "inertia", "")),
+        stiffness=_parse_stiffness(optional_table(raw, "stiffness", "")),
+        parts=parts, targets=targets, fit_free=tuple(free), raw=raw,
+    )

@@ -1,0 +1,1 @@
+"""Input/output helpers that import no CAD library."""

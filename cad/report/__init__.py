@@ -1,0 +1,1 @@
+"""Human reports (Markdown + PNG plots) and plots. matplotlib imported lazily."""

@@ -1,0 +1,38 @@
+"""Numerical tolerances, gathered in one place, each with the reason for its value.
+
+Lengths in mm unless the name says otherwise; angles in radians.
+"""
+
+#: Loop-closure residual accepted from the closed-form four-bar solution (mm).
+#: The closed form is exact; 1e-9 mm leaves ~6 orders above float64 round-off
+#: for links of ~100 mm.
+CLOSURE_RESIDUAL_MM = 1e-9
+
+#: Discriminant margin: A^2 + B^2 - C^2 below -this * (A^2 + B^2) means the loop
+#: cannot close. Relative, so it scales with the linkage.
+CLOSURE_REL_EPS = 1e-12
+
+#: |sin(phi2 - phi3)| below this is a toggle (transmission angle < ~0.57 deg):
+#: eq (11) velocity ratios blow up by > 100x the link ratio.
+TOGGLE_SIN = 1e-2
+
+#: |A + C| / sqrt(A^2 + B^2) below this makes eq (3)'s tan-half-angle form
+#: divide by ~zero (the reference form only; the atan2 form is used everywhere).
+TAN_HALF_EPS = 1e-9
+
+#: A jump in phi2 between adjacent samples larger than this (rad) while the
+#: crank moves by less than a sample step is a branch jump.
+BRANCH_JUMP_RAD = 0.5
+
+#: Smallest singular value ratio accepted before a pseudo-inverse is declared
+#: singular (eq 22): 1e-9 relative is ~7 orders above float64 eps.
+PINV_RCOND = 1e-9
+
+#: Relative tolerance for inertia tensors: eigenvalues must exceed
+#: -this * trace, and principal moments must satisfy the triangle inequality
+#: to within this * trace.
+INERTIA_REL_EPS = 1e-9
+
+#: Central-difference step for Jacobian checks (rad). Truncation error ~h^2,
+#: round-off ~eps/h: 1e-6 balances both near 1e-10 relative.
+FD_STEP_RAD = 1e-6
