@@ -54,7 +54,7 @@ class Family:
 #: Hoeken paper Fig. 2 (angles in deg, l2 in mm). Branches: see module docstring.
 FAMILIES: dict[str, Family] = {
     "hoeken": Family("hoeken", 0.4, 62.5, 1.0, 0.0, 0.8, 0.0, 2.0, 132.0, 216.0, -1),
-    "roberts": Family("roberts", 1.2, 38.46, 1.2, 0.0, 2.0, -65.7, 1.2, 37.0, 75.0, +1),
+    "roberts": Family("roberts", 1.2, 38.46, 1.2, 0.0, 2.0, -65.7, 1.2, 37.0, 75.0, -1),
     "chebyshev": Family("chebyshev", 2.5, 50.0, 2.5, 0.0, 2.0, 0.0, 0.5, 53.0, 80.0, +1),
     "chebyshev-v": Family("chebyshev-v", 0.23, 77.5, 1.0, 0.0, 0.5, -40.3, 1.52, 115.0, 245.0, -1),
 }

@@ -264,15 +264,27 @@ def check_range(fb: FourBar, phi1_min_rad: float, phi1_max_rad: float, samples: 
     problems: list[str] = []
     phi2, ok = _phi2_atan2(fb, phi1, fb.branch)
     gap = None
+    jump = None
     if not ok.all():
         bad = np.degrees(phi1[~ok])
         gap = (float(bad.min()), float(bad.max()))
         problems.append(
             f"the loop cannot close for phi1 in [{gap[0]:.3f}, {gap[1]:.3f}] deg (|C| > sqrt(A^2+B^2))"
         )
+    if ok.all() and samples >= 3:
+        between = _margin_dip_between_samples(fb, phi1)
+        if between is not None:
+            a, b, m_min, phi_min = between
+            if m_min < 0:
+                jump = float(np.degrees(a))
+                problems.append(
+                    f"branch jump between phi1 = {np.degrees(a):.3f} and {np.degrees(b):.3f} deg: "
+                    f"every sample closes but the loop cannot close near phi1 = "
+                    f"{np.degrees(phi_min):.3f} deg (a gap narrower than the sampling); the "
+                    "sampled motion changes assembly mode there. Sample more densely or shorten the range"
+                )
     pose = solve(fb, phi1[ok]) if ok.any() else None
     toggle = None
-    jump = None
     mu_min = float("nan")
     if pose is not None and len(pose) > 0:
         s23 = np.sin(pose.phi2_rad - pose.phi3_rad)
@@ -281,14 +293,14 @@ def check_range(fb: FourBar, phi1_min_rad: float, phi1_max_rad: float, samples: 
         tog = np.abs(s23) < tol.TOGGLE_SIN
         # a sign change of sin(phi2 - phi3) between samples is a toggle crossed between them
         flips = np.nonzero(np.sign(s23[1:]) != np.sign(s23[:-1]))[0]
-        if tog.any() or flips.size:
+        if (tog.any() or flips.size) and jump is None:
             idx = int(np.argmin(np.abs(s23)))
             toggle = float(np.degrees(pose.phi1_rad[idx]))
             problems.append(
                 f"toggle inside the range at phi1 = {toggle:.3f} deg (sin(phi2 - phi3) -> 0, "
                 f"transmission angle {mu_min:.2f} deg)"
             )
-        elif len(pose) > 2:
+        elif len(pose) > 2 and jump is None:
             a2 = fb.l1_mm * np.sin(pose.phi3_rad - pose.phi1_rad) / (fb.l2_mm * s23)
             dphi1 = np.diff(pose.phi1_rad)
             dphi2 = np.diff(pose.phi2_rad)
@@ -306,6 +318,31 @@ def check_range(fb: FourBar, phi1_min_rad: float, phi1_max_rad: float, samples: 
         closes=bool(ok.all()), closure_gap_deg=gap, toggle_at_deg=toggle,
         branch_jump_at_deg=jump, min_transmission_angle_deg=mu_min, problems=tuple(problems),
     )
+
+
+def _margin_dip_between_samples(fb: FourBar, phi1: np.ndarray):
+    """Refine every local minimum of the closure margin between samples.
+
+    Returns (phi_a, phi_b, min_margin, phi_at_min) of the deepest dip, or None.
+    The margin 1 - C^2/(A^2+B^2) is smooth in phi1, so a gap or toggle hidden
+    between two samples shows as a local minimum of the sampled margin.
+    """
+    from scipy.optimize import minimize_scalar
+
+    m = closure_margin(fb, phi1)
+    n = len(phi1)
+    cand = [i for i in range(n) if (i == 0 or m[i] <= m[i - 1]) and (i == n - 1 or m[i] <= m[i + 1])]
+    best = None
+    for i in cand:
+        a, b = phi1[max(i - 1, 0)], phi1[min(i + 1, n - 1)]
+        if b <= a:
+            continue
+        res = minimize_scalar(lambda t: float(closure_margin(fb, np.array([t]))[0]),
+                              bounds=(a, b), method="bounded", options={"xatol": 1e-10})
+        val = min(float(res.fun), float(m[i]))
+        if best is None or val < best[2]:
+            best = (a, b, val, float(res.x))
+    return best
 
 
 def require_range(fb: FourBar, phi1_min_rad: float, phi1_max_rad: float, samples: int = 721) -> RangeCheck:
