@@ -342,3 +342,122 @@ def require_ok(pose: FiveBarPose) -> None:
         raise KinematicsError(
             f"{bad.size} of {pose.status.size} points not usable; first: {pose.describe(int(bad[0]))}"
         )
+
+
+# ----------------------------------------------------------------------------
+# Mass matrix in end-effector coordinates
+# ----------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class LinkMass:
+    """Planar mass properties of one rigid link, in its own frame (SI).
+
+    mass_kg; com_link_m: (x, y) of the COM in the link frame (origin at the
+    link's first joint, x towards its second joint); izz_com_kg_m2: inertia
+    about the COM, normal to the plane.
+    """
+
+    mass_kg: float
+    com_link_m: tuple[float, float] = (0.0, 0.0)
+    izz_com_kg_m2: float = 0.0
+
+    def __post_init__(self) -> None:
+        if not (np.isfinite(self.mass_kg) and self.mass_kg >= 0):
+            raise DesignError("mass.mass_kg", f"must be >= 0, got {self.mass_kg!r}")
+        if not (np.isfinite(self.izz_com_kg_m2) and self.izz_com_kg_m2 >= 0):
+            raise DesignError("mass.izz_com_kg_m2", f"must be >= 0, got {self.izz_com_kg_m2!r}")
+
+
+@dataclass(frozen=True)
+class FiveBarMass:
+    """Mass properties of a 5-bar's moving links plus actuator rotor inertia.
+
+    proximal_*: frame origin Bi, x towards Ci; distal_*: origin Ci, x towards E;
+    rotor_kg_m2: inertia of each actuator rotor about its axis (adds J_m q_dot^2).
+    The end-effector hardware (journal, bearings) belongs to the body it drives.
+    """
+
+    proximal_left: LinkMass
+    proximal_right: LinkMass
+    distal_left: LinkMass
+    distal_right: LinkMass
+    rotor_kg_m2: float = 0.0
+
+
+def _rot(angle, v):
+    c, s = np.cos(angle), np.sin(angle)
+    return np.stack([c * v[0] - s * v[1], s * v[0] + c * v[1]], axis=-1)
+
+
+def link_twist_maps(fb: FiveBar, E_mm, mass: FiveBarMass) -> dict[str, np.ndarray]:
+    """Map from end-effector velocity to each link's COM velocity and spin.
+
+    Returns {link: A (N, 3, 2)} with (v_Gx [m/s], v_Gy [m/s], omega [rad/s]) =
+    A @ E_dot [m/s], for the links proximal_left/right, distal_left/right.
+    Raises :class:`KinematicsError` if any point is unreachable or singular.
+    """
+    E = _points(E_mm)
+    pose = ik(fb, E)
+    require_ok(pose)
+    J, _ = jacobian_rad_per_m(fb, E)
+    Em = E * 1e-3
+    out = {}
+    b = np.array([fb.base_left_mm, fb.base_right_mm], dtype=float) * 1e-3
+    l2 = (fb.proximal_left_mm * 1e-3, fb.proximal_right_mm * 1e-3)
+    C = (pose.C_left_mm * 1e-3, pose.C_right_mm * 1e-3)
+    prox = (mass.proximal_left, mass.proximal_right)
+    dist = (mass.distal_left, mass.distal_right)
+    side = ("left", "right")
+    N = E.shape[0]
+    for i in range(2):
+        q = pose.q_rad[:, i]
+        # proximal: rotation about B_i at q_dot_i = J[i, :] E_dot
+        w = J[:, i, :]  # (N, 2)
+        r = _rot(q, np.asarray(prox[i].com_link_m, dtype=float))  # (N, 2): G - B_i
+        A = np.zeros((N, 3, 2))
+        A[:, 0, :] = -r[:, 1, None] * w
+        A[:, 1, :] = r[:, 0, None] * w
+        A[:, 2, :] = w
+        out[f"proximal_{side[i]}"] = A
+        # elbow velocity per unit E_dot: C_dot = l2 u'(q) q_dot
+        up = np.stack([-np.sin(q), np.cos(q)], axis=-1)  # (N, 2)
+        Cd = l2[i] * up[:, :, None] * w[:, None, :]  # (N, 2, 2): column k for E_dot = e_k
+        d = Em - C[i]
+        psi = np.arctan2(d[:, 1], d[:, 0])
+        dd = np.einsum("nj,nj->n", d, d)
+        rel = np.eye(2)[None, :, :] - Cd  # E_dot - C_dot, (N, 2, 2)
+        psid = (d[:, 0, None] * rel[:, 1, :] - d[:, 1, None] * rel[:, 0, :]) / dd[:, None]
+        r = _rot(psi, np.asarray(dist[i].com_link_m, dtype=float))  # G - C_i
+        A = np.zeros((N, 3, 2))
+        A[:, 0, :] = Cd[:, 0, :] - r[:, 1, None] * psid
+        A[:, 1, :] = Cd[:, 1, :] + r[:, 0, None] * psid
+        A[:, 2, :] = psid
+        out[f"distal_{side[i]}"] = A
+    return out
+
+
+def mass_matrix_kg(fb: FiveBar, E_mm, mass: FiveBarMass) -> np.ndarray:
+    """5-bar mass matrix in end-effector coordinates, (N, 2, 2) kg.
+
+    Kinetic energy T = 1/2 E_dot^T M E_dot, summed over the four links
+    (m v_G^2 + Izz omega^2) and the two rotors (J_m q_dot^2, q_dot = J E_dot).
+    """
+    E = _points(E_mm)
+    maps = link_twist_maps(fb, E, mass)
+    links = {
+        "proximal_left": mass.proximal_left,
+        "proximal_right": mass.proximal_right,
+        "distal_left": mass.distal_left,
+        "distal_right": mass.distal_right,
+    }
+    M = np.zeros((E.shape[0], 2, 2))
+    for name, A in maps.items():
+        lm = links[name]
+        Av = A[:, :2, :]
+        Aw = A[:, 2, :]
+        M += lm.mass_kg * np.einsum("nik,nil->nkl", Av, Av)
+        M += lm.izz_com_kg_m2 * np.einsum("nk,nl->nkl", Aw, Aw)
+    J, _ = jacobian_rad_per_m(fb, E)
+    M += mass.rotor_kg_m2 * np.einsum("nik,nil->nkl", J, J)
+    return M

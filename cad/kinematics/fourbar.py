@@ -327,7 +327,7 @@ def _margin_dip_between_samples(fb: FourBar, phi1: np.ndarray):
     The margin 1 - C^2/(A^2+B^2) is smooth in phi1, so a gap or toggle hidden
     between two samples shows as a local minimum of the sampled margin.
     """
-    from scipy.optimize import minimize_scalar
+    from cad.kinematics.search import golden_minimize
 
     m = closure_margin(fb, phi1)
     n = len(phi1)
@@ -337,11 +337,11 @@ def _margin_dip_between_samples(fb: FourBar, phi1: np.ndarray):
         a, b = phi1[max(i - 1, 0)], phi1[min(i + 1, n - 1)]
         if b <= a:
             continue
-        res = minimize_scalar(lambda t: float(closure_margin(fb, np.array([t]))[0]),
-                              bounds=(a, b), method="bounded", options={"xatol": 1e-10})
-        val = min(float(res.fun), float(m[i]))
+        x, fx = golden_minimize(lambda t: float(closure_margin(fb, np.array([t]))[0]), a, b,
+                                xtol=1e-12)
+        val = min(float(fx), float(m[i]))
         if best is None or val < best[2]:
-            best = (a, b, val, float(res.x))
+            best = (a, b, val, float(x))
     return best
 
 

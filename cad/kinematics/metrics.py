@@ -92,16 +92,15 @@ class Metrics:
 
 def _refine_abs_max(f, phi: np.ndarray, vals: np.ndarray, df=None) -> float:
     """Max |f| over [phi0, phiN]: sampled, then refined by bounded search around the best sample."""
-    from scipy.optimize import minimize_scalar
+    from cad.kinematics.search import golden_minimize
 
     i = int(np.argmax(np.abs(vals)))
     best = float(abs(vals[i]))
     lo = phi[max(i - 1, 0)]
     hi = phi[min(i + 1, len(phi) - 1)]
     if hi > lo:
-        res = minimize_scalar(lambda t: -abs(f(t)), bounds=(lo, hi), method="bounded",
-                              options={"xatol": 1e-12})
-        best = max(best, float(abs(f(res.x))))
+        x, _ = golden_minimize(lambda t: -abs(f(t)), lo, hi, xtol=1e-13)
+        best = max(best, float(abs(f(x))))
     return best
 
 

@@ -1,0 +1,78 @@
+"""``hapticad synth DESIGN --objective max-stroke|min-torque-variation [...]``: optimized link lengths."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import typer
+
+
+def register(app: typer.Typer) -> None:
+    @app.command("synth")
+    def synth_cmd(
+        design: Path = typer.Argument(..., help="four-bar TOML design (the start)"),
+        objective: str = typer.Option("max-stroke", "--objective", help="max-stroke | min-torque-variation"),
+        free: str = typer.Option("range", "--free", help="range (crank range only) | all (ratios, phi_e and range)"),
+        dy_tol_mm: float = typer.Option(0.2, "--dy-tol-mm", help="max-stroke: allowed max |y| (mm)"),
+        mu_min_deg: float = typer.Option(30.0, "--mu-min-deg", help="minimum transmission angle (deg)"),
+        stroke_mm: float = typer.Option(None, "--stroke-mm", help="min-torque-variation: stroke to scale to (default: the start's)"),
+        out: Path = typer.Option(None, "--out", help="write the optimized design (family custom) here"),
+        json_out: bool = typer.Option(False, "--json", help="print one JSON object"),
+    ) -> None:
+        """Choose link lengths and the crank range for a stated objective (see README)."""
+        import copy
+
+        from cad.design import load_design, parse_design
+        from cad.design.fourbar import FourBarDesign
+        from cad.design.writer import custom_mechanism_table, dumps_design
+        from cad.errors import DesignError
+        from cad.io.atomic import write_text_atomic
+        from cad.kinematics.synthesis import synthesize
+
+        d = load_design(design)
+        if not isinstance(d, FourBarDesign):
+            raise DesignError("mechanism.family", "synth works on four-bar designs")
+        if stroke_mm is not None and not stroke_mm > 0:
+            raise DesignError("--stroke-mm", f"must be > 0, got {stroke_mm}")
+        if not 0 <= mu_min_deg < 90:
+            raise DesignError("--mu-min-deg", f"must be in [0, 90), got {mu_min_deg}")
+        r = synthesize(d.linkage, d.phi1_min_rad, d.phi1_max_rad, objective, free=free,
+                       dy_tol_mm=dy_tol_mm, mu_min_deg=mu_min_deg,
+                       stroke_mm=stroke_mm or (d.stroke_mm_requested or None), force_N=d.force_N)
+        mech = custom_mechanism_table(r.linkage, r.phi1_min_rad, r.phi1_max_rad, d.force_N)
+        res = {
+            "objective": objective, "free": free, "feasible": r.feasible, "evaluations": r.evaluations,
+            "start": {**d.resolved_linkage(), **r.start_metrics.as_dict()},
+            "result": {**{k: v for k, v in mech.items() if k != "family"}, **r.metrics.as_dict()},
+        }
+        if out is not None:
+            raw = copy.deepcopy(d.raw)
+            raw["mechanism"] = mech
+            raw["name"] = out.stem
+            parse_design(raw, str(out))  # must validate before anything is written
+            header = (f"Synthesized by `hapticad synth {design} --objective {objective} --free {free}` "
+                      f"from {d.family}")
+            write_text_atomic(out, dumps_design(raw, header))
+            res["out"] = str(out)
+        if json_out:
+            print(json.dumps(res, indent=1))
+            return
+        from rich.console import Console
+        from rich.table import Table
+
+        t = Table(title=f"synth {objective} ({free}) — feasible: {r.feasible}")
+        t.add_column("quantity")
+        t.add_column("start", justify="right")
+        t.add_column("optimized", justify="right")
+        s, o = res["start"], res["result"]
+        for k in ("l1_mm", "l2_mm", "l3_mm", "l5_mm", "le_mm", "phi_e_deg", "phi1_min_deg", "phi1_max_deg",
+                  "stroke_mm", "dy_max_mm", "slope_max", "torque_mean_mNm", "torque_variation",
+                  "min_transmission_angle_deg"):
+            t.add_row(k, f"{s[k]:.4g}", f"{o[k]:.4g}")
+        Console().print(t)
+        if out is not None:
+            print(f"wrote {out}")
+        if not math.isfinite(o["stroke_mm"]):
+            raise DesignError("synth", "no feasible result")

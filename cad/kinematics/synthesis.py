@@ -1,0 +1,150 @@
+"""Link-length and crank-range synthesis from the kinematic core.
+
+Two documented objectives, both starting from a family's Fig. 2 proportions
+(or a custom linkage) and keeping l4 and the assembly mode:
+
+``max-stroke``
+    With the coupler length l2 fixed, choose the crank range [phi1_min, phi1_max]
+    (and, with ``free="all"``, the ratios l1/l2, l3/l2, l5/l2, le/l2 and phi_e)
+    to **maximize the stroke** subject to ``dy_max_mm <= dy_tol_mm`` and
+    ``min_transmission_angle_deg >= mu_min_deg``: the longest straight segment
+    whose deviation stays under a tolerance.
+
+``min-torque-variation``
+    For a fixed stroke (lengths rescaled so the stroke equals ``stroke_mm``),
+    choose the same free parameters to **minimize the torque variation**
+    Delta tau / <tau> subject to dy_max/stroke not exceeding the start's value
+    (straightness must not get worse), the crank span phi1_max - phi1_min not
+    shrinking (it sets the encoder resolution per mm), the footprint
+    max(bbox)/stroke not growing, and the transmission-angle bound.
+
+Both objectives also require x(phi1) to be monotone over the range (dx/dphi1
+keeps its sign: a haptic display must not reverse along its path).
+
+The search is a bounded Nelder-Mead on a penalized objective (penalties are
+exact zero inside the feasible set), from the start and from a few seeded
+perturbations; the best feasible point is polished and re-evaluated with the
+refined metrics of :mod:`cad.kinematics.metrics`. Pure numpy/scipy.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from cad.errors import DesignError, KinematicsError
+from cad.kinematics.fourbar import FourBar, check_range
+from cad.kinematics.metrics import Metrics, compute_metrics
+
+OBJECTIVES = ("max-stroke", "min-torque-variation")
+FREE_SETS = ("range", "all")
+
+
+@dataclass(frozen=True)
+class SynthesisResult:
+    """Optimized linkage and range, its metrics, the start's metrics, and the search log."""
+
+    objective: str
+    linkage: FourBar
+    phi1_min_rad: float
+    phi1_max_rad: float
+    metrics: Metrics
+    start_metrics: Metrics
+    evaluations: int
+    feasible: bool
+
+
+def _unpack(x, fb0: FourBar, free: str) -> tuple[FourBar, float, float]:
+    if free == "range":
+        return fb0, float(x[0]), float(x[1])
+    l2 = fb0.l2_mm
+    fb = FourBar(x[2] * l2, l2, x[3] * l2, fb0.l4_mm, x[4] * l2, x[5] * l2, float(x[6]), fb0.branch)
+    return fb, float(x[0]), float(x[1])
+
+
+def _pack(fb: FourBar, lo: float, hi: float, free: str) -> np.ndarray:
+    if free == "range":
+        return np.array([lo, hi])
+    l2 = fb.l2_mm
+    return np.array([lo, hi, fb.l1_mm / l2, fb.l3_mm / l2, fb.l5_mm / l2, fb.le_mm / l2, fb.phi_e_rad])
+
+
+def _safe_metrics(fb, lo, hi, force_N, samples, refine=False) -> Metrics | None:
+    if not hi > lo + 1e-3 or hi - lo > 2 * math.pi - 1e-3:
+        return None
+    try:
+        if check_range(fb, lo, hi, samples=samples).problems:
+            return None
+        return compute_metrics(fb, lo, hi, force_N=force_N, samples=samples, refine=refine)
+    except (KinematicsError, DesignError, FloatingPointError, ValueError):
+        return None
+
+
+def synthesize(
+    fb0: FourBar, phi1_min_rad: float, phi1_max_rad: float, objective: str = "max-stroke", *,
+    free: str = "range", dy_tol_mm: float = 0.2, mu_min_deg: float = 30.0,
+    stroke_mm: float | None = None, force_N: float = 5.0, samples: int = 241, restarts: int = 4,
+    seed: int = 0,
+) -> SynthesisResult:
+    """Optimize ``fb0`` over its crank range for ``objective`` (see module docstring)."""
+    from scipy.optimize import minimize
+
+    if objective not in OBJECTIVES:
+        raise DesignError("--objective", f"unknown objective {objective!r} (known: {', '.join(OBJECTIVES)})")
+    if free not in FREE_SETS:
+        raise DesignError("--free", f"unknown free set {free!r} (known: {', '.join(FREE_SETS)})")
+    if not dy_tol_mm > 0:
+        raise DesignError("--dy-tol-mm", f"must be > 0, got {dy_tol_mm!r}")
+    start = _safe_metrics(fb0, phi1_min_rad, phi1_max_rad, force_N, samples)
+    if start is None:
+        raise KinematicsError("the starting linkage does not run over its range; fix it before optimizing")
+    ratio0 = start.dy_max_mm / start.stroke_mm
+    span0 = phi1_max_rad - phi1_min_rad
+    size0 = max(start.bbox_mm) / start.stroke_mm
+    counter = {"n": 0}
+
+    def cost(x):
+        counter["n"] += 1
+        fb, lo, hi = _unpack(x, fb0, free)
+        if free == "all" and min(x[2], x[3], x[4]) <= 0.02 or (free == "all" and x[5] < 0):
+            return 1e6
+        try:
+            m = _safe_metrics(fb, lo, hi, force_N, samples)
+        except DesignError:
+            return 1e6
+        if m is None:
+            return 1e6
+        pen = 1e3 * max(0.0, mu_min_deg - m.min_transmission_angle_deg)
+        pen += 1e3 * max(0.0, 1e-3 - m.linearity_velocity)
+        if objective == "max-stroke":
+            pen += 1e3 * max(0.0, m.dy_max_mm / dy_tol_mm - 1.0)
+            return -m.stroke_mm / fb0.l2_mm + pen
+        pen += 1e3 * max(0.0, (m.dy_max_mm / m.stroke_mm) / ratio0 - 1.0)
+        pen += 1e3 * max(0.0, span0 - (hi - lo))
+        pen += 1e3 * max(0.0, (max(m.bbox_mm) / m.stroke_mm) / size0 - 1.0)
+        return m.torque_variation + pen
+
+    x0 = _pack(fb0, phi1_min_rad, phi1_max_rad, free)
+    rng = np.random.default_rng(seed)
+    starts = [x0] + [x0 * (1 + 0.05 * rng.standard_normal(x0.size)) for _ in range(restarts)]
+    best = None
+    for xs in starts:
+        res = minimize(cost, xs, method="Nelder-Mead",
+                       options={"xatol": 1e-6, "fatol": 1e-9, "maxiter": 400 * x0.size})
+        if best is None or res.fun < best.fun:
+            best = res
+    fb, lo, hi = _unpack(best.x, fb0, free)
+    m = _safe_metrics(fb, lo, hi, force_N, 2001, refine=True)
+    feasible = m is not None and best.fun < 1e5
+    if m is None:
+        fb, lo, hi, m = fb0, phi1_min_rad, phi1_max_rad, start
+    if objective == "min-torque-variation" and stroke_mm is not None:
+        k = stroke_mm / m.stroke_mm
+        fb = fb.scaled(k)
+        m = compute_metrics(fb, lo, hi, force_N=force_N, samples=2001)
+    feasible = feasible and m.min_transmission_angle_deg >= mu_min_deg - 1e-6 and m.linearity_velocity > 0
+    if objective == "max-stroke":
+        feasible = feasible and m.dy_max_mm <= dy_tol_mm * 1.001
+    return SynthesisResult(objective, fb, lo, hi, m, start, counter["n"], bool(feasible))
