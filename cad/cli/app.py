@@ -23,7 +23,14 @@ app = typer.Typer(
 )
 
 
+_REGISTERED = False
+
+
 def _register_commands() -> None:
+    global _REGISTERED
+    if _REGISTERED:
+        return
+    _REGISTERED = True
     import cad.cli as pkg
 
     for mod in sorted(pkgutil.iter_modules(pkg.__path__), key=lambda m: m.name):
@@ -37,20 +44,39 @@ def fail(message: str, code: int = 2) -> typer.Exit:
     return typer.Exit(code)
 
 
-def main() -> None:
-    """Console-script entry point: run the app, map errors to exit codes."""
-    _register_commands()
+def run(argv: list[str] | None = None) -> int:
+    """Run the CLI on ``argv`` and return the exit code (tests call this in-process).
+
+    0 success, 1 a target missed, 2 bad input (one line on stderr, no traceback).
+    """
+    if not _REGISTERED:
+        _register_commands()
     try:
-        app()
+        # standalone mode: typer reports usage errors itself (exit 2) and exits via SystemExit
+        app(args=argv, prog_name="hapticad")
+        return 0
+    except SystemExit as exc:
+        code = exc.code
+        if code is None:
+            return 0
+        if isinstance(code, int):
+            return code
+        print(code, file=sys.stderr)
+        return 1
     except TargetMissed as exc:
         print(f"hapticad: {exc}", file=sys.stderr)
-        sys.exit(1)
+        return 1
     except HapticadError as exc:
         print(f"hapticad: error: {exc}", file=sys.stderr)
-        sys.exit(2)
+        return 2
     except (OSError, UnicodeDecodeError) as exc:
         print(f"hapticad: error: {exc}", file=sys.stderr)
-        sys.exit(2)
+        return 2
+
+
+def main() -> None:
+    """Console-script entry point."""
+    sys.exit(run())
 
 
 if __name__ == "__main__":
