@@ -1,0 +1,94 @@
+"""``hapticad bench [--quick] [--out DIR] [--only TOPIC,...]``: speed against accuracy, charted."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import typer
+
+#: topic -> module in cad.bench exposing run(quick, out_dir) -> dict
+TOPICS = {
+    "kinematics": "cad.bench.kinematics",
+    "massprops": "cad.bench.massprops",
+    "interference": "cad.bench.interference",
+    "gii": "cad.bench.gii",
+    "voicecoil": "cad.bench.voicecoil",
+    "build": "cad.bench.build",
+}
+
+
+def _goals(results: dict) -> list[tuple[str, str, str, bool | None]]:
+    """(goal, measured, target, met) rows for the issue's performance goals."""
+    rows = []
+    k = results.get("kinematics", {})
+    if "poses" in k and "ratio" in k["poses"]:
+        r = k["poses"]["ratio"]
+        rows.append(("4-bar poses+J vs pylinkage step_fast (100k)", f"{r:.2f}x", ">= 100x", r >= 100))
+        rv = k["poses"].get("ratio_vs_python_step")
+        if rv:
+            rows.append(("4-bar poses+J vs pylinkage step() (pure Python)", f"{rv:.0f}x", "(reference)", None))
+    if "analyze_wall" in k:
+        t = k["analyze_wall"]["median_s"]
+        rows.append(("hapticad analyze wall (median)", f"{t:.3f} s", "<= 0.6 s", t <= 0.6))
+    b = results.get("build", {})
+    for key, goal, lim in (("cold_s", "hapticad build hoeken cold", 8.0), ("cached_s", "hapticad build hoeken unchanged", 1.5)):
+        if key in b:
+            rows.append((goal, f"{b[key]:.2f} s", f"<= {lim} s", b[key] <= lim))
+    i = results.get("interference", {})
+    if "sweep_200_s" in i:
+        rows.append(("interference sweep 200 poses x all pairs", f"{i['sweep_200_s']:.2f} s, {i.get('missed', '?')} missed",
+                     "<= 1 s, 0 missed", i["sweep_200_s"] <= 1.0 and i.get("missed", 1) == 0))
+    g = results.get("gii", {})
+    if "culling_ratio" in g:
+        rows.append(("GII culling: fewer Jacobian evaluations than brute", f"{g['culling_ratio']:.1f}x",
+                     ">= 10x", g["culling_ratio"] >= 10))
+    return rows
+
+
+def register(app: typer.Typer) -> None:
+    @app.command("bench")
+    def bench_cmd(
+        quick: bool = typer.Option(False, "--quick", help="fewer repeats and knobs (< 60 s)"),
+        out: Path = typer.Option(Path("exports/bench"), "--out", help="output folder for JSON and charts"),
+        only: str = typer.Option(None, "--only", help=f"comma list of topics: {','.join(TOPICS)}"),
+    ) -> None:
+        """Error-against-time charts for every method with an accuracy knob, and the performance goals."""
+        import importlib
+        import time
+
+        from rich.console import Console
+        from rich.table import Table
+
+        from cad.errors import DesignError
+        from cad.io.atomic import write_text_atomic
+
+        topics = list(TOPICS)
+        if only:
+            topics = [t.strip() for t in only.split(",") if t.strip()]
+            for t in topics:
+                if t not in TOPICS:
+                    raise DesignError("--only", f"unknown topic {t!r} (known: {', '.join(TOPICS)})")
+        con = Console(stderr=True)
+        out.mkdir(parents=True, exist_ok=True)
+        results: dict = {}
+        for t in topics:
+            try:
+                mod = importlib.import_module(TOPICS[t])
+            except ImportError as exc:
+                results[t] = {"skipped": f"module not available: {exc}"}
+                continue
+            t0 = time.perf_counter()
+            con.print(f"[bold]bench[/] {t} ...")
+            results[t] = mod.run(quick, out)
+            results[t]["bench_wall_s"] = time.perf_counter() - t0
+        rows = _goals(results)
+        results["goals"] = [{"goal": g, "measured": m, "target": tg, "met": ok} for g, m, tg, ok in rows]
+        write_text_atomic(out / "bench.json", json.dumps(results, indent=1, default=float))
+        tab = Table(title="performance goals (medians)")
+        for c in ("goal", "measured", "target", "met"):
+            tab.add_column(c)
+        for g, m, tg, ok in rows:
+            tab.add_row(g, m, tg, "-" if ok is None else ("yes" if ok else "NO"))
+        Console().print(tab)
+        print(f"wrote {out / 'bench.json'} and charts in {out}")
