@@ -65,6 +65,7 @@ def analyze(design: FourBarDesign, samples: int | None = None,
     md = m.as_dict()
     for k in METRIC_KEYS:
         out[k] = md[k]
+    out["torque_range_ratio"] = md["torque_range_ratio"]
     out["linearity_definitions"] = {
         "linearity": "1 - max|x(phi1) - endpoint line| / stroke",
         "linearity_fit": md["linearity_fit"],
