@@ -65,3 +65,10 @@ def test_analyze_and_kinematics_import_no_cad():
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
     assert "BAD [] 0" in out, out
+
+
+def test_usage_errors_are_one_line_exit_2():
+    for args in (("analyze",), ("analyze", DESIGNS / "hoeken.toml", "--samples", "x"), ("nope",)):
+        code, out, err = hapticad(*args)
+        assert_one_line_error(code, err)
+        assert out == ""

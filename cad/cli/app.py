@@ -51,18 +51,19 @@ def run(argv: list[str] | None = None) -> int:
     """
     if not _REGISTERED:
         _register_commands()
+    click_error = next(c for c in typer.BadParameter.__mro__ if c.__name__ == "ClickException")
     try:
-        # standalone mode: typer reports usage errors itself (exit 2) and exits via SystemExit
-        app(args=argv, prog_name="hapticad")
-        return 0
-    except SystemExit as exc:
-        code = exc.code
-        if code is None:
-            return 0
-        if isinstance(code, int):
-            return code
-        print(code, file=sys.stderr)
+        rv = app(args=argv, prog_name="hapticad", standalone_mode=False)
+        return rv if isinstance(rv, int) else 0
+    except typer.Exit as exc:
+        return int(exc.exit_code)
+    except typer.Abort:
+        print("hapticad: aborted", file=sys.stderr)
         return 1
+    except click_error as exc:  # usage errors: one line, exit 2
+        msg = " ".join(exc.format_message().split())
+        print(f"hapticad: error: {msg} (see hapticad --help)", file=sys.stderr)
+        return int(getattr(exc, "exit_code", 2))
     except TargetMissed as exc:
         print(f"hapticad: {exc}", file=sys.stderr)
         return 1
