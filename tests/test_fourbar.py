@@ -208,3 +208,16 @@ def test_invalid_linkages_name_the_field(kwargs, field):
     base.update(kwargs)
     with pytest.raises(DesignError, match=field):
         FourBar(**base)
+
+
+@given(closing_linkages())
+def test_fused_point_and_jacobian_equal_separate(case):
+    from cad.kinematics.fourbar import coupler_point_and_jacobian
+
+    fb, phi = case
+    pose = solve(fb, np.array([phi]))
+    assume(abs(math.sin(pose.phi2_rad[0] - pose.phi3_rad[0])) > 0.05)
+    P, J = coupler_point_and_jacobian(fb, np.array([phi]))
+    assert np.allclose(P, pose.P_mm, atol=1e-9)
+    Jref = jacobian_mm_per_rad(fb, pose)
+    assert np.allclose(J, Jref, atol=1e-9 * (1 + np.abs(Jref).max()))

@@ -33,6 +33,7 @@ import numpy as np
 
 from cad.kinematics.fourbar import (
     FourBar,
+    coupler_point_and_jacobian,
     jacobian_mm_per_rad,
     solve,
     transmission_angle_rad,
@@ -135,10 +136,10 @@ def compute_metrics(
 
     if refine:
         def y_of(t):
-            return fr.to_path(solve(fb, t).P_mm)[:, 1]
+            return fr.to_path(coupler_point_and_jacobian(fb, t)[0])[:, 1]
 
         def slope_of(t):
-            j = fr.rotate(jacobian_mm_per_rad(fb, solve(fb, t)))
+            j = fr.rotate(coupler_point_and_jacobian(fb, t)[1])
             return j[:, 1] / j[:, 0]
 
         dy_max = _refine_abs_max(y_of, phi, xy[:, 1])
