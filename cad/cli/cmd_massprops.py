@@ -51,9 +51,7 @@ def compute(
     kind = mpio.file_kind(file)
     rho, mat_name, defaulted = _resolve_density(density, material)
     if defaulted:
-        notes.append(
-            f"note: no --density or --material given; using {mat_name} ({rho:g} kg/m^3)"
-        )
+        notes.append(f"note: no --density or --material given; using {mat_name} ({rho:g} kg/m^3)")
     out: dict = {"file": str(file), "format": kind}
     if kind == "step":
         from cad.massprops import occt
@@ -94,8 +92,13 @@ def _fmt_text(out: dict) -> str:
         "com_mm               " + "  ".join(repr(x) for x in out["com_mm"]),
         "inertia_com_kg_m2    " + "  ".join(repr(x) for x in out["inertia_com_kg_m2"][0]),
     ]
-    rows += ["                     " + "  ".join(repr(x) for x in r) for r in out["inertia_com_kg_m2"][1:]]
-    rows.append("principal_moments_kg_m2  " + "  ".join(repr(x) for x in out["principal_moments_kg_m2"]))
+    rows += [
+        "                     " + "  ".join(repr(x) for x in r)
+        for r in out["inertia_com_kg_m2"][1:]
+    ]
+    rows.append(
+        "principal_moments_kg_m2  " + "  ".join(repr(x) for x in out["principal_moments_kg_m2"])
+    )
     if out["watertight"] is not None:
         rows.append(f"watertight           {out['watertight']}")
     return "\n".join(rows)

@@ -88,7 +88,9 @@ class FiveBar:
                 raise DesignError(f"fivebar.{name}", f"must be > 0, got {v!r}")
         for name in ("elbow_left", "elbow_right"):
             if getattr(self, name) not in (1, -1):
-                raise DesignError(f"fivebar.{name}", f"must be +1 or -1, got {getattr(self, name)!r}")
+                raise DesignError(
+                    f"fivebar.{name}", f"must be +1 or -1, got {getattr(self, name)!r}"
+                )
 
     @classmethod
     def symmetric(cls, base_mm: float, proximal_mm: float, distal_mm: float) -> FiveBar:
@@ -293,9 +295,7 @@ def fk(fb: FiveBar, q_rad, assembly: int = 1) -> FiveBarPose:
     c2y = b2y + l2r * np.sin(q[:, 1])
     vx, vy = c2x - c1x, c2y - c1y
     d = np.hypot(vx, vy)
-    no_close = (d > (l3l + l3r) * (1 + REACH_REL_EPS)) | (
-        d < abs(l3l - l3r) * (1 - REACH_REL_EPS)
-    )
+    no_close = (d > (l3l + l3r) * (1 + REACH_REL_EPS)) | (d < abs(l3l - l3r) * (1 - REACH_REL_EPS))
     no_close |= d <= ON_JOINT_MM
     d_safe = np.where(no_close, 1.0, d)
     a = (l3l * l3l - l3r * l3r + d_safe * d_safe) / (2 * d_safe)
@@ -403,7 +403,6 @@ def link_twist_maps(fb: FiveBar, E_mm, mass: FiveBarMass) -> dict[str, np.ndarra
     J, _ = jacobian_rad_per_m(fb, E)
     Em = E * 1e-3
     out = {}
-    b = np.array([fb.base_left_mm, fb.base_right_mm], dtype=float) * 1e-3
     l2 = (fb.proximal_left_mm * 1e-3, fb.proximal_right_mm * 1e-3)
     C = (pose.C_left_mm * 1e-3, pose.C_right_mm * 1e-3)
     prox = (mass.proximal_left, mass.proximal_right)

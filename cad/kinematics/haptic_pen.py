@@ -86,14 +86,22 @@ class HapticPen:
     waist_torque_ratio: float = 1.6
 
     def __post_init__(self) -> None:
-        for name in ("shoulder_base_mm", "proximal_mm", "distal_mm", "pen_mm", "waist_torque_ratio"):
+        for name in (
+            "shoulder_base_mm",
+            "proximal_mm",
+            "distal_mm",
+            "pen_mm",
+            "waist_torque_ratio",
+        ):
             v = getattr(self, name)
             if not (np.isfinite(v) and v > 0):
                 raise DesignError(f"mechanism.{name}", f"must be > 0, got {v!r}")
         if self.arm_spacing_mm is not None and not (
             np.isfinite(self.arm_spacing_mm) and self.arm_spacing_mm > 0
         ):
-            raise DesignError("mechanism.arm_spacing_mm", f"must be > 0, got {self.arm_spacing_mm!r}")
+            raise DesignError(
+                "mechanism.arm_spacing_mm", f"must be > 0, got {self.arm_spacing_mm!r}"
+            )
 
     @property
     def l4_mm(self) -> float:
@@ -165,7 +173,9 @@ def _task(X) -> np.ndarray:
     if X.ndim == 1:
         X = X[None, :]
     if X.ndim != 2 or X.shape[1] != 5 or not np.all(np.isfinite(X)):
-        raise DesignError("X", f"must be finite (N, 5) = (x, y, z mm, yaw, pitch rad), got {np.shape(X)}")
+        raise DesignError(
+            "X", f"must be finite (N, 5) = (x, y, z mm, yaw, pitch rad), got {np.shape(X)}"
+        )
     return X
 
 
@@ -173,8 +183,16 @@ def jacobian_si(pen: HapticPen, X) -> tuple[np.ndarray, np.ndarray]:
     """J (N, 6, 5) and status (N,) at task poses X (N, 5) = (x, y, z mm, yaw, pitch rad)."""
     X = _task(X)
     return jacobian_arrays(
-        pen.shoulder_base_mm, pen.proximal_mm, pen.distal_mm, pen.pen_mm, pen.l4_mm,
-        X[:, 0], X[:, 1], X[:, 2], X[:, 3], X[:, 4],
+        pen.shoulder_base_mm,
+        pen.proximal_mm,
+        pen.distal_mm,
+        pen.pen_mm,
+        pen.l4_mm,
+        X[:, 0],
+        X[:, 1],
+        X[:, 2],
+        X[:, 3],
+        X[:, 4],
     )
 
 
@@ -188,8 +206,18 @@ def ik(pen: HapticPen, X) -> tuple[np.ndarray, np.ndarray]:
         dx, py = P[:, 0] - x0, P[:, 1]
         rho = np.hypot(dx, py)
         q1, q2, *_, st = fb5.ik_arrays(
-            -pen.shoulder_base_mm / 2, 0.0, pen.shoulder_base_mm / 2, 0.0,
-            pen.proximal_mm, pen.proximal_mm, pen.distal_mm, pen.distal_mm, 1.0, -1.0, P[:, 2], rho,
+            -pen.shoulder_base_mm / 2,
+            0.0,
+            pen.shoulder_base_mm / 2,
+            0.0,
+            pen.proximal_mm,
+            pen.proximal_mm,
+            pen.distal_mm,
+            pen.distal_mm,
+            1.0,
+            -1.0,
+            P[:, 2],
+            rho,
         )
         out.append(np.stack([np.arctan2(py, dx), q1, q2], axis=-1))
         sts.append(np.where(rho <= ON_WAIST_AXIS_MM, STATUS_ON_WAIST_AXIS, st))
@@ -217,7 +245,8 @@ def workspace_grid(center_mm, size_mm, grid, rotation_deg: float, rotation_grid:
         raise DesignError("workspace", "center_mm, size_mm and grid need 3 entries each")
     if np.any(s <= 0) or min(g) < 2 or rotation_grid < 1 or not (0 <= rotation_deg < 90):
         raise DesignError(
-            "workspace", f"need size_mm > 0, grid >= 2, rotation_grid >= 1, 0 <= rotation_deg < 90; "
+            "workspace",
+            f"need size_mm > 0, grid >= 2, rotation_grid >= 1, 0 <= rotation_deg < 90; "
             f"got {s.tolist()}, {g}, {rotation_grid}, {rotation_deg}",
         )
     axes = [c[k] + np.linspace(-0.5, 0.5, g[k]) * s[k] for k in range(3)]
@@ -249,4 +278,6 @@ def pen_gii(
     pts = X.copy()
     pts[:, 3:] = np.degrees(pts[:, 3:])
     S_T = np.array([force_N] * 3 + [force_N * moment_arm_mm * 1e-3] * 2)
-    return gii_from_jacobians(J, status, pts, actuator_scale(pen.waist_torque_ratio), S_T, STATUS_NAMES)
+    return gii_from_jacobians(
+        J, status, pts, actuator_scale(pen.waist_torque_ratio), S_T, STATUS_NAMES
+    )

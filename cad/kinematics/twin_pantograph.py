@@ -81,7 +81,11 @@ class TwinPantograph:
 
     @classmethod
     def symmetric(
-        cls, base_mm: float, proximal_mm: float, distal_mm: float, knob_diameter_mm: float = 12.5,
+        cls,
+        base_mm: float,
+        proximal_mm: float,
+        distal_mm: float,
+        knob_diameter_mm: float = 12.5,
         crank_mm: float | None = None,
     ) -> TwinPantograph:
         """Two identical symmetric 5-bars on the same base line; l6 from eq (7) by default."""
@@ -95,7 +99,9 @@ def _task(X) -> np.ndarray:
     if X.ndim == 1:
         X = X[None, :]
     if X.ndim != 2 or X.shape[1] != 3 or not np.all(np.isfinite(X)):
-        raise DesignError("X", f"must be finite (N, 3) = (x_mm, y_mm, theta_rad), got {np.shape(X)}")
+        raise DesignError(
+            "X", f"must be finite (N, 3) = (x_mm, y_mm, theta_rad), got {np.shape(X)}"
+        )
     return X
 
 
@@ -129,7 +135,9 @@ def ik(tp: TwinPantograph, X) -> TwinPose:
     pk, pc = journals_mm(tp, X)
     a = fb5.ik(tp.knob, pk)
     b = fb5.ik(tp.crank, pc)
-    return TwinPose(X, np.concatenate([a.q_rad, b.q_rad], axis=1), _combine_status(a.status, b.status), a, b)
+    return TwinPose(
+        X, np.concatenate([a.q_rad, b.q_rad], axis=1), _combine_status(a.status, b.status), a, b
+    )
 
 
 def jacobian_arrays(knob_params, crank_params, crank_mm, x_mm, y_mm, theta):
@@ -148,9 +156,9 @@ def jacobian_arrays(knob_params, crank_params, crank_mm, x_mm, y_mm, theta):
     J[..., 0:2, 0:2] = Jk
     J[..., 2:4, 0:2] = Jc
     l6 = np.asarray(crank_mm, dtype=float) * 1e-3
-    J[..., 2:4, 2] = (Jc[..., :, 0] * (-s)[..., None] + Jc[..., :, 1] * c[..., None]) * np.asarray(l6)[
-        ..., None
-    ]
+    J[..., 2:4, 2] = (Jc[..., :, 0] * (-s)[..., None] + Jc[..., :, 1] * c[..., None]) * np.asarray(
+        l6
+    )[..., None]
     return J, _combine_status(sk, sc)
 
 
@@ -160,7 +168,9 @@ def jacobian_si(tp: TwinPantograph, X) -> tuple[np.ndarray, np.ndarray]:
     Rows of a pantograph at a non-ok point are 0. Isotropy paper eq (1).
     """
     X = _task(X)
-    return jacobian_arrays(tp.knob.arrays(), tp.crank.arrays(), tp.crank_mm, X[:, 0], X[:, 1], X[:, 2])
+    return jacobian_arrays(
+        tp.knob.arrays(), tp.crank.arrays(), tp.crank_mm, X[:, 0], X[:, 1], X[:, 2]
+    )
 
 
 def task_scale(force_N: float, crank_mm: float, moment_Nm: float | None = None) -> np.ndarray:
@@ -181,7 +191,11 @@ def workspace_grid(center_mm, side_mm: float, grid: int, theta_grid: int) -> np.
     """
     from cad.isotropy.gii import square_grid_mm
 
-    if isinstance(theta_grid, bool) or not isinstance(theta_grid, (int, np.integer)) or theta_grid < 1:
+    if (
+        isinstance(theta_grid, bool)
+        or not isinstance(theta_grid, (int, np.integer))
+        or theta_grid < 1
+    ):
         raise DesignError("workspace.theta_grid", f"must be an integer >= 1, got {theta_grid!r}")
     xy = square_grid_mm(center_mm, side_mm, grid)
     th = np.linspace(0.0, 2 * np.pi, int(theta_grid), endpoint=False)

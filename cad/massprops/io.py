@@ -6,6 +6,10 @@ build123d/cadquery are; an STL carries no unit, mm is the 3D-printing convention
 
 from __future__ import annotations
 
+import contextlib
+import os
+import sys
+from collections.abc import Iterator
 from pathlib import Path
 
 import numpy as np
@@ -31,6 +35,25 @@ def file_kind(path: str | Path, field: str = "FILE") -> str:
     )
 
 
+@contextlib.contextmanager
+def _quiet_stdout() -> Iterator[None]:
+    """Silence C++ writes to file descriptor 1 (OCCT's STEP parser prints errors there).
+
+    Keeps stdout clean for ``--json`` output; our own error message says what failed.
+    """
+    sys.stdout.flush()
+    saved = os.dup(1)
+    try:
+        with open(os.devnull, "wb") as null:
+            os.dup2(null.fileno(), 1)
+            try:
+                yield
+            finally:
+                os.dup2(saved, 1)
+    finally:
+        os.close(saved)
+
+
 def read_step(path: str | Path):
     """Read a STEP file (mm) and return its shape as one OCP ``TopoDS_Shape``.
 
@@ -43,10 +66,12 @@ def read_step(path: str | Path):
 
     p = Path(path)
     reader = STEPControl_Reader()
-    status = reader.ReadFile(str(p))
+    with _quiet_stdout():
+        status = reader.ReadFile(str(p))
+        n_roots = reader.TransferRoots() if status == IFSelect_RetDone else 0
     if status != IFSelect_RetDone:
         raise GeometryError(f"{p.name}: not a readable STEP file (reader status {status.name})")
-    if reader.TransferRoots() == 0:
+    if n_roots == 0:
         raise GeometryError(f"{p.name}: STEP file has no transferable shape")
     shape = reader.OneShape()
     if shape.IsNull() or not TopExp_Explorer(shape, TopAbs_SOLID).More():
@@ -66,7 +91,9 @@ def read_stl(path: str | Path) -> tuple[np.ndarray, np.ndarray]:
     try:
         tm = trimesh.load_mesh(str(p), file_type="stl", process=False)
     except Exception as exc:  # trimesh raises assorted errors on malformed files
-        raise MeshError(f"{p.name}: not a readable STL file ({type(exc).__name__}: {exc})") from None
+        raise MeshError(
+            f"{p.name}: not a readable STL file ({type(exc).__name__}: {exc})"
+        ) from None
     if not isinstance(tm, trimesh.Trimesh) or len(tm.faces) == 0:
         raise MeshError(f"{p.name}: STL file holds no triangles")
     return np.asarray(tm.vertices, dtype=float), np.asarray(tm.faces, dtype=np.int64)

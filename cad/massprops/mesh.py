@@ -100,7 +100,9 @@ def triangulate(
     _check_tolerances(linear_tol_mm, angular_tol_rad)
     copy = BRepBuilderAPI_Copy(as_topods(shape), True, False).Shape()
     BRepTools.Clean_s(copy)
-    mesher = BRepMesh_IncrementalMesh(copy, float(linear_tol_mm), False, float(angular_tol_rad), False)
+    mesher = BRepMesh_IncrementalMesh(
+        copy, float(linear_tol_mm), False, float(angular_tol_rad), False
+    )
     if not mesher.IsDone():
         raise MeshError(f"OCCT meshing failed at linear tolerance {linear_tol_mm} mm")
     exp = TopExp_Explorer(copy, TopAbs_FACE)
@@ -108,7 +110,9 @@ def triangulate(
     while exp.More():
         loc = TopLoc_Location()
         if BRep_Tool.Triangulation_s(TopoDS.Face_s(exp.Current()), loc) is None:
-            raise MeshError(f"OCCT left face #{i} without a triangulation (tolerance {linear_tol_mm} mm)")
+            raise MeshError(
+                f"OCCT left face #{i} without a triangulation (tolerance {linear_tol_mm} mm)"
+            )
         exp.Next()
         i += 1
     return copy
@@ -144,7 +148,9 @@ def extract_arrays(meshed) -> tuple[np.ndarray, np.ndarray]:
         if not loc.IsIdentity():
             A = np.array([[trsf.Value(r, c) for c in (1, 2, 3, 4)] for r in (1, 2, 3)])
             nodes = nodes @ A[:, :3].T + A[:, 3]
-        t = np.array([tri.Triangle(i).Get() for i in range(1, tri.NbTriangles() + 1)], dtype=np.int64)
+        t = np.array(
+            [tri.Triangle(i).Get() for i in range(1, tri.NbTriangles() + 1)], dtype=np.int64
+        )
         t = t.reshape(-1, 3) - 1 + offset
         if face.Orientation() == TopAbs_REVERSED:
             t = t[:, [0, 2, 1]]
@@ -162,7 +168,9 @@ def _merged_trimesh(vertices_mm, faces):
     v = np.asarray(vertices_mm, dtype=float)
     f = np.asarray(faces, dtype=np.int64)
     if v.ndim != 2 or v.shape[1] != 3 or f.ndim != 2 or f.shape[1] != 3 or len(f) == 0:
-        raise MeshError(f"mesh must be (N, 3) vertices and (M>0, 3) faces, got {v.shape} and {f.shape}")
+        raise MeshError(
+            f"mesh must be (N, 3) vertices and (M>0, 3) faces, got {v.shape} and {f.shape}"
+        )
     # process=True merges coincident vertices (trimesh.constants.tol.merge = 1e-8).
     return trimesh.Trimesh(vertices=v, faces=f, process=True)
 
@@ -242,7 +250,9 @@ def occt_triangulation_mass_props(
     n_tri = 0
     exp = TopExp_Explorer(meshed, TopAbs_FACE)
     while exp.More():
-        n_tri += BRep_Tool.Triangulation_s(TopoDS.Face_s(exp.Current()), TopLoc_Location()).NbTriangles()
+        n_tri += BRep_Tool.Triangulation_s(
+            TopoDS.Face_s(exp.Current()), TopLoc_Location()
+        ).NbTriangles()
         exp.Next()
     watertight = None
     if check_watertight:

@@ -82,17 +82,17 @@ def validate_inertia(I_kg_m2, where: str) -> None:
     accepted: a point mass (all zero) and an ideal thin rod (one zero, the other two
     equal) are the physical limits of the inequality.
     """
-    I = np.asarray(I_kg_m2, dtype=float)
-    if I.shape != (3, 3):
-        raise InertiaError(f"{where}: inertia must be 3x3, got shape {I.shape}")
-    if not np.all(np.isfinite(I)):
-        raise InertiaError(f"{where}: inertia has non-finite entries {I.tolist()}")
-    scale = max(float(np.trace(I)), float(np.abs(I).max()), np.finfo(float).tiny)
+    inert = np.asarray(I_kg_m2, dtype=float)
+    if inert.shape != (3, 3):
+        raise InertiaError(f"{where}: inertia must be 3x3, got shape {inert.shape}")
+    if not np.all(np.isfinite(inert)):
+        raise InertiaError(f"{where}: inertia has non-finite entries {inert.tolist()}")
+    scale = max(float(np.trace(inert)), float(np.abs(inert).max()), np.finfo(float).tiny)
     eps = INERTIA_REL_EPS * scale
-    asym = float(np.abs(I - I.T).max())
+    asym = float(np.abs(inert - inert.T).max())
     if asym > eps:
         raise InertiaError(f"{where}: inertia is not symmetric (max |I - I^T| = {asym:.3e} kg m^2)")
-    lam = np.linalg.eigvalsh(0.5 * (I + I.T))
+    lam = np.linalg.eigvalsh(0.5 * (inert + inert.T))
     if lam[0] < -eps:
         raise InertiaError(
             f"{where}: inertia is not positive definite (principal moments {lam.tolist()} kg m^2)"
@@ -145,11 +145,11 @@ class MassProps:
         if not np.isfinite(m) or m < 0:
             raise GeometryError(f"mass_kg must be finite and >= 0, got {self.mass_kg!r}")
         com = _as_vec3(self.com_m, "com_m")
-        I = _as_mat3(self.inertia_com_kg_m2, "inertia_com_kg_m2")
-        validate_inertia(I, "MassProps")
+        inert = _as_mat3(self.inertia_com_kg_m2, "inertia_com_kg_m2")
+        validate_inertia(inert, "MassProps")
         object.__setattr__(self, "mass_kg", m)
         object.__setattr__(self, "com_m", _frozen(com))
-        object.__setattr__(self, "inertia_com_kg_m2", _frozen(0.5 * (I + I.T)))
+        object.__setattr__(self, "inertia_com_kg_m2", _frozen(0.5 * (inert + inert.T)))
 
     # ------------------------------------------------------------------ derived
     @property
@@ -179,9 +179,7 @@ class MassProps:
         """
         R = check_rotation(R)
         t = _as_vec3(t_m, "t_m")
-        return MassProps(
-            self.mass_kg, R @ self.com_m + t, R @ self.inertia_com_kg_m2 @ R.T
-        )
+        return MassProps(self.mass_kg, R @ self.com_m + t, R @ self.inertia_com_kg_m2 @ R.T)
 
     def scaled(self, factor: float) -> MassProps:
         """Same shape with density multiplied by ``factor`` (mass and inertia scale, COM does not)."""
@@ -249,8 +247,8 @@ def combine(parts: Sequence[MassProps]) -> MassProps:
     steiner = masses[:, None, None] * (
         d2[:, None, None] * np.eye(3)[None] - np.einsum("ij,ik->ijk", d, d)
     )
-    I = np.stack([p.inertia_com_kg_m2 for p in parts]).sum(axis=0) + steiner.sum(axis=0)
-    return MassProps(total, com, I)
+    inert = np.stack([p.inertia_com_kg_m2 for p in parts]).sum(axis=0) + steiner.sum(axis=0)
+    return MassProps(total, com, inert)
 
 
 def shares_about_kg_m2(parts: Sequence[MassProps], point_m) -> np.ndarray:

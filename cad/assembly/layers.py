@@ -1,0 +1,433 @@
+"""Z-layers of the three moving bars and the joint stacks, chosen so nothing collides.
+
+Pure numpy (no CAD import): every element of the mechanism (bars, spacers, screw
+heads, nuts, hub, post, handle) is modelled here as a *rounded convex hull* -- the
+convex hull of 1 to 3 points in its body's frame, grown by a radius -- over a z
+interval. For a candidate layer order (bottom to top, one of the 6 permutations of
+crank, coupler, rocker) the stack heights follow from the hardware (below); two
+elements of different bodies whose z intervals overlap must stay
+``clearance_min_mm`` apart in the plane at every sampled crank angle. The first
+order (lowest top, then the order of :data:`ORDERS`) without a conflict is taken;
+the exact 3-D sweep in :mod:`cad.assembly.interference` then checks the real solids.
+
+Joint stack (same hardware at A2, A3, A4; heights along z, upward):
+
+* the UPPER link at a joint holds the ball bearing in a seat counterbored from its
+  bottom face (depth = bearing width B), leaving a lip ``t - B`` on top with a hole of
+  the housing abutment diameter Da;
+* a turned gap spacer (height = gap between the bars) sits on the LOWER link and
+  carries the bearing's inner ring; a head-side spacer (shim) passes through the lip
+  and carries the screw head ``pin_head_clearance_mm`` above the upper bar;
+* the ISO 7379 shoulder screw goes through shim, inner ring and gap spacer into a
+  reamed hole in the lower link (shoulder length L from the catalog list) and is
+  clamped by a washer and nut under the lower link; on the ground post (A4) it
+  screws into the post instead.
+
+With the clamp length c = shim + B + spacer, the shoulder must end inside the lower
+link with the nut on full thread: L - c in [lo, hi], lo = max(1, t + h_w + m - b),
+hi = min(t - 0.5, t + h_w - g2) (h_w washer, m nut, b thread, g2 relief). When no
+catalog length falls in the window the shim is lengthened.
+"""
+
+from __future__ import annotations
+
+import itertools
+from dataclasses import dataclass
+
+import numpy as np
+
+from cad.design.parts import LINK_NAMES, PartsSpec
+from cad.errors import DesignError
+from cad.parts import catalog
+
+ORDERS: tuple[tuple[str, str, str], ...] = tuple(itertools.permutations(LINK_NAMES))  # type: ignore[assignment]
+#: Joints: name -> (link A, link B) it connects (ground joint A4: rocker on the post).
+JOINTS = {"A2": ("crank", "coupler"), "A3": ("coupler", "rocker"), "A4": ("rocker", "ground")}
+#: Minimum thread engagement of the hub screws in the aluminium hub (mm).
+HUB_SCREW_ENGAGEMENT_MM = 4.0
+#: Shoulder must enter the lower link by at least this (mm) to locate it.
+SHOULDER_MIN_ENTRY_MM = 1.0
+#: Knob floor under the handle screw head (mm): the screw goes down through it into the
+#: tapped coupler, so nothing hangs under the coupler at P.
+HANDLE_SCREW_FLOOR_MM = 5.0
+
+
+@dataclass(frozen=True)
+class JointStack:
+    """Heights (z, mm) of the hardware at one joint; see the module docstring."""
+
+    joint: str
+    upper: str
+    lower: str
+    z_upper_mm: float
+    z_lower_top_mm: float
+    spacer_mm: float
+    shim_mm: float
+    pin_length_mm: float
+    clamp_mm: float
+    nut: bool
+    head_face_mm: float
+    head_top_mm: float
+    thread_end_mm: float
+
+
+@dataclass(frozen=True)
+class Element:
+    """A rounded convex hull of ``points_mm`` (k<=3, body frame) grown by ``radius_mm``,
+    over ``z_mm`` = (lo, hi), carried by ``body``; ``anchor`` is the layer level it moves
+    with when gaps change (None: it spans layers or is fixed to the ground)."""
+
+    label: str
+    body: str
+    points_mm: np.ndarray
+    radius_mm: float
+    z_mm: tuple[float, float]
+    anchor: int | None = None
+
+
+@dataclass(frozen=True)
+class LayerPlan:
+    """The chosen stack: bar z (bottom faces), joint stacks, hub/post/handle heights (mm)."""
+
+    order: tuple[str, ...]
+    thickness_mm: float
+    z_mm: dict[str, float]
+    joints: dict[str, JointStack]
+    hub_z_mm: tuple[float, float]
+    hub_screw_length_mm: float
+    shaft_top_mm: float
+    flange_z_mm: float
+    post_top_mm: float
+    handle_z_mm: float
+    handle_screw_length_mm: float
+    top_mm: float
+    elements: tuple[Element, ...]
+    min_planar_clearance_mm: float
+    conflicts: tuple[str, ...]
+    gaps_mm: tuple[float, float] = (0.0, 0.0)
+    pairs: tuple = ()
+    candidates: tuple[dict, ...] = ()
+
+
+# --------------------------------------------------------------------------- geometry
+def _seg_point_dist(a, b, p):
+    """Distance from points p to segments ab; arrays (..., 2)."""
+    ab = b - a
+    L2 = np.einsum("...i,...i->...", ab, ab)
+    t = np.where(L2 > 0, np.einsum("...i,...i->...", p - a, ab) / np.where(L2 > 0, L2, 1.0), 0.0)
+    t = np.clip(t, 0.0, 1.0)
+    q = a + t[..., None] * ab
+    return np.linalg.norm(p - q, axis=-1)
+
+
+def _cross2(u, v):
+    return u[..., 0] * v[..., 1] - u[..., 1] * v[..., 0]
+
+
+def _seg_seg_dist(a, b, c, d):
+    """Distance between segments ab and cd (arrays (..., 2)); 0 where they cross."""
+    dist = np.minimum.reduce([
+        _seg_point_dist(a, b, c), _seg_point_dist(a, b, d),
+        _seg_point_dist(c, d, a), _seg_point_dist(c, d, b),
+    ])
+    d1 = _cross2(b - a, c - a)
+    d2 = _cross2(b - a, d - a)
+    d3 = _cross2(d - c, a - c)
+    d4 = _cross2(d - c, b - c)
+    crossing = (d1 * d2 < 0) & (d3 * d4 < 0)
+    return np.where(crossing, 0.0, dist)
+
+
+def _edges(pts):
+    k = pts.shape[-2]
+    if k == 1:
+        return [(pts[..., 0, :], pts[..., 0, :])]
+    if k == 2:
+        return [(pts[..., 0, :], pts[..., 1, :])]
+    return [(pts[..., i, :], pts[..., (i + 1) % k, :]) for i in range(k)]
+
+
+def _inside_triangle(tri, p):
+    """Is p (…,2) inside triangle tri (…,3,2) (either orientation)?"""
+    s = [_cross2(tri[..., (i + 1) % 3, :] - tri[..., i, :], p - tri[..., i, :]) for i in range(3)]
+    return ((s[0] >= 0) & (s[1] >= 0) & (s[2] >= 0)) | ((s[0] <= 0) & (s[1] <= 0) & (s[2] <= 0))
+
+
+def hull_distance(pa: np.ndarray, pb: np.ndarray) -> np.ndarray:
+    """Distance between the convex hulls of point sets pa (N,ka,2) and pb (N,kb,2), k<=3; 0 if they overlap."""
+    d = np.full(pa.shape[0], np.inf)
+    for a, b in _edges(pa):
+        for c, e in _edges(pb):
+            d = np.minimum(d, _seg_seg_dist(a, b, c, e))
+    if pa.shape[1] == 3:
+        for j in range(pb.shape[1]):
+            d = np.where(_inside_triangle(pa, pb[:, j, :]), 0.0, d)
+    if pb.shape[1] == 3:
+        for j in range(pa.shape[1]):
+            d = np.where(_inside_triangle(pb, pa[:, j, :]), 0.0, d)
+    return d
+
+
+def world_points(el: Element, tf_world_body: dict[str, np.ndarray]) -> np.ndarray:
+    """(N,k,2) points of an element at every pose (``tf_world_body[body]``: (N,3,3))."""
+    T = tf_world_body[el.body]
+    p = np.asarray(el.points_mm, dtype=float)
+    return np.einsum("nij,kj->nki", T[:, :2, :2], p) + T[:, None, :2, 2]
+
+
+def planar_clearances(elements, tf_world_body) -> list[tuple[float, Element, Element]]:
+    """(min planar clearance over the poses, element a, element b) for every pair of elements
+    of different bodies whose z intervals overlap."""
+    out = []
+    wp = [world_points(e, tf_world_body) for e in elements]
+    for i, j in itertools.combinations(range(len(elements)), 2):
+        a, b = elements[i], elements[j]
+        if a.body == b.body:
+            continue
+        if min(a.z_mm[1], b.z_mm[1]) - max(a.z_mm[0], b.z_mm[0]) <= 1e-9:
+            continue
+        d = hull_distance(wp[i], wp[j]) - a.radius_mm - b.radius_mm
+        out.append((float(d.min()), a, b))
+    return out
+
+
+# --------------------------------------------------------------------------- stack
+def _pin_window(parts: PartsSpec, t: float, on_post: bool) -> tuple[float, float]:
+    pin = catalog.get_shoulder_screw(parts.pin)
+    if on_post:
+        return SHOULDER_MIN_ENTRY_MM, np.inf
+    w = catalog.get_washer(parts.pin)
+    nut = catalog.get_nut(parts.pin)
+    lo = max(SHOULDER_MIN_ENTRY_MM, t + w.h_mm + nut.m_mm - pin.b_mm)
+    hi = min(t - 0.5, t + w.h_mm - pin.g2_mm)
+    if lo > hi:
+        raise DesignError(
+            "parts.bar_thickness_mm",
+            f"a {t:g} mm bar cannot be clamped by the {parts.pin} shoulder screw and nut "
+            f"(shoulder entry window {lo:g}..{hi:g} mm is empty)",
+        )
+    return lo, hi
+
+
+def joint_stack(joint: str, upper: str, lower: str, z_upper: float, z_lower_top: float,
+                parts: PartsSpec) -> JointStack:
+    """Heights of the hardware at one joint (module docstring)."""
+    t = parts.bar_thickness_mm
+    brg = catalog.get_bearing(parts.bearing)
+    pin = catalog.get_shoulder_screw(parts.pin)
+    on_post = lower == "ground"
+    spacer = z_upper - z_lower_top
+    shim = (t - brg.B_mm) + parts.pin_head_clearance_mm
+    clamp = shim + brg.B_mm + spacer
+    lo, hi = _pin_window(parts, t, on_post)
+    L = catalog.shortest_length(pin.lengths_mm, clamp + lo)
+    if L is None:
+        raise DesignError("parts.layer_gap_mm",
+                          f"the {parts.pin} shoulder screws stop at {pin.lengths_mm[-1]:g} mm; the stack "
+                          f"at {joint} needs {clamp + lo:g} mm")
+    if L - clamp > hi:
+        shim += (L - clamp) - hi
+        clamp = shim + brg.B_mm + spacer
+    head_face = z_upper + t + (shim - (t - brg.B_mm))
+    return JointStack(
+        joint=joint, upper=upper, lower=lower, z_upper_mm=z_upper, z_lower_top_mm=z_lower_top,
+        spacer_mm=spacer, shim_mm=shim, pin_length_mm=L, clamp_mm=clamp, nut=not on_post,
+        head_face_mm=head_face, head_top_mm=head_face + pin.k_mm,
+        thread_end_mm=head_face - L - pin.b_mm,
+    )
+
+
+def _hub_screw_length(parts: PartsSpec) -> float:
+    cs = catalog.get_cap_screw(parts.hub_screw, "parts.hub_screw")
+    L = catalog.shortest_length(cs.lengths_mm, parts.bar_thickness_mm + HUB_SCREW_ENGAGEMENT_MM)
+    if L is None:
+        raise DesignError("parts.hub_screw", f"no {parts.hub_screw} length reaches through a "
+                          f"{parts.bar_thickness_mm:g} mm crank")
+    return L
+
+
+def _handle_screw_length(parts: PartsSpec) -> float:
+    cs = catalog.get_cap_screw(parts.handle_screw, "parts.handle_screw")
+    L = catalog.shortest_length(cs.lengths_mm, parts.bar_thickness_mm + HANDLE_SCREW_FLOOR_MM)
+    if L is None or L - parts.bar_thickness_mm > parts.handle_height_mm - 2.0:
+        raise DesignError("parts.handle_height_mm", f"a {parts.handle_height_mm:g} mm knob cannot take the "
+                          f"{parts.handle_screw} screw")
+    return L
+
+
+def plan_for_order(order, joints_link: dict[str, dict[str, np.ndarray]], parts: PartsSpec,
+                   tf_world_body: dict[str, np.ndarray], gaps_mm: tuple[float, float] | None = None) -> LayerPlan:
+    """Stack heights and planar conflicts of one layer order (bottom to top).
+
+    ``gaps_mm``: gap between layers 0-1 and 1-2 (default ``layer_gap_mm`` both).
+    """
+    t = parts.bar_thickness_mm
+    g = parts.layer_gap_mm
+    gaps = tuple(gaps_mm) if gaps_mm is not None else (g, g)
+    level = {name: i for i, name in enumerate(order)}
+    offs = (0.0, t + gaps[0], 2 * t + gaps[0] + gaps[1])
+    motor = catalog.get_motor(parts.motor)
+    pin = catalog.get_shoulder_screw(parts.pin)
+    nut = catalog.get_nut(parts.pin)
+    washer = catalog.get_washer(parts.pin)
+    hub_cs = catalog.get_cap_screw(parts.hub_screw, "parts.hub_screw")
+    hub_L = _hub_screw_length(parts)
+    handle_L = _handle_screw_length(parts)
+
+    def stacks_for(z0: float) -> dict[str, JointStack]:
+        z = {n: z0 + offs[level[n]] for n in order}
+        out = {}
+        for j, (a, b) in JOINTS.items():
+            if b == "ground":
+                out[j] = joint_stack(j, a, b, z[a], z[a] - g, parts)
+                continue
+            up, low = (a, b) if level[a] > level[b] else (b, a)
+            out[j] = joint_stack(j, up, low, z[up], z[low] + t, parts)
+        return out
+
+    # lowest layer: clear the base plate, the nuts hanging under it and the hub screws
+    base_clear = parts.base_clearance_mm
+    probe = stacks_for(100.0)
+    lowest = order[0]
+    hang = 0.0
+    for s in probe.values():
+        if s.lower == lowest and s.nut:
+            hang = max(hang, 100.0 - s.thread_end_mm)
+    z0 = base_clear + hang
+    if lowest == "crank":
+        z0 = max(z0, base_clear + (hub_L - t) + 0.5)
+    js = stacks_for(z0)
+    z = {n: z0 + offs[level[n]] for n in order}
+
+    flange_z = -(parts.base_thickness_mm + parts.motor_mount_thickness_mm)
+    shaft_top = flange_z + motor.shaft_length_mm
+    hub_lo = base_clear
+    hub_hi = z["crank"]
+    engaged = min(shaft_top, hub_hi) - hub_lo
+    if engaged < parts.hub_shaft_engagement_min_mm - 1e-9:
+        raise DesignError(
+            "parts.base_thickness_mm",
+            f"the {motor.shaft_length_mm:g} mm {parts.motor} shaft reaches only {engaged:.2f} mm into the crank "
+            f"hub (need {parts.hub_shaft_engagement_min_mm:g}); thin the base/motor mount plates",
+        )
+
+    J = joints_link
+    els: list[Element] = []
+
+    def add(label, body, pts, r, zlo, zhi, anchor):
+        els.append(Element(label, body, np.atleast_2d(np.asarray(pts, dtype=float)), float(r),
+                           (float(zlo), float(zhi)), anchor))
+
+    r_end = parts.bar_end_radius_mm
+    for link in LINK_NAMES:
+        pts = np.array(list(J[link].values()))
+        add(f"{link} bar", link, pts, r_end, z[link], z[link] + t, level[link])
+    r_nut = max(washer.d2_mm, nut.s_mm * 2.0 / np.sqrt(3.0)) / 2.0
+    spacer_r = spacer_od_mm(parts) / 2.0
+    for j, s in js.items():
+        carrier = s.lower  # the pin, spacers and nut move with the lower link (or ground)
+        p_c = J[carrier][j]
+        add(f"{j} screw head", carrier, p_c, pin.dk_mm / 2.0, s.head_face_mm, s.head_top_mm, level[s.upper])
+        add(f"{j} gap spacer", carrier, p_c, spacer_r, s.z_lower_top_mm, s.z_upper_mm, None)
+        if s.nut:
+            add(f"{j} washer+nut", carrier, p_c, r_nut, s.thread_end_mm, s.z_lower_top_mm - t, level[s.lower])
+        else:
+            add(f"{j} post", "ground", J["ground"][j], parts.post_diameter_mm / 2.0, 0.0, s.z_lower_top_mm, None)
+    add("hub", "crank", J["crank"]["A1"], parts.hub_diameter_mm / 2.0, hub_lo, hub_hi, None)
+    r_bc = hub_bolt_circle_mm(parts) / 2.0
+    add("hub screw heads", "crank", J["crank"]["A1"], r_bc + hub_cs.dk_mm / 2.0, z["crank"] + t,
+        z["crank"] + t + hub_cs.k_mm, level["crank"])
+    if shaft_top > z["crank"] + t:
+        add("motor shaft end", "crank", J["crank"]["A1"], motor.shaft_diameter_mm / 2.0, z["crank"] + t,
+            shaft_top, None)
+    zc = z["coupler"]
+    add("handle", "coupler", J["coupler"]["P"], parts.handle_diameter_mm / 2.0, zc + t,
+        zc + t + parts.handle_height_mm, level["coupler"])
+
+    pairs = planar_clearances(els, tf_world_body)
+    conflicts = tuple(f"{a.label} / {b.label}: {d:.2f} mm" for d, a, b in sorted(pairs, key=lambda x: x[0])
+                      if d < parts.clearance_min_mm)
+    min_cl = min((d for d, _, _ in pairs), default=np.inf)
+    top = max(e.z_mm[1] for e in els)
+    return LayerPlan(
+        order=tuple(order), thickness_mm=t, z_mm=z, joints=js, hub_z_mm=(hub_lo, hub_hi),
+        hub_screw_length_mm=hub_L, shaft_top_mm=shaft_top, flange_z_mm=flange_z,
+        post_top_mm=js["A4"].z_lower_top_mm, handle_z_mm=zc + t, handle_screw_length_mm=handle_L,
+        top_mm=top, elements=tuple(els), min_planar_clearance_mm=float(min_cl), conflicts=conflicts,
+        gaps_mm=gaps, pairs=tuple(pairs),
+    )
+
+
+#: Most times the layer gaps are widened for one order before it is given up.
+MAX_GAP_ROUNDS = 6
+
+
+def _widen(plan: LayerPlan, parts: PartsSpec) -> tuple[float, float] | None:
+    """Gaps that separate in z every conflicting pair anchored to different layers, or None
+    when a conflict involves an element spanning layers (only another order can help)."""
+    gaps = list(plan.gaps_mm)
+    changed = False
+    for d, a, b in plan.pairs:
+        if d >= parts.clearance_min_mm:
+            continue
+        if a.anchor is None or b.anchor is None or a.anchor == b.anchor:
+            return None
+        lo_el, hi_el = (a, b) if a.anchor < b.anchor else (b, a)
+        need = lo_el.z_mm[1] - hi_el.z_mm[0] + parts.clearance_min_mm
+        if need > 0:
+            k = hi_el.anchor - 1
+            gaps[k] += need
+            changed = True
+    return tuple(gaps) if changed else None
+
+
+def plan_order(order, joints_link, parts: PartsSpec, tf_world_body) -> LayerPlan:
+    """:func:`plan_for_order`, widening the layer gaps where hardware hanging from one layer
+    meets the bars of another (up to :data:`MAX_GAP_ROUNDS` times)."""
+    plan = plan_for_order(order, joints_link, parts, tf_world_body)
+    for _ in range(MAX_GAP_ROUNDS):
+        if not plan.conflicts:
+            break
+        gaps = _widen(plan, parts)
+        if gaps is None:
+            break
+        plan = plan_for_order(order, joints_link, parts, tf_world_body, gaps)
+    return plan
+
+
+def spacer_od_mm(parts: PartsSpec) -> float:
+    """Outside diameter of the turned spacers: between the bearing's shaft abutment
+    diameter da and its inner-ring shoulder d1 (touches the inner ring only)."""
+    brg = catalog.get_bearing(parts.bearing)
+    return round(0.5 * (brg.da_mm + brg.d1_mm), 1)
+
+
+def hub_bolt_circle_mm(parts: PartsSpec) -> float:
+    """Diameter of the circle of hub screws: half-way between shaft and hub rim."""
+    motor = catalog.get_motor(parts.motor)
+    return 0.5 * (motor.shaft_diameter_mm + parts.hub_diameter_mm)
+
+
+def choose_layers(joints_link, parts: PartsSpec, tf_world_body) -> LayerPlan:
+    """The layer plan: ``parts.layer_order`` if given, else the conflict-free order with the
+    lowest top (ties: :data:`ORDERS` order); gaps widened where needed (:func:`plan_order`). When every order conflicts, the one with the
+    largest planar clearance is returned with its ``conflicts`` listed (the 3-D sweep decides)."""
+    orders = [parts.layer_order] if parts.layer_order else list(ORDERS)
+    plans = [plan_order(o, joints_link, parts, tf_world_body) for o in orders]
+    cands = tuple({"order": list(p.order), "conflicts": len(p.conflicts), "top_mm": p.top_mm,
+                   "gaps_mm": list(p.gaps_mm), "min_planar_clearance_mm": p.min_planar_clearance_mm}
+                  for p in plans)
+    ok = [p for p in plans if not p.conflicts]
+    best = min(ok, key=lambda p: p.top_mm) if ok else max(plans, key=lambda p: p.min_planar_clearance_mm)
+    return LayerPlan(**{**best.__dict__, "candidates": cands})
+
+
+def footprint_bbox_mm(plan: LayerPlan, tf_world_body) -> tuple[float, float, float, float]:
+    """(xmin, ymin, xmax, ymax) of everything above the base plate over the sampled poses."""
+    lo = np.array([np.inf, np.inf])
+    hi = -lo
+    for e in plan.elements:
+        w = world_points(e, tf_world_body).reshape(-1, 2)
+        lo = np.minimum(lo, w.min(axis=0) - e.radius_mm)
+        hi = np.maximum(hi, w.max(axis=0) + e.radius_mm)
+    return float(lo[0]), float(lo[1]), float(hi[0]), float(hi[1])

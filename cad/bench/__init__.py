@@ -1,0 +1,1 @@
+"""Benchmarks: error against time for every computation with an accuracy knob."""

@@ -1,0 +1,166 @@
+"""``hapticad build``: design -> parts -> exports, dispatched on the design's family.
+
+Contract for builder modules (``cad/build/fourbar.py``, ``pantograph.py``, ``powermouse.py``)::
+
+    def build(design, out_dir: Path, formats: set[str], *, fidelity: str = "fabrication",
+              allow_interference: bool = False, progress: Progress | None = None,
+              phi1_deg: float | None = None) -> dict
+
+``out_dir`` is a fresh temporary directory (the dispatcher publishes it atomically with
+:func:`cad.io.atomic.atomic_dir` only when everything succeeded); the builder writes
+the part files, ``bom.csv`` and the preview into it and returns the report dict. The
+dispatcher adds ``build`` metadata, writes ``report.json`` and ``manifest.json``.
+``progress`` (may be None) is called as ``progress(description, done, total)``.
+A builder may also expose ``cache_inputs(design) -> dict`` with anything outside the
+design object that its output depends on (e.g. the hash of a user part script).
+
+Build cache: the dispatcher hashes the design object, the build options and the source
+code of the ``cad`` package into ``build_key``. When ``out_dir/manifest.json`` already
+carries that key and every listed file still has its sha256, nothing is rebuilt and no
+CAD library is imported (the report is read back, ``"cached": true``).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+import hashlib
+import importlib
+import json
+import math
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+import cad
+from cad.design import FAMILY_MODULES
+from cad.errors import DesignError
+from cad.io.atomic import atomic_dir, write_text_atomic
+
+Progress = Callable[[str, int, int], None]
+FIDELITIES = ("fabrication", "inertia", "preview")
+REPORT_NAME = "report.json"
+#: Bump when the cache key payload changes shape.
+CACHE_SCHEMA = 1
+
+
+def builder_module_name(design) -> str:
+    """``cad.build.<x>`` for a design object (from its family's design module)."""
+    family = getattr(design, "family", None)
+    design_mod = FAMILY_MODULES.get(family) if family is not None else None
+    if design_mod is None:
+        design_mod = type(design).__module__
+    if not design_mod.startswith("cad.design."):
+        raise DesignError("mechanism.family", f"no builder for designs of type {type(design).__name__}")
+    return "cad.build." + design_mod.rsplit(".", 1)[1]
+
+
+def _jsonable(obj: Any) -> Any:
+    if dataclasses.is_dataclass(obj) and not isinstance(obj, type):
+        return {f.name: _jsonable(getattr(obj, f.name)) for f in dataclasses.fields(obj)}
+    if isinstance(obj, dict):
+        return {str(k): _jsonable(v) for k, v in sorted(obj.items(), key=lambda kv: str(kv[0]))}
+    if isinstance(obj, (list, tuple)):
+        return [_jsonable(v) for v in obj]
+    if isinstance(obj, float):
+        return obj if math.isfinite(obj) else repr(obj)
+    if isinstance(obj, (str, int, bool)) or obj is None:
+        return obj
+    if hasattr(obj, "tolist"):
+        return _jsonable(obj.tolist())
+    return repr(obj)
+
+
+@functools.lru_cache(maxsize=1)
+def code_version() -> str:
+    """sha256 over the source of the ``cad`` package (any code change invalidates caches)."""
+    root = Path(cad.__file__).parent
+    h = hashlib.sha256()
+    for p in sorted(root.rglob("*.py")):
+        h.update(p.relative_to(root).as_posix().encode())
+        h.update(p.read_bytes())
+    return h.hexdigest()
+
+
+def build_key(design, formats: set[str], fidelity: str, allow_interference: bool,
+              phi1_deg: float | None) -> str:
+    """Hash of everything a build's output depends on (design, options, code, extra inputs)."""
+    payload = {
+        "schema": CACHE_SCHEMA,
+        "design": _jsonable({k: v for k, v in _jsonable(design).items() if k not in ("source", "raw")}),
+        "raw": _jsonable(getattr(design, "raw", {})),
+        "formats": sorted(formats),
+        "fidelity": fidelity,
+        "allow_interference": bool(allow_interference),
+        "phi1_deg": phi1_deg,
+        "code": code_version(),
+    }
+    try:
+        mod = importlib.import_module(builder_module_name(design))
+    except ModuleNotFoundError:
+        mod = None
+    if mod is not None and hasattr(mod, "cache_inputs"):
+        payload["extra"] = _jsonable(mod.cache_inputs(design))
+    text = json.dumps(payload, sort_keys=True, separators=(",", ":"))
+    return hashlib.sha256(text.encode()).hexdigest()
+
+
+def cached_report(out_dir: Path, key: str) -> dict | None:
+    """The report of an up-to-date build in ``out_dir`` (manifest key and hashes match), else None."""
+    from cad.export.manifest import verify_manifest
+
+    doc = verify_manifest(out_dir)
+    if doc is None or doc.get("build_key") != key:
+        return None
+    try:
+        report = json.loads((Path(out_dir) / REPORT_NAME).read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return None
+    report["cached"] = True
+    return report
+
+
+def build_design(
+    design,
+    out_dir: Path,
+    formats: set[str],
+    *,
+    fidelity: str = "fabrication",
+    allow_interference: bool = False,
+    progress: Progress | None = None,
+    phi1_deg: float | None = None,
+    use_cache: bool = True,
+) -> dict:
+    """Build ``design`` into ``out_dir`` atomically and return the report dict.
+
+    Raises the builder's :class:`cad.errors.HapticadError` subclasses (DesignError,
+    GeometryError, MeshError, InterferenceError ...); on any failure ``out_dir`` is
+    left exactly as it was.
+    """
+    if fidelity not in FIDELITIES:
+        raise DesignError("--fidelity", f"must be one of {', '.join(FIDELITIES)}, got {fidelity!r}")
+    out_dir = Path(out_dir)
+    key = build_key(design, formats, fidelity, allow_interference, phi1_deg)
+    if use_cache:
+        rep = cached_report(out_dir, key)
+        if rep is not None:
+            return rep
+    mod_name = builder_module_name(design)
+    try:
+        mod = importlib.import_module(mod_name)
+    except ModuleNotFoundError as exc:
+        if exc.name == mod_name:
+            raise DesignError("mechanism.family", f"building {design.family!r} designs is not available yet") from None
+        raise
+    from cad.export.manifest import write_manifest
+
+    with atomic_dir(out_dir) as tmp:
+        report = mod.build(design, tmp, set(formats), fidelity=fidelity,
+                           allow_interference=allow_interference, progress=progress, phi1_deg=phi1_deg)
+        report = dict(report)
+        report["build"] = {"formats": sorted(formats), "fidelity": fidelity,
+                           "allow_interference": bool(allow_interference), "build_key": key}
+        write_text_atomic(tmp / REPORT_NAME, json.dumps(_jsonable(report), indent=2, sort_keys=True) + "\n")
+        write_manifest(tmp, {"build_key": key})
+    report["cached"] = False
+    return report

@@ -1,0 +1,518 @@
+"""Design files of the pantograph families: "pantograph", "twin-pantograph", "haptic-pen".
+
+Schema (mm, N, N m; every key optional unless marked *):
+
+``pantograph`` (symmetric 5-bar, isotropy paper §3 and Fig. 2)::
+
+    [mechanism]  family*, base_mm*, proximal_mm*, distal_mm*,
+                 proximal_right_mm, distal_right_mm (general 5-bar; default = left),
+                 elbow_left (+1), elbow_right (-1)
+    [workspace]  side_mm*, center_mm* = [x, y], grid (11)
+    [actuators]  torque_max_Nm (1.0, or [left, right]), force_max_N (1.0)
+    [optimize]   base_mm / proximal_mm / distal_mm = [min, max, count]
+
+``twin-pantograph`` (haptic mouse, §4.1)::
+
+    [mechanism]  family*, base_mm*, proximal_mm*, distal_mm*, knob_diameter_mm (12.5),
+                 crank_mm (eq 7: 1.6 * knob_diameter_mm)
+    [workspace]  side_mm*, center_mm*, grid (7), theta_grid (8),
+                 home_mm (= center_mm), home_theta_deg (90)
+    [actuators]  torque_max_Nm (1.0), force_max_N (1.0), moment_max_Nm (F * crank / 2)
+    [optimize]   base_mm / proximal_mm / distal_mm = [min, max, count]
+    [parts]      see :class:`PantographParts`
+
+``haptic-pen`` (§4.2, Table 2)::
+
+    [mechanism]  family*, shoulder_base_mm*, proximal_mm*, distal_mm*, pen_mm*,
+                 arm_spacing_mm (= pen_mm), waist_torque_ratio (1.6)
+    [workspace]  center_mm* = [x, y, z], size_mm ([160, 100, 100]), grid ([5, 3, 3]),
+                 rotation_deg (45), rotation_grid (3)
+    [actuators]  torque_max_Nm (1.0, shoulder), force_max_N (1.0), moment_arm_mm (35)
+    [optimize]   shoulder_base_mm / proximal_mm / distal_mm / pen_mm /
+                 waist_torque_ratio = [min, max, count]
+
+Top level: ``name``, ``description`` (strings) and the tables above.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+from typing import Any
+
+import numpy as np
+
+from cad.design.fields import (
+    check_unknown,
+    number_list,
+    optional_int,
+    optional_number,
+    optional_positive,
+    optional_table,
+    require_number,
+    require_positive,
+    require_table,
+)
+from cad.errors import DesignError
+
+FAMILIES = ("pantograph", "twin-pantograph", "haptic-pen")
+
+_MECH_KEYS = {
+    "pantograph": (
+        "family",
+        "base_mm",
+        "proximal_mm",
+        "distal_mm",
+        "proximal_right_mm",
+        "distal_right_mm",
+        "elbow_left",
+        "elbow_right",
+    ),
+    "twin-pantograph": (
+        "family",
+        "base_mm",
+        "proximal_mm",
+        "distal_mm",
+        "knob_diameter_mm",
+        "crank_mm",
+    ),
+    "haptic-pen": (
+        "family",
+        "shoulder_base_mm",
+        "proximal_mm",
+        "distal_mm",
+        "pen_mm",
+        "arm_spacing_mm",
+        "waist_torque_ratio",
+    ),
+}
+_WS_KEYS = {
+    "pantograph": ("side_mm", "center_mm", "grid"),
+    "twin-pantograph": ("side_mm", "center_mm", "grid", "theta_grid", "home_mm", "home_theta_deg"),
+    "haptic-pen": ("center_mm", "size_mm", "grid", "rotation_deg", "rotation_grid"),
+}
+_ACT_KEYS = {
+    "pantograph": ("torque_max_Nm", "force_max_N"),
+    "twin-pantograph": ("torque_max_Nm", "force_max_N", "moment_max_Nm"),
+    "haptic-pen": ("torque_max_Nm", "force_max_N", "moment_arm_mm"),
+}
+#: free parameters [optimize] may range over, per family.
+OPTIMIZABLE = {
+    "pantograph": ("base_mm", "proximal_mm", "distal_mm"),
+    "twin-pantograph": ("base_mm", "proximal_mm", "distal_mm"),
+    "haptic-pen": ("shoulder_base_mm", "proximal_mm", "distal_mm", "pen_mm", "waist_torque_ratio"),
+}
+
+
+@dataclass(frozen=True)
+class PantographParts:
+    """Part parameters of the twin-pantograph mouse (mm, catalogue values named).
+
+    Links: carbon-fibre tubes bonded into aluminium clevises; each joint a pin
+    in two ball bearings. Motors: defaults are a Maxon RE 25 class coreless DC
+    motor (dia. 25 mm, 54 mm long, ~130 g, rotor ~10.5 g cm^2: catalogue
+    ballpark, not a quotation).
+    """
+
+    tube_od_mm: float = 8.0
+    tube_id_mm: float = 6.0
+    tube_material: str = "carbon-fibre"
+    clevis_material: str = "aluminium-6061"
+    clevis_length_mm: float = 20.0
+    clevis_width_mm: float = 14.0
+    clevis_thickness_mm: float = 5.0
+    pin_diameter_mm: float = 4.0
+    bearing_od_mm: float = 9.0
+    bearing_width_mm: float = 4.0
+    motor_diameter_mm: float = 25.0
+    motor_length_mm: float = 54.0
+    motor_mass_g: float = 130.0
+    motor_shaft_diameter_mm: float = 4.0
+    rotor_inertia_g_cm2: float = 10.5
+    crank_material: str = "aluminium-6061"
+    crank_thickness_mm: float = 6.0
+    knob_material: str = "delrin"
+    knob_height_mm: float = 25.0
+    plate_material: str = "aluminium-6061"
+    plate_thickness_mm: float = 8.0
+    layer_gap_mm: float = 3.0
+
+
+_PART_STR = (
+    "tube_material",
+    "clevis_material",
+    "crank_material",
+    "knob_material",
+    "plate_material",
+)
+
+
+def parse_parts(table: dict[str, Any], prefix: str = "parts") -> PantographParts:
+    """Validate the ``[parts]`` table of a twin-pantograph (an empty one gives the defaults)."""
+    default = PantographParts()
+    allowed = list(PantographParts.__dataclass_fields__)
+    check_unknown(table, allowed, prefix)
+    kw: dict[str, Any] = {}
+    for key in allowed:
+        if key not in table:
+            continue
+        if key in _PART_STR:
+            v = table[key]
+            if not isinstance(v, str) or not v:
+                raise DesignError(f"{prefix}.{key}", f"must be a material name, got {v!r}")
+            kw[key] = v
+        else:
+            kw[key] = require_positive(table, key, prefix)
+    p = replace(default, **kw)
+    if p.tube_id_mm >= p.tube_od_mm:
+        raise DesignError(
+            f"{prefix}.tube_id_mm", f"must be < tube_od_mm ({p.tube_od_mm}), got {p.tube_id_mm}"
+        )
+    if p.pin_diameter_mm >= p.bearing_od_mm:
+        raise DesignError(
+            f"{prefix}.pin_diameter_mm",
+            f"must be < bearing_od_mm ({p.bearing_od_mm}), got {p.pin_diameter_mm}",
+        )
+    if p.tube_od_mm >= p.clevis_width_mm:
+        raise DesignError(
+            f"{prefix}.tube_od_mm",
+            f"must be < clevis_width_mm ({p.clevis_width_mm}), got {p.tube_od_mm}",
+        )
+    if p.bearing_od_mm >= p.clevis_width_mm:
+        raise DesignError(
+            f"{prefix}.bearing_od_mm",
+            f"must be < clevis_width_mm ({p.clevis_width_mm}), got {p.bearing_od_mm}",
+        )
+    return p
+
+
+@dataclass(frozen=True)
+class PantographDesign:
+    """A validated pantograph-family design.
+
+    mechanism: :class:`~cad.kinematics.fivebar.FiveBar`,
+    :class:`~cad.kinematics.twin_pantograph.TwinPantograph` or
+    :class:`~cad.kinematics.haptic_pen.HapticPen`; workspace / actuators: the
+    validated tables with defaults filled in; optimize: {name: (min, max, count)};
+    raw: the TOML mapping.
+    """
+
+    name: str
+    source: str
+    family: str
+    mechanism: Any
+    params: dict[str, float]
+    workspace: dict[str, Any]
+    actuators: dict[str, Any]
+    optimize: dict[str, tuple[float, float, int]]
+    parts: PantographParts | None
+    raw: dict = field(repr=False)
+
+    # ------------------------------------------------------------------ GII
+    def workspace_points(self) -> np.ndarray:
+        """Workspace samples (N, d) in task coordinates (mm, rad)."""
+        ws = self.workspace
+        if self.family == "pantograph":
+            from cad.isotropy.gii import square_grid_mm
+
+            return square_grid_mm(ws["center_mm"], ws["side_mm"], ws["grid"])
+        if self.family == "twin-pantograph":
+            from cad.kinematics.twin_pantograph import workspace_grid
+
+            return workspace_grid(ws["center_mm"], ws["side_mm"], ws["grid"], ws["theta_grid"])
+        from cad.kinematics.haptic_pen import workspace_grid
+
+        return workspace_grid(
+            ws["center_mm"], ws["size_mm"], ws["grid"], ws["rotation_deg"], ws["rotation_grid"]
+        )
+
+    def gii(self):
+        """GII of this design (isotropy paper eq 5) as a :class:`cad.isotropy.gii.GIIResult`."""
+        ws, act = self.workspace, self.actuators
+        if self.family == "pantograph":
+            from cad.isotropy.gii import fivebar_gii
+
+            return fivebar_gii(
+                self.mechanism,
+                ws["center_mm"],
+                ws["side_mm"],
+                ws["grid"],
+                act["torque_max_Nm"],
+                act["force_max_N"],
+            )
+        if self.family == "twin-pantograph":
+            from cad.kinematics.twin_pantograph import twin_gii
+
+            return twin_gii(
+                self.mechanism,
+                ws["center_mm"],
+                ws["side_mm"],
+                ws["grid"],
+                ws["theta_grid"],
+                act["torque_max_Nm"],
+                act["force_max_N"],
+                act["moment_max_Nm"],
+            )
+        from cad.kinematics.haptic_pen import pen_gii
+
+        return pen_gii(
+            self.mechanism,
+            ws["center_mm"],
+            ws["size_mm"],
+            ws["grid"],
+            ws["rotation_deg"],
+            ws["rotation_grid"],
+            act["force_max_N"],
+            act["moment_arm_mm"],
+        )
+
+    def point_units(self) -> tuple[str, ...]:
+        """Names of the coordinates of a workspace point, with units."""
+        return {
+            "pantograph": ("x_mm", "y_mm"),
+            "twin-pantograph": ("x_mm", "y_mm", "theta_deg"),
+            "haptic-pen": ("x_mm", "y_mm", "z_mm", "yaw_deg", "pitch_deg"),
+        }[self.family]
+
+    # ------------------------------------------------------------- optimize
+    def problem(self):
+        """The ``[optimize]`` candidate set x workspace, as a culling problem."""
+        from cad.isotropy import problems
+
+        if not self.optimize:
+            raise DesignError(
+                "optimize", "no free parameters: add e.g. base_mm = [min, max, count]"
+            )
+        names, params = problems.candidate_grid(self.optimize, self.params)
+        ws, act = self.workspace, self.actuators
+        if self.family == "pantograph":
+            fb = self.mechanism
+            if (
+                fb.proximal_left_mm != fb.proximal_right_mm
+                or fb.distal_left_mm != fb.distal_right_mm
+                or (fb.elbow_left, fb.elbow_right) != (1, -1)
+            ):
+                raise DesignError("optimize", "only the symmetric 5-bar can be optimized")
+            return problems.FiveBarProblem(
+                params,
+                self.workspace_points(),
+                ws["grid"],
+                act["torque_max_Nm"],
+                act["force_max_N"],
+            )
+        if self.family == "twin-pantograph":
+            return problems.TwinPantographProblem(
+                params,
+                self.workspace_points(),
+                (ws["grid"], ws["grid"], ws["theta_grid"]),
+                act["torque_max_Nm"],
+                act["force_max_N"],
+                act["moment_max_Nm"],
+            )
+        g = ws["grid"]
+        return problems.PenProblem(
+            params,
+            self.workspace_points(),
+            (g[0], g[1], g[2], ws["rotation_grid"], ws["rotation_grid"]),
+            act["torque_max_Nm"],
+            act["force_max_N"],
+            act["moment_arm_mm"],
+        )
+
+    def with_params(self, values: dict[str, float]) -> PantographDesign:
+        """A copy with mechanism parameters replaced (re-validated)."""
+        raw = {k: (dict(v) if isinstance(v, dict) else v) for k, v in self.raw.items()}
+        raw["mechanism"].update(values)
+        return parse(raw, self.source)
+
+
+def _int_or_list(ws: dict[str, Any], key: str, n: int, default, prefix: str) -> list[int]:
+    if key not in ws:
+        return list(default)
+    v = ws[key]
+    if isinstance(v, int) and not isinstance(v, bool):
+        v = [v] * n
+    if (
+        not isinstance(v, list)
+        or len(v) != n
+        or any(isinstance(i, bool) or not isinstance(i, int) for i in v)
+    ):
+        raise DesignError(f"{prefix}.{key}", f"must be an integer or {n} integers, got {ws[key]!r}")
+    if min(v) < 2:
+        raise DesignError(
+            f"{prefix}.{key}", f"must be >= 2 (the boundary is sampled), got {ws[key]!r}"
+        )
+    return v
+
+
+def _parse_optimize(raw: dict[str, Any], family: str) -> dict[str, tuple[float, float, int]]:
+    table = optional_table(raw, "optimize", "")
+    check_unknown(table, OPTIMIZABLE[family], "optimize")
+    out = {}
+    for key in table:
+        lo, hi, count = number_list(table, key, "optimize", length=3)
+        f = f"optimize.{key}"
+        if not float(count).is_integer() or count < 1:
+            raise DesignError(f, f"count must be an integer >= 1, got {table[key][2]!r}")
+        if hi < lo:
+            raise DesignError(f, f"needs min <= max, got [{lo}, {hi}]")
+        if key == "base_mm":
+            if lo < 0:
+                raise DesignError(f, f"min must be >= 0, got {lo}")
+        elif lo <= 0:
+            raise DesignError(f, f"min must be > 0, got {lo}")
+        out[key] = (lo, hi, int(count))
+    return out
+
+
+def _torque(act: dict[str, Any], n: int) -> Any:
+    if "torque_max_Nm" not in act:
+        return 1.0
+    v = act["torque_max_Nm"]
+    if isinstance(v, list):
+        vals = number_list(act, "torque_max_Nm", "actuators", length=n)
+        if min(vals) <= 0:
+            raise DesignError("actuators.torque_max_Nm", f"must be > 0, got {v!r}")
+        return vals
+    return require_positive(act, "torque_max_Nm", "actuators")
+
+
+def _elbow(mech: dict[str, Any], key: str, default: int) -> int:
+    if key not in mech:
+        return default
+    v = mech[key]
+    if v not in (1, -1) or isinstance(v, bool):
+        raise DesignError(f"mechanism.{key}", f"must be 1 or -1, got {v!r}")
+    return int(v)
+
+
+def parse(raw: dict[str, Any], source: str = "<design>") -> PantographDesign:
+    """Validate a raw pantograph-family design; every problem is a DesignError."""
+    check_unknown(
+        raw, ("name", "description", "mechanism", "workspace", "actuators", "optimize", "parts"), ""
+    )
+    mech = require_table(raw, "mechanism", "")
+    family = mech.get("family")
+    if family not in FAMILIES:
+        raise DesignError(
+            "mechanism.family", f"must be one of {', '.join(FAMILIES)}, got {family!r}"
+        )
+    check_unknown(mech, _MECH_KEYS[family], "mechanism")
+    ws = require_table(raw, "workspace", "")
+    check_unknown(ws, _WS_KEYS[family], "workspace")
+    act = optional_table(raw, "actuators", "")
+    check_unknown(act, _ACT_KEYS[family], "actuators")
+    name = raw.get("name", family)
+    if not isinstance(name, str):
+        raise DesignError("name", f"must be a string, got {name!r}")
+    optimize = _parse_optimize(raw, family)
+    parts = None
+    workspace: dict[str, Any] = {}
+    actuators: dict[str, Any] = {}
+
+    if family in ("pantograph", "twin-pantograph"):
+        base = require_number(mech, "base_mm", "mechanism")
+        if base < 0:
+            raise DesignError("mechanism.base_mm", f"must be >= 0, got {mech['base_mm']!r}")
+        l2 = require_positive(mech, "proximal_mm", "mechanism")
+        l3 = require_positive(mech, "distal_mm", "mechanism")
+        params = {"base_mm": base, "proximal_mm": l2, "distal_mm": l3}
+        side = require_positive(ws, "side_mm", "workspace")
+        center = number_list(ws, "center_mm", "workspace", length=2)
+        grid = optional_int(ws, "grid", "workspace", 11 if family == "pantograph" else 7, minimum=2)
+        workspace = {"side_mm": side, "center_mm": center, "grid": grid}
+        force = optional_positive(act, "force_max_N", "actuators", 1.0)
+        if family == "pantograph":
+            from cad.kinematics.fivebar import FiveBar
+
+            l2r = optional_positive(mech, "proximal_right_mm", "mechanism", l2)
+            l3r = optional_positive(mech, "distal_right_mm", "mechanism", l3)
+            mechanism = FiveBar(
+                (-base / 2, 0.0),
+                (base / 2, 0.0),
+                l2,
+                l2r,
+                l3,
+                l3r,
+                _elbow(mech, "elbow_left", 1),
+                _elbow(mech, "elbow_right", -1),
+            )
+            actuators = {"torque_max_Nm": _torque(act, 2), "force_max_N": force}
+        else:
+            from cad.kinematics.twin_pantograph import TwinPantograph, crank_length_mm
+
+            knob = optional_positive(mech, "knob_diameter_mm", "mechanism", 12.5)
+            crank = optional_positive(mech, "crank_mm", "mechanism", crank_length_mm(knob))
+            mechanism = TwinPantograph.symmetric(base, l2, l3, knob, crank)
+            params.update(knob_diameter_mm=knob, crank_mm=crank)
+            workspace["theta_grid"] = optional_int(ws, "theta_grid", "workspace", 8, minimum=1)
+            workspace["home_mm"] = (
+                number_list(ws, "home_mm", "workspace", length=2)
+                if "home_mm" in ws
+                else list(center)
+            )
+            workspace["home_theta_deg"] = optional_number(ws, "home_theta_deg", "workspace", 90.0)
+            moment = optional_positive(act, "moment_max_Nm", "actuators", force * crank * 1e-3 / 2)
+            actuators = {
+                "torque_max_Nm": _torque(act, 4),
+                "force_max_N": force,
+                "moment_max_Nm": moment,
+            }
+            parts = parse_parts(optional_table(raw, "parts", ""))
+    else:
+        from cad.kinematics.haptic_pen import HapticPen
+
+        l1 = require_positive(mech, "shoulder_base_mm", "mechanism")
+        l2 = require_positive(mech, "proximal_mm", "mechanism")
+        l3 = require_positive(mech, "distal_mm", "mechanism")
+        l6 = require_positive(mech, "pen_mm", "mechanism")
+        l4 = optional_positive(mech, "arm_spacing_mm", "mechanism", None)
+        q1 = optional_positive(mech, "waist_torque_ratio", "mechanism", 1.6)
+        mechanism = HapticPen(l1, l2, l3, l6, l4, q1)
+        params = {
+            "shoulder_base_mm": l1,
+            "proximal_mm": l2,
+            "distal_mm": l3,
+            "pen_mm": l6,
+            "waist_torque_ratio": q1,
+        }
+        if l4 is not None:
+            params["arm_spacing_mm"] = l4
+        center = number_list(ws, "center_mm", "workspace", length=3)
+        size = (
+            number_list(ws, "size_mm", "workspace", length=3)
+            if "size_mm" in ws
+            else [160.0, 100.0, 100.0]
+        )
+        if min(size) <= 0:
+            raise DesignError("workspace.size_mm", f"must be > 0, got {ws['size_mm']!r}")
+        rot = optional_number(ws, "rotation_deg", "workspace", 45.0)
+        if not 0 <= rot < 90:
+            raise DesignError("workspace.rotation_deg", f"must be in [0, 90), got {rot!r}")
+        workspace = {
+            "center_mm": center,
+            "size_mm": size,
+            "grid": _int_or_list(ws, "grid", 3, (5, 3, 3), "workspace"),
+            "rotation_deg": rot,
+            "rotation_grid": optional_int(ws, "rotation_grid", "workspace", 3, minimum=1),
+        }
+        actuators = {
+            "torque_max_Nm": _torque(act, 1),
+            "force_max_N": optional_positive(act, "force_max_N", "actuators", 1.0),
+            "moment_arm_mm": optional_positive(act, "moment_arm_mm", "actuators", 35.0),
+        }
+    if "parts" in raw and family != "twin-pantograph":
+        raise DesignError(
+            "parts", f"parts are generated for the twin-pantograph only, not {family!r}"
+        )
+    return PantographDesign(
+        name=name,
+        source=source,
+        family=family,
+        mechanism=mechanism,
+        params=params,
+        workspace=workspace,
+        actuators=actuators,
+        optimize=optimize,
+        parts=parts,
+        raw=raw,
+    )

@@ -1,0 +1,340 @@
+"""The ``[parts]`` table of a four-bar design: joint hardware, bars, motor, base, handle.
+
+Every key is optional; an empty ``[parts]`` table gives the complete default
+:class:`PartsSpec` (the hardware of the bundled designs). Lengths in mm, masses in
+g, inertia in g cm^2, angles in deg, as the key names say. No CAD import here:
+catalog data (bearings, ISO 7379 shoulder screws, motors) comes from
+:mod:`cad.parts.catalog`, which reads bd_warehouse's CSV tables directly.
+
+Keys (default in brackets)
+--------------------------
+Bars (crank, coupler, rocker; plates cut from sheet, DXF profiles exported):
+
+``bar_width_mm`` [20.0]
+    width of the straight part of every bar.
+``bar_thickness_mm`` [6.0]
+    plate thickness of every bar; must hold the bearing width plus ``bearing_lip_mm``.
+``bar_end_radius_mm`` [bar_width_mm / 2]
+    radius of the round bar ends around each joint (>= bar_width_mm / 2; larger gives a
+    dog-bone). The bearing seat (bearing outside diameter) plus ``bar_min_wall_mm`` on each
+    side must fit in 2 x this radius.
+``bar_material`` ["aluminium-6061"]
+    any key of :data:`cad.materials.MATERIALS`.
+``bar_pockets`` [true]
+    cut lightening slots through the bars between joints.
+``bar_pocket_web_mm`` [3.0]
+    material left between a pocket and the bar edge or a joint hole.
+``bar_pocket_min_length_mm`` [6.0]
+    pockets shorter than this are not cut.
+``bar_min_wall_mm`` [2.0]
+    smallest wall between a bearing seat or pin hole and the bar edge.
+
+Joints (the same hardware at A2, A3 and A4; "provided a convenient design of the
+revolute joints, the different straight line mechanisms can be obtained by fabricating
+the adequate set of bars", Hoeken paper §III.A):
+
+``bearing`` ["M8-16-4"]
+    deep groove ball bearing, bd_warehouse SKT size ``M<bore>-<OD>-<width>`` (618/8).
+``bearing_lip_mm`` [1.0]
+    lip under the bearing seat that locates the outer ring axially.
+``bearing_mass_g`` [catalog]
+    override of the catalog bearing mass.
+``pin`` ["M6-1"]
+    ISO 7379 shoulder screw thread size (bd_warehouse ShoulderScrew); its shoulder
+    diameter must equal the bearing bore (M6-1: 8 mm).
+``pin_head_clearance_mm`` [1.0]
+    gap between the screw head and the bar face under it.
+``layer_gap_mm`` [2.0]
+    axial gap between two bars at a joint (height of the gap spacer).
+``spacer_material`` ["stainless-304"]
+    turned spacers on the pin (made parts).
+``layer_order`` [automatic]
+    list of the three moving links bottom to top, e.g. ["crank", "coupler", "rocker"];
+    by default the first order without collision over the stroke is taken.
+
+Motor and crank hub:
+
+``motor`` ["maxon-re35"]
+    key of :data:`cad.parts.catalog.MOTORS` (maxon-re35, maxon-re40).
+``motor_rotor_inertia_g_cm2`` [catalog]
+    override of the catalog rotor inertia Jm.
+``motor_mount_thickness_mm`` [5.0] / ``motor_mount_material`` ["aluminium-6061"]
+    adapter plate: motor pilot and bolt circle on one side, bolted under the base plate.
+``hub_diameter_mm`` [20.0] / ``hub_material`` ["aluminium-6061"]
+    direct-drive crank hub clamped on the motor shaft by a set screw.
+``hub_screw`` ["M3-0.5"]
+    ISO 4762 screws (3) fixing the crank bar to the hub.
+``hub_shaft_engagement_min_mm`` [6.0]
+    shortest length of motor shaft inside the hub.
+
+Base:
+
+``base_thickness_mm`` [6.0] / ``base_margin_mm`` [15.0] / ``base_material`` ["aluminium-6061"]
+    base plate under the mechanism (holds the motor mount at A1 and the post at A4);
+    margin around the swept footprint.
+``base_clearance_mm`` [1.0]
+    smallest gap between a moving part and the base plate.
+``post_diameter_mm`` [14.0] / ``post_material`` ["aluminium-6061"]
+    standoff carrying the rocker pivot A4.
+
+Handle (at the coupler point P):
+
+``handle_diameter_mm`` [20.0] / ``handle_height_mm`` [25.0] / ``handle_material`` ["delrin"]
+``handle_fillet_mm`` [3.0]
+    cosmetic round on the knob top (dropped at ``inertia`` and ``preview`` fidelity).
+``handle_screw`` ["M4-0.7"]
+    ISO 4762 screw fixing the knob to the coupler.
+``handle_script`` [none]
+    path (relative to the design file) of a Python script defining ``make_handle(params)``
+    (or a module-level ``handle``/``result``) that returns a build123d or cadquery object;
+    it replaces the built-in knob. ``params`` is a dict with ``diameter_mm``, ``height_mm``,
+    ``screw_clearance_mm``.
+
+Fidelity and checks:
+
+``fidelity`` ["fabrication"]
+    fabrication | inertia | preview (``hapticad build --fidelity`` overrides).
+``stl_tolerance_mm`` [0.01] / ``stl_angular_tolerance_deg`` [15.0]
+    absolute chordal and angular deflection of exported STL meshes.
+``interference_poses`` [60]
+    crank angles of the interference sweep (evenly over the stroke, ends included).
+``clearance_min_mm`` [0.5]
+    two links closer than this anywhere in the stroke count as a collision.
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass, fields
+from typing import Any
+
+from cad.design.fields import check_unknown, optional_int, optional_number
+from cad.errors import DesignError
+
+LINK_NAMES = ("crank", "coupler", "rocker")
+FIDELITIES = ("fabrication", "inertia", "preview")
+
+
+@dataclass(frozen=True)
+class PartsSpec:
+    """Resolved part parameters (see module docstring for every key, units in names)."""
+
+    bar_width_mm: float = 20.0
+    bar_thickness_mm: float = 6.0
+    bar_end_radius_mm: float = 10.0
+    bar_material: str = "aluminium-6061"
+    bar_pockets: bool = True
+    bar_pocket_web_mm: float = 3.0
+    bar_pocket_min_length_mm: float = 6.0
+    bar_min_wall_mm: float = 2.0
+    bearing: str = "M8-16-4"
+    bearing_lip_mm: float = 1.0
+    bearing_mass_g: float | None = None
+    pin: str = "M6-1"
+    pin_head_clearance_mm: float = 1.0
+    layer_gap_mm: float = 2.0
+    spacer_material: str = "stainless-304"
+    layer_order: tuple[str, ...] | None = None
+    motor: str = "maxon-re35"
+    motor_rotor_inertia_g_cm2: float | None = None
+    motor_mount_thickness_mm: float = 5.0
+    motor_mount_material: str = "aluminium-6061"
+    hub_diameter_mm: float = 20.0
+    hub_material: str = "aluminium-6061"
+    hub_screw: str = "M3-0.5"
+    hub_shaft_engagement_min_mm: float = 6.0
+    base_thickness_mm: float = 6.0
+    base_margin_mm: float = 15.0
+    base_material: str = "aluminium-6061"
+    base_clearance_mm: float = 1.0
+    post_diameter_mm: float = 14.0
+    post_material: str = "aluminium-6061"
+    handle_diameter_mm: float = 20.0
+    handle_height_mm: float = 25.0
+    handle_material: str = "delrin"
+    handle_fillet_mm: float = 3.0
+    handle_screw: str = "M4-0.7"
+    handle_script: str | None = None
+    fidelity: str = "fabrication"
+    stl_tolerance_mm: float = 0.01
+    stl_angular_tolerance_deg: float = 15.0
+    interference_poses: int = 60
+    clearance_min_mm: float = 0.5
+
+    def as_dict(self) -> dict[str, Any]:
+        """Plain mapping of every resolved parameter (build cache key, report)."""
+        d = asdict(self)
+        if d["layer_order"] is not None:
+            d["layer_order"] = list(d["layer_order"])
+        return d
+
+
+_POSITIVE = (
+    "bar_width_mm", "bar_thickness_mm", "bar_pocket_web_mm", "bar_pocket_min_length_mm",
+    "bar_min_wall_mm", "bearing_lip_mm", "pin_head_clearance_mm", "layer_gap_mm",
+    "motor_mount_thickness_mm", "hub_diameter_mm", "hub_shaft_engagement_min_mm",
+    "base_thickness_mm", "base_clearance_mm", "post_diameter_mm", "handle_diameter_mm",
+    "handle_height_mm", "stl_tolerance_mm", "stl_angular_tolerance_deg",
+)
+_NONNEG = ("base_margin_mm", "handle_fillet_mm", "clearance_min_mm")
+_OPTIONAL_POSITIVE = ("bar_end_radius_mm", "bearing_mass_g", "motor_rotor_inertia_g_cm2")
+_MATERIALS = ("bar_material", "spacer_material", "motor_mount_material", "hub_material",
+              "base_material", "post_material", "handle_material")
+_STRINGS = ("bearing", "pin", "motor", "hub_screw", "handle_screw", "handle_script", "fidelity")
+_BOOLS = ("bar_pockets",)
+ALLOWED_KEYS = tuple(f.name for f in fields(PartsSpec))
+
+
+def _f(prefix: str, key: str) -> str:
+    return f"{prefix}.{key}" if prefix else key
+
+
+def _string(table: dict[str, Any], key: str, prefix: str, default: str | None) -> str | None:
+    if key not in table:
+        return default
+    v = table[key]
+    if not isinstance(v, str) or not v.strip():
+        raise DesignError(_f(prefix, key), f"must be a non-empty string, got {v!r}")
+    return v.strip()
+
+
+def _bool(table: dict[str, Any], key: str, prefix: str, default: bool) -> bool:
+    if key not in table:
+        return default
+    v = table[key]
+    if not isinstance(v, bool):
+        raise DesignError(_f(prefix, key), f"must be true or false, got {v!r}")
+    return v
+
+
+def parse_parts(table: dict[str, Any] | None, prefix: str = "parts") -> PartsSpec:
+    """Validate a ``[parts]`` table and return the complete :class:`PartsSpec`.
+
+    ``table`` may be empty (all defaults). Raises :class:`DesignError` naming the
+    field (e.g. ``parts.bar_thickness_mm``) and the reason, quoting the value.
+    """
+    table = dict(table or {})
+    check_unknown(table, ALLOWED_KEYS, prefix)
+    d = PartsSpec()
+    vals: dict[str, Any] = {}
+    for key in _POSITIVE:
+        x = optional_number(table, key, prefix, getattr(d, key))
+        if x <= 0:
+            raise DesignError(_f(prefix, key), f"must be > 0, got {table[key]!r}")
+        vals[key] = x
+    for key in _NONNEG:
+        x = optional_number(table, key, prefix, getattr(d, key))
+        if x < 0:
+            raise DesignError(_f(prefix, key), f"must be >= 0, got {table[key]!r}")
+        vals[key] = x
+    for key in _OPTIONAL_POSITIVE:
+        x = optional_number(table, key, prefix, None)
+        if x is not None and x <= 0:
+            raise DesignError(_f(prefix, key), f"must be > 0, got {table[key]!r}")
+        vals[key] = x
+    for key in _STRINGS:
+        vals[key] = _string(table, key, prefix, getattr(d, key))
+    for key in _BOOLS:
+        vals[key] = _bool(table, key, prefix, getattr(d, key))
+    vals["interference_poses"] = optional_int(table, "interference_poses", prefix, d.interference_poses, minimum=2)
+
+    from cad.materials import get_material
+
+    for key in _MATERIALS:
+        name = _string(table, key, prefix, getattr(d, key))
+        vals[key] = get_material(name, _f(prefix, key)).name
+
+    if vals["fidelity"] not in FIDELITIES:
+        raise DesignError(_f(prefix, "fidelity"),
+                          f"must be one of {', '.join(FIDELITIES)}, got {vals['fidelity']!r}")
+    script = vals["handle_script"]
+    if script is not None and not script.endswith(".py"):
+        raise DesignError(_f(prefix, "handle_script"), f"must name a Python file (*.py), got {script!r}")
+
+    order = table.get("layer_order")
+    if order is not None:
+        if (not isinstance(order, list) or sorted(order) != sorted(LINK_NAMES)):
+            raise DesignError(_f(prefix, "layer_order"),
+                              f"must list crank, coupler and rocker once each (bottom to top), got {order!r}")
+        vals["layer_order"] = tuple(order)
+    else:
+        vals["layer_order"] = None
+
+    # -- end radius: default half the width; never narrower than the bar
+    given_r = vals["bar_end_radius_mm"]
+    r_end = given_r if given_r is not None else vals["bar_width_mm"] / 2.0
+    if r_end < vals["bar_width_mm"] / 2.0 - 1e-12:
+        raise DesignError(_f(prefix, "bar_end_radius_mm"),
+                          f"must be >= bar_width_mm / 2 = {vals['bar_width_mm'] / 2:g} mm, got {given_r!r}")
+    vals["bar_end_radius_mm"] = r_end
+
+    _check_hardware(vals, prefix, given_r is not None)
+    return PartsSpec(**vals)
+
+
+def _check_hardware(v: dict[str, Any], prefix: str, end_radius_given: bool) -> None:
+    """Cross-checks between bars and bought hardware (catalog dimensions)."""
+    from cad.parts import catalog
+
+    brg = catalog.get_bearing(v["bearing"], _f(prefix, "bearing"))
+    pin = catalog.get_shoulder_screw(v["pin"], _f(prefix, "pin"))
+    motor = catalog.get_motor(v["motor"], _f(prefix, "motor"))
+    catalog.get_cap_screw(v["hub_screw"], _f(prefix, "hub_screw"))
+    catalog.get_cap_screw(v["handle_screw"], _f(prefix, "handle_screw"))
+    catalog.get_nut(v["pin"], _f(prefix, "pin"))
+    catalog.get_washer(v["pin"], _f(prefix, "pin"))
+
+    if abs(pin.ds_mm - brg.d_mm) > 1e-9:
+        raise DesignError(
+            _f(prefix, "pin"),
+            f"the {v['pin']} shoulder is {pin.ds_mm:g} mm but the {v['bearing']} bearing bore is "
+            f"{brg.d_mm:g} mm; pick a bearing with a {pin.ds_mm:g} mm bore or another pin size",
+        )
+    r_end = v["bar_end_radius_mm"]
+    need = brg.D_mm + 2.0 * v["bar_min_wall_mm"]
+    if need > 2.0 * r_end + 1e-9:
+        key = "bar_end_radius_mm" if end_radius_given else "bar_width_mm"
+        raise DesignError(
+            _f(prefix, key),
+            f"the {brg.D_mm:g} mm bearing seat ({v['bearing']}) with {v['bar_min_wall_mm']:g} mm walls "
+            f"needs {need:g} mm but the bar end is {2 * r_end:g} mm wide "
+            f"(bar_width_mm = {v['bar_width_mm']:g}); widen the bar or pick a smaller bearing",
+        )
+    if v["bar_thickness_mm"] < brg.B_mm + v["bearing_lip_mm"] - 1e-9:
+        raise DesignError(
+            _f(prefix, "bar_thickness_mm"),
+            f"a {v['bar_thickness_mm']:g} mm bar cannot hold the {brg.B_mm:g} mm wide {v['bearing']} "
+            f"bearing with a {v['bearing_lip_mm']:g} mm lip; use >= {brg.B_mm + v['bearing_lip_mm']:g} mm",
+        )
+    hub_hole = catalog.clearance_hole_mm(v["hub_screw"])
+    shaft_r = motor.shaft_diameter_mm / 2.0
+    if v["hub_diameter_mm"] / 2.0 - shaft_r < hub_hole + 2.0 - 1e-9:
+        raise DesignError(
+            _f(prefix, "hub_diameter_mm"),
+            f"a {v['hub_diameter_mm']:g} mm hub cannot carry {v['hub_screw']} screws around the "
+            f"{motor.shaft_diameter_mm:g} mm shaft; use >= {motor.shaft_diameter_mm + 2 * hub_hole + 4:g} mm",
+        )
+    r_bc = (shaft_r + v["hub_diameter_mm"] / 2.0) / 2.0
+    if r_bc + hub_hole / 2.0 + 1.0 > r_end + 1e-9:
+        raise DesignError(
+            _f(prefix, "hub_diameter_mm"),
+            f"the hub screw circle (radius {r_bc:g} mm) does not fit in the {r_end:g} mm crank end; "
+            "use a smaller hub or a larger bar_end_radius_mm",
+        )
+    if v["post_diameter_mm"] < pin.thread_mm + 2.0 * v["bar_min_wall_mm"] - 1e-9:
+        raise DesignError(
+            _f(prefix, "post_diameter_mm"),
+            f"a {v['post_diameter_mm']:g} mm post cannot take the {v['pin']} thread with "
+            f"{v['bar_min_wall_mm']:g} mm walls",
+        )
+    hs = catalog.get_cap_screw(v["handle_screw"], _f(prefix, "handle_screw"))
+    if v["handle_diameter_mm"] < hs.dk_mm + 2.0:
+        raise DesignError(_f(prefix, "handle_diameter_mm"),
+                          f"a {v['handle_diameter_mm']:g} mm knob cannot take the {v['handle_screw']} screw")
+    if 2 * v["handle_fillet_mm"] >= min(v["handle_diameter_mm"], v["handle_height_mm"]):
+        raise DesignError(_f(prefix, "handle_fillet_mm"),
+                          f"{v['handle_fillet_mm']:g} mm is too large for a {v['handle_diameter_mm']:g} mm knob")
+
+
+def default_parts() -> PartsSpec:
+    """The complete default PartsSpec (what an empty ``[parts]`` table gives)."""
+    return parse_parts({}, "parts")

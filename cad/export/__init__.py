@@ -1,0 +1,111 @@
+"""Fabrication exports: STEP (fixed header), binary STL (watertight-checked), DXF, BOM, manifest.
+
+CAD libraries are imported inside the functions, never at module import.
+
+* :func:`export_part` -- ``<name>.step``, ``<name>.stl``, ``<name>.dxf`` (plates) of one part;
+* :func:`export_assembly_step` -- one named, coloured solid per part;
+* :func:`write_manifest` -- ``manifest.json`` with sha256 of every file;
+* :func:`write_bom` -- ``bom.csv``.
+
+Determinism: the same shape gives byte-identical STL and DXF; STEP is identical too
+once its time stamp is fixed and OCCT's process-wide assembly counter renumbered
+(see :mod:`cad.export.step`). Every file is written atomically (``cad.io.atomic``).
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+from cad.errors import DesignError
+from cad.export.bom import BOM_COLUMNS, bom_csv, write_bom
+from cad.export.manifest import MANIFEST_NAME, verify_manifest, write_manifest
+from cad.io.atomic import write_bytes_atomic, write_text_atomic
+
+FORMATS = ("step", "stl", "dxf")
+#: Default absolute chordal deflection of exported STL (mm) and angular deflection (rad).
+STL_TOLERANCE_MM = 0.01
+STL_ANGULAR_TOLERANCE_RAD = math.radians(15.0)
+
+__all__ = [
+    "BOM_COLUMNS", "FORMATS", "MANIFEST_NAME", "bom_csv", "export_assembly_step", "export_part",
+    "parse_formats", "verify_manifest", "write_bom", "write_manifest",
+]
+
+
+def parse_formats(text: str | None, field: str = "--formats") -> set[str]:
+    """``"step,stl"`` -> ``{"step", "stl"}``; unknown names are a DesignError."""
+    if text is None:
+        return set(FORMATS)
+    out = {t.strip().lower() for t in text.split(",") if t.strip()}
+    bad = sorted(out - set(FORMATS))
+    if bad or not out:
+        raise DesignError(field, f"unknown format(s) {', '.join(bad) or repr(text)} (known: {', '.join(FORMATS)})")
+    return out
+
+
+def export_part(
+    shape,
+    name: str,
+    out_dir: Path,
+    formats: set[str],
+    *,
+    plate: bool = False,
+    color: tuple[float, float, float] | None = None,
+    stl: bool = True,
+    tolerance_mm: float = STL_TOLERANCE_MM,
+    angular_tolerance_rad: float = STL_ANGULAR_TOLERANCE_RAD,
+) -> list[Path]:
+    """Write the files of one part and return their paths.
+
+    Parameters
+    ----------
+    shape : build123d / cadquery object or OCP ``TopoDS_Shape``, mm.
+    name : file stem (``<name>.step`` ...).
+    formats : subset of {"step", "stl", "dxf"}.
+    plate : write ``<name>.dxf`` (section at mid-thickness) when "dxf" is asked.
+    stl : False for bought parts (only STEP is useful for those).
+    tolerance_mm, angular_tolerance_rad : absolute STL deflections.
+
+    The STL mesh is checked watertight (two independent checks, see
+    :mod:`cad.export.stl`) before anything is written: a failure raises
+    :class:`cad.errors.MeshError` and writes no file of this part.
+    """
+    from cad.export.shapes import to_topods
+    from cad.export.step import step_bytes
+    from cad.export.stl import check_watertight, mesh_shape, stl_bytes
+
+    topo = to_topods(shape, name)
+    out_dir = Path(out_dir)
+    payload: list[tuple[Path, bytes | str]] = []
+    if "stl" in formats and stl:
+        v, f = mesh_shape(topo, tolerance_mm, angular_tolerance_rad)
+        check_watertight(v, f, name)
+        payload.append((out_dir / f"{name}.stl", stl_bytes(v, f, name)))
+    if "step" in formats:
+        payload.append((out_dir / f"{name}.step", step_bytes(topo, name, color)))
+    if "dxf" in formats and plate:
+        from cad.export.dxf import plate_profile_dxf
+
+        payload.append((out_dir / f"{name}.dxf", plate_profile_dxf(topo, name)))
+    written = []
+    for path, data in payload:
+        if isinstance(data, str):
+            write_text_atomic(path, data)
+        else:
+            write_bytes_atomic(path, data)
+        written.append(path)
+    return written
+
+
+def export_assembly_step(items: list[tuple[str, object, tuple[float, float, float]]], path: Path,
+                         name: str | None = None) -> Path:
+    """Assembly STEP at ``path``: one named, coloured solid per ``(name, shape, rgb)`` item.
+
+    Shapes must already be placed in the world frame (mm).
+    """
+    from cad.export.shapes import to_topods
+    from cad.export.step import assembly_step_bytes
+
+    topo_items = [(n, to_topods(s, n), c) for n, s, c in items]
+    return write_bytes_atomic(Path(path), assembly_step_bytes(topo_items, name or Path(path).stem))

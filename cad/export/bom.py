@@ -1,0 +1,36 @@
+"""Bill of materials: ``bom.csv`` (part, material, quantity, made or bought, mass)."""
+
+from __future__ import annotations
+
+import csv
+import io
+from pathlib import Path
+
+from cad.io.atomic import write_text_atomic
+
+BOM_COLUMNS = ("part", "description", "material", "quantity", "made_or_bought", "process",
+               "mass_g", "total_mass_g")
+
+
+def bom_csv(rows: list[dict]) -> str:
+    """CSV text of the BOM rows (columns :data:`BOM_COLUMNS`; masses to 0.01 g)."""
+    buf = io.StringIO()
+    w = csv.DictWriter(buf, fieldnames=BOM_COLUMNS, lineterminator="\n", extrasaction="ignore")
+    w.writeheader()
+    for r in rows:
+        r = dict(r)
+        r.setdefault("description", "")
+        r.setdefault("process", "")
+        r["total_mass_g"] = f"{float(r['mass_g']) * int(r['quantity']):.2f}"
+        r["mass_g"] = f"{float(r['mass_g']):.2f}"
+        w.writerow(r)
+    return buf.getvalue()
+
+
+def write_bom(rows: list[dict], out_dir: Path) -> Path:
+    """Write ``out_dir/bom.csv`` atomically; rows carry part, material, quantity,
+    made_or_bought ("made" or "bought") and mass_g (each), optional description/process."""
+    for r in rows:
+        if r.get("made_or_bought") not in ("made", "bought"):
+            raise ValueError(f"BOM row {r.get('part')!r}: made_or_bought must be 'made' or 'bought'")
+    return write_text_atomic(Path(out_dir) / "bom.csv", bom_csv(rows))

@@ -1,0 +1,236 @@
+"""Global isotropy index over a sampled workspace (isotropy paper eqs 2-5).
+
+The Jacobian J (q_dot = J x_dot, so f = J^T tau, eq 1) is normalized by the
+actuator and task scaling matrices
+
+    J_hat = S_J J S_T^-1,  S_J = diag(tau_max_i),  S_T = diag(F_i, ..., M_i)   (eqs 2-4)
+
+and the GII of a design is the worst smallest singular value over the
+workspace divided by the worst largest one (eq 5):
+
+    GII = min_x0 sigma_min(J_hat(x0)) / max_x1 sigma_max(J_hat(x1)).
+
+0 <= GII <= 1; GII = 1 only if J_hat is isotropic with the same singular value
+everywhere. A sampled point that is unreachable or singular makes GII = 0 and
+the result names it. Units: J in SI (rad/m for translations, rad/rad for
+rotations), S_J in N m, S_T in N (forces) and N m (moments), so J_hat is
+dimensionless. Workspace points are in mm (reporting only).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from cad.errors import DesignError
+
+
+def _scale_vector(values, n: int, name: str) -> np.ndarray:
+    v = np.asarray(values, dtype=float).reshape(-1)
+    if v.size == 1:
+        v = np.full(n, float(v[0]))
+    if v.size != n:
+        raise DesignError(name, f"must have {n} entries, got {v.size}")
+    if not np.all(np.isfinite(v)) or np.any(v <= 0):
+        raise DesignError(name, f"must be finite and > 0, got {v.tolist()!r}")
+    return v
+
+
+def normalized_jacobian(J: np.ndarray, actuator_scale, task_scale) -> np.ndarray:
+    """J_hat = S_J J S_T^-1 (isotropy paper eq 2) for a stack of Jacobians.
+
+    J: (..., m, n) with m actuators (rows) and n task coordinates (columns).
+    actuator_scale: (m,) maximum actuator torques [N m] (S_J, eq 3); a scalar
+    is broadcast. task_scale: (n,) required forces [N] / moments [N m]
+    (S_T, eq 4). Returns an array shaped like J.
+    """
+    J = np.asarray(J, dtype=float)
+    if J.ndim < 2:
+        raise DesignError("jacobian", f"must be at least 2-D (..., m, n), got shape {J.shape}")
+    m, n = J.shape[-2:]
+    sj = _scale_vector(actuator_scale, m, "actuator_scale")
+    st = _scale_vector(task_scale, n, "task_scale")
+    return J * sj[:, None] / st[None, :]
+
+
+def singular_value_extremes(A: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Smallest and largest singular values of a stack of matrices (..., m, n).
+
+    2x2 uses the closed form sigma = |Q +- R| with Q = |((a+d)/2, (c-b)/2)|,
+    R = |((a-d)/2, (c+b)/2)| (exact, elementwise, so batching never changes a
+    value); anything else uses LAPACK (``numpy.linalg.svd``). For m != n the
+    smallest of the min(m, n) singular values is returned.
+    """
+    A = np.asarray(A, dtype=float)
+    if A.shape[-2:] == (2, 2):
+        a, b = A[..., 0, 0], A[..., 0, 1]
+        c, d = A[..., 1, 0], A[..., 1, 1]
+        Q = np.hypot(0.5 * (a + d), 0.5 * (c - b))
+        R = np.hypot(0.5 * (a - d), 0.5 * (c + b))
+        return np.abs(Q - R), Q + R
+    if A.size == 0:
+        shape = A.shape[:-2]
+        return np.zeros(shape), np.zeros(shape)
+    s = np.linalg.svd(A, compute_uv=False)
+    return s[..., -1], s[..., 0]
+
+
+def gii_ratio(sigma_min: np.ndarray, sigma_max: np.ndarray) -> np.ndarray:
+    """sigma_min / sigma_max with 0/0 -> 0 (no valid point at all)."""
+    sigma_min = np.asarray(sigma_min, dtype=float)
+    sigma_max = np.asarray(sigma_max, dtype=float)
+    safe = np.where(sigma_max > 0, sigma_max, 1.0)
+    return np.where(sigma_max > 0, sigma_min / safe, 0.0)
+
+
+@dataclass(frozen=True)
+class GIIResult:
+    """GII of one design over sampled workspace points (eq 5).
+
+    gii: the index (0..1). sigma_min / sigma_max: the extremes of the normalized
+    Jacobian's singular values and the indices / coordinates of the points where
+    they occur (``*_at`` in the units of the points given, mm for positions).
+    failure / failed_index / failed_at: the first unreachable or singular point
+    (then gii = sigma_min = 0), else None. jacobian_evaluations: points sampled.
+    """
+
+    gii: float
+    sigma_min: float
+    sigma_max: float
+    sigma_min_index: int
+    sigma_max_index: int
+    sigma_min_at: np.ndarray
+    sigma_max_at: np.ndarray
+    n_points: int
+    jacobian_evaluations: int
+    failure: str | None = None
+    failed_index: int | None = None
+    failed_at: np.ndarray | None = field(default=None)
+    n_failed: int = 0
+
+
+def gii_from_jacobians(
+    J: np.ndarray,
+    status: np.ndarray,
+    points: np.ndarray,
+    actuator_scale,
+    task_scale,
+    status_names: dict[int, str] | None = None,
+) -> GIIResult:
+    """GII (eq 5) from Jacobians sampled at workspace points.
+
+    J: (N, m, n) SI Jacobians; status: (N,) int, 0 = ok, anything else names a
+    failure through ``status_names``; points: (N, d) coordinates of the
+    samples, reported back. Scales as :func:`normalized_jacobian`.
+    """
+    J = np.asarray(J, dtype=float)
+    status = np.asarray(status).reshape(-1)
+    points = np.asarray(points, dtype=float)
+    if J.ndim != 3 or J.shape[0] == 0:
+        raise DesignError("jacobian", f"must have shape (N, m, n) with N >= 1, got {J.shape}")
+    if status.shape[0] != J.shape[0] or points.shape[0] != J.shape[0]:
+        raise DesignError(
+            "jacobian",
+            f"J, status and points disagree on N: {J.shape[0]}, {status.shape[0]}, {points.shape[0]}",
+        )
+    Jh = normalized_jacobian(J, actuator_scale, task_scale)
+    smin, smax = singular_value_extremes(Jh)
+    ok = status == 0
+    smin = np.where(ok, smin, 0.0)
+    smax = np.where(ok, smax, 0.0)
+    i_min = int(np.argmin(smin))
+    i_max = int(np.argmax(smax))
+    s_min, s_max = float(smin[i_min]), float(smax[i_max])
+    gii = float(gii_ratio(s_min, s_max))
+    failure = failed_index = failed_at = None
+    n_failed = int(np.count_nonzero(~ok))
+    if n_failed:
+        failed_index = int(np.flatnonzero(~ok)[0])
+        code = int(status[failed_index])
+        names = status_names or {}
+        failure = names.get(code, f"status {code}")
+        failed_at = points[failed_index].copy()
+        i_min = failed_index
+    elif s_min == 0.0:
+        failure = "singular: sigma_min(J_hat) = 0"
+        failed_index = i_min
+        failed_at = points[i_min].copy()
+        n_failed = int(np.count_nonzero(smin == 0.0))
+    return GIIResult(
+        gii=gii,
+        sigma_min=s_min,
+        sigma_max=s_max,
+        sigma_min_index=i_min,
+        sigma_max_index=i_max,
+        sigma_min_at=points[i_min].copy(),
+        sigma_max_at=points[i_max].copy(),
+        n_points=int(J.shape[0]),
+        jacobian_evaluations=int(J.shape[0]),
+        failure=failure,
+        failed_index=failed_index,
+        failed_at=failed_at,
+        n_failed=n_failed,
+    )
+
+
+def _check_grid(n, field_name: str) -> int:
+    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 2:
+        raise DesignError(
+            field_name, f"must be an integer >= 2 (the boundary is sampled), got {n!r}"
+        )
+    return int(n)
+
+
+def square_grid_mm(center_mm, side_mm: float, n: int) -> np.ndarray:
+    """n x n grid over a square workspace, boundary included, (n*n, 2) mm.
+
+    center_mm: (x, y) of the square's centre, base frame; side_mm: its side.
+    Points are ordered row by row (y outer, x inner).
+    """
+    n = _check_grid(n, "workspace.grid")
+    c = np.asarray(center_mm, dtype=float).reshape(-1)
+    if c.size != 2 or not np.all(np.isfinite(c)):
+        raise DesignError("workspace.center_mm", f"must be a finite [x, y], got {center_mm!r}")
+    if not np.isfinite(side_mm) or side_mm <= 0:
+        raise DesignError("workspace.side_mm", f"must be > 0, got {side_mm!r}")
+    t = np.linspace(-0.5, 0.5, n) * side_mm
+    X, Y = np.meshgrid(c[0] + t, c[1] + t)
+    return np.stack([X.ravel(), Y.ravel()], axis=-1)
+
+
+def boundary_first_order(n_per_axis: tuple[int, ...]) -> np.ndarray:
+    """Indices of a C-ordered grid sorted corners first, then edges, then interior.
+
+    For a grid with ``n_per_axis`` samples along each axis (C order, last axis
+    fastest). Extremes of sigma usually lie on the workspace boundary, so the
+    culling optimizer samples there first; only the count of evaluations
+    depends on this order, never the optimum.
+    """
+    idx = np.indices(n_per_axis).reshape(len(n_per_axis), -1)
+    on_bound = np.zeros(idx.shape[1], dtype=int)
+    for ax, n in enumerate(n_per_axis):
+        if n > 1:
+            on_bound += (idx[ax] == 0) | (idx[ax] == n - 1)
+    return np.argsort(-on_bound, kind="stable")
+
+
+def fivebar_gii(
+    fb,
+    center_mm,
+    side_mm: float,
+    grid: int,
+    torque_max_Nm=1.0,
+    force_max_N=1.0,
+) -> GIIResult:
+    """GII of a 5-bar over a square workspace (eqs 2-5), grid incl. boundary.
+
+    fb: :class:`cad.kinematics.fivebar.FiveBar`; torque_max_Nm: (2,) or scalar
+    (S_J); force_max_N: (2,) or scalar (S_T). Equal scalars leave the GII that
+    of the plain Jacobian (uniform scaling does not change it).
+    """
+    from cad.kinematics.fivebar import STATUS_NAMES, jacobian_rad_per_m
+
+    pts = square_grid_mm(center_mm, side_mm, grid)
+    J, status = jacobian_rad_per_m(fb, pts)
+    return gii_from_jacobians(J, status, pts, torque_max_Nm, force_max_N, STATUS_NAMES)

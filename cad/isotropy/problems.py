@@ -1,0 +1,245 @@
+"""GII maximization problems in the form :mod:`cad.isotropy.culling` takes.
+
+A problem holds M candidate parameter sets (a Cartesian grid of free
+parameters, the ``[optimize]`` table: ``name = [min, max, count]``) and N
+workspace samples, and evaluates sigma_min / sigma_max of the normalized
+Jacobian (isotropy paper eq 2) for any list of (candidate, sample) pairs.
+Samples that are unreachable or singular for a candidate give (0, 0), so the
+candidate's GII is 0 (eq 5).
+"""
+
+from __future__ import annotations
+
+import itertools
+from collections.abc import Mapping, Sequence
+
+import numpy as np
+
+from cad.errors import DesignError
+from cad.isotropy.gii import boundary_first_order, singular_value_extremes
+
+
+def candidate_grid(
+    ranges: Mapping[str, Sequence[float]], fixed: Mapping[str, float]
+) -> tuple[list[str], dict[str, np.ndarray]]:
+    """Cartesian product of ``name = (min, max, count)`` ranges, plus fixed values.
+
+    Returns (free parameter names in the order given, {name: (M,) array} for
+    every free and fixed name). Candidate k is the k-th tuple of
+    ``itertools.product`` over the ranges (first name outermost).
+    """
+    names = list(ranges)
+    axes = []
+    for name in names:
+        lo, hi, count = ranges[name]
+        if isinstance(count, float) and count.is_integer():
+            count = int(count)
+        if not isinstance(count, int) or isinstance(count, bool) or count < 1:
+            raise DesignError(f"optimize.{name}", f"count must be an integer >= 1, got {count!r}")
+        if not (np.isfinite(lo) and np.isfinite(hi)) or hi < lo:
+            raise DesignError(f"optimize.{name}", f"needs finite min <= max, got [{lo}, {hi}]")
+        axes.append(np.linspace(lo, hi, count) if count > 1 else np.array([float(lo)]))
+    if axes:
+        grid = np.array(list(itertools.product(*axes)), dtype=float)
+    else:
+        grid = np.zeros((1, 0))
+    M = grid.shape[0]
+    params = {name: grid[:, k].copy() for k, name in enumerate(names)}
+    for name, value in fixed.items():
+        if name not in params:
+            params[name] = np.full(M, float(value))
+    return names, params
+
+
+def centre_seed(n_per_axis: tuple[int, ...]) -> np.ndarray:
+    """Index of the middle sample of a C-ordered grid (the culling seed).
+
+    One seed is enough: every candidate is evaluated there, the one with the
+    best local isotropy is completed first, and its worst samples follow.
+    (Measured on the Fig. 2 problem, 6800 candidates x 121 samples: ~11k
+    evaluations with the centre alone against > 34k with the four corners
+    plus the centre, which cost 5 per candidate before any culling.)
+    """
+    mid = tuple(n // 2 for n in n_per_axis)
+    return np.array([np.ravel_multi_index(mid, n_per_axis)], dtype=np.int64)
+
+
+class FiveBarProblem:
+    """Symmetric 5-bar over a square workspace grid (Fig. 2 study, issue 6 §3).
+
+    params: {"base_mm", "proximal_mm", "distal_mm": (M,) arrays}; points_mm:
+    (N, 2) samples from :func:`cad.isotropy.gii.square_grid_mm` with
+    ``grid_n`` per side; torque_max_Nm: (2,) S_J; force_max_N: (2,) S_T.
+    """
+
+    param_names = ("base_mm", "proximal_mm", "distal_mm")
+
+    def __init__(
+        self, params, points_mm, grid_n: int, torque_max_Nm=(1.0, 1.0), force_max_N=(1.0, 1.0)
+    ):
+        for name in self.param_names:
+            if name not in params:
+                raise DesignError(f"optimize.{name}", "missing parameter")
+        self.a = np.asarray(params["base_mm"], dtype=float)
+        self.l2 = np.asarray(params["proximal_mm"], dtype=float)
+        self.l3 = np.asarray(params["distal_mm"], dtype=float)
+        if np.any(self.a < 0):
+            raise DesignError("optimize.base_mm", f"must be >= 0, got min {self.a.min()!r}")
+        for name, v in (("proximal_mm", self.l2), ("distal_mm", self.l3)):
+            if np.any(v <= 0):
+                raise DesignError(f"optimize.{name}", f"must be > 0, got min {v.min()!r}")
+        self.points_mm = np.asarray(points_mm, dtype=float)
+        self.grid_n = int(grid_n)
+        self.n_candidates = int(self.a.size)
+        self.n_points = int(self.points_mm.shape[0])
+        self.sj = np.broadcast_to(np.asarray(torque_max_Nm, dtype=float), (2,))
+        self.st = np.broadcast_to(np.asarray(force_max_N, dtype=float), (2,))
+
+    def sigma(self, cand: np.ndarray, point: np.ndarray):
+        from cad.kinematics.fivebar import jacobian_arrays
+
+        a = self.a[cand]
+        l2 = self.l2[cand]
+        l3 = self.l3[cand]
+        p = self.points_mm[point]
+        J, status = jacobian_arrays(
+            -a / 2, 0.0, a / 2, 0.0, l2, l2, l3, l3, 1.0, -1.0, p[:, 0], p[:, 1]
+        )
+        Jh = J * 1e3 * self.sj[:, None] / self.st[None, :]
+        s0, s1 = singular_value_extremes(Jh)
+        ok = status == 0
+        return np.where(ok, s0, 0.0), np.where(ok, s1, 0.0)
+
+    def point_order(self) -> np.ndarray:
+        return boundary_first_order((self.grid_n, self.grid_n))
+
+    def seed_points(self) -> np.ndarray:
+        return centre_seed((self.grid_n, self.grid_n))
+
+    def candidate(self, k: int) -> dict[str, float]:
+        return {
+            "base_mm": float(self.a[k]),
+            "proximal_mm": float(self.l2[k]),
+            "distal_mm": float(self.l3[k]),
+        }
+
+
+def _grid_order(shape: tuple[int, ...]) -> np.ndarray:
+    return boundary_first_order(shape)
+
+
+class TwinPantographProblem:
+    """Twin-pantograph mouse (two identical symmetric 5-bars) over (x, y, theta) samples.
+
+    params: base_mm, proximal_mm, distal_mm, crank_mm (M,) arrays; points:
+    (N, 3) = (x_mm, y_mm, theta_rad) in C order of ``grid_shape``;
+    S_J = torque_max_Nm (4,) or scalar; S_T = (F, F, M), M = moment_max_Nm or
+    F * crank / 2 per candidate (eq 7).
+    """
+
+    param_names = ("base_mm", "proximal_mm", "distal_mm", "crank_mm")
+
+    def __init__(
+        self, params, points, grid_shape, torque_max_Nm=1.0, force_max_N=1.0, moment_max_Nm=None
+    ):
+        for name in self.param_names:
+            if name not in params:
+                raise DesignError(f"optimize.{name}", "missing parameter")
+        self.p = {k: np.asarray(params[k], dtype=float) for k in self.param_names}
+        self.points = np.asarray(points, dtype=float)
+        self.grid_shape = tuple(int(g) for g in grid_shape)
+        self.n_candidates = int(self.p["base_mm"].size)
+        self.n_points = int(self.points.shape[0])
+        self.sj = np.broadcast_to(np.asarray(torque_max_Nm, dtype=float), (4,))
+        self.F = float(force_max_N)
+        self.M = None if moment_max_Nm is None else float(moment_max_Nm)
+
+    def sigma(self, cand, point):
+        from cad.kinematics.twin_pantograph import jacobian_arrays
+
+        a = self.p["base_mm"][cand]
+        l2 = self.p["proximal_mm"][cand]
+        l3 = self.p["distal_mm"][cand]
+        l6 = self.p["crank_mm"][cand]
+        fb = (-a / 2, 0.0, a / 2, 0.0, l2, l2, l3, l3, 1.0, -1.0)
+        X = self.points[point]
+        J, status = jacobian_arrays(fb, fb, l6, X[:, 0], X[:, 1], X[:, 2])
+        M = self.F * l6 * 1e-3 / 2 if self.M is None else np.full(l6.shape, self.M)
+        st = np.stack([np.full(l6.shape, self.F), np.full(l6.shape, self.F), M], axis=-1)
+        Jh = J * self.sj[None, :, None] / st[:, None, :]
+        s0, s1 = singular_value_extremes(Jh)
+        ok = status == 0
+        return np.where(ok, s0, 0.0), np.where(ok, s1, 0.0)
+
+    def point_order(self):
+        # theta has no boundary (full turn): order by the (y, x) boundary only
+        ny, nx, nt = self.grid_shape
+        return boundary_first_order((ny, nx, 1)).repeat(nt) * nt + np.tile(np.arange(nt), ny * nx)
+
+    def seed_points(self):
+        return centre_seed(self.grid_shape)
+
+    def candidate(self, k: int) -> dict[str, float]:
+        return {name: float(self.p[name][k]) for name in self.param_names}
+
+
+class PenProblem:
+    """Haptic pen (two 3-DOF 5-bars) over (x, y, z, yaw, pitch) samples.
+
+    params: shoulder_base_mm, proximal_mm, distal_mm, pen_mm, waist_torque_ratio
+    and optionally arm_spacing_mm (default = pen_mm) as (M,) arrays; points
+    (N, 5) mm / rad in C order of ``grid_shape``; S_T = (F, F, F, M, M) with
+    M = F * moment_arm_mm; S_J = (Q1, 1, 1, Q1, 1, 1) * torque_max_Nm.
+    """
+
+    param_names = ("shoulder_base_mm", "proximal_mm", "distal_mm", "pen_mm", "waist_torque_ratio")
+
+    def __init__(
+        self, params, points, grid_shape, torque_max_Nm=1.0, force_max_N=1.0, moment_arm_mm=35.0
+    ):
+        for name in self.param_names:
+            if name not in params:
+                raise DesignError(f"optimize.{name}", "missing parameter")
+        self.p = {k: np.asarray(params[k], dtype=float) for k in self.param_names}
+        self.l4 = np.asarray(params.get("arm_spacing_mm", self.p["pen_mm"]), dtype=float)
+        self.points = np.asarray(points, dtype=float)
+        self.grid_shape = tuple(int(g) for g in grid_shape)
+        self.n_candidates = int(self.p["pen_mm"].size)
+        self.n_points = int(self.points.shape[0])
+        self.tau = float(np.asarray(torque_max_Nm, dtype=float).reshape(-1)[0])
+        F = float(force_max_N)
+        self.st = np.array([F, F, F, F * moment_arm_mm * 1e-3, F * moment_arm_mm * 1e-3])
+
+    def sigma(self, cand, point):
+        from cad.kinematics.haptic_pen import jacobian_arrays
+
+        p = {k: v[cand] for k, v in self.p.items()}
+        X = self.points[point]
+        J, status = jacobian_arrays(
+            p["shoulder_base_mm"],
+            p["proximal_mm"],
+            p["distal_mm"],
+            p["pen_mm"],
+            self.l4[cand],
+            X[:, 0],
+            X[:, 1],
+            X[:, 2],
+            X[:, 3],
+            X[:, 4],
+        )
+        q = p["waist_torque_ratio"]
+        one = np.ones_like(q)
+        sj = np.stack([q, one, one, q, one, one], axis=-1) * self.tau
+        Jh = J * sj[:, :, None] / self.st[None, None, :]
+        s0, s1 = singular_value_extremes(Jh)
+        ok = status == 0
+        return np.where(ok, s0, 0.0), np.where(ok, s1, 0.0)
+
+    def point_order(self):
+        return _grid_order(self.grid_shape)
+
+    def seed_points(self):
+        return centre_seed(self.grid_shape)
+
+    def candidate(self, k: int) -> dict[str, float]:
+        return {name: float(self.p[name][k]) for name in self.param_names}

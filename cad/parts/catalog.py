@@ -1,0 +1,316 @@
+"""Bought-part catalog data: bearings, fasteners, motors (pure data, no CAD import).
+
+Dimensions of ball bearings and fasteners are read from bd_warehouse 0.4.0's own
+CSV tables (the same numbers its part generators use), located on disk without
+importing bd_warehouse (which imports build123d, ~3 s). Masses:
+
+* ball bearings: the catalog mass column of bd_warehouse's
+  ``single_row_deep_groove_ball_bearing_parameters.csv`` (SKF catalog, kg);
+  inertia from that mass spread as a uniform annulus (d..D, width B), see
+  :func:`ring_inertia_kg_m2`;
+* fasteners (screws, nuts, washers): no catalog mass in bd_warehouse, so their
+  mass is their simplified solid (no thread) times the density of steel
+  (:data:`FASTENER_MATERIAL`); a design may override any bought-part mass;
+* motors: :data:`MOTORS` (catalog weight and rotor inertia, sources inline).
+
+Every length is mm, every mass kg, inertia kg m^2 unless the name says otherwise.
+"""
+
+from __future__ import annotations
+
+import csv
+import functools
+import importlib.util
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+from cad.errors import DesignError
+
+#: Material of bought steel fasteners (key of :data:`cad.materials.MATERIALS`).
+FASTENER_MATERIAL = "steel-1018"
+#: Material of bearing rings for the exported geometry (colour only; mass is catalog).
+BEARING_MATERIAL = "steel-1018"
+
+
+@functools.lru_cache(maxsize=1)
+def bd_warehouse_data_dir() -> Path:
+    """Directory of bd_warehouse's CSV tables, found without importing the package."""
+    spec = importlib.util.find_spec("bd_warehouse")
+    if spec is None or not spec.submodule_search_locations:
+        raise DesignError("parts", "bd_warehouse is not installed (pip install bd_warehouse==0.4.0)")
+    return Path(list(spec.submodule_search_locations)[0]) / "data"
+
+
+@functools.lru_cache(maxsize=None)
+def _table(filename: str, prefix: str) -> dict[str, dict[str, str]]:
+    """Rows of a bd_warehouse CSV keyed by Size, columns of one type prefix (``SKT``...)."""
+    out: dict[str, dict[str, str]] = {}
+    with open(bd_warehouse_data_dir() / filename, newline="", encoding="utf-8") as fh:
+        for row in csv.DictReader(fh):
+            size = row["Size"].strip()
+            vals = {}
+            for k, v in row.items():
+                if k and k.startswith(prefix + ":") and v not in (None, "", "–"):
+                    vals[k.split(":", 1)[1].strip()] = v.strip()
+            if vals:
+                out[size] = vals
+    return out
+
+
+def _num(s: str) -> float:
+    return float(s.replace("*", "").strip())
+
+
+# --------------------------------------------------------------------------- bearings
+@dataclass(frozen=True)
+class BearingSpec:
+    """Single-row deep groove ball bearing (bd_warehouse SKT table = SKF catalog).
+
+    d_mm bore, D_mm outside diameter, B_mm width, d1_mm inner-ring shoulder
+    diameter, D1_mm outer-ring shoulder diameter, da_mm / Da_mm abutment
+    diameters (shaft min / housing max), mass_kg catalog mass.
+    """
+
+    size: str
+    designation: str
+    d_mm: float
+    D_mm: float
+    B_mm: float
+    d1_mm: float
+    D1_mm: float
+    da_mm: float
+    Da_mm: float
+    mass_kg: float
+
+
+def bearing_sizes() -> list[str]:
+    return list(_table("single_row_deep_groove_ball_bearing_parameters.csv", "SKT"))
+
+
+def get_bearing(size: str, field: str = "parts.bearing") -> BearingSpec:
+    """Catalog data of bearing ``size`` (bd_warehouse form ``M<d>-<D>-<B>``, e.g. ``M8-16-4``)."""
+    tab = _table("single_row_deep_groove_ball_bearing_parameters.csv", "SKT")
+    if size not in tab:
+        raise DesignError(field, f"unknown bearing {size!r} (bd_warehouse SKT sizes: {', '.join(tab)})")
+    r = tab[size]
+    return BearingSpec(
+        size, r["Designation"].replace("*", "").strip(), _num(r["d"]), _num(r["D"]), _num(r["B"]),
+        _num(r["d1"]), _num(r["D1"]), _num(r["da"]), _num(r["Da"]), _num(r["mass"]),
+    )
+
+
+def ring_inertia_kg_m2(mass_kg: float, r_in_mm: float, r_out_mm: float, width_mm: float) -> tuple[float, float]:
+    """(I_axial, I_transverse) about the COM of a uniform annulus, kg m^2.
+
+    I_axial = m (ri^2 + ro^2) / 2, I_transverse = m (3 (ri^2 + ro^2) + B^2) / 12.
+    """
+    ri, ro, b = r_in_mm * 1e-3, r_out_mm * 1e-3, width_mm * 1e-3
+    s = ri * ri + ro * ro
+    return mass_kg * s / 2.0, mass_kg * (3.0 * s + b * b) / 12.0
+
+
+# --------------------------------------------------------------------------- fasteners
+@dataclass(frozen=True)
+class ShoulderScrewSpec:
+    """ISO 7379 hexagon socket shoulder screw (bd_warehouse ``shoulder_screw.csv``).
+
+    ds_mm shoulder diameter, dk_mm / k_mm head diameter / height, b_mm threaded
+    end length below the shoulder (incl. the g2 relief), lengths_mm nominal
+    shoulder lengths.
+    """
+
+    size: str
+    ds_mm: float
+    dk_mm: float
+    k_mm: float
+    b_mm: float
+    g2_mm: float
+    thread_mm: float
+    lengths_mm: tuple[float, ...]
+
+
+ISO7379_LENGTHS_MM = (10, 12, 16, 20, 25, 30, 40, 50, 60, 70, 80, 90, 100, 120)
+
+
+def get_shoulder_screw(size: str, field: str = "parts.pin") -> ShoulderScrewSpec:
+    tab = _table("shoulder_screw.csv", "iso7379")
+    if size not in tab:
+        raise DesignError(field, f"unknown ISO 7379 shoulder screw {size!r} (bd_warehouse sizes: {', '.join(tab)})")
+    r = tab[size]
+    lo, hi = _num(r["short"]), _num(r["long"])
+    return ShoulderScrewSpec(
+        size, _num(r["ds"]), _num(r["dk"]), _num(r["k"]), _num(r["b"]), _num(r["g2"]),
+        thread_diameter_mm(size), tuple(float(x) for x in ISO7379_LENGTHS_MM if lo <= x <= hi),
+    )
+
+
+def thread_diameter_mm(size: str) -> float:
+    """Nominal thread diameter of a metric size ``M6-1`` or ``M6`` (mm)."""
+    try:
+        return float(size[1:].split("-")[0])
+    except ValueError:
+        raise DesignError("parts", f"not a metric thread size: {size!r}") from None
+
+
+@dataclass(frozen=True)
+class NutSpec:
+    """ISO 4032 hexagon nut: m_mm height, s_mm width across flats."""
+
+    size: str
+    m_mm: float
+    s_mm: float
+
+
+def get_nut(size: str, field: str = "parts.pin") -> NutSpec:
+    tab = _table("hex_nut_parameters.csv", "iso4032")
+    if size not in tab:
+        raise DesignError(field, f"no ISO 4032 nut for {size!r}")
+    return NutSpec(size, _num(tab[size]["m"]), _num(tab[size]["s"]))
+
+
+@dataclass(frozen=True)
+class WasherSpec:
+    """ISO 7089 plain washer: d1_mm hole, d2_mm outside, h_mm thickness."""
+
+    size: str
+    d1_mm: float
+    d2_mm: float
+    h_mm: float
+
+
+def get_washer(size: str, field: str = "parts.pin") -> WasherSpec:
+    key = size.split("-")[0]
+    tab = _table("plain_washer_parameters.csv", "iso7089")
+    if key not in tab:
+        raise DesignError(field, f"no ISO 7089 washer for {size!r}")
+    r = tab[key]
+    return WasherSpec(key, _num(r["d1"]), _num(r["d2"]), _num(r["h"]))
+
+
+@dataclass(frozen=True)
+class CapScrewSpec:
+    """ISO 4762 socket head cap screw: dk_mm head diameter, k_mm head height."""
+
+    size: str
+    dk_mm: float
+    k_mm: float
+    d_mm: float
+    lengths_mm: tuple[float, ...]
+
+
+ISO4762_LENGTHS_MM = (2.5, 3, 4, 5, 6, 8, 10, 12, 16, 20, 25, 30, 35, 40, 45, 50, 55, 60)
+
+
+def get_cap_screw(size: str, field: str) -> CapScrewSpec:
+    tab = _table("socket_head_cap_parameters.csv", "iso4762")
+    if size not in tab:
+        raise DesignError(field, f"unknown ISO 4762 cap screw {size!r} (bd_warehouse sizes: {', '.join(tab)})")
+    r = tab[size]
+    lo, hi = _num(r["short"]), _num(r["long"])
+    return CapScrewSpec(size, _num(r["dk"]), _num(r["k"]), thread_diameter_mm(size),
+                        tuple(float(x) for x in ISO4762_LENGTHS_MM if lo <= x <= hi))
+
+
+def clearance_hole_mm(size: str, fit: str = "Normal") -> float:
+    """ISO 273 clearance hole (bd_warehouse ``clearance_hole_sizes.csv``), mm."""
+    key = size.split("-")[0]
+    with open(bd_warehouse_data_dir() / "clearance_hole_sizes.csv", newline="", encoding="utf-8") as fh:
+        for row in csv.DictReader(fh):
+            if row["Size"].strip() == key:
+                return _num(row[fit])
+    raise DesignError("parts", f"no clearance hole size for {size!r}")
+
+
+def tap_drill_mm(size: str) -> float:
+    """Tap drill of a metric coarse thread: d - pitch (ISO rule of thumb), mm."""
+    parts = size[1:].split("-")
+    d = float(parts[0])
+    pitch = float(parts[1]) if len(parts) > 1 else {3: 0.5, 4: 0.7, 5: 0.8, 6: 1.0, 8: 1.25}.get(int(d), 0.15 * d)
+    return d - pitch
+
+
+def shortest_length(lengths: tuple[float, ...], at_least_mm: float) -> float | None:
+    for L in lengths:
+        if L >= at_least_mm - 1e-9:
+            return L
+    return None
+
+
+# --------------------------------------------------------------------------- motors
+@dataclass(frozen=True)
+class MotorSpec:
+    """A direct-drive motor: catalog data and the mounting interface (mm, kg).
+
+    body_diameter_mm / body_length_mm : housing cylinder below the mounting face.
+    pilot_diameter_mm / pilot_height_mm : centring collar on the mounting face.
+    bolt_circle_mm, bolt_count, bolt_size : tapped holes in the mounting face.
+    shaft_diameter_mm / shaft_length_mm : output shaft, length beyond the mounting face.
+    mass_kg : catalog weight. rotor_inertia_g_cm2 : catalog rotor inertia Jm.
+    """
+
+    key: str
+    description: str
+    body_diameter_mm: float
+    body_length_mm: float
+    pilot_diameter_mm: float
+    pilot_height_mm: float
+    bolt_circle_mm: float
+    bolt_count: int
+    bolt_size: str
+    shaft_diameter_mm: float
+    shaft_length_mm: float
+    mass_kg: float
+    rotor_inertia_g_cm2: float
+    source: str
+
+    @property
+    def rotor_inertia_kg_m2(self) -> float:
+        return self.rotor_inertia_g_cm2 * 1e-7
+
+
+#: Motor catalog. Dimensions are the nominal outline of the maxon data sheets
+#: (RE 35: 90 W, graphite brushes; RE 40: 150 W) as used for mounting; check the
+#: current sheet of the exact order number before machining a mount.
+MOTORS: dict[str, MotorSpec] = {
+    "maxon-re35": MotorSpec(
+        key="maxon-re35",
+        description="maxon RE 35, 90 W, graphite brushes (Hoeken paper prototype, §III.A)",
+        body_diameter_mm=35.0, body_length_mm=70.9,
+        pilot_diameter_mm=22.0, pilot_height_mm=2.0,
+        bolt_circle_mm=28.0, bolt_count=3, bolt_size="M3-0.5",
+        shaft_diameter_mm=6.0, shaft_length_mm=22.0,
+        mass_kg=0.340,
+        # maxon catalog: rotor inertia 65.2 to 79.2 g cm^2 across the RE 35 windings; the
+        # upper value is taken (the conservative one for apparent mass). Override with
+        # parts.motor_rotor_inertia_g_cm2 for a given order number.
+        rotor_inertia_g_cm2=79.2,
+        source="maxon motor catalog, RE 35 data sheet (weight 340 g; rotor inertia 65.2-79.2 g cm^2)",
+    ),
+    "maxon-re40": MotorSpec(
+        key="maxon-re40",
+        description="maxon RE 40, 150 W, graphite brushes",
+        body_diameter_mm=40.0, body_length_mm=71.0,
+        pilot_diameter_mm=26.0, pilot_height_mm=2.0,
+        bolt_circle_mm=31.0, bolt_count=3, bolt_size="M3-0.5",
+        shaft_diameter_mm=6.0, shaft_length_mm=22.0,
+        mass_kg=0.480,
+        rotor_inertia_g_cm2=134.0,
+        source="maxon motor catalog, RE 40 data sheet (weight 480 g; rotor inertia 134 g cm^2)",
+    ),
+}
+
+
+def get_motor(key: str, field: str = "parts.motor") -> MotorSpec:
+    if key not in MOTORS:
+        raise DesignError(field, f"unknown motor {key!r} (catalog: {', '.join(MOTORS)})")
+    return MOTORS[key]
+
+
+def polar_points_mm(radius_mm: float, count: int, start_deg: float = 90.0) -> list[tuple[float, float]]:
+    """``count`` points evenly on a circle of ``radius_mm`` (first at ``start_deg``)."""
+    return [
+        (radius_mm * math.cos(math.radians(start_deg + 360.0 * i / count)),
+         radius_mm * math.sin(math.radians(start_deg + 360.0 * i / count)))
+        for i in range(count)
+    ]

@@ -1,0 +1,95 @@
+"""Joint hardware: ball bearings, ISO 7379 shoulder screws, nuts, washers, cap screws, spacers.
+
+From bd_warehouse 0.4.0 where it has them:
+
+* ``SingleRowDeepGrooveBallBearing`` (races and balls) -- fabrication fidelity; at
+  ``inertia`` / ``preview`` fidelity a plain ring d..D x B stands in (the mass is the
+  catalog mass in every case, so nothing is lost);
+* ``ShoulderScrew`` (ISO 7379), ``HexNut`` (ISO 4032), ``PlainWasher`` (ISO 7089),
+  ``SocketHeadCapScrew`` (ISO 4762), all with ``simple=True`` (no modelled thread).
+
+Chosen otherwise: the two spacers on the pin are turned tubes built here, because
+bd_warehouse's washers are too wide: an ISO 7089 M8 washer (16 mm) would rub the
+bearing's outer ring (shoulder D1 = 13.5 mm for the 618/8); the spacers' outside
+diameter lies between the bearing's shaft abutment da and inner-ring shoulder d1.
+
+Frames (mm, axis z): bearing z 0..B; screws with the under-head face at z = 0, head up,
+shank down (-z); nut and washer z 0..height; spacer z 0..height. Shapes are cached per
+parameter set (identical hardware is built once).
+"""
+
+from __future__ import annotations
+
+import functools
+
+from cad.parts import catalog
+
+
+def _topo(obj):
+    return obj.wrapped
+
+
+@functools.lru_cache(maxsize=None)
+def bearing_shape(size: str, detailed: bool = True):
+    """Ball bearing ``size`` (bd_warehouse SKT), z 0..B. ``detailed=False``: plain ring."""
+    b = catalog.get_bearing(size)
+    if detailed:
+        from bd_warehouse.bearing import SingleRowDeepGrooveBallBearing
+
+        return _topo(SingleRowDeepGrooveBallBearing(size))
+    return ring_shape(b.d_mm / 2.0, b.D_mm / 2.0, b.B_mm)
+
+
+@functools.lru_cache(maxsize=None)
+def bearing_rings(size: str):
+    """(inner ring, outer ring) envelopes of a bearing for the interference sweep.
+
+    Inner ring d..d1 moves with the pin's link, outer ring D1..D with the seat's link;
+    the balls (between d1 and D1) never touch anything outside the bearing.
+    """
+    b = catalog.get_bearing(size)
+    return ring_shape(b.d_mm / 2.0, b.d1_mm / 2.0, b.B_mm), ring_shape(b.D1_mm / 2.0, b.D_mm / 2.0, b.B_mm)
+
+
+@functools.lru_cache(maxsize=None)
+def ring_shape(r_in_mm: float, r_out_mm: float, height_mm: float):
+    """Tube r_in..r_out, z 0..height (turned spacer, ring envelope)."""
+    from build123d import Align, Cylinder
+
+    a = (Align.CENTER, Align.CENTER, Align.MIN)
+    s = Cylinder(r_out_mm, height_mm, align=a)
+    if r_in_mm > 0:
+        s = s - Cylinder(r_in_mm, height_mm, align=a)
+    return s.solids()[0].wrapped
+
+
+@functools.lru_cache(maxsize=None)
+def shoulder_screw_shape(size: str, length_mm: float):
+    """ISO 7379 shoulder screw: under-head face at z = 0, head up, shoulder to z = -length."""
+    from bd_warehouse.fastener import ShoulderScrew
+
+    return _topo(ShoulderScrew(size, float(length_mm), simple=True))
+
+
+@functools.lru_cache(maxsize=None)
+def cap_screw_shape(size: str, length_mm: float):
+    """ISO 4762 socket head cap screw: under-head face at z = 0, shank to z = -length."""
+    from bd_warehouse.fastener import SocketHeadCapScrew
+
+    return _topo(SocketHeadCapScrew(size, float(length_mm), simple=True))
+
+
+@functools.lru_cache(maxsize=None)
+def nut_shape(size: str):
+    """ISO 4032 hexagon nut, z 0..m."""
+    from bd_warehouse.fastener import HexNut
+
+    return _topo(HexNut(size, "iso4032", simple=True))
+
+
+@functools.lru_cache(maxsize=None)
+def washer_shape(size: str):
+    """ISO 7089 plain washer, z 0..h."""
+    from bd_warehouse.fastener import PlainWasher
+
+    return _topo(PlainWasher(size.split("-")[0], "iso7089"))

@@ -1,0 +1,103 @@
+"""Motor envelope (bought), motor mount plate and the direct-drive crank hub.
+
+The motor is a catalog entry (:data:`cad.parts.catalog.MOTORS`, default maxon RE 35,
+the Hoeken paper's prototype motor, §III.A). Its solid is an envelope for the
+assembly and the interference sweep: housing cylinder, centring pilot, shaft. Its
+mass is the catalog weight; its rotor inertia Jm enters H11 (eq 16) from the
+catalog (the shaft solid carries no mass: it is inside Jm).
+
+Frames (mm): motor -- mounting face at z = 0, housing below (-z), pilot and shaft up;
+motor mount plate -- z 0..thickness, motor centred at the origin; hub -- z 0..height,
+shaft axis z.
+"""
+
+from __future__ import annotations
+
+import math
+
+from cad.parts.catalog import MotorSpec, clearance_hole_mm, tap_drill_mm
+
+#: Axial gap between the motor's pilot face and where the shaft envelope starts (mm):
+#: the real shaft leaves the front bearing boss; the envelope only needs to be apart
+#: from the housing so that the (rotating) shaft and the (fixed) housing are separate
+#: bodies in the interference sweep.
+SHAFT_ENVELOPE_GAP_MM = 1.0
+#: Motor mount plate margin around the motor housing (mm) and its corner-hole inset.
+MOUNT_MARGIN_MM = 10.0
+MOUNT_HOLE_INSET_MM = 6.0
+#: Screws fixing the motor mount plate under the base plate.
+MOUNT_SCREW = "M4-0.7"
+
+
+def _a():
+    from build123d import Align
+
+    return (Align.CENTER, Align.CENTER, Align.MIN)
+
+
+def motor_housing_shape(m: MotorSpec):
+    """Housing + pilot of the motor: z from -body_length to pilot_height (mounting face z = 0)."""
+    from build123d import Cylinder, Pos
+
+    body = Pos(0, 0, -m.body_length_mm) * Cylinder(m.body_diameter_mm / 2, m.body_length_mm, align=_a())
+    pilot = Cylinder(m.pilot_diameter_mm / 2, m.pilot_height_mm, align=_a())
+    return (body + pilot).solids()[0].wrapped
+
+
+def motor_shaft_shape(m: MotorSpec):
+    """Output shaft from the pilot face (+ gap) to ``shaft_length_mm`` above the mounting face."""
+    from build123d import Cylinder, Pos
+
+    z0 = m.pilot_height_mm + SHAFT_ENVELOPE_GAP_MM
+    return (Pos(0, 0, z0) * Cylinder(m.shaft_diameter_mm / 2, m.shaft_length_mm - z0, align=_a())).wrapped
+
+
+def mount_side_mm(m: MotorSpec) -> float:
+    """Side of the square motor mount plate (mm)."""
+    return m.body_diameter_mm + 2 * MOUNT_MARGIN_MM
+
+
+def mount_hole_xy_mm(m: MotorSpec) -> list[tuple[float, float]]:
+    """Corner holes of the motor mount plate (mm, plate frame)."""
+    c = mount_side_mm(m) / 2 - MOUNT_HOLE_INSET_MM
+    return [(c, c), (-c, c), (-c, -c), (c, -c)]
+
+
+def motor_bolt_xy_mm(m: MotorSpec) -> list[tuple[float, float]]:
+    r = m.bolt_circle_mm / 2
+    return [(r * math.cos(math.radians(90 + 360 * k / m.bolt_count)),
+             r * math.sin(math.radians(90 + 360 * k / m.bolt_count))) for k in range(m.bolt_count)]
+
+
+def motor_mount_shape(m: MotorSpec, thickness_mm: float):
+    """Motor mount plate: pilot bore, motor bolt-circle clearance holes, 4 corner holes
+    (clearance for the screws that fix it under the base plate); z 0..thickness."""
+    from build123d import Circle, Pos, Rectangle, extrude
+
+    s = mount_side_mm(m)
+    sk = Rectangle(s, s) - Circle(m.pilot_diameter_mm / 2)
+    for x, y in motor_bolt_xy_mm(m):
+        sk = sk - Pos(x, y) * Circle(clearance_hole_mm(m.bolt_size) / 2)
+    for x, y in mount_hole_xy_mm(m):
+        sk = sk - Pos(x, y) * Circle(clearance_hole_mm(MOUNT_SCREW) / 2)
+    return extrude(sk, amount=thickness_mm).solids()[0].wrapped
+
+
+def hub_shape(m: MotorSpec, diameter_mm: float, height_mm: float, bolt_circle_mm: float,
+              screw: str, screw_depth_mm: float, shaft_engaged_mm: float):
+    """Direct-drive crank hub: shaft bore, radial set-screw hole (M3 tap drill) at mid
+    engagement, ``3`` tapped holes (tap drill) on ``bolt_circle_mm`` in the top face."""
+    from build123d import Cylinder, Pos, Rot
+
+    a = _a()
+    hub = Cylinder(diameter_mm / 2, height_mm, align=a) - Cylinder(m.shaft_diameter_mm / 2, height_mm, align=a)
+    r = bolt_circle_mm / 2
+    d = tap_drill_mm(screw)
+    for k in range(3):
+        ang = math.radians(90 + 120 * k)
+        hub = hub - Pos(r * math.cos(ang), r * math.sin(ang), height_mm - screw_depth_mm) * Cylinder(
+            d / 2, screw_depth_mm, align=a)
+    z_set = min(shaft_engaged_mm, height_mm) / 2
+    set_hole = Pos(0, 0, z_set) * Rot(0, 90, 0) * Cylinder(tap_drill_mm("M3-0.5") / 2, diameter_mm / 2, align=a)
+    hub = hub - set_hole
+    return hub.solids()[0].wrapped

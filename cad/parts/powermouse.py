@@ -1,0 +1,340 @@
+"""PowerMouse solids: cubic flotor with six embedded coils, stator with 24 magnets, handle.
+
+Isotropy paper section 5, Fig. 6 (lost in the text; this is our
+reconstruction, documented in :mod:`cad.actuators.powermouse`). Flotor frame:
+origin at the cube centre, axes normal to the faces, mm.
+
+* Flotor (moves): a cubic shell of outer edge E whose wall thickness equals
+  the coil thickness d_c, so each face's coil sits in a stadium pocket of the
+  wall, centred on the coil mid-plane a = E/2 - d_c/2; a corner hole along
+  -(1,1,1) lets the stator post through; the handle (stem + spherical knob)
+  leaves along +(1,1,1).
+* Stator (fixed): an iron core cube of half-size c = a - d/2 - t_m carrying
+  the 12 inner magnets (it is their back iron), the 12 outer magnets on 6
+  iron plates (t_s = alpha w_m) fixed inside a housing cube shell, and a
+  post from the core's (-,-,-) corner to the housing along the diagonal. The
+  housing has a hole at its (+,+,+) corner for the handle stem.
+* Motion range +- r mm / +- theta deg (Table 4): :func:`motion_clearances`
+  moves the flotor solids to the extreme poses and measures the exact OCCT
+  distance to the stator.
+
+build123d is imported inside the functions.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from cad.actuators import powermouse as pm
+from cad.errors import DesignError
+
+
+@dataclass(frozen=True)
+class PowerMouseGeometry:
+    """Derived PowerMouse dimensions (mm); see the module docstring for the symbols."""
+
+    magnet_length_mm: float
+    magnet_width_mm: float
+    magnet_thickness_mm: float
+    gap_mm: float
+    rattle_mm: float
+    plate_thickness_mm: float
+    flotor_edge_mm: float
+    corner_hole_mm: float
+    post_diameter_mm: float
+    housing_wall_mm: float
+    handle_length_mm: float
+    handle_diameter_mm: float
+    knob_diameter_mm: float
+    plate_margin_mm: float = 2.0
+
+    @property
+    def coil_width_mm(self) -> float:
+        return self.gap_mm - self.rattle_mm
+
+    @property
+    def coil_plane_half_mm(self) -> float:
+        """a: cube centre to the coil mid-plane."""
+        return self.flotor_edge_mm / 2 - self.coil_width_mm / 2
+
+    @property
+    def core_half_mm(self) -> float:
+        """c = a - d/2 - t_m: inner iron core half-size."""
+        return self.coil_plane_half_mm - self.gap_mm / 2 - self.magnet_thickness_mm
+
+    @property
+    def housing_inner_half_mm(self) -> float:
+        return (
+            self.coil_plane_half_mm
+            + self.gap_mm / 2
+            + self.magnet_thickness_mm
+            + self.plate_thickness_mm
+        )
+
+    @property
+    def housing_hole_mm(self) -> float:
+        """Handle hole in the housing: stem diameter plus the same radial play as the post hole."""
+        return self.handle_diameter_mm + (self.corner_hole_mm - self.post_diameter_mm)
+
+    def coils(self):
+        return pm.coil_layout(self.coil_plane_half_mm)
+
+    def validate(self) -> None:
+        """Raise DesignError when the parts cannot be placed (names the key to change)."""
+        w, lm = self.magnet_width_mm, self.magnet_length_mm
+        if self.core_half_mm < max(w, lm / 2) + 1.0:
+            need = (
+                2 * (max(w, lm / 2) + 1.0 + self.gap_mm / 2 + self.magnet_thickness_mm)
+                + self.coil_width_mm
+            )
+            raise DesignError(
+                "flotor.edge_mm",
+                f"too small for the inner magnets: core half-size {self.core_half_mm:.2f} mm < "
+                f"{max(w, lm / 2) + 1.0:.2f} mm; use edge_mm >= {need:.1f}",
+            )
+        inner = self.flotor_edge_mm / 2 - self.coil_width_mm
+        if lm / 2 + w + 2.0 > inner:
+            raise DesignError(
+                "flotor.edge_mm",
+                f"coil (reach {lm / 2 + w:.1f} mm) does not fit in a face (inner half {inner:.1f} mm)",
+            )
+        if self.post_diameter_mm >= self.corner_hole_mm:
+            raise DesignError(
+                "flotor.corner_hole_mm",
+                f"must exceed stator.post_diameter_mm {self.post_diameter_mm}",
+            )
+        # the corner hole must not cut the coil pockets: distance from the stadium rims to the diagonal
+        rim = self.coil_rim_points()
+        u = np.ones(3) / math.sqrt(3)
+        dist = np.linalg.norm(rim - np.outer(rim @ u, u), axis=1)
+        rh = self.corner_hole_mm / 2
+        if dist.min() < rh + 1.5:
+            raise DesignError(
+                "flotor.corner_hole_mm",
+                f"the corner hole (radius {rh:.1f} mm) comes within {dist.min() - rh:.2f} mm of a coil; "
+                "reduce it or enlarge flotor.edge_mm",
+            )
+
+    def coil_rim_points(self, n: int = 180) -> np.ndarray:
+        """Points (6*2*n, 3) on the outer rims of the six coils at both wall surfaces (flotor frame)."""
+        w, lm, dc = self.magnet_width_mm, self.magnet_length_mm, self.coil_width_mm
+        th = np.linspace(0, 2 * np.pi, n, endpoint=False)
+        # stadium outline: x = w cos, y = (l/2) sign(sin) + w sin
+        x = w * np.cos(th)
+        y = np.sign(np.sin(th)) * lm / 2 + w * np.sin(th)
+        pts = []
+        for c in self.coils():
+            R = c.R_flotor_act
+            for z in (-dc / 2, dc / 2):
+                local = np.stack([x, y, np.full_like(x, z)], 1)
+                pts.append(local @ R.T + c.centre_mm)
+        return np.concatenate(pts)
+
+
+def geometry(design, gap_mm: float) -> PowerMouseGeometry:
+    """PowerMouseGeometry from a PowerMouseDesign and the actuator gap d (mm), validated."""
+    a = design.actuator
+    g = PowerMouseGeometry(
+        magnet_length_mm=a.magnet_length_mm,
+        magnet_width_mm=a.magnet_width_mm,
+        magnet_thickness_mm=a.magnet_thickness_mm,
+        gap_mm=gap_mm,
+        rattle_mm=a.rattle_mm,
+        plate_thickness_mm=a.plate_thickness_mm,
+        flotor_edge_mm=design.flotor.edge_mm,
+        corner_hole_mm=design.flotor.corner_hole_mm,
+        post_diameter_mm=design.stator.post_diameter_mm,
+        housing_wall_mm=design.stator.housing_wall_mm,
+        handle_length_mm=design.handle.length_mm,
+        handle_diameter_mm=design.handle.diameter_mm,
+        knob_diameter_mm=design.handle.knob_diameter_mm,
+    )
+    g.validate()
+    return g
+
+
+def _loc(R: np.ndarray, origin) -> object:
+    """build123d Location whose axes are R's columns (x, y, z) placed at ``origin`` (mm)."""
+    import build123d as bd
+
+    return bd.Location(
+        bd.Plane(
+            origin=tuple(map(float, origin)),
+            x_dir=tuple(map(float, R[:, 0])),
+            z_dir=tuple(map(float, R[:, 2])),
+        )
+    )
+
+
+def _diag_cylinder(radius_mm: float, start_mm: float, end_mm: float):
+    """Cylinder of ``radius_mm`` along the unit diagonal (1,1,1)/sqrt3 between signed distances start..end."""
+    import build123d as bd
+
+    u = np.ones(3) / math.sqrt(3)
+    mid = 0.5 * (start_mm + end_mm) * u
+    return bd.Location(bd.Plane(origin=tuple(mid), z_dir=tuple(u))) * bd.Cylinder(
+        radius_mm, abs(end_mm - start_mm)
+    )
+
+
+def flotor_solids(g: PowerMouseGeometry) -> dict[str, tuple[object, str]]:
+    """Moving solids in the flotor frame: name -> (solid, role) with role shell|coil|handle."""
+    import build123d as bd
+
+    from cad.parts.voicecoil import stadium
+
+    E, dc = g.flotor_edge_mm, g.coil_width_mm
+    w, lm = g.magnet_width_mm, g.magnet_length_mm
+    shell = bd.Box(E, E, E) - bd.Box(E - 2 * dc, E - 2 * dc, E - 2 * dc)
+    coils = {}
+    for c in g.coils():
+        loc = _loc(c.R_flotor_act, c.centre_mm)
+        shell = shell - loc * stadium(lm, 2 * w, dc + 1.0)
+        coils[f"coil_{c.face}"] = (loc * stadium(lm, 2 * w, dc), "coil")
+    half_diag = E / 2 * math.sqrt(3)
+    shell = shell - _diag_cylinder(
+        g.corner_hole_mm / 2, -half_diag - 1, -half_diag + 2 * E
+    )  # post hole
+    # handle: stem from inside the (+,+,+) corner out along the diagonal, knob at its end
+    s0 = (E / 2 - dc) * math.sqrt(3)
+    s1 = half_diag + g.handle_length_mm
+    stem = _diag_cylinder(g.handle_diameter_mm / 2, s0, s1)
+    u = np.ones(3) / math.sqrt(3)
+    knob = bd.Pos(*(u * (s1 + 0.35 * g.knob_diameter_mm))) * bd.Sphere(g.knob_diameter_mm / 2)
+    handle = stem + knob
+    shell = shell - stem  # handle is its own part, bonded into the corner
+    out = {"flotor_shell": (shell, "shell")}
+    out.update(coils)
+    out["handle"] = (handle, "handle")
+    return out
+
+
+def stator_solids(g: PowerMouseGeometry) -> dict[str, tuple[object, str]]:
+    """Fixed solids in the flotor frame (nominal pose): name -> (solid, role) with role core|magnet|iron|housing."""
+    import build123d as bd
+
+    w, lm, t, d = g.magnet_width_mm, g.magnet_length_mm, g.magnet_thickness_mm, g.gap_mm
+    c = g.core_half_mm
+    out: dict[str, tuple[object, str]] = {}
+    H = g.housing_inner_half_mm
+    core = bd.Box(2 * c, 2 * c, 2 * c) + _diag_cylinder(
+        g.post_diameter_mm / 2, -c * math.sqrt(3) + 1.0, -H * math.sqrt(3) - 1.0
+    )
+    out["core_post"] = (core, "core")
+    coils = g.coils()
+    for mg in pm.stator_magnets(coils, d, lm, w, t, 1.0):
+        face = coils[mg.actuator].face
+        out[f"magnet_{face}_{mg.role}"] = (_loc(mg.R, mg.centre_mm) * bd.Box(w, lm, t), "magnet")
+    for cl in coils:
+        a = g.coil_plane_half_mm
+        zc = a + d / 2 + t + g.plate_thickness_mm / 2
+        plate = bd.Box(
+            2 * w + 2 * g.plate_margin_mm, lm + 2 * g.plate_margin_mm, g.plate_thickness_mm
+        )
+        out[f"iron_{cl.face}"] = (_loc(cl.R_flotor_act, cl.normal * zc) * plate, "iron")
+    Ho = H + g.housing_wall_mm
+    housing = bd.Box(2 * Ho, 2 * Ho, 2 * Ho) - bd.Box(2 * H, 2 * H, 2 * H)
+    housing = housing - _diag_cylinder(g.housing_hole_mm / 2, 0.0, Ho * math.sqrt(3) + 5)
+    out["housing"] = (housing, "housing")
+    return out
+
+
+def _moved(shape, R: np.ndarray, t_mm) -> object:
+    """Shape rotated by R about the flotor-frame origin, then translated by t_mm (x -> R x + t)."""
+    return _loc(R, t_mm) * shape
+
+
+def _aabb(shape) -> np.ndarray:
+    bb = shape.bounding_box()
+    return np.array([[bb.min.X, bb.min.Y, bb.min.Z], [bb.max.X, bb.max.Y, bb.max.Z]])
+
+
+def _aabb_gap(a: np.ndarray, b: np.ndarray) -> float:
+    """Euclidean distance between two axis-aligned boxes (0 when they overlap): a lower bound."""
+    d = np.maximum(0.0, np.maximum(a[0] - b[1], b[0] - a[1]))
+    return float(np.linalg.norm(d))
+
+
+def min_distance_mm(
+    moving: list, fixed: list, fixed_boxes: list | None = None
+) -> tuple[float, tuple[int, int]]:
+    """Exact minimum distance between two lists of solids (OCCT), pruned by bounding boxes.
+
+    Pairs are visited in order of their box distance (a lower bound) and the
+    search stops once that bound exceeds the best exact distance. Returns the
+    distance (mm; 0 when touching or overlapping) and the (moving, fixed) pair.
+    """
+    fb = [_aabb(f) for f in fixed] if fixed_boxes is None else fixed_boxes
+    mb = [_aabb(m) for m in moving]
+    pairs = sorted((_aabb_gap(a, b), i, j) for i, a in enumerate(mb) for j, b in enumerate(fb))
+    best, arg = math.inf, (-1, -1)
+    for lb, i, j in pairs:
+        if lb >= best:
+            break
+        dist = moving[i].distance_to(fixed[j])
+        if dist < best:
+            best, arg = dist, (i, j)
+    return best, arg
+
+
+@dataclass(frozen=True)
+class Clearances:
+    """Minimum flotor-stator distance over groups of poses (mm) and the worst pose of each.
+
+    translation_mm: over the 26 extreme translations (no rotation);
+    rotation_mm: over +-range rotations about 13 axes (no translation);
+    nominal_mm: at the centre; ``poses``: label -> (clearance_mm, "flotor part/stator part").
+    A negative value is an overlap (minus the cube root of the common volume, mm).
+    """
+
+    nominal_mm: float
+    translation_mm: float
+    rotation_mm: float
+    worst_translation: str
+    worst_rotation: str
+    poses: dict
+
+
+def motion_clearances(
+    g: PowerMouseGeometry, range_mm: float, range_deg: float, flotor=None, stator=None, poses=None
+) -> Clearances:
+    """Exact (OCCT BRepExtrema) flotor-to-stator distance at the extreme poses of the motion range.
+
+    poses: list of (label, R, t_mm) (default :func:`cad.actuators.powermouse.workspace_poses`).
+    Touching (distance 0) at the range limit counts as 0 when the solids do
+    not overlap (boolean common volume < 1e-6 mm^3); an overlap gives a
+    negative clearance.
+    """
+    fl = flotor_solids(g) if flotor is None else flotor
+    st = stator_solids(g) if stator is None else stator
+    fl_names, fl_shapes = list(fl), [v[0] for v in fl.values()]
+    st_names, st_shapes = list(st), [v[0] for v in st.values()]
+    st_boxes = [_aabb(s) for s in st_shapes]
+
+    def clearance(R, t):
+        moved = [_moved(s, R, t) for s in fl_shapes]
+        dist, (i, j) = min_distance_mm(moved, st_shapes, st_boxes)
+        where = f"{fl_names[i]}/{st_names[j]}"
+        if dist > 1e-9:
+            return float(dist), where
+        vol = 0.0
+        for m in moved:
+            for s, b in zip(st_shapes, st_boxes, strict=True):
+                if _aabb_gap(_aabb(m), b) <= 1e-9:
+                    common = m & s
+                    vol += common.volume if common is not None else 0.0
+        return (0.0 if vol < 1e-6 else -(float(vol) ** (1 / 3))), where
+
+    nominal = clearance(np.eye(3), np.zeros(3))[0]
+    res = {}
+    todo = pm.workspace_poses(range_mm, range_deg) if poses is None else poses
+    for label, R, t in todo:
+        res[label] = clearance(R, t)
+    tr = {k: v[0] for k, v in res.items() if k.startswith("t")}
+    ro = {k: v[0] for k, v in res.items() if k.startswith("r")}
+    wt = min(tr, key=tr.get) if tr else ""
+    wr = min(ro, key=ro.get) if ro else ""
+    return Clearances(nominal, tr[wt] if tr else math.nan, ro[wr] if ro else math.nan, wt, wr, res)
