@@ -48,6 +48,8 @@ class PartMesh:
     vertices_mm: np.ndarray
     faces: np.ndarray
     aabb_mm: np.ndarray  # (2, 3) in the body frame
+    axis_xy: np.ndarray | None = None  # solid of revolution about this vertical axis (body frame)
+    bvh: object = None  # fcl CollisionObject of this part alone (exact-pass pre-filter)
 
 
 @dataclass
@@ -86,14 +88,16 @@ class InterferenceReport:
         }
 
 
-def collision_items(instances) -> list[tuple[str, str, object, np.ndarray]]:
-    """``(part name, body, TopoDS shape in the part frame, tf_body_part)`` for every collision
-    envelope of the assembly (bearings split into their two rings)."""
+def collision_items(instances) -> list[tuple[str, str, object, np.ndarray, bool]]:
+    """``(part name, body, TopoDS shape in the part frame, tf_body_part, revolution)`` for every
+    collision envelope of the assembly (bearings split into their two rings)."""
     out = []
     for inst in instances:
+        rev = bool(getattr(inst.kind, "revolution", False))
         if inst.kind.collision is None:
-            out.append((inst.name, inst.body, inst.kind.shape, inst.tf_body_part))
+            out.append((inst.name, inst.body, inst.kind.shape, inst.tf_body_part, rev))
             continue
+        single = len(inst.kind.collision) == 1
         for role, shp in inst.kind.collision:
             if role == "self":
                 body, tf = inst.body, inst.tf_body_part
@@ -101,7 +105,8 @@ def collision_items(instances) -> list[tuple[str, str, object, np.ndarray]]:
                 body, tf = inst.other_body, inst.tf_other_part
             if body is None or tf is None:
                 raise InterferenceError(f"{inst.name}: collision role {role!r} without the joint's other body")
-            out.append((f"{inst.name}[{'inner' if role == 'other' else 'outer'}]", body, shp, tf))
+            label = inst.name if single else f"{inst.name}[{'inner' if role == 'other' else 'outer'}]"
+            out.append((label, body, shp, tf, rev))
     return out
 
 
@@ -113,15 +118,18 @@ def prepare(items, mesh_tol_mm: float = SWEEP_MESH_TOL_MM) -> Prepared:
     t0 = time.perf_counter()
     cache: dict[int, tuple[np.ndarray, np.ndarray]] = {}
     bodies: dict[str, list[PartMesh]] = {}
-    for name, body, shape, tf in items:
+    for item in items:
+        name, body, shape, tf = item[:4]
+        rev = bool(item[4]) if len(item) > 4 else False
         key = id(shape)
         if key not in cache:
             cache[key] = mesh_shape(shape, mesh_tol_mm, 0.5)
         v, f = cache[key]
         T = np.asarray(tf, dtype=float)
         vb = v @ T[:3, :3].T + T[:3, 3]
+        axis = T[:2, 3].copy() if rev and abs(abs(T[2, 2]) - 1.0) < 1e-12 else None
         bodies.setdefault(body, []).append(
-            PartMesh(name, body, placed(shape, T), vb, f, np.array([vb.min(axis=0), vb.max(axis=0)])))
+            PartMesh(name, body, placed(shape, T), vb, f, np.array([vb.min(axis=0), vb.max(axis=0)]), axis))
     return Prepared(bodies, mesh_tol_mm, time.perf_counter() - t0)
 
 
@@ -134,48 +142,132 @@ def _body_arrays(parts: list[PartMesh]):
     return np.concatenate(vs), np.concatenate(fs)
 
 
+def _z_range(parts: list[PartMesh]) -> tuple[float, float]:
+    return min(p.aabb_mm[0, 2] for p in parts), max(p.aabb_mm[1, 2] for p in parts)
+
+
+#: Parts farther than this in z from the other body are left out of a pair's fast pass
+#: (planar motion keeps z, so they stay at least that far); a pair whose mesh minimum
+#: exceeds the z gap of a left-out part is redone without culling (mm).
+CULL_MARGIN_MM = 5.0
+
+
+def _z_gap(p: PartMesh, z: tuple[float, float]) -> float:
+    return max(0.0, z[0] - p.aabb_mm[1, 2], p.aabb_mm[0, 2] - z[1])
+
+
+def cull_pair(pa: list[PartMesh], pb: list[PartMesh], margin_mm: float
+              ) -> tuple[list[PartMesh], list[PartMesh], float]:
+    """Parts of each body within ``margin_mm`` in z of the other body, and the smallest z gap
+    of the parts left out (a lower bound of their distance; inf if none)."""
+    za, zb = _z_range(pa), _z_range(pb)
+    ka = [p for p in pa if _z_gap(p, zb) <= margin_mm]
+    kb = [p for p in pb if _z_gap(p, za) <= margin_mm]
+    gaps = [_z_gap(p, zb) for p in pa if _z_gap(p, zb) > margin_mm]
+    gaps += [_z_gap(p, za) for p in pb if _z_gap(p, za) > margin_mm]
+    return ka, kb, min(gaps, default=np.inf)
+
+
+def _check_planar(tf_world_body: dict[str, np.ndarray]) -> None:
+    for body, T in tf_world_body.items():
+        T = np.asarray(T)
+        if not (np.allclose(T[..., 2, :], [0.0, 0.0, 1.0, 0.0]) and np.allclose(T[..., :2, 2], 0.0)):
+            raise InterferenceError(f"body {body!r}: the sweep assumes planar motion (z kept)")
+
+
+def _axial(parts: list[PartMesh], axes_xy: list[np.ndarray]) -> list[bool]:
+    return [p.axis_xy is not None and any(np.allclose(p.axis_xy, a, atol=1e-9) for a in axes_xy) for p in parts]
+
+
+def split_invariant(pa: list[PartMesh], pb: list[PartMesh], joint_axes) -> tuple[list, list, list]:
+    """For two bodies turning about common joint axes, the parts whose distance changes with the
+    pose (non-axial parts of each) and the part pairs whose distance does not (an axial part
+    -- solid of revolution about the joint axis -- against anything of the other body)."""
+    if not joint_axes:
+        return pa, pb, []
+    ax_a = _axial(pa, [xa for xa, _ in joint_axes])
+    ax_b = _axial(pb, [xb for _, xb in joint_axes])
+    inv = [(p, q) for i, p in enumerate(pa) for j, q in enumerate(pb) if ax_a[i] or ax_b[j]]
+    return [p for i, p in enumerate(pa) if not ax_a[i]], [q for j, q in enumerate(pb) if not ax_b[j]], inv
+
+
 class _FclScene:
-    def __init__(self, prepared: Prepared):
+    def __init__(self, prepared: Prepared, margin_mm: float, joints=None):
         import fcl
 
         self.fcl = fcl
-        self.objs = {}
-        for body, parts in prepared.bodies.items():
-            v, f = _body_arrays(parts)
-            g = fcl.BVHModel()
-            g.beginModel(len(v), len(f))
-            g.addSubModel(v.astype(np.float64), f.astype(np.int32))
-            g.endModel()
-            self.objs[body] = fcl.CollisionObject(g, fcl.Transform())
+        self.prepared = prepared
+        self.margin = margin_mm
+        self.joints = joints or {}
+        self.objs: dict[tuple[str, str], tuple] = {}
+        self.lower_bound: dict[tuple[str, str], float] = {}
+        self.invariant_min: dict[tuple[str, str], float] = {}
+
+    def _bvh(self, parts: list[PartMesh]):
+        fcl = self.fcl
+        v, f = _body_arrays(parts)
+        g = fcl.BVHModel()
+        g.beginModel(len(v), len(f))
+        g.addSubModel(v.astype(np.float64), f.astype(np.int32))
+        g.endModel()
+        return fcl.CollisionObject(g, fcl.Transform())
+
+    def pair(self, a: str, b: str, Ta=None, Tb=None):
+        if (a, b) not in self.objs:
+            ka, kb, lb = cull_pair(self.prepared.bodies[a], self.prepared.bodies[b], self.margin)
+            va, vb, inv = split_invariant(ka, kb, self.joints.get((a, b)))
+            self.objs[(a, b)] = (self._bvh(va), self._bvh(vb)) if va and vb else None
+            self.lower_bound[(a, b)] = lb
+            # pose-invariant pairs: measured once, at the first pose asked for
+            self.invariant_min[(a, b)] = min(
+                (_part_mesh_distance(p, q, Ta, Tb) for p, q in inv), default=np.inf) if Ta is not None else np.inf
+        return self.objs[(a, b)]
 
     def distance(self, a: str, b: str, Ta: np.ndarray, Tb: np.ndarray) -> float:
         fcl = self.fcl
-        oa, ob = self.objs[a], self.objs[b]
+        objs = self.pair(a, b, Ta, Tb)
+        const = self.invariant_min[(a, b)]
+        if objs is None:
+            return const
+        oa, ob = objs
         oa.setTransform(fcl.Transform(Ta[:3, :3], Ta[:3, 3]))
         ob.setTransform(fcl.Transform(Tb[:3, :3], Tb[:3, 3]))
-        return float(fcl.distance(oa, ob, fcl.DistanceRequest(), fcl.DistanceResult()))
+        return min(const, float(fcl.distance(oa, ob, fcl.DistanceRequest(), fcl.DistanceResult())))
 
 
 class _ManifoldScene:
-    def __init__(self, prepared: Prepared, search_mm: float):
+    def __init__(self, prepared: Prepared, margin_mm: float, search_mm: float):
         import manifold3d
 
         self.m3 = manifold3d
+        self.prepared = prepared
+        self.margin = margin_mm
         self.search = search_mm
-        self.man = {}
-        for body, parts in prepared.bodies.items():
-            pieces = []
-            for p in parts:
-                mesh = manifold3d.Mesh64(vert_properties=np.ascontiguousarray(p.vertices_mm, dtype=np.float64),
-                                         tri_verts=np.ascontiguousarray(p.faces, dtype=np.uint64))
-                pieces.append(manifold3d.Manifold(mesh))
-            self.man[body] = manifold3d.Manifold.batch_boolean(pieces, manifold3d.OpType.Add)
+        self.man: dict[tuple[str, str], tuple] = {}
+        self.lower_bound: dict[tuple[str, str], float] = {}
 
-    def _placed(self, body, T):
-        return self.man[body].transform(np.ascontiguousarray(T[:3, :], dtype=np.float64))
+    def _union(self, parts: list[PartMesh]):
+        m3 = self.m3
+        pieces = []
+        for p in parts:
+            mesh = m3.Mesh64(vert_properties=np.ascontiguousarray(p.vertices_mm, dtype=np.float64),
+                             tri_verts=np.ascontiguousarray(p.faces, dtype=np.uint64))
+            pieces.append(m3.Manifold(mesh))
+        return m3.Manifold.batch_boolean(pieces, m3.OpType.Add)
+
+    def pair(self, a, b):
+        if (a, b) not in self.man:
+            ka, kb, lb = cull_pair(self.prepared.bodies[a], self.prepared.bodies[b], self.margin)
+            self.man[(a, b)] = (self._union(ka), self._union(kb)) if ka and kb else None
+            self.lower_bound[(a, b)] = lb
+        return self.man[(a, b)]
 
     def distance(self, a, b, Ta, Tb) -> float:
-        ma, mb = self._placed(a, Ta), self._placed(b, Tb)
+        objs = self.pair(a, b)
+        if objs is None:
+            return np.inf
+        ma = objs[0].transform(np.ascontiguousarray(Ta[:3, :], dtype=np.float64))
+        mb = objs[1].transform(np.ascontiguousarray(Tb[:3, :], dtype=np.float64))
         if not (ma ^ mb).is_empty():
             return 0.0
         return float(ma.min_gap(mb, self.search))
@@ -192,11 +284,41 @@ def _aabb_gap(a: np.ndarray, b: np.ndarray) -> float:
     return float(np.linalg.norm(d))
 
 
+def have_fcl() -> bool:
+    try:
+        import fcl  # noqa: F401
+    except ImportError:
+        return False
+    return True
+
+
+def _part_bvh(p: PartMesh):
+    if p.bvh is None:
+        import fcl
+
+        g = fcl.BVHModel()
+        g.beginModel(len(p.vertices_mm), len(p.faces))
+        g.addSubModel(p.vertices_mm.astype(np.float64), p.faces.astype(np.int32))
+        g.endModel()
+        p.bvh = fcl.CollisionObject(g, fcl.Transform())
+    return p.bvh
+
+
+def _part_mesh_distance(p: PartMesh, q: PartMesh, Ta: np.ndarray, Tb: np.ndarray) -> float:
+    import fcl
+
+    oa, ob = _part_bvh(p), _part_bvh(q)
+    oa.setTransform(fcl.Transform(Ta[:3, :3], Ta[:3, 3]))
+    ob.setTransform(fcl.Transform(Tb[:3, :3], Tb[:3, 3]))
+    return float(fcl.distance(oa, ob, fcl.DistanceRequest(), fcl.DistanceResult()))
+
+
 def exact_check(pa: list[PartMesh], pb: list[PartMesh], Ta: np.ndarray, Tb: np.ndarray,
                 within_mm: float) -> tuple[float, float, str, str]:
     """Exact (OCCT) smallest distance and overlap volume between two bodies at one pose.
 
-    Only part pairs whose world bounding boxes are within ``within_mm`` are measured.
+    Only part pairs whose world bounding boxes -- and, when python-fcl is installed,
+    whose meshes -- come within ``within_mm`` are measured exactly.
     Returns (distance mm, overlap volume mm^3, part a, part b) of the closest pair.
     """
     from OCP.BRepAlgoAPI import BRepAlgoAPI_Common
@@ -208,11 +330,14 @@ def exact_check(pa: list[PartMesh], pb: list[PartMesh], Ta: np.ndarray, Tb: np.n
 
     best = (np.inf, 0.0, "", "")
     overlap = 0.0
+    use_fcl = have_fcl()
     boxes_a = [_world_aabb(p.aabb_mm, Ta) for p in pa]
     boxes_b = [_world_aabb(p.aabb_mm, Tb) for p in pb]
     for i, p in enumerate(pa):
         for j, q in enumerate(pb):
             if _aabb_gap(boxes_a[i], boxes_b[j]) > within_mm:
+                continue
+            if use_fcl and _part_mesh_distance(p, q, Ta, Tb) > within_mm:
                 continue
             sa, sb = placed(p.shape, Ta), placed(q.shape, Tb)
             ext = BRepExtrema_DistShapeShape(sa, sb)
@@ -230,79 +355,116 @@ def exact_check(pa: list[PartMesh], pb: list[PartMesh], Ta: np.ndarray, Tb: np.n
 
 
 def sweep(prepared: Prepared, tf_world_body: dict[str, np.ndarray], phi1_rad: np.ndarray,
-          clearance_min_mm: float, *, method: str = "fcl", exact: bool = True,
-          tf_at=None) -> InterferenceReport:
+          clearance_min_mm: float, *, method: str = "auto", exact: bool = True,
+          tf_at=None, joints=None) -> InterferenceReport:
     """Sweep all body pairs over the poses (module docstring).
 
     ``tf_world_body``: ``{body: (N, 4, 4)}`` at ``phi1_rad`` (N,). ``tf_at(phi) -> {body: 4x4}``
     (optional) evaluates a single pose for the refinement step.
-    ``method``: "fcl" or "manifold3d" for the fast pass; ``exact=False`` reports the mesh
+    ``joints``: ``{(body a, body b): [(axis xy in a's frame, axis xy in b's frame), ...]}`` for
+    bodies turning about a common joint: parts that are solids of revolution about such an
+    axis keep their distance to the other body at every pose, so the fcl pass measures them
+    once (pose-invariant pairs) and sweeps only the rest.
+    ``method``: "fcl", "manifold3d" or "auto" (fcl when installed) for the fast pass; ``exact=False`` reports the mesh
     distances only (preview fidelity).
     """
     t0 = time.perf_counter()
-    scene = _FclScene(prepared) if method == "fcl" else _ManifoldScene(prepared, clearance_min_mm + 10.0)
-    t_build = time.perf_counter() - t0
-    bodies = sorted(prepared.bodies)
+    _check_planar(tf_world_body)
+    if method == "auto":
+        method = "fcl" if have_fcl() else "manifold3d"
     n = len(phi1_rad)
     threshold = clearance_min_mm + 2 * prepared.mesh_tol_mm + CONFIRM_MARGIN_MM
+    margin = max(threshold, CULL_MARGIN_MM)
+    if method == "fcl":
+        jx = {}
+        for (a, b), axes in (joints or {}).items():
+            jx[(a, b)] = [(np.asarray(xa, float), np.asarray(xb, float)) for xa, xb in axes]
+            jx[(b, a)] = [(np.asarray(xb, float), np.asarray(xa, float)) for xa, xb in axes]
+        scene, full = _FclScene(prepared, margin, jx), _FclScene(prepared, np.inf, jx)
+    elif method == "manifold3d":
+        scene = _ManifoldScene(prepared, margin, clearance_min_mm + 10.0)
+        full = _ManifoldScene(prepared, np.inf, clearance_min_mm + 10.0)
+    else:
+        raise InterferenceError(f"unknown sweep method {method!r} (fcl, manifold3d, auto)")
+    t_build = time.perf_counter() - t0
+    bodies = sorted(prepared.bodies)
     pairs_out, collisions = [], []
     n_exact = 0
     best_clear, best_info, total_overlap = np.inf, {}, 0.0
     t_fast = t_exact = 0.0
+    # fast pass over all pairs (z-culled), then uncull where a left-out part could be closer
+    slack = 2 * prepared.mesh_tol_mm + CONFIRM_MARGIN_MM
+    t1 = time.perf_counter()
+    dist: dict[tuple[str, str], np.ndarray] = {}
+    scenes: dict[tuple[str, str], object] = {}
     for a, b in itertools.combinations(bodies, 2):
-        t1 = time.perf_counter()
-        d = np.array([scene.distance(a, b, tf_world_body[a][i], tf_world_body[b][i]) for i in range(n)])
+        dist[(a, b)] = np.array([scene.distance(a, b, tf_world_body[a][i], tf_world_body[b][i]) for i in range(n)])
+        scenes[(a, b)] = scene
+    g_min = min(float(v.min()) for v in dist.values())
+    for (a, b), d in dist.items():
+        if scene.lower_bound[(a, b)] < min(float(d.min()), g_min):
+            dist[(a, b)] = np.array([full.distance(a, b, tf_world_body[a][i], tf_world_body[b][i]) for i in range(n)])
+            scenes[(a, b)] = full
+    g_min = min(float(v.min()) for v in dist.values())
+    fast: dict[tuple[str, str], tuple] = {}
+    for (a, b), d in dist.items():
+        sc = scenes[(a, b)]
         i_min = int(np.argmin(d))
         phi_min, d_min = float(phi1_rad[i_min]), float(d[i_min])
         Ta_min, Tb_min = tf_world_body[a][i_min], tf_world_body[b][i_min]
-        if tf_at is not None and n > 2:
+        near = d_min <= max(threshold, g_min + 2 * slack)
+        if near and tf_at is not None and n > 2:  # refine the closest pose between its neighbours
             lo = float(phi1_rad[max(i_min - 1, 0)])
             hi = float(phi1_rad[min(i_min + 1, n - 1)])
             from scipy.optimize import minimize_scalar
 
-            def f(p, a=a, b=b):
+            def f(p, a=a, b=b, sc=sc):
                 T = tf_at(p)
-                return scene.distance(a, b, T[a], T[b])
+                return sc.distance(a, b, T[a], T[b])
 
             r = minimize_scalar(f, bounds=(lo, hi), method="bounded", options={"xatol": 1e-4})
             if r.fun < d_min:
                 phi_min, d_min = float(r.x), float(r.fun)
                 T = tf_at(phi_min)
                 Ta_min, Tb_min = T[a], T[b]
-        t_fast += time.perf_counter() - t1
+        fast[(a, b)] = (d, i_min, phi_min, d_min, Ta_min, Tb_min)
+    t_fast = time.perf_counter() - t1
+    global_mesh_min = min((v[3] for v in fast.values()), default=np.inf)
+    # exact pass: near contacts, and the closest pose of every pair that may hold the minimum
+    for (a, b), (d, i_min, phi_min, d_min, Ta_min, Tb_min) in fast.items():
         row = {"bodies": [a, b], "mesh_min_mm": d_min, "phi1_deg_at_min": float(np.degrees(phi_min))}
+        clear = d_min
         if exact:
             t1 = time.perf_counter()
-            slack = 2 * prepared.mesh_tol_mm + CONFIRM_MARGIN_MM
-            checks = [(phi_min, Ta_min, Tb_min, max(threshold, d_min + slack))] + [
-                (float(phi1_rad[i]), tf_world_body[a][i], tf_world_body[b][i], threshold)
-                for i in np.flatnonzero(d < threshold) if i != i_min
-            ]
+            checks = []
+            if d_min <= max(threshold, global_mesh_min + 2 * slack):
+                checks.append((phi_min, Ta_min, Tb_min, max(threshold, d_min + slack)))
+            checks += [(float(phi1_rad[i]), tf_world_body[a][i], tf_world_body[b][i], threshold)
+                       for i in np.flatnonzero(d < threshold) if i != i_min]
             ex_min, ex_parts, ex_phi = np.inf, ("", ""), phi_min
             for phi, Ta, Tb, within in checks:
                 de, vol, pa, pb = exact_check(prepared.bodies[a], prepared.bodies[b], Ta, Tb, within)
                 n_exact += 1
                 if de < ex_min:
                     ex_min, ex_parts, ex_phi = de, (pa, pb), phi
-                if de <= CONTACT_MM or de < clearance_min_mm:
+                if de <= CONTACT_MM or de < clearance_min_mm - CONTACT_MM:
                     collisions.append({"bodies": [a, b], "parts": [pa, pb], "phi1_deg": float(np.degrees(phi)),
                                        "distance_mm": max(de, 0.0), "overlap_volume_mm3": vol})
                     total_overlap = max(total_overlap, vol)
             t_exact += time.perf_counter() - t1
-            if not np.isfinite(ex_min):  # nothing came within the threshold: the mesh value stands
-                ex_min = d_min
-            row.update({"exact_min_mm": ex_min, "parts": list(ex_parts), "phi1_deg_exact": float(np.degrees(ex_phi))})
-            clear = ex_min
-        else:
-            clear = d_min
-            if d_min <= CONTACT_MM or d_min < clearance_min_mm:
-                collisions.append({"bodies": [a, b], "parts": [], "phi1_deg": float(np.degrees(phi_min)),
-                                   "distance_mm": d_min, "overlap_volume_mm3": None})
+            if np.isfinite(ex_min):
+                row.update({"exact_min_mm": ex_min, "parts": list(ex_parts),
+                            "phi1_deg_exact": float(np.degrees(ex_phi))})
+                clear = ex_min
+        elif d_min <= CONTACT_MM or d_min < clearance_min_mm - CONTACT_MM:
+            collisions.append({"bodies": [a, b], "parts": [], "phi1_deg": float(np.degrees(phi_min)),
+                               "distance_mm": d_min, "overlap_volume_mm3": None})
         pairs_out.append(row)
         if clear < best_clear:
             best_clear = clear
             best_info = {"bodies": [a, b], "parts": row.get("parts", []),
-                         "phi1_deg": row.get("phi1_deg_exact", row["phi1_deg_at_min"])}
+                         "phi1_deg": row.get("phi1_deg_exact", row["phi1_deg_at_min"]),
+                         "exact": "exact_min_mm" in row}
     return InterferenceReport(
         min_clearance_mm=float(max(best_clear, 0.0)), overlap_volume_mm3=float(total_overlap), closest=best_info,
         pairs=pairs_out, collisions=collisions,

@@ -363,7 +363,8 @@ MAX_GAP_ROUNDS = 6
 
 
 def _widen(plan: LayerPlan, parts: PartsSpec) -> tuple[float, float] | None:
-    """Gaps that separate in z every conflicting pair anchored to different layers, or None
+    """Gaps that separate in z (by ``layer_gap_mm``) every conflicting pair anchored to
+    different layers, or None
     when a conflict involves an element spanning layers (only another order can help)."""
     gaps = list(plan.gaps_mm)
     changed = False
@@ -373,7 +374,7 @@ def _widen(plan: LayerPlan, parts: PartsSpec) -> tuple[float, float] | None:
         if a.anchor is None or b.anchor is None or a.anchor == b.anchor:
             return None
         lo_el, hi_el = (a, b) if a.anchor < b.anchor else (b, a)
-        need = lo_el.z_mm[1] - hi_el.z_mm[0] + parts.clearance_min_mm
+        need = lo_el.z_mm[1] - hi_el.z_mm[0] + max(parts.layer_gap_mm, parts.clearance_min_mm)
         if need > 0:
             k = hi_el.anchor - 1
             gaps[k] += need

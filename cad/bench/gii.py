@@ -160,6 +160,7 @@ def run(quick: bool, out_dir: Path) -> dict:
         "design": {**DESIGN, "center_mm": list(CENTER_MM), "side_mm": SIDE_MM},
         "points": samp + opt,
         "culling_all_same_optimum": all(p["same_optimum"] for p in cul),
+        "culling_ratio": min(ratios),
         "culling_evaluation_ratio_min": min(ratios),
         "culling_evaluation_ratio_median": statistics.median(ratios),
         "quick": quick,

@@ -9,7 +9,9 @@ Contract for builder modules (``cad/build/fourbar.py``, ``pantograph.py``, ``pow
 ``out_dir`` is a fresh temporary directory (the dispatcher publishes it atomically with
 :func:`cad.io.atomic.atomic_dir` only when everything succeeded); the builder writes
 the part files, ``bom.csv`` and the preview into it and returns the report dict. The
-dispatcher adds ``build`` metadata, writes ``report.json`` and ``manifest.json``.
+dispatcher adds ``build`` metadata, writes ``report.json`` and ``manifest.json``. A
+builder may put wall times under ``"_timings_s"``: they are returned (as
+``timings_s``) but kept out of ``report.json`` so that the file is deterministic.
 ``progress`` (may be None) is called as ``progress(description, done, total)``.
 A builder may also expose ``cache_inputs(design) -> dict`` with anything outside the
 design object that its output depends on (e.g. the hash of a user part script).
@@ -158,9 +160,12 @@ def build_design(
         report = mod.build(design, tmp, set(formats), fidelity=fidelity,
                            allow_interference=allow_interference, progress=progress, phi1_deg=phi1_deg)
         report = dict(report)
+        timings = report.pop("_timings_s", None)
         report["build"] = {"formats": sorted(formats), "fidelity": fidelity,
                            "allow_interference": bool(allow_interference), "build_key": key}
         write_text_atomic(tmp / REPORT_NAME, json.dumps(_jsonable(report), indent=2, sort_keys=True) + "\n")
         write_manifest(tmp, {"build_key": key})
     report["cached"] = False
+    if timings is not None:
+        report["timings_s"] = timings
     return report

@@ -105,12 +105,15 @@ OPTIMIZABLE = {
 
 @dataclass(frozen=True)
 class PantographParts:
-    """Part parameters of the twin-pantograph mouse (mm, catalogue values named).
+    """Part parameters of the twin-pantograph mouse (mm; catalogue keys named).
 
-    Links: carbon-fibre tubes bonded into aluminium clevises; each joint a pin
-    in two ball bearings. Motors: defaults are a Maxon RE 25 class coreless DC
-    motor (dia. 25 mm, 54 mm long, ~130 g, rotor ~10.5 g cm^2: catalogue
-    ballpark, not a quotation).
+    Links: carbon-fibre tubes bonded into aluminium clevises (isotropy paper
+    §4.1: "aluminum clevises, carbon fibre links"); every passive joint a
+    steel pin in two ball bearings (``bearing``: bd_warehouse size, bore =
+    pin diameter). Motors: ``motor`` key of :data:`cad.parts.catalog.MOTORS`
+    (the paper's mouse used maxon motors; the catalogue's RE 35 is the
+    default), mounted on square motor-mount plates; the crank pantograph's
+    under the base plate, the knob pantograph's on a bridge above the links.
     """
 
     tube_od_mm: float = 8.0
@@ -119,35 +122,39 @@ class PantographParts:
     clevis_material: str = "aluminium-6061"
     clevis_length_mm: float = 20.0
     clevis_width_mm: float = 14.0
-    clevis_thickness_mm: float = 5.0
-    pin_diameter_mm: float = 4.0
-    bearing_od_mm: float = 9.0
-    bearing_width_mm: float = 4.0
-    motor_diameter_mm: float = 25.0
-    motor_length_mm: float = 54.0
-    motor_mass_g: float = 130.0
-    motor_shaft_diameter_mm: float = 4.0
-    rotor_inertia_g_cm2: float = 10.5
-    crank_material: str = "aluminium-6061"
-    crank_thickness_mm: float = 6.0
+    clevis_height_mm: float = 12.0
+    socket_depth_mm: float = 10.0
+    bearing: str = "M4-9-2.5"
+    pin_material: str = "steel-1018"
+    motor: str = "maxon-re35"
+    motor_mount_thickness_mm: float = 4.0
+    crank_material: str = "aluminium-7075"
+    crank_thickness_mm: float = 5.0
     knob_material: str = "delrin"
     knob_height_mm: float = 25.0
     plate_material: str = "aluminium-6061"
-    plate_thickness_mm: float = 8.0
+    plate_thickness_mm: float = 6.0
+    post_diameter_mm: float = 12.0
     layer_gap_mm: float = 3.0
 
 
 _PART_STR = (
     "tube_material",
     "clevis_material",
+    "pin_material",
     "crank_material",
     "knob_material",
     "plate_material",
+    "bearing",
+    "motor",
 )
 
 
 def parse_parts(table: dict[str, Any], prefix: str = "parts") -> PantographParts:
     """Validate the ``[parts]`` table of a twin-pantograph (an empty one gives the defaults)."""
+    from cad.materials import get_material
+    from cad.parts.catalog import get_bearing, get_motor
+
     default = PantographParts()
     allowed = list(PantographParts.__dataclass_fields__)
     check_unknown(table, allowed, prefix)
@@ -158,30 +165,51 @@ def parse_parts(table: dict[str, Any], prefix: str = "parts") -> PantographParts
         if key in _PART_STR:
             v = table[key]
             if not isinstance(v, str) or not v:
-                raise DesignError(f"{prefix}.{key}", f"must be a material name, got {v!r}")
+                raise DesignError(f"{prefix}.{key}", f"must be a non-empty string, got {v!r}")
             kw[key] = v
         else:
             kw[key] = require_positive(table, key, prefix)
     p = replace(default, **kw)
-    if p.tube_id_mm >= p.tube_od_mm:
-        raise DesignError(
-            f"{prefix}.tube_id_mm", f"must be < tube_od_mm ({p.tube_od_mm}), got {p.tube_id_mm}"
-        )
-    if p.pin_diameter_mm >= p.bearing_od_mm:
-        raise DesignError(
-            f"{prefix}.pin_diameter_mm",
-            f"must be < bearing_od_mm ({p.bearing_od_mm}), got {p.pin_diameter_mm}",
-        )
-    if p.tube_od_mm >= p.clevis_width_mm:
-        raise DesignError(
-            f"{prefix}.tube_od_mm",
-            f"must be < clevis_width_mm ({p.clevis_width_mm}), got {p.tube_od_mm}",
-        )
-    if p.bearing_od_mm >= p.clevis_width_mm:
-        raise DesignError(
-            f"{prefix}.bearing_od_mm",
-            f"must be < clevis_width_mm ({p.clevis_width_mm}), got {p.bearing_od_mm}",
-        )
+    for key in _PART_STR[:6]:
+        get_material(getattr(p, key), f"{prefix}.{key}")
+    b = get_bearing(p.bearing, f"{prefix}.bearing")
+    m = get_motor(p.motor, f"{prefix}.motor")
+
+    def need(cond: bool, key: str, reason: str) -> None:
+        if not cond:
+            raise DesignError(f"{prefix}.{key}", f"{reason}, got {getattr(p, key)!r}")
+
+    need(p.tube_id_mm < p.tube_od_mm, "tube_id_mm", f"must be < tube_od_mm ({p.tube_od_mm})")
+    need(
+        p.tube_od_mm + 2.0 <= p.clevis_width_mm,
+        "tube_od_mm",
+        f"needs 1 mm walls in clevis_width_mm ({p.clevis_width_mm})",
+    )
+    need(
+        p.tube_od_mm + 2.0 <= p.clevis_height_mm,
+        "tube_od_mm",
+        f"needs 1 mm walls in clevis_height_mm ({p.clevis_height_mm})",
+    )
+    need(
+        b.D_mm + 2.0 <= p.clevis_width_mm,
+        "clevis_width_mm",
+        f"must hold bearing {p.bearing} (D = {b.D_mm} mm) with 1 mm walls",
+    )
+    need(
+        2 * b.B_mm <= p.clevis_height_mm,
+        "clevis_height_mm",
+        f"must hold two {p.bearing} bearings (2 x {b.B_mm} mm)",
+    )
+    need(
+        p.socket_depth_mm < p.clevis_length_mm - b.D_mm / 2,
+        "socket_depth_mm",
+        "must stop short of the bearing bore",
+    )
+    need(
+        m.shaft_diameter_mm + 2.0 <= p.clevis_width_mm,
+        "clevis_width_mm",
+        f"must take the {p.motor} shaft",
+    )
     return p
 
 

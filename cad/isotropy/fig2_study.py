@@ -102,8 +102,11 @@ def _plot(rows, out_dir: Path) -> list[str]:
         ("proximal_mm", "proximal l2", "s"),
         ("distal_mm", "distal l3", "^"),
     ):
-        ax[0].plot(y, [r[key] / 10 for r in rows], m + "-", label=label)
-    ax[0].set_ylabel("optimum length (cm)")
+        line = ax[0].plot(y, [r[key] / 10 for r in rows], m + "-", label=label)[0]
+        yb = [(yy, r[key] / 10) for yy, r in zip(y, rows, strict=True) if key in r["at_bound"]]
+        if yb:
+            ax[0].plot(*zip(*yb, strict=True), m, ms=12, mfc="none", color=line.get_color())
+    ax[0].set_ylabel("optimum length (cm)\n(ringed: at its range bound)")
     ax[0].legend()
     ax[0].set_title("Optimum 5-bar for a 10 cm square workspace (culling = brute force)")
     ax[1].plot(y, [r["gii"] for r in rows], "ko-")

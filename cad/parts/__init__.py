@@ -46,6 +46,9 @@ class PartKind:
         seat's link); roles ``"self"`` or ``"other"`` (the joint's other link).
     listed : False for solids that are part of another bought item (the motor shaft): no
         files, no BOM line.
+    revolution : the collision solid(s) are solids of revolution about the part's z axis
+        (rings, spacers, pin envelopes): their distance to a link turning about that axis
+        is the same at every pose (used to speed up the interference sweep).
     """
 
     name: str
@@ -60,6 +63,7 @@ class PartKind:
     ring_mm: tuple[float, float, float] | None = None
     collision: tuple[tuple[str, Any], ...] | None = None
     listed: bool = True
+    revolution: bool = False
 
 
 @dataclass(frozen=True)

@@ -42,7 +42,7 @@ def bd_warehouse_data_dir() -> Path:
     return Path(list(spec.submodule_search_locations)[0]) / "data"
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def _table(filename: str, prefix: str) -> dict[str, dict[str, str]]:
     """Rows of a bd_warehouse CSV keyed by Size, columns of one type prefix (``SKT``...)."""
     out: dict[str, dict[str, str]] = {}

@@ -13,6 +13,10 @@ bd_warehouse's washers are too wide: an ISO 7089 M8 washer (16 mm) would rub the
 bearing's outer ring (shoulder D1 = 13.5 mm for the 618/8); the spacers' outside
 diameter lies between the bearing's shaft abutment da and inner-ring shoulder d1.
 
+Interference envelopes (:func:`screw_envelope`, :func:`ring_shape`): plain cylinders
+around the fasteners and nuts (across-corners diameter), solids of revolution about the
+joint axis, slightly larger than the real parts (conservative for clearance).
+
 Frames (mm, axis z): bearing z 0..B; screws with the under-head face at z = 0, head up,
 shank down (-z); nut and washer z 0..height; spacer z 0..height. Shapes are cached per
 parameter set (identical hardware is built once).
@@ -29,7 +33,7 @@ def _topo(obj):
     return obj.wrapped
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def bearing_shape(size: str, detailed: bool = True):
     """Ball bearing ``size`` (bd_warehouse SKT), z 0..B. ``detailed=False``: plain ring."""
     b = catalog.get_bearing(size)
@@ -40,7 +44,7 @@ def bearing_shape(size: str, detailed: bool = True):
     return ring_shape(b.d_mm / 2.0, b.D_mm / 2.0, b.B_mm)
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def bearing_rings(size: str):
     """(inner ring, outer ring) envelopes of a bearing for the interference sweep.
 
@@ -51,7 +55,7 @@ def bearing_rings(size: str):
     return ring_shape(b.d_mm / 2.0, b.d1_mm / 2.0, b.B_mm), ring_shape(b.D1_mm / 2.0, b.D_mm / 2.0, b.B_mm)
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def ring_shape(r_in_mm: float, r_out_mm: float, height_mm: float):
     """Tube r_in..r_out, z 0..height (turned spacer, ring envelope)."""
     from build123d import Align, Cylinder
@@ -63,7 +67,7 @@ def ring_shape(r_in_mm: float, r_out_mm: float, height_mm: float):
     return s.solids()[0].wrapped
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def shoulder_screw_shape(size: str, length_mm: float):
     """ISO 7379 shoulder screw: under-head face at z = 0, head up, shoulder to z = -length."""
     from bd_warehouse.fastener import ShoulderScrew
@@ -71,7 +75,7 @@ def shoulder_screw_shape(size: str, length_mm: float):
     return _topo(ShoulderScrew(size, float(length_mm), simple=True))
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def cap_screw_shape(size: str, length_mm: float):
     """ISO 4762 socket head cap screw: under-head face at z = 0, shank to z = -length."""
     from bd_warehouse.fastener import SocketHeadCapScrew
@@ -79,7 +83,21 @@ def cap_screw_shape(size: str, length_mm: float):
     return _topo(SocketHeadCapScrew(size, float(length_mm), simple=True))
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
+def screw_envelope(head_d_mm: float, head_h_mm: float, shank_d_mm: float, shank_l_mm: float,
+                   tip_d_mm: float = 0.0, tip_l_mm: float = 0.0):
+    """Solid of revolution enclosing a screw for the interference sweep: head cylinder
+    (z 0..head_h), shank (z -shank_l..0), optional thinner tip below the shank."""
+    from build123d import Align, Cylinder, Pos
+
+    a = (Align.CENTER, Align.CENTER, Align.MIN)
+    s = Cylinder(head_d_mm / 2, head_h_mm, align=a) + Pos(0, 0, -shank_l_mm) * Cylinder(shank_d_mm / 2, shank_l_mm, align=a)
+    if tip_l_mm > 0:
+        s = s + Pos(0, 0, -shank_l_mm - tip_l_mm) * Cylinder(tip_d_mm / 2, tip_l_mm, align=a)
+    return s.solids()[0].wrapped
+
+
+@functools.cache
 def nut_shape(size: str):
     """ISO 4032 hexagon nut, z 0..m."""
     from bd_warehouse.fastener import HexNut
@@ -87,7 +105,7 @@ def nut_shape(size: str):
     return _topo(HexNut(size, "iso4032", simple=True))
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def washer_shape(size: str):
     """ISO 7089 plain washer, z 0..h."""
     from bd_warehouse.fastener import PlainWasher

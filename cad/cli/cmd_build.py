@@ -1,0 +1,83 @@
+"""``hapticad build DESIGN [--out DIR] [--formats step,stl,dxf] [--fidelity F] [--phi1-deg X] [--allow-interference] [--json]``.
+
+Writes every part (STEP, binary STL, DXF for plates), the assembly STEP, ``bom.csv``,
+``report.json``, ``report.md``, ``preview.png`` and ``manifest.json`` into
+``exports/<name>/`` (or ``--out``), atomically. An unchanged design is not rebuilt
+(build cache, no CAD import).
+"""
+
+from __future__ import annotations
+
+import json
+import time
+from pathlib import Path
+
+import typer
+
+
+def _summary(rep: dict, out: Path, wall_s: float) -> None:
+    from rich.console import Console
+    from rich.table import Table
+
+    con = Console(stderr=False)
+    state = "unchanged (cached)" if rep.get("cached") else "built"
+    t = Table(title=f"{rep['name']} ({rep['family']}): {state} -> {out}", show_header=False)
+    t.add_column("k")
+    t.add_column("v", justify="right")
+    am = rep.get("apparent_mass", {})
+    for k in ("H11_kg_m2", "H12_kg_m2", "H22_kg_m2", "H33_kg_m2"):
+        t.add_row(k, f"{rep[k]:.4g}")
+    if am:
+        t.add_row("M11 (g)", f"{am['M11_min_g']:.2f} .. {am['M11_max_g']:.2f}")
+    t.add_row("min_clearance_mm", f"{rep['min_clearance_mm']:.3f}")
+    t.add_row("overlap_volume_mm3", f"{rep['overlap_volume_mm3']:.4g}")
+    if "links" in rep:
+        for k, v in rep["links"].items():
+            t.add_row(f"{k} mass (g)", f"{v['mass_g']:.2f}")
+    t.add_row("files", str(len(rep.get("files", []))))
+    t.add_row("wall time (s)", f"{wall_s:.2f}")
+    con.print(t)
+
+
+def register(app: typer.Typer) -> None:
+    @app.command("build")
+    def build_cmd(
+        design: Path = typer.Argument(..., help="TOML design file"),
+        out: Path = typer.Option(None, "--out", help="output folder (default exports/<name>/)"),
+        formats: str = typer.Option("step,stl,dxf", "--formats", help="comma list of step, stl, dxf"),
+        fidelity: str = typer.Option(None, "--fidelity", help="fabrication | inertia | preview (default: [parts].fidelity)"),
+        phi1_deg: float = typer.Option(None, "--phi1-deg", help="crank angle of the assembly STEP and preview (deg)"),
+        allow_interference: bool = typer.Option(False, "--allow-interference", help="export even if parts collide"),
+        json_out: bool = typer.Option(False, "--json", help="print the report as one JSON object"),
+        no_cache: bool = typer.Option(False, "--no-cache", help="rebuild even if nothing changed"),
+    ) -> None:
+        """Parts, posed assembly, interference check and fabrication exports of a design."""
+        from cad.build import FIDELITIES, build_design
+        from cad.design import load_design
+        from cad.errors import DesignError
+        from cad.export import parse_formats
+
+        t0 = time.perf_counter()
+        fmts = parse_formats(formats)
+        d = load_design(design)
+        fid = fidelity or getattr(getattr(d, "parts", None), "fidelity", "fabrication")
+        if fid not in FIDELITIES:
+            raise DesignError("--fidelity", f"must be one of {', '.join(FIDELITIES)}, got {fid!r}")
+        target = out if out is not None else Path("exports") / d.name
+        if json_out:
+            rep = build_design(d, target, fmts, fidelity=fid, allow_interference=allow_interference,
+                               phi1_deg=phi1_deg, use_cache=not no_cache)
+            rep.pop("timings_s", None)
+            print(json.dumps(rep, sort_keys=True, default=str))
+            return
+        from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+
+        with Progress(TextColumn("{task.description}"), BarColumn(), TimeElapsedColumn(), transient=True) as bar:
+            task = bar.add_task("build", total=8)
+
+            def progress(desc: str, done: int, total: int) -> None:
+                bar.update(task, description=desc, completed=done, total=total)
+
+            rep = build_design(d, target, fmts, fidelity=fid, allow_interference=allow_interference,
+                               phi1_deg=phi1_deg, progress=progress, use_cache=not no_cache)
+        _summary(rep, target, time.perf_counter() - t0)

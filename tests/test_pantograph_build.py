@@ -1,0 +1,112 @@
+"""Twin-pantograph mouse build: files, masses against closed forms, effective mass, interference."""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+
+import pytest
+
+from cad.design import load_design, parse_design
+from cad.design.fields import load_toml
+from cad.errors import InterferenceError
+
+DESIGN = "designs/haptic_mouse.toml"
+
+
+@pytest.fixture(scope="module")
+def built(tmp_path_factory):
+    from pathlib import Path
+
+    from cad.build import build_design
+
+    root = Path(__file__).resolve().parents[1]
+    out = tmp_path_factory.mktemp("mouse") / "out"
+    design = load_design(root / DESIGN)
+    rep = build_design(design, out, {"step", "stl", "dxf"}, fidelity="preview", use_cache=False)
+    return design, out, rep
+
+
+def test_files_manifest_and_bom(built):
+    design, out, rep = built
+    for name in (
+        "clevis_hub",
+        "clevis_pin",
+        "clevis_bearing",
+        "tube_proximal",
+        "tube_distal",
+        "crankshaft",
+        "knob",
+    ):
+        assert (out / f"{name}.step").stat().st_size > 0 and (
+            out / f"{name}.stl"
+        ).stat().st_size > 0
+    for plate in ("base_plate", "bridge_plate", "motor_mount"):
+        assert (out / f"{plate}.dxf").exists()
+    assert (out / "twin_pantograph_assembly.step").exists()
+    assert (
+        not (out / "bearing.stl").exists() and (out / "bearing.step").exists()
+    )  # bought: STEP only
+    manifest = json.loads((out / "manifest.json").read_text())
+    assert {f["path"] for f in manifest["files"]} >= {"bom.csv", "report.json", "knob.step"}
+    with (out / "bom.csv").open(newline="") as fh:
+        rows = {r["part"]: r for r in csv.DictReader(fh)}
+    assert rows["bearing"]["quantity"] == "16" and rows["motor"]["quantity"] == "4"
+    assert rows["tube_distal"]["material"] == "carbon-fibre"
+
+
+def test_part_masses_against_closed_forms(built):
+    design, _, rep = built
+    p = design.parts
+    bom = {r["part"]: r for r in rep["bom"]}
+    rho_cf = 1550.0
+    for name, length in (
+        ("tube_proximal", rep["layout_mm"]["tube_proximal_mm"]),
+        ("tube_distal", rep["layout_mm"]["tube_distal_mm"]),
+    ):
+        v_mm3 = math.pi / 4 * (p.tube_od_mm**2 - p.tube_id_mm**2) * length
+        assert bom[name]["mass_g"] == pytest.approx(v_mm3 * rho_cf * 1e-6, rel=1e-9)
+    # tube lengths: link length minus the two clevis stand-offs
+    assert rep["layout_mm"]["tube_distal_mm"] == pytest.approx(175.0 - 2 * (20.0 - 10.0))
+    pin = math.pi / 4 * 4.0**2 * rep["layout_mm"]["pin_long_mm"] * 7870.0 * 1e-6
+    assert bom["pin_long"]["mass_g"] == pytest.approx(pin, rel=1e-9)
+    assert bom["bearing"]["mass_g"] == pytest.approx(0.7)  # SKF 618/4 catalogue mass
+    # a moving body is the sum of its parts (2 clevises + tube + 4 bearings for a distal link)
+    distal = rep["bodies"]["crank_distal"]["mass_kg"] * 1e3
+    assert distal == pytest.approx(
+        2 * bom["clevis_bearing"]["mass_g"] + bom["tube_distal"]["mass_g"] + 4 * 0.7, rel=1e-9
+    )
+    # symmetric distal link: COM at mid-length
+    assert rep["bodies"]["crank_distal"]["com_mm"][0] == pytest.approx(87.5, abs=1e-6)
+
+
+def test_effective_mass_and_gii_reported(built):
+    _, _, rep = built
+    e = rep["effective_mass_home"]
+    for k in ("mass_x_g_diag", "mass_y_g_diag", "inertia_theta_g_cm2_diag", "mass_x_g_apparent"):
+        assert e[k] > 0
+    # apparent mass (others free) never exceeds the diagonal (others held): 1/(M^-1)_ii <= M_ii
+    assert e["mass_x_g_apparent"] <= e["mass_x_g_diag"] * (1 + 1e-12)
+    # the moving parts bound the translational mass from above on the diagonal:
+    # no body moves faster than the end effector by more than the link ratios allow
+    assert e["mass_x_g_diag"] < 2 * rep["moving_mass_g"]
+    assert rep["effective_mass_home_without_rotors"]["mass_x_g_diag"] < e["mass_x_g_diag"]
+    assert rep["paper_table1"]["mass_x_g"] == 395.0
+    assert 0 < rep["gii"]["gii"] < 1
+    assert rep["clearances_mm"]["min_gap_mm"] > 0.5
+
+
+def test_interference_is_refused_before_anything_is_written(tmp_path):
+    from pathlib import Path
+
+    from cad.build import build_design
+
+    root = Path(__file__).resolve().parents[1]
+    raw = load_toml(root / DESIGN)
+    raw["mechanism"]["base_mm"] = 10.0  # proximal hubs 10 mm apart, 14 mm wide
+    design = parse_design(raw, "tight.toml")
+    out = tmp_path / "out"
+    with pytest.raises(InterferenceError, match="proximal L vs proximal R"):
+        build_design(design, out, {"step"}, fidelity="preview", use_cache=False)
+    assert not out.exists()
