@@ -1,0 +1,81 @@
+"""``hapticad fit DESIGN --target KEY=VALUE [...] [--free parts.KEY[=LO:HI] ...] [--out NEW.toml] [--json]``."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import typer
+
+
+def register(app: typer.Typer) -> None:
+    @app.command("fit")
+    def fit_cmd(
+        design: Path = typer.Argument(..., help="four-bar TOML design"),
+        target: list[str] = typer.Option(None, "--target", help="KEY=VALUE, KEY<=V or KEY>=V (repeatable); default: the design's [targets]"),
+        free: list[str] = typer.Option(None, "--free", help="parts.KEY or parts.KEY=LO:HI (repeatable); default: the design's [fit] free"),
+        out: Path = typer.Option(None, "--out", help="fitted design (default: <design>.fit.toml beside it)"),
+        fidelity: str = typer.Option("inertia", "--fidelity", help="inertia | fabrication"),
+        json_out: bool = typer.Option(False, "--json", help="print one JSON object"),
+    ) -> None:
+        """Adjust the design's free part parameters to meet the targets; write the fitted design."""
+        from cad.checks import evaluate, merge_targets
+        from cad.cli.cmd_check import compute_values
+        from cad.design import load_design, parse_design
+        from cad.design.fourbar import FourBarDesign
+        from cad.design.targets import parse_cli_target
+        from cad.design.writer import dumps_design
+        from cad.errors import DesignError, TargetMissed
+        from cad.fit import fit, parse_free
+        from cad.io.atomic import write_text_atomic
+
+        cli_targets = tuple(parse_cli_target(t) for t in (target or []))
+        d = load_design(design)
+        if not isinstance(d, FourBarDesign):
+            raise DesignError("mechanism.family", "fit works on four-bar designs")
+        targets = cli_targets if cli_targets else merge_targets(d.targets, ())
+        if not targets:
+            raise DesignError("--target", "no targets: give --target KEY=VALUE or a [targets] table")
+        specs = list(free) if free else list(d.fit_free)
+        if not specs:
+            raise DesignError("--free", "no free parameters: give --free parts.KEY or [fit] free = [...]")
+        params = [parse_free(s, d.parts) for s in specs]
+        need_clear = any(t.key == "min_clearance_mm" for t in targets)
+        raw = {k: v for k, v in d.raw.items()}
+        raw.setdefault("parts", {})
+        echo = None if json_out else (lambda s: print(s, flush=True))
+        if echo:
+            echo(f"fit {d.name}: {len(params)} free parameter(s), {len(targets)} target(s)")
+        res = fit(raw, str(design), targets, params,
+                  lambda dd: compute_values(dd, fidelity, need_clear)[0], echo=echo)
+        dst = out if out is not None else design.with_suffix(".fit.toml")
+        fitted = dict(res.raw)
+        fitted["name"] = f"{d.name}_fit" if out is None else out.name.split(".")[0]
+        if cli_targets:  # keep the targets the fit was made for
+            from cad.design.targets import TARGET_KEYS  # noqa: F401
+
+            tt = dict(fitted.get("targets", {}))
+            for t in cli_targets:
+                tt[t.key] = ({"value": t.value, "tol_rel": t.tol_rel} if t.value is not None and t.tol_abs is None
+                             else {"value": t.value, "tol_abs": t.tol_abs} if t.value is not None
+                             else {k: v for k, v in (("min", t.min), ("max", t.max)) if v is not None})
+            fitted["targets"] = tt
+        parse_design(fitted, str(dst))  # validate before writing
+        write_text_atomic(dst, dumps_design(fitted, f"Fitted by `hapticad fit {design}`: "
+                                            + ", ".join(f"{k}={v}" for k, v in res.values.items())))
+        final_vals = compute_values(parse_design(fitted, str(dst)), fidelity, need_clear)[0]
+        rows = evaluate(targets, final_vals)
+        payload = {"name": d.name, "out": str(dst), "start": res.start, "fitted": res.values,
+                   "met": all(r.ok for r in rows), "max_violation": res.objective,
+                   "evaluations": len(res.log), "iterations": res.log, "rows": [r.as_dict() for r in rows]}
+        if json_out:
+            print(json.dumps(payload, indent=1, default=str))
+        else:
+            for k, v in res.values.items():
+                print(f"{k}: {res.start[k]} -> {v}")
+            for r in rows:
+                comp = "—" if r.computed is None else f"{r.computed:.4g}"
+                print(f"  {r.key}: {comp} (target {r.target}) {'ok' if r.ok else 'MISSED'}")
+            print(f"wrote {dst}")
+        if not payload["met"]:
+            raise TargetMissed("targets not met within the free parameters' bounds (the best design was written)")
