@@ -26,7 +26,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from cad.errors import DesignError, HapticadError
+from cad import tolerances as tol
+from cad.errors import DesignError, SingularJacobianError
 
 #: Faces in a fixed order (actuator index 0..5).
 FACES = ("+x", "-x", "+y", "-y", "+z", "-z")
@@ -79,9 +80,21 @@ def wrench_map(coils, gain_N_per_A, about_mm=(0.0, 0.0, 0.0)) -> np.ndarray:
     coils: CoilPlacement sequence (6); gain_N_per_A: scalar or (6,) actuator
     force per ampere; about_mm: (3,) point the torque is taken about (flotor frame).
     Column i = g_i [f_i; (p_i - o) x f_i] with lengths in m.
+    A gain of 0 (a coil missing or disconnected) gives a zero column; :func:`isotropy`
+    names it. Gains and the point must be finite (DesignError).
     """
-    g = np.broadcast_to(np.asarray(gain_N_per_A, dtype=float), (len(coils),))
+    try:
+        g = np.broadcast_to(np.asarray(gain_N_per_A, dtype=float), (len(coils),))
+    except ValueError:
+        raise DesignError(
+            "gain_N_per_A",
+            f"must be one gain or one per coil ({len(coils)}), got shape {np.shape(gain_N_per_A)}",
+        ) from None
+    if not np.all(np.isfinite(g)):
+        raise DesignError("gain_N_per_A", f"must be finite, got {g.tolist()}")
     o = np.asarray(about_mm, dtype=float)
+    if o.shape != (3,) or not np.all(np.isfinite(o)):
+        raise DesignError("about_mm", f"must be a finite (3,) point, got {about_mm!r}")
     W = np.zeros((6, len(coils)))
     for i, c in enumerate(coils):
         r_m = (c.centre_mm - o) * 1e-3
@@ -109,17 +122,70 @@ class Isotropy:
     coupling: float
 
 
-def isotropy(W: np.ndarray) -> Isotropy:
-    """Isotropy of a 6x6 wrench map (isotropy paper section 5: "two sets of equal singular values")."""
+def _require_full_rank(W: np.ndarray, faces) -> None:
+    """SingularJacobianError naming what is lost when W cannot produce every wrench.
+
+    Rank is judged with the force rows and the torque rows each divided by their
+    largest entry (they carry N/A and N m/A: a small flotor has legitimately small
+    torque rows), against cad.tolerances.PINV_RCOND.
+    """
+    n = W.shape[1]
+    names = (
+        [str(f) for f in faces]
+        if faces is not None and len(faces) == n
+        else [f"#{i}" for i in range(n)]
+    )
+    zero = [names[i] for i in range(n) if not np.any(W[:, i])]
+    if n < 6 or zero:
+        what = f"coil(s) on {', '.join(zero)} produce no wrench (gain 0)" if zero else ""
+        if n < 6:
+            what = (what + "; " if what else "") + f"only {n} coils for 6 DOF"
+        raise SingularJacobianError(
+            f"the current-to-wrench map is rank deficient: {what}; the flotor cannot be "
+            "driven (or levitated) in every direction"
+        )
+    Wn = W.copy()
+    for rows in (slice(0, 3), slice(3, 6)):
+        m = np.abs(Wn[rows]).max()
+        if m > 0:
+            Wn[rows] /= m
+    U, sv, Vt = np.linalg.svd(Wn)
+    if sv[-1] <= tol.PINV_RCOND * sv[0]:
+        u, v = U[:, -1], Vt[-1]
+        lost = ", ".join(
+            f"{lab} {c:+.2f}"
+            for lab, c in zip(("Fx", "Fy", "Fz", "Tx", "Ty", "Tz"), u, strict=True)
+            if abs(c) > 1e-3
+        )
+        coils = ", ".join(f"{names[i]} {v[i]:+.2f}" for i in range(n) if abs(v[i]) > 1e-3)
+        raise SingularJacobianError(
+            f"the current-to-wrench map is rank deficient (sigma_min / sigma_max = "
+            f"{sv[-1] / sv[0]:.1e}): no currents produce the wrench direction [{lost}]; "
+            f"the currents [{coils}] produce no wrench (coils duplicated or parallel)"
+        )
+
+
+def isotropy(W: np.ndarray, faces=FACES) -> Isotropy:
+    """Isotropy of a 6x6 wrench map (isotropy paper section 5: "two sets of equal singular values").
+
+    faces: labels of W's columns (default :data:`FACES`, the order of
+    :func:`coil_layout`), quoted in errors. A map that cannot produce every wrench
+    (a coil missing, a zero gain, duplicated or parallel coils) raises
+    :class:`SingularJacobianError` naming the coils and the lost wrench direction;
+    a non-finite map or a shape other than (6, n) is a :class:`DesignError`.
+    """
     W = np.asarray(W, dtype=float)
-    if W.shape != (6, 6):
-        raise HapticadError(f"wrench map must be 6x6, got shape {W.shape}")
+    if W.ndim != 2 or W.shape[0] != 6 or W.shape[1] > 6:
+        raise DesignError(
+            "wrench_map", f"must be 6x6 (rows F, tau; one column per coil), got shape {W.shape}"
+        )
+    if not np.all(np.isfinite(W)):
+        raise DesignError("wrench_map", "has non-finite entries")
+    _require_full_rank(W, faces)
     sv = np.linalg.svd(W, compute_uv=False)
     fs = np.linalg.svd(W[:3], compute_uv=False)
     ts = np.linalg.svd(W[3:], compute_uv=False)
-    cpl = np.linalg.norm(W[:3] @ W[3:].T) / max(
-        np.linalg.norm(W[:3]) * np.linalg.norm(W[3:]), 1e-300
-    )
+    cpl = np.linalg.norm(W[:3] @ W[3:].T) / (np.linalg.norm(W[:3]) * np.linalg.norm(W[3:]))
     return Isotropy(
         singular_values=sv,
         force_sv=fs,
@@ -290,12 +356,17 @@ def peak_force_N(actuator_peak_force_N: float) -> float:
     (c1 x + c2 y + c3 z) with |c_i| <= 1: a cube whose smallest support is
     2 F_act (along the axes; 2 sqrt(3) F_act along the diagonals).
     """
-    return 2.0 * float(actuator_peak_force_N)
+    f = float(actuator_peak_force_N)
+    if not (np.isfinite(f) and f >= 0):
+        raise DesignError(
+            "actuator_peak_force_N", f"must be finite and >= 0, got {actuator_peak_force_N!r}"
+        )
+    return 2.0 * f
 
 
 def peak_acceleration_m_s2(actuator_peak_force_N: float, moving_mass_kg: float) -> float:
     """Guaranteed peak acceleration (m/s^2) = peak_force_N / moving mass (Table 4: > 10 G)."""
-    if not moving_mass_kg > 0:
+    if not (np.isfinite(moving_mass_kg) and moving_mass_kg > 0):
         raise DesignError("moving_mass_kg", f"must be > 0, got {moving_mass_kg!r}")
     return peak_force_N(actuator_peak_force_N) / moving_mass_kg
 

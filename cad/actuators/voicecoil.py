@@ -58,7 +58,7 @@ from typing import Literal
 
 import numpy as np
 
-from cad.errors import DesignError, HapticadError
+from cad.errors import DesignError
 
 #: Field models understood by :func:`gap_field_T` and the optimisers.
 MODELS = ("closed-form", "images", "magpylib")
@@ -81,6 +81,19 @@ IMAGE_SERIES_CONVERGED_TERMS = 4096
 #: neighbour pair the far slabs cancel as quadrupoles (tail ~ 1/K^4), so 32
 #: slabs leave < 1e-6 relative (measured in cad/bench/voicecoil.py).
 MAGPYLIB_IMAGE_SLABS = 32
+#: Tenfold extensions of the default gap search before giving up: the optimum
+#: lies below d_r + 10 (l_m + w_m + t_m + d_r) for every geometry tried
+#: (tests/test_stability_actuators.py), so this is a safety net.
+GAP_BRACKET_EXTENSIONS = 30
+#: Magnitude bounds of every VoiceCoilParams number (mm, W, T, ohm m). The kernels are
+#: scale-free (eq 9 depends on length ratios; eq 8 is evaluated factor by factor), but
+#: their sums, squares and the optimizer's tolerances need headroom: 1e+-100 leaves
+#: > 200 orders of magnitude to float64's limits (the CLI fuzz hit overflows at 1e307
+#: and denormal sizes of 1e-313). No actuator comes near either bound.
+MAGNITUDE_MIN = 1e-100
+MAGNITUDE_MAX = 1e100
+_FLOAT_MAX = float(np.finfo(float).max)
+_FLOAT_TINY = float(np.finfo(float).tiny)
 
 
 @dataclass(frozen=True)
@@ -107,6 +120,10 @@ class VoiceCoilParams:
     eta_pack: float = ETA_PACK_DEFAULT
 
     def __post_init__(self) -> None:
+        for name in self.__dataclass_fields__:
+            v = getattr(self, name)
+            if isinstance(v, bool) or not isinstance(v, (int, float)):
+                raise DesignError(name, f"must be a number, got {v!r}")
         for name in (
             "magnet_length_mm",
             "magnet_width_mm",
@@ -116,12 +133,18 @@ class VoiceCoilParams:
             "resistivity_ohm_m",
         ):
             v = getattr(self, name)
-            if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
+            if not (math.isfinite(v) and v > 0):
                 raise DesignError(name, f"must be a finite number > 0, got {v!r}")
         if not (math.isfinite(self.rattle_mm) and self.rattle_mm >= 0):
             raise DesignError("rattle_mm", f"must be a finite number >= 0, got {self.rattle_mm!r}")
         if not (0 < self.eta_pack <= 1):
             raise DesignError("eta_pack", f"must be in (0, 1], got {self.eta_pack!r}")
+        for name in self.__dataclass_fields__:
+            v = getattr(self, name)
+            if v != 0 and not (MAGNITUDE_MIN <= v <= MAGNITUDE_MAX):
+                raise DesignError(
+                    name, f"must lie in [{MAGNITUDE_MIN:g}, {MAGNITUDE_MAX:g}] (float64 headroom), got {v!r}"
+                )
 
     @property
     def eta_geom(self) -> float:
@@ -142,12 +165,24 @@ def eta_geom(l_m, w_m):
     """
     l_m = np.asarray(l_m, dtype=float)
     w_m = np.asarray(w_m, dtype=float)
-    return 2.0 * l_m * w_m / (2.0 * l_m * w_m + np.pi * w_m**2)
+    return 2.0 * l_m / (2.0 * l_m + np.pi * w_m)  # w_m cancels: no under/overflow
 
 
 def _face_term(s, l_m, w_m):
-    """atan(l w / (s sqrt(s^2 + l^2 + w^2))): one pole face at distance s/2 on its axis."""
-    return np.arctan(l_m * w_m / (s * np.sqrt(s * s + l_m * l_m + w_m * w_m)))
+    """atan(l w / (s sqrt(s^2 + l^2 + w^2))): one pole face at distance s/2 on its axis.
+
+    The term depends on length ratios only; all three lengths are divided by the
+    power of two nearest their largest (exact in binary floating point, so the
+    result is bit-identical in the normal range) so that no square over- or
+    underflows for any positive finite sizes. s = 0 gives the limit pi/2.
+    """
+    s, l_m, w_m = np.broadcast_arrays(*(np.asarray(x, dtype=float) for x in (s, l_m, w_m)))
+    big = np.maximum(np.maximum(np.abs(s), np.abs(l_m)), np.abs(w_m))
+    _, e = np.frexp(np.where(big > 0, big, 1.0))
+    k = np.ldexp(1.0, -e)
+    s, l_m, w_m = s * k, l_m * k, w_m * k
+    with np.errstate(divide="ignore"):
+        return np.arctan(l_m * w_m / (s * np.sqrt(s * s + l_m * l_m + w_m * w_m)))
 
 
 def bg_eq9_T(gap_mm, l_m_mm, w_m_mm, t_m_mm, br_T):
@@ -173,8 +208,10 @@ def bz_centerline_eq9_T(z_mm, gap_mm, l_m_mm, w_m_mm, t_m_mm, br_T):
     """
     z = np.asarray(z_mm, dtype=float)
     d = float(gap_mm)
-    if np.any(np.abs(z) >= d / 2):
-        raise HapticadError(f"z_mm must lie strictly inside the gap |z| < {d / 2} mm")
+    if not (math.isfinite(d) and d > 0):
+        raise DesignError("gap_mm", f"must be a finite number > 0, got {gap_mm!r}")
+    if not np.all(np.abs(z) < d / 2):
+        raise DesignError("z_mm", f"must lie strictly inside the gap |z| < {d / 2} mm, got {z_mm!r}")
     out = np.zeros_like(z)
     for z1 in (d / 2 - z, d / 2 + z):
         s = 2.0 * z1
@@ -184,15 +221,45 @@ def bz_centerline_eq9_T(z_mm, gap_mm, l_m_mm, w_m_mm, t_m_mm, br_T):
     return out
 
 
+def _check_slabs(n_slabs) -> None:
+    if isinstance(n_slabs, bool) or not isinstance(n_slabs, (int, np.integer)) or n_slabs < 1:
+        raise DesignError("n_slabs", f"must be an integer >= 1 (slabs per side), got {n_slabs!r}")
+
+
+def _positive_gap(gap_mm) -> float:
+    try:
+        d = float(gap_mm)
+    except (TypeError, ValueError):
+        raise DesignError("gap_mm", f"must be a number, got {gap_mm!r}") from None
+    if not (math.isfinite(d) and d > 0):
+        raise DesignError("gap_mm", f"must be a finite number > 0, got {gap_mm!r}")
+    return d
+
+
+def _coil_gaps(gap_mm, params: VoiceCoilParams) -> np.ndarray:
+    """Gaps (array) checked to leave room for a coil: finite, > 0 and >= d_r (d = d_r: d_c = 0)."""
+    try:
+        g = np.atleast_1d(np.asarray(gap_mm, dtype=float))
+    except (TypeError, ValueError):
+        raise DesignError("gap_mm", f"must be numbers, got {gap_mm!r}") from None
+    bad = ~np.isfinite(g) | (g <= 0) | (g < params.rattle_mm)
+    if bad.any():
+        raise DesignError(
+            "gap_mm",
+            f"must be finite, > 0 and >= the rattle space d_r = {params.rattle_mm:g} mm "
+            f"(no room for a coil below), got {g[bad][0]!r}",
+        )
+    return g
+
+
 def bg_image_series_T(gap_mm, l_m_mm, w_m_mm, t_m_mm, br_T, n_slabs: int):
     """Gap-centre field between two ideal iron plates, image series truncated at K slabs per side.
 
     n_slabs: K >= 1 slabs (magnet+image, 2 t thick) per side; K = 1 is exactly
     eq (9). Slab k's near face is at d/2 + k (d + 2t). Scalars in, T out.
     """
-    if n_slabs < 1:
-        raise HapticadError(f"n_slabs must be >= 1, got {n_slabs}")
-    d, t = float(gap_mm), float(t_m_mm)
+    _check_slabs(n_slabs)
+    d, t = _positive_gap(gap_mm), float(t_m_mm)
     k = np.arange(n_slabs, dtype=float)
     s = d + 2.0 * k * (d + 2.0 * t)
     terms = _face_term(s, l_m_mm, w_m_mm) - _face_term(s + 4.0 * t, l_m_mm, w_m_mm)
@@ -208,12 +275,12 @@ def image_series_tail_T(gap_mm, l_m_mm, w_m_mm, t_m_mm, br_T, n_slabs: int):
     Euler-Maclaurin integral plus half the first term,
     2B_r/pi * t l w / (2 p^3) * (1/(K + c)^2) ..., i.e. proportional to 1/K^2.
     """
-    d, t = float(gap_mm), float(t_m_mm)
+    _check_slabs(n_slabs)
+    d, t = _positive_gap(gap_mm), float(t_m_mm)
     p = 2.0 * (d + 2.0 * t)  # spacing of s_k
     # s_k = d + 2t + p k shifted to the slab centre: sum_{k>=K} 8 t l w / (p (k + c))^3
     c = (d + 2.0 * t) / p
-    lw = float(l_m_mm) * float(w_m_mm)
-    a = 8.0 * t * lw / p**3
+    a = 8.0 * (t / p) * (float(l_m_mm) / p) * (float(w_m_mm) / p)  # ratios: no over/underflow
     K = float(n_slabs)
     tail = a * (1.0 / (2.0 * (K + c - 0.5) ** 2))  # midpoint integral of 1/x^3 from K-1/2
     return (2.0 * br_T / np.pi) * tail
@@ -237,12 +304,17 @@ def force_eq8_N(bg_T, gap_mm, params: VoiceCoilParams, eta_geom_value=None):
     """
     eg = params.eta_geom if eta_geom_value is None else eta_geom_value
     dc_m = np.maximum(np.asarray(gap_mm, dtype=float) - params.rattle_mm, 0.0) * 1e-3
-    area = 2.0 * params.magnet_width_mm * 1e-3 * params.magnet_length_mm * 1e-3 * dc_m
+    # square roots taken factor by factor: no product over- or underflows
+    sqrt_area = (
+        math.sqrt(2.0 * params.magnet_width_mm * 1e-3)
+        * math.sqrt(params.magnet_length_mm * 1e-3)
+        * np.sqrt(dc_m)
+    )
     return (
         np.asarray(bg_T, dtype=float)
         * math.sqrt(params.eta_pack * eg)
-        * math.sqrt(params.power_W / params.resistivity_ohm_m)
-        * np.sqrt(area)
+        * (math.sqrt(params.power_W) / math.sqrt(params.resistivity_ohm_m))
+        * sqrt_area
     )
 
 
@@ -250,8 +322,9 @@ def ampere_turns(gap_mm, params: VoiceCoilParams) -> float:
     """N I of each coil leg at the design power (A): sqrt(P eta_pack eta_geom w_m d_c / (rho 2 l_m)).
 
     From P = I^2 R, R = rho l_wire / s_eff, N = w_m d_c / s_wire and eq (8):
-    F = B_g (N I) 2 l_m, so N I = F / (2 l_m B_g).
+    F = B_g (N I) 2 l_m, so N I = F / (2 l_m B_g). DesignError for d < d_r.
     """
+    _coil_gaps(gap_mm, params)
     f1 = float(force_eq8_N(1.0, gap_mm, params))
     return f1 / (2.0 * params.magnet_length_mm * 1e-3)
 
@@ -271,7 +344,10 @@ def gap_field_T(gap_mm, params: VoiceCoilParams, model: Model = "closed-form", *
         eq (8) is exact for that mean under the paper's assumption (ii).
         kw: n_slabs, neighbour (False: one pair only), average="centre" for the
         field at the gap centre over pair A instead of the coil mean.
+
+    DesignError for a gap that is not a finite number > 0.
     """
+    gap_mm = _positive_gap(gap_mm)
     lm, w, t, br = (
         params.magnet_length_mm,
         params.magnet_width_mm,
@@ -284,7 +360,7 @@ def gap_field_T(gap_mm, params: VoiceCoilParams, model: Model = "closed-form", *
         n = kw.get("n_slabs")
         if n is None:
             return float(bg_image_converged_T(gap_mm, lm, w, t, br))
-        return bg_image_series_T(gap_mm, lm, w, t, br, int(n))
+        return bg_image_series_T(gap_mm, lm, w, t, br, n)
     if model == "magpylib":
         from cad.actuators import field_magpylib as fm
 
@@ -303,7 +379,8 @@ class GapOptimum:
     optimal_gap_mm: d maximising eq (8); coil_width_mm: d_c = d - d_r;
     Bg_T: the field used in eq (8) at the optimum; force_N: eq (8) force;
     eta_geom: coil geometric efficiency; model: field model name;
-    n_evaluations: field evaluations spent.
+    n_evaluations: field evaluations spent; at_bound: True when the maximum
+    lies on the caller's gap_max_mm (a constrained optimum, not the free one).
     """
 
     optimal_gap_mm: float
@@ -313,6 +390,7 @@ class GapOptimum:
     eta_geom: float
     model: str
     n_evaluations: int
+    at_bound: bool = False
 
     def as_dict(self) -> dict:
         return {
@@ -322,14 +400,18 @@ class GapOptimum:
             "force_N": self.force_N,
             "eta_geom": self.eta_geom,
             "model": self.model,
+            "at_bound": self.at_bound,
         }
 
 
 def force_vs_gap_N(
     gap_mm, params: VoiceCoilParams, model: Model = "closed-form", **kw
 ) -> np.ndarray:
-    """Eq (8) force for each gap in ``gap_mm`` (array, mm) under ``model``; Fig. 8 left."""
-    g = np.atleast_1d(np.asarray(gap_mm, dtype=float))
+    """Eq (8) force for each gap in ``gap_mm`` (array, mm) under ``model``; Fig. 8 left.
+
+    d = d_r gives 0 (no coil width); d < d_r, d <= 0 or a non-finite d is a DesignError.
+    """
+    g = _coil_gaps(gap_mm, params)
     if model == "closed-form":
         bg = bg_eq9_T(
             g,
@@ -348,14 +430,20 @@ def optimal_gap(
     model: Model = "closed-form",
     *,
     gap_max_mm: float | None = None,
-    xatol_mm: float = 1e-6,
+    xatol_mm: float | None = None,
     **kw,
 ) -> GapOptimum:
     """Gap d in (d_r, gap_max] maximising the eq (8) force (bounded scalar maximise).
 
-    A log-spaced grid on d - d_r locates the bracket (the force rises from 0
-    at d = d_r and falls as ~d^-2.5 for large d), then Brent's bounded method
-    refines it to ``xatol_mm``. gap_max_mm defaults to d_r + 10 (l_m + w_m + t_m).
+    A log-spaced grid on d - d_r (from 1e-4 of the smaller of w_m and t_m, at
+    least 4 points per decade) locates the bracket (the force rises from 0 at d = d_r
+    and falls as ~d^-2.5 for large d), then Brent's bounded method refines it
+    to ``xatol_mm`` (default 1e-8 (l_m + w_m + t_m + d_r): relative, so tiny and
+    huge actuators are solved alike). gap_max_mm defaults to
+    d_r + 10 (l_m + w_m + t_m + d_r) (the optimum lies near 1.2 d_r when d_r
+    dwarfs the magnets); when the best grid point is that default bound, the
+    search is extended tenfold until the maximum is interior. With an explicit
+    gap_max_mm a maximum on it is returned with ``at_bound=True``.
     Independent of B_r, rho, P and eta_pack (they scale F by a constant).
     """
     from scipy.optimize import minimize_scalar
@@ -363,33 +451,85 @@ def optimal_gap(
     if model not in MODELS:
         raise DesignError("model", f"unknown field model {model!r} (known: {', '.join(MODELS)})")
     dr = params.rattle_mm
-    span = 10.0 * (params.magnet_length_mm + params.magnet_width_mm + params.magnet_thickness_mm)
-    gmax = dr + span if gap_max_mm is None else float(gap_max_mm)
-    if not gmax > dr:
-        raise DesignError("gap_max_mm", f"must exceed the rattle space {dr} mm, got {gap_max_mm!r}")
-    lo = max(1e-4 * (gmax - dr), 1e-6)
-    grid = dr + np.geomspace(lo, gmax - dr, 33 if model != "magpylib" else 17)
+    size = params.magnet_length_mm + params.magnet_width_mm + params.magnet_thickness_mm
+    user_bound = gap_max_mm is not None
+    if user_bound:
+        try:
+            gmax = float(gap_max_mm)
+        except (TypeError, ValueError):
+            raise DesignError("gap_max_mm", f"must be a number, got {gap_max_mm!r}") from None
+        if not (math.isfinite(gmax) and gmax > dr):
+            raise DesignError(
+                "gap_max_mm", f"must be finite and exceed the rattle space {dr} mm, got {gap_max_mm!r}"
+            )
+    else:
+        gmax = min(dr + 10.0 * (size + dr), _FLOAT_MAX / 16)  # sizes near float max: capped
+        if not gmax - dr > _FLOAT_TINY:
+            raise DesignError("rattle_mm", f"too large to search beyond in float64, got {dr!r}")
+    xatol = 1e-8 * (size + dr) if xatol_mm is None else float(xatol_mm)
+    if not (math.isfinite(xatol) and xatol > 0):
+        raise DesignError("xatol_mm", f"must be finite and > 0, got {xatol_mm!r}")
+    per_decade, n_min = (2, 17) if model == "magpylib" else (4, 33)
     counter = {"n": 0}
 
-    def neg_force(d):
-        counter["n"] += 1
-        return -float(force_vs_gap_N(d, params, model, **kw)[0])
+    def neg_shape(x, ref):
+        """-(B_g / B_r) sqrt(x / ref) at d = d_r + x: eq (8) up to constant factors.
 
-    vals = np.array([neg_force(d) for d in grid])
-    i = int(np.argmin(vals))
-    a = grid[max(i - 1, 0)] if i > 0 else dr + 0.5 * lo
-    b = grid[min(i + 1, len(grid) - 1)]
-    res = minimize_scalar(neg_force, bounds=(a, b), method="bounded", options={"xatol": xatol_mm})
-    d_opt = float(res.x) if res.fun <= vals[i] else float(grid[i])
+        Dimensionless and O(1) for any actuator size, so neither the grid nor
+        Brent over- or underflows where the force in newtons would.
+        """
+        counter["n"] += 1
+        bg = gap_field_T(dr + x, params, model, **kw)
+        return -(bg / params.br_T) * math.sqrt(x / ref)
+
+    for _ in range(GAP_BRACKET_EXTENSIONS):
+        span = gmax - dr
+        # from 1e-4 of the smallest size (at most ~616 decades: 2.5k points for absurd inputs)
+        lo = max(1e-4 * min(params.magnet_width_mm, params.magnet_thickness_mm, span), _FLOAT_TINY)
+        n = max(n_min, math.ceil(per_decade * (math.log10(span) - math.log10(lo))) + 1)
+        xs = np.geomspace(lo, gmax - dr, n)
+        vals = np.array([neg_shape(x, xs[-1]) for x in xs])
+        i = int(np.argmin(vals))
+        if i < n - 1 or user_bound:
+            break
+        gmax = dr + 10.0 * (gmax - dr)  # still rising at the default bound: look further
+        if not gmax < _FLOAT_MAX / 16:
+            break
+    if i == n - 1 and not user_bound:
+        raise DesignError(
+            "gap_max_mm",
+            f"the eq (8) force still rises at d = {gmax:g} mm: no interior optimum found",
+        )
+    # Brent in log(d - d_r): scale-free; xatol in mm becomes a relative tolerance there
+    ref = xs[-1]
+    a = math.log(xs[i - 1] if i > 0 else 0.5 * lo)
+    b = math.log(xs[min(i + 1, n - 1)])
+    res = minimize_scalar(
+        lambda u: neg_shape(min(math.exp(u), xs[-1]), ref),
+        bounds=(a, b),
+        method="bounded",
+        options={"xatol": xatol / xs[i]},
+    )
+    x_opt = min(math.exp(float(res.x)), xs[-1]) if res.fun <= vals[i] else float(xs[i])
+    d_opt = dr + x_opt
     bg = gap_field_T(d_opt, params, model, **kw)
+    with np.errstate(over="ignore", under="ignore"):
+        force = float(force_eq8_N(bg, d_opt, params))
+    if not (math.isfinite(d_opt) and math.isfinite(force) and d_opt > dr):
+        raise DesignError(
+            "force_N",
+            f"the eq (8) force at the optimum d = {d_opt!r} mm is {force!r} N: the sizes, "
+            "power, B_r or resistivity put it outside float64",
+        )
     return GapOptimum(
         optimal_gap_mm=d_opt,
         coil_width_mm=d_opt - dr,
         Bg_T=float(bg),
-        force_N=float(force_eq8_N(bg, d_opt, params)),
+        force_N=force,
         eta_geom=params.eta_geom,
         model=model,
         n_evaluations=counter["n"],
+        at_bound=bool(user_bound and gmax - d_opt <= 10.0 * xatol),
     )
 
 
@@ -547,8 +687,10 @@ def optimize_actuator(
         if best is None or f > best[0]:
             best = (f, x)
     if best is None:
-        raise HapticadError(
-            "actuator NLP: no feasible design within the bounds (check d_max_mm and the lower bounds)"
+        raise DesignError(
+            "d_max_mm",
+            f"actuator NLP: no feasible design within the bounds (2 alpha w_m + 2 t_m + d <= "
+            f"{bounds.d_max_mm:g} mm with the lower bounds and d > d_r = {dr:g} mm)",
         )
     f, x = best
     active = []
@@ -617,7 +759,7 @@ def leg_boxes_mm(gap_mm, params: VoiceCoilParams, x_mm: float = 0.0, z_mm: float
     """
     w, lm = params.magnet_width_mm, params.magnet_length_mm
     dc = float(gap_mm) - params.rattle_mm
-    if dc <= 0:
+    if not dc > 0:  # also NaN
         raise DesignError(
             "gap_mm", f"must exceed the rattle space {params.rattle_mm} mm, got {gap_mm!r}"
         )

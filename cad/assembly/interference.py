@@ -104,8 +104,12 @@ def collision_items(instances) -> list[tuple[str, str, object, np.ndarray, bool]
             else:
                 body, tf = inst.other_body, inst.tf_other_part
             if body is None or tf is None:
-                raise InterferenceError(f"{inst.name}: collision role {role!r} without the joint's other body")
-            label = inst.name if single else f"{inst.name}[{'inner' if role == 'other' else 'outer'}]"
+                raise InterferenceError(
+                    f"{inst.name}: collision role {role!r} without the joint's other body"
+                )
+            label = (
+                inst.name if single else f"{inst.name}[{'inner' if role == 'other' else 'outer'}]"
+            )
             out.append((label, body, shp, tf, rev))
     return out
 
@@ -129,8 +133,71 @@ def prepare(items, mesh_tol_mm: float = SWEEP_MESH_TOL_MM) -> Prepared:
         vb = v @ T[:3, :3].T + T[:3, 3]
         axis = T[:2, 3].copy() if rev and abs(abs(T[2, 2]) - 1.0) < 1e-12 else None
         bodies.setdefault(body, []).append(
-            PartMesh(name, body, placed(shape, T), vb, f, np.array([vb.min(axis=0), vb.max(axis=0)]), axis))
+            PartMesh(
+                name,
+                body,
+                placed(shape, T),
+                vb,
+                f,
+                np.array([vb.min(axis=0), vb.max(axis=0)]),
+                axis,
+            )
+        )
     return Prepared(bodies, mesh_tol_mm, time.perf_counter() - t0)
+
+
+def _corners(parts: list[PartMesh]) -> np.ndarray:
+    """(8, 3) corners of the bounding box of some parts (body frame); empty if none."""
+    if not parts:
+        return np.zeros((0, 3))
+    lo = np.min([p.aabb_mm[0] for p in parts], axis=0)
+    hi = np.max([p.aabb_mm[1] for p in parts], axis=0)
+    return np.array(list(itertools.product(*zip(lo, hi, strict=True))))
+
+
+#: The fast pass first measures every COARSE_STEP-th pose, then only the poses in
+#: between whose lower bound (Lipschitz: a distance changes by at most the largest
+#: displacement of either body's bounding box corners) could be a near contact or a
+#: new minimum; the result over the sampled poses is the same as measuring all of them.
+COARSE_STEP = 8
+
+
+def _max_disp(T: np.ndarray, corners: np.ndarray, i: int, j: int) -> float:
+    if len(corners) == 0:
+        return 0.0
+    d = corners @ (T[j][:3, :3] - T[i][:3, :3]).T + (T[j][:3, 3] - T[i][:3, 3])
+    return float(np.sqrt((d * d).sum(axis=1)).max())
+
+
+def bounded_pair_distances(scene, a: str, b: str, Ta: np.ndarray, Tb: np.ndarray, keep) -> tuple:
+    """Mesh distances of a body pair over the poses, skipping provably uninteresting ones.
+
+    ``keep(m) -> float``: poses whose lower bound is below ``keep(current pair minimum)`` are
+    measured. Returns ``(d, measured)``: ``d[i]`` is the distance where ``measured[i]``, else
+    a lower bound of it.
+    """
+    n = len(Ta)
+    d = np.full(n, np.nan)
+    measured = np.zeros(n, dtype=bool)
+    coarse = sorted(set(range(0, n, COARSE_STEP)) | {n - 1})
+    for i in coarse:
+        d[i] = scene.distance(a, b, Ta[i], Tb[i])
+        measured[i] = True
+    ca, cb = scene.corners.get((a, b), (np.zeros((0, 3)), np.zeros((0, 3))))
+    m = float(np.nanmin(d))
+    for i0, i1 in zip(coarse[:-1], coarse[1:], strict=True):
+        for j in range(i0 + 1, i1):
+            lb = max(
+                d[i0] - _max_disp(Ta, ca, i0, j) - _max_disp(Tb, cb, i0, j),
+                d[i1] - _max_disp(Ta, ca, j, i1) - _max_disp(Tb, cb, j, i1),
+            )
+            if lb < keep(m):
+                d[j] = scene.distance(a, b, Ta[j], Tb[j])
+                measured[j] = True
+                m = min(m, float(d[j]))
+            else:
+                d[j] = lb
+    return d, measured
 
 
 def _body_arrays(parts: list[PartMesh]):
@@ -156,8 +223,9 @@ def _z_gap(p: PartMesh, z: tuple[float, float]) -> float:
     return max(0.0, z[0] - p.aabb_mm[1, 2], p.aabb_mm[0, 2] - z[1])
 
 
-def cull_pair(pa: list[PartMesh], pb: list[PartMesh], margin_mm: float
-              ) -> tuple[list[PartMesh], list[PartMesh], float]:
+def cull_pair(
+    pa: list[PartMesh], pb: list[PartMesh], margin_mm: float
+) -> tuple[list[PartMesh], list[PartMesh], float]:
     """Parts of each body within ``margin_mm`` in z of the other body, and the smallest z gap
     of the parts left out (a lower bound of their distance; inf if none)."""
     za, zb = _z_range(pa), _z_range(pb)
@@ -171,12 +239,17 @@ def cull_pair(pa: list[PartMesh], pb: list[PartMesh], margin_mm: float
 def _check_planar(tf_world_body: dict[str, np.ndarray]) -> None:
     for body, T in tf_world_body.items():
         T = np.asarray(T)
-        if not (np.allclose(T[..., 2, :], [0.0, 0.0, 1.0, 0.0]) and np.allclose(T[..., :2, 2], 0.0)):
+        if not (
+            np.allclose(T[..., 2, :], [0.0, 0.0, 1.0, 0.0]) and np.allclose(T[..., :2, 2], 0.0)
+        ):
             raise InterferenceError(f"body {body!r}: the sweep assumes planar motion (z kept)")
 
 
 def _axial(parts: list[PartMesh], axes_xy: list[np.ndarray]) -> list[bool]:
-    return [p.axis_xy is not None and any(np.allclose(p.axis_xy, a, atol=1e-9) for a in axes_xy) for p in parts]
+    return [
+        p.axis_xy is not None and any(np.allclose(p.axis_xy, a, atol=1e-9) for a in axes_xy)
+        for p in parts
+    ]
 
 
 def split_invariant(pa: list[PartMesh], pb: list[PartMesh], joint_axes) -> tuple[list, list, list]:
@@ -188,7 +261,11 @@ def split_invariant(pa: list[PartMesh], pb: list[PartMesh], joint_axes) -> tuple
     ax_a = _axial(pa, [xa for xa, _ in joint_axes])
     ax_b = _axial(pb, [xb for _, xb in joint_axes])
     inv = [(p, q) for i, p in enumerate(pa) for j, q in enumerate(pb) if ax_a[i] or ax_b[j]]
-    return [p for i, p in enumerate(pa) if not ax_a[i]], [q for j, q in enumerate(pb) if not ax_b[j]], inv
+    return (
+        [p for i, p in enumerate(pa) if not ax_a[i]],
+        [q for j, q in enumerate(pb) if not ax_b[j]],
+        inv,
+    )
 
 
 class _FclScene:
@@ -202,6 +279,7 @@ class _FclScene:
         self.objs: dict[tuple[str, str], tuple] = {}
         self.lower_bound: dict[tuple[str, str], float] = {}
         self.invariant_min: dict[tuple[str, str], float] = {}
+        self.corners: dict[tuple[str, str], tuple] = {}
 
     def _bvh(self, parts: list[PartMesh]):
         fcl = self.fcl
@@ -218,9 +296,13 @@ class _FclScene:
             va, vb, inv = split_invariant(ka, kb, self.joints.get((a, b)))
             self.objs[(a, b)] = (self._bvh(va), self._bvh(vb)) if va and vb else None
             self.lower_bound[(a, b)] = lb
+            self.corners[(a, b)] = (_corners(va), _corners(vb))
             # pose-invariant pairs: measured once, at the first pose asked for
-            self.invariant_min[(a, b)] = min(
-                (_part_mesh_distance(p, q, Ta, Tb) for p, q in inv), default=np.inf) if Ta is not None else np.inf
+            self.invariant_min[(a, b)] = (
+                min((_part_mesh_distance(p, q, Ta, Tb) for p, q in inv), default=np.inf)
+                if Ta is not None
+                else np.inf
+            )
         return self.objs[(a, b)]
 
     def distance(self, a: str, b: str, Ta: np.ndarray, Tb: np.ndarray) -> float:
@@ -245,21 +327,25 @@ class _ManifoldScene:
         self.search = search_mm
         self.man: dict[tuple[str, str], tuple] = {}
         self.lower_bound: dict[tuple[str, str], float] = {}
+        self.corners: dict[tuple[str, str], tuple] = {}
 
     def _union(self, parts: list[PartMesh]):
         m3 = self.m3
         pieces = []
         for p in parts:
-            mesh = m3.Mesh64(vert_properties=np.ascontiguousarray(p.vertices_mm, dtype=np.float64),
-                             tri_verts=np.ascontiguousarray(p.faces, dtype=np.uint64))
+            mesh = m3.Mesh64(
+                vert_properties=np.ascontiguousarray(p.vertices_mm, dtype=np.float64),
+                tri_verts=np.ascontiguousarray(p.faces, dtype=np.uint64),
+            )
             pieces.append(m3.Manifold(mesh))
         return m3.Manifold.batch_boolean(pieces, m3.OpType.Add)
 
-    def pair(self, a, b):
+    def pair(self, a, b, Ta=None, Tb=None):
         if (a, b) not in self.man:
             ka, kb, lb = cull_pair(self.prepared.bodies[a], self.prepared.bodies[b], self.margin)
             self.man[(a, b)] = (self._union(ka), self._union(kb)) if ka and kb else None
             self.lower_bound[(a, b)] = lb
+            self.corners[(a, b)] = (_corners(ka), _corners(kb))
         return self.man[(a, b)]
 
     def distance(self, a, b, Ta, Tb) -> float:
@@ -313,8 +399,9 @@ def _part_mesh_distance(p: PartMesh, q: PartMesh, Ta: np.ndarray, Tb: np.ndarray
     return float(fcl.distance(oa, ob, fcl.DistanceRequest(), fcl.DistanceResult()))
 
 
-def exact_check(pa: list[PartMesh], pb: list[PartMesh], Ta: np.ndarray, Tb: np.ndarray,
-                within_mm: float) -> tuple[float, float, str, str]:
+def exact_check(
+    pa: list[PartMesh], pb: list[PartMesh], Ta: np.ndarray, Tb: np.ndarray, within_mm: float
+) -> tuple[float, float, str, str]:
     """Exact (OCCT) smallest distance and overlap volume between two bodies at one pose.
 
     Only part pairs whose world bounding boxes -- and, when python-fcl is installed,
@@ -354,9 +441,17 @@ def exact_check(pa: list[PartMesh], pb: list[PartMesh], Ta: np.ndarray, Tb: np.n
     return best[0], overlap, best[2], best[3]
 
 
-def sweep(prepared: Prepared, tf_world_body: dict[str, np.ndarray], phi1_rad: np.ndarray,
-          clearance_min_mm: float, *, method: str = "auto", exact: bool = True,
-          tf_at=None, joints=None) -> InterferenceReport:
+def sweep(
+    prepared: Prepared,
+    tf_world_body: dict[str, np.ndarray],
+    phi1_rad: np.ndarray,
+    clearance_min_mm: float,
+    *,
+    method: str = "auto",
+    exact: bool = True,
+    tf_at=None,
+    joints=None,
+) -> InterferenceReport:
     """Sweep all body pairs over the poses (module docstring).
 
     ``tf_world_body``: ``{body: (N, 4, 4)}`` at ``phi1_rad`` (N,). ``tf_at(phi) -> {body: 4x4}``
@@ -396,19 +491,40 @@ def sweep(prepared: Prepared, tf_world_body: dict[str, np.ndarray], phi1_rad: np
     slack = 2 * prepared.mesh_tol_mm + CONFIRM_MARGIN_MM
     t1 = time.perf_counter()
     dist: dict[tuple[str, str], np.ndarray] = {}
+    measured: dict[tuple[str, str], np.ndarray] = {}
     scenes: dict[tuple[str, str], object] = {}
-    for a, b in itertools.combinations(bodies, 2):
-        dist[(a, b)] = np.array([scene.distance(a, b, tf_world_body[a][i], tf_world_body[b][i]) for i in range(n)])
-        scenes[(a, b)] = scene
-    g_min = min(float(v.min()) for v in dist.values())
-    for (a, b), d in dist.items():
-        if scene.lower_bound[(a, b)] < min(float(d.min()), g_min):
-            dist[(a, b)] = np.array([full.distance(a, b, tf_world_body[a][i], tf_world_body[b][i]) for i in range(n)])
-            scenes[(a, b)] = full
-    g_min = min(float(v.min()) for v in dist.values())
+    pairs = list(itertools.combinations(bodies, 2))
+    for a, b in pairs:  # coarse poses of every pair first: a global minimum to prune with
+        scene.pair(a, b, tf_world_body[a][0], tf_world_body[b][0])
+    coarse = sorted(set(range(0, n, COARSE_STEP)) | {n - 1})
+    g_min = min(
+        (
+            scene.distance(a, b, tf_world_body[a][i], tf_world_body[b][i])
+            for a, b in pairs
+            for i in coarse
+        ),
+        default=np.inf,
+    )
+    for a, b in pairs:
+        sc = scene
+        if (
+            scene.lower_bound[(a, b)] < g_min
+        ):  # a culled part may be closer: measure without culling
+            sc = full
+        dist[(a, b)], measured[(a, b)] = bounded_pair_distances(
+            sc,
+            a,
+            b,
+            tf_world_body[a],
+            tf_world_body[b],
+            lambda m, g=lambda: g_min: max(threshold, min(m, g())),
+        )
+        scenes[(a, b)] = sc
+        g_min = min(g_min, float(dist[(a, b)][measured[(a, b)]].min()))
     fast: dict[tuple[str, str], tuple] = {}
     for (a, b), d in dist.items():
         sc = scenes[(a, b)]
+        d = np.where(measured[(a, b)], d, np.inf)
         i_min = int(np.argmin(d))
         phi_min, d_min = float(phi1_rad[i_min]), float(d[i_min])
         Ta_min, Tb_min = tf_world_body[a][i_min], tf_world_body[b][i_min]
@@ -432,44 +548,80 @@ def sweep(prepared: Prepared, tf_world_body: dict[str, np.ndarray], phi1_rad: np
     global_mesh_min = min((v[3] for v in fast.values()), default=np.inf)
     # exact pass: near contacts, and the closest pose of every pair that may hold the minimum
     for (a, b), (d, i_min, phi_min, d_min, Ta_min, Tb_min) in fast.items():
-        row = {"bodies": [a, b], "mesh_min_mm": d_min, "phi1_deg_at_min": float(np.degrees(phi_min))}
+        row = {
+            "bodies": [a, b],
+            "mesh_min_mm": d_min,
+            "phi1_deg_at_min": float(np.degrees(phi_min)),
+        }
         clear = d_min
         if exact:
             t1 = time.perf_counter()
             checks = []
             if d_min <= max(threshold, global_mesh_min + 2 * slack):
                 checks.append((phi_min, Ta_min, Tb_min, max(threshold, d_min + slack)))
-            checks += [(float(phi1_rad[i]), tf_world_body[a][i], tf_world_body[b][i], threshold)
-                       for i in np.flatnonzero(d < threshold) if i != i_min]
+            checks += [
+                (float(phi1_rad[i]), tf_world_body[a][i], tf_world_body[b][i], threshold)
+                for i in np.flatnonzero(d < threshold)
+                if i != i_min
+            ]
             ex_min, ex_parts, ex_phi = np.inf, ("", ""), phi_min
             for phi, Ta, Tb, within in checks:
-                de, vol, pa, pb = exact_check(prepared.bodies[a], prepared.bodies[b], Ta, Tb, within)
+                de, vol, pa, pb = exact_check(
+                    prepared.bodies[a], prepared.bodies[b], Ta, Tb, within
+                )
                 n_exact += 1
                 if de < ex_min:
                     ex_min, ex_parts, ex_phi = de, (pa, pb), phi
                 if de <= CONTACT_MM or de < clearance_min_mm - CONTACT_MM:
-                    collisions.append({"bodies": [a, b], "parts": [pa, pb], "phi1_deg": float(np.degrees(phi)),
-                                       "distance_mm": max(de, 0.0), "overlap_volume_mm3": vol})
+                    collisions.append(
+                        {
+                            "bodies": [a, b],
+                            "parts": [pa, pb],
+                            "phi1_deg": float(np.degrees(phi)),
+                            "distance_mm": max(de, 0.0),
+                            "overlap_volume_mm3": vol,
+                        }
+                    )
                     total_overlap = max(total_overlap, vol)
             t_exact += time.perf_counter() - t1
             if np.isfinite(ex_min):
-                row.update({"exact_min_mm": ex_min, "parts": list(ex_parts),
-                            "phi1_deg_exact": float(np.degrees(ex_phi))})
+                row.update(
+                    {
+                        "exact_min_mm": ex_min,
+                        "parts": list(ex_parts),
+                        "phi1_deg_exact": float(np.degrees(ex_phi)),
+                    }
+                )
                 clear = ex_min
         elif d_min <= CONTACT_MM or d_min < clearance_min_mm - CONTACT_MM:
-            collisions.append({"bodies": [a, b], "parts": [], "phi1_deg": float(np.degrees(phi_min)),
-                               "distance_mm": d_min, "overlap_volume_mm3": None})
+            collisions.append(
+                {
+                    "bodies": [a, b],
+                    "parts": [],
+                    "phi1_deg": float(np.degrees(phi_min)),
+                    "distance_mm": d_min,
+                    "overlap_volume_mm3": None,
+                }
+            )
         pairs_out.append(row)
         if clear < best_clear:
             best_clear = clear
-            best_info = {"bodies": [a, b], "parts": row.get("parts", []),
-                         "phi1_deg": row.get("phi1_deg_exact", row["phi1_deg_at_min"]),
-                         "exact": "exact_min_mm" in row}
+            best_info = {
+                "bodies": [a, b],
+                "parts": row.get("parts", []),
+                "phi1_deg": row.get("phi1_deg_exact", row["phi1_deg_at_min"]),
+                "exact": "exact_min_mm" in row,
+            }
     return InterferenceReport(
-        min_clearance_mm=float(max(best_clear, 0.0)), overlap_volume_mm3=float(total_overlap), closest=best_info,
-        pairs=pairs_out, collisions=collisions,
-        method=f"{method}{'+occt' if exact else ' (mesh only)'}", mesh_tol_mm=prepared.mesh_tol_mm,
-        n_poses=n, n_exact_checks=n_exact,
+        min_clearance_mm=float(max(best_clear, 0.0)),
+        overlap_volume_mm3=float(total_overlap),
+        closest=best_info,
+        pairs=pairs_out,
+        collisions=collisions,
+        method=f"{method}{'+occt' if exact else ' (mesh only)'}",
+        mesh_tol_mm=prepared.mesh_tol_mm,
+        n_poses=n,
+        n_exact_checks=n_exact,
         time_s={"mesh": prepared.mesh_time_s, "bvh": t_build, "fast": t_fast, "exact": t_exact},
     )
 
@@ -485,7 +637,11 @@ def raise_on_collision(rep: InterferenceReport, clearance_min_mm: float) -> None
         what = f"overlap {vol:.3f} mm^3" if vol else "contact"
         msg = f"{parts} collide at phi1 = {c['phi1_deg']:.2f} deg ({what})"
     else:
-        msg = (f"{parts} are {c['distance_mm']:.3f} mm apart at phi1 = {c['phi1_deg']:.2f} deg "
-               f"(< clearance_min_mm = {clearance_min_mm:g})")
-    raise InterferenceError(f"{msg}; {len(rep.collisions)} near contact(s) in the stroke "
-                            "(use --allow-interference to export anyway)")
+        msg = (
+            f"{parts} are {c['distance_mm']:.3f} mm apart at phi1 = {c['phi1_deg']:.2f} deg "
+            f"(< clearance_min_mm = {clearance_min_mm:g})"
+        )
+    raise InterferenceError(
+        f"{msg}; {len(rep.collisions)} near contact(s) in the stroke "
+        "(use --allow-interference to export anyway)"
+    )

@@ -126,10 +126,14 @@ def _cross2(u, v):
 
 def _seg_seg_dist(a, b, c, d):
     """Distance between segments ab and cd (arrays (..., 2)); 0 where they cross."""
-    dist = np.minimum.reduce([
-        _seg_point_dist(a, b, c), _seg_point_dist(a, b, d),
-        _seg_point_dist(c, d, a), _seg_point_dist(c, d, b),
-    ])
+    dist = np.minimum.reduce(
+        [
+            _seg_point_dist(a, b, c),
+            _seg_point_dist(a, b, d),
+            _seg_point_dist(c, d, a),
+            _seg_point_dist(c, d, b),
+        ]
+    )
     d1 = _cross2(b - a, c - a)
     d2 = _cross2(b - a, d - a)
     d3 = _cross2(d - c, a - c)
@@ -209,8 +213,9 @@ def _pin_window(parts: PartsSpec, t: float, on_post: bool) -> tuple[float, float
     return lo, hi
 
 
-def joint_stack(joint: str, upper: str, lower: str, z_upper: float, z_lower_top: float,
-                parts: PartsSpec) -> JointStack:
+def joint_stack(
+    joint: str, upper: str, lower: str, z_upper: float, z_lower_top: float, parts: PartsSpec
+) -> JointStack:
     """Heights of the hardware at one joint (module docstring)."""
     t = parts.bar_thickness_mm
     brg = catalog.get_bearing(parts.bearing)
@@ -222,17 +227,28 @@ def joint_stack(joint: str, upper: str, lower: str, z_upper: float, z_lower_top:
     lo, hi = _pin_window(parts, t, on_post)
     L = catalog.shortest_length(pin.lengths_mm, clamp + lo)
     if L is None:
-        raise DesignError("parts.layer_gap_mm",
-                          f"the {parts.pin} shoulder screws stop at {pin.lengths_mm[-1]:g} mm; the stack "
-                          f"at {joint} needs {clamp + lo:g} mm")
+        raise DesignError(
+            "parts.layer_gap_mm",
+            f"the {parts.pin} shoulder screws stop at {pin.lengths_mm[-1]:g} mm; the stack "
+            f"at {joint} needs {clamp + lo:g} mm",
+        )
     if L - clamp > hi:
         shim += (L - clamp) - hi
         clamp = shim + brg.B_mm + spacer
     head_face = z_upper + t + (shim - (t - brg.B_mm))
     return JointStack(
-        joint=joint, upper=upper, lower=lower, z_upper_mm=z_upper, z_lower_top_mm=z_lower_top,
-        spacer_mm=spacer, shim_mm=shim, pin_length_mm=L, clamp_mm=clamp, nut=not on_post,
-        head_face_mm=head_face, head_top_mm=head_face + pin.k_mm,
+        joint=joint,
+        upper=upper,
+        lower=lower,
+        z_upper_mm=z_upper,
+        z_lower_top_mm=z_lower_top,
+        spacer_mm=spacer,
+        shim_mm=shim,
+        pin_length_mm=L,
+        clamp_mm=clamp,
+        nut=not on_post,
+        head_face_mm=head_face,
+        head_top_mm=head_face + pin.k_mm,
         thread_end_mm=head_face - L - pin.b_mm,
     )
 
@@ -241,8 +257,10 @@ def _hub_screw_length(parts: PartsSpec) -> float:
     cs = catalog.get_cap_screw(parts.hub_screw, "parts.hub_screw")
     L = catalog.shortest_length(cs.lengths_mm, parts.bar_thickness_mm + HUB_SCREW_ENGAGEMENT_MM)
     if L is None:
-        raise DesignError("parts.hub_screw", f"no {parts.hub_screw} length reaches through a "
-                          f"{parts.bar_thickness_mm:g} mm crank")
+        raise DesignError(
+            "parts.hub_screw",
+            f"no {parts.hub_screw} length reaches through a {parts.bar_thickness_mm:g} mm crank",
+        )
     return L
 
 
@@ -250,13 +268,20 @@ def _handle_screw_length(parts: PartsSpec) -> float:
     cs = catalog.get_cap_screw(parts.handle_screw, "parts.handle_screw")
     L = catalog.shortest_length(cs.lengths_mm, parts.bar_thickness_mm + HANDLE_SCREW_FLOOR_MM)
     if L is None or L - parts.bar_thickness_mm > parts.handle_height_mm - 2.0:
-        raise DesignError("parts.handle_height_mm", f"a {parts.handle_height_mm:g} mm knob cannot take the "
-                          f"{parts.handle_screw} screw")
+        raise DesignError(
+            "parts.handle_height_mm",
+            f"a {parts.handle_height_mm:g} mm knob cannot take the {parts.handle_screw} screw",
+        )
     return L
 
 
-def plan_for_order(order, joints_link: dict[str, dict[str, np.ndarray]], parts: PartsSpec,
-                   tf_world_body: dict[str, np.ndarray], gaps_mm: tuple[float, float] | None = None) -> LayerPlan:
+def plan_for_order(
+    order,
+    joints_link: dict[str, dict[str, np.ndarray]],
+    parts: PartsSpec,
+    tf_world_body: dict[str, np.ndarray],
+    gaps_mm: tuple[float, float] | None = None,
+) -> LayerPlan:
     """Stack heights and planar conflicts of one layer order (bottom to top).
 
     ``gaps_mm``: gap between layers 0-1 and 1-2 (default ``layer_gap_mm`` both).
@@ -315,8 +340,16 @@ def plan_for_order(order, joints_link: dict[str, dict[str, np.ndarray]], parts: 
     els: list[Element] = []
 
     def add(label, body, pts, r, zlo, zhi, anchor):
-        els.append(Element(label, body, np.atleast_2d(np.asarray(pts, dtype=float)), float(r),
-                           (float(zlo), float(zhi)), anchor))
+        els.append(
+            Element(
+                label,
+                body,
+                np.atleast_2d(np.asarray(pts, dtype=float)),
+                float(r),
+                (float(zlo), float(zhi)),
+                anchor,
+            )
+        )
 
     r_end = parts.bar_end_radius_mm
     for link in LINK_NAMES:
@@ -327,34 +360,94 @@ def plan_for_order(order, joints_link: dict[str, dict[str, np.ndarray]], parts: 
     for j, s in js.items():
         carrier = s.lower  # the pin, spacers and nut move with the lower link (or ground)
         p_c = J[carrier][j]
-        add(f"{j} screw head", carrier, p_c, pin.dk_mm / 2.0, s.head_face_mm, s.head_top_mm, level[s.upper])
+        add(
+            f"{j} screw head",
+            carrier,
+            p_c,
+            pin.dk_mm / 2.0,
+            s.head_face_mm,
+            s.head_top_mm,
+            level[s.upper],
+        )
         add(f"{j} gap spacer", carrier, p_c, spacer_r, s.z_lower_top_mm, s.z_upper_mm, None)
         if s.nut:
-            add(f"{j} washer+nut", carrier, p_c, r_nut, s.thread_end_mm, s.z_lower_top_mm - t, level[s.lower])
+            add(
+                f"{j} washer+nut",
+                carrier,
+                p_c,
+                r_nut,
+                s.thread_end_mm,
+                s.z_lower_top_mm - t,
+                level[s.lower],
+            )
         else:
-            add(f"{j} post", "ground", J["ground"][j], parts.post_diameter_mm / 2.0, 0.0, s.z_lower_top_mm, None)
+            add(
+                f"{j} post",
+                "ground",
+                J["ground"][j],
+                parts.post_diameter_mm / 2.0,
+                0.0,
+                s.z_lower_top_mm,
+                None,
+            )
     add("hub", "crank", J["crank"]["A1"], parts.hub_diameter_mm / 2.0, hub_lo, hub_hi, None)
     r_bc = hub_bolt_circle_mm(parts) / 2.0
-    add("hub screw heads", "crank", J["crank"]["A1"], r_bc + hub_cs.dk_mm / 2.0, z["crank"] + t,
-        z["crank"] + t + hub_cs.k_mm, level["crank"])
+    add(
+        "hub screw heads",
+        "crank",
+        J["crank"]["A1"],
+        r_bc + hub_cs.dk_mm / 2.0,
+        z["crank"] + t,
+        z["crank"] + t + hub_cs.k_mm,
+        level["crank"],
+    )
     if shaft_top > z["crank"] + t:
-        add("motor shaft end", "crank", J["crank"]["A1"], motor.shaft_diameter_mm / 2.0, z["crank"] + t,
-            shaft_top, None)
+        add(
+            "motor shaft end",
+            "crank",
+            J["crank"]["A1"],
+            motor.shaft_diameter_mm / 2.0,
+            z["crank"] + t,
+            shaft_top,
+            None,
+        )
     zc = z["coupler"]
-    add("handle", "coupler", J["coupler"]["P"], parts.handle_diameter_mm / 2.0, zc + t,
-        zc + t + parts.handle_height_mm, level["coupler"])
+    add(
+        "handle",
+        "coupler",
+        J["coupler"]["P"],
+        parts.handle_diameter_mm / 2.0,
+        zc + t,
+        zc + t + parts.handle_height_mm,
+        level["coupler"],
+    )
 
     pairs = planar_clearances(els, tf_world_body)
-    conflicts = tuple(f"{a.label} / {b.label}: {d:.2f} mm" for d, a, b in sorted(pairs, key=lambda x: x[0])
-                      if d < parts.clearance_min_mm)
+    conflicts = tuple(
+        f"{a.label} / {b.label}: {d:.2f} mm"
+        for d, a, b in sorted(pairs, key=lambda x: x[0])
+        if d < parts.clearance_min_mm
+    )
     min_cl = min((d for d, _, _ in pairs), default=np.inf)
     top = max(e.z_mm[1] for e in els)
     return LayerPlan(
-        order=tuple(order), thickness_mm=t, z_mm=z, joints=js, hub_z_mm=(hub_lo, hub_hi),
-        hub_screw_length_mm=hub_L, shaft_top_mm=shaft_top, flange_z_mm=flange_z,
-        post_top_mm=js["A4"].z_lower_top_mm, handle_z_mm=zc + t, handle_screw_length_mm=handle_L,
-        top_mm=top, elements=tuple(els), min_planar_clearance_mm=float(min_cl), conflicts=conflicts,
-        gaps_mm=gaps, pairs=tuple(pairs),
+        order=tuple(order),
+        thickness_mm=t,
+        z_mm=z,
+        joints=js,
+        hub_z_mm=(hub_lo, hub_hi),
+        hub_screw_length_mm=hub_L,
+        shaft_top_mm=shaft_top,
+        flange_z_mm=flange_z,
+        post_top_mm=js["A4"].z_lower_top_mm,
+        handle_z_mm=zc + t,
+        handle_screw_length_mm=handle_L,
+        top_mm=top,
+        elements=tuple(els),
+        min_planar_clearance_mm=float(min_cl),
+        conflicts=conflicts,
+        gaps_mm=gaps,
+        pairs=tuple(pairs),
     )
 
 
@@ -415,11 +508,22 @@ def choose_layers(joints_link, parts: PartsSpec, tf_world_body) -> LayerPlan:
     largest planar clearance is returned with its ``conflicts`` listed (the 3-D sweep decides)."""
     orders = [parts.layer_order] if parts.layer_order else list(ORDERS)
     plans = [plan_order(o, joints_link, parts, tf_world_body) for o in orders]
-    cands = tuple({"order": list(p.order), "conflicts": len(p.conflicts), "top_mm": p.top_mm,
-                   "gaps_mm": list(p.gaps_mm), "min_planar_clearance_mm": p.min_planar_clearance_mm}
-                  for p in plans)
+    cands = tuple(
+        {
+            "order": list(p.order),
+            "conflicts": len(p.conflicts),
+            "top_mm": p.top_mm,
+            "gaps_mm": list(p.gaps_mm),
+            "min_planar_clearance_mm": p.min_planar_clearance_mm,
+        }
+        for p in plans
+    )
     ok = [p for p in plans if not p.conflicts]
-    best = min(ok, key=lambda p: p.top_mm) if ok else max(plans, key=lambda p: p.min_planar_clearance_mm)
+    best = (
+        min(ok, key=lambda p: p.top_mm)
+        if ok
+        else max(plans, key=lambda p: p.min_planar_clearance_mm)
+    )
     return LayerPlan(**{**best.__dict__, "candidates": cands})
 
 

@@ -28,12 +28,16 @@ def planar_transforms(fb: FourBar, phi1_rad) -> dict[str, np.ndarray]:
     return {b: tf_world_link(fb, pose, b) for b in BODIES}
 
 
-def part_world_tf(inst: PartInstance, tf_world_body: dict[str, np.ndarray], i: int = 0) -> np.ndarray:
+def part_world_tf(
+    inst: PartInstance, tf_world_body: dict[str, np.ndarray], i: int = 0
+) -> np.ndarray:
     """4x4 world placement of a part at pose ``i``."""
     return tf_world_body[inst.body][i] @ inst.tf_body_part
 
 
-def posed_shapes(instances, tf_world_body: dict[str, np.ndarray], i: int = 0, listed_only: bool = True):
+def posed_shapes(
+    instances, tf_world_body: dict[str, np.ndarray], i: int = 0, listed_only: bool = True
+):
     """``[(instance name, placed TopoDS_Shape, rgb)]`` of the assembly at pose ``i``."""
     from cad.export.shapes import placed
     from cad.materials import get_material

@@ -14,10 +14,12 @@ builder may put wall times under ``"_timings_s"``: they are returned (as
 ``timings_s``) but kept out of ``report.json`` so that the file is deterministic.
 ``progress`` (may be None) is called as ``progress(description, done, total)``.
 A builder may also expose ``cache_inputs(design) -> dict`` with anything outside the
-design object that its output depends on (e.g. the hash of a user part script).
+design object that its output depends on (e.g. the hash of a user part script), and
+``CODE_DEPS`` (paths inside the ``cad`` package whose source its output depends on; by
+default the whole package).
 
 Build cache: the dispatcher hashes the design object, the build options and the source
-code of the ``cad`` package into ``build_key``. When ``out_dir/manifest.json`` already
+code (``CODE_DEPS``) into ``build_key``. When ``out_dir/manifest.json`` already
 carries that key and every listed file still has its sha256, nothing is rebuilt and no
 CAD library is imported (the report is read back, ``"cached": true``).
 """
@@ -53,7 +55,9 @@ def builder_module_name(design) -> str:
     if design_mod is None:
         design_mod = type(design).__module__
     if not design_mod.startswith("cad.design."):
-        raise DesignError("mechanism.family", f"no builder for designs of type {type(design).__name__}")
+        raise DesignError(
+            "mechanism.family", f"no builder for designs of type {type(design).__name__}"
+        )
     return "cad.build." + design_mod.rsplit(".", 1)[1]
 
 
@@ -73,34 +77,51 @@ def _jsonable(obj: Any) -> Any:
     return repr(obj)
 
 
-@functools.lru_cache(maxsize=1)
-def code_version() -> str:
-    """sha256 over the source of the ``cad`` package (any code change invalidates caches)."""
+@functools.lru_cache(maxsize=8)
+def code_version(deps: tuple[str, ...] | None = None) -> str:
+    """sha256 over the source of the ``cad`` package, or of the listed sub-packages/modules
+    (``deps``: paths relative to the package, e.g. ``("parts", "materials.py")``)."""
     root = Path(cad.__file__).parent
+    files = (
+        sorted(root.rglob("*.py"))
+        if deps is None
+        else sorted(
+            {
+                p
+                for d in deps
+                for p in ((root / d).rglob("*.py") if (root / d).is_dir() else [root / d])
+            }
+        )
+    )
     h = hashlib.sha256()
-    for p in sorted(root.rglob("*.py")):
-        h.update(p.relative_to(root).as_posix().encode())
-        h.update(p.read_bytes())
+    for p in files:
+        if p.is_file():
+            h.update(p.relative_to(root).as_posix().encode())
+            h.update(p.read_bytes())
     return h.hexdigest()
 
 
-def build_key(design, formats: set[str], fidelity: str, allow_interference: bool,
-              phi1_deg: float | None) -> str:
+def build_key(
+    design, formats: set[str], fidelity: str, allow_interference: bool, phi1_deg: float | None
+) -> str:
     """Hash of everything a build's output depends on (design, options, code, extra inputs)."""
     payload = {
         "schema": CACHE_SCHEMA,
-        "design": _jsonable({k: v for k, v in _jsonable(design).items() if k not in ("source", "raw")}),
+        "design": _jsonable(
+            {k: v for k, v in _jsonable(design).items() if k not in ("source", "raw")}
+        ),
         "raw": _jsonable(getattr(design, "raw", {})),
         "formats": sorted(formats),
         "fidelity": fidelity,
         "allow_interference": bool(allow_interference),
         "phi1_deg": phi1_deg,
-        "code": code_version(),
     }
     try:
         mod = importlib.import_module(builder_module_name(design))
     except ModuleNotFoundError:
         mod = None
+    deps = getattr(mod, "CODE_DEPS", None)
+    payload["code"] = code_version(tuple(deps) if deps is not None else None)
     if mod is not None and hasattr(mod, "cache_inputs"):
         payload["extra"] = _jsonable(mod.cache_inputs(design))
     text = json.dumps(payload, sort_keys=True, separators=(",", ":"))
@@ -152,18 +173,33 @@ def build_design(
         mod = importlib.import_module(mod_name)
     except ModuleNotFoundError as exc:
         if exc.name == mod_name:
-            raise DesignError("mechanism.family", f"building {design.family!r} designs is not available yet") from None
+            raise DesignError(
+                "mechanism.family", f"building {design.family!r} designs is not available yet"
+            ) from None
         raise
     from cad.export.manifest import write_manifest
 
     with atomic_dir(out_dir) as tmp:
-        report = mod.build(design, tmp, set(formats), fidelity=fidelity,
-                           allow_interference=allow_interference, progress=progress, phi1_deg=phi1_deg)
+        report = mod.build(
+            design,
+            tmp,
+            set(formats),
+            fidelity=fidelity,
+            allow_interference=allow_interference,
+            progress=progress,
+            phi1_deg=phi1_deg,
+        )
         report = dict(report)
         timings = report.pop("_timings_s", None)
-        report["build"] = {"formats": sorted(formats), "fidelity": fidelity,
-                           "allow_interference": bool(allow_interference), "build_key": key}
-        write_text_atomic(tmp / REPORT_NAME, json.dumps(_jsonable(report), indent=2, sort_keys=True) + "\n")
+        report["build"] = {
+            "formats": sorted(formats),
+            "fidelity": fidelity,
+            "allow_interference": bool(allow_interference),
+            "build_key": key,
+        }
+        write_text_atomic(
+            tmp / REPORT_NAME, json.dumps(_jsonable(report), indent=2, sort_keys=True) + "\n"
+        )
         write_manifest(tmp, {"build_key": key})
     report["cached"] = False
     if timings is not None:

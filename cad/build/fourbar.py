@@ -35,6 +35,23 @@ import numpy as np
 
 from cad.errors import DesignError
 
+#: Source the output depends on (build cache key): any change there rebuilds.
+CODE_DEPS = (
+    "build",
+    "parts",
+    "assembly",
+    "export",
+    "massprops",
+    "kinematics",
+    "dynamics",
+    "design",
+    "io",
+    "materials.py",
+    "analysis.py",
+    "tolerances.py",
+    "errors.py",
+    "__init__.py",
+)
 #: Poses and STL tolerance of the preview fidelity.
 PREVIEW_POSES = 24
 PREVIEW_STL_TOL_MM = 0.1
@@ -61,9 +78,9 @@ def sweep_angles(design, n: int) -> np.ndarray:
 
 def _kind_props(kind):
     """MassProps of a part kind in its own frame (SI), or None when it carries no mass."""
-    from cad.materials import get_material
     from cad.massprops.occt import solid_mass_props
     from cad.massprops.props import from_principal
+    from cad.materials import get_material
     from cad.parts.catalog import ring_inertia_kg_m2
 
     if kind.inertia_model == "none":
@@ -71,11 +88,17 @@ def _kind_props(kind):
     if kind.inertia_model == "ring":
         ri, ro, b = kind.ring_mm
         ia, it = ring_inertia_kg_m2(kind.mass_kg, ri, ro, b)
-        return from_principal(kind.mass_kg, np.array([0.0, 0.0, b / 2 * 1e-3]), np.array([it, it, ia]))
+        return from_principal(
+            kind.mass_kg, np.array([0.0, 0.0, b / 2 * 1e-3]), np.array([it, it, ia])
+        )
     props = solid_mass_props(kind.shape, get_material(kind.material).density_kg_m3)
     if kind.mass_kg is not None:
         props = props.scaled(kind.mass_kg / props.mass_kg)
     return props
+
+
+#: Public name of :func:`_kind_props` (used by :mod:`cad.build.inertia`).
+kind_mass_props = _kind_props
 
 
 def link_mass_props(assembly, props_by_kind: dict) -> tuple[dict, dict]:
@@ -90,8 +113,9 @@ def link_mass_props(assembly, props_by_kind: dict) -> tuple[dict, dict]:
             continue
         T = inst.tf_body_part
         per_body.setdefault(inst.body, []).append(mp.transformed(T[:3, :3], T[:3, 3] * 1e-3))
-        shares.setdefault(inst.body, []).append({"part": inst.name, "kind": inst.kind.name,
-                                                 "mass_g": mp.mass_kg * 1e3})
+        shares.setdefault(inst.body, []).append(
+            {"part": inst.name, "kind": inst.kind.name, "mass_g": mp.mass_kg * 1e3}
+        )
     return {b: combine(v) for b, v in per_body.items()}, shares
 
 
@@ -99,8 +123,12 @@ def inertia_from_links(design, link_props: dict, Jm_kg_m2: float):
     """H11..H33 (Hoeken paper eqs 16-19, COM angle generalization) from the link mass props."""
     from cad.dynamics.inertia import PlanarLinkInertia, h_from_links
 
-    pl = {k: PlanarLinkInertia.from_com(link_props[k].mass_kg, link_props[k].com_m,
-                                        float(link_props[k].inertia_com_kg_m2[2, 2])) for k in LINKS}
+    pl = {
+        k: PlanarLinkInertia.from_com(
+            link_props[k].mass_kg, link_props[k].com_m, float(link_props[k].inertia_com_kg_m2[2, 2])
+        )
+        for k in LINKS
+    }
     return h_from_links(design.linkage, pl["crank"], pl["coupler"], pl["rocker"], Jm_kg_m2), pl
 
 
@@ -125,7 +153,11 @@ PREVIEW_MESH_TOL_MM = 0.5
 
 
 def write_preview(asm, tf_world_body, i: int, path_P_mm: np.ndarray, out: Path, title: str) -> Path:
-    """Top (x-y) and side (x-z) projections of the posed assembly (coarse meshes), PNG."""
+    """Top (x-y) and side (x-z) projections of the posed assembly, PNG.
+
+    Plates are drawn by their top faces (holes and pockets show), everything else by the
+    convex hull of its projected coarse mesh.
+    """
     import io
 
     import matplotlib
@@ -133,29 +165,58 @@ def write_preview(asm, tf_world_body, i: int, path_P_mm: np.ndarray, out: Path, 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     from matplotlib.collections import PolyCollection
+    from scipy.spatial import ConvexHull, QhullError
 
     from cad.export.stl import mesh_shape
     from cad.io.atomic import write_bytes_atomic
+
+    def hull(pts2):
+        try:
+            return pts2[ConvexHull(pts2).vertices]
+        except (QhullError, ValueError):
+            return None
 
     meshes: dict[str, tuple] = {}
     polys = {0: {b: [] for b in BODY_COLORS}, 1: {b: [] for b in BODY_COLORS}}
     for inst in asm.instances:
         k = inst.kind
         if k.name not in meshes:
-            meshes[k.name] = mesh_shape(k.shape, PREVIEW_MESH_TOL_MM, 0.6)
-        v, f = meshes[k.name]
+            v, f = mesh_shape(k.shape, PREVIEW_MESH_TOL_MM, 0.6)
+            if k.plate:  # plates: keep the top faces (shows holes and pockets)
+                tri = v[f]
+                nz = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])[:, 2]
+                f_top = f[nz > 0]
+            else:
+                f_top = None
+            meshes[k.name] = (v, f_top)
+        v, f_top = meshes[k.name]
         T = tf_world_body[inst.body][i] @ inst.tf_body_part
         w = v @ T[:3, :3].T + T[:3, 3]
-        tri = w[f]
-        if not (inst.body == "ground" and w[:, 2].max() < -1.0):  # top view: hide what is under the base
-            polys[0][inst.body].append(tri[:, :, [0, 1]])
-        polys[1][inst.body].append(tri[:, :, [0, 2]])
+        if not (
+            inst.body == "ground" and w[:, 2].max() < -1.0
+        ):  # top view: hide what is under the base
+            if f_top is not None:
+                polys[0][inst.body].extend(list(w[f_top][:, :, :2]))
+            else:
+                h = hull(w[:, :2])
+                if h is not None:
+                    polys[0][inst.body].append(h)
+        h = hull(w[:, [0, 2]])
+        if h is not None:
+            polys[1][inst.body].append(h)
     fig, axes = plt.subplots(1, 2, figsize=(11, 5), gridspec_kw={"width_ratios": [1.4, 1]})
     for view, ax in enumerate(axes):
         for body in ("ground", "rocker", "crank", "coupler"):
             if polys[view][body]:
-                ax.add_collection(PolyCollection(np.concatenate(polys[view][body]), facecolors=BODY_COLORS[body],
-                                                 edgecolors="none", alpha=0.35, rasterized=True))
+                ax.add_collection(
+                    PolyCollection(
+                        polys[view][body],
+                        facecolors=BODY_COLORS[body],
+                        edgecolors="none",
+                        alpha=0.35,
+                        rasterized=True,
+                    )
+                )
     axes[0].plot(path_P_mm[:, 0], path_P_mm[:, 1], "k-", lw=1.0, label="P path")
     axes[0].set_title("top view (R0, mm)")
     axes[1].set_title("side view x-z (mm)")
@@ -163,7 +224,7 @@ def write_preview(asm, tf_world_body, i: int, path_P_mm: np.ndarray, out: Path, 
         ax.set_aspect("equal")
         ax.autoscale_view()
         ax.grid(True, lw=0.3)
-    axes[0].legend(loc="best", fontsize=8)
+    axes[0].legend(loc="upper right", fontsize=8)
     fig.suptitle(title)
     buf = io.BytesIO()
     fig.savefig(buf, format="png", dpi=100, metadata={"Software": None})
@@ -171,8 +232,16 @@ def write_preview(asm, tf_world_body, i: int, path_P_mm: np.ndarray, out: Path, 
     return write_bytes_atomic(out, buf.getvalue())
 
 
-def build(design, out_dir: Path, formats: set[str], *, fidelity: str = "fabrication",
-          allow_interference: bool = False, progress=None, phi1_deg: float | None = None) -> dict:
+def build(
+    design,
+    out_dir: Path,
+    formats: set[str],
+    *,
+    fidelity: str = "fabrication",
+    allow_interference: bool = False,
+    progress=None,
+    phi1_deg: float | None = None,
+) -> dict:
     """Build ``design`` into ``out_dir`` (a fresh temporary directory); return the report dict."""
     from cad.assembly import interference as itf
     from cad.assembly.layers import choose_layers, footprint_bbox_mm
@@ -192,12 +261,18 @@ def build(design, out_dir: Path, formats: set[str], *, fidelity: str = "fabricat
     if phi1_deg is not None:
         lo, hi = math.degrees(design.phi1_min_rad), math.degrees(design.phi1_max_rad)
         if not lo - 1e-9 <= phi1_deg <= hi + 1e-9:
-            raise DesignError("--phi1-deg", f"must lie in the crank range [{lo:g}, {hi:g}] deg, got {phi1_deg!r}")
+            raise DesignError(
+                "--phi1-deg", f"must lie in the crank range [{lo:g}, {hi:g}] deg, got {phi1_deg!r}"
+            )
     script = resolve_script(parts, design.source)
 
     # 1-2 kinematics and layers (numpy only)
     _step(progress, "layers", 0, n_steps)
-    n_poses = parts.interference_poses if fidelity != "preview" else min(parts.interference_poses, PREVIEW_POSES)
+    n_poses = (
+        parts.interference_poses
+        if fidelity != "preview"
+        else min(parts.interference_poses, PREVIEW_POSES)
+    )
     phi = sweep_angles(design, n_poses)
     J = link_joints_mm(fb)
     planar = planar_transforms(fb, phi)
@@ -212,8 +287,15 @@ def build(design, out_dir: Path, formats: set[str], *, fidelity: str = "fabricat
     if script is not None:
         floor = plan.handle_screw_length_mm - parts.bar_thickness_mm
         user_handle = user_handle_shape(script, handle_params(parts, floor))
-    asm = build_assembly(J, plan, parts, footprint, fidelity=fidelity, handle_shape=user_handle,
-                         design_label=design.name)
+    asm = build_assembly(
+        J,
+        plan,
+        parts,
+        footprint,
+        fidelity=fidelity,
+        handle_shape=user_handle,
+        design_label=design.name,
+    )
     timings["parts"] = time.perf_counter() - t1
 
     # 4 mass properties and dynamics
@@ -223,12 +305,16 @@ def build(design, out_dir: Path, formats: set[str], *, fidelity: str = "fabricat
     props = {name: _kind_props(k) for name, k in kinds.items()}
     link_props, shares = link_mass_props(asm, props)
     motor = catalog.get_motor(parts.motor)
-    Jm = (parts.motor_rotor_inertia_g_cm2 * 1e-7 if parts.motor_rotor_inertia_g_cm2 is not None
-          else motor.rotor_inertia_kg_m2)
+    Jm = (
+        parts.motor_rotor_inertia_g_cm2 * 1e-7
+        if parts.motor_rotor_inertia_g_cm2 is not None
+        else motor.rotor_inertia_kg_m2
+    )
     H, planar_links = inertia_from_links(design, link_props, Jm)
     am = apparent_mass(design, H)
-    fidelity_costs = _fidelity_costs(design, asm, props, link_props, Jm, H, am, fidelity, user_handle is not None,
-                                     plan)
+    fidelity_costs = _fidelity_costs(
+        design, asm, props, link_props, Jm, H, am, fidelity, user_handle is not None, plan
+    )
     timings["massprops"] = time.perf_counter() - t1
 
     # 5 interference
@@ -241,8 +327,15 @@ def build(design, out_dir: Path, formats: set[str], *, fidelity: str = "fabricat
     def tf_at(p):
         return {b: v[0] for b, v in body_transforms(fb, [p]).items()}
 
-    rep = itf.sweep(prepared, tfs, phi, parts.clearance_min_mm, exact=fidelity != "preview", tf_at=tf_at,
-                    joints=_joint_axes(J))
+    rep = itf.sweep(
+        prepared,
+        tfs,
+        phi,
+        parts.clearance_min_mm,
+        exact=fidelity != "preview",
+        tf_at=tf_at,
+        joints=_joint_axes(J),
+    )
     if not allow_interference:
         itf.raise_on_collision(rep, parts.clearance_min_mm)
     timings["interference"] = time.perf_counter() - t1
@@ -253,25 +346,48 @@ def build(design, out_dir: Path, formats: set[str], *, fidelity: str = "fabricat
     from cad.export import STL_ANGULAR_TOLERANCE_RAD, export_assembly_step, export_part, write_bom
     from cad.materials import get_material
 
-    stl_tol = parts.stl_tolerance_mm if fidelity != "preview" else max(parts.stl_tolerance_mm, PREVIEW_STL_TOL_MM)
-    ang = math.radians(parts.stl_angular_tolerance_deg) if parts.stl_angular_tolerance_deg else STL_ANGULAR_TOLERANCE_RAD
+    stl_tol = (
+        parts.stl_tolerance_mm
+        if fidelity != "preview"
+        else max(parts.stl_tolerance_mm, PREVIEW_STL_TOL_MM)
+    )
+    ang = (
+        math.radians(parts.stl_angular_tolerance_deg)
+        if parts.stl_angular_tolerance_deg
+        else STL_ANGULAR_TOLERANCE_RAD
+    )
     files: list[str] = []
     listed = [k for k in kinds.values() if k.listed]
     for i, k in enumerate(listed):
         _step(progress, f"export {k.name}", 4, n_steps)
-        paths = export_part(k.shape, k.name, out_dir / "parts", formats, plate=k.plate,
-                            color=get_material(k.material).color_rgb, stl=k.made, tolerance_mm=stl_tol,
-                            angular_tolerance_rad=ang)
+        paths = export_part(
+            k.shape,
+            k.name,
+            out_dir / "parts",
+            formats,
+            plate=k.plate,
+            color=get_material(k.material).color_rgb,
+            stl=k.made,
+            tolerance_mm=stl_tol,
+            angular_tolerance_rad=ang,
+        )
         files += [p.relative_to(out_dir).as_posix() for p in paths]
         del i
-    pose_phi = math.radians(phi1_deg) if phi1_deg is not None else 0.5 * (design.phi1_min_rad + design.phi1_max_rad)
+    pose_phi = (
+        math.radians(phi1_deg)
+        if phi1_deg is not None
+        else 0.5 * (design.phi1_min_rad + design.phi1_max_rad)
+    )
     tf_pose = body_transforms(fb, [pose_phi])
     if "step" in formats:
         _step(progress, "assembly STEP", 5, n_steps)
         from cad.assembly.pose import posed_shapes
 
-        export_assembly_step(posed_shapes(asm.instances, tf_pose, 0), out_dir / "assembly.step",
-                             name=f"{design.name}_assembly")
+        export_assembly_step(
+            posed_shapes(asm.instances, tf_pose, 0),
+            out_dir / "assembly.step",
+            name=f"{design.name}_assembly",
+        )
         files.append("assembly.step")
     timings["exports"] = time.perf_counter() - t1
 
@@ -280,23 +396,38 @@ def build(design, out_dir: Path, formats: set[str], *, fidelity: str = "fabricat
     bom = []
     for k in listed:
         mp = props[k.name]
-        bom.append({"part": k.name, "description": k.description, "material": k.material, "quantity": q[k.name],
-                    "made_or_bought": "made" if k.made else "bought", "process": k.process,
-                    "mass_g": (mp.mass_kg * 1e3) if mp is not None else 0.0})
+        bom.append(
+            {
+                "part": k.name,
+                "description": k.description,
+                "material": k.material,
+                "quantity": q[k.name],
+                "made_or_bought": "made" if k.made else "bought",
+                "process": k.process,
+                "mass_g": (mp.mass_kg * 1e3) if mp is not None else 0.0,
+            }
+        )
     write_bom(bom, out_dir)
 
     # preview
     _step(progress, "preview", 6, n_steps)
     t1 = time.perf_counter()
     P_path = solve(fb, np.linspace(design.phi1_min_rad, design.phi1_max_rad, 200)).P_mm
-    write_preview(asm, tf_pose, 0, P_path, out_dir / "preview.png",
-                  f"{design.name}: {design.family}, phi1 = {math.degrees(pose_phi):.1f} deg")
+    write_preview(
+        asm,
+        tf_pose,
+        0,
+        P_path,
+        out_dir / "preview.png",
+        f"{design.name}: {design.family}, phi1 = {math.degrees(pose_phi):.1f} deg",
+    )
     timings["preview"] = time.perf_counter() - t1
 
     # report
     _step(progress, "report", 7, n_steps)
-    m = compute_metrics(fb, design.phi1_min_rad, design.phi1_max_rad, force_N=design.force_N,
-                        samples=design.samples).as_dict()
+    m = compute_metrics(
+        fb, design.phi1_min_rad, design.phi1_max_rad, force_N=design.force_N, samples=design.samples
+    ).as_dict()
     from cad.analysis import METRIC_KEYS
 
     report = {
@@ -305,28 +436,56 @@ def build(design, out_dir: Path, formats: set[str], *, fidelity: str = "fabricat
         **design.resolved_linkage(),
         "force_N": design.force_N,
         **{k: m[k] for k in METRIC_KEYS if k in m},
-        "H11_kg_m2": H.H11_kg_m2, "H12_kg_m2": H.H12_kg_m2, "H22_kg_m2": H.H22_kg_m2, "H33_kg_m2": H.H33_kg_m2,
+        "H11_kg_m2": H.H11_kg_m2,
+        "H12_kg_m2": H.H12_kg_m2,
+        "H22_kg_m2": H.H22_kg_m2,
+        "H33_kg_m2": H.H33_kg_m2,
         "beta2_deg": math.degrees(H.beta2_rad),
         "Jm_kg_m2": Jm,
         "apparent_mass": am,
-        "links": {k: {**link_props[k].to_dict(), "mass_g": link_props[k].mass_kg * 1e3,
-                      "com_link_mm": (np.asarray(link_props[k].com_m) * 1e3).tolist(),
-                      "lG_mm": planar_links[k].lG_m * 1e3, "beta_deg": math.degrees(planar_links[k].beta_rad),
-                      "Jzz_com_kg_m2": planar_links[k].Jzz_com_kg_m2,
-                      "parts": shares.get(k, [])} for k in LINKS},
+        "links": {
+            k: {
+                **link_props[k].to_dict(),
+                "mass_g": link_props[k].mass_kg * 1e3,
+                "com_link_mm": (np.asarray(link_props[k].com_m) * 1e3).tolist(),
+                "lG_mm": planar_links[k].lG_m * 1e3,
+                "beta_deg": math.degrees(planar_links[k].beta_rad),
+                "Jzz_com_kg_m2": planar_links[k].Jzz_com_kg_m2,
+                "parts": shares.get(k, []),
+            }
+            for k in LINKS
+        },
         "part_masses_g": {r["part"]: r["mass_g"] for r in bom},
+        "ground_mass_g": link_props["ground"].mass_kg * 1e3,
+        "total_mass_g": sum(r["mass_g"] * r["quantity"] for r in bom),
         "bom": bom,
         "min_clearance_mm": rep.min_clearance_mm,
         "overlap_volume_mm3": rep.overlap_volume_mm3,
         "interference": rep.as_dict(),
-        "layers": {"order": list(plan.order), "z_mm": plan.z_mm, "gaps_mm": list(plan.gaps_mm),
-                   "top_mm": plan.top_mm, "candidates": list(plan.candidates),
-                   "joints": {j: {"upper": s.upper, "lower": s.lower, "spacer_mm": s.spacer_mm,
-                                  "head_spacer_mm": s.shim_mm, "pin": f"{parts.pin} x {s.pin_length_mm:g}"}
-                              for j, s in plan.joints.items()}},
+        "layers": {
+            "order": list(plan.order),
+            "z_mm": plan.z_mm,
+            "gaps_mm": list(plan.gaps_mm),
+            "top_mm": plan.top_mm,
+            "candidates": list(plan.candidates),
+            "joints": {
+                j: {
+                    "upper": s.upper,
+                    "lower": s.lower,
+                    "spacer_mm": s.spacer_mm,
+                    "head_spacer_mm": s.shim_mm,
+                    "pin": f"{parts.pin} x {s.pin_length_mm:g}",
+                }
+                for j, s in plan.joints.items()
+            },
+        },
         "base_plate_mm": list(asm.base_rect_mm),
-        "motor": {"key": motor.key, "mass_kg": motor.mass_kg, "rotor_inertia_g_cm2": Jm * 1e7,
-                  "source": motor.source},
+        "motor": {
+            "key": motor.key,
+            "mass_kg": motor.mass_kg,
+            "rotor_inertia_g_cm2": Jm * 1e7,
+            "source": motor.source,
+        },
         "fidelity": fidelity,
         "fidelity_costs": fidelity_costs,
         "handle": "user script " + script.name if script is not None else "built-in knob",
@@ -348,8 +507,8 @@ def _fidelity_costs(design, asm, props, link_props, Jm, H, am, fidelity, user_ha
     if user_handle or design.parts.handle_fillet_mm <= 0:
         out["handle_round"] = "not applicable"
         return out
-    from cad.parts.handle import knob_shape
     from cad.parts import PartKind
+    from cad.parts.handle import knob_shape
 
     floor = plan.handle_screw_length_mm - design.parts.bar_thickness_mm
     other = knob_shape(design.parts, floor, cosmetic=fidelity != "fabrication")
@@ -373,9 +532,12 @@ def _fidelity_costs(design, asm, props, link_props, Jm, H, am, fidelity, user_ha
 def _markdown(r: dict) -> str:
     am = r["apparent_mass"]
     lines = [
-        f"# {r['name']} ({r['family']})", "",
-        "![assembly preview](preview.png)", "",
-        "| quantity | value |", "|---|---|",
+        f"# {r['name']} ({r['family']})",
+        "",
+        "![assembly preview](preview.png)",
+        "",
+        "| quantity | value |",
+        "|---|---|",
         f"| l1..l5, le (mm) | {r['l1_mm']:.3f}, {r['l2_mm']:.3f}, {r['l3_mm']:.3f}, {r['l4_mm']:.3f}, "
         f"{r['l5_mm']:.3f}, {r['le_mm']:.3f} |",
         f"| phi_e, crank range (deg) | {r['phi_e_deg']:.2f}, {r['phi1_min_deg']:.1f}..{r['phi1_max_deg']:.1f} |",
@@ -385,8 +547,14 @@ def _markdown(r: dict) -> str:
         f"| min clearance (mm) | {r['min_clearance_mm']:.3f} ({r['interference']['method']}) |",
         f"| overlap volume (mm^3) | {r['overlap_volume_mm3']:.4g} |",
         f"| layers (bottom to top) | {', '.join(r['layers']['order'])} |",
-        "", "## Bill of materials", "", "| part | material | qty | made/bought | mass (g) |", "|---|---|---|---|---|",
+        "",
+        "## Bill of materials",
+        "",
+        "| part | material | qty | made/bought | mass (g) |",
+        "|---|---|---|---|---|",
     ]
     for b in r["bom"]:
-        lines.append(f"| {b['part']} | {b['material']} | {b['quantity']} | {b['made_or_bought']} | {b['mass_g']:.2f} |")
+        lines.append(
+            f"| {b['part']} | {b['material']} | {b['quantity']} | {b['made_or_bought']} | {b['mass_g']:.2f} |"
+        )
     return "\n".join(lines) + "\n"

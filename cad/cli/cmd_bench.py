@@ -15,6 +15,7 @@ TOPICS = {
     "gii": "cad.bench.gii",
     "voicecoil": "cad.bench.voicecoil",
     "build": "cad.bench.build",
+    "fidelity": "cad.bench.fidelity",
 }
 
 

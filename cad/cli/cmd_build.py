@@ -44,10 +44,18 @@ def register(app: typer.Typer) -> None:
     def build_cmd(
         design: Path = typer.Argument(..., help="TOML design file"),
         out: Path = typer.Option(None, "--out", help="output folder (default exports/<name>/)"),
-        formats: str = typer.Option("step,stl,dxf", "--formats", help="comma list of step, stl, dxf"),
-        fidelity: str = typer.Option(None, "--fidelity", help="fabrication | inertia | preview (default: [parts].fidelity)"),
-        phi1_deg: float = typer.Option(None, "--phi1-deg", help="crank angle of the assembly STEP and preview (deg)"),
-        allow_interference: bool = typer.Option(False, "--allow-interference", help="export even if parts collide"),
+        formats: str = typer.Option(
+            "step,stl,dxf", "--formats", help="comma list of step, stl, dxf"
+        ),
+        fidelity: str = typer.Option(
+            None, "--fidelity", help="fabrication | inertia | preview (default: [parts].fidelity)"
+        ),
+        phi1_deg: float = typer.Option(
+            None, "--phi1-deg", help="crank angle of the assembly STEP and preview (deg)"
+        ),
+        allow_interference: bool = typer.Option(
+            False, "--allow-interference", help="export even if parts collide"
+        ),
         json_out: bool = typer.Option(False, "--json", help="print the report as one JSON object"),
         no_cache: bool = typer.Option(False, "--no-cache", help="rebuild even if nothing changed"),
     ) -> None:
@@ -65,19 +73,36 @@ def register(app: typer.Typer) -> None:
             raise DesignError("--fidelity", f"must be one of {', '.join(FIDELITIES)}, got {fid!r}")
         target = out if out is not None else Path("exports") / d.name
         if json_out:
-            rep = build_design(d, target, fmts, fidelity=fid, allow_interference=allow_interference,
-                               phi1_deg=phi1_deg, use_cache=not no_cache)
+            rep = build_design(
+                d,
+                target,
+                fmts,
+                fidelity=fid,
+                allow_interference=allow_interference,
+                phi1_deg=phi1_deg,
+                use_cache=not no_cache,
+            )
             rep.pop("timings_s", None)
             print(json.dumps(rep, sort_keys=True, default=str))
             return
         from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
-        with Progress(TextColumn("{task.description}"), BarColumn(), TimeElapsedColumn(), transient=True) as bar:
+        with Progress(
+            TextColumn("{task.description}"), BarColumn(), TimeElapsedColumn(), transient=True
+        ) as bar:
             task = bar.add_task("build", total=8)
 
             def progress(desc: str, done: int, total: int) -> None:
                 bar.update(task, description=desc, completed=done, total=total)
 
-            rep = build_design(d, target, fmts, fidelity=fid, allow_interference=allow_interference,
-                               phi1_deg=phi1_deg, progress=progress, use_cache=not no_cache)
+            rep = build_design(
+                d,
+                target,
+                fmts,
+                fidelity=fid,
+                allow_interference=allow_interference,
+                phi1_deg=phi1_deg,
+                progress=progress,
+                use_cache=not no_cache,
+            )
         _summary(rep, target, time.perf_counter() - t0)

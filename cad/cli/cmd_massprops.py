@@ -57,6 +57,7 @@ def compute(
         from cad.massprops import occt
 
         shape = mpio.read_step(file)
+        occt.check_valid(shape, Path(file).name)
         vol, com_mm, inertia_mm5 = occt.volume_props_mm(shape)
         props = occt._to_si(vol, com_mm, inertia_mm5, rho)
         out.update(method="occt-exact", watertight=None, n_solids=len(occt.solids(shape)))

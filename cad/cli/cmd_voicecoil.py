@@ -16,7 +16,7 @@ coil leg volume (the B_g that makes eq 8 exact).
 
 JSON (one object): ``optimal_gap_mm``, ``coil_width_mm`` (d_c = d - d_r),
 ``Bg_T`` (field used in eq 8 at the optimum), ``force_N`` (eq 8), ``model``,
-plus ``eta_geom``, ``power_W``, ``br_T``, ``rattle_mm``; with ``--gap-mm`` also
+``at_bound`` (true when the maximum sits on ``--gap-max-mm``), plus ``eta_geom``, ``power_W``, ``br_T``, ``rattle_mm``; with ``--gap-mm`` also
 ``gap_mm``, ``Bg_at_gap_T`` and ``force_at_gap_N`` for that gap. No actuator
 gain (N/A) is given: it needs the number of turns, which eq (8) leaves free.
 Bad values exit 2 with one line naming the flag.
@@ -94,14 +94,39 @@ def compute(
     gmax = _num(gap_max, "--gap-max-mm")
     if gmax is not None and gmax <= dr:
         raise DesignError("--gap-max-mm", f"must exceed --rattle-mm {dr:g}, got {gap_max!r}")
-    params = vc.VoiceCoilParams(lm, wm, tm, dr, pw, b, r, ep)
-    opt = vc.optimal_gap(params, model, gap_max_mm=gmax)
-    out = opt.as_dict()
-    out.update(power_W=pw, br_T=b, rattle_mm=dr, resistivity_ohm_m=r, eta_pack=ep)
-    if g is not None:
-        bg = vc.gap_field_T(g, params, model)
-        out.update(gap_mm=g, Bg_at_gap_T=bg, force_at_gap_N=float(vc.force_eq8_N(bg, g, params)))
+    try:
+        params = vc.VoiceCoilParams(lm, wm, tm, dr, pw, b, r, ep)
+        opt = vc.optimal_gap(params, model, gap_max_mm=gmax)
+        out = opt.as_dict()
+        out.update(power_W=pw, br_T=b, rattle_mm=dr, resistivity_ohm_m=r, eta_pack=ep)
+        if g is not None:
+            import numpy as np
+
+            bg = vc.gap_field_T(g, params, model)
+            with np.errstate(over="ignore"):
+                f_g = float(vc.force_eq8_N(bg, g, params))
+            if not math.isfinite(f_g):
+                raise DesignError("force_N", f"the eq (8) force at --gap-mm {g:g} is {f_g!r} N")
+            out.update(gap_mm=g, Bg_at_gap_T=bg, force_at_gap_N=f_g)
+    except DesignError as exc:  # name the flag the user typed, not the API parameter
+        raise DesignError(_FLAGS.get(exc.field, exc.field), exc.reason) from None
     return out
+
+
+#: API parameter -> the flag that sets it (error messages name what the user typed).
+_FLAGS = {
+    "magnet_length_mm": "--magnet-length-mm",
+    "magnet_width_mm": "--magnet-width-mm",
+    "magnet_thickness_mm": "--magnet-thickness-mm",
+    "rattle_mm": "--rattle-mm",
+    "power_W": "--power-W",
+    "br_T": "--br-T",
+    "resistivity_ohm_m": "--rho-ohm-m",
+    "eta_pack": "--eta-pack",
+    "gap_max_mm": "--gap-max-mm",
+    "gap_mm": "--gap-mm",
+    "model": "--model",
+}
 
 
 def register(app: typer.Typer) -> None:
@@ -155,6 +180,8 @@ def register(app: typer.Typer) -> None:
         print(f"gap field B_g    {out['Bg_T']:.4f} T")
         print(f"force (eq 8)     {out['force_N']:.3f} N at {out['power_W']:g} W")
         print(f"eta_geom         {out['eta_geom']:.4f}")
+        if out["at_bound"]:
+            print("note: the maximum lies on --gap-max-mm (the free optimum is beyond it)")
         if "gap_mm" in out:
             print(
                 f"at gap {out['gap_mm']:g} mm: B_g {out['Bg_at_gap_T']:.4f} T, force {out['force_at_gap_N']:.3f} N"

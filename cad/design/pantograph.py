@@ -36,6 +36,7 @@ Top level: ``name``, ``description`` (strings) and the tables above.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field, replace
 from typing import Any
 
@@ -55,6 +56,20 @@ from cad.design.fields import (
 from cad.errors import DesignError
 
 FAMILIES = ("pantograph", "twin-pantograph", "haptic-pen")
+
+#: Bounds on every dimensional number of a design (mm, N, N m) and on Q1. Outside
+#: them float64 loses the kinematics: the 5-bar IK squares lengths (overflow above
+#: ~1e154 mm, measured RuntimeWarnings at 1e300), the Jacobian divides by them, and
+#: denormal scalings round the singular values. A nanometre and a thousand
+#: kilometres bracket every haptic device with margin.
+MAGNITUDE_MIN = 1e-6
+MAGNITUDE_MAX = 1e9
+#: Most workspace samples one GII may take: the pen's 6x5 Jacobians and their
+#: temporaries cost ~0.5 kB per sample, so 1e6 samples ~ 0.5 GB.
+MAX_WORKSPACE_SAMPLES = 1_000_000
+#: Most (candidate, sample) pairs an [optimize] table may span: culling keeps one
+#: bool per pair (2e8 pairs = 200 MB) and brute force evaluates them all.
+MAX_OPTIMIZE_PAIRS = 200_000_000
 
 _MECH_KEYS = {
     "pantograph": (
@@ -372,6 +387,76 @@ def _int_or_list(ws: dict[str, Any], key: str, n: int, default, prefix: str) -> 
     return v
 
 
+def _magnitude(value: float, field: str, *, small_ok: bool = False) -> None:
+    """DesignError unless |value| <= MAGNITUDE_MAX and (0 or small_ok or |value| >= MAGNITUDE_MIN).
+
+    Only finite numbers are checked: anything else is left to the type validators.
+    """
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+        return
+    a = abs(float(value))
+    if a > MAGNITUDE_MAX:
+        raise DesignError(field, f"must be <= {MAGNITUDE_MAX:g} in magnitude, got {value!r}")
+    if not small_ok and 0 < a < MAGNITUDE_MIN:
+        raise DesignError(field, f"must be >= {MAGNITUDE_MIN:g} in magnitude, got {value!r}")
+
+
+def _check_magnitudes(
+    family: str,
+    mech: dict[str, Any],
+    workspace: dict[str, Any],
+    actuators: dict[str, Any],
+    optimize: dict[str, tuple[float, float, int]],
+) -> None:
+    """Every number inside [MAGNITUDE_MIN, MAGNITUDE_MAX] (coordinates and the base: upper bound only)."""
+    for key in _MECH_KEYS[family]:
+        if key in mech and key not in ("family", "elbow_left", "elbow_right"):
+            _magnitude(mech[key], f"mechanism.{key}", small_ok=key == "base_mm")
+    if not workspace:
+        return
+    for key in ("side_mm", "size_mm", "center_mm", "home_mm"):
+        vals = workspace.get(key)
+        if vals is None:
+            continue
+        for v in vals if isinstance(vals, list) else [vals]:
+            _magnitude(v, f"workspace.{key}", small_ok=key in ("center_mm", "home_mm"))
+    for key in ("torque_max_Nm", "force_max_N", "moment_max_Nm", "moment_arm_mm"):
+        vals = actuators.get(key)
+        if vals is None:
+            continue
+        for v in vals if isinstance(vals, list) else [vals]:
+            _magnitude(v, f"actuators.{key}")
+    for key, (lo, hi, _) in optimize.items():
+        _magnitude(lo, f"optimize.{key}", small_ok=key == "base_mm")
+        _magnitude(hi, f"optimize.{key}", small_ok=key == "base_mm")
+
+
+def _check_sizes(
+    family: str, workspace: dict[str, Any], optimize: dict[str, tuple[float, float, int]]
+) -> None:
+    """Workspace samples <= MAX_WORKSPACE_SAMPLES; optimize pairs <= MAX_OPTIMIZE_PAIRS."""
+    if family == "pantograph":
+        n, field = workspace["grid"] ** 2, "workspace.grid"
+    elif family == "twin-pantograph":
+        n, field = workspace["grid"] ** 2 * workspace["theta_grid"], "workspace.grid"
+    else:
+        g = workspace["grid"]
+        n, field = g[0] * g[1] * g[2] * workspace["rotation_grid"] ** 2, "workspace.grid"
+    if n > MAX_WORKSPACE_SAMPLES:
+        raise DesignError(
+            field, f"gives {n} workspace samples, more than {MAX_WORKSPACE_SAMPLES}: sample coarser"
+        )
+    m = 1
+    for _, _, count in optimize.values():
+        m *= count
+    if m * n > MAX_OPTIMIZE_PAIRS:
+        raise DesignError(
+            "optimize",
+            f"{m} candidates x {n} samples = {m * n} pairs, more than {MAX_OPTIMIZE_PAIRS}: "
+            "use fewer counts or a coarser workspace grid",
+        )
+
+
 def _parse_optimize(raw: dict[str, Any], family: str) -> dict[str, tuple[float, float, int]]:
     table = optional_table(raw, "optimize", "")
     check_unknown(table, OPTIMIZABLE[family], "optimize")
@@ -425,6 +510,7 @@ def parse(raw: dict[str, Any], source: str = "<design>") -> PantographDesign:
             "mechanism.family", f"must be one of {', '.join(FAMILIES)}, got {family!r}"
         )
     check_unknown(mech, _MECH_KEYS[family], "mechanism")
+    _check_magnitudes(family, mech, {}, {}, {})  # before derived values (crank = 1.6 knob) exist
     ws = require_table(raw, "workspace", "")
     check_unknown(ws, _WS_KEYS[family], "workspace")
     act = optional_table(raw, "actuators", "")
@@ -528,6 +614,8 @@ def parse(raw: dict[str, Any], source: str = "<design>") -> PantographDesign:
             "force_max_N": optional_positive(act, "force_max_N", "actuators", 1.0),
             "moment_arm_mm": optional_positive(act, "moment_arm_mm", "actuators", 35.0),
         }
+    _check_magnitudes(family, mech, workspace, actuators, optimize)
+    _check_sizes(family, workspace, optimize)
     if "parts" in raw and family != "twin-pantograph":
         raise DesignError(
             "parts", f"parts are generated for the twin-pantograph only, not {family!r}"

@@ -169,16 +169,36 @@ class PartsSpec:
 
 
 _POSITIVE = (
-    "bar_width_mm", "bar_thickness_mm", "bar_pocket_web_mm", "bar_pocket_min_length_mm",
-    "bar_min_wall_mm", "bearing_lip_mm", "pin_head_clearance_mm", "layer_gap_mm",
-    "motor_mount_thickness_mm", "hub_diameter_mm", "hub_shaft_engagement_min_mm",
-    "base_thickness_mm", "base_clearance_mm", "post_diameter_mm", "handle_diameter_mm",
-    "handle_height_mm", "stl_tolerance_mm", "stl_angular_tolerance_deg",
+    "bar_width_mm",
+    "bar_thickness_mm",
+    "bar_pocket_web_mm",
+    "bar_pocket_min_length_mm",
+    "bar_min_wall_mm",
+    "bearing_lip_mm",
+    "pin_head_clearance_mm",
+    "layer_gap_mm",
+    "motor_mount_thickness_mm",
+    "hub_diameter_mm",
+    "hub_shaft_engagement_min_mm",
+    "base_thickness_mm",
+    "base_clearance_mm",
+    "post_diameter_mm",
+    "handle_diameter_mm",
+    "handle_height_mm",
+    "stl_tolerance_mm",
+    "stl_angular_tolerance_deg",
 )
 _NONNEG = ("base_margin_mm", "handle_fillet_mm", "clearance_min_mm")
 _OPTIONAL_POSITIVE = ("bar_end_radius_mm", "bearing_mass_g", "motor_rotor_inertia_g_cm2")
-_MATERIALS = ("bar_material", "spacer_material", "motor_mount_material", "hub_material",
-              "base_material", "post_material", "handle_material")
+_MATERIALS = (
+    "bar_material",
+    "spacer_material",
+    "motor_mount_material",
+    "hub_material",
+    "base_material",
+    "post_material",
+    "handle_material",
+)
 _STRINGS = ("bearing", "pin", "motor", "hub_screw", "handle_screw", "handle_script", "fidelity")
 _BOOLS = ("bar_pockets",)
 ALLOWED_KEYS = tuple(f.name for f in fields(PartsSpec))
@@ -235,7 +255,9 @@ def parse_parts(table: dict[str, Any] | None, prefix: str = "parts") -> PartsSpe
         vals[key] = _string(table, key, prefix, getattr(d, key))
     for key in _BOOLS:
         vals[key] = _bool(table, key, prefix, getattr(d, key))
-    vals["interference_poses"] = optional_int(table, "interference_poses", prefix, d.interference_poses, minimum=2)
+    vals["interference_poses"] = optional_int(
+        table, "interference_poses", prefix, d.interference_poses, minimum=2
+    )
 
     from cad.materials import get_material
 
@@ -244,17 +266,23 @@ def parse_parts(table: dict[str, Any] | None, prefix: str = "parts") -> PartsSpe
         vals[key] = get_material(name, _f(prefix, key)).name
 
     if vals["fidelity"] not in FIDELITIES:
-        raise DesignError(_f(prefix, "fidelity"),
-                          f"must be one of {', '.join(FIDELITIES)}, got {vals['fidelity']!r}")
+        raise DesignError(
+            _f(prefix, "fidelity"),
+            f"must be one of {', '.join(FIDELITIES)}, got {vals['fidelity']!r}",
+        )
     script = vals["handle_script"]
     if script is not None and not script.endswith(".py"):
-        raise DesignError(_f(prefix, "handle_script"), f"must name a Python file (*.py), got {script!r}")
+        raise DesignError(
+            _f(prefix, "handle_script"), f"must name a Python file (*.py), got {script!r}"
+        )
 
     order = table.get("layer_order")
     if order is not None:
-        if (not isinstance(order, list) or sorted(order) != sorted(LINK_NAMES)):
-            raise DesignError(_f(prefix, "layer_order"),
-                              f"must list crank, coupler and rocker once each (bottom to top), got {order!r}")
+        if not isinstance(order, list) or sorted(order) != sorted(LINK_NAMES):
+            raise DesignError(
+                _f(prefix, "layer_order"),
+                f"must list crank, coupler and rocker once each (bottom to top), got {order!r}",
+            )
         vals["layer_order"] = tuple(order)
     else:
         vals["layer_order"] = None
@@ -263,8 +291,10 @@ def parse_parts(table: dict[str, Any] | None, prefix: str = "parts") -> PartsSpe
     given_r = vals["bar_end_radius_mm"]
     r_end = given_r if given_r is not None else vals["bar_width_mm"] / 2.0
     if r_end < vals["bar_width_mm"] / 2.0 - 1e-12:
-        raise DesignError(_f(prefix, "bar_end_radius_mm"),
-                          f"must be >= bar_width_mm / 2 = {vals['bar_width_mm'] / 2:g} mm, got {given_r!r}")
+        raise DesignError(
+            _f(prefix, "bar_end_radius_mm"),
+            f"must be >= bar_width_mm / 2 = {vals['bar_width_mm'] / 2:g} mm, got {given_r!r}",
+        )
     vals["bar_end_radius_mm"] = r_end
 
     _check_hardware(vals, prefix, given_r is not None)
@@ -328,11 +358,15 @@ def _check_hardware(v: dict[str, Any], prefix: str, end_radius_given: bool) -> N
         )
     hs = catalog.get_cap_screw(v["handle_screw"], _f(prefix, "handle_screw"))
     if v["handle_diameter_mm"] < hs.dk_mm + 2.0:
-        raise DesignError(_f(prefix, "handle_diameter_mm"),
-                          f"a {v['handle_diameter_mm']:g} mm knob cannot take the {v['handle_screw']} screw")
+        raise DesignError(
+            _f(prefix, "handle_diameter_mm"),
+            f"a {v['handle_diameter_mm']:g} mm knob cannot take the {v['handle_screw']} screw",
+        )
     if 2 * v["handle_fillet_mm"] >= min(v["handle_diameter_mm"], v["handle_height_mm"]):
-        raise DesignError(_f(prefix, "handle_fillet_mm"),
-                          f"{v['handle_fillet_mm']:g} mm is too large for a {v['handle_diameter_mm']:g} mm knob")
+        raise DesignError(
+            _f(prefix, "handle_fillet_mm"),
+            f"{v['handle_fillet_mm']:g} mm is too large for a {v['handle_diameter_mm']:g} mm knob",
+        )
 
 
 def default_parts() -> PartsSpec:

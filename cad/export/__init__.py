@@ -28,8 +28,16 @@ STL_TOLERANCE_MM = 0.01
 STL_ANGULAR_TOLERANCE_RAD = math.radians(15.0)
 
 __all__ = [
-    "BOM_COLUMNS", "FORMATS", "MANIFEST_NAME", "bom_csv", "export_assembly_step", "export_part",
-    "parse_formats", "verify_manifest", "write_bom", "write_manifest",
+    "BOM_COLUMNS",
+    "FORMATS",
+    "MANIFEST_NAME",
+    "bom_csv",
+    "export_assembly_step",
+    "export_part",
+    "parse_formats",
+    "verify_manifest",
+    "write_bom",
+    "write_manifest",
 ]
 
 
@@ -40,7 +48,9 @@ def parse_formats(text: str | None, field: str = "--formats") -> set[str]:
     out = {t.strip().lower() for t in text.split(",") if t.strip()}
     bad = sorted(out - set(FORMATS))
     if bad or not out:
-        raise DesignError(field, f"unknown format(s) {', '.join(bad) or repr(text)} (known: {', '.join(FORMATS)})")
+        raise DesignError(
+            field, f"unknown format(s) {', '.join(bad) or repr(text)} (known: {', '.join(FORMATS)})"
+        )
     return out
 
 
@@ -98,8 +108,9 @@ def export_part(
     return written
 
 
-def export_assembly_step(items: list[tuple[str, object, tuple[float, float, float]]], path: Path,
-                         name: str | None = None) -> Path:
+def export_assembly_step(
+    items: list[tuple[str, object, tuple[float, float, float]]], path: Path, name: str | None = None
+) -> Path:
     """Assembly STEP at ``path``: one named, coloured solid per ``(name, shape, rgb)`` item.
 
     Shapes must already be placed in the world frame (mm).

@@ -8,8 +8,16 @@ from pathlib import Path
 
 from cad.io.atomic import write_text_atomic
 
-BOM_COLUMNS = ("part", "description", "material", "quantity", "made_or_bought", "process",
-               "mass_g", "total_mass_g")
+BOM_COLUMNS = (
+    "part",
+    "description",
+    "material",
+    "quantity",
+    "made_or_bought",
+    "process",
+    "mass_g",
+    "total_mass_g",
+)
 
 
 def bom_csv(rows: list[dict]) -> str:
@@ -32,5 +40,7 @@ def write_bom(rows: list[dict], out_dir: Path) -> Path:
     made_or_bought ("made" or "bought") and mass_g (each), optional description/process."""
     for r in rows:
         if r.get("made_or_bought") not in ("made", "bought"):
-            raise ValueError(f"BOM row {r.get('part')!r}: made_or_bought must be 'made' or 'bought'")
+            raise ValueError(
+                f"BOM row {r.get('part')!r}: made_or_bought must be 'made' or 'bought'"
+            )
     return write_text_atomic(Path(out_dir) / "bom.csv", bom_csv(rows))

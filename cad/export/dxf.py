@@ -1,8 +1,11 @@
 """DXF profiles of plate parts for laser or waterjet cutting (ezdxf, DXF R2000, mm).
 
-The profile is the section of the plate by the plane half-way through its
-thickness (plates are 2.5-D: every feature goes through), so the DXF holds the
-outline and every hole. Lines become LINE, full circles CIRCLE, circular arcs ARC
+Layers: ``CUT`` is the through profile -- the plate's section at the level (between two
+consecutive z levels of its flat faces) with the most material, i.e. outline and through
+holes only; every other level with less material (a bearing seat counterbored into a
+bar, say) is written on its own layer ``MILL_Z<lo>_<hi>`` (its full section, z in mm from
+the plate's bottom face) for the machining after cutting. A plain 2.5-D plate has only
+``CUT``. Lines become LINE, full circles CIRCLE, circular arcs ARC
 (counter-clockwise, as DXF requires), anything else an LWPOLYLINE sampled at
 :data:`DXF_SAMPLE_DEFLECTION_MM`. Metadata is fixed
 (``ezdxf.options.write_fixed_meta_data_for_testing``): no time stamps or random
@@ -41,48 +44,104 @@ def _section_edges(shape, z_mm: float):
     return edges
 
 
-def plate_profile_dxf(shape, name: str) -> str:
-    """DXF text of a plate's cutting profile (section at mid-thickness, z up)."""
-    import ezdxf
+def _z_levels(shape) -> list[float]:
+    """Heights of the plate's faces normal to z (sorted, merged within 1e-7 mm)."""
+    from OCP.BRepAdaptor import BRepAdaptor_Surface
+    from OCP.GeomAbs import GeomAbs_Plane
+    from OCP.TopAbs import TopAbs_FACE
+    from OCP.TopExp import TopExp_Explorer
+    from OCP.TopoDS import TopoDS
+
+    zs: list[float] = []
+    exp = TopExp_Explorer(shape, TopAbs_FACE)
+    while exp.More():
+        srf = BRepAdaptor_Surface(TopoDS.Face_s(exp.Current()))
+        exp.Next()
+        if srf.GetType() != GeomAbs_Plane:
+            continue
+        pln = srf.Plane()
+        if abs(abs(pln.Axis().Direction().Z()) - 1.0) < 1e-9:
+            zs.append(pln.Location().Z())
+    out: list[float] = []
+    for z in sorted(zs):
+        if not out or z - out[-1] > 1e-7:
+            out.append(z)
+    return out
+
+
+def _slab_area_mm2(shape, z0: float, z1: float) -> float:
+    """Mean cross-section area of ``shape`` between z0 and z1 (volume of the slab / height)."""
     from OCP.Bnd import Bnd_Box
-    from OCP.BRepAdaptor import BRepAdaptor_Curve
+    from OCP.BRepAlgoAPI import BRepAlgoAPI_Common
     from OCP.BRepBndLib import BRepBndLib
-    from OCP.GCPnts import GCPnts_QuasiUniformDeflection
-    from OCP.GeomAbs import GeomAbs_Circle, GeomAbs_Line
+    from OCP.BRepGProp import BRepGProp
+    from OCP.BRepPrimAPI import BRepPrimAPI_MakeBox
+    from OCP.gp import gp_Pnt
+    from OCP.GProp import GProp_GProps
 
     box = Bnd_Box()
     BRepBndLib.Add_s(shape, box)
-    _, _, z0, _, _, z1 = box.Get()
-    edges = _section_edges(shape, 0.5 * (z0 + z1))
+    x0, y0, _, x1, y1, _ = box.Get()
+    slab = BRepPrimAPI_MakeBox(gp_Pnt(x0 - 1, y0 - 1, z0), gp_Pnt(x1 + 1, y1 + 1, z1)).Shape()
+    props = GProp_GProps()
+    BRepGProp.VolumeProperties_s(BRepAlgoAPI_Common(shape, slab).Shape(), props)
+    return props.Mass() / (z1 - z0)
 
+
+def _add_edges(msp, edges, layer: str) -> None:
+    from OCP.BRepAdaptor import BRepAdaptor_Curve
+    from OCP.GCPnts import GCPnts_QuasiUniformDeflection
+    from OCP.GeomAbs import GeomAbs_Circle, GeomAbs_Line
+
+    att = {"layer": layer}
+    for e in edges:
+        c = BRepAdaptor_Curve(e)
+        u0, u1 = c.FirstParameter(), c.LastParameter()
+        p0, p1 = c.Value(u0), c.Value(u1)
+        kind = c.GetType()
+        if kind == GeomAbs_Line:
+            msp.add_line((p0.X(), p0.Y()), (p1.X(), p1.Y()), dxfattribs=att)
+        elif kind == GeomAbs_Circle:
+            circ = c.Circle()
+            ctr, r = circ.Location(), circ.Radius()
+            if abs(u1 - u0 - 2 * math.pi) < 1e-9:
+                msp.add_circle((ctr.X(), ctr.Y()), r, dxfattribs=att)
+                continue
+            a0 = math.degrees(math.atan2(p0.Y() - ctr.Y(), p0.X() - ctr.X()))
+            a1 = math.degrees(math.atan2(p1.Y() - ctr.Y(), p1.X() - ctr.X()))
+            if circ.Axis().Direction().Z() < 0:  # clockwise in the plate plane
+                a0, a1 = a1, a0
+            msp.add_arc((ctr.X(), ctr.Y()), r, a0 % 360.0, a1 % 360.0, dxfattribs=att)
+        else:
+            samp = GCPnts_QuasiUniformDeflection(c, DXF_SAMPLE_DEFLECTION_MM)
+            pts = [(samp.Value(i).X(), samp.Value(i).Y()) for i in range(1, samp.NbPoints() + 1)]
+            msp.add_lwpolyline(pts, dxfattribs=att)
+
+
+def plate_profile_dxf(shape, name: str) -> str:
+    """DXF text of a plate's cutting profile (layer ``CUT``) and milled levels (``MILL_*``)."""
+    import ezdxf
+
+    levels = _z_levels(shape)
+    if len(levels) < 2:
+        raise GeometryError(f"{name}: not a plate (needs flat faces normal to z)")
+    bands = list(zip(levels[:-1], levels[1:], strict=True))
+    areas = [_slab_area_mm2(shape, a, b) for a, b in bands] if len(bands) > 1 else [1.0]
+    i_cut = max(range(len(bands)), key=lambda i: (areas[i], -i))
+    z_bottom = levels[0]
     old = ezdxf.options.write_fixed_meta_data_for_testing
     ezdxf.options.write_fixed_meta_data_for_testing = True
     try:
         doc = ezdxf.new("R2000", setup=False)
         doc.header["$INSUNITS"] = 4  # millimetres
         msp = doc.modelspace()
-        for e in edges:
-            c = BRepAdaptor_Curve(e)
-            u0, u1 = c.FirstParameter(), c.LastParameter()
-            p0, p1 = c.Value(u0), c.Value(u1)
-            kind = c.GetType()
-            if kind == GeomAbs_Line:
-                msp.add_line((p0.X(), p0.Y()), (p1.X(), p1.Y()), dxfattribs={"layer": "CUT"})
-            elif kind == GeomAbs_Circle:
-                circ = c.Circle()
-                ctr, r = circ.Location(), circ.Radius()
-                if abs(u1 - u0 - 2 * math.pi) < 1e-9:
-                    msp.add_circle((ctr.X(), ctr.Y()), r, dxfattribs={"layer": "CUT"})
-                    continue
-                a0 = math.degrees(math.atan2(p0.Y() - ctr.Y(), p0.X() - ctr.X()))
-                a1 = math.degrees(math.atan2(p1.Y() - ctr.Y(), p1.X() - ctr.X()))
-                if circ.Axis().Direction().Z() < 0:  # clockwise in the plate plane
-                    a0, a1 = a1, a0
-                msp.add_arc((ctr.X(), ctr.Y()), r, a0 % 360.0, a1 % 360.0, dxfattribs={"layer": "CUT"})
-            else:
-                samp = GCPnts_QuasiUniformDeflection(c, DXF_SAMPLE_DEFLECTION_MM)
-                pts = [(samp.Value(i).X(), samp.Value(i).Y()) for i in range(1, samp.NbPoints() + 1)]
-                msp.add_lwpolyline(pts, dxfattribs={"layer": "CUT"})
+        for i, (a, b) in enumerate(bands):
+            if i != i_cut and areas[i] >= areas[i_cut] - 1e-9:
+                continue  # same material as the through profile: nothing to mill there
+            layer = "CUT" if i == i_cut else f"MILL_Z{a - z_bottom:.2f}_{b - z_bottom:.2f}"
+            if layer not in doc.layers:
+                doc.layers.add(layer)
+            _add_edges(msp, _section_edges(shape, 0.5 * (a + b)), layer)
         buf = io.StringIO()
         doc.write(buf)
         return buf.getvalue()
@@ -90,54 +149,76 @@ def plate_profile_dxf(shape, name: str) -> str:
         ezdxf.options.write_fixed_meta_data_for_testing = old
 
 
-def dxf_profile_area_mm2(text: str) -> float:
-    """Net area enclosed by a profile written by :func:`plate_profile_dxf` (mm^2).
+def dxf_profile_area_mm2(text: str, layer: str = "CUT") -> float:
+    """Net area enclosed by one layer of a profile written by :func:`plate_profile_dxf` (mm^2).
 
-    Rebuilds closed loops from the DXF entities with ezdxf's path tools and returns
-    the outer area minus the holes (the largest loop is the outline). Used by tests
-    to check a DXF against the solid's volume / thickness.
+    Exact for LINE / ARC / CIRCLE entities (Green's theorem per entity, pieces chained end
+    to end into closed loops; polylines by their vertices). The largest loop is the
+    outline, every other loop a hole. Used by tests to check a DXF against the solid.
     """
     import ezdxf
-    from ezdxf import path as ezpath
 
     doc = ezdxf.read(io.StringIO(text))
-    paths = [ezpath.make_path(e) for e in doc.modelspace()]
-    loops = _chain(paths)
-    areas = sorted((abs(_shoelace(lp)) for lp in loops), reverse=True)
+    pieces = []  # (start, end, 0.5 * integral of x dy - y dx along start -> end)
+    areas = []
+    for e in doc.modelspace():
+        if e.dxf.layer != layer:
+            continue
+        kind = e.dxftype()
+        if kind == "CIRCLE":
+            areas.append(math.pi * e.dxf.radius**2)
+        elif kind == "LINE":
+            p0, p1 = (e.dxf.start.x, e.dxf.start.y), (e.dxf.end.x, e.dxf.end.y)
+            pieces.append((p0, p1, 0.5 * (p0[0] * p1[1] - p1[0] * p0[1])))
+        elif kind == "ARC":
+            cx, cy, r = e.dxf.center.x, e.dxf.center.y, e.dxf.radius
+            a0 = math.radians(e.dxf.start_angle)
+            a1 = math.radians(e.dxf.end_angle)
+            if a1 <= a0:
+                a1 += 2 * math.pi
+            w = 0.5 * (
+                r * r * (a1 - a0)
+                + cx * r * (math.sin(a1) - math.sin(a0))
+                - cy * r * (math.cos(a1) - math.cos(a0))
+            )
+            pieces.append(
+                (
+                    (cx + r * math.cos(a0), cy + r * math.sin(a0)),
+                    (cx + r * math.cos(a1), cy + r * math.sin(a1)),
+                    w,
+                )
+            )
+        elif kind == "LWPOLYLINE":
+            pts = [(x, y) for x, y, *_ in e.get_points()]
+            for q0, q1 in zip(pts[:-1], pts[1:], strict=True):
+                pieces.append((q0, q1, 0.5 * (q0[0] * q1[1] - q1[0] * q0[1])))
+    areas += _loop_areas(pieces)
     if not areas:
         raise GeometryError("DXF has no closed loop")
+    areas.sort(reverse=True)
     return areas[0] - sum(areas[1:])
 
 
-def _shoelace(pts) -> float:
-    a = 0.0
-    for (x0, y0), (x1, y1) in zip(pts, pts[1:] + pts[:1], strict=True):
-        a += x0 * y1 - x1 * y0
-    return 0.5 * a
-
-
-def _chain(paths, tol: float = 1e-6):
-    """Join path pieces end to end into closed point loops."""
-    pieces = []
-    for p in paths:
-        pts = [(v.x, v.y) for v in p.flattening(0.001)]
-        if len(pts) >= 2:
-            pieces.append(pts)
-    loops = []
+def _loop_areas(pieces, tol: float = 1e-6) -> list[float]:
+    """Chain directed pieces (reversing as needed) into closed loops; |signed area| of each."""
+    pieces = list(pieces)
+    out = []
     while pieces:
-        cur = pieces.pop(0)
-        grown = True
-        while grown and math.dist(cur[0], cur[-1]) > tol:
-            grown = False
-            for i, q in enumerate(pieces):
-                if math.dist(cur[-1], q[0]) <= tol:
-                    cur = cur + q[1:]
-                elif math.dist(cur[-1], q[-1]) <= tol:
-                    cur = cur + q[::-1][1:]
+        start, end, w = pieces.pop(0)
+        total = w
+        while math.dist(start, end) > tol:
+            for i, (p0, p1, wi) in enumerate(pieces):
+                if math.dist(end, p0) <= tol:
+                    end, total = p1, total + wi
+                elif math.dist(end, p1) <= tol:
+                    end, total = p0, total - wi
                 else:
                     continue
                 pieces.pop(i)
-                grown = True
                 break
-        loops.append(cur[:-1] if math.dist(cur[0], cur[-1]) <= tol else cur)
-    return loops
+            else:
+                raise GeometryError(
+                    f"DXF profile has an open loop near ({end[0]:.4f}, {end[1]:.4f})"
+                )
+        out.append(abs(total))
+    return out

@@ -26,7 +26,11 @@ def manifest_entries(out_dir: Path) -> list[dict]:
     rows = []
     for p in sorted(out_dir.rglob("*")):
         rel = p.relative_to(out_dir)
-        if not p.is_file() or rel.as_posix() == MANIFEST_NAME or any(s.startswith(".") for s in rel.parts):
+        if (
+            not p.is_file()
+            or rel.as_posix() == MANIFEST_NAME
+            or any(s.startswith(".") for s in rel.parts)
+        ):
             continue
         rows.append({"path": rel.as_posix(), "sha256": sha256_file(p), "bytes": p.stat().st_size})
     return rows
@@ -37,7 +41,9 @@ def write_manifest(out_dir: Path, extra: dict | None = None) -> Path:
     doc = {"files": manifest_entries(Path(out_dir))}
     if extra:
         doc.update(extra)
-    return write_text_atomic(Path(out_dir) / MANIFEST_NAME, json.dumps(doc, indent=2, sort_keys=True) + "\n")
+    return write_text_atomic(
+        Path(out_dir) / MANIFEST_NAME, json.dumps(doc, indent=2, sort_keys=True) + "\n"
+    )
 
 
 def verify_manifest(out_dir: Path) -> dict | None:

@@ -64,7 +64,9 @@ def manifold_status(vertices_mm: np.ndarray, faces: np.ndarray) -> str:
     return manifold3d.Manifold(mesh).status().name
 
 
-def mesh_shape(shape, tolerance_mm: float, angular_tolerance_rad: float) -> tuple[np.ndarray, np.ndarray]:
+def mesh_shape(
+    shape, tolerance_mm: float, angular_tolerance_rad: float
+) -> tuple[np.ndarray, np.ndarray]:
     """Merged triangle mesh ``(vertices_mm, faces)`` of a ``TopoDS_Shape`` at an absolute tolerance."""
     from cad.massprops.mesh import extract_arrays, triangulate
 
@@ -103,7 +105,9 @@ def read_stl_arrays(data: bytes) -> tuple[np.ndarray, np.ndarray]:
     if len(data) < 84:
         raise MeshError("not a binary STL (shorter than 84 bytes)")
     n = int(np.frombuffer(data[80:84], dtype="<u4")[0])
-    rec = np.frombuffer(data[84:84 + 50 * n], dtype=[("n", "<f4", (3,)), ("v", "<f4", (3, 3)), ("a", "<u2")])
+    rec = np.frombuffer(
+        data[84 : 84 + 50 * n], dtype=[("n", "<f4", (3,)), ("v", "<f4", (3, 3)), ("a", "<u2")]
+    )
     if len(rec) != n:
         raise MeshError(f"binary STL truncated: {len(rec)} of {n} triangles")
     v = rec["v"].reshape(-1, 3).astype(np.float64)

@@ -96,6 +96,33 @@ def _check(problem) -> tuple[int, int]:
     return M, N
 
 
+def checked_sigma(problem, ci: np.ndarray, pi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``problem.sigma(ci, pi)`` after checking 0 <= sigma_min <= sigma_max < inf.
+
+    Singular values are finite and non-negative by definition; anything else
+    (a NaN from a kernel, a negative value) would make the argmax of eq (6)
+    meaningless and brute force and culling disagree, so it is a
+    :class:`DesignError` naming the candidate and the sample.
+    """
+    s0, s1 = problem.sigma(ci, pi)
+    s0 = np.asarray(s0, dtype=float)
+    s1 = np.asarray(s1, dtype=float)
+    if s0.shape != ci.shape or s1.shape != ci.shape:
+        raise DesignError(
+            "optimize", f"sigma returned shapes {s0.shape}, {s1.shape} for {ci.shape} pairs"
+        )
+    with np.errstate(invalid="ignore"):
+        bad = ~(np.isfinite(s0) & np.isfinite(s1) & (s0 >= 0.0) & (s0 <= s1))
+    if bad.any():
+        k = int(np.flatnonzero(bad)[0])
+        raise DesignError(
+            "optimize",
+            f"candidate {int(ci[k])} at workspace sample {int(pi[k])}: sigma_min = {s0[k]!r}, "
+            f"sigma_max = {s1[k]!r}; singular values must satisfy 0 <= sigma_min <= sigma_max < inf",
+        )
+    return s0, s1
+
+
 def brute_force(problem: MinimaxProblem, chunk_pairs: int = 250_000) -> OptimizeResult:
     """Evaluate every candidate at every sample; argmax of the GII (first on ties)."""
     t0 = time.perf_counter()
@@ -108,7 +135,7 @@ def brute_force(problem: MinimaxProblem, chunk_pairs: int = 250_000) -> Optimize
         c = np.arange(c0, min(M, c0 + per))
         ci = np.repeat(c, N)
         pi = np.tile(pts, c.size)
-        s0, s1 = problem.sigma(ci, pi)
+        s0, s1 = checked_sigma(problem, ci, pi)
         smin[c] = s0.reshape(c.size, N).min(axis=1)
         smax[c] = s1.reshape(c.size, N).max(axis=1)
     g = gii_ratio(smin, smax)
@@ -143,7 +170,7 @@ class _State:
     def evaluate(self, ci: np.ndarray, pi: np.ndarray) -> None:
         if ci.size == 0:
             return
-        s0, s1 = self.problem.sigma(ci, pi)
+        s0, s1 = checked_sigma(self.problem, ci, pi)
         self.evaluations += int(ci.size)
         self.evaluated[ci, pi] = True
         np.add.at(self.n_eval, ci, 1)

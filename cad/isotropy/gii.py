@@ -27,7 +27,10 @@ from cad.errors import DesignError
 
 
 def _scale_vector(values, n: int, name: str) -> np.ndarray:
-    v = np.asarray(values, dtype=float).reshape(-1)
+    try:
+        v = np.asarray(values, dtype=float).reshape(-1)
+    except (TypeError, ValueError):
+        raise DesignError(name, f"must be {n} numbers (or one), got {values!r}") from None
     if v.size == 1:
         v = np.full(n, float(v[0]))
     if v.size != n:
@@ -123,6 +126,13 @@ def gii_from_jacobians(
     J: (N, m, n) SI Jacobians; status: (N,) int, 0 = ok, anything else names a
     failure through ``status_names``; points: (N, d) coordinates of the
     samples, reported back. Scales as :func:`normalized_jacobian`.
+
+    Bad input is a :class:`DesignError`: non-finite J at a point whose status is
+    ok (a failure must be a status, never a NaN), non-finite points, scales that
+    are not finite and > 0, or scales that push J_hat out of float64. The
+    singular values are computed with S_J and S_T divided by their largest
+    entry (eq 5 is invariant to that), so the units chosen cannot lose
+    precision; ``sigma_min`` / ``sigma_max`` are reported in the given units.
     """
     J = np.asarray(J, dtype=float)
     status = np.asarray(status).reshape(-1)
@@ -134,15 +144,52 @@ def gii_from_jacobians(
             "jacobian",
             f"J, status and points disagree on N: {J.shape[0]}, {status.shape[0]}, {points.shape[0]}",
         )
-    Jh = normalized_jacobian(J, actuator_scale, task_scale)
-    smin, smax = singular_value_extremes(Jh)
     ok = status == 0
+    if points.ndim != 2 or not np.all(np.isfinite(points)):
+        raise DesignError("points", f"must be finite with shape (N, d), got shape {points.shape}")
+    bad = ok & ~np.all(np.isfinite(J), axis=(1, 2))
+    if bad.any():
+        i = int(np.flatnonzero(bad)[0])
+        raise DesignError(
+            "jacobian",
+            f"non-finite entries at sample {i} (point {points[i].tolist()}) whose status is ok: "
+            "a failed point must carry a non-zero status, never NaN",
+        )
+    m, n = J.shape[1:]
+    sj = _scale_vector(actuator_scale, m, "actuator_scale")
+    st = _scale_vector(task_scale, n, "task_scale")
+    # eq (5) is invariant to a uniform factor on S_J and on S_T: evaluate with both
+    # normalized to a largest entry of 1 (no over/underflow from the units chosen),
+    # then report the singular values in the caller's units.
+    k = sj.max() / st.max()
+    with np.errstate(over="ignore", invalid="ignore"):
+        Jh = np.where(ok[:, None, None], J, 0.0) * (sj / sj.max())[:, None] / (st / st.max())
+    over = ~np.all(np.isfinite(Jh), axis=(1, 2))
+    if over.any():
+        i = int(np.flatnonzero(over)[0])
+        raise DesignError(
+            "task_scale",
+            f"J_hat = S_J J S_T^-1 overflows float64 at sample {i} (point {points[i].tolist()}): "
+            f"the entries of S_T span {np.log10(st.max()) - np.log10(st.min()):.0f} decades",
+        )
+    smin, smax = singular_value_extremes(Jh)
     smin = np.where(ok, smin, 0.0)
     smax = np.where(ok, smax, 0.0)
     i_min = int(np.argmin(smin))
     i_max = int(np.argmax(smax))
-    s_min, s_max = float(smin[i_min]), float(smax[i_max])
-    gii = float(gii_ratio(s_min, s_max))
+    gii = float(gii_ratio(smin[i_min], smax[i_max]))
+    with np.errstate(over="ignore", under="ignore"):
+        s_min, s_max = float(smin[i_min] * k), float(smax[i_max] * k)
+    if (
+        not (np.isfinite(s_max) and np.isfinite(s_min))
+        or (s_max == 0.0 and smax[i_max] > 0)
+        or (s_min == 0.0 and smin[i_min] > 0)
+    ):
+        raise DesignError(
+            "actuator_scale",
+            f"S_J / S_T = {k:.3g} puts the singular values of J_hat = S_J J S_T^-1 outside "
+            "float64: give torques in N m and forces in N",
+        )
     failure = failed_index = failed_at = None
     n_failed = int(np.count_nonzero(~ok))
     if n_failed:
@@ -152,7 +199,7 @@ def gii_from_jacobians(
         failure = names.get(code, f"status {code}")
         failed_at = points[failed_index].copy()
         i_min = failed_index
-    elif s_min == 0.0:
+    elif smin[i_min] == 0.0:
         failure = "singular: sigma_min(J_hat) = 0"
         failed_index = i_min
         failed_at = points[i_min].copy()

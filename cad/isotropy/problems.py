@@ -16,7 +16,51 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 
 from cad.errors import DesignError
-from cad.isotropy.gii import boundary_first_order, singular_value_extremes
+from cad.isotropy.gii import _scale_vector, boundary_first_order, singular_value_extremes
+
+
+def _params(params, names: Sequence[str], nonnegative: Sequence[str] = ()) -> dict[str, np.ndarray]:
+    """The (M,) arrays of ``names`` from ``params``: finite, > 0 (>= 0 for ``nonnegative``)."""
+    out = {}
+    for name in names:
+        if name not in params:
+            raise DesignError(f"optimize.{name}", "missing parameter")
+        try:
+            v = np.asarray(params[name], dtype=float).reshape(-1)
+        except (TypeError, ValueError):
+            raise DesignError(f"optimize.{name}", f"must be numbers, got {params[name]!r}") from None
+        bad = ~np.isfinite(v) | ((v < 0) if name in nonnegative else (v <= 0))
+        if bad.any():
+            limit = ">= 0" if name in nonnegative else "> 0"
+            raise DesignError(
+                f"optimize.{name}", f"must be finite and {limit}, got {v[bad][0]!r}"
+            )
+        out[name] = v
+    sizes = {v.size for v in out.values()}
+    if len(sizes) > 1:
+        raise DesignError("optimize", f"parameter arrays differ in length: {sorted(sizes)}")
+    return out
+
+
+def _points(points, d: int, grid_shape: tuple[int, ...]) -> np.ndarray:
+    X = np.asarray(points, dtype=float)
+    if X.ndim != 2 or X.shape[1] != d or not np.all(np.isfinite(X)):
+        raise DesignError("workspace", f"samples must be finite with shape (N, {d}), got {X.shape}")
+    if int(np.prod(grid_shape)) != X.shape[0]:
+        raise DesignError(
+            "workspace", f"grid {grid_shape} does not match the {X.shape[0]} samples given"
+        )
+    return X
+
+
+def _positive(value, field: str) -> float:
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise DesignError(field, f"must be a number, got {value!r}") from None
+    if not (np.isfinite(v) and v > 0):
+        raise DesignError(field, f"must be finite and > 0, got {value!r}")
+    return v
 
 
 def candidate_grid(
@@ -47,7 +91,8 @@ def candidate_grid(
     params = {name: grid[:, k].copy() for k, name in enumerate(names)}
     for name, value in fixed.items():
         if name not in params:
-            params[name] = np.full(M, float(value))
+            v = _positive(value, f"mechanism.{name}") if value != 0 else 0.0
+            params[name] = np.full(M, v)
     return names, params
 
 
@@ -77,23 +122,14 @@ class FiveBarProblem:
     def __init__(
         self, params, points_mm, grid_n: int, torque_max_Nm=(1.0, 1.0), force_max_N=(1.0, 1.0)
     ):
-        for name in self.param_names:
-            if name not in params:
-                raise DesignError(f"optimize.{name}", "missing parameter")
-        self.a = np.asarray(params["base_mm"], dtype=float)
-        self.l2 = np.asarray(params["proximal_mm"], dtype=float)
-        self.l3 = np.asarray(params["distal_mm"], dtype=float)
-        if np.any(self.a < 0):
-            raise DesignError("optimize.base_mm", f"must be >= 0, got min {self.a.min()!r}")
-        for name, v in (("proximal_mm", self.l2), ("distal_mm", self.l3)):
-            if np.any(v <= 0):
-                raise DesignError(f"optimize.{name}", f"must be > 0, got min {v.min()!r}")
-        self.points_mm = np.asarray(points_mm, dtype=float)
+        p = _params(params, self.param_names, nonnegative=("base_mm",))
+        self.a, self.l2, self.l3 = p["base_mm"], p["proximal_mm"], p["distal_mm"]
         self.grid_n = int(grid_n)
+        self.points_mm = _points(points_mm, 2, (self.grid_n, self.grid_n))
         self.n_candidates = int(self.a.size)
         self.n_points = int(self.points_mm.shape[0])
-        self.sj = np.broadcast_to(np.asarray(torque_max_Nm, dtype=float), (2,))
-        self.st = np.broadcast_to(np.asarray(force_max_N, dtype=float), (2,))
+        self.sj = _scale_vector(torque_max_Nm, 2, "actuators.torque_max_Nm")
+        self.st = _scale_vector(force_max_N, 2, "actuators.force_max_N")
 
     def sigma(self, cand: np.ndarray, point: np.ndarray):
         from cad.kinematics.fivebar import jacobian_arrays
@@ -142,17 +178,14 @@ class TwinPantographProblem:
     def __init__(
         self, params, points, grid_shape, torque_max_Nm=1.0, force_max_N=1.0, moment_max_Nm=None
     ):
-        for name in self.param_names:
-            if name not in params:
-                raise DesignError(f"optimize.{name}", "missing parameter")
-        self.p = {k: np.asarray(params[k], dtype=float) for k in self.param_names}
-        self.points = np.asarray(points, dtype=float)
+        self.p = _params(params, self.param_names, nonnegative=("base_mm",))
         self.grid_shape = tuple(int(g) for g in grid_shape)
+        self.points = _points(points, 3, self.grid_shape)
         self.n_candidates = int(self.p["base_mm"].size)
         self.n_points = int(self.points.shape[0])
-        self.sj = np.broadcast_to(np.asarray(torque_max_Nm, dtype=float), (4,))
-        self.F = float(force_max_N)
-        self.M = None if moment_max_Nm is None else float(moment_max_Nm)
+        self.sj = _scale_vector(torque_max_Nm, 4, "actuators.torque_max_Nm")
+        self.F = _positive(force_max_N, "actuators.force_max_N")
+        self.M = None if moment_max_Nm is None else _positive(moment_max_Nm, "actuators.moment_max_Nm")
 
     def sigma(self, cand, point):
         from cad.kinematics.twin_pantograph import jacobian_arrays
@@ -197,18 +230,19 @@ class PenProblem:
     def __init__(
         self, params, points, grid_shape, torque_max_Nm=1.0, force_max_N=1.0, moment_arm_mm=35.0
     ):
-        for name in self.param_names:
-            if name not in params:
-                raise DesignError(f"optimize.{name}", "missing parameter")
-        self.p = {k: np.asarray(params[k], dtype=float) for k in self.param_names}
-        self.l4 = np.asarray(params.get("arm_spacing_mm", self.p["pen_mm"]), dtype=float)
-        self.points = np.asarray(points, dtype=float)
+        self.p = _params(params, self.param_names)
+        if "arm_spacing_mm" in params:
+            self.l4 = _params(params, ("arm_spacing_mm",))["arm_spacing_mm"]
+        else:
+            self.l4 = self.p["pen_mm"]
         self.grid_shape = tuple(int(g) for g in grid_shape)
+        self.points = _points(points, 5, self.grid_shape)
         self.n_candidates = int(self.p["pen_mm"].size)
         self.n_points = int(self.points.shape[0])
-        self.tau = float(np.asarray(torque_max_Nm, dtype=float).reshape(-1)[0])
-        F = float(force_max_N)
-        self.st = np.array([F, F, F, F * moment_arm_mm * 1e-3, F * moment_arm_mm * 1e-3])
+        self.tau = float(_scale_vector(torque_max_Nm, 1, "actuators.torque_max_Nm")[0])
+        F = _positive(force_max_N, "actuators.force_max_N")
+        M = F * _positive(moment_arm_mm, "actuators.moment_arm_mm") * 1e-3
+        self.st = _scale_vector([F, F, F, M, M], 5, "actuators.moment_arm_mm")
 
     def sigma(self, cand, point):
         from cad.kinematics.haptic_pen import jacobian_arrays

@@ -273,11 +273,20 @@ def pen_gii(
     """
     from cad.isotropy.gii import gii_from_jacobians
 
+    for name, v in (("force_max_N", force_N), ("moment_arm_mm", moment_arm_mm)):
+        if not (np.isfinite(v) and v > 0):
+            raise DesignError(f"actuators.{name}", f"must be finite and > 0, got {v!r}")
+    M = force_N * moment_arm_mm * 1e-3
+    if not (np.isfinite(M) and M >= np.finfo(float).tiny):  # a denormal M would overflow J_hat
+        raise DesignError(
+            "actuators.moment_arm_mm",
+            f"the moment scale F * arm = {M!r} N m is outside float64 (F = {force_N!r} N)",
+        )
     X = workspace_grid(center_mm, size_mm, grid, rotation_deg, rotation_grid)
     J, status = jacobian_si(pen, X)
     pts = X.copy()
     pts[:, 3:] = np.degrees(pts[:, 3:])
-    S_T = np.array([force_N] * 3 + [force_N * moment_arm_mm * 1e-3] * 2)
+    S_T = np.array([force_N] * 3 + [M] * 2)
     return gii_from_jacobians(
         J, status, pts, actuator_scale(pen.waist_torque_ratio), S_T, STATUS_NAMES
     )

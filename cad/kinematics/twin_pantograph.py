@@ -179,6 +179,12 @@ def task_scale(force_N: float, crank_mm: float, moment_Nm: float | None = None) 
         raise DesignError("actuators.force_max_N", f"must be > 0, got {force_N!r}")
     M = force_N * crank_mm * 1e-3 / 2 if moment_Nm is None else float(moment_Nm)
     if not (np.isfinite(M) and M > 0):
+        if moment_Nm is None:
+            raise DesignError(
+                "actuators.force_max_N",
+                f"the default moment scale F * l6 / 2 = {M!r} N m is outside float64 "
+                f"(F = {force_N!r} N, l6 = {crank_mm!r} mm): give moment_max_Nm",
+            )
         raise DesignError("actuators.moment_max_Nm", f"must be > 0, got {moment_Nm!r}")
     return np.array([force_N, force_N, M])
 

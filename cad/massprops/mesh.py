@@ -43,6 +43,11 @@ from cad.massprops.props import MassProps
 #: radii of haptic parts (>= 1.5 mm): chord angle 2*sqrt(2*tol/r) < 0.5 rad.
 DEFAULT_ANGULAR_DEFLECTION_RAD = 0.5
 
+#: Largest |vertex coordinate| accepted, mm. trimesh merges vertices by hashing
+#: coordinates / tol.merge (1e-8) as int64: beyond 2^63 * 1e-8 ~ 9.2e10 mm the hash
+#: overflows and distinct vertices would be merged.
+MAX_COORD_MM = 1e10
+
 
 @dataclass(frozen=True)
 class MeshMassResult:
@@ -165,14 +170,39 @@ def extract_arrays(meshed) -> tuple[np.ndarray, np.ndarray]:
 def _merged_trimesh(vertices_mm, faces):
     import trimesh
 
-    v = np.asarray(vertices_mm, dtype=float)
-    f = np.asarray(faces, dtype=np.int64)
-    if v.ndim != 2 or v.shape[1] != 3 or f.ndim != 2 or f.shape[1] != 3 or len(f) == 0:
+    try:
+        v = np.asarray(vertices_mm, dtype=float)
+        f_in = np.asarray(faces)
+    except (TypeError, ValueError):
+        raise MeshError("mesh vertices and faces must be numeric arrays") from None
+    if v.ndim != 2 or v.shape[1] != 3 or f_in.ndim != 2 or f_in.shape[1] != 3 or len(f_in) == 0:
         raise MeshError(
-            f"mesh must be (N, 3) vertices and (M>0, 3) faces, got {v.shape} and {f.shape}"
+            f"mesh must be (N, 3) vertices and (M>0, 3) faces, got {v.shape} and {f_in.shape}"
+        )
+    if not np.all(np.isfinite(v)):
+        i = int(np.flatnonzero(~np.all(np.isfinite(v), axis=1))[0])
+        raise MeshError(f"mesh vertex {i} is not finite: {v[i].tolist()}")
+    if np.abs(v).max() > MAX_COORD_MM:
+        raise MeshError(
+            f"mesh coordinates reach {np.abs(v).max():.3g} mm, beyond {MAX_COORD_MM:g} mm "
+            "(vertex merging would fail): is the unit mm?"
+        )
+    if f_in.dtype.kind not in "iu":
+        if f_in.dtype.kind != "f" or not np.all(f_in == np.round(f_in)):
+            raise MeshError(f"mesh face indices must be integers, got dtype {f_in.dtype}")
+    f = f_in.astype(np.int64)
+    if f.min() < 0 or f.max() >= len(v):
+        raise MeshError(
+            f"mesh face indices must lie in [0, {len(v)}), got [{f.min()}, {f.max()}]"
         )
     # process=True merges coincident vertices (trimesh.constants.tol.merge = 1e-8).
     return trimesh.Trimesh(vertices=v, faces=f, process=True)
+
+
+def _signed_volume_mm3(tm) -> float:
+    """Enclosed volume by the divergence theorem, sum of det(v0, v1, v2) / 6 (no division by it)."""
+    t = np.asarray(tm.triangles, dtype=float)
+    return float(np.einsum("ij,ij->i", t[:, 0], np.cross(t[:, 1], t[:, 2])).sum() / 6.0)
 
 
 def _require_closed(watertight: bool, allow_open: bool, what: str) -> None:
@@ -202,13 +232,21 @@ def mesh_arrays_mass_props(
     tm = _merged_trimesh(vertices_mm, faces)
     watertight = bool(tm.is_watertight)
     _require_closed(watertight, allow_open, what)
+    if not tm.is_winding_consistent:
+        # e.g. one triangle of a closed box flipped: still "watertight", volume 3000 of 6000
+        raise MeshError(
+            f"{what} has inconsistent winding (some triangles face inwards): its volume is "
+            "wrong; repair it (e.g. trimesh.repair.fix_winding) and check its normals"
+        )
     rho = float(density_kg_m3)
     if not np.isfinite(rho) or rho <= 0:
         raise GeometryError(f"density_kg_m3 must be finite and > 0, got {density_kg_m3!r}")
-    mp = tm.mass_properties  # unit density, mm units
-    vol = float(mp["volume"])
+    # the volume first: trimesh divides by it for the centre of mass (NaN at 0)
+    vol = _signed_volume_mm3(tm)
     if not np.isfinite(vol) or vol <= 0:
         raise MeshError(f"{what} encloses volume {vol:.6g} mm^3 (<= 0): inside-out or degenerate")
+    mp = tm.mass_properties  # unit density, mm units
+    vol = float(mp["volume"])
     props = MassProps(
         mass_kg=rho * vol * MM3_TO_M3,
         com_m=np.asarray(mp["center_mass"], dtype=float) * MM_TO_M,
@@ -297,10 +335,12 @@ def manifold_volume_mm3(vertices_mm, faces, *, allow_open: bool = False) -> Mesh
     man = manifold3d.Manifold(mesh)
     status = man.status()
     if status != manifold3d.Error.NoError:
-        if not allow_open:
-            raise MeshError(f"manifold3d rejects the mesh ({status.name})")
-        return MeshMassResult(None, float("nan"), False, len(tm.faces), "manifold3d")
-    return MeshMassResult(None, float(man.volume()), watertight, int(man.num_tri()), "manifold3d")
+        # no volume to give, allow_open or not (it used to return NaN here)
+        raise MeshError(f"manifold3d rejects the mesh ({status.name}): it has no enclosed volume")
+    vol = float(man.volume())
+    if not np.isfinite(vol) or vol <= 0:
+        raise MeshError(f"mesh encloses volume {vol:.6g} mm^3 (<= 0): inside-out or degenerate")
+    return MeshMassResult(None, vol, watertight, int(man.num_tri()), "manifold3d")
 
 
 def manifold_shape_volume_mm3(

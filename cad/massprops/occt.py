@@ -41,7 +41,13 @@ def as_topods(shape):
 
     if isinstance(shape, TopoDS_Shape):
         return shape
-    wrapped = getattr(shape, "wrapped", None)
+    try:
+        wrapped = getattr(shape, "wrapped", None)
+    except AssertionError:  # build123d asserts on a shape with nothing inside
+        raise GeometryError(
+            f"{type(shape).__name__} is empty (null shape): the boolean or operation that made "
+            "it produced nothing (disjoint operands of an intersection?)"
+        ) from None
     if isinstance(wrapped, TopoDS_Shape):
         return wrapped
     raise GeometryError(
@@ -59,6 +65,64 @@ def _check_has_solid(s) -> None:
         raise GeometryError(
             "shape has no solid: volume integration needs closed solids "
             "(a face, shell or wire has no volume; make a solid first)"
+        )
+
+
+_CHECK_KINDS = ("SOLID", "SHELL", "FACE", "WIRE", "EDGE", "VERTEX")
+
+
+def validity_problems(shape, limit: int = 4) -> list[str]:
+    """BRepCheck findings of ``shape``: ``["shell 0: NotClosed", ...]`` (empty when valid).
+
+    Runs ``BRepCheck_Analyzer`` (topology and geometry) and lists the first ``limit``
+    distinct statuses other than NoError, each with the kind and index (explorer
+    order) of the sub-shape, including statuses reported in a context (a wire in
+    its face). Costs ~1 ms for a box and ~5 ms for a pocketed bar (OCCT 7.9).
+    """
+    import OCP.TopAbs as TopAbs
+    from OCP.BRepCheck import BRepCheck_Analyzer, BRepCheck_Status
+    from OCP.TopExp import TopExp_Explorer
+
+    s = as_topods(shape)
+    analyzer = BRepCheck_Analyzer(s)
+    if analyzer.IsValid():
+        return []
+    found: list[str] = []
+    for kind in _CHECK_KINDS:
+        exp = TopExp_Explorer(s, getattr(TopAbs, f"TopAbs_{kind}"))
+        i = 0
+        while exp.More() and len(found) < limit:
+            res = analyzer.Result(exp.Current())
+            if res is not None:
+                statuses = list(res.Status())
+                res.InitContextIterator()
+                while res.MoreShapeInContext():
+                    statuses += list(res.StatusOnShape())
+                    res.NextShapeInContext()
+                for st in statuses:
+                    text = f"{kind.lower()} {i}: {st.name.removeprefix('BRepCheck_')}"
+                    if st != BRepCheck_Status.BRepCheck_NoError and text not in found:
+                        found.append(text)
+            exp.Next()
+            i += 1
+    return found[:limit] or ["invalid (BRepCheck gives no detail)"]
+
+
+def check_valid(shape, what: str = "shape") -> None:
+    """Raise :class:`GeometryError` when BRepCheck finds ``shape`` invalid.
+
+    An invalid solid (an open shell, a self-intersecting profile, the result of a
+    boolean that failed on such an operand) integrates to a meaningless volume
+    without any error from OCCT (measured: a box with one face missing gives
+    4800 of 6000 mm^3; a box cut by a self-intersecting tool keeps all 27000 mm^3),
+    so the mass properties must refuse it.
+    """
+    _check_has_solid(as_topods(shape))
+    problems = validity_problems(shape)
+    if problems:
+        raise GeometryError(
+            f"{what} is not a valid solid (BRepCheck: {'; '.join(problems)}): a boolean or a "
+            "profile failed; fix the part parameters or the operands (ShapeFix may repair small gaps)"
         )
 
 
@@ -114,7 +178,9 @@ def _to_si(vol_mm3: float, com_mm, inertia_mm5, density_kg_m3: float) -> MassPro
     )
 
 
-def solid_mass_props(shape, density_kg_m3: float, *, eps: float | None = None) -> MassProps:
+def solid_mass_props(
+    shape, density_kg_m3: float, *, eps: float | None = None, check: bool = True
+) -> MassProps:
     """Exact mass properties of a solid (or compound of solids) of uniform density.
 
     Parameters
@@ -123,11 +189,15 @@ def solid_mass_props(shape, density_kg_m3: float, *, eps: float | None = None) -
     density_kg_m3 : density, kg/m^3 (> 0).
     eps : ``None`` (default, exact Gauss integration); a float selects OCCT's adaptive
         mode (benchmark only, slower and less accurate on inertia).
+    check : validate the shape with BRepCheck first (:func:`check_valid`, ~1-5 ms);
+        ``False`` only where the shape is known valid (benchmarks timing the integration).
 
     Returns :class:`MassProps` in SI, in the shape's own frame (COM in m, tensor about
     the COM in kg m^2). For several disjoint solids the result is their union; solids
     that overlap are counted twice (fuse first).
     """
+    if check:
+        check_valid(shape)
     vol, com, inertia = volume_props_mm(shape, eps=eps)
     return _to_si(vol, com, inertia, density_kg_m3)
 

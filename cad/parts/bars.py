@@ -61,9 +61,12 @@ class Feature:
     @property
     def outer_r_mm(self) -> float:
         """Radius of the largest cut at the joint (pockets stop ``web`` beyond it)."""
-        return max(self.d_mm / 2, self.cb_d_mm / 2,
-                   self.bolt_circle_mm / 2 + self.bolt_hole_mm / 2 if self.bolt_count else 0.0,
-                   self.keep_r_mm)
+        return max(
+            self.d_mm / 2,
+            self.cb_d_mm / 2,
+            self.bolt_circle_mm / 2 + self.bolt_hole_mm / 2 if self.bolt_count else 0.0,
+            self.keep_r_mm,
+        )
 
 
 def hull_points(points: np.ndarray) -> np.ndarray:
@@ -90,7 +93,8 @@ def outline_area_mm2(points: np.ndarray, r_mm: float) -> float:
         return math.pi * r_mm**2
     if len(h) == 2:
         return 2 * r_mm * float(np.linalg.norm(h[1] - h[0])) + math.pi * r_mm**2
-    a = 0.5 * abs(np.cross(h[1] - h[0], h[2] - h[0]))
+    u, v = h[1] - h[0], h[2] - h[0]
+    a = 0.5 * abs(u[0] * v[1] - u[1] * v[0])
     per = sum(float(np.linalg.norm(h[(i + 1) % 3] - h[i])) for i in range(3))
     return a + r_mm * per + math.pi * r_mm**2
 
@@ -101,7 +105,11 @@ def _strip(p, q, width):
     d = q - p
     L = float(np.linalg.norm(d))
     mid = 0.5 * (p + q)
-    return Pos(float(mid[0]), float(mid[1])) * Rot(0, 0, math.degrees(math.atan2(d[1], d[0]))) * Rectangle(L, width)
+    return (
+        Pos(float(mid[0]), float(mid[1]))
+        * Rot(0, 0, math.degrees(math.atan2(d[1], d[0])))
+        * Rectangle(L, width)
+    )
 
 
 def _slot(p, q, width):
@@ -110,7 +118,11 @@ def _slot(p, q, width):
     d = q - p
     L = float(np.linalg.norm(d))
     mid = 0.5 * (p + q)
-    return Pos(float(mid[0]), float(mid[1])) * Rot(0, 0, math.degrees(math.atan2(d[1], d[0]))) * SlotCenterToCenter(L, width)
+    return (
+        Pos(float(mid[0]), float(mid[1]))
+        * Rot(0, 0, math.degrees(math.atan2(d[1], d[0])))
+        * SlotCenterToCenter(L, width)
+    )
 
 
 def _circle(p, r):
@@ -119,7 +131,9 @@ def _circle(p, r):
     return Pos(float(p[0]), float(p[1])) * Circle(r)
 
 
-def pocket_segments(joints: dict[str, tuple[np.ndarray, Feature]], parts: PartsSpec) -> list[tuple[np.ndarray, np.ndarray, float]]:
+def pocket_segments(
+    joints: dict[str, tuple[np.ndarray, Feature]], parts: PartsSpec
+) -> list[tuple[np.ndarray, np.ndarray, float]]:
     """Centre-to-centre segments and width of the lightening pockets (module docstring)."""
     if not parts.bar_pockets:
         return []
@@ -201,8 +215,9 @@ def bar_shape(joints: dict[str, tuple[np.ndarray, Feature]], parts: PartsSpec):
     solid = extrude(sk, amount=t)
     for p, f in joints.values():
         if f.cb_depth_mm > 0:
-            cb = Pos(float(p[0]), float(p[1]), 0) * Cylinder(f.cb_d_mm / 2, f.cb_depth_mm,
-                                                            align=(Align.CENTER, Align.CENTER, Align.MIN))
+            cb = Pos(float(p[0]), float(p[1]), 0) * Cylinder(
+                f.cb_d_mm / 2, f.cb_depth_mm, align=(Align.CENTER, Align.CENTER, Align.MIN)
+            )
             solid = solid - cb
     sols = solid.solids()
     if len(sols) != 1:

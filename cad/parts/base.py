@@ -46,8 +46,15 @@ def leg_xy_mm(rect) -> list[tuple[float, float]]:
     return [(xmin + i, ymin + i), (xmax - i, ymin + i), (xmax - i, ymax - i), (xmin + i, ymax - i)]
 
 
-def base_plate_shape(rect, thickness_mm: float, a4_xy, opening_d_mm: float,
-                     mount_holes_xy, mount_screw: str, post_screw: str):
+def base_plate_shape(
+    rect,
+    thickness_mm: float,
+    a4_xy,
+    opening_d_mm: float,
+    mount_holes_xy,
+    mount_screw: str,
+    post_screw: str,
+):
     """The base plate, z from -thickness to 0 (world frame)."""
     from build123d import Circle, Pos, Rectangle, extrude
 
@@ -62,8 +69,15 @@ def base_plate_shape(rect, thickness_mm: float, a4_xy, opening_d_mm: float,
     return (Pos(0, 0, -thickness_mm) * extrude(sk, amount=thickness_mm)).solids()[0].wrapped
 
 
-def post_shape(diameter_mm: float, height_mm: float, bore_d_mm: float, bore_depth_mm: float,
-               thread: str, thread_depth_mm: float, bottom_screw: str):
+def post_shape(
+    diameter_mm: float,
+    height_mm: float,
+    bore_d_mm: float,
+    bore_depth_mm: float,
+    thread: str,
+    thread_depth_mm: float,
+    bottom_screw: str,
+):
     """A4 post, z 0..height: top reamed bore then tapped hole; bottom tapped hole."""
     from build123d import Cylinder, Pos
 
@@ -86,5 +100,7 @@ def leg_shape(height_mm: float):
     d = tap_drill_mm(LEG_SCREW) / 2
     leg = Cylinder(LEG_DIAMETER_MM / 2, height_mm, align=a)
     leg = leg - Cylinder(d, STANDOFF_TAP_DEPTH_MM, align=a)
-    leg = leg - Pos(0, 0, height_mm - STANDOFF_TAP_DEPTH_MM) * Cylinder(d, STANDOFF_TAP_DEPTH_MM, align=a)
+    leg = leg - Pos(0, 0, height_mm - STANDOFF_TAP_DEPTH_MM) * Cylinder(
+        d, STANDOFF_TAP_DEPTH_MM, align=a
+    )
     return leg.solids()[0].wrapped

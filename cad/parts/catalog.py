@@ -38,7 +38,9 @@ def bd_warehouse_data_dir() -> Path:
     """Directory of bd_warehouse's CSV tables, found without importing the package."""
     spec = importlib.util.find_spec("bd_warehouse")
     if spec is None or not spec.submodule_search_locations:
-        raise DesignError("parts", "bd_warehouse is not installed (pip install bd_warehouse==0.4.0)")
+        raise DesignError(
+            "parts", "bd_warehouse is not installed (pip install bd_warehouse==0.4.0)"
+        )
     return Path(list(spec.submodule_search_locations)[0]) / "data"
 
 
@@ -92,15 +94,27 @@ def get_bearing(size: str, field: str = "parts.bearing") -> BearingSpec:
     """Catalog data of bearing ``size`` (bd_warehouse form ``M<d>-<D>-<B>``, e.g. ``M8-16-4``)."""
     tab = _table("single_row_deep_groove_ball_bearing_parameters.csv", "SKT")
     if size not in tab:
-        raise DesignError(field, f"unknown bearing {size!r} (bd_warehouse SKT sizes: {', '.join(tab)})")
+        raise DesignError(
+            field, f"unknown bearing {size!r} (bd_warehouse SKT sizes: {', '.join(tab)})"
+        )
     r = tab[size]
     return BearingSpec(
-        size, r["Designation"].replace("*", "").strip(), _num(r["d"]), _num(r["D"]), _num(r["B"]),
-        _num(r["d1"]), _num(r["D1"]), _num(r["da"]), _num(r["Da"]), _num(r["mass"]),
+        size,
+        r["Designation"].replace("*", "").strip(),
+        _num(r["d"]),
+        _num(r["D"]),
+        _num(r["B"]),
+        _num(r["d1"]),
+        _num(r["D1"]),
+        _num(r["da"]),
+        _num(r["Da"]),
+        _num(r["mass"]),
     )
 
 
-def ring_inertia_kg_m2(mass_kg: float, r_in_mm: float, r_out_mm: float, width_mm: float) -> tuple[float, float]:
+def ring_inertia_kg_m2(
+    mass_kg: float, r_in_mm: float, r_out_mm: float, width_mm: float
+) -> tuple[float, float]:
     """(I_axial, I_transverse) about the COM of a uniform annulus, kg m^2.
 
     I_axial = m (ri^2 + ro^2) / 2, I_transverse = m (3 (ri^2 + ro^2) + B^2) / 12.
@@ -136,12 +150,21 @@ ISO7379_LENGTHS_MM = (10, 12, 16, 20, 25, 30, 40, 50, 60, 70, 80, 90, 100, 120)
 def get_shoulder_screw(size: str, field: str = "parts.pin") -> ShoulderScrewSpec:
     tab = _table("shoulder_screw.csv", "iso7379")
     if size not in tab:
-        raise DesignError(field, f"unknown ISO 7379 shoulder screw {size!r} (bd_warehouse sizes: {', '.join(tab)})")
+        raise DesignError(
+            field,
+            f"unknown ISO 7379 shoulder screw {size!r} (bd_warehouse sizes: {', '.join(tab)})",
+        )
     r = tab[size]
     lo, hi = _num(r["short"]), _num(r["long"])
     return ShoulderScrewSpec(
-        size, _num(r["ds"]), _num(r["dk"]), _num(r["k"]), _num(r["b"]), _num(r["g2"]),
-        thread_diameter_mm(size), tuple(float(x) for x in ISO7379_LENGTHS_MM if lo <= x <= hi),
+        size,
+        _num(r["ds"]),
+        _num(r["dk"]),
+        _num(r["k"]),
+        _num(r["b"]),
+        _num(r["g2"]),
+        thread_diameter_mm(size),
+        tuple(float(x) for x in ISO7379_LENGTHS_MM if lo <= x <= hi),
     )
 
 
@@ -205,17 +228,26 @@ ISO4762_LENGTHS_MM = (2.5, 3, 4, 5, 6, 8, 10, 12, 16, 20, 25, 30, 35, 40, 45, 50
 def get_cap_screw(size: str, field: str) -> CapScrewSpec:
     tab = _table("socket_head_cap_parameters.csv", "iso4762")
     if size not in tab:
-        raise DesignError(field, f"unknown ISO 4762 cap screw {size!r} (bd_warehouse sizes: {', '.join(tab)})")
+        raise DesignError(
+            field, f"unknown ISO 4762 cap screw {size!r} (bd_warehouse sizes: {', '.join(tab)})"
+        )
     r = tab[size]
     lo, hi = _num(r["short"]), _num(r["long"])
-    return CapScrewSpec(size, _num(r["dk"]), _num(r["k"]), thread_diameter_mm(size),
-                        tuple(float(x) for x in ISO4762_LENGTHS_MM if lo <= x <= hi))
+    return CapScrewSpec(
+        size,
+        _num(r["dk"]),
+        _num(r["k"]),
+        thread_diameter_mm(size),
+        tuple(float(x) for x in ISO4762_LENGTHS_MM if lo <= x <= hi),
+    )
 
 
 def clearance_hole_mm(size: str, fit: str = "Normal") -> float:
     """ISO 273 clearance hole (bd_warehouse ``clearance_hole_sizes.csv``), mm."""
     key = size.split("-")[0]
-    with open(bd_warehouse_data_dir() / "clearance_hole_sizes.csv", newline="", encoding="utf-8") as fh:
+    with open(
+        bd_warehouse_data_dir() / "clearance_hole_sizes.csv", newline="", encoding="utf-8"
+    ) as fh:
         for row in csv.DictReader(fh):
             if row["Size"].strip() == key:
                 return _num(row[fit])
@@ -226,7 +258,11 @@ def tap_drill_mm(size: str) -> float:
     """Tap drill of a metric coarse thread: d - pitch (ISO rule of thumb), mm."""
     parts = size[1:].split("-")
     d = float(parts[0])
-    pitch = float(parts[1]) if len(parts) > 1 else {3: 0.5, 4: 0.7, 5: 0.8, 6: 1.0, 8: 1.25}.get(int(d), 0.15 * d)
+    pitch = (
+        float(parts[1])
+        if len(parts) > 1
+        else {3: 0.5, 4: 0.7, 5: 0.8, 6: 1.0, 8: 1.25}.get(int(d), 0.15 * d)
+    )
     return d - pitch
 
 
@@ -276,10 +312,15 @@ MOTORS: dict[str, MotorSpec] = {
     "maxon-re35": MotorSpec(
         key="maxon-re35",
         description="maxon RE 35, 90 W, graphite brushes (Hoeken paper prototype, §III.A)",
-        body_diameter_mm=35.0, body_length_mm=70.9,
-        pilot_diameter_mm=22.0, pilot_height_mm=2.0,
-        bolt_circle_mm=28.0, bolt_count=3, bolt_size="M3-0.5",
-        shaft_diameter_mm=6.0, shaft_length_mm=22.0,
+        body_diameter_mm=35.0,
+        body_length_mm=70.9,
+        pilot_diameter_mm=22.0,
+        pilot_height_mm=2.0,
+        bolt_circle_mm=28.0,
+        bolt_count=3,
+        bolt_size="M3-0.5",
+        shaft_diameter_mm=6.0,
+        shaft_length_mm=22.0,
         mass_kg=0.340,
         # maxon catalog: rotor inertia 65.2 to 79.2 g cm^2 across the RE 35 windings; the
         # upper value is taken (the conservative one for apparent mass). Override with
@@ -290,10 +331,15 @@ MOTORS: dict[str, MotorSpec] = {
     "maxon-re40": MotorSpec(
         key="maxon-re40",
         description="maxon RE 40, 150 W, graphite brushes",
-        body_diameter_mm=40.0, body_length_mm=71.0,
-        pilot_diameter_mm=26.0, pilot_height_mm=2.0,
-        bolt_circle_mm=31.0, bolt_count=3, bolt_size="M3-0.5",
-        shaft_diameter_mm=6.0, shaft_length_mm=22.0,
+        body_diameter_mm=40.0,
+        body_length_mm=71.0,
+        pilot_diameter_mm=26.0,
+        pilot_height_mm=2.0,
+        bolt_circle_mm=31.0,
+        bolt_count=3,
+        bolt_size="M3-0.5",
+        shaft_diameter_mm=6.0,
+        shaft_length_mm=22.0,
         mass_kg=0.480,
         rotor_inertia_g_cm2=134.0,
         source="maxon motor catalog, RE 40 data sheet (weight 480 g; rotor inertia 134 g cm^2)",
@@ -307,10 +353,14 @@ def get_motor(key: str, field: str = "parts.motor") -> MotorSpec:
     return MOTORS[key]
 
 
-def polar_points_mm(radius_mm: float, count: int, start_deg: float = 90.0) -> list[tuple[float, float]]:
+def polar_points_mm(
+    radius_mm: float, count: int, start_deg: float = 90.0
+) -> list[tuple[float, float]]:
     """``count`` points evenly on a circle of ``radius_mm`` (first at ``start_deg``)."""
     return [
-        (radius_mm * math.cos(math.radians(start_deg + 360.0 * i / count)),
-         radius_mm * math.sin(math.radians(start_deg + 360.0 * i / count)))
+        (
+            radius_mm * math.cos(math.radians(start_deg + 360.0 * i / count)),
+            radius_mm * math.sin(math.radians(start_deg + 360.0 * i / count)),
+        )
         for i in range(count)
     ]

@@ -60,7 +60,7 @@ def resolve_script(parts, design_source: str) -> Path | None:
         p = Path(design_source).resolve().parent / p
     if not p.is_file():
         raise DesignError("parts.handle_script", f"file not found: {p}")
-    return p
+    return p.resolve()
 
 
 def script_sha256(path: Path) -> str:
@@ -74,19 +74,25 @@ def user_handle_shape(path: Path, params: dict):
     try:
         ns = runpy.run_path(str(path), run_name="hapticad_handle")
     except Exception as exc:  # a user script may raise anything: report it as bad input
-        raise DesignError("parts.handle_script", f"{path.name} failed: {type(exc).__name__}: {exc}") from None
+        raise DesignError(
+            "parts.handle_script", f"{path.name} failed: {type(exc).__name__}: {exc}"
+        ) from None
     if callable(ns.get("make_handle")):
         try:
             obj = ns["make_handle"](dict(params))
         except Exception as exc:
-            raise DesignError("parts.handle_script",
-                              f"{path.name}: make_handle() failed: {type(exc).__name__}: {exc}") from None
+            raise DesignError(
+                "parts.handle_script",
+                f"{path.name}: make_handle() failed: {type(exc).__name__}: {exc}",
+            ) from None
     elif "handle" in ns:
         obj = ns["handle"]
     elif "result" in ns:
         obj = ns["result"]
     else:
-        raise DesignError("parts.handle_script", f"{path.name} defines no make_handle(params), handle or result")
+        raise DesignError(
+            "parts.handle_script", f"{path.name} defines no make_handle(params), handle or result"
+        )
     try:
         shape = to_topods(obj, f"parts.handle_script ({path.name})")
     except GeometryError as exc:

@@ -19,7 +19,8 @@ joint axis, slightly larger than the real parts (conservative for clearance).
 
 Frames (mm, axis z): bearing z 0..B; screws with the under-head face at z = 0, head up,
 shank down (-z); nut and washer z 0..height; spacer z 0..height. Shapes are cached per
-parameter set (identical hardware is built once).
+parameter set (identical hardware is built once) and bd_warehouse parts also on disk
+(:mod:`cad.parts.shape_cache`).
 """
 
 from __future__ import annotations
@@ -27,6 +28,7 @@ from __future__ import annotations
 import functools
 
 from cad.parts import catalog
+from cad.parts.shape_cache import cached_shape
 
 
 def _topo(obj):
@@ -38,9 +40,13 @@ def bearing_shape(size: str, detailed: bool = True):
     """Ball bearing ``size`` (bd_warehouse SKT), z 0..B. ``detailed=False``: plain ring."""
     b = catalog.get_bearing(size)
     if detailed:
-        from bd_warehouse.bearing import SingleRowDeepGrooveBallBearing
 
-        return _topo(SingleRowDeepGrooveBallBearing(size))
+        def make():
+            from bd_warehouse.bearing import SingleRowDeepGrooveBallBearing
+
+            return _topo(SingleRowDeepGrooveBallBearing(size))
+
+        return cached_shape(f"SingleRowDeepGrooveBallBearing({size!r})", make)
     return ring_shape(b.d_mm / 2.0, b.D_mm / 2.0, b.B_mm)
 
 
@@ -52,7 +58,9 @@ def bearing_rings(size: str):
     the balls (between d1 and D1) never touch anything outside the bearing.
     """
     b = catalog.get_bearing(size)
-    return ring_shape(b.d_mm / 2.0, b.d1_mm / 2.0, b.B_mm), ring_shape(b.D1_mm / 2.0, b.D_mm / 2.0, b.B_mm)
+    return ring_shape(b.d_mm / 2.0, b.d1_mm / 2.0, b.B_mm), ring_shape(
+        b.D1_mm / 2.0, b.D_mm / 2.0, b.B_mm
+    )
 
 
 @functools.cache
@@ -70,28 +78,44 @@ def ring_shape(r_in_mm: float, r_out_mm: float, height_mm: float):
 @functools.cache
 def shoulder_screw_shape(size: str, length_mm: float):
     """ISO 7379 shoulder screw: under-head face at z = 0, head up, shoulder to z = -length."""
-    from bd_warehouse.fastener import ShoulderScrew
 
-    return _topo(ShoulderScrew(size, float(length_mm), simple=True))
+    def make():
+        from bd_warehouse.fastener import ShoulderScrew
+
+        return _topo(ShoulderScrew(size, float(length_mm), simple=True))
+
+    return cached_shape(f"ShoulderScrew({size!r}, {float(length_mm)!r}, simple=True)", make)
 
 
 @functools.cache
 def cap_screw_shape(size: str, length_mm: float):
     """ISO 4762 socket head cap screw: under-head face at z = 0, shank to z = -length."""
-    from bd_warehouse.fastener import SocketHeadCapScrew
 
-    return _topo(SocketHeadCapScrew(size, float(length_mm), simple=True))
+    def make():
+        from bd_warehouse.fastener import SocketHeadCapScrew
+
+        return _topo(SocketHeadCapScrew(size, float(length_mm), simple=True))
+
+    return cached_shape(f"SocketHeadCapScrew({size!r}, {float(length_mm)!r}, simple=True)", make)
 
 
 @functools.cache
-def screw_envelope(head_d_mm: float, head_h_mm: float, shank_d_mm: float, shank_l_mm: float,
-                   tip_d_mm: float = 0.0, tip_l_mm: float = 0.0):
+def screw_envelope(
+    head_d_mm: float,
+    head_h_mm: float,
+    shank_d_mm: float,
+    shank_l_mm: float,
+    tip_d_mm: float = 0.0,
+    tip_l_mm: float = 0.0,
+):
     """Solid of revolution enclosing a screw for the interference sweep: head cylinder
     (z 0..head_h), shank (z -shank_l..0), optional thinner tip below the shank."""
     from build123d import Align, Cylinder, Pos
 
     a = (Align.CENTER, Align.CENTER, Align.MIN)
-    s = Cylinder(head_d_mm / 2, head_h_mm, align=a) + Pos(0, 0, -shank_l_mm) * Cylinder(shank_d_mm / 2, shank_l_mm, align=a)
+    s = Cylinder(head_d_mm / 2, head_h_mm, align=a) + Pos(0, 0, -shank_l_mm) * Cylinder(
+        shank_d_mm / 2, shank_l_mm, align=a
+    )
     if tip_l_mm > 0:
         s = s + Pos(0, 0, -shank_l_mm - tip_l_mm) * Cylinder(tip_d_mm / 2, tip_l_mm, align=a)
     return s.solids()[0].wrapped
@@ -100,14 +124,22 @@ def screw_envelope(head_d_mm: float, head_h_mm: float, shank_d_mm: float, shank_
 @functools.cache
 def nut_shape(size: str):
     """ISO 4032 hexagon nut, z 0..m."""
-    from bd_warehouse.fastener import HexNut
 
-    return _topo(HexNut(size, "iso4032", simple=True))
+    def make():
+        from bd_warehouse.fastener import HexNut
+
+        return _topo(HexNut(size, "iso4032", simple=True))
+
+    return cached_shape(f"HexNut({size!r}, 'iso4032', simple=True)", make)
 
 
 @functools.cache
 def washer_shape(size: str):
     """ISO 7089 plain washer, z 0..h."""
-    from bd_warehouse.fastener import PlainWasher
 
-    return _topo(PlainWasher(size.split("-")[0], "iso7089"))
+    def make():
+        from bd_warehouse.fastener import PlainWasher
+
+        return _topo(PlainWasher(size.split("-")[0], "iso7089"))
+
+    return cached_shape(f"PlainWasher({size.split('-')[0]!r}, 'iso7089')", make)

@@ -39,7 +39,9 @@ def motor_housing_shape(m: MotorSpec):
     """Housing + pilot of the motor: z from -body_length to pilot_height (mounting face z = 0)."""
     from build123d import Cylinder, Pos
 
-    body = Pos(0, 0, -m.body_length_mm) * Cylinder(m.body_diameter_mm / 2, m.body_length_mm, align=_a())
+    body = Pos(0, 0, -m.body_length_mm) * Cylinder(
+        m.body_diameter_mm / 2, m.body_length_mm, align=_a()
+    )
     pilot = Cylinder(m.pilot_diameter_mm / 2, m.pilot_height_mm, align=_a())
     return (body + pilot).solids()[0].wrapped
 
@@ -49,7 +51,9 @@ def motor_shaft_shape(m: MotorSpec):
     from build123d import Cylinder, Pos
 
     z0 = m.pilot_height_mm + SHAFT_ENVELOPE_GAP_MM
-    return (Pos(0, 0, z0) * Cylinder(m.shaft_diameter_mm / 2, m.shaft_length_mm - z0, align=_a())).wrapped
+    return (
+        Pos(0, 0, z0) * Cylinder(m.shaft_diameter_mm / 2, m.shaft_length_mm - z0, align=_a())
+    ).wrapped
 
 
 def mount_side_mm(m: MotorSpec) -> float:
@@ -65,8 +69,13 @@ def mount_hole_xy_mm(m: MotorSpec) -> list[tuple[float, float]]:
 
 def motor_bolt_xy_mm(m: MotorSpec) -> list[tuple[float, float]]:
     r = m.bolt_circle_mm / 2
-    return [(r * math.cos(math.radians(90 + 360 * k / m.bolt_count)),
-             r * math.sin(math.radians(90 + 360 * k / m.bolt_count))) for k in range(m.bolt_count)]
+    return [
+        (
+            r * math.cos(math.radians(90 + 360 * k / m.bolt_count)),
+            r * math.sin(math.radians(90 + 360 * k / m.bolt_count)),
+        )
+        for k in range(m.bolt_count)
+    ]
 
 
 def motor_mount_shape(m: MotorSpec, thickness_mm: float):
@@ -83,21 +92,35 @@ def motor_mount_shape(m: MotorSpec, thickness_mm: float):
     return extrude(sk, amount=thickness_mm).solids()[0].wrapped
 
 
-def hub_shape(m: MotorSpec, diameter_mm: float, height_mm: float, bolt_circle_mm: float,
-              screw: str, screw_depth_mm: float, shaft_engaged_mm: float):
+def hub_shape(
+    m: MotorSpec,
+    diameter_mm: float,
+    height_mm: float,
+    bolt_circle_mm: float,
+    screw: str,
+    screw_depth_mm: float,
+    shaft_engaged_mm: float,
+):
     """Direct-drive crank hub: shaft bore, radial set-screw hole (M3 tap drill) at mid
     engagement, ``3`` tapped holes (tap drill) on ``bolt_circle_mm`` in the top face."""
     from build123d import Cylinder, Pos, Rot
 
     a = _a()
-    hub = Cylinder(diameter_mm / 2, height_mm, align=a) - Cylinder(m.shaft_diameter_mm / 2, height_mm, align=a)
+    hub = Cylinder(diameter_mm / 2, height_mm, align=a) - Cylinder(
+        m.shaft_diameter_mm / 2, height_mm, align=a
+    )
     r = bolt_circle_mm / 2
     d = tap_drill_mm(screw)
     for k in range(3):
         ang = math.radians(90 + 120 * k)
-        hub = hub - Pos(r * math.cos(ang), r * math.sin(ang), height_mm - screw_depth_mm) * Cylinder(
-            d / 2, screw_depth_mm, align=a)
+        hub = hub - Pos(
+            r * math.cos(ang), r * math.sin(ang), height_mm - screw_depth_mm
+        ) * Cylinder(d / 2, screw_depth_mm, align=a)
     z_set = min(shaft_engaged_mm, height_mm) / 2
-    set_hole = Pos(0, 0, z_set) * Rot(0, 90, 0) * Cylinder(tap_drill_mm("M3-0.5") / 2, diameter_mm / 2, align=a)
+    set_hole = (
+        Pos(0, 0, z_set)
+        * Rot(0, 90, 0)
+        * Cylinder(tap_drill_mm("M3-0.5") / 2, diameter_mm / 2, align=a)
+    )
     hub = hub - set_hole
     return hub.solids()[0].wrapped

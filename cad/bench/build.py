@@ -1,0 +1,122 @@
+"""Benchmark: wall time of ``hapticad build designs/hoeken.toml`` -- cold, warm, unchanged.
+
+Each point is a fresh process (``python -m cad build ...``), median of repeats:
+
+* ``cold`` -- empty shape cache (``HAPTICAD_CACHE_DIR`` pointing at a new folder) and
+  ``--no-cache``: imports, every part built (bd_warehouse included), sweep, exports;
+* ``cold-design`` -- ``--no-cache`` with the bd_warehouse shape cache filled (a new or
+  changed design on a machine that has built one before);
+* ``unchanged`` -- the same design again without ``--no-cache``: the build cache answers
+  and no CAD library is imported.
+
+Goals (issue 3 / issue 7): cold <= 8 s, unchanged <= 1.5 s. There is no accuracy knob
+here, so ``error`` is None; the chart shows the times against the goals.
+"""
+
+from __future__ import annotations
+
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[2]
+GOALS_S = {"cold": 8.0, "cold-design": 8.0, "unchanged": 1.5}
+REFERENCE = "goals: cold <= 8 s, unchanged rebuild <= 1.5 s (issue 3 section 7)"
+
+
+def _run(args: list[str], env: dict) -> float:
+    t0 = time.perf_counter()
+    r = subprocess.run(
+        [sys.executable, "-m", "cad", *args], capture_output=True, text=True, env=env, cwd=ROOT
+    )
+    dt = time.perf_counter() - t0
+    if r.returncode != 0:
+        raise RuntimeError(f"hapticad {' '.join(args)} failed: {r.stderr.strip()}")
+    return dt
+
+
+def run(quick: bool, out_dir: Path, design: str = "designs/hoeken.toml") -> dict:
+    """Time the three cases (``quick``: 1 repeat, else 3) and chart them into ``out_dir``."""
+    repeats = 1 if quick else 3
+    points = []
+    with tempfile.TemporaryDirectory(prefix="hapticad-bench-") as tmp:
+        tmp = Path(tmp)
+        out = tmp / "out"
+        cold = []
+        for i in range(repeats):
+            env = {**os.environ, "HAPTICAD_CACHE_DIR": str(tmp / f"shapes{i}")}
+            cold.append(_run(["build", design, "--out", str(out), "--no-cache", "--json"], env))
+        env = {**os.environ, "HAPTICAD_CACHE_DIR": str(tmp / "shapes0")}
+        warm = [
+            _run(["build", design, "--out", str(out), "--no-cache", "--json"], env)
+            for _ in range(repeats)
+        ]
+        cached = [_run(["build", design, "--out", str(out), "--json"], env) for _ in range(repeats)]
+    for name, ts in (("cold", cold), ("cold-design", warm), ("unchanged", cached)):
+        points.append(
+            {
+                "method": name,
+                "knob": "process wall",
+                "time_s": statistics.median(ts),
+                "error": None,
+                "goal_s": GOALS_S[name],
+                "meets_goal": statistics.median(ts) <= GOALS_S[name],
+                "times_s": ts,
+            }
+        )
+    charts = _chart(points, Path(out_dir))
+    return {
+        "topic": "build",
+        "reference": REFERENCE,
+        "design": design,
+        "repeats": repeats,
+        "points": points,
+        "charts": charts,
+    }
+
+
+def _chart(points, out_dir: Path) -> list[str]:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from cad.io.atomic import atomic_path
+
+    fig, ax = plt.subplots(figsize=(6, 4))
+    names = [p["method"] for p in points]
+    ax.bar(names, [p["time_s"] for p in points], color=["#d9534f", "#f0ad4e", "#5cb85c"])
+    for i, p in enumerate(points):
+        ax.hlines(p["goal_s"], i - 0.4, i + 0.4, colors="k", linestyles="--")
+        ax.annotate(
+            f"{p['time_s']:.2f} s (goal {p['goal_s']:g})",
+            (i, p["time_s"]),
+            ha="center",
+            textcoords="offset points",
+            xytext=(0, 4),
+            fontsize=8,
+        )
+    ax.set_yscale("log")
+    ax.set_ylabel("process wall time [s] (median)")
+    ax.set_title("hapticad build designs/hoeken.toml")
+    fig.suptitle(REFERENCE, fontsize=8)
+    fig.tight_layout(rect=(0, 0, 1, 0.93))
+    out_dir.mkdir(parents=True, exist_ok=True)
+    paths = []
+    for ext in ("png", "svg"):
+        target = out_dir / f"build_time.{ext}"
+        with atomic_path(target) as tmp:
+            fig.savefig(tmp, format=ext, dpi=120)
+        paths.append(str(target))
+    plt.close(fig)
+    return paths
+
+
+if __name__ == "__main__":  # pragma: no cover - manual run
+    import json
+
+    print(json.dumps(run(quick="--full" not in sys.argv, out_dir=Path("bench_out")), indent=1))

@@ -1,0 +1,261 @@
+"""Benchmark: interference over a stroke -- exact OCCT vs manifold3d vs a BVH (python-fcl).
+
+Scene with a closed-form answer: K pairs of cylinders (radius 5 mm, 5 mm tall), one fixed,
+one sweeping past it along x(phi) = 10 + g_k + phi^2 (and turning about its axis, so mesh
+facets do not line up); the smallest gap of pair k is exactly ``g_k`` (negative: an
+overlap of depth |g_k|), reached at phi = 0, which is one of the N samples. A pair is a
+*contact* when g_k < ``CONTACT_CLEARANCE_MM``.
+
+Methods (time = meshing + the whole sweep, median of repeats):
+
+* ``occt-exact`` -- BRepExtrema_DistShapeShape on the solids at every pose and pair (the
+  brute-force exact sweep);
+* ``fcl`` / ``manifold3d`` -- mesh-only sweeps at several absolute mesh tolerances;
+* ``fcl+occt`` -- the tool's method (:func:`cad.assembly.interference.sweep`): mesh pass,
+  then every near contact confirmed exactly.
+
+Error = max over the pairs with g_k <= ``ERROR_RANGE_MM`` of |reported gap - g_k| (gaps of
+overlapping pairs count as 0);
+``missed`` / ``false_alarms`` count contacts a method gets wrong. A second part times the
+tool's sweep on the real Hoeken assembly (all body pairs, ``poses`` crank angles).
+"""
+
+from __future__ import annotations
+
+import statistics
+import time
+from pathlib import Path
+
+import numpy as np
+
+#: Prescribed smallest gaps of the cylinder pairs (mm); negative = overlap depth.
+GAPS_MM = (-0.2, -0.05, -0.01, 0.01, 0.03, 0.08, 0.2, 0.5)
+#: A pair closer than this is a contact (mm).
+CONTACT_CLEARANCE_MM = 0.1
+#: The gap error is scored on pairs up to this gap (mm): the contacts and the near misses
+#: a clearance check must get right; farther pairs only need to be known to be far.
+ERROR_RANGE_MM = 0.1
+MESH_TOLERANCES_MM = (0.2, 0.1, 0.05, 0.02, 0.01)
+RADIUS_MM = 5.0
+HEIGHT_MM = 5.0
+REFERENCE = "closed form: cylinder pair k has smallest gap g_k at phi = 0 (a sample)"
+
+
+def _scene(n_poses: int):
+    from build123d import Align, Cylinder
+
+    from cad.parts import translation
+
+    cyl = (
+        Cylinder(RADIUS_MM, HEIGHT_MM, align=(Align.CENTER, Align.CENTER, Align.MIN))
+        .solids()[0]
+        .wrapped
+    )
+    items, tfs = [], {}
+    phi = np.linspace(-1.0, 1.0, n_poses if n_poses % 2 else n_poses + 1)
+    for k, g in enumerate(GAPS_MM):
+        y = 30.0 * k
+        items.append((f"fixed{k}", f"f{k}", cyl, translation(0.0, y)))
+        items.append((f"moving{k}", f"m{k}", cyl, np.eye(4)))
+        T = np.repeat(np.eye(4)[None], len(phi), axis=0)
+        T[:, 1, 3] = 0.0
+        tfs[f"f{k}"] = T
+        ang = 0.37 * phi + 0.11 * k
+        M = np.repeat(np.eye(4)[None], len(phi), axis=0)
+        M[:, 0, 0], M[:, 0, 1], M[:, 1, 0], M[:, 1, 1] = (
+            np.cos(ang),
+            -np.sin(ang),
+            np.sin(ang),
+            np.cos(ang),
+        )
+        M[:, 0, 3] = 2 * RADIUS_MM + g + phi**2
+        M[:, 1, 3] = y
+        tfs[f"m{k}"] = M
+    return items, tfs, phi
+
+
+def _score(gaps: dict[int, float]) -> dict:
+    err = max(
+        abs(max(gaps[k], 0.0) - max(g, 0.0)) for k, g in enumerate(GAPS_MM) if g <= ERROR_RANGE_MM
+    )
+    missed = sum(1 for k, g in enumerate(GAPS_MM) if g < CONTACT_CLEARANCE_MM <= gaps[k])
+    false = sum(1 for k, g in enumerate(GAPS_MM) if gaps[k] < CONTACT_CLEARANCE_MM <= g)
+    return {"error": err, "missed": missed, "false_alarms": false}
+
+
+def _pair_gaps(rep) -> dict[int, float]:
+    out = {}
+    for row in rep.pairs:
+        a, b = row["bodies"]
+        if a[1:] != b[1:]:
+            continue
+        k = int(a[1:])
+        out[k] = row.get("exact_min_mm", row["mesh_min_mm"])
+    return out
+
+
+def _occt_brute(items, tfs, phi) -> dict[int, float]:
+    from OCP.BRepExtrema import BRepExtrema_DistShapeShape
+
+    from cad.export.shapes import placed
+
+    out = {}
+    for k in range(len(GAPS_MM)):
+        (_, fb, fs, ft), (_, mb, ms, mt) = items[2 * k], items[2 * k + 1]
+        best = np.inf
+        for i in range(len(phi)):
+            d = BRepExtrema_DistShapeShape(
+                placed(fs, tfs[fb][i] @ ft), placed(ms, tfs[mb][i] @ mt)
+            ).Value()
+            best = min(best, d)
+        out[k] = best
+    return out
+
+
+def _median_time(fn, repeats: int):
+    times, res = [], None
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        res = fn()
+        times.append(time.perf_counter() - t0)
+    return statistics.median(times), res
+
+
+def run(quick: bool, out_dir: Path) -> dict:
+    """Run the benchmark, write the chart (PNG + SVG) into ``out_dir``, return the points."""
+    from cad.assembly import interference as itf
+
+    repeats = 1 if quick else 3
+    n_poses = 21 if quick else 201
+    items, tfs, phi = _scene(n_poses)
+    points: list[dict] = []
+
+    t, gaps = _median_time(lambda: _occt_brute(items, tfs, phi), repeats)
+    points.append({"method": "occt-exact", "knob": "B-rep", "time_s": t, **_score(gaps)})
+    tols = MESH_TOLERANCES_MM[1:4] if quick else MESH_TOLERANCES_MM
+    for tol in tols:
+        for method in ("fcl", "manifold3d"):
+
+            def mesh_only(tol=tol, method=method):
+                prep = itf.prepare(items, tol)
+                return itf.sweep(prep, tfs, phi, CONTACT_CLEARANCE_MM, method=method, exact=False)
+
+            t, rep = _median_time(mesh_only, repeats)
+            points.append(
+                {"method": method, "knob": f"tol={tol:g}mm", "time_s": t, **_score(_pair_gaps(rep))}
+            )
+
+        def tool(tol=tol):
+            prep = itf.prepare(items, tol)
+            return itf.sweep(prep, tfs, phi, CONTACT_CLEARANCE_MM, method="fcl", exact=True)
+
+        t, rep = _median_time(tool, repeats)
+        points.append(
+            {
+                "method": "fcl+occt",
+                "knob": f"tol={tol:g}mm",
+                "time_s": t,
+                "exact_checks": rep.n_exact_checks,
+                **_score(_pair_gaps(rep)),
+            }
+        )
+    real = _real_assembly(n_poses=20 if quick else 200)
+    charts = _chart(points, Path(out_dir))
+    return {
+        "topic": "interference",
+        "reference": REFERENCE,
+        "gaps_mm": list(GAPS_MM),
+        "contact_clearance_mm": CONTACT_CLEARANCE_MM,
+        "poses": len(phi),
+        "repeats": repeats,
+        "points": points,
+        "hoeken_assembly": real,
+        "charts": charts,
+    }
+
+
+def _real_assembly(n_poses: int) -> dict:
+    """Time of the tool's sweep on the Hoeken assembly (meshing excluded, done once per build)."""
+    from cad.assembly import interference as itf
+    from cad.assembly.layers import choose_layers, footprint_bbox_mm
+    from cad.assembly.mechanism import build_assembly
+    from cad.assembly.pose import body_transforms, planar_transforms
+    from cad.build.fourbar import _joint_axes
+    from cad.design import load_design
+    from cad.kinematics.linkgeom import link_joints_mm
+
+    d = load_design(Path(__file__).resolve().parents[2] / "designs" / "hoeken.toml")
+    phi = np.linspace(d.phi1_min_rad, d.phi1_max_rad, n_poses)
+    J = link_joints_mm(d.linkage)
+    planar = planar_transforms(d.linkage, phi)
+    plan = choose_layers(J, d.parts, planar)
+    asm = build_assembly(J, plan, d.parts, footprint_bbox_mm(plan, planar), fidelity="inertia")
+    prep = itf.prepare(itf.collision_items(asm.instances), itf.SWEEP_MESH_TOL_MM)
+    tfs = body_transforms(d.linkage, phi)
+    t0 = time.perf_counter()
+    rep = itf.sweep(prep, tfs, phi, d.parts.clearance_min_mm, joints=_joint_axes(J))
+    t = time.perf_counter() - t0
+    return {
+        "poses": n_poses,
+        "sweep_time_s": t,
+        "mesh_time_s": prep.mesh_time_s,
+        "goal_s": 1.0,
+        "min_clearance_mm": rep.min_clearance_mm,
+        "exact_checks": rep.n_exact_checks,
+        "collisions": len(rep.collisions),
+        "phase_times_s": rep.time_s,
+    }
+
+
+def _chart(points: list[dict], out_dir: Path) -> list[str]:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from cad.io.atomic import atomic_path
+
+    floor = 1e-6
+    fig, ax = plt.subplots(figsize=(7.5, 5))
+    for meth, mk in (("occt-exact", "*"), ("fcl", "o"), ("manifold3d", "s"), ("fcl+occt", "D")):
+        sel = [p for p in points if p["method"] == meth]
+        if not sel:
+            continue
+        xs = [p["time_s"] for p in sel]
+        ys = [max(p["error"], floor) for p in sel]
+        ax.loglog(xs, ys, marker=mk, linestyle="-" if len(sel) > 1 else "", label=meth)
+        for p, x, y in zip(sel, xs, ys, strict=True):
+            ax.annotate(
+                f"{p['knob'].replace('tol=', '')} miss={p['missed']}",
+                (x, y),
+                fontsize=6,
+                textcoords="offset points",
+                xytext=(4, 3),
+            )
+    ax.set_xlabel("time per sweep [s] (meshing included, median)")
+    ax.set_ylabel(f"max |gap error| [mm] (floored at {floor:g})")
+    ax.set_title("interference sweep: error vs time; miss = missed contacts")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.suptitle("reference: " + REFERENCE, fontsize=8)
+    fig.tight_layout(rect=(0, 0, 1, 0.95))
+    out_dir.mkdir(parents=True, exist_ok=True)
+    paths = []
+    for ext in ("png", "svg"):
+        target = out_dir / f"interference_error_vs_time.{ext}"
+        with atomic_path(target) as tmp:
+            fig.savefig(tmp, format=ext, dpi=120)
+        paths.append(str(target))
+    plt.close(fig)
+    return paths
+
+
+if __name__ == "__main__":  # pragma: no cover - manual run
+    import json
+    import sys
+
+    print(
+        json.dumps(
+            run(quick="--full" not in sys.argv, out_dir=Path("bench_out")), indent=1, default=str
+        )
+    )

@@ -1,0 +1,173 @@
+"""``hapticad swap DESIGN --to FAMILY [--out NEW.toml] [--json] [--build]``.
+
+Keeps the joint hardware (the whole ``[parts]`` table: bearings, pins, spacers, motor
+mount, base interface, handle) and produces the bar set of another straight-line family
+(hoeken, roberts, chebyshev, chebyshev-v) scaled to the same stroke ("provided a
+convenient design of the revolute joints, the different straight line mechanisms can
+be obtained by fabricating the adequate set of bars", Hoeken paper §III.A). Prints the
+old and new metrics side by side and writes the new design atomically (default: beside
+DESIGN as ``<stem>_<family>.toml``). The layer planner (no CAD) runs on the new bar set;
+``--build`` also builds it (and fails if anything collides).
+"""
+
+from __future__ import annotations
+
+import copy
+import json
+import os
+from pathlib import Path
+
+import typer
+
+SWAP_FAMILIES = ("hoeken", "roberts", "chebyshev", "chebyshev-v")
+#: Sections of a design that describe the old mechanism only and are dropped by a swap.
+DROPPED_SECTIONS = ("inertia",)
+
+
+def stroke_of(design) -> float:
+    """|P(phi1_max) - P(phi1_min)| of a design, mm."""
+    import numpy as np
+
+    from cad.kinematics.fourbar import solve
+
+    P = solve(design.linkage, np.array([design.phi1_min_rad, design.phi1_max_rad])).P_mm
+    return float(np.linalg.norm(P[1] - P[0]))
+
+
+def swap_raw(design, family: str, out_path: Path) -> dict:
+    """The raw TOML mapping of ``design`` swapped to ``family`` (same stroke, same [parts])."""
+    from cad.errors import DesignError
+
+    if family not in SWAP_FAMILIES:
+        raise DesignError("--to", f"must be one of {', '.join(SWAP_FAMILIES)}, got {family!r}")
+    raw = copy.deepcopy(design.raw)
+    for s in DROPPED_SECTIONS:
+        raw.pop(s, None)
+    mech = raw.get("mechanism", {})
+    force = mech.get("force_N", design.force_N)
+    raw["mechanism"] = {"family": family, "stroke_mm": stroke_of(design), "force_N": force}
+    raw["name"] = f"{design.name.split('__')[0]}__{family.replace('-', '_')}"
+    raw["description"] = (
+        f"{family} bar set on the joint hardware of {Path(design.source).name} "
+        f"(hapticad swap, stroke {stroke_of(design):.3f} mm)"
+    )
+    parts = raw.get("parts")
+    if isinstance(parts, dict) and isinstance(parts.get("handle_script"), str):
+        p = Path(parts["handle_script"])
+        if not p.is_absolute():
+            abs_p = (Path(design.source).resolve().parent / p).resolve()
+            parts["handle_script"] = os.path.relpath(abs_p, Path(out_path).resolve().parent)
+    return raw
+
+
+def metric_rows(design) -> dict:
+    from cad.analysis import METRIC_KEYS
+    from cad.kinematics.metrics import compute_metrics
+
+    m = compute_metrics(
+        design.linkage,
+        design.phi1_min_rad,
+        design.phi1_max_rad,
+        force_N=design.force_N,
+        samples=design.samples,
+    ).as_dict()
+    out = {k: m[k] for k in METRIC_KEYS if k in m}
+    out.update(design.resolved_linkage())
+    return out
+
+
+def register(app: typer.Typer) -> None:
+    @app.command("swap")
+    def swap_cmd(
+        design: Path = typer.Argument(..., help="TOML design file (four-bar)"),
+        to: str = typer.Option(..., "--to", help="hoeken | roberts | chebyshev | chebyshev-v"),
+        out: Path = typer.Option(
+            None, "--out", help="new design file (default <stem>_<family>.toml beside DESIGN)"
+        ),
+        json_out: bool = typer.Option(False, "--json", help="print one JSON object"),
+        build: bool = typer.Option(
+            False, "--build", help="also build the new design into exports/<name>/"
+        ),
+    ) -> None:
+        """Same joint hardware, another straight-line bar set; old vs new metrics."""
+        import tomli_w
+
+        from cad.assembly.layers import choose_layers
+        from cad.assembly.pose import planar_transforms
+        from cad.design import load_design, parse_design
+        from cad.design.fourbar import FourBarDesign
+        from cad.errors import DesignError
+        from cad.io.atomic import write_text_atomic
+        from cad.kinematics.linkgeom import link_joints_mm
+
+        d = load_design(design)
+        if not isinstance(d, FourBarDesign):
+            raise DesignError(
+                "mechanism.family", f"swap works on four-bar designs, got {d.family!r}"
+            )
+        target = (
+            out
+            if out is not None
+            else design.with_name(f"{design.stem}_{to.replace('-', '_')}.toml")
+        )
+        raw = swap_raw(d, to, target)
+        new = parse_design(raw, str(target))  # validates before anything is written
+        import numpy as np
+
+        phi = np.linspace(new.phi1_min_rad, new.phi1_max_rad, new.parts.interference_poses)
+        plan = choose_layers(
+            link_joints_mm(new.linkage), new.parts, planar_transforms(new.linkage, phi)
+        )
+        text = tomli_w.dumps(raw)
+        write_text_atomic(target, f"# written by `hapticad swap {design.name} --to {to}`\n" + text)
+        old_m, new_m = metric_rows(d), metric_rows(new)
+        result = {
+            "old": old_m,
+            "new": new_m,
+            "out": str(target),
+            "layers": {
+                "order": list(plan.order),
+                "conflicts": list(plan.conflicts),
+                "min_planar_clearance_mm": plan.min_planar_clearance_mm,
+            },
+        }
+        if build:
+            from cad.build import build_design
+            from cad.export import parse_formats
+
+            rep = build_design(new, Path("exports") / new.name, parse_formats(None))
+            result["build"] = {
+                "min_clearance_mm": rep["min_clearance_mm"],
+                "overlap_volume_mm3": rep["overlap_volume_mm3"],
+                "out": str(Path("exports") / new.name),
+            }
+        if json_out:
+            print(json.dumps(result, sort_keys=True, default=float))
+            return
+        from rich.console import Console
+        from rich.table import Table
+
+        t = Table(title=f"swap {d.name} ({d.family}) -> {new.name} ({new.family}); hardware kept")
+        t.add_column("quantity")
+        t.add_column(d.family, justify="right")
+        t.add_column(new.family, justify="right")
+        for k, v in old_m.items():
+            nv = new_m.get(k)
+            if isinstance(v, (list, tuple)):
+                t.add_row(k, " x ".join(f"{x:.1f}" for x in v), " x ".join(f"{x:.1f}" for x in nv))
+            elif isinstance(v, str):
+                t.add_row(k, v, str(nv))
+            else:
+                t.add_row(k, f"{v:.5g}", f"{nv:.5g}")
+        con = Console()
+        con.print(t)
+        con.print(
+            f"layers {', '.join(plan.order)} (bottom to top), planar clearance "
+            f"{plan.min_planar_clearance_mm:.2f} mm; wrote {target}"
+        )
+        if plan.conflicts:
+            con.print(f"[yellow]warning:[/] layer conflicts: {'; '.join(plan.conflicts)}")
+        if build:
+            con.print(
+                f"built {result['build']['out']}: min clearance {result['build']['min_clearance_mm']:.3f} mm"
+            )

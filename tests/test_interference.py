@@ -1,0 +1,211 @@
+"""Interference sweep: exact clearance and overlap against closed forms; the fast pass's
+shortcuts (z culling, pose-invariant joint parts) change nothing; the layer planner."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from cad.errors import InterferenceError
+
+R_FIXED = 5.0
+H = 5.0
+
+
+def cylinder(r: float, h: float = H):
+    from build123d import Align, Cylinder
+
+    return Cylinder(r, h, align=(Align.CENTER, Align.CENTER, Align.MIN)).solids()[0].wrapped
+
+
+def translations(xs):
+    """(N,4,4) pure x translations (planar motion)."""
+    T = np.repeat(np.eye(4)[None], len(xs), axis=0)
+    T[:, 0, 3] = xs
+    return T
+
+
+def two_cylinder_sweep(
+    r_moving: float, n: int = 7, exact: bool = True, method: str = "auto", tol: float = 0.05
+):
+    """Fixed cylinder (r = 5) at the origin; a moving one whose centre runs along x with
+    x(phi) = 10 + (phi - 0.3)^2: closest at phi = 0.3, centre distance 10 mm."""
+    from cad.assembly import interference as itf
+
+    items = [
+        ("fixed", "ground", cylinder(R_FIXED), np.eye(4)),
+        ("moving", "crank", cylinder(r_moving), np.eye(4)),
+    ]
+    prep = itf.prepare(items, tol)
+    phi = np.linspace(0.0, 1.0, n)  # 0.3 is not a sample
+
+    def x_of(p):
+        return 10.0 + (np.asarray(p) - 0.3) ** 2
+
+    tfs = {"ground": translations(np.zeros(n)), "crank": translations(x_of(phi))}
+
+    def tf_at(p):
+        return {"ground": np.eye(4), "crank": translations([x_of(p)])[0]}
+
+    return itf.sweep(prep, tfs, phi, clearance_min_mm=0.5, exact=exact, method=method, tf_at=tf_at)
+
+
+def lens_area(r1: float, r2: float, d: float) -> float:
+    """Area of the intersection of two circles (radii r1, r2, centre distance d)."""
+    a1 = r1 * r1 * math.acos((d * d + r1 * r1 - r2 * r2) / (2 * d * r1))
+    a2 = r2 * r2 * math.acos((d * d + r2 * r2 - r1 * r1) / (2 * d * r2))
+    k = 0.5 * math.sqrt((-d + r1 + r2) * (d + r1 - r2) * (d - r1 + r2) * (d + r1 + r2))
+    return a1 + a2 - k
+
+
+def test_exact_clearance_between_samples_is_found():
+    rep = two_cylinder_sweep(4.0)
+    # gap at the closest pose: 10 - 5 - 4 = 1 mm, reached between the samples (refined)
+    assert rep.min_clearance_mm == pytest.approx(1.0, abs=1e-6)
+    assert rep.closest["phi1_deg"] == pytest.approx(math.degrees(0.3), abs=0.05)
+    assert rep.overlap_volume_mm3 == 0.0 and rep.collisions == []
+
+
+def test_overlap_volume_is_the_lens_times_the_height():
+    r2 = 5.05  # 0.05 mm overlap at the closest pose
+    rep = two_cylinder_sweep(r2, n=11)
+    assert rep.min_clearance_mm == 0.0
+    assert rep.overlap_volume_mm3 == pytest.approx(lens_area(R_FIXED, r2, 10.0) * H, rel=1e-6)
+    with pytest.raises(InterferenceError, match="collide"):
+        from cad.assembly.interference import raise_on_collision
+
+        raise_on_collision(rep, 0.5)
+
+
+@pytest.mark.parametrize("r2", [4.0, 4.7, 4.95])
+def test_mesh_distance_is_within_twice_the_tolerance_of_the_exact_one(r2):
+    """The bound the exact pass relies on to pick the near contacts it confirms."""
+    tol = 0.2
+    mesh_only = two_cylinder_sweep(r2, n=11, exact=False, tol=tol)
+    exact_gap = 10.0 - R_FIXED - r2
+    assert abs(mesh_only.pairs[0]["mesh_min_mm"] - exact_gap) <= 2 * tol
+    assert mesh_only.method.endswith("(mesh only)")
+
+
+def test_clearance_below_the_minimum_is_an_interference():
+    rep = two_cylinder_sweep(4.7)  # 0.3 mm gap < 0.5 mm minimum
+    assert rep.min_clearance_mm == pytest.approx(0.3, abs=1e-6)
+    from cad.assembly.interference import raise_on_collision
+
+    with pytest.raises(InterferenceError, match="0.300 mm apart"):
+        raise_on_collision(rep, 0.5)
+
+
+def test_manifold3d_fast_pass_agrees_with_fcl():
+    a = two_cylinder_sweep(4.0, method="fcl", exact=False)
+    b = two_cylinder_sweep(4.0, method="manifold3d", exact=False)
+    assert a.pairs[0]["mesh_min_mm"] == pytest.approx(b.pairs[0]["mesh_min_mm"], abs=2 * 0.05)
+
+
+def test_joint_shortcut_and_z_culling_change_no_distance():
+    """A pin turning inside a ring (solids of revolution about the joint) next to a bar,
+    and a far plate below: the sweep with the joint shortcut equals the plain sweep, and
+    the exact pass gives the true 0.5 mm gap either way."""
+    from build123d import Align, Box, Cylinder, Pos
+
+    from cad.assembly import interference as itf
+    from cad.parts import translation
+
+    a = (Align.CENTER, Align.CENTER, Align.MIN)
+    ring = (Cylinder(6.0, H, align=a) - Cylinder(4.5, H, align=a)).solids()[0].wrapped
+    pin = Cylinder(4.0, H + 4, align=a).solids()[0].wrapped
+    bar = (
+        (Pos(25, 0, H + 1) * Box(40, 8, 3, align=(Align.CENTER, Align.CENTER, Align.MIN)))
+        .solids()[0]
+        .wrapped
+    )
+    plate = (Pos(0, 0, -30) * Box(100, 100, 2)).solids()[0].wrapped
+    items = [
+        ("ring", "rocker", ring, np.eye(4), True),
+        ("bar", "rocker", bar, np.eye(4), False),
+        ("pin", "ground", pin, translation(0, 0, -2), True),
+        ("plate", "ground", plate, np.eye(4), False),
+        (
+            "block",
+            "ground",
+            (Pos(0, -40, H + 1) * Box(6, 6, 3, align=a)).solids()[0].wrapped,
+            np.eye(4),
+            False,
+        ),
+    ]
+    prep = itf.prepare(items, 0.05)
+    phi = np.linspace(-0.6, 0.6, 9)
+    c, s = np.cos(phi), np.sin(phi)
+    rot = np.repeat(np.eye(4)[None], len(phi), axis=0)
+    rot[:, 0, 0], rot[:, 0, 1], rot[:, 1, 0], rot[:, 1, 1] = c, -s, s, c
+    tfs = {"ground": translations(np.zeros(len(phi))), "rocker": rot}
+    plain = itf.sweep(prep, tfs, phi, 0.5, exact=False)
+    fast = itf.sweep(
+        prep, tfs, phi, 0.5, exact=False, joints={("ground", "rocker"): [((0, 0), (0, 0))]}
+    )
+    # exact for the true solids of revolution; the faceted meshes turn against each other,
+    # so the two agree to within the mesh deflection of both parts
+    assert fast.pairs[0]["mesh_min_mm"] == pytest.approx(
+        plain.pairs[0]["mesh_min_mm"], abs=2 * 0.05
+    )
+    # closest: the pin inside the ring, 0.5 mm (4.0 vs 4.5) at every pose
+    assert plain.pairs[0]["mesh_min_mm"] == pytest.approx(0.5, abs=2 * 0.05)
+    exact = itf.sweep(
+        prep, tfs, phi, 0.4, exact=True, joints={("ground", "rocker"): [((0, 0), (0, 0))]}
+    )
+    assert exact.min_clearance_mm == pytest.approx(0.5, abs=1e-9)
+    assert exact.closest["parts"] == ["pin", "ring"]
+
+
+def test_non_planar_transforms_are_refused():
+    from cad.assembly import interference as itf
+
+    prep = itf.prepare(
+        [("a", "ground", cylinder(1.0), np.eye(4)), ("b", "crank", cylinder(1.0), np.eye(4))], 0.1
+    )
+    T = translations([0.0, 1.0])
+    T[:, 2, 3] = [0.0, 1.0]  # moves in z
+    with pytest.raises(InterferenceError, match="planar"):
+        itf.sweep(prep, {"ground": translations([0.0, 0.0]), "crank": T}, np.array([0.0, 1.0]), 0.5)
+
+
+# ------------------------------------------------------------ layer planner (numpy only)
+@settings(max_examples=60, deadline=None)
+@given(st.lists(st.floats(-50, 50), min_size=12, max_size=12))
+def test_hull_distance_matches_dense_sampling(vals):
+    """Distance between convex hulls of 3 + 2 points vs sampling both hulls densely."""
+    from cad.assembly.layers import hull_distance
+
+    pa = np.array(vals[:6]).reshape(1, 3, 2)
+    pb = np.array(vals[6:10]).reshape(1, 2, 2)
+    d = float(hull_distance(pa, pb)[0])
+    # sample the triangle (barycentric grid) and the segment
+    u = np.linspace(0, 1, 41)
+    U, V = np.meshgrid(u, u)
+    m = (U + V) <= 1
+    tri = pa[0, 0] + U[m, None] * (pa[0, 1] - pa[0, 0]) + V[m, None] * (pa[0, 2] - pa[0, 0])
+    seg = pb[0, 0] + u[:, None] * (pb[0, 1] - pb[0, 0])
+    brute = np.min(np.linalg.norm(tri[:, None, :] - seg[None, :, :], axis=-1))
+    span = max(np.ptp(pa[0], axis=0).max(), np.ptp(pb[0], axis=0).max(), 1e-9)
+    assert d <= brute + 1e-9
+    assert brute - d <= 2.0 * span / 40  # sampling resolution
+
+
+@pytest.mark.parametrize("fam", ["hoeken", "roberts", "chebyshev", "chebyshev-v"])
+def test_layer_plan_is_conflict_free_for_the_paper_families(fam):
+    from cad.assembly.layers import choose_layers
+    from cad.assembly.pose import planar_transforms
+    from cad.design.parts import PartsSpec
+    from cad.kinematics.families import family_linkage
+    from cad.kinematics.linkgeom import link_joints_mm
+
+    fb, lo, hi = family_linkage(fam)
+    p = PartsSpec()
+    plan = choose_layers(link_joints_mm(fb), p, planar_transforms(fb, np.linspace(lo, hi, 60)))
+    assert plan.conflicts == ()
+    assert plan.min_planar_clearance_mm >= p.clearance_min_mm
+    assert sorted(plan.order) == ["coupler", "crank", "rocker"]
