@@ -120,13 +120,6 @@ def test_exactly_singular_pose_in_a_batch_is_named():
 
 
 @pytest.mark.parametrize("n", [1, 4])
-@pytest.mark.xfail(
-    strict=True,
-    reason="BUG cad/dynamics/inertia.py:127 apparent_mass_matrix: the singular threshold is "
-    "relative to max|J| over the poses passed, so a batch made only of the singular pose "
-    "(|J| = 3.6e-15 mm/rad, round-off) returns M11 ~ 2.5e30 kg instead of "
-    "SingularJacobianError; compare |J| with the linkage's scale (e.g. l1) instead",
-)
 def test_singular_pose_detected_alone_as_in_a_batch(n):
     """Detection must not depend on which other poses are in the batch (here: none)."""
     with pytest.raises(SingularJacobianError):
@@ -186,7 +179,9 @@ def test_D_blows_up_like_one_over_sin_squared_then_toggle_is_named():
     assert len(scaled) >= 5
     tail = scaled[-3:]
     assert max(tail) / min(tail) < 1.03  # converged to the 1/sin^2 asymptote
-    assert scaled[-1] / scaled[0] != pytest.approx(1.0, abs=1e-6)  # and it was not constant by design
+    assert scaled[-1] / scaled[0] != pytest.approx(
+        1.0, abs=1e-6
+    )  # and it was not constant by design
 
 
 def test_toggle_inside_a_batch_is_named_with_its_angle():
@@ -209,25 +204,12 @@ def test_toggle_inside_a_batch_is_named_with_its_angle():
         dict(mass_kg=0.01, lG_m=0.01, beta_rad=0.0, Jzz_com_kg_m2=math.nan),
         pytest.param(
             dict(mass_kg=math.inf, lG_m=0.01, beta_rad=0.0, Jzz_com_kg_m2=1e-6),
-            marks=pytest.mark.xfail(
-                strict=True,
-                reason="BUG cad/dynamics/inertia.py:49 PlanarLinkInertia accepts inf mass "
-                "(checks >= 0 only, not finiteness)",
-            ),
         ),
         pytest.param(
             dict(mass_kg=0.01, lG_m=math.inf, beta_rad=0.0, Jzz_com_kg_m2=1e-6),
-            marks=pytest.mark.xfail(
-                strict=True, reason="BUG cad/dynamics/inertia.py:49 PlanarLinkInertia accepts inf lG_m"
-            ),
         ),
         pytest.param(
             dict(mass_kg=0.01, lG_m=0.01, beta_rad=math.nan, Jzz_com_kg_m2=1e-6),
-            marks=pytest.mark.xfail(
-                strict=True,
-                reason="BUG cad/dynamics/inertia.py:49 PlanarLinkInertia accepts beta_rad = NaN "
-                "(D(phi1) of eq 14 then is NaN)",
-            ),
         ),
     ],
 )
@@ -241,11 +223,6 @@ LINK = PlanarLinkInertia(0.02, 0.01, 0.0, 1e-6)
 
 
 @pytest.mark.parametrize("Jm", [-1e-6, math.nan, math.inf])
-@pytest.mark.xfail(
-    strict=True,
-    reason="BUG cad/dynamics/inertia.py:99 h_from_links does not validate the rotor inertia "
-    "Jm: -1e-6 gives H11 < 0, NaN/inf propagate into D(phi1) silently",
-)
 def test_rotor_inertia_must_be_finite_and_non_negative(Jm):
     fb, _, _ = family_linkage("hoeken")
     with pytest.raises(DesignError):
@@ -259,12 +236,6 @@ def test_rotor_inertia_must_be_finite_and_non_negative(Jm):
         (2.97e-5, 3.22e-5, math.nan, 7.09e-5),
         (2.97e-5, math.inf, 1.17e-4, 7.09e-5),
     ],
-)
-@pytest.mark.xfail(
-    strict=True,
-    reason="BUG cad/dynamics/inertia.py:61 InertiaCoefficients has no validation: "
-    "equivalent_inertia returns negative or NaN D(phi1) silently (the design file path "
-    "validates [inertia], the Python API does not)",
 )
 def test_non_physical_inertia_coefficients_are_rejected(H):
     fb, lo, hi = family_linkage("hoeken")
@@ -306,18 +277,18 @@ def test_D_is_positive_and_finite_for_any_physical_inertia(family, crank, couple
 @pytest.mark.parametrize("bad", [0.0, -1.0, math.nan])
 def test_eq25_inputs_must_be_positive(field, bad):
     """Eq (25) divides by Te and by Delta + xdot Te: zero, negative or NaN inputs are named."""
-    vals = dict(Fv_N_s_per_m=0.12, Fs_N=0.083, Te_s=0.33e-3, encoder_resolution_m=5.46e-5,
-                xdot_max_m_per_s=0.04)
+    vals = dict(
+        Fv_N_s_per_m=0.12,
+        Fs_N=0.083,
+        Te_s=0.33e-3,
+        encoder_resolution_m=5.46e-5,
+        xdot_max_m_per_s=0.04,
+    )
     vals[field] = bad
     with pytest.raises(DesignError, match=f"stiffness.{field}"):
         StiffnessInputs(**vals)
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="BUG cad/dynamics/stiffness.py:25 StiffnessInputs accepts inf (inf > 0): "
-    "xdot_max = inf gives K_max = inf/inf = NaN silently",
-)
 def test_eq25_infinite_input_is_rejected():
     with pytest.raises(DesignError):
         k = stiffness_range_N_per_m(StiffnessInputs(0.12, 0.083, 0.33e-3, 5.46e-5, math.inf))
@@ -325,11 +296,6 @@ def test_eq25_infinite_input_is_rejected():
 
 
 @pytest.mark.parametrize("counts", [0, -1000, math.nan])
-@pytest.mark.xfail(
-    strict=True,
-    reason="BUG cad/dynamics/stiffness.py:44 encoder_resolution_m: counts_per_rev = 0 raises "
-    "ZeroDivisionError, negative counts give a negative resolution, NaN passes",
-)
 def test_encoder_counts_must_be_positive(counts):
     with pytest.raises(DesignError):
         r = encoder_resolution_m(counts, 0.05)

@@ -47,8 +47,12 @@ class PlanarLinkInertia:
     Jzz_com_kg_m2: float
 
     def __post_init__(self) -> None:
-        if not (self.mass_kg >= 0 and self.Jzz_com_kg_m2 >= 0 and self.lG_m >= 0):
-            raise DesignError("inertia", f"negative mass, lG or Jzz in {self!r}")
+        for name in ("mass_kg", "lG_m", "Jzz_com_kg_m2"):
+            v = getattr(self, name)
+            if not (np.isfinite(v) and v >= 0):
+                raise DesignError(f"inertia.{name}", f"must be finite and >= 0, got {v!r}")
+        if not np.isfinite(self.beta_rad):
+            raise DesignError("inertia.beta_rad", f"must be finite, got {self.beta_rad!r}")
 
     @classmethod
     def from_com(cls, mass_kg: float, com_link_m: np.ndarray, Jzz_com_kg_m2: float) -> PlanarLinkInertia:
@@ -69,6 +73,24 @@ class InertiaCoefficients:
     H22_kg_m2: float
     H33_kg_m2: float
     beta2_rad: float = 0.0
+
+    def __post_init__(self) -> None:
+        for name in ("H11_kg_m2", "H12_kg_m2", "H22_kg_m2", "H33_kg_m2", "beta2_rad"):
+            v = getattr(self, name)
+            if not np.isfinite(v):
+                raise DesignError(f"inertia.{name}", f"must be finite, got {v!r}")
+        for name in ("H11_kg_m2", "H22_kg_m2", "H33_kg_m2"):
+            v = getattr(self, name)
+            if v < 0:
+                raise DesignError(f"inertia.{name}", f"must be >= 0, got {v!r}")
+        # D(phi1) >= 0 for every motion needs H12^2 <= H11 H22 (physically H11 >= m2 l1^2 and
+        # H22 >= m2 lG2^2, so it always holds for real links)
+        if self.H12_kg_m2**2 > self.H11_kg_m2 * self.H22_kg_m2 * (1 + 1e-12):
+            raise DesignError(
+                "inertia.H12_kg_m2",
+                f"|H12| = {abs(self.H12_kg_m2):.4g} exceeds sqrt(H11 H22) = "
+                f"{np.sqrt(self.H11_kg_m2 * self.H22_kg_m2):.4g}: D(phi1) of eq (14) would be negative",
+            )
 
     def as_dict(self) -> dict[str, float]:
         return {
@@ -95,6 +117,8 @@ def h_from_links(
     H33 = m3 lG3^2 + J3 (eq 18), H12 = m2 l1 lG2 (eq 19); beta2 = coupler COM angle.
     The handle (at P) belongs to the coupler's mass properties.
     """
+    if not (np.isfinite(Jm_kg_m2) and Jm_kg_m2 >= 0):
+        raise DesignError("parts.motor_rotor_inertia_g_cm2", f"rotor inertia must be finite and >= 0, got {Jm_kg_m2!r} kg m^2")
     l1 = fb.l1_mm * MM
     H11 = crank.mass_kg * crank.lG_m**2 + coupler.mass_kg * l1**2 + Jm_kg_m2 + crank.Jzz_com_kg_m2
     H22 = coupler.mass_kg * coupler.lG_m**2 + coupler.Jzz_com_kg_m2
@@ -116,16 +140,18 @@ def apparent_mass_matrix(
     """M(phi1) = J^+T D J^+ (eq 22), kg, shape (N, 2, 2), in ``frame`` axes (R0 if None).
 
     J (2x1, m/rad) has the pseudo-inverse J^+ = J^T / (J^T J); a J with
-    |J| below PINV_RCOND * max|J| over the poses is singular
-    (SingularJacobianError naming phi1).
+    |J| below PINV_RCOND times the linkage's own scale (l1 + le, the largest
+    |J| a unit velocity ratio gives; also never below max|J| over the poses) is
+    singular (SingularJacobianError naming phi1). The scale does not depend on
+    which poses are passed, so a batch holding only the singular pose is caught.
     """
     J = jacobian_mm_per_rad(fb, pose) * MM
     if frame is not None:
         J = frame.rotate(J)
     n2 = np.einsum("ni,ni->n", J, J)
-    scale = n2.max() if n2.size else 0.0
-    bad = n2 <= (tol.PINV_RCOND**2) * scale
-    if bad.any() or scale == 0:
+    ref = max(float(n2.max()) if n2.size else 0.0, ((fb.l1_mm + fb.le_mm) * MM) ** 2)
+    bad = n2 <= (tol.PINV_RCOND**2) * ref
+    if bad.any():
         where = np.degrees(pose.phi1_rad[bad]) if bad.any() else np.degrees(pose.phi1_rad)
         raise SingularJacobianError(
             f"J = dP/dphi1 vanishes at phi1 = {where.min():.3f} deg: the apparent mass "

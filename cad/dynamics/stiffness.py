@@ -9,6 +9,7 @@ velocity before instability (m/s). Returns N/m.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 from cad.errors import DesignError
@@ -24,8 +25,8 @@ class StiffnessInputs:
 
     def __post_init__(self) -> None:
         for k, v in vars(self).items():
-            if not v > 0:
-                raise DesignError(f"stiffness.{k}", f"must be > 0, got {v!r}")
+            if not (math.isfinite(v) and v > 0):
+                raise DesignError(f"stiffness.{k}", f"must be finite and > 0, got {v!r}")
 
 
 def stiffness_range_N_per_m(s: StiffnessInputs) -> tuple[float, float]:
@@ -39,6 +40,8 @@ def stiffness_range_N_per_m(s: StiffnessInputs) -> tuple[float, float]:
 
 def encoder_resolution_m(counts_per_rev: float, dx_dphi1_m_per_rad: float) -> float:
     """Elementary translation of an encoder on the crank: dx/dphi1 * 2 pi / counts."""
-    import math
-
+    if not (math.isfinite(counts_per_rev) and counts_per_rev > 0):
+        raise DesignError("stiffness.encoder_counts_per_rev", f"must be finite and > 0, got {counts_per_rev!r}")
+    if not math.isfinite(dx_dphi1_m_per_rad):
+        raise DesignError("stiffness.dx_dphi1_m_per_rad", f"must be finite, got {dx_dphi1_m_per_rad!r}")
     return abs(dx_dphi1_m_per_rad) * 2.0 * math.pi / counts_per_rev
