@@ -36,3 +36,13 @@ INERTIA_REL_EPS = 1e-9
 #: Central-difference step for Jacobian checks (rad). Truncation error ~h^2,
 #: round-off ~eps/h: 1e-6 balances both near 1e-10 relative.
 FD_STEP_RAD = 1e-6
+
+#: Magnitude bounds for design lengths (mm): below 1 um or above 1 km the squares of
+#: eqs (4)-(6) lose all precision or overflow; no haptic device lives out there.
+LENGTH_MIN_MM = 1e-3
+LENGTH_MAX_MM = 1e6
+
+#: Upper bound of the force along the path (N) and of crank samples (memory: 1e6
+#: samples x a few arrays of float64 is ~100 MB).
+FORCE_MAX_N = 1e6
+SAMPLES_MAX = 1_000_000

@@ -46,16 +46,49 @@ PANTOGRAPH_DESIGNS = ("pantograph", "haptic_mouse", "haptic_pen")
 
 #: Top-level keys of each schema (cad/design/fourbar.py, pantograph.py, powermouse.py):
 #: an error may name a table the mutation deleted.
-FOURBAR_TOP = ("name", "description", "mechanism", "analysis", "inertia", "stiffness", "parts",
-               "targets", "fit")
+FOURBAR_TOP = (
+    "name",
+    "description",
+    "mechanism",
+    "analysis",
+    "inertia",
+    "stiffness",
+    "parts",
+    "targets",
+    "fit",
+)
 PANTOGRAPH_TOP = ("name", "description", "mechanism", "workspace", "actuators", "optimize", "parts")
 POWERMOUSE_TOP = ("name", "mechanism", "actuator", "flotor", "stator", "handle", "motion")
 
 #: Values that sit on or past the edge of every validator.
 EDGE_VALUES = (
-    0, 0.0, -0.0, -1, -1.0, -1e-9, 1e-300, 5e-324, 1e300, 1.7e308, 1e30, 10**12, -(10**12),
-    math.nan, math.inf, -math.inf, True, False, "", "abc", "1.0", [], [1.0], [math.nan, 1.0],
-    [1.0, 2.0, 3.0, 4.0], {}, {"x": 1.0},
+    0,
+    0.0,
+    -0.0,
+    -1,
+    -1.0,
+    -1e-9,
+    1e-300,
+    5e-324,
+    1e300,
+    1.7e308,
+    1e30,
+    10**12,
+    -(10**12),
+    math.nan,
+    math.inf,
+    -math.inf,
+    True,
+    False,
+    "",
+    "abc",
+    "1.0",
+    [],
+    [1.0],
+    [math.nan, 1.0],
+    [1.0, 2.0, 3.0, 4.0],
+    {},
+    {"x": 1.0},
 )
 values = st.one_of(
     st.sampled_from(EDGE_VALUES),
@@ -167,9 +200,7 @@ def _cwd(path: Path):
         os.chdir(old)
 
 
-_FUZZ = settings(
-    max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow]
-)
+_FUZZ = settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 
 
 @_FUZZ
@@ -240,26 +271,38 @@ def test_powermouse_design_never_traceback(tmp_path_factory, data):
         assert msg.startswith(exc.field + ": ") and exc.reason, (msg, log)
         return
     a = d.actuator
-    for v in (a.magnet_length_mm, a.magnet_width_mm, a.magnet_thickness_mm, a.rattle_mm,
-              a.power_W, a.br_T, d.flotor.edge_mm, d.motion.range_mm):
+    for v in (
+        a.magnet_length_mm,
+        a.magnet_width_mm,
+        a.magnet_thickness_mm,
+        a.rattle_mm,
+        a.power_W,
+        a.br_T,
+        d.flotor.edge_mm,
+        d.motion.range_mm,
+    ):
         assert math.isfinite(v) and v > 0, (d, log)
     assert a.gap_mm is None or a.gap_mm > a.rattle_mm, (d, log)
     assert d.motion.range_mm <= a.rattle_mm / 2
 
 
 # --------------------------------------------------------------------------- four-bar edges
-# Deterministic cases the fuzzer can draw but rarely does. Each fails today in code this
-# helper may not edit (cad/kinematics/fourbar.py, metrics.py, cad/analysis.py,
-# cad/design/fourbar.py, cad/cli/cmd_analyze.py): marked xfail(strict) and reported, to be
-# fixed (suggested: magnitude bounds and a sample cap in cad/design/fourbar.py, as
-# cad/design/pantograph.py now has) and the marks removed.
-
-_FOURBAR_BUG = "BUG (four-bar, not this helper's files): "
+# Deterministic extreme cases the fuzzer can draw but rarely does. Each one used to overflow,
+# divide by zero or exhaust memory (found by this file); the design loader now bounds
+# magnitudes (cad/tolerances.py LENGTH_*, FORCE_MAX_N, SAMPLES_MAX) and says which field.
 FOURBAR_EDGES = [
-    ("hoeken", ("mechanism", "force_N"), 1.7e308,
-     "force_N = 1.7e308: RuntimeWarning overflow in the torque metrics"),
-    ("hoeken", ("mechanism", "stroke_mm"), 1e300,
-     "stroke_mm = 1e300: RuntimeWarning overflow (lengths squared in eqs 4-6)"),
+    (
+        "hoeken",
+        ("mechanism", "force_N"),
+        1.7e308,
+        "force_N = 1.7e308: RuntimeWarning overflow in the torque metrics",
+    ),
+    (
+        "hoeken",
+        ("mechanism", "stroke_mm"),
+        1e300,
+        "stroke_mm = 1e300: RuntimeWarning overflow (lengths squared in eqs 4-6)",
+    ),
     ("hoeken", ("stiffness", "Fv_N_s_per_m"), 1.7e308, "eq (25) K_min/K_max = inf/NaN in the JSON"),
     ("hoeken", ("stiffness", "Fs_N"), 1.7e308, "eq (25) K_max = inf in the JSON"),
     ("hoeken", ("stiffness", "Te_s"), 5e-324, "eq (25) K_min = inf in the JSON"),
@@ -276,13 +319,19 @@ FOURBAR_EDGES = [
 @pytest.mark.parametrize(
     "name, path, value",
     [
-        pytest.param(n, p, v, marks=pytest.mark.xfail(strict=True, reason=_FOURBAR_BUG + why),
-                     id=f"{n}-{'.'.join(p)}={v:g}")
+        pytest.param(
+            n,
+            p,
+            v,
+            id=f"{n}-{'.'.join(p)}={v:g}",
+        )
         for n, p, v, why in FOURBAR_EDGES
     ]
     + [
         pytest.param("hoeken", ("mechanism", "stroke_mm"), 1e-300, id="hoeken-stroke=1e-300"),
-        pytest.param("custom_example", ("mechanism", "phi1_max_deg"), 1e300, id="custom-phi1max=1e300"),
+        pytest.param(
+            "custom_example", ("mechanism", "phi1_max_deg"), 1e300, id="custom-phi1max=1e300"
+        ),
     ],
 )
 def test_fourbar_extreme_values_exit_cleanly(tmp_path, name, path, value):
@@ -301,10 +350,8 @@ def test_fourbar_extreme_values_exit_cleanly(tmp_path, name, path, value):
         _check_failure(code, out, err, set(raw) | set(FOURBAR_TOP), path)
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason=_FOURBAR_BUG + "cad/cli/cmd_analyze.py --samples has no upper bound: 1e13 -> MemoryError",
-)
 def test_analyze_samples_flag_is_bounded():
-    code, out, err = hapticad("analyze", DESIGNS / "hoeken.toml", "--json", "--samples", str(10**13))
+    code, out, err = hapticad(
+        "analyze", DESIGNS / "hoeken.toml", "--json", "--samples", str(10**13)
+    )
     _check_failure(code, out, err, {"--samples"}, "--samples")

@@ -23,6 +23,7 @@ import math
 
 import numpy as np
 import pytest
+from cli_helpers import hapticad
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -30,7 +31,6 @@ from cad import tolerances as tol
 from cad.actuators import powermouse as pm
 from cad.actuators import voicecoil as vc
 from cad.errors import DesignError, SingularJacobianError
-from cli_helpers import hapticad
 
 PAPER = vc.VoiceCoilParams(20.0, 8.0, 4.0, 6.0)  # Fig. 8: l_m, w_m, t_m, d_r (mm)
 
@@ -262,8 +262,28 @@ BASE = {
     "--rattle-mm": "6",
 }
 OPTIONAL = ("--power-W", "--br-T", "--rho-ohm-m", "--eta-pack", "--gap-mm", "--gap-max-mm")
-EDGE_STRINGS = ("0", "-0", "-1", "nan", "NaN", "inf", "-inf", "1e400", "1e-400", "abc", "",
-                "1e300", "1e-300", "5e-324", "6", "6.0000001", "2", "0x10", " 7 ", "1_0")
+EDGE_STRINGS = (
+    "0",
+    "-0",
+    "-1",
+    "nan",
+    "NaN",
+    "inf",
+    "-inf",
+    "1e400",
+    "1e-400",
+    "abc",
+    "",
+    "1e300",
+    "1e-300",
+    "5e-324",
+    "6",
+    "6.0000001",
+    "2",
+    "0x10",
+    " 7 ",
+    "1_0",
+)
 
 
 @settings(max_examples=40, deadline=None)

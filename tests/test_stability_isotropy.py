@@ -257,21 +257,48 @@ def test_nan_or_inconsistent_performance_is_named_by_both_methods(s0, s1):
 @pytest.mark.parametrize(
     "make, field",
     [
-        (lambda pts: FiveBarProblem({"base_mm": [math.nan], "proximal_mm": [100.0],
-                                     "distal_mm": [150.0]}, pts, 3), "optimize.base_mm"),
-        (lambda pts: FiveBarProblem({"base_mm": [60.0], "proximal_mm": [math.inf],
-                                     "distal_mm": [150.0]}, pts, 3), "optimize.proximal_mm"),
-        (lambda pts: FiveBarProblem({"base_mm": [60.0], "proximal_mm": [100.0],
-                                     "distal_mm": [150.0]}, pts, 3, (1.0, math.nan)),
-         "actuators.torque_max_Nm"),
-        (lambda pts: FiveBarProblem({"base_mm": [60.0], "proximal_mm": [100.0],
-                                     "distal_mm": [150.0]}, pts, 3, (1.0, -1.0)),
-         "actuators.torque_max_Nm"),
-        (lambda pts: FiveBarProblem({"base_mm": [60.0], "proximal_mm": [100.0],
-                                     "distal_mm": [150.0]}, pts, 3, 1.0, 0.0),
-         "actuators.force_max_N"),
-        (lambda pts: FiveBarProblem({"base_mm": [60.0], "proximal_mm": [100.0],
-                                     "distal_mm": [150.0]}, pts[:4], 3), "workspace"),
+        (
+            lambda pts: FiveBarProblem(
+                {"base_mm": [math.nan], "proximal_mm": [100.0], "distal_mm": [150.0]}, pts, 3
+            ),
+            "optimize.base_mm",
+        ),
+        (
+            lambda pts: FiveBarProblem(
+                {"base_mm": [60.0], "proximal_mm": [math.inf], "distal_mm": [150.0]}, pts, 3
+            ),
+            "optimize.proximal_mm",
+        ),
+        (
+            lambda pts: FiveBarProblem(
+                {"base_mm": [60.0], "proximal_mm": [100.0], "distal_mm": [150.0]},
+                pts,
+                3,
+                (1.0, math.nan),
+            ),
+            "actuators.torque_max_Nm",
+        ),
+        (
+            lambda pts: FiveBarProblem(
+                {"base_mm": [60.0], "proximal_mm": [100.0], "distal_mm": [150.0]},
+                pts,
+                3,
+                (1.0, -1.0),
+            ),
+            "actuators.torque_max_Nm",
+        ),
+        (
+            lambda pts: FiveBarProblem(
+                {"base_mm": [60.0], "proximal_mm": [100.0], "distal_mm": [150.0]}, pts, 3, 1.0, 0.0
+            ),
+            "actuators.force_max_N",
+        ),
+        (
+            lambda pts: FiveBarProblem(
+                {"base_mm": [60.0], "proximal_mm": [100.0], "distal_mm": [150.0]}, pts[:4], 3
+            ),
+            "workspace",
+        ),
     ],
 )
 def test_fivebar_problem_rejects_degenerate_inputs(make, field):
@@ -293,8 +320,13 @@ def test_twin_and_pen_problems_reject_degenerate_inputs():
     with pytest.raises(DesignError, match="^actuators.torque_max_Nm"):
         TwinPantographProblem(ok, X3, (3, 3, 2), (1.0, 1.0, 0.0, 1.0))
     X5 = hp.workspace_grid((0.0, 200.0, 0.0), (160.0, 100.0, 100.0), (3, 3, 3), 45.0, 1)
-    pen = {"shoulder_base_mm": [60.0], "proximal_mm": [140.0], "distal_mm": [180.0],
-           "pen_mm": [70.0], "waist_torque_ratio": [1.75]}
+    pen = {
+        "shoulder_base_mm": [60.0],
+        "proximal_mm": [140.0],
+        "distal_mm": [180.0],
+        "pen_mm": [70.0],
+        "waist_torque_ratio": [1.75],
+    }
     PenProblem(pen, X5, (3, 3, 3, 1, 1))
     with pytest.raises(DesignError, match="^optimize.waist_torque_ratio"):
         PenProblem({**pen, "waist_torque_ratio": [-1.0]}, X5, (3, 3, 3, 1, 1))
@@ -339,8 +371,9 @@ def _design(tmp_path, name, section, key, value):
         ("haptic_pen", "mechanism", "waist_torque_ratio", 1e-300, "mechanism.waist_torque_ratio"),
     ],
 )
-def test_absurd_magnitudes_and_sample_counts_exit_2_one_line(tmp_path, name, section, key,
-                                                             value, needle):
+def test_absurd_magnitudes_and_sample_counts_exit_2_one_line(
+    tmp_path, name, section, key, value, needle
+):
     """Before the bounds these overflowed in the IK (RuntimeWarning: two more stderr lines),
     asked numpy for terabytes (MemoryError traceback), reported a false "singular" GII = 0
     (pen moment arm 1e300) or a wrong GII by denormal round-off (torque 5e-324: 0.455
@@ -352,8 +385,11 @@ def test_absurd_magnitudes_and_sample_counts_exit_2_one_line(tmp_path, name, sec
 
 def test_bounds_leave_the_bundled_designs_unchanged():
     """The bundled designs sit well inside the bounds: their GII is as before (README)."""
-    for name, ref in (("pantograph", 0.6232007997359527), ("haptic_mouse", 0.20744437413513309),
-                      ("haptic_pen", 0.4637387645509308)):
+    for name, ref in (
+        ("pantograph", 0.6232007997359527),
+        ("haptic_mouse", 0.20744437413513309),
+        ("haptic_pen", 0.4637387645509308),
+    ):
         code, out, err = hapticad("gii", DESIGNS / f"{name}.toml", "--json")
         assert code == 0, err
         assert json.loads(out)["gii"] == pytest.approx(ref, rel=1e-12)

@@ -19,13 +19,13 @@ import numpy as np
 import pytest
 import trimesh
 from build123d import Box, Cylinder, Face, Polyline, Pos, Shell, Solid, Wire, extrude
+from cli_helpers import assert_one_line_error, hapticad
 from scipy.spatial.transform import Rotation
 
 from cad.errors import GeometryError, MeshError
 from cad.massprops import mesh as mpmesh
 from cad.massprops import occt
 from cad.massprops.props import InertiaError, MassProps, validate_inertia
-from cli_helpers import assert_one_line_error, hapticad
 
 RHO = 1000.0  # kg/m^3
 
@@ -37,8 +37,8 @@ TET_F = np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])
 def _tet_reference():
     """Mass properties of the unit tetrahedron at RHO, SI (closed form, see module doc)."""
     m = RHO * (1 / 6) * 1e-9
-    I = np.full((3, 3), 1 / 480) + np.eye(3) * (1 / 80 - 1 / 480)  # mm^5 per unit density
-    return m, np.full(3, 0.25e-3), RHO * I * 1e-15
+    inert = np.full((3, 3), 1 / 480) + np.eye(3) * (1 / 80 - 1 / 480)  # mm^5, unit density
+    return m, np.full(3, 0.25e-3), RHO * inert * 1e-15
 
 
 def _box_mesh():
@@ -123,10 +123,14 @@ def test_open_mesh_refused_unless_allowed_and_never_nan():
 @pytest.mark.parametrize(
     "mutate, needle",
     [
-        (lambda V, F: (np.where(np.arange(V.size).reshape(V.shape) == 4, np.nan, V), F),
-         "vertex 1 is not finite"),
-        (lambda V, F: (np.where(np.arange(V.size).reshape(V.shape) == 0, np.inf, V), F),
-         "vertex 0 is not finite"),
+        (
+            lambda V, F: (np.where(np.arange(V.size).reshape(V.shape) == 4, np.nan, V), F),
+            "vertex 1 is not finite",
+        ),
+        (
+            lambda V, F: (np.where(np.arange(V.size).reshape(V.shape) == 0, np.inf, V), F),
+            "vertex 0 is not finite",
+        ),
         (lambda V, F: (V * 1e12, F), "beyond"),
         (lambda V, F: (V, F + 8), "face indices must lie in"),
         (lambda V, F: (V, F - 1), "face indices must lie in"),
@@ -237,8 +241,11 @@ def test_valid_booleans_pass_the_check_with_exact_values():
 @pytest.mark.parametrize("seed", range(4))
 @pytest.mark.parametrize(
     "moments, needle",
-    [((1.0, 1.0, -0.1), "positive definite"), ((1.0, 1.0, 2.5), "triangle"),
-     ((0.1, 0.1, 1.0), "triangle")],
+    [
+        ((1.0, 1.0, -0.1), "positive definite"),
+        ((1.0, 1.0, 2.5), "triangle"),
+        ((0.1, 0.1, 1.0), "triangle"),
+    ],
 )
 def test_non_physical_tensors_are_caught_in_any_frame(seed, moments, needle):
     """The checks are frame-free (eigenvalues): the same defect under seeded random

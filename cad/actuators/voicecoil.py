@@ -143,7 +143,8 @@ class VoiceCoilParams:
             v = getattr(self, name)
             if v != 0 and not (MAGNITUDE_MIN <= v <= MAGNITUDE_MAX):
                 raise DesignError(
-                    name, f"must lie in [{MAGNITUDE_MIN:g}, {MAGNITUDE_MAX:g}] (float64 headroom), got {v!r}"
+                    name,
+                    f"must lie in [{MAGNITUDE_MIN:g}, {MAGNITUDE_MAX:g}] (float64 headroom), got {v!r}",
                 )
 
     @property
@@ -211,7 +212,9 @@ def bz_centerline_eq9_T(z_mm, gap_mm, l_m_mm, w_m_mm, t_m_mm, br_T):
     if not (math.isfinite(d) and d > 0):
         raise DesignError("gap_mm", f"must be a finite number > 0, got {gap_mm!r}")
     if not np.all(np.abs(z) < d / 2):
-        raise DesignError("z_mm", f"must lie strictly inside the gap |z| < {d / 2} mm, got {z_mm!r}")
+        raise DesignError(
+            "z_mm", f"must lie strictly inside the gap |z| < {d / 2} mm, got {z_mm!r}"
+        )
     out = np.zeros_like(z)
     for z1 in (d / 2 - z, d / 2 + z):
         s = 2.0 * z1
@@ -460,7 +463,8 @@ def optimal_gap(
             raise DesignError("gap_max_mm", f"must be a number, got {gap_max_mm!r}") from None
         if not (math.isfinite(gmax) and gmax > dr):
             raise DesignError(
-                "gap_max_mm", f"must be finite and exceed the rattle space {dr} mm, got {gap_max_mm!r}"
+                "gap_max_mm",
+                f"must be finite and exceed the rattle space {dr} mm, got {gap_max_mm!r}",
             )
     else:
         gmax = min(dr + 10.0 * (size + dr), _FLOAT_MAX / 16)  # sizes near float max: capped

@@ -76,9 +76,10 @@ def register(app: typer.Typer) -> None:
         from cad.analysis import analyze
         from cad.design import load_design
         from cad.design.fourbar import FourBarDesign
+        from cad.tolerances import SAMPLES_MAX
 
-        if samples is not None and samples < 3:
-            raise DesignError("--samples", f"must be >= 3, got {samples}")
+        if samples is not None and not 3 <= samples <= SAMPLES_MAX:
+            raise DesignError("--samples", f"must be in [3, {SAMPLES_MAX}], got {samples}")
         d = load_design(design)
         if not isinstance(d, FourBarDesign):
             raise DesignError("mechanism.family", "analyze works on four-bar designs; use `hapticad gii` for pantographs")

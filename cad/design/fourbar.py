@@ -26,6 +26,7 @@ import math
 from dataclasses import dataclass, field
 from typing import Any
 
+from cad import tolerances as tol
 from cad.design.fields import (
     check_unknown,
     optional_int,
@@ -107,6 +108,9 @@ def _parse_linkage(mech: dict[str, Any], family: str) -> tuple[FourBar, float, f
         return fb, lo, hi, None
     check_unknown(mech, ("family", "force_N", "stroke_mm"), p)
     stroke = optional_positive(mech, "stroke_mm", p, None)
+    if stroke is not None and not tol.LENGTH_MIN_MM <= stroke <= tol.LENGTH_MAX_MM:
+        raise DesignError("mechanism.stroke_mm",
+                          f"must lie in [{tol.LENGTH_MIN_MM:g}, {tol.LENGTH_MAX_MM:g}] mm, got {stroke!r}")
     fb, lo, hi = family_linkage(family, stroke)
     return fb, lo, hi, stroke
 
@@ -130,7 +134,17 @@ def _parse_stiffness(tab: dict[str, Any]) -> StiffnessInputs | None:
         return None
     keys = ("Fv_N_s_per_m", "Fs_N", "Te_s", "encoder_resolution_m", "xdot_max_m_per_s")
     check_unknown(tab, keys, "stiffness")
-    return StiffnessInputs(*(require_positive(tab, k, "stiffness") for k in keys))
+    # physical ranges: far outside them eq (25) over/underflows (inf or NaN stiffness)
+    ranges = {"Fv_N_s_per_m": (1e-9, 1e6), "Fs_N": (1e-9, 1e6), "Te_s": (1e-9, 10.0),
+              "encoder_resolution_m": (1e-12, 1.0), "xdot_max_m_per_s": (1e-9, 1e3)}
+    vals = []
+    for k in keys:
+        v = require_positive(tab, k, "stiffness")
+        lo, hi = ranges[k]
+        if not lo <= v <= hi:
+            raise DesignError(f"stiffness.{k}", f"must lie in [{lo:g}, {hi:g}], got {v!r}")
+        vals.append(v)
+    return StiffnessInputs(*vals)
 
 
 def parse(raw: dict[str, Any], source: str = "<design>") -> FourBarDesign:
@@ -144,6 +158,8 @@ def parse(raw: dict[str, Any], source: str = "<design>") -> FourBarDesign:
     if family not in FOURBAR_FAMILIES:
         raise DesignError("mechanism.family", f"unknown four-bar family {family!r}")
     force = optional_positive(mech, "force_N", "mechanism", 5.0)
+    if force > tol.FORCE_MAX_N:
+        raise DesignError("mechanism.force_N", f"must be <= {tol.FORCE_MAX_N:g} N, got {force!r}")
     fb, lo, hi, stroke = _parse_linkage(mech, family)
     if not hi > lo:
         raise DesignError("mechanism.phi1_max_deg",
@@ -157,6 +173,8 @@ def parse(raw: dict[str, Any], source: str = "<design>") -> FourBarDesign:
     analysis = optional_table(raw, "analysis", "")
     check_unknown(analysis, ("samples",), "analysis")
     samples = optional_int(analysis, "samples", "analysis", 2001, minimum=3)
+    if samples > tol.SAMPLES_MAX:
+        raise DesignError("analysis.samples", f"must be <= {tol.SAMPLES_MAX}, got {samples}")
     from cad.design.parts import parse_parts
 
     parts = parse_parts(optional_table(raw, "parts", ""), "parts")

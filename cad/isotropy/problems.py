@@ -28,13 +28,13 @@ def _params(params, names: Sequence[str], nonnegative: Sequence[str] = ()) -> di
         try:
             v = np.asarray(params[name], dtype=float).reshape(-1)
         except (TypeError, ValueError):
-            raise DesignError(f"optimize.{name}", f"must be numbers, got {params[name]!r}") from None
+            raise DesignError(
+                f"optimize.{name}", f"must be numbers, got {params[name]!r}"
+            ) from None
         bad = ~np.isfinite(v) | ((v < 0) if name in nonnegative else (v <= 0))
         if bad.any():
             limit = ">= 0" if name in nonnegative else "> 0"
-            raise DesignError(
-                f"optimize.{name}", f"must be finite and {limit}, got {v[bad][0]!r}"
-            )
+            raise DesignError(f"optimize.{name}", f"must be finite and {limit}, got {v[bad][0]!r}")
         out[name] = v
     sizes = {v.size for v in out.values()}
     if len(sizes) > 1:
@@ -185,7 +185,9 @@ class TwinPantographProblem:
         self.n_points = int(self.points.shape[0])
         self.sj = _scale_vector(torque_max_Nm, 4, "actuators.torque_max_Nm")
         self.F = _positive(force_max_N, "actuators.force_max_N")
-        self.M = None if moment_max_Nm is None else _positive(moment_max_Nm, "actuators.moment_max_Nm")
+        self.M = (
+            None if moment_max_Nm is None else _positive(moment_max_Nm, "actuators.moment_max_Nm")
+        )
 
     def sigma(self, cand, point):
         from cad.kinematics.twin_pantograph import jacobian_arrays

@@ -44,16 +44,25 @@ class FourBar:
     branch: int
 
     def __post_init__(self) -> None:
+        lo, hi = tol.LENGTH_MIN_MM, tol.LENGTH_MAX_MM
         for name in ("l1_mm", "l2_mm", "l3_mm"):
             v = getattr(self, name)
             if not np.isfinite(v) or v <= 0:
                 raise DesignError(f"mechanism.{name}", f"must be a finite length > 0, got {v!r}")
+            if not lo <= v <= hi:
+                raise DesignError(f"mechanism.{name}", f"must lie in [{lo:g}, {hi:g}] mm, got {v!r}")
         for name in ("l4_mm", "l5_mm", "phi_e_rad"):
             v = getattr(self, name)
             if not np.isfinite(v):
                 raise DesignError(f"mechanism.{name}", f"must be finite, got {v!r}")
+        for name in ("l4_mm", "l5_mm"):
+            v = getattr(self, name)
+            if abs(v) > hi:
+                raise DesignError(f"mechanism.{name}", f"|value| must be <= {hi:g} mm, got {v!r}")
         if not np.isfinite(self.le_mm) or self.le_mm < 0:
             raise DesignError("mechanism.le_mm", f"must be >= 0, got {self.le_mm!r}")
+        if self.le_mm > hi:
+            raise DesignError("mechanism.le_mm", f"must be <= {hi:g} mm, got {self.le_mm!r}")
         if self.le_mm == 0 and self.phi_e_rad != 0:
             pass  # P coincides with A2; phi_e is irrelevant but harmless
         if self.branch not in (1, -1):

@@ -18,8 +18,11 @@ it lies inside convex curved faces, so volumes come out low by O(tolerance / rad
 
 Watertightness: a mesh with an open edge gives a meaningless volume. Methods (b) and
 (c) and :func:`mesh_arrays_mass_props` raise :class:`cad.errors.MeshError` on a
-non-watertight mesh unless ``allow_open=True``, in which case the result carries
-``watertight=False`` and the caller must warn.
+non-watertight mesh unless ``allow_open=True``, in which case the trimesh result carries
+``watertight=False`` and the caller must warn (manifold3d has no volume for an open
+mesh and raises regardless). Always a MeshError, open or not: non-finite or
+out-of-range input, inconsistent winding (a flipped triangle leaves a box
+"watertight" with half its volume), and an enclosed volume <= 0 (inside-out or flat).
 """
 
 from __future__ import annotations
@@ -192,9 +195,7 @@ def _merged_trimesh(vertices_mm, faces):
             raise MeshError(f"mesh face indices must be integers, got dtype {f_in.dtype}")
     f = f_in.astype(np.int64)
     if f.min() < 0 or f.max() >= len(v):
-        raise MeshError(
-            f"mesh face indices must lie in [0, {len(v)}), got [{f.min()}, {f.max()}]"
-        )
+        raise MeshError(f"mesh face indices must lie in [0, {len(v)}), got [{f.min()}, {f.max()}]")
     # process=True merges coincident vertices (trimesh.constants.tol.merge = 1e-8).
     return trimesh.Trimesh(vertices=v, faces=f, process=True)
 
@@ -321,7 +322,8 @@ def manifold_volume_mm3(vertices_mm, faces, *, allow_open: bool = False) -> Mesh
     """Method (c): enclosed volume (mm^3) by manifold3d ``Mesh64`` (volume only).
 
     The triangle soup is merged with trimesh first (manifold3d rejects unmerged soups as
-    NotManifold). A mesh manifold3d refuses is reported as not watertight.
+    NotManifold). A mesh manifold3d refuses, or one enclosing a volume <= 0, is a
+    MeshError even with ``allow_open`` (it used to return a NaN or negative volume).
     """
     import manifold3d
 
