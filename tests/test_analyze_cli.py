@@ -6,7 +6,6 @@ import sys
 from pathlib import Path
 
 import pytest
-
 from cli_helpers import assert_one_line_error, hapticad, hapticad_json
 
 DESIGNS = Path(__file__).resolve().parents[1] / "designs"

@@ -5,13 +5,13 @@ from pathlib import Path
 
 import pytest
 import tomli_w
+from cli_helpers import assert_one_line_error, hapticad
 from hypothesis import given
 from hypothesis import strategies as st
 
 from cad.design import load_design, parse_design
 from cad.design.fourbar import FourBarDesign
 from cad.errors import DesignError
-from cli_helpers import assert_one_line_error, hapticad
 
 DESIGNS = Path(__file__).resolve().parents[1] / "designs"
 CUSTOM = {

@@ -19,8 +19,8 @@ from cad.dynamics.stiffness import StiffnessInputs, stiffness_range_N_per_m
 from cad.errors import SingularJacobianError
 from cad.kinematics.families import FAMILIES, family_linkage
 from cad.kinematics.fourbar import FourBar, solve
-from cad.kinematics.metrics import path_frame
 from cad.kinematics.linkgeom import tf_world_link
+from cad.kinematics.metrics import path_frame
 
 
 def test_paper_H_gives_fig6_apparent_mass():

@@ -72,7 +72,7 @@ def _shares(design):
     from cad.assembly.layers import choose_layers, footprint_bbox_mm
     from cad.assembly.mechanism import build_assembly
     from cad.assembly.pose import planar_transforms
-    from cad.build.fourbar import _kind_props, sweep_angles
+    from cad.build.fourbar import kind_mass_props, sweep_angles
     from cad.build.inertia import PartShare
     from cad.kinematics.linkgeom import link_joints_mm
 
@@ -85,7 +85,7 @@ def _shares(design):
     for inst in asm.instances:
         if inst.body == "ground":
             continue
-        mp = _kind_props(inst.kind)
+        mp = kind_mass_props(inst.kind)
         if mp is None:
             continue
         T = inst.tf_body_part

@@ -3,12 +3,18 @@
 Method (SPEC "Measured pitfalls": meshes at 0.1 mm miss a 0.05 mm overlap; exact answers
 need OCCT):
 
-1. every part is meshed once at ``mesh_tol_mm`` (absolute, OCCT) and its triangles
-   gathered per rigid body (ground, crank, coupler, rocker) in the body frame;
-2. fast pass: at every pose the distance between every pair of bodies by a BVH
-   (python-fcl) -- or by manifold3d ``min_gap`` (``method="manifold3d"``); the
-   pose of the smallest distance of each pair is refined between its neighbouring
-   samples (bounded scalar search on the mesh distance);
+1. every part is meshed once at ``mesh_tol_mm`` (absolute, OCCT) and placed in the
+   frame of its rigid body (ground, crank, coupler, rocker);
+2. fast pass: the distance between every pair of bodies by python-fcl BVHs of the parts
+   (the closest part pairs first, by bounding box gap, until a box gap exceeds the best
+   distance) -- or by manifold3d ``min_gap`` (``method="manifold3d"``). Every
+   :data:`COARSE_STEP`-th pose is measured; a pose in between only when its lower bound
+   -- the larger of a Lipschitz bound from its coarse neighbours and the gap of the part
+   bounding boxes at that pose (:func:`box_lower_bounds`; exact for parts stacked in z,
+   which planar motion keeps apart) -- could make it a near contact or a new minimum.
+   Parts that are solids of revolution about a joint shared with the other body keep
+   their distance at every pose and are measured once. The pose of the smallest distance
+   of each pair is refined between its neighbouring samples (bounded scalar search);
 3. exact pass: every (pair, pose) whose mesh distance is below
    ``clearance_min_mm + 2 mesh_tol_mm + CONFIRM_MARGIN_MM`` -- a chordal mesh is off
    the true surface by at most the tolerance, on either side (convex faces lie inside
@@ -162,41 +168,118 @@ def _corners(parts: list[PartMesh]) -> np.ndarray:
 COARSE_STEP = 8
 
 
-def _max_disp(T: np.ndarray, corners: np.ndarray, i: int, j: int) -> float:
+#: A pose is skipped when its lower bound is at least the level that matters minus this
+#: (mm): it absorbs float rounding between the box bounds and fcl's distance (a gap of
+#: exactly 1 mm between parallel faces comes back as 0.9999999999999999), so ties do not
+#: force a measurement. It moves a reported minimum by at most this much, far below
+#: CONFIRM_MARGIN_MM, so no near contact can be skipped.
+LB_SLACK_MM = 1e-9
+
+
+def _box_corners(parts: list[PartMesh]) -> np.ndarray:
+    """(P, 8, 3) corners of each part's bounding box (body frame)."""
+    return np.array(
+        [list(itertools.product(*zip(p.aabb_mm[0], p.aabb_mm[1], strict=True))) for p in parts]
+    ).reshape(len(parts), 8, 3)
+
+
+def world_boxes(parts: list[PartMesh], T: np.ndarray) -> np.ndarray:
+    """(N, P, 2, 3) world bounding boxes (min, max corner) of each part at each pose.
+
+    ``T`` : (N, 4, 4) world transforms of the body carrying the parts.
+    """
+    T = np.asarray(T, dtype=float)
+    c = _box_corners(parts)
+    w = (c.reshape(1, -1, 3) @ T[:, :3, :3].transpose(0, 2, 1)).reshape(
+        len(T), len(parts), 8, 3
+    ) + T[:, None, None, :3, 3]
+    return np.stack([w.min(axis=2), w.max(axis=2)], axis=2)
+
+
+def _box_gaps(ca: np.ndarray, cb: np.ndarray, Ta: np.ndarray, Tb: np.ndarray) -> np.ndarray:
+    """(Pa, Pb) gaps between the world boxes of two part sets at one pose; ``ca``, ``cb``: (P, 8,
+    3) box corners in the body frames (:func:`_box_corners`), ``Ta``, ``Tb``: 4x4."""
+    wa = ca @ Ta[:3, :3].T + Ta[:3, 3]
+    wb = cb @ Tb[:3, :3].T + Tb[:3, 3]
+    la, ha = wa.min(axis=1), wa.max(axis=1)
+    lb, hb = wb.min(axis=1), wb.max(axis=1)
+    g = np.maximum(0.0, np.maximum(la[:, None] - hb[None], lb[None] - ha[:, None]))
+    return np.sqrt((g * g).sum(axis=-1))
+
+
+def box_lower_bounds(
+    pa: list[PartMesh], pb: list[PartMesh], Ta: np.ndarray, Tb: np.ndarray
+) -> np.ndarray:
+    """(N,) at each pose, the smallest gap between the world bounding boxes of a part of
+    ``pa`` (body a at ``Ta`` (N, 4, 4)) and a part of ``pb``: a lower bound of the mesh
+    distance between the two part sets (each mesh lies inside its box); inf if a set is
+    empty."""
+    n = len(Ta)
+    if not pa or not pb:
+        return np.full(n, np.inf)
+    A, B = world_boxes(pa, Ta), world_boxes(pb, Tb)
+    gap = np.maximum(
+        0.0,
+        np.maximum(
+            A[:, :, None, 0, :] - B[:, None, :, 1, :], B[:, None, :, 0, :] - A[:, :, None, 1, :]
+        ),
+    )
+    return np.sqrt((gap * gap).sum(axis=-1)).min(axis=(1, 2))
+
+
+def _disp(T: np.ndarray, corners: np.ndarray, i: np.ndarray, j: np.ndarray) -> np.ndarray:
+    """(len(j),) largest displacement of the ``corners`` (K, 3) between poses ``i`` and ``j``
+    of the transforms ``T`` (N, 4, 4) (0 without corners): every point of the box moves at
+    most that much (the displacement is affine in the point, its norm convex)."""
     if len(corners) == 0:
-        return 0.0
-    d = corners @ (T[j][:3, :3] - T[i][:3, :3]).T + (T[j][:3, 3] - T[i][:3, 3])
-    return float(np.sqrt((d * d).sum(axis=1)).max())
+        return np.zeros(len(j))
+    dR = T[j, :3, :3] - T[i, :3, :3]
+    dt = T[j, :3, 3] - T[i, :3, 3]
+    dv = corners[None] @ dR.transpose(0, 2, 1) + dt[:, None, :]
+    return np.sqrt((dv * dv).sum(axis=-1)).max(axis=1)
 
 
-def bounded_pair_distances(scene, a: str, b: str, Ta: np.ndarray, Tb: np.ndarray, keep) -> tuple:
+def bounded_pair_distances(
+    scene, a: str, b: str, Ta: np.ndarray, Tb: np.ndarray, keep, pre: dict | None = None
+) -> tuple:
     """Mesh distances of a body pair over the poses, skipping provably uninteresting ones.
 
     ``keep(m) -> float``: poses whose lower bound is below ``keep(current pair minimum)`` are
-    measured. Returns ``(d, measured)``: ``d[i]`` is the distance where ``measured[i]``, else
-    a lower bound of it.
+    measured. The lower bound of a pose is the larger of (1) the Lipschitz bound from the
+    measured neighbouring coarse poses (a distance changes by at most the displacement of
+    either body's bounding box corners) and (2) ``scene.pose_lower_bounds`` (the part
+    bounding boxes at that pose, and the pose-invariant part pairs). ``pre``: ``{pose:
+    distance}`` already measured with this scene. Returns ``(d, measured)``: ``d[i]`` is
+    the distance where ``measured[i]``, else a lower bound of it.
     """
     n = len(Ta)
     d = np.full(n, np.nan)
     measured = np.zeros(n, dtype=bool)
     coarse = sorted(set(range(0, n, COARSE_STEP)) | {n - 1})
+    pre = pre or {}
     for i in coarse:
-        d[i] = scene.distance(a, b, Ta[i], Tb[i])
+        d[i] = pre[i] if i in pre else scene.distance(a, b, Ta[i], Tb[i])
         measured[i] = True
     ca, cb = scene.corners.get((a, b), (np.zeros((0, 3)), np.zeros((0, 3))))
+    c = np.asarray(coarse)
+    j = np.arange(n)
+    i0 = c[np.searchsorted(c, j, side="right") - 1]  # coarse pose at or below j
+    i1 = c[np.minimum(np.searchsorted(c, j, side="left"), len(c) - 1)]  # at or above j
+    lb = np.maximum.reduce(
+        [
+            d[i0] - _disp(Ta, ca, i0, j) - _disp(Tb, cb, i0, j),
+            d[i1] - _disp(Ta, ca, i1, j) - _disp(Tb, cb, i1, j),
+            scene.pose_lower_bounds(a, b, Ta, Tb),
+        ]
+    )
     m = float(np.nanmin(d))
-    for i0, i1 in zip(coarse[:-1], coarse[1:], strict=True):
-        for j in range(i0 + 1, i1):
-            lb = max(
-                d[i0] - _max_disp(Ta, ca, i0, j) - _max_disp(Tb, cb, i0, j),
-                d[i1] - _max_disp(Ta, ca, j, i1) - _max_disp(Tb, cb, j, i1),
-            )
-            if lb < keep(m):
-                d[j] = scene.distance(a, b, Ta[j], Tb[j])
-                measured[j] = True
-                m = min(m, float(d[j]))
-            else:
-                d[j] = lb
+    for k in np.flatnonzero(~measured):
+        if lb[k] < keep(m) - LB_SLACK_MM:
+            d[k] = scene.distance(a, b, Ta[k], Tb[k])
+            measured[k] = True
+            m = min(m, float(d[k]))
+        else:
+            d[k] = lb[k]
     return d, measured
 
 
@@ -280,41 +363,47 @@ class _FclScene:
         self.lower_bound: dict[tuple[str, str], float] = {}
         self.invariant_min: dict[tuple[str, str], float] = {}
         self.corners: dict[tuple[str, str], tuple] = {}
+        self.parts: dict[tuple[str, str], tuple] = {}
 
-    def _bvh(self, parts: list[PartMesh]):
-        fcl = self.fcl
-        v, f = _body_arrays(parts)
-        g = fcl.BVHModel()
-        g.beginModel(len(v), len(f))
-        g.addSubModel(v.astype(np.float64), f.astype(np.int32))
-        g.endModel()
-        return fcl.CollisionObject(g, fcl.Transform())
+    def pose_lower_bounds(self, a: str, b: str, Ta: np.ndarray, Tb: np.ndarray) -> np.ndarray:
+        """(N,) lower bounds of :meth:`distance` at the poses ``Ta``, ``Tb`` (N, 4, 4): the
+        pose-invariant pairs' distance, or the part boxes of the swept parts if farther."""
+        self.pair(a, b, Ta[0], Tb[0])
+        va, vb = self.parts[(a, b)]
+        return np.minimum(self.invariant_min[(a, b)], box_lower_bounds(va, vb, Ta, Tb))
 
     def pair(self, a: str, b: str, Ta=None, Tb=None):
         if (a, b) not in self.objs:
             ka, kb, lb = cull_pair(self.prepared.bodies[a], self.prepared.bodies[b], self.margin)
             va, vb, inv = split_invariant(ka, kb, self.joints.get((a, b)))
-            self.objs[(a, b)] = (self._bvh(va), self._bvh(vb)) if va and vb else None
+            self.objs[(a, b)] = (_box_corners(va), _box_corners(vb)) if va and vb else None
             self.lower_bound[(a, b)] = lb
             self.corners[(a, b)] = (_corners(va), _corners(vb))
+            self.parts[(a, b)] = (va, vb)
             # pose-invariant pairs: measured once, at the first pose asked for
             self.invariant_min[(a, b)] = (
-                min((_part_mesh_distance(p, q, Ta, Tb) for p, q in inv), default=np.inf)
-                if Ta is not None
-                else np.inf
+                _closest_of_pairs(inv, Ta, Tb) if Ta is not None else np.inf
             )
         return self.objs[(a, b)]
 
     def distance(self, a: str, b: str, Ta: np.ndarray, Tb: np.ndarray) -> float:
-        fcl = self.fcl
-        objs = self.pair(a, b, Ta, Tb)
-        const = self.invariant_min[(a, b)]
-        if objs is None:
-            return const
-        oa, ob = objs
-        oa.setTransform(fcl.Transform(Ta[:3, :3], Ta[:3, 3]))
-        ob.setTransform(fcl.Transform(Tb[:3, :3], Tb[:3, 3]))
-        return min(const, float(fcl.distance(oa, ob, fcl.DistanceRequest(), fcl.DistanceResult())))
+        """Mesh distance of the two bodies at one pose: the pose-invariant pairs' distance, or
+        the closest swept part pair (part BVHs, measured in increasing order of their box gap
+        while a box gap is below the smallest distance found)."""
+        boxes = self.pair(a, b, Ta, Tb)
+        best = self.invariant_min[(a, b)]
+        if boxes is None:
+            return best
+        va, vb = self.parts[(a, b)]
+        gaps = _box_gaps(boxes[0], boxes[1], Ta, Tb)
+        order = np.argsort(gaps, axis=None, kind="stable")
+        flat = gaps.ravel()
+        nb = len(vb)
+        for k in order:
+            if flat[k] >= best:
+                break
+            best = min(best, _part_mesh_distance(va[k // nb], vb[k % nb], Ta, Tb))
+        return float(best)
 
 
 class _ManifoldScene:
@@ -328,6 +417,7 @@ class _ManifoldScene:
         self.man: dict[tuple[str, str], tuple] = {}
         self.lower_bound: dict[tuple[str, str], float] = {}
         self.corners: dict[tuple[str, str], tuple] = {}
+        self.parts: dict[tuple[str, str], tuple] = {}
 
     def _union(self, parts: list[PartMesh]):
         m3 = self.m3
@@ -346,7 +436,14 @@ class _ManifoldScene:
             self.man[(a, b)] = (self._union(ka), self._union(kb)) if ka and kb else None
             self.lower_bound[(a, b)] = lb
             self.corners[(a, b)] = (_corners(ka), _corners(kb))
+            self.parts[(a, b)] = (ka, kb)
         return self.man[(a, b)]
+
+    def pose_lower_bounds(self, a: str, b: str, Ta: np.ndarray, Tb: np.ndarray) -> np.ndarray:
+        """(N,) lower bounds of :meth:`distance` at the poses (the part bounding boxes)."""
+        self.pair(a, b)
+        ka, kb = self.parts[(a, b)]
+        return box_lower_bounds(ka, kb, Ta, Tb)
 
     def distance(self, a, b, Ta, Tb) -> float:
         objs = self.pair(a, b)
@@ -397,6 +494,24 @@ def _part_mesh_distance(p: PartMesh, q: PartMesh, Ta: np.ndarray, Tb: np.ndarray
     oa.setTransform(fcl.Transform(Ta[:3, :3], Ta[:3, 3]))
     ob.setTransform(fcl.Transform(Tb[:3, :3], Tb[:3, 3]))
     return float(fcl.distance(oa, ob, fcl.DistanceRequest(), fcl.DistanceResult()))
+
+
+def _closest_of_pairs(
+    pairs: list[tuple[PartMesh, PartMesh]], Ta: np.ndarray, Tb: np.ndarray
+) -> float:
+    """Smallest mesh distance over part pairs ``(p of body a, q of body b)`` at one pose; pairs
+    are measured in increasing order of their bounding box gap and the scan stops once a box
+    gap reaches the smallest distance found (a box gap is a lower bound of the distance)."""
+    if not pairs:
+        return np.inf
+    gaps = [_aabb_gap(_world_aabb(p.aabb_mm, Ta), _world_aabb(q.aabb_mm, Tb)) for p, q in pairs]
+    best = np.inf
+    for k in np.argsort(gaps, kind="stable"):
+        if gaps[k] >= best:
+            break
+        p, q = pairs[k]
+        best = min(best, _part_mesh_distance(p, q, Ta, Tb))
+    return best
 
 
 def exact_check(
@@ -497,14 +612,11 @@ def sweep(
     for a, b in pairs:  # coarse poses of every pair first: a global minimum to prune with
         scene.pair(a, b, tf_world_body[a][0], tf_world_body[b][0])
     coarse = sorted(set(range(0, n, COARSE_STEP)) | {n - 1})
-    g_min = min(
-        (
-            scene.distance(a, b, tf_world_body[a][i], tf_world_body[b][i])
-            for a, b in pairs
-            for i in coarse
-        ),
-        default=np.inf,
-    )
+    coarse_d = {
+        (a, b): {i: scene.distance(a, b, tf_world_body[a][i], tf_world_body[b][i]) for i in coarse}
+        for a, b in pairs
+    }
+    g_min = min((min(v.values()) for v in coarse_d.values()), default=np.inf)
     for a, b in pairs:
         sc = scene
         if (
@@ -518,6 +630,7 @@ def sweep(
             tf_world_body[a],
             tf_world_body[b],
             lambda m, g=lambda: g_min: max(threshold, min(m, g())),
+            pre=coarse_d[(a, b)] if sc is scene else None,
         )
         scenes[(a, b)] = sc
         g_min = min(g_min, float(dist[(a, b)][measured[(a, b)]].min()))

@@ -178,7 +178,9 @@ def build_design(
             ) from None
         raise
     from cad.export.manifest import write_manifest
+    from cad.parts.lazy_import import import_build123d
 
+    import_build123d()  # the build's first CAD import, without scikit-learn (lazy_import)
     with atomic_dir(out_dir) as tmp:
         report = mod.build(
             design,

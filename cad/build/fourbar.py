@@ -17,6 +17,10 @@ Pipeline (``hapticad build designs/hoeken.toml``):
    ``bom.csv``, ``preview.png``, ``report.md`` (the dispatcher adds ``report.json`` and
    ``manifest.json``).
 
+Once the parts exist, the part files + assembly STEP and the preview are written by two
+forked child processes while this process does steps 4-5 (:mod:`cad.build.forked`; serial
+where forking is off, same bytes either way).
+
 Fidelity (issue 7): ``fabrication`` -- every feature, bd_warehouse bearings with balls,
 exact interference confirmation; ``inertia`` -- cosmetic features dropped (knob round,
 bearing balls: the bearing mass is the catalog mass at every fidelity), exact
@@ -160,11 +164,8 @@ def write_preview(asm, tf_world_body, i: int, path_P_mm: np.ndarray, out: Path, 
     """
     import io
 
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
     from matplotlib.collections import PolyCollection
+    from matplotlib.figure import Figure  # no pyplot: no global figure state, 0.1 s less import
     from scipy.spatial import ConvexHull, QhullError
 
     from cad.export.stl import mesh_shape
@@ -204,7 +205,8 @@ def write_preview(asm, tf_world_body, i: int, path_P_mm: np.ndarray, out: Path, 
         h = hull(w[:, [0, 2]])
         if h is not None:
             polys[1][inst.body].append(h)
-    fig, axes = plt.subplots(1, 2, figsize=(11, 5), gridspec_kw={"width_ratios": [1.4, 1]})
+    fig = Figure(figsize=(11, 5))
+    axes = fig.subplots(1, 2, gridspec_kw={"width_ratios": [1.4, 1]})
     for view, ax in enumerate(axes):
         for body in ("ground", "rocker", "crank", "coupler"):
             if polys[view][body]:
@@ -228,8 +230,42 @@ def write_preview(asm, tf_world_body, i: int, path_P_mm: np.ndarray, out: Path, 
     fig.suptitle(title)
     buf = io.BytesIO()
     fig.savefig(buf, format="png", dpi=100, metadata={"Software": None})
-    plt.close(fig)
     return write_bytes_atomic(out, buf.getvalue())
+
+
+def _write_exports(
+    asm, listed, out_dir: Path, formats, stl_tol, ang, tf_pose, name: str, progress, n_steps
+) -> list[str]:
+    """Part files (STEP/STL/DXF) and the posed assembly STEP; returns their paths in out_dir."""
+    from cad.export import export_assembly_step, export_part
+    from cad.materials import get_material
+
+    files: list[str] = []
+    for k in listed:
+        _step(progress, f"export {k.name}", 4, n_steps)
+        paths = export_part(
+            k.shape,
+            k.name,
+            out_dir / "parts",
+            formats,
+            plate=k.plate,
+            color=get_material(k.material).color_rgb,
+            stl=k.made,
+            tolerance_mm=stl_tol,
+            angular_tolerance_rad=ang,
+        )
+        files += [p.relative_to(out_dir).as_posix() for p in paths]
+    if "step" in formats:
+        _step(progress, "assembly STEP", 5, n_steps)
+        from cad.assembly.pose import posed_shapes
+
+        export_assembly_step(
+            posed_shapes(asm.instances, tf_pose, 0),
+            out_dir / "assembly.step",
+            name=f"{name}_assembly",
+        )
+        files.append("assembly.step")
+    return files
 
 
 def build(
@@ -252,6 +288,7 @@ def build(
     from cad.kinematics.metrics import compute_metrics
     from cad.parts import catalog
     from cad.parts.handle import handle_params, resolve_script, user_handle_shape
+    from cad.parts.lazy_import import import_build123d
 
     timings: dict[str, float] = {}
     t0 = time.perf_counter()
@@ -283,6 +320,7 @@ def build(
     # 3 parts
     _step(progress, "parts", 1, n_steps)
     t1 = time.perf_counter()
+    import_build123d()  # the first build123d import of a build (defers scikit-learn)
     user_handle = None
     if script is not None:
         floor = plan.handle_screw_length_mm - parts.bar_thickness_mm
@@ -298,54 +336,15 @@ def build(
     )
     timings["parts"] = time.perf_counter() - t1
 
-    # 4 mass properties and dynamics
-    _step(progress, "mass properties", 2, n_steps)
-    t1 = time.perf_counter()
+    # 4-6 run side by side (cad.build.forked): the part files and the assembly STEP in one
+    # child process, the preview in another, while this process does the mass
+    # properties and the interference sweep; any failure cancels the others and nothing
+    # is published (the dispatcher owns the temporary out_dir).
+    from cad.build import forked
+    from cad.export import STL_ANGULAR_TOLERANCE_RAD
+
     kinds = asm.kinds()
-    props = {name: _kind_props(k) for name, k in kinds.items()}
-    link_props, shares = link_mass_props(asm, props)
-    motor = catalog.get_motor(parts.motor)
-    Jm = (
-        parts.motor_rotor_inertia_g_cm2 * 1e-7
-        if parts.motor_rotor_inertia_g_cm2 is not None
-        else motor.rotor_inertia_kg_m2
-    )
-    H, planar_links = inertia_from_links(design, link_props, Jm)
-    am = apparent_mass(design, H)
-    fidelity_costs = _fidelity_costs(
-        design, asm, props, link_props, Jm, H, am, fidelity, user_handle is not None, plan
-    )
-    timings["massprops"] = time.perf_counter() - t1
-
-    # 5 interference
-    _step(progress, "interference sweep", 3, n_steps)
-    t1 = time.perf_counter()
-    tol = itf.SWEEP_MESH_TOL_MM if fidelity != "preview" else PREVIEW_STL_TOL_MM
-    prepared = itf.prepare(itf.collision_items(asm.instances), tol)
-    tfs = body_transforms(fb, phi)
-
-    def tf_at(p):
-        return {b: v[0] for b, v in body_transforms(fb, [p]).items()}
-
-    rep = itf.sweep(
-        prepared,
-        tfs,
-        phi,
-        parts.clearance_min_mm,
-        exact=fidelity != "preview",
-        tf_at=tf_at,
-        joints=_joint_axes(J),
-    )
-    if not allow_interference:
-        itf.raise_on_collision(rep, parts.clearance_min_mm)
-    timings["interference"] = time.perf_counter() - t1
-
-    # 6 exports
-    _step(progress, "exports", 4, n_steps)
-    t1 = time.perf_counter()
-    from cad.export import STL_ANGULAR_TOLERANCE_RAD, export_assembly_step, export_part, write_bom
-    from cad.materials import get_material
-
+    listed = [k for k in kinds.values() if k.listed]
     stl_tol = (
         parts.stl_tolerance_mm
         if fidelity != "preview"
@@ -356,72 +355,121 @@ def build(
         if parts.stl_angular_tolerance_deg
         else STL_ANGULAR_TOLERANCE_RAD
     )
-    files: list[str] = []
-    listed = [k for k in kinds.values() if k.listed]
-    for i, k in enumerate(listed):
-        _step(progress, f"export {k.name}", 4, n_steps)
-        paths = export_part(
-            k.shape,
-            k.name,
-            out_dir / "parts",
-            formats,
-            plate=k.plate,
-            color=get_material(k.material).color_rgb,
-            stl=k.made,
-            tolerance_mm=stl_tol,
-            angular_tolerance_rad=ang,
-        )
-        files += [p.relative_to(out_dir).as_posix() for p in paths]
-        del i
     pose_phi = (
         math.radians(phi1_deg)
         if phi1_deg is not None
         else 0.5 * (design.phi1_min_rad + design.phi1_max_rad)
     )
     tf_pose = body_transforms(fb, [pose_phi])
-    if "step" in formats:
-        _step(progress, "assembly STEP", 5, n_steps)
-        from cad.assembly.pose import posed_shapes
+    in_child = forked.fork_enabled()
 
-        export_assembly_step(
-            posed_shapes(asm.instances, tf_pose, 0),
-            out_dir / "assembly.step",
-            name=f"{design.name}_assembly",
+    def exports_stage() -> tuple[list[str], float]:
+        t = time.perf_counter()
+        files = _write_exports(
+            asm,
+            listed,
+            out_dir,
+            formats,
+            stl_tol,
+            ang,
+            tf_pose,
+            design.name,
+            None if in_child else progress,
+            n_steps,
         )
-        files.append("assembly.step")
-    timings["exports"] = time.perf_counter() - t1
+        return files, time.perf_counter() - t
 
-    # BOM
-    q = asm.quantities()
-    bom = []
-    for k in listed:
-        mp = props[k.name]
-        bom.append(
-            {
-                "part": k.name,
-                "description": k.description,
-                "material": k.material,
-                "quantity": q[k.name],
-                "made_or_bought": "made" if k.made else "bought",
-                "process": k.process,
-                "mass_g": (mp.mass_kg * 1e3) if mp is not None else 0.0,
-            }
+    def preview_stage() -> float:
+        t = time.perf_counter()
+        P_path = solve(fb, np.linspace(design.phi1_min_rad, design.phi1_max_rad, 200)).P_mm
+        write_preview(
+            asm,
+            tf_pose,
+            0,
+            P_path,
+            out_dir / "preview.png",
+            f"{design.name}: {design.family}, phi1 = {math.degrees(pose_phi):.1f} deg",
         )
-    write_bom(bom, out_dir)
+        return time.perf_counter() - t
 
-    # preview
-    _step(progress, "preview", 6, n_steps)
+    exports_task = forked.start(exports_stage, "exports")
+    preview_task = forked.start(preview_stage, "preview")
+    with forked.cancel_on_error(exports_task, preview_task):
+        # 4 mass properties and dynamics
+        _step(progress, "mass properties", 2, n_steps)
+        t1 = time.perf_counter()
+        props = {name: _kind_props(k) for name, k in kinds.items()}
+        link_props, shares = link_mass_props(asm, props)
+        motor = catalog.get_motor(parts.motor)
+        Jm = (
+            parts.motor_rotor_inertia_g_cm2 * 1e-7
+            if parts.motor_rotor_inertia_g_cm2 is not None
+            else motor.rotor_inertia_kg_m2
+        )
+        H, planar_links = inertia_from_links(design, link_props, Jm)
+        am = apparent_mass(design, H)
+        fidelity_costs = _fidelity_costs(
+            design, asm, props, link_props, Jm, H, am, fidelity, user_handle is not None, plan
+        )
+        timings["massprops"] = time.perf_counter() - t1
+
+        # 5 interference
+        _step(progress, "interference sweep", 3, n_steps)
+        t1 = time.perf_counter()
+        tol = itf.SWEEP_MESH_TOL_MM if fidelity != "preview" else PREVIEW_STL_TOL_MM
+        prepared = itf.prepare(itf.collision_items(asm.instances), tol)
+        tfs = body_transforms(fb, phi)
+
+        def tf_at(p):
+            return {b: v[0] for b, v in body_transforms(fb, [p]).items()}
+
+        rep = itf.sweep(
+            prepared,
+            tfs,
+            phi,
+            parts.clearance_min_mm,
+            exact=fidelity != "preview",
+            tf_at=tf_at,
+            joints=_joint_axes(J),
+        )
+        if not allow_interference:
+            itf.raise_on_collision(rep, parts.clearance_min_mm)
+        timings["interference"] = time.perf_counter() - t1
+
+        # BOM
+        from cad.export import write_bom
+
+        q = asm.quantities()
+        bom = []
+        for k in listed:
+            mp = props[k.name]
+            bom.append(
+                {
+                    "part": k.name,
+                    "description": k.description,
+                    "material": k.material,
+                    "quantity": q[k.name],
+                    "made_or_bought": "made" if k.made else "bought",
+                    "process": k.process,
+                    "mass_g": (mp.mass_kg * 1e3) if mp is not None else 0.0,
+                }
+            )
+        write_bom(bom, out_dir)
+
+        # 6 exports and preview (wait for the children)
+        _step(progress, "exports", 4, n_steps)
+        files, timings["exports"] = exports_task.result()
+        _step(progress, "preview", 6, n_steps)
+        timings["preview"] = preview_task.result()
+
+    # the paper's plots from the solids: coupler curve, y deviation and torque over the stroke,
+    # M11 / M12 / M22 over x (Fig. 6) with H from the parts
     t1 = time.perf_counter()
-    P_path = solve(fb, np.linspace(design.phi1_min_rad, design.phi1_max_rad, 200)).P_mm
-    write_preview(
-        asm,
-        tf_pose,
-        0,
-        P_path,
-        out_dir / "preview.png",
-        f"{design.name}: {design.family}, phi1 = {math.degrees(pose_phi):.1f} deg",
-    )
-    timings["preview"] = time.perf_counter() - t1
+    from cad.report.fourbar import plot_apparent_mass, plot_kinematics
+
+    plot_kinematics(design, out_dir / "kinematics.png")
+    plot_apparent_mass(design, H, out_dir / "apparent_mass.png")
+    timings["plots"] = time.perf_counter() - t1
 
     # report
     _step(progress, "report", 7, n_steps)
@@ -490,7 +538,7 @@ def build(
         "fidelity_costs": fidelity_costs,
         "handle": "user script " + script.name if script is not None else "built-in knob",
         "parts_spec": parts.as_dict(),
-        "files": sorted(files + ["bom.csv", "preview.png", "report.md"]),
+        "files": sorted(files + ["bom.csv", "preview.png", "report.md", "kinematics.png", "apparent_mass.png"]),
         "preview": "preview.png",
     }
     from cad.io.atomic import write_text_atomic
@@ -535,6 +583,10 @@ def _markdown(r: dict) -> str:
         f"# {r['name']} ({r['family']})",
         "",
         "![assembly preview](preview.png)",
+        "",
+        "![coupler curve, deviation and torque](kinematics.png)",
+        "",
+        "![apparent mass over the stroke (eq 22, H from the solids)](apparent_mass.png)",
         "",
         "| quantity | value |",
         "|---|---|",

@@ -74,7 +74,10 @@ def inertia_model(design, fidelity: str = "inertia", samples: int = 401) -> dict
     from cad.assembly.layers import choose_layers, footprint_bbox_mm
     from cad.assembly.mechanism import build_assembly
     from cad.assembly.pose import planar_transforms
-    from cad.build.fourbar import _kind_props, inertia_from_links, link_mass_props, sweep_angles
+    from cad.parts.lazy_import import import_build123d
+
+    import_build123d()  # first CAD import of this process goes through the documented shim
+    from cad.build.fourbar import inertia_from_links, kind_mass_props, link_mass_props, sweep_angles
     from cad.dynamics.inertia import apparent_mass_matrix, apparent_mass_summary, equivalent_inertia
     from cad.kinematics.fourbar import jacobian_mm_per_rad, solve, velocity_ratios
     from cad.kinematics.linkgeom import link_joints_mm
@@ -96,7 +99,7 @@ def inertia_model(design, fidelity: str = "inertia", samples: int = 401) -> dict
         user_handle = user_handle_shape(script, handle_params(parts, floor))
     asm = build_assembly(J, plan, parts, footprint, fidelity=fidelity, handle_shape=user_handle,
                          design_label=design.name)
-    props = {name: _kind_props(k) for name, k in asm.kinds().items()}
+    props = {name: kind_mass_props(k) for name, k in asm.kinds().items()}
     link_props, _ = link_mass_props(asm, props)
     motor = catalog.get_motor(parts.motor)
     Jm = (parts.motor_rotor_inertia_g_cm2 * 1e-7 if parts.motor_rotor_inertia_g_cm2 is not None

@@ -12,7 +12,7 @@ import importlib
 from pathlib import Path
 from typing import Any
 
-from cad.design.fields import load_toml, require_table, require_str
+from cad.design.fields import load_toml, require_str, require_table
 
 #: family name -> module owning its schema.
 FAMILY_MODULES: dict[str, str] = {
