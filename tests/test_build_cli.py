@@ -235,3 +235,16 @@ def test_cli_fabrication_build_is_deterministic(tmp_path):
         "parts/crank.dxf",
         "bom.csv",
     } <= names
+
+
+@pytest.mark.parametrize("design", ["powermouse.toml", "haptic_mouse.toml"])
+def test_cli_builds_the_other_families(tmp_path, design):
+    """`hapticad build` (human summary, not only --json) works for every buildable family."""
+    from cli_helpers import hapticad
+
+    code, out, err = hapticad("build", ROOT / "designs" / design, "--out", tmp_path / "o",
+                              "--fidelity", "preview", "--formats", "step")
+    assert code == 0, err
+    assert "built" in out
+    assert (tmp_path / "o" / "report.json").exists()
+    assert (tmp_path / "o" / "manifest.json").exists()

@@ -21,19 +21,35 @@ def _summary(rep: dict, out: Path, wall_s: float) -> None:
 
     con = Console(stderr=False)
     state = "unchanged (cached)" if rep.get("cached") else "built"
-    t = Table(title=f"{rep['name']} ({rep['family']}): {state} -> {out}", show_header=False)
+    name = rep.get("name") or rep.get("design") or out.name
+    t = Table(title=f"{name} ({rep.get('family', '?')}): {state} -> {out}", show_header=False)
     t.add_column("k")
     t.add_column("v", justify="right")
-    am = rep.get("apparent_mass", {})
-    for k in ("H11_kg_m2", "H12_kg_m2", "H22_kg_m2", "H33_kg_m2"):
-        t.add_row(k, f"{rep[k]:.4g}")
-    if am:
+    am = rep.get("apparent_mass") or {}
+    for k in ("H11_kg_m2", "H12_kg_m2", "H22_kg_m2", "H33_kg_m2", "gii", "flotor_mass_g",
+              "peak_acceleration_G", "moving_mass_g", "min_clearance_mm", "overlap_volume_mm3",
+              "total_mass_g"):
+        v = rep.get(k)
+        if isinstance(v, (int, float)) and not isinstance(v, bool):
+            t.add_row(k, f"{v:.4g}")
+    if "M11_min_g" in am:
         t.add_row("M11 (g)", f"{am['M11_min_g']:.2f} .. {am['M11_max_g']:.2f}")
-    t.add_row("min_clearance_mm", f"{rep['min_clearance_mm']:.3f}")
-    t.add_row("overlap_volume_mm3", f"{rep['overlap_volume_mm3']:.4g}")
-    if "links" in rep:
-        for k, v in rep["links"].items():
-            t.add_row(f"{k} mass (g)", f"{v['mass_g']:.2f}")
+    g = rep.get("gii")
+    if isinstance(g, dict) and isinstance(g.get("gii"), (int, float)):
+        t.add_row("gii", f"{g['gii']:.4g}")
+    em = rep.get("effective_mass_home")
+    if isinstance(em, dict):
+        for k, v in em.items():
+            if isinstance(v, (int, float)) and not isinstance(v, bool):
+                t.add_row(f"effective mass at home: {k}", f"{v:.4g}")
+    sv = rep.get("wrench_map_singular_values")
+    if isinstance(sv, list) and sv:
+        t.add_row("wrench map singular values", ", ".join(f"{x:.4g}" for x in sv))
+    links = rep.get("links")
+    if isinstance(links, dict):
+        for k, v in links.items():
+            if isinstance(v, dict) and "mass_g" in v:
+                t.add_row(f"{k} mass (g)", f"{v['mass_g']:.2f}")
     t.add_row("files", str(len(rep.get("files", []))))
     t.add_row("wall time (s)", f"{wall_s:.2f}")
     con.print(t)
