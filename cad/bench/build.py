@@ -100,8 +100,6 @@ def _chart(points, out_dir: Path) -> list[str]:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from cad.io.atomic import atomic_path
-
     fig, ax = plt.subplots(figsize=(6, 4))
     names = [p["method"] for p in points]
     ax.bar(names, [p["time_s"] for p in points], color=["#d9534f", "#f0ad4e", "#5cb85c"])
@@ -120,13 +118,9 @@ def _chart(points, out_dir: Path) -> list[str]:
     ax.set_title("hapticad build designs/hoeken.toml")
     fig.suptitle(REFERENCE, fontsize=8)
     fig.tight_layout(rect=(0, 0, 1, 0.93))
-    out_dir.mkdir(parents=True, exist_ok=True)
-    paths = []
-    for ext in ("png", "svg"):
-        target = out_dir / f"build_time.{ext}"
-        with atomic_path(target) as tmp:
-            fig.savefig(tmp, format=ext, dpi=120)
-        paths.append(str(target))
+    from cad.bench.common import save_chart
+
+    paths = save_chart(fig, out_dir, "build_time")
     plt.close(fig)
     return paths
 

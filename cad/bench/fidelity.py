@@ -43,10 +43,13 @@ def run(quick: bool, out_dir: Path, design_path: Path | None = None) -> dict:
             t, rep = _build(d, fid, formats)
             times.append(t)
         moving = sum(v["mass_g"] for k, v in rep["links"].items() if k != "ground")
-        rows[fid] = {"wall_s": statistics.median(times), "moving_mass_g": moving,
-                     **{k: rep[k] for k in ("H11_kg_m2", "H12_kg_m2", "H22_kg_m2", "H33_kg_m2")},
-                     "M11_max_g": rep["apparent_mass"]["M11_max_g"],
-                     "min_clearance_mm": rep["min_clearance_mm"]}
+        rows[fid] = {
+            "wall_s": statistics.median(times),
+            "moving_mass_g": moving,
+            **{k: rep[k] for k in ("H11_kg_m2", "H12_kg_m2", "H22_kg_m2", "H33_kg_m2")},
+            "M11_max_g": rep["apparent_mass"]["M11_max_g"],
+            "min_clearance_mm": rep["min_clearance_mm"],
+        }
     ref = rows["fabrication"]
     for fid in FIDELITIES:
         r = rows[fid]
@@ -55,8 +58,12 @@ def run(quick: bool, out_dir: Path, design_path: Path | None = None) -> dict:
         r["delta_M11_max_g"] = r["M11_max_g"] - ref["M11_max_g"]
         r["delta_min_clearance_mm"] = r["min_clearance_mm"] - ref["min_clearance_mm"]
         r["time_saved_s"] = ref["wall_s"] - r["wall_s"]
-    res = {"topic": "fidelity", "reference": "fabrication fidelity (every feature, exact checks)",
-           "design": d.name, "rows": rows}
+    res = {
+        "topic": "fidelity",
+        "reference": "fabrication fidelity (every feature, exact checks)",
+        "design": d.name,
+        "rows": rows,
+    }
     (out_dir / "fidelity.json").write_text(json.dumps(res, indent=1))
     return res
 

@@ -25,11 +25,11 @@ Times are medians of repeats (``time.perf_counter``).
 from __future__ import annotations
 
 import statistics
-import time
 from pathlib import Path
 
 import numpy as np
 
+from cad.bench.common import median_time as _median_time
 from cad.isotropy.culling import brute_force, culling
 from cad.isotropy.gii import fivebar_gii, gii_from_jacobians, square_grid_mm
 from cad.isotropy.problems import FiveBarProblem, candidate_grid
@@ -42,15 +42,6 @@ REFERENCE_GRID = 1025
 REFERENCE = f"{REFERENCE_GRID} x {REFERENCE_GRID} grid over the square (boundary included)"
 #: Errors below this are drawn at this value on the log axis (exact results give 0).
 ERROR_FLOOR = 1e-17
-
-
-def _median_time(fn, repeats: int) -> tuple[float, object]:
-    times, out = [], None
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        out = fn()
-        times.append(time.perf_counter() - t0)
-    return statistics.median(times), out
 
 
 def boundary_points_mm(center_mm, side_mm: float, n: int) -> np.ndarray:

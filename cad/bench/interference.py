@@ -32,6 +32,8 @@ from pathlib import Path
 
 import numpy as np
 
+from cad.bench.common import median_time as _median_time
+
 #: Prescribed smallest gaps of the cylinder pairs (mm); negative = overlap depth.
 GAPS_MM = (-0.2, -0.05, -0.01, 0.01, 0.03, 0.08, 0.2, 0.5)
 #: A pair closer than this is a contact (mm).
@@ -114,15 +116,6 @@ def _occt_brute(items, tfs, phi) -> dict[int, float]:
             best = min(best, d)
         out[k] = best
     return out
-
-
-def _median_time(fn, repeats: int):
-    times, res = [], None
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        res = fn()
-        times.append(time.perf_counter() - t0)
-    return statistics.median(times), res
 
 
 def run(quick: bool, out_dir: Path) -> dict:
@@ -302,8 +295,6 @@ def _chart(points: list[dict], out_dir: Path) -> list[str]:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from cad.io.atomic import atomic_path
-
     floor = 1e-6
     fig, ax = plt.subplots(figsize=(7.5, 5))
     for meth, mk in (("occt-exact", "*"), ("fcl", "o"), ("manifold3d", "s"), ("fcl+occt", "D")):
@@ -328,13 +319,9 @@ def _chart(points: list[dict], out_dir: Path) -> list[str]:
     ax.legend(fontsize=8)
     fig.suptitle("reference: " + REFERENCE, fontsize=8)
     fig.tight_layout(rect=(0, 0, 1, 0.95))
-    out_dir.mkdir(parents=True, exist_ok=True)
-    paths = []
-    for ext in ("png", "svg"):
-        target = out_dir / f"interference_error_vs_time.{ext}"
-        with atomic_path(target) as tmp:
-            fig.savefig(tmp, format=ext, dpi=120)
-        paths.append(str(target))
+    from cad.bench.common import save_chart
+
+    paths = save_chart(fig, out_dir, "interference_error_vs_time")
     plt.close(fig)
     return paths
 

@@ -23,20 +23,12 @@ from pathlib import Path
 
 import numpy as np
 
+from cad.bench.common import median_time
 from cad.kinematics.families import family_linkage
 from cad.kinematics.fourbar import coupler_point_and_jacobian, jacobian_mm_per_rad, solve
 from cad.kinematics.metrics import compute_metrics
 
 REPO = Path(__file__).resolve().parents[2]
-
-
-def _median_time(fn, repeats: int) -> float:
-    ts = []
-    for _ in range(repeats):
-        t = time.perf_counter()
-        fn()
-        ts.append(time.perf_counter() - t)
-    return statistics.median(ts)
 
 
 def _pylinkage_linkage(pl, fb, lo: float, dphi: float):
@@ -45,10 +37,20 @@ def _pylinkage_linkage(pl, fb, lo: float, dphi: float):
     O1 = pl.Ground(0.0, 0.0)
     O2 = pl.Ground(fb.l5_mm, fb.l4_mm)
     crank = pl.Crank(anchor=O1, radius=fb.l1_mm, angular_velocity=dphi, initial_angle=lo)
-    a3 = pl.RRRDyad(anchor1=crank.output, anchor2=O2, distance1=fb.l2_mm, distance2=fb.l3_mm,
-                    x=float(p0.A3_mm[0, 0]), y=float(p0.A3_mm[0, 1]))
+    a3 = pl.RRRDyad(
+        anchor1=crank.output,
+        anchor2=O2,
+        distance1=fb.l2_mm,
+        distance2=fb.l3_mm,
+        x=float(p0.A3_mm[0, 0]),
+        y=float(p0.A3_mm[0, 1]),
+    )
     P = pl.FixedDyad(anchor1=crank.output, anchor2=a3, distance=fb.le_mm, angle=fb.phi_e_rad)
     return pl.Linkage([O1, O2, crank, a3, P])
+
+
+def _median_time(fn, repeats: int) -> float:
+    return median_time(fn, repeats)[0]
 
 
 def bench_poses(n: int = 100_000, repeats: int = 7) -> dict:
@@ -64,10 +66,15 @@ def bench_poses(n: int = 100_000, repeats: int = 7) -> dict:
 
     t_ours = _median_time(ours, repeats)
     t_full = _median_time(ours_full, repeats)
-    out = {"n_poses": n, "ours_s": t_ours, "ours_poses_per_s": n / t_ours, "goal_ratio": 100.0,
-           "ours_full_pose_s": t_full,
-           "note": "ours = P and J (fused, coupler_point_and_jacobian); ours_full_pose = every joint "
-                   "+ unwrapped angles + J; pylinkage step_fast = every joint, no J (numba)"}
+    out = {
+        "n_poses": n,
+        "ours_s": t_ours,
+        "ours_poses_per_s": n / t_ours,
+        "goal_ratio": 100.0,
+        "ours_full_pose_s": t_full,
+        "note": "ours = P and J (fused, coupler_point_and_jacobian); ours_full_pose = every joint "
+        "+ unwrapped angles + J; pylinkage step_fast = every joint, no J (numba)",
+    }
     try:
         import pylinkage as pl
     except ImportError:
@@ -89,11 +96,16 @@ def bench_poses(n: int = 100_000, repeats: int = 7) -> dict:
     t = time.perf_counter()
     list(itertools.islice(_pylinkage_linkage(pl, fb, lo, dphi).step(), 2000))
     t_py = (time.perf_counter() - t) / 2000
-    out.update({"pylinkage_step_fast_s": t_pl, "ratio": t_pl / t_ours,
-                "pylinkage_step_python_s_per_pose": t_py,
-                "ratio_vs_python_step": t_py * n / t_ours,
-                "pylinkage_version": getattr(pl, "__version__", "?"),
-                "max_P_difference_mm": float(np.abs(tr[:, 4, :] - ref).max())})
+    out.update(
+        {
+            "pylinkage_step_fast_s": t_pl,
+            "ratio": t_pl / t_ours,
+            "pylinkage_step_python_s_per_pose": t_py,
+            "ratio_vs_python_step": t_py * n / t_ours,
+            "pylinkage_version": getattr(pl, "__version__", "?"),
+            "max_P_difference_mm": float(np.abs(tr[:, 4, :] - ref).max()),
+        }
+    )
     return out
 
 
@@ -102,19 +114,39 @@ def bench_metric_samples(quick: bool) -> dict:
     exact = compute_metrics(fb, lo, hi, samples=4001, refine=True)
     pts = []
     for n in (11, 21, 51, 101, 301, 1001, 3001, 10001, 30001):
-        t = _median_time(lambda n=n: compute_metrics(fb, lo, hi, samples=n, refine=False), 3 if quick else 7)
+        t = _median_time(
+            lambda n=n: compute_metrics(fb, lo, hi, samples=n, refine=False), 3 if quick else 7
+        )
         m = compute_metrics(fb, lo, hi, samples=n, refine=False)
-        pts.append({"method": "uniform samples", "knob": n, "time_s": t,
-                    "error": abs(m.dy_max_mm - exact.dy_max_mm) / exact.dy_max_mm,
-                    "error_slope": abs(m.slope_max - exact.slope_max) / exact.slope_max})
+        pts.append(
+            {
+                "method": "uniform samples",
+                "knob": n,
+                "time_s": t,
+                "error": abs(m.dy_max_mm - exact.dy_max_mm) / exact.dy_max_mm,
+                "error_slope": abs(m.slope_max - exact.slope_max) / exact.slope_max,
+            }
+        )
     for n in (11, 51, 201):
-        t = _median_time(lambda n=n: compute_metrics(fb, lo, hi, samples=n, refine=True), 3 if quick else 7)
+        t = _median_time(
+            lambda n=n: compute_metrics(fb, lo, hi, samples=n, refine=True), 3 if quick else 7
+        )
         m = compute_metrics(fb, lo, hi, samples=n, refine=True)
-        pts.append({"method": "samples + zoom refinement", "knob": n, "time_s": t,
-                    "error": abs(m.dy_max_mm - exact.dy_max_mm) / exact.dy_max_mm,
-                    "error_slope": abs(m.slope_max - exact.slope_max) / exact.slope_max})
-    return {"topic": "kinematic metrics", "reference": "exact extremum of |y| (root of dy/dphi1, 1e-13 rad)",
-            "exact_dy_max_mm": exact.dy_max_mm, "points": pts}
+        pts.append(
+            {
+                "method": "samples + zoom refinement",
+                "knob": n,
+                "time_s": t,
+                "error": abs(m.dy_max_mm - exact.dy_max_mm) / exact.dy_max_mm,
+                "error_slope": abs(m.slope_max - exact.slope_max) / exact.slope_max,
+            }
+        )
+    return {
+        "topic": "kinematic metrics",
+        "reference": "exact extremum of |y| (root of dy/dphi1, 1e-13 rad)",
+        "exact_dy_max_mm": exact.dy_max_mm,
+        "points": pts,
+    }
 
 
 def bench_analyze_wall(runs: int = 5) -> dict:
@@ -137,7 +169,12 @@ def chart(res: dict, out_dir: Path) -> list[str]:
     pts = res["points"]
     for method, marker in (("uniform samples", "o-"), ("samples + zoom refinement", "s-")):
         p = [q for q in pts if q["method"] == method]
-        ax.loglog([q["time_s"] for q in p], [max(q["error"], 1e-17) for q in p], marker, label=f"{method} (dy_max)")
+        ax.loglog(
+            [q["time_s"] for q in p],
+            [max(q["error"], 1e-17) for q in p],
+            marker,
+            label=f"{method} (dy_max)",
+        )
         for q in p:
             ax.annotate(str(q["knob"]), (q["time_s"], max(q["error"], 1e-17)), fontsize=7)
     ax.set_xlabel("time per metric evaluation (s)")

@@ -23,12 +23,11 @@ COM, z = plate normal / tube axis); ``error`` is the larger of the two.
 from __future__ import annotations
 
 import math
-import statistics
-import time
-from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
+
+from cad.bench.common import median_time as _median_time
 
 #: Density of every benchmark part (aluminium 6061), kg/m^3.
 BENCH_DENSITY_KG_M3 = 2700.0
@@ -127,14 +126,6 @@ def tube(Ro_mm: float, Ri_mm: float, h_mm: float):
 
 
 # ------------------------------------------------------------------ timing
-def _median_time(fn: Callable[[], object], repeats: int) -> tuple[float, object]:
-    times = []
-    out = None
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        out = fn()
-        times.append(time.perf_counter() - t0)
-    return statistics.median(times), out
 
 
 def _rel(a: float, b: float) -> float:
@@ -172,7 +163,9 @@ def _bench_part(part: str, shape, m_ref: float, izz_ref: float, repeats: int) ->
     t, p = _median_time(lambda: occt.solid_mass_props(shape, rho, check=False), repeats)
     add("occt-exact", "default", t, p)
     for eps in OCCT_EPS:
-        t, p = _median_time(lambda eps=eps: occt.solid_mass_props(shape, rho, eps=eps, check=False), repeats)
+        t, p = _median_time(
+            lambda eps=eps: occt.solid_mass_props(shape, rho, eps=eps, check=False), repeats
+        )
         add("occt-eps", f"eps={eps:g}", t, p)
     for tol in MESH_TOLERANCES_MM:
         t, r = _median_time(

@@ -29,11 +29,12 @@ stroke with the coil's real cross-section against eq (8)'s uniform field.
 
 from __future__ import annotations
 
-import statistics
 import time
 from pathlib import Path
 
 import numpy as np
+
+from cad.bench.common import median_time as _median_time
 
 GEOM = {
     "magnet_length_mm": 20.0,
@@ -47,15 +48,6 @@ REFERENCE = (
     "converged two-plate ideal-iron image series (4096 slabs/side + asymptotic tail), one magnet pair, "
     "gap centre; B_r = 1.2 T, l,w,t = 20,8,4 mm; max relative error over d = 6, 11, 30 mm"
 )
-
-
-def _median_time(fn, repeats: int) -> tuple[float, object]:
-    times, out = [], None
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        out = fn()
-        times.append(time.perf_counter() - t0)
-    return statistics.median(times), out
 
 
 def _field_points(repeats: int, quick: bool) -> tuple[list[dict], dict]:
