@@ -107,6 +107,19 @@ def build_assembly(
         cs = cat.get_cap_screw(size, "parts")
         return (("self", joints.screw_envelope(cs.dk_mm, cs.k_mm, cs.d_mm, length)),)
 
+    def cap_screw_kind(size: str, length: float) -> PartKind:
+        """A bought ISO 4762 socket head cap screw (one kind per size and length)."""
+        return kind(
+            f"cap_screw_{size}x{_fmt(length)}",
+            lambda: joints.cap_screw_shape(size, length),
+            material=steel,
+            made=False,
+            description=f"socket head cap screw ISO 4762 {size} x {_fmt(length)}",
+            process="bought",
+            revolution=True,
+            collision=cap_env(size, length),
+        )
+
     # ---------------------------------------------------------------- bars
     seat = bars.Feature("seat", d_mm=brg.Da_mm, cb_d_mm=brg.D_mm, cb_depth_mm=brg.B_mm)
     pin_hole = bars.Feature("pin", d_mm=pin.ds_mm)
@@ -265,16 +278,7 @@ def build_assembly(
         ),
     )
     place("crank_hub", hk, "crank", translation(0, 0, plan.hub_z_mm[0]))
-    hs = kind(
-        f"cap_screw_{parts.hub_screw}x{_fmt(plan.hub_screw_length_mm)}",
-        lambda: joints.cap_screw_shape(parts.hub_screw, plan.hub_screw_length_mm),
-        material=steel,
-        made=False,
-        description=f"socket head cap screw ISO 4762 {parts.hub_screw} x {_fmt(plan.hub_screw_length_mm)}",
-        process="bought",
-        revolution=True,
-        collision=cap_env(parts.hub_screw, plan.hub_screw_length_mm),
-    )
+    hs = cap_screw_kind(parts.hub_screw, plan.hub_screw_length_mm)
     for i in range(3):
         a = math.radians(90 + 120 * i)
         place(
@@ -320,32 +324,14 @@ def build_assembly(
         cat.get_cap_screw(m.bolt_size, "parts.motor").lengths_mm,
         parts.motor_mount_thickness_mm + MOTOR_SCREW_ENGAGEMENT_MM,
     )
-    msk = kind(
-        f"cap_screw_{m.bolt_size}x{_fmt(ms_L)}",
-        lambda: joints.cap_screw_shape(m.bolt_size, ms_L),
-        material=steel,
-        made=False,
-        description=f"socket head cap screw ISO 4762 {m.bolt_size} x {_fmt(ms_L)}",
-        process="bought",
-        revolution=True,
-        collision=cap_env(m.bolt_size, ms_L),
-    )
+    msk = cap_screw_kind(m.bolt_size, ms_L)
     for i, (x, y) in enumerate(motor.motor_bolt_xy_mm(m)):
         place(f"motor_screw_{i + 1}", msk, "ground", translation(x, y, -parts.base_thickness_mm))
     mo_L = cat.shortest_length(
         cat.get_cap_screw(motor.MOUNT_SCREW, "parts.motor").lengths_mm,
         parts.motor_mount_thickness_mm + MOUNT_SCREW_ENGAGEMENT_MM,
     )
-    mok = kind(
-        f"cap_screw_{motor.MOUNT_SCREW}x{_fmt(mo_L)}",
-        lambda: joints.cap_screw_shape(motor.MOUNT_SCREW, mo_L),
-        material=steel,
-        made=False,
-        description=f"socket head cap screw ISO 4762 {motor.MOUNT_SCREW} x {_fmt(mo_L)}",
-        process="bought",
-        revolution=True,
-        collision=cap_env(motor.MOUNT_SCREW, mo_L),
-    )
+    mok = cap_screw_kind(motor.MOUNT_SCREW, mo_L)
     for i, (x, y) in enumerate(motor.mount_hole_xy_mm(m)):
         place(f"mount_screw_{i + 1}", mok, "ground", translation(x, y, zf) @ flip_x())
 
@@ -399,16 +385,7 @@ def build_assembly(
     st_L = cat.shortest_length(
         st_cs.lengths_mm, parts.base_thickness_mm + STANDOFF_SCREW_ENGAGEMENT_MM
     )
-    stk = kind(
-        f"cap_screw_{parts.pin}x{_fmt(st_L)}",
-        lambda: joints.cap_screw_shape(parts.pin, st_L),
-        material=steel,
-        made=False,
-        description=f"socket head cap screw ISO 4762 {parts.pin} x {_fmt(st_L)}",
-        process="bought",
-        revolution=True,
-        collision=cap_env(parts.pin, st_L),
-    )
+    stk = cap_screw_kind(parts.pin, st_L)
     place(
         "post_screw", stk, "ground", translation(a4[0], a4[1], -parts.base_thickness_mm) @ flip_x()
     )
@@ -447,15 +424,6 @@ def build_assembly(
             process="3D print / turned",
         )
     place("handle", hk2, "coupler", translation(px, py, plan.handle_z_mm))
-    hsk = kind(
-        f"cap_screw_{parts.handle_screw}x{_fmt(plan.handle_screw_length_mm)}",
-        lambda: joints.cap_screw_shape(parts.handle_screw, plan.handle_screw_length_mm),
-        material=steel,
-        made=False,
-        description=f"socket head cap screw ISO 4762 {parts.handle_screw} x {_fmt(plan.handle_screw_length_mm)}",
-        process="bought",
-        revolution=True,
-        collision=cap_env(parts.handle_screw, plan.handle_screw_length_mm),
-    )
+    hsk = cap_screw_kind(parts.handle_screw, plan.handle_screw_length_mm)
     place("handle_screw", hsk, "coupler", translation(px, py, plan.handle_z_mm + floor))
     return Assembly(tuple(inst), rect)

@@ -113,28 +113,16 @@ def bench_metric_samples(quick: bool) -> dict:
     fb, lo, hi = family_linkage("hoeken")
     exact = compute_metrics(fb, lo, hi, samples=4001, refine=True)
     pts = []
-    for n in (11, 21, 51, 101, 301, 1001, 3001, 10001, 30001):
-        t = _median_time(
-            lambda n=n: compute_metrics(fb, lo, hi, samples=n, refine=False), 3 if quick else 7
+    repeats = 3 if quick else 7
+    runs = [("uniform samples", n, False) for n in (11, 21, 51, 101, 301, 1001, 3001, 10001, 30001)]
+    runs += [("samples + zoom refinement", n, True) for n in (11, 51, 201)]
+    for method, n, refine in runs:
+        t, m = median_time(
+            lambda n=n, r=refine: compute_metrics(fb, lo, hi, samples=n, refine=r), repeats
         )
-        m = compute_metrics(fb, lo, hi, samples=n, refine=False)
         pts.append(
             {
-                "method": "uniform samples",
-                "knob": n,
-                "time_s": t,
-                "error": abs(m.dy_max_mm - exact.dy_max_mm) / exact.dy_max_mm,
-                "error_slope": abs(m.slope_max - exact.slope_max) / exact.slope_max,
-            }
-        )
-    for n in (11, 51, 201):
-        t = _median_time(
-            lambda n=n: compute_metrics(fb, lo, hi, samples=n, refine=True), 3 if quick else 7
-        )
-        m = compute_metrics(fb, lo, hi, samples=n, refine=True)
-        pts.append(
-            {
-                "method": "samples + zoom refinement",
+                "method": method,
                 "knob": n,
                 "time_s": t,
                 "error": abs(m.dy_max_mm - exact.dy_max_mm) / exact.dy_max_mm,
