@@ -8,10 +8,11 @@ tolerance, 1 when any is not, 2 on bad input.
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 import typer
+
+from cad.cli.app import print_json
 
 
 def compute_values(design, fidelity: str, need_clearance: bool) -> tuple[dict, dict]:
@@ -46,17 +47,19 @@ def register(app: typer.Typer) -> None:
     ) -> None:
         """Inertia and apparent mass from the solids against the design's targets (exit 0 / 1 / 2)."""
         from cad.checks import evaluate, merge_targets
-        from cad.design import load_design
+        from cad.cli import flags
+        from cad.design import bounds, load_design
         from cad.design.fourbar import FourBarDesign
         from cad.design.targets import parse_cli_target
         from cad.errors import DesignError, TargetMissed
 
         cli = tuple(parse_cli_target(t) for t in (target or []))
-        if fidelity not in ("inertia", "fabrication"):
-            raise DesignError("--fidelity", f"must be inertia or fabrication, got {fidelity!r}")
+        flags.choice("--fidelity", fidelity, ("inertia", "fabrication"))
         d = load_design(design)
         if not isinstance(d, FourBarDesign):
             raise DesignError("mechanism.family", "check works on four-bar designs")
+        d.check_buildable()
+        bounds.flush()
         targets = merge_targets(d.targets, cli)
         if not targets:
             raise DesignError("targets", "no targets: add a [targets] table or --target KEY=VALUE")
@@ -65,9 +68,9 @@ def register(app: typer.Typer) -> None:
         rows = evaluate(targets, values)
         missed = [r for r in rows if not r.ok]
         if json_out:
-            print(json.dumps({"name": d.name, "ok": not missed, "fidelity": fidelity,
-                              "rows": [r.as_dict() for r in rows],
-                              "computed": values, "budget": report["budget"]}, indent=1))
+            print_json({"name": d.name, "ok": not missed, "fidelity": fidelity,
+                        "rows": [r.as_dict() for r in rows],
+                        "computed": values, "budget": report["budget"]}, indent=1)
         else:
             from rich.console import Console
             from rich.table import Table

@@ -7,10 +7,11 @@ while evaluating far fewer Jacobians.
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 import typer
+
+from cad.cli.app import print_json
 
 
 def optimize_report(design, method: str) -> dict:
@@ -59,7 +60,7 @@ def register(app: typer.Typer) -> None:
             raise DesignError("--method", f"must be 'culling' or 'brute', got {method!r}")
         rep = optimize_report(load_pantograph_design(design), method)
         if json_out:
-            print(json.dumps(rep))
+            print_json(rep)
             return
         print(f"{rep['design']} ({rep['family']}), {rep['method']}: GII = {rep['gii']:.6f}")
         print(f"  best: {rep['best']}")

@@ -129,6 +129,10 @@ def parse_cli_target(text: str) -> Target:
                 v = float(val)
             except ValueError:
                 raise DesignError(f"--target {text}", f"value {val!r} is not a number") from None
+            from cad.design.bounds import TARGETS, check_number
+
+            if key in TARGETS:
+                check_number(f"--target {key}", v, TARGETS[key])
             spec: Any = v if op == "=" else ({"max": v} if op == "<=" else {"min": v})
             return parse_target(key, spec, prefix="--target")
     raise DesignError(f"--target {text}", "expected KEY=VALUE, KEY<=VALUE or KEY>=VALUE")
