@@ -99,8 +99,8 @@ def register(app: typer.Typer) -> None:
         from cad.assembly.pose import planar_transforms
         from cad.design import load_design, parse_design
         from cad.design.fourbar import FourBarDesign
-        from cad.errors import DesignError
         from cad.design.writer import dropped_targets_note
+        from cad.errors import DesignError
         from cad.io.atomic import write_text_atomic
         from cad.kinematics.linkgeom import link_joints_mm
 

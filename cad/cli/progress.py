@@ -21,7 +21,8 @@ def stages(title: str, stream=None) -> Iterator[Progress]:
     stream = stream if stream is not None else sys.stderr
     if stream.isatty():
         from rich.console import Console
-        from rich.progress import BarColumn, Progress as Bar, TextColumn, TimeElapsedColumn
+        from rich.progress import BarColumn, TextColumn, TimeElapsedColumn
+        from rich.progress import Progress as Bar
 
         with Bar(TextColumn("{task.description}"), BarColumn(), TimeElapsedColumn(),
                  transient=True, console=Console(file=stream)) as bar:
