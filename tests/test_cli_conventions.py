@@ -57,3 +57,27 @@ def test_swap_keeps_bounds_drops_source_values(tmp_path):
     raw = tomllib.loads(out.read_text())
     assert raw["targets"] == {"M11_max_g": {"max": 60.0}, "dy_max_mm": {"max": 0.5}}
     assert "H11_kg_m2" in out.read_text().splitlines()[1]
+
+
+def test_optimize_out_writes_the_optimum(tmp_path):
+    """The written design reproduces the optimum's GII when evaluated on its own (gii command)."""
+    import json
+
+    out = tmp_path / "best.toml"
+    code, o, err = hapticad("optimize", "designs/pantograph.toml", "--out", out, "--json")
+    assert code == 0, err
+    rep = json.loads(o)
+    raw = tomllib.loads(out.read_text())
+    assert {k: raw["mechanism"][k] for k in rep["best"]} == rep["best"]
+    code, g, err = hapticad("gii", out, "--json")
+    assert code == 0, err
+    assert json.loads(g)["gii"] == rep["gii"]
+    code, _, err = hapticad("optimize", "designs/pantograph.toml", "--out", "designs/pantograph.toml")
+    assert code == 2 and "--out" in err and "input design" in err
+
+
+def test_swap_out_names_the_design(tmp_path):
+    out = tmp_path / "my_roberts.toml"
+    code, _, err = hapticad("swap", "designs/hoeken.toml", "--to", "roberts", "--out", out)
+    assert code == 0, err
+    assert tomllib.loads(out.read_text())["name"] == "my_roberts"

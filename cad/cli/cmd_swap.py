@@ -89,7 +89,7 @@ def register(app: typer.Typer) -> None:
         ),
         json_out: bool = typer.Option(False, "--json", help="print one JSON object"),
         build: bool = typer.Option(
-            False, "--build", help="also build the new design into exports/<name>/"
+            False, "--build", help="Also build the new design into exports/<name>/ (name: the --out file stem)."
         ),
     ) -> None:
         """Same joint hardware, another straight-line bar set; old vs new metrics."""
@@ -115,6 +115,8 @@ def register(app: typer.Typer) -> None:
             else design.with_name(f"{design.stem}_{to.replace('-', '_')}.toml")
         )
         raw = swap_raw(d, to, target)
+        if out is not None:  # the written file names the design (and its build folder)
+            raw["name"] = out.stem
         dropped = [k for k in (d.raw.get("targets") or {}) if k not in (raw.get("targets") or {})]
         new = parse_design(raw, str(target))  # validates before anything is written
         import numpy as np
@@ -141,11 +143,12 @@ def register(app: typer.Typer) -> None:
             from cad.build import build_design
             from cad.export import parse_formats
 
-            rep = build_design(new, Path("exports") / new.name, parse_formats(None))
+            build_dir = Path("exports") / new.name
+            rep = build_design(new, build_dir, parse_formats(None))
             result["build"] = {
                 "min_clearance_mm": rep["min_clearance_mm"],
                 "overlap_volume_mm3": rep["overlap_volume_mm3"],
-                "out": str(Path("exports") / new.name),
+                "out": str(build_dir),
             }
         if json_out:
             print(json.dumps(result, sort_keys=True, default=float))
