@@ -79,7 +79,9 @@ def check(design, targets: tuple[str, ...] | list[str] = (), fidelity: str = "in
     if fidelity not in ("inertia", "fabrication"):
         raise DesignError("--fidelity", f"must be inertia or fabrication, got {fidelity!r}")
     if not isinstance(design, FourBarDesign):
-        raise DesignError("mechanism.family", "check works on four-bar designs")
+        from cad.cli.families import refusal
+
+        raise DesignError("mechanism.family", refusal("check", design.family))
     merged = merge_targets(design.targets, tuple(parse_cli_target(t) for t in targets))
     if not merged:
         raise DesignError("targets", "no targets: add a [targets] table or --target KEY=VALUE")

@@ -21,6 +21,7 @@ def register(app: typer.Typer) -> None:
         """Adjust the design's free part parameters to meet the targets; write the fitted design."""
         from cad.build.inertia import target_values
         from cad.checks import evaluate, merge_targets
+        from cad.cli.families import refusal
         from cad.design import load_design, parse_design
         from cad.design.fourbar import FourBarDesign
         from cad.design.targets import parse_cli_target
@@ -32,7 +33,7 @@ def register(app: typer.Typer) -> None:
         cli_targets = tuple(parse_cli_target(t) for t in (target or []))
         d = load_design(design)
         if not isinstance(d, FourBarDesign):
-            raise DesignError("mechanism.family", "fit works on four-bar designs")
+            raise DesignError("mechanism.family", refusal("fit", d.family))
         targets = cli_targets if cli_targets else merge_targets(d.targets, ())
         if not targets:
             raise DesignError("--target", "no targets: give --target KEY=VALUE or a [targets] table")
