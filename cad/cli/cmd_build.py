@@ -101,16 +101,9 @@ def register(app: typer.Typer) -> None:
             rep.pop("timings_s", None)
             print(json.dumps(rep, sort_keys=True, default=str))
             return
-        from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+        from cad.cli.progress import stages
 
-        with Progress(
-            TextColumn("{task.description}"), BarColumn(), TimeElapsedColumn(), transient=True
-        ) as bar:
-            task = bar.add_task("build", total=8)
-
-            def progress(desc: str, done: int, total: int) -> None:
-                bar.update(task, description=desc, completed=done, total=total)
-
+        with stages("build") as progress:
             rep = build_design(
                 d,
                 target,
