@@ -85,7 +85,9 @@ def register(app: typer.Typer) -> None:
             raise DesignError("--samples", f"must be in [3, {SAMPLES_MAX}], got {samples}")
         d = load_design(design)
         if not isinstance(d, FourBarDesign):
-            raise DesignError("mechanism.family", "analyze works on four-bar designs; use `hapticad gii` for pantographs")
+            from cad.cli.families import refusal
+
+            raise DesignError("mechanism.family", refusal("analyze", d.family))
         H = parse_inertia_option(inertia) if inertia else None
         res = analyze(d, samples=samples, inertia=H)
         if report is not None:

@@ -106,9 +106,9 @@ def register(app: typer.Typer) -> None:
 
         d = load_design(design)
         if not isinstance(d, FourBarDesign):
-            raise DesignError(
-                "mechanism.family", f"swap works on four-bar designs, got {d.family!r}"
-            )
+            from cad.cli.families import refusal
+
+            raise DesignError("mechanism.family", refusal("swap", d.family))
         target = (
             out
             if out is not None

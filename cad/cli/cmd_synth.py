@@ -32,6 +32,7 @@ def register(app: typer.Typer) -> None:
         """Choose link lengths and the crank range for a stated objective (see README)."""
         import copy
 
+        from cad.cli.families import refusal
         from cad.design import load_design, parse_design
         from cad.design.fourbar import FourBarDesign
         from cad.design.writer import (
@@ -46,7 +47,7 @@ def register(app: typer.Typer) -> None:
 
         d = load_design(design)
         if not isinstance(d, FourBarDesign):
-            raise DesignError("mechanism.family", "synth works on four-bar designs")
+            raise DesignError("mechanism.family", refusal("synth", d.family))
         if stroke_mm is not None and not stroke_mm > 0:
             raise DesignError("--stroke-mm", f"must be > 0, got {stroke_mm}")
         if not 0 <= mu_min_deg < 90:
