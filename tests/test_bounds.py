@@ -276,8 +276,22 @@ BAD_FLAGS: dict[tuple[str, str], list[str]] = {
     ("voicecoil", "--model"): ["fem"],
     ("voicecoil", "--gap-mm"): ["1e300", "nan", "3"],
     ("voicecoil", "--gap-max-mm"): ["1e300", "3"],
+    ("tolerance", "--hole-mm"): ["nan", "-1", "1e300"],
+    ("tolerance", "--hole"): ["crank.A9=0.1", "crank.A2=x"],
+    ("tolerance", "--pivot-mm"): ["inf", "-0.1"],
+    ("tolerance", "--pivot"): ["A7=0.1"],
+    ("tolerance", "--length-mm"): ["nan", "1e300"],
+    ("tolerance", "--length"): ["l9=0.1"],
+    ("tolerance", "--distribution"): ["cauchy"],
+    ("tolerance", "--samples"): ["1", "1000000000"],
+    ("tolerance", "--angles"): ["2", "10000000"],
+    ("tolerance", "--seed"): ["-1"],
+    ("tolerance", "--target"): ["stroke_mm=1e300"],
+    ("tolerance", "--inertia"): ["", "H11=297,H12=322,H22=1170,H33=709"],
+    ("tolerance", "--out"): ["/dev/null/x", H],
     ("gii", None): [],
     ("optimize", "--method"): ["random"],
+    ("optimize", "--out"): ["/dev/null/x", FOLDER],
     ("bench", "--only"): ["everything"],
     ("bench", "--out"): ["/dev/null/x"],
 }
@@ -285,7 +299,7 @@ BASE = {
     "analyze": ["analyze", H], "synth": ["synth", H], "build": ["build", H],
     "swap": ["swap", H, "--to", "roberts"], "check": ["check", H], "fit": ["fit", H],
     "massprops": ["massprops", STL], "voicecoil": list(VC), "gii": ["gii", P],
-    "optimize": ["optimize", P], "bench": ["bench"],
+    "optimize": ["optimize", P], "bench": ["bench"], "tolerance": ["tolerance", H],
 }
 CASES_FLAGS = [(c, f, v) for (c, f), vals in BAD_FLAGS.items() for v in vals]
 
@@ -300,6 +314,8 @@ def test_every_flag_bad_value_is_one_line_naming_the_flag(command, flag, value, 
         argv += ["--target", "M11_max_g<=60"]
     if command == "fit" and flag != "--free":
         argv += ["--free", "parts.bar_thickness_mm=5:8"]
+    if command == "tolerance" and flag not in ("--hole-mm", "--hole"):
+        argv += ["--hole-mm", "0.05"]
     code, out, err = hapticad(*argv, flag, value)
     assert_one_line_error(code, err, flag)
     assert out == ""

@@ -10,6 +10,14 @@ import typer
 from cad.cli.app import print_json
 
 
+def synth_flags(objective: str, free: str, dy_tol_mm: float, mu_min_deg: float,
+                stroke_mm: float | None) -> str:
+    """Every flag that shaped the result, for the written design's provenance line."""
+    flags = (f"--objective {objective} --free {free} --dy-tol-mm {dy_tol_mm:g} "
+             f"--mu-min-deg {mu_min_deg:g}")
+    return flags + (f" --stroke-mm {stroke_mm:g}" if stroke_mm is not None else "")
+
+
 def register(app: typer.Typer) -> None:
     @app.command("synth")
     def synth_cmd(
@@ -26,9 +34,15 @@ def register(app: typer.Typer) -> None:
         import copy
 
         from cad.cli import flags
+        from cad.cli.families import refusal
         from cad.design import load_design, parse_design
         from cad.design.fourbar import FourBarDesign
-        from cad.design.writer import custom_mechanism_table, dumps_design
+        from cad.design.writer import (
+            custom_mechanism_table,
+            drop_source_targets,
+            dropped_targets_note,
+            dumps_design,
+        )
         from cad.errors import DesignError
         from cad.io.atomic import write_text_atomic
         from cad.kinematics.synthesis import FREE_SETS, OBJECTIVES, synthesize
@@ -41,7 +55,7 @@ def register(app: typer.Typer) -> None:
         flags.out_path("--out", out, folder=False)
         d = load_design(design)
         if not isinstance(d, FourBarDesign):
-            raise DesignError("mechanism.family", "synth works on four-bar designs")
+            raise DesignError("mechanism.family", refusal("synth", d.family))
         r = synthesize(d.linkage, d.phi1_min_rad, d.phi1_max_rad, objective, free=free,
                        dy_tol_mm=dy_tol_mm, mu_min_deg=mu_min_deg,
                        stroke_mm=stroke_mm or (d.stroke_mm_requested or None), force_N=d.force_N)
@@ -55,9 +69,11 @@ def register(app: typer.Typer) -> None:
             raw = copy.deepcopy(d.raw)
             raw["mechanism"] = mech
             raw["name"] = out.stem
+            raw["description"] = f"{objective} synthesis ({free}) from {d.name} ({d.family})"
+            dropped = drop_source_targets(raw)
             parse_design(raw, str(out))  # must validate before anything is written
-            header = (f"Synthesized by `hapticad synth {design} --objective {objective} --free {free}` "
-                      f"from {d.family}")
+            header = (f"Synthesized by `hapticad synth {design.name} {synth_flags(objective, free, dy_tol_mm, mu_min_deg, stroke_mm)}` "
+                      f"from {d.family}" + dropped_targets_note(dropped))
             write_text_atomic(out, dumps_design(raw, header))
             res["out"] = str(out)
         if json_out:

@@ -198,6 +198,11 @@ DY_TOL_MM = Bound("mm", 1e-6, 1000.0,
                   None, 10.0, "a straight-line deviation over 10 mm is not a straight line",
                   (("metres", 1000.0),))
 MU_DEG = Bound("deg", 0.0, 89.9, "a transmission angle lies in [0, 90) deg")
+TOL_MM = Bound("mm", 0.0, 5.0,
+               "a manufacturing tolerance above 5 mm is not a tolerance (cad.tolerances."
+               "TOLERANCE_MAX_MM)", None, 0.5, "workshop tolerances are 0.001-0.5 mm",
+               (("um", 1e-3),), lo_open=True)
+SEED = Bound("", 0, 2**32 - 1, "numpy seeds are integers in [0, 2^32)", integer=True)
 GAIN = Bound("", 0.0, 1e6, "gains outside (0, 1e6] are typos", lo_open=True)
 # eq (25) inputs (Hoeken paper): far outside these eq (25) over/underflows
 STIFF = {
@@ -315,6 +320,10 @@ FLAGS: dict[str, Bound] = {
     "--eta-pack": FRACTION,
     "--gap-mm": RATTLE_MM,
     "--gap-max-mm": RATTLE_MM,
+    "--hole-mm": TOL_MM,
+    "--pivot-mm": TOL_MM,
+    "--length-mm": TOL_MM,
+    "--seed": SEED,
 }
 
 

@@ -55,6 +55,29 @@ class Target:
             parts.append(f"<= {self.max:.6g}")
         return " and ".join(parts)
 
+    def as_data(self) -> dict[str, float]:
+        """The target as data: ``{"value", "tol_rel" | "tol_abs"}`` or ``{"min"?, "max"?}``."""
+        if self.value is not None:
+            if self.tol_abs is not None:
+                return {"value": self.value, "tol_abs": self.tol_abs}
+            return {"value": self.value, "tol_rel": self.tol_rel or 0.0}
+        return {k: v for k, v in (("min", self.min), ("max", self.max)) if v is not None}
+
+    def margin(self, computed: float) -> float:
+        """Distance to the nearest limit in the key's unit: > 0 inside, < 0 outside.
+
+        For ``value ± tol`` the limits are ``value - tol`` and ``value + tol``.
+        """
+        if self.value is not None:
+            tol = self.tol_abs if self.tol_abs is not None else abs(self.value) * (self.tol_rel or 0.0)
+            return tol - abs(computed - self.value)
+        m = math.inf
+        if self.min is not None:
+            m = min(m, computed - self.min)
+        if self.max is not None:
+            m = min(m, self.max - computed)
+        return m
+
     def gap(self, computed: float) -> float:
         """Signed relative gap (computed - reference) / |reference|, reference = value or violated bound."""
         ref = self.value
