@@ -17,7 +17,7 @@ COMMAND_FAMILIES: dict[str, tuple[str, ...]] = {
     "analyze": FOUR_BARS,
     "synth": FOUR_BARS,
     "swap": FOUR_BARS,
-    "check": FOUR_BARS,
+    "check": FOUR_BARS + PANTOGRAPHS,
     "fit": FOUR_BARS,
     "build": FOUR_BARS + ("pantograph", "twin-pantograph", "powermouse"),
     "gii": PANTOGRAPHS,
