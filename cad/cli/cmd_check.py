@@ -18,7 +18,7 @@ from cad.cli.app import print_json
 def register(app: typer.Typer) -> None:
     @app.command("check")
     def check_cmd(
-        design: Path = typer.Argument(..., help="four-bar TOML design"),
+        design: Path = typer.Argument(..., help="Four-bar or pantograph-family TOML design."),
         target: list[str] = typer.Option(None, "--target", help="KEY=VALUE (default tolerance), KEY<=V, KEY>=V; repeatable"),
         fidelity: str = typer.Option("inertia", "--fidelity", help="inertia (default) | fabrication"),
         json_out: bool = typer.Option(False, "--json", help="print one JSON object"),
@@ -45,7 +45,7 @@ def register(app: typer.Typer) -> None:
             from rich.console import Console
             from rich.table import Table
 
-            t = Table(title=f"{res['name']}: computed from the solids ({fidelity}) against targets")
+            t = Table(title=f"{res['name']}: computed ({fidelity}) against targets")
             for c in ("target key", "computed", "target", "gap", "ok"):
                 t.add_column(c, justify="right" if c != "target key" else "left")
             for r in res["rows"]:

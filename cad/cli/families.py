@@ -17,11 +17,12 @@ COMMAND_FAMILIES: dict[str, tuple[str, ...]] = {
     "analyze": FOUR_BARS,
     "synth": FOUR_BARS,
     "swap": FOUR_BARS,
-    "check": FOUR_BARS,
+    "check": FOUR_BARS + PANTOGRAPHS,
     "fit": FOUR_BARS,
     "build": FOUR_BARS + ("pantograph", "twin-pantograph", "powermouse"),
     "gii": PANTOGRAPHS,
     "optimize": PANTOGRAPHS,
+    "tolerance": FOUR_BARS,
 }
 
 
@@ -32,3 +33,17 @@ def refusal(command: str, family: str) -> str:
     others = [c for c, fams in COMMAND_FAMILIES.items() if family in fams and c != command]
     hint = ", ".join(f"hapticad {c}" for c in others) or "no design command"
     return f"{command} works on {' / '.join(groups)} designs; for a {family} design use: {hint}"
+
+
+#: Commands that read no design file (they take a STEP/STL file, flags, or nothing).
+NO_DESIGN_COMMANDS = ("massprops", "voicecoil", "bench")
+
+
+def markdown_table() -> str:
+    """The README's commands x families table, from :data:`COMMAND_FAMILIES`."""
+    cols = list(FAMILY_GROUPS)
+    lines = ["| command | " + " | ".join(cols) + " |", "|---|" + "---|" * len(cols)]
+    for cmd, fams in COMMAND_FAMILIES.items():
+        cells = ["yes" if set(FAMILY_GROUPS[g]) <= set(fams) else "–" for g in cols]
+        lines.append(f"| `{cmd}` | " + " | ".join(cells) + " |")
+    return "\n".join(lines)
