@@ -27,11 +27,8 @@ def register(app: typer.Typer) -> None:
         from cad.api import check
         from cad.cli import flags
         from cad.design import bounds, load_design
-        from cad.design.targets import parse_cli_target
         from cad.errors import TargetMissed
 
-        for t in target or ():
-            parse_cli_target(t)  # bounds of every --target before the design loads
         flags.choice("--fidelity", fidelity, ("inertia", "fabrication"))
         d = load_design(design)
         if hasattr(d, "check_buildable"):

@@ -300,6 +300,14 @@ TARGETS: dict[str, Bound] = {
     "torque_variation": Bound("", None, 1e6, "a ratio above 1e6 is a typo", signed=True),
     "min_transmission_angle_deg": Bound("deg", None, 90.0,
                                         "a transmission angle lies in [0, 90] deg", signed=True),
+    # pantograph families (cad.design.targets.PANTOGRAPH_TARGET_KEYS)
+    "gii": Bound("", None, 1.0, "the GII (isotropy paper eq 5) lies in [0, 1]", signed=True),
+    **{k: _APPARENT_G for k in ("mass_x_g_apparent", "mass_y_g_apparent", "mass_x_g_diag",
+                                "mass_y_g_diag")},
+    **{k: Bound("g cm^2", None, 1e7, "1e7 g cm^2 = 1 kg m^2: no hand-moved knob reaches it",
+                None, 1e5, f"over 1e5 g cm^2 (1e-2 kg m^2) is not {_DESK}",
+                (("kg m^2", 1e7), ("kg mm^2", 1e4)), signed=True)
+       for k in ("inertia_theta_g_cm2_apparent", "inertia_theta_g_cm2_diag")},
 }
 
 #: Numeric CLI flags (every command) -> Bound. Flags of one quantity share its design bound.
