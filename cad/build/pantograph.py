@@ -99,8 +99,14 @@ PLAIN_KNOB_DIAMETER_MM = 20.0
 MIN_ENGAGEMENT_D = 1.5
 
 
-def check_options(design, fidelity: str, phi1_deg) -> None:
+def check_options(design, fidelity: str, phi1_deg, formats=frozenset()) -> None:
     """Refuse what this builder cannot do, before any CAD import (DesignError)."""
+    if set(formats) & {"mjcf", "urdf"} and design.family != "twin-pantograph":
+        raise DesignError(
+            "--formats",
+            f"mjcf/urdf export is available for four-bar and twin-pantograph designs, "
+            f"not {design.family!r}",
+        )
     if design.family not in FAMILIES:
         raise DesignError(
             "mechanism.family",
@@ -791,6 +797,77 @@ def _ground(place, K, lay, p, B, twin) -> None:
 
 
 # ------------------------------------------------------------------------------ build
+#: This builder writes the simulator formats for the twin pantograph (mjcf, urdf;
+#: :mod:`cad.build.sim_pantograph`).
+SIM_EXPORT = True
+
+
+def _write_sim(design, out_dir, formats, instances, bodies, lay, home) -> list[str]:
+    """``<name>.xml`` (MJCF) / ``<name>.urdf`` of the mouse when asked, from the instance list
+    (:mod:`cad.build.sim_pantograph`; meshes are ``parts/<kind>.stl``)."""
+    from cad.export.sim import SIM_FORMATS, write_sim_files
+
+    if not set(formats) & set(SIM_FORMATS):
+        return []
+    import dataclasses
+
+    from cad.build.sim_pantograph import sim_model
+    from cad.kinematics import twin_pantograph as tw
+    from cad.materials import get_material
+    from cad.parts.catalog import get_motor
+
+    th = math.radians(design.workspace["home_theta_deg"])
+    ik = tw.ik(design.mechanism, np.array([[home[0], home[1], th]]))
+    K = {i.kind.name: i.kind for i in instances}
+    p = design.parts
+    L, U = lay["lower_layers_z_mm"], lay["upper_layers_z_mm"]
+    layer_z = {
+        "crank_proximal": L[0],
+        "knob_proximal": U[0],
+        "crank_distal_left": L[1],
+        "crank_distal_right": L[2],
+        "knob_distal_left": U[1],
+        "knob_distal_right": U[2],
+        "crankshaft": lay["web_z_mm"],
+    }
+    shifted = {}
+    for b, mp in bodies.items():  # body frames of the sim sit at the layer height
+        z = layer_z.get(b, layer_z.get(b.rsplit("_", 1)[0], 0.0))
+        shifted[b] = mp.transformed(np.eye(3), np.array([0.0, 0.0, -z * 1e-3]))
+    for grp in ("crank", "knob"):
+        shifted[f"{grp}_distal"] = shifted[f"{grp}_distal_left"]
+    lay2 = {
+        **lay,
+        "proximal_mm": design.params["proximal_mm"],
+        "distal_mm": design.params["distal_mm"],
+    }
+    parts = {
+        f"proximal_{s}": [(k.name, tf) for k, tf in _link_parts("proximal", s, K, lay2, p, pin)]
+        for s, pin in (("left", "pin_short"), ("right", "pin_long"))
+    }
+    parts["distal"] = [(k.name, tf) for k, tf in _link_parts("distal", "left", K, lay2, p, "")]
+    parts["crankshaft"] = [
+        ("crankshaft", np.eye(4)),
+        ("knob", _rz(0.0, 0.0, 0.0, lay["knob_bottom_z_mm"] - lay["web_z_mm"])),
+    ]
+    ground = [(i.name, i.kind.name, i.tf_body_part) for i in instances if i.body == "ground"]
+    made = {k.name for k in K.values() if k.made and k.listed}
+    model = sim_model(
+        design,
+        shifted,
+        parts,
+        ground,
+        lay,
+        [*home, th],
+        ik,
+        get_motor(p.motor).rotor_inertia_kg_m2,
+        made,
+        lambda kind: get_material(K[kind].material).color_rgb,
+    )
+    model = dataclasses.replace(model, meshdir="parts")
+    return [q.name for q in write_sim_files(model, out_dir, formats, design.name)]
+
+
 def _effective_mass(design, bodies: dict, home: np.ndarray) -> tuple[dict, dict | None]:
     """Effective mass at home (with and, for the mouse, without rotor inertia)."""
     from cad.kinematics import fivebar as fb5
@@ -850,7 +927,7 @@ def build(
     from cad.build import family
     from cad.errors import GeometryError
 
-    check_options(design, fidelity, phi1_deg)
+    check_options(design, fidelity, phi1_deg, formats)
     out_dir = Path(out_dir)
     total = 6
     p = design.parts
@@ -908,6 +985,9 @@ def build(
         bom=bom,
         marks=[("workspace", _square(design.workspace))],
     )
+
+    if _twin(design):
+        files += _write_sim(design, out_dir, formats, instances, bodies, lay, home)
 
     _step(progress, "report", 5, total)
     report = _report(design, lay, clr, bodies, eff, eff_bare, itf, bom, home, fidelity, low)

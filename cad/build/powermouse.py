@@ -161,7 +161,7 @@ def _fig8_chart(design, gap_mm: float, out_dir: Path) -> list[str]:
     return names
 
 
-def check_options(design, fidelity: str, phi1_deg) -> None:
+def check_options(design, fidelity: str, phi1_deg, formats=frozenset()) -> None:
     """Refuse what this builder cannot do, before any CAD import (DesignError)."""
     if phi1_deg is not None:
         raise DesignError("--phi1-deg", f"the PowerMouse has no crank angle, got {phi1_deg!r}")
