@@ -22,13 +22,19 @@ from cad.export.bom import BOM_COLUMNS, bom_csv, write_bom
 from cad.export.manifest import MANIFEST_NAME, verify_manifest, write_manifest
 from cad.io.atomic import write_bytes_atomic, write_text_atomic
 
-FORMATS = ("step", "stl", "dxf")
+#: Every format ``build --formats`` accepts; glb = posed assembly (binary glTF, metres, with
+#: the stroke animation, :mod:`cad.export.gltf`), 3mf = the made parts for a slicer
+#: (:mod:`cad.export.threemf`).
+FORMATS = ("step", "stl", "dxf", "glb", "3mf")
+#: What a build writes when no format is named.
+DEFAULT_FORMATS = ("step", "stl", "dxf")
 #: Default absolute chordal deflection of exported STL (mm) and angular deflection (rad).
 STL_TOLERANCE_MM = 0.01
 STL_ANGULAR_TOLERANCE_RAD = math.radians(15.0)
 
 __all__ = [
     "BOM_COLUMNS",
+    "DEFAULT_FORMATS",
     "FORMATS",
     "MANIFEST_NAME",
     "bom_csv",
@@ -42,9 +48,10 @@ __all__ = [
 
 
 def parse_formats(text: str | None, field: str = "--formats") -> set[str]:
-    """``"step,stl"`` -> ``{"step", "stl"}``; unknown names are a DesignError."""
+    """``"step,stl"`` -> ``{"step", "stl"}``; None -> :data:`DEFAULT_FORMATS`; unknown
+    names are a DesignError."""
     if text is None:
-        return set(FORMATS)
+        return set(DEFAULT_FORMATS)
     out = {t.strip().lower() for t in text.split(",") if t.strip()}
     bad = sorted(out - set(FORMATS))
     if bad or not out:
