@@ -198,6 +198,8 @@ def build_design(
         report = dict(report)
         timings = report.pop("_timings_s", None)
         viewer_glb = report.pop("_viewer_glb", None)
+        if isinstance(report.get("files"), list):
+            report["files"] = sorted({*report["files"], HTML_NAME})
         report["build"] = {
             "formats": sorted(formats),
             "fidelity": fidelity,

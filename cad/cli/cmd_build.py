@@ -61,7 +61,7 @@ def register(app: typer.Typer) -> None:
         design: Path = typer.Argument(..., help="TOML design file"),
         out: Path = typer.Option(None, "--out", help="output folder (default exports/<name>/)"),
         formats: str = typer.Option(
-            "step,stl,dxf", "--formats", help="comma list of step, stl, dxf"
+            "step,stl,dxf", "--formats", help="comma list of step, stl, dxf, glb, 3mf"
         ),
         fidelity: str = typer.Option(
             None, "--fidelity", help="fabrication | inertia | preview (default: [parts].fidelity)"

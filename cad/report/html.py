@@ -35,8 +35,9 @@ MODULES = {
         {"'../utils/BufferGeometryUtils.js'": "'three/addons/utils/BufferGeometryUtils.js'"},
     ),
 }
-#: Top-level report keys shown as checks (besides any key containing "check").
-CHECK_KEYS = ("interference", "min_clearance_mm", "overlap_volume_mm3", "clearances", "targets")
+#: Top-level report keys shown as checks, and words that make any key one.
+CHECK_KEYS = ("interference", "min_clearance_mm", "overlap_volume_mm3", "targets")
+CHECK_WORDS = ("check", "clearance", "collision", "fastener", "target")
 #: Pictures shown as charts (in this order first); render.png is the still of the viewer.
 CHART_ORDER = ("preview.png", "kinematics.png", "apparent_mass.png")
 
@@ -206,7 +207,7 @@ def checks_rows(report: dict) -> list[list]:
     """``[check, value, verdict]`` for every checks-like entry of the report (one level of
     nesting: a dict's items become rows ``key.item``)."""
     rows = []
-    keys = [k for k in report if k in CHECK_KEYS or "check" in k.lower()]
+    keys = [k for k in report if k in CHECK_KEYS or any(w in k.lower() for w in CHECK_WORDS)]
     for k in keys:
         v = report[k]
         verdict = _verdict(k, v)
