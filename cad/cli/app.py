@@ -26,6 +26,23 @@ app = typer.Typer(
 _REGISTERED = False
 
 
+def _version(value: bool) -> None:
+    if value:
+        from cad import __version__
+
+        print(f"hapticad {__version__}")
+        raise typer.Exit(0)
+
+
+@app.callback()
+def _root(
+    version: bool = typer.Option(
+        False, "--version", help="Print the version and exit.", callback=_version, is_eager=True
+    ),
+) -> None:
+    """Parametric CAD generator for haptic-device hardware."""
+
+
 def _register_commands() -> None:
     global _REGISTERED
     if _REGISTERED:
@@ -61,6 +78,9 @@ def run(argv: list[str] | None = None) -> int:
         print("hapticad: aborted", file=sys.stderr)
         return 1
     except click_error as exc:  # usage errors: one line, exit 2
+        if type(exc).__name__ == "NoArgsIsHelpError":  # bare `hapticad`: the help, exit 0
+            print(exc.ctx.get_help() if exc.ctx else "")
+            return 0
         msg = " ".join(exc.format_message().split())
         print(f"hapticad: error: {msg} (see hapticad --help)", file=sys.stderr)
         return int(getattr(exc, "exit_code", 2))

@@ -41,14 +41,17 @@ def _print_table(res: dict) -> None:
     t = Table(title=f"{res['name']} ({res['family']})", show_lines=False)
     t.add_column("quantity")
     t.add_column("ours", justify="right")
-    t.add_column("paper", justify="right")
+    scale = res.get("paper_scale")
+    t.add_column("paper" if scale is None else f"paper x scale {scale:.3g}", justify="right")
     paper = res.get("paper", {})
     for k in ("stroke_mm", "dy_max_mm", "slope_max", "linearity", "torque_mean_mNm",
               "torque_variation", "bbox_mm", "min_transmission_angle_deg"):
         v = res[k]
         s = f"{v[0]:.1f} x {v[1]:.1f}" if k == "bbox_mm" else f"{v:.4g}"
         pk = "dimensions" if k == "bbox_mm" else k
-        t.add_row(k, s, str(paper.get(pk, {}).get("paper", "")))
+        row = paper.get(pk, {})
+        pv = row.get("paper_scaled", row.get("paper", ""))
+        t.add_row(k, s, pv if isinstance(pv, str) else f"{pv:.4g}")
     for k in ("l1_mm", "l2_mm", "l3_mm", "l4_mm", "l5_mm", "le_mm", "phi_e_deg",
               "phi1_min_deg", "phi1_max_deg", "branch"):
         t.add_row(k, f"{res[k]:.6g}", "")
@@ -82,7 +85,9 @@ def register(app: typer.Typer) -> None:
             raise DesignError("--samples", f"must be in [3, {SAMPLES_MAX}], got {samples}")
         d = load_design(design)
         if not isinstance(d, FourBarDesign):
-            raise DesignError("mechanism.family", "analyze works on four-bar designs; use `hapticad gii` for pantographs")
+            from cad.cli.families import refusal
+
+            raise DesignError("mechanism.family", refusal("analyze", d.family))
         H = parse_inertia_option(inertia) if inertia else None
         res = analyze(d, samples=samples, inertia=H)
         if report is not None:

@@ -61,7 +61,9 @@ def register(app: typer.Typer) -> None:
         design: Path = typer.Argument(..., help="TOML design file"),
         out: Path = typer.Option(None, "--out", help="output folder (default exports/<name>/)"),
         formats: str = typer.Option(
-            "step,stl,dxf", "--formats", help="comma list of step, stl, dxf, glb, 3mf"
+            "step,stl,dxf",
+            "--formats",
+            help="comma list of step, stl, dxf, mjcf, urdf, glb, 3mf (mjcf/urdf also write the STL meshes)",
         ),
         fidelity: str = typer.Option(
             None, "--fidelity", help="fabrication | inertia | preview (default: [parts].fidelity)"
@@ -101,16 +103,9 @@ def register(app: typer.Typer) -> None:
             rep.pop("timings_s", None)
             print(json.dumps(rep, sort_keys=True, default=str))
             return
-        from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+        from cad.cli.progress import stages
 
-        with Progress(
-            TextColumn("{task.description}"), BarColumn(), TimeElapsedColumn(), transient=True
-        ) as bar:
-            task = bar.add_task("build", total=8)
-
-            def progress(desc: str, done: int, total: int) -> None:
-                bar.update(task, description=desc, completed=done, total=total)
-
+        with stages("build") as progress:
             rep = build_design(
                 d,
                 target,

@@ -19,8 +19,9 @@ def register(app: typer.Typer) -> None:
         json_out: bool = typer.Option(False, "--json", help="print one JSON object"),
     ) -> None:
         """Adjust the design's free part parameters to meet the targets; write the fitted design."""
+        from cad.build.inertia import target_values
         from cad.checks import evaluate, merge_targets
-        from cad.cli.cmd_check import compute_values
+        from cad.cli.families import refusal
         from cad.design import load_design, parse_design
         from cad.design.fourbar import FourBarDesign
         from cad.design.targets import parse_cli_target
@@ -32,7 +33,7 @@ def register(app: typer.Typer) -> None:
         cli_targets = tuple(parse_cli_target(t) for t in (target or []))
         d = load_design(design)
         if not isinstance(d, FourBarDesign):
-            raise DesignError("mechanism.family", "fit works on four-bar designs")
+            raise DesignError("mechanism.family", refusal("fit", d.family))
         targets = cli_targets if cli_targets else merge_targets(d.targets, ())
         if not targets:
             raise DesignError("--target", "no targets: give --target KEY=VALUE or a [targets] table")
@@ -47,7 +48,7 @@ def register(app: typer.Typer) -> None:
         if echo:
             echo(f"fit {d.name}: {len(params)} free parameter(s), {len(targets)} target(s)")
         res = fit(raw, str(design), targets, params,
-                  lambda dd: compute_values(dd, fidelity, need_clear)[0], echo=echo)
+                  lambda dd: target_values(dd, fidelity, need_clear)[0], echo=echo)
         dst = out if out is not None else design.with_suffix(".fit.toml")
         fitted = dict(res.raw)
         fitted["name"] = f"{d.name}_fit" if out is None else out.name.split(".")[0]
@@ -63,7 +64,7 @@ def register(app: typer.Typer) -> None:
         parse_design(fitted, str(dst))  # validate before writing
         write_text_atomic(dst, dumps_design(fitted, f"Fitted by `hapticad fit {design}`: "
                                             + ", ".join(f"{k}={v}" for k, v in res.values.items())))
-        final_vals = compute_values(parse_design(fitted, str(dst)), fidelity, need_clear)[0]
+        final_vals = target_values(parse_design(fitted, str(dst)), fidelity, need_clear)[0]
         rows = evaluate(targets, final_vals)
         payload = {"name": d.name, "out": str(dst), "start": res.start, "fitted": res.values,
                    "met": all(r.ok for r in rows), "max_violation": res.objective,

@@ -53,10 +53,9 @@ def load_pantograph_design(path: Path):
 
     design = load_design(path)
     if getattr(design, "family", None) not in PANTOGRAPH_FAMILIES:
-        raise DesignError(
-            "mechanism.family",
-            f"this command needs one of {', '.join(PANTOGRAPH_FAMILIES)}, got {getattr(design, 'family', None)!r}",
-        )
+        from cad.cli.families import refusal
+
+        raise DesignError("mechanism.family", refusal("gii", design.family))
     return design
 
 

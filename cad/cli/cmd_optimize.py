@@ -44,11 +44,33 @@ def optimize_report(design, method: str) -> dict:
     }
 
 
+def write_optimum(design, rep: dict, out: Path, command: str) -> None:
+    """Write ``design`` with its ``[mechanism]`` set to the optimum, validated first, atomically.
+
+    The ``[optimize]`` ranges are kept (re-running reproduces the search); ``name`` becomes
+    the file's stem. Raises DesignError (--out) when ``out`` is the input design itself.
+    """
+    import copy
+
+    from cad.design.pantograph import parse
+    from cad.design.writer import write_design
+    from cad.errors import DesignError
+
+    if out.resolve() == Path(design.source).resolve():
+        raise DesignError("--out", f"{out} is the input design; give another file name")
+    raw = copy.deepcopy(design.raw)
+    raw["mechanism"].update(rep["best"])
+    raw["name"] = out.stem
+    parse(raw, str(out))  # must validate before anything is written
+    write_design(out, raw, f"Optimum of `{command}`: GII {rep['gii']:.6f} ({rep['method']})")
+
+
 def register(app: typer.Typer) -> None:
     @app.command("optimize")
     def optimize_cmd(
         design: Path = typer.Argument(..., help="Design TOML with an [optimize] table."),
         method: str = typer.Option("culling", "--method", help="culling or brute."),
+        out: Path = typer.Option(None, "--out", help="Write the optimum as a new design (TOML)."),
         json_out: bool = typer.Option(False, "--json", help="Print one JSON object."),
     ) -> None:
         """Maximize the GII over the [optimize] candidate grid (culling or brute force)."""
@@ -57,7 +79,11 @@ def register(app: typer.Typer) -> None:
 
         if method not in ("culling", "brute"):
             raise DesignError("--method", f"must be 'culling' or 'brute', got {method!r}")
-        rep = optimize_report(load_pantograph_design(design), method)
+        d = load_pantograph_design(design)
+        rep = optimize_report(d, method)
+        if out is not None:
+            write_optimum(d, rep, out, f"hapticad optimize {design.name} --method {method}")
+            rep["out"] = str(out)
         if json_out:
             print(json.dumps(rep))
             return
@@ -70,3 +96,5 @@ def register(app: typer.Typer) -> None:
         )
         if rep["at_bound"]:
             print(f"  note: optimum at the range bound of {', '.join(rep['at_bound'])}")
+        if out is not None:
+            print(f"  wrote {out}")

@@ -9,6 +9,14 @@ from pathlib import Path
 import typer
 
 
+def synth_flags(objective: str, free: str, dy_tol_mm: float, mu_min_deg: float,
+                stroke_mm: float | None) -> str:
+    """Every flag that shaped the result, for the written design's provenance line."""
+    flags = (f"--objective {objective} --free {free} --dy-tol-mm {dy_tol_mm:g} "
+             f"--mu-min-deg {mu_min_deg:g}")
+    return flags + (f" --stroke-mm {stroke_mm:g}" if stroke_mm is not None else "")
+
+
 def register(app: typer.Typer) -> None:
     @app.command("synth")
     def synth_cmd(
@@ -24,16 +32,22 @@ def register(app: typer.Typer) -> None:
         """Choose link lengths and the crank range for a stated objective (see README)."""
         import copy
 
+        from cad.cli.families import refusal
         from cad.design import load_design, parse_design
         from cad.design.fourbar import FourBarDesign
-        from cad.design.writer import custom_mechanism_table, dumps_design
+        from cad.design.writer import (
+            custom_mechanism_table,
+            drop_source_targets,
+            dropped_targets_note,
+            dumps_design,
+        )
         from cad.errors import DesignError
         from cad.io.atomic import write_text_atomic
         from cad.kinematics.synthesis import synthesize
 
         d = load_design(design)
         if not isinstance(d, FourBarDesign):
-            raise DesignError("mechanism.family", "synth works on four-bar designs")
+            raise DesignError("mechanism.family", refusal("synth", d.family))
         if stroke_mm is not None and not stroke_mm > 0:
             raise DesignError("--stroke-mm", f"must be > 0, got {stroke_mm}")
         if not 0 <= mu_min_deg < 90:
@@ -51,9 +65,11 @@ def register(app: typer.Typer) -> None:
             raw = copy.deepcopy(d.raw)
             raw["mechanism"] = mech
             raw["name"] = out.stem
+            raw["description"] = f"{objective} synthesis ({free}) from {d.name} ({d.family})"
+            dropped = drop_source_targets(raw)
             parse_design(raw, str(out))  # must validate before anything is written
-            header = (f"Synthesized by `hapticad synth {design} --objective {objective} --free {free}` "
-                      f"from {d.family}")
+            header = (f"Synthesized by `hapticad synth {design.name} {synth_flags(objective, free, dy_tol_mm, mu_min_deg, stroke_mm)}` "
+                      f"from {d.family}" + dropped_targets_note(dropped))
             write_text_atomic(out, dumps_design(raw, header))
             res["out"] = str(out)
         if json_out:

@@ -22,20 +22,21 @@ from cad.export.bom import BOM_COLUMNS, bom_csv, write_bom
 from cad.export.manifest import MANIFEST_NAME, verify_manifest, write_manifest
 from cad.io.atomic import write_bytes_atomic, write_text_atomic
 
-#: Every format ``build --formats`` accepts; glb = posed assembly (binary glTF, metres, with
-#: the stroke animation, :mod:`cad.export.gltf`), 3mf = the made parts for a slicer
-#: (:mod:`cad.export.threemf`).
-FORMATS = ("step", "stl", "dxf", "glb", "3mf")
-#: What a build writes when no format is named.
-DEFAULT_FORMATS = ("step", "stl", "dxf")
+FORMATS = ("step", "stl", "dxf")
+#: Every format ``--formats`` accepts: the default three plus the simulator models
+#: (``mjcf``, ``urdf``: :mod:`cad.export.sim`; they reference the part STL files, so
+#: asking for one of them writes the STL files too), glb = the posed assembly (binary
+#: glTF, metres, with the stroke animation, :mod:`cad.export.gltf`) and 3mf = the made
+#: parts for a slicer (:mod:`cad.export.threemf`).
+KNOWN_FORMATS = (*FORMATS, "mjcf", "urdf", "glb", "3mf")
 #: Default absolute chordal deflection of exported STL (mm) and angular deflection (rad).
 STL_TOLERANCE_MM = 0.01
 STL_ANGULAR_TOLERANCE_RAD = math.radians(15.0)
 
 __all__ = [
     "BOM_COLUMNS",
-    "DEFAULT_FORMATS",
     "FORMATS",
+    "KNOWN_FORMATS",
     "MANIFEST_NAME",
     "bom_csv",
     "export_assembly_step",
@@ -48,16 +49,19 @@ __all__ = [
 
 
 def parse_formats(text: str | None, field: str = "--formats") -> set[str]:
-    """``"step,stl"`` -> ``{"step", "stl"}``; None -> :data:`DEFAULT_FORMATS`; unknown
-    names are a DesignError."""
+    """``"step,stl"`` -> ``{"step", "stl"}``; None -> :data:`FORMATS`; unknown names are a
+    DesignError."""
     if text is None:
-        return set(DEFAULT_FORMATS)
+        return set(FORMATS)
     out = {t.strip().lower() for t in text.split(",") if t.strip()}
-    bad = sorted(out - set(FORMATS))
+    bad = sorted(out - set(KNOWN_FORMATS))
     if bad or not out:
         raise DesignError(
-            field, f"unknown format(s) {', '.join(bad) or repr(text)} (known: {', '.join(FORMATS)})"
+            field,
+            f"unknown format(s) {', '.join(bad) or repr(text)} (known: {', '.join(KNOWN_FORMATS)})",
         )
+    if out & {"mjcf", "urdf"}:
+        out.add("stl")  # the simulator models reference the part meshes
     return out
 
 
