@@ -198,3 +198,47 @@ def test_report_html_in_headless_chromium(hoeken):
         assert r["part"] in text
     assert "no collision" in text
     assert f"{rep['H11_kg_m2']:.6g}" in text
+
+
+def test_glb_for_a_family_without_the_viewer_model_is_a_named_error(tmp_path):
+    from cli_helpers import assert_one_line_error, hapticad
+
+    code, _, err = hapticad(
+        "build",
+        ROOT / "designs" / "powermouse.toml",
+        "--formats",
+        "step,glb",
+        "--out",
+        tmp_path / "o",
+    )
+    assert_one_line_error(code, err, "--formats", "glb")
+    assert not (tmp_path / "o").exists()
+    code, _, err = hapticad("build", ROOT / "designs" / "hoeken.toml", "--formats", "gltf")
+    assert_one_line_error(code, err, "--formats", "gltf")
+
+
+def test_render_command_writes_the_pictures_and_refuses_other_families(tmp_path):
+    from cli_helpers import assert_one_line_error, hapticad
+    from PIL import Image
+
+    out = tmp_path / "devices"
+    code, _, err = hapticad(
+        "render",
+        ROOT / "designs" / "hoeken.toml",
+        ROOT / "designs" / "powermouse.toml",
+        "--out",
+        out,
+    )
+    assert_one_line_error(code, err, "powermouse.toml", "powermouse")
+    assert not out.exists()  # checked before anything is built
+    code, stdout, err = hapticad(
+        "render", ROOT / "designs" / "hoeken.toml", "--out", out, "--fidelity", "preview"
+    )
+    assert code == 0, err
+    with Image.open(out / "hoeken.png") as im:
+        assert im.size == (960, 720)
+        px = np.asarray(im.convert("RGB"))
+    assert len(np.unique(px.reshape(-1, 3), axis=0)) > 200
+    with Image.open(out / "hoeken.gif") as im:
+        assert im.n_frames > 1
+    assert sorted(p.name for p in out.iterdir()) == ["hoeken.gif", "hoeken.png"]

@@ -63,15 +63,51 @@ def instance_rgb(inst, body_rgb: dict) -> tuple[float, float, float]:
     return tuple(get_material(inst.kind.material).color_rgb)
 
 
+def visible_solids(shape):
+    """``shape`` without the solids enclosed in another solid's bounding box (a bearing's
+    balls between its rings): the viewer cannot see them and they are half the triangles
+    of a fabrication-fidelity assembly. A single solid is returned as it is."""
+    from OCP.Bnd import Bnd_Box
+    from OCP.BRepBndLib import BRepBndLib
+    from OCP.TopAbs import TopAbs_SOLID
+    from OCP.TopExp import TopExp_Explorer
+
+    from cad.export.shapes import make_compound
+
+    solids, exp = [], TopExp_Explorer(shape, TopAbs_SOLID)
+    while exp.More():
+        solids.append(exp.Current())
+        exp.Next()
+    if len(solids) < 2:
+        return shape
+    boxes = []
+    for s in solids:
+        b = Bnd_Box()
+        BRepBndLib.Add_s(s, b)
+        boxes.append(np.array(b.Get()).reshape(2, 3))
+    keep = [
+        s
+        for i, s in enumerate(solids)
+        if not any(
+            j != i and np.all(boxes[j][0] < boxes[i][0]) and np.all(boxes[i][1] < boxes[j][1])
+            for j in range(len(solids))
+        )
+    ]
+    return make_compound(keep)
+
+
 def kind_meshes(instances, tolerance_mm: float, angular_tolerance_rad: float) -> dict:
-    """``{kind name: (vertices_mm (V, 3), faces (F, 3))}`` of the listed parts (OCCT mesh)."""
+    """``{kind name: (vertices_mm (V, 3), faces (F, 3))}`` of the listed parts (OCCT mesh of
+    :func:`visible_solids`)."""
+    from cad.export.shapes import to_topods
     from cad.export.stl import mesh_shape
 
     out = {}
     for inst in instances:
         k = inst.kind
         if k.listed and k.name not in out:
-            out[k.name] = mesh_shape(k.shape, tolerance_mm, angular_tolerance_rad)
+            shape = visible_solids(to_topods(k.shape, k.name))
+            out[k.name] = mesh_shape(shape, tolerance_mm, angular_tolerance_rad)
     return out
 
 

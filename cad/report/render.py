@@ -3,7 +3,7 @@
 The same inputs as the ``.glb`` (:mod:`cad.export.gltf`): part instances, body poses over
 the stroke ``{body: (N, 4, 4)}`` (mm) and the parts' meshes. Each frame is an
 orthographic view from ``VIEW_AZIM_DEG`` / ``VIEW_ELEV_DEG`` (world R0, z up): triangles
-facing away are culled, the others shaded by a headlight (Lambert, ``AMBIENT`` floor)
+facing away are culled, large ones split (better depth order), the others shaded by a headlight (Lambert, ``AMBIENT`` floor)
 and filled back to front (painter's algorithm) with Pillow.
 The frame's extent is the union over every pose, so the view does not jump.
 
@@ -22,10 +22,13 @@ VIEW_AZIM_DEG = -55.0
 VIEW_ELEV_DEG = 35.0
 AMBIENT = 0.35
 #: Frames of the GIF over one way of the stroke, and the time per frame (ms).
-GIF_POSES = 16
+GIF_POSES = 12
 GIF_FRAME_MS = 90
 #: Frames are drawn at this multiple of their size and reduced (anti-aliasing).
 SUPERSAMPLE = 2
+#: Triangles larger than (this fraction of the picture)² are split (at most SUBDIVIDE_LEVELS times).
+SUBDIVIDE_FRACTION = 0.04
+SUBDIVIDE_LEVELS = 4
 
 
 def view_basis(azim_deg: float = VIEW_AZIM_DEG, elev_deg: float = VIEW_ELEV_DEG) -> np.ndarray:
@@ -51,6 +54,25 @@ def _scene_triangles(instances, tf_world_body, meshes, colors, i: int):
         tris.append(w[np.asarray(f)])
         rgb.append(np.broadcast_to(np.asarray(colors[inst.name], dtype=float), (len(f), 3)))
     return np.concatenate(tris), np.concatenate(rgb)
+
+
+def _subdivide(tri: np.ndarray, rgb: np.ndarray, max_size: float):
+    """Split triangles of area above ``max_size``² into four (midpoints), at most
+    SUBDIVIDE_LEVELS times: a large face sorted by its centre would otherwise hide or show
+    what it should not (a base plate over its post)."""
+    for _ in range(SUBDIVIDE_LEVELS):
+        area = 0.5 * np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1)
+        big = area > max_size**2
+        if not big.any():
+            break
+        a, b, c = tri[big, 0], tri[big, 1], tri[big, 2]
+        ab, bc, ca = (a + b) / 2, (b + c) / 2, (c + a) / 2
+        new = np.concatenate(
+            [np.stack(t, axis=1) for t in ((a, ab, ca), (ab, b, bc), (ca, bc, c), (ab, bc, ca))]
+        )
+        tri = np.concatenate([tri[~big], new])
+        rgb = np.concatenate([rgb[~big], np.tile(rgb[big], (4, 1))])
+    return tri, rgb
 
 
 def _shaded(tri_w, rgb, basis):
@@ -96,7 +118,7 @@ def render_frames(
     Triangles are filled with Pillow at ``supersample`` times the size, then reduced
     (Lanczos) for smooth edges.
     """
-    from PIL import Image, ImageDraw
+    from PIL import Image, ImageDraw, ImageFont
 
     basis = view_basis()
     lo, hi = _extent(instances, tf_world_body, meshes, basis, poses)
@@ -105,7 +127,8 @@ def render_frames(
     centre = 0.5 * (lo + hi)
     out = []
     for i in poses:
-        tri, rgb = _shaded(*_scene_triangles(instances, tf_world_body, meshes, colors, i), basis)
+        tri, rgb = _scene_triangles(instances, tf_world_body, meshes, colors, i)
+        tri, rgb = _shaded(*_subdivide(tri, rgb, SUBDIVIDE_FRACTION * (hi - lo).max()), basis)
         px = np.empty_like(tri)
         px[..., 0] = W / 2 + (tri[..., 0] - centre[0]) * scale
         px[..., 1] = H / 2 - (tri[..., 1] - centre[1]) * scale
@@ -116,7 +139,8 @@ def render_frames(
             draw.polygon([tuple(q) for q in p], fill=c, outline=c)
         img = img.resize(size_px, Image.Resampling.LANCZOS)
         if title:
-            ImageDraw.Draw(img).text((6, 4), title, fill=(64, 64, 64))
+            font = ImageFont.load_default(size=max(12, size_px[1] // 30))
+            ImageDraw.Draw(img).text((8, 6), title, fill=(64, 64, 64), font=font)
         buf = io.BytesIO()
         img.save(buf, format="PNG", optimize=False)
         out.append(buf.getvalue())
