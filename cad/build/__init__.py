@@ -16,6 +16,8 @@ A builder may put the bytes of its assembly's ``.glb`` under ``"_viewer_glb"``
 (:func:`cad.build.views.write_views`): the dispatcher embeds them in ``report.html``
 (:mod:`cad.report.html`, written for every family, after ``report.json``).
 ``progress`` (may be None) is called as ``progress(description, done, total)``.
+A builder may expose ``check_options(design, fidelity, phi1_deg, formats)`` raising DesignError for
+a combination it cannot build; the dispatcher calls it before any CAD import.
 A builder may also expose ``cache_inputs(design) -> dict`` with anything outside the
 design object that its output depends on (e.g. the hash of a user part script), and
 ``CODE_DEPS`` (paths inside the ``cad`` package whose source its output depends on; by
@@ -181,6 +183,8 @@ def build_design(
                 "mechanism.family", f"building {design.family!r} designs is not available yet"
             ) from None
         raise
+    if hasattr(mod, "check_options"):  # unsupported combinations: before any CAD import
+        mod.check_options(design, fidelity, phi1_deg, set(formats))
     if set(formats) & {"mjcf", "urdf"} and not getattr(mod, "SIM_EXPORT", False):
         raise DesignError(
             "--formats",
