@@ -29,11 +29,13 @@ def register(app: typer.Typer) -> None:
         from cad.design.writer import custom_mechanism_table, dumps_design
         from cad.errors import DesignError
         from cad.io.atomic import write_text_atomic
+        from cad.io.outdir import check_out_file
         from cad.kinematics.synthesis import synthesize
 
         d = load_design(design)
         if not isinstance(d, FourBarDesign):
             raise DesignError("mechanism.family", "synth works on four-bar designs")
+        replaced = check_out_file(out, design) if out is not None else False
         if stroke_mm is not None and not stroke_mm > 0:
             raise DesignError("--stroke-mm", f"must be > 0, got {stroke_mm}")
         if not 0 <= mu_min_deg < 90:
@@ -54,8 +56,11 @@ def register(app: typer.Typer) -> None:
             parse_design(raw, str(out))  # must validate before anything is written
             header = (f"Synthesized by `hapticad synth {design} --objective {objective} --free {free}` "
                       f"from {d.family}")
-            write_text_atomic(out, dumps_design(raw, header))
             res["out"] = str(out)
+            res["replaced"] = replaced
+            text = dumps_design(raw, header)
+        if out is not None:  # last: the command's output (cad.io.signals commit point)
+            write_text_atomic(out, text, final=True)
         if json_out:
             print(json.dumps(res, indent=1))
             return
@@ -73,6 +78,6 @@ def register(app: typer.Typer) -> None:
             t.add_row(k, f"{s[k]:.4g}", f"{o[k]:.4g}")
         Console().print(t)
         if out is not None:
-            print(f"wrote {out}")
+            print(f"{'replaced' if replaced else 'wrote'} {out}")
         if not math.isfinite(o["stroke_mm"]):
             raise DesignError("synth", "no feasible result")
