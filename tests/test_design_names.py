@@ -7,11 +7,11 @@ from pathlib import Path
 
 import pytest
 import tomli_w
+from cli_helpers import assert_one_line_error, hapticad
 
 from cad.design import load_design
 from cad.design.fields import NAME_MAX_BYTES, check_name
 from cad.errors import DesignError
-from cli_helpers import assert_one_line_error, hapticad
 
 ROOT = Path(__file__).resolve().parents[1]
 CASES = ROOT / "tests" / "cases" / "unsafe-designs"  # copied from the trial's shared/cases
