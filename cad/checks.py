@@ -22,9 +22,16 @@ class CheckRow:
     target: str
     ok: bool
     gap_rel: float | None
+    target_data: dict[str, float] | None = None
+    margin: float | None = None
 
     def as_dict(self) -> dict[str, Any]:
-        return asdict(self)
+        """JSON row: ``target`` as data (``{"value", "tol_rel"}`` or ``{"min", "max"}``),
+        ``target_text`` for display, ``margin`` in the key's unit (> 0: met by that much)."""
+        d = asdict(self)
+        d["target_text"] = d.pop("target")
+        d["target"] = d.pop("target_data")
+        return d
 
 
 def values_from_report(report: dict[str, Any]) -> dict[str, float]:
@@ -60,9 +67,9 @@ def evaluate(targets: tuple[Target, ...] | list[Target], values: dict[str, float
     for t in targets:
         c = values.get(t.key)
         if c is None:
-            rows.append(CheckRow(t.key, None, t.describe(), False, None))
+            rows.append(CheckRow(t.key, None, t.describe(), False, None, t.as_data()))
             continue
-        rows.append(CheckRow(t.key, c, t.describe(), t.ok(c), t.gap(c)))
+        rows.append(CheckRow(t.key, c, t.describe(), t.ok(c), t.gap(c), t.as_data(), t.margin(c)))
     return rows
 
 

@@ -182,6 +182,12 @@ def build_design(
                 "mechanism.family", f"building {design.family!r} designs is not available yet"
             ) from None
         raise
+    if set(formats) & {"mjcf", "urdf"} and not getattr(mod, "SIM_EXPORT", False):
+        raise DesignError(
+            "--formats",
+            f"mjcf/urdf export is available for four-bar and twin-pantograph designs, "
+            f"not {design.family!r}",
+        )
     from cad.export.manifest import write_manifest
     from cad.parts.lazy_import import import_build123d
 

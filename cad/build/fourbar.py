@@ -58,6 +58,8 @@ CODE_DEPS = (
 )
 #: Poses and STL tolerance of the preview fidelity.
 PREVIEW_POSES = 24
+#: This builder writes the simulator formats (mjcf, urdf; :mod:`cad.build.sim_fourbar`).
+SIM_EXPORT = True
 PREVIEW_STL_TOL_MM = 0.1
 LINKS = ("crank", "coupler", "rocker")
 BODY_COLORS = {"ground": "#9aa0a6", "crank": "#d9534f", "coupler": "#337ab7", "rocker": "#5cb85c"}
@@ -268,6 +270,19 @@ def _write_exports(
     return files
 
 
+def _write_sim(design, asm, link_props, Jm, motor, phi1_rad, out_dir: Path, formats) -> list[str]:
+    """``<name>.xml`` (MJCF) / ``<name>.urdf`` when asked (:mod:`cad.build.sim_fourbar`)."""
+    from cad.export.sim import SIM_FORMATS, write_sim_files
+
+    if not set(formats) & set(SIM_FORMATS):
+        return []
+    from cad.build.sim_fourbar import sim_model
+
+    model = sim_model(design, asm, link_props, Jm, motor, phi1_rad)
+    paths = write_sim_files(model, out_dir, formats, design.name)
+    return [p.relative_to(out_dir).as_posix() for p in paths]
+
+
 def build(
     design,
     out_dir: Path,
@@ -459,6 +474,7 @@ def build(
         # 6 exports and preview (wait for the children)
         _step(progress, "exports", 4, n_steps)
         files, timings["exports"] = exports_task.result()
+        files += _write_sim(design, asm, link_props, Jm, motor, pose_phi, out_dir, formats)
         _step(progress, "preview", 6, n_steps)
         timings["preview"] = preview_task.result()
 

@@ -267,7 +267,33 @@ def _planar(mp):
     )
 
 
+def _write_sim(design, out_dir, formats, bodies, bodies_parts, lay, home, ik, mot, made, color):
+    """``<name>.xml`` (MJCF) / ``<name>.urdf`` when asked (:mod:`cad.build.sim_pantograph`)."""
+    from cad.export.sim import SIM_FORMATS, write_sim_files
+
+    if not set(formats) & set(SIM_FORMATS):
+        return []
+    from cad.build.sim_pantograph import sim_model
+
+    p = design.parts
+    a = design.params["base_mm"]
+    pt, mt, zb = p.plate_thickness_mm, p.motor_mount_thickness_mm, lay["bridge_bottom_z_mm"]
+    ground = [("base_plate", "base_plate", _rz(0.0, 0, 0, -pt)),
+              ("bridge_plate", "bridge_plate", _rz(0.0, 0, 0, zb))]
+    ground += [(f"post_{k}", "post", _rz(0.0, x, y, 0.0)) for k, (x, y) in enumerate(lay["posts_xy_mm"])]
+    for i, bx in enumerate((-a / 2, a / 2)):
+        ground += [(f"crank_motor_mount_{i}", "motor_mount", _rz(0.0, bx, 0.0, -pt - mt)),
+                   (f"knob_motor_mount_{i}", "motor_mount", _rz(0.0, bx, 0.0, zb + pt))]
+    model = sim_model(design, bodies, bodies_parts, ground, lay, home, ik, mot.rotor_inertia_kg_m2,
+                      made, color)
+    return [p.name for p in write_sim_files(model, out_dir, formats, design.name)]
+
+
 # ------------------------------------------------------------------------------ build
+#: This builder writes the simulator formats (mjcf, urdf; :mod:`cad.build.sim_pantograph`).
+SIM_EXPORT = True
+
+
 def build(
     design,
     out_dir: Path,
@@ -644,6 +670,9 @@ def build(
     if "step" in formats:
         export_assembly_step(items, out_dir / "twin_pantograph_assembly.step", "twin_pantograph")
         files.append("twin_pantograph_assembly.step")
+
+    files += _write_sim(design, out_dir, formats, bodies, bodies_parts, lay, home, ik, mot,
+                        {n for n, made, *_ in listed if made}, color)
 
     _step(progress, "report", 6, total)
     g = design.gii()

@@ -14,11 +14,12 @@ when the file existed (:func:`cad.io.outdir.check_out_file`). The layer planner 
 from __future__ import annotations
 
 import copy
-import json
 import os
 from pathlib import Path
 
 import typer
+
+from cad.cli.app import print_json
 
 SWAP_FAMILIES = ("hoeken", "roberts", "chebyshev", "chebyshev-v")
 #: Sections of a design that describe the old mechanism only and are dropped by a swap.
@@ -41,9 +42,12 @@ def swap_raw(design, family: str, out_path: Path) -> dict:
 
     if family not in SWAP_FAMILIES:
         raise DesignError("--to", f"must be one of {', '.join(SWAP_FAMILIES)}, got {family!r}")
+    from cad.design.writer import drop_source_targets
+
     raw = copy.deepcopy(design.raw)
     for s in DROPPED_SECTIONS:
         raw.pop(s, None)
+    drop_source_targets(raw)
     mech = raw.get("mechanism", {})
     force = mech.get("force_N", design.force_N)
     raw["mechanism"] = {"family": family, "stroke_mm": stroke_of(design), "force_N": force}
@@ -87,7 +91,7 @@ def register(app: typer.Typer) -> None:
         ),
         json_out: bool = typer.Option(False, "--json", help="print one JSON object"),
         build: bool = typer.Option(
-            False, "--build", help="also build the new design into exports/<name>/"
+            False, "--build", help="Also build the new design into exports/<name>/ (name: the --out file stem)."
         ),
     ) -> None:
         """Same joint hardware, another straight-line bar set; old vs new metrics."""
@@ -95,18 +99,23 @@ def register(app: typer.Typer) -> None:
 
         from cad.assembly.layers import choose_layers
         from cad.assembly.pose import planar_transforms
+        from cad.cli import flags
+        from cad.cli.cmd_swap import SWAP_FAMILIES
         from cad.design import load_design, parse_design
         from cad.design.fourbar import FourBarDesign
+        from cad.design.writer import dropped_targets_note
         from cad.errors import DesignError
         from cad.io.atomic import write_text_atomic
         from cad.io.outdir import check_out_file
         from cad.kinematics.linkgeom import link_joints_mm
 
+        flags.choice("--to", to, SWAP_FAMILIES)
+        flags.out_path("--out", out, folder=False)
         d = load_design(design)
         if not isinstance(d, FourBarDesign):
-            raise DesignError(
-                "mechanism.family", f"swap works on four-bar designs, got {d.family!r}"
-            )
+            from cad.cli.families import refusal
+
+            raise DesignError("mechanism.family", refusal("swap", d.family))
         target = (
             out
             if out is not None
@@ -114,6 +123,9 @@ def register(app: typer.Typer) -> None:
         )
         replaced = check_out_file(target, design)
         raw = swap_raw(d, to, target)
+        if out is not None:  # the written file names the design (and its build folder)
+            raw["name"] = out.stem
+        dropped = [k for k in (d.raw.get("targets") or {}) if k not in (raw.get("targets") or {})]
         new = parse_design(raw, str(target))  # validates before anything is written
         import numpy as np
 
@@ -122,6 +134,7 @@ def register(app: typer.Typer) -> None:
             link_joints_mm(new.linkage), new.parts, planar_transforms(new.linkage, phi)
         )
         text = tomli_w.dumps(raw)
+        header = f"written by `hapticad swap {design.name} --to {to}`" + dropped_targets_note(dropped)
         old_m, new_m = metric_rows(d), metric_rows(new)
         result = {
             "old": old_m,
@@ -138,18 +151,19 @@ def register(app: typer.Typer) -> None:
             from cad.build import build_design
             from cad.export import parse_formats
 
-            rep = build_design(new, Path("exports") / new.name, parse_formats(None))
+            build_dir = Path("exports") / new.name
+            rep = build_design(new, build_dir, parse_formats(None))
             result["build"] = {
                 "min_clearance_mm": rep["min_clearance_mm"],
                 "overlap_volume_mm3": rep["overlap_volume_mm3"],
-                "out": str(Path("exports") / new.name),
+                "out": str(build_dir),
             }
         # the design file last: it is the command's output (cad.io.signals commit point)
         write_text_atomic(
-            target, f"# written by `hapticad swap {design.name} --to {to}`\n" + text, final=True
+            target, "".join(f"# {ln}\n" for ln in header.splitlines()) + text, final=True
         )
         if json_out:
-            print(json.dumps(result, sort_keys=True, default=float))
+            print_json(result, sort_keys=True, default=float)
             return
         from rich.console import Console
         from rich.table import Table

@@ -31,7 +31,8 @@ Schema (mm, N, N m; every key optional unless marked *):
     [optimize]   shoulder_base_mm / proximal_mm / distal_mm / pen_mm /
                  waist_torque_ratio = [min, max, count]
 
-Top level: ``name``, ``description`` (strings) and the tables above.
+Top level: ``name``, ``description`` (strings), the tables above, and ``[targets]`` for
+``hapticad check`` (keys: :data:`cad.design.targets.PANTOGRAPH_TARGET_KEYS`).
 """
 
 from __future__ import annotations
@@ -250,6 +251,7 @@ class PantographDesign:
     optimize: dict[str, tuple[float, float, int]]
     parts: PantographParts | None
     raw: dict = field(repr=False)
+    targets: tuple = ()
 
     # ------------------------------------------------------------------ GII
     def workspace_points(self) -> np.ndarray:
@@ -499,10 +501,19 @@ def _elbow(mech: dict[str, Any], key: str, default: int) -> int:
     return int(v)
 
 
+def _parse_targets(raw: dict[str, Any]) -> tuple:
+    """``[targets]``: keys of :data:`cad.design.targets.PANTOGRAPH_TARGET_KEYS`."""
+    from cad.design.targets import PANTOGRAPH_TARGET_KEYS, parse_targets
+
+    return parse_targets(optional_table(raw, "targets", ""), "targets", PANTOGRAPH_TARGET_KEYS)
+
+
 def parse(raw: dict[str, Any], source: str = "<design>") -> PantographDesign:
     """Validate a raw pantograph-family design; every problem is a DesignError."""
     check_unknown(
-        raw, ("name", "description", "mechanism", "workspace", "actuators", "optimize", "parts"), ""
+        raw,
+        ("name", "description", "mechanism", "workspace", "actuators", "optimize", "parts", "targets"),
+        "",
     )
     mech = require_table(raw, "mechanism", "")
     family = mech.get("family")
@@ -630,4 +641,5 @@ def parse(raw: dict[str, Any], source: str = "<design>") -> PantographDesign:
         optimize=optimize,
         parts=parts,
         raw=raw,
+        targets=_parse_targets(raw),
     )

@@ -299,6 +299,10 @@ class MotorSpec:
     mass_kg: float
     rotor_inertia_g_cm2: float
     source: str
+    #: Peak torque the drive is rated to apply (mNm): the actuator limit of the simulator
+    #: exports and of ``hapticad wall``. None where the catalog entry has no value.
+    torque_peak_mNm: float | None = None
+    torque_source: str = ""
 
     @property
     def rotor_inertia_kg_m2(self) -> float:
@@ -327,6 +331,11 @@ MOTORS: dict[str, MotorSpec] = {
         # parts.motor_rotor_inertia_g_cm2 for a given order number.
         rotor_inertia_g_cm2=79.2,
         source="maxon motor catalog, RE 35 data sheet (weight 340 g; rotor inertia 65.2-79.2 g cm^2)",
+        # Hoeken paper §III.A: the direct-drive RE 35 renders "forces up to 5 N" at the handle;
+        # through the Hoeken's mean lever (torque_mean_mNm at force_N = 5 N, `hapticad analyze
+        # designs/hoeken.toml`: 166.7 mNm) that is 167 mNm at the motor.
+        torque_peak_mNm=167.0,
+        torque_source="Hoeken paper §III.A (5 N peak force of the RE 35 prototype x 33.3 mNm/N lever)",
     ),
     "maxon-re40": MotorSpec(
         key="maxon-re40",
