@@ -103,14 +103,14 @@ def _run(argv: list[str] | None) -> int:
     if not _REGISTERED:
         _register_commands()
     try:
-        return _run(argv)
+        return _run_app(argv)
     finally:
         handle = sys.modules.get("cad.parts.handle")  # per-command script opt-in ends here
         if handle is not None:
             handle.clear_script_policy()
 
 
-def _run(argv: list[str] | None) -> int:
+def _run_app(argv: list[str] | None) -> int:
     click_error = next(c for c in typer.BadParameter.__mro__ if c.__name__ == "ClickException")
     try:
         rv = app(args=argv, prog_name="hapticad", standalone_mode=False)
