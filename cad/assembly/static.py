@@ -171,7 +171,7 @@ def _body_distance(pa, pb, T: np.ndarray) -> float:
 
 
 def pose_clearances(
-    moving, fixed, poses, *, mesh_tol_mm: float = 0.05, groups=None
+    moving, fixed, poses, *, mesh_tol_mm: float = 0.05, groups=None, near_mm: float | None = None
 ) -> dict[str, tuple[float, str, bool]]:
     """Smallest distance between the moving and the fixed solids at each rigid pose.
 
@@ -180,6 +180,8 @@ def pose_clearances(
     poses : ``[(label, 4x4 tf_world_moving)]``.
     groups : ``label -> group key`` (default: first character); the closest pose of each
         group is measured exactly whatever its distance.
+    near_mm : poses whose mesh distance is below this are measured exactly (default
+        ``2 mesh_tol_mm + MARGIN_MM``; ``inf``: every pose, the reference of the bench).
 
     Method: fcl mesh distance of every part pair at every pose (pairs ordered by box gap);
     at a pose within ``2 tol + margin`` of contact (or the closest of its group), every
@@ -201,7 +203,7 @@ def pose_clearances(
     la = [(exact_box(s), np.asarray(T, float)) for _, s, T in moving]
     lb = [(exact_box(s), np.asarray(T, float)) for _, s, T in fixed]
     eye = np.eye(4)
-    near_mm = 2 * mesh_tol_mm + MARGIN_MM
+    near_mm = 2 * mesh_tol_mm + MARGIN_MM if near_mm is None else near_mm
     _BVH.clear()
     fast = {label: _body_distance(pa, pb, np.asarray(T, float)) for label, T in poses}
     group = groups or (lambda s: s[:1])
@@ -218,7 +220,7 @@ def pose_clearances(
         if d > near_mm and label not in closest.values():
             out[label] = (float(d), "", False)
             continue
-        within = max(near_mm, d + near_mm)
+        within = d + 2 * mesh_tol_mm + MARGIN_MM  # pairs that may hold the minimum
         best = (np.inf, "")
         for i, p in enumerate(pa):
             wa = _world_box(p.aabb_mm, T)
