@@ -42,6 +42,7 @@ import cad
 from cad.design import FAMILY_MODULES
 from cad.errors import DesignError
 from cad.io.atomic import atomic_dir, write_text_atomic
+from cad.io.outdir import check_out_dir
 
 Progress = Callable[[str, int, int], None]
 FIDELITIES = ("fabrication", "inertia", "preview")
@@ -160,11 +161,15 @@ def build_design(
 
     Raises the builder's :class:`cad.errors.HapticadError` subclasses (DesignError,
     GeometryError, MeshError, InterferenceError ...); on any failure ``out_dir`` is
-    left exactly as it was.
+    left exactly as it was. ``out_dir`` is replaced whole, so it must hold only files
+    an earlier build wrote (:func:`cad.io.outdir.check_out_dir`, DesignError ``--out``
+    otherwise: checked before the build and again just before publishing).
     """
     if fidelity not in FIDELITIES:
         raise DesignError("--fidelity", f"must be one of {', '.join(FIDELITIES)}, got {fidelity!r}")
     out_dir = Path(out_dir)
+    check = functools.partial(check_out_dir, design_source=getattr(design, "source", None))
+    check(out_dir)
     key = build_key(design, formats, fidelity, allow_interference, phi1_deg)
     if use_cache:
         rep = cached_report(out_dir, key)
@@ -191,7 +196,7 @@ def build_design(
     from cad.parts.lazy_import import import_build123d
 
     import_build123d()  # the build's first CAD import, without scikit-learn (lazy_import)
-    with atomic_dir(out_dir) as tmp:
+    with atomic_dir(out_dir, check=check) as tmp:
         report = mod.build(
             design,
             tmp,
