@@ -1000,7 +1000,6 @@ def build(
     _step(progress, "report", 5, total)
     report = _report(design, lay, clr, bodies, eff, eff_bare, itf, bom, home, fidelity, low)
     report["files"] = sorted(files + ["report.md"])
-    report["_timings_s"] = {"every_pair": report["interference"].pop("time_s")}  # kept out of report.json
     family.write_report_md(
         out_dir, f"{design.name} ({design.family})", _md_rows(report), bom, report["notes"]
     )

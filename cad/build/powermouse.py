@@ -412,7 +412,6 @@ def build(
         gain_per_At,
     )
     rep["files"] = sorted(files + ["report.md"])
-    rep["_timings_s"] = {"every_pair": rep["interference"].pop("time_s")}  # kept out of report.json
     family.write_report_md(out_dir, f"{design.name} (powermouse)", _md_rows(rep), bom, rep["notes"])
     _step(progress, "done", total, total)
     return rep
