@@ -17,6 +17,7 @@ TOPICS = {
     "build": "cad.bench.build",
     "fidelity": "cad.bench.fidelity",
     "structure": "cad.bench.structure",
+    "families": "cad.bench.families",
 }
 
 
@@ -37,6 +38,10 @@ def _goals(results: dict) -> list[tuple[str, str, str, bool | None]]:
     for key, goal, lim in (("cold_s", "hapticad build hoeken cold", 8.0), ("cached_s", "hapticad build hoeken unchanged", 1.5)):
         if key in b:
             rows.append((goal, f"{b[key]:.2f} s", f"<= {lim} s", b[key] <= lim))
+    f = results.get("families", {})
+    if "powermouse_cold_s" in f:
+        t = f["powermouse_cold_s"]
+        rows.append(("hapticad build powermouse cold", f"{t:.2f} s", "<= 8 s", t <= 8.0))
     i = results.get("interference", {})
     if "sweep_200_s" in i:
         rows.append(("interference sweep 200 poses x all pairs", f"{i['sweep_200_s']:.2f} s, {i.get('missed', '?')} missed",
