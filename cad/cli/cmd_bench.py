@@ -16,6 +16,8 @@ TOPICS = {
     "voicecoil": "cad.bench.voicecoil",
     "build": "cad.bench.build",
     "fidelity": "cad.bench.fidelity",
+    "evaluations": "cad.bench.evaluations",
+    "sweep": "cad.bench.sweep",
 }
 
 
@@ -36,6 +38,19 @@ def _goals(results: dict) -> list[tuple[str, str, str, bool | None]]:
     for key, goal, lim in (("cold_s", "hapticad build hoeken cold", 8.0), ("cached_s", "hapticad build hoeken unchanged", 1.5)):
         if key in b:
             rows.append((goal, f"{b[key]:.2f} s", f"<= {lim} s", b[key] <= lim))
+    e = results.get("evaluations", {})
+    for key, goal in (("same_s", "check/fit evaluation, same design (after import)"),
+                      ("material_s", "check/fit evaluation, new material"),
+                      ("thickness_s", "check/fit evaluation, new bar thickness"),
+                      ("fresh_process_s", "check evaluation in a fresh process (disk cache)")):
+        if key in e:
+            rows.append((goal, f"{e[key]:.3f} s (CPU {e[key.replace('_s', '_cpu_s')]:.3f} s)",
+                         f"<= {e['goal_s']} s", e[key] <= e["goal_s"]))
+    sw = results.get("sweep", {})
+    if "speedup_2_workers" in sw:
+        rows.append(("sweep throughput, 2 workers / 1 worker",
+                     f"{sw['speedup_2_workers']:.2f}x ({sw['variants_per_s_1']:.2f} -> {sw['variants_per_s_2']:.2f} variants/s)",
+                     ">= 1.7x", sw["speedup_2_workers"] >= 1.7))
     i = results.get("interference", {})
     if "sweep_200_s" in i:
         rows.append(("interference sweep 200 poses x all pairs", f"{i['sweep_200_s']:.2f} s, {i.get('missed', '?')} missed",

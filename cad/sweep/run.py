@@ -19,6 +19,7 @@ from __future__ import annotations
 import json
 import logging
 import math
+import pickle
 import sys
 import time
 from dataclasses import dataclass, field
@@ -165,11 +166,18 @@ def run_sweep(spec: SweepSpec, out: Path, workers: int, scheduler: str | None) -
     resumed = len(variants) - len(todo)
     prog = Progress(total=len(todo), skipped=resumed)
     t0 = time.perf_counter()
-    first_done = last_done = None
+    t_eval = startup = None
+    last_done = None
     if todo:
         from dask.distributed import as_completed
 
         client, cluster = _client(workers, scheduler)
+        try:
+            client.run(_warm_worker)  # CAD import on every worker before the clock starts
+        except Exception:  # noqa: S110 - a worker that cannot warm up fails its variants as rows
+            pass
+        t_eval = time.perf_counter()
+        startup = t_eval - t0
         prog.start()
         try:
             futs = {client.submit(evaluate_variant, raw, str(spec.design), spec.fidelity,
@@ -184,7 +192,6 @@ def run_sweep(spec: SweepSpec, out: Path, workers: int, scheduler: str | None) -
                 rows.append({**a, "variant": i, "design_hash": h, "targets": spec.targets_text, **res})
                 prog.add(res["status"])
                 last_done = time.perf_counter()
-                first_done = first_done or last_done
                 if last_done - last_write >= WRITE_EVERY_S:
                     write_table(out, rows, cols)
                     prog.line()
@@ -207,13 +214,28 @@ def run_sweep(spec: SweepSpec, out: Path, workers: int, scheduler: str | None) -
         "evaluated": len(todo), **{k: prog.counts[k] for k in (*DONE, "lost")},
         "workers": workers if not scheduler else None, "scheduler": scheduler or "LocalCluster",
         "wall_s": wall,
-        "variants_per_s": (len(todo) / wall) if todo and wall > 0 else None,
-        "variant_wall_s_median": _median([r["wall_s"] for r in rows[-len(todo):]] if todo else []),
+        "startup_s": startup,
+        "evaluation_s": (last_done - t_eval) if todo and last_done else None,
+        "variants_per_s": (len(todo) / (last_done - t_eval)) if todo and last_done else None,
+        "variant_wall_s_median": _median([r.get("wall_s") for r in rows[-len(todo):]] if todo else []),
+        "task_bytes_in_median": _median([float(len(pickle.dumps((raw, str(spec.design), spec.fidelity,
+                                                                  spec.cli_targets))))
+                                         for _, _, raw, _ in todo]),
+        "task_bytes_out_median": _median([float(len(pickle.dumps(r))) for r in rows[-len(todo):]]
+                                         if todo else []),
         "files": [str(out / n) for n in OWNED],
     }
     write_chart(out / "chart.png", rows, spec)
     write_text_atomic(out / "sweep.json", json.dumps(summary, indent=1))
     return summary
+
+
+def _warm_worker() -> None:
+    """Import the CAD stack in a worker (what its first variant would otherwise pay)."""
+    from cad.parts.lazy_import import import_build123d
+
+    import_build123d()
+    import cad.build.inertia  # noqa: F401
 
 
 def _median(v: list[float]) -> float | None:
