@@ -64,32 +64,62 @@ def build(design, out_dir: str | Path, formats=("step", "stl", "dxf"),
 
 
 def check(design, targets: tuple[str, ...] | list[str] = (), fidelity: str = "inertia") -> dict:
-    """Inertia, apparent mass and metrics from the solids against the design's targets.
+    """Computed values of a design against its targets (four-bars and pantograph families).
 
-    ``targets``: extra ``"KEY=VALUE"``, ``"KEY<=V"``, ``"KEY>=V"`` strings replacing design
-    targets of the same key. Returns the ``hapticad check --json`` object: ``ok``, ``rows``
-    (``key``, ``computed``, ``target`` as data, ``margin``, ``gap_rel``), ``computed``,
-    ``budget``. Raises DesignError when there are no targets or the family has no check.
+    Four-bars: inertia, apparent mass and metrics from the solids. Pantograph families: the
+    GII (isotropy paper eq 5) and, for designs that build, the effective mass at home and
+    the moving mass from the solids. ``targets``: extra ``"KEY=VALUE"``, ``"KEY<=V"``,
+    ``"KEY>=V"`` strings replacing design targets of the same key. Returns the
+    ``hapticad check --json`` object: ``ok``, ``rows`` (``key``, ``computed``, ``target`` as
+    data, ``margin``, ``gap_rel``), ``computed``. Raises DesignError when there are no
+    targets or the family has no check.
     """
     from cad.checks import evaluate, merge_targets
     from cad.design.fourbar import FourBarDesign
-    from cad.design.targets import parse_cli_target
+    from cad.design.targets import PANTOGRAPH_TARGET_KEYS, TARGET_KEYS, parse_cli_target
     from cad.errors import DesignError
 
     if fidelity not in ("inertia", "fabrication"):
         raise DesignError("--fidelity", f"must be inertia or fabrication, got {fidelity!r}")
-    if not isinstance(design, FourBarDesign):
-        raise DesignError("mechanism.family", "check works on four-bar designs")
-    merged = merge_targets(design.targets, tuple(parse_cli_target(t) for t in targets))
+    four_bar = isinstance(design, FourBarDesign)
+    if not four_bar and design.family not in ("pantograph", "twin-pantograph", "haptic-pen"):
+        from cad.cli.families import refusal
+
+        raise DesignError("mechanism.family", refusal("check", design.family))
+    keys = TARGET_KEYS if four_bar else PANTOGRAPH_TARGET_KEYS
+    merged = merge_targets(design.targets, tuple(parse_cli_target(t, keys) for t in targets))
     if not merged:
         raise DesignError("targets", "no targets: add a [targets] table or --target KEY=VALUE")
-    from cad.build.inertia import target_values
+    wanted = {t.key for t in merged}
+    if four_bar:
+        from cad.build.inertia import target_values
 
-    need_clearance = any(t.key == "min_clearance_mm" for t in merged)
-    values, report = target_values(design, fidelity, need_clearance)
+        values, report = target_values(design, fidelity, "min_clearance_mm" in wanted)
+    else:
+        values, report = _pantograph_values(design, fidelity, wanted)
     rows = evaluate(merged, values)
     return {"name": design.name, "ok": all(r.ok for r in rows), "fidelity": fidelity,
-            "rows": [r.as_dict() for r in rows], "computed": values, "budget": report["budget"]}
+            "rows": [r.as_dict() for r in rows], "computed": values,
+            "budget": report.get("budget")}
+
+
+def _pantograph_values(design, fidelity: str, wanted: set[str]) -> tuple[dict, dict]:
+    """GII always; effective mass and moving mass from a build when a target needs them."""
+    import tempfile
+
+    values = {"gii": float(design.gii().gii)}
+    if not wanted - {"gii"}:
+        return values, {}
+    from cad.build import build_design
+
+    with tempfile.TemporaryDirectory() as tmp:
+        rep = build_design(design, Path(tmp) / "b", set(), fidelity=fidelity, use_cache=False)
+    for k, v in (rep.get("effective_mass_home") or {}).items():
+        if isinstance(v, (int, float)) and not isinstance(v, bool):
+            values[k] = float(v)
+    if isinstance(rep.get("moving_mass_g"), (int, float)):
+        values["moving_mass_g"] = float(rep["moving_mass_g"])
+    return values, rep
 
 
 def mass_properties(path: str | Path, density_kg_m3: float | None = None,

@@ -54,10 +54,10 @@ def test_evaluate_from_report():
 
 
 def test_merge_cli_overrides_design():
-    d = parse_targets({"H11_kg_m2": 1.0, "H22_kg_m2": 2.0})
-    c = (parse_cli_target("H11_kg_m2=5"),)
+    d = parse_targets({"H11_kg_m2": 1e-5, "H22_kg_m2": 2e-5})
+    c = (parse_cli_target("H11_kg_m2=5e-5"),)
     m = {t.key: t for t in merge_targets(d, c)}
-    assert m["H11_kg_m2"].value == 5 and m["H22_kg_m2"].value == 2.0
+    assert m["H11_kg_m2"].value == 5e-5 and m["H22_kg_m2"].value == 2e-5
 
 
 def test_rows_carry_targets_as_data_and_margins():

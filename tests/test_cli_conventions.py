@@ -81,3 +81,22 @@ def test_swap_out_names_the_design(tmp_path):
     code, _, err = hapticad("swap", "designs/hoeken.toml", "--to", "roberts", "--out", out)
     assert code == 0, err
     assert tomllib.loads(out.read_text())["name"] == "my_roberts"
+
+
+FAMILY_DESIGNS = {"hoeken": "designs/hoeken.toml", "pantograph": "designs/pantograph.toml",
+                  "twin-pantograph": "designs/haptic_mouse.toml",
+                  "haptic-pen": "designs/haptic_pen.toml", "powermouse": "designs/powermouse.toml"}
+
+
+def test_refusals_point_to_commands_that_accept_the_family():
+    from cad.cli.families import COMMAND_FAMILIES
+
+    for family, path in FAMILY_DESIGNS.items():
+        for cmd in ("analyze", "gii"):
+            if family in COMMAND_FAMILIES[cmd]:
+                continue
+            code, _, err = hapticad(cmd, path)
+            assert code == 2 and "mechanism.family" in err and family in err, err
+            hinted = [w for w in err.split("use:")[1].replace(",", " ").split() if w != "hapticad"]
+            assert hinted and all(family in COMMAND_FAMILIES[c] for c in hinted), err
+            assert cmd not in hinted

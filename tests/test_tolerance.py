@@ -192,7 +192,7 @@ def test_cli_bad_input_is_one_line_and_writes_nothing(tmp_path):
     h = DESIGNS / "hoeken.toml"
     cases = [
         (("--hole", "crank.A9=0.05"), "--hole"),
-        (("--hole-mm", "-0.05"), "tolerance crank.A1"),
+        (("--hole-mm", "-0.05"), "--hole-mm"),  # the flag typed, not the hole it sets
         (("--hole-mm", "50"), "um"),
         (("--length", "l7=0.1"), "--length"),
         (("--pivot", "A4=abc"), "--pivot"),

@@ -61,11 +61,44 @@ def fail(message: str, code: int = 2) -> typer.Exit:
     return typer.Exit(code)
 
 
+def print_json(obj: dict, **dumps_kwargs) -> None:
+    """Print one JSON object on stdout with the run's ``warnings`` list added (every ``--json``).
+
+    ``warnings`` holds every implausible value (:mod:`cad.design.bounds`) and every data
+    warning (e.g. an STL that is not watertight) of this command, as printed on stderr.
+    """
+    import json
+
+    from cad.design import bounds
+
+    print(json.dumps({**obj, "warnings": bounds.collected()}, **dumps_kwargs))
+
+
+def _dedupe_sentences(msg: str) -> str:
+    """Drop a sentence repeated verbatim (click and typer both append "Did you mean ...?")."""
+    out: list[str] = []
+    for part in msg.replace("? ", "?\n").replace(". ", ".\n").split("\n"):
+        if part not in out:
+            out.append(part)
+    return " ".join(out)
+
+
 def run(argv: list[str] | None = None) -> int:
     """Run the CLI on ``argv`` and return the exit code (tests call this in-process).
 
     0 success, 1 a target missed, 2 bad input (one line on stderr, no traceback).
+    Warnings (implausible values) are printed on stderr unless the exit code is 2.
     """
+    from cad.design import bounds
+
+    bounds.reset()
+    code = _run(argv)
+    if code != 2:
+        bounds.flush()
+    return code
+
+
+def _run(argv: list[str] | None) -> int:
     if not _REGISTERED:
         _register_commands()
     click_error = next(c for c in typer.BadParameter.__mro__ if c.__name__ == "ClickException")
@@ -81,7 +114,7 @@ def run(argv: list[str] | None = None) -> int:
         if type(exc).__name__ == "NoArgsIsHelpError":  # bare `hapticad`: the help, exit 0
             print(exc.ctx.get_help() if exc.ctx else "")
             return 0
-        msg = " ".join(exc.format_message().split())
+        msg = _dedupe_sentences(" ".join(exc.format_message().split()))
         print(f"hapticad: error: {msg} (see hapticad --help)", file=sys.stderr)
         return int(getattr(exc, "exit_code", 2))
     except TargetMissed as exc:

@@ -16,6 +16,7 @@ TOPICS = {
     "voicecoil": "cad.bench.voicecoil",
     "build": "cad.bench.build",
     "fidelity": "cad.bench.fidelity",
+    "structure": "cad.bench.structure",
     "evaluations": "cad.bench.evaluations",
     "sweep": "cad.bench.sweep",
 }
@@ -76,9 +77,11 @@ def register(app: typer.Typer) -> None:
         from rich.console import Console
         from rich.table import Table
 
+        from cad.cli import flags
         from cad.errors import DesignError
         from cad.io.atomic import write_text_atomic
 
+        flags.out_path("--out", out, folder=True)
         topics = list(TOPICS)
         if only:
             topics = [t.strip() for t in only.split(",") if t.strip()]

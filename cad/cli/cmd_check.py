@@ -8,34 +8,41 @@ tolerance, 1 when any is not, 2 on bad input.
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 import typer
+
+from cad.cli.app import print_json
 
 
 def register(app: typer.Typer) -> None:
     @app.command("check")
     def check_cmd(
-        design: Path = typer.Argument(..., help="four-bar TOML design"),
+        design: Path = typer.Argument(..., help="Four-bar or pantograph-family TOML design."),
         target: list[str] = typer.Option(None, "--target", help="KEY=VALUE (default tolerance), KEY<=V, KEY>=V; repeatable"),
         fidelity: str = typer.Option("inertia", "--fidelity", help="inertia (default) | fabrication"),
         json_out: bool = typer.Option(False, "--json", help="print one JSON object"),
     ) -> None:
         """Inertia and apparent mass from the solids against the design's targets (exit 0 / 1 / 2)."""
         from cad.api import check
-        from cad.design import load_design
+        from cad.cli import flags
+        from cad.design import bounds, load_design
         from cad.errors import TargetMissed
 
-        res = check(load_design(design), tuple(target or ()), fidelity)
+        flags.choice("--fidelity", fidelity, ("inertia", "fabrication"))
+        d = load_design(design)
+        if hasattr(d, "check_buildable"):
+            d.check_buildable()
+        bounds.flush()
+        res = check(d, tuple(target or ()), fidelity)
         missed = [r for r in res["rows"] if not r["ok"]]
         if json_out:
-            print(json.dumps(res, indent=1))
+            print_json(res, indent=1)
         else:
             from rich.console import Console
             from rich.table import Table
 
-            t = Table(title=f"{res['name']}: computed from the solids ({fidelity}) against targets")
+            t = Table(title=f"{res['name']}: computed ({fidelity}) against targets")
             for c in ("target key", "computed", "target", "gap", "ok"):
                 t.add_column(c, justify="right" if c != "target key" else "left")
             for r in res["rows"]:

@@ -2,10 +2,11 @@
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 import typer
+
+from cad.cli.app import print_json
 
 
 def register(app: typer.Typer) -> None:
@@ -21,7 +22,9 @@ def register(app: typer.Typer) -> None:
         """Adjust the design's free part parameters to meet the targets; write the fitted design."""
         from cad.build.inertia import target_values
         from cad.checks import evaluate, merge_targets
-        from cad.design import load_design, parse_design
+        from cad.cli import flags
+        from cad.cli.families import refusal
+        from cad.design import bounds, load_design, parse_design
         from cad.design.fourbar import FourBarDesign
         from cad.design.targets import parse_cli_target
         from cad.design.writer import dumps_design
@@ -30,9 +33,12 @@ def register(app: typer.Typer) -> None:
         from cad.io.atomic import write_text_atomic
 
         cli_targets = tuple(parse_cli_target(t) for t in (target or []))
+        flags.choice("--fidelity", fidelity, ("inertia", "fabrication"))
+        flags.out_path("--out", out, folder=False)
         d = load_design(design)
         if not isinstance(d, FourBarDesign):
-            raise DesignError("mechanism.family", "fit works on four-bar designs")
+            raise DesignError("mechanism.family", refusal("fit", d.family))
+        d.check_buildable()
         targets = cli_targets if cli_targets else merge_targets(d.targets, ())
         if not targets:
             raise DesignError("--target", "no targets: give --target KEY=VALUE or a [targets] table")
@@ -40,6 +46,7 @@ def register(app: typer.Typer) -> None:
         if not specs:
             raise DesignError("--free", "no free parameters: give --free parts.KEY or [fit] free = [...]")
         params = [parse_free(s, d.parts) for s in specs]
+        bounds.flush()
         need_clear = any(t.key == "min_clearance_mm" for t in targets)
         raw = {k: v for k, v in d.raw.items()}
         raw.setdefault("parts", {})
@@ -69,7 +76,7 @@ def register(app: typer.Typer) -> None:
                    "met": all(r.ok for r in rows), "max_violation": res.objective,
                    "evaluations": len(res.log), "iterations": res.log, "rows": [r.as_dict() for r in rows]}
         if json_out:
-            print(json.dumps(payload, indent=1, default=str))
+            print_json(payload, indent=1, default=str)
         else:
             for k, v in res.values.items():
                 print(f"{k}: {res.start[k]} -> {v}")

@@ -11,13 +11,12 @@ the COM, file axes, positive-definite convention), ``principal_moments_kg_m2``
 
 from __future__ import annotations
 
-import json
-import math
 import sys
 from pathlib import Path
 
 import typer
 
+from cad.cli.app import print_json
 from cad.errors import DesignError, HapticadError
 from cad.materials import DEFAULT_MATERIAL, get_material
 
@@ -27,13 +26,9 @@ def _resolve_density(density: str | None, material: str | None) -> tuple[float, 
     if density is not None and material is not None:
         raise DesignError("--density/--material", "give one of them, not both")
     if density is not None:
-        try:
-            rho = float(density)
-        except ValueError:
-            raise DesignError("--density", f"must be a number in kg/m^3, got {density!r}") from None
-        if not math.isfinite(rho) or rho <= 0:
-            raise DesignError("--density", f"must be finite and > 0 kg/m^3, got {density!r}")
-        return rho, None, False
+        from cad.design.bounds import parse_flag
+
+        return parse_flag("--density", density), None, False
     if material is not None:
         mat = get_material(material, "--material")
         return mat.density_kg_m3, mat.name, False
@@ -132,6 +127,6 @@ def register(app: typer.Typer) -> None:
         for note in notes:
             print(f"hapticad: {note}", file=sys.stderr)
         if json_out:
-            print(json.dumps(out))
+            print_json(out)
         else:
             print(_fmt_text(out))

@@ -7,10 +7,11 @@ while evaluating far fewer Jacobians.
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 import typer
+
+from cad.cli.app import print_json
 
 
 def optimize_report(design, method: str) -> dict:
@@ -74,9 +75,11 @@ def register(app: typer.Typer) -> None:
         json_out: bool = typer.Option(False, "--json", help="Print one JSON object."),
     ) -> None:
         """Maximize the GII over the [optimize] candidate grid (culling or brute force)."""
+        from cad.cli import flags
         from cad.cli.cmd_gii import load_pantograph_design
         from cad.errors import DesignError
 
+        flags.out_path("--out", out, folder=False)
         if method not in ("culling", "brute"):
             raise DesignError("--method", f"must be 'culling' or 'brute', got {method!r}")
         d = load_pantograph_design(design)
@@ -85,7 +88,7 @@ def register(app: typer.Typer) -> None:
             write_optimum(d, rep, out, f"hapticad optimize {design.name} --method {method}")
             rep["out"] = str(out)
         if json_out:
-            print(json.dumps(rep))
+            print_json(rep)
             return
         print(f"{rep['design']} ({rep['family']}), {rep['method']}: GII = {rep['gii']:.6f}")
         print(f"  best: {rep['best']}")

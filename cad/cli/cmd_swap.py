@@ -13,11 +13,12 @@ DESIGN as ``<stem>_<family>.toml``). The layer planner (no CAD) runs on the new 
 from __future__ import annotations
 
 import copy
-import json
 import os
 from pathlib import Path
 
 import typer
+
+from cad.cli.app import print_json
 
 SWAP_FAMILIES = ("hoeken", "roberts", "chebyshev", "chebyshev-v")
 #: Sections of a design that describe the old mechanism only and are dropped by a swap.
@@ -97,6 +98,8 @@ def register(app: typer.Typer) -> None:
 
         from cad.assembly.layers import choose_layers
         from cad.assembly.pose import planar_transforms
+        from cad.cli import flags
+        from cad.cli.cmd_swap import SWAP_FAMILIES
         from cad.design import load_design, parse_design
         from cad.design.fourbar import FourBarDesign
         from cad.design.writer import dropped_targets_note
@@ -104,11 +107,13 @@ def register(app: typer.Typer) -> None:
         from cad.io.atomic import write_text_atomic
         from cad.kinematics.linkgeom import link_joints_mm
 
+        flags.choice("--to", to, SWAP_FAMILIES)
+        flags.out_path("--out", out, folder=False)
         d = load_design(design)
         if not isinstance(d, FourBarDesign):
-            raise DesignError(
-                "mechanism.family", f"swap works on four-bar designs, got {d.family!r}"
-            )
+            from cad.cli.families import refusal
+
+            raise DesignError("mechanism.family", refusal("swap", d.family))
         target = (
             out
             if out is not None
@@ -151,7 +156,7 @@ def register(app: typer.Typer) -> None:
                 "out": str(build_dir),
             }
         if json_out:
-            print(json.dumps(result, sort_keys=True, default=float))
+            print_json(result, sort_keys=True, default=float)
             return
         from rich.console import Console
         from rich.table import Table

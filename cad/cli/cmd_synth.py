@@ -2,11 +2,12 @@
 
 from __future__ import annotations
 
-import json
 import math
 from pathlib import Path
 
 import typer
+
+from cad.cli.app import print_json
 
 
 def synth_flags(objective: str, free: str, dy_tol_mm: float, mu_min_deg: float,
@@ -32,6 +33,8 @@ def register(app: typer.Typer) -> None:
         """Choose link lengths and the crank range for a stated objective (see README)."""
         import copy
 
+        from cad.cli import flags
+        from cad.cli.families import refusal
         from cad.design import load_design, parse_design
         from cad.design.fourbar import FourBarDesign
         from cad.design.writer import (
@@ -42,15 +45,17 @@ def register(app: typer.Typer) -> None:
         )
         from cad.errors import DesignError
         from cad.io.atomic import write_text_atomic
-        from cad.kinematics.synthesis import synthesize
+        from cad.kinematics.synthesis import FREE_SETS, OBJECTIVES, synthesize
 
+        flags.choice("--objective", objective, OBJECTIVES)
+        flags.choice("--free", free, FREE_SETS)
+        flags.number("--dy-tol-mm", dy_tol_mm)
+        flags.number("--mu-min-deg", mu_min_deg)
+        flags.number("--stroke-mm", stroke_mm)
+        flags.out_path("--out", out, folder=False)
         d = load_design(design)
         if not isinstance(d, FourBarDesign):
-            raise DesignError("mechanism.family", "synth works on four-bar designs")
-        if stroke_mm is not None and not stroke_mm > 0:
-            raise DesignError("--stroke-mm", f"must be > 0, got {stroke_mm}")
-        if not 0 <= mu_min_deg < 90:
-            raise DesignError("--mu-min-deg", f"must be in [0, 90), got {mu_min_deg}")
+            raise DesignError("mechanism.family", refusal("synth", d.family))
         r = synthesize(d.linkage, d.phi1_min_rad, d.phi1_max_rad, objective, free=free,
                        dy_tol_mm=dy_tol_mm, mu_min_deg=mu_min_deg,
                        stroke_mm=stroke_mm or (d.stroke_mm_requested or None), force_N=d.force_N)
@@ -72,7 +77,7 @@ def register(app: typer.Typer) -> None:
             write_text_atomic(out, dumps_design(raw, header))
             res["out"] = str(out)
         if json_out:
-            print(json.dumps(res, indent=1))
+            print_json(res, indent=1)
             return
         from rich.console import Console
         from rich.table import Table

@@ -10,6 +10,8 @@ from pathlib import Path
 
 import typer
 
+from cad.cli.app import print_json
+
 OWNED = ("tolerance.json", "tolerance.png")
 
 
@@ -57,6 +59,7 @@ def register(app: typer.Typer) -> None:
         """Monte Carlo of hole, pivot and length tolerances: distributions, yield, sensitivity (no CAD)."""
         from cad import tolerances as tol
         from cad.checks import merge_targets
+        from cad.cli import flags
         from cad.cli.cmd_analyze import parse_inertia_option
         from cad.design import load_design
         from cad.design.fourbar import FourBarDesign
@@ -65,6 +68,10 @@ def register(app: typer.Typer) -> None:
         from cad.io.owned import check_out_dir
         from cad.tolerance_study import inertia_for_m11, run, tolerances_from_flags, write_chart
 
+        for flag, value in (("--hole-mm", hole_mm), ("--pivot-mm", pivot_mm),
+                            ("--length-mm", length_mm), ("--seed", seed)):
+            flags.number(flag, value)
+        flags.out_path("--out", out, folder=True)
         if not tol.MC_SAMPLES_MIN <= samples <= tol.MC_SAMPLES_MAX:
             raise DesignError("--samples", f"must be in [{tol.MC_SAMPLES_MIN}, {tol.MC_SAMPLES_MAX}], got {samples}")
         if not 11 <= angles <= 20001:
@@ -72,7 +79,7 @@ def register(app: typer.Typer) -> None:
         tols = tolerances_from_flags(hole_mm, hole or [], pivot_mm, pivot or [], length_mm,
                                      length or [], distribution)
         cli = tuple(parse_cli_target(t) for t in (target or []))
-        H = parse_inertia_option(inertia) if inertia else None
+        H = parse_inertia_option(inertia) if inertia is not None else None
         if out is not None:
             check_out_dir(out, OWNED)
         d = load_design(design)
@@ -90,6 +97,6 @@ def register(app: typer.Typer) -> None:
             write_text_atomic(out / "tolerance.json", json.dumps(res, indent=1))
             res["files"] = [str(out / n) for n in OWNED]
         if json_out:
-            print(json.dumps(res, indent=1))
+            print_json(res, indent=1)
         else:
             _print(res)

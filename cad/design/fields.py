@@ -22,6 +22,8 @@ def _path(prefix: str, key: str) -> str:
 def load_toml(path: str | Path) -> dict[str, Any]:
     """Read a TOML file; a missing file or bad syntax is a DesignError."""
     p = Path(path)
+    if p.is_dir():
+        raise DesignError("design", f"{p} is a folder, not a design file (give the .toml file)")
     if not p.is_file():
         raise DesignError("design", f"file not found: {p}")
     try:

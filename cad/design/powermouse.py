@@ -64,7 +64,7 @@ from cad.design.fields import (
 )
 from cad.errors import DesignError
 
-TOP_KEYS = ("name", "mechanism", "actuator", "flotor", "stator", "handle", "motion")
+TOP_KEYS = ("name", "description", "mechanism", "actuator", "flotor", "stator", "handle", "motion")
 ACTUATOR_KEYS = (
     "magnet_length_mm",
     "magnet_width_mm",
