@@ -13,13 +13,12 @@ import os
 import time
 from typing import Any
 
-#: metric and target columns of every row (float, NaN when not computed)
-VALUE_KEYS: tuple[str, ...] = (
-    "stroke_mm", "dy_max_mm", "slope_max", "torque_mean_mNm", "torque_variation",
-    "min_transmission_angle_deg", "H11_kg_m2", "H12_kg_m2", "H22_kg_m2", "H33_kg_m2",
-    "M11_min_g", "M11_max_g", "M12_min_g", "M12_max_g", "M22_min_g", "M22_max_g",
-    "crank_mass_g", "coupler_mass_g", "rocker_mass_g", "moving_mass_g", "min_clearance_mm",
-)
+from cad.design.targets import TARGET_KEYS
+
+#: metric and target columns of every row (float, NaN when not computed): every target key
+#: of :data:`cad.design.targets.TARGET_KEYS` plus the apparent-mass bounds without a target key
+VALUE_KEYS: tuple[str, ...] = tuple(dict.fromkeys(
+    (*TARGET_KEYS[:8], "M22_min_g", *TARGET_KEYS[8:])))
 
 
 def evaluate_variant(raw: dict[str, Any], source: str, fidelity: str, cli_targets: tuple) -> dict[str, Any]:
