@@ -406,11 +406,16 @@ def build(
             out_dir / "preview.png",
             f"{design.name}: {design.family}, phi1 = {math.degrees(pose_phi):.1f} deg",
         )
+        # the paper's plots from the solids: coupler curve, y deviation and torque over the
+        # stroke, M11 / M12 / M22 over x (Fig. 6) with H from the parts
+        from cad.report.fourbar import plot_apparent_mass, plot_kinematics
+
+        plot_kinematics(design, out_dir / "kinematics.png")
+        plot_apparent_mass(design, H, out_dir / "apparent_mass.png")
         return time.perf_counter() - t
 
     exports_task = forked.start(exports_stage, "exports")
-    preview_task = forked.start(preview_stage, "preview")
-    with forked.cancel_on_error(exports_task, preview_task):
+    with forked.cancel_on_error(exports_task):
         # 4 mass properties and dynamics
         _step(progress, "mass properties", 2, n_steps)
         t1 = time.perf_counter()
@@ -428,6 +433,10 @@ def build(
             design, asm, props, link_props, Jm, H, am, fidelity, user_handle is not None, plan
         )
         timings["massprops"] = time.perf_counter() - t1
+
+    # the preview and the paper's plots (which need H) in a second child, beside the sweep
+    preview_task = forked.start(preview_stage, "preview")
+    with forked.cancel_on_error(exports_task, preview_task):
         from cad.structure.device import structure_of_build
 
         structure = structure_of_build(design, asm, props, am["M11_max_g"])
@@ -481,15 +490,6 @@ def build(
         files += _write_sim(design, asm, link_props, Jm, motor, pose_phi, out_dir, formats)
         _step(progress, "preview", 6, n_steps)
         timings["preview"] = preview_task.result()
-
-    # the paper's plots from the solids: coupler curve, y deviation and torque over the stroke,
-    # M11 / M12 / M22 over x (Fig. 6) with H from the parts
-    t1 = time.perf_counter()
-    from cad.report.fourbar import plot_apparent_mass, plot_kinematics
-
-    plot_kinematics(design, out_dir / "kinematics.png")
-    plot_apparent_mass(design, H, out_dir / "apparent_mass.png")
-    timings["plots"] = time.perf_counter() - t1
 
     # report
     _step(progress, "report", 7, n_steps)

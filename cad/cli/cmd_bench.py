@@ -20,6 +20,8 @@ TOPICS = {
     "evaluations": "cad.bench.evaluations",
     "sweep": "cad.bench.sweep",
 }
+#: topics run only when named in --only (minutes of worker processes each)
+OPT_IN = ("sweep",)
 
 
 def _goals(results: dict) -> list[tuple[str, str, str, bool | None]]:
@@ -36,7 +38,9 @@ def _goals(results: dict) -> list[tuple[str, str, str, bool | None]]:
         t = k["analyze_wall"]["median_s"]
         rows.append(("hapticad analyze wall (median)", f"{t:.3f} s", "<= 0.6 s", t <= 0.6))
     b = results.get("build", {})
-    for key, goal, lim in (("cold_s", "hapticad build hoeken cold", 8.0), ("cached_s", "hapticad build hoeken unchanged", 1.5)):
+    for key, goal, lim in (("cold_s", "hapticad build hoeken cold (--no-cache)", 4.5),
+                           ("cold_empty_shape_cache_s", "hapticad build hoeken, empty shape cache", 8.0),
+                           ("cached_s", "hapticad build hoeken unchanged", 1.5)):
         if key in b:
             rows.append((goal, f"{b[key]:.2f} s", f"<= {lim} s", b[key] <= lim))
     e = results.get("evaluations", {})
@@ -82,7 +86,7 @@ def register(app: typer.Typer) -> None:
         from cad.io.atomic import write_text_atomic
 
         flags.out_path("--out", out, folder=True)
-        topics = list(TOPICS)
+        topics = [t for t in TOPICS if t not in OPT_IN]
         if only:
             topics = [t.strip() for t in only.split(",") if t.strip()]
             for t in topics:

@@ -22,7 +22,7 @@ def register(app: typer.Typer) -> None:
         workers: int = typer.Option(2, "--workers", help="worker processes of the embedded LocalCluster"),
         scheduler: str = typer.Option(None, "--scheduler", help="tcp://HOST:PORT of an existing Dask scheduler"),
         out: Path = typer.Option(..., "--out", help="folder of results.parquet/.csv, sweep.json, chart.png (resumes)"),
-        target: list[str] = typer.Option(None, "--target", help="KEY=VALUE, KEY<=V, KEY>=V; repeatable (adds to [targets])"),
+        target: list[str] = typer.Option(None, "--target", help="KEY=VALUE, KEY<=V, KEY>=V; repeatable (added to the design's targets)"),
         chart: str = typer.Option("torque_variation,M11_max_g", "--chart", help="X,Y columns of the chart"),
         seed: int = typer.Option(0, "--seed", help="seed of the Latin hypercube"),
         json_out: bool = typer.Option(False, "--json", help="print the summary as one JSON object"),
@@ -80,7 +80,8 @@ def _check_keys(raw: dict, design: Path, varies) -> None:
         try:
             parse_design(apply(raw, {v.key: first}), str(design))
         except DesignError as exc:
-            if exc.field == v.key and ("unknown key" in exc.reason or "not a table" in exc.reason):
+            named = exc.field == v.key or v.key.startswith(exc.field + ".")
+            if named and ("unknown key" in exc.reason or "not a table" in exc.reason):
                 raise DesignError(f"--vary {v.key}", exc.reason) from None
         except Exception:  # noqa: S110 - other failures are a variant's business (a row with its error)
             pass

@@ -51,7 +51,7 @@ def register(app: typer.Typer) -> None:
         samples: int = typer.Option(10000, "--samples", help="Monte Carlo samples (100 .. 2e6)"),
         angles: int = typer.Option(401, "--angles", help="crank angles per sample (extrema are refined)"),
         seed: int = typer.Option(0, "--seed", help="random seed"),
-        target: list[str] = typer.Option(None, "--target", help="KEY=VALUE, KEY<=V, KEY>=V; repeatable (adds to [targets])"),
+        target: list[str] = typer.Option(None, "--target", help="KEY=VALUE, KEY<=V, KEY>=V; repeatable (added to the design's targets)"),
         inertia: str = typer.Option(None, "--inertia", help="H11=..,H12=..,H22=..,H33=.. (kg.m^2) for M11"),
         out: Path = typer.Option(None, "--out", help="write tolerance.json and tolerance.png here"),
         json_out: bool = typer.Option(False, "--json", help="print one JSON object"),
