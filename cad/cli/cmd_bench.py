@@ -93,6 +93,10 @@ def register(app: typer.Typer) -> None:
                 if t not in TOPICS:
                     raise DesignError("--only", f"unknown topic {t!r} (known: {', '.join(TOPICS)})")
         con = Console(stderr=True)
+        from cad.export.manifest import write_manifest
+        from cad.io.outdir import check_out_dir
+
+        check_out_dir(out)  # only a folder bench (or build) wrote: README "Output folders"
         out.mkdir(parents=True, exist_ok=True)
         results: dict = {}
         for t in topics:
@@ -105,9 +109,11 @@ def register(app: typer.Typer) -> None:
             con.print(f"[bold]bench[/] {t} ...")
             results[t] = mod.run(quick, out)
             results[t]["bench_wall_s"] = time.perf_counter() - t0
+            write_manifest(out)  # after each topic: what is there is bench's own
         rows = _goals(results)
         results["goals"] = [{"goal": g, "measured": m, "target": tg, "met": ok} for g, m, tg, ok in rows]
         write_text_atomic(out / "bench.json", json.dumps(results, indent=1, default=float))
+        write_manifest(out)
         tab = Table(title="performance goals (medians)")
         for c in ("goal", "measured", "target", "met"):
             tab.add_column(c)

@@ -45,25 +45,26 @@ def optimize_report(design, method: str) -> dict:
     }
 
 
-def write_optimum(design, rep: dict, out: Path, command: str) -> None:
+def write_optimum(design, rep: dict, out: Path, command: str) -> bool:
     """Write ``design`` with its ``[mechanism]`` set to the optimum, validated first, atomically.
 
     The ``[optimize]`` ranges are kept (re-running reproduces the search); ``name`` becomes
-    the file's stem. Raises DesignError (--out) when ``out`` is the input design itself.
+    the file's stem. Raises DesignError (--out) when ``out`` is the input design itself
+    (same path, symbolic or hard link). Returns True when an existing file was replaced.
     """
     import copy
 
     from cad.design.pantograph import parse
     from cad.design.writer import write_design
-    from cad.errors import DesignError
+    from cad.io.outdir import check_out_file
 
-    if out.resolve() == Path(design.source).resolve():
-        raise DesignError("--out", f"{out} is the input design; give another file name")
+    replaced = check_out_file(out, Path(design.source))  # never the input design (any link)
     raw = copy.deepcopy(design.raw)
     raw["mechanism"].update(rep["best"])
     raw["name"] = out.stem
     parse(raw, str(out))  # must validate before anything is written
     write_design(out, raw, f"Optimum of `{command}`: GII {rep['gii']:.6f} ({rep['method']})")
+    return replaced
 
 
 def register(app: typer.Typer) -> None:
@@ -85,7 +86,9 @@ def register(app: typer.Typer) -> None:
         d = load_pantograph_design(design)
         rep = optimize_report(d, method)
         if out is not None:
-            write_optimum(d, rep, out, f"hapticad optimize {design.name} --method {method}")
+            rep["replaced"] = write_optimum(
+                d, rep, out, f"hapticad optimize {design.name} --method {method}"
+            )
             rep["out"] = str(out)
         if json_out:
             print_json(rep)
@@ -100,4 +103,4 @@ def register(app: typer.Typer) -> None:
         if rep["at_bound"]:
             print(f"  note: optimum at the range bound of {', '.join(rep['at_bound'])}")
         if out is not None:
-            print(f"  wrote {out}")
+            print(f"  {'replaced' if rep['replaced'] else 'wrote'} {out}")
