@@ -31,8 +31,8 @@ def register(app: typer.Typer) -> None:
         from cad.design.fields import load_toml
         from cad.design.targets import parse_cli_target
         from cad.errors import DesignError
-        from cad.io.owned import check_out_dir
-        from cad.sweep.run import OWNED, SweepSpec, run_sweep
+        from cad.io.outdir import check_out_dir
+        from cad.sweep.run import SweepSpec, run_sweep
         from cad.sweep.spec import parse_vary
         from cad.sweep.task import VALUE_KEYS
 
@@ -54,7 +54,7 @@ def register(app: typer.Typer) -> None:
         if len(xy) != 2 or not all(c in VALUE_KEYS for c in xy):
             raise DesignError("--chart", f"expected X,Y with X and Y in {', '.join(VALUE_KEYS)}, got {chart!r}")
         cli = tuple(parse_cli_target(t) for t in (target or []))
-        check_out_dir(out, OWNED)
+        check_out_dir(out, str(design))  # only a folder hapticad wrote (README "Output folders")
         raw = load_toml(design)
         _check_keys(raw, design, varies)
         spec = SweepSpec(design=design.resolve(), raw=raw, varies=varies, samples=samples, seed=seed,

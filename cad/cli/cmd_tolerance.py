@@ -65,7 +65,7 @@ def register(app: typer.Typer) -> None:
         from cad.design.fourbar import FourBarDesign
         from cad.design.targets import parse_cli_target
         from cad.errors import DesignError
-        from cad.io.owned import check_out_dir
+        from cad.io.outdir import check_out_dir
         from cad.tolerance_study import inertia_for_m11, run, tolerances_from_flags, write_chart
 
         for flag, value in (("--hole-mm", hole_mm), ("--pivot-mm", pivot_mm),
@@ -81,7 +81,7 @@ def register(app: typer.Typer) -> None:
         cli = tuple(parse_cli_target(t) for t in (target or []))
         H = parse_inertia_option(inertia) if inertia is not None else None
         if out is not None:
-            check_out_dir(out, OWNED)
+            check_out_dir(out, str(design))  # only a folder hapticad wrote
         d = load_design(design)
         if not isinstance(d, FourBarDesign):
             raise DesignError("mechanism.family", "tolerance works on four-bar designs")
@@ -95,7 +95,10 @@ def register(app: typer.Typer) -> None:
             out.mkdir(parents=True, exist_ok=True)
             write_chart(res, m, targets, out / "tolerance.png")
             write_text_atomic(out / "tolerance.json", json.dumps(res, indent=1))
-            res["files"] = [str(out / n) for n in OWNED]
+            from cad.export.manifest import write_manifest
+
+            write_manifest(out)
+            res["files"] = [str(out / n) for n in (*OWNED, "manifest.json")]
         if json_out:
             print_json(res, indent=1)
         else:

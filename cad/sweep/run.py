@@ -20,7 +20,9 @@ import json
 import logging
 import math
 import pickle
+import signal
 import sys
+import threading
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -31,7 +33,7 @@ from cad.io.atomic import atomic_path, write_text_atomic
 from cad.sweep.spec import Vary, apply, assignments, design_hash
 from cad.sweep.task import VALUE_KEYS, evaluate_variant
 
-OWNED = ("results.parquet", "results.csv", "sweep.json", "chart.png")
+OWNED = ("results.parquet", "results.csv", "sweep.json", "chart.png", "manifest.json")
 DONE = ("ok", "missed", "error")
 WRITE_EVERY_S = 1.0
 META_COLUMNS = ("variant", "design_hash", "targets", "status", "error", "targets_missed")
@@ -122,6 +124,23 @@ def columns(varies: tuple[Vary, ...]) -> list[str]:
     return [v.key for v in varies] + list(META_COLUMNS) + list(VALUE_KEYS) + list(TAIL_COLUMNS)
 
 
+def publish(out: Path, rows: list[dict[str, Any]], cols: list[str]) -> None:
+    """:func:`write_table` then ``manifest.json`` (the folder's ownership record, README
+    "Output folders"), with SIGINT/SIGTERM held back in between so that an interrupt
+    cannot leave a table the manifest does not list (a kill -9 still can: then move the
+    folder's manifest.json away to resume)."""
+    from cad.export.manifest import write_manifest
+
+    main = threading.current_thread() is threading.main_thread() and hasattr(signal, "pthread_sigmask")
+    old = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT, signal.SIGTERM}) if main else None
+    try:
+        write_table(out, rows, cols)
+        write_manifest(out)
+    finally:
+        if old is not None:
+            signal.pthread_sigmask(signal.SIG_SETMASK, old)
+
+
 def write_table(out: Path, rows: list[dict[str, Any]], cols: list[str]) -> None:
     """``results.parquet`` and ``results.csv``, each written atomically, rows sorted by variant."""
     import pyarrow as pa
@@ -193,17 +212,17 @@ def run_sweep(spec: SweepSpec, out: Path, workers: int, scheduler: str | None) -
                 prog.add(res["status"])
                 last_done = time.perf_counter()
                 if last_done - last_write >= WRITE_EVERY_S:
-                    write_table(out, rows, cols)
+                    publish(out, rows, cols)
                     prog.line()
                     last_write = time.perf_counter()
         finally:
             prog.stop()
-            write_table(out, rows, cols)
+            publish(out, rows, cols)
             client.close()
             if cluster is not None:
                 cluster.close()
     elif not (out / "results.parquet").exists():
-        write_table(out, rows, cols)
+        publish(out, rows, cols)
     prog.line()
     wall = time.perf_counter() - t0
     summary = {
@@ -227,6 +246,9 @@ def run_sweep(spec: SweepSpec, out: Path, workers: int, scheduler: str | None) -
     }
     write_chart(out / "chart.png", rows, spec)
     write_text_atomic(out / "sweep.json", json.dumps(summary, indent=1))
+    from cad.export.manifest import write_manifest
+
+    write_manifest(out)
     return summary
 
 
