@@ -17,6 +17,7 @@ TOPICS = {
     "build": "cad.bench.build",
     "fidelity": "cad.bench.fidelity",
     "structure": "cad.bench.structure",
+    "families": "cad.bench.families",
     "evaluations": "cad.bench.evaluations",
     "sweep": "cad.bench.sweep",
 }
@@ -43,6 +44,10 @@ def _goals(results: dict) -> list[tuple[str, str, str, bool | None]]:
                            ("cached_s", "hapticad build hoeken unchanged", 1.5)):
         if key in b:
             rows.append((goal, f"{b[key]:.2f} s", f"<= {lim} s", b[key] <= lim))
+    f = results.get("families", {})
+    if "powermouse_cold_s" in f:
+        t = f["powermouse_cold_s"]
+        rows.append(("hapticad build powermouse cold", f"{t:.2f} s", "<= 8 s", t <= 8.0))
     e = results.get("evaluations", {})
     for key, goal in (("same_s", "check/fit evaluation, same design (after import)"),
                       ("material_s", "check/fit evaluation, new material"),
