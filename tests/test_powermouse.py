@@ -192,12 +192,8 @@ def test_clearances_match_analytic_values(solids):
 # ------------------------------------------------------------------ build
 
 
-def test_build_report_and_exports(tmp_path):
-    from cad.build import build_design
-
-    d = load_design(DESIGN_PATH)
-    out = tmp_path / "pm"
-    rep = build_design(d, out, {"step"}, fidelity="preview", use_cache=False)
+def test_build_report_and_exports(family_builds):
+    d, out, rep = family_builds["powermouse"]
     sv = np.array(rep["wrench_map_singular_values"])
     np.testing.assert_allclose(sv[:3], sv[0], rtol=1e-12)
     np.testing.assert_allclose(sv[3:], sv[3], rtol=1e-12)
@@ -212,7 +208,13 @@ def test_build_report_and_exports(tmp_path):
     )
     assert rep["clearances_mm"]["translation_mm"] >= 0 and rep["clearances_mm"]["rotation_mm"] > 0
     files = set(rep["files"])
-    assert {"pm_flotor_shell.step", "pm_coil.step", "powermouse_assembly.step", "bom.csv"} <= files
+    assert {
+        "parts/pm_flotor_body.step",
+        "parts/pm_coil.step",
+        "assembly.step",
+        "bom.csv",
+        "rig/assembly.step",
+    } <= files
     for f in files:
         assert (out / f).is_file()
     with (out / "bom.csv").open(newline="") as fh:

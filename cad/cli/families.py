@@ -24,6 +24,7 @@ COMMAND_FAMILIES: dict[str, tuple[str, ...]] = {
     "optimize": PANTOGRAPHS,
     "tolerance": FOUR_BARS,
     "wall": FOUR_BARS,
+    "render": FOUR_BARS,
 }
 
 
