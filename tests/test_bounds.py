@@ -401,3 +401,27 @@ def test_bound_slip_hint_and_range_text():
 
 def test_readme_bounds_table_is_the_generated_one():
     assert bounds.markdown_table() in (ROOT / "README.md").read_text()
+
+
+def test_bounds_run_before_any_cad_import():
+    """Loading (and refusing) every bundled design and the slip case imports no CAD library."""
+    import subprocess
+    import sys
+
+    code = (
+        "import sys\n"
+        "from cad.design import load_design\n"
+        "from cad.errors import DesignError\n"
+        f"for p in {[str(DESIGNS / f'{n}.toml') for n in BUNDLED]!r}:\n"
+        "    load_design(p)\n"
+        f"d = load_design({str(CASES / 'unit-slips' / 'stroke_in_metres.toml')!r})\n"
+        "try:\n"
+        "    d.check_buildable()\n"
+        "except DesignError:\n"
+        "    pass\n"
+        "bad = [m for m in ('build123d', 'OCP', 'cadquery') if m in sys.modules]\n"
+        "assert not bad, bad\n"
+    )
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                       cwd=ROOT, env={"PYTHONPATH": str(ROOT), "PATH": "/usr/bin:/bin"})
+    assert r.returncode == 0, r.stderr
