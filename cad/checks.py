@@ -46,6 +46,15 @@ def values_from_report(report: dict[str, Any]) -> dict[str, float]:
     for k, v in (report.get("apparent_mass") or {}).items():
         if isinstance(v, (int, float)):
             vals[k] = float(v)
+    st = report.get("structure") or {}
+    if st:
+        vals["first_mode_Hz"] = float(st["first_mode_Hz"])
+        vals["max_stress_MPa"] = float(st["max_stress_MPa"])
+        for ax in ("x", "z"):
+            vals[f"compliance_{ax}_um_per_N"] = float(st["compliance_um_per_N"][ax])
+    for k in ("D_min_kg_m2", "D_max_kg_m2"):
+        if isinstance(report.get(k), (int, float)):
+            vals[k] = float(report[k])
     links = report.get("links") or {}
     moving = 0.0
     for name in ("crank", "coupler", "rocker"):

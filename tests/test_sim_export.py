@@ -198,7 +198,7 @@ def test_twin_pantograph_effective_mass_from_mujoco(mouse):
         assert v == pytest.approx(em[k], rel=1e-6), k
     assert r["residual_m"] < 1e-12
     root = ET.parse(out / "haptic-mouse.xml").getroot()
-    for name, body in (("crankshaft", "crankshaft"), ("knob_distal_left", "knob_distal")):
+    for name, body in (("crankshaft", "crankshaft"), ("knob_distal_left", "knob_distal_left")):
         el = root.find(f".//body[@name='{name}']/inertial")
         assert float(el.get("mass")) == rep["bodies"][body]["mass_kg"]
         assert _tensor(_floats(el.get("fullinertia"))).tolist() == rep["bodies"][body]["inertia_com_kg_m2"]

@@ -13,6 +13,8 @@ dispatcher adds ``build`` metadata, writes ``report.json`` and ``manifest.json``
 builder may put wall times under ``"_timings_s"``: they are returned (as
 ``timings_s``) but kept out of ``report.json`` so that the file is deterministic.
 ``progress`` (may be None) is called as ``progress(description, done, total)``.
+A builder may expose ``check_options(design, fidelity, phi1_deg, formats)`` raising DesignError for
+a combination it cannot build; the dispatcher calls it before any CAD import.
 A builder may also expose ``cache_inputs(design) -> dict`` with anything outside the
 design object that its output depends on (e.g. the hash of a user part script), and
 ``CODE_DEPS`` (paths inside the ``cad`` package whose source its output depends on; by
@@ -177,6 +179,8 @@ def build_design(
                 "mechanism.family", f"building {design.family!r} designs is not available yet"
             ) from None
         raise
+    if hasattr(mod, "check_options"):  # unsupported combinations: before any CAD import
+        mod.check_options(design, fidelity, phi1_deg, set(formats))
     if set(formats) & {"mjcf", "urdf"} and not getattr(mod, "SIM_EXPORT", False):
         raise DesignError(
             "--formats",

@@ -48,6 +48,7 @@ CODE_DEPS = (
     "massprops",
     "kinematics",
     "dynamics",
+    "structure",
     "design",
     "io",
     "materials.py",
@@ -427,6 +428,9 @@ def build(
             design, asm, props, link_props, Jm, H, am, fidelity, user_handle is not None, plan
         )
         timings["massprops"] = time.perf_counter() - t1
+        from cad.structure.device import structure_of_build
+
+        structure = structure_of_build(design, asm, props, am["M11_max_g"])
 
         # 5 interference
         _step(progress, "interference sweep", 3, n_steps)
@@ -507,6 +511,7 @@ def build(
         "beta2_deg": math.degrees(H.beta2_rad),
         "Jm_kg_m2": Jm,
         "apparent_mass": am,
+        "structure": structure,
         "links": {
             k: {
                 **link_props[k].to_dict(),

@@ -16,6 +16,7 @@ TOPICS = {
     "voicecoil": "cad.bench.voicecoil",
     "build": "cad.bench.build",
     "fidelity": "cad.bench.fidelity",
+    "structure": "cad.bench.structure",
 }
 
 

@@ -300,6 +300,13 @@ TARGETS: dict[str, Bound] = {
     "torque_variation": Bound("", None, 1e6, "a ratio above 1e6 is a typo", signed=True),
     "min_transmission_angle_deg": Bound("deg", None, 90.0,
                                         "a transmission angle lies in [0, 90] deg", signed=True),
+    # structure (cad/structure/device.py) and the equivalent inertia D (eq 14)
+    "first_mode_Hz": Bound("Hz", 0.0, 1e6, "a mechanical mode above 1 MHz is a typo",
+                           None, 1e4, f"a first mode over 10 kHz is not {_DESK}", (("kHz", 1000.0),)),
+    "max_stress_MPa": Bound("MPa", 0.0, 1e5, "no material holds 100 GPa", slips=(("Pa", 1e-6), ("GPa", 1e3))),
+    **{k: Bound("um/N", 0.0, 1e9, "a compliance above 1 m/N is no structure", slips=(("m/N", 1e6), ("mm/N", 1e3)))
+       for k in ("compliance_x_um_per_N", "compliance_z_um_per_N")},
+    **{k: H12_KG_M2 for k in ("D_min_kg_m2", "D_max_kg_m2")},
     # pantograph families (cad.design.targets.PANTOGRAPH_TARGET_KEYS)
     "gii": Bound("", None, 1.0, "the GII (isotropy paper eq 5) lies in [0, 1]", signed=True),
     **{k: _APPARENT_G for k in ("mass_x_g_apparent", "mass_y_g_apparent", "mass_x_g_diag",

@@ -10,6 +10,7 @@ Schema (mm, N, N m; every key optional unless marked *):
     [workspace]  side_mm*, center_mm* = [x, y], grid (11)
     [actuators]  torque_max_Nm (1.0, or [left, right]), force_max_N (1.0)
     [optimize]   base_mm / proximal_mm / distal_mm = [min, max, count]
+    [parts]      see :class:`PantographParts` (the mouse's lower group and a handle at E)
 
 ``twin-pantograph`` (haptic mouse, §4.1)::
 
@@ -562,6 +563,7 @@ def parse(raw: dict[str, Any], source: str = "<design>") -> PantographDesign:
                 _elbow(mech, "elbow_right", -1),
             )
             actuators = {"torque_max_Nm": _torque(act, 2), "force_max_N": force}
+            parts = parse_parts(optional_table(raw, "parts", ""))
         else:
             from cad.kinematics.twin_pantograph import TwinPantograph, crank_length_mm
 
@@ -627,9 +629,9 @@ def parse(raw: dict[str, Any], source: str = "<design>") -> PantographDesign:
         }
     _check_magnitudes(family, mech, workspace, actuators, optimize)
     _check_sizes(family, workspace, optimize)
-    if "parts" in raw and family != "twin-pantograph":
+    if "parts" in raw and family not in ("pantograph", "twin-pantograph"):
         raise DesignError(
-            "parts", f"parts are generated for the twin-pantograph only, not {family!r}"
+            "parts", f"parts are generated for the pantograph and twin-pantograph, not {family!r}"
         )
     return PantographDesign(
         name=name,

@@ -27,6 +27,8 @@ TARGET_KEYS: tuple[str, ...] = (
     "crank_mass_g", "coupler_mass_g", "rocker_mass_g", "moving_mass_g",
     "stroke_mm", "dy_max_mm", "slope_max", "torque_mean_mNm", "torque_variation",
     "min_transmission_angle_deg", "min_clearance_mm",
+    "first_mode_Hz", "max_stress_MPa", "compliance_x_um_per_N", "compliance_z_um_per_N",
+    "D_min_kg_m2", "D_max_kg_m2",
 )
 
 #: Targets of the pantograph families (isotropy paper): the GII (eq 5) over the design's
