@@ -189,7 +189,8 @@ def build_assembly(
         lambda: joints.nut_shape(parts.pin),
         material=steel,
         made=False,
-        description=f"hex nut ISO 4032 {parts.pin}",
+        description=(f"retaining ring DIN 471 {pin.ds_mm:g}" if cat.is_dowel(parts.pin)
+                     else f"hex nut ISO 4032 {parts.pin}"),
         process="bought",
         revolution=True,
         collision=(("self", joints.ring_shape(0.0, nut.s_mm / math.sqrt(3.0), nut.m_mm)),),
@@ -239,9 +240,9 @@ def build_assembly(
         pk = kind(
             f"shoulder_screw_{parts.pin}x{_fmt(s.pin_length_mm)}",
             lambda s=s: joints.shoulder_screw_shape(parts.pin, s.pin_length_mm),
-            material=steel,
+            material=parts.pin_material,
             made=False,
-            description=f"shoulder screw ISO 7379 {parts.pin} x {_fmt(s.pin_length_mm)}",
+            description=cat.pin_description(parts.pin, s.pin_length_mm),
             process="bought",
             revolution=True,
             collision=(
@@ -351,7 +352,7 @@ def build_assembly(
             opening,
             motor.mount_hole_xy_mm(m),
             motor.MOUNT_SCREW,
-            parts.pin,
+            cat.standoff_screw(parts.pin),
         ),
         material=parts.base_material,
         made=True,
@@ -372,7 +373,7 @@ def build_assembly(
             bore_depth,
             parts.pin,
             pin.b_mm + 1.0,
-            parts.pin,
+            cat.standoff_screw(parts.pin),
         ),
         material=parts.post_material,
         made=True,
@@ -381,11 +382,11 @@ def build_assembly(
         revolution=True,
     )
     place("post_A4", pok, "ground", translation(a4[0], a4[1], 0.0))
-    st_cs = cat.get_cap_screw(parts.pin, "parts.pin")
+    st_cs = cat.get_cap_screw(cat.standoff_screw(parts.pin), "parts.pin")
     st_L = cat.shortest_length(
         st_cs.lengths_mm, parts.base_thickness_mm + STANDOFF_SCREW_ENGAGEMENT_MM
     )
-    stk = cap_screw_kind(parts.pin, st_L)
+    stk = cap_screw_kind(cat.standoff_screw(parts.pin), st_L)
     place(
         "post_screw", stk, "ground", translation(a4[0], a4[1], -parts.base_thickness_mm) @ flip_x()
     )

@@ -12,6 +12,9 @@ the part files, ``bom.csv`` and the preview into it and returns the report dict.
 dispatcher adds ``build`` metadata, writes ``report.json`` and ``manifest.json``. A
 builder may put wall times under ``"_timings_s"``: they are returned (as
 ``timings_s``) but kept out of ``report.json`` so that the file is deterministic.
+A builder may put the bytes of its assembly's ``.glb`` under ``"_viewer_glb"``
+(:func:`cad.build.views.write_views`): the dispatcher embeds them in ``report.html``
+(:mod:`cad.report.html`, written for every family, after ``report.json``).
 ``progress`` (may be None) is called as ``progress(description, done, total)``.
 A builder may expose ``check_options(design, fidelity, phi1_deg, formats)`` raising DesignError for
 a combination it cannot build; the dispatcher calls it before any CAD import.
@@ -42,10 +45,12 @@ import cad
 from cad.design import FAMILY_MODULES
 from cad.errors import DesignError
 from cad.io.atomic import atomic_dir, write_text_atomic
+from cad.io.outdir import check_out_dir
 
 Progress = Callable[[str, int, int], None]
 FIDELITIES = ("fabrication", "inertia", "preview")
 REPORT_NAME = "report.json"
+HTML_NAME = "report.html"
 #: Bump when the cache key payload changes shape.
 CACHE_SCHEMA = 1
 
@@ -160,11 +165,15 @@ def build_design(
 
     Raises the builder's :class:`cad.errors.HapticadError` subclasses (DesignError,
     GeometryError, MeshError, InterferenceError ...); on any failure ``out_dir`` is
-    left exactly as it was.
+    left exactly as it was. ``out_dir`` is replaced whole, so it must hold only files
+    an earlier build wrote (:func:`cad.io.outdir.check_out_dir`, DesignError ``--out``
+    otherwise: checked before the build and again just before publishing).
     """
     if fidelity not in FIDELITIES:
         raise DesignError("--fidelity", f"must be one of {', '.join(FIDELITIES)}, got {fidelity!r}")
     out_dir = Path(out_dir)
+    check = functools.partial(check_out_dir, design_source=getattr(design, "source", None))
+    check(out_dir)
     key = build_key(design, formats, fidelity, allow_interference, phi1_deg)
     if use_cache:
         rep = cached_report(out_dir, key)
@@ -187,11 +196,16 @@ def build_design(
             f"mjcf/urdf export is available for four-bar and twin-pantograph designs, "
             f"not {design.family!r}",
         )
+    if set(formats) & {"glb", "3mf"} and not getattr(mod, "VIEW_EXPORT", False):
+        raise DesignError(
+            "--formats",
+            f"glb/3mf export is available for four-bar designs, not {design.family!r} yet",
+        )
     from cad.export.manifest import write_manifest
     from cad.parts.lazy_import import import_build123d
 
     import_build123d()  # the build's first CAD import, without scikit-learn (lazy_import)
-    with atomic_dir(out_dir) as tmp:
+    with atomic_dir(out_dir, check=check) as tmp:
         report = mod.build(
             design,
             tmp,
@@ -203,15 +217,20 @@ def build_design(
         )
         report = dict(report)
         timings = report.pop("_timings_s", None)
+        viewer_glb = report.pop("_viewer_glb", None)
+        if isinstance(report.get("files"), list):
+            report["files"] = sorted({*report["files"], HTML_NAME})
         report["build"] = {
             "formats": sorted(formats),
             "fidelity": fidelity,
             "allow_interference": bool(allow_interference),
             "build_key": key,
         }
-        write_text_atomic(
-            tmp / REPORT_NAME, json.dumps(_jsonable(report), indent=2, sort_keys=True) + "\n"
-        )
+        doc = _jsonable(report)
+        write_text_atomic(tmp / REPORT_NAME, json.dumps(doc, indent=2, sort_keys=True) + "\n")
+        from cad.report.html import write_report_html
+
+        write_report_html(doc, tmp, viewer_glb)
         write_manifest(tmp, {"build_key": key})
     report["cached"] = False
     if timings is not None:

@@ -138,11 +138,13 @@ def posed_items(instances, tf_world_body: dict, listed_only: bool = True) -> lis
 
 def check_assembly(instances, tf_world_body: dict, *, mesh_tol_mm: float = 0.05) -> dict:
     """Every pair of solids at the exported pose (same-body pairs included): see
-    :func:`cad.assembly.static.every_pair`. Returns its report dict."""
+    :func:`cad.assembly.static.every_pair`. Returns its report dict without the wall time."""
     from cad.assembly.static import every_pair
 
     items = [(inst.name, world_tf(inst, tf_world_body), inst.kind.shape) for inst in instances]
-    return every_pair(items, mesh_tol_mm=mesh_tol_mm)
+    rep = every_pair(items, mesh_tol_mm=mesh_tol_mm)
+    rep.pop("time_s", None)  # a wall time: report.json must be the same bytes every build
+    return rep
 
 
 def lowest_z_mm(instances, tf_world_body: dict) -> tuple[float, str]:

@@ -1,7 +1,8 @@
 """The ``hapticad`` typer application and its error boundary.
 
 Exit codes: 0 success, 1 a target missed (``check``), 2 bad input (one line on
-stderr naming the field and the reason, never a traceback).
+stderr naming the field and the reason, never a traceback), 130 / 143 interrupted by
+SIGINT / SIGTERM (``hapticad: aborted``, nothing published: :mod:`cad.io.signals`).
 """
 
 from __future__ import annotations
@@ -101,15 +102,23 @@ def run(argv: list[str] | None = None) -> int:
 def _run(argv: list[str] | None) -> int:
     if not _REGISTERED:
         _register_commands()
+    try:
+        return _run_app(argv)
+    finally:
+        handle = sys.modules.get("cad.parts.handle")  # per-command script opt-in ends here
+        if handle is not None:
+            handle.clear_script_policy()
+
+
+def _run_app(argv: list[str] | None) -> int:
     click_error = next(c for c in typer.BadParameter.__mro__ if c.__name__ == "ClickException")
     try:
         rv = app(args=argv, prog_name="hapticad", standalone_mode=False)
         return rv if isinstance(rv, int) else 0
     except typer.Exit as exc:
         return int(exc.exit_code)
-    except typer.Abort:
-        print("hapticad: aborted", file=sys.stderr)
-        return 1
+    except (typer.Abort, KeyboardInterrupt):
+        return _aborted()
     except click_error as exc:  # usage errors: one line, exit 2
         if type(exc).__name__ == "NoArgsIsHelpError":  # bare `hapticad`: the help, exit 0
             print(exc.ctx.get_help() if exc.ctx else "")
@@ -128,9 +137,28 @@ def _run(argv: list[str] | None) -> int:
         return 2
 
 
+def _aborted() -> int:
+    """``hapticad: aborted`` on stderr; the exit code 128 + signal (130 for Ctrl-C)."""
+    from cad.io import signals
+
+    print("hapticad: aborted", file=sys.stderr, flush=True)
+    return signals.exit_code()
+
+
 def main() -> None:
-    """Console-script entry point."""
-    sys.exit(run())
+    """Console-script entry point: SIGINT/SIGTERM abort cleanly (:mod:`cad.io.signals`)."""
+    from cad.io import signals
+
+    signals.install()
+    try:
+        code = run()
+    except BaseException:
+        if signals.received() is None or signals.committed():
+            raise
+        code = _aborted()  # e.g. an ImportError raised by a library interrupted mid-import
+    if signals.received() is not None and code != signals.exit_code() and not signals.committed():
+        code = _aborted()  # a library swallowed the interrupt: nothing was published
+    sys.exit(code)
 
 
 if __name__ == "__main__":

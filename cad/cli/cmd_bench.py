@@ -17,6 +17,7 @@ TOPICS = {
     "build": "cad.bench.build",
     "fidelity": "cad.bench.fidelity",
     "structure": "cad.bench.structure",
+    "families": "cad.bench.families",
 }
 
 
@@ -37,6 +38,10 @@ def _goals(results: dict) -> list[tuple[str, str, str, bool | None]]:
     for key, goal, lim in (("cold_s", "hapticad build hoeken cold", 8.0), ("cached_s", "hapticad build hoeken unchanged", 1.5)):
         if key in b:
             rows.append((goal, f"{b[key]:.2f} s", f"<= {lim} s", b[key] <= lim))
+    f = results.get("families", {})
+    if "powermouse_cold_s" in f:
+        t = f["powermouse_cold_s"]
+        rows.append(("hapticad build powermouse cold", f"{t:.2f} s", "<= 8 s", t <= 8.0))
     i = results.get("interference", {})
     if "sweep_200_s" in i:
         rows.append(("interference sweep 200 poses x all pairs", f"{i['sweep_200_s']:.2f} s, {i.get('missed', '?')} missed",
@@ -74,6 +79,10 @@ def register(app: typer.Typer) -> None:
                 if t not in TOPICS:
                     raise DesignError("--only", f"unknown topic {t!r} (known: {', '.join(TOPICS)})")
         con = Console(stderr=True)
+        from cad.export.manifest import write_manifest
+        from cad.io.outdir import check_out_dir
+
+        check_out_dir(out)  # only a folder bench (or build) wrote: README "Output folders"
         out.mkdir(parents=True, exist_ok=True)
         results: dict = {}
         for t in topics:
@@ -86,9 +95,11 @@ def register(app: typer.Typer) -> None:
             con.print(f"[bold]bench[/] {t} ...")
             results[t] = mod.run(quick, out)
             results[t]["bench_wall_s"] = time.perf_counter() - t0
+            write_manifest(out)  # after each topic: what is there is bench's own
         rows = _goals(results)
         results["goals"] = [{"goal": g, "measured": m, "target": tg, "met": ok} for g, m, tg, ok in rows]
         write_text_atomic(out / "bench.json", json.dumps(results, indent=1, default=float))
+        write_manifest(out)
         tab = Table(title="performance goals (medians)")
         for c in ("goal", "measured", "target", "met"):
             tab.add_column(c)

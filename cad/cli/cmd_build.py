@@ -62,7 +62,9 @@ def register(app: typer.Typer) -> None:
         design: Path = typer.Argument(..., help="TOML design file"),
         out: Path = typer.Option(None, "--out", help="output folder (default exports/<name>/)"),
         formats: str = typer.Option(
-            "step,stl,dxf", "--formats", help="comma list of step, stl, dxf, mjcf, urdf (mjcf/urdf also write the STL meshes)"
+            "step,stl,dxf",
+            "--formats",
+            help="comma list of step, stl, dxf, mjcf, urdf, glb, 3mf (mjcf/urdf also write the STL meshes)",
         ),
         fidelity: str = typer.Option(
             None, "--fidelity", help="fabrication | inertia | preview (default: [parts].fidelity)"
@@ -75,8 +77,17 @@ def register(app: typer.Typer) -> None:
         ),
         json_out: bool = typer.Option(False, "--json", help="print the report as one JSON object"),
         no_cache: bool = typer.Option(False, "--no-cache", help="rebuild even if nothing changed"),
+        allow_scripts: bool = typer.Option(
+            False, "--allow-scripts", help="run the design's [parts] handle_script (inside its folder)"
+        ),
+        allow_scripts_anywhere: bool = typer.Option(
+            False, "--allow-scripts-anywhere", help="run handle_script from any path"
+        ),
     ) -> None:
         """Parts, posed assembly, interference check and fabrication exports of a design."""
+        from cad.parts.handle import set_script_policy
+
+        set_script_policy(allow_scripts, allow_scripts_anywhere)
         from cad.build import FIDELITIES, build_design
         from cad.cli import flags
         from cad.design import load_design

@@ -22,8 +22,17 @@ def register(app: typer.Typer) -> None:
         target: list[str] = typer.Option(None, "--target", help="KEY=VALUE (default tolerance), KEY<=V, KEY>=V; repeatable"),
         fidelity: str = typer.Option("inertia", "--fidelity", help="inertia (default) | fabrication"),
         json_out: bool = typer.Option(False, "--json", help="print one JSON object"),
+        allow_scripts: bool = typer.Option(
+            False, "--allow-scripts", help="run the design's [parts] handle_script (inside its folder)"
+        ),
+        allow_scripts_anywhere: bool = typer.Option(
+            False, "--allow-scripts-anywhere", help="run handle_script from any path"
+        ),
     ) -> None:
         """Inertia and apparent mass from the solids against the design's targets (exit 0 / 1 / 2)."""
+        from cad.parts.handle import set_script_policy
+
+        set_script_policy(allow_scripts, allow_scripts_anywhere)
         from cad.api import check
         from cad.cli import flags
         from cad.design import bounds, load_design

@@ -6,7 +6,8 @@ mount, base interface, handle) and produces the bar set of another straight-line
 convenient design of the revolute joints, the different straight line mechanisms can
 be obtained by fabricating the adequate set of bars", Hoeken paper §III.A). Prints the
 old and new metrics side by side and writes the new design atomically (default: beside
-DESIGN as ``<stem>_<family>.toml``). The layer planner (no CAD) runs on the new bar set;
+DESIGN as ``<stem>_<family>.toml``); never over DESIGN itself, and it says ``replaced``
+when the file existed (:func:`cad.io.outdir.check_out_file`). The layer planner (no CAD) runs on the new bar set;
 ``--build`` also builds it (and fails if anything collides).
 """
 
@@ -105,6 +106,7 @@ def register(app: typer.Typer) -> None:
         from cad.design.writer import dropped_targets_note
         from cad.errors import DesignError
         from cad.io.atomic import write_text_atomic
+        from cad.io.outdir import check_out_file
         from cad.kinematics.linkgeom import link_joints_mm
 
         flags.choice("--to", to, SWAP_FAMILIES)
@@ -119,6 +121,7 @@ def register(app: typer.Typer) -> None:
             if out is not None
             else design.with_name(f"{design.stem}_{to.replace('-', '_')}.toml")
         )
+        replaced = check_out_file(target, design)
         raw = swap_raw(d, to, target)
         if out is not None:  # the written file names the design (and its build folder)
             raw["name"] = out.stem
@@ -132,12 +135,12 @@ def register(app: typer.Typer) -> None:
         )
         text = tomli_w.dumps(raw)
         header = f"written by `hapticad swap {design.name} --to {to}`" + dropped_targets_note(dropped)
-        write_text_atomic(target, "".join(f"# {ln}\n" for ln in header.splitlines()) + text)
         old_m, new_m = metric_rows(d), metric_rows(new)
         result = {
             "old": old_m,
             "new": new_m,
             "out": str(target),
+            "replaced": replaced,
             "layers": {
                 "order": list(plan.order),
                 "conflicts": list(plan.conflicts),
@@ -155,6 +158,10 @@ def register(app: typer.Typer) -> None:
                 "overlap_volume_mm3": rep["overlap_volume_mm3"],
                 "out": str(build_dir),
             }
+        # the design file last: it is the command's output (cad.io.signals commit point)
+        write_text_atomic(
+            target, "".join(f"# {ln}\n" for ln in header.splitlines()) + text, final=True
+        )
         if json_out:
             print_json(result, sort_keys=True, default=float)
             return
@@ -177,7 +184,7 @@ def register(app: typer.Typer) -> None:
         con.print(t)
         con.print(
             f"layers {', '.join(plan.order)} (bottom to top), planar clearance "
-            f"{plan.min_planar_clearance_mm:.2f} mm; wrote {target}"
+            f"{plan.min_planar_clearance_mm:.2f} mm; {'replaced' if replaced else 'wrote'} {target}"
         )
         if plan.conflicts:
             con.print(f"[yellow]warning:[/] layer conflicts: {'; '.join(plan.conflicts)}")

@@ -45,6 +45,7 @@ def register(app: typer.Typer) -> None:
         )
         from cad.errors import DesignError
         from cad.io.atomic import write_text_atomic
+        from cad.io.outdir import check_out_file
         from cad.kinematics.synthesis import FREE_SETS, OBJECTIVES, synthesize
 
         flags.choice("--objective", objective, OBJECTIVES)
@@ -56,6 +57,7 @@ def register(app: typer.Typer) -> None:
         d = load_design(design)
         if not isinstance(d, FourBarDesign):
             raise DesignError("mechanism.family", refusal("synth", d.family))
+        replaced = check_out_file(out, design) if out is not None else False
         r = synthesize(d.linkage, d.phi1_min_rad, d.phi1_max_rad, objective, free=free,
                        dy_tol_mm=dy_tol_mm, mu_min_deg=mu_min_deg,
                        stroke_mm=stroke_mm or (d.stroke_mm_requested or None), force_N=d.force_N)
@@ -74,8 +76,11 @@ def register(app: typer.Typer) -> None:
             parse_design(raw, str(out))  # must validate before anything is written
             header = (f"Synthesized by `hapticad synth {design.name} {synth_flags(objective, free, dy_tol_mm, mu_min_deg, stroke_mm)}` "
                       f"from {d.family}" + dropped_targets_note(dropped))
-            write_text_atomic(out, dumps_design(raw, header))
             res["out"] = str(out)
+            res["replaced"] = replaced
+            text = dumps_design(raw, header)
+        if out is not None:  # last: the command's output (cad.io.signals commit point)
+            write_text_atomic(out, text, final=True)
         if json_out:
             print_json(res, indent=1)
             return
@@ -93,6 +98,6 @@ def register(app: typer.Typer) -> None:
             t.add_row(k, f"{s[k]:.4g}", f"{o[k]:.4g}")
         Console().print(t)
         if out is not None:
-            print(f"wrote {out}")
+            print(f"{'replaced' if replaced else 'wrote'} {out}")
         if not math.isfinite(o["stroke_mm"]):
             raise DesignError("synth", "no feasible result")

@@ -28,6 +28,7 @@ from typing import Any
 
 from cad import tolerances as tol
 from cad.design.fields import (
+    check_name,
     check_unknown,
     optional_int,
     optional_number,
@@ -190,9 +191,7 @@ def _parse_stiffness(tab: dict[str, Any]) -> StiffnessInputs | None:
 def parse(raw: dict[str, Any], source: str = "<design>") -> FourBarDesign:
     """Validate a raw four-bar design mapping (see module docstring)."""
     check_unknown(raw, TOP_KEYS, "")
-    name = require_str(raw, "name", "")
-    if "/" in name or "\\" in name or name.startswith("."):
-        raise DesignError("name", f"must be a plain folder name, got {name!r}")
+    name = check_name(require_str(raw, "name", ""))
     mech = require_table(raw, "mechanism", "")
     family = require_str(mech, "family", "mechanism")
     if family not in FOURBAR_FAMILIES:

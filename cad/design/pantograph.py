@@ -45,6 +45,7 @@ from typing import Any
 import numpy as np
 
 from cad.design.fields import (
+    check_name,
     check_unknown,
     number_list,
     optional_int,
@@ -527,9 +528,7 @@ def parse(raw: dict[str, Any], source: str = "<design>") -> PantographDesign:
     check_unknown(ws, _WS_KEYS[family], "workspace")
     act = optional_table(raw, "actuators", "")
     check_unknown(act, _ACT_KEYS[family], "actuators")
-    name = raw.get("name", family)
-    if not isinstance(name, str):
-        raise DesignError("name", f"must be a string, got {name!r}")
+    name = check_name(raw.get("name", family))
     optimize = _parse_optimize(raw, family)
     parts = None
     workspace: dict[str, Any] = {}
