@@ -27,7 +27,7 @@ from cad.errors import DesignError
 
 ROOT = Path(__file__).resolve().parents[1]
 DESIGNS = ROOT / "designs"
-CASES = Path("/work/shared/cases")
+CASES = Path(__file__).resolve().parent / "cases"  # copies of ../shared/cases
 BUNDLED = ("hoeken", "custom_example", "pantograph", "haptic_mouse", "haptic_pen", "powermouse")
 
 
@@ -298,6 +298,8 @@ BAD_FLAGS: dict[tuple[str, str], list[str]] = {
     ("optimize", "--trials"): ["0", "1000000"],
     ("optimize", "--seed"): ["-1"],
     ("optimize", "--exact-top"): ["0", "51"],
+    ("render", "--fidelity"): ["ultra"],
+    ("render", "--out"): ["/dev/null/x", H],
     ("bench", "--only"): ["everything"],
     ("bench", "--out"): ["/dev/null/x"],
 }
@@ -306,6 +308,7 @@ BASE = {
     "swap": ["swap", H, "--to", "roberts"], "check": ["check", H], "fit": ["fit", H],
     "massprops": ["massprops", STL], "voicecoil": list(VC), "gii": ["gii", P],
     "optimize": ["optimize", P], "bench": ["bench"], "tolerance": ["tolerance", H],
+    "render": ["render", H],
 }
 CASES_FLAGS = [(c, f, v) for (c, f), vals in BAD_FLAGS.items() for v in vals]
 

@@ -16,7 +16,7 @@ from cli_helpers import assert_one_line_error, hapticad
 
 from cad.massprops.mesh import mesh_arrays_mass_props
 
-CASES = Path("/work/shared/cases")
+CASES = Path(__file__).resolve().parent / "cases"  # copies of ../shared/cases
 BOX_PRINCIPAL = [2.5e-7, 5.0e-7, 6.5e-7]
 
 
