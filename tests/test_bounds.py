@@ -298,6 +298,15 @@ BAD_FLAGS: dict[tuple[str, str], list[str]] = {
     ("optimize", "--trials"): ["0", "1000000"],
     ("optimize", "--seed"): ["-1"],
     ("optimize", "--exact-top"): ["0", "51"],
+    ("sweep", "--vary"): ["parts.bar_width_mm=1e7", "parts.bar_width_mm=10:1e7:3", "nothing"],
+    ("sweep", "--samples"): ["0", "1000000"],
+    ("sweep", "--fidelity"): ["ultra"],
+    ("sweep", "--workers"): ["0", "100000"],
+    ("sweep", "--scheduler"): ["localhost"],
+    ("sweep", "--out"): ["/dev/null/x"],
+    ("sweep", "--target"): ["M11_max_g=1e300"],
+    ("sweep", "--chart"): ["x,y"],
+    ("sweep", "--seed"): ["-1"],
     ("render", "--fidelity"): ["ultra"],
     ("render", "--out"): ["/dev/null/x", H],
     ("bench", "--only"): ["everything"],
@@ -308,7 +317,7 @@ BASE = {
     "swap": ["swap", H, "--to", "roberts"], "check": ["check", H], "fit": ["fit", H],
     "massprops": ["massprops", STL], "voicecoil": list(VC), "gii": ["gii", P],
     "optimize": ["optimize", P], "bench": ["bench"], "tolerance": ["tolerance", H],
-    "render": ["render", H],
+    "render": ["render", H], "sweep": ["sweep", H],
 }
 CASES_FLAGS = [(c, f, v) for (c, f), vals in BAD_FLAGS.items() for v in vals]
 
@@ -325,6 +334,10 @@ def test_every_flag_bad_value_is_one_line_naming_the_flag(command, flag, value, 
         argv += ["--free", "parts.bar_thickness_mm=5:8"]
     if command == "tolerance" and flag not in ("--hole-mm", "--hole"):
         argv += ["--hole-mm", "0.05"]
+    if command == "sweep" and flag != "--vary":
+        argv += ["--vary", "parts.bar_thickness_mm=5,6"]
+    if command == "sweep" and flag != "--out":
+        argv += ["--out", "sweep_out"]
     code, out, err = hapticad(*argv, flag, value)
     assert_one_line_error(code, err, flag)
     assert out == ""
