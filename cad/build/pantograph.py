@@ -1059,6 +1059,7 @@ def build(
 
     _step(progress, "report", 5, total)
     report = _report(design, lay, clr, bodies, eff, eff_bare, itf, bom, home, fidelity, low)
+    report["part_materials"] = family.part_materials(instances)
     report["files"] = sorted(files + ["report.md"])
     report["_viewer_glb"] = glb  # popped by the dispatcher: embedded in report.html
     family.write_report_md(
