@@ -37,7 +37,7 @@ OWNED = ("results.parquet", "results.csv", "sweep.json", "chart.png", "manifest.
 DONE = ("ok", "missed", "error")
 WRITE_EVERY_S = 1.0
 META_COLUMNS = ("variant", "design_hash", "targets", "status", "error", "targets_missed")
-TAIL_COLUMNS = ("wall_s", "worker")
+TAIL_COLUMNS = ("wall_s", "cpu_s", "worker")
 
 
 @dataclass
@@ -149,7 +149,7 @@ def write_table(out: Path, rows: list[dict[str, Any]], cols: list[str]) -> None:
 
     rows = sorted(rows, key=lambda r: (r.get("variant") is None, r.get("variant") or 0))
     data = {c: [r.get(c) for r in rows] for c in cols}
-    for c in VALUE_KEYS + ("wall_s",):
+    for c in VALUE_KEYS + ("wall_s", "cpu_s"):
         data[c] = [math.nan if v is None else float(v) for v in data[c]]
     table = pa.table({c: pa.array(v) for c, v in data.items()})
     with atomic_path(out / "results.parquet") as tmp:
@@ -237,6 +237,7 @@ def run_sweep(spec: SweepSpec, out: Path, workers: int, scheduler: str | None) -
         "evaluation_s": (last_done - t_eval) if todo and last_done else None,
         "variants_per_s": (len(todo) / (last_done - t_eval)) if todo and last_done else None,
         "variant_wall_s_median": _median([r.get("wall_s") for r in rows[-len(todo):]] if todo else []),
+        "variant_cpu_s_median": _median([r.get("cpu_s") for r in rows[-len(todo):]] if todo else []),
         "task_bytes_in_median": _median([float(len(pickle.dumps((raw, str(spec.design), spec.fidelity,
                                                                   spec.cli_targets))))
                                          for _, _, raw, _ in todo]),
