@@ -23,6 +23,7 @@ COMMAND_FAMILIES: dict[str, tuple[str, ...]] = {
     "gii": PANTOGRAPHS,
     "optimize": PANTOGRAPHS,
     "tolerance": FOUR_BARS,
+    "sweep": FOUR_BARS,
     "render": FOUR_BARS,
 }
 
