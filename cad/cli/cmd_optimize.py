@@ -16,6 +16,7 @@ from pathlib import Path
 import typer
 
 from cad.cli.app import print_json
+from cad.cli.families import FOUR_BARS as FOURBAR_FAMILIES
 
 
 def optimize_report(design, method: str) -> dict:
@@ -71,7 +72,6 @@ def write_optimum(design, rep: dict, out: Path, command: str) -> bool:
     return replaced
 
 
-FOURBAR_FAMILIES = ("hoeken", "roberts", "chebyshev", "chebyshev-v", "custom")
 
 
 def _fourbar(d, path: Path, objective: str, trials: int, seed: int, top: int, out: Path | None,

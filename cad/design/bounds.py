@@ -79,7 +79,7 @@ class Bound:
     def range_text(self) -> str:
         u = f" {self.unit}" if self.unit else ""
         if self.signed:
-            return f"magnitude <= {self.hi:g}{u}"
+            return f"of magnitude <= {self.hi:g}{u}"
         if self.lo is not None and self.hi is not None:
             op = "(" if self.lo_open else "["
             return f"in {op}{self.lo:g}, {self.hi:g}]{u}"
