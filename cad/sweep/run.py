@@ -158,6 +158,11 @@ def write_table(out: Path, rows: list[dict[str, Any]], cols: list[str]) -> None:
         pacsv.write_csv(table, tmp)
 
 
+#: no dashboard, and the scheduler's small HTTP server (metrics) on a free port: two sweeps
+#: (or a sweep beside another Dask cluster) must not fight over port 8787
+NO_HTTP_PORT = {"dashboard_address": ":0"}
+
+
 def _client(workers: int, scheduler: str | None):
     from dask.distributed import Client, LocalCluster
 
@@ -167,7 +172,8 @@ def _client(workers: int, scheduler: str | None):
         except OSError as exc:
             raise DesignError("--scheduler", f"cannot reach {scheduler}: {exc}") from None
     cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                           dashboard_address=None, silence_logs=logging.ERROR)
+                           dashboard_address=None, silence_logs=logging.ERROR,
+                           scheduler_kwargs=NO_HTTP_PORT)
     return Client(cluster), cluster
 
 
