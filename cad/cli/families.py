@@ -24,6 +24,7 @@ COMMAND_FAMILIES: dict[str, tuple[str, ...]] = {
     "optimize": FOUR_BARS + PANTOGRAPHS,
     "tolerance": FOUR_BARS,
     "sweep": FOUR_BARS,
+    "wall": FOUR_BARS,
     "render": FOUR_BARS,
 }
 
