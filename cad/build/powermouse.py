@@ -407,6 +407,18 @@ def build(
         )
     ]
     files += _fig8_chart(design, gap, out_dir)
+    from cad.build.views import write_viewer_outputs
+
+    view_files, viewer_glb = write_viewer_outputs(
+        inst,
+        tfs,
+        out_dir,
+        formats,
+        name=design.name,
+        title=f"{design.name} (powermouse)",
+        stroke=stroke_poses(design),
+    )
+    files += view_files
 
     _step(progress, "report", 5, total)
     rep = _report(
@@ -429,8 +441,34 @@ def build(
     )
     rep["files"] = sorted(files + ["report.md"])
     family.write_report_md(out_dir, f"{design.name} (powermouse)", _md_rows(rep), bom, rep["notes"])
+    rep["_viewer_glb"] = viewer_glb  # popped by the dispatcher: embedded in report.html
     _step(progress, "done", total, total)
     return rep
+
+
+#: This builder writes glb and 3mf (:mod:`cad.build.views`).
+VIEW_EXPORT = True
+
+
+def stroke_poses(design) -> dict[str, np.ndarray]:
+    """The flotor over its motion range for the animation, ``{body: (N, 4, 4)}`` mm: out
+    to +range and -range along x, y, z, then +-range_deg about x, y, z (the cube centre),
+    through the centre pose between each (:func:`cad.actuators.powermouse.rot_about`)."""
+    from cad.actuators.powermouse import rot_about
+
+    r_mm, r_rad = design.motion.range_mm, np.deg2rad(design.motion.range_deg)
+    poses = [np.eye(4)]
+    for kind in ("t", "r"):
+        for axis in np.eye(3):
+            for s in (1.0, 0.0, -1.0, 0.0):
+                T = np.eye(4)
+                if kind == "t":
+                    T[:3, 3] = s * r_mm * axis
+                else:
+                    T[:3, :3] = rot_about(axis, s * r_rad)
+                poses.append(T)
+    flotor = np.stack(poses)
+    return {"flotor": flotor, "ground": np.repeat(np.eye(4)[None], len(flotor), axis=0)}
 
 
 def _motion(design, g, inst, fidelity):

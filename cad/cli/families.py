@@ -23,7 +23,7 @@ COMMAND_FAMILIES: dict[str, tuple[str, ...]] = {
     "gii": PANTOGRAPHS,
     "optimize": PANTOGRAPHS,
     "tolerance": FOUR_BARS,
-    "render": FOUR_BARS,
+    "render": FOUR_BARS + ("pantograph", "twin-pantograph", "powermouse"),
 }
 
 
