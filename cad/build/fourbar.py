@@ -88,7 +88,7 @@ def sweep_angles(design, n: int) -> np.ndarray:
 
 def _kind_props(kind):
     """MassProps of a part kind in its own frame (SI), or None when it carries no mass."""
-    from cad.massprops.occt import solid_mass_props
+    from cad.massprops.occt import cached_solid_mass_props
     from cad.massprops.props import from_principal
     from cad.materials import get_material
     from cad.parts.catalog import ring_inertia_kg_m2
@@ -101,7 +101,7 @@ def _kind_props(kind):
         return from_principal(
             kind.mass_kg, np.array([0.0, 0.0, b / 2 * 1e-3]), np.array([it, it, ia])
         )
-    props = solid_mass_props(kind.shape, get_material(kind.material).density_kg_m3)
+    props = cached_solid_mass_props(kind.shape, get_material(kind.material).density_kg_m3)
     if kind.mass_kg is not None:
         props = props.scaled(kind.mass_kg / props.mass_kg)
     return props
@@ -417,6 +417,12 @@ def build(
             out_dir / "preview.png",
             f"{design.name}: {design.family}, phi1 = {math.degrees(pose_phi):.1f} deg",
         )
+        # the paper's plots from the solids: coupler curve, y deviation and torque over the
+        # stroke, M11 / M12 / M22 over x (Fig. 6) with H from the parts
+        from cad.report.fourbar import plot_apparent_mass, plot_kinematics
+
+        plot_kinematics(design, out_dir / "kinematics.png")
+        plot_apparent_mass(design, H, out_dir / "apparent_mass.png")
         return time.perf_counter() - t
 
     def views_stage() -> tuple[list[str], bytes, float]:
@@ -436,9 +442,8 @@ def build(
         return files, glb, time.perf_counter() - t
 
     exports_task = forked.start(exports_stage, "exports")
-    preview_task = forked.start(preview_stage, "preview")
     views_task = forked.start(views_stage, "views")
-    with forked.cancel_on_error(exports_task, preview_task, views_task):
+    with forked.cancel_on_error(exports_task, views_task):
         # 4 mass properties and dynamics
         _step(progress, "mass properties", 2, n_steps)
         t1 = time.perf_counter()
@@ -456,6 +461,10 @@ def build(
             design, asm, props, link_props, Jm, H, am, fidelity, user_handle is not None, plan
         )
         timings["massprops"] = time.perf_counter() - t1
+
+    # the preview and the paper's plots (which need H) in a second child, beside the sweep
+    preview_task = forked.start(preview_stage, "preview")
+    with forked.cancel_on_error(exports_task, views_task, preview_task):
         from cad.structure.device import structure_of_build
 
         structure = structure_of_build(design, asm, props, am["M11_max_g"])
@@ -510,15 +519,6 @@ def build(
         _step(progress, "preview", 6, n_steps)
         timings["preview"] = preview_task.result()
         view_files, viewer_glb, timings["views"] = views_task.result()
-
-    # the paper's plots from the solids: coupler curve, y deviation and torque over the stroke,
-    # M11 / M12 / M22 over x (Fig. 6) with H from the parts
-    t1 = time.perf_counter()
-    from cad.report.fourbar import plot_apparent_mass, plot_kinematics
-
-    plot_kinematics(design, out_dir / "kinematics.png")
-    plot_apparent_mass(design, H, out_dir / "apparent_mass.png")
-    timings["plots"] = time.perf_counter() - t1
 
     # report
     _step(progress, "report", 7, n_steps)

@@ -338,7 +338,7 @@ def build(
     allow_interference.
     """
     from cad.actuators import powermouse as pm
-    from cad.build import family
+    from cad.build import family, forked
     from cad.parts import powermouse as pp
     from cad.parts import voicecoil as pv
 
@@ -375,50 +375,22 @@ def build(
     iso = pm.isotropy(W)
     W_com = pm.wrench_map(coils, gain_per_At, about_mm=flotor_mp.com_m * 1e3)
 
-    _step(progress, "every pair at the centre, flotor over the motion range", 3, total)
-    itf = family.check_assembly(inst, tfs)
-    cl = _motion(design, g, inst, fidelity)
-    _raise_on_overlap(design, itf, cl, allow_interference)
-
-    _step(progress, "exports", 4, total)
+    # the files (parts, assembly STEP, BOM, preview, rig, Fig. 8) are written by a forked child
+    # while this process checks the solids (cad.build.forked; serial where forking is off)
     bom = family.bom_rows(inst, props)
-    files = family.write_outputs(
-        inst,
-        tfs,
-        out_dir,
-        formats,
-        name=design.name,
-        title=f"{design.name}: PowerMouse at the centre pose",
-        bom=bom,
-    )
-    rig_props = family.kind_props(rig)
-    rig_bom = family.bom_rows(rig, rig_props)
-    files += [
-        "rig/" + f
-        for f in family.write_outputs(
-            rig,
-            {"rig": np.eye(4)},
-            out_dir / "rig",
-            formats,
-            name=f"{design.name}_rig",
-            title="single-actuator test rig (Fig. 7), not part of the device",
-            bom=rig_bom,
-            preview=False,
-        )
-    ]
-    files += _fig8_chart(design, gap, out_dir)
-    from cad.build.views import write_viewer_outputs
+    rig_bom = family.bom_rows(rig, family.kind_props(rig))
 
-    view_files, viewer_glb = write_viewer_outputs(
-        inst,
-        tfs,
-        out_dir,
-        formats,
-        name=design.name,
-        title=f"{design.name} (powermouse)",
-        stroke=stroke_poses(design),
-    )
-    files += view_files
+    def exports() -> tuple[list[str], bytes]:
+        return _write_files(design, inst, tfs, rig, bom, rig_bom, out_dir, formats, gap)
+
+    task = forked.start(exports, "exports")
+    with forked.cancel_on_error(task):
+        _step(progress, "every pair at the centre, flotor over the motion range", 3, total)
+        itf = family.check_assembly(inst, tfs)
+        cl = _motion(design, g, inst, fidelity)
+        _raise_on_overlap(design, itf, cl, allow_interference)
+        _step(progress, "exports", 4, total)
+        files, viewer_glb = task.result()
 
     _step(progress, "report", 5, total)
     rep = _report(
@@ -469,6 +441,48 @@ def stroke_poses(design) -> dict[str, np.ndarray]:
                 poses.append(T)
     flotor = np.stack(poses)
     return {"flotor": flotor, "ground": np.repeat(np.eye(4)[None], len(flotor), axis=0)}
+
+
+def _write_files(
+    design, inst, tfs, rig, bom, rig_bom, out_dir, formats, gap
+) -> tuple[list[str], bytes]:
+    """Part files, assembly STEP, BOM and preview of the device; the rig in ``rig/``; Fig. 8;
+    the viewer files (:func:`cad.build.views.write_viewer_outputs`). Returns (files, glb)."""
+    from cad.build import family
+    from cad.build.views import write_viewer_outputs
+
+    files = family.write_outputs(
+        inst,
+        tfs,
+        out_dir,
+        formats,
+        name=design.name,
+        title=f"{design.name}: PowerMouse at the centre pose",
+        bom=bom,
+    )
+    files += [
+        "rig/" + f
+        for f in family.write_outputs(
+            rig,
+            {"rig": np.eye(4)},
+            out_dir / "rig",
+            formats,
+            name=f"{design.name}_rig",
+            title="single-actuator test rig (Fig. 7), not part of the device",
+            bom=rig_bom,
+            preview=False,
+        )
+    ]
+    view_files, glb = write_viewer_outputs(
+        inst,
+        tfs,
+        out_dir,
+        formats,
+        name=design.name,
+        title=f"{design.name} (powermouse)",
+        stroke=stroke_poses(design),
+    )
+    return files + _fig8_chart(design, gap, out_dir) + view_files, glb
 
 
 def _motion(design, g, inst, fidelity):
