@@ -411,6 +411,7 @@ def build(
         pv.rattle_clearances_mm(ag, acts),
         gain_per_At,
     )
+    rep["part_materials"] = family.part_materials(inst)
     rep["files"] = sorted(files + ["report.md"])
     family.write_report_md(out_dir, f"{design.name} (powermouse)", _md_rows(rep), bom, rep["notes"])
     rep["_viewer_glb"] = viewer_glb  # popped by the dispatcher: embedded in report.html
