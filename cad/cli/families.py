@@ -25,7 +25,7 @@ COMMAND_FAMILIES: dict[str, tuple[str, ...]] = {
     "tolerance": FOUR_BARS,
     "sweep": FOUR_BARS,
     "wall": FOUR_BARS,
-    "render": FOUR_BARS,
+    "render": FOUR_BARS + ("pantograph", "twin-pantograph", "powermouse"),
 }
 
 
