@@ -279,31 +279,6 @@ def write_outputs(
     return files + ["bom.csv", "preview.png"]
 
 
-def write_views(instances, tf_pose, stroke, out_dir: Path, formats, name: str):
-    """The viewer files of :mod:`cad.build.views` (``animation.gif``, ``render.png``, and
-    ``assembly.glb`` / ``parts.3mf`` when asked); returns ``(files, glb bytes)``.
-
-    tf_pose : ``{body: 4x4}``; stroke : ``{body: (N, 4, 4)}`` (mm).
-    """
-    from cad.build import views
-    from cad.export import STL_ANGULAR_TOLERANCE_RAD, STL_TOLERANCE_MM
-
-    files, glb = views.write_views(
-        instances, tf_pose, stroke, out_dir, formats, name=name, title=name
-    )
-    if "3mf" in formats:
-        files.append(
-            views.write_parts_3mf(
-                instances,
-                out_dir,
-                title=name,
-                tolerance_mm=STL_TOLERANCE_MM,
-                angular_tolerance_rad=STL_ANGULAR_TOLERANCE_RAD,
-            )
-        )
-    return files, glb
-
-
 def write_report_md(out_dir: Path, title: str, rows: list[tuple[str, str]], bom, notes=()) -> str:
     """``report.md``: title, preview, a quantity table, the BOM and notes."""
     from cad.io.atomic import write_text_atomic

@@ -39,8 +39,6 @@ import numpy as np
 
 from cad.errors import DesignError, InterferenceError
 
-#: This builder writes the viewer files (glb, 3mf; :mod:`cad.build.views`).
-VIEW_EXPORT = True
 #: Source the output depends on (build cache key).
 CODE_DEPS = (
     "build",
@@ -377,29 +375,22 @@ def build(
     iso = pm.isotropy(W)
     W_com = pm.wrench_map(coils, gain_per_At, about_mm=flotor_mp.com_m * 1e3)
 
-    # the files (parts, assembly STEP, BOM, preview, rig) and the viewer files + Fig. 8 are
-    # written by two forked children while this process checks the solids (cad.build.forked;
-    # serial where forking is off)
+    # the files (parts, assembly STEP, BOM, preview, rig, Fig. 8) are written by a forked child
+    # while this process checks the solids (cad.build.forked; serial where forking is off)
     bom = family.bom_rows(inst, props)
     rig_bom = family.bom_rows(rig, family.kind_props(rig))
 
-    def exports() -> list[str]:
-        return _write_files(design, inst, tfs, rig, bom, rig_bom, out_dir, formats)
-
-    def views() -> tuple[list[str], bytes]:
-        return _write_views(design, inst, tfs, out_dir, formats, gap)
+    def exports() -> tuple[list[str], bytes]:
+        return _write_files(design, inst, tfs, rig, bom, rig_bom, out_dir, formats, gap)
 
     task = forked.start(exports, "exports")
-    views_task = forked.start(views, "views")
-    with forked.cancel_on_error(task, views_task):
+    with forked.cancel_on_error(task):
         _step(progress, "every pair at the centre, flotor over the motion range", 3, total)
         itf = family.check_assembly(inst, tfs)
         cl = _motion(design, g, inst, fidelity)
         _raise_on_overlap(design, itf, cl, allow_interference)
         _step(progress, "exports", 4, total)
-        files = task.result()
-        more, glb = views_task.result()
-        files += more
+        files, viewer_glb = task.result()
 
     _step(progress, "report", 5, total)
     rep = _report(
@@ -422,15 +413,44 @@ def build(
     )
     rep["part_materials"] = family.part_materials(inst)
     rep["files"] = sorted(files + ["report.md"])
-    rep["_viewer_glb"] = glb  # popped by the dispatcher: embedded in report.html
     family.write_report_md(out_dir, f"{design.name} (powermouse)", _md_rows(rep), bom, rep["notes"])
+    rep["_viewer_glb"] = viewer_glb  # popped by the dispatcher: embedded in report.html
     _step(progress, "done", total, total)
     return rep
 
 
-def _write_files(design, inst, tfs, rig, bom, rig_bom, out_dir, formats) -> list[str]:
-    """Part files, assembly STEP, BOM and preview of the device; the rig in ``rig/``."""
+#: This builder writes glb and 3mf (:mod:`cad.build.views`).
+VIEW_EXPORT = True
+
+
+def stroke_poses(design) -> dict[str, np.ndarray]:
+    """The flotor over its motion range for the animation, ``{body: (N, 4, 4)}`` mm: out
+    to +range and -range along x, y, z, then +-range_deg about x, y, z (the cube centre),
+    through the centre pose between each (:func:`cad.actuators.powermouse.rot_about`)."""
+    from cad.actuators.powermouse import rot_about
+
+    r_mm, r_rad = design.motion.range_mm, np.deg2rad(design.motion.range_deg)
+    poses = [np.eye(4)]
+    for kind in ("t", "r"):
+        for axis in np.eye(3):
+            for s in (1.0, 0.0, -1.0, 0.0):
+                T = np.eye(4)
+                if kind == "t":
+                    T[:3, 3] = s * r_mm * axis
+                else:
+                    T[:3, :3] = rot_about(axis, s * r_rad)
+                poses.append(T)
+    flotor = np.stack(poses)
+    return {"flotor": flotor, "ground": np.repeat(np.eye(4)[None], len(flotor), axis=0)}
+
+
+def _write_files(
+    design, inst, tfs, rig, bom, rig_bom, out_dir, formats, gap
+) -> tuple[list[str], bytes]:
+    """Part files, assembly STEP, BOM and preview of the device; the rig in ``rig/``; Fig. 8;
+    the viewer files (:func:`cad.build.views.write_viewer_outputs`). Returns (files, glb)."""
     from cad.build import family
+    from cad.build.views import write_viewer_outputs
 
     files = family.write_outputs(
         inst,
@@ -441,7 +461,7 @@ def _write_files(design, inst, tfs, rig, bom, rig_bom, out_dir, formats) -> list
         title=f"{design.name}: PowerMouse at the centre pose",
         bom=bom,
     )
-    return files + [
+    files += [
         "rig/" + f
         for f in family.write_outputs(
             rig,
@@ -454,31 +474,16 @@ def _write_files(design, inst, tfs, rig, bom, rig_bom, out_dir, formats) -> list
             preview=False,
         )
     ]
-
-
-def _write_views(design, inst, tfs, out_dir, formats, gap):
-    """Viewer files (glb bytes for report.html, animation, still) and the Fig. 8 chart."""
-    from cad.build import family
-    from cad.build.views import STROKE_POSES
-
-    files, glb = family.write_views(
-        inst, tfs, stroke(design, STROKE_POSES), out_dir, formats, design.name
+    view_files, glb = write_viewer_outputs(
+        inst,
+        tfs,
+        out_dir,
+        formats,
+        name=design.name,
+        title=f"{design.name} (powermouse)",
+        stroke=stroke_poses(design),
     )
-    return files + _fig8_chart(design, gap, out_dir), glb
-
-
-def stroke(design, n: int) -> dict[str, np.ndarray]:
-    """``{body: (n, 4, 4)}``: the flotor once round a circle of radius range_mm in the xy
-    plane while tilting +-range_deg about x (the motion shown by the viewer files)."""
-    from cad.actuators import powermouse as pm
-
-    u = 2 * np.pi * np.arange(n) / n
-    r, a = design.motion.range_mm, np.radians(design.motion.range_deg)
-    T = np.repeat(np.eye(4)[None], n, axis=0)
-    for k in range(n):
-        T[k, :3, :3] = pm.rot_about((1.0, 0.0, 0.0), a * np.sin(u[k]))
-        T[k, :3, 3] = (r * np.cos(u[k]), r * np.sin(u[k]), 0.0)
-    return {"flotor": T, "ground": np.repeat(np.eye(4)[None], n, axis=0)}
+    return files + _fig8_chart(design, gap, out_dir) + view_files, glb
 
 
 def _motion(design, g, inst, fidelity):
