@@ -672,75 +672,14 @@ def _link_parts(which: str, side: str, K: dict, lay: dict, p, elbow_pin: str) ->
     ]
 
 
-def _rz_n(angle, x, y) -> np.ndarray:
-    """(N, 4, 4) rotations about z by ``angle`` (N,) at (x, y) (N,) (mm)."""
-    angle = np.asarray(angle, float)
-    T = np.zeros((len(angle), 4, 4))
-    c, s = np.cos(angle), np.sin(angle)
-    T[:, 0, 0], T[:, 0, 1], T[:, 1, 0], T[:, 1, 1] = c, -s, s, c
-    T[:, 0, 3], T[:, 1, 3] = x, y
-    T[:, 2, 2] = T[:, 3, 3] = 1.0
-    return T
-
-
-def body_transforms(design, X) -> dict[str, np.ndarray]:
-    """``{body: (N, 4, 4)}`` world transforms of every body at the task poses ``X`` (N, 2):
-    end effector (x_mm, y_mm), or (N, 3) with theta_rad for the mouse. Planar (rotation
-    about z, z = 0 on the base plate's top); ground is the identity."""
-    from cad.kinematics import fivebar as fb5
-    from cad.kinematics import twin_pantograph as tw
-
-    X = np.atleast_2d(np.asarray(X, float))
-    fb = _lower_five_bar(design)
-    B = [fb.base_left_mm, fb.base_right_mm]
-    if _twin(design):
-        ik = tw.ik(design.mechanism, X)
-        groups = [("crank_", ik.crank), ("knob_", ik.knob)]
-    else:
-        groups = [("", fb5.ik(fb, X[:, :2]))]
-    n = len(X)
-    out = {"ground": np.repeat(np.eye(4)[None], n, axis=0)}
-    for pre, fp in groups:
-        E = fp.E_mm
-        for i, (side, C) in enumerate((("left", fp.C_left_mm), ("right", fp.C_right_mm))):
-            out[f"{pre}proximal_{side}"] = _rz_n(fp.q_rad[:, i], B[i][0], B[i][1])
-            psi = np.arctan2(E[:, 1] - C[:, 1], E[:, 0] - C[:, 0])
-            out[f"{pre}distal_{side}"] = _rz_n(psi, C[:, 0], C[:, 1])
-    if _twin(design):
-        out["crankshaft"] = _rz_n(X[:, 2], X[:, 0], X[:, 1])
-    else:
-        out["handle"] = _rz_n(np.zeros(n), X[:, 0], X[:, 1])
-    return out
-
-
-def home_pose(design) -> np.ndarray:
-    """Task pose of the exported assembly: (x_mm, y_mm[, theta_rad])."""
-    home = home_xy_mm(design)
-    if _twin(design):
-        return np.array([home[0], home[1], math.radians(design.workspace["home_theta_deg"])])
-    return home
-
-
-def stroke_poses(design, n: int) -> np.ndarray:
-    """``n`` task poses once round the workspace square's perimeter (inset 10 %), the
-    mouse's crank turning once: the motion shown by the viewer files."""
-    (cx, cy), h = design.workspace["center_mm"], 0.45 * design.workspace["side_mm"]
-    u = np.linspace(0.0, 4.0, n, endpoint=False)
-    k, f = np.floor(u).astype(int), u - np.floor(u)
-    corners = np.array([[-h, -h], [h, -h], [h, h], [-h, h], [-h, -h]])
-    xy = corners[k] + (corners[k + 1] - corners[k]) * f[:, None] + [cx, cy]
-    if not _twin(design):
-        return xy
-    th = math.radians(design.workspace["home_theta_deg"]) + 2 * np.pi * np.arange(n) / n
-    return np.column_stack([xy, th])
-
-
 def assembly(design, lay: dict, fidelity: str):
     """The part instances and the world transform of each body at the home pose.
 
     Returns ``(instances, tf_world_body, home_pose)``: instances is a list of
     :class:`cad.parts.PartInstance`; tf_world_body maps body -> 4x4 (mm).
     """
+    from cad.kinematics import fivebar as fb5
+    from cad.kinematics import twin_pantograph as tw
     from cad.parts import PartInstance, translation
 
     p = design.parts
@@ -754,37 +693,49 @@ def assembly(design, lay: dict, fidelity: str):
     fb = _lower_five_bar(design)
     B = [fb.base_left_mm, fb.base_right_mm]
     inst: list = []
+    tfs: dict[str, np.ndarray] = {"ground": np.eye(4)}
 
     def place(name, kind, body, tf):
         inst.append(PartInstance(name, kind, body, np.asarray(tf, dtype=float)))
 
     home = home_xy_mm(design)
-    tfs = {b: T[0] for b, T in body_transforms(design, home_pose(design)).items()}
+    if twin:
+        th = math.radians(design.workspace["home_theta_deg"])
+        X = np.array([[home[0], home[1], th]])
+        ik = tw.ik(design.mechanism, X)
+        groups = [
+            ("crank", ik.crank, lay["lower_layers_z_mm"], False),
+            ("knob", ik.knob, lay["upper_layers_z_mm"], True),
+        ]
+    else:
+        groups = [("", fb5.ik(fb, home[None, :]), lay["lower_layers_z_mm"], False)]
     pt, mt = p.plate_thickness_mm, p.motor_mount_thickness_mm
     zb = lay.get("bridge_bottom_z_mm", 0.0)
-    groups = [("crank_", lay["lower_layers_z_mm"], False)]
-    if twin:
-        groups.append(("knob_", lay["upper_layers_z_mm"], True))
-    else:
-        groups = [("", lay["lower_layers_z_mm"], False)]
-    for pre, zs, upper in groups:
+    for grp, fp, zs, upper in groups:
         F = _flip() if upper else np.eye(4)
+        pre = f"{grp}_" if grp else ""
+        C = [fp.C_left_mm[0], fp.C_right_mm[0]]
+        E = fp.E_mm[0]
         shaft_tf = (
             translation(0, 0, zb + pt + mt) @ _flip() if upper else translation(0, 0, -pt - mt)
         )
         for i, side in enumerate(("left", "right")):
             body = f"{pre}proximal_{side}"
+            tfs[body] = _rz(float(fp.q_rad[0, i]), B[i][0], B[i][1])
             pin = "pin_short" if side == "left" else "pin_long"
             for k, (kind, tf) in enumerate(_link_parts("proximal", side, K, lay, p, pin)):
                 place(f"{body}.{kind.name}{k}", kind, body, translation(0, 0, zs[0]) @ F @ tf)
             place(f"{body}.motor_shaft", K["motor_shaft"], body, shaft_tf)
             body = f"{pre}distal_{side}"
+            tfs[body] = _rz(math.atan2(E[1] - C[i][1], E[0] - C[i][0]), C[i][0], C[i][1])
             for k, (kind, tf) in enumerate(_link_parts("distal", side, K, lay, p, pin)):
                 place(f"{body}.{kind.name}{k}", kind, body, translation(0, 0, zs[1 + i]) @ F @ tf)
     if twin:
+        tfs["crankshaft"] = _rz(th, home[0], home[1])
         place("crankshaft", K["crankshaft"], "crankshaft", translation(0, 0, lay["web_z_mm"]))
         place("knob", K["knob"], "crankshaft", translation(0, 0, lay["knob_bottom_z_mm"]))
     else:
+        tfs["handle"] = translation(home[0], home[1])
         place("handle_pin", K["handle_pin"], "handle", translation(0, 0, lay["handle_pin_z_mm"]))
         place("knob", K["knob"], "handle", translation(0, 0, lay["knob_bottom_z_mm"]))
     _ground(place, K, lay, p, B, twin)
@@ -915,8 +866,6 @@ def _ground(place, K, lay, p, B, twin) -> None:
 
 
 # ------------------------------------------------------------------------------ build
-#: This builder writes the viewer files (glb, 3mf; :mod:`cad.build.views`).
-VIEW_EXPORT = True
 #: This builder writes the simulator formats for the twin pantograph (mjcf, urdf;
 #: :mod:`cad.build.sim_pantograph`).
 SIM_EXPORT = True
@@ -1078,8 +1027,8 @@ def build(
     bodies = family.body_props(instances, props, [b for b in tfs if b != "ground"])
     eff, eff_bare = _effective_mass(design, bodies, home)
 
-    # the files and the viewer files are written by two forked children while this process
-    # checks the solids (cad.build.forked; serial where forking is off)
+    # the files are written by a forked child while this process checks the solids
+    # (cad.build.forked; serial where forking is off)
     bom = family.bom_rows(instances, props)
     title = f"{design.name}: {design.family} at home {home.round(2).tolist()} mm"
 
@@ -1095,15 +1044,8 @@ def build(
             marks=[("workspace", _square(design.workspace))],
         )
 
-    def views() -> tuple[list[str], bytes]:
-        from cad.build.views import STROKE_POSES
-
-        stroke = body_transforms(design, stroke_poses(design, STROKE_POSES))
-        return family.write_views(instances, tfs, stroke, out_dir, formats, design.name)
-
     task = forked.start(exports, "exports")
-    views_task = forked.start(views, "views")
-    with forked.cancel_on_error(task, views_task):
+    with forked.cancel_on_error(task):
         _step(progress, "every pair of solids at home", 3, total)
         itf = family.check_assembly(instances, tfs)
         if itf["collisions"] and not allow_interference:
@@ -1121,8 +1063,6 @@ def build(
             )
         _step(progress, "exports", 4, total)
         files = task.result()
-        more, glb = views_task.result()
-        files += more
     if _twin(design):
         files += _write_sim(design, out_dir, formats, instances, bodies, lay, home)
     from cad.build.views import write_viewer_outputs
@@ -1142,7 +1082,6 @@ def build(
     report = _report(design, lay, clr, bodies, eff, eff_bare, itf, bom, home, fidelity, low)
     report["part_materials"] = family.part_materials(instances)
     report["files"] = sorted(files + ["report.md"])
-    report["_viewer_glb"] = glb  # popped by the dispatcher: embedded in report.html
     family.write_report_md(
         out_dir, f"{design.name} ({design.family})", _md_rows(report), bom, report["notes"]
     )
