@@ -9,7 +9,6 @@ a design whose family has no render yet is refused with exit 2, nothing written.
 
 from __future__ import annotations
 
-import json
 import tempfile
 from pathlib import Path
 
@@ -30,11 +29,20 @@ def render_designs(paths: list[Path], out: Path, fidelity: str | None = None) ->
     designs = []
     for p in paths:
         d = load_design(p)
-        if not getattr(importlib.import_module(builder_module_name(d)), "VIEW_EXPORT", False):
-            raise DesignError(str(p), f"rendering {d.family!r} designs is not available yet")
         fid = fidelity or getattr(getattr(d, "parts", None), "fidelity", "fabrication")
         if fid not in FIDELITIES:
             raise DesignError("--fidelity", f"must be one of {', '.join(FIDELITIES)}, got {fid!r}")
+        try:
+            mod = importlib.import_module(builder_module_name(d))
+        except ModuleNotFoundError:
+            mod = None
+        if not getattr(mod, "VIEW_EXPORT", False):
+            raise DesignError(str(p), f"rendering {d.family!r} designs is not available")
+        if hasattr(mod, "check_options"):  # what the build would refuse, before any build
+            try:
+                mod.check_options(d, fid, None)
+            except DesignError as exc:
+                raise DesignError(str(p), str(exc)) from None
         designs.append((p, d, fid))
     done = []
     for p, d, fid in designs:
@@ -60,9 +68,15 @@ def register(app: typer.Typer) -> None:
         json_out: bool = typer.Option(False, "--json", help="Print the written files as JSON"),
     ) -> None:
         """Shaded picture and stroke GIF of each design, from its build."""
+        from cad.build import FIDELITIES
+        from cad.cli import flags
+        from cad.cli.app import print_json
+
+        flags.choice("--fidelity", fidelity, FIDELITIES)
+        flags.out_path("--out", out, folder=True)
         rows = render_designs(designs, out, fidelity)
         if json_out:
-            print(json.dumps(rows, sort_keys=True))
+            print_json({"rendered": rows}, sort_keys=True)
             return
         for r in rows:
             print(f"{r['design']}: wrote {r['png']}, {r['gif']}")
