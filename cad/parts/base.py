@@ -11,6 +11,7 @@ turned standoffs under the corners, long enough to clear the motor.
 
 from __future__ import annotations
 
+from cad.errors import GeometryError
 from cad.parts.catalog import clearance_hole_mm, tap_drill_mm
 
 #: Legs: diameter, corner inset of their axis from the plate edges, free space under the motor (mm).
@@ -85,9 +86,14 @@ def post_shape(
     p = Cylinder(diameter_mm / 2, height_mm, align=a)
     top = height_mm - bore_depth_mm
     p = p - Pos(0, 0, top) * Cylinder(bore_d_mm / 2, bore_depth_mm, align=a)
-    td = min(thread_depth_mm, top - STANDOFF_TAP_DEPTH_MM - 1.0)
-    if td > 0:
-        p = p - Pos(0, 0, top - td) * Cylinder(tap_drill_mm(thread) / 2, td, align=a)
+    if top - thread_depth_mm < STANDOFF_TAP_DEPTH_MM:
+        raise GeometryError(
+            f"A4 post: {height_mm:g} mm cannot hold the {bore_depth_mm:g} mm bore, the "
+            f"{thread_depth_mm:g} mm top thread and the {STANDOFF_TAP_DEPTH_MM:g} mm bottom thread"
+        )
+    p = p - Pos(0, 0, top - thread_depth_mm) * Cylinder(
+        tap_drill_mm(thread) / 2, thread_depth_mm, align=a
+    )
     p = p - Cylinder(tap_drill_mm(bottom_screw) / 2, STANDOFF_TAP_DEPTH_MM, align=a)
     return p.solids()[0].wrapped
 

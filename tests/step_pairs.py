@@ -1,0 +1,110 @@
+"""Independent every-pair check of an assembly STEP file read back from disk (test helper).
+
+Not the tool's code path: the file is re-imported with OCCT's XCAF STEP reader (one label
+per part, its name from the file), every part's solids are collected, and every pair of
+parts whose bounding boxes overlap is intersected with ``BRepAlgoAPI_Common`` on every
+pair of their solids; a pair counts as a clash when the common volume exceeds
+:data:`CLASH_MM3` (the issue's threshold). Solids of one part (a bearing's rings and
+balls) are not compared with each other: a bought part is one part.
+"""
+
+from __future__ import annotations
+
+import itertools
+from pathlib import Path
+
+#: A common volume above this is a clash (mm^3), issue 10.
+CLASH_MM3 = 1e-3
+
+
+def read_parts(path: Path) -> list[tuple[str, list]]:
+    """``[(part name, [TopoDS_Solid, ...])]`` of the STEP file's free shapes' components."""
+    from OCP.IFSelect import IFSelect_RetDone
+    from OCP.STEPCAFControl import STEPCAFControl_Reader
+    from OCP.TCollection import TCollection_ExtendedString
+    from OCP.TDataStd import TDataStd_Name
+    from OCP.TDF import TDF_LabelSequence
+    from OCP.TDocStd import TDocStd_Document
+    from OCP.TopAbs import TopAbs_SOLID
+    from OCP.TopExp import TopExp_Explorer
+    from OCP.TopoDS import TopoDS
+    from OCP.XCAFDoc import XCAFDoc_DocumentTool
+
+    doc = TDocStd_Document(TCollection_ExtendedString("doc"))
+    r = STEPCAFControl_Reader()
+    r.SetNameMode(True)
+    assert r.ReadFile(str(path)) == IFSelect_RetDone, path
+    assert r.Transfer(doc)
+    st = XCAFDoc_DocumentTool.ShapeTool_s(doc.Main())
+    free = TDF_LabelSequence()
+    st.GetFreeShapes(free)
+    out = []
+
+    def name_of(lab) -> str:
+        attr = TDataStd_Name()
+        if lab.FindAttribute(TDataStd_Name.GetID_s(), attr):
+            return attr.Get().ToExtString()
+        return "?"
+
+    def solids(shape) -> list:
+        ex = TopExp_Explorer(shape, TopAbs_SOLID)
+        res = []
+        while ex.More():
+            res.append(TopoDS.Solid_s(ex.Current()))
+            ex.Next()
+        return res
+
+    for i in range(1, free.Length() + 1):
+        root = free.Value(i)
+        comps = TDF_LabelSequence()
+        st.GetComponents_s(root, comps, False)
+        if comps.Length() == 0:
+            out.append((name_of(root), solids(st.GetShape_s(root))))
+            continue
+        for k in range(1, comps.Length() + 1):
+            c = comps.Value(k)
+            out.append((name_of(c), solids(st.GetShape_s(c))))
+    return out
+
+
+def _box(solids):
+    from OCP.Bnd import Bnd_Box
+    from OCP.BRepBndLib import BRepBndLib
+
+    b = Bnd_Box()
+    for s in solids:
+        BRepBndLib.Add_s(s, b)
+    return b
+
+
+def clashes(path: Path, threshold_mm3: float = CLASH_MM3) -> list[tuple[str, str, float]]:
+    """``[(part a, part b, common volume mm^3)]`` for every pair of parts of the STEP file
+    sharing more than ``threshold_mm3``."""
+    from OCP.BRepAlgoAPI import BRepAlgoAPI_Common
+    from OCP.BRepGProp import BRepGProp
+    from OCP.GProp import GProp_GProps
+
+    parts = read_parts(path)
+    boxes = [_box(s) for _, s in parts]
+    out = []
+    for i, j in itertools.combinations(range(len(parts)), 2):
+        if boxes[i].IsOut(boxes[j]):
+            continue
+        vol = 0.0
+        for sa in parts[i][1]:
+            for sb in parts[j][1]:
+                props = GProp_GProps()
+                BRepGProp.VolumeProperties_s(BRepAlgoAPI_Common(sa, sb).Shape(), props)
+                vol += max(0.0, props.Mass())
+        if vol > threshold_mm3:
+            out.append((parts[i][0], parts[j][0], vol))
+    return out
+
+
+if __name__ == "__main__":
+    import sys
+
+    ps = read_parts(Path(sys.argv[1]))
+    print(len(ps), "parts", sum(len(s) for _, s in ps), "solids")
+    for a, b, v in clashes(Path(sys.argv[1])):
+        print(f"{a} / {b}: {v:.3f} mm^3")
