@@ -9,3 +9,14 @@ never import OCP, build123d or cadquery. CAD modules import lazily.
 """
 
 __version__ = "0.1.0"
+
+#: The supported API (:mod:`cad.api`), loaded on first use so ``import cad`` stays light.
+__all__ = ["analyze", "build", "check", "gii", "load_design", "mass_properties"]
+
+
+def __getattr__(name: str):
+    if name in __all__:
+        from cad import api
+
+        return getattr(api, name)
+    raise AttributeError(f"module 'cad' has no attribute {name!r}")

@@ -1,3 +1,3 @@
-from cad.cli.app import main
+from cad.cli.entry import main
 
 main()

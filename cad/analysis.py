@@ -41,6 +41,37 @@ def paper_comparison(family: str, force_N: float = 5.0) -> dict[str, Any] | None
     return rows
 
 
+#: How each Table I/II quantity scales when every length is multiplied by s and the force
+#: by f (torque = F dx/dphi1 is a length times a force; slopes and ratios are invariant).
+PAPER_SCALING = {"torque_mean_mNm": (1, 1), "dy_max_mm": (1, 0), "stroke_mm": (1, 0),
+                 "torque_variation": (0, 0), "slope_max": (0, 0), "linearity": (0, 0)}
+
+
+def scaled_paper_row(key: str, value, scale: float, force_ratio: float):
+    """A Table I/II value for a design scaled by ``scale`` (lengths) and ``force_ratio``."""
+    if key == "dimensions":
+        w, h = (float(x) for x in str(value).replace("mm", "").split("x"))
+        return f"{w * scale:.0f} x {h * scale:.0f} mm"
+    p_len, p_force = PAPER_SCALING[key]
+    return float(value) * scale**p_len * force_ratio**p_force
+
+
+def paper_expectations(design: FourBarDesign) -> dict[str, Any] | None:
+    """The paper's Tables I/II scaled to a rescaled named-family design (None otherwise).
+
+    A design with ``stroke_mm`` is the Fig. 2 linkage times ``s``; its expected metrics
+    are the paper's times ``s`` (lengths, and torque also times F / 5 N), unchanged for
+    slopes and ratios.
+    """
+    if design.family not in PAPER_TABLES or design.stroke_mm_requested is None:
+        return None
+    paper_fb, _, _ = family_linkage(design.family)
+    s = design.linkage.l2_mm / paper_fb.l2_mm
+    f = design.force_N / 5.0
+    return {"scale": s, "force_ratio": f,
+            "rows": {k: scaled_paper_row(k, v, s, f) for k, v in PAPER_TABLES[design.family].items()}}
+
+
 def apparent_mass_curves(design: FourBarDesign, H: InertiaCoefficients, samples: int | None = None) -> dict[str, np.ndarray]:
     """x (mm, path frame), D (kg m^2) and M (kg, (N,2,2), path axes) over the stroke."""
     fb = design.linkage
@@ -70,13 +101,20 @@ def analyze(design: FourBarDesign, samples: int | None = None,
         "linearity": "1 - max|x(phi1) - endpoint line| / stroke",
         "linearity_fit": md["linearity_fit"],
         "linearity_velocity": md["linearity_velocity"],
+        "linearity_velocity_mean": md["linearity_velocity_mean"],
     }
     out["samples"] = n
     out["range_check"] = {"problems": list(rc.problems), "closes": rc.closes}
     paper = paper_comparison(design.family, design.force_N) if design.stroke_mm_requested is None else None
-    if paper is None and design.family in PAPER_TABLES:
+    expected = paper_expectations(design)
+    if expected is not None:
         paper = paper_comparison(design.family, design.force_N)
-        out["paper_note"] = "paper values are for the paper's Fig. 2 dimensions (50 mm class)"
+        for k, row in paper.items():
+            row["paper_scaled"] = expected["rows"][k]
+        out["paper_scale"] = expected["scale"]
+        out["paper_note"] = (f"'paper' and 'ours' are at the paper's Fig. 2 dimensions; "
+                             f"'paper_scaled' is the paper's value for this design's scale "
+                             f"s = {expected['scale']:.4g} (lengths x s, torque x s F / 5 N)")
     if paper is not None:
         out["paper"] = paper
     H = inertia or design.inertia

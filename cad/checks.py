@@ -22,9 +22,16 @@ class CheckRow:
     target: str
     ok: bool
     gap_rel: float | None
+    target_data: dict[str, float] | None = None
+    margin: float | None = None
 
     def as_dict(self) -> dict[str, Any]:
-        return asdict(self)
+        """JSON row: ``target`` as data (``{"value", "tol_rel"}`` or ``{"min", "max"}``),
+        ``target_text`` for display, ``margin`` in the key's unit (> 0: met by that much)."""
+        d = asdict(self)
+        d["target_text"] = d.pop("target")
+        d["target"] = d.pop("target_data")
+        return d
 
 
 def values_from_report(report: dict[str, Any]) -> dict[str, float]:
@@ -39,6 +46,15 @@ def values_from_report(report: dict[str, Any]) -> dict[str, float]:
     for k, v in (report.get("apparent_mass") or {}).items():
         if isinstance(v, (int, float)):
             vals[k] = float(v)
+    st = report.get("structure") or {}
+    if st:
+        vals["first_mode_Hz"] = float(st["first_mode_Hz"])
+        vals["max_stress_MPa"] = float(st["max_stress_MPa"])
+        for ax in ("x", "z"):
+            vals[f"compliance_{ax}_um_per_N"] = float(st["compliance_um_per_N"][ax])
+    for k in ("D_min_kg_m2", "D_max_kg_m2"):
+        if isinstance(report.get(k), (int, float)):
+            vals[k] = float(report[k])
     links = report.get("links") or {}
     moving = 0.0
     for name in ("crank", "coupler", "rocker"):
@@ -60,9 +76,9 @@ def evaluate(targets: tuple[Target, ...] | list[Target], values: dict[str, float
     for t in targets:
         c = values.get(t.key)
         if c is None:
-            rows.append(CheckRow(t.key, None, t.describe(), False, None))
+            rows.append(CheckRow(t.key, None, t.describe(), False, None, t.as_data()))
             continue
-        rows.append(CheckRow(t.key, c, t.describe(), t.ok(c), t.gap(c)))
+        rows.append(CheckRow(t.key, c, t.describe(), t.ok(c), t.gap(c), t.as_data(), t.margin(c)))
     return rows
 
 

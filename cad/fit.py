@@ -107,6 +107,12 @@ def parse_free(spec: str, parts_spec) -> FreeParam:
             raise DesignError(f"--free {spec}", "range must be LO:HI (numbers)") from None
         if not (0 < a < b):
             raise DesignError(f"--free {spec}", f"need 0 < LO < HI, got {a}:{b}")
+        from cad.design.bounds import FIELDS, check_number
+
+        bound = FIELDS.get(key)
+        if bound is not None:
+            for x in (a, b):
+                check_number(f"--free {key}", x, bound)
         lo, hi = a, b
     return FreeParam(key, "numeric", lo=lo, hi=hi)
 

@@ -86,6 +86,12 @@ _TABLE: tuple[Material, ...] = (
         "sintered NdFeB N42: 7.4-7.6 g/cm^3 (7.5 nominal), Arnold Magnetic / Magnequench datasheet",
     ),
     Material(
+        "titanium-6al4v",
+        4430.0,
+        (0.55, 0.56, 0.58),
+        "Ti-6Al-4V (grade 5) annealed: 4.43 g/cm^3, ASM Handbook Vol. 2 / MatWeb datasheet",
+    ),
+    Material(
         "carbon-fibre",
         1550.0,
         (0.12, 0.12, 0.13),

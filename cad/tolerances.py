@@ -46,3 +46,14 @@ LENGTH_MAX_MM = 1e6
 #: samples x a few arrays of float64 is ~100 MB).
 FORCE_MAX_N = 1e6
 SAMPLES_MAX = 1_000_000
+
+#: Largest manufacturing tolerance `hapticad tolerance` accepts (mm): beyond a few mm
+#: an error is a different design, not a tolerance (and a value in um given as mm
+#: is caught here).
+TOLERANCE_MAX_MM = 5.0
+
+#: Monte Carlo samples of `hapticad tolerance`: at least 100 for a meaningful yield,
+#: at most 2e6 (~1 GB of metric arrays would follow, and 1e6 already resolves a
+#: yield to 0.05 %).
+MC_SAMPLES_MIN = 100
+MC_SAMPLES_MAX = 2_000_000

@@ -33,7 +33,7 @@ def test_json_contract_and_paper_apparent_mass():
 def test_samples_option_and_bad_inertia():
     r = hapticad_json("analyze", DESIGNS / "roberts.toml", "--samples", "101")
     assert r["samples"] == 101
-    code, _, err = hapticad("analyze", DESIGNS / "hoeken.toml", "--inertia", "H11=1,H12=2")
+    code, _, err = hapticad("analyze", DESIGNS / "hoeken.toml", "--inertia", "H11=1e-5,H12=2e-5")
     assert_one_line_error(code, err, "--inertia", "missing")
     code, _, err = hapticad("analyze", DESIGNS / "hoeken.toml", "--samples", "2")
     assert_one_line_error(code, err, "--samples")

@@ -54,7 +54,23 @@ def test_evaluate_from_report():
 
 
 def test_merge_cli_overrides_design():
-    d = parse_targets({"H11_kg_m2": 1.0, "H22_kg_m2": 2.0})
-    c = (parse_cli_target("H11_kg_m2=5"),)
+    d = parse_targets({"H11_kg_m2": 1e-5, "H22_kg_m2": 2e-5})
+    c = (parse_cli_target("H11_kg_m2=5e-5"),)
     m = {t.key: t for t in merge_targets(d, c)}
-    assert m["H11_kg_m2"].value == 5 and m["H22_kg_m2"].value == 2.0
+    assert m["H11_kg_m2"].value == 5e-5 and m["H22_kg_m2"].value == 2e-5
+
+
+def test_rows_carry_targets_as_data_and_margins():
+    targets = parse_targets({"M11_max_g": {"max": 45.0}, "stroke_mm": {"min": 40.0, "max": 60.0},
+                             "H11_kg_m2": {"value": 3e-5, "tol_rel": 0.1}})
+    vals = {"M11_max_g": 41.5, "stroke_mm": 57.0, "H11_kg_m2": 3.2e-5}
+    rows = {r.key: r.as_dict() for r in evaluate(targets, vals)}
+    assert rows["M11_max_g"]["target"] == {"max": 45.0}
+    assert rows["M11_max_g"]["margin"] == pytest.approx(3.5)  # 45 - 41.5 g
+    assert rows["stroke_mm"]["target"] == {"min": 40.0, "max": 60.0}
+    assert rows["stroke_mm"]["margin"] == pytest.approx(3.0)  # nearest limit is the max
+    assert rows["H11_kg_m2"]["target"] == {"value": 3e-5, "tol_rel": 0.1}
+    assert rows["H11_kg_m2"]["margin"] == pytest.approx(0.3e-5 - 0.2e-5)
+    assert rows["H11_kg_m2"]["target_text"] == "3e-05 ± 10%"
+    missed = {r.key: r.as_dict() for r in evaluate(targets, {"M11_max_g": 50.0})}
+    assert missed["M11_max_g"]["margin"] == pytest.approx(-5.0) and not missed["M11_max_g"]["ok"]

@@ -186,6 +186,9 @@ def test_a_failure_mid_build_leaves_the_output_untouched(tmp_path, monkeypatch):
     out = tmp_path / "exports" / "hoeken"
     out.mkdir(parents=True)
     (out / "old.txt").write_text("previous build")
+    from cad.export.manifest import write_manifest
+
+    write_manifest(out)  # a previous build's folder: everything in it listed
     calls = {"n": 0}
     real = step_mod.step_bytes
 
@@ -199,7 +202,7 @@ def test_a_failure_mid_build_leaves_the_output_untouched(tmp_path, monkeypatch):
     d = load_design(ROOT / "designs" / "hoeken.toml")
     with pytest.raises(OSError):
         build_design(d, out, {"step"}, fidelity="inertia", use_cache=False)
-    assert sorted(p.name for p in out.iterdir()) == ["old.txt"]
+    assert sorted(p.name for p in out.iterdir()) == ["manifest.json", "old.txt"]
     assert sorted(p.name for p in out.parent.iterdir()) == ["hoeken"]
 
 

@@ -154,9 +154,12 @@ def test_parent_failure_cancels_the_children_and_publishes_nothing(tmp_path, mon
     out = tmp_path / "exports" / "hoeken"
     out.mkdir(parents=True)
     (out / "old.txt").write_text("previous build")
+    from cad.export.manifest import write_manifest
+
+    write_manifest(out)  # a previous build's folder: everything in it listed
     d = load_design(ROOT / "designs" / "hoeken.toml")
     with pytest.raises(InterferenceError, match="simulated collision"):
         build_design(d, out, {"step", "stl"}, fidelity="inertia", use_cache=False)
     assert _no_children_left()
-    assert sorted(p.name for p in out.iterdir()) == ["old.txt"]
+    assert sorted(p.name for p in out.iterdir()) == ["manifest.json", "old.txt"]
     assert sorted(p.name for p in out.parent.iterdir()) == ["hoeken"]

@@ -39,17 +39,17 @@ def test_files_manifest_and_bom(built):
         "crankshaft",
         "knob",
     ):
-        assert (out / f"{name}.step").stat().st_size > 0 and (
-            out / f"{name}.stl"
+        assert (out / "parts" / f"{name}.step").stat().st_size > 0 and (
+            out / "parts" / f"{name}.stl"
         ).stat().st_size > 0
     for plate in ("base_plate", "bridge_plate", "motor_mount"):
-        assert (out / f"{plate}.dxf").exists()
-    assert (out / "twin_pantograph_assembly.step").exists()
+        assert (out / "parts" / f"{plate}.dxf").exists()
+    assert (out / "assembly.step").exists()
     assert (
-        not (out / "bearing.stl").exists() and (out / "bearing.step").exists()
+        not (out / "parts" / "bearing.stl").exists() and (out / "parts" / "bearing.step").exists()
     )  # bought: STEP only
     manifest = json.loads((out / "manifest.json").read_text())
-    assert {f["path"] for f in manifest["files"]} >= {"bom.csv", "report.json", "knob.step"}
+    assert {f["path"] for f in manifest["files"]} >= {"bom.csv", "report.json", "parts/knob.step"}
     with (out / "bom.csv").open(newline="") as fh:
         rows = {r["part"]: r for r in csv.DictReader(fh)}
     assert rows["bearing"]["quantity"] == "16" and rows["motor"]["quantity"] == "4"
@@ -73,12 +73,12 @@ def test_part_masses_against_closed_forms(built):
     assert bom["pin_long"]["mass_g"] == pytest.approx(pin, rel=1e-9)
     assert bom["bearing"]["mass_g"] == pytest.approx(0.7)  # SKF 618/4 catalogue mass
     # a moving body is the sum of its parts (2 clevises + tube + 4 bearings for a distal link)
-    distal = rep["bodies"]["crank_distal"]["mass_kg"] * 1e3
+    distal = rep["bodies"]["crank_distal_left"]["mass_kg"] * 1e3
     assert distal == pytest.approx(
         2 * bom["clevis_bearing"]["mass_g"] + bom["tube_distal"]["mass_g"] + 4 * 0.7, rel=1e-9
     )
     # symmetric distal link: COM at mid-length
-    assert rep["bodies"]["crank_distal"]["com_mm"][0] == pytest.approx(87.5, abs=1e-6)
+    assert rep["bodies"]["crank_distal_left"]["com_mm"][0] == pytest.approx(87.5, abs=1e-6)
 
 
 def test_effective_mass_and_gii_reported(built):

@@ -212,7 +212,13 @@ def test_build_report_and_exports(tmp_path):
     )
     assert rep["clearances_mm"]["translation_mm"] >= 0 and rep["clearances_mm"]["rotation_mm"] > 0
     files = set(rep["files"])
-    assert {"pm_flotor_shell.step", "pm_coil.step", "powermouse_assembly.step", "bom.csv"} <= files
+    assert {
+        "parts/pm_flotor_body.step",
+        "parts/pm_coil.step",
+        "assembly.step",
+        "bom.csv",
+        "rig/assembly.step",
+    } <= files
     for f in files:
         assert (out / f).is_file()
     with (out / "bom.csv").open(newline="") as fh:

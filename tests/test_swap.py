@@ -75,14 +75,20 @@ def test_bad_family_exits_2_and_writes_nothing(tmp_path):
     assert list(tmp_path.iterdir()) == []
 
 
-def test_handle_script_path_follows_the_new_file(tmp_path):
+def test_handle_script_path_follows_the_new_file(tmp_path, monkeypatch):
     from cad.design import load_design
+    from cad.errors import DesignError
     from cad.parts.handle import resolve_script
 
     out = tmp_path / "sub" / "swapped.toml"
     r = swap(ROOT / "designs" / "hoeken_cq_handle.toml", "roberts", out)
     assert r.returncode == 0, r.stderr
     d = load_design(out)
+    # the script now lies outside the new design's folder: the folder opt-in refuses it
+    monkeypatch.setenv("HAPTICAD_ALLOW_SCRIPTS", "1")
+    with pytest.raises(DesignError, match="outside the design's folder"):
+        resolve_script(d.parts, d.source)
+    monkeypatch.setenv("HAPTICAD_ALLOW_SCRIPTS", "anywhere")
     assert resolve_script(d.parts, d.source) == (ROOT / "designs" / "handle_cq.py").resolve()
 
 

@@ -58,8 +58,9 @@ def test_build123d_script_volume_is_the_closed_form(tmp_path):
 
 
 @pytest.mark.parametrize("dialect", ["cadquery", "build123d"])
-def test_both_dialects_go_through_the_build(tmp_path, dialect):
+def test_both_dialects_go_through_the_build(tmp_path, dialect, monkeypatch):
     """Build a Hoeken with the user handle: its mass is volume x density and sits in the coupler."""
+    monkeypatch.setenv("HAPTICAD_ALLOW_SCRIPTS", "1")  # the user's opt-in (README "Design scripts")
     from cad.build import build_design
     from cad.design import load_design
     from cad.materials import get_material
@@ -108,7 +109,8 @@ def test_broken_scripts_are_design_errors(tmp_path, body, words):
     assert ei.value.field == "parts.handle_script" and words in str(ei.value)
 
 
-def test_missing_script_is_a_design_error(tmp_path):
+def test_missing_script_is_a_design_error(tmp_path, monkeypatch):
+    monkeypatch.setenv("HAPTICAD_ALLOW_SCRIPTS", "1")
     from cad.design.parts import parse_parts
     from cad.parts.handle import resolve_script
 

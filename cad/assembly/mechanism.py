@@ -274,7 +274,11 @@ def _joint_kinds(b: _Builder) -> dict[str, PartKind]:
             lambda: joints.nut_shape(parts.pin),
             material=steel,
             made=False,
-            description=f"hex nut ISO 4032 {parts.pin}",
+            description=(
+                f"retaining ring DIN 471 {cat.get_shoulder_screw(parts.pin).ds_mm:g}"
+                if cat.is_dowel(parts.pin)
+                else f"hex nut ISO 4032 {parts.pin}"
+            ),
             process="bought",
             revolution=True,
             collision=(("self", joints.ring_shape(0.0, nut.s_mm / math.sqrt(3.0), nut.m_mm)),),
@@ -318,9 +322,9 @@ def _pin_kind(b: _Builder, L: float) -> PartKind:
     return b.kind(
         f"shoulder_screw_{parts.pin}x{_fmt(L)}",
         lambda: joints.shoulder_screw_shape(parts.pin, L),
-        material=cat.FASTENER_MATERIAL,
+        material=parts.pin_material,
         made=False,
-        description=f"shoulder screw ISO 7379 {parts.pin} x {_fmt(L)}",
+        description=cat.pin_description(parts.pin, L),
         process="bought",
         revolution=True,
         collision=(("self", env),),
@@ -366,7 +370,8 @@ def _joint_hardware(b: _Builder) -> None:
             clamps += [low, f"washer_{j}"]
         else:
             hole, engaged = "post_A4:top", pin.b_mm - POST_BORE_EXTRA_MM
-        f = Fastener("ISO 7379", parts.pin, s.pin_length_mm, tuple(clamps), hole, engaged)
+        std = "ISO 2338 + DIN 471" if cat.is_dowel(parts.pin) else "ISO 7379"
+        f = Fastener(std, parts.pin, s.pin_length_mm, tuple(clamps), hole, engaged)
         b.place(
             f"pin_{j}",
             _pin_kind(b, s.pin_length_mm),
@@ -507,7 +512,7 @@ def _post_through_mount(parts: PartsSpec, m, a4) -> bool:
     the screw passes through it too; DesignError when the head would meet the motor housing."""
     from cad.parts import motor
 
-    cs = cat.get_cap_screw(parts.pin, "parts.pin")
+    cs = cat.get_cap_screw(cat.standoff_screw(parts.pin), "parts.pin")
     half = motor.mount_side_mm(m) / 2 + HEAD_CLEARANCE_MM
     r = cs.dk_mm / 2
     if abs(a4[0]) - r >= half or abs(a4[1]) - r >= half:
@@ -540,7 +545,13 @@ def _base_post_legs(b: _Builder, footprint_mm):
     bk = b.kind(
         "base_plate",
         lambda: base.base_plate_shape(
-            rect, bt, a4, opening, motor.mount_hole_xy_mm(m), motor.MOUNT_SCREW, parts.pin
+            rect,
+            bt,
+            a4,
+            opening,
+            motor.mount_hole_xy_mm(m),
+            motor.MOUNT_SCREW,
+            cat.standoff_screw(parts.pin),
         ),
         material=parts.base_material,
         made=True,
@@ -550,7 +561,9 @@ def _base_post_legs(b: _Builder, footprint_mm):
     )
     b.place("base_plate", bk, "ground", np.eye(4))
     through = _post_through_mount(parts, m, a4)
-    extra = [(a4[0], a4[1], cat.clearance_hole_mm(parts.pin))] if through else []
+    extra = (
+        [(a4[0], a4[1], cat.clearance_hole_mm(cat.standoff_screw(parts.pin)))] if through else []
+    )
     mm_k = b.kind(
         "motor_mount",
         lambda: motor.motor_mount_shape(m, mt, extra),
@@ -588,43 +601,38 @@ def _post(b: _Builder, a4, pin, through: bool) -> None:
     post_h = s4.z_lower_top_mm
     bore_depth = s4.pin_length_mm - s4.clamp_mm + pin.g2_mm + POST_BORE_EXTRA_MM
     thread_depth = pin.b_mm + POST_THREAD_EXTRA_MM
-    size = parts.pin.split("-")[0]
+    screw = cat.standoff_screw(parts.pin)
+    dowel = cat.is_dowel(parts.pin)
+    top = "press-fit bore" if dowel else f"tap {parts.pin.split('-')[0]}"
     pok = b.kind(
         "post_A4",
         lambda: base.post_shape(
-            parts.post_diameter_mm,
-            post_h,
-            pin.ds_mm,
-            bore_depth,
-            parts.pin,
-            thread_depth,
-            parts.pin,
+            parts.post_diameter_mm, post_h, pin.ds_mm, bore_depth, parts.pin, thread_depth, screw
         ),
         material=parts.post_material,
         made=True,
         description="A4 pivot post",
-        process=f"turned; ream top bore; tap {size} top and bottom",
+        process=f"turned; ream top bore; {top} top; tap {screw.split('-')[0]} bottom",
         fits=(f"shoulder bore {_fmt(pin.ds_mm)} {FITS['post shoulder bore']}",),
         revolution=True,
     )
     b.place("post_A4", pok, "ground", translation(a4[0], a4[1], 0.0))
-    b.hole(TappedHole("post_A4:top", "post_A4", parts.pin, thread_depth, 1.5 * pin.thread_mm))
+    # a plain pin is pressed, not screwed: its "thread" window has no minimum
+    need = 0.0 if dowel else MIN_ENGAGEMENT_ALU_D * pin.thread_mm
+    b.hole(TappedHole("post_A4:top", "post_A4", parts.pin, thread_depth, need))
     bottom = b.hole(
-        alu_hole(
-            "post_A4:bottom", "post_A4", parts.pin, base.STANDOFF_TAP_DEPTH_MM - TAP_LEADOUT_MM
-        )
+        alu_hole("post_A4:bottom", "post_A4", screw, base.STANDOFF_TAP_DEPTH_MM - TAP_LEADOUT_MM)
     )
     clamp = parts.base_thickness_mm + (parts.motor_mount_thickness_mm if through else 0.0)
-    z_head = -clamp
     b.screw(
         "post_screw",
-        parts.pin,
+        screw,
         clamp,
         bottom,
         "A4 (post to base plate)",
         "parts.pin",
         "ground",
-        translation(a4[0], a4[1], z_head) @ flip_x(),
+        translation(a4[0], a4[1], -clamp) @ flip_x(),
         ["base_plate", "motor_mount"] if through else ["base_plate"],
     )
 

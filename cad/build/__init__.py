@@ -13,6 +13,8 @@ dispatcher adds ``build`` metadata, writes ``report.json`` and ``manifest.json``
 builder may put wall times under ``"_timings_s"``: they are returned (as
 ``timings_s``) but kept out of ``report.json`` so that the file is deterministic.
 ``progress`` (may be None) is called as ``progress(description, done, total)``.
+A builder may expose ``check_options(design, fidelity, phi1_deg, formats)`` raising DesignError for
+a combination it cannot build; the dispatcher calls it before any CAD import.
 A builder may also expose ``cache_inputs(design) -> dict`` with anything outside the
 design object that its output depends on (e.g. the hash of a user part script), and
 ``CODE_DEPS`` (paths inside the ``cad`` package whose source its output depends on; by
@@ -40,6 +42,7 @@ import cad
 from cad.design import FAMILY_MODULES
 from cad.errors import DesignError
 from cad.io.atomic import atomic_dir, write_text_atomic
+from cad.io.outdir import check_out_dir
 
 Progress = Callable[[str, int, int], None]
 FIDELITIES = ("fabrication", "inertia", "preview")
@@ -158,11 +161,15 @@ def build_design(
 
     Raises the builder's :class:`cad.errors.HapticadError` subclasses (DesignError,
     GeometryError, MeshError, InterferenceError ...); on any failure ``out_dir`` is
-    left exactly as it was.
+    left exactly as it was. ``out_dir`` is replaced whole, so it must hold only files
+    an earlier build wrote (:func:`cad.io.outdir.check_out_dir`, DesignError ``--out``
+    otherwise: checked before the build and again just before publishing).
     """
     if fidelity not in FIDELITIES:
         raise DesignError("--fidelity", f"must be one of {', '.join(FIDELITIES)}, got {fidelity!r}")
     out_dir = Path(out_dir)
+    check = functools.partial(check_out_dir, design_source=getattr(design, "source", None))
+    check(out_dir)
     key = build_key(design, formats, fidelity, allow_interference, phi1_deg)
     if use_cache:
         rep = cached_report(out_dir, key)
@@ -177,11 +184,19 @@ def build_design(
                 "mechanism.family", f"building {design.family!r} designs is not available yet"
             ) from None
         raise
+    if hasattr(mod, "check_options"):  # unsupported combinations: before any CAD import
+        mod.check_options(design, fidelity, phi1_deg, set(formats))
+    if set(formats) & {"mjcf", "urdf"} and not getattr(mod, "SIM_EXPORT", False):
+        raise DesignError(
+            "--formats",
+            f"mjcf/urdf export is available for four-bar and twin-pantograph designs, "
+            f"not {design.family!r}",
+        )
     from cad.export.manifest import write_manifest
     from cad.parts.lazy_import import import_build123d
 
     import_build123d()  # the build's first CAD import, without scikit-learn (lazy_import)
-    with atomic_dir(out_dir) as tmp:
+    with atomic_dir(out_dir, check=check) as tmp:
         report = mod.build(
             design,
             tmp,

@@ -48,6 +48,7 @@ CODE_DEPS = (
     "massprops",
     "kinematics",
     "dynamics",
+    "structure",
     "design",
     "io",
     "materials.py",
@@ -58,6 +59,8 @@ CODE_DEPS = (
 )
 #: Poses and STL tolerance of the preview fidelity.
 PREVIEW_POSES = 24
+#: This builder writes the simulator formats (mjcf, urdf; :mod:`cad.build.sim_fourbar`).
+SIM_EXPORT = True
 PREVIEW_STL_TOL_MM = 0.1
 LINKS = ("crank", "coupler", "rocker")
 BODY_COLORS = {"ground": "#9aa0a6", "crank": "#d9534f", "coupler": "#337ab7", "rocker": "#5cb85c"}
@@ -269,6 +272,19 @@ def _write_exports(
     return files
 
 
+def _write_sim(design, asm, link_props, Jm, motor, phi1_rad, out_dir: Path, formats) -> list[str]:
+    """``<name>.xml`` (MJCF) / ``<name>.urdf`` when asked (:mod:`cad.build.sim_fourbar`)."""
+    from cad.export.sim import SIM_FORMATS, write_sim_files
+
+    if not set(formats) & set(SIM_FORMATS):
+        return []
+    from cad.build.sim_fourbar import sim_model
+
+    model = sim_model(design, asm, link_props, Jm, motor, phi1_rad)
+    paths = write_sim_files(model, out_dir, formats, design.name)
+    return [p.relative_to(out_dir).as_posix() for p in paths]
+
+
 def build(
     design,
     out_dir: Path,
@@ -417,6 +433,9 @@ def build(
             design, asm, props, link_props, Jm, H, am, fidelity, user_handle is not None, plan
         )
         timings["massprops"] = time.perf_counter() - t1
+        from cad.structure.device import structure_of_build
+
+        structure = structure_of_build(design, asm, props, am["M11_max_g"])
 
         # 5 interference
         _step(progress, "interference sweep", 3, n_steps)
@@ -466,6 +485,7 @@ def build(
         # 6 exports and preview (wait for the children)
         _step(progress, "exports", 4, n_steps)
         files, timings["exports"] = exports_task.result()
+        files += _write_sim(design, asm, link_props, Jm, motor, pose_phi, out_dir, formats)
         _step(progress, "preview", 6, n_steps)
         timings["preview"] = preview_task.result()
 
@@ -498,6 +518,7 @@ def build(
         "beta2_deg": math.degrees(H.beta2_rad),
         "Jm_kg_m2": Jm,
         "apparent_mass": am,
+        "structure": structure,
         "links": {
             k: {
                 **link_props[k].to_dict(),

@@ -159,3 +159,26 @@ def inertia_model(design, fidelity: str = "inertia", samples: int = 401) -> dict
         "budget": budget,
         "wall_s": time.perf_counter() - t0,
     }
+
+
+def target_values(design, fidelity: str, need_clearance: bool) -> tuple[dict, dict]:
+    """(flat values for targets, inertia model report) of a four-bar design."""
+    import tempfile
+    from pathlib import Path
+
+    from cad.checks import values_from_report
+    from cad.kinematics.metrics import compute_metrics
+
+    model = inertia_model(design, fidelity=fidelity)
+    m = compute_metrics(design.linkage, design.phi1_min_rad, design.phi1_max_rad,
+                        force_N=design.force_N)
+    report = {**model, **m.as_dict()}
+    if need_clearance:
+        from cad.build import build_design
+
+        with tempfile.TemporaryDirectory() as tmp:
+            rep = build_design(design, Path(tmp) / "b", set(), fidelity=fidelity,
+                               allow_interference=True, use_cache=False)
+        report["min_clearance_mm"] = rep["min_clearance_mm"]
+        report["overlap_volume_mm3"] = rep["overlap_volume_mm3"]
+    return values_from_report(report), report

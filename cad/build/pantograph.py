@@ -1,34 +1,49 @@
-"""Build a twin-pantograph haptic mouse: layout -> clearances -> solids -> mass properties -> exports.
+"""Build a pantograph-family device: the plain 5-bar or the twin-pantograph haptic mouse.
 
 Contract: see :mod:`cad.build` (``build(design, out_dir, formats, *, fidelity,
-allow_interference, progress, phi1_deg) -> report dict``; ``phi1_deg`` is
-ignored). Isotropy paper §4.1, Fig. 1, Table 1.
+allow_interference, progress, phi1_deg) -> report dict``; ``phi1_deg`` must be None, the
+family has no crank: refused at load time by :func:`check_options`). Isotropy paper §3
+(Fig. 2, the plain 5-bar) and §4.1 (Fig. 1, Table 1, the twin pantograph).
 
-Arrangement (our reading of Fig. 1; world frame = the kinematic base frame,
-z up, z = 0 on the base plate's top face):
+Pipeline: layout (heights, plates; numpy) -> analytic clearances over the workspace ->
+one list of part instances (:func:`assembly`; body, kind, placement) -> mass properties
+per body from the solids -> effective mass -> every-pair solid check at the home pose ->
+the common outputs of :mod:`cad.build.family` (``parts/``, ``assembly.step``,
+``bom.csv``, ``preview.png``, ``report.md``).
 
-* two identical 5-bars in stacked planes, both with their actuated joints at
-  B1 = (-a/2, 0) and B2 = (+a/2, 0);
-* the *crank* pantograph (drives the crank pin) is the lower group: proximal
-  links in layer L0, left distal L1, right distal L2; its motors hang under
-  the base plate on motor-mount plates, shafts up;
-* the crankshaft web lies between the groups; the crank pin hangs down into
-  L2 and L1, the main journal rises through the upper group to the knob;
-* the *knob* pantograph (drives the main journal, the kinematic reference
-  point) is the upper group, mirrored: right distal U2, left distal U1,
-  proximal links U0 on top; its motors stand on a bridge plate above U0
-  (shafts down), the bridge carried by four posts behind the base line;
-* every passive joint: a steel pin pressed into the proximal clevis, two ball
-  bearings in the distal clevis; the journals run in the distal clevises'
-  bearings the same way.
+Arrangement (our reading of Fig. 1; world frame = the kinematic base frame, z up,
+z = 0 on the base plate's top face, the bench plane at ``bench_z_mm`` below it):
 
-Clearances are checked analytically (capsules per layer, numpy) over the
-design's workspace samples x 16 crank angles, before any solid is built.
+* the base plate stands on four leg standoffs (cap screws from above) tall enough that
+  the motors under it clear the bench by :data:`cad.parts.base.LEG_GROUND_CLEARANCE_MM`;
+* the lower 5-bar (the *crank* pantograph of the mouse, the only one of the plain
+  5-bar) has its actuated joints at B1 = (-a/2, 0), B2 = (+a/2, 0): proximal links in
+  layer L0, left distal L1, right distal L2; its motors hang under the base plate on
+  motor-mount plates (cap screws into the base plate), shafts up into the hub clevises;
+* plain 5-bar: the end effector E is a handle pin running in both distal clevises'
+  bearings, with a knob above L2;
+* twin pantograph: the crankshaft web lies above L2; the crank pin hangs down into L2
+  and L1, the main journal rises through the upper group to the knob. The *knob*
+  pantograph (drives the main journal) is the upper group, mirrored: right distal U2,
+  left distal U1, proximal links U0 on top; its motors stand on a bridge plate above
+  U0 (shafts down), the bridge carried by four posts behind the base line (cap screws
+  into both ends of each post);
+* every passive joint: a steel pin pressed into the proximal clevis, two ball bearings
+  in the distal clevis; the journals run in the distal clevises' bearings the same way.
 
-Report keys: ``gii`` (the design's GII), ``layout_mm``, ``clearances_mm``,
-``bodies`` (mass properties of each moving body from the exact B-rep, in its
-link frame), ``effective_mass_home`` (diag and apparent readings) beside
-``paper_table1``, ``parts`` (files), ``bom``.
+Body frames are planar (rotation about z, z = 0 on the base plate's top): a moving link's
+origin at its first joint, x towards its second; the upper group's parts are turned over
+inside their body (``tf_body_part`` carries the flip and the layer height).
+
+Clearances between moving parts are checked analytically (capsules per layer, numpy)
+over the design's workspace samples (x 16 crank angles for the mouse), before any solid
+is built; the solids are then checked pair by pair at the home pose.
+
+Report keys: ``gii``, ``layout_mm``, ``clearances_mm``, ``bodies`` (mass properties of
+each moving body from the exact B-rep, in its link frame), ``effective_mass_home``
+(mouse: diag and apparent readings beside ``paper_table1``; 5-bar: the 2x2 mass matrix
+at the workspace centre), ``interference`` (every pair of solids at home),
+``bench_z_mm`` / ``lowest_z_mm``, ``bom``, ``files``.
 """
 
 from __future__ import annotations
@@ -38,7 +53,24 @@ from pathlib import Path
 
 import numpy as np
 
-from cad.errors import InterferenceError
+from cad.errors import DesignError, InterferenceError
+
+#: Source the output depends on (build cache key).
+CODE_DEPS = (
+    "build",
+    "parts",
+    "assembly",
+    "export",
+    "massprops",
+    "kinematics",
+    "isotropy",
+    "design",
+    "io",
+    "materials.py",
+    "errors.py",
+)
+#: Families this module builds (others of cad.design.pantograph are refused at load).
+FAMILIES = ("pantograph", "twin-pantograph")
 
 #: Paper Table 1 (haptic mouse at its home position).
 PAPER_TABLE1 = {
@@ -54,12 +86,39 @@ PAPER_TABLE1 = {
 MIN_CLEARANCE_MM = 0.5
 #: Crank angles sampled by the clearance check (full turn).
 CLEARANCE_THETA_SAMPLES = 16
-#: Posts: offset along x from each actuated joint (mm), and the M4 screws.
+#: Posts: offset along x from each actuated joint (mm), and their screws.
 POST_DX_MM = 22.0
-POST_SCREW_TAP_MM = 3.3
-POST_SCREW_CLEAR_MM = 4.5
-#: Depth of the main journal in the knob's bore (mm).
+POST_SCREW = "M4-0.7"
+POST_TAP_DEPTH_MM = 10.0
+#: Depth of the journal / handle pin in the knob's bore (mm).
 KNOB_BORE_DEPTH_MM = 15.0
+#: Knob diameter of the plain 5-bar's handle (mm); the mouse's is mechanism.knob_diameter_mm.
+PLAIN_KNOB_DIAMETER_MM = 20.0
+#: Smallest thread engagement of a cap screw in a tapped hole (x thread diameter):
+#: 1.5 d in aluminium.
+MIN_ENGAGEMENT_D = 1.5
+
+
+def check_options(design, fidelity: str, phi1_deg, formats=frozenset()) -> None:
+    """Refuse what this builder cannot do, before any CAD import (DesignError)."""
+    if set(formats) & {"mjcf", "urdf"} and design.family != "twin-pantograph":
+        raise DesignError(
+            "--formats",
+            f"mjcf/urdf export is available for four-bar and twin-pantograph designs, "
+            f"not {design.family!r}",
+        )
+    if design.family not in FAMILIES:
+        raise DesignError(
+            "mechanism.family",
+            f"parts are generated for {' and '.join(FAMILIES)} designs, not {design.family!r} "
+            "(the haptic pen has kinematics and GII only)",
+        )
+    if phi1_deg is not None:
+        raise DesignError(
+            "--phi1-deg",
+            f"a {design.family} has no crank angle, got {phi1_deg!r}; the assembly is "
+            "exported at workspace.home_mm",
+        )
 
 
 def _step(progress, text: str, done: int, total: int) -> None:
@@ -67,68 +126,120 @@ def _step(progress, text: str, done: int, total: int) -> None:
         progress(text, done, total)
 
 
+def _twin(design) -> bool:
+    return design.family == "twin-pantograph"
+
+
+def _lower_five_bar(design):
+    return design.mechanism.crank if _twin(design) else design.mechanism
+
+
+def home_xy_mm(design) -> np.ndarray:
+    """End-effector (mouse: main journal) position of the exported pose (mm)."""
+    ws = design.workspace
+    return np.asarray(ws.get("home_mm", ws["center_mm"]), dtype=float)
+
+
 # ----------------------------------------------------------------------------- layout
+def _screw_length_mm(size: str, through_mm: float, hole_depth_mm: float, joint: str) -> float:
+    """Catalog length of a cap screw through ``through_mm`` into a tapped hole of
+    ``hole_depth_mm``: engagement between MIN_ENGAGEMENT_D x d and the hole depth."""
+    from cad.parts.catalog import get_cap_screw, shortest_length
+
+    cs = get_cap_screw(size, "parts")
+    L = shortest_length(cs.lengths_mm, through_mm + MIN_ENGAGEMENT_D * cs.d_mm)
+    if L is None or L - through_mm > hole_depth_mm + 1e-9:
+        raise DesignError(
+            "parts.plate_thickness_mm",
+            f"{joint}: no ISO 4762 {size} length engages {MIN_ENGAGEMENT_D:g} d in a "
+            f"{hole_depth_mm:g} mm tapped hole through {through_mm:g} mm",
+        )
+    return L
+
+
 def layout(design) -> dict:
     """Heights and plate extents of the assembly (mm), from the design only (no CAD)."""
+    from cad.parts import base
     from cad.parts.catalog import get_bearing, get_motor
     from cad.parts.motor import mount_side_mm
 
+    twin = _twin(design)
     p = design.parts
-    tp = design.mechanism
     a = design.params["base_mm"]
-    l2, l3, l6 = design.params["proximal_mm"], design.params["distal_mm"], tp.crank_mm
+    l2 = design.params["proximal_mm"]
+    l6 = design.mechanism.crank_mm if twin else 0.0
     b = get_bearing(p.bearing)
     m = get_motor(p.motor)
     h, g, t = p.clevis_height_mm, p.layer_gap_mm, p.crank_thickness_mm
     pitch = h + g
     L0 = g + h / 2
     L = [L0, L0 + pitch, L0 + 2 * pitch]
-    zW = L[2] + h / 2 + g + t / 2
-    U2 = zW + t / 2 + g + h / 2
-    U = [U2 + 2 * pitch, U2 + pitch, U2]  # U0 (proximal, top), U1, U2
-    z_bridge = U[0] + h / 2 + g
     ms = mount_side_mm(m)
-    post_y = -(ms / 2 + p.post_diameter_mm / 2 + 8.0)
-    posts = [(sx * a / 2 + dx, post_y) for sx in (-1, 1) for dx in (-POST_DX_MM, POST_DX_MM)]
     ws = design.workspace
     cx, cy = ws["center_mm"]
     half = ws["side_mm"] / 2
     reach_x = a / 2 + l2 + p.clevis_width_mm
-    base_x = (min(-reach_x, cx - half - l6 - 20), max(reach_x, cx + half + l6 + 20))
-    base_y = (post_y - p.post_diameter_mm / 2 - 12, cy + half + l6 + p.clevis_width_mm + 20)
-    bridge_x = (
-        min(x for x, _ in posts) - p.post_diameter_mm,
-        max(x for x, _ in posts) + p.post_diameter_mm,
+    margin = base.LEG_INSET_MM + base.LEG_DIAMETER_MM / 2 + 4.0
+    post_y = -(ms / 2 + p.post_diameter_mm / 2 + 8.0)
+    y_back = (post_y - p.post_diameter_mm / 2) if twin else -ms / 2
+    base_x = (
+        min(-reach_x, cx - half - l6 - 20, -a / 2 - ms / 2) - margin,
+        max(reach_x, cx + half + l6 + 20, a / 2 + ms / 2) + margin,
     )
-    bridge_y = (post_y - p.post_diameter_mm, ms / 2 + 5)
-    journal_up = (U[0] + h / 2 + g + KNOB_BORE_DEPTH_MM) - (zW + t / 2)
-    pin_down = (zW - t / 2) - (L[1] - h / 2)
-    shaft_tip = -p.plate_thickness_mm - p.motor_mount_thickness_mm + m.shaft_length_mm
-    return {
+    base_y = (y_back - margin, cy + half + l6 + p.clevis_width_mm + 20 + margin)
+    leg_h = p.motor_mount_thickness_mm + m.body_length_mm + base.LEG_GROUND_CLEARANCE_MM
+    pt, mt = p.plate_thickness_mm, p.motor_mount_thickness_mm
+    shaft_tip = -pt - mt + m.shaft_length_mm
+    out = {
         "layer_pitch_mm": pitch,
         "lower_layers_z_mm": L,
-        "web_z_mm": zW,
-        "upper_layers_z_mm": U,
-        "bridge_bottom_z_mm": z_bridge,
-        "knob_bottom_z_mm": U[0] + h / 2 + g,
-        "posts_xy_mm": posts,
         "base_plate_x_mm": base_x,
         "base_plate_y_mm": base_y,
-        "bridge_x_mm": bridge_x,
-        "bridge_y_mm": bridge_y,
-        "journal_up_mm": journal_up,
-        "crank_pin_down_mm": pin_down,
+        "leg_height_mm": leg_h,
+        "bench_z_mm": -pt - leg_h,
         "journal_d_mm": b.d_mm,
-        "web_width_mm": max(b.d_mm + 6.0, 10.0),
         "pin_short_mm": 2 * h + g,
         "pin_long_mm": 3 * h + 2 * g,
         "tube_proximal_mm": l2 - 2 * (p.clevis_length_mm - p.socket_depth_mm),
-        "tube_distal_mm": l3 - 2 * (p.clevis_length_mm - p.socket_depth_mm),
+        "tube_distal_mm": design.params["distal_mm"] - 2 * (p.clevis_length_mm - p.socket_depth_mm),
         "lower_shaft_engagement_mm": shaft_tip - (L[0] - h / 2),
-        "upper_shaft_engagement_mm": (U[0] + h / 2)
-        - (z_bridge + p.plate_thickness_mm + p.motor_mount_thickness_mm - m.shaft_length_mm),
         "motor_mount_side_mm": ms,
+        "leg_screw_mm": _screw_length_mm(
+            base.LEG_SCREW, pt, base.STANDOFF_TAP_DEPTH_MM, "leg screw into its leg"
+        ),
+        "mount_screw_mm": _screw_length_mm("M4-0.7", mt, pt, "motor mount screw into the plate"),
     }
+    if not twin:
+        knob_z = L[2] + h / 2 + g
+        out.update(
+            knob_bottom_z_mm=knob_z,
+            handle_pin_z_mm=L[1] - h / 2,
+            handle_pin_mm=knob_z + KNOB_BORE_DEPTH_MM - (L[1] - h / 2),
+        )
+        return out
+    zW = L[2] + h / 2 + g + t / 2
+    U2 = zW + t / 2 + g + h / 2
+    U = [U2 + 2 * pitch, U2 + pitch, U2]  # U0 (proximal, top), U1, U2
+    z_bridge = U[0] + h / 2 + g
+    posts = [(sx * a / 2 + dx, post_y) for sx in (-1, 1) for dx in (-POST_DX_MM, POST_DX_MM)]
+    out.update(
+        web_z_mm=zW,
+        upper_layers_z_mm=U,
+        bridge_bottom_z_mm=z_bridge,
+        knob_bottom_z_mm=U[0] + h / 2 + g,
+        posts_xy_mm=posts,
+        bridge_x_mm=(
+            min(x for x, _ in posts) - p.post_diameter_mm,
+            max(x for x, _ in posts) + p.post_diameter_mm,
+        ),
+        bridge_y_mm=(post_y - p.post_diameter_mm, ms / 2 + 5),
+        journal_up_mm=(U[0] + h / 2 + g + KNOB_BORE_DEPTH_MM) - (zW + t / 2),
+        crank_pin_down_mm=(zW - t / 2) - (L[1] - h / 2),
+        web_width_mm=max(b.d_mm + 6.0, 10.0),
+        upper_shaft_engagement_mm=(U[0] + h / 2) - (z_bridge + pt + mt - m.shaft_length_mm),
+        post_screw_mm=_screw_length_mm(POST_SCREW, pt, POST_TAP_DEPTH_MM, "post screw"),
+    )
+    return out
 
 
 # ------------------------------------------------------------------------- clearances
@@ -160,41 +271,68 @@ def _pt_seg(pt, p, q):
     return seg_seg_distance(pt, pt, p, q)
 
 
-def clearances(design, lay: dict | None = None) -> dict:
-    """Smallest gaps (mm) between parts sharing a layer over the workspace x full turn.
-
-    Capsules (segment + radius) per layer: proximal and distal links (radius =
-    clevis_width / 2), pins crossing a layer they are not part of, the main
-    journal crossing U0, the posts crossing every layer. Returns
-    {check: {"gap_mm", "at": [x_mm, y_mm, theta_deg]}} and the overall minimum.
-    """
+def _poses(design):
+    """Workspace samples (N, 2 or 3) and the five-bar poses of each group there."""
+    from cad.kinematics import fivebar as fb5
     from cad.kinematics import twin_pantograph as tw
-    from cad.parts.catalog import get_bearing
 
-    lay = lay or layout(design)
-    p = design.parts
-    tp = design.mechanism
     ws = design.workspace
-    X = tw.workspace_grid(
-        ws["center_mm"], ws["side_mm"], max(ws["grid"], 5), CLEARANCE_THETA_SAMPLES
-    )
-    pose = tw.ik(tp, X)
+    if _twin(design):
+        X = tw.workspace_grid(
+            ws["center_mm"], ws["side_mm"], max(ws["grid"], 5), CLEARANCE_THETA_SAMPLES
+        )
+        pose = tw.ik(design.mechanism, X)
+        names = tw.STATUS_NAMES
+        groups = {"crank": pose.crank, "knob": pose.knob}
+    else:
+        X = design.workspace_points()
+        pose = fb5.ik(design.mechanism, X)
+        names = fb5.STATUS_NAMES
+        groups = {"lower": pose}
     if np.any(pose.status != 0):
         i = int(np.flatnonzero(pose.status != 0)[0])
         raise InterferenceError(
-            f"workspace pose {X[i].round(3).tolist()} is {tw.STATUS_NAMES[int(pose.status[i])]}"
+            f"workspace pose {X[i].round(3).tolist()} is {names[int(pose.status[i])]}"
         )
+    return X, groups
+
+
+def clearances(design, lay: dict | None = None) -> dict:
+    """Smallest gaps (mm) between parts sharing a layer over the workspace (x full turn).
+
+    Capsules (segment + radius) per layer: proximal and distal links (radius =
+    clevis_width / 2), pins crossing a layer they are not part of, the main journal
+    crossing U0, the posts crossing every layer, the leg screw heads standing in L0.
+    Returns {check: {"gap_mm", "at": [x_mm, y_mm(, theta_deg)]}} and the overall minimum.
+    """
+    from cad.parts import base
+    from cad.parts.catalog import get_bearing, get_cap_screw
+
+    lay = lay or layout(design)
+    p = design.parts
+    fb = _lower_five_bar(design)
+    X, groups = _poses(design)
     rc = p.clevis_width_mm / 2
     rpin = get_bearing(p.bearing).d_mm / 2
     rpost = p.post_diameter_mm / 2
-    B1 = np.array(tp.knob.base_left_mm)
-    B2 = np.array(tp.knob.base_right_mm)
+    B1 = np.array(fb.base_left_mm)
+    B2 = np.array(fb.base_right_mm)
     checks: dict[str, np.ndarray] = {}
-    for grp, fp in (("crank", pose.crank), ("knob", pose.knob)):
+
+    def worst(key: str, d: np.ndarray) -> None:
+        checks[key] = np.minimum(checks[key], d) if key in checks else d
+
+    head = get_cap_screw(base.LEG_SCREW, "parts").dk_mm / 2
+    for x, y in _leg_xy(lay):
+        leg = np.array([x, y])
+        fp = groups["crank" if _twin(design) else "lower"]
+        for C, B in ((fp.C_left_mm, B1), (fp.C_right_mm, B2)):
+            worst("L0 proximal links vs leg screw heads", _pt_seg(leg, B, C) - rc - head)
+    for grp, fp in groups.items():
         C1, C2, E = fp.C_left_mm, fp.C_right_mm, fp.E_mm
         checks[f"{grp}: proximal L vs proximal R"] = seg_seg_distance(B1, C1, B2, C2) - 2 * rc
         checks[f"{grp}: left distal vs right elbow pin"] = _pt_seg(C2, C1, E) - rc - rpin
-        for x, y in lay["posts_xy_mm"]:
+        for x, y in lay.get("posts_xy_mm", ()):
             post = np.array([x, y])
             for name, (s0, s1) in {
                 "proximal L": (B1, C1),
@@ -202,32 +340,32 @@ def clearances(design, lay: dict | None = None) -> dict:
                 "distal L": (C1, E),
                 "distal R": (C2, E),
             }.items():
-                key = f"{grp}: {name} vs posts"
-                d = _pt_seg(post, s0, s1) - rc - rpost
-                checks[key] = np.minimum(checks[key], d) if key in checks else d
-    Ek = pose.knob.E_mm
-    checks["knob: main journal vs proximal links (U0)"] = (
-        np.minimum(_pt_seg(Ek, B1, pose.knob.C_left_mm), _pt_seg(Ek, B2, pose.knob.C_right_mm))
-        - rc
-        - rpin
-    )
-    # knob (above U0) against the bridge plate, in plan
-    bx, by = lay["bridge_x_mm"], lay["bridge_y_mm"]
-    dx = np.maximum(np.maximum(bx[0] - Ek[:, 0], Ek[:, 0] - bx[1]), 0)
-    dy = np.maximum(np.maximum(by[0] - Ek[:, 1], Ek[:, 1] - by[1]), 0)
-    checks["knob vs bridge plate (plan)"] = np.hypot(dx, dy) - design.mechanism.knob_diameter_mm / 2
+                worst(f"{grp}: {name} vs posts", _pt_seg(post, s0, s1) - rc - rpost)
+    if _twin(design):
+        kn = groups["knob"]
+        Ek = kn.E_mm
+        checks["knob: main journal vs proximal links (U0)"] = (
+            np.minimum(_pt_seg(Ek, B1, kn.C_left_mm), _pt_seg(Ek, B2, kn.C_right_mm)) - rc - rpin
+        )
+        # knob (above U0) against the bridge plate, in plan
+        bx, by = lay["bridge_x_mm"], lay["bridge_y_mm"]
+        dx = np.maximum(np.maximum(bx[0] - Ek[:, 0], Ek[:, 0] - bx[1]), 0)
+        dy = np.maximum(np.maximum(by[0] - Ek[:, 1], Ek[:, 1] - by[1]), 0)
+        checks["knob vs bridge plate (plan)"] = (
+            np.hypot(dx, dy) - design.mechanism.knob_diameter_mm / 2
+        )
     out = {}
     for k, v in checks.items():
         i = int(np.argmin(v))
-        out[k] = {
-            "gap_mm": float(v[i]),
-            "at": [float(X[i, 0]), float(X[i, 1]), float(np.degrees(X[i, 2]))],
-        }
-    worst = min(out, key=lambda k: out[k]["gap_mm"])
+        at = [float(X[i, 0]), float(X[i, 1])]
+        if X.shape[1] > 2:
+            at.append(float(np.degrees(X[i, 2])))
+        out[k] = {"gap_mm": float(v[i]), "at": at}
+    worst_key = min(out, key=lambda k: out[k]["gap_mm"])
     return {
         "checks": out,
-        "min_gap_mm": out[worst]["gap_mm"],
-        "worst": worst,
+        "min_gap_mm": out[worst_key]["gap_mm"],
+        "worst": worst_key,
         "poses": int(X.shape[0]),
     }
 
@@ -247,13 +385,11 @@ def _flip() -> np.ndarray:
     return T
 
 
-def _props(shape, density, tf=None):
-    from cad.massprops.occt import solid_mass_props
+def _leg_xy(lay: dict) -> list[tuple[float, float]]:
+    from cad.parts import base
 
-    mp = solid_mass_props(shape, density)
-    if tf is None:
-        return mp
-    return mp.transformed(tf[:3, :3], tf[:3, 3] * 1e-3)
+    (x0, x1), (y0, y1) = lay["base_plate_x_mm"], lay["base_plate_y_mm"]
+    return base.leg_xy_mm((x0, y0, x1, y1))
 
 
 def _planar(mp):
@@ -267,7 +403,509 @@ def _planar(mp):
     )
 
 
+# -------------------------------------------------------------------------- assembly
+def _kinds(design, lay: dict, fidelity: str) -> dict:
+    """Every distinct part (:class:`cad.parts.PartKind`) of the design, by name."""
+    from cad.parts import PartKind, base, joints
+    from cad.parts import motor as pm
+    from cad.parts import pantograph as pp
+    from cad.parts.catalog import (
+        FASTENER_MATERIAL,
+        clearance_hole_mm,
+        get_bearing,
+        get_cap_screw,
+        get_motor,
+        tap_drill_mm,
+    )
+
+    p = design.parts
+    twin = _twin(design)
+    brg = get_bearing(p.bearing)
+    mot = get_motor(p.motor)
+    fb = _lower_five_bar(design)
+    B = [fb.base_left_mm, fb.base_right_mm]
+    K: dict[str, PartKind] = {}
+
+    def add(name, shape, material, made, description, process, **kw):
+        K[name] = PartKind(
+            name=name,
+            shape=shape,
+            material=material,
+            made=made,
+            description=description,
+            process=process,
+            **kw,
+        )
+
+    cl = dict(
+        length_mm=p.clevis_length_mm,
+        width_mm=p.clevis_width_mm,
+        height_mm=p.clevis_height_mm,
+        socket_depth_mm=p.socket_depth_mm,
+        tube_od_mm=p.tube_od_mm,
+    )
+    cm, tm = p.clevis_material, p.tube_material
+    add(
+        "clevis_hub",
+        pp.clevis_shape("hub", bore_mm=mot.shaft_diameter_mm, **cl),
+        cm,
+        True,
+        "clevis on the motor shaft (M3 set screw)",
+        "CNC milled",
+    )
+    add(
+        "clevis_pin",
+        pp.clevis_shape("pin", bore_mm=brg.d_mm, **cl),
+        cm,
+        True,
+        "clevis at the elbow, pin pressed in",
+        "CNC milled",
+    )
+    add(
+        "clevis_bearing",
+        pp.clevis_shape("bearing", bore_mm=brg.D_mm, **cl),
+        cm,
+        True,
+        "clevis with two ball bearings",
+        "CNC milled",
+    )
+    for which in ("proximal", "distal"):
+        L = lay[f"tube_{which}_mm"]
+        add(
+            f"tube_{which}",
+            pp.tube_shape(L, p.tube_od_mm, p.tube_id_mm),
+            tm,
+            True,
+            f"tube {p.tube_od_mm:g}/{p.tube_id_mm:g} x {L:g} mm, {which} links",
+            "cut to length, bonded",
+        )
+    add(
+        "pin_short",
+        pp.pin_shape(brg.d_mm, lay["pin_short_mm"]),
+        p.pin_material,
+        True,
+        f"elbow pin d{brg.d_mm:g} x {lay['pin_short_mm']:g}, left arm",
+        "ground dowel, cut",
+    )
+    add(
+        "pin_long",
+        pp.pin_shape(brg.d_mm, lay["pin_long_mm"]),
+        p.pin_material,
+        True,
+        f"elbow pin d{brg.d_mm:g} x {lay['pin_long_mm']:g}, right arm",
+        "ground dowel, cut",
+    )
+    detailed = fidelity == "fabrication"
+    add(
+        "bearing",
+        joints.bearing_shape(p.bearing, detailed),
+        "steel-1018",
+        False,
+        f"ball bearing {brg.designation} ({p.bearing})",
+        "bought",
+        mass_kg=brg.mass_kg,
+        inertia_model="ring",
+        ring_mm=(brg.d_mm / 2, brg.D_mm / 2, brg.B_mm),
+    )
+    add(
+        "motor",
+        pm.motor_housing_shape(mot),
+        "steel-1018",
+        False,
+        mot.description,
+        "bought",
+        mass_kg=mot.mass_kg,
+    )
+    add(
+        "motor_shaft",
+        pm.motor_shaft_shape(mot),
+        "steel-1018",
+        False,
+        "motor shaft",
+        "part of the motor",
+        inertia_model="none",
+        listed=False,
+    )
+    add(
+        "motor_mount",
+        pm.motor_mount_shape(mot, p.motor_mount_thickness_mm),
+        p.plate_material,
+        True,
+        "motor mount plate",
+        "waterjet/laser plate",
+        plate=True,
+    )
+    pt = p.plate_thickness_mm
+    mount_holes = [
+        (bx + x, by + y, tap_drill_mm(pm.MOUNT_SCREW))
+        for bx, by in B
+        for x, y in pm.mount_hole_xy_mm(mot)
+    ]
+    openings = [(bx, by, mot.pilot_diameter_mm + 2 * pp.OPENING_MARGIN_MM) for bx, by in B]
+    leg_holes = [(x, y, clearance_hole_mm(base.LEG_SCREW)) for x, y in _leg_xy(lay)]
+    post_holes = [(x, y, clearance_hole_mm(POST_SCREW)) for x, y in lay.get("posts_xy_mm", ())]
+    add(
+        "base_plate",
+        pp.plate_shape(
+            lay["base_plate_x_mm"],
+            lay["base_plate_y_mm"],
+            pt,
+            openings + mount_holes + post_holes + leg_holes,
+        ),
+        p.plate_material,
+        True,
+        "base plate (motors under, legs at the corners)",
+        "waterjet/laser plate, tapped M4",
+        plate=True,
+    )
+    lh = lay["leg_height_mm"]
+    add(
+        "leg",
+        base.leg_shape(lh),
+        p.plate_material,
+        True,
+        f"leg standoff d{base.LEG_DIAMETER_MM:g} x {lh:g}, tapped {base.LEG_SCREW} both ends",
+        "turned, tapped",
+    )
+    steel = FASTENER_MATERIAL
+
+    def screw(size, L):
+        name = f"cap_screw_{size}x{L:g}"
+        if name not in K:
+            cs = get_cap_screw(size, "parts")
+            add(
+                name,
+                joints.cap_screw_shape(size, L),
+                steel,
+                False,
+                f"socket head cap screw ISO 4762 {size} x {L:g}",
+                "bought",
+                collision=(("self", joints.screw_envelope(cs.dk_mm, cs.k_mm, cs.d_mm, L)),),
+            )
+        return name
+
+    K["_leg_screw"] = K[screw(base.LEG_SCREW, lay["leg_screw_mm"])]
+    K["_mount_screw"] = K[screw(pm.MOUNT_SCREW, lay["mount_screw_mm"])]
+    kd = design.mechanism.knob_diameter_mm if twin else PLAIN_KNOB_DIAMETER_MM
+    add(
+        "knob",
+        pp.knob_shape(kd, p.knob_height_mm, brg.d_mm, KNOB_BORE_DEPTH_MM),
+        p.knob_material,
+        True,
+        f"knob, diameter {kd:g} mm",
+        "turned",
+    )
+    if not twin:
+        add(
+            "handle_pin",
+            pp.pin_shape(brg.d_mm, lay["handle_pin_mm"]),
+            p.pin_material,
+            True,
+            f"handle pin d{brg.d_mm:g} x {lay['handle_pin_mm']:g} (end effector E)",
+            "ground dowel, cut",
+        )
+        return K
+    l6 = design.mechanism.crank_mm
+    add(
+        "crankshaft",
+        pp.crankshaft_shape(
+            l6,
+            brg.d_mm,
+            lay["web_width_mm"],
+            p.crank_thickness_mm,
+            lay["journal_up_mm"],
+            lay["crank_pin_down_mm"],
+        ),
+        p.crank_material,
+        True,
+        f"crankshaft, l6 = {l6:g} mm (eq 7)",
+        "turned + milled",
+    )
+    add(
+        "post",
+        pp.post_shape(
+            p.post_diameter_mm,
+            lay["bridge_bottom_z_mm"],
+            tap_drill_mm(POST_SCREW),
+            POST_TAP_DEPTH_MM,
+        ),
+        p.plate_material,
+        True,
+        f"bridge post d{p.post_diameter_mm:g}, tapped {POST_SCREW} both ends",
+        "turned, tapped",
+    )
+    add(
+        "bridge_plate",
+        pp.plate_shape(
+            lay["bridge_x_mm"], lay["bridge_y_mm"], pt, openings + mount_holes + post_holes
+        ),
+        p.plate_material,
+        True,
+        "bridge plate (upper motors)",
+        "waterjet/laser plate, tapped M4",
+        plate=True,
+    )
+    K["_post_screw"] = K[screw(POST_SCREW, lay["post_screw_mm"])]
+    return K
+
+
+def _link_parts(which: str, side: str, K: dict, lay: dict, p, elbow_pin: str) -> list:
+    """``[(kind, tf in the link's layer frame)]`` of one link (x along the link, z centred)."""
+    Lc, s, h = p.clevis_length_mm, p.socket_depth_mm, p.clevis_height_mm
+    if which == "proximal":
+        length = lay["proximal_mm"]
+        return [
+            (K["clevis_hub"], np.eye(4)),
+            (K["tube_proximal"], _rz(0.0, Lc - s)),
+            (K["clevis_pin"], _rz(math.pi, length)),
+            (K[elbow_pin], _rz(0.0, length, 0.0, -h / 2)),
+        ]
+    length = lay["distal_mm"]
+    B = K["bearing"].ring_mm[2]
+    out = [
+        (K["clevis_bearing"], np.eye(4)),
+        (K["tube_distal"], _rz(0.0, Lc - s)),
+        (K["clevis_bearing"], _rz(math.pi, length)),
+    ]
+    return out + [
+        (K["bearing"], _rz(0.0, x, 0.0, z)) for x in (0.0, length) for z in (-h / 2, h / 2 - B)
+    ]
+
+
+def assembly(design, lay: dict, fidelity: str):
+    """The part instances and the world transform of each body at the home pose.
+
+    Returns ``(instances, tf_world_body, home_pose)``: instances is a list of
+    :class:`cad.parts.PartInstance`; tf_world_body maps body -> 4x4 (mm).
+    """
+    from cad.kinematics import fivebar as fb5
+    from cad.kinematics import twin_pantograph as tw
+    from cad.parts import PartInstance, translation
+
+    p = design.parts
+    twin = _twin(design)
+    K = _kinds(design, lay, fidelity)
+    lay = {
+        **lay,
+        "proximal_mm": design.params["proximal_mm"],
+        "distal_mm": design.params["distal_mm"],
+    }
+    fb = _lower_five_bar(design)
+    B = [fb.base_left_mm, fb.base_right_mm]
+    inst: list = []
+    tfs: dict[str, np.ndarray] = {"ground": np.eye(4)}
+
+    def place(name, kind, body, tf):
+        inst.append(PartInstance(name, kind, body, np.asarray(tf, dtype=float)))
+
+    home = home_xy_mm(design)
+    if twin:
+        th = math.radians(design.workspace["home_theta_deg"])
+        X = np.array([[home[0], home[1], th]])
+        ik = tw.ik(design.mechanism, X)
+        groups = [
+            ("crank", ik.crank, lay["lower_layers_z_mm"], False),
+            ("knob", ik.knob, lay["upper_layers_z_mm"], True),
+        ]
+    else:
+        groups = [("", fb5.ik(fb, home[None, :]), lay["lower_layers_z_mm"], False)]
+    pt, mt = p.plate_thickness_mm, p.motor_mount_thickness_mm
+    zb = lay.get("bridge_bottom_z_mm", 0.0)
+    for grp, fp, zs, upper in groups:
+        F = _flip() if upper else np.eye(4)
+        pre = f"{grp}_" if grp else ""
+        C = [fp.C_left_mm[0], fp.C_right_mm[0]]
+        E = fp.E_mm[0]
+        shaft_tf = (
+            translation(0, 0, zb + pt + mt) @ _flip() if upper else translation(0, 0, -pt - mt)
+        )
+        for i, side in enumerate(("left", "right")):
+            body = f"{pre}proximal_{side}"
+            tfs[body] = _rz(float(fp.q_rad[0, i]), B[i][0], B[i][1])
+            pin = "pin_short" if side == "left" else "pin_long"
+            for k, (kind, tf) in enumerate(_link_parts("proximal", side, K, lay, p, pin)):
+                place(f"{body}.{kind.name}{k}", kind, body, translation(0, 0, zs[0]) @ F @ tf)
+            place(f"{body}.motor_shaft", K["motor_shaft"], body, shaft_tf)
+            body = f"{pre}distal_{side}"
+            tfs[body] = _rz(math.atan2(E[1] - C[i][1], E[0] - C[i][0]), C[i][0], C[i][1])
+            for k, (kind, tf) in enumerate(_link_parts("distal", side, K, lay, p, pin)):
+                place(f"{body}.{kind.name}{k}", kind, body, translation(0, 0, zs[1 + i]) @ F @ tf)
+    if twin:
+        tfs["crankshaft"] = _rz(th, home[0], home[1])
+        place("crankshaft", K["crankshaft"], "crankshaft", translation(0, 0, lay["web_z_mm"]))
+        place("knob", K["knob"], "crankshaft", translation(0, 0, lay["knob_bottom_z_mm"]))
+    else:
+        tfs["handle"] = translation(home[0], home[1])
+        place("handle_pin", K["handle_pin"], "handle", translation(0, 0, lay["handle_pin_z_mm"]))
+        place("knob", K["knob"], "handle", translation(0, 0, lay["knob_bottom_z_mm"]))
+    _ground(place, K, lay, p, B, twin)
+    return inst, tfs, home
+
+
+def _ground(place, K, lay, p, B, twin) -> None:
+    """The fixed parts: base plate, legs, motors with their mounts, (mouse) posts and bridge."""
+    from cad.parts import motor as pm
+    from cad.parts import translation
+    from cad.parts.catalog import get_motor
+
+    mot = get_motor(p.motor)
+    pt, mt = p.plate_thickness_mm, p.motor_mount_thickness_mm
+    place("base_plate", K["base_plate"], "ground", translation(0, 0, -pt))
+    for i, (x, y) in enumerate(_leg_xy(lay)):
+        place(f"leg_{i + 1}", K["leg"], "ground", translation(x, y, lay["bench_z_mm"]))
+        place(f"leg_screw_{i + 1}", K["_leg_screw"], "ground", translation(x, y, 0.0))
+    stations = [("lower", -pt - mt, False)]
+    zb = lay.get("bridge_bottom_z_mm", 0.0)
+    if twin:
+        stations.append(("upper", zb + pt, True))
+    for tag, z_mount, upper in stations:
+        for i, (bx, by) in enumerate(B):
+            place(
+                f"{tag}_motor_mount_{i + 1}",
+                K["motor_mount"],
+                "ground",
+                translation(bx, by, z_mount),
+            )
+            if upper:
+                tf_motor = translation(bx, by, z_mount + mt) @ _flip()
+                tf_screw = np.eye(4)
+                z_screw = z_mount + mt
+            else:
+                tf_motor = translation(bx, by, z_mount)
+                tf_screw = _flip()
+                z_screw = z_mount
+            place(f"{tag}_motor_{i + 1}", K["motor"], "ground", tf_motor)
+            for k, (x, y) in enumerate(pm.mount_hole_xy_mm(mot)):
+                place(
+                    f"{tag}_mount_screw_{i + 1}_{k + 1}",
+                    K["_mount_screw"],
+                    "ground",
+                    translation(bx + x, by + y, z_screw) @ tf_screw,
+                )
+    if not twin:
+        return
+    place("bridge_plate", K["bridge_plate"], "ground", translation(0, 0, zb))
+    for k, (x, y) in enumerate(lay["posts_xy_mm"]):
+        place(f"post_{k + 1}", K["post"], "ground", translation(x, y, 0.0))
+        place(
+            f"post_screw_{k + 1}_bottom",
+            K["_post_screw"],
+            "ground",
+            translation(x, y, -pt) @ _flip(),
+        )
+        place(f"post_screw_{k + 1}_top", K["_post_screw"], "ground", translation(x, y, zb + pt))
+
+
 # ------------------------------------------------------------------------------ build
+#: This builder writes the simulator formats for the twin pantograph (mjcf, urdf;
+#: :mod:`cad.build.sim_pantograph`).
+SIM_EXPORT = True
+
+
+def _write_sim(design, out_dir, formats, instances, bodies, lay, home) -> list[str]:
+    """``<name>.xml`` (MJCF) / ``<name>.urdf`` of the mouse when asked, from the instance list
+    (:mod:`cad.build.sim_pantograph`; meshes are ``parts/<kind>.stl``)."""
+    from cad.export.sim import SIM_FORMATS, write_sim_files
+
+    if not set(formats) & set(SIM_FORMATS):
+        return []
+    import dataclasses
+
+    from cad.build.sim_pantograph import sim_model
+    from cad.kinematics import twin_pantograph as tw
+    from cad.materials import get_material
+    from cad.parts.catalog import get_motor
+
+    th = math.radians(design.workspace["home_theta_deg"])
+    ik = tw.ik(design.mechanism, np.array([[home[0], home[1], th]]))
+    K = {i.kind.name: i.kind for i in instances}
+    p = design.parts
+    L, U = lay["lower_layers_z_mm"], lay["upper_layers_z_mm"]
+    layer_z = {
+        "crank_proximal": L[0],
+        "knob_proximal": U[0],
+        "crank_distal_left": L[1],
+        "crank_distal_right": L[2],
+        "knob_distal_left": U[1],
+        "knob_distal_right": U[2],
+        "crankshaft": lay["web_z_mm"],
+    }
+    shifted = {}
+    for b, mp in bodies.items():  # body frames of the sim sit at the layer height
+        z = layer_z.get(b, layer_z.get(b.rsplit("_", 1)[0], 0.0))
+        shifted[b] = mp.transformed(np.eye(3), np.array([0.0, 0.0, -z * 1e-3]))
+    for grp in ("crank", "knob"):
+        shifted[f"{grp}_distal"] = shifted[f"{grp}_distal_left"]
+    lay2 = {
+        **lay,
+        "proximal_mm": design.params["proximal_mm"],
+        "distal_mm": design.params["distal_mm"],
+    }
+    parts = {
+        f"proximal_{s}": [(k.name, tf) for k, tf in _link_parts("proximal", s, K, lay2, p, pin)]
+        for s, pin in (("left", "pin_short"), ("right", "pin_long"))
+    }
+    parts["distal"] = [(k.name, tf) for k, tf in _link_parts("distal", "left", K, lay2, p, "")]
+    parts["crankshaft"] = [
+        ("crankshaft", np.eye(4)),
+        ("knob", _rz(0.0, 0.0, 0.0, lay["knob_bottom_z_mm"] - lay["web_z_mm"])),
+    ]
+    ground = [(i.name, i.kind.name, i.tf_body_part) for i in instances if i.body == "ground"]
+    made = {k.name for k in K.values() if k.made and k.listed}
+    model = sim_model(
+        design,
+        shifted,
+        parts,
+        ground,
+        lay,
+        [*home, th],
+        ik,
+        get_motor(p.motor).rotor_inertia_kg_m2,
+        made,
+        lambda kind: get_material(K[kind].material).color_rgb,
+    )
+    model = dataclasses.replace(model, meshdir="parts")
+    return [q.name for q in write_sim_files(model, out_dir, formats, design.name)]
+
+
+def _effective_mass(design, bodies: dict, home: np.ndarray) -> tuple[dict, dict | None]:
+    """Effective mass at home (with and, for the mouse, without rotor inertia)."""
+    from cad.kinematics import fivebar as fb5
+    from cad.kinematics import twin_pantograph as tw
+    from cad.parts.catalog import get_motor
+
+    rotor = get_motor(design.parts.motor).rotor_inertia_kg_m2
+
+    def fbm(pre: str, jm: float):
+        d = [_planar(bodies[f"{pre}distal_{s}"]) for s in ("left", "right")]
+        pr = [_planar(bodies[f"{pre}proximal_{s}"]) for s in ("left", "right")]
+        return fb5.FiveBarMass(pr[0], pr[1], d[0], d[1], jm)
+
+    if not _twin(design):
+        M = fb5.mass_matrix_kg(design.mechanism, home[None, :], fbm("", rotor))[0]
+        M = M + bodies["handle"].mass_kg * np.eye(2)  # the handle translates with E
+        return {
+            "at_mm": home.tolist(),
+            "mass_matrix_g": (M * 1e3).tolist(),
+            "mass_x_g_diag": float(M[0, 0] * 1e3),
+            "mass_y_g_diag": float(M[1, 1] * 1e3),
+        }, None
+    th = math.radians(design.workspace["home_theta_deg"])
+    X = np.array([home[0], home[1], th])
+    cs = bodies["crankshaft"]
+    crank = fb5.LinkMass(
+        float(cs.mass_kg),
+        (float(cs.com_m[0]), float(cs.com_m[1])),
+        float(cs.inertia_com_kg_m2[2, 2]),
+    )
+    tm = design.mechanism
+    eff = tw.effective_mass_home(
+        tm, X, tw.TwinMass(fbm("knob_", rotor), fbm("crank_", rotor), crank)
+    )
+    bare = tw.effective_mass_home(tm, X, tw.TwinMass(fbm("knob_", 0.0), fbm("crank_", 0.0), crank))
+    return eff, bare
+
+
 def build(
     design,
     out_dir: Path,
@@ -278,46 +916,27 @@ def build(
     progress=None,
     phi1_deg: float | None = None,
 ) -> dict:
-    """Build the twin-pantograph mouse into ``out_dir``; return the report dict (module docstring).
+    """Build a plain 5-bar or a twin-pantograph mouse into ``out_dir``; return the report dict.
 
-    fidelity: "fabrication" uses bd_warehouse ball bearings (races and balls);
-    "inertia" and "preview" a plain ring of the catalogue mass (same mass, so the
-    mass properties do not change). Raises InterferenceError when two parts
-    in one layer come closer than :data:`MIN_CLEARANCE_MM` anywhere in the
-    workspace x full turn, unless allow_interference.
+    fidelity: "fabrication" uses bd_warehouse ball bearings (races and balls); "inertia"
+    and "preview" a plain ring (same catalogue mass: the mass properties do not change).
+    Raises InterferenceError when two moving parts in one layer come closer than
+    :data:`MIN_CLEARANCE_MM` anywhere in the workspace, or two solids share volume at the
+    home pose, unless allow_interference; GeometryError if a solid reaches below the bench.
     """
-    from cad.errors import DesignError
+    from cad.build import family
+    from cad.errors import GeometryError
 
-    if design.family != "twin-pantograph":
-        raise DesignError(
-            "mechanism.family",
-            f"parts are generated for the twin-pantograph only, not {design.family!r}",
-        )
-    from cad.export import export_assembly_step, export_part, write_bom
-    from cad.export.shapes import placed
-    from cad.kinematics import fivebar as fb5
-    from cad.kinematics import twin_pantograph as tw
-    from cad.massprops.props import MassProps, combine
-    from cad.materials import get_material
-    from cad.parts import joints
-    from cad.parts import motor as pm
-    from cad.parts import pantograph as pp
-    from cad.parts.catalog import get_bearing, get_motor
-
+    check_options(design, fidelity, phi1_deg, formats)
     out_dir = Path(out_dir)
-    total = 7
+    total = 6
     p = design.parts
-    tp = design.mechanism
-    a = design.params["base_mm"]
-    l2, l3, l6 = design.params["proximal_mm"], design.params["distal_mm"], tp.crank_mm
-    h, w = p.clevis_height_mm, p.clevis_width_mm
-    brg = get_bearing(p.bearing)
-    mot = get_motor(p.motor)
+    h = p.clevis_height_mm
 
     _step(progress, "layout and clearances", 0, total)
     lay = layout(design)
     for key in ("lower_shaft_engagement_mm", "upper_shaft_engagement_mm"):
-        if lay[key] < h / 2:
+        if key in lay and lay[key] < h / 2:
             raise DesignError(
                 "parts.motor",
                 f"{p.motor} shaft engages only {lay[key]:.1f} mm of the {h} mm hub ({key}); "
@@ -328,327 +947,72 @@ def build(
         w_ = clr["checks"][clr["worst"]]
         raise InterferenceError(
             f"{clr['worst']}: gap {w_['gap_mm']:.2f} mm < {MIN_CLEARANCE_MM} mm at pose {w_['at']} "
-            "(x_mm, y_mm, theta_deg); pass allow_interference to export anyway"
+            "(x_mm, y_mm[, theta_deg]); pass allow_interference to export anyway"
         )
 
     _step(progress, "solids", 1, total)
-    mat = {
-        k: get_material(getattr(p, k))
-        for k in (
-            "tube_material",
-            "clevis_material",
-            "pin_material",
-            "crank_material",
-            "knob_material",
-            "plate_material",
+    instances, tfs, home = assembly(design, lay, fidelity)
+
+    _step(progress, "mass properties", 2, total)
+    props = family.kind_props(instances)
+    bodies = family.body_props(instances, props, [b for b in tfs if b != "ground"])
+    eff, eff_bare = _effective_mass(design, bodies, home)
+
+    _step(progress, "every pair of solids at home", 3, total)
+    itf = family.check_assembly(instances, tfs)
+    if itf["collisions"] and not allow_interference:
+        c = itf["collisions"][0]
+        raise InterferenceError(
+            f"{c['parts'][0]} / {c['parts'][1]} overlap {c['overlap_volume_mm3']:.3f} mm^3 at the "
+            f"home pose; {len(itf['collisions'])} overlapping pair(s) (use --allow-interference)"
         )
-    }
-    cl = dict(
-        length_mm=p.clevis_length_mm,
-        width_mm=w,
-        height_mm=h,
-        socket_depth_mm=p.socket_depth_mm,
-        tube_od_mm=p.tube_od_mm,
-    )
-    S = {
-        "clevis_hub": pp.clevis_shape("hub", bore_mm=mot.shaft_diameter_mm, **cl),
-        "clevis_pin": pp.clevis_shape("pin", bore_mm=brg.d_mm, **cl),
-        "clevis_bearing": pp.clevis_shape("bearing", bore_mm=brg.D_mm, **cl),
-        "tube_proximal": pp.tube_shape(lay["tube_proximal_mm"], p.tube_od_mm, p.tube_id_mm),
-        "tube_distal": pp.tube_shape(lay["tube_distal_mm"], p.tube_od_mm, p.tube_id_mm),
-        "pin_short": pp.pin_shape(brg.d_mm, lay["pin_short_mm"]),
-        "pin_long": pp.pin_shape(brg.d_mm, lay["pin_long_mm"]),
-        "crankshaft": pp.crankshaft_shape(
-            l6,
-            brg.d_mm,
-            lay["web_width_mm"],
-            p.crank_thickness_mm,
-            lay["journal_up_mm"],
-            lay["crank_pin_down_mm"],
-        ),
-        "knob": pp.knob_shape(tp.knob_diameter_mm, p.knob_height_mm, brg.d_mm, KNOB_BORE_DEPTH_MM),
-        "post": pp.post_shape(
-            p.post_diameter_mm, lay["bridge_bottom_z_mm"], POST_SCREW_TAP_MM, 10.0
-        ),
-        "motor_mount": pm.motor_mount_shape(mot, p.motor_mount_thickness_mm),
-    }
-    B = [(-a / 2, 0.0), (a / 2, 0.0)]
-    mount_holes = [(bx + x, by + y, 3.3) for bx, by in B for x, y in pm.mount_hole_xy_mm(mot)]
-    openings = [(bx, by, mot.pilot_diameter_mm + 2 * pp.OPENING_MARGIN_MM) for bx, by in B]
-    post_holes = [(x, y, POST_SCREW_CLEAR_MM) for x, y in lay["posts_xy_mm"]]
-    S["base_plate"] = pp.plate_shape(
-        lay["base_plate_x_mm"],
-        lay["base_plate_y_mm"],
-        p.plate_thickness_mm,
-        openings + mount_holes + post_holes,
-    )
-    S["bridge_plate"] = pp.plate_shape(
-        lay["bridge_x_mm"],
-        lay["bridge_y_mm"],
-        p.plate_thickness_mm,
-        openings + mount_holes + post_holes,
-    )
-    detailed = fidelity == "fabrication"
-    S["bearing"] = (
-        joints.bearing_shape(p.bearing, detailed)
-        if detailed
-        else pp.ring_solid(brg.d_mm / 2, brg.D_mm / 2, brg.B_mm)
-    )
-    S["motor"] = pm.motor_housing_shape(mot)
-
-    _step(progress, "bodies and mass properties", 2, total)
-    # parts of each moving body in its link frame (origin first joint, x to the second, z layer centre)
-    Lc, s = p.clevis_length_mm, p.socket_depth_mm
-
-    def link_parts(kind0: str, kind1: str, length: float, tube: str, extra=()):
-        items = [
-            (kind0, np.eye(4)),
-            (tube, _rz(0.0, Lc - s)),
-            (kind1, _rz(math.pi, length)),
-        ]
-        return items + list(extra)
-
-    bz = [(-h / 2), (h / 2 - brg.B_mm)]
-    brg_at = lambda x: [("bearing", _rz(0.0, x, 0.0, z)) for z in bz]  # noqa: E731
-    bodies_parts = {
-        "proximal_left": link_parts(
-            "clevis_hub",
-            "clevis_pin",
-            l2,
-            "tube_proximal",
-            [("pin_short", _rz(0.0, l2, 0.0, -h / 2))],
-        ),
-        "proximal_right": link_parts(
-            "clevis_hub",
-            "clevis_pin",
-            l2,
-            "tube_proximal",
-            [("pin_long", _rz(0.0, l2, 0.0, -h / 2))],
-        ),
-        "distal": link_parts(
-            "clevis_bearing", "clevis_bearing", l3, "tube_distal", brg_at(0.0) + brg_at(l3)
-        ),
-        "crankshaft": [
-            ("crankshaft", np.eye(4)),
-            ("knob", _rz(0.0, 0.0, 0.0, lay["knob_bottom_z_mm"] - lay["web_z_mm"])),
-        ],
-    }
-    density = {
-        "clevis_hub": mat["clevis_material"],
-        "clevis_pin": mat["clevis_material"],
-        "clevis_bearing": mat["clevis_material"],
-        "tube_proximal": mat["tube_material"],
-        "tube_distal": mat["tube_material"],
-        "pin_short": mat["pin_material"],
-        "pin_long": mat["pin_material"],
-        "crankshaft": mat["crank_material"],
-        "knob": mat["knob_material"],
-        "post": mat["plate_material"],
-        "motor_mount": mat["plate_material"],
-        "base_plate": mat["plate_material"],
-        "bridge_plate": mat["plate_material"],
-    }
-    unit = {}
-    for name, shape in S.items():
-        if name in density:
-            unit[name] = _props(shape, density[name].density_kg_m3)
-    # bearing: catalogue mass, spread as its (ring or detailed) solid
-    ring = pp.ring_solid(brg.d_mm / 2, brg.D_mm / 2, brg.B_mm)
-    rp = _props(ring, 1000.0)
-    unit["bearing"] = rp.scaled(brg.mass_kg / rp.mass_kg)
-    unit["motor"] = MassProps(mot.mass_kg, np.zeros(3), np.eye(3) * 1e-9)
-
-    def body_props(name: str, upper: bool) -> MassProps:
-        F = _flip() if upper else np.eye(4)
-        parts = []
-        for kind, tf in bodies_parts[name]:
-            mp = unit[kind]
-            T = F @ tf
-            parts.append(mp.transformed(T[:3, :3], T[:3, 3] * 1e-3))
-        return combine(parts)
-
-    bodies = {}
-    for grp, upper in (("crank", False), ("knob", True)):
-        for name in ("proximal_left", "proximal_right", "distal"):
-            bodies[f"{grp}_{name}"] = body_props(name, upper)
-    bodies["crankshaft"] = body_props("crankshaft", False)
-    rotor = mot.rotor_inertia_kg_m2
-
-    def fbm(grp):
-        d = _planar(bodies[f"{grp}_distal"])
-        return fb5.FiveBarMass(
-            _planar(bodies[f"{grp}_proximal_left"]),
-            _planar(bodies[f"{grp}_proximal_right"]),
-            d,
-            d,
-            rotor,
+    low, low_part = family.lowest_z_mm(instances, tfs)
+    if low < lay["bench_z_mm"] - 1e-6:
+        raise GeometryError(
+            f"{low_part} reaches z = {low:.2f} mm, below the bench plane at {lay['bench_z_mm']:.2f} mm"
         )
 
-    cs = bodies["crankshaft"]
-    twin_mass = tw.TwinMass(
-        fbm("knob"),
-        fbm("crank"),
-        fb5.LinkMass(
-            float(cs.mass_kg),
-            (float(cs.com_m[0]), float(cs.com_m[1])),
-            float(cs.inertia_com_kg_m2[2, 2]),
-        ),
-    )
-    home = np.array(
-        [*design.workspace["home_mm"], math.radians(design.workspace["home_theta_deg"])]
-    )
-    eff = tw.effective_mass_home(tp, home, twin_mass)
-    eff_no_rotor = tw.effective_mass_home(
-        tp,
-        home,
-        tw.TwinMass(
-            fb5.FiveBarMass(
-                *[
-                    getattr(twin_mass.knob, f)
-                    for f in ("proximal_left", "proximal_right", "distal_left", "distal_right")
-                ],
-                0.0,
-            ),
-            fb5.FiveBarMass(
-                *[
-                    getattr(twin_mass.crank, f)
-                    for f in ("proximal_left", "proximal_right", "distal_left", "distal_right")
-                ],
-                0.0,
-            ),
-            twin_mass.crankshaft,
-        ),
+    _step(progress, "exports", 4, total)
+    bom = family.bom_rows(instances, props)
+    title = f"{design.name}: {design.family} at home {home.round(2).tolist()} mm"
+    files = family.write_outputs(
+        instances,
+        tfs,
+        out_dir,
+        formats,
+        name=design.name,
+        title=title,
+        bom=bom,
+        marks=[("workspace", _square(design.workspace))],
     )
 
-    _step(progress, "part files", 3, total)
-    listed = [
-        ("clevis_hub", True, False, "clevis at the motor shaft (set screw)", "CNC milled", 4),
-        ("clevis_pin", True, False, "clevis at the elbow, pin pressed in", "CNC milled", 4),
-        ("clevis_bearing", True, False, "clevis with two ball bearings", "CNC milled", 8),
-        (
-            "tube_proximal",
-            True,
-            False,
-            f"tube {p.tube_od_mm:g}/{p.tube_id_mm:g} mm, proximal",
-            "cut to length",
-            4,
-        ),
-        (
-            "tube_distal",
-            True,
-            False,
-            f"tube {p.tube_od_mm:g}/{p.tube_id_mm:g} mm, distal",
-            "cut to length",
-            4,
-        ),
-        ("pin_short", True, False, "elbow pin, left arms", "ground dowel, cut", 2),
-        ("pin_long", True, False, "elbow pin, right arms", "ground dowel, cut", 2),
-        ("crankshaft", True, False, f"crankshaft, l6 = {l6:g} mm (eq 7)", "turned + milled", 1),
-        ("knob", True, False, f"knob, diameter {tp.knob_diameter_mm:g} mm (l5)", "turned", 1),
-        ("post", True, False, "bridge post", "turned", 4),
-        ("motor_mount", True, True, "motor mount plate", "waterjet/laser plate", 4),
-        ("base_plate", True, True, "base plate", "waterjet/laser plate", 1),
-        ("bridge_plate", True, True, "bridge plate (upper motors)", "waterjet/laser plate", 1),
-        ("bearing", False, False, f"ball bearing {brg.designation} ({p.bearing})", "bought", 16),
-        ("motor", False, False, mot.description, "bought", 4),
-    ]
-    files = []
-    bom = []
-    for name, made, plate, desc, process, qty in listed:
-        files += [
-            str(x.name) for x in export_part(S[name], name, out_dir, formats, plate=plate, stl=made)
-        ]
-        material = {"bearing": "steel-1018", "motor": "catalogue"}.get(name) or density[name].name
-        bom.append(
-            {
-                "part": name,
-                "description": desc,
-                "material": material,
-                "quantity": qty,
-                "made_or_bought": "made" if made else "bought",
-                "process": process,
-                "mass_g": unit[name].mass_kg * 1e3,
-            }
-        )
-    write_bom(bom, out_dir)
-    files.append("bom.csv")
+    if _twin(design):
+        files += _write_sim(design, out_dir, formats, instances, bodies, lay, home)
 
-    _step(progress, "assembly at home", 4, total)
-    ik = tw.ik(tp, home[None, :])
-    items = []
-
-    def color(kind):
-        m = {"bearing": (0.6, 0.6, 0.65), "motor": (0.2, 0.2, 0.25)}
-        if kind in m:
-            return m[kind]
-        return density[kind].color_rgb
-
-    for grp, fp, zs, upper in (
-        ("crank", ik.crank, lay["lower_layers_z_mm"], False),
-        ("knob", ik.knob, lay["upper_layers_z_mm"], True),
-    ):
-        F = _flip() if upper else np.eye(4)
-        C = [fp.C_left_mm[0], fp.C_right_mm[0]]
-        E = fp.E_mm[0]
-        for i, side in enumerate(("left", "right")):
-            q = float(fp.q_rad[0, i])
-            Tp = _rz(q, B[i][0], B[i][1], zs[0]) @ F
-            for kind, tf in bodies_parts[f"proximal_{side}"]:
-                items.append(
-                    (f"{grp}_proximal_{side}_{kind}", placed(S[kind], Tp @ tf), color(kind))
-                )
-            psi = math.atan2(E[1] - C[i][1], E[0] - C[i][0])
-            Td = _rz(psi, C[i][0], C[i][1], zs[1 + i]) @ F
-            for k, (kind, tf) in enumerate(bodies_parts["distal"]):
-                items.append(
-                    (f"{grp}_distal_{side}_{kind}_{k}", placed(S[kind], Td @ tf), color(kind))
-                )
-    th = float(home[2])
-    Tc = _rz(th, home[0], home[1], lay["web_z_mm"])
-    for kind, tf in bodies_parts["crankshaft"]:
-        items.append((kind, placed(S[kind], Tc @ tf), color(kind)))
-    pt = p.plate_thickness_mm
-    zb = lay["bridge_bottom_z_mm"]
-    items.append(("base_plate", placed(S["base_plate"], _rz(0.0, 0, 0, -pt)), color("base_plate")))
-    items.append(
-        ("bridge_plate", placed(S["bridge_plate"], _rz(0.0, 0, 0, zb)), color("bridge_plate"))
+    _step(progress, "report", 5, total)
+    report = _report(design, lay, clr, bodies, eff, eff_bare, itf, bom, home, fidelity, low)
+    report["files"] = sorted(files + ["report.md"])
+    family.write_report_md(
+        out_dir, f"{design.name} ({design.family})", _md_rows(report), bom, report["notes"]
     )
-    for k, (x, y) in enumerate(lay["posts_xy_mm"]):
-        items.append((f"post_{k}", placed(S["post"], _rz(0.0, x, y, 0.0)), color("post")))
-    mt = p.motor_mount_thickness_mm
-    for i, (bx, by) in enumerate(B):
-        items.append(
-            (
-                f"crank_motor_mount_{i}",
-                placed(S["motor_mount"], _rz(0.0, bx, by, -pt - mt)),
-                color("motor_mount"),
-            )
-        )
-        items.append(
-            (f"crank_motor_{i}", placed(S["motor"], _rz(0.0, bx, by, -pt - mt)), color("motor"))
-        )
-        items.append(
-            (
-                f"knob_motor_mount_{i}",
-                placed(S["motor_mount"], _rz(0.0, bx, by, zb + pt)),
-                color("motor_mount"),
-            )
-        )
-        items.append(
-            (
-                f"knob_motor_{i}",
-                placed(S["motor"], _rz(0.0, bx, by, zb + pt + mt) @ _flip()),
-                color("motor"),
-            )
-        )
-    if "step" in formats:
-        export_assembly_step(items, out_dir / "twin_pantograph_assembly.step", "twin_pantograph")
-        files.append("twin_pantograph_assembly.step")
+    _step(progress, "done", total, total)
+    return report
 
-    _step(progress, "report", 6, total)
+
+def _square(ws: dict) -> np.ndarray:
+    (cx, cy), h = ws["center_mm"], ws["side_mm"] / 2
+    return np.array(
+        [[cx - h, cy - h], [cx + h, cy - h], [cx + h, cy + h], [cx - h, cy + h], [cx - h, cy - h]]
+    )
+
+
+def _report(design, lay, clr, bodies, eff, eff_bare, itf, bom, home, fidelity, low) -> dict:
+    from cad.parts.catalog import get_motor
+
     g = design.gii()
-    moving_g = sum(bodies[k].mass_kg for k in bodies) * 1e3
+    mot = get_motor(design.parts.motor)
     report = {
+        "name": design.name,
         "design": design.name,
         "family": design.family,
         "fidelity": fidelity,
@@ -659,33 +1023,65 @@ def build(
             "sigma_min_at": g.sigma_min_at.tolist(),
             "sigma_max_at": g.sigma_max_at.tolist(),
         },
-        "crank_mm": l6,
         "layout_mm": lay,
         "clearances_mm": clr,
+        "interference": itf,
+        "overlap_volume_mm3": itf["overlap_volume_mm3"],
+        "bench_z_mm": lay["bench_z_mm"],
+        "lowest_z_mm": low,
         "bodies": {k: v.to_dict() for k, v in bodies.items()},
-        "moving_mass_g": moving_g,
+        "moving_mass_g": sum(v.mass_kg for v in bodies.values()) * 1e3,
+        "total_mass_g": sum(r["mass_g"] * r["quantity"] for r in bom),
         "motor": {
             "key": mot.key,
             "rotor_inertia_g_cm2": mot.rotor_inertia_g_cm2,
             "source": mot.source,
         },
-        "home": {
-            "x_mm": float(home[0]),
-            "y_mm": float(home[1]),
-            "theta_deg": float(math.degrees(home[2])),
-        },
+        "home": {"x_mm": float(home[0]), "y_mm": float(home[1])},
         "effective_mass_home": eff,
-        "effective_mass_home_without_rotors": eff_no_rotor,
-        "paper_table1": PAPER_TABLE1,
-        "effective_mass_note": (
+        "bom": bom,
+        "notes": [
+            "The base plate stands on four leg standoffs: no solid lies below the bench plane "
+            f"z = {lay['bench_z_mm']:.1f} mm (lowest solid at {low:.1f} mm).",
+            "Every pair of solids is checked at the home pose (common volume > "
+            f"{itf['overlap_threshold_mm3']:g} mm^3 is a collision); moving links are checked "
+            "over the workspace by capsules per layer (clearances_mm).",
+            "The motors' own screws (motor face to mount plate) are not modelled: the motor "
+            "envelope carries no tapped holes.",
+        ],
+    }
+    if _twin(design):
+        report["crank_mm"] = design.mechanism.crank_mm
+        report["home"]["theta_deg"] = float(design.workspace["home_theta_deg"])
+        report["effective_mass_home_without_rotors"] = eff_bare
+        report["paper_table1"] = PAPER_TABLE1
+        report["effective_mass_note"] = (
             "diag = mass felt moving one task axis with the others held; apparent = 1/(M^-1)_ii, "
             "the others free. Ours differs from Table 1 because the paper's values are measured on "
             "the built device (closed-loop identification, includes the real motors, encoders, "
             "cabling, fasteners and friction) and its link lengths, tube sizes and motors are not "
             "published; here the moving parts are the solids above with catalogue bearing and rotor data."
-        ),
-        "files": sorted(files),
-        "bom": bom,
-    }
-    _step(progress, "done", total, total)
+        )
     return report
+
+
+def _md_rows(r: dict) -> list[tuple[str, str]]:
+    rows = [
+        ("GII (workspace)", f"{r['gii']['gii']:.4f}"),
+        ("moving mass (g)", f"{r['moving_mass_g']:.1f}"),
+        ("total mass (g)", f"{r['total_mass_g']:.1f}"),
+        (
+            "min layer clearance over the workspace (mm)",
+            f"{r['clearances_mm']['min_gap_mm']:.2f} ({r['clearances_mm']['worst']})",
+        ),
+        (
+            "solids / pairs checked exactly at home",
+            f"{r['interference']['parts']} / {r['interference']['exact_pairs']}",
+        ),
+        ("overlap volume at home (mm^3)", f"{r['overlap_volume_mm3']:.4g}"),
+        ("bench plane / lowest solid z (mm)", f"{r['bench_z_mm']:.1f} / {r['lowest_z_mm']:.1f}"),
+    ]
+    for k, v in r["effective_mass_home"].items():
+        if isinstance(v, float):
+            rows.append((f"effective mass at home: {k}", f"{v:.4g}"))
+    return rows

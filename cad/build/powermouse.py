@@ -4,13 +4,23 @@ Contract: see :mod:`cad.build` (``build(design, out_dir, formats, *, fidelity,
 allow_interference, progress, phi1_deg) -> report dict``). ``out_dir`` is the
 dispatcher's temporary directory. Isotropy paper sections 5-6.
 
-Files written: one STEP/STL per distinct part (``pm_flotor_shell``,
-``pm_coil`` x6, ``pm_handle``, ``pm_core_post``, ``pm_magnet`` x24,
-``pm_iron_plate`` x6, ``pm_housing``), the single actuator of Fig. 7
-(``act_*``; its plates also as DXF), ``powermouse_assembly.step`` (every
-placed solid, named and coloured), ``actuator_assembly.step``, ``bom.csv``
-and ``actuator_fig8.png/.svg`` (force vs gap and field along the centre line,
-the paper's Fig. 8).
+Pipeline: actuator optimum (eqs 8-9) -> geometry -> one list of part instances
+(:func:`assembly`: bodies ``flotor`` and ``ground``) -> mass properties from the solids
+-> wrench map and isotropy -> every pair of solids at the centre pose and the flotor
+against the stator over the motion range (fast mesh pass, exact OCCT near contact:
+:mod:`cad.assembly.static`) -> the common outputs of :mod:`cad.build.family`.
+
+Files written (the layout of every family): ``parts/<part>.step|.stl`` (``pm_flotor_body``
+and ``pm_flotor_lid``, ``pm_coil`` x6, ``pm_handle``, ``pm_core``, ``pm_post``,
+``pm_magnet`` x24, ``pm_iron_plate`` x6, ``pm_housing_body`` and ``pm_housing_lid``),
+``assembly.step``, ``bom.csv``, ``preview.png``, ``report.md`` (+ ``report.json``,
+``manifest.json`` by the dispatcher), and ``actuator_fig8.png/.svg`` (force vs gap and
+field along the centre line, the paper's Fig. 8).
+
+``rig/``: the single-actuator test rig of Fig. 7 (one flat coil between two magnet
+pairs on iron plates, on a base plate) -- a separate bench fixture to measure one
+actuator's force against eq (8), *not* part of the PowerMouse: ``rig/parts/``,
+``rig/assembly.step``, ``rig/bom.csv``.
 
 Report keys (units in names): ``actuator`` (the optimum: optimal_gap_mm,
 coil_width_mm, Bg_T, force_N, eta_geom, model, and the same for the other
@@ -27,7 +37,21 @@ from pathlib import Path
 
 import numpy as np
 
-from cad.errors import InterferenceError
+from cad.errors import DesignError, InterferenceError
+
+#: Source the output depends on (build cache key).
+CODE_DEPS = (
+    "build",
+    "parts",
+    "assembly",
+    "export",
+    "massprops",
+    "actuators",
+    "design",
+    "io",
+    "materials.py",
+    "errors.py",
+)
 
 #: Paper Table 4 (PowerMouse performance), for side-by-side reporting.
 PAPER_TABLE4 = {
@@ -137,6 +161,165 @@ def _fig8_chart(design, gap_mm: float, out_dir: Path) -> list[str]:
     return names
 
 
+def check_options(design, fidelity: str, phi1_deg, formats=frozenset()) -> None:
+    """Refuse what this builder cannot do, before any CAD import (DesignError)."""
+    if phi1_deg is not None:
+        raise DesignError("--phi1-deg", f"the PowerMouse has no crank angle, got {phi1_deg!r}")
+
+
+def _materials(design) -> dict[str, str]:
+    return {
+        "shell": design.flotor.material,
+        "coil": design.flotor.coil_material,
+        "handle": design.handle.material,
+        "core": design.stator.iron_material,
+        "post": "steel-1018",
+        "iron": design.stator.iron_material,
+        "magnet": design.stator.magnet_material,
+        "housing": design.stator.housing_material,
+        "spacer": "aluminium-6061",
+        "carrier": design.flotor.material,
+        "base": "aluminium-6061",
+    }
+
+
+#: BOM text per part: (description, process, made).
+_PARTS = {
+    "pm_flotor_body": (
+        "flotor: open cube shell with 5 coil pockets, post hole at (-,-,-)",
+        "CNC milled",
+        True,
+    ),
+    "pm_flotor_lid": ("flotor lid (+z wall) with 1 coil pocket", "CNC milled", True),
+    "pm_coil": ("flat racetrack coil, wound and potted into its pocket", "wound, potted", True),
+    "pm_handle": (
+        "handle: stem screwed into the flotor's (+,+,+) corner, spherical knob",
+        "turned",
+        True,
+    ),
+    "pm_core": (
+        "inner iron core (back iron of the 12 inner magnets), tapped for the post",
+        "machined",
+        True,
+    ),
+    "pm_post": (
+        "stator post: threaded tip into the core, leaves through the housing's corner bore",
+        "turned",
+        True,
+    ),
+    "pm_magnet": ("NdFeB block magnet", "bought", False),
+    "pm_iron_plate": (
+        "outer back-iron plate (2 magnets each), fixed to the housing wall",
+        "machined",
+        True,
+    ),
+    "pm_housing_body": ("housing: open cube shell, post bore at (-,-,-)", "machined", True),
+    "pm_housing_lid": ("housing lid (+z wall) with the handle hole", "machined", True),
+    "rig_magnet": ("NdFeB block magnet", "bought", False),
+    "rig_iron_plate": ("back-iron plate", "machined", True),
+    "rig_spacer": ("non-magnetic spacer holding the plates apart", "machined", True),
+    "rig_coil": ("flat racetrack coil", "wound, potted", True),
+    "rig_coil_carrier": ("coil carrier, attaches to the force sensor", "CNC milled", True),
+    "rig_base": ("base plate, 4 x M3 clearance holes", "waterjet/laser plate", True),
+}
+
+
+def _tf(R, t) -> np.ndarray:
+    T = np.eye(4)
+    T[:3, :3], T[:3, 3] = np.asarray(R, float), np.asarray(t, float)
+    return T
+
+
+def _kind(name, shape, role, design, **kw):
+    from cad.parts import PartKind
+
+    desc, proc, made = _PARTS[name]
+    topo = getattr(shape, "wrapped", shape)
+    mat = _materials(design)[role]
+    if role == "coil":  # wound coil: conductor fraction eta_pack (insulation neglected)
+        from cad.massprops.occt import solid_mass_props
+        from cad.materials import get_material
+
+        rho = get_material(mat).density_kg_m3
+        kw["mass_kg"] = design.actuator.eta_pack * solid_mass_props(topo, rho).mass_kg
+    return PartKind(
+        name=name, shape=topo, material=mat, made=made, description=desc, process=proc, **kw
+    )
+
+
+def assembly(design, g, acts) -> tuple[list, list]:
+    """``(device instances, rig instances)``: :class:`cad.parts.PartInstance` lists.
+
+    Device bodies: ``flotor`` (frame = the flotor frame of :mod:`cad.parts.powermouse`)
+    and ``ground`` (the stator), both at the identity at the centre pose. Repeated parts
+    (coils, magnets, iron plates) are one kind placed several times.
+    """
+    from cad.actuators import powermouse as pm
+    from cad.export.shapes import placed
+    from cad.parts import PartInstance
+    from cad.parts import powermouse as pp
+
+    fl, st = pp.flotor_solids(g), pp.stator_solids(g)
+    coils = g.coils()
+    inst: list = []
+
+    def local(shape, T):
+        return placed(getattr(shape, "wrapped", shape), np.linalg.inv(T))
+
+    for key, kname, body in (
+        ("flotor_body", "pm_flotor_body", "flotor"),
+        ("flotor_lid", "pm_flotor_lid", "flotor"),
+        ("handle", "pm_handle", "flotor"),
+        ("core", "pm_core", "ground"),
+        ("post", "pm_post", "ground"),
+        ("housing_body", "pm_housing_body", "ground"),
+        ("housing_lid", "pm_housing_lid", "ground"),
+    ):
+        shape, role = (fl | st)[key]
+        inst.append(PartInstance(key, _kind(kname, shape, role, design), body, np.eye(4)))
+    Tc = {c.face: _tf(c.R_flotor_act, c.centre_mm) for c in coils}
+    ck = _kind("pm_coil", local(fl[f"coil_{coils[0].face}"][0], Tc[coils[0].face]), "coil", design)
+    inst += [PartInstance(f"coil_{f}", ck, "flotor", T) for f, T in Tc.items()]
+    a, d, t = g.coil_plane_half_mm, g.gap_mm, g.magnet_thickness_mm
+    zc = a + d / 2 + t + g.plate_thickness_mm / 2
+    Ti = {c.face: _tf(c.R_flotor_act, c.normal * zc) for c in coils}
+    ik = _kind(
+        "pm_iron_plate", local(st[f"iron_{coils[0].face}"][0], Ti[coils[0].face]), "iron", design
+    )
+    inst += [PartInstance(f"iron_{f}", ik, "ground", T) for f, T in Ti.items()]
+    mags = pm.stator_magnets(coils, d, g.magnet_length_mm, g.magnet_width_mm, t, 1.0)
+    Tm = {f"magnet_{coils[m.actuator].face}_{m.role}": _tf(m.R, m.centre_mm) for m in mags}
+    k0 = next(iter(Tm))
+    mk = _kind("pm_magnet", local(st[k0][0], Tm[k0]), "magnet", design)
+    inst += [PartInstance(k, mk, "ground", T) for k, T in Tm.items()]
+    return inst, _rig(design, acts)
+
+
+def _rig(design, acts) -> list:
+    """The Fig. 7 test rig: instances of translated copies share one kind."""
+    from cad.assembly.static import exact_box
+    from cad.parts import PartInstance, translation
+
+    groups = {
+        "magnet": "rig_magnet",
+        "iron": "rig_iron_plate",
+        "spacer": "rig_spacer",
+        "coil": "rig_coil",
+        "carrier": "rig_coil_carrier",
+        "base": "rig_base",
+    }
+    first: dict[str, tuple] = {}
+    inst = []
+    for key, (shape, role) in acts.items():
+        c = exact_box(getattr(shape, "wrapped", shape)).mean(axis=0)
+        if role not in first:
+            kw = {"plate": role in ("iron", "base")}
+            first[role] = (_kind(groups[role], shape, role, design, **kw), c)
+        kind, c0 = first[role]
+        inst.append(PartInstance(key, kind, "rig", translation(*(c - c0))))
+    return inst
+
+
 def build(
     design,
     out_dir: Path,
@@ -147,79 +330,113 @@ def build(
     progress=None,
     phi1_deg: float | None = None,
 ) -> dict:
-    """Build the PowerMouse and its actuator into ``out_dir``; return the report dict (see module docstring).
+    """Build the PowerMouse and its test rig into ``out_dir``; return the report dict (module docstring).
 
-    fidelity: "fabrication" checks all 52 extreme poses of the motion range
-    and exports everything; "inertia"/"preview" check only the 12 on-axis
-    poses. phi1_deg is ignored (no crank). Raises InterferenceError when the
-    flotor overlaps the stator at the centre or anywhere in the range,
-    unless allow_interference.
+    fidelity: "fabrication" checks all 52 extreme poses of the motion range; "inertia" /
+    "preview" only the 12 on-axis poses. Raises InterferenceError when two solids overlap
+    at the centre pose or the flotor overlaps the stator anywhere in the range, unless
+    allow_interference.
     """
     from cad.actuators import powermouse as pm
-    from cad.export import export_assembly_step, export_part, write_bom
-    from cad.massprops.occt import solid_mass_props
-    from cad.massprops.props import combine
-    from cad.materials import get_material
+    from cad.build import family
     from cad.parts import powermouse as pp
     from cad.parts import voicecoil as pv
 
+    check_options(design, fidelity, phi1_deg)
     out_dir = Path(out_dir)
-    total = 7
+    total = 6
     _step(progress, "actuator optimum (eqs 8-9)", 0, total)
     act = actuator_optimum(design)
     gap = act["gap_mm"]
     g = pp.geometry(design, gap)
+    a = design.actuator
+    ag = pv.ActuatorGeometry(
+        a.magnet_length_mm,
+        a.magnet_width_mm,
+        a.magnet_thickness_mm,
+        gap,
+        a.rattle_mm,
+        a.plate_thickness_mm,
+    )
 
     _step(progress, "solids", 1, total)
-    fl = pp.flotor_solids(g)
-    st = pp.stator_solids(g)
-    ag = pv.ActuatorGeometry(
-        design.actuator.magnet_length_mm,
-        design.actuator.magnet_width_mm,
-        design.actuator.magnet_thickness_mm,
-        gap,
-        design.actuator.rattle_mm,
-        design.actuator.plate_thickness_mm,
-    )
     acts = pv.actuator_solids(ag)
+    inst, rig = assembly(design, g, acts)
+    tfs = {"flotor": np.eye(4), "ground": np.eye(4)}
 
-    eta = design.actuator.eta_pack
-    role_material = {
-        "shell": design.flotor.material,
-        "coil": design.flotor.coil_material,
-        "handle": design.handle.material,
-        "core": design.stator.iron_material,
-        "iron": design.stator.iron_material,
-        "magnet": design.stator.magnet_material,
-        "housing": design.stator.housing_material,
-        "spacer": "aluminium-6061",
-        "carrier": design.flotor.material,
-        "base": "aluminium-6061",
-    }
-
-    def density(role: str) -> float:
-        rho = get_material(role_material[role]).density_kg_m3
-        return (
-            eta * rho if role == "coil" else rho
-        )  # wound coil: conductor fraction eta_pack (insulation neglected)
-
-    _step(progress, "mass properties from the solids", 2, total)
-    parts_mp = {name: solid_mass_props(shape, density(role)) for name, (shape, role) in fl.items()}
-    flotor_mp = combine(list(parts_mp.values()))
-    stator_mass_kg = sum(solid_mass_props(s, density(r)).mass_kg for s, r in st.values())
-
-    _step(progress, "wrench map and isotropy", 3, total)
+    _step(progress, "mass properties and wrench map", 2, total)
+    props = family.kind_props(inst)
+    flotor_mp = family.body_props(inst, props, ["flotor"])["flotor"]
+    parts_mass = {i.name: props[i.kind.name].mass_kg for i in inst if i.body == "flotor"}
+    stator_mass_kg = sum(props[i.kind.name].mass_kg for i in inst if i.body == "ground")
     coils = g.coils()
-    gain_per_At = act["Bg_T"] * 2.0 * design.actuator.magnet_length_mm * 1e-3  # N per ampere-turn
+    gain_per_At = act["Bg_T"] * 2.0 * a.magnet_length_mm * 1e-3  # N per ampere-turn
     W = pm.wrench_map(coils, gain_per_At)
     iso = pm.isotropy(W)
-    com_mm = flotor_mp.com_m * 1e3
-    W_com = pm.wrench_map(coils, gain_per_At, about_mm=com_mm)
-    peak_F = pm.peak_force_N(act["peak_force_N"])
-    cont_F = pm.peak_force_N(act["force_N"])
-    acc = pm.peak_acceleration_m_s2(act["peak_force_N"], flotor_mp.mass_kg)
+    W_com = pm.wrench_map(coils, gain_per_At, about_mm=flotor_mp.com_m * 1e3)
 
-    _step(progress, "motion-range clearances", 4, total)
+    _step(progress, "every pair at the centre, flotor over the motion range", 3, total)
+    itf = family.check_assembly(inst, tfs)
+    cl = _motion(design, g, inst, fidelity)
+    _raise_on_overlap(design, itf, cl, allow_interference)
+
+    _step(progress, "exports", 4, total)
+    bom = family.bom_rows(inst, props)
+    files = family.write_outputs(
+        inst,
+        tfs,
+        out_dir,
+        formats,
+        name=design.name,
+        title=f"{design.name}: PowerMouse at the centre pose",
+        bom=bom,
+    )
+    rig_props = family.kind_props(rig)
+    rig_bom = family.bom_rows(rig, rig_props)
+    files += [
+        "rig/" + f
+        for f in family.write_outputs(
+            rig,
+            {"rig": np.eye(4)},
+            out_dir / "rig",
+            formats,
+            name=f"{design.name}_rig",
+            title="single-actuator test rig (Fig. 7), not part of the device",
+            bom=rig_bom,
+            preview=False,
+        )
+    ]
+    files += _fig8_chart(design, gap, out_dir)
+
+    _step(progress, "report", 5, total)
+    rep = _report(
+        design,
+        act,
+        ag,
+        g,
+        W,
+        iso,
+        W_com,
+        flotor_mp,
+        parts_mass,
+        stator_mass_kg,
+        itf,
+        cl,
+        bom,
+        rig_bom,
+        pv.rattle_clearances_mm(ag, acts),
+        gain_per_At,
+    )
+    rep["files"] = sorted(files + ["report.md"])
+    family.write_report_md(out_dir, f"{design.name} (powermouse)", _md_rows(rep), bom, rep["notes"])
+    _step(progress, "done", total, total)
+    return rep
+
+
+def _motion(design, g, inst, fidelity):
+    from cad.actuators import powermouse as pm
+    from cad.parts import powermouse as pp
+
     poses = None
     if fidelity != "fabrication":
         poses = [
@@ -230,80 +447,59 @@ def build(
             or p[0].startswith("r(")
             and p[0][1:10] in ("(1, 0, 0)", "(0, 1, 0)", "(0, 0, 1)")
         ]
-    cl = pp.motion_clearances(g, design.motion.range_mm, design.motion.range_deg, fl, st, poses)
-    worst = min(cl.nominal_mm, cl.translation_mm, cl.rotation_mm)
-    if worst < 0 and not allow_interference:
+    fl = {i.name: (i.kind.shape, "", i.tf_body_part) for i in inst if i.body == "flotor"}
+    st = {i.name: (i.kind.shape, "", i.tf_body_part) for i in inst if i.body == "ground"}
+    return pp.motion_clearances(g, design.motion.range_mm, design.motion.range_deg, fl, st, poses)
+
+
+def _raise_on_overlap(design, itf, cl, allow: bool) -> None:
+    if allow:
+        return
+    if itf["collisions"]:
+        c = itf["collisions"][0]
+        raise InterferenceError(
+            f"{c['parts'][0]} / {c['parts'][1]} overlap {c['overlap_volume_mm3']:.3f} mm^3 at the "
+            f"centre pose; {len(itf['collisions'])} overlapping pair(s) (use --allow-interference)"
+        )
+    if min(cl.nominal_mm, cl.translation_mm, cl.rotation_mm) < 0:
         bad = [k for k, v in cl.poses.items() if v[0] < 0]
         raise InterferenceError(
             f"flotor overlaps the stator at {len(bad)} pose(s) of the +-{design.motion.range_mm:g} mm / "
             f"+-{design.motion.range_deg:g} deg range (e.g. {bad[0] if bad else 'centre'}); "
             "enlarge actuator.rattle_mm or flotor.corner_hole_mm, or pass --allow-interference"
         )
-    rattle_single = pv.rattle_clearances_mm(ag, acts)
 
-    _step(progress, "exports", 5, total)
-    files: list[str] = []
-    colors = {role: get_material(m).color_rgb for role, m in role_material.items()}
-    unique = [
-        ("pm_flotor_shell", fl["flotor_shell"][0], "shell", 1, "made", "CNC / 3D print"),
-        ("pm_coil", fl["coil_+x"][0], "coil", 6, "made", "wound, potted"),
-        ("pm_handle", fl["handle"][0], "handle", 1, "made", "turned"),
-        ("pm_core_post", st["core_post"][0], "core", 1, "made", "machined"),
-        ("pm_magnet", st["magnet_+x_inner-A"][0], "magnet", 24, "bought", "NdFeB block"),
-        ("pm_iron_plate", st["iron_+x"][0], "iron", 6, "made", "machined"),
-        ("pm_housing", st["housing"][0], "housing", 1, "made", "machined"),
-    ]
-    for key in ("iron_top", "spacer_+y", "coil", "coil_carrier", "base", "magnet_top_A"):
-        shape, role = acts[key]
-        qty = {"iron_top": 2, "spacer_+y": 2, "magnet_top_A": 4}.get(key, 1)
-        kind = "bought" if role == "magnet" else "made"
-        unique.append(
-            (
-                f"act_{key.replace('_top_A', '').replace('_top', '_plate').replace('_+y', '')}",
-                shape,
-                role,
-                qty,
-                kind,
-                "",
-            )
-        )
-    bom = []
-    for name, shape, role, qty, kind, proc in unique:
-        plate = name in ("act_iron_plate", "act_base", "pm_iron_plate")
-        if formats:
-            for p in export_part(
-                shape, name, out_dir, formats, plate=plate, color=colors[role], stl=(kind == "made")
-            ):
-                files.append(p.name)
-        mass_g = solid_mass_props(shape, density(role)).mass_kg * 1e3
-        bom.append(
-            {
-                "part": name,
-                "material": role_material[role],
-                "quantity": qty,
-                "made_or_bought": kind,
-                "process": proc,
-                "mass_g": mass_g,
-            }
-        )
-    if "step" in formats:
-        items = [(n, s, colors[r]) for n, (s, r) in {**fl, **st}.items()]
-        files.append(export_assembly_step(items, out_dir / "powermouse_assembly.step").name)
-        items = [(n, s, colors[r]) for n, (s, r) in acts.items()]
-        files.append(export_assembly_step(items, out_dir / "actuator_assembly.step").name)
-    files.append(write_bom(bom, out_dir).name)
 
-    _step(progress, "Fig. 8 chart", 6, total)
-    files += _fig8_chart(design, gap, out_dir)
-    _step(progress, "done", total, total)
+def _report(
+    design,
+    act,
+    ag,
+    g,
+    W,
+    iso,
+    W_com,
+    flotor_mp,
+    parts_mass,
+    stator_mass_kg,
+    itf,
+    cl,
+    bom,
+    rig_bom,
+    rattle_single,
+    gain_per_At,
+) -> dict:
+    from cad.actuators import powermouse as pm
+    from cad.materials import get_material
 
+    peak_F = pm.peak_force_N(act["peak_force_N"])
+    acc = pm.peak_acceleration_m_s2(act["peak_force_N"], flotor_mp.mass_kg)
     return {
         "name": design.name,
         "family": design.family,
         "source": design.source,
         "actuator": act,
         "actuator_geometry_mm": {
-            "gap_mm": gap,
+            "gap_mm": ag.gap_mm,
             "coil_width_mm": ag.coil_width_mm,
             "plate_thickness_mm": ag.plate_thickness_mm,
             "height_mm": ag.height_mm,
@@ -328,14 +524,18 @@ def build(
         },
         "flotor": {
             **flotor_mp.to_dict(),
-            "parts_mass_kg": {k: v.mass_kg for k, v in parts_mp.items()},
-            "coil_density_kg_m3": density("coil"),
+            "parts_mass_kg": parts_mass,
+            "coil_density_kg_m3": design.actuator.eta_pack
+            * get_material(design.flotor.coil_material).density_kg_m3,
         },
+        "flotor_mass_g": flotor_mp.mass_kg * 1e3,
         "stator_mass_kg": stator_mass_kg,
-        "continuous_force_N": cont_F,
+        "continuous_force_N": pm.peak_force_N(act["force_N"]),
         "peak_force_N": peak_F,
         "peak_acceleration_m_s2": acc,
         "peak_acceleration_G": acc / pm.G0_M_S2,
+        "interference": itf,
+        "overlap_volume_mm3": itf["overlap_volume_mm3"],
         "clearances_mm": {
             "nominal_mm": cl.nominal_mm,
             "translation_mm": cl.translation_mm,
@@ -347,14 +547,45 @@ def build(
             "range_deg": design.motion.range_deg,
             "poses": {k: {"clearance_mm": v[0], "closest": v[1]} for k, v in cl.poses.items()},
         },
+        "min_clearance_mm": min(cl.nominal_mm, cl.translation_mm, cl.rotation_mm),
         "paper_table4": PAPER_TABLE4,
-        "files": sorted(files),
+        "bom": bom,
+        "rig_bom": rig_bom,
         "notes": [
             "Fig. 6 is lost: the cyclic coil layout, the inner core and the diagonal post/handle are our reconstruction.",
             "Forces use eq (8) with B_g of the chosen field model; peak force = 2 x actuator force at peak_power_W "
             "(the guaranteed zero-torque force in any direction).",
             f"touching (clearance 0) at the +-{design.motion.range_mm:g} mm limit is by design: rattle_mm/2 = "
             f"{design.actuator.rattle_mm / 2:g} mm.",
+            "Assembly: inner magnets on the core; core into the open flotor box, flotor lid on; outer magnets "
+            "on their iron plates, five plates into the open housing box, one on its lid; flotor (with the core) "
+            "lowered into the housing box (its side faces slide past the side magnets at the rattle gap); post "
+            "through the housing's corner bore and the flotor's corner hole, screwed into the core; housing lid "
+            "on; handle stem through the lid's corner hole, screwed into the flotor. Lid screws and the post's "
+            "nut are not modelled.",
+            "rig/ holds the single-actuator test rig of Fig. 7 (one coil between two magnet pairs): a bench "
+            "fixture to measure one actuator's force against eq (8), not part of the PowerMouse.",
+            "Clearances over the motion range: fcl mesh distances at every pose, exact OCCT where the mesh "
+            "distance is within 0.15 mm of contact and at the closest pose of each group.",
         ],
         "gain_N_per_ampere_turn": gain_per_At,
     }
+
+
+def _md_rows(r: dict) -> list[tuple[str, str]]:
+    c = r["clearances_mm"]
+    return [
+        ("actuator gap d (mm)", f"{r['actuator']['gap_mm']:.3f} ({r['actuator']['gap_source']})"),
+        ("flotor mass (g)", f"{r['flotor_mass_g']:.1f}"),
+        ("peak force (N), paper", f"{r['peak_force_N']:.1f}, {PAPER_TABLE4['peak_force_N']:g}"),
+        ("peak acceleration (G)", f"{r['peak_acceleration_G']:.2f}"),
+        (
+            "clearance centre / translations / rotations (mm)",
+            f"{c['nominal_mm']:.3f} / {c['translation_mm']:.3f} / {c['rotation_mm']:.3f}",
+        ),
+        (
+            "solids / pairs checked exactly at the centre",
+            f"{r['interference']['parts']} / {r['interference']['exact_pairs']}",
+        ),
+        ("overlap volume at the centre (mm^3)", f"{r['overlap_volume_mm3']:.4g}"),
+    ]

@@ -1,7 +1,8 @@
 """The ``hapticad`` typer application and its error boundary.
 
 Exit codes: 0 success, 1 a target missed (``check``), 2 bad input (one line on
-stderr naming the field and the reason, never a traceback).
+stderr naming the field and the reason, never a traceback), 130 / 143 interrupted by
+SIGINT / SIGTERM (``hapticad: aborted``, nothing published: :mod:`cad.io.signals`).
 """
 
 from __future__ import annotations
@@ -26,6 +27,23 @@ app = typer.Typer(
 _REGISTERED = False
 
 
+def _version(value: bool) -> None:
+    if value:
+        from cad import __version__
+
+        print(f"hapticad {__version__}")
+        raise typer.Exit(0)
+
+
+@app.callback()
+def _root(
+    version: bool = typer.Option(
+        False, "--version", help="Print the version and exit.", callback=_version, is_eager=True
+    ),
+) -> None:
+    """Parametric CAD generator for haptic-device hardware."""
+
+
 def _register_commands() -> None:
     global _REGISTERED
     if _REGISTERED:
@@ -44,24 +62,68 @@ def fail(message: str, code: int = 2) -> typer.Exit:
     return typer.Exit(code)
 
 
+def print_json(obj: dict, **dumps_kwargs) -> None:
+    """Print one JSON object on stdout with the run's ``warnings`` list added (every ``--json``).
+
+    ``warnings`` holds every implausible value (:mod:`cad.design.bounds`) and every data
+    warning (e.g. an STL that is not watertight) of this command, as printed on stderr.
+    """
+    import json
+
+    from cad.design import bounds
+
+    print(json.dumps({**obj, "warnings": bounds.collected()}, **dumps_kwargs))
+
+
+def _dedupe_sentences(msg: str) -> str:
+    """Drop a sentence repeated verbatim (click and typer both append "Did you mean ...?")."""
+    out: list[str] = []
+    for part in msg.replace("? ", "?\n").replace(". ", ".\n").split("\n"):
+        if part not in out:
+            out.append(part)
+    return " ".join(out)
+
+
 def run(argv: list[str] | None = None) -> int:
     """Run the CLI on ``argv`` and return the exit code (tests call this in-process).
 
     0 success, 1 a target missed, 2 bad input (one line on stderr, no traceback).
+    Warnings (implausible values) are printed on stderr unless the exit code is 2.
     """
+    from cad.design import bounds
+
+    bounds.reset()
+    code = _run(argv)
+    if code != 2:
+        bounds.flush()
+    return code
+
+
+def _run(argv: list[str] | None) -> int:
     if not _REGISTERED:
         _register_commands()
+    try:
+        return _run_app(argv)
+    finally:
+        handle = sys.modules.get("cad.parts.handle")  # per-command script opt-in ends here
+        if handle is not None:
+            handle.clear_script_policy()
+
+
+def _run_app(argv: list[str] | None) -> int:
     click_error = next(c for c in typer.BadParameter.__mro__ if c.__name__ == "ClickException")
     try:
         rv = app(args=argv, prog_name="hapticad", standalone_mode=False)
         return rv if isinstance(rv, int) else 0
     except typer.Exit as exc:
         return int(exc.exit_code)
-    except typer.Abort:
-        print("hapticad: aborted", file=sys.stderr)
-        return 1
+    except (typer.Abort, KeyboardInterrupt):
+        return _aborted()
     except click_error as exc:  # usage errors: one line, exit 2
-        msg = " ".join(exc.format_message().split())
+        if type(exc).__name__ == "NoArgsIsHelpError":  # bare `hapticad`: the help, exit 0
+            print(exc.ctx.get_help() if exc.ctx else "")
+            return 0
+        msg = _dedupe_sentences(" ".join(exc.format_message().split()))
         print(f"hapticad: error: {msg} (see hapticad --help)", file=sys.stderr)
         return int(getattr(exc, "exit_code", 2))
     except TargetMissed as exc:
@@ -75,9 +137,28 @@ def run(argv: list[str] | None = None) -> int:
         return 2
 
 
+def _aborted() -> int:
+    """``hapticad: aborted`` on stderr; the exit code 128 + signal (130 for Ctrl-C)."""
+    from cad.io import signals
+
+    print("hapticad: aborted", file=sys.stderr, flush=True)
+    return signals.exit_code()
+
+
 def main() -> None:
-    """Console-script entry point."""
-    sys.exit(run())
+    """Console-script entry point: SIGINT/SIGTERM abort cleanly (:mod:`cad.io.signals`)."""
+    from cad.io import signals
+
+    signals.install()
+    try:
+        code = run()
+    except BaseException:
+        if signals.received() is None or signals.committed():
+            raise
+        code = _aborted()  # e.g. an ImportError raised by a library interrupted mid-import
+    if signals.received() is not None and code != signals.exit_code() and not signals.committed():
+        code = _aborted()  # a library swallowed the interrupt: nothing was published
+    sys.exit(code)
 
 
 if __name__ == "__main__":

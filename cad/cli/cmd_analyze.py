@@ -2,34 +2,41 @@
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 import typer
 
+from cad.cli.app import print_json
 from cad.errors import DesignError
 
 
-def parse_inertia_option(text: str):
-    """Parse ``H11=2.97e-5,H12=3.22e-5,H22=1.17e-4,H33=7.09e-5`` (kg.m^2)."""
+def parse_inertia_option(text: str, flag: str = "--inertia"):
+    """Parse ``H11=2.97e-5,H12=3.22e-5,H22=1.17e-4,H33=7.09e-5`` (kg.m^2).
+
+    Each value is checked against :mod:`cad.design.bounds` (the ``[inertia]`` bounds), so a
+    slip such as g cm^2 typed for kg m^2 is an error naming ``--inertia H11``.
+    """
+    from cad.design.bounds import FIELDS, check_number
     from cad.dynamics.inertia import InertiaCoefficients
 
+    if not text.strip():
+        raise DesignError(flag, "is empty; expected H11=..,H12=..,H22=..,H33=.. (kg m^2)")
     vals: dict[str, float] = {}
     for item in text.split(","):
         key, sep, val = item.partition("=")
         key = key.strip().removesuffix("_kg_m2")
         if not sep or key not in ("H11", "H12", "H22", "H33"):
-            raise DesignError("--inertia", f"expected H11=..,H12=..,H22=..,H33=.. got {item!r}")
+            raise DesignError(flag, f"expected H11=..,H12=..,H22=..,H33=.. got {item!r}")
+        if key in vals:
+            raise DesignError(f"{flag} {key}", "given twice")
         try:
-            vals[key] = float(val)
+            x = float(val)
         except ValueError:
-            raise DesignError("--inertia", f"{key} value {val!r} is not a number") from None
+            raise DesignError(f"{flag} {key}", f"value {val!r} is not a number") from None
+        vals[key] = check_number(f"{flag} {key}", x, FIELDS[f"inertia.{key}_kg_m2"])
     missing = {"H11", "H12", "H22", "H33"} - set(vals)
     if missing:
-        raise DesignError("--inertia", f"missing {', '.join(sorted(missing))}")
-    for k in ("H11", "H22", "H33"):
-        if not vals[k] > 0:
-            raise DesignError("--inertia", f"{k} must be > 0, got {vals[k]!r}")
+        raise DesignError(flag, f"missing {', '.join(sorted(missing))}")
     return InertiaCoefficients(vals["H11"], vals["H12"], vals["H22"], vals["H33"])
 
 
@@ -41,14 +48,17 @@ def _print_table(res: dict) -> None:
     t = Table(title=f"{res['name']} ({res['family']})", show_lines=False)
     t.add_column("quantity")
     t.add_column("ours", justify="right")
-    t.add_column("paper", justify="right")
+    scale = res.get("paper_scale")
+    t.add_column("paper" if scale is None else f"paper x scale {scale:.3g}", justify="right")
     paper = res.get("paper", {})
     for k in ("stroke_mm", "dy_max_mm", "slope_max", "linearity", "torque_mean_mNm",
               "torque_variation", "bbox_mm", "min_transmission_angle_deg"):
         v = res[k]
         s = f"{v[0]:.1f} x {v[1]:.1f}" if k == "bbox_mm" else f"{v:.4g}"
         pk = "dimensions" if k == "bbox_mm" else k
-        t.add_row(k, s, str(paper.get(pk, {}).get("paper", "")))
+        row = paper.get(pk, {})
+        pv = row.get("paper_scaled", row.get("paper", ""))
+        t.add_row(k, s, pv if isinstance(pv, str) else f"{pv:.4g}")
     for k in ("l1_mm", "l2_mm", "l3_mm", "l4_mm", "l5_mm", "le_mm", "phi_e_deg",
               "phi1_min_deg", "phi1_max_deg", "branch"):
         t.add_row(k, f"{res[k]:.6g}", "")
@@ -74,22 +84,24 @@ def register(app: typer.Typer) -> None:
     ) -> None:
         """Kinematic metrics (Tables I/II), range checks and apparent mass; no CAD."""
         from cad.analysis import analyze
+        from cad.cli import flags
         from cad.design import load_design
         from cad.design.fourbar import FourBarDesign
-        from cad.tolerances import SAMPLES_MAX
 
-        if samples is not None and not 3 <= samples <= SAMPLES_MAX:
-            raise DesignError("--samples", f"must be in [3, {SAMPLES_MAX}], got {samples}")
+        flags.number("--samples", samples)
+        flags.out_path("--report", report, folder=True)
+        H = parse_inertia_option(inertia) if inertia is not None else None
         d = load_design(design)
         if not isinstance(d, FourBarDesign):
-            raise DesignError("mechanism.family", "analyze works on four-bar designs; use `hapticad gii` for pantographs")
-        H = parse_inertia_option(inertia) if inertia else None
+            from cad.cli.families import refusal
+
+            raise DesignError("mechanism.family", refusal("analyze", d.family))
         res = analyze(d, samples=samples, inertia=H)
         if report is not None:
             from cad.report.fourbar import write_analysis_report
 
             res["report"] = str(write_analysis_report(d, res, report, inertia=H or d.inertia))
         if json_out:
-            print(json.dumps(res, indent=1))
+            print_json(res, indent=1)
         else:
             _print_table(res)

@@ -16,6 +16,7 @@ TOPICS = {
     "voicecoil": "cad.bench.voicecoil",
     "build": "cad.bench.build",
     "fidelity": "cad.bench.fidelity",
+    "structure": "cad.bench.structure",
 }
 
 
@@ -68,9 +69,11 @@ def register(app: typer.Typer) -> None:
         from rich.console import Console
         from rich.table import Table
 
+        from cad.cli import flags
         from cad.errors import DesignError
         from cad.io.atomic import write_text_atomic
 
+        flags.out_path("--out", out, folder=True)
         topics = list(TOPICS)
         if only:
             topics = [t.strip() for t in only.split(",") if t.strip()]
@@ -78,6 +81,10 @@ def register(app: typer.Typer) -> None:
                 if t not in TOPICS:
                     raise DesignError("--only", f"unknown topic {t!r} (known: {', '.join(TOPICS)})")
         con = Console(stderr=True)
+        from cad.export.manifest import write_manifest
+        from cad.io.outdir import check_out_dir
+
+        check_out_dir(out)  # only a folder bench (or build) wrote: README "Output folders"
         out.mkdir(parents=True, exist_ok=True)
         results: dict = {}
         for t in topics:
@@ -90,9 +97,11 @@ def register(app: typer.Typer) -> None:
             con.print(f"[bold]bench[/] {t} ...")
             results[t] = mod.run(quick, out)
             results[t]["bench_wall_s"] = time.perf_counter() - t0
+            write_manifest(out)  # after each topic: what is there is bench's own
         rows = _goals(results)
         results["goals"] = [{"goal": g, "measured": m, "target": tg, "met": ok} for g, m, tg, ok in rows]
         write_text_atomic(out / "bench.json", json.dumps(results, indent=1, default=float))
+        write_manifest(out)
         tab = Table(title="performance goals (medians)")
         for c in ("goal", "measured", "target", "met"):
             tab.add_column(c)

@@ -8,11 +8,12 @@ Writes every part (STEP, binary STL, DXF for plates), the assembly STEP, ``bom.c
 
 from __future__ import annotations
 
-import json
 import time
 from pathlib import Path
 
 import typer
+
+from cad.cli.app import print_json
 
 
 def _summary(rep: dict, out: Path, wall_s: float) -> None:
@@ -61,7 +62,7 @@ def register(app: typer.Typer) -> None:
         design: Path = typer.Argument(..., help="TOML design file"),
         out: Path = typer.Option(None, "--out", help="output folder (default exports/<name>/)"),
         formats: str = typer.Option(
-            "step,stl,dxf", "--formats", help="comma list of step, stl, dxf"
+            "step,stl,dxf", "--formats", help="comma list of step, stl, dxf, mjcf, urdf (mjcf/urdf also write the STL meshes)"
         ),
         fidelity: str = typer.Option(
             None, "--fidelity", help="fabrication | inertia | preview (default: [parts].fidelity)"
@@ -74,19 +75,38 @@ def register(app: typer.Typer) -> None:
         ),
         json_out: bool = typer.Option(False, "--json", help="print the report as one JSON object"),
         no_cache: bool = typer.Option(False, "--no-cache", help="rebuild even if nothing changed"),
+        allow_scripts: bool = typer.Option(
+            False, "--allow-scripts", help="run the design's [parts] handle_script (inside its folder)"
+        ),
+        allow_scripts_anywhere: bool = typer.Option(
+            False, "--allow-scripts-anywhere", help="run handle_script from any path"
+        ),
     ) -> None:
         """Parts, posed assembly, interference check and fabrication exports of a design."""
+        from cad.parts.handle import set_script_policy
+
+        set_script_policy(allow_scripts, allow_scripts_anywhere)
         from cad.build import FIDELITIES, build_design
+        from cad.cli import flags
         from cad.design import load_design
         from cad.errors import DesignError
         from cad.export import parse_formats
 
         t0 = time.perf_counter()
         fmts = parse_formats(formats)
+        flags.choice("--fidelity", fidelity, FIDELITIES)
+        flags.number("--phi1-deg", phi1_deg)
+        flags.out_path("--out", out, folder=True)
         d = load_design(design)
         fid = fidelity or getattr(getattr(d, "parts", None), "fidelity", "fabrication")
         if fid not in FIDELITIES:
             raise DesignError("--fidelity", f"must be one of {', '.join(FIDELITIES)}, got {fid!r}")
+        check_buildable = getattr(d, "check_buildable", None)
+        if check_buildable is not None:
+            check_buildable()  # impossible hardware named before the CAD import
+        from cad.design import bounds
+
+        bounds.flush()  # warnings now, not after a long build
         target = out if out is not None else Path("exports") / d.name
         if json_out:
             rep = build_design(
@@ -99,18 +119,11 @@ def register(app: typer.Typer) -> None:
                 use_cache=not no_cache,
             )
             rep.pop("timings_s", None)
-            print(json.dumps(rep, sort_keys=True, default=str))
+            print_json(rep, sort_keys=True, default=str)
             return
-        from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+        from cad.cli.progress import stages
 
-        with Progress(
-            TextColumn("{task.description}"), BarColumn(), TimeElapsedColumn(), transient=True
-        ) as bar:
-            task = bar.add_task("build", total=8)
-
-            def progress(desc: str, done: int, total: int) -> None:
-                bar.update(task, description=desc, completed=done, total=total)
-
+        with stages("build") as progress:
             rep = build_design(
                 d,
                 target,

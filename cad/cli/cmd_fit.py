@@ -2,10 +2,11 @@
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 import typer
+
+from cad.cli.app import print_json
 
 
 def register(app: typer.Typer) -> None:
@@ -17,22 +18,37 @@ def register(app: typer.Typer) -> None:
         out: Path = typer.Option(None, "--out", help="fitted design (default: <design>.fit.toml beside it)"),
         fidelity: str = typer.Option("inertia", "--fidelity", help="inertia | fabrication"),
         json_out: bool = typer.Option(False, "--json", help="print one JSON object"),
+        allow_scripts: bool = typer.Option(
+            False, "--allow-scripts", help="run the design's [parts] handle_script (inside its folder)"
+        ),
+        allow_scripts_anywhere: bool = typer.Option(
+            False, "--allow-scripts-anywhere", help="run handle_script from any path"
+        ),
     ) -> None:
         """Adjust the design's free part parameters to meet the targets; write the fitted design."""
+        from cad.parts.handle import set_script_policy
+
+        set_script_policy(allow_scripts, allow_scripts_anywhere)
+        from cad.build.inertia import target_values
         from cad.checks import evaluate, merge_targets
-        from cad.cli.cmd_check import compute_values
-        from cad.design import load_design, parse_design
+        from cad.cli import flags
+        from cad.cli.families import refusal
+        from cad.design import bounds, load_design, parse_design
         from cad.design.fourbar import FourBarDesign
         from cad.design.targets import parse_cli_target
         from cad.design.writer import dumps_design
         from cad.errors import DesignError, TargetMissed
         from cad.fit import fit, parse_free
         from cad.io.atomic import write_text_atomic
+        from cad.io.outdir import check_out_file
 
         cli_targets = tuple(parse_cli_target(t) for t in (target or []))
+        flags.choice("--fidelity", fidelity, ("inertia", "fabrication"))
+        flags.out_path("--out", out, folder=False)
         d = load_design(design)
         if not isinstance(d, FourBarDesign):
-            raise DesignError("mechanism.family", "fit works on four-bar designs")
+            raise DesignError("mechanism.family", refusal("fit", d.family))
+        d.check_buildable()
         targets = cli_targets if cli_targets else merge_targets(d.targets, ())
         if not targets:
             raise DesignError("--target", "no targets: give --target KEY=VALUE or a [targets] table")
@@ -40,6 +56,9 @@ def register(app: typer.Typer) -> None:
         if not specs:
             raise DesignError("--free", "no free parameters: give --free parts.KEY or [fit] free = [...]")
         params = [parse_free(s, d.parts) for s in specs]
+        dst = out if out is not None else design.with_suffix(".fit.toml")
+        replaced = check_out_file(dst, design)
+        bounds.flush()
         need_clear = any(t.key == "min_clearance_mm" for t in targets)
         raw = {k: v for k, v in d.raw.items()}
         raw.setdefault("parts", {})
@@ -47,8 +66,7 @@ def register(app: typer.Typer) -> None:
         if echo:
             echo(f"fit {d.name}: {len(params)} free parameter(s), {len(targets)} target(s)")
         res = fit(raw, str(design), targets, params,
-                  lambda dd: compute_values(dd, fidelity, need_clear)[0], echo=echo)
-        dst = out if out is not None else design.with_suffix(".fit.toml")
+                  lambda dd: target_values(dd, fidelity, need_clear)[0], echo=echo)
         fitted = dict(res.raw)
         fitted["name"] = f"{d.name}_fit" if out is None else out.name.split(".")[0]
         if cli_targets:  # keep the targets the fit was made for
@@ -60,22 +78,23 @@ def register(app: typer.Typer) -> None:
                              else {"value": t.value, "tol_abs": t.tol_abs} if t.value is not None
                              else {k: v for k, v in (("min", t.min), ("max", t.max)) if v is not None})
             fitted["targets"] = tt
-        parse_design(fitted, str(dst))  # validate before writing
+        final_vals = target_values(parse_design(fitted, str(dst)), fidelity, need_clear)[0]
+        # the design file last: it is the command's output (cad.io.signals commit point)
         write_text_atomic(dst, dumps_design(fitted, f"Fitted by `hapticad fit {design}`: "
-                                            + ", ".join(f"{k}={v}" for k, v in res.values.items())))
-        final_vals = compute_values(parse_design(fitted, str(dst)), fidelity, need_clear)[0]
+                                            + ", ".join(f"{k}={v}" for k, v in res.values.items())),
+                          final=True)
         rows = evaluate(targets, final_vals)
-        payload = {"name": d.name, "out": str(dst), "start": res.start, "fitted": res.values,
+        payload = {"name": d.name, "out": str(dst), "replaced": replaced, "start": res.start, "fitted": res.values,
                    "met": all(r.ok for r in rows), "max_violation": res.objective,
                    "evaluations": len(res.log), "iterations": res.log, "rows": [r.as_dict() for r in rows]}
         if json_out:
-            print(json.dumps(payload, indent=1, default=str))
+            print_json(payload, indent=1, default=str)
         else:
             for k, v in res.values.items():
                 print(f"{k}: {res.start[k]} -> {v}")
             for r in rows:
                 comp = "—" if r.computed is None else f"{r.computed:.4g}"
                 print(f"  {r.key}: {comp} (target {r.target}) {'ok' if r.ok else 'MISSED'}")
-            print(f"wrote {dst}")
+            print(f"{'replaced' if replaced else 'wrote'} {dst}")
         if not payload["met"]:
             raise TargetMissed("targets not met within the free parameters' bounds (the best design was written)")

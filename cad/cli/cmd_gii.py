@@ -6,10 +6,11 @@ included). An unreachable or singular sample gives GII = 0 and is named.
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 import typer
+
+from cad.cli.app import print_json
 
 PANTOGRAPH_FAMILIES = ("pantograph", "twin-pantograph", "haptic-pen")
 
@@ -53,10 +54,9 @@ def load_pantograph_design(path: Path):
 
     design = load_design(path)
     if getattr(design, "family", None) not in PANTOGRAPH_FAMILIES:
-        raise DesignError(
-            "mechanism.family",
-            f"this command needs one of {', '.join(PANTOGRAPH_FAMILIES)}, got {getattr(design, 'family', None)!r}",
-        )
+        from cad.cli.families import refusal
+
+        raise DesignError("mechanism.family", refusal("gii", design.family))
     return design
 
 
@@ -71,7 +71,7 @@ def register(app: typer.Typer) -> None:
         """Global isotropy index (isotropy paper eq 5) over the design's workspace grid."""
         rep = gii_report(load_pantograph_design(design))
         if json_out:
-            print(json.dumps(rep))
+            print_json(rep)
             return
         print(
             f"{rep['design']} ({rep['family']}): GII = {rep['gii']:.6f} over {rep['n_points']} samples"

@@ -11,13 +11,12 @@ the COM, file axes, positive-definite convention), ``principal_moments_kg_m2``
 
 from __future__ import annotations
 
-import json
-import math
 import sys
 from pathlib import Path
 
 import typer
 
+from cad.cli.app import print_json
 from cad.errors import DesignError, HapticadError
 from cad.materials import DEFAULT_MATERIAL, get_material
 
@@ -27,13 +26,9 @@ def _resolve_density(density: str | None, material: str | None) -> tuple[float, 
     if density is not None and material is not None:
         raise DesignError("--density/--material", "give one of them, not both")
     if density is not None:
-        try:
-            rho = float(density)
-        except ValueError:
-            raise DesignError("--density", f"must be a number in kg/m^3, got {density!r}") from None
-        if not math.isfinite(rho) or rho <= 0:
-            raise DesignError("--density", f"must be finite and > 0 kg/m^3, got {density!r}")
-        return rho, None, False
+        from cad.design.bounds import parse_flag
+
+        return parse_flag("--density", density), None, False
     if material is not None:
         mat = get_material(material, "--material")
         return mat.density_kg_m3, mat.name, False
@@ -83,25 +78,32 @@ def compute(
     return out, notes
 
 
+def _g(values, scale: float | None = None, digits: int = 6) -> str:
+    """``digits`` significant digits; entries below 1e-9 of ``scale`` (default: the group's
+    largest) print as 0 (round-off of the integration, not data). ``--json`` keeps all digits."""
+    vals = [float(v) for v in values]
+    if scale is None:
+        scale = max((abs(v) for v in vals), default=0.0)
+    return "  ".join("0" if abs(v) <= 1e-9 * scale else f"{v:.{digits}g}" for v in vals)
+
+
 def _fmt_text(out: dict) -> str:
     mat = f" ({out['material']})" if out["material"] else ""
+    tensor = out["inertia_com_kg_m2"]
+    scale = max(abs(float(x)) for r in tensor for x in r)
+    rows_t = [_g(r, scale) for r in tensor]
     rows = [
-        f"file                 {out['file']}  [{out['format']}, {out['method']}]",
-        f"density_kg_m3        {out['density_kg_m3']!r}{mat}",
-        f"volume_mm3           {out['volume_mm3']!r}",
-        f"mass_kg              {out['mass_kg']!r}",
-        "com_mm               " + "  ".join(repr(x) for x in out["com_mm"]),
-        "inertia_com_kg_m2    " + "  ".join(repr(x) for x in out["inertia_com_kg_m2"][0]),
+        f"file                     {out['file']}  [{out['format']}, {out['method']}]",
+        f"density_kg_m3            {_g([out['density_kg_m3']])}{mat}",
+        f"volume_mm3               {_g([out['volume_mm3']])}",
+        f"mass_kg                  {_g([out['mass_kg']])}",
+        "com_mm                   " + _g(out["com_mm"]),
+        "inertia_com_kg_m2        " + rows_t[0],
+        *("                         " + r for r in rows_t[1:]),
+        "principal_moments_kg_m2  " + _g(out["principal_moments_kg_m2"]),
     ]
-    rows += [
-        "                     " + "  ".join(repr(x) for x in r)
-        for r in out["inertia_com_kg_m2"][1:]
-    ]
-    rows.append(
-        "principal_moments_kg_m2  " + "  ".join(repr(x) for x in out["principal_moments_kg_m2"])
-    )
     if out["watertight"] is not None:
-        rows.append(f"watertight           {out['watertight']}")
+        rows.append(f"watertight               {out['watertight']}")
     return "\n".join(rows)
 
 
@@ -125,6 +127,6 @@ def register(app: typer.Typer) -> None:
         for note in notes:
             print(f"hapticad: {note}", file=sys.stderr)
         if json_out:
-            print(json.dumps(out))
+            print_json(out)
         else:
             print(_fmt_text(out))

@@ -7,10 +7,11 @@ while evaluating far fewer Jacobians.
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 import typer
+
+from cad.cli.app import print_json
 
 
 def optimize_report(design, method: str) -> dict:
@@ -44,22 +45,53 @@ def optimize_report(design, method: str) -> dict:
     }
 
 
+def write_optimum(design, rep: dict, out: Path, command: str) -> bool:
+    """Write ``design`` with its ``[mechanism]`` set to the optimum, validated first, atomically.
+
+    The ``[optimize]`` ranges are kept (re-running reproduces the search); ``name`` becomes
+    the file's stem. Raises DesignError (--out) when ``out`` is the input design itself
+    (same path, symbolic or hard link). Returns True when an existing file was replaced.
+    """
+    import copy
+
+    from cad.design.pantograph import parse
+    from cad.design.writer import write_design
+    from cad.io.outdir import check_out_file
+
+    replaced = check_out_file(out, Path(design.source))  # never the input design (any link)
+    raw = copy.deepcopy(design.raw)
+    raw["mechanism"].update(rep["best"])
+    raw["name"] = out.stem
+    parse(raw, str(out))  # must validate before anything is written
+    write_design(out, raw, f"Optimum of `{command}`: GII {rep['gii']:.6f} ({rep['method']})")
+    return replaced
+
+
 def register(app: typer.Typer) -> None:
     @app.command("optimize")
     def optimize_cmd(
         design: Path = typer.Argument(..., help="Design TOML with an [optimize] table."),
         method: str = typer.Option("culling", "--method", help="culling or brute."),
+        out: Path = typer.Option(None, "--out", help="Write the optimum as a new design (TOML)."),
         json_out: bool = typer.Option(False, "--json", help="Print one JSON object."),
     ) -> None:
         """Maximize the GII over the [optimize] candidate grid (culling or brute force)."""
+        from cad.cli import flags
         from cad.cli.cmd_gii import load_pantograph_design
         from cad.errors import DesignError
 
+        flags.out_path("--out", out, folder=False)
         if method not in ("culling", "brute"):
             raise DesignError("--method", f"must be 'culling' or 'brute', got {method!r}")
-        rep = optimize_report(load_pantograph_design(design), method)
+        d = load_pantograph_design(design)
+        rep = optimize_report(d, method)
+        if out is not None:
+            rep["replaced"] = write_optimum(
+                d, rep, out, f"hapticad optimize {design.name} --method {method}"
+            )
+            rep["out"] = str(out)
         if json_out:
-            print(json.dumps(rep))
+            print_json(rep)
             return
         print(f"{rep['design']} ({rep['family']}), {rep['method']}: GII = {rep['gii']:.6f}")
         print(f"  best: {rep['best']}")
@@ -70,3 +102,5 @@ def register(app: typer.Typer) -> None:
         )
         if rep["at_bound"]:
             print(f"  note: optimum at the range bound of {', '.join(rep['at_bound'])}")
+        if out is not None:
+            print(f"  {'replaced' if rep['replaced'] else 'wrote'} {out}")

@@ -6,18 +6,20 @@ mount, base interface, handle) and produces the bar set of another straight-line
 convenient design of the revolute joints, the different straight line mechanisms can
 be obtained by fabricating the adequate set of bars", Hoeken paper §III.A). Prints the
 old and new metrics side by side and writes the new design atomically (default: beside
-DESIGN as ``<stem>_<family>.toml``). The layer planner (no CAD) runs on the new bar set;
+DESIGN as ``<stem>_<family>.toml``); never over DESIGN itself, and it says ``replaced``
+when the file existed (:func:`cad.io.outdir.check_out_file`). The layer planner (no CAD) runs on the new bar set;
 ``--build`` also builds it (and fails if anything collides).
 """
 
 from __future__ import annotations
 
 import copy
-import json
 import os
 from pathlib import Path
 
 import typer
+
+from cad.cli.app import print_json
 
 SWAP_FAMILIES = ("hoeken", "roberts", "chebyshev", "chebyshev-v")
 #: Sections of a design that describe the old mechanism only and are dropped by a swap.
@@ -40,9 +42,12 @@ def swap_raw(design, family: str, out_path: Path) -> dict:
 
     if family not in SWAP_FAMILIES:
         raise DesignError("--to", f"must be one of {', '.join(SWAP_FAMILIES)}, got {family!r}")
+    from cad.design.writer import drop_source_targets
+
     raw = copy.deepcopy(design.raw)
     for s in DROPPED_SECTIONS:
         raw.pop(s, None)
+    drop_source_targets(raw)
     mech = raw.get("mechanism", {})
     force = mech.get("force_N", design.force_N)
     raw["mechanism"] = {"family": family, "stroke_mm": stroke_of(design), "force_N": force}
@@ -86,7 +91,7 @@ def register(app: typer.Typer) -> None:
         ),
         json_out: bool = typer.Option(False, "--json", help="print one JSON object"),
         build: bool = typer.Option(
-            False, "--build", help="also build the new design into exports/<name>/"
+            False, "--build", help="Also build the new design into exports/<name>/ (name: the --out file stem)."
         ),
     ) -> None:
         """Same joint hardware, another straight-line bar set; old vs new metrics."""
@@ -94,23 +99,33 @@ def register(app: typer.Typer) -> None:
 
         from cad.assembly.layers import choose_layers
         from cad.assembly.pose import planar_transforms
+        from cad.cli import flags
+        from cad.cli.cmd_swap import SWAP_FAMILIES
         from cad.design import load_design, parse_design
         from cad.design.fourbar import FourBarDesign
+        from cad.design.writer import dropped_targets_note
         from cad.errors import DesignError
         from cad.io.atomic import write_text_atomic
+        from cad.io.outdir import check_out_file
         from cad.kinematics.linkgeom import link_joints_mm
 
+        flags.choice("--to", to, SWAP_FAMILIES)
+        flags.out_path("--out", out, folder=False)
         d = load_design(design)
         if not isinstance(d, FourBarDesign):
-            raise DesignError(
-                "mechanism.family", f"swap works on four-bar designs, got {d.family!r}"
-            )
+            from cad.cli.families import refusal
+
+            raise DesignError("mechanism.family", refusal("swap", d.family))
         target = (
             out
             if out is not None
             else design.with_name(f"{design.stem}_{to.replace('-', '_')}.toml")
         )
+        replaced = check_out_file(target, design)
         raw = swap_raw(d, to, target)
+        if out is not None:  # the written file names the design (and its build folder)
+            raw["name"] = out.stem
+        dropped = [k for k in (d.raw.get("targets") or {}) if k not in (raw.get("targets") or {})]
         new = parse_design(raw, str(target))  # validates before anything is written
         import numpy as np
 
@@ -119,12 +134,13 @@ def register(app: typer.Typer) -> None:
             link_joints_mm(new.linkage), new.parts, planar_transforms(new.linkage, phi)
         )
         text = tomli_w.dumps(raw)
-        write_text_atomic(target, f"# written by `hapticad swap {design.name} --to {to}`\n" + text)
+        header = f"written by `hapticad swap {design.name} --to {to}`" + dropped_targets_note(dropped)
         old_m, new_m = metric_rows(d), metric_rows(new)
         result = {
             "old": old_m,
             "new": new_m,
             "out": str(target),
+            "replaced": replaced,
             "layers": {
                 "order": list(plan.order),
                 "conflicts": list(plan.conflicts),
@@ -135,14 +151,19 @@ def register(app: typer.Typer) -> None:
             from cad.build import build_design
             from cad.export import parse_formats
 
-            rep = build_design(new, Path("exports") / new.name, parse_formats(None))
+            build_dir = Path("exports") / new.name
+            rep = build_design(new, build_dir, parse_formats(None))
             result["build"] = {
                 "min_clearance_mm": rep["min_clearance_mm"],
                 "overlap_volume_mm3": rep["overlap_volume_mm3"],
-                "out": str(Path("exports") / new.name),
+                "out": str(build_dir),
             }
+        # the design file last: it is the command's output (cad.io.signals commit point)
+        write_text_atomic(
+            target, "".join(f"# {ln}\n" for ln in header.splitlines()) + text, final=True
+        )
         if json_out:
-            print(json.dumps(result, sort_keys=True, default=float))
+            print_json(result, sort_keys=True, default=float)
             return
         from rich.console import Console
         from rich.table import Table
@@ -163,7 +184,7 @@ def register(app: typer.Typer) -> None:
         con.print(t)
         con.print(
             f"layers {', '.join(plan.order)} (bottom to top), planar clearance "
-            f"{plan.min_planar_clearance_mm:.2f} mm; wrote {target}"
+            f"{plan.min_planar_clearance_mm:.2f} mm; {'replaced' if replaced else 'wrote'} {target}"
         )
         if plan.conflicts:
             con.print(f"[yellow]warning:[/] layer conflicts: {'; '.join(plan.conflicts)}")

@@ -2,11 +2,20 @@
 
 from __future__ import annotations
 
-import json
 import math
 from pathlib import Path
 
 import typer
+
+from cad.cli.app import print_json
+
+
+def synth_flags(objective: str, free: str, dy_tol_mm: float, mu_min_deg: float,
+                stroke_mm: float | None) -> str:
+    """Every flag that shaped the result, for the written design's provenance line."""
+    flags = (f"--objective {objective} --free {free} --dy-tol-mm {dy_tol_mm:g} "
+             f"--mu-min-deg {mu_min_deg:g}")
+    return flags + (f" --stroke-mm {stroke_mm:g}" if stroke_mm is not None else "")
 
 
 def register(app: typer.Typer) -> None:
@@ -24,20 +33,31 @@ def register(app: typer.Typer) -> None:
         """Choose link lengths and the crank range for a stated objective (see README)."""
         import copy
 
+        from cad.cli import flags
+        from cad.cli.families import refusal
         from cad.design import load_design, parse_design
         from cad.design.fourbar import FourBarDesign
-        from cad.design.writer import custom_mechanism_table, dumps_design
+        from cad.design.writer import (
+            custom_mechanism_table,
+            drop_source_targets,
+            dropped_targets_note,
+            dumps_design,
+        )
         from cad.errors import DesignError
         from cad.io.atomic import write_text_atomic
-        from cad.kinematics.synthesis import synthesize
+        from cad.io.outdir import check_out_file
+        from cad.kinematics.synthesis import FREE_SETS, OBJECTIVES, synthesize
 
+        flags.choice("--objective", objective, OBJECTIVES)
+        flags.choice("--free", free, FREE_SETS)
+        flags.number("--dy-tol-mm", dy_tol_mm)
+        flags.number("--mu-min-deg", mu_min_deg)
+        flags.number("--stroke-mm", stroke_mm)
+        flags.out_path("--out", out, folder=False)
         d = load_design(design)
         if not isinstance(d, FourBarDesign):
-            raise DesignError("mechanism.family", "synth works on four-bar designs")
-        if stroke_mm is not None and not stroke_mm > 0:
-            raise DesignError("--stroke-mm", f"must be > 0, got {stroke_mm}")
-        if not 0 <= mu_min_deg < 90:
-            raise DesignError("--mu-min-deg", f"must be in [0, 90), got {mu_min_deg}")
+            raise DesignError("mechanism.family", refusal("synth", d.family))
+        replaced = check_out_file(out, design) if out is not None else False
         r = synthesize(d.linkage, d.phi1_min_rad, d.phi1_max_rad, objective, free=free,
                        dy_tol_mm=dy_tol_mm, mu_min_deg=mu_min_deg,
                        stroke_mm=stroke_mm or (d.stroke_mm_requested or None), force_N=d.force_N)
@@ -51,13 +71,18 @@ def register(app: typer.Typer) -> None:
             raw = copy.deepcopy(d.raw)
             raw["mechanism"] = mech
             raw["name"] = out.stem
+            raw["description"] = f"{objective} synthesis ({free}) from {d.name} ({d.family})"
+            dropped = drop_source_targets(raw)
             parse_design(raw, str(out))  # must validate before anything is written
-            header = (f"Synthesized by `hapticad synth {design} --objective {objective} --free {free}` "
-                      f"from {d.family}")
-            write_text_atomic(out, dumps_design(raw, header))
+            header = (f"Synthesized by `hapticad synth {design.name} {synth_flags(objective, free, dy_tol_mm, mu_min_deg, stroke_mm)}` "
+                      f"from {d.family}" + dropped_targets_note(dropped))
             res["out"] = str(out)
+            res["replaced"] = replaced
+            text = dumps_design(raw, header)
+        if out is not None:  # last: the command's output (cad.io.signals commit point)
+            write_text_atomic(out, text, final=True)
         if json_out:
-            print(json.dumps(res, indent=1))
+            print_json(res, indent=1)
             return
         from rich.console import Console
         from rich.table import Table
@@ -73,6 +98,6 @@ def register(app: typer.Typer) -> None:
             t.add_row(k, f"{s[k]:.4g}", f"{o[k]:.4g}")
         Console().print(t)
         if out is not None:
-            print(f"wrote {out}")
+            print(f"{'replaced' if replaced else 'wrote'} {out}")
         if not math.isfinite(o["stroke_mm"]):
             raise DesignError("synth", "no feasible result")

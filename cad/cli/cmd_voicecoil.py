@@ -24,11 +24,11 @@ Bad values exit 2 with one line naming the flag.
 
 from __future__ import annotations
 
-import json
 import math
 
 import typer
 
+from cad.cli.app import print_json
 from cad.errors import DesignError
 
 _MODELS = ("closed-form", "images", "magpylib")
@@ -43,16 +43,13 @@ def _num(
     required: bool = False,
 ) -> float | None:
     """Parse a numeric flag; DesignError naming the flag when it is not a finite (positive) number."""
+    from cad.design.bounds import parse_flag
+
     if value is None:
         if default is None and required:
             raise DesignError(flag, "missing (required)")
         return default
-    try:
-        x = float(value)
-    except ValueError:
-        raise DesignError(flag, f"must be a number, got {value!r}") from None
-    if not math.isfinite(x):
-        raise DesignError(flag, f"must be finite, got {value!r}")
+    x = parse_flag(flag, value)  # range and unit slips: cad/design/bounds.py
     if positive and x <= 0:
         raise DesignError(flag, f"must be > 0, got {value!r}")
     return x
@@ -172,7 +169,7 @@ def register(app: typer.Typer) -> None:
             gap_max_mm,
         )
         if as_json:
-            print(json.dumps(out))
+            print_json(out)
             return
         print(f"model            {out['model']}")
         print(f"optimal gap      {out['optimal_gap_mm']:.3f} mm")

@@ -42,12 +42,19 @@ def family_of(raw: dict[str, Any]) -> str:
 
 def parse_design(raw: dict[str, Any], source: str = "<design>"):
     """Validate a raw design mapping and return the family's design object."""
+    from cad.design.bounds import check_raw_design
+
     fam = family_of(raw)
+    check_raw_design(raw)  # every number against cad/design/bounds.py, before the schema
     module = importlib.import_module(FAMILY_MODULES[fam])
     return module.parse(raw, source)
 
 
 def load_design(path: str | Path):
-    """Load and validate a TOML design file (see README "Design files")."""
+    """Load and validate a TOML design file (see README "Design files").
+
+    Numbers outside their bounds (:mod:`cad.design.bounds`) raise :class:`DesignError`;
+    implausible ones are recorded as warnings (:func:`cad.design.bounds.collected`).
+    """
     raw = load_toml(path)
     return parse_design(raw, str(path))

@@ -22,6 +22,8 @@ def _path(prefix: str, key: str) -> str:
 def load_toml(path: str | Path) -> dict[str, Any]:
     """Read a TOML file; a missing file or bad syntax is a DesignError."""
     p = Path(path)
+    if p.is_dir():
+        raise DesignError("design", f"{p} is a folder, not a design file (give the .toml file)")
     if not p.is_file():
         raise DesignError("design", f"file not found: {p}")
     try:
@@ -130,3 +132,42 @@ def number_list(table: dict[str, Any], key: str, prefix: str, length: int | None
     if length is not None and len(val) != length:
         raise DesignError(field, f"must have {length} numbers, got {len(val)}")
     return [_number(v, field) for v in val]
+
+
+#: Longest design ``name`` in UTF-8 bytes: the output folder ``exports/<name>/`` and its
+#: temporary siblings (``.<name>.tmp.<pid>.<8 chars>``) must fit the usual 255-byte limit
+#: on one file name, with room to spare.
+NAME_MAX_BYTES = 100
+_NAME_FORBIDDEN = set('/\\<>:"|?*')
+_WINDOWS_DEVICES = {"con", "prn", "aux", "nul"} | {f"{p}{i}" for p in ("com", "lpt") for i in range(1, 10)}
+
+
+def check_name(name: Any, field: str = "name") -> str:
+    """Validate a design ``name`` (one validator for every family) and return it.
+
+    The name becomes the output folder ``exports/<name>/``, so it must be one plain
+    folder name: a non-empty string of at most :data:`NAME_MAX_BYTES` UTF-8 bytes, no
+    ``/``, ``\\``, NUL or other control character, none of ``<>:"|?*``, not starting
+    with ``.`` or ``-`` (``.``, ``..``, hidden folders, options), no leading or trailing
+    space, not a Windows device name. Raises :class:`DesignError` naming ``field``.
+    """
+    def bad(why: str) -> DesignError:
+        return DesignError(field, f"must be a plain folder name ({why}), got {name!r}")
+
+    if not isinstance(name, str):
+        raise DesignError(field, f"must be a string, got {name!r}")
+    if not name:
+        raise bad("empty")
+    if any(ord(c) < 32 or ord(c) == 127 for c in name):
+        raise bad("control character or NUL")
+    if _NAME_FORBIDDEN & set(name):
+        raise bad('no / \\ < > : " | ? *')
+    if name[0] in ".-":
+        raise bad("must not start with '.' or '-'")
+    if name != name.strip():
+        raise bad("leading or trailing space")
+    if name.split(".")[0].lower() in _WINDOWS_DEVICES:
+        raise bad("a reserved device name")
+    if len(name.encode("utf-8", "surrogatepass")) > NAME_MAX_BYTES:
+        raise bad(f"at most {NAME_MAX_BYTES} bytes")
+    return name

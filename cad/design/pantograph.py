@@ -10,6 +10,7 @@ Schema (mm, N, N m; every key optional unless marked *):
     [workspace]  side_mm*, center_mm* = [x, y], grid (11)
     [actuators]  torque_max_Nm (1.0, or [left, right]), force_max_N (1.0)
     [optimize]   base_mm / proximal_mm / distal_mm = [min, max, count]
+    [parts]      see :class:`PantographParts` (the mouse's lower group and a handle at E)
 
 ``twin-pantograph`` (haptic mouse, §4.1)::
 
@@ -31,7 +32,8 @@ Schema (mm, N, N m; every key optional unless marked *):
     [optimize]   shoulder_base_mm / proximal_mm / distal_mm / pen_mm /
                  waist_torque_ratio = [min, max, count]
 
-Top level: ``name``, ``description`` (strings) and the tables above.
+Top level: ``name``, ``description`` (strings), the tables above, and ``[targets]`` for
+``hapticad check`` (keys: :data:`cad.design.targets.PANTOGRAPH_TARGET_KEYS`).
 """
 
 from __future__ import annotations
@@ -43,6 +45,7 @@ from typing import Any
 import numpy as np
 
 from cad.design.fields import (
+    check_name,
     check_unknown,
     number_list,
     optional_int,
@@ -249,6 +252,7 @@ class PantographDesign:
     optimize: dict[str, tuple[float, float, int]]
     parts: PantographParts | None
     raw: dict = field(repr=False)
+    targets: tuple = ()
 
     # ------------------------------------------------------------------ GII
     def workspace_points(self) -> np.ndarray:
@@ -498,10 +502,19 @@ def _elbow(mech: dict[str, Any], key: str, default: int) -> int:
     return int(v)
 
 
+def _parse_targets(raw: dict[str, Any]) -> tuple:
+    """``[targets]``: keys of :data:`cad.design.targets.PANTOGRAPH_TARGET_KEYS`."""
+    from cad.design.targets import PANTOGRAPH_TARGET_KEYS, parse_targets
+
+    return parse_targets(optional_table(raw, "targets", ""), "targets", PANTOGRAPH_TARGET_KEYS)
+
+
 def parse(raw: dict[str, Any], source: str = "<design>") -> PantographDesign:
     """Validate a raw pantograph-family design; every problem is a DesignError."""
     check_unknown(
-        raw, ("name", "description", "mechanism", "workspace", "actuators", "optimize", "parts"), ""
+        raw,
+        ("name", "description", "mechanism", "workspace", "actuators", "optimize", "parts", "targets"),
+        "",
     )
     mech = require_table(raw, "mechanism", "")
     family = mech.get("family")
@@ -515,9 +528,7 @@ def parse(raw: dict[str, Any], source: str = "<design>") -> PantographDesign:
     check_unknown(ws, _WS_KEYS[family], "workspace")
     act = optional_table(raw, "actuators", "")
     check_unknown(act, _ACT_KEYS[family], "actuators")
-    name = raw.get("name", family)
-    if not isinstance(name, str):
-        raise DesignError("name", f"must be a string, got {name!r}")
+    name = check_name(raw.get("name", family))
     optimize = _parse_optimize(raw, family)
     parts = None
     workspace: dict[str, Any] = {}
@@ -551,6 +562,7 @@ def parse(raw: dict[str, Any], source: str = "<design>") -> PantographDesign:
                 _elbow(mech, "elbow_right", -1),
             )
             actuators = {"torque_max_Nm": _torque(act, 2), "force_max_N": force}
+            parts = parse_parts(optional_table(raw, "parts", ""))
         else:
             from cad.kinematics.twin_pantograph import TwinPantograph, crank_length_mm
 
@@ -616,9 +628,9 @@ def parse(raw: dict[str, Any], source: str = "<design>") -> PantographDesign:
         }
     _check_magnitudes(family, mech, workspace, actuators, optimize)
     _check_sizes(family, workspace, optimize)
-    if "parts" in raw and family != "twin-pantograph":
+    if "parts" in raw and family not in ("pantograph", "twin-pantograph"):
         raise DesignError(
-            "parts", f"parts are generated for the twin-pantograph only, not {family!r}"
+            "parts", f"parts are generated for the pantograph and twin-pantograph, not {family!r}"
         )
     return PantographDesign(
         name=name,
@@ -631,4 +643,5 @@ def parse(raw: dict[str, Any], source: str = "<design>") -> PantographDesign:
         optimize=optimize,
         parts=parts,
         raw=raw,
+        targets=_parse_targets(raw),
     )

@@ -34,14 +34,22 @@ revolute joints, the different straight line mechanisms can be obtained by fabri
 the adequate set of bars", Hoeken paper §III.A):
 
 ``bearing`` ["M8-16-4"]
-    deep groove ball bearing, bd_warehouse SKT size ``M<bore>-<OD>-<width>`` (618/8).
+    deep groove ball bearing, bd_warehouse SKT size ``M<bore>-<OD>-<width>`` (618/8); every
+    size of the table from 3 mm bore up: M3-10-4 (623), M4-9-2.5 (618/4), M5-11-3 (618/5),
+    M6-13-3.5 (618/6), M8-16-4 ... (``cad.parts.catalog.bearing_sizes()``).
 ``bearing_lip_mm`` [1.0]
     lip under the bearing seat that locates the outer ring axially.
 ``bearing_mass_g`` [catalog]
     override of the catalog bearing mass.
 ``pin`` ["M6-1"]
-    ISO 7379 shoulder screw thread size (bd_warehouse ShoulderScrew); its shoulder
-    diameter must equal the bearing bore (M6-1: 8 mm).
+    ISO 7379 shoulder screw thread size (bd_warehouse ShoulderScrew), or a plain ground pin
+    ``dowel-3`` / ``dowel-4`` / ``dowel-5`` / ``dowel-6`` / ``dowel-8`` (ISO 2338 m6, held by
+    two DIN 471 retaining rings and an ISO 7089 washer; the post and leg screws become M4).
+    Its shoulder (pin) diameter must equal the bearing bore (M6-1: 8 mm; dowel-3: 3 mm);
+    a mismatch is an error listing the bearings and pins that fit.
+``pin_material`` ["steel-1018"]
+    material of the pins (steel dowels and screws; ``aluminium-7075`` or
+    ``titanium-6al4v`` for light pins); retaining rings and nuts stay steel.
 ``pin_head_clearance_mm`` [1.0]
     gap between the screw head and the bar face under it.
 ``layer_gap_mm`` [2.0]
@@ -130,6 +138,7 @@ class PartsSpec:
     bearing_lip_mm: float = 1.0
     bearing_mass_g: float | None = None
     pin: str = "M6-1"
+    pin_material: str = "steel-1018"
     pin_head_clearance_mm: float = 1.0
     layer_gap_mm: float = 2.0
     spacer_material: str = "stainless-304"
@@ -192,6 +201,7 @@ _NONNEG = ("base_margin_mm", "handle_fillet_mm", "clearance_min_mm")
 _OPTIONAL_POSITIVE = ("bar_end_radius_mm", "bearing_mass_g", "motor_rotor_inertia_g_cm2")
 _MATERIALS = (
     "bar_material",
+    "pin_material",
     "spacer_material",
     "motor_mount_material",
     "hub_material",
@@ -314,10 +324,13 @@ def _check_hardware(v: dict[str, Any], prefix: str, end_radius_given: bool) -> N
     catalog.get_washer(v["pin"], _f(prefix, "pin"))
 
     if abs(pin.ds_mm - brg.d_mm) > 1e-9:
+        fits_b = ", ".join(catalog.bearings_with_bore(pin.ds_mm)) or "none in the catalog"
+        fits_p = ", ".join(catalog.pins_for_bore(brg.d_mm)) or "none in the catalog"
         raise DesignError(
             _f(prefix, "pin"),
             f"the {v['pin']} shoulder is {pin.ds_mm:g} mm but the {v['bearing']} bearing bore is "
-            f"{brg.d_mm:g} mm; pick a bearing with a {pin.ds_mm:g} mm bore or another pin size",
+            f"{brg.d_mm:g} mm; bearings that fit {v['pin']}: {fits_b}; pins that fit "
+            f"{v['bearing']}: {fits_p}",
         )
     r_end = v["bar_end_radius_mm"]
     need = brg.D_mm + 2.0 * v["bar_min_wall_mm"]

@@ -54,6 +54,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from cad.design.fields import (
+    check_name,
     check_unknown,
     optional_number,
     optional_positive,
@@ -64,7 +65,7 @@ from cad.design.fields import (
 )
 from cad.errors import DesignError
 
-TOP_KEYS = ("name", "mechanism", "actuator", "flotor", "stator", "handle", "motion")
+TOP_KEYS = ("name", "description", "mechanism", "actuator", "flotor", "stator", "handle", "motion")
 ACTUATOR_KEYS = (
     "magnet_length_mm",
     "magnet_width_mm",
@@ -229,9 +230,7 @@ def _parse_actuator(t: dict) -> ActuatorSpec:
 def parse(raw: dict[str, Any], source: str = "<design>") -> PowerMouseDesign:
     """Validate a raw PowerMouse design mapping (see module docstring)."""
     check_unknown(raw, TOP_KEYS, "")
-    name = require_str(raw, "name", "")
-    if "/" in name or "\\" in name or name.startswith("."):
-        raise DesignError("name", f"must be a plain folder name, got {name!r}")
+    name = check_name(require_str(raw, "name", ""))
     mech = require_table(raw, "mechanism", "")
     check_unknown(mech, ("family",), "mechanism")
     family = require_str(mech, "family", "mechanism")

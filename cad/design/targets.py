@@ -27,6 +27,17 @@ TARGET_KEYS: tuple[str, ...] = (
     "crank_mass_g", "coupler_mass_g", "rocker_mass_g", "moving_mass_g",
     "stroke_mm", "dy_max_mm", "slope_max", "torque_mean_mNm", "torque_variation",
     "min_transmission_angle_deg", "min_clearance_mm",
+    "first_mode_Hz", "max_stress_MPa", "compliance_x_um_per_N", "compliance_z_um_per_N",
+    "D_min_kg_m2", "D_max_kg_m2",
+)
+
+#: Targets of the pantograph families (isotropy paper): the GII (eq 5) over the design's
+#: workspace, and for built designs the effective mass at home from the solids
+#: ("apparent" = 1/(M^-1)_ii with the other task axes free, "diag" = M_ii with them held).
+PANTOGRAPH_TARGET_KEYS: tuple[str, ...] = (
+    "gii", "moving_mass_g",
+    "mass_x_g_apparent", "mass_y_g_apparent", "inertia_theta_g_cm2_apparent",
+    "mass_x_g_diag", "mass_y_g_diag", "inertia_theta_g_cm2_diag",
 )
 
 DEFAULT_TOL_REL = 0.05
@@ -54,6 +65,29 @@ class Target:
         if self.max is not None:
             parts.append(f"<= {self.max:.6g}")
         return " and ".join(parts)
+
+    def as_data(self) -> dict[str, float]:
+        """The target as data: ``{"value", "tol_rel" | "tol_abs"}`` or ``{"min"?, "max"?}``."""
+        if self.value is not None:
+            if self.tol_abs is not None:
+                return {"value": self.value, "tol_abs": self.tol_abs}
+            return {"value": self.value, "tol_rel": self.tol_rel or 0.0}
+        return {k: v for k, v in (("min", self.min), ("max", self.max)) if v is not None}
+
+    def margin(self, computed: float) -> float:
+        """Distance to the nearest limit in the key's unit: > 0 inside, < 0 outside.
+
+        For ``value ± tol`` the limits are ``value - tol`` and ``value + tol``.
+        """
+        if self.value is not None:
+            tol = self.tol_abs if self.tol_abs is not None else abs(self.value) * (self.tol_rel or 0.0)
+            return tol - abs(computed - self.value)
+        m = math.inf
+        if self.min is not None:
+            m = min(m, computed - self.min)
+        if self.max is not None:
+            m = min(m, self.max - computed)
+        return m
 
     def gap(self, computed: float) -> float:
         """Signed relative gap (computed - reference) / |reference|, reference = value or violated bound."""
@@ -84,10 +118,11 @@ def _num(v: Any, field: str) -> float:
     return float(v)
 
 
-def parse_target(key: str, spec: Any, prefix: str = "targets") -> Target:
+def parse_target(key: str, spec: Any, prefix: str = "targets",
+                 allowed_keys: tuple[str, ...] = TARGET_KEYS) -> Target:
     field = f"{prefix}.{key}"
-    if key not in TARGET_KEYS:
-        raise DesignError(field, f"unknown target (allowed: {', '.join(TARGET_KEYS)})")
+    if key not in allowed_keys:
+        raise DesignError(field, f"unknown target (allowed: {', '.join(allowed_keys)})")
     if not isinstance(spec, dict):
         return Target(key, value=_num(spec, field), tol_rel=DEFAULT_TOL_REL)
     allowed = {"value", "tol_rel", "tol_abs", "min", "max"}
@@ -115,11 +150,12 @@ def parse_target(key: str, spec: Any, prefix: str = "targets") -> Target:
     return Target(key, min=vals.get("min"), max=vals.get("max"))
 
 
-def parse_targets(table: dict[str, Any], prefix: str = "targets") -> tuple[Target, ...]:
-    return tuple(parse_target(k, v, prefix) for k, v in table.items())
+def parse_targets(table: dict[str, Any], prefix: str = "targets",
+                  allowed_keys: tuple[str, ...] = TARGET_KEYS) -> tuple[Target, ...]:
+    return tuple(parse_target(k, v, prefix, allowed_keys) for k, v in table.items())
 
 
-def parse_cli_target(text: str) -> Target:
+def parse_cli_target(text: str, allowed_keys: tuple[str, ...] = TARGET_KEYS) -> Target:
     """``KEY=VALUE`` (default tolerance), ``KEY<=VALUE`` or ``KEY>=VALUE`` from the command line."""
     for op in ("<=", ">=", "="):
         if op in text:
@@ -129,6 +165,10 @@ def parse_cli_target(text: str) -> Target:
                 v = float(val)
             except ValueError:
                 raise DesignError(f"--target {text}", f"value {val!r} is not a number") from None
+            from cad.design.bounds import TARGETS, check_number
+
+            if key in TARGETS:
+                check_number(f"--target {key}", v, TARGETS[key])
             spec: Any = v if op == "=" else ({"max": v} if op == "<=" else {"min": v})
-            return parse_target(key, spec, prefix="--target")
+            return parse_target(key, spec, "--target", allowed_keys)
     raise DesignError(f"--target {text}", "expected KEY=VALUE, KEY<=VALUE or KEY>=VALUE")

@@ -22,6 +22,42 @@ def custom_mechanism_table(fb, phi1_min_rad: float, phi1_max_rad: float, force_N
     }
 
 
+#: Target keys that describe one particular mechanism's inertia (the Hoeken paper's CAD
+#: values, measured masses): they do not carry over to a new bar set as value +- tolerance.
+MECHANISM_SPECIFIC_TARGETS = (
+    "H11_kg_m2", "H12_kg_m2", "H22_kg_m2", "H33_kg_m2",
+    "M11_min_g", "M11_max_g", "M12_min_g", "M12_max_g", "M22_max_g",
+    "crank_mass_g", "coupler_mass_g", "rocker_mass_g", "moving_mass_g",
+)
+
+
+def drop_source_targets(raw: dict[str, Any]) -> list[str]:
+    """Remove from ``raw["targets"]`` (in place) the value +- tolerance targets of
+    :data:`MECHANISM_SPECIFIC_TARGETS`; bounds (``{max = ...}``) are requirements and stay.
+
+    Returns the dropped keys, for the new design's header comment. Used by ``swap`` and
+    ``synth``, whose output is another mechanism than the one those values describe.
+    """
+    t = raw.get("targets")
+    if not isinstance(t, dict):
+        return []
+    dropped = [k for k, v in t.items()
+               if k in MECHANISM_SPECIFIC_TARGETS and not (isinstance(v, dict) and "value" not in v)]
+    for k in dropped:
+        del t[k]
+    if not t:
+        raw.pop("targets")
+    return dropped
+
+
+def dropped_targets_note(dropped: list[str]) -> str:
+    """Header line naming the targets :func:`drop_source_targets` removed ('' if none)."""
+    if not dropped:
+        return ""
+    return ("\nTargets of the source design not carried over (they describe its mechanism): "
+            + ", ".join(dropped))
+
+
 def dumps_design(raw: dict[str, Any], header: str = "") -> str:
     import tomli_w
 

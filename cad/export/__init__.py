@@ -23,6 +23,10 @@ from cad.export.manifest import MANIFEST_NAME, verify_manifest, write_manifest
 from cad.io.atomic import write_bytes_atomic, write_text_atomic
 
 FORMATS = ("step", "stl", "dxf")
+#: Every format ``--formats`` accepts: the default three plus the simulator models
+#: (``mjcf``, ``urdf``: :mod:`cad.export.sim`; they reference the part STL files, so
+#: asking for one of them writes the STL files too).
+KNOWN_FORMATS = (*FORMATS, "mjcf", "urdf")
 #: Default absolute chordal deflection of exported STL (mm) and angular deflection (rad).
 STL_TOLERANCE_MM = 0.01
 STL_ANGULAR_TOLERANCE_RAD = math.radians(15.0)
@@ -30,6 +34,7 @@ STL_ANGULAR_TOLERANCE_RAD = math.radians(15.0)
 __all__ = [
     "BOM_COLUMNS",
     "FORMATS",
+    "KNOWN_FORMATS",
     "MANIFEST_NAME",
     "bom_csv",
     "export_assembly_step",
@@ -46,11 +51,14 @@ def parse_formats(text: str | None, field: str = "--formats") -> set[str]:
     if text is None:
         return set(FORMATS)
     out = {t.strip().lower() for t in text.split(",") if t.strip()}
-    bad = sorted(out - set(FORMATS))
+    bad = sorted(out - set(KNOWN_FORMATS))
     if bad or not out:
         raise DesignError(
-            field, f"unknown format(s) {', '.join(bad) or repr(text)} (known: {', '.join(FORMATS)})"
+            field,
+            f"unknown format(s) {', '.join(bad) or repr(text)} (known: {', '.join(KNOWN_FORMATS)})",
         )
+    if out & {"mjcf", "urdf"}:
+        out.add("stl")  # the simulator models reference the part meshes
     return out
 
 

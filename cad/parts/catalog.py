@@ -148,6 +148,10 @@ ISO7379_LENGTHS_MM = (10, 12, 16, 20, 25, 30, 40, 50, 60, 70, 80, 90, 100, 120)
 
 
 def get_shoulder_screw(size: str, field: str = "parts.pin") -> ShoulderScrewSpec:
+    """ISO 7379 size ``M6-1``; a plain pin ``dowel-<d>`` in the same form (see
+    :func:`dowel_as_shoulder_screw`)."""
+    if is_dowel(size):
+        return dowel_as_shoulder_screw(size, field)
     tab = _table("shoulder_screw.csv", "iso7379")
     if size not in tab:
         raise DesignError(
@@ -169,7 +173,9 @@ def get_shoulder_screw(size: str, field: str = "parts.pin") -> ShoulderScrewSpec
 
 
 def thread_diameter_mm(size: str) -> float:
-    """Nominal thread diameter of a metric size ``M6-1`` or ``M6`` (mm)."""
+    """Nominal thread diameter of a metric size ``M6-1`` or ``M6`` (mm); a plain pin's diameter."""
+    if is_dowel(size):
+        return dowel_diameter_mm(size)
     try:
         return float(size[1:].split("-")[0])
     except ValueError:
@@ -186,6 +192,8 @@ class NutSpec:
 
 
 def get_nut(size: str, field: str = "parts.pin") -> NutSpec:
+    if is_dowel(size):
+        return ring_as_nut(size, field)
     tab = _table("hex_nut_parameters.csv", "iso4032")
     if size not in tab:
         raise DesignError(field, f"no ISO 4032 nut for {size!r}")
@@ -203,7 +211,7 @@ class WasherSpec:
 
 
 def get_washer(size: str, field: str = "parts.pin") -> WasherSpec:
-    key = size.split("-")[0]
+    key = dowel_metric(size) if is_dowel(size) else size.split("-")[0]
     tab = _table("plain_washer_parameters.csv", "iso7089")
     if key not in tab:
         raise DesignError(field, f"no ISO 7089 washer for {size!r}")
@@ -255,7 +263,10 @@ def clearance_hole_mm(size: str, fit: str = "Normal") -> float:
 
 
 def tap_drill_mm(size: str) -> float:
-    """Tap drill of a metric coarse thread: d - pitch (ISO rule of thumb), mm."""
+    """Tap drill of a metric coarse thread: d - pitch (ISO rule of thumb), mm; a plain pin's
+    press-fit hole (reamed to d)."""
+    if is_dowel(size):
+        return dowel_diameter_mm(size)
     parts = size[1:].split("-")
     d = float(parts[0])
     pitch = (
@@ -302,6 +313,10 @@ class MotorSpec:
     rotor_inertia_g_cm2: float
     source: str
     bolt_thread_depth_mm: float = 3.5
+    #: Peak torque the drive is rated to apply (mNm): the actuator limit of the simulator
+    #: exports and of ``hapticad wall``. None where the catalog entry has no value.
+    torque_peak_mNm: float | None = None
+    torque_source: str = ""
 
     @property
     def rotor_inertia_kg_m2(self) -> float:
@@ -330,6 +345,11 @@ MOTORS: dict[str, MotorSpec] = {
         # parts.motor_rotor_inertia_g_cm2 for a given order number.
         rotor_inertia_g_cm2=79.2,
         source="maxon motor catalog, RE 35 data sheet (weight 340 g; rotor inertia 65.2-79.2 g cm^2)",
+        # Hoeken paper §III.A: the direct-drive RE 35 renders "forces up to 5 N" at the handle;
+        # through the Hoeken's mean lever (torque_mean_mNm at force_N = 5 N, `hapticad analyze
+        # designs/hoeken.toml`: 166.7 mNm) that is 167 mNm at the motor.
+        torque_peak_mNm=167.0,
+        torque_source="Hoeken paper §III.A (5 N peak force of the RE 35 prototype x 33.3 mNm/N lever)",
     ),
     "maxon-re40": MotorSpec(
         key="maxon-re40",
@@ -367,3 +387,127 @@ def polar_points_mm(
         )
         for i in range(count)
     ]
+
+
+# --------------------------------------------------------------------------- plain pins
+#: Plain joint pins ("dowel-<d>"): ground pins h6/m6 of diameter d (ISO 2338 / ISO 8734
+#: sizes) retained by DIN 471 rings in grooves, with an ISO 7089 washer under the lower
+#: link. The layer model (:mod:`cad.assembly.layers`) treats a pin like a shoulder screw
+#: whose "head" is the upper retaining ring and whose "nut" is the lower ring (see
+#: :func:`dowel_as_shoulder_screw`); the pin material is ``parts.pin_material``.
+DOWEL_PREFIX = "dowel-"
+DOWEL_DIAMETERS_MM = (3.0, 4.0, 5.0, 6.0, 8.0)
+#: ISO 2338 / ISO 8734 nominal lengths (mm).
+ISO2338_LENGTHS_MM = (6, 8, 10, 12, 14, 16, 18, 20, 22, 24, 26, 28, 30, 32, 35, 40, 45, 50, 55, 60)
+#: Pin length beyond a ring groove (mm): the groove needs a land to hold the ring.
+RING_LAND_MM = 0.5
+#: Extra pin below the lower link beyond washer and ring (mm), so the layer model's
+#: shoulder entry window (shoulder end 0.5..1 mm above the lower link's bottom) is not empty.
+DOWEL_WINDOW_MM = 1.0
+
+
+def is_dowel(size: str) -> bool:
+    """True for a plain pin designation ``dowel-<d>``."""
+    return isinstance(size, str) and size.startswith(DOWEL_PREFIX)
+
+
+def dowel_diameter_mm(size: str, field: str = "parts.pin") -> float:
+    """Diameter of ``dowel-<d>`` (mm); DesignError for a size outside :data:`DOWEL_DIAMETERS_MM`."""
+    try:
+        d = float(size[len(DOWEL_PREFIX):])
+    except ValueError:
+        d = -1.0
+    if d not in DOWEL_DIAMETERS_MM:
+        raise DesignError(
+            field,
+            f"unknown plain pin {size!r} (sizes: {', '.join(f'dowel-{x:g}' for x in DOWEL_DIAMETERS_MM)})",
+        )
+    return d
+
+
+@dataclass(frozen=True)
+class RetainingRingSpec:
+    """DIN 471 external retaining ring (bd_warehouse ``din471.csv``) for shaft d1_mm:
+    s_mm thickness, d2_mm groove diameter, m_mm groove width, d4_mm outside diameter when
+    fitted (free space needed), mass_kg (table column W, kg per 1000 pieces / 1000)."""
+
+    d1_mm: float
+    s_mm: float
+    d2_mm: float
+    m_mm: float
+    d4_mm: float
+    mass_kg: float
+
+
+def get_retaining_ring(d_mm: float, field: str = "parts.pin") -> RetainingRingSpec:
+    with open(bd_warehouse_data_dir() / "din471.csv", newline="", encoding="utf-8") as fh:
+        for row in csv.DictReader(fh):
+            if abs(_num(row["d1"]) - d_mm) < 1e-9:
+                return RetainingRingSpec(
+                    d_mm, _num(row["s"]), _num(row["d2"]), _num(row["m"]), _num(row["d4"]),
+                    _num(row["W"]) * 1e-3,
+                )
+    raise DesignError(field, f"no DIN 471 retaining ring for a {d_mm:g} mm pin")
+
+
+def dowel_metric(size: str) -> str:
+    """ISO 7089 washer key of a plain pin (``dowel-3`` -> ``M3``)."""
+    return f"M{dowel_diameter_mm(size):g}"
+
+
+def dowel_as_shoulder_screw(size: str, field: str = "parts.pin") -> ShoulderScrewSpec:
+    """A plain pin in the shoulder-screw form the layer model uses.
+
+    ds = d; "head" = the upper ring: dk = d4, k = groove width + land; "thread" = the pin
+    below the shoulder end at the same diameter: b = washer + lower ring groove + land +
+    :data:`DOWEL_WINDOW_MM`; g2 = 0. ``lengths_mm`` are shoulder lengths L with
+    k + L + b an ISO 2338 length, so the bought pin has a catalog length.
+    """
+    d = dowel_diameter_mm(size, field)
+    ring = get_retaining_ring(d, field)
+    w = get_washer(dowel_metric(size), field)
+    k = ring.m_mm + RING_LAND_MM
+    b = w.h_mm + ring.m_mm + RING_LAND_MM + DOWEL_WINDOW_MM
+    lengths = tuple(round(L - k - b, 6) for L in ISO2338_LENGTHS_MM if L - k - b > 0)
+    return ShoulderScrewSpec(size, d, ring.d4_mm, k, b, 0.0, d, lengths)
+
+
+def dowel_total_length_mm(size: str, shoulder_length_mm: float) -> float:
+    """Bought length of a plain pin whose layer-model shoulder is ``shoulder_length_mm``."""
+    s = dowel_as_shoulder_screw(size)
+    return s.k_mm + shoulder_length_mm + s.b_mm
+
+
+def ring_as_nut(size: str, field: str = "parts.pin") -> NutSpec:
+    """The lower retaining ring in the nut form of the layer model: m = ring thickness,
+    s (across flats) chosen so the envelope radius s / sqrt(3) is d4 / 2."""
+    ring = get_retaining_ring(dowel_diameter_mm(size, field), field)
+    return NutSpec(size, ring.s_mm, ring.d4_mm * math.sqrt(3.0) / 2.0)
+
+
+def standoff_screw(pin: str) -> str:
+    """ISO 4762 size of the post and leg screws: the pin's thread size for a shoulder
+    screw (as before), M4 for plain pins (a 3-8 mm press-fit pin has no thread)."""
+    return "M4-0.7" if is_dowel(pin) else pin
+
+
+def pin_description(pin: str, shoulder_length_mm: float) -> str:
+    if is_dowel(pin):
+        d = dowel_diameter_mm(pin)
+        L = dowel_total_length_mm(pin, shoulder_length_mm)
+        return f"ground pin ISO 2338 {d:g} m6 x {L:g}, 2 DIN 471 rings {d:g}"
+    return f"shoulder screw ISO 7379 {pin} x {shoulder_length_mm:g}"
+
+
+def bearings_with_bore(d_mm: float) -> list[str]:
+    """bd_warehouse SKT bearing sizes with bore ``d_mm``."""
+    return [s for s in bearing_sizes() if abs(get_bearing(s).d_mm - d_mm) < 1e-9]
+
+
+def pins_for_bore(d_mm: float) -> list[str]:
+    """Pin designations (shoulder screws and plain pins) whose shoulder fits bore ``d_mm``."""
+    out = [f"dowel-{d:g}" for d in DOWEL_DIAMETERS_MM if abs(d - d_mm) < 1e-9]
+    for s in _table("shoulder_screw.csv", "iso7379"):
+        if abs(_num(_table("shoulder_screw.csv", "iso7379")[s]["ds"]) - d_mm) < 1e-9:
+            out.append(s)
+    return out

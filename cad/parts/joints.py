@@ -96,7 +96,13 @@ def spacer_shape(r_in_mm: float, r_out_mm: float, height_mm: float):
 
 @functools.cache
 def shoulder_screw_shape(size: str, length_mm: float):
-    """ISO 7379 shoulder screw: under-head face at z = 0, head up, shoulder to z = -length."""
+    """ISO 7379 shoulder screw: under-head face at z = 0, head up, shoulder to z = -length.
+
+    A plain pin ``dowel-<d>`` (:func:`cad.parts.catalog.dowel_as_shoulder_screw`): the pin
+    from z = -(length + b) to z = k with its upper DIN 471 ring (d..d4, thickness s) on z = 0.
+    """
+    if catalog.is_dowel(size):
+        return dowel_pin_shape(size, float(length_mm))
 
     def make():
         from bd_warehouse.fastener import ShoulderScrew
@@ -142,7 +148,10 @@ def screw_envelope(
 
 @functools.cache
 def nut_shape(size: str):
-    """ISO 4032 hexagon nut, z 0..m."""
+    """ISO 4032 hexagon nut, z 0..m (a plain pin's lower DIN 471 ring, d..d4 x s)."""
+    if catalog.is_dowel(size):
+        ring = catalog.get_retaining_ring(catalog.dowel_diameter_mm(size))
+        return ring_shape(ring.d1_mm / 2.0, ring.d4_mm / 2.0, ring.s_mm)
 
     def make():
         from bd_warehouse.fastener import HexNut
@@ -154,7 +163,9 @@ def nut_shape(size: str):
 
 @functools.cache
 def washer_shape(size: str):
-    """ISO 7089 plain washer, z 0..h."""
+    """ISO 7089 plain washer, z 0..h (a plain pin's washer: its metric size)."""
+    if catalog.is_dowel(size):
+        size = catalog.dowel_metric(size)
 
     def make():
         from bd_warehouse.fastener import PlainWasher
@@ -162,3 +173,18 @@ def washer_shape(size: str):
         return _topo(PlainWasher(size.split("-")[0], "iso7089"))
 
     return cached_shape(f"PlainWasher({size.split('-')[0]!r}, 'iso7089')", make)
+
+
+@functools.cache
+def dowel_pin_shape(size: str, shoulder_length_mm: float):
+    """Plain pin and its upper retaining ring in the shoulder-screw frame (see
+    :func:`shoulder_screw_shape`); the ring's bore is the pin diameter (groove not modelled)."""
+    from build123d import Align, Cylinder, Pos
+
+    s = catalog.get_shoulder_screw(size)
+    ring = catalog.get_retaining_ring(s.ds_mm)
+    a = (Align.CENTER, Align.CENTER, Align.MIN)
+    total = s.k_mm + shoulder_length_mm + s.b_mm
+    pin = Pos(0, 0, -(shoulder_length_mm + s.b_mm)) * Cylinder(s.ds_mm / 2, total, align=a)
+    shape = pin + Cylinder(ring.d4_mm / 2, ring.s_mm, align=a)
+    return shape.solids()[0].wrapped

@@ -12,8 +12,17 @@ origin at the cube centre, axes normal to the faces, mm.
 * Stator (fixed): an iron core cube of half-size c = a - d/2 - t_m carrying
   the 12 inner magnets (it is their back iron), the 12 outer magnets on 6
   iron plates (t_s = alpha w_m) fixed inside a housing cube shell, and a
-  post from the core's (-,-,-) corner to the housing along the diagonal. The
-  housing has a hole at its (+,+,+) corner for the handle stem.
+  post along the diagonal whose threaded tip screws into a tapped hole at the
+  core's (-,-,-) corner and which leaves through a bore in the housing's
+  (-,-,-) corner (a fit, no overlap). The housing has a hole at its (+,+,+)
+  corner for the handle stem.
+* Flotor and housing are each an open box and a lid (split at the inner face
+  of the +z wall), so the device can be put together: inner magnets on the core;
+  core into the flotor box, flotor lid on; outer magnets on their iron plates, five
+  plates into the housing box, one on its lid; flotor (with the core) lowered into
+  the housing box -- its side faces slide past the side magnets at the rattle gap;
+  post through the housing bore and the flotor's corner hole, screwed into the core;
+  housing lid on; handle stem through the lid's corner hole, screwed into the flotor.
 * Motion range +- r mm / +- theta deg (Table 4): :func:`motion_clearances`
   moves the flotor solids to the extreme poses and measures the exact OCCT
   distance to the stator.
@@ -50,6 +59,16 @@ class PowerMouseGeometry:
     handle_diameter_mm: float
     knob_diameter_mm: float
     plate_margin_mm: float = 2.0
+
+    @property
+    def post_tip_diameter_mm(self) -> float:
+        """Threaded tip of the post screwed into the core (half the post diameter)."""
+        return self.post_diameter_mm / 2
+
+    @property
+    def post_tip_depth_mm(self) -> float:
+        """Depth of the post's threaded tip in the core (1.5 x its diameter)."""
+        return 1.5 * self.post_tip_diameter_mm
 
     @property
     def coil_width_mm(self) -> float:
@@ -205,11 +224,23 @@ def flotor_solids(g: PowerMouseGeometry) -> dict[str, tuple[object, str]]:
     u = np.ones(3) / math.sqrt(3)
     knob = bd.Pos(*(u * (s1 + 0.35 * g.knob_diameter_mm))) * bd.Sphere(g.knob_diameter_mm / 2)
     handle = stem + knob
-    shell = shell - stem  # handle is its own part, bonded into the corner
-    out = {"flotor_shell": (shell, "shell")}
+    shell = shell - stem  # handle is its own part, screwed into the corner
+    # split at the inner face of the +z wall: an open box and a lid (so the core goes in)
+    body, lid = _split_z(shell, E / 2 - dc, E)
+    out = {"flotor_body": (body, "shell"), "flotor_lid": (lid, "shell")}
     out.update(coils)
     out["handle"] = (handle, "handle")
     return out
+
+
+def _split_z(shape, z_mm: float, size_mm: float):
+    """(part of ``shape`` below z, part above z): an open box and its lid."""
+    import build123d as bd
+
+    big = 4 * size_mm
+    below = bd.Pos(0, 0, z_mm - big / 2) * bd.Box(big, big, big)
+    above = bd.Pos(0, 0, z_mm + big / 2) * bd.Box(big, big, big)
+    return (shape & below).solids()[0], (shape & above).solids()[0]
 
 
 def stator_solids(g: PowerMouseGeometry) -> dict[str, tuple[object, str]]:
@@ -220,10 +251,17 @@ def stator_solids(g: PowerMouseGeometry) -> dict[str, tuple[object, str]]:
     c = g.core_half_mm
     out: dict[str, tuple[object, str]] = {}
     H = g.housing_inner_half_mm
-    core = bd.Box(2 * c, 2 * c, 2 * c) + _diag_cylinder(
-        g.post_diameter_mm / 2, -c * math.sqrt(3) + 1.0, -H * math.sqrt(3) - 1.0
+    # core: a cube with a tapped hole at its (-,-,-) corner for the post's threaded tip
+    s_core = -c * math.sqrt(3)
+    rt, depth = g.post_tip_diameter_mm / 2, g.post_tip_depth_mm
+    core = bd.Box(2 * c, 2 * c, 2 * c) - _diag_cylinder(rt, s_core - 1.0, s_core + depth)
+    out["core"] = (core, "core")
+    # post: from the core's corner out through a bore in the housing's (-,-,-) corner
+    Ho = H + g.housing_wall_mm
+    post = _diag_cylinder(g.post_diameter_mm / 2, s_core, -Ho * math.sqrt(3)) + _diag_cylinder(
+        rt, s_core - 0.5, s_core + depth
     )
-    out["core_post"] = (core, "core")
+    out["post"] = (post, "post")
     coils = g.coils()
     for mg in pm.stator_magnets(coils, d, lm, w, t, 1.0):
         face = coils[mg.actuator].face
@@ -235,49 +273,17 @@ def stator_solids(g: PowerMouseGeometry) -> dict[str, tuple[object, str]]:
             2 * w + 2 * g.plate_margin_mm, lm + 2 * g.plate_margin_mm, g.plate_thickness_mm
         )
         out[f"iron_{cl.face}"] = (_loc(cl.R_flotor_act, cl.normal * zc) * plate, "iron")
-    Ho = H + g.housing_wall_mm
     housing = bd.Box(2 * Ho, 2 * Ho, 2 * Ho) - bd.Box(2 * H, 2 * H, 2 * H)
     housing = housing - _diag_cylinder(g.housing_hole_mm / 2, 0.0, Ho * math.sqrt(3) + 5)
-    out["housing"] = (housing, "housing")
+    # post bore: starts where the post's cylinder first reaches a wall ((H - r) sqrt3 from the
+    # centre along the diagonal; a radial direction has a component of at most r)
+    r = g.post_diameter_mm / 2
+    housing = housing - _diag_cylinder(r, -(H - r - 1.0) * math.sqrt(3), -Ho * math.sqrt(3) - 5)
+    # split at the inner face of the +z wall: an open box and a lid (the flotor goes in from above)
+    body, lid = _split_z(housing, H, 2 * Ho)
+    out["housing_body"] = (body, "housing")
+    out["housing_lid"] = (lid, "housing")
     return out
-
-
-def _moved(shape, R: np.ndarray, t_mm) -> object:
-    """Shape rotated by R about the flotor-frame origin, then translated by t_mm (x -> R x + t)."""
-    return _loc(R, t_mm) * shape
-
-
-def _aabb(shape) -> np.ndarray:
-    bb = shape.bounding_box()
-    return np.array([[bb.min.X, bb.min.Y, bb.min.Z], [bb.max.X, bb.max.Y, bb.max.Z]])
-
-
-def _aabb_gap(a: np.ndarray, b: np.ndarray) -> float:
-    """Euclidean distance between two axis-aligned boxes (0 when they overlap): a lower bound."""
-    d = np.maximum(0.0, np.maximum(a[0] - b[1], b[0] - a[1]))
-    return float(np.linalg.norm(d))
-
-
-def min_distance_mm(
-    moving: list, fixed: list, fixed_boxes: list | None = None
-) -> tuple[float, tuple[int, int]]:
-    """Exact minimum distance between two lists of solids (OCCT), pruned by bounding boxes.
-
-    Pairs are visited in order of their box distance (a lower bound) and the
-    search stops once that bound exceeds the best exact distance. Returns the
-    distance (mm; 0 when touching or overlapping) and the (moving, fixed) pair.
-    """
-    fb = [_aabb(f) for f in fixed] if fixed_boxes is None else fixed_boxes
-    mb = [_aabb(m) for m in moving]
-    pairs = sorted((_aabb_gap(a, b), i, j) for i, a in enumerate(mb) for j, b in enumerate(fb))
-    best, arg = math.inf, (-1, -1)
-    for lb, i, j in pairs:
-        if lb >= best:
-            break
-        dist = moving[i].distance_to(fixed[j])
-        if dist < best:
-            best, arg = dist, (i, j)
-    return best, arg
 
 
 @dataclass(frozen=True)
@@ -299,40 +305,48 @@ class Clearances:
 
 
 def motion_clearances(
-    g: PowerMouseGeometry, range_mm: float, range_deg: float, flotor=None, stator=None, poses=None
+    g: PowerMouseGeometry,
+    range_mm: float,
+    range_deg: float,
+    flotor=None,
+    stator=None,
+    poses=None,
+    mesh_tol_mm: float = 0.05,
 ) -> Clearances:
-    """Exact (OCCT BRepExtrema) flotor-to-stator distance at the extreme poses of the motion range.
+    """Flotor-to-stator distance at the extreme poses of the motion range, fast pass then exact.
 
     poses: list of (label, R, t_mm) (default :func:`cad.actuators.powermouse.workspace_poses`).
-    Touching (distance 0) at the range limit counts as 0 when the solids do
-    not overlap (boolean common volume < 1e-6 mm^3); an overlap gives a
-    negative clearance.
+    flotor, stator: ``{name: (solid, role)}`` placed in the flotor frame, or
+    ``{name: (solid in its part frame, role, tf 4x4)}`` (tight part boxes: faster).
+    Mesh distances (python-fcl) at every pose; exact OCCT (BRepExtrema, and the boolean
+    common at contact) only within 2 mesh_tol_mm + 0.05 mm of contact and at the closest
+    pose of the translations, of the rotations and at the centre
+    (:func:`cad.assembly.static.pose_clearances`). Touching (distance 0) at the range limit
+    counts as 0 when the solids do not overlap (common volume < 1e-6 mm^3); an overlap gives
+    a negative clearance.
     """
+    from cad.assembly.static import pose_clearances
+
     fl = flotor_solids(g) if flotor is None else flotor
     st = stator_solids(g) if stator is None else stator
-    fl_names, fl_shapes = list(fl), [v[0] for v in fl.values()]
-    st_names, st_shapes = list(st), [v[0] for v in st.values()]
-    st_boxes = [_aabb(s) for s in st_shapes]
 
-    def clearance(R, t):
-        moved = [_moved(s, R, t) for s in fl_shapes]
-        dist, (i, j) = min_distance_mm(moved, st_shapes, st_boxes)
-        where = f"{fl_names[i]}/{st_names[j]}"
-        if dist > 1e-9:
-            return float(dist), where
-        vol = 0.0
-        for m in moved:
-            for s, b in zip(st_shapes, st_boxes, strict=True):
-                if _aabb_gap(_aabb(m), b) <= 1e-9:
-                    common = m & s
-                    vol += common.volume if common is not None else 0.0
-        return (0.0 if vol < 1e-6 else -(float(vol) ** (1 / 3))), where
+    def topo(s):
+        return getattr(s, "wrapped", s)
 
-    nominal = clearance(np.eye(3), np.zeros(3))[0]
-    res = {}
     todo = pm.workspace_poses(range_mm, range_deg) if poses is None else poses
+    tfs = [("centre", np.eye(4))]
     for label, R, t in todo:
-        res[label] = clearance(R, t)
+        T = np.eye(4)
+        T[:3, :3], T[:3, 3] = R, t
+        tfs.append((label, T))
+    res = pose_clearances(
+        [(k, topo(v[0]), v[2] if len(v) > 2 else np.eye(4)) for k, v in fl.items()],
+        [(k, topo(v[0]), v[2] if len(v) > 2 else np.eye(4)) for k, v in st.items()],
+        tfs,
+        mesh_tol_mm=mesh_tol_mm,
+    )
+    nominal = res.pop("centre")[0]
+    res = {k: (v[0], v[1]) for k, v in res.items()}
     tr = {k: v[0] for k, v in res.items() if k.startswith("t")}
     ro = {k: v[0] for k, v in res.items() if k.startswith("r")}
     wt = min(tr, key=tr.get) if tr else ""

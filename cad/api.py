@@ -1,0 +1,151 @@
+"""The supported Python API: what the CLI does, as functions on plain data.
+
+Everything else in :mod:`cad` is internal and may change. Lengths in mm, masses in g or kg
+and inertias in kg m^2 as the dict keys say; frames as in the README's Conventions.
+
+>>> import cad
+>>> d = cad.load_design("designs/hoeken.toml")
+>>> round(cad.analyze(d)["stroke_mm"], 2)
+48.87
+
+Importing :mod:`cad` stays light: CAD libraries load on the first call that needs them
+(:func:`build`, :func:`check`, :func:`mass_properties` of a STEP file).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+
+def load_design(path: str | Path):
+    """Read and validate a TOML design (any family).
+
+    Returns a frozen design object (``FourBarDesign``, ``PantographDesign`` or
+    ``PowerMouseDesign``). Raises :class:`cad.errors.DesignError` (a ``ValueError``) naming
+    the dotted field, the value and the reason.
+    """
+    from cad.design import load_design as _load
+
+    return _load(path)
+
+
+def analyze(design, samples: int | None = None, inertia: dict[str, float] | None = None) -> dict:
+    """Four-bar metrics (Hoeken paper Tables I/II), range check, apparent mass; no CAD.
+
+    ``inertia``: optional ``{"H11": ..., "H12": ..., "H22": ..., "H33": ...}`` in kg m^2
+    (Hoeken paper eqs 16-19). Returns the ``hapticad analyze --json`` object (README schema).
+    Raises DesignError for a non-four-bar design.
+    """
+    from cad.analysis import analyze as _analyze
+    from cad.design.fourbar import FourBarDesign
+    from cad.dynamics.inertia import InertiaCoefficients
+    from cad.errors import DesignError
+
+    if not isinstance(design, FourBarDesign):
+        raise DesignError("mechanism.family", "analyze works on four-bar designs; use gii()")
+    H = None if inertia is None else InertiaCoefficients(
+        inertia["H11"], inertia["H12"], inertia["H22"], inertia["H33"])
+    return _analyze(design, samples=samples, inertia=H)
+
+
+def build(design, out_dir: str | Path, formats=("step", "stl", "dxf"),
+          fidelity: str = "fabrication", **options: Any) -> dict:
+    """Build the parts, the posed assembly and the exports into ``out_dir``; the report dict.
+
+    ``formats``: any of the ``hapticad build --formats`` names. ``options``: the keyword
+    options of :func:`cad.build.build_design` (``allow_interference``, ``phi1_deg``,
+    ``use_cache`` ...). Raises a :class:`cad.errors.HapticadError` subclass on bad input, a
+    collision or a failed CAD operation; ``out_dir`` is then left as it was.
+    """
+    from cad.build import build_design
+
+    return build_design(design, Path(out_dir), set(formats), fidelity=fidelity, **options)
+
+
+def check(design, targets: tuple[str, ...] | list[str] = (), fidelity: str = "inertia") -> dict:
+    """Computed values of a design against its targets (four-bars and pantograph families).
+
+    Four-bars: inertia, apparent mass and metrics from the solids. Pantograph families: the
+    GII (isotropy paper eq 5) and, for designs that build, the effective mass at home and
+    the moving mass from the solids. ``targets``: extra ``"KEY=VALUE"``, ``"KEY<=V"``,
+    ``"KEY>=V"`` strings replacing design targets of the same key. Returns the
+    ``hapticad check --json`` object: ``ok``, ``rows`` (``key``, ``computed``, ``target`` as
+    data, ``margin``, ``gap_rel``), ``computed``. Raises DesignError when there are no
+    targets or the family has no check.
+    """
+    from cad.checks import evaluate, merge_targets
+    from cad.design.fourbar import FourBarDesign
+    from cad.design.targets import PANTOGRAPH_TARGET_KEYS, TARGET_KEYS, parse_cli_target
+    from cad.errors import DesignError
+
+    if fidelity not in ("inertia", "fabrication"):
+        raise DesignError("--fidelity", f"must be inertia or fabrication, got {fidelity!r}")
+    four_bar = isinstance(design, FourBarDesign)
+    if not four_bar and design.family not in ("pantograph", "twin-pantograph", "haptic-pen"):
+        from cad.cli.families import refusal
+
+        raise DesignError("mechanism.family", refusal("check", design.family))
+    keys = TARGET_KEYS if four_bar else PANTOGRAPH_TARGET_KEYS
+    merged = merge_targets(design.targets, tuple(parse_cli_target(t, keys) for t in targets))
+    if not merged:
+        raise DesignError("targets", "no targets: add a [targets] table or --target KEY=VALUE")
+    wanted = {t.key for t in merged}
+    if four_bar:
+        from cad.build.inertia import target_values
+
+        values, report = target_values(design, fidelity, "min_clearance_mm" in wanted)
+    else:
+        values, report = _pantograph_values(design, fidelity, wanted)
+    rows = evaluate(merged, values)
+    return {"name": design.name, "ok": all(r.ok for r in rows), "fidelity": fidelity,
+            "rows": [r.as_dict() for r in rows], "computed": values,
+            "budget": report.get("budget")}
+
+
+def _pantograph_values(design, fidelity: str, wanted: set[str]) -> tuple[dict, dict]:
+    """GII always; effective mass and moving mass from a build when a target needs them."""
+    import tempfile
+
+    values = {"gii": float(design.gii().gii)}
+    if not wanted - {"gii"}:
+        return values, {}
+    from cad.build import build_design
+
+    with tempfile.TemporaryDirectory() as tmp:
+        rep = build_design(design, Path(tmp) / "b", set(), fidelity=fidelity, use_cache=False)
+    for k, v in (rep.get("effective_mass_home") or {}).items():
+        if isinstance(v, (int, float)) and not isinstance(v, bool):
+            values[k] = float(v)
+    if isinstance(rep.get("moving_mass_g"), (int, float)):
+        values["moving_mass_g"] = float(rep["moving_mass_g"])
+    return values, rep
+
+
+def mass_properties(path: str | Path, density_kg_m3: float | None = None,
+                    material: str | None = None) -> dict:
+    """Mass, COM (mm, file frame) and inertia tensor about the COM (kg m^2) of a STEP or STL.
+
+    Returns the ``hapticad massprops --json`` object. Without density or material the
+    default material is used (a note in ``notes``). Raises DesignError / MeshError /
+    GeometryError naming the file and the fault.
+    """
+    from cad.cli.cmd_massprops import compute
+
+    dens = None if density_kg_m3 is None else str(density_kg_m3)
+    out, notes = compute(Path(path), dens, material)
+    return {**out, "notes": notes}
+
+
+def gii(design) -> dict:
+    """Global isotropy index (isotropy paper eq 5) of a pantograph-family design.
+
+    Returns the ``hapticad gii --json`` object (``gii``, ``sigma_min``, ``sigma_max`` and
+    where they occur). Raises DesignError for other families.
+    """
+    from cad.cli.cmd_gii import PANTOGRAPH_FAMILIES, gii_report
+    from cad.errors import DesignError
+
+    if getattr(design, "family", None) not in PANTOGRAPH_FAMILIES:
+        raise DesignError("mechanism.family", f"gii needs one of {', '.join(PANTOGRAPH_FAMILIES)}")
+    return gii_report(design)

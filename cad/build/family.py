@@ -1,0 +1,298 @@
+"""What every family's build writes, from its one list of part instances.
+
+A family builder (pantograph, twin pantograph, PowerMouse) only lays out
+:class:`cad.parts.PartInstance` objects -- a :class:`cad.parts.PartKind` (solid in its
+own frame, material, made/bought, description, process, catalog mass) carried by a
+body at ``tf_body_part`` -- and gives the world transform of each body at the exported
+pose. Everything below reads that one list:
+
+* :func:`kind_props` -- mass properties of each part kind (exact B-rep integration, or
+  the catalog mass of a bought part; :func:`cad.build.fourbar.kind_mass_props`);
+* :func:`body_props` -- combined mass properties per body in the body frame;
+* :func:`bom_rows` -- one BOM line per kind (quantity = number of instances);
+* :func:`check_assembly` -- every pair of solids at the exported pose
+  (:func:`cad.assembly.static.every_pair`): a positive common volume is a collision;
+* :func:`write_outputs` -- ``parts/<kind>.step|.stl|.dxf``, ``assembly.step``,
+  ``bom.csv``, ``preview.png`` (the dispatcher adds ``report.json`` and
+  ``manifest.json``; :func:`write_report_md` writes ``report.md``).
+
+The output layout is the same for every family (README "Build output").
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+
+#: Files every build writes at the top of its output folder (``parts/`` holds the rest).
+LAYOUT = (
+    "assembly.step",
+    "bom.csv",
+    "report.json",
+    "report.md",
+    "preview.png",
+    "manifest.json",
+)
+#: Mesh tolerance of the preview picture (mm): coarse, it is only drawn.
+PREVIEW_MESH_TOL_MM = 0.5
+#: Body colours of the preview, in the order bodies first appear.
+PREVIEW_COLORS = (
+    "#9aa0a6",
+    "#d9534f",
+    "#337ab7",
+    "#5cb85c",
+    "#f0ad4e",
+    "#8e44ad",
+    "#16a085",
+    "#c0392b",
+    "#2c3e50",
+    "#e67e22",
+)
+
+
+def kinds(instances) -> dict:
+    """``{kind name: PartKind}`` in order of first appearance."""
+    out: dict = {}
+    for inst in instances:
+        out.setdefault(inst.kind.name, inst.kind)
+    return out
+
+
+def quantities(instances) -> dict[str, int]:
+    q: dict[str, int] = {}
+    for inst in instances:
+        q[inst.kind.name] = q.get(inst.kind.name, 0) + 1
+    return q
+
+
+def kind_props(instances) -> dict:
+    """``{kind name: MassProps | None}`` (SI, part frame) of every kind of the assembly."""
+    from cad.build.fourbar import kind_mass_props
+
+    return {name: kind_mass_props(k) for name, k in kinds(instances).items()}
+
+
+def body_props(instances, props: dict, bodies=None) -> dict:
+    """``{body: MassProps}`` combined in the body frame (SI), for ``bodies`` (default all)."""
+    from cad.massprops.props import combine
+
+    per: dict[str, list] = {}
+    for inst in instances:
+        mp = props[inst.kind.name]
+        if mp is None or (bodies is not None and inst.body not in bodies):
+            continue
+        T = inst.tf_body_part
+        per.setdefault(inst.body, []).append(mp.transformed(T[:3, :3], T[:3, 3] * 1e-3))
+    return {b: combine(v) for b, v in per.items()}
+
+
+def bom_rows(instances, props: dict) -> list[dict]:
+    """One row per listed kind: part, description, material, quantity, made_or_bought,
+    process, mass_g (each)."""
+    q = quantities(instances)
+    rows = []
+    for name, k in kinds(instances).items():
+        if not k.listed:
+            continue
+        mp = props.get(name)
+        rows.append(
+            {
+                "part": name,
+                "description": k.description,
+                "material": k.material,
+                "quantity": q[name],
+                "made_or_bought": "made" if k.made else "bought",
+                "process": k.process,
+                "mass_g": mp.mass_kg * 1e3 if mp is not None else 0.0,
+            }
+        )
+    return rows
+
+
+def world_tf(inst, tf_world_body: dict) -> np.ndarray:
+    """4x4 world placement of an instance (``tf_world_body``: body -> 4x4)."""
+    return np.asarray(tf_world_body[inst.body], dtype=float) @ inst.tf_body_part
+
+
+def posed_items(instances, tf_world_body: dict, listed_only: bool = True) -> list[tuple]:
+    """``[(instance name, placed TopoDS_Shape, rgb)]`` at the exported pose."""
+    from cad.export.shapes import placed
+    from cad.materials import get_material
+
+    out = []
+    for inst in instances:
+        if listed_only and not inst.kind.listed:
+            continue
+        rgb = get_material(inst.kind.material).color_rgb
+        out.append((inst.name, placed(inst.kind.shape, world_tf(inst, tf_world_body)), rgb))
+    return out
+
+
+def check_assembly(instances, tf_world_body: dict, *, mesh_tol_mm: float = 0.05) -> dict:
+    """Every pair of solids at the exported pose (same-body pairs included): see
+    :func:`cad.assembly.static.every_pair`. Returns its report dict without the wall time."""
+    from cad.assembly.static import every_pair
+
+    items = [(inst.name, world_tf(inst, tf_world_body), inst.kind.shape) for inst in instances]
+    rep = every_pair(items, mesh_tol_mm=mesh_tol_mm)
+    rep.pop("time_s", None)  # a wall time: report.json must be the same bytes every build
+    return rep
+
+
+def lowest_z_mm(instances, tf_world_body: dict) -> tuple[float, str]:
+    """Lowest world z of any solid (from its exact bounding box, mm) and the instance there."""
+    from OCP.Bnd import Bnd_Box
+    from OCP.BRepBndLib import BRepBndLib
+
+    from cad.export.shapes import placed
+
+    best = (math.inf, "")
+    for inst in instances:
+        b = Bnd_Box()
+        BRepBndLib.AddOptimal_s(placed(inst.kind.shape, world_tf(inst, tf_world_body)), b, False)
+        z = b.CornerMin().Z()
+        if z < best[0]:
+            best = (z, inst.name)
+    return best
+
+
+def write_preview(instances, tf_world_body: dict, out: Path, title: str, marks=None) -> Path:
+    """Top (x-y) and side (x-z) projections of the posed assembly, PNG, one colour per body.
+
+    Each part is drawn by the convex hull of its projected coarse mesh. ``marks``: optional
+    ``(label, (N, 2) xy points)`` drawn as a line on the top view (a path, a workspace).
+    """
+    import io
+
+    from matplotlib.collections import PolyCollection
+    from matplotlib.figure import Figure
+    from scipy.spatial import ConvexHull, QhullError
+
+    from cad.export.stl import mesh_shape
+    from cad.io.atomic import write_bytes_atomic
+
+    def hull(pts2):
+        try:
+            return pts2[ConvexHull(pts2).vertices]
+        except (QhullError, ValueError):
+            return None
+
+    meshes: dict[str, np.ndarray] = {}
+    order: list[str] = ["ground"]  # drawn first (underneath), grey
+    polys: list[dict[str, list]] = [{}, {}]
+    for inst in instances:
+        k = inst.kind
+        if k.name not in meshes:
+            meshes[k.name] = mesh_shape(k.shape, PREVIEW_MESH_TOL_MM, 0.6)[0]
+        T = world_tf(inst, tf_world_body)
+        w = meshes[k.name] @ T[:3, :3].T + T[:3, 3]
+        if inst.body not in order:
+            order.append(inst.body)
+        for view, cols in ((0, [0, 1]), (1, [0, 2])):
+            h = hull(w[:, cols])
+            if h is not None:
+                polys[view].setdefault(inst.body, []).append(h)
+    fig = Figure(figsize=(11, 5))
+    axes = fig.subplots(1, 2, gridspec_kw={"width_ratios": [1.2, 1]})
+    for view, ax in enumerate(axes):
+        for i, body in enumerate(order):
+            if polys[view].get(body):
+                ax.add_collection(
+                    PolyCollection(
+                        polys[view][body],
+                        facecolors=PREVIEW_COLORS[i % len(PREVIEW_COLORS)],
+                        edgecolors="none",
+                        alpha=0.35,
+                        rasterized=True,
+                        label=body,
+                    )
+                )
+    for label, pts in marks or ():
+        pts = np.asarray(pts)
+        axes[0].plot(pts[:, 0], pts[:, 1], "k-", lw=1.0, label=label)
+    axes[0].set_title("top view (mm)")
+    axes[1].set_title("side view x-z (mm)")
+    for ax in axes:
+        ax.set_aspect("equal")
+        ax.autoscale_view()
+        ax.grid(True, lw=0.3)
+    axes[0].legend(loc="upper right", fontsize=7)
+    fig.suptitle(title)
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=100, metadata={"Software": None})
+    return write_bytes_atomic(out, buf.getvalue())
+
+
+def write_outputs(
+    instances,
+    tf_world_body: dict,
+    out_dir: Path,
+    formats: set[str],
+    *,
+    name: str,
+    title: str,
+    bom: list[dict],
+    stl_tolerance_mm: float | None = None,
+    marks=None,
+    preview: bool = True,
+) -> list[str]:
+    """Part files, assembly STEP, BOM and preview of one assembly; returns the paths written
+    (relative to ``out_dir``)."""
+    from cad.export import STL_TOLERANCE_MM, export_assembly_step, export_part, write_bom
+    from cad.materials import get_material
+
+    out_dir = Path(out_dir)
+    files: list[str] = []
+    for k in kinds(instances).values():
+        if not k.listed:
+            continue
+        paths = export_part(
+            k.shape,
+            k.name,
+            out_dir / "parts",
+            formats,
+            plate=k.plate,
+            color=get_material(k.material).color_rgb,
+            stl=k.made,
+            tolerance_mm=stl_tolerance_mm or STL_TOLERANCE_MM,
+        )
+        files += [p.relative_to(out_dir).as_posix() for p in paths]
+    if "step" in formats:
+        export_assembly_step(
+            posed_items(instances, tf_world_body, listed_only=False),
+            out_dir / "assembly.step",
+            f"{name}_assembly",
+        )
+        files.append("assembly.step")
+    write_bom(bom, out_dir)
+    if not preview:
+        return files + ["bom.csv"]
+    write_preview(instances, tf_world_body, out_dir / "preview.png", title, marks)
+    return files + ["bom.csv", "preview.png"]
+
+
+def write_report_md(out_dir: Path, title: str, rows: list[tuple[str, str]], bom, notes=()) -> str:
+    """``report.md``: title, preview, a quantity table, the BOM and notes."""
+    from cad.io.atomic import write_text_atomic
+
+    lines = [f"# {title}", "", "![assembly preview](preview.png)", "", "| quantity | value |"]
+    lines.append("|---|---|")
+    lines += [f"| {k} | {v} |" for k, v in rows]
+    lines += [
+        "",
+        "## Bill of materials",
+        "",
+        "| part | description | material | qty | made/bought | process | mass (g) |",
+    ]
+    lines.append("|---|---|---|---|---|---|---|")
+    for b in bom:
+        lines.append(
+            f"| {b['part']} | {b['description']} | {b['material']} | {b['quantity']} | "
+            f"{b['made_or_bought']} | {b['process']} | {b['mass_g']:.2f} |"
+        )
+    if notes:
+        lines += ["", "## Notes", ""] + [f"- {n}" for n in notes]
+    write_text_atomic(Path(out_dir) / "report.md", "\n".join(lines) + "\n")
+    return "report.md"

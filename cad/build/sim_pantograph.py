@@ -1,0 +1,125 @@
+"""The twin-pantograph mouse as a simulator model (MJCF/URDF, issue 14).
+
+World frame: the kinematic base frame of :mod:`cad.build.pantograph` (metres, z up,
+z = 0 on the base plate's top). Bodies (spanning tree), for each group ``g`` in
+(``crank``, ``knob``) and side ``s`` in (``left``, ``right``):
+
+* ``g_proximal_s``: hinge ``g_q_s`` at B_s on the world (value = the actuated angle q,
+  isotropy paper Fig. 1), the motor ``g_motor_s`` (rotor inertia as armature, torque limit
+  ``[actuators] torque_max_Nm``);
+* ``g_distal_s``: hinge ``g_elbow_s`` at the elbow C_s (value = distal angle - q);
+* ``crankshaft``: hinge ``theta`` at the main journal, on ``knob_distal_left`` (value =
+  theta - the distal angle). Sites ``handle`` (main journal, the knob axis) and
+  ``crank_pin``.
+
+Three loops close the tree (MJCF ``connect``): ``loop_knob_E`` (knob right distal tip to
+the main journal), ``loop_crank_left`` and ``loop_crank_right`` (crank distal tips to the
+crank pin). Upper-group bodies are mirrored parts in z-up body frames (their mass
+properties are those of the mirrored parts, exactly as ``report.json`` ``bodies``).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from cad.export.sim import SimBody, SimLoop, SimMesh, SimModel, SimMotor, rot_z
+
+
+def _T(R: np.ndarray, p) -> np.ndarray:
+    T = np.eye(4)
+    T[:3, :3] = R
+    T[:3, 3] = p
+    return T
+
+
+def sim_model(design, bodies: dict, bodies_parts: dict, ground_items, lay: dict, home, ik,
+              rotor_kg_m2: float, made: set[str], color) -> SimModel:
+    """SimModel of the twin pantograph written at ``home`` (module docstring).
+
+    ``bodies``: MassProps per body (link frame, SI); ``bodies_parts``: (kind, 4x4 mm) per
+    link type; ``ground_items``: (name, kind, 4x4 mm world) of the fixed parts; ``made``:
+    kinds with an STL file; ``color(kind)``: rgb.
+    """
+    tp = design.mechanism
+    a = design.params["base_mm"]
+    l3, l6 = design.params["distal_mm"], tp.crank_mm
+    B = [(-a / 2, 0.0), (a / 2, 0.0)]
+    flip = np.diag([1.0, -1.0, -1.0, 1.0])
+    torque = float(np.max(np.atleast_1d(design.actuators["torque_max_Nm"])))
+
+    def meshes(prefix, link_type, F):
+        out = []
+        for k, (kind, tf) in enumerate(bodies_parts[link_type]):
+            if kind not in made:
+                continue
+            T = F @ tf
+            out.append(SimMesh(f"{prefix}_{kind}_{k}", f"{kind}.stl", T[:3, 3] * 1e-3, T[:3, :3],
+                               (*color(kind), 1.0)))
+        return tuple(out)
+
+    out: list[SimBody] = []
+    world = {}
+    motors = []
+    for grp, fp, zs, upper in (("crank", ik.crank, lay["lower_layers_z_mm"], False),
+                               ("knob", ik.knob, lay["upper_layers_z_mm"], True)):
+        F = flip if upper else np.eye(4)
+        C = [fp.C_left_mm[0], fp.C_right_mm[0]]
+        E = fp.E_mm[0]
+        for i, side in enumerate(("left", "right")):
+            q = float(fp.q_rad[0, i])
+            psi = math.atan2(E[1] - C[i][1], E[0] - C[i][0])
+            Tp = _T(rot_z(q), (B[i][0], B[i][1], zs[0]))
+            Td = _T(rot_z(psi), (C[i][0], C[i][1], zs[1 + i]))
+            world[f"{grp}_distal_{side}"] = Td
+            pn, dn = f"{grp}_proximal_{side}", f"{grp}_distal_{side}"
+            out.append(SimBody(
+                name=pn, parent="world", pos_m=Tp[:3, 3] * 1e-3, rot=Tp[:3, :3], joint=f"{grp}_q_{side}",
+                joint_ref_rad=q, mass_kg=float(bodies[pn].mass_kg), com_m=np.asarray(bodies[pn].com_m),
+                inertia_com_kg_m2=np.asarray(bodies[pn].inertia_com_kg_m2), armature_kg_m2=rotor_kg_m2,
+                meshes=meshes(pn, f"proximal_{side}", F)))
+            rel = np.linalg.inv(Tp) @ Td
+            tip = {f"{grp}_tip_{side}": np.array([l3 * 1e-3, 0.0, 0.0])}
+            out.append(SimBody(
+                name=dn, parent=pn, pos_m=rel[:3, 3] * 1e-3, rot=rel[:3, :3], joint=f"{grp}_elbow_{side}",
+                joint_ref_rad=psi - q, mass_kg=float(bodies[f"{grp}_distal"].mass_kg),
+                com_m=np.asarray(bodies[f"{grp}_distal"].com_m),
+                inertia_com_kg_m2=np.asarray(bodies[f"{grp}_distal"].inertia_com_kg_m2),
+                meshes=meshes(dn, "distal", F), sites=tip))
+            motors.append(SimMotor(f"{grp}_motor_{side}", f"{grp}_q_{side}", torque))
+    th = float(home[2])
+    Tc = _T(rot_z(th), (home[0], home[1], lay["web_z_mm"]))
+    Tk = world["knob_distal_left"]
+    rel = np.linalg.inv(Tk) @ Tc
+    psi_k = math.atan2(Tk[1, 0], Tk[0, 0])
+    cs = bodies["crankshaft"]
+
+    def dz(z_mm: float) -> float:
+        return (z_mm - lay["web_z_mm"]) * 1e-3
+
+    out.append(SimBody(
+        name="crankshaft", parent="knob_distal_left", pos_m=rel[:3, 3] * 1e-3, rot=rel[:3, :3],
+        joint="theta", joint_ref_rad=th - psi_k, mass_kg=float(cs.mass_kg), com_m=np.asarray(cs.com_m),
+        inertia_com_kg_m2=np.asarray(cs.inertia_com_kg_m2),
+        meshes=meshes("crankshaft", "crankshaft", np.eye(4)),
+        sites={"handle": np.zeros(3), "crank_pin": np.array([l6 * 1e-3, 0.0, 0.0]),
+               # loop sites on the journal axes at the height of the distal tip they meet
+               "journal": np.array([0.0, 0.0, dz(lay["upper_layers_z_mm"][2])]),
+               "crank_pin_left": np.array([l6 * 1e-3, 0.0, dz(lay["lower_layers_z_mm"][1])]),
+               "crank_pin_right": np.array([l6 * 1e-3, 0.0, dz(lay["lower_layers_z_mm"][2])])}))
+    loops = [
+        SimLoop("loop_knob_E", "knob_distal_right", "knob_tip_right", "crankshaft", "journal"),
+        SimLoop("loop_crank_left", "crank_distal_left", "crank_tip_left", "crankshaft", "crank_pin_left"),
+        SimLoop("loop_crank_right", "crank_distal_right", "crank_tip_right", "crankshaft", "crank_pin_right"),
+    ]
+    wm = tuple(
+        SimMesh(name, f"{kind}.stl", T[:3, 3] * 1e-3, T[:3, :3], (*color(kind), 1.0))
+        for name, kind, T in ground_items if kind in made
+    )
+    return SimModel(
+        name=design.name, bodies=tuple(out), world_meshes=wm, loops=tuple(loops), motors=tuple(motors),
+        meshdir=".",
+        comment=(f"hapticad twin pantograph '{design.name}': world = base frame (m), written at home "
+                 f"(x, y, theta) = ({home[0]!r} mm, {home[1]!r} mm, {th!r} rad)"),
+    )

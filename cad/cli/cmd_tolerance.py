@@ -1,0 +1,102 @@
+"""``hapticad tolerance DESIGN --hole-mm T [...]``: Monte Carlo of manufacturing tolerances (four-bar).
+
+Pure numpy (no CAD import); see :mod:`cad.kinematics.tolerance` and README "Tolerances".
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import typer
+
+from cad.cli.app import print_json
+
+OWNED = ("tolerance.json", "tolerance.png")
+
+
+def _print(res: dict) -> None:
+    from rich.console import Console
+    from rich.table import Table
+
+    con = Console(width=max(Console().width, 132))
+    t = Table(title=f"{res['name']}: {res['samples']} samples (seed {res['seed']})")
+    for c in ("metric", "nominal", "mean", "std (MC)", "std (1st order)", "p01", "p99", "target", "yield"):
+        t.add_column(c, justify="left" if c == "metric" else "right")
+    for k, v in res["metrics"].items():
+        y = res["yield"]["by_target"].get(k)
+        t.add_row(k, *(f"{v[x]:.5g}" for x in ("nominal", "mean", "std", "linear_std", "p01", "p99")),
+                  y["target"] if y else "", f"{100 * y['yield']:.2f} %" if y else "")
+    con.print(t)
+    if res["yield"]["overall"] is not None:
+        con.print(f"yield (every target met): {100 * res['yield']['overall']:.2f} %; "
+                  f"failed samples (no closure / toggle): {res['failed_samples']}")
+    for k in res["yield"]["by_target"]:
+        top = res["sensitivity"][k][:3]
+        con.print(f"{k} is most sensitive to " + ", ".join(
+            f"{s['tolerance']} ({100 * s['share']:.0f} %)" for s in top))
+
+
+def register(app: typer.Typer) -> None:
+    @app.command("tolerance")
+    def tolerance_cmd(
+        design: Path = typer.Argument(..., help="four-bar TOML design"),
+        hole_mm: float = typer.Option(None, "--hole-mm", help="± mm on every joint hole of the three bars"),
+        hole: list[str] = typer.Option(None, "--hole", help="BAR=T or BAR.HOLE=T[:normal|uniform] (crank.A2, coupler.P, ...); repeatable"),
+        pivot_mm: float = typer.Option(None, "--pivot-mm", help="± mm on the base pivots A1 and A4"),
+        pivot: list[str] = typer.Option(None, "--pivot", help="A1=T or A4=T[:normal|uniform]; repeatable"),
+        length_mm: float = typer.Option(None, "--length-mm", help="± mm on every link length l1, l2, l3, le"),
+        length: list[str] = typer.Option(None, "--length", help="l1|l2|l3|le=T[:normal|uniform]; repeatable"),
+        distribution: str = typer.Option("normal", "--distribution", help="normal (T = 3 sigma) | uniform (±T)"),
+        samples: int = typer.Option(10000, "--samples", help="Monte Carlo samples (100 .. 2e6)"),
+        angles: int = typer.Option(401, "--angles", help="crank angles per sample (extrema are refined)"),
+        seed: int = typer.Option(0, "--seed", help="random seed"),
+        target: list[str] = typer.Option(None, "--target", help="KEY=VALUE, KEY<=V, KEY>=V; repeatable (adds to [targets])"),
+        inertia: str = typer.Option(None, "--inertia", help="H11=..,H12=..,H22=..,H33=.. (kg.m^2) for M11"),
+        out: Path = typer.Option(None, "--out", help="write tolerance.json and tolerance.png here"),
+        json_out: bool = typer.Option(False, "--json", help="print one JSON object"),
+    ) -> None:
+        """Monte Carlo of hole, pivot and length tolerances: distributions, yield, sensitivity (no CAD)."""
+        from cad import tolerances as tol
+        from cad.checks import merge_targets
+        from cad.cli import flags
+        from cad.cli.cmd_analyze import parse_inertia_option
+        from cad.design import load_design
+        from cad.design.fourbar import FourBarDesign
+        from cad.design.targets import parse_cli_target
+        from cad.errors import DesignError
+        from cad.io.owned import check_out_dir
+        from cad.tolerance_study import inertia_for_m11, run, tolerances_from_flags, write_chart
+
+        for flag, value in (("--hole-mm", hole_mm), ("--pivot-mm", pivot_mm),
+                            ("--length-mm", length_mm), ("--seed", seed)):
+            flags.number(flag, value)
+        flags.out_path("--out", out, folder=True)
+        if not tol.MC_SAMPLES_MIN <= samples <= tol.MC_SAMPLES_MAX:
+            raise DesignError("--samples", f"must be in [{tol.MC_SAMPLES_MIN}, {tol.MC_SAMPLES_MAX}], got {samples}")
+        if not 11 <= angles <= 20001:
+            raise DesignError("--angles", f"must be in [11, 20001], got {angles}")
+        tols = tolerances_from_flags(hole_mm, hole or [], pivot_mm, pivot or [], length_mm,
+                                     length or [], distribution)
+        cli = tuple(parse_cli_target(t) for t in (target or []))
+        H = parse_inertia_option(inertia) if inertia is not None else None
+        if out is not None:
+            check_out_dir(out, OWNED)
+        d = load_design(design)
+        if not isinstance(d, FourBarDesign):
+            raise DesignError("mechanism.family", "tolerance works on four-bar designs")
+        H, h_source = inertia_for_m11(d, H)
+        targets = merge_targets(d.targets, cli)
+        res, m = run(d, tols, samples, seed, angles, H, targets)
+        res["inertia_source"] = h_source
+        if out is not None:
+            from cad.io.atomic import write_text_atomic
+
+            out.mkdir(parents=True, exist_ok=True)
+            write_chart(res, m, targets, out / "tolerance.png")
+            write_text_atomic(out / "tolerance.json", json.dumps(res, indent=1))
+            res["files"] = [str(out / n) for n in OWNED]
+        if json_out:
+            print_json(res, indent=1)
+        else:
+            _print(res)

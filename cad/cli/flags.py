@@ -1,0 +1,60 @@
+"""Checks of command-line flags shared by every command (before any work or CAD import).
+
+Numeric flags are checked against :data:`cad.design.bounds.FLAGS` (one place for every
+range and its reason); choice flags against their choices; output paths against the file
+system, so the error names the flag the user typed (``--out``, ``--report``), never a
+temporary file or an errno of an internal step.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from pathlib import Path
+
+from cad.design.bounds import FLAGS, Bound, check_number
+from cad.errors import DesignError
+
+
+def number(flag: str, value: float | int | None, bound: Bound | None = None) -> float | None:
+    """Check a numeric flag already converted by typer (``None``: not given)."""
+    if value is None:
+        return None
+    return check_number(flag, value, bound or FLAGS[flag])
+
+
+def choice(flag: str, value: str | None, choices: Iterable[str]) -> str | None:
+    """``value`` when it is one of ``choices`` (``None`` passes), else a DesignError naming the flag."""
+    choices = tuple(choices)
+    if value is not None and value not in choices:
+        raise DesignError(flag, f"must be one of {', '.join(choices)}, got {value!r}")
+    return value
+
+
+def _first_non_folder_ancestor(path: Path) -> Path | None:
+    for parent in reversed(path.parents):
+        if parent.exists() and not parent.is_dir():
+            return parent
+    return None
+
+
+def out_path(flag: str, path: Path | None, *, folder: bool) -> Path | None:
+    """Check an output path before anything runs; ``None`` passes.
+
+    ``folder``: the flag names a folder to write into (``--out`` of build, ``--report``),
+    else a file (``--out`` of synth / fit / swap). Raises :class:`DesignError` naming the flag
+    when a parent is a file (``/dev/null/x``), when a file is expected and a folder exists
+    there, or when a folder is expected and a file exists there.
+    """
+    if path is None:
+        return None
+    p = Path(path)
+    if str(p) == "" or any(c in str(p) for c in "\0"):
+        raise DesignError(flag, f"not a usable path: {str(p)!r}")
+    bad = _first_non_folder_ancestor(p)
+    if bad is not None:
+        raise DesignError(flag, f"cannot write {p}: {bad} is not a folder")
+    if folder and p.exists() and not p.is_dir():
+        raise DesignError(flag, f"{p} is a file, not a folder")
+    if not folder and p.is_dir():
+        raise DesignError(flag, f"{p} is a folder; give a file name (e.g. {p / 'new.toml'})")
+    return p

@@ -1,0 +1,123 @@
+"""Output folders and files a command may replace: only what hapticad wrote.
+
+Folders (``build --out DIR``, ``exports/<name>/``, ``bench --out DIR``): a command
+replaces a folder whole, so it must own every entry in it. A folder is owned when it
+does not exist, is empty, or everything in it is listed in its ``manifest.json`` with
+the same sha256 (a file edited since it was written counts as the user's). Anything
+else -- a foreign or hidden file, an empty sub-folder, a symbolic link, a changed
+file, the design file itself -- makes the command refuse with exit 2 naming the
+folder and one such entry; nothing is touched. ``--out`` naming a file, a symbolic
+link, the current folder or one of its parents is refused the same way.
+
+Files (``swap``/``synth``/``fit --out FILE``): never the input design (same path,
+symbolic or hard link), never a folder; an existing file is replaced atomically and
+the command says so.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+from pathlib import Path
+
+from cad.errors import DesignError
+
+MANIFEST_NAME = "manifest.json"
+
+
+def _listed(folder: Path) -> dict[str, str]:
+    """``{relative POSIX path: sha256}`` from ``folder/manifest.json`` ({} when unreadable)."""
+    try:
+        doc = json.loads((folder / MANIFEST_NAME).read_text(encoding="utf-8"))
+        return {str(r["path"]): str(r["sha256"]) for r in doc["files"]}
+    except (OSError, ValueError, KeyError, TypeError):
+        return {}
+
+
+def _sha256(path: Path) -> str:
+    h = hashlib.sha256()
+    with open(path, "rb") as fh:
+        for chunk in iter(lambda: fh.read(1 << 20), b""):
+            h.update(chunk)
+    return h.hexdigest()
+
+
+def foreign_entry(folder: Path) -> tuple[str, str] | None:
+    """The first entry of ``folder`` hapticad did not write, as ``(relative path, why)``,
+    or None when the folder is absent or owned (module docstring)."""
+    folder = Path(folder)
+    if not os.path.lexists(folder):
+        return None
+    listed = _listed(folder)
+    parents = {p.rsplit("/", 1)[0] for p in listed if "/" in p}
+    parents |= {"/".join(p.split("/")[:i]) for p in parents for i in range(1, p.count("/") + 1)}
+    for root, dirs, files in os.walk(folder):
+        dirs.sort()
+        rel_root = Path(root).relative_to(folder)
+        for name in sorted(files) + [d for d in dirs if os.path.islink(os.path.join(root, d))]:
+            rel = (rel_root / name).as_posix()
+            p = Path(root, name)
+            if p.is_symlink():
+                return rel, "a symbolic link"
+            if rel == MANIFEST_NAME and listed:
+                continue
+            if rel not in listed:
+                return rel, "not listed in its manifest.json"
+            if _sha256(p) != listed[rel]:
+                return rel, "changed since hapticad wrote it"
+        for d in dirs:
+            rel = (rel_root / d).as_posix()
+            if not os.path.islink(os.path.join(root, d)) and rel not in parents:
+                return rel + "/", "a folder hapticad did not write"
+    return None
+
+
+def check_out_dir(folder: Path, design_source: str | None = None) -> None:
+    """Raise :class:`DesignError` (field ``--out``) unless ``folder`` may be replaced
+    whole by a command's output (module docstring)."""
+    folder = Path(folder)
+    shown = str(folder)
+    if os.path.islink(folder):
+        raise DesignError("--out", f"{shown} is a symbolic link; name a folder")
+    if os.path.lexists(folder) and not folder.is_dir():
+        raise DesignError("--out", f"{shown} is a file, not a folder; name a folder")
+    here = Path.cwd().resolve()
+    real = folder.resolve()
+    if real == here or real in here.parents:
+        raise DesignError(
+            "--out",
+            f"{shown} is the current folder or one of its parents; the output folder is "
+            "replaced whole, so name a folder of its own (e.g. --out exports/NAME)",
+        )
+    if design_source:
+        src = Path(design_source).resolve()
+        if real in src.parents:
+            raise DesignError(
+                "--out", f"{shown} holds the design file {src.name}; name another folder"
+            )
+    bad = foreign_entry(folder)
+    if bad is not None:
+        raise DesignError(
+            "--out",
+            f"{shown} holds {bad[0]} ({bad[1]}); hapticad replaces only folders it wrote "
+            "entirely: move it away or name another folder",
+        )
+
+
+def _same_file(a: Path, b: Path) -> bool:
+    try:
+        return os.path.samefile(a, b)
+    except OSError:
+        return a.resolve() == b.resolve()
+
+
+def check_out_file(target: Path, design: Path, flag: str = "--out") -> bool:
+    """Raise :class:`DesignError` when ``target`` is the input ``design`` (any link to it)
+    or a folder; return True when an existing file will be replaced."""
+    target = Path(target)
+    if os.path.lexists(target) and _same_file(target, Path(design)):
+        raise DesignError(flag, f"{target} is the input design {design}; name another file")
+    if target.is_dir():
+        raise DesignError(flag, f"{target} is a folder; name a .toml file")
+    return os.path.lexists(target)

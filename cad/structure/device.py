@@ -1,0 +1,253 @@
+"""Handle compliance, first resonance and peak stress of a four-bar from its parts.
+
+Model (R0, SI inside, mm / g / um at the edges). Each moving link is a chain of beams
+between its joints (crank A1-A2; coupler A2-A3 and the hull edges to P; rocker A4-A3),
+its section the bar's plate: width w, thickness t, and where the bar is pocketed
+(``bar_pockets`` and a pocket wider than 2 mm) the two webs either side of the slot:
+A = (w - wp) t, Iz (in plane) = t (w^3 - wp^3) / 12, Iy (out of plane) = (w - wp) t^3 / 12,
+J = 2 J_rect(web, t). Joints A2, A3 tie the links in every DOF but the rotation about z
+(rigid pins; bd_warehouse's SKT table carries no bearing stiffness, so bearing radial
+compliance is not included). Supports: the crank is clamped at A1 (motor shaft held by
+the servo, its compliance not modelled) and the rocker pinned at A4 (rigid post).
+
+Two methods, same frame (:mod:`cad.structure.frame`):
+
+* ``beam`` -- Euler-Bernoulli with the pocket section over every beam's whole length
+  (closed form, ~ms);
+* ``fem`` -- each beam's in-plane and out-of-plane bending stiffness taken from a
+  plane-stress finite-element cantilever of the real bar segment (scikit-fem,
+  :mod:`cad.structure.fem`: solid ends around the joints, the slot, shear), i.e.
+  E I_eff = L^3 / (3 c_fem).
+
+Loads: ``force_N`` at P along the path direction x (path frame) and out of plane z, at
+three crank angles (range ends and middle); the report gives the worst.
+Masses: each link's bar mass spread evenly along its beams, every other part (bearings,
+pins, spacers, handle, screws) as a point mass at the nearest node of its link.
+
+``structure`` (report.json): ``compliance_um_per_N`` {x, z}, ``first_mode_Hz`` (lowest
+natural frequency of the frame with its masses), ``handle_mode_x_Hz``
+(sqrt(1 / (c_x M11_max)) / 2 pi, the handle's apparent mass on the path stiffness),
+``max_stress_MPa`` (von Mises, beam stresses at ``force_N``), ``strength_MPa``,
+``method``, ``limits`` and ``ok``.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from cad.structure.frame import Frame, Section, rect_torsion_J
+
+#: Default structural limits (overridable in [targets]: ``first_mode_Hz = { min = ... }``,
+#: ``max_stress_MPa = { max = ... }``): the Hoeken paper measured a 150 Hz bandwidth and a
+#: 250 Hz resonance (§III.B.1); the first structural mode stays out of that bandwidth,
+#: >= 150 Hz (the bundled Hoeken: 180 Hz); the peak stress at ``force_N`` stays under a third of the bar material's
+#: strength (safety factor 3).
+FIRST_MODE_MIN_HZ = 150.0
+STRESS_SAFETY_FACTOR = 3.0
+POSES = 3
+METHODS = ("beam", "fem")
+
+
+@dataclass(frozen=True)
+class Lumped:
+    """A point mass on a link: link name, position in the link frame (mm), mass (kg)."""
+
+    link: str
+    xy_mm: tuple[float, float]
+    mass_kg: float
+
+
+def bar_section(parts, E: float, G: float, rho: float) -> Section:
+    """Section of a bar (module docstring), SI."""
+    w, t = parts.bar_width_mm * 1e-3, parts.bar_thickness_mm * 1e-3
+    wp = pocket_width_mm(parts) * 1e-3
+    web = (w - wp) / 2 if wp > 0 else w
+    J = rect_torsion_J(w, t) if wp == 0 else 2 * rect_torsion_J(web, t)
+    return Section(
+        A=(w - wp) * t, Iz=t * (w**3 - wp**3) / 12, Iy=(w - wp) * t**3 / 12, J=J,
+        cy=w / 2, cz=t / 2, t_torsion=min(web, t), E=E, G=G, rho=rho,
+    )
+
+
+def pocket_width_mm(parts) -> float:
+    """Pocket width (mm) the bars get (0 without pockets), as :mod:`cad.parts.bars`."""
+    wp = parts.bar_width_mm - 2 * parts.bar_pocket_web_mm
+    return wp if parts.bar_pockets and wp >= 2.0 else 0.0
+
+
+def link_edges(J: dict) -> dict[str, list[tuple[str, str]]]:
+    """Beams of every moving link between its joint names (coupler: hull edges to P)."""
+    c = J["coupler"]
+    p, a2, a3 = c["P"], c["A2"], c["A3"]
+    area2 = abs((a3[0] - a2[0]) * (p[1] - a2[1]) - (a3[1] - a2[1]) * (p[0] - a2[0]))
+    if area2 > 1e-6 * max(1.0, float(np.linalg.norm(a3 - a2))) ** 2:
+        cp = [("A2", "A3"), ("A3", "P"), ("A2", "P")]
+    else:  # collinear: consecutive points along the line
+        u = (a3 - a2) / np.linalg.norm(a3 - a2)
+        names = sorted(("A2", "A3", "P"), key=lambda n: float((c[n] - a2) @ u))
+        cp = [(names[0], names[1]), (names[1], names[2])]
+    return {"crank": [("A1", "A2")], "coupler": cp, "rocker": [("A4", "A3")]}
+
+
+def end_radius_mm(parts, joint: str) -> float:
+    """Radius of the solid region around a joint before a pocket may start (mm)."""
+    from cad.parts import catalog
+
+    if joint == "P":
+        return parts.handle_diameter_mm / 2 + parts.bar_pocket_web_mm
+    if joint == "A1":
+        return parts.hub_diameter_mm / 2 + parts.bar_pocket_web_mm
+    return catalog.get_bearing(parts.bearing).D_mm / 2 + parts.bar_pocket_web_mm
+
+
+def fem_section(parts, s: Section, L_mm: float, ends: tuple[str, str], nu: float) -> Section:
+    """The beam section with E I_eff from plane-stress FE cantilevers of the real segment."""
+    from dataclasses import replace
+
+    cy, cz = _fem_compliances(parts, round(L_mm, 9), ends, s.E, nu)
+    L = L_mm * 1e-3
+    return replace(s, Iz=L**3 / (3 * s.E * cy), Iy=L**3 / (3 * s.E * cz))
+
+
+@functools.lru_cache(maxsize=256)
+def _fem_compliances(parts, L_mm: float, ends: tuple[str, str], E: float, nu: float):
+    from cad.structure import fem
+
+    wp = pocket_width_mm(parts)
+    a = max(end_radius_mm(parts, ends[0]), end_radius_mm(parts, ends[1]))
+    slot = wp if (wp > 0 and L_mm - 2 * a > wp) else 0.0
+    g = fem.BarGeometry(L_mm, parts.bar_width_mm, parts.bar_thickness_mm, slot, a if slot else 0.0)
+    return fem.cantilever(g, E, nu, "y"), fem.cantilever(g, E, nu, "z")
+
+
+def build_frame(design, pose_tf: dict, lumped: list[Lumped], bar_mass_kg: dict, method: str):
+    """The frame at one pose (``pose_tf``: link -> 3x3 planar transform, mm) and its P node.
+
+    ``bar_mass_kg``: link -> bar mass spread along its beams; a link not in it gets the
+    section area times the bar material's density."""
+    from cad.kinematics.linkgeom import link_joints_mm
+    from cad.materials import get_material
+    from cad.structure.elastic import get_elastic
+
+    parts = design.parts
+    el = get_elastic(parts.bar_material)
+    J = link_joints_mm(design.linkage)
+    fr = Frame()
+    ids: dict[tuple[str, str], int] = {}
+
+    def world(link, xy):
+        T = pose_tf[link]
+        return (T[:2, :2] @ np.asarray(xy, float) + T[:2, 2]) * 1e-3
+
+    edges = link_edges(J)
+    for link, ed in edges.items():
+        for n in {x for e in ed for x in e}:
+            ids[(link, n)] = fr.node(world(link, J[link][n]))
+        total_L = sum(float(np.linalg.norm(J[link][b] - J[link][a])) for a, b in ed) * 1e-3
+        base = bar_section(parts, el.E_Pa, el.G_Pa, 0.0)
+        rho = (bar_mass_kg[link] / (base.A * total_L) if link in bar_mass_kg
+               else get_material(parts.bar_material).density_kg_m3)
+        for a, b in ed:
+            s = bar_section(parts, el.E_Pa, el.G_Pa, rho)
+            if method == "fem":
+                L_mm = float(np.linalg.norm(J[link][b] - J[link][a]))
+                s = fem_section(parts, s, L_mm, (a, b), el.nu)
+            fr.element(ids[(link, a)], ids[(link, b)], s, link, n_sub=4)
+    fr.ties += [(ids[("crank", "A2")], ids[("coupler", "A2")]),
+                (ids[("coupler", "A3")], ids[("rocker", "A3")])]
+    fr.fixed[ids[("crank", "A1")]] = (0, 1, 2, 3, 4, 5)
+    fr.fixed[ids[("rocker", "A4")]] = (0, 1, 2, 3, 4)
+    for lp in lumped:
+        if lp.link not in edges:
+            continue
+        p = world(lp.link, lp.xy_mm)
+        cand = [i for (lk, _), i in ids.items() if lk == lp.link]
+        nearest = min(cand, key=lambda i: float(np.linalg.norm(fr.nodes[i] - p)))
+        fr.add_mass(nearest, lp.mass_kg)
+    return fr, ids[("coupler", "P")]
+
+
+def analyse(design, lumped: list[Lumped], bar_mass_kg: dict, method: str = "beam",
+            M11_max_kg: float | None = None, targets=None) -> dict:
+    """The ``structure`` report (module docstring). ``targets``: the design's Target tuple
+    (``first_mode_Hz`` min, ``max_stress_MPa`` max override the defaults, :func:`limits`)."""
+    from cad.assembly.pose import planar_transforms
+    from cad.kinematics.metrics import path_frame
+    from cad.structure.elastic import get_elastic
+
+    if method not in METHODS:
+        raise ValueError(f"method: must be one of {METHODS}, got {method!r}")
+    fb = design.linkage
+    ex = path_frame(fb, design.phi1_min_rad, design.phi1_max_rad).x_hat
+    phis = np.linspace(design.phi1_min_rad, design.phi1_max_rad, POSES)
+    tfs = planar_transforms(fb, phis)
+    F = design.force_N
+    cx = cz = smax = 0.0
+    f1 = math.inf
+    for i in range(POSES):
+        fr, P = build_frame(design, {k: v[i] for k, v in tfs.items()}, lumped, bar_mass_kg, method)
+        ux = fr.solve({P: np.r_[ex[0], ex[1], 0, 0, 0, 0]})
+        uz = fr.solve({P: np.r_[0, 0, 1.0, 0, 0, 0]})
+        cx = max(cx, float(ux[6 * P:6 * P + 2] @ ex))
+        cz = max(cz, float(uz[6 * P + 2]))
+        smax = max(smax, F * float(max(fr.element_stress_Pa(ux).max(), fr.element_stress_Pa(uz).max())))
+        f1 = min(f1, float(fr.modes_Hz(1)[0]))
+    strength = get_elastic(design.parts.bar_material).strength_MPa
+    lim = limits(design.parts.bar_material, targets)
+    out = {
+        "compliance_um_per_N": {"x": cx * 1e6, "z": cz * 1e6},
+        "first_mode_Hz": f1,
+        "max_stress_MPa": smax * 1e-6,
+        "method": method,
+        "strength_MPa": strength,
+        "limits": lim,
+        "bearing_radial_stiffness": "not modelled: the catalog (bd_warehouse SKT) gives none; joints rigid",
+        "poses": POSES,
+    }
+    if M11_max_kg:
+        out["handle_mode_x_Hz"] = math.sqrt(1.0 / (cx * M11_max_kg)) / (2 * math.pi)
+    out["ok"] = bool(f1 >= lim["first_mode_min_Hz"] and smax * 1e-6 <= lim["max_stress_max_MPa"])
+    return out
+
+
+def limits(material: str, targets=None) -> dict:
+    """Structural limits: the defaults (module constants) unless the design's [targets]
+    bound them: ``first_mode_Hz = { min = ... }``, ``max_stress_MPa = { max = ... }``."""
+    from cad.structure.elastic import get_elastic
+
+    lim = {"first_mode_min_Hz": FIRST_MODE_MIN_HZ,
+           "max_stress_max_MPa": get_elastic(material).strength_MPa / STRESS_SAFETY_FACTOR}
+    for t in targets or ():
+        if t.key == "first_mode_Hz" and t.min is not None:
+            lim["first_mode_min_Hz"] = float(t.min)
+        if t.key == "max_stress_MPa" and t.max is not None:
+            lim["max_stress_max_MPa"] = float(t.max)
+    return lim
+
+
+def lumped_from_assembly(asm, props: dict) -> tuple[list[Lumped], dict]:
+    """Point masses (every moving part but the bars) and bar masses per link from the
+    assembly's instances and their mass properties (:mod:`cad.build.fourbar`)."""
+    lumped: list[Lumped] = []
+    bars: dict[str, float] = {}
+    for inst in asm.instances:
+        mp = props.get(inst.kind.name)
+        if mp is None or inst.body not in ("crank", "coupler", "rocker"):
+            continue
+        if inst.kind.plate and inst.name == inst.body:
+            bars[inst.body] = bars.get(inst.body, 0.0) + mp.mass_kg
+            continue
+        T = inst.tf_body_part
+        c = T[:3, :3] @ np.asarray(mp.com_m) + T[:3, 3] * 1e-3
+        lumped.append(Lumped(inst.body, (float(c[0]) * 1e3, float(c[1]) * 1e3), mp.mass_kg))
+    return lumped, bars
+
+
+def structure_of_build(design, asm, props: dict, M11_max_g: float, method: str = "fem") -> dict:
+    """The ``structure`` entry of a build report (module docstring)."""
+    lumped, bars = lumped_from_assembly(asm, props)
+    return analyse(design, lumped, bars, method, M11_max_g * 1e-3, design.targets)

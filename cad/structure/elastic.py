@@ -1,0 +1,66 @@
+"""Elastic properties of the bar materials (pure data, no CAD import).
+
+E (Young's modulus), nu (Poisson's ratio) and a working strength (yield for metals,
+the tensile strength for composites and printed plastics, which fail without
+yielding) for every key of :data:`cad.materials.MATERIALS` a moving part may use.
+Sources inline; printed parts are quoted at 100 % infill, printed flat (XY).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from cad.errors import DesignError
+
+
+@dataclass(frozen=True)
+class Elastic:
+    """E_GPa Young's modulus, nu Poisson's ratio, strength_MPa yield (metals) or
+    tensile strength (composites, plastics), source."""
+
+    E_GPa: float
+    nu: float
+    strength_MPa: float
+    source: str
+
+    @property
+    def E_Pa(self) -> float:
+        return self.E_GPa * 1e9
+
+    @property
+    def G_Pa(self) -> float:
+        return self.E_Pa / (2.0 * (1.0 + self.nu))
+
+
+ELASTIC: dict[str, Elastic] = {
+    "aluminium-6061": Elastic(68.9, 0.33, 276.0, "6061-T6, ASM Handbook Vol. 2 / MatWeb"),
+    "aluminium-7075": Elastic(71.7, 0.33, 503.0, "7075-T6, ASM Handbook Vol. 2 / MatWeb"),
+    "steel-1018": Elastic(205.0, 0.29, 370.0, "AISI 1018 cold drawn, MatWeb"),
+    "stainless-304": Elastic(193.0, 0.29, 215.0, "AISI 304 annealed, MatWeb"),
+    "brass-360": Elastic(97.0, 0.31, 310.0, "C36000 half hard, Copper Development Association"),
+    "titanium-6al4v": Elastic(113.8, 0.34, 880.0, "Ti-6Al-4V annealed, ASM / MatWeb"),
+    "carbon-fibre": Elastic(
+        45.0, 0.30, 450.0,
+        "quasi-isotropic T300/epoxy plate (in-plane modulus ~45 GPa, strength ~450 MPa), Toray / "
+        "DragonPlate quasi-isotropic sheet data",
+    ),
+    "pla": Elastic(3.5, 0.36, 50.0, "PLA printed 100 % infill XY, NatureWorks 4043D / Prusament PLA"),
+    "petg": Elastic(2.0, 0.38, 45.0, "PETG printed 100 % infill XY, Prusament PETG datasheet"),
+    "abs": Elastic(2.2, 0.35, 40.0, "ABS printed 100 % infill XY, MatWeb generic ABS"),
+    "delrin": Elastic(3.1, 0.35, 69.0, "POM homopolymer (Delrin 150), DuPont datasheet"),
+}
+
+
+def get_elastic(material: str, field: str = "parts.bar_material") -> Elastic:
+    """Elastic data of ``material`` (a key of :data:`cad.materials.MATERIALS`).
+
+    Raises DesignError(field, ...) when the material has no elastic data here.
+    """
+    from cad.materials import get_material
+
+    key = get_material(material, field).name
+    if key not in ELASTIC:
+        raise DesignError(
+            field, f"no elastic data for {key!r} (known: {', '.join(sorted(ELASTIC))})"
+        )
+    return ELASTIC[key]

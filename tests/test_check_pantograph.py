@@ -1,0 +1,45 @@
+"""`hapticad check` on pantograph families: GII and effective-mass targets."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+from cad.design import load_design
+from tests.cli_helpers import assert_one_line_error, hapticad
+
+
+def test_gii_target_against_the_gii_command(tmp_path):
+    ref = json.loads(hapticad("gii", "designs/haptic_pen.toml", "--json")[1])["gii"]
+    code, out, err = hapticad("check", "designs/haptic_pen.toml", "--target", "gii>=0.6", "--json")
+    assert code == 1 and "gii" in err  # 0.464 < 0.6: missed, exit 1
+    row = json.loads(out)["rows"][0]
+    assert row["computed"] == ref and row["margin"] == pytest.approx(ref - 0.6)
+    d = tmp_path / "p.toml"
+    d.write_text(Path("designs/pantograph.toml").read_text() + "\n[targets]\ngii = { min = 0.6 }\n")
+    assert load_design(d).targets[0].min == 0.6
+    code, out, err = hapticad("check", d, "--json")
+    assert code == 0, err
+    assert json.loads(out)["rows"][0]["computed"] == pytest.approx(0.623201, abs=1e-6)
+
+
+def test_pantograph_targets_are_validated():
+    code, _, err = hapticad("check", "designs/pantograph.toml", "--target", "H11_kg_m2=1e-5")
+    assert_one_line_error(code, err, "--target.H11_kg_m2", "unknown target", "gii")
+    code, _, err = hapticad("check", "designs/pantograph.toml")
+    assert_one_line_error(code, err, "targets", "no targets")
+
+
+def test_twin_pantograph_effective_mass_from_the_build(tmp_path):
+    code, out, err = hapticad("check", "designs/haptic_mouse.toml", "--target", "mass_x_g_apparent<=80",
+                              "--target", "moving_mass_g<=1000", "--json")
+    assert code == 0, err
+    vals = json.loads(out)["computed"]
+    code, bout, err = hapticad("build", "designs/haptic_mouse.toml", "--fidelity", "inertia",
+                               "--formats", "step", "--out", tmp_path / "b", "--json")
+    assert code == 0, err
+    rep = json.loads(bout)
+    assert vals["mass_x_g_apparent"] == pytest.approx(rep["effective_mass_home"]["mass_x_g_apparent"], rel=1e-9)
+    assert vals["moving_mass_g"] == pytest.approx(rep["moving_mass_g"], rel=1e-9)
