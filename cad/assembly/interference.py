@@ -808,11 +808,15 @@ class SameBodyResult:
         }
 
 
-def static_items(instances) -> list[tuple[str, str, object, np.ndarray]]:
-    """``(part name, body, real TopoDS shape in the part frame, tf_body_part)`` of every part
-    instance -- the solid written to ``assembly.step`` (not the sweep's envelopes); a bought
-    part made of several solids (a bearing's rings and balls) is one item."""
-    return [(i.name, i.body, i.kind.shape, np.asarray(i.tf_body_part, float)) for i in instances]
+def static_items(instances) -> list[tuple]:
+    """``(part name, body, real TopoDS shape in the part frame, tf_body_part, hull)`` of every
+    part instance -- the solid written to ``assembly.step`` (not the sweep's envelopes); a
+    bought part made of several solids (a bearing's rings and balls) is one item, its
+    ``kind.hull`` (or None) a solid enclosing it that is intersected first."""
+    return [
+        (i.name, i.body, i.kind.shape, np.asarray(i.tf_body_part, float), i.kind.hull)
+        for i in instances
+    ]
 
 
 def _tight_box(shape) -> np.ndarray:
@@ -836,11 +840,23 @@ def common_volume_mm3(sa, sb) -> float:
     return max(0.0, float(props.Mass()))
 
 
+def _pair_volume(p, q, min_volume_mm3: float) -> float:
+    """Common volume of two same-body parts ``(name, shape, box, hull)``: their hulls first
+    (a hull encloses its part, so no hull overlap means no part overlap), then the parts."""
+    if p[3] is not None or q[3] is not None:
+        hp = p[3] if p[3] is not None else p[1]
+        hq = q[3] if q[3] is not None else q[1]
+        if common_volume_mm3(hp, hq) <= min_volume_mm3:
+            return 0.0
+    return common_volume_mm3(p[1], q[1])
+
+
 def same_body_check(items, min_volume_mm3: float = OVERLAP_MIN_MM3) -> SameBodyResult:
     """Every pair of parts of one body: bounding-box culling, then the exact OCCT common volume.
 
-    ``items``: ``(name, body, TopoDS shape in the part frame, 4x4 tf_body_part)`` (generic: any
-    family; :func:`static_items` makes them from part instances). Boxes (tight, OCCT) that
+    ``items``: ``(name, body, TopoDS shape in the part frame, 4x4 tf_body_part[, hull])``
+    (generic: any family; :func:`static_items` makes them from part instances; a hull, when
+    given, encloses the shape and is intersected first). Boxes (tight, OCCT) that
     are apart or only touch (overlap <= :data:`BOX_TOUCH_MM` on some axis) cannot share a
     volume; every other pair is intersected with ``BRepAlgoAPI_Common``. Touching is allowed
     (a screw in its clearance or tapped hole, a bearing in its seat); a common volume above
@@ -850,14 +866,12 @@ def same_body_check(items, min_volume_mm3: float = OVERLAP_MIN_MM3) -> SameBodyR
     from cad.export.shapes import placed
 
     t0 = time.perf_counter()
-    by_body: dict[str, list[tuple[str, object, np.ndarray]]] = {}
-    cache: dict[tuple[int, bytes], tuple] = {}
-    for name, body, shape, tf in items:
-        key = (id(shape), np.asarray(tf, float).tobytes())
-        if key not in cache:
-            s = placed(shape, np.asarray(tf, float))
-            cache[key] = (s, _tight_box(s))
-        by_body.setdefault(body, []).append((name, *cache[key]))
+    by_body: dict[str, list[tuple]] = {}
+    for name, body, shape, tf, *rest in items:
+        T = np.asarray(tf, float)
+        s = placed(shape, T)
+        hull = placed(rest[0], T) if rest and rest[0] is not None else None
+        by_body.setdefault(body, []).append((name, s, _tight_box(s), hull))
     collisions, n_pairs, n_exact = [], 0, 0
     for body, parts in sorted(by_body.items()):
         lo = np.array([p[2][0] for p in parts])
@@ -867,7 +881,7 @@ def same_body_check(items, min_volume_mm3: float = OVERLAP_MIN_MM3) -> SameBodyR
         n_pairs += len(parts) * (len(parts) - 1) // 2
         for i, j in zip(*np.nonzero(np.triu(near, 1)), strict=True):
             n_exact += 1
-            vol = common_volume_mm3(parts[i][1], parts[j][1])
+            vol = _pair_volume(parts[i], parts[j], min_volume_mm3)
             if vol > min_volume_mm3:
                 collisions.append(
                     {

@@ -268,6 +268,7 @@ def _joint_kinds(b: _Builder) -> dict[str, PartKind]:
             ring_mm=(brg.d_mm / 2, brg.D_mm / 2, brg.B_mm),
             collision=(("other", rings[0]), ("self", rings[1])),
             revolution=True,
+            hull=joints.bearing_shape(parts.bearing, False) if b.detailed else None,
         ),
         "nut": b.kind(
             f"nut_{parts.pin}",

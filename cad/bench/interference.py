@@ -264,7 +264,7 @@ def _same_body(repeats: int, brute_force: bool) -> dict:
     }
     if brute_force:
         t0 = time.perf_counter()
-        ps = [(n, b, placed(s, T)) for n, b, s, T in items]
+        ps = [(n, b, placed(s, T)) for n, b, s, T, _ in items]
         found = sum(
             itf.common_volume_mm3(p[2], q[2]) > itf.OVERLAP_MIN_MM3
             for i, p in enumerate(ps)

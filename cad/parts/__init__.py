@@ -46,6 +46,9 @@ class PartKind:
         seat's link); roles ``"self"`` or ``"other"`` (the joint's other link).
     listed : False for solids that are part of another bought item (the motor shaft): no
         files, no BOM line.
+    hull : a solid enclosing ``shape`` (a bearing's d..D x B ring around its rings and balls),
+        intersected first by the same-body check: only where it shares volume with another
+        part is the detailed ``shape`` intersected too. None: ``shape`` itself.
     fits : ISO 286 tolerance classes of its seats and bores (``"bearing seat 16 J7"``), for
         the BOM, report.json and the DXF notes.
     revolution : the collision solid(s) are solids of revolution about the part's z axis
@@ -67,6 +70,7 @@ class PartKind:
     listed: bool = True
     revolution: bool = False
     fits: tuple[str, ...] = ()
+    hull: Any = None
 
 
 @dataclass(frozen=True)
