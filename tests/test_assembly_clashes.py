@@ -21,7 +21,7 @@ import pytest
 from step_pairs import clashes
 
 ROOT = Path(__file__).resolve().parents[1]
-CASES = Path("/work/shared/cases/assembly-clashes")
+CASES = ROOT / "tests" / "cases" / "assembly-clashes"  # copied from ../shared (CI has none)
 FOURBAR_DESIGNS = (
     "hoeken",
     "roberts",
