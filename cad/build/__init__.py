@@ -198,8 +198,7 @@ def build_design(
         )
     if set(formats) & {"glb", "3mf"} and not getattr(mod, "VIEW_EXPORT", False):
         raise DesignError(
-            "--formats",
-            f"glb/3mf export is available for four-bar designs, not {design.family!r} yet",
+            "--formats", f"glb/3mf export is not available for {design.family!r} designs"
         )
     from cad.export.manifest import write_manifest
     from cad.parts.lazy_import import import_build123d
