@@ -217,6 +217,17 @@ def build_assembly(
             other=low,
             tf_other=translation(px, py, s.z_upper_mm),
         )
+        if parts.pin_sleeve_material is not None:
+            slk = kind(
+                f"sleeve_{_fmt(pin.ds_mm)}x{_fmt(brg.d_mm)}x{_fmt(brg.B_mm)}",
+                lambda: joints.ring_shape(pin.ds_mm / 2, brg.d_mm / 2, brg.B_mm),
+                material=parts.pin_sleeve_material,
+                made=True,
+                revolution=True,
+                description=f"sleeve {_fmt(brg.d_mm)}/{_fmt(pin.ds_mm)} x {_fmt(brg.B_mm)} mm in the bearing bore",
+                process="turned",
+            )
+            place(f"sleeve_{j}", slk, low, translation(px, py, s.z_upper_mm))
         spk = kind(
             f"spacer_d{_fmt(sp_od)}_h{_fmt(s.spacer_mm)}",
             lambda s=s: joints.ring_shape(pin.ds_mm / 2, sp_od / 2, s.spacer_mm),
