@@ -333,7 +333,9 @@ def _pin_kind(b: _Builder, L: float) -> PartKind:
 
 
 def _joint_hardware(b: _Builder) -> None:
-    """Bearing, spacers, shoulder screw and (between links) washer + nut at A2, A3, A4."""
+    """Bearing, (sleeve,) spacers, shoulder screw and (between links) washer + nut at A2, A3, A4."""
+    from cad.parts import joints
+
     parts, J = b.parts, b.J
     t = parts.bar_thickness_mm
     brg = cat.get_bearing(parts.bearing)
@@ -352,6 +354,17 @@ def _joint_hardware(b: _Builder) -> None:
             other=low,
             tf_other=translation(px, py, s.z_upper_mm),
         )
+        if parts.pin_sleeve_material is not None:
+            slk = b.kind(
+                f"sleeve_{_fmt(pin.ds_mm)}x{_fmt(brg.d_mm)}x{_fmt(brg.B_mm)}",
+                lambda: joints.ring_shape(pin.ds_mm / 2, brg.d_mm / 2, brg.B_mm),
+                material=parts.pin_sleeve_material,
+                made=True,
+                revolution=True,
+                description=f"sleeve {_fmt(brg.d_mm)}/{_fmt(pin.ds_mm)} x {_fmt(brg.B_mm)} mm in the bearing bore",
+                process="turned",
+            )
+            b.place(f"sleeve_{j}", slk, low, translation(px, py, s.z_upper_mm))
         b.place(
             f"gap_spacer_{j}",
             _spacer_kind(b, "gap", s.spacer_mm),
