@@ -201,6 +201,9 @@ def build_design(
             "--formats",
             f"glb/3mf export is available for four-bar designs, not {design.family!r} yet",
         )
+    check_buildable = getattr(design, "check_buildable", None)
+    if check_buildable is not None:  # links shorter than their joint hardware, before any CAD
+        check_buildable()
     from cad.export.manifest import write_manifest
     from cad.parts.lazy_import import import_build123d
 
