@@ -288,6 +288,12 @@ BAD_FLAGS: dict[tuple[str, str], list[str]] = {
     ("tolerance", "--samples"): ["1", "1000000000"],
     ("tolerance", "--angles"): ["2", "10000000"],
     ("tolerance", "--seed"): ["-1"],
+    ("wall", "--K-N-per-m"): ["0", "-1", "nan", "1e9"],
+    ("wall", "--B-N-s-per-m"): ["inf", "1e5"],
+    ("wall", "--Te-s"): ["0.33", "0", "nan"],
+    ("wall", "--encoder-counts-per-rev"): ["0", "2000000000"],
+    ("wall", "--model"): ["ode"],
+    ("wall", "--build-dir"): ["/dev/null/x"],
     ("tolerance", "--target"): ["stroke_mm=1e300"],
     ("tolerance", "--inertia"): ["", "H11=297,H12=322,H22=1170,H33=709"],
     ("tolerance", "--out"): ["/dev/null/x", H],
@@ -317,6 +323,7 @@ BASE = {
     "swap": ["swap", H, "--to", "roberts"], "check": ["check", H], "fit": ["fit", H],
     "massprops": ["massprops", STL], "voicecoil": list(VC), "gii": ["gii", P],
     "optimize": ["optimize", P], "bench": ["bench"], "tolerance": ["tolerance", H],
+    "wall": ["wall", H],
     "render": ["render", H], "sweep": ["sweep", H],
 }
 CASES_FLAGS = [(c, f, v) for (c, f), vals in BAD_FLAGS.items() for v in vals]
