@@ -94,7 +94,9 @@ def check(design, targets: tuple[str, ...] | list[str] = (), fidelity: str = "in
     if four_bar:
         from cad.build.inertia import target_values
 
-        values, report = target_values(design, fidelity, "min_clearance_mm" in wanted)
+        build_keys = {"min_clearance_mm", "first_mode_Hz", "max_stress_MPa",
+                      "compliance_x_um_per_N", "compliance_z_um_per_N"}
+        values, report = target_values(design, fidelity, bool(wanted & build_keys))
     else:
         values, report = _pantograph_values(design, fidelity, wanted)
     rows = evaluate(merged, values)

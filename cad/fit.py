@@ -9,7 +9,9 @@ Each free parameter is searched in turn (coordinate descent, at most two sweeps)
   value closest to the start and its infeasible neighbour finds the smallest
   change that still meets them; otherwise golden-section search around the best
   grid value minimizes the violation.
-- choice (materials, ``bar_pockets``): every candidate is evaluated.
+- choice (materials, ``bar_pockets``, and ``bar_thickness_mm``, picked from the stock
+  thicknesses of the bar material, :data:`cad.codesign.search.STOCK_THICKNESS_MM`, nearest
+  to the start first): every candidate is evaluated.
 
 Every evaluation rebuilds the parts and integrates them exactly
 (:func:`cad.build.inertia.inertia_model`); a parameter value for which the parts
@@ -97,6 +99,8 @@ def parse_free(spec: str, parts_spec) -> FreeParam:
         return FreeParam(key, "choice", choices=MATERIAL_CHOICES)
     if isinstance(current, bool):
         return FreeParam(key, "choice", choices=(True, False))
+    if name == "bar_thickness_mm":
+        return _stock_thickness(spec, key, rng, parts_spec)
     if not isinstance(current, (int, float)) or current is None:
         raise DesignError(f"--free {spec}", f"{name} is not a numeric, material or boolean parameter")
     lo, hi = current * NUMERIC_DEFAULT_SPAN[0], current * NUMERIC_DEFAULT_SPAN[1]
@@ -115,6 +119,35 @@ def parse_free(spec: str, parts_spec) -> FreeParam:
                 check_number(f"--free {key}", x, bound)
         lo, hi = a, b
     return FreeParam(key, "numeric", lo=lo, hi=hi)
+
+
+def _stock_thickness(spec: str, key: str, rng: str, parts_spec) -> FreeParam:
+    """Plate thickness: a choice among the stock thicknesses of the bar material
+    (:data:`cad.codesign.search.STOCK_THICKNESS_MM`) inside LO:HI (default 0.5x..1.5x the
+    current value), nearest to the current value first (ties go to the smallest change)."""
+    from cad.codesign.search import STOCK_THICKNESS_MM
+
+    cur = parts_spec.bar_thickness_mm
+    stock = STOCK_THICKNESS_MM.get(parts_spec.bar_material, STOCK_THICKNESS_MM["aluminium-6061"])
+    lo, hi = cur * NUMERIC_DEFAULT_SPAN[0], cur * NUMERIC_DEFAULT_SPAN[1]
+    if rng:
+        try:
+            lo, hi = (float(x) for x in rng.split(":"))
+        except ValueError:
+            raise DesignError(f"--free {spec}", "range must be LO:HI (numbers)") from None
+        if not (0 < lo < hi):
+            raise DesignError(f"--free {spec}", f"need 0 < LO < HI, got {lo}:{hi}")
+        from cad.design.bounds import FIELDS, check_number
+
+        bound = FIELDS.get(key)
+        if bound is not None:
+            for x in (lo, hi):
+                check_number(f"--free {key}", x, bound)
+    inside = sorted((t for t in stock if lo - 1e-9 <= t <= hi + 1e-9), key=lambda t: (abs(t - cur), t))
+    if not inside:
+        raise DesignError(f"--free {spec}", f"no stock {parts_spec.bar_material} thickness in {lo:g}..{hi:g} mm "
+                                            f"(stock: {', '.join(f'{t:g}' for t in stock)} mm)")
+    return FreeParam(key, "choice", lo=lo, hi=hi, choices=tuple(inside))
 
 
 def fit(raw: dict, source: str, targets: tuple[Target, ...], free: list[FreeParam],

@@ -4,3 +4,33 @@ from hypothesis import settings
 
 settings.register_profile("ci", deadline=None, derandomize=True, max_examples=60)
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
+
+
+import pytest  # noqa: E402
+
+#: Bundled designs of the non-four-bar families (tests/test_family_builds.py and others).
+FAMILY_DESIGNS = {
+    "pantograph": "pantograph.toml",
+    "twin-pantograph": "haptic_mouse.toml",
+    "powermouse": "powermouse.toml",
+}
+
+
+@pytest.fixture(scope="session")
+def family_builds(tmp_path_factory):
+    """One build per non-four-bar family, shared by the test modules: ``{family: (design,
+    out_dir, report)}`` at the cheap ``inertia`` fidelity (plain bearing rings, 12 PowerMouse
+    poses), every format."""
+    from pathlib import Path
+
+    from cad.build import build_design
+    from cad.design import load_design
+
+    root = Path(__file__).resolve().parents[1]
+    out = {}
+    for fam, fn in FAMILY_DESIGNS.items():
+        d = load_design(root / "designs" / fn)
+        target = tmp_path_factory.mktemp(fam) / "out"
+        rep = build_design(d, target, {"step", "stl", "dxf"}, fidelity="inertia", use_cache=False)
+        out[fam] = (d, target, rep)
+    return out

@@ -294,6 +294,10 @@ BAD_FLAGS: dict[tuple[str, str], list[str]] = {
     ("gii", None): [],
     ("optimize", "--method"): ["random"],
     ("optimize", "--out"): ["/dev/null/x", FOLDER],
+    ("optimize", "--objective"): ["fastest"],
+    ("optimize", "--trials"): ["0", "1000000"],
+    ("optimize", "--seed"): ["-1"],
+    ("optimize", "--exact-top"): ["0", "51"],
     ("bench", "--only"): ["everything"],
     ("bench", "--out"): ["/dev/null/x"],
 }

@@ -248,3 +248,5 @@ def test_cli_builds_the_other_families(tmp_path, design):
     assert "built" in out
     assert (tmp_path / "o" / "report.json").exists()
     assert (tmp_path / "o" / "manifest.json").exists()
+    page = (tmp_path / "o" / "report.html").read_text()  # every family has its page
+    assert "Bill of materials" in page and "<h2>Checks</h2>" in page

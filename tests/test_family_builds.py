@@ -5,7 +5,7 @@ XCAF reader and every pair of its parts is intersected (``tests/step_pairs.py``,
 volume > 1e-3 mm^3 is a clash); the twin pantograph's solids are compared with the bench
 plane (the bottom of its legs); the layout, BOM and manifest are read from the files.
 One build per family at the cheap ``inertia`` fidelity (plain bearing rings: the check is
-the same, the bearing is one part either way), STEP only.
+the same, the bearing is one part either way), shared through ``conftest.family_builds``.
 """
 
 from __future__ import annotations
@@ -19,8 +19,6 @@ from pathlib import Path
 import pytest
 from step_pairs import clashes, read_parts
 
-from cad.design import load_design
-
 ROOT = Path(__file__).resolve().parents[1]
 FAMILIES = {
     "pantograph": "pantograph.toml",
@@ -31,16 +29,14 @@ LAYOUT = ("assembly.step", "bom.csv", "report.json", "report.md", "preview.png",
 
 
 @pytest.fixture(scope="module")
-def builds(tmp_path_factory):
-    from cad.build import build_design
+def builds(family_builds):
+    return family_builds
 
-    out = {}
-    for fam, fn in FAMILIES.items():
-        d = load_design(ROOT / "designs" / fn)
-        target = tmp_path_factory.mktemp(fam) / "out"
-        rep = build_design(d, target, {"step"}, fidelity="inertia", use_cache=False)
-        out[fam] = (d, target, rep)
-    return out
+
+@pytest.fixture(scope="module")
+def step_parts(builds):
+    """``{family: [(part name, [solids])]}`` read back from each assembly.step."""
+    return {fam: read_parts(out / "assembly.step") for fam, (_, out, _) in builds.items()}
 
 
 @pytest.mark.parametrize("fam", list(FAMILIES))
@@ -63,22 +59,21 @@ def test_every_family_writes_the_same_layout(builds, fam):
 
 
 @pytest.mark.parametrize("fam", list(FAMILIES))
-def test_assembly_step_read_back_has_no_overlapping_pair(builds, fam):
+def test_assembly_step_read_back_has_no_overlapping_pair(builds, step_parts, fam):
     _, out, rep = builds[fam]
-    parts = read_parts(out / "assembly.step")
-    assert len(parts) == rep["interference"]["parts"]  # every instance is in the file
+    assert len(step_parts[fam]) == rep["interference"]["parts"]  # every instance is in the file
     assert clashes(out / "assembly.step") == []
     assert rep["overlap_volume_mm3"] == 0.0
 
 
-def test_twin_pantograph_stands_on_the_bench(builds):
+def test_twin_pantograph_stands_on_the_bench(builds, step_parts):
     """No solid of the mouse (read back from assembly.step) lies below the legs' feet."""
     from OCP.Bnd import Bnd_Box
     from OCP.BRepBndLib import BRepBndLib
 
     _, out, rep = builds["twin-pantograph"]
     zmin = {}
-    for name, solids in read_parts(out / "assembly.step"):
+    for name, solids in step_parts["twin-pantograph"]:
         b = Bnd_Box()
         for s in solids:
             BRepBndLib.AddOptimal_s(s, b, False)
@@ -109,11 +104,11 @@ def test_pantograph_5bar_builds_its_parts(builds):
     assert m[0][1] == pytest.approx(m[1][0], rel=1e-12) and m[0][0] > 0 and m[1][1] > 0
 
 
-def test_powermouse_can_be_put_together(builds):
+def test_powermouse_can_be_put_together(builds, step_parts):
     """Open flotor and housing boxes with lids; the core (with its magnets) passes the flotor
     opening; the post is its own part in a bore; the test rig lives in rig/."""
     d, out, rep = builds["powermouse"]
-    names = {n for n, _ in read_parts(out / "assembly.step")}
+    names = {n for n, _ in step_parts["powermouse"]}
     assert {"flotor_body", "flotor_lid", "housing_body", "housing_lid", "post", "core"} <= names
     assert not any(n.startswith(("act_", "rig_")) for n in names)
     g = rep["geometry_mm"]

@@ -8,7 +8,7 @@ import math
 
 import pytest
 
-from cad.design import load_design, parse_design
+from cad.design import parse_design
 from cad.design.fields import load_toml
 from cad.errors import InterferenceError
 
@@ -16,16 +16,9 @@ DESIGN = "designs/haptic_mouse.toml"
 
 
 @pytest.fixture(scope="module")
-def built(tmp_path_factory):
-    from pathlib import Path
-
-    from cad.build import build_design
-
-    root = Path(__file__).resolve().parents[1]
-    out = tmp_path_factory.mktemp("mouse") / "out"
-    design = load_design(root / DESIGN)
-    rep = build_design(design, out, {"step", "stl", "dxf"}, fidelity="preview", use_cache=False)
-    return design, out, rep
+def built(family_builds):
+    """The shared mouse build (conftest.family_builds: inertia fidelity, every format)."""
+    return family_builds["twin-pantograph"]
 
 
 def test_files_manifest_and_bom(built):

@@ -192,12 +192,8 @@ def test_clearances_match_analytic_values(solids):
 # ------------------------------------------------------------------ build
 
 
-def test_build_report_and_exports(tmp_path):
-    from cad.build import build_design
-
-    d = load_design(DESIGN_PATH)
-    out = tmp_path / "pm"
-    rep = build_design(d, out, {"step"}, fidelity="preview", use_cache=False)
+def test_build_report_and_exports(family_builds):
+    d, out, rep = family_builds["powermouse"]
     sv = np.array(rep["wrench_map_singular_values"])
     np.testing.assert_allclose(sv[:3], sv[0], rtol=1e-12)
     np.testing.assert_allclose(sv[3:], sv[3], rtol=1e-12)

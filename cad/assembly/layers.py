@@ -31,6 +31,7 @@ catalog length falls in the window the shim is lengthened.
 
 from __future__ import annotations
 
+import hashlib
 import itertools
 from dataclasses import dataclass
 
@@ -183,16 +184,34 @@ def planar_clearances(elements, tf_world_body) -> list[tuple[float, Element, Ele
     """(min planar clearance over the poses, element a, element b) for every pair of elements
     of different bodies whose z intervals overlap."""
     out = []
-    wp = [world_points(e, tf_world_body) for e in elements]
+    digest = {k: hashlib.sha256(np.ascontiguousarray(T, dtype=float).tobytes()).hexdigest()
+              for k, T in tf_world_body.items()}
+    wp: dict[int, np.ndarray] = {}
     for i, j in itertools.combinations(range(len(elements)), 2):
         a, b = elements[i], elements[j]
         if a.body == b.body:
             continue
         if min(a.z_mm[1], b.z_mm[1]) - max(a.z_mm[0], b.z_mm[0]) <= 1e-9:
             continue
-        d = hull_distance(wp[i], wp[j]) - a.radius_mm - b.radius_mm
-        out.append((float(d.min()), a, b))
+        key = (digest[a.body], np.asarray(a.points_mm, dtype=float).tobytes(),
+               digest[b.body], np.asarray(b.points_mm, dtype=float).tobytes())
+        h = _HULL_MEMO.get(key)
+        if h is None:
+            for k in (i, j):
+                if k not in wp:
+                    wp[k] = world_points(elements[k], tf_world_body)
+            h = float(hull_distance(wp[i], wp[j]).min())
+            if len(_HULL_MEMO) > 4096:
+                _HULL_MEMO.clear()
+            _HULL_MEMO[key] = h
+        out.append((h - a.radius_mm - b.radius_mm, a, b))
     return out
+
+
+#: min over the poses of the planar hull distance of two outlines, by (motion, outline):
+#: it does not depend on the layer heights, so the layer orders tried by
+#: :func:`choose_layers` and a re-evaluation with another bar thickness reuse it.
+_HULL_MEMO: dict[tuple, float] = {}
 
 
 # --------------------------------------------------------------------------- stack

@@ -133,9 +133,31 @@ def separated_boxes(box_a, Ta, box_b, Tb, eps_mm: float = 1e-9) -> bool:
     return False
 
 
-def _contact_or_overlap(a, b, box_a, Ta, box_b, Tb) -> float:
+def inside_void(box_b, Tb, voids_a, Ta, eps_mm: float = 1e-9) -> bool:
+    """True when the box ``box_b`` placed by ``Tb`` lies inside one of the boxes ``voids_a``
+    ((2, 3) each, in the frame of part a, placed by ``Ta``) that part a leaves empty (the
+    cavity of a shell): then the two share no volume (touching allowed)."""
+    if not voids_a:
+        return False
+    c = _box_corners_world(box_b, Tb)
+    Ti = np.linalg.inv(Ta)
+    local = c @ Ti[:3, :3].T + Ti[:3, 3]
+    return any(
+        bool(
+            np.all(local >= np.asarray(v)[0] - eps_mm)
+            and np.all(local <= np.asarray(v)[1] + eps_mm)
+        )
+        for v in voids_a
+    )
+
+
+def _contact_or_overlap(a, b, box_a, Ta, box_b, Tb, voids_a=(), voids_b=()) -> float:
     """0 for touching solids, minus the cube root of the common volume for overlapping ones."""
-    if separated_boxes(box_a, Ta, box_b, Tb):
+    if (
+        separated_boxes(box_a, Ta, box_b, Tb)
+        or inside_void(box_b, Tb, voids_a, Ta)
+        or inside_void(box_a, Ta, voids_b, Tb)
+    ):
         return 0.0
     vol = common_volume_mm3(a, b)
     return -(vol ** (1 / 3)) if vol > 1e-6 else 0.0
@@ -171,15 +193,18 @@ def _body_distance(pa, pb, T: np.ndarray) -> float:
 
 
 def pose_clearances(
-    moving, fixed, poses, *, mesh_tol_mm: float = 0.05, groups=None
+    moving, fixed, poses, *, mesh_tol_mm: float = 0.05, groups=None, near_mm: float | None = None
 ) -> dict[str, tuple[float, str, bool]]:
     """Smallest distance between the moving and the fixed solids at each rigid pose.
 
-    moving, fixed : ``[(name, TopoDS_Shape in the part frame, tf_body_part 4x4)]`` (the
-        moving body's frame / the world frame).
+    moving, fixed : ``[(name, TopoDS_Shape in the part frame, tf_body_part 4x4[, voids])]``
+        (the moving body's frame / the world frame); ``voids``: boxes ((2, 3), part frame)
+        the part leaves empty, e.g. the cavity of a shell.
     poses : ``[(label, 4x4 tf_world_moving)]``.
     groups : ``label -> group key`` (default: first character); the closest pose of each
         group is measured exactly whatever its distance.
+    near_mm : poses whose mesh distance is below this are measured exactly (default
+        ``2 mesh_tol_mm + MARGIN_MM``; ``inf``: every pose, the reference of the bench).
 
     Method: fcl mesh distance of every part pair at every pose (pairs ordered by box gap);
     at a pose within ``2 tol + margin`` of contact (or the closest of its group), every
@@ -195,13 +220,17 @@ def pose_clearances(
     from cad.assembly import interference as itf
     from cad.export.shapes import placed
 
-    pm = itf.prepare([(n, "m", s, T) for n, s, T in moving], mesh_tol_mm)
-    pf = itf.prepare([(n, "f", s, T) for n, s, T in fixed], mesh_tol_mm)
+    pm = itf.prepare([(it[0], "m", it[1], it[2]) for it in moving], mesh_tol_mm)
+    pf = itf.prepare([(it[0], "f", it[1], it[2]) for it in fixed], mesh_tol_mm)
     pa, pb = pm.bodies["m"], pf.bodies["f"]
-    la = [(exact_box(s), np.asarray(T, float)) for _, s, T in moving]
-    lb = [(exact_box(s), np.asarray(T, float)) for _, s, T in fixed]
+    la = [
+        (exact_box(it[1]), np.asarray(it[2], float), it[3] if len(it) > 3 else ()) for it in moving
+    ]
+    lb = [
+        (exact_box(it[1]), np.asarray(it[2], float), it[3] if len(it) > 3 else ()) for it in fixed
+    ]
     eye = np.eye(4)
-    near_mm = 2 * mesh_tol_mm + MARGIN_MM
+    near_mm = 2 * mesh_tol_mm + MARGIN_MM if near_mm is None else near_mm
     _BVH.clear()
     fast = {label: _body_distance(pa, pb, np.asarray(T, float)) for label, T in poses}
     group = groups or (lambda s: s[:1])
@@ -218,7 +247,7 @@ def pose_clearances(
         if d > near_mm and label not in closest.values():
             out[label] = (float(d), "", False)
             continue
-        within = max(near_mm, d + near_mm)
+        within = d + 2 * mesh_tol_mm + MARGIN_MM  # pairs that may hold the minimum
         best = (np.inf, "")
         for i, p in enumerate(pa):
             wa = _world_box(p.aabb_mm, T)
@@ -235,7 +264,7 @@ def pose_clearances(
                     de = float(ext.Value()) if ext.IsDone() else np.inf
                 if de <= itf.CONTACT_MM:
                     de = _contact_or_overlap(
-                        sa, q.shape, la[i][0], T @ la[i][1], lb[j][0], lb[j][1]
+                        sa, q.shape, la[i][0], T @ la[i][1], lb[j][0], lb[j][1], la[i][2], lb[j][2]
                     )
                 if de < best[0]:
                     best = (de, f"{p.name}/{q.name}")

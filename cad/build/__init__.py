@@ -12,6 +12,9 @@ the part files, ``bom.csv`` and the preview into it and returns the report dict.
 dispatcher adds ``build`` metadata, writes ``report.json`` and ``manifest.json``. A
 builder may put wall times under ``"_timings_s"``: they are returned (as
 ``timings_s``) but kept out of ``report.json`` so that the file is deterministic.
+A builder may put the bytes of its assembly's ``.glb`` under ``"_viewer_glb"``
+(:func:`cad.build.views.write_views`): the dispatcher embeds them in ``report.html``
+(:mod:`cad.report.html`, written for every family, after ``report.json``).
 ``progress`` (may be None) is called as ``progress(description, done, total)``.
 A builder may expose ``check_options(design, fidelity, phi1_deg, formats)`` raising DesignError for
 a combination it cannot build; the dispatcher calls it before any CAD import.
@@ -48,6 +51,7 @@ from cad.io.outdir import check_out_dir
 Progress = Callable[[str, int, int], None]
 FIDELITIES = ("fabrication", "inertia", "preview")
 REPORT_NAME = "report.json"
+HTML_NAME = "report.html"
 #: Bump when the cache key payload changes shape.
 CACHE_SCHEMA = 1
 
@@ -206,6 +210,11 @@ def build_design(
             f"mjcf/urdf export is available for four-bar and twin-pantograph designs, "
             f"not {design.family!r}",
         )
+    if set(formats) & {"glb", "3mf"} and not getattr(mod, "VIEW_EXPORT", False):
+        raise DesignError(
+            "--formats",
+            f"glb/3mf export is available for four-bar designs, not {design.family!r} yet",
+        )
     from cad.export.manifest import write_manifest
     from cad.parts.lazy_import import import_build123d
 
@@ -222,15 +231,20 @@ def build_design(
         )
         report = dict(report)
         timings = report.pop("_timings_s", None)
+        viewer_glb = report.pop("_viewer_glb", None)
+        if isinstance(report.get("files"), list):
+            report["files"] = sorted({*report["files"], HTML_NAME})
         report["build"] = {
             "formats": sorted(formats),
             "fidelity": fidelity,
             "allow_interference": bool(allow_interference),
             "build_key": key,
         }
-        write_text_atomic(
-            tmp / REPORT_NAME, json.dumps(_jsonable(report), indent=2, sort_keys=True) + "\n"
-        )
+        doc = _jsonable(report)
+        write_text_atomic(tmp / REPORT_NAME, json.dumps(doc, indent=2, sort_keys=True) + "\n")
+        from cad.report.html import write_report_html
+
+        write_report_html(doc, tmp, viewer_glb)
         write_manifest(tmp, {"build_key": key})
     report["cached"] = False
     if timings is not None:

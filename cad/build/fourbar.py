@@ -14,11 +14,12 @@ Pipeline (``hapticad build designs/hoeken.toml``):
 5. interference sweep (:mod:`cad.assembly.interference`): an
    :class:`cad.errors.InterferenceError` unless ``allow_interference``;
 6. exports into ``out_dir``: ``parts/<part>.step|.stl|.dxf``, ``assembly.step``,
-   ``bom.csv``, ``preview.png``, ``report.md`` (the dispatcher adds ``report.json`` and
-   ``manifest.json``).
+   ``assembly.glb`` and ``parts.3mf`` when asked, ``bom.csv``, ``preview.png``,
+   ``animation.gif`` + ``render.png`` (:mod:`cad.build.views`), ``report.md`` (the
+   dispatcher adds ``report.json``, ``report.html`` and ``manifest.json``).
 
-Once the parts exist, the part files + assembly STEP and the preview are written by two
-forked child processes while this process does steps 4-5 (:mod:`cad.build.forked`; serial
+Once the parts exist, the part files + assembly STEP, the preview and the viewer files
+(glb, GIF, still) are written by three forked child processes while this process does steps 4-5 (:mod:`cad.build.forked`; serial
 where forking is off, same bytes either way).
 
 Fidelity (issue 7): ``fabrication`` -- every feature, bd_warehouse bearings with balls,
@@ -61,6 +62,8 @@ CODE_DEPS = (
 PREVIEW_POSES = 24
 #: This builder writes the simulator formats (mjcf, urdf; :mod:`cad.build.sim_fourbar`).
 SIM_EXPORT = True
+#: This builder writes glb and 3mf (:mod:`cad.build.views`).
+VIEW_EXPORT = True
 PREVIEW_STL_TOL_MM = 0.1
 LINKS = ("crank", "coupler", "rocker")
 BODY_COLORS = {"ground": "#9aa0a6", "crank": "#d9534f", "coupler": "#337ab7", "rocker": "#5cb85c"}
@@ -85,7 +88,7 @@ def sweep_angles(design, n: int) -> np.ndarray:
 
 def _kind_props(kind):
     """MassProps of a part kind in its own frame (SI), or None when it carries no mass."""
-    from cad.massprops.occt import solid_mass_props
+    from cad.massprops.occt import cached_solid_mass_props
     from cad.massprops.props import from_principal
     from cad.materials import get_material
     from cad.parts.catalog import ring_inertia_kg_m2
@@ -98,7 +101,7 @@ def _kind_props(kind):
         return from_principal(
             kind.mass_kg, np.array([0.0, 0.0, b / 2 * 1e-3]), np.array([it, it, ia])
         )
-    props = solid_mass_props(kind.shape, get_material(kind.material).density_kg_m3)
+    props = cached_solid_mass_props(kind.shape, get_material(kind.material).density_kg_m3)
     if kind.mass_kg is not None:
         props = props.scaled(kind.mass_kg / props.mass_kg)
     return props
@@ -268,6 +271,14 @@ def _write_exports(
             name=f"{name}_assembly",
         )
         files.append("assembly.step")
+    if "3mf" in formats:
+        from cad.build.views import write_parts_3mf
+
+        files.append(
+            write_parts_3mf(
+                asm.instances, out_dir, title=name, tolerance_mm=stl_tol, angular_tolerance_rad=ang
+            )
+        )
     return files
 
 
@@ -406,11 +417,33 @@ def build(
             out_dir / "preview.png",
             f"{design.name}: {design.family}, phi1 = {math.degrees(pose_phi):.1f} deg",
         )
+        # the paper's plots from the solids: coupler curve, y deviation and torque over the
+        # stroke, M11 / M12 / M22 over x (Fig. 6) with H from the parts
+        from cad.report.fourbar import plot_apparent_mass, plot_kinematics
+
+        plot_kinematics(design, out_dir / "kinematics.png")
+        plot_apparent_mass(design, H, out_dir / "apparent_mass.png")
         return time.perf_counter() - t
 
+    def views_stage() -> tuple[list[str], bytes, float]:
+        from cad.build.views import STROKE_POSES, write_views
+
+        t = time.perf_counter()
+        stroke = body_transforms(fb, sweep_angles(design, STROKE_POSES))
+        files, glb = write_views(
+            asm.instances,
+            {b: v[0] for b, v in tf_pose.items()},
+            stroke,
+            out_dir,
+            formats,
+            name=design.name,
+            title=f"{design.name} ({design.family})",
+        )
+        return files, glb, time.perf_counter() - t
+
     exports_task = forked.start(exports_stage, "exports")
-    preview_task = forked.start(preview_stage, "preview")
-    with forked.cancel_on_error(exports_task, preview_task):
+    views_task = forked.start(views_stage, "views")
+    with forked.cancel_on_error(exports_task, views_task):
         # 4 mass properties and dynamics
         _step(progress, "mass properties", 2, n_steps)
         t1 = time.perf_counter()
@@ -428,6 +461,10 @@ def build(
             design, asm, props, link_props, Jm, H, am, fidelity, user_handle is not None, plan
         )
         timings["massprops"] = time.perf_counter() - t1
+
+    # the preview and the paper's plots (which need H) in a second child, beside the sweep
+    preview_task = forked.start(preview_stage, "preview")
+    with forked.cancel_on_error(exports_task, views_task, preview_task):
         from cad.structure.device import structure_of_build
 
         structure = structure_of_build(design, asm, props, am["M11_max_g"])
@@ -481,15 +518,7 @@ def build(
         files += _write_sim(design, asm, link_props, Jm, motor, pose_phi, out_dir, formats)
         _step(progress, "preview", 6, n_steps)
         timings["preview"] = preview_task.result()
-
-    # the paper's plots from the solids: coupler curve, y deviation and torque over the stroke,
-    # M11 / M12 / M22 over x (Fig. 6) with H from the parts
-    t1 = time.perf_counter()
-    from cad.report.fourbar import plot_apparent_mass, plot_kinematics
-
-    plot_kinematics(design, out_dir / "kinematics.png")
-    plot_apparent_mass(design, H, out_dir / "apparent_mass.png")
-    timings["plots"] = time.perf_counter() - t1
+        view_files, viewer_glb, timings["views"] = views_task.result()
 
     # report
     _step(progress, "report", 7, n_steps)
@@ -559,7 +588,11 @@ def build(
         "fidelity_costs": fidelity_costs,
         "handle": "user script " + script.name if script is not None else "built-in knob",
         "parts_spec": parts.as_dict(),
-        "files": sorted(files + ["bom.csv", "preview.png", "report.md", "kinematics.png", "apparent_mass.png"]),
+        "files": sorted(
+            files
+            + view_files
+            + ["bom.csv", "preview.png", "report.md", "kinematics.png", "apparent_mass.png"]
+        ),
         "preview": "preview.png",
     }
     from cad.io.atomic import write_text_atomic
@@ -567,6 +600,7 @@ def build(
     write_text_atomic(out_dir / "report.md", _markdown(report))
     timings["total_build"] = time.perf_counter() - t0
     report["_timings_s"] = timings  # popped by the CLI before writing (non-deterministic)
+    report["_viewer_glb"] = viewer_glb  # popped by the dispatcher: embedded in report.html
     return report
 
 

@@ -151,6 +151,7 @@ def inertia_model(design, fidelity: str = "inertia", samples: int = 401) -> dict
         "M11_mid_g": float(M[i_mid, 0, 0] * 1e3), "M11_worst_g": float(M[i_worst, 0, 0] * 1e3),
         "worst_phi1_deg": float(np.degrees(phi[i_worst])),
         "D_check_kg_m2": float(D[i_worst]),
+        "D_min_kg_m2": float(D.min()), "D_max_kg_m2": float(D.max()),
         "links": {k: {"mass_g": link_props[k].mass_kg * 1e3,
                       "com_link_mm": (link_props[k].com_m * 1e3).tolist(),
                       "Izz_com_kg_m2": float(link_props[k].inertia_com_kg_m2[2, 2]),
@@ -162,7 +163,8 @@ def inertia_model(design, fidelity: str = "inertia", samples: int = 401) -> dict
 
 
 def target_values(design, fidelity: str, need_clearance: bool) -> tuple[dict, dict]:
-    """(flat values for targets, inertia model report) of a four-bar design."""
+    """(flat values for targets, inertia model report) of a four-bar design. ``need_clearance``:
+    also build (no exports) for the interference sweep and the ``structure`` entry."""
     import tempfile
     from pathlib import Path
 
@@ -181,4 +183,5 @@ def target_values(design, fidelity: str, need_clearance: bool) -> tuple[dict, di
                                allow_interference=True, use_cache=False)
         report["min_clearance_mm"] = rep["min_clearance_mm"]
         report["overlap_volume_mm3"] = rep["overlap_volume_mm3"]
+        report["structure"] = rep.get("structure")
     return values_from_report(report), report

@@ -924,7 +924,7 @@ def build(
     :data:`MIN_CLEARANCE_MM` anywhere in the workspace, or two solids share volume at the
     home pose, unless allow_interference; GeometryError if a solid reaches below the bench.
     """
-    from cad.build import family
+    from cad.build import family, forked
     from cad.errors import GeometryError
 
     check_options(design, fidelity, phi1_deg, formats)
@@ -958,34 +958,42 @@ def build(
     bodies = family.body_props(instances, props, [b for b in tfs if b != "ground"])
     eff, eff_bare = _effective_mass(design, bodies, home)
 
-    _step(progress, "every pair of solids at home", 3, total)
-    itf = family.check_assembly(instances, tfs)
-    if itf["collisions"] and not allow_interference:
-        c = itf["collisions"][0]
-        raise InterferenceError(
-            f"{c['parts'][0]} / {c['parts'][1]} overlap {c['overlap_volume_mm3']:.3f} mm^3 at the "
-            f"home pose; {len(itf['collisions'])} overlapping pair(s) (use --allow-interference)"
-        )
-    low, low_part = family.lowest_z_mm(instances, tfs)
-    if low < lay["bench_z_mm"] - 1e-6:
-        raise GeometryError(
-            f"{low_part} reaches z = {low:.2f} mm, below the bench plane at {lay['bench_z_mm']:.2f} mm"
-        )
-
-    _step(progress, "exports", 4, total)
+    # the files are written by a forked child while this process checks the solids
+    # (cad.build.forked; serial where forking is off)
     bom = family.bom_rows(instances, props)
     title = f"{design.name}: {design.family} at home {home.round(2).tolist()} mm"
-    files = family.write_outputs(
-        instances,
-        tfs,
-        out_dir,
-        formats,
-        name=design.name,
-        title=title,
-        bom=bom,
-        marks=[("workspace", _square(design.workspace))],
-    )
 
+    def exports() -> list[str]:
+        return family.write_outputs(
+            instances,
+            tfs,
+            out_dir,
+            formats,
+            name=design.name,
+            title=title,
+            bom=bom,
+            marks=[("workspace", _square(design.workspace))],
+        )
+
+    task = forked.start(exports, "exports")
+    with forked.cancel_on_error(task):
+        _step(progress, "every pair of solids at home", 3, total)
+        itf = family.check_assembly(instances, tfs)
+        if itf["collisions"] and not allow_interference:
+            c = itf["collisions"][0]
+            raise InterferenceError(
+                f"{c['parts'][0]} / {c['parts'][1]} overlap {c['overlap_volume_mm3']:.3f} mm^3 "
+                f"at the home pose; {len(itf['collisions'])} overlapping pair(s) "
+                "(use --allow-interference)"
+            )
+        low, low_part = family.lowest_z_mm(instances, tfs)
+        if low < lay["bench_z_mm"] - 1e-6:
+            raise GeometryError(
+                f"{low_part} reaches z = {low:.2f} mm, below the bench plane at "
+                f"{lay['bench_z_mm']:.2f} mm"
+            )
+        _step(progress, "exports", 4, total)
+        files = task.result()
     if _twin(design):
         files += _write_sim(design, out_dir, formats, instances, bodies, lay, home)
 

@@ -340,7 +340,7 @@ def build(
     allow_interference.
     """
     from cad.actuators import powermouse as pm
-    from cad.build import family
+    from cad.build import family, forked
     from cad.parts import powermouse as pp
     from cad.parts import voicecoil as pv
 
@@ -377,38 +377,22 @@ def build(
     iso = pm.isotropy(W)
     W_com = pm.wrench_map(coils, gain_per_At, about_mm=flotor_mp.com_m * 1e3)
 
-    _step(progress, "every pair at the centre, flotor over the motion range", 3, total)
-    itf = family.check_assembly(inst, tfs)
-    cl = _motion(design, g, inst, fidelity)
-    _raise_on_overlap(design, itf, cl, allow_interference)
-
-    _step(progress, "exports", 4, total)
+    # the files (parts, assembly STEP, BOM, preview, rig, Fig. 8) are written by a forked child
+    # while this process checks the solids (cad.build.forked; serial where forking is off)
     bom = family.bom_rows(inst, props)
-    files = family.write_outputs(
-        inst,
-        tfs,
-        out_dir,
-        formats,
-        name=design.name,
-        title=f"{design.name}: PowerMouse at the centre pose",
-        bom=bom,
-    )
-    rig_props = family.kind_props(rig)
-    rig_bom = family.bom_rows(rig, rig_props)
-    files += [
-        "rig/" + f
-        for f in family.write_outputs(
-            rig,
-            {"rig": np.eye(4)},
-            out_dir / "rig",
-            formats,
-            name=f"{design.name}_rig",
-            title="single-actuator test rig (Fig. 7), not part of the device",
-            bom=rig_bom,
-            preview=False,
-        )
-    ]
-    files += _fig8_chart(design, gap, out_dir)
+    rig_bom = family.bom_rows(rig, family.kind_props(rig))
+
+    def exports() -> list[str]:
+        return _write_files(design, inst, tfs, rig, bom, rig_bom, out_dir, formats, gap)
+
+    task = forked.start(exports, "exports")
+    with forked.cancel_on_error(task):
+        _step(progress, "every pair at the centre, flotor over the motion range", 3, total)
+        itf = family.check_assembly(inst, tfs)
+        cl = _motion(design, g, inst, fidelity)
+        _raise_on_overlap(design, itf, cl, allow_interference)
+        _step(progress, "exports", 4, total)
+        files = task.result()
 
     _step(progress, "report", 5, total)
     rep = _report(
@@ -433,6 +417,35 @@ def build(
     family.write_report_md(out_dir, f"{design.name} (powermouse)", _md_rows(rep), bom, rep["notes"])
     _step(progress, "done", total, total)
     return rep
+
+
+def _write_files(design, inst, tfs, rig, bom, rig_bom, out_dir, formats, gap) -> list[str]:
+    """Part files, assembly STEP, BOM and preview of the device; the rig in ``rig/``; Fig. 8."""
+    from cad.build import family
+
+    files = family.write_outputs(
+        inst,
+        tfs,
+        out_dir,
+        formats,
+        name=design.name,
+        title=f"{design.name}: PowerMouse at the centre pose",
+        bom=bom,
+    )
+    files += [
+        "rig/" + f
+        for f in family.write_outputs(
+            rig,
+            {"rig": np.eye(4)},
+            out_dir / "rig",
+            formats,
+            name=f"{design.name}_rig",
+            title="single-actuator test rig (Fig. 7), not part of the device",
+            bom=rig_bom,
+            preview=False,
+        )
+    ]
+    return files + _fig8_chart(design, gap, out_dir)
 
 
 def _motion(design, g, inst, fidelity):

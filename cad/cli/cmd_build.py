@@ -62,7 +62,9 @@ def register(app: typer.Typer) -> None:
         design: Path = typer.Argument(..., help="TOML design file"),
         out: Path = typer.Option(None, "--out", help="output folder (default exports/<name>/)"),
         formats: str = typer.Option(
-            "step,stl,dxf", "--formats", help="comma list of step, stl, dxf, mjcf, urdf (mjcf/urdf also write the STL meshes)"
+            "step,stl,dxf",
+            "--formats",
+            help="comma list of step, stl, dxf, mjcf, urdf, glb, 3mf (mjcf/urdf also write the STL meshes)",
         ),
         fidelity: str = typer.Option(
             None, "--fidelity", help="fabrication | inertia | preview (default: [parts].fidelity)"

@@ -1,8 +1,12 @@
-"""``hapticad optimize DESIGN --method culling|brute [--json]``: maximize the GII.
+"""``hapticad optimize DESIGN``: maximize the GII (pantographs) or minimize the apparent mass (four-bars).
 
-Isotropy paper eq (6) over the design's ``[optimize]`` candidate grid; culling
-(Stocco, Salcudean & Sassani 1998) returns the brute-force optimum exactly
-while evaluating far fewer Jacobians.
+Pantograph families: ``--method culling|brute``, isotropy paper eq (6) over the design's
+``[optimize]`` candidate grid; culling (Stocco, Salcudean & Sassani 1998) returns the
+brute-force optimum exactly while evaluating far fewer Jacobians.
+
+Four-bar families: ``--objective min-apparent-mass [--trials N] [--seed S] [--exact-top K]``,
+the co-design search of :mod:`cad.codesign` (optuna on the cheap mass model, the best K
+candidates re-evaluated on the exact solids with interference and structure).
 """
 
 from __future__ import annotations
@@ -12,6 +16,7 @@ from pathlib import Path
 import typer
 
 from cad.cli.app import print_json
+from cad.cli.families import FOUR_BARS as FOURBAR_FAMILIES
 
 
 def optimize_report(design, method: str) -> dict:
@@ -67,15 +72,73 @@ def write_optimum(design, rep: dict, out: Path, command: str) -> bool:
     return replaced
 
 
+
+
+def _fourbar(d, path: Path, objective: str, trials: int, seed: int, top: int, out: Path | None,
+             json_out: bool) -> None:
+    """The four-bar co-design path (module docstring); exit 1 when no candidate is accepted."""
+    import sys
+
+    from cad.codesign import exact
+    from cad.codesign.report import optimize_fourbar
+
+    def progress(msg):
+        print(f"hapticad: {msg}", file=sys.stderr)
+
+    chart_dir = out.parent if out is not None else None  # <out stem>_pareto.png/.svg beside --out
+    rep, best = optimize_fourbar(d, objective, trials, seed, top, chart_dir, progress,
+                                 out.stem if out is not None else None)
+    cmd = (f"hapticad optimize {path} --objective {objective} --trials {trials} --seed {seed} "
+           f"--exact-top {top}" + (f" --out {out}" if out is not None else ""))
+    rep["command"] = cmd
+    if out is not None and best is not None:
+        ex = rep["best"]["exact"]
+        exact.write_optimum(d, best, out, f"Optimum of `{cmd}`\nexact solids: M11 {ex['M11_min_g']:.2f}-"
+                            f"{ex['M11_max_g']:.2f} g, cheap model {rep['best']['cheap']['M11_max_g']:.2f} g "
+                            f"({100 * ex['cheap_error_rel']:+.1f} %), first mode "
+                            f"{ex['structure']['first_mode_Hz']:.0f} Hz, min clearance {ex['min_clearance_mm']:.2f} mm")
+        rep["out"] = str(out)
+    if json_out:
+        print_json(rep)
+    else:
+        _print_fourbar(rep)
+    if best is None:
+        raise typer.Exit(1)
+
+
+def _print_fourbar(rep: dict) -> None:
+    print(f"{rep['design']}: {rep['objective']}, {rep['trials']} trials ({rep['feasible_trials']} feasible), "
+          f"{rep['library']}")
+    b = rep["best"]
+    if b is None:
+        print("  no candidate passed interference and the structural limits on the exact solids")
+        return
+    ex = b["exact"]
+    print(f"  M11 {ex['M11_min_g']:.2f} .. {ex['M11_max_g']:.2f} g on the solids "
+          f"(cheap model {b['cheap']['M11_max_g']:.2f} g, error {100 * ex['cheap_error_rel']:+.1f} %)")
+    print(f"  joints {b['parts']['bearing']} + {b['parts']['pin']} ({b['parts']['pin_material']}), bars "
+          f"{b['parts']['bar_material']} {b['parts']['bar_thickness_mm']:g} x {b['parts']['bar_width_mm']:g} mm, "
+          f"motor {b['parts']['motor']}")
+    print(f"  crank {b['mechanism']['phi1_min_deg']:.1f} .. {b['mechanism']['phi1_max_deg']:.1f} deg, "
+          f"dy_max {ex['dy_max_mm']:.3f} mm, torque variation {ex['torque_variation']:.4f}, "
+          f"first mode {ex['structure']['first_mode_Hz']:.0f} Hz, min clearance {ex['min_clearance_mm']:.2f} mm")
+    if rep.get("out"):
+        print(f"  wrote {rep['out']}")
+
+
 def register(app: typer.Typer) -> None:
     @app.command("optimize")
     def optimize_cmd(
         design: Path = typer.Argument(..., help="Design TOML with an [optimize] table."),
-        method: str = typer.Option("culling", "--method", help="culling or brute."),
+        method: str = typer.Option("culling", "--method", help="culling or brute (pantographs)."),
+        objective: str = typer.Option(None, "--objective", help="min-apparent-mass (four-bars)."),
+        trials: int = typer.Option(300, "--trials", help="optuna trials on the cheap model (four-bars)."),
+        seed: int = typer.Option(0, "--seed", help="sampler seed (four-bars)."),
+        exact_top: int = typer.Option(3, "--exact-top", help="candidates re-evaluated on the solids."),
         out: Path = typer.Option(None, "--out", help="Write the optimum as a new design (TOML)."),
         json_out: bool = typer.Option(False, "--json", help="Print one JSON object."),
     ) -> None:
-        """Maximize the GII over the [optimize] candidate grid (culling or brute force)."""
+        """Maximize the GII (pantographs) or minimize the apparent mass (four-bars)."""
         from cad.cli import flags
         from cad.cli.cmd_gii import load_pantograph_design
         from cad.errors import DesignError
@@ -83,6 +146,20 @@ def register(app: typer.Typer) -> None:
         flags.out_path("--out", out, folder=False)
         if method not in ("culling", "brute"):
             raise DesignError("--method", f"must be 'culling' or 'brute', got {method!r}")
+        flags.choice("--objective", objective, ("min-apparent-mass",))
+        flags.number("--trials", trials)
+        flags.number("--seed", seed)
+        flags.number("--exact-top", exact_top)
+        from cad.design import load_design
+
+        loaded = load_design(design)
+        if getattr(loaded, "family", None) in FOURBAR_FAMILIES:
+            _fourbar(loaded, design, objective or "min-apparent-mass", trials, seed, exact_top, out,
+                     json_out)
+            return
+        if objective is not None:
+            raise DesignError("--objective", f"min-apparent-mass is for four-bar designs, not "
+                                             f"{loaded.family!r} (use --method)")
         d = load_pantograph_design(design)
         rep = optimize_report(d, method)
         if out is not None:

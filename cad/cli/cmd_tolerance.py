@@ -51,7 +51,7 @@ def register(app: typer.Typer) -> None:
         samples: int = typer.Option(10000, "--samples", help="Monte Carlo samples (100 .. 2e6)"),
         angles: int = typer.Option(401, "--angles", help="crank angles per sample (extrema are refined)"),
         seed: int = typer.Option(0, "--seed", help="random seed"),
-        target: list[str] = typer.Option(None, "--target", help="KEY=VALUE, KEY<=V, KEY>=V; repeatable (adds to [targets])"),
+        target: list[str] = typer.Option(None, "--target", help="KEY=VALUE, KEY<=V, KEY>=V; repeatable (added to the design's targets)"),
         inertia: str = typer.Option(None, "--inertia", help="H11=..,H12=..,H22=..,H33=.. (kg.m^2) for M11"),
         out: Path = typer.Option(None, "--out", help="write tolerance.json and tolerance.png here"),
         json_out: bool = typer.Option(False, "--json", help="print one JSON object"),
@@ -65,7 +65,7 @@ def register(app: typer.Typer) -> None:
         from cad.design.fourbar import FourBarDesign
         from cad.design.targets import parse_cli_target
         from cad.errors import DesignError
-        from cad.io.owned import check_out_dir
+        from cad.io.outdir import check_out_dir
         from cad.tolerance_study import inertia_for_m11, run, tolerances_from_flags, write_chart
 
         for flag, value in (("--hole-mm", hole_mm), ("--pivot-mm", pivot_mm),
@@ -81,7 +81,7 @@ def register(app: typer.Typer) -> None:
         cli = tuple(parse_cli_target(t) for t in (target or []))
         H = parse_inertia_option(inertia) if inertia is not None else None
         if out is not None:
-            check_out_dir(out, OWNED)
+            check_out_dir(out, str(design))  # only a folder hapticad wrote
         d = load_design(design)
         if not isinstance(d, FourBarDesign):
             raise DesignError("mechanism.family", "tolerance works on four-bar designs")
@@ -95,7 +95,10 @@ def register(app: typer.Typer) -> None:
             out.mkdir(parents=True, exist_ok=True)
             write_chart(res, m, targets, out / "tolerance.png")
             write_text_atomic(out / "tolerance.json", json.dumps(res, indent=1))
-            res["files"] = [str(out / n) for n in OWNED]
+            from cad.export.manifest import write_manifest
+
+            write_manifest(out)
+            res["files"] = [str(out / n) for n in (*OWNED, "manifest.json")]
         if json_out:
             print_json(res, indent=1)
         else:

@@ -21,8 +21,9 @@ COMMAND_FAMILIES: dict[str, tuple[str, ...]] = {
     "fit": FOUR_BARS,
     "build": FOUR_BARS + ("pantograph", "twin-pantograph", "powermouse"),
     "gii": PANTOGRAPHS,
-    "optimize": PANTOGRAPHS,
+    "optimize": FOUR_BARS + PANTOGRAPHS,
     "tolerance": FOUR_BARS,
+    "render": FOUR_BARS,
 }
 
 

@@ -339,6 +339,8 @@ FLAGS: dict[str, Bound] = {
     "--pivot-mm": TOL_MM,
     "--length-mm": TOL_MM,
     "--seed": SEED,
+    "--trials": Bound("", 1, 100000, "1 to 1e5 optuna trials", integer=True),
+    "--exact-top": Bound("", 1, 50, "1 to 50 exact re-evaluations (each is a build)", integer=True),
 }
 
 

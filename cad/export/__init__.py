@@ -25,8 +25,10 @@ from cad.io.atomic import write_bytes_atomic, write_text_atomic
 FORMATS = ("step", "stl", "dxf")
 #: Every format ``--formats`` accepts: the default three plus the simulator models
 #: (``mjcf``, ``urdf``: :mod:`cad.export.sim`; they reference the part STL files, so
-#: asking for one of them writes the STL files too).
-KNOWN_FORMATS = (*FORMATS, "mjcf", "urdf")
+#: asking for one of them writes the STL files too), glb = the posed assembly (binary
+#: glTF, metres, with the stroke animation, :mod:`cad.export.gltf`) and 3mf = the made
+#: parts for a slicer (:mod:`cad.export.threemf`).
+KNOWN_FORMATS = (*FORMATS, "mjcf", "urdf", "glb", "3mf")
 #: Default absolute chordal deflection of exported STL (mm) and angular deflection (rad).
 STL_TOLERANCE_MM = 0.01
 STL_ANGULAR_TOLERANCE_RAD = math.radians(15.0)
@@ -47,7 +49,8 @@ __all__ = [
 
 
 def parse_formats(text: str | None, field: str = "--formats") -> set[str]:
-    """``"step,stl"`` -> ``{"step", "stl"}``; unknown names are a DesignError."""
+    """``"step,stl"`` -> ``{"step", "stl"}``; None -> :data:`FORMATS`; unknown names are a
+    DesignError."""
     if text is None:
         return set(FORMATS)
     out = {t.strip().lower() for t in text.split(",") if t.strip()}

@@ -22,6 +22,8 @@ for the benchmark only.
 
 from __future__ import annotations
 
+from collections import OrderedDict
+
 import numpy as np
 
 from cad.errors import GeometryError
@@ -220,3 +222,30 @@ def solids(shape) -> list:
         out.append(TopoDS.Solid_s(exp.Current()))
         exp.Next()
     return out
+
+
+#: Unit-density integrals of the last shapes integrated by :func:`cached_solid_mass_props`,
+#: by object identity (each entry holds its shape, so the id cannot be reused while cached).
+PROPS_MEMO_MAX = 512
+_PROPS_MEMO: OrderedDict = OrderedDict()
+
+
+def cached_solid_mass_props(shape, density_kg_m3: float) -> MassProps:
+    """:func:`solid_mass_props` (validated, exact), remembered per shape object.
+
+    Part solids come from :mod:`cad.parts.part_cache` as the same objects for the same
+    parameters, and hapticad never modifies an OCCT shape in place, so a repeated
+    evaluation (``fit``, ``sweep``) validates and integrates only the parts that changed;
+    the density is applied afterwards (a material change integrates nothing).
+    """
+    hit = _PROPS_MEMO.get(id(shape))
+    if hit is not None and hit[0] is shape:
+        _PROPS_MEMO.move_to_end(id(shape))
+        vol, com, inertia = hit[1]
+    else:
+        check_valid(shape)
+        vol, com, inertia = volume_props_mm(shape)
+        _PROPS_MEMO[id(shape)] = (shape, (vol, com, inertia))
+        while len(_PROPS_MEMO) > PROPS_MEMO_MAX:
+            _PROPS_MEMO.popitem(last=False)
+    return _to_si(vol, com, inertia, density_kg_m3)

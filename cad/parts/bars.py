@@ -35,6 +35,7 @@ import numpy as np
 
 from cad.design.parts import PartsSpec
 from cad.errors import GeometryError
+from cad.parts.part_cache import part_cached
 
 
 @dataclass(frozen=True)
@@ -181,25 +182,58 @@ def pocket_segments(
     return out
 
 
+@part_cached
 def bar_shape(joints: dict[str, tuple[np.ndarray, Feature]], parts: PartsSpec):
     """The bar solid (TopoDS_Shape) in its link frame, z from 0 to ``bar_thickness_mm``.
 
-    ``joints``: name -> (xy in the link frame (mm), :class:`Feature`).
+    ``joints``: name -> (xy in the link frame (mm), :class:`Feature`). The 2-D profile
+    (outline, holes, pockets) does not depend on the thickness and is reused across
+    thickness changes (:func:`bar_profile`); only the extrusion and the counterbores are redone.
     """
-    from build123d import Align, Cylinder, Polygon, Pos, extrude
+    from build123d import Align, Cylinder, Pos, extrude
 
-    t = parts.bar_thickness_mm
-    r = parts.bar_end_radius_mm
-    w = parts.bar_width_mm
+    sk = bar_profile(joints, parts.bar_width_mm, parts.bar_end_radius_mm, parts.bar_pockets,
+                     parts.bar_pocket_web_mm, parts.bar_pocket_min_length_mm)
+    solid = extrude(sk, amount=parts.bar_thickness_mm)
+    cbs = [Pos(float(p[0]), float(p[1]), 0)
+           * Cylinder(f.cb_d_mm / 2, f.cb_depth_mm, align=(Align.CENTER, Align.CENTER, Align.MIN))
+           for p, f in joints.values() if f.cb_depth_mm > 0]
+    if cbs:
+        solid = solid.cut(*cbs)  # one boolean for every counterbore
+    sols = solid.solids()
+    if len(sols) != 1:
+        raise GeometryError(f"bar came out as {len(sols)} solids (pockets or holes cut it apart)")
+    return sols[0].wrapped
+
+
+_PROFILES: dict[str, object] = {}
+
+
+def bar_profile(joints: dict[str, tuple[np.ndarray, Feature]], width_mm: float, end_radius_mm: float,
+                pockets: bool, pocket_web_mm: float, pocket_min_length_mm: float):
+    """The bar's 2-D profile (build123d Sketch, link frame): outline minus holes and pockets.
+
+    Remembered in this process by its arguments (a few dozen at most per run).
+    """
+    import json
+
+    from build123d import Polygon
+
+    from cad.parts.part_cache import canonical
+
+    key = json.dumps(canonical([joints, width_mm, end_radius_mm, pockets, pocket_web_mm,
+                                pocket_min_length_mm]), sort_keys=True)
+    if key in _PROFILES:
+        return _PROFILES[key]
     pts = np.array([p for p, _ in joints.values()], dtype=float)
     h = hull_points(pts)
     sk = None
     for p in pts:
-        c = _circle(p, r)
+        c = _circle(p, end_radius_mm)
         sk = c if sk is None else sk + c
     if len(h) >= 2:
         for i in range(len(h) if len(h) == 3 else 1):
-            sk = sk + _strip(h[i], h[(i + 1) % len(h)], w)
+            sk = sk + _strip(h[i], h[(i + 1) % len(h)], width_mm)
     if len(h) == 3:
         sk = sk + Polygon(*[(float(x), float(y)) for x, y in h], align=None)
     for p, f in joints.values():
@@ -210,16 +244,20 @@ def bar_shape(joints: dict[str, tuple[np.ndarray, Feature]], parts: PartsSpec):
                 a = math.radians(90.0 + 360.0 * k / f.bolt_count)
                 q = p + 0.5 * f.bolt_circle_mm * np.array([math.cos(a), math.sin(a)])
                 sk = sk - _circle(q, f.bolt_hole_mm / 2)
-    for a, b, wp in pocket_segments(joints, parts):
+    spec = _PocketSpec(width_mm, pockets, pocket_web_mm, pocket_min_length_mm)
+    for a, b, wp in pocket_segments(joints, spec):
         sk = sk - _slot(a, b, wp)
-    solid = extrude(sk, amount=t)
-    for p, f in joints.values():
-        if f.cb_depth_mm > 0:
-            cb = Pos(float(p[0]), float(p[1]), 0) * Cylinder(
-                f.cb_d_mm / 2, f.cb_depth_mm, align=(Align.CENTER, Align.CENTER, Align.MIN)
-            )
-            solid = solid - cb
-    sols = solid.solids()
-    if len(sols) != 1:
-        raise GeometryError(f"bar came out as {len(sols)} solids (pockets or holes cut it apart)")
-    return sols[0].wrapped
+    if len(_PROFILES) > 64:
+        _PROFILES.clear()
+    _PROFILES[key] = sk
+    return sk
+
+
+@dataclass(frozen=True)
+class _PocketSpec:
+    """The PartsSpec fields :func:`pocket_segments` reads."""
+
+    bar_width_mm: float
+    bar_pockets: bool
+    bar_pocket_web_mm: float
+    bar_pocket_min_length_mm: float

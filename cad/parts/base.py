@@ -12,6 +12,7 @@ turned standoffs under the corners, long enough to clear the motor.
 from __future__ import annotations
 
 from cad.parts.catalog import clearance_hole_mm, tap_drill_mm
+from cad.parts.part_cache import part_cached
 
 #: Legs: diameter, corner inset of their axis from the plate edges, free space under the motor (mm).
 LEG_DIAMETER_MM = 12.0
@@ -46,6 +47,7 @@ def leg_xy_mm(rect) -> list[tuple[float, float]]:
     return [(xmin + i, ymin + i), (xmax - i, ymin + i), (xmax - i, ymax - i), (xmin + i, ymax - i)]
 
 
+@part_cached
 def base_plate_shape(
     rect,
     thickness_mm: float,
@@ -69,6 +71,7 @@ def base_plate_shape(
     return (Pos(0, 0, -thickness_mm) * extrude(sk, amount=thickness_mm)).solids()[0].wrapped
 
 
+@part_cached
 def post_shape(
     diameter_mm: float,
     height_mm: float,
@@ -82,25 +85,25 @@ def post_shape(
     from build123d import Cylinder, Pos
 
     a = _a()
-    p = Cylinder(diameter_mm / 2, height_mm, align=a)
     top = height_mm - bore_depth_mm
-    p = p - Pos(0, 0, top) * Cylinder(bore_d_mm / 2, bore_depth_mm, align=a)
+    tools = [Pos(0, 0, top) * Cylinder(bore_d_mm / 2, bore_depth_mm, align=a)]
     td = min(thread_depth_mm, top - STANDOFF_TAP_DEPTH_MM - 1.0)
     if td > 0:
-        p = p - Pos(0, 0, top - td) * Cylinder(tap_drill_mm(thread) / 2, td, align=a)
-    p = p - Cylinder(tap_drill_mm(bottom_screw) / 2, STANDOFF_TAP_DEPTH_MM, align=a)
+        tools.append(Pos(0, 0, top - td) * Cylinder(tap_drill_mm(thread) / 2, td, align=a))
+    tools.append(Cylinder(tap_drill_mm(bottom_screw) / 2, STANDOFF_TAP_DEPTH_MM, align=a))
+    p = Cylinder(diameter_mm / 2, height_mm, align=a).cut(*tools)  # one boolean, all tools
     return p.solids()[0].wrapped
 
 
+@part_cached
 def leg_shape(height_mm: float):
     """Leg standoff, z 0..height, tapped at both ends."""
     from build123d import Cylinder, Pos
 
     a = _a()
     d = tap_drill_mm(LEG_SCREW) / 2
-    leg = Cylinder(LEG_DIAMETER_MM / 2, height_mm, align=a)
-    leg = leg - Cylinder(d, STANDOFF_TAP_DEPTH_MM, align=a)
-    leg = leg - Pos(0, 0, height_mm - STANDOFF_TAP_DEPTH_MM) * Cylinder(
-        d, STANDOFF_TAP_DEPTH_MM, align=a
+    leg = Cylinder(LEG_DIAMETER_MM / 2, height_mm, align=a).cut(
+        Cylinder(d, STANDOFF_TAP_DEPTH_MM, align=a),
+        Pos(0, 0, height_mm - STANDOFF_TAP_DEPTH_MM) * Cylinder(d, STANDOFF_TAP_DEPTH_MM, align=a),
     )
     return leg.solids()[0].wrapped

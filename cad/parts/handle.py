@@ -31,6 +31,7 @@ from pathlib import Path
 
 from cad.errors import DesignError
 from cad.parts.catalog import clearance_hole_mm, get_cap_screw
+from cad.parts.part_cache import part_cached
 
 
 def handle_params(parts, floor_mm: float) -> dict:
@@ -44,6 +45,7 @@ def handle_params(parts, floor_mm: float) -> dict:
     }
 
 
+@part_cached
 def knob_shape(parts, floor_mm: float, cosmetic: bool = True):
     """Built-in knob (module docstring); ``cosmetic=False`` drops the top round."""
     from build123d import Align, Axis, Cylinder, Pos, fillet
@@ -54,8 +56,8 @@ def knob_shape(parts, floor_mm: float, cosmetic: bool = True):
     k = Cylinder(p["diameter_mm"] / 2, h, align=a)
     if cosmetic and parts.handle_fillet_mm > 0:
         k = fillet(k.edges().group_by(Axis.Z)[-1], parts.handle_fillet_mm)
-    k = k - Cylinder(p["screw_clearance_mm"] / 2, h, align=a)
-    k = k - Pos(0, 0, floor_mm) * Cylinder(p["counterbore_mm"] / 2, h - floor_mm, align=a)
+    k = k.cut(Cylinder(p["screw_clearance_mm"] / 2, h, align=a),
+              Pos(0, 0, floor_mm) * Cylinder(p["counterbore_mm"] / 2, h - floor_mm, align=a))
     return k.solids()[0].wrapped
 
 

@@ -16,6 +16,7 @@ from __future__ import annotations
 import math
 
 from cad.parts.catalog import MotorSpec, clearance_hole_mm, tap_drill_mm
+from cad.parts.part_cache import part_cached
 
 #: Axial gap between the motor's pilot face and where the shaft envelope starts (mm):
 #: the real shaft leaves the front bearing boss; the envelope only needs to be apart
@@ -35,6 +36,7 @@ def _a():
     return (Align.CENTER, Align.CENTER, Align.MIN)
 
 
+@part_cached
 def motor_housing_shape(m: MotorSpec):
     """Housing + pilot of the motor: z from -body_length to pilot_height (mounting face z = 0)."""
     from build123d import Cylinder, Pos
@@ -46,6 +48,7 @@ def motor_housing_shape(m: MotorSpec):
     return (body + pilot).solids()[0].wrapped
 
 
+@part_cached
 def motor_shaft_shape(m: MotorSpec):
     """Output shaft from the pilot face (+ gap) to ``shaft_length_mm`` above the mounting face."""
     from build123d import Cylinder, Pos
@@ -78,6 +81,7 @@ def motor_bolt_xy_mm(m: MotorSpec) -> list[tuple[float, float]]:
     ]
 
 
+@part_cached
 def motor_mount_shape(m: MotorSpec, thickness_mm: float):
     """Motor mount plate: pilot bore, motor bolt-circle clearance holes, 4 corner holes
     (clearance for the screws that fix it under the base plate); z 0..thickness."""
@@ -92,6 +96,7 @@ def motor_mount_shape(m: MotorSpec, thickness_mm: float):
     return extrude(sk, amount=thickness_mm).solids()[0].wrapped
 
 
+@part_cached
 def hub_shape(
     m: MotorSpec,
     diameter_mm: float,
@@ -106,21 +111,15 @@ def hub_shape(
     from build123d import Cylinder, Pos, Rot
 
     a = _a()
-    hub = Cylinder(diameter_mm / 2, height_mm, align=a) - Cylinder(
-        m.shaft_diameter_mm / 2, height_mm, align=a
-    )
+    tools = [Cylinder(m.shaft_diameter_mm / 2, height_mm, align=a)]
     r = bolt_circle_mm / 2
     d = tap_drill_mm(screw)
     for k in range(3):
         ang = math.radians(90 + 120 * k)
-        hub = hub - Pos(
-            r * math.cos(ang), r * math.sin(ang), height_mm - screw_depth_mm
-        ) * Cylinder(d / 2, screw_depth_mm, align=a)
+        tools.append(Pos(r * math.cos(ang), r * math.sin(ang), height_mm - screw_depth_mm)
+                     * Cylinder(d / 2, screw_depth_mm, align=a))
     z_set = min(shaft_engaged_mm, height_mm) / 2
-    set_hole = (
-        Pos(0, 0, z_set)
-        * Rot(0, 90, 0)
-        * Cylinder(tap_drill_mm("M3-0.5") / 2, diameter_mm / 2, align=a)
-    )
-    hub = hub - set_hole
+    tools.append(Pos(0, 0, z_set) * Rot(0, 90, 0)
+                 * Cylinder(tap_drill_mm("M3-0.5") / 2, diameter_mm / 2, align=a))
+    hub = Cylinder(diameter_mm / 2, height_mm, align=a).cut(*tools)  # one boolean, all tools
     return hub.solids()[0].wrapped

@@ -304,6 +304,20 @@ class Clearances:
     poses: dict
 
 
+def cavities(g: PowerMouseGeometry) -> dict[str, tuple]:
+    """Boxes ((2, 3), flotor frame, mm) that the shells leave empty: the flotor's and the
+    housing's inner cubes (the split into box and lid does not fill them)."""
+    f = g.flotor_edge_mm / 2 - g.coil_width_mm
+    h = g.housing_inner_half_mm
+    cube = lambda r: (np.array([[-r, -r, -r], [r, r, r]]),)  # noqa: E731
+    return {
+        "flotor_body": cube(f),
+        "flotor_lid": cube(f),
+        "housing_body": cube(h),
+        "housing_lid": cube(h),
+    }
+
+
 def motion_clearances(
     g: PowerMouseGeometry,
     range_mm: float,
@@ -334,14 +348,21 @@ def motion_clearances(
         return getattr(s, "wrapped", s)
 
     todo = pm.workspace_poses(range_mm, range_deg) if poses is None else poses
+    voids = cavities(g)
     tfs = [("centre", np.eye(4))]
     for label, R, t in todo:
         T = np.eye(4)
         T[:3, :3], T[:3, 3] = R, t
         tfs.append((label, T))
     res = pose_clearances(
-        [(k, topo(v[0]), v[2] if len(v) > 2 else np.eye(4)) for k, v in fl.items()],
-        [(k, topo(v[0]), v[2] if len(v) > 2 else np.eye(4)) for k, v in st.items()],
+        [
+            (k, topo(v[0]), v[2] if len(v) > 2 else np.eye(4), voids.get(k, ()))
+            for k, v in fl.items()
+        ],
+        [
+            (k, topo(v[0]), v[2] if len(v) > 2 else np.eye(4), voids.get(k, ()))
+            for k, v in st.items()
+        ],
         tfs,
         mesh_tol_mm=mesh_tol_mm,
     )

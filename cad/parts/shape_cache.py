@@ -17,6 +17,7 @@ Location: ``$HAPTICAD_CACHE_DIR`` or ``~/.cache/hapticad``; set
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import os
 from collections.abc import Callable
@@ -35,6 +36,7 @@ def cache_dir() -> Path | None:
     return base / CACHE_SCHEMA
 
 
+@functools.cache
 def _versions() -> str:
     out = []
     for pkg in ("bd_warehouse", "cadquery-ocp", "cadquery-ocp-novtk"):

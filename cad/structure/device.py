@@ -172,7 +172,7 @@ def build_frame(design, pose_tf: dict, lumped: list[Lumped], bar_mass_kg: dict, 
 
 
 def analyse(design, lumped: list[Lumped], bar_mass_kg: dict, method: str = "beam",
-            M11_max_kg: float | None = None, targets=None) -> dict:
+            M11_max_kg: float | None = None, targets=None, poses: int = POSES) -> dict:
     """The ``structure`` report (module docstring). ``targets``: the design's Target tuple
     (``first_mode_Hz`` min, ``max_stress_MPa`` max override the defaults, :func:`limits`)."""
     from cad.assembly.pose import planar_transforms
@@ -183,12 +183,13 @@ def analyse(design, lumped: list[Lumped], bar_mass_kg: dict, method: str = "beam
         raise ValueError(f"method: must be one of {METHODS}, got {method!r}")
     fb = design.linkage
     ex = path_frame(fb, design.phi1_min_rad, design.phi1_max_rad).x_hat
-    phis = np.linspace(design.phi1_min_rad, design.phi1_max_rad, POSES)
+    phis = (np.linspace(design.phi1_min_rad, design.phi1_max_rad, poses) if poses > 1
+            else np.array([0.5 * (design.phi1_min_rad + design.phi1_max_rad)]))
     tfs = planar_transforms(fb, phis)
     F = design.force_N
     cx = cz = smax = 0.0
     f1 = math.inf
-    for i in range(POSES):
+    for i in range(len(phis)):
         fr, P = build_frame(design, {k: v[i] for k, v in tfs.items()}, lumped, bar_mass_kg, method)
         ux = fr.solve({P: np.r_[ex[0], ex[1], 0, 0, 0, 0]})
         uz = fr.solve({P: np.r_[0, 0, 1.0, 0, 0, 0]})
@@ -206,7 +207,7 @@ def analyse(design, lumped: list[Lumped], bar_mass_kg: dict, method: str = "beam
         "strength_MPa": strength,
         "limits": lim,
         "bearing_radial_stiffness": "not modelled: the catalog (bd_warehouse SKT) gives none; joints rigid",
-        "poses": POSES,
+        "poses": len(phis),
     }
     if M11_max_kg:
         out["handle_mode_x_Hz"] = math.sqrt(1.0 / (cx * M11_max_kg)) / (2 * math.pi)

@@ -1,0 +1,84 @@
+"""Family-neutral pictures and viewer files of a build, all from the one assembly model.
+
+Every builder calls these with its part instances (``name``, ``kind``, ``body``,
+``tf_body_part``) and its body poses (mm, world R0):
+
+* :func:`write_views` -- the ``.glb`` of the posed assembly with the stroke animation
+  (``assembly.glb`` when ``"glb"`` is among the formats; always returned for
+  ``report.html``), ``animation.gif`` (the stroke) and ``render.png`` (the still);
+* :func:`write_parts_3mf` -- ``parts.3mf``, the made parts for a slicer (``"3mf"``).
+
+The viewer meshes are coarser than the STL exports (:data:`VIEW_TOLERANCE_MM`): they are
+only looked at.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+#: Chordal and angular deflection of the viewer meshes (glb, GIF, still).
+VIEW_TOLERANCE_MM = 0.2
+VIEW_ANGULAR_TOLERANCE_RAD = 0.5
+#: Poses of the stroke animation in the glb (the GIF uses at most GIF_POSES of them).
+STROKE_POSES = 24
+GLB_NAME = "assembly.glb"
+THREEMF_NAME = "parts.3mf"
+
+
+def instance_colors(instances) -> dict[str, tuple[float, float, float]]:
+    """``{instance name: rgb}`` as in the glb (:func:`cad.export.gltf.instance_rgb`)."""
+    from cad.export.gltf import body_color_map, instance_rgb
+
+    body_rgb = body_color_map(list(dict.fromkeys(i.body for i in instances)))
+    return {i.name: instance_rgb(i, body_rgb) for i in instances}
+
+
+def write_views(
+    instances,
+    tf_pose: dict[str, np.ndarray],
+    stroke: dict[str, np.ndarray],
+    out_dir: Path,
+    formats: set[str],
+    *,
+    name: str,
+    title: str,
+) -> tuple[list[str], bytes]:
+    """Write the viewer files (module docstring); return ``(files written, glb bytes)``.
+
+    tf_pose : ``{body: (4, 4)}`` the static pose (the assembly STEP's pose), mm.
+    stroke : ``{body: (N, 4, 4)}`` poses over the stroke, mm.
+    """
+    from cad.export.gltf import glb_bytes, kind_meshes
+    from cad.io.atomic import write_bytes_atomic
+    from cad.report.render import write_stroke_pictures
+
+    meshes = kind_meshes(instances, VIEW_TOLERANCE_MM, VIEW_ANGULAR_TOLERANCE_RAD)
+    glb = glb_bytes(instances, tf_pose, meshes, name=name, stroke=stroke)
+    files = []
+    if "glb" in formats:
+        write_bytes_atomic(Path(out_dir) / GLB_NAME, glb)
+        files.append(GLB_NAME)
+    files += write_stroke_pictures(
+        instances, tf_pose, stroke, meshes, instance_colors(instances), out_dir, title=title
+    )
+    return files, glb
+
+
+def write_parts_3mf(
+    instances, out_dir: Path, *, title: str, tolerance_mm: float, angular_tolerance_rad: float
+) -> str:
+    """``parts.3mf`` of the made parts at the STL tolerances; returns its name."""
+    from cad.export.stl import mesh_shape
+    from cad.export.threemf import printable_parts, threemf_bytes
+    from cad.io.atomic import write_bytes_atomic
+
+    meshes = {}
+    for inst in instances:
+        k = inst.kind
+        if k.made and k.listed and k.name not in meshes:
+            meshes[k.name] = mesh_shape(k.shape, tolerance_mm, angular_tolerance_rad)
+    data = threemf_bytes(printable_parts(instances, meshes), title)
+    write_bytes_atomic(Path(out_dir) / THREEMF_NAME, data)
+    return THREEMF_NAME

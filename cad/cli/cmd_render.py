@@ -1,0 +1,68 @@
+"""``hapticad render DESIGN... [--out DIR] [--fidelity F] [--json]``: pictures of devices.
+
+Builds each design into a temporary folder (nothing under ``exports/`` is touched) and
+copies the build's ``render.png`` (shaded still of the assembly) and ``animation.gif``
+(the mechanism over its stroke) to ``DIR/<name>.png`` and ``DIR/<name>.gif``
+(default ``docs/devices``). Every design is loaded and checked before anything is built:
+a design whose family has no render yet is refused with exit 2, nothing written.
+"""
+
+from __future__ import annotations
+
+import json
+import tempfile
+from pathlib import Path
+
+import typer
+
+RENDER_FILES = {"render.png": ".png", "animation.gif": ".gif"}
+
+
+def render_designs(paths: list[Path], out: Path, fidelity: str | None = None) -> list[dict]:
+    """Build each design and copy its pictures to ``out``; returns one dict per design."""
+    import importlib
+
+    from cad.build import FIDELITIES, build_design, builder_module_name
+    from cad.design import load_design
+    from cad.errors import DesignError
+    from cad.io.atomic import write_bytes_atomic
+
+    designs = []
+    for p in paths:
+        d = load_design(p)
+        if not getattr(importlib.import_module(builder_module_name(d)), "VIEW_EXPORT", False):
+            raise DesignError(str(p), f"rendering {d.family!r} designs is not available yet")
+        fid = fidelity or getattr(getattr(d, "parts", None), "fidelity", "fabrication")
+        if fid not in FIDELITIES:
+            raise DesignError("--fidelity", f"must be one of {', '.join(FIDELITIES)}, got {fid!r}")
+        designs.append((p, d, fid))
+    done = []
+    for p, d, fid in designs:
+        with tempfile.TemporaryDirectory(prefix="hapticad-render-") as tmp:
+            build_design(d, Path(tmp) / d.name, set(), fidelity=fid, use_cache=False)
+            row = {"design": str(p), "name": d.name}
+            for src, ext in RENDER_FILES.items():
+                dst = Path(out) / f"{d.name}{ext}"
+                write_bytes_atomic(dst, (Path(tmp) / d.name / src).read_bytes())
+                row[ext[1:]] = str(dst)
+        done.append(row)
+    return done
+
+
+def register(app: typer.Typer) -> None:
+    @app.command("render")
+    def render_cmd(
+        designs: list[Path] = typer.Argument(..., help="TOML design files"),
+        out: Path = typer.Option(Path("docs/devices"), "--out", help="Folder of the pictures"),
+        fidelity: str = typer.Option(
+            None, "--fidelity", help="fabrication | inertia | preview (default: the design's)"
+        ),
+        json_out: bool = typer.Option(False, "--json", help="Print the written files as JSON"),
+    ) -> None:
+        """Shaded picture and stroke GIF of each design, from its build."""
+        rows = render_designs(designs, out, fidelity)
+        if json_out:
+            print(json.dumps(rows, sort_keys=True))
+            return
+        for r in rows:
+            print(f"{r['design']}: wrote {r['png']}, {r['gif']}")

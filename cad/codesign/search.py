@@ -1,0 +1,289 @@
+"""Mixed discrete/continuous search for a light four-bar (optuna TPE), on the cheap model.
+
+Free (per trial):
+
+* kinematics within the family: the crank range (span and centre); the linkage is then
+  scaled so the stroke equals the design's ``stroke_mm`` (the family's proportions kept);
+* joint hardware: a (bearing, pin) pair of :data:`JOINT_SETS` and ``pin_material``;
+* bars: material, a stock thickness of that material (:data:`STOCK_THICKNESS_MM`),
+  width, pockets on/off (end radius: the smallest that holds the bearing seat and hub);
+* handle: material, diameter, height, screw; the motor (:data:`MOTOR_CONTINUOUS_TORQUE_MNM`).
+
+Constraints (a trial violating one is infeasible): ``dy_max_mm`` (design target, default
+0.2), ``min_transmission_angle_deg`` (target, default 40), peak crank torque at
+``force_N`` <= the motor's continuous torque, a valid ``[parts]`` table (bearing fits the
+bar, hub fits the crank end), and the structural limits (first mode, stress: the frame of
+:mod:`cad.structure.device` with FE-calibrated bars at the middle pose, run only for trials
+that would improve the best). Layer order and interference are checked on the exact solids
+(:mod:`cad.codesign.exact`), as are the structure limits again (three poses, the solids' masses).
+
+Why optuna: TPE handles the conditional, mixed categorical/integer/float space (the
+thickness list depends on the material) natively, is seeded (reproducible), keeps every
+trial for the Pareto chart, and is a maintained library already pinned here.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+#: (bearing, pin) pairs whose pin diameter equals the bearing bore (bd_warehouse SKT + pins).
+JOINT_SETS = (
+    ("M3-10-4", "dowel-3"), ("M4-9-2.5", "dowel-4"), ("M4-11-4", "dowel-4"),
+    ("M5-11-3", "dowel-5"), ("M6-13-3.5", "dowel-6"), ("M8-16-4", "dowel-8"),
+    ("M8-16-4", "M6-1"),
+)
+PIN_MATERIALS = ("steel-1018", "aluminium-7075", "titanium-6al4v")
+#: Stock plate thicknesses (mm) a workshop buys: aluminium sheet, carbon-fibre plate,
+#: printed PLA / PETG (any layer multiple, listed at whole mm).
+STOCK_THICKNESS_MM = {
+    "aluminium-6061": (3.0, 4.0, 5.0, 6.0, 8.0),
+    "carbon-fibre": (2.0, 3.0, 4.0, 5.0, 6.0),
+    "pla": (4.0, 5.0, 6.0, 8.0),
+    "petg": (4.0, 5.0, 6.0, 8.0),
+}
+HANDLE_MATERIALS = ("abs", "delrin", "pla")
+HANDLE_SCREWS = ("M3-0.5", "M4-0.7")
+#: Nominal (max. continuous) torque, mN m: maxon catalog values for the lowest-torque
+#: standard windings (RE 35 90 W: 94.6 mN m and up; RE 40 150 W: 170 mN m and up); check the
+#: data sheet of the exact order number.
+MOTOR_CONTINUOUS_TORQUE_MNM = {"maxon-re35": 94.6, "maxon-re40": 170.0}
+#: Starting points enqueued before the TPE search (a workshop's light guesses: the smallest
+#: joint set, carbon-fibre or aluminium plate, a small knob, both motors).
+STARTS = (
+    {"span_deg": 100.0, "shift_deg": 0.0, "joint": 0, "bar_material": "carbon-fibre",
+     "thickness_carbon-fibre": 5.0, "bar_width_mm": 12, "pin_material": "titanium-6al4v",
+     "bar_pockets": True, "handle_material": "abs", "handle_diameter_mm": 14, "handle_height_mm": 16,
+     "handle_screw": "M3-0.5", "motor": "maxon-re40"},
+    {"span_deg": 160.0, "shift_deg": 0.0, "joint": 0, "bar_material": "aluminium-6061",
+     "thickness_aluminium-6061": 5.0, "bar_width_mm": 10, "pin_material": "aluminium-7075",
+     "bar_pockets": True, "handle_material": "abs", "handle_diameter_mm": 14, "handle_height_mm": 16,
+     "handle_screw": "M3-0.5", "motor": "maxon-re35"},
+)
+DEFAULT_DY_MAX_MM = 0.2
+DEFAULT_MU_MIN_DEG = 40.0
+
+
+@dataclass
+class Problem:
+    """What the search keeps fixed: the source design and its requirements."""
+
+    design: object
+    stroke_mm: float
+    dy_max_mm: float
+    mu_min_deg: float
+    base_lo_rad: float
+    base_hi_rad: float
+    fixed_parts: dict = field(default_factory=dict)
+
+
+def problem_from(design) -> Problem:
+    """Requirements from the design's targets (bounds) with the defaults above."""
+    from cad.kinematics.metrics import compute_metrics
+
+    tg = {t.key: t for t in design.targets}
+    m = compute_metrics(design.linkage, design.phi1_min_rad, design.phi1_max_rad, design.force_N,
+                        samples=401, refine=False)
+
+    def bound(key, default, side):
+        t = tg.get(key)
+        if t is None:
+            return default
+        v = getattr(t, side)
+        return v if v is not None else (t.value if t.value is not None else default)
+
+    stroke = tg["stroke_mm"].value if "stroke_mm" in tg and tg["stroke_mm"].value else m.stroke_mm
+    return Problem(design, float(stroke), float(bound("dy_max_mm", DEFAULT_DY_MAX_MM, "max")),
+                   float(bound("min_transmission_angle_deg", DEFAULT_MU_MIN_DEG, "min")),
+                   design.phi1_min_rad, design.phi1_max_rad)
+
+
+def kinematics(pb: Problem, span_deg: float, shift_deg: float):
+    """(linkage scaled to the stroke, lo, hi, metrics) or None when the range fails."""
+    from cad.errors import HapticadError
+    from cad.kinematics.metrics import compute_metrics
+
+    c = 0.5 * (pb.base_lo_rad + pb.base_hi_rad) + math.radians(shift_deg)
+    lo, hi = c - math.radians(span_deg) / 2, c + math.radians(span_deg) / 2
+    fb0 = pb.design.linkage
+    try:
+        m0 = compute_metrics(fb0, lo, hi, pb.design.force_N, samples=201, refine=False)
+        fb = fb0.scaled(pb.stroke_mm / m0.stroke_mm)
+        m = compute_metrics(fb, lo, hi, pb.design.force_N, samples=401, refine=False)
+    except (HapticadError, ValueError, FloatingPointError):
+        return None
+    return fb, lo, hi, m
+
+
+def end_radius_mm(bearing: str, width_mm: float, wall_mm: float, hub_d_mm: float, hub_screw: str) -> float:
+    """Smallest bar end radius (0.5 mm steps) holding the bearing seat and the hub screws."""
+    from cad.parts import catalog as cat
+
+    D = cat.get_bearing(bearing).D_mm
+    r_bc = (3.0 + hub_d_mm / 2) / 2
+    need = max(width_mm / 2, D / 2 + wall_mm, r_bc + cat.clearance_hole_mm(hub_screw) / 2 + 1.0)
+    return math.ceil(need * 2) / 2
+
+
+def suggest_parts(trial, pb: Problem) -> dict:
+    """The [parts] table of one trial (module docstring)."""
+    bearing, pin = JOINT_SETS[trial.suggest_int("joint", 0, len(JOINT_SETS) - 1)]
+    mat = trial.suggest_categorical("bar_material", list(STOCK_THICKNESS_MM))
+    t = trial.suggest_categorical(f"thickness_{mat}", list(STOCK_THICKNESS_MM[mat]))
+    w = float(trial.suggest_int("bar_width_mm", 8, 24, step=2))
+    parts = dict(pb.fixed_parts)
+    parts.update({
+        "bearing": bearing, "pin": pin,
+        "pin_material": trial.suggest_categorical("pin_material", list(PIN_MATERIALS)),
+        "bar_material": mat, "bar_thickness_mm": t, "bar_width_mm": w,
+        "bar_pockets": trial.suggest_categorical("bar_pockets", [True, False]),
+        "handle_material": trial.suggest_categorical("handle_material", list(HANDLE_MATERIALS)),
+        "handle_diameter_mm": float(trial.suggest_int("handle_diameter_mm", 12, 24, step=2)),
+        "handle_height_mm": float(trial.suggest_int("handle_height_mm", 12, 25)),
+        "handle_screw": trial.suggest_categorical("handle_screw", list(HANDLE_SCREWS)),
+        "motor": trial.suggest_categorical("motor", list(MOTOR_CONTINUOUS_TORQUE_MNM)),
+    })
+    hub_d = parts.get("hub_diameter_mm", 20.0)
+    parts["bar_end_radius_mm"] = end_radius_mm(bearing, w, parts.get("bar_min_wall_mm", 2.0), hub_d,
+                                               parts.get("hub_screw", "M3-0.5"))
+    return parts
+
+
+@dataclass(frozen=True)
+class Candidate:
+    """One evaluated trial: the mechanism table, the parts table and the cheap numbers."""
+
+    number: int
+    mechanism: dict
+    parts: dict
+    cheap: dict
+
+
+def evaluate(pb: Problem, span_deg: float, shift_deg: float, parts: dict, best: float | None = None):
+    """Cheap evaluation: (objective M11_max_g or inf, info dict). The beam-frame structure
+    check (FE-calibrated frame, middle pose) runs only when the trial could beat ``best`` (the
+    best feasible M11 so far)."""
+    from cad.codesign import cheap
+    from cad.design.parts import parse_parts
+    from cad.design.writer import custom_mechanism_table
+    from cad.errors import HapticadError
+
+    k = kinematics(pb, span_deg, shift_deg)
+    if k is None:
+        return math.inf, {"infeasible": "crank range"}
+    fb, lo, hi, m = k
+    info = {"stroke_mm": m.stroke_mm, "dy_max_mm": m.dy_max_mm, "torque_variation": m.torque_variation,
+            "torque_max_mNm": m.torque_mean_mNm * (1 + m.torque_variation),
+            "min_transmission_angle_deg": m.min_transmission_angle_deg,
+            "footprint_mm2": float(m.bbox_mm[0] * m.bbox_mm[1])}
+    viol = []
+    if m.dy_max_mm > pb.dy_max_mm:
+        viol.append("dy_max_mm")
+    if m.min_transmission_angle_deg < pb.mu_min_deg:
+        viol.append("min_transmission_angle_deg")
+    if info["torque_max_mNm"] > MOTOR_CONTINUOUS_TORQUE_MNM.get(parts.get("motor", "maxon-re35"), math.inf):
+        viol.append("motor continuous torque")
+    try:
+        ps = parse_parts(parts)
+    except (HapticadError, ValueError) as exc:
+        viol.append(f"parts: {exc}")
+        ps = None
+    info["mechanism"] = custom_mechanism_table(fb, lo, hi, pb.design.force_N)
+    if viol:
+        info["infeasible"] = "; ".join(viol)
+        return math.inf, info
+    d = replace(pb.design, linkage=fb, phi1_min_rad=lo, phi1_max_rad=hi, parts=ps)
+    am = cheap.apparent_mass(d)
+    info.update({"M11_max_g": am["M11_max_g"], "M11_min_g": am["M11_min_g"],
+                 "M11_variation": (am["M11_max_g"] - am["M11_min_g"]) / am["M11_max_g"]})
+    if best is not None and am["M11_max_g"] > best:
+        return am["M11_max_g"], info  # cannot become the optimum: skip the structure check
+    why = layer_problem(d)
+    if why:
+        info["infeasible"] = f"layers: {why}"
+        return math.inf, info
+    st = cheap_structure(d, am["M11_max_g"])
+    info["first_mode_Hz"], info["max_stress_MPa"] = st["first_mode_Hz"], st["max_stress_MPa"]
+    if not st["ok"]:
+        info["infeasible"] = "structure"
+        return math.inf, info
+    return am["M11_max_g"], info
+
+
+def layer_problem(design) -> str | None:
+    """The layer planner's objection to this design (numpy only), or None."""
+    from cad.assembly.layers import choose_layers
+    from cad.assembly.pose import planar_transforms
+    from cad.errors import HapticadError
+    from cad.kinematics.linkgeom import link_joints_mm
+
+    phi = np.linspace(design.phi1_min_rad, design.phi1_max_rad, 24)
+    try:
+        choose_layers(link_joints_mm(design.linkage), design.parts, planar_transforms(design.linkage, phi))
+    except HapticadError as exc:
+        return str(exc)
+    return None
+
+
+def cheap_structure(design, M11_max_g: float) -> dict:
+    """Frame structure with FE-calibrated bars (one pose, the range's middle), cheap masses."""
+    from cad.codesign import cheap
+    from cad.kinematics.linkgeom import link_joints_mm
+    from cad.structure import device
+
+    J = link_joints_mm(design.linkage)
+    parts = design.parts
+    hw = cheap.joint_hardware_kg(parts)
+    lumped = [device.Lumped(lk, tuple(J[lk][j]), hw / 2) for lk, j in
+              (("crank", "A2"), ("coupler", "A2"), ("coupler", "A3"), ("rocker", "A3"), ("rocker", "A4"))]
+    lumped.append(device.Lumped("coupler", tuple(J["coupler"]["P"]), cheap.handle_kg(parts)))
+    bars = {lk: cheap.bar_props(parts, J, lk)[0] for lk in ("crank", "coupler", "rocker")}
+    return device.analyse(design, lumped, bars, "fem", M11_max_g * 1e-3, design.targets, poses=1)
+
+
+def run(pb: Problem, trials: int, seed: int = 0) -> tuple[list[Candidate], list[dict]]:
+    """Run the study; return feasible candidates (best first) and every trial's record."""
+    import optuna
+
+    optuna.logging.set_verbosity(optuna.logging.WARNING)
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # optuna's ExperimentalWarning for multivariate / group TPE
+        sampler = optuna.samplers.TPESampler(seed=seed, multivariate=True, group=True)
+    study = optuna.create_study(direction="minimize", sampler=sampler)
+    records: list[dict] = []
+    cands: list[Candidate] = []
+
+    def objective(trial):
+        span = trial.suggest_float("span_deg", 60.0, 200.0)
+        shift = trial.suggest_float("shift_deg", -40.0, 40.0)
+        parts = suggest_parts(trial, pb)
+        best = min((c.cheap["M11_max_g"] for c in cands), default=None)
+        val, info = evaluate(pb, span, shift, parts, best)
+        records.append({"trial": trial.number, "value": val if math.isfinite(val) else None,
+                        **{k: v for k, v in info.items() if k != "mechanism"}})
+        if math.isfinite(val):
+            cands.append(Candidate(trial.number, info["mechanism"], parts, info))
+        return val if math.isfinite(val) else 1e6
+
+    for start in STARTS:
+        study.enqueue_trial(start)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # optuna's experimental-feature warnings (multivariate TPE)
+        study.optimize(objective, n_trials=trials)
+    cands.sort(key=lambda c: c.cheap["M11_max_g"])
+    return cands, records
+
+
+def pareto(records: list[dict], x: str = "M11_max_g", y: str = "torque_variation") -> list[dict]:
+    """Non-dominated feasible records (minimize both ``x`` and ``y``)."""
+    pts = sorted((r for r in records if r.get("value") is not None), key=lambda r: (r[x], r[y]))
+    front, best_y = [], np.inf
+    for r in pts:
+        if r[y] < best_y:
+            front.append(r)
+            best_y = r[y]
+    return front

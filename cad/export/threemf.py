@@ -1,0 +1,100 @@
+"""3MF (3D Manufacturing Format core spec 1.3) of the made parts, ready for a slicer.
+
+One ``<object>`` per made part kind (named by the kind, its mesh in the part frame, mm),
+one build ``<item>`` per instance (a part used twice is printed twice), laid out in a row
+on the build plate (``GAP_MM`` apart, every part resting on z = 0). Bought parts
+(screws, bearings, the motor) are left out: they are not printed.
+
+A minimal writer of the core spec (model part, content types, relationships), zipped with
+fixed time stamps so the bytes depend only on the meshes. Every mesh must be closed and
+consistently wound (:func:`cad.export.stl.check_watertight` runs first).
+Read back in the tests with lib3mf, the 3MF Consortium's reference implementation.
+"""
+
+from __future__ import annotations
+
+import io
+import zipfile
+from xml.sax.saxutils import quoteattr
+
+import numpy as np
+
+GAP_MM = 5.0
+_CONTENT_TYPES = (
+    '<?xml version="1.0" encoding="UTF-8"?>\n'
+    '<Types xmlns="http://schemas.openxmlformats.org/package/2006/content-types">'
+    '<Default Extension="rels" ContentType="application/vnd.openxmlformats-package.relationships+xml"/>'
+    '<Default Extension="model" ContentType="application/vnd.ms-package.3dmanufacturing-3dmodel+xml"/>'
+    "</Types>"
+)
+_RELS = (
+    '<?xml version="1.0" encoding="UTF-8"?>\n'
+    '<Relationships xmlns="http://schemas.openxmlformats.org/package/2006/relationships">'
+    '<Relationship Target="/3D/3dmodel.model" Id="rel0" '
+    'Type="http://schemas.microsoft.com/3dmanufacturing/2013/01/3dmodel"/>'
+    "</Relationships>"
+)
+
+
+def _mesh_xml(v: np.ndarray, f: np.ndarray) -> str:
+    vs = "".join(f'<vertex x="{x:.6g}" y="{y:.6g}" z="{z:.6g}"/>' for x, y, z in v)
+    ts = "".join(f'<triangle v1="{a}" v2="{b}" v3="{c}"/>' for a, b, c in f)
+    return f"<mesh><vertices>{vs}</vertices><triangles>{ts}</triangles></mesh>"
+
+
+def model_xml(parts: list[tuple[str, np.ndarray, np.ndarray, int]], title: str) -> str:
+    """The ``3D/3dmodel.model`` document of ``[(name, vertices_mm, faces, quantity)]``."""
+    objs, items = [], []
+    x = 0.0
+    for oid, (name, v, f, qty) in enumerate(parts, start=1):
+        v = np.asarray(v, dtype=float)
+        lo, hi = v.min(axis=0), v.max(axis=0)
+        objs.append(
+            f'<object id="{oid}" name={quoteattr(name)} type="model">{_mesh_xml(v, f)}</object>'
+        )
+        for _ in range(qty):
+            tx, ty, tz = x - lo[0], -lo[1], -lo[2]
+            items.append(
+                f'<item objectid="{oid}" transform="1 0 0 0 1 0 0 0 1 {tx:.6g} {ty:.6g} {tz:.6g}"/>'
+            )
+            x += (hi[0] - lo[0]) + GAP_MM
+    return (
+        '<?xml version="1.0" encoding="UTF-8"?>\n'
+        '<model unit="millimeter" xml:lang="en-US" '
+        'xmlns="http://schemas.microsoft.com/3dmanufacturing/core/2015/02">'
+        f'<metadata name="Title">{_esc(title)}</metadata>'
+        '<metadata name="Application">hapticad</metadata>'
+        f"<resources>{''.join(objs)}</resources><build>{''.join(items)}</build></model>"
+    )
+
+
+def _esc(s: str) -> str:
+    return quoteattr(s)[1:-1]
+
+
+def threemf_bytes(parts: list[tuple[str, np.ndarray, np.ndarray, int]], title: str) -> bytes:
+    """A ``.3mf`` package (zip) of ``[(name, vertices_mm, faces, quantity)]``."""
+    from cad.export.stl import check_watertight
+
+    for name, v, f, _ in parts:
+        check_watertight(v, f, name)
+    buf = io.BytesIO()
+    with zipfile.ZipFile(buf, "w", zipfile.ZIP_DEFLATED) as z:
+        for arc, text in (
+            ("[Content_Types].xml", _CONTENT_TYPES),
+            ("_rels/.rels", _RELS),
+            ("3D/3dmodel.model", model_xml(parts, title)),
+        ):
+            info = zipfile.ZipInfo(arc, date_time=(1980, 1, 1, 0, 0, 0))
+            info.compress_type = zipfile.ZIP_DEFLATED
+            z.writestr(info, text)
+    return buf.getvalue()
+
+
+def printable_parts(instances, meshes: dict) -> list[tuple[str, np.ndarray, np.ndarray, int]]:
+    """``[(kind name, vertices_mm, faces, quantity)]`` of the made, listed parts of an assembly."""
+    qty: dict[str, int] = {}
+    for inst in instances:
+        if inst.kind.made and inst.kind.listed:
+            qty[inst.kind.name] = qty.get(inst.kind.name, 0) + 1
+    return [(n, *meshes[n], q) for n, q in qty.items()]

@@ -1,0 +1,244 @@
+"""glb / 3mf exports, the stroke GIF and report.html, each read back by a second tool.
+
+One Hoeken build (preview fidelity, formats glb + 3mf) feeds every test:
+
+* ``assembly.glb`` read by trimesh (node names = the assembly's part instances, units in
+  metres against the base plate's size in report.json) and by pygltflib (the ``stroke``
+  animation turns the crank through the design's crank range, Hoeken paper Table I);
+* ``parts.3mf`` read by lib3mf, the 3MF Consortium's reference library (unit mm, one
+  object per made part, one build item per made instance, closed and oriented meshes,
+  volume x density = the BOM mass);
+* ``animation.gif`` read by Pillow (frames forward and back, the picture moves);
+* ``report.html`` loaded in headless Chromium (SwiftShader WebGL) over the DevTools
+  protocol: no console error, no request leaves the page, the model and its animation
+  are shown, and the 3D canvas is not blank (distinct colours in its screenshot).
+"""
+
+from __future__ import annotations
+
+import io
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+@pytest.fixture(scope="module")
+def hoeken(tmp_path_factory):
+    from cad.build import build_design
+    from cad.design import load_design
+
+    out = tmp_path_factory.mktemp("viz") / "hoeken"
+    d = load_design(ROOT / "designs" / "hoeken.toml")
+    rep = build_design(d, out, {"glb", "3mf"}, fidelity="preview", use_cache=False)
+    return d, rep, out
+
+
+def _listed_instances(d):
+    """The assembly's listed part instances, rebuilt independently of the build output."""
+    from cad.assembly.layers import choose_layers, footprint_bbox_mm
+    from cad.assembly.mechanism import build_assembly
+    from cad.assembly.pose import planar_transforms
+    from cad.build.fourbar import sweep_angles
+    from cad.kinematics.linkgeom import link_joints_mm
+
+    fb, parts = d.linkage, d.parts
+    planar = planar_transforms(fb, sweep_angles(d, 8))
+    J = link_joints_mm(fb)
+    plan = choose_layers(J, parts, planar)
+    asm = build_assembly(J, plan, parts, footprint_bbox_mm(plan, planar), fidelity="preview")
+    return [i for i in asm.instances if i.kind.listed]
+
+
+def test_formats_are_parsed_and_listed(hoeken):
+    from cad.export import parse_formats
+
+    assert parse_formats("glb,3MF") == {"glb", "3mf"}
+    _, rep, out = hoeken
+    assert {"assembly.glb", "parts.3mf", "animation.gif", "render.png"} <= set(rep["files"])
+    names = {f["path"] for f in json.loads((out / "manifest.json").read_text())["files"]}
+    assert {"assembly.glb", "parts.3mf", "report.html", "animation.gif"} <= names
+
+
+def test_glb_nodes_and_units_read_back_with_trimesh(hoeken):
+    import trimesh
+
+    d, rep, out = hoeken
+    scene = trimesh.load(out / "assembly.glb")
+    inst = _listed_instances(d)
+    mesh_nodes = set(scene.graph.nodes_geometry)
+    assert mesh_nodes == {i.name for i in inst}
+    assert {f"body:{b}" for b in ("ground", "crank", "coupler", "rocker")} <= set(scene.graph.nodes)
+    # metres, y up: the glb's x extent is the base plate's x extent (report.json, mm)
+    x0, y0, x1, y1 = rep["base_plate_mm"]
+    lo, hi = scene.bounds
+    assert lo[0] * 1e3 == pytest.approx(x0, abs=0.5)
+    assert hi[0] * 1e3 == pytest.approx(x1, abs=0.5)
+    assert -hi[2] * 1e3 == pytest.approx(y0, abs=0.5)  # glTF z = -R0 y
+    assert -lo[2] * 1e3 == pytest.approx(y1, abs=0.5)
+
+
+def test_glb_stroke_animation_turns_the_crank_over_its_range(hoeken):
+    import pygltflib
+
+    d, rep, out = hoeken
+    gl = pygltflib.GLTF2().load(str(out / "assembly.glb"))
+    assert gl.asset.extras["units"] == "m"
+    (anim,) = gl.animations
+    assert anim.name == "stroke"
+    crank = next(i for i, n in enumerate(gl.nodes) if n.name == "body:crank")
+    ground = next(i for i, n in enumerate(gl.nodes) if n.name == "body:ground")
+    targets = {(c.target.node, c.target.path) for c in anim.channels}
+    assert (crank, "rotation") in targets and all(n != ground for n, _ in targets)
+    ch = next(c for c in anim.channels if c.target.node == crank and c.target.path == "rotation")
+    acc = gl.accessors[anim.samplers[ch.sampler].output]
+    view = gl.bufferViews[acc.bufferView]
+    q = np.frombuffer(
+        gl.binary_blob(),
+        dtype="<f4",
+        count=4 * acc.count,
+        offset=view.byteOffset + (acc.byteOffset or 0),
+    ).reshape(-1, 4)
+    # crank frame x = A1 -> A2 at angle phi1 about R0's z: q = (0, 0, sin(phi1/2), cos(phi1/2))
+    assert np.allclose(q[:, :2], 0.0, atol=1e-6)
+    phi = np.degrees(2 * np.arctan2(q[:, 2], q[:, 3])) % 360.0
+    assert phi[0] == pytest.approx(rep["phi1_min_deg"], abs=1e-3)
+    assert phi.max() == pytest.approx(rep["phi1_max_deg"], abs=1e-3)
+    assert phi[-1] == pytest.approx(rep["phi1_min_deg"], abs=1e-3)  # forward then back
+
+
+def test_3mf_reads_back_with_lib3mf(hoeken):
+    import lib3mf
+    import trimesh
+
+    from cad.materials import get_material
+
+    _, rep, out = hoeken
+    model = lib3mf.get_wrapper().CreateModel()
+    model.QueryReader("3mf").ReadFromFile(str(out / "parts.3mf"))
+    assert model.GetUnit() == lib3mf.ModelUnit.MilliMeter
+    made = {r["part"]: r for r in rep["bom"] if r["made_or_bought"] == "made"}
+    objs = {}
+    it = model.GetMeshObjects()
+    while it.MoveNext():
+        o = it.GetCurrentMeshObject()
+        assert o.IsManifoldAndOriented(), o.GetName()
+        v = np.array([p.Coordinates[0:3] for p in o.GetVertices()])
+        f = np.array([t.Indices[0:3] for t in o.GetTriangleIndices()])
+        objs[o.GetName()] = trimesh.Trimesh(v, f, process=False).volume  # mm^3
+    assert set(objs) == set(made)
+    for name, vol in objs.items():
+        rho = get_material(made[name]["material"]).density_kg_m3
+        assert vol * 1e-9 * rho * 1e3 == pytest.approx(made[name]["mass_g"], rel=0.01), name
+    items = model.GetBuildItems()
+    n = 0
+    while items.MoveNext():
+        n += 1
+    assert n == sum(r["quantity"] for r in made.values())
+
+
+def test_stroke_gif_moves(hoeken):
+    from PIL import Image, ImageChops
+
+    from cad.report.render import GIF_POSES
+
+    _, _, out = hoeken
+    with Image.open(out / "animation.gif") as im:
+        assert im.n_frames == 2 * GIF_POSES - 2
+        frames = []
+        for k in (0, GIF_POSES - 1):
+            im.seek(k)
+            frames.append(im.convert("RGB"))
+    diff = np.asarray(ImageChops.difference(*frames)).any(axis=2)
+    assert 0.001 < diff.mean() < 0.5  # the links moved, the stand did not
+
+
+def test_report_html_in_headless_chromium(hoeken):
+    """One page load: no console error, nothing fetched, model shown, canvas not blank."""
+    from browser_cdp import Browser, find_chromium
+    from PIL import Image
+
+    d, rep, out = hoeken
+    assert find_chromium(), "Chromium is required (apt-get install chromium; .ci/run installs it)"
+    page = out / "report.html"
+    with Browser() as b:
+        b.load(page)
+        state = b.wait_for(
+            "window.hapticadViewer && (window.hapticadViewer.ready || window.hapticadViewer.error)"
+            " && JSON.stringify(window.hapticadViewer)"
+        )
+        assert state, f"viewer never became ready; errors: {b.errors}"
+        state = json.loads(state)
+        b.evaluate(  # two more frames drawn
+            "new Promise(r => requestAnimationFrame(() => requestAnimationFrame(() => r(true))))",
+            await_promise=True,
+        )
+        box = b.evaluate(
+            "(() => { const r = document.getElementById('viewer').getBoundingClientRect();"
+            " return {x: r.x + scrollX, y: r.y + scrollY, width: r.width, height: r.height}; })()"
+        )
+        png = b.screenshot(box)
+        text = b.evaluate("document.body.innerText")
+        b.evaluate("1")  # drain pending events
+        errors, requests = list(b.errors), list(b.requests)
+    assert errors == []
+    assert state["error"] is None
+    assert state["meshes"] == len(_listed_instances(d))
+    assert state["animations"] == 1
+    outside = [u for u in requests if not (u.startswith("data:") or u == page.resolve().as_uri())]
+    assert outside == []
+    img = np.asarray(Image.open(io.BytesIO(png)).convert("RGB"))
+    colours = len(np.unique(img.reshape(-1, 3), axis=0))
+    assert colours > 200, colours  # a blank canvas has 1; a shaded assembly has thousands
+    # the page's tables come from report.json
+    for r in rep["bom"]:
+        assert r["part"] in text
+    assert "no collision" in text
+    assert f"{rep['H11_kg_m2']:.6g}" in text
+
+
+def test_glb_for_a_family_without_the_viewer_model_is_a_named_error(tmp_path):
+    from cli_helpers import assert_one_line_error, hapticad
+
+    code, _, err = hapticad(
+        "build",
+        ROOT / "designs" / "powermouse.toml",
+        "--formats",
+        "step,glb",
+        "--out",
+        tmp_path / "o",
+    )
+    assert_one_line_error(code, err, "--formats", "glb")
+    assert not (tmp_path / "o").exists()
+    code, _, err = hapticad("build", ROOT / "designs" / "hoeken.toml", "--formats", "gltf")
+    assert_one_line_error(code, err, "--formats", "gltf")
+
+
+def test_render_command_writes_the_pictures_and_refuses_other_families(tmp_path):
+    from cli_helpers import assert_one_line_error, hapticad
+    from PIL import Image
+
+    out = tmp_path / "devices"
+    code, _, err = hapticad(
+        "render",
+        ROOT / "designs" / "hoeken.toml",
+        ROOT / "designs" / "powermouse.toml",
+        "--out",
+        out,
+    )
+    assert_one_line_error(code, err, "powermouse.toml", "powermouse")
+    assert not out.exists()  # checked before anything is built
+    code, stdout, err = hapticad(
+        "render", ROOT / "designs" / "hoeken.toml", "--out", out, "--fidelity", "preview"
+    )
+    assert code == 0, err
+    with Image.open(out / "hoeken.png") as im:
+        assert im.size == (960, 720)
+        px = np.asarray(im.convert("RGB"))
+    assert len(np.unique(px.reshape(-1, 3), axis=0)) > 200
+    with Image.open(out / "hoeken.gif") as im:
+        assert im.n_frames > 1
+    assert sorted(p.name for p in out.iterdir()) == ["hoeken.gif", "hoeken.png"]
