@@ -168,14 +168,15 @@ def _cli(cwd: Path, *args: str) -> tuple[int, str, str]:
         os.chdir(old)
 
 
-@pytest.mark.parametrize("cmd", ["swap", "synth", "fit"])
+@pytest.mark.parametrize("cmd", ["swap", "synth", "fit", "optimize"])
 def test_design_writers_never_overwrite_the_input(tmp_path, cmd):
     shutil.copy(HOEKEN, tmp_path / "h.toml")
     (tmp_path / "same.toml").hardlink_to(tmp_path / "h.toml")
     (tmp_path / "sym.toml").symlink_to("h.toml")
     (tmp_path / "folder").mkdir()
     extra = {"swap": ["--to", "roberts"], "synth": [], "fit": ["--target", "H11_kg_m2=3e-5",
-                                                              "--free", "parts.handle_height_mm"]}[cmd]
+                                                              "--free", "parts.handle_height_mm"],
+             "optimize": ["--objective", "min-apparent-mass", "--trials", "5"]}[cmd]
     before = _tree(tmp_path)
     for out, needle in (("h.toml", "is the input design"), ("./h.toml", "is the input design"),
                         ("same.toml", "is the input design"), ("sym.toml", "is the input design"),
