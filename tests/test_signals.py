@@ -125,3 +125,51 @@ def test_sigkill_children_die_and_the_next_build_cleans_up(tmp_path):
         raise RuntimeError("fails after its start: publishes nothing")
     assert sorted(e.name for e in (cwd / "exports").iterdir()) == [alive.name, "hoeken"]
     assert _tree(cwd / "exports" / "hoeken") == before
+
+
+@pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM], ids=["SIGINT", "SIGTERM"])
+def test_a_signal_during_the_publish_puts_the_old_folder_back(tmp_path, monkeypatch, sig):
+    """The rename is deferred-signal: a signal between moving the old folder away and moving
+    the new one in is acted on after both, by undoing them (handler called as the OS would)."""
+    from cad.io import atomic, signals
+
+    target = tmp_path / "out"
+    target.mkdir()
+    (target / "old.txt").write_text("old")
+    monkeypatch.setitem(signals._state, "installed", True)
+    real = os.replace
+    fired = []
+
+    def replace(a, b):
+        real(a, b)
+        if Path(b) == target and not fired:
+            fired.append(True)
+            signals._handler(sig, None)  # arrives right after the new folder moved in
+
+    monkeypatch.setattr(atomic.os, "replace", replace)
+    try:
+        with pytest.raises(KeyboardInterrupt), atomic.atomic_dir(target) as tmp:
+            (tmp / "new.txt").write_text("new")
+        assert signals.received() == sig and signals.exit_code() == 128 + sig
+    finally:
+        signals.reset()
+    assert fired and sorted(p.name for p in tmp_path.iterdir()) == ["out"]
+    assert [p.name for p in target.iterdir()] == ["old.txt"]
+    assert (target / "old.txt").read_text() == "old"
+
+
+def test_a_signal_before_the_publish_publishes_nothing(tmp_path, monkeypatch):
+    """A library swallowed the interrupt (recorded, no exception): the publish refuses."""
+    from cad.io import atomic, signals
+
+    monkeypatch.setitem(signals._state, "installed", True)
+    try:
+        with pytest.raises(KeyboardInterrupt), atomic.atomic_dir(tmp_path / "e" / "out") as tmp:
+            (tmp / "new.txt").write_text("new")
+            with pytest.raises(KeyboardInterrupt):
+                signals._handler(signal.SIGINT, None)  # raised ... and swallowed
+        with pytest.raises(KeyboardInterrupt):
+            atomic.write_text_atomic(tmp_path / "f.toml", "x", final=True)
+    finally:
+        signals.reset()
+    assert list(tmp_path.iterdir()) == []  # not even the parent folder "e"

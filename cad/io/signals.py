@@ -92,6 +92,7 @@ def reset() -> None:
     """Forget a received signal and any commit (tests running the CLI in-process)."""
     _state["signal"] = None
     _state["committed"] = False
+    _state["deferred"] = 0
 
 
 @contextlib.contextmanager
