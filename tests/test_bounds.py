@@ -27,7 +27,7 @@ from cad.errors import DesignError
 
 ROOT = Path(__file__).resolve().parents[1]
 DESIGNS = ROOT / "designs"
-CASES = Path("/work/shared/cases")
+CASES = Path(__file__).resolve().parent / "cases"  # copies of ../shared/cases
 BUNDLED = ("hoeken", "custom_example", "pantograph", "haptic_mouse", "haptic_pen", "powermouse")
 
 
@@ -288,6 +288,12 @@ BAD_FLAGS: dict[tuple[str, str], list[str]] = {
     ("tolerance", "--samples"): ["1", "1000000000"],
     ("tolerance", "--angles"): ["2", "10000000"],
     ("tolerance", "--seed"): ["-1"],
+    ("wall", "--K-N-per-m"): ["0", "-1", "nan", "1e9"],
+    ("wall", "--B-N-s-per-m"): ["inf", "1e5"],
+    ("wall", "--Te-s"): ["0.33", "0", "nan"],
+    ("wall", "--encoder-counts-per-rev"): ["0", "2000000000"],
+    ("wall", "--model"): ["ode"],
+    ("wall", "--build-dir"): ["/dev/null/x"],
     ("tolerance", "--target"): ["stroke_mm=1e300"],
     ("tolerance", "--inertia"): ["", "H11=297,H12=322,H22=1170,H33=709"],
     ("tolerance", "--out"): ["/dev/null/x", H],
@@ -298,6 +304,17 @@ BAD_FLAGS: dict[tuple[str, str], list[str]] = {
     ("optimize", "--trials"): ["0", "1000000"],
     ("optimize", "--seed"): ["-1"],
     ("optimize", "--exact-top"): ["0", "51"],
+    ("sweep", "--vary"): ["parts.bar_width_mm=1e7", "parts.bar_width_mm=10:1e7:3", "nothing"],
+    ("sweep", "--samples"): ["0", "1000000"],
+    ("sweep", "--fidelity"): ["ultra"],
+    ("sweep", "--workers"): ["0", "100000"],
+    ("sweep", "--scheduler"): ["localhost"],
+    ("sweep", "--out"): ["/dev/null/x"],
+    ("sweep", "--target"): ["M11_max_g=1e300"],
+    ("sweep", "--chart"): ["x,y"],
+    ("sweep", "--seed"): ["-1"],
+    ("render", "--fidelity"): ["ultra"],
+    ("render", "--out"): ["/dev/null/x", H],
     ("bench", "--only"): ["everything"],
     ("bench", "--out"): ["/dev/null/x"],
 }
@@ -306,6 +323,8 @@ BASE = {
     "swap": ["swap", H, "--to", "roberts"], "check": ["check", H], "fit": ["fit", H],
     "massprops": ["massprops", STL], "voicecoil": list(VC), "gii": ["gii", P],
     "optimize": ["optimize", P], "bench": ["bench"], "tolerance": ["tolerance", H],
+    "wall": ["wall", H],
+    "render": ["render", H], "sweep": ["sweep", H],
 }
 CASES_FLAGS = [(c, f, v) for (c, f), vals in BAD_FLAGS.items() for v in vals]
 
@@ -322,6 +341,10 @@ def test_every_flag_bad_value_is_one_line_naming_the_flag(command, flag, value, 
         argv += ["--free", "parts.bar_thickness_mm=5:8"]
     if command == "tolerance" and flag not in ("--hole-mm", "--hole"):
         argv += ["--hole-mm", "0.05"]
+    if command == "sweep" and flag != "--vary":
+        argv += ["--vary", "parts.bar_thickness_mm=5,6"]
+    if command == "sweep" and flag != "--out":
+        argv += ["--out", "sweep_out"]
     code, out, err = hapticad(*argv, flag, value)
     assert_one_line_error(code, err, flag)
     assert out == ""
@@ -405,3 +428,27 @@ def test_bound_slip_hint_and_range_text():
 
 def test_readme_bounds_table_is_the_generated_one():
     assert bounds.markdown_table() in (ROOT / "README.md").read_text()
+
+
+def test_bounds_run_before_any_cad_import():
+    """Loading (and refusing) every bundled design and the slip case imports no CAD library."""
+    import subprocess
+    import sys
+
+    code = (
+        "import sys\n"
+        "from cad.design import load_design\n"
+        "from cad.errors import DesignError\n"
+        f"for p in {[str(DESIGNS / f'{n}.toml') for n in BUNDLED]!r}:\n"
+        "    load_design(p)\n"
+        f"d = load_design({str(CASES / 'unit-slips' / 'stroke_in_metres.toml')!r})\n"
+        "try:\n"
+        "    d.check_buildable()\n"
+        "except DesignError:\n"
+        "    pass\n"
+        "bad = [m for m in ('build123d', 'OCP', 'cadquery') if m in sys.modules]\n"
+        "assert not bad, bad\n"
+    )
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                       cwd=ROOT, env={"PYTHONPATH": str(ROOT), "PATH": "/usr/bin:/bin"})
+    assert r.returncode == 0, r.stderr

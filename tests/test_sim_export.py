@@ -16,14 +16,8 @@ ROOT = Path(__file__).resolve().parents[1]
 
 
 @pytest.fixture(scope="module")
-def hoeken(tmp_path_factory):
-    from cad.build import build_design
-    from cad.design import load_design
-
-    out = tmp_path_factory.mktemp("hoeken_sim")
-    d = load_design(ROOT / "designs" / "hoeken.toml")
-    rep = build_design(d, out, {"mjcf", "urdf", "stl"}, fidelity="preview", use_cache=False)
-    return d, out, json.loads((out / "report.json").read_text()), rep
+def hoeken(hoeken_sim_build):
+    return hoeken_sim_build
 
 
 @pytest.fixture(scope="module")

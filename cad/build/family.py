@@ -111,6 +111,12 @@ def bom_rows(instances, props: dict) -> list[dict]:
     return rows
 
 
+def part_materials(instances) -> dict[str, str]:
+    """``{instance name: material}`` of every solid of ``assembly.step`` (names as written
+    there), for report.json: ``hapticad massprops assembly.step`` applies them per solid."""
+    return {inst.name: inst.kind.material for inst in instances}
+
+
 def world_tf(inst, tf_world_body: dict) -> np.ndarray:
     """4x4 world placement of an instance (``tf_world_body``: body -> 4x4)."""
     return np.asarray(tf_world_body[inst.body], dtype=float) @ inst.tf_body_part

@@ -999,6 +999,7 @@ def build(
 
     _step(progress, "report", 5, total)
     report = _report(design, lay, clr, bodies, eff, eff_bare, itf, bom, home, fidelity, low)
+    report["part_materials"] = family.part_materials(instances)
     report["files"] = sorted(files + ["report.md"])
     family.write_report_md(
         out_dir, f"{design.name} ({design.family})", _md_rows(report), bom, report["notes"]

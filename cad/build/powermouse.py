@@ -413,6 +413,7 @@ def build(
         pv.rattle_clearances_mm(ag, acts),
         gain_per_At,
     )
+    rep["part_materials"] = family.part_materials(inst)
     rep["files"] = sorted(files + ["report.md"])
     family.write_report_md(out_dir, f"{design.name} (powermouse)", _md_rows(rep), bom, rep["notes"])
     _step(progress, "done", total, total)

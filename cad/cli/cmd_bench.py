@@ -16,6 +16,7 @@ TOPICS = {
     "voicecoil": "cad.bench.voicecoil",
     "build": "cad.bench.build",
     "fidelity": "cad.bench.fidelity",
+    "wall": "cad.bench.wall",
     "structure": "cad.bench.structure",
     "families": "cad.bench.families",
     "evaluations": "cad.bench.evaluations",

@@ -11,13 +11,14 @@ the COM, file axes, positive-definite convention), ``principal_moments_kg_m2``
 
 from __future__ import annotations
 
+import json
 import sys
 from pathlib import Path
 
 import typer
 
 from cad.cli.app import print_json
-from cad.errors import DesignError, HapticadError
+from cad.errors import DesignError, GeometryError, HapticadError
 from cad.materials import DEFAULT_MATERIAL, get_material
 
 
@@ -49,29 +50,28 @@ def compute(
         notes.append(f"note: no --density or --material given; using {mat_name} ({rho:g} kg/m^3)")
     out: dict = {"file": str(file), "format": kind}
     if kind == "step":
-        from cad.massprops import occt
-
-        shape = mpio.read_step(file)
-        occt.check_valid(shape, Path(file).name)
-        vol, com_mm, inertia_mm5 = occt.volume_props_mm(shape)
-        props = occt._to_si(vol, com_mm, inertia_mm5, rho)
-        out.update(method="occt-exact", watertight=None, n_solids=len(occt.solids(shape)))
+        props, vol, info = _step_props(Path(file), rho, mat_name, defaulted)
+        out.update(method="occt-exact", watertight=None, **info)
+        if out.get("material") == "per-solid":
+            notes = [f"note: materials per solid from {info['material_source']}"]
     else:
+        from cad.design.bounds import warn
         from cad.massprops import mesh
 
-        v, f = mpio.read_stl(file)
+        stl_warnings: list[str] = []
+        v, f = mpio.read_stl(file, stl_warnings)
+        for w in stl_warnings:
+            warn(w)
         res = mesh.mesh_arrays_mass_props(v, f, rho, allow_open=True, what=Path(file).name)
         if not res.watertight:
-            notes.append(
-                f"warning: {Path(file).name} is not watertight (open or non-manifold edges); "
-                "volume and inertia are unreliable"
-            )
+            warn(f"{Path(file).name} is not watertight (open or non-manifold edges); "
+                 "volume and inertia are unreliable")
         props, vol = res.props, res.volume_mm3
         out.update(method="trimesh", watertight=res.watertight, n_triangles=res.n_triangles)
+    out.setdefault("density_kg_m3", rho)
+    out.setdefault("material", mat_name)
     out.update(
         volume_mm3=vol,
-        density_kg_m3=rho,
-        material=mat_name,
         **props.to_dict(),
         principal_axes=props.principal_axes.tolist(),
     )
@@ -85,6 +85,74 @@ def _g(values, scale: float | None = None, digits: int = 6) -> str:
     if scale is None:
         scale = max((abs(v) for v in vals), default=0.0)
     return "  ".join("0" if abs(v) <= 1e-9 * scale else f"{v:.{digits}g}" for v in vals)
+
+
+def file_materials(path: Path, names: list[str]) -> tuple[dict[str, str] | None, str]:
+    """Material of every named solid, where the file names them: ``({name: material}, source)``.
+
+    hapticad's ``assembly.step`` names every solid after its part instance and the build's
+    ``report.json`` beside it maps those names to materials (``part_materials``). ``None``
+    when a solid is unnamed or not in such a map.
+    """
+    rep = path.parent / "report.json"
+    if not rep.is_file() or not names:
+        return None, ""
+    try:
+        mats = json.loads(rep.read_text()).get("part_materials")
+    except (OSError, ValueError, AttributeError):
+        return None, ""
+    if not isinstance(mats, dict) or not all(n in mats for n in names):
+        return None, ""
+    return {n: mats[n] for n in names}, f"{rep.name} beside {path.name}"
+
+
+def _step_props(path: Path, rho: float, mat_name: str | None, defaulted: bool):
+    """Exact mass properties of the closed solids of a STEP file, per-solid materials where
+    the file names them (:func:`file_materials`); loose faces and shells ignored and warned."""
+    from cad.design.bounds import warn
+    from cad.massprops import io as mpio
+    from cad.massprops import occt
+    from cad.massprops.props import combine
+
+    name = path.name
+    named: list[tuple[str | None, object]] = []
+    ignored: dict[str, int] = {}
+    for leaf_name, leaf in mpio.read_step_named(path):
+        solids, ign = mpio.split_solids(leaf)
+        named += [(leaf_name, s) for s in solids]
+        for k, n in ign.items():
+            ignored[k] = ignored.get(k, 0) + n
+    if ignored:  # surfaces bound no volume: never integrated, always said
+        warn(f"{name}: ignored {mpio.ignored_text(ignored)} (only closed solids are integrated)")
+    if not named:
+        raise GeometryError(f"{name}: STEP file holds no closed solid (only surfaces or curves?)")
+    for n, s in named:
+        occt.check_valid(s, f"{name}: solid {n!r}" if n else name)
+    integrals = [occt.volume_props_mm(s) for _, s in named]
+    info: dict = {"n_solids": len(named), "ignored": ignored}
+    names = [n for n, _ in named]
+    materials, source = (file_materials(path, sorted(set(names)))
+                         if all(n is not None for n in names) else (None, ""))
+    if materials is not None and defaulted:
+        from cad.materials import get_material
+
+        parts = [occt._to_si(*i, get_material(materials[n]).density_kg_m3)
+                 for n, i in zip(names, integrals, strict=True)]
+        props = combine(parts)
+        vol = sum(i[0] for i in integrals)
+        info.update(solid_materials=materials, material_source=source, material="per-solid",
+                    density_kg_m3=props.mass_kg / (vol * occt.MM3_TO_M3))
+        return props, vol, info
+    if materials is not None:
+        flag = "--density" if mat_name is None else "--material"
+        warn(f"{name}: {source} names a material for each of the {len(named)} solids; the "
+             f"given {flag} overrides them all")
+    elif len(named) > 1:
+        warn(f"{name}: one density ({rho:g} kg/m^3) applied to all {len(named)} solids: the "
+             "file names no materials per solid (the mass is right only if every part is of "
+             "this material)")
+    v, com, inertia = occt.sum_volume_props(integrals)
+    return occt._to_si(v, com, inertia, rho), v, info
 
 
 def _fmt_text(out: dict) -> str:
@@ -124,8 +192,11 @@ def register(app: typer.Typer) -> None:
             out, notes = compute(file, density, material)
         except HapticadError as exc:
             raise fail(str(exc)) from None
+        from cad.design import bounds
+
         for note in notes:
             print(f"hapticad: {note}", file=sys.stderr)
+        bounds.flush()  # data warnings (also in --json); printed here for in-process callers too
         if json_out:
             print_json(out)
         else:

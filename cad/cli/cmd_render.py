@@ -9,7 +9,6 @@ a design whose family has no render yet is refused with exit 2, nothing written.
 
 from __future__ import annotations
 
-import json
 import tempfile
 from pathlib import Path
 
@@ -60,9 +59,15 @@ def register(app: typer.Typer) -> None:
         json_out: bool = typer.Option(False, "--json", help="Print the written files as JSON"),
     ) -> None:
         """Shaded picture and stroke GIF of each design, from its build."""
+        from cad.build import FIDELITIES
+        from cad.cli import flags
+        from cad.cli.app import print_json
+
+        flags.choice("--fidelity", fidelity, FIDELITIES)
+        flags.out_path("--out", out, folder=True)
         rows = render_designs(designs, out, fidelity)
         if json_out:
-            print(json.dumps(rows, sort_keys=True))
+            print_json({"rendered": rows}, sort_keys=True)
             return
         for r in rows:
             print(f"{r['design']}: wrote {r['png']}, {r['gif']}")

@@ -6,7 +6,6 @@ See :mod:`cad.sweep.spec` (variants), :mod:`cad.sweep.task` (one variant),
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 import typer
@@ -39,6 +38,15 @@ def register(app: typer.Typer) -> None:
         if not vary:
             raise DesignError("--vary", "give at least one --vary KEY=V1,V2,... or KEY=LO:HI:N")
         varies = tuple(parse_vary(v) for v in vary)
+        from cad.cli import flags
+        from cad.design.bounds import FIELDS, check_number
+
+        for v in varies:  # every value of a varied key within its bounds (cad/design/bounds.py)
+            if v.key in FIELDS:
+                for x in v.grid():
+                    if isinstance(x, (int, float)) and not isinstance(x, bool):
+                        check_number(f"--vary {v.key}", x, FIELDS[v.key])
+        flags.number("--seed", seed)
         keys = [v.key for v in varies]
         if len(set(keys)) != len(keys):
             raise DesignError("--vary", "a key is varied twice")
@@ -54,6 +62,7 @@ def register(app: typer.Typer) -> None:
         if len(xy) != 2 or not all(c in VALUE_KEYS for c in xy):
             raise DesignError("--chart", f"expected X,Y with X and Y in {', '.join(VALUE_KEYS)}, got {chart!r}")
         cli = tuple(parse_cli_target(t) for t in (target or []))
+        flags.out_path("--out", out, folder=True)
         check_out_dir(out, str(design))  # only a folder hapticad wrote (README "Output folders")
         raw = load_toml(design)
         _check_keys(raw, design, varies)
@@ -62,7 +71,9 @@ def register(app: typer.Typer) -> None:
                          targets_text=";".join(sorted(t or "" for t in (target or []))))
         summary = run_sweep(spec, out, workers, scheduler)
         if json_out:
-            print(json.dumps(summary, indent=1))
+            from cad.cli.app import print_json
+
+            print_json(summary, indent=1)
         else:
             print(f"{summary['variants']} variants: {summary['ok']} ok, {summary['missed']} missed, "
                   f"{summary['error']} error, {summary['lost']} lost ({summary['resumed']} resumed) "

@@ -79,7 +79,7 @@ class Bound:
     def range_text(self) -> str:
         u = f" {self.unit}" if self.unit else ""
         if self.signed:
-            return f"magnitude <= {self.hi:g}{u}"
+            return f"of magnitude <= {self.hi:g}{u}"
         if self.lo is not None and self.hi is not None:
             op = "(" if self.lo_open else "["
             return f"in {op}{self.lo:g}, {self.hi:g}]{u}"
@@ -318,7 +318,21 @@ TARGETS: dict[str, Bound] = {
 }
 
 #: Numeric CLI flags (every command) -> Bound. Flags of one quantity share its design bound.
+#: ``hapticad wall`` (issue 14): the rendered wall and the controller.
+WALL_K = Bound("N/m", 0.0, 1e8, "stiffer than 1e8 N/m is no rendered wall (a steel block is ~1e8)",
+               None, 1e6, "haptic walls render 1e2..1e5 N/m", (("N/mm", 1e3),), lo_open=True)
+WALL_B = Bound("N s/m", None, 1e4, "over 1e4 N s/m no desktop motor can follow", signed=True)
+WALL_TE = Bound("s", 1e-6, 0.05,
+                "a haptic loop runs between 20 Hz (0.05 s) and 1 MHz (1e-6 s)", 1e-5, 0.01,
+                "haptic loops run at 100 Hz..100 kHz", (("ms", 1e-3), ("us", 1e-6)))
+WALL_COUNTS = Bound("", 1, 1e9, "an encoder has at least 1 count per turn; over 1e9 is no encoder",
+                    100, 1e7, "optical encoders give 100..1e7 counts per turn", integer=True)
+
 FLAGS: dict[str, Bound] = {
+    "--K-N-per-m": WALL_K,
+    "--B-N-s-per-m": WALL_B,
+    "--Te-s": WALL_TE,
+    "--encoder-counts-per-rev": WALL_COUNTS,
     "--samples": SAMPLES,
     "--stroke-mm": STROKE_MM,
     "--dy-tol-mm": DY_TOL_MM,

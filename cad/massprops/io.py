@@ -79,7 +79,158 @@ def read_step(path: str | Path):
     return shape
 
 
-def read_stl(path: str | Path) -> tuple[np.ndarray, np.ndarray]:
+def read_step_named(path: str | Path) -> list[tuple[str | None, object]]:
+    """``[(name, placed shape)]`` of every leaf of a STEP file's product structure (XCAF).
+
+    Names are the instance names of assembly components (hapticad's ``assembly.step`` names
+    every solid after its part instance), else the product name, else ``None``. Raises
+    :class:`GeometryError` when the file cannot be read.
+    """
+    from OCP.IFSelect import IFSelect_RetDone
+    from OCP.STEPCAFControl import STEPCAFControl_Reader
+    from OCP.TCollection import TCollection_ExtendedString
+    from OCP.TDataStd import TDataStd_Name
+    from OCP.TDF import TDF_Label, TDF_LabelSequence
+    from OCP.TDocStd import TDocStd_Document
+    from OCP.TopLoc import TopLoc_Location
+    from OCP.XCAFApp import XCAFApp_Application
+    from OCP.XCAFDoc import XCAFDoc_DocumentTool
+
+    p = Path(path)
+    doc = TDocStd_Document(TCollection_ExtendedString("XmlOcaf"))
+    XCAFApp_Application.GetApplication_s().NewDocument(TCollection_ExtendedString("MDTV-XCAF"), doc)
+    reader = STEPCAFControl_Reader()
+    reader.SetNameMode(True)
+    with _quiet_stdout():
+        status = reader.ReadFile(str(p))
+        ok = status == IFSelect_RetDone and reader.Transfer(doc)
+    if status != IFSelect_RetDone:
+        raise GeometryError(f"{p.name}: not a readable STEP file (reader status {status.name})")
+    if not ok:
+        raise GeometryError(f"{p.name}: STEP file has no transferable shape")
+    tool = XCAFDoc_DocumentTool.ShapeTool_s(doc.Main())
+
+    def name_of(label) -> str | None:
+        attr = TDataStd_Name()
+        if label.FindAttribute(TDataStd_Name.GetID_s(), attr):
+            return attr.Get().ToExtString() or None
+        return None
+
+    out: list[tuple[str | None, object]] = []
+
+    def walk(label, loc, name) -> None:
+        if tool.IsAssembly_s(label):
+            comps = TDF_LabelSequence()
+            tool.GetComponents_s(label, comps)
+            for i in range(1, comps.Length() + 1):
+                comp = comps.Value(i)
+                ref = TDF_Label()
+                if tool.GetReferredShape_s(comp, ref):
+                    walk(ref, loc.Multiplied(tool.GetLocation_s(comp)),
+                         name_of(comp) or name_of(ref))
+            return
+        out.append((name, tool.GetShape_s(label).Moved(loc)))
+
+    free = TDF_LabelSequence()
+    tool.GetFreeShapes(free)
+    for i in range(1, free.Length() + 1):
+        lab = free.Value(i)
+        walk(lab, TopLoc_Location(), name_of(lab))
+    return out
+
+
+def split_solids(shape) -> tuple[list, dict[str, int]]:
+    """``(closed solids, ignored)`` of a STEP shape: only solids bound volume.
+
+    ``ignored`` counts what is not integrated: ``faces`` (free faces, e.g. construction
+    surfaces), ``open_shells`` and ``closed_shells`` (shells that are not solids). A box plus
+    a free face used to integrate to 106000 mm^3 instead of 6000 (issue 12 §2).
+    """
+    from OCP.BRep import BRep_Tool
+    from OCP.TopAbs import TopAbs_FACE, TopAbs_SHELL, TopAbs_SOLID
+    from OCP.TopExp import TopExp_Explorer
+    from OCP.TopoDS import TopoDS
+
+    solids = []
+    exp = TopExp_Explorer(shape, TopAbs_SOLID)
+    while exp.More():
+        solids.append(TopoDS.Solid_s(exp.Current()))
+        exp.Next()
+    ignored = {"faces": 0, "open_shells": 0, "closed_shells": 0}
+    exp = TopExp_Explorer(shape, TopAbs_SHELL, TopAbs_SOLID)
+    while exp.More():
+        shell = TopoDS.Shell_s(exp.Current())
+        n_faces, fexp = 0, TopExp_Explorer(shell, TopAbs_FACE)
+        while fexp.More():
+            n_faces += 1
+            fexp.Next()
+        if n_faces == 1:  # a lone face (STEP readers wrap free faces in a shell)
+            ignored["faces"] += 1
+        else:
+            closed = BRep_Tool.IsClosed_s(shell)
+            ignored["closed_shells" if closed else "open_shells"] += 1
+        exp.Next()
+    exp = TopExp_Explorer(shape, TopAbs_FACE, TopAbs_SHELL)
+    while exp.More():
+        ignored["faces"] += 1
+        exp.Next()
+    return solids, {k: v for k, v in ignored.items() if v}
+
+
+def ignored_text(ignored: dict[str, int]) -> str:
+    """``"1 face, 1 open shell"`` from :func:`split_solids` counts."""
+    names = {"faces": "face", "open_shells": "open shell", "closed_shells": "closed shell"}
+    return ", ".join(f"{n} {names[k]}{'s' if n > 1 else ''}" for k, n in ignored.items())
+
+
+#: Bytes of the binary STL header (80) + triangle count (4), and of one record.
+STL_HEADER_BYTES = 84
+STL_RECORD_BYTES = 50
+
+
+def _is_binary_stl(data: bytes) -> bool:
+    head = data[:512].lstrip().lower()
+    if not head.startswith(b"solid"):
+        return True
+    return b"facet" not in data[:4096].lower() and b"endsolid" not in data[-1024:].lower()
+
+
+def read_binary_stl(path: str | Path, warnings: list[str] | None = None):
+    """Triangles of a binary STL as ``(vertices_mm (3M, 3) float64, faces (M, 3))``, or ``None``
+    when the file is ASCII.
+
+    The triangle count in the header is checked against the file length: a file holding
+    more complete records than its header says is read whole with a warning (appended to
+    ``warnings``); one holding fewer (or a partial last record) is refused as truncated.
+    """
+    p = Path(path)
+    data = p.read_bytes()
+    if not _is_binary_stl(data):
+        return None
+    if len(data) < STL_HEADER_BYTES:
+        raise MeshError(f"{p.name}: truncated: {len(data)} bytes, shorter than the 84-byte STL header")
+    n_header = int(np.frombuffer(data, "<u4", 1, 80)[0])
+    body = len(data) - STL_HEADER_BYTES
+    n_file, rest = divmod(body, STL_RECORD_BYTES)
+    if n_header > n_file or (rest and n_header != n_file):
+        raise MeshError(
+            f"{p.name}: truncated: the header says {n_header} triangles "
+            f"({STL_HEADER_BYTES + STL_RECORD_BYTES * n_header} bytes) but the file has "
+            f"{len(data)} bytes ({n_file} complete records{' and a partial one' if rest else ''})"
+        )
+    if n_header < n_file and warnings is not None:
+        warnings.append(f"{p.name}: the header says {n_header} triangles, the file holds "
+                        f"{n_file}; read all {n_file}")
+    if rest and warnings is not None:
+        warnings.append(f"{p.name}: {rest} bytes after the last triangle ignored")
+    if n_file == 0:
+        raise MeshError(f"{p.name}: STL file holds no triangles")
+    rec = np.dtype([("n", "<f4", 3), ("v", "<f4", (3, 3)), ("a", "<u2")])
+    tri = np.frombuffer(data, rec, n_file, STL_HEADER_BYTES)["v"].astype(np.float64)
+    return tri.reshape(-1, 3), np.arange(3 * n_file, dtype=np.int64).reshape(-1, 3)
+
+
+def read_stl(path: str | Path, warnings: list[str] | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Read an STL (ASCII or binary, mm) as a triangle soup ``(vertices_mm (N, 3), faces (M, 3))``.
 
     Vertices are not merged here (see :func:`cad.massprops.mesh.mesh_arrays_mass_props`).
@@ -88,6 +239,9 @@ def read_stl(path: str | Path) -> tuple[np.ndarray, np.ndarray]:
     import trimesh
 
     p = Path(path)
+    binary = read_binary_stl(p, warnings)
+    if binary is not None:
+        return binary
     try:
         tm = trimesh.load_mesh(str(p), file_type="stl", process=False)
     except Exception as exc:  # trimesh raises assorted errors on malformed files

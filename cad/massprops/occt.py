@@ -141,12 +141,52 @@ def volume_props_mm(shape, *, eps: float | None = None, use_triangulation: bool 
         the exact surfaces (default mode only; see :mod:`cad.massprops.mesh`).
 
     Returns ``(volume_mm3, com_mm (3,), inertia_com_mm5 (3, 3))``.
+
+    A shape farther from the origin than :data:`FAR_FACTOR` times its size is integrated
+    solid by solid, each about its own box centre, and summed by the parallel-axis theorem:
+    integrals about a far origin cancel catastrophically (a box at 1e9 mm came out "not
+    positive definite"; a located compound at 1e9 mm even gave a zero tensor).
     """
+    s = as_topods(shape)
+    _check_has_solid(s)
+    if eps is None and not use_triangulation and _far_centre(s) is not None:
+        # each solid about its own box centre, then summed (OCCT's compound path cancels)
+        return sum_volume_props([_volume_props_local(sol) for sol in solids(s)])
+    return _volume_props_raw(s, eps, use_triangulation)
+
+
+def _volume_props_local(solid):
+    """``volume_props_mm`` of one solid, integrated with its box centre as the origin."""
+    from OCP.gp import gp_Trsf, gp_Vec
+    from OCP.TopLoc import TopLoc_Location
+
+    c = _far_centre(solid, 0.0)
+    if c is None:
+        return _volume_props_raw(solid, None, False)
+    t = gp_Trsf()
+    t.SetTranslation(gp_Vec(*(-c)))
+    vol, com, inertia = _volume_props_raw(solid.Moved(TopLoc_Location(t)), None, False)
+    return vol, com + c, inertia
+
+
+def sum_volume_props(parts):
+    """Union of unit-density ``(volume_mm3, com_mm (3,), inertia about com (3, 3))`` integrals.
+
+    Each part's tensor is shifted to the common COM by the parallel-axis theorem.
+    """
+    vol = float(sum(p[0] for p in parts))
+    com = sum(p[0] * np.asarray(p[1], dtype=float) for p in parts) / vol
+    inertia = np.zeros((3, 3))
+    for v, c, i in parts:
+        d = np.asarray(c, dtype=float) - com
+        inertia += np.asarray(i, dtype=float) + v * (float(d @ d) * np.eye(3) - np.outer(d, d))
+    return vol, com, inertia
+
+
+def _volume_props_raw(s, eps, use_triangulation):
     from OCP.BRepGProp import BRepGProp
     from OCP.GProp import GProp_GProps
 
-    s = as_topods(shape)
-    _check_has_solid(s)
     props = GProp_GProps()
     if eps is None:
         BRepGProp.VolumeProperties_s(s, props, False, False, use_triangulation)
@@ -166,6 +206,31 @@ def volume_props_mm(shape, *, eps: float | None = None, use_triangulation: bool 
             f"solid volume is {vol:.6g} mm^3 (<= 0): the solid is inside-out or degenerate"
         )
     return float(vol), com, inertia
+
+
+#: A shape whose bounding-box centre is farther from the origin than this many box sizes
+#: is integrated about the box centre: OCCT's second moments about a far origin cancel
+#: catastrophically (a box at 1e9 mm was refused as "not positive definite").
+FAR_FACTOR = 10.0
+
+
+def _far_centre(s, factor: float | None = None):
+    """Bounding-box centre (3,) mm of ``s`` when it lies farther than ``factor`` box sizes
+    from the origin (default :data:`FAR_FACTOR`), else ``None``."""
+    from OCP.Bnd import Bnd_Box
+    from OCP.BRepBndLib import BRepBndLib
+
+    box = Bnd_Box()
+    BRepBndLib.Add_s(s, box, False)
+    if box.IsVoid():
+        return None
+    x0, y0, z0, x1, y1, z1 = box.Get()
+    c = 0.5 * np.array([x0 + x1, y0 + y1, z0 + z1])
+    size = max(x1 - x0, y1 - y0, z1 - z0, 1e-9)
+    f = FAR_FACTOR if factor is None else factor
+    if not np.all(np.isfinite(c)) or np.linalg.norm(c) <= f * size:
+        return None
+    return c
 
 
 def _to_si(vol_mm3: float, com_mm, inertia_mm5, density_kg_m3: float) -> MassProps:

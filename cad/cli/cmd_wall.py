@@ -1,0 +1,72 @@
+"""``hapticad wall DESIGN [--K-N-per-m K] [--B-N-s-per-m B] [--Te-s T] [--encoder-counts-per-rev N] [--model reduced|mujoco] [--build-dir DIR] [--json]``.
+
+Virtual-wall (Z-width) simulation of a four-bar (issue 14, :mod:`cad.sim.wall`): the
+largest stable stiffness ``K_max_stable_N_per_m`` for damping B, beside eq (25) and the
+Colgate-Schenkel passivity bound; with ``--K-N-per-m`` also whether that wall is stable.
+Defaults: Te and the encoder step Delta of the design's ``[stiffness]`` table.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import typer
+
+from cad.cli.app import print_json
+
+
+def register(app: typer.Typer) -> None:
+    @app.command("wall")
+    def wall_cmd(
+        design: Path = typer.Argument(..., help="Four-bar TOML design with a [stiffness] table."),
+        K: float = typer.Option(None, "--K-N-per-m", help="wall stiffness to test (N/m)"),
+        B: float = typer.Option(0.0, "--B-N-s-per-m", help="wall damping (N s/m)"),
+        Te: float = typer.Option(None, "--Te-s", help="sampling period (s; default [stiffness] Te_s)"),
+        counts: int = typer.Option(None, "--encoder-counts-per-rev",
+                                   help="crank encoder counts per turn (default: [stiffness] Delta)"),
+        model: str = typer.Option("reduced", "--model", help="reduced (1-DOF, fast) | mujoco (exported MJCF)"),
+        build_dir: Path = typer.Option(None, "--build-dir",
+                                       help="a finished `build --formats mjcf` of DESIGN (default: cached build)"),
+        json_out: bool = typer.Option(False, "--json", help="print one JSON object"),
+    ) -> None:
+        """Largest stable virtual-wall stiffness (sampled data, quantized encoder, friction)."""
+        from cad.cli import flags
+        from cad.cli.families import COMMAND_FAMILIES, refusal
+        from cad.design import bounds, load_design
+        from cad.errors import DesignError
+        from cad.sim.wall import MODELS
+
+        flags.choice("--model", model, MODELS)
+        flags.number("--K-N-per-m", K)
+        flags.number("--B-N-s-per-m", B)
+        flags.number("--Te-s", Te)
+        flags.number("--encoder-counts-per-rev", counts)
+        d = load_design(design)
+        if d.family not in COMMAND_FAMILIES["wall"]:
+            raise DesignError("mechanism.family", refusal("wall", d.family))
+        bounds.flush()
+        from cad.sim.device import wall_report
+
+        res = wall_report(d, K=K, B=B, Te_s=Te, counts_per_rev=counts, model=model, build_dir=build_dir)
+        if json_out:
+            print_json(res, indent=1)
+            return
+        from rich.console import Console
+        from rich.table import Table
+
+        t = Table(title=f"{res['design']}: virtual wall, {model} model, B = {B:g} N s/m")
+        t.add_column("quantity")
+        t.add_column("value", justify="right")
+
+        def fmt(v):
+            return "-" if v is None else f"{v:.4g}"
+
+        for k in ("K_max_stable_N_per_m", "eq25_K_max_N_per_m", "passivity_K_max_N_per_m",
+                  "Te_s", "encoder_counts_per_rev", "encoder_resolution_m", "M11_wall_g", "tau_max_Nm"):
+            t.add_row(k, fmt(res[k]))
+        if "stable" in res:
+            t.add_row(f"wall K = {K:g} N/m", ("stable" if res["stable"] else "UNSTABLE")
+                      + f" ({res['amplitude_counts']:.2f} counts p-p)")
+        t.add_row("wall time (s)", f"{res['wall_s']:.1f}")
+        Console().print(t)
+        Console().print(res["criterion"])

@@ -1,0 +1,114 @@
+"""``hapticad wall``: the device from its solids (the simulator build) and the Z-width report.
+
+The device model of both wall models is the design's simulator build
+(``hapticad build DESIGN --formats mjcf`` at preview fidelity, whose mass properties equal
+the inertia fidelity's): ``report.json`` gives H11..H33 for the reduced model and the MJCF the
+mujoco model. It is built into ``<cache>/sim/<name>/`` (``$HAPTICAD_CACHE_DIR`` or
+``~/.cache/hapticad``; a temporary folder when the cache is off) and reused while the design
+and the code are unchanged (the build cache), or read from ``build_dir``.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import tempfile
+import time
+from pathlib import Path
+
+from cad.errors import DesignError
+
+
+def _cache_root() -> Path | None:
+    from cad.parts.shape_cache import cache_dir
+
+    d = cache_dir()
+    return None if d is None else d.parent / "sim"
+
+
+def device_build(design, build_dir: Path | None = None) -> Path:
+    """Folder holding ``report.json`` and ``<name>.xml`` of the design (module docstring)."""
+    if build_dir is not None:
+        build_dir = Path(build_dir)
+        rep_path = build_dir / "report.json"
+        if not (rep_path.is_file() and (build_dir / f"{design.name}.xml").is_file()):
+            raise DesignError("--build-dir", f"{build_dir} holds no report.json and {design.name}.xml "
+                              "(run hapticad build DESIGN --formats mjcf --out DIR first)")
+        rep = json.loads(rep_path.read_text(encoding="utf-8"))
+        want = design.resolved_linkage()
+        if rep.get("name") != design.name or any(
+            abs(rep.get(k, math.inf) - want[k]) > 1e-9 for k in ("l1_mm", "l2_mm", "l3_mm", "le_mm")
+        ):
+            raise DesignError("--build-dir", f"{build_dir} is a build of another design than {design.name!r}")
+        return build_dir
+    from cad.build import build_design
+
+    root = _cache_root()
+    out = (root / design.name) if root is not None else Path(tempfile.mkdtemp(prefix="hapticad-wall-"))
+    build_design(design, out, {"mjcf", "stl"}, fidelity="preview", allow_interference=True)
+    return out
+
+
+def wall_report(design, *, K: float | None = None, B: float = 0.0, Te_s: float | None = None,
+                counts_per_rev: float | None = None, model: str = "reduced",
+                build_dir: Path | None = None) -> dict:
+    """Everything ``hapticad wall --json`` prints (README "Virtual wall")."""
+    from cad.dynamics.inertia import InertiaCoefficients
+    from cad.dynamics.stiffness import StiffnessInputs, stiffness_range_N_per_m
+    from cad.parts.catalog import get_motor
+    from cad.sim import wall
+
+    st = design.stiffness
+    if st is None:
+        raise DesignError("stiffness", "the wall simulation needs the [stiffness] table "
+                          "(Fv_N_s_per_m, Fs_N, Te_s, encoder_resolution_m, xdot_max_m_per_s)")
+    t0 = time.perf_counter()
+    folder = device_build(design, build_dir)
+    rep = json.loads((folder / "report.json").read_text(encoding="utf-8"))
+    H = InertiaCoefficients(rep["H11_kg_m2"], rep["H12_kg_m2"], rep["H22_kg_m2"], rep["H33_kg_m2"],
+                            math.radians(rep["beta2_deg"]))
+    from cad.build.sim_fourbar import motor_torque_Nm
+
+    tau = motor_torque_Nm(get_motor(rep["motor"]["key"]))
+    tab = wall.device_tables(design, H)
+    Te = st.Te_s if Te_s is None else Te_s
+    counts = (2 * math.pi * abs(tab.J_wall) / st.encoder_resolution_m
+              if counts_per_rev is None else counts_per_rev)
+    spec = wall.WallSpec(Te, counts, st.Fv_N_s_per_m, st.Fs_N, tau, st.xdot_max_m_per_s)
+    delta = tab.delta_m(counts)
+    if model == "reduced":
+        stable_of, n_probe = wall.reduced_stable_of(tab, spec, B), wall.N_PROBE
+    else:
+        plant = wall.MujocoWall(folder / f"{design.name}.xml", tab, spec)
+        stable_of, n_probe = wall.mujoco_stable_of(plant, B), 1
+    km = wall.k_max(stable_of, n_probe=n_probe)
+    out = {
+        "design": design.name, "model": model, "B_N_s_per_m": B, "Te_s": Te,
+        "encoder_counts_per_rev": counts, "encoder_resolution_m": delta,
+        "Fv_N_s_per_m": st.Fv_N_s_per_m, "Fs_N": st.Fs_N, "tau_max_Nm": tau,
+        "hand_force_N": spec.hand_N, "v0_m_per_s": spec.v0_m_per_s,
+        "M11_wall_g": float(tab.at(tab.a, tab.phi_wall) / tab.J_wall**2 * 1e3),
+        "K_max_stable_N_per_m": km["K_max_N_per_m"],
+        "K_first_unstable_N_per_m": km["K_unstable_N_per_m"],
+        "eq25_K_max_N_per_m": stiffness_range_N_per_m(StiffnessInputs(
+            st.Fv_N_s_per_m, st.Fs_N, Te, delta, st.xdot_max_m_per_s))[1],
+        "passivity_K_max_N_per_m": wall.passivity_K_max(st.Fv_N_s_per_m, B, Te),
+        "criterion": (f"stable: peak-to-peak of the handle's path coordinate over the last "
+                      f"{wall.WINDOW_S:g} s of {wall.T_SIM_S:g} s below {wall.AMPLITUDE_COUNTS:g} "
+                      f"encoder steps, after hitting the wall at v0 with a {spec.hand_N:g} N push"),
+        "bisection": {"K_lo_N_per_m": wall.K_LO_N_PER_M, "K_hi_N_per_m": wall.K_HI_N_PER_M,
+                      "rtol": wall.K_RTOL, "probes_per_round": n_probe,
+                      "simulations": km["simulations"]},
+    }
+    if K is not None:
+        if model == "reduced":
+            t, xs, *_ = wall.simulate_reduced(tab, spec, K, B)
+            amp = float(wall.amplitude_m(t, xs)[0])
+        else:
+            t, x, _ = plant.run(K, B)
+            amp = float(wall.amplitude_m(t, x[:, None])[0])
+        out["K_N_per_m"] = K
+        out["stable"] = bool(amp < wall.AMPLITUDE_COUNTS * delta)
+        out["amplitude_counts"] = amp / delta
+    out["wall_s"] = time.perf_counter() - t0
+    return out

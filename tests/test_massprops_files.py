@@ -1,0 +1,166 @@
+"""Mass properties of the files people have (issue 12 §2), each case folder a test.
+
+References: closed forms of a 10 x 20 x 30 mm box (V = 6000 mm^3, COM at its centre,
+principal moments at 1000 kg/m^3 = m (b^2 + c^2) / 12 ... = [2.5e-7, 5.0e-7, 6.5e-7] kg m^2).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+from cli_helpers import assert_one_line_error, hapticad
+
+from cad.massprops.mesh import mesh_arrays_mass_props
+
+CASES = Path(__file__).resolve().parent / "cases"  # copies of ../shared/cases
+BOX_PRINCIPAL = [2.5e-7, 5.0e-7, 6.5e-7]
+
+
+def _massprops(path, *extra):
+    code, out, err = hapticad("massprops", path, "--density", "1000", "--json", *extra)
+    assert code == 0, err
+    return json.loads(out), err
+
+
+@pytest.mark.parametrize(("name", "ignored"), [("box_plus_face.step", "1 face"),
+                                               ("solid_plus_open_shell.step", "1 open shell")])
+def test_step_loose_surfaces_are_ignored_and_reported(name, ignored):
+    res, err = _massprops(CASES / "step-solid-plus-surfaces" / name)
+    assert res["volume_mm3"] == pytest.approx(6000.0, rel=1e-12)
+    np.testing.assert_allclose(res["com_mm"], [5, 10, 15], atol=1e-9)
+    np.testing.assert_allclose(res["principal_moments_kg_m2"], BOX_PRINCIPAL, rtol=1e-9)
+    assert res["n_solids"] == 1
+    assert any(f"ignored {ignored}" in w for w in res["warnings"])
+    assert f"ignored {ignored}" in err
+
+
+def test_stl_far_from_origin_case():
+    for name in ("box10x20x30_at_0.stl", "box10x20x30_at_1e6.stl"):
+        res, _ = _massprops(CASES / "stl-far-from-origin" / name)
+        np.testing.assert_allclose(res["principal_moments_kg_m2"], BOX_PRINCIPAL, rtol=1e-9)
+        off = np.abs(np.asarray(res["inertia_com_kg_m2"]) - np.diag(np.diag(res["inertia_com_kg_m2"])))
+        assert off.max() < 1e-9 * 6.5e-7
+        assert res["mass_kg"] == pytest.approx(0.006, rel=1e-12)
+
+
+def _box(size_mm, at_mm):
+    """Closed box mesh (8 vertices, 12 outward triangles) with a corner at ``at_mm``."""
+    a, b, c = size_mm
+    v = np.array([[x, y, z] for x in (0, a) for y in (0, b) for z in (0, c)], float) + at_mm
+    f = np.array([[0, 1, 3], [0, 3, 2], [4, 6, 7], [4, 7, 5], [0, 4, 5], [0, 5, 1],
+                  [2, 3, 7], [2, 7, 6], [0, 2, 6], [0, 6, 4], [1, 5, 7], [1, 7, 3]])
+    return v, f
+
+
+@pytest.mark.parametrize("size", [1.0, 10.0, 100.0])
+@pytest.mark.parametrize("dist", [0.0, 1e3, 1e5, 1e6])
+def test_stl_accuracy_at_sizes_and_distances(size, dist):
+    dims = (size, 2 * size, 3 * size)
+    v, f = _box(dims, np.array([dist, -dist, dist]))
+    res = mesh_arrays_mass_props(v, f, 1000.0)
+    m = 1000.0 * 6 * size**3 * 1e-9
+    a, b, c = (d * 1e-3 for d in dims)
+    ref = sorted(m / 12 * np.array([b * b + c * c, a * a + c * c, a * a + b * b]))
+    np.testing.assert_allclose(res.props.principal_moments_kg_m2, ref, rtol=1e-9)
+    np.testing.assert_allclose(np.asarray(res.props.com_m) * 1e3,
+                               np.array([dist, -dist, dist]) + np.array(dims) / 2,
+                               rtol=0, atol=1e-9 * max(dist, 1))
+
+
+def test_stl_header_count_cases():
+    d = CASES / "stl-header-count"
+    ok, _ = _massprops(d / "box_ok.stl")
+    assert ok["volume_mm3"] == pytest.approx(6000.0) and ok["warnings"] == []
+    res, err = _massprops(d / "box_count0.stl")
+    assert res["volume_mm3"] == pytest.approx(6000.0, rel=1e-6)
+    np.testing.assert_allclose(res["com_mm"], [5, 10, 15], atol=1e-5)
+    assert "header says 0 triangles, the file holds 12" in res["warnings"][0]
+    code, out, err = hapticad("massprops", d / "box_truncated.stl", "--density", "1000")
+    assert_one_line_error(code, err, "box_truncated.stl", "truncated", "11 complete records")
+    assert out == ""
+
+
+def test_stl_non_finite_coordinates_name_the_file(tmp_path):
+    p = tmp_path / "nan.stl"
+    p.write_text("solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex nan 0 0\n"
+                 "vertex 0 1 0\nendloop\nendfacet\nendsolid t\n")
+    code, out, err = hapticad("massprops", p, "--density", "1000")
+    assert_one_line_error(code, err, "nan.stl", "not finite")
+
+
+def test_winding_hint_works():
+    """The hint of the inconsistent-winding error repairs the mesh (networkx is a dependency)."""
+    import trimesh
+
+    from cad.errors import MeshError
+
+    v, f = _box((10.0, 20.0, 30.0), np.zeros(3))
+    f = f.copy()
+    f[0] = f[0][::-1]
+    with pytest.raises(MeshError, match=r"trimesh\.repair\.fix_normals\(m\)") as exc:
+        mesh_arrays_mass_props(v, f, 1000.0)
+    assert "fix_normals" in str(exc.value)
+    m = trimesh.Trimesh(v, f, process=True)
+    trimesh.repair.fix_normals(m)  # what the hint says
+    res = mesh_arrays_mass_props(m.vertices, m.faces, 1000.0)
+    assert res.volume_mm3 == pytest.approx(6000.0, rel=1e-12)
+
+
+def test_step_box_far_away_is_exact(tmp_path):
+    """A STEP box at 1e9 mm used to be refused as "inertia is not positive definite"."""
+    from build123d import Box, Location, export_step
+
+    for at in (0.0, 1e6, 1e9):
+        p = tmp_path / f"box_{at:g}.step"
+        export_step(Location((at, at, at)) * Box(10, 20, 30), str(p))
+        res, _ = _massprops(p)
+        np.testing.assert_allclose(res["principal_moments_kg_m2"], BOX_PRINCIPAL, rtol=1e-9)
+        assert res["volume_mm3"] == pytest.approx(6000.0, rel=1e-9)
+        assert math.isclose(res["com_mm"][0], at, rel_tol=1e-12, abs_tol=1e-9)
+
+
+def test_assembly_one_density_warns(tmp_path):
+    from build123d import Box, Compound, Location, export_step
+
+    p = tmp_path / "two.step"
+    export_step(Compound([Box(10, 10, 10), Location((50, 0, 0)) * Box(10, 10, 10)]), str(p))
+    res, err = _massprops(p)
+    assert res["n_solids"] == 2 and res["volume_mm3"] == pytest.approx(2000.0)
+    assert any("applied to all 2 solids" in w for w in res["warnings"])
+
+
+def test_hapticad_assembly_uses_per_solid_materials(tmp_path):
+    """assembly.step of a build: each solid with its part's material (report.json beside it).
+
+    Independent reference: the per-part STEP files of the same build, each integrated with
+    its BOM material, times its BOM quantity.
+    """
+
+    out = tmp_path / "b"
+    code, _, err = hapticad("build", Path(__file__).resolve().parents[1] / "designs" /
+                            "hoeken.toml", "--out", out, "--formats", "step", "--fidelity",
+                            "inertia", "--no-cache")
+    assert code == 0, err
+    code, stdout, err = hapticad("massprops", out / "assembly.step", "--json")
+    assert code == 0, err
+    res = json.loads(stdout)
+    assert res["material"] == "per-solid" and res["warnings"] == []
+    assert res["solid_materials"]["handle"] == "delrin"
+    assert res["solid_materials"]["pin_A2"] == "steel-1018"
+    report = json.loads((out / "report.json").read_text())
+    ref = 0.0
+    for row in report["bom"]:
+        code, stdout, err = hapticad("massprops", out / "parts" / f"{row['part']}.step",
+                                     "--material", row["material"], "--json")
+        assert code == 0, err
+        ref += row["quantity"] * json.loads(stdout)["mass_kg"]
+    assert res["mass_kg"] == pytest.approx(ref, rel=1e-9)
+    # a single density for every solid would be off by the steel / Delrin parts
+    code, stdout, _ = hapticad("massprops", out / "assembly.step", "--density", "2700", "--json")
+    one = json.loads(stdout)
+    assert one["mass_kg"] != pytest.approx(ref, rel=1e-3)
+    assert any("overrides them all" in w for w in one["warnings"])
