@@ -37,7 +37,7 @@ OWNED = ("results.parquet", "results.csv", "sweep.json", "chart.png", "manifest.
 DONE = ("ok", "missed", "error")
 WRITE_EVERY_S = 1.0
 META_COLUMNS = ("variant", "design_hash", "targets", "status", "error", "targets_missed")
-TAIL_COLUMNS = ("wall_s", "worker")
+TAIL_COLUMNS = ("wall_s", "cpu_s", "worker")
 
 
 @dataclass
@@ -149,13 +149,18 @@ def write_table(out: Path, rows: list[dict[str, Any]], cols: list[str]) -> None:
 
     rows = sorted(rows, key=lambda r: (r.get("variant") is None, r.get("variant") or 0))
     data = {c: [r.get(c) for r in rows] for c in cols}
-    for c in VALUE_KEYS + ("wall_s",):
+    for c in VALUE_KEYS + ("wall_s", "cpu_s"):
         data[c] = [math.nan if v is None else float(v) for v in data[c]]
     table = pa.table({c: pa.array(v) for c, v in data.items()})
     with atomic_path(out / "results.parquet") as tmp:
         pq.write_table(table, tmp)
     with atomic_path(out / "results.csv") as tmp:
         pacsv.write_csv(table, tmp)
+
+
+#: no dashboard, and the scheduler's small HTTP server (metrics) on a free port: two sweeps
+#: (or a sweep beside another Dask cluster) must not fight over port 8787
+NO_HTTP_PORT = {"dashboard_address": ":0"}
 
 
 def _client(workers: int, scheduler: str | None):
@@ -167,7 +172,8 @@ def _client(workers: int, scheduler: str | None):
         except OSError as exc:
             raise DesignError("--scheduler", f"cannot reach {scheduler}: {exc}") from None
     cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                           dashboard_address=None, silence_logs=logging.ERROR)
+                           dashboard_address=None, silence_logs=logging.ERROR,
+                           scheduler_kwargs=NO_HTTP_PORT)
     return Client(cluster), cluster
 
 
@@ -237,6 +243,7 @@ def run_sweep(spec: SweepSpec, out: Path, workers: int, scheduler: str | None) -
         "evaluation_s": (last_done - t_eval) if todo and last_done else None,
         "variants_per_s": (len(todo) / (last_done - t_eval)) if todo and last_done else None,
         "variant_wall_s_median": _median([r.get("wall_s") for r in rows[-len(todo):]] if todo else []),
+        "variant_cpu_s_median": _median([r.get("cpu_s") for r in rows[-len(todo):]] if todo else []),
         "task_bytes_in_median": _median([float(len(pickle.dumps((raw, str(spec.design), spec.fidelity,
                                                                   spec.cli_targets))))
                                          for _, _, raw, _ in todo]),
