@@ -2,16 +2,14 @@
 
 The objective is the largest target violation (0 when every target is met,
 :func:`cad.checks.violation`); ties go to the smallest change from the start.
-Each free parameter is searched in turn (coordinate descent, at most two sweeps):
+The search runs on optuna, the engine of ``hapticad optimize`` (:mod:`cad.codesign`):
 
-- numeric (e.g. ``parts.bar_thickness_mm``): a 5-point grid over its bounds plus
-  the start; if some values meet every target, bisection between the feasible
-  value closest to the start and its infeasible neighbour finds the smallest
-  change that still meets them; otherwise golden-section search around the best
-  grid value minimizes the violation.
-- choice (materials, ``bar_pockets``, and ``bar_thickness_mm``, picked from the stock
-  thicknesses of the bar material, :data:`cad.codesign.search.STOCK_THICKNESS_MM`, nearest
-  to the start first): every candidate is evaluated.
+- choice parameters (materials, ``bar_pockets``, and ``bar_thickness_mm``, picked from
+  the stock thicknesses of the bar material, :data:`cad.codesign.search.STOCK_THICKNESS_MM`,
+  nearest to the start first): when every free parameter is a choice and there are at most
+  :data:`GRID_MAX` combinations, all of them are evaluated (optuna ``GridSampler``);
+- otherwise (numeric parameters such as ``parts.bar_width_mm=10:30``) a seeded TPE study
+  of ``12 + 6 x (number of free parameters)`` evaluations, the start enqueued first.
 
 Every evaluation rebuilds the parts and integrates them exactly
 (:func:`cad.build.inertia.inertia_model`); a parameter value for which the parts
@@ -19,9 +17,7 @@ cannot be built counts as infeasible. The log of every evaluation is returned.
 
 Why not the plate-thickness shortcut alone: a bar's own mass properties scale
 exactly linearly with its thickness, but the pins, spacers and layer heights
-change with it too, so H is only nearly linear in ``bar_thickness_mm``. The log
-reports how far the final value is from the straight line through its two
-nearest grid values (measured linearity).
+change with it too, so H is only nearly linear in ``bar_thickness_mm``.
 """
 
 from __future__ import annotations
@@ -40,6 +36,8 @@ from cad.errors import DesignError, HapticadError
 MATERIAL_CHOICES = ("carbon-fibre", "delrin", "pla", "petg", "aluminium-6061", "aluminium-7075",
                     "stainless-304", "steel-1018", "brass-360")
 NUMERIC_DEFAULT_SPAN = (0.5, 1.5)
+#: all-choice searches up to this many combinations are exhaustive (GridSampler)
+GRID_MAX = 64
 
 
 @dataclass
@@ -152,8 +150,18 @@ def _stock_thickness(spec: str, key: str, rng: str, parts_spec) -> FreeParam:
 
 def fit(raw: dict, source: str, targets: tuple[Target, ...], free: list[FreeParam],
         evaluate_values: Callable[[Any], dict[str, float]], echo: Callable[[str], None] | None = None,
-        max_sweeps: int = 2) -> FitResult:
-    """Coordinate search over ``free`` on the raw design (see module docstring)."""
+        trials: int | None = None, seed: int = 0) -> FitResult:
+    """Search ``free`` on the raw design with optuna (see module docstring).
+
+    Score of a value set: (max target violation, change from the start); the best by that
+    order is returned. Only choices: every combination (optuna ``GridSampler``) when there
+    are at most :data:`GRID_MAX` of them; otherwise TPE (seeded) for ``trials`` evaluations
+    (default ``12 + 6 x len(free)``), the start evaluated first.
+    """
+    import warnings
+
+    import optuna
+
     from cad.design import parse_design
 
     cache: dict[str, tuple[float, dict]] = {}
@@ -179,57 +187,67 @@ def fit(raw: dict, source: str, targets: tuple[Target, ...], free: list[FreePara
         cache[key] = (obj, vals)
         return obj, vals
 
-    from cad.design import parse_design as _pd
-
-    spec = _pd(raw, source).parts
+    spec = parse_design(raw, source).parts
     start_vals = {p.path: getattr(spec, p.path.split(".", 1)[1]) for p in free}
-    cur = copy.deepcopy(raw)
-    for p in free:
-        cur = _set(cur, p.path, start_vals[p.path])
-    best, _ = objective(cur)
-    for _sweep in range(max_sweeps):
-        if best == 0:
-            break
-        for p in free:
-            if best == 0:
-                break
-            x0 = _get(cur, p.path, None)
-            if p.kind == "choice":
-                cands = [x0] + [c for c in p.choices if c != x0]
-                scored = [(objective(_set(cur, p.path, c))[0], i, c) for i, c in enumerate(cands)]
-                obj, _, c = min(scored)
-                if obj < best:
-                    best, cur = obj, _set(cur, p.path, c)
-                continue
-            grid = sorted({p.lo + (p.hi - p.lo) * k / 4 for k in range(5)} | {float(x0)})
-            scored = [(objective(_set(cur, p.path, round(x, 6)))[0], x) for x in grid]
-            feas = [x for o, x in scored if o == 0]
-            if feas:
-                xf = min(feas, key=lambda x: abs(x - x0))
-                # smallest change: bisect between xf and the infeasible grid neighbour towards x0
-                side = [x for o, x in scored if o > 0 and (x - xf) * (x0 - xf) > 0]
-                if side:
-                    xi = min(side, key=lambda x: abs(x - xf))
-                    for _ in range(5):
-                        xm = 0.5 * (xf + xi)
-                        if objective(_set(cur, p.path, round(xm, 6)))[0] == 0:
-                            xf = xm
-                        else:
-                            xi = xm
-                best, cur = 0.0, _set(cur, p.path, round(xf, 6))
-                continue
-            ob, xb = min(scored)
-            i = grid.index(xb)
-            a, b = grid[max(i - 1, 0)], grid[min(i + 1, len(grid) - 1)]
-            from cad.kinematics.search import golden_minimize
 
-            xg, og = golden_minimize(lambda x, c=cur, q=p: objective(_set(c, q.path, round(x, 6)))[0], a, b,
-                                     xtol=1e-3, max_iter=8)
-            xn, on = (xg, og) if og < ob else (xb, ob)
-            if on < best:
-                best, cur = on, _set(cur, p.path, round(xn, 6))
-    values = {p.path: _get(cur, p.path, None) for p in free}
+    def change(vals: dict) -> float:
+        """Distance from the start: numeric |x - x0| / (hi - lo); choices: rank in the list."""
+        out = 0.0
+        for p in free:
+            x, x0 = vals[p.path], start_vals[p.path]
+            if p.kind == "numeric":
+                out += abs(float(x) - float(x0)) / (p.hi - p.lo)
+            elif x != x0:
+                out += (list(p.choices).index(x) + 1) / (len(p.choices) + 1) if x in p.choices else 1.0
+        return out
+
+    def with_values(vals: dict) -> dict:
+        cur = copy.deepcopy(raw)
+        for path, v in vals.items():
+            cur = _set(cur, path, v)
+        return cur
+
+    def suggest(trial) -> dict:
+        vals = {}
+        for i, p in enumerate(free):
+            name = f"p{i}"
+            if p.kind == "choice":
+                vals[p.path] = p.choices[trial.suggest_categorical(name, list(range(len(p.choices))))]
+            else:
+                vals[p.path] = round(trial.suggest_float(name, p.lo, p.hi), 6)
+        return vals
+
+    scored: dict[str, tuple[float, float, dict]] = {}
+
+    def study_objective(trial) -> float:
+        vals = suggest(trial)
+        obj = objective(with_values(vals))[0]
+        scored[repr(sorted(vals.items(), key=lambda kv: kv[0]))] = (obj, change(vals), vals)
+        return obj + 1e-6 * change(vals) if math.isfinite(obj) else 1e9
+
+    n_grid = math.prod(len(p.choices) for p in free) if all(p.kind == "choice" for p in free) else None
+    optuna.logging.set_verbosity(optuna.logging.WARNING)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # optuna ExperimentalWarning (multivariate TPE)
+        if n_grid is not None and n_grid <= GRID_MAX:
+            sampler = optuna.samplers.GridSampler(
+                {f"p{i}": list(range(len(p.choices))) for i, p in enumerate(free)}, seed=seed)
+            n = n_grid
+        else:
+            sampler = optuna.samplers.TPESampler(seed=seed, multivariate=True)
+            n = trials or 12 + 6 * len(free)
+        study = optuna.create_study(direction="minimize", sampler=sampler)
+        first = {}
+        for i, p in enumerate(free):
+            x0 = start_vals[p.path]
+            first[f"p{i}"] = list(p.choices).index(x0) if p.kind == "choice" and x0 in p.choices else (
+                0 if p.kind == "choice" else float(min(max(x0, p.lo), p.hi)))
+        if n_grid is None or n_grid > GRID_MAX:
+            study.enqueue_trial(first)
+        study.optimize(study_objective, n_trials=n)
+    obj, _, vals = min(scored.values(), key=lambda t: (t[0], t[1]))
+    cur = with_values(vals)
     final_vals = objective(cur)[1]
     rows = evaluate(targets, {k: v for k, v in final_vals.items() if isinstance(v, (int, float))})
-    return FitResult(raw=cur, start=start_vals, values=values, objective=best,
+    return FitResult(raw=cur, start=start_vals, values=dict(vals), objective=obj,
                      met=all(r.ok for r in rows), log=log)

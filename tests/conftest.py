@@ -31,7 +31,8 @@ def family_builds(tmp_path_factory):
     for fam, fn in FAMILY_DESIGNS.items():
         d = load_design(root / "designs" / fn)
         target = tmp_path_factory.mktemp(fam) / "out"
-        rep = build_design(d, target, {"step", "stl", "dxf"}, fidelity="inertia", use_cache=False)
+        fmts = {"step", "stl", "dxf", "glb"}
+        rep = build_design(d, target, fmts, fidelity="inertia", use_cache=False)
         out[fam] = (d, target, rep)
     return out
 

@@ -243,10 +243,13 @@ def test_cli_builds_the_other_families(tmp_path, design):
     from cli_helpers import hapticad
 
     code, out, err = hapticad("build", ROOT / "designs" / design, "--out", tmp_path / "o",
-                              "--fidelity", "preview", "--formats", "step")
+                              "--fidelity", "preview", "--formats", "step,glb")
     assert code == 0, err
     assert "built" in out
     assert (tmp_path / "o" / "report.json").exists()
     assert (tmp_path / "o" / "manifest.json").exists()
     page = (tmp_path / "o" / "report.html").read_text()  # every family has its page
     assert "Bill of materials" in page and "<h2>Checks</h2>" in page
+    from viz_checks import check_family_glb
+
+    check_family_glb(tmp_path / "o", ROOT / "designs" / design)  # glb read back, motion checked

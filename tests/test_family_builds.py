@@ -142,3 +142,22 @@ def test_unsupported_combinations_fail_before_any_cad_import(tmp_path, design, e
     lines = [ln for ln in r.stderr.strip().splitlines() if ln.strip()]
     assert len(lines) == 1 and field in lines[0] and "Traceback" not in r.stderr
     assert not (tmp_path / "o").exists()
+
+
+@pytest.mark.parametrize("fam", list(FAMILIES))
+def test_viewer_files_come_from_the_same_instances(builds, step_parts, fam):
+    """report.html, the still and the animation exist; assembly.glb (read back with
+    pygltflib) holds a node for every part instance of assembly.step (the motor shafts,
+    not listed parts, are drawn with their motor's kind only in the STEP) and one per body."""
+    import pygltflib
+
+    _, out, rep = builds[fam]
+    for name in ("report.html", "render.png", "animation.gif", "assembly.glb"):
+        assert (out / name).is_file() and (out / name).stat().st_size > 0, name
+    gl = pygltflib.GLTF2().load(str(out / "assembly.glb"))
+    names = {n.name for n in gl.nodes}
+    shafts = {n for n, _ in step_parts[fam] if n.endswith(".motor_shaft")}  # inside the motor
+    assert {n for n, _ in step_parts[fam]} - shafts <= names
+    bodies = {n[5:] for n in names if n.startswith("body:")}
+    assert bodies == set(rep.get("bodies", {})) | {"ground"} or fam == "powermouse"
+    assert gl.animations and gl.animations[0].channels

@@ -57,7 +57,10 @@ def test_design_hash_keys_the_resolved_design():
 def scheduler():
     from dask.distributed import LocalCluster
 
-    cluster = LocalCluster(n_workers=1, processes=False, threads_per_worker=1, dashboard_address=None)
+    from cad.sweep.run import NO_HTTP_PORT
+
+    cluster = LocalCluster(n_workers=1, processes=False, threads_per_worker=1, dashboard_address=None,
+                           scheduler_kwargs=NO_HTTP_PORT)
     yield cluster.scheduler_address
     cluster.close()
 

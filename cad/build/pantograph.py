@@ -742,6 +742,75 @@ def assembly(design, lay: dict, fidelity: str):
     return inst, tfs, home
 
 
+#: This builder writes glb and 3mf (:mod:`cad.build.views`).
+VIEW_EXPORT = True
+#: Poses of the stroke animation: the handle once round the workspace square.
+STROKE_POSES = 32
+
+
+def body_poses(design, X) -> dict[str, np.ndarray]:
+    """``{body: (N, 4, 4)}`` world poses (mm) with the handle at the workspace points ``X``
+    ((N, 2) x, y mm; the twin pantograph (N, 3) x, y mm, theta rad), placed as
+    :func:`assembly` places the bodies at home (tests compare the two)."""
+    from cad.kinematics import fivebar as fb5
+    from cad.kinematics import twin_pantograph as tw
+    from cad.parts import translation
+
+    X = np.atleast_2d(np.asarray(X, dtype=float))
+    n = len(X)
+    fb = _lower_five_bar(design)
+    B = [fb.base_left_mm, fb.base_right_mm]
+    if _twin(design):
+        ik = tw.ik(design.mechanism, X)
+        groups = [("crank_", ik.crank), ("knob_", ik.knob)]
+    else:
+        ik = fb5.ik(fb, X[:, :2])
+        groups = [("", ik)]
+    if np.any(ik.status != 0):
+        raise ValueError(f"{int(np.sum(ik.status != 0))} of the {n} points cannot be reached")
+    out = {"ground": np.repeat(np.eye(4)[None], n, axis=0)}
+    for pre, fp in groups:
+        E = fp.E_mm
+        for i, (side, C) in enumerate((("left", fp.C_left_mm), ("right", fp.C_right_mm))):
+            out[f"{pre}proximal_{side}"] = np.stack(
+                [_rz(float(fp.q_rad[k, i]), B[i][0], B[i][1]) for k in range(n)]
+            )
+            out[f"{pre}distal_{side}"] = np.stack(
+                [
+                    _rz(math.atan2(E[k, 1] - C[k, 1], E[k, 0] - C[k, 0]), C[k, 0], C[k, 1])
+                    for k in range(n)
+                ]
+            )
+    if _twin(design):
+        out["crankshaft"] = np.stack([_rz(X[k, 2], X[k, 0], X[k, 1]) for k in range(n)])
+    else:
+        out["handle"] = np.stack([translation(X[k, 0], X[k, 1]) for k in range(n)])
+    return out
+
+
+def stroke_points(design, n: int = STROKE_POSES) -> np.ndarray:
+    """The handle once round the workspace square (from its centre's left, counter-clockwise),
+    ``n`` points, (n, 2) mm; the twin pantograph adds theta = the home angle (rad)."""
+    sq = _square(design.workspace)
+    seg = np.linalg.norm(np.diff(sq, axis=0), axis=1)
+    s = np.linspace(0.0, seg.sum(), n)
+    xy = np.column_stack([np.interp(s, np.r_[0, np.cumsum(seg)], sq[:, j]) for j in (0, 1)])
+    if not _twin(design):
+        return xy
+    th = math.radians(design.workspace["home_theta_deg"])
+    return np.column_stack([xy, np.full(n, th)])
+
+
+def stroke_poses(design) -> dict[str, np.ndarray] | None:
+    """:func:`body_poses` over :func:`stroke_points`, or None where the square leaves the
+    reachable set (the animation then shows the home pose only)."""
+    try:
+        poses = body_poses(design, stroke_points(design))
+    except ValueError:
+        return None
+    return poses
+
+
 def _ground(place, K, lay, p, B, twin) -> None:
     """The fixed parts: base plate, legs, motors with their mounts, (mouse) posts and bridge."""
     from cad.parts import motor as pm
@@ -996,6 +1065,18 @@ def build(
         files = task.result()
     if _twin(design):
         files += _write_sim(design, out_dir, formats, instances, bodies, lay, home)
+    from cad.build.views import write_viewer_outputs
+
+    view_files, viewer_glb = write_viewer_outputs(
+        instances,
+        tfs,
+        out_dir,
+        formats,
+        name=design.name,
+        title=f"{design.name} ({design.family})",
+        stroke=stroke_poses(design),
+    )
+    files += view_files
 
     _step(progress, "report", 5, total)
     report = _report(design, lay, clr, bodies, eff, eff_bare, itf, bom, home, fidelity, low)
@@ -1004,6 +1085,7 @@ def build(
     family.write_report_md(
         out_dir, f"{design.name} ({design.family})", _md_rows(report), bom, report["notes"]
     )
+    report["_viewer_glb"] = viewer_glb  # popped by the dispatcher: embedded in report.html
     _step(progress, "done", total, total)
     return report
 

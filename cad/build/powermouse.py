@@ -380,7 +380,7 @@ def build(
     bom = family.bom_rows(inst, props)
     rig_bom = family.bom_rows(rig, family.kind_props(rig))
 
-    def exports() -> list[str]:
+    def exports() -> tuple[list[str], bytes]:
         return _write_files(design, inst, tfs, rig, bom, rig_bom, out_dir, formats, gap)
 
     task = forked.start(exports, "exports")
@@ -390,7 +390,7 @@ def build(
         cl = _motion(design, g, inst, fidelity)
         _raise_on_overlap(design, itf, cl, allow_interference)
         _step(progress, "exports", 4, total)
-        files = task.result()
+        files, viewer_glb = task.result()
 
     _step(progress, "report", 5, total)
     rep = _report(
@@ -414,13 +414,43 @@ def build(
     rep["part_materials"] = family.part_materials(inst)
     rep["files"] = sorted(files + ["report.md"])
     family.write_report_md(out_dir, f"{design.name} (powermouse)", _md_rows(rep), bom, rep["notes"])
+    rep["_viewer_glb"] = viewer_glb  # popped by the dispatcher: embedded in report.html
     _step(progress, "done", total, total)
     return rep
 
 
-def _write_files(design, inst, tfs, rig, bom, rig_bom, out_dir, formats, gap) -> list[str]:
-    """Part files, assembly STEP, BOM and preview of the device; the rig in ``rig/``; Fig. 8."""
+#: This builder writes glb and 3mf (:mod:`cad.build.views`).
+VIEW_EXPORT = True
+
+
+def stroke_poses(design) -> dict[str, np.ndarray]:
+    """The flotor over its motion range for the animation, ``{body: (N, 4, 4)}`` mm: out
+    to +range and -range along x, y, z, then +-range_deg about x, y, z (the cube centre),
+    through the centre pose between each (:func:`cad.actuators.powermouse.rot_about`)."""
+    from cad.actuators.powermouse import rot_about
+
+    r_mm, r_rad = design.motion.range_mm, np.deg2rad(design.motion.range_deg)
+    poses = [np.eye(4)]
+    for kind in ("t", "r"):
+        for axis in np.eye(3):
+            for s in (1.0, 0.0, -1.0, 0.0):
+                T = np.eye(4)
+                if kind == "t":
+                    T[:3, 3] = s * r_mm * axis
+                else:
+                    T[:3, :3] = rot_about(axis, s * r_rad)
+                poses.append(T)
+    flotor = np.stack(poses)
+    return {"flotor": flotor, "ground": np.repeat(np.eye(4)[None], len(flotor), axis=0)}
+
+
+def _write_files(
+    design, inst, tfs, rig, bom, rig_bom, out_dir, formats, gap
+) -> tuple[list[str], bytes]:
+    """Part files, assembly STEP, BOM and preview of the device; the rig in ``rig/``; Fig. 8;
+    the viewer files (:func:`cad.build.views.write_viewer_outputs`). Returns (files, glb)."""
     from cad.build import family
+    from cad.build.views import write_viewer_outputs
 
     files = family.write_outputs(
         inst,
@@ -444,7 +474,16 @@ def _write_files(design, inst, tfs, rig, bom, rig_bom, out_dir, formats, gap) ->
             preview=False,
         )
     ]
-    return files + _fig8_chart(design, gap, out_dir)
+    view_files, glb = write_viewer_outputs(
+        inst,
+        tfs,
+        out_dir,
+        formats,
+        name=design.name,
+        title=f"{design.name} (powermouse)",
+        stroke=stroke_poses(design),
+    )
+    return files + _fig8_chart(design, gap, out_dir) + view_files, glb
 
 
 def _motion(design, g, inst, fidelity):

@@ -82,3 +82,38 @@ def write_parts_3mf(
     data = threemf_bytes(printable_parts(instances, meshes), title)
     write_bytes_atomic(Path(out_dir) / THREEMF_NAME, data)
     return THREEMF_NAME
+
+
+def write_viewer_outputs(
+    instances,
+    tf_world_body: dict[str, np.ndarray],
+    out_dir: Path,
+    formats: set[str],
+    *,
+    name: str,
+    title: str,
+    stroke: dict[str, np.ndarray] | None = None,
+    stl_tolerance_mm: float | None = None,
+) -> tuple[list[str], bytes]:
+    """Everything of this module for one assembly: :func:`write_views` (``stroke`` None:
+    the exported pose only) and, when ``"3mf"`` is asked, :func:`write_parts_3mf`.
+
+    tf_world_body : ``{body: (4, 4)}`` the exported pose, mm. Returns ``(files, glb)``.
+    """
+    from cad.export import STL_ANGULAR_TOLERANCE_RAD, STL_TOLERANCE_MM
+
+    pose = {b: np.asarray(T, dtype=float).reshape(4, 4) for b, T in tf_world_body.items()}
+    if stroke is None:
+        stroke = {b: T[None] for b, T in pose.items()}
+    files, glb = write_views(instances, pose, stroke, out_dir, formats, name=name, title=title)
+    if "3mf" in formats:
+        files.append(
+            write_parts_3mf(
+                instances,
+                out_dir,
+                title=name,
+                tolerance_mm=stl_tolerance_mm or STL_TOLERANCE_MM,
+                angular_tolerance_rad=STL_ANGULAR_TOLERANCE_RAD,
+            )
+        )
+    return files, glb

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import os
 from pathlib import Path
 
 import typer
@@ -24,6 +25,14 @@ TOPICS = {
 }
 #: topics run only when named in --only (minutes of worker processes each)
 OPT_IN = ("sweep",)
+
+
+def _cpu_s() -> float:
+    """CPU seconds (user + system) of this process and of its finished children."""
+    import resource
+
+    me, ch = resource.getrusage(resource.RUSAGE_SELF), resource.getrusage(resource.RUSAGE_CHILDREN)
+    return me.ru_utime + me.ru_stime + ch.ru_utime + ch.ru_stime
 
 
 def _goals(results: dict) -> list[tuple[str, str, str, bool | None]]:
@@ -66,6 +75,13 @@ def _goals(results: dict) -> list[tuple[str, str, str, bool | None]]:
     if "sweep_200_s" in i:
         rows.append(("interference sweep 200 poses x all pairs", f"{i['sweep_200_s']:.2f} s, {i.get('missed', '?')} missed",
                      "<= 1 s, 0 missed", i["sweep_200_s"] <= 1.0 and i.get("missed", 1) == 0))
+    if "same_body_s" in i:
+        sb = i.get("same_body", {})
+        missed = sb.get("missed")
+        rows.append(("same-body pairs, Hoeken fabrication (box cull + OCCT common)",
+                     f"{i['same_body_s']:.2f} s, {sb.get('exact_checks', '?')}/{sb.get('pairs', '?')} exact, "
+                     f"{'?' if missed is None else missed} missed", "0 missed vs brute force",
+                     None if missed is None else missed == 0))
     g = results.get("gii", {})
     if "culling_ratio" in g:
         rows.append(("GII culling: fewer Jacobian evaluations than brute", f"{g['culling_ratio']:.1f}x",
@@ -111,12 +127,17 @@ def register(app: typer.Typer) -> None:
             except ImportError as exc:
                 results[t] = {"skipped": f"module not available: {exc}"}
                 continue
-            t0 = time.perf_counter()
+            t0, c0 = time.perf_counter(), _cpu_s()
             con.print(f"[bold]bench[/] {t} ...")
             results[t] = mod.run(quick, out)
             results[t]["bench_wall_s"] = time.perf_counter() - t0
+            results[t]["bench_cpu_s"] = _cpu_s() - c0
             write_manifest(out)  # after each topic: what is there is bench's own
         rows = _goals(results)
+        total_wall = sum(r.get("bench_wall_s", 0.0) for r in results.values() if isinstance(r, dict))
+        total_cpu = sum(r.get("bench_cpu_s", 0.0) for r in results.values() if isinstance(r, dict))
+        results["total"] = {"wall_s": total_wall, "cpu_s": total_cpu, "quick": quick, "topics": topics,
+                            "load_avg_1min": os.getloadavg()[0] if hasattr(os, "getloadavg") else None}
         results["goals"] = [{"goal": g, "measured": m, "target": tg, "met": ok} for g, m, tg, ok in rows]
         write_text_atomic(out / "bench.json", json.dumps(results, indent=1, default=float))
         write_manifest(out)
@@ -126,4 +147,5 @@ def register(app: typer.Typer) -> None:
         for g, m, tg, ok in rows:
             tab.add_row(g, m, tg, "-" if ok is None else ("yes" if ok else "NO"))
         Console().print(tab)
+        print(f"bench: {total_wall:.0f} s wall, {total_cpu:.0f} s CPU (this process and its children)")
         print(f"wrote {out / 'bench.json'} and charts in {out}")

@@ -29,11 +29,20 @@ def render_designs(paths: list[Path], out: Path, fidelity: str | None = None) ->
     designs = []
     for p in paths:
         d = load_design(p)
-        if not getattr(importlib.import_module(builder_module_name(d)), "VIEW_EXPORT", False):
-            raise DesignError(str(p), f"rendering {d.family!r} designs is not available yet")
         fid = fidelity or getattr(getattr(d, "parts", None), "fidelity", "fabrication")
         if fid not in FIDELITIES:
             raise DesignError("--fidelity", f"must be one of {', '.join(FIDELITIES)}, got {fid!r}")
+        try:
+            mod = importlib.import_module(builder_module_name(d))
+        except ModuleNotFoundError:
+            mod = None
+        if not getattr(mod, "VIEW_EXPORT", False):
+            raise DesignError(str(p), f"rendering {d.family!r} designs is not available")
+        if hasattr(mod, "check_options"):  # what the build would refuse, before any build
+            try:
+                mod.check_options(d, fid, None)
+            except DesignError as exc:
+                raise DesignError(str(p), str(exc)) from None
         designs.append((p, d, fid))
     done = []
     for p, d, fid in designs:

@@ -65,6 +65,12 @@ def register(app: typer.Typer) -> None:
         flags.out_path("--out", out, folder=True)
         check_out_dir(out, str(design))  # only a folder hapticad wrote (README "Output folders")
         raw = load_toml(design)
+        from cad.cli.families import COMMAND_FAMILIES, refusal
+        from cad.design import family_of
+
+        fam = family_of(raw)
+        if fam not in COMMAND_FAMILIES["sweep"]:
+            raise DesignError("mechanism.family", refusal("sweep", fam))
         _check_keys(raw, design, varies)
         spec = SweepSpec(design=design.resolve(), raw=raw, varies=varies, samples=samples, seed=seed,
                          fidelity=fidelity, cli_targets=cli, chart=xy,

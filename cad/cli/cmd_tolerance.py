@@ -84,7 +84,9 @@ def register(app: typer.Typer) -> None:
             check_out_dir(out, str(design))  # only a folder hapticad wrote
         d = load_design(design)
         if not isinstance(d, FourBarDesign):
-            raise DesignError("mechanism.family", "tolerance works on four-bar designs")
+            from cad.cli.families import refusal
+
+            raise DesignError("mechanism.family", refusal("tolerance", d.family))
         H, h_source = inertia_for_m11(d, H)
         targets = merge_targets(d.targets, cli)
         res, m = run(d, tols, samples, seed, angles, H, targets)

@@ -23,8 +23,9 @@ COMMAND_FAMILIES: dict[str, tuple[str, ...]] = {
     "gii": PANTOGRAPHS,
     "optimize": FOUR_BARS + PANTOGRAPHS,
     "tolerance": FOUR_BARS,
+    "sweep": FOUR_BARS,
     "wall": FOUR_BARS,
-    "render": FOUR_BARS,
+    "render": FOUR_BARS + ("pantograph", "twin-pantograph", "powermouse"),
 }
 
 

@@ -23,7 +23,8 @@ VALUE_KEYS: tuple[str, ...] = tuple(dict.fromkeys(
 
 def evaluate_variant(raw: dict[str, Any], source: str, fidelity: str, cli_targets: tuple) -> dict[str, Any]:
     """Row of one variant: ``status`` (ok | missed | error), ``error``, ``targets_missed``,
-    every :data:`VALUE_KEYS` value, ``wall_s`` and ``worker`` (pid).
+    every :data:`VALUE_KEYS` value, ``wall_s``, ``cpu_s`` (the worker's CPU time for it)
+    and ``worker`` (pid).
 
     ``ok``: evaluated and every target met; ``missed``: evaluated, some target missed;
     ``error``: not evaluable, or (when the clearance is computed) parts overlap.
@@ -32,7 +33,7 @@ def evaluate_variant(raw: dict[str, Any], source: str, fidelity: str, cli_target
 
     if multiprocessing.current_process().name != "MainProcess":
         os.environ.setdefault("HAPTICAD_FORK", "0")  # no fork() inside a threaded worker process
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     row: dict[str, Any] = {"status": "error", "error": "", "targets_missed": ""}
     try:
         from cad.build.inertia import target_values
@@ -63,5 +64,6 @@ def evaluate_variant(raw: dict[str, Any], source: str, fidelity: str, cli_target
         msg = " ".join(str(exc).split())
         row["error"] = msg if isinstance(exc, HapticadError) else f"{type(exc).__name__}: {msg}"
     row["wall_s"] = time.perf_counter() - t0
+    row["cpu_s"] = time.process_time() - c0
     row["worker"] = os.getpid()
     return row
