@@ -75,3 +75,34 @@ def test_pin_solid_mass_is_the_closed_form(material):
     vol = math.pi / 4 * (3.0**2 * cat.dowel_total_length_mm(size, L) + (ring.d4_mm**2 - 9.0) * ring.s_mm)
     assert mp.mass_kg == pytest.approx(vol * 1e-9 * rho, rel=1e-6)
     assert "ISO 2338 3 m6 x" in cat.pin_description(size, L)
+
+
+def test_sleeve_lets_a_thinner_pin_carry_the_bearing():
+    with pytest.raises(DesignError, match="pin_sleeve_material"):
+        parse_parts({"bearing": "M5-11-3", "pin": "dowel-3"})
+    with pytest.raises(DesignError, match="parts.pin_sleeve_material: .* -1 mm wall"):
+        parse_parts({"bearing": "M3-10-4", "pin": "dowel-5", "pin_sleeve_material": "brass-360"})
+    p = parse_parts({"bearing": "M5-11-3", "pin": "dowel-3", "pin_sleeve_material": "brass-360"})
+    assert p.pin_sleeve_material == "brass-360"
+
+
+def test_sleeve_part_mass_is_the_closed_form():
+    """A sleeved design's parts: each joint gets a sleeve ds..d x B, mass of the annulus."""
+    from pathlib import Path
+
+    from cad.build.inertia import inertia_model
+    from cad.design import parse_design
+    from cad.materials import get_material
+
+    raw = {"name": "sleeved", "mechanism": {"family": "hoeken", "stroke_mm": 50.0},
+           "parts": {"bearing": "M5-11-3", "pin": "dowel-3", "pin_sleeve_material": "brass-360",
+                     "bar_material": "carbon-fibre", "bar_thickness_mm": 5.0, "bar_width_mm": 14.0,
+                     "bar_end_radius_mm": 10.0, "handle_screw": "M3-0.5",
+                     "hub_shaft_engagement_min_mm": 5.0}}
+    rep = inertia_model(parse_design(raw, str(Path("sleeved.toml"))))
+    rows = [r for r in rep["budget"] if r["part"].startswith("sleeve_")]
+    # A4's pin and sleeve ride on the ground post: only the moving joints are in the budget
+    assert sorted(r["part"] for r in rows) == ["sleeve_A2", "sleeve_A3"]
+    expect_g = math.pi / 4 * (5.0**2 - 3.0**2) * 3.0 * 1e-9 * get_material("brass-360").density_kg_m3 * 1e3
+    for r in rows:
+        assert r["mass_g"] == pytest.approx(expect_g, rel=1e-6)

@@ -200,6 +200,9 @@ def build_design(
         raise DesignError(
             "--formats", f"glb/3mf export is not available for {design.family!r} designs"
         )
+    check_buildable = getattr(design, "check_buildable", None)
+    if check_buildable is not None:  # links shorter than their joint hardware, before any CAD
+        check_buildable()
     from cad.export.manifest import write_manifest
     from cad.parts.lazy_import import import_build123d
 

@@ -105,6 +105,8 @@ def joint_hardware_kg(parts) -> float:
     od = spacer_od_mm(parts)
     v_sp = math.pi / 4 * (od**2 - pin.ds_mm**2) * (shim + parts.layer_gap_mm)
     m = brg.mass_kg if parts.bearing_mass_g is None else parts.bearing_mass_g * 1e-3
+    if parts.pin_sleeve_material is not None:
+        m += math.pi / 4 * (brg.d_mm**2 - pin.ds_mm**2) * brg.B_mm * 1e-9 * _rho(parts.pin_sleeve_material)
     return (m + v_pin * 1e-9 * rho_pin + (v_nut + v_w) * 1e-9 * STEEL
             + v_sp * 1e-9 * _rho(parts.spacer_material))
 

@@ -47,6 +47,10 @@ the adequate set of bars", Hoeken paper §III.A):
     two DIN 471 retaining rings and an ISO 7089 washer; the post and leg screws become M4).
     Its shoulder (pin) diameter must equal the bearing bore (M6-1: 8 mm; dowel-3: 3 mm);
     a mismatch is an error listing the bearings and pins that fit.
+``pin_sleeve_material`` [none]
+    a turned sleeve (bore = pin diameter, outside = bearing bore, length = bearing width) in
+    this material lets a pin thinner than the bearing bore carry it (walls >= 0.5 mm);
+    without it the pin diameter must equal the bore.
 ``pin_material`` ["steel-1018"]
     material of the pins (steel dowels and screws; ``aluminium-7075`` or
     ``titanium-6al4v`` for light pins); retaining rings and nuts stay steel.
@@ -139,6 +143,7 @@ class PartsSpec:
     bearing_mass_g: float | None = None
     pin: str = "M6-1"
     pin_material: str = "steel-1018"
+    pin_sleeve_material: str | None = None
     pin_head_clearance_mm: float = 1.0
     layer_gap_mm: float = 2.0
     spacer_material: str = "stainless-304"
@@ -307,8 +312,16 @@ def parse_parts(table: dict[str, Any] | None, prefix: str = "parts") -> PartsSpe
         )
     vals["bar_end_radius_mm"] = r_end
 
+    sleeve = _string(table, "pin_sleeve_material", prefix, None)
+    vals["pin_sleeve_material"] = (
+        get_material(sleeve, _f(prefix, "pin_sleeve_material")).name if sleeve is not None else None
+    )
     _check_hardware(vals, prefix, given_r is not None)
     return PartsSpec(**vals)
+
+
+#: Thinnest wall of a turned sleeve between a pin and a bearing bore (mm).
+SLEEVE_MIN_WALL_MM = 0.5
 
 
 def _check_hardware(v: dict[str, Any], prefix: str, end_radius_given: bool) -> None:
@@ -323,14 +336,22 @@ def _check_hardware(v: dict[str, Any], prefix: str, end_radius_given: bool) -> N
     catalog.get_nut(v["pin"], _f(prefix, "pin"))
     catalog.get_washer(v["pin"], _f(prefix, "pin"))
 
-    if abs(pin.ds_mm - brg.d_mm) > 1e-9:
+    sleeve_wall = (brg.d_mm - pin.ds_mm) / 2
+    if v.get("pin_sleeve_material") is not None and sleeve_wall < SLEEVE_MIN_WALL_MM - 1e-9:
+        raise DesignError(
+            _f(prefix, "pin_sleeve_material"),
+            f"a sleeve from the {pin.ds_mm:g} mm pin to the {brg.d_mm:g} mm bore of {v['bearing']} would have "
+            f"a {sleeve_wall:g} mm wall (need >= {SLEEVE_MIN_WALL_MM:g} mm); drop the sleeve or pick a "
+            f"thinner pin",
+        )
+    if abs(pin.ds_mm - brg.d_mm) > 1e-9 and v.get("pin_sleeve_material") is None:
         fits_b = ", ".join(catalog.bearings_with_bore(pin.ds_mm)) or "none in the catalog"
         fits_p = ", ".join(catalog.pins_for_bore(brg.d_mm)) or "none in the catalog"
         raise DesignError(
             _f(prefix, "pin"),
             f"the {v['pin']} shoulder is {pin.ds_mm:g} mm but the {v['bearing']} bearing bore is "
             f"{brg.d_mm:g} mm; bearings that fit {v['pin']}: {fits_b}; pins that fit "
-            f"{v['bearing']}: {fits_p}",
+            f"{v['bearing']}: {fits_p}; or a thinner pin with parts.pin_sleeve_material",
         )
     r_end = v["bar_end_radius_mm"]
     need = brg.D_mm + 2.0 * v["bar_min_wall_mm"]
