@@ -42,6 +42,7 @@ from cad.errors import DesignError, InterferenceError
 #: Source the output depends on (build cache key).
 CODE_DEPS = (
     "build",
+    "report",  # report.html, the stroke GIF and render (cad/report)
     "parts",
     "assembly",
     "export",
@@ -152,11 +153,13 @@ def _fig8_chart(design, gap_mm: float, out_dir: Path) -> list[str]:
     from cad.io.atomic import atomic_path
 
     names = []
-    for ext in ("png", "svg"):
-        target = Path(out_dir) / f"actuator_fig8.{ext}"
-        with atomic_path(target) as tmp:
-            fig.savefig(tmp, format=ext, dpi=110)
-        names.append(target.name)
+    # same bytes every build: fixed SVG id salt (else random clip-path ids), no date
+    with matplotlib.rc_context({"svg.hashsalt": "hapticad"}):
+        for ext in ("png", "svg"):
+            target = Path(out_dir) / f"actuator_fig8.{ext}"
+            with atomic_path(target) as tmp:
+                fig.savefig(tmp, format=ext, dpi=110, metadata={"Date": None} if ext == "svg" else None)
+            names.append(target.name)
     plt.close(fig)
     return names
 
@@ -559,7 +562,7 @@ def _report(
     return {
         "name": design.name,
         "family": design.family,
-        "source": design.source,
+        "source": Path(design.source).name,  # the file name: no path of this machine
         "actuator": act,
         "actuator_geometry_mm": {
             "gap_mm": ag.gap_mm,
