@@ -67,13 +67,17 @@ def read_parts(path: Path) -> list[tuple[str, list]]:
     return out
 
 
-def _box(solids):
+def _box(solids, tight: bool = False):
+    """Bounding box of some solids (``tight``: OCCT's optimal box, else the fast loose one)."""
     from OCP.Bnd import Bnd_Box
     from OCP.BRepBndLib import BRepBndLib
 
     b = Bnd_Box()
     for s in solids:
-        BRepBndLib.Add_s(s, b)
+        if tight:
+            BRepBndLib.AddOptimal_s(s, b, False, False)
+        else:
+            BRepBndLib.Add_s(s, b)
     return b
 
 

@@ -41,16 +41,27 @@ from cad.design.parts import LINK_NAMES, PartsSpec
 from cad.errors import DesignError
 from cad.parts import catalog
 
+#: Tap lead-out below a hole's full thread (mm); see :mod:`cad.assembly.fasteners`.
+TAP_LEADOUT_MM = 1.0
+#: Solid hub below the hub screws' tapped holes (mm).
+HUB_FLOOR_MM = 1.0
+
 ORDERS: tuple[tuple[str, str, str], ...] = tuple(itertools.permutations(LINK_NAMES))  # type: ignore[assignment]
 #: Joints: name -> (link A, link B) it connects (ground joint A4: rocker on the post).
 JOINTS = {"A2": ("crank", "coupler"), "A3": ("coupler", "rocker"), "A4": ("rocker", "ground")}
-#: Minimum thread engagement of the hub screws in the aluminium hub (mm).
-HUB_SCREW_ENGAGEMENT_MM = 4.0
+#: A4 post: the reamed bore goes this far past the shoulder's thread relief, the top
+#: tapped hole this far past the ISO 7379 thread, and this much solid separates the top
+#: hole from the bottom one (mm).
+POST_BORE_EXTRA_MM = 0.5
+POST_THREAD_EXTRA_MM = 1.0
+POST_WEB_MM = 1.0
 #: Shoulder must enter the lower link by at least this (mm) to locate it.
 SHOULDER_MIN_ENTRY_MM = 1.0
 #: Knob floor under the handle screw head (mm): the screw goes down through it into the
 #: tapped coupler, so nothing hangs under the coupler at P.
 HANDLE_SCREW_FLOOR_MM = 5.0
+#: Screws fixing the crank to the hub (on the hub bolt circle, first at 90 deg).
+HUB_SCREWS = 3
 
 
 @dataclass(frozen=True)
@@ -106,6 +117,7 @@ class LayerPlan:
     min_planar_clearance_mm: float
     conflicts: tuple[str, ...]
     gaps_mm: tuple[float, float] = (0.0, 0.0)
+    same_body_conflicts: tuple[str, ...] = ()
     pairs: tuple = ()
     candidates: tuple[dict, ...] = ()
 
@@ -182,15 +194,15 @@ def world_points(el: Element, tf_world_body: dict[str, np.ndarray]) -> np.ndarra
 
 def planar_clearances(elements, tf_world_body) -> list[tuple[float, Element, Element]]:
     """(min planar clearance over the poses, element a, element b) for every pair of elements
-    of different bodies whose z intervals overlap."""
+    whose z intervals overlap: elements of different bodies over the poses, elements of one
+    body once (they keep their distance; they only must not overlap, see
+    :func:`required_clearance_mm`)."""
     out = []
     digest = {k: hashlib.sha256(np.ascontiguousarray(T, dtype=float).tobytes()).hexdigest()
               for k, T in tf_world_body.items()}
     wp: dict[int, np.ndarray] = {}
     for i, j in itertools.combinations(range(len(elements)), 2):
         a, b = elements[i], elements[j]
-        if a.body == b.body:
-            continue
         if min(a.z_mm[1], b.z_mm[1]) - max(a.z_mm[0], b.z_mm[0]) <= 1e-9:
             continue
         key = (digest[a.body], np.asarray(a.points_mm, dtype=float).tobytes(),
@@ -206,6 +218,12 @@ def planar_clearances(elements, tf_world_body) -> list[tuple[float, Element, Ele
             _HULL_MEMO[key] = h
         out.append((h - a.radius_mm - b.radius_mm, a, b))
     return out
+
+
+def required_clearance_mm(a: Element, b: Element, parts: PartsSpec) -> float:
+    """Planar clearance two z-overlapping elements need: ``clearance_min_mm`` between bodies
+    that move relative to each other, 0 (touching allowed) within one body."""
+    return 0.0 if a.body == b.body else parts.clearance_min_mm
 
 
 #: min over the poses of the planar hull distance of two outlines, by (motion, outline):
@@ -272,15 +290,27 @@ def joint_stack(
     )
 
 
-def _hub_screw_length(parts: PartsSpec) -> float:
-    cs = catalog.get_cap_screw(parts.hub_screw, "parts.hub_screw")
-    L = catalog.shortest_length(cs.lengths_mm, parts.bar_thickness_mm + HUB_SCREW_ENGAGEMENT_MM)
-    if L is None:
-        raise DesignError(
-            "parts.hub_screw",
-            f"no {parts.hub_screw} length reaches through a {parts.bar_thickness_mm:g} mm crank",
-        )
-    return L
+def _hub_screw_length(parts: PartsSpec) -> tuple[float, float]:
+    """(length, engagement) of the hub screws: through the crank into the hub's tapped holes
+    (1.5 d minimum in aluminium, :mod:`cad.assembly.fasteners`); the hub is made tall
+    enough for the hole (:func:`plan_for_order`)."""
+    from cad.assembly.fasteners import alu_hole, size_cap_screw
+
+    hole = alu_hole("crank_hub:screw", "crank_hub", parts.hub_screw, 1e9)
+    return size_cap_screw(
+        parts.hub_screw, parts.bar_thickness_mm, hole, "A1 (crank to hub)", "parts.hub_screw"
+    )
+
+
+def post_min_height_mm(stack: JointStack, parts: PartsSpec) -> float:
+    """Shortest A4 post that holds both of its screws apart (mm): the reamed bore for the
+    shoulder entry and thread relief, the tapped hole for the ISO 7379 thread (b plus lead-out),
+    :data:`POST_WEB_MM` of solid, then the bottom tapped hole for the post screw."""
+    from cad.parts.base import STANDOFF_TAP_DEPTH_MM
+
+    pin = catalog.get_shoulder_screw(parts.pin)
+    bore = stack.pin_length_mm - stack.clamp_mm + pin.g2_mm + POST_BORE_EXTRA_MM
+    return bore + pin.b_mm + POST_THREAD_EXTRA_MM + POST_WEB_MM + STANDOFF_TAP_DEPTH_MM
 
 
 def _handle_screw_length(parts: PartsSpec) -> float:
@@ -315,7 +345,7 @@ def plan_for_order(
     nut = catalog.get_nut(parts.pin)
     washer = catalog.get_washer(parts.pin)
     hub_cs = catalog.get_cap_screw(parts.hub_screw, "parts.hub_screw")
-    hub_L = _hub_screw_length(parts)
+    hub_L, hub_engaged = _hub_screw_length(parts)
     handle_L = _handle_screw_length(parts)
 
     def stacks_for(z0: float) -> dict[str, JointStack]:
@@ -338,8 +368,11 @@ def plan_for_order(
         if s.lower == lowest and s.nut:
             hang = max(hang, 100.0 - s.thread_end_mm)
     z0 = base_clear + hang
-    if lowest == "crank":
-        z0 = max(z0, base_clear + (hub_L - t) + 0.5)
+    # the hub (base_clear .. crank bottom) holds the hub screws' tapped holes, the post
+    # (0 .. A4 stack) both its screws: raise the whole stack where they would not fit
+    z0 = max(z0, base_clear + hub_engaged + TAP_LEADOUT_MM + HUB_FLOOR_MM - offs[level["crank"]])
+    post_need = post_min_height_mm(probe["A4"], parts) - (probe["A4"].z_lower_top_mm - 100.0)
+    z0 = max(z0, post_need)
     js = stacks_for(z0)
     z = {n: z0 + offs[level[n]] for n in order}
 
@@ -411,15 +444,17 @@ def plan_for_order(
             )
     add("hub", "crank", J["crank"]["A1"], parts.hub_diameter_mm / 2.0, hub_lo, hub_hi, None)
     r_bc = hub_bolt_circle_mm(parts) / 2.0
-    add(
-        "hub screw heads",
-        "crank",
-        J["crank"]["A1"],
-        r_bc + hub_cs.dk_mm / 2.0,
-        z["crank"] + t,
-        z["crank"] + t + hub_cs.k_mm,
-        level["crank"],
-    )
+    a1 = np.asarray(J["crank"]["A1"], dtype=float)
+    for k, (hx, hy) in enumerate(catalog.polar_points_mm(r_bc, HUB_SCREWS)):
+        add(
+            f"hub screw head {k + 1}",
+            "crank",
+            a1 + (hx, hy),
+            hub_cs.dk_mm / 2.0,
+            z["crank"] + t,
+            z["crank"] + t + hub_cs.k_mm,
+            level["crank"],
+        )
     if shaft_top > z["crank"] + t:
         add(
             "motor shaft end",
@@ -445,9 +480,14 @@ def plan_for_order(
     conflicts = tuple(
         f"{a.label} / {b.label}: {d:.2f} mm"
         for d, a, b in sorted(pairs, key=lambda x: x[0])
-        if d < parts.clearance_min_mm
+        if d < required_clearance_mm(a, b, parts) - 1e-9
     )
-    min_cl = min((d for d, _, _ in pairs), default=np.inf)
+    same = tuple(
+        f"{a.label} / {b.label}: {d:.2f} mm"
+        for d, a, b in sorted(pairs, key=lambda x: x[0])
+        if a.body == b.body and d < -1e-9
+    )
+    min_cl = min((d for d, a, b in pairs if a.body != b.body), default=np.inf)
     top = max(e.z_mm[1] for e in els)
     return LayerPlan(
         order=tuple(order),
@@ -465,6 +505,7 @@ def plan_for_order(
         elements=tuple(els),
         min_planar_clearance_mm=float(min_cl),
         conflicts=conflicts,
+        same_body_conflicts=same,
         gaps_mm=gaps,
         pairs=tuple(pairs),
     )
@@ -481,7 +522,7 @@ def _widen(plan: LayerPlan, parts: PartsSpec) -> tuple[float, float] | None:
     gaps = list(plan.gaps_mm)
     changed = False
     for d, a, b in plan.pairs:
-        if d >= parts.clearance_min_mm:
+        if d >= required_clearance_mm(a, b, parts) - 1e-9:
             continue
         if a.anchor is None or b.anchor is None or a.anchor == b.anchor:
             return None
@@ -523,8 +564,11 @@ def hub_bolt_circle_mm(parts: PartsSpec) -> float:
 
 def choose_layers(joints_link, parts: PartsSpec, tf_world_body) -> LayerPlan:
     """The layer plan: ``parts.layer_order`` if given, else the conflict-free order with the
-    lowest top (ties: :data:`ORDERS` order); gaps widened where needed (:func:`plan_order`). When every order conflicts, the one with the
-    largest planar clearance is returned with its ``conflicts`` listed (the 3-D sweep decides)."""
+    lowest top (ties: :data:`ORDERS` order); gaps widened where needed (:func:`plan_order`).
+    When every order conflicts, the one with the largest planar clearance between links
+    (and no overlap within a link) is returned with its ``conflicts`` listed (the 3-D check
+    decides). DesignError when every order has parts of one link overlapping (a nut under
+    the crank in the hub, say): no layout exists."""
     orders = [parts.layer_order] if parts.layer_order else list(ORDERS)
     plans = [plan_order(o, joints_link, parts, tf_world_body) for o in orders]
     cands = tuple(
@@ -538,10 +582,21 @@ def choose_layers(joints_link, parts: PartsSpec, tf_world_body) -> LayerPlan:
         for p in plans
     )
     ok = [p for p in plans if not p.conflicts]
+    if all(p.same_body_conflicts for p in plans):
+        worst = plans[0]
+        raise DesignError(
+            "mechanism",
+            "no layer order keeps the hardware of one link apart (same-link parts overlap in "
+            f"every order; order {', '.join(worst.order)}: {worst.same_body_conflicts[0]}); "
+            "lengthen the short link or shrink parts.hub_diameter_mm / the hardware",
+        )
     best = (
         min(ok, key=lambda p: p.top_mm)
         if ok
-        else max(plans, key=lambda p: p.min_planar_clearance_mm)
+        else max(
+            (p for p in plans if not p.same_body_conflicts),
+            key=lambda p: p.min_planar_clearance_mm,
+        )
     )
     return LayerPlan(**{**best.__dict__, "candidates": cands})
 

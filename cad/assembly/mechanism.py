@@ -10,6 +10,14 @@ the link transforms of :mod:`cad.kinematics.linkgeom`; z = 0 is the base plate's
 Joint hardware belongs to the link that holds the pin (the LOWER link at A2/A3, the
 ground at A4); the bearing belongs to the link with the seat, its inner ring's
 collision envelope to the pin's link (see :mod:`cad.assembly.layers`).
+
+Fasteners are sized from their stacks (:mod:`cad.assembly.fasteners`): every screw
+instance carries a :class:`cad.assembly.fasteners.Fastener` record, every tapped hole a
+:class:`cad.assembly.fasteners.TappedHole`, and :func:`build_assembly` refuses two
+screws in one hole or an engagement outside its hole's window.
+
+One small function per group of parts (:class:`_Builder` holds the instances): bars,
+joint hardware, motor and hub, base with post and legs, handle.
 """
 
 from __future__ import annotations
@@ -19,16 +27,47 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from cad.assembly.layers import LayerPlan, hub_bolt_circle_mm, spacer_od_mm
+from cad.assembly.fasteners import (
+    MIN_ENGAGEMENT_ALU_D,
+    MIN_ENGAGEMENT_BOUGHT_MM,
+    Fastener,
+    TappedHole,
+    alu_hole,
+    check_fasteners,
+    size_cap_screw,
+)
+from cad.assembly.layers import (
+    HUB_SCREWS,
+    POST_BORE_EXTRA_MM,
+    POST_THREAD_EXTRA_MM,
+    TAP_LEADOUT_MM,
+    LayerPlan,
+    hub_bolt_circle_mm,
+    spacer_od_mm,
+)
 from cad.design.parts import PartsSpec
+from cad.errors import DesignError
 from cad.parts import PartInstance, PartKind, flip_x, translation
 from cad.parts import catalog as cat
 
-#: Engagement of the motor screws in the motor face, of the mount screws in the base
-#: plate and of the post / leg screws in their standoffs (mm).
-MOTOR_SCREW_ENGAGEMENT_MM = 3.0
-MOUNT_SCREW_ENGAGEMENT_MM = 4.5
-STANDOFF_SCREW_ENGAGEMENT_MM = 9.0
+#: ISO 286 tolerance classes of the fits the workshop makes (bore, shaft): the bearing
+#: seat J7 (outer ring stationary relative to the load direction of a small pivot, light
+#: load: ISO 281 / SKF housing table "J7"), the reamed pin bores and spacers' bores H7 on
+#: the ISO 7379 shoulder (f9), the hub's shaft bore H7 on the maxon shaft (h6-class).
+FITS = {
+    "bearing seat": "J7",
+    "pin bore": "H7",
+    "spacer bore": "H7",
+    "hub shaft bore": "H7",
+    "post shoulder bore": "H7",
+}
+#: Smallest engagement of the handle screw in the coupler plate, in thread diameters: the
+#: knob carries hand loads only (a few N), so a plate thinner than 1.5 d is tapped through
+#: and taken whole down to 1 d.
+HANDLE_MIN_ENGAGEMENT_D = 1.0
+#: Clearance kept between the post screw head and the motor housing when the screw
+#: passes through the motor mount plate (mm).
+HEAD_CLEARANCE_MM = 0.5
 
 
 @dataclass(frozen=True)
@@ -38,6 +77,7 @@ class Assembly:
     instances: tuple[PartInstance, ...]
     base_rect_mm: tuple[float, float, float, float]
     notes: tuple[str, ...] = ()
+    holes: tuple[TappedHole, ...] = ()
 
     def kinds(self) -> dict[str, PartKind]:
         out: dict[str, PartKind] = {}
@@ -51,9 +91,68 @@ class Assembly:
             q[inst.kind.name] = q.get(inst.kind.name, 0) + 1
         return q
 
+    def fasteners(self) -> dict[str, Fastener]:
+        """Instance name -> fastener record, for every fastener instance."""
+        return {i.name: i.fastener for i in self.instances if i.fastener is not None}
+
 
 def _fmt(x: float) -> str:
     return f"{x:.2f}".rstrip("0").rstrip(".")
+
+
+class _Builder:
+    """Collects part kinds (one per distinct part) and instances, and the tapped holes."""
+
+    def __init__(self, parts: PartsSpec, plan: LayerPlan, J, detailed: bool):
+        self.parts, self.plan, self.J, self.detailed = parts, plan, J, detailed
+        self.inst: list[PartInstance] = []
+        self.kinds: dict[str, PartKind] = {}
+        self.holes: dict[str, TappedHole] = {}
+
+    def kind(self, name, make, **kw) -> PartKind:
+        if name not in self.kinds:
+            self.kinds[name] = PartKind(name=name, shape=make(), **kw)
+        return self.kinds[name]
+
+    def place(self, name, k, body, tf, other=None, tf_other=None, fastener=None):
+        self.inst.append(
+            PartInstance(
+                name,
+                k,
+                body,
+                np.asarray(tf, dtype=float),
+                other,
+                None if tf_other is None else np.asarray(tf_other, dtype=float),
+                fastener,
+            )
+        )
+
+    def hole(self, h: TappedHole) -> TappedHole:
+        self.holes[h.name] = h
+        return h
+
+    def cap_screw(self, size: str, length: float) -> PartKind:
+        """A bought ISO 4762 socket head cap screw (one kind per size and length)."""
+        from cad.parts import joints
+
+        cs = cat.get_cap_screw(size, "parts")
+        return self.kind(
+            f"cap_screw_{size}x{_fmt(length)}",
+            lambda: joints.cap_screw_shape(size, length),
+            material=cat.FASTENER_MATERIAL,
+            made=False,
+            description=f"socket head cap screw ISO 4762 {size} x {_fmt(length)}",
+            process="bought",
+            revolution=True,
+            collision=(("self", joints.screw_envelope(cs.dk_mm, cs.k_mm, cs.d_mm, length)),),
+        )
+
+    def screw(self, name, size, clamp, hole, joint, field, body, tf, clamps):
+        """Size an ISO 4762 screw from its stack and place it with its fastener record."""
+        L, e = size_cap_screw(size, clamp, hole, joint, field)
+        f = Fastener("ISO 4762", size, L, tuple(clamps), hole.name, e)
+        self.place(name, self.cap_screw(size, L), body, tf, fastener=f)
+        return L
 
 
 def build_assembly(
@@ -70,155 +169,193 @@ def build_assembly(
     ``handle_shape``: a user handle (OCP shape, knob frame) replacing the built-in knob.
     ``fidelity``: "fabrication" builds bd_warehouse bearings with balls and the knob's
     cosmetic round; "inertia" and "preview" use plain bearing rings and no round.
+    Raises DesignError naming the joint when a fastener cannot be sized.
     """
-    from cad.parts import bars, base, handle, joints, motor
+    b = _Builder(parts, plan, joints_link, fidelity == "fabrication")
+    _bars(b, design_label)
+    _joint_hardware(b)
+    _motor_and_hub(b)
+    rect = _base_post_legs(b, footprint_mm)
+    _handle(b, handle_shape)
+    check_fasteners({i.name: i.fastener for i in b.inst if i.fastener}, b.holes)
+    return Assembly(tuple(b.inst), rect, holes=tuple(b.holes.values()))
 
-    detailed = fidelity == "fabrication"
-    J = joints_link
+
+def _bars(b: _Builder, design_label: str) -> None:
+    from cad.parts import bars
+
+    parts, plan, J = b.parts, b.plan, b.J
     t = parts.bar_thickness_mm
     brg = cat.get_bearing(parts.bearing)
     pin = cat.get_shoulder_screw(parts.pin)
-    nut = cat.get_nut(parts.pin)
-    washer = cat.get_washer(parts.pin)
     m = cat.get_motor(parts.motor)
-    inst: list[PartInstance] = []
-    kinds: dict[str, PartKind] = {}
-
-    def kind(name, make, **kw) -> PartKind:
-        if name not in kinds:
-            kinds[name] = PartKind(name=name, shape=make(), **kw)
-        return kinds[name]
-
-    def place(name, k, body, tf, other=None, tf_other=None):
-        inst.append(
-            PartInstance(
-                name,
-                k,
-                body,
-                np.asarray(tf, dtype=float),
-                other,
-                None if tf_other is None else np.asarray(tf_other, dtype=float),
-            )
-        )
-
-    steel = cat.FASTENER_MATERIAL
-
-    def cap_env(size: str, length: float):
-        cs = cat.get_cap_screw(size, "parts")
-        return (("self", joints.screw_envelope(cs.dk_mm, cs.k_mm, cs.d_mm, length)),)
-
-    def cap_screw_kind(size: str, length: float) -> PartKind:
-        """A bought ISO 4762 socket head cap screw (one kind per size and length)."""
-        return kind(
-            f"cap_screw_{size}x{_fmt(length)}",
-            lambda: joints.cap_screw_shape(size, length),
-            material=steel,
-            made=False,
-            description=f"socket head cap screw ISO 4762 {size} x {_fmt(length)}",
-            process="bought",
-            revolution=True,
-            collision=cap_env(size, length),
-        )
-
-    # ---------------------------------------------------------------- bars
     seat = bars.Feature("seat", d_mm=brg.Da_mm, cb_d_mm=brg.D_mm, cb_depth_mm=brg.B_mm)
     pin_hole = bars.Feature("pin", d_mm=pin.ds_mm)
-    hub_bc = hub_bolt_circle_mm(parts)
     hub_feat = bars.Feature(
         "hub",
         d_mm=m.shaft_diameter_mm + 1.0,
-        bolt_circle_mm=hub_bc,
+        bolt_circle_mm=hub_bolt_circle_mm(parts),
         bolt_hole_mm=cat.clearance_hole_mm(parts.hub_screw),
-        bolt_count=3,
+        bolt_count=HUB_SCREWS,
     )
     p_feat = bars.Feature(
         "tapped", d_mm=cat.tap_drill_mm(parts.handle_screw), keep_r_mm=parts.handle_diameter_mm / 2
     )
 
-    def joint_feature(link: str, j: str) -> bars.Feature:
+    def feat(link: str, j: str) -> bars.Feature:
         return seat if plan.joints[j].upper == link else pin_hole
 
     bar_joints = {
         "crank": {
             "A1": (J["crank"]["A1"], hub_feat),
-            "A2": (J["crank"]["A2"], joint_feature("crank", "A2")),
+            "A2": (J["crank"]["A2"], feat("crank", "A2")),
         },
         "coupler": {
-            "A2": (J["coupler"]["A2"], joint_feature("coupler", "A2")),
-            "A3": (J["coupler"]["A3"], joint_feature("coupler", "A3")),
+            "A2": (J["coupler"]["A2"], feat("coupler", "A2")),
+            "A3": (J["coupler"]["A3"], feat("coupler", "A3")),
             "P": (J["coupler"]["P"], p_feat),
         },
         "rocker": {
-            "A4": (J["rocker"]["A4"], joint_feature("rocker", "A4")),
-            "A3": (J["rocker"]["A3"], joint_feature("rocker", "A3")),
+            "A4": (J["rocker"]["A4"], feat("rocker", "A4")),
+            "A3": (J["rocker"]["A3"], feat("rocker", "A3")),
         },
     }
     for link, jd in bar_joints.items():
-        k = kind(
+        seats = sum(f.kind == "seat" for _, f in jd.values())
+        pins = sum(f.kind == "pin" for _, f in jd.values())
+        proc = [f"waterjet/laser {_fmt(t)} mm plate"]
+        fits = []
+        if seats:
+            proc.append(f"mill bearing seat x{seats}")
+            fits.append(f"bearing seat {_fmt(brg.D_mm)} {FITS['bearing seat']}")
+        if pins:
+            proc.append(f"ream pin bore x{pins}")
+            fits.append(f"pin bore {_fmt(pin.ds_mm)} {FITS['pin bore']}")
+        if link == "coupler":
+            proc.append(f"tap {parts.handle_screw.split('-')[0]} x1")
+        k = b.kind(
             link,
             lambda jd=jd: bars.bar_shape(jd, parts),
             material=parts.bar_material,
             made=True,
             plate=True,
             description=f"{link} bar {_fmt(t)} mm{(' ' + design_label) if design_label else ''}",
-            process=f"waterjet/laser {_fmt(t)} mm plate"
-            + ("; mill bearing seats" if any(f.kind == "seat" for _, f in jd.values()) else ""),
+            process="; ".join(proc),
+            fits=tuple(fits),
         )
-        place(link, k, link, translation(z=plan.z_mm[link]))
+        b.place(link, k, link, translation(z=plan.z_mm[link]))
 
-    # ---------------------------------------------------------------- joints
-    sp_od = spacer_od_mm(parts)
-    brg_kind = kind(
-        f"bearing_{parts.bearing}",
-        lambda: joints.bearing_shape(parts.bearing, detailed),
-        material=cat.BEARING_MATERIAL,
-        made=False,
-        description=f"deep groove ball bearing {brg.designation} ({brg.d_mm:g}x{brg.D_mm:g}x{brg.B_mm:g})",
-        process="bought",
-        inertia_model="ring",
-        mass_kg=(parts.bearing_mass_g * 1e-3 if parts.bearing_mass_g else brg.mass_kg),
-        ring_mm=(brg.d_mm / 2, brg.D_mm / 2, brg.B_mm),
-        collision=(
-            ("other", joints.bearing_rings(parts.bearing)[0]),
-            ("self", joints.bearing_rings(parts.bearing)[1]),
+
+def _joint_kinds(b: _Builder) -> dict[str, PartKind]:
+    from cad.parts import joints
+
+    parts = b.parts
+    brg = cat.get_bearing(parts.bearing)
+    nut = cat.get_nut(parts.pin)
+    washer = cat.get_washer(parts.pin)
+    steel = cat.FASTENER_MATERIAL
+    rings = joints.bearing_rings(parts.bearing)
+    return {
+        "bearing": b.kind(
+            f"bearing_{parts.bearing}",
+            lambda: joints.bearing_shape(parts.bearing, b.detailed),
+            material=cat.BEARING_MATERIAL,
+            made=False,
+            description=f"deep groove ball bearing {brg.designation} ({brg.d_mm:g}x{brg.D_mm:g}x{brg.B_mm:g})",
+            process="bought",
+            inertia_model="ring",
+            mass_kg=(parts.bearing_mass_g * 1e-3 if parts.bearing_mass_g else brg.mass_kg),
+            ring_mm=(brg.d_mm / 2, brg.D_mm / 2, brg.B_mm),
+            collision=(("other", rings[0]), ("self", rings[1])),
+            revolution=True,
+            hull=joints.bearing_shape(parts.bearing, False) if b.detailed else None,
         ),
+        "nut": b.kind(
+            f"nut_{parts.pin}",
+            lambda: joints.nut_shape(parts.pin),
+            material=steel,
+            made=False,
+            description=(
+                f"retaining ring DIN 471 {cat.get_shoulder_screw(parts.pin).ds_mm:g}"
+                if cat.is_dowel(parts.pin)
+                else f"hex nut ISO 4032 {parts.pin}"
+            ),
+            process="bought",
+            revolution=True,
+            collision=(("self", joints.ring_shape(0.0, nut.s_mm / math.sqrt(3.0), nut.m_mm)),),
+        ),
+        "washer": b.kind(
+            f"washer_{washer.size}",
+            lambda: joints.washer_shape(parts.pin),
+            material=steel,
+            made=False,
+            description=f"plain washer ISO 7089 {washer.size}",
+            process="bought",
+            revolution=True,
+            collision=(("self", joints.ring_shape(0.0, washer.d2_mm / 2, washer.h_mm)),),
+        ),
+    }
+
+
+def _spacer_kind(b: _Builder, role: str, h: float) -> PartKind:
+    from cad.parts import joints
+
+    pin = cat.get_shoulder_screw(b.parts.pin)
+    od = spacer_od_mm(b.parts)
+    return b.kind(
+        f"spacer_d{_fmt(od)}_h{_fmt(h)}",
+        lambda: joints.spacer_shape(pin.ds_mm / 2, od / 2, h),
+        material=b.parts.spacer_material,
+        made=True,
         revolution=True,
+        description=f"{role} spacer {_fmt(od)}/{_fmt(pin.ds_mm)} x {_fmt(h)} mm",
+        process="turned",
+        fits=(f"bore {_fmt(pin.ds_mm)} {FITS['spacer bore']}",),
     )
-    nut_k = kind(
-        f"nut_{parts.pin}",
-        lambda: joints.nut_shape(parts.pin),
-        material=steel,
+
+
+def _pin_kind(b: _Builder, L: float) -> PartKind:
+    from cad.parts import joints
+
+    parts = b.parts
+    pin = cat.get_shoulder_screw(parts.pin)
+    env = joints.screw_envelope(pin.dk_mm, pin.k_mm, pin.ds_mm, L, pin.thread_mm, pin.b_mm)
+    return b.kind(
+        f"shoulder_screw_{parts.pin}x{_fmt(L)}",
+        lambda: joints.shoulder_screw_shape(parts.pin, L),
+        material=parts.pin_material,
         made=False,
-        description=(f"retaining ring DIN 471 {pin.ds_mm:g}" if cat.is_dowel(parts.pin)
-                     else f"hex nut ISO 4032 {parts.pin}"),
+        description=cat.pin_description(parts.pin, L),
         process="bought",
         revolution=True,
-        collision=(("self", joints.ring_shape(0.0, nut.s_mm / math.sqrt(3.0), nut.m_mm)),),
+        collision=(("self", env),),
     )
-    washer_k = kind(
-        f"washer_{washer.size}",
-        lambda: joints.washer_shape(parts.pin),
-        material=steel,
-        made=False,
-        description=f"plain washer ISO 7089 {washer.size}",
-        process="bought",
-        revolution=True,
-        collision=(("self", joints.ring_shape(0.0, washer.d2_mm / 2, washer.h_mm)),),
-    )
-    for j, s in plan.joints.items():
+
+
+def _joint_hardware(b: _Builder) -> None:
+    """Bearing, (sleeve,) spacers, shoulder screw and (between links) washer + nut at A2, A3, A4."""
+    from cad.parts import joints
+
+    parts, J = b.parts, b.J
+    t = parts.bar_thickness_mm
+    brg = cat.get_bearing(parts.bearing)
+    pin = cat.get_shoulder_screw(parts.pin)
+    washer, nut = cat.get_washer(parts.pin), cat.get_nut(parts.pin)
+    k = _joint_kinds(b)
+    for j, s in b.plan.joints.items():
         up, low = s.upper, s.lower
         px, py = J[low][j]
         ux, uy = J[up][j]
-        place(
+        b.place(
             f"bearing_{j}",
-            brg_kind,
+            k["bearing"],
             up,
             translation(ux, uy, s.z_upper_mm),
             other=low,
             tf_other=translation(px, py, s.z_upper_mm),
         )
         if parts.pin_sleeve_material is not None:
-            slk = kind(
+            slk = b.kind(
                 f"sleeve_{_fmt(pin.ds_mm)}x{_fmt(brg.d_mm)}x{_fmt(brg.B_mm)}",
                 lambda: joints.ring_shape(pin.ds_mm / 2, brg.d_mm / 2, brg.B_mm),
                 material=parts.pin_sleeve_material,
@@ -227,91 +364,103 @@ def build_assembly(
                 description=f"sleeve {_fmt(brg.d_mm)}/{_fmt(pin.ds_mm)} x {_fmt(brg.B_mm)} mm in the bearing bore",
                 process="turned",
             )
-            place(f"sleeve_{j}", slk, low, translation(px, py, s.z_upper_mm))
-        spk = kind(
-            f"spacer_d{_fmt(sp_od)}_h{_fmt(s.spacer_mm)}",
-            lambda s=s: joints.ring_shape(pin.ds_mm / 2, sp_od / 2, s.spacer_mm),
-            material=parts.spacer_material,
-            made=True,
-            revolution=True,
-            description=f"gap spacer {_fmt(sp_od)}/{_fmt(pin.ds_mm)} x {_fmt(s.spacer_mm)} mm",
-            process="turned",
+            b.place(f"sleeve_{j}", slk, low, translation(px, py, s.z_upper_mm))
+        b.place(
+            f"gap_spacer_{j}",
+            _spacer_kind(b, "gap", s.spacer_mm),
+            low,
+            translation(px, py, s.z_lower_top_mm),
         )
-        place(f"gap_spacer_{j}", spk, low, translation(px, py, s.z_lower_top_mm))
-        shk = kind(
-            f"spacer_d{_fmt(sp_od)}_h{_fmt(s.shim_mm)}",
-            lambda s=s: joints.ring_shape(pin.ds_mm / 2, sp_od / 2, s.shim_mm),
-            material=parts.spacer_material,
-            made=True,
-            revolution=True,
-            description=f"head spacer {_fmt(sp_od)}/{_fmt(pin.ds_mm)} x {_fmt(s.shim_mm)} mm",
-            process="turned",
+        b.place(
+            f"head_spacer_{j}",
+            _spacer_kind(b, "head", s.shim_mm),
+            low,
+            translation(px, py, s.z_upper_mm + brg.B_mm),
         )
-        place(f"head_spacer_{j}", shk, low, translation(px, py, s.z_upper_mm + brg.B_mm))
-        pk = kind(
-            f"shoulder_screw_{parts.pin}x{_fmt(s.pin_length_mm)}",
-            lambda s=s: joints.shoulder_screw_shape(parts.pin, s.pin_length_mm),
-            material=parts.pin_material,
-            made=False,
-            description=cat.pin_description(parts.pin, s.pin_length_mm),
-            process="bought",
-            revolution=True,
-            collision=(
-                (
-                    "self",
-                    joints.screw_envelope(
-                        pin.dk_mm, pin.k_mm, pin.ds_mm, s.pin_length_mm, pin.thread_mm, pin.b_mm
-                    ),
-                ),
-            ),
+        clamps = [f"head_spacer_{j}", f"bearing_{j}", f"gap_spacer_{j}"]
+        if s.nut:
+            hole, engaged = f"nut_{j}", nut.m_mm
+            b.hole(TappedHole(hole, hole, parts.pin, nut.m_mm, nut.m_mm))
+            clamps += [low, f"washer_{j}"]
+        else:
+            hole, engaged = "post_A4:top", pin.b_mm - POST_BORE_EXTRA_MM
+        std = "ISO 2338 + DIN 471" if cat.is_dowel(parts.pin) else "ISO 7379"
+        f = Fastener(std, parts.pin, s.pin_length_mm, tuple(clamps), hole, engaged)
+        b.place(
+            f"pin_{j}",
+            _pin_kind(b, s.pin_length_mm),
+            low,
+            translation(px, py, s.head_face_mm),
+            fastener=f,
         )
-        place(f"pin_{j}", pk, low, translation(px, py, s.head_face_mm))
         if s.nut:
             z_bot = s.z_lower_top_mm - t
-            place(f"washer_{j}", washer_k, low, translation(px, py, z_bot - washer.h_mm))
-            place(f"nut_{j}", nut_k, low, translation(px, py, z_bot - washer.h_mm - nut.m_mm))
+            b.place(f"washer_{j}", k["washer"], low, translation(px, py, z_bot - washer.h_mm))
+            b.place(f"nut_{j}", k["nut"], low, translation(px, py, z_bot - washer.h_mm - nut.m_mm))
 
-    # ---------------------------------------------------------------- motor, hub
+
+def _motor_and_hub(b: _Builder) -> None:
+    """Crank hub with its screws and set screw, the motor (housing and shaft), its mount plate
+    and screws."""
+    from cad.parts import joints, motor
+
+    parts, plan = b.parts, b.plan
+    t = parts.bar_thickness_mm
+    m = cat.get_motor(parts.motor)
     hub_h = plan.hub_z_mm[1] - plan.hub_z_mm[0]
-    hub_depth = plan.hub_screw_length_mm - t + 0.5
+    hub_bc = hub_bolt_circle_mm(parts)
     engaged = min(plan.shaft_top_mm, plan.hub_z_mm[1]) - plan.hub_z_mm[0]
-    hk = kind(
+    hub_e = plan.hub_screw_length_mm - t
+    hk = b.kind(
         "crank_hub",
         lambda: motor.hub_shape(
-            m, parts.hub_diameter_mm, hub_h, hub_bc, parts.hub_screw, hub_depth, engaged
+            m,
+            parts.hub_diameter_mm,
+            hub_h,
+            hub_bc,
+            parts.hub_screw,
+            hub_e + TAP_LEADOUT_MM,
+            engaged,
         ),
         material=parts.hub_material,
         made=True,
-        description="direct-drive crank hub (set screw M3)",
-        process="turned",
+        description=f"direct-drive crank hub (set screw {motor.SET_SCREW.split('-')[0]})",
+        process=f"turned; tap {parts.hub_screw.split('-')[0]} x{HUB_SCREWS}, "
+        f"{motor.SET_SCREW.split('-')[0]} x1 (radial)",
+        fits=(f"shaft bore {_fmt(m.shaft_diameter_mm)} {FITS['hub shaft bore']}",),
         revolution=True,
         collision=(
             ("self", joints.ring_shape(m.shaft_diameter_mm / 2, parts.hub_diameter_mm / 2, hub_h)),
         ),
     )
-    place("crank_hub", hk, "crank", translation(0, 0, plan.hub_z_mm[0]))
-    hs = cap_screw_kind(parts.hub_screw, plan.hub_screw_length_mm)
-    for i in range(3):
-        a = math.radians(90 + 120 * i)
-        place(
+    b.place("crank_hub", hk, "crank", translation(0, 0, plan.hub_z_mm[0]))
+    for i, (x, y) in enumerate(cat.polar_points_mm(hub_bc / 2, HUB_SCREWS)):
+        hole = b.hole(alu_hole(f"crank_hub:screw_{i + 1}", "crank_hub", parts.hub_screw, hub_e))
+        b.screw(
             f"hub_screw_{i + 1}",
-            hs,
+            parts.hub_screw,
+            t,
+            hole,
+            "A1 (crank to hub)",
+            "parts.hub_screw",
             "crank",
-            translation(hub_bc / 2 * math.cos(a), hub_bc / 2 * math.sin(a), plan.z_mm["crank"] + t),
+            translation(x, y, plan.z_mm["crank"] + t),
+            ["crank"],
         )
+    _set_screw(b, m, hub_h, engaged)
     zf = plan.flange_z_mm
-    mk = kind(
+    mk = b.kind(
         f"motor_{m.key}",
         lambda: motor.motor_housing_shape(m),
         material="steel-1018",
         made=False,
         description=m.description,
-        process="bought",
+        process=f"bought; face tapped {m.bolt_size.split('-')[0]} x{m.bolt_count}",
         mass_kg=m.mass_kg,
         revolution=True,
     )
-    place("motor", mk, "ground", translation(0, 0, zf))
-    shk = kind(
+    b.place("motor", mk, "ground", translation(0, 0, zf))
+    shk = b.kind(
         "motor_shaft",
         lambda: motor.motor_shaft_shape(m),
         material="steel-1018",
@@ -321,44 +470,97 @@ def build_assembly(
         listed=False,
         revolution=True,
     )
-    place("motor_shaft", shk, "crank", translation(0, 0, zf))
-    mm_k = kind(
-        "motor_mount",
-        lambda: motor.motor_mount_shape(m, parts.motor_mount_thickness_mm),
-        material=parts.motor_mount_material,
-        made=True,
-        plate=True,
-        description=f"motor mount plate for {m.key}",
-        process=f"waterjet/laser {_fmt(parts.motor_mount_thickness_mm)} mm plate",
-    )
-    place("motor_mount", mm_k, "ground", translation(0, 0, zf))
-    ms_L = cat.shortest_length(
-        cat.get_cap_screw(m.bolt_size, "parts.motor").lengths_mm,
-        parts.motor_mount_thickness_mm + MOTOR_SCREW_ENGAGEMENT_MM,
-    )
-    msk = cap_screw_kind(m.bolt_size, ms_L)
+    b.place("motor_shaft", shk, "crank", translation(0, 0, zf))
+    mt = parts.motor_mount_thickness_mm
     for i, (x, y) in enumerate(motor.motor_bolt_xy_mm(m)):
-        place(f"motor_screw_{i + 1}", msk, "ground", translation(x, y, -parts.base_thickness_mm))
-    mo_L = cat.shortest_length(
-        cat.get_cap_screw(motor.MOUNT_SCREW, "parts.motor").lengths_mm,
-        parts.motor_mount_thickness_mm + MOUNT_SCREW_ENGAGEMENT_MM,
-    )
-    mok = cap_screw_kind(motor.MOUNT_SCREW, mo_L)
-    for i, (x, y) in enumerate(motor.mount_hole_xy_mm(m)):
-        place(f"mount_screw_{i + 1}", mok, "ground", translation(x, y, zf) @ flip_x())
+        hole = b.hole(
+            TappedHole(
+                f"motor:face_{i + 1}",
+                "motor",
+                m.bolt_size,
+                m.bolt_thread_depth_mm,
+                min(m.bolt_thread_depth_mm, MIN_ENGAGEMENT_BOUGHT_MM),
+            )
+        )
+        b.screw(
+            f"motor_screw_{i + 1}",
+            m.bolt_size,
+            mt,
+            hole,
+            "A1 (motor to mount plate)",
+            "parts.motor",
+            "ground",
+            translation(x, y, -parts.base_thickness_mm),
+            ["motor_mount"],
+        )
 
-    # ---------------------------------------------------------------- base, post, legs
-    a4 = J["ground"]["A4"]
+
+def _set_screw(b: _Builder, m, hub_h: float, engaged: float) -> None:
+    """ISO 4026 set screw in the hub's radial tapped hole, flat point on the shaft."""
+    from cad.parts import motor
+
+    r_in, r_out = m.shaft_diameter_mm / 2, b.parts.hub_diameter_mm / 2
+    L = max(x for x in SET_SCREW_LENGTHS_MM if x <= r_out - r_in)
+    k = b.kind(
+        f"set_screw_{motor.SET_SCREW}x{_fmt(L)}",
+        lambda: motor.set_screw_shape(L),
+        material=cat.FASTENER_MATERIAL,
+        made=False,
+        description=f"set screw ISO 4026 {motor.SET_SCREW} x {_fmt(L)} (locks the hub on the shaft)",
+        process="bought",
+    )
+    T = np.eye(4)
+    T[:3, :3] = [[0, 0, 1], [0, 1, 0], [-1, 0, 0]]  # part z -> +x (radial)
+    T[:3, 3] = (r_in, 0.0, b.plan.hub_z_mm[0] + motor.set_screw_z_mm(hub_h, engaged))
+    hole = b.hole(alu_hole("crank_hub:set_screw", "crank_hub", motor.SET_SCREW, r_out - r_in))
+    f = Fastener("ISO 4026", motor.SET_SCREW, L, ("motor_shaft",), hole.name, L)
+    b.place("hub_set_screw", k, "crank", T, fastener=f)
+
+
+#: ISO 4026 M3 set screw lengths (mm).
+SET_SCREW_LENGTHS_MM = (3.0, 4.0, 5.0, 6.0, 8.0, 10.0, 12.0, 16.0)
+
+
+def _post_through_mount(parts: PartsSpec, m, a4) -> bool:
+    """Does the A4 post screw head (under the base plate) land on the motor mount plate? Then
+    the screw passes through it too; DesignError when the head would meet the motor housing."""
+    from cad.parts import motor
+
+    cs = cat.get_cap_screw(cat.standoff_screw(parts.pin), "parts.pin")
+    half = motor.mount_side_mm(m) / 2 + HEAD_CLEARANCE_MM
+    r = cs.dk_mm / 2
+    if abs(a4[0]) - r >= half or abs(a4[1]) - r >= half:
+        return False
+    dist = math.hypot(a4[0], a4[1])
+    if dist - r < m.body_diameter_mm / 2 + HEAD_CLEARANCE_MM:
+        raise DesignError(
+            "mechanism",
+            f"A4: the post screw head under the motor mount plate would meet the {m.key} housing "
+            f"(A1-A4 = {dist:.1f} mm < {m.body_diameter_mm / 2 + r + HEAD_CLEARANCE_MM:.1f} mm)",
+        )
+    return True
+
+
+def _base_post_legs(b: _Builder, footprint_mm):
+    """Base plate, motor mount plate (with its screws), A4 post and its screw, legs."""
+    from cad.parts import base, motor
+
+    parts, plan = b.parts, b.plan
+    m = cat.get_motor(parts.motor)
+    pin = cat.get_shoulder_screw(parts.pin)
+    a4 = b.J["ground"]["A4"]
+    bt, mt = parts.base_thickness_mm, parts.motor_mount_thickness_mm
     rect = base.base_rect_mm(
         footprint_mm, a4, motor.mount_side_mm(m), parts.post_diameter_mm, parts.base_margin_mm
     )
     head_d = cat.get_cap_screw(m.bolt_size, "parts.motor").dk_mm
     opening = max(m.bolt_circle_mm + head_d + 2.0, m.pilot_diameter_mm + 2.0)
-    bk = kind(
+    ms = motor.MOUNT_SCREW.split("-")[0]
+    bk = b.kind(
         "base_plate",
         lambda: base.base_plate_shape(
             rect,
-            parts.base_thickness_mm,
+            bt,
             a4,
             opening,
             motor.mount_hole_xy_mm(m),
@@ -369,65 +571,141 @@ def build_assembly(
         made=True,
         plate=True,
         description="base plate",
-        process=f"waterjet/laser {_fmt(parts.base_thickness_mm)} mm plate; tap M4 x4",
+        process=f"waterjet/laser {_fmt(bt)} mm plate; tap {ms} x4",
     )
-    place("base_plate", bk, "ground", np.eye(4))
-    s4 = plan.joints["A4"]
+    b.place("base_plate", bk, "ground", np.eye(4))
+    through = _post_through_mount(parts, m, a4)
+    extra = (
+        [(a4[0], a4[1], cat.clearance_hole_mm(cat.standoff_screw(parts.pin)))] if through else []
+    )
+    mm_k = b.kind(
+        "motor_mount",
+        lambda: motor.motor_mount_shape(m, mt, extra),
+        material=parts.motor_mount_material,
+        made=True,
+        plate=True,
+        description=f"motor mount plate for {m.key}",
+        process=f"waterjet/laser {_fmt(mt)} mm plate",
+    )
+    zf = plan.flange_z_mm
+    b.place("motor_mount", mm_k, "ground", translation(0, 0, zf))
+    for i, (x, y) in enumerate(motor.mount_hole_xy_mm(m)):
+        hole = b.hole(alu_hole(f"base_plate:mount_{i + 1}", "base_plate", motor.MOUNT_SCREW, bt))
+        b.screw(
+            f"mount_screw_{i + 1}",
+            motor.MOUNT_SCREW,
+            mt,
+            hole,
+            "motor mount to base plate",
+            "parts.motor_mount_thickness_mm",
+            "ground",
+            translation(x, y, zf) @ flip_x(),
+            ["motor_mount"],
+        )
+    _post(b, a4, pin, through)
+    _legs(b, rect)
+    return rect
+
+
+def _post(b: _Builder, a4, pin, through: bool) -> None:
+    from cad.parts import base
+
+    parts = b.parts
+    s4 = b.plan.joints["A4"]
     post_h = s4.z_lower_top_mm
-    bore_depth = s4.pin_length_mm - s4.clamp_mm + pin.g2_mm + 0.5
-    pok = kind(
+    bore_depth = s4.pin_length_mm - s4.clamp_mm + pin.g2_mm + POST_BORE_EXTRA_MM
+    thread_depth = pin.b_mm + POST_THREAD_EXTRA_MM
+    screw = cat.standoff_screw(parts.pin)
+    dowel = cat.is_dowel(parts.pin)
+    top = "press-fit bore" if dowel else f"tap {parts.pin.split('-')[0]}"
+    pok = b.kind(
         "post_A4",
         lambda: base.post_shape(
-            parts.post_diameter_mm,
-            post_h,
-            pin.ds_mm,
-            bore_depth,
-            parts.pin,
-            pin.b_mm + 1.0,
-            cat.standoff_screw(parts.pin),
+            parts.post_diameter_mm, post_h, pin.ds_mm, bore_depth, parts.pin, thread_depth, screw
         ),
         material=parts.post_material,
         made=True,
         description="A4 pivot post",
-        process="turned",
+        process=f"turned; ream top bore; {top} top; tap {screw.split('-')[0]} bottom",
+        fits=(f"shoulder bore {_fmt(pin.ds_mm)} {FITS['post shoulder bore']}",),
         revolution=True,
     )
-    place("post_A4", pok, "ground", translation(a4[0], a4[1], 0.0))
-    st_cs = cat.get_cap_screw(cat.standoff_screw(parts.pin), "parts.pin")
-    st_L = cat.shortest_length(
-        st_cs.lengths_mm, parts.base_thickness_mm + STANDOFF_SCREW_ENGAGEMENT_MM
+    b.place("post_A4", pok, "ground", translation(a4[0], a4[1], 0.0))
+    # a plain pin is pressed, not screwed: its "thread" window has no minimum
+    need = 0.0 if dowel else MIN_ENGAGEMENT_ALU_D * pin.thread_mm
+    b.hole(TappedHole("post_A4:top", "post_A4", parts.pin, thread_depth, need))
+    bottom = b.hole(
+        alu_hole("post_A4:bottom", "post_A4", screw, base.STANDOFF_TAP_DEPTH_MM - TAP_LEADOUT_MM)
     )
-    stk = cap_screw_kind(cat.standoff_screw(parts.pin), st_L)
-    place(
-        "post_screw", stk, "ground", translation(a4[0], a4[1], -parts.base_thickness_mm) @ flip_x()
+    clamp = parts.base_thickness_mm + (parts.motor_mount_thickness_mm if through else 0.0)
+    b.screw(
+        "post_screw",
+        screw,
+        clamp,
+        bottom,
+        "A4 (post to base plate)",
+        "parts.pin",
+        "ground",
+        translation(a4[0], a4[1], -clamp) @ flip_x(),
+        ["base_plate", "motor_mount"] if through else ["base_plate"],
     )
+
+
+def _legs(b: _Builder, rect) -> None:
+    from cad.parts import base
+
+    parts = b.parts
+    m = cat.get_motor(parts.motor)
     leg_h = parts.motor_mount_thickness_mm + m.body_length_mm + base.LEG_GROUND_CLEARANCE_MM
-    lk = kind(
+    lk = b.kind(
         "leg",
         lambda: base.leg_shape(leg_h),
         material=parts.base_material,
         made=True,
         description=f"leg standoff d{_fmt(base.LEG_DIAMETER_MM)} x {_fmt(leg_h)}",
-        process="turned",
+        process=f"turned; tap {base.LEG_SCREW.split('-')[0]} both ends",
     )
     for i, (x, y) in enumerate(base.leg_xy_mm(rect)):
-        place(f"leg_{i + 1}", lk, "ground", translation(x, y, -parts.base_thickness_mm - leg_h))
-        place(f"leg_screw_{i + 1}", stk, "ground", translation(x, y, 0.0))
+        b.place(f"leg_{i + 1}", lk, "ground", translation(x, y, -parts.base_thickness_mm - leg_h))
+        hole = b.hole(
+            alu_hole(
+                f"leg_{i + 1}:top",
+                f"leg_{i + 1}",
+                base.LEG_SCREW,
+                base.STANDOFF_TAP_DEPTH_MM - TAP_LEADOUT_MM,
+            )
+        )
+        b.screw(
+            f"leg_screw_{i + 1}",
+            base.LEG_SCREW,
+            parts.base_thickness_mm,
+            hole,
+            f"leg {i + 1} to base plate",
+            "parts.base_thickness_mm",
+            "ground",
+            translation(x, y, 0.0),
+            ["base_plate"],
+        )
 
-    # ---------------------------------------------------------------- handle
+
+def _handle(b: _Builder, handle_shape) -> None:
+    from cad.parts import handle
+
+    parts, plan = b.parts, b.plan
+    t = parts.bar_thickness_mm
     floor = plan.handle_screw_length_mm - t
-    px, py = J["coupler"]["P"]
+    px, py = b.J["coupler"]["P"]
     if handle_shape is None:
-        hk2 = kind(
+        hk = b.kind(
             "handle",
-            lambda: handle.knob_shape(parts, floor, cosmetic=detailed),
+            lambda: handle.knob_shape(parts, floor, cosmetic=b.detailed),
             material=parts.handle_material,
             made=True,
             description="handle knob",
             process="turned",
         )
     else:
-        hk2 = kind(
+        hk = b.kind(
             "handle",
             lambda: handle_shape,
             material=parts.handle_material,
@@ -435,7 +713,19 @@ def build_assembly(
             description="handle (user script)",
             process="3D print / turned",
         )
-    place("handle", hk2, "coupler", translation(px, py, plan.handle_z_mm))
-    hsk = cap_screw_kind(parts.handle_screw, plan.handle_screw_length_mm)
-    place("handle_screw", hsk, "coupler", translation(px, py, plan.handle_z_mm + floor))
-    return Assembly(tuple(inst), rect)
+    b.place("handle", hk, "coupler", translation(px, py, plan.handle_z_mm))
+    d = cat.thread_diameter_mm(parts.handle_screw)
+    # the knob carries hand loads only: the full plate, at least 1 d (1.5 d when it fits)
+    need = min(MIN_ENGAGEMENT_ALU_D * d, max(t, HANDLE_MIN_ENGAGEMENT_D * d))
+    hole = b.hole(TappedHole("coupler:P", "coupler", parts.handle_screw, t, need))
+    b.screw(
+        "handle_screw",
+        parts.handle_screw,
+        floor,
+        hole,
+        "P (handle to coupler)",
+        "parts.handle_screw",
+        "coupler",
+        translation(px, py, plan.handle_z_mm + floor),
+        ["handle"],
+    )

@@ -22,6 +22,10 @@ angles, meshing timed apart) and checks it against exact OCCT distances at sampl
 (:func:`_real_assembly`). Top-level keys for the issue-7 goals: ``sweep_200_s`` (median
 sweep time) and ``missed`` (contacts missed by the tool's method at its default mesh
 tolerance on the closed-form scene, plus misses against the exact Hoeken samples).
+Issue 10 adds ``same_body_s``: the median time of the same-body check (every pair of
+parts of one body, box culling then OCCT common volume) on the Hoeken assembly at
+fabrication fidelity, and, in a full run, the brute-force count (every same-body pair
+intersected, no culling) it must equal (``same_body.missed`` = 0).
 """
 
 from __future__ import annotations
@@ -163,6 +167,7 @@ def run(quick: bool, out_dir: Path) -> dict:
         if p["method"] == "fcl+occt" and p["knob"] == f"tol={itf.SWEEP_MESH_TOL_MM:g}mm"
     ]
     missed_scene = tool_tol[0]["missed"] if tool_tol else None
+    same = _same_body(repeats, brute_force=not quick)
     charts = _chart(points, Path(out_dir))
     return {
         "topic": "interference",
@@ -178,6 +183,9 @@ def run(quick: bool, out_dir: Path) -> dict:
         "missed_hoeken_vs_exact": real["missed"],
         "points": points,
         "hoeken_assembly": real,
+        # issue 10: every same-body pair once (boxes, then OCCT common volume)
+        "same_body_s": same["time_s"],
+        "same_body": same,
         "charts": charts,
     }
 
@@ -190,7 +198,7 @@ SWEEP_POSES = 200
 REF_RADIUS_MM = 2.0
 
 
-def _hoeken():
+def _hoeken(fidelity: str = "inertia"):
     from cad.assembly.layers import choose_layers, footprint_bbox_mm
     from cad.assembly.mechanism import build_assembly
     from cad.assembly.pose import planar_transforms
@@ -202,7 +210,7 @@ def _hoeken():
     J = link_joints_mm(d.linkage)
     planar = planar_transforms(d.linkage, phi)
     plan = choose_layers(J, d.parts, planar)
-    asm = build_assembly(J, plan, d.parts, footprint_bbox_mm(plan, planar), fidelity="inertia")
+    asm = build_assembly(J, plan, d.parts, footprint_bbox_mm(plan, planar), fidelity=fidelity)
     return d, J, asm
 
 
@@ -231,6 +239,42 @@ def _exact_reference(prep, tfs, poses, radius_mm: float) -> dict:
                     if ext.IsDone():
                         best = min(best, float(ext.Value()))
             out[(a, b)] = {**out.get((a, b), {}), int(i): best}
+    return out
+
+
+def _same_body(repeats: int, brute_force: bool) -> dict:
+    """The same-body check (issue 10) on the Hoeken assembly at fabrication fidelity (bearings
+    with balls): median time of ``repeats``; with ``brute_force``, every same-body pair
+    intersected without box culling (the reference: culling must lose no collision)."""
+    from cad.assembly import interference as itf
+    from cad.export.shapes import placed
+
+    _, _, asm = _hoeken("fabrication")
+    items = itf.static_items(asm.instances)
+    times, r = [], None
+    for _ in range(repeats):
+        r = itf.same_body_check(items)
+        times.append(r.time_s)
+    out = {
+        "time_s": statistics.median(times),
+        "times_s": times,
+        "pairs": r.n_pairs,
+        "exact_checks": r.n_box_overlaps,
+        "collisions": len(r.collisions),
+    }
+    if brute_force:
+        t0 = time.perf_counter()
+        ps = [(n, b, placed(s, T)) for n, b, s, T, _ in items]
+        found = sum(
+            itf.common_volume_mm3(p[2], q[2]) > itf.OVERLAP_MIN_MM3
+            for i, p in enumerate(ps)
+            for q in ps[i + 1 :]
+            if p[1] == q[1]
+        )
+        out.update(
+            {"brute_force_collisions": int(found), "brute_force_s": time.perf_counter() - t0}
+        )
+        out["missed"] = int(found) - len(r.collisions)
     return out
 
 

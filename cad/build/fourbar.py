@@ -43,6 +43,7 @@ from cad.errors import DesignError
 #: Source the output depends on (build cache key): any change there rebuilds.
 CODE_DEPS = (
     "build",
+    "report",  # report.html, the stroke GIF and render (cad/report)
     "parts",
     "assembly",
     "export",
@@ -259,6 +260,7 @@ def _write_exports(
             stl=k.made,
             tolerance_mm=stl_tol,
             angular_tolerance_rad=ang,
+            notes=tuple(f"{f} (ISO 286)" for f in k.fits),
         )
         files += [p.relative_to(out_dir).as_posix() for p in paths]
     if "step" in formats:
@@ -266,7 +268,7 @@ def _write_exports(
         from cad.assembly.pose import posed_shapes
 
         export_assembly_step(
-            posed_shapes(asm.instances, tf_pose, 0),
+            posed_shapes(asm.instances, tf_pose, 0, listed_only=False),  # with the motor shaft
             out_dir / "assembly.step",
             name=f"{name}_assembly",
         )
@@ -441,9 +443,13 @@ def build(
         )
         return files, glb, time.perf_counter() - t
 
+    def same_body_stage():
+        return itf.same_body_check(itf.static_items(asm.instances))
+
     exports_task = forked.start(exports_stage, "exports")
     views_task = forked.start(views_stage, "views")
-    with forked.cancel_on_error(exports_task, views_task):
+    same_task = forked.start(same_body_stage, "same-body check")
+    with forked.cancel_on_error(exports_task, views_task, same_task):
         # 4 mass properties and dynamics
         _step(progress, "mass properties", 2, n_steps)
         t1 = time.perf_counter()
@@ -464,7 +470,7 @@ def build(
 
     # the preview and the paper's plots (which need H) in a second child, beside the sweep
     preview_task = forked.start(preview_stage, "preview")
-    with forked.cancel_on_error(exports_task, views_task, preview_task):
+    with forked.cancel_on_error(exports_task, views_task, preview_task, same_task):
         from cad.structure.device import structure_of_build
 
         structure = structure_of_build(design, asm, props, am["M11_max_g"])
@@ -488,6 +494,7 @@ def build(
             tf_at=tf_at,
             joints=_joint_axes(J),
         )
+        rep = itf.merge_same_body(rep, same_task.result())
         if not allow_interference:
             itf.raise_on_collision(rep, parts.clearance_min_mm)
         timings["interference"] = time.perf_counter() - t1
@@ -507,6 +514,7 @@ def build(
                     "quantity": q[k.name],
                     "made_or_bought": "made" if k.made else "bought",
                     "process": k.process,
+                    "fits": "; ".join(k.fits),
                     "mass_g": (mp.mass_kg * 1e3) if mp is not None else 0.0,
                 }
             )
@@ -529,7 +537,7 @@ def build(
 
     report = {
         "name": design.name,
-        "source": str(design.source),
+        "source": Path(str(design.source)).name,  # the file name: no path of this machine
         **design.resolved_linkage(),
         "force_N": design.force_N,
         **{k: m[k] for k in METRIC_KEYS if k in m},
@@ -562,6 +570,10 @@ def build(
         "min_clearance_mm": rep.min_clearance_mm,
         "overlap_volume_mm3": rep.overlap_volume_mm3,
         "interference": rep.as_dict(),
+        "fasteners": {n: f.as_dict() for n, f in asm.fasteners().items()},
+        "tapped_holes": {h.name: h.__dict__ for h in asm.holes},
+        "fits": {k.name: list(k.fits) for k in listed if k.fits},
+        "bodies": {i.name: i.body for i in asm.instances},
         "layers": {
             "order": list(plan.order),
             "z_mm": plan.z_mm,

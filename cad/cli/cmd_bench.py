@@ -75,6 +75,13 @@ def _goals(results: dict) -> list[tuple[str, str, str, bool | None]]:
     if "sweep_200_s" in i:
         rows.append(("interference sweep 200 poses x all pairs", f"{i['sweep_200_s']:.2f} s, {i.get('missed', '?')} missed",
                      "<= 1 s, 0 missed", i["sweep_200_s"] <= 1.0 and i.get("missed", 1) == 0))
+    if "same_body_s" in i:
+        sb = i.get("same_body", {})
+        missed = sb.get("missed")
+        rows.append(("same-body pairs, Hoeken fabrication (box cull + OCCT common)",
+                     f"{i['same_body_s']:.2f} s, {sb.get('exact_checks', '?')}/{sb.get('pairs', '?')} exact, "
+                     f"{'?' if missed is None else missed} missed", "0 missed vs brute force",
+                     None if missed is None else missed == 0))
     g = results.get("gii", {})
     if "culling_ratio" in g:
         rows.append(("GII culling: fewer Jacobian evaluations than brute", f"{g['culling_ratio']:.1f}x",

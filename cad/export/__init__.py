@@ -76,6 +76,7 @@ def export_part(
     stl: bool = True,
     tolerance_mm: float = STL_TOLERANCE_MM,
     angular_tolerance_rad: float = STL_ANGULAR_TOLERANCE_RAD,
+    notes: tuple[str, ...] = (),
 ) -> list[Path]:
     """Write the files of one part and return their paths.
 
@@ -87,6 +88,7 @@ def export_part(
     plate : write ``<name>.dxf`` (section at mid-thickness) when "dxf" is asked.
     stl : False for bought parts (only STEP is useful for those).
     tolerance_mm, angular_tolerance_rad : absolute STL deflections.
+    notes : text lines written on the DXF's ``NOTES`` layer (fits of seats and bores).
 
     The STL mesh is checked watertight (two independent checks, see
     :mod:`cad.export.stl`) before anything is written: a failure raises
@@ -108,7 +110,7 @@ def export_part(
     if "dxf" in formats and plate:
         from cad.export.dxf import plate_profile_dxf
 
-        payload.append((out_dir / f"{name}.dxf", plate_profile_dxf(topo, name)))
+        payload.append((out_dir / f"{name}.dxf", plate_profile_dxf(topo, name, notes)))
     written = []
     for path, data in payload:
         if isinstance(data, str):

@@ -1,4 +1,5 @@
-"""Bill of materials: ``bom.csv`` (part, material, quantity, made or bought, mass)."""
+"""Bill of materials: ``bom.csv`` (part, material, quantity, made or bought, process, ISO 286
+fits of its seats and bores, mass)."""
 
 from __future__ import annotations
 
@@ -15,6 +16,7 @@ BOM_COLUMNS = (
     "quantity",
     "made_or_bought",
     "process",
+    "fits",
     "mass_g",
     "total_mass_g",
 )
@@ -29,6 +31,7 @@ def bom_csv(rows: list[dict]) -> str:
         r = dict(r)
         r.setdefault("description", "")
         r.setdefault("process", "")
+        r.setdefault("fits", "")
         r["total_mass_g"] = f"{float(r['mass_g']) * int(r['quantity']):.2f}"
         r["mass_g"] = f"{float(r['mass_g']):.2f}"
         w.writerow(r)

@@ -3,9 +3,11 @@
 Layers: ``CUT`` is the through profile -- the plate's section at the level (between two
 consecutive z levels of its flat faces) with the most material, i.e. outline and through
 holes only; every other level with less material (a bearing seat counterbored into a
-bar, say) is written on its own layer ``MILL_Z<lo>_<hi>`` (its full section, z in mm from
-the plate's bottom face) for the machining after cutting. A plain 2.5-D plate has only
-``CUT``. Lines become LINE, full circles CIRCLE, circular arcs ARC
+bar, say) is written on its own layer ``MILL_Z<lo>_<hi>`` (z in mm from the plate's
+bottom face) for the machining after cutting -- only the edges that differ from the
+through profile (the seat, not the outline repeated). A plain 2.5-D plate has only
+``CUT``. ``notes`` (the ISO 286 fits of its seats and bores) are written as TEXT on the
+layer ``NOTES`` under the part. Lines become LINE, full circles CIRCLE, circular arcs ARC
 (counter-clockwise, as DXF requires), anything else an LWPOLYLINE sampled at
 :data:`DXF_SAMPLE_DEFLECTION_MM`. Metadata is fixed
 (``ezdxf.options.write_fixed_meta_data_for_testing``): no time stamps or random
@@ -118,8 +120,36 @@ def _add_edges(msp, edges, layer: str) -> None:
             msp.add_lwpolyline(pts, dxfattribs=att)
 
 
-def plate_profile_dxf(shape, name: str) -> str:
-    """DXF text of a plate's cutting profile (layer ``CUT``) and milled levels (``MILL_*``)."""
+def _on_profile(edge, profile) -> bool:
+    """Does ``edge`` lie on the ``profile`` edges (its mid point within 1e-6 mm)?"""
+    from OCP.BRepAdaptor import BRepAdaptor_Curve
+    from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeVertex
+    from OCP.BRepExtrema import BRepExtrema_DistShapeShape
+
+    c = BRepAdaptor_Curve(edge)
+    mid = BRepBuilderAPI_MakeVertex(
+        c.Value(0.5 * (c.FirstParameter() + c.LastParameter()))
+    ).Vertex()
+    dist = BRepExtrema_DistShapeShape(mid, profile)
+    return dist.IsDone() and dist.Value() < 1e-6
+
+
+def _mill_edges(shape, z_mm: float, cut_edges, z_cut: float) -> list:
+    """Edges of the section at ``z_mm`` that are not on the through profile (moved to its z)."""
+    from OCP.gp import gp_Trsf, gp_Vec
+    from OCP.TopLoc import TopLoc_Location
+
+    from cad.export.shapes import make_compound
+
+    tr = gp_Trsf()
+    tr.SetTranslation(gp_Vec(0.0, 0.0, z_mm - z_cut))
+    profile = make_compound(cut_edges).Moved(TopLoc_Location(tr))
+    return [e for e in _section_edges(shape, z_mm) if not _on_profile(e, profile)]
+
+
+def plate_profile_dxf(shape, name: str, notes=()) -> str:
+    """DXF text of a plate's cutting profile (layer ``CUT``), milled levels (``MILL_*``, only
+    what differs from the profile) and ``notes`` (layer ``NOTES``)."""
     import ezdxf
 
     levels = _z_levels(shape)
@@ -135,18 +165,43 @@ def plate_profile_dxf(shape, name: str) -> str:
         doc = ezdxf.new("R2000", setup=False)
         doc.header["$INSUNITS"] = 4  # millimetres
         msp = doc.modelspace()
+        z_cut = 0.5 * sum(bands[i_cut])
+        cut_edges = _section_edges(shape, z_cut)
         for i, (a, b) in enumerate(bands):
             if i != i_cut and areas[i] >= areas[i_cut] - 1e-9:
                 continue  # same material as the through profile: nothing to mill there
             layer = "CUT" if i == i_cut else f"MILL_Z{a - z_bottom:.2f}_{b - z_bottom:.2f}"
             if layer not in doc.layers:
                 doc.layers.add(layer)
-            _add_edges(msp, _section_edges(shape, 0.5 * (a + b)), layer)
+            z = 0.5 * (a + b)
+            edges = cut_edges if i == i_cut else _mill_edges(shape, z, cut_edges, z_cut)
+            _add_edges(msp, edges, layer)
+        _add_notes(doc, msp, shape, notes)
         buf = io.StringIO()
         doc.write(buf)
         return buf.getvalue()
     finally:
         ezdxf.options.write_fixed_meta_data_for_testing = old
+
+
+#: Text height of the DXF notes (mm).
+NOTE_HEIGHT_MM = 2.5
+
+
+def _add_notes(doc, msp, shape, notes) -> None:
+    """One TEXT line per note on layer ``NOTES``, below the part's outline."""
+    if not notes:
+        return
+    from OCP.Bnd import Bnd_Box
+    from OCP.BRepBndLib import BRepBndLib
+
+    box = Bnd_Box()
+    BRepBndLib.Add_s(shape, box)
+    x0, y0, _, _, _, _ = box.Get()
+    doc.layers.add("NOTES")
+    for k, text in enumerate(notes):
+        y = y0 - (k + 1.5) * 1.6 * NOTE_HEIGHT_MM
+        msp.add_text(text, height=NOTE_HEIGHT_MM, dxfattribs={"layer": "NOTES", "insert": (x0, y)})
 
 
 def dxf_profile_area_mm2(text: str, layer: str = "CUT") -> float:

@@ -46,6 +46,11 @@ class PartKind:
         seat's link); roles ``"self"`` or ``"other"`` (the joint's other link).
     listed : False for solids that are part of another bought item (the motor shaft): no
         files, no BOM line.
+    hull : a solid enclosing ``shape`` (a bearing's d..D x B ring around its rings and balls),
+        intersected first by the same-body check: only where it shares volume with another
+        part is the detailed ``shape`` intersected too. None: ``shape`` itself.
+    fits : ISO 286 tolerance classes of its seats and bores (``"bearing seat 16 J7"``), for
+        the BOM, report.json and the DXF notes.
     revolution : the collision solid(s) are solids of revolution about the part's z axis
         (rings, spacers, pin envelopes): their distance to a link turning about that axis
         is the same at every pose (used to speed up the interference sweep).
@@ -64,6 +69,8 @@ class PartKind:
     collision: tuple[tuple[str, Any], ...] | None = None
     listed: bool = True
     revolution: bool = False
+    fits: tuple[str, ...] = ()
+    hull: Any = None
 
 
 @dataclass(frozen=True)
@@ -72,6 +79,8 @@ class PartInstance:
 
     ``other_body`` is the joint's other link for parts whose collision envelope has an
     ``"other"`` role (a bearing's inner ring), placed there by ``tf_other_part``.
+    ``fastener``: for screws, a :class:`cad.assembly.fasteners.Fastener` record (thread size,
+    length, what it clamps, which hole it engages); None otherwise.
     """
 
     name: str
@@ -80,6 +89,7 @@ class PartInstance:
     tf_body_part: np.ndarray = field(default_factory=lambda: np.eye(4))
     other_body: str | None = None
     tf_other_part: np.ndarray | None = None
+    fastener: Any = None
 
 
 def translation(x: float = 0.0, y: float = 0.0, z: float = 0.0) -> np.ndarray:

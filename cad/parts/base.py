@@ -11,6 +11,7 @@ turned standoffs under the corners, long enough to clear the motor.
 
 from __future__ import annotations
 
+from cad.errors import GeometryError
 from cad.parts.catalog import clearance_hole_mm, tap_drill_mm
 from cad.parts.part_cache import part_cached
 
@@ -86,11 +87,17 @@ def post_shape(
 
     a = _a()
     top = height_mm - bore_depth_mm
-    tools = [Pos(0, 0, top) * Cylinder(bore_d_mm / 2, bore_depth_mm, align=a)]
-    td = min(thread_depth_mm, top - STANDOFF_TAP_DEPTH_MM - 1.0)
-    if td > 0:
-        tools.append(Pos(0, 0, top - td) * Cylinder(tap_drill_mm(thread) / 2, td, align=a))
-    tools.append(Cylinder(tap_drill_mm(bottom_screw) / 2, STANDOFF_TAP_DEPTH_MM, align=a))
+    if top - thread_depth_mm < STANDOFF_TAP_DEPTH_MM:
+        raise GeometryError(
+            f"A4 post: {height_mm:g} mm cannot hold the {bore_depth_mm:g} mm bore, the "
+            f"{thread_depth_mm:g} mm top thread and the {STANDOFF_TAP_DEPTH_MM:g} mm bottom thread"
+        )
+    tools = [
+        Pos(0, 0, top) * Cylinder(bore_d_mm / 2, bore_depth_mm, align=a),
+        Pos(0, 0, top - thread_depth_mm)
+        * Cylinder(tap_drill_mm(thread) / 2, thread_depth_mm, align=a),
+        Cylinder(tap_drill_mm(bottom_screw) / 2, STANDOFF_TAP_DEPTH_MM, align=a),
+    ]
     p = Cylinder(diameter_mm / 2, height_mm, align=a).cut(*tools)  # one boolean, all tools
     return p.solids()[0].wrapped
 

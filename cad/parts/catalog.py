@@ -291,7 +291,9 @@ class MotorSpec:
 
     body_diameter_mm / body_length_mm : housing cylinder below the mounting face.
     pilot_diameter_mm / pilot_height_mm : centring collar on the mounting face.
-    bolt_circle_mm, bolt_count, bolt_size : tapped holes in the mounting face.
+    bolt_circle_mm, bolt_count, bolt_size : tapped holes in the mounting face;
+    bolt_thread_depth_mm : their usable thread depth (maxon RE 35 / RE 40 drawings: M3, 3.5 mm
+    deep -- check the sheet of the exact order number).
     shaft_diameter_mm / shaft_length_mm : output shaft, length beyond the mounting face.
     mass_kg : catalog weight. rotor_inertia_g_cm2 : catalog rotor inertia Jm.
     """
@@ -310,6 +312,7 @@ class MotorSpec:
     mass_kg: float
     rotor_inertia_g_cm2: float
     source: str
+    bolt_thread_depth_mm: float = 3.5
     #: Peak torque the drive is rated to apply (mNm): the actuator limit of the simulator
     #: exports and of ``hapticad wall``. None where the catalog entry has no value.
     torque_peak_mNm: float | None = None

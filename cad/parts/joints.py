@@ -75,6 +75,25 @@ def ring_shape(r_in_mm: float, r_out_mm: float, height_mm: float):
     return s.solids()[0].wrapped
 
 
+#: Edge break of the turned spacers' bore, both ends (mm): clears the ISO 7379 screw's
+#: under-head fillet (bd_warehouse models it r ~ 0.1 mm; a sharp 8.0 bore shares 0.014 mm^3).
+SPACER_BORE_CHAMFER_MM = 0.3
+
+
+@functools.cache
+def spacer_shape(r_in_mm: float, r_out_mm: float, height_mm: float):
+    """Turned spacer: tube r_in..r_out, z 0..height, bore chamfered
+    :data:`SPACER_BORE_CHAMFER_MM` x 45 deg at both ends."""
+    from build123d import Align, Cone, Cylinder, Pos
+
+    a = (Align.CENTER, Align.CENTER, Align.MIN)
+    c = min(SPACER_BORE_CHAMFER_MM, height_mm / 3.0, (r_out_mm - r_in_mm) / 3.0)
+    s = Cylinder(r_out_mm, height_mm, align=a) - Cylinder(r_in_mm, height_mm, align=a)
+    s = s - Cone(r_in_mm + c, r_in_mm, c, align=a)
+    s = s - Pos(0, 0, height_mm - c) * Cone(r_in_mm, r_in_mm + c, c, align=a)
+    return s.solids()[0].wrapped
+
+
 @functools.cache
 def shoulder_screw_shape(size: str, length_mm: float):
     """ISO 7379 shoulder screw: under-head face at z = 0, head up, shoulder to z = -length.

@@ -26,8 +26,13 @@ SHAFT_ENVELOPE_GAP_MM = 1.0
 #: Motor mount plate margin around the motor housing (mm) and its corner-hole inset.
 MOUNT_MARGIN_MM = 10.0
 MOUNT_HOLE_INSET_MM = 6.0
-#: Screws fixing the motor mount plate under the base plate.
-MOUNT_SCREW = "M4-0.7"
+#: Screws fixing the motor mount plate under the base plate: M3, so that 1.5 d of thread
+#: (4.5 mm) fits in the 6 mm base plate with a catalog length through the 5 mm plate.
+MOUNT_SCREW = "M3-0.5"
+#: A tapped hole is drilled this much deeper than its full thread (mm).
+TAP_LEADOUT_MM = 1.0
+#: Set screw locking the hub on the motor shaft (ISO 4026, flat point).
+SET_SCREW = "M3-0.5"
 
 
 def _a():
@@ -38,14 +43,20 @@ def _a():
 
 @part_cached
 def motor_housing_shape(m: MotorSpec):
-    """Housing + pilot of the motor: z from -body_length to pilot_height (mounting face z = 0)."""
+    """Housing + pilot of the motor: z from -body_length to pilot_height (mounting face z = 0),
+    with the face's tapped holes (tap drill, ``bolt_thread_depth_mm`` + lead-out deep) that
+    the motor screws enter."""
     from build123d import Cylinder, Pos
 
     body = Pos(0, 0, -m.body_length_mm) * Cylinder(
         m.body_diameter_mm / 2, m.body_length_mm, align=_a()
     )
     pilot = Cylinder(m.pilot_diameter_mm / 2, m.pilot_height_mm, align=_a())
-    return (body + pilot).solids()[0].wrapped
+    s = body + pilot
+    drill = m.bolt_thread_depth_mm + TAP_LEADOUT_MM
+    for x, y in motor_bolt_xy_mm(m):
+        s = s - Pos(x, y, -drill) * Cylinder(tap_drill_mm(m.bolt_size) / 2, drill, align=_a())
+    return s.solids()[0].wrapped
 
 
 @part_cached
@@ -82,13 +93,16 @@ def motor_bolt_xy_mm(m: MotorSpec) -> list[tuple[float, float]]:
 
 
 @part_cached
-def motor_mount_shape(m: MotorSpec, thickness_mm: float):
+def motor_mount_shape(m: MotorSpec, thickness_mm: float, extra_holes=()):
     """Motor mount plate: pilot bore, motor bolt-circle clearance holes, 4 corner holes
-    (clearance for the screws that fix it under the base plate); z 0..thickness."""
+    (clearance for the screws that fix it under the base plate), ``extra_holes``
+    ``[(x, y, diameter)]`` (the A4 post screw when it passes through); z 0..thickness."""
     from build123d import Circle, Pos, Rectangle, extrude
 
     s = mount_side_mm(m)
     sk = Rectangle(s, s) - Circle(m.pilot_diameter_mm / 2)
+    for x, y, dia in extra_holes:
+        sk = sk - Pos(x, y) * Circle(dia / 2)
     for x, y in motor_bolt_xy_mm(m):
         sk = sk - Pos(x, y) * Circle(clearance_hole_mm(m.bolt_size) / 2)
     for x, y in mount_hole_xy_mm(m):
@@ -106,8 +120,9 @@ def hub_shape(
     screw_depth_mm: float,
     shaft_engaged_mm: float,
 ):
-    """Direct-drive crank hub: shaft bore, radial set-screw hole (M3 tap drill) at mid
-    engagement, ``3`` tapped holes (tap drill) on ``bolt_circle_mm`` in the top face."""
+    """Direct-drive crank hub: shaft bore, radial set-screw hole (M3 tap drill, along +x) at
+    mid engagement, ``3`` tapped holes (tap drill, ``screw_depth_mm`` drilled) on
+    ``bolt_circle_mm`` in the top face."""
     from build123d import Cylinder, Pos, Rot
 
     a = _a()
@@ -118,8 +133,21 @@ def hub_shape(
         ang = math.radians(90 + 120 * k)
         tools.append(Pos(r * math.cos(ang), r * math.sin(ang), height_mm - screw_depth_mm)
                      * Cylinder(d / 2, screw_depth_mm, align=a))
-    z_set = min(shaft_engaged_mm, height_mm) / 2
+    z_set = set_screw_z_mm(height_mm, shaft_engaged_mm)
     tools.append(Pos(0, 0, z_set) * Rot(0, 90, 0)
-                 * Cylinder(tap_drill_mm("M3-0.5") / 2, diameter_mm / 2, align=a))
+                 * Cylinder(tap_drill_mm(SET_SCREW) / 2, diameter_mm / 2, align=a))
     hub = Cylinder(diameter_mm / 2, height_mm, align=a).cut(*tools)  # one boolean, all tools
     return hub.solids()[0].wrapped
+
+
+def set_screw_z_mm(height_mm: float, shaft_engaged_mm: float) -> float:
+    """Height of the set screw's axis in the hub frame (mid shaft engagement)."""
+    return min(shaft_engaged_mm, height_mm) / 2
+
+
+def set_screw_shape(length_mm: float):
+    """Simplified ISO 4026 set screw: a cylinder of the tap drill diameter (the thread's
+    minor envelope, like bd_warehouse's ``simple`` screws), z 0..length, flat point at z = 0."""
+    from build123d import Cylinder
+
+    return Cylinder(tap_drill_mm(SET_SCREW) / 2, length_mm, align=_a()).solids()[0].wrapped
