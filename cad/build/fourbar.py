@@ -537,7 +537,7 @@ def build(
 
     report = {
         "name": design.name,
-        "source": str(design.source),
+        "source": Path(str(design.source)).name,  # the file name: no path of this machine
         **design.resolved_linkage(),
         "force_N": design.force_N,
         **{k: m[k] for k in METRIC_KEYS if k in m},
