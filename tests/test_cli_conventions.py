@@ -100,3 +100,22 @@ def test_refusals_point_to_commands_that_accept_the_family():
             hinted = [w for w in err.split("use:")[1].replace(",", " ").split() if w != "hapticad"]
             assert hinted and all(family in COMMAND_FAMILIES[c] for c in hinted), err
             assert cmd not in hinted
+
+
+def test_written_designs_keep_their_handle_script(tmp_path):
+    """A design written into another folder (synth/swap/fit/optimize --out) still names the
+    same handle script (rebase_paths)."""
+    from pathlib import Path
+
+    from cad.design.writer import rebase_paths
+
+    src = Path("designs/hoeken_cq_handle.toml").resolve()
+    script = (src.parent / tomllib.loads(src.read_text())["parts"]["handle_script"]).resolve()
+    out = tmp_path / "sub" / "s.toml"
+    out.parent.mkdir()
+    code, _, err = hapticad("synth", src, "--out", out)
+    assert code == 0, err
+    rel = tomllib.loads(out.read_text())["parts"]["handle_script"]
+    assert (out.parent / rel).resolve() == script
+    raw = rebase_paths({"parts": {"handle_script": "/abs/h.py"}}, src, out)
+    assert raw["parts"]["handle_script"] == "/abs/h.py"
