@@ -119,3 +119,18 @@ def test_written_designs_keep_their_handle_script(tmp_path):
     assert (out.parent / rel).resolve() == script
     raw = rebase_paths({"parts": {"handle_script": "/abs/h.py"}}, src, out)
     assert raw["parts"]["handle_script"] == "/abs/h.py"
+
+
+def test_analyze_report_only_into_a_folder_it_owns(tmp_path):
+    from tests.cli_helpers import assert_one_line_error
+
+    rep = tmp_path / "rep"
+    code, _, err = hapticad("analyze", "designs/hoeken.toml", "--report", rep)
+    assert code == 0, err
+    assert (rep / "analysis.md").is_file() and (rep / "manifest.json").is_file()
+    code, _, err = hapticad("analyze", "designs/hoeken.toml", "--report", rep)  # its own: fine
+    assert code == 0, err
+    (rep / "notes.txt").write_text("mine")
+    code, _, err = hapticad("analyze", "designs/hoeken.toml", "--report", rep)
+    assert_one_line_error(code, err, "--report", "notes.txt")
+    assert (rep / "notes.txt").read_text() == "mine"
