@@ -165,6 +165,10 @@ def register(app: typer.Typer) -> None:
             raise DesignError("--objective", f"min-apparent-mass is for four-bar designs, not "
                                              f"{loaded.family!r} (use --method)")
         d = load_pantograph_design(design)
+        if out is not None:
+            from cad.io.outdir import check_out_file
+
+            check_out_file(out, design)  # before the search, as for four-bars
         rep = optimize_report(d, method)
         if out is not None:
             rep["replaced"] = write_optimum(
