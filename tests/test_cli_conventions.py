@@ -134,3 +134,10 @@ def test_analyze_report_only_into_a_folder_it_owns(tmp_path):
     code, _, err = hapticad("analyze", "designs/hoeken.toml", "--report", rep)
     assert_one_line_error(code, err, "--report", "notes.txt")
     assert (rep / "notes.txt").read_text() == "mine"
+
+
+def test_optimize_method_is_for_pantographs_only():
+    from tests.cli_helpers import assert_one_line_error
+
+    code, _, err = hapticad("optimize", "designs/hoeken.toml", "--method", "culling")
+    assert_one_line_error(code, err, "--method", "pantograph")
