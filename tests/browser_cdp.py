@@ -29,6 +29,7 @@ FLAGS = (
     "--no-first-run",
     "--no-default-browser-check",
     "--disable-extensions",
+    "--disable-dev-shm-usage",
     "--disable-background-networking",
     "--use-angle=swiftshader",
     "--enable-unsafe-swiftshader",

@@ -100,3 +100,37 @@ def test_refusals_point_to_commands_that_accept_the_family():
             hinted = [w for w in err.split("use:")[1].replace(",", " ").split() if w != "hapticad"]
             assert hinted and all(family in COMMAND_FAMILIES[c] for c in hinted), err
             assert cmd not in hinted
+
+
+def test_written_designs_keep_their_handle_script(tmp_path):
+    """A design written into another folder (synth/swap/fit/optimize --out) still names the
+    same handle script (rebase_paths)."""
+    from pathlib import Path
+
+    from cad.design.writer import rebase_paths
+
+    src = Path("designs/hoeken_cq_handle.toml").resolve()
+    script = (src.parent / tomllib.loads(src.read_text())["parts"]["handle_script"]).resolve()
+    out = tmp_path / "sub" / "s.toml"
+    out.parent.mkdir()
+    code, _, err = hapticad("synth", src, "--out", out)
+    assert code == 0, err
+    rel = tomllib.loads(out.read_text())["parts"]["handle_script"]
+    assert (out.parent / rel).resolve() == script
+    raw = rebase_paths({"parts": {"handle_script": "/abs/h.py"}}, src, out)
+    assert raw["parts"]["handle_script"] == "/abs/h.py"
+
+
+def test_analyze_report_only_into_a_folder_it_owns(tmp_path):
+    from tests.cli_helpers import assert_one_line_error
+
+    rep = tmp_path / "rep"
+    code, _, err = hapticad("analyze", "designs/hoeken.toml", "--report", rep)
+    assert code == 0, err
+    assert (rep / "analysis.md").is_file() and (rep / "manifest.json").is_file()
+    code, _, err = hapticad("analyze", "designs/hoeken.toml", "--report", rep)  # its own: fine
+    assert code == 0, err
+    (rep / "notes.txt").write_text("mine")
+    code, _, err = hapticad("analyze", "designs/hoeken.toml", "--report", rep)
+    assert_one_line_error(code, err, "--report", "notes.txt")
+    assert (rep / "notes.txt").read_text() == "mine"

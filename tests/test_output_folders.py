@@ -168,14 +168,15 @@ def _cli(cwd: Path, *args: str) -> tuple[int, str, str]:
         os.chdir(old)
 
 
-@pytest.mark.parametrize("cmd", ["swap", "synth", "fit"])
+@pytest.mark.parametrize("cmd", ["swap", "synth", "fit", "optimize"])
 def test_design_writers_never_overwrite_the_input(tmp_path, cmd):
     shutil.copy(HOEKEN, tmp_path / "h.toml")
     (tmp_path / "same.toml").hardlink_to(tmp_path / "h.toml")
     (tmp_path / "sym.toml").symlink_to("h.toml")
     (tmp_path / "folder").mkdir()
     extra = {"swap": ["--to", "roberts"], "synth": [], "fit": ["--target", "H11_kg_m2=3e-5",
-                                                              "--free", "parts.handle_height_mm"]}[cmd]
+                                                              "--free", "parts.handle_height_mm"],
+             "optimize": ["--objective", "min-apparent-mass", "--trials", "5"]}[cmd]
     before = _tree(tmp_path)
     for out, needle in (("h.toml", "is the input design"), ("./h.toml", "is the input design"),
                         ("same.toml", "is the input design"), ("sym.toml", "is the input design"),
@@ -221,3 +222,39 @@ def test_bench_out_refuses_foreign_folders(tmp_path):
         code, _, err = _cli(tmp_path, "bench", "--quick", "--only", "kinematics", "--out", out)
         assert_one_line_error(code, err, "--out", needle)
     assert _tree(tmp_path) == before
+
+
+def test_powermouse_chart_is_the_same_bytes_every_time(tmp_path):
+    """The Fig. 8 chart of the PowerMouse build: no date, no random SVG ids (read back as XML)."""
+    import xml.etree.ElementTree as ET
+
+    from cad.build.powermouse import _fig8_chart
+    from cad.design import load_design
+
+    d = load_design(ROOT / "designs" / "powermouse.toml")
+    for sub in ("a", "b"):
+        _fig8_chart(d, 5.0, tmp_path / sub)
+    for name in ("actuator_fig8.svg", "actuator_fig8.png"):
+        assert (tmp_path / "a" / name).read_bytes() == (tmp_path / "b" / name).read_bytes(), name
+    root = ET.parse(tmp_path / "a" / "actuator_fig8.svg").getroot()
+    assert not [e for e in root.iter() if e.tag.endswith("}date")]
+    assert any(e.get("id", "").startswith("p") for e in root.iter())  # clip paths do exist
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("design", ["hoeken.toml", "powermouse.toml"])
+def test_four_bar_and_powermouse_from_two_folders_are_identical(tmp_path, design):
+    """As the twin-pantograph test above, for the other two builders (slow: two full builds)."""
+    trees = []
+    for sub, typed in (("a", "relative"), ("b/c", "absolute")):
+        cwd = tmp_path / sub
+        cwd.mkdir(parents=True)
+        shutil.copy(ROOT / "designs" / design, cwd / "d.toml")
+        path = Path("d.toml") if typed == "relative" else cwd / "d.toml"
+        code, _, err = _build(cwd, path)
+        assert code == 0, err
+        (out,) = (cwd / "exports").iterdir()
+        trees.append(_tree(out))
+        assert json.loads((out / "report.json").read_text()).get("source") == "d.toml"
+    assert trees[0].keys() == trees[1].keys()
+    assert [k for k in trees[0] if trees[0][k] != trees[1][k]] == []

@@ -181,6 +181,13 @@ def test_report_html_in_headless_chromium(hoeken):
             " return {x: r.x + scrollX, y: r.y + scrollY, width: r.width, height: r.height}; })()"
         )
         png = b.screenshot(box)
+        b.evaluate(
+            "document.getElementById('xray').click(); document.getElementById('play').click()"
+        )
+        b.evaluate(  # the see-through frame and the pause drawn without an error
+            "new Promise(r => requestAnimationFrame(() => requestAnimationFrame(() => r(true))))",
+            await_promise=True,
+        )
         text = b.evaluate("document.body.innerText")
         b.evaluate("1")  # drain pending events
         errors, requests = list(b.errors), list(b.requests)
@@ -188,6 +195,7 @@ def test_report_html_in_headless_chromium(hoeken):
     assert state["error"] is None
     assert state["meshes"] == len(_listed_instances(d))
     assert state["animations"] == 1
+    assert state["ground_meshes"] == sum(i.body == "ground" for i in _listed_instances(d))
     outside = [u for u in requests if not (u.startswith("data:") or u == page.resolve().as_uri())]
     assert outside == []
     img = np.asarray(Image.open(io.BytesIO(png)).convert("RGB"))

@@ -196,6 +196,20 @@ def test_twin_pantograph_effective_mass_from_mujoco(mouse):
         el = root.find(f".//body[@name='{name}']/inertial")
         assert float(el.get("mass")) == rep["bodies"][body]["mass_kg"]
         assert _tensor(_floats(el.get("fullinertia"))).tolist() == rep["bodies"][body]["inertia_com_kg_m2"]
+    # the URDF carries the same inertias; MuJoCo's compiled masses equal them
+    urdf = ET.parse(out / "haptic-mouse.urdf").getroot()
+    for name in ("crankshaft", "knob_distal_left", "crank_proximal_right"):
+        el = root.find(f".//body[@name='{name}']/inertial")
+        u = urdf.find(f"link[@name='{name}']/inertial")
+        assert float(u.find("mass").get("value")) == float(el.get("mass"))
+        i = u.find("inertia")
+        assert [float(i.get(k)) for k in ("ixx", "iyy", "izz", "ixy", "ixz", "iyz")] == _floats(
+            el.get("fullinertia"))
+        assert m.body_mass[m.body(name).id] == float(el.get("mass"))
+    # three loop-closure joint pairs in the URDF
+    pairs = {j.get("name") for j in urdf.findall("joint") if j.get("name").startswith("loop_")}
+    assert pairs == {f"{lp}_{t}" for lp in ("loop_knob_E", "loop_crank_left", "loop_crank_right")
+                     for t in "ab"}
 
 
 def test_formats_errors(tmp_path):

@@ -220,6 +220,9 @@ def _bars(b: _Builder, design_label: str) -> None:
             "A3": (J["rocker"]["A3"], feat("rocker", "A3")),
         },
     }
+    if parts.bar_style == "tube":
+        _tube_bars(b, bar_joints, design_label)
+        return
     for link, jd in bar_joints.items():
         seats = sum(f.kind == "seat" for _, f in jd.values())
         pins = sum(f.kind == "pin" for _, f in jd.values())
@@ -244,6 +247,58 @@ def _bars(b: _Builder, design_label: str) -> None:
             fits=tuple(fits),
         )
         b.place(link, k, link, translation(z=plan.z_mm[link]))
+
+
+def _tube_bars(b: _Builder, bar_joints: dict, design_label: str) -> None:
+    """Crank, coupler, rocker as carbon tubes bonded into clevises (:mod:`cad.parts.tubebars`)."""
+    from cad.parts import tubebars as tb
+
+    parts, plan = b.parts, b.plan
+    t = parts.bar_thickness_mm
+    brg = cat.get_bearing(parts.bearing)
+    pin = cat.get_shoulder_screw(parts.pin)
+    label = f" {design_label}" if design_label else ""
+    for link, jd in bar_joints.items():
+        tb.check_link(link, jd, parts)
+        pts = {n: p for n, (p, _) in jd.items()}
+        segs = tb.segments(link, pts)
+        z = plan.z_mm[link]
+        for n, (p, f) in jd.items():
+            dirs = tb.directions_deg(n, pts, segs)
+            proc = [f"CNC mill {_fmt(t)} mm clevis", f"bore {len(dirs)} tube socket(s)",
+                    "bond the tube(s) in (structural epoxy)"]
+            fits = []
+            if f.kind == "seat":
+                proc.append("mill bearing seat")
+                fits.append(f"bearing seat {_fmt(brg.D_mm)} {FITS['bearing seat']}")
+            elif f.kind == "pin":
+                proc.append("ream pin bore")
+                fits.append(f"pin bore {_fmt(pin.ds_mm)} {FITS['pin bore']}")
+            elif f.kind == "tapped":
+                proc.append(f"tap {parts.handle_screw.split('-')[0]} x1")
+            k = b.kind(
+                f"{link}_clevis_{n}",
+                lambda f=f, dirs=dirs: tb.clevis_shape(f, dirs, parts),
+                material=parts.clevis_material,
+                made=True,
+                description=f"{link} clevis at {n} ({f.kind}){label}",
+                process="; ".join(proc),
+                fits=tuple(fits),
+            )
+            b.place(f"{link}_clevis_{n}", k, link, translation(p[0], p[1], z))
+        for a, c in segs:
+            L = tb.tube_length_mm(float(np.linalg.norm(pts[c] - pts[a])), parts)
+            k = b.kind(
+                f"{link}_tube_{a}{c}",
+                lambda L=L: tb.tube_shape(L, parts),
+                material=parts.tube_material,
+                made=True,
+                description=(f"{link} tube {_fmt(parts.tube_od_mm)}/{_fmt(parts.tube_id_mm)} x "
+                             f"{_fmt(L)} mm{label}"),
+                process=f"cut tube to {_fmt(L)} mm; bonded into the {a} and {c} clevises (epoxy)",
+                revolution=False,
+            )
+            b.place(f"{link}_tube_{a}{c}", k, link, tb.tube_placement(pts[a], pts[c], z + t / 2, parts))
 
 
 def _joint_kinds(b: _Builder) -> dict[str, PartKind]:

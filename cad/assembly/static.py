@@ -1,18 +1,11 @@
-"""Interference of placed solids: every pair at one pose, and one body against another over
-arbitrary rigid poses (6-DOF). Fast pass first, exact OCCT only near contact.
+"""Interference of one rigid body against another over arbitrary rigid poses (6-DOF). Fast
+pass first, exact OCCT only near contact.
 
 Built on the primitives of :mod:`cad.assembly.interference` (one mesh per shape at an
-absolute tolerance, python-fcl BVH distances, ``exact_check``), for the families whose
-motion is not a crank sweep (pantographs at their exported pose, the PowerMouse flotor
-over its motion range):
+absolute tolerance, python-fcl BVH distances, the boolean common), for motion that is not
+a planar crank sweep (the PowerMouse flotor over its motion range; every pair of solids at
+one pose is :func:`cad.assembly.interference.same_body_check`):
 
-* :func:`every_pair` -- every pair of solids of an assembly at one pose, same-body pairs
-  included: pairs whose exact bounding boxes do not overlap are skipped (no common
-  volume possible), then pairs whose meshes are farther apart than twice the mesh
-  tolerance plus a margin (a mesh is within the tolerance of its surface, so two solids
-  sharing volume have meshes within 2 tol), and the rest get an OCCT boolean common. A
-  common volume above :data:`OVERLAP_MM3` is a collision; touching (a pin in its bore, a
-  part on a plate) is not.
 * :func:`pose_clearances` -- the smallest distance between a moving part set and a fixed
   one at each pose: fcl mesh distance at every pose; OCCT ``BRepExtrema_DistShapeShape``
   (and the common volume at contact) only at poses whose mesh distance is within
@@ -23,13 +16,9 @@ over its motion range):
 from __future__ import annotations
 
 import itertools
-import time
 
 import numpy as np
 
-#: Common volume above which two solids collide (mm^3), issue 10: below it is touching
-#: (boolean round-off on coincident faces is ~1e-9 mm^3).
-OVERLAP_MM3 = 1e-3
 #: Margin on top of 2 x mesh tolerance before a pair is handed to OCCT (mm).
 MARGIN_MM = 0.05
 
@@ -49,71 +38,6 @@ def _world_box(box: np.ndarray, T: np.ndarray) -> np.ndarray:
     c = np.array(list(itertools.product(*box.T)))
     w = c @ T[:3, :3].T + T[:3, 3]
     return np.array([w.min(axis=0), w.max(axis=0)])
-
-
-def common_volume_mm3(a, b) -> float:
-    """Volume of the OCCT boolean common of two placed shapes (mm^3)."""
-    from OCP.BRepAlgoAPI import BRepAlgoAPI_Common
-    from OCP.BRepGProp import BRepGProp
-    from OCP.GProp import GProp_GProps
-
-    props = GProp_GProps()
-    BRepGProp.VolumeProperties_s(BRepAlgoAPI_Common(a, b).Shape(), props)
-    return max(0.0, float(props.Mass()))
-
-
-def every_pair(items, *, mesh_tol_mm: float = 0.05, overlap_mm3: float = OVERLAP_MM3) -> dict:
-    """Every pair of placed solids at one pose (module docstring).
-
-    items : ``[(name, tf_world_part 4x4 (mm), TopoDS_Shape in the part frame)]``; a bought
-        part made of several solids (a bearing) is one item.
-    Returns ``{"parts", "pairs", "box_pairs", "mesh_pairs", "exact_pairs", "collisions":
-    [{"parts": [a, b], "overlap_volume_mm3"}], "overlap_volume_mm3" (sum), "time_s"}``.
-    """
-    from cad.assembly import interference as itf
-
-    t0 = time.perf_counter()
-    boxes: dict[int, np.ndarray] = {}
-    world = []
-    for _name, T, shape in items:
-        T = np.asarray(T, dtype=float)
-        if id(shape) not in boxes:
-            boxes[id(shape)] = exact_box(shape)
-        world.append(_world_box(boxes[id(shape)], T))
-    eps = 1e-6
-    cand = [
-        (i, j)
-        for i, j in itertools.combinations(range(len(items)), 2)
-        if np.all(np.minimum(world[i][1], world[j][1]) - np.maximum(world[i][0], world[j][0]) > eps)
-    ]
-    used = sorted({k for p in cand for k in p})
-    prep = itf.prepare([(items[k][0], str(k), items[k][2], items[k][1]) for k in used], mesh_tol_mm)
-    mesh = {int(b): parts[0] for b, parts in prep.bodies.items()}
-    eye = np.eye(4)
-    near = []
-    use_fcl = itf.have_fcl()
-    for i, j in cand:
-        if use_fcl:
-            d = itf._part_mesh_distance(mesh[i], mesh[j], eye, eye)
-            if d > 2 * mesh_tol_mm + MARGIN_MM:
-                continue
-        near.append((i, j))
-    collisions = []
-    for i, j in near:
-        vol = common_volume_mm3(mesh[i].shape, mesh[j].shape)
-        if vol > overlap_mm3:
-            collisions.append({"parts": [items[i][0], items[j][0]], "overlap_volume_mm3": vol})
-    return {
-        "parts": len(items),
-        "pairs": len(items) * (len(items) - 1) // 2,
-        "box_pairs": len(cand),
-        "exact_pairs": len(near),
-        "collisions": sorted(collisions, key=lambda c: -c["overlap_volume_mm3"]),
-        "overlap_volume_mm3": float(sum(c["overlap_volume_mm3"] for c in collisions)),
-        "overlap_threshold_mm3": overlap_mm3,
-        "mesh_tol_mm": mesh_tol_mm,
-        "time_s": time.perf_counter() - t0,
-    }
 
 
 def _box_corners_world(box: np.ndarray, T: np.ndarray) -> np.ndarray:
@@ -159,6 +83,8 @@ def _contact_or_overlap(a, b, box_a, Ta, box_b, Tb, voids_a=(), voids_b=()) -> f
         or inside_void(box_a, Ta, voids_b, Tb)
     ):
         return 0.0
+    from cad.assembly.interference import common_volume_mm3
+
     vol = common_volume_mm3(a, b)
     return -(vol ** (1 / 3)) if vol > 1e-6 else 0.0
 

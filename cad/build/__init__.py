@@ -31,6 +31,7 @@ CAD library is imported (the report is read back, ``"cached": true``).
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import functools
 import hashlib
@@ -150,6 +151,19 @@ def cached_report(out_dir: Path, key: str) -> dict | None:
     return report
 
 
+@contextlib.contextmanager
+def _children_cancelled_on_error():
+    """No forked stage outlives a failed or interrupted build (it would write into the
+    temporary folder being removed)."""
+    try:
+        yield
+    except BaseException:
+        from cad.build import forked
+
+        forked.cancel_all()
+        raise
+
+
 def build_design(
     design,
     out_dir: Path,
@@ -200,11 +214,14 @@ def build_design(
         raise DesignError(
             "--formats", f"glb/3mf export is not available for {design.family!r} designs"
         )
+    check_buildable = getattr(design, "check_buildable", None)
+    if check_buildable is not None:  # links shorter than their joint hardware, before any CAD
+        check_buildable()
     from cad.export.manifest import write_manifest
     from cad.parts.lazy_import import import_build123d
 
     import_build123d()  # the build's first CAD import, without scikit-learn (lazy_import)
-    with atomic_dir(out_dir, check=check) as tmp:
+    with atomic_dir(out_dir, check=check) as tmp, _children_cancelled_on_error():
         report = mod.build(
             design,
             tmp,

@@ -10,8 +10,9 @@ pose. Everything below reads that one list:
   the catalog mass of a bought part; :func:`cad.build.fourbar.kind_mass_props`);
 * :func:`body_props` -- combined mass properties per body in the body frame;
 * :func:`bom_rows` -- one BOM line per kind (quantity = number of instances);
-* :func:`check_assembly` -- every pair of solids at the exported pose
-  (:func:`cad.assembly.static.every_pair`): a positive common volume is a collision;
+* :func:`check_assembly` -- every pair of solids at the exported pose, by the shared
+  checker (:func:`cad.assembly.interference.same_body_check`): a positive common volume is
+  a collision;
 * :func:`write_outputs` -- ``parts/<kind>.step|.stl|.dxf``, ``assembly.step``,
   ``bom.csv``, ``preview.png`` (the dispatcher adds ``report.json`` and
   ``manifest.json``; :func:`write_report_md` writes ``report.md``).
@@ -136,15 +137,32 @@ def posed_items(instances, tf_world_body: dict, listed_only: bool = True) -> lis
     return out
 
 
-def check_assembly(instances, tf_world_body: dict, *, mesh_tol_mm: float = 0.05) -> dict:
-    """Every pair of solids at the exported pose (same-body pairs included): see
-    :func:`cad.assembly.static.every_pair`. Returns its report dict without the wall time."""
-    from cad.assembly.static import every_pair
+def check_assembly(instances, tf_world_body: dict) -> dict:
+    """Every pair of solids at the exported pose, same-body pairs included, by the shared
+    checker :func:`cad.assembly.interference.same_body_check`: every instance is placed in
+    the world and handed over as one rigid set, so each pair is compared once (tight OCCT
+    boxes, then the boolean common; touching is allowed, a common volume above
+    ``OVERLAP_MIN_MM3`` is a collision). Returns ``{"parts", "pairs", "exact_pairs",
+    "collisions", "overlap_volume_mm3", "overlap_threshold_mm3"}``."""
+    from cad.assembly import interference as itf
 
-    items = [(inst.name, world_tf(inst, tf_world_body), inst.kind.shape) for inst in instances]
-    rep = every_pair(items, mesh_tol_mm=mesh_tol_mm)
-    rep.pop("time_s", None)  # a wall time: report.json must be the same bytes every build
-    return rep
+    items = [
+        (inst.name, "assembly", inst.kind.shape, world_tf(inst, tf_world_body), inst.kind.hull)
+        for inst in instances
+    ]
+    res = itf.same_body_check(items)
+    collisions = [
+        {"parts": c["parts"], "overlap_volume_mm3": c["overlap_volume_mm3"]}
+        for c in sorted(res.collisions, key=lambda c: -c["overlap_volume_mm3"])
+    ]
+    return {
+        "parts": len(items),
+        "pairs": res.n_pairs,
+        "exact_pairs": res.n_box_overlaps,
+        "collisions": collisions,
+        "overlap_volume_mm3": float(sum(c["overlap_volume_mm3"] for c in collisions)),
+        "overlap_threshold_mm3": itf.OVERLAP_MIN_MM3,
+    }
 
 
 def lowest_z_mm(instances, tf_world_body: dict) -> tuple[float, str]:

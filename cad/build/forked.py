@@ -17,6 +17,9 @@ Contract of :func:`start`:
   rebuilt becomes a :class:`cad.errors.GeometryError` quoting the child's message);
 * :meth:`Forked.cancel` kills and reaps the child (the caller is failing anyway and the
   dispatcher discards the temporary directory, so nothing half-written is published);
+* the child dies with its parent: default SIGINT/SIGTERM dispositions and, on Linux,
+  ``prctl(PR_SET_PDEATHSIG, SIGKILL)`` (:func:`cad.io.signals.child_dies_with_parent`), so
+  a parent killed by SIGKILL leaves no export child running;
 * the child never returns into the caller's frames: it leaves with ``os._exit``, so no
   ``finally``/``atexit`` of the parent (e.g. the atomic publish of the output folder)
   runs twice.
@@ -44,6 +47,8 @@ from collections.abc import Callable
 from typing import Any
 
 from cad.errors import GeometryError, HapticadError
+from cad.io import signals
+from cad.io.signals import child_dies_with_parent
 
 
 def fork_enabled() -> bool:
@@ -108,12 +113,15 @@ class Forked:
             # `fn` and exits, touching no lock another thread could hold (no console, no
             # logging).
             warnings.simplefilter("ignore", DeprecationWarning)
-            pid = os.fork()
+            parent = os.getpid()
+            with signals.deferred():  # an interrupt during the at-fork hooks is raised after
+                pid = os.fork()
         if pid == 0:  # child
             status = 1
             try:
                 os.close(r)
-                signal.signal(signal.SIGINT, signal.SIG_DFL)
+                # SIGINT/SIGTERM default; SIGKILL when the parent dies (even by SIGKILL)
+                child_dies_with_parent(parent)
                 gc.disable()  # short-lived: no collections, and no copy-on-write of the parent's pages
                 try:
                     payload = pickle.dumps(("ok", self._fn()))
@@ -128,6 +136,7 @@ class Forked:
                 os._exit(status)
         os.close(w)
         self._pid, self._fd = pid, r
+        _LIVE.add(self)
 
     def _read_all(self) -> bytes:
         chunks = []
@@ -147,9 +156,11 @@ class Forked:
         self._done = True
         if self._pid is None:
             return self._fn()
+        signals.check()  # an interrupt swallowed by a library stops the build here
         data = self._read_all()
         _, status = os.waitpid(self._pid, 0)
         self._pid = None
+        _LIVE.discard(self)
         try:
             msg = pickle.loads(data) if data else None
         except Exception:  # noqa: BLE001 - truncated pipe (child killed)
@@ -177,6 +188,7 @@ class Forked:
     def cancel(self) -> None:
         """Kill and reap the child (no-op when it is done or never forked)."""
         self._done = True
+        _LIVE.discard(self)
         if self._pid is not None:
             with contextlib.suppress(ProcessLookupError):
                 os.kill(self._pid, signal.SIGKILL)
@@ -187,6 +199,17 @@ class Forked:
             with contextlib.suppress(OSError):
                 os.close(self._fd)
             self._fd = None
+
+
+#: Stages whose child may still run (a failure anywhere cancels them: :func:`cancel_all`).
+_LIVE: set[Forked] = set()
+
+
+def cancel_all() -> None:
+    """Kill and reap every child still running (the build dispatcher calls this when a
+    build fails or is interrupted, before its temporary folder is removed)."""
+    for t in list(_LIVE):
+        t.cancel()
 
 
 def start(fn: Callable[[], Any], label: str) -> Forked:

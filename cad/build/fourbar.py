@@ -43,6 +43,7 @@ from cad.errors import DesignError
 #: Source the output depends on (build cache key): any change there rebuilds.
 CODE_DEPS = (
     "build",
+    "report",  # report.html, the stroke GIF and render (cad/report)
     "parts",
     "assembly",
     "export",
@@ -536,7 +537,7 @@ def build(
 
     report = {
         "name": design.name,
-        "source": str(design.source),
+        "source": Path(str(design.source)).name,  # the file name: no path of this machine
         **design.resolved_linkage(),
         "force_N": design.force_N,
         **{k: m[k] for k in METRIC_KEYS if k in m},

@@ -58,6 +58,7 @@ from cad.errors import DesignError, InterferenceError
 #: Source the output depends on (build cache key).
 CODE_DEPS = (
     "build",
+    "report",  # report.html, the stroke GIF and render (cad/report)
     "parts",
     "assembly",
     "export",

@@ -42,6 +42,7 @@ from cad.errors import DesignError, InterferenceError
 #: Source the output depends on (build cache key).
 CODE_DEPS = (
     "build",
+    "report",  # report.html, the stroke GIF and render (cad/report)
     "parts",
     "assembly",
     "export",
@@ -152,11 +153,13 @@ def _fig8_chart(design, gap_mm: float, out_dir: Path) -> list[str]:
     from cad.io.atomic import atomic_path
 
     names = []
-    for ext in ("png", "svg"):
-        target = Path(out_dir) / f"actuator_fig8.{ext}"
-        with atomic_path(target) as tmp:
-            fig.savefig(tmp, format=ext, dpi=110)
-        names.append(target.name)
+    # same bytes every build: fixed SVG id salt (else random clip-path ids), no date
+    with matplotlib.rc_context({"svg.hashsalt": "hapticad"}):
+        for ext in ("png", "svg"):
+            target = Path(out_dir) / f"actuator_fig8.{ext}"
+            with atomic_path(target) as tmp:
+                fig.savefig(tmp, format=ext, dpi=110, metadata={"Date": None} if ext == "svg" else None)
+            names.append(target.name)
     plt.close(fig)
     return names
 
@@ -375,22 +378,29 @@ def build(
     iso = pm.isotropy(W)
     W_com = pm.wrench_map(coils, gain_per_At, about_mm=flotor_mp.com_m * 1e3)
 
-    # the files (parts, assembly STEP, BOM, preview, rig, Fig. 8) are written by a forked child
-    # while this process checks the solids (cad.build.forked; serial where forking is off)
+    # the files (parts, assembly STEP, BOM, preview, rig) and the viewer files + Fig. 8 are
+    # written by two forked children while this process checks the solids (cad.build.forked;
+    # serial where forking is off)
     bom = family.bom_rows(inst, props)
     rig_bom = family.bom_rows(rig, family.kind_props(rig))
 
-    def exports() -> tuple[list[str], bytes]:
-        return _write_files(design, inst, tfs, rig, bom, rig_bom, out_dir, formats, gap)
+    def exports() -> list[str]:
+        return _write_files(design, inst, tfs, rig, bom, rig_bom, out_dir, formats)
+
+    def views() -> tuple[list[str], bytes]:
+        return _write_views(design, inst, tfs, out_dir, formats, gap)
 
     task = forked.start(exports, "exports")
-    with forked.cancel_on_error(task):
+    views_task = forked.start(views, "views")
+    with forked.cancel_on_error(task, views_task):
         _step(progress, "every pair at the centre, flotor over the motion range", 3, total)
         itf = family.check_assembly(inst, tfs)
         cl = _motion(design, g, inst, fidelity)
         _raise_on_overlap(design, itf, cl, allow_interference)
         _step(progress, "exports", 4, total)
-        files, viewer_glb = task.result()
+        files = task.result()
+        more, viewer_glb = views_task.result()
+        files += more
 
     _step(progress, "report", 5, total)
     rep = _report(
@@ -444,13 +454,9 @@ def stroke_poses(design) -> dict[str, np.ndarray]:
     return {"flotor": flotor, "ground": np.repeat(np.eye(4)[None], len(flotor), axis=0)}
 
 
-def _write_files(
-    design, inst, tfs, rig, bom, rig_bom, out_dir, formats, gap
-) -> tuple[list[str], bytes]:
-    """Part files, assembly STEP, BOM and preview of the device; the rig in ``rig/``; Fig. 8;
-    the viewer files (:func:`cad.build.views.write_viewer_outputs`). Returns (files, glb)."""
+def _write_files(design, inst, tfs, rig, bom, rig_bom, out_dir, formats) -> list[str]:
+    """Part files, assembly STEP, BOM and preview of the device; the rig in ``rig/``."""
     from cad.build import family
-    from cad.build.views import write_viewer_outputs
 
     files = family.write_outputs(
         inst,
@@ -461,7 +467,7 @@ def _write_files(
         title=f"{design.name}: PowerMouse at the centre pose",
         bom=bom,
     )
-    files += [
+    return files + [
         "rig/" + f
         for f in family.write_outputs(
             rig,
@@ -474,6 +480,13 @@ def _write_files(
             preview=False,
         )
     ]
+
+
+def _write_views(design, inst, tfs, out_dir, formats, gap) -> tuple[list[str], bytes]:
+    """The viewer files (:func:`cad.build.views.write_viewer_outputs`) and Fig. 8; returns
+    (files, glb)."""
+    from cad.build.views import write_viewer_outputs
+
     view_files, glb = write_viewer_outputs(
         inst,
         tfs,
@@ -483,7 +496,7 @@ def _write_files(
         title=f"{design.name} (powermouse)",
         stroke=stroke_poses(design),
     )
-    return files + _fig8_chart(design, gap, out_dir) + view_files, glb
+    return _fig8_chart(design, gap, out_dir) + view_files, glb
 
 
 def _motion(design, g, inst, fidelity):
@@ -549,7 +562,7 @@ def _report(
     return {
         "name": design.name,
         "family": design.family,
-        "source": design.source,
+        "source": Path(design.source).name,  # the file name: no path of this machine
         "actuator": act,
         "actuator_geometry_mm": {
             "gap_mm": ag.gap_mm,

@@ -114,8 +114,12 @@ def _run_app(argv: list[str] | None) -> int:
     click_error = next(c for c in typer.BadParameter.__mro__ if c.__name__ == "ClickException")
     try:
         rv = app(args=argv, prog_name="hapticad", standalone_mode=False)
+        if rv == 130:  # typer turns KeyboardInterrupt into a silent Exit(130), click returns it
+            return _aborted()
         return rv if isinstance(rv, int) else 0
     except typer.Exit as exc:
+        if int(exc.exit_code) == 130:
+            return _aborted()
         return int(exc.exit_code)
     except (typer.Abort, KeyboardInterrupt):
         return _aborted()

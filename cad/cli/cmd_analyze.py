@@ -98,9 +98,13 @@ def register(app: typer.Typer) -> None:
             raise DesignError("mechanism.family", refusal("analyze", d.family))
         res = analyze(d, samples=samples, inertia=H)
         if report is not None:
+            from cad.export.manifest import write_manifest
+            from cad.io.outdir import check_out_dir
             from cad.report.fourbar import write_analysis_report
 
+            check_out_dir(report, str(design), flag="--report")  # only a folder hapticad wrote
             res["report"] = str(write_analysis_report(d, res, report, inertia=H or d.inertia))
+            write_manifest(report)
         if json_out:
             print_json(res, indent=1)
         else:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import copy
 from pathlib import Path
 
 import typer
@@ -36,7 +37,7 @@ def register(app: typer.Typer) -> None:
         from cad.design import bounds, load_design, parse_design
         from cad.design.fourbar import FourBarDesign
         from cad.design.targets import parse_cli_target
-        from cad.design.writer import dumps_design
+        from cad.design.writer import dumps_design, rebase_paths
         from cad.errors import DesignError, TargetMissed
         from cad.fit import fit, parse_free
         from cad.io.atomic import write_text_atomic
@@ -67,7 +68,7 @@ def register(app: typer.Typer) -> None:
             echo(f"fit {d.name}: {len(params)} free parameter(s), {len(targets)} target(s)")
         res = fit(raw, str(design), targets, params,
                   lambda dd: target_values(dd, fidelity, need_clear)[0], echo=echo)
-        fitted = dict(res.raw)
+        fitted = rebase_paths(copy.deepcopy(res.raw), d.source, dst)
         fitted["name"] = f"{d.name}_fit" if out is None else out.name.split(".")[0]
         if cli_targets:  # keep the targets the fit was made for
             from cad.design.targets import TARGET_KEYS  # noqa: F401

@@ -85,6 +85,9 @@ def _fourbar(d, path: Path, objective: str, trials: int, seed: int, top: int, ou
     def progress(msg):
         print(f"hapticad: {msg}", file=sys.stderr)
 
+    from cad.io.outdir import check_out_file
+
+    replaced = check_out_file(out, path) if out is not None else False  # before the search
     chart_dir = out.parent if out is not None else None  # <out stem>_pareto.png/.svg beside --out
     rep, best = optimize_fourbar(d, objective, trials, seed, top, chart_dir, progress,
                                  out.stem if out is not None else None)
@@ -98,6 +101,7 @@ def _fourbar(d, path: Path, objective: str, trials: int, seed: int, top: int, ou
                             f"({100 * ex['cheap_error_rel']:+.1f} %), first mode "
                             f"{ex['structure']['first_mode_Hz']:.0f} Hz, min clearance {ex['min_clearance_mm']:.2f} mm")
         rep["out"] = str(out)
+        rep["replaced"] = replaced
     if json_out:
         print_json(rep)
     else:
@@ -123,7 +127,7 @@ def _print_fourbar(rep: dict) -> None:
           f"dy_max {ex['dy_max_mm']:.3f} mm, torque variation {ex['torque_variation']:.4f}, "
           f"first mode {ex['structure']['first_mode_Hz']:.0f} Hz, min clearance {ex['min_clearance_mm']:.2f} mm")
     if rep.get("out"):
-        print(f"  wrote {rep['out']}")
+        print(f"  {'replaced' if rep.get('replaced') else 'wrote'} {rep['out']}")
 
 
 def register(app: typer.Typer) -> None:
@@ -161,6 +165,10 @@ def register(app: typer.Typer) -> None:
             raise DesignError("--objective", f"min-apparent-mass is for four-bar designs, not "
                                              f"{loaded.family!r} (use --method)")
         d = load_pantograph_design(design)
+        if out is not None:
+            from cad.io.outdir import check_out_file
+
+            check_out_file(out, design)  # before the search, as for four-bars
         rep = optimize_report(d, method)
         if out is not None:
             rep["replaced"] = write_optimum(

@@ -14,7 +14,6 @@ when the file existed (:func:`cad.io.outdir.check_out_file`). The layer planner 
 from __future__ import annotations
 
 import copy
-import os
 from pathlib import Path
 
 import typer
@@ -42,7 +41,7 @@ def swap_raw(design, family: str, out_path: Path) -> dict:
 
     if family not in SWAP_FAMILIES:
         raise DesignError("--to", f"must be one of {', '.join(SWAP_FAMILIES)}, got {family!r}")
-    from cad.design.writer import drop_source_targets
+    from cad.design.writer import drop_source_targets, rebase_paths
 
     raw = copy.deepcopy(design.raw)
     for s in DROPPED_SECTIONS:
@@ -56,13 +55,7 @@ def swap_raw(design, family: str, out_path: Path) -> dict:
         f"{family} bar set on the joint hardware of {Path(design.source).name} "
         f"(hapticad swap, stroke {stroke_of(design):.3f} mm)"
     )
-    parts = raw.get("parts")
-    if isinstance(parts, dict) and isinstance(parts.get("handle_script"), str):
-        p = Path(parts["handle_script"])
-        if not p.is_absolute():
-            abs_p = (Path(design.source).resolve().parent / p).resolve()
-            parts["handle_script"] = os.path.relpath(abs_p, Path(out_path).resolve().parent)
-    return raw
+    return rebase_paths(raw, design.source, out_path)
 
 
 def metric_rows(design) -> dict:

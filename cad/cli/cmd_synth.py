@@ -42,6 +42,7 @@ def register(app: typer.Typer) -> None:
             drop_source_targets,
             dropped_targets_note,
             dumps_design,
+            rebase_paths,
         )
         from cad.errors import DesignError
         from cad.io.atomic import write_text_atomic
@@ -68,7 +69,7 @@ def register(app: typer.Typer) -> None:
             "result": {**{k: v for k, v in mech.items() if k != "family"}, **r.metrics.as_dict()},
         }
         if out is not None:
-            raw = copy.deepcopy(d.raw)
+            raw = rebase_paths(copy.deepcopy(d.raw), d.source, out)
             raw["mechanism"] = mech
             raw["name"] = out.stem
             raw["description"] = f"{objective} synthesis ({free}) from {d.name} ({d.family})"

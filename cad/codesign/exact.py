@@ -60,12 +60,11 @@ def accepted(ex: dict) -> bool:
 def write_optimum(design, cand, out: Path, header: str) -> Path:
     """Write the candidate as a design TOML (validated by re-parsing before writing)."""
     from cad.design import parse_design
-    from cad.design.writer import write_design
-    from cad.errors import DesignError
+    from cad.design.writer import rebase_paths, write_design
+    from cad.io.outdir import check_out_file
 
-    if out.resolve() == Path(design.source).resolve():
-        raise DesignError("--out", f"{out} is the input design; give another file name")
-    raw = candidate_raw(design, cand, out.stem)
+    check_out_file(out, Path(design.source))  # never the input design (any link), never a folder
+    raw = rebase_paths(candidate_raw(design, cand, out.stem), design.source, out)
     raw["description"] = f"optimum of {design.name}: light co-design (hapticad optimize --objective min-apparent-mass)"
     parse_design(raw, str(out))
     return write_design(out, raw, header)

@@ -28,6 +28,21 @@ Bars (crank, coupler, rocker; plates cut from sheet, DXF profiles exported):
     pockets shorter than this are not cut.
 ``bar_min_wall_mm`` [2.0]
     smallest wall between a bearing seat or pin hole and the bar edge.
+``bar_style`` ["plate"]
+    "plate": bars cut from sheet (above); "tube": every bar a carbon-fibre tube bonded into
+    one aluminium clevis per joint (isotropy paper §4.1, "aluminum clevises, carbon fibre
+    links"; :mod:`cad.parts.tubebars`). A clevis is ``2 bar_end_radius_mm`` wide and
+    ``bar_thickness_mm`` high and carries the plate bar's joint feature (bearing seat, pin
+    bore, hub screws, handle tap) at the same layer height. Needs collinear joints on every
+    link (Hoeken, Chebyshev; a triangular coupler such as Roberts' stays a plate: error).
+``tube_od_mm`` [4.0], ``tube_id_mm`` [3.0]
+    tube outside / inside diameter (tube style); ``tube_od_mm + 2 <= bar_thickness_mm``
+    (1 mm clevis walls), e.g. an 8/6 mm tube needs 10 mm thick bars.
+``tube_material`` ["carbon-fibre"], ``clevis_material`` ["aluminium-6061"]
+    materials of the tubes and the clevises.
+``clevis_length_mm`` [15.0], ``socket_depth_mm`` [5.0]
+    joint axis to clevis end, and depth of the bonded tube socket; the socket starts
+    ``clevis_length_mm - socket_depth_mm`` from the joint, clear of its feature (+1 mm).
 
 Joints (the same hardware at A2, A3 and A4; "provided a convenient design of the
 revolute joints, the different straight line mechanisms can be obtained by fabricating
@@ -138,6 +153,13 @@ class PartsSpec:
     bar_pocket_web_mm: float = 3.0
     bar_pocket_min_length_mm: float = 6.0
     bar_min_wall_mm: float = 2.0
+    bar_style: str = "plate"
+    tube_od_mm: float = 4.0
+    tube_id_mm: float = 3.0
+    tube_material: str = "carbon-fibre"
+    clevis_material: str = "aluminium-6061"
+    clevis_length_mm: float = 15.0
+    socket_depth_mm: float = 5.0
     bearing: str = "M8-16-4"
     bearing_lip_mm: float = 1.0
     bearing_mass_g: float | None = None
@@ -188,6 +210,10 @@ _POSITIVE = (
     "bar_pocket_web_mm",
     "bar_pocket_min_length_mm",
     "bar_min_wall_mm",
+    "tube_od_mm",
+    "tube_id_mm",
+    "clevis_length_mm",
+    "socket_depth_mm",
     "bearing_lip_mm",
     "pin_head_clearance_mm",
     "layer_gap_mm",
@@ -213,8 +239,10 @@ _MATERIALS = (
     "base_material",
     "post_material",
     "handle_material",
+    "tube_material",
+    "clevis_material",
 )
-_STRINGS = ("bearing", "pin", "motor", "hub_screw", "handle_screw", "handle_script", "fidelity")
+_STRINGS = ("bar_style", "bearing", "pin", "motor", "hub_screw", "handle_screw", "handle_script", "fidelity")
 _BOOLS = ("bar_pockets",)
 ALLOWED_KEYS = tuple(f.name for f in fields(PartsSpec))
 
@@ -285,6 +313,7 @@ def parse_parts(table: dict[str, Any] | None, prefix: str = "parts") -> PartsSpe
             _f(prefix, "fidelity"),
             f"must be one of {', '.join(FIDELITIES)}, got {vals['fidelity']!r}",
         )
+    _check_tube(vals, prefix)
     script = vals["handle_script"]
     if script is not None and not script.endswith(".py"):
         raise DesignError(
@@ -318,6 +347,29 @@ def parse_parts(table: dict[str, Any] | None, prefix: str = "parts") -> PartsSpe
     )
     _check_hardware(vals, prefix, given_r is not None)
     return PartsSpec(**vals)
+
+
+BAR_STYLES = ("plate", "tube")
+
+
+def _check_tube(v: dict[str, Any], prefix: str) -> None:
+    """``bar_style`` and, for tubes, tube inside clevis (1 mm walls) and a real bore."""
+    if v["bar_style"] not in BAR_STYLES:
+        raise DesignError(_f(prefix, "bar_style"),
+                          f"must be one of {', '.join(BAR_STYLES)}, got {v['bar_style']!r}")
+    if v["bar_style"] != "tube":
+        return
+    od, idd = v["tube_od_mm"], v["tube_id_mm"]
+    if idd >= od:
+        raise DesignError(_f(prefix, "tube_id_mm"), f"must be < tube_od_mm ({od:g}), got {idd!r}")
+    if od + 2.0 > v["bar_thickness_mm"]:
+        raise DesignError(_f(prefix, "tube_od_mm"),
+                          f"{od:g} mm needs 1 mm clevis walls in bar_thickness_mm "
+                          f"({v['bar_thickness_mm']:g}): at most {v['bar_thickness_mm'] - 2:g} mm")
+    if v["socket_depth_mm"] >= v["clevis_length_mm"]:
+        raise DesignError(_f(prefix, "socket_depth_mm"),
+                          f"must be < clevis_length_mm ({v['clevis_length_mm']:g}), "
+                          f"got {v['socket_depth_mm']!r}")
 
 
 #: Thinnest wall of a turned sleeve between a pin and a bearing bore (mm).

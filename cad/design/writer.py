@@ -58,6 +58,23 @@ def dropped_targets_note(dropped: list[str]) -> str:
             + ", ".join(dropped))
 
 
+def rebase_paths(raw: dict[str, Any], source: str | Path, dest: str | Path) -> dict[str, Any]:
+    """Rewrite the design's relative file paths (``[parts] handle_script``) so that a copy
+    written to ``dest`` still names the same file as the design read from ``source``.
+
+    In place; returns ``raw``. Absolute paths are kept.
+    """
+    import os
+
+    parts = raw.get("parts")
+    if isinstance(parts, dict) and isinstance(parts.get("handle_script"), str):
+        p = Path(parts["handle_script"])
+        if not p.is_absolute():
+            abs_p = (Path(source).resolve().parent / p).resolve()
+            parts["handle_script"] = os.path.relpath(abs_p, Path(dest).resolve().parent)
+    return raw
+
+
 def dumps_design(raw: dict[str, Any], header: str = "") -> str:
     import tomli_w
 

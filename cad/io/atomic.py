@@ -105,7 +105,10 @@ def atomic_path(
         backup = None
         if final and target.is_file():
             backup = Path(str(tmp_path) + ".bak")
-            os.link(target, backup)
+            try:
+                os.link(target, backup)  # kept until the rename is through (signal -> undo)
+            except OSError:  # no hard links on this file system: no undo of a replacement
+                backup = None
 
         done: list[bool] = []
 

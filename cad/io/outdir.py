@@ -73,20 +73,20 @@ def foreign_entry(folder: Path) -> tuple[str, str] | None:
     return None
 
 
-def check_out_dir(folder: Path, design_source: str | None = None) -> None:
-    """Raise :class:`DesignError` (field ``--out``) unless ``folder`` may be replaced
+def check_out_dir(folder: Path, design_source: str | None = None, flag: str = "--out") -> None:
+    """Raise :class:`DesignError` (field ``flag``) unless ``folder`` may be replaced
     whole by a command's output (module docstring)."""
     folder = Path(folder)
     shown = str(folder)
     if os.path.islink(folder):
-        raise DesignError("--out", f"{shown} is a symbolic link; name a folder")
+        raise DesignError(flag, f"{shown} is a symbolic link; name a folder")
     if os.path.lexists(folder) and not folder.is_dir():
-        raise DesignError("--out", f"{shown} is a file, not a folder; name a folder")
+        raise DesignError(flag, f"{shown} is a file, not a folder; name a folder")
     here = Path.cwd().resolve()
     real = folder.resolve()
     if real == here or real in here.parents:
         raise DesignError(
-            "--out",
+            flag,
             f"{shown} is the current folder or one of its parents; the output folder is "
             "replaced whole, so name a folder of its own (e.g. --out exports/NAME)",
         )
@@ -94,12 +94,12 @@ def check_out_dir(folder: Path, design_source: str | None = None) -> None:
         src = Path(design_source).resolve()
         if real in src.parents:
             raise DesignError(
-                "--out", f"{shown} holds the design file {src.name}; name another folder"
+                flag, f"{shown} holds the design file {src.name}; name another folder"
             )
     bad = foreign_entry(folder)
     if bad is not None:
         raise DesignError(
-            "--out",
+            flag,
             f"{shown} holds {bad[0]} ({bad[1]}); hapticad replaces only folders it wrote "
             "entirely: move it away or name another folder",
         )

@@ -6,12 +6,12 @@ The CLI turns any exception that escapes while a signal is recorded (a library t
 catches the interrupt during its import and re-raises it as ``ImportError``, say) into
 ``hapticad: aborted`` and exit ``128 + signal`` (130 for SIGINT, 143 for SIGTERM).
 
-Publishing is the one commit point: :func:`commit` blocks both signals, refuses to
-start when one was already received (a library that swallowed the interrupt cannot make
-the command publish), runs the rename(s), and before unblocking looks at the pending
-signals -- if one arrived meanwhile the caller's ``undo`` puts everything back. After a
-commit went through, later signals are only recorded: the published output is complete
-and the command finishes (exit code as usual).
+Publishing is the one commit point: :func:`commit` refuses to start when a signal was
+already received (a library that swallowed the interrupt cannot make the command
+publish), runs the rename(s) with signals only recorded, and if one arrived meanwhile the
+caller's ``undo`` puts everything back. After a commit went through, later signals are
+only recorded: the published output is complete and the command finishes (exit code as
+usual). :func:`check` is a checkpoint between build stages (a forked stage's result).
 """
 
 from __future__ import annotations
@@ -19,16 +19,17 @@ from __future__ import annotations
 import contextlib
 import os
 import signal
+import sys
 from collections.abc import Callable, Iterator
 
 SIGNALS = (signal.SIGINT, signal.SIGTERM)
-_state: dict = {"signal": None, "installed": False, "committed": False}
+_state: dict = {"signal": None, "installed": False, "committed": False, "deferred": 0}
 
 
 def _handler(signum, frame) -> None:  # noqa: ARG001 - signal handler signature
     if _state["signal"] is None:
         _state["signal"] = signum
-    if not _state["committed"]:
+    if not _state["committed"] and not _state["deferred"]:
         raise KeyboardInterrupt
 
 
@@ -39,6 +40,37 @@ def install() -> None:
     for s in SIGNALS:
         signal.signal(s, _handler)
     _state["installed"] = True
+    previous = sys.unraisablehook
+
+    def hook(unraisable) -> None:
+        # An interrupt raised where Python cannot propagate it (an at-fork hook, a
+        # finalizer) is "ignored" with a traceback on stderr; the signal is recorded, and
+        # check() / commit() turn it into the abort: say nothing here.
+        if issubclass(unraisable.exc_type, KeyboardInterrupt) and _state["signal"] is not None:
+            return
+        previous(unraisable)
+
+    sys.unraisablehook = hook
+
+
+def check() -> None:
+    """Raise :class:`KeyboardInterrupt` when a signal was received and not yet acted on
+    (it may have been swallowed by a library); a checkpoint between stages."""
+    if _state["signal"] is not None and not _state["committed"]:
+        raise KeyboardInterrupt
+
+
+@contextlib.contextmanager
+def deferred() -> Iterator[None]:
+    """In the block a signal is only recorded (e.g. around ``os.fork``, whose at-fork hooks
+    would swallow the interrupt); on leaving, :func:`check` raises it. Python runs signal
+    handlers in the main thread only, so this holds whatever thread the kernel picked."""
+    _state["deferred"] += 1
+    try:
+        yield
+    finally:
+        _state["deferred"] -= 1
+    check()
 
 
 def received() -> int | None:
@@ -60,41 +92,34 @@ def reset() -> None:
     """Forget a received signal and any commit (tests running the CLI in-process)."""
     _state["signal"] = None
     _state["committed"] = False
-
-
-def _pending() -> bool:
-    if not hasattr(signal, "sigpending"):
-        return False
-    return bool(set(signal.sigpending()) & set(SIGNALS))
+    _state["deferred"] = 0
 
 
 @contextlib.contextmanager
 def commit(undo: Callable[[], None] | None = None, final: bool = False) -> Iterator[None]:
-    """Run the publishing step with SIGINT/SIGTERM blocked (module docstring).
+    """Run the publishing step with SIGINT/SIGTERM deferred (module docstring).
 
     Raises :class:`KeyboardInterrupt` before the step when a signal was already received,
     or after calling ``undo`` when one arrived during the step; ``undo`` also runs when the
     step itself raises. ``final``: this publishes the command's output (not a file inside
     a temporary folder); later signals are then only recorded.
     """
-    masked = hasattr(signal, "pthread_sigmask") and _state["installed"]
-    old = signal.pthread_sigmask(signal.SIG_BLOCK, SIGNALS) if masked else None
+    if _state["signal"] is not None and not _state["committed"]:
+        raise KeyboardInterrupt
+    _state["deferred"] += 1
     try:
-        if _state["signal"] is not None:
-            raise KeyboardInterrupt
         try:
             yield
-            if masked and _pending():
-                raise KeyboardInterrupt
-        except BaseException:
-            if undo is not None:
-                undo()
-            raise
-        if final and _state["installed"]:
-            _state["committed"] = True
-    finally:
-        if masked:
-            signal.pthread_sigmask(signal.SIG_SETMASK, old)
+        finally:
+            _state["deferred"] -= 1
+        if _state["signal"] is not None and not _state["committed"]:
+            raise KeyboardInterrupt
+    except BaseException:
+        if undo is not None:
+            undo()
+        raise
+    if final and _state["installed"]:
+        _state["committed"] = True
 
 
 def child_dies_with_parent(parent_pid: int) -> None:
@@ -103,8 +128,6 @@ def child_dies_with_parent(parent_pid: int) -> None:
     for s in SIGNALS:
         with contextlib.suppress(ValueError, OSError):
             signal.signal(s, signal.SIG_DFL)
-    if hasattr(signal, "pthread_sigmask"):
-        signal.pthread_sigmask(signal.SIG_UNBLOCK, SIGNALS)
     with contextlib.suppress(Exception):
         import ctypes
 

@@ -7,6 +7,10 @@ library version rebuilds. Every caller gets the shape READ BACK from the file (a
 right after building it), so a first and a later build use bit-identical geometry
 and their exports are byte-identical.
 
+Integrity: each entry ``<key>.brep`` has its sha256 in ``<key>.brep.sha256``; the hash is
+checked before OCCT parses the file (a truncated BREP can make ``BRepTools::Read`` never
+return), and any mismatch or read failure is a miss: the shape is rebuilt and rewritten.
+
 Location: ``$HAPTICAD_CACHE_DIR`` or ``~/.cache/hapticad``; set
 ``HAPTICAD_CACHE_DIR=off`` to disable (then shapes are built every time).
 """
@@ -20,7 +24,8 @@ from collections.abc import Callable
 from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
 
-CACHE_SCHEMA = "shapes-v1"
+#: v2: every ``<key>.brep`` has ``<key>.brep.sha256`` beside it, checked before reading.
+CACHE_SCHEMA = "shapes-v2"
 
 
 def cache_dir() -> Path | None:
@@ -43,17 +48,53 @@ def _versions() -> str:
 
 
 def _read(path: Path):
+    """The shape in ``path`` -- only after its sha256 matches the ``.sha256`` file beside
+    it (a truncated BREP can make ``BRepTools::Read`` hang, so it is never parsed
+    unverified); None on any mismatch or read failure (a miss)."""
     from OCP.BRep import BRep_Builder
     from OCP.BRepTools import BRepTools
     from OCP.TopoDS import TopoDS_Shape
 
+    try:
+        data = path.read_bytes()
+        want = _hash_path(path).read_text(encoding="ascii").strip()
+    except (OSError, UnicodeDecodeError):
+        return None
+    if hashlib.sha256(data).hexdigest() != want:
+        return None
     shape = TopoDS_Shape()
-    ok = BRepTools.Read_s(shape, str(path), BRep_Builder())
+    try:
+        ok = BRepTools.Read_s(shape, str(path), BRep_Builder())
+    except Exception:  # noqa: BLE001 - any OCCT failure is a miss
+        return None
     return shape if ok and not shape.IsNull() else None
 
 
+def _hash_path(path: Path) -> Path:
+    return path.with_name(path.name + ".sha256")
+
+
+def _write(shape, path: Path) -> None:
+    """BREP then its sha256 beside it, each atomically (a reader never sees a partial file;
+    a BREP without a matching hash is a miss)."""
+    from OCP.BRepTools import BRepTools
+
+    from cad.io.atomic import atomic_path, write_text_atomic
+
+    path.parent.mkdir(parents=True, exist_ok=True)
+    with atomic_path(path) as tmp:
+        if not BRepTools.Write_s(shape, str(tmp)):
+            raise OSError(f"cannot write {tmp}")
+        digest = hashlib.sha256(tmp.read_bytes()).hexdigest()
+    write_text_atomic(_hash_path(path), digest + "\n")
+
+
 def cached_shape(key: str, make: Callable[[], object]):
-    """The ``TopoDS_Shape`` for ``key``: from the disk cache, else ``make()`` then cached."""
+    """The ``TopoDS_Shape`` for ``key``: from the disk cache, else ``make()`` then cached.
+
+    A damaged entry (truncated, a flipped bit, a missing or wrong ``.sha256``, unreadable)
+    is a miss: the shape is made again and the entry rewritten.
+    """
     d = cache_dir()
     if d is None:
         return make()
@@ -65,14 +106,7 @@ def cached_shape(key: str, make: Callable[[], object]):
             return shape
     shape = make()
     try:
-        from OCP.BRepTools import BRepTools
-
-        from cad.io.atomic import atomic_path
-
-        d.mkdir(parents=True, exist_ok=True)
-        with atomic_path(path) as tmp:
-            if not BRepTools.Write_s(shape, str(tmp)):
-                raise OSError(f"cannot write {tmp}")
+        _write(shape, path)
     except OSError:
         return shape  # read-only home or full disk: work without the cache
     back = _read(path)

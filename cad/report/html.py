@@ -12,7 +12,7 @@ What the page holds (nothing is fetched: no network, no file beside it is read):
 * the BOM (``report["bom"]``), the checks (interference, clearances, targets: every
   ``checks``-like entry of report.json) and the key numbers, and report.json itself.
 
-The viewer sets ``window.hapticadViewer = {ready, meshes, animations, error}`` once the
+The viewer sets ``window.hapticadViewer = {ready, meshes, ground_meshes, animations, error}`` once the
 model is shown (used by the browser test) and logs nothing on success.
 """
 
@@ -64,7 +64,7 @@ import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
 
-const state = { ready: false, meshes: 0, animations: 0, error: null };
+const state = { ready: false, meshes: 0, ground_meshes: 0, animations: 0, error: null };
 window.hapticadViewer = state;
 const canvas = document.getElementById('viewer');
 const info = document.getElementById('viewer-info');
@@ -72,14 +72,19 @@ const renderer = new THREE.WebGLRenderer({ canvas, antialias: true, preserveDraw
 renderer.setPixelRatio(window.devicePixelRatio || 1);
 const scene = new THREE.Scene();
 scene.background = new THREE.Color(0xf4f5f7);
-scene.add(new THREE.HemisphereLight(0xffffff, 0x8a8f98, 2.2));
-const sun = new THREE.DirectionalLight(0xffffff, 2.0);
+scene.add(new THREE.HemisphereLight(0xffffff, 0x60646c, 1.1));
+const sun = new THREE.DirectionalLight(0xffffff, 2.2);
 sun.position.set(1, 2, 1.5);
 scene.add(sun);
+const fill = new THREE.DirectionalLight(0xffffff, 0.8);
+fill.position.set(-1.5, 0.5, -1);
+scene.add(fill);
 const camera = new THREE.PerspectiveCamera(35, 1, 0.001, 100);
 const controls = new OrbitControls(camera, canvas);
 controls.enableDamping = true;
 let mixer = null, action = null, clip = null, playing = true;
+const groundMeshes = [];
+const GROUND = THREE.PropertyBinding.sanitizeNodeName('body:ground');
 const slider = document.getElementById('stroke');
 const play = document.getElementById('play');
 
@@ -95,7 +100,14 @@ const bytes = Uint8Array.from(atob(document.getElementById('glb').textContent.tr
 new GLTFLoader().parse(bytes.buffer, '', (gltf) => {
   const root = gltf.scene;
   scene.add(root);
-  root.traverse(o => { if (o.isMesh) { state.meshes += 1; o.material.side = THREE.DoubleSide; } });
+  root.traverse(o => {
+    if (!o.isMesh) return;
+    state.meshes += 1;
+    let b = o.parent;  // three.js drops ':' from node names: body:ground -> bodyground
+    while (b && b.name !== GROUND && b !== root) b = b.parent;
+    if (b && b.name === GROUND) { o.material = o.material.clone(); groundMeshes.push(o); }
+    o.material.side = THREE.DoubleSide;
+  });
   const box = new THREE.Box3().setFromObject(root);
   const c = box.getCenter(new THREE.Vector3()), r = box.getSize(new THREE.Vector3()).length() / 2;
   camera.position.copy(c).add(new THREE.Vector3(1.2, 0.9, 1.6).normalize().multiplyScalar(r * 3.2));
@@ -103,6 +115,7 @@ new GLTFLoader().parse(bytes.buffer, '', (gltf) => {
   controls.target.copy(c);
   controls.update();
   state.animations = gltf.animations.length;
+  state.ground_meshes = groundMeshes.length;
   if (gltf.animations.length) {
     mixer = new THREE.AnimationMixer(root);
     clip = gltf.animations[0];
@@ -117,6 +130,15 @@ new GLTFLoader().parse(bytes.buffer, '', (gltf) => {
   state.ready = true;
 }, (err) => { state.error = String(err); info.textContent = 'could not show the model: ' + err; throw err; });
 
+const xray = document.getElementById('xray');
+xray.addEventListener('change', () => {
+  for (const o of groundMeshes) {
+    o.material.transparent = xray.checked;
+    o.material.opacity = xray.checked ? 0.25 : 1.0;
+    o.material.depthWrite = !xray.checked;
+    o.material.needsUpdate = true;
+  }
+});
 play.addEventListener('click', () => { playing = !playing; play.textContent = playing ? 'pause' : 'play'; });
 slider.addEventListener('input', () => {
   if (!mixer) return;
@@ -273,7 +295,7 @@ def report_html(report: dict, out_dir: Path, glb: bytes | None) -> str:
         parts.append(
             "<canvas id='viewer'></canvas><div class='controls'><button id='play'>pause</button>"
             "<input id='stroke' type='range' min='0' max='1000' value='0' aria-label='position over the stroke'>"
-            "<span class='muted'>stroke</span></div><p id='viewer-info' class='muted'>loading the model…</p>"
+            "<span class='muted'>stroke</span><label class='muted'><input id='xray' type='checkbox'> see through the frame</label></div><p id='viewer-info' class='muted'>loading the model…</p>"
             f"<script type='application/octet-stream' id='glb'>{base64.b64encode(glb).decode('ascii')}</script>"
             f"<script type='module'>{VIEWER_JS}</script>"
         )

@@ -2,7 +2,8 @@
 
 Model (R0, SI inside, mm / g / um at the edges). Each moving link is a chain of beams
 between its joints (crank A1-A2; coupler A2-A3 and the hull edges to P; rocker A4-A3),
-its section the bar's plate: width w, thickness t, and where the bar is pocketed
+its section the bar's plate (tube bars, ``bar_style = "tube"``: the tube's annulus,
+:func:`tube_section`, the clevises point masses at their joints): width w, thickness t, and where the bar is pocketed
 (``bar_pockets`` and a pocket wider than 2 mm) the two webs either side of the slot:
 A = (w - wp) t, Iz (in plane) = t (w^3 - wp^3) / 12, Iy (out of plane) = (w - wp) t^3 / 12,
 J = 2 J_rect(web, t). Joints A2, A3 tie the links in every DOF but the rotation about z
@@ -73,6 +74,25 @@ def bar_section(parts, E: float, G: float, rho: float) -> Section:
     )
 
 
+def tube_section(parts, E: float, G: float, rho: float) -> Section:
+    """Section of a tube bar (``bar_style = "tube"``), SI: A = pi (D^2 - d^2) / 4,
+    Iz = Iy = pi (D^4 - d^4) / 64, J = pi (D^4 - d^4) / 32 (thin or thick wall, exact)."""
+    D, d = parts.tube_od_mm * 1e-3, parts.tube_id_mm * 1e-3
+    i = math.pi * (D**4 - d**4) / 64
+    return Section(A=math.pi * (D**2 - d**2) / 4, Iz=i, Iy=i, J=2 * i, cy=D / 2, cz=D / 2,
+                   t_torsion=D / 2, E=E, G=G, rho=rho)
+
+
+def link_material(parts) -> str:
+    """Material of the beams between joints: the tube's for tube bars, else the plate's."""
+    return parts.tube_material if parts.bar_style == "tube" else parts.bar_material
+
+
+def link_section(parts, E: float, G: float, rho: float) -> Section:
+    """The beam section of the bars' style (:func:`bar_section` or :func:`tube_section`)."""
+    return (tube_section if parts.bar_style == "tube" else bar_section)(parts, E, G, rho)
+
+
 def pocket_width_mm(parts) -> float:
     """Pocket width (mm) the bars get (0 without pockets), as :mod:`cad.parts.bars`."""
     wp = parts.bar_width_mm - 2 * parts.bar_pocket_web_mm
@@ -134,7 +154,7 @@ def build_frame(design, pose_tf: dict, lumped: list[Lumped], bar_mass_kg: dict, 
     from cad.structure.elastic import get_elastic
 
     parts = design.parts
-    el = get_elastic(parts.bar_material)
+    el = get_elastic(link_material(parts))
     J = link_joints_mm(design.linkage)
     fr = Frame()
     ids: dict[tuple[str, str], int] = {}
@@ -148,12 +168,12 @@ def build_frame(design, pose_tf: dict, lumped: list[Lumped], bar_mass_kg: dict, 
         for n in {x for e in ed for x in e}:
             ids[(link, n)] = fr.node(world(link, J[link][n]))
         total_L = sum(float(np.linalg.norm(J[link][b] - J[link][a])) for a, b in ed) * 1e-3
-        base = bar_section(parts, el.E_Pa, el.G_Pa, 0.0)
+        base = link_section(parts, el.E_Pa, el.G_Pa, 0.0)
         rho = (bar_mass_kg[link] / (base.A * total_L) if link in bar_mass_kg
-               else get_material(parts.bar_material).density_kg_m3)
+               else get_material(link_material(parts)).density_kg_m3)
         for a, b in ed:
-            s = bar_section(parts, el.E_Pa, el.G_Pa, rho)
-            if method == "fem":
+            s = link_section(parts, el.E_Pa, el.G_Pa, rho)
+            if method == "fem" and parts.bar_style != "tube":  # a tube's beam is exact
                 L_mm = float(np.linalg.norm(J[link][b] - J[link][a]))
                 s = fem_section(parts, s, L_mm, (a, b), el.nu)
             fr.element(ids[(link, a)], ids[(link, b)], s, link, n_sub=4)
@@ -197,8 +217,8 @@ def analyse(design, lumped: list[Lumped], bar_mass_kg: dict, method: str = "beam
         cz = max(cz, float(uz[6 * P + 2]))
         smax = max(smax, F * float(max(fr.element_stress_Pa(ux).max(), fr.element_stress_Pa(uz).max())))
         f1 = min(f1, float(fr.modes_Hz(1)[0]))
-    strength = get_elastic(design.parts.bar_material).strength_MPa
-    lim = limits(design.parts.bar_material, targets)
+    strength = get_elastic(link_material(design.parts)).strength_MPa
+    lim = limits(link_material(design.parts), targets)
     out = {
         "compliance_um_per_N": {"x": cx * 1e6, "z": cz * 1e6},
         "first_mode_Hz": f1,
@@ -239,7 +259,7 @@ def lumped_from_assembly(asm, props: dict) -> tuple[list[Lumped], dict]:
         mp = props.get(inst.kind.name)
         if mp is None or inst.body not in ("crank", "coupler", "rocker"):
             continue
-        if inst.kind.plate and inst.name == inst.body:
+        if (inst.kind.plate and inst.name == inst.body) or inst.name.startswith(f"{inst.body}_tube_"):
             bars[inst.body] = bars.get(inst.body, 0.0) + mp.mass_kg
             continue
         T = inst.tf_body_part

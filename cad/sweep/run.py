@@ -78,6 +78,7 @@ class Progress:
     t0: float = field(default_factory=time.perf_counter)
     bar: Any = None
     task: Any = None
+    printed: int = -1
 
     def start(self) -> None:
         if sys.stderr.isatty():
@@ -98,8 +99,9 @@ class Progress:
         return sum(self.counts.values())
 
     def line(self) -> None:
-        if self.bar is not None:
+        if self.bar is not None or self.done == self.printed:
             return
+        self.printed = self.done
         dt = time.perf_counter() - self.t0
         c = self.counts
         print(f"sweep: {self.done}/{self.total} variants done ({c['ok']} ok, {c['missed']} missed, "
