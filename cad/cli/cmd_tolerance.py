@@ -66,6 +66,8 @@ def register(app: typer.Typer) -> None:
         from cad.design.targets import parse_cli_target
         from cad.errors import DesignError
         from cad.io.outdir import check_out_dir
+        from cad.design import bounds
+        from cad.kinematics.tolerance import METRIC_KEYS
         from cad.tolerance_study import inertia_for_m11, run, tolerances_from_flags, write_chart
 
         for flag, value in (("--hole-mm", hole_mm), ("--pivot-mm", pivot_mm),
@@ -88,6 +90,15 @@ def register(app: typer.Typer) -> None:
 
             raise DesignError("mechanism.family", refusal("tolerance", d.family))
         H, h_source = inertia_for_m11(d, H)
+        computable = tuple(k for k in METRIC_KEYS if H is not None or not k.startswith("M11"))
+        for t in cli:
+            if t.key not in computable:
+                raise DesignError("--target", f"{t.key} is not computed by the tolerance study "
+                                  f"(it computes {', '.join(computable)})")
+        skipped = [t.key for t in d.targets if t.key not in computable]
+        if skipped:
+            bounds.warn(f"[targets] {', '.join(skipped)}: not computed by the tolerance study "
+                        "(kinematics and M11 only); not in the yield")
         targets = merge_targets(d.targets, cli)
         res, m = run(d, tols, samples, seed, angles, H, targets)
         res["inertia_source"] = h_source
