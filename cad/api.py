@@ -8,8 +8,10 @@ and inertias in kg m^2 as the dict keys say; frames as in the README's Conventio
 >>> round(cad.analyze(d)["stroke_mm"], 2)
 48.87
 
+The build function is ``build_design`` (``cad.build`` is the build subpackage).
+
 Importing :mod:`cad` stays light: CAD libraries load on the first call that needs them
-(:func:`build`, :func:`check`, :func:`mass_properties` of a STEP file).
+(:func:`build_design`, :func:`check`, :func:`mass_properties` of a STEP file).
 """
 
 from __future__ import annotations
@@ -49,8 +51,8 @@ def analyze(design, samples: int | None = None, inertia: dict[str, float] | None
     return _analyze(design, samples=samples, inertia=H)
 
 
-def build(design, out_dir: str | Path, formats=("step", "stl", "dxf"),
-          fidelity: str = "fabrication", **options: Any) -> dict:
+def build_design(design, out_dir: str | Path, formats=("step", "stl", "dxf"),
+                 fidelity: str = "fabrication", **options: Any) -> dict:
     """Build the parts, the posed assembly and the exports into ``out_dir``; the report dict.
 
     ``formats``: any of the ``hapticad build --formats`` names. ``options``: the keyword
@@ -58,9 +60,9 @@ def build(design, out_dir: str | Path, formats=("step", "stl", "dxf"),
     ``use_cache`` ...). Raises a :class:`cad.errors.HapticadError` subclass on bad input, a
     collision or a failed CAD operation; ``out_dir`` is then left as it was.
     """
-    from cad.build import build_design
+    from cad.build import build_design as _build
 
-    return build_design(design, Path(out_dir), set(formats), fidelity=fidelity, **options)
+    return _build(design, Path(out_dir), set(formats), fidelity=fidelity, **options)
 
 
 def check(design, targets: tuple[str, ...] | list[str] = (), fidelity: str = "inertia") -> dict:

@@ -46,3 +46,12 @@ def test_api_check_and_mass_properties(tmp_path):
     trimesh.creation.box((10.0, 20.0, 30.0)).export(stl)
     mp = cad.mass_properties(stl, density_kg_m3=1000.0)
     assert mp["mass_kg"] == pytest.approx(6000e-9 * 1000.0, rel=1e-9)  # 6000 mm^3 of water
+
+
+def test_build_design_stays_callable_after_subpackage_imports():
+    """`cad.build` is the subpackage; the API function is `cad.build_design` and no later
+    import can shadow it."""
+    import cad.build.inertia  # noqa: F401  (binds the subpackage as cad.build)
+
+    assert callable(cad.build_design) and callable(cad.check)
+    assert cad.build_design.__module__ == "cad.api"

@@ -29,6 +29,9 @@ FOURBAR_DESIGNS = (
     "chebyshev_v",
     "custom_example",
     "hoeken_cq_handle",
+    "hoeken_light",
+    "hoeken_light_brief",
+    "hoeken_paper",
 )
 SWAP_TO = ("roberts", "chebyshev", "chebyshev-v")
 

@@ -134,3 +134,21 @@ def test_analyze_report_only_into_a_folder_it_owns(tmp_path):
     code, _, err = hapticad("analyze", "designs/hoeken.toml", "--report", rep)
     assert_one_line_error(code, err, "--report", "notes.txt")
     assert (rep / "notes.txt").read_text() == "mine"
+
+
+def test_optimize_method_is_for_pantographs_only():
+    from tests.cli_helpers import assert_one_line_error
+
+    code, _, err = hapticad("optimize", "designs/hoeken.toml", "--method", "culling")
+    assert_one_line_error(code, err, "--method", "pantograph")
+
+
+def test_wall_names_the_design_key_of_a_slipped_period(tmp_path):
+    from pathlib import Path
+
+    from tests.cli_helpers import assert_one_line_error
+
+    d = tmp_path / "h.toml"
+    d.write_text(Path("designs/hoeken.toml").read_text().replace("Te_s = 0.00033", "Te_s = 0.33"))
+    code, _, err = hapticad("wall", d)
+    assert_one_line_error(code, err, "stiffness.Te_s", "0.33")

@@ -793,7 +793,9 @@ BOX_TOUCH_MM = 1e-6
 
 @dataclass
 class SameBodyResult:
-    """Every pair of parts carried by one body, checked once (they do not move apart)."""
+    """Every pair of parts carried by one body, checked once (they do not move apart);
+    ``n_box_overlaps``: OCCT booleans run (pairs whose boxes overlap, repeats of the same two
+    solids in the same relative placement counted once)."""
 
     collisions: list[dict]
     n_pairs: int
@@ -871,7 +873,8 @@ def same_body_check(items, min_volume_mm3: float = OVERLAP_MIN_MM3) -> SameBodyR
         T = np.asarray(tf, float)
         s = placed(shape, T)
         hull = placed(rest[0], T) if rest and rest[0] is not None else None
-        by_body.setdefault(body, []).append((name, s, _tight_box(s), hull))
+        by_body.setdefault(body, []).append((name, s, _tight_box(s), hull, (id(shape), T)))
+    memo: dict[tuple, float] = {}
     collisions, n_pairs, n_exact = [], 0, 0
     for body, parts in sorted(by_body.items()):
         lo = np.array([p[2][0] for p in parts])
@@ -880,8 +883,14 @@ def same_body_check(items, min_volume_mm3: float = OVERLAP_MIN_MM3) -> SameBodyR
         near = (ov > BOX_TOUCH_MM).all(axis=-1)
         n_pairs += len(parts) * (len(parts) - 1) // 2
         for i, j in zip(*np.nonzero(np.triu(near, 1)), strict=True):
-            n_exact += 1
-            vol = _pair_volume(parts[i], parts[j], min_volume_mm3)
+            (ka, Ta), (kb, Tb) = parts[i][4], parts[j][4]
+            # the same two solids in the same relative placement (the same hardware at
+            # another joint): the same common volume, computed once
+            key = (ka, kb, np.round(np.linalg.solve(Ta, Tb), 9).tobytes())
+            if key not in memo:
+                n_exact += 1
+                memo[key] = _pair_volume(parts[i], parts[j], min_volume_mm3)
+            vol = memo[key]
             if vol > min_volume_mm3:
                 collisions.append(
                     {

@@ -712,6 +712,11 @@ def _legs(b: _Builder, rect) -> None:
     parts = b.parts
     m = cat.get_motor(parts.motor)
     leg_h = parts.motor_mount_thickness_mm + m.body_length_mm + base.LEG_GROUND_CLEARANCE_MM
+    if leg_h < 2 * base.STANDOFF_TAP_DEPTH_MM + 1.0:  # both tapped ends and 1 mm between
+        raise DesignError(
+            "parts.motor_mount_thickness_mm",
+            f"legs of {leg_h:g} mm cannot hold two {base.STANDOFF_TAP_DEPTH_MM:g} mm tapped ends",
+        )
     lk = b.kind(
         "leg",
         lambda: base.leg_shape(leg_h),

@@ -109,11 +109,10 @@ def check_options(design, fidelity: str, phi1_deg, formats=frozenset()) -> None:
             f"not {design.family!r}",
         )
     if design.family not in FAMILIES:
-        raise DesignError(
-            "mechanism.family",
-            f"parts are generated for {' and '.join(FAMILIES)} designs, not {design.family!r} "
-            "(the haptic pen has kinematics and GII only)",
-        )
+        from cad.cli.families import refusal
+
+        raise DesignError("mechanism.family", refusal("build", design.family)
+                          + " (the haptic pen has kinematics and GII only, no parts)")
     if phi1_deg is not None:
         raise DesignError(
             "--phi1-deg",

@@ -89,6 +89,8 @@ def _fourbar(d, path: Path, objective: str, trials: int, seed: int, top: int, ou
 
     replaced = check_out_file(out, path) if out is not None else False  # before the search
     chart_dir = out.parent if out is not None else None  # <out stem>_pareto.png/.svg beside --out
+    charts = [] if out is None else [out.parent / f"{out.stem}_pareto.{e}" for e in ("png", "svg")]
+    replaced_charts = [str(c) for c in charts if check_out_file(c, path)]  # said, never silent
     rep, best = optimize_fourbar(d, objective, trials, seed, top, chart_dir, progress,
                                  out.stem if out is not None else None)
     cmd = (f"hapticad optimize {path} --objective {objective} --trials {trials} --seed {seed} "
@@ -102,6 +104,7 @@ def _fourbar(d, path: Path, objective: str, trials: int, seed: int, top: int, ou
                             f"{ex['structure']['first_mode_Hz']:.0f} Hz, min clearance {ex['min_clearance_mm']:.2f} mm")
         rep["out"] = str(out)
         rep["replaced"] = replaced
+    rep["replaced_files"] = replaced_charts + ([str(out)] if replaced else [])
     if json_out:
         print_json(rep)
     else:
@@ -128,13 +131,16 @@ def _print_fourbar(rep: dict) -> None:
           f"first mode {ex['structure']['first_mode_Hz']:.0f} Hz, min clearance {ex['min_clearance_mm']:.2f} mm")
     if rep.get("out"):
         print(f"  {'replaced' if rep.get('replaced') else 'wrote'} {rep['out']}")
+    for f in rep.get("replaced_files", []):
+        if f != rep.get("out"):
+            print(f"  replaced {f}")
 
 
 def register(app: typer.Typer) -> None:
     @app.command("optimize")
     def optimize_cmd(
         design: Path = typer.Argument(..., help="Design TOML with an [optimize] table."),
-        method: str = typer.Option("culling", "--method", help="culling or brute (pantographs)."),
+        method: str = typer.Option(None, "--method", help="culling (default) or brute (pantographs)."),
         objective: str = typer.Option(None, "--objective", help="min-apparent-mass (four-bars)."),
         trials: int = typer.Option(300, "--trials", help="optuna trials on the cheap model (four-bars)."),
         seed: int = typer.Option(0, "--seed", help="sampler seed (four-bars)."),
@@ -148,7 +154,7 @@ def register(app: typer.Typer) -> None:
         from cad.errors import DesignError
 
         flags.out_path("--out", out, folder=False)
-        if method not in ("culling", "brute"):
+        if method is not None and method not in ("culling", "brute"):
             raise DesignError("--method", f"must be 'culling' or 'brute', got {method!r}")
         flags.choice("--objective", objective, ("min-apparent-mass",))
         flags.number("--trials", trials)
@@ -158,12 +164,16 @@ def register(app: typer.Typer) -> None:
 
         loaded = load_design(design)
         if getattr(loaded, "family", None) in FOURBAR_FAMILIES:
+            if method is not None:
+                raise DesignError("--method", f"{method!r} is for pantograph designs; a four-bar "
+                                              "takes --objective min-apparent-mass")
             _fourbar(loaded, design, objective or "min-apparent-mass", trials, seed, exact_top, out,
                      json_out)
             return
         if objective is not None:
             raise DesignError("--objective", f"min-apparent-mass is for four-bar designs, not "
                                              f"{loaded.family!r} (use --method)")
+        method = method or "culling"
         d = load_pantograph_design(design)
         if out is not None:
             from cad.io.outdir import check_out_file

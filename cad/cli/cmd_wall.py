@@ -34,7 +34,7 @@ def register(app: typer.Typer) -> None:
         from cad.cli.families import COMMAND_FAMILIES, refusal
         from cad.design import bounds, load_design
         from cad.errors import DesignError
-        from cad.sim.wall import MODELS
+        from cad.sim.wall import MODELS, check_sampling_period
 
         flags.choice("--model", model, MODELS)
         flags.number("--K-N-per-m", K)
@@ -44,6 +44,8 @@ def register(app: typer.Typer) -> None:
         d = load_design(design)
         if d.family not in COMMAND_FAMILIES["wall"]:
             raise DesignError("mechanism.family", refusal("wall", d.family))
+        if Te is None and d.stiffness is not None:  # the design's period: name its key
+            check_sampling_period(d.stiffness.Te_s, "stiffness.Te_s")
         bounds.flush()
         from cad.sim.device import wall_report
 

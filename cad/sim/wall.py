@@ -98,9 +98,15 @@ class WallSpec:
             v = getattr(self, k)
             if not (math.isfinite(v) and v >= lo):
                 raise DesignError(k, f"must be finite and >= {lo:g}, got {v!r}")
-        if self.Te_s > 0.05:
-            raise DesignError("--Te-s", f"must be <= 0.05 s (a sampling period in seconds; "
-                              f"ms given?), got {self.Te_s!r}")
+        check_sampling_period(self.Te_s, "--Te-s")
+
+
+def check_sampling_period(Te_s: float, field: str) -> None:
+    """Raise DesignError naming ``field`` when a sampling period is over 0.05 s (a wall
+    simulated at 20 Hz or slower is no haptic loop: most likely milliseconds were given)."""
+    if Te_s > 0.05:
+        raise DesignError(field, f"must be <= 0.05 s (a sampling period in seconds; "
+                                 f"ms given?), got {Te_s!r}")
 
 
 @dataclass(frozen=True)
