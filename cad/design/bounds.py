@@ -288,11 +288,14 @@ FIELDS: dict[str, Bound] = {
 _APPARENT_G = Bound("g", None, 1e6, "over a tonne of apparent mass is no hand-moved device",
                     None, 1e4, f"over 10 kg of apparent mass is not {_DESK}", (("kg", 1000.0),),
                     signed=True)
+_MASS_TARGET_G = Bound("g", 0.0, 1e6, "over a tonne of apparent mass is no hand-moved device",
+                      1.0, 1e4, f"under 1 g or over 10 kg of (apparent) mass is not {_DESK}",
+                      (("kg", 1000.0),))
 TARGETS: dict[str, Bound] = {
     **{k: H12_KG_M2 for k in ("H11_kg_m2", "H12_kg_m2", "H22_kg_m2", "H33_kg_m2")},
-    **{k: _APPARENT_G for k in ("M11_min_g", "M11_max_g", "M12_min_g", "M12_max_g", "M22_max_g",
-                                "crank_mass_g", "coupler_mass_g", "rocker_mass_g",
-                                "moving_mass_g")},
+    **{k: _APPARENT_G for k in ("M12_min_g", "M12_max_g")},  # signed: M12 crosses 0
+    **{k: _MASS_TARGET_G for k in ("M11_min_g", "M11_max_g", "M22_max_g", "crank_mass_g",
+                                   "coupler_mass_g", "rocker_mass_g", "moving_mass_g")},
     "stroke_mm": COORD_MM, "dy_max_mm": COORD_MM, "min_clearance_mm": COORD_MM,
     "slope_max": Bound("", None, 1e6, "slopes above 1e6 are vertical", signed=True),
     "torque_mean_mNm": Bound("mN m", None, 1e7, "over 10 kN m is no motor on a desk",
