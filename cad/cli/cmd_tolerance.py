@@ -61,12 +61,11 @@ def register(app: typer.Typer) -> None:
         from cad.checks import merge_targets
         from cad.cli import flags
         from cad.cli.cmd_analyze import parse_inertia_option
-        from cad.design import load_design
+        from cad.design import bounds, load_design
         from cad.design.fourbar import FourBarDesign
         from cad.design.targets import parse_cli_target
         from cad.errors import DesignError
         from cad.io.outdir import check_out_dir
-        from cad.design import bounds
         from cad.kinematics.tolerance import METRIC_KEYS
         from cad.tolerance_study import inertia_for_m11, run, tolerances_from_flags, write_chart
 
