@@ -152,3 +152,12 @@ def test_wall_names_the_design_key_of_a_slipped_period(tmp_path):
     d.write_text(Path("designs/hoeken.toml").read_text().replace("Te_s = 0.00033", "Te_s = 0.33"))
     code, _, err = hapticad("wall", d)
     assert_one_line_error(code, err, "stiffness.Te_s", "0.33")
+
+
+def test_sweep_refuses_a_design_with_a_script_up_front(tmp_path):
+    from tests.cli_helpers import assert_one_line_error
+
+    code, _, err = hapticad("sweep", "designs/hoeken_cq_handle.toml", "--vary",
+                            "parts.bar_thickness_mm=5,6", "--workers", "1", "--out", tmp_path / "sw")
+    assert_one_line_error(code, err, "parts.handle_script")
+    assert not (tmp_path / "sw").exists()

@@ -72,6 +72,10 @@ def register(app: typer.Typer) -> None:
         if fam not in COMMAND_FAMILIES["sweep"]:
             raise DesignError("mechanism.family", refusal("sweep", fam))
         _check_keys(raw, design, varies)
+        if "handle_script" in (raw.get("parts") or {}) or any(v.key == "parts.handle_script"
+                                                                for v in varies):
+            raise DesignError("parts.handle_script", "sweep never runs design scripts (its "
+                              "workers would run them unseen); sweep a design without one")
         spec = SweepSpec(design=design.resolve(), raw=raw, varies=varies, samples=samples, seed=seed,
                          fidelity=fidelity, cli_targets=cli, chart=xy,
                          targets_text=";".join(sorted(t or "" for t in (target or []))))
