@@ -24,6 +24,7 @@ from cad.kinematics.tolerance import (
     ToleranceStudy,
     validate_tolerances,
 )
+from cad.report.figures import save_figure
 
 
 def _value(text: str, flag: str, default_dist: str) -> tuple[float, str]:
@@ -191,5 +192,5 @@ def write_chart(res: dict[str, Any], m: dict[str, np.ndarray], targets, path) ->
                  + (" ..." if len(res["tolerances"]) > 4 else ""), fontsize=10)
     fig.tight_layout()
     with atomic_path(path) as tmp:
-        fig.savefig(tmp, dpi=90)
+        save_figure(fig, tmp, "png", dpi=90)
     plt.close(fig)

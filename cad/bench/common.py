@@ -7,6 +7,8 @@ import time
 from collections.abc import Callable
 from pathlib import Path
 
+from cad.report.figures import save_figure
+
 
 def median_time(fn: Callable[[], object], repeats: int) -> tuple[float, object]:
     """Median wall time (s) of ``repeats`` calls of ``fn`` and the last call's result."""
@@ -28,6 +30,6 @@ def save_chart(fig, out_dir: Path, stem: str, dpi: int = 120) -> list[str]:
     for ext in ("png", "svg"):
         target = out_dir / f"{stem}.{ext}"
         with atomic_path(target) as tmp:
-            fig.savefig(tmp, format=ext, dpi=dpi)
+            save_figure(fig, tmp, ext, dpi=dpi)
         paths.append(str(target))
     return paths

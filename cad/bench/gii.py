@@ -34,6 +34,7 @@ from cad.isotropy.culling import brute_force, culling
 from cad.isotropy.gii import fivebar_gii, gii_from_jacobians, square_grid_mm
 from cad.isotropy.problems import FiveBarProblem, candidate_grid
 from cad.kinematics.fivebar import STATUS_NAMES, FiveBar, jacobian_rad_per_m
+from cad.report.figures import save_figure
 
 DESIGN = {"base_mm": 60.0, "proximal_mm": 110.0, "distal_mm": 150.0}
 CENTER_MM = (20.0, 180.0)
@@ -186,7 +187,7 @@ def _plot(samp, opt, out_dir: Path) -> list[str]:
     for ext in ("png", "svg"):
         target = out_dir / f"gii_sampling.{ext}"
         with atomic_path(target) as tmp:
-            fig.savefig(tmp, format=ext, dpi=120)
+            save_figure(fig, tmp, ext, dpi=120)
         paths.append(str(target))
     plt.close(fig)
 
@@ -207,7 +208,7 @@ def _plot(samp, opt, out_dir: Path) -> list[str]:
     for ext in ("png", "svg"):
         target = out_dir / f"gii_culling.{ext}"
         with atomic_path(target) as tmp:
-            fig.savefig(tmp, format=ext, dpi=120)
+            save_figure(fig, tmp, ext, dpi=120)
         paths.append(str(target))
     plt.close(fig)
     return paths

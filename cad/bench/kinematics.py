@@ -27,6 +27,7 @@ from cad.bench.common import median_time
 from cad.kinematics.families import family_linkage
 from cad.kinematics.fourbar import coupler_point_and_jacobian, jacobian_mm_per_rad, solve
 from cad.kinematics.metrics import compute_metrics
+from cad.report.figures import save_figure
 
 REPO = Path(__file__).resolve().parents[2]
 
@@ -174,7 +175,7 @@ def chart(res: dict, out_dir: Path) -> list[str]:
     files = []
     for ext in ("png", "svg"):
         f = out_dir / f"kinematics_error_vs_time.{ext}"
-        fig.savefig(f, dpi=110)
+        save_figure(fig, f, dpi=110)
         files.append(f.name)
     plt.close(fig)
     return files

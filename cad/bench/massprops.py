@@ -28,6 +28,7 @@ from pathlib import Path
 import numpy as np
 
 from cad.bench.common import median_time as _median_time
+from cad.report.figures import save_figure
 
 #: Density of every benchmark part (aluminium 6061), kg/m^3.
 BENCH_DENSITY_KG_M3 = 2700.0
@@ -228,7 +229,7 @@ def _chart(points: list[dict], out_dir: Path) -> list[str]:
     for ext in ("png", "svg"):
         target = out_dir / f"massprops_error_vs_time.{ext}"
         with atomic_path(target) as tmp:
-            fig.savefig(tmp, format=ext, dpi=120)
+            save_figure(fig, tmp, ext, dpi=120)
         paths.append(str(target))
     plt.close(fig)
     return paths

@@ -35,6 +35,7 @@ from pathlib import Path
 import numpy as np
 
 from cad.bench.common import median_time as _median_time
+from cad.report.figures import save_figure
 
 GEOM = {
     "magnet_length_mm": 20.0,
@@ -238,7 +239,7 @@ def _chart(points: list[dict], out_dir: Path) -> list[str]:
     for ext in ("png", "svg"):
         target = out_dir / f"bench_voicecoil.{ext}"
         with atomic_path(target) as tmp:
-            fig.savefig(tmp, format=ext, dpi=110)
+            save_figure(fig, tmp, ext, dpi=110)
         names.append(target.name)
     plt.close(fig)
     return names

@@ -27,6 +27,8 @@ from pathlib import Path
 
 import numpy as np
 
+from cad.report.figures import save_figure
+
 #: Files every build writes at the top of its output folder (``parts/`` holds the rest).
 LAYOUT = (
     "assembly.step",
@@ -245,7 +247,7 @@ def write_preview(instances, tf_world_body: dict, out: Path, title: str, marks=N
     axes[0].legend(loc="upper right", fontsize=7)
     fig.suptitle(title)
     buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=100, metadata={"Software": None})
+    save_figure(fig, buf, "png", dpi=100)
     return write_bytes_atomic(out, buf.getvalue())
 
 

@@ -39,6 +39,7 @@ from pathlib import Path
 import numpy as np
 
 from cad.errors import DesignError
+from cad.report.figures import save_figure
 
 #: Source the output depends on (build cache key): any change there rebuilds.
 CODE_DEPS = (
@@ -236,7 +237,7 @@ def write_preview(asm, tf_world_body, i: int, path_P_mm: np.ndarray, out: Path, 
     axes[0].legend(loc="upper right", fontsize=8)
     fig.suptitle(title)
     buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=100, metadata={"Software": None})
+    save_figure(fig, buf, "png", dpi=100)
     return write_bytes_atomic(out, buf.getvalue())
 
 

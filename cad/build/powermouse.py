@@ -153,13 +153,13 @@ def _fig8_chart(design, gap_mm: float, out_dir: Path) -> list[str]:
     from cad.io.atomic import atomic_path
 
     names = []
-    # same bytes every build: fixed SVG id salt (else random clip-path ids), no date
-    with matplotlib.rc_context({"svg.hashsalt": "hapticad"}):
-        for ext in ("png", "svg"):
-            target = Path(out_dir) / f"actuator_fig8.{ext}"
-            with atomic_path(target) as tmp:
-                fig.savefig(tmp, format=ext, dpi=110, metadata={"Date": None} if ext == "svg" else None)
-            names.append(target.name)
+    from cad.report.figures import save_figure
+
+    for ext in ("png", "svg"):  # same bytes every build (save_figure)
+        target = Path(out_dir) / f"actuator_fig8.{ext}"
+        with atomic_path(target) as tmp:
+            save_figure(fig, tmp, ext, dpi=110)
+        names.append(target.name)
     plt.close(fig)
     return names
 

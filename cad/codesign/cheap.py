@@ -57,10 +57,71 @@ def _features(parts, J, link: str) -> dict:
     return out
 
 
+def tube_bar_props(parts, J, link: str) -> tuple[float, np.ndarray, float]:
+    """(mass kg, COM m (2,), Izz about COM kg m^2) of a tube bar (``bar_style = "tube"``):
+    each tube a thick-walled cylinder (m (3 (R^2 + r^2) + L^2) / 12 about its middle), each
+    clevis its primitives (half disc + block per socket arm, two opposite arms a 2 Lc x w
+    block; minus sockets, bore, seat annulus) as a point mass at its COM."""
+    from cad.parts import tubebars as tb
+
+    feats = _features(parts, J, link)
+    pts = {n: p for n, (p, _) in feats.items()}
+    segs = tb.segments(link, pts)
+    t, r, Lc, sd = parts.bar_thickness_mm, parts.bar_end_radius_mm, parts.clevis_length_mm, parts.socket_depth_mm
+    ds = parts.tube_od_mm + 2 * tb.BOND_GAP_MM
+    items = []  # (kg, COM m, own Izz kg m^2)
+    R, ri = parts.tube_od_mm / 2, parts.tube_id_mm / 2
+    for a, b in segs:
+        L = tb.tube_length_mm(float(np.linalg.norm(pts[b] - pts[a])), parts)
+        m = math.pi * (R**2 - ri**2) * L * 1e-9 * _rho(parts.tube_material)
+        items.append((m, 0.5 * (pts[a] + pts[b]) * 1e-3, m * (3 * (R**2 + ri**2) + L**2) * 1e-6 / 12))
+    for n, (p, f) in feats.items():
+        dirs = [np.deg2rad(d) for d in tb.directions_deg(n, pts, segs)]
+        u = np.array([[math.cos(d), math.sin(d)] for d in dirs])
+        if len(dirs) == 1:  # half disc behind the joint, block along the arm
+            parts_v = [(math.pi * r**2 / 2 * t, -4 * r / (3 * math.pi) * u[0]), (Lc * 2 * r * t, Lc / 2 * u[0])]
+        else:
+            parts_v = [(Lc * 2 * r * t, Lc / 2 * ui) for ui in u]
+        parts_v += [(-math.pi * ds**2 / 4 * sd, (Lc - sd / 2) * ui) for ui in u]
+        parts_v.append((-math.pi * f.d_mm**2 / 4 * t, np.zeros(2)))
+        if f.cb_depth_mm > 0:
+            parts_v.append((-math.pi * (f.cb_d_mm**2 - f.d_mm**2) / 4 * f.cb_depth_mm, np.zeros(2)))
+        v = sum(x for x, _ in parts_v)
+        c = sum(x * y for x, y in parts_v) / v
+        m = v * 1e-9 * _rho(parts.clevis_material)
+        span = Lc + r if len(dirs) == 1 else 2 * Lc  # the clevis as a span x w rectangle
+        items.append((m, (p + c) * 1e-3, m * (span**2 + 4 * r**2) * 1e-6 / 12))
+    M = sum(i[0] for i in items)
+    com = sum(i[0] * i[1] for i in items) / M
+    izz = sum(i[2] + i[0] * float(np.sum((i[1] - com) ** 2)) for i in items)
+    return M, com, izz
+
+
+def tube_problem(design) -> str | None:
+    """Why tube bars cannot be made for this design (socket into a joint feature, bare tube
+    too short, non-collinear joints), or None; plate bars: None."""
+    from cad.errors import HapticadError
+    from cad.kinematics.linkgeom import link_joints_mm
+    from cad.parts import tubebars as tb
+
+    parts = design.parts
+    if parts.bar_style != "tube":
+        return None
+    J = link_joints_mm(design.linkage)
+    try:
+        for link in ("crank", "coupler", "rocker"):
+            tb.check_link(link, _features(parts, J, link), parts)
+    except HapticadError as exc:
+        return str(exc)
+    return None
+
+
 def bar_props(parts, J, link: str) -> tuple[float, np.ndarray, float]:
     """(mass kg, COM m (2,), Izz about COM kg m^2) of a bar (module docstring)."""
     from cad.parts.bars import hull_points, outline_area_mm2, pocket_segments
 
+    if parts.bar_style == "tube":
+        return tube_bar_props(parts, J, link)
     feats = _features(parts, J, link)
     pts = np.array([p for p, _ in feats.values()])
     r = parts.bar_end_radius_mm

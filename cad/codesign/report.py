@@ -15,9 +15,7 @@ def optimize_fourbar(design, objective: str, trials: int, seed: int, top: int, c
 
     t0 = time.perf_counter()
     pb = search.problem_from(design)
-    pb.fixed_parts = {k: v for k, v in (design.raw.get("parts") or {}).items()
-                      if k in ("hub_shaft_engagement_min_mm", "layer_gap_mm", "clearance_min_mm",
-                               "interference_poses", "base_thickness_mm", "motor_mount_thickness_mm")}
+    pb.fixed_parts = search.fixed_parts(design)
     cands, records = search.run(pb, trials, seed)
     t_search = time.perf_counter() - t0
     checked, best = [], None

@@ -7,7 +7,10 @@ Free (per trial):
 * joint hardware: a (bearing, pin) pair of :data:`JOINT_SETS` and ``pin_material``;
 * bars: material, a stock thickness of that material (:data:`STOCK_THICKNESS_MM`),
   width, pockets on/off (end radius: the smallest that holds the bearing seat and hub);
-* handle: material, diameter, height, screw; the motor (:data:`MOTOR_CONTINUOUS_TORQUE_MNM`).
+* handle: material, diameter, height, screw; the motor (:data:`MOTOR_CONTINUOUS_TORQUE_MNM`);
+* tube bars, when the brief sets ``[parts] bar_style = "tube"``: a stock tube of
+  :data:`TUBE_STOCK_MM` and a clevis height of :data:`CLEVIS_STOCK_MM` that holds it with 1 mm walls, the clevis
+  length the shortest that clears the joint features (:func:`suggest_tube`).
 
 Constraints (a trial violating one is infeasible): ``dy_max_mm`` (design target, default
 0.2), ``min_transmission_angle_deg`` (target, default 40), peak crank torque at
@@ -44,6 +47,13 @@ STOCK_THICKNESS_MM = {
     "pla": (4.0, 5.0, 6.0, 8.0),
     "petg": (4.0, 5.0, 6.0, 8.0),
 }
+#: Stock pultruded / roll-wrapped carbon tubes (outside, inside diameter, mm) searched when
+#: the brief sets ``[parts] bar_style = "tube"`` (common catalogue sizes, e.g. Easy Composites).
+TUBE_STOCK_MM = ((4.0, 3.0), (5.0, 4.0), (6.0, 4.0), (6.0, 5.0))
+#: Aluminium plate stock of the clevises (mm): their height = the layer's bar thickness.
+CLEVIS_STOCK_MM = (6.0, 8.0, 10.0, 12.0)
+#: Socket depth of the searched tube bars (mm), >= the tube's outside diameter.
+TUBE_SOCKET_MM = 6.0
 HANDLE_MATERIALS = ("abs", "delrin", "pla")
 HANDLE_SCREWS = ("M3-0.5", "M4-0.7")
 #: Nominal (max. continuous) torque, mN m: maxon catalog values for the lowest-torque
@@ -77,6 +87,17 @@ class Problem:
     base_lo_rad: float
     base_hi_rad: float
     fixed_parts: dict = field(default_factory=dict)
+
+
+#: [parts] keys of the brief the search keeps as given (the rest it chooses).
+FIXED_PARTS_KEYS = ("hub_shaft_engagement_min_mm", "layer_gap_mm", "clearance_min_mm",
+                    "interference_poses", "base_thickness_mm", "motor_mount_thickness_mm",
+                    "bar_style", "tube_material", "clevis_material")
+
+
+def fixed_parts(design) -> dict:
+    """The brief's [parts] entries of :data:`FIXED_PARTS_KEYS`."""
+    return {k: v for k, v in (design.raw.get("parts") or {}).items() if k in FIXED_PARTS_KEYS}
 
 
 def problem_from(design) -> Problem:
@@ -148,7 +169,31 @@ def suggest_parts(trial, pb: Problem) -> dict:
     hub_d = parts.get("hub_diameter_mm", 20.0)
     parts["bar_end_radius_mm"] = end_radius_mm(bearing, w, parts.get("bar_min_wall_mm", 2.0), hub_d,
                                                parts.get("hub_screw", "M3-0.5"))
+    if parts.get("bar_style") == "tube":
+        parts.update(suggest_tube(trial, parts))
     return parts
+
+
+def suggest_tube(trial, parts: dict) -> dict:
+    """Tube bars (brief with ``bar_style = "tube"``): a stock tube, and the shortest clevis
+    whose socket clears the bearing seat, the hub screw circle and the handle tap by 1 mm."""
+    from cad.design.parts import PartsSpec
+    from cad.parts import catalog as cat
+
+    od, idd = TUBE_STOCK_MM[trial.suggest_int("tube", 0, len(TUBE_STOCK_MM) - 1)]
+    t = trial.suggest_categorical(f"clevis_thickness_od{od:g}",
+                                  [x for x in CLEVIS_STOCK_MM if x >= od + 2.0])
+    d = PartsSpec()
+
+    def get(key):
+        return parts.get(key, getattr(d, key))
+
+    shaft = cat.get_motor(get("motor")).shaft_diameter_mm
+    r = max(cat.get_bearing(get("bearing")).D_mm / 2,
+            0.25 * (shaft + get("hub_diameter_mm")) + cat.clearance_hole_mm(get("hub_screw")) / 2,
+            shaft / 2 + 0.5, cat.tap_drill_mm(get("handle_screw")) / 2)
+    return {"tube_od_mm": od, "tube_id_mm": idd, "bar_thickness_mm": t, "socket_depth_mm": TUBE_SOCKET_MM,
+            "clevis_length_mm": math.ceil((r + 1.0) * 2) / 2 + TUBE_SOCKET_MM}
 
 
 @dataclass(frozen=True)
@@ -195,6 +240,10 @@ def evaluate(pb: Problem, span_deg: float, shift_deg: float, parts: dict, best: 
         info["infeasible"] = "; ".join(viol)
         return math.inf, info
     d = replace(pb.design, linkage=fb, phi1_min_rad=lo, phi1_max_rad=hi, parts=ps)
+    why = cheap.tube_problem(d)
+    if why:
+        info["infeasible"] = f"tubes: {why}"
+        return math.inf, info
     am = cheap.apparent_mass(d)
     info.update({"M11_max_g": am["M11_max_g"], "M11_min_g": am["M11_min_g"],
                  "M11_variation": (am["M11_max_g"] - am["M11_min_g"]) / am["M11_max_g"]})

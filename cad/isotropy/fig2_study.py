@@ -20,6 +20,7 @@ import numpy as np
 from cad.isotropy.culling import brute_force, culling
 from cad.isotropy.gii import square_grid_mm
 from cad.isotropy.problems import FiveBarProblem, candidate_grid
+from cad.report.figures import save_figure
 
 SIDE_MM = 100.0
 GRID = 11
@@ -119,7 +120,7 @@ def _plot(rows, out_dir: Path) -> list[str]:
     for ext in ("png", "svg"):
         target = out_dir / f"fig2_study.{ext}"
         with atomic_path(target) as tmp:
-            fig.savefig(tmp, format=ext, dpi=120)
+            save_figure(fig, tmp, ext, dpi=120)
         paths.append(str(target))
     plt.close(fig)
     return paths

@@ -19,6 +19,7 @@ import numpy as np
 from cad.isotropy.culling import brute_force, culling
 from cad.isotropy.problems import PenProblem, candidate_grid
 from cad.kinematics.haptic_pen import TABLE2, workspace_grid
+from cad.report.figures import save_figure
 
 PEN_MM = 70.0
 
@@ -121,7 +122,7 @@ def _plot(rows, out_dir: Path) -> list[str]:
     for ext in ("png", "svg"):
         target = out_dir / f"pen_gii_vs_distance.{ext}"
         with atomic_path(target) as tmp:
-            fig.savefig(tmp, format=ext, dpi=120)
+            save_figure(fig, tmp, ext, dpi=120)
         paths.append(str(target))
     plt.close(fig)
     return paths

@@ -13,6 +13,7 @@ from typing import Any
 import numpy as np
 
 from cad.io.atomic import atomic_path, write_text_atomic
+from cad.report.figures import save_figure
 
 
 def _plt():
@@ -69,7 +70,7 @@ def plot_kinematics(design, path: Path) -> Path:
         a.grid(alpha=0.3)
     fig.tight_layout()
     with atomic_path(path) as tmp:
-        fig.savefig(tmp, dpi=110)
+        save_figure(fig, tmp, "png", dpi=110)
     plt.close(fig)
     return path
 
@@ -92,7 +93,7 @@ def plot_apparent_mass(design, H, path: Path) -> Path:
     ax.legend()
     fig.tight_layout()
     with atomic_path(path) as tmp:
-        fig.savefig(tmp, dpi=110)
+        save_figure(fig, tmp, "png", dpi=110)
     plt.close(fig)
     return path
 

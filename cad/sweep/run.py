@@ -31,6 +31,7 @@ from typing import Any
 
 from cad.errors import DesignError
 from cad.io.atomic import atomic_path, write_text_atomic
+from cad.report.figures import save_figure
 from cad.sweep.spec import Vary, apply, assignments, design_hash
 from cad.sweep.task import VALUE_KEYS, evaluate_variant
 
@@ -315,5 +316,5 @@ def write_chart(path: Path, rows: list[dict[str, Any]], spec: SweepSpec) -> None
                  + (f", {n_err} failed (see results table)" if n_err else ""), fontsize=10)
     fig.tight_layout()
     with atomic_path(path) as tmp:
-        fig.savefig(tmp, dpi=90)
+        save_figure(fig, tmp, "png", dpi=90)
     plt.close(fig)

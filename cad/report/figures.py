@@ -1,0 +1,28 @@
+"""Deterministic figure files: same figure -> same bytes (SPEC "Trust": same design ->
+byte-identical outputs).
+
+Matplotlib stamps SVGs with a date and random element ids and PNGs with its version;
+:func:`save_figure` writes without either (a fixed ``svg.hashsalt``, no ``Date``, no
+``Software``), so charts can be compared and cached by hash.
+"""
+
+from __future__ import annotations
+
+#: Metadata that would differ between runs or matplotlib versions, per format.
+_NO_STAMPS = {"svg": {"Date": None}, "png": {"Software": None}, "pdf": {"CreationDate": None}}
+
+
+def save_figure(fig, target, fmt: str | None = None, **kwargs) -> None:
+    """``fig.savefig(target, format=fmt, **kwargs)`` without time stamps or random ids.
+
+    ``target``: a path or a binary file object; ``fmt``: "png", "svg", "pdf" (default:
+    from the path's suffix, else png).
+    """
+    import matplotlib
+
+    if fmt is None:
+        suffix = str(getattr(target, "name", target)).rsplit(".", 1)[-1].lower()
+        fmt = suffix if suffix in _NO_STAMPS else "png"
+    meta = {**_NO_STAMPS.get(fmt, {}), **kwargs.pop("metadata", {})}
+    with matplotlib.rc_context({"svg.hashsalt": "hapticad"}):
+        fig.savefig(target, format=fmt, metadata=meta, **kwargs)
