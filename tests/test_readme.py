@@ -112,7 +112,9 @@ def designs_copy(tmp_path, monkeypatch):
 
 
 def test_readme_has_runnable_blocks():
-    assert len(_blocks("sh")) >= 3 and len(_blocks("python")) >= 1
+    """Blocks are found: fences start at column 0 (an indented one would escape the runner)."""
+    assert not re.search(r"^ +```", README.read_text(), flags=re.M)
+    assert len(_blocks("sh")) >= 5 and len(_blocks("python")) >= 1
     assert sum(len(_sh_lines(b)) for b in _blocks("sh")) >= 12
 
 
