@@ -100,30 +100,13 @@ def check(design, targets: tuple[str, ...] | list[str] = (), fidelity: str = "in
                       "compliance_x_um_per_N", "compliance_z_um_per_N"}
         values, report = target_values(design, fidelity, bool(wanted & build_keys))
     else:
-        values, report = _pantograph_values(design, fidelity, wanted)
+        from cad.build.inertia import pantograph_target_values
+
+        values, report = pantograph_target_values(design, fidelity, wanted)
     rows = evaluate(merged, values)
     return {"name": design.name, "ok": all(r.ok for r in rows), "fidelity": fidelity,
             "rows": [r.as_dict() for r in rows], "computed": values,
             "budget": report.get("budget")}
-
-
-def _pantograph_values(design, fidelity: str, wanted: set[str]) -> tuple[dict, dict]:
-    """GII always; effective mass and moving mass from a build when a target needs them."""
-    import tempfile
-
-    values = {"gii": float(design.gii().gii)}
-    if not wanted - {"gii"}:
-        return values, {}
-    from cad.build import build_design
-
-    with tempfile.TemporaryDirectory() as tmp:
-        rep = build_design(design, Path(tmp) / "b", set(), fidelity=fidelity, use_cache=False)
-    for k, v in (rep.get("effective_mass_home") or {}).items():
-        if isinstance(v, (int, float)) and not isinstance(v, bool):
-            values[k] = float(v)
-    if isinstance(rep.get("moving_mass_g"), (int, float)):
-        values["moving_mass_g"] = float(rep["moving_mass_g"])
-    return values, rep
 
 
 def mass_properties(path: str | Path, density_kg_m3: float | None = None,

@@ -79,6 +79,57 @@ def _set(raw: dict, path: str, value: Any) -> dict:
     return out
 
 
+def current_value(design, path: str) -> Any:
+    """The design's value of a free parameter: ``parts.KEY`` from its parts spec,
+    ``mechanism.KEY`` (pantograph families) from its mechanism parameters."""
+    section, name = path.split(".", 1)
+    if section == "mechanism":
+        return design.params[name]
+    return getattr(design.parts, name)
+
+
+def parse_free_pantograph(spec: str, design) -> FreeParam:
+    """Free parameter of a pantograph-family design: ``mechanism.KEY[=LO:HI]`` (the lengths
+    its ``[optimize]`` table may range over) or, for the twin pantograph, ``parts.KEY[=LO:HI]``
+    (numeric) / ``parts.*_material`` (choice)."""
+    import dataclasses
+
+    from cad.design.pantograph import OPTIMIZABLE
+
+    key, _, rng = spec.partition("=")
+    key = key.strip()
+    section, _, name = key.partition(".")
+    if section == "mechanism":
+        allowed = OPTIMIZABLE[design.family]
+    elif section == "parts" and design.parts is not None:
+        allowed = tuple(f.name for f in dataclasses.fields(design.parts))
+    else:
+        allowed = ()
+    if name not in allowed:
+        raise DesignError(f"--free {spec}", f"not a free parameter of a {design.family} design "
+                          f"(mechanism.{{{', '.join(OPTIMIZABLE[design.family])}}}"
+                          + (", parts.KEY" if design.parts is not None else "") + ")")
+    current = current_value(design, key)
+    if name.endswith("_material"):
+        return FreeParam(key, "choice", choices=MATERIAL_CHOICES)
+    if isinstance(current, str) or isinstance(current, bool):
+        raise DesignError(f"--free {spec}", f"{name} is not a numeric or material parameter")
+    return _numeric(spec, key, rng, float(current))
+
+
+def _numeric(spec: str, key: str, rng: str, current: float) -> FreeParam:
+    """Numeric free parameter: LO:HI from the flag, else 0.5x..1.5x the current value."""
+    lo, hi = current * NUMERIC_DEFAULT_SPAN[0], current * NUMERIC_DEFAULT_SPAN[1]
+    if rng:
+        try:
+            lo, hi = (float(x) for x in rng.split(":"))
+        except ValueError:
+            raise DesignError(f"--free {spec}", "range must be LO:HI (numbers)") from None
+        if not (0 < lo < hi):
+            raise DesignError(f"--free {spec}", f"need 0 < LO < HI, got {lo}:{hi}")
+    return FreeParam(key, "numeric", lo=lo, hi=hi)
+
+
 def parse_free(spec: str, parts_spec) -> FreeParam:
     """``parts.KEY`` or ``parts.KEY=LO:HI`` (numeric) -> FreeParam with defaults from the spec."""
     from cad.design.parts import ALLOWED_KEYS
@@ -187,8 +238,8 @@ def fit(raw: dict, source: str, targets: tuple[Target, ...], free: list[FreePara
         cache[key] = (obj, vals)
         return obj, vals
 
-    spec = parse_design(raw, source).parts
-    start_vals = {p.path: getattr(spec, p.path.split(".", 1)[1]) for p in free}
+    start_design = parse_design(raw, source)
+    start_vals = {p.path: current_value(start_design, p.path) for p in free}
 
     def change(vals: dict) -> float:
         """Distance from the start: numeric |x - x0| / (hi - lo); choices: rank in the list."""

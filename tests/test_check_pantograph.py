@@ -43,3 +43,30 @@ def test_twin_pantograph_effective_mass_from_the_build(tmp_path):
     rep = json.loads(bout)
     assert vals["mass_x_g_apparent"] == pytest.approx(rep["effective_mass_home"]["mass_x_g_apparent"], rel=1e-9)
     assert vals["moving_mass_g"] == pytest.approx(rep["moving_mass_g"], rel=1e-9)
+
+
+def test_fit_a_pantograph_to_a_gii_target(tmp_path):
+    """fit moves the 5-bar's link lengths until the GII target is met; the written design,
+    evaluated on its own by `hapticad gii`, meets it too."""
+    out = tmp_path / "fit.toml"
+    code, o, err = hapticad("fit", "designs/pantograph.toml", "--target", "gii>=0.626",
+                            "--free", "mechanism.distal_mm=150:220", "--free",
+                            "mechanism.proximal_mm=100:150", "--out", out, "--json")
+    assert code == 0, err
+    res = json.loads(o)
+    assert res["met"] and res["rows"][0]["key"] == "gii"
+    g = json.loads(hapticad("gii", out, "--json")[1])["gii"]
+    assert g >= 0.626 and g == pytest.approx(res["rows"][0]["computed"], rel=1e-12)
+
+
+def test_fit_pantograph_free_parameters_are_validated():
+    code, _, err = hapticad("fit", "designs/pantograph.toml", "--target", "gii>=0.6",
+                            "--free", "mechanism.knob_diameter_mm")
+    assert_one_line_error(code, err, "--free mechanism.knob_diameter_mm", "not a free parameter")
+    code, _, err = hapticad("fit", "designs/haptic_pen.toml", "--target", "gii>=0.6",
+                            "--free", "parts.tube_od_mm")  # the pen has no parts
+    assert_one_line_error(code, err, "--free parts.tube_od_mm", "not a free parameter")
+    from cad.fit import parse_free_pantograph
+
+    p = parse_free_pantograph("parts.tube_od_mm=6:10", load_design("designs/haptic_mouse.toml"))
+    assert (p.kind, p.lo, p.hi) == ("numeric", 6.0, 10.0)

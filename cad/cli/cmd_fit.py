@@ -30,56 +30,66 @@ def register(app: typer.Typer) -> None:
         from cad.parts.handle import set_script_policy
 
         set_script_policy(allow_scripts, allow_scripts_anywhere)
-        from cad.build.inertia import target_values
+        from cad.build.inertia import pantograph_target_values, target_values
         from cad.checks import evaluate, merge_targets
         from cad.cli import flags
+        from cad.cli.cmd_gii import PANTOGRAPH_FAMILIES
         from cad.cli.families import refusal
         from cad.design import bounds, load_design, parse_design
         from cad.design.fourbar import FourBarDesign
-        from cad.design.targets import parse_cli_target
+        from cad.design.targets import PANTOGRAPH_TARGET_KEYS, TARGET_KEYS, parse_cli_target
         from cad.design.writer import dumps_design, rebase_paths
         from cad.errors import DesignError, TargetMissed
-        from cad.fit import fit, parse_free
+        from cad.fit import fit, parse_free, parse_free_pantograph
         from cad.io.atomic import write_text_atomic
         from cad.io.outdir import check_out_file
 
-        cli_targets = tuple(parse_cli_target(t) for t in (target or []))
         flags.choice("--fidelity", fidelity, ("inertia", "fabrication"))
         flags.out_path("--out", out, folder=False)
         d = load_design(design)
-        if not isinstance(d, FourBarDesign):
+        four_bar = isinstance(d, FourBarDesign)
+        if not four_bar and d.family not in PANTOGRAPH_FAMILIES:
             raise DesignError("mechanism.family", refusal("fit", d.family))
-        d.check_buildable()
+        if four_bar:
+            d.check_buildable()
+        keys = TARGET_KEYS if four_bar else PANTOGRAPH_TARGET_KEYS
+        cli_targets = tuple(parse_cli_target(t, keys) for t in (target or []))
         targets = cli_targets if cli_targets else merge_targets(d.targets, ())
         if not targets:
             raise DesignError("--target", "no targets: give --target KEY=VALUE or a [targets] table")
-        specs = list(free) if free else list(d.fit_free)
+        specs = list(free) if free else list(getattr(d, "fit_free", ()))
         if not specs:
-            raise DesignError("--free", "no free parameters: give --free parts.KEY or [fit] free = [...]")
-        params = [parse_free(s, d.parts) for s in specs]
+            raise DesignError("--free", "no free parameters: give --free parts.KEY (four-bars), "
+                                        "mechanism.KEY / parts.KEY (pantographs) or [fit] free")
+        params = [parse_free(s, d.parts) if four_bar else parse_free_pantograph(s, d) for s in specs]
         dst = out if out is not None else design.with_suffix(".fit.toml")
         replaced = check_out_file(dst, design)
         bounds.flush()
         need_clear = any(t.key == "min_clearance_mm" for t in targets)
+        wanted = {t.key for t in targets}
+
+        def values_of(dd) -> dict:
+            if four_bar:
+                return target_values(dd, fidelity, need_clear)[0]
+            return pantograph_target_values(dd, fidelity, wanted)[0]
+
         raw = {k: v for k, v in d.raw.items()}
-        raw.setdefault("parts", {})
+        if four_bar:
+            raw.setdefault("parts", {})
         echo = None if json_out else (lambda s: print(s, flush=True))
         if echo:
             echo(f"fit {d.name}: {len(params)} free parameter(s), {len(targets)} target(s)")
-        res = fit(raw, str(design), targets, params,
-                  lambda dd: target_values(dd, fidelity, need_clear)[0], echo=echo)
+        res = fit(raw, str(design), targets, params, values_of, echo=echo)
         fitted = rebase_paths(copy.deepcopy(res.raw), d.source, dst)
         fitted["name"] = f"{d.name}_fit" if out is None else out.name.split(".")[0]
         if cli_targets:  # keep the targets the fit was made for
-            from cad.design.targets import TARGET_KEYS  # noqa: F401
-
             tt = dict(fitted.get("targets", {}))
             for t in cli_targets:
                 tt[t.key] = ({"value": t.value, "tol_rel": t.tol_rel} if t.value is not None and t.tol_abs is None
                              else {"value": t.value, "tol_abs": t.tol_abs} if t.value is not None
                              else {k: v for k, v in (("min", t.min), ("max", t.max)) if v is not None})
             fitted["targets"] = tt
-        final_vals = target_values(parse_design(fitted, str(dst)), fidelity, need_clear)[0]
+        final_vals = values_of(parse_design(fitted, str(dst)))
         # the design file last: it is the command's output (cad.io.signals commit point)
         write_text_atomic(dst, dumps_design(fitted, f"Fitted by `hapticad fit {design}`: "
                                             + ", ".join(f"{k}={v}" for k, v in res.values.items())),

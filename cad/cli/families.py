@@ -18,7 +18,7 @@ COMMAND_FAMILIES: dict[str, tuple[str, ...]] = {
     "synth": FOUR_BARS,
     "swap": FOUR_BARS,
     "check": FOUR_BARS + PANTOGRAPHS,
-    "fit": FOUR_BARS,
+    "fit": FOUR_BARS + PANTOGRAPHS,
     "build": FOUR_BARS + ("pantograph", "twin-pantograph", "powermouse"),
     "gii": PANTOGRAPHS,
     "optimize": FOUR_BARS + PANTOGRAPHS,
