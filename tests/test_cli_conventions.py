@@ -152,3 +152,33 @@ def test_wall_names_the_design_key_of_a_slipped_period(tmp_path):
     d.write_text(Path("designs/hoeken.toml").read_text().replace("Te_s = 0.00033", "Te_s = 0.33"))
     code, _, err = hapticad("wall", d)
     assert_one_line_error(code, err, "stiffness.Te_s", "0.33")
+
+
+def test_sweep_refuses_a_design_with_a_script_up_front(tmp_path):
+    from tests.cli_helpers import assert_one_line_error
+
+    code, _, err = hapticad("sweep", "designs/hoeken_cq_handle.toml", "--vary",
+                            "parts.bar_thickness_mm=5,6", "--workers", "1", "--out", tmp_path / "sw")
+    assert_one_line_error(code, err, "parts.handle_script")
+    assert not (tmp_path / "sw").exists()
+
+
+def test_help_texts_are_consistent():
+    """Every option's help is a sentence (capitalised unless it starts with a value or a
+    choice list, ending with a period), and no help loses text to markup ("[parts]")."""
+    import typer
+
+    from cad.cli.app import _register_commands, app
+
+    _register_commands()
+    for name, cmd in typer.main.get_command(app).commands.items():
+        for p in cmd.params:
+            h = getattr(p, "help", None)
+            if h is None:
+                continue
+            first = h.split()[0]
+            assert h.endswith("."), (name, p.opts, h)
+            assert not (first.isalpha() and first.islower() and len(first) > 1
+                        and " | " not in h[:60]), (name, p.opts, h)
+    code, out, _ = hapticad("build", "--help")
+    assert code == 0 and "[parts].fidelity" in " ".join(out.split())

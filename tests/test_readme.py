@@ -60,7 +60,84 @@ def test_commands_table_flags_exist():
 def test_readme_command_lines_parse(line):
     """Every command line in a README code block names a real command and real flags."""
     words = shlex.split(line)
+    if words[1] in {"--version", "--help"}:
+        return
     cmds = _commands()
     assert words[1] in cmds, line
     flags = {w.split("=")[0] for w in words[2:] if w.startswith("--")}
     assert flags <= _options(cmds[words[1]]) | {"--help"}, (line, flags - _options(cmds[words[1]]))
+
+
+def test_readme_global_flag_lines_are_known():
+    """`hapticad --version` style lines use a global flag the CLI has."""
+    for line in readme_command_lines():
+        words = shlex.split(line)
+        if words[1].startswith("--"):
+            assert words[1] in {"--version", "--help"}, line
+
+
+# ---- the README's runnable blocks: every `sh` line is run, every `python` block executed ----
+
+ROOT = README.parent
+
+
+def _blocks(lang: str) -> list[str]:
+    """The bodies of the README's fenced blocks opened with ```<lang>."""
+    text = README.read_text()
+    return re.findall(rf"^```{lang}\n(.*?)^```", text, flags=re.M | re.S)
+
+
+def _sh_lines(block: str) -> list[tuple[list[str], int]]:
+    """(argv after `hapticad`, expected exit code) per line; `# exit N` sets the code."""
+    out = []
+    for raw in block.splitlines():
+        if not raw.strip():
+            continue
+        cmd, _, comment = raw.partition(" #")
+        m = re.search(r"exit (\d+)", comment)
+        words = shlex.split(cmd)
+        assert words[0] == "hapticad", f"an sh block holds only hapticad lines: {raw!r}"
+        out.append((words[1:], int(m.group(1)) if m else 0))
+    return out
+
+
+@pytest.fixture
+def designs_copy(tmp_path, monkeypatch):
+    """cwd = a temporary folder holding a copy of the repository's designs/."""
+    import shutil
+
+    shutil.copytree(ROOT / "designs", tmp_path / "designs")
+    monkeypatch.chdir(tmp_path)
+    return tmp_path
+
+
+def test_readme_has_runnable_blocks():
+    assert len(_blocks("sh")) >= 3 and len(_blocks("python")) >= 1
+    assert sum(len(_sh_lines(b)) for b in _blocks("sh")) >= 12
+
+
+@pytest.mark.parametrize("block", _blocks("sh"), ids=lambda b: b.split("\n")[0][:40])
+def test_readme_sh_block_runs(block, designs_copy):
+    """Each line of the block exits as the README says (in-process, cad.cli.app.run)."""
+    from tests.cli_helpers import hapticad
+
+    for argv, expected in _sh_lines(block):
+        code, out, err = hapticad(*argv)
+        assert code == expected, (argv, code, err[-2000:])
+        if expected == 0:
+            assert out.strip(), f"{argv}: printed nothing"
+    # files a block says it writes are there, read back by a second tool
+    for argv, expected in _sh_lines(block):
+        if "--out" in argv and expected == 0:
+            target = designs_copy / argv[argv.index("--out") + 1]
+            assert target.exists(), target
+            if target.suffix == ".toml":
+                import tomllib
+
+                assert tomllib.loads(target.read_text())["name"]
+
+
+@pytest.mark.parametrize("block", _blocks("python"), ids=lambda b: b.split("\n")[0][:40])
+def test_readme_python_block_runs(block, designs_copy, capsys):
+    exec(compile(block, "README.md", "exec"), {"__name__": "__readme__"})
+    assert capsys.readouterr().out.strip()

@@ -222,3 +222,21 @@ def test_tolerance_imports_no_cad():
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
     assert "BAD [] 0" in out, out
+
+
+def test_targets_the_study_cannot_compute_are_never_silent():
+    """A --target the study does not compute is refused; a design target it does not compute
+    is named in a warning (stderr and the JSON warnings), never dropped silently."""
+    import json
+
+    from tests.cli_helpers import assert_one_line_error, hapticad
+
+    code, _, err = hapticad("tolerance", "designs/hoeken.toml", "--hole-mm", "0.05", "--samples",
+                            "100", "--target", "first_mode_Hz>=150")
+    assert_one_line_error(code, err, "--target", "first_mode_Hz", "not computed")
+    code, out, err = hapticad("tolerance", "designs/hoeken.toml", "--hole-mm", "0.05", "--samples",
+                              "100", "--json")
+    assert code == 0, err
+    res = json.loads(out)
+    assert any("H11_kg_m2" in w and "not computed" in w for w in res["warnings"])
+    assert "H11_kg_m2" not in res["yield"]["by_target"] and "H11_kg_m2" in err

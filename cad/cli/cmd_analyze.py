@@ -76,11 +76,11 @@ def _print_table(res: dict) -> None:
 def register(app: typer.Typer) -> None:
     @app.command("analyze")
     def analyze_cmd(
-        design: Path = typer.Argument(..., help="TOML design file"),
-        json_out: bool = typer.Option(False, "--json", help="print one JSON object"),
-        samples: int = typer.Option(None, "--samples", help="crank samples over the range (>= 3)"),
-        inertia: str = typer.Option(None, "--inertia", help="H11=..,H12=..,H22=..,H33=.. in kg.m^2"),
-        report: Path = typer.Option(None, "--report", help="also write a Markdown report with plots here"),
+        design: Path = typer.Argument(..., help="TOML design file."),
+        json_out: bool = typer.Option(False, "--json", help="Print one JSON object."),
+        samples: int = typer.Option(None, "--samples", help="Crank samples over the range (>= 3)."),
+        inertia: str = typer.Option(None, "--inertia", help="H11=..,H12=..,H22=..,H33=.. in kg.m^2."),
+        report: Path = typer.Option(None, "--report", help="Also write a Markdown report with plots here."),
     ) -> None:
         """Kinematic metrics (Tables I/II), range checks and apparent mass; no CAD."""
         from cad.analysis import analyze

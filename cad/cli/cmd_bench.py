@@ -92,9 +92,9 @@ def _goals(results: dict) -> list[tuple[str, str, str, bool | None]]:
 def register(app: typer.Typer) -> None:
     @app.command("bench")
     def bench_cmd(
-        quick: bool = typer.Option(False, "--quick", help="fewer repeats and knobs (all topics: ~4 min of CPU, measured; README)"),
-        out: Path = typer.Option(Path("exports/bench"), "--out", help="output folder for JSON and charts"),
-        only: str = typer.Option(None, "--only", help=f"comma list of topics: {','.join(TOPICS)}"),
+        quick: bool = typer.Option(False, "--quick", help="Fewer repeats and knobs (all topics: ~4 min of CPU, measured; README)."),
+        out: Path = typer.Option(Path("exports/bench"), "--out", help="Output folder for JSON and charts."),
+        only: str = typer.Option(None, "--only", help=f"Comma list of topics: {','.join(TOPICS)}."),
     ) -> None:
         """Error-against-time charts for every method with an accuracy knob, and the performance goals."""
         import importlib

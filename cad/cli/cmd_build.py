@@ -59,29 +59,29 @@ def _summary(rep: dict, out: Path, wall_s: float) -> None:
 def register(app: typer.Typer) -> None:
     @app.command("build")
     def build_cmd(
-        design: Path = typer.Argument(..., help="TOML design file"),
-        out: Path = typer.Option(None, "--out", help="output folder (default exports/<name>/)"),
+        design: Path = typer.Argument(..., help="TOML design file."),
+        out: Path = typer.Option(None, "--out", help="Output folder (default exports/<name>/)."),
         formats: str = typer.Option(
             "step,stl,dxf",
             "--formats",
-            help="comma list of step, stl, dxf, mjcf, urdf, glb, 3mf (mjcf/urdf also write the STL meshes)",
+            help="Comma list of step, stl, dxf, mjcf, urdf, glb, 3mf (mjcf/urdf also write the STL meshes).",
         ),
         fidelity: str = typer.Option(
-            None, "--fidelity", help="fabrication | inertia | preview (default: [parts].fidelity)"
+            None, "--fidelity", help="fabrication | inertia | preview (default: [parts].fidelity)."
         ),
         phi1_deg: float = typer.Option(
-            None, "--phi1-deg", help="crank angle of the assembly STEP and preview (deg)"
+            None, "--phi1-deg", help="Crank angle of the assembly STEP and preview (deg)."
         ),
         allow_interference: bool = typer.Option(
-            False, "--allow-interference", help="export even if parts collide"
+            False, "--allow-interference", help="Export even if parts collide."
         ),
-        json_out: bool = typer.Option(False, "--json", help="print the report as one JSON object"),
-        no_cache: bool = typer.Option(False, "--no-cache", help="rebuild even if nothing changed"),
+        json_out: bool = typer.Option(False, "--json", help="Print the report as one JSON object."),
+        no_cache: bool = typer.Option(False, "--no-cache", help="Rebuild even if nothing changed."),
         allow_scripts: bool = typer.Option(
-            False, "--allow-scripts", help="run the design's [parts] handle_script (inside its folder)"
+            False, "--allow-scripts", help="Run the design's [parts] handle_script (inside its folder)."
         ),
         allow_scripts_anywhere: bool = typer.Option(
-            False, "--allow-scripts-anywhere", help="run handle_script from any path"
+            False, "--allow-scripts-anywhere", help="Run handle_script from any path."
         ),
     ) -> None:
         """Parts, posed assembly, interference check and fabrication exports of a design."""

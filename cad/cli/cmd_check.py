@@ -19,14 +19,14 @@ def register(app: typer.Typer) -> None:
     @app.command("check")
     def check_cmd(
         design: Path = typer.Argument(..., help="Four-bar or pantograph-family TOML design."),
-        target: list[str] = typer.Option(None, "--target", help="KEY=VALUE (default tolerance), KEY<=V, KEY>=V; repeatable"),
-        fidelity: str = typer.Option("inertia", "--fidelity", help="inertia (default) | fabrication"),
-        json_out: bool = typer.Option(False, "--json", help="print one JSON object"),
+        target: list[str] = typer.Option(None, "--target", help="KEY=VALUE (default tolerance), KEY<=V, KEY>=V; repeatable."),
+        fidelity: str = typer.Option("inertia", "--fidelity", help="inertia (default) | fabrication."),
+        json_out: bool = typer.Option(False, "--json", help="Print one JSON object."),
         allow_scripts: bool = typer.Option(
-            False, "--allow-scripts", help="run the design's [parts] handle_script (inside its folder)"
+            False, "--allow-scripts", help="Run the design's [parts] handle_script (inside its folder)."
         ),
         allow_scripts_anywhere: bool = typer.Option(
-            False, "--allow-scripts-anywhere", help="run handle_script from any path"
+            False, "--allow-scripts-anywhere", help="Run handle_script from any path."
         ),
     ) -> None:
         """Inertia and apparent mass from the solids against the design's targets (exit 0 / 1 / 2)."""

@@ -13,17 +13,17 @@ from cad.cli.app import print_json
 def register(app: typer.Typer) -> None:
     @app.command("fit")
     def fit_cmd(
-        design: Path = typer.Argument(..., help="four-bar TOML design"),
-        target: list[str] = typer.Option(None, "--target", help="KEY=VALUE, KEY<=V or KEY>=V (repeatable); default: the design's [targets]"),
-        free: list[str] = typer.Option(None, "--free", help="parts.KEY or parts.KEY=LO:HI (repeatable); default: the design's [fit] free"),
-        out: Path = typer.Option(None, "--out", help="fitted design (default: <design>.fit.toml beside it)"),
-        fidelity: str = typer.Option("inertia", "--fidelity", help="inertia | fabrication"),
-        json_out: bool = typer.Option(False, "--json", help="print one JSON object"),
+        design: Path = typer.Argument(..., help="four-bar TOML design."),
+        target: list[str] = typer.Option(None, "--target", help="KEY=VALUE, KEY<=V or KEY>=V (repeatable); default: the design's [targets]."),
+        free: list[str] = typer.Option(None, "--free", help="parts.KEY or parts.KEY=LO:HI (repeatable); default: the design's [fit] free."),
+        out: Path = typer.Option(None, "--out", help="Fitted design (default: <design>.fit.toml beside it)."),
+        fidelity: str = typer.Option("inertia", "--fidelity", help="inertia | fabrication."),
+        json_out: bool = typer.Option(False, "--json", help="Print one JSON object."),
         allow_scripts: bool = typer.Option(
-            False, "--allow-scripts", help="run the design's [parts] handle_script (inside its folder)"
+            False, "--allow-scripts", help="Run the design's [parts] handle_script (inside its folder)."
         ),
         allow_scripts_anywhere: bool = typer.Option(
-            False, "--allow-scripts-anywhere", help="run handle_script from any path"
+            False, "--allow-scripts-anywhere", help="Run handle_script from any path."
         ),
     ) -> None:
         """Adjust the design's free part parameters to meet the targets; write the fitted design."""

@@ -141,11 +141,11 @@ def register(app: typer.Typer) -> None:
     @app.command("optimize")
     def optimize_cmd(
         design: Path = typer.Argument(..., help="Design TOML with an [optimize] table."),
-        method: str = typer.Option(None, "--method", help="culling (default) or brute (pantographs)."),
+        method: str = typer.Option(None, "--method", help="Culling (default) or brute (pantographs)."),
         objective: str = typer.Option(None, "--objective", help="min-apparent-mass (four-bars)."),
-        trials: int = typer.Option(300, "--trials", help="optuna trials on the cheap model (four-bars)."),
-        seed: int = typer.Option(0, "--seed", help="sampler seed (four-bars)."),
-        exact_top: int = typer.Option(3, "--exact-top", help="candidates re-evaluated on the solids."),
+        trials: int = typer.Option(300, "--trials", help="Optuna trials on the cheap model (four-bars)."),
+        seed: int = typer.Option(0, "--seed", help="Sampler seed (four-bars)."),
+        exact_top: int = typer.Option(3, "--exact-top", help="Candidates re-evaluated on the solids."),
         out: Path = typer.Option(None, "--out", help="Write the optimum as a new design (TOML)."),
         json_out: bool = typer.Option(False, "--json", help="Print one JSON object."),
         proportions_tol: float = typer.Option(

@@ -60,12 +60,12 @@ def render_designs(paths: list[Path], out: Path, fidelity: str | None = None) ->
 def register(app: typer.Typer) -> None:
     @app.command("render")
     def render_cmd(
-        designs: list[Path] = typer.Argument(..., help="TOML design files"),
-        out: Path = typer.Option(Path("docs/devices"), "--out", help="Folder of the pictures"),
+        designs: list[Path] = typer.Argument(..., help="TOML design files."),
+        out: Path = typer.Option(Path("docs/devices"), "--out", help="Folder of the pictures."),
         fidelity: str = typer.Option(
-            None, "--fidelity", help="fabrication | inertia | preview (default: the design's)"
+            None, "--fidelity", help="fabrication | inertia | preview (default: the design's)."
         ),
-        json_out: bool = typer.Option(False, "--json", help="Print the written files as JSON"),
+        json_out: bool = typer.Option(False, "--json", help="Print the written files as JSON."),
     ) -> None:
         """Shaded picture and stroke GIF of each design, from its build."""
         from cad.build import FIDELITIES

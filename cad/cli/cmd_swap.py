@@ -77,12 +77,12 @@ def metric_rows(design) -> dict:
 def register(app: typer.Typer) -> None:
     @app.command("swap")
     def swap_cmd(
-        design: Path = typer.Argument(..., help="TOML design file (four-bar)"),
-        to: str = typer.Option(..., "--to", help="hoeken | roberts | chebyshev | chebyshev-v"),
+        design: Path = typer.Argument(..., help="TOML design file (four-bar)."),
+        to: str = typer.Option(..., "--to", help="hoeken | roberts | chebyshev | chebyshev-v."),
         out: Path = typer.Option(
-            None, "--out", help="new design file (default <stem>_<family>.toml beside DESIGN)"
+            None, "--out", help="New design file (default <stem>_<family>.toml beside DESIGN)."
         ),
-        json_out: bool = typer.Option(False, "--json", help="print one JSON object"),
+        json_out: bool = typer.Option(False, "--json", help="Print one JSON object."),
         build: bool = typer.Option(
             False, "--build", help="Also build the new design into exports/<name>/ (name: the --out file stem)."
         ),

@@ -14,17 +14,17 @@ import typer
 def register(app: typer.Typer) -> None:
     @app.command("sweep")
     def sweep_cmd(
-        design: Path = typer.Argument(..., help="four-bar TOML design"),
-        vary: list[str] = typer.Option(None, "--vary", help="KEY=V1,V2,... or KEY=LO:HI:N (dotted design key); repeatable"),
-        samples: int = typer.Option(None, "--samples", help="N Latin-hypercube samples instead of every combination"),
-        fidelity: str = typer.Option("inertia", "--fidelity", help="inertia (default) | fabrication (adds the interference sweep)"),
-        workers: int = typer.Option(2, "--workers", help="worker processes of the embedded LocalCluster"),
-        scheduler: str = typer.Option(None, "--scheduler", help="tcp://HOST:PORT of an existing Dask scheduler"),
-        out: Path = typer.Option(..., "--out", help="folder of results.parquet/.csv, sweep.json, chart.png (resumes)"),
-        target: list[str] = typer.Option(None, "--target", help="KEY=VALUE, KEY<=V, KEY>=V; repeatable (added to the design's targets)"),
-        chart: str = typer.Option("torque_variation,M11_max_g", "--chart", help="X,Y columns of the chart"),
-        seed: int = typer.Option(0, "--seed", help="seed of the Latin hypercube"),
-        json_out: bool = typer.Option(False, "--json", help="print the summary as one JSON object"),
+        design: Path = typer.Argument(..., help="four-bar TOML design."),
+        vary: list[str] = typer.Option(None, "--vary", help="KEY=V1,V2,... or KEY=LO:HI:N (dotted design key); repeatable."),
+        samples: int = typer.Option(None, "--samples", help="N Latin-hypercube samples instead of every combination."),
+        fidelity: str = typer.Option("inertia", "--fidelity", help="inertia (default) | fabrication (adds the interference sweep)."),
+        workers: int = typer.Option(2, "--workers", help="Worker processes of the embedded LocalCluster."),
+        scheduler: str = typer.Option(None, "--scheduler", help="tcp://HOST:PORT of an existing Dask scheduler."),
+        out: Path = typer.Option(..., "--out", help="Folder of results.parquet/.csv, sweep.json, chart.png (resumes)."),
+        target: list[str] = typer.Option(None, "--target", help="KEY=VALUE, KEY<=V, KEY>=V; repeatable (added to the design's targets)."),
+        chart: str = typer.Option("torque_variation,M11_max_g", "--chart", help="X,Y columns of the chart."),
+        seed: int = typer.Option(0, "--seed", help="Seed of the Latin hypercube."),
+        json_out: bool = typer.Option(False, "--json", help="Print the summary as one JSON object."),
     ) -> None:
         """Evaluate many variants of a design on Dask: Parquet/CSV table, chart, resumable."""
         from cad.design.fields import load_toml
@@ -72,6 +72,10 @@ def register(app: typer.Typer) -> None:
         if fam not in COMMAND_FAMILIES["sweep"]:
             raise DesignError("mechanism.family", refusal("sweep", fam))
         _check_keys(raw, design, varies)
+        if "handle_script" in (raw.get("parts") or {}) or any(v.key == "parts.handle_script"
+                                                                for v in varies):
+            raise DesignError("parts.handle_script", "sweep never runs design scripts (its "
+                              "workers would run them unseen); sweep a design without one")
         spec = SweepSpec(design=design.resolve(), raw=raw, varies=varies, samples=samples, seed=seed,
                          fidelity=fidelity, cli_targets=cli, chart=xy,
                          targets_text=";".join(sorted(t or "" for t in (target or []))))

@@ -21,14 +21,14 @@ def synth_flags(objective: str, free: str, dy_tol_mm: float, mu_min_deg: float,
 def register(app: typer.Typer) -> None:
     @app.command("synth")
     def synth_cmd(
-        design: Path = typer.Argument(..., help="four-bar TOML design (the start)"),
-        objective: str = typer.Option("max-stroke", "--objective", help="max-stroke | min-torque-variation"),
-        free: str = typer.Option("range", "--free", help="range (crank range only) | all (ratios, phi_e and range)"),
-        dy_tol_mm: float = typer.Option(0.2, "--dy-tol-mm", help="max-stroke: allowed max |y| (mm)"),
-        mu_min_deg: float = typer.Option(30.0, "--mu-min-deg", help="minimum transmission angle (deg)"),
-        stroke_mm: float = typer.Option(None, "--stroke-mm", help="min-torque-variation: stroke to scale to (default: the start's)"),
-        out: Path = typer.Option(None, "--out", help="write the optimized design (family custom) here"),
-        json_out: bool = typer.Option(False, "--json", help="print one JSON object"),
+        design: Path = typer.Argument(..., help="four-bar TOML design (the start)."),
+        objective: str = typer.Option("max-stroke", "--objective", help="max-stroke | min-torque-variation."),
+        free: str = typer.Option("range", "--free", help="range (crank range only) | all (ratios, phi_e and range)."),
+        dy_tol_mm: float = typer.Option(0.2, "--dy-tol-mm", help="max-stroke: allowed max |y| (mm)."),
+        mu_min_deg: float = typer.Option(30.0, "--mu-min-deg", help="Minimum transmission angle (deg)."),
+        stroke_mm: float = typer.Option(None, "--stroke-mm", help="min-torque-variation: stroke to scale to (default: the start's)."),
+        out: Path = typer.Option(None, "--out", help="Write the optimized design (family custom) here."),
+        json_out: bool = typer.Option(False, "--json", help="Print one JSON object."),
     ) -> None:
         """Choose link lengths and the crank range for a stated objective (see README)."""
         import copy

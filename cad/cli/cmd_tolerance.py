@@ -40,32 +40,33 @@ def _print(res: dict) -> None:
 def register(app: typer.Typer) -> None:
     @app.command("tolerance")
     def tolerance_cmd(
-        design: Path = typer.Argument(..., help="four-bar TOML design"),
-        hole_mm: float = typer.Option(None, "--hole-mm", help="± mm on every joint hole of the three bars"),
-        hole: list[str] = typer.Option(None, "--hole", help="BAR=T or BAR.HOLE=T[:normal|uniform] (crank.A2, coupler.P, ...); repeatable"),
-        pivot_mm: float = typer.Option(None, "--pivot-mm", help="± mm on the base pivots A1 and A4"),
-        pivot: list[str] = typer.Option(None, "--pivot", help="A1=T or A4=T[:normal|uniform]; repeatable"),
-        length_mm: float = typer.Option(None, "--length-mm", help="± mm on every link length l1, l2, l3, le"),
-        length: list[str] = typer.Option(None, "--length", help="l1|l2|l3|le=T[:normal|uniform]; repeatable"),
-        distribution: str = typer.Option("normal", "--distribution", help="normal (T = 3 sigma) | uniform (±T)"),
-        samples: int = typer.Option(10000, "--samples", help="Monte Carlo samples (100 .. 2e6)"),
-        angles: int = typer.Option(401, "--angles", help="crank angles per sample (extrema are refined)"),
-        seed: int = typer.Option(0, "--seed", help="random seed"),
-        target: list[str] = typer.Option(None, "--target", help="KEY=VALUE, KEY<=V, KEY>=V; repeatable (added to the design's targets)"),
-        inertia: str = typer.Option(None, "--inertia", help="H11=..,H12=..,H22=..,H33=.. (kg.m^2) for M11"),
-        out: Path = typer.Option(None, "--out", help="write tolerance.json and tolerance.png here"),
-        json_out: bool = typer.Option(False, "--json", help="print one JSON object"),
+        design: Path = typer.Argument(..., help="four-bar TOML design."),
+        hole_mm: float = typer.Option(None, "--hole-mm", help="± mm on every joint hole of the three bars."),
+        hole: list[str] = typer.Option(None, "--hole", help="BAR=T or BAR.HOLE=T[:normal|uniform] (crank.A2, coupler.P, ...); repeatable."),
+        pivot_mm: float = typer.Option(None, "--pivot-mm", help="± mm on the base pivots A1 and A4."),
+        pivot: list[str] = typer.Option(None, "--pivot", help="A1=T or A4=T[:normal|uniform]; repeatable."),
+        length_mm: float = typer.Option(None, "--length-mm", help="± mm on every link length l1, l2, l3, le."),
+        length: list[str] = typer.Option(None, "--length", help="l1|l2|l3|le=T[:normal|uniform]; repeatable."),
+        distribution: str = typer.Option("normal", "--distribution", help="normal (T = 3 sigma) | uniform (±T)."),
+        samples: int = typer.Option(10000, "--samples", help="Monte Carlo samples (100 .. 2e6)."),
+        angles: int = typer.Option(401, "--angles", help="Crank angles per sample (extrema are refined)."),
+        seed: int = typer.Option(0, "--seed", help="Random seed."),
+        target: list[str] = typer.Option(None, "--target", help="KEY=VALUE, KEY<=V, KEY>=V; repeatable (added to the design's targets)."),
+        inertia: str = typer.Option(None, "--inertia", help="H11=..,H12=..,H22=..,H33=.. (kg.m^2) for M11."),
+        out: Path = typer.Option(None, "--out", help="Write tolerance.json and tolerance.png here."),
+        json_out: bool = typer.Option(False, "--json", help="Print one JSON object."),
     ) -> None:
         """Monte Carlo of hole, pivot and length tolerances: distributions, yield, sensitivity (no CAD)."""
         from cad import tolerances as tol
         from cad.checks import merge_targets
         from cad.cli import flags
         from cad.cli.cmd_analyze import parse_inertia_option
-        from cad.design import load_design
+        from cad.design import bounds, load_design
         from cad.design.fourbar import FourBarDesign
         from cad.design.targets import parse_cli_target
         from cad.errors import DesignError
         from cad.io.outdir import check_out_dir
+        from cad.kinematics.tolerance import METRIC_KEYS
         from cad.tolerance_study import inertia_for_m11, run, tolerances_from_flags, write_chart
 
         for flag, value in (("--hole-mm", hole_mm), ("--pivot-mm", pivot_mm),
@@ -88,6 +89,15 @@ def register(app: typer.Typer) -> None:
 
             raise DesignError("mechanism.family", refusal("tolerance", d.family))
         H, h_source = inertia_for_m11(d, H)
+        computable = tuple(k for k in METRIC_KEYS if H is not None or not k.startswith("M11"))
+        for t in cli:
+            if t.key not in computable:
+                raise DesignError("--target", f"{t.key} is not computed by the tolerance study "
+                                  f"(it computes {', '.join(computable)})")
+        skipped = [t.key for t in d.targets if t.key not in computable]
+        if skipped:
+            bounds.warn(f"[targets] {', '.join(skipped)}: not computed by the tolerance study "
+                        "(kinematics and M11 only); not in the yield")
         targets = merge_targets(d.targets, cli)
         res, m = run(d, tols, samples, seed, angles, H, targets)
         res["inertia_source"] = h_source

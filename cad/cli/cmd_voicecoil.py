@@ -130,29 +130,29 @@ def register(app: typer.Typer) -> None:
     @app.command("voicecoil")
     def voicecoil(
         magnet_length_mm: str = typer.Option(
-            None, "--magnet-length-mm", metavar="MM", help="l_m, along the coil legs"
+            None, "--magnet-length-mm", metavar="MM", help="l_m, along the coil legs."
         ),
         magnet_width_mm: str = typer.Option(
-            None, "--magnet-width-mm", metavar="MM", help="w_m, along the force"
+            None, "--magnet-width-mm", metavar="MM", help="w_m, along the force."
         ),
         magnet_thickness_mm: str = typer.Option(
-            None, "--magnet-thickness-mm", metavar="MM", help="t_m"
+            None, "--magnet-thickness-mm", metavar="MM", help="t_m."
         ),
-        rattle_mm: str = typer.Option(None, "--rattle-mm", metavar="MM", help="d_r = d - d_c"),
-        power_W: str = typer.Option(None, "--power-W", metavar="W", help="coil power [8]"),
-        br_T: str = typer.Option(None, "--br-T", metavar="T", help="magnet remanence [1.2]"),
+        rattle_mm: str = typer.Option(None, "--rattle-mm", metavar="MM", help="d_r = d - d_c."),
+        power_W: str = typer.Option(None, "--power-W", metavar="W", help="Coil power [8]."),
+        br_T: str = typer.Option(None, "--br-T", metavar="T", help="Magnet remanence [1.2]."),
         rho_ohm_m: str = typer.Option(
-            None, "--rho-ohm-m", metavar="OHM_M", help="resistivity [1.72e-8]"
+            None, "--rho-ohm-m", metavar="OHM_M", help="Resistivity [1.72e-8]."
         ),
         eta_pack: str = typer.Option(
-            None, "--eta-pack", metavar="E", help="packing efficiency [0.75]"
+            None, "--eta-pack", metavar="E", help="Packing efficiency [0.75]."
         ),
         model: str = typer.Option(
-            "closed-form", "--model", metavar="MODEL", help="closed-form|images|magpylib"
+            "closed-form", "--model", metavar="MODEL", help="closed-form|images|magpylib."
         ),
-        gap_mm: str = typer.Option(None, "--gap-mm", metavar="MM", help="also evaluate this gap"),
-        gap_max_mm: str = typer.Option(None, "--gap-max-mm", metavar="MM", help="upper gap bound"),
-        as_json: bool = typer.Option(False, "--json", help="print one JSON object"),
+        gap_mm: str = typer.Option(None, "--gap-mm", metavar="MM", help="Also evaluate this gap."),
+        gap_max_mm: str = typer.Option(None, "--gap-max-mm", metavar="MM", help="Upper gap bound."),
+        as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
     ) -> None:
         """Optimal magnet gap of a flat voice-coil actuator (eqs 8-9, Fig. 8)."""
         out = compute(

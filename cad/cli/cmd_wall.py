@@ -19,15 +19,15 @@ def register(app: typer.Typer) -> None:
     @app.command("wall")
     def wall_cmd(
         design: Path = typer.Argument(..., help="Four-bar TOML design with a [stiffness] table."),
-        K: float = typer.Option(None, "--K-N-per-m", help="wall stiffness to test (N/m)"),
-        B: float = typer.Option(0.0, "--B-N-s-per-m", help="wall damping (N s/m)"),
-        Te: float = typer.Option(None, "--Te-s", help="sampling period (s; default [stiffness] Te_s)"),
+        K: float = typer.Option(None, "--K-N-per-m", help="Wall stiffness to test (N/m)."),
+        B: float = typer.Option(0.0, "--B-N-s-per-m", help="Wall damping (N s/m)."),
+        Te: float = typer.Option(None, "--Te-s", help="Sampling period (s; default [stiffness] Te_s)."),
         counts: int = typer.Option(None, "--encoder-counts-per-rev",
-                                   help="crank encoder counts per turn (default: [stiffness] Delta)"),
-        model: str = typer.Option("reduced", "--model", help="reduced (1-DOF, fast) | mujoco (exported MJCF)"),
+                                   help="Crank encoder counts per turn (default: [stiffness] Delta)."),
+        model: str = typer.Option("reduced", "--model", help="reduced (1-DOF, fast) | mujoco (exported MJCF)."),
         build_dir: Path = typer.Option(None, "--build-dir",
-                                       help="a finished `build --formats mjcf` of DESIGN (default: cached build)"),
-        json_out: bool = typer.Option(False, "--json", help="print one JSON object"),
+                                       help="a finished `build --formats mjcf` of DESIGN (default: cached build)."),
+        json_out: bool = typer.Option(False, "--json", help="Print one JSON object."),
     ) -> None:
         """Largest stable virtual-wall stiffness (sampled data, quantized encoder, friction)."""
         from cad.cli import flags

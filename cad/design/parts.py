@@ -114,8 +114,9 @@ Handle (at the coupler point P):
 ``handle_script`` [none]
     path (relative to the design file) of a Python script defining ``make_handle(params)``
     (or a module-level ``handle``/``result``) that returns a build123d or cadquery object;
-    it replaces the built-in knob. ``params`` is a dict with ``diameter_mm``, ``height_mm``,
-    ``screw_clearance_mm``.
+    it replaces the built-in knob. ``params`` is a dict (mm) with ``diameter_mm``,
+    ``height_mm``, ``screw_clearance_mm``, ``counterbore_mm`` and ``floor_mm``
+    (:func:`cad.parts.handle.handle_params`).
 
 Fidelity and checks:
 
