@@ -150,7 +150,7 @@ def register(app: typer.Typer) -> None:
         json_out: bool = typer.Option(False, "--json", help="Print one JSON object."),
         proportions_tol: float = typer.Option(
             0.0, "--proportions-tol",
-            help="four-bars: also perturb the family's link proportions by up to this fraction "
+            help="Four-bars: also perturb the family's link proportions by up to this fraction "
                  "(0 = keep them; at most 0.2)."),
     ) -> None:
         """Maximize the GII (pantographs) or minimize the apparent mass (four-bars)."""
