@@ -304,6 +304,7 @@ BAD_FLAGS: dict[tuple[str, str], list[str]] = {
     ("optimize", "--trials"): ["0", "1000000"],
     ("optimize", "--seed"): ["-1"],
     ("optimize", "--exact-top"): ["0", "51"],
+    ("optimize", "--proportions-tol"): ["5", "-0.1", "nan"],
     ("sweep", "--vary"): ["parts.bar_width_mm=1e7", "parts.bar_width_mm=10:1e7:3", "nothing"],
     ("sweep", "--samples"): ["0", "1000000"],
     ("sweep", "--fidelity"): ["ultra"],

@@ -84,3 +84,39 @@ def test_objective_on_a_pantograph_is_refused():
     code, out, err = hapticad("optimize", str(ROOT / "designs" / "pantograph.toml"),
                               "--objective", "min-apparent-mass")
     assert_one_line_error(code, err, "--objective")
+
+
+def test_search_perturbs_the_family_proportions_within_the_tolerance():
+    """``--proportions-tol 0.05``: every candidate's link ratios (to l2) stay within 5 % of
+    the family's (Hoeken paper Fig. 2), at least one differs, and stroke / dy_max /
+    transmission angle, recomputed on the candidate's own linkage, meet the brief."""
+    import math
+
+    from cad.codesign import search
+    from cad.kinematics.fourbar import FourBar
+    from cad.kinematics.metrics import compute_metrics
+
+    d = load_design(ROOT / "designs" / "hoeken_light_brief.toml")
+    pb = search.problem_from(d)
+    pb.fixed_parts = {"hub_shaft_engagement_min_mm": 5.0}
+    pb.proportions_tol = 0.05
+    cands, records = search.run(pb, 12, seed=1)
+    assert cands
+    fam = d.linkage
+    moved = 0.0
+    for c in cands:
+        m = c.mechanism
+        for k in search.PROPORTIONS:
+            if getattr(fam, k) == 0.0:  # a zero dimension stays zero (Hoeken's l4)
+                assert m[k] == 0.0
+                continue
+            r = (m[k] / m["l2_mm"]) / (getattr(fam, k) / fam.l2_mm)
+            assert 0.95 - 1e-6 <= r <= 1.05 + 1e-6, (k, r)
+            moved = max(moved, abs(r - 1.0))
+        fb = FourBar(m["l1_mm"], m["l2_mm"], m["l3_mm"], m["l4_mm"], m["l5_mm"], m["le_mm"],
+                     math.radians(m["phi_e_deg"]), m["branch"])
+        k = compute_metrics(fb, math.radians(m["phi1_min_deg"]), math.radians(m["phi1_max_deg"]), 5.0)
+        assert k.stroke_mm == pytest.approx(50.0, rel=1e-4)
+        assert k.dy_max_mm <= 0.2 + 1e-3
+        assert k.min_transmission_angle_deg >= 40.0 - 1e-6
+    assert moved > 1e-3

@@ -143,3 +143,56 @@ def test_readme_sh_block_runs(block, designs_copy):
 def test_readme_python_block_runs(block, designs_copy, capsys):
     exec(compile(block, "README.md", "exec"), {"__name__": "__readme__"})
     assert capsys.readouterr().out.strip()
+
+
+def _section(title: str) -> str:
+    text = README.read_text()
+    start = text.index(title)
+    nxt = re.search(r"^##+ ", text[start + len(title):], flags=re.M)
+    return text[start: start + len(title) + (nxt.start() if nxt else len(text))]
+
+
+def test_schema_tables_list_every_key_the_parsers_accept():
+    """[parts] of four-bars and pantographs, the pen, the PowerMouse and the pantograph targets."""
+    from dataclasses import fields
+
+    from cad.design.pantograph import _ACT_KEYS, _MECH_KEYS, _WS_KEYS, OPTIMIZABLE, PantographParts
+    from cad.design.parts import ALLOWED_KEYS
+    from cad.design.targets import PANTOGRAPH_TARGET_KEYS
+
+    parts = _section("### `[parts]` keys")
+    for key in ALLOWED_KEYS:
+        assert re.search(rf"^\| `{key}` \|", parts, flags=re.M), key
+    panto = _section("### Pantographs and the PowerMouse")
+    for f in fields(PantographParts):
+        assert f"`{f.name}`" in panto, f.name
+    for table in (_MECH_KEYS, _WS_KEYS, _ACT_KEYS, OPTIMIZABLE):
+        for keys in table.values():
+            for key in keys:
+                assert key == "family" or f"{key}`" in panto, key
+    for key in PANTOGRAPH_TARGET_KEYS:
+        assert f"`{key}`" in panto, key
+    for key in ("magnet_length_mm", "rattle_mm", "gap_mm", "edge_mm", "housing_wall_mm",
+                "knob_diameter_mm", "range_deg", "plate_alpha", "peak_power_W"):
+        assert f"{key}`" in panto, key
+
+
+def test_handle_params_are_all_documented():
+    """Every key the handle script receives is named in the README and the parts docstring."""
+    import inspect
+
+    import cad.design.parts as parts_mod
+    from cad.parts import handle
+
+    keys = re.findall(r'"(\w+_mm)":', inspect.getsource(handle.handle_params))
+    assert len(keys) == 5
+    row = next(ln for ln in README.read_text().splitlines() if ln.startswith("| `handle_script`"))
+    for key in keys:
+        assert f"`{key}`" in row and f"``{key}``" in parts_mod.__doc__, key
+
+
+def test_readme_points_nowhere_outside_and_names_no_internal_issue():
+    text = README.read_text()
+    assert "../shared" not in text
+    assert not re.search(r"\bissues? \d+|\(issue|where the issues", text)
+    assert not re.search(r":(class|data|mod|func):`", text)

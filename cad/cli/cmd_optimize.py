@@ -75,7 +75,7 @@ def write_optimum(design, rep: dict, out: Path, command: str) -> bool:
 
 
 def _fourbar(d, path: Path, objective: str, trials: int, seed: int, top: int, out: Path | None,
-             json_out: bool) -> None:
+             json_out: bool, proportions_tol: float = 0.0) -> None:
     """The four-bar co-design path (module docstring); exit 1 when no candidate is accepted."""
     import sys
 
@@ -92,9 +92,10 @@ def _fourbar(d, path: Path, objective: str, trials: int, seed: int, top: int, ou
     charts = [] if out is None else [out.parent / f"{out.stem}_pareto.{e}" for e in ("png", "svg")]
     replaced_charts = [str(c) for c in charts if check_out_file(c, path)]  # said, never silent
     rep, best = optimize_fourbar(d, objective, trials, seed, top, chart_dir, progress,
-                                 out.stem if out is not None else None)
+                                 out.stem if out is not None else None, proportions_tol)
     cmd = (f"hapticad optimize {path} --objective {objective} --trials {trials} --seed {seed} "
-           f"--exact-top {top}" + (f" --out {out}" if out is not None else ""))
+           f"--exact-top {top}" + (f" --proportions-tol {proportions_tol:g}" if proportions_tol else "")
+           + (f" --out {out}" if out is not None else ""))
     rep["command"] = cmd
     if out is not None and best is not None:
         ex = rep["best"]["exact"]
@@ -147,6 +148,10 @@ def register(app: typer.Typer) -> None:
         exact_top: int = typer.Option(3, "--exact-top", help="Candidates re-evaluated on the solids."),
         out: Path = typer.Option(None, "--out", help="Write the optimum as a new design (TOML)."),
         json_out: bool = typer.Option(False, "--json", help="Print one JSON object."),
+        proportions_tol: float = typer.Option(
+            0.0, "--proportions-tol",
+            help="Four-bars: also perturb the family's link proportions by up to this fraction "
+                 "(0 = keep them; at most 0.2)."),
     ) -> None:
         """Maximize the GII (pantographs) or minimize the apparent mass (four-bars)."""
         from cad.cli import flags
@@ -160,6 +165,7 @@ def register(app: typer.Typer) -> None:
         flags.number("--trials", trials)
         flags.number("--seed", seed)
         flags.number("--exact-top", exact_top)
+        flags.number("--proportions-tol", proportions_tol)
         from cad.design import load_design
 
         loaded = load_design(design)
@@ -168,7 +174,7 @@ def register(app: typer.Typer) -> None:
                 raise DesignError("--method", f"{method!r} is for pantograph designs; a four-bar "
                                               "takes --objective min-apparent-mass")
             _fourbar(loaded, design, objective or "min-apparent-mass", trials, seed, exact_top, out,
-                     json_out)
+                     json_out, proportions_tol)
             return
         if objective is not None:
             raise DesignError("--objective", f"min-apparent-mass is for four-bar designs, not "

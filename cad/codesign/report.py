@@ -7,7 +7,8 @@ from pathlib import Path
 
 
 def optimize_fourbar(design, objective: str, trials: int, seed: int, top: int, chart_dir: Path | None,
-                     progress=None, out_stem: str | None = None) -> tuple[dict, object]:
+                     progress=None, out_stem: str | None = None,
+                     proportions_tol: float = 0.0) -> tuple[dict, object]:
     """Search (cheap model), re-evaluate the best ``top`` candidates exactly, pick the lightest
     accepted one. Returns (JSON-able report, accepted Candidate or None)."""
     from cad.codesign import exact, search
@@ -16,6 +17,7 @@ def optimize_fourbar(design, objective: str, trials: int, seed: int, top: int, c
     t0 = time.perf_counter()
     pb = search.problem_from(design)
     pb.fixed_parts = search.fixed_parts(design)
+    pb.proportions_tol = proportions_tol
     cands, records = search.run(pb, trials, seed)
     t_search = time.perf_counter() - t0
     checked, best = [], None

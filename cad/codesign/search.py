@@ -3,7 +3,10 @@
 Free (per trial):
 
 * kinematics within the family: the crank range (span and centre); the linkage is then
-  scaled so the stroke equals the design's ``stroke_mm`` (the family's proportions kept);
+  scaled so the stroke equals the design's ``stroke_mm`` (the family's proportions kept,
+  or with ``Problem.proportions_tol`` > 0 each of :data:`PROPORTIONS` multiplied by a
+  factor in 1 +- tol before the scaling, l2 and phi_e kept; ``dy_max_mm`` and the
+  transmission angle are then checked on the perturbed linkage like any other);
 * joint hardware: a (bearing, pin) pair of :data:`JOINT_SETS` and ``pin_material``;
 * bars: material, a stock thickness of that material (:data:`STOCK_THICKNESS_MM`),
   width, pockets on/off (end radius: the smallest that holds the bearing seat and hub);
@@ -87,6 +90,7 @@ class Problem:
     base_lo_rad: float
     base_hi_rad: float
     fixed_parts: dict = field(default_factory=dict)
+    proportions_tol: float = 0.0
 
 
 #: [parts] keys of the brief the search keeps as given (the rest it chooses).
@@ -121,8 +125,15 @@ def problem_from(design) -> Problem:
                    design.phi1_min_rad, design.phi1_max_rad)
 
 
-def kinematics(pb: Problem, span_deg: float, shift_deg: float):
-    """(linkage scaled to the stroke, lo, hi, metrics) or None when the range fails."""
+#: Link dimensions whose ratio to the coupler l2 the search perturbs (``--proportions-tol``).
+PROPORTIONS = ("l1_mm", "l3_mm", "l4_mm", "l5_mm", "le_mm")
+
+
+def kinematics(pb: Problem, span_deg: float, shift_deg: float, ratios: dict | None = None):
+    """(linkage scaled to the stroke, lo, hi, metrics) or None when the range fails.
+
+    ``ratios``: {PROPORTIONS key: factor} applied to the family's link dimensions before
+    the scaling (l2 and phi_e kept), i.e. the proportions perturbed within the family."""
     from cad.errors import HapticadError
     from cad.kinematics.metrics import compute_metrics
 
@@ -130,6 +141,8 @@ def kinematics(pb: Problem, span_deg: float, shift_deg: float):
     lo, hi = c - math.radians(span_deg) / 2, c + math.radians(span_deg) / 2
     fb0 = pb.design.linkage
     try:
+        if ratios:
+            fb0 = replace(fb0, **{k: getattr(fb0, k) * float(f) for k, f in ratios.items()})
         m0 = compute_metrics(fb0, lo, hi, pb.design.force_N, samples=201, refine=False)
         fb = fb0.scaled(pb.stroke_mm / m0.stroke_mm)
         m = compute_metrics(fb, lo, hi, pb.design.force_N, samples=401, refine=False)
@@ -206,7 +219,8 @@ class Candidate:
     cheap: dict
 
 
-def evaluate(pb: Problem, span_deg: float, shift_deg: float, parts: dict, best: float | None = None):
+def evaluate(pb: Problem, span_deg: float, shift_deg: float, parts: dict, best: float | None = None,
+             ratios: dict | None = None):
     """Cheap evaluation: (objective M11_max_g or inf, info dict). The beam-frame structure
     check (FE-calibrated frame, middle pose) runs only when the trial could beat ``best`` (the
     best feasible M11 so far)."""
@@ -215,7 +229,7 @@ def evaluate(pb: Problem, span_deg: float, shift_deg: float, parts: dict, best: 
     from cad.design.writer import custom_mechanism_table
     from cad.errors import HapticadError
 
-    k = kinematics(pb, span_deg, shift_deg)
+    k = kinematics(pb, span_deg, shift_deg, ratios)
     if k is None:
         return math.inf, {"infeasible": "crank range"}
     fb, lo, hi, m = k
@@ -310,8 +324,11 @@ def run(pb: Problem, trials: int, seed: int = 0) -> tuple[list[Candidate], list[
         span = trial.suggest_float("span_deg", 60.0, 200.0)
         shift = trial.suggest_float("shift_deg", -40.0, 40.0)
         parts = suggest_parts(trial, pb)
+        tol = pb.proportions_tol
+        ratios = ({k: trial.suggest_float(f"ratio_{k}", 1.0 - tol, 1.0 + tol) for k in PROPORTIONS}
+                  if tol > 0 else None)
         best = min((c.cheap["M11_max_g"] for c in cands), default=None)
-        val, info = evaluate(pb, span, shift, parts, best)
+        val, info = evaluate(pb, span, shift, parts, best, ratios)
         records.append({"trial": trial.number, "value": val if math.isfinite(val) else None,
                         **{k: v for k, v in info.items() if k != "mechanism"}})
         if math.isfinite(val):

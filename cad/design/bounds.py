@@ -358,6 +358,8 @@ FLAGS: dict[str, Bound] = {
     "--seed": SEED,
     "--trials": Bound("", 1, 100000, "1 to 1e5 optuna trials", integer=True),
     "--exact-top": Bound("", 1, 50, "1 to 50 exact re-evaluations (each is a build)", integer=True),
+    "--proportions-tol": Bound("", 0.0, 0.2, "a fraction of each link ratio: beyond 0.2 the linkage "
+                               "is no longer the family's (Fig. 2 ratios)", slips=(("%", 0.01),)),
 }
 
 
