@@ -112,21 +112,35 @@ def parse_free_pantograph(spec: str, design) -> FreeParam:
     current = current_value(design, key)
     if name.endswith("_material"):
         return FreeParam(key, "choice", choices=MATERIAL_CHOICES)
-    if isinstance(current, str) or isinstance(current, bool):
+    if isinstance(current, (str, bool)):
         raise DesignError(f"--free {spec}", f"{name} is not a numeric or material parameter")
     return _numeric(spec, key, rng, float(current))
 
 
+def _range(spec: str, key: str, rng: str, lo: float, hi: float) -> tuple[float, float]:
+    """``LO:HI`` of a ``--free`` flag (default ``lo, hi``): numbers, 0 < LO < HI, each within
+    the key's bounds (:mod:`cad.design.bounds`)."""
+    if not rng:
+        return lo, hi
+    try:
+        lo, hi = (float(x) for x in rng.split(":"))
+    except ValueError:
+        raise DesignError(f"--free {spec}", "range must be LO:HI (numbers)") from None
+    if not (0 < lo < hi):
+        raise DesignError(f"--free {spec}", f"need 0 < LO < HI, got {lo}:{hi}")
+    from cad.design.bounds import FIELDS, check_number
+
+    bound = FIELDS.get(key)
+    if bound is not None:
+        for x in (lo, hi):
+            check_number(f"--free {key}", x, bound)
+    return lo, hi
+
+
 def _numeric(spec: str, key: str, rng: str, current: float) -> FreeParam:
     """Numeric free parameter: LO:HI from the flag, else 0.5x..1.5x the current value."""
-    lo, hi = current * NUMERIC_DEFAULT_SPAN[0], current * NUMERIC_DEFAULT_SPAN[1]
-    if rng:
-        try:
-            lo, hi = (float(x) for x in rng.split(":"))
-        except ValueError:
-            raise DesignError(f"--free {spec}", "range must be LO:HI (numbers)") from None
-        if not (0 < lo < hi):
-            raise DesignError(f"--free {spec}", f"need 0 < LO < HI, got {lo}:{hi}")
+    lo, hi = _range(spec, key, rng, current * NUMERIC_DEFAULT_SPAN[0],
+                    current * NUMERIC_DEFAULT_SPAN[1])
     return FreeParam(key, "numeric", lo=lo, hi=hi)
 
 
@@ -152,22 +166,7 @@ def parse_free(spec: str, parts_spec) -> FreeParam:
         return _stock_thickness(spec, key, rng, parts_spec)
     if not isinstance(current, (int, float)) or current is None:
         raise DesignError(f"--free {spec}", f"{name} is not a numeric, material or boolean parameter")
-    lo, hi = current * NUMERIC_DEFAULT_SPAN[0], current * NUMERIC_DEFAULT_SPAN[1]
-    if rng:
-        try:
-            a, b = (float(x) for x in rng.split(":"))
-        except ValueError:
-            raise DesignError(f"--free {spec}", "range must be LO:HI (numbers)") from None
-        if not (0 < a < b):
-            raise DesignError(f"--free {spec}", f"need 0 < LO < HI, got {a}:{b}")
-        from cad.design.bounds import FIELDS, check_number
-
-        bound = FIELDS.get(key)
-        if bound is not None:
-            for x in (a, b):
-                check_number(f"--free {key}", x, bound)
-        lo, hi = a, b
-    return FreeParam(key, "numeric", lo=lo, hi=hi)
+    return _numeric(spec, key, rng, float(current))
 
 
 def _stock_thickness(spec: str, key: str, rng: str, parts_spec) -> FreeParam:
@@ -178,20 +177,7 @@ def _stock_thickness(spec: str, key: str, rng: str, parts_spec) -> FreeParam:
 
     cur = parts_spec.bar_thickness_mm
     stock = STOCK_THICKNESS_MM.get(parts_spec.bar_material, STOCK_THICKNESS_MM["aluminium-6061"])
-    lo, hi = cur * NUMERIC_DEFAULT_SPAN[0], cur * NUMERIC_DEFAULT_SPAN[1]
-    if rng:
-        try:
-            lo, hi = (float(x) for x in rng.split(":"))
-        except ValueError:
-            raise DesignError(f"--free {spec}", "range must be LO:HI (numbers)") from None
-        if not (0 < lo < hi):
-            raise DesignError(f"--free {spec}", f"need 0 < LO < HI, got {lo}:{hi}")
-        from cad.design.bounds import FIELDS, check_number
-
-        bound = FIELDS.get(key)
-        if bound is not None:
-            for x in (lo, hi):
-                check_number(f"--free {key}", x, bound)
+    lo, hi = _range(spec, key, rng, cur * NUMERIC_DEFAULT_SPAN[0], cur * NUMERIC_DEFAULT_SPAN[1])
     inside = sorted((t for t in stock if lo - 1e-9 <= t <= hi + 1e-9), key=lambda t: (abs(t - cur), t))
     if not inside:
         raise DesignError(f"--free {spec}", f"no stock {parts_spec.bar_material} thickness in {lo:g}..{hi:g} mm "
