@@ -158,6 +158,19 @@ def test_hapticad_assembly_uses_per_solid_materials(tmp_path):
                                      "--material", row["material"], "--json")
         assert code == 0, err
         ref += row["quantity"] * json.loads(stdout)["mass_kg"]
+    # the motor shaft is a solid of assembly.step but no BOM line (it is part of the bought
+    # motor): a steel cylinder, closed form
+    import math
+
+    from cad.materials import get_material
+    from cad.parts.catalog import get_motor
+    from cad.parts.motor import SHAFT_ENVELOPE_GAP_MM
+
+    assert res["solid_materials"]["motor_shaft"] == "steel-1018"
+    m = get_motor(report["motor"]["key"])
+    shaft_mm3 = math.pi * (m.shaft_diameter_mm / 2) ** 2 * (
+        m.shaft_length_mm - m.pilot_height_mm - SHAFT_ENVELOPE_GAP_MM)
+    ref += shaft_mm3 * 1e-9 * get_material("steel-1018").density_kg_m3
     assert res["mass_kg"] == pytest.approx(ref, rel=1e-9)
     # a single density for every solid would be off by the steel / Delrin parts
     code, stdout, _ = hapticad("massprops", out / "assembly.step", "--density", "2700", "--json")

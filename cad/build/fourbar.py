@@ -564,7 +564,7 @@ def build(
         },
         "part_masses_g": {r["part"]: r["mass_g"] for r in bom},
         # material of every solid of assembly.step, by its name there (hapticad massprops)
-        "part_materials": {i.name: i.kind.material for i in asm.instances if i.kind.listed},
+        "part_materials": {i.name: i.kind.material for i in asm.instances},
         "ground_mass_g": link_props["ground"].mass_kg * 1e3,
         "total_mass_g": sum(r["mass_g"] * r["quantity"] for r in bom),
         "bom": bom,
