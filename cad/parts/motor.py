@@ -145,6 +145,7 @@ def set_screw_z_mm(height_mm: float, shaft_engaged_mm: float) -> float:
     return min(shaft_engaged_mm, height_mm) / 2
 
 
+@part_cached
 def set_screw_shape(length_mm: float):
     """Simplified ISO 4026 set screw: a cylinder of the tap drill diameter (the thread's
     minor envelope, like bd_warehouse's ``simple`` screws), z 0..length, flat point at z = 0."""
