@@ -164,6 +164,8 @@ def main() -> None:
         code = _aborted()  # e.g. an ImportError raised by a library interrupted mid-import
     if signals.received() is not None and code != signals.exit_code() and not signals.committed():
         code = _aborted()  # a library swallowed the interrupt: nothing was published
+    if signals.received() is not None:
+        signals.exit_now(code)
     sys.exit(code)
 
 

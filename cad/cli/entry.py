@@ -19,7 +19,7 @@ def main() -> None:
         if signals.received() is None:
             raise
         print("hapticad: aborted", file=sys.stderr, flush=True)
-        sys.exit(signals.exit_code())
+        signals.exit_now(signals.exit_code())
     app_main()
 
 

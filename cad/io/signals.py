@@ -88,6 +88,16 @@ def exit_code() -> int:
     return 128 + int(_state["signal"] or signal.SIGINT)
 
 
+def exit_now(code: int) -> None:
+    """Leave the process with ``code`` after an interrupt: flush stdout/stderr, then
+    ``os._exit`` -- the interpreter's shutdown (atexit hooks, threads of imported libraries)
+    must not turn the handled interrupt into a death by signal (status -2 instead of 130)."""
+    for stream in (sys.stdout, sys.stderr):
+        with contextlib.suppress(Exception):
+            stream.flush()
+    os._exit(code)
+
+
 def reset() -> None:
     """Forget a received signal and any commit (tests running the CLI in-process)."""
     _state["signal"] = None
