@@ -275,3 +275,17 @@ def test_render_replaces_only_pictures_it_wrote(tmp_path):
     code, _, err = hapticad("render", design, "--out", out, "--fidelity", "preview")
     assert_one_line_error(code, err, "--out", "changed since")
     assert gif.read_bytes().endswith(b"edited")
+
+
+def test_committed_device_pictures_are_listed_in_their_manifest():
+    """docs/devices/manifest.json lists every committed picture with its sha256, so a later
+    `hapticad render --out docs/devices` may replace them (and only them)."""
+    import hashlib
+    import json
+
+    folder = ROOT / "docs" / "devices"
+    rows = {r["path"]: r["sha256"] for r in json.loads((folder / "manifest.json").read_text())["files"]}
+    pictures = sorted(p.name for p in folder.iterdir() if p.suffix in (".png", ".gif"))
+    assert sorted(rows) == pictures
+    for name in pictures:
+        assert rows[name] == hashlib.sha256((folder / name).read_bytes()).hexdigest(), name
