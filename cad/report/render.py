@@ -144,11 +144,11 @@ def render_images(
     static_keys = raster.empty_keys(H, W)
     static_rgb = draw([x for x in shown if x.body in still], poses[0], static_keys, frame)
     static_img = picture(static_keys, static_rgb, frame)
-    box = frame
-    if moving:  # the moving parts' box, whole supersampling blocks (reduce cuts the same)
-        m_lo, m_hi = _extent(moving, tf_world_body, meshes, basis, poses)
+    box, n = frame, supersample
+    m_lo, m_hi = _extent(moving, tf_world_body, meshes, basis, poses)
+    if np.isfinite(m_lo).all() and np.isfinite(m_hi).all():
+        # the moving parts' box, in whole supersampling blocks (reduce cuts the same)
         (x0, x1), (y1, y0) = to_px(np.array([m_lo, m_hi]))  # y down: hi is the top
-        n = supersample
         c0, c1 = max(int(x0 // n) * n - n, 0), min(int(x1 // n) * n + 2 * n, W)
         r0, r1 = max(int(y0 // n) * n - n, 0), min(int(y1 // n) * n + 2 * n, H)
         box = (slice(r0, r1), slice(c0, c1))
@@ -160,7 +160,8 @@ def render_images(
         if moving:
             keys = box_keys.copy().reshape(-1)
             rgb = draw(moving, i, keys, box, len(static_rgb) - 1)
-            img.paste(picture(keys, np.concatenate([static_rgb, rgb[1:]]), box), (c0 // n, r0 // n))
+            palette = np.concatenate([static_rgb, rgb[1:]])
+            img.paste(picture(keys, palette, box), (box[1].start // n, box[0].start // n))
         if title:
             ImageDraw.Draw(img).text((8, 6), title, fill=(64, 64, 64), font=font)
         out.append(img)
