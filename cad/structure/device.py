@@ -144,7 +144,7 @@ def _fem_compliances(parts, L_mm: float, ends: tuple[str, str], E: float, nu: fl
     a = max(end_radius_mm(parts, ends[0]), end_radius_mm(parts, ends[1]))
     slot = wp if (wp > 0 and L_mm - 2 * a > wp) else 0.0
     g = fem.BarGeometry(L_mm, parts.bar_width_mm, parts.bar_thickness_mm, slot, a if slot else 0.0)
-    return fem.cantilever(g, E, nu, "y"), fem.cantilever(g, E, nu, "z")
+    return fem.cached_cantilever(g, E, nu, "y"), fem.cached_cantilever(g, E, nu, "z")
 
 
 def build_frame(design, pose_tf: dict, lumped: list[Lumped], bar_mass_kg: dict, method: str):
