@@ -98,3 +98,17 @@ def test_render_never_rewrites_a_manifest_it_did_not_write(tmp_path, content):
     assert_one_line_error(code, err, "--out", "manifest.json")
     assert (out / "manifest.json").read_text() == content
     assert sorted(p.name for p in out.iterdir()) == ["manifest.json"]
+
+
+def test_render_refuses_a_design_script_before_building_anything(tmp_path, monkeypatch):
+    """render of [hoeken, hoeken_cq_handle] without the script opt-in built the Hoeken,
+    wrote its pictures, then stopped with exit 2 on the script: now refused up front."""
+    from cli_helpers import assert_one_line_error, hapticad
+
+    monkeypatch.delenv("HAPTICAD_ALLOW_SCRIPTS", raising=False)
+    out = tmp_path / "pictures"
+    code, _, err = hapticad("render", ROOT / "designs" / "hoeken.toml",
+                            ROOT / "designs" / "hoeken_cq_handle.toml", "--out", out,
+                            "--fidelity", "preview")
+    assert_one_line_error(code, err, "parts.handle_script", "HAPTICAD_ALLOW_SCRIPTS")
+    assert not out.exists()
