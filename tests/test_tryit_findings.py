@@ -112,3 +112,19 @@ def test_render_refuses_a_design_script_before_building_anything(tmp_path, monke
                             "--fidelity", "preview")
     assert_one_line_error(code, err, "parts.handle_script", "HAPTICAD_ALLOW_SCRIPTS")
     assert not out.exists()
+
+
+def test_render_refuses_two_designs_of_one_name(tmp_path):
+    """Two designs named alike wrote DIR/<name>.png twice (the second silently over the
+    first, both reported as written): refused before any build."""
+    import shutil
+
+    from cli_helpers import assert_one_line_error, hapticad
+
+    other = tmp_path / "mine" / "hoeken.toml"
+    other.parent.mkdir()
+    shutil.copy(ROOT / "designs" / "hoeken.toml", other)
+    out = tmp_path / "pictures"
+    code, _, err = hapticad("render", ROOT / "designs" / "hoeken.toml", other, "--out", out)
+    assert_one_line_error(code, err, "hoeken", "also the name of")
+    assert not out.exists()
