@@ -74,9 +74,6 @@ def inertia_model(design, fidelity: str = "inertia", samples: int = 401) -> dict
     from cad.assembly.layers import choose_layers, footprint_bbox_mm
     from cad.assembly.mechanism import build_assembly
     from cad.assembly.pose import planar_transforms
-    from cad.parts.lazy_import import import_build123d
-
-    import_build123d()  # first CAD import of this process goes through the documented shim
     from cad.build.fourbar import inertia_from_links, kind_mass_props, link_mass_props, sweep_angles
     from cad.dynamics.inertia import apparent_mass_matrix, apparent_mass_summary, equivalent_inertia
     from cad.kinematics.fourbar import jacobian_mm_per_rad, solve, velocity_ratios
@@ -84,6 +81,7 @@ def inertia_model(design, fidelity: str = "inertia", samples: int = 401) -> dict
     from cad.kinematics.metrics import path_frame
     from cad.parts import catalog
     from cad.parts.handle import handle_params, resolve_script, user_handle_shape
+    from cad.parts.part_cache import deferred_shapes
 
     t0 = time.perf_counter()
     parts = design.parts
@@ -97,8 +95,9 @@ def inertia_model(design, fidelity: str = "inertia", samples: int = 401) -> dict
     if script is not None:
         floor = plan.handle_screw_length_mm - parts.bar_thickness_mm
         user_handle = user_handle_shape(script, handle_params(parts, floor))
-    asm = build_assembly(J, plan, parts, footprint, fidelity=fidelity, handle_shape=user_handle,
-                         design_label=design.name)
+    with deferred_shapes():  # solids only where a part's mass properties are not cached
+        asm = build_assembly(J, plan, parts, footprint, fidelity=fidelity, handle_shape=user_handle,
+                             design_label=design.name)
     props = {name: kind_mass_props(k) for name, k in asm.kinds().items()}
     link_props, _ = link_mass_props(asm, props)
     motor = catalog.get_motor(parts.motor)
