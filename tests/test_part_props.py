@@ -55,15 +55,16 @@ def _evaluate():
 
 @pytest.fixture(scope="module")
 def cold(tmp_path_factory):
-    """(cache dir, values, report, {disk key: solid}) of a first evaluation into an empty cache."""
+    """(cache dir, values, report, {disk key: DeferredShape}) of a first evaluation into an
+    empty cache."""
     from cad.parts import part_cache
 
     cache = tmp_path_factory.mktemp("parts-cache")
     with pytest.MonkeyPatch.context() as mp:
         _fresh(mp, cache)
         values, report = _evaluate()
-        solids = {key: shape for shape, key in part_cache._KEY_OF.values()}
-    return cache, values, report, solids
+        deferred = {d.key: d for d in part_cache._DEFERRED.values()}
+    return cache, values, report, deferred
 
 
 def _copy(cold, monkeypatch, tmp_path: Path) -> Path:
@@ -111,20 +112,26 @@ def test_a_damaged_entry_is_a_miss_and_gives_the_same_values(cold, monkeypatch, 
         assert part_props._read(p, json.loads(p.read_text())["payload"]["key"]) is not None
 
 
-def test_cached_integrals_equal_a_direct_integration(cold, monkeypatch):
-    """Every entry equals OCCT's integration of the solid read back from the shape cache."""
+def test_cached_integrals_equal_a_fresh_build_and_integration(cold, monkeypatch):
+    """Every entry equals OCCT's integration of the part built again from its generator (our
+    parts: the evaluation wrote no BREP of them) or read back from the shape cache (catalog
+    parts, kept there)."""
     from cad.massprops.occt import volume_props_mm
     from cad.parts import part_props
+    from cad.parts.shape_cache import entry_path, read_cached_shape
 
     monkeypatch.setenv("HAPTICAD_CACHE_DIR", str(cold[0]))
     checked = 0
-    for key, shape in cold[3].items():
+    for key, d in cold[3].items():
         path = part_props._entry_path(key)
         if not path.is_file():
             continue  # a collision envelope: never integrated
         vol, com, inertia = part_props._read(path, key)
-        v2, c2, i2 = volume_props_mm(shape)
+        own = key.startswith("part:")
+        # our own parts: a fresh build, not kept; catalog parts: the solid read back from the cache
+        v2, c2, i2 = volume_props_mm(d._make() if own else read_cached_shape(key))
         assert vol == v2 and (com == c2).all() and (inertia == i2).all(), key
+        assert entry_path(key).is_file() != own, key
         checked += 1
     assert checked >= 10
 

@@ -60,6 +60,7 @@ def run(quick: bool, out_dir: Path, design: str = "designs/hoeken.toml") -> dict
                "error": None, "variants_per_s": rate[w], "variant_wall_s_median": per_variant[w],
                "startup_s": statistics.median(s["startup_s"] for s in runs[w]),
                "wall_s": statistics.median(s["wall_s"] for s in runs[w]),
+               "client_cpu_s": statistics.median(s.get("client_cpu_s") or 0.0 for s in runs[w]),
                "load_avg_1min": [s["load_avg_1min"] for s in runs[w]]} for w in (1, 2)]
     return {
         "topic": "sweep", "reference": REFERENCE, "design": design, "variants": n, "repeats": repeats,

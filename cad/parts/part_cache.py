@@ -91,10 +91,11 @@ class DeferredShape:
     """A part solid not made yet (module docstring): ``key`` is its disk-cache key (which
     also keys its mass properties); :meth:`resolve` returns the ``TopoDS_Shape``."""
 
-    __slots__ = ("key", "_memo_key", "_make", "_shape")
+    __slots__ = ("key", "_memo_key", "_make", "_shape", "_keep")
 
-    def __init__(self, key: str, memo_key: str, make: Callable[[], Any]):
+    def __init__(self, key: str, memo_key: str, make: Callable[[], Any], keep: bool = False):
         self.key, self._memo_key, self._make, self._shape = key, memo_key, make, None
+        self._keep = keep  # catalog solid: shared by every design, worth writing to disk
 
     def resolve(self):
         """The real solid: from the memo, else the disk cache, else built (never deferred)."""
@@ -102,6 +103,26 @@ class DeferredShape:
             with deferred_shapes(False):
                 self._shape = _materialize(self._memo_key, self.key, self._make)
         return self._shape
+
+    def solid_for_props(self):
+        """The solid to integrate when its mass properties are not cached: the real one if it
+        is in memory or in the disk cache, else built here and NOT kept (no BREP written, not
+        in the memo): an evaluation needs only its mass properties (cached by the caller), and
+        a later build still makes, writes and reads back its own solid, so exports keep
+        coming from read-back geometry. Builds are deterministic: the same key gives the same
+        solid, so the integrals are those of a fresh build. Catalog solids (bd_warehouse,
+        shared by every design and slow to make) are kept as :meth:`resolve` keeps them."""
+        if self._shape is not None or self._keep:
+            return self.resolve()
+        if self._memo_key in _MEMO:
+            return _MEMO[self._memo_key]
+        from cad.parts.shape_cache import read_cached_shape
+
+        got = read_cached_shape(self.key)
+        if got is not None:
+            return got
+        with deferred_shapes(False):
+            return _build(self._make)
 
     def __repr__(self) -> str:
         return f"DeferredShape({self._memo_key[:60]!r})"
@@ -128,19 +149,20 @@ def shape_key(shape) -> str | None:
     return hit[1] if hit is not None and hit[0] is shape else None
 
 
+def _build(make: Callable[[], Any]):
+    from cad.parts.lazy_import import import_build123d
+
+    import_build123d()  # the first build123d import of a process goes through the shim
+    STATS["built"] += 1
+    return make()
+
+
 def _materialize(memo_key: str, key: str, make: Callable[[], Any]):
     from cad.parts.shape_cache import cached_shape
 
-    def build():
-        from cad.parts.lazy_import import import_build123d
-
-        import_build123d()  # the first build123d import of a process goes through the shim
-        STATS["built"] += 1
-        return make()
-
     if memo_key in _MEMO:
         return _MEMO[memo_key]
-    shape = cached_shape(key, build)
+    shape = cached_shape(key, lambda: _build(make))
     _MEMO[memo_key] = shape
     _KEY_OF[id(shape)] = (shape, key)
     while len(_MEMO) > MEMO_MAX:
@@ -163,7 +185,7 @@ def cached_part(name: str, args: tuple, kwargs: dict, make: Callable[[], Any],
     if getattr(_STATE, "deferred", False):
         d = _DEFERRED.get(key)
         if d is None or d.key != full:
-            d = _DEFERRED[key] = DeferredShape(full, key, make)
+            d = _DEFERRED[key] = DeferredShape(full, key, make, keep=disk_key is not None)
             STATS["deferred"] += 1
         _DEFERRED.move_to_end(key)
         while len(_DEFERRED) > MEMO_MAX:

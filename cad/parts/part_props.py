@@ -13,9 +13,13 @@ arguments, source hash, library versions). So the integrals are kept by that key
   wrong hash, another key, unreadable JSON or a non-finite / non-positive value is a miss
   (the solid is then made or read, validated and integrated again, and the entry rewritten).
 
-An entry is written only after the solid passed :func:`cad.massprops.occt.check_valid`, and
-the integrals are those of the solid as read back from its BREP (what every process uses),
-so a second process gets exactly what a fresh integration of the same solid gives. The key
+An entry is written only after the solid passed :func:`cad.massprops.occt.check_valid`. The
+integrals are those of the solid the first process had: read back from its BREP when the
+shape cache holds it (what ``build`` uses), else freshly built and not written (an
+evaluation does not fill the shape cache with solids nobody exports;
+:meth:`cad.parts.part_cache.DeferredShape.solid_for_props`). Either way a second process
+gets exactly the first process's values, and ``check`` and a later ``build`` of the design
+agree to the last bit. The key
 also carries a hash of ``cad/massprops/occt.py`` and of this file: a change of the
 integration is a miss. ``HAPTICAD_CACHE_DIR=off`` disables the disk part.
 
@@ -127,7 +131,7 @@ def unit_volume_props(shape) -> tuple[float, np.ndarray, np.ndarray]:
     if got is not None:
         STATS["disk_hits"] += 1
     else:
-        solid = shape.resolve() if isinstance(shape, DeferredShape) else shape
+        solid = shape.solid_for_props() if isinstance(shape, DeferredShape) else shape
         got = _integrate(solid)
         if path is not None:
             _write(path, key, *got)

@@ -201,14 +201,14 @@ def run_sweep(spec: SweepSpec, out: Path, workers: int, scheduler: str | None) -
     resumed = len(variants) - len(todo)
     prog = Progress(total=len(todo), skipped=resumed)
     t0 = time.perf_counter()
-    t_eval = startup = None
+    t_eval = startup = c_eval = client_cpu = None
     last_done = None
     if todo:
         from dask.distributed import as_completed
 
         client, cluster = _client(workers, scheduler)
         warm_up(client, todo[0][2], str(spec.design), spec.fidelity, one_core=cluster is not None)
-        t_eval = time.perf_counter()
+        t_eval, c_eval = time.perf_counter(), time.process_time()
         startup = t_eval - t0
         prog.start()
         try:
@@ -224,6 +224,7 @@ def run_sweep(spec: SweepSpec, out: Path, workers: int, scheduler: str | None) -
                 rows.append({**a, "variant": i, "design_hash": h, "targets": spec.targets_text, **res})
                 prog.add(res["status"])
                 last_done = time.perf_counter()
+                client_cpu = time.process_time() - c_eval
                 if last_done - last_write >= max(WRITE_EVERY_S, WRITE_COST_FACTOR * write_cost):
                     tw = time.perf_counter()
                     publish(out, rows, cols)
@@ -251,6 +252,7 @@ def run_sweep(spec: SweepSpec, out: Path, workers: int, scheduler: str | None) -
         "startup_s": startup,
         "evaluation_s": (last_done - t_eval) if todo and last_done else None,
         "variants_per_s": (len(todo) / (last_done - t_eval)) if todo and last_done else None,
+        "client_cpu_s": client_cpu,
         "variant_wall_s_median": _median([r.get("wall_s") for r in rows[-len(todo):]] if todo else []),
         "variant_cpu_s_median": _median([r.get("cpu_s") for r in rows[-len(todo):]] if todo else []),
         "task_bytes_in_median": _median([float(len(pickle.dumps((raw, str(spec.design), spec.fidelity,
