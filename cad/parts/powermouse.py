@@ -42,7 +42,6 @@ import numpy as np
 from cad.actuators import powermouse as pm
 from cad.errors import DesignError
 
-
 #: Housing lid screws (ISO 4762): size, drilled depth of their tapped holes in the top of
 #: the side walls (mm), wall left each side of a tap drill (mm). One screw at the middle of
 #: each side wall (:func:`lid_screw_xy_mm`), away from the handle hole at the (+,+,+) corner.
