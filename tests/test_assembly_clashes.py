@@ -127,8 +127,8 @@ def _no_cad_import(monkeypatch):
 
 def test_stroke24_case_is_refused_before_cad_naming_joint_parts_and_fix(tmp_root, monkeypatch):
     """Case hoeken_stroke24.toml: the 12.3 mm crank leaves no layer order where the A2 joint
-    clears the hub (the A2 nut under the crank sits in the hub, 3.72 mm in plan = hub radius
-    12 + nut/washer radius 4.0... - l1; the coupler's end under the crank meets it otherwise).
+    clears the hub (the A2 washer and nut under the crank sit in the hub: 3.72 mm in plan = hub
+    radius 10 + washer radius 6 - l1 12.28; the coupler's end under the crank meets it otherwise).
     The build refuses in the layer planning, before the CAD import, naming the joint, both
     parts, the overlap and the smallest stroke that clears; nothing is exported. The stroke
     it names is then built and read back: zero overlap."""
