@@ -242,4 +242,50 @@ def test_render_command_writes_the_pictures_and_refuses_other_families(tmp_path)
     assert len(np.unique(px.reshape(-1, 3), axis=0)) > 200
     with Image.open(out / "hoeken.gif") as im:
         assert im.n_frames > 1
-    assert sorted(p.name for p in out.iterdir()) == ["hoeken.gif", "hoeken.png"]
+    assert sorted(p.name for p in out.iterdir()) == ["hoeken.gif", "hoeken.png", "manifest.json"]
+
+
+def test_render_replaces_only_pictures_it_wrote(tmp_path):
+    """render --out DIR shares DIR with the user: a <name>.png it did not write, or one
+    changed since, is refused (exit 2, untouched, nothing built); its own are replaced."""
+    import hashlib
+    import json
+
+    from cli_helpers import assert_one_line_error, hapticad
+
+    out = tmp_path / "pictures"
+    out.mkdir()
+    (out / "hoeken.png").write_bytes(b"my holiday photo")
+    (out / "notes.txt").write_text("mine")
+    design = ROOT / "designs" / "hoeken.toml"
+    code, _, err = hapticad("render", design, "--out", out, "--fidelity", "preview")
+    assert_one_line_error(code, err, "--out", "hoeken.png")
+    assert (out / "hoeken.png").read_bytes() == b"my holiday photo"
+    assert sorted(p.name for p in out.iterdir()) == ["hoeken.png", "notes.txt"]
+    (out / "hoeken.png").unlink()
+    code, _, err = hapticad("render", design, "--out", out, "--fidelity", "preview")
+    assert code == 0, err
+    rows = {r["path"]: r for r in json.loads((out / "manifest.json").read_text())["files"]}
+    assert sorted(rows) == ["hoeken.gif", "hoeken.png"]  # notes.txt is not claimed
+    for name, r in rows.items():
+        assert r["sha256"] == hashlib.sha256((out / name).read_bytes()).hexdigest()
+    assert (out / "notes.txt").read_text() == "mine"
+    gif = out / "hoeken.gif"
+    gif.write_bytes(gif.read_bytes() + b"edited")
+    code, _, err = hapticad("render", design, "--out", out, "--fidelity", "preview")
+    assert_one_line_error(code, err, "--out", "changed since")
+    assert gif.read_bytes().endswith(b"edited")
+
+
+def test_committed_device_pictures_are_listed_in_their_manifest():
+    """docs/devices/manifest.json lists every committed picture with its sha256, so a later
+    `hapticad render --out docs/devices` may replace them (and only them)."""
+    import hashlib
+    import json
+
+    folder = ROOT / "docs" / "devices"
+    rows = {r["path"]: r["sha256"] for r in json.loads((folder / "manifest.json").read_text())["files"]}
+    pictures = sorted(p.name for p in folder.iterdir() if p.suffix in (".png", ".gif"))
+    assert sorted(rows) == pictures
+    for name in pictures:
+        assert rows[name] == hashlib.sha256((folder / name).read_bytes()).hexdigest(), name

@@ -173,3 +173,72 @@ def test_a_signal_before_the_publish_publishes_nothing(tmp_path, monkeypatch):
     finally:
         signals.reset()
     assert list(tmp_path.iterdir()) == []  # not even the parent folder "e"
+
+
+def _dead_pid() -> int:
+    p = subprocess.Popen([sys.executable, "-c", "pass"])
+    p.wait()
+    return p.pid
+
+
+def test_a_killed_writers_temp_file_is_removed_by_the_next_write(tmp_path):
+    """A file command (swap/synth/fit --out) killed by SIGKILL leaves its hidden temporary
+    file; the next atomic write into that folder removes it -- and only such files: a live
+    owner's, another host's, a user's look-alike and a folder stay."""
+    from cad.io.atomic import host_tag, write_text_atomic
+
+    tag, dead = host_tag(), _dead_pid()
+    other_tag = "000000" if tag != "000000" else "111111"
+    stale = tmp_path / f".r.toml.tmp.{tag}.{dead}.abcd_123.toml"
+    stale_bak = tmp_path / f".r.toml.tmp.{tag}.{dead}.abcd_123.toml.bak"
+    keep = [
+        tmp_path / f".r.toml.tmp.{tag}.{os.getppid()}.abcd_123.toml",  # owner alive
+        tmp_path / f".r.toml.tmp.{other_tag}.{dead}.abcd_123.toml",  # another host's
+        tmp_path / ".r.toml.tmp",  # the user's
+        tmp_path / f"r.toml.tmp.{tag}.{dead}.abcd_123.toml",  # not hidden: not ours
+    ]
+    for p in [stale, stale_bak, *keep]:
+        p.write_text("x")
+    (tmp_path / f".d.tmp.{tag}.{dead}.abcd_123").mkdir()  # a folder without owner file
+    write_text_atomic(tmp_path / "s.toml", "a = 1\n")
+    assert not stale.exists() and not stale_bak.exists()
+    assert all(p.exists() for p in keep)
+    assert (tmp_path / f".d.tmp.{tag}.{dead}.abcd_123").is_dir()
+    assert (tmp_path / "s.toml").read_text() == "a = 1\n"
+
+
+def test_sigkilled_swap_leaves_nothing_after_the_next_swap(tmp_path):
+    """A real SIGKILL of `hapticad swap` while it writes (the child stops itself with
+    SIGSTOP at its first rename, when its temporary file exists), then the next swap into
+    the same folder: no hidden file remains."""
+    out = tmp_path / "o"
+    out.mkdir()
+    env = {**os.environ, "PYTHONPATH": str(ROOT)}
+    code = (
+        "import os, signal, cad.io.atomic as a\n"
+        "real = os.replace\n"
+        "def stop(src, dst):\n"
+        "    os.kill(os.getpid(), signal.SIGSTOP)\n"
+        "    real(src, dst)\n"
+        "a.os.replace = stop\n"
+        "from cad.cli.entry import main\n"
+        "main()\n"
+    )
+    args = ["swap", str(ROOT / "designs" / "hoeken.toml"), "--to", "roberts",
+            "--out", str(out / "r.toml")]
+    p = subprocess.Popen([sys.executable, "-c", code, *args], env=env, cwd=tmp_path,
+                         stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    deadline = time.monotonic() + 120
+    while time.monotonic() < deadline:
+        st = Path(f"/proc/{p.pid}/stat").read_text().rsplit(")", 1)[1].split()[0]
+        if st == "T" or p.poll() is not None:
+            break
+        time.sleep(0.05)
+    p.kill()
+    p.wait()
+    hidden = [e.name for e in out.iterdir() if e.name.startswith(".")]
+    assert hidden, "the killed swap left no temporary file (the test did not catch it writing)"
+    r = subprocess.run([sys.executable, "-m", "cad", *args], env=env, cwd=tmp_path,
+                       capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    assert sorted(e.name for e in out.iterdir()) == ["r.toml"]

@@ -4,7 +4,9 @@ Builds each design into a temporary folder (nothing under ``exports/`` is touche
 copies the build's ``render.png`` (shaded still of the assembly) and ``animation.gif``
 (the mechanism over its stroke) to ``DIR/<name>.png`` and ``DIR/<name>.gif``
 (default ``docs/devices``). Every design is loaded and checked before anything is built:
-a design whose family has no render yet is refused with exit 2, nothing written.
+a design whose family has no render yet is refused with exit 2, nothing written. ``DIR``
+is shared with other files: an existing ``<name>.png`` / ``.gif`` is replaced only when
+``DIR/manifest.json`` says hapticad wrote it unchanged (:mod:`cad.io.outdir`), else exit 2.
 """
 
 from __future__ import annotations
@@ -25,6 +27,7 @@ def render_designs(paths: list[Path], out: Path, fidelity: str | None = None) ->
     from cad.design import load_design
     from cad.errors import DesignError
     from cad.io.atomic import write_bytes_atomic
+    from cad.io.outdir import check_shared_files, record_shared_files
 
     designs = []
     for p in paths:
@@ -44,6 +47,8 @@ def render_designs(paths: list[Path], out: Path, fidelity: str | None = None) ->
             except DesignError as exc:
                 raise DesignError(str(p), str(exc)) from None
         designs.append((p, d, fid))
+    names = [f"{d.name}{ext}" for _, d, _ in designs for ext in RENDER_FILES.values()]
+    check_shared_files(Path(out), names)
     done = []
     for p, d, fid in designs:
         with tempfile.TemporaryDirectory(prefix="hapticad-render-") as tmp:
@@ -53,6 +58,7 @@ def render_designs(paths: list[Path], out: Path, fidelity: str | None = None) ->
                 dst = Path(out) / f"{d.name}{ext}"
                 write_bytes_atomic(dst, (Path(tmp) / d.name / src).read_bytes())
                 row[ext[1:]] = str(dst)
+            record_shared_files(Path(out), [f"{d.name}{ext}" for ext in RENDER_FILES.values()])
         done.append(row)
     return done
 

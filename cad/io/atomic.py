@@ -7,8 +7,11 @@ A failure at any point leaves the target untouched and no partial file behind.
 * Folders this module creates on the way to a target (``exports/`` ...) are removed
   again when the write fails (only if still empty).
 * A temporary folder carries its owner's pid in its name and an owner file
-  (:data:`OWNER_FILE`); :func:`remove_stale_temps` (run by every :func:`atomic_dir`)
-  deletes the ones whose owner is dead (a build killed by SIGKILL).
+  (:data:`OWNER_FILE`); a temporary file carries a tag of its host and its owner's pid
+  in its name (``.<name>.tmp.<host tag>.<pid>.<8 chars><suffix>``).
+  :func:`remove_stale_temps` (run by every :func:`atomic_dir` and :func:`atomic_path`)
+  deletes the ones whose owner is dead on this host (a command killed by SIGKILL), and
+  nothing else.
 * The rename is the commit point of :mod:`cad.io.signals`: a SIGINT/SIGTERM received
   before it publishes nothing.
 """
@@ -16,6 +19,7 @@ A failure at any point leaves the target untouched and no partial file behind.
 from __future__ import annotations
 
 import contextlib
+import hashlib
 import os
 import re
 import shutil
@@ -30,6 +34,13 @@ from cad.io import signals
 #: Owner file inside a temporary folder: ``<host>\n<pid>\n``.
 OWNER_FILE = ".hapticad-owner"
 _TEMP_RE = re.compile(r"^\..*\.(tmp|old)\.(\d+)\.[A-Za-z0-9_]{8}$")
+_TEMP_FILE_RE = re.compile(r"^\..+\.tmp\.([0-9a-f]{6})\.(\d+)\.[A-Za-z0-9_]{8}[^/]*$")
+
+
+def host_tag() -> str:
+    """Six hex digits of this host's name (temporary file names; a pid means nothing on
+    another host sharing the folder)."""
+    return hashlib.sha256(socket.gethostname().encode("utf-8")).hexdigest()[:6]
 
 
 def umask() -> int:
@@ -93,8 +104,10 @@ def atomic_path(
     """
     target = Path(target)
     created = _mkdirs(target.parent)
+    remove_stale_temps(target.parent)
     fd, tmp = tempfile.mkstemp(
-        prefix=f".{target.name}.", suffix=suffix if suffix is not None else target.suffix,
+        prefix=f".{target.name}.tmp.{host_tag()}.{os.getpid()}.",
+        suffix=suffix if suffix is not None else target.suffix,
         dir=target.parent,
     )
     os.close(fd)
@@ -161,32 +174,52 @@ def _pid_alive(pid: int) -> bool:
     return True
 
 
-def remove_stale_temps(folder: Path) -> list[Path]:
-    """Delete the temporary folders in ``folder`` left by dead builds on this host.
+def _stale_file(name: str) -> bool:
+    """``name`` is a temporary file of :func:`atomic_path` (or its ``.bak`` link) whose
+    owner, on this host, is dead."""
+    m = _TEMP_FILE_RE.match(name)
+    if m is None or m.group(1) != host_tag():
+        return False
+    pid = int(m.group(2))
+    return pid != os.getpid() and not _pid_alive(pid)
 
-    Only a folder named ``.<name>.tmp|old.<pid>.<8 chars>`` whose :data:`OWNER_FILE`
-    names this host and that pid, and whose pid is not running, is removed.
-    Returns the removed folders.
+
+def _stale_dir(path: str, name: str) -> bool:
+    """``name`` is a temporary folder of :func:`atomic_dir` whose owner (its
+    :data:`OWNER_FILE`: this host and the pid in the name) is dead."""
+    m = _TEMP_RE.match(name)
+    if m is None:
+        return False
+    pid = int(m.group(2))
+    try:
+        lines = Path(path, OWNER_FILE).read_text(encoding="utf-8").splitlines()
+    except (OSError, UnicodeDecodeError):
+        return False
+    host = socket.gethostname()
+    return lines[:2] == [host, str(pid)] and pid != os.getpid() and not _pid_alive(pid)
+
+
+def remove_stale_temps(folder: Path) -> list[Path]:
+    """Delete the temporary folders and files in ``folder`` left by dead commands on this
+    host (module docstring): a folder named ``.<name>.tmp|old.<pid>.<8 chars>`` whose
+    :data:`OWNER_FILE` names this host and that pid, or a plain file named
+    ``.<name>.tmp.<host tag>.<pid>.<8 chars>…``, whose pid is not running. Nothing else
+    is touched. Returns the removed paths.
     """
     removed = []
     try:
         entries = list(os.scandir(folder))
     except OSError:
         return removed
-    host = socket.gethostname()
     for e in entries:
-        m = _TEMP_RE.match(e.name)
-        if m is None or not e.is_dir(follow_symlinks=False):
-            continue
-        pid = int(m.group(2))
-        try:
-            lines = Path(e.path, OWNER_FILE).read_text(encoding="utf-8").splitlines()
-        except (OSError, UnicodeDecodeError):
-            continue
-        if lines[:2] != [host, str(pid)] or pid == os.getpid() or _pid_alive(pid):
-            continue
-        shutil.rmtree(e.path, ignore_errors=True)
-        removed.append(Path(e.path))
+        if e.is_dir(follow_symlinks=False):
+            if _stale_dir(e.path, e.name):
+                shutil.rmtree(e.path, ignore_errors=True)
+                removed.append(Path(e.path))
+        elif e.is_file(follow_symlinks=False) and _stale_file(e.name):
+            with contextlib.suppress(FileNotFoundError):
+                os.unlink(e.path)
+            removed.append(Path(e.path))
     return removed
 
 

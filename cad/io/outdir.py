@@ -9,6 +9,11 @@ file, the design file itself -- makes the command refuse with exit 2 naming the
 folder and one such entry; nothing is touched. ``--out`` naming a file, a symbolic
 link, the current folder or one of its parents is refused the same way.
 
+Shared folders (``render --out DIR``): the command adds files beside the user's and
+replaces one only when ``DIR/manifest.json`` lists it with the same sha256 (hapticad
+wrote it and nobody changed it since); it then records what it wrote there
+(:func:`check_shared_files`, :func:`record_shared_files`).
+
 Files (``swap``/``synth``/``fit --out FILE``): never the input design (same path,
 symbolic or hard link), never a folder; an existing file is replaced atomically and
 the command says so.
@@ -121,3 +126,46 @@ def check_out_file(target: Path, design: Path, flag: str = "--out") -> bool:
     if target.is_dir():
         raise DesignError(flag, f"{target} is a folder; name a .toml file")
     return os.path.lexists(target)
+
+
+def check_shared_files(folder: Path, names: list[str], flag: str = "--out") -> None:
+    """Raise :class:`DesignError` (field ``flag``) when ``folder/name`` exists for a name in
+    ``names`` and is not listed with its sha256 in ``folder/manifest.json`` (module
+    docstring: shared folders), or when ``folder`` is a file or a symbolic link."""
+    folder = Path(folder)
+    if os.path.islink(folder) or (os.path.lexists(folder) and not folder.is_dir()):
+        raise DesignError(flag, f"{folder} is not a folder; name a folder")
+    listed = _listed(folder)
+    for name in names:
+        p = folder / name
+        if not os.path.lexists(p):
+            continue
+        why = None
+        if p.is_symlink() or not p.is_file():
+            why = "not a plain file"
+        elif name not in listed:
+            why = "not written by hapticad (not in its manifest.json)"
+        elif _sha256(p) != listed[name]:
+            why = "changed since hapticad wrote it"
+        if why:
+            raise DesignError(
+                flag, f"{p} exists and is {why}; move it away or name another folder"
+            )
+
+
+def record_shared_files(folder: Path, names: list[str]) -> None:
+    """Add ``names`` (files just written into ``folder``) with their sha256 and size to
+    ``folder/manifest.json``, keeping the entries already there; atomic."""
+    from cad.io.atomic import write_text_atomic
+
+    folder = Path(folder)
+    try:
+        doc = json.loads((folder / MANIFEST_NAME).read_text(encoding="utf-8"))
+        rows = {str(r["path"]): r for r in doc["files"]}
+    except (OSError, ValueError, KeyError, TypeError):
+        doc, rows = {}, {}
+    for name in names:
+        p = folder / name
+        rows[name] = {"path": name, "sha256": _sha256(p), "bytes": p.stat().st_size}
+    doc["files"] = [rows[k] for k in sorted(rows)]
+    write_text_atomic(folder / MANIFEST_NAME, json.dumps(doc, indent=2, sort_keys=True) + "\n")

@@ -3,9 +3,12 @@
 The same inputs as the ``.glb`` (:mod:`cad.export.gltf`): part instances, body poses over
 the stroke ``{body: (N, 4, 4)}`` (mm) and the parts' meshes. Each frame is an
 orthographic view from ``VIEW_AZIM_DEG`` / ``VIEW_ELEV_DEG`` (world R0, z up): triangles
-facing away are culled, large ones split (better depth order), the others shaded by a headlight (Lambert, ``AMBIENT`` floor)
-and filled back to front (painter's algorithm) with Pillow.
-The frame's extent is the union over every pose, so the view does not jump.
+facing away are culled, the others shaded flat by a headlight (Lambert, ``AMBIENT``
+floor) and drawn with a per-pixel depth test (:mod:`cad.report.raster`, numpy z-buffer)
+at ``SUPERSAMPLE`` times the size, then averaged down (anti-aliasing).
+The frame's extent is the union over every pose, so the view does not jump. Bodies that
+do not move over the stroke (the stand) are drawn once into the depth buffer that every
+GIF frame starts from.
 
 GIF frames go forward over the stroke and back (a loop), written with Pillow.
 """
@@ -26,9 +29,6 @@ GIF_POSES = 12
 GIF_FRAME_MS = 90
 #: Frames are drawn at this multiple of their size and reduced (anti-aliasing).
 SUPERSAMPLE = 2
-#: Triangles larger than (this fraction of the picture)² are split (at most SUBDIVIDE_LEVELS times).
-SUBDIVIDE_FRACTION = 0.04
-SUBDIVIDE_LEVELS = 4
 
 
 def view_basis(azim_deg: float = VIEW_AZIM_DEG, elev_deg: float = VIEW_ELEV_DEG) -> np.ndarray:
@@ -41,67 +41,57 @@ def view_basis(azim_deg: float = VIEW_AZIM_DEG, elev_deg: float = VIEW_ELEV_DEG)
     return np.array([right, up, toward])
 
 
-def _scene_triangles(instances, tf_world_body, meshes, colors, i: int):
-    """World triangles (T, 3, 3) mm and their RGB (T, 3) at pose ``i``."""
-    tris, rgb = [], []
+def _view_triangles(instances, tf_world_body, meshes, colors, basis, i: int):
+    """Triangles at pose ``i`` in view coordinates (T, 3, 3) mm (x right, y up, z toward
+    the viewer; ``basis`` from :func:`view_basis`) and their RGB (T, 3)."""
+    tris, rgb = [np.empty((0, 3, 3))], [np.empty((0, 3))]
     for inst in instances:
-        k = inst.kind
-        if not k.listed:
-            continue
-        v, f = meshes[k.name]
+        v, f = meshes[inst.kind.name]
         T = tf_world_body[inst.body][i] @ inst.tf_body_part
-        w = np.asarray(v) @ T[:3, :3].T + T[:3, 3]
-        tris.append(w[np.asarray(f)])
+        R = basis @ T[:3, :3]  # part frame -> view
+        tris.append((np.asarray(v) @ R.T + basis @ T[:3, 3])[np.asarray(f)])
         rgb.append(np.broadcast_to(np.asarray(colors[inst.name], dtype=float), (len(f), 3)))
     return np.concatenate(tris), np.concatenate(rgb)
 
 
-def _subdivide(tri: np.ndarray, rgb: np.ndarray, max_size: float):
-    """Split triangles of area above ``max_size``² into four (midpoints), at most
-    SUBDIVIDE_LEVELS times: a large face sorted by its centre would otherwise hide or show
-    what it should not (a base plate over its post)."""
-    for _ in range(SUBDIVIDE_LEVELS):
-        area = 0.5 * np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1)
-        big = area > max_size**2
-        if not big.any():
-            break
-        a, b, c = tri[big, 0], tri[big, 1], tri[big, 2]
-        ab, bc, ca = (a + b) / 2, (b + c) / 2, (c + a) / 2
-        new = np.concatenate(
-            [np.stack(t, axis=1) for t in ((a, ab, ca), (ab, b, bc), (ca, bc, c), (ab, bc, ca))]
-        )
-        tri = np.concatenate([tri[~big], new])
-        rgb = np.concatenate([rgb[~big], np.tile(rgb[big], (4, 1))])
-    return tri, rgb
-
-
-def _shaded(tri_w, rgb, basis):
-    """Visible triangles in screen coordinates (T, 3, 2), back to front, with shaded RGB."""
-    s = tri_w @ basis.T  # screen coordinates (x right, y up, z toward the viewer)
-    n = np.cross(s[:, 1] - s[:, 0], s[:, 2] - s[:, 0])
-    norm = np.linalg.norm(n, axis=1)
-    keep = (n[:, 2] > 0) & (norm > 0)
-    s, n, norm, rgb = s[keep], n[keep], norm[keep], rgb[keep]
-    shade = AMBIENT + (1.0 - AMBIENT) * (n[:, 2] / norm)
-    order = np.argsort(s[:, :, 2].mean(axis=1), kind="stable")
-    return s[order][:, :, :2], np.clip(rgb[order] * shade[order, None], 0.0, 1.0)
+def _shaded(s, rgb):
+    """The triangles facing the viewer (view coordinates, (T, 3, 3)) and their RGB shaded
+    by a headlight: ``AMBIENT + (1 - AMBIENT) cos(normal, toward the viewer)``."""
+    u, v = s[:, 1] - s[:, 0], s[:, 2] - s[:, 0]
+    nz = u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]  # normal . toward the viewer (x area)
+    keep = nz > 0
+    s, u, v, nz, rgb = s[keep], u[keep], v[keep], nz[keep], rgb[keep]
+    nx = u[:, 1] * v[:, 2] - u[:, 2] * v[:, 1]
+    ny = u[:, 2] * v[:, 0] - u[:, 0] * v[:, 2]
+    shade = AMBIENT + (1.0 - AMBIENT) * nz / np.sqrt(nx * nx + ny * ny + nz * nz)
+    return s, np.clip(rgb * shade[:, None], 0.0, 1.0)
 
 
 def _extent(instances, tf_world_body, meshes, basis, poses) -> tuple[np.ndarray, np.ndarray]:
-    lo, hi = np.full(2, np.inf), np.full(2, -np.inf)
+    """View-coordinate box (lo (3,), hi (3,)) of every pose; x and y padded by 4 %."""
+    lo, hi = np.full(3, np.inf), np.full(3, -np.inf)
     for inst in instances:
-        if not inst.kind.listed:
-            continue
         v = np.asarray(meshes[inst.kind.name][0])
         for i in poses:
             T = tf_world_body[inst.body][i] @ inst.tf_body_part
-            p = (v @ T[:3, :3].T + T[:3, 3]) @ basis[:2].T
+            p = (v @ T[:3, :3].T + T[:3, 3]) @ basis.T
             lo, hi = np.minimum(lo, p.min(axis=0)), np.maximum(hi, p.max(axis=0))
-    pad = 0.04 * (hi - lo).max()
-    return lo - pad, hi + pad
+    pad = 0.04 * (hi[:2] - lo[:2]).max()
+    lo[:2] -= pad
+    hi[:2] += pad
+    return lo, hi
 
 
-def render_frames(
+def _static_bodies(tf_world_body, poses) -> set[str]:
+    """Bodies whose transform is the same at every pose of ``poses``."""
+    return {
+        b
+        for b, T in tf_world_body.items()
+        if all(np.array_equal(T[poses[0]], T[i]) for i in poses[1:])
+    }
+
+
+def render_images(
     instances,
     tf_world_body,
     meshes,
@@ -111,51 +101,72 @@ def render_frames(
     size_px=(640, 480),
     title: str = "",
     supersample: int = SUPERSAMPLE,
-) -> list[bytes]:
-    """PNG bytes of the assembly at each pose index in ``poses`` (module docstring).
+) -> list:
+    """RGB pictures (``PIL.Image``, ``size_px``) of the assembly at each pose index in ``poses``
+    (module docstring); only listed parts are drawn.
 
     colors : ``{instance name: (r, g, b)}`` in 0..1 (:func:`cad.export.gltf.instance_rgb`).
-    Triangles are filled with Pillow at ``supersample`` times the size, then reduced
-    (Lanczos) for smooth edges.
     """
     from PIL import Image, ImageDraw, ImageFont
 
+    from cad.report import raster
+
     basis = view_basis()
-    lo, hi = _extent(instances, tf_world_body, meshes, basis, poses)
+    shown = [inst for inst in instances if inst.kind.listed]
+    lo, hi = _extent(shown, tf_world_body, meshes, basis, poses)
     W, H = size_px[0] * supersample, size_px[1] * supersample
     scale = min(W / (hi[0] - lo[0]), H / (hi[1] - lo[1]))
     centre = 0.5 * (lo + hi)
+    z_range = max(hi[2] - lo[2], 1e-9)
+
+    def draw(insts, i, keys, id_offset=0):
+        s, rgb = _shaded(*_view_triangles(insts, tf_world_body, meshes, colors, basis, i))
+        px = np.empty(s.shape[:2] + (2,))
+        px[..., 0] = W / 2 + (s[..., 0] - centre[0]) * scale
+        px[..., 1] = H / 2 - (s[..., 1] - centre[1]) * scale
+        raster.rasterize(px, (s[..., 2] - lo[2]) / z_range, keys, W, id_offset)
+        rgba = np.full((len(rgb), 4), 255, np.uint8)
+        rgba[:, :3] = rgb * 255 + 0.5
+        return rgba.view(np.uint32)[:, 0]  # one 32-bit word per colour: a fast lookup
+
+    still = _static_bodies(tf_world_body, poses)
+    static_keys = raster.empty_keys(H, W)
+    static_rgb = draw([x for x in shown if x.body in still], poses[0], static_keys)
+    moving = [x for x in shown if x.body not in still]
+    font = ImageFont.load_default(size=max(12, size_px[1] // 30)) if title else None
     out = []
     for i in poses:
-        tri, rgb = _scene_triangles(instances, tf_world_body, meshes, colors, i)
-        tri, rgb = _shaded(*_subdivide(tri, rgb, SUBDIVIDE_FRACTION * (hi - lo).max()), basis)
-        px = np.empty_like(tri)
-        px[..., 0] = W / 2 + (tri[..., 0] - centre[0]) * scale
-        px[..., 1] = H / 2 - (tri[..., 1] - centre[1]) * scale
-        img = Image.new("RGB", (W, H), "white")
-        draw = ImageDraw.Draw(img)
-        col = (rgb * 255 + 0.5).astype(np.uint8)
-        for p, c in zip(px.tolist(), map(tuple, col.tolist()), strict=True):
-            draw.polygon([tuple(q) for q in p], fill=c, outline=c)
-        img = img.resize(size_px, Image.Resampling.LANCZOS)
+        keys = static_keys.copy()
+        rgb = draw(moving, i, keys, len(static_rgb))
+        # palette: white (empty), static triangles, moving triangles
+        palette = np.concatenate([[np.uint32(0xFFFFFFFF)], static_rgb, rgb])
+        rgbx = palette[raster.triangle_ids(keys)]
+        img = Image.frombuffer("RGBX", (W, H), rgbx, "raw", "RGBX", 0, 1)
+        if supersample > 1:
+            img = img.reduce(supersample)  # box filter: the mean of each block
+        img = img.convert("RGB")
         if title:
-            font = ImageFont.load_default(size=max(12, size_px[1] // 30))
             ImageDraw.Draw(img).text((8, 6), title, fill=(64, 64, 64), font=font)
-        buf = io.BytesIO()
-        img.save(buf, format="PNG", optimize=False)
-        out.append(buf.getvalue())
+        out.append(img)
     return out
 
 
-def gif_bytes(frames_png: list[bytes], frame_ms: int = GIF_FRAME_MS) -> bytes:
-    """An endlessly looping GIF of the frames forward then back (Pillow; one adaptive
-    palette from the middle frame, so colours do not flicker)."""
+def png_bytes(img) -> bytes:
+    """PNG of a ``PIL.Image``."""
+    buf = io.BytesIO()
+    img.save(buf, format="PNG")
+    return buf.getvalue()
+
+
+def gif_bytes(imgs: list, frame_ms: int = GIF_FRAME_MS) -> bytes:
+    """An endlessly looping GIF of the RGB frames (``PIL.Image``) forward then back
+    (Pillow; one adaptive palette from the middle frame, so colours do not flicker)."""
     from PIL import Image
 
-    imgs = [Image.open(io.BytesIO(b)).convert("RGB") for b in frames_png]
-    seq = imgs + imgs[-2:0:-1]
-    first = seq[len(seq) // 2].quantize(colors=128, method=Image.Quantize.MEDIANCUT)
-    pal = [im.quantize(palette=first, dither=Image.Dither.NONE) for im in seq]
+    order = list(range(len(imgs))) + list(range(len(imgs) - 2, 0, -1))
+    first = imgs[order[len(order) // 2]].quantize(colors=128, method=Image.Quantize.MEDIANCUT)
+    quantized = [im.quantize(palette=first, dither=Image.Dither.NONE) for im in imgs]
+    pal = [quantized[k] for k in order]
     buf = io.BytesIO()
     pal[0].save(buf, format="GIF", save_all=True, append_images=pal[1:], duration=frame_ms, loop=0)
     return buf.getvalue()
@@ -172,11 +183,11 @@ def write_stroke_pictures(
     poses = list(range(n))
     if n > GIF_POSES:
         poses = sorted({int(round(x)) for x in np.linspace(0, n - 1, GIF_POSES)})
-    frames = render_frames(instances, stroke, meshes, colors, poses, title=title)
+    frames = render_images(instances, stroke, meshes, colors, poses, title=title)
     write_bytes_atomic(Path(out_dir) / "animation.gif", gif_bytes(frames))
     static = {b: np.asarray(T, dtype=float).reshape(1, 4, 4) for b, T in tf_pose.items()}
-    still = render_frames(instances, static, meshes, colors, [0], size_px=(960, 720), title=title)[
-        0
-    ]
-    write_bytes_atomic(Path(out_dir) / "render.png", still)
+    (still,) = render_images(
+        instances, static, meshes, colors, [0], size_px=(960, 720), title=title
+    )
+    write_bytes_atomic(Path(out_dir) / "render.png", png_bytes(still))
     return ["animation.gif", "render.png"]
