@@ -318,3 +318,33 @@ def test_every_pair_check_property_over_random_four_bars(tmp_path, monkeypatch):
 
     check()
     assert "built" in outcome  # at least one valid layout was built (not only refusals)
+
+
+@pytest.mark.parametrize("name", ("hoeken", "roberts"))
+def test_four_bar_cap_screws_engage_their_holes_in_the_step_file(name, tmp_root, monkeypatch):
+    """Every ISO 4762 screw of a four-bar read back from assembly.step sits in the part its
+    record names with the recorded engagement (point classification along its axis,
+    ``step_pairs.thread_in_part_mm``), its length a catalog one, its engagement between the
+    minimum (1.5 d in aluminium, 2.5 mm in the maxon face, 1 d for the hand-loaded knob screw
+    in the coupler) and the hole depth, the hole deeper than its tip."""
+    from step_pairs import read_parts, thread_in_part_mm
+
+    from cad.design import load_design
+    from cad.parts import catalog
+
+    rep, out = _build(name, load_design(ROOT / "designs" / f"{name}.toml"), tmp_root)
+    parts = dict(read_parts(out / "assembly.step"))
+    n = 0
+    for inst, x in rep["fasteners"].items():
+        if x["kind"] != "ISO 4762":
+            continue
+        h = rep["tapped_holes"][x["hole"]]
+        cs = catalog.get_cap_screw(x["size"], "test")
+        assert x["length_mm"] in cs.lengths_mm
+        need = {"motor": 2.5, "coupler": 1.0 * cs.d_mm}.get(h["part"], 1.5 * cs.d_mm)
+        assert need - 1e-9 <= x["engagement_mm"] <= h["depth_mm"] + 1e-9, (inst, x, h)
+        e, tip_free = thread_in_part_mm(parts[inst], parts[h["part"]], cs.d_mm, cs.dk_mm)
+        assert e == pytest.approx(x["engagement_mm"], abs=0.01), (inst, e)
+        assert tip_free, inst
+        n += 1
+    assert n >= 3 + 3 + 4 + 4 + 1  # hub, motor face, mount, leg screws and the post screw

@@ -276,7 +276,8 @@ def evaluate(pb: Problem, span_deg: float, shift_deg: float, parts: dict, best: 
 
 
 def layer_problem(design) -> str | None:
-    """The layer planner's objection to this design (numpy only), or None."""
+    """The layer planner's objection to this design (numpy only), or None: the same strict
+    planning the build refuses with (no clear layer order, :func:`cad.build.fourbar.check_layout`)."""
     from cad.assembly.layers import choose_layers
     from cad.assembly.pose import planar_transforms
     from cad.errors import HapticadError
@@ -284,7 +285,8 @@ def layer_problem(design) -> str | None:
 
     phi = np.linspace(design.phi1_min_rad, design.phi1_max_rad, 24)
     try:
-        choose_layers(link_joints_mm(design.linkage), design.parts, planar_transforms(design.linkage, phi))
+        choose_layers(link_joints_mm(design.linkage), design.parts,
+                      planar_transforms(design.linkage, phi), strict=True)
     except HapticadError as exc:
         return str(exc)
     return None
