@@ -199,6 +199,8 @@ def test_a_failure_mid_build_leaves_the_output_untouched(tmp_path, monkeypatch):
         return real(*a, **k)
 
     monkeypatch.setattr(step_mod, "step_bytes", flaky)
+    # the part STEP bytes must be made here, not read from the derived cache
+    monkeypatch.setattr("cad.io.derived_cache.cache_dir", lambda: None)
     d = load_design(ROOT / "designs" / "hoeken.toml")
     with pytest.raises(OSError):
         build_design(d, out, {"step"}, fidelity="inertia", use_cache=False)

@@ -831,6 +831,40 @@ def _tight_box(shape) -> np.ndarray:
     return np.array(b.Get()).reshape(2, 3)
 
 
+#: Modules whose source the cached same-body values depend on.
+_CODE = ("cad.assembly.interference", "cad.export.shapes")
+
+
+def _signed_permutation(R: np.ndarray) -> bool:
+    """True when ``R`` maps each axis onto +-one axis exactly (90-degree turns, flips)."""
+    a = np.abs(R)
+    return bool(np.all((a == 0.0) | (a == 1.0)) and np.all(a.sum(axis=0) == 1.0)
+                and np.all(a.sum(axis=1) == 1.0))
+
+
+def placed_tight_box(shape, T: np.ndarray) -> np.ndarray:
+    """(2, 3) tight box (mm) of ``shape`` placed by the 4x4 rigid ``T``, through the derived
+    cache (:mod:`cad.io.derived_cache`). When ``T``'s rotation is a signed permutation the
+    box is the part-frame box moved (exact: every world axis is one part axis), so one
+    cached box serves every such placement; otherwise the placed shape's own box, keyed by
+    ``T`` exactly."""
+    from cad.export.shapes import placed
+    from cad.io import derived_cache
+
+    T = np.asarray(T, float)
+    if not derived_cache.enabled():
+        return _tight_box(placed(shape, T))
+    digest = derived_cache.shape_digest(shape)
+    if _signed_permutation(T[:3, :3]):
+        lo, hi = (np.array(c) for c in derived_cache.cached_json(
+            "tight-box", [digest], lambda: _tight_box(shape).tolist(), code=_CODE))
+        c = np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1])
+                      for z in (lo[2], hi[2])]) @ T[:3, :3].T + T[:3, 3]
+        return np.array([c.min(axis=0), c.max(axis=0)])
+    return np.array(derived_cache.cached_json(
+        "tight-box-placed", [digest, T], lambda: _tight_box(placed(shape, T)).tolist(), code=_CODE))
+
+
 def common_volume_mm3(sa, sb) -> float:
     """Volume of ``sa`` ∩ ``sb`` (OCCT ``BRepAlgoAPI_Common``), mm^3 (0 for touching solids)."""
     from OCP.BRepAlgoAPI import BRepAlgoAPI_Common
@@ -843,14 +877,37 @@ def common_volume_mm3(sa, sb) -> float:
 
 
 def _pair_volume(p, q, min_volume_mm3: float) -> float:
-    """Common volume of two same-body parts ``(name, shape, box, hull)``: their hulls first
-    (a hull encloses its part, so no hull overlap means no part overlap), then the parts."""
+    """Common volume of two same-body parts ``(name, shape, box, hull, ...)``: their hulls
+    first (a hull encloses its part, so no hull overlap means no part overlap), then the
+    parts."""
     if p[3] is not None or q[3] is not None:
         hp = p[3] if p[3] is not None else p[1]
         hq = q[3] if q[3] is not None else q[1]
         if common_volume_mm3(hp, hq) <= min_volume_mm3:
             return 0.0
     return common_volume_mm3(p[1], q[1])
+
+
+def _rigid_inverse(T: np.ndarray) -> np.ndarray:
+    out = np.eye(4)
+    out[:3, :3] = T[:3, :3].T
+    out[:3, 3] = -T[:3, :3].T @ T[:3, 3]
+    return out
+
+
+def _cached_pair_volume(p, q, shapes, rel: np.ndarray, min_volume_mm3: float) -> float:
+    """:func:`_pair_volume` through the derived cache, keyed by the digests of both solids
+    (and hulls), their relative placement ``rel`` (rounded to 1e-9) and the threshold."""
+    from cad.io import derived_cache
+
+    if not derived_cache.enabled():
+        return _pair_volume(p, q, min_volume_mm3)
+    dg = derived_cache.shape_digest
+    (sa, ha), (sb, hb) = shapes
+    key = [dg(sa), dg(ha) if ha is not None else None, dg(sb), dg(hb) if hb is not None else None,
+           np.round(rel, 9) + 0.0, float(min_volume_mm3)]
+    return float(derived_cache.cached_json(
+        "common-volume", key, lambda: _pair_volume(p, q, min_volume_mm3), code=_CODE))
 
 
 def same_body_check(items, min_volume_mm3: float = OVERLAP_MIN_MM3) -> SameBodyResult:
@@ -872,8 +929,11 @@ def same_body_check(items, min_volume_mm3: float = OVERLAP_MIN_MM3) -> SameBodyR
     for name, body, shape, tf, *rest in items:
         T = np.asarray(tf, float)
         s = placed(shape, T)
-        hull = placed(rest[0], T) if rest and rest[0] is not None else None
-        by_body.setdefault(body, []).append((name, s, _tight_box(s), hull, (id(shape), T)))
+        h0 = rest[0] if rest else None
+        hull = placed(h0, T) if h0 is not None else None
+        by_body.setdefault(body, []).append(
+            (name, s, placed_tight_box(shape, T), hull, (id(shape), T), (shape, h0))
+        )
     memo: dict[tuple, float] = {}
     collisions, n_pairs, n_exact = [], 0, 0
     for body, parts in sorted(by_body.items()):
@@ -886,10 +946,13 @@ def same_body_check(items, min_volume_mm3: float = OVERLAP_MIN_MM3) -> SameBodyR
             (ka, Ta), (kb, Tb) = parts[i][4], parts[j][4]
             # the same two solids in the same relative placement (the same hardware at
             # another joint): the same common volume, computed once
-            key = (ka, kb, np.round(np.linalg.solve(Ta, Tb), 9).tobytes())
+            rel = _rigid_inverse(Ta) @ Tb
+            key = (ka, kb, np.round(rel, 9).tobytes())
             if key not in memo:
                 n_exact += 1
-                memo[key] = _pair_volume(parts[i], parts[j], min_volume_mm3)
+                memo[key] = _cached_pair_volume(
+                    parts[i], parts[j], (parts[i][5], parts[j][5]), rel, min_volume_mm3
+                )
             vol = memo[key]
             if vol > min_volume_mm3:
                 collisions.append(

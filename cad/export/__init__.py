@@ -106,11 +106,15 @@ def export_part(
         check_watertight(v, f, name)
         payload.append((out_dir / f"{name}.stl", stl_bytes(v, f, name)))
     if "step" in formats:
-        payload.append((out_dir / f"{name}.step", step_bytes(topo, name, color)))
+        payload.append((out_dir / f"{name}.step", _cached_file(
+            "part-step", [topo, name, color], lambda: step_bytes(topo, name, color),
+            ("cad.export.step",))))
     if "dxf" in formats and plate:
         from cad.export.dxf import plate_profile_dxf
 
-        payload.append((out_dir / f"{name}.dxf", plate_profile_dxf(topo, name, notes)))
+        payload.append((out_dir / f"{name}.dxf", _cached_file(
+            "part-dxf", [topo, name, list(notes)], lambda: plate_profile_dxf(topo, name, notes),
+            ("cad.export.dxf",))))
     written = []
     for path, data in payload:
         if isinstance(data, str):
@@ -132,4 +136,34 @@ def export_assembly_step(
     from cad.export.step import assembly_step_bytes
 
     topo_items = [(n, to_topods(s, n), c) for n, s, c in items]
-    return write_bytes_atomic(Path(path), assembly_step_bytes(topo_items, name or Path(path).stem))
+    name = name or Path(path).stem
+    data = _cached_file(
+        "assembly-step", [name, [list(t) for t in topo_items]],
+        lambda: assembly_step_bytes(topo_items, name), ("cad.export.step",))
+    return write_bytes_atomic(Path(path), data)
+
+
+def _cached_file(kind: str, key: list, make, code: tuple[str, ...]):
+    """A file's content (bytes or str) through the derived cache (:mod:`cad.io.derived_cache`):
+    every ``TopoDS_Shape`` in ``key`` is replaced by its content digest; the content is a
+    deterministic function of the key (fixed STEP header, renumbered ids: module docstring)."""
+    from OCP.TopoDS import TopoDS_Shape
+
+    from cad.io import derived_cache
+
+    if not derived_cache.enabled():
+        return _to_bytes(make())
+
+    def canon(x):
+        if isinstance(x, TopoDS_Shape):
+            return derived_cache.shape_digest(x)
+        if isinstance(x, (list, tuple)):
+            return [canon(v) for v in x]
+        return x
+
+    return derived_cache.cached_bytes(
+        kind, canon(key), lambda: _to_bytes(make()), code=(*code, "cad.export"))
+
+
+def _to_bytes(data) -> bytes:
+    return data.encode() if isinstance(data, str) else data

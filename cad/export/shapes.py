@@ -79,7 +79,11 @@ def placed(shape, tf_world_part):
     from OCP.gp import gp_Trsf
     from OCP.TopLoc import TopLoc_Location
 
+    from cad.io.derived_cache import register_placed
+
     T = np.asarray(tf_world_part, dtype=float)
     tr = gp_Trsf()
     tr.SetValues(*(float(T[r, c]) for r in range(3) for c in range(4)))
-    return shape.Moved(TopLoc_Location(tr))
+    out = shape.Moved(TopLoc_Location(tr))
+    register_placed(out, shape, T)  # its digest, for what is derived from it (cheap)
+    return out

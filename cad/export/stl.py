@@ -25,6 +25,8 @@ from cad.errors import MeshError
 #: Vertices closer than this grid (mm) are merged. OCCT computes the nodes of a shared
 #: edge once per face from the same edge discretization: they agree to ~1e-12 mm.
 MERGE_GRID_MM = 1e-6
+#: Modules whose source a cached mesh depends on (:func:`mesh_shape`).
+MESH_CODE = ("cad.export.stl", "cad.massprops.mesh")
 
 
 def merge_vertices(vertices_mm: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -67,11 +69,26 @@ def manifold_status(vertices_mm: np.ndarray, faces: np.ndarray) -> str:
 def mesh_shape(
     shape, tolerance_mm: float, angular_tolerance_rad: float
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Merged triangle mesh ``(vertices_mm, faces)`` of a ``TopoDS_Shape`` at an absolute tolerance."""
-    from cad.massprops.mesh import extract_arrays, triangulate
+    """Merged triangle mesh ``(vertices_mm, faces)`` of a ``TopoDS_Shape`` at an absolute tolerance.
 
-    v, f = extract_arrays(triangulate(shape, tolerance_mm, angular_tolerance_rad))
-    return merge_vertices(v, f)
+    Cached on disk by the solid's digest and both tolerances (:mod:`cad.io.derived_cache`;
+    the meshing is serial and deterministic, so a hit is the same arrays bit for bit).
+    """
+    from cad.io import derived_cache
+
+    def make():
+        from cad.massprops.mesh import extract_arrays, triangulate
+
+        v, f = extract_arrays(triangulate(shape, tolerance_mm, angular_tolerance_rad))
+        return merge_vertices(v, f)
+
+    if not derived_cache.enabled():
+        return make()
+    from cad.massprops.occt import as_topods
+
+    key = [derived_cache.shape_digest(as_topods(shape)), float(tolerance_mm), float(angular_tolerance_rad)]
+    v, f = derived_cache.cached_arrays("mesh", key, make, code=MESH_CODE)
+    return v, f
 
 
 def check_watertight(vertices_mm: np.ndarray, faces: np.ndarray, name: str) -> None:

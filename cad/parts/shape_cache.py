@@ -67,7 +67,12 @@ def _read(path: Path):
         ok = BRepTools.Read_s(shape, str(path), BRep_Builder())
     except Exception:  # noqa: BLE001 - any OCCT failure is a miss
         return None
-    return shape if ok and not shape.IsNull() else None
+    if not ok or shape.IsNull():
+        return None
+    from cad.io.derived_cache import register_digest
+
+    register_digest(shape, want)  # what is derived from it is cached by this digest
+    return shape
 
 
 def _hash_path(path: Path) -> Path:
@@ -95,8 +100,11 @@ def cached_shape(key: str, make: Callable[[], object]):
     A damaged entry (truncated, a flipped bit, a missing or wrong ``.sha256``, unreadable)
     is a miss: the shape is made again and the entry rewritten.
     """
+    from cad.parts.lazy_import import import_build123d
+
     d = cache_dir()
     if d is None:
+        import_build123d()  # before a part generator imports it (defers scikit-learn)
         return make()
     name = hashlib.sha256(f"{key}|{_versions()}".encode()).hexdigest()[:32] + ".brep"
     path = d / name
@@ -104,6 +112,7 @@ def cached_shape(key: str, make: Callable[[], object]):
         shape = _read(path)
         if shape is not None:
             return shape
+    import_build123d()  # a miss: the part generator needs build123d (defers scikit-learn)
     shape = make()
     try:
         _write(shape, path)

@@ -130,6 +130,22 @@ def cantilever(
     return float(f @ u)
 
 
+def cached_cantilever(
+    g: BarGeometry, E_Pa: float, nu: float, direction: str, n: tuple[int, int] = (16, 2)
+) -> float:
+    """:func:`cantilever` through the derived disk cache (:mod:`cad.io.derived_cache`), keyed
+    by every input (geometry, E, nu, direction, mesh) and this module's source: a build of a
+    design whose bars were analysed before neither imports scikit-fem nor assembles."""
+    import dataclasses
+
+    from cad.io import derived_cache
+
+    key = [dataclasses.asdict(g), float(E_Pa), float(nu), direction, list(n)]
+    return float(derived_cache.cached_json(
+        "fem-cantilever", key, lambda: cantilever(g, E_Pa, nu, direction, n),
+        code=("cad.structure.fem",)))
+
+
 def first_mode_Hz(
     g: BarGeometry, E_Pa: float, nu: float, rho: float, direction: str = "z",
     n: tuple[int, int] = (16, 2),
