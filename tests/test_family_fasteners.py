@@ -141,3 +141,24 @@ def test_thin_housing_wall_is_refused_before_cad(tmp_path, monkeypatch):
     with pytest.raises(DesignError, match=r"stator.housing_wall_mm: 3.5 mm walls cannot take"):
         build_design(d, tmp_path / "o", {"step"})
     assert not (tmp_path / "o").exists()
+
+
+def test_pantograph_stack_no_catalog_screw_fits_is_refused_before_cad(tmp_path, monkeypatch):
+    """A 4 mm motor mount plate: an M3 motor screw would need 4 + 2.5..3.5 mm, and ISO 4762
+    M3 comes in 6 and 8 mm -- refused naming the joint and the window, before any CAD."""
+    import dataclasses
+    from pathlib import Path
+
+    import cad.parts.lazy_import as li
+    from cad.build import build_design
+    from cad.design import load_design
+    from cad.errors import DesignError
+
+    d = load_design(Path(__file__).resolve().parents[1] / "designs" / "pantograph.toml")
+    d = dataclasses.replace(d, parts=dataclasses.replace(d.parts, motor_mount_thickness_mm=4.0))
+    monkeypatch.setattr(li, "import_build123d", lambda: pytest.fail("CAD imported"))
+    with pytest.raises(DesignError) as e:
+        build_design(d, tmp_path / "o", {"step"})
+    assert str(e.value).startswith("parts.motor_mount_thickness_mm: motor face to mount plate")
+    assert "need L in 6.5..7.5 mm" in str(e.value)
+    assert not (tmp_path / "o").exists()

@@ -119,6 +119,7 @@ def check_options(design, fidelity: str, phi1_deg, formats=frozenset()) -> None:
             f"a {design.family} has no crank angle, got {phi1_deg!r}; the assembly is "
             "exported at workspace.home_mm",
         )
+    screw_plan(design)  # a stack no catalog screw fastens: named before any CAD
 
 
 def _step(progress, text: str, done: int, total: int) -> None:
