@@ -93,7 +93,7 @@ def test_a_damaged_entry_is_a_miss_and_gives_the_same_values(cold, monkeypatch, 
     from cad.parts import part_props
 
     cache, values = _copy(cold, monkeypatch, tmp_path), cold[1]
-    entries = sorted((cache / "shapes-v2" / part_props.PROPS_DIR).glob("*.json"))
+    entries = sorted((cache / "shapes-v2" / part_props.PROPS_DIR).glob("*/*.json"))
     assert len(entries) >= 10  # one per integrated part kind
     doc = json.loads(entries[0].read_text())
     doc["payload"]["volume_mm3"] *= 1.5  # a wrong value with its old hash
@@ -110,6 +110,29 @@ def test_a_damaged_entry_is_a_miss_and_gives_the_same_values(cold, monkeypatch, 
     assert again == values
     for p in entries[:3]:  # rewritten whole
         assert part_props._read(p, json.loads(p.read_text())["payload"]["key"]) is not None
+
+
+def test_workers_warm_the_cache_together_each_part_once(cold, monkeypatch, tmp_path):
+    """``hapticad sweep``'s warm-up: two shares split the design's parts (the cached ones
+    cost a read); together they integrate each missing part once, and afterwards an
+    evaluation makes and integrates nothing."""
+    from cad.build.inertia import warm_part_cache
+    from cad.parts import part_cache, part_props
+
+    _copy(cold, monkeypatch, tmp_path)  # catalog parts cached, the new thickness's parts not
+    d = parse_design(apply(load_toml(HOEKEN), {"parts.bar_thickness_mm": 6.15}), str(HOEKEN))
+    before = part_props.STATS["integrated"]
+    n = [warm_part_cache(d, "inertia", (i, 2)) for i in (0, 1)]
+    made = part_props.STATS["integrated"] - before
+    assert sum(n) >= 20 and abs(n[0] - n[1]) <= 1  # every integrated part, split evenly
+    assert 5 <= made < sum(n)  # only the parts this thickness changes
+    part_cache.clear_memo()
+    part_props.clear_memo()
+    built, integrated = part_cache.STATS["built"], part_props.STATS["integrated"]
+    from cad.build.inertia import target_values
+
+    target_values(d, "inertia", False)
+    assert (part_cache.STATS["built"], part_props.STATS["integrated"]) == (built, integrated)
 
 
 def test_cached_integrals_equal_a_fresh_build_and_integration(cold, monkeypatch):

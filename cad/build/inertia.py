@@ -92,10 +92,11 @@ def inertia_assembly(design, fidelity: str = "inertia"):
 
 
 def warm_part_cache(design, fidelity: str = "inertia", share: tuple[int, int] = (0, 1)) -> int:
-    """Make, validate and integrate the parts of ``design`` whose mass properties are not
-    cached yet -- of those (sorted by cache key) every ``share[1]``-th from ``share[0]`` -- so
-    that ``share[1]`` processes warm the shape and mass-property caches together, each part
-    once (``hapticad sweep`` at worker start). Returns the number of parts of this share."""
+    """Mass properties of the parts of ``design`` that integrate a solid -- of those (sorted
+    by cache key, the same list in every process) every ``share[1]``-th from ``share[0]`` --
+    made, validated and integrated unless cached, so that ``share[1]`` processes warm the
+    shape and mass-property caches together, each part once (``hapticad sweep`` at worker
+    start). Returns the number of parts of this share."""
     from cad.parts.part_cache import DeferredShape
     from cad.parts.part_props import unit_volume_props
 

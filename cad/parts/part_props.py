@@ -7,8 +7,9 @@ and a part solid is a function of its cache key (:mod:`cad.parts.part_cache`: ge
 arguments, source hash, library versions). So the integrals are kept by that key:
 
 * in this process (a dict by key), then
-* on disk, ``<cache dir>/props/<sha256 of the key>.json`` beside the BREP files of
-  :mod:`cad.parts.shape_cache`. An entry holds the full key and the three integrals (floats
+* on disk, ``<cache dir>/props-v1/<2 hex>/<sha256 of the key>.json`` beside the BREP files
+  of :mod:`cad.parts.shape_cache` (256 sub-folders: an atomic write scans its folder for
+  stale temporary files, so a sweep's thousands of entries must not share one folder). An entry holds the full key and the three integrals (floats
   written by ``repr``, so they read back bit-identical) and the sha256 of that payload; a
   wrong hash, another key, unreadable JSON or a non-finite / non-positive value is a miss
   (the solid is then made or read, validated and integrated again, and the entry rewritten).
@@ -61,7 +62,7 @@ def _entry_path(key: str) -> Path | None:
     if d is None:
         return None
     name = hashlib.sha256(f"props:{_code_version()}|{key}|{_versions()}".encode()).hexdigest()[:32]
-    return d / PROPS_DIR / f"{name}.json"
+    return d / PROPS_DIR / name[:2] / f"{name}.json"
 
 
 def _payload_text(payload: dict) -> str:
