@@ -90,10 +90,10 @@ def sweep_angles(design, n: int) -> np.ndarray:
 
 def _kind_props(kind):
     """MassProps of a part kind in its own frame (SI), or None when it carries no mass."""
-    from cad.massprops.occt import cached_solid_mass_props
     from cad.massprops.props import from_principal
     from cad.materials import get_material
     from cad.parts.catalog import ring_inertia_kg_m2
+    from cad.parts.part_props import part_mass_props
 
     if kind.inertia_model == "none":
         return None
@@ -103,7 +103,7 @@ def _kind_props(kind):
         return from_principal(
             kind.mass_kg, np.array([0.0, 0.0, b / 2 * 1e-3]), np.array([it, it, ia])
         )
-    props = cached_solid_mass_props(kind.shape, get_material(kind.material).density_kg_m3)
+    props = part_mass_props(kind.shape, get_material(kind.material).density_kg_m3)
     if kind.mass_kg is not None:
         props = props.scaled(kind.mass_kg / props.mass_kg)
     return props

@@ -94,6 +94,21 @@ def _write(shape, path: Path) -> None:
     write_text_atomic(_hash_path(path), digest + "\n")
 
 
+def entry_path(key: str) -> Path | None:
+    """The BREP file of ``key`` (None when the cache is off)."""
+    d = cache_dir()
+    if d is None:
+        return None
+    return d / (hashlib.sha256(f"{key}|{_versions()}".encode()).hexdigest()[:32] + ".brep")
+
+
+def read_cached_shape(key: str):
+    """The cached shape of ``key`` (verified as in :func:`cached_shape`), or None: nothing
+    is made or written."""
+    path = entry_path(key)
+    return _read(path) if path is not None and path.is_file() else None
+
+
 def cached_shape(key: str, make: Callable[[], object]):
     """The ``TopoDS_Shape`` for ``key``: from the disk cache, else ``make()`` then cached.
 
@@ -102,12 +117,10 @@ def cached_shape(key: str, make: Callable[[], object]):
     """
     from cad.parts.lazy_import import import_build123d
 
-    d = cache_dir()
-    if d is None:
+    path = entry_path(key)
+    if path is None:
         import_build123d()  # before a part generator imports it (defers scikit-learn)
         return make()
-    name = hashlib.sha256(f"{key}|{_versions()}".encode()).hexdigest()[:32] + ".brep"
-    path = d / name
     if path.is_file():
         shape = _read(path)
         if shape is not None:
