@@ -2,7 +2,7 @@
 
 Building a bd_warehouse bearing or screw costs 0.2-0.4 s each; reading its BREP back
 costs a few ms and needs neither bd_warehouse nor build123d. The key is the part
-generator's name and arguments plus the versions of bd_warehouse and OCP, so a new
+generator's name and arguments plus the versions of bd_warehouse, build123d and OCP, so a new
 library version rebuilds. Every caller gets the shape READ BACK from the file (also
 right after building it), so a first and a later build use bit-identical geometry
 and their exports are byte-identical.
@@ -39,7 +39,7 @@ def cache_dir() -> Path | None:
 @functools.cache
 def _versions() -> str:
     out = []
-    for pkg in ("bd_warehouse", "cadquery-ocp", "cadquery-ocp-novtk"):
+    for pkg in ("bd_warehouse", "build123d", "cadquery-ocp", "cadquery-ocp-novtk"):
         try:
             out.append(f"{pkg}={version(pkg)}")
         except PackageNotFoundError:
