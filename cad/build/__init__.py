@@ -218,10 +218,15 @@ def build_design(
     if check_buildable is not None:  # links shorter than their joint hardware, before any CAD
         check_buildable()
     from cad.export.manifest import write_manifest
-    from cad.parts.lazy_import import import_build123d
+    from cad.parts.lazy_import import routed_first_import
 
-    import_build123d()  # the build's first CAD import, without scikit-learn (lazy_import)
-    with atomic_dir(out_dir, check=check) as tmp, _children_cancelled_on_error():
+    # build123d is imported only if a solid (or a file derived from one) is missing from the
+    # shape and derived caches, and then without scikit-learn (cad.parts.lazy_import)
+    with (
+        routed_first_import(),
+        atomic_dir(out_dir, check=check) as tmp,
+        _children_cancelled_on_error(),
+    ):
         report = mod.build(
             design,
             tmp,
