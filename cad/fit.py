@@ -23,6 +23,7 @@ change with it too, so H is only nearly linear in ``bar_thickness_mm``.
 from __future__ import annotations
 
 import copy
+import itertools
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -36,6 +37,10 @@ from cad.errors import DesignError, HapticadError
 MATERIAL_CHOICES = ("carbon-fibre", "delrin", "pla", "petg", "aluminium-6061", "aluminium-7075",
                     "stainless-304", "steel-1018", "brass-360")
 NUMERIC_DEFAULT_SPAN = (0.5, 1.5)
+#: ``--free parts.layer_order``: the 6 stackings of the moving links, bottom to top (a clashing
+#: order is left to the evaluation: interference is a target, a stack that cannot be fastened
+#: is infeasible)
+LAYER_ORDER_CHOICES = tuple(list(o) for o in itertools.permutations(("crank", "coupler", "rocker")))
 #: all-choice searches up to this many combinations are exhaustive (GridSampler)
 GRID_MAX = 64
 
@@ -85,7 +90,20 @@ def current_value(design, path: str) -> Any:
     section, name = path.split(".", 1)
     if section == "mechanism":
         return design.params[name]
+    if name == "layer_order":
+        return layer_order_of(design)
     return getattr(design.parts, name)
+
+
+def layer_order_of(design) -> list[str]:
+    """The design's layer order (bottom to top): ``[parts] layer_order`` or the planner's
+    automatic choice (:func:`cad.assembly.layers.choose_layers`, numpy only)."""
+    if design.parts.layer_order is not None:
+        return list(design.parts.layer_order)
+    from cad.codesign.cheap import layer_plan
+
+    plan = layer_plan(design)
+    return list(plan.order) if plan is not None else list(LAYER_ORDER_CHOICES[0])
 
 
 def parse_free_pantograph(spec: str, design) -> FreeParam:
@@ -156,6 +174,10 @@ def parse_free(spec: str, parts_spec) -> FreeParam:
     if name not in ALLOWED_KEYS:
         raise DesignError(f"--free {spec}", f"unknown part parameter {name!r}")
     current = getattr(parts_spec, name)
+    if name == "layer_order":
+        if rng:
+            raise DesignError(f"--free {spec}", "a layer order takes no range (all 6 orders are tried)")
+        return FreeParam(key, "choice", choices=LAYER_ORDER_CHOICES)
     if name.endswith("_material"):
         if rng:
             raise DesignError(f"--free {spec}", "a material takes no range")

@@ -45,7 +45,7 @@ def test_cheap_model_error_at_the_optimum(light_check):
 
     exact = light_check[1]["computed"]["M11_max_g"]
     est = cheap.apparent_mass(load_design(LIGHT))["M11_max_g"]
-    assert abs(est - exact) / exact < 0.08  # README: +3.0 % at this optimum
+    assert abs(est - exact) / exact < 0.05  # README: +1.5 % at this optimum
 
 
 def test_search_candidates_meet_the_constraints_recomputed():
@@ -100,7 +100,7 @@ def test_search_perturbs_the_family_proportions_within_the_tolerance():
     pb = search.problem_from(d)
     pb.fixed_parts = {"hub_shaft_engagement_min_mm": 5.0}
     pb.proportions_tol = 0.05
-    cands, records = search.run(pb, 12, seed=1)
+    cands, records = search.run(pb, 16, seed=0)
     assert cands
     fam = d.linkage
     moved = 0.0

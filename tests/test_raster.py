@@ -124,3 +124,40 @@ def test_too_many_triangles_is_refused():
     px, z = _square(0, 0, 1, 1, 0.5)
     with pytest.raises(ValueError, match="triangles"):
         raster.rasterize(px, z, raster.empty_keys(4, 4), 4, id_offset=(1 << raster.ID_BITS) - 2)
+
+
+def _box_instance(name, body, size_mm, at_mm):
+    from types import SimpleNamespace
+
+    v, f = _cube(1.0)
+    v = v * np.asarray(size_mm, float)
+    T = np.eye(4)
+    T[:3, 3] = at_mm
+    kind = SimpleNamespace(name=name, listed=True)
+    return SimpleNamespace(name=name, body=body, kind=kind, tf_body_part=T), (v, f)
+
+
+def test_stroke_frames_equal_a_full_redraw(monkeypatch):
+    """The GIF path draws the fixed bodies once and redraws only the box the moving ones
+    sweep: every frame must equal drawing the whole scene again (no body fixed)."""
+    from cad.report import render
+
+    base, base_mesh = _box_instance("base", "ground", (100, 80, 5), (0, 0, 0))
+    post, post_mesh = _box_instance("post", "ground", (8, 8, 40), (10, 10, 5))
+    link, link_mesh = _box_instance("link", "crank", (40, 10, 4), (0, 0, 0))
+    meshes = {"base": base_mesh, "post": post_mesh, "link": link_mesh}
+    colors = {"base": (0.6, 0.6, 0.6), "post": (0.4, 0.4, 0.4), "link": (0.2, 0.4, 0.8)}
+    n = 5
+    ground = np.broadcast_to(np.eye(4), (n, 4, 4))
+    crank = np.repeat(np.eye(4)[None], n, axis=0)
+    for k, a in enumerate(np.linspace(0, np.pi / 2, n)):  # turns about the post, above it
+        crank[k, :3, :3] = [[np.cos(a), -np.sin(a), 0], [np.sin(a), np.cos(a), 0], [0, 0, 1]]
+        crank[k, :3, 3] = (14, 14, 46)
+    tfs = {"ground": ground, "crank": crank}
+    args = ([base, post, link], tfs, meshes, colors, list(range(n)))
+    split = [np.asarray(im) for im in render.render_images(*args, size_px=(160, 120))]
+    monkeypatch.setattr(render, "_static_bodies", lambda *a: set())
+    full = [np.asarray(im) for im in render.render_images(*args, size_px=(160, 120))]
+    for a, b in zip(split, full, strict=True):
+        assert np.array_equal(a, b)
+    assert not np.array_equal(split[0], split[-1])  # the link moved

@@ -27,7 +27,7 @@ from pathlib import Path
 
 import numpy as np
 
-from cad.report.figures import save_figure
+from cad.report.figures import TITLE_Y, save_figure
 
 #: Files every build writes at the top of its output folder (``parts/`` holds the rest).
 LAYOUT = (
@@ -238,8 +238,8 @@ def write_preview(instances, tf_world_body: dict, out: Path, title: str, marks=N
     for label, pts in marks or ():
         pts = np.asarray(pts)
         axes[0].plot(pts[:, 0], pts[:, 1], "k-", lw=1.0, label=label)
-    axes[0].set_title("top view (mm)")
-    axes[1].set_title("side view x-z (mm)")
+    axes[0].set_title("top view (mm)", y=TITLE_Y)
+    axes[1].set_title("side view x-z (mm)", y=TITLE_Y)
     for ax in axes:
         ax.set_aspect("equal")
         ax.autoscale_view()

@@ -39,7 +39,7 @@ from pathlib import Path
 import numpy as np
 
 from cad.errors import DesignError
-from cad.report.figures import save_figure
+from cad.report.figures import TITLE_Y, save_figure
 
 #: Source the output depends on (build cache key): any change there rebuilds.
 CODE_DEPS = (
@@ -228,8 +228,8 @@ def write_preview(asm, tf_world_body, i: int, path_P_mm: np.ndarray, out: Path, 
                     )
                 )
     axes[0].plot(path_P_mm[:, 0], path_P_mm[:, 1], "k-", lw=1.0, label="P path")
-    axes[0].set_title("top view (R0, mm)")
-    axes[1].set_title("side view x-z (mm)")
+    axes[0].set_title("top view (R0, mm)", y=TITLE_Y)
+    axes[1].set_title("side view x-z (mm)", y=TITLE_Y)
     for ax in axes:
         ax.set_aspect("equal")
         ax.autoscale_view()

@@ -126,7 +126,7 @@ def _print_fourbar(rep: dict) -> None:
           f"(cheap model {b['cheap']['M11_max_g']:.2f} g, error {100 * ex['cheap_error_rel']:+.1f} %)")
     print(f"  joints {b['parts']['bearing']} + {b['parts']['pin']} ({b['parts']['pin_material']}), bars "
           f"{b['parts']['bar_material']} {b['parts']['bar_thickness_mm']:g} x {b['parts']['bar_width_mm']:g} mm, "
-          f"motor {b['parts']['motor']}")
+          f"motor {b['parts']['motor']}, layers (bottom to top) {', '.join(b['layer_order'])}")
     print(f"  crank {b['mechanism']['phi1_min_deg']:.1f} .. {b['mechanism']['phi1_max_deg']:.1f} deg, "
           f"dy_max {ex['dy_max_mm']:.3f} mm, torque variation {ex['torque_variation']:.4f}, "
           f"first mode {ex['structure']['first_mode_Hz']:.0f} Hz, min clearance {ex['min_clearance_mm']:.2f} mm")

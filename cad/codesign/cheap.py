@@ -6,12 +6,20 @@ Per link, in the link frame (mm in, SI out):
   minus the pocket slots of :func:`cad.parts.bars.pocket_segments` and the joint holes)
   x thickness x density; COM at the joints' centroid; Izz = m (L^2 + w^2) / 12 about
   it (L the outline length along the hull);
-* joint hardware as point masses at the joint: bearing (catalog mass), pin (cylinder
-  d x stack length, or ISO 7379 head + shoulder + thread), spacers, nut or ring, washer
-  -- the same stack rule as :mod:`cad.assembly.layers` (shim = t - B + head clearance,
-  gap spacer = layer_gap). A point mass at a joint has the same velocity whichever link
-  carries it, so the layer order does not enter (only the small spin inertias do);
-* crank hub (disc at A1), knob (cylinder at P) and its screw, hub screws;
+* joint hardware as point masses at the joint, on the link that carries it in the
+  layer plan (:func:`cad.assembly.layers.choose_layers`, numpy only, for the design's
+  ``layer_order`` or the planner's choice): the bearing on the UPPER link, the pin
+  (cylinder d x its catalog length, or ISO 7379 head + shoulder + thread), the gap and
+  head spacers, nut or ring and washer on the LOWER link (the ground at A4), each of
+  the plan's height at that joint (:class:`cad.assembly.layers.JointStack`); the bars
+  have the bearing seat where they are the upper link and the pin hole elsewhere. A
+  point mass at a joint has the same velocity whichever link carries it, so the layer
+  order moves mass between H22, H12 and H33 but changes D (and M11) only through the
+  stack heights (a joint spanning two layers has a longer spacer and pin), the crank
+  hub's height and the seats. Without a plan (no layout exists) each joint's hardware
+  is split half and half between its links, with a one-gap stack;
+* crank hub (disc at A1, from the base clearance up to the crank, 10 mm without a
+  plan), knob (cylinder at P) and its screw, hub screws;
 * the rotor inertia Jm of the motor catalog.
 
 Then H11..H33 (eqs 16-19, :func:`cad.dynamics.inertia.h_from_links`) and M11 over the
@@ -34,8 +42,10 @@ def _rho(material: str) -> float:
     return get_material(material).density_kg_m3
 
 
-def _features(parts, J, link: str) -> dict:
-    """Joint features of a bar as :mod:`cad.parts.bars` wants them (sizes as the assembly)."""
+def _features(parts, J, link: str, plan=None) -> dict:
+    """Joint features of a bar as :mod:`cad.parts.bars` wants them (sizes as the assembly):
+    the bearing seat where ``link`` is the upper link of the joint in ``plan`` (without a
+    plan: on the coupler), the pin hole elsewhere."""
     from cad.parts import catalog as cat
     from cad.parts.bars import Feature
 
@@ -52,19 +62,20 @@ def _features(parts, J, link: str) -> dict:
             f = Feature("tapped", d_mm=cat.tap_drill_mm(parts.handle_screw),
                         keep_r_mm=parts.handle_diameter_mm / 2)
         else:
-            f = seat if link == "coupler" else Feature("pin", d_mm=pin.ds_mm)
+            upper = plan.joints[j].upper == link if plan is not None else link == "coupler"
+            f = seat if upper else Feature("pin", d_mm=pin.ds_mm)
         out[j] = (np.asarray(xy, float), f)
     return out
 
 
-def tube_bar_props(parts, J, link: str) -> tuple[float, np.ndarray, float]:
+def tube_bar_props(parts, J, link: str, plan=None) -> tuple[float, np.ndarray, float]:
     """(mass kg, COM m (2,), Izz about COM kg m^2) of a tube bar (``bar_style = "tube"``):
     each tube a thick-walled cylinder (m (3 (R^2 + r^2) + L^2) / 12 about its middle), each
     clevis its primitives (half disc + block per socket arm, two opposite arms a 2 Lc x w
     block; minus sockets, bore, seat annulus) as a point mass at its COM."""
     from cad.parts import tubebars as tb
 
-    feats = _features(parts, J, link)
+    feats = _features(parts, J, link, plan)
     pts = {n: p for n, (p, _) in feats.items()}
     segs = tb.segments(link, pts)
     t, r, Lc, sd = parts.bar_thickness_mm, parts.bar_end_radius_mm, parts.clevis_length_mm, parts.socket_depth_mm
@@ -116,13 +127,13 @@ def tube_problem(design) -> str | None:
     return None
 
 
-def bar_props(parts, J, link: str) -> tuple[float, np.ndarray, float]:
+def bar_props(parts, J, link: str, plan=None) -> tuple[float, np.ndarray, float]:
     """(mass kg, COM m (2,), Izz about COM kg m^2) of a bar (module docstring)."""
     from cad.parts.bars import hull_points, outline_area_mm2, pocket_segments
 
     if parts.bar_style == "tube":
-        return tube_bar_props(parts, J, link)
-    feats = _features(parts, J, link)
+        return tube_bar_props(parts, J, link, plan)
+    feats = _features(parts, J, link, plan)
     pts = np.array([p for p, _ in feats.values()])
     r = parts.bar_end_radius_mm
     area = outline_area_mm2(pts, r)
@@ -141,35 +152,80 @@ def bar_props(parts, J, link: str) -> tuple[float, np.ndarray, float]:
     return m, com, m * (L**2 + parts.bar_width_mm**2) * 1e-6 / 12
 
 
-def joint_hardware_kg(parts) -> float:
-    """Mass (kg) of one joint's hardware: bearing, pin, two spacers, nut or ring, washer."""
+def joint_split_kg(parts, spacer_mm: float, pin_length_mm: float | None = None,
+                   shim_mm: float | None = None, nut: bool = True) -> tuple[float, float]:
+    """(upper kg, lower kg) of one joint's hardware: the bearing (and a pin sleeve's bore
+    ring, with the bearing) on the upper link; the pin, the gap spacer (``spacer_mm``) and head
+    spacer (``shim_mm``, default t - B + head clearance), nut or ring and washer (when ``nut``)
+    on the lower link. ``pin_length_mm``: the pin's catalog length (default the clamp plus
+    one bar thickness)."""
     from cad.assembly.layers import spacer_od_mm
     from cad.parts import catalog as cat
 
     brg = cat.get_bearing(parts.bearing)
     pin = cat.get_shoulder_screw(parts.pin)
     t = parts.bar_thickness_mm
-    shim = t - brg.B_mm + parts.pin_head_clearance_mm
-    stack = shim + brg.B_mm + parts.layer_gap_mm + t
-    rho_pin = _rho(parts.pin_material)
+    shim = t - brg.B_mm + parts.pin_head_clearance_mm if shim_mm is None else shim_mm
+    L = shim + brg.B_mm + spacer_mm + t if pin_length_mm is None else pin_length_mm
     if cat.is_dowel(parts.pin):
         ring = cat.get_retaining_ring(pin.ds_mm)
-        v_pin = math.pi / 4 * pin.ds_mm**2 * (pin.k_mm + stack + pin.b_mm)
+        v_pin = math.pi / 4 * pin.ds_mm**2 * (pin.k_mm + L + pin.b_mm)
         v_nut = 2 * math.pi / 4 * (ring.d4_mm**2 - pin.ds_mm**2) * ring.s_mm
     else:
-        nut = cat.get_nut(parts.pin)
-        v_pin = math.pi / 4 * (pin.dk_mm**2 * pin.k_mm * 0.85 + pin.ds_mm**2 * stack
+        n = cat.get_nut(parts.pin)
+        v_pin = math.pi / 4 * (pin.dk_mm**2 * pin.k_mm * 0.85 + pin.ds_mm**2 * L
                                + pin.thread_mm**2 * pin.b_mm)
-        v_nut = (math.sqrt(3) / 2 * nut.s_mm**2 - math.pi / 4 * pin.thread_mm**2) * nut.m_mm
+        v_nut = (math.sqrt(3) / 2 * n.s_mm**2 - math.pi / 4 * pin.thread_mm**2) * n.m_mm
     w = cat.get_washer(parts.pin)
     v_w = math.pi / 4 * (w.d2_mm**2 - w.d1_mm**2) * w.h_mm
     od = spacer_od_mm(parts)
-    v_sp = math.pi / 4 * (od**2 - pin.ds_mm**2) * (shim + parts.layer_gap_mm)
-    m = brg.mass_kg if parts.bearing_mass_g is None else parts.bearing_mass_g * 1e-3
+    v_sp = math.pi / 4 * (od**2 - pin.ds_mm**2) * (shim + spacer_mm)
+    upper = brg.mass_kg if parts.bearing_mass_g is None else parts.bearing_mass_g * 1e-3
+    lower = v_pin * 1e-9 * _rho(parts.pin_material) + v_sp * 1e-9 * _rho(parts.spacer_material)
+    if nut:
+        lower += (v_nut + v_w) * 1e-9 * STEEL
     if parts.pin_sleeve_material is not None:
-        m += math.pi / 4 * (brg.d_mm**2 - pin.ds_mm**2) * brg.B_mm * 1e-9 * _rho(parts.pin_sleeve_material)
-    return (m + v_pin * 1e-9 * rho_pin + (v_nut + v_w) * 1e-9 * STEEL
-            + v_sp * 1e-9 * _rho(parts.spacer_material))
+        lower += math.pi / 4 * (brg.d_mm**2 - pin.ds_mm**2) * brg.B_mm * 1e-9 * _rho(parts.pin_sleeve_material)
+    return upper, lower
+
+
+def joint_hardware_kg(parts) -> float:
+    """Mass (kg) of one joint's hardware with a one-gap stack: bearing, pin, two spacers, nut
+    or ring, washer (:func:`joint_split_kg`)."""
+    return sum(joint_split_kg(parts, parts.layer_gap_mm))
+
+
+def layer_plan(design, parts=None):
+    """The layer plan of ``design`` (numpy only, the build's poses), or None when the planner
+    finds no layout (the build refuses it)."""
+    from cad.assembly.layers import choose_layers
+    from cad.assembly.pose import planar_transforms
+    from cad.errors import HapticadError
+    from cad.kinematics.linkgeom import link_joints_mm
+
+    parts = parts or design.parts
+    fb = design.linkage
+    phi = np.linspace(design.phi1_min_rad, design.phi1_max_rad, parts.interference_poses)
+    try:
+        return choose_layers(link_joints_mm(fb), parts, planar_transforms(fb, phi))
+    except HapticadError:
+        return None
+
+
+def hardware_items(parts, J, plan=None) -> dict[str, list[tuple[float, np.ndarray]]]:
+    """{link: [(kg, point m (2,))]} of the joint hardware as point masses (module docstring)."""
+    out: dict[str, list] = {"crank": [], "coupler": [], "rocker": []}
+    if plan is None:
+        hw = joint_hardware_kg(parts)
+        for link in out:
+            out[link] += [(hw / 2, np.asarray(J[link][j]) * 1e-3) for j in ("A2", "A3", "A4") if j in J[link]]
+        return out
+    for j, s in plan.joints.items():
+        up, low = joint_split_kg(parts, s.spacer_mm, s.pin_length_mm, s.shim_mm, s.nut)
+        out[s.upper].append((up, np.asarray(J[s.upper][j]) * 1e-3))
+        if s.lower in out:
+            out[s.lower].append((low, np.asarray(J[s.lower][j]) * 1e-3))
+    return out
 
 
 def handle_kg(parts) -> float:
@@ -184,31 +240,26 @@ def handle_kg(parts) -> float:
     return knob + screw
 
 
-def link_inertias(design, parts=None) -> dict:
-    """{link: PlanarLinkInertia} of the cheap model (module docstring)."""
+def link_inertias(design, parts=None, plan=None) -> dict:
+    """{link: PlanarLinkInertia} of the cheap model (module docstring); ``plan``: the layer
+    plan (:func:`layer_plan`; None: the order-free split)."""
     from cad.dynamics.inertia import PlanarLinkInertia
     from cad.kinematics.linkgeom import link_joints_mm
     from cad.parts import catalog as cat
 
     parts = parts or design.parts
     J = link_joints_mm(design.linkage)
-    hw = joint_hardware_kg(parts)
+    hw = hardware_items(parts, J, plan)
+    hub_h = 10.0 if plan is None else plan.hub_z_mm[1] - plan.hub_z_mm[0]
     out = {}
     for link in ("crank", "coupler", "rocker"):
-        m, c, izz = bar_props(parts, J, link)
-        items = [(m, c, izz)]
-        for j, xy in J[link].items():
-            p = np.asarray(xy) * 1e-3
-            if j in ("A2", "A3"):
-                items.append((hw / 2, p, 0.0))  # each joint's hardware shared by its two links
-            elif j == "A4":
-                items.append((hw * 0.5, p, 0.0))
-            elif j == "P":
-                items.append((handle_kg(parts), p, 0.0))
-            elif j == "A1":
-                hub_m = (math.pi / 4 * (parts.hub_diameter_mm**2 - 36) * 10.0 * 1e-9 * _rho(parts.hub_material)
-                         + 3 * 1.0e-3 * (cat.thread_diameter_mm(parts.hub_screw) / 3) ** 2)
-                items.append((hub_m, p, hub_m * (parts.hub_diameter_mm * 1e-3) ** 2 / 8))
+        items = [bar_props(parts, J, link, plan)] + [(m, p, 0.0) for m, p in hw[link]]
+        if "P" in J[link]:
+            items.append((handle_kg(parts), np.asarray(J[link]["P"]) * 1e-3, 0.0))
+        if "A1" in J[link]:
+            hub_m = (math.pi / 4 * (parts.hub_diameter_mm**2 - 36) * hub_h * 1e-9 * _rho(parts.hub_material)
+                     + 3 * 1.0e-3 * (cat.thread_diameter_mm(parts.hub_screw) / 3) ** 2)
+            items.append((hub_m, np.asarray(J[link]["A1"]) * 1e-3, hub_m * (parts.hub_diameter_mm * 1e-3) ** 2 / 8))
         M = sum(i[0] for i in items)
         com = sum(i[0] * i[1] for i in items) / M
         izz = sum(i[2] + i[0] * float(np.sum((i[1] - com) ** 2)) for i in items)
@@ -224,17 +275,22 @@ def rotor_inertia_kg_m2(parts) -> float:
     return cat.get_motor(parts.motor).rotor_inertia_kg_m2
 
 
-def apparent_mass(design, parts=None, samples: int = 201) -> dict:
-    """Cheap-model H11..H33 and M11 range (g) of ``design`` (optionally other ``parts``)."""
+def apparent_mass(design, parts=None, samples: int = 201, plan=False) -> dict:
+    """Cheap-model H11..H33 and M11 range (g) of ``design`` (optionally other ``parts``);
+    ``plan``: the layer plan (:func:`layer_plan`), computed when not given (False), None for
+    the order-free split."""
     from cad.dynamics.inertia import apparent_mass_matrix, apparent_mass_summary, h_from_links
     from cad.kinematics.fourbar import solve
     from cad.kinematics.metrics import path_frame
 
     parts = parts or design.parts
-    li = link_inertias(design, parts)
+    if plan is False:
+        plan = layer_plan(design, parts)
+    li = link_inertias(design, parts, plan)
     H = h_from_links(design.linkage, li["crank"], li["coupler"], li["rocker"], rotor_inertia_kg_m2(parts))
     phi = np.linspace(design.phi1_min_rad, design.phi1_max_rad, samples)
     fr = path_frame(design.linkage, design.phi1_min_rad, design.phi1_max_rad)
     M = apparent_mass_matrix(design.linkage, solve(design.linkage, phi), H, fr)
     return {**H.as_dict(), **apparent_mass_summary(M),
-            "moving_mass_g": sum(v.mass_kg for v in li.values()) * 1e3}
+            "moving_mass_g": sum(v.mass_kg for v in li.values()) * 1e3,
+            "layer_order": None if plan is None else list(plan.order)}

@@ -23,7 +23,7 @@ def optimize_fourbar(design, objective: str, trials: int, seed: int, top: int, c
     checked, best = [], None
     seen = set()
     for c in cands:
-        key = (tuple(sorted(c.parts.items())), round(c.mechanism["phi1_min_deg"], 1))
+        key = (repr(sorted(c.parts.items())), round(c.mechanism["phi1_min_deg"], 1))
         if key in seen:
             continue
         seen.add(key)
@@ -50,8 +50,9 @@ def optimize_fourbar(design, objective: str, trials: int, seed: int, top: int, c
                          "motor_continuous_torque_mNm": search.MOTOR_CONTINUOUS_TORQUE_MNM},
         "search_wall_s": t_search, "exact_checked": checked,
         "best": None if best is None else {"trial": best[0].number, "mechanism": best[0].mechanism,
-                                           "parts": best[0].parts, "cheap": _clean(best[0].cheap),
-                                           "exact": best[1]},
+                                           "parts": best[0].parts, "layer_order": best[1]["layers"],
+                                           "cheap": _clean(best[0].cheap), "exact": best[1]},
+        "layer_orders_searched": None if "layer_order" in pb.fixed_parts else list(search.LAYER_ORDERS),
         "pareto_front": [{k: r[k] for k in ("trial", "M11_max_g", "torque_variation", "footprint_mm2")}
                          for r in front],
         "wall_s": time.perf_counter() - t0,

@@ -11,6 +11,10 @@ Free (per trial):
 * bars: material, a stock thickness of that material (:data:`STOCK_THICKNESS_MM`),
   width, pockets on/off (end radius: the smallest that holds the bearing seat and hub);
 * handle: material, diameter, height, screw; the motor (:data:`MOTOR_CONTINUOUS_TORQUE_MNM`);
+* the layer order (``[parts] layer_order``): one of the 6 stackings of crank, coupler and
+  rocker (:data:`LAYER_ORDERS`), unless the brief fixes it. The cheap model sees it: each
+  joint's hardware rides on the link the plan gives it (bearing on the upper link, pin,
+  spacers, nut on the lower) with the plan's stack heights (:mod:`cad.codesign.cheap`);
 * tube bars, when the brief sets ``[parts] bar_style = "tube"``: a stock tube of
   :data:`TUBE_STOCK_MM` and a clevis height of :data:`CLEVIS_STOCK_MM` that holds it with 1 mm walls, the clevis
   length the shortest that clears the joint features (:func:`suggest_tube`).
@@ -18,9 +22,12 @@ Free (per trial):
 Constraints (a trial violating one is infeasible): ``dy_max_mm`` (design target, default
 0.2), ``min_transmission_angle_deg`` (target, default 40), peak crank torque at
 ``force_N`` <= the motor's continuous torque, a valid ``[parts]`` table (bearing fits the
-bar, hub fits the crank end), and the structural limits (first mode, stress: the frame of
+bar, hub fits the crank end), a layout in the trial's layer order (the planner of
+:mod:`cad.assembly.layers` over the build's poses: a clash between links that widening the
+gaps cannot cure, or a stack no catalog pin or screw can fasten, makes the trial infeasible,
+not an error), and the structural limits (first mode, stress: the frame of
 :mod:`cad.structure.device` with FE-calibrated bars at the middle pose, run only for trials
-that would improve the best). Layer order and interference are checked on the exact solids
+that would improve the best). Interference is checked on the exact solids
 (:mod:`cad.codesign.exact`), as are the structure limits again (three poses, the solids' masses).
 
 Why optuna: TPE handles the conditional, mixed categorical/integer/float space (the
@@ -30,6 +37,7 @@ trial for the Pareto chart, and is a maintained library already pinned here.
 
 from __future__ import annotations
 
+import itertools
 import math
 from dataclasses import dataclass, field, replace
 
@@ -58,22 +66,25 @@ CLEVIS_STOCK_MM = (6.0, 8.0, 10.0, 12.0)
 #: Socket depth of the searched tube bars (mm), >= the tube's outside diameter.
 TUBE_SOCKET_MM = 6.0
 HANDLE_MATERIALS = ("abs", "delrin", "pla")
+#: Layer orders searched (bottom to top), as optuna categorical strings "crank/coupler/rocker".
+LAYER_ORDERS = tuple("/".join(o) for o in itertools.permutations(("crank", "coupler", "rocker")))
 HANDLE_SCREWS = ("M3-0.5", "M4-0.7")
 #: Nominal (max. continuous) torque, mN m: maxon catalog values for the lowest-torque
 #: standard windings (RE 35 90 W: 94.6 mN m and up; RE 40 150 W: 170 mN m and up); check the
 #: data sheet of the exact order number.
 MOTOR_CONTINUOUS_TORQUE_MNM = {"maxon-re35": 94.6, "maxon-re40": 170.0}
 #: Starting points enqueued before the TPE search (a workshop's light guesses: the smallest
-#: joint set, carbon-fibre or aluminium plate, a small knob, both motors).
+#: joint set, carbon-fibre or aluminium plate, a small knob, both motors, two layer orders that
+#: keep the coupler above the crank hub).
 STARTS = (
-    {"span_deg": 100.0, "shift_deg": 0.0, "joint": 0, "bar_material": "carbon-fibre",
+    {"span_deg": 96.0, "shift_deg": -10.0, "joint": 0, "bar_material": "carbon-fibre",
      "thickness_carbon-fibre": 5.0, "bar_width_mm": 12, "pin_material": "titanium-6al4v",
      "bar_pockets": True, "handle_material": "abs", "handle_diameter_mm": 14, "handle_height_mm": 16,
-     "handle_screw": "M3-0.5", "motor": "maxon-re40"},
+     "handle_screw": "M3-0.5", "motor": "maxon-re40", "layer_order": "crank/coupler/rocker"},
     {"span_deg": 160.0, "shift_deg": 0.0, "joint": 0, "bar_material": "aluminium-6061",
      "thickness_aluminium-6061": 5.0, "bar_width_mm": 10, "pin_material": "aluminium-7075",
      "bar_pockets": True, "handle_material": "abs", "handle_diameter_mm": 14, "handle_height_mm": 16,
-     "handle_screw": "M3-0.5", "motor": "maxon-re35"},
+     "handle_screw": "M3-0.5", "motor": "maxon-re35", "layer_order": "crank/rocker/coupler"},
 )
 DEFAULT_DY_MAX_MM = 0.2
 DEFAULT_MU_MIN_DEG = 40.0
@@ -96,7 +107,7 @@ class Problem:
 #: [parts] keys of the brief the search keeps as given (the rest it chooses).
 FIXED_PARTS_KEYS = ("hub_shaft_engagement_min_mm", "layer_gap_mm", "clearance_min_mm",
                     "interference_poses", "base_thickness_mm", "motor_mount_thickness_mm",
-                    "bar_style", "tube_material", "clevis_material")
+                    "bar_style", "tube_material", "clevis_material", "layer_order")
 
 
 def fixed_parts(design) -> dict:
@@ -184,6 +195,8 @@ def suggest_parts(trial, pb: Problem) -> dict:
                                                parts.get("hub_screw", "M3-0.5"))
     if parts.get("bar_style") == "tube":
         parts.update(suggest_tube(trial, parts))
+    if "layer_order" not in pb.fixed_parts:
+        parts["layer_order"] = trial.suggest_categorical("layer_order", list(LAYER_ORDERS)).split("/")
     return parts
 
 
@@ -258,16 +271,18 @@ def evaluate(pb: Problem, span_deg: float, shift_deg: float, parts: dict, best: 
     if why:
         info["infeasible"] = f"tubes: {why}"
         return math.inf, info
-    am = cheap.apparent_mass(d)
-    info.update({"M11_max_g": am["M11_max_g"], "M11_min_g": am["M11_min_g"],
-                 "M11_variation": (am["M11_max_g"] - am["M11_min_g"]) / am["M11_max_g"]})
-    if best is not None and am["M11_max_g"] > best:
-        return am["M11_max_g"], info  # cannot become the optimum: skip the structure check
-    why = layer_problem(d)
+    plan, why = layer_problem(d)
     if why:
         info["infeasible"] = f"layers: {why}"
         return math.inf, info
-    st = cheap_structure(d, am["M11_max_g"])
+    info["layer_order"] = list(plan.order)
+    am = cheap.apparent_mass(d, plan=plan)
+    info.update({"M11_max_g": am["M11_max_g"], "M11_min_g": am["M11_min_g"],
+                 "M11_variation": (am["M11_max_g"] - am["M11_min_g"]) / am["M11_max_g"],
+                 "H33_kg_m2": am["H33_kg_m2"]})
+    if best is not None and am["M11_max_g"] > best:
+        return am["M11_max_g"], info  # cannot become the optimum: skip the structure check
+    st = cheap_structure(d, am["M11_max_g"], plan)
     info["first_mode_Hz"], info["max_stress_MPa"] = st["first_mode_Hz"], st["max_stress_MPa"]
     if not st["ok"]:
         info["infeasible"] = "structure"
@@ -275,34 +290,40 @@ def evaluate(pb: Problem, span_deg: float, shift_deg: float, parts: dict, best: 
     return am["M11_max_g"], info
 
 
-def layer_problem(design) -> str | None:
-    """The layer planner's objection to this design (numpy only), or None."""
+def layer_problem(design):
+    """(layer plan, None) or (plan or None, the planner's objection): no layout in any order,
+    a stack no catalog pin or screw fastens (DesignError of :mod:`cad.assembly.layers`), or
+    -- for a given ``[parts] layer_order`` -- a clash between links that widening the gaps
+    does not cure (numpy only, the build's poses)."""
     from cad.assembly.layers import choose_layers
     from cad.assembly.pose import planar_transforms
     from cad.errors import HapticadError
     from cad.kinematics.linkgeom import link_joints_mm
 
-    phi = np.linspace(design.phi1_min_rad, design.phi1_max_rad, 24)
+    parts = design.parts
+    phi = np.linspace(design.phi1_min_rad, design.phi1_max_rad, parts.interference_poses)
     try:
-        choose_layers(link_joints_mm(design.linkage), design.parts, planar_transforms(design.linkage, phi))
+        plan = choose_layers(link_joints_mm(design.linkage), parts, planar_transforms(design.linkage, phi))
     except HapticadError as exc:
-        return str(exc)
-    return None
+        return None, str(exc)
+    if parts.layer_order is not None and plan.conflicts:
+        return plan, f"order {'/'.join(plan.order)} clashes ({plan.conflicts[0]})"
+    return plan, None
 
 
-def cheap_structure(design, M11_max_g: float) -> dict:
-    """Frame structure with FE-calibrated bars (one pose, the range's middle), cheap masses."""
+def cheap_structure(design, M11_max_g: float, plan=None) -> dict:
+    """Frame structure with FE-calibrated bars (one pose, the range's middle), cheap masses
+    (joint hardware on the links that carry it in ``plan``)."""
     from cad.codesign import cheap
     from cad.kinematics.linkgeom import link_joints_mm
     from cad.structure import device
 
     J = link_joints_mm(design.linkage)
     parts = design.parts
-    hw = cheap.joint_hardware_kg(parts)
-    lumped = [device.Lumped(lk, tuple(J[lk][j]), hw / 2) for lk, j in
-              (("crank", "A2"), ("coupler", "A2"), ("coupler", "A3"), ("rocker", "A3"), ("rocker", "A4"))]
+    hw = cheap.hardware_items(parts, J, plan)
+    lumped = [device.Lumped(lk, (float(p[0]) * 1e3, float(p[1]) * 1e3), m) for lk, items in hw.items() for m, p in items]
     lumped.append(device.Lumped("coupler", tuple(J["coupler"]["P"]), cheap.handle_kg(parts)))
-    bars = {lk: cheap.bar_props(parts, J, lk)[0] for lk in ("crank", "coupler", "rocker")}
+    bars = {lk: cheap.bar_props(parts, J, lk, plan)[0] for lk in ("crank", "coupler", "rocker")}
     return device.analyse(design, lumped, bars, "fem", M11_max_g * 1e-3, design.targets, poses=1)
 
 

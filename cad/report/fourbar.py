@@ -13,16 +13,20 @@ from typing import Any
 import numpy as np
 
 from cad.io.atomic import atomic_path, write_text_atomic
-from cad.report.figures import save_figure
+from cad.report.figures import TITLE_Y, save_figure
 
 
-def _plt():
-    import matplotlib
+def _figure(width_in: float, height_in: float, ncols: int = 1, **adjust):
+    """A matplotlib ``Figure`` with ``ncols`` axes side by side, fixed margins (fractions of
+    the figure, ``adjust``: ``subplots_adjust`` keys) instead of ``tight_layout`` (which
+    draws the figure once more to measure it). No pyplot: no global figure registry, and
+    ``savefig`` renders with Agg for PNG."""
+    from matplotlib.figure import Figure
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    return plt
+    fig = Figure(figsize=(width_in, height_in))
+    ax = fig.subplots(1, ncols)
+    fig.subplots_adjust(**adjust)
+    return fig, ax
 
 
 def plot_kinematics(design, path: Path) -> Path:
@@ -30,7 +34,6 @@ def plot_kinematics(design, path: Path) -> Path:
     from cad.kinematics.fourbar import closure_margin, jacobian_mm_per_rad, solve
     from cad.kinematics.metrics import path_frame
 
-    plt = _plt()
     fb = design.linkage
     lo, hi = design.phi1_min_rad, design.phi1_max_rad
     full = np.linspace(lo - np.pi, lo + np.pi, 1441)
@@ -40,7 +43,7 @@ def plot_kinematics(design, path: Path) -> Path:
     fr = path_frame(fb, lo, hi)
     xy = fr.to_path(pose.P_mm)
     tau = design.force_N * fr.rotate(jacobian_mm_per_rad(fb, pose))[:, 0]
-    fig, ax = plt.subplots(1, 3, figsize=(15, 4.6))
+    fig, ax = _figure(15, 4.6, 3, left=0.04, right=0.99, bottom=0.11, top=0.93, wspace=0.22)
     if ok.any():
         # split where closure fails so the curve is not drawn across gaps
         idx = np.nonzero(ok)[0]
@@ -56,22 +59,20 @@ def plot_kinematics(design, path: Path) -> Path:
         ax[0].plot([pose.A2_mm[k, 0], pose.P_mm[k, 0]], [pose.A2_mm[k, 1], pose.P_mm[k, 1]],
                    "--", color="C0", lw=0.8)
     ax[0].set_aspect("equal")
-    ax[0].set_title(f"{design.name}: coupler curve (R0, mm)")
+    ax[0].set_title(f"{design.name}: coupler curve (R0, mm)", y=TITLE_Y)
     ax[0].legend(loc="best", fontsize=8)
     ax[1].plot(xy[:, 0], xy[:, 1] * 1e3, color="C3")
     ax[1].set_xlabel("x along path (mm)")
     ax[1].set_ylabel("y deviation (µm)")
-    ax[1].set_title("deviation from the chord")
+    ax[1].set_title("deviation from the chord", y=TITLE_Y)
     ax[2].plot(xy[:, 0], tau, color="C2")
     ax[2].set_xlabel("x along path (mm)")
     ax[2].set_ylabel(f"motor torque for {design.force_N:g} N (mN·m)")
-    ax[2].set_title("torque over the stroke")
+    ax[2].set_title("torque over the stroke", y=TITLE_Y)
     for a in ax:
         a.grid(alpha=0.3)
-    fig.tight_layout()
     with atomic_path(path) as tmp:
         save_figure(fig, tmp, "png", dpi=110)
-    plt.close(fig)
     return path
 
 
@@ -79,22 +80,19 @@ def plot_apparent_mass(design, H, path: Path) -> Path:
     """M11, M12, M22 (g) over x (Hoeken paper Fig. 6)."""
     from cad.analysis import apparent_mass_curves
 
-    plt = _plt()
     c = apparent_mass_curves(design, H, 401)
     M = c["M_kg"] * 1e3
-    fig, ax = plt.subplots(figsize=(6.5, 4.2))
+    fig, ax = _figure(6.5, 4.2, left=0.12, right=0.97, bottom=0.12, top=0.92)
     ax.plot(c["x_mm"], M[:, 0, 0], label="M11")
     ax.plot(c["x_mm"], M[:, 0, 1], label="M12")
     ax.plot(c["x_mm"], M[:, 1, 1], label="M22")
     ax.set_xlabel("x along path (mm)")
     ax.set_ylabel("apparent mass (g)")
-    ax.set_title(f"{design.name}: operational mass matrix (eq 22)")
+    ax.set_title(f"{design.name}: operational mass matrix (eq 22)", y=TITLE_Y)
     ax.grid(alpha=0.3)
     ax.legend()
-    fig.tight_layout()
     with atomic_path(path) as tmp:
         save_figure(fig, tmp, "png", dpi=110)
-    plt.close(fig)
     return path
 
 

@@ -68,17 +68,14 @@ def _shaded(s, rgb):
 
 
 def _extent(instances, tf_world_body, meshes, basis, poses) -> tuple[np.ndarray, np.ndarray]:
-    """View-coordinate box (lo (3,), hi (3,)) of every pose; x and y padded by 4 %."""
+    """View-coordinate box (lo (3,), hi (3,)) of the instances over every pose."""
     lo, hi = np.full(3, np.inf), np.full(3, -np.inf)
     for inst in instances:
         v = np.asarray(meshes[inst.kind.name][0])
         for i in poses:
             T = tf_world_body[inst.body][i] @ inst.tf_body_part
-            p = (v @ T[:3, :3].T + T[:3, 3]) @ basis.T
+            p = v @ (basis @ T[:3, :3]).T + basis @ T[:3, 3]
             lo, hi = np.minimum(lo, p.min(axis=0)), np.maximum(hi, p.max(axis=0))
-    pad = 0.04 * (hi[:2] - lo[:2]).max()
-    lo[:2] -= pad
-    hi[:2] += pad
     return lo, hi
 
 
@@ -114,37 +111,57 @@ def render_images(
     basis = view_basis()
     shown = [inst for inst in instances if inst.kind.listed]
     lo, hi = _extent(shown, tf_world_body, meshes, basis, poses)
+    pad = 0.04 * (hi[:2] - lo[:2]).max()
     W, H = size_px[0] * supersample, size_px[1] * supersample
-    scale = min(W / (hi[0] - lo[0]), H / (hi[1] - lo[1]))
+    scale = min(W / (hi[0] - lo[0] + 2 * pad), H / (hi[1] - lo[1] + 2 * pad))
     centre = 0.5 * (lo + hi)
     z_range = max(hi[2] - lo[2], 1e-9)
 
-    def draw(insts, i, keys, id_offset=0):
+    def to_px(s):
+        return W / 2 + (s[..., 0] - centre[0]) * scale, H / 2 - (s[..., 1] - centre[1]) * scale
+
+    def draw(insts, i, keys, box, id_offset=0):
+        """Rasterize into ``keys``, the (rows, cols) = ``box`` part of the picture."""
         s, rgb = _shaded(*_view_triangles(insts, tf_world_body, meshes, colors, basis, i))
-        px = np.empty(s.shape[:2] + (2,))
-        px[..., 0] = W / 2 + (s[..., 0] - centre[0]) * scale
-        px[..., 1] = H / 2 - (s[..., 1] - centre[1]) * scale
-        raster.rasterize(px, (s[..., 2] - lo[2]) / z_range, keys, W, id_offset)
-        rgba = np.full((len(rgb), 4), 255, np.uint8)
-        rgba[:, :3] = rgb * 255 + 0.5
+        px = np.stack(to_px(s), axis=-1) - [box[1].start, box[0].start]
+        width = box[1].stop - box[1].start
+        raster.rasterize(px, (s[..., 2] - lo[2]) / z_range, keys, width, id_offset)
+        rgba = np.full((len(rgb) + 1, 4), 255, np.uint8)  # white first: the background
+        rgba[1:, :3] = rgb * 255 + 0.5
         return rgba.view(np.uint32)[:, 0]  # one 32-bit word per colour: a fast lookup
 
+    def picture(keys, palette, box):
+        """The RGB picture of ``keys`` (``box`` of the supersampled frame), reduced."""
+        h, w = box[0].stop - box[0].start, box[1].stop - box[1].start
+        rgbx = palette[raster.triangle_ids(keys)]
+        img = Image.frombuffer("RGBX", (w, h), rgbx, "raw", "RGBX", 0, 1)
+        return img.reduce(supersample).convert("RGB")  # box filter: the mean of each block
+
+    # the stand: drawn once; each frame redraws only the box its moving parts sweep
     still = _static_bodies(tf_world_body, poses)
-    static_keys = raster.empty_keys(H, W)
-    static_rgb = draw([x for x in shown if x.body in still], poses[0], static_keys)
     moving = [x for x in shown if x.body not in still]
+    frame = (slice(0, H), slice(0, W))
+    static_keys = raster.empty_keys(H, W)
+    static_rgb = draw([x for x in shown if x.body in still], poses[0], static_keys, frame)
+    static_img = picture(static_keys, static_rgb, frame)
+    box, n = frame, supersample
+    m_lo, m_hi = _extent(moving, tf_world_body, meshes, basis, poses)
+    if np.isfinite(m_lo).all() and np.isfinite(m_hi).all():
+        # the moving parts' box, in whole supersampling blocks (reduce cuts the same)
+        (x0, x1), (y1, y0) = to_px(np.array([m_lo, m_hi]))  # y down: hi is the top
+        c0, c1 = max(int(x0 // n) * n - n, 0), min(int(x1 // n) * n + 2 * n, W)
+        r0, r1 = max(int(y0 // n) * n - n, 0), min(int(y1 // n) * n + 2 * n, H)
+        box = (slice(r0, r1), slice(c0, c1))
+    box_keys = static_keys.reshape(H, W)[box]
     font = ImageFont.load_default(size=max(12, size_px[1] // 30)) if title else None
     out = []
     for i in poses:
-        keys = static_keys.copy()
-        rgb = draw(moving, i, keys, len(static_rgb))
-        # palette: white (empty), static triangles, moving triangles
-        palette = np.concatenate([[np.uint32(0xFFFFFFFF)], static_rgb, rgb])
-        rgbx = palette[raster.triangle_ids(keys)]
-        img = Image.frombuffer("RGBX", (W, H), rgbx, "raw", "RGBX", 0, 1)
-        if supersample > 1:
-            img = img.reduce(supersample)  # box filter: the mean of each block
-        img = img.convert("RGB")
+        img = static_img.copy()
+        if moving:
+            keys = box_keys.copy().reshape(-1)
+            rgb = draw(moving, i, keys, box, len(static_rgb) - 1)
+            palette = np.concatenate([static_rgb, rgb[1:]])
+            img.paste(picture(keys, palette, box), (box[1].start // n, box[0].start // n))
         if title:
             ImageDraw.Draw(img).text((8, 6), title, fill=(64, 64, 64), font=font)
         out.append(img)

@@ -29,7 +29,10 @@ pins, spacers, handle, screws) as a point mass at the nearest node of its link.
 natural frequency of the frame with its masses), ``handle_mode_x_Hz``
 (sqrt(1 / (c_x M11_max)) / 2 pi, the handle's apparent mass on the path stiffness),
 ``max_stress_MPa`` (von Mises, beam stresses at ``force_N``), ``strength_MPa``,
-``method``, ``limits`` and ``ok``.
+``method``, ``limits`` and ``ok``; and, separate from those (not added to them),
+``bearing_compliance_estimate``: the handle compliance along x the rigid joints leave out,
+Palmgren's closed form for the deep-groove bearings at A2/A3/A4
+(:mod:`cad.structure.bearings`).
 """
 
 from __future__ import annotations
@@ -197,6 +200,7 @@ def analyse(design, lumped: list[Lumped], bar_mass_kg: dict, method: str = "beam
     (``first_mode_Hz`` min, ``max_stress_MPa`` max override the defaults, :func:`limits`)."""
     from cad.assembly.pose import planar_transforms
     from cad.kinematics.metrics import path_frame
+    from cad.structure.bearings import bearing_compliance
     from cad.structure.elastic import get_elastic
 
     if method not in METHODS:
@@ -226,7 +230,9 @@ def analyse(design, lumped: list[Lumped], bar_mass_kg: dict, method: str = "beam
         "method": method,
         "strength_MPa": strength,
         "limits": lim,
-        "bearing_radial_stiffness": "not modelled: the catalog (bd_warehouse SKT) gives none; joints rigid",
+        "bearing_radial_stiffness": ("not in the frame (joints rigid): bd_warehouse's bearing tables give "
+                                     "no stiffness; see bearing_compliance_estimate"),
+        "bearing_compliance_estimate": bearing_compliance(design, phis),
         "poses": len(phis),
     }
     if M11_max_kg:
