@@ -105,6 +105,59 @@ def clashes(path: Path, threshold_mm3: float = CLASH_MM3) -> list[tuple[str, str
     return out
 
 
+def _classifier(solids):
+    """``inside(x, y, z)``: is the point inside one of ``solids`` (OCCT classifiers, built once)?"""
+    from OCP.BRepClass3d import BRepClass3d_SolidClassifier
+    from OCP.gp import gp_Pnt
+    from OCP.TopAbs import TopAbs_IN
+
+    cls = [BRepClass3d_SolidClassifier(s) for s in solids]
+
+    def inside(x: float, y: float, z: float) -> bool:
+        for c in cls:
+            c.Perform(gp_Pnt(x, y, z), 1e-7)
+            if c.State() == TopAbs_IN:
+                return True
+        return False
+
+    return inside
+
+
+def thread_in_part_mm(screw, part, d_mm: float, head_d_mm: float, tol_mm: float = 0.005):
+    """Measured from the solids (a vertical screw): ``(engagement, tip_free)``. The screw's
+    axis is its box centre; its head end is the end where a point at 0.45 x the head diameter
+    off the axis is inside the screw. From the tip towards the head, the engagement is the
+    length over which a ring of 6 points at radius d/2 + 0.3 mm (outside the thread, in the
+    material a tapped hole leaves) lies inside ``part``: its end found by bisection to
+    ``tol_mm``, then checked (ring inside at 8 heights below it, outside 0.05 mm above);
+    ``tip_free`` says the point on the axis 0.2 mm beyond the tip is not inside ``part`` (the
+    hole goes deeper: no bottoming). Returns (-1, ...) when the ring is not inside the part
+    just above the tip."""
+    import math
+
+    in_screw, in_part = _classifier(screw), _classifier(part)
+    b = _box(screw, tight=True)
+    x0, y0, z0, x1, y1, z1 = b.Get()
+    cx, cy = 0.5 * (x0 + x1), 0.5 * (y0 + y1)
+    head_up = in_screw(cx + 0.45 * head_d_mm, cy, z1 - 0.2)
+    tip, sgn = (z0, 1.0) if head_up else (z1, -1.0)
+    r = d_mm / 2 + 0.3
+    ring = [(cx + r * math.cos(a), cy + r * math.sin(a)) for a in
+            (k * math.pi / 3 + 0.1 for k in range(6))]
+
+    def ring_in(h: float) -> bool:
+        return all(in_part(x, y, tip + sgn * h) for x, y in ring)
+
+    lo, hi = 0.01, z1 - z0
+    if not ring_in(lo):
+        return -1.0, False
+    while hi - lo > tol_mm:
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if ring_in(mid) else (lo, mid)
+    assert all(ring_in(lo * k / 8) for k in range(1, 8)) and not ring_in(lo + 0.05)
+    return lo, not in_part(cx, cy, tip - sgn * 0.2)
+
+
 if __name__ == "__main__":
     import sys
 

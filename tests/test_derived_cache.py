@@ -45,7 +45,7 @@ def test_mesh_hit_is_the_fresh_mesh_and_a_damaged_entry_is_rebuilt(cache, monkey
     v3, f3 = mesh_shape(shape, 0.01, 0.5)
     assert len(f3) > len(f0)
     # flip one byte of every entry: each is a miss and the value is recomputed
-    for p in cache.glob("*.bin"):
+    for p in cache.glob("*/*.bin"):
         b = bytearray(p.read_bytes())
         b[len(b) // 2] ^= 0x01
         p.write_bytes(bytes(b))

@@ -33,6 +33,7 @@ from __future__ import annotations
 
 import hashlib
 import itertools
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -562,15 +563,22 @@ def hub_bolt_circle_mm(parts: PartsSpec) -> float:
     return 0.5 * (motor.shaft_diameter_mm + parts.hub_diameter_mm)
 
 
-def choose_layers(joints_link, parts: PartsSpec, tf_world_body) -> LayerPlan:
+def choose_layers(joints_link, parts: PartsSpec, tf_world_body, strict: bool = False) -> LayerPlan:
     """The layer plan: ``parts.layer_order`` if given, else the conflict-free order with the
     lowest top (ties: :data:`ORDERS` order); gaps widened where needed (:func:`plan_order`).
     When every order conflicts, the one with the largest planar clearance between links
     (and no overlap within a link) is returned with its ``conflicts`` listed (the 3-D check
-    decides). DesignError when every order has parts of one link overlapping (a nut under
+    decides) -- unless ``strict`` (the build): then :class:`NoLayout` (a DesignError naming
+    the joint, both parts and the overlap, :func:`no_layout_error`) before any CAD import.
+    DesignError when every order has parts of one link overlapping (a nut under
     the crank in the hub, say): no layout exists."""
     orders = [parts.layer_order] if parts.layer_order else list(ORDERS)
     plans = [plan_order(o, joints_link, parts, tf_world_body) for o in orders]
+    if strict and not any(not p.conflicts for p in plans):
+        others = []
+        if parts.layer_order:
+            others = [plan_order(o, joints_link, parts, tf_world_body) for o in ORDERS]
+        raise no_layout_error(plans, parts, [p for p in others if not p.conflicts])
     cands = tuple(
         {
             "order": list(p.order),
@@ -599,6 +607,93 @@ def choose_layers(joints_link, parts: PartsSpec, tf_world_body) -> LayerPlan:
         )
     )
     return LayerPlan(**{**best.__dict__, "candidates": cands})
+
+
+class NoLayout(DesignError):
+    """No layer order keeps the joint hardware apart (raised before any CAD import)."""
+
+
+def _joint_of(label: str) -> str | None:
+    """Joint an element belongs to: ``A2 washer+nut`` -> A2, the hub and its screws -> A1,
+    the handle -> P, a bar -> None."""
+    head = label.split()[0]
+    if head in JOINTS:
+        return head
+    if head in ("hub", "motor"):
+        return "A1"
+    return "P" if head == "handle" else None
+
+
+def worst_conflict(plan: LayerPlan, parts: PartsSpec) -> tuple[float, Element, Element] | None:
+    """(shortfall mm = clearance - required, a, b) of the plan's worst pair, or None."""
+    out = None
+    for d, a, b in plan.pairs:
+        short = d - required_clearance_mm(a, b, parts)
+        if out is None or short < out[0]:
+            out = (short, a, b)
+    return out
+
+
+def no_layout_error(plans, parts: PartsSpec, clear=()) -> NoLayout:
+    """The refusal when no tried order is clear: the order whose worst pair is least bad,
+    naming the joint, both parts (and their bodies), the planar overlap and the clearance
+    needed; ``clear``: conflict-free plans of other orders (when ``parts.layer_order`` was
+    forced)."""
+    best = max(plans, key=lambda p: worst_conflict(p, parts)[0])
+    short, a, b = worst_conflict(best, parts)
+    d = short + required_clearance_mm(a, b, parts)
+    joint = _joint_of(a.label) or _joint_of(b.label) or "layers"
+    what = f"overlap by {-d:.2f} mm" if d < 0 else f"are {d:.2f} mm apart"
+    need = required_clearance_mm(a, b, parts)
+    text = (
+        f"{joint}: the {a.label} ({a.body}) and the {b.label} ({b.body}) {what} in plan "
+        f"(need {need:g} mm) in the best layer order {', '.join(best.order)}"
+    )
+    if clear:
+        return NoLayout(
+            "parts.layer_order",
+            text + f"; order {', '.join(min(clear, key=lambda p: p.top_mm).order)} is clear "
+            "(remove parts.layer_order to let the planner choose)",
+        )
+    return NoLayout("mechanism", text + "; no layer order is clear")
+
+
+#: Stroke scan of :func:`clearing_stroke_mm`: coarse factor per step, up to this factor.
+STROKE_SCAN_STEP = 1.05
+STROKE_SCAN_MAX = 3.0
+
+
+def clearing_stroke_mm(family: str, stroke_mm: float, parts: PartsSpec, n_poses: int) -> float | None:
+    """Smallest stroke (0.1 mm, scanning up from ``stroke_mm`` to :data:`STROKE_SCAN_MAX` x)
+    at which the family scaled to it has a conflict-free layer order, or None. Longer links
+    move the joint hardware away from the hub (the hardware does not scale)."""
+    from cad.assembly.pose import planar_transforms
+    from cad.kinematics.families import family_linkage
+    from cad.kinematics.linkgeom import link_joints_mm
+
+    def clear(s: float) -> bool:
+        fb, lo, hi = family_linkage(family, s)
+        tf = planar_transforms(fb, np.linspace(lo, hi, n_poses))
+        try:
+            choose_layers(link_joints_mm(fb), parts, tf, strict=True)
+        except DesignError:
+            return False
+        return True
+
+    lo, hi = stroke_mm, None
+    s = stroke_mm
+    while s < STROKE_SCAN_MAX * stroke_mm:
+        s *= STROKE_SCAN_STEP
+        if clear(s):
+            hi = s
+            break
+        lo = s
+    if hi is None:
+        return None
+    while hi - lo > 0.1:
+        mid = 0.5 * (lo + hi)
+        lo, hi = (lo, mid) if clear(mid) else (mid, hi)
+    return math.ceil(hi * 10.0) / 10.0 if clear(math.ceil(hi * 10.0) / 10.0) else hi
 
 
 def footprint_bbox_mm(plan: LayerPlan, tf_world_body) -> tuple[float, float, float, float]:

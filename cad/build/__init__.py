@@ -217,6 +217,8 @@ def build_design(
     check_buildable = getattr(design, "check_buildable", None)
     if check_buildable is not None:  # links shorter than their joint hardware, before any CAD
         check_buildable()
+    if hasattr(mod, "check_layout"):  # no clear layer order: refused before the CAD import
+        mod.check_layout(design, fidelity, allow_interference)
     from cad.export.manifest import write_manifest
     from cad.parts.lazy_import import routed_first_import
 

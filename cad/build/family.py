@@ -10,6 +10,9 @@ pose. Everything below reads that one list:
   the catalog mass of a bought part; :func:`cad.build.fourbar.kind_mass_props`);
 * :func:`body_props` -- combined mass properties per body in the body frame;
 * :func:`bom_rows` -- one BOM line per kind (quantity = number of instances);
+* :func:`fastener_report` -- every screw's record (thread size, length, parts clamped, hole
+  engaged, engagement) and every tapped hole, checked (one screw per hole, engagement in
+  the hole's window);
 * :func:`check_assembly` -- every pair of solids at the exported pose, by the shared
   checker (:func:`cad.assembly.interference.same_body_check`): a positive common volume is
   a collision;
@@ -118,6 +121,20 @@ def part_materials(instances) -> dict[str, str]:
     """``{instance name: material}`` of every solid of ``assembly.step`` (names as written
     there), for report.json: ``hapticad massprops assembly.step`` applies them per solid."""
     return {inst.name: inst.kind.material for inst in instances}
+
+
+def fastener_report(instances, holes: dict) -> dict:
+    """``{"fasteners": {instance: record}, "tapped_holes": {name: hole}}`` for report.json,
+    after :func:`cad.assembly.fasteners.check_fasteners` (one screw per hole, engagement in
+    the hole's window; DesignError naming the screw and hole otherwise)."""
+    from cad.assembly.fasteners import check_fasteners
+
+    fast = {i.name: i.fastener for i in instances if i.fastener is not None}
+    check_fasteners(fast, holes)
+    return {
+        "fasteners": {n: f.as_dict() for n, f in fast.items()},
+        "tapped_holes": {n: h.__dict__ for n, h in holes.items()},
+    }
 
 
 def world_tf(inst, tf_world_body: dict) -> np.ndarray:

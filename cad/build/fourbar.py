@@ -90,10 +90,10 @@ def sweep_angles(design, n: int) -> np.ndarray:
 
 def _kind_props(kind):
     """MassProps of a part kind in its own frame (SI), or None when it carries no mass."""
-    from cad.massprops.occt import cached_solid_mass_props
     from cad.massprops.props import from_principal
     from cad.materials import get_material
     from cad.parts.catalog import ring_inertia_kg_m2
+    from cad.parts.part_props import part_mass_props
 
     if kind.inertia_model == "none":
         return None
@@ -103,7 +103,7 @@ def _kind_props(kind):
         return from_principal(
             kind.mass_kg, np.array([0.0, 0.0, b / 2 * 1e-3]), np.array([it, it, ia])
         )
-    props = cached_solid_mass_props(kind.shape, get_material(kind.material).density_kg_m3)
+    props = part_mass_props(kind.shape, get_material(kind.material).density_kg_m3)
     if kind.mass_kg is not None:
         props = props.scaled(kind.mass_kg / props.mass_kg)
     return props
@@ -298,6 +298,52 @@ def _write_sim(design, asm, link_props, Jm, motor, phi1_rad, out_dir: Path, form
     return [p.relative_to(out_dir).as_posix() for p in paths]
 
 
+def _n_poses(parts, fidelity: str) -> int:
+    """Crank angles of the layer planning and the interference sweep."""
+    if fidelity == "preview":
+        return min(parts.interference_poses, PREVIEW_POSES)
+    return parts.interference_poses
+
+
+def check_layout(design, fidelity: str, allow_interference: bool) -> None:
+    """Refuse, before any CAD import, a design whose joint hardware has no clear layer order
+    (:func:`_plan_layers`; skipped with ``allow_interference``: the build then exports the
+    clash and reports it)."""
+    if allow_interference:
+        return
+    from cad.assembly.pose import planar_transforms
+    from cad.kinematics.linkgeom import link_joints_mm
+
+    n = _n_poses(design.parts, fidelity)
+    planar = planar_transforms(design.linkage, sweep_angles(design, n))
+    _plan_layers(design, link_joints_mm(design.linkage), planar, n, strict=True)
+
+
+def _plan_layers(design, J, planar, n_poses: int, strict: bool):
+    """:func:`cad.assembly.layers.choose_layers`; when ``strict`` and no layer order is clear,
+    the refusal (before any CAD import) names the joint and parts and, for a family scaled
+    by ``stroke_mm``, the smallest stroke whose layout is clear (the crank length with it)."""
+    from cad.assembly.layers import NoLayout, choose_layers, clearing_stroke_mm
+
+    try:
+        return choose_layers(J, design.parts, planar, strict=strict)
+    except NoLayout as e:
+        s = getattr(design, "stroke_mm_requested", None)
+        if e.field != "mechanism":
+            raise
+        if s is None:
+            raise DesignError(e.field, e.reason + "; lengthen the crank (l1_mm) or shrink "
+                              "parts.hub_diameter_mm / the joint hardware") from None
+        s_ok = clearing_stroke_mm(design.family, s, design.parts, n_poses)
+        l1 = design.linkage.l1_mm
+        hint = (
+            f"; stroke_mm >= {s_ok:g} clears it (crank l1 {l1:.2f} -> {l1 * s_ok / s:.2f} mm)"
+            if s_ok is not None else "; no stroke up to 3x clears it"
+        )
+        raise DesignError("mechanism.stroke_mm", f"{s:g} mm: {e.reason}{hint}, or shrink "
+                          "parts.hub_diameter_mm / the joint hardware") from None
+
+
 def build(
     design,
     out_dir: Path,
@@ -310,7 +356,7 @@ def build(
 ) -> dict:
     """Build ``design`` into ``out_dir`` (a fresh temporary directory); return the report dict."""
     from cad.assembly import interference as itf
-    from cad.assembly.layers import choose_layers, footprint_bbox_mm
+    from cad.assembly.layers import footprint_bbox_mm
     from cad.assembly.mechanism import build_assembly
     from cad.assembly.pose import body_transforms, planar_transforms
     from cad.kinematics.fourbar import solve
@@ -334,15 +380,11 @@ def build(
 
     # 1-2 kinematics and layers (numpy only)
     _step(progress, "layers", 0, n_steps)
-    n_poses = (
-        parts.interference_poses
-        if fidelity != "preview"
-        else min(parts.interference_poses, PREVIEW_POSES)
-    )
+    n_poses = _n_poses(parts, fidelity)
     phi = sweep_angles(design, n_poses)
     J = link_joints_mm(fb)
     planar = planar_transforms(fb, phi)
-    plan = choose_layers(J, parts, planar)
+    plan = _plan_layers(design, J, planar, n_poses, strict=not allow_interference)
     footprint = footprint_bbox_mm(plan, planar)
     timings["layers"] = time.perf_counter() - t0
 

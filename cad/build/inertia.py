@@ -64,32 +64,21 @@ def part_D(design, share: PartShare, pose, a2, a3) -> np.ndarray:
             + _planar(m, c, izz) * a2**2)
 
 
-def inertia_model(design, fidelity: str = "inertia", samples: int = 401) -> dict[str, Any]:
-    """Parts -> link mass properties -> H, apparent mass, per-part budget (module docstring).
-
-    Returns a JSON-able dict: ``H11_kg_m2`` .. ``H33_kg_m2``, ``beta2_deg``, ``Jm_kg_m2``,
-    ``apparent_mass`` (M11/M12/M22 ranges, g), ``links`` (``mass_g``, ``com_link_mm``,
-    ``Izz_com_kg_m2`` per link), ``budget`` (rows per part), ``wall_s``.
-    """
+def inertia_assembly(design, fidelity: str = "inertia"):
+    """The four-bar's assembly as :func:`inertia_model` sees it: every part kind whose solid is
+    not in memory yet is a :class:`cad.parts.part_cache.DeferredShape` (built or read only
+    where its mass properties are not cached, :mod:`cad.parts.part_props`)."""
     from cad.assembly.layers import choose_layers, footprint_bbox_mm
     from cad.assembly.mechanism import build_assembly
     from cad.assembly.pose import planar_transforms
-    from cad.parts.lazy_import import import_build123d
-
-    import_build123d()  # first CAD import of this process goes through the documented shim
-    from cad.build.fourbar import inertia_from_links, kind_mass_props, link_mass_props, sweep_angles
-    from cad.dynamics.inertia import apparent_mass_matrix, apparent_mass_summary, equivalent_inertia
-    from cad.kinematics.fourbar import jacobian_mm_per_rad, solve, velocity_ratios
+    from cad.build.fourbar import sweep_angles
     from cad.kinematics.linkgeom import link_joints_mm
-    from cad.kinematics.metrics import path_frame
-    from cad.parts import catalog
     from cad.parts.handle import handle_params, resolve_script, user_handle_shape
+    from cad.parts.part_cache import deferred_shapes
 
-    t0 = time.perf_counter()
     parts = design.parts
-    fb = design.linkage
-    J = link_joints_mm(fb)
-    planar = planar_transforms(fb, sweep_angles(design, parts.interference_poses))
+    J = link_joints_mm(design.linkage)
+    planar = planar_transforms(design.linkage, sweep_angles(design, parts.interference_poses))
     plan = choose_layers(J, parts, planar)
     footprint = footprint_bbox_mm(plan, planar)
     script = resolve_script(parts, design.source)
@@ -97,8 +86,46 @@ def inertia_model(design, fidelity: str = "inertia", samples: int = 401) -> dict
     if script is not None:
         floor = plan.handle_screw_length_mm - parts.bar_thickness_mm
         user_handle = user_handle_shape(script, handle_params(parts, floor))
-    asm = build_assembly(J, plan, parts, footprint, fidelity=fidelity, handle_shape=user_handle,
-                         design_label=design.name)
+    with deferred_shapes():  # solids only where a part's mass properties are not cached
+        return build_assembly(J, plan, parts, footprint, fidelity=fidelity, handle_shape=user_handle,
+                              design_label=design.name)
+
+
+def warm_part_cache(design, fidelity: str = "inertia", share: tuple[int, int] = (0, 1)) -> int:
+    """Mass properties of the parts of ``design`` that integrate a solid -- of those (sorted
+    by cache key, the same list in every process) every ``share[1]``-th from ``share[0]`` --
+    made, validated and integrated unless cached, so that ``share[1]`` processes warm the
+    shape and mass-property caches together, each part once (``hapticad sweep`` at worker
+    start). Returns the number of parts of this share."""
+    from cad.parts.part_cache import DeferredShape
+    from cad.parts.part_props import unit_volume_props
+
+    kinds = inertia_assembly(design, fidelity).kinds().values()
+    todo = sorted({k.shape.key: k.shape for k in kinds
+                   if k.inertia_model == "solid" and isinstance(k.shape, DeferredShape)}.items())
+    mine = todo[share[0]::share[1]]
+    for _, shape in mine:
+        unit_volume_props(shape)
+    return len(mine)
+
+
+def inertia_model(design, fidelity: str = "inertia", samples: int = 401) -> dict[str, Any]:
+    """Parts -> link mass properties -> H, apparent mass, per-part budget (module docstring).
+
+    Returns a JSON-able dict: ``H11_kg_m2`` .. ``H33_kg_m2``, ``beta2_deg``, ``Jm_kg_m2``,
+    ``apparent_mass`` (M11/M12/M22 ranges, g), ``links`` (``mass_g``, ``com_link_mm``,
+    ``Izz_com_kg_m2`` per link), ``budget`` (rows per part), ``wall_s``.
+    """
+    from cad.build.fourbar import inertia_from_links, kind_mass_props, link_mass_props
+    from cad.dynamics.inertia import apparent_mass_matrix, apparent_mass_summary, equivalent_inertia
+    from cad.kinematics.fourbar import jacobian_mm_per_rad, solve, velocity_ratios
+    from cad.kinematics.metrics import path_frame
+    from cad.parts import catalog
+
+    t0 = time.perf_counter()
+    parts = design.parts
+    fb = design.linkage
+    asm = inertia_assembly(design, fidelity)
     props = {name: kind_mass_props(k) for name, k in asm.kinds().items()}
     link_props, _ = link_mass_props(asm, props)
     motor = catalog.get_motor(parts.motor)

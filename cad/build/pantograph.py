@@ -119,6 +119,7 @@ def check_options(design, fidelity: str, phi1_deg, formats=frozenset()) -> None:
             f"a {design.family} has no crank angle, got {phi1_deg!r}; the assembly is "
             "exported at workspace.home_mm",
         )
+    screw_plan(design)  # a stack no catalog screw fastens: named before any CAD
 
 
 def _step(progress, text: str, done: int, total: int) -> None:
@@ -141,20 +142,44 @@ def home_xy_mm(design) -> np.ndarray:
 
 
 # ----------------------------------------------------------------------------- layout
-def _screw_length_mm(size: str, through_mm: float, hole_depth_mm: float, joint: str) -> float:
-    """Catalog length of a cap screw through ``through_mm`` into a tapped hole of
-    ``hole_depth_mm``: engagement between MIN_ENGAGEMENT_D x d and the hole depth."""
-    from cad.parts.catalog import get_cap_screw, shortest_length
+def screw_plan(design) -> dict[str, dict]:
+    """Every screw group of the device sized from its stack, before any CAD
+    (:func:`cad.assembly.fasteners.size_cap_screw`: catalog ISO 4762 length, engagement
+    between 1.5 d in aluminium -- the maker's minimum in the motor face -- and the hole's
+    full-thread depth). Group -> size, clamp_mm, length_mm, engagement_mm, depth_mm,
+    min_engagement_mm, joint, clamps (parts clamped, head side first). DesignError naming
+    the joint when no catalog length fits."""
+    from cad.assembly import fasteners as fs
+    from cad.parts import base
+    from cad.parts import motor as pm
+    from cad.parts.catalog import get_motor
 
-    cs = get_cap_screw(size, "parts")
-    L = shortest_length(cs.lengths_mm, through_mm + MIN_ENGAGEMENT_D * cs.d_mm)
-    if L is None or L - through_mm > hole_depth_mm + 1e-9:
-        raise DesignError(
-            "parts.plate_thickness_mm",
-            f"{joint}: no ISO 4762 {size} length engages {MIN_ENGAGEMENT_D:g} d in a "
-            f"{hole_depth_mm:g} mm tapped hole through {through_mm:g} mm",
-        )
-    return L
+    p = design.parts
+    m = get_motor(p.motor)
+    pt, mt = p.plate_thickness_mm, p.motor_mount_thickness_mm
+    face = min(m.bolt_thread_depth_mm, fs.MIN_ENGAGEMENT_BOUGHT_MM)
+    groups = {
+        "leg": (base.LEG_SCREW, pt, base.STANDOFF_TAP_DEPTH_MM - fs.TAP_LEADOUT_MM, None,
+                "leg to base plate", "parts.plate_thickness_mm", ("base_plate",)),
+        "mount": (pm.MOUNT_SCREW, mt, pt, None, "motor mount plate to base/bridge plate",
+                  "parts.motor_mount_thickness_mm", ("motor_mount",)),
+        "motor": (m.bolt_size, mt, m.bolt_thread_depth_mm, face, "motor face to mount plate",
+                  "parts.motor_mount_thickness_mm", ("motor_mount",)),
+    }
+    if _twin(design):
+        groups["post"] = (POST_SCREW, pt, POST_TAP_DEPTH_MM - fs.TAP_LEADOUT_MM, None,
+                          "bridge post to base/bridge plate", "parts.plate_thickness_mm",
+                          ("plate",))
+    out = {}
+    for g, (size, clamp, depth, need, joint, field, clamps) in groups.items():
+        hole = fs.alu_hole(g, g, size, depth)
+        if need is not None:
+            hole = fs.TappedHole(g, g, size, depth, need)
+        L, e = fs.size_cap_screw(size, clamp, hole, joint, field)
+        out[g] = {"size": size, "clamp_mm": clamp, "length_mm": L, "engagement_mm": e,
+                  "depth_mm": depth, "min_engagement_mm": hole.min_engagement_mm,
+                  "joint": joint, "clamps": clamps}
+    return out
 
 
 def layout(design) -> dict:
@@ -204,10 +229,7 @@ def layout(design) -> dict:
         "tube_distal_mm": design.params["distal_mm"] - 2 * (p.clevis_length_mm - p.socket_depth_mm),
         "lower_shaft_engagement_mm": shaft_tip - (L[0] - h / 2),
         "motor_mount_side_mm": ms,
-        "leg_screw_mm": _screw_length_mm(
-            base.LEG_SCREW, pt, base.STANDOFF_TAP_DEPTH_MM, "leg screw into its leg"
-        ),
-        "mount_screw_mm": _screw_length_mm("M4-0.7", mt, pt, "motor mount screw into the plate"),
+        "screws": screw_plan(design),
     }
     if not twin:
         knob_z = L[2] + h / 2 + g
@@ -237,7 +259,6 @@ def layout(design) -> dict:
         crank_pin_down_mm=(zW - t / 2) - (L[1] - h / 2),
         web_width_mm=max(b.d_mm + 6.0, 10.0),
         upper_shaft_engagement_mm=(U[0] + h / 2) - (z_bridge + pt + mt - m.shaft_length_mm),
-        post_screw_mm=_screw_length_mm(POST_SCREW, pt, POST_TAP_DEPTH_MM, "post screw"),
     )
     return out
 
@@ -513,7 +534,7 @@ def _kinds(design, lay: dict, fidelity: str) -> dict:
         "steel-1018",
         False,
         mot.description,
-        "bought",
+        f"bought; face tapped {mot.bolt_size.split('-')[0]} x{mot.bolt_count}",
         mass_kg=mot.mass_kg,
     )
     add(
@@ -541,7 +562,12 @@ def _kinds(design, lay: dict, fidelity: str) -> dict:
         for bx, by in B
         for x, y in pm.mount_hole_xy_mm(mot)
     ]
-    openings = [(bx, by, mot.pilot_diameter_mm + 2 * pp.OPENING_MARGIN_MM) for bx, by in B]
+    # the motor face screws' heads sit in the plate's opening (four-bars do the same)
+    head_d = get_cap_screw(mot.bolt_size, "parts.motor").dk_mm
+    opening = max(mot.pilot_diameter_mm + 2 * pp.OPENING_MARGIN_MM,
+                  mot.bolt_circle_mm + head_d + 2 * pp.OPENING_MARGIN_MM)
+    openings = [(bx, by, opening) for bx, by in B]
+    ms = pm.MOUNT_SCREW.split("-")[0]
     leg_holes = [(x, y, clearance_hole_mm(base.LEG_SCREW)) for x, y in _leg_xy(lay)]
     post_holes = [(x, y, clearance_hole_mm(POST_SCREW)) for x, y in lay.get("posts_xy_mm", ())]
     add(
@@ -555,7 +581,7 @@ def _kinds(design, lay: dict, fidelity: str) -> dict:
         p.plate_material,
         True,
         "base plate (motors under, legs at the corners)",
-        "waterjet/laser plate, tapped M4",
+        f"waterjet/laser plate; tap {ms} x{len(mount_holes)}",
         plate=True,
     )
     lh = lay["leg_height_mm"]
@@ -565,7 +591,7 @@ def _kinds(design, lay: dict, fidelity: str) -> dict:
         p.plate_material,
         True,
         f"leg standoff d{base.LEG_DIAMETER_MM:g} x {lh:g}, tapped {base.LEG_SCREW} both ends",
-        "turned, tapped",
+        f"turned; tap {base.LEG_SCREW.split('-')[0]} both ends",
     )
     steel = FASTENER_MATERIAL
 
@@ -584,8 +610,8 @@ def _kinds(design, lay: dict, fidelity: str) -> dict:
             )
         return name
 
-    K["_leg_screw"] = K[screw(base.LEG_SCREW, lay["leg_screw_mm"])]
-    K["_mount_screw"] = K[screw(pm.MOUNT_SCREW, lay["mount_screw_mm"])]
+    for g, sp in lay["screws"].items():
+        K[f"_{g}_screw"] = K[screw(sp["size"], sp["length_mm"])]
     kd = design.mechanism.knob_diameter_mm if twin else PLAIN_KNOB_DIAMETER_MM
     add(
         "knob",
@@ -632,7 +658,7 @@ def _kinds(design, lay: dict, fidelity: str) -> dict:
         p.plate_material,
         True,
         f"bridge post d{p.post_diameter_mm:g}, tapped {POST_SCREW} both ends",
-        "turned, tapped",
+        f"turned; tap {POST_SCREW.split('-')[0]} both ends",
     )
     add(
         "bridge_plate",
@@ -642,10 +668,9 @@ def _kinds(design, lay: dict, fidelity: str) -> dict:
         p.plate_material,
         True,
         "bridge plate (upper motors)",
-        "waterjet/laser plate, tapped M4",
+        f"waterjet/laser plate; tap {ms} x{len(mount_holes)}",
         plate=True,
     )
-    K["_post_screw"] = K[screw(POST_SCREW, lay["post_screw_mm"])]
     return K
 
 
@@ -675,8 +700,10 @@ def _link_parts(which: str, side: str, K: dict, lay: dict, p, elbow_pin: str) ->
 def assembly(design, lay: dict, fidelity: str):
     """The part instances and the world transform of each body at the home pose.
 
-    Returns ``(instances, tf_world_body, home_pose)``: instances is a list of
-    :class:`cad.parts.PartInstance`; tf_world_body maps body -> 4x4 (mm).
+    Returns ``(instances, tf_world_body, home_pose, tapped_holes)``: instances is a list of
+    :class:`cad.parts.PartInstance` (screws carry their
+    :class:`cad.assembly.fasteners.Fastener` record); tf_world_body maps body -> 4x4 (mm);
+    tapped_holes maps hole name -> :class:`cad.assembly.fasteners.TappedHole`.
     """
     from cad.kinematics import fivebar as fb5
     from cad.kinematics import twin_pantograph as tw
@@ -695,8 +722,8 @@ def assembly(design, lay: dict, fidelity: str):
     inst: list = []
     tfs: dict[str, np.ndarray] = {"ground": np.eye(4)}
 
-    def place(name, kind, body, tf):
-        inst.append(PartInstance(name, kind, body, np.asarray(tf, dtype=float)))
+    def place(name, kind, body, tf, fastener=None):
+        inst.append(PartInstance(name, kind, body, np.asarray(tf, dtype=float), fastener=fastener))
 
     home = home_xy_mm(design)
     if twin:
@@ -738,8 +765,8 @@ def assembly(design, lay: dict, fidelity: str):
         tfs["handle"] = translation(home[0], home[1])
         place("handle_pin", K["handle_pin"], "handle", translation(0, 0, lay["handle_pin_z_mm"]))
         place("knob", K["knob"], "handle", translation(0, 0, lay["knob_bottom_z_mm"]))
-    _ground(place, K, lay, p, B, twin)
-    return inst, tfs, home
+    holes = _ground(place, K, lay, p, B, twin)
+    return inst, tfs, home, holes
 
 
 #: This builder writes glb and 3mf (:mod:`cad.build.views`).
@@ -811,58 +838,78 @@ def stroke_poses(design) -> dict[str, np.ndarray] | None:
     return poses
 
 
-def _ground(place, K, lay, p, B, twin) -> None:
-    """The fixed parts: base plate, legs, motors with their mounts, (mouse) posts and bridge."""
+def _screw(place, holes, K, lay, group: str, name: str, hole: str, part: str, tf, clamps=None):
+    """Place one screw of ``group`` (:func:`screw_plan`) with its fastener record, and the
+    tapped hole ``hole`` (in the instance ``part``) it engages."""
+    from cad.assembly.fasteners import Fastener, TappedHole
+
+    sp = lay["screws"][group]
+    holes[hole] = TappedHole(hole, part, sp["size"], sp["depth_mm"], sp["min_engagement_mm"])
+    f = Fastener("ISO 4762", sp["size"], sp["length_mm"], tuple(clamps or sp["clamps"]), hole,
+                 sp["engagement_mm"])
+    place(name, K[f"_{group}_screw"], "ground", tf, fastener=f)
+
+
+def _motor_station(place, holes, K, lay, p, tag: str, i: int, bxy, z_mount: float, upper: bool):
+    """One motor on its mount plate: the plate, the motor, the plate's screws into the
+    base/bridge plate and the motor face screws (through the plate into the face's tapped
+    holes; heads in the base/bridge plate's opening)."""
     from cad.parts import motor as pm
     from cad.parts import translation
     from cad.parts.catalog import get_motor
 
     mot = get_motor(p.motor)
+    mt = p.motor_mount_thickness_mm
+    bx, by = bxy
+    plate = "bridge_plate" if upper else "base_plate"
+    place(f"{tag}_motor_mount_{i}", K["motor_mount"], "ground", translation(bx, by, z_mount))
+    # upper: plate on the bridge, motor standing on it (face up at z_mount + mt, turned over),
+    # its screws from above into the bridge, the face screws from below; lower: mirrored
+    z_face = z_mount + mt if upper else z_mount
+    # turned over about y: the face's bolt circle (symmetric in x) stays on the plate's holes
+    turn = np.diag([-1.0, 1.0, -1.0, 1.0])
+    tf_motor = translation(bx, by, z_face) @ (turn if upper else np.eye(4))
+    motor = f"{tag}_motor_{i}"
+    place(motor, K["motor"], "ground", tf_motor)
+    z_mount_head, f_mount = (z_mount + mt, np.eye(4)) if upper else (z_mount, _flip())
+    for k, (x, y) in enumerate(pm.mount_hole_xy_mm(mot)):
+        _screw(place, holes, K, lay, "mount", f"{tag}_mount_screw_{i}_{k + 1}",
+               f"{plate}:{tag}_mount_{i}_{k + 1}", plate,
+               translation(bx + x, by + y, z_mount_head) @ f_mount)
+    z_head, f_face = (z_mount, _flip()) if upper else (z_mount + mt, np.eye(4))
+    for k, (x, y) in enumerate(pm.motor_bolt_xy_mm(mot)):
+        _screw(place, holes, K, lay, "motor", f"{tag}_motor_screw_{i}_{k + 1}",
+               f"{motor}:face_{k + 1}", motor, translation(bx + x, by + y, z_head) @ f_face)
+
+
+def _ground(place, K, lay, p, B, twin) -> dict:
+    """The fixed parts: base plate, legs, motors with their mounts, (mouse) posts and bridge.
+    Returns the tapped holes the screws engage ({name: TappedHole})."""
+    from cad.parts import translation
+
+    holes: dict = {}
     pt, mt = p.plate_thickness_mm, p.motor_mount_thickness_mm
     place("base_plate", K["base_plate"], "ground", translation(0, 0, -pt))
     for i, (x, y) in enumerate(_leg_xy(lay)):
         place(f"leg_{i + 1}", K["leg"], "ground", translation(x, y, lay["bench_z_mm"]))
-        place(f"leg_screw_{i + 1}", K["_leg_screw"], "ground", translation(x, y, 0.0))
-    stations = [("lower", -pt - mt, False)]
+        _screw(place, holes, K, lay, "leg", f"leg_screw_{i + 1}", f"leg_{i + 1}:top",
+               f"leg_{i + 1}", translation(x, y, 0.0))
     zb = lay.get("bridge_bottom_z_mm", 0.0)
-    if twin:
-        stations.append(("upper", zb + pt, True))
+    stations = [("lower", -pt - mt, False)] + ([("upper", zb + pt, True)] if twin else [])
     for tag, z_mount, upper in stations:
-        for i, (bx, by) in enumerate(B):
-            place(
-                f"{tag}_motor_mount_{i + 1}",
-                K["motor_mount"],
-                "ground",
-                translation(bx, by, z_mount),
-            )
-            if upper:
-                tf_motor = translation(bx, by, z_mount + mt) @ _flip()
-                tf_screw = np.eye(4)
-                z_screw = z_mount + mt
-            else:
-                tf_motor = translation(bx, by, z_mount)
-                tf_screw = _flip()
-                z_screw = z_mount
-            place(f"{tag}_motor_{i + 1}", K["motor"], "ground", tf_motor)
-            for k, (x, y) in enumerate(pm.mount_hole_xy_mm(mot)):
-                place(
-                    f"{tag}_mount_screw_{i + 1}_{k + 1}",
-                    K["_mount_screw"],
-                    "ground",
-                    translation(bx + x, by + y, z_screw) @ tf_screw,
-                )
+        for i, bxy in enumerate(B):
+            _motor_station(place, holes, K, lay, p, tag, i + 1, bxy, z_mount, upper)
     if not twin:
-        return
+        return holes
     place("bridge_plate", K["bridge_plate"], "ground", translation(0, 0, zb))
     for k, (x, y) in enumerate(lay["posts_xy_mm"]):
-        place(f"post_{k + 1}", K["post"], "ground", translation(x, y, 0.0))
-        place(
-            f"post_screw_{k + 1}_bottom",
-            K["_post_screw"],
-            "ground",
-            translation(x, y, -pt) @ _flip(),
-        )
-        place(f"post_screw_{k + 1}_top", K["_post_screw"], "ground", translation(x, y, zb + pt))
+        post = f"post_{k + 1}"
+        place(post, K["post"], "ground", translation(x, y, 0.0))
+        _screw(place, holes, K, lay, "post", f"post_screw_{k + 1}_bottom", f"{post}:bottom",
+               post, translation(x, y, -pt) @ _flip(), ["base_plate"])
+        _screw(place, holes, K, lay, "post", f"post_screw_{k + 1}_top", f"{post}:top", post,
+               translation(x, y, zb + pt), ["bridge_plate"])
+    return holes
 
 
 # ------------------------------------------------------------------------------ build
@@ -1020,7 +1067,8 @@ def build(
         )
 
     _step(progress, "solids", 1, total)
-    instances, tfs, home = assembly(design, lay, fidelity)
+    instances, tfs, home, holes = assembly(design, lay, fidelity)
+    fasteners = family.fastener_report(instances, holes)  # DesignError: two in a hole, ...
 
     _step(progress, "mass properties", 2, total)
     props = family.kind_props(instances)
@@ -1080,6 +1128,7 @@ def build(
 
     _step(progress, "report", 5, total)
     report = _report(design, lay, clr, bodies, eff, eff_bare, itf, bom, home, fidelity, low)
+    report.update(fasteners)
     report["part_materials"] = family.part_materials(instances)
     report["files"] = sorted(files + ["report.md"])
     family.write_report_md(
@@ -1137,8 +1186,9 @@ def _report(design, lay, clr, bodies, eff, eff_bare, itf, bom, home, fidelity, l
             "Every pair of solids is checked at the home pose (common volume > "
             f"{itf['overlap_threshold_mm3']:g} mm^3 is a collision); moving links are checked "
             "over the workspace by capsules per layer (clearances_mm).",
-            "The motors' own screws (motor face to mount plate) are not modelled: the motor "
-            "envelope carries no tapped holes.",
+            "Every screw is sized from its stack (fasteners, tapped_holes): catalog ISO 4762 "
+            "length, engagement between 1.5 d (aluminium; the maker's minimum in the motor "
+            "face) and the tapped hole's depth, one screw per hole.",
         ],
     }
     if _twin(design):

@@ -168,6 +168,9 @@ def check_options(design, fidelity: str, phi1_deg, formats=frozenset()) -> None:
     """Refuse what this builder cannot do, before any CAD import (DesignError)."""
     if phi1_deg is not None:
         raise DesignError("--phi1-deg", f"the PowerMouse has no crank angle, got {phi1_deg!r}")
+    from cad.parts.powermouse import lid_screw_plan
+
+    lid_screw_plan(design.stator.housing_wall_mm)  # walls too thin for the lid screws
 
 
 def _materials(design) -> dict[str, str]:
@@ -216,8 +219,16 @@ _PARTS = {
         "machined",
         True,
     ),
-    "pm_housing_body": ("housing: open cube shell, post bore at (-,-,-)", "machined", True),
-    "pm_housing_lid": ("housing lid (+z wall) with the handle hole", "machined", True),
+    "pm_housing_body": (
+        "housing: open cube shell, post bore at (-,-,-)",
+        "machined; tap M3 x4 (lid screws, top of the side walls)",
+        True,
+    ),
+    "pm_housing_lid": (
+        "housing lid (+z wall) with the handle hole, 4 lid screw clearance holes",
+        "machined",
+        True,
+    ),
     "rig_magnet": ("NdFeB block magnet", "bought", False),
     "rig_iron_plate": ("back-iron plate", "machined", True),
     "rig_spacer": ("non-magnetic spacer holding the plates apart", "machined", True),
@@ -295,7 +306,55 @@ def assembly(design, g, acts) -> tuple[list, list]:
     k0 = next(iter(Tm))
     mk = _kind("pm_magnet", local(st[k0][0], Tm[k0]), "magnet", design)
     inst += [PartInstance(k, mk, "ground", T) for k, T in Tm.items()]
-    return inst, _rig(design, acts)
+    return inst + _lid_screws(design, g), _rig(design, acts)
+
+
+def lid_holes(design, g) -> dict:
+    """The tapped holes of the housing lid screws: ``housing_body:lid_<k>`` ->
+    :class:`cad.assembly.fasteners.TappedHole` (thread depth and 1.5 d minimum from
+    :func:`cad.parts.powermouse.lid_screw_plan`)."""
+    from cad.assembly.fasteners import TappedHole
+    from cad.parts import powermouse as pp
+
+    sp = pp.lid_screw_plan(design.stator.housing_wall_mm)
+    return {
+        f"housing_body:lid_{k + 1}": TappedHole(
+            f"housing_body:lid_{k + 1}", "housing_body", sp["size"], sp["depth_mm"],
+            sp["min_engagement_mm"],
+        )
+        for k in range(len(pp.lid_screw_xy_mm(g)))
+    }
+
+
+def _lid_screws(design, g) -> list:
+    """The four ISO 4762 screws holding the housing lid (heads on the lid, shanks through
+    its clearance holes into the side walls), each with its fastener record."""
+    from cad.assembly.fasteners import Fastener
+    from cad.parts import PartInstance, PartKind, catalog, joints, translation
+    from cad.parts import powermouse as pp
+
+    sp = pp.lid_screw_plan(design.stator.housing_wall_mm)
+    size, L = sp["size"], sp["length_mm"]
+    cs = catalog.get_cap_screw(size, "stator.housing_wall_mm")
+    kind = PartKind(
+        name=f"cap_screw_{size}x{L:g}",
+        shape=joints.cap_screw_shape(size, L),
+        material=catalog.FASTENER_MATERIAL,
+        made=False,
+        description=f"socket head cap screw ISO 4762 {size} x {L:g} (housing lid)",
+        process="bought",
+        revolution=True,
+        collision=(("self", joints.screw_envelope(cs.dk_mm, cs.k_mm, cs.d_mm, L)),),
+    )
+    z = g.housing_inner_half_mm + g.housing_wall_mm  # top of the lid
+    return [
+        PartInstance(
+            f"lid_screw_{k + 1}", kind, "ground", translation(x, y, z),
+            fastener=Fastener("ISO 4762", size, L, ("housing_lid",), f"housing_body:lid_{k + 1}",
+                              sp["engagement_mm"]),
+        )
+        for k, (x, y) in enumerate(pp.lid_screw_xy_mm(g))
+    ]
 
 
 def _rig(design, acts) -> list:
@@ -365,6 +424,7 @@ def build(
     _step(progress, "solids", 1, total)
     acts = pv.actuator_solids(ag)
     inst, rig = assembly(design, g, acts)
+    fasteners = family.fastener_report(inst, lid_holes(design, g))
     tfs = {"flotor": np.eye(4), "ground": np.eye(4)}
 
     _step(progress, "mass properties and wrench map", 2, total)
@@ -421,6 +481,7 @@ def build(
         pv.rattle_clearances_mm(ag, acts),
         gain_per_At,
     )
+    rep.update(fasteners)
     rep["part_materials"] = family.part_materials(inst)
     rep["files"] = sorted(files + ["report.md"])
     family.write_report_md(out_dir, f"{design.name} (powermouse)", _md_rows(rep), bom, rep["notes"])
@@ -627,8 +688,8 @@ def _report(
             "on their iron plates, five plates into the open housing box, one on its lid; flotor (with the core) "
             "lowered into the housing box (its side faces slide past the side magnets at the rattle gap); post "
             "through the housing's corner bore and the flotor's corner hole, screwed into the core; housing lid "
-            "on; handle stem through the lid's corner hole, screwed into the flotor. Lid screws and the post's "
-            "nut are not modelled.",
+            "on with four M3 screws into the side walls (fasteners, tapped_holes); handle stem through the lid's "
+            "corner hole, screwed into the flotor. The post's nut is not modelled.",
             "rig/ holds the single-actuator test rig of Fig. 7 (one coil between two magnet pairs): a bench "
             "fixture to measure one actuator's force against eq (8), not part of the PowerMouse.",
             "Clearances over the motion range: fcl mesh distances at every pose, exact OCCT where the mesh "

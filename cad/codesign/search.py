@@ -294,7 +294,9 @@ def layer_problem(design):
     """(layer plan, None) or (plan or None, the planner's objection): no layout in any order,
     a stack no catalog pin or screw fastens (DesignError of :mod:`cad.assembly.layers`), or
     -- for a given ``[parts] layer_order`` -- a clash between links that widening the gaps
-    does not cure (numpy only, the build's poses)."""
+    does not cure (numpy only, the build's poses). Without a given order it is planned
+    strictly, as the build refuses: no clear order in any of the six is an objection
+    (:func:`cad.build.fourbar.check_layout`)."""
     from cad.assembly.layers import choose_layers
     from cad.assembly.pose import planar_transforms
     from cad.errors import HapticadError
@@ -303,7 +305,9 @@ def layer_problem(design):
     parts = design.parts
     phi = np.linspace(design.phi1_min_rad, design.phi1_max_rad, parts.interference_poses)
     try:
-        plan = choose_layers(link_joints_mm(design.linkage), parts, planar_transforms(design.linkage, phi))
+        plan = choose_layers(link_joints_mm(design.linkage), parts,
+                             planar_transforms(design.linkage, phi),
+                             strict=parts.layer_order is None)
     except HapticadError as exc:
         return None, str(exc)
     if parts.layer_order is not None and plan.conflicts:

@@ -145,7 +145,7 @@ class PantographParts:
     bearing: str = "M4-9-2.5"
     pin_material: str = "steel-1018"
     motor: str = "maxon-re35"
-    motor_mount_thickness_mm: float = 4.0
+    motor_mount_thickness_mm: float = 5.0
     crank_material: str = "aluminium-7075"
     crank_thickness_mm: float = 5.0
     knob_material: str = "delrin"

@@ -303,14 +303,20 @@ def cached_solid_mass_props(shape, density_kg_m3: float) -> MassProps:
     evaluation (``fit``, ``sweep``) validates and integrates only the parts that changed;
     the density is applied afterwards (a material change integrates nothing).
     """
+    vol, com, inertia = cached_unit_props(shape)
+    return _to_si(vol, com, inertia, density_kg_m3)
+
+
+def cached_unit_props(shape):
+    """``(volume_mm3, com_mm, inertia_com_mm5)`` of ``shape`` at unit density, validated
+    (:func:`check_valid`) and remembered per shape object (see :func:`cached_solid_mass_props`)."""
     hit = _PROPS_MEMO.get(id(shape))
     if hit is not None and hit[0] is shape:
         _PROPS_MEMO.move_to_end(id(shape))
-        vol, com, inertia = hit[1]
-    else:
-        check_valid(shape)
-        vol, com, inertia = volume_props_mm(shape)
-        _PROPS_MEMO[id(shape)] = (shape, (vol, com, inertia))
-        while len(_PROPS_MEMO) > PROPS_MEMO_MAX:
-            _PROPS_MEMO.popitem(last=False)
-    return _to_si(vol, com, inertia, density_kg_m3)
+        return hit[1]
+    check_valid(shape)
+    out = volume_props_mm(shape)
+    _PROPS_MEMO[id(shape)] = (shape, out)
+    while len(_PROPS_MEMO) > PROPS_MEMO_MAX:
+        _PROPS_MEMO.popitem(last=False)
+    return out

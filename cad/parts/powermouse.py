@@ -22,7 +22,9 @@ origin at the cube centre, axes normal to the faces, mm.
   plates into the housing box, one on its lid; flotor (with the core) lowered into
   the housing box -- its side faces slide past the side magnets at the rattle gap;
   post through the housing bore and the flotor's corner hole, screwed into the core;
-  housing lid on; handle stem through the lid's corner hole, screwed into the flotor.
+  housing lid on (four ISO 4762 screws through it into holes tapped in the side walls'
+  tops, :func:`lid_screw_plan`); handle stem through the lid's corner hole, screwed into
+  the flotor.
 * Motion range +- r mm / +- theta deg (Table 4): :func:`motion_clearances`
   moves the flotor solids to the extreme poses and measures the exact OCCT
   distance to the stator.
@@ -39,6 +41,62 @@ import numpy as np
 
 from cad.actuators import powermouse as pm
 from cad.errors import DesignError
+
+#: Housing lid screws (ISO 4762): size, drilled depth of their tapped holes in the top of
+#: the side walls (mm), wall left each side of a tap drill (mm). One screw at the middle of
+#: each side wall (:func:`lid_screw_xy_mm`), away from the handle hole at the (+,+,+) corner.
+LID_SCREW = "M3-0.5"
+LID_TAP_DRILL_DEPTH_MM = 8.0
+LID_HOLE_WALL_MM = 0.75
+
+
+def lid_screw_plan(wall_mm: float) -> dict:
+    """The housing lid screws sized from their stack, before any CAD: through the lid
+    (``wall_mm`` thick) into a hole tapped in the top of a side wall (full thread
+    :data:`LID_TAP_DRILL_DEPTH_MM` - 1 mm lead-out, at least 1.5 d:
+    :func:`cad.assembly.fasteners.size_cap_screw`). Returns size, clamp_mm, length_mm,
+    engagement_mm, depth_mm, min_engagement_mm. DesignError (``stator.housing_wall_mm``)
+    when the wall cannot hold the tap drill with :data:`LID_HOLE_WALL_MM` each side."""
+    from cad.assembly import fasteners as fs
+    from cad.parts.catalog import tap_drill_mm
+
+    need = tap_drill_mm(LID_SCREW) + 2 * LID_HOLE_WALL_MM
+    if wall_mm < need - 1e-9:
+        raise DesignError(
+            "stator.housing_wall_mm",
+            f"{wall_mm:g} mm walls cannot take the {LID_SCREW} lid screws' tapped holes "
+            f"(need >= {need:g} mm)",
+        )
+    depth = LID_TAP_DRILL_DEPTH_MM - fs.TAP_LEADOUT_MM
+    hole = fs.alu_hole("housing_body:lid", "housing_body", LID_SCREW, depth)
+    L, e = fs.size_cap_screw(LID_SCREW, wall_mm, hole, "housing lid to body",
+                             "stator.housing_wall_mm")
+    return {"size": LID_SCREW, "clamp_mm": wall_mm, "length_mm": L, "engagement_mm": e,
+            "depth_mm": depth, "min_engagement_mm": hole.min_engagement_mm}
+
+
+def lid_screw_xy_mm(g: PowerMouseGeometry) -> list[tuple[float, float]]:
+    """(x, y) of the lid screws (flotor frame, mm): mid-wall, middle of each side."""
+    m = g.housing_inner_half_mm + g.housing_wall_mm / 2
+    return [(m, 0.0), (0.0, m), (-m, 0.0), (0.0, -m)]
+
+
+def _lid_screw_holes(g: PowerMouseGeometry):
+    """Clearance holes through the lid and tap drills into the side walls' tops."""
+    import build123d as bd
+
+    from cad.parts.catalog import clearance_hole_mm, tap_drill_mm
+
+    H, Ho = g.housing_inner_half_mm, g.housing_inner_half_mm + g.housing_wall_mm
+    a = (bd.Align.CENTER, bd.Align.CENTER, bd.Align.MIN)
+    cut = None
+    for x, y in lid_screw_xy_mm(g):
+        c = bd.Pos(x, y, H) * bd.Cylinder(clearance_hole_mm(LID_SCREW) / 2, Ho - H + 1.0, align=a)
+        c = c + bd.Pos(x, y, H - LID_TAP_DRILL_DEPTH_MM) * bd.Cylinder(
+            tap_drill_mm(LID_SCREW) / 2, LID_TAP_DRILL_DEPTH_MM, align=a
+        )
+        cut = c if cut is None else cut + c
+    return cut
 
 
 @dataclass(frozen=True)
@@ -279,6 +337,7 @@ def stator_solids(g: PowerMouseGeometry) -> dict[str, tuple[object, str]]:
     # centre along the diagonal; a radial direction has a component of at most r)
     r = g.post_diameter_mm / 2
     housing = housing - _diag_cylinder(r, -(H - r - 1.0) * math.sqrt(3), -Ho * math.sqrt(3) - 5)
+    housing = housing - _lid_screw_holes(g)
     # split at the inner face of the +z wall: an open box and a lid (the flotor goes in from above)
     body, lid = _split_z(housing, H, 2 * Ho)
     out["housing_body"] = (body, "housing")

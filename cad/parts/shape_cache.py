@@ -2,7 +2,7 @@
 
 Building a bd_warehouse bearing or screw costs 0.2-0.4 s each; reading its BREP back
 costs a few ms and needs neither bd_warehouse nor build123d. The key is the part
-generator's name and arguments plus the versions of bd_warehouse and OCP, so a new
+generator's name and arguments plus the versions of bd_warehouse, build123d and OCP, so a new
 library version rebuilds. Every caller gets the shape READ BACK from the file (also
 right after building it), so a first and a later build use bit-identical geometry
 and their exports are byte-identical.
@@ -39,7 +39,7 @@ def cache_dir() -> Path | None:
 @functools.cache
 def _versions() -> str:
     out = []
-    for pkg in ("bd_warehouse", "cadquery-ocp", "cadquery-ocp-novtk"):
+    for pkg in ("bd_warehouse", "build123d", "cadquery-ocp", "cadquery-ocp-novtk"):
         try:
             out.append(f"{pkg}={version(pkg)}")
         except PackageNotFoundError:
@@ -94,6 +94,21 @@ def _write(shape, path: Path) -> None:
     write_text_atomic(_hash_path(path), digest + "\n")
 
 
+def entry_path(key: str) -> Path | None:
+    """The BREP file of ``key`` (None when the cache is off)."""
+    d = cache_dir()
+    if d is None:
+        return None
+    return d / (hashlib.sha256(f"{key}|{_versions()}".encode()).hexdigest()[:32] + ".brep")
+
+
+def read_cached_shape(key: str):
+    """The cached shape of ``key`` (verified as in :func:`cached_shape`), or None: nothing
+    is made or written."""
+    path = entry_path(key)
+    return _read(path) if path is not None and path.is_file() else None
+
+
 def cached_shape(key: str, make: Callable[[], object]):
     """The ``TopoDS_Shape`` for ``key``: from the disk cache, else ``make()`` then cached.
 
@@ -102,12 +117,10 @@ def cached_shape(key: str, make: Callable[[], object]):
     """
     from cad.parts.lazy_import import import_build123d
 
-    d = cache_dir()
-    if d is None:
+    path = entry_path(key)
+    if path is None:
         import_build123d()  # before a part generator imports it (defers scikit-learn)
         return make()
-    name = hashlib.sha256(f"{key}|{_versions()}".encode()).hexdigest()[:32] + ".brep"
-    path = d / name
     if path.is_file():
         shape = _read(path)
         if shape is not None:

@@ -1,8 +1,11 @@
 """Run a sweep on Dask and keep its table: resume, atomic writes, progress, chart.
 
 * Scheduling is Dask's (``distributed``): an embedded ``LocalCluster`` of worker
-  processes (one thread each: the CAD kernel holds the GIL) or an existing cluster
-  at ``--scheduler tcp://HOST:PORT``. Each variant is one task; its arguments are the
+  processes (one thread each: the CAD kernel holds the GIL; OCCT's own thread pool cut to
+  one thread, so N workers use N cores) or an existing cluster at ``--scheduler
+  tcp://HOST:PORT``. Before the clock starts (``startup_s``) the workers import the CAD
+  stack and make the first variant's parts into the shared disk cache, each part on one
+  worker (:func:`warm_up`); variants then read the parts they share from the cache. Each variant is one task; its arguments are the
   variant's raw design mapping (~2 kB) and it returns one row (~1 kB). When a worker
   dies, Dask's scheduler reruns its tasks on the others (the nanny restarts it); a task
   that kills workers repeatedly ends as a ``lost`` row, rerun on the next resume.
@@ -198,17 +201,14 @@ def run_sweep(spec: SweepSpec, out: Path, workers: int, scheduler: str | None) -
     resumed = len(variants) - len(todo)
     prog = Progress(total=len(todo), skipped=resumed)
     t0 = time.perf_counter()
-    t_eval = startup = None
+    t_eval = startup = c_eval = client_cpu = None
     last_done = None
     if todo:
         from dask.distributed import as_completed
 
         client, cluster = _client(workers, scheduler)
-        try:
-            client.run(_warm_worker)  # CAD import on every worker before the clock starts
-        except Exception:  # noqa: S110 - a worker that cannot warm up fails its variants as rows
-            pass
-        t_eval = time.perf_counter()
+        warm_up(client, todo[0][2], str(spec.design), spec.fidelity, one_core=cluster is not None)
+        t_eval, c_eval = time.perf_counter(), time.process_time()
         startup = t_eval - t0
         prog.start()
         try:
@@ -224,6 +224,7 @@ def run_sweep(spec: SweepSpec, out: Path, workers: int, scheduler: str | None) -
                 rows.append({**a, "variant": i, "design_hash": h, "targets": spec.targets_text, **res})
                 prog.add(res["status"])
                 last_done = time.perf_counter()
+                client_cpu = time.process_time() - c_eval
                 if last_done - last_write >= max(WRITE_EVERY_S, WRITE_COST_FACTOR * write_cost):
                     tw = time.perf_counter()
                     publish(out, rows, cols)
@@ -251,6 +252,7 @@ def run_sweep(spec: SweepSpec, out: Path, workers: int, scheduler: str | None) -
         "startup_s": startup,
         "evaluation_s": (last_done - t_eval) if todo and last_done else None,
         "variants_per_s": (len(todo) / (last_done - t_eval)) if todo and last_done else None,
+        "client_cpu_s": client_cpu,
         "variant_wall_s_median": _median([r.get("wall_s") for r in rows[-len(todo):]] if todo else []),
         "variant_cpu_s_median": _median([r.get("cpu_s") for r in rows[-len(todo):]] if todo else []),
         "task_bytes_in_median": _median([float(len(pickle.dumps((raw, str(spec.design), spec.fidelity,
@@ -268,12 +270,49 @@ def run_sweep(spec: SweepSpec, out: Path, workers: int, scheduler: str | None) -
     return summary
 
 
-def _warm_worker() -> None:
-    """Import the CAD stack in a worker (what its first variant would otherwise pay)."""
+def warm_up(client, raw: dict[str, Any], source: str, fidelity: str, one_core: bool) -> None:
+    """Before the clock starts: on every worker the CAD import (and, for the embedded
+    cluster, one OCCT thread: one worker per core); then the first variant's parts made and
+    integrated into the shared disk cache, split over the workers (each part once, not once
+    per worker: that duplicated cold start cost the 2-worker sweep ~1 s per worker). A
+    failure here is not fatal: the variant fails later as a row."""
+    from dask.distributed import wait
+
+    try:
+        client.run(_setup_worker, one_core)
+        addrs = sorted(client.scheduler_info()["workers"])
+        futs = [client.submit(_warm_share, raw, source, fidelity, (i, len(addrs)), workers=[a],
+                              allow_other_workers=False, pure=False) for i, a in enumerate(addrs)]
+        wait(futs)
+    except Exception:  # noqa: S110 - a worker that cannot warm up fails its variants as rows
+        pass
+
+
+def _setup_worker(one_core: bool) -> None:
+    """Import the CAD stack in a worker (what its first variant would otherwise pay); with
+    ``one_core``, OCCT's thread pool (parallel booleans, build123d turns them on) is cut to
+    one thread so that two workers on two cores do not oversubscribe them. BLAS threads are
+    already 1 in Dask's worker processes (``distributed.nanny.pre-spawn-environ``)."""
     from cad.parts.lazy_import import import_build123d
 
     import_build123d()
     import cad.build.inertia  # noqa: F401
+
+    if one_core:
+        from OCP.OSD import OSD_ThreadPool
+
+        OSD_ThreadPool.DefaultPool_s().Init(1)
+
+
+def _warm_share(raw: dict[str, Any], source: str, fidelity: str, share: tuple[int, int]) -> int:
+    """This worker's share of :func:`cad.build.inertia.warm_part_cache` for one variant."""
+    from cad.build.inertia import warm_part_cache
+    from cad.design import parse_design
+
+    try:
+        return warm_part_cache(parse_design(raw, source), fidelity, share)
+    except Exception:  # noqa: BLE001 - the variant reports its own error as a row
+        return 0
 
 
 def _median(v: list[float]) -> float | None:

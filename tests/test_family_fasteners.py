@@ -1,0 +1,164 @@
+"""Every screw of every non-four-bar family has its fastener data, and the data holds
+against the catalog and against the solids read back from assembly.step.
+
+References, not the build's code path:
+* the catalog numbers (ISO 4762 lengths of bd_warehouse, thread diameters, the motor
+  face's thread depth) and the plate/wall thicknesses of the design;
+* the written ``assembly.step`` re-read with OCCT's XCAF reader: each screw's thread
+  engagement measured by point classification along its axis in the part whose hole it
+  engages (``tests/step_pairs.thread_in_part_mm``), and every pair of solids intersected
+  (``tests/test_family_builds.py``).
+Builds: ``conftest.family_builds`` (one per family, shared).
+"""
+
+from __future__ import annotations
+
+import csv
+
+import pytest
+from step_pairs import read_parts, thread_in_part_mm
+
+FAMILIES = ("pantograph", "twin-pantograph", "powermouse")
+
+
+def _expected_counts(fam: str, d) -> dict[str, int]:
+    """Screws per group, counted from the catalog and the design (not from the build)."""
+    from cad.parts import catalog
+
+    if fam == "powermouse":
+        return {"lid_screw": 4}  # one per side wall
+    stations = 2 if fam == "twin-pantograph" else 1  # motors under the base, on the bridge
+    m = catalog.get_motor(d.parts.motor)
+    out = {
+        "leg_screw": 4,
+        "mount_screw": 2 * stations * 4,  # 2 motors x 4 corner screws
+        "motor_screw": 2 * stations * m.bolt_count,
+    }
+    if fam == "twin-pantograph":
+        out["post_screw"] = 4 * 2  # 4 posts, a screw at each end
+    return out
+
+
+def _group(name: str) -> str:
+    for g in ("leg_screw", "mount_screw", "motor_screw", "post_screw", "lid_screw"):
+        if g in name:
+            return g
+    raise AssertionError(name)
+
+
+def _clamp_mm(fam: str, d, group: str) -> float:
+    p = d.parts if fam != "powermouse" else None
+    return {
+        "leg_screw": lambda: p.plate_thickness_mm,
+        "post_screw": lambda: p.plate_thickness_mm,
+        "mount_screw": lambda: p.motor_mount_thickness_mm,
+        "motor_screw": lambda: p.motor_mount_thickness_mm,
+        "lid_screw": lambda: d.stator.housing_wall_mm,
+    }[group]()
+
+
+@pytest.mark.parametrize("fam", FAMILIES)
+def test_every_screw_has_fastener_data_within_its_hole(family_builds, fam):
+    from cad.parts import catalog
+
+    d, out, rep = family_builds[fam]
+    f, holes = rep["fasteners"], rep["tapped_holes"]
+    counts: dict[str, int] = {}
+    for name, x in f.items():
+        counts[_group(name)] = counts.get(_group(name), 0) + 1
+        cs = catalog.get_cap_screw(x["size"], "test")
+        assert x["kind"] == "ISO 4762" and x["length_mm"] in cs.lengths_mm, (name, x)
+        h = holes[x["hole"]]
+        dia = catalog.thread_diameter_mm(x["size"])
+        if h["part"].endswith(tuple(f"motor_{i}" for i in (1, 2))):  # the maxon face
+            m = catalog.get_motor(d.parts.motor)
+            assert h["depth_mm"] == m.bolt_thread_depth_mm  # the maker's 3.5 mm
+            assert x["engagement_mm"] >= min(2.5, m.bolt_thread_depth_mm) - 1e-9
+        else:
+            assert x["engagement_mm"] >= 1.5 * dia - 1e-9, (name, x)  # aluminium: 1.5 d
+        assert x["engagement_mm"] <= h["depth_mm"] + 1e-9, (name, x, h)
+        # the length is the stack: clamped thickness + engagement, the shortest catalog one
+        clamp = _clamp_mm(fam, d, _group(name))
+        assert x["length_mm"] == pytest.approx(clamp + x["engagement_mm"])
+        shorter = [L for L in cs.lengths_mm if L < x["length_mm"]]
+        assert not shorter or max(shorter) - clamp < h["min_engagement_mm"] - 1e-9
+    assert counts == _expected_counts(fam, d)
+    assert len({x["hole"] for x in f.values()}) == len(f)  # one screw per hole
+
+
+@pytest.mark.parametrize("fam", FAMILIES)
+def test_thread_engagement_measured_in_the_step_file(family_builds, fam):
+    """Each screw read back from assembly.step sits in the part its record names, with the
+    recorded engagement (to 0.01 mm: bisection to 0.005 mm) and a hole deeper than its tip."""
+    from cad.parts import catalog
+
+    d, out, rep = family_builds[fam]
+    parts = dict(read_parts(out / "assembly.step"))
+    for name, x in rep["fasteners"].items():
+        h = rep["tapped_holes"][x["hole"]]
+        cs = catalog.get_cap_screw(x["size"], "test")
+        e, tip_free = thread_in_part_mm(parts[name], parts[h["part"]], cs.d_mm, cs.dk_mm)
+        assert e == pytest.approx(x["engagement_mm"], abs=0.01), (name, h["part"], e)
+        assert tip_free, name
+
+
+@pytest.mark.parametrize("fam", ("pantograph", "twin-pantograph"))
+def test_bom_states_tapped_holes(family_builds, fam):
+    _, out, _ = family_builds[fam]
+    with (out / "bom.csv").open() as fh:
+        rows = {r["part"]: r for r in csv.DictReader(fh)}
+    assert "tap M3 x" in rows["base_plate"]["process"]
+    assert "face tapped M3 x3" in rows["motor"]["process"]
+    assert "tap M6 both ends" in rows["leg"]["process"]
+    if fam == "twin-pantograph":
+        assert "tap M3 x8" in rows["bridge_plate"]["process"]
+        assert "tap M4 both ends" in rows["post"]["process"]
+
+
+def test_powermouse_bom_states_the_lid_screw_holes(family_builds):
+    from cad.parts import powermouse as pp
+
+    _, out, rep = family_builds["powermouse"]
+    with (out / "bom.csv").open() as fh:
+        rows = {r["part"]: r for r in csv.DictReader(fh)}
+    n = len(rep["fasteners"])
+    assert f"tap {pp.LID_SCREW.split('-')[0]} x{n}" in rows["pm_housing_body"]["process"]
+
+
+def test_thin_housing_wall_is_refused_before_cad(tmp_path, monkeypatch):
+    from pathlib import Path
+
+    import cad.parts.lazy_import as li
+    from cad.build import build_design
+    from cad.design import load_design
+    from cad.errors import DesignError
+
+    d = load_design(Path(__file__).resolve().parents[1] / "designs" / "powermouse.toml")
+    import dataclasses
+
+    d = dataclasses.replace(d, stator=dataclasses.replace(d.stator, housing_wall_mm=3.5))
+    monkeypatch.setattr(li, "import_build123d", lambda: pytest.fail("CAD imported"))
+    with pytest.raises(DesignError, match=r"stator.housing_wall_mm: 3.5 mm walls cannot take"):
+        build_design(d, tmp_path / "o", {"step"})
+    assert not (tmp_path / "o").exists()
+
+
+def test_pantograph_stack_no_catalog_screw_fits_is_refused_before_cad(tmp_path, monkeypatch):
+    """A 4 mm motor mount plate: an M3 motor screw would need 4 + 2.5..3.5 mm, and ISO 4762
+    M3 comes in 6 and 8 mm -- refused naming the joint and the window, before any CAD."""
+    import dataclasses
+    from pathlib import Path
+
+    import cad.parts.lazy_import as li
+    from cad.build import build_design
+    from cad.design import load_design
+    from cad.errors import DesignError
+
+    d = load_design(Path(__file__).resolve().parents[1] / "designs" / "pantograph.toml")
+    d = dataclasses.replace(d, parts=dataclasses.replace(d.parts, motor_mount_thickness_mm=4.0))
+    monkeypatch.setattr(li, "import_build123d", lambda: pytest.fail("CAD imported"))
+    with pytest.raises(DesignError) as e:
+        build_design(d, tmp_path / "o", {"step"})
+    assert str(e.value).startswith("parts.motor_mount_thickness_mm: motor face to mount plate")
+    assert "need L in 6.5..7.5 mm" in str(e.value)
+    assert not (tmp_path / "o").exists()
