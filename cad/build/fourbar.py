@@ -295,7 +295,6 @@ def build(
     from cad.kinematics.metrics import compute_metrics
     from cad.parts import catalog
     from cad.parts.handle import handle_params, resolve_script, user_handle_shape
-    from cad.parts.lazy_import import import_build123d
 
     timings: dict[str, float] = {}
     t0 = time.perf_counter()
@@ -323,7 +322,6 @@ def build(
     # 3 parts
     _step(progress, "parts", 1, n_steps)
     t1 = time.perf_counter()
-    import_build123d()  # the first build123d import of a build (defers scikit-learn)
     user_handle = None
     if script is not None:
         floor = plan.handle_screw_length_mm - parts.bar_thickness_mm
