@@ -110,3 +110,32 @@ def check_fasteners(fasteners: dict[str, Fastener], holes: dict[str, TappedHole]
                 f"{name}: {f.engagement_mm:g} mm of {f.size} thread in {f.hole} "
                 f"(window {h.min_engagement_mm:g}..{h.depth_mm:g} mm)",
             )
+
+
+
+def size_set_screw(
+    bore_mm: float, outer_mm: float, sizes: tuple[str, ...], joint: str, field: str
+) -> tuple[str, float, float]:
+    """(size, catalog length, full-thread depth) of the ISO 4026 set screw tapped radially
+    through a round boss (radius ``outer_mm``) onto a shaft (radius ``bore_mm``), point on the
+    shaft surface. The boss curves away from the hole: the full thread (its major diameter d
+    all round) ends at ``sqrt(outer^2 - (d/2)^2)`` from the shaft axis, so the depth is that
+    minus ``bore_mm``; the screw's end (its rim at d/2) must not stand proud of the boss, so
+    ``L <= depth`` too, and engagement = L >= 1.5 d. The largest of ``sizes`` with such a
+    catalog length, L the longest; DesignError naming ``field`` when none fits."""
+    for size in sorted(sizes, key=catalog.thread_diameter_mm, reverse=True):
+        ss = catalog.get_set_screw(size, field)
+        depth = (outer_mm**2 - (ss.d_mm / 2) ** 2) ** 0.5 - bore_mm
+        lo = MIN_ENGAGEMENT_ALU_D * ss.d_mm
+        fit = [L for L in ss.lengths_mm if lo - 1e-9 <= L <= depth + 1e-9]
+        if fit:
+            return size, max(fit), depth
+    small = catalog.get_set_screw(min(sizes, key=catalog.thread_diameter_mm), field)
+    depth = (outer_mm**2 - (small.d_mm / 2) ** 2) ** 0.5 - bore_mm
+    raise DesignError(
+        field,
+        f"{joint}: a {2 * outer_mm:g} mm wide round end leaves a {outer_mm - bore_mm:g} mm wall "
+        f"({depth:.2f} mm of full {small.size.split('-')[0]} thread), less than the smallest "
+        f"ISO 4026 set screw {small.size.split('-')[0]} needs (1.5 d = "
+        f"{MIN_ENGAGEMENT_ALU_D * small.d_mm:g} mm, catalog lengths from {small.lengths_mm[0]:g} mm)",
+    )

@@ -120,6 +120,7 @@ def check_options(design, fidelity: str, phi1_deg, formats=frozenset()) -> None:
             "exported at workspace.home_mm",
         )
     screw_plan(design)  # a stack no catalog screw fastens: named before any CAD
+    set_screw_plan(design)  # a clevis wall no set screw fits: named before any CAD
 
 
 def _step(progress, text: str, done: int, total: int) -> None:
@@ -182,6 +183,42 @@ def screw_plan(design) -> dict[str, dict]:
     return out
 
 
+#: ISO 4026 set screws that may lock a hub clevis on its motor shaft, largest first tried.
+SET_SCREW_SIZES = ("M3-0.5", "M2.5-0.45", "M2-0.4")
+
+
+def set_screw_plan(design) -> dict:
+    """The set screw locking each hub clevis on its motor shaft, before any CAD: radial, at
+    the clevis mid-plane, tapped through the round end's wall (``clevis_width_mm / 2`` minus
+    the shaft radius) with its flat point touching the shaft and its end inside the clevis
+    outer surface (:func:`cad.assembly.fasteners.size_set_screw`: the largest of
+    :data:`SET_SCREW_SIZES` with a bd_warehouse ISO 4026 length 1.5 d <= L <= full-thread
+    depth). Returns size, length_mm, engagement_mm (= L), depth_mm, wall_mm, shaft_radius_mm,
+    min_engagement_mm. DesignError naming ``parts.clevis_width_mm`` when no size fits,
+    ``parts.clevis_height_mm`` when the shaft ends short of the screw."""
+    from cad.assembly import fasteners as fs
+    from cad.parts.catalog import get_motor, thread_diameter_mm
+
+    p = design.parts
+    m = get_motor(p.motor)
+    r_in, r_out = m.shaft_diameter_mm / 2, p.clevis_width_mm / 2
+    size, L, depth = fs.size_set_screw(r_in, r_out, SET_SCREW_SIZES,
+                                       "hub clevis set screw onto the motor shaft",
+                                       "parts.clevis_width_mm")
+    d = thread_diameter_mm(size)
+    # shaft length inside a hub clevis (the same for the crank and knob pantographs)
+    engaged = m.shaft_length_mm - p.plate_thickness_mm - p.motor_mount_thickness_mm - p.layer_gap_mm
+    if engaged - p.clevis_height_mm / 2 < d / 2:
+        raise DesignError(
+            "parts.clevis_height_mm",
+            f"the {p.motor} shaft ends {engaged:g} mm into the {p.clevis_height_mm:g} mm hub "
+            f"clevis, short of its {size.split('-')[0]} set screw at mid-height",
+        )
+    return {"size": size, "length_mm": L, "engagement_mm": L, "depth_mm": depth,
+            "wall_mm": r_out - r_in, "shaft_radius_mm": r_in,
+            "min_engagement_mm": fs.MIN_ENGAGEMENT_ALU_D * d}
+
+
 def layout(design) -> dict:
     """Heights and plate extents of the assembly (mm), from the design only (no CAD)."""
     from cad.parts import base
@@ -230,6 +267,7 @@ def layout(design) -> dict:
         "lower_shaft_engagement_mm": shaft_tip - (L[0] - h / 2),
         "motor_mount_side_mm": ms,
         "screws": screw_plan(design),
+        "set_screw": set_screw_plan(design),
     }
     if not twin:
         knob_z = L[2] + h / 2 + g
@@ -466,13 +504,25 @@ def _kinds(design, lay: dict, fidelity: str) -> dict:
         tube_od_mm=p.tube_od_mm,
     )
     cm, tm = p.clevis_material, p.tube_material
+    ss = lay["set_screw"]
+    sz = ss["size"].split("-")[0]
     add(
         "clevis_hub",
-        pp.clevis_shape("hub", bore_mm=mot.shaft_diameter_mm, **cl),
+        pp.clevis_shape("hub", bore_mm=mot.shaft_diameter_mm,
+                        set_screw_drill_mm=tap_drill_mm(ss["size"]), **cl),
         cm,
         True,
-        "clevis on the motor shaft (M3 set screw)",
-        "CNC milled",
+        f"clevis on the motor shaft ({sz} set screw)",
+        f"CNC milled; tap {sz} x1 (radial)",
+    )
+    add(
+        "set_screw",
+        pm.set_screw_shape(ss["length_mm"], ss["size"]),
+        FASTENER_MATERIAL,
+        False,
+        f"set screw ISO 4026 {ss['size']} x {ss['length_mm']:g} (locks the clevis on the "
+        "motor shaft)",
+        "bought",
     )
     add(
         "clevis_pin",
@@ -721,6 +771,7 @@ def assembly(design, lay: dict, fidelity: str):
     B = [fb.base_left_mm, fb.base_right_mm]
     inst: list = []
     tfs: dict[str, np.ndarray] = {"ground": np.eye(4)}
+    set_holes: dict = {}
 
     def place(name, kind, body, tf, fastener=None):
         inst.append(PartInstance(name, kind, body, np.asarray(tf, dtype=float), fastener=fastener))
@@ -753,6 +804,7 @@ def assembly(design, lay: dict, fidelity: str):
             for k, (kind, tf) in enumerate(_link_parts("proximal", side, K, lay, p, pin)):
                 place(f"{body}.{kind.name}{k}", kind, body, translation(0, 0, zs[0]) @ F @ tf)
             place(f"{body}.motor_shaft", K["motor_shaft"], body, shaft_tf)
+            _set_screw(place, set_holes, K, lay, body, translation(0, 0, zs[0]) @ F)
             body = f"{pre}distal_{side}"
             tfs[body] = _rz(math.atan2(E[1] - C[i][1], E[0] - C[i][0]), C[i][0], C[i][1])
             for k, (kind, tf) in enumerate(_link_parts("distal", side, K, lay, p, pin)):
@@ -766,7 +818,7 @@ def assembly(design, lay: dict, fidelity: str):
         place("handle_pin", K["handle_pin"], "handle", translation(0, 0, lay["handle_pin_z_mm"]))
         place("knob", K["knob"], "handle", translation(0, 0, lay["knob_bottom_z_mm"]))
     holes = _ground(place, K, lay, p, B, twin)
-    return inst, tfs, home, holes
+    return inst, tfs, home, {**holes, **set_holes}
 
 
 #: This builder writes glb and 3mf (:mod:`cad.build.views`).
@@ -848,6 +900,24 @@ def _screw(place, holes, K, lay, group: str, name: str, hole: str, part: str, tf
     f = Fastener("ISO 4762", sp["size"], sp["length_mm"], tuple(clamps or sp["clamps"]), hole,
                  sp["engagement_mm"])
     place(name, K[f"_{group}_screw"], "ground", tf, fastener=f)
+
+
+def _set_screw(place, holes, K, lay, body: str, tf_clevis) -> None:
+    """The set screw of the hub clevis of ``body`` (clevis frame ``tf_clevis``): axis along
+    -x at z = 0, flat point on the shaft surface (x = -shaft radius), its other end at or
+    inside the clevis outer surface; the wall's tapped hole is its record's hole."""
+    from cad.assembly.fasteners import Fastener, TappedHole
+
+    ss = lay["set_screw"]
+    clevis = f"{body}.clevis_hub0"
+    hole = f"{clevis}:set_screw"
+    holes[hole] = TappedHole(hole, clevis, ss["size"], ss["depth_mm"], ss["min_engagement_mm"])
+    T = np.eye(4)
+    T[:3, :3] = [[0, 0, -1], [0, 1, 0], [1, 0, 0]]  # part z (point -> end) -> clevis -x
+    T[0, 3] = -ss["shaft_radius_mm"]
+    f = Fastener("ISO 4026", ss["size"], ss["length_mm"], (f"{body}.motor_shaft",), hole,
+                 ss["engagement_mm"])
+    place(f"{body}.set_screw", K["set_screw"], body, tf_clevis @ T, fastener=f)
 
 
 def _motor_station(place, holes, K, lay, p, tag: str, i: int, bxy, z_mount: float, upper: bool):

@@ -250,6 +250,31 @@ def get_cap_screw(size: str, field: str) -> CapScrewSpec:
     )
 
 
+@dataclass(frozen=True)
+class SetScrewSpec:
+    """ISO 4026 hexagon socket set screw, flat point: d_mm thread diameter, lengths_mm the
+    catalog lengths (bd_warehouse ``setscrew_parameters.csv`` short..long of the size, from
+    the ISO 4026 list of ``nominal_screw_lengths.csv``)."""
+
+    size: str
+    d_mm: float
+    lengths_mm: tuple[float, ...]
+
+
+def get_set_screw(size: str, field: str) -> SetScrewSpec:
+    tab = _table("setscrew_parameters.csv", "iso4026")
+    if size not in tab:
+        raise DesignError(
+            field, f"unknown ISO 4026 set screw {size!r} (bd_warehouse sizes: {', '.join(tab)})"
+        )
+    lo, hi = _num(tab[size]["short"]), _num(tab[size]["long"])
+    with open(bd_warehouse_data_dir() / "nominal_screw_lengths.csv", newline="",
+              encoding="utf-8") as fh:
+        row = next(r for r in csv.DictReader(fh) if r["Screw_Type"].strip() == "iso4026")
+    nominal = (float(x) for x in row["Nominal_Sizes"].split(","))
+    return SetScrewSpec(size, thread_diameter_mm(size), tuple(x for x in nominal if lo <= x <= hi))
+
+
 def clearance_hole_mm(size: str, fit: str = "Normal") -> float:
     """ISO 273 clearance hole (bd_warehouse ``clearance_hole_sizes.csv``), mm."""
     key = size.split("-")[0]

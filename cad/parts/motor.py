@@ -146,9 +146,10 @@ def set_screw_z_mm(height_mm: float, shaft_engaged_mm: float) -> float:
 
 
 @part_cached
-def set_screw_shape(length_mm: float):
-    """Simplified ISO 4026 set screw: a cylinder of the tap drill diameter (the thread's
-    minor envelope, like bd_warehouse's ``simple`` screws), z 0..length, flat point at z = 0."""
+def set_screw_shape(length_mm: float, size: str = SET_SCREW):
+    """Simplified ISO 4026 set screw of ``size``: a cylinder of the tap drill diameter (the
+    thread's minor envelope, like bd_warehouse's ``simple`` screws), z 0..length, flat point
+    at z = 0."""
     from build123d import Cylinder
 
-    return Cylinder(tap_drill_mm(SET_SCREW) / 2, length_mm, align=_a()).solids()[0].wrapped
+    return Cylinder(tap_drill_mm(size) / 2, length_mm, align=_a()).solids()[0].wrapped

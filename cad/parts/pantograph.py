@@ -44,11 +44,13 @@ def clevis_shape(
     socket_depth_mm: float,
     tube_od_mm: float,
     bore_mm: float,
+    set_screw_drill_mm: float = 2.5,
 ):
     """Aluminium clevis: rounded block, joint bore (z) at the origin, tube socket along +x.
 
     kind: "hub" | "pin" | "bearing" (only the bore diameter ``bore_mm`` and, for a
-    hub, a radial M3 set-screw hole differ).
+    hub, a radial set-screw tap-drill hole of ``set_screw_drill_mm`` along -x at z = 0, through
+    the wall into the bore).
     """
     from build123d import Box, Cylinder, Pos, Rot
 
@@ -62,8 +64,8 @@ def clevis_shape(
     )
     body = body - sock
     if kind == "hub":
-        # set screw: radial M3 tap-drill hole from the -x side into the shaft bore
-        body = body - Pos(-w / 4, 0, 0) * Rot(0, 90, 0) * Cylinder(1.25, w / 2)
+        # set screw: radial tap-drill hole from the -x side into the shaft bore
+        body = body - Pos(-w / 4, 0, 0) * Rot(0, 90, 0) * Cylinder(set_screw_drill_mm / 2, w / 2)
     elif kind not in ("pin", "bearing"):
         raise ValueError(f"unknown clevis kind {kind!r}")
     return body.solids()[0].wrapped
