@@ -158,6 +158,77 @@ def thread_in_part_mm(screw, part, d_mm: float, head_d_mm: float, tol_mm: float 
     return lo, not in_part(cx, cy, tip - sgn * 0.2)
 
 
+
+def _planar_face_centres(solids) -> list:
+    """Centres of mass of the planar faces of ``solids`` (numpy 3-vectors)."""
+    import numpy as np
+    from OCP.BRepAdaptor import BRepAdaptor_Surface
+    from OCP.BRepGProp import BRepGProp
+    from OCP.GeomAbs import GeomAbs_Plane
+    from OCP.GProp import GProp_GProps
+    from OCP.TopAbs import TopAbs_FACE
+    from OCP.TopExp import TopExp_Explorer
+    from OCP.TopoDS import TopoDS
+
+    out = []
+    for s in solids:
+        ex = TopExp_Explorer(s, TopAbs_FACE)
+        while ex.More():
+            f = TopoDS.Face_s(ex.Current())
+            if BRepAdaptor_Surface(f).GetType() == GeomAbs_Plane:
+                g = GProp_GProps()
+                BRepGProp.SurfaceProperties_s(f, g)
+                c = g.CentreOfMass()
+                out.append(np.array([c.X(), c.Y(), c.Z()]))
+            ex.Next()
+    return out
+
+
+def radial_screw_mm(screw, part, shaft, d_mm: float, tol_mm: float = 0.005) -> dict:
+    """A horizontal set screw (a plain cylinder: two planar end faces) tapped radially through
+    ``part`` onto a vertical ``shaft``, measured from the solids: ``length_mm`` (between the
+    end faces' centres); ``tip_to_axis_mm`` / ``end_to_axis_mm`` (distance in xy of the
+    point's and the other end's centres from the shaft axis, the shaft's box centre);
+    ``rim_to_axis_max_mm`` (largest xy distance of the end's rim at d/2 from that axis);
+    ``full_thread_mm`` (from the tip outwards, the length over which a ring of 24 points
+    at d/2 (every 15 degrees) round the screw axis lies inside ``part``, bisection to ``tol_mm``);
+    ``tip_on_shaft`` (the axis point 0.05 mm beyond the tip is inside the shaft)."""
+    import math
+
+    import numpy as np
+
+    ends = _planar_face_centres(screw)
+    assert len(ends) == 2, len(ends)
+    sx0, sy0, _, sx1, sy1, _ = _box(shaft, tight=True).Get()
+    axis = np.array([0.5 * (sx0 + sx1), 0.5 * (sy0 + sy1)])
+    dist = [float(np.hypot(*(e[:2] - axis))) for e in ends]
+    tip, end = (ends[0], ends[1]) if dist[0] < dist[1] else (ends[1], ends[0])
+    u = (end - tip) / np.linalg.norm(end - tip)
+    w1 = np.array([0.0, 0.0, 1.0])
+    w2 = np.cross(u, w1)
+    ring = [0.5 * d_mm * (math.cos(a) * w1 + math.sin(a) * w2)
+            for a in (k * math.pi / 12 for k in range(24))]
+    rim = [end + 0.5 * d_mm * (math.cos(a) * w1 + math.sin(a) * w2)
+           for a in (k * math.pi / 18 for k in range(36))]
+    in_part, in_shaft = _classifier(part), _classifier(shaft)
+
+    def ring_in(h: float) -> bool:
+        return all(in_part(*(tip + h * u + r)) for r in ring)
+
+    lo, hi = 0.01, 3.0 * float(np.linalg.norm(end - tip))
+    assert ring_in(lo) and not ring_in(hi)
+    while hi - lo > tol_mm:
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if ring_in(mid) else (lo, mid)
+    return {
+        "length_mm": float(np.linalg.norm(end - tip)),
+        "tip_to_axis_mm": min(dist),
+        "end_to_axis_mm": max(dist),
+        "rim_to_axis_max_mm": max(float(np.hypot(*(p[:2] - axis))) for p in rim),
+        "full_thread_mm": lo,
+        "tip_on_shaft": in_shaft(*(tip - 0.05 * u)),
+    }
+
 if __name__ == "__main__":
     import sys
 

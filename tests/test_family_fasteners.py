@@ -14,9 +14,10 @@ Builds: ``conftest.family_builds`` (one per family, shared).
 from __future__ import annotations
 
 import csv
+from pathlib import Path
 
 import pytest
-from step_pairs import read_parts, thread_in_part_mm
+from step_pairs import radial_screw_mm, read_parts, thread_in_part_mm
 
 FAMILIES = ("pantograph", "twin-pantograph", "powermouse")
 
@@ -36,11 +37,12 @@ def _expected_counts(fam: str, d) -> dict[str, int]:
     }
     if fam == "twin-pantograph":
         out["post_screw"] = 4 * 2  # 4 posts, a screw at each end
+    out["set_screw"] = 2 * stations  # one per hub clevis (motor)
     return out
 
 
 def _group(name: str) -> str:
-    for g in ("leg_screw", "mount_screw", "motor_screw", "post_screw", "lid_screw"):
+    for g in ("leg_screw", "mount_screw", "motor_screw", "post_screw", "lid_screw", "set_screw"):
         if g in name:
             return g
     raise AssertionError(name)
@@ -66,6 +68,8 @@ def test_every_screw_has_fastener_data_within_its_hole(family_builds, fam):
     counts: dict[str, int] = {}
     for name, x in f.items():
         counts[_group(name)] = counts.get(_group(name), 0) + 1
+        if _group(name) == "set_screw":
+            continue  # radial, no clamp: test_clevis_set_screw_*
         cs = catalog.get_cap_screw(x["size"], "test")
         assert x["kind"] == "ISO 4762" and x["length_mm"] in cs.lengths_mm, (name, x)
         h = holes[x["hole"]]
@@ -95,6 +99,8 @@ def test_thread_engagement_measured_in_the_step_file(family_builds, fam):
     d, out, rep = family_builds[fam]
     parts = dict(read_parts(out / "assembly.step"))
     for name, x in rep["fasteners"].items():
+        if x["kind"] == "ISO 4026":
+            continue  # radial set screws: test_clevis_set_screw_measured_in_the_step_file
         h = rep["tapped_holes"][x["hole"]]
         cs = catalog.get_cap_screw(x["size"], "test")
         e, tip_free = thread_in_part_mm(parts[name], parts[h["part"]], cs.d_mm, cs.dk_mm)
@@ -110,6 +116,10 @@ def test_bom_states_tapped_holes(family_builds, fam):
     assert "tap M3 x" in rows["base_plate"]["process"]
     assert "face tapped M3 x3" in rows["motor"]["process"]
     assert "tap M6 both ends" in rows["leg"]["process"]
+    assert "tap M2 x1 (radial)" in rows["clevis_hub"]["process"]
+    ss = rows["set_screw"]
+    assert ss["made_or_bought"] == "bought" and "ISO 4026 M2-0.4 x 3.5" in ss["description"]
+    assert ss["quantity"] == rows["motor"]["quantity"] == rows["clevis_hub"]["quantity"]
     if fam == "twin-pantograph":
         assert "tap M3 x8" in rows["bridge_plate"]["process"]
         assert "tap M4 both ends" in rows["post"]["process"]
@@ -161,4 +171,90 @@ def test_pantograph_stack_no_catalog_screw_fits_is_refused_before_cad(tmp_path, 
         build_design(d, tmp_path / "o", {"step"})
     assert str(e.value).startswith("parts.motor_mount_thickness_mm: motor face to mount plate")
     assert "need L in 6.5..7.5 mm" in str(e.value)
+    assert not (tmp_path / "o").exists()
+
+
+def _iso4026_lengths_mm(size: str) -> list[float]:
+    """bd_warehouse's ISO 4026 catalog read straight from its CSVs (not cad.parts.catalog)."""
+    from bd_warehouse import fastener
+
+    data = Path(fastener.__file__).parent / "data"
+    with (data / "setscrew_parameters.csv").open() as fh:
+        row = next(r for r in csv.DictReader(fh) if r["Size"] == size)
+    with (data / "nominal_screw_lengths.csv").open() as fh:
+        nom = next(r for r in csv.DictReader(fh) if r["Screw_Type"] == "iso4026")
+    lo, hi = float(row["iso4026:short"]), float(row["iso4026:long"])
+    return [float(x) for x in nom["Nominal_Sizes"].split(",") if lo <= float(x) <= hi]
+
+
+@pytest.mark.parametrize("fam", ("pantograph", "twin-pantograph"))
+def test_clevis_set_screw_record_against_the_catalog(family_builds, fam):
+    """14 mm clevis round end on the 6 mm RE 35 shaft: a 4 mm wall, whose full thread on the
+    round outside ends at sqrt(7^2 - (d/2)^2): M2.5 -> 3.888 mm, so its longest length not
+    proud of the clevis (3.5) is < 1.5 d = 3.75; M2 -> 3.928 mm, longest length 3.5 >= 3."""
+    import math
+
+    from cad.parts import catalog
+
+    d, _, rep = family_builds[fam]
+    r_in = catalog.get_motor(d.parts.motor).shaft_diameter_mm / 2
+    R = d.parts.clevis_width_mm / 2
+    assert (r_in, R) == (3.0, 7.0)
+    assert max(L for L in _iso4026_lengths_mm("M2.5-0.45")
+               if L <= math.sqrt(R**2 - 1.25**2) - r_in) < 3.75  # M2.5 does not fit
+    depth = math.sqrt(R**2 - 1.0**2) - r_in
+    L = max(x for x in _iso4026_lengths_mm("M2-0.4") if x <= depth)
+    assert L == 3.5
+    sets = {n: x for n, x in rep["fasteners"].items() if x["kind"] == "ISO 4026"}
+    assert len(sets) == (4 if fam == "twin-pantograph" else 2)
+    for name, x in sets.items():
+        body = name.removesuffix(".set_screw")
+        assert x == {"kind": "ISO 4026", "size": "M2-0.4", "length_mm": L,
+                     "clamps": [f"{body}.motor_shaft"], "hole": f"{body}.clevis_hub0:set_screw",
+                     "engagement_mm": L}
+        h = rep["tapped_holes"][x["hole"]]
+        assert h["part"] == f"{body}.clevis_hub0"
+        assert h["depth_mm"] == pytest.approx(depth) and h["min_engagement_mm"] == 3.0
+
+
+@pytest.mark.parametrize("fam", ("pantograph", "twin-pantograph"))
+def test_clevis_set_screw_measured_in_the_step_file(family_builds, fam):
+    """Each set screw read back from assembly.step: its point touches the shaft (3 mm from the
+    shaft axis, the point just beyond it in the shaft), its end and the end's rim at d/2 inside
+    the clevis's 7 mm round end (nothing proud), full thread round it in the clevis over the
+    recorded hole depth, so the whole recorded length is engaged."""
+    d, out, rep = family_builds[fam]
+    parts = dict(read_parts(out / "assembly.step"))
+    R = d.parts.clevis_width_mm / 2
+    for name, x in rep["fasteners"].items():
+        if x["kind"] != "ISO 4026":
+            continue
+        body = name.removesuffix(".set_screw")
+        m = radial_screw_mm(parts[name], parts[f"{body}.clevis_hub0"],
+                            parts[f"{body}.motor_shaft"], 2.0)
+        assert m["tip_to_axis_mm"] == pytest.approx(3.0, abs=1e-3) and m["tip_on_shaft"], m
+        assert m["length_mm"] == pytest.approx(x["length_mm"], abs=1e-3)
+        assert m["rim_to_axis_max_mm"] <= R, m
+        depth = rep["tapped_holes"][x["hole"]]["depth_mm"]
+        assert m["full_thread_mm"] == pytest.approx(depth, abs=0.01), m
+        assert min(m["length_mm"], m["full_thread_mm"]) == pytest.approx(x["engagement_mm"],
+                                                                        abs=0.01)
+
+
+def test_clevis_too_thin_for_a_set_screw_is_refused_before_cad(tmp_path, monkeypatch):
+    """A 12 mm clevis on the 6 mm shaft: 3 mm wall, 2.92 mm of full M2 thread < 1.5 d = 3."""
+    import dataclasses
+
+    import cad.parts.lazy_import as li
+    from cad.build import build_design
+    from cad.design import load_design
+    from cad.errors import DesignError
+
+    d = load_design(Path(__file__).resolve().parents[1] / "designs" / "pantograph.toml")
+    d = dataclasses.replace(d, parts=dataclasses.replace(d.parts, clevis_width_mm=12.0))
+    monkeypatch.setattr(li, "import_build123d", lambda: pytest.fail("CAD imported"))
+    with pytest.raises(DesignError) as e:
+        build_design(d, tmp_path / "o", {"step"})
+    assert str(e.value).startswith("parts.clevis_width_mm: hub clevis set screw")
+    assert "(2.92 mm of full M2 thread)" in str(e.value) and "\n" not in str(e.value)
     assert not (tmp_path / "o").exists()
