@@ -45,7 +45,7 @@ def test_mesh_hit_is_the_fresh_mesh_and_a_damaged_entry_is_rebuilt(cache, monkey
     v3, f3 = mesh_shape(shape, 0.01, 0.5)
     assert len(f3) > len(f0)
     # flip one byte of every entry: each is a miss and the value is recomputed
-    for p in cache.glob("*.bin"):
+    for p in cache.glob("*/*.bin"):
         b = bytearray(p.read_bytes())
         b[len(b) // 2] ^= 0x01
         p.write_bytes(bytes(b))
@@ -133,3 +133,20 @@ def test_fem_cantilever_cached_equals_computed(cache):
     assert fem.cached_cantilever(g, 70e9, 0.33, "y") == want
     assert _counts() == (h + 1, m + 1)
     assert fem.cached_cantilever(g, 70e9, 0.33, "z") != want  # direction is in the key
+
+
+@pytest.mark.parametrize("dx", [50.0, 40.0, 35.0])  # 10 mm apart, touching, overlapping
+def test_exact_pair_cached_equals_computed(cache, dx):
+    from cad.assembly.interference import _exact_distance_volume, _exact_pair
+    from cad.export.shapes import placed
+
+    a, b = _plate(), _plate()
+    derived_cache.shape_digest(a)  # known digests: placed copies get theirs cheaply
+    derived_cache.shape_digest(b)
+    T = np.eye(4)
+    T[0, 3] = dx  # the plates are 40 mm long, centred
+    sa, sb = placed(a, np.eye(4)), placed(b, T)
+    want = _exact_distance_volume(sa, sb)
+    assert _exact_pair(sa, sb) == want
+    assert _exact_pair(placed(a, np.eye(4)), placed(b, T.copy())) == want  # read back
+    assert (want[0] > 9.9) == (dx == 50.0) and (want[1] > 1.0) == (dx == 35.0)

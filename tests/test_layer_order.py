@@ -216,3 +216,29 @@ def test_fit_layer_order_takes_no_range():
     code, out, err = hapticad("fit", str(HOEKEN), "--target", "H33_kg_m2>=8e-5", "--free",
                               "parts.layer_order=1:2")
     assert_one_line_error(code, err, "--free parts.layer_order=1:2", "no range")
+
+
+def test_an_order_without_a_layout_is_infeasible_in_the_search(tmp_path):
+    """Case hoeken_stroke24 (tests/cases/assembly-clashes): its 12.3 mm crank has no layout. In
+    every fixed order the search's layer check returns a reason instead of raising -- the A2 nut
+    meets the hub on the crank (named against ``parts.layer_order``), or the coupler bar meets
+    the hub -- and ``check`` with such an order exits 2 with one error line naming the field."""
+    from cad.codesign import search
+
+    case = ROOT / "tests" / "cases" / "assembly-clashes" / "hoeken_stroke24.toml"
+    for order in ORDERS:
+        d = parse_design(_with_order(case, order), str(case))
+        plan, why = search.layer_problem(d)
+        assert why
+        if order.index("coupler") < order.index("crank"):
+            assert why.startswith(f"order {'/'.join(order)} clashes") and "hub" in why
+        else:
+            assert why.startswith("parts.layer_order") and "A2 washer+nut" in why and "hub" in why
+    p = tmp_path / "stroke24.toml"
+    p.write_text(case.read_text().replace("[mechanism]", '[parts]\nlayer_order = ["crank", "coupler", "rocker"]\n'
+                                          "[mechanism]"))
+    code, out, err = hapticad("check", str(p), "--target", "M11_max_g<=100")
+    lines = err.strip().splitlines()  # the design's own short-crank warning, then the error
+    assert code == 2 and "Traceback" not in err and len(lines) == 2, err
+    assert lines[0].startswith("hapticad: warning: mechanism: l1_mm")
+    assert "parts.layer_order" in lines[1] and "A2 washer+nut" in lines[1]

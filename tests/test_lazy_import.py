@@ -124,3 +124,51 @@ def test_gc_state_is_restored_when_it_was_off():
         """
     )
     assert out == {"enabled": False, "frozen": True}
+
+
+def test_routed_first_import_goes_through_the_shim_from_anywhere():
+    """Inside ``routed_first_import`` a plain ``from build123d import ...`` (a part generator)
+    and an explicit ``import_build123d()`` (the shape cache's miss path) both import build123d
+    once, without scikit-learn, and leave no finder behind; nothing asks -> nothing imported."""
+    out = _run(
+        """
+        import json, sys
+        from cad.parts import lazy_import as li
+        with li.routed_first_import():
+            quiet = "build123d" in sys.modules
+        with li.routed_first_import():
+            from build123d import Box
+            bd = li.import_build123d()
+            import build123d
+        print(json.dumps({
+            "quiet": quiet,
+            "same": bd is build123d is sys.modules["build123d"],
+            "volume": Box(1, 2, 3).volume,
+            "sklearn": sorted(m for m in sys.modules if m.split(".")[0] == "sklearn"),
+            "left": [type(f).__name__ for f in sys.meta_path
+                     if isinstance(f, (li._Build123dRouter, li._SklearnDeferrer))],
+        }))
+        """
+    )
+    assert out == {"quiet": False, "same": True, "volume": 6.0, "sklearn": [], "left": []}
+
+
+def test_routed_first_import_when_the_shape_cache_misses(tmp_path):
+    """The shape cache's miss path calls import_build123d() while the router is installed
+    (it once deadlocked on the shim's lock)."""
+    out = _run(
+        """
+        import json, sys
+        from cad.parts import lazy_import as li
+        from cad.parts.shape_cache import cached_shape
+        def make():
+            from build123d import Box
+            return Box(1, 2, 3).wrapped
+        with li.routed_first_import():
+            s = cached_shape("test-routed", make)
+        print(json.dumps({"null": s.IsNull(),
+                          "sklearn": sorted(m for m in sys.modules if m.split(".")[0] == "sklearn")}))
+        """,
+        HAPTICAD_CACHE_DIR=str(tmp_path),
+    )
+    assert out == {"null": False, "sklearn": []}

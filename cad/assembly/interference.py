@@ -57,6 +57,8 @@ CONFIRM_MARGIN_MM = 0.05
 CONTACT_MM = 1e-6
 #: Default absolute mesh tolerance of the fast pass (mm); see cad.bench.interference.
 SWEEP_MESH_TOL_MM = 0.05
+#: Modules whose source the cached exact values (distances, volumes, boxes) depend on.
+_CODE = ("cad.assembly.interference", "cad.export.shapes")
 
 
 @dataclass
@@ -530,6 +532,38 @@ def _closest_of_pairs(
     return best
 
 
+def _exact_distance_volume(sa, sb) -> tuple[float, float]:
+    """OCCT distance (mm, inf when it fails) of two placed solids, and their common volume
+    (mm^3) when they touch or overlap (distance <= :data:`CONTACT_MM`), else 0."""
+    from OCP.BRepAlgoAPI import BRepAlgoAPI_Common
+    from OCP.BRepExtrema import BRepExtrema_DistShapeShape
+    from OCP.BRepGProp import BRepGProp
+    from OCP.GProp import GProp_GProps
+
+    ext = BRepExtrema_DistShapeShape(sa, sb)
+    d = float(ext.Value()) if ext.IsDone() else np.inf
+    vol = 0.0
+    if d <= CONTACT_MM:
+        props = GProp_GProps()
+        BRepGProp.VolumeProperties_s(BRepAlgoAPI_Common(sa, sb).Shape(), props)
+        vol = max(0.0, float(props.Mass()))
+    return d, vol
+
+
+def _exact_pair(sa, sb) -> tuple[float, float]:
+    """:func:`_exact_distance_volume` through the derived cache, keyed by the digests of
+    both placed solids (their geometry and world placement, exactly)."""
+    from cad.io import derived_cache
+
+    if not derived_cache.enabled():
+        return _exact_distance_volume(sa, sb)
+    key = [derived_cache.shape_digest(sa), derived_cache.shape_digest(sb)]
+    d, vol = derived_cache.cached_json(
+        "exact-distance", key,
+        lambda: [repr(x) for x in _exact_distance_volume(sa, sb)], code=_CODE)
+    return float(d), float(vol)
+
+
 def exact_check(
     pa: list[PartMesh], pb: list[PartMesh], Ta: np.ndarray, Tb: np.ndarray, within_mm: float
 ) -> tuple[float, float, str, str]:
@@ -539,11 +573,6 @@ def exact_check(
     whose meshes -- come within ``within_mm`` are measured exactly.
     Returns (distance mm, overlap volume mm^3, part a, part b) of the closest pair.
     """
-    from OCP.BRepAlgoAPI import BRepAlgoAPI_Common
-    from OCP.BRepExtrema import BRepExtrema_DistShapeShape
-    from OCP.BRepGProp import BRepGProp
-    from OCP.GProp import GProp_GProps
-
     from cad.export.shapes import placed
 
     best = (np.inf, 0.0, "", "")
@@ -557,16 +586,8 @@ def exact_check(
                 continue
             if use_fcl and _part_mesh_distance(p, q, Ta, Tb) > within_mm:
                 continue
-            sa, sb = placed(p.shape, Ta), placed(q.shape, Tb)
-            ext = BRepExtrema_DistShapeShape(sa, sb)
-            d = float(ext.Value()) if ext.IsDone() else np.inf
-            vol = 0.0
-            if d <= CONTACT_MM:
-                common = BRepAlgoAPI_Common(sa, sb)
-                props = GProp_GProps()
-                BRepGProp.VolumeProperties_s(common.Shape(), props)
-                vol = max(0.0, float(props.Mass()))
-                overlap += vol
+            d, vol = _exact_pair(placed(p.shape, Ta), placed(q.shape, Tb))
+            overlap += vol
             if d < best[0] or (d <= CONTACT_MM and vol > best[1]):
                 best = (d, vol, p.name, q.name)
     return best[0], overlap, best[2], best[3]
@@ -829,10 +850,6 @@ def _tight_box(shape) -> np.ndarray:
     b = Bnd_Box()
     BRepBndLib.AddOptimal_s(shape, b, False, False)
     return np.array(b.Get()).reshape(2, 3)
-
-
-#: Modules whose source the cached same-body values depend on.
-_CODE = ("cad.assembly.interference", "cad.export.shapes")
 
 
 def _signed_permutation(R: np.ndarray) -> bool:

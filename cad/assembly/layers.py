@@ -592,6 +592,12 @@ def choose_layers(joints_link, parts: PartsSpec, tf_world_body, strict: bool = F
     ok = [p for p in plans if not p.conflicts]
     if all(p.same_body_conflicts for p in plans):
         worst = plans[0]
+        if parts.layer_order:
+            raise DesignError(
+                "parts.layer_order",
+                f"the order {', '.join(worst.order)} does not keep the hardware of one link apart "
+                f"({worst.same_body_conflicts[0]}); try another order or leave it automatic",
+            )
         raise DesignError(
             "mechanism",
             "no layer order keeps the hardware of one link apart (same-link parts overlap in "

@@ -220,10 +220,15 @@ def build_design(
     if hasattr(mod, "check_layout"):  # no clear layer order: refused before the CAD import
         mod.check_layout(design, fidelity, allow_interference)
     from cad.export.manifest import write_manifest
-    from cad.parts.lazy_import import import_build123d
+    from cad.parts.lazy_import import routed_first_import
 
-    import_build123d()  # the build's first CAD import, without scikit-learn (lazy_import)
-    with atomic_dir(out_dir, check=check) as tmp, _children_cancelled_on_error():
+    # build123d is imported only if a solid (or a file derived from one) is missing from the
+    # shape and derived caches, and then without scikit-learn (cad.parts.lazy_import)
+    with (
+        routed_first_import(),
+        atomic_dir(out_dir, check=check) as tmp,
+        _children_cancelled_on_error(),
+    ):
         report = mod.build(
             design,
             tmp,

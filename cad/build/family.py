@@ -30,8 +30,6 @@ from pathlib import Path
 
 import numpy as np
 
-from cad.report.figures import TITLE_Y, save_figure
-
 #: Files every build writes at the top of its output folder (``parts/`` holds the rest).
 LAYOUT = (
     "assembly.step",
@@ -41,23 +39,6 @@ LAYOUT = (
     "preview.png",
     "manifest.json",
 )
-#: Mesh tolerance of the preview picture (mm): coarse, it is only drawn.
-PREVIEW_MESH_TOL_MM = 0.5
-#: Body colours of the preview, in the order bodies first appear.
-PREVIEW_COLORS = (
-    "#9aa0a6",
-    "#d9534f",
-    "#337ab7",
-    "#5cb85c",
-    "#f0ad4e",
-    "#8e44ad",
-    "#16a085",
-    "#c0392b",
-    "#2c3e50",
-    "#e67e22",
-)
-
-
 def kinds(instances) -> dict:
     """``{kind name: PartKind}`` in order of first appearance."""
     out: dict = {}
@@ -202,70 +183,12 @@ def lowest_z_mm(instances, tf_world_body: dict) -> tuple[float, str]:
 
 
 def write_preview(instances, tf_world_body: dict, out: Path, title: str, marks=None) -> Path:
-    """Top (x-y) and side (x-z) projections of the posed assembly, PNG, one colour per body.
+    """Top (x-y) and side (x-z) projections of the posed assembly, PNG, one colour per body
+    (:func:`cad.report.preview.write_preview`). ``marks``: optional ``(label, (N, 2) xy
+    points)`` drawn as a line on the top view (a path, a workspace)."""
+    from cad.report.preview import write_preview as write_projections
 
-    Each part is drawn by the convex hull of its projected coarse mesh. ``marks``: optional
-    ``(label, (N, 2) xy points)`` drawn as a line on the top view (a path, a workspace).
-    """
-    import io
-
-    from matplotlib.collections import PolyCollection
-    from matplotlib.figure import Figure
-    from scipy.spatial import ConvexHull, QhullError
-
-    from cad.export.stl import mesh_shape
-    from cad.io.atomic import write_bytes_atomic
-
-    def hull(pts2):
-        try:
-            return pts2[ConvexHull(pts2).vertices]
-        except (QhullError, ValueError):
-            return None
-
-    meshes: dict[str, np.ndarray] = {}
-    order: list[str] = ["ground"]  # drawn first (underneath), grey
-    polys: list[dict[str, list]] = [{}, {}]
-    for inst in instances:
-        k = inst.kind
-        if k.name not in meshes:
-            meshes[k.name] = mesh_shape(k.shape, PREVIEW_MESH_TOL_MM, 0.6)[0]
-        T = world_tf(inst, tf_world_body)
-        w = meshes[k.name] @ T[:3, :3].T + T[:3, 3]
-        if inst.body not in order:
-            order.append(inst.body)
-        for view, cols in ((0, [0, 1]), (1, [0, 2])):
-            h = hull(w[:, cols])
-            if h is not None:
-                polys[view].setdefault(inst.body, []).append(h)
-    fig = Figure(figsize=(11, 5))
-    axes = fig.subplots(1, 2, gridspec_kw={"width_ratios": [1.2, 1]})
-    for view, ax in enumerate(axes):
-        for i, body in enumerate(order):
-            if polys[view].get(body):
-                ax.add_collection(
-                    PolyCollection(
-                        polys[view][body],
-                        facecolors=PREVIEW_COLORS[i % len(PREVIEW_COLORS)],
-                        edgecolors="none",
-                        alpha=0.35,
-                        rasterized=True,
-                        label=body,
-                    )
-                )
-    for label, pts in marks or ():
-        pts = np.asarray(pts)
-        axes[0].plot(pts[:, 0], pts[:, 1], "k-", lw=1.0, label=label)
-    axes[0].set_title("top view (mm)", y=TITLE_Y)
-    axes[1].set_title("side view x-z (mm)", y=TITLE_Y)
-    for ax in axes:
-        ax.set_aspect("equal")
-        ax.autoscale_view()
-        ax.grid(True, lw=0.3)
-    axes[0].legend(loc="upper right", fontsize=7)
-    fig.suptitle(title)
-    buf = io.BytesIO()
-    save_figure(fig, buf, "png", dpi=100)
-    return write_bytes_atomic(out, buf.getvalue())
+    return write_projections(instances, tf_world_body, out, title, marks=marks or ())
 
 
 def write_outputs(

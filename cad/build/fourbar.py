@@ -39,7 +39,6 @@ from pathlib import Path
 import numpy as np
 
 from cad.errors import DesignError
-from cad.report.figures import TITLE_Y, save_figure
 
 #: Source the output depends on (build cache key): any change there rebuilds.
 CODE_DEPS = (
@@ -160,85 +159,17 @@ def _joint_axes(J) -> dict:
     }
 
 
-#: Mesh tolerance of the preview picture (mm): coarse, it is only drawn.
-PREVIEW_MESH_TOL_MM = 0.5
-
-
 def write_preview(asm, tf_world_body, i: int, path_P_mm: np.ndarray, out: Path, title: str) -> Path:
-    """Top (x-y) and side (x-z) projections of the posed assembly, PNG.
+    """``preview.png`` of the four-bar at pose ``i`` of ``tf_world_body`` (``{body: (N, 4,
+    4)}`` mm) with the coupler point's path ``path_P_mm`` (N, 2) on the top view
+    (:func:`cad.report.preview.write_preview`; what lies under the base plate is left out of
+    the top view)."""
+    from cad.report.preview import write_preview as write_projections
 
-    Plates are drawn by their top faces (holes and pockets show), everything else by the
-    convex hull of its projected coarse mesh.
-    """
-    import io
-
-    from matplotlib.collections import PolyCollection
-    from matplotlib.figure import Figure  # no pyplot: no global figure state, 0.1 s less import
-    from scipy.spatial import ConvexHull, QhullError
-
-    from cad.export.stl import mesh_shape
-    from cad.io.atomic import write_bytes_atomic
-
-    def hull(pts2):
-        try:
-            return pts2[ConvexHull(pts2).vertices]
-        except (QhullError, ValueError):
-            return None
-
-    meshes: dict[str, tuple] = {}
-    polys = {0: {b: [] for b in BODY_COLORS}, 1: {b: [] for b in BODY_COLORS}}
-    for inst in asm.instances:
-        k = inst.kind
-        if k.name not in meshes:
-            v, f = mesh_shape(k.shape, PREVIEW_MESH_TOL_MM, 0.6)
-            if k.plate:  # plates: keep the top faces (shows holes and pockets)
-                tri = v[f]
-                nz = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])[:, 2]
-                f_top = f[nz > 0]
-            else:
-                f_top = None
-            meshes[k.name] = (v, f_top)
-        v, f_top = meshes[k.name]
-        T = tf_world_body[inst.body][i] @ inst.tf_body_part
-        w = v @ T[:3, :3].T + T[:3, 3]
-        if not (
-            inst.body == "ground" and w[:, 2].max() < -1.0
-        ):  # top view: hide what is under the base
-            if f_top is not None:
-                polys[0][inst.body].extend(list(w[f_top][:, :, :2]))
-            else:
-                h = hull(w[:, :2])
-                if h is not None:
-                    polys[0][inst.body].append(h)
-        h = hull(w[:, [0, 2]])
-        if h is not None:
-            polys[1][inst.body].append(h)
-    fig = Figure(figsize=(11, 5))
-    axes = fig.subplots(1, 2, gridspec_kw={"width_ratios": [1.4, 1]})
-    for view, ax in enumerate(axes):
-        for body in ("ground", "rocker", "crank", "coupler"):
-            if polys[view][body]:
-                ax.add_collection(
-                    PolyCollection(
-                        polys[view][body],
-                        facecolors=BODY_COLORS[body],
-                        edgecolors="none",
-                        alpha=0.35,
-                        rasterized=True,
-                    )
-                )
-    axes[0].plot(path_P_mm[:, 0], path_P_mm[:, 1], "k-", lw=1.0, label="P path")
-    axes[0].set_title("top view (R0, mm)", y=TITLE_Y)
-    axes[1].set_title("side view x-z (mm)", y=TITLE_Y)
-    for ax in axes:
-        ax.set_aspect("equal")
-        ax.autoscale_view()
-        ax.grid(True, lw=0.3)
-    axes[0].legend(loc="upper right", fontsize=8)
-    fig.suptitle(title)
-    buf = io.BytesIO()
-    save_figure(fig, buf, "png", dpi=100)
-    return write_bytes_atomic(out, buf.getvalue())
+    pose = {b: np.asarray(T)[i] for b, T in tf_world_body.items()}
+    return write_projections(
+        asm.instances, pose, out, title, marks=[("P path", path_P_mm)], hide_ground_below_mm=-1.0
+    )
 
 
 def _write_exports(
@@ -364,7 +295,6 @@ def build(
     from cad.kinematics.metrics import compute_metrics
     from cad.parts import catalog
     from cad.parts.handle import handle_params, resolve_script, user_handle_shape
-    from cad.parts.lazy_import import import_build123d
 
     timings: dict[str, float] = {}
     t0 = time.perf_counter()
@@ -392,7 +322,6 @@ def build(
     # 3 parts
     _step(progress, "parts", 1, n_steps)
     t1 = time.perf_counter()
-    import_build123d()  # the first build123d import of a build (defers scikit-learn)
     user_handle = None
     if script is not None:
         floor = plan.handle_screw_length_mm - parts.bar_thickness_mm

@@ -54,6 +54,10 @@ def _goals(results: dict) -> list[tuple[str, str, str, bool | None]]:
                            ("cached_s", "hapticad build hoeken unchanged", 1.5)):
         if key in b:
             rows.append((goal, f"{b[key]:.2f} s", f"<= {lim} s", b[key] <= lim))
+    if "same_body_share" in b:
+        rows.append(("every-pair same-body check, share of the cold Hoeken build",
+                     f"{100 * b['same_body_share']:.1f} % wall ({100 * b['same_body_share_cpu']:.1f} % CPU)",
+                     "<= 10 %", b["same_body_share"] <= b["same_body_share_goal"]))
     f = results.get("families", {})
     if "powermouse_cold_s" in f:
         t = f["powermouse_cold_s"]

@@ -41,11 +41,19 @@ def render_designs(paths: list[Path], out: Path, fidelity: str | None = None) ->
             mod = None
         if not getattr(mod, "VIEW_EXPORT", False):
             raise DesignError(str(p), f"rendering {d.family!r} designs is not available")
+        if getattr(getattr(d, "parts", None), "handle_script", None) is not None:
+            from cad.parts.handle import resolve_script
+
+            resolve_script(d.parts, d.source)  # a script not allowed: refused before any build
         if hasattr(mod, "check_options"):  # what the build would refuse, before any build
             try:
                 mod.check_options(d, fid, None)
             except DesignError as exc:
                 raise DesignError(str(p), str(exc)) from None
+        same = next((q for q, e, _ in designs if e.name == d.name), None)
+        if same is not None:  # both would write <name>.png: the second over the first
+            raise DesignError(str(p), f"name: {d.name!r} is also the name of {same}; both would "
+                              f"write {d.name}.png and {d.name}.gif; rename one")
         designs.append((p, d, fid))
     names = [f"{d.name}{ext}" for _, d, _ in designs for ext in RENDER_FILES.values()]
     check_shared_files(Path(out), names)

@@ -5,9 +5,16 @@ modules are imported, so an interrupt at any moment -- even while the CLI is sti
 imported -- ends with ``hapticad: aborted`` and exit 128 + signal, never a traceback.
 """
 
+import os
 import sys
 
-from cad.io import signals
+# One BLAS thread per process (before numpy loads OpenBLAS): hapticad's matrices are small
+# (a 114 x 114 frame stiffness) and a build runs its stages in parallel processes; with
+# OpenBLAS's own threads competing for the same cores one such solve took 0.2 s instead
+# of 4 ms (measured on the 2-core machine). An explicit user setting wins.
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+
+from cad.io import signals  # noqa: E402 - after the BLAS setting
 
 signals.install()
 

@@ -37,8 +37,9 @@ from typing import Any
 
 import numpy as np
 
-#: Folder beside the shape cache's ``shapes-v2`` (bump to drop every derived entry).
-SCHEMA = "derived-v1"
+#: Folder beside the shape cache's ``shapes-v2`` (bump to drop every derived entry); entries
+#: in 256 sub-folders by the first two hex digits of their name.
+SCHEMA = "derived-v2"
 #: Digests remembered per shape object (the shape is kept alive with it, so an ``id`` is
 #: never reused while its entry exists).
 DIGEST_MEMO_MAX = 4096
@@ -154,7 +155,8 @@ def entry_path(kind: str, key: Any, code: tuple[str, ...] = ()) -> Path | None:
         sort_keys=True,
         separators=(",", ":"),
     )
-    return d / (hashlib.sha256(text.encode()).hexdigest()[:40] + ".bin")
+    name = hashlib.sha256(text.encode()).hexdigest()[:40]
+    return d / name[:2] / (name + ".bin")  # 256 shards: an atomic write scans its folder
 
 
 def _read(path: Path) -> bytes | None:

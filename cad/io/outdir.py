@@ -135,6 +135,11 @@ def check_shared_files(folder: Path, names: list[str], flag: str = "--out") -> N
     folder = Path(folder)
     if os.path.islink(folder) or (os.path.lexists(folder) and not folder.is_dir()):
         raise DesignError(flag, f"{folder} is not a folder; name a folder")
+    why = _foreign_manifest(folder / MANIFEST_NAME)
+    if why:  # render would rewrite it: never a file hapticad did not write
+        raise DesignError(
+            flag, f"{folder / MANIFEST_NAME} exists and is {why}; move it away or name another folder"
+        )
     listed = _listed(folder)
     for name in names:
         p = folder / name
@@ -151,6 +156,27 @@ def check_shared_files(folder: Path, names: list[str], flag: str = "--out") -> N
             raise DesignError(
                 flag, f"{p} exists and is {why}; move it away or name another folder"
             )
+
+
+def _foreign_manifest(path: Path) -> str | None:
+    """Why ``path`` (an existing ``manifest.json``) is not one hapticad writes -- a JSON
+    object whose ``files`` is a list of ``{"path": str, "sha256": str, ...}`` -- or None
+    (also None when it does not exist)."""
+    if not os.path.lexists(path):
+        return None
+    if path.is_symlink() or not path.is_file():
+        return "not a plain file"
+    try:
+        doc = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return "not a hapticad manifest (not readable JSON)"
+    rows = doc.get("files") if isinstance(doc, dict) else None
+    if not isinstance(rows, list) or not all(
+        isinstance(r, dict) and isinstance(r.get("path"), str) and isinstance(r.get("sha256"), str)
+        for r in rows
+    ):
+        return 'not a hapticad manifest (no "files" list of path and sha256)'
+    return None
 
 
 def record_shared_files(folder: Path, names: list[str]) -> None:

@@ -33,7 +33,11 @@ collection skips them, and so does the interpreter's shutdown (0.74 s -> 0.06 s 
 only garbage *cycles* that already exist at that moment stay in memory (a few dozen
 objects of the import itself).
 
-Route every first ``import build123d`` of a build through :func:`import_build123d`.
+Route every first ``import build123d`` of a build through :func:`import_build123d`, or
+run the code that may import it inside :func:`routed_first_import`: a build whose solids
+all come from the shape cache then never imports build123d (nor scipy.optimize, which it
+pulls in), ~1 s of CPU less; the first part generator that does need it gets it through
+:func:`import_build123d` (scikit-learn deferred) whichever module it imports it from.
 """
 
 from __future__ import annotations
@@ -113,6 +117,10 @@ def import_build123d():
     mod = sys.modules.get("build123d")
     if mod is not None:
         return mod
+    for f in list(sys.meta_path):  # this call is the first import: no router must answer it
+        if isinstance(f, _Build123dRouter):
+            with contextlib.suppress(ValueError):
+                sys.meta_path.remove(f)
     gc_was_enabled = gc.isenabled()
     gc.disable()
     try:
@@ -135,3 +143,47 @@ def import_build123d():
             gc.enable()
     gc.freeze()
     return build123d
+
+
+class _ExistingModule(importlib.abc.Loader):
+    """Loader handing the import system a module that is already imported."""
+
+    def __init__(self, module):
+        self._module = module
+
+    def create_module(self, spec):
+        return self._module
+
+    def exec_module(self, module) -> None:
+        return None
+
+
+class _Build123dRouter(importlib.abc.MetaPathFinder):
+    """Answers the first ``import build123d`` by :func:`import_build123d`, then steps aside."""
+
+    def find_spec(self, fullname, path=None, target=None):
+        if fullname != "build123d":
+            return None
+        with contextlib.suppress(ValueError):
+            sys.meta_path.remove(self)
+        mod = import_build123d()
+        return importlib.machinery.ModuleSpec(fullname, _ExistingModule(mod), origin=mod.__file__)
+
+
+@contextlib.contextmanager
+def routed_first_import():
+    """Inside this block a first ``import build123d`` from anywhere (``from build123d import
+    Cylinder`` in a part generator) goes through :func:`import_build123d`; nothing is
+    imported if nothing asks for build123d. The finder is removed on leaving."""
+    if "build123d" in sys.modules or not _enabled():
+        if not _enabled():
+            import_build123d()  # the shim is off: import up front as before
+        yield
+        return
+    router = _Build123dRouter()
+    sys.meta_path.insert(0, router)
+    try:
+        yield
+    finally:
+        with contextlib.suppress(ValueError):
+            sys.meta_path.remove(router)

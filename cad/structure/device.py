@@ -168,7 +168,7 @@ def build_frame(design, pose_tf: dict, lumped: list[Lumped], bar_mass_kg: dict, 
 
     edges = link_edges(J)
     for link, ed in edges.items():
-        for n in {x for e in ed for x in e}:
+        for n in sorted({x for e in ed for x in e}):  # node order fixed (reproducible digits)
             ids[(link, n)] = fr.node(world(link, J[link][n]))
         total_L = sum(float(np.linalg.norm(J[link][b] - J[link][a])) for a, b in ed) * 1e-3
         base = link_section(parts, el.E_Pa, el.G_Pa, 0.0)

@@ -6,8 +6,9 @@ element, local z = R0 z (out of plane), local y = z x x (in plane); its 12 x 12
 stiffness is the closed-form Euler-Bernoulli / Saint-Venant matrix (Przemieniecki,
 *Theory of Matrix Structural Analysis*, 1968, eq 5.117, no shear terms):
 axial E A / L, in-plane bending E Iz, out-of-plane bending E Iy, torsion G J.
-Revolute joints tie two nodes in every DOF but the rotation about z (stiff springs,
-:data:`JOINT_STIFFNESS` relative to the largest diagonal term); supports fix DOFs.
+Revolute joints tie two nodes in every DOF but the rotation about z: the tied DOFs are
+one unknown (exact elimination, :meth:`Frame.dof_map`; stiff penalty springs made the
+answer depend on the node numbering in the 4th-5th digit); supports fix DOFs.
 
 Masses are lumped: each element puts half its mass on each end node, parts add point
 masses at nodes. Modes come from the generalized eigenproblem K phi = w^2 M phi after
@@ -24,10 +25,6 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
-
-#: Joint tie stiffness, relative to the largest diagonal stiffness term (rigid joints;
-#: 1e6 keeps the condition number well inside double precision).
-JOINT_STIFFNESS = 1e6
 
 
 @dataclass(frozen=True)
@@ -132,6 +129,7 @@ class Frame:
         return T, float(np.linalg.norm(self.nodes[j] - self.nodes[i]))
 
     def stiffness(self) -> np.ndarray:
+        """Assembled element stiffness (6 DOFs per node, ties not applied)."""
         n = 6 * len(self.nodes)
         K = np.zeros((n, n))
         for e in self.elements:
@@ -139,15 +137,39 @@ class Frame:
             ke = T.T @ local_stiffness(L, e[2]) @ T
             d = np.r_[6 * e[0]:6 * e[0] + 6, 6 * e[1]:6 * e[1] + 6]
             K[np.ix_(d, d)] += ke
-        kt = JOINT_STIFFNESS * float(np.max(np.diag(K)))
-        for a, b in self.ties:
-            for dof in range(5):  # all but rz
-                ia, ib = 6 * a + dof, 6 * b + dof
-                K[ia, ia] += kt
-                K[ib, ib] += kt
-                K[ia, ib] -= kt
-                K[ib, ia] -= kt
         return K
+
+    def dof_map(self) -> tuple[np.ndarray, int]:
+        """(index of the unknown of every node DOF, number of unknowns): a tie (a, b) makes
+        DOFs 0..4 of b (all but rz) the same unknowns as a's; numbered in DOF order."""
+        n = 6 * len(self.nodes)
+        parent = list(range(n))
+
+        def root(k: int) -> int:
+            while parent[k] != k:
+                parent[k] = parent[parent[k]]
+                k = parent[k]
+            return k
+
+        for a, b in self.ties:
+            for dof in range(5):
+                ra, rb = root(6 * a + dof), root(6 * b + dof)
+                parent[max(ra, rb)] = min(ra, rb)
+        _, idx = np.unique([root(k) for k in range(n)], return_inverse=True)
+        return idx, int(idx.max()) + 1
+
+    def _reduced(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """(map, K, translational mass per unknown, free unknowns) with the ties eliminated."""
+        idx, r = self.dof_map()
+        K = np.zeros((r, r))
+        np.add.at(K, (idx[:, None], idx[None, :]), self.stiffness())
+        m = np.repeat(self.masses()[:, None], 6, axis=1)
+        m[:, 3:] = 0.0
+        mr = np.zeros(r)
+        np.add.at(mr, idx, m.ravel())
+        fixed = {int(idx[6 * i + d]) for i, ds in self.fixed.items() for d in ds}
+        free = np.array([k for k in range(r) if k not in fixed])
+        return idx, K, mr, free
 
     def masses(self) -> np.ndarray:
         """Lumped translational mass per node (kg)."""
@@ -161,20 +183,17 @@ class Frame:
             m[i] += v
         return m
 
-    def free_dofs(self) -> np.ndarray:
-        fixed = {6 * i + d for i, ds in self.fixed.items() for d in ds}
-        return np.array([k for k in range(6 * len(self.nodes)) if k not in fixed])
-
     def solve(self, loads: dict[int, np.ndarray]) -> np.ndarray:
         """Displacements (6 per node) under nodal loads {node: (Fx, Fy, Fz, Mx, My, Mz)}."""
-        K = self.stiffness()
-        f = np.zeros(K.shape[0])
+        idx, K, _, free = self._reduced()
+        f_full = np.zeros(6 * len(self.nodes))
         for i, F in loads.items():
-            f[6 * i:6 * i + 6] += F
-        free = self.free_dofs()
+            f_full[6 * i:6 * i + 6] += F
+        f = np.zeros(K.shape[0])
+        np.add.at(f, idx, f_full)
         u = np.zeros_like(f)
         u[free] = np.linalg.solve(K[np.ix_(free, free)], f[free])
-        return u
+        return u[idx]
 
     def element_stress_Pa(self, u: np.ndarray) -> np.ndarray:
         """Largest von Mises stress at the ends of every element (normal: N/A + |My| cz/Iy +
@@ -198,11 +217,7 @@ class Frame:
         """Lowest ``k`` natural frequencies (Hz): lumped translational masses, Guyan-condensed."""
         from scipy.linalg import eigh
 
-        K = self.stiffness()
-        m = np.repeat(self.masses()[:, None], 6, axis=1)
-        m[:, 3:] = 0.0
-        m = m.ravel()
-        free = self.free_dofs()
+        _, K, m, free = self._reduced()
         Kf = K[np.ix_(free, free)]
         mf = m[free]
         t = mf > 0
