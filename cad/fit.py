@@ -37,9 +37,9 @@ from cad.errors import DesignError, HapticadError
 MATERIAL_CHOICES = ("carbon-fibre", "delrin", "pla", "petg", "aluminium-6061", "aluminium-7075",
                     "stainless-304", "steel-1018", "brass-360")
 NUMERIC_DEFAULT_SPAN = (0.5, 1.5)
-#: ``--free parts.layer_order``: the 6 stackings of the moving links, bottom to top (a clashing
-#: order is left to the evaluation: interference is a target, a stack that cannot be fastened
-#: is infeasible)
+#: ``--free parts.layer_order``: the 6 stackings of the moving links, bottom to top (an order
+#: the layer planner objects to -- links that clash over the stroke, a stack no catalog pin or
+#: screw fastens -- is infeasible, as in ``optimize``: the build would refuse it)
 LAYER_ORDER_CHOICES = tuple(list(o) for o in itertools.permutations(("crank", "coupler", "rocker")))
 #: all-choice searches up to this many combinations are exhaustive (GridSampler)
 GRID_MAX = 64
@@ -207,6 +207,19 @@ def _stock_thickness(spec: str, key: str, rng: str, parts_spec) -> FreeParam:
     return FreeParam(key, "choice", lo=lo, hi=hi, choices=tuple(inside))
 
 
+def _refuse_unbuildable_order(design, free: list[FreeParam]) -> None:
+    """Raise :class:`DesignError` (``parts.layer_order``) when the layer order is free and
+    the build's planner (numpy, :func:`cad.codesign.search.layer_problem`) objects to the
+    design's order: a fit must not return a design ``build`` refuses."""
+    if not any(p.path == "parts.layer_order" for p in free):
+        return
+    from cad.codesign.search import layer_problem
+
+    _, why = layer_problem(design)
+    if why:
+        raise DesignError("parts.layer_order", why)
+
+
 def fit(raw: dict, source: str, targets: tuple[Target, ...], free: list[FreeParam],
         evaluate_values: Callable[[Any], dict[str, float]], echo: Callable[[str], None] | None = None,
         trials: int | None = None, seed: int = 0) -> FitResult:
@@ -232,6 +245,7 @@ def fit(raw: dict, source: str, targets: tuple[Target, ...], free: list[FreePara
             return cache[key]
         try:
             d = parse_design(r, source)
+            _refuse_unbuildable_order(d, free)
             vals = evaluate_values(d)
             obj = max((violation(t, vals[t.key]) if t.key in vals else math.inf) for t in targets)
         except HapticadError as exc:

@@ -128,3 +128,34 @@ def test_render_refuses_two_designs_of_one_name(tmp_path):
     code, _, err = hapticad("render", ROOT / "designs" / "hoeken.toml", other, "--out", out)
     assert_one_line_error(code, err, "hoeken", "also the name of")
     assert not out.exists()
+
+
+def test_fit_free_layer_order_never_returns_an_order_the_build_refuses():
+    """``fit DESIGN --free parts.layer_order`` started from the coupler under the crank hub
+    (``hapticad build`` of that Hoeken: "coupler / crank_hub collide at phi1 = 216.00 deg
+    (overlap 337.110 mm^3)", exit 2) kept that order and said "ok" when the targets did not
+    see interference. Every order is scored alike here, so only the planner's verdict
+    decides: the fitted order is one the build's planner accepts, and the clashing orders
+    are logged as errors naming parts.layer_order."""
+    import tomllib
+
+    from cad.codesign.search import layer_problem
+    from cad.design import parse_design
+    from cad.design.targets import parse_cli_target
+    from cad.fit import fit, parse_free
+
+    path = ROOT / "designs" / "hoeken.toml"
+    raw = tomllib.loads(path.read_text())
+    raw.setdefault("parts", {})["layer_order"] = ["coupler", "crank", "rocker"]
+    start = parse_design(raw, str(path))
+    assert layer_problem(start)[1]  # the planner objects to the start
+    free = [parse_free("parts.layer_order", start.parts)]
+    targets = (parse_cli_target("M11_max_g<=100"),)
+    res = fit(raw, str(path), targets, free, lambda d: {"M11_max_g": 50.0})
+    order = res.values["parts.layer_order"]
+    assert order != ["coupler", "crank", "rocker"]
+    raw["parts"]["layer_order"] = order
+    assert layer_problem(parse_design(raw, str(path)))[1] is None
+    assert res.met and len(res.log) == 6
+    bad = [e["params"]["parts.layer_order"] for e in res.log if math.isinf(e["objective"])]
+    assert ["coupler", "crank", "rocker"] in bad

@@ -9,9 +9,9 @@ A failure at any point leaves the target untouched and no partial file behind.
 * A temporary folder carries its owner's pid in its name and an owner file
   (:data:`OWNER_FILE`); a temporary file carries a tag of its host and its owner's pid
   in its name (``.<name>.tmp.<host tag>.<pid>.<8 chars><suffix>``).
-  :func:`remove_stale_temps` (run by every :func:`atomic_dir` and :func:`atomic_path`)
-  deletes the ones whose owner is dead on this host (a command killed by SIGKILL), and
-  nothing else.
+  :func:`remove_stale_temps` (run by every :func:`atomic_dir`, and by :func:`atomic_path`
+  the first time a process writes into a folder) deletes the ones whose owner is dead
+  on this host (a command killed by SIGKILL), and nothing else.
 * The rename is the commit point of :mod:`cad.io.signals`: a SIGINT/SIGTERM received
   before it publishes nothing.
 """
@@ -104,7 +104,7 @@ def atomic_path(
     """
     target = Path(target)
     created = _mkdirs(target.parent)
-    remove_stale_temps(target.parent)
+    _remove_stale_temps_once(target.parent)
     fd, tmp = tempfile.mkstemp(
         prefix=f".{target.name}.tmp.{host_tag()}.{os.getpid()}.",
         suffix=suffix if suffix is not None else target.suffix,
@@ -221,6 +221,18 @@ def remove_stale_temps(folder: Path) -> list[Path]:
                 os.unlink(e.path)
             removed.append(Path(e.path))
     return removed
+
+
+_SCANNED: set[str] = set()
+
+
+def _remove_stale_temps_once(folder: Path) -> None:
+    """:func:`remove_stale_temps` the first time this process writes into ``folder``
+    (a cache folder of thousands of entries is not scanned at every write)."""
+    key = os.path.abspath(folder)
+    if key not in _SCANNED:
+        _SCANNED.add(key)
+        remove_stale_temps(folder)
 
 
 def _mkdtemp_owned(parent: Path, name: str, kind: str) -> Path:
