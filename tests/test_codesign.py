@@ -120,3 +120,36 @@ def test_search_perturbs_the_family_proportions_within_the_tolerance():
         assert k.dy_max_mm <= 0.2 + 1e-3
         assert k.min_transmission_angle_deg >= 40.0 - 1e-6
     assert moved > 1e-3
+
+
+def test_optimize_never_replaces_a_users_file_named_like_its_chart(tmp_path):
+    """`optimize --out x.toml` writes x_pareto.png/.svg beside x.toml: a file of that name
+    the user made is refused before the search (exit 2, untouched, nothing written); a
+    chart hapticad wrote (save_figure's creator mark) may be replaced."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from matplotlib.figure import Figure
+
+    from cad.cli.cmd_optimize import _chart_replaceable
+    from cad.errors import DesignError
+    from cad.report.figures import save_figure
+
+    mine = tmp_path / "x_pareto.png"
+    mine.write_bytes(b"\x89PNG\r\n\x1a\n my own chart")
+    code, _, err = hapticad("optimize", str(ROOT / "designs" / "hoeken_light_brief.toml"),
+                            "--objective", "min-apparent-mass", "--trials", "5",
+                            "--out", str(tmp_path / "x.toml"))
+    assert_one_line_error(code, err, "--out", "x_pareto.png")
+    assert mine.read_bytes().endswith(b"my own chart")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["x_pareto.png"]
+    fig = Figure()
+    fig.add_subplot().plot([0, 1])
+    for ext in ("png", "svg"):
+        ours = tmp_path / f"ours_pareto.{ext}"
+        save_figure(fig, ours)
+        assert _chart_replaceable(ours, tmp_path / "d.toml")
+        fig.savefig(tmp_path / f"theirs.{ext}")  # plain matplotlib: no hapticad mark
+        with pytest.raises(DesignError):
+            _chart_replaceable(tmp_path / f"theirs.{ext}", tmp_path / "d.toml")
+    assert not _chart_replaceable(tmp_path / "absent.png", tmp_path / "d.toml")

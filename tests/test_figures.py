@@ -37,4 +37,5 @@ def test_same_figure_same_bytes_in_every_format():
     fig, buf = _fig(), io.BytesIO()
     save_figure(fig, buf, "png")
     plt.close(fig)
-    assert b"Software" not in buf.getvalue() and b"matplotlib" not in buf.getvalue()
+    assert b"matplotlib" not in buf.getvalue()  # no version stamp: a fixed creator mark only
+    assert b"Software\x00hapticad" in buf.getvalue()

@@ -242,3 +242,17 @@ def test_an_order_without_a_layout_is_infeasible_in_the_search(tmp_path):
     assert code == 2 and "Traceback" not in err and len(lines) == 2, err
     assert lines[0].startswith("hapticad: warning: mechanism: l1_mm")
     assert "parts.layer_order" in lines[1] and "A2 washer+nut" in lines[1]
+
+
+def test_a_free_parameter_given_twice_and_a_misspelt_key_are_named(tmp_path):
+    """`fit --free X --free X` is refused (one line, exit 2); an unknown [parts] key names
+    the closest allowed key."""
+    code, _, err = hapticad("fit", str(HOEKEN), "--target", "M11_max_g<=71",
+                            "--free", "parts.layer_order", "--free", "layer_order")
+    assert_one_line_error(code, err, "--free", "parts.layer_order is given twice")
+    text = HOEKEN.read_text().replace(
+        "[parts]", "[parts]\nbar_thicknes_mm = 5", 1)
+    bad = tmp_path / "typo.toml"
+    bad.write_text(text)
+    code, _, err = hapticad("check", str(bad))
+    assert_one_line_error(code, err, "parts.bar_thicknes_mm", "did you mean 'bar_thickness_mm'")

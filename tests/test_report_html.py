@@ -289,3 +289,18 @@ def test_committed_device_pictures_are_listed_in_their_manifest():
     assert sorted(rows) == pictures
     for name in pictures:
         assert rows[name] == hashlib.sha256((folder / name).read_bytes()).hexdigest(), name
+
+
+def test_render_of_several_designs_writes_nothing_when_one_build_fails(tmp_path):
+    """Every design is built before any picture is written: the Hoeken builds, the
+    stroke-24 case (no clear layer layout) fails in its build -> exit 2, no file at all."""
+    from cli_helpers import assert_one_line_error, hapticad
+
+    out = tmp_path / "pictures"
+    code, _, err = hapticad(
+        "render", ROOT / "designs" / "hoeken.toml",
+        ROOT / "tests" / "cases" / "assembly-clashes" / "hoeken_stroke24.toml",
+        "--out", out, "--fidelity", "preview",
+    )
+    assert_one_line_error(code, err, "stroke_mm", "A2")
+    assert not out.exists() or list(out.iterdir()) == []

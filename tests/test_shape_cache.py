@@ -86,3 +86,27 @@ def test_every_damaged_entry_is_a_miss_and_rewritten(tmp_path):
         assert abs(got["volumes"][1] - box) < 1e-9 * box, (kind, got)
         assert got["made"] == [1, 1], (kind, got)  # made again once, then a hit
         assert got["rewritten"] and got["hash_ok"], (kind, got)
+
+
+def test_exports_are_the_same_bytes_with_the_cache_on_and_off(tmp_path):
+    """The shape cache hands out solids read back from BREP; with the cache off (or
+    unwritable) the solids are round-tripped the same way, so STEP (direction signs) and
+    STL (triangulation) bytes do not depend on the cache (found by a new-user test: with
+    HAPTICAD_CACHE_DIR=off, DIRECTION('',(1.,0.,-0.)) and a 1.7 % larger base-plate STL)."""
+    design = ROOT / "designs" / "hoeken.toml"
+    runs = {}
+    for name, cache in (("off", "off"), ("on", str(tmp_path / "cache"))):
+        out = tmp_path / name
+        env = {**os.environ, "HAPTICAD_CACHE_DIR": cache, "PYTHONPATH": str(ROOT)}
+        r = subprocess.run(
+            [sys.executable, "-m", "cad", "build", str(design), "--out", str(out),
+             "--fidelity", "preview", "--formats", "step,stl"],
+            capture_output=True, text=True, env=env, timeout=600,
+        )
+        assert r.returncode == 0, r.stderr
+        runs[name] = {p.relative_to(out).as_posix(): p.read_bytes()
+                      for p in sorted(out.rglob("*")) if p.suffix in (".step", ".stl")}
+    assert len(runs["off"]) > 10 and "assembly.step" in runs["off"]
+    assert runs["off"].keys() == runs["on"].keys()
+    differ = [k for k in runs["off"] if runs["off"][k] != runs["on"][k]]
+    assert differ == []

@@ -62,6 +62,10 @@ def register(app: typer.Typer) -> None:
             raise DesignError("--free", "no free parameters: give --free parts.KEY (four-bars), "
                                         "mechanism.KEY / parts.KEY (pantographs) or [fit] free")
         params = [parse_free(s, d.parts) if four_bar else parse_free_pantograph(s, d) for s in specs]
+        seen = [q.path for q in params]
+        twice = next((k for i, k in enumerate(seen) if k in seen[:i]), None)
+        if twice is not None:
+            raise DesignError("--free", f"{twice} is given twice; give each free parameter once")
         dst = out if out is not None else design.with_suffix(".fit.toml")
         replaced = check_out_file(dst, design)
         bounds.flush()

@@ -4,7 +4,8 @@ Builds each design into a temporary folder (nothing under ``exports/`` is touche
 copies the build's ``render.png`` (shaded still of the assembly) and ``animation.gif``
 (the mechanism over its stroke) to ``DIR/<name>.png`` and ``DIR/<name>.gif``
 (default ``docs/devices``). Every design is loaded and checked before anything is built:
-a design whose family has no render yet is refused with exit 2, nothing written. ``DIR``
+a design whose family has no render yet is refused with exit 2, nothing written; every
+design is built before any picture is written, so a build that fails writes none. ``DIR``
 is shared with other files: an existing ``<name>.png`` / ``.gif`` is replaced only when
 ``DIR/manifest.json`` says hapticad wrote it unchanged (:mod:`cad.io.outdir`), else exit 2.
 """
@@ -58,16 +59,18 @@ def render_designs(paths: list[Path], out: Path, fidelity: str | None = None) ->
     names = [f"{d.name}{ext}" for _, d, _ in designs for ext in RENDER_FILES.values()]
     check_shared_files(Path(out), names)
     done = []
-    for p, d, fid in designs:
-        with tempfile.TemporaryDirectory(prefix="hapticad-render-") as tmp:
+    with tempfile.TemporaryDirectory(prefix="hapticad-render-") as tmp:
+        for _, d, fid in designs:  # every build first: a failing one writes nothing at all
             build_design(d, Path(tmp) / d.name, set(), fidelity=fid, use_cache=False)
+        check_shared_files(Path(out), names)  # again: the builds took a while
+        for p, d, _ in designs:
             row = {"design": str(p), "name": d.name}
             for src, ext in RENDER_FILES.items():
                 dst = Path(out) / f"{d.name}{ext}"
                 write_bytes_atomic(dst, (Path(tmp) / d.name / src).read_bytes())
                 row[ext[1:]] = str(dst)
-            record_shared_files(Path(out), [f"{d.name}{ext}" for ext in RENDER_FILES.values()])
-        done.append(row)
+            done.append(row)
+        record_shared_files(Path(out), names)
     return done
 
 

@@ -37,11 +37,15 @@ def load_toml(path: str | Path) -> dict[str, Any]:
 
 def check_unknown(table: dict[str, Any], allowed: Iterable[str], prefix: str) -> None:
     """Reject keys not in ``allowed`` (catches typos such as ``l1mm``)."""
+    import difflib
+
     allowed = set(allowed)
     for key in table:
         if key not in allowed:
             hint = ", ".join(sorted(allowed))
-            raise DesignError(_path(prefix, key), f"unknown key (allowed: {hint})")
+            close = difflib.get_close_matches(str(key), sorted(allowed), n=1, cutoff=0.6)
+            guess = f"did you mean {close[0]!r}? " if close else ""
+            raise DesignError(_path(prefix, key), f"unknown key ({guess}allowed: {hint})")
 
 
 def require_table(raw: dict[str, Any], key: str, prefix: str) -> dict[str, Any]:

@@ -120,7 +120,7 @@ def cached_shape(key: str, make: Callable[[], object]):
     path = entry_path(key)
     if path is None:
         import_build123d()  # before a part generator imports it (defers scikit-learn)
-        return make()
+        return _round_trip(make())
     if path.is_file():
         shape = _read(path)
         if shape is not None:
@@ -130,6 +130,24 @@ def cached_shape(key: str, make: Callable[[], object]):
     try:
         _write(shape, path)
     except OSError:
-        return shape  # read-only home or full disk: work without the cache
+        return _round_trip(shape)  # read-only home or full disk: work without the cache
     back = _read(path)
-    return back if back is not None else shape
+    return back if back is not None else _round_trip(shape)
+
+
+def _round_trip(shape):
+    """``shape`` written as BREP and read back (through a private temporary file), as a
+    cache hit would give it: the exports (STEP direction signs, STL triangulation) are then
+    byte-identical whether the cache is on, off or unwritable."""
+    import tempfile
+
+    from OCP.BRep import BRep_Builder
+    from OCP.BRepTools import BRepTools
+    from OCP.TopoDS import TopoDS_Shape
+
+    with tempfile.TemporaryDirectory(prefix="hapticad-brep-") as tmp:
+        f = str(Path(tmp) / "s.brep")
+        back = TopoDS_Shape()
+        if not (BRepTools.Write_s(shape, f) and BRepTools.Read_s(back, f, BRep_Builder())):
+            return shape
+    return shape if back.IsNull() else back

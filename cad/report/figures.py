@@ -14,7 +14,28 @@ from __future__ import annotations
 TITLE_Y = 1.0
 
 #: Metadata that would differ between runs or matplotlib versions, per format.
-_NO_STAMPS = {"svg": {"Date": None}, "png": {"Software": None}, "pdf": {"CreationDate": None}}
+#: Every chart names hapticad as its creator (a fixed text: :func:`written_by_hapticad`
+#: tells our charts from a user's file of the same name before one is replaced).
+_NO_STAMPS = {
+    "svg": {"Date": None, "Creator": "hapticad"},
+    "png": {"Software": "hapticad"},
+    "pdf": {"CreationDate": None, "Creator": "hapticad"},
+}
+
+
+def written_by_hapticad(path) -> bool:
+    """True when the PNG or SVG chart at ``path`` carries :func:`save_figure`'s creator
+    mark (PNG text ``Software: hapticad``; SVG ``dc:creator`` hapticad)."""
+    from pathlib import Path
+
+    p = Path(path)
+    try:
+        head = p.read_bytes()[:4096]
+    except OSError:
+        return False
+    if head.startswith(b"\x89PNG"):
+        return b"Software\x00hapticad" in p.read_bytes()
+    return b"<dc:title>hapticad</dc:title>" in head
 
 
 def save_figure(fig, target, fmt: str | None = None, **kwargs) -> None:
