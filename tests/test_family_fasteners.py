@@ -27,7 +27,7 @@ def _expected_counts(fam: str, d) -> dict[str, int]:
     from cad.parts import catalog
 
     if fam == "powermouse":
-        return {"lid_screw": 4}  # one per side wall
+        return {"lid_screw": 4, "flotor_lid_screw": 4}  # one per side wall, housing and flotor
     stations = 2 if fam == "twin-pantograph" else 1  # motors under the base, on the bridge
     m = catalog.get_motor(d.parts.motor)
     out = {
@@ -42,15 +42,18 @@ def _expected_counts(fam: str, d) -> dict[str, int]:
 
 
 def _group(name: str) -> str:
-    for g in ("leg_screw", "mount_screw", "motor_screw", "post_screw", "lid_screw", "set_screw"):
+    for g in ("leg_screw", "mount_screw", "motor_screw", "post_screw", "flotor_lid_screw",
+              "lid_screw", "set_screw"):
         if g in name:
             return g
     raise AssertionError(name)
 
 
-def _clamp_mm(fam: str, d, group: str) -> float:
+def _clamp_mm(fam: str, d, group: str, rep: dict) -> float:
     p = d.parts if fam != "powermouse" else None
     return {
+        # the flotor lid is a wall of the coil's thickness d_c = d - d_r
+        "flotor_lid_screw": lambda: rep["actuator"]["gap_mm"] - d.actuator.rattle_mm,
         "leg_screw": lambda: p.plate_thickness_mm,
         "post_screw": lambda: p.plate_thickness_mm,
         "mount_screw": lambda: p.motor_mount_thickness_mm,
@@ -78,11 +81,14 @@ def test_every_screw_has_fastener_data_within_its_hole(family_builds, fam):
             m = catalog.get_motor(d.parts.motor)
             assert h["depth_mm"] == m.bolt_thread_depth_mm  # the maker's 3.5 mm
             assert x["engagement_mm"] >= min(2.5, m.bolt_thread_depth_mm) - 1e-9
+        elif h["part"] == "flotor_body":  # a plastic flotor (delrin): 2 d
+            assert d.flotor.material == "delrin" and h["min_engagement_mm"] == 2 * dia
+            assert x["engagement_mm"] >= 2 * dia - 1e-9, (name, x)
         else:
             assert x["engagement_mm"] >= 1.5 * dia - 1e-9, (name, x)  # aluminium: 1.5 d
         assert x["engagement_mm"] <= h["depth_mm"] + 1e-9, (name, x, h)
         # the length is the stack: clamped thickness + engagement, the shortest catalog one
-        clamp = _clamp_mm(fam, d, _group(name))
+        clamp = _clamp_mm(fam, d, _group(name), rep)
         assert x["length_mm"] == pytest.approx(clamp + x["engagement_mm"])
         shorter = [L for L in cs.lengths_mm if L < x["length_mm"]]
         assert not shorter or max(shorter) - clamp < h["min_engagement_mm"] - 1e-9
@@ -131,8 +137,33 @@ def test_powermouse_bom_states_the_lid_screw_holes(family_builds):
     _, out, rep = family_builds["powermouse"]
     with (out / "bom.csv").open() as fh:
         rows = {r["part"]: r for r in csv.DictReader(fh)}
-    n = len(rep["fasteners"])
-    assert f"tap {pp.LID_SCREW.split('-')[0]} x{n}" in rows["pm_housing_body"]["process"]
+    for prefix, part, size in (("lid_screw", "pm_housing_body", pp.LID_SCREW),
+                               ("flotor_lid_screw", "pm_flotor_body", pp.FLOTOR_LID_SCREW)):
+        f = {k: x for k, x in rep["fasteners"].items() if _group(k) == prefix}
+        assert f"tap {size.split('-')[0]} x{len(f)}" in rows[part]["process"]
+        (L,) = {x["length_mm"] for x in f.values()}
+        screw = rows[f"cap_screw_{size}x{L:g}"]
+        assert screw["made_or_bought"] == "bought" and int(screw["quantity"]) == len(f)
+        assert f"ISO 4762 {size} x {L:g}" in screw["description"]
+
+
+def test_powermouse_flotor_lid_screws_against_the_catalog(family_builds):
+    """The flotor lid (a d_c = d - d_r wall) held by M2.5 screws into 7 mm of full thread
+    (8 mm tap drill, 1 mm lead-out) in the delrin side walls: 2 d = 5 mm minimum, so
+    L >= d_c + 5; the shortest ISO 4762 M2.5 length (bd_warehouse CSV: 4..25 from the
+    nominal list) that is, and the engagement L - d_c within 5..7 mm."""
+    d, _, rep = family_builds["powermouse"]
+    dc = rep["actuator"]["gap_mm"] - d.actuator.rattle_mm
+    nominal = [4, 5, 6, 8, 10, 12, 16, 20, 25]  # iso4762 M2.5: short 4, long 25
+    L = min(x for x in nominal if x >= dc + 5.0)
+    assert 5.0 <= L - dc <= 7.0
+    f = {k: x for k, x in rep["fasteners"].items() if k.startswith("flotor_lid_screw")}
+    assert len(f) == 4
+    for k, x in f.items():
+        assert x["size"] == "M2.5-0.45" and x["length_mm"] == L, (k, x)
+        assert x["clamps"] == ["flotor_lid"] and x["engagement_mm"] == pytest.approx(L - dc)
+        h = rep["tapped_holes"][x["hole"]]
+        assert h["part"] == "flotor_body" and h["depth_mm"] == 7.0
 
 
 def test_thin_housing_wall_is_refused_before_cad(tmp_path, monkeypatch):
@@ -257,4 +288,43 @@ def test_clevis_too_thin_for_a_set_screw_is_refused_before_cad(tmp_path, monkeyp
         build_design(d, tmp_path / "o", {"step"})
     assert str(e.value).startswith("parts.clevis_width_mm: hub clevis set screw")
     assert "(2.92 mm of full M2 thread)" in str(e.value) and "\n" not in str(e.value)
+    assert not (tmp_path / "o").exists()
+
+
+def test_thin_flotor_wall_is_refused_before_cad(tmp_path, monkeypatch):
+    """gap 9 mm, rattle 6 mm: 3 mm flotor walls < M2.5 tap drill 2.05 + 2 x 0.75 = 3.55 mm."""
+    import dataclasses
+
+    import cad.parts.lazy_import as li
+    from cad.build import build_design
+    from cad.design import load_design
+    from cad.errors import DesignError
+
+    d = load_design(Path(__file__).resolve().parents[1] / "designs" / "powermouse.toml")
+    d = dataclasses.replace(d, actuator=dataclasses.replace(d.actuator, gap_mm=9.0))
+    monkeypatch.setattr(li, "import_build123d", lambda: pytest.fail("CAD imported"))
+    with pytest.raises(DesignError) as e:
+        build_design(d, tmp_path / "o", {"step"})
+    assert str(e.value).startswith("actuator.rattle_mm: 3 mm walls cannot take the M2.5-0.45")
+    assert "(need >= 3.55 mm)" in str(e.value)
+    assert not (tmp_path / "o").exists()
+
+
+def test_flotor_lid_tap_drill_into_a_coil_pocket_is_refused_before_cad(tmp_path, monkeypatch):
+    """edge 62 mm (optimum gap ~10.8, d_c ~4.8): the 8 mm tap drills would end at
+    z = 31 - 4.8 - 8 = 18.2 mm, within 0.75 mm of the +-x coil pockets (l_m/2 + w_m = 18)."""
+    import dataclasses
+
+    import cad.parts.lazy_import as li
+    from cad.build import build_design
+    from cad.design import load_design
+    from cad.errors import DesignError
+
+    d = load_design(Path(__file__).resolve().parents[1] / "designs" / "powermouse.toml")
+    d = dataclasses.replace(d, flotor=dataclasses.replace(d.flotor, edge_mm=62.0))
+    monkeypatch.setattr(li, "import_build123d", lambda: pytest.fail("CAD imported"))
+    with pytest.raises(DesignError) as e:
+        build_design(d, tmp_path / "o", {"step"})
+    assert str(e.value).startswith("flotor.edge_mm: the flotor lid screws' 8 mm tap drills")
+    assert "(z <= 18 mm)" in str(e.value)
     assert not (tmp_path / "o").exists()

@@ -146,13 +146,41 @@ def test_solids_volumes_and_masses(solids):
     assert mp.mass_kg == pytest.approx(w * lm * t * 1e-9 * rho, rel=1e-12)
 
 
+def _lid_screw_hole_fill(g, rho: float) -> list:
+    """Mass properties of the material the four flotor lid screw holes remove, closed form:
+    per screw an ISO 273 clearance cylinder through the d_c lid and a tap drill
+    ``LID_TAP_DRILL_DEPTH_MM`` deep below it (m = rho pi r^2 h; I = m r^2 / 2 along the axis,
+    m (3 r^2 + h^2) / 12 across)."""
+    from cad.massprops.props import MassProps
+    from cad.parts import catalog
+    from cad.parts import powermouse as pp
+
+    z0 = g.flotor_edge_mm / 2 - g.coil_width_mm  # the split: top of the side walls
+    size = pp.FLOTOR_LID_SCREW
+    cyl = [(catalog.clearance_hole_mm(size) / 2, z0, g.flotor_edge_mm / 2),
+           (catalog.tap_drill_mm(size) / 2, z0 - pp.LID_TAP_DRILL_DEPTH_MM, z0)]
+    out = []
+    for x, y in pp.flotor_lid_screw_xy_mm(g):
+        for r, za, zb in cyl:
+            h = zb - za
+            m = rho * math.pi * r**2 * h * 1e-9
+            ix = m * (3 * r**2 + h**2) / 12 * 1e-6
+            out.append(MassProps(m, np.array([x, y, (za + zb) / 2]) * 1e-3,
+                                 np.diag([ix, ix, m * r**2 / 2 * 1e-6])))
+    return out
+
+
 def test_flotor_mass_props_have_the_diagonal_symmetry(solids):
-    """Layout + handle share the 3-fold axis (1,1,1): COM on the diagonal, I_xx = I_yy = I_zz, equal products."""
+    """Layout + handle share the 3-fold axis (1,1,1): COM on the diagonal, I_xx = I_yy = I_zz,
+    equal products -- once the material drilled for the flotor lid screws (only in the +z lid
+    and the side walls' tops, which breaks the symmetry) is added back in closed form."""
     from cad.massprops.occt import solid_mass_props
     from cad.massprops.props import combine
 
-    _, _, fl, _ = solids
-    m = combine([solid_mass_props(s, 1000.0) for s, _ in fl.values()])
+    _, g, fl, _ = solids
+    drilled = combine([solid_mass_props(s, 1000.0) for s, _ in fl.values()])
+    assert np.ptp(drilled.com_m) > 1e-9 * np.abs(drilled.com_m).max()  # the holes show
+    m = combine([drilled, *_lid_screw_hole_fill(g, 1000.0)])
     c = m.com_m
     assert np.ptp(c) < 1e-9 * np.abs(c).max() and c[0] > 0  # handle pulls the COM towards +(1,1,1)
     J = m.inertia_com_kg_m2

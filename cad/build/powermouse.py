@@ -168,9 +168,20 @@ def check_options(design, fidelity: str, phi1_deg, formats=frozenset()) -> None:
     """Refuse what this builder cannot do, before any CAD import (DesignError)."""
     if phi1_deg is not None:
         raise DesignError("--phi1-deg", f"the PowerMouse has no crank angle, got {phi1_deg!r}")
-    from cad.parts.powermouse import lid_screw_plan
+    from cad.parts import powermouse as pp
 
-    lid_screw_plan(design.stator.housing_wall_mm)  # walls too thin for the lid screws
+    pp.lid_screw_plan(design.stator.housing_wall_mm)  # walls too thin for the lid screws
+    pp.flotor_lid_screw_plan(pp.geometry(design, _gap_mm(design)), design.flotor.material)
+
+
+def _gap_mm(design) -> float:
+    """The magnet gap d (mm): the design's, else the eq (8) optimum of its field model."""
+    from cad.actuators import voicecoil as vc
+
+    a = design.actuator
+    if a.gap_mm is not None:
+        return a.gap_mm
+    return vc.optimal_gap(a.params(), a.field_model).as_dict()["optimal_gap_mm"]
 
 
 def _materials(design) -> dict[str, str]:
@@ -193,10 +204,14 @@ def _materials(design) -> dict[str, str]:
 _PARTS = {
     "pm_flotor_body": (
         "flotor: open cube shell with 5 coil pockets, post hole at (-,-,-)",
+        "CNC milled; tap M2.5 x4 (lid screws, top of the side walls)",
+        True,
+    ),
+    "pm_flotor_lid": (
+        "flotor lid (+z wall) with 1 coil pocket, 4 lid screw clearance holes",
         "CNC milled",
         True,
     ),
-    "pm_flotor_lid": ("flotor lid (+z wall) with 1 coil pocket", "CNC milled", True),
     "pm_coil": ("flat racetrack coil, wound and potted into its pocket", "wound, potted", True),
     "pm_handle": (
         "handle: stem screwed into the flotor's (+,+,+) corner, spherical knob",
@@ -309,52 +324,64 @@ def assembly(design, g, acts) -> tuple[list, list]:
     return inst + _lid_screws(design, g), _rig(design, acts)
 
 
-def lid_holes(design, g) -> dict:
-    """The tapped holes of the housing lid screws: ``housing_body:lid_<k>`` ->
-    :class:`cad.assembly.fasteners.TappedHole` (thread depth and 1.5 d minimum from
-    :func:`cad.parts.powermouse.lid_screw_plan`)."""
-    from cad.assembly.fasteners import TappedHole
+def _lid_plans(design, g) -> dict:
+    """``{prefix: (plan, screw (x, y) list, z of the lid top, body, lid, tapped part)}`` for
+    the housing and flotor lid screws (:mod:`cad.parts.powermouse`)."""
     from cad.parts import powermouse as pp
 
-    sp = pp.lid_screw_plan(design.stator.housing_wall_mm)
     return {
-        f"housing_body:lid_{k + 1}": TappedHole(
-            f"housing_body:lid_{k + 1}", "housing_body", sp["size"], sp["depth_mm"],
-            sp["min_engagement_mm"],
-        )
-        for k in range(len(pp.lid_screw_xy_mm(g)))
+        "lid_screw": (pp.lid_screw_plan(design.stator.housing_wall_mm), pp.lid_screw_xy_mm(g),
+                      g.housing_inner_half_mm + g.housing_wall_mm, "ground", "housing_lid",
+                      "housing_body"),
+        "flotor_lid_screw": (pp.flotor_lid_screw_plan(g, design.flotor.material),
+                             pp.flotor_lid_screw_xy_mm(g), g.flotor_edge_mm / 2, "flotor",
+                             "flotor_lid", "flotor_body"),
     }
 
 
+def lid_holes(design, g) -> dict:
+    """The tapped holes of the lid screws: ``housing_body:lid_<k>`` and
+    ``flotor_body:lid_<k>`` -> :class:`cad.assembly.fasteners.TappedHole` (thread depth and
+    minimum engagement from :func:`cad.parts.powermouse.lid_screw_plan`)."""
+    from cad.assembly.fasteners import TappedHole
+
+    out = {}
+    for sp, xy, _, _, _, part in _lid_plans(design, g).values():
+        for k in range(len(xy)):
+            n = f"{part}:lid_{k + 1}"
+            out[n] = TappedHole(n, part, sp["size"], sp["depth_mm"], sp["min_engagement_mm"])
+    return out
+
+
 def _lid_screws(design, g) -> list:
-    """The four ISO 4762 screws holding the housing lid (heads on the lid, shanks through
-    its clearance holes into the side walls), each with its fastener record."""
+    """The ISO 4762 screws holding the housing lid and the flotor lid (heads on the lid,
+    shanks through its clearance holes into the side walls), each with its fastener record."""
     from cad.assembly.fasteners import Fastener
     from cad.parts import PartInstance, PartKind, catalog, joints, translation
-    from cad.parts import powermouse as pp
 
-    sp = pp.lid_screw_plan(design.stator.housing_wall_mm)
-    size, L = sp["size"], sp["length_mm"]
-    cs = catalog.get_cap_screw(size, "stator.housing_wall_mm")
-    kind = PartKind(
-        name=f"cap_screw_{size}x{L:g}",
-        shape=joints.cap_screw_shape(size, L),
-        material=catalog.FASTENER_MATERIAL,
-        made=False,
-        description=f"socket head cap screw ISO 4762 {size} x {L:g} (housing lid)",
-        process="bought",
-        revolution=True,
-        collision=(("self", joints.screw_envelope(cs.dk_mm, cs.k_mm, cs.d_mm, L)),),
-    )
-    z = g.housing_inner_half_mm + g.housing_wall_mm  # top of the lid
-    return [
-        PartInstance(
-            f"lid_screw_{k + 1}", kind, "ground", translation(x, y, z),
-            fastener=Fastener("ISO 4762", size, L, ("housing_lid",), f"housing_body:lid_{k + 1}",
-                              sp["engagement_mm"]),
+    out = []
+    for prefix, (sp, xy, z, body, lid, part) in _lid_plans(design, g).items():
+        size, L = sp["size"], sp["length_mm"]
+        cs = catalog.get_cap_screw(size, "stator.housing_wall_mm")
+        kind = PartKind(
+            name=f"cap_screw_{size}x{L:g}",
+            shape=joints.cap_screw_shape(size, L),
+            material=catalog.FASTENER_MATERIAL,
+            made=False,
+            description=f"socket head cap screw ISO 4762 {size} x {L:g} ({lid.replace('_', ' ')})",
+            process="bought",
+            revolution=True,
+            collision=(("self", joints.screw_envelope(cs.dk_mm, cs.k_mm, cs.d_mm, L)),),
         )
-        for k, (x, y) in enumerate(pp.lid_screw_xy_mm(g))
-    ]
+        out += [
+            PartInstance(
+                f"{prefix}_{k + 1}", kind, body, translation(x, y, z),
+                fastener=Fastener("ISO 4762", size, L, (lid,), f"{part}:lid_{k + 1}",
+                                  sp["engagement_mm"]),
+            )
+            for k, (x, y) in enumerate(xy)
+        ]
+    return out
 
 
 def _rig(design, acts) -> list:
@@ -684,7 +711,8 @@ def _report(
             "(the guaranteed zero-torque force in any direction).",
             f"touching (clearance 0) at the +-{design.motion.range_mm:g} mm limit is by design: rattle_mm/2 = "
             f"{design.actuator.rattle_mm / 2:g} mm.",
-            "Assembly: inner magnets on the core; core into the open flotor box, flotor lid on; outer magnets "
+            "Assembly: inner magnets on the core; core into the open flotor box, flotor lid on with four M2.5 "
+            "screws into the side walls; outer magnets "
             "on their iron plates, five plates into the open housing box, one on its lid; flotor (with the core) "
             "lowered into the housing box (its side faces slide past the side magnets at the rattle gap); post "
             "through the housing's corner bore and the flotor's corner hole, screwed into the core; housing lid "

@@ -18,7 +18,8 @@ origin at the cube centre, axes normal to the faces, mm.
   corner for the handle stem.
 * Flotor and housing are each an open box and a lid (split at the inner face
   of the +z wall), so the device can be put together: inner magnets on the core;
-  core into the flotor box, flotor lid on; outer magnets on their iron plates, five
+  core into the flotor box, flotor lid on (four ISO 4762 screws into the side walls' tops,
+  :func:`flotor_lid_screw_plan`); outer magnets on their iron plates, five
   plates into the housing box, one on its lid; flotor (with the core) lowered into
   the housing box -- its side faces slide past the side magnets at the rattle gap;
   post through the housing bore and the flotor's corner hole, screwed into the core;
@@ -48,55 +49,121 @@ from cad.errors import DesignError
 LID_SCREW = "M3-0.5"
 LID_TAP_DRILL_DEPTH_MM = 8.0
 LID_HOLE_WALL_MM = 0.75
+#: Flotor lid screws (ISO 4762), tapped into the top of the flotor's side walls (walls of the
+#: coil thickness d_c, ~5 mm): a smaller size, as the flotor is usually a plastic.
+FLOTOR_LID_SCREW = "M2.5-0.45"
+#: Minimum thread engagement in a hole tapped in a plastic (POM, ABS, PETG...), in thread
+#: diameters: 2 d, the usual design rule for machine screws in tapped thermoplastics (a
+#: softer internal thread than aluminium's 1.5 d, :mod:`cad.assembly.fasteners`).
+MIN_ENGAGEMENT_PLASTIC_D = 2.0
+#: Materials tapped with the metal rule (1.5 d); any other material is a plastic (2 d).
+_METALS = ("aluminium", "steel", "brass", "titanium", "soft-iron", "copper")
 
 
-def lid_screw_plan(wall_mm: float) -> dict:
-    """The housing lid screws sized from their stack, before any CAD: through the lid
-    (``wall_mm`` thick) into a hole tapped in the top of a side wall (full thread
-    :data:`LID_TAP_DRILL_DEPTH_MM` - 1 mm lead-out, at least 1.5 d:
-    :func:`cad.assembly.fasteners.size_cap_screw`). Returns size, clamp_mm, length_mm,
-    engagement_mm, depth_mm, min_engagement_mm. DesignError (``stator.housing_wall_mm``)
-    when the wall cannot hold the tap drill with :data:`LID_HOLE_WALL_MM` each side."""
+def lid_screw_plan(
+    wall_mm: float,
+    *,
+    size: str = LID_SCREW,
+    part: str = "housing_body",
+    field: str = "stator.housing_wall_mm",
+    joint: str = "housing lid to body",
+    min_d: float | None = None,
+    what: str = "lid screws",
+    hint: str = "",
+) -> dict:
+    """Lid screws sized from their stack, before any CAD: through the lid (``wall_mm``
+    thick) into a hole tapped in the top of a side wall of ``part`` (full thread
+    :data:`LID_TAP_DRILL_DEPTH_MM` - 1 mm lead-out, at least ``min_d`` d, default the
+    aluminium 1.5 d: :func:`cad.assembly.fasteners.size_cap_screw`). Returns size, clamp_mm,
+    length_mm, engagement_mm, depth_mm, min_engagement_mm. DesignError (``field``) when the
+    wall cannot hold the tap drill with :data:`LID_HOLE_WALL_MM` each side (``hint``
+    appended to the message)."""
     from cad.assembly import fasteners as fs
-    from cad.parts.catalog import tap_drill_mm
+    from cad.parts.catalog import tap_drill_mm, thread_diameter_mm
 
-    need = tap_drill_mm(LID_SCREW) + 2 * LID_HOLE_WALL_MM
+    need = tap_drill_mm(size) + 2 * LID_HOLE_WALL_MM
     if wall_mm < need - 1e-9:
         raise DesignError(
-            "stator.housing_wall_mm",
-            f"{wall_mm:g} mm walls cannot take the {LID_SCREW} lid screws' tapped holes "
-            f"(need >= {need:g} mm)",
+            field,
+            f"{wall_mm:g} mm walls cannot take the {size} {what}' tapped holes "
+            f"(need >= {need:g} mm){hint}",
         )
     depth = LID_TAP_DRILL_DEPTH_MM - fs.TAP_LEADOUT_MM
-    hole = fs.alu_hole("housing_body:lid", "housing_body", LID_SCREW, depth)
-    L, e = fs.size_cap_screw(LID_SCREW, wall_mm, hole, "housing lid to body",
-                             "stator.housing_wall_mm")
-    return {"size": LID_SCREW, "clamp_mm": wall_mm, "length_mm": L, "engagement_mm": e,
+    hole = fs.alu_hole(f"{part}:lid", part, size, depth)
+    if min_d is not None:
+        hole = fs.TappedHole(hole.name, part, size, depth, min_d * thread_diameter_mm(size))
+    L, e = fs.size_cap_screw(size, wall_mm, hole, joint, field)
+    return {"size": size, "clamp_mm": wall_mm, "length_mm": L, "engagement_mm": e,
             "depth_mm": depth, "min_engagement_mm": hole.min_engagement_mm}
 
 
+def flotor_lid_screw_plan(g: PowerMouseGeometry, material: str) -> dict:
+    """The flotor lid screws (:data:`FLOTOR_LID_SCREW`) sized like the housing's
+    (:func:`lid_screw_plan`): clamp = the lid (the +z wall, d_c thick), tapped into the top
+    of the side walls (d_c thick), minimum engagement 1.5 d in a metal, 2 d
+    (:data:`MIN_ENGAGEMENT_PLASTIC_D`) in a plastic ``material``. DesignError naming
+    ``actuator.rattle_mm`` when the d_c wall cannot hold the tap drill, ``flotor.edge_mm``
+    when a tap drill would come within :data:`LID_HOLE_WALL_MM` of the +-x coil pockets
+    (their long axis is z: they reach l_m/2 + w_m from the face centre)."""
+    from cad.assembly.fasteners import MIN_ENGAGEMENT_ALU_D
+
+    dc = g.coil_width_mm
+    metal = material.startswith(_METALS)
+    sp = lid_screw_plan(
+        dc, size=FLOTOR_LID_SCREW, part="flotor_body", field="actuator.rattle_mm",
+        joint="flotor lid to body", what="flotor lid screws",
+        hint="; the flotor walls are as thick as the coils, gap_mm - rattle_mm",
+        min_d=MIN_ENGAGEMENT_ALU_D if metal else MIN_ENGAGEMENT_PLASTIC_D,
+    )
+    bottom = g.flotor_edge_mm / 2 - dc - LID_TAP_DRILL_DEPTH_MM
+    reach = g.magnet_length_mm / 2 + g.magnet_width_mm
+    if bottom < reach + LID_HOLE_WALL_MM - 1e-9:
+        raise DesignError(
+            "flotor.edge_mm",
+            f"the flotor lid screws' {LID_TAP_DRILL_DEPTH_MM:g} mm tap drills end at z = "
+            f"{bottom:.2f} mm, within {LID_HOLE_WALL_MM:g} mm of the side coil pockets "
+            f"(z <= {reach:g} mm); enlarge edge_mm",
+        )
+    return sp
+
+
 def lid_screw_xy_mm(g: PowerMouseGeometry) -> list[tuple[float, float]]:
-    """(x, y) of the lid screws (flotor frame, mm): mid-wall, middle of each side."""
+    """(x, y) of the housing lid screws (flotor frame, mm): mid-wall, middle of each side."""
     m = g.housing_inner_half_mm + g.housing_wall_mm / 2
     return [(m, 0.0), (0.0, m), (-m, 0.0), (0.0, -m)]
 
 
-def _lid_screw_holes(g: PowerMouseGeometry):
-    """Clearance holes through the lid and tap drills into the side walls' tops."""
+def flotor_lid_screw_xy_mm(g: PowerMouseGeometry) -> list[tuple[float, float]]:
+    """(x, y) of the flotor lid screws (flotor frame, mm): mid-wall (d_c walls), middle of
+    each side -- clear of the +z coil pocket (reach w_m across x, l_m/2 + w_m along y) and
+    of the handle hole at the (+,+,+) corner."""
+    m = g.flotor_edge_mm / 2 - g.coil_width_mm / 2
+    return [(m, 0.0), (0.0, m), (-m, 0.0), (0.0, -m)]
+
+
+def _screw_holes(xy, size: str, z_split: float, z_top: float):
+    """Clearance holes through a lid (``z_split``..``z_top``) and tap drills
+    (:data:`LID_TAP_DRILL_DEPTH_MM` deep) into the side walls' tops below ``z_split``."""
     import build123d as bd
 
     from cad.parts.catalog import clearance_hole_mm, tap_drill_mm
 
-    H, Ho = g.housing_inner_half_mm, g.housing_inner_half_mm + g.housing_wall_mm
     a = (bd.Align.CENTER, bd.Align.CENTER, bd.Align.MIN)
     cut = None
-    for x, y in lid_screw_xy_mm(g):
-        c = bd.Pos(x, y, H) * bd.Cylinder(clearance_hole_mm(LID_SCREW) / 2, Ho - H + 1.0, align=a)
-        c = c + bd.Pos(x, y, H - LID_TAP_DRILL_DEPTH_MM) * bd.Cylinder(
-            tap_drill_mm(LID_SCREW) / 2, LID_TAP_DRILL_DEPTH_MM, align=a
+    for x, y in xy:
+        c = bd.Pos(x, y, z_split) * bd.Cylinder(clearance_hole_mm(size) / 2, z_top - z_split + 1.0,
+                                                align=a)
+        c = c + bd.Pos(x, y, z_split - LID_TAP_DRILL_DEPTH_MM) * bd.Cylinder(
+            tap_drill_mm(size) / 2, LID_TAP_DRILL_DEPTH_MM, align=a
         )
         cut = c if cut is None else cut + c
     return cut
+
+
+def _lid_screw_holes(g: PowerMouseGeometry):
+    """Clearance holes through the housing lid and tap drills into the side walls' tops."""
+    H = g.housing_inner_half_mm
+    return _screw_holes(lid_screw_xy_mm(g), LID_SCREW, H, H + g.housing_wall_mm)
 
 
 @dataclass(frozen=True)
@@ -283,6 +350,7 @@ def flotor_solids(g: PowerMouseGeometry) -> dict[str, tuple[object, str]]:
     knob = bd.Pos(*(u * (s1 + 0.35 * g.knob_diameter_mm))) * bd.Sphere(g.knob_diameter_mm / 2)
     handle = stem + knob
     shell = shell - stem  # handle is its own part, screwed into the corner
+    shell = shell - _screw_holes(flotor_lid_screw_xy_mm(g), FLOTOR_LID_SCREW, E / 2 - dc, E / 2)
     # split at the inner face of the +z wall: an open box and a lid (so the core goes in)
     body, lid = _split_z(shell, E / 2 - dc, E)
     out = {"flotor_body": (body, "shell"), "flotor_lid": (lid, "shell")}
