@@ -14,6 +14,7 @@ Builds: ``conftest.family_builds`` (one per family, shared).
 from __future__ import annotations
 
 import csv
+import re
 from pathlib import Path
 
 import pytest
@@ -21,6 +22,26 @@ from step_pairs import radial_screw_mm, read_parts, thread_in_part_mm
 
 FAMILIES = ("pantograph", "twin-pantograph", "powermouse")
 
+
+def _refused_before_cad(monkeypatch, tmp_path, design: str, table: str, **changes) -> str:
+    """Build ``designs/<design>`` with ``[table]`` fields replaced by ``changes`` while any
+    CAD import fails the test; return the DesignError text (one line) and check that no
+    output folder was created."""
+    import dataclasses
+
+    import cad.parts.lazy_import as li
+    from cad.build import build_design
+    from cad.design import load_design
+    from cad.errors import DesignError
+
+    d = load_design(Path(__file__).resolve().parents[1] / "designs" / design)
+    d = dataclasses.replace(d, **{table: dataclasses.replace(getattr(d, table), **changes)})
+    monkeypatch.setattr(li, "import_build123d", lambda: pytest.fail("CAD imported"))
+    with pytest.raises(DesignError) as e:
+        build_design(d, tmp_path / "o", {"step"})
+    assert "\n" not in str(e.value)
+    assert not (tmp_path / "o").exists()
+    return str(e.value)
 
 def _expected_counts(fam: str, d) -> dict[str, int]:
     """Screws per group, counted from the catalog and the design (not from the build)."""
@@ -167,42 +188,18 @@ def test_powermouse_flotor_lid_screws_against_the_catalog(family_builds):
 
 
 def test_thin_housing_wall_is_refused_before_cad(tmp_path, monkeypatch):
-    from pathlib import Path
-
-    import cad.parts.lazy_import as li
-    from cad.build import build_design
-    from cad.design import load_design
-    from cad.errors import DesignError
-
-    d = load_design(Path(__file__).resolve().parents[1] / "designs" / "powermouse.toml")
-    import dataclasses
-
-    d = dataclasses.replace(d, stator=dataclasses.replace(d.stator, housing_wall_mm=3.5))
-    monkeypatch.setattr(li, "import_build123d", lambda: pytest.fail("CAD imported"))
-    with pytest.raises(DesignError, match=r"stator.housing_wall_mm: 3.5 mm walls cannot take"):
-        build_design(d, tmp_path / "o", {"step"})
-    assert not (tmp_path / "o").exists()
+    msg = _refused_before_cad(monkeypatch, tmp_path, "powermouse.toml", "stator",
+                              housing_wall_mm=3.5)
+    assert re.match(r"stator.housing_wall_mm: 3.5 mm walls cannot take", msg)
 
 
 def test_pantograph_stack_no_catalog_screw_fits_is_refused_before_cad(tmp_path, monkeypatch):
     """A 4 mm motor mount plate: an M3 motor screw would need 4 + 2.5..3.5 mm, and ISO 4762
     M3 comes in 6 and 8 mm -- refused naming the joint and the window, before any CAD."""
-    import dataclasses
-    from pathlib import Path
-
-    import cad.parts.lazy_import as li
-    from cad.build import build_design
-    from cad.design import load_design
-    from cad.errors import DesignError
-
-    d = load_design(Path(__file__).resolve().parents[1] / "designs" / "pantograph.toml")
-    d = dataclasses.replace(d, parts=dataclasses.replace(d.parts, motor_mount_thickness_mm=4.0))
-    monkeypatch.setattr(li, "import_build123d", lambda: pytest.fail("CAD imported"))
-    with pytest.raises(DesignError) as e:
-        build_design(d, tmp_path / "o", {"step"})
-    assert str(e.value).startswith("parts.motor_mount_thickness_mm: motor face to mount plate")
-    assert "need L in 6.5..7.5 mm" in str(e.value)
-    assert not (tmp_path / "o").exists()
+    msg = _refused_before_cad(monkeypatch, tmp_path, "pantograph.toml", "parts",
+                              motor_mount_thickness_mm=4.0)
+    assert msg.startswith("parts.motor_mount_thickness_mm: motor face to mount plate")
+    assert "need L in 6.5..7.5 mm" in msg
 
 
 def _iso4026_lengths_mm(size: str) -> list[float]:
@@ -274,57 +271,22 @@ def test_clevis_set_screw_measured_in_the_step_file(family_builds, fam):
 
 def test_clevis_too_thin_for_a_set_screw_is_refused_before_cad(tmp_path, monkeypatch):
     """A 12 mm clevis on the 6 mm shaft: 3 mm wall, 2.92 mm of full M2 thread < 1.5 d = 3."""
-    import dataclasses
-
-    import cad.parts.lazy_import as li
-    from cad.build import build_design
-    from cad.design import load_design
-    from cad.errors import DesignError
-
-    d = load_design(Path(__file__).resolve().parents[1] / "designs" / "pantograph.toml")
-    d = dataclasses.replace(d, parts=dataclasses.replace(d.parts, clevis_width_mm=12.0))
-    monkeypatch.setattr(li, "import_build123d", lambda: pytest.fail("CAD imported"))
-    with pytest.raises(DesignError) as e:
-        build_design(d, tmp_path / "o", {"step"})
-    assert str(e.value).startswith("parts.clevis_width_mm: hub clevis set screw")
-    assert "(2.92 mm of full M2 thread)" in str(e.value) and "\n" not in str(e.value)
-    assert not (tmp_path / "o").exists()
+    msg = _refused_before_cad(monkeypatch, tmp_path, "pantograph.toml", "parts",
+                              clevis_width_mm=12.0)
+    assert msg.startswith("parts.clevis_width_mm: hub clevis set screw")
+    assert "(2.92 mm of full M2 thread)" in msg
 
 
 def test_thin_flotor_wall_is_refused_before_cad(tmp_path, monkeypatch):
     """gap 9 mm, rattle 6 mm: 3 mm flotor walls < M2.5 tap drill 2.05 + 2 x 0.75 = 3.55 mm."""
-    import dataclasses
-
-    import cad.parts.lazy_import as li
-    from cad.build import build_design
-    from cad.design import load_design
-    from cad.errors import DesignError
-
-    d = load_design(Path(__file__).resolve().parents[1] / "designs" / "powermouse.toml")
-    d = dataclasses.replace(d, actuator=dataclasses.replace(d.actuator, gap_mm=9.0))
-    monkeypatch.setattr(li, "import_build123d", lambda: pytest.fail("CAD imported"))
-    with pytest.raises(DesignError) as e:
-        build_design(d, tmp_path / "o", {"step"})
-    assert str(e.value).startswith("actuator.rattle_mm: 3 mm walls cannot take the M2.5-0.45")
-    assert "(need >= 3.55 mm)" in str(e.value)
-    assert not (tmp_path / "o").exists()
+    msg = _refused_before_cad(monkeypatch, tmp_path, "powermouse.toml", "actuator", gap_mm=9.0)
+    assert msg.startswith("actuator.rattle_mm: 3 mm walls cannot take the M2.5-0.45")
+    assert "(need >= 3.55 mm)" in msg
 
 
 def test_flotor_lid_tap_drill_into_a_coil_pocket_is_refused_before_cad(tmp_path, monkeypatch):
     """edge 62 mm (optimum gap ~10.8, d_c ~4.8): the 8 mm tap drills would end at
     z = 31 - 4.8 - 8 = 18.2 mm, within 0.75 mm of the +-x coil pockets (l_m/2 + w_m = 18)."""
-    import dataclasses
-
-    import cad.parts.lazy_import as li
-    from cad.build import build_design
-    from cad.design import load_design
-    from cad.errors import DesignError
-
-    d = load_design(Path(__file__).resolve().parents[1] / "designs" / "powermouse.toml")
-    d = dataclasses.replace(d, flotor=dataclasses.replace(d.flotor, edge_mm=62.0))
-    monkeypatch.setattr(li, "import_build123d", lambda: pytest.fail("CAD imported"))
-    with pytest.raises(DesignError) as e:
-        build_design(d, tmp_path / "o", {"step"})
-    assert str(e.value).startswith("flotor.edge_mm: the flotor lid screws' 8 mm tap drills")
-    assert "(z <= 18 mm)" in str(e.value)
-    assert not (tmp_path / "o").exists()
+    msg = _refused_before_cad(monkeypatch, tmp_path, "powermouse.toml", "flotor", edge_mm=62.0)
+    assert msg.startswith("flotor.edge_mm: the flotor lid screws' 8 mm tap drills")
+    assert "(z <= 18 mm)" in msg

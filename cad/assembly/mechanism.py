@@ -135,17 +135,10 @@ class _Builder:
         """A bought ISO 4762 socket head cap screw (one kind per size and length)."""
         from cad.parts import joints
 
-        cs = cat.get_cap_screw(size, "parts")
-        return self.kind(
-            f"cap_screw_{size}x{_fmt(length)}",
-            lambda: joints.cap_screw_shape(size, length),
-            material=cat.FASTENER_MATERIAL,
-            made=False,
-            description=f"socket head cap screw ISO 4762 {size} x {_fmt(length)}",
-            process="bought",
-            revolution=True,
-            collision=(("self", joints.screw_envelope(cs.dk_mm, cs.k_mm, cs.d_mm, length)),),
-        )
+        name = f"cap_screw_{size}x{_fmt(length)}"
+        if name not in self.kinds:
+            self.kinds[name] = joints.cap_screw_kind(size, length, "parts")
+        return self.kinds[name]
 
     def screw(self, name, size, clamp, hole, joint, field, body, tf, clamps):
         """Size an ISO 4762 screw from its stack and place it with its fastener record."""

@@ -357,22 +357,12 @@ def _lid_screws(design, g) -> list:
     """The ISO 4762 screws holding the housing lid and the flotor lid (heads on the lid,
     shanks through its clearance holes into the side walls), each with its fastener record."""
     from cad.assembly.fasteners import Fastener
-    from cad.parts import PartInstance, PartKind, catalog, joints, translation
+    from cad.parts import PartInstance, joints, translation
 
     out = []
     for prefix, (sp, xy, z, body, lid, part) in _lid_plans(design, g).items():
         size, L = sp["size"], sp["length_mm"]
-        cs = catalog.get_cap_screw(size, "stator.housing_wall_mm")
-        kind = PartKind(
-            name=f"cap_screw_{size}x{L:g}",
-            shape=joints.cap_screw_shape(size, L),
-            material=catalog.FASTENER_MATERIAL,
-            made=False,
-            description=f"socket head cap screw ISO 4762 {size} x {L:g} ({lid.replace('_', ' ')})",
-            process="bought",
-            revolution=True,
-            collision=(("self", joints.screw_envelope(cs.dk_mm, cs.k_mm, cs.d_mm, L)),),
-        )
+        kind = joints.cap_screw_kind(size, L, "stator.housing_wall_mm", lid.replace("_", " "))
         out += [
             PartInstance(
                 f"{prefix}_{k + 1}", kind, body, translation(x, y, z),

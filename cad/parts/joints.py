@@ -188,3 +188,25 @@ def dowel_pin_shape(size: str, shoulder_length_mm: float):
     pin = Pos(0, 0, -(shoulder_length_mm + s.b_mm)) * Cylinder(s.ds_mm / 2, total, align=a)
     shape = pin + Cylinder(ring.d4_mm / 2, ring.s_mm, align=a)
     return shape.solids()[0].wrapped
+
+
+def cap_screw_kind(size: str, length_mm: float, field: str = "parts", note: str = ""):
+    """The :class:`cad.parts.PartKind` of a bought ISO 4762 socket head cap screw
+    ``size`` x ``length_mm`` (solid, material, BOM text, collision envelope); ``field`` is
+    the design field an unknown size is blamed on (:func:`catalog.get_cap_screw`), ``note``
+    is added to the BOM description in parentheses."""
+    from cad.parts import PartKind
+
+    cs = catalog.get_cap_screw(size, field)
+    length = f"{length_mm:.2f}".rstrip("0").rstrip(".")
+    return PartKind(
+        name=f"cap_screw_{size}x{length}",
+        shape=cap_screw_shape(size, length_mm),
+        material=catalog.FASTENER_MATERIAL,
+        made=False,
+        description=f"socket head cap screw ISO 4762 {size} x {length}"
+        + (f" ({note})" if note else ""),
+        process="bought",
+        revolution=True,
+        collision=(("self", screw_envelope(cs.dk_mm, cs.k_mm, cs.d_mm, length_mm)),),
+    )
