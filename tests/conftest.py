@@ -42,8 +42,9 @@ def family_builds(tmp_path_factory):
 
 @pytest.fixture(scope="session")
 def hoeken_sim_build(tmp_path_factory):
-    """The bundled Hoeken built with the simulator formats (preview fidelity: same mass
-    properties as inertia), shared by tests/test_sim_export.py and tests/test_wall.py."""
+    """The bundled Hoeken built with the simulator formats and STEP (preview fidelity: same
+    mass properties as inertia), shared by tests/test_sim_export.py, tests/test_wall.py and
+    tests/test_fourbar_set_screw.py (its assembly.step)."""
     import json
     from pathlib import Path
 
@@ -52,5 +53,5 @@ def hoeken_sim_build(tmp_path_factory):
 
     out = tmp_path_factory.mktemp("hoeken_sim")
     d = load_design(Path(__file__).resolve().parents[1] / "designs" / "hoeken.toml")
-    rep = build_design(d, out, {"mjcf", "urdf", "stl"}, fidelity="preview", use_cache=False)
+    rep = build_design(d, out, {"mjcf", "urdf", "stl", "step"}, fidelity="preview", use_cache=False)
     return d, out, json.loads((out / "report.json").read_text()), rep

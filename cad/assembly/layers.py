@@ -41,6 +41,7 @@ import numpy as np
 from cad.design.parts import LINK_NAMES, PartsSpec
 from cad.errors import DesignError
 from cad.parts import catalog
+from cad.parts.motor import SET_SCREW
 
 #: Tap lead-out below a hole's full thread (mm); see :mod:`cad.assembly.fasteners`.
 TAP_LEADOUT_MM = 1.0
@@ -63,6 +64,9 @@ SHOULDER_MIN_ENTRY_MM = 1.0
 HANDLE_SCREW_FLOOR_MM = 5.0
 #: Screws fixing the crank to the hub (on the hub bolt circle, first at 90 deg).
 HUB_SCREWS = 3
+#: ISO 4026 set screws that may lock the crank hub on the motor shaft: M3
+#: (:data:`cad.parts.motor.SET_SCREW`) first, a smaller one when the hub wall cannot take it.
+HUB_SET_SCREW_SIZES = (SET_SCREW, "M2.5-0.45", "M2-0.4")
 
 
 @dataclass(frozen=True)
@@ -121,6 +125,7 @@ class LayerPlan:
     same_body_conflicts: tuple[str, ...] = ()
     pairs: tuple = ()
     candidates: tuple[dict, ...] = ()
+    hub_set_screw: HubSetScrew | None = None  # set by choose_layers (hub_set_screw)
 
 
 # --------------------------------------------------------------------------- geometry
@@ -301,6 +306,37 @@ def _hub_screw_length(parts: PartsSpec) -> tuple[float, float]:
     return size_cap_screw(
         parts.hub_screw, parts.bar_thickness_mm, hole, "A1 (crank to hub)", "parts.hub_screw"
     )
+
+
+@dataclass(frozen=True)
+class HubSetScrew:
+    """The ISO 4026 set screw locking the crank hub on the motor shaft (mm): thread ``size``,
+    catalog ``length_mm`` (= its engagement: the flat point on the shaft), ``depth_mm`` of full
+    thread of its radial hole (shaft surface to where the round hub leaves the thread's major
+    diameter), ``min_engagement_mm`` (1.5 d in aluminium) and ``shaft_radius_mm``."""
+
+    size: str
+    length_mm: float
+    depth_mm: float
+    min_engagement_mm: float
+    shaft_radius_mm: float
+
+
+def hub_set_screw(parts: PartsSpec) -> HubSetScrew:
+    """Size the hub's set screw before any CAD (:func:`cad.assembly.fasteners.size_set_screw`):
+    tapped radially through the hub (radius ``hub_diameter_mm / 2``) onto the shaft (radius r),
+    full thread ending sqrt(R^2 - (d/2)^2) from the axis, the largest of
+    :data:`HUB_SET_SCREW_SIZES` with a bd_warehouse ISO 4026 length 1.5 d <= L <= that depth
+    (its end never proud of the hub), L the longest. DesignError naming
+    ``parts.hub_diameter_mm`` when no size fits."""
+    from cad.assembly.fasteners import MIN_ENGAGEMENT_ALU_D, size_set_screw
+
+    r_in = catalog.get_motor(parts.motor).shaft_diameter_mm / 2
+    size, L, depth = size_set_screw(r_in, parts.hub_diameter_mm / 2, HUB_SET_SCREW_SIZES,
+                                    "crank hub set screw onto the motor shaft",
+                                    "parts.hub_diameter_mm")
+    return HubSetScrew(size, L, depth, MIN_ENGAGEMENT_ALU_D * catalog.thread_diameter_mm(size),
+                       r_in)
 
 
 def post_min_height_mm(stack: JointStack, parts: PartsSpec) -> float:
@@ -571,7 +607,9 @@ def choose_layers(joints_link, parts: PartsSpec, tf_world_body, strict: bool = F
     decides) -- unless ``strict`` (the build): then :class:`NoLayout` (a DesignError naming
     the joint, both parts and the overlap, :func:`no_layout_error`) before any CAD import.
     DesignError when every order has parts of one link overlapping (a nut under
-    the crank in the hub, say): no layout exists."""
+    the crank in the hub, say): no layout exists. The hub's set screw is sized first
+    (:func:`hub_set_screw`, carried as ``hub_set_screw``; DesignError when none fits)."""
+    set_screw = hub_set_screw(parts)  # a hub wall no set screw fits: refused first
     orders = [parts.layer_order] if parts.layer_order else list(ORDERS)
     plans = [plan_order(o, joints_link, parts, tf_world_body) for o in orders]
     if strict and not any(not p.conflicts for p in plans):
@@ -612,7 +650,7 @@ def choose_layers(joints_link, parts: PartsSpec, tf_world_body, strict: bool = F
             key=lambda p: p.min_planar_clearance_mm,
         )
     )
-    return LayerPlan(**{**best.__dict__, "candidates": cands})
+    return LayerPlan(**{**best.__dict__, "candidates": cands, "hub_set_screw": set_screw})
 
 
 class NoLayout(DesignError):

@@ -459,6 +459,7 @@ def _motor_and_hub(b: _Builder) -> None:
     hub_bc = hub_bolt_circle_mm(parts)
     engaged = min(plan.shaft_top_mm, plan.hub_z_mm[1]) - plan.hub_z_mm[0]
     hub_e = plan.hub_screw_length_mm - t
+    ss = plan.hub_set_screw.size.split("-")[0]
     hk = b.kind(
         "crank_hub",
         lambda: motor.hub_shape(
@@ -469,12 +470,12 @@ def _motor_and_hub(b: _Builder) -> None:
             parts.hub_screw,
             hub_e + TAP_LEADOUT_MM,
             engaged,
+            plan.hub_set_screw.size,
         ),
         material=parts.hub_material,
         made=True,
-        description=f"direct-drive crank hub (set screw {motor.SET_SCREW.split('-')[0]})",
-        process=f"turned; tap {parts.hub_screw.split('-')[0]} x{HUB_SCREWS}, "
-        f"{motor.SET_SCREW.split('-')[0]} x1 (radial)",
+        description=f"direct-drive crank hub (set screw {ss})",
+        process=f"turned; tap {parts.hub_screw.split('-')[0]} x{HUB_SCREWS}, tap {ss} x1 (radial)",
         fits=(f"shaft bore {_fmt(m.shaft_diameter_mm)} {FITS['hub shaft bore']}",),
         revolution=True,
         collision=(
@@ -544,29 +545,27 @@ def _motor_and_hub(b: _Builder) -> None:
 
 
 def _set_screw(b: _Builder, m, hub_h: float, engaged: float) -> None:
-    """ISO 4026 set screw in the hub's radial tapped hole, flat point on the shaft."""
+    """ISO 4026 set screw in the hub's radial tapped hole, flat point on the shaft, its end
+    inside the hub (sized before any CAD: :func:`cad.assembly.layers.hub_set_screw`)."""
     from cad.parts import motor
 
-    r_in, r_out = m.shaft_diameter_mm / 2, b.parts.hub_diameter_mm / 2
-    L = max(x for x in SET_SCREW_LENGTHS_MM if x <= r_out - r_in)
+    ss = b.plan.hub_set_screw
+    L = ss.length_mm
     k = b.kind(
-        f"set_screw_{motor.SET_SCREW}x{_fmt(L)}",
-        lambda: motor.set_screw_shape(L),
+        f"set_screw_{ss.size}x{_fmt(L)}",
+        lambda: motor.set_screw_shape(L, ss.size),
         material=cat.FASTENER_MATERIAL,
         made=False,
-        description=f"set screw ISO 4026 {motor.SET_SCREW} x {_fmt(L)} (locks the hub on the shaft)",
+        description=f"set screw ISO 4026 {ss.size} x {_fmt(L)} (locks the hub on the shaft)",
         process="bought",
     )
     T = np.eye(4)
     T[:3, :3] = [[0, 0, 1], [0, 1, 0], [-1, 0, 0]]  # part z -> +x (radial)
-    T[:3, 3] = (r_in, 0.0, b.plan.hub_z_mm[0] + motor.set_screw_z_mm(hub_h, engaged))
-    hole = b.hole(alu_hole("crank_hub:set_screw", "crank_hub", motor.SET_SCREW, r_out - r_in))
-    f = Fastener("ISO 4026", motor.SET_SCREW, L, ("motor_shaft",), hole.name, L)
+    T[:3, 3] = (ss.shaft_radius_mm, 0.0, b.plan.hub_z_mm[0] + motor.set_screw_z_mm(hub_h, engaged))
+    hole = b.hole(TappedHole("crank_hub:set_screw", "crank_hub", ss.size, ss.depth_mm,
+                             ss.min_engagement_mm))
+    f = Fastener("ISO 4026", ss.size, L, ("motor_shaft",), hole.name, L)
     b.place("hub_set_screw", k, "crank", T, fastener=f)
-
-
-#: ISO 4026 M3 set screw lengths (mm).
-SET_SCREW_LENGTHS_MM = (3.0, 4.0, 5.0, 6.0, 8.0, 10.0, 12.0, 16.0)
 
 
 def _post_through_mount(parts: PartsSpec, m, a4) -> bool:

@@ -119,10 +119,11 @@ def hub_shape(
     screw: str,
     screw_depth_mm: float,
     shaft_engaged_mm: float,
+    set_screw: str = SET_SCREW,
 ):
-    """Direct-drive crank hub: shaft bore, radial set-screw hole (M3 tap drill, along +x) at
-    mid engagement, ``3`` tapped holes (tap drill, ``screw_depth_mm`` drilled) on
-    ``bolt_circle_mm`` in the top face."""
+    """Direct-drive crank hub: shaft bore, radial hole for the ``set_screw`` (its tap drill,
+    along +x, through the wall) at mid engagement, ``3`` tapped holes (tap drill,
+    ``screw_depth_mm`` drilled) on ``bolt_circle_mm`` in the top face."""
     from build123d import Cylinder, Pos, Rot
 
     a = _a()
@@ -135,7 +136,7 @@ def hub_shape(
                      * Cylinder(d / 2, screw_depth_mm, align=a))
     z_set = set_screw_z_mm(height_mm, shaft_engaged_mm)
     tools.append(Pos(0, 0, z_set) * Rot(0, 90, 0)
-                 * Cylinder(tap_drill_mm(SET_SCREW) / 2, diameter_mm / 2, align=a))
+                 * Cylinder(tap_drill_mm(set_screw) / 2, diameter_mm / 2, align=a))
     hub = Cylinder(diameter_mm / 2, height_mm, align=a).cut(*tools)  # one boolean, all tools
     return hub.solids()[0].wrapped
 
