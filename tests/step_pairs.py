@@ -159,6 +159,48 @@ def thread_in_part_mm(screw, part, d_mm: float, head_d_mm: float, tol_mm: float 
 
 
 
+def tip_on_axis_mm(screw, part, d_mm: float, a0, u, inside_s: float,
+                   tol_mm: float = 0.005) -> dict:
+    """A threaded tip on the line ``a0 + s u`` (u unit), screwed in towards -u, measured from
+    the solids: ``tip_s`` (where the axis leaves the screw, by bisection from ``inside_s``, a
+    point of the axis known inside the screw, towards -u); ``engagement_mm`` (from the tip
+    towards +u, the length over which a ring of 6 points at d/2 + 0.3 mm -- in the material a
+    tapped hole leaves -- lies inside ``part``); ``tip_free`` (the axis point 0.2 mm beyond
+    the tip is not inside ``part``: the hole goes deeper)."""
+    import math
+
+    import numpy as np
+
+    a0, u = np.asarray(a0, dtype=float), np.asarray(u, dtype=float)
+    in_screw, in_part = _classifier(screw), _classifier(part)
+    at = lambda s: a0 + s * u  # noqa: E731
+    assert in_screw(*at(inside_s))
+    lo, hi = inside_s - 200.0, inside_s  # lo outside the screw, hi inside
+    assert not in_screw(*at(lo))
+    while hi - lo > tol_mm / 4:
+        mid = 0.5 * (lo + hi)
+        lo, hi = (lo, mid) if in_screw(*at(mid)) else (mid, hi)
+    tip = hi
+    w1 = np.cross(u, [1.0, 0.0, 0.0] if abs(u[0]) < 0.9 else [0.0, 1.0, 0.0])
+    w1 /= np.linalg.norm(w1)
+    w2 = np.cross(u, w1)
+    r = d_mm / 2 + 0.3
+    ring = [r * (math.cos(a) * w1 + math.sin(a) * w2) for a in
+            (k * math.pi / 3 + 0.1 for k in range(6))]
+
+    def ring_in(h: float) -> bool:
+        return all(in_part(*(at(tip + h) + q)) for q in ring)
+
+    lo, hi = 0.01, 100.0
+    if not ring_in(lo):
+        return {"tip_s": tip, "engagement_mm": -1.0, "tip_free": False}
+    while hi - lo > tol_mm:
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if ring_in(mid) else (lo, mid)
+    assert all(ring_in(lo * k / 8) for k in range(1, 8)) and not ring_in(lo + 0.05)
+    return {"tip_s": tip, "engagement_mm": lo, "tip_free": not in_part(*at(tip - 0.2))}
+
+
 def _planar_face_centres(solids) -> list:
     """Centres of mass of the planar faces of ``solids`` (numpy 3-vectors)."""
     import numpy as np
@@ -184,12 +226,14 @@ def _planar_face_centres(solids) -> list:
     return out
 
 
-def radial_screw_mm(screw, part, shaft, d_mm: float, tol_mm: float = 0.005) -> dict:
-    """A horizontal set screw (a plain cylinder: two planar end faces) tapped radially through
-    ``part`` onto a vertical ``shaft``, measured from the solids: ``length_mm`` (between the
-    end faces' centres); ``tip_to_axis_mm`` / ``end_to_axis_mm`` (distance in xy of the
-    point's and the other end's centres from the shaft axis, the shaft's box centre);
-    ``rim_to_axis_max_mm`` (largest xy distance of the end's rim at d/2 from that axis);
+def radial_screw_mm(screw, part, shaft, d_mm: float, tol_mm: float = 0.005,
+                    shaft_axis=None) -> dict:
+    """A set screw (a plain cylinder: two planar end faces) tapped radially through ``part``
+    onto a ``shaft``, measured from the solids: ``length_mm`` (between the end faces'
+    centres); ``tip_to_axis_mm`` / ``end_to_axis_mm`` (distance of the point's and the other
+    end's centres from the shaft axis: ``shaft_axis`` = (point, unit direction), default the
+    vertical line through the shaft's box centre);
+    ``rim_to_axis_max_mm`` (largest distance of the end's rim at d/2 from that axis);
     ``full_thread_mm`` (from the tip outwards, the length over which a ring of 24 points
     at d/2 (every 15 degrees) round the screw axis lies inside ``part``, bisection to ``tol_mm``);
     ``tip_on_shaft`` (the axis point 0.05 mm beyond the tip is inside the shaft)."""
@@ -199,12 +243,18 @@ def radial_screw_mm(screw, part, shaft, d_mm: float, tol_mm: float = 0.005) -> d
 
     ends = _planar_face_centres(screw)
     assert len(ends) == 2, len(ends)
-    sx0, sy0, _, sx1, sy1, _ = _box(shaft, tight=True).Get()
-    axis = np.array([0.5 * (sx0 + sx1), 0.5 * (sy0 + sy1)])
-    dist = [float(np.hypot(*(e[:2] - axis))) for e in ends]
+    if shaft_axis is None:
+        sx0, sy0, _, sx1, sy1, _ = _box(shaft, tight=True).Get()
+        shaft_axis = (np.array([0.5 * (sx0 + sx1), 0.5 * (sy0 + sy1), 0.0]), np.array([0, 0, 1.0]))
+    a0, w1 = (np.asarray(v, dtype=float) for v in shaft_axis)
+
+    def to_axis(p) -> float:
+        q = np.asarray(p, dtype=float) - a0
+        return float(np.linalg.norm(q - (q @ w1) * w1))
+
+    dist = [to_axis(e) for e in ends]
     tip, end = (ends[0], ends[1]) if dist[0] < dist[1] else (ends[1], ends[0])
     u = (end - tip) / np.linalg.norm(end - tip)
-    w1 = np.array([0.0, 0.0, 1.0])
     w2 = np.cross(u, w1)
     ring = [0.5 * d_mm * (math.cos(a) * w1 + math.sin(a) * w2)
             for a in (k * math.pi / 12 for k in range(24))]
@@ -224,7 +274,7 @@ def radial_screw_mm(screw, part, shaft, d_mm: float, tol_mm: float = 0.005) -> d
         "length_mm": float(np.linalg.norm(end - tip)),
         "tip_to_axis_mm": min(dist),
         "end_to_axis_mm": max(dist),
-        "rim_to_axis_max_mm": max(float(np.hypot(*(p[:2] - axis))) for p in rim),
+        "rim_to_axis_max_mm": max(to_axis(p) for p in rim),
         "full_thread_mm": lo,
         "tip_on_shaft": in_shaft(*(tip - 0.05 * u)),
     }

@@ -48,7 +48,8 @@ def _expected_counts(fam: str, d) -> dict[str, int]:
     from cad.parts import catalog
 
     if fam == "powermouse":
-        return {"lid_screw": 4, "flotor_lid_screw": 4}  # one per side wall, housing and flotor
+        # one per side wall, housing and flotor; the post's set screw; two turned tips
+        return {"lid_screw": 4, "flotor_lid_screw": 4, "set_screw": 1, "handle": 1, "post": 1}
     stations = 2 if fam == "twin-pantograph" else 1  # motors under the base, on the bridge
     m = catalog.get_motor(d.parts.motor)
     out = {
@@ -67,6 +68,8 @@ def _group(name: str) -> str:
               "lid_screw", "set_screw"):
         if g in name:
             return g
+    if name in ("handle", "post"):  # the PowerMouse's turned tips: test_powermouse_joints
+        return name
     raise AssertionError(name)
 
 
@@ -92,8 +95,8 @@ def test_every_screw_has_fastener_data_within_its_hole(family_builds, fam):
     counts: dict[str, int] = {}
     for name, x in f.items():
         counts[_group(name)] = counts.get(_group(name), 0) + 1
-        if _group(name) == "set_screw":
-            continue  # radial, no clamp: test_clevis_set_screw_*
+        if _group(name) in ("set_screw", "handle", "post"):
+            continue  # radial, no clamp / turned tips: test_clevis_set_screw_*, test_powermouse_joints
         cs = catalog.get_cap_screw(x["size"], "test")
         assert x["kind"] == "ISO 4762" and x["length_mm"] in cs.lengths_mm, (name, x)
         h = holes[x["hole"]]
@@ -126,8 +129,8 @@ def test_thread_engagement_measured_in_the_step_file(family_builds, fam):
     d, out, rep = family_builds[fam]
     parts = dict(read_parts(out / "assembly.step"))
     for name, x in rep["fasteners"].items():
-        if x["kind"] == "ISO 4026":
-            continue  # radial set screws: test_clevis_set_screw_measured_in_the_step_file
+        if x["kind"] != "ISO 4762":
+            continue  # set screws and turned tips: test_clevis_set_screw_*, test_powermouse_joints
         h = rep["tapped_holes"][x["hole"]]
         cs = catalog.get_cap_screw(x["size"], "test")
         e, tip_free = thread_in_part_mm(parts[name], parts[h["part"]], cs.d_mm, cs.dk_mm)

@@ -155,10 +155,10 @@ def _lid_screw_hole_fill(g, rho: float) -> list:
     from cad.parts import catalog
     from cad.parts import powermouse as pp
 
-    z0 = g.flotor_edge_mm / 2 - g.coil_width_mm  # the split: top of the side walls
+    z0 = -(g.flotor_edge_mm / 2 - g.coil_width_mm)  # the split: ends of the side walls
     size = pp.FLOTOR_LID_SCREW
-    cyl = [(catalog.clearance_hole_mm(size) / 2, z0, g.flotor_edge_mm / 2),
-           (catalog.tap_drill_mm(size) / 2, z0 - pp.LID_TAP_DRILL_DEPTH_MM, z0)]
+    cyl = [(catalog.clearance_hole_mm(size) / 2, -g.flotor_edge_mm / 2, z0),
+           (catalog.tap_drill_mm(size) / 2, z0, z0 + pp.LID_TAP_DRILL_DEPTH_MM)]
     out = []
     for x, y in pp.flotor_lid_screw_xy_mm(g):
         for r, za, zb in cyl:
@@ -172,7 +172,7 @@ def _lid_screw_hole_fill(g, rho: float) -> list:
 
 def test_flotor_mass_props_have_the_diagonal_symmetry(solids):
     """Layout + handle share the 3-fold axis (1,1,1): COM on the diagonal, I_xx = I_yy = I_zz,
-    equal products -- once the material drilled for the flotor lid screws (only in the +z lid
+    equal products -- once the material drilled for the flotor lid screws (only in the -z lid
     and the side walls' tops, which breaks the symmetry) is added back in closed form."""
     from cad.massprops.occt import solid_mass_props
     from cad.massprops.props import combine

@@ -171,7 +171,9 @@ def check_options(design, fidelity: str, phi1_deg, formats=frozenset()) -> None:
     from cad.parts import powermouse as pp
 
     pp.lid_screw_plan(design.stator.housing_wall_mm)  # walls too thin for the lid screws
-    pp.flotor_lid_screw_plan(pp.geometry(design, _gap_mm(design)), design.flotor.material)
+    g = pp.geometry(design, _gap_mm(design))  # the post's and the handle's shoulders
+    pp.flotor_lid_screw_plan(g, design.flotor.material)
+    pp.post_plan(g)  # a collar too thin for a set screw
 
 
 def _gap_mm(design) -> float:
@@ -203,29 +205,33 @@ def _materials(design) -> dict[str, str]:
 #: BOM text per part: (description, process, made).
 _PARTS = {
     "pm_flotor_body": (
-        "flotor: open cube shell with 5 coil pockets, post hole at (-,-,-)",
-        "CNC milled; tap M2.5 x4 (lid screws, top of the side walls)",
+        "flotor: open cube shell (open at -z) with 5 coil pockets, post hole at (-,-,-), "
+        "handle socket and boss inside the (+,+,+) corner",
+        "CNC milled; tap M2.5 x4 (lid screws, bottom of the side walls); "
+        "tap {ht} x1 through the corner boss (handle)",
         True,
     ),
     "pm_flotor_lid": (
-        "flotor lid (+z wall) with 1 coil pocket, 4 lid screw clearance holes",
+        "flotor lid (-z wall) with 1 coil pocket, 4 lid screw clearance holes",
         "CNC milled",
         True,
     ),
     "pm_coil": ("flat racetrack coil, wound and potted into its pocket", "wound, potted", True),
     "pm_handle": (
-        "handle: stem screwed into the flotor's (+,+,+) corner, spherical knob",
-        "turned",
+        "handle: stem in the flotor's (+,+,+) corner socket, shoulder on the corner boss, "
+        "{ht} tip screwed into it; spherical knob",
+        "turned; thread {ht} x {hl:g} (tip)",
         True,
     ),
     "pm_core": (
-        "inner iron core (back iron of the 12 inner magnets), tapped for the post",
-        "machined",
+        "inner iron core (back iron of the 12 inner magnets), both diagonal corners faced",
+        "machined; tap {pt} x1 (post, (-,-,-) corner flat)",
         True,
     ),
     "pm_post": (
-        "stator post: threaded tip into the core, leaves through the housing's corner bore",
-        "turned",
+        "stator post: {pt} tip screwed into the core, shoulder on its flat; locked in the "
+        "housing collar by a set screw",
+        "turned; thread {pt} x {pl:g} (tip)",
         True,
     ),
     "pm_magnet": ("NdFeB block magnet", "bought", False),
@@ -235,8 +241,9 @@ _PARTS = {
         True,
     ),
     "pm_housing_body": (
-        "housing: open cube shell, post bore at (-,-,-)",
-        "machined; tap M3 x4 (lid screws, top of the side walls)",
+        "housing: open cube shell, post bore through a collar at (-,-,-)",
+        "machined; tap M3 x4 (lid screws, top of the side walls); tap {st} x1 (radial, "
+        "collar: post set screw)",
         True,
     ),
     "pm_housing_lid": (
@@ -259,10 +266,21 @@ def _tf(R, t) -> np.ndarray:
     return T
 
 
-def _kind(name, shape, role, design, **kw):
+def _labels(g) -> dict:
+    """Thread sizes and lengths named in the BOM texts of :data:`_PARTS`."""
+    from cad.parts import powermouse as pp
+
+    ss = pp.post_plan(g)["set_screw"]["size"]
+    return {"ht": pp.HANDLE_THREAD.split("-")[0], "hl": g.handle_thread_mm,
+            "pt": pp.POST_THREAD.split("-")[0], "pl": g.post_thread_mm, "st": ss.split("-")[0]}
+
+
+def _kind(name, shape, role, design, labels=None, **kw):
     from cad.parts import PartKind
 
     desc, proc, made = _PARTS[name]
+    if labels:
+        desc, proc = desc.format(**labels), proc.format(**labels)
     topo = getattr(shape, "wrapped", shape)
     mat = _materials(design)[role]
     if role == "coil":  # wound coil: conductor fraction eta_pack (insulation neglected)
@@ -291,6 +309,7 @@ def assembly(design, g, acts) -> tuple[list, list]:
     fl, st = pp.flotor_solids(g), pp.stator_solids(g)
     coils = g.coils()
     inst: list = []
+    labels, tips = _labels(g), _turned_tips(design, g)
 
     def local(shape, T):
         return placed(getattr(shape, "wrapped", shape), np.linalg.inv(T))
@@ -305,7 +324,8 @@ def assembly(design, g, acts) -> tuple[list, list]:
         ("housing_lid", "pm_housing_lid", "ground"),
     ):
         shape, role = (fl | st)[key]
-        inst.append(PartInstance(key, _kind(kname, shape, role, design), body, np.eye(4)))
+        kind = _kind(kname, shape, role, design, labels)
+        inst.append(PartInstance(key, kind, body, np.eye(4), fastener=tips.get(key)))
     Tc = {c.face: _tf(c.R_flotor_act, c.centre_mm) for c in coils}
     ck = _kind("pm_coil", local(fl[f"coil_{coils[0].face}"][0], Tc[coils[0].face]), "coil", design)
     inst += [PartInstance(f"coil_{f}", ck, "flotor", T) for f, T in Tc.items()]
@@ -321,12 +341,49 @@ def assembly(design, g, acts) -> tuple[list, list]:
     k0 = next(iter(Tm))
     mk = _kind("pm_magnet", local(st[k0][0], Tm[k0]), "magnet", design)
     inst += [PartInstance(k, mk, "ground", T) for k, T in Tm.items()]
-    return inst + _lid_screws(design, g), _rig(design, acts)
+    return inst + _lid_screws(design, g) + [_post_set_screw(g)], _rig(design, acts)
+
+
+def _turned_tips(design, g) -> dict:
+    """Fastener records of the two turned parts screwed in along the diagonal: ``handle``
+    (its tip in the flotor's corner boss) and ``post`` (its tip in the core)."""
+    from cad.assembly.fasteners import Fastener
+    from cad.parts import powermouse as pp
+
+    h, t = pp.handle_plan(g, design.flotor.material), pp.post_plan(g)["tip"]
+    return {
+        "handle": Fastener("turned tip", h["size"], h["engagement_mm"], (),
+                           "flotor_body:handle", h["engagement_mm"]),
+        "post": Fastener("turned tip", t["size"], t["engagement_mm"], (), "core:post",
+                         t["engagement_mm"]),
+    }
+
+
+def _post_set_screw(g):
+    """The ISO 4026 set screw locking the post in the housing's collar, with its record."""
+    from cad.assembly.fasteners import Fastener
+    from cad.parts import PartInstance, PartKind
+    from cad.parts import powermouse as pp
+    from cad.parts.catalog import FASTENER_MATERIAL
+    from cad.parts.motor import set_screw_shape
+
+    ss = pp.post_plan(g)["set_screw"]
+    size, L = ss["size"], ss["length_mm"]
+    kind = PartKind(
+        name=f"set_screw_{size}x{L:g}", shape=set_screw_shape(L, size),
+        material=FASTENER_MATERIAL, made=False, process="bought",
+        description=f"set screw ISO 4026 {size} x {L:g} (locks the stator post in the "
+        "housing collar)",
+    )
+    f = Fastener("ISO 4026", size, L, ("post",), "housing_body:post_set_screw", L)
+    return PartInstance("post_set_screw", kind, "ground", pp.post_set_screw_tf(g, size),
+                        fastener=f)
 
 
 def _lid_plans(design, g) -> dict:
-    """``{prefix: (plan, screw (x, y) list, z of the lid top, body, lid, tapped part)}`` for
-    the housing and flotor lid screws (:mod:`cad.parts.powermouse`)."""
+    """``{prefix: (plan, screw (x, y) list, z of the lid's outer face, body, lid, tapped
+    part)}`` for the housing lid (+z wall, screws from above) and the flotor lid (-z wall,
+    screws from below) (:mod:`cad.parts.powermouse`)."""
     from cad.parts import powermouse as pp
 
     return {
@@ -334,22 +391,29 @@ def _lid_plans(design, g) -> dict:
                       g.housing_inner_half_mm + g.housing_wall_mm, "ground", "housing_lid",
                       "housing_body"),
         "flotor_lid_screw": (pp.flotor_lid_screw_plan(g, design.flotor.material),
-                             pp.flotor_lid_screw_xy_mm(g), g.flotor_edge_mm / 2, "flotor",
+                             pp.flotor_lid_screw_xy_mm(g), -g.flotor_edge_mm / 2, "flotor",
                              "flotor_lid", "flotor_body"),
     }
 
 
 def lid_holes(design, g) -> dict:
-    """The tapped holes of the lid screws: ``housing_body:lid_<k>`` and
-    ``flotor_body:lid_<k>`` -> :class:`cad.assembly.fasteners.TappedHole` (thread depth and
-    minimum engagement from :func:`cad.parts.powermouse.lid_screw_plan`)."""
+    """Every tapped hole of the device -> :class:`cad.assembly.fasteners.TappedHole`: the lid
+    screws' ``housing_body:lid_<k>`` and ``flotor_body:lid_<k>`` (depth and minimum
+    engagement from :func:`cad.parts.powermouse.lid_screw_plan`), ``flotor_body:handle``,
+    ``core:post`` and ``housing_body:post_set_screw``
+    (:func:`cad.parts.powermouse.handle_plan`, :func:`cad.parts.powermouse.post_plan`)."""
     from cad.assembly.fasteners import TappedHole
+    from cad.parts import powermouse as pp
 
     out = {}
     for sp, xy, _, _, _, part in _lid_plans(design, g).values():
         for k in range(len(xy)):
             n = f"{part}:lid_{k + 1}"
             out[n] = TappedHole(n, part, sp["size"], sp["depth_mm"], sp["min_engagement_mm"])
+    pl = pp.post_plan(g)
+    for n, x in (("flotor_body:handle", pp.handle_plan(g, design.flotor.material)),
+                 ("core:post", pl["tip"]), ("housing_body:post_set_screw", pl["set_screw"])):
+        out[n] = TappedHole(n, n.split(":")[0], x["size"], x["depth_mm"], x["min_engagement_mm"])
     return out
 
 
@@ -357,15 +421,16 @@ def _lid_screws(design, g) -> list:
     """The ISO 4762 screws holding the housing lid and the flotor lid (heads on the lid,
     shanks through its clearance holes into the side walls), each with its fastener record."""
     from cad.assembly.fasteners import Fastener
-    from cad.parts import PartInstance, joints, translation
+    from cad.parts import PartInstance, flip_x, joints, translation
 
     out = []
     for prefix, (sp, xy, z, body, lid, part) in _lid_plans(design, g).items():
         size, L = sp["size"], sp["length_mm"]
         kind = joints.cap_screw_kind(size, L, "stator.housing_wall_mm", lid.replace("_", " "))
+        up = np.eye(4) if z > 0 else flip_x()  # head on the lid's outer face
         out += [
             PartInstance(
-                f"{prefix}_{k + 1}", kind, body, translation(x, y, z),
+                f"{prefix}_{k + 1}", kind, body, translation(x, y, z) @ up,
                 fastener=Fastener("ISO 4762", size, L, (lid,), f"{part}:lid_{k + 1}",
                                   sp["engagement_mm"]),
             )
@@ -701,13 +766,14 @@ def _report(
             "(the guaranteed zero-torque force in any direction).",
             f"touching (clearance 0) at the +-{design.motion.range_mm:g} mm limit is by design: rattle_mm/2 = "
             f"{design.actuator.rattle_mm / 2:g} mm.",
-            "Assembly: inner magnets on the core; core into the open flotor box, flotor lid on with four M2.5 "
-            "screws into the side walls; outer magnets "
-            "on their iron plates, five plates into the open housing box, one on its lid; flotor (with the core) "
-            "lowered into the housing box (its side faces slide past the side magnets at the rattle gap); post "
-            "through the housing's corner bore and the flotor's corner hole, screwed into the core; housing lid "
-            "on with four M3 screws into the side walls (fasteners, tapped_holes); handle stem through the lid's "
-            "corner hole, screwed into the flotor. The post's nut is not modelled.",
+            "Assembly: inner magnets on the core; core into the open flotor box (upside down), flotor lid "
+            "(-z wall) on with four M2.5 screws into the side walls; outer magnets on their iron plates, five "
+            "plates into the open housing box, one on its lid; flotor (with the core) lowered into the housing "
+            "box (its side faces slide past the side magnets at the rattle gap); post through the housing's "
+            "corner collar and the flotor's corner hole, its M4 tip screwed into the core until its shoulder "
+            "seats on the core's flat, locked by the collar's set screw; housing lid on with four M3 screws "
+            "into the side walls; handle stem through the lid's corner hole into the flotor's corner socket, "
+            "its M4 tip screwed into the corner boss (fasteners, tapped_holes).",
             "rig/ holds the single-actuator test rig of Fig. 7 (one coil between two magnet pairs): a bench "
             "fixture to measure one actuator's force against eq (8), not part of the PowerMouse.",
             "Clearances over the motion range: fcl mesh distances at every pose, exact OCCT where the mesh "

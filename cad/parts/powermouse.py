@@ -8,24 +8,29 @@ origin at the cube centre, axes normal to the faces, mm.
   the coil thickness d_c, so each face's coil sits in a stadium pocket of the
   wall, centred on the coil mid-plane a = E/2 - d_c/2; a corner hole along
   -(1,1,1) lets the stator post through; the handle (stem + spherical knob)
-  leaves along +(1,1,1).
+  leaves along +(1,1,1): its stem sits in a socket in the (+,+,+) corner, its shoulder on
+  a boss inside that corner, and its turned M4 tip is screwed into the boss
+  (:func:`handle_plan`).
 * Stator (fixed): an iron core cube of half-size c = a - d/2 - t_m carrying
   the 12 inner magnets (it is their back iron), the 12 outer magnets on 6
   iron plates (t_s = alpha w_m) fixed inside a housing cube shell, and a
-  post along the diagonal whose threaded tip screws into a tapped hole at the
-  core's (-,-,-) corner and which leaves through a bore in the housing's
-  (-,-,-) corner (a fit, no overlap). The housing has a hole at its (+,+,+)
-  corner for the handle stem.
-* Flotor and housing are each an open box and a lid (split at the inner face
-  of the +z wall), so the device can be put together: inner magnets on the core;
-  core into the flotor box, flotor lid on (four ISO 4762 screws into the side walls' tops,
-  :func:`flotor_lid_screw_plan`); outer magnets on their iron plates, five
-  plates into the housing box, one on its lid; flotor (with the core) lowered into
-  the housing box -- its side faces slide past the side magnets at the rattle gap;
-  post through the housing bore and the flotor's corner hole, screwed into the core;
-  housing lid on (four ISO 4762 screws through it into holes tapped in the side walls'
-  tops, :func:`lid_screw_plan`); handle stem through the lid's corner hole, screwed into
-  the flotor.
+  post along the diagonal whose turned M4 tip screws into a tapped hole in the
+  core's (-,-,-) corner, its shoulder on a spot face there (:func:`post_plan`); the post
+  leaves through a bore in the housing's (-,-,-) corner and a round collar outside it,
+  where an ISO 4026 set screw locks it. The core's (+,+,+) corner is faced the same way,
+  clear of the flotor's handle boss. The housing has a hole at its (+,+,+) corner for the
+  handle stem.
+* Flotor and housing are each an open box and a lid, so the device can be put together.
+  The flotor's lid is its -z wall (so the (+,+,+) corner with the handle boss is one
+  piece of the body), the housing's its +z wall. Inner magnets on the core; core into
+  the flotor box (upside down), flotor lid on (four ISO 4762 screws into the side walls'
+  ends, :func:`flotor_lid_screw_plan`); outer magnets on their iron plates, five plates
+  into the housing box, one on its lid; flotor (with the core) lowered into the housing
+  box -- its side faces slide past the side magnets at the rattle gap; post through the
+  housing's collar and the flotor's corner hole, screwed into the core, set screw
+  tightened; housing lid on (four ISO 4762 screws through it into holes tapped in the
+  side walls' tops, :func:`lid_screw_plan`); handle stem through the lid's corner hole
+  into its socket, its tip screwed into the flotor's corner boss.
 * Motion range +- r mm / +- theta deg (Table 4): :func:`motion_clearances`
   moves the flotor solids to the extreme poses and measures the exact OCCT
   distance to the stator.
@@ -58,6 +63,26 @@ FLOTOR_LID_SCREW = "M2.5-0.45"
 MIN_ENGAGEMENT_PLASTIC_D = 2.0
 #: Materials tapped with the metal rule (1.5 d); any other material is a plastic (2 d).
 _METALS = ("aluminium", "steel", "brass", "titanium", "soft-iron", "copper")
+#: Threads (ISO 261 coarse) of the two turned parts screwed in along the diagonal: the
+#: handle stem's tip into the flotor's corner boss, the post's tip into the core.
+HANDLE_THREAD = "M4-0.7"
+POST_THREAD = "M4-0.7"
+#: Radial margin of a shoulder's seat beyond the part's radius (mm): a faced corner or a
+#: socket bottom is made this much wider than the shoulder that bears on it.
+SEAT_MARGIN_MM = 0.5
+#: Wall of the flotor's handle boss round the handle stem's radius (mm).
+HANDLE_BOSS_WALL_MM = 2.0
+#: Full thread of the core's post hole beyond the post tip's thread (mm); the hole is
+#: drilled :data:`cad.assembly.fasteners.TAP_LEADOUT_MM` deeper still.
+POST_HOLE_EXTRA_MM = 2.0
+#: Wall of the housing's post collar round the post's radius (mm), and the ISO 4026 set
+#: screws tried there, largest first (:func:`cad.assembly.fasteners.size_set_screw`).
+POST_COLLAR_WALL_MM = 6.0
+POST_SET_SCREW_SIZES = ("M3-0.5", "M2.5-0.45", "M2-0.4")
+#: Direction of the post set screw's axis (flotor frame): radial to the diagonal,
+#: horizontal, so a hex key reaches it from the side.
+POST_SET_SCREW_DIR = np.array([1.0, -1.0, 0.0]) / math.sqrt(2.0)
+_SQ2, _SQ3 = math.sqrt(2.0), math.sqrt(3.0)
 
 
 def lid_screw_plan(
@@ -99,7 +124,7 @@ def lid_screw_plan(
 
 def flotor_lid_screw_plan(g: PowerMouseGeometry, material: str) -> dict:
     """The flotor lid screws (:data:`FLOTOR_LID_SCREW`) sized like the housing's
-    (:func:`lid_screw_plan`): clamp = the lid (the +z wall, d_c thick), tapped into the top
+    (:func:`lid_screw_plan`): clamp = the lid (the -z wall, d_c thick), tapped into the ends
     of the side walls (d_c thick), minimum engagement 1.5 d in a metal, 2 d
     (:data:`MIN_ENGAGEMENT_PLASTIC_D`) in a plastic ``material``. DesignError naming
     ``actuator.rattle_mm`` when the d_c wall cannot hold the tap drill, ``flotor.edge_mm``
@@ -125,6 +150,74 @@ def flotor_lid_screw_plan(g: PowerMouseGeometry, material: str) -> dict:
             f"(z <= {reach:g} mm); enlarge edge_mm",
         )
     return sp
+
+
+def handle_plan(g: PowerMouseGeometry, material: str) -> dict:
+    """The handle's joint to the flotor, before any CAD: the stem's shoulder on the socket
+    bottom at :attr:`PowerMouseGeometry.handle_seat_s_mm`, its turned :data:`HANDLE_THREAD`
+    tip (2 d long) in a hole tapped through the corner boss (full thread = tip + lead-out).
+    Minimum engagement 1.5 d in a metal flotor, 2 d in a plastic one. Returns size,
+    engagement_mm, depth_mm, min_engagement_mm (mm)."""
+    from cad.assembly.fasteners import MIN_ENGAGEMENT_ALU_D, TAP_LEADOUT_MM
+    from cad.parts.catalog import thread_diameter_mm
+
+    d = thread_diameter_mm(HANDLE_THREAD)
+    k = MIN_ENGAGEMENT_ALU_D if material.startswith(_METALS) else MIN_ENGAGEMENT_PLASTIC_D
+    e = g.handle_thread_mm
+    return {"size": HANDLE_THREAD, "engagement_mm": e, "depth_mm": e + TAP_LEADOUT_MM,
+            "min_engagement_mm": k * d}
+
+
+def post_plan(g: PowerMouseGeometry) -> dict:
+    """The post's joint to the core and its set screw in the housing collar, before any CAD.
+
+    Tip: :data:`POST_THREAD`, 1.5 d long, in a hole tapped into the core's faced (-,-,-)
+    corner (full thread = tip + :data:`POST_HOLE_EXTRA_MM`; minimum 1.5 d, the core is
+    iron). Set screw: radial in the collar (radius post + :data:`POST_COLLAR_WALL_MM`),
+    sized by :func:`cad.assembly.fasteners.size_set_screw` (DesignError naming
+    ``stator.post_diameter_mm`` when none fits). Returns ``{"tip": {size, engagement_mm,
+    depth_mm, min_engagement_mm}, "set_screw": {size, length_mm, engagement_mm, depth_mm,
+    min_engagement_mm}}`` (mm)."""
+    from cad.assembly import fasteners as fs
+    from cad.parts.catalog import thread_diameter_mm
+
+    e = g.post_thread_mm
+    tip = {"size": POST_THREAD, "engagement_mm": e, "depth_mm": e + POST_HOLE_EXTRA_MM,
+           "min_engagement_mm": fs.MIN_ENGAGEMENT_ALU_D * thread_diameter_mm(POST_THREAD)}
+    size, L, depth = fs.size_set_screw(
+        g.post_diameter_mm / 2, g.post_collar_radius_mm, POST_SET_SCREW_SIZES,
+        "set screw locking the stator post in the housing collar", "stator.post_diameter_mm",
+    )
+    ss = {"size": size, "length_mm": L, "engagement_mm": L, "depth_mm": depth,
+          "min_engagement_mm": fs.MIN_ENGAGEMENT_ALU_D * thread_diameter_mm(size)}
+    return {"tip": tip, "set_screw": ss}
+
+
+def post_set_screw_s_mm(g: PowerMouseGeometry, size: str) -> float:
+    """Axial place of the post set screw (diagonal, mm): beyond the housing's outer corner
+    by its radius + 1 mm, so its whole hole is in the collar."""
+    from cad.parts.catalog import thread_diameter_mm
+
+    Ho = g.housing_inner_half_mm + g.housing_wall_mm
+    return -Ho * _SQ3 - (thread_diameter_mm(size) / 2 + 1.0)
+
+
+def post_collar_end_s_mm(g: PowerMouseGeometry, size: str) -> float:
+    """Outer end of the housing's post collar and of the post (diagonal, mm)."""
+    from cad.parts.catalog import thread_diameter_mm
+
+    return post_set_screw_s_mm(g, size) - (thread_diameter_mm(size) / 2 + 1.5)
+
+
+def post_set_screw_tf(g: PowerMouseGeometry, size: str) -> np.ndarray:
+    """4x4 placement of the post set screw (flotor frame): its z axis along
+    :data:`POST_SET_SCREW_DIR`, its flat point (z = 0) on the post's surface."""
+    u = np.ones(3) / _SQ3
+    v = POST_SET_SCREW_DIR
+    T = np.eye(4)
+    T[:3, :3] = np.column_stack([np.cross(u, v), u, v])
+    T[:3, 3] = post_set_screw_s_mm(g, size) * u + g.post_diameter_mm / 2 * v
+    return T
 
 
 def lid_screw_xy_mm(g: PowerMouseGeometry) -> list[tuple[float, float]]:
@@ -186,14 +279,49 @@ class PowerMouseGeometry:
     plate_margin_mm: float = 2.0
 
     @property
-    def post_tip_diameter_mm(self) -> float:
-        """Threaded tip of the post screwed into the core (half the post diameter)."""
-        return self.post_diameter_mm / 2
+    def handle_seat_s_mm(self) -> float:
+        """Bottom of the handle socket, along the diagonal from the centre (mm): the deepest
+        plane across the (+,+,+) corner where the stem's shoulder (radius + margin) is still
+        inside the cube, sqrt3 E/2 - sqrt2 (r + margin) (a point at radius rho off the
+        diagonal reaches rho sqrt(2/3) beyond it in one coordinate)."""
+        r = self.handle_diameter_mm / 2 + SEAT_MARGIN_MM
+        return _SQ3 * self.flotor_edge_mm / 2 - _SQ2 * r
 
     @property
-    def post_tip_depth_mm(self) -> float:
-        """Depth of the post's threaded tip in the core (1.5 x its diameter)."""
-        return 1.5 * self.post_tip_diameter_mm
+    def handle_thread_mm(self) -> float:
+        """Thread length of the handle stem's tip: 2 d (:data:`MIN_ENGAGEMENT_PLASTIC_D`,
+        the longer rule, so the boss serves a plastic or a metal flotor)."""
+        from cad.parts.catalog import thread_diameter_mm
+
+        return MIN_ENGAGEMENT_PLASTIC_D * thread_diameter_mm(HANDLE_THREAD)
+
+    @property
+    def handle_boss_bottom_s_mm(self) -> float:
+        """End of the handle boss inside the flotor (diagonal, mm): the tapped hole runs
+        through the boss, its full thread the tip's thread + the tap lead-out."""
+        from cad.assembly.fasteners import TAP_LEADOUT_MM
+
+        return self.handle_seat_s_mm - self.handle_thread_mm - TAP_LEADOUT_MM
+
+    @property
+    def core_flat_s_mm(self) -> float:
+        """Where the core's two diagonal corners are faced (distance from the centre, mm):
+        the flat's inscribed circle (radius h / sqrt2 at depth h from the corner) holds the
+        post's shoulder, radius + :data:`SEAT_MARGIN_MM`."""
+        h = _SQ2 * (self.post_diameter_mm / 2 + SEAT_MARGIN_MM)
+        return self.core_half_mm * _SQ3 - h
+
+    @property
+    def post_thread_mm(self) -> float:
+        """Thread length of the post's tip in the core: 1.5 d (a metal core)."""
+        from cad.assembly.fasteners import MIN_ENGAGEMENT_ALU_D
+        from cad.parts.catalog import thread_diameter_mm
+
+        return MIN_ENGAGEMENT_ALU_D * thread_diameter_mm(POST_THREAD)
+
+    @property
+    def post_collar_radius_mm(self) -> float:
+        return self.post_diameter_mm / 2 + POST_COLLAR_WALL_MM
 
     @property
     def coil_width_mm(self) -> float:
@@ -245,6 +373,7 @@ class PowerMouseGeometry:
                 "flotor.edge_mm",
                 f"coil (reach {lm / 2 + w:.1f} mm) does not fit in a face (inner half {inner:.1f} mm)",
             )
+        self._validate_turned_parts()
         if self.post_diameter_mm >= self.corner_hole_mm:
             raise DesignError(
                 "flotor.corner_hole_mm",
@@ -261,6 +390,20 @@ class PowerMouseGeometry:
                 f"the corner hole (radius {rh:.1f} mm) comes within {dist.min() - rh:.2f} mm of a coil; "
                 "reduce it or enlarge flotor.edge_mm",
             )
+
+    def _validate_turned_parts(self) -> None:
+        """The post and the handle stem must leave a 1 mm shoulder round their tips' tap drill."""
+        from cad.parts.catalog import tap_drill_mm
+
+        for field, dia, thread in (("stator.post_diameter_mm", self.post_diameter_mm, POST_THREAD),
+                                   ("handle.diameter_mm", self.handle_diameter_mm, HANDLE_THREAD)):
+            need = tap_drill_mm(thread) + 2.0
+            if dia < need - 1e-9:
+                raise DesignError(
+                    field,
+                    f"{dia:g} mm leaves no shoulder round its {thread.split('-')[0]} tip "
+                    f"(need >= {need:g} mm)",
+                )
 
     def coil_rim_points(self, n: int = 180) -> np.ndarray:
         """Points (6*2*n, 3) on the outer rims of the six coils at both wall surfaces (flotor frame)."""
@@ -325,7 +468,10 @@ def _diag_cylinder(radius_mm: float, start_mm: float, end_mm: float):
 
 
 def flotor_solids(g: PowerMouseGeometry) -> dict[str, tuple[object, str]]:
-    """Moving solids in the flotor frame: name -> (solid, role) with role shell|coil|handle."""
+    """Moving solids in the flotor frame: name -> (solid, role) with role shell|coil|handle.
+
+    ``flotor_body`` (the open box, with the handle boss) and ``flotor_lid`` (its -z wall),
+    ``coil_<face>`` x6 and ``handle``."""
     import build123d as bd
 
     from cad.parts.voicecoil import stadium
@@ -333,30 +479,58 @@ def flotor_solids(g: PowerMouseGeometry) -> dict[str, tuple[object, str]]:
     E, dc = g.flotor_edge_mm, g.coil_width_mm
     w, lm = g.magnet_width_mm, g.magnet_length_mm
     shell = bd.Box(E, E, E) - bd.Box(E - 2 * dc, E - 2 * dc, E - 2 * dc)
+    shell = shell + (_handle_boss(g) & bd.Box(E, E, E))
     coils = {}
     for c in g.coils():
         loc = _loc(c.R_flotor_act, c.centre_mm)
         shell = shell - loc * stadium(lm, 2 * w, dc + 1.0)
         coils[f"coil_{c.face}"] = (loc * stadium(lm, 2 * w, dc), "coil")
-    half_diag = E / 2 * math.sqrt(3)
-    shell = shell - _diag_cylinder(
-        g.corner_hole_mm / 2, -half_diag - 1, -half_diag + 2 * E
-    )  # post hole
-    # handle: stem from inside the (+,+,+) corner out along the diagonal, knob at its end
-    s0 = (E / 2 - dc) * math.sqrt(3)
-    s1 = half_diag + g.handle_length_mm
-    stem = _diag_cylinder(g.handle_diameter_mm / 2, s0, s1)
-    u = np.ones(3) / math.sqrt(3)
-    knob = bd.Pos(*(u * (s1 + 0.35 * g.knob_diameter_mm))) * bd.Sphere(g.knob_diameter_mm / 2)
-    handle = stem + knob
-    shell = shell - stem  # handle is its own part, screwed into the corner
-    shell = shell - _screw_holes(flotor_lid_screw_xy_mm(g), FLOTOR_LID_SCREW, E / 2 - dc, E / 2)
-    # split at the inner face of the +z wall: an open box and a lid (so the core goes in)
-    body, lid = _split_z(shell, E / 2 - dc, E)
+    half_diag = E / 2 * _SQ3
+    shell = shell - _diag_cylinder(g.corner_hole_mm / 2, -half_diag - 1, 0.0)  # post hole
+    handle = _handle(g)
+    shell = shell - _handle_socket(g)
+    holes = _screw_holes(flotor_lid_screw_xy_mm(g), FLOTOR_LID_SCREW, E / 2 - dc, E / 2)
+    shell = shell - holes.mirror(bd.Plane.XY)  # the lid is the -z wall: screws from below
+    # split at the inner face of the -z wall: the lid and an open box (so the core goes in)
+    lid, body = _split_z(shell, -(E / 2 - dc), E)
     out = {"flotor_body": (body, "shell"), "flotor_lid": (lid, "shell")}
     out.update(coils)
     out["handle"] = (handle, "handle")
     return out
+
+
+def _handle_boss(g: PowerMouseGeometry):
+    """Round boss inside the flotor's (+,+,+) corner (radius stem + wall), from the corner
+    down to :attr:`PowerMouseGeometry.handle_boss_bottom_s_mm`; clipped to the cube."""
+    r = g.handle_diameter_mm / 2 + HANDLE_BOSS_WALL_MM
+    return _diag_cylinder(r, g.handle_boss_bottom_s_mm, g.flotor_edge_mm / 2 * _SQ3)
+
+
+def _handle_socket(g: PowerMouseGeometry):
+    """The stem's socket (down to the seat) and the tap drill through the boss."""
+    from cad.parts.catalog import tap_drill_mm
+
+    top = g.flotor_edge_mm / 2 * _SQ3 + 1.0
+    seat = g.handle_seat_s_mm
+    return _diag_cylinder(g.handle_diameter_mm / 2, seat, top) + _diag_cylinder(
+        tap_drill_mm(HANDLE_THREAD) / 2, g.handle_boss_bottom_s_mm - 1.0, seat
+    )
+
+
+def _handle(g: PowerMouseGeometry):
+    """Handle along +(1,1,1): turned tip (tap-drill diameter, the thread's minor envelope),
+    stem from the socket's seat out, spherical knob at its end."""
+    import build123d as bd
+
+    from cad.parts.catalog import tap_drill_mm
+
+    seat = g.handle_seat_s_mm
+    s1 = g.flotor_edge_mm / 2 * _SQ3 + g.handle_length_mm
+    stem = _diag_cylinder(g.handle_diameter_mm / 2, seat, s1)
+    tip = _diag_cylinder(tap_drill_mm(HANDLE_THREAD) / 2, seat - g.handle_thread_mm, seat)
+    u = np.ones(3) / _SQ3
+    knob = bd.Pos(*(u * (s1 + 0.35 * g.knob_diameter_mm))) * bd.Sphere(g.knob_diameter_mm / 2)
+    return tip + stem + knob
 
 
 def _split_z(shape, z_mm: float, size_mm: float):
@@ -374,20 +548,11 @@ def stator_solids(g: PowerMouseGeometry) -> dict[str, tuple[object, str]]:
     import build123d as bd
 
     w, lm, t, d = g.magnet_width_mm, g.magnet_length_mm, g.magnet_thickness_mm, g.gap_mm
-    c = g.core_half_mm
     out: dict[str, tuple[object, str]] = {}
     H = g.housing_inner_half_mm
-    # core: a cube with a tapped hole at its (-,-,-) corner for the post's threaded tip
-    s_core = -c * math.sqrt(3)
-    rt, depth = g.post_tip_diameter_mm / 2, g.post_tip_depth_mm
-    core = bd.Box(2 * c, 2 * c, 2 * c) - _diag_cylinder(rt, s_core - 1.0, s_core + depth)
-    out["core"] = (core, "core")
-    # post: from the core's corner out through a bore in the housing's (-,-,-) corner
-    Ho = H + g.housing_wall_mm
-    post = _diag_cylinder(g.post_diameter_mm / 2, s_core, -Ho * math.sqrt(3)) + _diag_cylinder(
-        rt, s_core - 0.5, s_core + depth
-    )
-    out["post"] = (post, "post")
+    ss = post_plan(g)["set_screw"]["size"]
+    out["core"] = (_core(g), "core")
+    out["post"] = (_post(g, ss), "post")
     coils = g.coils()
     for mg in pm.stator_magnets(coils, d, lm, w, t, 1.0):
         face = coils[mg.actuator].face
@@ -399,18 +564,63 @@ def stator_solids(g: PowerMouseGeometry) -> dict[str, tuple[object, str]]:
             2 * w + 2 * g.plate_margin_mm, lm + 2 * g.plate_margin_mm, g.plate_thickness_mm
         )
         out[f"iron_{cl.face}"] = (_loc(cl.R_flotor_act, cl.normal * zc) * plate, "iron")
-    housing = bd.Box(2 * Ho, 2 * Ho, 2 * Ho) - bd.Box(2 * H, 2 * H, 2 * H)
-    housing = housing - _diag_cylinder(g.housing_hole_mm / 2, 0.0, Ho * math.sqrt(3) + 5)
+    Ho = H + g.housing_wall_mm
+    collar = _diag_cylinder(g.post_collar_radius_mm, post_collar_end_s_mm(g, ss), -H * _SQ3)
+    housing = bd.Box(2 * Ho, 2 * Ho, 2 * Ho) + collar - bd.Box(2 * H, 2 * H, 2 * H)
+    housing = housing - _diag_cylinder(g.housing_hole_mm / 2, 0.0, Ho * _SQ3 + 5)
     # post bore: starts where the post's cylinder first reaches a wall ((H - r) sqrt3 from the
     # centre along the diagonal; a radial direction has a component of at most r)
     r = g.post_diameter_mm / 2
-    housing = housing - _diag_cylinder(r, -(H - r - 1.0) * math.sqrt(3), -Ho * math.sqrt(3) - 5)
-    housing = housing - _lid_screw_holes(g)
+    housing = housing - _diag_cylinder(r, -(H - r - 1.0) * _SQ3, post_collar_end_s_mm(g, ss) - 1)
+    housing = housing - _set_screw_drill(g, ss) - _lid_screw_holes(g)
     # split at the inner face of the +z wall: an open box and a lid (the flotor goes in from above)
     body, lid = _split_z(housing, H, 2 * Ho)
     out["housing_body"] = (body, "housing")
     out["housing_lid"] = (lid, "housing")
     return out
+
+
+def _core(g: PowerMouseGeometry):
+    """The iron core: a cube faced across both diagonal corners at
+    :attr:`PowerMouseGeometry.core_flat_s_mm` (the post's seat at (-,-,-), clearance for the
+    handle boss at (+,+,+)), tapped at (-,-,-) for the post's tip (drilled the full thread
+    + the tap lead-out deep)."""
+    import build123d as bd
+
+    from cad.assembly.fasteners import TAP_LEADOUT_MM
+    from cad.parts.catalog import tap_drill_mm
+
+    c, f = g.core_half_mm, g.core_flat_s_mm
+    big = _SQ2 * (c * _SQ3 - f) + 1.0  # covers the corner's triangular section
+    core = bd.Box(2 * c, 2 * c, 2 * c)
+    for sgn in (-1.0, 1.0):
+        core = core - _diag_cylinder(big, sgn * f, sgn * (c * _SQ3 + 1.0))
+    depth = post_plan(g)["tip"]["depth_mm"] + TAP_LEADOUT_MM
+    return core - _diag_cylinder(tap_drill_mm(POST_THREAD) / 2, -f - 1.0, -f + depth)
+
+
+def _post(g: PowerMouseGeometry, set_screw: str):
+    """The stator post: turned tip (tap-drill diameter) into the core, shoulder on the
+    core's flat, round body out through the housing to the collar's end."""
+    from cad.parts.catalog import tap_drill_mm
+
+    f = g.core_flat_s_mm
+    body = _diag_cylinder(g.post_diameter_mm / 2, -f, post_collar_end_s_mm(g, set_screw))
+    return body + _diag_cylinder(tap_drill_mm(POST_THREAD) / 2, -f, -f + g.post_thread_mm)
+
+
+def _set_screw_drill(g: PowerMouseGeometry, size: str):
+    """Tap drill of the post set screw: radial, from the post's axis out through the collar."""
+    import build123d as bd
+
+    from cad.parts.catalog import tap_drill_mm
+
+    T = post_set_screw_tf(g, size)
+    r, R = g.post_diameter_mm / 2, g.post_collar_radius_mm
+    loc = bd.Location(bd.Plane(origin=tuple(T[:3, 3] - r * T[:3, 2]), x_dir=tuple(T[:3, 0]),
+                               z_dir=tuple(T[:3, 2])))
+    return loc * bd.Cylinder(tap_drill_mm(size) / 2, R + 1.0,
+                             align=(bd.Align.CENTER, bd.Align.CENTER, bd.Align.MIN))
 
 
 @dataclass(frozen=True)
@@ -432,13 +642,13 @@ class Clearances:
 
 
 def cavities(g: PowerMouseGeometry) -> dict[str, tuple]:
-    """Boxes ((2, 3), flotor frame, mm) that the shells leave empty: the flotor's and the
-    housing's inner cubes (the split into box and lid does not fill them)."""
+    """Boxes ((2, 3), flotor frame, mm) that the shells leave empty: the flotor lid's and the
+    housing's inner cubes (the split into box and lid does not fill them). The flotor body
+    has none: its handle boss stands inside its inner cube."""
     f = g.flotor_edge_mm / 2 - g.coil_width_mm
     h = g.housing_inner_half_mm
     cube = lambda r: (np.array([[-r, -r, -r], [r, r, r]]),)  # noqa: E731
     return {
-        "flotor_body": cube(f),
         "flotor_lid": cube(f),
         "housing_body": cube(h),
         "housing_lid": cube(h),

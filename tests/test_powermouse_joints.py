@@ -1,0 +1,115 @@
+"""The PowerMouse's handle and stator post are attached, measured in ``assembly.step``.
+
+The handle's stem sits in a socket in the flotor's (+,+,+) corner, its shoulder on a boss
+inside that corner, its turned M4 tip screwed through the boss; the post's turned M4 tip is
+screwed into the core's faced (-,-,-) corner and the post is locked in the housing's collar by
+an ISO 4026 set screw. References, not the build's code path: the design's diameters and the
+diagonal axes it states (handle along +(1,1,1), post along -(1,1,1)); ISO 261 thread sizes;
+the engagement rules (2 d in a tapped plastic, 1.5 d in a metal); bd_warehouse's ISO 4026
+lengths read from its CSV; and the solids re-read from ``assembly.step`` with OCCT
+(``tests/step_pairs``): point classification along the axes, exact distances.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from step_pairs import radial_screw_mm, read_parts, tip_on_axis_mm
+from test_family_fasteners import _iso4026_lengths_mm, _refused_before_cad
+
+U = np.ones(3) / math.sqrt(3.0)  # the diagonal (1,1,1)/sqrt3 (flotor frame = assembly frame)
+
+
+@pytest.fixture(scope="module")
+def pm(family_builds):
+    d, out, rep = family_builds["powermouse"]
+    return d, rep, dict(read_parts(out / "assembly.step"))
+
+
+def _distance_mm(a, b) -> float:
+    from OCP.BRepExtrema import BRepExtrema_DistShapeShape
+    from OCP.BRep import BRep_Builder
+    from OCP.TopoDS import TopoDS_Compound
+
+    def comp(solids):
+        c, bb = TopoDS_Compound(), BRep_Builder()
+        bb.MakeCompound(c)
+        for s in solids:
+            bb.Add(c, s)
+        return c
+
+    return BRepExtrema_DistShapeShape(comp(a), comp(b)).Value()
+
+
+@pytest.mark.parametrize(
+    "part, hole_part, sign, d_mm, min_d",
+    [("handle", "flotor_body", 1.0, 4.0, 2.0), ("post", "core", -1.0, 4.0, 1.5)],
+)
+def test_turned_tip_engagement_measured_in_the_step_file(pm, part, hole_part, sign, d_mm, min_d):
+    """Each tip, read back: its thread fully surrounded by the tapped part over the recorded
+    engagement (to 0.01 mm), at least the rule (delrin flotor 2 d = 8 mm, iron core 1.5 d =
+    6 mm), the hole deeper than the tip, and the shoulder touching the part it seats on."""
+    d, rep, parts = pm
+    assert d.flotor.material == "delrin"
+    x = rep["fasteners"][part]
+    assert x["size"] == "M4-0.7" and x["hole"].startswith(f"{hole_part}:")
+    u = sign * U  # outwards along the part; the tip points back, towards -u
+    inside = 60.0 if part == "handle" else 40.0  # on the axis, in the stem / the post body
+    m = tip_on_axis_mm(parts[part], parts[hole_part], d_mm, np.zeros(3), u, inside)
+    assert m["engagement_mm"] == pytest.approx(x["engagement_mm"], abs=0.01), m
+    assert m["engagement_mm"] >= min_d * d_mm - 0.01 and m["tip_free"], m
+    h = rep["tapped_holes"][x["hole"]]
+    assert h["part"] == hole_part and h["min_engagement_mm"] == min_d * d_mm
+    assert x["engagement_mm"] <= h["depth_mm"]
+    assert _distance_mm(parts[part], parts[hole_part]) < 1e-6  # seated, not floating
+
+
+def test_handle_shoulder_bears_on_the_flotor(pm):
+    """Just below the handle's shoulder (a ring between the thread and the 10 mm stem) is
+    flotor, just above it is handle: the stem seats on the boss, not on thread alone."""
+    from step_pairs import _classifier
+
+    d, rep, parts = pm
+    tip = tip_on_axis_mm(parts["handle"], parts["flotor_body"], 4.0, np.zeros(3), U, 60.0)
+    seat = tip["tip_s"] + rep["fasteners"]["handle"]["engagement_mm"]
+    w = np.cross(U, [1.0, 0.0, 0.0])
+    w /= np.linalg.norm(w)
+    r = 0.5 * (2.0 + d.handle.diameter_mm / 2)  # mid-shoulder, between M4 and the stem
+    in_h, in_f = _classifier(parts["handle"]), _classifier(parts["flotor_body"])
+    for a in np.linspace(0, 2 * math.pi, 8, endpoint=False):
+        q = r * (math.cos(a) * w + math.sin(a) * np.cross(U, w))
+        assert in_h(*(U * (seat + 0.05) + q)) and in_f(*(U * (seat - 0.05) + q))
+
+
+def test_post_set_screw_against_the_catalog_and_the_step_file(pm):
+    """The collar (post radius + 6 mm = 10 mm) round the 8 mm post: full M3 thread ends at
+    sqrt(10^2 - 1.5^2) - 4 = 5.887 mm, so the longest ISO 4026 M3 length not proud of it is
+    5 >= 1.5 d = 4.5. Read back: its point on the post (4 mm from the diagonal), the whole
+    length in full thread in the housing, its end inside the collar."""
+    from cad.parts import powermouse as pp
+
+    d, rep, parts = pm
+    r, R = d.stator.post_diameter_mm / 2, d.stator.post_diameter_mm / 2 + pp.POST_COLLAR_WALL_MM
+    depth = math.sqrt(R**2 - 1.5**2) - r
+    L = max(x for x in _iso4026_lengths_mm("M3-0.5") if x <= depth)
+    assert L == 5.0 and L >= 4.5
+    x = rep["fasteners"]["post_set_screw"]
+    assert x == {"kind": "ISO 4026", "size": "M3-0.5", "length_mm": L, "clamps": ["post"],
+                 "hole": "housing_body:post_set_screw", "engagement_mm": L}
+    assert rep["tapped_holes"][x["hole"]]["depth_mm"] == pytest.approx(depth)
+    m = radial_screw_mm(parts["post_set_screw"], parts["housing_body"], parts["post"], 3.0,
+                        shaft_axis=(np.zeros(3), U))
+    assert m["tip_to_axis_mm"] == pytest.approx(r, abs=1e-3) and m["tip_on_shaft"], m
+    assert m["length_mm"] == pytest.approx(L, abs=1e-3) and m["rim_to_axis_max_mm"] <= R, m
+    assert m["full_thread_mm"] >= L - 0.01, m
+
+
+def test_thin_handle_or_post_is_refused_before_cad(tmp_path, monkeypatch):
+    """A 5 mm stem or post leaves no 1 mm shoulder round the M4 tip's 3.3 mm tap drill."""
+    msg = _refused_before_cad(monkeypatch, tmp_path, "powermouse.toml", "handle", diameter_mm=5.0)
+    assert msg.startswith("handle.diameter_mm: 5 mm leaves no shoulder") and ">= 5.3 mm" in msg
+    msg = _refused_before_cad(monkeypatch, tmp_path / "b", "powermouse.toml", "stator",
+                              post_diameter_mm=5.0)
+    assert msg.startswith("stator.post_diameter_mm: 5 mm leaves no shoulder"), msg
