@@ -45,22 +45,12 @@ from cad.assembly.layers import (
     hub_bolt_circle_mm,
     spacer_od_mm,
 )
+from cad.assembly.fits import fit
 from cad.design.parts import PartsSpec
 from cad.errors import DesignError
 from cad.parts import PartInstance, PartKind, flip_x, translation
 from cad.parts import catalog as cat
 
-#: ISO 286 tolerance classes of the fits the workshop makes (bore, shaft): the bearing
-#: seat J7 (outer ring stationary relative to the load direction of a small pivot, light
-#: load: ISO 281 / SKF housing table "J7"), the reamed pin bores and spacers' bores H7 on
-#: the ISO 7379 shoulder (f9), the hub's shaft bore H7 on the maxon shaft (h6-class).
-FITS = {
-    "bearing seat": "J7",
-    "pin bore": "H7",
-    "spacer bore": "H7",
-    "hub shaft bore": "H7",
-    "post shoulder bore": "H7",
-}
 #: Smallest engagement of the handle screw in the coupler plate, in thread diameters: the
 #: knob carries hand loads only (a few N), so a plate thinner than 1.5 d is tapped through
 #: and taken whole down to 1 d.
@@ -223,10 +213,10 @@ def _bars(b: _Builder, design_label: str) -> None:
         fits = []
         if seats:
             proc.append(f"mill bearing seat x{seats}")
-            fits.append(f"bearing seat {_fmt(brg.D_mm)} {FITS['bearing seat']}")
+            fits.append(fit("bearing seat", brg.D_mm))
         if pins:
             proc.append(f"ream pin bore x{pins}")
-            fits.append(f"pin bore {_fmt(pin.ds_mm)} {FITS['pin bore']}")
+            fits.append(fit("pin bore", pin.ds_mm))
         if link == "coupler":
             proc.append(f"tap {parts.handle_screw.split('-')[0]} x1")
         k = b.kind(
@@ -263,10 +253,10 @@ def _tube_bars(b: _Builder, bar_joints: dict, design_label: str) -> None:
             fits = []
             if f.kind == "seat":
                 proc.append("mill bearing seat")
-                fits.append(f"bearing seat {_fmt(brg.D_mm)} {FITS['bearing seat']}")
+                fits.append(fit("bearing seat", brg.D_mm))
             elif f.kind == "pin":
                 proc.append("ream pin bore")
-                fits.append(f"pin bore {_fmt(pin.ds_mm)} {FITS['pin bore']}")
+                fits.append(fit("pin bore", pin.ds_mm))
             elif f.kind == "tapped":
                 proc.append(f"tap {parts.handle_screw.split('-')[0]} x1")
             k = b.kind(
@@ -358,7 +348,7 @@ def _spacer_kind(b: _Builder, role: str, h: float) -> PartKind:
         revolution=True,
         description=f"{role} spacer {_fmt(od)}/{_fmt(pin.ds_mm)} x {_fmt(h)} mm",
         process="turned",
-        fits=(f"bore {_fmt(pin.ds_mm)} {FITS['spacer bore']}",),
+        fits=(fit("spacer bore", pin.ds_mm, "bore"),),
     )
 
 
@@ -476,7 +466,7 @@ def _motor_and_hub(b: _Builder) -> None:
         made=True,
         description=f"direct-drive crank hub (set screw {ss})",
         process=f"turned; tap {parts.hub_screw.split('-')[0]} x{HUB_SCREWS}, tap {ss} x1 (radial)",
-        fits=(f"shaft bore {_fmt(m.shaft_diameter_mm)} {FITS['hub shaft bore']}",),
+        fits=(fit("hub shaft bore", m.shaft_diameter_mm, "shaft bore"),),
         revolution=True,
         collision=(
             ("self", joints.ring_shape(m.shaft_diameter_mm / 2, parts.hub_diameter_mm / 2, hub_h)),
@@ -632,7 +622,8 @@ def _base_post_legs(b: _Builder, footprint_mm):
         made=True,
         plate=True,
         description=f"motor mount plate for {m.key}",
-        process=f"waterjet/laser {_fmt(mt)} mm plate",
+        process=f"waterjet/laser {_fmt(mt)} mm plate; bore the pilot seat",
+        fits=(fit("pilot bore", m.pilot_diameter_mm),),
     )
     zf = plan.flange_z_mm
     b.place("motor_mount", mm_k, "ground", translation(0, 0, zf))
@@ -674,7 +665,7 @@ def _post(b: _Builder, a4, pin, through: bool) -> None:
         made=True,
         description="A4 pivot post",
         process=f"turned; ream top bore; {top} top; tap {screw.split('-')[0]} bottom",
-        fits=(f"shoulder bore {_fmt(pin.ds_mm)} {FITS['post shoulder bore']}",),
+        fits=(fit("post shoulder bore", pin.ds_mm, "shoulder bore"),),
         revolution=True,
     )
     b.place("post_A4", pok, "ground", translation(a4[0], a4[1], 0.0))

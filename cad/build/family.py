@@ -9,7 +9,10 @@ pose. Everything below reads that one list:
 * :func:`kind_props` -- mass properties of each part kind (exact B-rep integration, or
   the catalog mass of a bought part; :func:`cad.build.fourbar.kind_mass_props`);
 * :func:`body_props` -- combined mass properties per body in the body frame;
-* :func:`bom_rows` -- one BOM line per kind (quantity = number of instances);
+* :func:`bom_rows` -- one BOM line per kind (quantity = number of instances), with its
+  ISO 286 fits (:attr:`cad.parts.PartKind.fits`, :mod:`cad.assembly.fits`);
+* :func:`fits_report` / :func:`dxf_notes` -- the same fits for report.json's ``fits`` key
+  and the DXF's ``NOTES`` layer;
 * :func:`fastener_report` -- every screw's record (thread size, length, parts clamped, hole
   engaged, engagement) and every tapped hole, checked (one screw per hole, engagement in
   the hole's window);
@@ -77,7 +80,7 @@ def body_props(instances, props: dict, bodies=None) -> dict:
 
 def bom_rows(instances, props: dict) -> list[dict]:
     """One row per listed kind: part, description, material, quantity, made_or_bought,
-    process, mass_g (each)."""
+    process, fits (its ISO 286 fits joined by ``"; "``), mass_g (each)."""
     q = quantities(instances)
     rows = []
     for name, k in kinds(instances).items():
@@ -92,10 +95,22 @@ def bom_rows(instances, props: dict) -> list[dict]:
                 "quantity": q[name],
                 "made_or_bought": "made" if k.made else "bought",
                 "process": k.process,
+                "fits": "; ".join(k.fits),
                 "mass_g": mp.mass_kg * 1e3 if mp is not None else 0.0,
             }
         )
     return rows
+
+
+def fits_report(instances) -> dict[str, list[str]]:
+    """report.json's ``fits``: ``{kind name: [fit, ...]}`` of every listed kind that states
+    ISO 286 fits (:func:`cad.assembly.fits.fit`, e.g. ``"bearing seat 16 J7"``)."""
+    return {n: list(k.fits) for n, k in kinds(instances).items() if k.listed and k.fits}
+
+
+def dxf_notes(kind) -> tuple[str, ...]:
+    """The text lines of a part's DXF ``NOTES`` layer: each of its fits + ``" (ISO 286)"``."""
+    return tuple(f"{f} (ISO 286)" for f in kind.fits)
 
 
 def part_materials(instances) -> dict[str, str]:
@@ -223,6 +238,7 @@ def write_outputs(
             color=get_material(k.material).color_rgb,
             stl=k.made,
             tolerance_mm=stl_tolerance_mm or STL_TOLERANCE_MM,
+            notes=dxf_notes(k),
         )
         files += [p.relative_to(out_dir).as_posix() for p in paths]
     if "step" in formats:

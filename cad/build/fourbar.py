@@ -176,6 +176,7 @@ def _write_exports(
     asm, listed, out_dir: Path, formats, stl_tol, ang, tf_pose, name: str, progress, n_steps
 ) -> list[str]:
     """Part files (STEP/STL/DXF) and the posed assembly STEP; returns their paths in out_dir."""
+    from cad.build.family import dxf_notes
     from cad.export import export_assembly_step, export_part
     from cad.materials import get_material
 
@@ -192,7 +193,7 @@ def _write_exports(
             stl=k.made,
             tolerance_mm=stl_tol,
             angular_tolerance_rad=ang,
-            notes=tuple(f"{f} (ISO 286)" for f in k.fits),
+            notes=dxf_notes(k),
         )
         files += [p.relative_to(out_dir).as_posix() for p in paths]
     if "step" in formats:
@@ -475,25 +476,11 @@ def build(
             itf.raise_on_collision(rep, parts.clearance_min_mm)
         timings["interference"] = time.perf_counter() - t1
 
-        # BOM
+        # BOM (the rows every family writes, fits included: cad.build.family)
+        from cad.build import family
         from cad.export import write_bom
 
-        q = asm.quantities()
-        bom = []
-        for k in listed:
-            mp = props[k.name]
-            bom.append(
-                {
-                    "part": k.name,
-                    "description": k.description,
-                    "material": k.material,
-                    "quantity": q[k.name],
-                    "made_or_bought": "made" if k.made else "bought",
-                    "process": k.process,
-                    "fits": "; ".join(k.fits),
-                    "mass_g": (mp.mass_kg * 1e3) if mp is not None else 0.0,
-                }
-            )
+        bom = family.bom_rows(asm.instances, props)
         write_bom(bom, out_dir)
 
         # 6 exports and preview (wait for the children)
@@ -548,7 +535,7 @@ def build(
         "interference": rep.as_dict(),
         "fasteners": {n: f.as_dict() for n, f in asm.fasteners().items()},
         "tapped_holes": {h.name: h.__dict__ for h in asm.holes},
-        "fits": {k.name: list(k.fits) for k in listed if k.fits},
+        "fits": family.fits_report(asm.instances),
         "bodies": {i.name: i.body for i in asm.instances},
         "layers": {
             "order": list(plan.order),

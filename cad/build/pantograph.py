@@ -465,6 +465,7 @@ def _planar(mp):
 # -------------------------------------------------------------------------- assembly
 def _kinds(design, lay: dict, fidelity: str) -> dict:
     """Every distinct part (:class:`cad.parts.PartKind`) of the design, by name."""
+    from cad.assembly.fits import fit
     from cad.parts import PartKind, base, joints
     from cad.parts import motor as pm
     from cad.parts import pantograph as pp
@@ -513,7 +514,8 @@ def _kinds(design, lay: dict, fidelity: str) -> dict:
         cm,
         True,
         f"clevis on the motor shaft ({sz} set screw)",
-        f"CNC milled; tap {sz} x1 (radial)",
+        f"CNC milled; ream shaft bore; tap {sz} x1 (radial)",
+        fits=(fit("hub shaft bore", mot.shaft_diameter_mm, "shaft bore"),),
     )
     add(
         "set_screw",
@@ -530,7 +532,8 @@ def _kinds(design, lay: dict, fidelity: str) -> dict:
         cm,
         True,
         "clevis at the elbow, pin pressed in",
-        "CNC milled",
+        "CNC milled; ream pin bore",
+        fits=(fit("pin bore", brg.d_mm),),
     )
     add(
         "clevis_bearing",
@@ -538,7 +541,8 @@ def _kinds(design, lay: dict, fidelity: str) -> dict:
         cm,
         True,
         "clevis with two ball bearings",
-        "CNC milled",
+        "CNC milled; bore bearing seat (both bearings)",
+        fits=(fit("bearing seat", brg.D_mm),),
     )
     for which in ("proximal", "distal"):
         L = lay[f"tube_{which}_mm"]
@@ -557,6 +561,7 @@ def _kinds(design, lay: dict, fidelity: str) -> dict:
         True,
         f"elbow pin d{brg.d_mm:g} x {lay['pin_short_mm']:g}, left arm",
         "ground dowel, cut",
+        fits=(fit("pin", brg.d_mm),),
     )
     add(
         "pin_long",
@@ -565,6 +570,7 @@ def _kinds(design, lay: dict, fidelity: str) -> dict:
         True,
         f"elbow pin d{brg.d_mm:g} x {lay['pin_long_mm']:g}, right arm",
         "ground dowel, cut",
+        fits=(fit("pin", brg.d_mm),),
     )
     detailed = fidelity == "fabrication"
     add(
@@ -603,8 +609,9 @@ def _kinds(design, lay: dict, fidelity: str) -> dict:
         p.plate_material,
         True,
         "motor mount plate",
-        "waterjet/laser plate",
+        "waterjet/laser plate; bore the pilot seat",
         plate=True,
+        fits=(fit("pilot bore", mot.pilot_diameter_mm),),
     )
     pt = p.plate_thickness_mm
     mount_holes = [
@@ -669,7 +676,8 @@ def _kinds(design, lay: dict, fidelity: str) -> dict:
         p.knob_material,
         True,
         f"knob, diameter {kd:g} mm",
-        "turned",
+        "turned; ream pin bore",
+        fits=(fit("pin bore", brg.d_mm),),
     )
     if not twin:
         add(
@@ -679,6 +687,7 @@ def _kinds(design, lay: dict, fidelity: str) -> dict:
             True,
             f"handle pin d{brg.d_mm:g} x {lay['handle_pin_mm']:g} (end effector E)",
             "ground dowel, cut",
+            fits=(fit("pin", brg.d_mm),),
         )
         return K
     l6 = design.mechanism.crank_mm
@@ -695,7 +704,8 @@ def _kinds(design, lay: dict, fidelity: str) -> dict:
         p.crank_material,
         True,
         f"crankshaft, l6 = {l6:g} mm (eq 7)",
-        "turned + milled",
+        "turned + milled; grind both journals",
+        fits=(fit("journal", brg.d_mm),),
     )
     add(
         "post",
@@ -1200,6 +1210,7 @@ def build(
     report = _report(design, lay, clr, bodies, eff, eff_bare, itf, bom, home, fidelity, low)
     report.update(fasteners)
     report["part_materials"] = family.part_materials(instances)
+    report["fits"] = family.fits_report(instances)
     report["files"] = sorted(files + ["report.md"])
     family.write_report_md(
         out_dir, f"{design.name} ({design.family})", _md_rows(report), bom, report["notes"]

@@ -207,7 +207,7 @@ _PARTS = {
     "pm_flotor_body": (
         "flotor: open cube shell (open at -z) with 5 coil pockets, post hole at (-,-,-), "
         "handle socket and boss inside the (+,+,+) corner",
-        "CNC milled; tap M2.5 x4 (lid screws, bottom of the side walls); "
+        "CNC milled; ream handle socket; tap M2.5 x4 (lid screws, bottom of the side walls); "
         "tap {ht} x1 through the corner boss (handle)",
         True,
     ),
@@ -242,7 +242,7 @@ _PARTS = {
     ),
     "pm_housing_body": (
         "housing: open cube shell, post bore through a collar at (-,-,-)",
-        "machined; tap M3 x4 (lid screws, top of the side walls); tap {st} x1 (radial, "
+        "machined; ream post bore; tap M3 x4 (lid screws, top of the side walls); tap {st} x1 (radial, "
         "collar: post set screw)",
         True,
     ),
@@ -309,7 +309,7 @@ def assembly(design, g, acts) -> tuple[list, list]:
     fl, st = pp.flotor_solids(g), pp.stator_solids(g)
     coils = g.coils()
     inst: list = []
-    labels, tips = _labels(g), _turned_tips(design, g)
+    labels, tips, fits = _labels(g), _turned_tips(design, g), _fits(g)
 
     def local(shape, T):
         return placed(getattr(shape, "wrapped", shape), np.linalg.inv(T))
@@ -324,7 +324,7 @@ def assembly(design, g, acts) -> tuple[list, list]:
         ("housing_lid", "pm_housing_lid", "ground"),
     ):
         shape, role = (fl | st)[key]
-        kind = _kind(kname, shape, role, design, labels)
+        kind = _kind(kname, shape, role, design, labels, fits=fits.get(key, ()))
         inst.append(PartInstance(key, kind, body, np.eye(4), fastener=tips.get(key)))
     Tc = {c.face: _tf(c.R_flotor_act, c.centre_mm) for c in coils}
     ck = _kind("pm_coil", local(fl[f"coil_{coils[0].face}"][0], Tc[coils[0].face]), "coil", design)
@@ -342,6 +342,21 @@ def assembly(design, g, acts) -> tuple[list, list]:
     mk = _kind("pm_magnet", local(st[k0][0], Tm[k0]), "magnet", design)
     inst += [PartInstance(k, mk, "ground", T) for k, T in Tm.items()]
     return inst + _lid_screws(design, g) + [_post_set_screw(g)], _rig(design, acts)
+
+
+def _fits(g) -> dict[str, tuple[str, ...]]:
+    """ISO 286 fits of the two diagonal sliding fits (:data:`cad.assembly.fits.FITS`):
+    the housing collar's post bore on the stator post and the flotor's handle socket on the
+    handle stem, both H7/g6 (diameters: ``stator.post_diameter_mm``,
+    ``handle.diameter_mm``). No bearings in the PowerMouse."""
+    from cad.assembly.fits import fit
+
+    return {
+        "housing_body": (fit("post bore", g.post_diameter_mm),),
+        "post": (fit("post", g.post_diameter_mm),),
+        "flotor_body": (fit("handle socket", g.handle_diameter_mm),),
+        "handle": (fit("handle stem", g.handle_diameter_mm),),
+    }
 
 
 def _turned_tips(design, g) -> dict:
@@ -565,6 +580,7 @@ def build(
     )
     rep.update(fasteners)
     rep["part_materials"] = family.part_materials(inst)
+    rep["fits"] = family.fits_report(inst)
     rep["files"] = sorted(files + ["report.md"])
     family.write_report_md(out_dir, f"{design.name} (powermouse)", _md_rows(rep), bom, rep["notes"])
     rep["_viewer_glb"] = viewer_glb  # popped by the dispatcher: embedded in report.html
