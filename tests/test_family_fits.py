@@ -219,7 +219,10 @@ def test_every_kind_holding_a_bearing_states_its_fit(family_builds, fam):
         r_in, r_out, _ = b.kind.ring_mm
         for name, faces in cyl.items():
             for r, p, a in faces:
-                if np.linalg.norm(np.cross(a, z)) > 1e-9 or np.linalg.norm(np.cross(p - c, z)) > 1e-6:
+                if (
+                    np.linalg.norm(np.cross(a, z)) > 1e-9
+                    or np.linalg.norm(np.cross(p - c, z)) > 1e-6
+                ):
                     continue
                 if abs(r - r_out) < 1e-6:
                     outer.add(kinds[name])
@@ -250,12 +253,19 @@ def test_write_outputs_puts_fits_in_the_bom_and_on_the_dxf_with_only_the_seat_mi
     plate = plate - bd.Pos(0, 0, 3.5) * bd.Cylinder(
         D / 2, 2.5, align=(bd.Align.CENTER,) * 2 + (bd.Align.MIN,)
     )
-    kind = PartKind(name="seat_plate", shape=plate.wrapped, material="aluminium-6061", made=True,
-                    plate=True, fits=(fit("bearing seat", D),))
+    kind = PartKind(
+        name="seat_plate",
+        shape=plate.wrapped,
+        material="aluminium-6061",
+        made=True,
+        plate=True,
+        fits=(fit("bearing seat", D),),
+    )
     inst = [PartInstance("seat_plate", kind, "ground", np.eye(4))]
     bom = family.bom_rows(inst, {"seat_plate": None})
-    family.write_outputs(inst, {"ground": np.eye(4)}, tmp_path, {"dxf"}, name="t", title="t",
-                         bom=bom, preview=False)
+    family.write_outputs(
+        inst, {"ground": np.eye(4)}, tmp_path, {"dxf"}, name="t", title="t", bom=bom, preview=False
+    )
     assert _bom(tmp_path)["seat_plate"]["fits"] == "bearing seat 9 J7"
     assert family.fits_report(inst) == {"seat_plate": ["bearing seat 9 J7"]}
     msp = list(ezdxf.readfile(tmp_path / "parts" / "seat_plate.dxf").modelspace())

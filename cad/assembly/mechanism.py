@@ -36,6 +36,7 @@ from cad.assembly.fasteners import (
     check_fasteners,
     size_cap_screw,
 )
+from cad.assembly.fits import fit
 from cad.assembly.layers import (
     HUB_SCREWS,
     POST_BORE_EXTRA_MM,
@@ -45,7 +46,6 @@ from cad.assembly.layers import (
     hub_bolt_circle_mm,
     spacer_od_mm,
 )
-from cad.assembly.fits import fit
 from cad.design.parts import PartsSpec
 from cad.errors import DesignError
 from cad.parts import PartInstance, PartKind, flip_x, translation

@@ -42,6 +42,8 @@ LAYOUT = (
     "preview.png",
     "manifest.json",
 )
+
+
 def kinds(instances) -> dict:
     """``{kind name: PartKind}`` in order of first appearance."""
     out: dict = {}
