@@ -29,8 +29,8 @@ def pm(family_builds):
 
 
 def _distance_mm(a, b) -> float:
-    from OCP.BRepExtrema import BRepExtrema_DistShapeShape
     from OCP.BRep import BRep_Builder
+    from OCP.BRepExtrema import BRepExtrema_DistShapeShape
     from OCP.TopoDS import TopoDS_Compound
 
     def comp(solids):
