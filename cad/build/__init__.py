@@ -185,6 +185,9 @@ def build_design(
     """
     if fidelity not in FIDELITIES:
         raise DesignError("--fidelity", f"must be one of {', '.join(FIDELITIES)}, got {fidelity!r}")
+    from cad.io import cache_limit
+
+    cache_limit.max_bytes()  # a bad HAPTICAD_CACHE_MAX_MB is refused before anything is made
     out_dir = Path(out_dir)
     check = functools.partial(check_out_dir, design_source=getattr(design, "source", None))
     check(out_dir)
@@ -258,4 +261,5 @@ def build_design(
     report["cached"] = False
     if timings is not None:
         report["timings_s"] = timings
+    cache_limit.prune_after_build()  # least recently used cache entries beyond the cap
     return report

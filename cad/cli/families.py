@@ -39,7 +39,7 @@ def refusal(command: str, family: str) -> str:
 
 
 #: Commands that read no design file (they take a STEP/STL file, flags, or nothing).
-NO_DESIGN_COMMANDS = ("massprops", "voicecoil", "bench")
+NO_DESIGN_COMMANDS = ("massprops", "voicecoil", "bench", "cache")
 
 
 def markdown_table() -> str:

@@ -165,7 +165,12 @@ def _read(path: Path) -> bytes | None:
         want = path.with_name(path.name + ".sha256").read_text(encoding="ascii").strip()
     except (OSError, UnicodeDecodeError):
         return None
-    return data if hashlib.sha256(data).hexdigest() == want else None
+    if hashlib.sha256(data).hexdigest() != want:
+        return None
+    from cad.io.cache_limit import touch
+
+    touch(path)  # recently used (cad.io.cache_limit prunes the oldest)
+    return data
 
 
 def _write(path: Path, data: bytes) -> None:

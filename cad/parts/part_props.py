@@ -85,6 +85,9 @@ def _read(path: Path, key: str):
         return None
     if not (math.isfinite(vol) and vol > 0 and np.all(np.isfinite(com)) and np.all(np.isfinite(inertia))):
         return None
+    from cad.io.cache_limit import touch
+
+    touch(path)  # recently used (cad.io.cache_limit prunes the oldest)
     return vol, com, inertia
 
 

@@ -72,6 +72,9 @@ def _read(path: Path):
     from cad.io.derived_cache import register_digest
 
     register_digest(shape, want)  # what is derived from it is cached by this digest
+    from cad.io.cache_limit import touch
+
+    touch(path)  # recently used (cad.io.cache_limit prunes the oldest)
     return shape
 
 
