@@ -43,7 +43,8 @@ Report keys: ``gii``, ``layout_mm``, ``clearances_mm``, ``bodies`` (mass propert
 each moving body from the exact B-rep, in its link frame), ``effective_mass_home``
 (mouse: diag and apparent readings beside ``paper_table1``; 5-bar: the 2x2 mass matrix
 at the workspace centre), ``interference`` (every pair of solids at home),
-``bench_z_mm`` / ``lowest_z_mm``, ``bom``, ``files``.
+``bench_z_mm`` / ``lowest_z_mm``, ``bom``, ``fits`` (ISO 286 fits per part,
+:mod:`cad.assembly.fits`), ``files``.
 """
 
 from __future__ import annotations

@@ -28,7 +28,8 @@ field models), ``wrench_map`` (6x6, N/A and N m/A),
 ``wrench_map_singular_values`` (descending), ``isotropy`` (force/torque
 groups and spreads), ``flotor`` (mass_kg, com_mm, inertia_com_kg_m2 from the
 solids, per part masses), ``peak_force_N``, ``continuous_force_N``,
-``peak_acceleration_m_s2`` / ``_G``, ``clearances_mm``, ``paper_table4``.
+``peak_acceleration_m_s2`` / ``_G``, ``clearances_mm``, ``paper_table4``, ``fits`` (ISO 286
+fits per part: the post bore / post and handle socket / stem, H7/g6).
 """
 
 from __future__ import annotations
