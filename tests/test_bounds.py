@@ -325,7 +325,7 @@ BASE = {
     "massprops": ["massprops", STL], "voicecoil": list(VC), "gii": ["gii", P],
     "optimize": ["optimize", P], "bench": ["bench"], "tolerance": ["tolerance", H],
     "wall": ["wall", H],
-    "render": ["render", H], "sweep": ["sweep", H],
+    "render": ["render", H], "sweep": ["sweep", H], "cache": ["cache"],
 }
 CASES_FLAGS = [(c, f, v) for (c, f), vals in BAD_FLAGS.items() for v in vals]
 

@@ -154,3 +154,21 @@ def test_hub_no_allowed_set_screw_fits_exits_2_from_the_cli(tmp_path, monkeypatc
     assert_one_line_error(code, err, "parts.hub_diameter_mm", "crank hub set screw",
                           "(4.35 mm of full M3 thread)")
     assert sorted(p.name for p in tmp_path.iterdir()) == ["thin_hub.toml"]
+
+
+def test_shaft_engagement_too_short_for_the_set_screw_hole_exits_2(tmp_path, monkeypatch):
+    """The hub's M3 set screw sits at half the shaft engagement: a 3.5 mm engagement puts
+    its 3 mm hole within 0.25 mm of the hub's bottom face (< 0.5 mm): d + 1 = 4 mm is the
+    least, refused before any CAD naming the key, nothing written."""
+    import cad.parts.lazy_import as li
+
+    monkeypatch.setattr(li, "import_build123d", lambda: pytest.fail("CAD imported"))
+    toml = (ROOT / "designs" / "hoeken.toml").read_text()
+    src = tmp_path / "short.toml"
+    src.write_text(toml.replace("[parts]\n", "[parts]\nhub_shaft_engagement_min_mm = 3.5\n", 1))
+    code, _, err = hapticad("build", src, "--out", tmp_path / "out", "--no-cache")
+    assert_one_line_error(code, err, "parts.hub_shaft_engagement_min_mm: 3.5 mm", ">= 4 mm")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["short.toml"]
+    from cad.assembly.layers import hub_set_screw
+
+    assert hub_set_screw(_hoeken(hub_shaft_engagement_min_mm=4.0).parts).size == "M3-0.5"

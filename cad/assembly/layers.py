@@ -335,6 +335,14 @@ def hub_set_screw(parts: PartsSpec) -> HubSetScrew:
     size, L, depth = size_set_screw(r_in, parts.hub_diameter_mm / 2, HUB_SET_SCREW_SIZES,
                                     "crank hub set screw onto the motor shaft",
                                     "parts.hub_diameter_mm")
+    d = catalog.thread_diameter_mm(size)
+    if parts.hub_shaft_engagement_min_mm < d + 1.0 - 1e-9:  # axis at half the engagement
+        raise DesignError(
+            "parts.hub_shaft_engagement_min_mm",
+            f"{parts.hub_shaft_engagement_min_mm:g} mm: the hub's {size.split('-')[0]} set screw "
+            f"sits at half the shaft engagement, so its hole needs >= {d + 1.0:g} mm to stay "
+            "0.5 mm above the hub's bottom face",
+        )
     return HubSetScrew(size, L, depth, MIN_ENGAGEMENT_ALU_D * catalog.thread_diameter_mm(size),
                        r_in)
 
