@@ -18,6 +18,7 @@ import re
 from pathlib import Path
 
 import pytest
+from catalog_ref import iso4026_lengths_mm
 from step_pairs import radial_screw_mm, read_parts, thread_in_part_mm
 
 FAMILIES = ("pantograph", "twin-pantograph", "powermouse")
@@ -205,19 +206,6 @@ def test_pantograph_stack_no_catalog_screw_fits_is_refused_before_cad(tmp_path, 
     assert "need L in 6.5..7.5 mm" in msg
 
 
-def _iso4026_lengths_mm(size: str) -> list[float]:
-    """bd_warehouse's ISO 4026 catalog read straight from its CSVs (not cad.parts.catalog)."""
-    from bd_warehouse import fastener
-
-    data = Path(fastener.__file__).parent / "data"
-    with (data / "setscrew_parameters.csv").open() as fh:
-        row = next(r for r in csv.DictReader(fh) if r["Size"] == size)
-    with (data / "nominal_screw_lengths.csv").open() as fh:
-        nom = next(r for r in csv.DictReader(fh) if r["Screw_Type"] == "iso4026")
-    lo, hi = float(row["iso4026:short"]), float(row["iso4026:long"])
-    return [float(x) for x in nom["Nominal_Sizes"].split(",") if lo <= float(x) <= hi]
-
-
 @pytest.mark.parametrize("fam", ("pantograph", "twin-pantograph"))
 def test_clevis_set_screw_record_against_the_catalog(family_builds, fam):
     """14 mm clevis round end on the 6 mm RE 35 shaft: a 4 mm wall, whose full thread on the
@@ -231,10 +219,10 @@ def test_clevis_set_screw_record_against_the_catalog(family_builds, fam):
     r_in = catalog.get_motor(d.parts.motor).shaft_diameter_mm / 2
     R = d.parts.clevis_width_mm / 2
     assert (r_in, R) == (3.0, 7.0)
-    assert max(L for L in _iso4026_lengths_mm("M2.5-0.45")
+    assert max(L for L in iso4026_lengths_mm("M2.5-0.45")
                if L <= math.sqrt(R**2 - 1.25**2) - r_in) < 3.75  # M2.5 does not fit
     depth = math.sqrt(R**2 - 1.0**2) - r_in
-    L = max(x for x in _iso4026_lengths_mm("M2-0.4") if x <= depth)
+    L = max(x for x in iso4026_lengths_mm("M2-0.4") if x <= depth)
     assert L == 3.5
     sets = {n: x for n, x in rep["fasteners"].items() if x["kind"] == "ISO 4026"}
     assert len(sets) == (4 if fam == "twin-pantograph" else 2)

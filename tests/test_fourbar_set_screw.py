@@ -15,12 +15,12 @@ Build: ``conftest.hoeken_sim_build`` (shared, preview fidelity, with STEP).
 
 from __future__ import annotations
 
-import csv
 import dataclasses
 import math
 from pathlib import Path
 
 import pytest
+from catalog_ref import iso4026_lengths_mm
 from cli_helpers import assert_one_line_error, hapticad
 from step_pairs import radial_screw_mm, read_parts
 
@@ -29,24 +29,11 @@ ROOT = Path(__file__).resolve().parents[1]
 SIZES_D_MM = {"M3-0.5": 3.0, "M2.5-0.45": 2.5, "M2-0.4": 2.0}
 
 
-def _iso4026_lengths_mm(size: str) -> list[float]:
-    """bd_warehouse's ISO 4026 catalog read straight from its CSVs (not cad.parts.catalog)."""
-    from bd_warehouse import fastener
-
-    data = Path(fastener.__file__).parent / "data"
-    with (data / "setscrew_parameters.csv").open() as fh:
-        row = next(r for r in csv.DictReader(fh) if r["Size"] == size)
-    with (data / "nominal_screw_lengths.csv").open() as fh:
-        nom = next(r for r in csv.DictReader(fh) if r["Screw_Type"] == "iso4026")
-    lo, hi = float(row["iso4026:short"]), float(row["iso4026:long"])
-    return [float(x) for x in nom["Nominal_Sizes"].split(",") if lo <= float(x) <= hi]
-
-
 def _closed_form(r_mm: float, R_mm: float):
     """(size, L, depth) of the largest size with a catalog length in [1.5 d, depth], or None."""
     for size, d in SIZES_D_MM.items():
         depth = math.sqrt(R_mm**2 - (d / 2) ** 2) - r_mm
-        fit = [L for L in _iso4026_lengths_mm(size) if 1.5 * d <= L <= depth]
+        fit = [L for L in iso4026_lengths_mm(size) if 1.5 * d <= L <= depth]
         if fit:
             return size, max(fit), depth
     return None
@@ -84,7 +71,7 @@ def test_hub_set_screw_record_bom_and_hole_of_the_hoeken_build(hoeken_sim_build)
     d, _, rep, _ = hoeken_sim_build
     assert (d.parts.hub_diameter_mm, d.parts.motor) == (20.0, "maxon-re35")
     depth = math.sqrt(10.0**2 - 1.5**2) - 3.0
-    L = max(x for x in _iso4026_lengths_mm("M3-0.5") if 4.5 <= x <= depth)
+    L = max(x for x in iso4026_lengths_mm("M3-0.5") if 4.5 <= x <= depth)
     assert L == 6.0
     sets = {n: x for n, x in rep["fasteners"].items() if x["kind"] == "ISO 4026"}
     assert sets == {"hub_set_screw": {"kind": "ISO 4026", "size": "M3-0.5", "length_mm": L,

@@ -16,8 +16,9 @@ import math
 
 import numpy as np
 import pytest
+from catalog_ref import iso4026_lengths_mm
 from step_pairs import radial_screw_mm, read_parts, tip_on_axis_mm
-from test_family_fasteners import _iso4026_lengths_mm, _refused_before_cad
+from test_family_fasteners import _refused_before_cad
 
 U = np.ones(3) / math.sqrt(3.0)  # the diagonal (1,1,1)/sqrt3 (flotor frame = assembly frame)
 
@@ -93,7 +94,7 @@ def test_post_set_screw_against_the_catalog_and_the_step_file(pm):
     d, rep, parts = pm
     r, R = d.stator.post_diameter_mm / 2, d.stator.post_diameter_mm / 2 + pp.POST_COLLAR_WALL_MM
     depth = math.sqrt(R**2 - 1.5**2) - r
-    L = max(x for x in _iso4026_lengths_mm("M3-0.5") if x <= depth)
+    L = max(x for x in iso4026_lengths_mm("M3-0.5") if x <= depth)
     assert L == 5.0 and L >= 4.5
     x = rep["fasteners"]["post_set_screw"]
     assert x == {"kind": "ISO 4026", "size": "M3-0.5", "length_mm": L, "clamps": ["post"],
