@@ -8,7 +8,9 @@ between the hole's stated minimum and the hole's usable depth:
   :data:`MIN_ENGAGEMENT_ALU_D` x d (1.5 d, the usual rule for steel screws in aluminium
   alloys -- the internal thread strips before the screw below it);
 * holes of a bought part (the motor face): the maker's depth, minimum
-  :data:`MIN_ENGAGEMENT_BOUGHT_MM` mm.
+  :data:`MIN_ENGAGEMENT_BOUGHT_MM` mm;
+* the ISO 7379 shoulder screw's hole in the A4 post: its whole thread, b - g2
+  (:func:`shoulder_screw_hole`).
 
 A stack with no catalog length in the window is a :class:`cad.errors.DesignError`
 naming the joint; :func:`check_fasteners` refuses two fasteners in one hole and an
@@ -73,26 +75,90 @@ def alu_hole(name: str, part: str, size: str, depth_mm: float) -> TappedHole:
     return TappedHole(name, part, size, depth_mm, MIN_ENGAGEMENT_ALU_D * d)
 
 
+def iso7379_thread_mm(size: str) -> float:
+    """Length of full thread of an ISO 7379 shoulder screw (mm): b - g2, bd_warehouse's
+    ``shoulder_screw.csv`` (b, the length below the shoulder, includes the thread relief g2;
+    M6: 11 - 2.5 = 8.5 mm). A plain pin (``dowel-<d>``) has none: 0."""
+    if catalog.is_dowel(size):
+        return 0.0
+    s = catalog.get_shoulder_screw(size)
+    return s.b_mm - s.g2_mm
+
+
+def shoulder_screw_hole(name: str, part: str, size: str, depth_mm: float) -> TappedHole:
+    """The A4 post's tapped hole for an ISO 7379 shoulder screw; minimum engagement = the
+    screw's whole thread, b - g2 (:func:`iso7379_thread_mm`).
+
+    Basis: ISO 7379 fixes the thread length, and it is shorter than the 1.5 d rule for a cap
+    screw in aluminium (M6: 8.5 mm = 1.42 d; M8: 9.9 mm = 1.24 d), so that rule would refuse
+    every ISO 7379 screw in an aluminium post. The shoulder screw carries the joint's load
+    on its ground shoulder in the reamed bore; its thread only holds the axial preload that
+    clamps the stack, and the makers' tightening torques for shoulder screws are well below a
+    cap screw's of the same thread (the neck at the relief is the weak section). So the rule
+    is the one the standard leaves: every turn of the thread engaged -- the reamed bore ends
+    where the relief ends (:func:`cad.assembly.layers.post_bore_depth_mm`) and the hole is
+    tapped deeper than the tip. For a joint preloaded to the screw's proof load use a steel
+    post (``parts.post_material``) or a thread insert."""
+    return TappedHole(name, part, size, depth_mm, iso7379_thread_mm(size))
+
+
 def size_cap_screw(
-    size: str, clamp_mm: float, hole: TappedHole, joint: str, field: str
+    size: str, clamp_mm: float, hole: TappedHole, joint: str, field: str,
+    hole_field: str | None = None, clamp_field: str | None = None,
 ) -> tuple[float, float]:
     """(catalog length, engagement) of the shortest ISO 4762 screw clamping ``clamp_mm`` with an
-    engagement in ``[hole.min_engagement_mm, hole.depth_mm]``; DesignError naming ``joint``."""
+    engagement in ``[hole.min_engagement_mm, hole.depth_mm]`` (a hole of unbounded depth:
+    ``depth_mm = inf``). DesignError naming ``joint`` and the field to change:
+
+    * ``hole_field`` (the field setting the tapped part's depth, e.g. the base plate's
+      thickness) when the hole is shallower than its minimum engagement, whatever the screw;
+    * ``clamp_field`` (the field whose value is ``clamp_mm``) when even the longest catalog
+      screw cannot clamp ``clamp_mm`` with the minimum engagement, or the shortest one that
+      can runs deeper than the hole;
+    * ``field`` (the screw's size) otherwise, and for the cases above when not given.
+    """
     cs = catalog.get_cap_screw(size, field)
+    thread = size.split("-")[0]
+    if hole.depth_mm < hole.min_engagement_mm - 1e-9:
+        raise DesignError(
+            hole_field or field,
+            f"{joint}: {hole.name} holds only {hole.depth_mm:g} mm of {thread} thread, less "
+            f"than its {hole.min_engagement_mm:g} mm minimum engagement",
+        )
     lo, hi = clamp_mm + hole.min_engagement_mm, clamp_mm + hole.depth_mm
     L = catalog.shortest_length(cs.lengths_mm, lo)
+    if L is None and clamp_field is not None:
+        raise DesignError(
+            clamp_field,
+            f"{clamp_mm:g} mm: {joint}: the longest {thread} ISO 4762 screw "
+            f"({cs.lengths_mm[-1]:g} mm) cannot clamp {clamp_mm:g} mm and engage "
+            f"{hole.min_engagement_mm:g} mm of thread in {hole.name} (needs L >= {lo:g} mm)",
+        )
+    if L is not None and L > hi + 1e-9 and clamp_field is not None:
+        raise DesignError(
+            clamp_field,
+            f"{clamp_mm:g} mm: {joint}: the shortest {thread} ISO 4762 screw long enough "
+            f"({L:g} mm) would run {L - clamp_mm:g} mm into {hole.name}, deeper than its "
+            f"{hole.depth_mm:g} mm of thread (change it or {field})",
+        )
     if L is None or L > hi + 1e-9:
         raise DesignError(
             field,
             f"{joint}: no {size} x L screw (catalog {', '.join(f'{x:g}' for x in cs.lengths_mm)}) "
-            f"clamps {clamp_mm:g} mm with {hole.min_engagement_mm:g}..{hole.depth_mm:g} mm of thread "
-            f"in {hole.name} (need L in {lo:g}..{hi:g} mm)",
+            f"clamps {clamp_mm:g} mm with {_window(hole.min_engagement_mm, hole.depth_mm)} of "
+            f"thread in {hole.name} (need L {_window(lo, hi)})",
         )
     return L, L - clamp_mm
 
 
+def _window(lo: float, hi: float) -> str:
+    """``"lo..hi mm"``, or ``">= lo mm"`` for an unbounded ``hi``."""
+    return f">= {lo:g} mm" if hi == float("inf") else f"{lo:g}..{hi:g} mm"
+
+
 def check_fasteners(fasteners: dict[str, Fastener], holes: dict[str, TappedHole]) -> None:
     """Every tapped hole holds at most one fastener, every engagement lies in its hole's window
+    and an ISO 7379 record claims no more than the screw's thread, b - g2
     (``fasteners``: instance name -> record). Raises DesignError naming the part and hole."""
     used: dict[str, str] = {}
     for name, f in fasteners.items():
@@ -109,6 +175,12 @@ def check_fasteners(fasteners: dict[str, Fastener], holes: dict[str, TappedHole]
                 "parts",
                 f"{name}: {f.engagement_mm:g} mm of {f.size} thread in {f.hole} "
                 f"(window {h.min_engagement_mm:g}..{h.depth_mm:g} mm)",
+            )
+        if f.kind == "ISO 7379" and f.engagement_mm > iso7379_thread_mm(f.size) + 1e-9:
+            raise DesignError(
+                "parts",
+                f"{name}: {f.engagement_mm:g} mm engaged, but an ISO 7379 {f.size} has only "
+                f"{iso7379_thread_mm(f.size):g} mm of thread (b - g2)",
             )
 
 

@@ -51,11 +51,14 @@ HUB_FLOOR_MM = 1.0
 ORDERS: tuple[tuple[str, str, str], ...] = tuple(itertools.permutations(LINK_NAMES))  # type: ignore[assignment]
 #: Joints: name -> (link A, link B) it connects (ground joint A4: rocker on the post).
 JOINTS = {"A2": ("crank", "coupler"), "A3": ("coupler", "rocker"), "A4": ("rocker", "ground")}
-#: A4 post: the reamed bore goes this far past the shoulder's thread relief, the top
-#: tapped hole this far past the ISO 7379 thread, and this much solid separates the top
-#: hole from the bottom one (mm).
-POST_BORE_EXTRA_MM = 0.5
-POST_THREAD_EXTRA_MM = 1.0
+#: A4 post: the reamed bore ends where the shoulder screw's thread relief g2 ends, so the
+#: top tapped hole starts at the screw's first full thread and holds all of it
+#: (:func:`cad.assembly.fasteners.shoulder_screw_hole`); the tapped hole runs this far past
+#: the screw's length below the shoulder b (mm; b includes g2, so it is drilled
+#: g2 + 1.5 mm past the tip), and :data:`POST_WEB_MM` of solid separates it from the
+#: bottom hole. The post's total height rule is unchanged from the former layout
+#: (bore 0.5 mm past the relief, hole b + 1 mm).
+POST_THREAD_EXTRA_MM = 1.5
 POST_WEB_MM = 1.0
 #: Shoulder must enter the lower link by at least this (mm) to locate it.
 SHOULDER_MIN_ENTRY_MM = 1.0
@@ -302,9 +305,10 @@ def _hub_screw_length(parts: PartsSpec) -> tuple[float, float]:
     enough for the hole (:func:`plan_for_order`)."""
     from cad.assembly.fasteners import alu_hole, size_cap_screw
 
-    hole = alu_hole("crank_hub:screw", "crank_hub", parts.hub_screw, 1e9)
+    hole = alu_hole("crank_hub:screw", "crank_hub", parts.hub_screw, math.inf)
     return size_cap_screw(
-        parts.hub_screw, parts.bar_thickness_mm, hole, "A1 (crank to hub)", "parts.hub_screw"
+        parts.hub_screw, parts.bar_thickness_mm, hole, "A1 (crank to hub)", "parts.hub_screw",
+        clamp_field="parts.bar_thickness_mm",
     )
 
 
@@ -347,15 +351,47 @@ def hub_set_screw(parts: PartsSpec) -> HubSetScrew:
                        r_in)
 
 
+#: Fields that set how far the motor shaft reaches into the crank hub, in blame order.
+_SHAFT_FIELDS = ("hub_shaft_engagement_min_mm", "base_clearance_mm", "base_thickness_mm",
+                 "motor_mount_thickness_mm")
+
+
+def _shaft_blame(parts: PartsSpec, shaft_length_mm: float) -> str:
+    """The field to name when the shaft reaches too little into the hub: the first of
+    :data:`_SHAFT_FIELDS` the design changed from its default whose default value alone would
+    give the required reach (shaft length - base - mount - base clearance >= the minimum);
+    ``base_thickness_mm`` when no single field does."""
+    import dataclasses
+
+    def ok(p: PartsSpec) -> bool:
+        reach = shaft_length_mm - p.base_thickness_mm - p.motor_mount_thickness_mm
+        return reach - p.base_clearance_mm >= p.hub_shaft_engagement_min_mm - 1e-9
+
+    for f in _SHAFT_FIELDS:
+        default = getattr(PartsSpec, f)
+        if getattr(parts, f) != default and ok(dataclasses.replace(parts, **{f: default})):
+            return f
+    return "base_thickness_mm"
+
+
 def post_min_height_mm(stack: JointStack, parts: PartsSpec) -> float:
     """Shortest A4 post that holds both of its screws apart (mm): the reamed bore for the
-    shoulder entry and thread relief, the tapped hole for the ISO 7379 thread (b plus lead-out),
-    :data:`POST_WEB_MM` of solid, then the bottom tapped hole for the post screw."""
+    shoulder entry and thread relief (:func:`post_bore_depth_mm`), the tapped hole for the
+    ISO 7379 thread (b plus :data:`POST_THREAD_EXTRA_MM`), :data:`POST_WEB_MM` of solid, then
+    the bottom tapped hole for the post screw."""
     from cad.parts.base import STANDOFF_TAP_DEPTH_MM
 
     pin = catalog.get_shoulder_screw(parts.pin)
-    bore = stack.pin_length_mm - stack.clamp_mm + pin.g2_mm + POST_BORE_EXTRA_MM
+    bore = post_bore_depth_mm(stack, parts)
     return bore + pin.b_mm + POST_THREAD_EXTRA_MM + POST_WEB_MM + STANDOFF_TAP_DEPTH_MM
+
+
+def post_bore_depth_mm(stack: JointStack, parts: PartsSpec) -> float:
+    """Depth of the A4 post's reamed top bore (mm): the shoulder's entry L - c plus the
+    thread relief g2 (0 for a plain pin), so the tapped hole below starts at the screw's
+    first full thread."""
+    pin = catalog.get_shoulder_screw(parts.pin)
+    return stack.pin_length_mm - stack.clamp_mm + pin.g2_mm
 
 
 def _handle_screw_length(parts: PartsSpec) -> float:
@@ -427,10 +463,14 @@ def plan_for_order(
     hub_hi = z["crank"]
     engaged = min(shaft_top, hub_hi) - hub_lo
     if engaged < parts.hub_shaft_engagement_min_mm - 1e-9:
+        f = _shaft_blame(parts, motor.shaft_length_mm)
         raise DesignError(
-            "parts.base_thickness_mm",
-            f"the {motor.shaft_length_mm:g} mm {parts.motor} shaft reaches only {engaged:.2f} mm into the crank "
-            f"hub (need {parts.hub_shaft_engagement_min_mm:g}); thin the base/motor mount plates",
+            f"parts.{f}",
+            f"{getattr(parts, f):g} mm: the {motor.shaft_length_mm:g} mm {parts.motor} shaft "
+            f"reaches only {engaged:.2f} mm into the crank hub (need "
+            f"parts.hub_shaft_engagement_min_mm = {parts.hub_shaft_engagement_min_mm:g}; the hub "
+            "starts parts.base_clearance_mm above the base plate, the shaft rises from under "
+            "the base and motor mount plates)",
         )
 
     J = joints_link

@@ -34,16 +34,18 @@ from cad.assembly.fasteners import (
     TappedHole,
     alu_hole,
     check_fasteners,
+    iso7379_thread_mm,
+    shoulder_screw_hole,
     size_cap_screw,
 )
 from cad.assembly.fits import fit
 from cad.assembly.layers import (
     HUB_SCREWS,
-    POST_BORE_EXTRA_MM,
     POST_THREAD_EXTRA_MM,
     TAP_LEADOUT_MM,
     LayerPlan,
     hub_bolt_circle_mm,
+    post_bore_depth_mm,
     spacer_od_mm,
 )
 from cad.design.parts import PartsSpec
@@ -130,9 +132,10 @@ class _Builder:
             self.kinds[name] = joints.cap_screw_kind(size, length, "parts")
         return self.kinds[name]
 
-    def screw(self, name, size, clamp, hole, joint, field, body, tf, clamps):
-        """Size an ISO 4762 screw from its stack and place it with its fastener record."""
-        L, e = size_cap_screw(size, clamp, hole, joint, field)
+    def screw(self, name, size, clamp, hole, joint, field, body, tf, clamps, **blame):  # noqa: PLR0913
+        """Size an ISO 4762 screw from its stack and place it with its fastener record
+        (``blame``: ``hole_field`` / ``clamp_field`` of :func:`size_cap_screw`)."""
+        L, e = size_cap_screw(size, clamp, hole, joint, field, **blame)
         f = Fastener("ISO 4762", size, L, tuple(clamps), hole.name, e)
         self.place(name, self.cap_screw(size, L), body, tf, fastener=f)
         return L
@@ -421,7 +424,7 @@ def _joint_hardware(b: _Builder) -> None:
             b.hole(TappedHole(hole, hole, parts.pin, nut.m_mm, nut.m_mm))
             clamps += [low, f"washer_{j}"]
         else:
-            hole, engaged = "post_A4:top", pin.b_mm - POST_BORE_EXTRA_MM
+            hole, engaged = "post_A4:top", _post_engagement_mm(parts, s)
         std = "ISO 2338 + DIN 471" if cat.is_dowel(parts.pin) else "ISO 7379"
         f = Fastener(std, parts.pin, s.pin_length_mm, tuple(clamps), hole, engaged)
         b.place(
@@ -435,6 +438,17 @@ def _joint_hardware(b: _Builder) -> None:
             z_bot = s.z_lower_top_mm - t
             b.place(f"washer_{j}", k["washer"], low, translation(px, py, z_bot - washer.h_mm))
             b.place(f"nut_{j}", k["nut"], low, translation(px, py, z_bot - washer.h_mm - nut.m_mm))
+
+
+def _post_engagement_mm(parts: PartsSpec, s4) -> float:
+    """What the A4 pin holds in the post (mm): an ISO 7379 screw its whole thread b - g2 (the
+    reamed bore ends where the relief ends, :func:`cad.assembly.layers.post_bore_depth_mm`);
+    a plain pin its pressed length, shoulder entry L - c plus b (the post's hole is the pin's
+    diameter all the way)."""
+    pin = cat.get_shoulder_screw(parts.pin)
+    if cat.is_dowel(parts.pin):
+        return s4.pin_length_mm - s4.clamp_mm + pin.b_mm
+    return iso7379_thread_mm(parts.pin)
 
 
 def _motor_and_hub(b: _Builder) -> None:
@@ -485,6 +499,7 @@ def _motor_and_hub(b: _Builder) -> None:
             "crank",
             translation(x, y, plan.z_mm["crank"] + t),
             ["crank"],
+            clamp_field="parts.bar_thickness_mm",
         )
     _set_screw(b, m, hub_h, engaged)
     zf = plan.flange_z_mm
@@ -510,28 +525,54 @@ def _motor_and_hub(b: _Builder) -> None:
         revolution=True,
     )
     b.place("motor_shaft", shk, "crank", translation(0, 0, zf))
-    mt = parts.motor_mount_thickness_mm
     for i, (x, y) in enumerate(motor.motor_bolt_xy_mm(m)):
-        hole = b.hole(
-            TappedHole(
-                f"motor:face_{i + 1}",
-                "motor",
-                m.bolt_size,
-                m.bolt_thread_depth_mm,
-                min(m.bolt_thread_depth_mm, MIN_ENGAGEMENT_BOUGHT_MM),
-            )
-        )
-        b.screw(
-            f"motor_screw_{i + 1}",
-            m.bolt_size,
-            mt,
-            hole,
-            "A1 (motor to mount plate)",
-            "parts.motor",
-            "ground",
-            translation(x, y, -parts.base_thickness_mm),
-            ["motor_mount"],
-        )
+        st = _motor_screw_stack(parts, i + 1)
+        b.hole(st["hole"])
+        b.screw(f"motor_screw_{i + 1}", body="ground", tf=translation(x, y, -parts.base_thickness_mm),
+                clamps=["motor_mount"], **st)
+
+
+def _motor_screw_stack(parts: PartsSpec, i: int) -> dict:
+    """Motor face screw ``i`` (ISO 4762, the motor's bolt size) through the mount plate into
+    the maker's tapped face hole: the :meth:`_Builder.screw` stack arguments."""
+    m = cat.get_motor(parts.motor)
+    hole = TappedHole(f"motor:face_{i}", "motor", m.bolt_size, m.bolt_thread_depth_mm,
+                      min(m.bolt_thread_depth_mm, MIN_ENGAGEMENT_BOUGHT_MM))
+    return dict(size=m.bolt_size, clamp=parts.motor_mount_thickness_mm, hole=hole,
+                joint="A1 (motor to mount plate)", field="parts.motor",
+                clamp_field="parts.motor_mount_thickness_mm")
+
+
+def _mount_screw_stack(parts: PartsSpec, i: int) -> dict:
+    """Motor mount screw ``i`` (M3) through the mount plate into the base plate's tapped hole."""
+    from cad.parts import motor
+
+    hole = alu_hole(f"base_plate:mount_{i}", "base_plate", motor.MOUNT_SCREW,
+                    parts.base_thickness_mm)
+    return dict(size=motor.MOUNT_SCREW, clamp=parts.motor_mount_thickness_mm, hole=hole,
+                joint="motor mount to base plate", field="parts.motor_mount_thickness_mm",
+                hole_field="parts.base_thickness_mm", clamp_field="parts.motor_mount_thickness_mm")
+
+
+def _leg_screw_stack(parts: PartsSpec, i: int) -> dict:
+    """Leg screw ``i`` through the base plate into the leg's top tapped hole."""
+    from cad.parts import base
+
+    hole = alu_hole(f"leg_{i}:top", f"leg_{i}", base.LEG_SCREW,
+                    base.STANDOFF_TAP_DEPTH_MM - TAP_LEADOUT_MM)
+    return dict(size=base.LEG_SCREW, clamp=parts.base_thickness_mm, hole=hole,
+                joint=f"leg {i} to base plate", field="parts.base_thickness_mm",
+                clamp_field="parts.base_thickness_mm")
+
+
+def check_plate_screws(parts: PartsSpec) -> None:
+    """Size the motor face, motor mount and leg screws before any CAD
+    (:func:`cad.assembly.fasteners.size_cap_screw`): they depend on the ``[parts]`` plates
+    only, so a plate no catalog screw fits is refused naming its field."""
+    for stack in (_motor_screw_stack, _mount_screw_stack, _leg_screw_stack):
+        st = stack(parts, 1)
+        size_cap_screw(st.pop("size"), st.pop("clamp"), st.pop("hole"), st.pop("joint"),
+                       st.pop("field"), **st)
 
 
 def _set_screw(b: _Builder, m, hub_h: float, engaged: float) -> None:
@@ -628,18 +669,10 @@ def _base_post_legs(b: _Builder, footprint_mm):
     zf = plan.flange_z_mm
     b.place("motor_mount", mm_k, "ground", translation(0, 0, zf))
     for i, (x, y) in enumerate(motor.mount_hole_xy_mm(m)):
-        hole = b.hole(alu_hole(f"base_plate:mount_{i + 1}", "base_plate", motor.MOUNT_SCREW, bt))
-        b.screw(
-            f"mount_screw_{i + 1}",
-            motor.MOUNT_SCREW,
-            mt,
-            hole,
-            "motor mount to base plate",
-            "parts.motor_mount_thickness_mm",
-            "ground",
-            translation(x, y, zf) @ flip_x(),
-            ["motor_mount"],
-        )
+        st = _mount_screw_stack(parts, i + 1)
+        b.hole(st["hole"])
+        b.screw(f"mount_screw_{i + 1}", body="ground", tf=translation(x, y, zf) @ flip_x(),
+                clamps=["motor_mount"], **st)
     _post(b, a4, pin, through)
     _legs(b, rect)
     return rect
@@ -651,7 +684,7 @@ def _post(b: _Builder, a4, pin, through: bool) -> None:
     parts = b.parts
     s4 = b.plan.joints["A4"]
     post_h = s4.z_lower_top_mm
-    bore_depth = s4.pin_length_mm - s4.clamp_mm + pin.g2_mm + POST_BORE_EXTRA_MM
+    bore_depth = post_bore_depth_mm(s4, parts)
     thread_depth = pin.b_mm + POST_THREAD_EXTRA_MM
     screw = cat.standoff_screw(parts.pin)
     dowel = cat.is_dowel(parts.pin)
@@ -669,9 +702,10 @@ def _post(b: _Builder, a4, pin, through: bool) -> None:
         revolution=True,
     )
     b.place("post_A4", pok, "ground", translation(a4[0], a4[1], 0.0))
-    # a plain pin is pressed, not screwed: its "thread" window has no minimum
-    need = 0.0 if dowel else MIN_ENGAGEMENT_ALU_D * pin.thread_mm
-    b.hole(TappedHole("post_A4:top", "post_A4", parts.pin, thread_depth, need))
+    if dowel:  # a plain pin is pressed, not screwed: the whole hole, no thread minimum
+        b.hole(TappedHole("post_A4:top", "post_A4", parts.pin, bore_depth + thread_depth, 0.0))
+    else:
+        b.hole(shoulder_screw_hole("post_A4:top", "post_A4", parts.pin, thread_depth))
     bottom = b.hole(
         alu_hole("post_A4:bottom", "post_A4", screw, base.STANDOFF_TAP_DEPTH_MM - TAP_LEADOUT_MM)
     )
@@ -710,25 +744,10 @@ def _legs(b: _Builder, rect) -> None:
     )
     for i, (x, y) in enumerate(base.leg_xy_mm(rect)):
         b.place(f"leg_{i + 1}", lk, "ground", translation(x, y, -parts.base_thickness_mm - leg_h))
-        hole = b.hole(
-            alu_hole(
-                f"leg_{i + 1}:top",
-                f"leg_{i + 1}",
-                base.LEG_SCREW,
-                base.STANDOFF_TAP_DEPTH_MM - TAP_LEADOUT_MM,
-            )
-        )
-        b.screw(
-            f"leg_screw_{i + 1}",
-            base.LEG_SCREW,
-            parts.base_thickness_mm,
-            hole,
-            f"leg {i + 1} to base plate",
-            "parts.base_thickness_mm",
-            "ground",
-            translation(x, y, 0.0),
-            ["base_plate"],
-        )
+        st = _leg_screw_stack(parts, i + 1)
+        b.hole(st["hole"])
+        b.screw(f"leg_screw_{i + 1}", body="ground", tf=translation(x, y, 0.0),
+                clamps=["base_plate"], **st)
 
 
 def _handle(b: _Builder, handle_shape) -> None:
@@ -771,4 +790,5 @@ def _handle(b: _Builder, handle_shape) -> None:
         "coupler",
         translation(px, py, plan.handle_z_mm + floor),
         ["handle"],
+        hole_field="parts.bar_thickness_mm",
     )

@@ -239,12 +239,15 @@ def _n_poses(parts, fidelity: str) -> int:
 
 def check_layout(design, fidelity: str, allow_interference: bool) -> None:
     """Refuse, before any CAD import, a hub wall no ISO 4026 set screw fits
-    (:func:`cad.assembly.layers.hub_set_screw`, DesignError naming ``parts.hub_diameter_mm``)
-    and a design whose joint hardware has no clear layer order (:func:`_plan_layers`; skipped
+    (:func:`cad.assembly.layers.hub_set_screw`, DesignError naming ``parts.hub_diameter_mm``),
+    plates no catalog cap screw fits (:func:`cad.assembly.mechanism.check_plate_screws`,
+    naming the plate's field) and a design whose joint hardware has no clear layer order (:func:`_plan_layers`; skipped
     with ``allow_interference``: the build then exports the clash and reports it)."""
     from cad.assembly.layers import hub_set_screw
+    from cad.assembly.mechanism import check_plate_screws
 
     hub_set_screw(design.parts)
+    check_plate_screws(design.parts)
     if allow_interference:
         return
     from cad.assembly.pose import planar_transforms

@@ -453,11 +453,26 @@ def _check_hardware(v: dict[str, Any], prefix: str, end_radius_given: bool) -> N
             _f(prefix, "handle_diameter_mm"),
             f"a {v['handle_diameter_mm']:g} mm knob cannot take the {v['handle_screw']} screw",
         )
-    if 2 * v["handle_fillet_mm"] >= min(v["handle_diameter_mm"], v["handle_height_mm"]):
+    _check_handle_fillet(v, prefix)
+
+
+def _check_handle_fillet(v: dict, prefix: str) -> None:
+    """The knob's edge round (radius ``handle_fillet_mm``) must fit its diameter and height
+    (2 r < both). Blamed on the knob's height when that is the short side and the round is
+    the default one (a knob too flat for any usual round), else on the round."""
+    r, dia, h = v["handle_fillet_mm"], v["handle_diameter_mm"], v["handle_height_mm"]
+    if 2 * r < min(dia, h):
+        return
+    if h <= dia and r == PartsSpec.handle_fillet_mm:
         raise DesignError(
-            _f(prefix, "handle_fillet_mm"),
-            f"{v['handle_fillet_mm']:g} mm is too large for a {v['handle_diameter_mm']:g} mm knob",
+            _f(prefix, "handle_height_mm"),
+            f"{h:g} mm: a knob this flat cannot take its {r:g} mm edge round "
+            f"(parts.handle_fillet_mm); the knob must be taller than {2 * r:g} mm",
         )
+    raise DesignError(
+        _f(prefix, "handle_fillet_mm"),
+        f"{r:g} mm is too large for a {dia:g} mm wide, {h:g} mm tall knob (2 x round < both)",
+    )
 
 
 def default_parts() -> PartsSpec:
