@@ -159,6 +159,42 @@ def thread_in_part_mm(screw, part, d_mm: float, head_d_mm: float, tol_mm: float 
 
 
 
+def thread_length_mm(screw, tip_xyz, up, tol_mm: float = 0.005) -> float:
+    """Length of the screw's threaded end measured from its solid: from the tip point
+    ``tip_xyz`` along the unit direction ``up`` (towards the head), the screw's radius just
+    above the tip, r0 (bisection on a ray), then the length over which a ring of 6 points at
+    0.95 r0 stays inside the screw (the thread relief / neck is thinner) -- bisection to
+    ``tol_mm``."""
+    import math
+
+    import numpy as np
+
+    in_screw = _classifier(screw)
+    tip, u = np.asarray(tip_xyz, dtype=float), np.asarray(up, dtype=float)
+    w1 = np.cross(u, [1.0, 0.0, 0.0] if abs(u[0]) < 0.9 else [0.0, 1.0, 0.0])
+    w1 /= np.linalg.norm(w1)
+    w2 = np.cross(u, w1)
+    p0 = tip + 0.3 * u
+    lo, hi = 0.0, 50.0
+    while hi - lo > tol_mm / 10:
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if in_screw(*(p0 + mid * w1)) else (lo, mid)
+    r = 0.95 * lo
+    ring = [r * (math.cos(a) * w1 + math.sin(a) * w2) for a in
+            (k * math.pi / 3 + 0.1 for k in range(6))]
+
+    def ring_in(h: float) -> bool:
+        return all(in_screw(*(tip + h * u + q)) for q in ring)
+
+    lo, hi = 0.3, 0.3
+    while ring_in(hi):
+        hi += 1.0
+    while hi - lo > tol_mm:
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if ring_in(mid) else (lo, mid)
+    return lo
+
+
 def tip_on_axis_mm(screw, part, d_mm: float, a0, u, inside_s: float,
                    tol_mm: float = 0.005) -> dict:
     """A threaded tip on the line ``a0 + s u`` (u unit), screwed in towards -u, measured from

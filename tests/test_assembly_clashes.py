@@ -348,3 +348,52 @@ def test_four_bar_cap_screws_engage_their_holes_in_the_step_file(name, tmp_root,
         assert tip_free, inst
         n += 1
     assert n >= 3 + 3 + 4 + 4 + 1  # hub, motor face, mount, leg screws and the post screw
+
+
+@pytest.mark.parametrize("name", ("hoeken", "roberts", "hoeken_light", "hoeken_paper"))
+def test_a4_pin_record_is_what_the_post_holds_in_the_step_file(name, tmp_root):
+    """The A4 pin read back from assembly.step: an ISO 7379 screw engages the post over the
+    length where both the post's wall surrounds it (``thread_in_part_mm``: a ring at d/2 +
+    0.3 mm inside the post, from the tip up) and the screw has thread (``thread_length_mm``:
+    from the tip, the screw's radius before the thinner relief); the record is that length
+    (to 0.01 mm), equal to the whole thread (the reamed bore ends where the relief ends) and
+    to the hole's stated minimum. A plain pin (dowel) is pressed its whole length in the post
+    hole. The hole is deeper than the tip."""
+    from step_pairs import _box, read_parts, thread_in_part_mm, thread_length_mm
+
+    from cad.design import load_design
+    from cad.parts import catalog
+
+    d = load_design(ROOT / "designs" / f"{name}.toml")
+    rep, out = _build(name, d, tmp_root)
+    parts = dict(read_parts(out / "assembly.step"))
+    x, h = rep["fasteners"]["pin_A4"], rep["tapped_holes"]["post_A4:top"]
+    pin = catalog.get_shoulder_screw(d.parts.pin)
+    dowel = catalog.is_dowel(d.parts.pin)
+    wall, tip_free = thread_in_part_mm(parts["pin_A4"], parts["post_A4"], pin.thread_mm,
+                                       0.0 if dowel else pin.dk_mm)
+    assert tip_free
+    if dowel:
+        assert x["engagement_mm"] == pytest.approx(wall, abs=0.01)
+        return
+    x0, y0, z0, x1, y1, _ = _box(parts["pin_A4"], tight=True).Get()
+    thread = thread_length_mm(parts["pin_A4"], (0.5 * (x0 + x1), 0.5 * (y0 + y1), z0), (0, 0, 1))
+    assert x["engagement_mm"] == pytest.approx(min(wall, thread), abs=0.01), (wall, thread)
+    assert wall == pytest.approx(thread, abs=0.02)  # the bore starts where the thread ends
+    assert h["min_engagement_mm"] == pytest.approx(thread, abs=0.02)
+    assert x["engagement_mm"] <= h["depth_mm"]
+
+
+def test_a4_pin_record_claiming_more_thread_than_the_screw_has_is_refused():
+    """The former record (b - 0.5 = 10.5 mm for M6, which counted the 2.5 mm relief as
+    thread) lies within the hole's depth window but not within the screw: refused."""
+    from cad.assembly.fasteners import Fastener, check_fasteners, shoulder_screw_hole
+    from cad.errors import DesignError
+
+    hole = shoulder_screw_hole("post_A4:top", "post_A4", "M6-1", 12.5)
+    ok = Fastener("ISO 7379", "M6-1", 12.0, ("rocker",), "post_A4:top", 8.5)
+    check_fasteners({"pin_A4": ok}, {hole.name: hole})
+    for bad in (10.5, 8.0):  # more thread than the screw has / less than all of it
+        f = Fastener("ISO 7379", "M6-1", 12.0, ("rocker",), "post_A4:top", bad)
+        with pytest.raises(DesignError, match="pin_A4"):
+            check_fasteners({"pin_A4": f}, {hole.name: hole})

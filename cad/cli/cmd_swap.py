@@ -7,7 +7,10 @@ convenient design of the revolute joints, the different straight line mechanisms
 be obtained by fabricating the adequate set of bars", Hoeken paper §III.A). Prints the
 old and new metrics side by side and writes the new design atomically (default: beside
 DESIGN as ``<stem>_<family>.toml``); never over DESIGN itself, and it says ``replaced``
-when the file existed (:func:`cad.io.outdir.check_out_file`). The layer planner (no CAD) runs on the new bar set;
+when the file existed (:func:`cad.io.outdir.check_out_file`). The build's pre-CAD layout
+check runs on the new bar set before anything is written (:func:`replan`): a copied
+``parts.layer_order`` that is not clear there is dropped (with a warning), and a bar set
+no layer order clears is refused (exit 2, the build's one-line error, nothing written).
 ``--build`` also builds it (and fails if anything collides).
 """
 
@@ -56,6 +59,34 @@ def swap_raw(design, family: str, out_path: Path) -> dict:
         f"(hapticad swap, stroke {stroke_of(design):.3f} mm)"
     )
     return rebase_paths(raw, design.source, out_path)
+
+
+def replan(raw: dict, target: Path, family: str):
+    """Parse the swapped ``raw`` and run the build's pre-CAD layout check on it
+    (:func:`cad.build.fourbar.check_layout`, at the design's ``[parts]`` fidelity), so a
+    swap never writes a design ``build`` refuses. A ``parts.layer_order`` copied from the
+    source that is not clear for the new bar set is dropped from ``raw`` (a warning on
+    stderr names it) and the planner chooses; when no layer order is clear the build's
+    one-line DesignError (naming the joint, both parts and the stroke that clears) is
+    raised: the CLI exits 2 and writes nothing."""
+    from cad.build.fourbar import check_layout
+    from cad.design import parse_design
+    from cad.design.bounds import warn
+    from cad.errors import DesignError
+
+    new = parse_design(raw, str(target))
+    try:
+        check_layout(new, new.parts.fidelity, False)
+        return new
+    except DesignError as e:
+        if e.field != "parts.layer_order":
+            raise
+    order = raw["parts"].pop("layer_order")
+    new = parse_design(raw, str(target))
+    check_layout(new, new.parts.fidelity, False)
+    warn(f"parts.layer_order: {', '.join(order)} (copied from the source) is not clear for "
+         f"the {family} bar set; dropped, the planner chooses the layer order")
+    return new
 
 
 def metric_rows(design) -> dict:
@@ -119,7 +150,7 @@ def register(app: typer.Typer) -> None:
         if out is not None:  # the written file names the design (and its build folder)
             raw["name"] = out.stem
         dropped = [k for k in (d.raw.get("targets") or {}) if k not in (raw.get("targets") or {})]
-        new = parse_design(raw, str(target))  # validates before anything is written
+        new = replan(raw, target, to)  # validates before anything is written
         import numpy as np
 
         phi = np.linspace(new.phi1_min_rad, new.phi1_max_rad, new.parts.interference_poses)

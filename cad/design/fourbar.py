@@ -88,15 +88,19 @@ class FourBarDesign:
     def hardware_gaps(self) -> list[tuple[str, float, float, float]]:
         """Links shorter than the joint hardware: ``(link, length_mm, bore_mm, seat_mm)``.
 
-        A bar carries a bearing seat (outside diameter D) or a pin hole (bore d) at each of
-        its two joints; below D the seats of one bar overlap, below d even the pin holes do.
+        The coupler and the rocker carry a bearing seat (outside diameter D) or a pin hole
+        (bore d) at each of their two joints; below D two seats of one bar can overlap, below d
+        even the pin holes do. The crank has the hub at A1 and one joint (A2), never two
+        seats: it is listed only below the pin bore; whether the A2 hardware clears the hub
+        is the layer planner's check (:func:`cad.build.fourbar.check_layout`, before CAD).
         """
         from cad.parts.catalog import get_bearing
 
         brg = get_bearing(self.parts.bearing, "parts.bearing")
         fb = self.linkage
-        lengths = (("l1_mm", fb.l1_mm), ("l2_mm", fb.l2_mm), ("l3_mm", fb.l3_mm))
-        return [(k, v, brg.d_mm, brg.D_mm) for k, v in lengths if v < brg.D_mm]
+        lengths = (("l1_mm", fb.l1_mm, brg.d_mm), ("l2_mm", fb.l2_mm, brg.D_mm),
+                   ("l3_mm", fb.l3_mm, brg.D_mm))
+        return [(k, v, brg.d_mm, brg.D_mm) for k, v, lim in lengths if v < lim]
 
     def _hardware_text(self, gaps: list[tuple[str, float, float, float]]) -> str:
         from cad.design.bounds import LINK_MM, STROKE_MM
