@@ -125,7 +125,7 @@ def register(app: typer.Typer) -> None:
         from cad.assembly.pose import planar_transforms
         from cad.cli import flags
         from cad.cli.cmd_swap import SWAP_FAMILIES
-        from cad.design import load_design, parse_design
+        from cad.design import load_design
         from cad.design.fourbar import FourBarDesign
         from cad.design.writer import dropped_targets_note
         from cad.errors import DesignError
