@@ -146,7 +146,7 @@ def size_cap_screw(
             field,
             f"{joint}: no {size} x L screw (catalog {', '.join(f'{x:g}' for x in cs.lengths_mm)}) "
             f"clamps {clamp_mm:g} mm with {_window(hole.min_engagement_mm, hole.depth_mm)} of "
-            f"thread in {hole.name} (need L {_window(lo, hi)})",
+            f"thread in {hole.name} (need L {'in ' if hi < float('inf') else ''}{_window(lo, hi)})",
         )
     return L, L - clamp_mm
 
