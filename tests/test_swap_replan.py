@@ -68,13 +68,12 @@ def test_swap_product_passes_the_build_gate_or_swap_refuses(src, family, tmp_pat
             check_layout(plain, plain.parts.fidelity, False)
 
 
-def test_dropped_layer_order_product_has_no_overlapping_solids(tmp_path):
+def test_dropped_layer_order_product_builds_with_no_overlap(tmp_path):
     """hoeken_light (layer_order crank, coupler, rocker) to roberts: the copied order clashes
-    for the roberts bars (the build used to refuse the written file at the layout gate);
-    swap drops it, and the written file, built at preview fidelity, has no two solids sharing
-    volume, read back from disk. (Its 3-D sweep still reports a zero-distance contact of the
-    coupler with the A4 pin at the stroke end, phi1 = 37 deg, which the build refuses without
-    --allow-interference: a layer-planner gap, not a swap one.)"""
+    for the roberts bars (the build used to refuse the written file); swap drops it, and the
+    written file builds at preview fidelity -- the exact sweep included: the A4 screw head
+    under the coupler is kept ``clearance_min_mm`` below it, where it used to touch -- with no
+    two solids sharing volume, read back from disk."""
     from step_pairs import clashes
 
     from cad.build import build_design
@@ -87,7 +86,7 @@ def test_dropped_layer_order_product_has_no_overlapping_solids(tmp_path):
     assert "parts.layer_order: crank, coupler, rocker" in err
     d = load_design(out)
     assert d.parts.layer_order is None
-    rep = build_design(d, tmp_path / "b", {"step"}, fidelity="preview", use_cache=False,
-                       allow_interference=True)
+    rep = build_design(d, tmp_path / "b", {"step"}, fidelity="preview", use_cache=False)
     assert rep["overlap_volume_mm3"] == 0.0
+    assert rep["min_clearance_mm"] >= d.parts.clearance_min_mm - 1e-6
     assert clashes(tmp_path / "b" / "assembly.step") == []

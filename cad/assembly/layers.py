@@ -95,7 +95,10 @@ class JointStack:
 class Element:
     """A rounded convex hull of ``points_mm`` (k<=3, body frame) grown by ``radius_mm``,
     over ``z_mm`` = (lo, hi), carried by ``body``; ``anchor`` is the layer level it moves
-    with when gaps change (None: it spans layers or is fixed to the ground)."""
+    with when gaps change (None: it spans layers or is fixed to the ground). ``z_margin_mm``:
+    hardware standing proud of its layer (screw heads, washer + nut, the handle) is checked
+    in plan against another body's element also when their z intervals are less than this
+    apart (``clearance_min_mm``: the 3-D sweep needs that much, touching is a contact)."""
 
     label: str
     body: str
@@ -103,6 +106,7 @@ class Element:
     radius_mm: float
     z_mm: tuple[float, float]
     anchor: int | None = None
+    z_margin_mm: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -203,7 +207,8 @@ def world_points(el: Element, tf_world_body: dict[str, np.ndarray]) -> np.ndarra
 
 def planar_clearances(elements, tf_world_body) -> list[tuple[float, Element, Element]]:
     """(min planar clearance over the poses, element a, element b) for every pair of elements
-    whose z intervals overlap: elements of different bodies over the poses, elements of one
+    whose z intervals overlap (or, for two bodies, lie less than the larger ``z_margin_mm``
+    apart): elements of different bodies over the poses, elements of one
     body once (they keep their distance; they only must not overlap, see
     :func:`required_clearance_mm`)."""
     out = []
@@ -212,7 +217,8 @@ def planar_clearances(elements, tf_world_body) -> list[tuple[float, Element, Ele
     wp: dict[int, np.ndarray] = {}
     for i, j in itertools.combinations(range(len(elements)), 2):
         a, b = elements[i], elements[j]
-        if min(a.z_mm[1], b.z_mm[1]) - max(a.z_mm[0], b.z_mm[0]) <= 1e-9:
+        margin = max(a.z_margin_mm, b.z_margin_mm) if a.body != b.body else 0.0
+        if min(a.z_mm[1], b.z_mm[1]) - max(a.z_mm[0], b.z_mm[0]) <= -margin + 1e-9:
             continue
         key = (digest[a.body], np.asarray(a.points_mm, dtype=float).tobytes(),
                digest[b.body], np.asarray(b.points_mm, dtype=float).tobytes())
@@ -477,6 +483,7 @@ def plan_for_order(
     els: list[Element] = []
 
     def add(label, body, pts, r, zlo, zhi, anchor):
+        proud = any(w in label for w in ("screw head", "washer+nut", "handle"))
         els.append(
             Element(
                 label,
@@ -485,6 +492,7 @@ def plan_for_order(
                 float(r),
                 (float(zlo), float(zhi)),
                 anchor,
+                parts.clearance_min_mm if proud else 0.0,
             )
         )
 
