@@ -235,9 +235,10 @@ _PARTS = {
         "turned; thread {pt} x {pl:g} (tip)",
         True,
     ),
-    "pm_magnet": ("NdFeB block magnet", "bought", False),
+    "pm_magnet": ("NdFeB block magnet, bonded (structural epoxy) to its iron plate or the core",
+                  "bought", False),
     "pm_iron_plate": (
-        "outer back-iron plate (2 magnets each), fixed to the housing wall",
+        "outer back-iron plate (2 magnets each), bonded (structural epoxy) to the housing wall",
         "machined",
         True,
     ),
@@ -663,7 +664,8 @@ def _motion(design, g, inst, fidelity):
     from cad.actuators import powermouse as pm
     from cad.parts import powermouse as pp
 
-    poses = None
+    poses = pm.workspace_poses(design.motion.range_mm, design.motion.range_deg)
+    poses += pp.combined_poses(g)  # translation + rotation: the handle's and post's worst
     if fidelity != "fabrication":
         poses = [
             p
@@ -687,12 +689,15 @@ def _raise_on_overlap(design, itf, cl, allow: bool) -> None:
             f"{c['parts'][0]} / {c['parts'][1]} overlap {c['overlap_volume_mm3']:.3f} mm^3 at the "
             f"centre pose; {len(itf['collisions'])} overlapping pair(s) (use --allow-interference)"
         )
-    if min(cl.nominal_mm, cl.translation_mm, cl.rotation_mm) < 0:
+    if min(x for x in (cl.nominal_mm, cl.translation_mm, cl.rotation_mm, cl.combined_mm)
+           if x == x) < 0:  # nan: not checked
         bad = [k for k, v in cl.poses.items() if v[0] < 0]
+        pair = f": {cl.poses[bad[0]][1]}" if bad else ""
         raise InterferenceError(
             f"flotor overlaps the stator at {len(bad)} pose(s) of the +-{design.motion.range_mm:g} mm / "
-            f"+-{design.motion.range_deg:g} deg range (e.g. {bad[0] if bad else 'centre'}); "
-            "enlarge actuator.rattle_mm or flotor.corner_hole_mm, or pass --allow-interference"
+            f"+-{design.motion.range_deg:g} deg range (e.g. {bad[0] if bad else 'centre'}{pair}); "
+            "enlarge actuator.rattle_mm or reduce motion.range_mm / range_deg, or pass "
+            "--allow-interference"
         )
 
 
@@ -768,12 +773,15 @@ def _report(
             "rotation_mm": cl.rotation_mm,
             "worst_translation": cl.worst_translation,
             "worst_rotation": cl.worst_rotation,
+            "combined_mm": None if cl.combined_mm != cl.combined_mm else cl.combined_mm,
+            "worst_combined": cl.worst_combined,
             "poses_checked": len(cl.poses),
             "range_mm": design.motion.range_mm,
             "range_deg": design.motion.range_deg,
             "poses": {k: {"clearance_mm": v[0], "closest": v[1]} for k, v in cl.poses.items()},
         },
-        "min_clearance_mm": min(cl.nominal_mm, cl.translation_mm, cl.rotation_mm),
+        "min_clearance_mm": min(x for x in (cl.nominal_mm, cl.translation_mm, cl.rotation_mm,
+                                            cl.combined_mm) if x == x),  # nan: not checked
         "paper_table4": PAPER_TABLE4,
         "bom": bom,
         "rig_bom": rig_bom,
@@ -791,6 +799,12 @@ def _report(
             "seats on the core's flat, locked by the collar's set screw; housing lid on with four M3 screws "
             "into the side walls; handle stem through the lid's corner hole into the flotor's corner socket, "
             "its M4 tip screwed into the corner boss (fasteners, tapped_holes).",
+            "Finding the core's tapped hole: hold the housing with its (-,-,-) corner down (the diagonal "
+            "vertical). The flotor then rests on the three lower outer magnet groups and the core on the "
+            "flotor's three lower walls, each moved d_r/2 on every axis, i.e. along the diagonal: the "
+            "post's tip meets the core's hole on its axis. Screw it in until its shoulder seats, draw the "
+            "post out until its end is flush with the collar's end (the core is then centred), tighten "
+            "the set screw. Magnets and iron plates are bonded (structural epoxy).",
             "rig/ holds the single-actuator test rig of Fig. 7 (one coil between two magnet pairs): a bench "
             "fixture to measure one actuator's force against eq (8), not part of the PowerMouse.",
             "Clearances over the motion range: fcl mesh distances at every pose, exact OCCT where the mesh "
@@ -808,8 +822,9 @@ def _md_rows(r: dict) -> list[tuple[str, str]]:
         ("peak force (N), paper", f"{r['peak_force_N']:.1f}, {PAPER_TABLE4['peak_force_N']:g}"),
         ("peak acceleration (G)", f"{r['peak_acceleration_G']:.2f}"),
         (
-            "clearance centre / translations / rotations (mm)",
-            f"{c['nominal_mm']:.3f} / {c['translation_mm']:.3f} / {c['rotation_mm']:.3f}",
+            "clearance centre / translations / rotations / combined (mm)",
+            f"{c['nominal_mm']:.3f} / {c['translation_mm']:.3f} / {c['rotation_mm']:.3f} / "
+            + ("–" if c["combined_mm"] is None else f"{c['combined_mm']:.3f}"),
         ),
         (
             "solids / pairs checked exactly at the centre",
