@@ -397,3 +397,33 @@ def test_a4_pin_record_claiming_more_thread_than_the_screw_has_is_refused():
         f = Fastener("ISO 7379", "M6-1", 12.0, ("rocker",), "post_A4:top", bad)
         with pytest.raises(DesignError, match="pin_A4"):
             check_fasteners({"pin_A4": f}, {hole.name: hole})
+
+
+@pytest.mark.parametrize("name", ("hoeken", "roberts", "hoeken_light"))
+def test_a2_a3_nut_records_are_the_thread_inside_the_nut_in_the_step_file(name, tmp_root):
+    """The A2/A3 pins read back from assembly.step: the recorded engagement (the nut height;
+    a plain pin's lower DIN 471 ring: its thickness) is the length along the axis where the
+    nut (its z extent, material at d/2 + 0.3 mm) and the screw's thread (from the tip, before
+    the thinner relief: ``thread_length_mm``; a plain pin: all of it) overlap, to 0.01 mm."""
+    from step_pairs import _box, _classifier, read_parts, thread_length_mm
+
+    from cad.design import load_design
+    from cad.parts import catalog
+
+    d = load_design(ROOT / "designs" / f"{name}.toml")
+    rep, out = _build(name, d, tmp_root)
+    parts = dict(read_parts(out / "assembly.step"))
+    pin = catalog.get_shoulder_screw(d.parts.pin)
+    for j in ("A2", "A3"):
+        x = rep["fasteners"][f"pin_{j}"]
+        assert x["hole"] == f"nut_{j}"
+        x0, y0, z0, x1, y1, z1 = _box(parts[f"pin_{j}"], tight=True).Get()
+        cx, cy = 0.5 * (x0 + x1), 0.5 * (y0 + y1)
+        thread_top = z0 + (z1 - z0 if catalog.is_dowel(d.parts.pin)
+                           else thread_length_mm(parts[f"pin_{j}"], (cx, cy, z0), (0, 0, 1)))
+        n0, n1 = _box(parts[f"nut_{j}"], tight=True).Get()[2::3]
+        in_nut = _classifier(parts[f"nut_{j}"])
+        assert in_nut(cx + pin.thread_mm / 2 + 0.3, cy, 0.5 * (n0 + n1))  # the nut holds it
+        engaged = min(n1, thread_top) - max(n0, z0)
+        assert x["engagement_mm"] == pytest.approx(engaged, abs=0.01), (j, engaged)
+        assert n0 > z0  # the tip stands out below the nut
