@@ -434,26 +434,42 @@ def flush(stream=None) -> None:
     _printed = len(_warnings)
 
 
-#: a limit an error message states for its field: "use edge_mm >= 45.6", "need >= 5.3 mm",
-#: "must be <= 0.3" (the value the user typed is checked against it for a unit slip).
-_LIMIT = re.compile(r"(?:\buse [\w.]+|\bneed|\bmust be|\bat least)\s*(>=|<=|>|<)\s*"
-                    r"(-?\d+(?:\.\d*)?(?:[eE][-+]?\d+)?)(?![\w./])")
+#: a limit an error message states: for its own field ("need >= 5.3 mm", "must be <= 0.3")
+#: or for a key it names ("use edge_mm >= 45.6", "raise actuator.rattle_mm to >= 6"); the
+#: value the user typed is checked against it for a unit slip.
+_NUM = r"\s*(>=|<=|>|<)\s*(-?\d+(?:\.\d*)?(?:[eE][-+]?\d+)?)(?![\w./])"
+_OWN_LIMIT = re.compile(r"(?:\bneed|\bmust be|\bat least)" + _NUM)
 _OPS = {">=": lambda a, b: a >= b, "<=": lambda a, b: a <= b,
         ">": lambda a, b: a > b, "<": lambda a, b: a < b}
 _FIELD_PREFIX = re.compile(r"^([A-Za-z_-][\w.\-]*):\s")
 
 
+def _limits(field: str, message: str, own: bool) -> list[tuple[Any, float]]:
+    """The limits ``message`` states for ``field`` (``own``: it is the error's field)."""
+    names = {field, field.rsplit(".", 1)[-1]}
+    found = [m for n in names
+             for m in re.findall(r"(?<![\w.])" + re.escape(n) + r"\s+(?:to\s+)?" + _NUM, message)]
+    if own:
+        found += _OWN_LIMIT.findall(message)
+    return [(_OPS[op], float(n)) for op, n in found]
+
+
 def _limit_hint(field: str | None, message: str) -> str:
-    """The unit slip that makes the value typed for ``field`` meet every limit ``message``
-    states (``"; did you give cm? (6.4 cm = 64 mm)"``), else ``""``."""
-    rec = _values.get(field or "")
-    limits = [(_OPS[op], float(n)) for op, n in _LIMIT.findall(message)]
-    if rec is None or not limits:
-        return ""
-    v, bound = rec
-    if all(f(v, n) for f, n in limits):  # the limits are not about this value
-        return ""
-    return bound.slip_hint(v, ok=lambda w: all(f(w, n) for f, n in limits))
+    """The unit slip that makes a value the user typed meet every limit ``message`` states
+    for it (``"; did you give cm? (6.4 cm = 64 mm)"``; for another key than ``field``:
+    ``"; actuator.rattle_mm = 0.6: did you give cm? (...)"``), else ``""``."""
+    named = [k for k in _values if k == field or (k in message and k != field)]
+    for key in sorted(named, key=lambda k: k != field):
+        rec, limits = _values[key], _limits(key, message, key == field)
+        if rec is None or not limits:
+            continue
+        v, bound = rec
+        if all(f(v, n) for f, n in limits):  # the limits are not about this value
+            continue
+        hint = bound.slip_hint(v, ok=lambda w, lim=limits: all(f(w, n) for f, n in lim))
+        if hint:
+            return hint if key == field else f"; {key} = {v:g}:{hint[1:]}"
+    return ""
 
 
 def error_line(message: str, field: str | None = None) -> str:
