@@ -483,7 +483,7 @@ def error_line(message: str, field: str | None = None) -> str:
       45.6" with 6.4 typed: "did you give cm?"), or that warning's reason;
     * else ``"; note: <key> = <value> looks like metres (...)"`` for the implausible value most
       likely involved (its key named in the message, else one with a unit slip, else the
-      first), naming any others.
+      first), naming any others; with no implausible value, the run's first other warning.
 
     The implausible-value warnings count as reported: the CLI prints no warning line on exit 2.
     """
@@ -500,8 +500,10 @@ def error_line(message: str, field: str | None = None) -> str:
         return message + hint
     if own is not None:
         return f"{message}; note: {own.note()}"
-    if not records:
-        return message
+    if not records:  # another warning of this run (e.g. a link shorter than its hardware)
+        rest = [w for w in _warnings if w not in message]
+        more = f" (and {len(rest) - 1} more warning(s))" if len(rest) > 1 else ""
+        return f"{message}; note: {rest[0]}{more}" if rest else message
     key = [r for r in records if r.field.rsplit(".", 1)[-1] in message]
     slip = [r for r in records if r.bound.slip_hint(r.value)]
     best = (key or slip or records)[0]
