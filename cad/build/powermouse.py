@@ -218,7 +218,8 @@ _PARTS = {
         "CNC milled",
         True,
     ),
-    "pm_coil": ("flat racetrack coil, wound and potted into its pocket", "wound, potted", True),
+    "pm_coil": ("flat racetrack coil, wound and potted into its pocket (mass: the conductor, "
+                "eta_pack x copper; the potting is not weighed)", "wound, potted", True),
     "pm_handle": (
         "handle: stem in the flotor's (+,+,+) corner socket, shoulder on the corner boss, "
         "{ht} tip screwed into it; spherical knob",
