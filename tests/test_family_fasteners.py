@@ -24,7 +24,8 @@ from step_pairs import radial_screw_mm, read_parts, thread_in_part_mm
 FAMILIES = ("pantograph", "twin-pantograph", "powermouse")
 
 
-def _refused_before_cad(monkeypatch, tmp_path, design: str, table: str, **changes) -> str:
+def _refused_before_cad(monkeypatch, tmp_path, design: str, table: str, also=None,
+                        **changes) -> str:
     """Build ``designs/<design>`` with ``[table]`` fields replaced by ``changes`` while any
     CAD import fails the test; return the DesignError text (one line) and check that no
     output folder was created."""
@@ -36,7 +37,8 @@ def _refused_before_cad(monkeypatch, tmp_path, design: str, table: str, **change
     from cad.errors import DesignError
 
     d = load_design(Path(__file__).resolve().parents[1] / "designs" / design)
-    d = dataclasses.replace(d, **{table: dataclasses.replace(getattr(d, table), **changes)})
+    for t, ch in {table: changes, **(also or {})}.items():
+        d = dataclasses.replace(d, **{t: dataclasses.replace(getattr(d, t), **ch)})
     monkeypatch.setattr(li, "import_build123d", lambda: pytest.fail("CAD imported"))
     with pytest.raises(DesignError) as e:
         build_design(d, tmp_path / "o", {"step"})
@@ -50,7 +52,8 @@ def _expected_counts(fam: str, d) -> dict[str, int]:
 
     if fam == "powermouse":
         # one per side wall, housing and flotor; the post's set screw; two turned tips
-        return {"lid_screw": 4, "flotor_lid_screw": 4, "set_screw": 1, "handle": 1, "post": 1}
+        return {"lid_screw": 4, "flotor_lid_screw": 4, "set_screw": 1, "handle": 1, "post": 1,
+                "leg_screw": 4}
     stations = 2 if fam == "twin-pantograph" else 1  # motors under the base, on the bridge
     m = catalog.get_motor(d.parts.motor)
     out = {
@@ -79,7 +82,7 @@ def _clamp_mm(fam: str, d, group: str, rep: dict) -> float:
     return {
         # the flotor lid is a wall of the coil's thickness d_c = d - d_r
         "flotor_lid_screw": lambda: rep["actuator"]["gap_mm"] - d.actuator.rattle_mm,
-        "leg_screw": lambda: p.plate_thickness_mm,
+        "leg_screw": lambda: d.stator.housing_wall_mm if p is None else p.plate_thickness_mm,
         "post_screw": lambda: p.plate_thickness_mm,
         "mount_screw": lambda: p.motor_mount_thickness_mm,
         "motor_screw": lambda: p.motor_mount_thickness_mm,
@@ -168,7 +171,9 @@ def test_powermouse_bom_states_the_lid_screw_holes(family_builds):
         assert f"tap {size.split('-')[0]} x{len(f)}" in rows[part]["process"]
         (L,) = {x["length_mm"] for x in f.values()}
         screw = rows[f"cap_screw_{size}x{L:g}"]
-        assert screw["made_or_bought"] == "bought" and int(screw["quantity"]) == len(f)
+        same = [x for x in rep["fasteners"].values()  # the legs' screws may share the kind
+                if (x["kind"], x["size"], x["length_mm"]) == ("ISO 4762", size, L)]
+        assert screw["made_or_bought"] == "bought" and int(screw["quantity"]) == len(same)
         assert f"ISO 4762 {size} x {L:g}" in screw["description"]
 
 
@@ -276,8 +281,11 @@ def test_thin_flotor_wall_is_refused_before_cad(tmp_path, monkeypatch):
 
 
 def test_flotor_lid_tap_drill_into_a_coil_pocket_is_refused_before_cad(tmp_path, monkeypatch):
-    """edge 62 mm (optimum gap ~10.8, d_c ~4.8): the 8 mm tap drills would end at
+    """edge 62 mm (optimum gap ~10.8, d_c ~4.8; a 6 mm post so that its corner hole fits): the
+    8 mm tap drills would end at
     z = 31 - 4.8 - 8 = 18.2 mm, within 0.75 mm of the +-x coil pockets (l_m/2 + w_m = 18)."""
-    msg = _refused_before_cad(monkeypatch, tmp_path, "powermouse.toml", "flotor", edge_mm=62.0)
+    msg = _refused_before_cad(monkeypatch, tmp_path, "powermouse.toml", "flotor", edge_mm=62.0,
+                              also={"stator": {"post_diameter_mm": 6.0}},  # a hole that fits
+                              corner_hole_mm=24.0)
     assert msg.startswith("flotor.edge_mm: the flotor lid screws' 8 mm tap drills")
     assert "(z <= 18 mm)" in msg

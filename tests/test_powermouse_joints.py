@@ -13,6 +13,7 @@ lengths read from its CSV; and the solids re-read from ``assembly.step`` with OC
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -114,3 +115,146 @@ def test_thin_handle_or_post_is_refused_before_cad(tmp_path, monkeypatch):
     msg = _refused_before_cad(monkeypatch, tmp_path / "b", "powermouse.toml", "stator",
                               post_diameter_mm=5.0)
     assert msg.startswith("stator.post_diameter_mm: 5 mm leaves no shoulder"), msg
+
+
+# ------------------------------------------------------------ corner holes over the motion
+
+
+@pytest.fixture(scope="module")
+def geo():
+    from cad.build.powermouse import _gap_mm
+    from cad.design import load_design
+    from cad.parts import powermouse as pp
+
+    d = load_design(Path(__file__).resolve().parents[1] / "designs" / "powermouse.toml")
+    return d, pp.geometry(d, _gap_mm(d))
+
+
+def _lp_excursion(g, s_mm, Rs, n_e=36) -> float:
+    """Second method for the excursion bound: for each rotation, a linear program (scipy
+    HiGHS) per direction e perpendicular to the diagonal maximizes e.(t + (R - I) q) over
+    the translations that keep every magnet-footprint corner on the right side of the
+    flotor's moved faces (constraints written here from the design's numbers)."""
+    from scipy.optimize import linprog
+
+    from cad.actuators.powermouse import coil_layout
+
+    a, dc, d, w, lm = (g.coil_plane_half_mm, g.coil_width_mm, g.gap_mm, g.magnet_width_mm,
+                       g.magnet_length_mm)
+    best = 0.0
+    e1 = np.cross(U, [1.0, 0.0, 0.0])
+    e1 /= np.linalg.norm(e1)
+    es = [math.cos(x) * e1 + math.sin(x) * np.cross(U, e1)
+          for x in np.linspace(0, 2 * math.pi, n_e, endpoint=False)]
+    for R in Rs:
+        A, b = [], []
+        for c in coil_layout(a):
+            n, nn = c.normal, R @ c.normal
+            for sx in (-1, 1):
+                for sy in (-1, 1):
+                    p = c.centre_mm + c.R_flotor_act @ (sx * w, sy * lm / 2, 0.0)
+                    A.append(nn)  # outer: nn.(m - t) >= a + dc/2
+                    b.append(nn @ (p + n * d / 2) - (a + dc / 2))
+                    A.append(-nn)  # inner: nn.(m - t) <= a - dc/2
+                    b.append((a - dc / 2) - nn @ (p - n * d / 2))
+        rot = R @ (s_mm * U) - s_mm * U
+        for e in es:
+            r = linprog(-e, A_ub=np.array(A), b_ub=np.array(b), bounds=[(-g.range_mm, g.range_mm)] * 3,
+                        method="highs")
+            assert r.status == 0
+            best = max(best, float(e @ (r.x + rot)))
+    return best
+
+
+def test_excursion_bound_holds_against_linear_programs(geo):
+    """The vertex bound is never exceeded by an LP optimum over 60 random rotations up to
+    5 deg (plus the bound's own worst rotation, which the LP must reach to 1e-6)."""
+    from cad.actuators.powermouse import diagonal_excursion_mm, rot_about
+
+    d, g = geo
+    s = (g.housing_inner_half_mm + g.housing_wall_mm) * math.sqrt(3.0)
+    x = diagonal_excursion_mm(g.coils(), g.magnet_width_mm, g.magnet_length_mm, g.gap_mm,
+                              g.coil_width_mm, g.range_mm, g.range_deg, s)
+    rng = np.random.default_rng(7)
+    Rs = [rot_about(rng.normal(size=3), math.radians(5.0) * rng.uniform() ** 0.3)
+          for _ in range(60)]
+    assert _lp_excursion(g, s, Rs) <= x.excursion_mm + 1e-6
+    assert _lp_excursion(g, s, [x.R], n_e=720) == pytest.approx(x.excursion_mm, abs=0.05)
+
+
+def test_tester_poses_are_clear_and_the_worst_pose_only_touches(geo):
+    """Poses where the 24 mm housing hole used to be struck by the stem while the coils
+    were clear (measured by an independent check: -5 deg about (1,-1,0) with t = (1,1,-1)
+    mm; +5 deg about (1,0,-1) with (1,-1,1); -5 deg about (1,-1,0) with (0,0,-1)) are clear
+    now; at the bound's worst pose for the handle and the post, read exactly with OCCT, the
+    coils touch their magnets (the stop, 0 mm) and nothing overlaps."""
+    from cad.actuators.powermouse import diagonal_excursion_mm, rot_about
+    from cad.parts import powermouse as pp
+
+    d, g = geo
+    th = math.radians(5.0)
+    poses = [("a", rot_about((1, -1, 0), -th), np.array([1.0, 1.0, -1.0])),
+             ("b", rot_about((1, 0, -1), th), np.array([1.0, -1.0, 1.0])),
+             ("c", rot_about((1, -1, 0), -th), np.array([0.0, 0.0, -1.0]))]
+    Ho = g.housing_inner_half_mm + g.housing_wall_mm
+    for name, s in (("h", Ho * math.sqrt(3.0)), ("p", g.flotor_edge_mm / 2 * math.sqrt(3.0))):
+        x = diagonal_excursion_mm(g.coils(), g.magnet_width_mm, g.magnet_length_mm, g.gap_mm,
+                                  g.coil_width_mm, g.range_mm, g.range_deg, s)
+        poses.append((name, x.R, x.t_mm))
+    c = pp.motion_clearances(g, g.range_mm, g.range_deg, pp.flotor_solids(g),
+                             pp.stator_solids(g), poses)
+    for k in "abc":
+        assert c.poses[k][0] > 0.5, (k, c.poses[k])
+    for k in "hp":
+        assert c.poses[k][0] == pytest.approx(0.0, abs=2e-3), (k, c.poses[k])
+
+
+@pytest.mark.parametrize(
+    "table, changes, start, needle",
+    [
+        ("handle", {"diameter_mm": 300.0}, "handle.diameter_mm: 300 mm: its 304 mm boss", "<="),
+        ("handle", {"knob_diameter_mm": 5.0}, "handle.knob_diameter_mm: 5 mm is no knob", ">= 12"),
+        ("handle", {"length_mm": 0.5}, "handle.length_mm: 0.5 mm: the 24 mm knob", ">="),
+        ("flotor", {"corner_hole_mm": 22.0}, "flotor.corner_hole_mm: 22 mm: the 8 mm post moves",
+         ">= 25.6"),
+        ("stator", {"post_diameter_mm": 21.9}, "stator.post_diameter_mm: 21.9 mm", "<="),
+    ],
+)
+def test_powermouse_limits_are_refused_before_cad(tmp_path, monkeypatch, table, changes, start,
+                                                 needle):
+    msg = _refused_before_cad(monkeypatch, tmp_path, "powermouse.toml", table, **changes)
+    assert msg.startswith(start) and needle in msg, msg
+
+
+def test_powermouse_stands_on_its_legs(pm):
+    """Read back: the four legs' feet are the lowest points, coplanar; everything else (the
+    post's collar first) stands at least 2 mm above them; the device's centre of mass (solid
+    volumes x material densities) lies inside the legs' support polygon."""
+    from OCP.Bnd import Bnd_Box
+    from OCP.BRepBndLib import BRepBndLib
+    from OCP.BRepGProp import BRepGProp
+    from OCP.GProp import GProp_GProps
+
+    from cad.materials import get_material
+
+    d, rep, parts = pm
+    low, m, mx = {}, 0.0, np.zeros(3)
+    for name, solids in parts.items():
+        for s in solids:
+            b = Bnd_Box()
+            BRepBndLib.AddOptimal_s(s, b, False)
+            low[name] = min(low.get(name, math.inf), b.CornerMin().Z())
+            g = GProp_GProps()
+            BRepGProp.VolumeProperties_s(s, g)
+            rho = get_material(rep["part_materials"][name]).density_kg_m3
+            c = g.CentreOfMass()
+            m, mx = m + rho * g.Mass(), mx + rho * g.Mass() * np.array([c.X(), c.Y(), c.Z()])
+    feet = [low[f"leg_{k}"] for k in range(1, 5)]
+    assert max(feet) - min(feet) < 1e-6
+    others = {k: v for k, v in low.items() if not k.startswith("leg_")}
+    lowest_other = min(others, key=others.get)
+    assert others[lowest_other] - feet[0] == pytest.approx(2.0, abs=1e-3), lowest_other
+    assert lowest_other in ("housing_body", "post")
+    com = mx / m
+    r = rep["geometry_mm"]["housing_inner_half_mm"] + d.stator.housing_wall_mm - 9.0
+    assert abs(com[0]) + abs(com[1]) < r - 5.0, com  # inside the diamond of the 4 mid-side feet

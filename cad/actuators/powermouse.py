@@ -415,3 +415,92 @@ def workspace_poses(range_mm: float, range_deg: float, *, combined: bool = False
                                 )
                             )
     return poses
+
+
+@dataclass(frozen=True)
+class Excursion:
+    """Largest lateral excursion of a point of the diagonal (1,1,1)/sqrt3 over the motion
+    the coil gaps allow (:func:`diagonal_excursion_mm`): ``excursion_mm`` and the pose that
+    gives it, ``R`` (3x3, about the cube centre) and ``t_mm``."""
+
+    excursion_mm: float
+    R: np.ndarray
+    t_mm: np.ndarray
+
+
+def _fibonacci_sphere(n: int) -> np.ndarray:
+    i = np.arange(n) + 0.5
+    phi, ga = np.arccos(1 - 2 * i / n), np.pi * (1 + 5**0.5) * i
+    return np.stack([np.cos(ga) * np.sin(phi), np.sin(ga) * np.sin(phi), np.cos(phi)], 1)
+
+
+def _rotations(range_deg: float, n_dirs: int, n_steps: int) -> np.ndarray:
+    """Rotation matrices ``(n_dirs * n_steps, 3, 3)`` about Fibonacci-sphere axes through
+    the cube centre, angles 0..range_deg (Rodrigues)."""
+    ax = _fibonacci_sphere(n_dirs)
+    ang = np.repeat(np.deg2rad(range_deg) * np.linspace(0.0, 1.0, n_steps), n_dirs)
+    k = np.tile(ax, (n_steps, 1))
+    K = np.zeros((len(k), 3, 3))
+    K[:, 0, 1], K[:, 0, 2], K[:, 1, 2] = -k[:, 2], k[:, 1], -k[:, 0]
+    K -= K.transpose(0, 2, 1)
+    s, c = np.sin(ang)[:, None, None], np.cos(ang)[:, None, None]
+    return np.eye(3) + s * K + (1 - c) * K @ K
+
+
+def gap_vertices_mm(coils, magnet_width_mm, magnet_length_mm, gap_mm, coil_width_mm, Rs):
+    """Vertices ``(len(Rs), 8, 3)`` (mm) of the translations the coil gaps allow with each
+    rotation of ``Rs`` (about the cube centre): the flotor's outer face of each coil
+    (n.x = a + d_c/2) must stay inside the outer magnets' inner faces and its inner face
+    (a - d_c/2) outside the inner magnets' (n.x = a -+ d/2), at the corners of the magnets'
+    footprint (+-w_m, +-l_m/2 in the coil frame), with the face normal n' = R n exactly. For
+    a fixed R those are pairs of parallel planes per axis, so the allowed set is a
+    parallelepiped: its 8 corners are returned (exact for flat faces against the magnets)."""
+    a = coils[0].centre_mm @ coils[0].normal
+    up, inn = {}, {}
+    for c in coils:
+        n = c.normal
+        corners = [c.centre_mm + c.R_flotor_act @ (sx * magnet_width_mm, sy * magnet_length_mm / 2, 0)
+                   for sx in (-1, 1) for sy in (-1, 1)]
+        out_m = np.array([p + n * gap_mm / 2 for p in corners])
+        in_m = np.array([p - n * gap_mm / 2 for p in corners])
+        nn = Rs @ n  # (N, 3)
+        up[c.face] = (nn @ out_m.T).min(axis=1) - (a + coil_width_mm / 2)
+        inn[c.face] = (a - coil_width_mm / 2) - (nn @ in_m.T).max(axis=1)
+    U = np.stack([np.minimum(up[f"+{x}"], inn[f"-{x}"]) for x in "xyz"], 1)
+    L = np.stack([np.minimum(up[f"-{x}"], inn[f"+{x}"]) for x in "xyz"], 1)
+    N = Rs.transpose(0, 2, 1)  # rows: R e_x, R e_y, R e_z
+    Ninv = np.linalg.inv(N)
+    signs = np.array([[sx, sy, sz] for sx in (0, 1) for sy in (0, 1) for sz in (0, 1)])
+    v = np.where(signs[None, :, :] == 1, U[:, None, :], -L[:, None, :])  # (N, 8, 3)
+    return np.einsum("nij,nkj->nki", Ninv, v)
+
+
+def diagonal_excursion_mm(coils, magnet_width_mm, magnet_length_mm, gap_mm, coil_width_mm,
+                          range_mm, range_deg, s_mm, backoff_mm: float = 0.0,
+                          n_dirs: int = 1500, n_steps: int = 11) -> Excursion:
+    """Largest distance from the diagonal (1,1,1)/sqrt3 of the flotor's point ``s_mm`` along
+    it (mm), over every pose the coil gaps allow (:func:`gap_vertices_mm`, the gaps less
+    ``backoff_mm``) within +-range_mm per axis and rotations up to range_deg about any axis
+    through the cube centre. For the handle stem in the housing's corner hole and the stator
+    post in the flotor's corner hole (the relative motion is the same, reversed).
+
+    The distance is convex in the translation, so for each rotation (Fibonacci-sphere axes
+    x ``n_steps`` angles) its maximum is at a vertex of the allowed parallelepiped, or of
+    the +-range_mm box, whichever gives less (the allowed set lies in both). Pure numpy."""
+    u = np.ones(3) / np.sqrt(3.0)
+    Rs = _rotations(range_deg, n_dirs, n_steps)
+    Vg = gap_vertices_mm(coils, magnet_width_mm, magnet_length_mm, gap_mm - 2 * backoff_mm,
+                         coil_width_mm, Rs)
+    box = range_mm * np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)])
+    rot = (Rs @ (s_mm * u)) - s_mm * u  # (N, 3)
+
+    def perp(T):  # (N, 8, 3) translations -> distances from the diagonal
+        d = T + rot[:, None, :]
+        return np.linalg.norm(d - (d @ u)[..., None] * u, axis=-1)
+
+    dg, db = perp(Vg), perp(np.broadcast_to(box, Vg.shape))
+    per_R = np.minimum(dg.max(axis=1), db.max(axis=1))
+    i = int(np.argmax(per_R))
+    T = Vg if dg[i].max() <= db[i].max() else np.broadcast_to(box, Vg.shape)
+    j = int(np.argmax(perp(T)[i]))
+    return Excursion(float(per_R[i]), Rs[i], np.array(T[i, j]))

@@ -175,6 +175,7 @@ def check_options(design, fidelity: str, phi1_deg, formats=frozenset()) -> None:
     g = pp.geometry(design, _gap_mm(design))  # the post's and the handle's shoulders
     pp.flotor_lid_screw_plan(g, design.flotor.material)
     pp.post_plan(g)  # a collar too thin for a set screw
+    pp.leg_plan(design.stator.housing_wall_mm)  # no catalog leg screw for the wall
 
 
 def _gap_mm(design) -> float:
@@ -217,7 +218,8 @@ _PARTS = {
         "CNC milled",
         True,
     ),
-    "pm_coil": ("flat racetrack coil, wound and potted into its pocket", "wound, potted", True),
+    "pm_coil": ("flat racetrack coil, wound and potted into its pocket (mass: the conductor, "
+                "eta_pack x copper; the potting is not weighed)", "wound, potted", True),
     "pm_handle": (
         "handle: stem in the flotor's (+,+,+) corner socket, shoulder on the corner boss, "
         "{ht} tip screwed into it; spherical knob",
@@ -235,16 +237,17 @@ _PARTS = {
         "turned; thread {pt} x {pl:g} (tip)",
         True,
     ),
-    "pm_magnet": ("NdFeB block magnet", "bought", False),
+    "pm_magnet": ("NdFeB block magnet, bonded (structural epoxy) to its iron plate or the core",
+                  "bought", False),
     "pm_iron_plate": (
-        "outer back-iron plate (2 magnets each), fixed to the housing wall",
+        "outer back-iron plate (2 magnets each), bonded (structural epoxy) to the housing wall",
         "machined",
         True,
     ),
     "pm_housing_body": (
         "housing: open cube shell, post bore through a collar at (-,-,-)",
         "machined; ream post bore; tap M3 x4 (lid screws, top of the side walls); tap {st} x1 (radial, "
-        "collar: post set screw)",
+        "collar: post set screw); 4 x M3 clearance holes in the bottom wall (legs)",
         True,
     ),
     "pm_housing_lid": (
@@ -252,6 +255,8 @@ _PARTS = {
         "machined",
         True,
     ),
+    "pm_leg": ("leg under the housing (the post's collar stands below its bottom face)",
+               "turned; tap M3 x1 (top)", True),
     "rig_magnet": ("NdFeB block magnet", "bought", False),
     "rig_iron_plate": ("back-iron plate", "machined", True),
     "rig_spacer": ("non-magnetic spacer holding the plates apart", "machined", True),
@@ -342,7 +347,42 @@ def assembly(design, g, acts) -> tuple[list, list]:
     k0 = next(iter(Tm))
     mk = _kind("pm_magnet", local(st[k0][0], Tm[k0]), "magnet", design)
     inst += [PartInstance(k, mk, "ground", T) for k, T in Tm.items()]
-    return inst + _lid_screws(design, g) + [_post_set_screw(g)], _rig(design, acts)
+    return inst + _lid_screws(design, g) + [_post_set_screw(g)] + _legs(design, g), _rig(design, acts)
+
+
+def _screw_uses(design, g) -> dict:
+    """``{(size, length): "housing lid, legs"}``: what each ISO 4762 screw kind holds (one
+    BOM row per kind, so screws of one size and length share its text)."""
+    from cad.parts import powermouse as pp
+
+    uses: dict = {}
+    for sp, _, _, _, lid, _ in _lid_plans(design, g).values():
+        uses.setdefault((sp["size"], sp["length_mm"]), []).append(lid.replace("_", " "))
+    lp = pp.leg_plan(design.stator.housing_wall_mm)
+    uses.setdefault((lp["size"], lp["length_mm"]), []).append("legs")
+    return {k: ", ".join(v) for k, v in uses.items()}
+
+
+def _legs(design, g) -> list:
+    """The four legs under the housing and their ISO 4762 screws (from inside the housing,
+    head on the bottom wall's inner face), each screw with its fastener record."""
+    from cad.assembly.fasteners import Fastener
+    from cad.parts import PartInstance, joints, translation
+    from cad.parts import powermouse as pp
+
+    sp = pp.leg_plan(design.stator.housing_wall_mm)
+    Ho = g.housing_inner_half_mm + g.housing_wall_mm
+    leg = _kind("pm_leg", pp.leg_shape(g), "base", design)
+    screw = joints.cap_screw_kind(sp["size"], sp["length_mm"], "stator.housing_wall_mm",
+                                  _screw_uses(design, g)[sp["size"], sp["length_mm"]])
+    out = []
+    for k, (x, y) in enumerate(pp.leg_xy_mm(g), start=1):
+        out.append(PartInstance(f"leg_{k}", leg, "ground", translation(x, y, -Ho)))
+        f = Fastener("ISO 4762", sp["size"], sp["length_mm"], ("housing_body",), f"leg_{k}:top",
+                     sp["engagement_mm"])
+        out.append(PartInstance(f"leg_screw_{k}", screw, "ground",
+                                translation(x, y, -g.housing_inner_half_mm), fastener=f))
+    return out
 
 
 def _fits(g) -> dict[str, tuple[str, ...]]:
@@ -426,6 +466,10 @@ def lid_holes(design, g) -> dict:
         for k in range(len(xy)):
             n = f"{part}:lid_{k + 1}"
             out[n] = TappedHole(n, part, sp["size"], sp["depth_mm"], sp["min_engagement_mm"])
+    lp = pp.leg_plan(design.stator.housing_wall_mm)
+    for k in range(1, 5):
+        n = f"leg_{k}:top"
+        out[n] = TappedHole(n, f"leg_{k}", lp["size"], lp["depth_mm"], lp["min_engagement_mm"])
     pl = pp.post_plan(g)
     for n, x in (("flotor_body:handle", pp.handle_plan(g, design.flotor.material)),
                  ("core:post", pl["tip"]), ("housing_body:post_set_screw", pl["set_screw"])):
@@ -442,7 +486,7 @@ def _lid_screws(design, g) -> list:
     out = []
     for prefix, (sp, xy, z, body, lid, part) in _lid_plans(design, g).items():
         size, L = sp["size"], sp["length_mm"]
-        kind = joints.cap_screw_kind(size, L, "stator.housing_wall_mm", lid.replace("_", " "))
+        kind = joints.cap_screw_kind(size, L, "stator.housing_wall_mm", _screw_uses(design, g)[size, L])
         up = np.eye(4) if z > 0 else flip_x()  # head on the lid's outer face
         out += [
             PartInstance(
@@ -663,7 +707,8 @@ def _motion(design, g, inst, fidelity):
     from cad.actuators import powermouse as pm
     from cad.parts import powermouse as pp
 
-    poses = None
+    poses = pm.workspace_poses(design.motion.range_mm, design.motion.range_deg)
+    poses += pp.combined_poses(g)  # translation + rotation: the handle's and post's worst
     if fidelity != "fabrication":
         poses = [
             p
@@ -687,12 +732,15 @@ def _raise_on_overlap(design, itf, cl, allow: bool) -> None:
             f"{c['parts'][0]} / {c['parts'][1]} overlap {c['overlap_volume_mm3']:.3f} mm^3 at the "
             f"centre pose; {len(itf['collisions'])} overlapping pair(s) (use --allow-interference)"
         )
-    if min(cl.nominal_mm, cl.translation_mm, cl.rotation_mm) < 0:
+    if min(x for x in (cl.nominal_mm, cl.translation_mm, cl.rotation_mm, cl.combined_mm)
+           if x == x) < 0:  # nan: not checked
         bad = [k for k, v in cl.poses.items() if v[0] < 0]
+        pair = f": {cl.poses[bad[0]][1]}" if bad else ""
         raise InterferenceError(
             f"flotor overlaps the stator at {len(bad)} pose(s) of the +-{design.motion.range_mm:g} mm / "
-            f"+-{design.motion.range_deg:g} deg range (e.g. {bad[0] if bad else 'centre'}); "
-            "enlarge actuator.rattle_mm or flotor.corner_hole_mm, or pass --allow-interference"
+            f"+-{design.motion.range_deg:g} deg range (e.g. {bad[0] if bad else 'centre'}{pair}); "
+            "enlarge actuator.rattle_mm or reduce motion.range_mm / range_deg, or pass "
+            "--allow-interference"
         )
 
 
@@ -768,12 +816,15 @@ def _report(
             "rotation_mm": cl.rotation_mm,
             "worst_translation": cl.worst_translation,
             "worst_rotation": cl.worst_rotation,
+            "combined_mm": None if cl.combined_mm != cl.combined_mm else cl.combined_mm,
+            "worst_combined": cl.worst_combined,
             "poses_checked": len(cl.poses),
             "range_mm": design.motion.range_mm,
             "range_deg": design.motion.range_deg,
             "poses": {k: {"clearance_mm": v[0], "closest": v[1]} for k, v in cl.poses.items()},
         },
-        "min_clearance_mm": min(cl.nominal_mm, cl.translation_mm, cl.rotation_mm),
+        "min_clearance_mm": min(x for x in (cl.nominal_mm, cl.translation_mm, cl.rotation_mm,
+                                            cl.combined_mm) if x == x),  # nan: not checked
         "paper_table4": PAPER_TABLE4,
         "bom": bom,
         "rig_bom": rig_bom,
@@ -791,6 +842,12 @@ def _report(
             "seats on the core's flat, locked by the collar's set screw; housing lid on with four M3 screws "
             "into the side walls; handle stem through the lid's corner hole into the flotor's corner socket, "
             "its M4 tip screwed into the corner boss (fasteners, tapped_holes).",
+            "Finding the core's tapped hole: hold the housing with its (-,-,-) corner down (the diagonal "
+            "vertical). The flotor then rests on the three lower outer magnet groups and the core on the "
+            "flotor's three lower walls, each moved d_r/2 on every axis, i.e. along the diagonal: the "
+            "post's tip meets the core's hole on its axis. Screw it in until its shoulder seats, draw the "
+            "post out until its end is flush with the collar's end (the core is then centred), tighten "
+            "the set screw. Magnets and iron plates are bonded (structural epoxy).",
             "rig/ holds the single-actuator test rig of Fig. 7 (one coil between two magnet pairs): a bench "
             "fixture to measure one actuator's force against eq (8), not part of the PowerMouse.",
             "Clearances over the motion range: fcl mesh distances at every pose, exact OCCT where the mesh "
@@ -808,8 +865,9 @@ def _md_rows(r: dict) -> list[tuple[str, str]]:
         ("peak force (N), paper", f"{r['peak_force_N']:.1f}, {PAPER_TABLE4['peak_force_N']:g}"),
         ("peak acceleration (G)", f"{r['peak_acceleration_G']:.2f}"),
         (
-            "clearance centre / translations / rotations (mm)",
-            f"{c['nominal_mm']:.3f} / {c['translation_mm']:.3f} / {c['rotation_mm']:.3f}",
+            "clearance centre / translations / rotations / combined (mm)",
+            f"{c['nominal_mm']:.3f} / {c['translation_mm']:.3f} / {c['rotation_mm']:.3f} / "
+            + ("–" if c["combined_mm"] is None else f"{c['combined_mm']:.3f}"),
         ),
         (
             "solids / pairs checked exactly at the centre",

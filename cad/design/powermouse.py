@@ -25,7 +25,7 @@ Schema (units in key names; every table but [mechanism] and [actuator] optional)
     edge_mm = 64.0                   # outer edge of the cubic flotor shell
     material = "delrin"              # shell material (non-conducting: no eddy currents)
     coil_material = "copper"         # coil conductor; coil density = eta_pack * rho_conductor
-    corner_hole_mm = 22.0            # diameter of the corner holes for the stator post / handle
+    corner_hole_mm = 25.8            # the corner hole for the stator post (room for its motion)
 
     [stator]
     housing_material = "aluminium-6061"
@@ -128,7 +128,7 @@ class FlotorSpec:
     edge_mm: float = 64.0
     material: str = "delrin"
     coil_material: str = "copper"
-    corner_hole_mm: float = 22.0
+    corner_hole_mm: float = 25.8
 
 
 @dataclass(frozen=True)

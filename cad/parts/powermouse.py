@@ -40,6 +40,7 @@ build123d is imported inside the functions.
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -79,6 +80,20 @@ POST_HOLE_EXTRA_MM = 2.0
 #: screws tried there, largest first (:func:`cad.assembly.fasteners.size_set_screw`).
 POST_COLLAR_WALL_MM = 6.0
 POST_SET_SCREW_SIZES = ("M3-0.5", "M2.5-0.45", "M2-0.4")
+#: Legs under the housing (the post's collar stands below its bottom face): turned aluminium
+#: feet of this diameter, tapped at the top for an ISO 4762 screw put in from inside the
+#: housing through its bottom wall; :data:`LEG_INSET_MM` from the outer faces, mid-side;
+#: their feet :data:`LEG_CLEARANCE_MM` below the lowest point of the collar.
+LEG_SCREW = "M3-0.5"
+LEG_DIAMETER_MM = 12.0
+LEG_INSET_MM = 9.0
+LEG_CLEARANCE_MM = 2.0
+#: Radial margin of the corner holes (the post's in the flotor, the handle's in the housing)
+#: beyond the excursion over the motion range (mm): covers the sampling of rotations in
+#: :func:`cad.actuators.powermouse.diagonal_excursion_mm`.
+HOLE_MARGIN_MM = 0.5
+#: Least wall between a corner hole or the handle boss and a coil pocket (mm).
+COIL_WALL_MM = 1.5
 #: Direction of the post set screw's axis (flotor frame): radial to the diagonal,
 #: horizontal, so a hex key reaches it from the side.
 POST_SET_SCREW_DIR = np.array([1.0, -1.0, 0.0]) / math.sqrt(2.0)
@@ -220,6 +235,67 @@ def post_set_screw_tf(g: PowerMouseGeometry, size: str) -> np.ndarray:
     return T
 
 
+def leg_plan(wall_mm: float) -> dict:
+    """The leg screws, before any CAD: through the housing's bottom wall (``wall_mm``) into a
+    hole tapped :data:`LID_TAP_DRILL_DEPTH_MM` deep in each leg's top (aluminium, 1.5 d;
+    :func:`cad.assembly.fasteners.size_cap_screw`). Returns size, clamp_mm, length_mm,
+    engagement_mm, depth_mm, min_engagement_mm; DesignError naming
+    ``stator.housing_wall_mm`` when no catalog length fits."""
+    from cad.assembly import fasteners as fs
+
+    depth = LID_TAP_DRILL_DEPTH_MM - fs.TAP_LEADOUT_MM
+    hole = fs.alu_hole("leg:top", "leg", LEG_SCREW, depth)
+    L, e = fs.size_cap_screw(LEG_SCREW, wall_mm, hole, "housing to its legs",
+                             "stator.housing_wall_mm")
+    return {"size": LEG_SCREW, "clamp_mm": wall_mm, "length_mm": L, "engagement_mm": e,
+            "depth_mm": depth, "min_engagement_mm": hole.min_engagement_mm}
+
+
+def leg_xy_mm(g: PowerMouseGeometry) -> list[tuple[float, float]]:
+    """(x, y) of the four legs (flotor frame, mm): mid-side, :data:`LEG_INSET_MM` in from
+    the housing's outer faces (the screw heads inside clear the iron plates and the flotor)."""
+    m = g.housing_inner_half_mm + g.housing_wall_mm - LEG_INSET_MM
+    return [(m, 0.0), (0.0, m), (-m, 0.0), (0.0, -m)]
+
+
+def leg_height_mm(g: PowerMouseGeometry) -> float:
+    """Leg height (mm): from the housing's bottom face to :data:`LEG_CLEARANCE_MM` below the
+    lowest point of the post's collar (its end disc's rim, at s_end / sqrt3 - R sqrt(2/3))."""
+    ss = post_plan(g)["set_screw"]["size"]
+    Ho = g.housing_inner_half_mm + g.housing_wall_mm
+    low = post_collar_end_s_mm(g, ss) / _SQ3 - g.post_collar_radius_mm * math.sqrt(2.0 / 3.0)
+    return -low - Ho + LEG_CLEARANCE_MM
+
+
+def leg_shape(g: PowerMouseGeometry):
+    """One leg in its frame: z from -height (the foot) to 0 (its top, against the housing),
+    tapped at the top (tap drill :data:`LID_TAP_DRILL_DEPTH_MM` deep)."""
+    import build123d as bd
+
+    from cad.parts.catalog import tap_drill_mm
+
+    h, a = leg_height_mm(g), (bd.Align.CENTER, bd.Align.CENTER, bd.Align.MIN)
+    leg = bd.Pos(0, 0, -h) * bd.Cylinder(LEG_DIAMETER_MM / 2, h, align=a)
+    drill = bd.Pos(0, 0, -LID_TAP_DRILL_DEPTH_MM) * bd.Cylinder(
+        tap_drill_mm(LEG_SCREW) / 2, LID_TAP_DRILL_DEPTH_MM + 1.0, align=a)
+    return (leg - drill).solids()[0]
+
+
+def _leg_screw_holes(g: PowerMouseGeometry):
+    """Clearance holes for the leg screws through the housing's bottom wall."""
+    import build123d as bd
+
+    from cad.parts.catalog import clearance_hole_mm
+
+    Ho, w = g.housing_inner_half_mm + g.housing_wall_mm, g.housing_wall_mm
+    a = (bd.Align.CENTER, bd.Align.CENTER, bd.Align.MIN)
+    cut = None
+    for x, y in leg_xy_mm(g):
+        c = bd.Pos(x, y, -Ho - 1.0) * bd.Cylinder(clearance_hole_mm(LEG_SCREW) / 2, w + 2.0, align=a)
+        cut = c if cut is None else cut + c
+    return cut
+
+
 def lid_screw_xy_mm(g: PowerMouseGeometry) -> list[tuple[float, float]]:
     """(x, y) of the housing lid screws (flotor frame, mm): mid-wall, middle of each side."""
     m = g.housing_inner_half_mm + g.housing_wall_mm / 2
@@ -277,6 +353,8 @@ class PowerMouseGeometry:
     handle_diameter_mm: float
     knob_diameter_mm: float
     plate_margin_mm: float = 2.0
+    range_mm: float = 3.0
+    range_deg: float = 5.0
 
     @property
     def handle_seat_s_mm(self) -> float:
@@ -346,10 +424,27 @@ class PowerMouseGeometry:
             + self.plate_thickness_mm
         )
 
+    def excursion_mm(self, s_mm: float) -> float:
+        """Largest distance from the diagonal, over the motion the coil gaps allow, of the
+        flotor's point ``s_mm`` along it (:func:`cad.actuators.powermouse.diagonal_excursion_mm`);
+        the same bound holds for a stator point seen from the flotor."""
+        return _excursion(self.coil_plane_half_mm, self.magnet_width_mm, self.magnet_length_mm,
+                          self.gap_mm, self.coil_width_mm, self.range_mm, self.range_deg,
+                          round(s_mm, 9))
+
     @property
     def housing_hole_mm(self) -> float:
-        """Handle hole in the housing: stem diameter plus the same radial play as the post hole."""
-        return self.handle_diameter_mm + (self.corner_hole_mm - self.post_diameter_mm)
+        """Handle hole in the housing's corner: the stem plus twice its excursion at the
+        housing's outer corner and :data:`HOLE_MARGIN_MM` (the handle is never the end stop)."""
+        Ho = self.housing_inner_half_mm + self.housing_wall_mm
+        return self.handle_diameter_mm + 2 * (self.excursion_mm(Ho * _SQ3) + HOLE_MARGIN_MM)
+
+    @property
+    def corner_hole_min_mm(self) -> float:
+        """Smallest flotor corner hole round the post: the post plus twice the post's
+        excursion at the flotor's outer corner and :data:`HOLE_MARGIN_MM`."""
+        s = self.flotor_edge_mm / 2 * _SQ3
+        return self.post_diameter_mm + 2 * (self.excursion_mm(s) + HOLE_MARGIN_MM)
 
     def coils(self):
         return pm.coil_layout(self.coil_plane_half_mm)
@@ -374,22 +469,73 @@ class PowerMouseGeometry:
                 f"coil (reach {lm / 2 + w:.1f} mm) does not fit in a face (inner half {inner:.1f} mm)",
             )
         self._validate_turned_parts()
-        if self.post_diameter_mm >= self.corner_hole_mm:
-            raise DesignError(
-                "flotor.corner_hole_mm",
-                f"must exceed stator.post_diameter_mm {self.post_diameter_mm}",
-            )
-        # the corner hole must not cut the coil pockets: distance from the stadium rims to the diagonal
+        self._validate_corner_hole()
+        self._validate_handle()
+
+    def _coil_distance_mm(self) -> float:
+        """Smallest distance from the coils' rims to the diagonal (mm)."""
         rim = self.coil_rim_points()
-        u = np.ones(3) / math.sqrt(3)
-        dist = np.linalg.norm(rim - np.outer(rim @ u, u), axis=1)
-        rh = self.corner_hole_mm / 2
-        if dist.min() < rh + 1.5:
+        u = np.ones(3) / _SQ3
+        return float(np.linalg.norm(rim - np.outer(rim @ u, u), axis=1).min())
+
+    def _validate_corner_hole(self) -> None:
+        """The corner hole clears the post over the motion (:attr:`corner_hole_min_mm`) and
+        stays :data:`COIL_WALL_MM` off the coil pockets."""
+        need, room = self.corner_hole_min_mm, 2 * (self._coil_distance_mm() - COIL_WALL_MM)
+        if need > room + 1e-9:
+            raise DesignError(
+                "stator.post_diameter_mm",
+                f"{self.post_diameter_mm:g} mm: the flotor's corner hole round it must be >= "
+                f"{need:.2f} mm for the motion, but the coils leave room for {room:.2f} mm; "
+                f"use post_diameter_mm <= {self.post_diameter_mm - (need - room):.2f}",
+            )
+        if self.corner_hole_mm < need - 1e-9:
             raise DesignError(
                 "flotor.corner_hole_mm",
-                f"the corner hole (radius {rh:.1f} mm) comes within {dist.min() - rh:.2f} mm of a coil; "
-                "reduce it or enlarge flotor.edge_mm",
+                f"{self.corner_hole_mm:g} mm: the {self.post_diameter_mm:g} mm post moves "
+                f"{(need - self.post_diameter_mm) / 2 - HOLE_MARGIN_MM:.2f} mm off its axis there "
+                f"over the motion range; use corner_hole_mm >= {need:.2f}",
             )
+        if self.corner_hole_mm > room + 1e-9:
+            raise DesignError(
+                "flotor.corner_hole_mm",
+                f"{self.corner_hole_mm:g} mm comes within {COIL_WALL_MM:g} mm of a coil pocket; "
+                f"use corner_hole_mm <= {room:.2f} (or enlarge flotor.edge_mm)",
+            )
+
+    def _validate_handle(self) -> None:
+        """The handle's boss stays off the coil pockets; the knob is wider than the stem and
+        stays out of the housing over the motion range."""
+        boss = self.handle_diameter_mm + 2 * HANDLE_BOSS_WALL_MM
+        room = 2 * (self._coil_distance_mm() - COIL_WALL_MM)
+        if boss > room + 1e-9:
+            raise DesignError(
+                "handle.diameter_mm",
+                f"{self.handle_diameter_mm:g} mm: its {boss:g} mm boss inside the flotor's corner "
+                f"would cut a coil pocket; use diameter_mm <= {room - 2 * HANDLE_BOSS_WALL_MM:.2f}",
+            )
+        if self.knob_diameter_mm < self.handle_diameter_mm + 2.0 - 1e-9:
+            raise DesignError(
+                "handle.knob_diameter_mm",
+                f"{self.knob_diameter_mm:g} mm is no knob on a {self.handle_diameter_mm:g} mm "
+                f"stem; use knob_diameter_mm >= {self.handle_diameter_mm + 2:g}",
+            )
+        gap = self._knob_gap_mm()
+        if gap < 0:
+            raise DesignError(
+                "handle.length_mm",
+                f"{self.handle_length_mm:g} mm: the {self.knob_diameter_mm:g} mm knob would reach "
+                f"the housing's corner over the motion range; use length_mm >= "
+                f"{self.handle_length_mm - gap / (1 - math.sin(math.radians(self.range_deg))):.1f}",
+            )
+
+    def _knob_gap_mm(self) -> float:
+        """Knob to the housing's outer corner, the knob moved as far as the motion range goes
+        towards it (|t| <= sqrt3 range, rotation s sin theta at its centre s), mm."""
+        Ho = self.housing_inner_half_mm + self.housing_wall_mm
+        s_c = self.flotor_edge_mm / 2 * _SQ3 + self.handle_length_mm + 0.35 * self.knob_diameter_mm
+        move = _SQ3 * self.range_mm + s_c * math.sin(math.radians(self.range_deg))
+        return s_c - Ho * _SQ3 - move - self.knob_diameter_mm / 2
 
     def _validate_turned_parts(self) -> None:
         """The post and the handle stem must leave a 1 mm shoulder round their tips' tap drill."""
@@ -421,6 +567,32 @@ class PowerMouseGeometry:
         return np.concatenate(pts)
 
 
+@functools.lru_cache(maxsize=64)
+def _excursion(a_mm, w_mm, l_mm, gap_mm, dc_mm, range_mm, range_deg, s_mm) -> float:
+    return pm.diagonal_excursion_mm(pm.coil_layout(a_mm), w_mm, l_mm, gap_mm, dc_mm, range_mm,
+                                    range_deg, s_mm).excursion_mm
+
+
+#: The worst combined poses are checked this far (mm) inside the coil-gap stop, so that the
+#: coils themselves stay clear there.
+STOP_BACKOFF_MM = 0.2
+
+
+def combined_poses(g: PowerMouseGeometry) -> list[tuple[str, np.ndarray, np.ndarray]]:
+    """The poses (label, R (3,3), t_mm (3,)) that move the handle stem furthest off the
+    housing hole's axis and the post furthest off the flotor hole's axis, translation and
+    rotation together, within the coil-gap stop less :data:`STOP_BACKOFF_MM`
+    (:func:`cad.actuators.powermouse.diagonal_excursion_mm`)."""
+    Ho = g.housing_inner_half_mm + g.housing_wall_mm
+    out = []
+    for name, s_mm in (("handle", Ho * _SQ3), ("post", g.flotor_edge_mm / 2 * _SQ3)):
+        x = pm.diagonal_excursion_mm(g.coils(), g.magnet_width_mm, g.magnet_length_mm,
+                                     g.gap_mm, g.coil_width_mm, g.range_mm, g.range_deg, s_mm,
+                                     backoff_mm=STOP_BACKOFF_MM)
+        out.append((f"c:{name}", x.R, x.t_mm))
+    return out
+
+
 def geometry(design, gap_mm: float) -> PowerMouseGeometry:
     """PowerMouseGeometry from a PowerMouseDesign and the actuator gap d (mm), validated."""
     a = design.actuator
@@ -438,6 +610,8 @@ def geometry(design, gap_mm: float) -> PowerMouseGeometry:
         handle_length_mm=design.handle.length_mm,
         handle_diameter_mm=design.handle.diameter_mm,
         knob_diameter_mm=design.handle.knob_diameter_mm,
+        range_mm=design.motion.range_mm,
+        range_deg=design.motion.range_deg,
     )
     g.validate()
     return g
@@ -572,7 +746,7 @@ def stator_solids(g: PowerMouseGeometry) -> dict[str, tuple[object, str]]:
     # centre along the diagonal; a radial direction has a component of at most r)
     r = g.post_diameter_mm / 2
     housing = housing - _diag_cylinder(r, -(H - r - 1.0) * _SQ3, post_collar_end_s_mm(g, ss) - 1)
-    housing = housing - _set_screw_drill(g, ss) - _lid_screw_holes(g)
+    housing = housing - _set_screw_drill(g, ss) - _lid_screw_holes(g) - _leg_screw_holes(g)
     # split at the inner face of the +z wall: an open box and a lid (the flotor goes in from above)
     body, lid = _split_z(housing, H, 2 * Ho)
     out["housing_body"] = (body, "housing")
@@ -629,6 +803,8 @@ class Clearances:
 
     translation_mm: over the 26 extreme translations (no rotation);
     rotation_mm: over +-range rotations about 13 axes (no translation);
+    combined_mm: over the combined poses (labels ``c:...``, :func:`combined_poses`), nan
+    when none was checked;
     nominal_mm: at the centre; ``poses``: label -> (clearance_mm, "flotor part/stator part").
     A negative value is an overlap (minus the cube root of the common volume, mm).
     """
@@ -639,6 +815,8 @@ class Clearances:
     worst_translation: str
     worst_rotation: str
     poses: dict
+    combined_mm: float = math.nan
+    worst_combined: str = ""
 
 
 def cavities(g: PowerMouseGeometry) -> dict[str, tuple]:
@@ -707,6 +885,9 @@ def motion_clearances(
     res = {k: (v[0], v[1]) for k, v in res.items()}
     tr = {k: v[0] for k, v in res.items() if k.startswith("t")}
     ro = {k: v[0] for k, v in res.items() if k.startswith("r")}
+    co = {k: v[0] for k, v in res.items() if k.startswith("c")}
     wt = min(tr, key=tr.get) if tr else ""
     wr = min(ro, key=ro.get) if ro else ""
-    return Clearances(nominal, tr[wt] if tr else math.nan, ro[wr] if ro else math.nan, wt, wr, res)
+    wc = min(co, key=co.get) if co else ""
+    return Clearances(nominal, tr[wt] if tr else math.nan, ro[wr] if ro else math.nan, wt, wr,
+                      res, co[wc] if co else math.nan, wc)
