@@ -224,3 +224,37 @@ def test_powermouse_limits_are_refused_before_cad(tmp_path, monkeypatch, table, 
                                                  needle):
     msg = _refused_before_cad(monkeypatch, tmp_path, "powermouse.toml", table, **changes)
     assert msg.startswith(start) and needle in msg, msg
+
+
+def test_powermouse_stands_on_its_legs(pm):
+    """Read back: the four legs' feet are the lowest points, coplanar; everything else (the
+    post's collar first) stands at least 2 mm above them; the device's centre of mass (solid
+    volumes x material densities) lies inside the legs' support polygon."""
+    from OCP.Bnd import Bnd_Box
+    from OCP.BRepBndLib import BRepBndLib
+    from OCP.BRepGProp import BRepGProp
+    from OCP.GProp import GProp_GProps
+
+    from cad.materials import get_material
+
+    d, rep, parts = pm
+    low, m, mx = {}, 0.0, np.zeros(3)
+    for name, solids in parts.items():
+        for s in solids:
+            b = Bnd_Box()
+            BRepBndLib.AddOptimal_s(s, b, False)
+            low[name] = min(low.get(name, math.inf), b.CornerMin().Z())
+            g = GProp_GProps()
+            BRepGProp.VolumeProperties_s(s, g)
+            rho = get_material(rep["part_materials"][name]).density_kg_m3
+            c = g.CentreOfMass()
+            m, mx = m + rho * g.Mass(), mx + rho * g.Mass() * np.array([c.X(), c.Y(), c.Z()])
+    feet = [low[f"leg_{k}"] for k in range(1, 5)]
+    assert max(feet) - min(feet) < 1e-6
+    others = {k: v for k, v in low.items() if not k.startswith("leg_")}
+    lowest_other = min(others, key=others.get)
+    assert others[lowest_other] - feet[0] == pytest.approx(2.0, abs=1e-3), lowest_other
+    assert lowest_other in ("housing_body", "post")
+    com = mx / m
+    r = rep["geometry_mm"]["housing_inner_half_mm"] + d.stator.housing_wall_mm - 9.0
+    assert abs(com[0]) + abs(com[1]) < r - 5.0, com  # inside the diamond of the 4 mid-side feet

@@ -509,7 +509,8 @@ def _motor_and_hub(b: _Builder) -> None:
         material="steel-1018",
         made=False,
         description=m.description,
-        process=f"bought; face tapped {m.bolt_size.split('-')[0]} x{m.bolt_count}",
+        process=f"bought; face tapped {m.bolt_size.split('-')[0]} x{m.bolt_count}; with its shaft "
+                "(solid motor_shaft in assembly.step)",
         mass_kg=m.mass_kg,
         revolution=True,
     )

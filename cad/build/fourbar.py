@@ -241,8 +241,10 @@ def check_layout(design, fidelity: str, allow_interference: bool) -> None:
     """Refuse, before any CAD import, a hub wall no ISO 4026 set screw fits
     (:func:`cad.assembly.layers.hub_set_screw`, DesignError naming ``parts.hub_diameter_mm``),
     plates no catalog cap screw fits (:func:`cad.assembly.mechanism.check_plate_screws`,
-    naming the plate's field) and a design whose joint hardware has no clear layer order (:func:`_plan_layers`; skipped
-    with ``allow_interference``: the build then exports the clash and reports it)."""
+    naming the plate's field), and a design whose joint hardware has no clear layer order
+    (:func:`_plan_layers`) or whose jointed bars sit closer than ``parts.clearance_min_mm``
+    (:func:`_check_joint_gaps`); the last two skipped with ``allow_interference``: the build
+    then exports the clash and reports it)."""
     from cad.assembly.layers import hub_set_screw
     from cad.assembly.mechanism import check_plate_screws
 
@@ -255,7 +257,34 @@ def check_layout(design, fidelity: str, allow_interference: bool) -> None:
 
     n = _n_poses(design.parts, fidelity)
     planar = planar_transforms(design.linkage, sweep_angles(design, n))
-    _plan_layers(design, link_joints_mm(design.linkage), planar, n, strict=True)
+    plan = _plan_layers(design, link_joints_mm(design.linkage), planar, n, strict=True)
+    _check_joint_gaps(plan, design.parts)
+
+
+def _check_joint_gaps(plan, parts) -> None:
+    """DesignError naming ``parts.layer_gap_mm`` when two bars jointed to each other lie on
+    adjacent layers less than ``parts.clearance_min_mm`` apart.
+
+    Both bars surround their common pin, so they overlap in plan at every pose and their
+    layer gap is their distance all through the stroke: the interference sweep
+    (:func:`cad.assembly.interference.raise_on_collision`) would refuse the build at every
+    pose, after the CAD work (``layer_gap_mm = 0.002`` typed in metres).
+    """
+    from cad.assembly.layers import JOINTS
+
+    level = {name: i for i, name in enumerate(plan.order)}
+    for joint, (a, b) in JOINTS.items():
+        if b not in level or abs(level[a] - level[b]) != 1:
+            continue
+        gap = plan.gaps_mm[min(level[a], level[b])]
+        if gap < parts.clearance_min_mm - 1e-9:
+            raise DesignError(
+                "parts.layer_gap_mm",
+                f"{parts.layer_gap_mm:g} mm leaves the {a} and the {b} (jointed at {joint}, "
+                f"adjacent layers) {gap:g} mm apart at every pose, below parts.clearance_min_mm "
+                f"= {parts.clearance_min_mm:g} mm; use layer_gap_mm >= "
+                f"{parts.clearance_min_mm:g} (or --allow-interference)",
+            )
 
 
 def _plan_layers(design, J, planar, n_poses: int, strict: bool):

@@ -591,7 +591,8 @@ def _kinds(design, lay: dict, fidelity: str) -> dict:
         "steel-1018",
         False,
         mot.description,
-        f"bought; face tapped {mot.bolt_size.split('-')[0]} x{mot.bolt_count}",
+        f"bought; face tapped {mot.bolt_size.split('-')[0]} x{mot.bolt_count}; with its "
+        "shaft (solid motor_shaft in assembly.step)",
         mass_kg=mot.mass_kg,
     )
     add(

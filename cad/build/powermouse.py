@@ -175,6 +175,7 @@ def check_options(design, fidelity: str, phi1_deg, formats=frozenset()) -> None:
     g = pp.geometry(design, _gap_mm(design))  # the post's and the handle's shoulders
     pp.flotor_lid_screw_plan(g, design.flotor.material)
     pp.post_plan(g)  # a collar too thin for a set screw
+    pp.leg_plan(design.stator.housing_wall_mm)  # no catalog leg screw for the wall
 
 
 def _gap_mm(design) -> float:
@@ -217,7 +218,8 @@ _PARTS = {
         "CNC milled",
         True,
     ),
-    "pm_coil": ("flat racetrack coil, wound and potted into its pocket", "wound, potted", True),
+    "pm_coil": ("flat racetrack coil, wound and potted into its pocket (mass: the conductor, "
+                "eta_pack x copper; the potting is not weighed)", "wound, potted", True),
     "pm_handle": (
         "handle: stem in the flotor's (+,+,+) corner socket, shoulder on the corner boss, "
         "{ht} tip screwed into it; spherical knob",
@@ -245,7 +247,7 @@ _PARTS = {
     "pm_housing_body": (
         "housing: open cube shell, post bore through a collar at (-,-,-)",
         "machined; ream post bore; tap M3 x4 (lid screws, top of the side walls); tap {st} x1 (radial, "
-        "collar: post set screw)",
+        "collar: post set screw); 4 x M3 clearance holes in the bottom wall (legs)",
         True,
     ),
     "pm_housing_lid": (
@@ -253,6 +255,8 @@ _PARTS = {
         "machined",
         True,
     ),
+    "pm_leg": ("leg under the housing (the post's collar stands below its bottom face)",
+               "turned; tap M3 x1 (top)", True),
     "rig_magnet": ("NdFeB block magnet", "bought", False),
     "rig_iron_plate": ("back-iron plate", "machined", True),
     "rig_spacer": ("non-magnetic spacer holding the plates apart", "machined", True),
@@ -343,7 +347,42 @@ def assembly(design, g, acts) -> tuple[list, list]:
     k0 = next(iter(Tm))
     mk = _kind("pm_magnet", local(st[k0][0], Tm[k0]), "magnet", design)
     inst += [PartInstance(k, mk, "ground", T) for k, T in Tm.items()]
-    return inst + _lid_screws(design, g) + [_post_set_screw(g)], _rig(design, acts)
+    return inst + _lid_screws(design, g) + [_post_set_screw(g)] + _legs(design, g), _rig(design, acts)
+
+
+def _screw_uses(design, g) -> dict:
+    """``{(size, length): "housing lid, legs"}``: what each ISO 4762 screw kind holds (one
+    BOM row per kind, so screws of one size and length share its text)."""
+    from cad.parts import powermouse as pp
+
+    uses: dict = {}
+    for sp, _, _, _, lid, _ in _lid_plans(design, g).values():
+        uses.setdefault((sp["size"], sp["length_mm"]), []).append(lid.replace("_", " "))
+    lp = pp.leg_plan(design.stator.housing_wall_mm)
+    uses.setdefault((lp["size"], lp["length_mm"]), []).append("legs")
+    return {k: ", ".join(v) for k, v in uses.items()}
+
+
+def _legs(design, g) -> list:
+    """The four legs under the housing and their ISO 4762 screws (from inside the housing,
+    head on the bottom wall's inner face), each screw with its fastener record."""
+    from cad.assembly.fasteners import Fastener
+    from cad.parts import PartInstance, joints, translation
+    from cad.parts import powermouse as pp
+
+    sp = pp.leg_plan(design.stator.housing_wall_mm)
+    Ho = g.housing_inner_half_mm + g.housing_wall_mm
+    leg = _kind("pm_leg", pp.leg_shape(g), "base", design)
+    screw = joints.cap_screw_kind(sp["size"], sp["length_mm"], "stator.housing_wall_mm",
+                                  _screw_uses(design, g)[sp["size"], sp["length_mm"]])
+    out = []
+    for k, (x, y) in enumerate(pp.leg_xy_mm(g), start=1):
+        out.append(PartInstance(f"leg_{k}", leg, "ground", translation(x, y, -Ho)))
+        f = Fastener("ISO 4762", sp["size"], sp["length_mm"], ("housing_body",), f"leg_{k}:top",
+                     sp["engagement_mm"])
+        out.append(PartInstance(f"leg_screw_{k}", screw, "ground",
+                                translation(x, y, -g.housing_inner_half_mm), fastener=f))
+    return out
 
 
 def _fits(g) -> dict[str, tuple[str, ...]]:
@@ -427,6 +466,10 @@ def lid_holes(design, g) -> dict:
         for k in range(len(xy)):
             n = f"{part}:lid_{k + 1}"
             out[n] = TappedHole(n, part, sp["size"], sp["depth_mm"], sp["min_engagement_mm"])
+    lp = pp.leg_plan(design.stator.housing_wall_mm)
+    for k in range(1, 5):
+        n = f"leg_{k}:top"
+        out[n] = TappedHole(n, f"leg_{k}", lp["size"], lp["depth_mm"], lp["min_engagement_mm"])
     pl = pp.post_plan(g)
     for n, x in (("flotor_body:handle", pp.handle_plan(g, design.flotor.material)),
                  ("core:post", pl["tip"]), ("housing_body:post_set_screw", pl["set_screw"])):
@@ -443,7 +486,7 @@ def _lid_screws(design, g) -> list:
     out = []
     for prefix, (sp, xy, z, body, lid, part) in _lid_plans(design, g).items():
         size, L = sp["size"], sp["length_mm"]
-        kind = joints.cap_screw_kind(size, L, "stator.housing_wall_mm", lid.replace("_", " "))
+        kind = joints.cap_screw_kind(size, L, "stator.housing_wall_mm", _screw_uses(design, g)[size, L])
         up = np.eye(4) if z > 0 else flip_x()  # head on the lid's outer face
         out += [
             PartInstance(

@@ -59,9 +59,23 @@ def _register_commands() -> None:
 
 
 def fail(message: str, code: int = 2) -> typer.Exit:
-    """Print ``hapticad: error: <message>`` on stderr and return the Exit to raise."""
-    print(f"hapticad: error: {message}", file=sys.stderr)
+    """Print ``hapticad: error: <message>`` on stderr and return the Exit to raise.
+
+    With ``code`` 2 the line carries the likely unit slip (:func:`_error`).
+    """
+    if code == 2:
+        _error(message)
+    else:
+        print(f"hapticad: error: {message}", file=sys.stderr)
     return typer.Exit(code)
+
+
+def _error(message: str, field: str | None = None) -> None:
+    """The one stderr line of exit 2: the error and, in it, the hint of this run's
+    implausible-value warning (:func:`cad.design.bounds.error_line`); no warning lines."""
+    from cad.design import bounds
+
+    print(f"hapticad: error: {bounds.error_line(message, field)}", file=sys.stderr)
 
 
 def print_json(obj: dict, **dumps_kwargs) -> None:
@@ -90,7 +104,8 @@ def run(argv: list[str] | None = None) -> int:
     """Run the CLI on ``argv`` and return the exit code (tests call this in-process).
 
     0 success, 1 a target missed, 2 bad input (one line on stderr, no traceback).
-    Warnings (implausible values) are printed on stderr unless the exit code is 2.
+    Warnings (implausible values) are printed on stderr unless the exit code is 2; then the
+    error line carries their unit-slip hint instead (:func:`cad.design.bounds.error_line`).
     """
     from cad.design import bounds
 
@@ -136,10 +151,10 @@ def _run_app(argv: list[str] | None) -> int:
         print(f"hapticad: {exc}", file=sys.stderr)
         return 1
     except HapticadError as exc:
-        print(f"hapticad: error: {exc}", file=sys.stderr)
+        _error(str(exc), getattr(exc, "field", None))
         return 2
     except (OSError, UnicodeDecodeError) as exc:
-        print(f"hapticad: error: {exc}", file=sys.stderr)
+        _error(str(exc))
         return 2
 
 

@@ -106,9 +106,7 @@ def register(app: typer.Typer) -> None:
         check_buildable = getattr(d, "check_buildable", None)
         if check_buildable is not None:
             check_buildable()  # impossible hardware named before the CAD import
-        from cad.design import bounds
-
-        bounds.flush()  # warnings now, not after a long build
+        # warnings: before the first progress line (cad.cli.progress), or at the end
         target = out if out is not None else Path("exports") / d.name
         if json_out:
             rep = build_design(

@@ -35,14 +35,13 @@ def register(app: typer.Typer) -> None:
         set_script_policy(allow_scripts, allow_scripts_anywhere)
         from cad.api import check
         from cad.cli import flags
-        from cad.design import bounds, load_design
+        from cad.design import load_design
         from cad.errors import TargetMissed
 
         flags.choice("--fidelity", fidelity, ("inertia", "fabrication"))
         d = load_design(design)
         if hasattr(d, "check_buildable"):
             d.check_buildable()
-        bounds.flush()
         res = check(d, tuple(target or ()), fidelity)
         missed = [r for r in res["rows"] if not r["ok"]]
         if json_out:

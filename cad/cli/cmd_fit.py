@@ -35,7 +35,7 @@ def register(app: typer.Typer) -> None:
         from cad.cli import flags
         from cad.cli.cmd_gii import PANTOGRAPH_FAMILIES
         from cad.cli.families import refusal
-        from cad.design import bounds, load_design, parse_design
+        from cad.design import load_design, parse_design
         from cad.design.fourbar import FourBarDesign
         from cad.design.targets import PANTOGRAPH_TARGET_KEYS, TARGET_KEYS, parse_cli_target
         from cad.design.writer import dumps_design, rebase_paths
@@ -68,7 +68,6 @@ def register(app: typer.Typer) -> None:
             raise DesignError("--free", f"{twice} is given twice; give each free parameter once")
         dst = out if out is not None else design.with_suffix(".fit.toml")
         replaced = check_out_file(dst, design)
-        bounds.flush()
         need_clear = any(t.key == "min_clearance_mm" for t in targets)
         wanted = {t.key for t in targets}
 

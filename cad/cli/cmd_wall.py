@@ -32,7 +32,7 @@ def register(app: typer.Typer) -> None:
         """Largest stable virtual-wall stiffness (sampled data, quantized encoder, friction)."""
         from cad.cli import flags
         from cad.cli.families import COMMAND_FAMILIES, refusal
-        from cad.design import bounds, load_design
+        from cad.design import load_design
         from cad.errors import DesignError
         from cad.sim.wall import MODELS, check_sampling_period
 
@@ -46,7 +46,6 @@ def register(app: typer.Typer) -> None:
             raise DesignError("mechanism.family", refusal("wall", d.family))
         if Te is None and d.stiffness is not None:  # the design's period: name its key
             check_sampling_period(d.stiffness.Te_s, "stiffness.Te_s")
-        bounds.flush()
         from cad.sim.device import wall_report
 
         res = wall_report(d, K=K, B=B, Te_s=Te, counts_per_rev=counts, model=model, build_dir=build_dir)

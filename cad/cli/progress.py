@@ -3,7 +3,9 @@
 ``with stages("build") as progress: work(progress=progress)`` -- ``progress(description,
 done, total)`` is the callback the build and the sweeps accept. Off a terminal (a pipe, a
 log file, CI) each new stage prints ``hapticad: [done/total] description`` on stderr, so
-long work is never silent.
+long work is never silent. The run's warnings (:mod:`cad.design.bounds`) are printed before
+the first stage, so an implausible value is seen before minutes of work; a command that fails
+before its first stage prints only its error line.
 """
 
 from __future__ import annotations
@@ -18,6 +20,8 @@ Progress = Callable[[str, int, int], None]
 @contextlib.contextmanager
 def stages(title: str, stream=None) -> Iterator[Progress]:
     """A progress callback for the duration of the block (module docstring)."""
+    from cad.design import bounds
+
     stream = stream if stream is not None else sys.stderr
     if stream.isatty():
         from rich.console import Console
@@ -27,14 +31,19 @@ def stages(title: str, stream=None) -> Iterator[Progress]:
         with Bar(TextColumn("{task.description}"), BarColumn(), TimeElapsedColumn(),
                  transient=True, console=Console(file=stream)) as bar:
             task = bar.add_task(title, total=1)
-            yield lambda desc, done, total: bar.update(task, description=desc, completed=done,
-                                                       total=total)
+
+            def update(desc: str, done: int, total: int) -> None:
+                bounds.flush()  # sys.stderr now: rich prints it above the bar
+                bar.update(task, description=desc, completed=done, total=total)
+
+            yield update
         return
     last = [None]
 
     def line(desc: str, done: int, total: int) -> None:
         if desc != last[0]:
             last[0] = desc
+            bounds.flush(stream)
             print(f"hapticad: [{done}/{total}] {desc}", file=stream, flush=True)
 
     yield line

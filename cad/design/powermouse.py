@@ -194,7 +194,8 @@ def _parse_actuator(t: dict) -> ActuatorSpec:
     if gap is not None and gap <= dr:
         raise DesignError(
             "actuator.gap_mm",
-            f"must exceed rattle_mm ({dr:g}) to leave room for a coil, got {gap!r}",
+            f"{gap:g} mm must exceed actuator.rattle_mm = {dr:g} mm to leave room for a coil; "
+            "raise actuator.gap_mm or lower actuator.rattle_mm",
         )
     model = t.get("field_model", "closed-form")
     if model not in FIELD_MODELS:
@@ -204,7 +205,8 @@ def _parse_actuator(t: dict) -> ActuatorSpec:
     power = optional_positive(t, "power_W", p, 8.0)
     peak = optional_positive(t, "peak_power_W", p, 36.0)
     if peak < power:
-        raise DesignError("actuator.peak_power_W", f"must be >= power_W ({power:g}), got {peak!r}")
+        raise DesignError("actuator.peak_power_W", f"{peak:g} W must be >= actuator.power_W = {power:g} W "
+                          "(the peak is the largest power); raise actuator.peak_power_W or lower actuator.power_W")
     eta = optional_positive(t, "eta_pack", p, 0.75)
     if eta > 1:
         raise DesignError("actuator.eta_pack", f"must be in (0, 1], got {eta!r}")
@@ -286,7 +288,9 @@ def parse(raw: dict[str, Any], source: str = "<design>") -> PowerMouseDesign:
     if motion.range_mm > act.rattle_mm / 2:
         raise DesignError(
             "motion.range_mm",
-            f"must be <= rattle_mm/2 = {act.rattle_mm / 2:g} (the coil would hit the magnets), got {motion.range_mm!r}",
+            f"{motion.range_mm:g} mm must be <= actuator.rattle_mm/2 = {act.rattle_mm / 2:g} mm with "
+            f"actuator.rattle_mm = {act.rattle_mm:g} mm (the coil would hit the magnets); lower "
+            f"motion.range_mm or raise actuator.rattle_mm to >= {2 * motion.range_mm:g} mm",
         )
     if motion.range_deg >= 30:
         raise DesignError("motion.range_deg", f"must be < 30 deg, got {motion.range_deg!r}")

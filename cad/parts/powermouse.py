@@ -80,6 +80,14 @@ POST_HOLE_EXTRA_MM = 2.0
 #: screws tried there, largest first (:func:`cad.assembly.fasteners.size_set_screw`).
 POST_COLLAR_WALL_MM = 6.0
 POST_SET_SCREW_SIZES = ("M3-0.5", "M2.5-0.45", "M2-0.4")
+#: Legs under the housing (the post's collar stands below its bottom face): turned aluminium
+#: feet of this diameter, tapped at the top for an ISO 4762 screw put in from inside the
+#: housing through its bottom wall; :data:`LEG_INSET_MM` from the outer faces, mid-side;
+#: their feet :data:`LEG_CLEARANCE_MM` below the lowest point of the collar.
+LEG_SCREW = "M3-0.5"
+LEG_DIAMETER_MM = 12.0
+LEG_INSET_MM = 9.0
+LEG_CLEARANCE_MM = 2.0
 #: Radial margin of the corner holes (the post's in the flotor, the handle's in the housing)
 #: beyond the excursion over the motion range (mm): covers the sampling of rotations in
 #: :func:`cad.actuators.powermouse.diagonal_excursion_mm`.
@@ -225,6 +233,67 @@ def post_set_screw_tf(g: PowerMouseGeometry, size: str) -> np.ndarray:
     T[:3, :3] = np.column_stack([np.cross(u, v), u, v])
     T[:3, 3] = post_set_screw_s_mm(g, size) * u + g.post_diameter_mm / 2 * v
     return T
+
+
+def leg_plan(wall_mm: float) -> dict:
+    """The leg screws, before any CAD: through the housing's bottom wall (``wall_mm``) into a
+    hole tapped :data:`LID_TAP_DRILL_DEPTH_MM` deep in each leg's top (aluminium, 1.5 d;
+    :func:`cad.assembly.fasteners.size_cap_screw`). Returns size, clamp_mm, length_mm,
+    engagement_mm, depth_mm, min_engagement_mm; DesignError naming
+    ``stator.housing_wall_mm`` when no catalog length fits."""
+    from cad.assembly import fasteners as fs
+
+    depth = LID_TAP_DRILL_DEPTH_MM - fs.TAP_LEADOUT_MM
+    hole = fs.alu_hole("leg:top", "leg", LEG_SCREW, depth)
+    L, e = fs.size_cap_screw(LEG_SCREW, wall_mm, hole, "housing to its legs",
+                             "stator.housing_wall_mm")
+    return {"size": LEG_SCREW, "clamp_mm": wall_mm, "length_mm": L, "engagement_mm": e,
+            "depth_mm": depth, "min_engagement_mm": hole.min_engagement_mm}
+
+
+def leg_xy_mm(g: PowerMouseGeometry) -> list[tuple[float, float]]:
+    """(x, y) of the four legs (flotor frame, mm): mid-side, :data:`LEG_INSET_MM` in from
+    the housing's outer faces (the screw heads inside clear the iron plates and the flotor)."""
+    m = g.housing_inner_half_mm + g.housing_wall_mm - LEG_INSET_MM
+    return [(m, 0.0), (0.0, m), (-m, 0.0), (0.0, -m)]
+
+
+def leg_height_mm(g: PowerMouseGeometry) -> float:
+    """Leg height (mm): from the housing's bottom face to :data:`LEG_CLEARANCE_MM` below the
+    lowest point of the post's collar (its end disc's rim, at s_end / sqrt3 - R sqrt(2/3))."""
+    ss = post_plan(g)["set_screw"]["size"]
+    Ho = g.housing_inner_half_mm + g.housing_wall_mm
+    low = post_collar_end_s_mm(g, ss) / _SQ3 - g.post_collar_radius_mm * math.sqrt(2.0 / 3.0)
+    return -low - Ho + LEG_CLEARANCE_MM
+
+
+def leg_shape(g: PowerMouseGeometry):
+    """One leg in its frame: z from -height (the foot) to 0 (its top, against the housing),
+    tapped at the top (tap drill :data:`LID_TAP_DRILL_DEPTH_MM` deep)."""
+    import build123d as bd
+
+    from cad.parts.catalog import tap_drill_mm
+
+    h, a = leg_height_mm(g), (bd.Align.CENTER, bd.Align.CENTER, bd.Align.MIN)
+    leg = bd.Pos(0, 0, -h) * bd.Cylinder(LEG_DIAMETER_MM / 2, h, align=a)
+    drill = bd.Pos(0, 0, -LID_TAP_DRILL_DEPTH_MM) * bd.Cylinder(
+        tap_drill_mm(LEG_SCREW) / 2, LID_TAP_DRILL_DEPTH_MM + 1.0, align=a)
+    return (leg - drill).solids()[0]
+
+
+def _leg_screw_holes(g: PowerMouseGeometry):
+    """Clearance holes for the leg screws through the housing's bottom wall."""
+    import build123d as bd
+
+    from cad.parts.catalog import clearance_hole_mm
+
+    Ho, w = g.housing_inner_half_mm + g.housing_wall_mm, g.housing_wall_mm
+    a = (bd.Align.CENTER, bd.Align.CENTER, bd.Align.MIN)
+    cut = None
+    for x, y in leg_xy_mm(g):
+        c = bd.Pos(x, y, -Ho - 1.0) * bd.Cylinder(clearance_hole_mm(LEG_SCREW) / 2, w + 2.0, align=a)
+        cut = c if cut is None else cut + c
+    return cut
 
 
 def lid_screw_xy_mm(g: PowerMouseGeometry) -> list[tuple[float, float]]:
@@ -677,7 +746,7 @@ def stator_solids(g: PowerMouseGeometry) -> dict[str, tuple[object, str]]:
     # centre along the diagonal; a radial direction has a component of at most r)
     r = g.post_diameter_mm / 2
     housing = housing - _diag_cylinder(r, -(H - r - 1.0) * _SQ3, post_collar_end_s_mm(g, ss) - 1)
-    housing = housing - _set_screw_drill(g, ss) - _lid_screw_holes(g)
+    housing = housing - _set_screw_drill(g, ss) - _lid_screw_holes(g) - _leg_screw_holes(g)
     # split at the inner face of the +z wall: an open box and a lid (the flotor goes in from above)
     body, lid = _split_z(housing, H, 2 * Ho)
     out["housing_body"] = (body, "housing")
