@@ -54,7 +54,7 @@ def test_swap_product_passes_the_build_gate_or_swap_refuses(src, family, tmp_pat
         assert not out.exists()
         with pytest.raises(DesignError) as e:
             check_layout(plain, plain.parts.fidelity, False)
-        assert f"hapticad: error: {e.value}" == err.strip()
+        assert f"hapticad: error: {e.value}" == err.strip()  # no slip hint on swap's stroke
         return
     assert code == 0, err
     assert "did you give" not in err  # no unit-slip hint about values swap computed

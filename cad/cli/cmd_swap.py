@@ -68,13 +68,15 @@ def replan(raw: dict, target: Path, family: str):
     source that is not clear for the new bar set is dropped from ``raw`` (a warning on
     stderr names it) and the planner chooses; when no layer order is clear the build's
     one-line DesignError (naming the joint, both parts and the stroke that clears) is
-    raised: the CLI exits 2 and writes nothing."""
+    raised: the CLI exits 2 and writes nothing, with no unit-slip hint about the stroke swap
+    computed (:func:`cad.design.bounds.computed`)."""
     from cad.build.fourbar import check_layout
     from cad.design import parse_design
-    from cad.design.bounds import warn
+    from cad.design.bounds import computed, warn
     from cad.errors import DesignError
 
     new = parse_design(raw, str(target))
+    computed(*(f"mechanism.{k}" for k in raw["mechanism"]))  # swap's numbers, not typed
     try:
         check_layout(new, new.parts.fidelity, False)
         return new
@@ -83,6 +85,7 @@ def replan(raw: dict, target: Path, family: str):
             raise
     order = raw["parts"].pop("layer_order")
     new = parse_design(raw, str(target))
+    computed(*(f"mechanism.{k}" for k in raw["mechanism"]))
     check_layout(new, new.parts.fidelity, False)
     warn(f"parts.layer_order: {', '.join(order)} (copied from the source) is not clear for "
          f"the {family} bar set; dropped, the planner chooses the layer order")

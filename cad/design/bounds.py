@@ -407,6 +407,13 @@ def warn(text: str, record: _Implausible | None = None) -> None:
             _implausible[text] = record
 
 
+def computed(*fields: str) -> None:
+    """Mark ``fields`` as values a command computed (e.g. the stroke ``swap`` writes), not
+    typed: :func:`error_line` offers no unit slip for them."""
+    for f in fields:
+        _values.pop(f, None)
+
+
 def collected() -> list[str]:
     """Every warning recorded since the last :func:`reset`, in order."""
     return list(_warnings)
