@@ -40,6 +40,14 @@ CASES = [
      ["flotor.edge_mm", "use edge_mm >= 45.6", "did you give metres? (0.064 metres = 64 mm)"]),
     ("powermouse", "flotor.edge_mm", 6.4,
      ["flotor.edge_mm", "use edge_mm >= 45.6", "did you give cm? (6.4 cm = 64 mm)"]),
+    # refused as a corner hole too small for the post's motion: the note names the real slip,
+    # not a "did you give cm?" for the corner hole the user did not change
+    ("powermouse", "flotor.edge_mm", 640,
+     ["flotor.corner_hole_mm", "with flotor.edge_mm = 640 mm",
+      "note: flotor.edge_mm = 640 mm is implausible"]),
+    # plausible edge, same rule: both keys named, no slip guessed for the corner hole
+    ("powermouse", "flotor.edge_mm", 300,
+     ["flotor.corner_hole_mm: 25.8 mm", "with flotor.edge_mm = 300 mm", "use corner_hole_mm >= "]),
     ("powermouse", "stator.housing_wall_mm", 400,
      ["stator.housing_wall_mm", "400 mm", "implausible", "over 300 mm"]),
     ("powermouse", "actuator.rattle_mm", 0.6,
@@ -71,6 +79,7 @@ def test_tester_input_is_one_line(tmp_path, name, field, value, needles):
     code, out, err = hapticad("build", design, "--out", out_dir)
     assert_one_line_error(code, err, "hapticad: error: ", *needles)
     assert "warning" not in err
+    assert "(25.8 cm" not in err  # the bundled corner hole is no slip
     assert out == ""
     assert sorted(p.name for p in tmp_path.iterdir()) == [design.name]  # nothing written
     assert not [m for m in CAD_MODULES if m in sys.modules and m not in had_cad]
@@ -137,8 +146,12 @@ def test_error_line_unit_slip_must_meet_the_stated_limit():
             "flotor.edge_mm: too small; use edge_mm >= 200"
         # a limit the value already meets is about something else: nothing is added
         assert bounds.error_line("flotor.edge_mm: odd; need >= 2 mm") == "flotor.edge_mm: odd; need >= 2 mm"
+        # within a factor 2 of the limit: a design choice, not a slip (25.8 cm would meet 30)
+        bounds.check_number("flotor.corner_hole_mm", 25.8, bounds.PART_MM)
+        assert bounds.error_line("flotor.corner_hole_mm: use corner_hole_mm >= 30") == \
+            "flotor.corner_hole_mm: use corner_hole_mm >= 30"
         # a key not typed (no value recorded): nothing is added
-        assert bounds.error_line("flotor.corner_hole_mm: need >= 45") == "flotor.corner_hole_mm: need >= 45"
+        assert bounds.error_line("flotor.lid_mm: need >= 45") == "flotor.lid_mm: need >= 45"
     finally:
         bounds.reset()
 

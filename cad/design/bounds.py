@@ -464,15 +464,23 @@ def _limits(field: str, message: str, own: bool) -> list[tuple[Any, float]]:
 def _limit_hint(field: str | None, message: str) -> str:
     """The unit slip that makes a value the user typed meet every limit ``message`` states
     for it (``"; did you give cm? (6.4 cm = 64 mm)"``; for another key than ``field``:
-    ``"; actuator.rattle_mm = 0.6: did you give cm? (...)"``), else ``""``."""
-    named = [k for k in _values if k == field or (k in message and k != field)]
-    for key in sorted(named, key=lambda k: k != field):
+    ``"; actuator.rattle_mm = 0.6: did you give cm? (...)"``), else ``""``. A value within a
+    factor 2 of the limit it misses is taken as meant (no hint); when the message names
+    another key the user typed (a rule between keys) only the limits stated for those keys
+    count."""
+    others = [k for k in _values if k != field and k in message]
+    # a rule between keys (another typed key named): no slip is guessed for this one's value
+    named = others if others else [k for k in _values if k == field]
+    for key in named:
         rec, limits = _values[key], _limits(key, message, key == field)
         if rec is None or not limits:
             continue
         v, bound = rec
-        if all(f(v, n) for f, n in limits):  # the limits are not about this value
+        missed = [(f, n) for f, n in limits if not f(v, n)]
+        if not missed:  # the limits are not about this value
             continue
+        if any(n / 2 <= v <= 2 * n for _, n in missed if n > 0):  # near a limit: a design
+            continue  # choice, not a unit slip (25.8 typed, 30 needed)
         hint = bound.slip_hint(v, ok=lambda w, lim=limits: all(f(w, n) for f, n in lim))
         if hint:
             return hint if key == field else f"; {key} = {v:g}:{hint[1:]}"
@@ -485,9 +493,10 @@ def error_line(message: str, field: str | None = None) -> str:
     ``message`` is the error's text, ``field`` the key or flag it names (default: the
     ``"field: "`` it starts with). Appends, unless the message already asks "did you give":
 
-    * the slip hint of this run's implausible-value warning about ``field``, or the slip that
-      makes the value typed for ``field`` meet the limit the message states ("use edge_mm >=
-      45.6" with 6.4 typed: "did you give cm?"), or that warning's reason;
+    * the slip hint of this run's implausible-value warning about ``field``, or (unless another
+      key's value is implausible: that is the likelier slip) the slip that makes the value
+      typed for ``field`` meet the limit the message states ("use edge_mm >= 45.6" with 6.4
+      typed: "did you give cm?"), or that warning's reason;
     * else ``"; note: <key> = <value> looks like metres (...)"`` for the implausible value most
       likely involved (its key named in the message, else one with a unit slip, else the
       first), naming any others; with no implausible value, the run's first other warning.
@@ -502,7 +511,8 @@ def error_line(message: str, field: str | None = None) -> str:
     records = list(_implausible.values())
     own = next((r for r in records if r.field == field), None)
     hint = own.bound.slip_hint(own.value) if own is not None else ""
-    hint = hint or _limit_hint(field, message)
+    if not hint and (own is not None or not records):  # an implausible other key comes first
+        hint = _limit_hint(field, message)
     if hint:
         return message + hint
     if own is not None:

@@ -494,7 +494,8 @@ class PowerMouseGeometry:
                 "flotor.corner_hole_mm",
                 f"{self.corner_hole_mm:g} mm: the {self.post_diameter_mm:g} mm post moves "
                 f"{(need - self.post_diameter_mm) / 2 - HOLE_MARGIN_MM:.2f} mm off its axis there "
-                f"over the motion range; use corner_hole_mm >= {need:.2f}",
+                f"over the motion range with flotor.edge_mm = {self.flotor_edge_mm:g} mm; use "
+                f"corner_hole_mm >= {need:.2f}",
             )
         if self.corner_hole_mm > room + 1e-9:
             raise DesignError(
