@@ -258,3 +258,37 @@ def test_powermouse_stands_on_its_legs(pm):
     com = mx / m
     r = rep["geometry_mm"]["housing_inner_half_mm"] + d.stator.housing_wall_mm - 9.0
     assert abs(com[0]) + abs(com[1]) < r - 5.0, com  # inside the diamond of the 4 mid-side feet
+
+
+def test_following_the_advice_of_a_refusal_gives_a_valid_geometry(geo):
+    """The advised limits are rounded inwards: applying the numbers a refusal gives makes the
+    geometry valid (no loop); a motion no post can follow names flotor.edge_mm."""
+    import dataclasses
+    import re
+
+    from cad.build.powermouse import _gap_mm
+    from cad.errors import DesignError
+    from cad.parts import powermouse as pp
+
+    d0, _ = geo
+
+    def geometry(**tables):
+        d = d0
+        for t, ch in tables.items():
+            d = dataclasses.replace(d, **{t: dataclasses.replace(getattr(d, t), **ch)})
+        return pp.geometry(d, _gap_mm(d))
+
+    for bad in (25.66, 25.84):
+        with pytest.raises(DesignError) as e:
+            geometry(flotor={"corner_hole_mm": bad})
+        (v,) = re.findall(r"use corner_hole_mm [<>]= ([\d.]+)", str(e.value))
+        geometry(flotor={"corner_hole_mm": float(v)})
+    with pytest.raises(DesignError) as e:
+        geometry(flotor={"edge_mm": 60.0})
+    post, hole = re.findall(r"post_diameter_mm <= ([\d.]+) with flotor.corner_hole_mm = ([\d.]+)",
+                            str(e.value))[0]
+    geometry(flotor={"edge_mm": 60.0, "corner_hole_mm": float(hole)},
+             stator={"post_diameter_mm": float(post)})
+    with pytest.raises(DesignError) as e:
+        geometry(motion={"range_deg": 8.0})
+    assert str(e.value).startswith("flotor.edge_mm: 64 mm: over the +-3 mm / +-8 deg motion")

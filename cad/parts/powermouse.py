@@ -480,14 +480,28 @@ class PowerMouseGeometry:
 
     def _validate_corner_hole(self) -> None:
         """The corner hole clears the post over the motion (:attr:`corner_hole_min_mm`) and
-        stays :data:`COIL_WALL_MM` off the coil pockets."""
+        stays :data:`COIL_WALL_MM` off the coil pockets. Advised limits are rounded inwards
+        (a lower bound up, an upper bound down, to 0.01 mm), so following them builds."""
+        from cad.parts.catalog import tap_drill_mm
+
         need, room = self.corner_hole_min_mm, 2 * (self._coil_distance_mm() - COIL_WALL_MM)
         if need > room + 1e-9:
+            post_max = self.post_diameter_mm - (need - room)
+            if post_max < tap_drill_mm(POST_THREAD) + 2.0:  # no post fits: the flotor must grow
+                raise DesignError(
+                    "flotor.edge_mm",
+                    f"{self.flotor_edge_mm:g} mm: over the +-{self.range_mm:g} mm / "
+                    f"+-{self.range_deg:g} deg motion the stator post moves so far in the "
+                    f"flotor's corner hole that no post (>= {tap_drill_mm(POST_THREAD) + 2:g} mm) "
+                    "fits beside the coil pockets; enlarge edge_mm or reduce motion.range_deg / "
+                    "motion.range_mm",
+                )
             raise DesignError(
                 "stator.post_diameter_mm",
                 f"{self.post_diameter_mm:g} mm: the flotor's corner hole round it must be >= "
                 f"{need:.2f} mm for the motion, but the coils leave room for {room:.2f} mm; "
-                f"use post_diameter_mm <= {self.post_diameter_mm - (need - room):.2f}",
+                f"use post_diameter_mm <= {_down(post_max):.2f} with flotor.corner_hole_mm = "
+                f"{_down(room):.2f}",
             )
         if self.corner_hole_mm < need - 1e-9:
             raise DesignError(
@@ -495,13 +509,13 @@ class PowerMouseGeometry:
                 f"{self.corner_hole_mm:g} mm: the {self.post_diameter_mm:g} mm post moves "
                 f"{(need - self.post_diameter_mm) / 2 - HOLE_MARGIN_MM:.2f} mm off its axis there "
                 f"over the motion range with flotor.edge_mm = {self.flotor_edge_mm:g} mm; use "
-                f"corner_hole_mm >= {need:.2f}",
+                f"corner_hole_mm >= {_up(need):.2f}",
             )
         if self.corner_hole_mm > room + 1e-9:
             raise DesignError(
                 "flotor.corner_hole_mm",
                 f"{self.corner_hole_mm:g} mm comes within {COIL_WALL_MM:g} mm of a coil pocket; "
-                f"use corner_hole_mm <= {room:.2f} (or enlarge flotor.edge_mm)",
+                f"use corner_hole_mm <= {_down(room):.2f} (or enlarge flotor.edge_mm)",
             )
 
     def _validate_handle(self) -> None:
@@ -513,7 +527,7 @@ class PowerMouseGeometry:
             raise DesignError(
                 "handle.diameter_mm",
                 f"{self.handle_diameter_mm:g} mm: its {boss:g} mm boss inside the flotor's corner "
-                f"would cut a coil pocket; use diameter_mm <= {room - 2 * HANDLE_BOSS_WALL_MM:.2f}",
+                f"would cut a coil pocket; use diameter_mm <= {_down(room - 2 * HANDLE_BOSS_WALL_MM):.2f}",
             )
         if self.knob_diameter_mm < self.handle_diameter_mm + 2.0 - 1e-9:
             raise DesignError(
@@ -525,9 +539,11 @@ class PowerMouseGeometry:
         if gap < 0:
             raise DesignError(
                 "handle.length_mm",
-                f"{self.handle_length_mm:g} mm: the {self.knob_diameter_mm:g} mm knob would reach "
-                f"the housing's corner over the motion range; use length_mm >= "
-                f"{self.handle_length_mm - gap / (1 - math.sin(math.radians(self.range_deg))):.1f}",
+                f"{self.handle_length_mm:g} mm: the {self.knob_diameter_mm:g} mm knob "
+                f"(handle.knob_diameter_mm) would reach the housing's corner over the motion "
+                f"range; use length_mm >= "
+                f"{_up(self.handle_length_mm - gap / (1 - math.sin(math.radians(self.range_deg))), 1):.1f}"
+                " or a smaller knob",
             )
 
     def _knob_gap_mm(self) -> float:
@@ -566,6 +582,18 @@ class PowerMouseGeometry:
                 local = np.stack([x, y, np.full_like(x, z)], 1)
                 pts.append(local @ R.T + c.centre_mm)
         return np.concatenate(pts)
+
+
+def _up(x: float, digits: int = 2) -> float:
+    """``x`` rounded up to ``digits`` decimals (an advised lower bound that holds)."""
+    k = 10.0**digits
+    return math.ceil(x * k - 1e-6) / k
+
+
+def _down(x: float, digits: int = 2) -> float:
+    """``x`` rounded down to ``digits`` decimals (an advised upper bound that holds)."""
+    k = 10.0**digits
+    return math.floor(x * k + 1e-6) / k
 
 
 @functools.lru_cache(maxsize=64)
