@@ -18,19 +18,11 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from test_structure import E, _section  # one aluminium 10 x 5 mm section
 
-from cad.structure.frame import Frame, Section, rect_torsion_J
+from cad.structure.frame import Frame
 
 ROOT = Path(__file__).resolve().parents[1]
-E, NU, RHO = 69e9, 0.33, 2700.0
-G = E / (2 * (1 + NU))
-
-
-def _section(w=10e-3, t=5e-3):
-    return Section(A=w * t, Iz=t * w**3 / 12, Iy=w * t**3 / 12, J=rect_torsion_J(w, t),
-                   cy=w / 2, cz=t / 2, t_torsion=min(w, t), E=E, G=G, rho=RHO)
-
-
 def test_tied_cantilever_is_the_closed_form_exactly():
     """Two 50 mm beams tied end to end (all DOFs but rz) bend out of plane as one 100 mm
     cantilever: u_z = P L^3 / (3 E I_y); with penalty ties this was off by ~1e-6."""

@@ -483,10 +483,10 @@ def _lid_screws(design, g) -> list:
     from cad.assembly.fasteners import Fastener
     from cad.parts import PartInstance, flip_x, joints, translation
 
-    out = []
+    out, uses = [], _screw_uses(design, g)
     for prefix, (sp, xy, z, body, lid, part) in _lid_plans(design, g).items():
         size, L = sp["size"], sp["length_mm"]
-        kind = joints.cap_screw_kind(size, L, "stator.housing_wall_mm", _screw_uses(design, g)[size, L])
+        kind = joints.cap_screw_kind(size, L, "stator.housing_wall_mm", uses[size, L])
         up = np.eye(4) if z > 0 else flip_x()  # head on the lid's outer face
         out += [
             PartInstance(
@@ -732,8 +732,7 @@ def _raise_on_overlap(design, itf, cl, allow: bool) -> None:
             f"{c['parts'][0]} / {c['parts'][1]} overlap {c['overlap_volume_mm3']:.3f} mm^3 at the "
             f"centre pose; {len(itf['collisions'])} overlapping pair(s) (use --allow-interference)"
         )
-    if min(x for x in (cl.nominal_mm, cl.translation_mm, cl.rotation_mm, cl.combined_mm)
-           if x == x) < 0:  # nan: not checked
+    if cl.minimum_mm < 0:
         bad = [k for k, v in cl.poses.items() if v[0] < 0]
         pair = f": {cl.poses[bad[0]][1]}" if bad else ""
         raise InterferenceError(
@@ -823,8 +822,7 @@ def _report(
             "range_deg": design.motion.range_deg,
             "poses": {k: {"clearance_mm": v[0], "closest": v[1]} for k, v in cl.poses.items()},
         },
-        "min_clearance_mm": min(x for x in (cl.nominal_mm, cl.translation_mm, cl.rotation_mm,
-                                            cl.combined_mm) if x == x),  # nan: not checked
+        "min_clearance_mm": cl.minimum_mm,
         "paper_table4": PAPER_TABLE4,
         "bom": bom,
         "rig_bom": rig_bom,

@@ -847,6 +847,12 @@ class Clearances:
     combined_mm: float = math.nan
     worst_combined: str = ""
 
+    @property
+    def minimum_mm(self) -> float:
+        """Smallest clearance over every group that was checked (nan groups skipped), mm."""
+        return min(x for x in (self.nominal_mm, self.translation_mm, self.rotation_mm,
+                               self.combined_mm) if x == x)
+
 
 def cavities(g: PowerMouseGeometry) -> dict[str, tuple]:
     """Boxes ((2, 3), flotor frame, mm) that the shells leave empty: the flotor lid's and the
