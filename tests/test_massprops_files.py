@@ -177,3 +177,155 @@ def test_hapticad_assembly_uses_per_solid_materials(tmp_path):
     one = json.loads(stdout)
     assert one["mass_kg"] != pytest.approx(ref, rel=1e-3)
     assert any("overrides them all" in w for w in one["warnings"])
+
+
+# ------------------------------------------------------------------ closed shells (issue 21 §4)
+# References: closed forms of cubes. A cube of side s at 1000 kg/m^3 has m = s^3 * 1e-6 kg
+# (s in mm) and I = m s^2 / 6 about its centre; a cavity subtracts its own cube's values.
+
+def _cube_i(s_mm):
+    m = 1000.0 * (s_mm * 1e-3) ** 3
+    return m * (s_mm * 1e-3) ** 2 / 6
+
+
+@pytest.mark.parametrize(("name", "vol", "ixx", "warning"), [
+    ("hollow_box.stl", 7000.0, _cube_i(20) - _cube_i(10), None),
+    ("both_outward.stl", 7000.0, _cube_i(20) - _cube_i(10),
+     "shell 2 of 2 (12 triangles, (5, 5, 5) to (15, 15, 15) mm) lies inside shell 1 but is "
+     "wound outwards like a solid: read as a cavity"),
+    ("box_duplicated_facets.stl", 8000.0, _cube_i(20), "dropped 12 duplicate triangles"),
+])
+def test_stl_shells_cases(name, vol, ixx, warning):
+    """shared/cases/stl-shells: the right values of its README (closed forms above)."""
+    res, err = _massprops(CASES / "stl-shells" / name)
+    assert res["volume_mm3"] == pytest.approx(vol, rel=1e-12)
+    np.testing.assert_allclose(res["com_mm"], [10, 10, 10], atol=1e-12)
+    np.testing.assert_allclose(res["inertia_com_kg_m2"], ixx * np.eye(3), rtol=1e-12,
+                               atol=1e-12 * ixx)
+    if warning is None:
+        assert res["warnings"] == []
+    else:
+        assert len(res["warnings"]) == 1 and warning in res["warnings"][0]
+        assert warning in err
+
+
+def test_stl_in_metres_case_names_the_unit():
+    """A 10 x 20 x 30 mm box written in metres: 0.03 mm across; x1000 it is 30 mm and, in
+    aluminium-6061 (2700 kg/m^3), 6000 mm^3 * 2.7e-6 kg/mm^3 = 16.2 g."""
+    code, out, err = hapticad("massprops", CASES / "stl-shells" / "box10x20x30_in_metres.stl",
+                              "--material", "aluminium-6061", "--json")
+    assert code == 0, err
+    res = json.loads(out)
+    assert res["mass_kg"] == pytest.approx(6e-6 * 2700 * 1e-9, rel=1e-12)
+    note = ("box10x20x30_in_metres.stl: the mesh is 0.03 mm across, no device part: is the "
+            "file in metres? (x1000: 30 mm, 16.2 g)")
+    assert res["warnings"] == [note] and note in err
+
+
+def test_stl_in_micrometres_names_the_unit():
+    """The other side: a 10 mm cube written in um is 1e4 mm across (x0.001: 10 mm, 1 g)."""
+    v, f = _box((1e4, 1e4, 1e4), np.zeros(3))
+    res = mesh_arrays_mass_props(v, f, 1000.0)
+    from cad.massprops.mesh import unit_slip_note
+
+    note = unit_slip_note(v, res.props.mass_kg, "m.stl")
+    assert note == ("m.stl: the mesh is 1e+04 mm across, no device part: is the file in "
+                    "micrometres? (x0.001: 10 mm, 1 g)")
+    assert unit_slip_note(*_box((0.5, 1, 1), np.zeros(3))[:1], 1e-6) is None
+
+
+def _rigid(seed):
+    """A seeded random rotation (QR of a Gaussian matrix, det +1) and translation, mm."""
+    rng = np.random.default_rng(seed)
+    q, r = np.linalg.qr(rng.normal(size=(3, 3)))
+    q = q * np.sign(np.diag(r))
+    if np.linalg.det(q) < 0:
+        q[:, 0] *= -1
+    return q, rng.uniform(-500, 500, 3)
+
+
+def _nest(*shells):
+    """One soup of cube shells ``(side_mm, corner_mm, wound_out)``, each wound as given."""
+    vs, fs = [], []
+    for side, corner, out in shells:
+        v, f = _box((side,) * 3, np.asarray(corner, float))
+        fs.append((f if out else f[:, ::-1]) + 8 * len(vs))
+        vs.append(v)
+    return np.vstack(vs), np.vstack(fs)
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+@pytest.mark.parametrize("windings", [(True, False, True), (True, True, True),
+                                      (True, True, False), (True, False, False)])
+def test_nested_shells_read_by_their_nesting(seed, windings):
+    """Solid 30 mm cube, cavity 20 mm, island 10 mm inside the cavity, shells in any order and
+    under a seeded rigid transform: 27000 - 8000 + 1000 = 20000 mm^3 when the cavity is
+    wound inwards or outwards (outwards: noted); the island inside the cavity wound inwards
+    is inside-out (refused, named)."""
+    v, f = _nest((10, (10, 10, 10), windings[2]), (30, (0, 0, 0), windings[0]),
+                 (20, (5, 5, 5), windings[1]))
+    rot, shift = _rigid(seed)
+    v = v @ rot.T + shift
+    if not windings[2]:
+        from cad.errors import MeshError
+
+        with pytest.raises(MeshError, match=r"shell 1 of 3 \(12 triangles, .*\) is inside-out "
+                                            r"\(wound inwards, inside a cavity\)"):
+            mesh_arrays_mass_props(v, f, 1000.0)
+        return
+    res = mesh_arrays_mass_props(v, f, 1000.0)
+    assert res.volume_mm3 == pytest.approx(20000.0, rel=1e-9)
+    np.testing.assert_allclose(np.asarray(res.props.com_m) * 1e3, rot @ [15, 15, 15] + shift,
+                               atol=1e-9)
+    ixx = _cube_i(30) - _cube_i(20) + _cube_i(10)
+    np.testing.assert_allclose(res.props.principal_moments_kg_m2, [ixx] * 3, rtol=1e-9)
+    assert len(res.notes) == int(windings[1])
+    if windings[1]:
+        assert "shell 3 of 3" in res.notes[0] and "inside shell 2" in res.notes[0]
+
+
+def test_separate_bodies_and_inside_out_shell():
+    """Two disjoint cubes: 1000 + 8000 mm^3, nothing noted; the small one wound inwards is
+    inside-out (enclosed by nothing): refused naming it, not 7000."""
+    from cad.errors import MeshError
+
+    res = mesh_arrays_mass_props(*_nest((10, (50, 0, 0), True), (20, (0, 0, 0), True)), 1000.0)
+    assert res.volume_mm3 == pytest.approx(9000.0, rel=1e-12) and res.notes == ()
+    with pytest.raises(MeshError, match=r"shell 1 of 2 .* is inside-out \(wound inwards, "
+                                        r"enclosed by no other shell\): its 1000 mm\^3"):
+        mesh_arrays_mass_props(*_nest((10, (50, 0, 0), False), (20, (0, 0, 0), True)), 1000.0)
+
+
+def test_crossing_shells_refused():
+    """Two overlapping cubes written as two shells would count the overlap twice (16000 for
+    a union of 15000 mm^3): refused, naming both."""
+    from cad.errors import MeshError
+
+    with pytest.raises(MeshError, match=r"shell 1 of 2 .* crosses shell 2 of 2"):
+        mesh_arrays_mass_props(*_nest((20, (0, 0, 0), True), (20, (10, 10, 10), True)), 1000.0)
+
+
+def test_crossing_shells_no_vertex_shows_refused_by_the_hull():
+    """Two 20 mm cubes on one centre, one turned 45 deg about z: every vertex of each lies
+    outside the other (nesting sees two separate bodies), but together they enclose
+    16000 mm^3 inside their convex hull, the regular octagonal prism through the 8 vertical
+    edges (circum-radius R = 10 sqrt 2 mm), 20 mm high: 2 sqrt(2) R^2 * 20 = 11313.7 mm^3."""
+    from cad.errors import MeshError
+
+    v, f = _nest((20, (-10, -10, -10), True), (20, (-10, -10, -10), True))
+    c, s = np.cos(np.pi / 4), np.sin(np.pi / 4)
+    v[8:] = v[8:] @ np.array([[c, -s, 0], [s, c, 0], [0, 0, 1]]).T
+    hull = 2 * np.sqrt(2) * 200 * 20
+    with pytest.raises(MeshError, match=rf"encloses 16000 mm\^3, more than its convex hull's "
+                                        rf"{hull:.6g}"):
+        mesh_arrays_mass_props(v, f, 1000.0)
+
+
+def test_duplicates_found_in_any_vertex_order():
+    """A facet repeated with its vertices rotated (same winding) is the same facet: dropped;
+    one repeated reversed is a different (opposite) facet: kept, and the mesh is then open."""
+    from cad.massprops.shells import drop_duplicate_faces
+
+    f = np.array([[0, 1, 2], [1, 2, 0], [2, 0, 1], [0, 2, 1], [3, 4, 5]])
+    kept, n = drop_duplicate_faces(f)
+    assert n == 2 and kept.tolist() == [[0, 1, 2], [0, 2, 1], [3, 4, 5]]

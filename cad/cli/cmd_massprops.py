@@ -63,9 +63,14 @@ def compute(
         for w in stl_warnings:
             warn(w)
         res = mesh.mesh_arrays_mass_props(v, f, rho, allow_open=True, what=Path(file).name)
+        for note in res.notes:
+            warn(note)
         if not res.watertight:
             warn(f"{Path(file).name} is not watertight (open or non-manifold edges); "
                  "volume and inertia are unreliable")
+        scale = mesh.unit_slip_note(v, res.props.mass_kg, Path(file).name)
+        if scale:
+            warn(scale)
         props, vol = res.props, res.volume_mm3
         out.update(method="trimesh", watertight=res.watertight, n_triangles=res.n_triangles)
     out.setdefault("density_kg_m3", rho)

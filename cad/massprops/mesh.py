@@ -23,6 +23,11 @@ non-watertight mesh unless ``allow_open=True``, in which case the trimesh result
 mesh and raises regardless). Always a MeshError, open or not: non-finite or
 out-of-range input, inconsistent winding (a flipped triangle leaves a box
 "watertight" with half its volume), and an enclosed volume <= 0 (inside-out or flat).
+
+Shells (:mod:`cad.massprops.shells`, issue 21 §4): :func:`mesh_arrays_mass_props` drops
+triangles written twice (noted), winds every closed shell for its nesting (a cavity wound
+outwards is read as a cavity, noted; an outermost shell wound inwards or shells crossing
+each other are MeshErrors) and refuses a closed mesh enclosing more than its convex hull.
 """
 
 from __future__ import annotations
@@ -40,6 +45,7 @@ from cad.massprops.occt import (
     volume_props_mm,
 )
 from cad.massprops.props import MassProps
+from cad.tolerances import HULL_VOLUME_REL_EPS, PART_EXTENT_MAX_MM, PART_EXTENT_MIN_MM
 
 #: OCCT's own default angular deflection for BRepMesh_IncrementalMesh (rad). With an
 #: absolute linear deflection below ~0.1 mm the linear criterion governs on the
@@ -64,6 +70,8 @@ class MeshMassResult:
     watertight : True/False when checked, ``None`` when the method did not check.
     n_triangles : number of triangles integrated.
     method : ``"occt-triangulation"``, ``"trimesh"`` or ``"manifold3d"``.
+    notes : what was read differently from the file as written (duplicate triangles
+        dropped, a cavity shell wound outwards read as a cavity); the caller warns.
     """
 
     props: MassProps | None
@@ -71,6 +79,7 @@ class MeshMassResult:
     watertight: bool | None
     n_triangles: int
     method: str
+    notes: tuple[str, ...] = ()
 
 
 def _check_tolerances(linear_tol_mm: float, angular_tol_rad: float) -> None:
@@ -235,6 +244,42 @@ def mesh_arrays_mass_props(
     # catastrophically (a box at 1e6 mm came out 3.6 % wrong; issue 12 §2)
     origin = _local_origin(v)
     tm = _merged_trimesh(v - origin if origin is not None else v, faces, what)
+    rho = float(density_kg_m3)
+    if not np.isfinite(rho) or rho <= 0:
+        raise GeometryError(f"density_kg_m3 must be finite and > 0, got {density_kg_m3!r}")
+    tm, watertight, notes = _checked_shells(tm, allow_open, what,
+                                            origin if origin is not None else 0.0)
+    # the volume first: trimesh divides by it for the centre of mass (NaN at 0)
+    vol = _signed_volume_mm3(tm)
+    if not np.isfinite(vol) or vol <= 0:
+        raise MeshError(f"{what} encloses volume {vol:.6g} mm^3 (<= 0): inside-out or degenerate")
+    if watertight:
+        _check_below_hull(tm, vol, what)
+    mp = tm.mass_properties  # unit density, mm units
+    vol = float(mp["volume"])
+    props = MassProps(
+        mass_kg=rho * vol * MM3_TO_M3,
+        com_m=(np.asarray(mp["center_mass"], dtype=float)
+               + (origin if origin is not None else 0.0)) * MM_TO_M,
+        inertia_com_kg_m2=rho * np.asarray(mp["inertia"], dtype=float) * MM5_TO_M5,
+    )
+    return MeshMassResult(props, vol, watertight, len(tm.faces), "trimesh", tuple(notes))
+
+
+def _checked_shells(tm, allow_open: bool, what: str, origin):
+    """``(trimesh, watertight, notes)``: exact duplicate triangles dropped, closedness and
+    winding checked, then every closed shell wound for its nesting
+    (:func:`cad.massprops.shells.orient_shells`; an open mesh has no inside to nest by)."""
+    import trimesh
+
+    from cad.massprops import shells
+
+    notes: list[str] = []
+    faces, n_dup = shells.drop_duplicate_faces(tm.faces)
+    if n_dup:
+        notes.append(f"{what}: dropped {n_dup} duplicate triangle{'s' if n_dup > 1 else ''} "
+                     "(the same facet written twice would count its volume twice)")
+        tm = trimesh.Trimesh(tm.vertices, faces, process=False)
     watertight = bool(tm.is_watertight)
     _require_closed(watertight, allow_open, what)
     if not tm.is_winding_consistent:
@@ -244,22 +289,43 @@ def mesh_arrays_mass_props(
             "wrong; repair it, e.g. in Python: m = trimesh.load(FILE); "
             "trimesh.repair.fix_normals(m); m.export(FILE_FIXED)"
         )
-    rho = float(density_kg_m3)
-    if not np.isfinite(rho) or rho <= 0:
-        raise GeometryError(f"density_kg_m3 must be finite and > 0, got {density_kg_m3!r}")
-    # the volume first: trimesh divides by it for the centre of mass (NaN at 0)
-    vol = _signed_volume_mm3(tm)
-    if not np.isfinite(vol) or vol <= 0:
-        raise MeshError(f"{what} encloses volume {vol:.6g} mm^3 (<= 0): inside-out or degenerate")
-    mp = tm.mass_properties  # unit density, mm units
-    vol = float(mp["volume"])
-    props = MassProps(
-        mass_kg=rho * vol * MM3_TO_M3,
-        com_m=(np.asarray(mp["center_mass"], dtype=float)
-               + (origin if origin is not None else 0.0)) * MM_TO_M,
-        inertia_com_kg_m2=rho * np.asarray(mp["inertia"], dtype=float) * MM5_TO_M5,
-    )
-    return MeshMassResult(props, vol, watertight, len(tm.faces), "trimesh")
+    if watertight:
+        faces, more = shells.orient_shells(tm.vertices, tm.faces, what, origin)
+        if more:
+            notes += more
+            tm = trimesh.Trimesh(tm.vertices, faces, process=False)
+    return tm, watertight, notes
+
+
+def _check_below_hull(tm, vol_mm3: float, what: str) -> None:
+    """MeshError when a closed mesh encloses more than its convex hull: impossible for
+    solids that do not overlap (shells counted twice or crossing)."""
+    hull_mm3 = float(tm.convex_hull.volume)
+    if vol_mm3 > hull_mm3 * (1.0 + HULL_VOLUME_REL_EPS):
+        raise MeshError(
+            f"{what} encloses {vol_mm3:.6g} mm^3, more than its convex hull's {hull_mm3:.6g}: "
+            "impossible for solids that do not overlap (shells overlap or are written twice)"
+        )
+
+
+def unit_slip_note(vertices_mm, mass_kg: float, what: str = "mesh") -> str | None:
+    """A warning when a mesh read as mm is too small or too large to be a device part
+    (:data:`cad.tolerances.PART_EXTENT_MIN_MM` / ``_MAX_MM``), naming the likely unit and
+    what the part would be in it; ``None`` when its extent is plausible.
+
+    vertices_mm : (N, 3) finite vertices as read, mm; mass_kg : mass as computed from them.
+    """
+    v = np.asarray(vertices_mm, dtype=float)
+    extent = float((v.max(axis=0) - v.min(axis=0)).max())
+    if PART_EXTENT_MIN_MM <= extent <= PART_EXTENT_MAX_MM:
+        return None
+    unit, k = ("metres", 1e3) if extent < PART_EXTENT_MIN_MM else ("micrometres", 1e-3)
+    return (f"{what}: the mesh is {extent:.3g} mm across, no device part: is the file in "
+            f"{unit}? (x{k:g}: {extent * k:.3g} mm, {_mass_text(mass_kg * k**3)})")
+
+
+def _mass_text(mass_kg: float) -> str:
+    return f"{mass_kg * 1e3:.3g} g" if mass_kg < 1.0 else f"{mass_kg:.3g} kg"
 
 
 def _local_origin(v) -> np.ndarray | None:
