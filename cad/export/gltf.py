@@ -11,7 +11,10 @@ Layout of the file (glTF 2.0, written with pygltflib):
   node per part instance, named by the instance, at ``tf_body_part`` (a ``matrix``);
 * one mesh per part kind (shared by its instances), named by the kind, one primitive
   (POSITION float32 + uint32 indices; no normals: viewers shade flat, which suits
-  machined parts), one material per colour (``baseColorFactor``);
+  machined parts), one material per colour (``baseColorFactor``, which glTF 2.0 defines
+  as LINEAR RGB: the display colours, sRGB-encoded like the hex codes below and the
+  material table, are decoded with :func:`srgb_to_linear`; three.js's GLTFLoader reads
+  the factor as linear and its renderer encodes sRGB for the screen);
 * units: **metres** (glTF's unit): positions and translations are the model's mm x 1e-3;
   ``asset.extras`` says ``{"units": "m", "source_units": "mm"}``; y is glTF's up axis, so
   the root node turns the model's z-up world R0 into y-up (rotation -90 deg about x);
@@ -36,7 +39,15 @@ BODY_COLORS = {"ground": "#9aa0a6", "crank": "#d9534f", "coupler": "#337ab7", "r
 PALETTE = ("#d9534f", "#337ab7", "#5cb85c", "#f0ad4e", "#8e6cc0", "#5bc0de", "#c7a26b")
 
 
+def srgb_to_linear(rgb) -> tuple[float, float, float]:
+    """Linear RGB of sRGB-encoded ``rgb`` (each 0..1), the IEC 61966-2-1 transfer function:
+    c / 12.92 for c <= 0.04045, else ((c + 0.055) / 1.055) ** 2.4."""
+    return tuple(c / 12.92 if c <= 0.04045 else ((c + 0.055) / 1.055) ** 2.4
+                 for c in (float(x) for x in rgb))
+
+
 def hex_rgb(h: str) -> tuple[float, float, float]:
+    """sRGB-encoded (display) colour of ``"#rrggbb"``, each channel 0..1."""
     h = h.lstrip("#")
     return tuple(int(h[i : i + 2], 16) / 255.0 for i in (0, 2, 4))
 
@@ -200,13 +211,15 @@ def glb_bytes(
         k = inst.kind
         if not k.listed:
             continue
-        rgb = tuple(round(c, 4) for c in instance_rgb(inst, body_rgb))
+        display = instance_rgb(inst, body_rgb)
+        rgb = tuple(round(c, 4) for c in display)
         if rgb not in mat_of:
             gl.materials.append(
                 G.Material(
                     name="rgb_" + "".join(f"{int(round(c * 255)):02x}" for c in rgb),
                     pbrMetallicRoughness=G.PbrMetallicRoughness(
-                        baseColorFactor=[*rgb, 1.0], metallicFactor=0.1, roughnessFactor=0.6
+                        baseColorFactor=[*srgb_to_linear(display), 1.0], metallicFactor=0.1,
+                        roughnessFactor=0.6,
                     ),
                 )
             )

@@ -141,7 +141,7 @@ def assembly_step_bytes(items, name: str) -> bytes:
     from OCP.IFSelect import IFSelect_ReturnStatus
     from OCP.Interface import Interface_Static
     from OCP.Message import Message, Message_Gravity
-    from OCP.Quantity import Quantity_Color, Quantity_TOC_RGB
+    from OCP.Quantity import Quantity_Color, Quantity_TOC_sRGB
     from OCP.STEPCAFControl import STEPCAFControl_Controller, STEPCAFControl_Writer
     from OCP.STEPControl import STEPControl_Controller, STEPControl_StepModelType
     from OCP.TCollection import TCollection_ExtendedString, TCollection_HAsciiString
@@ -172,7 +172,7 @@ def assembly_step_bytes(items, name: str) -> bytes:
         if rgb is not None:
             colors.SetColor(
                 part,
-                Quantity_Color(*(float(c) for c in rgb), Quantity_TOC_RGB),
+                Quantity_Color(*(float(c) for c in rgb), Quantity_TOC_sRGB),
                 XCAFDoc_ColorType.XCAFDoc_ColorGen,
             )
         comp = shapes.AddComponent(asm, part, loc)

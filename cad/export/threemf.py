@@ -20,6 +20,17 @@ from xml.sax.saxutils import quoteattr
 import numpy as np
 
 GAP_MM = 5.0
+
+#: Decimals of every coordinate written (mm, fixed point): 1e-4 mm steps, so a vertex is
+#: within 0.05 um of the mesh at ANY part size (6 significant digits, the old format, were
+#: 0.01 mm on a 1 m part; issue 21 §4). Trailing zeros are dropped.
+DECIMALS = 4
+
+
+def _num(x: float) -> str:
+    """``x`` (mm) to :data:`DECIMALS` decimals, trailing zeros dropped, never ``-0``."""
+    s = f"{x:.{DECIMALS}f}".rstrip("0").rstrip(".")
+    return "0" if s in ("-0", "") else s
 _CONTENT_TYPES = (
     '<?xml version="1.0" encoding="UTF-8"?>\n'
     '<Types xmlns="http://schemas.openxmlformats.org/package/2006/content-types">'
@@ -37,7 +48,7 @@ _RELS = (
 
 
 def _mesh_xml(v: np.ndarray, f: np.ndarray) -> str:
-    vs = "".join(f'<vertex x="{x:.6g}" y="{y:.6g}" z="{z:.6g}"/>' for x, y, z in v)
+    vs = "".join(f'<vertex x="{_num(x)}" y="{_num(y)}" z="{_num(z)}"/>' for x, y, z in v)
     ts = "".join(f'<triangle v1="{a}" v2="{b}" v3="{c}"/>' for a, b, c in f)
     return f"<mesh><vertices>{vs}</vertices><triangles>{ts}</triangles></mesh>"
 
@@ -55,7 +66,8 @@ def model_xml(parts: list[tuple[str, np.ndarray, np.ndarray, int]], title: str) 
         for _ in range(qty):
             tx, ty, tz = x - lo[0], -lo[1], -lo[2]
             items.append(
-                f'<item objectid="{oid}" transform="1 0 0 0 1 0 0 0 1 {tx:.6g} {ty:.6g} {tz:.6g}"/>'
+                f'<item objectid="{oid}" transform="1 0 0 0 1 0 0 0 1 {_num(tx)} {_num(ty)} '
+                f'{_num(tz)}"/>'
             )
             x += (hi[0] - lo[0]) + GAP_MM
     return (
