@@ -58,14 +58,14 @@ TOLERANCE_MAX_MM = 5.0
 MC_SAMPLES_MIN = 100
 MC_SAMPLES_MAX = 2_000_000
 
-#: A closed mesh may enclose at most its convex hull's volume; both are sums of the same
-#: float64 determinants, so a convex mesh matches its hull to ~1e-15 relative. Above
-#: 1e-9 relative the mesh counts some volume twice (overlapping or repeated shells).
-HULL_VOLUME_REL_EPS = 1e-9
-
 #: Extent (largest bounding-box side, mm) outside which a mesh read as mm is no part of a
 #: haptic device: below 0.5 mm (smaller than an M1 screw; a 30 mm part written in metres
 #: is 0.03) the file is most likely in metres; above 5000 mm (a desk-top device is well
 #: under 1 m; a 10 m part is more likely a 10 mm part written in um) in micrometres.
 PART_EXTENT_MIN_MM = 0.5
 PART_EXTENT_MAX_MM = 5000.0
+
+#: Two closed shells of one mesh may share no volume (separate bodies) or all of the inner
+#: one (nested); manifold3d's float64 intersection of exact meshes is right to ~1e-12
+#: relative, so a discrepancy above 1e-6 of the smaller shell is a real crossing.
+SHELL_OVERLAP_REL_EPS = 1e-6

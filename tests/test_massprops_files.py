@@ -305,19 +305,19 @@ def test_crossing_shells_refused():
         mesh_arrays_mass_props(*_nest((20, (0, 0, 0), True), (20, (10, 10, 10), True)), 1000.0)
 
 
-def test_crossing_shells_no_vertex_shows_refused_by_the_hull():
+def test_crossing_shells_no_vertex_shows_refused():
     """Two 20 mm cubes on one centre, one turned 45 deg about z: every vertex of each lies
-    outside the other (nesting sees two separate bodies), but together they enclose
-    16000 mm^3 inside their convex hull, the regular octagonal prism through the 8 vertical
-    edges (circum-radius R = 10 sqrt 2 mm), 20 mm high: 2 sqrt(2) R^2 * 20 = 11313.7 mm^3."""
+    outside the other (the vertex test sees two separate bodies; 16000 mm^3 would be summed)
+    but they share a regular octagonal prism of in-radius 10 mm, 20 mm high:
+    8 * 10^2 * tan(22.5 deg) * 20 = 6627.42 mm^3 (manifold3d intersection): refused."""
     from cad.errors import MeshError
 
     v, f = _nest((20, (-10, -10, -10), True), (20, (-10, -10, -10), True))
     c, s = np.cos(np.pi / 4), np.sin(np.pi / 4)
     v[8:] = v[8:] @ np.array([[c, -s, 0], [s, c, 0], [0, 0, 1]]).T
-    hull = 2 * np.sqrt(2) * 200 * 20
-    with pytest.raises(MeshError, match=rf"encloses 16000 mm\^3, more than its convex hull's "
-                                        rf"{hull:.6g}"):
+    shared = 8 * 100 * np.tan(np.pi / 8) * 20
+    with pytest.raises(MeshError, match=rf"shell 1 of 2 .* crosses shell 2 of 2 .*"
+                                        rf"\({shared:.6g} mm\^3 in both\)"):
         mesh_arrays_mass_props(v, f, 1000.0)
 
 

@@ -27,7 +27,7 @@ out-of-range input, inconsistent winding (a flipped triangle leaves a box
 Shells (:mod:`cad.massprops.shells`, issue 21 §4): :func:`mesh_arrays_mass_props` drops
 triangles written twice (noted), winds every closed shell for its nesting (a cavity wound
 outwards is read as a cavity, noted; an outermost shell wound inwards or shells crossing
-each other are MeshErrors) and refuses a closed mesh enclosing more than its convex hull.
+each other are MeshErrors).
 """
 
 from __future__ import annotations
@@ -45,7 +45,7 @@ from cad.massprops.occt import (
     volume_props_mm,
 )
 from cad.massprops.props import MassProps
-from cad.tolerances import HULL_VOLUME_REL_EPS, PART_EXTENT_MAX_MM, PART_EXTENT_MIN_MM
+from cad.tolerances import PART_EXTENT_MAX_MM, PART_EXTENT_MIN_MM
 
 #: OCCT's own default angular deflection for BRepMesh_IncrementalMesh (rad). With an
 #: absolute linear deflection below ~0.1 mm the linear criterion governs on the
@@ -253,8 +253,6 @@ def mesh_arrays_mass_props(
     vol = _signed_volume_mm3(tm)
     if not np.isfinite(vol) or vol <= 0:
         raise MeshError(f"{what} encloses volume {vol:.6g} mm^3 (<= 0): inside-out or degenerate")
-    if watertight:
-        _check_below_hull(tm, vol, what)
     mp = tm.mass_properties  # unit density, mm units
     vol = float(mp["volume"])
     props = MassProps(
@@ -295,17 +293,6 @@ def _checked_shells(tm, allow_open: bool, what: str, origin):
             notes += more
             tm = trimesh.Trimesh(tm.vertices, faces, process=False)
     return tm, watertight, notes
-
-
-def _check_below_hull(tm, vol_mm3: float, what: str) -> None:
-    """MeshError when a closed mesh encloses more than its convex hull: impossible for
-    solids that do not overlap (shells counted twice or crossing)."""
-    hull_mm3 = float(tm.convex_hull.volume)
-    if vol_mm3 > hull_mm3 * (1.0 + HULL_VOLUME_REL_EPS):
-        raise MeshError(
-            f"{what} encloses {vol_mm3:.6g} mm^3, more than its convex hull's {hull_mm3:.6g}: "
-            "impossible for solids that do not overlap (shells overlap or are written twice)"
-        )
 
 
 def unit_slip_note(vertices_mm, mass_kg: float, what: str = "mesh") -> str | None:

@@ -17,7 +17,8 @@ and every facet written twice doubles the volume. These functions, plain numpy o
 * :func:`orient_shells` -- nests the shells by winding number: a shell inside an odd
   number of others is a cavity and must be wound inwards; one wound outwards there is
   flipped with a note; a shell inside an even number (0: the outermost) wound inwards is
-  inside-out and refused; shells that cross each other are refused.
+  inside-out and refused; shells that cross each other (vertices on both sides, or a
+  manifold3d intersection volume other than the nesting implies) are refused.
 """
 
 from __future__ import annotations
@@ -25,6 +26,7 @@ from __future__ import annotations
 import numpy as np
 
 from cad.errors import MeshError
+from cad.tolerances import SHELL_OVERLAP_REL_EPS
 
 #: Vertices of a shell tested against each other shell for nesting. Nested shells that do
 #: not cross have every vertex on the same side, so one suffices; 256, spread over the
@@ -122,6 +124,42 @@ def _inside(tri_by_shell: list[np.ndarray], what: str, names) -> np.ndarray:
     return inside
 
 
+def _solid(vertices: np.ndarray, faces: np.ndarray, outward: bool):
+    """manifold3d solid of one closed shell (re-indexed; wound outwards for the boolean)."""
+    import manifold3d
+
+    used, local = np.unique(faces, return_inverse=True)
+    f = local.reshape(-1, 3) if outward else local.reshape(-1, 3)[:, ::-1]
+    return manifold3d.Manifold(manifold3d.Mesh64(
+        vert_properties=np.ascontiguousarray(vertices[used], dtype=np.float64),
+        tri_verts=np.ascontiguousarray(f, dtype=np.uint64)))
+
+
+def _check_overlaps(vertices, faces, labels, vol, inside, what: str, names) -> None:
+    """MeshError unless every pair of shells with overlapping boxes shares exactly the
+    volume its nesting says (manifold3d intersection): all of the inner one when nested,
+    none otherwise. Catches shells that cross with every vertex outside the other."""
+    k = len(vol)
+    solids = [None] * k
+    tri = vertices[faces]
+    lo = np.array([tri[labels == s].reshape(-1, 3).min(axis=0) for s in range(k)])
+    hi = np.array([tri[labels == s].reshape(-1, 3).max(axis=0) for s in range(k)])
+    for i in range(k):
+        for j in range(i + 1, k):
+            if np.any(lo[i] >= hi[j]) or np.any(hi[i] <= lo[j]) or 0 in (vol[i], vol[j]):
+                continue
+            for s in (i, j):
+                if solids[s] is None:
+                    solids[s] = _solid(vertices, faces[labels == s], bool(vol[s] > 0))
+            shared = float((solids[i] ^ solids[j]).volume())
+            want = abs(vol[i]) if inside[i, j] else abs(vol[j]) if inside[j, i] else 0.0
+            if abs(shared - want) > SHELL_OVERLAP_REL_EPS * min(abs(vol[i]), abs(vol[j])):
+                raise MeshError(
+                    f"{what}: {names(i)} crosses {names(j)} ({shared:.6g} mm^3 in both): "
+                    "their overlap would count twice; unite them into one shell first"
+                )
+
+
 def orient_shells(vertices: np.ndarray, faces: np.ndarray, what: str = "mesh",
                   origin=0.0) -> tuple[np.ndarray, list[str]]:
     """``(faces, notes)`` of a closed, consistently wound mesh with every shell wound for
@@ -145,6 +183,7 @@ def orient_shells(vertices: np.ndarray, faces: np.ndarray, what: str = "mesh",
         return _describe(s, k, tri_by_shell[s], origin)
 
     inside = _inside(tri_by_shell, what, names)
+    _check_overlaps(np.asarray(vertices, dtype=float), f, labels, vol, inside, what, names)
     depth = inside.sum(axis=1)
     notes: list[str] = []
     flip = np.zeros(k, dtype=bool)
