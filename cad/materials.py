@@ -24,7 +24,8 @@ class Material:
     ----------
     name : key, e.g. ``"aluminium-6061"``.
     density_kg_m3 : nominal density, kg/m^3 (> 0).
-    color_rgb : display colour (r, g, b), each in 0..1, used for assembly STEP colours.
+    color_rgb : display colour (r, g, b), sRGB-encoded (as a hex code is), each in 0..1:
+        STEP ``COLOUR_RGB`` as it is, glTF ``baseColorFactor`` decoded to linear.
     source : where the density comes from (datasheet / handbook).
     """
 

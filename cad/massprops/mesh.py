@@ -235,6 +235,10 @@ def mesh_arrays_mass_props(
     density_kg_m3 : density, kg/m^3.
     allow_open : accept a non-watertight mesh (result has ``watertight=False``).
 
+    Triangles written twice are dropped and every closed shell is wound for its nesting
+    (:func:`_checked_shells`); what was read differently is in ``notes``. MeshError for
+    inside-out or crossing shells, inconsistent winding, a volume <= 0.
+
     trimesh integrates the divergence theorem over the triangles (Eberly, "Polyhedral
     Mass Properties"); its ``moment_inertia`` is about the centre of mass with the
     positive-definite sign convention, as here.

@@ -99,12 +99,15 @@ def _describe(i: int, n: int, tri: np.ndarray, origin) -> str:
     return f"shell {i + 1} of {n} ({len(tri)} triangles, {box} mm)"
 
 
-def _inside(tri_by_shell: list[np.ndarray], what: str, names) -> np.ndarray:
+def _crossing(what: str, a: str, b: str, how: str) -> MeshError:
+    return MeshError(f"{what}: {a} crosses {b} ({how}): their overlap would count twice; "
+                     "unite them into one shell first")
+
+
+def _inside(tri_by_shell: list[np.ndarray], lo, hi, what: str, names) -> np.ndarray:
     """(k, k) bool: ``inside[i, j]`` when shell i lies inside shell j; MeshError when two
-    shells cross (vertices of one on both sides of the other)."""
+    shells cross (vertices of one on both sides of the other). lo, hi: (k, 3) boxes."""
     k = len(tri_by_shell)
-    lo = np.array([t.reshape(-1, 3).min(axis=0) for t in tri_by_shell])
-    hi = np.array([t.reshape(-1, 3).max(axis=0) for t in tri_by_shell])
     inside = np.zeros((k, k), dtype=bool)
     for i in range(k):
         pts = np.unique(tri_by_shell[i].reshape(-1, 3), axis=0)
@@ -116,10 +119,7 @@ def _inside(tri_by_shell: list[np.ndarray], what: str, names) -> np.ndarray:
             clear = np.abs(w - np.round(w)) < 0.25  # a point ON shell j is neither side
             ins = w[clear] > 0.5
             if ins.any() and not ins.all():
-                raise MeshError(
-                    f"{what}: {names(i)} crosses {names(j)} (vertices on both sides): their "
-                    "overlap would count twice; unite them into one shell first"
-                )
+                raise _crossing(what, names(i), names(j), "vertices on both sides")
             inside[i, j] = bool(ins.size and ins.all())
     return inside
 
@@ -135,15 +135,12 @@ def _solid(vertices: np.ndarray, faces: np.ndarray, outward: bool):
         tri_verts=np.ascontiguousarray(f, dtype=np.uint64)))
 
 
-def _check_overlaps(vertices, faces, labels, vol, inside, what: str, names) -> None:
+def _check_overlaps(vertices, faces, labels, vol, inside, lo, hi, what: str, names) -> None:
     """MeshError unless every pair of shells with overlapping boxes shares exactly the
     volume its nesting says (manifold3d intersection): all of the inner one when nested,
     none otherwise. Catches shells that cross with every vertex outside the other."""
     k = len(vol)
     solids = [None] * k
-    tri = vertices[faces]
-    lo = np.array([tri[labels == s].reshape(-1, 3).min(axis=0) for s in range(k)])
-    hi = np.array([tri[labels == s].reshape(-1, 3).max(axis=0) for s in range(k)])
     for i in range(k):
         for j in range(i + 1, k):
             if np.any(lo[i] >= hi[j]) or np.any(hi[i] <= lo[j]) or 0 in (vol[i], vol[j]):
@@ -154,10 +151,7 @@ def _check_overlaps(vertices, faces, labels, vol, inside, what: str, names) -> N
             shared = float((solids[i] ^ solids[j]).volume())
             want = abs(vol[i]) if inside[i, j] else abs(vol[j]) if inside[j, i] else 0.0
             if abs(shared - want) > SHELL_OVERLAP_REL_EPS * min(abs(vol[i]), abs(vol[j])):
-                raise MeshError(
-                    f"{what}: {names(i)} crosses {names(j)} ({shared:.6g} mm^3 in both): "
-                    "their overlap would count twice; unite them into one shell first"
-                )
+                raise _crossing(what, names(i), names(j), f"{shared:.6g} mm^3 in both")
 
 
 def orient_shells(vertices: np.ndarray, faces: np.ndarray, what: str = "mesh",
@@ -182,8 +176,11 @@ def orient_shells(vertices: np.ndarray, faces: np.ndarray, what: str = "mesh",
     def names(s):
         return _describe(s, k, tri_by_shell[s], origin)
 
-    inside = _inside(tri_by_shell, what, names)
-    _check_overlaps(np.asarray(vertices, dtype=float), f, labels, vol, inside, what, names)
+    lo = np.array([t.reshape(-1, 3).min(axis=0) for t in tri_by_shell])
+    hi = np.array([t.reshape(-1, 3).max(axis=0) for t in tri_by_shell])
+    inside = _inside(tri_by_shell, lo, hi, what, names)
+    _check_overlaps(np.asarray(vertices, dtype=float), f, labels, vol, inside, lo, hi, what,
+                    names)
     depth = inside.sum(axis=1)
     notes: list[str] = []
     flip = np.zeros(k, dtype=bool)
