@@ -329,3 +329,14 @@ def test_duplicates_found_in_any_vertex_order():
     f = np.array([[0, 1, 2], [1, 2, 0], [2, 0, 1], [0, 2, 1], [3, 4, 5]])
     kept, n = drop_duplicate_faces(f)
     assert n == 2 and kept.tolist() == [[0, 1, 2], [0, 2, 1], [3, 4, 5]]
+
+
+def test_the_same_solid_written_twice_refused():
+    """A cube and a copy of it 1e-6 mm off (not merged: trimesh merges below 1e-8 mm) share
+    all of their 8000 mm^3: neither is a cavity of the other; refused, not 0 or 16000."""
+    from cad.errors import MeshError
+
+    v, f = _nest((20, (0, 0, 0), True), (20, (1e-6, 1e-6, 1e-6), True))
+    with pytest.raises(MeshError, match=r"shell 1 of 2 .* and shell 2 of 2 .* enclose the "
+                                        r"same 8000 mm\^3"):
+        mesh_arrays_mass_props(v, f, 1000.0)
