@@ -72,19 +72,30 @@ def hoeken(tmp_path_factory):
     return out, json.loads((out / "report.json").read_text())
 
 
+def _step_colours(path: Path) -> list[tuple[float, float, float]]:
+    """The distinct ``COLOUR_RGB('', r, g, b)`` triples of a STEP file, sorted."""
+    num = r"([-+0-9.Ee]+)"
+    return sorted({tuple(float(x) for x in m) for m in
+                   re.findall(rf"COLOUR_RGB\('[^']*',{num},{num},{num}\)", path.read_text())})
+
+
 def test_assembly_step_colours_are_the_table(hoeken):
     """Every COLOUR_RGB of assembly.step is a table colour of a material the assembly uses,
-    and every such colour is written (aluminium 0.78, not its sRGB encoding 0.896)."""
+    and every such colour is written (aluminium 0.78, not its sRGB encoding 0.896); each
+    part's STEP carries its material's colour."""
     from cad.materials import MATERIALS
 
     out, rep = hoeken
-    text = (out / "assembly.step").read_text()
-    num = r"([-+0-9.Ee]+)"
-    got = sorted({tuple(float(x) for x in m) for m in
-                  re.findall(rf"COLOUR_RGB\('[^']*',{num},{num},{num}\)", text)})
+    got = _step_colours(out / "assembly.step")
     want = sorted({MATERIALS[m].color_rgb for m in set(rep["part_materials"].values())})
-    assert len(got) == len(want) == 4
+    assert len(got) == len(want) >= 3
     np.testing.assert_allclose(got, want, rtol=0, atol=STEP_COLOUR_ATOL)
+    rows = [r for r in rep["bom"] if (out / "parts" / f"{r['part']}.step").is_file()]
+    assert {"crank", "coupler", "rocker"} <= {r["part"] for r in rows}
+    for row in rows:  # each part's own STEP (written through build123d's Color)
+        np.testing.assert_allclose(_step_colours(out / "parts" / f"{row['part']}.step"),
+                                   [MATERIALS[row["material"]].color_rgb], rtol=0,
+                                   atol=STEP_COLOUR_ATOL, err_msg=row["part"])
     alu = MATERIALS["aluminium-6061"].color_rgb[0]
     assert abs(float(_linear_to_srgb(alu)) - alu) > 100 * STEP_COLOUR_ATOL  # the slip shows
 
