@@ -113,15 +113,18 @@ def mass_properties(path: str | Path, density_kg_m3: float | None = None,
                     material: str | None = None) -> dict:
     """Mass, COM (mm, file frame) and inertia tensor about the COM (kg m^2) of a STEP or STL.
 
-    Returns the ``hapticad massprops --json`` object. Without density or material the
-    default material is used (a note in ``notes``). Raises DesignError / MeshError /
-    GeometryError naming the file and the fault.
+    Returns the ``hapticad massprops --json`` object, ``warnings`` included (e.g. a cavity
+    shell read as a cavity, duplicate facets dropped, a mesh too small for mm). Without
+    density or material the default material is used (a note in ``notes``). Raises
+    DesignError / MeshError / GeometryError naming the file and the fault.
     """
     from cad.cli.cmd_massprops import compute
+    from cad.design import bounds
 
     dens = None if density_kg_m3 is None else str(density_kg_m3)
+    bounds.reset()  # this call's warnings only, as one CLI command
     out, notes = compute(Path(path), dens, material)
-    return {**out, "notes": notes}
+    return {**out, "notes": notes, "warnings": bounds.collected()}
 
 
 def gii(design) -> dict:

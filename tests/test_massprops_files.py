@@ -340,3 +340,16 @@ def test_the_same_solid_written_twice_refused():
     with pytest.raises(MeshError, match=r"shell 1 of 2 .* and shell 2 of 2 .* enclose the "
                                         r"same 8000 mm\^3"):
         mesh_arrays_mass_props(v, f, 1000.0)
+
+
+def test_api_returns_the_warnings():
+    """cad.mass_properties gives the command's warnings too (they used to be dropped), each
+    call its own: the same file twice warns twice."""
+    import cad
+
+    for _ in range(2):
+        r = cad.mass_properties(CASES / "stl-shells" / "both_outward.stl", density_kg_m3=1000)
+        assert r["volume_mm3"] == pytest.approx(7000.0, rel=1e-12)
+        assert len(r["warnings"]) == 1 and "read as a cavity" in r["warnings"][0]
+    r = cad.mass_properties(CASES / "stl-shells" / "hollow_box.stl", density_kg_m3=1000)
+    assert r["warnings"] == []

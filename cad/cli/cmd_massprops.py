@@ -1,7 +1,9 @@
 """``hapticad massprops FILE [--density KG_M3 | --material NAME] [--json]``.
 
 Mass properties of a STEP solid (exact OCCT B-rep integration) or an STL mesh
-(trimesh, with a warning on stderr when the mesh is not watertight). Lengths in the
+(trimesh, with a warning on stderr when the mesh is not watertight; every closed shell
+checked on its own, :mod:`cad.massprops.shells`; a warning when the part is implausibly
+small or large for mm, :func:`cad.massprops.mesh.unit_slip_note`). Lengths in the
 file are taken as millimetres. Output (JSON with ``--json``, exactly one object):
 ``volume_mm3``, ``mass_kg``, ``com_mm`` (file frame), ``inertia_com_kg_m2`` (3x3 about
 the COM, file axes, positive-definite convention), ``principal_moments_kg_m2``
