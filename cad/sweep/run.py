@@ -135,6 +135,9 @@ def table_writers(rows: list[dict[str, Any]], cols: list[str]) -> dict[str, Any]
     return {TABLE: lambda p: pq.write_table(table, p), "results.csv": lambda p: pacsv.write_csv(table, p)}
 
 
+#: how long ``--scheduler ADDRESS`` is tried before the sweep is refused (Dask retries
+#: within it: a scheduler still starting is reached)
+CONNECT_TIMEOUT_S = 10.0
 #: no dashboard, and the scheduler's small HTTP server (metrics) on a free port: two sweeps
 #: (or a sweep beside another Dask cluster) must not fight over port 8787
 NO_HTTP_PORT = {"dashboard_address": ":0"}
@@ -148,7 +151,7 @@ def _client(workers: int, scheduler: str | None):
 
     if scheduler:
         try:
-            return Client(scheduler, timeout="10s"), None
+            return Client(scheduler, timeout=f"{CONNECT_TIMEOUT_S}s"), None
         except OSError as exc:
             raise DesignError("--scheduler", f"cannot reach {scheduler}: {exc}") from None
     # SIGINT/SIGTERM blocked in the threads the cluster starts (its event loop, the
