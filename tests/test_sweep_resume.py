@@ -45,8 +45,15 @@ def scheduler():
 
     from cad.sweep.run import NO_HTTP_PORT
 
-    cluster = LocalCluster(n_workers=1, processes=False, threads_per_worker=1, dashboard_address=None,
-                           scheduler_kwargs=NO_HTTP_PORT, protocol="tcp", host="127.0.0.1")
+    cluster = LocalCluster(
+        n_workers=1,
+        processes=False,
+        threads_per_worker=1,
+        dashboard_address=None,
+        scheduler_kwargs=NO_HTTP_PORT,
+        protocol="tcp",
+        host="127.0.0.1",
+    )
     yield cluster.scheduler_address
     cluster.close()
 
@@ -76,13 +83,31 @@ def reference(scheduler, tmp_path_factory):
 
 def _start(out: Path, scheduler: str) -> subprocess.Popen:
     env = {**os.environ, "PYTHONPATH": str(ROOT)}
-    return subprocess.Popen([sys.executable, "-m", "cad", "sweep", str(HOEKEN), *VARY, "--scheduler",
-                             scheduler, "--out", str(out)], cwd=out.parent, env=env,
-                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    return subprocess.Popen(
+        [
+            sys.executable,
+            "-m",
+            "cad",
+            "sweep",
+            str(HOEKEN),
+            *VARY,
+            "--scheduler",
+            scheduler,
+            "--out",
+            str(out),
+        ],
+        cwd=out.parent,
+        env=env,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
 
 
 def _resume_equals_reference(out: Path, scheduler: str, reference: dict) -> None:
-    code, _, err = hapticad("sweep", HOEKEN, *VARY, "--scheduler", scheduler, "--out", out, "--json")
+    code, _, err = hapticad(
+        "sweep", HOEKEN, *VARY, "--scheduler", scheduler, "--out", out, "--json"
+    )
     assert code == 0, err
     assert [p.name for p in out.iterdir() if p.name.startswith(".")] == []
     rows = _rows(out)
@@ -92,7 +117,9 @@ def _resume_equals_reference(out: Path, scheduler: str, reference: dict) -> None
 
 
 @pytest.mark.parametrize("sig", [signal.SIGKILL, signal.SIGINT], ids=["SIGKILL", "SIGINT"])
-def test_a_kill_at_the_first_table_write_resumes_with_every_row(tmp_path, scheduler, reference, sig):
+def test_a_kill_at_the_first_table_write_resumes_with_every_row(
+    tmp_path, scheduler, reference, sig
+):
     """The reproducer: the signal lands the moment results.parquet first appears."""
     out = tmp_path / "sw"
     p = _start(out, scheduler)
@@ -164,8 +191,14 @@ def test_sigkill_at_every_step_of_a_table_write_leaves_a_folder_the_rerun_resume
 
     env = {**os.environ, "PYTHONPATH": str(ROOT)}
     steps = range(6)
-    procs = {k: subprocess.Popen([sys.executable, "-c", _KILLER, str(tmp_path / f"o{k}"), str(k)],
-                                 env=env, stderr=subprocess.PIPE) for k in steps}
+    procs = {
+        k: subprocess.Popen(
+            [sys.executable, "-c", _KILLER, str(tmp_path / f"o{k}"), str(k)],
+            env=env,
+            stderr=subprocess.PIPE,
+        )
+        for k in steps
+    }
     n_rows = {}
     for k, p in procs.items():
         _, err = p.communicate(timeout=120)
@@ -211,24 +244,39 @@ def _rehash(out: Path) -> None:
 
 def test_a_damaged_table_is_refused_in_one_line_and_duplicates_are_removed(tmp_path, scheduler):
     out = tmp_path / "sw"
-    args = ("sweep", HOEKEN, "--vary", "parts.bar_thickness_mm=5,6", "--scheduler", scheduler, "--out", out)
+    args = (
+        "sweep",
+        HOEKEN,
+        "--vary",
+        "parts.bar_thickness_mm=5,6",
+        "--scheduler",
+        scheduler,
+        "--out",
+        out,
+    )
     code, _, err = hapticad(*args)
     assert code == 0, err
     good = pq.read_table(out / "results.parquet")
     damages = {
         "no column 'design_hash'": lambda t: t.drop_columns(["design_hash"]),
         "column 'status' is int64, expected string": lambda t: t.set_column(
-            t.column_names.index("status"), "status", pa.array([1] * t.num_rows)),
+            t.column_names.index("status"), "status", pa.array([1] * t.num_rows)
+        ),
         "row 1 has no design_hash": lambda t: t.set_column(
-            t.column_names.index("design_hash"), "design_hash", pa.array([t["design_hash"][0].as_py(), None])),
+            t.column_names.index("design_hash"),
+            "design_hash",
+            pa.array([t["design_hash"][0].as_py(), None]),
+        ),
     }
     for needle, damage in damages.items():
         pq.write_table(damage(good), out / "results.parquet")
         _rehash(out)
         code, _, err = hapticad(*args)
         assert_one_line_error(code, err, "--out", "results.parquet", needle)
-    for needle, data in (("cannot be read as Parquet", (out / "results.parquet").read_bytes()[:300]),
-                         ("cannot be read as Parquet", b"PAR1" + b"\x00" * 64 + b"PAR1")):
+    for needle, data in (
+        ("cannot be read as Parquet", (out / "results.parquet").read_bytes()[:300]),
+        ("cannot be read as Parquet", b"PAR1" + b"\x00" * 64 + b"PAR1"),
+    ):
         (out / "results.parquet").write_bytes(data)
         _rehash(out)
         code, _, err = hapticad(*args)
@@ -246,11 +294,14 @@ def test_a_damaged_table_is_refused_in_one_line_and_duplicates_are_removed(tmp_p
 # --- refusals create nothing; the base design as every command loads it ------------------
 
 
-@pytest.mark.parametrize("edit, field", [
-    (("force_N = 5.0", "force_N = nan"), "mechanism.force_N"),
-    (("[parts]", "[parts]\nbar_thicknes_mm = 6.0"), "parts.bar_thicknes_mm"),
-    (('name = "hoeken"', 'name = "../../x"'), "name"),
-])
+@pytest.mark.parametrize(
+    "edit, field",
+    [
+        (("force_N = 5.0", "force_N = nan"), "mechanism.force_N"),
+        (("[parts]", "[parts]\nbar_thicknes_mm = 6.0"), "parts.bar_thicknes_mm"),
+        (('name = "hoeken"', 'name = "../../x"'), "name"),
+    ],
+)
 def test_sweep_refuses_at_load_a_base_design_other_commands_refuse(tmp_path, edit, field):
     src = HOEKEN.read_text()
     assert edit[0] in src
@@ -259,8 +310,9 @@ def test_sweep_refuses_at_load_a_base_design_other_commands_refuse(tmp_path, edi
     code, _, err_check = hapticad("analyze", design)
     assert_one_line_error(code, err_check, field)
     out = tmp_path / "sw"
-    code, _, err = hapticad("sweep", design, "--vary", "parts.bar_thickness_mm=5,6", "--workers", "1",
-                            "--out", out)
+    code, _, err = hapticad(
+        "sweep", design, "--vary", "parts.bar_thickness_mm=5,6", "--workers", "1", "--out", out
+    )
     assert_one_line_error(code, err, field)
     assert err == err_check  # the same loader, the same line
     assert not out.exists()
@@ -271,9 +323,19 @@ def test_refusals_after_the_out_check_create_nothing(tmp_path, monkeypatch):
 
     monkeypatch.setattr(run, "CONNECT_TIMEOUT_S", 1.0)
     cases = [
-        (("--vary", "parts.bar_thickness_mm=5:8:10000", "--vary", "parts.bar_width_mm=10:20:10000"),
-         "100000000 combinations"),
-        (("--vary", "parts.bar_thickness_mm=5,6", "--scheduler", "tcp://127.0.0.1:9"), "--scheduler"),
+        (
+            (
+                "--vary",
+                "parts.bar_thickness_mm=5:8:10000",
+                "--vary",
+                "parts.bar_width_mm=10:20:10000",
+            ),
+            "100000000 combinations",
+        ),
+        (
+            ("--vary", "parts.bar_thickness_mm=5,6", "--scheduler", "tcp://127.0.0.1:9"),
+            "--scheduler",
+        ),
     ]
     for args, needle in cases:
         out = tmp_path / "a" / "sw"
@@ -302,10 +364,27 @@ def test_ctrl_c_during_the_cluster_start_up_ends_with_aborted_and_no_folder(tmp_
 
     out = tmp_path / "sw"
     env = {**os.environ, "PYTHONPATH": str(ROOT), "HAPTICAD_CACHE_DIR": str(tmp_path / "cache")}
-    p = subprocess.Popen([sys.executable, "-m", "cad", "sweep", str(HOEKEN), "--vary",
-                          "parts.bar_thickness_mm=5,6", "--workers", "1", "--out", str(out)],
-                         cwd=tmp_path, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
-                         text=True, start_new_session=True)
+    p = subprocess.Popen(
+        [
+            sys.executable,
+            "-m",
+            "cad",
+            "sweep",
+            str(HOEKEN),
+            "--vary",
+            "parts.bar_thickness_mm=5,6",
+            "--workers",
+            "1",
+            "--out",
+            str(out),
+        ],
+        cwd=tmp_path,
+        env=env,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+        text=True,
+        start_new_session=True,
+    )
     deadline = time.monotonic() + 120
     while p.poll() is None and time.monotonic() < deadline:  # a worker process is being spawned
         if any("spawn_main" in " ".join(c.cmdline()) for c in _descendants(p.pid)):

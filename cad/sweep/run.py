@@ -39,6 +39,7 @@ from cad.report.figures import save_figure
 from cad.sweep.spec import Vary, apply, assignments, design_hash
 from cad.sweep.table import DONE, MANIFEST, OWNED, TABLE, publish, read_table
 from cad.sweep.task import VALUE_KEYS, evaluate_variant
+
 WRITE_EVERY_S = 1.0
 #: ...and never more often than this many times its own duration: the rewrite is O(rows)
 #: (measured 2.7 s of CPU for 10^5 rows), so the client spends at most ~1/5 of its time on it

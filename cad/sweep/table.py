@@ -66,8 +66,9 @@ def _temp(out: Path, name: str) -> Path:
     from cad.io.atomic import host_tag, umask
 
     out.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{name}.tmp.{host_tag()}.{os.getpid()}.",
-                               suffix=Path(name).suffix, dir=out)
+    fd, tmp = tempfile.mkstemp(
+        prefix=f".{name}.tmp.{host_tag()}.{os.getpid()}.", suffix=Path(name).suffix, dir=out
+    )
     os.close(fd)
     os.chmod(tmp, 0o666 & ~umask())
     return Path(tmp)
@@ -76,8 +77,11 @@ def _temp(out: Path, name: str) -> Path:
 def _entries(out: Path, names: tuple[str, ...]) -> list[dict[str, Any]]:
     from cad.export.manifest import sha256_file
 
-    return [{"path": n, "sha256": sha256_file(out / n), "bytes": (out / n).stat().st_size}
-            for n in sorted(names) if (out / n).is_file()]
+    return [
+        {"path": n, "sha256": sha256_file(out / n), "bytes": (out / n).stat().st_size}
+        for n in sorted(names)
+        if (out / n).is_file()
+    ]
 
 
 def _write_manifest(out: Path, pending: dict[str, str] | None = None) -> None:
@@ -191,18 +195,23 @@ def read_table(out: Path, keys: list[str]) -> list[dict[str, Any]]:
     try:
         table = pq.read_table(p)
     except Exception as exc:  # noqa: BLE001 - any reader failure is a damaged file
-        raise DesignError("--out", f"{p} cannot be read as Parquet ({' '.join(str(exc).split())[:200]})"
-                          f"{why}") from None
+        raise DesignError(
+            "--out", f"{p} cannot be read as Parquet ({' '.join(str(exc).split())[:200]}){why}"
+        ) from None
     for col, kind in REQUIRED.items():
         if col not in table.column_names:
             raise DesignError("--out", f"{p} has no column {col!r}{why}")
         if not _type_ok(kind, table.schema.field(col).type):
-            raise DesignError("--out", f"{p}: column {col!r} is {table.schema.field(col).type}, "
-                              f"expected {kind}{why}")
+            raise DesignError(
+                "--out",
+                f"{p}: column {col!r} is {table.schema.field(col).type}, expected {kind}{why}",
+            )
     missing = [k for k in keys if k not in table.column_names]
     if missing:
-        raise DesignError("--out", f"{p} holds a sweep over other keys (no column {missing[0]!r}); "
-                          "use a new folder")
+        raise DesignError(
+            "--out",
+            f"{p} holds a sweep over other keys (no column {missing[0]!r}); use a new folder",
+        )
     rows = table.to_pylist()
     for i, r in enumerate(rows):
         if not r.get("design_hash"):
