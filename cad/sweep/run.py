@@ -34,7 +34,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from cad.errors import DesignError
+from cad.errors import DesignError, HapticadError
 from cad.report.figures import save_figure
 from cad.sweep.spec import Vary, apply, assignments, design_hash
 from cad.sweep.table import DONE, MANIFEST, OWNED, TABLE, publish, read_table
@@ -168,6 +168,9 @@ def _client(workers: int, scheduler: str | None):
         cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
                                dashboard_address=None, silence_logs=logging.CRITICAL,
                                scheduler_kwargs=NO_HTTP_PORT)
+    except Exception as exc:  # e.g. a console script without its __main__ guard: spawn fails
+        raise HapticadError(f"sweep: the local Dask cluster did not start ({type(exc).__name__}: "
+                            f"{' '.join(str(exc).split())[:200]})") from None
     finally:
         signal.pthread_sigmask(signal.SIG_SETMASK, old)
     return Client(cluster), cluster
