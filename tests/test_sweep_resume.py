@@ -356,6 +356,19 @@ def _descendants(pid: int) -> list:
         return []
 
 
+def _spawning(pid: int) -> bool:
+    """A worker process of the embedded cluster exists (multiprocessing's spawn)."""
+    import psutil
+
+    for c in _descendants(pid):
+        try:
+            if "spawn_main" in " ".join(c.cmdline()):
+                return True
+        except psutil.Error:  # gone meanwhile
+            continue
+    return False
+
+
 def test_ctrl_c_during_the_cluster_start_up_ends_with_aborted_and_no_folder(tmp_path):
     """Ctrl-C reaches the whole process group (the reproducer signals the main process
     only; both are sent): no multiprocessing warning or worker traceback after
@@ -387,7 +400,7 @@ def test_ctrl_c_during_the_cluster_start_up_ends_with_aborted_and_no_folder(tmp_
     )
     deadline = time.monotonic() + 120
     while p.poll() is None and time.monotonic() < deadline:  # a worker process is being spawned
-        if any("spawn_main" in " ".join(c.cmdline()) for c in _descendants(p.pid)):
+        if _spawning(p.pid):
             break
         time.sleep(0.01)
     kids = _descendants(p.pid)
