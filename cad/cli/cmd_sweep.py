@@ -30,9 +30,9 @@ def register(app: typer.Typer) -> None:
         from cad.design.fields import load_toml
         from cad.design.targets import parse_cli_target
         from cad.errors import DesignError
-        from cad.io.outdir import check_out_dir
         from cad.sweep.run import SweepSpec, run_sweep
         from cad.sweep.spec import parse_vary
+        from cad.sweep.table import check_folder
         from cad.sweep.task import VALUE_KEYS
 
         if not vary:
@@ -63,19 +63,22 @@ def register(app: typer.Typer) -> None:
             raise DesignError("--chart", f"expected X,Y with X and Y in {', '.join(VALUE_KEYS)}, got {chart!r}")
         cli = tuple(parse_cli_target(t) for t in (target or []))
         flags.out_path("--out", out, folder=True)
-        check_out_dir(out, str(design))  # only a folder hapticad wrote (README "Output folders")
         raw = load_toml(design)
         from cad.cli.families import COMMAND_FAMILIES, refusal
-        from cad.design import family_of
+        from cad.design import family_of, parse_design
 
         fam = family_of(raw)
         if fam not in COMMAND_FAMILIES["sweep"]:
             raise DesignError("mechanism.family", refusal("sweep", fam))
-        _check_keys(raw, design, varies)
         if "handle_script" in (raw.get("parts") or {}) or any(v.key == "parts.handle_script"
                                                                 for v in varies):
             raise DesignError("parts.handle_script", "sweep never runs design scripts (its "
                               "workers would run them unseen); sweep a design without one")
+        parse_design(raw, str(design))  # the base design as every command loads it (load_design)
+        _check_keys(raw, design, varies)
+        # only a folder hapticad wrote (README "Output folders"); a dead run's temporary
+        # files removed and its interrupted table write completed first (cad.sweep.table)
+        check_folder(out, str(design))
         spec = SweepSpec(design=design.resolve(), raw=raw, varies=varies, samples=samples, seed=seed,
                          fidelity=fidelity, cli_targets=cli, chart=xy,
                          targets_text=";".join(sorted(t or "" for t in (target or []))))

@@ -9,13 +9,16 @@
   variant's raw design mapping (~2 kB) and it returns one row (~1 kB). When a worker
   dies, Dask's scheduler reruns its tasks on the others (the nanny restarts it); a task
   that kills workers repeatedly ends as a ``lost`` row, rerun on the next resume.
-* The table (``results.parquet`` and ``results.csv``) is rewritten atomically
-  (temporary file + rename) as rows complete -- at most every :data:`WRITE_EVERY_S`
-  seconds and :data:`WRITE_COST_FACTOR` times the last rewrite's duration -- and at the
-  end, so a crash loses at most the variants completed since the last rewrite.
+* The table (``results.parquet`` and ``results.csv``) is rewritten as rows complete -- at
+  most every :data:`WRITE_EVERY_S` seconds and :data:`WRITE_COST_FACTOR` times the last
+  rewrite's duration -- and at the end, by the protocol of :mod:`cad.sweep.table` (the
+  manifest names each file's next sha256 before it is renamed into place), so a crash or a
+  signal at any moment loses at most the variants completed since the last rewrite and
+  never blocks the rerun.
 * Resume: variants whose ``design_hash`` (resolved design, fidelity and ``--target``
   texts) is in the table with status ok / missed / error are skipped; ``lost`` rows are
-  rerun. Rows of other variants (an earlier, different sweep into the same folder) stay.
+  rerun; a hash is in the table once. Rows of other variants (an earlier, different sweep
+  into the same folder) stay.
 """
 
 from __future__ import annotations
@@ -26,20 +29,17 @@ import math
 import pickle
 import signal
 import sys
-import threading
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from cad.errors import DesignError
-from cad.io.atomic import atomic_path, write_text_atomic
+from cad.errors import DesignError, HapticadError
 from cad.report.figures import save_figure
 from cad.sweep.spec import Vary, apply, assignments, design_hash
+from cad.sweep.table import DONE, MANIFEST, OWNED, TABLE, publish, read_table
 from cad.sweep.task import VALUE_KEYS, evaluate_variant
 
-OWNED = ("results.parquet", "results.csv", "sweep.json", "chart.png", "manifest.json")
-DONE = ("ok", "missed", "error")
 WRITE_EVERY_S = 1.0
 #: ...and never more often than this many times its own duration: the rewrite is O(rows)
 #: (measured 2.7 s of CPU for 10^5 rows), so the client spends at most ~1/5 of its time on it
@@ -117,42 +117,13 @@ class Progress:
             self.bar.stop()
 
 
-def read_table(out: Path) -> list[dict[str, Any]]:
-    """Rows of an existing ``results.parquet`` (empty list when absent)."""
-    p = out / "results.parquet"
-    if not p.is_file():
-        return []
-    import pyarrow.parquet as pq
-
-    try:
-        return pq.read_table(p).to_pylist()
-    except Exception as exc:  # a damaged table is not silently replaced: it is the user's data
-        raise DesignError("--out", f"{p} cannot be read as Parquet ({exc}); move it away to restart") from None
-
-
 def columns(varies: tuple[Vary, ...]) -> list[str]:
     return [v.key for v in varies] + list(META_COLUMNS) + list(VALUE_KEYS) + list(TAIL_COLUMNS)
 
 
-def publish(out: Path, rows: list[dict[str, Any]], cols: list[str]) -> None:
-    """:func:`write_table` then ``manifest.json`` (the folder's ownership record, README
-    "Output folders"), with SIGINT/SIGTERM held back in between so that an interrupt
-    cannot leave a table the manifest does not list (a kill -9 still can: then move the
-    folder's manifest.json away to resume)."""
-    from cad.export.manifest import write_manifest
-
-    main = threading.current_thread() is threading.main_thread() and hasattr(signal, "pthread_sigmask")
-    old = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT, signal.SIGTERM}) if main else None
-    try:
-        write_table(out, rows, cols)
-        write_manifest(out)
-    finally:
-        if old is not None:
-            signal.pthread_sigmask(signal.SIG_SETMASK, old)
-
-
-def write_table(out: Path, rows: list[dict[str, Any]], cols: list[str]) -> None:
-    """``results.parquet`` and ``results.csv``, each written atomically, rows sorted by variant."""
+def table_writers(rows: list[dict[str, Any]], cols: list[str]) -> dict[str, Any]:
+    """``results.parquet`` and ``results.csv`` writers (:func:`cad.sweep.table.publish`),
+    rows sorted by variant."""
     import pyarrow as pa
     import pyarrow.csv as pacsv
     import pyarrow.parquet as pq
@@ -162,112 +133,176 @@ def write_table(out: Path, rows: list[dict[str, Any]], cols: list[str]) -> None:
     for c in VALUE_KEYS + ("wall_s", "cpu_s"):
         data[c] = [math.nan if v is None else float(v) for v in data[c]]
     table = pa.table({c: pa.array(v) for c, v in data.items()})
-    with atomic_path(out / "results.parquet") as tmp:
-        pq.write_table(table, tmp)
-    with atomic_path(out / "results.csv") as tmp:
-        pacsv.write_csv(table, tmp)
+    return {TABLE: lambda p: pq.write_table(table, p), "results.csv": lambda p: pacsv.write_csv(table, p)}
 
 
+#: how long ``--scheduler ADDRESS`` is tried before the sweep is refused (Dask retries
+#: within it: a scheduler still starting is reached)
+CONNECT_TIMEOUT_S = 10.0
 #: no dashboard, and the scheduler's small HTTP server (metrics) on a free port: two sweeps
 #: (or a sweep beside another Dask cluster) must not fight over port 8787
 NO_HTTP_PORT = {"dashboard_address": ":0"}
 
 
 def _client(workers: int, scheduler: str | None):
+    """(client, embedded cluster or None). Call it with SIGINT/SIGTERM deferred and assign
+    its result inside that block (:func:`run_sweep`): an interrupt during the cluster's
+    start-up then acts once both exist and :func:`_shutdown` can close them."""
     from dask.distributed import Client, LocalCluster
 
     if scheduler:
         try:
-            return Client(scheduler, timeout="10s"), None
+            return Client(scheduler, timeout=f"{CONNECT_TIMEOUT_S}s"), None
         except OSError as exc:
             raise DesignError("--scheduler", f"cannot reach {scheduler}: {exc}") from None
-    cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                           dashboard_address=None, silence_logs=logging.ERROR,
-                           scheduler_kwargs=NO_HTTP_PORT)
+    # SIGINT/SIGTERM blocked in the threads the cluster starts (its event loop, the
+    # threads that spawn the workers) and so in every worker process: a Ctrl-C reaches
+    # the whole process group, and workers that handled it would print tracebacks after
+    # `hapticad: aborted`. The client closes them (Dask stops a worker by a message,
+    # then SIGKILL), and they exit by themselves when this process dies.
+    from multiprocessing import resource_tracker
+
+    resource_tracker.ensure_running()  # started here: its start unblocks both in the caller
+    old = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT, signal.SIGTERM})
+    try:
+        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                               dashboard_address=None, silence_logs=logging.CRITICAL,
+                               scheduler_kwargs=NO_HTTP_PORT)
+    except Exception as exc:  # e.g. a console script without its __main__ guard: spawn fails
+        raise HapticadError(f"sweep: the local Dask cluster did not start ({type(exc).__name__}: "
+                            f"{' '.join(str(exc).split())[:200]})") from None
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, old)
     return Client(cluster), cluster
 
 
+def _shutdown(client, cluster) -> None:
+    """Close the client and the embedded cluster (signals deferred), then release the
+    multiprocessing semaphores the cluster made: an aborted command leaves through
+    ``os._exit`` (:func:`cad.io.signals.exit_now`), which skips multiprocessing's exit
+    hook, and its resource tracker would print a "leaked semaphore" warning after
+    ``hapticad: aborted``."""
+    import gc
+    import multiprocessing.util as mpu
+
+    from cad.io import signals
+
+    with signals.deferred():
+        try:
+            if client is not None:
+                client.close()
+            if cluster is not None:
+                cluster.close()
+        finally:
+            gc.collect()
+            if cluster is not None or signals.received() is not None:
+                mpu._run_finalizers(0)  # noqa: SLF001 - the exit hook's own step (unlinks + unregisters)
+
+
+def _evaluate(spec: SweepSpec, out: Path, todo: list, rows: list, cols: list[str],
+              prog: Progress, client, one_core: bool) -> dict[str, Any]:
+    """Run ``todo`` on ``client``, appending each row to ``rows`` and rewriting the table
+    as rows complete (module docstring); returns the timings of ``sweep.json``."""
+    from dask.distributed import as_completed
+
+    warm_up(client, todo[0][2], str(spec.design), spec.fidelity, one_core=one_core)
+    t_eval, c_eval = time.perf_counter(), time.process_time()
+    timing: dict[str, Any] = {"t_eval": t_eval, "last_done": None, "client_cpu_s": None}
+    prog.start()
+    futs = {client.submit(evaluate_variant, raw, str(spec.design), spec.fidelity,
+                          spec.cli_targets, pure=False): (i, a, h) for i, a, raw, h in todo}
+    last_write, write_cost = time.perf_counter(), 0.0
+    for fut in as_completed(futs):
+        i, a, h = futs[fut]
+        try:
+            res = fut.result()
+        except Exception as exc:  # KilledWorker after repeated worker deaths, lost connection
+            res = {"status": "lost", "error": f"{type(exc).__name__}: {exc}"}
+        rows.append({**a, "variant": i, "design_hash": h, "targets": spec.targets_text, **res})
+        prog.add(res["status"])
+        timing["last_done"] = time.perf_counter()
+        timing["client_cpu_s"] = time.process_time() - c_eval
+        if timing["last_done"] - last_write >= max(WRITE_EVERY_S, WRITE_COST_FACTOR * write_cost):
+            tw = time.perf_counter()
+            publish(out, table_writers(rows, cols))
+            prog.line()
+            last_write = time.perf_counter()
+            write_cost = last_write - tw
+    return timing
+
+
 def run_sweep(spec: SweepSpec, out: Path, workers: int, scheduler: str | None) -> dict[str, Any]:
-    """Evaluate every variant not yet in ``out``'s table; returns the summary (``sweep.json``)."""
-    out.mkdir(parents=True, exist_ok=True)
+    """Evaluate every variant not yet in ``out``'s table; returns the summary (``sweep.json``).
+
+    ``out`` is created by the first write only (a refusal or an interrupt before it
+    leaves nothing); every write follows :func:`cad.sweep.table.publish`.
+    """
+    from cad.io import signals
+
     cols = columns(spec.varies)
-    rows = read_table(out)
-    if rows and not set(v.key for v in spec.varies) <= set(rows[0]):
-        raise DesignError("--out", f"{out} holds a sweep over other keys; use a new folder")
-    done = {r["design_hash"] for r in rows if r.get("status") in DONE}
-    rows = [r for r in rows if r.get("status") in DONE]
+    kept = read_table(out, [v.key for v in spec.varies])
+    rows = [r for r in kept if r.get("status") in DONE]
+    done = {r["design_hash"] for r in rows}
     variants = spec.variants()
     todo = [(i, a, raw, h) for i, (a, raw, h) in enumerate(variants) if h not in done]
     resumed = len(variants) - len(todo)
     prog = Progress(total=len(todo), skipped=resumed)
     t0 = time.perf_counter()
-    t_eval = startup = c_eval = client_cpu = None
-    last_done = None
-    if todo:
-        from dask.distributed import as_completed
+    timing: dict[str, Any] = {}
+    client = cluster = None
+    try:
+        if todo:
+            with signals.deferred():
+                client, cluster = _client(workers, scheduler)
+            timing = _evaluate(spec, out, todo, rows, cols, prog, client, cluster is not None)
+            timing["startup_s"] = timing["t_eval"] - t0
+        prog.stop()
+        prog.line()
+        summary = _summary(spec, out, variants, todo, rows, prog, workers, scheduler,
+                           time.perf_counter() - t0, timing)
+        writers = {} if not todo and len(rows) == table_rows(out) else table_writers(rows, cols)
+        writers["chart.png"] = lambda p: write_chart(p, rows, spec)
+        writers["sweep.json"] = lambda p: p.write_text(json.dumps(summary, indent=1), encoding="utf-8")
+        publish(out, writers)
+    finally:
+        prog.stop()
+        _shutdown(client, cluster)
+    return summary
 
-        client, cluster = _client(workers, scheduler)
-        warm_up(client, todo[0][2], str(spec.design), spec.fidelity, one_core=cluster is not None)
-        t_eval, c_eval = time.perf_counter(), time.process_time()
-        startup = t_eval - t0
-        prog.start()
-        try:
-            futs = {client.submit(evaluate_variant, raw, str(spec.design), spec.fidelity,
-                                  spec.cli_targets, pure=False): (i, a, h) for i, a, raw, h in todo}
-            last_write, write_cost = time.perf_counter(), 0.0
-            for fut in as_completed(futs):
-                i, a, h = futs[fut]
-                try:
-                    res = fut.result()
-                except Exception as exc:  # KilledWorker after repeated worker deaths, lost connection
-                    res = {"status": "lost", "error": f"{type(exc).__name__}: {exc}"}
-                rows.append({**a, "variant": i, "design_hash": h, "targets": spec.targets_text, **res})
-                prog.add(res["status"])
-                last_done = time.perf_counter()
-                client_cpu = time.process_time() - c_eval
-                if last_done - last_write >= max(WRITE_EVERY_S, WRITE_COST_FACTOR * write_cost):
-                    tw = time.perf_counter()
-                    publish(out, rows, cols)
-                    prog.line()
-                    last_write = time.perf_counter()
-                    write_cost = last_write - tw
-        finally:
-            prog.stop()
-            publish(out, rows, cols)
-            client.close()
-            if cluster is not None:
-                cluster.close()
-    elif not (out / "results.parquet").exists():
-        publish(out, rows, cols)
-    prog.line()
-    wall = time.perf_counter() - t0
-    summary = {
+
+def table_rows(out: Path) -> int:
+    """Rows of ``out/results.parquet`` as its footer states them (-1 when absent)."""
+    import pyarrow.parquet as pq
+
+    p = out / TABLE
+    return pq.ParquetFile(p).metadata.num_rows if p.is_file() else -1
+
+
+def _summary(spec: SweepSpec, out: Path, variants: list, todo: list, rows: list, prog: Progress,
+             workers: int, scheduler: str | None, wall: float, timing: dict) -> dict[str, Any]:
+    """``sweep.json``: the spec, counts, timings and data per task."""
+    t_eval, last_done = timing.get("t_eval"), timing.get("last_done")
+    new = rows[-len(todo):] if todo else []
+    return {
         "design": str(spec.design), "fidelity": spec.fidelity, "samples": spec.samples, "seed": spec.seed,
         "vary": [{"key": v.key, "values": list(v.values)} if v.values else
                  {"key": v.key, "lo": v.lo, "hi": v.hi, "n": v.n} for v in spec.varies],
-        "targets": spec.targets_text, "variants": len(variants), "resumed": resumed,
+        "targets": spec.targets_text, "variants": len(variants), "resumed": len(variants) - len(todo),
         "evaluated": len(todo), **{k: prog.counts[k] for k in (*DONE, "lost")},
         "workers": workers if not scheduler else None, "scheduler": scheduler or "LocalCluster",
         "wall_s": wall,
-        "startup_s": startup,
+        "startup_s": timing.get("startup_s"),
         "evaluation_s": (last_done - t_eval) if todo and last_done else None,
         "variants_per_s": (len(todo) / (last_done - t_eval)) if todo and last_done else None,
-        "client_cpu_s": client_cpu,
-        "variant_wall_s_median": _median([r.get("wall_s") for r in rows[-len(todo):]] if todo else []),
-        "variant_cpu_s_median": _median([r.get("cpu_s") for r in rows[-len(todo):]] if todo else []),
+        "client_cpu_s": timing.get("client_cpu_s"),
+        "variant_wall_s_median": _median([r.get("wall_s") for r in new]),
+        "variant_cpu_s_median": _median([r.get("cpu_s") for r in new]),
         "task_bytes_in_median": _median([float(len(pickle.dumps((raw, str(spec.design), spec.fidelity,
                                                                   spec.cli_targets))))
                                          for _, _, raw, _ in todo]),
-        "task_bytes_out_median": _median([float(len(pickle.dumps(r))) for r in rows[-len(todo):]]
-                                         if todo else []),
-        "files": [str(out / n) for n in OWNED],
+        "task_bytes_out_median": _median([float(len(pickle.dumps(r))) for r in new]),
+        "files": [str(out / n) for n in (*OWNED, MANIFEST)],
     }
-    write_chart(out / "chart.png", rows, spec)
-    write_text_atomic(out / "sweep.json", json.dumps(summary, indent=1))
-    from cad.export.manifest import write_manifest
-
-    write_manifest(out)
-    return summary
 
 
 def warm_up(client, raw: dict[str, Any], source: str, fidelity: str, one_core: bool) -> None:
@@ -354,6 +389,5 @@ def write_chart(path: Path, rows: list[dict[str, Any]], spec: SweepSpec) -> None
     ax.set_title(f"{spec.design.name}: {len(good)} variants ({spec.fidelity})"
                  + (f", {n_err} failed (see results table)" if n_err else ""), fontsize=10)
     fig.tight_layout()
-    with atomic_path(path) as tmp:
-        save_figure(fig, tmp, "png", dpi=90)
+    save_figure(fig, path, "png", dpi=90)
     plt.close(fig)
