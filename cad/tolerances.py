@@ -57,3 +57,9 @@ TOLERANCE_MAX_MM = 5.0
 #: yield to 0.05 %).
 MC_SAMPLES_MIN = 100
 MC_SAMPLES_MAX = 2_000_000
+
+#: Stroke held by ``hapticad synth --stroke-mm`` (relative): the crank end is root-found
+#: (brentq, xtol 1e-12 rad) so the chord equals the asked stroke; 1e-6 leaves the root
+#: finder's ~1e-10 relative far below and is 0.06 um on a 60 mm stroke, under any
+#: fabrication tolerance.
+SYNTH_STROKE_REL = 1e-6
