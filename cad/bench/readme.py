@@ -1,0 +1,181 @@
+"""README measured tables, generated from the JSON they come from (issue 21 §2).
+
+A generated block in README.md::
+
+    <!-- generated: KIND SOURCE [SOURCE ...] -->
+    ... written by this module, never by hand ...
+    <!-- end generated -->
+
+``KIND`` names a renderer of :data:`RENDERERS`; each ``SOURCE`` is a JSON path relative to the
+repository root, optionally ``PATH:WORD`` to keep only the rows whose goal contains ``WORD``.
+Every block ends with each source's date and command, read from the JSON's ``measured`` and
+``command`` (or ``commands``) keys; a source without them is refused. The README then cannot
+disagree with its JSON: ``tests/test_readme_generated.py`` regenerates every block and compares.
+
+``python -m cad.bench.readme`` rewrites README.md in place; ``--check`` only compares and exits 1
+naming the first block that differs. No CAD import.
+"""
+
+from __future__ import annotations
+
+import json
+import re
+import sys
+from pathlib import Path
+from typing import Any, Callable
+
+from cad.errors import DesignError
+
+ROOT = Path(__file__).resolve().parents[2]
+README = ROOT / "README.md"
+BLOCK = re.compile(r"(<!-- generated: (?P<spec>[^>]*?) -->\n)(?P<body>.*?)(<!-- end generated -->)", re.S)
+
+
+def _load(source: str, root: Path) -> tuple[str, str | None, dict[str, Any]]:
+    """(path, row filter word or None, JSON object) of one SOURCE."""
+    path, _, word = source.partition(":")
+    try:
+        data = json.loads((root / path).read_text())
+    except (OSError, ValueError) as exc:
+        raise DesignError("README generated block", f"source {path}: {exc}") from None
+    if "measured" not in data or not ("command" in data or "commands" in data):
+        raise DesignError("README generated block", f"source {path} records no `measured` date and "
+                                                    "`command`: a table must say when and how it was measured")
+    return path, word or None, data
+
+
+def _provenance(i: int, path: str, data: dict[str, Any]) -> str:
+    cmds = data.get("commands") or [data["command"]]
+    note = f" ({data['measured_note']})" if data.get("measured_note") else ""
+    return (f"[{i}] `{path}`: measured {data['measured']}{note}; "
+            + " then ".join(f"`{c}`" for c in cmds) + ".")
+
+
+def _met(ok: bool | None) -> str:
+    return "—" if ok is None else ("yes" if ok else "no")
+
+
+def _goal_rows(sources) -> dict[str, list[dict[str, Any] | None]]:
+    """goal -> its row in each source (None where that run did not measure it), in first-seen order."""
+    rows: dict[str, list[dict[str, Any] | None]] = {}
+    for i, (_, word, data) in enumerate(sources):
+        for g in data.get("goals", []):
+            if word is None or word in g["goal"]:
+                rows.setdefault(g["goal"], [None] * len(sources))[i] = g
+    return rows
+
+
+def render_goals(sources: list[tuple[str, str | None, dict[str, Any]]]) -> str:
+    """The ``goals`` rows the bench wrote (goal, measured, target, met). Runs that measured the
+    same goal are shown side by side, one column per run; otherwise each row names its run."""
+    rows = _goal_rows(sources)
+    if all(sum(r is not None for r in runs) == 1 for runs in rows.values()):
+        lines = ["| goal | measured | target | met | run |", "|---|---|---|---|---|"]
+        for goal, runs in rows.items():
+            i, g = next((i, g) for i, g in enumerate(runs, 1) if g is not None)
+            lines.append(f"| {goal} | **{g['measured']}** | {g['target']} | {_met(g['met'])} | [{i}] |")
+        return "\n".join(lines)
+    n = len(sources)
+    lines = ["| goal | target | " + " | ".join(f"run [{i}]: measured, met" for i in range(1, n + 1)) + " |",
+             "|---|---|" + "---|" * n]
+    for goal, runs in rows.items():
+        target = next(g["target"] for g in runs if g is not None)
+        cells = ["—" if g is None else f"**{g['measured']}**, {_met(g['met'])}" for g in runs]
+        lines.append(f"| {goal} | {target} | " + " | ".join(cells) + " |")
+    return "\n".join(lines)
+
+
+def _range_g(ex: dict[str, Any]) -> str:
+    return f"{ex['M11_min_g']:.2f} – {ex['M11_max_g']:.2f} g"
+
+
+def render_codesign(sources: list[tuple[str, str | None, dict[str, Any]]]) -> str:
+    """The optimum an ``optimize --json`` run accepted, rebuilt on the exact solids."""
+    (_, _, data), = sources
+    b = data["best"]
+    ex, p, mech, req = b["exact"], b["parts"], b["mechanism"], data["requirements"]
+    st = ex["structure"]
+    rows = [
+        ("trials, feasible (cheap model)", f"{data['trials']}, {data['feasible_trials']} (seed {data['seed']})"),
+        ("accepted trial; search / whole command wall", f"{b['trial']}; {data['search_wall_s']:.0f} s / {data['wall_s']:.0f} s"),
+        ("M11 over the stroke (exact solids)", f"**{_range_g(ex)}** (cheap model {ex['cheap_M11_max_g']:.2f} g: "
+                                               f"{100 * ex['cheap_error_rel']:+.1f} %)"),
+        ("joints", f"{p['bearing']} bearings, {p['pin']} pins ({p['pin_material']})"),
+        ("bars", f"{p['bar_material']} {p['bar_thickness_mm']:g} × {p['bar_width_mm']:g} mm"
+                 f"{', pockets' if p.get('bar_pockets') else ''}, {p['bar_end_radius_mm']:g} mm ends"),
+        ("layers (bottom to top)", ", ".join(b["layer_order"])),
+        ("handle, motor", f"{p['handle_material']} ⌀{p['handle_diameter_mm']:g} × {p['handle_height_mm']:g} mm "
+                          f"on {p['handle_screw']}, {p['motor']} ({req['motor_continuous_torque_mNm'][p['motor']]:g} "
+                          f"mN·m continuous, {b['cheap']['torque_max_mNm']:.1f} mN·m peak at {req['force_N']:g} N)"),
+        ("crank range, dy_max, torque variation",
+         f"{mech['phi1_min_deg']:.1f}–{mech['phi1_max_deg']:.1f}°, {ex['dy_max_mm']:.3f} mm, {ex['torque_variation']:.3f}"),
+        ("overlap, min clearance", f"{ex['overlap_volume_mm3']:g} mm³, {ex['min_clearance_mm']:.2f} mm"),
+        ("first mode, max stress", f"{st['first_mode_Hz']:.0f} Hz, {st['max_stress_MPa']:.1f} MPa ({st['method']})"),
+    ]
+    return "\n".join(["| | accepted optimum |", "|---|---|"] + [f"| {k} | {v} |" for k, v in rows])
+
+
+def render_candidates(sources: list[tuple[str, str | None, dict[str, Any]]]) -> str:
+    """Every ``--exact-top`` candidate of an ``optimize --json`` run, as rebuilt on the solids."""
+    (_, _, data), = sources
+    lines = ["| trial | exact M11 | cheap model | overlap | first mode | max stress | structure |",
+             "|---|---|---|---|---|---|---|"]
+    for c in data["exact_checked"]:
+        ex = c["exact"]
+        st = ex["structure"]
+        lines.append(f"| {c['trial']} | {_range_g(ex)} | {100 * ex['cheap_error_rel']:+.1f} % | "
+                     f"{ex['overlap_volume_mm3']:g} mm³ | {st['first_mode_Hz']:.0f} Hz | "
+                     f"{st['max_stress_MPa']:.1f} MPa | {'ok' if st['ok'] else 'failed'} |")
+    return "\n".join(lines)
+
+
+RENDERERS: dict[str, Callable[[list], str]] = {
+    "goals": render_goals, "codesign": render_codesign, "candidates": render_candidates,
+}
+
+
+def render_block(spec: str, root: Path = ROOT) -> str:
+    """The body of one generated block (table, blank line, one provenance line per source)."""
+    kind, *srcs = spec.split()
+    if kind not in RENDERERS or not srcs:
+        raise DesignError("README generated block", f"{spec!r}: want KIND SOURCE..., KIND one of "
+                                                    f"{', '.join(RENDERERS)}")
+    sources = [_load(s, root) for s in srcs]
+    prov = [_provenance(i, p, d) for i, (p, _, d) in enumerate(sources, 1)]
+    return RENDERERS[kind](sources) + "\n\n" + "  \n".join(prov) + "\n"
+
+
+def regenerate(text: str, root: Path = ROOT) -> str:
+    """``text`` with every generated block's body rendered again from its sources."""
+    return BLOCK.sub(lambda m: m.group(1) + render_block(m.group("spec"), root) + m.group(4), text)
+
+
+def stale_block(text: str, root: Path = ROOT) -> str | None:
+    """The spec of the first generated block of ``text`` that its sources no longer give, or None."""
+    for m in BLOCK.finditer(text):
+        if m.group("body") != render_block(m.group("spec"), root):
+            return m.group("spec")
+    return None
+
+
+def main(argv: list[str] | None = None) -> int:
+    """``python -m cad.bench.readme [--check]``: rewrite README.md, or compare (exit 1 if stale)."""
+    argv = sys.argv[1:] if argv is None else argv
+    text = README.read_text()
+    if "--check" in argv:
+        spec = stale_block(text)
+        if spec is not None:
+            print(f"README.md: generated block `{spec}` differs from its JSON; run python -m "
+                  "cad.bench.readme", file=sys.stderr)
+        return 0 if spec is None else 1
+    new = regenerate(text)
+    if new != text:
+        from cad.io.atomic import write_text_atomic
+
+        write_text_atomic(README, new)
+    print(f"README.md: {len(BLOCK.findall(new))} generated blocks")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
