@@ -47,6 +47,15 @@ def test_codesign_block_reads_the_optimum():
     assert f"{ex['structure']['first_mode_Hz']:.0f} Hz" in body
 
 
+def test_math_blocks_read_the_bench():
+    data = json.loads((readme.ROOT / "docs/bench/bench_math.json").read_text())
+    bodies = {m.group("spec").split()[0]: m.group("body") for m in BLOCKS}
+    for name, r in data["voicecoil"]["optimal_gap_by_model"].items():
+        assert f"| {name} |" in bodies["voicecoil"] and f"**{r['optimal_gap_mm']:.2f} mm**" in bodies["voicecoil"]
+    exact = next(p for p in data["massprops"]["points"] if p["part"] == "bar" and p["method"] == "occt-exact")
+    assert f"| occt-exact | default | {1e3 * exact['time_s']:.2f} ms |" in bodies["massprops"]
+
+
 def test_a_changed_json_changes_the_table_and_an_undated_one_is_refused(tmp_path):
     src = "docs/bench/bench_idle_2026-11-30.json"
     (tmp_path / "docs/bench").mkdir(parents=True)

@@ -129,8 +129,53 @@ def render_candidates(sources: list[tuple[str, str | None, dict[str, Any]]]) -> 
     return "\n".join(lines)
 
 
+def _span(vals: list[float], fmt: str) -> str:
+    return format(vals[0], fmt) if len(vals) == 1 else f"{vals[0]:{fmt}} … {vals[-1]:{fmt}}"
+
+
+def render_massprops(sources: list[tuple[str, str | None, dict[str, Any]]]) -> str:
+    """The bench's mass-property methods on its bar, per method over its knob (first … last)."""
+    (_, _, data), = sources
+    mp = data["massprops"]
+    bar = mp["parts"]["bar"]
+    by: dict[str, list[dict[str, Any]]] = {}
+    for pt in mp["points"]:
+        if pt["part"] == "bar":
+            by.setdefault(pt["method"], []).append(pt)
+    lines = [f"Bar {bar['L_mm']:g} mm between hole centres, {2 * bar['R_mm']:g} mm wide, {bar['T_mm']:g} mm "
+             f"thick, two Ø{2 * bar['r_mm']:g} holes; {mp['repeats']} repeats, medians:", "",
+             "| method | knob | time | error of mass | error of Izz |", "|---|---|---|---|---|"]
+    for method, pts in by.items():
+        izz = [p["error_Izz"] for p in pts]
+        lines.append(f"| {method} | {_span([p['knob'] for p in pts], 's')} | "
+                     f"{_span([1e3 * p['time_s'] for p in pts], '.2f')} ms | "
+                     f"{_span([p['error_mass'] for p in pts], '.1e')} | "
+                     f"{'— (volume only)' if None in izz else _span(izz, '.1e')} |")
+    return "\n".join(lines)
+
+
+#: bench voicecoil model names -> the ``hapticad voicecoil --model`` that computes them.
+VOICECOIL_MODELS = {
+    "eq9 closed form (one image per plate, centre)": "`closed-form` (eq 9)",
+    "image series converged (one pair, centre)": "`images`",
+    "magpylib whole actuator, 32 slabs, coil-volume mean": "`magpylib`",
+}
+
+
+def render_voicecoil(sources: list[tuple[str, str | None, dict[str, Any]]]) -> str:
+    """Optimal gap, force and gap field of each voice-coil field model the bench ran."""
+    (_, _, data), = sources
+    lines = ["| field model (bench) | `--model` | optimal gap | force | B_g |", "|---|---|---|---|---|"]
+    for name, r in data["voicecoil"]["optimal_gap_by_model"].items():
+        bg = f"{r['Bg_T']:.3f} T" if "Bg_T" in r else "—"
+        lines.append(f"| {name} | {VOICECOIL_MODELS.get(name, '—')} | **{r['optimal_gap_mm']:.2f} mm** | "
+                     f"{r['force_N']:.2f} N | {bg} |")
+    return "\n".join(lines)
+
+
 RENDERERS: dict[str, Callable[[list], str]] = {
     "goals": render_goals, "codesign": render_codesign, "candidates": render_candidates,
+    "massprops": render_massprops, "voicecoil": render_voicecoil,
 }
 
 
