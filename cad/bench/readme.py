@@ -154,6 +154,23 @@ def render_massprops(sources: list[tuple[str, str | None, dict[str, Any]]]) -> s
     return "\n".join(lines)
 
 
+def render_families(sources: list[tuple[str, str | None, dict[str, Any]]]) -> str:
+    """Cold builds of the other families and the PowerMouse motion check (bench ``families``)."""
+    (_, _, data), = sources
+    f = data["families"]
+    lines = ["| measured (bench `families`) | wall, median (range) | CPU, median |", "|---|---|---|"]
+    for fam, r in f["cold"].items():
+        goal = "" if r["goal_s"] is None else f" (goal ≤ {r['goal_s']:g} s: {_met(r['meets_goal'])})"
+        lines.append(f"| {fam}: cold `hapticad build --no-cache`, {len(r['times_s'])} runs{goal} | "
+                     f"**{r['median_s']:.2f} s** ({min(r['times_s']):.2f}–{max(r['times_s']):.2f} s) | "
+                     f"{r['cpu_median_s']:.2f} s |")
+    for pt in f["motion_check"]["points"]:
+        lines.append(f"| PowerMouse motion check, {pt['method']} ({pt['exact_poses']} of {pt['poses']} poses "
+                     f"exact; largest clearance difference to every-pose-exact {pt['error']:.1g} mm) | **{pt['time_s']:.2f} s** "
+                     f"({min(pt['times_s']):.2f}–{max(pt['times_s']):.2f} s) | {pt['cpu_s']:.2f} s |")
+    return "\n".join(lines)
+
+
 #: bench voicecoil model names -> the ``hapticad voicecoil --model`` that computes them.
 VOICECOIL_MODELS = {
     "eq9 closed form (one image per plate, centre)": "`closed-form` (eq 9)",
@@ -175,7 +192,7 @@ def render_voicecoil(sources: list[tuple[str, str | None, dict[str, Any]]]) -> s
 
 RENDERERS: dict[str, Callable[[list], str]] = {
     "goals": render_goals, "codesign": render_codesign, "candidates": render_candidates,
-    "massprops": render_massprops, "voicecoil": render_voicecoil,
+    "massprops": render_massprops, "voicecoil": render_voicecoil, "families": render_families,
 }
 
 
