@@ -171,6 +171,27 @@ def render_families(sources: list[tuple[str, str | None, dict[str, Any]]]) -> st
     return "\n".join(lines)
 
 
+def render_synth(sources: list[tuple[str, str | None, dict[str, Any]]]) -> str:
+    """``hapticad synth --json`` results side by side, after the first source's start."""
+    def col(r: dict[str, Any]) -> list[str]:
+        return [" / ".join(f"{r[k]:.4g}" for k in ("l1_mm", "l2_mm", "l3_mm", "l5_mm", "le_mm")),
+                f"{r['phi1_min_deg']:.1f} – {r['phi1_max_deg']:.1f}", f"{r['stroke_mm']:.1f}",
+                f"{r['dy_max_mm']:.3f}", f"{r['torque_variation']:.4f}", f"{r['min_transmission_angle_deg']:.1f}°"]
+
+    names = ["l1 / l2 / l3 / l5 / le (mm)", "φ1 range (deg)", "stroke_mm", "dy_max_mm", "torque_variation",
+             "min transmission angle"]
+    heads = ["start (the design)"]
+    cols = [col(sources[0][2]["start"])]
+    for i, (_, _, d) in enumerate(sources, 1):
+        held = f", {d['stroke_mm_held']:g} mm held" if d.get("stroke_mm_held") else ""
+        heads.append(f"[{i}] `{d['objective']}`, `--free {d['free']}`{held}"
+                     + ("" if d["feasible"] else " (infeasible)"))
+        cols.append(col(d["result"]))
+    lines = ["| | " + " | ".join(heads) + " |", "|---|" + "---|" * len(heads)]
+    lines += [f"| {n} | " + " | ".join(c[j] for c in cols) + " |" for j, n in enumerate(names)]
+    return "\n".join(lines)
+
+
 #: bench voicecoil model names -> the ``hapticad voicecoil --model`` that computes them.
 VOICECOIL_MODELS = {
     "eq9 closed form (one image per plate, centre)": "`closed-form` (eq 9)",
@@ -193,6 +214,7 @@ def render_voicecoil(sources: list[tuple[str, str | None, dict[str, Any]]]) -> s
 RENDERERS: dict[str, Callable[[list], str]] = {
     "goals": render_goals, "codesign": render_codesign, "candidates": render_candidates,
     "massprops": render_massprops, "voicecoil": render_voicecoil, "families": render_families,
+    "synth": render_synth,
 }
 
 

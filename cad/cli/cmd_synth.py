@@ -43,6 +43,7 @@ def register(app: typer.Typer) -> None:
     ) -> None:
         """Choose link lengths and the crank range for a stated objective (see README)."""
         import copy
+        import time
 
         from cad.cli import flags
         from cad.cli.families import refusal
@@ -78,6 +79,8 @@ def register(app: typer.Typer) -> None:
         res = {
             "objective": objective, "free": free, "feasible": r.feasible, "evaluations": r.evaluations,
             "stroke_mm_held": held_mm,
+            "command": f"hapticad synth {design} {synth_flags(objective, free, dy_tol_mm, mu_min_deg, stroke_mm)}",
+            "measured": time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()),
             "start": {**d.resolved_linkage(), **r.start_metrics.as_dict()},
             "result": {**{k: v for k, v in mech.items() if k != "family"}, **r.metrics.as_dict()},
         }
