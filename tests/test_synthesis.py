@@ -76,7 +76,7 @@ def test_max_stroke_holds_a_given_stroke_with_the_straightest_segment():
     assert dy <= 0.2
     for dlo in (-1.0, 1.0):
         a = r.phi1_min_rad + math.radians(dlo)
-        b = brentq(lambda b: _chord_and_dy_mm(fb, a, b, 3)[0] - 60.0, a + 1.0, r.phi1_max_rad + 0.2)
+        b = brentq(lambda b, a=a: _chord_and_dy_mm(fb, a, b, 3)[0] - 60.0, a + 1.0, r.phi1_max_rad + 0.2)
         assert _chord_and_dy_mm(fb, a, b)[1] >= dy * (1 - 1e-3)
 
 

@@ -29,6 +29,23 @@ def _refuse_unheld_stroke(held_mm: float | None, got_mm: float, from_flag: bool)
                           f"constraints (best {got_mm:.4g} mm): change --objective, --free or the stroke")
 
 
+def _print_table(res: dict, title: str) -> None:
+    """The start and the optimized linkage side by side (text output)."""
+    from rich.console import Console
+    from rich.table import Table
+
+    t = Table(title=title)
+    t.add_column("quantity")
+    t.add_column("start", justify="right")
+    t.add_column("optimized", justify="right")
+    s, o = res["start"], res["result"]
+    for k in ("l1_mm", "l2_mm", "l3_mm", "l5_mm", "le_mm", "phi_e_deg", "phi1_min_deg", "phi1_max_deg",
+              "stroke_mm", "dy_max_mm", "slope_max", "torque_mean_mNm", "torque_variation",
+              "min_transmission_angle_deg"):
+        t.add_row(k, f"{s[k]:.4g}", f"{o[k]:.4g}")
+    Console().print(t)
+
+
 def register(app: typer.Typer) -> None:
     @app.command("synth")
     def synth_cmd(
@@ -102,20 +119,8 @@ def register(app: typer.Typer) -> None:
         if json_out:
             print_json(res, indent=1)
             return
-        from rich.console import Console
-        from rich.table import Table
-
-        t = Table(title=f"synth {objective} ({free}) — feasible: {r.feasible}")
-        t.add_column("quantity")
-        t.add_column("start", justify="right")
-        t.add_column("optimized", justify="right")
-        s, o = res["start"], res["result"]
-        for k in ("l1_mm", "l2_mm", "l3_mm", "l5_mm", "le_mm", "phi_e_deg", "phi1_min_deg", "phi1_max_deg",
-                  "stroke_mm", "dy_max_mm", "slope_max", "torque_mean_mNm", "torque_variation",
-                  "min_transmission_angle_deg"):
-            t.add_row(k, f"{s[k]:.4g}", f"{o[k]:.4g}")
-        Console().print(t)
+        _print_table(res, f"synth {objective} ({free}) — feasible: {r.feasible}")
         if out is not None:
             print(f"{'replaced' if replaced else 'wrote'} {out}")
-        if not math.isfinite(o["stroke_mm"]):
+        if not math.isfinite(res["result"]["stroke_mm"]):
             raise DesignError("synth", "no feasible result")
