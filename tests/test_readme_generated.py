@@ -86,3 +86,33 @@ def test_a_bench_run_is_a_source_as_written(tmp_path):
     body = readme.render_block("goals b/bench.json", tmp_path)
     assert f"measured {data['measured']}" in body and "`hapticad bench --quick --only gii`" in body
     assert f"**{data['goals'][0]['measured']}**" in body
+
+
+def test_check_and_tolerance_blocks_read_their_captures():
+    """Second reading of the captured check / tolerance JSON, and the two agree with each other:
+    the tolerance study's nominal M11 is check's M11 of the same design (both from the solids)."""
+    bodies = {m.group("spec").split()[0]: m.group("body") for m in BLOCKS}
+    chk = json.loads((readme.ROOT / "docs/check/hoeken.json").read_text())
+    assert chk["exit_code"] == 1 and chk["command"] == "hapticad check designs/hoeken.toml --json"
+    for r in chk["rows"]:
+        assert f"| {r['key']} | {r['computed']:.4g} | {r['target_text']} |" in bodies["check"]
+    tol = json.loads((readme.ROOT / "docs/tolerance/hoeken_holes_uniform.json").read_text())
+    m = tol["metrics"]["dy_max_mm"]
+    assert f"{m['mean']:.4f} ± {m['std']:.4f}" in bodies["tolerance"]
+    assert tol["inertia_source"] in bodies["tolerance"]
+    for k in ("M11_min_g", "M11_max_g"):
+        assert tol["metrics"][k]["nominal"] == pytest.approx(chk["computed"][k], rel=1e-9)
+
+
+def test_capture_saves_a_command_json_with_its_provenance(tmp_path):
+    out = tmp_path / "a" / "analyze.json"
+    assert readme.main(["--capture", str(out), "--", "analyze", "designs/hoeken.toml", "--json"]) == 0
+    data = json.loads(out.read_text())
+    assert data["command"] == "hapticad analyze designs/hoeken.toml --json" and data["exit_code"] == 0
+    import cad
+
+    assert data["measured"].endswith("UTC")
+    assert data["stroke_mm"] == cad.analyze(cad.load_design("designs/hoeken.toml"))["stroke_mm"]
+    assert readme.main(["--capture", str(tmp_path / "b.json"), "--", "analyze", "designs/nope.toml",
+                        "--json"]) == 2
+    assert not (tmp_path / "b.json").exists()

@@ -193,6 +193,43 @@ def render_synth(sources: list[tuple[str, str | None, dict[str, Any]]]) -> str:
     return "\n".join(lines)
 
 
+def render_check(sources: list[tuple[str, str | None, dict[str, Any]]]) -> str:
+    """A ``check --json`` capture: computed against each target, then the M11 budget's largest parts."""
+    (_, _, data), = sources
+    lines = ["| key | computed (solids) | target | gap | met |", "|---|---|---|---|---|"]
+    for r in data["rows"]:
+        gap = "—" if r["gap_rel"] is None else f"{100 * r['gap_rel']:+.0f} %"
+        lines.append(f"| {r['key']} | {r['computed']:.4g} | {r['target_text']} | {gap} | {_met(r['ok'])} |")
+    worst = sorted(data.get("budget") or [], key=lambda b: -b["M11_worst_g"])
+    if worst:
+        total = data["computed"]["M11_max_g"]
+        lines += ["", f"M11 at its worst point = {total:.1f} g = " + " + ".join(
+            f"{b['part']} {b['M11_worst_g']:.1f}" for b in worst[:8]) + " + … g (`budget`)."]
+    return "\n".join(lines)
+
+
+def render_tolerance(sources: list[tuple[str, str | None, dict[str, Any]]]) -> str:
+    """``tolerance --json`` captures, one row each: dy_max_mm spread, yields, first-order sigma;
+    then each run's largest sensitivity shares of dy_max_mm, stroke_mm and M11_max_g."""
+    lines = ["| run | tolerances, samples | dy_max_mm mean ± std | p01 … p99 (min … max) | σ_lin | "
+             "yield per target | every target | M11 from | wall |", "|---|---|---|---|---|---|---|---|---|"]
+    notes = []
+    for i, (_, _, d) in enumerate(sources, 1):
+        m = d["metrics"]["dy_max_mm"]
+        tols = ", ".join(sorted({f"±{t['tol_mm']:g} mm {t['distribution']}" for t in d["tolerances"]}))
+        ys = "; ".join(f"{k} {t['target']}: {100 * t['yield']:.3g} %" for k, t in d["yield"]["by_target"].items())
+        overall = d["yield"]["overall"]
+        lines.append(f"| [{i}] | {tols}, {d['samples']} | {m['mean']:.4f} ± {m['std']:.4f} | {m['p01']:.4f} … "
+                     f"{m['p99']:.4f} ({m['min']:.3f} … {m['max']:.3f}) | {m['linear_std']:.4f} | {ys} | "
+                     f"**{'—' if overall is None else f'{100 * overall:.3g} %'}** | {d['inertia_source']} | "
+                     f"{d['wall_s']:.0f} s |")
+        shares = "; ".join(f"{k}: " + ", ".join(f"{s['tolerance']} {100 * s['share']:.0f} %"
+                                                for s in d["sensitivity"][k][:3])
+                           for k in ("dy_max_mm", "stroke_mm", "M11_max_g") if k in d["sensitivity"])
+        notes.append(f"Largest first-order shares of the variance, [{i}]: {shares}.")
+    return "\n".join(lines + ["", "  \n".join(notes)])
+
+
 #: bench voicecoil model names -> the ``hapticad voicecoil --model`` that computes them.
 VOICECOIL_MODELS = {
     "eq9 closed form (one image per plate, centre)": "`closed-form` (eq 9)",
@@ -215,7 +252,7 @@ def render_voicecoil(sources: list[tuple[str, str | None, dict[str, Any]]]) -> s
 RENDERERS: dict[str, Callable[[list], str]] = {
     "goals": render_goals, "codesign": render_codesign, "candidates": render_candidates,
     "massprops": render_massprops, "voicecoil": render_voicecoil, "families": render_families,
-    "synth": render_synth,
+    "synth": render_synth, "check": render_check, "tolerance": render_tolerance,
 }
 
 
@@ -243,9 +280,37 @@ def stale_block(text: str, root: Path = ROOT) -> str | None:
     return None
 
 
+def capture(out: Path, argv: list[str]) -> int:
+    """Run ``hapticad ARGV`` (which must print one JSON object) in this process and save that
+    object to ``out`` with ``command`` and ``measured`` (UTC) added: a source for a block.
+    The command's exit code is saved as ``exit_code`` (``check`` exits 1 when a target is
+    missed); returns 0 once saved, or the command's code when it failed (2)."""
+    import contextlib
+    import io
+    import shlex
+    import time
+
+    from cad.cli.app import run
+    from cad.io.atomic import write_text_atomic
+
+    buf = io.StringIO()
+    with contextlib.redirect_stdout(buf):
+        code = run(list(argv))
+    if code not in (0, 1):
+        return code
+    data = {"command": "hapticad " + shlex.join(argv), "measured": time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()),
+            "exit_code": code, **json.loads(buf.getvalue())}
+    out.parent.mkdir(parents=True, exist_ok=True)
+    write_text_atomic(out, json.dumps(data, indent=1) + "\n")
+    return 0
+
+
 def main(argv: list[str] | None = None) -> int:
-    """``python -m cad.bench.readme [--check]``: rewrite README.md, or compare (exit 1 if stale)."""
+    """``python -m cad.bench.readme [--check]``: rewrite README.md, or compare (exit 1 if stale).
+    ``python -m cad.bench.readme --capture OUT.json -- ARGV...``: save ``hapticad ARGV``'s JSON."""
     argv = sys.argv[1:] if argv is None else argv
+    if argv[:1] == ["--capture"] and len(argv) > 3 and argv[2] == "--":
+        return capture(Path(argv[1]), argv[3:])
     text = README.read_text()
     if "--check" in argv:
         spec = stale_block(text)
