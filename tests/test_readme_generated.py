@@ -104,6 +104,13 @@ def test_check_and_tolerance_blocks_read_their_captures():
         assert tol["metrics"][k]["nominal"] == pytest.approx(chk["computed"][k], rel=1e-9)
 
 
+def test_swap_block_reads_its_capture():
+    data = json.loads((readme.ROOT / "docs/swap/hoeken_to_roberts.json").read_text())
+    body = next(m.group("body") for m in BLOCKS if m.group("spec").startswith("swap "))
+    assert f"| dy_max_mm | {data['old']['dy_max_mm']:.3f} | {data['new']['dy_max_mm']:.3f} |" in body
+    assert data["new"]["family"] == "roberts" and data["old"]["stroke_mm"] == pytest.approx(data["new"]["stroke_mm"])
+
+
 def test_capture_saves_a_command_json_with_its_provenance(tmp_path):
     out = tmp_path / "a" / "analyze.json"
     assert readme.main(["--capture", str(out), "--", "analyze", "designs/hoeken.toml", "--json"]) == 0

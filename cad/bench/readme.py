@@ -230,6 +230,24 @@ def render_tolerance(sources: list[tuple[str, str | None, dict[str, Any]]]) -> s
     return "\n".join(lines + ["", "  \n".join(notes)])
 
 
+def render_swap(sources: list[tuple[str, str | None, dict[str, Any]]]) -> str:
+    """A ``swap --json`` capture: the source and the swapped bar set side by side."""
+    (_, _, data), = sources
+    old, new = data["old"], data["new"]
+
+    def cells(k: str, fmt: str) -> str:
+        return f"{old[k]:{fmt}} | {new[k]:{fmt}}"
+
+    lengths = [" / ".join(f"{d[k]:.3g}" for k in ("l1_mm", "l2_mm", "l3_mm", "l5_mm", "le_mm")) for d in (old, new)]
+    bbox = [" × ".join(f"{v:.1f}" for v in d["bbox_mm"]) for d in (old, new)]
+    return "\n".join([
+        f"| (stroke {old['stroke_mm']:.1f} / {new['stroke_mm']:.1f} mm) | {old['family']} | {new['family']} (swapped) |",
+        "|---|---|---|",
+        f"| dy_max_mm | {cells('dy_max_mm', '.3f')} |", f"| torque_mean_mNm | {cells('torque_mean_mNm', '.1f')} |",
+        f"| torque_variation | {cells('torque_variation', '.3f')} |", f"| bbox_mm | {bbox[0]} | {bbox[1]} |",
+        f"| l1 / l2 / l3 / l5 / le (mm) | {lengths[0]} | {lengths[1]} |"])
+
+
 #: bench voicecoil model names -> the ``hapticad voicecoil --model`` that computes them.
 VOICECOIL_MODELS = {
     "eq9 closed form (one image per plate, centre)": "`closed-form` (eq 9)",
@@ -253,6 +271,7 @@ RENDERERS: dict[str, Callable[[list], str]] = {
     "goals": render_goals, "codesign": render_codesign, "candidates": render_candidates,
     "massprops": render_massprops, "voicecoil": render_voicecoil, "families": render_families,
     "synth": render_synth, "check": render_check, "tolerance": render_tolerance,
+    "swap": render_swap,
 }
 
 
