@@ -13,7 +13,11 @@ Every block ends with each source's date and command, read from the JSON's ``mea
 disagree with its JSON: ``tests/test_readme_generated.py`` regenerates every block and compares.
 
 ``python -m cad.bench.readme`` rewrites README.md in place; ``--check`` only compares and exits 1
-naming the first block that differs. No CAD import.
+naming the first block that differs; ``--capture OUT.json -- ARGV...`` runs ``hapticad ARGV``
+(a ``--json`` command) and saves its object with ``command`` and ``measured`` added, for a
+command that does not record them itself (``check``, ``tolerance``, ``swap``). ``hapticad
+bench``, ``optimize --json`` and ``synth --json`` record them. No CAD import here (a captured
+command imports what it needs).
 """
 
 from __future__ import annotations
