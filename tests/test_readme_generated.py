@@ -123,3 +123,13 @@ def test_capture_saves_a_command_json_with_its_provenance(tmp_path):
     assert readme.main(["--capture", str(tmp_path / "b.json"), "--", "analyze", "designs/nope.toml",
                         "--json"]) == 2
     assert not (tmp_path / "b.json").exists()
+
+
+def test_typed_layer_order_row_equals_the_optimum_json():
+    """The one typed table left in the light-device section (layer orders) agrees with the
+    generated optimum on its chosen row."""
+    data = json.loads((readme.ROOT / "docs/codesign/hoeken_light_optimize.json").read_text())
+    b = data["best"]
+    row = (f"| {', '.join(b['layer_order'])} (chosen) | {b['cheap']['M11_max_g']:.2f} g | "
+           f"**{b['exact']['M11_min_g']:.2f} – {b['exact']['M11_max_g']:.2f} g** |")
+    assert row in TEXT
