@@ -65,16 +65,20 @@ def build_design(design, out_dir: str | Path, formats=("step", "stl", "dxf"),
     return _build(design, Path(out_dir), set(formats), fidelity=fidelity, **options)
 
 
-def check(design, targets: tuple[str, ...] | list[str] = (), fidelity: str = "inertia") -> dict:
-    """Computed values of a design against its targets (four-bars and pantograph families).
+def check(design, targets: tuple[str, ...] | list[str] = (), fidelity: str = "inertia",
+          merge: bool = False) -> dict:
+    """Computed values of a design against targets (four-bars and pantograph families).
 
     Four-bars: inertia, apparent mass and metrics from the solids. Pantograph families: the
     GII (isotropy paper eq 5) and, for designs that build, the effective mass at home and
-    the moving mass from the solids. ``targets``: extra ``"KEY=VALUE"``, ``"KEY<=V"``,
-    ``"KEY>=V"`` strings replacing design targets of the same key. Returns the
-    ``hapticad check --json`` object: ``ok``, ``rows`` (``key``, ``computed``, ``target`` as
-    data, ``margin``, ``gap_rel``), ``computed``. Raises DesignError when there are no
-    targets or the family has no check.
+    the moving mass from the solids. ``targets``: ``"KEY=VALUE"``, ``"KEY<=V"``, ``"KEY>=V"``
+    strings. Which targets are checked is the caller's choice: none given, the design's
+    ``[targets]``; given, **only those** (``merge=False``), or the design's with the given ones
+    replacing those of the same key (``merge=True``, what ``hapticad check --target`` does).
+    Returns the ``hapticad check --json`` object: ``ok``, ``rows`` (``key``, ``computed``,
+    ``target`` as data, ``margin``, ``gap_rel``), ``computed``, ``targets_checked`` (the keys
+    of ``rows``, in order) and ``targets_source`` (``design``, ``given`` or ``design+given``).
+    Raises DesignError when there are no targets or the family has no check.
     """
     from cad.checks import evaluate, merge_targets
     from cad.design.fourbar import FourBarDesign
@@ -89,7 +93,9 @@ def check(design, targets: tuple[str, ...] | list[str] = (), fidelity: str = "in
 
         raise DesignError("mechanism.family", refusal("check", design.family))
     keys = TARGET_KEYS if four_bar else PANTOGRAPH_TARGET_KEYS
-    merged = merge_targets(design.targets, tuple(parse_cli_target(t, keys) for t in targets))
+    given = tuple(parse_cli_target(t, keys) for t in targets)
+    merged = merge_targets(design.targets, given) if merge or not given else given
+    source = "design+given" if merge and given else ("given" if given else "design")
     if not merged:
         raise DesignError("targets", "no targets: add a [targets] table or --target KEY=VALUE")
     wanted = {t.key for t in merged}
@@ -105,6 +111,7 @@ def check(design, targets: tuple[str, ...] | list[str] = (), fidelity: str = "in
         values, report = pantograph_target_values(design, fidelity, wanted)
     rows = evaluate(merged, values)
     return {"name": design.name, "ok": all(r.ok for r in rows), "fidelity": fidelity,
+            "targets_checked": [r.key for r in rows], "targets_source": source,
             "rows": [r.as_dict() for r in rows], "computed": values,
             "budget": report.get("budget")}
 

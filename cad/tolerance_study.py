@@ -81,22 +81,30 @@ def tolerances_from_flags(hole_mm: float | None, holes: list[str], pivot_mm: flo
     return tols
 
 
+#: ``inertia_source`` when H comes from the solids (the path and fidelity of ``hapticad check``).
+SOLIDS_SOURCE = "solids (fidelity inertia, as hapticad check)"
+
+
 def inertia_for_m11(design, inertia):
-    """H for M11: the --inertia flag, else the design's [inertia], else its H targets' values, else None.
+    """H for M11: the --inertia flag, else the design's ``[inertia]``, else the solids.
 
-    Returns (H or None, source text).
+    The solids are the parts ``hapticad check`` builds (:func:`cad.build.inertia.inertia_model`,
+    fidelity ``inertia``, through the derived cache): a target's value is what the design
+    should reach, never its inertia. Returns (InertiaCoefficients, source text). Raises
+    DesignError when the parts cannot carry their joints (give ``--inertia`` instead).
     """
-    from cad.dynamics.inertia import InertiaCoefficients
-
     if inertia is not None:
         return inertia, "--inertia"
     if design.inertia is not None:
         return design.inertia, "[inertia]"
-    vals = {t.key: t.value for t in design.targets if t.value is not None}
+    from cad.build.inertia import inertia_model
+    from cad.dynamics.inertia import InertiaCoefficients
+
+    design.check_buildable()
+    model = inertia_model(design, fidelity="inertia")
     keys = ("H11_kg_m2", "H12_kg_m2", "H22_kg_m2", "H33_kg_m2")
-    if all(k in vals for k in keys):
-        return InertiaCoefficients(*(vals[k] for k in keys)), "[targets] H values"
-    return None, "none (no --inertia, [inertia] or H targets): M11 not computed"
+    H = InertiaCoefficients(*(model[k] for k in keys), math.radians(model["beta2_deg"]))
+    return H, SOLIDS_SOURCE
 
 
 def _quantiles(v: np.ndarray) -> dict[str, float]:

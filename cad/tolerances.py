@@ -69,3 +69,8 @@ PART_EXTENT_MAX_MM = 5000.0
 #: one (nested); manifold3d's float64 intersection of exact meshes is right to ~1e-12
 #: relative, so a discrepancy above 1e-6 of the smaller shell is a real crossing.
 SHELL_OVERLAP_REL_EPS = 1e-6
+#: Stroke held by ``hapticad synth --stroke-mm`` (relative): the crank end is root-found
+#: (brentq, xtol 1e-12 rad) so the chord equals the asked stroke; 1e-6 leaves the root
+#: finder's ~1e-10 relative far below and is 0.06 um on a 60 mm stroke, under any
+#: fabrication tolerance.
+SYNTH_STROKE_REL = 1e-6

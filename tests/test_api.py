@@ -38,6 +38,17 @@ def test_api_check_and_mass_properties(tmp_path):
     d = cad.load_design("designs/hoeken.toml")
     res = cad.check(d, ["stroke_mm>=40"])
     rows = {r["key"]: r for r in res["rows"]}
+    # issue 21 §3: given targets replace the design's (its six H / M11 targets are missed)
+    assert (res["targets_checked"], res["targets_source"], res["ok"]) == (["stroke_mm"], "given", True)
+    merged = cad.check(d, ["stroke_mm>=40"], merge=True)
+    assert merged["targets_source"] == "design+given" and not merged["ok"]
+    assert merged["targets_checked"] == [t.key for t in d.targets] + ["stroke_mm"]
+    assert merged["computed"]["stroke_mm"] == res["computed"]["stroke_mm"]
+    own = cad.check(d)
+    assert own["targets_source"] == "design" and own["targets_checked"] == [t.key for t in d.targets]
+    # the README's example: M11_max_g of the bundled Hoeken is under 100 g, so it passes alone
+    readme = cad.check(d, targets=["M11_max_g<=100"])
+    assert readme["ok"] and readme["computed"]["M11_max_g"] <= 100.0
     assert rows["stroke_mm"]["target"] == {"min": 40.0}
     assert rows["stroke_mm"]["margin"] == pytest.approx(cad.analyze(d)["stroke_mm"] - 40.0, rel=1e-6)
     stl = tmp_path / "cube.stl"

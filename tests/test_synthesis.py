@@ -46,3 +46,54 @@ def test_bad_objective_names_the_flag():
     with pytest.raises(DesignError, match="--dy-tol-mm"):
         synthesize(fb, lo, hi, dy_tol_mm=-1.0)
     assert np.isfinite(lo)
+
+
+def _chord_and_dy_mm(fb, lo, hi, n=20001):
+    """Stroke and max |y| of the output range from a dense pose grid: the chord of the end
+    points and the largest distance of P from it (independent of the metrics' root refinement)."""
+    from cad.kinematics.fourbar import solve
+
+    P = solve(fb, np.linspace(lo, hi, n)).P_mm
+    chord = P[-1] - P[0]
+    stroke = float(np.linalg.norm(chord))
+    normal = np.array([-chord[1], chord[0]]) / stroke
+    return stroke, float(np.max(np.abs((P - P[0]) @ normal)))
+
+
+def test_max_stroke_holds_a_given_stroke_with_the_straightest_segment():
+    """Issue 21 §3: --stroke-mm under the default objective is a constraint, not ignored.
+    The stroke is the asked one; the segment is the straightest of that length (moving
+    phi1_min by 1 deg either way, with phi1_max re-found by bisection for 60 mm, is not straighter)."""
+    from scipy.optimize import brentq
+
+    from cad import tolerances as tol
+
+    fb, lo, hi = family_linkage("hoeken")
+    r = synthesize(fb, lo, hi, "max-stroke", free="range", stroke_mm=60.0, samples=121, restarts=0)
+    assert r.feasible and r.linkage == fb  # l2 and every length kept under free=range
+    stroke, dy = _chord_and_dy_mm(fb, r.phi1_min_rad, r.phi1_max_rad)
+    assert stroke == pytest.approx(60.0, rel=tol.SYNTH_STROKE_REL)
+    assert dy <= 0.2
+    for dlo in (-1.0, 1.0):
+        a = r.phi1_min_rad + math.radians(dlo)
+        b = brentq(lambda b, a=a: _chord_and_dy_mm(fb, a, b, 3)[0] - 60.0, a + 1.0, r.phi1_max_rad + 0.2)
+        assert _chord_and_dy_mm(fb, a, b)[1] >= dy * (1 - 1e-3)
+
+
+def test_synth_cli_stroke_under_default_objective(tmp_path):
+    """README first session: `synth hoeken.toml --stroke-mm 60` writes a 60 mm design,
+    re-evaluated from the written file's own lengths and range."""
+    from cad import tolerances as tol
+    from cad.design import load_design
+    from tests.cli_helpers import assert_one_line_error, hapticad
+
+    out = tmp_path / "hoeken_60.toml"
+    code, _, err = hapticad("synth", "designs/hoeken.toml", "--stroke-mm", "60", "--out", out)
+    assert code == 0, err
+    d = load_design(out)
+    stroke, dy = _chord_and_dy_mm(d.linkage, d.phi1_min_rad, d.phi1_max_rad)
+    assert stroke == pytest.approx(60.0, rel=tol.SYNTH_STROKE_REL)
+    assert dy <= 0.2
+    code, _, err = hapticad("synth", "designs/hoeken.toml", "--stroke-mm", "900", "--out", tmp_path / "x.toml")
+    assert_one_line_error(code, err, "--stroke-mm", "900", "--objective")
+    assert not (tmp_path / "x.toml").exists()

@@ -28,7 +28,7 @@ from cad.kinematics.tolerance import (
     perturbed_params,
     sample_errors,
 )
-from tests.cli_helpers import assert_one_line_error, hapticad
+from tests.cli_helpers import assert_one_line_error, hapticad, hapticad_json
 
 DESIGNS = Path(__file__).resolve().parents[1] / "designs"
 KEYS = ("stroke_mm", "dy_max_mm", "slope_max", "torque_mean_mNm", "torque_variation",
@@ -156,12 +156,39 @@ def test_perturbed_params_zero_error_is_nominal():
         assert np.allclose(p[k], ref, atol=1e-12), k
 
 
+PAPER_INERTIA_FLAG = ",".join(f"{k[:3]}={getattr(PAPER_H, k)!r}"
+                              for k in ("H11_kg_m2", "H12_kg_m2", "H22_kg_m2", "H33_kg_m2"))
+
+
+def test_m11_from_the_solids_equals_check():
+    """Issue 21 §3: without --inertia, M11 comes from the solids ``check`` builds, not from the
+    targets' own H values (which gave 100 % yield while ``check`` missed the same targets by
+    64-89 %). The nominal M11 and each target's nominal verdict equal ``cad.check``'s."""
+    import cad
+    from cad.tolerance_study import SOLIDS_SOURCE
+
+    res = hapticad_json("tolerance", DESIGNS / "hoeken.toml", "--hole-mm", "0.05",
+                        "--samples", "100", "--angles", "201")
+    checked = cad.check(_design())
+    assert res["inertia_source"] == SOLIDS_SOURCE
+    rows = {r["key"]: r for r in checked["rows"]}
+    for k in ("M11_min_g", "M11_max_g"):
+        assert res["metrics"][k]["nominal"] == pytest.approx(checked["computed"][k], rel=1e-9)
+        assert res["yield"]["by_target"][k]["nominal_ok"] is rows[k]["ok"] is False
+    for k in ("H11_kg_m2", "H33_kg_m2"):
+        assert res["inertia_kg_m2"][k] == pytest.approx(checked["computed"][k], rel=1e-12)
+    code, out, err = hapticad("tolerance", DESIGNS / "hoeken.toml", "--hole-mm", "0.05",
+                              "--samples", "100", "--angles", "101", "--inertia", PAPER_INERTIA_FLAG)
+    assert code == 0, err
+    assert "M11 from the inertia of --inertia: H11 = 2.97e-05" in out
+
+
 def test_cli_json_files_and_yield(tmp_path):
     out = tmp_path / "tol"
     code, stdout, err = hapticad("tolerance", DESIGNS / "hoeken.toml", "--hole-mm", "0.05",
                                  "--distribution", "uniform", "--pivot", "A4=0.02:normal",
                                  "--samples", "2000", "--angles", "201", "--target", "dy_max_mm<=0.2",
-                                 "--out", out, "--json")
+                                 "--inertia", PAPER_INERTIA_FLAG, "--out", out, "--json")
     assert code == 0, err
     res = json.loads(stdout)
     back = json.loads((out / "tolerance.json").read_text())
@@ -183,7 +210,7 @@ def test_cli_json_files_and_yield(tmp_path):
     assert res["yield"]["by_target"]["dy_max_mm"]["yield"] == pytest.approx(float(np.mean(m["dy_max_mm"] <= 0.2)))
     ok_m11 = (np.abs(m["M11_max_g"] - 42.8) <= 0.3 * 42.8) & (np.abs(m["M11_min_g"] - 27.5) <= 0.3 * 27.5)
     assert res["yield"]["overall"] == pytest.approx(float(np.mean((m["dy_max_mm"] <= 0.2) & ok_m11)))
-    assert res["inertia_source"] == "[targets] H values"
+    assert res["inertia_source"] == "--inertia"
     shares = [s["share"] for s in res["sensitivity"]["dy_max_mm"]]
     assert sum(shares) == pytest.approx(1.0)
 

@@ -143,6 +143,8 @@ def register(app: typer.Typer) -> None:
         results["total"] = {"wall_s": total_wall, "cpu_s": total_cpu, "quick": quick, "topics": topics,
                             "load_avg_1min": os.getloadavg()[0] if hasattr(os, "getloadavg") else None}
         results["goals"] = [{"goal": g, "measured": m, "target": tg, "met": ok} for g, m, tg, ok in rows]
+        results["measured"] = time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())  # README tables
+        results["command"] = "hapticad bench" + (" --quick" if quick else "") + (f" --only {only}" if only else "")
         write_text_atomic(out / "bench.json", json.dumps(results, indent=1, default=float))
         write_manifest(out)
         tab = Table(title="performance goals (medians)")

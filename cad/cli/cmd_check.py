@@ -42,7 +42,7 @@ def register(app: typer.Typer) -> None:
         d = load_design(design)
         if hasattr(d, "check_buildable"):
             d.check_buildable()
-        res = check(d, tuple(target or ()), fidelity)
+        res = check(d, tuple(target or ()), fidelity, merge=True)
         missed = [r for r in res["rows"] if not r["ok"]]
         if json_out:
             print_json(res, indent=1)
@@ -50,7 +50,7 @@ def register(app: typer.Typer) -> None:
             from rich.console import Console
             from rich.table import Table
 
-            t = Table(title=f"{res['name']}: computed ({fidelity}) against targets")
+            t = Table(title=f"{res['name']}: computed ({fidelity}) against targets ({res['targets_source']})")
             for c in ("target key", "computed", "target", "gap", "ok"):
                 t.add_column(c, justify="right" if c != "target key" else "left")
             for r in res["rows"]:

@@ -78,6 +78,7 @@ def _fourbar(d, path: Path, objective: str, trials: int, seed: int, top: int, ou
              json_out: bool, proportions_tol: float = 0.0) -> None:
     """The four-bar co-design path (module docstring); exit 1 when no candidate is accepted."""
     import sys
+    import time
 
     from cad.codesign import exact
     from cad.codesign.report import optimize_fourbar
@@ -97,6 +98,7 @@ def _fourbar(d, path: Path, objective: str, trials: int, seed: int, top: int, ou
            f"--exact-top {top}" + (f" --proportions-tol {proportions_tol:g}" if proportions_tol else "")
            + (f" --out {out}" if out is not None else ""))
     rep["command"] = cmd
+    rep["measured"] = time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())  # README tables (cad.bench.readme)
     if out is not None and best is not None:
         ex = rep["best"]["exact"]
         exact.write_optimum(d, best, out, f"Optimum of `{cmd}`\nexact solids: M11 {ex['M11_min_g']:.2f}-"

@@ -18,6 +18,34 @@ def synth_flags(objective: str, free: str, dy_tol_mm: float, mu_min_deg: float,
     return flags + (f" --stroke-mm {stroke_mm:g}" if stroke_mm is not None else "")
 
 
+def _refuse_unheld_stroke(held_mm: float | None, got_mm: float, from_flag: bool) -> None:
+    """DesignError (exit 2, nothing written) when a stroke was asked and the result misses it."""
+    from cad import tolerances as tol
+    from cad.errors import DesignError
+
+    if held_mm is not None and not abs(got_mm - held_mm) <= tol.SYNTH_STROKE_REL * held_mm:
+        raise DesignError("--stroke-mm" if from_flag else "mechanism.stroke_mm",
+                          f"no linkage of this family reaches a stroke of {held_mm:g} mm within the "
+                          f"constraints (best {got_mm:.4g} mm): change --objective, --free or the stroke")
+
+
+def _print_table(res: dict, title: str) -> None:
+    """The start and the optimized linkage side by side (text output)."""
+    from rich.console import Console
+    from rich.table import Table
+
+    t = Table(title=title)
+    t.add_column("quantity")
+    t.add_column("start", justify="right")
+    t.add_column("optimized", justify="right")
+    s, o = res["start"], res["result"]
+    for k in ("l1_mm", "l2_mm", "l3_mm", "l5_mm", "le_mm", "phi_e_deg", "phi1_min_deg", "phi1_max_deg",
+              "stroke_mm", "dy_max_mm", "slope_max", "torque_mean_mNm", "torque_variation",
+              "min_transmission_angle_deg"):
+        t.add_row(k, f"{s[k]:.4g}", f"{o[k]:.4g}")
+    Console().print(t)
+
+
 def register(app: typer.Typer) -> None:
     @app.command("synth")
     def synth_cmd(
@@ -26,12 +54,13 @@ def register(app: typer.Typer) -> None:
         free: str = typer.Option("range", "--free", help="range (crank range only) | all (ratios, phi_e and range)."),
         dy_tol_mm: float = typer.Option(0.2, "--dy-tol-mm", help="max-stroke: allowed max |y| (mm)."),
         mu_min_deg: float = typer.Option(30.0, "--mu-min-deg", help="Minimum transmission angle (deg)."),
-        stroke_mm: float = typer.Option(None, "--stroke-mm", help="min-torque-variation: stroke to scale to (default: the start's)."),
+        stroke_mm: float = typer.Option(None, "--stroke-mm", help="Stroke the result must have, under every objective (mm; default: the design's mechanism.stroke_mm, else max-stroke chooses it and min-torque-variation keeps the start's)."),
         out: Path = typer.Option(None, "--out", help="Write the optimized design (family custom) here."),
         json_out: bool = typer.Option(False, "--json", help="Print one JSON object."),
     ) -> None:
         """Choose link lengths and the crank range for a stated objective (see README)."""
         import copy
+        import time
 
         from cad.cli import flags
         from cad.cli.families import refusal
@@ -59,12 +88,16 @@ def register(app: typer.Typer) -> None:
         if not isinstance(d, FourBarDesign):
             raise DesignError("mechanism.family", refusal("synth", d.family))
         replaced = check_out_file(out, design) if out is not None else False
+        held_mm = stroke_mm or (d.stroke_mm_requested or None)
         r = synthesize(d.linkage, d.phi1_min_rad, d.phi1_max_rad, objective, free=free,
-                       dy_tol_mm=dy_tol_mm, mu_min_deg=mu_min_deg,
-                       stroke_mm=stroke_mm or (d.stroke_mm_requested or None), force_N=d.force_N)
+                       dy_tol_mm=dy_tol_mm, mu_min_deg=mu_min_deg, stroke_mm=held_mm, force_N=d.force_N)
+        _refuse_unheld_stroke(held_mm, r.metrics.stroke_mm, stroke_mm is not None)
         mech = custom_mechanism_table(r.linkage, r.phi1_min_rad, r.phi1_max_rad, d.force_N)
         res = {
             "objective": objective, "free": free, "feasible": r.feasible, "evaluations": r.evaluations,
+            "stroke_mm_held": held_mm,
+            "command": f"hapticad synth {design} {synth_flags(objective, free, dy_tol_mm, mu_min_deg, stroke_mm)}",
+            "measured": time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()),
             "start": {**d.resolved_linkage(), **r.start_metrics.as_dict()},
             "result": {**{k: v for k, v in mech.items() if k != "family"}, **r.metrics.as_dict()},
         }
@@ -72,7 +105,8 @@ def register(app: typer.Typer) -> None:
             raw = rebase_paths(copy.deepcopy(d.raw), d.source, out)
             raw["mechanism"] = mech
             raw["name"] = out.stem
-            raw["description"] = f"{objective} synthesis ({free}) from {d.name} ({d.family})"
+            held = f", stroke {held_mm:g} mm" if held_mm is not None else ""
+            raw["description"] = f"{objective} synthesis ({free}{held}) from {d.name} ({d.family})"
             dropped = drop_source_targets(raw)
             parse_design(raw, str(out))  # must validate before anything is written
             header = (f"Synthesized by `hapticad synth {design.name} {synth_flags(objective, free, dy_tol_mm, mu_min_deg, stroke_mm)}` "
@@ -85,20 +119,8 @@ def register(app: typer.Typer) -> None:
         if json_out:
             print_json(res, indent=1)
             return
-        from rich.console import Console
-        from rich.table import Table
-
-        t = Table(title=f"synth {objective} ({free}) — feasible: {r.feasible}")
-        t.add_column("quantity")
-        t.add_column("start", justify="right")
-        t.add_column("optimized", justify="right")
-        s, o = res["start"], res["result"]
-        for k in ("l1_mm", "l2_mm", "l3_mm", "l5_mm", "le_mm", "phi_e_deg", "phi1_min_deg", "phi1_max_deg",
-                  "stroke_mm", "dy_max_mm", "slope_max", "torque_mean_mNm", "torque_variation",
-                  "min_transmission_angle_deg"):
-            t.add_row(k, f"{s[k]:.4g}", f"{o[k]:.4g}")
-        Console().print(t)
+        _print_table(res, f"synth {objective} ({free}) — feasible: {r.feasible}")
         if out is not None:
             print(f"{'replaced' if replaced else 'wrote'} {out}")
-        if not math.isfinite(o["stroke_mm"]):
+        if not math.isfinite(res["result"]["stroke_mm"]):
             raise DesignError("synth", "no feasible result")

@@ -1,6 +1,6 @@
 """``hapticad tolerance DESIGN --hole-mm T [...]``: Monte Carlo of manufacturing tolerances (four-bar).
 
-Pure numpy (no CAD import); see :mod:`cad.kinematics.tolerance` and README "Tolerances".
+Pure numpy unless M11 needs the solids (no `--inertia` or `[inertia]`: the parts `check` builds, via the derived cache); see :mod:`cad.kinematics.tolerance` and README "Tolerances".
 """
 
 from __future__ import annotations
@@ -28,6 +28,9 @@ def _print(res: dict) -> None:
         t.add_row(k, *(f"{v[x]:.5g}" for x in ("nominal", "mean", "std", "linear_std", "p01", "p99")),
                   y["target"] if y else "", f"{100 * y['yield']:.2f} %" if y else "")
     con.print(t)
+    h = res["inertia_kg_m2"]
+    con.print(f"M11 from the inertia of {res['inertia_source']}: " + ", ".join(
+        f"{k[:3]} = {h[k]:.4g}" for k in ("H11_kg_m2", "H12_kg_m2", "H22_kg_m2", "H33_kg_m2")) + " kg.m^2", soft_wrap=True)
     if res["yield"]["overall"] is not None:
         con.print(f"yield (every target met): {100 * res['yield']['overall']:.2f} %; "
                   f"failed samples (no closure / toggle): {res['failed_samples']}")
@@ -52,7 +55,7 @@ def register(app: typer.Typer) -> None:
         angles: int = typer.Option(401, "--angles", help="Crank angles per sample (extrema are refined)."),
         seed: int = typer.Option(0, "--seed", help="Random seed."),
         target: list[str] = typer.Option(None, "--target", help="KEY=VALUE, KEY<=V, KEY>=V; repeatable (added to the design's targets)."),
-        inertia: str = typer.Option(None, "--inertia", help="H11=..,H12=..,H22=..,H33=.. (kg.m^2) for M11."),
+        inertia: str = typer.Option(None, "--inertia", help="H11=..,H12=..,H22=..,H33=.. (kg.m^2) for M11 (default: the design's [inertia], else the solids, as check)."),
         out: Path = typer.Option(None, "--out", help="Write tolerance.json and tolerance.png here."),
         json_out: bool = typer.Option(False, "--json", help="Print one JSON object."),
     ) -> None:
@@ -89,7 +92,7 @@ def register(app: typer.Typer) -> None:
 
             raise DesignError("mechanism.family", refusal("tolerance", d.family))
         H, h_source = inertia_for_m11(d, H)
-        computable = tuple(k for k in METRIC_KEYS if H is not None or not k.startswith("M11"))
+        computable = METRIC_KEYS
         for t in cli:
             if t.key not in computable:
                 raise DesignError("--target", f"{t.key} is not computed by the tolerance study "
@@ -101,6 +104,7 @@ def register(app: typer.Typer) -> None:
         targets = merge_targets(d.targets, cli)
         res, m = run(d, tols, samples, seed, angles, H, targets)
         res["inertia_source"] = h_source
+        res["inertia_kg_m2"] = H.as_dict()
         if out is not None:
             from cad.io.atomic import write_text_atomic
 

@@ -35,7 +35,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from cad.errors import DesignError, KinematicsError
-from cad.kinematics.fourbar import FourBar, check_range
+from cad.kinematics.fourbar import FourBar, check_range, closure_margin, solve
 from cad.kinematics.metrics import Metrics, compute_metrics
 
 OBJECTIVES = ("max-stroke", "min-torque-variation")
@@ -82,28 +82,76 @@ def _safe_metrics(fb, lo, hi, force_N, samples, refine=False) -> Metrics | None:
         return None
 
 
-def synthesize(
-    fb0: FourBar, phi1_min_rad: float, phi1_max_rad: float, objective: str = "max-stroke", *,
-    free: str = "range", dy_tol_mm: float = 0.2, mu_min_deg: float = 30.0,
-    stroke_mm: float | None = None, force_N: float = 5.0, samples: int = 241, restarts: int = 4,
-    seed: int = 0,
-) -> SynthesisResult:
-    """Optimize ``fb0`` over its crank range for ``objective`` (see module docstring)."""
+def _hi_for_stroke(fb: FourBar, lo: float, stroke_mm: float, grid: int = 721) -> float | None:
+    """First crank angle after ``lo`` (rad) where the chord |P(phi1) - P(lo)| reaches
+    ``stroke_mm``, within one turn and before the loop stops closing; None when none does."""
+    from scipy.optimize import brentq
+
+    phi = lo + np.linspace(1e-3, 2 * math.pi - 1e-3, grid)
+    closes = np.concatenate([[lo], phi])
+    bad = np.flatnonzero(closure_margin(fb, closes) < 0)
+    if bad.size and bad[0] == 0:
+        return None
+    phi = phi[: bad[0] - 1] if bad.size else phi
+    if phi.size < 2:
+        return None
+    p_lo = solve(fb, np.array([lo])).P_mm[0]
+    reach = np.flatnonzero(np.linalg.norm(solve(fb, phi).P_mm - p_lo, axis=1) >= stroke_mm)
+    if reach.size == 0 or reach[0] == 0:
+        return None
+
+    def gap(b: float) -> float:
+        return float(np.linalg.norm(solve(fb, np.array([b])).P_mm[0] - p_lo) - stroke_mm)
+
+    return float(brentq(gap, phi[reach[0] - 1], phi[reach[0]], xtol=1e-12))
+
+
+def _straightest_at_stroke(fb0: FourBar, free: str, stroke_mm: float,
+                           mu_min_deg: float, force_N: float, samples: int, starts: list,
+                           counter: dict) -> tuple[FourBar, float, float] | None:
+    """``max-stroke`` with the stroke held: least dy_max over (phi1_min [, ratios, phi_e])
+    with phi1_max root-found for ``stroke_mm``. ``starts`` are packed vectors (``_pack``);
+    returns the best linkage and range, None when no start holds the stroke."""
     from scipy.optimize import minimize
 
-    if objective not in OBJECTIVES:
-        raise DesignError("--objective", f"unknown objective {objective!r} (known: {', '.join(OBJECTIVES)})")
-    if free not in FREE_SETS:
-        raise DesignError("--free", f"unknown free set {free!r} (known: {', '.join(FREE_SETS)})")
-    if not dy_tol_mm > 0:
-        raise DesignError("--dy-tol-mm", f"must be > 0, got {dy_tol_mm!r}")
-    start = _safe_metrics(fb0, phi1_min_rad, phi1_max_rad, force_N, samples)
-    if start is None:
-        raise KinematicsError("the starting linkage does not run over its range; fix it before optimizing")
+    def point(xr):
+        fb, lo, _ = _unpack(np.insert(xr, 1, xr[0] + 1.0), fb0, free)
+        if free == "all" and (min(xr[1], xr[2], xr[3]) <= 0.02 or xr[4] < 0):
+            return None
+        try:
+            hi = _hi_for_stroke(fb, lo, stroke_mm)
+        except (KinematicsError, DesignError, ValueError):
+            return None
+        return None if hi is None else (fb, lo, hi)
+
+    def cost(xr):
+        counter["n"] += 1
+        p = point(xr)
+        m = None if p is None else _safe_metrics(*p, force_N, samples)
+        if m is None:
+            return 1e6
+        pen = 1e3 * max(0.0, mu_min_deg - m.min_transmission_angle_deg)
+        pen += 1e3 * max(0.0, 1e-3 - m.linearity_velocity)
+        return m.dy_max_mm / stroke_mm + pen
+
+    best = None
+    for xs in starts:
+        res = minimize(cost, np.delete(xs, 1), method="Nelder-Mead",
+                       options={"xatol": 1e-8, "fatol": 1e-12, "maxiter": 400 * xs.size})
+        if best is None or res.fun < best.fun:
+            best = res
+    return point(best.x) if best.fun < 1e5 else None
+
+
+def _penalized_search(fb0: FourBar, free: str, objective: str, start: Metrics, span0: float,
+                      dy_tol_mm: float, mu_min_deg: float, force_N: float, samples: int,
+                      starts: list, counter: dict) -> tuple[FourBar, float, float] | None:
+    """Nelder-Mead on the penalized objective (module docstring) from each packed start;
+    the best linkage and range, None when no start reaches the feasible set."""
+    from scipy.optimize import minimize
+
     ratio0 = start.dy_max_mm / start.stroke_mm
-    span0 = phi1_max_rad - phi1_min_rad
     size0 = max(start.bbox_mm) / start.stroke_mm
-    counter = {"n": 0}
 
     def cost(x):
         counter["n"] += 1
@@ -126,25 +174,59 @@ def synthesize(
         pen += 1e3 * max(0.0, (max(m.bbox_mm) / m.stroke_mm) / size0 - 1.0)
         return m.torque_variation + pen
 
-    x0 = _pack(fb0, phi1_min_rad, phi1_max_rad, free)
-    rng = np.random.default_rng(seed)
-    starts = [x0] + [x0 * (1 + 0.05 * rng.standard_normal(x0.size)) for _ in range(restarts)]
     best = None
     for xs in starts:
         res = minimize(cost, xs, method="Nelder-Mead",
-                       options={"xatol": 1e-6, "fatol": 1e-9, "maxiter": 400 * x0.size})
+                       options={"xatol": 1e-6, "fatol": 1e-9, "maxiter": 400 * xs.size})
         if best is None or res.fun < best.fun:
             best = res
-    fb, lo, hi = _unpack(best.x, fb0, free)
-    m = _safe_metrics(fb, lo, hi, force_N, 2001, refine=True)
-    feasible = m is not None and best.fun < 1e5
-    if m is None:
-        fb, lo, hi, m = fb0, phi1_min_rad, phi1_max_rad, start
+    return _unpack(best.x, fb0, free) if best.fun < 1e5 else None
+
+
+def synthesize(
+    fb0: FourBar, phi1_min_rad: float, phi1_max_rad: float, objective: str = "max-stroke", *,
+    free: str = "range", dy_tol_mm: float = 0.2, mu_min_deg: float = 30.0,
+    stroke_mm: float | None = None, force_N: float = 5.0, samples: int = 241, restarts: int = 4,
+    seed: int = 0,
+) -> SynthesisResult:
+    """Optimize ``fb0`` over its crank range for ``objective`` (see module docstring).
+
+    ``stroke_mm`` (mm, or None) is a constraint under both objectives: the result's
+    stroke equals it (max-stroke: the crank end is root-found, l2 kept; min-torque-variation:
+    every length rescaled). Raises DesignError on a bad objective, free set or tolerance,
+    KinematicsError when the start does not run over its range.
+    """
+    from cad import tolerances as tol
+
+    if objective not in OBJECTIVES:
+        raise DesignError("--objective", f"unknown objective {objective!r} (known: {', '.join(OBJECTIVES)})")
+    if free not in FREE_SETS:
+        raise DesignError("--free", f"unknown free set {free!r} (known: {', '.join(FREE_SETS)})")
+    if not dy_tol_mm > 0:
+        raise DesignError("--dy-tol-mm", f"must be > 0, got {dy_tol_mm!r}")
+    start = _safe_metrics(fb0, phi1_min_rad, phi1_max_rad, force_N, samples)
+    if start is None:
+        raise KinematicsError("the starting linkage does not run over its range; fix it before optimizing")
+    counter = {"n": 0}
+    x0 = _pack(fb0, phi1_min_rad, phi1_max_rad, free)
+    rng = np.random.default_rng(seed)
+    starts = [x0] + [x0 * (1 + 0.05 * rng.standard_normal(x0.size)) for _ in range(restarts)]
+    if objective == "max-stroke" and stroke_mm is not None:
+        found = _straightest_at_stroke(fb0, free, stroke_mm, mu_min_deg, force_N, samples, starts,
+                                       counter)
+    else:
+        found = _penalized_search(fb0, free, objective, start, phi1_max_rad - phi1_min_rad, dy_tol_mm,
+                                  mu_min_deg, force_N, samples, starts, counter)
+    m = None if found is None else _safe_metrics(*found, force_N, 2001, refine=True)
+    feasible = m is not None
+    fb, lo, hi = found if m is not None else (fb0, phi1_min_rad, phi1_max_rad)
+    m = m if m is not None else start
     if objective == "min-torque-variation" and stroke_mm is not None:
-        k = stroke_mm / m.stroke_mm
-        fb = fb.scaled(k)
+        fb = fb.scaled(stroke_mm / m.stroke_mm)
         m = compute_metrics(fb, lo, hi, force_N=force_N, samples=2001)
     feasible = feasible and m.min_transmission_angle_deg >= mu_min_deg - 1e-6 and m.linearity_velocity > 0
     if objective == "max-stroke":
         feasible = feasible and m.dy_max_mm <= dy_tol_mm * 1.001
+    if stroke_mm is not None:
+        feasible = feasible and abs(m.stroke_mm - stroke_mm) <= tol.SYNTH_STROKE_REL * stroke_mm
     return SynthesisResult(objective, fb, lo, hi, m, start, counter["n"], bool(feasible))
