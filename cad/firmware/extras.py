@@ -97,15 +97,19 @@ def chai3d_json(spec: DeviceSpec, design, wall: dict, forces: dict) -> str:
 
 
 def sketch(spec: DeviceSpec, wall: dict) -> str:
-    """``wall_example.ino``: read encoders, render a wall at x >= x_wall (device frame x axis
-    through the home position), write motor currents; board I/O is left to three stubs."""
+    """``wall_example.ino``: read encoders, render a wall through the home position (module
+    docstring of the sketch), write motor currents; board I/O is left to three stubs."""
     from cad.firmware.csrc import banner
 
-    X0, _ = ref.forward(spec, np.asarray(spec.q_home_rad)[None, :])
+    qh = np.asarray(spec.q_home_rad)[None, :]
+    X0, _ = ref.forward(spec, qh)
+    n = ref.jacobian(spec, qh)[0][:2, 0] if spec.kind == "fourbar" else np.array([1.0, 0.0])
+    n = n / np.linalg.norm(n)
     nj, nt = spec.n_joints, spec.n_task
     return banner(spec, "wall_example.ino: a virtual wall (Arduino / Teensy style)") + f"""
-/* The wall: the plane x = WALL_X_M (device frame), pushing along -x when the handle enters,
- * F = -K (x - x_wall) - B x_dot. K and B: {wall['source']};
+/* The wall: through the home position WALL_X0_M, normal WALL_N (device frame; four-bar: the
+ * direction of motion at home, pantographs: +x); with the penetration s = N . (X - X0) > 0
+ * the handle feels F = -(K s + B s_dot) N. K and B: {wall['source']};
  * eq (25) range {wall['eq25_K_min_N_per_m']:.4g} .. {wall['eq25_K_max_N_per_m']:.4g} N/m at Te = {wall['Te_s']:g} s.
  * Run the loop every SAMPLE_PERIOD_S (the Te of eq 25); a slower loop needs a smaller K.
  * Copy hapticad_device.h / hapticad_device.c beside this sketch; on an 8-bit AVR define
@@ -114,11 +118,14 @@ def sketch(spec: DeviceSpec, wall: dict) -> str:
 
 #define WALL_K_N_PER_M {wall['K_N_per_m']!r}
 #define WALL_B_N_S_PER_M {wall['B_N_s_per_m']!r}
-#define WALL_X_M {float(X0[0, 0]):.6g}      /* the home position's x */
+#define WALL_X0_M {float(X0[0, 0])!r}
+#define WALL_Y0_M {float(X0[0, 1])!r}
+#define WALL_NX {float(n[0])!r}
+#define WALL_NY {float(n[1])!r}
 #define SAMPLE_PERIOD_US {int(round(wall['Te_s'] * 1e6))}
 
 static hc_encoder_t enc = HC_ENCODER_DEFAULT;
-static hc_real x_prev = 0;
+static hc_real s_prev = 0;
 
 /* board specific: replace these three with your encoder and amplifier code */
 static void read_encoders(long counts[HC_N_JOINTS]) {{ for (int i = 0; i < HC_N_JOINTS; ++i) counts[i] = 0; }}
@@ -137,9 +144,14 @@ void loop() {{
     read_encoders(counts);
     hc_counts_to_angles(&enc, counts, q);
     if (hc_forward(q, X) != HC_OK) {{ motors_off(); return; }}   /* outside the range: no force */
-    hc_real v = (X[0] - x_prev) / (SAMPLE_PERIOD_US * 1e-6);
-    x_prev = X[0];
-    if (X[0] > WALL_X_M) F[0] = -WALL_K_N_PER_M * (X[0] - WALL_X_M) - WALL_B_N_S_PER_M * v;
+    hc_real s = WALL_NX * (X[0] - WALL_X0_M) + WALL_NY * (X[1] - WALL_Y0_M);
+    hc_real v = (s - s_prev) / (SAMPLE_PERIOD_US * 1e-6);
+    s_prev = s;
+    if (s > 0) {{
+        hc_real f = -(WALL_K_N_PER_M * s + WALL_B_N_S_PER_M * v);
+        if (f > 0) f = 0;                          /* a wall pushes, never pulls */
+        F[0] = f * WALL_NX; F[1] = f * WALL_NY;
+    }}
     hc_joint_torques(q, F, tau);
     hc_gravity_torques(q, tg);                     /* zero for a horizontal device */
     for (int i = 0; i < HC_N_JOINTS; ++i) tau[i] += tg[i];

@@ -1,0 +1,258 @@
+"""Generated firmware (issue 26): the C code compiled with the system compiler and checked
+against hapticad's numpy model (test vectors), finite differences of its own FK, the
+potential energy of the solids' masses and COMs, and the motor catalog.
+
+Needs ``cc`` (the .ci/run image installs gcc): without it these tests fail, never skip.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import re
+import shutil
+import subprocess
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from cad import tolerances as tol
+
+ROOT = Path(__file__).resolve().parents[1]
+FAMILIES = ("hoeken", "pantograph", "twin-pantograph")
+
+
+def _cc() -> str:
+    cc = shutil.which("cc") or shutil.which("gcc")
+    assert cc, "no C compiler (cc/gcc) on PATH: the firmware tests need one (.ci/run installs gcc)"
+    return cc
+
+
+def _build(request, fam: str):
+    """(design, out_dir, report.json) of the shared builds (tests/conftest.py)."""
+    if fam == "hoeken":
+        d, out, rep, _ = request.getfixturevalue("hoeken_sim_build")
+        return d, out, rep
+    d, out, _ = request.getfixturevalue("family_builds")[fam]
+    return d, out, json.loads((out / "report.json").read_text())
+
+
+def _run(fw: Path, tmp: Path, use_float: bool, extra: str = "") -> dict:
+    """Compile test_device.c + hapticad_device.c (double or float) and run it on the vectors."""
+    exe = tmp / ("test_f" if use_float else "test_d")
+    flags = ["-DHAPTICAD_USE_FLOAT"] if use_float else []
+    cmd = [_cc(), "-std=c99", "-O2", "-Wall", "-Wextra", "-pedantic", "-Werror", *flags, "-o",
+           str(exe), str(fw / "test_device.c"), str(fw / "hapticad_device.c"), "-lm"]
+    r = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0, r.stderr
+    tols = ((tol.FIRMWARE_FLOAT_POSITION_M, tol.FIRMWARE_FLOAT_TORQUE_NM, 0.0) if use_float else
+            (tol.FIRMWARE_DOUBLE_POSITION_M, tol.FIRMWARE_DOUBLE_TORQUE_NM, tol.FIRMWARE_FD_JACOBIAN))
+    r = subprocess.run([str(exe), str(fw / "test_vectors.json"), *map(repr, tols)],
+                       capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0, r.stdout + r.stderr
+    return {k: float(v) for k, v in re.findall(r"(\w+) ([-+0-9.e]+)", r.stdout)}
+
+
+@pytest.mark.parametrize("fam", FAMILIES)
+def test_build_writes_firmware_that_names_design_hash_version_units(request, fam):
+    import cad
+    from cad.build import design_hash
+
+    d, out, rep = _build(request, fam)
+    fw = out / "firmware"
+    man = {f["path"] for f in json.loads((out / "manifest.json").read_text())["files"]}
+    h = design_hash(d)
+    for name in ("hapticad_device.h", "hapticad_device.c", "test_vectors.json", "test_device.c",
+                 "wall_example/wall_example.ino", "chai3d_device.json"):
+        assert f"firmware/{name}" in rep["files"] and f"firmware/{name}" in man
+        text = (fw / name).read_text()
+        assert d.name in text and h in text and f"hapticad {cad.__version__}" in text
+        if not name.endswith("json"):
+            assert "Units: SI" in text and "Frame:" in text
+
+
+@pytest.mark.parametrize("fam", FAMILIES)
+@pytest.mark.parametrize("use_float", [False, True], ids=["double", "float"])
+def test_c_matches_numpy_at_every_pose(request, tmp_path, fam, use_float):
+    """Double: 1e-9 m / 1e-9 N m at every pose and J = central differences of the generated FK
+    (1e-7 m/rad); float: the stated bounds (cad.tolerances). Refused poses return the model's
+    status code (the program fails on any mismatch)."""
+    _, out, _ = _build(request, fam)
+    res = _run(out / "firmware", tmp_path, use_float)
+    doc = json.loads((out / "firmware" / "test_vectors.json").read_text())
+    assert res["rows"] == len(doc["rows"]) and res["ok"] >= 1000 and res["failures"] == 0
+    assert res["refused"] >= 20 and res["refused"] == doc["summary"]["refused"]
+    if not use_float:
+        assert res["max_err_X"] <= 1e-9 and res["max_err_tau"] <= 1e-9 and res["max_err_fd"] <= 1e-7
+
+
+def test_fourbar_refuses_angles_outside_the_crank_range(request):
+    d, out, _ = _build(request, "hoeken")
+    doc = json.loads((out / "firmware" / "test_vectors.json").read_text())
+    R = np.array(doc["rows"])
+    q = R[:, 3]
+    outside = (q < d.phi1_min_rad) | (q > d.phi1_max_rad)
+    assert outside.sum() >= 50 and (q[outside] < d.phi1_min_rad).any() and (q[outside] > d.phi1_max_rad).any()
+    assert np.all(R[outside, 0] == doc["status_codes"]["HC_ERR_RANGE"]) and np.all(R[~outside, 0] == 0)
+
+
+def _vertical(d):
+    import dataclasses
+
+    from cad.design.firmware import parse_firmware
+
+    n = {"hoeken": 1, "pantograph": 2}.get(d.family, 4)
+    return dataclasses.replace(d, firmware=parse_firmware(
+        {"plane": "vertical", "gravity_direction": [0.3, -1.0]}, n, d.firmware.encoder_counts_per_rev))
+
+
+def _potential_fourbar(d, rep, phi):
+    from cad.assembly.pose import body_transforms
+
+    g = np.array([0.3, -1.0]) / math.hypot(0.3, 1.0) * 9.80665
+    T = body_transforms(d.linkage, phi)
+    V = np.zeros(len(phi))
+    for b in ("crank", "coupler", "rocker"):
+        L = rep["links"][b]
+        c = np.array([*L["com_mm"], 1.0])
+        V -= L["mass_kg"] * (np.einsum("nij,j->ni", T[b], c)[:, :2] * 1e-3) @ g
+    return V
+
+
+def _potential_pantograph(d, rep, X):
+    from cad.build.pantograph import body_poses
+
+    g = np.array([0.3, -1.0]) / math.hypot(0.3, 1.0) * 9.80665
+    Xmm = np.array(X, dtype=float)
+    Xmm[:, :2] *= 1e3
+    T = body_poses(d, Xmm)
+    V = np.zeros(len(X))
+    for b, mp in rep["bodies"].items():
+        c = np.array([*mp["com_mm"], 1.0])
+        V -= mp["mass_kg"] * (np.einsum("nij,j->ni", T[b], c)[:, :2] * 1e-3) @ g
+    return V
+
+
+@pytest.mark.parametrize("fam", FAMILIES)
+def test_gravity_torques_are_the_derivative_of_the_solids_potential(request, tmp_path, fam):
+    """Vertical plane (g tilted, [0.3, -1]): the C gravity torques equal the numpy model's
+    (compiled run, 1e-9 N m), which equal dV/dq of the potential of the solids' masses and
+    COMs placed by the build's own body transforms (central differences). Twin pantograph
+    (redundant): Jq^T tau = dV/dX, the wrench the torques render."""
+    from cad.build import design_hash
+    from cad.firmware import reference as ref
+    from cad.firmware import write_firmware
+    from cad.firmware.device import device_spec
+
+    d, _, rep = _build(request, fam)
+    dv = _vertical(d)
+    write_firmware(dv, rep, tmp_path, design_hash(dv))
+    res = _run(tmp_path / "firmware", tmp_path, False)
+    assert res["failures"] == 0 and res["ok"] >= 1000
+    spec = device_spec(dv, rep, "", "")
+    doc = json.loads((tmp_path / "firmware" / "test_vectors.json").read_text())
+    R = np.array(doc["rows"])
+    nj, nt = spec.n_joints, spec.n_task
+    R = R[R[:, 0] == 0][::40]
+    q = R[:, 1 + 2 * nj: 1 + 3 * nj]
+    tg = ref.gravity_torques(spec, q)
+    assert np.abs(tg).max() > 1e-3  # the links do weigh
+    if fam == "hoeken":
+        h = 1e-6
+        fd = (_potential_fourbar(d, rep, q[:, 0] + h) - _potential_fourbar(d, rep, q[:, 0] - h)) / (2 * h)
+        np.testing.assert_allclose(tg[:, 0], fd, rtol=0, atol=1e-8)
+        return
+    X, _ = ref.forward(spec, q)
+    grad = np.zeros((len(X), nt))
+    for k in range(nt):
+        h = 1e-7 if k < 2 else 1e-6
+        Xp, Xm = X.copy(), X.copy()
+        Xp[:, k] += h
+        Xm[:, k] -= h
+        grad[:, k] = (_potential_pantograph(d, rep, Xp) - _potential_pantograph(d, rep, Xm)) / (2 * h)
+    if fam == "pantograph":
+        J = ref.jacobian(spec, q)  # dE/dq: dV/dq = J^T dV/dE
+        np.testing.assert_allclose(tg, np.einsum("nij,ni->nj", J, grad), rtol=0, atol=1e-8)
+    else:  # poses where the crank pin lies on its circle (IK(FK(q)) = q; the vectors also
+        # hold readings up to FIRMWARE_CRANK_TOL_M off it, which no task pose X describes)
+        Xmm = np.column_stack([X[:, :2] * 1e3, X[:, 2]])
+        on = np.all(np.abs(ref.tw.ik(ref.twin_of(spec.params), Xmm).q_rad - q) < 1e-9, axis=1)
+        assert on.sum() >= 25
+        Jq, tg, grad = ref.twin_task_jacobian(spec, q[on]), tg[on], grad[on]
+        np.testing.assert_allclose(np.einsum("nij,ni->nj", Jq, tg), grad, rtol=0, atol=1e-8)
+
+
+def test_motor_currents_saturate_at_the_catalog_limits(request, tmp_path):
+    """i = tau / Kt, scaled down together to the continuous / peak current of the catalog."""
+    from cad.parts.catalog import get_motor
+
+    _, out, rep = _build(request, "pantograph")
+    m = get_motor(rep["motor"]["key"])
+    kt = m.torque_constant_mNm_per_A * 1e-3
+    fw = out / "firmware"
+    (tmp_path / "m.c").write_text(
+        '#include <stdio.h>\n#include "hapticad_device.h"\nint main(void){hc_real t[2]={0.01,-0.02},'
+        'b[2]={3.0,-1.5},a[2];int s;s=hc_motor_currents(t,HC_LIMIT_CONTINUOUS,a);'
+        'printf("%d %.17g %.17g\\n",s,a[0],a[1]);s=hc_motor_currents(b,HC_LIMIT_CONTINUOUS,a);'
+        'printf("%d %.17g %.17g\\n",s,a[0],a[1]);s=hc_motor_currents(b,HC_LIMIT_PEAK,a);'
+        'printf("%d %.17g %.17g\\n",s,a[0],a[1]);return 0;}\n')
+    exe = tmp_path / "m"
+    subprocess.run([_cc(), "-std=c99", f"-I{fw}", "-o", str(exe), str(tmp_path / "m.c"),
+                    str(fw / "hapticad_device.c"), "-lm"], check=True, timeout=60)
+    lines = [list(map(float, s.split())) for s in subprocess.run(
+        [str(exe)], capture_output=True, text=True, check=True).stdout.splitlines()]
+    assert lines[0] == pytest.approx([0, 0.01 / kt, -0.02 / kt], rel=1e-12)
+    ic, ip = m.current_continuous_A, m.torque_peak_mNm / m.torque_constant_mNm_per_A
+    assert lines[1] == pytest.approx([1, ic, -ic / 2], rel=1e-12)  # direction kept
+    big = 3.0 / kt
+    assert lines[2] == pytest.approx([1, ip, -ip / 2] if big > ip else [0, big, -big / 2], rel=1e-12)
+
+
+def test_wall_sketch_compiles_and_chai3d_numbers_follow_eq25(request, tmp_path):
+    """The sketch compiles as C99 with a stub micros(); its K is eq (25)'s K_max of the design's
+    [stiffness] table (Hoeken paper §III.B.4: ~2500 N/m), the CHAI3D description carries it."""
+    from cad.dynamics.stiffness import stiffness_range_N_per_m
+
+    d, out, _ = _build(request, "hoeken")
+    fw = out / "firmware"
+    (tmp_path / "sk.c").write_text('static unsigned long micros(void) { return 0; }\n'
+                                   f'#include "{fw / "wall_example" / "wall_example.ino"}"\n'
+                                   'int main(void) { setup(); loop(); return 0; }\n')
+    subprocess.run([_cc(), "-std=c99", "-Wall", "-Werror", f"-I{fw}", "-o", str(tmp_path / "sk"),
+                    str(tmp_path / "sk.c"), str(fw / "hapticad_device.c"), "-lm"], check=True,
+                   timeout=60)
+    subprocess.run([str(tmp_path / "sk")], check=True, timeout=10)
+    kmax = stiffness_range_N_per_m(d.stiffness)[1]
+    ino = (fw / "wall_example" / "wall_example.ino").read_text()
+    assert f"#define WALL_K_N_PER_M {kmax!r}" in ino
+    c3 = json.loads((fw / "chai3d_device.json").read_text())
+    assert c3["m_maxLinearStiffness"] == kmax and c3["m_maxLinearDamping"] == d.stiffness.Fv_N_s_per_m
+    assert 0 < c3["m_maxLinearForce"] < c3["m_maxLinearForce_peak"]
+    assert c3["m_workspaceRadius"] == pytest.approx(0.025, rel=0.05)  # half the 50 mm stroke
+
+
+@pytest.mark.parametrize("table, field", [
+    ('plane = "tilted"', "firmware.plane"),
+    ("encoder_direction = [1, -1]", "firmware.encoder_direction"),
+    ("encoder_counts_per_rev = 0", "firmware.encoder_counts_per_rev"),
+    ("gravity_direction = [0, 0]", "firmware.gravity_direction"),
+    ("wall_stiffness = 3", "firmware.wall_stiffness"),
+])
+def test_bad_firmware_table_is_one_line_error(tmp_path, table, field):
+    from cli_helpers import assert_one_line_error, hapticad
+
+    src = (ROOT / "designs" / "hoeken.toml").read_text()
+    p = tmp_path / "bad.toml"
+    p.write_text(src + f"\n[firmware]\n{table}\n")
+    code, _, err = hapticad("analyze", str(p))
+    assert_one_line_error(code, err, field)
+
+
+def test_powermouse_firmware_refused_before_cad(tmp_path):
+    from cli_helpers import assert_one_line_error, hapticad
+
+    code, _, err = hapticad("build", str(ROOT / "designs" / "powermouse.toml"), "--out",
+                            str(tmp_path / "o"), "--formats", "firmware")
+    assert_one_line_error(code, err, "--formats", "powermouse")
+    assert not (tmp_path / "o").exists()
