@@ -256,3 +256,21 @@ def test_powermouse_firmware_refused_before_cad(tmp_path):
                             str(tmp_path / "o"), "--formats", "firmware")
     assert_one_line_error(code, err, "--formats", "powermouse")
     assert not (tmp_path / "o").exists()
+
+
+def test_generation_imports_no_cad_library(request):
+    """cad.firmware is pure generation code: from a report.json it needs no CAD library."""
+    import sys
+
+    _, out, _ = _build(request, "hoeken")
+    code = (
+        "import json, sys\n"
+        "from cad.design import load_design\n"
+        "from cad.firmware import firmware_files\n"
+        f"rep = json.loads(open(r'{out / 'report.json'}').read())\n"
+        f"files = firmware_files(load_design(r'{ROOT / 'designs' / 'hoeken.toml'}'), rep, 'h')\n"
+        "bad = [m for m in ('OCP', 'build123d', 'cadquery', 'trimesh', 'manifold3d') if m in sys.modules]\n"
+        "print('BAD', bad, len(files))\n"
+    )
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert "BAD [] 6" in r.stdout, r.stdout + r.stderr

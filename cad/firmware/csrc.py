@@ -10,6 +10,8 @@ device (the header's comment is the reference): ``hc_counts_to_angles``, ``hc_fo
 
 from __future__ import annotations
 
+import math
+
 from cad.firmware.reference import STATUS
 from cad.firmware.spec import DeviceSpec
 from cad.kinematics import pantograph_tolerances as ptol
@@ -159,14 +161,30 @@ int hc_motor_currents(const hc_real tau[HC_N_JOINTS], int limit, hc_real amps[HC
 """
 
 
+#: tau = J^T F with the Jacobian of hc_forward (four-bar, plain 5-bar).
+_JT_F = """int hc_joint_torques(const hc_real q[HC_N_JOINTS], const hc_real F[HC_N_TASK],
+                     hc_real tau[HC_N_JOINTS])
+{
+    hc_real J[HC_N_TASK * HC_N_JOINTS];
+    int i, j, st = hc_jacobian(q, J);
+    if (st) return st;
+    for (j = 0; j < HC_N_JOINTS; ++j) {
+        tau[j] = HC_R(0.0);
+        for (i = 0; i < HC_N_TASK; ++i) tau[j] += J[i * HC_N_JOINTS + j] * F[i];
+    }
+    return HC_OK;
+}
+"""
+
+
 def _fourbar(spec: DeviceSpec) -> str:
     p, b = spec.params, spec.bodies
     g = spec.gravity_m_s2 or (0.0, 0.0)
     H = spec.params
     consts = "\n".join(f"#define {k} {lit(v)}" for k, v in {
         "L1": p["l1"], "L2": p["l2"], "L3": p["l3"], "L4": p["l4"], "L5": p["l5"],
-        "LE": p["le"], "CE": __import__("math").cos(p["phi_e"]),
-        "SE": __import__("math").sin(p["phi_e"]), "BRANCH": p["branch"],
+        "LE": p["le"], "CE": math.cos(p["phi_e"]),
+        "SE": math.sin(p["phi_e"]), "BRANCH": p["branch"],
         "Q_MIN": p["q_min"], "Q_MAX": p["q_max"], "TOGGLE_SIN": TOGGLE_SIN,
         "GX": g[0], "GY": g[1],
         "M_CRANK": b["crank"].mass_kg, "CX_CRANK": b["crank"].com_m[0],
@@ -176,7 +194,7 @@ def _fourbar(spec: DeviceSpec) -> str:
         "M_ROCKER": b["rocker"].mass_kg, "CX_ROCKER": b["rocker"].com_m[0],
         "CY_ROCKER": b["rocker"].com_m[1],
         "H11": H["H11"], "H12": H["H12"], "H22": H["H22"], "H33": H["H33"],
-        "CB2": __import__("math").cos(H["beta2"]), "SB2": __import__("math").sin(H["beta2"]),
+        "CB2": math.cos(H["beta2"]), "SB2": math.sin(H["beta2"]),
     }.items())
     return consts + """
 /* the loop closure on the design's branch (Hoeken paper eqs 3-11, atan2 form) */
@@ -226,15 +244,7 @@ int hc_jacobian(const hc_real q[1], hc_real J[2])
     return HC_OK;
 }
 
-int hc_joint_torques(const hc_real q[1], const hc_real F[2], hc_real tau[1])
-{
-    hc_real J[2];
-    int st = hc_jacobian(q, J);
-    if (st) return st;
-    tau[0] = J[0] * F[0] + J[1] * F[1];
-    return HC_OK;
-}
-
+""" + _JT_F + """
 int hc_gravity_torques(const hc_real q[1], hc_real tau[1])
 {
     hc_pose4_t p;
@@ -359,6 +369,17 @@ static void hc5_gravity(const hc5_t *k, const hc_real *mass, const hc5_pose_t *p
 """
 
 
+#: The pantograph families have a mass matrix (report.json effective_mass_home), no scalar
+#: apparent mass: hc_apparent_mass refuses every pose there.
+_NO_APPARENT_MASS = """
+int hc_apparent_mass(const hc_real q[HC_N_JOINTS], hc_real *mass_kg)
+{
+    (void)q; (void)mass_kg;
+    return HC_ERR_RANGE; /* not generated for the pantograph families (report: mass matrix) */
+}
+"""
+
+
 def _fivebar_common() -> str:
     return (_FIVEBAR.replace("@ARM@", lit(ptol.ARM_SINGULAR_SIN))
             .replace("@DIST@", lit(ptol.DISTAL_SINGULAR_SIN))
@@ -393,16 +414,7 @@ int hc_jacobian(const hc_real q[2], hc_real J[4])
     return HC_OK;
 }
 
-int hc_joint_torques(const hc_real q[2], const hc_real F[2], hc_real tau[2])
-{
-    hc_real J[4];
-    int st = hc_jacobian(q, J);
-    if (st) return st;
-    tau[0] = J[0] * F[0] + J[2] * F[1];
-    tau[1] = J[1] * F[0] + J[3] * F[1];
-    return HC_OK;
-}
-
+""" + _JT_F + """
 int hc_gravity_torques(const hc_real q[2], hc_real tau[2])
 {
     hc5_pose_t p;
@@ -413,13 +425,7 @@ int hc_gravity_torques(const hc_real q[2], hc_real tau[2])
     hc5_gravity(&K5, K5_MASS, &p, q[0], q[1], GX, GY, tau);
     return HC_OK;
 }
-
-int hc_apparent_mass(const hc_real q[2], hc_real *mass_kg)
-{
-    (void)q; (void)mass_kg;
-    return HC_ERR_RANGE; /* not generated for the pantograph families (report: mass matrix) */
-}
-"""
+""" + _NO_APPARENT_MASS
 
 
 def _twin(spec: DeviceSpec) -> str:
@@ -534,13 +540,7 @@ int hc_gravity_torques(const hc_real q[4], hc_real tau[4])
     for (i = 0; i < 4; ++i) tau[i] += cs[i];
     return HC_OK;
 }
-
-int hc_apparent_mass(const hc_real q[4], hc_real *mass_kg)
-{
-    (void)q; (void)mass_kg;
-    return HC_ERR_RANGE; /* not generated for the pantograph families (report: mass matrix) */
-}
-""")
+""" + _NO_APPARENT_MASS)
 
 
 def source(spec: DeviceSpec) -> str:

@@ -111,7 +111,7 @@ def sketch(spec: DeviceSpec, wall: dict) -> str:
  * direction of motion at home, pantographs: +x); with the penetration s = N . (X - X0) > 0
  * the handle feels F = -(K s + B s_dot) N. K and B: {wall['source']};
  * eq (25) range {wall['eq25_K_min_N_per_m']:.4g} .. {wall['eq25_K_max_N_per_m']:.4g} N/m at Te = {wall['Te_s']:g} s.
- * Run the loop every SAMPLE_PERIOD_S (the Te of eq 25); a slower loop needs a smaller K.
+ * Run the loop every SAMPLE_PERIOD_US (the Te of eq 25); a slower loop needs a smaller K.
  * Copy hapticad_device.h / hapticad_device.c beside this sketch; on an 8-bit AVR define
  * HAPTICAD_USE_FLOAT (double is float there anyway), on a Teensy 4 keep double. */
 #include "hapticad_device.h"
