@@ -76,3 +76,7 @@ FIRMWARE_FLOAT_TORQUE_NM = 2e-5
 #: Jacobian against central finite differences of the generated FK (double build, step
 #: 1e-6 rad): truncation ~1e-13 m/rad, rounding ~1e-10 m/rad; 1e-7 m/rad leaves margin.
 FIRMWARE_FD_JACOBIAN = 1e-7
+#: PowerMouse map, float build: ampere-turns within 1e-3 At (~1e-6 of the ~1000 At peak of
+#: the bundled design; float32 resolves ~6e-8 relative) and the wrench W NI within 2e-5 N, N m
+#: (FIRMWARE_FLOAT_TORQUE_NM). Double: 1e-9 At and 1e-9 N, N m.
+FIRMWARE_FLOAT_AMPERE_TURNS = 1e-3

@@ -54,7 +54,7 @@ def _run(fw: Path, tmp: Path, use_float: bool, extra: str = "") -> dict:
     return {k: float(v) for k, v in re.findall(r"(\w+) ([-+0-9.e]+)", r.stdout)}
 
 
-@pytest.mark.parametrize("fam", FAMILIES)
+@pytest.mark.parametrize("fam", (*FAMILIES, "powermouse"))
 def test_build_writes_firmware_that_names_design_hash_version_units(request, fam):
     import cad
     from cad.build import design_hash
@@ -63,8 +63,9 @@ def test_build_writes_firmware_that_names_design_hash_version_units(request, fam
     fw = out / "firmware"
     man = {f["path"] for f in json.loads((out / "manifest.json").read_text())["files"]}
     h = design_hash(d)
+    sketch = () if fam == "powermouse" else ("wall_example/wall_example.ino",)
     for name in ("hapticad_device.h", "hapticad_device.c", "test_vectors.json", "test_device.c",
-                 "wall_example/wall_example.ino", "chai3d_device.json"):
+                 *sketch, "chai3d_device.json"):
         assert f"firmware/{name}" in rep["files"] and f"firmware/{name}" in man
         text = (fw / name).read_text()
         assert d.name in text and h in text and f"hapticad {cad.__version__}" in text
@@ -249,13 +250,63 @@ def test_bad_firmware_table_is_one_line_error(tmp_path, table, field):
     assert_one_line_error(code, err, field)
 
 
-def test_powermouse_firmware_refused_before_cad(tmp_path):
-    from cli_helpers import assert_one_line_error, hapticad
+def _powermouse(request):
+    d, out, _ = request.getfixturevalue("family_builds")["powermouse"]
+    return d, out, json.loads((out / "report.json").read_text())
 
-    code, _, err = hapticad("build", str(ROOT / "designs" / "powermouse.toml"), "--out",
-                            str(tmp_path / "o"), "--formats", "firmware")
-    assert_one_line_error(code, err, "--formats", "powermouse")
-    assert not (tmp_path / "o").exists()
+
+@pytest.mark.parametrize("use_float", [False, True], ids=["double", "float"])
+def test_powermouse_map_matches_numpy(request, tmp_path, use_float):
+    """NI = W^-1 w and w = W NI against numpy over 1200 wrenches (the build's wrench_map):
+    double 1e-9 At / 1e-9 N, N m; float 1e-3 At / 2e-5 N, N m (cad.tolerances)."""
+    _, out, rep = _powermouse(request)
+    fw = out / "firmware"
+    exe = tmp_path / "t"
+    flags = ["-DHAPTICAD_USE_FLOAT"] if use_float else []
+    subprocess.run([_cc(), "-std=c99", "-O2", "-Wall", "-Wextra", "-pedantic", "-Werror", *flags,
+                    "-o", str(exe), str(fw / "test_device.c"), str(fw / "hapticad_device.c"), "-lm"],
+                   check=True, timeout=120)
+    tols = ((tol.FIRMWARE_FLOAT_AMPERE_TURNS, tol.FIRMWARE_FLOAT_TORQUE_NM) if use_float
+            else (1e-9, 1e-9))
+    r = subprocess.run([str(exe), str(fw / "test_vectors.json"), *map(repr, tols)],
+                       capture_output=True, text=True, timeout=60)
+    assert r.returncode == 0, r.stdout + r.stderr
+    assert "rows 1200" in r.stdout
+    doc = json.loads((fw / "test_vectors.json").read_text())
+    R = np.array(doc["rows"])
+    W = np.array(rep["wrench_map"])
+    np.testing.assert_allclose(np.linalg.solve(W, R[:, :6].T).T, R[:, 6:], rtol=0, atol=1e-9)
+
+
+def test_powermouse_gravity_saturation_and_max_force(request, tmp_path):
+    """Gravity wrench = (0, 0, m g, r_COM x m g) of the flotor's solids; saturation scales all
+    six coils together to the continuous limit; the CHAI3D force is the largest force every
+    direction gets within the continuous ampere-turns (checked on 20000 directions)."""
+    _, out, rep = _powermouse(request)
+    fw = out / "firmware"
+    (tmp_path / "m.c").write_text(
+        '#include <stdio.h>\n#include "hapticad_device.h"\nint main(void){hc_real g[6],w[6]='
+        '{0,0,1e4,0,0,0},n[6];int i,s;hc_gravity_wrench(g);for(i=0;i<6;++i)printf("%.17g ",g[i]);'
+        's=hc_ampere_turns_from_wrench(w,HC_LIMIT_CONTINUOUS,n);printf("%d ",s);'
+        'for(i=0;i<6;++i)printf("%.17g ",n[i]);printf("\\n");return 0;}\n')
+    subprocess.run([_cc(), "-std=c99", f"-I{fw}", "-o", str(tmp_path / "m"), str(tmp_path / "m.c"),
+                    str(fw / "hapticad_device.c"), "-lm"], check=True, timeout=60)
+    v = list(map(float, subprocess.run([str(tmp_path / "m")], capture_output=True, text=True,
+                                       check=True).stdout.split()))
+    m = rep["flotor"]["mass_kg"]
+    r = np.array(rep["flotor"]["com_mm"]) * 1e-3
+    F = np.array([0.0, 0.0, m * 9.80665])
+    np.testing.assert_allclose(v[:6], [*F, *np.cross(r, F)], rtol=1e-12, atol=1e-15)
+    W = np.array(rep["wrench_map"])
+    ni = np.linalg.solve(W, [0, 0, 1e4, 0, 0, 0])
+    cont = rep["actuator"]["ampere_turns_at_power"]
+    assert v[6] == 1 and np.max(np.abs(v[7:])) == pytest.approx(cont, rel=1e-12)
+    np.testing.assert_allclose(v[7:], ni * cont / np.max(np.abs(ni)), rtol=1e-12)
+    fmax = json.loads((fw / "chai3d_device.json").read_text())["m_maxLinearForce"]
+    u = np.random.default_rng(1).normal(size=(20000, 3))
+    u /= np.linalg.norm(u, axis=1)[:, None]
+    need = np.abs(np.linalg.solve(W, np.column_stack([u * fmax, np.zeros_like(u)]).T)).max(axis=0)
+    assert need.max() <= cont * (1 + 1e-12) and need.max() >= 0.99 * cont
 
 
 def test_generation_imports_no_cad_library(request):

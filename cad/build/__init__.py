@@ -54,7 +54,7 @@ REPORT_NAME = "report.json"
 HTML_NAME = "report.html"
 #: Families whose build can write ``--formats firmware`` (:mod:`cad.firmware`).
 FIRMWARE_FAMILIES = ("hoeken", "roberts", "chebyshev", "chebyshev-v", "custom", "pantograph",
-                     "twin-pantograph")
+                     "twin-pantograph", "powermouse")
 #: Bump when the cache key payload changes shape.
 CACHE_SCHEMA = 1
 
@@ -235,8 +235,8 @@ def build_design(
         )
     if "firmware" in formats and design.family not in FIRMWARE_FAMILIES:
         raise DesignError(
-            "--formats", f"firmware is generated for four-bars, the pantograph and the twin "
-            f"pantograph, not {design.family!r}")
+            "--formats", f"firmware is generated for four-bars, the pantograph, the twin "
+            f"pantograph and the PowerMouse, not {design.family!r}")
     check_buildable = getattr(design, "check_buildable", None)
     if check_buildable is not None:  # links shorter than their joint hardware, before any CAD
         check_buildable()

@@ -14,6 +14,8 @@ Pure generation code (numpy; no CAD import). :func:`write_firmware` writes into
   and ``test_device.c`` that checks the C code against it;
 * ``wall_example/wall_example.ino`` and ``chai3d_device.json`` (:mod:`cad.firmware.extras`).
 
+The PowerMouse gets its current-to-wrench map instead (:mod:`cad.firmware.powermouse`).
+
 Every file names the design, its hash and the hapticad version, and states units (SI) and
 frames. Inputs: the design, the build's report (mass properties from the solids, the motor
 key) and the motor catalog (:class:`cad.firmware.spec.MotorData`).
@@ -37,6 +39,10 @@ def firmware_files(design, report: dict, design_hash: str) -> dict[str, str]:
     from cad.firmware import csrc, extras, reference, vectors
     from cad.firmware.device import device_spec
 
+    if design.family == "powermouse":
+        from cad.firmware import powermouse
+
+        return powermouse.files(design, report, design_hash, cad.__version__)
     spec = device_spec(design, report, design_hash, cad.__version__)
     rows, summary = vectors.rows(spec, design)
     q_ok = np.array([r[1 + 2 * spec.n_joints: 1 + 3 * spec.n_joints] for r in rows if r[0] == 0])

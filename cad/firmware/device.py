@@ -60,8 +60,8 @@ def _kind(design) -> str:
         return "twin"
     if hasattr(design, "linkage"):
         return "fourbar"
-    raise DesignError("--formats", f"firmware is generated for four-bars, the pantograph and "
-                      f"the twin pantograph, not {design.family!r}")
+    raise DesignError("--formats", f"firmware is generated for four-bars, the pantograph, "
+                      f"the twin pantograph and the PowerMouse, not {design.family!r}")
 
 
 def device_spec(design, report: dict, design_hash: str, version: str) -> DeviceSpec:
