@@ -325,3 +325,30 @@ def test_generation_imports_no_cad_library(request):
     )
     r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
     assert "BAD [] 6" in r.stdout, r.stdout + r.stderr
+
+
+@pytest.mark.parametrize("fam", ("pantograph", "twin-pantograph"))
+def test_mass_matrix_at_home_equals_the_builds_effective_mass(request, tmp_path, fam):
+    """hc_mass_matrix at the encoders' zero (the home pose) equals report.json's
+    effective_mass_home (cad.build.pantograph, the build's own mass model of the solids)."""
+    _, out, rep = _build(request, fam)
+    fw = out / "firmware"
+    (tmp_path / "m.c").write_text(
+        '#include <stdio.h>\n#include "hapticad_device.h"\nint main(void){hc_encoder_t e='
+        'HC_ENCODER_DEFAULT;long c[HC_N_JOINTS]={0};hc_real q[HC_N_JOINTS],M[HC_N_TASK*HC_N_TASK];'
+        'int i;hc_counts_to_angles(&e,c,q);if(hc_mass_matrix(q,M))return 1;'
+        'for(i=0;i<HC_N_TASK*HC_N_TASK;++i)printf("%.17g ",M[i]);return 0;}\n')
+    subprocess.run([_cc(), "-std=c99", f"-I{fw}", "-o", str(tmp_path / "m"), str(tmp_path / "m.c"),
+                    str(fw / "hapticad_device.c"), "-lm"], check=True, timeout=60)
+    M = np.array(list(map(float, subprocess.run([str(tmp_path / "m")], capture_output=True,
+                                                text=True, check=True).stdout.split())))
+    eff = rep["effective_mass_home"]
+    if fam == "pantograph":
+        np.testing.assert_allclose(M.reshape(2, 2) * 1e3, eff["mass_matrix_g"], rtol=1e-9)
+    else:
+        M = M.reshape(3, 3)
+        Mi = np.linalg.inv(M)
+        np.testing.assert_allclose([M[0, 0] * 1e3, M[1, 1] * 1e3, M[2, 2] * 1e7, 1e3 / Mi[0, 0]],
+                                   [eff["mass_x_g_diag"], eff["mass_y_g_diag"],
+                                    eff["inertia_theta_g_cm2_diag"], eff["mass_x_g_apparent"]],
+                                   rtol=1e-9)

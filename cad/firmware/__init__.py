@@ -51,7 +51,8 @@ def firmware_files(design, report: dict, design_hash: str) -> dict[str, str]:
     layout = ["status", f"counts[{spec.n_joints}]", f"q_from_counts_rad[{spec.n_joints}]",
               f"q_rad[{spec.n_joints}]", f"F[{spec.n_task}]", f"X[{spec.n_task}]",
               f"J[{spec.n_task}x{spec.n_joints}] row-major", f"tau_Nm[{spec.n_joints}]",
-              f"tau_gravity_Nm[{spec.n_joints}]", "apparent_mass_kg"]
+              f"tau_gravity_Nm[{spec.n_joints}]", "apparent_mass_kg",
+              f"M[{spec.n_task}x{spec.n_task}] row-major (kg; twin theta: kg m, kg m^2)"]
     doc = {
         "generator": f"hapticad {spec.version}", "design": spec.name, "family": spec.family,
         "design_hash": spec.design_hash, "units": "SI (m, rad, N, N m, kg)",

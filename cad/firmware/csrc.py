@@ -110,6 +110,9 @@ int hc_motor_currents(const hc_real tau[HC_N_JOINTS], int limit, hc_real amps[HC
 int hc_gravity_torques(const hc_real q[HC_N_JOINTS], hc_real tau[HC_N_JOINTS]);
 /* feed-forward apparent mass: four-bar, the mass felt along the path at P (kg) */
 int hc_apparent_mass(const hc_real q[HC_N_JOINTS], hc_real *mass_kg);
+/* task mass matrix (row-major HC_N_TASK^2; kg, the twin's theta entries kg m and kg m^2), rotors
+ * included: feed-forward F = M a_desired */
+int hc_mass_matrix(const hc_real q[HC_N_JOINTS], hc_real M[HC_N_TASK * HC_N_TASK]);
 
 #endif /* HAPTICAD_DEVICE_H */
 """
@@ -278,6 +281,18 @@ int hc_apparent_mass(const hc_real q[1], hc_real *mass_kg)
     *mass_kg = D / (J[0] * J[0] + J[1] * J[1]);
     return HC_OK;
 }
+
+int hc_mass_matrix(const hc_real q[1], hc_real M[4])
+{
+    /* M = J+^T D J+ = m_app J J^T / |J|^2 (Hoeken paper eq 22), R0 axes */
+    hc_real J[2], m, n2;
+    int st = hc_apparent_mass(q, &m);
+    if (st) return st;
+    hc_jacobian(q, J);
+    n2 = J[0] * J[0] + J[1] * J[1];
+    M[0] = m * J[0] * J[0] / n2; M[1] = M[2] = m * J[0] * J[1] / n2; M[3] = m * J[1] * J[1] / n2;
+    return HC_OK;
+}
 """
 
 
@@ -288,10 +303,12 @@ def _fivebar_params(spec: DeviceSpec, pre: str, cname: str) -> str:
     bodies = ("proximal_left", "proximal_right", "distal_left", "distal_right")
     mass = ", ".join(
         f"{lit(spec.bodies[pre + n].mass_kg)}, {lit(spec.bodies[pre + n].com_m[0])}, "
-        f"{lit(spec.bodies[pre + n].com_m[1])}" for n in bodies)
+        f"{lit(spec.bodies[pre + n].com_m[1])}, {lit(spec.bodies[pre + n].izz_kg_m2)}"
+        for n in bodies)
     return (f"static const hc5_t {cname} = {{ {vals} }};\n"
-            f"/* mass (kg) and COM (m, link frame) of proximal L, R, distal L, R */\n"
-            f"static const hc_real {cname}_MASS[12] = {{ {mass} }};\n")
+            f"/* mass (kg), COM (m, link frame) and Izz about the COM (kg m^2) of proximal L, R,\n"
+            f" * distal L, R */\n"
+            f"static const hc_real {cname}_MASS[16] = {{ {mass} }};\n")
 
 
 _FIVEBAR = """
@@ -350,7 +367,7 @@ static void hc5_gravity(const hc5_t *k, const hc_real *mass, const hc5_pose_t *p
     cx[0] = p->c1x; cy[0] = p->c1y; cx[1] = p->c2x; cy[1] = p->c2y;
     for (i = 0; i < 2; ++i) {
         hc_real cq = HC_COS(q[i]), sq = HC_SIN(q[i]);
-        const hc_real *pm = mass + 3 * i, *dm = mass + 3 * (i + 2);
+        const hc_real *pm = mass + 4 * i, *dm = mass + 4 * (i + 2);
         /* proximal i: r = B_i + R(q_i) c, dr/dq_i = perp(R(q_i) c) */
         hc_real rx = cq * pm[1] - sq * pm[2], ry = sq * pm[1] + cq * pm[2];
         /* distal i: r = C_i + R(psi_i) c, R(psi_i) = [d, perp(d)] / l3 */
@@ -366,16 +383,50 @@ static void hc5_gravity(const hc5_t *k, const hc_real *mass, const hc5_pose_t *p
         }
     }
 }
+
+/* task mass matrix of one 5-bar (kg, 2x2 row-major), rotors jm included: the kinetic energy
+ * of each link, v_G = A_v E_dot, omega = A_w E_dot (cad.kinematics.fivebar.link_twist_maps) */
+static void hc5_mass(const hc5_t *k, const hc_real *mass, hc_real jm, const hc5_pose_t *p,
+                     hc_real q1, hc_real q2, hc_real M[4])
+{
+    hc_real q[2], l2[2], l3[2], cx[2], cy[2], den[2];
+    int i, a, b;
+    q[0] = q1; q[1] = q2; l2[0] = k->l2l; l2[1] = k->l2r; l3[0] = k->l3l; l3[1] = k->l3r;
+    cx[0] = p->c1x; cy[0] = p->c1y; cx[1] = p->c2x; cy[1] = p->c2y; den[0] = p->den1; den[1] = p->den2;
+    for (i = 0; i < 4; ++i) M[i] = HC_R(0.0);
+    for (i = 0; i < 2; ++i) {
+        hc_real cq = HC_COS(q[i]), sq = HC_SIN(q[i]);
+        const hc_real *pm = mass + 4 * i, *dm = mass + 4 * (i + 2);
+        hc_real dx = p->ex - cx[i], dy = p->ey - cy[i];
+        hc_real r[2], Av[4], Aw[2], wx, wy, c2;
+        r[0] = dx / den[i]; r[1] = dy / den[i];                 /* q_dot_i = r . E_dot */
+        c2 = pm[1] * pm[1] + pm[2] * pm[2];                      /* proximal: |v_G| = |c| q_dot */
+        for (a = 0; a < 2; ++a)
+            for (b = 0; b < 2; ++b) M[2 * a + b] += (pm[0] * c2 + pm[3] + jm) * r[a] * r[b];
+        /* distal: C_dot = l2 perp(u) q_dot_i, psi_dot = n^T (E_dot - C_dot) / l3^2, n = perp(d) */
+        for (a = 0; a < 2; ++a) {
+            hc_real cdx = -l2[i] * sq * r[a], cdy = l2[i] * cq * r[a];   /* column a of C_dot */
+            hc_real ex = (a == 0 ? HC_R(1.0) : HC_R(0.0)) - cdx, ey = (a == 1 ? HC_R(1.0) : HC_R(0.0)) - cdy;
+            Aw[a] = (-dy * ex + dx * ey) / (l3[i] * l3[i]);
+            Av[a] = cdx; Av[2 + a] = cdy;
+        }
+        wx = (dx * dm[1] - dy * dm[2]) / l3[i]; wy = (dy * dm[1] + dx * dm[2]) / l3[i];
+        for (a = 0; a < 2; ++a) { Av[a] += -wy * Aw[a]; Av[2 + a] += wx * Aw[a]; }
+        for (a = 0; a < 2; ++a)
+            for (b = 0; b < 2; ++b)
+                M[2 * a + b] += dm[0] * (Av[a] * Av[b] + Av[2 + a] * Av[2 + b]) + dm[3] * Aw[a] * Aw[b];
+    }
+}
 """
 
 
-#: The pantograph families have a mass matrix (report.json effective_mass_home), no scalar
-#: apparent mass: hc_apparent_mass refuses every pose there.
+#: The pantograph families have a mass matrix (hc_mass_matrix), no scalar apparent mass:
+#: hc_apparent_mass refuses every pose there.
 _NO_APPARENT_MASS = """
 int hc_apparent_mass(const hc_real q[HC_N_JOINTS], hc_real *mass_kg)
 {
     (void)q; (void)mass_kg;
-    return HC_ERR_RANGE; /* not generated for the pantograph families (report: mass matrix) */
+    return HC_ERR_RANGE; /* a pantograph's mass is a matrix: hc_mass_matrix */
 }
 """
 
@@ -395,6 +446,7 @@ def _plain(spec: DeviceSpec) -> str:
 #define GX {lit(g[0])}
 #define GY {lit(g[1])}
 #define M_HANDLE {lit(hm)}   /* the handle translates with E */
+#define JM {lit(spec.rotor_kg_m2)}         /* rotor inertia of each motor (kg m^2) */
 """ + """
 int hc_forward(const hc_real q[2], hc_real X[2])
 {
@@ -425,6 +477,16 @@ int hc_gravity_torques(const hc_real q[2], hc_real tau[2])
     hc5_gravity(&K5, K5_MASS, &p, q[0], q[1], GX, GY, tau);
     return HC_OK;
 }
+
+int hc_mass_matrix(const hc_real q[2], hc_real M[4])
+{
+    hc5_pose_t p;
+    int st = hc5_pose(&K5, q[0], q[1], &p);
+    if (st) return st;
+    hc5_mass(&K5, K5_MASS, JM, &p, q[0], q[1], M);
+    M[0] += M_HANDLE; M[3] += M_HANDLE;
+    return HC_OK;
+}
 """ + _NO_APPARENT_MASS
 
 
@@ -441,6 +503,8 @@ def _twin(spec: DeviceSpec) -> str:
 #define M_CS {lit(cs.mass_kg)}      /* crankshaft body: origin main journal, x to the crank pin */
 #define CX_CS {lit(cs.com_m[0])}
 #define CY_CS {lit(cs.com_m[1])}
+#define IZZ_CS {lit(cs.izz_kg_m2)}
+#define JM {lit(spec.rotor_kg_m2)}         /* rotor inertia of each motor (kg m^2) */
 """ + """
 typedef struct { hc5_pose_t k, c; hc_real dx, dy, r2; } hc_twin_t;
 
@@ -538,6 +602,35 @@ int hc_gravity_torques(const hc_real q[4], hc_real tau[4])
     W[0] = -M_CS * GX; W[1] = -M_CS * GY; W[2] = -M_CS * (GX * -ry + GY * rx);
     hc_twin_wrench(&t, W, cs);
     for (i = 0; i < 4; ++i) tau[i] += cs[i];
+    return HC_OK;
+}
+
+int hc_mass_matrix(const hc_real q[4], hc_real M[9])
+{
+    /* M = Tk^T Mk Tk + Tc^T Mc Tc + crankshaft, Tk = [I 0], Tc = [I l6 perp(u)], Tg = [I perp(R c)]
+     * (cad.kinematics.twin_pantograph.task_mass_matrix) */
+    hc_twin_t t;
+    hc_real Mk[4], Mc[4], Tc[6], Tg[6], ct, stt, rx, ry;
+    int i, j, a, b, st = hc_twin(q, &t);
+    if (st) return st;
+    hc5_mass(&KNOB, KNOB_MASS, JM, &t.k, q[0], q[1], Mk);
+    hc5_mass(&CRANK, CRANK_MASS, JM, &t.c, q[2], q[3], Mc);
+    ct = t.dx / HC_SQRT(t.r2); stt = t.dy / HC_SQRT(t.r2);
+    rx = ct * CX_CS - stt * CY_CS; ry = stt * CX_CS + ct * CY_CS;
+    for (i = 0; i < 6; ++i) Tc[i] = Tg[i] = HC_R(0.0);
+    Tc[0] = Tc[4] = Tg[0] = Tg[4] = HC_R(1.0);
+    Tc[2] = -L6 * stt; Tc[5] = L6 * ct; Tg[2] = -ry; Tg[5] = rx;
+    for (i = 0; i < 3; ++i)
+        for (j = 0; j < 3; ++j) {
+            hc_real v = HC_R(0.0);
+            for (a = 0; a < 2; ++a) {
+                if (i < 2 && j < 2 && a == i) v += Mk[2 * a + j];
+                for (b = 0; b < 2; ++b) v += Tc[3 * a + i] * Mc[2 * a + b] * Tc[3 * b + j];
+                v += M_CS * Tg[3 * a + i] * Tg[3 * a + j];
+            }
+            M[3 * i + j] = v;
+        }
+    M[8] += IZZ_CS;
     return HC_OK;
 }
 """ + _NO_APPARENT_MASS)

@@ -76,8 +76,10 @@ def device_spec(design, report: dict, design_hash: str, version: str) -> DeviceS
         q_home = (0.5 * (design.phi1_min_rad + design.phi1_max_rad),)
         bodies = {k: body_from_report(report["links"][k]) for k in ("crank", "coupler", "rocker")}
         n_joints, n_task = 1, 2
+        rotor = float(report["Jm_kg_m2"])
     else:
         bodies = {k: body_from_report(v) for k, v in report["bodies"].items()}
+        rotor = float(report["motor"]["rotor_inertia_g_cm2"]) * 1e-7
         home = design.workspace.get("home_mm", design.workspace["center_mm"])
         if kind == "fivebar":
             params, q = _fivebar_params(design.mechanism, home)
@@ -97,5 +99,5 @@ def device_spec(design, report: dict, design_hash: str, version: str) -> DeviceS
         version=version, n_joints=n_joints, n_task=n_task, params=params, q_home_rad=q_home,
         encoder_counts_per_rev=opts.encoder_counts_per_rev,
         encoder_direction=tuple(opts.encoder_direction), encoder_zero_rad=encoder_zero(opts, q_home),
-        motor=motor, gravity_m_s2=gravity_vector(opts), bodies=bodies,
+        motor=motor, gravity_m_s2=gravity_vector(opts), bodies=bodies, rotor_kg_m2=rotor,
     )

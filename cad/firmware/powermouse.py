@@ -22,8 +22,13 @@ import json
 
 import numpy as np
 
-from cad.firmware.csrc import lit
 from cad.firmware.spec import G0_M_S2
+
+
+def lit(x: float) -> str:
+    """A C literal in hc_real, exact in the double build (as :func:`cad.firmware.csrc.lit`;
+    not imported: the PowerMouse build does not depend on the kinematics)."""
+    return f"HC_R({float(x)!r})"
 
 N_ROWS = 1200
 SEED = 26

@@ -5,7 +5,9 @@ Every function is vectorized over N joint-angle rows ``q`` (N, n_joints) rad and
 SI values in the device frame: ``forward`` -> (X (N, n_task) m [rad], status (N,)),
 ``jacobian`` -> dX/dq (N, n_task, n_joints), ``joint_torques`` -> tau (N, n_joints) N m for a
 task force/wrench F (N, n_task), ``gravity_torques`` -> tau_g (N, n_joints) N m, the motor
-torques that hold the device against gravity (= dV/dq), ``potential`` -> V (N,) J.
+torques that hold the device against gravity (= dV/dq), ``mass_matrix`` -> M (N, n_task,
+n_task), the task-space mass matrix for feed-forward (kg; the twin's theta entries kg m and
+kg m^2).
 Status codes are those of the C code (:data:`STATUS`); rows that are not ok carry zeros.
 """
 
@@ -260,3 +262,41 @@ def gravity_torques(spec, q) -> np.ndarray:
         tau += joint_torques(spec, q, W)
         ok &= status == 0
     return np.where(ok[:, None], tau, 0.0)
+
+
+def _fivebar_mass(spec, pre=""):
+    b, jm = spec.bodies, spec.rotor_kg_m2
+    links = [fb5.LinkMass(b[pre + n].mass_kg, b[pre + n].com_m, b[pre + n].izz_kg_m2) for n in
+             ("proximal_left", "proximal_right", "distal_left", "distal_right")]
+    return fb5.FiveBarMass(*links, jm)
+
+
+def mass_matrix(spec, q) -> np.ndarray:
+    """Task mass matrix at the ok rows of ``q`` (zeros elsewhere): four-bar M = J+^T D J+
+    (Hoeken paper eq 22, :func:`cad.dynamics.inertia.apparent_mass_matrix`, R0 axes);
+    5-bar :func:`cad.kinematics.fivebar.mass_matrix_kg` with the rotors plus the handle
+    (translating with E); twin :func:`cad.kinematics.twin_pantograph.task_mass_matrix`."""
+    from cad.dynamics.inertia import InertiaCoefficients, apparent_mass_matrix
+
+    q = np.atleast_2d(np.asarray(q, dtype=float))
+    X, status = forward(spec, q)
+    ok = status == 0
+    M = np.zeros((len(q), spec.n_task, spec.n_task))
+    if not ok.any():
+        return M
+    p = spec.params
+    if spec.kind == "fourbar":
+        fb = fourbar_of(p)
+        H = InertiaCoefficients(p["H11"], p["H12"], p["H22"], p["H33"], p["beta2"])
+        M[ok] = apparent_mass_matrix(fb, k4.solve(fb, q[ok, 0]), H)
+    elif spec.kind == "fivebar":
+        M[ok] = fb5.mass_matrix_kg(fivebar_of(p), X[ok] * 1e3, _fivebar_mass(spec))
+        if "handle" in spec.bodies:
+            M[ok] += spec.bodies["handle"].mass_kg * np.eye(2)
+    else:
+        cs = spec.bodies["crankshaft"]
+        mass = tw.TwinMass(_fivebar_mass(spec, "knob_"), _fivebar_mass(spec, "crank_"),
+                           fb5.LinkMass(cs.mass_kg, cs.com_m, cs.izz_kg_m2))
+        Xmm = np.column_stack([X[ok, :2] * 1e3, X[ok, 2]])
+        M[ok] = tw.task_mass_matrix(twin_of(p), Xmm, mass)
+    return M

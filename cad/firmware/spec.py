@@ -24,10 +24,12 @@ G0_M_S2 = 9.80665
 
 @dataclass(frozen=True)
 class Body:
-    """A moving body: ``mass_kg`` and its COM ``com_m`` (x, y) in its link frame (m)."""
+    """A moving body: ``mass_kg``, its COM ``com_m`` (x, y) in its link frame (m) and its
+    inertia about the COM normal to the plane ``izz_kg_m2``."""
 
     mass_kg: float
     com_m: tuple[float, float]
+    izz_kg_m2: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -50,7 +52,8 @@ class DeviceSpec:
     ``params``: the kinematic constants (m, rad, mode signs) named as in the C code;
     ``q_home_rad``: joint angles at the home pose; ``encoder_*``: defaults of the encoder
     parameters; ``gravity_m_s2``: the gravity vector in the device plane (None when the
-    device works in a horizontal plane); ``bodies``: moving bodies by name.
+    device works in a horizontal plane); ``bodies``: moving bodies by name; ``rotor_kg_m2``:
+    each motor's rotor inertia (the build's Jm).
     """
 
     kind: str
@@ -68,6 +71,7 @@ class DeviceSpec:
     motor: MotorData
     gravity_m_s2: tuple[float, float] | None
     bodies: dict[str, Body] = field(default_factory=dict)
+    rotor_kg_m2: float = 0.0
     wall: dict[str, float] = field(default_factory=dict)
     device: dict[str, float] = field(default_factory=dict)
 
@@ -90,9 +94,11 @@ def motor_data(motor) -> MotorData:
 
 
 def body_from_report(entry: dict) -> Body:
-    """A :class:`Body` from a report.json mass-properties entry (``mass_kg``, ``com_mm``)."""
+    """A :class:`Body` from a report.json mass-properties entry (``mass_kg``, ``com_mm``,
+    ``inertia_com_kg_m2``)."""
     c = entry["com_mm"]
-    return Body(float(entry["mass_kg"]), (float(c[0]) * 1e-3, float(c[1]) * 1e-3))
+    return Body(float(entry["mass_kg"]), (float(c[0]) * 1e-3, float(c[1]) * 1e-3),
+                float(entry["inertia_com_kg_m2"][2][2]))
 
 
 def gravity_vector(opts) -> tuple[float, float] | None:

@@ -4,7 +4,7 @@ checks the generated code against them (``test_device.c``).
 Rows (``"rows"``, the file's last key, so that the C reader can scan for it) are flat lists::
 
     status, counts[nj], q_from_counts[nj], q[nj], F[nt], X[nt], J[nt*nj], tau[nj],
-    tau_gravity[nj], apparent_mass_kg
+    tau_gravity[nj], apparent_mass_kg, M[nt*nt]
 
 ``status`` is the C status code the model expects at ``q`` (0 = ok; then the other fields
 hold the model's values, zeros otherwise). Poses: in-range samples of the workspace
@@ -64,7 +64,11 @@ def rows(spec: DeviceSpec, design) -> tuple[list[list[float]], dict]:
     """The test-vector rows (module docstring) and a summary (counts of ok / refused rows)."""
     rng = np.random.default_rng(SEED)
     q_ok = _poses_ok(spec, design, rng)
-    q = np.concatenate([q_ok, _poses_bad(spec, q_ok, rng)])
+    bad = _poses_bad(spec, q_ok, rng)
+    if spec.kind == "twin":  # a perturbed reading the FK still accepts (crank pin within
+        # FIRMWARE_CRANK_TOL_M of its circle) is no task pose of the model: not a vector
+        bad = bad[ref.forward(spec, bad)[1] != 0]
+    q = np.concatenate([q_ok, bad])
     n, nj, nt = len(q), spec.n_joints, spec.n_task
     half = spec.encoder_counts_per_rev // 4
     counts = rng.integers(-half, half + 1, (n, nj))
@@ -80,7 +84,8 @@ def rows(spec: DeviceSpec, design) -> tuple[list[list[float]], dict]:
     m_app = np.zeros(n)
     if spec.kind == "fourbar":
         m_app[ok] = apparent_mass_kg(spec, q[ok, 0])
-    out = np.column_stack([status, counts, qc, q, F, X, J.reshape(n, nt * nj), tau, tg, m_app])
+    M = ref.mass_matrix(spec, q).reshape(n, nt * nt)
+    out = np.column_stack([status, counts, qc, q, F, X, J.reshape(n, nt * nj), tau, tg, m_app, M])
     summary = {"n_rows": n, "ok": int(ok.sum()), "refused": int((~ok).sum()),
                "refused_by_status": {k: int((status == v).sum()) for k, v in ref.STATUS.items() if v}}
     return [[float(v) for v in r] for r in out], summary
@@ -107,7 +112,8 @@ TEST_PROGRAM = r"""/* test_device.c: checks hapticad_device.c against test_vecto
  *   ./test_device_f test_vectors.json 2e-5 2e-5 0
  * Arguments: vectors, position tolerance (m), torque tolerance (N m), finite-difference
  * tolerance of the Jacobian (m/rad; 0 skips it); the position tolerance is also the
- * relative tolerance of the apparent mass, the angle tolerance of counts -> q and the
+ * relative tolerance of the apparent mass and of the mass matrix (to its largest entry), the
+ * angle tolerance of counts -> q and the
  * tolerance of |J - J_ref| / (1 + |J_ref|) (the twin's theta row is ~10 rad/rad). Prints one summary line; exit 0 when every
  * row passes, 1 otherwise. No dynamic allocation: rows are read one at a time.
  */
@@ -119,7 +125,7 @@ TEST_PROGRAM = r"""/* test_device.c: checks hapticad_device.c against test_vecto
 
 #define NJ HC_N_JOINTS
 #define NT HC_N_TASK
-#define ROW (1 + 3 * NJ + 2 * NT + NT * NJ + 2 * NJ + 1)
+#define ROW (1 + 3 * NJ + 2 * NT + NT * NJ + 2 * NJ + 1 + NT * NT)
 
 static int next_number(FILE *f, double *v)
 {
@@ -162,7 +168,7 @@ static double err_x(const hc_real *x, const double *want, int i)
 int main(int argc, char **argv)
 {
     double r[ROW], tol_x, tol_t, tol_fd, worst_x = 0, worst_j = 0, worst_t = 0, worst_g = 0;
-    double worst_q = 0, worst_fd = 0, worst_m = 0;
+    double worst_q = 0, worst_fd = 0, worst_m = 0, worst_M = 0;
     long rows = 0, ok_rows = 0, refused = 0, failures = 0;
     hc_encoder_t enc = HC_ENCODER_DEFAULT;
     FILE *f;
@@ -173,7 +179,7 @@ int main(int argc, char **argv)
     for (;;) {
         int i, j, st, k = 0;
         long counts[NJ];
-        hc_real q[NJ], qc[NJ], F[NT], X[NT], J[NT * NJ], tau[NJ], tg[NJ], m;
+        hc_real q[NJ], qc[NJ], F[NT], X[NT], J[NT * NJ], tau[NJ], tg[NJ], m, M[NT * NT];
         for (i = 0; i < ROW; ++i) if (!next_number(f, &r[i])) break;
         if (i < ROW) break;
         ++rows;
@@ -225,15 +231,23 @@ int main(int argc, char **argv)
         k += NJ;
         if (hc_apparent_mass(q, &m) == HC_OK && fabs((double)m - r[k]) / r[k] > worst_m)
             worst_m = fabs((double)m - r[k]) / r[k];
+        k += 1;
+        hc_mass_matrix(q, M);   /* relative to the largest entry of the row's M */
+        {
+            double big = 0;
+            for (i = 0; i < NT * NT; ++i) if (fabs(r[k + i]) > big) big = fabs(r[k + i]);
+            for (i = 0; i < NT * NT; ++i)
+                if (fabs((double)M[i] - r[k + i]) / big > worst_M) worst_M = fabs((double)M[i] - r[k + i]) / big;
+        }
     }
     fclose(f);
     if (worst_x > tol_x || worst_j > tol_x || worst_t > tol_t || worst_g > tol_t
-        || worst_q > tol_x || (tol_fd > 0 && worst_fd > tol_fd) || worst_m > tol_x)
+        || worst_q > tol_x || (tol_fd > 0 && worst_fd > tol_fd) || worst_m > tol_x || worst_M > tol_x)
         ++failures;
     printf("rows %ld ok %ld refused %ld failures %ld max_err_X %.3e max_err_J %.3e "
            "max_err_tau %.3e max_err_gravity %.3e max_err_counts %.3e max_err_fd %.3e "
-           "max_rel_err_mass %.3e\n", rows, ok_rows, refused, failures, worst_x, worst_j, worst_t,
-           worst_g, worst_q, worst_fd, worst_m);
+           "max_rel_err_mass %.3e max_rel_err_M %.3e\n", rows, ok_rows, refused, failures, worst_x,
+           worst_j, worst_t, worst_g, worst_q, worst_fd, worst_m, worst_M);
     return (failures || rows == 0) ? 1 : 0;
 }
 """
