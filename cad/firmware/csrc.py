@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import math
 
-from cad.firmware.reference import STATUS
+from cad.firmware.reference import FIVEBAR_LINKS, STATUS
 from cad.firmware.spec import DeviceSpec
 from cad.kinematics import pantograph_tolerances as ptol
 from cad.tolerances import TOGGLE_SIN
@@ -180,26 +180,7 @@ _JT_F = """int hc_joint_torques(const hc_real q[HC_N_JOINTS], const hc_real F[HC
 """
 
 
-def _fourbar(spec: DeviceSpec) -> str:
-    p, b = spec.params, spec.bodies
-    g = spec.gravity_m_s2 or (0.0, 0.0)
-    H = spec.params
-    consts = "\n".join(f"#define {k} {lit(v)}" for k, v in {
-        "L1": p["l1"], "L2": p["l2"], "L3": p["l3"], "L4": p["l4"], "L5": p["l5"],
-        "LE": p["le"], "CE": math.cos(p["phi_e"]),
-        "SE": math.sin(p["phi_e"]), "BRANCH": p["branch"],
-        "Q_MIN": p["q_min"], "Q_MAX": p["q_max"], "TOGGLE_SIN": TOGGLE_SIN,
-        "GX": g[0], "GY": g[1],
-        "M_CRANK": b["crank"].mass_kg, "CX_CRANK": b["crank"].com_m[0],
-        "CY_CRANK": b["crank"].com_m[1],
-        "M_COUPLER": b["coupler"].mass_kg, "CX_COUPLER": b["coupler"].com_m[0],
-        "CY_COUPLER": b["coupler"].com_m[1],
-        "M_ROCKER": b["rocker"].mass_kg, "CX_ROCKER": b["rocker"].com_m[0],
-        "CY_ROCKER": b["rocker"].com_m[1],
-        "H11": H["H11"], "H12": H["H12"], "H22": H["H22"], "H33": H["H33"],
-        "CB2": math.cos(H["beta2"]), "SB2": math.sin(H["beta2"]),
-    }.items())
-    return consts + """
+_FOURBAR_C = """
 /* the loop closure on the design's branch (Hoeken paper eqs 3-11, atan2 form) */
 typedef struct { hc_real c1, s1, c2, s2, c3, s3, s23, a2, a3; } hc_pose4_t;
 
@@ -296,15 +277,36 @@ int hc_mass_matrix(const hc_real q[1], hc_real M[4])
 """
 
 
+def _fourbar(spec: DeviceSpec) -> str:
+    p, b = spec.params, spec.bodies
+    g = spec.gravity_m_s2 or (0.0, 0.0)
+    H = spec.params
+    consts = "\n".join(f"#define {k} {lit(v)}" for k, v in {
+        "L1": p["l1"], "L2": p["l2"], "L3": p["l3"], "L4": p["l4"], "L5": p["l5"],
+        "LE": p["le"], "CE": math.cos(p["phi_e"]),
+        "SE": math.sin(p["phi_e"]), "BRANCH": p["branch"],
+        "Q_MIN": p["q_min"], "Q_MAX": p["q_max"], "TOGGLE_SIN": TOGGLE_SIN,
+        "GX": g[0], "GY": g[1],
+        "M_CRANK": b["crank"].mass_kg, "CX_CRANK": b["crank"].com_m[0],
+        "CY_CRANK": b["crank"].com_m[1],
+        "M_COUPLER": b["coupler"].mass_kg, "CX_COUPLER": b["coupler"].com_m[0],
+        "CY_COUPLER": b["coupler"].com_m[1],
+        "M_ROCKER": b["rocker"].mass_kg, "CX_ROCKER": b["rocker"].com_m[0],
+        "CY_ROCKER": b["rocker"].com_m[1],
+        "H11": H["H11"], "H12": H["H12"], "H22": H["H22"], "H33": H["H33"],
+        "CB2": math.cos(H["beta2"]), "SB2": math.sin(H["beta2"]),
+    }.items())
+    return consts + _FOURBAR_C
+
+
 def _fivebar_params(spec: DeviceSpec, pre: str, cname: str) -> str:
     p = spec.params
     keys = ("b1x", "b1y", "b2x", "b2y", "l2l", "l2r", "l3l", "l3r", "assembly", "mode_l", "mode_r")
     vals = ", ".join(lit(p[pre + k]) for k in keys)
-    bodies = ("proximal_left", "proximal_right", "distal_left", "distal_right")
     mass = ", ".join(
         f"{lit(spec.bodies[pre + n].mass_kg)}, {lit(spec.bodies[pre + n].com_m[0])}, "
         f"{lit(spec.bodies[pre + n].com_m[1])}, {lit(spec.bodies[pre + n].izz_kg_m2)}"
-        for n in bodies)
+        for n in FIVEBAR_LINKS)
     return (f"static const hc5_t {cname} = {{ {vals} }};\n"
             f"/* mass (kg), COM (m, link frame) and Izz about the COM (kg m^2) of proximal L, R,\n"
             f" * distal L, R */\n"
@@ -490,22 +492,7 @@ int hc_mass_matrix(const hc_real q[2], hc_real M[4])
 """ + _NO_APPARENT_MASS
 
 
-def _twin(spec: DeviceSpec) -> str:
-    g = spec.gravity_m_s2 or (0.0, 0.0)
-    cs = spec.bodies["crankshaft"]
-    p = spec.params
-    return (_fivebar_common() + _fivebar_params(spec, "knob_", "KNOB")
-            + _fivebar_params(spec, "crank_", "CRANK") + f"""
-#define L6 {lit(p["l6"])}           /* crank throw, main journal to crank pin */
-#define CRANK_TOL_M {lit(p["crank_tol"])}  /* refuse |crank pin - journal| off l6 by more */
-#define GX {lit(g[0])}
-#define GY {lit(g[1])}
-#define M_CS {lit(cs.mass_kg)}      /* crankshaft body: origin main journal, x to the crank pin */
-#define CX_CS {lit(cs.com_m[0])}
-#define CY_CS {lit(cs.com_m[1])}
-#define IZZ_CS {lit(cs.izz_kg_m2)}
-#define JM {lit(spec.rotor_kg_m2)}         /* rotor inertia of each motor (kg m^2) */
-""" + """
+_TWIN_C = """
 typedef struct { hc5_pose_t k, c; hc_real dx, dy, r2; } hc_twin_t;
 
 static int hc_twin(const hc_real q[4], hc_twin_t *t)
@@ -633,7 +620,25 @@ int hc_mass_matrix(const hc_real q[4], hc_real M[9])
     M[8] += IZZ_CS;
     return HC_OK;
 }
-""" + _NO_APPARENT_MASS)
+""" + _NO_APPARENT_MASS
+
+
+def _twin(spec: DeviceSpec) -> str:
+    g = spec.gravity_m_s2 or (0.0, 0.0)
+    cs = spec.bodies["crankshaft"]
+    p = spec.params
+    return (_fivebar_common() + _fivebar_params(spec, "knob_", "KNOB")
+            + _fivebar_params(spec, "crank_", "CRANK") + f"""
+#define L6 {lit(p["l6"])}           /* crank throw, main journal to crank pin */
+#define CRANK_TOL_M {lit(p["crank_tol"])}  /* refuse |crank pin - journal| off l6 by more */
+#define GX {lit(g[0])}
+#define GY {lit(g[1])}
+#define M_CS {lit(cs.mass_kg)}      /* crankshaft body: origin main journal, x to the crank pin */
+#define CX_CS {lit(cs.com_m[0])}
+#define CY_CS {lit(cs.com_m[1])}
+#define IZZ_CS {lit(cs.izz_kg_m2)}
+#define JM {lit(spec.rotor_kg_m2)}         /* rotor inertia of each motor (kg m^2) */
+""" + _TWIN_C)
 
 
 def source(spec: DeviceSpec) -> str:

@@ -23,9 +23,6 @@ from cad.firmware.spec import (
     motor_data,
 )
 from cad.kinematics import fivebar as fb5
-from cad.kinematics import twin_pantograph as tw
-
-FIVEBAR_BODIES = ("proximal_left", "proximal_right", "distal_left", "distal_right")
 
 
 def _fourbar_params(design, report: dict) -> dict:

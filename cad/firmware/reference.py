@@ -20,6 +20,8 @@ from cad.kinematics import fourbar as k4
 from cad.kinematics import twin_pantograph as tw
 
 #: C status codes (HC_OK ...), shared by the generator and the reference.
+#: The four moving links of a 5-bar (body names of report.json, prefixed knob_/crank_ in the twin).
+FIVEBAR_LINKS = ("proximal_left", "proximal_right", "distal_left", "distal_right")
 STATUS = {"HC_OK": 0, "HC_ERR_RANGE": 1, "HC_ERR_CLOSURE": 2, "HC_ERR_SINGULAR": 3,
           "HC_ERR_MODE": 4, "HC_ERR_CRANK": 5}
 
@@ -112,13 +114,13 @@ def _fivebar_com_rates(spec, q, pre=""):
     ok = status == 0
     b = spec.bodies
     mass = fb5.FiveBarMass(*(fb5.LinkMass(b[pre + n].mass_kg, b[pre + n].com_m) for n in
-                             ("proximal_left", "proximal_right", "distal_left", "distal_right")))
+                             FIVEBAR_LINKS))
     out = {}
     n = len(q)
     if ok.any():
         maps = fb5.link_twist_maps(fb, E[ok], mass)
         pose = fb5.ik(fb, E[ok])
-    for link in ("proximal_left", "proximal_right", "distal_left", "distal_right"):
+    for link in FIVEBAR_LINKS:
         r, dr = np.zeros((n, 2)), np.zeros((n, 2, 2))
         if ok.any():
             dr[ok] = maps[link][:, :2, :] @ Jx[ok]
@@ -267,7 +269,7 @@ def gravity_torques(spec, q) -> np.ndarray:
 def _fivebar_mass(spec, pre=""):
     b, jm = spec.bodies, spec.rotor_kg_m2
     links = [fb5.LinkMass(b[pre + n].mass_kg, b[pre + n].com_m, b[pre + n].izz_kg_m2) for n in
-             ("proximal_left", "proximal_right", "distal_left", "distal_right")]
+             FIVEBAR_LINKS]
     return fb5.FiveBarMass(*links, jm)
 
 
