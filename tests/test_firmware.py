@@ -235,6 +235,7 @@ def test_wall_sketch_compiles_and_chai3d_numbers_follow_eq25(request, tmp_path):
 
 @pytest.mark.parametrize("table, field", [
     ('plane = "tilted"', "firmware.plane"),
+    ("encoder_zero_deg = [1, 2]", "firmware.encoder_zero_deg"),
     ("encoder_direction = [1, -1]", "firmware.encoder_direction"),
     ("encoder_counts_per_rev = 0", "firmware.encoder_counts_per_rev"),
     ("gravity_direction = [0, 0]", "firmware.gravity_direction"),
@@ -253,6 +254,20 @@ def test_bad_firmware_table_is_one_line_error(tmp_path, table, field):
 def _powermouse(request):
     d, out, _ = request.getfixturevalue("family_builds")["powermouse"]
     return d, out, json.loads((out / "report.json").read_text())
+
+
+@pytest.mark.parametrize("design, table, field", [
+    ("pantograph.toml", "encoder_direction = [1, 1, 1]", "firmware.encoder_direction"),
+    ("haptic_mouse.toml", "plane = 3", "firmware.plane"),
+    ("haptic_pen.toml", 'plane = "vertical"', "firmware"),
+])
+def test_bad_firmware_table_of_the_pantographs(tmp_path, design, table, field):
+    from cli_helpers import assert_one_line_error, hapticad
+
+    p = tmp_path / "bad.toml"
+    p.write_text((ROOT / "designs" / design).read_text() + f"\n[firmware]\n{table}\n")
+    code, _, err = hapticad("gii", str(p))
+    assert_one_line_error(code, err, field)
 
 
 @pytest.mark.parametrize("use_float", [False, True], ids=["double", "float"])
