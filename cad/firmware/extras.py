@@ -88,7 +88,8 @@ def chai3d_json(spec: DeviceSpec, design, wall: dict, forces: dict) -> str:
             "m_maxLinearForce": "min over the test poses of the continuous motor torque / "
                                 "sigma_max(J^T) (every direction); _peak: the same at peak torque",
             "m_maxLinearStiffness": "eq (25) K_max: " + wall["source"],
-            "m_maxLinearDamping": "passivity at K -> 0 (Colgate and Schenkel): B < Fv",
+            "m_maxLinearDamping": "passivity at K -> 0 (Colgate and Schenkel): B < Fv; Fv from "
+                                  + wall["source"],
             "m_workspaceRadius": "four-bar: half the stroke; pantographs: half the workspace side",
             "frame": "the device frame of hapticad_device.h (m)",
         },
