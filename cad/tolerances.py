@@ -74,3 +74,25 @@ SHELL_OVERLAP_REL_EPS = 1e-6
 #: finder's ~1e-10 relative far below and is 0.06 um on a 60 mm stroke, under any
 #: fabrication tolerance.
 SYNTH_STROKE_REL = 1e-6
+#: Generated firmware, twin pantograph: the crank pin found by the crank pantograph's FK may
+#: lie off the crank circle (radius l6 about the main journal) by encoder quantization and
+#: assembly error; beyond 1 mm (5 % of the eq-7 crank of 20 mm) the readings disagree and
+#: hc_forward refuses them (HC_ERR_CRANK).
+FIRMWARE_CRANK_TOL_M = 1e-3
+#: Generated firmware, double build against hapticad's numpy model (issue 26): 1e-9 m and
+#: 1e-9 N m at every test pose (rounding of the same closed forms is ~1e-15).
+FIRMWARE_DOUBLE_POSITION_M = 1e-9
+FIRMWARE_DOUBLE_TORQUE_NM = 1e-9
+#: Float build: positions within 2e-5 m (a third of the Hoeken's encoder step, 5.46e-5 m,
+#: Hoeken paper §III.B.4: finer than the device can read) and torques within 2e-5 N m (0.02 %
+#: of the RE 35's 0.1 N m continuous torque); float32 rounding (6e-8 relative) amplified by
+#: the closed forms' conditioning stays well inside both (measured, README "Firmware").
+FIRMWARE_FLOAT_POSITION_M = 2e-5
+FIRMWARE_FLOAT_TORQUE_NM = 2e-5
+#: Jacobian against central finite differences of the generated FK (double build, step
+#: 1e-6 rad): truncation ~1e-13 m/rad, rounding ~1e-10 m/rad; 1e-7 m/rad leaves margin.
+FIRMWARE_FD_JACOBIAN = 1e-7
+#: PowerMouse map, float build: ampere-turns within 1e-3 At (~1e-6 of the ~1000 At peak of
+#: the bundled design; float32 resolves ~6e-8 relative) and the wrench W NI within 2e-5 N, N m
+#: (FIRMWARE_FLOAT_TORQUE_NM). Double: 1e-9 At and 1e-9 N, N m.
+FIRMWARE_FLOAT_AMPERE_TURNS = 1e-3

@@ -34,7 +34,7 @@ def family_builds(tmp_path_factory):
     for fam, fn in FAMILY_DESIGNS.items():
         d = load_design(root / "designs" / fn)
         target = tmp_path_factory.mktemp(fam) / "out"
-        fmts = {"step", "stl", "dxf", "glb"}
+        fmts = {"step", "stl", "dxf", "glb", "firmware"}
         rep = build_design(d, target, fmts, fidelity="inertia", use_cache=False)
         out[fam] = (d, target, rep)
     return out
@@ -43,8 +43,8 @@ def family_builds(tmp_path_factory):
 @pytest.fixture(scope="session")
 def hoeken_sim_build(tmp_path_factory):
     """The bundled Hoeken built with the simulator formats and STEP (preview fidelity: same
-    mass properties as inertia), shared by tests/test_sim_export.py, tests/test_wall.py and
-    tests/test_fourbar_set_screw.py (its assembly.step)."""
+    mass properties as inertia), shared by tests/test_sim_export.py, tests/test_wall.py,
+    tests/test_fourbar_set_screw.py (its assembly.step) and tests/test_firmware.py."""
     import json
     from pathlib import Path
 
@@ -53,5 +53,6 @@ def hoeken_sim_build(tmp_path_factory):
 
     out = tmp_path_factory.mktemp("hoeken_sim")
     d = load_design(Path(__file__).resolve().parents[1] / "designs" / "hoeken.toml")
-    rep = build_design(d, out, {"mjcf", "urdf", "stl", "step"}, fidelity="preview", use_cache=False)
+    rep = build_design(d, out, {"mjcf", "urdf", "stl", "step", "firmware"}, fidelity="preview",
+                       use_cache=False)
     return d, out, json.loads((out / "report.json").read_text()), rep

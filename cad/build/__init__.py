@@ -52,6 +52,9 @@ Progress = Callable[[str, int, int], None]
 FIDELITIES = ("fabrication", "inertia", "preview")
 REPORT_NAME = "report.json"
 HTML_NAME = "report.html"
+#: Families whose build can write ``--formats firmware`` (:mod:`cad.firmware`).
+FIRMWARE_FAMILIES = ("hoeken", "roberts", "chebyshev", "chebyshev-v", "custom", "pantograph",
+                     "twin-pantograph", "powermouse")
 #: Bump when the cache key payload changes shape.
 CACHE_SCHEMA = 1
 
@@ -109,16 +112,29 @@ def code_version(deps: tuple[str, ...] | None = None) -> str:
     return h.hexdigest()
 
 
+def _design_payload(design) -> dict:
+    return {
+        "design": _jsonable(
+            {k: v for k, v in _jsonable(design).items() if k not in ("source", "raw")}
+        ),
+        "raw": _jsonable(getattr(design, "raw", {})),
+    }
+
+
+def design_hash(design) -> str:
+    """sha256 of the validated design and its TOML mapping (no path, no options, no code):
+    the hash the generated firmware names."""
+    text = json.dumps(_design_payload(design), sort_keys=True, separators=(",", ":"))
+    return hashlib.sha256(text.encode()).hexdigest()
+
+
 def build_key(
     design, formats: set[str], fidelity: str, allow_interference: bool, phi1_deg: float | None
 ) -> str:
     """Hash of everything a build's output depends on (design, options, code, extra inputs)."""
     payload = {
         "schema": CACHE_SCHEMA,
-        "design": _jsonable(
-            {k: v for k, v in _jsonable(design).items() if k not in ("source", "raw")}
-        ),
-        "raw": _jsonable(getattr(design, "raw", {})),
+        **_design_payload(design),
         "formats": sorted(formats),
         "fidelity": fidelity,
         "allow_interference": bool(allow_interference),
@@ -217,6 +233,10 @@ def build_design(
         raise DesignError(
             "--formats", f"glb/3mf export is not available for {design.family!r} designs"
         )
+    if "firmware" in formats and design.family not in FIRMWARE_FAMILIES:
+        raise DesignError(
+            "--formats", f"firmware is generated for four-bars, the pantograph, the twin "
+            f"pantograph and the PowerMouse, not {design.family!r}")
     check_buildable = getattr(design, "check_buildable", None)
     if check_buildable is not None:  # links shorter than their joint hardware, before any CAD
         check_buildable()
@@ -244,6 +264,11 @@ def build_design(
         report = dict(report)
         timings = report.pop("_timings_s", None)
         viewer_glb = report.pop("_viewer_glb", None)
+        if "firmware" in formats:  # from the report's mass properties (cad.firmware, no CAD)
+            from cad.firmware import write_firmware
+
+            fw = write_firmware(design, _jsonable(report), tmp, design_hash(design))
+            report["files"] = sorted({*report.get("files", []), *fw})
         if isinstance(report.get("files"), list):
             report["files"] = sorted({*report["files"], HTML_NAME})
         report["build"] = {

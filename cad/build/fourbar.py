@@ -43,6 +43,7 @@ from cad.errors import DesignError
 #: Source the output depends on (build cache key): any change there rebuilds.
 CODE_DEPS = (
     "build",
+    "firmware",  # --formats firmware (cad/firmware)
     "report",  # report.html, the stroke GIF and render (cad/report)
     "parts",
     "assembly",

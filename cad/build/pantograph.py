@@ -59,6 +59,7 @@ from cad.errors import DesignError, InterferenceError
 #: Source the output depends on (build cache key).
 CODE_DEPS = (
     "build",
+    "firmware",  # --formats firmware (cad/firmware)
     "report",  # report.html, the stroke GIF and render (cad/report)
     "parts",
     "assembly",
@@ -70,6 +71,8 @@ CODE_DEPS = (
     "io",
     "materials.py",
     "errors.py",
+    "dynamics",  # eq (25) of the firmware's wall
+    "tolerances.py",
 )
 #: Families this module builds (others of cad.design.pantograph are refused at load).
 FAMILIES = ("pantograph", "twin-pantograph")

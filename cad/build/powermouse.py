@@ -43,6 +43,7 @@ from cad.errors import DesignError, InterferenceError
 #: Source the output depends on (build cache key).
 CODE_DEPS = (
     "build",
+    "firmware",  # --formats firmware (cad/firmware/powermouse.py)
     "report",  # report.html, the stroke GIF and render (cad/report)
     "parts",
     "assembly",

@@ -18,6 +18,7 @@ Schema (units in key names; see README "Design files")::
     [parts]      part parameters (see cad/design/parts.py)
     [targets]    see cad/design/targets.py
     [fit]        free = ["parts.bar_thickness_mm", ...] (see `hapticad fit`)
+    [firmware]   plane, encoders, wall of the generated firmware (cad/design/firmware.py)
 """
 
 from __future__ import annotations
@@ -39,6 +40,7 @@ from cad.design.fields import (
     require_str,
     require_table,
 )
+from cad.design.firmware import FOURBAR_COUNTS_PER_REV, FirmwareOptions, parse_firmware
 from cad.design.targets import Target, parse_targets
 from cad.dynamics.inertia import InertiaCoefficients
 from cad.dynamics.stiffness import StiffnessInputs
@@ -50,7 +52,7 @@ FOURBAR_FAMILIES = (*FAMILIES, "custom")
 CUSTOM_KEYS = ("l1_mm", "l2_mm", "l3_mm", "l4_mm", "l5_mm", "le_mm", "phi_e_deg",
                "phi1_min_deg", "phi1_max_deg", "branch")
 TOP_KEYS = ("name", "description", "mechanism", "analysis", "inertia", "stiffness", "parts",
-            "targets", "fit")
+            "targets", "fit", "firmware")
 
 
 @dataclass(frozen=True)
@@ -72,6 +74,7 @@ class FourBarDesign:
     targets: tuple[Target, ...]
     fit_free: tuple[str, ...]
     raw: dict = field(repr=False, compare=False, hash=False, default_factory=dict)
+    firmware: FirmwareOptions = field(default_factory=FirmwareOptions)
 
     def resolved_linkage(self) -> dict[str, float | int | str]:
         """The resolved linkage in design-file units (report.json / analyze --json)."""
@@ -233,6 +236,7 @@ def parse(raw: dict[str, Any], source: str = "<design>") -> FourBarDesign:
         inertia=_parse_inertia(optional_table(raw, "inertia", "")),
         stiffness=_parse_stiffness(optional_table(raw, "stiffness", "")),
         parts=parts, targets=targets, fit_free=tuple(free), raw=raw,
+        firmware=parse_firmware(optional_table(raw, "firmware", ""), 1, FOURBAR_COUNTS_PER_REV),
     )
     from cad.design.bounds import warn
 

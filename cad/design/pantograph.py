@@ -21,6 +21,7 @@ Schema (mm, N, N m; every key optional unless marked *):
     [actuators]  torque_max_Nm (1.0), force_max_N (1.0), moment_max_Nm (F * crank / 2)
     [optimize]   base_mm / proximal_mm / distal_mm = [min, max, count]
     [parts]      see :class:`PantographParts`
+    [firmware]   (both families) plane, encoders, wall: :mod:`cad.design.firmware`
 
 ``haptic-pen`` (§4.2, Table 2)::
 
@@ -253,6 +254,7 @@ class PantographDesign:
     parts: PantographParts | None
     raw: dict = field(repr=False)
     targets: tuple = ()
+    firmware: Any = None
 
     # ------------------------------------------------------------------ GII
     def workspace_points(self) -> np.ndarray:
@@ -513,7 +515,8 @@ def parse(raw: dict[str, Any], source: str = "<design>") -> PantographDesign:
     """Validate a raw pantograph-family design; every problem is a DesignError."""
     check_unknown(
         raw,
-        ("name", "description", "mechanism", "workspace", "actuators", "optimize", "parts", "targets"),
+        ("name", "description", "mechanism", "workspace", "actuators", "optimize", "parts", "targets",
+         "firmware"),
         "",
     )
     mech = require_table(raw, "mechanism", "")
@@ -644,4 +647,17 @@ def parse(raw: dict[str, Any], source: str = "<design>") -> PantographDesign:
         parts=parts,
         raw=raw,
         targets=_parse_targets(raw),
+        firmware=_parse_firmware(raw, family),
     )
+
+
+def _parse_firmware(raw: dict[str, Any], family: str):
+    """``[firmware]`` (:mod:`cad.design.firmware`) of the families that build; None otherwise."""
+    from cad.design.firmware import PANTOGRAPH_COUNTS_PER_REV, parse_firmware
+
+    tab = optional_table(raw, "firmware", "")
+    if family not in ("pantograph", "twin-pantograph"):
+        if tab:
+            raise DesignError("firmware", f"firmware is generated for built devices, not {family!r}")
+        return None
+    return parse_firmware(tab, 2 if family == "pantograph" else 4, PANTOGRAPH_COUNTS_PER_REV)

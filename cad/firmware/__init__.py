@@ -1,0 +1,86 @@
+"""Generated firmware of a built device (issue 26): ``hapticad build DESIGN --formats firmware``.
+
+Pure generation code (numpy; no CAD import). :func:`write_firmware` writes into
+``<out>/firmware/``:
+
+* ``hapticad_device.h`` / ``hapticad_device.c`` -- C99, no dynamic allocation, ``double`` or
+  ``float`` (``-DHAPTICAD_USE_FLOAT``): encoder counts -> joint angles, forward kinematics
+  (four-bar: loop closure on the design's branch, refusing angles outside the crank range;
+  pantographs: the 5-bar closed form in the design's working modes), the Jacobian,
+  tau = J^T F, force -> motor current with saturation at the continuous / peak limit, gravity
+  torques (vertical devices, ``[firmware] plane``), the four-bar's apparent mass;
+  (:mod:`cad.firmware.csrc`);
+* ``test_vectors.json`` (>= 1000 poses from the numpy model, :mod:`cad.firmware.vectors`)
+  and ``test_device.c`` that checks the C code against it;
+* ``wall_example/wall_example.ino`` and ``chai3d_device.json`` (:mod:`cad.firmware.extras`).
+
+The PowerMouse gets its current-to-wrench map instead (:mod:`cad.firmware.powermouse`).
+
+Every file names the design, its hash and the hapticad version, and states units (SI) and
+frames. Inputs: the design, the build's report (mass properties from the solids, the motor
+key) and the motor catalog (:class:`cad.firmware.spec.MotorData`).
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+
+FOLDER = "firmware"
+FILES = ("hapticad_device.h", "hapticad_device.c", "test_vectors.json", "test_device.c",
+         "wall_example/wall_example.ino", "chai3d_device.json")
+
+
+def firmware_files(design, report: dict, design_hash: str) -> dict[str, str]:
+    """``{relative path: text}`` of every generated file (paths under ``firmware/``)."""
+    import cad
+    from cad.firmware import csrc, extras, reference, vectors
+    from cad.firmware.device import device_spec
+
+    if design.family == "powermouse":
+        from cad.firmware import powermouse
+
+        return powermouse.files(design, report, design_hash, cad.__version__)
+    spec = device_spec(design, report, design_hash, cad.__version__)
+    rows, summary = vectors.rows(spec, design)
+    q_ok = np.array([r[1 + 2 * spec.n_joints: 1 + 3 * spec.n_joints] for r in rows if r[0] == 0])
+    wall = extras.wall_numbers(spec, design)
+    forces = extras.max_forces_N(spec, q_ok)
+    layout = ["status", f"counts[{spec.n_joints}]", f"q_from_counts_rad[{spec.n_joints}]",
+              f"q_rad[{spec.n_joints}]", f"F[{spec.n_task}]", f"X[{spec.n_task}]",
+              f"J[{spec.n_task}x{spec.n_joints}] row-major", f"tau_Nm[{spec.n_joints}]",
+              f"tau_gravity_Nm[{spec.n_joints}]", "apparent_mass_kg",
+              f"M[{spec.n_task}x{spec.n_task}] row-major (kg; twin theta: kg m, kg m^2)"]
+    doc = {
+        "generator": f"hapticad {spec.version}", "design": spec.name, "family": spec.family,
+        "design_hash": spec.design_hash, "units": "SI (m, rad, N, N m, kg)",
+        "frame": csrc.banner(spec, "").split("Frame: ", 1)[1].split(".\n", 1)[0],
+        "status_codes": reference.STATUS, "layout": layout, "summary": summary,
+        "encoder": {"counts_per_rev": spec.encoder_counts_per_rev,
+                    "direction": list(spec.encoder_direction),
+                    "zero_rad": list(spec.encoder_zero_rad)},
+        "gravity_m_s2": spec.gravity_m_s2, "wall": wall,
+    }
+    text = json.dumps(doc, indent=1, sort_keys=True)
+    text = text[:-2] + ',\n "rows": [\n' + ",\n".join(
+        "  [" + ", ".join(repr(v) for v in r) + "]" for r in rows) + "\n ]\n}\n"
+    p = f"{FOLDER}/"
+    return {
+        p + "hapticad_device.h": csrc.header(spec), p + "hapticad_device.c": csrc.source(spec),
+        p + "test_vectors.json": text,
+        p + "test_device.c": csrc.banner(spec, "test_device.c") + vectors.TEST_PROGRAM,
+        p + "wall_example/wall_example.ino": extras.sketch(spec, wall),
+        p + "chai3d_device.json": extras.chai3d_json(spec, design, wall, forces),
+    }
+
+
+def write_firmware(design, report: dict, out_dir: Path, design_hash: str) -> list[str]:
+    """Write :func:`firmware_files` into ``out_dir`` atomically; return the relative paths."""
+    from cad.io.atomic import write_text_atomic
+
+    files = firmware_files(design, report, design_hash)
+    for rel, text in files.items():
+        write_text_atomic(Path(out_dir) / rel, text)
+    return sorted(files)

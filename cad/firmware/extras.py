@@ -1,0 +1,163 @@
+"""The wall example sketch (Arduino / Teensy style) and the CHAI3D-style device description.
+
+Wall numbers: eq (25) of the Hoeken paper, 2 Fv/Te <= K <= 2 (Fs + Fv xdot_max) /
+(Delta + xdot_max Te), with the design's ``[stiffness]`` table (four-bars). A design without
+one (the pantograph families) gets eq (25) with the Hoeken paper's identified Fv, Fs, Te and
+xdot_max (§III.B.4), marked unverified for this device, and Delta = the largest handle step
+of one encoder count at home. The sketch's wall stiffness is eq (25)'s K_max unless
+``[firmware] wall_stiffness_N_per_m`` says otherwise; its damping is
+``wall_damping_N_s_per_m`` or the largest passive one at that K (Colgate and Schenkel,
+``cad.sim.wall.passivity_K_max``: B < Fv - K Te / 2, floored at 0).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+
+from cad.dynamics.stiffness import StiffnessInputs, stiffness_range_N_per_m
+from cad.firmware import reference as ref
+from cad.firmware.spec import DeviceSpec
+
+#: Hoeken paper §III.B.4 (eq 25 inputs identified on the prototype, Fig. 10).
+PAPER_EQ25 = {"Fv_N_s_per_m": 0.12, "Fs_N": 0.083, "Te_s": 0.00033, "xdot_max_m_per_s": 0.04}
+
+
+def encoder_step_m(spec: DeviceSpec) -> float:
+    """Largest handle displacement of one encoder count at home (m): max_j |J[:, j]| 2 pi / counts."""
+    J = ref.jacobian(spec, np.asarray(spec.q_home_rad)[None, :])[0][:2]
+    return float(np.max(np.linalg.norm(J, axis=0))) * 2 * math.pi / spec.encoder_counts_per_rev
+
+
+def wall_numbers(spec: DeviceSpec, design) -> dict:
+    """K, B of the sketch's wall and the eq (25) range they come from (module docstring)."""
+    st = getattr(design, "stiffness", None)
+    if st is not None:
+        inputs, source = st, "eq (25) with the design's [stiffness] table"
+    else:
+        inputs = StiffnessInputs(PAPER_EQ25["Fv_N_s_per_m"], PAPER_EQ25["Fs_N"], PAPER_EQ25["Te_s"],
+                                 encoder_step_m(spec), PAPER_EQ25["xdot_max_m_per_s"])
+        source = ("eq (25) with the Hoeken paper's Fv, Fs, Te, xdot_max (§III.B.4; unverified for "
+                  "this device) and Delta = one encoder count at home")
+    k_min, k_max = stiffness_range_N_per_m(inputs)
+    opts = design.firmware
+    K = opts.wall_stiffness_N_per_m or k_max
+    B = opts.wall_damping_N_s_per_m
+    if B is None:
+        B = max(0.0, inputs.Fv_N_s_per_m - K * inputs.Te_s / 2)
+    return {"K_N_per_m": K, "B_N_s_per_m": B, "eq25_K_min_N_per_m": k_min,
+            "eq25_K_max_N_per_m": k_max, "Te_s": inputs.Te_s, "Fv_N_s_per_m": inputs.Fv_N_s_per_m,
+            "encoder_step_m": inputs.encoder_resolution_m, "source": source}
+
+
+def max_forces_N(spec: DeviceSpec, q_ok: np.ndarray) -> dict:
+    """Force the motors give in every direction at every test pose (continuous / peak torque):
+    min over poses of tau / sigma_max(J^T) for the translational rows."""
+    J = ref.jacobian(spec, q_ok)[:, :2, :]
+    if spec.kind == "twin":
+        J = np.linalg.pinv(ref.twin_task_jacobian(spec, q_ok))[:, :2, :]
+    smax = np.linalg.svd(J, compute_uv=False)[:, 0]
+    m = spec.motor
+    return {"continuous_N": float(np.min(m.torque_continuous_Nm / smax)),
+            "peak_N": float(np.min(m.torque_peak_Nm / smax))}
+
+
+def workspace_radius_m(spec: DeviceSpec, design) -> float:
+    """Four-bar: half the stroke (|P(max) - P(min)| / 2); pantographs: half the workspace side."""
+    if spec.kind == "fourbar":
+        P, _ = ref.forward(spec, np.array([[spec.params["q_min"]], [spec.params["q_max"]]]))
+        return float(np.linalg.norm(P[1] - P[0]) / 2)
+    return design.workspace["side_mm"] * 1e-3 / 2
+
+
+def chai3d_json(spec: DeviceSpec, design, wall: dict, forces: dict) -> str:
+    """CHAI3D-style device description (cHapticDeviceInfo fields, SI)."""
+    doc = {
+        "generator": f"hapticad {spec.version}", "design": spec.name,
+        "design_hash": spec.design_hash, "units": "SI",
+        "m_modelName": f"hapticad {spec.family} '{spec.name}'", "m_manufacturerName": "hapticad",
+        "m_maxLinearForce": forces["continuous_N"],
+        "m_maxLinearForce_peak": forces["peak_N"],
+        "m_maxLinearStiffness": wall["eq25_K_max_N_per_m"],
+        "m_maxLinearDamping": wall["Fv_N_s_per_m"],
+        "m_workspaceRadius": workspace_radius_m(spec, design),
+        "m_sensedRotation": spec.kind == "twin", "m_actuatedRotation": spec.kind == "twin",
+        "notes": {
+            "m_maxLinearForce": "min over the test poses of the continuous motor torque / "
+                                "sigma_max(J^T) (every direction); _peak: the same at peak torque",
+            "m_maxLinearStiffness": "eq (25) K_max: " + wall["source"],
+            "m_maxLinearDamping": "passivity at K -> 0 (Colgate and Schenkel): B < Fv; Fv from "
+                                  + wall["source"],
+            "m_workspaceRadius": "four-bar: half the stroke; pantographs: half the workspace side",
+            "frame": "the device frame of hapticad_device.h (m)",
+        },
+    }
+    return json.dumps(doc, indent=2, sort_keys=True) + "\n"
+
+
+def sketch(spec: DeviceSpec, wall: dict) -> str:
+    """``wall_example.ino``: read encoders, render a wall through the home position (module
+    docstring of the sketch), write motor currents; board I/O is left to three stubs."""
+    from cad.firmware.csrc import banner
+
+    qh = np.asarray(spec.q_home_rad)[None, :]
+    X0, _ = ref.forward(spec, qh)
+    n = ref.jacobian(spec, qh)[0][:2, 0] if spec.kind == "fourbar" else np.array([1.0, 0.0])
+    n = n / np.linalg.norm(n)
+    nj, nt = spec.n_joints, spec.n_task
+    return banner(spec, "wall_example.ino: a virtual wall (Arduino / Teensy style)") + f"""
+/* The wall: through the home position WALL_X0_M, normal WALL_N (device frame; four-bar: the
+ * direction of motion at home, pantographs: +x); with the penetration s = N . (X - X0) > 0
+ * the handle feels F = -(K s + B s_dot) N. K and B: {wall['source']};
+ * eq (25) range {wall['eq25_K_min_N_per_m']:.4g} .. {wall['eq25_K_max_N_per_m']:.4g} N/m at Te = {wall['Te_s']:g} s.
+ * Run the loop every SAMPLE_PERIOD_US (the Te of eq 25); a slower loop needs a smaller K.
+ * Copy hapticad_device.h / hapticad_device.c beside this sketch; on an 8-bit AVR define
+ * HAPTICAD_USE_FLOAT (double is float there anyway), on a Teensy 4 keep double. */
+#include "hapticad_device.h"
+
+#define WALL_K_N_PER_M {wall['K_N_per_m']!r}
+#define WALL_B_N_S_PER_M {wall['B_N_s_per_m']!r}
+#define WALL_X0_M {float(X0[0, 0])!r}
+#define WALL_Y0_M {float(X0[0, 1])!r}
+#define WALL_NX {float(n[0])!r}
+#define WALL_NY {float(n[1])!r}
+#define SAMPLE_PERIOD_US {int(round(wall['Te_s'] * 1e6))}
+
+static hc_encoder_t enc = HC_ENCODER_DEFAULT;
+static hc_real s_prev = 0;
+
+/* board specific: replace these three with your encoder and amplifier code */
+static void read_encoders(long counts[HC_N_JOINTS]) {{ for (int i = 0; i < HC_N_JOINTS; ++i) counts[i] = 0; }}
+static void write_currents(const hc_real amps[HC_N_JOINTS]) {{ (void)amps; }}
+static void motors_off(void) {{ }}
+
+void setup() {{ motors_off(); }}
+
+void loop() {{
+    static unsigned long next = 0;
+    long counts[HC_N_JOINTS];
+    hc_real q[HC_N_JOINTS], X[HC_N_TASK], F[HC_N_TASK] = {{0}}, tau[HC_N_JOINTS], tg[HC_N_JOINTS];
+    hc_real amps[HC_N_JOINTS];
+    while ((long)(micros() - next) < 0) {{ }}
+    next += SAMPLE_PERIOD_US;
+    read_encoders(counts);
+    hc_counts_to_angles(&enc, counts, q);
+    if (hc_forward(q, X) != HC_OK) {{ motors_off(); return; }}   /* outside the range: no force */
+    hc_real s = WALL_NX * (X[0] - WALL_X0_M) + WALL_NY * (X[1] - WALL_Y0_M);
+    hc_real v = (s - s_prev) / (SAMPLE_PERIOD_US * 1e-6);
+    s_prev = s;
+    if (s > 0) {{
+        hc_real f = -(WALL_K_N_PER_M * s + WALL_B_N_S_PER_M * v);
+        if (f > 0) f = 0;                          /* a wall pushes, never pulls */
+        F[0] = f * WALL_NX; F[1] = f * WALL_NY;
+    }}
+    hc_joint_torques(q, F, tau);
+    hc_gravity_torques(q, tg);                     /* zero for a horizontal device */
+    for (int i = 0; i < HC_N_JOINTS; ++i) tau[i] += tg[i];
+    hc_motor_currents(tau, HC_LIMIT_CONTINUOUS, amps);   /* HC_LIMIT_PEAK for short bursts */
+    write_currents(amps);
+}}
+/* {nj} motor(s), {nt} task coordinates */
+"""
