@@ -28,7 +28,7 @@ from cad.dynamics.inertia import (
     equivalent_inertia,
     h_from_links,
 )
-from cad.dynamics.stiffness import StiffnessInputs, encoder_resolution_m, stiffness_range_N_per_m
+from cad.dynamics.stiffness import StiffnessInputs, encoder_resolution_m
 from cad.errors import DesignError, HapticadError, SingularJacobianError, ToggleError
 from cad.kinematics.families import FAMILIES, family_linkage
 from cad.kinematics.fourbar import (
