@@ -92,3 +92,26 @@ def test_bad_objective_names_the_flag():
     with pytest.raises(DesignError, match="--dy-tol-mm"):
         synthesize(fb, lo, hi, dy_tol_mm=-1.0)
     assert np.isfinite(lo)
+
+
+def test_synth_cli_mu_min_deg_binds(tmp_path):
+    """``synth --mu-min-deg 50``: the Hoeken max-stroke optimum at the default 30 deg has a
+    47.5 deg transmission angle (README), so a 50 deg floor must bind: the result keeps
+    mu >= 50 deg (recomputed here on its own linkage) and is shorter than 103.6 mm."""
+    import json
+    from pathlib import Path
+
+    from cad.design import load_design
+    from tests.cli_helpers import hapticad
+
+    out = tmp_path / "mu50.toml"
+    code, o, err = hapticad("synth", Path(__file__).resolve().parents[1] / "designs" / "hoeken.toml",
+                            "--objective", "max-stroke", "--mu-min-deg", "50", "--out", out, "--json")
+    assert code == 0, err
+    res = json.loads(o)["result"]
+    d = load_design(out)
+    m = compute_metrics(d.linkage, d.phi1_min_rad, d.phi1_max_rad, samples=4001)
+    assert m.min_transmission_angle_deg >= 50.0 - 1e-6
+    assert res["min_transmission_angle_deg"] == pytest.approx(m.min_transmission_angle_deg, abs=1e-3)
+    assert m.dy_max_mm <= 0.2 * 1.002
+    assert 48.9 < m.stroke_mm < 103.0  # longer than the paper's range, shorter than at 30 deg
