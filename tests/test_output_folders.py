@@ -279,3 +279,23 @@ def test_four_bar_build_in_a_second_process_and_folder_is_byte_identical(hoeken_
     a, b = _tree(first), _tree(cwd / "o")
     assert a.keys() == b.keys() and {"assembly.step", "parts/crank.stl", "hoeken.xml"} <= a.keys()
     assert [k for k in a if a[k] != b[k]] == []
+
+
+def test_powermouse_build_in_a_second_process_and_folder_is_byte_identical(family_builds, tmp_path):
+    """As the four-bar test above, for the PowerMouse: the session's in-process build
+    (``family_builds``: inertia fidelity, STEP/STL/DXF/glb) against a fresh process run from
+    another folder on a copy typed relative: every file byte-identical."""
+    import subprocess
+    import sys
+
+    _, first, _ = family_builds["powermouse"]
+    cwd = tmp_path / "other"
+    cwd.mkdir()
+    shutil.copy(ROOT / "designs" / "powermouse.toml", cwd / "powermouse.toml")  # report.json: "source"
+    r = subprocess.run([sys.executable, "-m", "cad", "build", "powermouse.toml", "--fidelity", "inertia",
+                        "--formats", "step,stl,dxf,glb", "--no-cache", "--out", "o", "--json"],
+                       cwd=cwd, capture_output=True, text=True, timeout=900)
+    assert r.returncode == 0, r.stderr
+    a, b = _tree(first), _tree(cwd / "o")
+    assert a.keys() == b.keys() and {"assembly.step", "rig/assembly.step"} <= a.keys()
+    assert [k for k in a if a[k] != b[k]] == []
