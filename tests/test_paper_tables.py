@@ -96,6 +96,16 @@ def test_mean_torque_is_force_times_chord_over_crank_span(family):
     assert m.torque_mean_mNm == pytest.approx(5.0 * m.stroke_mm / (hi - lo), rel=1e-4)
 
 
+def test_paper_mean_torque_implies_the_quoted_chords():
+    """The chords the xfail reasons and the README quote: Table I <tau> x Delta phi1 / F."""
+    chords = {f: PAPER_TABLES[f]["torque_mean_mNm"] * (FAMILIES[f].phi1_range_rad[1]
+              - FAMILIES[f].phi1_range_rad[0]) / 5.0 for f in FAMILIES}
+    assert {f: round(c, 1) for f, c in chords.items()} == {
+        "hoeken": 48.1, "roberts": 52.7, "chebyshev": 39.3, "chebyshev-v": 52.6}
+    assert {f: round(paper_stroke_mm(FAMILIES[f]), 1) for f in FAMILIES} == {
+        "hoeken": 48.9, "roberts": 50.7, "chebyshev": 38.5, "chebyshev-v": 52.8}
+
+
 def _secant_slope_max(family, samples):
     fb, lo, hi = family_linkage(family)
     xy = path_frame(fb, lo, hi).to_path(solve(fb, np.linspace(lo, hi, samples)).P_mm)
