@@ -159,7 +159,7 @@ def test_optimize_never_replaces_a_users_file_named_like_its_chart(tmp_path):
 def test_optimize_reaches_the_light_result_without_the_hand_written_starts(tmp_path):
     """Issue 21: `optimize --no-starts` (TPE from its own random trials only, seed 0) reaches
     M11max <= 35 g on the exact solids within a budget of 800 trials, and the accepted optimum
-    meets the brief. Slow: 800 cheap trials + 3 exact re-evaluations cost ~40 s of CPU (3.3 min
+    meets the brief. Slow: 800 cheap trials + 3 exact re-evaluations cost 41-46 s of CPU (2.1-3.3 min
     wall on the loaded 2-core machine); without the starts the first cheap trial <= 35 g came
     at trial 620 / 435 / 493 (seeds 0 / 1 / 2), so no smaller budget is honest."""
     out = tmp_path / "light.toml"
