@@ -142,29 +142,22 @@ def test_closure_failure_is_named_with_phi1():
 
 
 def test_toggle_inside_range_is_detected_with_its_angle():
-    """A non-Grashof triple-rocker with a full closable arc that passes a toggle."""
-    # Hoeken linkage over a range passing through its toggle: find where sin(phi2-phi3) changes sign.
+    """l1 = 40, l2 = 30, l3 = 40, l5 = 50: at phi1 = 0 the crank pin A2 is l5 - l1 = 10 mm from
+    A4 = l3 - l2, so coupler and rocker fold onto one line (a toggle, sin(phi2 - phi3) = 0);
+    the loop closes for |phi1| <= acos(-0.2) = 101.537 deg (|A2A4| = l2 + l3 there). Over
+    [-100, 100] deg: it closes, and the toggle is found at phi1 = 0 to the sampling step."""
     fb = FourBar(25.0, 62.5, 62.5, 0.0, 50.0, 125.0, 0.0, -1)
-    # crank with l1 + l5 < l2 + l3 is Grashof (crank-rocker): no toggle of coupler/rocker in 360 deg.
+    # the Hoeken crank-rocker is Grashof: no coupler/rocker toggle in 360 deg
     assert check_range(fb, 0.0, 2 * np.pi - 1e-3).toggle_at_deg is None
-    # a linkage whose coupler and rocker do align inside a closable range:
     fb2 = FourBar(40.0, 30.0, 40.0, 0.0, 50.0, 10.0, 0.0, 1)
-    phi = np.linspace(0, 2 * np.pi, 3601)
-    m = closure_margin(fb2, phi)
-    ok = m >= 0
-    # choose a closable sub-range whose margin touches 0 (coupler-rocker aligned)
-    idx = np.nonzero(ok)[0]
-    lo, hi = phi[idx[0]], phi[idx[-1]]
-    rc = check_range(fb2, lo + 1e-4, hi - 1e-4, samples=2001)
-    if rc.closure_gap_deg is None:
-        assert rc.toggle_at_deg is not None
-        with pytest.raises(ToggleError, match="toggle"):
-            require_range(fb2, lo + 1e-4, hi - 1e-4, samples=2001)
-    else:  # the closable arcs are disjoint: take one arc
-        runs = np.split(idx, np.nonzero(np.diff(idx) > 1)[0] + 1)
-        r = max(runs, key=len)
-        rc = check_range(fb2, phi[r[0]] + 1e-4, phi[r[-1]] - 1e-4, samples=2001)
-        assert rc.toggle_at_deg is not None
+    full = check_range(fb2, 0.0, 2 * np.pi, samples=20001)
+    assert full.closure_gap_deg[0] == pytest.approx(math.degrees(math.acos(-0.2)), abs=0.02)
+    lo, hi, n = math.radians(-100.0), math.radians(100.0), 2000  # 0 deg falls between samples
+    rc = check_range(fb2, lo, hi, samples=n)
+    assert rc.closes and rc.closure_gap_deg is None and rc.branch_jump_at_deg is None
+    assert abs(rc.toggle_at_deg) <= 200.0 / (n - 1)
+    with pytest.raises(ToggleError, match=r"toggle inside the range at phi1 = -0\.050 deg"):
+        require_range(fb2, lo, hi, samples=n)
 
 
 def test_velocity_ratio_raises_at_toggle():
@@ -187,14 +180,16 @@ def test_branch_jump_across_unsampled_gap():
     grid = np.linspace(lo, hi, 4)  # 165, 175, 185, 195 deg: none inside the gap
     assert (closure_margin(fb, grid) >= 0).all()
     rc = check_range(fb, lo, hi, samples=4)
-    assert rc.closes
-    assert rc.branch_jump_at_deg is not None or rc.toggle_at_deg is not None
-    with pytest.raises((BranchJumpError, ToggleError)):
+    assert rc.closes and rc.toggle_at_deg is None
+    assert rc.branch_jump_at_deg == pytest.approx(165.0)  # the jump lies between 165 and 185 deg
+    with pytest.raises(BranchJumpError, match="between phi1 = 165.000 and 185.000 deg"):
         require_range(fb, lo, hi, samples=4)
     dense = check_range(fb, lo, hi, samples=20001)
     assert not dense.closes
-    assert dense.closure_gap_deg[0] == pytest.approx(177.57, abs=0.01)
-    assert dense.closure_gap_deg[1] == pytest.approx(182.43, abs=0.01)
+    # closed form: |A2A4| = l2 + l3 at cos(phi1) = (l1^2 + l5^2 - (l2 + l3)^2) / (2 l1 l5)
+    edge = math.degrees(math.acos((40.02**2 + 50.0**2 - 90.0**2) / (2 * 40.02 * 50.0)))
+    assert dense.closure_gap_deg[0] == pytest.approx(edge, abs=0.01)  # 177.57
+    assert dense.closure_gap_deg[1] == pytest.approx(360.0 - edge, abs=0.01)
 
 
 @pytest.mark.parametrize(

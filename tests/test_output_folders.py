@@ -258,3 +258,44 @@ def test_four_bar_and_powermouse_from_two_folders_are_identical(tmp_path, design
         assert json.loads((out / "report.json").read_text()).get("source") == "d.toml"
     assert trees[0].keys() == trees[1].keys()
     assert [k for k in trees[0] if trees[0][k] != trees[1][k]] == []
+
+
+def test_four_bar_build_in_a_second_process_and_folder_is_byte_identical(hoeken_sim_build, tmp_path):
+    """Default-suite variant of the two slow claims above (cross-process, two folders) for the
+    four-bar: the session's in-process preview build of designs/hoeken.toml and a fresh
+    ``python -m cad build`` process, run from another folder on a copy typed relative, same
+    fidelity and formats, no cache: every file byte-identical."""
+    import subprocess
+    import sys
+
+    _, first, _, _ = hoeken_sim_build
+    cwd = tmp_path / "elsewhere" / "deeper"
+    cwd.mkdir(parents=True)
+    shutil.copy(HOEKEN, cwd / "hoeken.toml")
+    r = subprocess.run([sys.executable, "-m", "cad", "build", "hoeken.toml", "--fidelity", "preview",
+                        "--formats", "mjcf,urdf,stl,step", "--no-cache", "--out", "o", "--json"],
+                       cwd=cwd, capture_output=True, text=True, timeout=600)
+    assert r.returncode == 0, r.stderr
+    a, b = _tree(first), _tree(cwd / "o")
+    assert a.keys() == b.keys() and {"assembly.step", "parts/crank.stl", "hoeken.xml"} <= a.keys()
+    assert [k for k in a if a[k] != b[k]] == []
+
+
+def test_powermouse_build_in_a_second_process_and_folder_is_byte_identical(family_builds, tmp_path):
+    """As the four-bar test above, for the PowerMouse: the session's in-process build
+    (``family_builds``: inertia fidelity, STEP/STL/DXF/glb) against a fresh process run from
+    another folder on a copy typed relative: every file byte-identical."""
+    import subprocess
+    import sys
+
+    _, first, _ = family_builds["powermouse"]
+    cwd = tmp_path / "other"
+    cwd.mkdir()
+    shutil.copy(ROOT / "designs" / "powermouse.toml", cwd / "powermouse.toml")  # report.json: "source"
+    r = subprocess.run([sys.executable, "-m", "cad", "build", "powermouse.toml", "--fidelity", "inertia",
+                        "--formats", "step,stl,dxf,glb", "--no-cache", "--out", "o", "--json"],
+                       cwd=cwd, capture_output=True, text=True, timeout=900)
+    assert r.returncode == 0, r.stderr
+    a, b = _tree(first), _tree(cwd / "o")
+    assert a.keys() == b.keys() and {"assembly.step", "rig/assembly.step"} <= a.keys()
+    assert [k for k in a if a[k] != b[k]] == []

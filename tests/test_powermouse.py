@@ -276,3 +276,37 @@ def test_combined_translation_and_rotation_range(solids):
     assert worst(1.70)[0] > 0.0
     gap, pair = worst(1.82)
     assert gap < 0.0 and "magnet" in pair and pair.split("/")[0].startswith(("coil", "flotor_")), pair
+
+
+def test_flotor_mass_and_peak_acceleration_pinned(family_builds):
+    """README "Voice-coil actuators and the PowerMouse": flotor 234 g from the solids, 9.7 G at
+    36 W. Hand checks: each coil is a stadium (2 w l + pi w^2) d_c of density eta_pack rho_Cu;
+    the flotor mass is the sum of its solids' volumes x their materials' densities plus the
+    four lid screws' catalog masses; the peak
+    force is eq (8) at 36 W (F ~ sqrt(P): the 8 W force x sqrt(36/8)), doubled by the opposite
+    coil pair (peak_force_N). The totals 234 g / 9.7 G are a regression pin (our own run)."""
+    from cad.actuators import voicecoil as vc
+    from cad.materials import get_material
+    from cad.parts import powermouse as pp
+
+    d, _, rep = family_builds["powermouse"]
+    gap = rep["actuator"]["gap_mm"]
+    g = pp.geometry(d, gap)
+    w, lm, dc = g.magnet_width_mm, g.magnet_length_mm, g.coil_width_mm
+    rho_coil = d.actuator.eta_pack * get_material(d.flotor.coil_material).density_kg_m3
+    coil_kg = (2 * w * lm + math.pi * w * w) * dc * 1e-9 * rho_coil
+    masses = rep["flotor"]["parts_mass_kg"]
+    coils = [v for k, v in masses.items() if "coil" in k]
+    assert len(coils) == 6 and coils == pytest.approx([coil_kg] * 6, rel=1e-9)
+    dens = {"shell": get_material(d.flotor.material).density_kg_m3, "coil": rho_coil,
+            "handle": get_material(d.handle.material).density_kg_m3}
+    parts_sum = sum(s.volume * 1e-9 * dens[role] for s, role in pp.flotor_solids(g).values())
+    screws = [v for k, v in masses.items() if k.startswith("flotor_lid_screw_")]
+    assert len(screws) == 4 and len(masses) == 13  # + the 4 M2.5 lid screws (catalog masses)
+    parts_sum += sum(screws)
+    assert rep["flotor"]["mass_kg"] == pytest.approx(parts_sum, rel=1e-6)
+    p8 = vc.VoiceCoilParams(lm, w, g.magnet_thickness_mm, d.actuator.rattle_mm, power_W=8.0)
+    f36 = float(vc.force_vs_gap_N(gap, p8, "closed-form")[0]) * math.sqrt(36.0 / 8.0)
+    assert rep["peak_acceleration_m_s2"] == pytest.approx(2 * f36 / parts_sum, rel=1e-6)
+    # regression pin (our own run): the README's numbers
+    assert round(rep["flotor_mass_g"]) == 234 and round(rep["peak_acceleration_G"], 1) == 9.7

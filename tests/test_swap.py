@@ -102,3 +102,21 @@ def test_swapped_design_builds_without_interference(tmp_path):
     rep = build_design(d, tmp_path / "out", {"dxf"}, fidelity="inertia", use_cache=False)
     assert rep["overlap_volume_mm3"] == 0.0 and rep["interference"]["collisions"] == []
     assert rep["min_clearance_mm"] >= d.parts.clearance_min_mm
+
+
+def test_swap_build_flag_builds_the_new_design(tmp_path, monkeypatch):
+    """``swap --build``: the swapped design is also built into exports/<--out stem>/, and the
+    JSON's ``build`` block is that build's own report (clearance, no overlap)."""
+    from cli_helpers import hapticad
+
+    monkeypatch.chdir(tmp_path)
+    code, o, err = hapticad("swap", ROOT / "designs" / "hoeken.toml", "--to", "roberts",
+                            "--out", "r.toml", "--build", "--json")
+    assert code == 0, err
+    b = json.loads(o)["build"]
+    out = tmp_path / "exports" / "r"
+    assert Path(b["out"]) == Path("exports") / "r" and (out / "manifest.json").is_file()
+    rep = json.loads((out / "report.json").read_text())
+    assert rep["overlap_volume_mm3"] == b["overlap_volume_mm3"] == 0.0
+    assert rep["min_clearance_mm"] == pytest.approx(b["min_clearance_mm"], abs=1e-12)
+    assert (out / "assembly.step").is_file() and (tmp_path / "r.toml").is_file()

@@ -2,7 +2,8 @@
 
 The integration tests share one in-process Dask cluster (``--scheduler inproc://...``), so
 the CAD import is paid once; the worker-process path (LocalCluster) and a killed worker are
-exercised by the slow test at the end.
+exercised by the slow test, and a worker process killed mid-variant (deterministically, by a
+worker plugin) by the default-suite test at the end.
 """
 
 from __future__ import annotations
@@ -170,3 +171,47 @@ def test_killed_worker_is_rerun_with_worker_processes(tmp_path):
     rows = _rows(out)
     assert (s["variants"], s["lost"], s["error"]) == (8, 0, 0)
     assert len(rows) == 8 and all(r["status"] in ("ok", "missed") for r in rows)
+
+
+def test_worker_killed_mid_variant_is_restarted_and_its_variant_rerun(tmp_path):
+    """Default-suite variant of the slow kill test, deterministic: a worker *process* of a
+    LocalCluster (given by ``--scheduler``) SIGKILLs itself as its first variant starts (a
+    worker plugin, once: a marker file); Dask's nanny restarts it and the scheduler reruns the
+    variant, so every row is evaluated and none is ``lost``."""
+    import os
+
+    from dask.distributed import Client, LocalCluster, WorkerPlugin
+
+    from cad.sweep.run import NO_HTTP_PORT
+
+    marker = tmp_path / "killed"
+
+    class KillOnce(WorkerPlugin):  # local class: cloudpickle ships it by value to the worker
+        def __init__(self, path):
+            self.path = path
+
+        def transition(self, key, start, finish, **kw):
+            if finish == "executing" and "evaluate_variant" in str(key) and not os.path.exists(self.path):
+                with open(self.path, "w") as f:
+                    f.write(str(os.getpid()))
+                os.kill(os.getpid(), 9)
+
+    cluster = LocalCluster(n_workers=1, processes=True, threads_per_worker=1, dashboard_address=None,
+                           scheduler_kwargs=NO_HTTP_PORT)
+    try:
+        with Client(cluster) as c:
+            c.register_plugin(KillOnce(str(marker)))
+            first_pid = next(iter(c.run(os.getpid).values()))
+            out = tmp_path / "o"
+            code, stdout, err = hapticad("sweep", HOEKEN, "--vary", "parts.bar_thickness_mm=5,6",
+                                         "--scheduler", cluster.scheduler_address, "--out", out, "--json")
+            assert code == 0, err
+            assert marker.read_text() == str(first_pid)  # the worker did die, mid-variant
+            assert next(iter(c.run(os.getpid).values())) != first_pid  # and was restarted
+    finally:
+        cluster.close()
+    s = json.loads(stdout)
+    assert (s["variants"], s["evaluated"], s["lost"], s["error"]) == (2, 2, 0, 0)
+    rows = _rows(out)
+    assert sorted(r["parts.bar_thickness_mm"] for r in rows) == [5, 6]
+    assert all(r["status"] in ("ok", "missed") and math.isfinite(r["M11_max_g"]) for r in rows)

@@ -8,14 +8,13 @@ parts separated along z (planar motion keeps z).
 
 from __future__ import annotations
 
+import fcl  # noqa: F401  (python-fcl is a hard dependency, pyproject.toml: a missing one fails)
 import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from cad.assembly import interference as itf
-
-pytest.importorskip("fcl")
 
 
 def _planar(theta, x, y):

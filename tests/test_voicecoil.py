@@ -103,6 +103,34 @@ def test_paper_optimal_gap_is_about_11_mm():
     assert vc.force_vs_gap_N(grid, PAPER).max() <= opt.force_N * (1 + 1e-12)
 
 
+def test_images_optimum_10_59_mm_against_magpylib_image_stack():
+    """README Fig. 8 table, `images`: 10.59 mm. Independent: magpylib's cuboid field of a
+    512-slab image stack (not the closed-form series) on a 0.01 mm grid of gaps, F ~ B_g
+    sqrt(d - d_r) (eq 8 at fixed magnet), vertex of the parabola through the best three."""
+    opt = vc.optimal_gap(PAPER, "images").optimal_gap_mm
+    d = np.arange(10.45, 10.75, 0.01)
+    f = np.array([fm.bg_center_T(x, 20, 8, 4, 1.2, n_slabs=512) * math.sqrt(x - 6.0) for x in d])
+    i = int(np.argmax(f))
+    y0, y1, y2 = f[i - 1 : i + 2]
+    vertex = d[i] + 0.01 * (y0 - y2) / (2 * (y0 - 2 * y1 + y2))
+    assert round(opt, 2) == 10.59
+    assert opt == pytest.approx(vertex, abs=1e-4)  # measured 1e-5 apart
+
+
+def test_magpylib_optimum_10_38_mm_against_a_finer_quadrature_grid():
+    """README Fig. 8 table, `magpylib`: 10.38 mm. Second method: the coil-mean field with a
+    finer Gauss rule (8 x 6 x 6 instead of 6 x 4 x 4) on a 0.02 mm gap grid, F ~ B_mean
+    sqrt(d - d_r), parabola vertex; the two quadratures' optima differ by 0.009 mm."""
+    opt = vc.optimal_gap(PAPER, "magpylib").optimal_gap_mm
+    d = np.arange(10.30, 10.47, 0.02)
+    f = np.array([fm.coil_mean_bz_T(x, PAPER, n_quad=(8, 6, 6)) * math.sqrt(x - 6.0) for x in d])
+    i = int(np.argmax(f))
+    y0, y1, y2 = f[i - 1 : i + 2]
+    vertex = d[i] + 0.02 * (y0 - y2) / (2 * (y0 - 2 * y1 + y2))
+    assert round(opt, 2) == 10.38 and round(vertex, 2) == 10.38
+    assert opt == pytest.approx(vertex, abs=0.015)
+
+
 @settings(max_examples=15, deadline=None)
 @given(
     br=st.floats(0.3, 1.5),
@@ -253,8 +281,8 @@ def test_nlp_matches_brute_force_grid():
         0.75 * vc.eta_geom(L, W) * 8 / 1.72e-8 * 2 * W * L * (D - 6) * 1e-9
     )
     best = F[ok].max()
-    assert best <= r.force_N * (1 + 1e-9)
-    assert r.force_N < best * 1.01  # the grid is fine enough to come within 1%
+    # README's claim: the 1.8M-point grid's best equals the NLP to 2e-5 (measured 1.55e-5 below)
+    assert 0.0 <= 1.0 - best / r.force_N < 2e-5
     assert "height" in r.active
 
 

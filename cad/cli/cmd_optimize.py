@@ -4,7 +4,8 @@ Pantograph families: ``--method culling|brute``, isotropy paper eq (6) over the 
 ``[optimize]`` candidate grid; culling (Stocco, Salcudean & Sassani 1998) returns the
 brute-force optimum exactly while evaluating far fewer Jacobians.
 
-Four-bar families: ``--objective min-apparent-mass [--trials N] [--seed S] [--exact-top K]``,
+Four-bar families: ``--objective min-apparent-mass [--trials N] [--seed S] [--exact-top K]
+[--no-starts]``,
 the co-design search of :mod:`cad.codesign` (optuna on the cheap mass model, the best K
 candidates re-evaluated on the exact solids with interference and structure).
 """
@@ -75,7 +76,7 @@ def write_optimum(design, rep: dict, out: Path, command: str) -> bool:
 
 
 def _fourbar(d, path: Path, objective: str, trials: int, seed: int, top: int, out: Path | None,
-             json_out: bool, proportions_tol: float = 0.0) -> None:
+             json_out: bool, proportions_tol: float = 0.0, starts: bool = True) -> None:
     """The four-bar co-design path (module docstring); exit 1 when no candidate is accepted."""
     import sys
     import time
@@ -93,9 +94,10 @@ def _fourbar(d, path: Path, objective: str, trials: int, seed: int, top: int, ou
     charts = [] if out is None else [out.parent / f"{out.stem}_pareto.{e}" for e in ("png", "svg")]
     replaced_charts = [str(c) for c in charts if _chart_replaceable(c, path)]  # said, never silent
     rep, best = optimize_fourbar(d, objective, trials, seed, top, chart_dir, progress,
-                                 out.stem if out is not None else None, proportions_tol)
+                                 out.stem if out is not None else None, proportions_tol, starts)
     cmd = (f"hapticad optimize {path} --objective {objective} --trials {trials} --seed {seed} "
            f"--exact-top {top}" + (f" --proportions-tol {proportions_tol:g}" if proportions_tol else "")
+           + ("" if starts else " --no-starts")
            + (f" --out {out}" if out is not None else ""))
     rep["command"] = cmd
     rep["measured"] = time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())  # README tables (cad.bench.readme)
@@ -169,6 +171,9 @@ def register(app: typer.Typer) -> None:
             0.0, "--proportions-tol",
             help="Four-bars: also perturb the family's link proportions by up to this fraction "
                  "(0 = keep them; at most 0.2)."),
+        no_starts: bool = typer.Option(
+            False, "--no-starts",
+            help="Four-bars: leave out the hand-written starting guesses (TPE from random trials only)."),
     ) -> None:
         """Maximize the GII (pantographs) or minimize the apparent mass (four-bars)."""
         from cad.cli import flags
@@ -191,7 +196,7 @@ def register(app: typer.Typer) -> None:
                 raise DesignError("--method", f"{method!r} is for pantograph designs; a four-bar "
                                               "takes --objective min-apparent-mass")
             _fourbar(loaded, design, objective or "min-apparent-mass", trials, seed, exact_top, out,
-                     json_out, proportions_tol)
+                     json_out, proportions_tol, not no_starts)
             return
         if objective is not None:
             raise DesignError("--objective", f"min-apparent-mass is for four-bar designs, not "

@@ -8,9 +8,10 @@ from pathlib import Path
 
 def optimize_fourbar(design, objective: str, trials: int, seed: int, top: int, chart_dir: Path | None,
                      progress=None, out_stem: str | None = None,
-                     proportions_tol: float = 0.0) -> tuple[dict, object]:
+                     proportions_tol: float = 0.0, starts: bool = True) -> tuple[dict, object]:
     """Search (cheap model), re-evaluate the best ``top`` candidates exactly, pick the lightest
-    accepted one. Returns (JSON-able report, accepted Candidate or None)."""
+    accepted one. ``starts=False``: without the hand-written :data:`search.STARTS`.
+    Returns (JSON-able report, accepted Candidate or None)."""
     from cad.codesign import exact, search
     from cad.errors import HapticadError
 
@@ -18,7 +19,7 @@ def optimize_fourbar(design, objective: str, trials: int, seed: int, top: int, c
     pb = search.problem_from(design)
     pb.fixed_parts = search.fixed_parts(design)
     pb.proportions_tol = proportions_tol
-    cands, records = search.run(pb, trials, seed)
+    cands, records = search.run(pb, trials, seed, starts=starts)
     t_search = time.perf_counter() - t0
     checked, best = [], None
     seen = set()
@@ -44,6 +45,7 @@ def optimize_fourbar(design, objective: str, trials: int, seed: int, top: int, c
     rep = {
         "design": design.name, "family": design.family, "objective": objective,
         "library": "optuna TPE (multivariate, seeded)", "trials": trials, "seed": seed,
+        "hand_written_starts": len(search.STARTS) if starts else 0,
         "feasible_trials": sum(r["value"] is not None for r in records),
         "requirements": {"stroke_mm": pb.stroke_mm, "dy_max_mm": pb.dy_max_mm,
                          "min_transmission_angle_deg": pb.mu_min_deg, "force_N": design.force_N,

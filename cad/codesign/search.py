@@ -332,8 +332,12 @@ def cheap_structure(design, M11_max_g: float, plan=None) -> dict:
     return device.analyse(design, lumped, bars, "fem", M11_max_g * 1e-3, design.targets, poses=1)
 
 
-def run(pb: Problem, trials: int, seed: int = 0) -> tuple[list[Candidate], list[dict]]:
-    """Run the study; return feasible candidates (best first) and every trial's record."""
+def run(pb: Problem, trials: int, seed: int = 0,
+        starts: bool = True) -> tuple[list[Candidate], list[dict]]:
+    """Run the study; return feasible candidates (best first) and every trial's record.
+
+    ``starts=False`` leaves out the hand-written :data:`STARTS` (TPE from its own random
+    start-up trials only); with them, the first ``len(STARTS)`` trials are those guesses."""
     import optuna
 
     optuna.logging.set_verbosity(optuna.logging.WARNING)
@@ -361,7 +365,7 @@ def run(pb: Problem, trials: int, seed: int = 0) -> tuple[list[Candidate], list[
             cands.append(Candidate(trial.number, info["mechanism"], parts, info))
         return val if math.isfinite(val) else 1e6
 
-    for start in STARTS:
+    for start in STARTS if starts else ():
         study.enqueue_trial(start)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # optuna's experimental-feature warnings (multivariate TPE)
