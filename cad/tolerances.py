@@ -57,3 +57,38 @@ TOLERANCE_MAX_MM = 5.0
 #: yield to 0.05 %).
 MC_SAMPLES_MIN = 100
 MC_SAMPLES_MAX = 2_000_000
+
+#: Largest file hapticad reads, by kind (bytes), checked (``os.stat``/``fstat``) before a
+#: byte is parsed (:mod:`cad.io.guard`, issue 22 §2): a file far larger than its kind can
+#: legitimately be is hostile or damaged, and parsing it whole would exhaust memory.
+READ_MAX_BYTES = {
+    # designs/*.toml are 0.2-2.2 KB; 1 MiB is ~500x the largest and tomllib parses it in ~0.1 s
+    "design": 1 << 20,
+    # manifest.json: ~150 bytes per listed file; 16 MiB lists ~100 000 files
+    "manifest": 16 << 20,
+    # report.json of a build: tens of KB (per-sample curves included); 64 MiB is ~1000x
+    "report": 64 << 20,
+    # any other JSON hapticad wrote (a cached part's integrals, a design script's result)
+    "json": 16 << 20,
+    # a design's handle script (Python source): a few KB
+    "script": 1 << 20,
+    # an MJCF model of a build (wall --build-dir): tens of KB
+    "mjcf": 16 << 20,
+    # STEP / STL given to `massprops`: hapticad's own assembly.step is < 5 MB; 256 MiB is a
+    # ~5-million-triangle binary STL (50 bytes each, ~4x that in float64 arrays once read)
+    "step": 256 << 20,
+    "stl": 256 << 20,
+    # one cache entry (a part's BREP, derived arrays): hapticad writes a few MB at most
+    "cache": 256 << 20,
+    # a sweep's results.parquet (cad/sweep): ~200 bytes per row; 1 GiB is ~5 million rows
+    "parquet": 1 << 30,
+    # a small marker file hapticad writes (the owner of a temporary folder: host and pid)
+    "marker": 4 << 10,
+}
+
+#: Deepest bracket nesting accepted in a TOML or JSON file, or parenthesis nesting in a STEP
+#: file, counted by a scan before the parser runs. hapticad's designs nest 1 level (table headers),
+#: its JSON 4, its STEP entities 3; tomllib and json recurse once per level (Python's
+#: recursion limit ~1000: a RecursionError traceback at 50 000) and OCCT's STEP reader crashed
+#: (segmentation fault) at 100 000 nested parentheses in a CARTESIAN_POINT.
+NESTING_MAX_DEPTH = 64
