@@ -76,3 +76,9 @@ class FileRefused(DesignError):
         self.path = str(path)
         self.why = why
         super().__init__(field, f"{path} {why}")
+
+
+class FileDamaged(FileRefused):
+    """A regular file within its limits whose content is not valid for its kind (not UTF-8,
+    not valid JSON or TOML): a reader that treats a damaged file as absent catches this one
+    and lets every other :class:`FileRefused` (a FIFO, a device, too large) through."""

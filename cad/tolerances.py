@@ -88,7 +88,7 @@ READ_MAX_BYTES = {
 
 #: Deepest bracket nesting accepted in a TOML or JSON file, or parenthesis nesting in a STEP
 #: file, counted by a scan before the parser runs. hapticad's designs nest 1 level (table headers),
-#: its JSON 4, its STEP entities 3; tomllib and json recurse once per level (Python's
+#: its JSON 5 (report.json), its STEP entities 3; tomllib and json recurse once per level (Python's
 #: recursion limit ~1000: a RecursionError traceback at 50 000) and OCCT's STEP reader crashed
 #: (segmentation fault) at 100 000 nested parentheses in a CARTESIAN_POINT.
 NESTING_MAX_DEPTH = 64

@@ -30,7 +30,7 @@ import stat
 from pathlib import Path
 from typing import Any
 
-from cad.errors import FileRefused
+from cad.errors import FileDamaged, FileRefused
 from cad.tolerances import NESTING_MAX_DEPTH, READ_MAX_BYTES
 
 _WHAT = (
@@ -42,7 +42,7 @@ _WHAT = (
 )
 
 
-def _not_regular(mode: int) -> str | None:
+def not_regular(mode: int) -> str | None:
     """What a non-regular file is ("a FIFO (named pipe)", ...), None for a regular file."""
     if stat.S_ISREG(mode):
         return None
@@ -59,7 +59,7 @@ def _size_text(n: int) -> str:
 
 
 def _check_stat(p: Path, st: os.stat_result, kind: str, field: str) -> None:
-    what = _not_regular(st.st_mode)
+    what = not_regular(st.st_mode)
     if what is not None:
         via = f" (a symbolic link to {os.path.realpath(p)})" if os.path.islink(p) else ""
         raise FileRefused(field, p, f"is {what}{via}, not a regular file; hapticad reads only regular files")
@@ -120,7 +120,7 @@ def read_text(path: str | os.PathLike, kind: str, field: str, encoding: str = "u
     try:
         return data.decode(encoding)
     except UnicodeDecodeError as exc:
-        raise FileRefused(field, Path(path), f"is not {encoding.upper()} text (byte {exc.start})") from None
+        raise FileDamaged(field, Path(path), f"is not {encoding.upper()} text (byte {exc.start})") from None
 
 
 # Strings and comments, whose brackets do not nest. Every alternative also ends at the end of
@@ -172,17 +172,18 @@ def check_nesting(data: bytes, syntax: str, path: str | os.PathLike, field: str)
 
 def load_json(path: str | os.PathLike, kind: str, field: str) -> Any:
     """The JSON document of ``path``: :func:`read_bytes`, :func:`check_nesting`, then
-    ``json.loads``; invalid JSON is refused too (FileRefused, whose ``reason`` says why)."""
+    ``json.loads``; text that is not UTF-8 or not valid JSON raises :class:`FileDamaged`
+    (a :class:`FileRefused`)."""
     data = read_bytes(path, kind, field)
     check_nesting(data, "json", path, field)
     try:
         return json.loads(data.decode("utf-8"))
     except UnicodeDecodeError as exc:
-        raise FileRefused(field, Path(path), f"is not UTF-8 text (byte {exc.start})") from None
+        raise FileDamaged(field, Path(path), f"is not UTF-8 text (byte {exc.start})") from None
     except RecursionError:  # the scan above makes this unreachable; kept as a second wall
         raise FileRefused(field, Path(path), "is not valid JSON (nesting too deep)") from None
     except ValueError as exc:
-        raise FileRefused(field, Path(path), f"is not valid JSON ({exc})") from None
+        raise FileDamaged(field, Path(path), f"is not valid JSON ({exc})") from None
 
 
 def load_toml(path: str | os.PathLike, kind: str, field: str) -> dict[str, Any]:
@@ -194,11 +195,11 @@ def load_toml(path: str | os.PathLike, kind: str, field: str) -> dict[str, Any]:
     try:
         return tomllib.loads(data.decode("utf-8"))
     except UnicodeDecodeError:
-        raise FileRefused(field, Path(path), "is not UTF-8 text") from None
+        raise FileDamaged(field, Path(path), "is not UTF-8 text") from None
     except RecursionError:  # unreachable after the scan; a second wall
         raise FileRefused(field, Path(path), "is not valid TOML (nesting too deep)") from None
     except tomllib.TOMLDecodeError as exc:
-        raise FileRefused(field, Path(path), f"is not valid TOML ({exc})") from None
+        raise FileDamaged(field, Path(path), f"is not valid TOML ({exc})") from None
 
 
 def check_step(path: str | os.PathLike, field: str) -> None:
