@@ -120,15 +120,20 @@ def _step_props_isolated(path: Path, rho: float, mat_name: str | None, defaulted
     guard.check_step(path, "FILE")
 
     def child():
+        import faulthandler
+
+        faulthandler.disable()  # a crash is reported by the parent in one line, not dumped
         before = len(bounds.collected())
         return _step_props(path, rho, mat_name, defaulted), bounds.collected()[before:]
 
     try:
         result, warnings = forked.Forked(child, f"massprops {path.name}").result()
     except forked.StageDied as exc:
-        how = f"crashed (signal {exc.signal})" if exc.signal else "stopped without a result"
-        raise GeometryError(f"{path}: OCCT's STEP reader {how} on this file: it is damaged or "
-                            "hostile; check it opens in another STEP viewer") from None
+        from cad.errors import FileRefused
+
+        how = f"crash (signal {exc.signal})" if exc.signal else "stop without a result"
+        raise FileRefused("FILE", path, f"made OCCT's STEP reader {how} (read in a child "
+                          "process): the file is damaged or hostile") from None
     for text in warnings:
         bounds.warn(text)
     return result

@@ -11,6 +11,7 @@ and the code are unchanged (the build cache), or read from ``build_dir``.
 from __future__ import annotations
 
 import math
+import os
 import tempfile
 import time
 from pathlib import Path
@@ -65,7 +66,7 @@ def device_build(design, build_dir: Path | None = None) -> Path:
     if build_dir is not None:
         build_dir = Path(build_dir)
         rep_path = build_dir / "report.json"
-        if not (rep_path.is_file() and (build_dir / f"{design.name}.xml").is_file()):
+        if not (os.path.lexists(rep_path) and os.path.lexists(build_dir / f"{design.name}.xml")):
             raise DesignError("--build-dir", f"{build_dir} holds no report.json and {design.name}.xml "
                               "(run hapticad build DESIGN --formats mjcf --out DIR first)")
         from cad.io import guard
