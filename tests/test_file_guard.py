@@ -100,7 +100,7 @@ def test_regular_file_size_and_kind_checks(tmp_path):
     with open(big, "wb") as fh:  # sparse: refused from its size, never read
         fh.truncate(READ_MAX_BYTES["design"] + 1)
     cases = {
-        big: "over the 1 MiB limit for a design file",
+        big: f"is {(1 << 20) + 1} bytes, over the limit of {1 << 20} bytes (1 MiB) for a design file",
         tmp_path: "is a folder",
         tmp_path / "none.json": "does not exist",
         Path("/dev/zero"): "is a character device",
@@ -246,7 +246,7 @@ def test_error_line_of_a_huge_list_is_short(tmp_path):
     d.write_text((DESIGNS / "hoeken.toml").read_text().replace(
         "[mechanism]", "[mechanism]\nl1_mm = [" + "0," * 2_000_000 + "]\n", 1))
     code, _, err = hapticad("analyze", d)
-    assert_one_line_error(code, err, "design:", "over the 1 MiB limit for a design file")
+    assert_one_line_error(code, err, "design:", "bytes (1 MiB) for a design file")
     assert len(err) <= LINE_MAX_CHARS + 1
 
 

@@ -65,8 +65,8 @@ def _check_stat(p: Path, st: os.stat_result, kind: str, field: str) -> None:
         raise FileRefused(field, p, f"is {what}{via}, not a regular file; hapticad reads only regular files")
     limit = limit_bytes(kind)
     if st.st_size > limit:
-        raise FileRefused(field, p, f"is {_size_text(st.st_size)}, over the {_size_text(limit)} "
-                          f"limit for a {kind} file (cad/tolerances.py READ_MAX_BYTES)")
+        raise FileRefused(field, p, f"is {st.st_size} bytes, over the limit of {limit} bytes "
+                          f"({_size_text(limit)}) for a {kind} file (cad/tolerances.py READ_MAX_BYTES)")
 
 
 def check_file(path: str | os.PathLike, kind: str, field: str) -> int:
