@@ -82,6 +82,8 @@ READ_MAX_BYTES = {
     "cache": 256 << 20,
     # a sweep's results.parquet (cad/sweep): ~200 bytes per row; 1 GiB is ~5 million rows
     "parquet": 1 << 30,
+    # a chart hapticad wrote (optimize --out: checked it is ours before it is replaced): ~100 KB
+    "chart": 64 << 20,
     # a small marker file hapticad writes (the owner of a temporary folder: host and pid)
     "marker": 4 << 10,
 }

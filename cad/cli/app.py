@@ -93,7 +93,8 @@ def readable(line: str) -> str:
     line = " ".join(line.splitlines())
     if len(line) <= WORD_MAX_CHARS:
         return line
-    line = re.sub(r"\S{%d,}" % (WORD_MAX_CHARS + 1), lambda m: _cut(m.group(0), WORD_MAX_CHARS), line)
+    long_word = re.compile(r"\S{" + str(WORD_MAX_CHARS + 1) + ",}")
+    line = long_word.sub(lambda m: _cut(m.group(0), WORD_MAX_CHARS), line)
     return _cut(line, LINE_MAX_CHARS)
 
 
