@@ -182,13 +182,30 @@ def test_manifest_listing_a_device_or_outside_path_is_not_up_to_date(tmp_path):
     assert "('p', 'a FIFO (named pipe), not a regular file')" in r.stdout
 
 
+def test_shared_folder_manifest_fifo_refused(tmp_path):
+    """``render --out`` (a shared folder): a FIFO ``manifest.json`` is refused naming it,
+    at once, before anything is built or written."""
+    os.mkfifo(tmp_path / "manifest.json")
+    r = _python(f"""
+        from pathlib import Path
+        from cad.errors import DesignError
+        from cad.io.outdir import check_shared_files
+        try:
+            check_shared_files(Path({str(tmp_path)!r}), ["hoeken.png"])
+        except DesignError as exc:
+            print(exc)
+        """)
+    assert r.returncode == 0, r.stderr
+    assert "--out:" in r.stdout and "manifest.json exists and is not a plain file: it is a FIFO" in r.stdout
+
+
 def _device_folder(tmp_path: Path, **changes) -> Path:
     """A ``wall --build-dir`` folder with report.json holding what wall reads (the bundled
     Hoeken's linkage), changed by ``changes`` (a value None removes the key)."""
     from cad.design import load_design
 
     d = load_design(DESIGNS / "hoeken.toml")
-    rep = {"name": d.name, "motor": {"key": "maxon-re25-118743"}, **d.resolved_linkage(),
+    rep = {"name": d.name, "motor": {"key": "maxon-re35"}, **d.resolved_linkage(),
            "H11_kg_m2": 1e-5, "H12_kg_m2": 1e-6, "H22_kg_m2": 1e-6, "H33_kg_m2": 1e-6,
            "beta2_deg": 0.0}
     for k, v in changes.items():
@@ -226,6 +243,19 @@ def test_wall_build_dir_report_not_json_or_fifo(tmp_path):
     os.mkfifo(folder / "report.json")
     r = _cli(["wall", DESIGNS / "hoeken.toml", "--build-dir", folder], tmp_path)
     assert_one_line_error(r.returncode, r.stderr, "--build-dir:", "is a FIFO")
+
+
+@pytest.mark.parametrize(("xml", "needle"), [
+    ("<mujoco/>", "Invalid name 'crank'"), ("<mujoco", "XML parse error"),
+    ("<mujoco>" + "<worldbody>" + "<body>" * 100_000, "XML parse error"),
+], ids=["empty-model", "truncated", "deep"])
+def test_wall_build_dir_damaged_mjcf_is_one_line(tmp_path, xml, needle):
+    """``wall --build-dir DIR --model mujoco`` with an MJCF that mujoco cannot load, or that
+    lacks the crank joint the wall drives: one line naming the file, not a traceback."""
+    folder = _device_folder(tmp_path)
+    (folder / "hoeken.xml").write_text(xml)
+    code, _, err = hapticad("wall", DESIGNS / "hoeken.toml", "--build-dir", folder, "--model", "mujoco")
+    assert_one_line_error(code, err, "MJCF:", str(folder / "hoeken.xml"), needle)
 
 
 def test_error_line_cuts_a_megabyte_name(tmp_path):
