@@ -37,27 +37,6 @@ INERTIA_REL_EPS = 1e-9
 #: round-off ~eps/h: 1e-6 balances both near 1e-10 relative.
 FD_STEP_RAD = 1e-6
 
-#: Magnitude bounds for design lengths (mm): below 1 um or above 1 km the squares of
-#: eqs (4)-(6) lose all precision or overflow; no haptic device lives out there.
-LENGTH_MIN_MM = 1e-3
-LENGTH_MAX_MM = 1e6
-
-#: Upper bound of the force along the path (N) and of crank samples (memory: 1e6
-#: samples x a few arrays of float64 is ~100 MB).
-FORCE_MAX_N = 1e6
-SAMPLES_MAX = 1_000_000
-
-#: Largest manufacturing tolerance `hapticad tolerance` accepts (mm): beyond a few mm
-#: an error is a different design, not a tolerance (and a value in um given as mm
-#: is caught here).
-TOLERANCE_MAX_MM = 5.0
-
-#: Monte Carlo samples of `hapticad tolerance`: at least 100 for a meaningful yield,
-#: at most 2e6 (~1 GB of metric arrays would follow, and 1e6 already resolves a
-#: yield to 0.05 %).
-MC_SAMPLES_MIN = 100
-MC_SAMPLES_MAX = 2_000_000
-
 #: Largest file hapticad reads, by kind (bytes), checked (``os.stat``/``fstat``) before a
 #: byte is parsed (:mod:`cad.io.guard`, issue 22 §2): a file far larger than its kind can
 #: legitimately be is hostile or damaged, and parsing it whole would exhaust memory.
@@ -94,3 +73,26 @@ READ_MAX_BYTES = {
 #: recursion limit ~1000: a RecursionError traceback at 50 000) and OCCT's STEP reader crashed
 #: (segmentation fault) at 100 000 nested parentheses in a CARTESIAN_POINT.
 NESTING_MAX_DEPTH = 64
+
+
+#: Magnitude bounds for design lengths (mm): below 1 um or above 1 km the squares of
+#: eqs (4)-(6) lose all precision or overflow; no haptic device lives out there.
+LENGTH_MIN_MM = 1e-3
+LENGTH_MAX_MM = 1e6
+
+#: Upper bound of the force along the path (N) and of crank samples (memory: 1e6
+#: samples x a few arrays of float64 is ~100 MB).
+FORCE_MAX_N = 1e6
+SAMPLES_MAX = 1_000_000
+
+#: Largest manufacturing tolerance `hapticad tolerance` accepts (mm): beyond a few mm
+#: an error is a different design, not a tolerance (and a value in um given as mm
+#: is caught here).
+TOLERANCE_MAX_MM = 5.0
+
+#: Monte Carlo samples of `hapticad tolerance`: at least 100 for a meaningful yield,
+#: at most 2e6 (~1 GB of metric arrays would follow, and 1e6 already resolves a
+#: yield to 0.05 %).
+MC_SAMPLES_MIN = 100
+MC_SAMPLES_MAX = 2_000_000
+
