@@ -74,7 +74,6 @@ READ_MAX_BYTES = {
 #: (segmentation fault) at 100 000 nested parentheses in a CARTESIAN_POINT.
 NESTING_MAX_DEPTH = 64
 
-
 #: Magnitude bounds for design lengths (mm): below 1 um or above 1 km the squares of
 #: eqs (4)-(6) lose all precision or overflow; no haptic device lives out there.
 LENGTH_MIN_MM = 1e-3
@@ -95,4 +94,3 @@ TOLERANCE_MAX_MM = 5.0
 #: yield to 0.05 %).
 MC_SAMPLES_MIN = 100
 MC_SAMPLES_MAX = 2_000_000
-
