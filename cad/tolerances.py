@@ -74,6 +74,11 @@ READ_MAX_BYTES = {
 #: (segmentation fault) at 100 000 nested parentheses in a CARTESIAN_POINT.
 NESTING_MAX_DEPTH = 64
 
+#: Most digits of a STEP entity id (``#123``): OCCT's reader crashed (segmentation fault) on
+#: a 12-digit id and read 10- and 11-digit ones (measured, OCP 7.9); a 256 MiB file holds
+#: fewer than 10 million entities, so 9 digits (up to 999 999 999) refuse no real file.
+STEP_ENTITY_ID_MAX_DIGITS = 9
+
 #: Magnitude bounds for design lengths (mm): below 1 um or above 1 km the squares of
 #: eqs (4)-(6) lose all precision or overflow; no haptic device lives out there.
 LENGTH_MIN_MM = 1e-3

@@ -310,10 +310,30 @@ def test_deep_step_refused_before_occt(tmp_path):
     assert_one_line_error(code, err, "FILE:", str(p), "nesting too deep", "100001 levels")
 
 
-def test_occt_crash_in_the_child_is_one_line(tmp_path, monkeypatch):
-    """Without the pre-scan the same file still cannot take the command down: OCCT reads it
+def _long_id_step(tmp_path: Path, digits: int) -> Path:
+    text = BOX_STEP.read_text()
+    assert text.count("#12 ") == 1 and ",#12," in text
+    p = tmp_path / f"id{digits}.step"
+    p.write_text(text.replace("#12 ", "#" + "9" * digits + " ").replace(",#12,", ",#" + "9" * digits + ","))
+    return p
+
+
+def test_step_entity_id_too_long_refused_before_occt(tmp_path):
+    """A 12-digit entity id crashed OCCT's reader (segmentation fault); the pre-scan refuses
+    it. A 9-digit id is read: the box's 6000 mm^3 (10 x 20 x 30 mm, closed form)."""
+    p = _long_id_step(tmp_path, 12)
+    code, _, err = hapticad("massprops", p)
+    assert_one_line_error(code, err, "FILE:", str(p), "an entity id of 12 digits, the limit is 9")
+    code, out, err = hapticad("massprops", _long_id_step(tmp_path, 9), "--json")
+    assert code == 0, err
+    assert json.loads(out)["volume_mm3"] == pytest.approx(6000.0, rel=1e-9)
+
+
+@pytest.mark.parametrize("cause", ["nesting", "entity-id"])
+def test_occt_crash_in_the_child_is_one_line(tmp_path, monkeypatch, cause):
+    """Without the pre-scan such files still cannot take the command down: OCCT reads them
     in a forked child, whose segmentation fault becomes one error line naming the file."""
-    p = _deep_step(tmp_path, 100_000)
+    p = _deep_step(tmp_path, 100_000) if cause == "nesting" else _long_id_step(tmp_path, 30)
     monkeypatch.setattr(guard, "check_step", lambda path, field: None)
     monkeypatch.delenv("HAPTICAD_FORK", raising=False)
     code, _, err = hapticad("massprops", p)

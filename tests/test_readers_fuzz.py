@@ -203,6 +203,7 @@ def test_file_readers_survive_seeded_damage(tmp_path, kind):
     argv_file = tmp_path / "argv.json"
     argv_file.write_text(json.dumps([argv for _, argv, _ in cases]))
     env = {**os.environ, "OPENBLAS_NUM_THREADS": "1", "HAPTICAD_CACHE_DIR": str(tmp_path / "cache")}
+    env.pop("HAPTICAD_FORK", None)  # the default: massprops reads STEP in a forked child
     try:
         r = subprocess.run([sys.executable, "-c", _DRIVER, str(argv_file),
                             "warm-occt" if kind == "step" else "-"],

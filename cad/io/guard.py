@@ -31,7 +31,7 @@ from pathlib import Path
 from typing import Any
 
 from cad.errors import FileDamaged, FileRefused
-from cad.tolerances import NESTING_MAX_DEPTH, READ_MAX_BYTES
+from cad.tolerances import NESTING_MAX_DEPTH, READ_MAX_BYTES, STEP_ENTITY_ID_MAX_DIGITS
 
 _WHAT = (
     (stat.S_ISFIFO, "a FIFO (named pipe)"),
@@ -143,9 +143,13 @@ def nesting_depth(data: bytes, syntax: str) -> int:
     strings ``'...'`` and comments ``/* */``). Unbalanced closers count as depth 0 (the
     parser refuses them anyway). Linear time, memory ~3x ``data`` (numpy, in 4 MiB blocks).
     """
+    return _depth(_SKIP[syntax].sub(b"", data), syntax)
+
+
+def _depth(bare: bytes, syntax: str) -> int:
+    """:func:`nesting_depth` of text whose strings and comments are already removed."""
     import numpy as np
 
-    bare = _SKIP[syntax].sub(b"", data)
     opens, closes = _BRACKETS[syntax]
     step = np.zeros(256, np.int8)
     step[list(opens)] = 1
@@ -161,9 +165,11 @@ def nesting_depth(data: bytes, syntax: str) -> int:
     return deepest
 
 
-def check_nesting(data: bytes, syntax: str, path: str | os.PathLike, field: str) -> None:
-    """Refuse ``data`` (the bytes of ``path``) when it nests deeper than the limit."""
-    depth = nesting_depth(data, syntax)
+def check_nesting(data: bytes, syntax: str, path: str | os.PathLike, field: str,
+                  bare: bytes | None = None) -> None:
+    """Refuse ``data`` (the bytes of ``path``) when it nests deeper than the limit (``bare``:
+    the same text with strings and comments removed, when the caller has it)."""
+    depth = nesting_depth(data, syntax) if bare is None else _depth(bare, syntax)
     if depth > NESTING_MAX_DEPTH:
         raise FileRefused(field, Path(path), f"is not valid {syntax.upper()} for hapticad (nesting too deep: "
                           f"{depth} levels, the limit is {NESTING_MAX_DEPTH}; "
@@ -203,7 +209,15 @@ def load_toml(path: str | os.PathLike, kind: str, field: str) -> dict[str, Any]:
 
 
 def check_step(path: str | os.PathLike, field: str) -> None:
-    """Refuse a STEP file that is not a regular file within the ``step`` limit or whose
-    parentheses nest too deep (a segmentation fault in OCCT's reader), before OCCT opens it."""
+    """Refuse a STEP file that is not a regular file within the ``step`` limit, whose
+    parentheses nest too deep or that has an entity id of more than
+    :data:`cad.tolerances.STEP_ENTITY_ID_MAX_DIGITS` digits (each a segmentation fault in
+    OCCT's reader), before OCCT opens it."""
     data = read_bytes(path, "step", field)
-    check_nesting(data, "step", path, field)
+    bare = _SKIP["step"].sub(b"", data)
+    check_nesting(data, "step", path, field, bare)
+    m = re.search(rb"#(\d{%d,})" % (STEP_ENTITY_ID_MAX_DIGITS + 1), bare)
+    if m:
+        raise FileRefused(field, Path(path), f"is not valid STEP for hapticad (an entity id of "
+                          f"{len(m.group(1))} digits, the limit is {STEP_ENTITY_ID_MAX_DIGITS}; "
+                          "cad/tolerances.py STEP_ENTITY_ID_MAX_DIGITS)")
