@@ -199,7 +199,10 @@ def user_handle_shape(path: Path, params: dict):
 
     from cad.export.shapes import count_solids, is_valid
 
+    from cad.io import guard
+
     path = Path(path)
+    guard.check_file(path, "script", "parts.handle_script")  # a regular file <= 1 MiB
     with tempfile.TemporaryDirectory(prefix="hapticad-script-") as tmp:
         brep = _run_script(path, params, Path(tmp))
         shape = TopoDS_Shape()
