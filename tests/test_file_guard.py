@@ -84,6 +84,13 @@ def test_toml_and_step_scans_skip_strings_and_comments():
     assert guard.nesting_depth(b"x = " + b"[" * 50_000 + b"]" * 50_000, "toml") == 50_000
     # an unterminated string is consumed once: linear time, depth from what precedes it
     assert guard.nesting_depth(b'x = [[ """' + b'"""' * 100_000, "toml") == 2
+    # an unterminated string ending in a backslash: the scan must not backtrack (a pattern
+    # that did took seconds at 24 characters, ~2^n); 100 000 characters end at once
+    for syntax, text in (("json", b'[["' + b"a" * 100_000 + b"\\"),
+                         ("toml", b'x = [["' + b"a" * 100_000 + b"\\"),
+                         ("toml", b'x = [["""' + b"a" * 100_000 + b"\\"),
+                         ("step", b"#1 = A((('" + b"a" * 100_000 + b"'")):
+        assert guard.nesting_depth(text, syntax) == (3 if syntax == "step" else 2), syntax
 
 
 # ---------------------------------------------------------------- the file checks

@@ -198,7 +198,6 @@ def user_handle_shape(path: Path, params: dict):
     from OCP.TopoDS import TopoDS_Shape
 
     from cad.export.shapes import count_solids, is_valid
-
     from cad.io import guard
 
     path = Path(path)
