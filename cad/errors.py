@@ -62,3 +62,23 @@ class InterferenceError(HapticadError):
 
 class TargetMissed(HapticadError):
     """A computed quantity is outside its target tolerance (CLI exit 1)."""
+
+
+class FileRefused(DesignError):
+    """A file hapticad was asked to read is refused before it is parsed (:mod:`cad.io.guard`):
+    not a regular file, over its size limit, nested too deep, or not valid for its kind.
+
+    ``field`` names where the file came from (a flag or design key), ``path`` the file,
+    ``why`` the reason; the message is ``"<field>: <path> <why>"``.
+    """
+
+    def __init__(self, field: str, path, why: str):
+        self.path = str(path)
+        self.why = why
+        super().__init__(field, f"{path} {why}")
+
+
+class FileDamaged(FileRefused):
+    """A regular file within its limits whose content is not valid for its kind (not UTF-8,
+    not valid JSON or TOML): a reader that treats a damaged file as absent catches this one
+    and lets every other :class:`FileRefused` (a FIFO, a device, too large) through."""

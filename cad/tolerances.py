@@ -37,6 +37,48 @@ INERTIA_REL_EPS = 1e-9
 #: round-off ~eps/h: 1e-6 balances both near 1e-10 relative.
 FD_STEP_RAD = 1e-6
 
+#: Largest file hapticad reads, by kind (bytes), checked (``os.stat``/``fstat``) before a
+#: byte is parsed (:mod:`cad.io.guard`, issue 22 §2): a file far larger than its kind can
+#: legitimately be is hostile or damaged, and parsing it whole would exhaust memory.
+READ_MAX_BYTES = {
+    # designs/*.toml are 0.2-2.2 KB; 1 MiB is ~500x the largest and tomllib parses it in ~0.1 s
+    "design": 1 << 20,
+    # manifest.json: ~150 bytes per listed file; 16 MiB lists ~100 000 files
+    "manifest": 16 << 20,
+    # report.json of a build: tens of KB (per-sample curves included); 64 MiB is ~1000x
+    "report": 64 << 20,
+    # any other JSON hapticad wrote (a cached part's integrals, a design script's result)
+    "json": 16 << 20,
+    # a design's handle script (Python source): a few KB
+    "script": 1 << 20,
+    # an MJCF model of a build (wall --build-dir): tens of KB
+    "mjcf": 16 << 20,
+    # STEP / STL given to `massprops`: hapticad's own assembly.step is < 5 MB; 256 MiB is a
+    # ~5-million-triangle binary STL (50 bytes each, ~4x that in float64 arrays once read)
+    "step": 256 << 20,
+    "stl": 256 << 20,
+    # one cache entry (a part's BREP, derived arrays): hapticad writes a few MB at most
+    "cache": 256 << 20,
+    # a sweep's results.parquet (cad/sweep): ~200 bytes per row; 1 GiB is ~5 million rows
+    "parquet": 1 << 30,
+    # a chart hapticad wrote (optimize --out: checked it is ours before it is replaced): ~100 KB
+    "chart": 64 << 20,
+    # a small marker file hapticad writes (the owner of a temporary folder: host and pid)
+    "marker": 4 << 10,
+}
+
+#: Deepest bracket nesting accepted in a TOML or JSON file, or parenthesis nesting in a STEP
+#: file, counted by a scan before the parser runs. hapticad's designs nest 1 level (table headers),
+#: its JSON 5 (report.json), its STEP entities 3; tomllib and json recurse once per level (Python's
+#: recursion limit ~1000: a RecursionError traceback at 50 000) and OCCT's STEP reader crashed
+#: (segmentation fault) at 100 000 nested parentheses in a CARTESIAN_POINT.
+NESTING_MAX_DEPTH = 64
+
+#: Most digits of a STEP entity id (``#123``): OCCT's reader crashed (segmentation fault) on
+#: a 12-digit id and read 10- and 11-digit ones (measured, OCP 7.9); a 256 MiB file holds
+#: fewer than 10 million entities, so 9 digits (up to 999 999 999) refuse no real file.
+STEP_ENTITY_ID_MAX_DIGITS = 9
+
 #: Magnitude bounds for design lengths (mm): below 1 um or above 1 km the squares of
 #: eqs (4)-(6) lose all precision or overflow; no haptic device lives out there.
 LENGTH_MIN_MM = 1e-3

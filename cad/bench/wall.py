@@ -25,14 +25,12 @@ def _device():
     from cad.dynamics.inertia import InertiaCoefficients
     from cad.parts.catalog import get_motor
     from cad.sim import wall
-    from cad.sim.device import device_build
+    from cad.sim.device import device_build, read_device_report
 
     root = Path(__file__).resolve().parents[2]
     d = load_design(root / "designs" / "hoeken.toml")
     folder = device_build(d)
-    import json
-
-    rep = json.loads((folder / "report.json").read_text())
+    rep = read_device_report(folder, "bench")
     H = InertiaCoefficients(rep["H11_kg_m2"], rep["H12_kg_m2"], rep["H22_kg_m2"], rep["H33_kg_m2"],
                             math.radians(rep["beta2_deg"]))
     tab = wall.device_tables(d, H)

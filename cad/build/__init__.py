@@ -159,9 +159,14 @@ def cached_report(out_dir: Path, key: str) -> dict | None:
     doc = verify_manifest(out_dir)
     if doc is None or doc.get("build_key") != key:
         return None
-    try:
-        report = json.loads((Path(out_dir) / REPORT_NAME).read_text(encoding="utf-8"))
-    except (OSError, ValueError):
+    from cad.errors import FileRefused
+    from cad.io import guard
+
+    try:  # listed and hashed above; read through the guard all the same (cad/io/guard.py)
+        report = guard.load_json(Path(out_dir) / REPORT_NAME, "report", "--out")
+    except FileRefused:
+        return None
+    if not isinstance(report, dict):
         return None
     report["cached"] = True
     return report

@@ -91,6 +91,15 @@ def _rebuild_exception(module: str, qualname: str, state, message: str) -> BaseE
         return GeometryError(f"{qualname}: {message}")
 
 
+class StageDied(GeometryError):
+    """A forked stage ended without a result (killed by a signal, e.g. a segmentation fault in
+    OCCT, or exited early); ``signal`` is the signal number or None."""
+
+    def __init__(self, message: str, signal: int | None = None):
+        self.signal = signal
+        super().__init__(message)
+
+
 class Forked:
     """Handle of one stage started by :func:`start` (module docstring)."""
 
@@ -183,7 +192,8 @@ class Forked:
             if os.WIFSIGNALED(status)
             else f"exited with status {os.WEXITSTATUS(status)}"
         )
-        raise GeometryError(f"{self.label}: the forked stage {how} without a result")
+        sig = os.WTERMSIG(status) if os.WIFSIGNALED(status) else None
+        raise StageDied(f"{self.label}: the forked stage {how} without a result", sig)
 
     def cancel(self) -> None:
         """Kill and reap the child (no-op when it is done or never forked)."""

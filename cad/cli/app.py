@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import importlib
 import pkgutil
+import re
 import sys
 
 import typer
@@ -66,8 +67,41 @@ def fail(message: str, code: int = 2) -> typer.Exit:
     if code == 2:
         _error(message)
     else:
-        print(f"hapticad: error: {message}", file=sys.stderr)
+        _print_line(f"hapticad: error: {message}")
     return typer.Exit(code)
+
+
+#: An error line longer than this (characters) is cut in its middle, and any one word (a
+#: value without spaces: a name, a path) longer than :data:`WORD_MAX_CHARS` too: a
+#: megabyte-long name or a million-element list echoed whole buries the reason (issue 22 §5).
+LINE_MAX_CHARS = 1500
+WORD_MAX_CHARS = 240
+
+
+def _cut(text: str, keep: int) -> str:
+    """``text`` with its middle replaced by ``...[N characters cut]...`` when longer than ``keep``."""
+    if len(text) <= keep:
+        return text
+    head, tail = keep * 2 // 3, keep // 3
+    return f"{text[:head]}...[{len(text) - head - tail} characters cut]...{text[len(text) - tail:]}"
+
+
+def readable(line: str) -> str:
+    """``line`` cut to a readable length: every word (run without spaces) to
+    :data:`WORD_MAX_CHARS`, the whole to :data:`LINE_MAX_CHARS`, keeping both ends (the
+    field comes first, the reason and the fix last); one line (newlines become spaces)."""
+    line = " ".join(line.splitlines())
+    if len(line) <= WORD_MAX_CHARS:
+        return line
+    long_word = re.compile(r"\S{" + str(WORD_MAX_CHARS + 1) + ",}")
+    line = long_word.sub(lambda m: _cut(m.group(0), WORD_MAX_CHARS), line)
+    return _cut(line, LINE_MAX_CHARS)
+
+
+def _print_line(line: str) -> None:
+    """Print one ``hapticad: ...`` line on stderr, cut to a readable length (:func:`readable`):
+    the one place every error line of the CLI is written."""
+    print(readable(line), file=sys.stderr)
 
 
 def _error(message: str, field: str | None = None) -> None:
@@ -75,7 +109,7 @@ def _error(message: str, field: str | None = None) -> None:
     implausible-value warning (:func:`cad.design.bounds.error_line`); no warning lines."""
     from cad.design import bounds
 
-    print(f"hapticad: error: {bounds.error_line(message, field)}", file=sys.stderr)
+    _print_line(f"hapticad: error: {bounds.error_line(message, field)}")
 
 
 def print_json(obj: dict, **dumps_kwargs) -> None:
@@ -145,10 +179,10 @@ def _run_app(argv: list[str] | None) -> int:
             print(exc.ctx.get_help() if exc.ctx else "")
             return 0
         msg = _dedupe_sentences(" ".join(exc.format_message().split()))
-        print(f"hapticad: error: {msg} (see hapticad --help)", file=sys.stderr)
+        _print_line(f"hapticad: error: {msg} (see hapticad --help)")
         return int(getattr(exc, "exit_code", 2))
     except TargetMissed as exc:
-        print(f"hapticad: {exc}", file=sys.stderr)
+        _print_line(f"hapticad: {exc}")
         return 1
     except HapticadError as exc:
         _error(str(exc), getattr(exc, "field", None))

@@ -13,7 +13,6 @@ the COM, file axes, positive-definite convention), ``principal_moments_kg_m2``
 
 from __future__ import annotations
 
-import json
 import sys
 from pathlib import Path
 
@@ -52,7 +51,7 @@ def compute(
         notes.append(f"note: no --density or --material given; using {mat_name} ({rho:g} kg/m^3)")
     out: dict = {"file": str(file), "format": kind}
     if kind == "step":
-        props, vol, info = _step_props(Path(file), rho, mat_name, defaulted)
+        props, vol, info = _step_props_isolated(Path(file), rho, mat_name, defaulted)
         out.update(method="occt-exact", watertight=None, **info)
         if out.get("material") == "per-solid":
             notes = [f"note: materials per solid from {info['material_source']}"]
@@ -101,16 +100,50 @@ def file_materials(path: Path, names: list[str]) -> tuple[dict[str, str] | None,
     ``report.json`` beside it maps those names to materials (``part_materials``). ``None``
     when a solid is unnamed or not in such a map.
     """
+    from cad.errors import FileRefused
+    from cad.io import guard
+
     rep = path.parent / "report.json"
     if not rep.is_file() or not names:
         return None, ""
-    try:
-        mats = json.loads(rep.read_text()).get("part_materials")
-    except (OSError, ValueError, AttributeError):
+    try:  # a side file: anything unreadable (a FIFO, damaged, too large) is no materials map
+        mats = guard.load_json(rep, "report", "FILE").get("part_materials")
+    except (FileRefused, AttributeError):
         return None, ""
     if not isinstance(mats, dict) or not all(n in mats for n in names):
         return None, ""
     return {n: mats[n] for n in names}, f"{rep.name} beside {path.name}"
+
+
+def _step_props_isolated(path: Path, rho: float, mat_name: str | None, defaulted: bool):
+    """:func:`_step_props` after :func:`cad.io.guard.check_step` (size, parenthesis nesting),
+    run in a forked child (:mod:`cad.build.forked`) so that a crash of OCCT's STEP reader on
+    a hostile file is one error line naming the file, not a segmentation fault of the command.
+    The child's warnings are recorded again here."""
+    from cad.build import forked
+    from cad.design import bounds
+    from cad.io import guard
+
+    guard.check_step(path, "FILE")
+
+    def child():
+        import faulthandler
+
+        faulthandler.disable()  # a crash is reported by the parent in one line, not dumped
+        before = len(bounds.collected())
+        return _step_props(path, rho, mat_name, defaulted), bounds.collected()[before:]
+
+    try:
+        result, warnings = forked.Forked(child, f"massprops {path.name}").result()
+    except forked.StageDied as exc:
+        from cad.errors import FileRefused
+
+        how = f"crash (signal {exc.signal})" if exc.signal else "stop without a result"
+        raise FileRefused("FILE", path, f"made OCCT's STEP reader {how} (read in a child "
+                          "process): the file is damaged or hostile") from None
+    for text in warnings:
+        bounds.warn(text)
+    return result
 
 
 def _step_props(path: Path, rho: float, mat_name: str | None, defaulted: bool):

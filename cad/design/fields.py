@@ -7,7 +7,7 @@ and the reason, quoting the value received.
 from __future__ import annotations
 
 import math
-import tomllib
+import os
 from collections.abc import Iterable
 from pathlib import Path
 from typing import Any
@@ -20,19 +20,17 @@ def _path(prefix: str, key: str) -> str:
 
 
 def load_toml(path: str | Path) -> dict[str, Any]:
-    """Read a TOML file; a missing file or bad syntax is a DesignError."""
+    """Read a design's TOML through :func:`cad.io.guard.load_toml` (a regular file of at most
+    1 MiB, nested at most 64 levels); a missing file, a folder, a FIFO or device, or bad
+    syntax is a DesignError (field ``design``) naming the file and the reason."""
+    from cad.io import guard
+
     p = Path(path)
     if p.is_dir():
         raise DesignError("design", f"{p} is a folder, not a design file (give the .toml file)")
-    if not p.is_file():
+    if not os.path.lexists(p):
         raise DesignError("design", f"file not found: {p}")
-    try:
-        with p.open("rb") as fh:
-            return tomllib.load(fh)
-    except tomllib.TOMLDecodeError as exc:
-        raise DesignError("design", f"{p} is not valid TOML ({exc})") from None
-    except UnicodeDecodeError:
-        raise DesignError("design", f"{p} is not UTF-8 text") from None
+    return guard.load_toml(p, "design", "design")
 
 
 def check_unknown(table: dict[str, Any], allowed: Iterable[str], prefix: str) -> None:

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import os
 from pathlib import Path
 
 from cad.io.atomic import write_text_atomic
@@ -47,14 +48,27 @@ def write_manifest(out_dir: Path, extra: dict | None = None) -> Path:
 
 
 def verify_manifest(out_dir: Path) -> dict | None:
-    """The manifest of ``out_dir`` if every listed file exists with its sha256, else None."""
+    """The manifest of ``out_dir`` if every listed file exists with its sha256, else None.
+
+    The manifest is read through :mod:`cad.io.guard` (a FIFO, a device or an oversized one is
+    a mismatch, never read); a listed path must stay inside ``out_dir`` (relative, no ``..``)
+    and name a regular file of the listed size before it is hashed (``/dev/zero`` never ends).
+    """
+    from cad.errors import FileRefused
+    from cad.io import guard
+
     path = Path(out_dir) / MANIFEST_NAME
     try:
-        doc = json.loads(path.read_text(encoding="utf-8"))
+        doc = guard.load_json(path, "manifest", "--out")
         for row in doc["files"]:
-            p = Path(out_dir) / row["path"]
-            if p.stat().st_size != row["bytes"] or sha256_file(p) != row["sha256"]:
+            rel = Path(str(row["path"]))
+            if rel.is_absolute() or ".." in rel.parts:
                 return None
-    except (OSError, ValueError, KeyError, TypeError):
+            st = os.lstat(Path(out_dir) / rel)
+            if guard.not_regular(st.st_mode) or st.st_size != row["bytes"]:
+                return None
+            if sha256_file(Path(out_dir) / rel) != row["sha256"]:
+                return None
+    except (FileRefused, OSError, KeyError, TypeError, AttributeError):
         return None
     return doc

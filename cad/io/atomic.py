@@ -191,9 +191,12 @@ def _stale_dir(path: str, name: str) -> bool:
     if m is None:
         return False
     pid = int(m.group(2))
-    try:
-        lines = Path(path, OWNER_FILE).read_text(encoding="utf-8").splitlines()
-    except (OSError, UnicodeDecodeError):
+    from cad.errors import FileRefused
+    from cad.io import guard
+
+    try:  # never a FIFO or a device planted as the owner file (cad/io/guard.py)
+        lines = guard.read_text(Path(path, OWNER_FILE), "marker", "owner").splitlines()
+    except FileRefused:
         return False
     host = socket.gethostname()
     return lines[:2] == [host, str(pid)] and pid != os.getpid() and not _pid_alive(pid)

@@ -160,10 +160,13 @@ def entry_path(kind: str, key: Any, code: tuple[str, ...] = ()) -> Path | None:
 
 
 def _read(path: Path) -> bytes | None:
-    try:
-        data = path.read_bytes()
-        want = path.with_name(path.name + ".sha256").read_text(encoding="ascii").strip()
-    except (OSError, UnicodeDecodeError):
+    from cad.errors import FileRefused
+    from cad.io import guard
+
+    try:  # a regular file of bounded size, or a miss (cad/io/guard.py)
+        data = guard.read_bytes(path, "cache", "cache")
+        want = guard.read_text(path.with_name(path.name + ".sha256"), "marker", "cache", "ascii").strip()
+    except (FileRefused, OSError):
         return None
     if hashlib.sha256(data).hexdigest() != want:
         return None

@@ -25,18 +25,37 @@ import hashlib
 import json
 import os
 from pathlib import Path
+from typing import Any
 
-from cad.errors import DesignError
+from cad.errors import DesignError, FileRefused
 
 MANIFEST_NAME = "manifest.json"
 
 
-def _listed(folder: Path) -> dict[str, str]:
-    """``{relative POSIX path: sha256}`` from ``folder/manifest.json`` ({} when unreadable)."""
+def _manifest_doc(folder: Path, field: str = "--out") -> Any:
+    """The parsed ``folder/manifest.json`` through :func:`cad.io.guard.load_json`; None when
+    it is absent or damaged (not JSON). A FIFO, a device, a link to one, an oversized or a too
+    deeply nested manifest raises :class:`cad.errors.FileRefused` (never read: issue 22 §2)."""
+    from cad.errors import FileDamaged
+    from cad.io import guard
+
+    path = folder / MANIFEST_NAME
+    if not os.path.lexists(path):
+        return None
     try:
-        doc = json.loads((folder / MANIFEST_NAME).read_text(encoding="utf-8"))
-        return {str(r["path"]): str(r["sha256"]) for r in doc["files"]}
-    except (OSError, ValueError, KeyError, TypeError):
+        return guard.load_json(path, "manifest", field)
+    except FileDamaged:
+        return None
+
+
+def _listed(folder: Path, field: str = "--out") -> dict[str, dict]:
+    """``{relative POSIX path: {"sha256", "bytes"}}`` from ``folder/manifest.json`` ({} when
+    absent or damaged; FileRefused when hostile: :func:`_manifest_doc`)."""
+    doc = _manifest_doc(folder, field)
+    try:
+        return {str(r["path"]): {"sha256": str(r["sha256"]), "bytes": r.get("bytes")}
+                for r in doc["files"]}
+    except (KeyError, TypeError, AttributeError):
         return {}
 
 
@@ -48,13 +67,30 @@ def _sha256(path: Path) -> str:
     return h.hexdigest()
 
 
+def _changed(p: Path, row: dict) -> str | None:
+    """Why the file ``p`` differs from its manifest ``row``, or None. A FIFO or device is never
+    opened (it would block or never end); the size is compared before the file is hashed."""
+    from cad.io import guard
+
+    st = os.lstat(p)
+    what = guard.not_regular(st.st_mode)
+    if what is not None:
+        return f"{what}, not a regular file"
+    if isinstance(row.get("bytes"), int) and row["bytes"] != st.st_size:
+        return "changed since hapticad wrote it"
+    return "changed since hapticad wrote it" if _sha256(p) != row["sha256"] else None
+
+
 def foreign_entry(folder: Path) -> tuple[str, str] | None:
     """The first entry of ``folder`` hapticad did not write, as ``(relative path, why)``,
     or None when the folder is absent or owned (module docstring)."""
     folder = Path(folder)
     if not os.path.lexists(folder):
         return None
-    listed = _listed(folder)
+    try:
+        listed = _listed(folder)
+    except FileRefused as exc:
+        return MANIFEST_NAME, exc.why
     parents = {p.rsplit("/", 1)[0] for p in listed if "/" in p}
     parents |= {"/".join(p.split("/")[:i]) for p in parents for i in range(1, p.count("/") + 1)}
     for root, dirs, files in os.walk(folder):
@@ -69,8 +105,9 @@ def foreign_entry(folder: Path) -> tuple[str, str] | None:
                 continue
             if rel not in listed:
                 return rel, "not listed in its manifest.json"
-            if _sha256(p) != listed[rel]:
-                return rel, "changed since hapticad wrote it"
+            why = _changed(p, listed[rel])
+            if why:
+                return rel, why
         for d in dirs:
             rel = (rel_root / d).as_posix()
             if not os.path.islink(os.path.join(root, d)) and rel not in parents:
@@ -140,7 +177,7 @@ def check_shared_files(folder: Path, names: list[str], flag: str = "--out") -> N
         raise DesignError(
             flag, f"{folder / MANIFEST_NAME} exists and is {why}; move it away or name another folder"
         )
-    listed = _listed(folder)
+    listed = _listed(folder, flag)
     for name in names:
         p = folder / name
         if not os.path.lexists(p):
@@ -150,8 +187,8 @@ def check_shared_files(folder: Path, names: list[str], flag: str = "--out") -> N
             why = "not a plain file"
         elif name not in listed:
             why = "not written by hapticad (not in its manifest.json)"
-        elif _sha256(p) != listed[name]:
-            why = "changed since hapticad wrote it"
+        else:
+            why = _changed(p, listed[name])
         if why:
             raise DesignError(
                 flag, f"{p} exists and is {why}; move it away or name another folder"
@@ -162,14 +199,19 @@ def _foreign_manifest(path: Path) -> str | None:
     """Why ``path`` (an existing ``manifest.json``) is not one hapticad writes -- a JSON
     object whose ``files`` is a list of ``{"path": str, "sha256": str, ...}`` -- or None
     (also None when it does not exist)."""
+    from cad.errors import FileDamaged
+    from cad.io import guard
+
     if not os.path.lexists(path):
         return None
-    if path.is_symlink() or not path.is_file():
-        return "not a plain file"
+    if path.is_symlink():
+        return "not a plain file (a symbolic link)"
     try:
-        doc = json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, ValueError):
+        doc = guard.load_json(path, "manifest", "--out")
+    except FileDamaged:
         return "not a hapticad manifest (not readable JSON)"
+    except FileRefused as exc:
+        return f"not a plain file: it {exc.why}"
     rows = doc.get("files") if isinstance(doc, dict) else None
     if not isinstance(rows, list) or not all(
         isinstance(r, dict) and isinstance(r.get("path"), str) and isinstance(r.get("sha256"), str)
@@ -185,10 +227,10 @@ def record_shared_files(folder: Path, names: list[str]) -> None:
     from cad.io.atomic import write_text_atomic
 
     folder = Path(folder)
+    doc = _manifest_doc(folder)  # check_shared_files refused a hostile one before the writes
     try:
-        doc = json.loads((folder / MANIFEST_NAME).read_text(encoding="utf-8"))
         rows = {str(r["path"]): r for r in doc["files"]}
-    except (OSError, ValueError, KeyError, TypeError):
+    except (KeyError, TypeError, AttributeError):
         doc, rows = {}, {}
     for name in names:
         p = folder / name

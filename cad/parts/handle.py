@@ -143,7 +143,10 @@ def script_timeout_s() -> float:
 
 
 def script_sha256(path: Path) -> str:
-    return hashlib.sha256(path.read_bytes()).hexdigest()
+    """sha256 of the handle script, read through :mod:`cad.io.guard` (a regular file <= 1 MiB)."""
+    from cad.io import guard
+
+    return hashlib.sha256(guard.read_bytes(path, "script", "parts.handle_script")).hexdigest()
 
 
 def _run_script(path: Path, params: dict, workdir: Path) -> Path:
@@ -167,9 +170,13 @@ def _run_script(path: Path, params: dict, workdir: Path) -> Path:
             "parts.handle_script",
             f"{path} did not finish within {timeout:g} s (HAPTICAD_SCRIPT_TIMEOUT_S); stopped",
         ) from None
+    from cad.errors import FileRefused
+    from cad.io import guard
+
     try:
-        doc = json.loads(result.read_text(encoding="utf-8"))
-    except (OSError, ValueError):
+        doc = guard.load_json(result, "json", "parts.handle_script")
+        doc = doc if isinstance(doc, dict) else {"error": f"result {doc!r} is not an object"}
+    except FileRefused:
         tail = (proc.stderr.decode("utf-8", "replace").strip().splitlines() or [""])[-1]
         raise DesignError(
             "parts.handle_script",
@@ -191,8 +198,10 @@ def user_handle_shape(path: Path, params: dict):
     from OCP.TopoDS import TopoDS_Shape
 
     from cad.export.shapes import count_solids, is_valid
+    from cad.io import guard
 
     path = Path(path)
+    guard.check_file(path, "script", "parts.handle_script")  # a regular file <= 1 MiB
     with tempfile.TemporaryDirectory(prefix="hapticad-script-") as tmp:
         brep = _run_script(path, params, Path(tmp))
         shape = TopoDS_Shape()

@@ -71,8 +71,11 @@ def _payload_text(payload: dict) -> str:
 
 def _read(path: Path, key: str):
     """The integrals stored for ``key`` in ``path``, or None (module docstring: a miss)."""
-    try:
-        doc = json.loads(path.read_text(encoding="utf-8"))
+    from cad.errors import FileRefused
+    from cad.io import guard
+
+    try:  # a regular file of bounded size, or a miss (cad/io/guard.py)
+        doc = guard.load_json(path, "cache", "cache")
         payload = doc["payload"]
         if hashlib.sha256(_payload_text(payload).encode()).hexdigest() != doc["sha256"]:
             return None
@@ -81,7 +84,7 @@ def _read(path: Path, key: str):
         vol = float(payload["volume_mm3"])
         com = np.array(payload["com_mm"], dtype=float).reshape(3)
         inertia = np.array(payload["inertia_com_mm5"], dtype=float).reshape(3, 3)
-    except (OSError, ValueError, KeyError, TypeError, AttributeError):
+    except (FileRefused, OSError, ValueError, KeyError, TypeError, AttributeError):
         return None
     if not (math.isfinite(vol) and vol > 0 and np.all(np.isfinite(com)) and np.all(np.isfinite(inertia))):
         return None

@@ -55,10 +55,13 @@ def _read(path: Path):
     from OCP.BRepTools import BRepTools
     from OCP.TopoDS import TopoDS_Shape
 
-    try:
-        data = path.read_bytes()
-        want = _hash_path(path).read_text(encoding="ascii").strip()
-    except (OSError, UnicodeDecodeError):
+    from cad.errors import FileRefused
+    from cad.io import guard
+
+    try:  # a regular file of bounded size, or a miss (cad/io/guard.py)
+        data = guard.read_bytes(path, "cache", "cache")
+        want = guard.read_text(_hash_path(path), "marker", "cache", "ascii").strip()
+    except (FileRefused, OSError):
         return None
     if hashlib.sha256(data).hexdigest() != want:
         return None

@@ -10,8 +10,8 @@ and the code are unchanged (the build cache), or read from ``build_dir``.
 
 from __future__ import annotations
 
-import json
 import math
+import os
 import tempfile
 import time
 from pathlib import Path
@@ -26,15 +26,53 @@ def _cache_root() -> Path | None:
     return None if d is None else d.parent / "sim"
 
 
+#: The numbers ``wall`` reads from a build's ``report.json`` (:func:`read_device_report`).
+REPORT_NUMBERS = ("l1_mm", "l2_mm", "l3_mm", "le_mm", "H11_kg_m2", "H12_kg_m2", "H22_kg_m2",
+                  "H33_kg_m2", "beta2_deg")
+
+
+def read_device_report(folder: Path, field: str) -> dict:
+    """``folder/report.json`` through :func:`cad.io.guard.load_json`, with every value ``wall``
+    uses checked: ``name`` and ``motor.key`` strings, :data:`REPORT_NUMBERS` finite numbers.
+    Anything else is :class:`cad.errors.FileRefused` (field ``field``) naming the file and the
+    first missing or wrong key, never a KeyError/TypeError traceback (issue 22 §2)."""
+    from cad.errors import FileRefused
+    from cad.io import guard
+
+    path = Path(folder) / "report.json"
+    rep = guard.load_json(path, "report", field)
+    fix = "; rebuild it: hapticad build DESIGN --formats mjcf --out DIR"
+
+    def bad(key: str, want: str, got) -> FileRefused:
+        seen = "it is missing" if got is None else f"got {got!r}"
+        return FileRefused(field, path, f"is not a hapticad build report: {key} must be {want}, "
+                           f"{seen}{fix}")
+
+    if not isinstance(rep, dict):
+        raise FileRefused(field, path, f"is not a hapticad build report (not a JSON object){fix}")
+    motor = rep.get("motor")
+    for key, val in (("name", rep.get("name")), ("motor.key", motor.get("key") if isinstance(motor, dict) else None)):
+        if not isinstance(val, str):
+            raise bad(key, "a string", val)
+    for key in REPORT_NUMBERS:
+        val = rep.get(key)
+        if isinstance(val, bool) or not isinstance(val, (int, float)) or not math.isfinite(val):
+            raise bad(key, "a finite number", val)
+    return rep
+
+
 def device_build(design, build_dir: Path | None = None) -> Path:
     """Folder holding ``report.json`` and ``<name>.xml`` of the design (module docstring)."""
     if build_dir is not None:
         build_dir = Path(build_dir)
         rep_path = build_dir / "report.json"
-        if not (rep_path.is_file() and (build_dir / f"{design.name}.xml").is_file()):
+        if not (os.path.lexists(rep_path) and os.path.lexists(build_dir / f"{design.name}.xml")):
             raise DesignError("--build-dir", f"{build_dir} holds no report.json and {design.name}.xml "
                               "(run hapticad build DESIGN --formats mjcf --out DIR first)")
-        rep = json.loads(rep_path.read_text(encoding="utf-8"))
+        from cad.io import guard
+
+        rep = read_device_report(build_dir, "--build-dir")
+        guard.check_file(build_dir / f"{design.name}.xml", "mjcf", "--build-dir")
         want = design.resolved_linkage()
         if rep.get("name") != design.name or any(
             abs(rep.get(k, math.inf) - want[k]) > 1e-9 for k in ("l1_mm", "l2_mm", "l3_mm", "le_mm")
@@ -64,7 +102,7 @@ def wall_report(design, *, K: float | None = None, B: float = 0.0, Te_s: float |
                           "(Fv_N_s_per_m, Fs_N, Te_s, encoder_resolution_m, xdot_max_m_per_s)")
     t0 = time.perf_counter()
     folder = device_build(design, build_dir)
-    rep = json.loads((folder / "report.json").read_text(encoding="utf-8"))
+    rep = read_device_report(folder, "--build-dir" if build_dir is not None else "wall")
     H = InertiaCoefficients(rep["H11_kg_m2"], rep["H12_kg_m2"], rep["H22_kg_m2"], rep["H33_kg_m2"],
                             math.radians(rep["beta2_deg"]))
     from cad.build.sim_fourbar import motor_torque_Nm

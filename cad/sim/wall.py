@@ -234,16 +234,33 @@ class MujocoWall:
         from cad.sim import mj
 
         self.mujoco, self.mj = mujoco, mj
-        self.m, self.d = mj.load(mjcf_path)
         self.tab, self.spec = tab, spec
-        self.q = mj.joint_qpos(self.m, "crank")
-        self.v = mj.joint_dof(self.m, "crank")
-        self.site = self.m.site("handle").id
+        self._load(mjcf_path)
         self.nsub = max(1, math.ceil(spec.Te_s / MJ_STEP_MAX_S))
         self.m.opt.timestep = spec.Te_s / self.nsub
         self.m.actuator_ctrlrange[0] = (-spec.tau_max_Nm, spec.tau_max_Nm)
         self.m.actuator_forcerange[0] = (-spec.tau_max_Nm, spec.tau_max_Nm)
         self.xhat = np.array([*tab.x_axis, 0.0])
+
+    def _load(self, mjcf_path) -> None:
+        """The model and what the wall uses of it (crank joint, handle site, one actuator);
+        a file that is not a regular file within the ``mjcf`` limit, not loadable or lacking
+        one of those is :class:`cad.errors.FileDamaged` naming it, never a traceback."""
+        from cad.errors import FileDamaged
+        from cad.io import guard
+
+        guard.check_file(mjcf_path, "mjcf", "MJCF")
+        try:
+            self.m, self.d = self.mj.load(mjcf_path)
+            self.q = self.mj.joint_qpos(self.m, "crank")
+            self.v = self.mj.joint_dof(self.m, "crank")
+            self.site = self.m.site("handle").id
+            if self.m.nu < 1:
+                raise ValueError("no actuator")
+        except (ValueError, KeyError, IndexError) as exc:
+            first = (str(exc).strip().splitlines() or [type(exc).__name__])[0]
+            raise FileDamaged("MJCF", mjcf_path, f"is not the MJCF of a hapticad build (mujoco: "
+                              f"{first}); rebuild it: hapticad build DESIGN --formats mjcf") from None
 
     def reset(self, phi: float, omega: float, friction: bool = True) -> None:
         """Crank at ``phi`` (loop closed by MuJoCo's constraint rows), crank rate ``omega``."""
