@@ -191,6 +191,9 @@ def read_table(out: Path, keys: list[str]) -> list[dict[str, Any]]:
     p = out / TABLE
     if _regular(p) is None:
         return []
+    from cad.io.guard import check_file
+
+    check_file(p, "parquet", "--out")  # the size limit of every file hapticad reads
     why = f"; move {p.name} away to restart the sweep there, or name another --out"
     try:
         table = pq.read_table(p)
