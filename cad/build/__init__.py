@@ -25,8 +25,9 @@ default the whole package).
 
 Build cache: the dispatcher hashes the design object, the build options and the source
 code (``CODE_DEPS``) into ``build_key``. When ``out_dir/manifest.json`` already
-carries that key and every listed file still has its sha256, nothing is rebuilt and no
-CAD library is imported (the report is read back, ``"cached": true``).
+carries that key, every listed file still has its size and sha256 and every file the report
+names is listed, nothing is rebuilt and no CAD library is imported (the report is read back,
+``"cached": true``); otherwise the folder is built again, whole.
 """
 
 from __future__ import annotations
@@ -137,7 +138,12 @@ def build_key(
 
 
 def cached_report(out_dir: Path, key: str) -> dict | None:
-    """The report of an up-to-date build in ``out_dir`` (manifest key and hashes match), else None."""
+    """The report of an up-to-date build in ``out_dir``, else None (a rebuild).
+
+    Up to date: the manifest carries ``key``, every file it lists has its size and sha256,
+    and it lists every file the build made -- ``report.json`` (itself listed, so checked by
+    hash) names them all, so a part file deleted together with its manifest row is a miss.
+    """
     from cad.export.manifest import verify_manifest
 
     doc = verify_manifest(out_dir)
@@ -145,7 +151,11 @@ def cached_report(out_dir: Path, key: str) -> dict | None:
         return None
     try:
         report = json.loads((Path(out_dir) / REPORT_NAME).read_text(encoding="utf-8"))
-    except (OSError, ValueError):
+        listed = {str(row["path"]) for row in doc["files"]}
+        made = report["files"]
+    except (OSError, ValueError, KeyError, TypeError):
+        return None
+    if REPORT_NAME not in listed or not isinstance(made, list) or not set(map(str, made)) <= listed:
         return None
     report["cached"] = True
     return report

@@ -108,8 +108,10 @@ def run(argv: list[str] | None = None) -> int:
     error line carries their unit-slip hint instead (:func:`cad.design.bounds.error_line`).
     """
     from cad.design import bounds
+    from cad.io import cache_faults
 
     bounds.reset()
+    cache_faults.reset()  # a cache write fault is said once per command
     code = _run(argv)
     if code != 2:
         bounds.flush()
