@@ -175,7 +175,9 @@ def main() -> None:
     signals.install()
     try:
         code = run()
+        signals.finish()  # the command is over: a later signal cannot kill the process
     except BaseException:
+        signals.finish()
         if signals.received() is None or signals.committed():
             raise
         code = _aborted()  # e.g. an ImportError raised by a library interrupted mid-import
