@@ -167,9 +167,18 @@ def register(app: typer.Typer) -> None:
             0.0, "--proportions-tol",
             help="Four-bars: also perturb the family's link proportions by up to this fraction "
                  "(0 = keep them; at most 0.2)."),
+        allow_scripts: bool = typer.Option(
+            False, "--allow-scripts", help="Run the design's [parts] handle_script (inside its folder)."
+        ),
+        allow_scripts_anywhere: bool = typer.Option(
+            False, "--allow-scripts-anywhere", help="Run handle_script from any path."
+        ),
     ) -> None:
         """Maximize the GII (pantographs) or minimize the apparent mass (four-bars)."""
         from cad.cli import flags
+        from cad.parts.handle import set_script_policy
+
+        set_script_policy(allow_scripts, allow_scripts_anywhere)
         from cad.cli.cmd_gii import load_pantograph_design
         from cad.errors import DesignError
 
@@ -184,6 +193,7 @@ def register(app: typer.Typer) -> None:
         from cad.design import load_design
 
         loaded = load_design(design)
+        flags.design_script(loaded)  # exit 2 naming the opt-in, as build does, before the search
         if getattr(loaded, "family", None) in FOURBAR_FAMILIES:
             if method is not None:
                 raise DesignError("--method", f"{method!r} is for pantograph designs; a four-bar "

@@ -25,6 +25,7 @@ import sys
 from dataclasses import dataclass
 from typing import Any
 
+from cad import tolerances as _tol
 from cad.errors import DesignError
 
 
@@ -366,6 +367,67 @@ FLAGS: dict[str, Bound] = {
     "--proportions-tol": Bound("", 0.0, 0.2, "a fraction of each link ratio: beyond 0.2 the linkage "
                                "is no longer the family's (Fig. 2 ratios)", slips=(("%", 0.01),)),
 }
+
+
+# ----------------------------------------------------------------------------- work
+#: Counts of ``hapticad tolerance`` (Monte Carlo samples, crank angles per sample).
+MC_SAMPLES = Bound("", _tol.MC_SAMPLES_MIN, _tol.MC_SAMPLES_MAX, "at least 100 for a meaningful yield; 1e6 samples already "
+                   "resolve a yield to 0.05 %", integer=True)
+MC_ANGLES = Bound("", 11, 20001, "at least 11 crank angles to bracket the extrema (then refined "
+                  "to 1e-7 rad); more than 20001 adds nothing", integer=True)
+
+
+@dataclass(frozen=True)
+class Work:
+    """What one command may be asked to do: its counts, each with its :class:`Bound`, and
+    their product (the evaluations it will run) at most ``max_product`` -- each count within
+    its bound does not keep the product within time and memory (issue 22 §5)."""
+
+    counts: tuple[tuple[str, Bound], ...]
+    max_product: float
+    unit: str
+    reason: str
+
+
+#: The work bounds of every command that multiplies counts (checked at load by
+#: :func:`check_work`, before any work; the README's work table is :func:`work_table`).
+WORK: dict[str, Work] = {
+    "tolerance": Work(
+        (("--samples", MC_SAMPLES), ("--angles", MC_ANGLES)), _tol.MC_SAMPLES_MAX * 401,
+        "sample-angle evaluations",
+        "2e6 samples at the default 401 angles, the largest run the --samples bound allows: "
+        "0.75-1.1 us per sample-angle measured (1e5 samples x 401 angles in 30-46 s), "
+        "so 10-15 min; more is hours"),
+}
+
+
+def check_work(command: str, counts: dict[str, Any]) -> int:
+    """Check each count of ``command`` against its bound, then their product against
+    :data:`WORK`; return the product. DesignError naming the flags, their product, the limit
+    and the reason (exit 2 at load)."""
+    work = WORK[command]
+    product = 1
+    for flag, bound in work.counts:
+        product *= int(check_number(flag, counts[flag], bound))
+    if product > work.max_product:
+        flags = [f for f, _ in work.counts]
+        typed = " x ".join(f"{counts[f]:g}" for f in flags)
+        raise DesignError(
+            " x ".join(flags),
+            f"{typed} = {product:.3g} {work.unit} is more than {work.max_product:.3g} "
+            f"({work.reason}); lower {' or '.join(flags)}")
+    return product
+
+
+def work_table() -> str:
+    """The README's work-bounds table: command, counts multiplied, limit, why."""
+    rows = ["| command | each count | work = their product | at most | why |",
+            "|---|---|---|---|---|"]
+    for cmd, w in WORK.items():
+        each = "; ".join(f"`{f}` {b.range_text()} ({b.reason})" for f, b in w.counts)
+        names = " × ".join(f"`{f}`" for f, _ in w.counts)
+        rows.append(f"| `{cmd}` | {each} | {names} ({w.unit}) | {w.max_product:.3g} | {w.reason} |")
+    return "\n".join(rows)
 
 
 # ----------------------------------------------------------------------------- warnings
