@@ -80,3 +80,14 @@ def test_optimize_on_a_scripted_design_names_the_opt_in_like_build(tmp_path):
         code, _, err = hapticad(*argv)
         assert_one_line_error(code, err, "parts.handle_script", "--allow-scripts", "optimize")
     assert sorted(p.name for p in tmp_path.iterdir()) == ["d.toml", "handle_cq.py"]
+
+
+def test_every_test_the_readme_reliability_table_names_exists():
+    import re
+
+    text = (ROOT / "README.md").read_text(encoding="utf-8")
+    section = text.split("### Reliability promises", 1)[1].split("\n### ", 1)[0]
+    named = re.findall(r"`(tests/[\w/]+\.py)::(\w+)`", section)
+    assert len(named) >= 15
+    for path, name in named:
+        assert f"def {name}(" in (ROOT / path).read_text(encoding="utf-8"), (path, name)
