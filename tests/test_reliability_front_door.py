@@ -34,11 +34,30 @@ def test_tolerance_product_of_samples_and_angles_is_refused_at_load(tmp_path):
 
 
 def test_work_bound_is_the_largest_run_each_flag_allowed_at_the_default_angles():
-    assert bounds.check_work("tolerance", {"--samples": 2_000_000, "--angles": 401}) == 802_000_000
+    def work(samples, angles):
+        return bounds.check_work("tolerance", [("--samples", samples), ("--angles", angles)])
+
+    assert work(2_000_000, 401) == 802_000_000
     with pytest.raises(DesignError, match=r"--samples x --angles"):
-        bounds.check_work("tolerance", {"--samples": 2_000_000, "--angles": 402})
+        work(2_000_000, 402)
     with pytest.raises(DesignError, match=r"--angles: must be in \[11, 20001\]"):
-        bounds.check_work("tolerance", {"--samples": 100, "--angles": 20002})
+        work(100, 20002)
+
+
+@pytest.mark.parametrize(("old", "new", "needles"), [
+    ("grid = 11 ", "grid = 100000 ", ("workspace.grid", "1e+10 workspace samples", "1e+06")),
+    ("base_mm = [0.0, 400.0, 17]", "base_mm = [0.0, 400.0, 100000]",
+     ("optimize", "100000 x 20 x 20 x 121", "4.84e+09", "2e+08")),
+])
+def test_pantograph_work_is_bounded_by_the_same_table(tmp_path, old, new, needles):
+    """The pantograph families' workspace samples and [optimize] pairs go through the same
+    :data:`cad.design.bounds.WORK` (one place): one line, exit 2, at load."""
+    text = (ROOT / "designs" / "pantograph.toml").read_text(encoding="utf-8")
+    assert old in text
+    design = tmp_path / "p.toml"
+    design.write_text(text.replace(old, new), encoding="utf-8")
+    code, _, err = hapticad("optimize", str(design))
+    assert_one_line_error(code, err, *needles)
 
 
 def test_readme_shows_the_work_table():

@@ -57,7 +57,6 @@ def register(app: typer.Typer) -> None:
         json_out: bool = typer.Option(False, "--json", help="Print one JSON object."),
     ) -> None:
         """Monte Carlo of hole, pivot and length tolerances: distributions, yield, sensitivity (no CAD)."""
-        from cad import tolerances as tol
         from cad.checks import merge_targets
         from cad.cli import flags
         from cad.cli.cmd_analyze import parse_inertia_option
@@ -73,7 +72,7 @@ def register(app: typer.Typer) -> None:
                             ("--length-mm", length_mm), ("--seed", seed)):
             flags.number(flag, value)
         flags.out_path("--out", out, folder=True)
-        bounds.check_work("tolerance", {"--samples": samples, "--angles": angles})  # and their product
+        bounds.check_work("tolerance", [("--samples", samples), ("--angles", angles)])  # and product
         tols = tolerances_from_flags(hole_mm, hole or [], pivot_mm, pivot or [], length_mm,
                                      length or [], distribution)
         cli = tuple(parse_cli_target(t) for t in (target or []))

@@ -379,54 +379,72 @@ MC_ANGLES = Bound("", 11, 20001, "at least 11 crank angles to bracket the extrem
 
 @dataclass(frozen=True)
 class Work:
-    """What one command may be asked to do: its counts, each with its :class:`Bound`, and
-    their product (the evaluations it will run) at most ``max_product`` -- each count within
-    its bound does not keep the product within time and memory (issue 22 §5)."""
+    """What one command may be asked to do: the product of some counts (the evaluations or
+    the memory it will need) at most ``max_product`` -- each count within its own bound does
+    not keep the product within time and memory. ``counts``: the counts checked one by one
+    first (name, :class:`Bound`); ``of``: what is multiplied, for the README table."""
 
-    counts: tuple[tuple[str, Bound], ...]
+    commands: str
+    of: str
     max_product: float
     unit: str
     reason: str
+    counts: tuple[tuple[str, Bound], ...] = ()
 
 
-#: The work bounds of every command that multiplies counts (checked at load by
-#: :func:`check_work`, before any work; the README's work table is :func:`work_table`).
+#: Every work bound (checked at load by :func:`check_work`, before any work; the README's
+#: work table is :func:`work_table`).
 WORK: dict[str, Work] = {
     "tolerance": Work(
-        (("--samples", MC_SAMPLES), ("--angles", MC_ANGLES)), _tol.MC_SAMPLES_MAX * 401,
+        "tolerance", "`--samples` × `--angles`", _tol.MC_SAMPLES_MAX * 401,
         "sample-angle evaluations",
         "2e6 samples at the default 401 angles, the largest run the --samples bound allows: "
         "0.75-1.1 us per sample-angle measured (1e5 samples x 401 angles in 30-46 s), "
-        "so 10-15 min; more is hours"),
+        "so 10-15 min; more is hours",
+        (("--samples", MC_SAMPLES), ("--angles", MC_ANGLES))),
+    "workspace": Work(
+        "every command loading a pantograph-family design",
+        "workspace samples: `workspace.grid`² (5-bar), × `theta_grid` (twin), "
+        "`grid` x·y·z × `rotation_grid`² (pen)", 1_000_000, "workspace samples",
+        "one GII of the pen's 6x5 Jacobians and their temporaries costs ~0.5 kB per sample: "
+        "1e6 samples ~ 0.5 GB"),
+    "optimize": Work(
+        "optimize (pantograph families)", "product of the `[optimize]` counts × workspace samples",
+        200_000_000, "(candidate, sample) pairs",
+        "culling keeps one bool per pair (2e8 pairs = 200 MB) and brute force evaluates them all"),
 }
 
 
-def check_work(command: str, counts: dict[str, Any]) -> int:
-    """Check each count of ``command`` against its bound, then their product against
-    :data:`WORK`; return the product. DesignError naming the flags, their product, the limit
-    and the reason (exit 2 at load)."""
-    work = WORK[command]
+def check_work(name: str, factors: list[tuple[str, Any]], field: str | None = None,
+               advice: str = "") -> int:
+    """Check the counts of :data:`WORK` ``[name]`` that have a bound, then the product of
+    ``factors`` (label, count) against its limit; return the product. DesignError (``field``,
+    default the labels joined by " x ") naming each factor, the product, the limit and the
+    reason -- exit 2 at load. ``advice``: what to lower (default: the labels)."""
+    work = WORK[name]
+    given = dict(factors)
+    for label, bound in work.counts:
+        check_number(label, given[label], bound)
     product = 1
-    for flag, bound in work.counts:
-        product *= int(check_number(flag, counts[flag], bound))
+    for _, v in factors:
+        product *= int(v)
     if product > work.max_product:
-        flags = [f for f, _ in work.counts]
-        typed = " x ".join(f"{counts[f]:g}" for f in flags)
+        labels = list(dict.fromkeys(lbl for lbl, _ in factors))
+        typed = " x ".join(f"{v:g}" for _, v in factors)
         raise DesignError(
-            " x ".join(flags),
-            f"{typed} = {product:.3g} {work.unit} is more than {work.max_product:.3g} "
-            f"({work.reason}); lower {' or '.join(flags)}")
+            field or " x ".join(labels),
+            f"{' x '.join(lbl for lbl, _ in factors)} = {typed} = {product:.3g} {work.unit}, more "
+            f"than {work.max_product:.3g} ({work.reason}); {advice or 'lower ' + ' or '.join(labels)}")
     return product
 
 
 def work_table() -> str:
-    """The README's work-bounds table: command, counts multiplied, limit, why."""
-    rows = ["| command | each count | work = their product | at most | why |",
+    """The README's work-bounds table: commands, what is multiplied, each count, limit, why."""
+    rows = ["| commands | work = product of | each count | at most | why |",
             "|---|---|---|---|---|"]
-    for cmd, w in WORK.items():
-        each = "; ".join(f"`{f}` {b.range_text()} ({b.reason})" for f, b in w.counts)
-        names = " × ".join(f"`{f}`" for f, _ in w.counts)
-        rows.append(f"| `{cmd}` | {each} | {names} ({w.unit}) | {w.max_product:.3g} | {w.reason} |")
+    for w in WORK.values():
+        each = "; ".join(f"`{f}` {b.range_text()} ({b.reason})" for f, b in w.counts) or "—"
+        rows.append(f"| {w.commands} | {w.of} ({w.unit}) | {each} | {w.max_product:.3g} | {w.reason} |")
     return "\n".join(rows)
 
 
