@@ -195,8 +195,9 @@ def build_design(
     """
     if fidelity not in FIDELITIES:
         raise DesignError("--fidelity", f"must be one of {', '.join(FIDELITIES)}, got {fidelity!r}")
-    from cad.io import cache_limit
+    from cad.io import cache_faults, cache_limit
 
+    cache_faults.writable()  # the cache-fault flag exists before any stage is forked (shared)
     cache_limit.max_bytes()  # a bad HAPTICAD_CACHE_MAX_MB is refused before anything is made
     out_dir = Path(out_dir)
     check = functools.partial(check_out_dir, design_source=getattr(design, "source", None))
