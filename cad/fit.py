@@ -317,7 +317,9 @@ def fit(raw: dict, source: str, targets: tuple[Target, ...], free: list[FreePara
                 0 if p.kind == "choice" else float(min(max(x0, p.lo), p.hi)))
         if n_grid is None or n_grid > GRID_MAX:
             study.enqueue_trial(first)
-        study.optimize(study_objective, n_trials=n)
+        from cad.codesign.search import optimize_study
+
+        optimize_study(study, study_objective, n)  # an interrupt: KeyboardInterrupt, no log
     obj, _, vals = min(scored.values(), key=lambda t: (t[0], t[1]))
     cur = with_values(vals)
     final_vals = objective(cur)[1]

@@ -25,8 +25,9 @@ default the whole package).
 
 Build cache: the dispatcher hashes the design object, the build options and the source
 code (``CODE_DEPS``) into ``build_key``. When ``out_dir/manifest.json`` already
-carries that key and every listed file still has its sha256, nothing is rebuilt and no
-CAD library is imported (the report is read back, ``"cached": true``).
+carries that key, every listed file still has its size and sha256 and every file the report
+names is listed, nothing is rebuilt and no CAD library is imported (the report is read back,
+``"cached": true``); otherwise the folder is built again, whole.
 """
 
 from __future__ import annotations
@@ -153,7 +154,12 @@ def build_key(
 
 
 def cached_report(out_dir: Path, key: str) -> dict | None:
-    """The report of an up-to-date build in ``out_dir`` (manifest key and hashes match), else None."""
+    """The report of an up-to-date build in ``out_dir``, else None (a rebuild).
+
+    Up to date: the manifest carries ``key``, every file it lists has its size and sha256,
+    and it lists every file the build made -- ``report.json`` (itself listed, so checked by
+    hash) names them all, so a part file deleted together with its manifest row is a miss.
+    """
     from cad.export.manifest import verify_manifest
 
     doc = verify_manifest(out_dir)
@@ -164,9 +170,11 @@ def cached_report(out_dir: Path, key: str) -> dict | None:
 
     try:  # listed and hashed above; read through the guard all the same (cad/io/guard.py)
         report = guard.load_json(Path(out_dir) / REPORT_NAME, "report", "--out")
-    except FileRefused:
+        listed = {str(row["path"]) for row in doc["files"]}
+        made = report["files"]
+    except (FileRefused, KeyError, TypeError):
         return None
-    if not isinstance(report, dict):
+    if REPORT_NAME not in listed or not isinstance(made, list) or not set(map(str, made)) <= listed:
         return None
     report["cached"] = True
     return report
@@ -206,8 +214,9 @@ def build_design(
     """
     if fidelity not in FIDELITIES:
         raise DesignError("--fidelity", f"must be one of {', '.join(FIDELITIES)}, got {fidelity!r}")
-    from cad.io import cache_limit
+    from cad.io import cache_faults, cache_limit
 
+    cache_faults.writable()  # the cache-fault flag exists before any stage is forked (shared)
     cache_limit.max_bytes()  # a bad HAPTICAD_CACHE_MAX_MB is refused before anything is made
     out_dir = Path(out_dir)
     check = functools.partial(check_out_dir, design_source=getattr(design, "source", None))

@@ -142,8 +142,10 @@ def run(argv: list[str] | None = None) -> int:
     error line carries their unit-slip hint instead (:func:`cad.design.bounds.error_line`).
     """
     from cad.design import bounds
+    from cad.io import cache_faults
 
     bounds.reset()
+    cache_faults.reset()  # a cache write fault is said once per command
     code = _run(argv)
     if code != 2:
         bounds.flush()
@@ -207,7 +209,9 @@ def main() -> None:
     signals.install()
     try:
         code = run()
+        signals.finish()  # the command is over: a later signal cannot kill the process
     except BaseException:
+        signals.finish()
         if signals.received() is None or signals.committed():
             raise
         code = _aborted()  # e.g. an ImportError raised by a library interrupted mid-import

@@ -39,9 +39,10 @@ def register(app: typer.Typer) -> None:
         json_out: bool = typer.Option(False, "--json", help="Print one JSON object."),
     ) -> None:
         """Show (or clear) the shape, derived, mass-property and simulator caches."""
-        from cad.io.cache_limit import cache_root
+        from cad.io.cache_limit import cache_root, max_bytes
         from cad.io.cache_limit import clear as clear_all
 
+        max_bytes()  # a bad HAPTICAD_CACHE_MAX_MB is refused before anything is removed
         root = cache_root()
         removed = None
         if clear and root is not None and root.is_dir():

@@ -174,9 +174,18 @@ def register(app: typer.Typer) -> None:
         no_starts: bool = typer.Option(
             False, "--no-starts",
             help="Four-bars: leave out the hand-written starting guesses (TPE from random trials only)."),
+        allow_scripts: bool = typer.Option(
+            False, "--allow-scripts", help="Run the design's [parts] handle_script (inside its folder)."
+        ),
+        allow_scripts_anywhere: bool = typer.Option(
+            False, "--allow-scripts-anywhere", help="Run handle_script from any path."
+        ),
     ) -> None:
         """Maximize the GII (pantographs) or minimize the apparent mass (four-bars)."""
         from cad.cli import flags
+        from cad.parts.handle import set_script_policy
+
+        set_script_policy(allow_scripts, allow_scripts_anywhere)
         from cad.cli.cmd_gii import load_pantograph_design
         from cad.errors import DesignError
 
@@ -191,6 +200,7 @@ def register(app: typer.Typer) -> None:
         from cad.design import load_design
 
         loaded = load_design(design)
+        flags.design_script(loaded)  # exit 2 naming the opt-in, as build does, before the search
         if getattr(loaded, "family", None) in FOURBAR_FAMILIES:
             if method is not None:
                 raise DesignError("--method", f"{method!r} is for pantograph designs; a four-bar "

@@ -25,6 +25,7 @@ def render_designs(paths: list[Path], out: Path, fidelity: str | None = None) ->
     import importlib
 
     from cad.build import FIDELITIES, build_design, builder_module_name
+    from cad.cli import flags
     from cad.design import load_design
     from cad.errors import DesignError
     from cad.io.atomic import write_bytes_atomic
@@ -42,10 +43,7 @@ def render_designs(paths: list[Path], out: Path, fidelity: str | None = None) ->
             mod = None
         if not getattr(mod, "VIEW_EXPORT", False):
             raise DesignError(str(p), f"rendering {d.family!r} designs is not available")
-        if getattr(getattr(d, "parts", None), "handle_script", None) is not None:
-            from cad.parts.handle import resolve_script
-
-            resolve_script(d.parts, d.source)  # a script not allowed: refused before any build
+        flags.design_script(d)  # a script not allowed: refused before any build
         if hasattr(mod, "check_options"):  # what the build would refuse, before any build
             try:
                 mod.check_options(d, fid, None)

@@ -60,7 +60,6 @@ def register(app: typer.Typer) -> None:
         json_out: bool = typer.Option(False, "--json", help="Print one JSON object."),
     ) -> None:
         """Monte Carlo of hole, pivot and length tolerances: distributions, yield, sensitivity (no CAD)."""
-        from cad import tolerances as tol
         from cad.checks import merge_targets
         from cad.cli import flags
         from cad.cli.cmd_analyze import parse_inertia_option
@@ -76,10 +75,7 @@ def register(app: typer.Typer) -> None:
                             ("--length-mm", length_mm), ("--seed", seed)):
             flags.number(flag, value)
         flags.out_path("--out", out, folder=True)
-        if not tol.MC_SAMPLES_MIN <= samples <= tol.MC_SAMPLES_MAX:
-            raise DesignError("--samples", f"must be in [{tol.MC_SAMPLES_MIN}, {tol.MC_SAMPLES_MAX}], got {samples}")
-        if not 11 <= angles <= 20001:
-            raise DesignError("--angles", f"must be in [11, 20001], got {angles}")
+        bounds.check_work("tolerance", [("--samples", samples), ("--angles", angles)])  # and product
         tols = tolerances_from_flags(hole_mm, hole or [], pivot_mm, pivot or [], length_mm,
                                      length or [], distribution)
         cli = tuple(parse_cli_target(t) for t in (target or []))

@@ -58,3 +58,13 @@ def out_path(flag: str, path: Path | None, *, folder: bool) -> Path | None:
     if not folder and p.is_dir():
         raise DesignError(flag, f"{p} is a folder; give a file name (e.g. {p / 'new.toml'})")
     return p
+
+
+def design_script(design) -> None:
+    """Refuse (DesignError ``parts.handle_script``, naming the opt-in flags) a design whose
+    handle script the opt-in does not allow -- at load, before any work; nothing when the
+    design has no script (:func:`cad.parts.handle.resolve_script`)."""
+    if getattr(getattr(design, "parts", None), "handle_script", None) is not None:
+        from cad.parts.handle import resolve_script
+
+        resolve_script(design.parts, design.source)

@@ -367,11 +367,48 @@ def run(pb: Problem, trials: int, seed: int = 0,
 
     for start in STARTS if starts else ():
         study.enqueue_trial(start)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")  # optuna's experimental-feature warnings (multivariate TPE)
-        study.optimize(objective, n_trials=trials)
+    optimize_study(study, objective, trials)
     cands.sort(key=lambda c: c.cheap["M11_max_g"])
     return cands, records
+
+
+def optimize_study(study, objective, n_trials: int) -> None:
+    """``study.optimize(objective, n_trials=n_trials)`` that Ctrl-C / SIGTERM ends cleanly.
+
+    optuna catches a ``KeyboardInterrupt`` raised in a trial and logs it with its traceback
+    before re-raising it. Here the trials run with the signals deferred
+    (:func:`cad.io.signals.deferred`: only recorded): the next trial sees the signal, stops the
+    study and counts as pruned (nothing logged at optuna's WARNING level); an interrupt raised
+    all the same (no handlers installed, Python API) does the same. Then
+    ``KeyboardInterrupt`` is raised here: the CLI prints ``hapticad: aborted``, exit 130/143.
+    Latency: at most one trial. optuna's experimental-feature warnings are silenced.
+    """
+    import warnings
+
+    import optuna
+
+    from cad.io import signals
+
+    stopped: list[bool] = []
+
+    def stop():
+        stopped.append(True)
+        study.stop()
+        return optuna.TrialPruned("interrupted")
+
+    def trial_fn(trial):
+        if signals.received() is not None:
+            raise stop()
+        try:
+            return objective(trial)
+        except KeyboardInterrupt:
+            raise stop() from None
+
+    with signals.deferred(), warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # optuna's experimental-feature warnings (multivariate TPE)
+        study.optimize(trial_fn, n_trials=n_trials)
+    if stopped:
+        raise KeyboardInterrupt
 
 
 def pareto(records: list[dict], x: str = "M11_max_g", y: str = "torque_variation") -> list[dict]:

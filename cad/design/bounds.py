@@ -25,6 +25,7 @@ import sys
 from dataclasses import dataclass
 from typing import Any
 
+from cad import tolerances as _tol
 from cad.errors import DesignError
 
 
@@ -366,6 +367,85 @@ FLAGS: dict[str, Bound] = {
     "--proportions-tol": Bound("", 0.0, 0.2, "a fraction of each link ratio: beyond 0.2 the linkage "
                                "is no longer the family's (Fig. 2 ratios)", slips=(("%", 0.01),)),
 }
+
+
+# ----------------------------------------------------------------------------- work
+#: Counts of ``hapticad tolerance`` (Monte Carlo samples, crank angles per sample).
+MC_SAMPLES = Bound("", _tol.MC_SAMPLES_MIN, _tol.MC_SAMPLES_MAX, "at least 100 for a meaningful yield; 1e6 samples already "
+                   "resolve a yield to 0.05 %", integer=True)
+MC_ANGLES = Bound("", 11, 20001, "at least 11 crank angles to bracket the extrema (then refined "
+                  "to 1e-7 rad); more than 20001 adds nothing", integer=True)
+
+
+@dataclass(frozen=True)
+class Work:
+    """What one command may be asked to do: the product of some counts (the evaluations or
+    the memory it will need) at most ``max_product`` -- each count within its own bound does
+    not keep the product within time and memory. ``counts``: the counts checked one by one
+    first (name, :class:`Bound`); ``of``: what is multiplied, for the README table."""
+
+    commands: str
+    of: str
+    max_product: float
+    unit: str
+    reason: str
+    counts: tuple[tuple[str, Bound], ...] = ()
+
+
+#: Every work bound (checked at load by :func:`check_work`, before any work; the README's
+#: work table is :func:`work_table`).
+WORK: dict[str, Work] = {
+    "tolerance": Work(
+        "tolerance", "`--samples` × `--angles`", _tol.MC_SAMPLES_MAX * 401,
+        "sample-angle evaluations",
+        "2e6 samples at the default 401 angles, the largest run the --samples bound allows: "
+        "0.75-1.1 us per sample-angle measured (1e5 samples x 401 angles in 30-46 s), "
+        "so 10-15 min; more is hours",
+        (("--samples", MC_SAMPLES), ("--angles", MC_ANGLES))),
+    "workspace": Work(
+        "every command loading a pantograph-family design",
+        "workspace samples: `workspace.grid`² (5-bar), × `theta_grid` (twin), "
+        "`grid` x·y·z × `rotation_grid`² (pen)", 1_000_000, "workspace samples",
+        "one GII of the pen's 6x5 Jacobians and their temporaries costs ~0.5 kB per sample: "
+        "1e6 samples ~ 0.5 GB"),
+    "optimize": Work(
+        "optimize (pantograph families)", "product of the `[optimize]` counts × workspace samples",
+        200_000_000, "(candidate, sample) pairs",
+        "culling keeps one bool per pair (2e8 pairs = 200 MB) and brute force evaluates them all"),
+}
+
+
+def check_work(name: str, factors: list[tuple[str, Any]], field: str | None = None,
+               advice: str = "") -> int:
+    """Check the counts of :data:`WORK` ``[name]`` that have a bound, then the product of
+    ``factors`` (label, count) against its limit; return the product. DesignError (``field``,
+    default the labels joined by " x ") naming each factor, the product, the limit and the
+    reason -- exit 2 at load. ``advice``: what to lower (default: the labels)."""
+    work = WORK[name]
+    given = dict(factors)
+    for label, bound in work.counts:
+        check_number(label, given[label], bound)
+    product = 1
+    for _, v in factors:
+        product *= int(v)
+    if product > work.max_product:
+        labels = list(dict.fromkeys(lbl for lbl, _ in factors))
+        typed = " x ".join(f"{v:g}" for _, v in factors)
+        raise DesignError(
+            field or " x ".join(labels),
+            f"{' x '.join(lbl for lbl, _ in factors)} = {typed} = {product:.3g} {work.unit}, more "
+            f"than {work.max_product:.3g} ({work.reason}); {advice or 'lower ' + ' or '.join(labels)}")
+    return product
+
+
+def work_table() -> str:
+    """The README's work-bounds table: commands, what is multiplied, each count, limit, why."""
+    rows = ["| commands | work = product of | each count | at most | why |",
+            "|---|---|---|---|---|"]
+    for w in WORK.values():
+        each = "; ".join(f"`{f}` {b.range_text()} ({b.reason})" for f, b in w.counts) or "—"
+        rows.append(f"| {w.commands} | {w.of} ({w.unit}) | {each} | {w.max_product:.3g} | {w.reason} |")
+    return "\n".join(rows)
 
 
 # ----------------------------------------------------------------------------- warnings

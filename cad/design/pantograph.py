@@ -68,12 +68,8 @@ FAMILIES = ("pantograph", "twin-pantograph", "haptic-pen")
 #: kilometres bracket every haptic device with margin.
 MAGNITUDE_MIN = 1e-6
 MAGNITUDE_MAX = 1e9
-#: Most workspace samples one GII may take: the pen's 6x5 Jacobians and their
-#: temporaries cost ~0.5 kB per sample, so 1e6 samples ~ 0.5 GB.
-MAX_WORKSPACE_SAMPLES = 1_000_000
-#: Most (candidate, sample) pairs an [optimize] table may span: culling keeps one
-#: bool per pair (2e8 pairs = 200 MB) and brute force evaluates them all.
-MAX_OPTIMIZE_PAIRS = 200_000_000
+#: Workspace samples and [optimize] (candidate, sample) pairs: bounded in
+#: :data:`cad.design.bounds.WORK` (one place for every command's work).
 
 _MECH_KEYS = {
     "pantograph": (
@@ -440,27 +436,22 @@ def _check_magnitudes(
 def _check_sizes(
     family: str, workspace: dict[str, Any], optimize: dict[str, tuple[float, float, int]]
 ) -> None:
-    """Workspace samples <= MAX_WORKSPACE_SAMPLES; optimize pairs <= MAX_OPTIMIZE_PAIRS."""
+    """Workspace samples and (candidate, sample) pairs within :data:`cad.design.bounds.WORK`."""
+    from cad.design.bounds import check_work
+
+    g = workspace["grid"]
     if family == "pantograph":
-        n, field = workspace["grid"] ** 2, "workspace.grid"
+        factors = [("workspace.grid", g), ("workspace.grid", g)]
     elif family == "twin-pantograph":
-        n, field = workspace["grid"] ** 2 * workspace["theta_grid"], "workspace.grid"
+        factors = [("workspace.grid", g), ("workspace.grid", g), ("workspace.theta_grid", workspace["theta_grid"])]
     else:
-        g = workspace["grid"]
-        n, field = g[0] * g[1] * g[2] * workspace["rotation_grid"] ** 2, "workspace.grid"
-    if n > MAX_WORKSPACE_SAMPLES:
-        raise DesignError(
-            field, f"gives {n} workspace samples, more than {MAX_WORKSPACE_SAMPLES}: sample coarser"
-        )
-    m = 1
-    for _, _, count in optimize.values():
-        m *= count
-    if m * n > MAX_OPTIMIZE_PAIRS:
-        raise DesignError(
-            "optimize",
-            f"{m} candidates x {n} samples = {m * n} pairs, more than {MAX_OPTIMIZE_PAIRS}: "
-            "use fewer counts or a coarser workspace grid",
-        )
+        r = workspace["rotation_grid"]
+        factors = [*((f"workspace.grid[{i}]", g[i]) for i in range(3)),
+                   ("workspace.rotation_grid", r), ("workspace.rotation_grid", r)]
+    n = check_work("workspace", factors, "workspace.grid", "sample coarser")
+    check_work("optimize", [*((f"optimize.{k}", c) for k, (_, _, c) in optimize.items()),
+                            ("workspace samples", n)], "optimize",
+               "use fewer counts or a coarser workspace grid")
 
 
 def _parse_optimize(raw: dict[str, Any], family: str) -> dict[str, tuple[float, float, int]]:

@@ -7,7 +7,11 @@ What the format forces and how it is handled (measured with OCCT 7.9.3 / build12
   written to memory first).
 * ``NEXT_ASSEMBLY_USAGE_OCCURRENCE`` ids of an assembly come from a counter that
   OCCT keeps for the whole process, so a second export in the same process numbers
-  them differently; :func:`_normalise_nauo` renumbers them 1, 2, ... in file order.
+  them differently. They are set to 1, 2, ... in file order in the STEP model before it is
+  written (:func:`_number_nauo`): renumbering the text afterwards kept the line wrapping of
+  the counter's wider id, so the pantograph's ``assembly.step`` depended on how many STEP
+  files the process had written before -- i.e. on what the cache held (issue 22 §6).
+  :func:`_normalise_nauo` stays as a check of the same order on the text.
 
 * the colour styles of an assembly (one ``MECHANICAL_DESIGN_GEOMETRIC_PRESENTATION_REPRESENTATION``
   block per part at the end of the file) come out in an order that changes from run to
@@ -113,12 +117,72 @@ def _labelled(shape, name: str, color):
     return obj
 
 
-def _write(obj) -> bytes:
-    from build123d import export_step
+def _number_nauo(model) -> None:
+    """Set the id of every ``NEXT_ASSEMBLY_USAGE_OCCURRENCE`` of the STEP ``model`` to 1, 2,
+    ... in entity (= file) order, before writing: the text and its line wrapping are then
+    the same whatever OCCT's process-wide counter held."""
+    from OCP.TCollection import TCollection_HAsciiString
 
+    k = 0
+    for i in range(1, model.NbEntities() + 1):
+        ent = model.Value(i)
+        if ent.DynamicType().Name() == "StepRepr_NextAssemblyUsageOccurrence":
+            k += 1
+            ent.SetId(TCollection_HAsciiString(str(k)))
+
+
+def _write_doc(doc, name: str | None, system: str, *, part: bool) -> bytes:
+    """An XCAF ``doc`` as AP214 STEP bytes with the fixed header; ``part``: build123d's
+    ``export_step`` settings (layers, precision mode, IGES controller), else the assembly's."""
+    from OCP.APIHeaderSection import APIHeaderSection_MakeHeader
+    from OCP.IFSelect import IFSelect_ReturnStatus
+    from OCP.IGESControl import IGESControl_Controller
+    from OCP.Interface import Interface_Static
+    from OCP.Message import Message, Message_Gravity
+    from OCP.STEPCAFControl import STEPCAFControl_Controller, STEPCAFControl_Writer
+    from OCP.STEPControl import STEPControl_Controller, STEPControl_StepModelType
+    from OCP.TCollection import TCollection_HAsciiString
+    from OCP.XSControl import XSControl_WorkSession
+
+    for printer in Message.DefaultMessenger_s().Printers():
+        printer.SetTraceLevel(Message_Gravity.Message_Fail)
+    writer = STEPCAFControl_Writer(XSControl_WorkSession(), False)
+    writer.SetColorMode(True)
+    if part:
+        writer.SetLayerMode(True)
+    writer.SetNameMode(True)
+    header = APIHeaderSection_MakeHeader(writer.Writer().Model())
+    if not header.IsDone():
+        header = APIHeaderSection_MakeHeader(0)
+        header.Apply(writer.Writer().Model())
+    if name:
+        header.SetName(TCollection_HAsciiString(name))
+    header.SetTimeStamp(TCollection_HAsciiString(STEP_TIMESTAMP))
+    header.SetOriginatingSystem(TCollection_HAsciiString(system))
+    STEPCAFControl_Controller.Init_s()
+    STEPControl_Controller.Init_s()
+    if part:
+        IGESControl_Controller.Init_s()
+    Interface_Static.SetIVal_s("write.surfacecurve.mode", 1)
+    if part:
+        from build123d.build_enums import PrecisionMode
+
+        Interface_Static.SetIVal_s("write.precision.mode", PrecisionMode.AVERAGE.value)
+    writer.Transfer(doc, STEPControl_StepModelType.STEPControl_AsIs)
+    _number_nauo(writer.Writer().Model())
     buf = io.BytesIO()
-    export_step(obj, buf, timestamp=STEP_TIMESTAMP)
+    if writer.WriteStream(buf) != IFSelect_ReturnStatus.IFSelect_RetDone:
+        raise OSError("OCCT failed to write the STEP file")
     return _normalise_nauo(buf.getvalue())
+
+
+def _write(obj) -> bytes:
+    """``obj`` (a labelled build123d shape) as build123d's ``export_step`` writes it (its XCAF
+    document, its writer settings), with the fixed header and canonical NAUO ids."""
+    from build123d.build_enums import Unit
+    from build123d.exporters3d import _create_xde  # the document export_step writes
+
+    return _write_doc(_create_xde(obj, Unit.MM, auto_naming=True), obj.label, "build123d", part=True)
 
 
 def step_bytes(shape, name: str, color: tuple[float, float, float] | None = None) -> bytes:
@@ -136,21 +200,14 @@ def assembly_step_bytes(items, name: str) -> bytes:
     build123d, instances of one part -- identical geometry -- end up as one product named
     after the last instance.)
     """
-    from OCP.APIHeaderSection import APIHeaderSection_MakeHeader
     from OCP.BRepBuilderAPI import BRepBuilderAPI_Copy
-    from OCP.IFSelect import IFSelect_ReturnStatus
-    from OCP.Interface import Interface_Static
-    from OCP.Message import Message, Message_Gravity
     from OCP.Quantity import Quantity_Color, Quantity_TOC_sRGB
-    from OCP.STEPCAFControl import STEPCAFControl_Controller, STEPCAFControl_Writer
-    from OCP.STEPControl import STEPControl_Controller, STEPControl_StepModelType
-    from OCP.TCollection import TCollection_ExtendedString, TCollection_HAsciiString
+    from OCP.TCollection import TCollection_ExtendedString
     from OCP.TDataStd import TDataStd_Name
     from OCP.TDocStd import TDocStd_Document
     from OCP.TopLoc import TopLoc_Location
     from OCP.XCAFApp import XCAFApp_Application
     from OCP.XCAFDoc import XCAFDoc_ColorType, XCAFDoc_DocumentTool
-    from OCP.XSControl import XSControl_WorkSession
 
     doc = TDocStd_Document(TCollection_ExtendedString("XmlOcaf"))
     app = XCAFApp_Application.GetApplication_s()
@@ -178,24 +235,4 @@ def assembly_step_bytes(items, name: str) -> bytes:
         comp = shapes.AddComponent(asm, part, loc)
         TDataStd_Name.Set_s(comp, TCollection_ExtendedString(pname))
     shapes.UpdateAssemblies()
-
-    for printer in Message.DefaultMessenger_s().Printers():
-        printer.SetTraceLevel(Message_Gravity.Message_Fail)
-    writer = STEPCAFControl_Writer(XSControl_WorkSession(), False)
-    writer.SetColorMode(True)
-    writer.SetNameMode(True)
-    header = APIHeaderSection_MakeHeader(writer.Writer().Model())
-    if not header.IsDone():
-        header = APIHeaderSection_MakeHeader(0)
-        header.Apply(writer.Writer().Model())
-    header.SetName(TCollection_HAsciiString(name))
-    header.SetTimeStamp(TCollection_HAsciiString(STEP_TIMESTAMP))
-    header.SetOriginatingSystem(TCollection_HAsciiString("hapticad"))
-    STEPCAFControl_Controller.Init_s()
-    STEPControl_Controller.Init_s()
-    Interface_Static.SetIVal_s("write.surfacecurve.mode", 1)
-    writer.Transfer(doc, STEPControl_StepModelType.STEPControl_AsIs)
-    buf = io.BytesIO()
-    if writer.WriteStream(buf) != IFSelect_ReturnStatus.IFSelect_RetDone:
-        raise OSError("OCCT failed to write the assembly STEP")
-    return _canonical_styles(_normalise_nauo(buf.getvalue()))
+    return _canonical_styles(_write_doc(doc, name, "hapticad", part=False))

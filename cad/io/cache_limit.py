@@ -62,8 +62,8 @@ def max_bytes() -> int | None:
     raw = os.environ.get("HAPTICAD_CACHE_MAX_MB")
     if raw is None or not raw.strip():
         return int(DEFAULT_MAX_MB * 1e6)
-    if raw.strip().lower() in ("off", "none", "0"):
-        return None
+    if raw.strip().lower() in ("off", "none"):
+        return None  # 0 is not "no cap": refused below, as the README says
     try:
         mb = float(raw)
     except ValueError:

@@ -17,7 +17,8 @@ here, next to the shape cache, under a key made of:
 
 Integrity as in the shape cache: each entry ``<key>.bin`` has its sha256 in
 ``<key>.bin.sha256``, checked before the value is decoded; a mismatch, a missing hash or a
-value that does not decode is a miss (recomputed and rewritten). Values are raw bytes,
+value that does not decode is a miss (recomputed and rewritten); a failed write is a fault
+of :mod:`cad.io.cache_faults` (said once, the command carries on without the cache). Values are raw bytes,
 JSON, or numpy arrays (``np.savez``, read with ``allow_pickle=False``): nothing is
 unpickled. ``HAPTICAD_CACHE_DIR=off`` disables this cache together with the shape cache.
 """
@@ -210,11 +211,13 @@ def cached(
                 return value
     STATS["misses"] += 1
     value = make()
-    if path is not None:
+    from cad.io import cache_faults
+
+    if path is not None and cache_faults.writable():
         try:
             _write(path, encode(value))
-        except OSError:
-            pass  # read-only or full disk: work without the cache
+        except Exception as exc:  # noqa: BLE001 - read-only or full disk: work without the cache
+            cache_faults.write_failed("a derived entry", exc)
     return value
 
 

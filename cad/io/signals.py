@@ -12,6 +12,7 @@ publish), runs the rename(s) with signals only recorded, and if one arrived mean
 caller's ``undo`` puts everything back. After a commit went through, later signals are
 only recorded: the published output is complete and the command finishes (exit code as
 usual). :func:`check` is a checkpoint between build stages (a forked stage's result).
+:func:`finish` ends the command: signals are blocked until the process has exited.
 """
 
 from __future__ import annotations
@@ -96,6 +97,16 @@ def exit_now(code: int) -> None:
         with contextlib.suppress(Exception):
             stream.flush()
     os._exit(code)
+
+
+def finish() -> None:
+    """The command is over (its exit code is known): from here SIGINT/SIGTERM are only
+    recorded and then blocked -- held by the kernel and discarded when the process exits.
+    Without this a signal during the interpreter's shutdown (which restores the default
+    dispositions) killed a finished command by the signal, no ``aborted`` line."""
+    _state["deferred"] += 1
+    with contextlib.suppress(AttributeError, OSError, ValueError):  # no pthread_sigmask
+        signal.pthread_sigmask(signal.SIG_BLOCK, SIGNALS)
 
 
 def reset() -> None:

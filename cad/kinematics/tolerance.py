@@ -77,8 +77,17 @@ ZOOM_SECOND_PEAK_REL = 0.01
 #: in the geometry and refined to ~1e-12 mm, so 1e-4 mm keeps truncation (~h^2) and
 #: round-off (~1e-12 / h) both below 1e-7 relative.
 FD_STEP_MM = 1e-4
-#: samples evaluated per vectorized batch (memory ~ CHUNK x angles x 30 float64 arrays)
+#: samples evaluated per vectorized batch at the default 401 crank angles (memory ~ CHUNK x
+#: angles x 30 float64 arrays, ~200 MB); with more angles a batch holds fewer samples
+#: (:func:`chunk_rows`), so memory stays there whatever ``--angles`` is (20001 angles at 2048
+#: samples per batch was ~10 GB). Samples are independent rows: the batch size changes no value.
 CHUNK = 2048
+DEFAULT_ANGLES = 401
+
+
+def chunk_rows(angles: int) -> int:
+    """Samples per vectorized batch for ``angles`` crank angles (at least 1, at most CHUNK)."""
+    return max(1, min(CHUNK, CHUNK * DEFAULT_ANGLES // max(int(angles), 1)))
 
 
 @dataclass(frozen=True)
@@ -335,14 +344,15 @@ class ToleranceStudy:
     phi1_max_rad: float
     force_N: float
     tolerances: tuple[Tolerance, ...]
-    angles: int = 401
+    angles: int = DEFAULT_ANGLES
     H: object = None
 
     def metrics(self, e: np.ndarray) -> dict[str, np.ndarray]:
-        """Metrics for error rows ``e`` (S, V) mm, evaluated in chunks of :data:`CHUNK`."""
+        """Metrics for error rows ``e`` (S, V) mm, evaluated in batches of :func:`chunk_rows`."""
         parts = []
-        for i in range(0, max(e.shape[0], 1), CHUNK):
-            p = perturbed_params(self.linkage, self.tolerances, e[i:i + CHUNK])
+        rows = chunk_rows(self.angles)
+        for i in range(0, max(e.shape[0], 1), rows):
+            p = perturbed_params(self.linkage, self.tolerances, e[i:i + rows])
             parts.append(batch_metrics(p, self.linkage.branch, self.phi1_min_rad, self.phi1_max_rad,
                                        self.force_N, self.angles, self.H))
         return {k: np.concatenate([pp[k] for pp in parts]) for k in parts[0]}

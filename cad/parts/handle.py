@@ -114,7 +114,7 @@ def resolve_script(parts, design_source: str) -> Path | None:
         raise DesignError(
             "parts.handle_script",
             f"the design wants to run the Python script {p}; design scripts run only with "
-            "--allow-scripts (build, check, fit) or HAPTICAD_ALLOW_SCRIPTS=1",
+            "--allow-scripts (build, check, fit, optimize) or HAPTICAD_ALLOW_SCRIPTS=1",
         )
     if not p.is_file():
         raise DesignError("parts.handle_script", f"file not found: {p}")

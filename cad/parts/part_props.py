@@ -101,11 +101,15 @@ def _write(path: Path, key: str, vol: float, com, inertia) -> None:
                "com_mm": [float(x) for x in np.asarray(com).reshape(3)],
                "inertia_com_mm5": [[float(x) for x in row] for row in np.asarray(inertia).reshape(3, 3)]}
     doc = {"payload": payload, "sha256": hashlib.sha256(_payload_text(payload).encode()).hexdigest()}
+    from cad.io import cache_faults
+
+    if not cache_faults.writable():
+        return
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
         write_text_atomic(path, json.dumps(doc, sort_keys=True) + "\n")
-    except OSError:
-        pass  # read-only home or full disk: work without the cache
+    except Exception as exc:  # noqa: BLE001 - read-only home or full disk: work without the cache
+        cache_faults.write_failed("a mass-property entry", exc)
 
 
 def _integrate(shape):

@@ -10,6 +10,8 @@ and their exports are byte-identical.
 Integrity: each entry ``<key>.brep`` has its sha256 in ``<key>.brep.sha256``; the hash is
 checked before OCCT parses the file (a truncated BREP can make ``BRepTools::Read`` never
 return), and any mismatch or read failure is a miss: the shape is rebuilt and rewritten.
+A write that fails (read-only folder, full disk) is a fault of :mod:`cad.io.cache_faults`:
+said once, and the command carries on without the cache.
 
 Location: ``$HAPTICAD_CACHE_DIR`` or ``~/.cache/hapticad``; set
 ``HAPTICAD_CACHE_DIR=off`` to disable (then shapes are built every time).
@@ -133,10 +135,15 @@ def cached_shape(key: str, make: Callable[[], object]):
             return shape
     import_build123d()  # a miss: the part generator needs build123d (defers scikit-learn)
     shape = make()
+    from cad.io import cache_faults
+
+    if not cache_faults.writable():
+        return _round_trip(shape)
     try:
         _write(shape, path)
-    except OSError:
-        return _round_trip(shape)  # read-only home or full disk: work without the cache
+    except Exception as exc:  # noqa: BLE001 - full disk: OCCT raises RuntimeError std::bad_cast
+        cache_faults.write_failed("a shape entry", exc)  # read-only or full: work without it
+        return _round_trip(shape)
     back = _read(path)
     return back if back is not None else _round_trip(shape)
 
@@ -151,9 +158,12 @@ def _round_trip(shape):
     from OCP.BRepTools import BRepTools
     from OCP.TopoDS import TopoDS_Shape
 
-    with tempfile.TemporaryDirectory(prefix="hapticad-brep-") as tmp:
-        f = str(Path(tmp) / "s.brep")
-        back = TopoDS_Shape()
-        if not (BRepTools.Write_s(shape, f) and BRepTools.Read_s(back, f, BRep_Builder())):
-            return shape
+    try:
+        with tempfile.TemporaryDirectory(prefix="hapticad-brep-") as tmp:
+            f = str(Path(tmp) / "s.brep")
+            back = TopoDS_Shape()
+            if not (BRepTools.Write_s(shape, f) and BRepTools.Read_s(back, f, BRep_Builder())):
+                return shape
+    except Exception:  # noqa: BLE001 - a full temporary folder: the shape as made
+        return shape
     return shape if back.IsNull() else back

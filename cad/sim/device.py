@@ -5,7 +5,9 @@ The device model of both wall models is the design's simulator build
 the inertia fidelity's): ``report.json`` gives H11..H33 for the reduced model and the MJCF the
 mujoco model. It is built into ``<cache>/sim/<name>/`` (``$HAPTICAD_CACHE_DIR`` or
 ``~/.cache/hapticad``; a temporary folder when the cache is off) and reused while the design
-and the code are unchanged (the build cache), or read from ``build_dir``.
+and the code are unchanged (the build cache), or read from ``build_dir``. A damaged saved
+model (a file that no longer matches its ``manifest.json``) is a miss: removed and rebuilt;
+a cache that cannot be written (full disk) gives a private temporary folder instead.
 """
 
 from __future__ import annotations
@@ -16,7 +18,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from cad.errors import DesignError
+from cad.errors import DesignError, HapticadError
 
 
 def _cache_root() -> Path | None:
@@ -79,12 +81,48 @@ def device_build(design, build_dir: Path | None = None) -> Path:
         ):
             raise DesignError("--build-dir", f"{build_dir} is a build of another design than {design.name!r}")
         return build_dir
-    from cad.build import build_design
+    from cad.io import cache_faults
 
     root = _cache_root()
-    out = (root / design.name) if root is not None else Path(tempfile.mkdtemp(prefix="hapticad-wall-"))
-    build_design(design, out, {"mjcf", "stl"}, fidelity="preview", allow_interference=True)
+    if root is not None and cache_faults.writable():
+        out = root / design.name
+        _drop_if_damaged(out)
+        try:
+            _build_sim(design, out)
+            return out
+        except HapticadError:
+            raise
+        except Exception as exc:  # noqa: BLE001 - full disk (OSError, OCCT's RuntimeError):
+            cache_faults.write_failed("the simulator model", exc)  # built in a private folder
+    out = Path(tempfile.mkdtemp(prefix="hapticad-wall-"))
+    _build_sim(design, out)
     return out
+
+
+def _build_sim(design, out: Path) -> None:
+    from cad.build import build_design
+
+    build_design(design, out, {"mjcf", "stl"}, fidelity="preview", allow_interference=True)
+
+
+def _drop_if_damaged(entry: Path) -> None:
+    """Remove the cache entry ``sim/<name>/`` when its files no longer match its
+    ``manifest.json`` (a damaged model is a miss: rebuilt, said once). The whole folder is a
+    cache entry hapticad made (:mod:`cad.io.cache_limit` removes it whole too)."""
+    import shutil
+
+    from cad.design import bounds
+    from cad.export.manifest import verify_manifest
+
+    if not os.path.lexists(entry) or (entry.is_dir() and not entry.is_symlink()
+                                      and verify_manifest(entry) is not None):
+        return
+    if entry.is_dir() and not entry.is_symlink():
+        shutil.rmtree(entry, ignore_errors=True)
+    else:
+        entry.unlink()
+    bounds.warn(f"cache: the saved simulator model {entry} was damaged (its files do not match "
+                "its manifest.json); rebuilt")
 
 
 def wall_report(design, *, K: float | None = None, B: float = 0.0, Te_s: float | None = None,
