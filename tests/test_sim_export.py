@@ -11,6 +11,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from cli_helpers import assert_one_line_error, hapticad
+from cad.parts.catalog import get_motor
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -74,7 +75,8 @@ def test_mjcf_carries_report_inertias_exactly(hoeken):
         np.testing.assert_allclose(m.body_ipos[bid], np.array(L["com_mm"]) * 1e-3, atol=1e-12)
     # motor: rotor inertia as armature, torque limit from the catalog
     assert m.dof_armature[m.joint("crank").dofadr[0]] == rep["Jm_kg_m2"]
-    assert m.actuator_ctrlrange[0].tolist() == [-0.167, 0.167]
+    tau = get_motor("maxon-re35").torque_peak_mNm * 1e-3  # data-sheet stall torque, catalog
+    assert m.actuator_ctrlrange[0].tolist() == pytest.approx([-tau, tau], rel=1e-12)
 
 
 def test_urdf_inertias_and_loop_pair(hoeken):

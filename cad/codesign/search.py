@@ -43,6 +43,8 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from cad.parts.catalog import MOTORS
+
 #: (bearing, pin) pairs whose pin diameter equals the bearing bore (bd_warehouse SKT + pins).
 JOINT_SETS = (
     ("M3-10-4", "dowel-3"), ("M4-9-2.5", "dowel-4"), ("M4-11-4", "dowel-4"),
@@ -69,10 +71,9 @@ HANDLE_MATERIALS = ("abs", "delrin", "pla")
 #: Layer orders searched (bottom to top), as optuna categorical strings "crank/coupler/rocker".
 LAYER_ORDERS = tuple("/".join(o) for o in itertools.permutations(("crank", "coupler", "rocker")))
 HANDLE_SCREWS = ("M3-0.5", "M4-0.7")
-#: Nominal (max. continuous) torque, mN m: maxon catalog values for the lowest-torque
-#: standard windings (RE 35 90 W: 94.6 mN m and up; RE 40 150 W: 170 mN m and up); check the
-#: data sheet of the exact order number.
-MOTOR_CONTINUOUS_TORQUE_MNM = {"maxon-re35": 94.6, "maxon-re40": 170.0}
+#: Nominal (max. continuous) torque, mN m, of the searched motors: the catalog winding's
+#: ``torque_continuous_mNm`` (:data:`cad.parts.catalog.MOTORS`, each with its data-sheet source).
+MOTOR_CONTINUOUS_TORQUE_MNM = {k: MOTORS[k].torque_continuous_mNm for k in ("maxon-re35", "maxon-re40")}
 #: Starting points enqueued before the TPE search (a workshop's light guesses: the smallest
 #: joint set, carbon-fibre or aluminium plate, a small knob, both motors, two layer orders that
 #: keep the coupler above the crank hub).

@@ -310,6 +310,15 @@ def shortest_length(lengths: tuple[float, ...], at_least_mm: float) -> float | N
 
 
 # --------------------------------------------------------------------------- motors
+#: MotorSpec fields that carry a data-sheet value with its own source (see MotorSpec.sources).
+MOTOR_DATA_FIELDS = (
+    "torque_constant_mNm_per_A", "terminal_resistance_ohm", "torque_continuous_mNm",
+    "torque_peak_mNm", "stall_torque_mNm", "current_continuous_A",
+    "thermal_resistance_housing_K_per_W", "thermal_resistance_winding_K_per_W",
+    "no_load_current_mA", "rotor_inertia_g_cm2", "mass_kg",
+)
+
+
 @dataclass(frozen=True)
 class MotorSpec:
     """A direct-drive motor: catalog data and the mounting interface (mm, kg).
@@ -321,6 +330,24 @@ class MotorSpec:
     deep -- check the sheet of the exact order number).
     shaft_diameter_mm / shaft_length_mm : output shaft, length beyond the mounting face.
     mass_kg : catalog weight. rotor_inertia_g_cm2 : catalog rotor inertia Jm.
+
+    Electrical and thermal data of one winding (``winding``: order number and nominal voltage):
+
+    * torque_constant_mNm_per_A : Kt; terminal_resistance_ohm : R at 25 C;
+    * torque_continuous_mNm : maxon "nominal torque (max. continuous torque)";
+      current_continuous_A : "nominal current (max. continuous current)";
+    * stall_torque_mNm : data-sheet stall torque at nominal voltage;
+    * torque_peak_mNm : the torque the drive may command (the actuator limit of the simulator
+      exports and of ``hapticad wall``); here the stall torque unless ``sources`` says otherwise;
+    * thermal_resistance_housing_K_per_W : housing-ambient; thermal_resistance_winding_K_per_W :
+      winding-housing;
+    * no_load_current_mA : I0, the current that overcomes brush and bearing friction at no-load
+      speed (friction torque Kt * I0).
+
+    ``sources`` maps each of :data:`MOTOR_DATA_FIELDS` to where its value comes from (data sheet
+    title, edition, order number); ``unverified`` names the fields whose value has no public
+    source that was read (derived or recalled values): every figure using one says so. A field
+    is None when no value is known at all.
     """
 
     key: str
@@ -338,15 +365,56 @@ class MotorSpec:
     rotor_inertia_g_cm2: float
     source: str
     bolt_thread_depth_mm: float = 3.5
-    #: Peak torque the drive is rated to apply (mNm): the actuator limit of the simulator
-    #: exports and of ``hapticad wall``. None where the catalog entry has no value.
+    winding: str = ""
+    torque_constant_mNm_per_A: float | None = None
+    terminal_resistance_ohm: float | None = None
+    torque_continuous_mNm: float | None = None
     torque_peak_mNm: float | None = None
-    torque_source: str = ""
+    stall_torque_mNm: float | None = None
+    current_continuous_A: float | None = None
+    thermal_resistance_housing_K_per_W: float | None = None
+    thermal_resistance_winding_K_per_W: float | None = None
+    no_load_current_mA: float | None = None
+    #: (field, source) pairs, one per data field (tuple so the spec stays hashable).
+    sources: tuple[tuple[str, str], ...] = ()
+    unverified: tuple[str, ...] = ()
 
     @property
     def rotor_inertia_kg_m2(self) -> float:
         return self.rotor_inertia_g_cm2 * 1e-7
 
+    @property
+    def torque_source(self) -> str:
+        """Source of ``torque_peak_mNm`` (kept for older callers)."""
+        return self.source_of("torque_peak_mNm")
+
+    def source_of(self, field: str) -> str:
+        """Where the value of data field ``field`` comes from ('' when none is recorded)."""
+        return dict(self.sources).get(field, "")
+
+    def is_unverified(self, field: str) -> bool:
+        """True when ``field`` has no value or a value without a public source that was read."""
+        return getattr(self, field) is None or field in self.unverified
+
+    def friction_torque_mNm(self) -> float | None:
+        """Brush and bearing friction of the motor, Kt * I0 (mN m); None without data."""
+        if self.torque_constant_mNm_per_A is None or self.no_load_current_mA is None:
+            return None
+        return self.torque_constant_mNm_per_A * self.no_load_current_mA * 1e-3
+
+
+#: maxon RE 35, 30 V winding: the values of the public motor-constant file
+#: MLohoefener/Mechatronische_Systeme_Master ``RE_35.m`` (commit 6176a66), which lists the
+#: RE 35 data-sheet values L 0.34 mH, Kt 0.0389 N m/A, R 1.2 ohm, J 6.81e-6 kg m^2,
+#: U_nom 30 V, T_nom 0.0972 N m (the maxon sheet's order number is not given there).
+_RE35_SHEET = ("maxon RE 35 (35 mm, graphite brushes, 90 W) data sheet, 30 V winding, as listed in "
+               "the public file MLohoefener/Mechatronische_Systeme_Master RE_35.m")
+#: maxon RE 40, order number 148877 (48 V): the sheet's tables 'Values at nominal voltage',
+#: 'Characteristics', 'Thermal data' as reproduced in a public copy (edition not identified);
+#: Kt 0.0603 N m/A and the continuous current 3.12 A 'from datasheet' (an older edition) are
+#: also in the RAVEN II surgical robot's motor.h (RE 40 motor constants).
+_RE40_SHEET = ("maxon RE 40 (40 mm, graphite brushes, 150 W) data sheet, order number 148877, 48 V "
+               "(edition not identified; Kt and continuous current also in RAVEN II motor.h)")
 
 #: Motor catalog. Dimensions are the nominal outline of the maxon data sheets
 #: (RE 35: 90 W, graphite brushes; RE 40: 150 W) as used for mounting; check the
@@ -366,15 +434,37 @@ MOTORS: dict[str, MotorSpec] = {
         shaft_length_mm=22.0,
         mass_kg=0.340,
         # maxon catalog: rotor inertia 65.2 to 79.2 g cm^2 across the RE 35 windings; the
-        # upper value is taken (the conservative one for apparent mass). Override with
-        # parts.motor_rotor_inertia_g_cm2 for a given order number.
+        # upper value is kept (the conservative one for apparent mass; the 30 V winding below
+        # has 68.1 g cm^2). Override with parts.motor_rotor_inertia_g_cm2 for a given order number.
         rotor_inertia_g_cm2=79.2,
         source="maxon motor catalog, RE 35 data sheet (weight 340 g; rotor inertia 65.2-79.2 g cm^2)",
-        # Hoeken paper §III.A: the direct-drive RE 35 renders "forces up to 5 N" at the handle;
-        # through the Hoeken's mean lever (torque_mean_mNm at force_N = 5 N, `hapticad analyze
-        # designs/hoeken.toml`: 166.7 mNm) that is 167 mNm at the motor.
-        torque_peak_mNm=167.0,
-        torque_source="Hoeken paper §III.A (5 N peak force of the RE 35 prototype x 33.3 mNm/N lever)",
+        winding="RE 35, 30 V winding (order number not identified)",
+        torque_constant_mNm_per_A=38.9,
+        terminal_resistance_ohm=1.2,
+        torque_continuous_mNm=97.2,
+        # stall torque = Kt * U_N / R (maxon's definition of the stall torque at nominal voltage)
+        stall_torque_mNm=972.5,
+        torque_peak_mNm=972.5,
+        # nominal current = T_N / Kt + I0 (maxon's relation), I0 below
+        current_continuous_A=2.63,
+        # no-load friction: the same file's viscous friction K_f 6.33e-6 N m s at the no-load
+        # speed U_N / K_b = 773 rad/s is 4.9 mN m, i.e. I0 = 4.9 / 38.9 = 126 mA
+        no_load_current_mA=126.0,
+        sources=(
+            ("torque_constant_mNm_per_A", _RE35_SHEET + " (K_m 0.0389 N m/A)"),
+            ("terminal_resistance_ohm", _RE35_SHEET + " (R 1.2 ohm)"),
+            ("torque_continuous_mNm", _RE35_SHEET + " (T_nom 0.0972 N m)"),
+            ("stall_torque_mNm", "derived: Kt * U_N / R = 38.9 mN m/A * 30 V / 1.2 ohm from " + _RE35_SHEET),
+            ("torque_peak_mNm", "the stall torque (no drive current limit stated)"),
+            ("current_continuous_A", "derived: T_N / Kt + I0 = 97.2 / 38.9 + 0.126 A"),
+            ("thermal_resistance_housing_K_per_W", "no public source found"),
+            ("thermal_resistance_winding_K_per_W", "no public source found"),
+            ("no_load_current_mA", "derived: K_f * U_N / K_b / Kt from " + _RE35_SHEET + " (K_f 6.33e-6 N m s)"),
+            ("rotor_inertia_g_cm2", "maxon catalog RE 35 range 65.2-79.2 g cm^2 (upper value)"),
+            ("mass_kg", "maxon catalog RE 35 (weight 340 g)"),
+        ),
+        unverified=("stall_torque_mNm", "torque_peak_mNm", "current_continuous_A",
+                    "no_load_current_mA"),
     ),
     "maxon-re40": MotorSpec(
         key="maxon-re40",
@@ -389,8 +479,32 @@ MOTORS: dict[str, MotorSpec] = {
         shaft_diameter_mm=6.0,
         shaft_length_mm=22.0,
         mass_kg=0.480,
+        # the 148877 sheet edition read lists 137 g cm^2; 134 g cm^2 (other editions) is kept
         rotor_inertia_g_cm2=134.0,
         source="maxon motor catalog, RE 40 data sheet (weight 480 g; rotor inertia 134 g cm^2)",
+        winding="RE 40, order number 148877, 48 V",
+        torque_constant_mNm_per_A=60.3,
+        terminal_resistance_ohm=1.13,
+        torque_continuous_mNm=187.0,
+        stall_torque_mNm=2560.0,
+        torque_peak_mNm=2560.0,
+        current_continuous_A=3.17,
+        thermal_resistance_housing_K_per_W=4.65,
+        thermal_resistance_winding_K_per_W=1.93,
+        no_load_current_mA=68.6,
+        sources=(
+            ("torque_constant_mNm_per_A", _RE40_SHEET + ": torque constant 60.3 mNm/A"),
+            ("terminal_resistance_ohm", _RE40_SHEET + ": terminal resistance 1.13 ohm"),
+            ("torque_continuous_mNm", _RE40_SHEET + ": nominal torque (max. continuous torque) 187 mNm"),
+            ("stall_torque_mNm", _RE40_SHEET + ": stall torque 2560 mNm"),
+            ("torque_peak_mNm", "the stall torque of " + _RE40_SHEET + " (no drive current limit stated)"),
+            ("current_continuous_A", _RE40_SHEET + ": nominal current (max. continuous current) 3.17 A"),
+            ("thermal_resistance_housing_K_per_W", _RE40_SHEET + ": thermal resistance housing-ambient 4.65 K/W"),
+            ("thermal_resistance_winding_K_per_W", _RE40_SHEET + ": thermal resistance winding-housing 1.93 K/W"),
+            ("no_load_current_mA", _RE40_SHEET + ": no load current 68.6 mA"),
+            ("rotor_inertia_g_cm2", "maxon catalog RE 40 (134 g cm^2; the 148877 edition read: 137)"),
+            ("mass_kg", "maxon catalog RE 40 (weight 480 g)"),
+        ),
     ),
 }
 
