@@ -151,6 +151,21 @@ def cached_report(out_dir: Path, key: str) -> dict | None:
     return report
 
 
+def add_datasheet(design, report: dict, out_dir: Path) -> None:
+    """``report["datasheet"]`` (:mod:`cad.datasheet`), the design file's name in
+    ``report["source"]`` (every family), and the datasheet at the top of ``report.md``."""
+    from cad.datasheet import datasheet, markdown
+
+    if not report.get("source") and getattr(design, "source", None):
+        report["source"] = Path(design.source).name
+    ds = datasheet(design, report)
+    report["datasheet"] = ds
+    md = Path(out_dir) / "report.md"
+    if md.is_file():
+        lines = md.read_text(encoding="utf-8").split("\n")
+        write_text_atomic(md, "\n".join([lines[0], "", *markdown(ds), *lines[1:]]))
+
+
 @contextlib.contextmanager
 def _children_cancelled_on_error():
     """No forked stage outlives a failed or interrupted build (it would write into the
@@ -242,6 +257,7 @@ def build_design(
             phi1_deg=phi1_deg,
         )
         report = dict(report)
+        add_datasheet(design, report, tmp)
         timings = report.pop("_timings_s", None)
         viewer_glb = report.pop("_viewer_glb", None)
         if isinstance(report.get("files"), list):
