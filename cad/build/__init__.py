@@ -130,6 +130,9 @@ def build_key(
         mod = None
     deps = getattr(mod, "CODE_DEPS", None)
     payload["code"] = code_version(tuple(deps) if deps is not None else None)
+    # the dispatcher adds the datasheet to every family's report (cad/datasheet, its inputs)
+    payload["datasheet_code"] = code_version(("datasheet", "parts/catalog.py", "sim/wall.py",
+                                              "structure/bearings.py", "design/motor.py"))
     if mod is not None and hasattr(mod, "cache_inputs"):
         payload["extra"] = _jsonable(mod.cache_inputs(design))
     text = json.dumps(payload, sort_keys=True, separators=(",", ":"))
@@ -158,8 +161,10 @@ def add_datasheet(design, report: dict, out_dir: Path) -> None:
 
     if not report.get("source") and getattr(design, "source", None):
         report["source"] = Path(design.source).name
-    ds = datasheet(design, report)
+    ds = datasheet(design, report, out_dir)
     report["datasheet"] = ds
+    if isinstance(report.get("files"), list):
+        report["files"] = sorted({*report["files"], *ds["charts"]})
     md = Path(out_dir) / "report.md"
     if md.is_file():
         lines = md.read_text(encoding="utf-8").split("\n")

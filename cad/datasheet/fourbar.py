@@ -295,7 +295,7 @@ def mass_rows(report) -> list[dict]:
     return out
 
 
-def rows_and_limits(design, report: dict):
+def rows_and_limits(design, report: dict, out_dir=None):
     """(rows, limits, notes) of a four-bar build report (module docstring)."""
     from cad.datasheet.limits import fourbar_limits
 

@@ -53,7 +53,7 @@ class Limit:
     def met(self, v: float | None) -> bool:
         if v is None:
             return False
-        return v >= self.value if self.op == ">=" else v <= self.value
+        return {">=": v >= self.value, ">": v > self.value, "<=": v <= self.value}[self.op]
 
     def as_dict(self) -> dict:
         return {"op": self.op, "value": self.value, "reason": self.reason, "change": self.change,
@@ -91,8 +91,9 @@ def pantograph_limits(design, force_N: float | None) -> dict[str, Limit]:
     """Default limits of a pantograph-family design (module table), then its [targets]."""
     lim: dict[str, Limit] = {}
     if force_N is not None:
-        lim["force_any_dir_N"] = Limit(">=", force_N, "the force asked for in every direction at every "
-                                       "point of the workspace", "actuators.torque_max_Nm or the link lengths")
+        lim["force_any_dir_N"] = Limit(">=", force_N, "[actuators] force_max_N (S_T, isotropy paper eq 4): the "
+                                       "force asked for, in every direction at every point of the workspace",
+                                       "actuators.torque_max_Nm, actuators.force_max_N or the link lengths")
     return with_targets(lim, getattr(design, "targets", ()))
 
 
