@@ -90,8 +90,14 @@ def check(design, targets: tuple[str, ...] | list[str] = (), fidelity: str = "in
         raise DesignError("mechanism.family", refusal("check", design.family))
     keys = TARGET_KEYS if four_bar else PANTOGRAPH_TARGET_KEYS
     merged = merge_targets(design.targets, tuple(parse_cli_target(t, keys) for t in targets))
-    if not merged:
-        raise DesignError("targets", "no targets: add a [targets] table or --target KEY=VALUE")
+    if not merged:  # no targets: the default limits of the datasheet (cad.datasheet.limits)
+        from cad.datasheet.run import device_datasheet, limit_rows
+
+        ds = device_datasheet(design, fidelity)
+        rows = limit_rows(ds)
+        return {"name": design.name, "ok": all(r["ok"] for r in rows), "fidelity": fidelity,
+                "rows": rows, "computed": {r["key"]: r["value"] for r in ds["rows"]},
+                "budget": None, "checked": "default limits (no [targets]): cad/datasheet/limits.py"}
     wanted = {t.key for t in merged}
     if four_bar:
         from cad.build.inertia import target_values

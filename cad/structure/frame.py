@@ -213,6 +213,27 @@ class Frame:
             out.append(best)
         return np.array(out)
 
+    def modes(self, k: int = 3) -> tuple[np.ndarray, np.ndarray]:
+        """Lowest ``k`` modes: (frequencies Hz (k,), shapes (k, 6 N) node DOFs), each shape
+        mass-normalized (phi^T M phi = 1, lumped translational masses) with its massless DOFs
+        recovered from the Guyan condensation (exact for lumped masses)."""
+        from scipy.linalg import eigh
+
+        idx, K, m, free = self._reduced()
+        Kf = K[np.ix_(free, free)]
+        mf = m[free]
+        t = mf > 0
+        Ktt, Ktr, Krr = Kf[np.ix_(t, t)], Kf[np.ix_(t, ~t)], Kf[np.ix_(~t, ~t)]
+        Kc = Ktt - Ktr @ np.linalg.solve(Krr, Ktr.T)
+        Kc = 0.5 * (Kc + Kc.T)
+        n = min(k, len(Kc))
+        w2, V = eigh(Kc, np.diag(mf[t]), subset_by_index=[0, n - 1])
+        shapes = np.zeros((n, K.shape[0]))
+        ft, fr_ = free[t], free[~t]
+        shapes[:, ft] = V.T
+        shapes[:, fr_] = -np.linalg.solve(Krr, Ktr.T @ V).T
+        return np.sqrt(np.maximum(w2, 0.0)) / (2 * math.pi), shapes[:, idx]
+
     def modes_Hz(self, k: int = 3) -> np.ndarray:
         """Lowest ``k`` natural frequencies (Hz): lumped translational masses, Guyan-condensed."""
         from scipy.linalg import eigh
