@@ -52,13 +52,15 @@ PAPER_FS_N = 0.083
 PAPER_CONT_FORCE_N = 3.3
 
 
-def lever(design, samples: int = SAMPLES):
-    """(phi1 rad, Jx m/rad signed, pose, a2, a3) over the stroke (path frame x)."""
+def lever(design, samples: int = SAMPLES, phi=None):
+    """(phi1 rad, Jx m/rad signed, pose, a2, a3) over the stroke (path frame x), at ``samples``
+    evenly spaced crank angles or at the crank angles ``phi`` (rad)."""
     from cad.kinematics.fourbar import jacobian_mm_per_rad, solve, velocity_ratios
     from cad.kinematics.metrics import path_frame
 
     fb = design.linkage
-    phi = np.linspace(design.phi1_min_rad, design.phi1_max_rad, samples)
+    phi = (np.linspace(design.phi1_min_rad, design.phi1_max_rad, samples) if phi is None
+           else np.atleast_1d(np.asarray(phi, float)))
     pose = solve(fb, phi)
     fr = path_frame(fb, design.phi1_min_rad, design.phi1_max_rad)
     Jx = fr.rotate(jacobian_mm_per_rad(fb, pose))[:, 0] * 1e-3
