@@ -38,6 +38,11 @@ def register(app: typer.Typer) -> None:
         set_script_policy(allow_scripts, False)
         flags.choice("--fidelity", fidelity, FIDELITIES)
         d = load_design(design)
+        from cad.cli.families import COMMAND_FAMILIES, refusal
+        from cad.errors import DesignError
+
+        if d.family not in COMMAND_FAMILIES["datasheet"]:
+            raise DesignError("mechanism.family", refusal("datasheet", d.family))
         if hasattr(d, "check_buildable"):
             d.check_buildable()
         ds = device_datasheet(d, fidelity)

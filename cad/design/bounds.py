@@ -343,6 +343,11 @@ TARGETS: dict[str, Bound] = {
     **{k: Bound("um/N", 0.0, 1e9, "a compliance above 1 m/N is no structure", slips=(("m/N", 1e6), ("mm/N", 1e3)))
        for k in ("compliance_x_um_per_N", "compliance_z_um_per_N")},
     **{k: H12_KG_M2 for k in ("D_min_kg_m2", "D_max_kg_m2")},
+    # datasheet figures (cad/datasheet)
+    **{k: FORCE_N for k in ("continuous_force_N", "peak_force_N", "friction_N")},
+    "resolution_um": Bound("um", 0.0, 1e6, "a resolution over 1 m is no encoder", slips=(("mm", 1e3), ("m", 1e6))),
+    "K_max_N_per_m": Bound("N/m", 0.0, 1e8, "stiffer than 1e8 N/m is no rendered wall (a steel block is ~1e8)",
+                           slips=(("N/mm", 1e3),)),
     # pantograph families (cad.design.targets.PANTOGRAPH_TARGET_KEYS)
     "gii": Bound("", None, 1.0, "the GII (isotropy paper eq 5) lies in [0, 1]", signed=True),
     **{k: _APPARENT_G for k in ("mass_x_g_apparent", "mass_y_g_apparent", "mass_x_g_diag",
