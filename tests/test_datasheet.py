@@ -238,9 +238,13 @@ def test_kmax_pinned_to_reduced_bisection(hoeken_preview):
     from cad.kinematics.fourbar import solve
     from cad.kinematics.metrics import path_frame
 
+    from cad.datasheet.run import device_datasheet
+
     rep, _ = hoeken_preview
-    rows = {r["key"]: r for r in rep["datasheet"]["rows"]}
     d = load_design(ROOT / "designs" / "hoeken.toml")
+    rows = {r["key"]: r for r in device_datasheet(d, "preview")["rows"]}
+    pv = {r["key"]: r for r in rep["datasheet"]["rows"]}
+    assert pv["K_max_N_per_m"]["value"] is None and "not simulated" in pv["K_max_N_per_m"]["model"]
     st = d.stiffness
     assert rows["eq25_K_max_N_per_m"]["value"] == pytest.approx(
         2 * (0.083 + 0.12 * 0.04) / (5.46e-5 + 0.04 * 0.33e-3), rel=1e-9)

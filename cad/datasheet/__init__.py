@@ -57,10 +57,11 @@ def warning_line(r: dict, lim: Limit) -> str:
             f"change {lim.change}")
 
 
-def datasheet(design, report: dict, out_dir=None) -> dict[str, Any]:
+def datasheet(design, report: dict, out_dir=None, simulate_wall: bool = True) -> dict[str, Any]:
     """The datasheet of a built device (module docstring), dispatched on the family.
     ``out_dir``: where a family may write its chart (the pantographs' force ellipses);
-    the chart's file name is then in ``notes`` and ``charts``."""
+    the chart's file name is then in ``notes`` and ``charts``. ``simulate_wall=False``: no
+    wall simulation (the four-bar K_max row says so; evaluation builds)."""
     fam = getattr(design, "family", "")
     if fam in ("pantograph", "twin-pantograph", "haptic-pen"):
         from cad.datasheet.pantograph import rows_and_limits
@@ -68,7 +69,7 @@ def datasheet(design, report: dict, out_dir=None) -> dict[str, Any]:
         from cad.datasheet.powermouse import rows_and_limits
     else:
         from cad.datasheet.fourbar import rows_and_limits
-    rows, limits, notes = rows_and_limits(design, report, out_dir=out_dir)
+    rows, limits, notes = rows_and_limits(design, report, out_dir=out_dir, simulate_wall=simulate_wall)
     warnings = judge(rows, limits)
     charts = [n.rsplit(": ", 1)[1] for n in notes if n.startswith("force ellipses")]
     return {"family": fam, "rows": rows, "warnings": warnings, "ok": not warnings, "notes": notes,

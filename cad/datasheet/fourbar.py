@@ -229,7 +229,7 @@ def simulated_K_max(design, report: dict, s: dict, tau_max_Nm: float) -> float |
     return derived_cache.cached_json("datasheet-kmax", key, make, code=("cad.sim.wall",))["K"]
 
 
-def stiffness_rows(design, report, m, Jx, friction_N) -> list[dict]:
+def stiffness_rows(design, report, m, Jx, friction_N, simulate: bool = True) -> list[dict]:
     s, src = stiffness_inputs(design, Jx, friction_N)
     out = [row("eq25_K_max_N_per_m", "renderable stiffness, eq (25) bound", eq25_K_max(s), "N/m",
                f"Hoeken paper eq (25) (Diolaiti et al.): 2 (Fs + Fv xdot_max) / (Delta + xdot_max Te), a "
@@ -237,12 +237,14 @@ def stiffness_rows(design, report, m, Jx, friction_N) -> list[dict]:
            row("passivity_K_max_N_per_m", "renderable stiffness, passivity bound", 2 * s["Fv"] / s["Te"], "N/m",
                f"Colgate and Schenkel: passive iff K < 2 Fv / Te (viscous friction only, Coulomb ignored); {src}")]
     km = None
-    if m.torque_peak_mNm is not None and all(k in report for k in ("H11_kg_m2", "H12_kg_m2")):
+    if simulate and m.torque_peak_mNm is not None and all(k in report for k in ("H11_kg_m2", "H12_kg_m2")):
         km = simulated_K_max(design, report, s, m.torque_peak_mNm * 1e-3)
     from cad.sim import wall
 
+    skipped = "" if simulate else ("not simulated in this build (a fabrication build and `hapticad datasheet` "
+                                   "give it): ")
     out.append(row("K_max_N_per_m", "renderable stiffness, simulated K_max", km, "N/m",
-                   f"largest stable virtual wall (B = 0) of the reduced 1-DOF model (sampled, quantized encoder, "
+                   f"{skipped}largest stable virtual wall (B = 0) of the reduced 1-DOF model (sampled, quantized encoder, "
                    f"Coulomb + viscous friction, motor saturation; `hapticad wall`), Te = {s['Te']:g} s, "
                    f"{s['counts']:.5g} counts/rev, Fs = {s['Fs']:.3g} N; stable = contact oscillation "
                    f"< {wall.AMPLITUDE_COUNTS:g} encoder steps; {src}",
@@ -297,7 +299,7 @@ def mass_rows(report) -> list[dict]:
     return out
 
 
-def rows_and_limits(design, report: dict, out_dir=None):
+def rows_and_limits(design, report: dict, out_dir=None, simulate_wall: bool = True):
     """(rows, limits, notes) of a four-bar build report (module docstring)."""
     from cad.datasheet.limits import fourbar_limits
 
@@ -311,7 +313,7 @@ def rows_and_limits(design, report: dict, out_dir=None):
     if report.get("min_clearance_mm") is not None:
         rows.append(row("min_clearance_mm", "smallest clearance between parts over the motion",
                         report["min_clearance_mm"], "mm", "interference sweep of the build"))
-    rows += stiffness_rows(design, report, m, Jx, fr[0]["value"])
+    rows += stiffness_rows(design, report, m, Jx, fr[0]["value"], simulate_wall)
     st = report.get("structure") or {}
     notes = [f"motor: {m.description}, {m.winding}"]
     if m.unverified:

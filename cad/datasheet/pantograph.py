@@ -108,7 +108,7 @@ def write_ellipse_chart(design, out_dir, A, ok) -> str | None:
     return "force_ellipses.png"
 
 
-def rows_and_limits(design, report: dict, out_dir=None):
+def rows_and_limits(design, report: dict, out_dir=None, simulate_wall: bool = True):
     """(rows, limits, notes) of a pantograph-family build (module docstring)."""
     from cad.datasheet.limits import pantograph_limits
     from cad.parts import catalog

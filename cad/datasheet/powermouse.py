@@ -18,7 +18,7 @@ import numpy as np
 from cad.datasheet import row
 
 
-def rows_and_limits(design, report: dict, out_dir=None):
+def rows_and_limits(design, report: dict, out_dir=None, simulate_wall: bool = True):
     """(rows, limits, notes) of a PowerMouse build report (module docstring)."""
     from cad.datasheet.limits import Limit
 

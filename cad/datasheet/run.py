@@ -19,12 +19,12 @@ def device_datasheet(design, fidelity: str = "inertia") -> dict:
     from cad.build import build_design, build_key
     from cad.io import derived_cache
 
-    key = build_key(design, set(), fidelity, True, None)
+    key = build_key(design, set(), fidelity, True, None, True)
 
     def make() -> dict:
         with tempfile.TemporaryDirectory(prefix="hapticad-datasheet-") as tmp:
             rep = build_design(design, Path(tmp) / "b", set(), fidelity=fidelity,
-                               allow_interference=True, use_cache=False)
+                               allow_interference=True, use_cache=False, simulate_wall=True)
         return rep["datasheet"]
 
     return derived_cache.cached_json("datasheet", key, make)

@@ -45,7 +45,8 @@ def device_build(design, build_dir: Path | None = None) -> Path:
 
     root = _cache_root()
     out = (root / design.name) if root is not None else Path(tempfile.mkdtemp(prefix="hapticad-wall-"))
-    build_design(design, out, {"mjcf", "stl"}, fidelity="preview", allow_interference=True)
+    build_design(design, out, {"mjcf", "stl"}, fidelity="preview", allow_interference=True,
+                 simulate_wall=False)  # the wall command simulates itself
     return out
 
 
