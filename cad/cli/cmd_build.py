@@ -120,9 +120,7 @@ def register(app: typer.Typer) -> None:
         allow_scripts_anywhere: bool = typer.Option(
             False, "--allow-scripts-anywhere", help="Run handle_script from any path."
         ),
-        strict: bool = typer.Option(
-            False, "--strict", help="Exit 1 when a datasheet figure misses its limit (default: warn, exit 0)."
-        ),
+        strict: bool = typer.Option(False, "--strict", help="Exit 1 when a datasheet figure misses its limit."),
     ) -> None:
         """Parts, posed assembly, interference check and fabrication exports of a design."""
         from cad.parts.handle import set_script_policy
@@ -148,37 +146,18 @@ def register(app: typer.Typer) -> None:
             check_buildable()  # impossible hardware named before the CAD import
         # warnings: before the first progress line (cad.cli.progress), or at the end
         target = out if out is not None else Path("exports") / d.name
+        opts = {"fidelity": fid, "allow_interference": allow_interference, "phi1_deg": phi1_deg,
+                "use_cache": not no_cache}
         if json_out:
-            rep = build_design(
-                d,
-                target,
-                fmts,
-                fidelity=fid,
-                allow_interference=allow_interference,
-                phi1_deg=phi1_deg,
-                use_cache=not no_cache,
-            )
+            rep = build_design(d, target, fmts, **opts)
             rep.pop("timings_s", None)
-            missed = (rep.get("datasheet") or {}).get("warnings") or []
-            for w in missed:
-                from cad.design import bounds
-
-                bounds.warn(f"datasheet: {w}")
+            datasheet_warnings(rep, False)  # in the JSON's warnings list
             print_json(rep, sort_keys=True, default=str)
             datasheet_warnings(rep, strict)
             return
         from cad.cli.progress import stages
 
         with stages("build") as progress:
-            rep = build_design(
-                d,
-                target,
-                fmts,
-                fidelity=fid,
-                allow_interference=allow_interference,
-                phi1_deg=phi1_deg,
-                progress=progress,
-                use_cache=not no_cache,
-            )
+            rep = build_design(d, target, fmts, progress=progress, **opts)
         _summary(rep, target, time.perf_counter() - t0)
         datasheet_warnings(rep, strict)

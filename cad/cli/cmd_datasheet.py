@@ -48,10 +48,7 @@ def register(app: typer.Typer) -> None:
         ds = device_datasheet(d, fidelity)
         rep = {"name": d.name, "family": d.family, "fidelity": fidelity, "datasheet": ds}
         if json_out:
-            for w in ds["warnings"]:
-                from cad.design import bounds
-
-                bounds.warn(f"datasheet: {w}")
+            datasheet_warnings(rep, False)  # in the JSON's warnings list
             print_json(rep, indent=1)
         else:
             from rich.console import Console
