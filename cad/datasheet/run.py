@@ -32,7 +32,7 @@ def device_datasheet(design, fidelity: str = "inertia") -> dict:
 
 def limit_rows(ds: dict) -> list[dict]:
     """The datasheet's limited rows in the ``hapticad check`` row form (key, computed, target
-    as data, target_text, ok, gap_rel, margin)."""
+    as data, target_text, reason, ok, gap_rel, margin)."""
     out = []
     for r in ds["rows"]:
         lim = r.get("limit")
@@ -42,7 +42,7 @@ def limit_rows(ds: dict) -> list[dict]:
         side = "min" if lim["op"] in (">=", ">") else "max"
         margin = None if v is None else ((v - b) if side == "min" else (b - v))
         out.append({"key": r["key"], "computed": v, "target": {side: b},
-                    "target_text": f"{lim['op']} {b:.6g} ({lim['origin']}: {lim['reason']})",
+                    "target_text": f"{lim['op']} {b:.6g} ({lim['origin']})", "reason": lim["reason"],
                     "ok": r["verdict"] == "ok", "margin": margin,
                     "gap_rel": None if (v is None or b == 0 or r["verdict"] == "ok") else (v - b) / abs(b)})
     return out
