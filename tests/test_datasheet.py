@@ -344,3 +344,31 @@ def test_force_basis_peak_and_motor_table(tmp_path):
         r.write_text(text + f"\n[motor]\n{bad}\n")
         code, _, err = hapticad("datasheet", r)
         assert code == 2 and err.startswith(f"hapticad: error: {key}") and len(err.strip().splitlines()) == 1, err
+
+
+def test_fit_with_a_free_bar_material_respects_the_structural_limits():
+    """fit --free parts.bar_material: the lightest material (PLA) meets an apparent-mass target
+    but not the default first-mode limit, so the fit takes the material closest to meeting
+    both (the evaluation is a stand-in table here: the search logic, not the physics, is tested)."""
+    from cad.datasheet.limits import FIRST_MODE_MIN_HZ, structure_targets
+    from cad.design import load_design
+    from cad.design.targets import Target
+    from cad.fit import fit, parse_free
+
+    d = load_design(ROOT / "designs" / "hoeken.toml")
+    free = [parse_free("parts.bar_material", d.parts)]
+    table = {"pla": (40.0, 66.0, 5.0), "carbon-fibre": (45.0, 210.0, 9.0),
+             "aluminium-6061": (55.0, 180.0, 10.0)}
+
+    def values(dd):
+        m11, mode, stress = table.get(dd.parts.bar_material, (90.0, 175.0, 8.0))
+        return {"M11_max_g": m11, "first_mode_Hz": mode, "max_stress_MPa": stress}
+
+    targets = (Target("M11_max_g", max=42.0),)  # only PLA is that light
+    free_fit = fit(dict(d.raw), str(d.source), targets, free, values)
+    assert free_fit.values["parts.bar_material"] == "pla"  # without the limits: the lightest
+    res = fit(dict(d.raw), str(d.source), targets, free, values, limit_targets=structure_targets)
+    assert res.values["parts.bar_material"] == "carbon-fibre"  # least violation of all three
+    assert res.objective == pytest.approx((45.0 - 42.0) / 42.0)
+    lim = {t.key: t for t in structure_targets(d)}
+    assert lim["first_mode_Hz"].min == FIRST_MODE_MIN_HZ and lim["max_stress_MPa"].max == pytest.approx(276 / 3)

@@ -117,3 +117,25 @@ DATASHEET_TARGETS = {
     "continuous_force_N": ">=", "peak_force_N": ">=", "force_any_dir_N": ">=",
     "resolution_um": "<=", "K_max_N_per_m": ">=", "friction_N": "<=",
 }
+
+
+#: ``hapticad fit`` free parameters that change the bar material: with one of them free the
+#: fit also meets the default structural limits (a lighter material must stay stiff and strong).
+STRUCTURE_FREE = ("parts.bar_material", "parts.bar_style", "parts.tube_material")
+
+
+def structure_targets(design) -> tuple:
+    """The default first-mode and stress limits of a four-bar candidate as ``[targets]``
+    bounds (the stress limit from its own bar material), except keys its targets set."""
+    from cad.design.targets import Target
+    from cad.structure.device import link_material
+    from cad.structure.elastic import get_elastic
+
+    lim = fourbar_limits(design, get_elastic(link_material(design.parts)).strength_MPa)
+    mode, stress = lim["first_mode_Hz"], lim["max_stress_MPa"]
+    out = []
+    if mode.origin == "default":
+        out.append(Target("first_mode_Hz", min=mode.value))
+    if stress.origin == "default":
+        out.append(Target("max_stress_MPa", max=stress.value))
+    return tuple(out)
