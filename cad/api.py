@@ -96,8 +96,16 @@ def check(design, targets: tuple[str, ...] | list[str] = (), fidelity: str = "in
     given = tuple(parse_cli_target(t, keys) for t in targets)
     merged = merge_targets(design.targets, given) if merge or not given else given
     source = "design+given" if merge and given else ("given" if given else "design")
-    if not merged:
-        raise DesignError("targets", "no targets: add a [targets] table or --target KEY=VALUE")
+    if not merged:  # no targets: the default limits of the datasheet (cad.datasheet.limits)
+        from cad.datasheet.run import device_datasheet, limit_rows
+
+        ds = device_datasheet(design, fidelity)
+        rows = limit_rows(ds)
+        return {"name": design.name, "ok": all(r["ok"] for r in rows), "fidelity": fidelity,
+                "rows": rows, "computed": {r["key"]: r["value"] for r in ds["rows"]},
+                "budget": None, "targets_checked": [r["key"] for r in rows],
+                "targets_source": "default limits",
+                "checked": "default limits (no [targets]): cad/datasheet/limits.py"}
     wanted = {t.key for t in merged}
     if four_bar:
         from cad.build.inertia import target_values
@@ -105,6 +113,14 @@ def check(design, targets: tuple[str, ...] | list[str] = (), fidelity: str = "in
         build_keys = {"min_clearance_mm", "first_mode_Hz", "max_stress_MPa",
                       "compliance_x_um_per_N", "compliance_z_um_per_N"}
         values, report = target_values(design, fidelity, bool(wanted & build_keys))
+        from cad.datasheet.limits import DATASHEET_TARGETS
+
+        if wanted & (set(DATASHEET_TARGETS) - build_keys):  # figures only the datasheet has
+            from cad.datasheet.run import device_datasheet
+
+            for r in device_datasheet(design, fidelity)["rows"]:
+                if r["value"] is not None and r["key"] in DATASHEET_TARGETS:
+                    values.setdefault(r["key"], r["value"])
     else:
         from cad.build.inertia import pantograph_target_values
 

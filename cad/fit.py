@@ -222,8 +222,13 @@ def _refuse_unbuildable_order(design, free: list[FreeParam]) -> None:
 
 def fit(raw: dict, source: str, targets: tuple[Target, ...], free: list[FreeParam],
         evaluate_values: Callable[[Any], dict[str, float]], echo: Callable[[str], None] | None = None,
-        trials: int | None = None, seed: int = 0) -> FitResult:
+        trials: int | None = None, seed: int = 0,
+        limit_targets: Callable[[Any], tuple[Target, ...]] | None = None) -> FitResult:
     """Search ``free`` on the raw design with optuna (see module docstring).
+
+    ``limit_targets(design)``: the default limits a candidate must also meet (e.g.
+    :func:`cad.datasheet.limits.structure_targets`: first mode, stress for its material),
+    counted in its violation like the targets.
 
     Score of a value set: (max target violation, change from the start); the best by that
     order is returned. Only choices: every combination (optuna ``GridSampler``) when there
@@ -247,7 +252,8 @@ def fit(raw: dict, source: str, targets: tuple[Target, ...], free: list[FreePara
             d = parse_design(r, source)
             _refuse_unbuildable_order(d, free)
             vals = evaluate_values(d)
-            obj = max((violation(t, vals[t.key]) if t.key in vals else math.inf) for t in targets)
+            every = tuple(targets) + (tuple(limit_targets(d)) if limit_targets is not None else ())
+            obj = max((violation(t, vals[t.key]) if t.key in vals else math.inf) for t in every)
         except HapticadError as exc:
             vals, obj = {"error": str(exc)}, math.inf
         entry = {"params": {p.path: _get(r, p.path, None) for p in free}, "objective": obj,

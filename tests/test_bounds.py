@@ -318,6 +318,7 @@ BAD_FLAGS: dict[tuple[str, str], list[str]] = {
     ("sweep", "--chart"): ["x,y"],
     ("sweep", "--seed"): ["-1"],
     ("render", "--fidelity"): ["ultra"],
+    ("datasheet", "--fidelity"): ["ultra"],
     ("render", "--out"): ["/dev/null/x", H],
     ("bench", "--only"): ["everything"],
     ("bench", "--out"): ["/dev/null/x"],
@@ -329,6 +330,7 @@ BASE = {
     "optimize": ["optimize", P], "bench": ["bench"], "tolerance": ["tolerance", H],
     "wall": ["wall", H],
     "render": ["render", H], "sweep": ["sweep", H], "cache": ["cache"],
+    "datasheet": ["datasheet", H],
 }
 CASES_FLAGS = [(c, f, v) for (c, f), vals in BAD_FLAGS.items() for v in vals]
 

@@ -28,8 +28,11 @@ def test_gii_target_against_the_gii_command(tmp_path):
 def test_pantograph_targets_are_validated():
     code, _, err = hapticad("check", "designs/pantograph.toml", "--target", "H11_kg_m2=1e-5")
     assert_one_line_error(code, err, "--target.H11_kg_m2", "unknown target", "gii")
-    code, _, err = hapticad("check", "designs/pantograph.toml")
-    assert_one_line_error(code, err, "targets", "no targets")
+    # no targets: the default limits (force in every direction >= [actuators] force_max_N = 1 N)
+    code, out, err = hapticad("check", "designs/pantograph.toml", "--json")
+    res = json.loads(out)
+    assert [r["key"] for r in res["rows"]] == ["force_any_dir_N"] and res["rows"][0]["computed"] > 1.0
+    assert code == 0, err
 
 
 def test_twin_pantograph_effective_mass_from_the_build(tmp_path):

@@ -1,6 +1,7 @@
 """Inertia from the solids: budget sums, D(phi1) against the posed assembly's kinetic energy,
 `hapticad check` exit codes, `hapticad fit`."""
 
+import json
 import math
 from pathlib import Path
 
@@ -108,8 +109,13 @@ def test_check_exit_codes(tmp_path):
     assert "H11_kg_m2" in err
     code, _, err = hapticad("check", DESIGNS / "roberts.toml", "--target", "H11=3")
     assert_one_line_error(code, err, "--target")
-    code, _, err = hapticad("check", DESIGNS / "roberts.toml")  # roberts.toml has no targets
-    assert_one_line_error(code, err, "targets")
+    # roberts.toml has no targets: the datasheet's default limits (issue 24), never a refusal
+    code, out, err = hapticad("check", DESIGNS / "roberts.toml", "--json")
+    res = json.loads(out)
+    assert "default limits" in res["checked"]
+    assert {r["key"] for r in res["rows"]} == {"continuous_force_N", "first_mode_Hz", "max_stress_MPa",
+                                                "min_clearance_mm"}
+    assert code == (0 if res["ok"] else 1), err
 
 
 def test_bundled_hoeken_reports_the_gap_to_the_paper():

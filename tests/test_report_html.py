@@ -181,6 +181,11 @@ def test_report_html_in_headless_chromium(hoeken):
             "new Promise(r => requestAnimationFrame(() => requestAnimationFrame(() => r(true))))",
             await_promise=True,
         )
+        b.evaluate(  # the datasheet comes first (issue 24): bring the viewer on screen
+            "document.getElementById('viewer').scrollIntoView();"
+            "new Promise(r => requestAnimationFrame(() => requestAnimationFrame(() => r(true))))",
+            await_promise=True,
+        )
         box = b.evaluate(
             "(() => { const r = document.getElementById('viewer').getBoundingClientRect();"
             " return {x: r.x + scrollX, y: r.y + scrollY, width: r.width, height: r.height}; })()"

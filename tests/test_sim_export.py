@@ -11,6 +11,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from cli_helpers import assert_one_line_error, hapticad
+
 from cad.parts.catalog import get_motor
 
 ROOT = Path(__file__).resolve().parents[1]

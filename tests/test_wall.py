@@ -147,7 +147,39 @@ def test_wall_cli_bad_flags(args, needles):
 def test_wall_cli_bad_designs(tmp_path):
     code, _, err = hapticad("wall", ROOT / "designs" / "powermouse.toml")
     assert_one_line_error(code, err, "mechanism.family")
+    # no [stiffness] table: the design's encoder and the friction estimate (issue 24), so the
+    # empty --build-dir is what is refused
     code, _, err = hapticad("wall", ROOT / "designs" / "roberts.toml", "--build-dir", tmp_path)
-    assert_one_line_error(code, err, "stiffness")
+    assert_one_line_error(code, err, "--build-dir")
     code, _, err = hapticad("wall", ROOT / "designs" / "hoeken.toml", "--build-dir", tmp_path)
     assert_one_line_error(code, err, "--build-dir")
+
+
+def test_wall_without_stiffness_uses_encoder_and_friction_estimate(tmp_path):
+    """Issue 24: a design with no [stiffness] table (hoeken_light) gets the wall inputs from its
+    encoder and the datasheet's Coulomb friction estimate (Kt I0 / |dx/dphi1|, max over the
+    stroke, by hand here), Fv = 0, the paper's Te and xdot_max; saying so."""
+    from cad.design import load_design
+    from cad.kinematics.fourbar import jacobian_mm_per_rad, solve
+    from cad.kinematics.metrics import path_frame
+    from cad.sim.device import wall_inputs
+
+    d = load_design(ROOT / "designs" / "hoeken_light.toml")
+    assert d.stiffness is None
+    s, src = wall_inputs(d)
+    phi = np.linspace(d.phi1_min_rad, d.phi1_max_rad, 401)
+    fr = path_frame(d.linkage, d.phi1_min_rad, d.phi1_max_rad)
+    Jx = np.abs(fr.rotate(jacobian_mm_per_rad(d.linkage, solve(d.linkage, phi)))[:, 0]) * 1e-3
+    m = d.motor_spec()  # maxon RE 40 148877: Kt 60.3 mN m/A, I0 68.6 mA (data sheet)
+    assert s["Fs"] == pytest.approx((60.3e-3 * 68.6e-3 / Jx).max(), rel=1e-9)
+    assert m.key == "maxon-re40" and s["Fv"] == 0.0 and s["Te"] == 0.33e-3
+    assert s["counts"] == 2000.0 and "friction estimate" in src and "encoder" in src
+    d2 = load_design(_with_parts(tmp_path, "encoder_counts_per_rev = 10000"))
+    assert wall_inputs(d2)[0]["counts"] == 10000.0
+
+
+def _with_parts(tmp_path, line):
+    text = (ROOT / "designs" / "hoeken_light.toml").read_text()
+    p = tmp_path / "enc.toml"
+    p.write_text(text.replace("[parts]\n", f"[parts]\n{line}\n", 1))
+    return p

@@ -130,7 +130,8 @@ def design_hash(design) -> str:
 
 
 def build_key(
-    design, formats: set[str], fidelity: str, allow_interference: bool, phi1_deg: float | None
+    design, formats: set[str], fidelity: str, allow_interference: bool, phi1_deg: float | None,
+    simulate_wall: bool = True,
 ) -> str:
     """Hash of everything a build's output depends on (design, options, code, extra inputs)."""
     payload = {
@@ -141,12 +142,17 @@ def build_key(
         "allow_interference": bool(allow_interference),
         "phi1_deg": phi1_deg,
     }
+    if simulate_wall != (fidelity == "fabrication"):  # not the default (key unchanged otherwise)
+        payload["simulate_wall"] = bool(simulate_wall)
     try:
         mod = importlib.import_module(builder_module_name(design))
     except ModuleNotFoundError:
         mod = None
     deps = getattr(mod, "CODE_DEPS", None)
     payload["code"] = code_version(tuple(deps) if deps is not None else None)
+    # the dispatcher adds the datasheet to every family's report (cad/datasheet, its inputs)
+    payload["datasheet_code"] = code_version(("datasheet", "parts/catalog.py", "sim/wall.py",
+                                              "structure/bearings.py", "design/motor.py"))
     if mod is not None and hasattr(mod, "cache_inputs"):
         payload["extra"] = _jsonable(mod.cache_inputs(design))
     text = json.dumps(payload, sort_keys=True, separators=(",", ":"))
@@ -180,6 +186,23 @@ def cached_report(out_dir: Path, key: str) -> dict | None:
     return report
 
 
+def add_datasheet(design, report: dict, out_dir: Path, simulate_wall: bool = True) -> None:
+    """``report["datasheet"]`` (:mod:`cad.datasheet`), the design file's name in
+    ``report["source"]`` (every family), and the datasheet at the top of ``report.md``."""
+    from cad.datasheet import datasheet, markdown
+
+    if not report.get("source") and getattr(design, "source", None):
+        report["source"] = Path(design.source).name
+    ds = datasheet(design, report, out_dir, simulate_wall=simulate_wall)
+    report["datasheet"] = ds
+    if isinstance(report.get("files"), list):
+        report["files"] = sorted({*report["files"], *ds["charts"]})
+    md = Path(out_dir) / "report.md"
+    if md.is_file():
+        lines = md.read_text(encoding="utf-8").split("\n")
+        write_text_atomic(md, "\n".join([lines[0], "", *markdown(ds), *lines[1:]]))
+
+
 @contextlib.contextmanager
 def _children_cancelled_on_error():
     """No forked stage outlives a failed or interrupted build (it would write into the
@@ -203,8 +226,14 @@ def build_design(
     progress: Progress | None = None,
     phi1_deg: float | None = None,
     use_cache: bool = True,
+    simulate_wall: bool | None = None,
 ) -> dict:
     """Build ``design`` into ``out_dir`` atomically and return the report dict.
+
+    ``simulate_wall``: whether the datasheet simulates the virtual wall for its K_max row (a
+    few seconds per new design, then derived-cached); default: at fabrication fidelity only
+    (the build a user keeps; ``hapticad datasheet`` asks for it at any fidelity, evaluation
+    builds of ``check``/``fit``/``optimize`` never).
 
     Raises the builder's :class:`cad.errors.HapticadError` subclasses (DesignError,
     GeometryError, MeshError, InterferenceError ...); on any failure ``out_dir`` is
@@ -221,7 +250,9 @@ def build_design(
     out_dir = Path(out_dir)
     check = functools.partial(check_out_dir, design_source=getattr(design, "source", None))
     check(out_dir)
-    key = build_key(design, formats, fidelity, allow_interference, phi1_deg)
+    if simulate_wall is None:
+        simulate_wall = fidelity == "fabrication"
+    key = build_key(design, formats, fidelity, allow_interference, phi1_deg, simulate_wall)
     if use_cache:
         rep = cached_report(out_dir, key)
         if rep is not None:
@@ -276,6 +307,7 @@ def build_design(
             phi1_deg=phi1_deg,
         )
         report = dict(report)
+        add_datasheet(design, report, tmp, simulate_wall)
         timings = report.pop("_timings_s", None)
         viewer_glb = report.pop("_viewer_glb", None)
         if "firmware" in formats:  # from the report's mass properties (cad.firmware, no CAD)

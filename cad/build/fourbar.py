@@ -113,6 +113,21 @@ def _kind_props(kind):
 kind_mass_props = _kind_props
 
 
+def encoder_bom_row(design) -> dict:
+    """The crank encoder as a bought BOM line (no solid: it sits on the motor's rear shaft),
+    from the datasheet's encoder choice (:func:`cad.datasheet.fourbar.encoder_counts`); its
+    mass is not in the catalog (0 in the totals, said in the description)."""
+    from cad.datasheet.fourbar import encoder_counts, lever
+    from cad.parts import catalog
+
+    counts, src, key = encoder_counts(design, lever(design, 3)[1])
+    enc = catalog.get_encoder(key) if key is not None else None
+    desc = enc.description if enc is not None else f"encoder on the motor's rear shaft, {counts:.0f} counts/rev"
+    return {"part": "encoder", "description": f"{desc} ({src.split(';')[0]}; mass not known, not in the totals)",
+            "material": "bought", "quantity": 1, "made_or_bought": "bought", "process": "bought",
+            "fits": "", "mass_g": 0.0}
+
+
 def link_mass_props(assembly, props_by_kind: dict) -> tuple[dict, dict]:
     """Per body: combined MassProps in the body (link) frame, and each part's share (g)."""
     from cad.massprops.props import combine
@@ -513,7 +528,7 @@ def build(
         from cad.build import family
         from cad.export import write_bom
 
-        bom = family.bom_rows(asm.instances, props)
+        bom = family.bom_rows(asm.instances, props) + [encoder_bom_row(design)]
         write_bom(bom, out_dir)
 
         # 6 exports and preview (wait for the children)

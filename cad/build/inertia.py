@@ -206,7 +206,7 @@ def target_values(design, fidelity: str, need_clearance: bool) -> tuple[dict, di
         from cad.build import build_design
 
         with tempfile.TemporaryDirectory() as tmp:
-            rep = build_design(design, Path(tmp) / "b", set(), fidelity=fidelity,
+            rep = build_design(design, Path(tmp) / "b", set(), fidelity=fidelity, simulate_wall=False,
                                allow_interference=True, use_cache=False)
         report["min_clearance_mm"] = rep["min_clearance_mm"]
         report["overlap_volume_mm3"] = rep["overlap_volume_mm3"]
@@ -225,7 +225,8 @@ def pantograph_target_values(design, fidelity: str, wanted: set[str]) -> tuple[d
     from cad.build import build_design
 
     with tempfile.TemporaryDirectory() as tmp:
-        rep = build_design(design, Path(tmp) / "b", set(), fidelity=fidelity, use_cache=False)
+        rep = build_design(design, Path(tmp) / "b", set(), fidelity=fidelity, use_cache=False,
+                           simulate_wall=False)
     for k, v in (rep.get("effective_mass_home") or {}).items():
         if isinstance(v, (int, float)) and not isinstance(v, bool):
             values[k] = float(v)

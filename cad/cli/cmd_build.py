@@ -4,6 +4,10 @@ Writes every part (STEP, binary STL, DXF for plates), the assembly STEP, ``bom.c
 ``report.json``, ``report.md``, ``preview.png`` and ``manifest.json`` into
 ``exports/<name>/`` (or ``--out``), atomically. An unchanged design is not rebuilt
 (build cache, no CAD import).
+
+The device datasheet (:mod:`cad.datasheet`) follows the summary; every figure that misses
+its limit (:mod:`cad.datasheet.limits`) is one ``hapticad: warning: datasheet: ...`` line on
+stderr (and in ``--json`` ``warnings``). Exit 0, or 1 with ``--strict`` when a limit is missed.
 """
 
 from __future__ import annotations
@@ -54,6 +58,39 @@ def _summary(rep: dict, out: Path, wall_s: float) -> None:
     t.add_row("files", str(len(rep.get("files", []))))
     t.add_row("wall time (s)", f"{wall_s:.2f}")
     con.print(t)
+    ds = rep.get("datasheet")
+    if ds:
+        con.print(datasheet_table(ds, f"{name}: datasheet"))
+
+
+def datasheet_table(ds: dict, title: str):
+    """The datasheet as a rich table: figure, value (min .. max), unit, verdict (red on a miss)."""
+    from rich.table import Table
+
+    from cad.datasheet import fmt_value, verdict_text
+
+    t = Table(title=title)
+    for c in ("figure", "value (min .. max)", "unit", "verdict"):
+        t.add_column(c, justify="right" if c.startswith("value") else "left")
+    for r in ds["rows"]:
+        v = verdict_text(r)
+        style = {"ok": "green", "miss": "bold red"}.get(r["verdict"])
+        mark = " *" if r["unverified"] else ""
+        t.add_row(r["figure"] + mark, fmt_value(r), r["unit"], f"[{style}]{v}[/]" if style else v)
+    t.caption = "* uses unverified data; models and sources: report.md / report.html / --json"
+    return t
+
+
+def datasheet_warnings(rep: dict, strict: bool) -> None:
+    """One ``warning:`` per missed limit (:func:`cad.design.bounds.warn`); ``strict``: exit 1."""
+    from cad.design import bounds
+    from cad.errors import TargetMissed
+
+    missed = (rep.get("datasheet") or {}).get("warnings") or []
+    for w in missed:
+        bounds.warn(f"datasheet: {w}")
+    if strict and missed:
+        raise TargetMissed(f"{len(missed)} datasheet limit(s) missed (--strict)")
 
 
 def register(app: typer.Typer) -> None:
@@ -84,6 +121,7 @@ def register(app: typer.Typer) -> None:
         allow_scripts_anywhere: bool = typer.Option(
             False, "--allow-scripts-anywhere", help="Run handle_script from any path."
         ),
+        strict: bool = typer.Option(False, "--strict", help="Exit 1 when a datasheet figure misses its limit."),
     ) -> None:
         """Parts, posed assembly, interference check and fabrication exports of a design."""
         from cad.parts.handle import set_script_policy
@@ -109,30 +147,18 @@ def register(app: typer.Typer) -> None:
             check_buildable()  # impossible hardware named before the CAD import
         # warnings: before the first progress line (cad.cli.progress), or at the end
         target = out if out is not None else Path("exports") / d.name
+        opts = {"fidelity": fid, "allow_interference": allow_interference, "phi1_deg": phi1_deg,
+                "use_cache": not no_cache}
         if json_out:
-            rep = build_design(
-                d,
-                target,
-                fmts,
-                fidelity=fid,
-                allow_interference=allow_interference,
-                phi1_deg=phi1_deg,
-                use_cache=not no_cache,
-            )
+            rep = build_design(d, target, fmts, **opts)
             rep.pop("timings_s", None)
+            datasheet_warnings(rep, False)  # in the JSON's warnings list
             print_json(rep, sort_keys=True, default=str)
+            datasheet_warnings(rep, strict)
             return
         from cad.cli.progress import stages
 
         with stages("build") as progress:
-            rep = build_design(
-                d,
-                target,
-                fmts,
-                fidelity=fid,
-                allow_interference=allow_interference,
-                phi1_deg=phi1_deg,
-                progress=progress,
-                use_cache=not no_cache,
-            )
+            rep = build_design(d, target, fmts, progress=progress, **opts)
         _summary(rep, target, time.perf_counter() - t0)
+        datasheet_warnings(rep, strict)

@@ -3,7 +3,9 @@
 Computes H11..H33, the apparent mass and the link masses from the solids (and the
 kinematic metrics), compares them with the design's ``[targets]`` (CLI targets
 replace design targets of the same key) and exits 0 when all are within
-tolerance, 1 when any is not, 2 on bad input.
+tolerance, 1 when any is not, 2 on bad input. A design without targets is checked against
+the datasheet's default limits (:mod:`cad.datasheet.limits`: continuous force, first mode,
+stress, clearance), exit 1 on a miss.
 """
 
 from __future__ import annotations
@@ -50,7 +52,8 @@ def register(app: typer.Typer) -> None:
             from rich.console import Console
             from rich.table import Table
 
-            t = Table(title=f"{res['name']}: computed ({fidelity}) against targets ({res['targets_source']})")
+            against = "default limits" if res.get("checked") else f"targets ({res['targets_source']})"
+            t = Table(title=f"{res['name']}: computed ({fidelity}) against {against}")
             for c in ("target key", "computed", "target", "gap", "ok"):
                 t.add_column(c, justify="right" if c != "target key" else "left")
             for r in res["rows"]:

@@ -68,7 +68,11 @@ def register(app: typer.Typer) -> None:
             raise DesignError("--free", f"{twice} is given twice; give each free parameter once")
         dst = out if out is not None else design.with_suffix(".fit.toml")
         replaced = check_out_file(dst, design)
-        need_clear = any(t.key == "min_clearance_mm" for t in targets)
+        from cad.datasheet.limits import STRUCTURE_FREE, structure_targets
+
+        # a free bar material: the candidates must also meet the default structural limits
+        limits = structure_targets if four_bar and any(q.path in STRUCTURE_FREE for q in params) else None
+        need_clear = limits is not None or any(t.key == "min_clearance_mm" for t in targets)
         wanted = {t.key for t in targets}
 
         def values_of(dd) -> dict:
@@ -82,7 +86,7 @@ def register(app: typer.Typer) -> None:
         echo = None if json_out else (lambda s: print(s, flush=True))
         if echo:
             echo(f"fit {d.name}: {len(params)} free parameter(s), {len(targets)} target(s)")
-        res = fit(raw, str(design), targets, params, values_of, echo=echo)
+        res = fit(raw, str(design), targets, params, values_of, echo=echo, limit_targets=limits)
         fitted = rebase_paths(copy.deepcopy(res.raw), d.source, dst)
         fitted["name"] = f"{d.name}_fit" if out is None else out.name.split(".")[0]
         if cli_targets:  # keep the targets the fit was made for
@@ -92,12 +96,13 @@ def register(app: typer.Typer) -> None:
                              else {"value": t.value, "tol_abs": t.tol_abs} if t.value is not None
                              else {k: v for k, v in (("min", t.min), ("max", t.max)) if v is not None})
             fitted["targets"] = tt
-        final_vals = values_of(parse_design(fitted, str(dst)))
+        final_design = parse_design(fitted, str(dst))
+        final_vals = values_of(final_design)
         # the design file last: it is the command's output (cad.io.signals commit point)
         write_text_atomic(dst, dumps_design(fitted, f"Fitted by `hapticad fit {design}`: "
                                             + ", ".join(f"{k}={v}" for k, v in res.values.items())),
                           final=True)
-        rows = evaluate(targets, final_vals)
+        rows = evaluate(tuple(targets) + (limits(final_design) if limits else ()), final_vals)
         payload = {"name": d.name, "out": str(dst), "replaced": replaced, "start": res.start, "fitted": res.values,
                    "met": all(r.ok for r in rows), "max_violation": res.objective,
                    "evaluations": len(res.log), "iterations": res.log, "rows": [r.as_dict() for r in rows]}

@@ -59,7 +59,7 @@ def render_designs(paths: list[Path], out: Path, fidelity: str | None = None) ->
     done = []
     with tempfile.TemporaryDirectory(prefix="hapticad-render-") as tmp:
         for _, d, fid in designs:  # every build first: a failing one writes nothing at all
-            build_design(d, Path(tmp) / d.name, set(), fidelity=fid, use_cache=False)
+            build_design(d, Path(tmp) / d.name, set(), fidelity=fid, use_cache=False, simulate_wall=False)
         check_shared_files(Path(out), names)  # again: the builds took a while
         for p, d, _ in designs:
             row = {"design": str(p), "name": d.name}

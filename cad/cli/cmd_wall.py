@@ -3,7 +3,10 @@
 Virtual-wall (Z-width) simulation of a four-bar (issue 14, :mod:`cad.sim.wall`): the
 largest stable stiffness ``K_max_stable_N_per_m`` for damping B, beside eq (25) and the
 Colgate-Schenkel passivity bound; with ``--K-N-per-m`` also whether that wall is stable.
-Defaults: Te and the encoder step Delta of the design's ``[stiffness]`` table.
+Defaults: Te and the encoder step Delta of the design's ``[stiffness]`` table; without one, the
+design's encoder (``parts.encoder`` / ``encoder_counts_per_rev``, else the default encoder), the
+datasheet's Coulomb friction estimate, Fv = 0, and the Hoeken prototype's Te and xdot_max
+(:func:`cad.sim.device.wall_inputs`; ``inputs`` in the JSON says which).
 """
 
 from __future__ import annotations
@@ -18,7 +21,7 @@ from cad.cli.app import print_json
 def register(app: typer.Typer) -> None:
     @app.command("wall")
     def wall_cmd(
-        design: Path = typer.Argument(..., help="Four-bar TOML design with a [stiffness] table."),
+        design: Path = typer.Argument(..., help="Four-bar TOML design ([stiffness] table optional)."),
         K: float = typer.Option(None, "--K-N-per-m", help="Wall stiffness to test (N/m)."),
         B: float = typer.Option(0.0, "--B-N-s-per-m", help="Wall damping (N s/m)."),
         Te: float = typer.Option(None, "--Te-s", help="Sampling period (s; default [stiffness] Te_s)."),

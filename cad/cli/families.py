@@ -26,6 +26,7 @@ COMMAND_FAMILIES: dict[str, tuple[str, ...]] = {
     "sweep": FOUR_BARS,
     "wall": FOUR_BARS,
     "render": FOUR_BARS + ("pantograph", "twin-pantograph", "powermouse"),
+    "datasheet": FOUR_BARS + ("pantograph", "twin-pantograph", "powermouse"),
 }
 
 

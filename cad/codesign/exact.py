@@ -35,6 +35,7 @@ def evaluate(design, cand, name: str) -> dict:
     d = parse_design(candidate_raw(design, cand, name), str(design.source))
     with tempfile.TemporaryDirectory(prefix="hapticad-codesign-") as tmp:
         rep = build_design(d, Path(tmp) / "b", set(), fidelity="inertia", allow_interference=True,
+                           simulate_wall=False,
                            use_cache=False)
     am, st = rep["apparent_mass"], rep["structure"]
     overlap = float(rep.get("overlap_volume_mm3") or 0.0)

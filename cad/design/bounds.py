@@ -226,6 +226,31 @@ STIFF = {
                               (("mm/s", 1e-3),)),
 }
 
+# the user's own motor ([motor], cad/design/motor.py): a desktop haptic device's direct drive
+_MOTOR_WHY = "no motor of a hand-held haptic device"
+MOTOR = {
+    "torque_constant_mNm_per_A": Bound("mN m/A", 0.0, 1e5, f"over 100 N m/A is {_MOTOR_WHY}", 0.1, 5000.0,
+                                       "small DC motors have 0.1..5000 mN m/A", (("N m/A", 1e3),), lo_open=True),
+    "terminal_resistance_ohm": Bound("ohm", 0.0, 1e5, f"over 100 kohm is {_MOTOR_WHY}", 1e-3, 1e3,
+                                     "winding resistances are 1 mohm..1 kohm", (("mohm", 1e-3),), lo_open=True),
+    **{k: Bound("mN m", 0.0, 1e7, "over 10 kN m is no motor on a desk", 0.1, 1e5,
+                "desktop motors give 0.1 mN m..100 N m", (("N m", 1e3),), lo_open=True)
+       for k in ("torque_continuous_mNm", "torque_peak_mNm", "stall_torque_mNm")},
+    "current_continuous_A": Bound("A", 0.0, 1e3, f"over 1 kA is {_MOTOR_WHY}", 1e-3, 100.0,
+                                  "continuous currents are 1 mA..100 A", (("mA", 1e-3),), lo_open=True),
+    **{k: Bound("K/W", 0.0, 1e3, "a thermal resistance over 1000 K/W is a typo", 0.05, 100.0,
+                "motor thermal resistances are 0.05..100 K/W", lo_open=True)
+       for k in ("thermal_resistance_housing_K_per_W", "thermal_resistance_winding_K_per_W")},
+    "no_load_current_mA": Bound("mA", 0.0, 1e5, f"over 100 A no-load is {_MOTOR_WHY}", 0.1, 1e4,
+                                "no-load currents are 0.1 mA..10 A", (("A", 1e3),), lo_open=True),
+    "rotor_inertia_g_cm2": ROTOR_G_CM2,
+    "mass_g": Bound("g", 0.0, 1e5, "over 100 kg is no motor on a desk", 1.0, 1e4,
+                    "desktop motors weigh 1 g..10 kg", (("kg", 1e3),), lo_open=True),
+}
+#: encoder counts per crank turn (design key parts.encoder_counts_per_rev and the wall flag)
+WALL_COUNTS = Bound("", 1, 1e9, "an encoder has at least 1 count per turn; over 1e9 is no encoder",
+                           100, 1e7, "optical encoders give 100..1e7 counts per turn", integer=True)
+
 # ----------------------------------------------------------------------------- field table
 _FOURBAR_PART_MM = (
     "bar_width_mm", "bar_thickness_mm", "bar_end_radius_mm", "bar_pocket_web_mm",
@@ -262,6 +287,9 @@ FIELDS: dict[str, Bound] = {
     "parts.stl_tolerance_mm": STL_TOL_MM,
     "parts.stl_angular_tolerance_deg": STL_ANGLE_DEG,
     "parts.interference_poses": POSES,
+    "parts.encoder_counts_per_rev": WALL_COUNTS,
+    # the user's motor ([motor], cad/design/motor.py)
+    **{f"motor.{k}": b for k, b in MOTOR.items()},
     # twin-pantograph [parts]
     **{f"parts.{k}": PART_MM for k in _TWIN_PART_MM},
     # pantograph families
@@ -316,6 +344,11 @@ TARGETS: dict[str, Bound] = {
     **{k: Bound("um/N", 0.0, 1e9, "a compliance above 1 m/N is no structure", slips=(("m/N", 1e6), ("mm/N", 1e3)))
        for k in ("compliance_x_um_per_N", "compliance_z_um_per_N")},
     **{k: H12_KG_M2 for k in ("D_min_kg_m2", "D_max_kg_m2")},
+    # datasheet figures (cad/datasheet)
+    **{k: FORCE_N for k in ("continuous_force_N", "peak_force_N", "friction_N")},
+    "resolution_um": Bound("um", 0.0, 1e6, "a resolution over 1 m is no encoder", slips=(("mm", 1e3), ("m", 1e6))),
+    "K_max_N_per_m": Bound("N/m", 0.0, 1e8, "stiffer than 1e8 N/m is no rendered wall (a steel block is ~1e8)",
+                           slips=(("N/mm", 1e3),)),
     # pantograph families (cad.design.targets.PANTOGRAPH_TARGET_KEYS)
     "gii": Bound("", None, 1.0, "the GII (isotropy paper eq 5) lies in [0, 1]", signed=True),
     **{k: _APPARENT_G for k in ("mass_x_g_apparent", "mass_y_g_apparent", "mass_x_g_diag",
@@ -334,9 +367,6 @@ WALL_B = Bound("N s/m", None, 1e4, "over 1e4 N s/m no desktop motor can follow",
 WALL_TE = Bound("s", 1e-6, 0.05,
                 "a haptic loop runs between 20 Hz (0.05 s) and 1 MHz (1e-6 s)", 1e-5, 0.01,
                 "haptic loops run at 100 Hz..100 kHz", (("ms", 1e-3), ("us", 1e-6)))
-WALL_COUNTS = Bound("", 1, 1e9, "an encoder has at least 1 count per turn; over 1e9 is no encoder",
-                    100, 1e7, "optical encoders give 100..1e7 counts per turn", integer=True)
-
 FLAGS: dict[str, Bound] = {
     "--K-N-per-m": WALL_K,
     "--B-N-s-per-m": WALL_B,

@@ -9,6 +9,8 @@ Schema (units in key names; see README "Design files")::
     stroke_mm = 50.0                 # named families: scale the paper's Fig. 2 proportions
                                      # to this stroke (omit: the paper's own dimensions)
     force_N = 5.0                    # force along the path for the torque metrics
+    force_basis = "continuous"       # continuous (default) | peak: which motor torque must
+                                     # give force_N over the stroke (datasheet verdict)
     # custom only (all required):
     # l1_mm, l2_mm, l3_mm, l4_mm, l5_mm, le_mm, phi_e_deg, phi1_min_deg, phi1_max_deg, branch
 
@@ -16,6 +18,7 @@ Schema (units in key names; see README "Design files")::
     [inertia]    H11_kg_m2 = ...     # optional given inertia coefficients (all four)
     [stiffness]  Fv_N_s_per_m, Fs_N, Te_s, encoder_resolution_m, xdot_max_m_per_s (optional, eq 25)
     [parts]      part parameters (see cad/design/parts.py)
+    [motor]      the user's own motor data (see cad/design/motor.py)
     [targets]    see cad/design/targets.py
     [fit]        free = ["parts.bar_thickness_mm", ...] (see `hapticad fit`)
     [firmware]   plane, encoders, wall of the generated firmware (cad/design/firmware.py)
@@ -41,6 +44,7 @@ from cad.design.fields import (
     require_table,
 )
 from cad.design.firmware import FOURBAR_COUNTS_PER_REV, FirmwareOptions, parse_firmware
+from cad.design.motor import parse_motor_table
 from cad.design.targets import Target, parse_targets
 from cad.dynamics.inertia import InertiaCoefficients
 from cad.dynamics.stiffness import StiffnessInputs
@@ -52,7 +56,9 @@ FOURBAR_FAMILIES = (*FAMILIES, "custom")
 CUSTOM_KEYS = ("l1_mm", "l2_mm", "l3_mm", "l4_mm", "l5_mm", "le_mm", "phi_e_deg",
                "phi1_min_deg", "phi1_max_deg", "branch")
 TOP_KEYS = ("name", "description", "mechanism", "analysis", "inertia", "stiffness", "parts",
-            "targets", "fit", "firmware")
+            "targets", "fit", "firmware", "motor")
+#: ``[mechanism] force_basis``: which motor torque must deliver ``force_N`` (datasheet verdict).
+FORCE_BASES = ("continuous", "peak")
 
 
 @dataclass(frozen=True)
@@ -75,6 +81,14 @@ class FourBarDesign:
     fit_free: tuple[str, ...]
     raw: dict = field(repr=False, compare=False, hash=False, default_factory=dict)
     firmware: FirmwareOptions = field(default_factory=FirmwareOptions)
+    force_basis: str = "continuous"
+    motor: tuple = ()
+
+    def motor_spec(self):
+        """The motor this design drives: ``parts.motor`` with the ``[motor]`` overrides."""
+        from cad.design.motor import resolve_motor
+
+        return resolve_motor(self.parts.motor, self.motor)
 
     def resolved_linkage(self) -> dict[str, float | int | str]:
         """The resolved linkage in design-file units (report.json / analyze --json)."""
@@ -137,7 +151,7 @@ def _parse_linkage(mech: dict[str, Any], family: str) -> tuple[FourBar, float, f
     p = "mechanism"
     if family == "custom":
         allowed = ("family", "force_N", *CUSTOM_KEYS)
-        check_unknown(mech, allowed, p)
+        check_unknown(mech, (*allowed, "force_basis"), p)
         lengths = {k: require_positive(mech, k, p) for k in ("l1_mm", "l2_mm", "l3_mm")}
         l4 = require_number(mech, "l4_mm", p)
         l5 = require_number(mech, "l5_mm", p)
@@ -154,7 +168,7 @@ def _parse_linkage(mech: dict[str, Any], family: str) -> tuple[FourBar, float, f
             raise DesignError("mechanism.branch", f"must be +1 or -1, got {branch!r}")
         fb = FourBar(lengths["l1_mm"], lengths["l2_mm"], lengths["l3_mm"], l4, l5, le, phi_e, int(branch))
         return fb, lo, hi, None
-    check_unknown(mech, ("family", "force_N", "stroke_mm"), p)
+    check_unknown(mech, ("family", "force_N", "stroke_mm", "force_basis"), p)
     stroke = optional_positive(mech, "stroke_mm", p, None)
     if stroke is not None and not tol.LENGTH_MIN_MM <= stroke <= tol.LENGTH_MAX_MM:
         raise DesignError("mechanism.stroke_mm",
@@ -207,6 +221,9 @@ def parse(raw: dict[str, Any], source: str = "<design>") -> FourBarDesign:
     if force > tol.FORCE_MAX_N:
         raise DesignError("mechanism.force_N", f"must be <= {tol.FORCE_MAX_N:g} N, got {force!r}")
     fb, lo, hi, stroke = _parse_linkage(mech, family)
+    basis = mech.get("force_basis", "continuous")
+    if basis not in FORCE_BASES:
+        raise DesignError("mechanism.force_basis", f"must be one of {', '.join(FORCE_BASES)}, got {basis!r}")
     if not hi > lo:
         raise DesignError("mechanism.phi1_max_deg",
                           f"must be > phi1_min_deg ({math.degrees(lo):g}), got {math.degrees(hi):g}")
@@ -237,6 +254,7 @@ def parse(raw: dict[str, Any], source: str = "<design>") -> FourBarDesign:
         stiffness=_parse_stiffness(optional_table(raw, "stiffness", "")),
         parts=parts, targets=targets, fit_free=tuple(free), raw=raw,
         firmware=parse_firmware(optional_table(raw, "firmware", ""), 1, FOURBAR_COUNTS_PER_REV),
+        force_basis=basis, motor=parse_motor_table(optional_table(raw, "motor", ""), "motor"),
     )
     from cad.design.bounds import warn
 

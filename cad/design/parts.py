@@ -200,6 +200,8 @@ class PartsSpec:
     stl_angular_tolerance_deg: float = 15.0
     interference_poses: int = 60
     clearance_min_mm: float = 0.5
+    encoder: str | None = None
+    encoder_counts_per_rev: int | None = None
 
     def as_dict(self) -> dict[str, Any]:
         """Plain mapping of every resolved parameter (build cache key, report)."""
@@ -247,7 +249,8 @@ _MATERIALS = (
     "tube_material",
     "clevis_material",
 )
-_STRINGS = ("bar_style", "bearing", "pin", "motor", "hub_screw", "handle_screw", "handle_script", "fidelity")
+_STRINGS = ("bar_style", "bearing", "pin", "motor", "hub_screw", "handle_screw", "handle_script", "fidelity",
+            "encoder")
 _BOOLS = ("bar_pockets",)
 ALLOWED_KEYS = tuple(f.name for f in fields(PartsSpec))
 
@@ -306,6 +309,7 @@ def parse_parts(table: dict[str, Any] | None, prefix: str = "parts") -> PartsSpe
     vals["interference_poses"] = optional_int(
         table, "interference_poses", prefix, d.interference_poses, minimum=2
     )
+    vals["encoder_counts_per_rev"] = parse_encoder(table, prefix, vals["encoder"])
 
     from cad.materials import get_material
 
@@ -355,6 +359,24 @@ def parse_parts(table: dict[str, Any] | None, prefix: str = "parts") -> PartsSpe
 
 
 BAR_STYLES = ("plate", "tube")
+
+
+def parse_encoder(table: dict[str, Any], prefix: str, encoder: str | None) -> int | None:
+    """``encoder_counts_per_rev`` checked (an integer >= 1), and ``encoder`` a catalog key;
+    both at once is refused (one encoder per crank)."""
+    from cad.parts import catalog
+
+    if encoder is not None:
+        catalog.get_encoder(encoder, _f(prefix, "encoder"))
+    if "encoder_counts_per_rev" not in table:
+        return None
+    if encoder is not None:
+        raise DesignError(_f(prefix, "encoder_counts_per_rev"),
+                          f"give parts.encoder ({encoder!r}) or encoder_counts_per_rev, not both")
+    v = table["encoder_counts_per_rev"]
+    if isinstance(v, bool) or not isinstance(v, int) or v < 1:
+        raise DesignError(_f(prefix, "encoder_counts_per_rev"), f"must be an integer >= 1, got {v!r}")
+    return v
 
 
 def _check_tube(v: dict[str, Any], prefix: str) -> None:

@@ -29,6 +29,8 @@ TARGET_KEYS: tuple[str, ...] = (
     "min_transmission_angle_deg", "min_clearance_mm",
     "first_mode_Hz", "max_stress_MPa", "compliance_x_um_per_N", "compliance_z_um_per_N",
     "D_min_kg_m2", "D_max_kg_m2",
+    # datasheet figures (cad/datasheet): bounds replace their default limits
+    "continuous_force_N", "peak_force_N", "resolution_um", "K_max_N_per_m", "friction_N",
 )
 
 #: Targets of the pantograph families (isotropy paper): the GII (eq 5) over the design's

@@ -515,6 +515,40 @@ def get_motor(key: str, field: str = "parts.motor") -> MotorSpec:
     return MOTORS[key]
 
 
+# --------------------------------------------------------------------------- encoders
+@dataclass(frozen=True)
+class EncoderSpec:
+    """A shaft encoder on the crank: ``counts_per_rev`` after quadrature decoding, its mass
+    (None: not known) and the source of each value."""
+
+    key: str
+    description: str
+    counts_per_rev: int
+    mass_kg: float | None
+    source: str
+
+
+#: Encoder catalog. ``optical-2000``: the Hoeken prototype's "general purpose 2000 counts/rev
+#: optical encoder" (paper §III.A); ``maxon-hedl5540-500``: maxon HEDL 5540, 500 counts per turn,
+#: 3 channels, the encoder maxon combines with the RE 35 / RE 40 (x4 quadrature = 2000 counts).
+ENCODERS: dict[str, EncoderSpec] = {
+    "optical-2000": EncoderSpec(
+        "optical-2000", "optical encoder, 2000 counts/rev (quadrature)", 2000, None,
+        "Hoeken paper §III.A: 'a general purpose 2000 counts/rev optical encoder' (mass unverified)"),
+    "maxon-hedl5540-500": EncoderSpec(
+        "maxon-hedl5540-500", "maxon encoder HEDL 5540, 500 CPT, 3 channels (2000 counts/rev x4)",
+        2000, None, "maxon catalog, Encoder HEDL 5540, 500 counts per turn (mass unverified)"),
+}
+#: Encoder assumed when a design names none (the paper prototype's).
+DEFAULT_ENCODER = "optical-2000"
+
+
+def get_encoder(key: str, field: str = "parts.encoder") -> EncoderSpec:
+    if key not in ENCODERS:
+        raise DesignError(field, f"unknown encoder {key!r} (catalog: {', '.join(ENCODERS)})")
+    return ENCODERS[key]
+
+
 def polar_points_mm(
     radius_mm: float, count: int, start_deg: float = 90.0
 ) -> list[tuple[float, float]]:

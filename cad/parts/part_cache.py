@@ -47,7 +47,8 @@ from typing import Any
 MEMO_MAX = 512
 #: PartsSpec fields that never change a solid (mass and inertia inputs, mesh and sweep settings)
 NON_GEOMETRIC = ("bearing_mass_g", "motor_rotor_inertia_g_cm2", "stl_tolerance_mm",
-                 "stl_angular_tolerance_deg", "interference_poses", "clearance_min_mm", "fidelity")
+                 "stl_angular_tolerance_deg", "interference_poses", "clearance_min_mm", "fidelity",
+                 "encoder", "encoder_counts_per_rev")
 
 _MEMO: OrderedDict[str, Any] = OrderedDict()
 #: id(shape) -> (shape, disk key) of the solids in :data:`_MEMO` (their mass-property key)

@@ -9,6 +9,9 @@ What the page holds (nothing is fetched: no network, no file beside it is read):
   import map (see its README.md);
 * ``animation.gif`` (the same stroke, rendered without a GPU, :mod:`cad.report.render`);
 * every chart of the build (the top-level ``*.png`` files listed in the report);
+* first, the device datasheet (``report["datasheet"]``, :mod:`cad.datasheet`): one row per
+  figure with its value, model and verdict, every missed limit as a red line above it;
+* the fastener records as a table (size, length, parts clamped, hole, engagement);
 * the BOM (``report["bom"]``), the checks (interference, clearances, targets: every
   ``checks``-like entry of report.json) and the key numbers, and report.json itself.
 
@@ -234,13 +237,15 @@ def checks_rows(report: dict) -> list[list]:
         v = report[k]
         verdict = _verdict(k, v)
         rows.append([k, _summary(v), verdict or ("", "")])
-        if isinstance(v, dict) and k != "interference":
+        if isinstance(v, dict) and k not in ("interference", "fasteners", "tapped_holes"):
             for sk, sv in v.items():
                 rows.append([f"{k}.{sk}", _summary(sv), _verdict(sk, sv) or ("", "")])
     return rows
 
 
 def _summary(v) -> str:
+    if isinstance(v, dict) and v and all(isinstance(x, dict) and "size" in x for x in v.values()):
+        return f"{len(v)} records (table below)"
     if isinstance(v, dict) and "collisions" in v:
         keep = {
             k: v[k] for k in ("min_clearance_mm", "overlap_volume_mm3", "method", "poses") if k in v
@@ -271,6 +276,49 @@ def charts(report: dict, out_dir: Path) -> list[tuple[str, bytes]]:
     return [(n, (Path(out_dir) / n).read_bytes()) for n in ordered if (Path(out_dir) / n).is_file()]
 
 
+def datasheet_html(report: dict) -> str:
+    """The datasheet section: missed limits in red first, then the table (empty string
+    when the report has no datasheet)."""
+    from cad.datasheet import fmt_value, verdict_text
+
+    ds = report.get("datasheet")
+    if not ds:
+        return ""
+    out = ["<h2>Datasheet</h2>"]
+    if ds.get("warnings"):
+        out.append("<ul>" + "".join(f"<li class='bad'>warning: {html.escape(w)}</li>" for w in ds["warnings"])
+                   + "</ul>")
+    else:
+        out.append("<p class='ok'>every figure with a limit meets it</p>")
+    rows = []
+    for r in ds["rows"]:
+        model = r["model"] + (f"; {r['boundary']}" if r["boundary"] else "")
+        if r["unverified"]:
+            model += " (uses unverified data)"
+        if r.get("paper"):
+            model += f"; paper: {r['paper']}"
+        cls = {"ok": "ok", "miss": "bad"}.get(r["verdict"], "")
+        rows.append([r["figure"], (fmt_value(r), "num"), r["unit"], model, (verdict_text(r), cls)])
+    out.append(_table(rows, ["figure", "value (min .. max)", "unit", "model / source", "verdict"]))
+    out += [f"<p class='muted'>{html.escape(n)}</p>" for n in ds.get("notes", ())]
+    return "".join(out)
+
+
+def fastener_table(report: dict) -> str:
+    """The fastener records (:func:`cad.build.family.fastener_report`) as a readable table."""
+    fast = report.get("fasteners") or {}
+    if not fast:
+        return ""
+    rows = []
+    for name, f in sorted(fast.items()):
+        clamps = f.get("clamps", [])
+        rows.append([name, f.get("kind", ""), f.get("size", ""), f.get("length_mm", ""),
+                     ", ".join(clamps) if isinstance(clamps, list) else str(clamps), f.get("hole", ""),
+                     f.get("engagement_mm", "")])
+    return "<h2>Fasteners</h2>" + _table(rows, ["screw", "standard", "size", "length (mm)", "clamps",
+                                                "hole engaged", "engagement (mm)"])
+
+
 def report_html(report: dict, out_dir: Path, glb: bytes | None) -> str:
     """The page (module docstring) for ``report`` (report.json's content) built in ``out_dir``."""
     out_dir = Path(out_dir)
@@ -290,6 +338,7 @@ def report_html(report: dict, out_dir: Path, glb: bytes | None) -> str:
         f"fidelity {html.escape(str(b.get('fidelity', report.get('fidelity', ''))))}; "
         f"formats {html.escape(', '.join(b.get('formats', [])))}. Lengths in mm unless a key says otherwise.</p>"
     )
+    parts.append(datasheet_html(report))
     parts.append("<h2>Assembly (3D)</h2>")
     if glb is not None:
         parts.append(
@@ -322,6 +371,7 @@ def report_html(report: dict, out_dir: Path, glb: bytes | None) -> str:
         if rows
         else "<p class='muted'>none reported</p>"
     )
+    parts.append(fastener_table(report))
     parts.append("<h2>Bill of materials</h2>" + bom_table(report))
     parts.append("<h2>Key numbers</h2>" + _table(key_numbers(report), ["key", "value"]))
     parts.append(

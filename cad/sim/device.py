@@ -102,7 +102,8 @@ def device_build(design, build_dir: Path | None = None) -> Path:
 def _build_sim(design, out: Path) -> None:
     from cad.build import build_design
 
-    build_design(design, out, {"mjcf", "stl"}, fidelity="preview", allow_interference=True)
+    build_design(design, out, {"mjcf", "stl"}, fidelity="preview", allow_interference=True,
+                 simulate_wall=False)  # the wall command simulates itself
 
 
 def _drop_if_damaged(entry: Path) -> None:
@@ -125,32 +126,44 @@ def _drop_if_damaged(entry: Path) -> None:
                 "its manifest.json); rebuilt")
 
 
+def wall_inputs(design) -> tuple[dict, str]:
+    """(Fv, Fs, Te, Delta, xdot, counts) of the wall and where they come from: the design's
+    ``[stiffness]`` table, else its encoder (``parts.encoder`` / ``encoder_counts_per_rev``)
+    and the datasheet's Coulomb friction estimate at no load (:mod:`cad.datasheet.fourbar`)."""
+    from cad.datasheet.fourbar import friction, lever, stiffness_inputs
+
+    _, Jx, pose, a2, a3 = lever(design)
+    if design.stiffness is not None:
+        return stiffness_inputs(design, Jx, None)
+    m = design.motor_spec()
+    Fm, _ = friction(design, m, Jx, pose, a2, a3)
+    if Fm is None:
+        raise DesignError("stiffness", f"no [stiffness] table and no friction data for {m.key} (torque constant "
+                          "and no-load current): add [stiffness] or those [motor] keys")
+    return stiffness_inputs(design, Jx, float(Fm.max()))
+
+
 def wall_report(design, *, K: float | None = None, B: float = 0.0, Te_s: float | None = None,
                 counts_per_rev: float | None = None, model: str = "reduced",
                 build_dir: Path | None = None) -> dict:
     """Everything ``hapticad wall --json`` prints (README "Virtual wall")."""
+    from cad.datasheet.fourbar import eq25_K_max
     from cad.dynamics.inertia import InertiaCoefficients
-    from cad.dynamics.stiffness import StiffnessInputs, stiffness_range_N_per_m
-    from cad.parts.catalog import get_motor
     from cad.sim import wall
 
-    st = design.stiffness
-    if st is None:
-        raise DesignError("stiffness", "the wall simulation needs the [stiffness] table "
-                          "(Fv_N_s_per_m, Fs_N, Te_s, encoder_resolution_m, xdot_max_m_per_s)")
     t0 = time.perf_counter()
+    s, src = wall_inputs(design)
     folder = device_build(design, build_dir)
     rep = read_device_report(folder, "--build-dir" if build_dir is not None else "wall")
     H = InertiaCoefficients(rep["H11_kg_m2"], rep["H12_kg_m2"], rep["H22_kg_m2"], rep["H33_kg_m2"],
                             math.radians(rep["beta2_deg"]))
     from cad.build.sim_fourbar import motor_torque_Nm
 
-    tau = motor_torque_Nm(get_motor(rep["motor"]["key"]))
+    tau = motor_torque_Nm(design.motor_spec())
     tab = wall.device_tables(design, H)
-    Te = st.Te_s if Te_s is None else Te_s
-    counts = (2 * math.pi * abs(tab.J_wall) / st.encoder_resolution_m
-              if counts_per_rev is None else counts_per_rev)
-    spec = wall.WallSpec(Te, counts, st.Fv_N_s_per_m, st.Fs_N, tau, st.xdot_max_m_per_s)
+    Te = s["Te"] if Te_s is None else Te_s
+    counts = s["counts"] if counts_per_rev is None else counts_per_rev
+    spec = wall.WallSpec(Te, counts, s["Fv"], s["Fs"], tau, s["xdot"])
     delta = tab.delta_m(counts)
     if model == "reduced":
         stable_of, n_probe = wall.reduced_stable_of(tab, spec, B), wall.N_PROBE
@@ -161,14 +174,13 @@ def wall_report(design, *, K: float | None = None, B: float = 0.0, Te_s: float |
     out = {
         "design": design.name, "model": model, "B_N_s_per_m": B, "Te_s": Te,
         "encoder_counts_per_rev": counts, "encoder_resolution_m": delta,
-        "Fv_N_s_per_m": st.Fv_N_s_per_m, "Fs_N": st.Fs_N, "tau_max_Nm": tau,
+        "Fv_N_s_per_m": s["Fv"], "Fs_N": s["Fs"], "tau_max_Nm": tau, "inputs": src,
         "hand_force_N": spec.hand_N, "v0_m_per_s": spec.v0_m_per_s,
         "M11_wall_g": float(tab.at(tab.a, tab.phi_wall) / tab.J_wall**2 * 1e3),
         "K_max_stable_N_per_m": km["K_max_N_per_m"],
         "K_first_unstable_N_per_m": km["K_unstable_N_per_m"],
-        "eq25_K_max_N_per_m": stiffness_range_N_per_m(StiffnessInputs(
-            st.Fv_N_s_per_m, st.Fs_N, Te, delta, st.xdot_max_m_per_s))[1],
-        "passivity_K_max_N_per_m": wall.passivity_K_max(st.Fv_N_s_per_m, B, Te),
+        "eq25_K_max_N_per_m": eq25_K_max({**s, "Te": Te, "delta": delta}),
+        "passivity_K_max_N_per_m": wall.passivity_K_max(s["Fv"], B, Te),
         "criterion": (f"stable: peak-to-peak of the handle's path coordinate over the last "
                       f"{wall.WINDOW_S:g} s of {wall.T_SIM_S:g} s below {wall.AMPLITUDE_COUNTS:g} "
                       f"encoder steps, after hitting the wall at v0 with a {spec.hand_N:g} N push"),

@@ -342,8 +342,10 @@ def reduced_stable_of(tab: DeviceTables, spec: WallSpec, B: float, substep_s: fl
     tol = AMPLITUDE_COUNTS * tab.delta_m(spec.counts_per_rev)
 
     def f(K):
-        t, xs, *_ = simulate_reduced(tab, spec, K, B, substep_s=substep_s)
-        return amplitude_m(t, xs) < tol
+        # an unstable wall may diverge to inf / NaN (no viscous friction): that is "unstable"
+        with np.errstate(over="ignore", invalid="ignore"):
+            t, xs, *_ = simulate_reduced(tab, spec, K, B, substep_s=substep_s)
+            return np.nan_to_num(amplitude_m(t, xs), nan=np.inf) < tol
 
     return f
 

@@ -213,16 +213,35 @@ class Frame:
             out.append(best)
         return np.array(out)
 
-    def modes_Hz(self, k: int = 3) -> np.ndarray:
-        """Lowest ``k`` natural frequencies (Hz): lumped translational masses, Guyan-condensed."""
-        from scipy.linalg import eigh
-
-        _, K, m, free = self._reduced()
+    def _condensed(self):
+        """Guyan condensation onto the massive DOFs: (map, K, free, massive mask, Kc, masses,
+        Ktr, Krr)."""
+        idx, K, m, free = self._reduced()
         Kf = K[np.ix_(free, free)]
         mf = m[free]
         t = mf > 0
         Ktt, Ktr, Krr = Kf[np.ix_(t, t)], Kf[np.ix_(t, ~t)], Kf[np.ix_(~t, ~t)]
         Kc = Ktt - Ktr @ np.linalg.solve(Krr, Ktr.T)
-        Kc = 0.5 * (Kc + Kc.T)
-        w2 = eigh(Kc, np.diag(mf[t]), eigvals_only=True, subset_by_index=[0, min(k, len(Kc)) - 1])
+        return idx, K, free, t, 0.5 * (Kc + Kc.T), mf[t], Ktr, Krr
+
+    def modes(self, k: int = 3) -> tuple[np.ndarray, np.ndarray]:
+        """Lowest ``k`` modes: (frequencies Hz (k,), shapes (k, 6 N) node DOFs), each shape
+        mass-normalized (phi^T M phi = 1, lumped translational masses) with its massless DOFs
+        recovered from the Guyan condensation (exact for lumped masses)."""
+        from scipy.linalg import eigh
+
+        idx, K, free, t, Kc, mt, Ktr, Krr = self._condensed()
+        n = min(k, len(Kc))
+        w2, V = eigh(Kc, np.diag(mt), subset_by_index=[0, n - 1])
+        shapes = np.zeros((n, K.shape[0]))
+        shapes[:, free[t]] = V.T
+        shapes[:, free[~t]] = -np.linalg.solve(Krr, Ktr.T @ V).T
+        return np.sqrt(np.maximum(w2, 0.0)) / (2 * math.pi), shapes[:, idx]
+
+    def modes_Hz(self, k: int = 3) -> np.ndarray:
+        """Lowest ``k`` natural frequencies (Hz): lumped translational masses, Guyan-condensed."""
+        from scipy.linalg import eigh
+
+        *_, Kc, mt, _, _ = self._condensed()
+        w2 = eigh(Kc, np.diag(mt), eigvals_only=True, subset_by_index=[0, min(k, len(Kc)) - 1])
         return np.sqrt(np.maximum(w2, 0.0)) / (2 * math.pi)

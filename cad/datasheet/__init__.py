@@ -1,0 +1,117 @@
+"""The device datasheet (issue 24): every figure a haptics reviewer asks for, from the model.
+
+:func:`datasheet` turns a design and its build report (``report.json`` before the
+``datasheet`` key is added) into ``{"family", "rows", "warnings", "ok", "notes"}``. Each row:
+
+* ``key`` (stable, JSON), ``figure`` (words), ``value`` (the governing value: the minimum over
+  the workspace for a force, the maximum for a resolution or a friction), ``min`` / ``max``
+  over the workspace where the figure varies (else None), ``unit``;
+* ``model``: the model or source the value comes from, ``boundary``: the boundary conditions
+  of a structural figure (crank held or free, handle free or loaded), ``unverified``: True
+  when it uses a value without a public source (:class:`cad.parts.catalog.MotorSpec`);
+* ``limit`` (:mod:`cad.datasheet.limits`, None for a figure without one) and ``verdict``:
+  ``"ok"``, ``"miss"`` or ``"info"``; ``paper``: the paper's measured value where it gives one.
+
+``warnings`` holds one line per missed limit (figure, value, limit, key to change). Pure
+numpy, no CAD import: computed by the build dispatcher and by ``hapticad datasheet``.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+from cad.datasheet.limits import Limit
+
+
+def row(key: str, figure: str, value, unit: str, model: str, *, lo=None, hi=None,
+        boundary: str = "", unverified: bool = False, paper=None) -> dict[str, Any]:
+    """One datasheet row (module docstring); ``value`` None: not computable (model says why)."""
+    def f(v):
+        return None if v is None else float(v)
+
+    return {"key": key, "figure": figure, "value": f(value), "min": f(lo), "max": f(hi),
+            "unit": unit, "model": model, "boundary": boundary, "unverified": bool(unverified),
+            "paper": paper, "limit": None, "verdict": "info"}
+
+
+def judge(rows: list[dict], limits: dict[str, Limit]) -> list[str]:
+    """Verdicts on ``rows`` from ``limits`` (in place); returns the warning lines."""
+    warnings = []
+    for r in rows:
+        lim = limits.get(r["key"])
+        if lim is None:
+            continue
+        r["limit"] = lim.as_dict()
+        ok = lim.met(r["value"])
+        r["verdict"] = "ok" if ok else "miss"
+        if not ok:
+            warnings.append(warning_line(r, lim))
+    return warnings
+
+
+def warning_line(r: dict, lim: Limit) -> str:
+    """``<figure> = <value> <unit>, limit <op> <limit> (<reason>); change <keys>``."""
+    v = "not computed" if r["value"] is None else f"{r['value']:.4g} {r['unit']}"
+    return (f"{r['figure']} = {v}, limit {lim.op} {lim.value:.4g} {r['unit']} ({lim.reason}); "
+            f"change {lim.change}")
+
+
+def datasheet(design, report: dict, out_dir=None, simulate_wall: bool = True) -> dict[str, Any]:
+    """The datasheet of a built device (module docstring), dispatched on the family.
+    ``out_dir``: where a family may write its chart (the pantographs' force ellipses);
+    the chart's file name is then in ``notes`` and ``charts``. ``simulate_wall=False``: no
+    wall simulation (the four-bar K_max row says so; evaluation builds)."""
+    fam = getattr(design, "family", "")
+    if fam in ("pantograph", "twin-pantograph", "haptic-pen"):
+        from cad.datasheet.pantograph import rows_and_limits
+    elif fam == "powermouse":
+        from cad.datasheet.powermouse import rows_and_limits
+    else:
+        from cad.datasheet.fourbar import rows_and_limits
+    rows, limits, notes = rows_and_limits(design, report, out_dir=out_dir, simulate_wall=simulate_wall)
+    warnings = judge(rows, limits)
+    charts = [n.rsplit(": ", 1)[1] for n in notes if n.startswith("force ellipses")]
+    return {"family": fam, "rows": rows, "warnings": warnings, "ok": not warnings, "notes": notes,
+            "charts": charts}
+
+
+def fmt_value(r: dict) -> str:
+    """Display text of a row's value and range (``2.92 (2.89 .. 2.95)``)."""
+    v = r["value"]
+    if v is None:
+        return "—"
+    s = _num(v)
+    if r["min"] is not None and r["max"] is not None and not math.isclose(r["min"], r["max"], rel_tol=1e-6):
+        s += f" ({_num(r['min'])} .. {_num(r['max'])})"
+    return s
+
+
+def _num(v: float) -> str:
+    return f"{v:.4g}"
+
+
+def verdict_text(r: dict) -> str:
+    lim = r.get("limit")
+    if lim is None:
+        return "—"
+    word = "ok" if r["verdict"] == "ok" else "MISS"
+    return f"{word} ({lim['op']} {lim['value']:.4g})"
+
+
+def markdown(ds: dict) -> list[str]:
+    """The datasheet as markdown lines (report.md, README)."""
+    lines = ["## Datasheet", "", "| figure | value (min .. max) | unit | model / source | verdict |",
+             "|---|---|---|---|---|"]
+    for r in ds["rows"]:
+        model = r["model"] + (f"; {r['boundary']}" if r["boundary"] else "")
+        model += " (uses unverified data)" if r["unverified"] else ""
+        if r.get("paper") is not None:
+            model += f"; paper: {r['paper']}"
+        lines.append(f"| {r['figure']} | {fmt_value(r)} | {r['unit']} | {model.replace('|', chr(92) + '|')} | "
+                     f"{verdict_text(r)} |")
+    if ds["warnings"]:
+        lines += ["", *[f"- **warning:** {w}" for w in ds["warnings"]]]
+    for n in ds.get("notes", ()):
+        lines.append(f"- {n}")
+    return lines + [""]

@@ -1,0 +1,141 @@
+"""Default limits of every device figure, in one place, each with its reason (issue 24).
+
+A datasheet row (:mod:`cad.datasheet`) whose key has a limit here gets a verdict; a missed
+limit is a ``warning:`` line of the build (exit 0, exit 1 with ``--strict``), red at the top
+of ``report.html``, and a failed row of ``hapticad check`` when the design has no
+``[targets]``. A ``[targets]`` entry of the same key replaces the default (its ``min`` /
+``max``). No CAD import.
+
+=====================  ====  ============================================  ==================================
+figure (row key)       op    default limit                                 reason
+=====================  ====  ============================================  ==================================
+continuous_force_N     >=    ``force_N`` (four-bars; unless                the force the design asks for must be
+                             ``mechanism.force_basis = "peak"``)           available without overheating the
+                                                                           motor, at every point of the stroke
+peak_force_N           >=    ``force_N`` when ``force_basis = "peak"``     a peak-only design still needs its
+                                                                           force at every point, for a moment
+force_any_dir_N        >=    ``[actuators] force_N`` of a pantograph       the force asked for must be there in
+                             design when it gives one                      every direction at every point
+first_mode_Hz          >=    :data:`FIRST_MODE_MIN_HZ`                     Hoeken paper §III.B.1: 150 Hz force
+                                                                           bandwidth; a structural mode inside
+                                                                           it is rendered as a vibration
+max_stress_MPa         <=    strength / :data:`STRESS_SAFETY_FACTOR`       static safety factor 3 at ``force_N``
+                                                                           (fatigue, notches, impacts)
+min_clearance_mm       >=    ``parts.clearance_min_mm``                    the build's own clearance rule
+resolution_um,         only where ``[targets]`` asks                       a resolution or a wall stiffness is a
+K_max_N_per_m,                                                             requirement of the application, not
+friction_N                                                                 of every device
+=====================  ====  ============================================  ==================================
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+#: First structural mode limit (Hz): above the Hoeken prototype's 150 Hz force bandwidth
+#: (paper §III.B.1, which measured its first resonance at 250 Hz).
+FIRST_MODE_MIN_HZ = 150.0
+#: Peak stress at ``force_N`` at most the material strength over this factor.
+STRESS_SAFETY_FACTOR = 3.0
+
+
+@dataclass(frozen=True)
+class Limit:
+    """One limit: ``op`` (``">="`` or ``"<="``), its value in the row's unit, why, which
+    design key(s) to change, and where the value came from (``"default"`` or ``"targets"``)."""
+
+    op: str
+    value: float
+    reason: str
+    change: str
+    origin: str = "default"
+
+    def met(self, v: float | None) -> bool:
+        if v is None:
+            return False
+        return {">=": v >= self.value, ">": v > self.value, "<=": v <= self.value}[self.op]
+
+    def as_dict(self) -> dict:
+        return {"op": self.op, "value": self.value, "reason": self.reason, "change": self.change,
+                "origin": self.origin}
+
+
+FORCE_REASON = ("force_N must be available continuously at every point of the stroke "
+                "(mechanism.force_basis = \"peak\" accepts peak-only force)")
+FORCE_CHANGE = "parts.motor or [motor] (a stronger motor), mechanism.force_N, or mechanism.force_basis = \"peak\""
+MODE_REASON = "above the 150 Hz force bandwidth of the Hoeken prototype (paper §III.B.1)"
+MODE_CHANGE = "parts.bar_material, parts.bar_thickness_mm, parts.bar_width_mm (stiffer, lighter bars)"
+STRESS_REASON = f"strength / {STRESS_SAFETY_FACTOR:g} (static safety factor at force_N)"
+STRESS_CHANGE = "parts.bar_material or parts.bar_thickness_mm / parts.bar_width_mm"
+CLEARANCE_CHANGE = "parts.layer_gap_mm, parts.pin_head_clearance_mm or parts.layer_order"
+
+
+def fourbar_limits(design, strength_MPa: float | None) -> dict[str, Limit]:
+    """Default limits of a four-bar design (module table), then its [targets] bounds."""
+    lim: dict[str, Limit] = {}
+    F = float(design.force_N)
+    if design.force_basis == "peak":
+        lim["peak_force_N"] = Limit(">=", F, "force_N at every point of the stroke (force_basis = peak)",
+                                    "parts.motor or [motor], or mechanism.force_N")
+    else:
+        lim["continuous_force_N"] = Limit(">=", F, FORCE_REASON, FORCE_CHANGE)
+    lim["first_mode_Hz"] = Limit(">=", FIRST_MODE_MIN_HZ, MODE_REASON, MODE_CHANGE)
+    if strength_MPa is not None:
+        lim["max_stress_MPa"] = Limit("<=", strength_MPa / STRESS_SAFETY_FACTOR, STRESS_REASON, STRESS_CHANGE)
+    lim["min_clearance_mm"] = Limit(">=", float(design.parts.clearance_min_mm),
+                                    "parts.clearance_min_mm (the build's clearance rule)", CLEARANCE_CHANGE)
+    return with_targets(lim, design.targets)
+
+
+def pantograph_limits(design, force_N: float | None) -> dict[str, Limit]:
+    """Default limits of a pantograph-family design (module table), then its [targets]."""
+    lim: dict[str, Limit] = {}
+    if force_N is not None:
+        lim["force_any_dir_N"] = Limit(">=", force_N, "[actuators] force_max_N (S_T, isotropy paper eq 4): the "
+                                       "force asked for, in every direction at every point of the workspace",
+                                       "actuators.torque_max_Nm, actuators.force_max_N or the link lengths")
+    return with_targets(lim, getattr(design, "targets", ()))
+
+
+def with_targets(lim: dict[str, Limit], targets) -> dict[str, Limit]:
+    """A ``[targets]`` bound of a limited key (``min`` for a ``>=`` figure, ``max`` for a
+    ``<=`` one) replaces its default limit; ``value +/- tol`` targets stay check rows only."""
+    out = dict(lim)
+    for t in targets or ():
+        op = DATASHEET_TARGETS.get(t.key)
+        if op is None:
+            continue
+        bound = t.min if op == ">=" else t.max
+        if bound is not None:
+            out[t.key] = Limit(op, float(bound), "[targets]", f"targets.{t.key}", "targets")
+    return out
+
+
+#: Datasheet rows a [targets] entry may bound (and the side that matters).
+DATASHEET_TARGETS = {
+    "first_mode_Hz": ">=", "max_stress_MPa": "<=", "min_clearance_mm": ">=",
+    "continuous_force_N": ">=", "peak_force_N": ">=", "force_any_dir_N": ">=",
+    "resolution_um": "<=", "K_max_N_per_m": ">=", "friction_N": "<=",
+}
+
+
+#: ``hapticad fit`` free parameters that change the bar material: with one of them free the
+#: fit also meets the default structural limits (a lighter material must stay stiff and strong).
+STRUCTURE_FREE = ("parts.bar_material", "parts.bar_style", "parts.tube_material")
+
+
+def structure_targets(design) -> tuple:
+    """The default first-mode and stress limits of a four-bar candidate as ``[targets]``
+    bounds (the stress limit from its own bar material), except keys its targets set."""
+    from cad.design.targets import Target
+    from cad.structure.device import link_material
+    from cad.structure.elastic import get_elastic
+
+    lim = fourbar_limits(design, get_elastic(link_material(design.parts)).strength_MPa)
+    mode, stress = lim["first_mode_Hz"], lim["max_stress_MPa"]
+    out = []
+    if mode.origin == "default":
+        out.append(Target("first_mode_Hz", min=mode.value))
+    if stress.origin == "default":
+        out.append(Target("max_stress_MPa", max=stress.value))
+    return tuple(out)

@@ -1,0 +1,165 @@
+"""Datasheet rows of the pantograph families (5-bar pantograph, twin-pantograph haptic mouse,
+haptic pen).
+
+At every workspace sample of the design (``[workspace]`` grid, task coordinates) the Jacobian
+``q_dot = J x_dot`` (isotropy paper eq 1, SI) gives the handle wrench ``w = J^T tau``. With
+every motor at most at its ``[actuators] torque_max_Nm`` (S_J, eq 3) the torques inside the
+ellipsoid ``tau = S_J u, |u| <= 1`` (inscribed in the torque box) reach the force ellipse
+``F = A u``, ``A`` = the translational rows of ``J^T S_J``: the force available **in every
+direction** is its smallest singular value ``sigma_min(A)`` (the twin pantograph's and the
+pen's moment left free), the largest force in the best direction ``sigma_max(A)``. The
+datasheet gives the minimum of sigma_min over the workspace (the figure a user can count on)
+and draws the ellipses over the workspace (``force_ellipses.png``, planar families).
+
+Position resolution: one encoder step ``2 pi / counts`` on each joint moves the handle at
+most ``sigma_max(J_pos^+) 2 pi / counts`` (J_pos the translational columns; counts of
+:data:`cad.parts.catalog.DEFAULT_ENCODER`, the Hoeken prototype's, as these designs name no
+encoder); the worst over the workspace. No CAD import.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from cad.datasheet import row
+
+#: Translational task coordinates (columns of J) per family.
+FORCE_COLS = {"pantograph": (0, 1), "twin-pantograph": (0, 1), "haptic-pen": (0, 1, 2)}
+
+
+def jacobian_and_limits(design) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(J (N, m, d) SI over the workspace samples, torque limits (m,) N m, ok mask (N,))."""
+    X = design.workspace_points()
+    act = design.actuators
+    if design.family == "pantograph":
+        from cad.kinematics.fivebar import STATUS_OK, jacobian_rad_per_m
+
+        J, st = jacobian_rad_per_m(design.mechanism, X)
+        tau = np.broadcast_to(np.asarray(act["torque_max_Nm"], float), (2,))
+    elif design.family == "twin-pantograph":
+        from cad.kinematics.fivebar import STATUS_OK
+        from cad.kinematics.twin_pantograph import jacobian_si
+
+        J, st = jacobian_si(design.mechanism, X)
+        tau = np.broadcast_to(np.asarray(act["torque_max_Nm"], float), (4,))
+    else:
+        from cad.kinematics.fivebar import STATUS_OK
+        from cad.kinematics.haptic_pen import actuator_scale, jacobian_si
+
+        J, st = jacobian_si(design.mechanism, X)
+        tau = actuator_scale(design.params["waist_torque_ratio"], float(np.atleast_1d(act["torque_max_Nm"])[0]))
+    return np.asarray(J), np.asarray(tau, float), np.asarray(st) == STATUS_OK
+
+
+def force_ellipses(design) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(A (N, k, m) force rows of J^T S_J, sigma (N, k) singular values descending, ok (N,))."""
+    J, tau, ok = jacobian_and_limits(design)
+    cols = FORCE_COLS[design.family]
+    A = np.swapaxes(J, -1, -2)[:, cols, :] * tau[None, None, :]
+    sig = np.linalg.svd(A, compute_uv=False)
+    return A, sig, ok
+
+
+def resolution_m(design, counts: float) -> np.ndarray:
+    """Worst handle step (m) of one encoder count on every joint, per workspace sample."""
+    J, _, ok = jacobian_and_limits(design)
+    cols = FORCE_COLS[design.family]
+    Jp = J[:, :, cols]
+    out = np.full(len(J), np.nan)
+    for i in np.flatnonzero(ok):
+        out[i] = np.linalg.norm(np.linalg.pinv(Jp[i]), 2) * 2 * math.pi / counts
+    return out
+
+
+def write_ellipse_chart(design, out_dir, A, ok) -> str | None:
+    """``force_ellipses.png``: the force ellipse (N, scaled) at every planar workspace sample."""
+    if design.family == "haptic-pen":
+        return None
+    from matplotlib.figure import Figure
+
+    X = design.workspace_points()
+    fig = Figure(figsize=(6, 6))
+    ax = fig.add_subplot()
+    t = np.linspace(0, 2 * np.pi, 73)
+    m = A.shape[-1]
+    U = np.zeros((m, t.size))
+    smax = float(np.linalg.svd(A[ok], compute_uv=False).max()) if ok.any() else 1.0
+    step = (design.workspace["side_mm"] / max(design.workspace["grid"] - 1, 1))
+    scale = 0.45 * step / smax
+    seen = set()
+    for i in np.flatnonzero(ok):
+        key = (round(X[i, 0], 6), round(X[i, 1], 6))
+        if key in seen:  # twin pantograph: one ellipse per (x, y), first crank angle
+            continue
+        seen.add(key)
+        Ui, s, Vt = np.linalg.svd(A[i])
+        pts = Ui @ np.diag(s) @ np.vstack([np.cos(t), np.sin(t)])
+        ax.plot(X[i, 0] + scale * pts[0], X[i, 1] + scale * pts[1], lw=0.8, color="tab:blue")
+    del U
+    ax.set_aspect("equal")
+    ax.set_xlabel("x (mm)")
+    ax.set_ylabel("y (mm)")
+    ax.set_title(f"{design.name}: force ellipses J^T S_J u, |u| <= 1 ({scale:.3g} mm per N)")
+    from pathlib import Path
+
+    fig.savefig(Path(out_dir) / "force_ellipses.png", dpi=110)
+    return "force_ellipses.png"
+
+
+def rows_and_limits(design, report: dict, out_dir=None, simulate_wall: bool = True):
+    """(rows, limits, notes) of a pantograph-family build (module docstring)."""
+    from cad.datasheet.limits import pantograph_limits
+    from cad.parts import catalog
+
+    A, sig, ok = force_ellipses(design)
+    ws = design.workspace
+    smin, smaxv = sig[ok, -1], sig[ok, 0]
+    share = float(ok.mean())
+    rows = []
+    if design.family == "haptic-pen":
+        area, unit = float(np.prod(ws["size_mm"])), "mm^3"
+        fig = f"workspace box {' x '.join(f'{v:g}' for v in ws['size_mm'])} mm, +-{ws['rotation_deg']:g} deg"
+    else:
+        area, unit = ws["side_mm"] ** 2, "mm^2"
+        fig = f"workspace square {ws['side_mm']:g} mm" + (", full crank turn" if design.family == "twin-pantograph" else "")
+    rows.append(row("workspace", fig, area, unit, f"[workspace] table; {share:.0%} of its {ok.size} samples "
+                    "reachable and non-singular (the figures below hold there)"))
+    tau_txt = f"[actuators] torque_max_Nm = {design.actuators['torque_max_Nm']}"
+    rows.append(row("force_any_dir_N", "force available in every direction", smin.min() if ok.any() else None, "N",
+                    f"min over the workspace of sigma_min(J^T S_J) (translational rows), {tau_txt}",
+                    lo=smin.min() if ok.any() else None, hi=smin.max() if ok.any() else None))
+    rows.append(row("force_best_dir_N", "largest force (best direction)", smaxv.max() if ok.any() else None, "N",
+                    f"max over the workspace of sigma_max(J^T S_J), {tau_txt}",
+                    lo=smaxv.min() if ok.any() else None, hi=smaxv.max() if ok.any() else None))
+    enc = catalog.get_encoder(catalog.DEFAULT_ENCODER)
+    res = resolution_m(design, enc.counts_per_rev) * 1e6
+    good = res[np.isfinite(res)]
+    rows.append(row("resolution_um", "position resolution at the handle", good.max() if good.size else None, "um",
+                    f"sigma_max(J^+) 2 pi / {enc.counts_per_rev} counts per joint, worst over the workspace; "
+                    f"encoder {enc.key} assumed ({enc.source})",
+                    lo=good.min() if good.size else None, hi=good.max() if good.size else None))
+    rows.append(row("friction_N", "Coulomb friction at the handle", None, "N",
+                    "not modelled: [actuators] gives torque limits only (no motor data sheet)"))
+    em = report.get("effective_mass_home") or {}
+    for k, v in em.items():
+        if isinstance(v, (int, float)) and not isinstance(v, bool):
+            unit_k = "g cm^2" if "inertia" in k else "g"
+            rows.append(row(f"effective_mass_home.{k}", f"effective mass at home: {k}", v, unit_k,
+                            "mass matrix from the solids at the home pose (apparent: other axes free; diag: held)",
+                            boundary="motors unpowered (joints free), handle free"))
+    for k, fig_k in (("moving_mass_g", "moving mass"), ("total_mass_g", "total mass")):
+        if isinstance(report.get(k), (int, float)):
+            rows.append(row(k, fig_k, report[k], "g", "from the solids (bought parts: catalog masses)"))
+    if report.get("min_clearance_mm") is not None:
+        rows.append(row("min_clearance_mm", "smallest clearance between parts", report["min_clearance_mm"], "mm",
+                        "interference check of the build"))
+    rows.append(row("first_mode_Hz", "first structural mode", None, "Hz",
+                    "not modelled for this family (the structure model covers four-bars)"))
+    notes = []
+    if out_dir is not None and ok.any():
+        chart = write_ellipse_chart(design, out_dir, A, ok)
+        if chart:
+            notes.append(f"force ellipses over the workspace: {chart}")
+    return rows, pantograph_limits(design, design.actuators.get("force_max_N")), notes

@@ -1,0 +1,106 @@
+"""The ``[motor]`` table of a design: the data of the user's own motor (or corrections to the
+catalog winding named by ``parts.motor``).
+
+Keys (all optional; a key given replaces the catalog value and is sourced to the design file,
+or to ``source`` when given)::
+
+    [motor]
+    name = "my-motor"                        # label in the report (default: the catalog key)
+    source = "Acme DC-40 data sheet rev B"   # where the values below come from
+    torque_constant_mNm_per_A = 30.2
+    terminal_resistance_ohm = 0.3
+    torque_continuous_mNm = 170.0            # nominal (max. continuous) torque
+    torque_peak_mNm = 1000.0                 # drive / motor peak (simulator actuator limit)
+    stall_torque_mNm = 2000.0
+    current_continuous_A = 5.8
+    thermal_resistance_housing_K_per_W = 4.65
+    thermal_resistance_winding_K_per_W = 1.93
+    no_load_current_mA = 137.0
+    rotor_inertia_g_cm2 = 134.0
+    mass_g = 480.0
+
+The mounting interface (pilot, bolt circle, shaft) stays the catalog motor's. Every number is
+bounded in :mod:`cad.design.bounds` (``motor.*``). No CAD import.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from typing import Any
+
+from cad.design.fields import check_unknown, optional_number
+from cad.errors import DesignError
+
+#: numeric keys of [motor] -> MotorSpec field (mass in g in the file, kg in the spec)
+NUMERIC = {
+    "torque_constant_mNm_per_A": "torque_constant_mNm_per_A",
+    "terminal_resistance_ohm": "terminal_resistance_ohm",
+    "torque_continuous_mNm": "torque_continuous_mNm",
+    "torque_peak_mNm": "torque_peak_mNm",
+    "stall_torque_mNm": "stall_torque_mNm",
+    "current_continuous_A": "current_continuous_A",
+    "thermal_resistance_housing_K_per_W": "thermal_resistance_housing_K_per_W",
+    "thermal_resistance_winding_K_per_W": "thermal_resistance_winding_K_per_W",
+    "no_load_current_mA": "no_load_current_mA",
+    "rotor_inertia_g_cm2": "rotor_inertia_g_cm2",
+    "mass_g": "mass_kg",
+}
+KEYS = ("name", "source", *NUMERIC)
+
+
+def parse_motor_table(table: dict[str, Any] | None, prefix: str = "motor") -> tuple[tuple[str, Any], ...]:
+    """Validated ``[motor]`` overrides as sorted ``(key, value)`` pairs (hashable, cache-keyable).
+
+    Raises DesignError naming ``motor.<key>`` for an unknown key, a non-number or a value
+    <= 0 (the bounds of :mod:`cad.design.bounds` were checked at load).
+    """
+    table = dict(table or {})
+    check_unknown(table, KEYS, prefix)
+    out: dict[str, Any] = {}
+    for k in ("name", "source"):
+        if k in table:
+            v = table[k]
+            if not isinstance(v, str) or not v.strip():
+                raise DesignError(f"{prefix}.{k}", f"must be a non-empty string, got {v!r}")
+            out[k] = v.strip()
+    for k in NUMERIC:
+        v = optional_number(table, k, prefix, None)
+        if v is None:
+            continue
+        if not v > 0:
+            raise DesignError(f"{prefix}.{k}", f"must be > 0, got {table[k]!r}")
+        out[k] = float(v)
+    peak, cont = out.get("torque_peak_mNm"), out.get("torque_continuous_mNm")
+    if peak is not None and cont is not None and peak < cont:
+        raise DesignError(f"{prefix}.torque_peak_mNm",
+                          f"must be >= torque_continuous_mNm ({cont:g}), got {peak:g}")
+    return tuple(sorted(out.items()))
+
+
+def resolve_motor(catalog_key: str, overrides: tuple[tuple[str, Any], ...] = (), field: str = "parts.motor"):
+    """The :class:`cad.parts.catalog.MotorSpec` a design uses: the catalog winding with the
+    ``[motor]`` overrides applied, each overridden value sourced to the design file."""
+    from cad.parts.catalog import get_motor
+
+    m = get_motor(catalog_key, field)
+    ov = dict(overrides)
+    if not ov:
+        return m
+    src = ov.get("source", "design file [motor] table (user data)")
+    changes: dict[str, Any] = {}
+    sources = dict(m.sources)
+    unverified = set(m.unverified)
+    for k, f in NUMERIC.items():
+        if k in ov:
+            changes[f] = ov[k] * 1e-3 if k == "mass_g" else ov[k]
+            sources[f] = f"{src} ([motor] {k})"
+            unverified.discard(f)
+    if "torque_peak_mNm" not in ov and "stall_torque_mNm" in ov:
+        changes["torque_peak_mNm"] = ov["stall_torque_mNm"]
+        sources["torque_peak_mNm"] = f"the stall torque of {src}"
+        unverified.discard("torque_peak_mNm")
+    name = ov.get("name")
+    return replace(m, **changes, sources=tuple(sorted(sources.items())),
+                   unverified=tuple(sorted(unverified)),
+                   description=m.description if name is None else f"{name} (data of [motor]; mount of {m.key})",
+                   winding=m.winding if name is None else name)
