@@ -24,17 +24,34 @@ from __future__ import annotations
 import hashlib
 import json
 import os
+import stat
 from pathlib import Path
 
 from cad.errors import DesignError
 
 MANIFEST_NAME = "manifest.json"
+#: a manifest.json larger than this is not one hapticad wrote (a build's lists a few
+#: hundred files of ~150 bytes each); it is never read, so a huge file cannot exhaust memory
+MAX_MANIFEST_BYTES = 16 << 20
+
+
+def _regular(path: Path) -> bool:
+    """True when ``path`` itself (not a link's target) is a regular file: a FIFO, socket or
+    device is never opened (opening a FIFO for reading waits for a writer for ever)."""
+    try:
+        return stat.S_ISREG(os.lstat(path).st_mode)
+    except OSError:
+        return False
 
 
 def _listed(folder: Path) -> dict[str, str]:
-    """``{relative POSIX path: sha256}`` from ``folder/manifest.json`` ({} when unreadable)."""
+    """``{relative POSIX path: sha256}`` from ``folder/manifest.json`` ({} when unreadable,
+    not a regular file or over :data:`MAX_MANIFEST_BYTES`)."""
+    p = folder / MANIFEST_NAME
     try:
-        doc = json.loads((folder / MANIFEST_NAME).read_text(encoding="utf-8"))
+        if not _regular(p) or p.stat().st_size > MAX_MANIFEST_BYTES:
+            return {}
+        doc = json.loads(p.read_text(encoding="utf-8"))
         return {str(r["path"]): str(r["sha256"]) for r in doc["files"]}
     except (OSError, ValueError, KeyError, TypeError):
         return {}
@@ -65,6 +82,8 @@ def foreign_entry(folder: Path) -> tuple[str, str] | None:
             p = Path(root, name)
             if p.is_symlink():
                 return rel, "a symbolic link"
+            if not _regular(p):
+                return rel, "not a regular file (a FIFO, socket or device is never read)"
             if rel == MANIFEST_NAME and listed:
                 continue
             if rel not in listed:
@@ -164,8 +183,10 @@ def _foreign_manifest(path: Path) -> str | None:
     (also None when it does not exist)."""
     if not os.path.lexists(path):
         return None
-    if path.is_symlink() or not path.is_file():
+    if path.is_symlink() or not _regular(path):
         return "not a plain file"
+    if path.stat().st_size > MAX_MANIFEST_BYTES:
+        return f"not a hapticad manifest (over {MAX_MANIFEST_BYTES >> 20} MB)"
     try:
         doc = json.loads(path.read_text(encoding="utf-8"))
     except (OSError, ValueError):
