@@ -83,7 +83,7 @@ def foreign_entry(folder: Path) -> tuple[str, str] | None:
             if p.is_symlink():
                 return rel, "a symbolic link"
             if not _regular(p):
-                return rel, "not a regular file (a FIFO, socket or device is never read)"
+                return rel, "not a regular file: a FIFO, socket or device is never read"
             if rel == MANIFEST_NAME and listed:
                 continue
             if rel not in listed:
