@@ -50,3 +50,18 @@ def test_a_widened_sweep_numbers_its_variants_as_a_fresh_run(tmp_path, scheduler
     fresh = _sweep(tmp_path / "fresh", "5,5.5,6", scheduler)
     assert [r["variant"] for r in widened] == [0, 1, 2]
     assert repr(widened) == repr(fresh)  # repr: NaN (a target not computed) equals itself
+
+
+def test_kept_rows_numbered_by_this_sweep_and_other_sweeps_after():
+    """cad.sweep.run.numbered_rows: a row whose ``variant`` was lost (null in a damaged
+    table, kept as-is before) or stale gets its number in this sweep; a row of another
+    sweep (hash not among the variants) is numbered after them; ``changed`` says so."""
+    from cad.sweep.run import numbered_rows
+
+    variants = [({}, {}, "h0"), ({}, {}, "h1"), ({}, {}, "h2")]
+    rows = [{"design_hash": "h2", "variant": None}, {"design_hash": "old", "variant": 0},
+            {"design_hash": "h0", "variant": 0}]
+    got, changed = numbered_rows(rows, variants)
+    assert [r["variant"] for r in got] == [2, 3, 0] and changed
+    same, changed = numbered_rows(got, variants)
+    assert same == got and not changed
