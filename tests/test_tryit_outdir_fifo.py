@@ -79,3 +79,27 @@ def test_build_folder_with_a_fifo_refused(tmp_path):
     os.mkfifo(out / "parts.fifo")
     exc = _outcome(lambda: check_out_dir(out), out / "parts.fifo")
     assert isinstance(exc, DesignError) and "parts.fifo" in str(exc)
+
+
+def test_a_manifest_naming_files_outside_its_folder_or_not_regular_is_not_verified(tmp_path):
+    """cad.export.manifest.verify_manifest (is a built folder complete and unchanged?): a
+    listed path that is absolute (``/dev/zero`` was read for ever: 0 bytes listed, 0 bytes
+    found), leaves the folder (``../``) or is not a regular file is not the folder's: None
+    (a rebuild), even when its sha256 and size match; never opened when not regular."""
+    import hashlib
+    import json
+
+    from cad.export.manifest import verify_manifest
+
+    outside = tmp_path / "outside.txt"
+    outside.write_text("x")
+    sha = hashlib.sha256(b"x").hexdigest()
+    out = tmp_path / "b"
+    out.mkdir()
+    os.mkfifo(out / "pipe")
+    for listed in (str(outside), "../outside.txt", "pipe"):
+        row = {"path": listed, "sha256": sha if listed != "pipe" else "0" * 64,
+               "bytes": 1 if listed != "pipe" else 0}
+        (out / "manifest.json").write_text(json.dumps({"files": [row]}))
+        assert _outcome(lambda: verify_manifest(out), out / "pipe") is None  # nothing raised
+        assert verify_manifest(out) is None, listed
