@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import hashlib
 import json
+import os
+import stat
 from pathlib import Path
 
 from cad.io.atomic import write_text_atomic
@@ -46,14 +48,26 @@ def write_manifest(out_dir: Path, extra: dict | None = None) -> Path:
     )
 
 
+def _inside(out_dir: Path, rel) -> Path | None:
+    """``out_dir/rel`` when ``rel`` is a relative path staying in ``out_dir`` and names a
+    regular file (never a link, FIFO or device: ``/dev/zero`` listed was read for ever)."""
+    if not isinstance(rel, str) or Path(rel).is_absolute() or ".." in Path(rel).parts:
+        return None
+    p = out_dir / rel
+    try:
+        return p if stat.S_ISREG(os.lstat(p).st_mode) else None
+    except OSError:
+        return None
+
+
 def verify_manifest(out_dir: Path) -> dict | None:
     """The manifest of ``out_dir`` if every listed file exists with its sha256, else None."""
     path = Path(out_dir) / MANIFEST_NAME
     try:
         doc = json.loads(path.read_text(encoding="utf-8"))
         for row in doc["files"]:
-            p = Path(out_dir) / row["path"]
-            if p.stat().st_size != row["bytes"] or sha256_file(p) != row["sha256"]:
+            p = _inside(Path(out_dir), row["path"])
+            if p is None or p.stat().st_size != row["bytes"] or sha256_file(p) != row["sha256"]:
                 return None
     except (OSError, ValueError, KeyError, TypeError):
         return None
