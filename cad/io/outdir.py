@@ -24,12 +24,22 @@ from __future__ import annotations
 import hashlib
 import json
 import os
+import stat
 from pathlib import Path
 from typing import Any
 
 from cad.errors import DesignError, FileRefused
 
 MANIFEST_NAME = "manifest.json"
+
+
+def _regular(path: Path) -> bool:
+    """True when ``path`` itself (not a link's target) is a regular file: a FIFO, socket or
+    device is never opened (opening a FIFO for reading waits for a writer for ever)."""
+    try:
+        return stat.S_ISREG(os.lstat(path).st_mode)
+    except OSError:
+        return False
 
 
 def _manifest_doc(folder: Path, field: str = "--out") -> Any:
@@ -101,6 +111,8 @@ def foreign_entry(folder: Path) -> tuple[str, str] | None:
             p = Path(root, name)
             if p.is_symlink():
                 return rel, "a symbolic link"
+            if not _regular(p):
+                return rel, "not a regular file: a FIFO, socket or device is never read"
             if rel == MANIFEST_NAME and listed:
                 continue
             if rel not in listed:

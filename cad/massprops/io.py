@@ -196,7 +196,9 @@ STL_RECORD_BYTES = 50
 
 
 def _is_binary_stl(data: bytes) -> bool:
-    head = data[:512].lstrip().lower()
+    """False for ASCII: ``solid`` first (after blanks and a UTF-8 byte-order mark, which
+    Windows editors write) and ``facet`` or ``endsolid`` in the text."""
+    head = data[:512].removeprefix(b"\xef\xbb\xbf").lstrip().lower()
     if not head.startswith(b"solid"):
         return True
     return b"facet" not in data[:4096].lower() and b"endsolid" not in data[-1024:].lower()

@@ -63,7 +63,13 @@ def shell_labels(faces: np.ndarray) -> np.ndarray:
     return connected_components(graph, directed=False)[1]
 
 
-def _solid(vertices: np.ndarray, faces: np.ndarray, outward: bool, what: str, name: str):
+def _groups(labels: np.ndarray, k: int) -> list[np.ndarray]:
+    """Face indices of each of the ``k`` shells (one sort, not one scan per shell)."""
+    order = np.argsort(labels, kind="stable")
+    return np.split(order, np.cumsum(np.bincount(labels, minlength=k))[:-1])
+
+
+def _solid(vertices: np.ndarray, faces: np.ndarray, outward: bool, what: str, name):
     """manifold3d solid of one closed shell (re-indexed; wound outwards for the boolean)."""
     import manifold3d
 
@@ -73,47 +79,75 @@ def _solid(vertices: np.ndarray, faces: np.ndarray, outward: bool, what: str, na
         vert_properties=np.ascontiguousarray(vertices[used], dtype=np.float64),
         tri_verts=np.ascontiguousarray(f, dtype=np.uint64)))
     if solid.status() != manifold3d.Error.NoError:
-        raise MeshError(f"{what}: manifold3d rejects {name} ({solid.status().name}): "
+        raise MeshError(f"{what}: manifold3d rejects {name()} ({solid.status().name}): "
                         "its nesting with the other shells cannot be decided")
     return solid
 
 
+def overlapping_pairs(lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+    """(P, 2) int pairs ``i < j``, sorted, of the boxes whose interiors overlap
+    (``lo[i] < hi[j]`` and ``hi[i] > lo[j]`` on every axis; touching boxes do not).
+
+    lo, hi : (k, 3) box corners. A sweep along x: each box is compared only with the
+    boxes that start before it ends, so k separate boxes cost O(k log k), not k^2/2.
+    """
+    lo, hi = np.asarray(lo, dtype=float), np.asarray(hi, dtype=float)
+    order = np.argsort(lo[:, 0], kind="stable")
+    los, his = lo[order], hi[order]
+    end = np.searchsorted(los[:, 0], his[:, 0], side="left")  # first box starting after a ends
+    found = []
+    for a in np.flatnonzero(end > np.arange(len(lo)) + 1):
+        b = np.arange(a + 1, end[a])
+        b = b[np.all(los[b] < his[a], axis=1) & np.all(his[b] > los[a], axis=1)]
+        found.append(np.column_stack([np.full(len(b), order[a]), order[b]]))
+    if not found:
+        return np.zeros((0, 2), dtype=np.int64)
+    p = np.sort(np.concatenate(found), axis=1)
+    return p[np.lexsort((p[:, 1], p[:, 0]))]
+
+
+def _boxes(vertices: np.ndarray, faces: np.ndarray, labels: np.ndarray, k: int):
+    """(lo, hi), each (k, 3): the bounding box of every shell."""
+    tri = vertices[faces]
+    lo, hi = np.full((k, 3), np.inf), np.full((k, 3), -np.inf)
+    np.minimum.at(lo, labels, tri.min(axis=1))
+    np.maximum.at(hi, labels, tri.max(axis=1))
+    return lo, hi
+
+
 def nesting(vertices, faces, labels, vol, what: str, names) -> np.ndarray:
-    """(k, k) bool, ``inside[i, j]`` when shell i lies inside shell j.
+    """(P, 2) int rows ``(i, j)``: shell i lies inside shell j.
 
     vertices (N, 3) mm, faces (M, 3), labels (M,) shell of each face, vol (k,) signed
     volumes mm^3, ``names(s)`` a shell's description for messages. Only pairs whose
-    bounding boxes overlap are intersected. MeshError for crossing or repeated shells.
+    bounding boxes overlap are intersected (:func:`overlapping_pairs`). MeshError for
+    crossing or repeated shells.
     """
-    k = len(vol)
-    tri = vertices[faces]
-    lo = np.array([tri[labels == s].reshape(-1, 3).min(axis=0) for s in range(k)])
-    hi = np.array([tri[labels == s].reshape(-1, 3).max(axis=0) for s in range(k)])
     size = np.abs(vol)
-    solids: list = [None] * k
-    inside = np.zeros((k, k), dtype=bool)
-    for i in range(k):
-        for j in range(i + 1, k):
-            if np.any(lo[i] >= hi[j]) or np.any(hi[i] <= lo[j]) or 0 in (vol[i], vol[j]):
-                continue
-            for s in (i, j):
-                if solids[s] is None:
-                    solids[s] = _solid(vertices, faces[labels == s], bool(vol[s] > 0), what,
-                                       names(s))
-            shared = float((solids[i] ^ solids[j]).volume())
-            tol = SHELL_OVERLAP_REL_EPS * min(size[i], size[j])
-            if shared <= tol:
-                continue
-            fills = np.abs(shared - size[[i, j]]) <= tol
-            if fills.all():
-                raise MeshError(f"{what}: {names(i)} and {names(j)} enclose the same "
-                                f"{shared:.6g} mm^3 (the solid written twice?): drop one")
-            if not fills.any():
-                raise MeshError(
-                    f"{what}: {names(i)} crosses {names(j)} ({shared:.6g} mm^3 in both): "
-                    "their overlap would count twice; unite them into one shell first")
-            inside[i, j], inside[j, i] = fills
-    return inside
+    groups = _groups(labels, len(vol))
+    solids: dict = {}
+    inside = []
+    for i, j in overlapping_pairs(*_boxes(vertices, faces, labels, len(vol))).tolist():
+        if 0 in (vol[i], vol[j]):
+            continue
+        for s in (i, j):
+            if s not in solids:
+                solids[s] = _solid(vertices, faces[groups[s]], bool(vol[s] > 0), what,
+                                   lambda s=s: names(s))
+        shared = float((solids[i] ^ solids[j]).volume())
+        tol = SHELL_OVERLAP_REL_EPS * min(size[i], size[j])
+        if shared <= tol:
+            continue
+        fills = np.abs(shared - size[[i, j]]) <= tol
+        if fills.all():
+            raise MeshError(f"{what}: {names(i)} and {names(j)} enclose the same "
+                            f"{shared:.6g} mm^3 (the solid written twice?): drop one")
+        if not fills.any():
+            raise MeshError(
+                f"{what}: {names(i)} crosses {names(j)} ({shared:.6g} mm^3 in both): "
+                "their overlap would count twice; unite them into one shell first")
+        inside.append((i, j) if fills[0] else (j, i))
+    return np.array(inside, dtype=np.int64).reshape(-1, 2)
 
 
 def _describe(i: int, n: int, tri: np.ndarray, origin) -> str:
@@ -142,11 +176,13 @@ def orient_shells(vertices: np.ndarray, faces: np.ndarray, what: str = "mesh",
     vol = np.bincount(labels, minlength=k, weights=np.einsum(
         "ij,ij->i", tri[:, 0], np.cross(tri[:, 1], tri[:, 2])) / 6.0)
 
+    groups = _groups(labels, k)
+
     def names(s):
-        return _describe(s, k, tri[labels == s], origin)
+        return _describe(s, k, tri[groups[s]], origin)
 
     inside = nesting(v, f, labels, vol, what, names)
-    depth = inside.sum(axis=1)
+    depth = np.bincount(inside[:, 0], minlength=k)
     notes: list[str] = []
     flip = np.zeros(k, dtype=bool)
     for s in range(k):
@@ -159,7 +195,8 @@ def orient_shells(vertices: np.ndarray, faces: np.ndarray, what: str = "mesh",
                 f"{-vol[s]:.6g} mm^3 would count negative; flip its triangles"
             )
         flip[s] = True
-        around = int(np.flatnonzero(inside[s])[np.argmax(depth[inside[s]])])  # innermost
+        around_s = inside[inside[:, 0] == s, 1]
+        around = int(around_s[np.argmax(depth[around_s])])  # innermost
         notes.append(f"{what}: {names(s)} lies inside shell {around + 1} but is wound "
                      f"outwards like a solid: read as a cavity ({vol[s]:.6g} mm^3 removed, "
                      "not added)")

@@ -241,9 +241,9 @@ def run_sweep(spec: SweepSpec, out: Path, workers: int, scheduler: str | None) -
 
     cols = columns(spec.varies)
     kept = read_table(out, [v.key for v in spec.varies])
-    rows = [r for r in kept if r.get("status") in DONE]
-    done = {r["design_hash"] for r in rows}
     variants = spec.variants()
+    rows, renumbered = numbered_rows([r for r in kept if r.get("status") in DONE], variants)
+    done = {r["design_hash"] for r in rows}
     todo = [(i, a, raw, h) for i, (a, raw, h) in enumerate(variants) if h not in done]
     resumed = len(variants) - len(todo)
     prog = Progress(total=len(todo), skipped=resumed)
@@ -260,7 +260,8 @@ def run_sweep(spec: SweepSpec, out: Path, workers: int, scheduler: str | None) -
         prog.line()
         summary = _summary(spec, out, variants, todo, rows, prog, workers, scheduler,
                            time.perf_counter() - t0, timing)
-        writers = {} if not todo and len(rows) == table_rows(out) else table_writers(rows, cols)
+        same = not todo and not renumbered and len(rows) == table_rows(out)
+        writers = {} if same else table_writers(rows, cols)
         writers["chart.png"] = lambda p: write_chart(p, rows, spec)
         writers["sweep.json"] = lambda p: p.write_text(json.dumps(summary, indent=1), encoding="utf-8")
         publish(out, writers)
@@ -268,6 +269,17 @@ def run_sweep(spec: SweepSpec, out: Path, workers: int, scheduler: str | None) -
         prog.stop()
         _shutdown(client, cluster)
     return summary
+
+
+def numbered_rows(rows: list[dict[str, Any]], variants: list) -> tuple[list[dict[str, Any]], bool]:
+    """``(rows, changed)``: the kept rows with the variant numbers of THIS sweep (a widened
+    or re-ordered sweep numbers its variants anew; the old numbers would repeat), rows of
+    other sweeps numbered after them in their order; ``changed`` when a number moved."""
+    index = {h: i for i, (_, _, h) in enumerate(variants)}
+    extra = iter(range(len(variants), len(variants) + len(rows)))
+    out = [{**r, "variant": index[r["design_hash"]] if r["design_hash"] in index else next(extra)}
+           for r in rows]
+    return out, any(a.get("variant") != b["variant"] for a, b in zip(rows, out, strict=True))
 
 
 def table_rows(out: Path) -> int:
