@@ -19,6 +19,11 @@ FAMILY_DESIGNS = {
 }
 
 
+#: Formats of the shared builds below (tests that rebuild them elsewhere pass the same set).
+FAMILY_FORMATS = ("step", "stl", "dxf", "glb", "firmware")
+HOEKEN_SIM_FORMATS = ("mjcf", "urdf", "stl", "step", "firmware")
+
+
 @pytest.fixture(scope="session")
 def family_builds(tmp_path_factory):
     """One build per non-four-bar family, shared by the test modules: ``{family: (design,
@@ -34,8 +39,7 @@ def family_builds(tmp_path_factory):
     for fam, fn in FAMILY_DESIGNS.items():
         d = load_design(root / "designs" / fn)
         target = tmp_path_factory.mktemp(fam) / "out"
-        fmts = {"step", "stl", "dxf", "glb", "firmware"}
-        rep = build_design(d, target, fmts, fidelity="inertia", use_cache=False)
+        rep = build_design(d, target, set(FAMILY_FORMATS), fidelity="inertia", use_cache=False)
         out[fam] = (d, target, rep)
     return out
 
@@ -53,6 +57,6 @@ def hoeken_sim_build(tmp_path_factory):
 
     out = tmp_path_factory.mktemp("hoeken_sim")
     d = load_design(Path(__file__).resolve().parents[1] / "designs" / "hoeken.toml")
-    rep = build_design(d, out, {"mjcf", "urdf", "stl", "step", "firmware"}, fidelity="preview",
+    rep = build_design(d, out, set(HOEKEN_SIM_FORMATS), fidelity="preview",
                        use_cache=False)
     return d, out, json.loads((out / "report.json").read_text()), rep

@@ -16,6 +16,7 @@ from pathlib import Path
 
 import pytest
 from cli_helpers import assert_one_line_error, hapticad
+from conftest import FAMILY_FORMATS, HOEKEN_SIM_FORMATS
 
 ROOT = Path(__file__).resolve().parents[1]
 MOUSE = ROOT / "designs" / "haptic_mouse.toml"  # the quickest family to build
@@ -273,7 +274,7 @@ def test_four_bar_build_in_a_second_process_and_folder_is_byte_identical(hoeken_
     cwd.mkdir(parents=True)
     shutil.copy(HOEKEN, cwd / "hoeken.toml")
     r = subprocess.run([sys.executable, "-m", "cad", "build", "hoeken.toml", "--fidelity", "preview",
-                        "--formats", "mjcf,urdf,stl,step", "--no-cache", "--out", "o", "--json"],
+                        "--formats", ",".join(HOEKEN_SIM_FORMATS), "--no-cache", "--out", "o", "--json"],
                        cwd=cwd, capture_output=True, text=True, timeout=600)
     assert r.returncode == 0, r.stderr
     a, b = _tree(first), _tree(cwd / "o")
@@ -293,7 +294,7 @@ def test_powermouse_build_in_a_second_process_and_folder_is_byte_identical(famil
     cwd.mkdir()
     shutil.copy(ROOT / "designs" / "powermouse.toml", cwd / "powermouse.toml")  # report.json: "source"
     r = subprocess.run([sys.executable, "-m", "cad", "build", "powermouse.toml", "--fidelity", "inertia",
-                        "--formats", "step,stl,dxf,glb", "--no-cache", "--out", "o", "--json"],
+                        "--formats", ",".join(FAMILY_FORMATS), "--no-cache", "--out", "o", "--json"],
                        cwd=cwd, capture_output=True, text=True, timeout=900)
     assert r.returncode == 0, r.stderr
     a, b = _tree(first), _tree(cwd / "o")
