@@ -115,6 +115,31 @@ def dxf_notes(kind) -> tuple[str, ...]:
     return tuple(f"{f} (ISO 286)" for f in kind.fits)
 
 
+def kind_threads(kind_name: str, instances, holes) -> tuple[tuple[str, float | None], ...]:
+    """``((thread size, full-thread depth mm or None), ...)`` of the tapped holes
+    (:class:`cad.assembly.fasteners.TappedHole`) in the instances of kind ``kind_name``."""
+    names = {i.name for i in instances if i.kind.name == kind_name} | {kind_name}
+    return tuple(
+        (h.size, h.depth_mm if math.isfinite(h.depth_mm) else None)
+        for h in holes
+        if h.part in names
+    )
+
+
+def shop_args(kind, instances, holes=()) -> dict:
+    """The shop data of one kind's files (:func:`cad.export.export_part`): DXF notes (its
+    fits), its holes as the shop makes them (:func:`cad.assembly.fits.shop_holes`), its
+    material and quantity."""
+    from cad.assembly.fits import shop_holes
+
+    return {
+        "notes": dxf_notes(kind),
+        "holes": shop_holes(kind.fits, kind_threads(kind.name, instances, holes)),
+        "material": kind.material,
+        "quantity": quantities(instances).get(kind.name, 0),
+    }
+
+
 def part_materials(instances) -> dict[str, str]:
     """``{instance name: material}`` of every solid of ``assembly.step`` (names as written
     there), for report.json: ``hapticad massprops assembly.step`` applies them per solid."""
@@ -220,9 +245,11 @@ def write_outputs(
     stl_tolerance_mm: float | None = None,
     marks=None,
     preview: bool = True,
+    holes=(),
 ) -> list[str]:
     """Part files, assembly STEP, BOM and preview of one assembly; returns the paths written
-    (relative to ``out_dir``)."""
+    (relative to ``out_dir``). ``holes``: the tapped holes
+    (:class:`cad.assembly.fasteners.TappedHole`) for the DXF thread notes."""
     from cad.export import STL_TOLERANCE_MM, export_assembly_step, export_part, write_bom
     from cad.materials import get_material
 
@@ -240,7 +267,7 @@ def write_outputs(
             color=get_material(k.material).color_rgb,
             stl=k.made,
             tolerance_mm=stl_tolerance_mm or STL_TOLERANCE_MM,
-            notes=dxf_notes(k),
+            **shop_args(k, instances, holes),
         )
         files += [p.relative_to(out_dir).as_posix() for p in paths]
     if "step" in formats:

@@ -176,7 +176,7 @@ def _write_exports(
     asm, listed, out_dir: Path, formats, stl_tol, ang, tf_pose, name: str, progress, n_steps
 ) -> list[str]:
     """Part files (STEP/STL/DXF) and the posed assembly STEP; returns their paths in out_dir."""
-    from cad.build.family import dxf_notes
+    from cad.build.family import shop_args
     from cad.export import export_assembly_step, export_part
     from cad.materials import get_material
 
@@ -193,7 +193,7 @@ def _write_exports(
             stl=k.made,
             tolerance_mm=stl_tol,
             angular_tolerance_rad=ang,
-            notes=dxf_notes(k),
+            **shop_args(k, asm.instances, asm.holes),
         )
         files += [p.relative_to(out_dir).as_posix() for p in paths]
     if "step" in formats:

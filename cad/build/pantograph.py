@@ -1172,6 +1172,7 @@ def build(
             title=title,
             bom=bom,
             marks=[("workspace", _square(design.workspace))],
+            holes=tuple(holes.values()),
         )
 
     task = forked.start(exports, "exports")
