@@ -34,7 +34,7 @@ def family_builds(tmp_path_factory):
     for fam, fn in FAMILY_DESIGNS.items():
         d = load_design(root / "designs" / fn)
         target = tmp_path_factory.mktemp(fam) / "out"
-        fmts = {"step", "stl", "dxf", "glb"}
+        fmts = {"step", "stl", "dxf", "glb", "drawings"}
         rep = build_design(d, target, fmts, fidelity="inertia", use_cache=False)
         out[fam] = (d, target, rep)
     return out

@@ -19,6 +19,8 @@ pose. Everything below reads that one list:
 * :func:`check_assembly` -- every pair of solids at the exported pose, by the shared
   checker (:func:`cad.assembly.interference.same_body_check`): a positive common volume is
   a collision;
+* :func:`write_part_drawings` -- ``drawings/<part>.svg`` and ``drawings.pdf`` of the made
+  parts (``--formats …,drawings``, :mod:`cad.drawings`);
 * :func:`write_outputs` -- ``parts/<kind>.step|.stl|.dxf``, ``assembly.step``,
   ``bom.csv``, ``preview.png`` (the dispatcher adds ``report.json`` and
   ``manifest.json``; :func:`write_report_md` writes ``report.md``).
@@ -138,6 +140,24 @@ def shop_args(kind, instances, holes=()) -> dict:
         "material": kind.material,
         "quantity": quantities(instances).get(kind.name, 0),
     }
+
+
+def write_part_drawings(instances, out_dir: Path, design: str, holes=()) -> list[str]:
+    """``drawings/<part>.svg`` per made, listed kind and ``drawings.pdf``
+    (:func:`cad.drawings.write_drawings`); returns the paths relative to ``out_dir``."""
+    from cad.drawings import SheetPart, write_drawings
+
+    q = quantities(instances)
+    parts = [
+        SheetPart(k.name, k.shape, k.material, q[k.name], k.process, k.plate, k.fits,
+                  kind_threads(k.name, instances, holes), k.description)
+        for k in kinds(instances).values()
+        if k.listed and k.made
+    ]
+    if not parts:
+        return []
+    out_dir = Path(out_dir)
+    return [p.relative_to(out_dir).as_posix() for p in write_drawings(parts, out_dir, design)]
 
 
 def part_materials(instances) -> dict[str, str]:
@@ -270,6 +290,8 @@ def write_outputs(
             **shop_args(k, instances, holes),
         )
         files += [p.relative_to(out_dir).as_posix() for p in paths]
+    if "drawings" in formats:
+        files += write_part_drawings(instances, out_dir, name, holes)
     if "step" in formats:
         export_assembly_step(
             posed_items(instances, tf_world_body, listed_only=False),

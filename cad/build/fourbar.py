@@ -196,6 +196,10 @@ def _write_exports(
             **shop_args(k, asm.instances, asm.holes),
         )
         files += [p.relative_to(out_dir).as_posix() for p in paths]
+    if "drawings" in formats:
+        from cad.build.family import write_part_drawings
+
+        files += write_part_drawings(asm.instances, out_dir, name, asm.holes)
     if "step" in formats:
         _step(progress, "assembly STEP", 5, n_steps)
         from cad.assembly.pose import posed_shapes

@@ -27,8 +27,9 @@ FORMATS = ("step", "stl", "dxf")
 #: (``mjcf``, ``urdf``: :mod:`cad.export.sim`; they reference the part STL files, so
 #: asking for one of them writes the STL files too), glb = the posed assembly (binary
 #: glTF, metres, with the stroke animation, :mod:`cad.export.gltf`) and 3mf = the made
-#: parts for a slicer (:mod:`cad.export.threemf`).
-KNOWN_FORMATS = (*FORMATS, "mjcf", "urdf", "glb", "3mf")
+#: parts for a slicer (:mod:`cad.export.threemf`); drawings = one sheet per made part
+#: (``drawings/<part>.svg`` and ``drawings.pdf``, :mod:`cad.drawings`).
+KNOWN_FORMATS = (*FORMATS, "mjcf", "urdf", "glb", "3mf", "drawings")
 #: Default absolute chordal deflection of exported STL (mm) and angular deflection (rad).
 STL_TOLERANCE_MM = 0.01
 STL_ANGULAR_TOLERANCE_RAD = math.radians(15.0)
