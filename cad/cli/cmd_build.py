@@ -64,7 +64,7 @@ def register(app: typer.Typer) -> None:
         formats: str = typer.Option(
             "step,stl,dxf",
             "--formats",
-            help="Comma list of step, stl, dxf, mjcf, urdf, glb, 3mf (mjcf/urdf also write the STL meshes).",
+            help="Comma list of step, stl, dxf, mjcf, urdf, glb, 3mf, drawings (mjcf/urdf also write the STL meshes; drawings = one sheet per made part).",
         ),
         fidelity: str = typer.Option(
             None, "--fidelity", help="fabrication | inertia | preview (default: [parts].fidelity)."

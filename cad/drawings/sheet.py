@@ -88,12 +88,14 @@ def scale_text(s: float) -> str:
     return f"{fmt_mm(s)}:1" if s >= 1 else f"1:{fmt_mm(1 / s)}"
 
 
-def _polyline(edge):
+def _polyline(edge, axes: str = "XY"):
+    """Sampled coordinates ``(xs, ys)`` of an edge: its ``axes`` (``"XY"`` of a projected
+    edge, ``"XZ"`` of a section edge)."""
     from build123d import GeomType
 
     n = 2 if edge.geom_type == GeomType.LINE else CURVE_SAMPLES
     pts = edge.positions([i / (n - 1) for i in range(n)])
-    return [p.X for p in pts], [p.Y for p in pts]
+    return [getattr(p, axes[0]) for p in pts], [getattr(p, axes[1]) for p in pts]
 
 
 def _view(ax, shape, origin, up, centre, at, s):
@@ -135,20 +137,12 @@ def _loop(wire):
     """Ordered (x, z) points of a planar wire in an x-z plane (edges chained end to end)."""
     pts: list = []
     for e in wire.edges():
-        xs, zs = _polyline_xz(e)
+        xs, zs = _polyline(e, "XZ")
         seg = list(zip(xs, zs, strict=True))
         if pts and math.dist(pts[-1], seg[-1]) < math.dist(pts[-1], seg[0]):
             seg.reverse()
         pts += seg
     return pts
-
-
-def _polyline_xz(edge):
-    from build123d import GeomType
-
-    n = 2 if edge.geom_type == GeomType.LINE else CURVE_SAMPLES
-    pts = edge.positions([i / (n - 1) for i in range(n)])
-    return [p.X for p in pts], [p.Z for p in pts]
 
 
 def _section(ax, solid, y_mm, box, at, s):
