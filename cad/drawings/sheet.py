@@ -104,8 +104,9 @@ def _view(ax, shape, origin, up, centre, at, s):
     vis, hid = shape.project_to_viewport(origin, up, look_at=centre)
     for edges, kw in ((hid, dict(lw=0.2, color="0.45", ls=(0, (3, 2)))),
                       (vis, dict(lw=0.45, color="black"))):
-        for e in edges:
-            xs, ys = _polyline(e)
+        lines = sorted((_polyline(e) for e in edges),  # a fixed order: the same file
+                       key=lambda p: [round(v, 6) for v in (*p[0], *p[1])])
+        for xs, ys in lines:
             ax.plot([at[0] + s * x for x in xs], [at[1] + s * y for y in ys], **kw)
 
 
@@ -150,11 +151,18 @@ def _section(ax, solid, y_mm, box, at, s):
     import build123d as bd
     from matplotlib.patches import PathPatch
     from matplotlib.path import Path as MPath
+    from OCP.BRepAlgoAPI import BRepAlgoAPI_Common
 
     cx, cz = 0.5 * (box[0] + box[3]), 0.5 * (box[2] + box[5])
     big = 4 * max(box[3] - box[0], box[5] - box[2]) + 10
     plane = bd.Plane(origin=(cx, y_mm, cz), x_dir=(1, 0, 0), z_dir=(0, -1, 0))
-    for face in solid.intersect(bd.Face.make_rect(big, big, plane)).faces():
+    # OCP's boolean, serial: build123d's intersect runs OCCT's thread pool, which hangs in
+    # the forked child that writes a family's files (cad.build.forked)
+    cut = BRepAlgoAPI_Common(solid.wrapped, bd.Face.make_rect(big, big, plane).wrapped)
+    faces = bd.Compound(cut.Shape()).faces()
+    # OCCT's boolean returns the faces in no fixed order: sort them so the file is the same
+    for face in sorted(faces, key=lambda f: (round(f.center().X, 6), round(f.center().Z, 6),
+                                            round(f.area, 6))):
         verts, codes = [], []
         for w in [face.outer_wire(), *face.inner_wires()]:
             loop = [(at[0] + s * (x - cx), at[1] + s * (z - cz)) for x, z in _loop(w)]
