@@ -24,6 +24,11 @@ ROOT = Path(__file__).resolve().parents[1]
 PRINTED_MM = 0.005 + 1e-9
 ROW = re.compile(r"^([HB])(\d+) axis ([xyz]) ([xyz])=(-?\d+\.\d+) ([xyz])=(-?\d+\.\d+) "
                  r"([ØR])(\d+\.\d+) [xyz]=(-?\d+\.\d+)\.\.(-?\d+\.\d+)$")
+#: A row of an oblique axis: direction, the axis point nearest the datum, size, extent.
+ROW_N = re.compile(r"^([HB])(\d+) axis n=\((-?[\d.]+),(-?[\d.]+),(-?[\d.]+)\) "
+                   r"x=(-?[\d.]+) y=(-?[\d.]+) z=(-?[\d.]+) ([ØR])([\d.]+) t=")
+#: Half the last digit of a printed direction component.
+PRINTED_DIR = 5e-5 + 1e-12
 
 
 def sheet_texts(path: Path) -> list[str]:
@@ -57,27 +62,55 @@ def solid_features(step: Path) -> set[tuple]:
         ax = f.axis_of_rotation
         d = (ax.direction.X, ax.direction.Y, ax.direction.Z)
         k = max(range(3), key=lambda i: abs(d[i]))
-        assert abs(abs(d[k]) - 1.0) < 1e-9, (step.stem, d)  # parts are axis-aligned
         p = (ax.position.X - lo[0], ax.position.Y - lo[1], ax.position.Z - lo[2])
-        i, j = [q for q in range(3) if q != k]
         r = f.radius if f.radius is not None else f.geom_adaptor().Radius()
         u0, u1, _, _ = BRepTools.UVBounds_s(f.wrapped)  # angle range of the face (rad)
-        out.append(("xyz"[k], round(p[i], 3), round(p[j], 3), round(r, 4), u1 - u0))
+        if abs(abs(d[k]) - 1.0) < 1e-9:
+            i, j = [q for q in range(3) if q != k]
+            out.append(("xyz"[k], round(p[i], 3), round(p[j], 3), round(r, 4), u1 - u0))
+            continue
+        sgn = math.copysign(1.0, next(c for c in d if abs(c) > 1e-9))
+        n = tuple(round(sgn * c, 6) for c in d)
+        t = sum(a * b for a, b in zip(p, n, strict=True))
+        foot = tuple(round(a - t * b, 3) for a, b in zip(p, n, strict=True))
+        out.append((n, *foot, round(r, 4), u1 - u0))
     # faces of one feature (a cylinder split in halves) add up to a full turn
     spans: dict = {}
-    for axis, u, v, r, span in out:
-        spans[(axis, u, v, r)] = spans.get((axis, u, v, r), 0.0) + span
+    for *key, span in out:
+        spans[tuple(key)] = spans.get(tuple(key), 0.0) + span
     return {(*key, span > 2 * math.pi - 1e-6) for key, span in spans.items()}
 
 
 def table_rows(texts: list[str]) -> list[tuple]:
+    """``(axis, u, v, size, full, kind, text)``; an oblique axis: ``(direction, x, y, z, size,
+    full, kind, text)``."""
     rows = []
     for t in texts:
-        m = ROW.match(t)
+        m, n = ROW.match(t), ROW_N.match(t)
         if m:
             kind, _, axis, _, u, _, v, sym, size, _, _ = m.groups()
             rows.append((axis, float(u), float(v), float(size), sym == "Ø", kind, t))
+        elif n:
+            kind, _, dx, dy, dz, x, y, z, sym, size = n.groups()
+            rows.append(((float(dx), float(dy), float(dz)), float(x), float(y), float(z),
+                         float(size), sym == "Ø", kind, t))
     return rows
+
+
+def _hits(rows, feat):
+    """The table rows that state the solid's feature ``feat`` (within the printed digits)."""
+    if isinstance(feat[0], str):
+        axis, u, v, r, full = feat
+        size = 2 * r if full else r
+        return [x for x in rows if x[0] == axis and x[4] == full
+                and abs(x[1] - u) <= PRINTED_MM and abs(x[2] - v) <= PRINTED_MM
+                and abs(x[3] - size) <= PRINTED_MM]
+    n, px, py, pz, r, full = feat
+    size = 2 * r if full else r
+    return [x for x in rows if not isinstance(x[0], str) and x[5] == full
+            and all(abs(a - b) <= PRINTED_DIR for a, b in zip(x[0], n, strict=True))
+            and all(abs(a - b) <= PRINTED_MM for a, b in zip(x[1:4], (px, py, pz), strict=True))
+            and abs(x[4] - size) <= PRINTED_MM]
 
 
 @pytest.fixture(scope="module")
@@ -99,13 +132,11 @@ def _check_sheet(out: Path, part: str, row: dict):
     rows = table_rows(texts)
     faces = solid_features(out / "parts" / f"{part}.step")
     matched = set()
-    for axis, u, v, r, full in faces:
-        size = 2 * r if full else r
-        hit = [x for x in rows if x[0] == axis and x[4] == full and abs(x[1] - u) <= PRINTED_MM
-               and abs(x[2] - v) <= PRINTED_MM and abs(x[3] - size) <= PRINTED_MM]
-        assert hit, (part, axis, u, v, size, full)
-        matched |= {x[6] for x in hit}
-    assert matched == {x[6] for x in rows}, part  # no row without a face
+    for feat in faces:
+        hit = _hits(rows, feat)
+        assert hit, (part, feat)
+        matched |= {x[-1] for x in hit}
+    assert matched == {x[-1] for x in rows}, part  # no row without a face
     assert f"part: {part}" in texts
     assert f"material: {row['material']}" in texts
     assert f"quantity: {row['quantity']}" in texts

@@ -22,10 +22,14 @@ AXIS_SLACK = 1e-9
 class Cylinder:
     """A group of coaxial cylindrical faces of one diameter: a hole (``internal``) or a boss.
 
-    axis : ``"x"``, ``"y"`` or ``"z"`` (the part axis it is parallel to).
+    axis : ``"x"``, ``"y"`` or ``"z"`` (the part axis it is parallel to), ``"n"`` for an
+        oblique axis (the PowerMouse's diagonal actuators).
     u_mm, v_mm : centre in the two other axes (``x y`` for z, ``y z`` for x, ``x z`` for y),
-        from the datum.
-    d_mm : diameter. lo_mm, hi_mm : extent along the axis, from the datum.
+        from the datum (0 for an oblique axis).
+    d_mm : diameter. lo_mm, hi_mm : extent along the axis, from the datum (an oblique axis:
+        from ``point_mm`` along ``direction``).
+    direction, point_mm : an oblique axis's unit direction (first non-zero component
+        positive) and its point nearest the datum (mm); None for an aligned one.
     span_deg : angle the faces cover (360 for a full hole or boss, less for a rounded end).
     """
 
@@ -37,6 +41,8 @@ class Cylinder:
     hi_mm: float
     internal: bool
     span_deg: float
+    direction: tuple[float, float, float] | None = None
+    point_mm: tuple[float, float, float] | None = None
 
     @property
     def full(self) -> bool:
@@ -45,7 +51,7 @@ class Cylinder:
     @property
     def plane(self) -> tuple[str, str]:
         """Names of the two centre coordinates."""
-        return {"z": ("x", "y"), "x": ("y", "z"), "y": ("x", "z")}[self.axis]
+        return {"z": ("x", "y"), "x": ("y", "z"), "y": ("x", "z"), "n": ("", "")}[self.axis]
 
 
 def bbox_mm(shape) -> tuple[float, float, float, float, float, float]:
@@ -59,8 +65,8 @@ def bbox_mm(shape) -> tuple[float, float, float, float, float, float]:
 
 
 def _face_cylinder(face, datum):
-    """(axis, u, v, d, lo, hi, internal, span_deg) of a cylindrical face, or None when its
-    axis is oblique to the part axes."""
+    """(axis, where, d, lo, hi, internal, span_deg) of a cylindrical face: ``where`` = the
+    centre (u, v) of an aligned axis, or direction + nearest point of an oblique one."""
     from OCP.BRepAdaptor import BRepAdaptor_Surface
     from OCP.TopAbs import TopAbs_REVERSED
 
@@ -68,25 +74,31 @@ def _face_cylinder(face, datum):
     cyl = srf.Cylinder()
     ax = cyl.Axis()
     dr, loc = ax.Direction(), ax.Location()
-    comp = (dr.X(), dr.Y(), dr.Z())
-    k = max(range(3), key=lambda i: abs(comp[i]))
-    if abs(abs(comp[k]) - 1.0) > AXIS_SLACK:
-        return None
+    comp = [dr.X(), dr.Y(), dr.Z()]
     p = [loc.X() - datum[0], loc.Y() - datum[1], loc.Z() - datum[2]]
+    k = max(range(3), key=lambda i: abs(comp[i]))
     w0, w1 = srf.FirstVParameter(), srf.LastVParameter()
-    s = math.copysign(1.0, comp[k])
-    ends = sorted((p[k] + s * w0, p[k] + s * w1))
-    others = [i for i in range(3) if i != k]
     span = math.degrees(srf.LastUParameter() - srf.FirstUParameter())
     # the surface normal points away from the axis for a right-handed (direct) frame; a
     # reversed face or a left-handed frame turns it towards the axis: material outside, a hole
     internal = (face.Orientation() == TopAbs_REVERSED) == cyl.Position().Direct()
-    return ("xyz"[k], p[others[0]], p[others[1]], 2.0 * cyl.Radius(), *ends, internal, span)
+    d = 2.0 * cyl.Radius()
+    if abs(abs(comp[k]) - 1.0) <= AXIS_SLACK:
+        s = math.copysign(1.0, comp[k])
+        lo, hi = sorted((p[k] + s * w0, p[k] + s * w1))
+        i, j = [q for q in range(3) if q != k]
+        return "xyz"[k], (p[i], p[j]), d, lo, hi, internal, span
+    first = next(c for c in comp if abs(c) > AXIS_SLACK)
+    n = [c * math.copysign(1.0, first) for c in comp]
+    t = sum(a * b for a, b in zip(p, n, strict=True))
+    foot = [a - t * b for a, b in zip(p, n, strict=True)]
+    sgn = math.copysign(1.0, first)
+    lo, hi = sorted((t + sgn * w0, t + sgn * w1))
+    return "n", (*n, *foot), d, lo, hi, internal, span
 
 
 def cylinders(shape) -> list[Cylinder]:
-    """Every cylindrical face of ``shape`` (a ``TopoDS_Shape``, mm) parallel to a part axis,
-    grouped by axis, centre, diameter and side (hole or boss), measured from the datum
+    """Every cylindrical face of ``shape`` (a ``TopoDS_Shape``, mm), grouped by axis, centre, diameter and side (hole or boss), measured from the datum
     (module docstring); sorted by axis, then centre."""
     from OCP.BRepAdaptor import BRepAdaptor_Surface
     from OCP.GeomAbs import GeomAbs_Cylinder
@@ -102,28 +114,29 @@ def cylinders(shape) -> list[Cylinder]:
         exp.Next()
         if BRepAdaptor_Surface(face).GetType() != GeomAbs_Cylinder:
             continue
-        got = _face_cylinder(face, datum)
-        if got is None:
-            continue
-        axis, u, v, d, lo, hi, internal, span = got
-        key = _group_key(groups, axis, u, v, d, internal)
-        if key in groups:
-            g = groups[key]
-            groups[key] = (min(g[0], lo), max(g[1], hi), g[2] + span if (lo, hi) == g[3] else
-                           max(g[2], span), (lo, hi))
-        else:
-            groups[key] = (lo, hi, span, (lo, hi))
-    out = [Cylinder(a, u, v, d, lo, hi, i, min(span, 360.0))
-           for (a, u, v, d, i), (lo, hi, span, _) in groups.items()]
-    return sorted(out, key=lambda c: (c.axis, round(c.u_mm, 3), round(c.v_mm, 3), c.d_mm,
-                                      c.lo_mm))
+        axis, where, d, lo, hi, internal, span = _face_cylinder(face, datum)
+        key = _group_key(groups, axis, where, d, internal)
+        # the faces of one feature (a hole split by the seam or by a cross hole) add up their
+        # angles: 360 deg or more is a full hole or boss (a diameter), less a radius
+        g = groups.get(key, (lo, hi, 0.0))
+        groups[key] = (min(g[0], lo), max(g[1], hi), g[2] + span)
+    out = [_make(a, w, d, i, lo, hi, span) for (a, w, d, i), (lo, hi, span) in groups.items()]
+    return sorted(out, key=lambda c: (c.axis, round(c.u_mm, 3), round(c.v_mm, 3),
+                                      c.point_mm or (), c.d_mm, c.lo_mm))
 
 
-def _group_key(groups, axis, u, v, d, internal):
+def _make(axis, where, d, internal, lo, hi, span) -> Cylinder:
+    if axis == "n":
+        return Cylinder("n", 0.0, 0.0, d, lo, hi, internal, min(span, 360.0),
+                        tuple(where[:3]), tuple(where[3:]))
+    return Cylinder(axis, where[0], where[1], d, lo, hi, internal, min(span, 360.0))
+
+
+def _group_key(groups, axis, where, d, internal):
     """The existing key of ``groups`` this face belongs to, else a new one."""
     for key in groups:
-        a, u0, v0, d0, i0 = key
-        if (a == axis and i0 == internal and abs(u - u0) < SAME_FEATURE_MM
-                and abs(v - v0) < SAME_FEATURE_MM and abs(d - d0) < SAME_FEATURE_MM):
+        a, w0, d0, i0 = key
+        if (a == axis and i0 == internal and abs(d - d0) < SAME_FEATURE_MM
+                and all(abs(p - q) < SAME_FEATURE_MM for p, q in zip(where, w0, strict=True))):
             return key
-    return (axis, u, v, d, internal)
+    return (axis, tuple(where), d, internal)

@@ -65,10 +65,15 @@ def feature_rows(part: SheetPart):
     for i, c in enumerate(cylinders(part.shape), 1):
         tag = f"{'H' if c.internal else 'B'}{i}"
         a, b = c.plane
-        text = (f"{tag} axis {c.axis} {a}={c.u_mm:.2f} {b}={c.v_mm:.2f} "
-                f"{'Ø' if c.full else 'R'}{(c.d_mm if c.full else c.d_mm / 2):.2f} "
-                f"{c.axis}={c.lo_mm:.2f}..{c.hi_mm:.2f} | "
-                f"{callout(c, part.fits, part.threads, ext[c.axis])}")
+        size = f"{'Ø' if c.full else 'R'}{(c.d_mm if c.full else c.d_mm / 2):.2f}"
+        if c.axis == "n":
+            n, q = c.direction, c.point_mm
+            where = (f"axis n=({n[0]:.4f},{n[1]:.4f},{n[2]:.4f}) x={q[0]:.2f} y={q[1]:.2f} "
+                     f"z={q[2]:.2f} {size} t")
+        else:
+            where = f"axis {c.axis} {a}={c.u_mm:.2f} {b}={c.v_mm:.2f} {size} {c.axis}"
+        text = (f"{tag} {where}={c.lo_mm:.2f}..{c.hi_mm:.2f} | "
+                f"{callout(c, part.fits, part.threads, ext.get(c.axis))}")
         rows.append((tag, c, text))
     return rows, box
 
@@ -274,6 +279,8 @@ def _tags(ax, rows, box, views, s):
     ctr = {"x": 0.5 * (box[0] + box[3]) - box[0], "y": 0.5 * (box[1] + box[4]) - box[1],
            "z": 0.5 * (box[2] + box[5]) - box[2]}
     for tag, c, _ in rows:
+        if c.axis not in views:
+            continue  # an oblique axis is seen round in no view: its row gives its place
         at, a, b = views[c.axis]
         px, py = at[0] + s * (c.u_mm - ctr[a]), at[1] + s * (c.v_mm - ctr[b])
         ax.plot([px], [py], marker="+", ms=3, mew=0.3, color="tab:blue")
