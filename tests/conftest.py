@@ -20,7 +20,7 @@ FAMILY_DESIGNS = {
 
 
 #: Formats of the shared builds below (tests that rebuild them elsewhere pass the same set).
-FAMILY_FORMATS = ("step", "stl", "dxf", "glb", "firmware")
+FAMILY_FORMATS = ("step", "stl", "dxf", "glb", "firmware", "drawings")
 HOEKEN_SIM_FORMATS = ("mjcf", "urdf", "stl", "step", "firmware")
 
 

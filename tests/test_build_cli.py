@@ -125,7 +125,11 @@ def test_bearing_masses_are_catalog_masses(built):
 
 
 def test_dxf_cut_layer_and_milled_seats_give_the_part_volume(built):
-    """CUT area x t minus the milled seat rings = the part's volume (from its mass)."""
+    """CUT area x t minus the milled seat rings minus the reaming stock left in the pin bores
+    (cut at 8 - 0.2 mm: the 5-20 mm row of the reaming-allowance table,
+    cad.assembly.fits.REAM_ALLOWANCE_SOURCE) = the part's volume (from its mass)."""
+    import ezdxf
+
     from cad.export.dxf import dxf_profile_area_mm2
     from cad.materials import get_material
     from cad.parts import catalog
@@ -140,7 +144,14 @@ def test_dxf_cut_layer_and_milled_seats_give_the_part_volume(built):
         assert ("MILL_Z0.00_4.00" in text) == (seats > 0)
         vol = rep["part_masses_g"][link] * 1e-3 / rho * 1e9
         milled = seats * math.pi * ((b.D_mm / 2) ** 2 - (b.Da_mm / 2) ** 2) * b.B_mm
-        assert dxf_profile_area_mm2(text) * p.bar_thickness_mm - milled == pytest.approx(
+        msp = ezdxf.readfile(out / "parts" / f"{link}.dxf").modelspace()
+        cut_r = [e.dxf.radius for e in msp if e.dxftype() == "CIRCLE" and e.dxf.layer == "CUT"]
+        pins = sum(s["lower"] == link for s in rep["layers"]["joints"].values())
+        ds = catalog.get_shoulder_screw(p.pin).ds_mm  # 8 mm (Hoeken, ISO 7379 M6)
+        assert 5.0 < ds <= 20.0  # the table row used below
+        assert sum(r == pytest.approx((ds - 0.2) / 2, abs=1e-12) for r in cut_r) == pins
+        stock = pins * math.pi * ((ds / 2) ** 2 - (ds / 2 - 0.1) ** 2) * p.bar_thickness_mm
+        assert dxf_profile_area_mm2(text) * p.bar_thickness_mm - milled - stock == pytest.approx(
             vol, rel=1e-9
         )
 

@@ -164,8 +164,11 @@ def test_dxf_notes_state_the_fits_and_mill_layers_hold_no_outline(family_builds,
         msp = list(doc.modelspace())
         notes = [e.dxf.text for e in msp if e.dxf.layer == "NOTES"]
         fits = [f for f in rows[path.stem]["fits"].split("; ") if f]
-        assert notes == [f"{f} (ISO 286)" for f in fits], path.stem
-        noted |= {path.stem} if notes else set()
+        assert notes[:5] == [f"part: {path.stem}", "units: mm",
+                             f"material: {rows[path.stem]['material']}", notes[3],
+                             f"quantity: {rows[path.stem]['quantity']}"], path.stem
+        assert notes[5 : 5 + len(fits)] == [f"{f} (ISO 286)" for f in fits], path.stem
+        noted |= {path.stem} if fits else set()
 
         def sig(e):
             if e.dxftype() == "CIRCLE":
@@ -185,10 +188,29 @@ def test_dxf_notes_state_the_fits_and_mill_layers_hold_no_outline(family_builds,
             z0, z1 = box.CornerMin().Z(), box.CornerMax().Z()
             g = GProp_GProps()
             BRepGProp.VolumeProperties_s(shape, g)
-            area = dxf_profile_area_mm2(path.read_text())
+            area = dxf_profile_area_mm2(path.read_text()) - _stock_area_mm2(msp, fits)
+            assert notes[3] == f"thickness: {z1 - z0:.2f} mm"
             assert area * (z1 - z0) == pytest.approx(g.Mass(), rel=1e-3), path.stem
     if fam != "powermouse":
         assert noted == {"motor_mount"}  # the only plate with a fit: its pilot bore
+
+
+def _stock_area_mm2(msp, fits) -> float:
+    """Area of the finishing stock a profile leaves in its reamed or bored holes: every CUT
+    circle of a bore's diameter less the table allowance (mm^2)."""
+    from cad.assembly.fits import finish, parse_fit, ream_allowance_mm
+
+    out = 0.0
+    for f in fits:
+        label, d, cls = parse_fit(f)
+        if finish(label, cls) not in ("ream", "bore"):
+            continue
+        r = (d - ream_allowance_mm(d)) / 2
+        n = sum(e.dxftype() == "CIRCLE" and e.dxf.layer == "CUT"
+                and abs(e.dxf.radius - r) < 1e-9 for e in msp)
+        assert n > 0, f  # the bore is on the profile, undersize
+        out += n * math.pi * ((d / 2) ** 2 - r**2)
+    return out
 
 
 @pytest.mark.parametrize("fam", ["pantograph", "twin-pantograph"])
@@ -269,6 +291,9 @@ def test_write_outputs_puts_fits_in_the_bom_and_on_the_dxf_with_only_the_seat_mi
     assert _bom(tmp_path)["seat_plate"]["fits"] == "bearing seat 9 J7"
     assert family.fits_report(inst) == {"seat_plate": ["bearing seat 9 J7"]}
     msp = list(ezdxf.readfile(tmp_path / "parts" / "seat_plate.dxf").modelspace())
-    assert [e.dxf.text for e in msp if e.dxf.layer == "NOTES"] == ["bearing seat 9 J7 (ISO 286)"]
+    notes = [e.dxf.text for e in msp if e.dxf.layer == "NOTES"]
+    assert notes[5] == "bearing seat 9 J7 (ISO 286)"
+    assert notes[6] == "bearing seat x1: mill bearing seat 9 J7 (ISO 286), 2.50 deep from the " \
+        "top face, layer MILL_Z3.50_6.00"
     mill = [e for e in msp if e.dxf.layer.startswith("MILL")]
     assert [(e.dxftype(), e.dxf.radius) for e in mill] == [("CIRCLE", pytest.approx(D / 2))]

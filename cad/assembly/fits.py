@@ -10,6 +10,8 @@ limits of each class are those of ISO 286-2's tables. Pure data: no CAD import.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 #: Class of each feature (bore, or shaft where lower case), with the fit it makes:
 #:
 #: * ``bearing seat`` J7 -- housing bore of a ball bearing's outer ring: direction of load
@@ -62,3 +64,101 @@ def fit(key: str, diameter_mm: float, label: str | None = None) -> str:
         the design. KeyError for a feature not in :data:`FITS`.
     """
     return f"{label or key} {fmt_mm(diameter_mm)} {FITS[key]}"
+
+
+# --- what a shop leaves on a profile for the finishing operation (issue 25 section 2) ------
+
+#: Stock left on the diameter for reaming, by hole size: ``(up to d mm, allowance mm)``, the
+#: low end of each row of the workshop-technology "undersize of reaming" table (0-5 mm:
+#: 0.1-0.2; 5-20 mm: 0.2-0.3; 21-50 mm: 0.3-0.5; over 50 mm: 0.5-1 mm), source
+#: :data:`REAM_ALLOWANCE_SOURCE`. The 5-20 mm row agrees with model-engineering practice
+#: (an 8 mm reamer after a 7.8 mm drill). The low end is taken because a profile cut by
+#: waterjet or laser is already round and on size within a few hundredths.
+REAM_ALLOWANCE_MM = ((5.0, 0.1), (20.0, 0.2), (50.0, 0.3), (float("inf"), 0.5))
+REAM_ALLOWANCE_SOURCE = (
+    "undersize of reaming table (0-5 mm 0.1-0.2, 5-20 mm 0.2-0.3, 21-50 mm 0.3-0.5, "
+    ">50 mm 0.5-1 mm; low end used), https://eventexam.blogspot.com/2023/09/"
+    "under-sizes-of-reaming.html; unverified against Machinery's Handbook"
+)
+#: Rule for the tap drill of an ISO metric coarse thread (:func:`cad.parts.catalog.tap_drill_mm`).
+TAP_DRILL_SOURCE = "tap drill = d - P (ISO 2306 drill sizes for ISO metric coarse threads)"
+
+
+def ream_allowance_mm(d_mm: float) -> float:
+    """Stock left on the diameter of a bore of nominal ``d_mm`` (mm) for reaming
+    (:data:`REAM_ALLOWANCE_MM`)."""
+    for upto, a in REAM_ALLOWANCE_MM:
+        if d_mm <= upto:
+            return a
+    raise AssertionError("unreachable: the last row has no upper bound")
+
+
+def parse_fit(text: str) -> tuple[str, float, str]:
+    """``"bearing seat 16 J7"`` -> ``("bearing seat", 16.0, "J7")`` (the inverse of :func:`fit`)."""
+    *label, d, cls = text.split()
+    return " ".join(label), float(d), cls
+
+
+def finish(label: str, cls: str) -> str:
+    """How the shop finishes a feature of :func:`fit` text: ``"mill"`` (a bearing seat, a
+    counterbore milled to depth), ``"bore"`` (the motor pilot seat, bored), ``"ream"`` (every
+    other bore class, upper case) or ``"shaft"`` (a turned or ground shaft, lower case)."""
+    if "seat" in label and "pilot" not in label:
+        return "mill"
+    if "pilot" in label:
+        return "bore"
+    return "ream" if cls[:1].isupper() else "shaft"
+
+
+@dataclass(frozen=True)
+class ShopHole:
+    """One kind of hole of a made part as the shop makes it.
+
+    finish : ``"ream"``, ``"bore"``, ``"mill"`` or ``"tap"``.
+    d_mm : its diameter in the solid (the nominal bore or seat; a tapped hole's tap drill).
+    cut_d_mm : the diameter a profile is cut at (the bore less the stock left for reaming or
+        boring, :func:`ream_allowance_mm`; else ``d_mm``).
+    spec : the finished size, ``"8 H7"``, ``"16 J7"`` or ``"M4"``.
+    label : the feature (``"pin bore"``, ``"bearing seat"``, ``"thread"``).
+    depth_mm : a tapped hole's full-thread depth (None otherwise).
+    """
+
+    finish: str
+    d_mm: float
+    cut_d_mm: float
+    spec: str
+    label: str
+    depth_mm: float | None = None
+
+    def note(self) -> str:
+        """The shop note: ``"ream to 8 H7"``, ``"mill bearing seat 16 J7"``, ``"tap M4"``."""
+        if self.finish == "tap":
+            return f"tap {self.spec}"
+        if self.finish == "mill":
+            return f"mill {self.label} {self.spec}"
+        return f"{self.finish} to {self.spec}"
+
+
+def shop_holes(fits: tuple[str, ...], threads=()) -> tuple[ShopHole, ...]:
+    """The holes of a part from its :func:`fit` texts and its ``threads`` (``(size, full
+    thread depth mm)`` pairs, e.g. ``("M4", 8.0)``); shafts are left out. Tap drills by
+    :data:`TAP_DRILL_SOURCE`; reaming stock by :data:`REAM_ALLOWANCE_SOURCE`."""
+    from cad.parts.catalog import tap_drill_mm
+
+    out = []
+    for text in fits:
+        label, d, cls = parse_fit(text)
+        how = finish(label, cls)
+        if how == "shaft":
+            continue
+        cut = d - ream_allowance_mm(d) if how in ("ream", "bore") else d
+        out.append(ShopHole(how, d, cut, f"{fmt_mm(d)} {cls}", label))
+    seen = set()
+    for size, depth in threads:
+        key = (size.split("-")[0], round(depth, 6))
+        if key in seen:
+            continue
+        seen.add(key)
+        dr = tap_drill_mm(key[0])
+        out.append(ShopHole("tap", dr, dr, key[0], "thread", depth))
+    return tuple(out)

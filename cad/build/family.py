@@ -19,6 +19,8 @@ pose. Everything below reads that one list:
 * :func:`check_assembly` -- every pair of solids at the exported pose, by the shared
   checker (:func:`cad.assembly.interference.same_body_check`): a positive common volume is
   a collision;
+* :func:`write_part_drawings` -- ``drawings/<part>.svg`` and ``drawings.pdf`` of the made
+  parts (``--formats …,drawings``, :mod:`cad.drawings`);
 * :func:`write_outputs` -- ``parts/<kind>.step|.stl|.dxf``, ``assembly.step``,
   ``bom.csv``, ``preview.png`` (the dispatcher adds ``report.json`` and
   ``manifest.json``; :func:`write_report_md` writes ``report.md``).
@@ -113,6 +115,49 @@ def fits_report(instances) -> dict[str, list[str]]:
 def dxf_notes(kind) -> tuple[str, ...]:
     """The text lines of a part's DXF ``NOTES`` layer: each of its fits + ``" (ISO 286)"``."""
     return tuple(f"{f} (ISO 286)" for f in kind.fits)
+
+
+def kind_threads(kind_name: str, instances, holes) -> tuple[tuple[str, float | None], ...]:
+    """``((thread size, full-thread depth mm or None), ...)`` of the tapped holes
+    (:class:`cad.assembly.fasteners.TappedHole`) in the instances of kind ``kind_name``."""
+    names = {i.name for i in instances if i.kind.name == kind_name} | {kind_name}
+    return tuple(
+        (h.size, h.depth_mm if math.isfinite(h.depth_mm) else None)
+        for h in holes
+        if h.part in names
+    )
+
+
+def shop_args(kind, instances, holes=()) -> dict:
+    """The shop data of one kind's files (:func:`cad.export.export_part`): DXF notes (its
+    fits), its holes as the shop makes them (:func:`cad.assembly.fits.shop_holes`), its
+    material and quantity."""
+    from cad.assembly.fits import shop_holes
+
+    return {
+        "notes": dxf_notes(kind),
+        "holes": shop_holes(kind.fits, kind_threads(kind.name, instances, holes)),
+        "material": kind.material,
+        "quantity": quantities(instances).get(kind.name, 0),
+    }
+
+
+def write_part_drawings(instances, out_dir: Path, design: str, holes=()) -> list[str]:
+    """``drawings/<part>.svg`` per made, listed kind and ``drawings.pdf``
+    (:func:`cad.drawings.write_drawings`); returns the paths relative to ``out_dir``."""
+    from cad.drawings import SheetPart, write_drawings
+
+    q = quantities(instances)
+    parts = [
+        SheetPart(k.name, k.shape, k.material, q[k.name], k.process, k.plate, k.fits,
+                  kind_threads(k.name, instances, holes), k.description)
+        for k in kinds(instances).values()
+        if k.listed and k.made
+    ]
+    if not parts:
+        return []
+    out_dir = Path(out_dir)
+    return [p.relative_to(out_dir).as_posix() for p in write_drawings(parts, out_dir, design)]
 
 
 def part_materials(instances) -> dict[str, str]:
@@ -220,9 +265,11 @@ def write_outputs(
     stl_tolerance_mm: float | None = None,
     marks=None,
     preview: bool = True,
+    holes=(),
 ) -> list[str]:
     """Part files, assembly STEP, BOM and preview of one assembly; returns the paths written
-    (relative to ``out_dir``)."""
+    (relative to ``out_dir``). ``holes``: the tapped holes
+    (:class:`cad.assembly.fasteners.TappedHole`) for the DXF thread notes."""
     from cad.export import STL_TOLERANCE_MM, export_assembly_step, export_part, write_bom
     from cad.materials import get_material
 
@@ -240,9 +287,11 @@ def write_outputs(
             color=get_material(k.material).color_rgb,
             stl=k.made,
             tolerance_mm=stl_tolerance_mm or STL_TOLERANCE_MM,
-            notes=dxf_notes(k),
+            **shop_args(k, instances, holes),
         )
         files += [p.relative_to(out_dir).as_posix() for p in paths]
+    if "drawings" in formats:
+        files += write_part_drawings(instances, out_dir, name, holes)
     if "step" in formats:
         export_assembly_step(
             posed_items(instances, tf_world_body, listed_only=False),

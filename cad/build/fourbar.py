@@ -192,7 +192,7 @@ def _write_exports(
     asm, listed, out_dir: Path, formats, stl_tol, ang, tf_pose, name: str, progress, n_steps
 ) -> list[str]:
     """Part files (STEP/STL/DXF) and the posed assembly STEP; returns their paths in out_dir."""
-    from cad.build.family import dxf_notes
+    from cad.build.family import shop_args
     from cad.export import export_assembly_step, export_part
     from cad.materials import get_material
 
@@ -209,9 +209,13 @@ def _write_exports(
             stl=k.made,
             tolerance_mm=stl_tol,
             angular_tolerance_rad=ang,
-            notes=dxf_notes(k),
+            **shop_args(k, asm.instances, asm.holes),
         )
         files += [p.relative_to(out_dir).as_posix() for p in paths]
+    if "drawings" in formats:
+        from cad.build.family import write_part_drawings
+
+        files += write_part_drawings(asm.instances, out_dir, name, asm.holes)
     if "step" in formats:
         _step(progress, "assembly STEP", 5, n_steps)
         from cad.assembly.pose import posed_shapes

@@ -1175,6 +1175,7 @@ def build(
             title=title,
             bom=bom,
             marks=[("workspace", _square(design.workspace))],
+            holes=tuple(holes.values()),
         )
 
     task = forked.start(exports, "exports")

@@ -101,8 +101,9 @@ def register(app: typer.Typer) -> None:
         formats: str = typer.Option(
             "step,stl,dxf",
             "--formats",
-            help="Comma list of step, stl, dxf, mjcf, urdf, glb, 3mf, firmware (mjcf/urdf also write "
-            "the STL meshes; firmware: C kinematics, test vectors, wall sketch in firmware/).",
+            help="Comma list of step, stl, dxf, mjcf, urdf, glb, 3mf, firmware, drawings (mjcf/urdf also "
+            "write the STL meshes; firmware: C kinematics, test vectors, wall sketch in firmware/; "
+            "drawings: one sheet per made part).",
         ),
         fidelity: str = typer.Option(
             None, "--fidelity", help="fabrication | inertia | preview (default: [parts].fidelity)."

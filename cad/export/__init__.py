@@ -29,7 +29,7 @@ FORMATS = ("step", "stl", "dxf")
 #: glTF, metres, with the stroke animation, :mod:`cad.export.gltf`) and 3mf = the made
 #: parts for a slicer (:mod:`cad.export.threemf`) and firmware = the generated C kinematics,
 #: test vectors, wall sketch and CHAI3D description (:mod:`cad.firmware`, folder firmware/).
-KNOWN_FORMATS = (*FORMATS, "mjcf", "urdf", "glb", "3mf", "firmware")
+KNOWN_FORMATS = (*FORMATS, "mjcf", "urdf", "glb", "3mf", "firmware", "drawings")
 #: Default absolute chordal deflection of exported STL (mm) and angular deflection (rad).
 STL_TOLERANCE_MM = 0.01
 STL_ANGULAR_TOLERANCE_RAD = math.radians(15.0)
@@ -78,6 +78,9 @@ def export_part(
     tolerance_mm: float = STL_TOLERANCE_MM,
     angular_tolerance_rad: float = STL_ANGULAR_TOLERANCE_RAD,
     notes: tuple[str, ...] = (),
+    holes: tuple = (),
+    material: str = "",
+    quantity: int | None = None,
 ) -> list[Path]:
     """Write the files of one part and return their paths.
 
@@ -90,6 +93,8 @@ def export_part(
     stl : False for bought parts (only STEP is useful for those).
     tolerance_mm, angular_tolerance_rad : absolute STL deflections.
     notes : text lines written on the DXF's ``NOTES`` layer (fits of seats and bores).
+    holes, material, quantity : the DXF's shop data (:func:`cad.export.dxf.plate_profile_dxf`:
+        reamed bores cut undersize, seats and threads noted; material and quantity noted).
 
     The STL mesh is checked watertight (two independent checks, see
     :mod:`cad.export.stl`) before anything is written: a failure raises
@@ -114,8 +119,10 @@ def export_part(
         from cad.export.dxf import plate_profile_dxf
 
         payload.append((out_dir / f"{name}.dxf", _cached_file(
-            "part-dxf", [topo, name, list(notes)], lambda: plate_profile_dxf(topo, name, notes),
-            ("cad.export.dxf",))))
+            "part-dxf", [topo, name, list(notes), [repr(h) for h in holes], material, quantity],
+            lambda: plate_profile_dxf(topo, name, notes, holes, material=material,
+                                      quantity=quantity),
+            ("cad.export.dxf", "cad.assembly.fits"))))
     written = []
     for path, data in payload:
         if isinstance(data, str):

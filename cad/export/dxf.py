@@ -6,8 +6,11 @@ holes only; every other level with less material (a bearing seat counterbored in
 bar, say) is written on its own layer ``MILL_Z<lo>_<hi>`` (z in mm from the plate's
 bottom face) for the machining after cutting -- only the edges that differ from the
 through profile (the seat, not the outline repeated). A plain 2.5-D plate has only
-``CUT``. ``notes`` (the ISO 286 fits of its seats and bores) are written as TEXT on the
-layer ``NOTES`` under the part. Lines become LINE, full circles CIRCLE, circular arcs ARC
+``CUT``. A bore finished by reaming (or boring) is cut undersize by the stock the shop
+needs (:data:`cad.assembly.fits.REAM_ALLOWANCE_MM`, source there) and noted ``ream to 8
+H7``; a milled bearing seat is noted with its fit, depth and layer; a tapped hole is cut at
+its tap drill (d - P) with its thread note. The layer ``NOTES`` (TEXT under the part) holds
+the part name, units, material, thickness and quantity, the ISO 286 fits and those notes. Lines become LINE, full circles CIRCLE, circular arcs ARC
 (counter-clockwise, as DXF requires), anything else an LWPOLYLINE sampled at
 :data:`DXF_SAMPLE_DEFLECTION_MM`. Metadata is fixed
 (``ezdxf.options.write_fixed_meta_data_for_testing``): no time stamps or random
@@ -23,6 +26,11 @@ from cad.errors import GeometryError
 
 #: Chordal deflection used to sample edges that are neither lines nor circles (mm).
 DXF_SAMPLE_DEFLECTION_MM = 0.005
+#: A profile circle is a listed hole when their diameters agree this closely (mm): the solid's
+#: holes are made at the listed diameter, so only round-off separates them.
+DXF_MATCH_MM = 1e-6
+#: Finishes whose bores the profile cuts at :attr:`cad.assembly.fits.ShopHole.cut_d_mm`.
+CUT_FINISHES = ("ream", "bore", "tap")
 
 
 def _section_edges(shape, z_mm: float):
@@ -90,7 +98,9 @@ def _slab_area_mm2(shape, z0: float, z1: float) -> float:
     return props.Mass() / (z1 - z0)
 
 
-def _add_edges(msp, edges, layer: str) -> None:
+def _add_edges(msp, edges, layer: str, resize=None) -> None:
+    """Write ``edges`` on ``layer``; ``resize(r_mm) -> r_mm`` changes a full circle's radius
+    (a bore cut undersize for reaming)."""
     from OCP.BRepAdaptor import BRepAdaptor_Curve
     from OCP.GCPnts import GCPnts_QuasiUniformDeflection
     from OCP.GeomAbs import GeomAbs_Circle, GeomAbs_Line
@@ -107,7 +117,7 @@ def _add_edges(msp, edges, layer: str) -> None:
             circ = c.Circle()
             ctr, r = circ.Location(), circ.Radius()
             if abs(u1 - u0 - 2 * math.pi) < 1e-9:
-                msp.add_circle((ctr.X(), ctr.Y()), r, dxfattribs=att)
+                msp.add_circle((ctr.X(), ctr.Y()), resize(r) if resize else r, dxfattribs=att)
                 continue
             a0 = math.degrees(math.atan2(p0.Y() - ctr.Y(), p0.X() - ctr.X()))
             a1 = math.degrees(math.atan2(p1.Y() - ctr.Y(), p1.X() - ctr.X()))
@@ -118,6 +128,29 @@ def _add_edges(msp, edges, layer: str) -> None:
             samp = GCPnts_QuasiUniformDeflection(c, DXF_SAMPLE_DEFLECTION_MM)
             pts = [(samp.Value(i).X(), samp.Value(i).Y()) for i in range(1, samp.NbPoints() + 1)]
             msp.add_lwpolyline(pts, dxfattribs=att)
+
+
+def _full_circle_radii(edges) -> list[float]:
+    """Radii of the full circles among ``edges`` (mm)."""
+    from OCP.BRepAdaptor import BRepAdaptor_Curve
+    from OCP.GeomAbs import GeomAbs_Circle
+
+    out = []
+    for e in edges:
+        c = BRepAdaptor_Curve(e)
+        if c.GetType() == GeomAbs_Circle and abs(
+            c.LastParameter() - c.FirstParameter() - 2 * math.pi
+        ) < 1e-9:
+            out.append(c.Circle().Radius())
+    return out
+
+
+def _match(holes, r_mm: float, finishes) -> object | None:
+    """The :class:`cad.assembly.fits.ShopHole` of ``finishes`` whose diameter is ``2 r_mm``."""
+    for h in holes:
+        if h.finish in finishes and abs(h.d_mm - 2.0 * r_mm) < DXF_MATCH_MM:
+            return h
+    return None
 
 
 def _on_profile(edge, profile) -> bool:
@@ -147,9 +180,18 @@ def _mill_edges(shape, z_mm: float, cut_edges, z_cut: float) -> list:
     return [e for e in _section_edges(shape, z_mm) if not _on_profile(e, profile)]
 
 
-def plate_profile_dxf(shape, name: str, notes=()) -> str:
+def plate_profile_dxf(
+    shape, name: str, notes=(), holes=(), *, material: str = "", quantity: int | None = None
+) -> str:
     """DXF text of a plate's cutting profile (layer ``CUT``), milled levels (``MILL_*``, only
-    what differs from the profile) and ``notes`` (layer ``NOTES``)."""
+    what differs from the profile) and the ``NOTES`` layer.
+
+    holes : :class:`cad.assembly.fits.ShopHole` of the part: a ``CUT`` circle of a reamed or
+        bored hole's diameter is cut at its ``cut_d_mm`` (the finishing stock left), a tapped
+        hole's circle (already the tap drill) keeps its size; each hole found gets a note
+        (count, cut size, finish; a milled seat its depth and layer).
+    NOTES : part, units, material, thickness, quantity, ``notes`` (the fits), the hole notes.
+    """
     import ezdxf
 
     levels = _z_levels(shape)
@@ -158,7 +200,7 @@ def plate_profile_dxf(shape, name: str, notes=()) -> str:
     bands = list(zip(levels[:-1], levels[1:], strict=True))
     areas = [_slab_area_mm2(shape, a, b) for a, b in bands] if len(bands) > 1 else [1.0]
     i_cut = max(range(len(bands)), key=lambda i: (areas[i], -i))
-    z_bottom = levels[0]
+    z_bottom, z_top = levels[0], levels[-1]
     old = ezdxf.options.write_fixed_meta_data_for_testing
     ezdxf.options.write_fixed_meta_data_for_testing = True
     try:
@@ -167,21 +209,70 @@ def plate_profile_dxf(shape, name: str, notes=()) -> str:
         msp = doc.modelspace()
         z_cut = 0.5 * sum(bands[i_cut])
         cut_edges = _section_edges(shape, z_cut)
+        found: dict = {}  # ShopHole -> [count, detail]
         for i, (a, b) in enumerate(bands):
             if i != i_cut and areas[i] >= areas[i_cut] - 1e-9:
                 continue  # same material as the through profile: nothing to mill there
             layer = "CUT" if i == i_cut else f"MILL_Z{a - z_bottom:.2f}_{b - z_bottom:.2f}"
             if layer not in doc.layers:
                 doc.layers.add(layer)
-            z = 0.5 * (a + b)
-            edges = cut_edges if i == i_cut else _mill_edges(shape, z, cut_edges, z_cut)
+            edges = cut_edges if i == i_cut else _mill_edges(shape, 0.5 * (a + b), cut_edges, z_cut)
+            if i == i_cut:
+                _add_edges(msp, edges, layer, _resizer(holes, found))
+                continue
             _add_edges(msp, edges, layer)
-        _add_notes(doc, msp, shape, notes)
+            face = "top" if abs(b - z_top) < 1e-7 else "bottom" if abs(a - z_bottom) < 1e-7 else ""
+            for r in _full_circle_radii(edges):
+                h = _match(holes, r, ("mill",))
+                if h is not None:
+                    depth = f"{b - a:.2f} deep from the {face} face" if face else f"{b - a:.2f} thick"
+                    found.setdefault(h, [0, f"{depth}, layer {layer}"])[0] += 1
+        head = [f"part: {name}", "units: mm", f"material: {material or 'unstated'}",
+                f"thickness: {z_top - z_bottom:.2f} mm",
+                f"quantity: {quantity if quantity is not None else 'unstated'}"]
+        _add_notes(doc, msp, shape, [*head, *notes, *_hole_notes(holes, found)])
         buf = io.StringIO()
         doc.write(buf)
         return buf.getvalue()
     finally:
         ezdxf.options.write_fixed_meta_data_for_testing = old
+
+
+def _resizer(holes, found: dict):
+    """``r -> r`` of the ``CUT`` layer: a reamed or bored hole at its cut size (counted in
+    ``found``), a tapped hole counted, anything else unchanged."""
+
+    def resize(r: float) -> float:
+        h = _match(holes, r, CUT_FINISHES)
+        if h is None:
+            return r
+        found.setdefault(h, [0, ""])[0] += 1
+        return 0.5 * h.cut_d_mm
+
+    return resize
+
+
+def _hole_notes(holes, found: dict) -> list[str]:
+    """One line per hole of ``holes`` (how many the profile has, its cut size and finish),
+    then the source of each allowance used."""
+    from cad.assembly.fits import REAM_ALLOWANCE_SOURCE, TAP_DRILL_SOURCE, fmt_mm
+
+    out, sources = [], []
+    for h in holes:
+        n, detail = found.get(h, [0, ""])
+        if n == 0:
+            out.append(f"{h.label} {h.spec}: not on this profile")
+        elif h.finish in ("ream", "bore"):
+            out.append(f"{h.label} x{n}: cut at {fmt_mm(h.cut_d_mm)} "
+                       f"({fmt_mm(h.d_mm - h.cut_d_mm)} mm stock); {h.note()}")
+            sources.append(f"stock for reaming or boring: {REAM_ALLOWANCE_SOURCE}")
+        elif h.finish == "tap":
+            depth = f", full thread {fmt_mm(h.depth_mm)} deep" if h.depth_mm is not None else ""
+            out.append(f"{h.spec} x{n}: cut at the tap drill {fmt_mm(h.d_mm)}; {h.note()}{depth}")
+            sources.append(TAP_DRILL_SOURCE)
+        else:
+            out.append(f"{h.label} x{n}: {h.note()} (ISO 286), {detail}")
+    return out + list(dict.fromkeys(sources))
 
 
 #: Text height of the DXF notes (mm).

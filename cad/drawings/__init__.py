@@ -1,0 +1,50 @@
+"""Shop drawings of the made parts (issue 25 section 1): ``--formats …,drawings``.
+
+One A4 sheet per made part, ``drawings/<part>.svg``, and every sheet in one multi-page
+``drawings.pdf`` (matplotlib's PdfPages), drawn from the part's solid (views from
+build123d's hidden-line projection, :mod:`cad.drawings.sheet`; features from its cylindrical
+faces, :mod:`cad.drawings.features`; fit, thread and stock texts, :mod:`cad.drawings.notes`).
+The files are byte-identical run to run (no dates, fixed SVG ids).
+"""
+
+from __future__ import annotations
+
+import io
+from pathlib import Path
+
+from cad.drawings.sheet import SheetPart
+
+PDF_NAME = "drawings.pdf"
+SVG_DIR = "drawings"
+
+__all__ = ["PDF_NAME", "SVG_DIR", "SheetPart", "write_drawings"]
+
+
+def write_drawings(parts: list[SheetPart], out_dir: Path, design: str) -> list[Path]:
+    """``drawings/<part>.svg`` for each of ``parts`` and ``drawings.pdf`` (one page each, in
+    that order) under ``out_dir``; returns the paths written (atomically)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.backends.backend_pdf import PdfPages
+
+    from cad.drawings.sheet import draw_sheet
+    from cad.io.atomic import write_bytes_atomic
+
+    out_dir = Path(out_dir)
+    pdf_buf = io.BytesIO()
+    written = []
+    with matplotlib.rc_context({"svg.fonttype": "none", "svg.hashsalt": "hapticad",
+                                "pdf.compression": 6}):
+        with PdfPages(pdf_buf, metadata={"CreationDate": None, "Creator": "hapticad"}) as pdf:
+            for k, part in enumerate(parts, 1):
+                fig = draw_sheet(part, design, (k, len(parts)))
+                svg = io.BytesIO()
+                fig.savefig(svg, format="svg", metadata={"Date": None})
+                pdf.savefig(fig)
+                plt.close(fig)
+                written.append(write_bytes_atomic(out_dir / SVG_DIR / f"{part.name}.svg",
+                                                  svg.getvalue()))
+    written.append(write_bytes_atomic(out_dir / PDF_NAME, pdf_buf.getvalue()))
+    return written
