@@ -122,6 +122,20 @@ Handle (at the coupler point P):
     ``height_mm``, ``screw_clearance_mm``, ``counterbore_mm`` and ``floor_mm``
     (:func:`cad.parts.handle.handle_params`).
 
+Process of the made parts (:mod:`cad.printing`):
+
+``process`` ["machined"]
+    machined | printed ("laser" is not made yet: error). "printed": every made part in a
+    printable material (pla, petg, abs) is FDM printed: holes compensated, bearing seats
+    press-fit, tapped holes opened for heat-set inserts, mass and bar stiffness from the
+    wall/infill model, a print orientation in parts.3mf. A made part in PLA or PETG under
+    "machined" is printed too, with a warning naming the parts and features (filament only).
+``print_layer_height_mm`` [0.2] / ``print_line_width_mm`` [0.45] / ``print_walls`` [2] /
+``print_solid_layers`` [4] / ``print_infill_percent`` [20]
+    slicer settings of the wall/infill model (:class:`cad.printing.PrintSettings`).
+``print_hole_compensation_mm`` [0.2] / ``print_press_fit_mm`` [0.1]
+    holes modelled this much over nominal; bearing seats at D + compensation - press fit.
+
 Fidelity and checks:
 
 ``fidelity`` ["fabrication"]
@@ -200,12 +214,37 @@ class PartsSpec:
     stl_angular_tolerance_deg: float = 15.0
     interference_poses: int = 60
     clearance_min_mm: float = 0.5
+    process: str = "machined"
+    print_layer_height_mm: float = 0.2
+    print_line_width_mm: float = 0.45
+    print_walls: int = 2
+    print_solid_layers: int = 4
+    print_infill_percent: float = 20.0
+    print_hole_compensation_mm: float = 0.2
+    print_press_fit_mm: float = 0.1
+
+    def print_settings(self):
+        """The :class:`cad.printing.PrintSettings` of these parts."""
+        from cad.printing import PrintSettings
+
+        return PrintSettings(self.print_layer_height_mm, self.print_line_width_mm, self.print_walls,
+                             self.print_solid_layers, self.print_infill_percent,
+                             self.print_hole_compensation_mm, self.print_press_fit_mm)
+
+    def printed(self, material: str) -> bool:
+        """A made part of ``material`` is FDM printed (:func:`cad.printing.is_printed`)."""
+        from cad.printing import is_printed
+
+        return is_printed(self.process, material)
 
     def as_dict(self) -> dict[str, Any]:
         """Plain mapping of every resolved parameter (build cache key, report)."""
         d = asdict(self)
         if d["layer_order"] is not None:
             d["layer_order"] = list(d["layer_order"])
+        if not any(self.printed(getattr(self, k)) for k in _MATERIALS):
+            for k in _PRINT_KEYS:  # nothing printed: the keys of before the process existed
+                d.pop(k)
         return d
 
 
@@ -249,6 +288,9 @@ _MATERIALS = (
 )
 _STRINGS = ("bar_style", "bearing", "pin", "motor", "hub_screw", "handle_screw", "handle_script", "fidelity")
 _BOOLS = ("bar_pockets",)
+_PRINT_KEYS = ("process", "print_layer_height_mm", "print_line_width_mm", "print_walls",
+               "print_solid_layers", "print_infill_percent", "print_hole_compensation_mm",
+               "print_press_fit_mm")
 ALLOWED_KEYS = tuple(f.name for f in fields(PartsSpec))
 
 
@@ -319,6 +361,7 @@ def parse_parts(table: dict[str, Any] | None, prefix: str = "parts") -> PartsSpe
             f"must be one of {', '.join(FIDELITIES)}, got {vals['fidelity']!r}",
         )
     _check_tube(vals, prefix)
+    _print_keys(table, prefix, vals)
     script = vals["handle_script"]
     if script is not None and not script.endswith(".py"):
         raise DesignError(
@@ -355,6 +398,48 @@ def parse_parts(table: dict[str, Any] | None, prefix: str = "parts") -> PartsSpe
 
 
 BAR_STYLES = ("plate", "tube")
+
+#: Parts made of each material key (for the filament warning).
+_MATERIAL_PARTS = {"bar_material": "crank, coupler, rocker (reamed H7 pin bores, milled bearing "
+                                   "seats, tapped handle hole)",
+                   "hub_material": "hub (tapped set-screw and screw holes)",
+                   "base_material": "base plate (tapped post and leg holes)",
+                   "post_material": "post (tapped thread)",
+                   "motor_mount_material": "motor mount (bored pilot seat, tapped holes)",
+                   "handle_material": "handle (screw counterbore)",
+                   "spacer_material": "spacers (turned)"}
+
+
+def _print_keys(table: dict[str, Any], prefix: str, vals: dict[str, Any]) -> None:
+    """``process`` and the ``print_*`` settings; the filament warning (module docstring)."""
+    from cad.design import bounds
+    from cad.printing import FILAMENTS, PROCESSES
+
+    proc = _string(table, "process", prefix, "machined")
+    if proc not in PROCESSES[:2]:
+        why = ("laser-cut parts are not made yet (issue 25 section 3)" if proc == "laser"
+               else f"must be one of {', '.join(PROCESSES)}")
+        raise DesignError(_f(prefix, "process"), f"{why}, got {proc!r}")
+    vals["process"] = proc
+    for key in ("print_layer_height_mm", "print_line_width_mm"):
+        vals[key] = optional_number(table, key, prefix, getattr(PartsSpec, key))
+        if not 0.05 <= vals[key] <= 1.2:
+            raise DesignError(_f(prefix, key), f"must be in 0.05..1.2 mm (FDM nozzles), got {vals[key]!r}")
+    for key in ("print_walls", "print_solid_layers"):
+        vals[key] = optional_int(table, key, prefix, getattr(PartsSpec, key), minimum=1)
+    for key, hi in (("print_infill_percent", 100.0), ("print_hole_compensation_mm", 1.0),
+                    ("print_press_fit_mm", 0.5)):
+        vals[key] = optional_number(table, key, prefix, getattr(PartsSpec, key))
+        if not 0.0 <= vals[key] <= hi:
+            raise DesignError(_f(prefix, key), f"must be in 0..{hi:g}, got {vals[key]!r}")
+    if proc != "machined":
+        return
+    for key, what in _MATERIAL_PARTS.items():
+        f = FILAMENTS.get(vals[key])
+        if f is not None and not f.machinable:
+            bounds.warn(f"{_f(prefix, key)} = {vals[key]!r} is a printing filament, not stock a shop "
+                        f"machines: {what} are FDM printed instead (set {_f(prefix, 'process')} = "
+                        f"\"printed\" to say so)")
 
 
 def _check_tube(v: dict[str, Any], prefix: str) -> None:
