@@ -399,15 +399,20 @@ def parse_parts(table: dict[str, Any] | None, prefix: str = "parts") -> PartsSpe
 
 BAR_STYLES = ("plate", "tube")
 
-#: Parts made of each material key (for the filament warning).
-_MATERIAL_PARTS = {"bar_material": "crank, coupler, rocker (reamed H7 pin bores, milled bearing "
-                                   "seats, tapped handle hole)",
-                   "hub_material": "hub (tapped set-screw and screw holes)",
-                   "base_material": "base plate (tapped post and leg holes)",
-                   "post_material": "post (tapped thread)",
-                   "motor_mount_material": "motor mount (bored pilot seat, tapped holes)",
-                   "handle_material": "handle (screw counterbore)",
-                   "spacer_material": "spacers (turned)"}
+#: Made parts of each material key, and the features printing cannot make as machined.
+_MATERIAL_PARTS = {
+    "bar_material": ("crank, coupler, rocker", "reamed H7 pin bores printed {comp} mm over (a slip "
+                     "fit, not H7), milled bearing seats printed as press fits, the tapped handle "
+                     "hole opened for a heat-set insert"),
+    "hub_material": ("hub", "tapped screw and set-screw holes take heat-set inserts, the H7 shaft "
+                     "bore is reamed after printing"),
+    "base_material": ("base plate", "tapped post and leg holes take heat-set inserts"),
+    "post_material": ("post", "the H7 top bore is reamed after printing, tapped holes take heat-set "
+                      "inserts"),
+    "motor_mount_material": ("motor mount", "the bored H7 pilot seat is reamed after printing"),
+    "handle_material": ("handle", ""),
+    "spacer_material": ("spacers", ""),
+}
 
 
 def _print_keys(table: dict[str, Any], prefix: str, vals: dict[str, Any]) -> None:
@@ -432,14 +437,17 @@ def _print_keys(table: dict[str, Any], prefix: str, vals: dict[str, Any]) -> Non
         vals[key] = optional_number(table, key, prefix, getattr(PartsSpec, key))
         if not 0.0 <= vals[key] <= hi:
             raise DesignError(_f(prefix, key), f"must be in 0..{hi:g}, got {vals[key]!r}")
-    if proc != "machined":
-        return
-    for key, what in _MATERIAL_PARTS.items():
+    for key, (names, change) in _MATERIAL_PARTS.items():
         f = FILAMENTS.get(vals[key])
-        if f is not None and not f.machinable:
+        change = change.format(comp=f"{vals['print_hole_compensation_mm']:g}")
+        if f is None or (proc == "machined" and f.machinable):
+            continue
+        if proc == "machined":
             bounds.warn(f"{_f(prefix, key)} = {vals[key]!r} is a printing filament, not stock a shop "
-                        f"machines: {what} are FDM printed instead (set {_f(prefix, 'process')} = "
-                        f"\"printed\" to say so)")
+                        f"machines: the {names} are FDM printed instead{': ' + change if change else ''} "
+                        f"(set {_f(prefix, 'process')} = \"printed\" to say so)")
+        elif change:
+            bounds.warn(f"{_f(prefix, 'process')} = \"printed\": {names} ({vals[key]}): {change}")
 
 
 def _check_tube(v: dict[str, Any], prefix: str) -> None:
