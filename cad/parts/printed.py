@@ -9,8 +9,9 @@ by the wall thickness w (walls x line width) from every contour. The part's core
 is the sum over layers of that area x layer height; the rest of the solid is solid shell.
 
 A part bounded by planes and cylinders parallel or normal to z (plates, turned parts) is
-prismatic between the heights of its horizontal faces: one section per such slab. Any
-other face (a fillet, a cone) makes every layer its own section.
+prismatic between the heights of its horizontal faces: one section per such slab. Within
+the height range of any other face (a fillet, a cone, a radial hole) every layer is its
+own section.
 """
 
 from __future__ import annotations
@@ -90,43 +91,51 @@ def _shrunk_area_mm2(faces: list, w: float) -> float:
     return total
 
 
-def _prismatic(shape) -> bool:
-    """Every face a plane or a cylinder parallel or normal to z."""
+def _vertical(f) -> bool:
+    """A face that is the same in every section across its height: a plane parallel or
+    normal to z, or a cylinder about a z-parallel axis."""
     from build123d import GeomType
 
-    for f in shape.faces():
-        gt = f.geom_type
-        if gt == GeomType.PLANE:
-            nz = abs(f.normal_at().Z)
-            if not (nz < 1e-9 or nz > 1 - 1e-9):
-                return False
-        elif gt == GeomType.CYLINDER:
-            if abs(abs(f.axis_of_rotation.direction.Z) - 1) > 1e-9:
-                return False
-        else:
-            return False
-    return True
+    if f.geom_type == GeomType.PLANE:
+        nz = abs(f.normal_at().Z)
+        return nz < 1e-9 or nz > 1 - 1e-9
+    if f.geom_type == GeomType.CYLINDER:
+        return abs(abs(f.axis_of_rotation.direction.Z) - 1) < 1e-9
+    return False
+
+
+def _slabs(part, zs: list) -> list:
+    """Slab key of every layer: layers with the same key have the same section. Between the
+    heights of horizontal faces a part of :func:`_vertical` faces is prismatic (key: how many
+    such heights lie below); a layer within the height range of any other face (a fillet, a
+    cone, a radial hole) is its own slab."""
+    from build123d import GeomType
+
+    cuts, ranges = set(), []
+    for f in part.faces():
+        if f.geom_type == GeomType.PLANE and abs(f.normal_at().Z) > 0.5:
+            cuts.add(round(f.center().Z, 9))
+        elif not _vertical(f):
+            bb = f.bounding_box()
+            ranges.append((bb.min.Z, bb.max.Z))
+            cuts.update((round(bb.min.Z, 9), round(bb.max.Z, 9)))
+    cuts = sorted(cuts)
+    return [("layer", k) if any(lo - _EPS_MM <= z <= hi + _EPS_MM for lo, hi in ranges)
+            else ("slab", sum(z > c + _EPS_MM for c in cuts)) for k, z in enumerate(zs)]
 
 
 def printed_core_mm3(shape, s: PrintSettings) -> float:
     """Core (infill) volume, mm^3, of a part (``TopoDS_Shape`` or build123d shape, mm,
     printed in its own frame z up), model in the module docstring."""
-    from build123d import GeomType
-
     part = _b3d(shape)
     bb = part.bounding_box()
     z0, T = bb.min.Z, bb.max.Z - bb.min.Z
     n_layers = max(1, round(T / s.layer_height_mm))
     h = T / n_layers
     zs = [z0 + (k + 0.5) * h for k in range(n_layers)]
-    if _prismatic(part):
-        cuts = sorted({round(f.center().Z, 9) for f in part.faces()
-                       if f.geom_type == GeomType.PLANE and abs(f.normal_at().Z) > 0.5})
-        slab = [sum(z > c + _EPS_MM for c in cuts) for z in zs]
-    else:
-        slab = list(range(n_layers))
     size = 4 * max(bb.size.X, bb.size.Y) + 10
-    sections: dict[int, list] = {}
+    slab = _slabs(part, zs)
+    sections: dict[tuple, list] = {}
     for k, i in enumerate(slab):
         if i not in sections:
             sections[i] = _section(part.wrapped, zs[k], size)
@@ -136,7 +145,7 @@ def printed_core_mm3(shape, s: PrintSettings) -> float:
     for k in range(n_layers):
         if k - n < 0 or k + n >= n_layers:
             continue
-        key = tuple(sorted(set(slab[k - n : k + n + 1])))
+        key = tuple(dict.fromkeys(slab[k - n : k + n + 1]))
         if key not in cache:
             faces = sections[key[0]]
             for i in key[1:]:
