@@ -422,7 +422,7 @@ def _print_keys(table: dict[str, Any], prefix: str, vals: dict[str, Any]) -> Non
 
     proc = _string(table, "process", prefix, "machined")
     if proc not in PROCESSES[:2]:
-        why = ("laser-cut parts are not made yet (issue 25 section 3)" if proc == "laser"
+        why = ("laser-cut parts (sheet stock, nesting) are not made yet" if proc == "laser"
                else f"must be one of {', '.join(PROCESSES)}")
         raise DesignError(_f(prefix, "process"), f"{why}, got {proc!r}")
     vals["process"] = proc
