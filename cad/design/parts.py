@@ -155,6 +155,7 @@ from typing import Any
 
 from cad.design.fields import check_unknown, optional_int, optional_number
 from cad.errors import DesignError
+from cad.printing import PrintSettings
 
 LINK_NAMES = ("crank", "coupler", "rocker")
 FIDELITIES = ("fabrication", "inertia", "preview")
@@ -215,18 +216,16 @@ class PartsSpec:
     interference_poses: int = 60
     clearance_min_mm: float = 0.5
     process: str = "machined"
-    print_layer_height_mm: float = 0.2
-    print_line_width_mm: float = 0.45
-    print_walls: int = 2
-    print_solid_layers: int = 4
-    print_infill_percent: float = 20.0
-    print_hole_compensation_mm: float = 0.2
-    print_press_fit_mm: float = 0.1
+    print_layer_height_mm: float = PrintSettings.layer_height_mm
+    print_line_width_mm: float = PrintSettings.line_width_mm
+    print_walls: int = PrintSettings.walls
+    print_solid_layers: int = PrintSettings.solid_layers
+    print_infill_percent: float = PrintSettings.infill_percent
+    print_hole_compensation_mm: float = PrintSettings.hole_compensation_mm
+    print_press_fit_mm: float = PrintSettings.press_fit_mm
 
-    def print_settings(self):
+    def print_settings(self) -> PrintSettings:
         """The :class:`cad.printing.PrintSettings` of these parts."""
-        from cad.printing import PrintSettings
-
         return PrintSettings(self.print_layer_height_mm, self.print_line_width_mm, self.print_walls,
                              self.print_solid_layers, self.print_infill_percent,
                              self.print_hole_compensation_mm, self.print_press_fit_mm)
