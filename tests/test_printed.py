@@ -224,7 +224,7 @@ def test_machined_default_unchanged():
     assert k["base_plate"].process == "waterjet/laser 6 mm plate; tap M3 x4"
     assert all(x.print_flip is None and x.mass_kg is None for x in k.values() if x.made)
     assert print_orientations(asm.instances) == {}
-    assert not {"process", "print_walls"} & set(d.parts.as_dict())
+    assert not {"process", "print_walls"} & set(d.parts.as_dict(report=True))  # report.json
 
 
 @pytest.mark.parametrize("table,field", [

@@ -236,12 +236,13 @@ class PartsSpec:
 
         return is_printed(self.process, material)
 
-    def as_dict(self) -> dict[str, Any]:
-        """Plain mapping of every resolved parameter (build cache key, report)."""
+    def as_dict(self, report: bool = False) -> dict[str, Any]:
+        """Plain mapping of every resolved parameter (build cache key, report). ``report``:
+        without the process keys when no part is printed (report.json as before them)."""
         d = asdict(self)
         if d["layer_order"] is not None:
             d["layer_order"] = list(d["layer_order"])
-        if not any(self.printed(getattr(self, k)) for k in _MATERIALS):
+        if report and not any(self.printed(getattr(self, k)) for k in _MATERIALS):
             for k in _PRINT_KEYS:  # nothing printed: the keys of before the process existed
                 d.pop(k)
         return d
