@@ -55,10 +55,8 @@ FILAMENTS: dict[str, Filament] = {
         True),
 }
 
-#: Hole and seat compensation (stated assumptions, not measured on one printer): FDM holes
-#: come out about 0.1-0.2 mm small on a 0.4 mm nozzle, so holes are modelled
-#: ``hole_compensation_mm`` over nominal; a bearing seat is modelled at D + compensation -
-#: ``press_fit_mm`` (an interference of 0.1 mm on the printed diameter).
+#: Pilot hole (mm) of a non-flanged brass heat-set insert per thread: a tapped hole of a
+#: machined part becomes one of these in a printed part (source :data:`HEAT_SET_SOURCE`).
 HEAT_SET_PILOT_MM = {"M2.5": 3.6, "M3": 4.0, "M4": 5.6, "M5": 6.4, "M6": 8.0}
 #: Source of :data:`HEAT_SET_PILOT_MM` (pilot hole, non-flanged heat-set insert).
 HEAT_SET_SOURCE = ("heat-set insert pilot hole chart (M3 4.0, M4 5.6, M5 6.4, M6 8.0 mm, -0/+0.1), "
@@ -74,7 +72,9 @@ class PrintSettings:
     layer_height_mm, line_width_mm : layer height and extrusion width (mm).
     walls : perimeters per contour; solid_layers : solid layers at every top and bottom.
     infill_percent : infill density of the core (0..100).
-    hole_compensation_mm, press_fit_mm : see :data:`HEAT_SET_PILOT_MM`'s comment.
+    hole_compensation_mm : holes modelled this much over nominal (FDM holes come out about
+        0.1-0.2 mm small on a 0.4 mm nozzle; a stated assumption, not measured on one printer).
+    press_fit_mm : a bearing seat is modelled at D + compensation - this (the interference).
     """
 
     layer_height_mm: float = 0.2
