@@ -164,7 +164,9 @@ def build_assembly(
     rect = _base_post_legs(b, footprint_mm)
     _handle(b, handle_shape)
     check_fasteners({i.name: i.fastener for i in b.inst if i.fastener}, b.holes)
-    return Assembly(tuple(b.inst), rect, holes=tuple(b.holes.values()))
+    from cad.assembly.printed import as_printed
+
+    return as_printed(Assembly(tuple(b.inst), rect, holes=tuple(b.holes.values())), parts)
 
 
 def _bars(b: _Builder, design_label: str) -> None:
@@ -175,17 +177,20 @@ def _bars(b: _Builder, design_label: str) -> None:
     brg = cat.get_bearing(parts.bearing)
     pin = cat.get_shoulder_screw(parts.pin)
     m = cat.get_motor(parts.motor)
-    seat = bars.Feature("seat", d_mm=brg.Da_mm, cb_d_mm=brg.D_mm, cb_depth_mm=brg.B_mm)
-    pin_hole = bars.Feature("pin", d_mm=pin.ds_mm)
+    printed = parts.bar_style == "plate" and parts.printed(parts.bar_material)
+    d = _printed_diameters(parts) if printed else {}
+    seat = bars.Feature("seat", d_mm=brg.Da_mm, cb_d_mm=d.get("seat", brg.D_mm), cb_depth_mm=brg.B_mm)
+    pin_hole = bars.Feature("pin", d_mm=d.get("pin", pin.ds_mm))
     hub_feat = bars.Feature(
         "hub",
-        d_mm=m.shaft_diameter_mm + 1.0,
+        d_mm=m.shaft_diameter_mm + 1.0 + d.get("comp", 0.0),
         bolt_circle_mm=hub_bolt_circle_mm(parts),
-        bolt_hole_mm=cat.clearance_hole_mm(parts.hub_screw),
+        bolt_hole_mm=cat.clearance_hole_mm(parts.hub_screw) + d.get("comp", 0.0),
         bolt_count=HUB_SCREWS,
     )
     p_feat = bars.Feature(
-        "tapped", d_mm=cat.tap_drill_mm(parts.handle_screw), keep_r_mm=parts.handle_diameter_mm / 2
+        "tapped", d_mm=d.get("tapped", cat.tap_drill_mm(parts.handle_screw)),
+        keep_r_mm=parts.handle_diameter_mm / 2
     )
 
     def feat(link: str, j: str) -> bars.Feature:
@@ -212,16 +217,10 @@ def _bars(b: _Builder, design_label: str) -> None:
     for link, jd in bar_joints.items():
         seats = sum(f.kind == "seat" for _, f in jd.values())
         pins = sum(f.kind == "pin" for _, f in jd.values())
-        proc = [f"waterjet/laser {_fmt(t)} mm plate"]
-        fits = []
-        if seats:
-            proc.append(f"mill bearing seat x{seats}")
-            fits.append(fit("bearing seat", brg.D_mm))
-        if pins:
-            proc.append(f"ream pin bore x{pins}")
-            fits.append(fit("pin bore", pin.ds_mm))
-        if link == "coupler":
-            proc.append(f"tap {parts.handle_screw.split('-')[0]} x1")
+        if printed:
+            proc, fits = _printed_bar_ops(parts, link, seats, pins, d)
+        else:
+            proc, fits = _machined_bar_ops(parts, link, seats, pins, brg, pin)
         k = b.kind(
             link,
             lambda jd=jd: bars.bar_shape(jd, parts),
@@ -233,6 +232,56 @@ def _bars(b: _Builder, design_label: str) -> None:
             fits=tuple(fits),
         )
         b.place(link, k, link, translation(z=plan.z_mm[link]))
+
+
+def _printed_diameters(parts) -> dict[str, float]:
+    """Modelled diameters (mm) of a printed bar's features (:class:`cad.printing.PrintSettings`):
+    holes ``comp`` over nominal, the bearing seat a press fit, the handle hole an insert pilot."""
+    from cad.printing import HEAT_SET_PILOT_MM
+
+    s = parts.print_settings()
+    brg = cat.get_bearing(parts.bearing)
+    c = s.hole_compensation_mm
+    hs = parts.handle_screw.split("-")[0]
+    return {"comp": c, "seat": brg.D_mm + c - s.press_fit_mm,
+            "pin": cat.get_shoulder_screw(parts.pin).ds_mm + c,
+            "tapped": HEAT_SET_PILOT_MM.get(hs, cat.tap_drill_mm(parts.handle_screw))}
+
+
+def _machined_bar_ops(parts, link, seats, pins, brg, pin):
+    """Process operations and fits of a machined plate bar."""
+    proc = [f"waterjet/laser {_fmt(parts.bar_thickness_mm)} mm plate"]
+    fits = []
+    if seats:
+        proc.append(f"mill bearing seat x{seats}")
+        fits.append(fit("bearing seat", brg.D_mm))
+    if pins:
+        proc.append(f"ream pin bore x{pins}")
+        fits.append(fit("pin bore", pin.ds_mm))
+    if link == "coupler":
+        proc.append(f"tap {parts.handle_screw.split('-')[0]} x1")
+    return proc, fits
+
+
+def _printed_bar_ops(parts, link, seats, pins, d):
+    """Process operations and fits of a printed bar (diameters ``d``: :func:`_printed_diameters`)."""
+    brg = cat.get_bearing(parts.bearing)
+    pin = cat.get_shoulder_screw(parts.pin)
+    s = parts.print_settings()
+    proc, fits = [], []
+    if seats:
+        proc.append(f"bearing seat x{seats} printed {_fmt(d['seat'])} mm (press fit, "
+                    f"{_fmt(s.hole_compensation_mm)} mm compensation - {_fmt(s.press_fit_mm)} mm)")
+        fits.append(f"bearing seat {_fmt(brg.D_mm)} press fit (printed {_fmt(d['seat'])})")
+    if pins:
+        proc.append(f"pin bore x{pins} printed {_fmt(d['pin'])} mm (+{_fmt(s.hole_compensation_mm)} mm)")
+        fits.append(f"pin bore {_fmt(pin.ds_mm)} printed {_fmt(d['pin'])} (slip fit, not H7)")
+    if link == "coupler":
+        hs = parts.handle_screw.split("-")[0]
+        proc.append(f"{hs} heat-set insert x1 in the {_fmt(d['tapped'])} mm hole")
+    if link == "crank":
+        proc.append(f"hub bore and screw holes printed +{_fmt(s.hole_compensation_mm)} mm")
+    return proc, fits
 
 
 def _tube_bars(b: _Builder, bar_joints: dict, design_label: str) -> None:

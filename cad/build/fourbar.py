@@ -616,7 +616,7 @@ def build(
         "fidelity": fidelity,
         "fidelity_costs": fidelity_costs,
         "handle": "user script " + script.name if script is not None else "built-in knob",
-        "parts_spec": parts.as_dict(),
+        "parts_spec": parts.as_dict(report=True),
         "files": sorted(
             files
             + view_files

@@ -71,7 +71,7 @@ def write_parts_3mf(
 ) -> str:
     """``parts.3mf`` of the made parts at the STL tolerances; returns its name."""
     from cad.export.stl import mesh_shape
-    from cad.export.threemf import printable_parts, threemf_bytes
+    from cad.export.threemf import print_orientations, printable_parts, threemf_bytes
     from cad.io.atomic import write_bytes_atomic
 
     meshes = {}
@@ -79,7 +79,7 @@ def write_parts_3mf(
         k = inst.kind
         if k.made and k.listed and k.name not in meshes:
             meshes[k.name] = mesh_shape(k.shape, tolerance_mm, angular_tolerance_rad)
-    data = threemf_bytes(printable_parts(instances, meshes), title)
+    data = threemf_bytes(printable_parts(instances, meshes), title, print_orientations(instances))
     write_bytes_atomic(Path(out_dir) / THREEMF_NAME, data)
     return THREEMF_NAME
 

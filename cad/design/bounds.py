@@ -290,6 +290,13 @@ FIELDS: dict[str, Bound] = {
     "parts.encoder_counts_per_rev": WALL_COUNTS,
     # the user's motor ([motor], cad/design/motor.py)
     **{f"motor.{k}": b for k, b in MOTOR.items()},
+    "parts.print_layer_height_mm": Bound("mm", 0.05, 1.2, "FDM layers are 0.05 to 1.2 mm (nozzles 0.1 to 1.4 mm)"),
+    "parts.print_line_width_mm": Bound("mm", 0.05, 1.2, "FDM lines are 0.05 to 1.2 mm wide (nozzles 0.1 to 1.4 mm)"),
+    "parts.print_walls": Bound("", 1, 50, "a count of perimeters, at least one", integer=True),
+    "parts.print_solid_layers": Bound("", 1, 200, "a count of solid layers, at least one", integer=True),
+    "parts.print_infill_percent": Bound("%", 0.0, 100.0, "infill is 0 to 100 % of solid"),
+    "parts.print_hole_compensation_mm": Bound("mm", 0.0, 1.0, "more than 1 mm is not a printer's error"),
+    "parts.print_press_fit_mm": Bound("mm", 0.0, 0.5, "more than 0.5 mm interference splits a printed seat"),
     # twin-pantograph [parts]
     **{f"parts.{k}": PART_MM for k in _TWIN_PART_MM},
     # pantograph families

@@ -122,6 +122,20 @@ Handle (at the coupler point P):
     ``height_mm``, ``screw_clearance_mm``, ``counterbore_mm`` and ``floor_mm``
     (:func:`cad.parts.handle.handle_params`).
 
+Process of the made parts (:mod:`cad.printing`):
+
+``process`` ["machined"]
+    machined | printed ("laser" is not made yet: error). "printed": every made part in a
+    printable material (pla, petg, abs) is FDM printed: holes compensated, bearing seats
+    press-fit, tapped holes opened for heat-set inserts, mass and bar stiffness from the
+    wall/infill model, a print orientation in parts.3mf. A made part in PLA or PETG under
+    "machined" is printed too, with a warning naming the parts and features (filament only).
+``print_layer_height_mm`` [0.2] / ``print_line_width_mm`` [0.45] / ``print_walls`` [2] /
+``print_solid_layers`` [4] / ``print_infill_percent`` [20]
+    slicer settings of the wall/infill model (:class:`cad.printing.PrintSettings`).
+``print_hole_compensation_mm`` [0.2] / ``print_press_fit_mm`` [0.1]
+    holes modelled this much over nominal; bearing seats at D + compensation - press fit.
+
 Fidelity and checks:
 
 ``fidelity`` ["fabrication"]
@@ -141,6 +155,7 @@ from typing import Any
 
 from cad.design.fields import check_unknown, optional_int, optional_number
 from cad.errors import DesignError
+from cad.printing import PrintSettings
 
 LINK_NAMES = ("crank", "coupler", "rocker")
 FIDELITIES = ("fabrication", "inertia", "preview")
@@ -202,12 +217,36 @@ class PartsSpec:
     clearance_min_mm: float = 0.5
     encoder: str | None = None
     encoder_counts_per_rev: int | None = None
+    process: str = "machined"
+    print_layer_height_mm: float = PrintSettings.layer_height_mm
+    print_line_width_mm: float = PrintSettings.line_width_mm
+    print_walls: int = PrintSettings.walls
+    print_solid_layers: int = PrintSettings.solid_layers
+    print_infill_percent: float = PrintSettings.infill_percent
+    print_hole_compensation_mm: float = PrintSettings.hole_compensation_mm
+    print_press_fit_mm: float = PrintSettings.press_fit_mm
 
-    def as_dict(self) -> dict[str, Any]:
-        """Plain mapping of every resolved parameter (build cache key, report)."""
+    def print_settings(self) -> PrintSettings:
+        """The :class:`cad.printing.PrintSettings` of these parts."""
+        return PrintSettings(self.print_layer_height_mm, self.print_line_width_mm, self.print_walls,
+                             self.print_solid_layers, self.print_infill_percent,
+                             self.print_hole_compensation_mm, self.print_press_fit_mm)
+
+    def printed(self, material: str) -> bool:
+        """A made part of ``material`` is FDM printed (:func:`cad.printing.is_printed`)."""
+        from cad.printing import is_printed
+
+        return is_printed(self.process, material)
+
+    def as_dict(self, report: bool = False) -> dict[str, Any]:
+        """Plain mapping of every resolved parameter (build cache key, report). ``report``:
+        without the process keys when no part is printed (report.json as before them)."""
         d = asdict(self)
         if d["layer_order"] is not None:
             d["layer_order"] = list(d["layer_order"])
+        if report and not any(self.printed(getattr(self, k)) for k in _MATERIALS):
+            for k in _PRINT_KEYS:  # nothing printed: the keys of before the process existed
+                d.pop(k)
         return d
 
 
@@ -252,6 +291,9 @@ _MATERIALS = (
 _STRINGS = ("bar_style", "bearing", "pin", "motor", "hub_screw", "handle_screw", "handle_script", "fidelity",
             "encoder")
 _BOOLS = ("bar_pockets",)
+_PRINT_KEYS = ("process", "print_layer_height_mm", "print_line_width_mm", "print_walls",
+               "print_solid_layers", "print_infill_percent", "print_hole_compensation_mm",
+               "print_press_fit_mm")
 ALLOWED_KEYS = tuple(f.name for f in fields(PartsSpec))
 
 
@@ -323,6 +365,7 @@ def parse_parts(table: dict[str, Any] | None, prefix: str = "parts") -> PartsSpe
             f"must be one of {', '.join(FIDELITIES)}, got {vals['fidelity']!r}",
         )
     _check_tube(vals, prefix)
+    _print_keys(table, prefix, vals)
     script = vals["handle_script"]
     if script is not None and not script.endswith(".py"):
         raise DesignError(
@@ -359,6 +402,56 @@ def parse_parts(table: dict[str, Any] | None, prefix: str = "parts") -> PartsSpe
 
 
 BAR_STYLES = ("plate", "tube")
+
+#: Made parts of each material key, and the features printing cannot make as machined.
+_MATERIAL_PARTS = {
+    "bar_material": ("crank, coupler, rocker", "reamed H7 pin bores printed {comp} mm over (a slip "
+                     "fit, not H7), milled bearing seats printed as press fits, the tapped handle "
+                     "hole opened for a heat-set insert"),
+    "hub_material": ("hub", "tapped screw and set-screw holes take heat-set inserts, the H7 shaft "
+                     "bore is reamed after printing"),
+    "base_material": ("base plate", "tapped post and leg holes take heat-set inserts"),
+    "post_material": ("post", "the H7 top bore is reamed after printing, tapped holes take heat-set "
+                      "inserts"),
+    "motor_mount_material": ("motor mount", "the bored H7 pilot seat is reamed after printing"),
+    "handle_material": ("handle", ""),
+    "spacer_material": ("spacers", ""),
+}
+
+
+def _print_keys(table: dict[str, Any], prefix: str, vals: dict[str, Any]) -> None:
+    """``process`` and the ``print_*`` settings; the filament warning (module docstring)."""
+    from cad.design import bounds
+    from cad.printing import FILAMENTS, PROCESSES
+
+    proc = _string(table, "process", prefix, "machined")
+    if proc not in PROCESSES[:2]:
+        why = ("laser-cut parts (sheet stock, nesting) are not made yet" if proc == "laser"
+               else f"must be one of {', '.join(PROCESSES)}")
+        raise DesignError(_f(prefix, "process"), f"{why}, got {proc!r}")
+    vals["process"] = proc
+    for key in ("print_layer_height_mm", "print_line_width_mm"):
+        vals[key] = optional_number(table, key, prefix, getattr(PartsSpec, key))
+        if not 0.05 <= vals[key] <= 1.2:
+            raise DesignError(_f(prefix, key), f"must be in 0.05..1.2 mm (FDM nozzles), got {vals[key]!r}")
+    for key in ("print_walls", "print_solid_layers"):
+        vals[key] = optional_int(table, key, prefix, getattr(PartsSpec, key), minimum=1)
+    for key, hi in (("print_infill_percent", 100.0), ("print_hole_compensation_mm", 1.0),
+                    ("print_press_fit_mm", 0.5)):
+        vals[key] = optional_number(table, key, prefix, getattr(PartsSpec, key))
+        if not 0.0 <= vals[key] <= hi:
+            raise DesignError(_f(prefix, key), f"must be in 0..{hi:g}, got {vals[key]!r}")
+    for key, (names, change) in _MATERIAL_PARTS.items():
+        f = FILAMENTS.get(vals[key])
+        change = change.format(comp=f"{vals['print_hole_compensation_mm']:g}")
+        if f is None or (proc == "machined" and f.machinable):
+            continue
+        if proc == "machined":
+            bounds.warn(f"{_f(prefix, key)} = {vals[key]!r} is a printing filament, not stock a shop "
+                        f"machines: the {names} are FDM printed instead{': ' + change if change else ''} "
+                        f"(set {_f(prefix, 'process')} = \"printed\" to say so)")
+        elif change:
+            bounds.warn(f"{_f(prefix, 'process')} = \"printed\": {names} ({vals[key]}): {change}")
 
 
 def parse_encoder(table: dict[str, Any], prefix: str, encoder: str | None) -> int | None:

@@ -51,6 +51,8 @@ class PartKind:
         part is the detailed ``shape`` intersected too. None: ``shape`` itself.
     fits : ISO 286 tolerance classes of its seats and bores (``"bearing seat 16 J7"``), for
         the BOM, report.json and the DXF notes.
+    print_flip : None for a part that is not printed; else its print orientation: False as
+        modelled (part z up), True flipped (part z down), written into parts.3mf.
     revolution : the collision solid(s) are solids of revolution about the part's z axis
         (rings, spacers, pin envelopes): their distance to a link turning about that axis
         is the same at every pose (used to speed up the interference sweep).
@@ -71,6 +73,7 @@ class PartKind:
     revolution: bool = False
     fits: tuple[str, ...] = ()
     hull: Any = None
+    print_flip: bool | None = None
 
 
 @dataclass(frozen=True)

@@ -156,10 +156,10 @@ def build_frame(design, pose_tf: dict, lumped: list[Lumped], bar_mass_kg: dict, 
     section area times the bar material's density."""
     from cad.kinematics.linkgeom import link_joints_mm
     from cad.materials import get_material
-    from cad.structure.elastic import get_elastic
+    from cad.structure.elastic import bar_elastic
 
     parts = design.parts
-    el = get_elastic(link_material(parts))
+    el = bar_elastic(parts)
     J = link_joints_mm(design.linkage)
     fr = Frame()
     ids: dict[tuple[str, str], int] = {}
@@ -203,7 +203,7 @@ def analyse(design, lumped: list[Lumped], bar_mass_kg: dict, method: str = "beam
     from cad.assembly.pose import planar_transforms
     from cad.kinematics.metrics import path_frame
     from cad.structure.bearings import bearing_compliance
-    from cad.structure.elastic import get_elastic
+    from cad.structure.elastic import bar_elastic, get_elastic
 
     if method not in METHODS:
         raise ValueError(f"method: must be one of {METHODS}, got {method!r}")
@@ -240,6 +240,9 @@ def analyse(design, lumped: list[Lumped], bar_mass_kg: dict, method: str = "beam
         "bearing_compliance_estimate": bearing_compliance(design, phis),
         "poses": len(phis),
     }
+    el = bar_elastic(design.parts)
+    if el.E_GPa != get_elastic(link_material(design.parts)).E_GPa:  # printed bars
+        out["printed_bar_modulus"] = {"E_GPa": el.E_GPa, "source": el.source}
     out["handle_mode_x_Hz"] = fx
     out["ok"] = bool(f1 >= lim["first_mode_min_Hz"] and smax * 1e-6 <= lim["max_stress_max_MPa"])
     return out

@@ -64,3 +64,21 @@ def get_elastic(material: str, field: str = "parts.bar_material") -> Elastic:
             field, f"no elastic data for {key!r} (known: {', '.join(sorted(ELASTIC))})"
         )
     return ELASTIC[key]
+
+
+def bar_elastic(parts) -> Elastic:
+    """Elastic data of the bars' beams: :func:`get_elastic` of their material, or for printed
+    plate bars (``parts.printed``) the filament's printed XY modulus reduced by the wall/infill
+    rule of mixtures over the bar section (:func:`cad.printing.printed_bar_modulus_GPa`)."""
+    from dataclasses import replace
+
+    from cad.printing import filament, printed_bar_modulus_GPa
+
+    mat = parts.tube_material if parts.bar_style == "tube" else parts.bar_material
+    el = get_elastic(mat)
+    if parts.bar_style == "tube" or not parts.printed(mat):
+        return el
+    f, s = filament(mat), parts.print_settings()
+    E = printed_bar_modulus_GPa(f.E_xy_GPa, parts.bar_width_mm, parts.bar_thickness_mm, s)
+    return replace(el, E_GPa=E, source=f"{f.source}; walls/skins solid, {s.infill_percent:g} % "
+                   "infill at E f^2 (Gibson & Ashby 1997 eq. 5.6), rule of mixtures over the section")
