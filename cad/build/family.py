@@ -82,13 +82,19 @@ def body_props(instances, props: dict, bodies=None) -> dict:
 
 def bom_rows(instances, props: dict) -> list[dict]:
     """One row per listed kind: part, description, material, quantity, made_or_bought,
-    process, fits (its ISO 286 fits joined by ``"; "``), mass_g (each)."""
+    process, fits (its ISO 286 fits joined by ``"; "``), mass_g (each), and what to order
+    (:mod:`cad.export.order`): group, designation and order_code of a bought part (a made
+    part: group ``"made"``, designation = its name), stock of a made part."""
+    from cad.export.order import bought_designation, stock
+
     q = quantities(instances)
     rows = []
     for name, k in kinds(instances).items():
         if not k.listed:
             continue
         mp = props.get(name)
+        mass_g = mp.mass_kg * 1e3 if mp is not None else 0.0
+        group, des, code = bought_designation(k) if not k.made else ("made", name, "")
         rows.append(
             {
                 "part": name,
@@ -98,7 +104,11 @@ def bom_rows(instances, props: dict) -> list[dict]:
                 "made_or_bought": "made" if k.made else "bought",
                 "process": k.process,
                 "fits": "; ".join(k.fits),
-                "mass_g": mp.mass_kg * 1e3 if mp is not None else 0.0,
+                "mass_g": mass_g,
+                "group": group,
+                "designation": des,
+                "order_code": code,
+                "stock": stock(k, mass_g) if k.made else "",
             }
         )
     return rows

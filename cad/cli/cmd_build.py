@@ -84,6 +84,10 @@ def register(app: typer.Typer) -> None:
         allow_scripts_anywhere: bool = typer.Option(
             False, "--allow-scripts-anywhere", help="Run handle_script from any path."
         ),
+        prices: Path = typer.Option(
+            None, "--prices", help="Price CSV (columns designation, unit_price[, currency, "
+            "source]): unit and line prices in bom.csv and order.csv, and the total."
+        ),
     ) -> None:
         """Parts, posed assembly, interference check and fabrication exports of a design."""
         from cad.parts.handle import set_script_policy
@@ -101,6 +105,9 @@ def register(app: typer.Typer) -> None:
         flags.number("--phi1-deg", phi1_deg)
         flags.out_path("--out", out, folder=True)
         d = load_design(design)
+        from cad.export.order import load_prices
+
+        price_table = load_prices(prices) if prices is not None else None
         fid = fidelity or getattr(getattr(d, "parts", None), "fidelity", "fabrication")
         if fid not in FIDELITIES:
             raise DesignError("--fidelity", f"must be one of {', '.join(FIDELITIES)}, got {fid!r}")
@@ -118,6 +125,7 @@ def register(app: typer.Typer) -> None:
                 allow_interference=allow_interference,
                 phi1_deg=phi1_deg,
                 use_cache=not no_cache,
+                prices=price_table,
             )
             rep.pop("timings_s", None)
             print_json(rep, sort_keys=True, default=str)
@@ -134,5 +142,6 @@ def register(app: typer.Typer) -> None:
                 phi1_deg=phi1_deg,
                 progress=progress,
                 use_cache=not no_cache,
+                prices=price_table,
             )
         _summary(rep, target, time.perf_counter() - t0)
