@@ -4,9 +4,11 @@ parts, and an optional price table (``hapticad build --prices FILE.csv`` or a de
 
 * :func:`stock` -- the stock to order for one made part: its exact bounding box in the part
   frame plus the stated cutting allowance (:mod:`cad.tolerances` ``STOCK_*``), rounded up to
-  whole mm. Plates (``PartKind.plate``): thickness x width x length; turned parts: a round
-  bar diameter x length (axis = the box axis whose two cross dimensions are closest);
-  tube: outside diameter x length; printed parts: the filament mass; anything else: a block;
+  whole mm. Plates (``PartKind.plate``): thickness x width x length; turned parts (solids of
+  revolution, so coaxial with their box; not "turned + milled"): a round bar diameter x
+  length (axis = the box axis whose two cross dimensions are closest);
+  tubes and ground dowels (bought at the finished diameter): diameter x length; printed
+  parts: the filament mass; wound coils: the wire mass; anything else: a block;
 * :func:`bought_designation` -- ``(group, designation, order_code)`` of a bought part: the
   ISO/DIN designation read from its BOM description, a bearing's catalog designation
   (bd_warehouse's SKF table), a motor's catalog name and the order number its winding
@@ -57,6 +59,69 @@ def _bbox_mm(shape) -> tuple[float, float, float]:
     return (hi.X() - lo.X(), hi.Y() - lo.Y(), hi.Z() - lo.Z())
 
 
+def _turning_axis(shape):
+    """``gp_Ax1`` of the largest cylindrical face of ``shape`` (the axis it is turned
+    about), or None without one."""
+    from OCP.BRepAdaptor import BRepAdaptor_Surface
+    from OCP.BRepGProp import BRepGProp
+    from OCP.GeomAbs import GeomAbs_Cylinder
+    from OCP.GProp import GProp_GProps
+    from OCP.TopAbs import TopAbs_FACE
+    from OCP.TopExp import TopExp_Explorer
+    from OCP.TopoDS import TopoDS
+
+    best, axis = 0.0, None
+    ex = TopExp_Explorer(getattr(shape, "wrapped", shape), TopAbs_FACE)
+    while ex.More():
+        face = TopoDS.Face_s(ex.Current())
+        surf = BRepAdaptor_Surface(face)
+        if surf.GetType() == GeomAbs_Cylinder:
+            g = GProp_GProps()
+            BRepGProp.SurfaceProperties_s(face, g)
+            if g.Mass() > best:
+                best, axis = g.Mass(), surf.Cylinder().Axis()
+        ex.Next()
+    return axis
+
+
+#: Chordal deflection of the mesh that measures a turned part's radius (mm); added back to
+#: the largest vertex radius, so the diameter found is never below the solid's.
+RADIUS_MESH_DEFLECTION_MM = 0.02
+
+
+def _about_axis_mm(shape, axis) -> tuple[float, float]:
+    """``(diameter, length)`` of a cylinder about ``axis`` holding ``shape``: the largest
+    radius of the vertices of a copy meshed at :data:`RADIUS_MESH_DEFLECTION_MM` (+ that
+    deflection), and the exact box length along the axis (mm)."""
+    from OCP.Bnd import Bnd_Box
+    from OCP.BRep import BRep_Tool
+    from OCP.BRepBndLib import BRepBndLib
+    from OCP.BRepBuilderAPI import BRepBuilderAPI_Transform
+    from OCP.BRepMesh import BRepMesh_IncrementalMesh
+    from OCP.gp import gp_Ax3, gp_Trsf
+    from OCP.TopAbs import TopAbs_FACE
+    from OCP.TopExp import TopExp_Explorer
+    from OCP.TopLoc import TopLoc_Location
+    from OCP.TopoDS import TopoDS
+
+    t = gp_Trsf()
+    t.SetTransformation(gp_Ax3(axis.Location(), axis.Direction()))  # part -> axis frame
+    moved = BRepBuilderAPI_Transform(getattr(shape, "wrapped", shape), t, True).Shape()
+    BRepMesh_IncrementalMesh(moved, RADIUS_MESH_DEFLECTION_MM, False, 0.1, False)
+    r2 = 0.0
+    ex = TopExp_Explorer(moved, TopAbs_FACE)
+    while ex.More():
+        loc = TopLoc_Location()
+        tri = BRep_Tool.Triangulation_s(TopoDS.Face_s(ex.Current()), loc)
+        for i in range(1, (tri.NbNodes() if tri is not None else 0) + 1):
+            p = tri.Node(i).Transformed(loc.Transformation())
+            r2 = max(r2, p.X() ** 2 + p.Y() ** 2)
+        ex.Next()
+    b = Bnd_Box()
+    BRepBndLib.AddOptimal_s(moved, b, False, False)
+    return 2 * (math.sqrt(r2) + RADIUS_MESH_DEFLECTION_MM), b.CornerMax().Z() - b.CornerMin().Z()
+
+
 def _up(x: float) -> int:
     """Whole mm at or above ``x`` (1e-6 mm of round-off does not add a mm)."""
     return int(math.ceil(x - 1e-6))
@@ -72,16 +137,19 @@ def stock(kind, mass_g: float) -> str:
     proc = kind.process.lower()
     if proc.startswith("print"):
         return f"filament {mass_g:.0f} g {mat}"
+    if proc.startswith("wound"):
+        return f"wire {mass_g:.0f} g {mat}"
     if kind.plate:
         w, l_ = sorted(dims[:2])
         m = 2 * tol.STOCK_PLATE_MARGIN_MM
         return f"plate {dims[2]:g} x {_up(w + m)} x {_up(l_ + m)} mm {mat}"
-    if proc.startswith(("turned", "cut tube")):
-        ax = min(range(3), key=lambda i: abs(dims[(i + 1) % 3] - dims[(i + 2) % 3]))
-        d = max(dims[(ax + 1) % 3], dims[(ax + 2) % 3])
-        length = _up(dims[ax] + tol.STOCK_LENGTH_ALLOWANCE_MM)
-        if proc.startswith("cut tube"):
-            return f"tube {d:g} x {length} mm {mat}"
+    tube = re.match(r"(\w+ )?tube \d", kind.description) is not None
+    axis = _turning_axis(kind.shape)
+    if axis is not None and (tube or proc.startswith(("turned", "ground dowel"))):
+        d, length = _about_axis_mm(kind.shape, axis)
+        length = _up(length + tol.STOCK_LENGTH_ALLOWANCE_MM)
+        if tube or proc.startswith("ground dowel"):  # bought at the finished diameter
+            return f"{'tube' if tube else 'rod'} {d:.6g} x {length} mm {mat}"
         return f"rod {_up(d + tol.STOCK_ROD_DIAMETER_ALLOWANCE_MM)} x {length} mm {mat}"
     m = 2 * tol.STOCK_BLOCK_MARGIN_MM
     return "block " + " x ".join(str(_up(x + m)) for x in sorted(dims)) + f" mm {mat}"
@@ -91,7 +159,7 @@ def stock_dims_mm(text: str) -> tuple[str, tuple[float, ...]]:
     """``(form, numbers)`` of a :func:`stock` text (``"rod 14 x 91 mm ..."`` ->
     ``("rod", (14.0, 91.0))``), for reading ``bom.csv`` back."""
     form, rest = text.split(" ", 1)
-    nums = rest.split(" mm", 1)[0] if form != "filament" else rest.split(" g", 1)[0]
+    nums = rest.split(" g" if form in ("filament", "wire") else " mm", 1)[0]
     return form, tuple(float(x) for x in nums.split(" x "))
 
 
@@ -102,12 +170,12 @@ def bought_designation(kind) -> tuple[str, str, str]:
     if own:
         return (getattr(kind, "group", "") or "other", own, getattr(kind, "order_code", ""))
     desc = kind.description
-    if kind.name.startswith("bearing_"):
-        m = re.search(r"bearing (\S+) \(([^)]*)\)", desc)
-        if m:
-            return ("ball bearings", f"{m.group(1)} ({m.group(2)})", f"SKF {m.group(1)}")
-    if kind.name.startswith("motor_"):
-        return _motor_designation(kind.name[len("motor_"):], desc)
+    m = re.search(r"ball bearing (\S+) \(([^)]*)\)", desc)
+    if m:
+        return ("ball bearings", f"{m.group(1)} ({m.group(2)})", f"SKF {m.group(1)}")
+    motor = _motor_designation(desc)
+    if motor is not None:
+        return motor
     m = _STANDARD.search(desc)
     if m:
         des = m.group(0).strip()
@@ -116,12 +184,13 @@ def bought_designation(kind) -> tuple[str, str, str]:
     return ("other", desc, "")
 
 
-def _motor_designation(key: str, desc: str) -> tuple[str, str, str]:
+def _motor_designation(desc: str) -> tuple[str, str, str] | None:
+    """A catalog motor (its BOM description is the catalog's): name and order number."""
     from cad.parts.catalog import MOTORS
 
-    spec = MOTORS.get(key)
+    spec = next((sp for sp in MOTORS.values() if desc.startswith(sp.description)), None)
     if spec is None:
-        return ("motors", desc, "")
+        return None
     m = re.search(r"order number (\d+)", spec.winding)
     return ("motors", spec.description.split(",")[0], m.group(1) if m else "")
 
