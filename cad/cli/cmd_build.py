@@ -1,7 +1,7 @@
-"""``hapticad build DESIGN [--out DIR] [--formats step,stl,dxf] [--fidelity F] [--phi1-deg X] [--allow-interference] [--json]``.
+"""``hapticad build DESIGN [--out DIR] [--formats step,stl,dxf] [--fidelity F] [--phi1-deg X] [--allow-interference] [--prices FILE.csv] [--json]``.
 
 Writes every part (STEP, binary STL, DXF for plates), the assembly STEP, ``bom.csv``,
-``report.json``, ``report.md``, ``preview.png`` and ``manifest.json`` into
+``order.csv`` (docs/ordering.md), ``report.json``, ``report.md``, ``preview.png`` and ``manifest.json`` into
 ``exports/<name>/`` (or ``--out``), atomically. An unchanged design is not rebuilt
 (build cache, no CAD import).
 """
