@@ -195,8 +195,12 @@ def write_order(report: dict, out_dir: Path, prices: dict | None) -> None:
         write_text_atomic(md, md.read_text(encoding="utf-8") + order_md(bom, summary))
     report["order"] = {**{k: v for k, v in summary.items() if k != "extra_lines"},
                        "total": total_text(summary)}
+    steps = "assembly.md" if (out_dir / "assembly.md").is_file() else None
+    if steps and md.is_file():
+        write_text_atomic(md, md.read_text(encoding="utf-8")
+                          + "\nAssembly steps: [assembly.md](assembly.md).\n")
     if isinstance(report.get("files"), list):
-        report["files"] = sorted({*report["files"], "order.csv"})
+        report["files"] = sorted({*report["files"], "order.csv", *([steps] if steps else [])})
 
 
 @contextlib.contextmanager

@@ -290,3 +290,21 @@ def write_report_md(out_dir: Path, title: str, rows: list[tuple[str, str]], bom,
         lines += ["", "## Notes", ""] + [f"- {n}" for n in notes]
     write_text_atomic(Path(out_dir) / "report.md", "\n".join(lines) + "\n")
     return "report.md"
+
+
+def write_assembly_md(out_dir: Path, title: str, instances, plan=None, checks=()) -> str:
+    """``assembly.md``: the assembly steps of :func:`cad.assembly.steps.assembly_steps`
+    (``plan``: optional stages, ``checks``: the final checks), each part instance named
+    with its kind and BOM description; fasteners by their BOM designation."""
+    from cad.assembly.steps import assembly_md, assembly_steps
+    from cad.export.order import bought_designation
+    from cad.io.atomic import write_text_atomic
+
+    def designation(kind) -> str:
+        return bought_designation(kind)[1] if not kind.made else kind.description or kind.name
+
+    by_name = {i.name: i for i in instances}
+    steps = assembly_steps(instances, designation, plan, checks)
+    text = assembly_md(title, steps, lambda n: (by_name[n].kind.name, by_name[n].kind.description))
+    write_text_atomic(Path(out_dir) / "assembly.md", text)
+    return "assembly.md"
