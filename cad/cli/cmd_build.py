@@ -116,32 +116,15 @@ def register(app: typer.Typer) -> None:
             check_buildable()  # impossible hardware named before the CAD import
         # warnings: before the first progress line (cad.cli.progress), or at the end
         target = out if out is not None else Path("exports") / d.name
+        opts = dict(fidelity=fid, allow_interference=allow_interference, phi1_deg=phi1_deg,
+                    use_cache=not no_cache, prices=price_table)
         if json_out:
-            rep = build_design(
-                d,
-                target,
-                fmts,
-                fidelity=fid,
-                allow_interference=allow_interference,
-                phi1_deg=phi1_deg,
-                use_cache=not no_cache,
-                prices=price_table,
-            )
+            rep = build_design(d, target, fmts, **opts)
             rep.pop("timings_s", None)
             print_json(rep, sort_keys=True, default=str)
             return
         from cad.cli.progress import stages
 
         with stages("build") as progress:
-            rep = build_design(
-                d,
-                target,
-                fmts,
-                fidelity=fid,
-                allow_interference=allow_interference,
-                phi1_deg=phi1_deg,
-                progress=progress,
-                use_cache=not no_cache,
-                prices=price_table,
-            )
+            rep = build_design(d, target, fmts, progress=progress, **opts)
         _summary(rep, target, time.perf_counter() - t0)
