@@ -138,3 +138,16 @@ FIRMWARE_FD_JACOBIAN = 1e-7
 #: the bundled design; float32 resolves ~6e-8 relative) and the wrench W NI within 2e-5 N, N m
 #: (FIRMWARE_FLOAT_TORQUE_NM). Double: 1e-9 At and 1e-9 N, N m.
 FIRMWARE_FLOAT_AMPERE_TURNS = 1e-3
+
+#: Stock to order for made parts (cad.export.order): the cutting allowance added to each
+#: part's bounding box. These are our stated ordering margins (shop practice, not a
+#: handbook value), shown in report.md and README "A BOM to order from".
+#: Plate: per side around the profile, room for the waterjet/laser lead-in and for
+#: clamping the sheet (the kerf itself is ~0.2-1 mm).
+STOCK_PLATE_MARGIN_MM = 5.0
+#: Round bar: added to the diameter (1 mm per side to turn the mill-finished skin off).
+STOCK_ROD_DIAMETER_ALLOWANCE_MM = 2.0
+#: Bar, rod and tube: added to the length (a saw cut of ~2 mm and facing both ends).
+STOCK_LENGTH_ALLOWANCE_MM = 5.0
+#: Block (milled parts that are neither plate nor turned): per side on every face.
+STOCK_BLOCK_MARGIN_MM = 2.0

@@ -3,6 +3,7 @@ manifold3d, byte-identical output, DXF area = volume / thickness, atomic failure
 
 from __future__ import annotations
 
+import csv
 import hashlib
 import json
 import math
@@ -161,7 +162,9 @@ def test_bom_rows_and_columns(tmp_path):
     )
     lines = p.read_text().splitlines()
     assert lines[0].split(",") == list(BOM_COLUMNS)
-    assert lines[2].endswith(",3.00,9.00")
+    rows = list(csv.DictReader(lines))
+    assert (rows[1]["mass_g"], rows[1]["total_mass_g"]) == ("3.00", "9.00")
+    assert rows[1]["unit_price"] == rows[1]["line_price"] == ""  # no price given: empty
     with pytest.raises(ValueError):
         write_bom(
             [

@@ -132,8 +132,10 @@ def design_hash(design) -> str:
 def build_key(
     design, formats: set[str], fidelity: str, allow_interference: bool, phi1_deg: float | None,
     simulate_wall: bool = True,
+    prices: dict | None = None,
 ) -> str:
-    """Hash of everything a build's output depends on (design, options, code, extra inputs)."""
+    """Hash of everything a build's output depends on (design, options, code, extra inputs,
+    the ``--prices`` table)."""
     payload = {
         "schema": CACHE_SCHEMA,
         **_design_payload(design),
@@ -144,6 +146,8 @@ def build_key(
     }
     if simulate_wall != (fidelity == "fabrication"):  # not the default (key unchanged otherwise)
         payload["simulate_wall"] = bool(simulate_wall)
+    if prices is not None:
+        payload["prices"] = _jsonable(prices)
     try:
         mod = importlib.import_module(builder_module_name(design))
     except ModuleNotFoundError:
@@ -203,6 +207,38 @@ def add_datasheet(design, report: dict, out_dir: Path, simulate_wall: bool = Tru
         write_text_atomic(md, "\n".join([lines[0], "", *markdown(ds), *lines[1:]]))
 
 
+def _design_prices(design) -> dict | None:
+    from cad.design import design_prices
+
+    return design_prices(getattr(design, "raw", None) or {})
+
+
+def write_order(report: dict, out_dir: Path, prices: dict | None) -> None:
+    """Price the report's BOM (:func:`cad.export.order.apply_prices`), rewrite ``bom.csv``
+    with the prices, write ``order.csv`` and an "Order" section at the end of ``report.md``;
+    ``report["order"]``: the total and its unpriced lines. A report without a BOM is left."""
+    from cad.export import write_bom
+    from cad.export.order import apply_prices, order_csv, order_md, total_text
+
+    bom = report.get("bom")
+    if not bom:
+        return
+    summary = apply_prices(bom, prices)
+    write_bom(bom, out_dir)
+    write_text_atomic(out_dir / "order.csv", order_csv(bom, summary))
+    md = out_dir / "report.md"
+    if md.is_file():
+        write_text_atomic(md, md.read_text(encoding="utf-8") + order_md(bom, summary))
+    report["order"] = {**{k: v for k, v in summary.items() if k != "extra_lines"},
+                       "total": total_text(summary)}
+    steps = "assembly.md" if (out_dir / "assembly.md").is_file() else None
+    if steps and md.is_file():
+        write_text_atomic(md, md.read_text(encoding="utf-8")
+                          + "\nAssembly steps: [assembly.md](assembly.md).\n")
+    if isinstance(report.get("files"), list):
+        report["files"] = sorted({*report["files"], "order.csv", *([steps] if steps else [])})
+
+
 @contextlib.contextmanager
 def _children_cancelled_on_error():
     """No forked stage outlives a failed or interrupted build (it would write into the
@@ -227,6 +263,7 @@ def build_design(
     phi1_deg: float | None = None,
     use_cache: bool = True,
     simulate_wall: bool | None = None,
+    prices: dict | None = None,
 ) -> dict:
     """Build ``design`` into ``out_dir`` atomically and return the report dict.
 
@@ -234,6 +271,11 @@ def build_design(
     few seconds per new design, then derived-cached); default: at fabrication fidelity only
     (the build a user keeps; ``hapticad datasheet`` asks for it at any fidelity, evaluation
     builds of ``check``/``fit``/``optimize`` never).
+
+
+    ``prices``: a price table (:func:`cad.export.order.load_prices`, ``--prices``), used
+    instead of the design's ``[prices]`` table; the BOM gets unit and line prices and
+    ``order.csv`` is written (:func:`write_order`).
 
     Raises the builder's :class:`cad.errors.HapticadError` subclasses (DesignError,
     GeometryError, MeshError, InterferenceError ...); on any failure ``out_dir`` is
@@ -252,7 +294,7 @@ def build_design(
     check(out_dir)
     if simulate_wall is None:
         simulate_wall = fidelity == "fabrication"
-    key = build_key(design, formats, fidelity, allow_interference, phi1_deg, simulate_wall)
+    key = build_key(design, formats, fidelity, allow_interference, phi1_deg, simulate_wall, prices)
     if use_cache:
         rep = cached_report(out_dir, key)
         if rep is not None:
@@ -310,6 +352,7 @@ def build_design(
         add_datasheet(design, report, tmp, simulate_wall)
         timings = report.pop("_timings_s", None)
         viewer_glb = report.pop("_viewer_glb", None)
+        write_order(report, tmp, prices if prices is not None else _design_prices(design))
         if "firmware" in formats:  # from the report's mass properties (cad.firmware, no CAD)
             from cad.firmware import write_firmware
 

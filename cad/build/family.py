@@ -84,13 +84,19 @@ def body_props(instances, props: dict, bodies=None) -> dict:
 
 def bom_rows(instances, props: dict) -> list[dict]:
     """One row per listed kind: part, description, material, quantity, made_or_bought,
-    process, fits (its ISO 286 fits joined by ``"; "``), mass_g (each)."""
+    process, fits (its ISO 286 fits joined by ``"; "``), mass_g (each), and what to order
+    (:mod:`cad.export.order`): group, designation and order_code of a bought part (a made
+    part: group ``"made"``, designation = its name), stock of a made part."""
+    from cad.export.order import bought_designation, stock
+
     q = quantities(instances)
     rows = []
     for name, k in kinds(instances).items():
         if not k.listed:
             continue
         mp = props.get(name)
+        mass_g = mp.mass_kg * 1e3 if mp is not None else 0.0
+        group, des, code = bought_designation(k) if not k.made else ("made", name, "")
         rows.append(
             {
                 "part": name,
@@ -100,7 +106,11 @@ def bom_rows(instances, props: dict) -> list[dict]:
                 "made_or_bought": "made" if k.made else "bought",
                 "process": k.process,
                 "fits": "; ".join(k.fits),
-                "mass_g": mp.mass_kg * 1e3 if mp is not None else 0.0,
+                "mass_g": mass_g,
+                "group": group,
+                "designation": des,
+                "order_code": code,
+                "stock": stock(k, mass_g) if k.made else "",
             }
         )
     return rows
@@ -329,3 +339,21 @@ def write_report_md(out_dir: Path, title: str, rows: list[tuple[str, str]], bom,
         lines += ["", "## Notes", ""] + [f"- {n}" for n in notes]
     write_text_atomic(Path(out_dir) / "report.md", "\n".join(lines) + "\n")
     return "report.md"
+
+
+def write_assembly_md(out_dir: Path, title: str, instances, plan=None, checks=()) -> str:
+    """``assembly.md``: the assembly steps of :func:`cad.assembly.steps.assembly_steps`
+    (``plan``: optional stages, ``checks``: the final checks), each part instance named
+    with its kind and BOM description; fasteners by their BOM designation."""
+    from cad.assembly.steps import assembly_md, assembly_steps
+    from cad.export.order import bought_designation
+    from cad.io.atomic import write_text_atomic
+
+    def designation(kind) -> str:
+        return bought_designation(kind)[1] if not kind.made else kind.description or kind.name
+
+    by_name = {i.name: i for i in instances}
+    steps = assembly_steps(instances, designation, plan, checks)
+    text = assembly_md(title, steps, lambda n: (by_name[n].kind.name, by_name[n].kind.description))
+    write_text_atomic(Path(out_dir) / "assembly.md", text)
+    return "assembly.md"

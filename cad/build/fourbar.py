@@ -188,6 +188,14 @@ def write_preview(asm, tf_world_body, i: int, path_P_mm: np.ndarray, out: Path, 
     )
 
 
+#: Final checks of assembly.md (cad.assembly.steps).
+ASSEMBLY_CHECKS = (
+    "the crank turns by hand over its whole range (report.md: crank range) with no binding "
+    "and no contact between the bars",
+    "the motor turns the crank with the hub's set screw tight (no slip on the shaft flat)",
+)
+
+
 def _write_exports(
     asm, listed, out_dir: Path, formats, stl_tol, ang, tf_pose, name: str, progress, n_steps
 ) -> list[str]:
@@ -534,6 +542,8 @@ def build(
 
         bom = family.bom_rows(asm.instances, props) + [encoder_bom_row(design)]
         write_bom(bom, out_dir)
+        family.write_assembly_md(out_dir, f"{design.name} ({design.family})", asm.instances,
+                                 checks=ASSEMBLY_CHECKS)
 
         # 6 exports and preview (wait for the children)
         _step(progress, "exports", 4, n_steps)

@@ -104,6 +104,14 @@ PLAIN_KNOB_DIAMETER_MM = 20.0
 MIN_ENGAGEMENT_D = 1.5
 
 
+
+#: Final checks of assembly.md (cad.assembly.steps).
+ASSEMBLY_CHECKS = (
+    "each motor shaft turned by hand moves the linkage over the whole workspace square "
+    "(report.md) with no binding and no contact between links",
+    "the clevis set screws are tight (no slip of a hub clevis on its shaft flat)",
+)
+
 def check_options(design, fidelity: str, phi1_deg, formats=frozenset()) -> None:
     """Refuse what this builder cannot do, before any CAD import (DesignError)."""
     if set(formats) & {"mjcf", "urdf"} and design.family != "twin-pantograph":
@@ -1221,6 +1229,8 @@ def build(
     family.write_report_md(
         out_dir, f"{design.name} ({design.family})", _md_rows(report), bom, report["notes"]
     )
+    family.write_assembly_md(out_dir, f"{design.name} ({design.family})", instances,
+                             checks=ASSEMBLY_CHECKS)
     report["_viewer_glb"] = viewer_glb  # popped by the dispatcher: embedded in report.html
     _step(progress, "done", total, total)
     return report

@@ -629,9 +629,41 @@ def build(
     rep["fits"] = family.fits_report(inst)
     rep["files"] = sorted(files + ["report.md"])
     family.write_report_md(out_dir, f"{design.name} (powermouse)", _md_rows(rep), bom, rep["notes"])
+    family.write_assembly_md(out_dir, f"{design.name} (powermouse)", inst, ASSEMBLY_PLAN,
+                             [f"the flotor moves freely by +-{design.motion.range_mm:g} mm and "
+                              f"+-{design.motion.range_deg:g} deg about the centre, touching only "
+                              "at the limits (clearances in report.md)"])
     rep["_viewer_glb"] = viewer_glb  # popped by the dispatcher: embedded in report.html
     _step(progress, "done", total, total)
     return rep
+
+
+#: The PowerMouse's assembly order (cad.assembly.steps): (title, instance name patterns,
+#: checks); the screws follow each stage once their parts are in place.
+ASSEMBLY_PLAN = (
+    ("coils wound and potted into the pockets of the open flotor box", ["flotor_body", "coil_[+-][xy]",
+                                                                        "coil_+z"]),
+    ("inner magnets bonded onto the core (structural epoxy)", ["core", "magnet_*_inner-*"]),
+    ("core into the open flotor box (upside down); flotor lid (-z wall, its coil potted) on",
+     ["flotor_lid", "coil_-z"]),
+    ("outer magnets bonded onto their iron plates; five plates bonded into the open housing box",
+     ["housing_body", "iron_[+-][xy]", "iron_-z", "magnet_[+-][xy]_outer-*", "magnet_-z_outer-*"]),
+    ("flotor (with the core) lowered into the housing box: its side faces slide past the side "
+     "magnets at the rattle gap", []),
+    ("post through the housing's corner collar and the flotor's corner hole, its M4 tip screwed "
+     "into the core until its shoulder seats on the core's flat", ["post"],
+     ["finding the core's tapped hole: hold the housing with its (-,-,-) corner down (the "
+      "diagonal vertical); the flotor rests on the three lower outer magnet groups and the core "
+      "on the flotor's three lower walls, each moved d_r/2 along the diagonal, so the post's tip "
+      "meets the core's hole on its axis; screw it in until its shoulder seats, draw the post out "
+      "until its end is flush with the collar's end (the core is then centred), then tighten the "
+      "set screw"]),
+    ("housing lid (+z wall) with its iron plate and outer magnets bonded on, put on",
+     ["housing_lid", "iron_+z", "magnet_+z_outer-*"]),
+    ("handle stem through the lid's corner hole into the flotor's corner socket, its M4 tip "
+     "screwed into the corner boss", ["handle"]),
+    ("legs under the housing", ["leg_[0-9]"]),
+)
 
 
 #: This builder writes glb and 3mf (:mod:`cad.build.views`).
@@ -833,14 +865,8 @@ def _report(
             "(the guaranteed zero-torque force in any direction).",
             f"touching (clearance 0) at the +-{design.motion.range_mm:g} mm limit is by design: rattle_mm/2 = "
             f"{design.actuator.rattle_mm / 2:g} mm.",
-            "Assembly: inner magnets on the core; core into the open flotor box (upside down), flotor lid "
-            "(-z wall) on with four M2.5 screws into the side walls; outer magnets on their iron plates, five "
-            "plates into the open housing box, one on its lid; flotor (with the core) lowered into the housing "
-            "box (its side faces slide past the side magnets at the rattle gap); post through the housing's "
-            "corner collar and the flotor's corner hole, its M4 tip screwed into the core until its shoulder "
-            "seats on the core's flat, locked by the collar's set screw; housing lid on with four M3 screws "
-            "into the side walls; handle stem through the lid's corner hole into the flotor's corner socket, "
-            "its M4 tip screwed into the corner boss (fasteners, tapped_holes).",
+            "Assembly: the steps are in assembly.md (generated from the part instances and the "
+            "fastener records, cad.assembly.steps, in the order of ASSEMBLY_PLAN).",
             "Finding the core's tapped hole: hold the housing with its (-,-,-) corner down (the diagonal "
             "vertical). The flotor then rests on the three lower outer magnet groups and the core on the "
             "flotor's three lower walls, each moved d_r/2 on every axis, i.e. along the diagonal: the "

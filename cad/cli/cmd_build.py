@@ -1,7 +1,7 @@
-"""``hapticad build DESIGN [--out DIR] [--formats step,stl,dxf] [--fidelity F] [--phi1-deg X] [--allow-interference] [--json]``.
+"""``hapticad build DESIGN [--out DIR] [--formats step,stl,dxf] [--fidelity F] [--phi1-deg X] [--allow-interference] [--prices FILE.csv] [--json]``.
 
 Writes every part (STEP, binary STL, DXF for plates), the assembly STEP, ``bom.csv``,
-``report.json``, ``report.md``, ``preview.png`` and ``manifest.json`` into
+``order.csv`` (docs/ordering.md), ``report.json``, ``report.md``, ``preview.png`` and ``manifest.json`` into
 ``exports/<name>/`` (or ``--out``), atomically. An unchanged design is not rebuilt
 (build cache, no CAD import).
 
@@ -123,6 +123,10 @@ def register(app: typer.Typer) -> None:
             False, "--allow-scripts-anywhere", help="Run handle_script from any path."
         ),
         strict: bool = typer.Option(False, "--strict", help="Exit 1 when a datasheet figure misses its limit."),
+        prices: Path = typer.Option(
+            None, "--prices", help="Price CSV (columns designation, unit_price[, currency, "
+            "source]): unit and line prices in bom.csv and order.csv, and the total."
+        ),
     ) -> None:
         """Parts, posed assembly, interference check and fabrication exports of a design."""
         from cad.parts.handle import set_script_policy
@@ -140,6 +144,9 @@ def register(app: typer.Typer) -> None:
         flags.number("--phi1-deg", phi1_deg)
         flags.out_path("--out", out, folder=True)
         d = load_design(design)
+        from cad.export.order import load_prices
+
+        price_table = load_prices(prices) if prices is not None else None
         fid = fidelity or getattr(getattr(d, "parts", None), "fidelity", "fabrication")
         if fid not in FIDELITIES:
             raise DesignError("--fidelity", f"must be one of {', '.join(FIDELITIES)}, got {fid!r}")
@@ -149,7 +156,7 @@ def register(app: typer.Typer) -> None:
         # warnings: before the first progress line (cad.cli.progress), or at the end
         target = out if out is not None else Path("exports") / d.name
         opts = {"fidelity": fid, "allow_interference": allow_interference, "phi1_deg": phi1_deg,
-                "use_cache": not no_cache}
+                "use_cache": not no_cache, "prices": price_table}
         if json_out:
             rep = build_design(d, target, fmts, **opts)
             rep.pop("timings_s", None)

@@ -40,12 +40,24 @@ def family_of(raw: dict[str, Any]) -> str:
     return fam
 
 
+def design_prices(raw: dict[str, Any]) -> dict | None:
+    """The design's ``[prices]`` table, validated (:func:`cad.export.order.price_table`:
+    ``"designation" = unit price``, optional ``currency``), or None without one."""
+    from cad.design.fields import optional_table
+    from cad.export.order import price_table
+
+    if "prices" not in raw:
+        return None
+    return price_table(optional_table(raw, "prices", ""), "prices")
+
+
 def parse_design(raw: dict[str, Any], source: str = "<design>"):
     """Validate a raw design mapping and return the family's design object."""
     from cad.design.bounds import check_raw_design
 
     fam = family_of(raw)
     check_raw_design(raw)  # every number against cad/design/bounds.py, before the schema
+    design_prices(raw)  # [prices] (any family): cad.export.order.price_table
     module = importlib.import_module(FAMILY_MODULES[fam])
     return module.parse(raw, source)
 

@@ -56,7 +56,7 @@ FOURBAR_FAMILIES = (*FAMILIES, "custom")
 CUSTOM_KEYS = ("l1_mm", "l2_mm", "l3_mm", "l4_mm", "l5_mm", "le_mm", "phi_e_deg",
                "phi1_min_deg", "phi1_max_deg", "branch")
 TOP_KEYS = ("name", "description", "mechanism", "analysis", "inertia", "stiffness", "parts",
-            "targets", "fit", "firmware", "motor")
+            "targets", "fit", "firmware", "motor", "prices")
 #: ``[mechanism] force_basis``: which motor torque must deliver ``force_N`` (datasheet verdict).
 FORCE_BASES = ("continuous", "peak")
 

@@ -507,7 +507,7 @@ def parse(raw: dict[str, Any], source: str = "<design>") -> PantographDesign:
     check_unknown(
         raw,
         ("name", "description", "mechanism", "workspace", "actuators", "optimize", "parts", "targets",
-         "firmware"),
+         "firmware", "prices"),
         "",
     )
     mech = require_table(raw, "mechanism", "")

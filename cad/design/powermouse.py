@@ -65,7 +65,8 @@ from cad.design.fields import (
 )
 from cad.errors import DesignError
 
-TOP_KEYS = ("name", "description", "mechanism", "actuator", "flotor", "stator", "handle", "motion")
+TOP_KEYS = ("name", "description", "mechanism", "actuator", "flotor", "stator", "handle", "motion",
+            "prices")
 ACTUATOR_KEYS = (
     "magnet_length_mm",
     "magnet_width_mm",

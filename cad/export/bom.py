@@ -1,5 +1,7 @@
 """Bill of materials: ``bom.csv`` (part, material, quantity, made or bought, process, ISO 286
-fits of its seats and bores, mass)."""
+fits of its seats and bores, mass; then the ordering columns of :mod:`cad.export.order`:
+group of a bought part, its standard designation and catalog order code, the stock of a
+made part, unit and line price -- empty where no price was given)."""
 
 from __future__ import annotations
 
@@ -7,6 +9,7 @@ import csv
 import io
 from pathlib import Path
 
+from cad.export.order import money
 from cad.io.atomic import write_text_atomic
 
 BOM_COLUMNS = (
@@ -19,6 +22,12 @@ BOM_COLUMNS = (
     "fits",
     "mass_g",
     "total_mass_g",
+    "group",
+    "designation",
+    "order_code",
+    "stock",
+    "unit_price",
+    "line_price",
 )
 
 
@@ -32,6 +41,8 @@ def bom_csv(rows: list[dict]) -> str:
         r.setdefault("description", "")
         r.setdefault("process", "")
         r.setdefault("fits", "")
+        for k in ("unit_price", "line_price"):
+            r[k] = money(r.get(k, ""))
         r["total_mass_g"] = f"{float(r['mass_g']) * int(r['quantity']):.2f}"
         r["mass_g"] = f"{float(r['mass_g']):.2f}"
         w.writerow(r)

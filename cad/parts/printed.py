@@ -37,7 +37,6 @@ def _section(shape, z: float, size: float) -> list:
     """The faces of ``shape`` cut by the plane at height ``z`` (mm), moved down to z = 0 (so
     that sections at different heights intersect)."""
     from build123d import Face, Location, Plane, Shape
-
     from OCP.BRepAlgoAPI import BRepAlgoAPI_Common
 
     plane = Face.make_rect(size, size, Plane.XY).moved(Location((0, 0, z)))

@@ -1,0 +1,387 @@
+"""A BOM to order from: stock for made parts, designations and order codes of bought
+parts, and an optional price table (``hapticad build --prices FILE.csv`` or a design's
+``[prices]`` table) giving line and total cost.
+
+* :func:`stock` -- the stock to order for one made part: its exact bounding box in the part
+  frame plus the stated cutting allowance (:mod:`cad.tolerances` ``STOCK_*``), rounded up to
+  whole mm. Plates (``PartKind.plate``): thickness x width x length; turned parts (solids of
+  revolution, so coaxial with their box; not "turned + milled"): a round bar diameter x
+  length (axis = the box axis whose two cross dimensions are closest);
+  tubes and ground dowels (bought at the finished diameter): diameter x length; printed
+  parts: the filament mass; wound coils: the wire mass; anything else: a block;
+* :func:`bought_designation` -- ``(group, designation, order_code)`` of a bought part: the
+  ISO/DIN designation read from its BOM description, a bearing's catalog designation
+  (bd_warehouse's SKF table), a motor's catalog name and the order number its winding
+  states (:data:`cad.parts.catalog.MOTORS`); empty order code where no catalog gives one;
+* :func:`load_prices` / :func:`price_table` -- a price file / ``[prices]`` table as
+  ``{key: unit price}`` (key = a BOM designation or part name), every bad cell refused as
+  one :class:`cad.errors.DesignError` naming the file, row, column and value;
+* :func:`apply_prices` -- ``unit_price`` and ``line_price`` on the BOM rows; nothing is
+  invented: an unpriced line keeps empty cells and the summary counts it;
+* :func:`order_csv` -- ``order.csv``: one line per BOM line, bought parts grouped by kind,
+  made parts by stock form, then a ``total`` line.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import math
+import re
+from pathlib import Path
+
+from cad.errors import DesignError
+
+#: Groups of bought parts by the standard in their designation.
+STANDARD_GROUPS = {
+    "ISO 4762": "socket head cap screws",
+    "ISO 7379": "shoulder screws",
+    "ISO 4026": "set screws",
+    "ISO 4032": "hex nuts",
+    "ISO 7089": "washers",
+    "DIN 471": "retaining rings",
+    "ISO 2338": "dowel pins",
+}
+_STANDARD = re.compile(r"\b(?:ISO|DIN|EN) \d+\b[^,()]*")
+_RINGS = re.compile(r"(\d+) (DIN 471) rings (\S+)")
+ORDER_COLUMNS = ("group", "designation", "order_code", "quantity", "unit_price", "line_price",
+                 "parts")
+
+
+def _bbox_mm(shape) -> tuple[float, float, float]:
+    """Exact (x, y, z) extents of a shape's bounding box, mm (OCCT optimal box)."""
+    from OCP.Bnd import Bnd_Box
+    from OCP.BRepBndLib import BRepBndLib
+
+    b = Bnd_Box()
+    BRepBndLib.AddOptimal_s(getattr(shape, "wrapped", shape), b, False, False)
+    lo, hi = b.CornerMin(), b.CornerMax()
+    return (hi.X() - lo.X(), hi.Y() - lo.Y(), hi.Z() - lo.Z())
+
+
+def _turning_axis(shape):
+    """``gp_Ax1`` of the largest cylindrical face of ``shape`` (the axis it is turned
+    about), or None without one."""
+    from OCP.BRepAdaptor import BRepAdaptor_Surface
+    from OCP.BRepGProp import BRepGProp
+    from OCP.GeomAbs import GeomAbs_Cylinder
+    from OCP.GProp import GProp_GProps
+    from OCP.TopAbs import TopAbs_FACE
+    from OCP.TopExp import TopExp_Explorer
+    from OCP.TopoDS import TopoDS
+
+    best, axis = 0.0, None
+    ex = TopExp_Explorer(getattr(shape, "wrapped", shape), TopAbs_FACE)
+    while ex.More():
+        face = TopoDS.Face_s(ex.Current())
+        surf = BRepAdaptor_Surface(face)
+        if surf.GetType() == GeomAbs_Cylinder:
+            g = GProp_GProps()
+            BRepGProp.SurfaceProperties_s(face, g)
+            if g.Mass() > best:
+                best, axis = g.Mass(), surf.Cylinder().Axis()
+        ex.Next()
+    return axis
+
+
+#: Chordal deflection of the mesh that measures a turned part's radius (mm); added back to
+#: the largest vertex radius, so the diameter found is never below the solid's.
+RADIUS_MESH_DEFLECTION_MM = 0.02
+
+
+def _about_axis_mm(shape, axis) -> tuple[float, float]:
+    """``(diameter, length)`` of a cylinder about ``axis`` holding ``shape``: the largest
+    radius of the vertices of a copy meshed at :data:`RADIUS_MESH_DEFLECTION_MM` (+ that
+    deflection), and the exact box length along the axis (mm)."""
+    from OCP.Bnd import Bnd_Box
+    from OCP.BRep import BRep_Tool
+    from OCP.BRepBndLib import BRepBndLib
+    from OCP.BRepBuilderAPI import BRepBuilderAPI_Transform
+    from OCP.BRepMesh import BRepMesh_IncrementalMesh
+    from OCP.gp import gp_Ax3, gp_Trsf
+    from OCP.TopAbs import TopAbs_FACE
+    from OCP.TopExp import TopExp_Explorer
+    from OCP.TopLoc import TopLoc_Location
+    from OCP.TopoDS import TopoDS
+
+    t = gp_Trsf()
+    t.SetTransformation(gp_Ax3(axis.Location(), axis.Direction()))  # part -> axis frame
+    moved = BRepBuilderAPI_Transform(getattr(shape, "wrapped", shape), t, True).Shape()
+    BRepMesh_IncrementalMesh(moved, RADIUS_MESH_DEFLECTION_MM, False, 0.1, False)
+    r2 = 0.0
+    ex = TopExp_Explorer(moved, TopAbs_FACE)
+    while ex.More():
+        loc = TopLoc_Location()
+        tri = BRep_Tool.Triangulation_s(TopoDS.Face_s(ex.Current()), loc)
+        for i in range(1, (tri.NbNodes() if tri is not None else 0) + 1):
+            p = tri.Node(i).Transformed(loc.Transformation())
+            r2 = max(r2, p.X() ** 2 + p.Y() ** 2)
+        ex.Next()
+    b = Bnd_Box()
+    BRepBndLib.AddOptimal_s(moved, b, False, False)
+    return 2 * (math.sqrt(r2) + RADIUS_MESH_DEFLECTION_MM), b.CornerMax().Z() - b.CornerMin().Z()
+
+
+def _up(x: float) -> int:
+    """Whole mm at or above ``x`` (1e-6 mm of round-off does not add a mm)."""
+    return int(math.ceil(x - 1e-6))
+
+
+def stock(kind, mass_g: float) -> str:
+    """Stock to order for one piece of made part ``kind`` (``mass_g``: its mass, used for
+    printed parts), e.g. ``"plate 6 x 35 x 130 mm aluminium-6061"``; see the module doc."""
+    from cad import tolerances as tol
+
+    dims = _bbox_mm(kind.shape)
+    mat = kind.material
+    proc = kind.process.lower()
+    if proc.startswith("print"):
+        return f"filament {mass_g:.0f} g {mat}"
+    if proc.startswith("wound"):
+        return f"wire {mass_g:.0f} g {mat}"
+    if kind.plate:
+        w, l_ = sorted(dims[:2])
+        m = 2 * tol.STOCK_PLATE_MARGIN_MM
+        return f"plate {dims[2]:g} x {_up(w + m)} x {_up(l_ + m)} mm {mat}"
+    tube = re.match(r"(\w+ )?tube \d", kind.description) is not None
+    axis = _turning_axis(kind.shape)
+    if axis is not None and (tube or proc.startswith(("turned", "ground dowel"))):
+        d, length = _about_axis_mm(kind.shape, axis)
+        length = _up(length + tol.STOCK_LENGTH_ALLOWANCE_MM)
+        if tube or proc.startswith("ground dowel"):  # bought at the finished diameter
+            return f"{'tube' if tube else 'rod'} {d:.6g} x {length} mm {mat}"
+        return f"rod {_up(d + tol.STOCK_ROD_DIAMETER_ALLOWANCE_MM)} x {length} mm {mat}"
+    m = 2 * tol.STOCK_BLOCK_MARGIN_MM
+    return "block " + " x ".join(str(_up(x + m)) for x in sorted(dims)) + f" mm {mat}"
+
+
+def stock_dims_mm(text: str) -> tuple[str, tuple[float, ...]]:
+    """``(form, numbers)`` of a :func:`stock` text (``"rod 14 x 91 mm ..."`` ->
+    ``("rod", (14.0, 91.0))``), for reading ``bom.csv`` back."""
+    form, rest = text.split(" ", 1)
+    nums = rest.split(" g" if form in ("filament", "wire") else " mm", 1)[0]
+    return form, tuple(float(x) for x in nums.split(" x "))
+
+
+def bought_designation(kind) -> tuple[str, str, str]:
+    """``(group, designation, order_code)`` of bought part ``kind`` (see the module doc).
+    A part with no standard designation keeps its description, group ``"other"``."""
+    own = getattr(kind, "designation", "")
+    if own:
+        return (getattr(kind, "group", "") or "other", own, getattr(kind, "order_code", ""))
+    desc = kind.description
+    m = re.search(r"ball bearing (\S+) \(([^)]*)\)", desc)
+    if m:
+        return ("ball bearings", f"{m.group(1)} ({m.group(2)})", f"SKF {m.group(1)}")
+    motor = _motor_designation(desc)
+    if motor is not None:
+        return motor
+    m = _STANDARD.search(desc)
+    if m:
+        des = m.group(0).strip()
+        group = next((g for s, g in STANDARD_GROUPS.items() if des.startswith(s)), "other")
+        return (group, des, "")
+    return ("other", desc, "")
+
+
+def _motor_designation(desc: str) -> tuple[str, str, str] | None:
+    """A catalog motor (its BOM description is the catalog's): name and order number."""
+    from cad.parts.catalog import MOTORS
+
+    spec = next((sp for sp in MOTORS.values() if desc.startswith(sp.description)), None)
+    if spec is None:
+        return None
+    m = re.search(r"order number (\d+)", spec.winding)
+    return ("motors", spec.description.split(",")[0], m.group(1) if m else "")
+
+
+def extra_order_lines(row: dict) -> list[dict]:
+    """Order lines bought with a BOM line: the DIN 471 rings of a ground pin."""
+    m = _RINGS.search(row.get("description", ""))
+    if row.get("made_or_bought") != "bought" or m is None:
+        return []
+    return [{"group": STANDARD_GROUPS["DIN 471"], "designation": f"{m.group(2)} {m.group(3)}",
+             "order_code": "", "quantity": int(m.group(1)) * int(row["quantity"]),
+             "parts": row["part"]}]
+
+
+# --------------------------------------------------------------------------- prices
+def _price_value(value, where: str) -> float:
+    try:
+        x = float(value) if not isinstance(value, bool) else math.nan
+    except (TypeError, ValueError):
+        raise DesignError("--prices" if "row" in where else "prices",
+                          f"{where}: value {value!r} is not a number") from None
+    if not math.isfinite(x) or x < 0:
+        raise DesignError("--prices" if "row" in where else "prices",
+                          f"{where}: value {value!r} must be a finite price >= 0")
+    return x
+
+
+def load_prices(path: str | Path) -> dict:
+    """Read a price CSV: header with columns ``designation`` and ``unit_price`` (optional
+    ``currency``, one for the whole file; optional ``source``). Rows are counted as a
+    spreadsheet shows them (header = row 1). Returns ``{"prices": {key: float},
+    "currency": str, "source": str}``; DesignError ``--prices`` naming file, row, column
+    and value for a missing file, a missing column, an empty or repeated designation, a
+    price that is not a finite number >= 0, or a second currency."""
+    p = Path(path)
+    try:
+        text = p.read_text(encoding="utf-8-sig")
+    except FileNotFoundError:
+        raise DesignError("--prices", f"file not found: {p}") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise DesignError("--prices", f"{p} cannot be read as UTF-8 text ({exc})") from None
+    reader = csv.DictReader(io.StringIO(text))
+    cols = [c.strip() for c in (reader.fieldnames or [])]
+    for need in ("designation", "unit_price"):
+        if need not in cols:
+            raise DesignError("--prices", f"{p} row 1 (header): column {need!r} missing "
+                                          f"(columns: {', '.join(cols) or 'none'})")
+    prices, first_row, currency = {}, {}, ("", 0)
+    for i, raw in enumerate(reader, start=2):
+        row = {(k or "").strip(): (v or "").strip() for k, v in raw.items() if k is not None}
+        key = row.get("designation", "")
+        where = f"{p} row {i} column"
+        if not key:
+            raise DesignError("--prices", f"{where} designation: value '' is empty")
+        if key in prices:
+            raise DesignError("--prices", f"{where} designation: value {key!r} repeats row "
+                                          f"{first_row[key]}")
+        prices[key] = _price_value(row.get("unit_price", ""), f"{where} unit_price")
+        first_row[key] = i
+        cur = row.get("currency", "")
+        if cur and currency[0] and cur != currency[0]:
+            raise DesignError("--prices", f"{where} currency: value {cur!r} differs from "
+                                          f"{currency[0]!r} (row {currency[1]}): one currency")
+        if cur and not currency[0]:
+            currency = (cur, i)
+    return {"prices": prices, "currency": currency[0], "source": str(p)}
+
+
+def price_table(table: dict, field: str = "prices") -> dict:
+    """A design's ``[prices]`` table (``"designation" = unit price``, optional
+    ``currency = "EUR"``) in the form of :func:`load_prices`; DesignError naming the key."""
+    prices = {}
+    for k, v in table.items():
+        if k == "currency":
+            if not isinstance(v, str) or not v:
+                raise DesignError(f"{field}.currency", f"must be a non-empty string, got {v!r}")
+            continue
+        if isinstance(v, bool) or not isinstance(v, (int, float)):
+            raise DesignError(f"{field}.{k}", f"must be a number (unit price), got {v!r}")
+        if not math.isfinite(float(v)) or v < 0:
+            raise DesignError(f"{field}.{k}", f"must be a finite price >= 0, got {v!r}")
+        prices[str(k)] = float(v)
+    return {"prices": prices, "currency": table.get("currency", ""), "source": f"[{field}]"}
+
+
+def _price_of(prices: dict, keys) -> str | None:
+    return next((k for k in keys if k and k in prices), None)
+
+
+def apply_prices(rows: list[dict], table: dict | None) -> dict:
+    """Set ``unit_price`` / ``line_price`` (quantity x unit) on every BOM row priced by
+    ``table`` (:func:`load_prices`; a row is looked up by its designation, then its part
+    name); unpriced rows get empty cells. The lines bought with a row
+    (:func:`extra_order_lines`) are priced the same way. Returns the summary:
+    ``total_price`` (sum of the priced lines), ``currency``, ``priced_lines``,
+    ``unpriced_lines``, ``unpriced`` (part names or designations), ``unused_prices`` (keys
+    matching no line), ``price_source``, ``extra_lines`` (priced like the rows)."""
+    prices = (table or {}).get("prices", {})
+    used, unpriced, total, extra = set(), [], 0.0, []
+    lines = [(r, (r.get("designation", ""), r["part"]), r["part"]) for r in rows]
+    for r in rows:
+        extra += extra_order_lines(r)
+    lines += [(e, (e["designation"],), e["designation"]) for e in extra]
+    for line, keys, label in lines:
+        key = _price_of(prices, keys)
+        if key is None:
+            line["unit_price"] = line["line_price"] = ""
+            unpriced.append(label)
+            continue
+        used.add(key)
+        line["unit_price"] = prices[key]
+        line["line_price"] = prices[key] * int(line["quantity"])
+        total += line["line_price"]
+    return {
+        "total_price": total,
+        "currency": (table or {}).get("currency", ""),
+        "priced_lines": len(lines) - len(unpriced),
+        "unpriced_lines": len(unpriced),
+        "unpriced": unpriced,
+        "unused_prices": sorted(set(prices) - used),
+        "price_source": (table or {}).get("source", ""),
+        "extra_lines": extra,
+    }
+
+
+def money(x) -> str:
+    """A price cell: two decimals, or empty for no price."""
+    return "" if x in ("", None) else f"{float(x):.2f}"
+
+
+def total_text(summary: dict) -> str:
+    """One line: the total and how many lines it leaves unpriced."""
+    cur = f" {summary['currency']}" if summary["currency"] else ""
+    n, m = summary["unpriced_lines"], summary["priced_lines"] + summary["unpriced_lines"]
+    if summary["priced_lines"] == 0:
+        return f"no price given: all {m} lines unpriced, no total"
+    tail = "all lines priced" if n == 0 else f"{n} of {m} lines unpriced, not in the total"
+    return f"{summary['total_price']:.2f}{cur} ({tail})"
+
+
+def order_lines(rows: list[dict], extra=()) -> list[dict]:
+    """Order lines of the BOM rows (and the ``extra`` lines bought with them): bought parts
+    sorted by group then designation, made parts (group ``"stock: <form>"``, designation =
+    the stock) after them."""
+    out = list(extra)
+    for r in rows:
+        made = r["made_or_bought"] == "made"
+        group = f"stock: {r['stock'].split(' ', 1)[0]}" if made and r.get("stock") else r["group"]
+        out.append({"group": group, "designation": r["stock"] if made else r["designation"],
+                    "order_code": r.get("order_code", ""), "quantity": r["quantity"],
+                    "unit_price": r.get("unit_price", ""), "line_price": r.get("line_price", ""),
+                    "parts": r["part"]})
+    return sorted(out, key=lambda o: (o["group"].startswith("stock:"), o["group"],
+                                      o["designation"]))
+
+
+def order_csv(rows: list[dict], summary: dict) -> str:
+    """``order.csv`` text (columns :data:`ORDER_COLUMNS`), a last ``total`` line whose
+    ``parts`` cell says how many lines are unpriced."""
+    buf = io.StringIO()
+    w = csv.DictWriter(buf, fieldnames=ORDER_COLUMNS, lineterminator="\n")
+    w.writeheader()
+    for o in order_lines(rows, summary.get("extra_lines", ())):
+        w.writerow({**o, "unit_price": money(o["unit_price"]), "line_price": money(o["line_price"])})
+    w.writerow({"group": "total", "designation": summary["currency"],
+                "line_price": money(summary["total_price"]) if summary["priced_lines"] else "",
+                "parts": f"{summary['unpriced_lines']} unpriced lines"})
+    return buf.getvalue()
+
+
+def allowance_text() -> str:
+    """The cutting allowances the stock column adds (:mod:`cad.tolerances`)."""
+    from cad import tolerances as tol
+
+    return (f"stock = the part's bounding box + {tol.STOCK_PLATE_MARGIN_MM:g} mm per side (plate), "
+            f"+ {tol.STOCK_ROD_DIAMETER_ALLOWANCE_MM:g} mm on the diameter and "
+            f"{tol.STOCK_LENGTH_ALLOWANCE_MM:g} mm on the length (rod; tube: length only), "
+            f"+ {tol.STOCK_BLOCK_MARGIN_MM:g} mm per side (block), rounded up to whole mm")
+
+
+def order_md(rows: list[dict], summary: dict) -> str:
+    """The "Order" section of ``report.md``: the order lines, the total, the allowances."""
+    lines = ["", "## Order (order.csv)", "",
+             "| group | designation | order code | qty | unit price | line price | parts |",
+             "|---|---|---|---|---|---|---|"]
+    for o in order_lines(rows, summary.get("extra_lines", ())):
+        lines.append(f"| {o['group']} | {o['designation']} | {o['order_code']} | "
+                     f"{o['quantity']} | {money(o['unit_price'])} | {money(o['line_price'])} | "
+                     f"{o['parts']} |")
+    src = f" (prices: {summary['price_source']})" if summary["price_source"] else ""
+    lines += ["", f"Total: {total_text(summary)}{src}.", "", f"Stock: {allowance_text()}."]
+    if summary["unused_prices"]:
+        lines.append(f"Prices matching no line: {', '.join(summary['unused_prices'])}.")
+    return "\n".join(lines) + "\n"
