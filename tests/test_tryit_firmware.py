@@ -1,10 +1,10 @@
 """Tester findings on the generated firmware (t2tester).
 
-The four-bar's ``hc_forward`` compares the crank angle with [Q_MIN, Q_MAX] as a number, not
-modulo 2 pi. A design whose ``[firmware] encoder_zero_deg`` names the power-up angle with
-another turn (-186 deg is the 174 deg of the Hoeken's 132..216 deg range) gets firmware that
-refuses every encoder reading (HC_ERR_RANGE at count 0, the power-up pose itself), while the
-build and the shipped test program report success (the test vectors evaluate FK at q, never
+The four-bar's ``hc_forward`` compared the crank angle with [Q_MIN, Q_MAX] as a number, not
+modulo 2 pi (fixed: it wraps into Q_MIN + [0, 2 pi) first). A design whose ``[firmware] encoder_zero_deg`` names the power-up angle with
+another turn (-186 deg is the 174 deg of the Hoeken's 132..216 deg range) got firmware that
+refused every encoder reading (HC_ERR_RANGE at count 0, the power-up pose itself), while the
+build and the shipped test program reported success (the test vectors evaluate FK at q, never
 at the angles from the counts).
 Reference: the crank at 174 deg, P from cad.kinematics.fourbar (the design's numpy model).
 """
@@ -34,9 +34,6 @@ int main(void) {
 """
 
 
-@pytest.mark.xfail(strict=True, reason="hc_forward (four-bar) range-checks phi1 without wrapping "
-                   "modulo 2 pi: encoder_zero_deg = -186 (= 174 deg, inside 132..216) makes every "
-                   "encoder reading HC_ERR_RANGE, and build + test_device.c still pass")
 def test_encoder_zero_given_with_another_turn_reads_the_power_up_pose(request, tmp_path):
     cc = shutil.which("cc") or shutil.which("gcc")
     if not cc:

@@ -129,6 +129,7 @@ _COMMON = """
 #  define HC_ACOS acosf
 #  define HC_SQRT sqrtf
 #  define HC_FABS fabsf
+#  define HC_FLOOR floorf
 #else
 #  define HC_SIN sin
 #  define HC_COS cos
@@ -136,6 +137,7 @@ _COMMON = """
 #  define HC_ACOS acos
 #  define HC_SQRT sqrt
 #  define HC_FABS fabs
+#  define HC_FLOOR floor
 #endif
 #define HC_TWO_PI HC_R(6.283185307179586)
 
@@ -187,7 +189,9 @@ typedef struct { hc_real c1, s1, c2, s2, c3, s3, s23, a2, a3; } hc_pose4_t;
 static int hc_pose4(hc_real phi1, hc_pose4_t *p)
 {
     hc_real dx, dy, A, B, C, R, ratio, phi2;
-    if (!(phi1 >= Q_MIN && phi1 <= Q_MAX)) return HC_ERR_RANGE; /* NaN refused too */
+    if (!(HC_FABS(phi1) <= HC_R(1e4))) return HC_ERR_RANGE;  /* NaN, inf, no turn count */
+    phi1 -= HC_TWO_PI * HC_FLOOR((phi1 - Q_MIN) / HC_TWO_PI);  /* the same pose, in Q_MIN + [0, 2 pi) */
+    if (!(phi1 >= Q_MIN && phi1 <= Q_MAX)) return HC_ERR_RANGE;
     p->c1 = HC_COS(phi1); p->s1 = HC_SIN(phi1);
     dx = L1 * p->c1 - L5; dy = L1 * p->s1 - L4;             /* A2 - A4 */
     A = HC_R(2.0) * L2 * dx; B = HC_R(2.0) * L2 * dy;
