@@ -59,3 +59,44 @@ def test_encoder_zero_given_with_another_turn_reads_the_power_up_pose(request, t
     P = k4.coupler_point_and_jacobian(d.linkage, np.array([math.radians(174.0)]))[0][0] * 1e-3
     assert int(st) == 0
     assert abs(float(x) - P[0]) < 1e-9 and abs(float(y) - P[1]) < 1e-9
+
+
+CURRENTS = r"""
+#include <math.h>
+#include <stdio.h>
+#include "hapticad_device.h"
+int main(void) {
+    hc_real tau[HC_N_JOINTS], amps[HC_N_JOINTS];
+    int i, k, r;
+    hc_real bad[3];
+    bad[0] = (hc_real)NAN; bad[1] = (hc_real)INFINITY; bad[2] = -(hc_real)INFINITY;
+    for (k = 0; k < 3; ++k) {
+        for (i = 0; i < HC_N_JOINTS; ++i) tau[i] = bad[k];
+        r = hc_motor_currents(tau, HC_LIMIT_CONTINUOUS, amps);
+        printf("%d", r);
+        for (i = 0; i < HC_N_JOINTS; ++i) printf(" %g", (double)amps[i]);
+        printf("\n");
+    }
+    return 0;
+}
+"""
+
+
+def test_motor_currents_of_a_nan_or_infinite_torque_are_zero(request, tmp_path):
+    """A NaN torque used to pass through as a NaN current (returning 0, "not scaled"), an
+    infinite one became inf * 0 = NaN: an amplifier command no firmware should send."""
+    cc = shutil.which("cc") or shutil.which("gcc")
+    if not cc:
+        pytest.skip("no C compiler (cc/gcc) on PATH")
+    _, out, _, _ = request.getfixturevalue("hoeken_sim_build")
+    fw = out / "firmware"
+    src = tmp_path / "cur.c"
+    src.write_text(CURRENTS)
+    exe = tmp_path / "cur"
+    r = subprocess.run([cc, "-std=c99", "-Wall", "-Wextra", "-pedantic", "-Werror", f"-I{fw}",
+                        "-o", str(exe), str(src), str(fw / "hapticad_device.c"), "-lm"],
+                       capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0, r.stderr
+    for line in subprocess.run([str(exe)], capture_output=True, text=True, timeout=60).stdout.split("\n")[:3]:
+        ret, *amps = line.split()
+        assert ret == "1" and all(float(a) == 0.0 for a in amps), line

@@ -104,7 +104,8 @@ int hc_jacobian(const hc_real q[HC_N_JOINTS], hc_real J[HC_N_TASK * HC_N_JOINTS]
 int hc_joint_torques(const hc_real q[HC_N_JOINTS], const hc_real F[HC_N_TASK],
                      hc_real tau[HC_N_JOINTS]);
 /* motor currents i = tau / kt, scaled down together (the force keeps its direction) so that
- * no |i| exceeds the continuous or peak limit; returns 1 when it scaled, 0 otherwise */
+ * no |i| exceeds the continuous or peak limit; returns 1 when it scaled, 0 otherwise;
+ * a NaN or infinite torque gives all currents 0 and returns 1 */
 int hc_motor_currents(const hc_real tau[HC_N_JOINTS], int limit, hc_real amps[HC_N_JOINTS]);
 /* motor torques holding the links against gravity (dV/dq; zero for a horizontal device) */
 int hc_gravity_torques(const hc_real q[HC_N_JOINTS], hc_real tau[HC_N_JOINTS]);
@@ -154,10 +155,15 @@ int hc_motor_currents(const hc_real tau[HC_N_JOINTS], int limit, hc_real amps[HC
 {
     hc_real imax = (limit == HC_LIMIT_PEAK) ? HC_CURRENT_PEAK_A : HC_CURRENT_CONTINUOUS_A;
     hc_real worst = HC_R(0.0);
-    int i;
+    int i, bad = 0;
     for (i = 0; i < HC_N_JOINTS; ++i) {
         amps[i] = tau[i] / HC_KT_NM_PER_A;
-        if (HC_FABS(amps[i]) > worst) worst = HC_FABS(amps[i]);
+        if (!(HC_FABS(amps[i]) <= HC_R(1e30))) bad = 1;             /* NaN or inf torque */
+        else if (HC_FABS(amps[i]) > worst) worst = HC_FABS(amps[i]);
+    }
+    if (bad) {                                      /* never command a NaN / inf current */
+        for (i = 0; i < HC_N_JOINTS; ++i) amps[i] = HC_R(0.0);
+        return 1;
     }
     if (worst <= imax) return 0;
     for (i = 0; i < HC_N_JOINTS; ++i) amps[i] *= imax / worst;
