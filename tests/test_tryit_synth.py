@@ -35,12 +35,16 @@ force_N = 5.0
 """
 
 
-def test_brute_force_reference_holds_100_mm_within_the_constraints(tmp_path):
+def _analyze(tmp_path, text: str) -> dict:
     p = tmp_path / "brute.toml"
-    p.write_text(HOEKEN_100)
+    p.write_text(text)
     code, out, err = hapticad("analyze", str(p), "--json")
     assert code == 0, err
-    m = json.loads(out)
+    return json.loads(out)
+
+
+def test_brute_force_reference_holds_100_mm_within_the_constraints(tmp_path):
+    m = _analyze(tmp_path, HOEKEN_100)
     assert abs(m["stroke_mm"] - 100.0) < 1e-6
     assert m["dy_max_mm"] < 0.2 and m["min_transmission_angle_deg"] >= 30.0
 
@@ -71,11 +75,7 @@ HOEKEN_110 = HOEKEN_100.replace("hoeken_100_brute", "hoeken_110_brute").replace(
                    "103.6 mm (dy 0.200 mm) although the same bar set holds 110 mm with dy 0.190 mm "
                    "(phi1 77.0 .. 283.0 deg, brute force, checked by analyze below)")
 def test_max_stroke_finds_the_110_mm_segment_the_brute_force_finds(tmp_path):
-    p = tmp_path / "brute110.toml"
-    p.write_text(HOEKEN_110)
-    code, out, err = hapticad("analyze", str(p), "--json")
-    assert code == 0, err
-    ref = json.loads(out)
+    ref = _analyze(tmp_path, HOEKEN_110)
     assert ref["stroke_mm"] > 109.99 and ref["dy_max_mm"] < 0.2
     assert ref["min_transmission_angle_deg"] >= 30.0
     code, text, err = hapticad("synth", ROOT / "designs" / "hoeken.toml", "--json")
