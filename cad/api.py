@@ -72,7 +72,7 @@ def check(design, targets: tuple[str, ...] | list[str] = (), fidelity: str = "in
     Four-bars: inertia, apparent mass and metrics from the solids. Pantograph families: the
     GII (isotropy paper eq 5) and, for designs that build, the effective mass at home and
     the moving mass from the solids. ``targets``: ``"KEY=VALUE"``, ``"KEY<=V"``, ``"KEY>=V"``
-    strings. Which targets are checked is the caller's choice: none given, the design's
+    strings (a single string is one target). Which targets are checked is the caller's choice: none given, the design's
     ``[targets]``; given, **only those** (``merge=False``), or the design's with the given ones
     replacing those of the same key (``merge=True``, what ``hapticad check --target`` does).
     Returns the ``hapticad check --json`` object: ``ok``, ``rows`` (``key``, ``computed``,
@@ -93,6 +93,8 @@ def check(design, targets: tuple[str, ...] | list[str] = (), fidelity: str = "in
 
         raise DesignError("mechanism.family", refusal("check", design.family))
     keys = TARGET_KEYS if four_bar else PANTOGRAPH_TARGET_KEYS
+    if isinstance(targets, str):  # one "KEY=VALUE", not its characters
+        targets = (targets,)
     given = tuple(parse_cli_target(t, keys) for t in targets)
     merged = merge_targets(design.targets, given) if merge or not given else given
     source = "design+given" if merge and given else ("given" if given else "design")

@@ -26,7 +26,8 @@ def _refuse_unheld_stroke(held_mm: float | None, got_mm: float, from_flag: bool)
     if held_mm is not None and not abs(got_mm - held_mm) <= tol.SYNTH_STROKE_REL * held_mm:
         raise DesignError("--stroke-mm" if from_flag else "mechanism.stroke_mm",
                           f"no linkage of this family reaches a stroke of {held_mm:g} mm within the "
-                          f"constraints (best {got_mm:.4g} mm): change --objective, --free or the stroke")
+                          f"constraints (none found; the start has {got_mm:.4g} mm): change --objective, "
+                          f"--free, --dy-tol-mm or the stroke")
 
 
 def _print_table(res: dict, title: str) -> None:

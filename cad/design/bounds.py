@@ -333,7 +333,9 @@ _MASS_TARGET_G = Bound("g", 0.0, 1e6, "over a tonne of apparent mass is no hand-
                       1.0, 1e4, f"under 1 g or over 10 kg of (apparent) mass is not {_DESK}",
                       (("kg", 1000.0),))
 TARGETS: dict[str, Bound] = {
-    **{k: H12_KG_M2 for k in ("H11_kg_m2", "H12_kg_m2", "H22_kg_m2", "H33_kg_m2")},
+    # H11, H22, H33 are sums of m l^2 + J (eqs 16-18): > 0; only H12 (eq 19) is signed
+    **{k: H_KG_M2 for k in ("H11_kg_m2", "H22_kg_m2", "H33_kg_m2")},
+    "H12_kg_m2": H12_KG_M2,
     **{k: _APPARENT_G for k in ("M12_min_g", "M12_max_g")},  # signed: M12 crosses 0
     **{k: _MASS_TARGET_G for k in ("M11_min_g", "M11_max_g", "M22_max_g", "crank_mass_g",
                                    "coupler_mass_g", "rocker_mass_g", "moving_mass_g")},

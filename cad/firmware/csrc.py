@@ -104,7 +104,8 @@ int hc_jacobian(const hc_real q[HC_N_JOINTS], hc_real J[HC_N_TASK * HC_N_JOINTS]
 int hc_joint_torques(const hc_real q[HC_N_JOINTS], const hc_real F[HC_N_TASK],
                      hc_real tau[HC_N_JOINTS]);
 /* motor currents i = tau / kt, scaled down together (the force keeps its direction) so that
- * no |i| exceeds the continuous or peak limit; returns 1 when it scaled, 0 otherwise */
+ * no |i| exceeds the continuous or peak limit; returns 1 when it scaled, 0 otherwise;
+ * a NaN or infinite torque gives all currents 0 and returns 1 */
 int hc_motor_currents(const hc_real tau[HC_N_JOINTS], int limit, hc_real amps[HC_N_JOINTS]);
 /* motor torques holding the links against gravity (dV/dq; zero for a horizontal device) */
 int hc_gravity_torques(const hc_real q[HC_N_JOINTS], hc_real tau[HC_N_JOINTS]);
@@ -129,6 +130,7 @@ _COMMON = """
 #  define HC_ACOS acosf
 #  define HC_SQRT sqrtf
 #  define HC_FABS fabsf
+#  define HC_FLOOR floorf
 #else
 #  define HC_SIN sin
 #  define HC_COS cos
@@ -136,6 +138,7 @@ _COMMON = """
 #  define HC_ACOS acos
 #  define HC_SQRT sqrt
 #  define HC_FABS fabs
+#  define HC_FLOOR floor
 #endif
 #define HC_TWO_PI HC_R(6.283185307179586)
 
@@ -152,10 +155,15 @@ int hc_motor_currents(const hc_real tau[HC_N_JOINTS], int limit, hc_real amps[HC
 {
     hc_real imax = (limit == HC_LIMIT_PEAK) ? HC_CURRENT_PEAK_A : HC_CURRENT_CONTINUOUS_A;
     hc_real worst = HC_R(0.0);
-    int i;
+    int i, bad = 0;
     for (i = 0; i < HC_N_JOINTS; ++i) {
         amps[i] = tau[i] / HC_KT_NM_PER_A;
-        if (HC_FABS(amps[i]) > worst) worst = HC_FABS(amps[i]);
+        if (!(HC_FABS(amps[i]) <= HC_R(1e30))) bad = 1;             /* NaN or inf torque */
+        else if (HC_FABS(amps[i]) > worst) worst = HC_FABS(amps[i]);
+    }
+    if (bad) {                                      /* never command a NaN / inf current */
+        for (i = 0; i < HC_N_JOINTS; ++i) amps[i] = HC_R(0.0);
+        return 1;
     }
     if (worst <= imax) return 0;
     for (i = 0; i < HC_N_JOINTS; ++i) amps[i] *= imax / worst;
@@ -187,7 +195,9 @@ typedef struct { hc_real c1, s1, c2, s2, c3, s3, s23, a2, a3; } hc_pose4_t;
 static int hc_pose4(hc_real phi1, hc_pose4_t *p)
 {
     hc_real dx, dy, A, B, C, R, ratio, phi2;
-    if (!(phi1 >= Q_MIN && phi1 <= Q_MAX)) return HC_ERR_RANGE; /* NaN refused too */
+    if (!(HC_FABS(phi1) <= HC_R(1e4))) return HC_ERR_RANGE;  /* NaN, inf, no turn count */
+    phi1 -= HC_TWO_PI * HC_FLOOR((phi1 - Q_MIN) / HC_TWO_PI);  /* the same pose, in Q_MIN + [0, 2 pi) */
+    if (!(phi1 >= Q_MIN && phi1 <= Q_MAX)) return HC_ERR_RANGE;
     p->c1 = HC_COS(phi1); p->s1 = HC_SIN(phi1);
     dx = L1 * p->c1 - L5; dy = L1 * p->s1 - L4;             /* A2 - A4 */
     A = HC_R(2.0) * L2 * dx; B = HC_R(2.0) * L2 * dy;

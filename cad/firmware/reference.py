@@ -53,6 +53,10 @@ def _fourbar(spec, q):
     p = spec.params
     fb = fourbar_of(p)
     phi = q[:, 0]
+    # the crank pose repeats every turn: range-checked in q_min + [0, 2 pi), as the C code
+    turnable = np.abs(phi) <= 1e4  # NaN, inf: refused
+    ph = np.where(turnable, phi, p["q_min"])
+    phi = np.where(turnable, ph - 2 * np.pi * np.floor((ph - p["q_min"]) / (2 * np.pi)), np.nan)
     ok = (phi >= p["q_min"]) & (phi <= p["q_max"])
     safe = np.where(ok, phi, 0.5 * (p["q_min"] + p["q_max"]))
     P, J = k4.coupler_point_and_jacobian(fb, safe)

@@ -135,12 +135,28 @@ def _straightest_at_stroke(fb0: FourBar, free: str, stroke_mm: float,
         return m.dy_max_mm / stroke_mm + pen
 
     best = None
-    for xs in starts:
+    for xs in starts + _screened_starts(cost, starts[0]):
         res = minimize(cost, np.delete(xs, 1), method="Nelder-Mead",
                        options={"xatol": 1e-8, "fatol": 1e-12, "maxiter": 400 * xs.size})
         if best is None or res.fun < best.fun:
             best = res
     return point(best.x) if best.fun < 1e5 else None
+
+
+def _screened_starts(cost, x0: np.ndarray, step_deg: float = 5.0, keep: int = 2) -> list:
+    """Extra starts for the held stroke: ``x0`` with phi1_min on a ``step_deg`` grid over
+    [0, 360) deg; the ``keep`` best that hold the stroke (cost < 1e5). The starts near
+    the design's phi1_min can all lie in the flat infeasible region (cost 1e6), where
+    Nelder-Mead cannot move, although another part of the coupler curve holds the stroke."""
+    trial = []
+    for lo in np.radians(np.arange(0.0, 360.0, step_deg)):
+        x = x0.copy()
+        x[0] = lo
+        c = cost(np.delete(x, 1))
+        if c < 1e5:
+            trial.append((c, x))
+    trial.sort(key=lambda t: t[0])
+    return [x for _, x in trial[:keep]]
 
 
 def _penalized_search(fb0: FourBar, free: str, objective: str, start: Metrics, span0: float,
