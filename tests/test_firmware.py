@@ -373,3 +373,48 @@ def test_mass_matrix_at_home_equals_the_builds_effective_mass(request, tmp_path,
                                    [eff["mass_x_g_diag"], eff["mass_y_g_diag"],
                                     eff["inertia_theta_g_cm2_diag"], eff["mass_x_g_apparent"]],
                                    rtol=1e-9)
+
+
+SKETCH_HARNESS = r"""
+#include "hapticad_device.h"
+#define HC_SKETCH_IO 1
+static unsigned long t_us = 0;
+static unsigned long micros(void) { return t_us += 1000000; }  /* never waits */
+static long test_counts = 0;
+static double last_amps[HC_N_JOINTS];
+static void read_encoders(long counts[HC_N_JOINTS]) { for (int i = 0; i < HC_N_JOINTS; ++i) counts[i] = test_counts; }
+static void write_currents(const hc_real amps[HC_N_JOINTS]) { for (int i = 0; i < HC_N_JOINTS; ++i) last_amps[i] = amps[i]; }
+static void motors_off(void) { for (int i = 0; i < HC_N_JOINTS; ++i) last_amps[i] = 0; }
+#include "wall_example/wall_example.ino"
+#include <stdio.h>
+int main(void) {
+    hc_real q[HC_N_JOINTS], X[HC_N_TASK];
+    for (long c = 1; c < 100000; ++c) {          /* the first reading 1 mm inside the wall */
+        long cs[HC_N_JOINTS];
+        for (int i = 0; i < HC_N_JOINTS; ++i) cs[i] = c;
+        hc_counts_to_angles(&enc, cs, q);
+        if (hc_forward(q, X) != HC_OK) continue;
+        if (WALL_NX * (X[0] - WALL_X0_M) + WALL_NY * (X[1] - WALL_Y0_M) > 1e-3) { test_counts = c; break; }
+    }
+    setup();
+    loop(); double first = last_amps[0];         /* power-up sample: no previous position */
+    loop(); double second = last_amps[0];        /* the handle held still */
+    printf("%ld %.17g %.17g\n", test_counts, first, second);
+    return 0;
+}
+"""
+
+
+def test_wall_sketch_first_sample_has_no_damping_spike(request, tmp_path):
+    """The sketch's first sample inside the wall (power-up, or after a refused pose) has no
+    previous position: its damping term must be 0, so with the handle held still the first
+    and second currents are equal and non-zero (t2 tester: s_prev = 0 gave a B s/Te spike)."""
+    _, out, _ = _build(request, "hoeken")
+    fw = out / "firmware"
+    (tmp_path / "h.c").write_text(SKETCH_HARNESS)
+    subprocess.run([_cc(), "-std=c99", "-Wall", "-Werror", f"-I{fw}", "-o", str(tmp_path / "h"),
+                    str(tmp_path / "h.c"), str(fw / "hapticad_device.c"), "-lm"], check=True, timeout=60)
+    counts, first, second = subprocess.run([str(tmp_path / "h")], check=True, timeout=10,
+                                           capture_output=True, text=True).stdout.split()
+    assert int(counts) > 0 and float(first) != 0.0
+    assert float(first) == float(second)

@@ -125,7 +125,8 @@ def encoder_bom_row(design) -> dict:
     desc = enc.description if enc is not None else f"encoder on the motor's rear shaft, {counts:.0f} counts/rev"
     return {"part": "encoder", "description": f"{desc} ({src.split(';')[0]}; mass not known, not in the totals)",
             "material": "bought", "quantity": 1, "made_or_bought": "bought", "process": "bought",
-            "fits": "", "mass_g": 0.0}
+            "fits": "", "mass_g": 0.0, "group": "encoders",
+            "designation": desc, "order_code": getattr(enc, "order_code", "") or "", "stock": ""}
 
 
 def link_mass_props(assembly, props_by_kind: dict) -> tuple[dict, dict]:

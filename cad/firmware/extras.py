@@ -127,11 +127,15 @@ def sketch(spec: DeviceSpec, wall: dict) -> str:
 
 static hc_encoder_t enc = HC_ENCODER_DEFAULT;
 static hc_real s_prev = 0;
+static int have_prev = 0;                          /* s_prev holds a valid sample */
 
-/* board specific: replace these three with your encoder and amplifier code */
+/* board specific: replace these three with your encoder and amplifier code (or define
+ * HC_SKETCH_IO and give them before including this file, as hapticad's test does) */
+#ifndef HC_SKETCH_IO
 static void read_encoders(long counts[HC_N_JOINTS]) {{ for (int i = 0; i < HC_N_JOINTS; ++i) counts[i] = 0; }}
 static void write_currents(const hc_real amps[HC_N_JOINTS]) {{ (void)amps; }}
 static void motors_off(void) {{ }}
+#endif
 
 void setup() {{ motors_off(); }}
 
@@ -144,10 +148,12 @@ void loop() {{
     next += SAMPLE_PERIOD_US;
     read_encoders(counts);
     hc_counts_to_angles(&enc, counts, q);
-    if (hc_forward(q, X) != HC_OK) {{ motors_off(); return; }}   /* outside the range: no force */
+    if (hc_forward(q, X) != HC_OK) {{ have_prev = 0; motors_off(); return; }}   /* outside the range: no force */
     hc_real s = WALL_NX * (X[0] - WALL_X0_M) + WALL_NY * (X[1] - WALL_Y0_M);
-    hc_real v = (s - s_prev) / (SAMPLE_PERIOD_US * 1e-6);
+    /* no velocity from a sample before power-up or a refused pose (no damping spike) */
+    hc_real v = have_prev ? (s - s_prev) / (SAMPLE_PERIOD_US * 1e-6) : 0;
     s_prev = s;
+    have_prev = 1;
     if (s > 0) {{
         hc_real f = -(WALL_K_N_PER_M * s + WALL_B_N_S_PER_M * v);
         if (f > 0) f = 0;                          /* a wall pushes, never pulls */

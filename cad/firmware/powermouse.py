@@ -216,8 +216,10 @@ def files(design, report: dict, design_hash: str, version: str) -> dict[str, str
             "m_maxLinearForce": f_max, "m_maxAngularTorque": t_max,
             "m_maxLinearStiffness": None, "m_maxLinearDamping": None,
             "m_workspaceRadius": design.motion.range_mm * 1e-3,
-            "m_sensedRotation": True, "m_actuatedRotation": True,
-            "notes": {"m_maxLinearForce": "continuous ampere-turns / max_i |row i of W^-1 (force "
+            "m_sensedPosition": False, "m_sensedRotation": False, "m_actuatedRotation": True,
+            "notes": {"m_sensedRotation": "false: the design models no position sensor (the map "
+                                          "renders wrenches; add the sensor's pose for a device)",
+                      "m_maxLinearForce": "continuous ampere-turns / max_i |row i of W^-1 (force "
                                           "columns)|: the force in every direction, no torque",
                       "m_maxLinearStiffness": "not stated: the design models no position sensor",
                       "m_workspaceRadius": "motion.range_mm"}}
