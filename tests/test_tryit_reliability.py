@@ -1,0 +1,55 @@
+"""Faults found by a third reliability trial (t3tester, after issue 22's fixes), each a test.
+
+Each test runs the real console entry point in a subprocess with a timeout, so a regression
+hangs there (a ``subprocess.TimeoutExpired`` failure), never in the suite.
+"""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+from cli_helpers import assert_one_line_error
+from test_file_guard import _device_folder
+
+ROOT = Path(__file__).resolve().parents[1]
+DESIGNS = ROOT / "designs"
+pytestmark = pytest.mark.skipif(not sys.platform.startswith("linux"), reason="FIFOs, /dev/zero")
+
+
+def _cli(args: list, cwd: Path, timeout: float = 60) -> subprocess.CompletedProcess:
+    """The console entry point (signals installed, as a user runs it) in a subprocess."""
+    return subprocess.run([sys.executable, "-m", "cad.cli.entry", *map(str, args)],
+                          capture_output=True, text=True, timeout=timeout, cwd=cwd,
+                          env={**os.environ, "PYTHONPATH": str(ROOT)})
+
+
+MJCF_WITH_MESH = """<mujoco>
+  <compiler angle="radian" meshdir="parts"/>
+  <asset><mesh name="coupler" file="coupler.stl" scale="0.001 0.001 0.001"/></asset>
+  <worldbody><body name="b"><geom type="mesh" mesh="coupler"/></body></worldbody>
+</mujoco>
+"""
+
+
+@pytest.mark.parametrize("hostile", ["fifo", "folder", "dangling"])
+def test_wall_build_dir_mesh_that_is_not_a_regular_file_is_refused(tmp_path, hostile):
+    """``wall --build-dir DIR --model mujoco`` where a mesh the MJCF names (``parts/*.stl``,
+    which mujoco opens itself) is a FIFO: mujoco's open() blocked forever in a thread and
+    SIGTERM did not end the process (measured: still blocked 11 min after ``timeout 120``).
+    Every file the MJCF names is checked like the MJCF itself: one line naming the mesh."""
+    folder = _device_folder(tmp_path)
+    (folder / "hoeken.xml").write_text(MJCF_WITH_MESH)
+    (folder / "parts").mkdir()
+    mesh = folder / "parts" / "coupler.stl"
+    if hostile == "fifo":
+        os.mkfifo(mesh)
+    elif hostile == "folder":
+        mesh.mkdir()
+    else:
+        mesh.symlink_to(tmp_path / "missing.stl")
+    r = _cli(["wall", DESIGNS / "hoeken.toml", "--build-dir", folder, "--model", "mujoco"], tmp_path)
+    assert_one_line_error(r.returncode, r.stderr, "MJCF:", str(mesh))
