@@ -84,3 +84,27 @@ def test_tolerance_interrupted_after_a_warning_ends_with_the_aborted_line(tmp_pa
     assert "hapticad: warning: [targets]" in r.stderr  # the warning is still said ...
     assert lines[-1] == "hapticad: aborted", r.stderr  # ... before the last line
     assert "Traceback" not in r.stderr
+
+
+EARLY_INTERRUPT = r"""
+import sys
+class Interrupt:  # Ctrl-C while entry.py imports cad.io.signals (Python's handler still on)
+    def find_spec(self, name, path=None, target=None):
+        if name == "cad.io.signals":
+            raise KeyboardInterrupt
+sys.meta_path.insert(0, Interrupt())
+sys.argv = ["hapticad", "analyze", {design!r}]
+from cad.cli.entry import main
+main()
+"""
+
+
+def test_ctrl_c_before_the_handlers_are_installed_is_the_abort(tmp_path):
+    """The signal fuzz of ``swap`` (seed 22, run 33: SIGINT 0.107 s after the start, on the
+    loaded machine): the interrupt landed while entry.py imported ``cad.io.signals`` (Python's
+    default handler still active): a KeyboardInterrupt traceback and death by SIGINT (-2)."""
+    prog = EARLY_INTERRUPT.format(design=str(DESIGNS / "hoeken.toml"))
+    r = subprocess.run([sys.executable, "-c", prog], capture_output=True, text=True, timeout=60,
+                       cwd=tmp_path, env={**os.environ, "PYTHONPATH": str(ROOT)})
+    lines = [ln for ln in r.stderr.splitlines() if ln.strip()]
+    assert (r.returncode, lines) == (130, ["hapticad: aborted"]), r.stderr
