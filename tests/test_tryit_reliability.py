@@ -108,3 +108,15 @@ def test_ctrl_c_before_the_handlers_are_installed_is_the_abort(tmp_path):
                        cwd=tmp_path, env={**os.environ, "PYTHONPATH": str(ROOT)})
     lines = [ln for ln in r.stderr.splitlines() if ln.strip()]
     assert (r.returncode, lines) == (130, ["hapticad: aborted"]), r.stderr
+
+
+@pytest.mark.parametrize("value", ["abc", "true"])
+def test_sweep_varied_number_that_is_not_a_number_is_refused_at_load(tmp_path, value):
+    """``sweep --vary parts.bar_thickness_mm=abc``: ``-5`` is refused at load (its bound),
+    but a word ran a Dask cluster and wrote a table of one ``error`` row, exit 0. A key
+    with a numeric bound takes numbers only: refused at load, nothing written."""
+    out = tmp_path / "sw"
+    r = _cli(["sweep", DESIGNS / "hoeken.toml", "--vary", f"parts.bar_thickness_mm={value}",
+              "--workers", "1", "--out", out], tmp_path, timeout=300)
+    assert_one_line_error(r.returncode, r.stderr, "--vary parts.bar_thickness_mm: must be a number")
+    assert not out.exists()
