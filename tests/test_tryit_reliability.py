@@ -120,3 +120,19 @@ def test_sweep_varied_number_that_is_not_a_number_is_refused_at_load(tmp_path, v
               "--workers", "1", "--out", out], tmp_path, timeout=300)
     assert_one_line_error(r.returncode, r.stderr, "--vary parts.bar_thickness_mm: must be a number")
     assert not out.exists()
+
+
+@pytest.mark.parametrize(("command", "folder"), [
+    (["swap", DESIGNS / "hoeken.toml", "--to", "roberts"], False),
+    (["tolerance", DESIGNS / "hoeken.toml", "--hole-mm", "0.05", "--samples", "100"], True),
+    (["build", DESIGNS / "hoeken.toml", "--fidelity", "preview", "--formats", "step"], True),
+], ids=["swap", "tolerance", "build"])
+@pytest.mark.parametrize("shape", ["path-too-long", "name-too-long"])
+def test_out_path_too_long_names_the_flag(tmp_path, command, folder, shape):
+    """``--out`` longer than the system allows (6000 characters, or one 300-character name):
+    the line was the bare ``hapticad: error: [Errno 36] File name too long: '...'`` naming no
+    flag. Now ``--out:`` first, at load."""
+    name = "d/" * 3000 + "x" if shape == "path-too-long" else "n" * 300
+    out = tmp_path / (name if folder else name + ".toml")
+    r = _cli([*command, "--out", out], tmp_path)
+    assert_one_line_error(r.returncode, r.stderr, "--out:", "too long")
