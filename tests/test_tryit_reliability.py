@@ -136,3 +136,42 @@ def test_out_path_too_long_names_the_flag(tmp_path, command, folder, shape):
     out = tmp_path / (name if folder else name + ".toml")
     r = _cli([*command, "--out", out], tmp_path)
     assert_one_line_error(r.returncode, r.stderr, "--out:", "too long")
+
+
+#: A sparse file far larger than anything hapticad writes: hashing it reads 200 GiB of zeros
+#: (measured: 54 GB read in the first 120 s, so ~8 min; a sparse 1 TiB file costs nothing to
+#: make and ~40 min to hash).
+HUGE_SPARSE_BYTES = 200 << 30
+
+VERIFY = r"""
+import json, os, sys
+from pathlib import Path
+out = Path(sys.argv[1])
+(out / "parts").mkdir(parents=True)
+with open(out / "parts" / "x.step", "wb") as f:
+    f.truncate({n})
+(out / "manifest.json").write_text(json.dumps({{"files": [
+    {{"path": "parts/x.step", "sha256": "0" * 64, "bytes": {n}}}]}}))
+{call}
+print("returned")
+"""
+
+
+@pytest.mark.xfail(strict=True, reason="verify_manifest (build --out) and the sweep's roll_forward "
+                   "hash every listed file whole, with no size bound: a manifest listing a "
+                   "200 GiB sparse file with its size keeps build / sweep reading for minutes "
+                   "before any output or refusal (a bound on the largest file hapticad writes "
+                   "is needed; not chosen here without a measured largest output)")
+@pytest.mark.parametrize("reader", ["build-verify", "sweep-roll-forward"])
+def test_a_manifest_listing_a_huge_file_is_refused_without_reading_it(tmp_path, reader):
+    if reader == "build-verify":
+        call = "from cad.export.manifest import verify_manifest\nverify_manifest(out)"
+    else:
+        call = ("import hashlib\nfrom cad.sweep import table\nos.rename(out / 'parts' / 'x.step', "
+                "out / 'results.csv')\n(out / 'manifest.json').write_text(json.dumps({'files': "
+                "[{'path': 'results.csv', 'sha256': '0' * 64, 'bytes': %d}], 'pending': "
+                "{'results.csv': '1' * 64}}))\ntable.roll_forward(out)" % HUGE_SPARSE_BYTES)
+    prog = VERIFY.format(n=HUGE_SPARSE_BYTES, call=call)
+    r = subprocess.run([sys.executable, "-c", prog, str(tmp_path / "o")], capture_output=True,
+                       text=True, timeout=20, env={**os.environ, "PYTHONPATH": str(ROOT)})
+    assert r.stdout.strip() == "returned", r.stderr
