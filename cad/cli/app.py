@@ -195,9 +195,12 @@ def _run_app(argv: list[str] | None) -> int:
 
 
 def _aborted() -> int:
-    """``hapticad: aborted`` on stderr; the exit code 128 + signal (130 for Ctrl-C)."""
+    """``hapticad: aborted`` on stderr, the last line: the warnings recorded so far are printed
+    before it (not after, by :func:`run`); the exit code 128 + signal (130 for Ctrl-C)."""
+    from cad.design import bounds
     from cad.io import signals
 
+    bounds.flush()
     print("hapticad: aborted", file=sys.stderr, flush=True)
     return signals.exit_code()
 

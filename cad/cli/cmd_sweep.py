@@ -44,8 +44,9 @@ def register(app: typer.Typer) -> None:
         for v in varies:  # every value of a varied key within its bounds (cad/design/bounds.py)
             if v.key in FIELDS:
                 for x in v.grid():
-                    if isinstance(x, (int, float)) and not isinstance(x, bool):
-                        check_number(f"--vary {v.key}", x, FIELDS[v.key])
+                    if not isinstance(x, (int, float)) or isinstance(x, bool):
+                        raise DesignError(f"--vary {v.key}", f"must be a number, got {x!r}")
+                    check_number(f"--vary {v.key}", x, FIELDS[v.key])
         flags.number("--seed", seed)
         keys = [v.key for v in varies]
         if len(set(keys)) != len(keys):

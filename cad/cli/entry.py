@@ -14,9 +14,13 @@ import sys
 # of 4 ms (measured on the 2-core machine). An explicit user setting wins.
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
-from cad.io import signals  # noqa: E402 - after the BLAS setting
+try:  # Python's own SIGINT handler until install(): a Ctrl-C in this import is the abort too
+    from cad.io import signals  # noqa: E402 - after the BLAS setting
 
-signals.install()
+    signals.install()
+except KeyboardInterrupt:
+    print("hapticad: aborted", file=sys.stderr, flush=True)
+    os._exit(130)
 
 
 def main() -> None:

@@ -50,12 +50,16 @@ def out_path(flag: str, path: Path | None, *, folder: bool) -> Path | None:
     p = Path(path)
     if str(p) == "" or any(c in str(p) for c in "\0"):
         raise DesignError(flag, f"not a usable path: {str(p)!r}")
-    bad = _first_non_folder_ancestor(p)
+    try:  # a path or name longer than the system allows (ENAMETOOLONG), a folder not searchable
+        bad = _first_non_folder_ancestor(p)
+        exists, is_dir = p.exists(), p.is_dir()
+    except OSError as exc:
+        raise DesignError(flag, f"cannot write {p}: {exc.strerror}") from None
     if bad is not None:
         raise DesignError(flag, f"cannot write {p}: {bad} is not a folder")
-    if folder and p.exists() and not p.is_dir():
+    if folder and exists and not is_dir:
         raise DesignError(flag, f"{p} is a file, not a folder")
-    if not folder and p.is_dir():
+    if not folder and is_dir:
         raise DesignError(flag, f"{p} is a folder; give a file name (e.g. {p / 'new.toml'})")
     return p
 

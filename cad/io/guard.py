@@ -224,3 +224,31 @@ def check_step(path: str | os.PathLike, field: str) -> None:
         raise FileRefused(field, Path(path), f"is not valid STEP for hapticad (an entity id of "
                           f"{len(m.group(1))} digits, the limit is {STEP_ENTITY_ID_MAX_DIGITS}; "
                           "cad/tolerances.py STEP_ENTITY_ID_MAX_DIGITS)")
+
+
+#: MJCF elements whose ``file`` is resolved against a ``<compiler>`` folder attribute (mujoco's
+#: rules: ``meshdir`` / ``texturedir``, else ``assetdir``, else the model's own folder).
+_MJCF_DIRS = {"mesh": "meshdir", "skin": "meshdir", "texture": "texturedir", "hfield": "texturedir"}
+
+
+def check_mjcf(path: str | os.PathLike, field: str) -> None:
+    """Refuse an MJCF model unless it and every file it names (meshes, textures, includes:
+    mujoco opens them itself, and blocked forever on a mesh that is a FIFO) are regular files
+    within their limits (``mjcf`` for the model, ``stl`` for what it names). XML that does not
+    parse names no file: it is left to mujoco's loader, which reports it before opening any."""
+    import xml.etree.ElementTree as ET
+
+    p = Path(path)
+    text = read_text(p, "mjcf", field)
+    try:
+        root = ET.fromstring(text)
+    except ET.ParseError:
+        return
+    comp = {k: v for c in root.iter("compiler") for k, v in c.attrib.items()}
+    for el in root.iter():
+        name = el.get("file")
+        if name is None:
+            continue
+        sub = comp.get(_MJCF_DIRS.get(el.tag, ""), comp.get("assetdir", "")) if el.tag in _MJCF_DIRS else ""
+        target = Path(name) if os.path.isabs(name) else p.parent / sub / name
+        check_file(target, "stl", field)

@@ -249,7 +249,7 @@ class MujocoWall:
         from cad.errors import FileDamaged
         from cad.io import guard
 
-        guard.check_file(mjcf_path, "mjcf", "MJCF")
+        guard.check_mjcf(mjcf_path, "MJCF")
         try:
             self.m, self.d = self.mj.load(mjcf_path)
             self.q = self.mj.joint_qpos(self.m, "crank")
