@@ -61,6 +61,11 @@ READ_MAX_BYTES = {
     "cache": 256 << 20,
     # a sweep's results.parquet (cad/sweep): ~200 bytes per row; 1 GiB is ~5 million rows
     "parquet": 1 << 30,
+    # a file listed in an output folder's manifest, hashed to check it is ours: the largest
+    # file hapticad writes is a sweep's results.csv (about twice its Parquet table, which is
+    # read up to 1 GiB); a fabrication assembly.step is < 5 MB. 4 GiB leaves 2x on the CSV and
+    # keeps a hostile manifest (a 200 GiB sparse file listed with its size) from being read.
+    "output": 4 << 30,
     # a chart hapticad wrote (optimize --out: checked it is ours before it is replaced): ~100 KB
     "chart": 64 << 20,
     # a small marker file hapticad writes (the owner of a temporary folder: host and pid)

@@ -9,7 +9,6 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
-
 from cli_helpers import assert_one_line_error, hapticad
 
 ROOT = Path(__file__).resolve().parents[1]

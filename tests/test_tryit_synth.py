@@ -12,7 +12,6 @@ import json
 from pathlib import Path
 
 import pytest
-
 from cli_helpers import assert_one_line_error, hapticad
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -252,3 +252,19 @@ def check_mjcf(path: str | os.PathLike, field: str) -> None:
         sub = comp.get(_MJCF_DIRS.get(el.tag, ""), comp.get("assetdir", "")) if el.tag in _MJCF_DIRS else ""
         target = Path(name) if os.path.isabs(name) else p.parent / sub / name
         check_file(target, "stl", field)
+
+
+def sha256_of_output(path: str | os.PathLike) -> str | None:
+    """sha256 (hex) of a regular file an output folder's manifest lists, or None when it is
+    over ``READ_MAX_BYTES["output"]`` (larger than any file hapticad writes: never read).
+    The size is taken from the open descriptor, so a file swapped in cannot be read past it."""
+    import hashlib
+
+    limit = limit_bytes("output")
+    h = hashlib.sha256()
+    with open(path, "rb") as fh:
+        if os.fstat(fh.fileno()).st_size > limit:
+            return None
+        for chunk in iter(lambda: fh.read(1 << 20), b""):
+            h.update(chunk)
+    return h.hexdigest()

@@ -21,25 +21,14 @@ the command says so.
 
 from __future__ import annotations
 
-import hashlib
 import json
 import os
-import stat
 from pathlib import Path
 from typing import Any
 
 from cad.errors import DesignError, FileRefused
 
 MANIFEST_NAME = "manifest.json"
-
-
-def _regular(path: Path) -> bool:
-    """True when ``path`` itself (not a link's target) is a regular file: a FIFO, socket or
-    device is never opened (opening a FIFO for reading waits for a writer for ever)."""
-    try:
-        return stat.S_ISREG(os.lstat(path).st_mode)
-    except OSError:
-        return False
 
 
 def _manifest_doc(folder: Path, field: str = "--out") -> Any:
@@ -69,14 +58,6 @@ def _listed(folder: Path, field: str = "--out") -> dict[str, dict]:
         return {}
 
 
-def _sha256(path: Path) -> str:
-    h = hashlib.sha256()
-    with open(path, "rb") as fh:
-        for chunk in iter(lambda: fh.read(1 << 20), b""):
-            h.update(chunk)
-    return h.hexdigest()
-
-
 def _changed(p: Path, row: dict) -> str | None:
     """Why the file ``p`` differs from its manifest ``row``, or None. A FIFO or device is never
     opened (it would block or never end); the size is compared before the file is hashed."""
@@ -88,12 +69,17 @@ def _changed(p: Path, row: dict) -> str | None:
         return f"{what}, not a regular file"
     if isinstance(row.get("bytes"), int) and row["bytes"] != st.st_size:
         return "changed since hapticad wrote it"
-    return "changed since hapticad wrote it" if _sha256(p) != row["sha256"] else None
+    digest = guard.sha256_of_output(p)
+    if digest is None:
+        return f"{st.st_size} bytes, larger than any file hapticad writes (not read)"
+    return "changed since hapticad wrote it" if digest != row["sha256"] else None
 
 
 def foreign_entry(folder: Path) -> tuple[str, str] | None:
     """The first entry of ``folder`` hapticad did not write, as ``(relative path, why)``,
     or None when the folder is absent or owned (module docstring)."""
+    from cad.io import guard
+
     folder = Path(folder)
     if not os.path.lexists(folder):
         return None
@@ -111,8 +97,9 @@ def foreign_entry(folder: Path) -> tuple[str, str] | None:
             p = Path(root, name)
             if p.is_symlink():
                 return rel, "a symbolic link"
-            if not _regular(p):
-                return rel, "not a regular file: a FIFO, socket or device is never read"
+            what = guard.not_regular(os.lstat(p).st_mode)
+            if what is not None:  # never opened: a FIFO waits for a writer for ever
+                return rel, f"{what}, not a regular file"
             if rel == MANIFEST_NAME and listed:
                 continue
             if rel not in listed:
@@ -244,8 +231,10 @@ def record_shared_files(folder: Path, names: list[str]) -> None:
         rows = {str(r["path"]): r for r in doc["files"]}
     except (KeyError, TypeError, AttributeError):
         doc, rows = {}, {}
+    from cad.io.guard import sha256_of_output
+
     for name in names:
         p = folder / name
-        rows[name] = {"path": name, "sha256": _sha256(p), "bytes": p.stat().st_size}
+        rows[name] = {"path": name, "sha256": sha256_of_output(p), "bytes": p.stat().st_size}
     doc["files"] = [rows[k] for k in sorted(rows)]
     write_text_atomic(folder / MANIFEST_NAME, json.dumps(doc, indent=2, sort_keys=True) + "\n")

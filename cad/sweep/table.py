@@ -141,7 +141,7 @@ def _manifest(out: Path) -> dict[str, Any] | None:
 def roll_forward(out: Path) -> bool:
     """Complete step 4 of an interrupted :func:`publish` when every file of ours has its
     listed or its pending sha256; True when the manifest was rewritten."""
-    from cad.export.manifest import sha256_file
+    from cad.io.guard import sha256_of_output
 
     doc = _manifest(out)
     pending = doc.get("pending") if doc else None
@@ -153,7 +153,8 @@ def roll_forward(out: Path) -> bool:
         if os.path.lexists(p):
             if _regular(p) is None:
                 return False
-            if sha256_file(p) not in (listed.get(name), pending.get(name)):
+            digest = sha256_of_output(p)  # None: larger than any file we write
+            if digest is None or digest not in (listed.get(name), pending.get(name)):
                 return False  # changed by someone else: check_out_dir names it
     _write_manifest(out)
     return True
