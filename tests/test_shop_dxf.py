@@ -78,3 +78,27 @@ def test_dxf_cuts_the_reamed_bore_undersize_and_notes_the_seat_and_thread(tmp_pa
             "layer MILL_Z3.50_6.00") in text
     assert "M4 x1: cut at the tap drill 3.3; tap M4, full thread 6 deep" in text
     assert "ISO 2306" in text and "reaming" in text  # the sources of both allowances
+
+
+def test_dowel_pin_designs_build_their_dxf_profiles(tmp_path):
+    """designs/hoeken_light.toml (dowel-4 pins) with the default formats: a pressed dowel's
+    hole is no thread (it was parsed as one: 'could not convert string to float: owel', so
+    the bundled light and paper designs did not build). Its DXF profiles read back with ezdxf
+    carry no tap note for the dowel and the reamed pin bores stay 0.1 mm undersize (4 mm row)."""
+    import ezdxf
+    from cli_helpers import hapticad
+
+    from cad.assembly.fits import shop_holes
+
+    assert [h.finish for h in shop_holes((), [("dowel-4", 8.0), ("M3-0.5", None)])] == ["tap"]
+    root = __import__("pathlib").Path(__file__).resolve().parents[1]
+    code, _, err = hapticad("build", root / "designs" / "hoeken_light.toml", "--fidelity", "preview",
+                            "--formats", "dxf", "--out", tmp_path / "o")
+    assert code == 0, err
+    for name in ("crank", "coupler"):
+        msp = ezdxf.readfile(tmp_path / "o" / "parts" / f"{name}.dxf").modelspace()
+        notes = [e.dxf.text for e in msp.query("TEXT MTEXT")]
+        assert "pin bore x1: cut at 3.9 (0.1 mm stock); ream to 4 H7" in notes
+        assert not [t for t in notes if "tap" in t and "tap M" not in t and "tap drill" not in t]
+        radii = {round(c.dxf.radius, 6) for c in msp.query("CIRCLE")}
+        assert (4.0 - 0.1) / 2 in radii and 2.0 not in radii  # the 4 H7 bore cut 0.1 mm under

@@ -10,6 +10,7 @@ limits of each class are those of ISO 286-2's tables. Pure data: no CAD import.
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass
 
 #: Class of each feature (bore, or shaft where lower case), with the fit it makes:
@@ -155,7 +156,10 @@ def shop_holes(fits: tuple[str, ...], threads=()) -> tuple[ShopHole, ...]:
         out.append(ShopHole(how, d, cut, f"{fmt_mm(d)} {cls}", label))
     seen = set()
     for size, depth in threads:
-        key = (size.split("-")[0], round(depth, 6))
+        base = size.split("-")[0]
+        if not re.fullmatch(r"M\d+(\.\d+)?", base):  # a pressed dowel's hole is no thread
+            continue
+        key = (base, None if depth is None else round(depth, 6))
         if key in seen:
             continue
         seen.add(key)
