@@ -260,6 +260,7 @@ BAD_FLAGS: dict[tuple[str, str], list[str]] = {
     ("build", "--formats"): ["iges", ""],
     ("build", "--fidelity"): ["ultra"],
     ("build", "--phi1-deg"): ["1e9", "nan"],
+    ("build", "--prices"): ["/nonexistent/prices.csv", H, FOLDER],
     ("swap", "--to"): ["watt"],
     ("swap", "--out"): ["/dev/null/x", FOLDER],
     ("check", "--target"): ["H11_kg_m2=297", "bogus=1", "H11_kg_m2=nan", "H11_kg_m2"],

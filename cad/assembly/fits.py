@@ -94,10 +94,20 @@ def ream_allowance_mm(d_mm: float) -> float:
     raise AssertionError("unreachable: the last row has no upper bound")
 
 
-def parse_fit(text: str) -> tuple[str, float, str]:
-    """``"bearing seat 16 J7"`` -> ``("bearing seat", 16.0, "J7")`` (the inverse of :func:`fit`)."""
-    *label, d, cls = text.split()
-    return " ".join(label), float(d), cls
+_ISO_FIT = re.compile(r"(.*\S) (\d+(?:\.\d+)?) ([A-Za-z]{1,2}\d{1,2})")
+
+
+def parse_fit(text: str) -> tuple[str, float, str] | None:
+    """``"bearing seat 16 J7"`` -> ``("bearing seat", 16.0, "J7")`` (the inverse of :func:`fit`);
+    None for a text that states no ISO 286 fit (a printed part's "slip fit, not H7")."""
+    m = _ISO_FIT.fullmatch(text)
+    return None if m is None else (m[1], float(m[2]), m[3])
+
+
+def metric_thread(size: str) -> str | None:
+    """``"M4-0.7"`` -> ``"M4"``; None for a hole record that is no thread (a pressed dowel's)."""
+    base = size.split("-")[0]
+    return base if re.fullmatch(r"M\d+(?:\.\d+)?", base) else None
 
 
 def finish(label: str, cls: str) -> str:
@@ -148,7 +158,10 @@ def shop_holes(fits: tuple[str, ...], threads=()) -> tuple[ShopHole, ...]:
 
     out = []
     for text in fits:
-        label, d, cls = parse_fit(text)
+        parsed = parse_fit(text)
+        if parsed is None:  # no ISO fit: nothing for the shop to finish
+            continue
+        label, d, cls = parsed
         how = finish(label, cls)
         if how == "shaft":
             continue
@@ -156,8 +169,8 @@ def shop_holes(fits: tuple[str, ...], threads=()) -> tuple[ShopHole, ...]:
         out.append(ShopHole(how, d, cut, f"{fmt_mm(d)} {cls}", label))
     seen = set()
     for size, depth in threads:
-        base = size.split("-")[0]
-        if not re.fullmatch(r"M\d+(\.\d+)?", base):  # a pressed dowel's hole is no thread
+        base = metric_thread(size)
+        if base is None:  # a pressed dowel's hole is no thread
             continue
         key = (base, None if depth is None else round(depth, 6))
         if key in seen:

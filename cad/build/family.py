@@ -341,19 +341,28 @@ def write_report_md(out_dir: Path, title: str, rows: list[tuple[str, str]], bom,
     return "report.md"
 
 
-def write_assembly_md(out_dir: Path, title: str, instances, plan=None, checks=()) -> str:
+#: Title of the last assembly step: BOM lines with no solid in the model (the encoder).
+NO_SOLID_STEP = "fit the bought parts that have no modelled solid"
+
+
+def write_assembly_md(out_dir: Path, title: str, instances, plan=None, checks=(),
+                      no_solid_rows=()) -> str:
     """``assembly.md``: the assembly steps of :func:`cad.assembly.steps.assembly_steps`
     (``plan``: optional stages, ``checks``: the final checks), each part instance named
-    with its kind and BOM description; fasteners by their BOM designation."""
-    from cad.assembly.steps import assembly_md, assembly_steps
+    with its kind and BOM description; fasteners by their BOM designation. ``no_solid_rows``:
+    BOM rows with no part instance (the encoder), placed in a last step of their own."""
+    from cad.assembly.steps import Step, assembly_md, assembly_steps
     from cad.export.order import bought_designation
     from cad.io.atomic import write_text_atomic
 
     def designation(kind) -> str:
         return bought_designation(kind)[1] if not kind.made else kind.description or kind.name
 
-    by_name = {i.name: i for i in instances}
+    by = {i.name: (i.kind.name, i.kind.description) for i in instances}
     steps = assembly_steps(instances, designation, plan, checks)
-    text = assembly_md(title, steps, lambda n: (by_name[n].kind.name, by_name[n].kind.description))
+    if no_solid_rows:
+        by |= {r["part"]: (r["part"], r["description"]) for r in no_solid_rows}
+        steps.append(Step(NO_SOLID_STEP, [r["part"] for r in no_solid_rows]))
+    text = assembly_md(title, steps, by.__getitem__)
     write_text_atomic(Path(out_dir) / "assembly.md", text)
     return "assembly.md"

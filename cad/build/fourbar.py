@@ -541,10 +541,11 @@ def build(
         from cad.build import family
         from cad.export import write_bom
 
-        bom = family.bom_rows(asm.instances, props) + [encoder_bom_row(design)]
+        encoder = encoder_bom_row(design)
+        bom = family.bom_rows(asm.instances, props) + [encoder]
         write_bom(bom, out_dir)
         family.write_assembly_md(out_dir, f"{design.name} ({design.family})", asm.instances,
-                                 checks=ASSEMBLY_CHECKS)
+                                 checks=ASSEMBLY_CHECKS, no_solid_rows=[encoder])
 
         # 6 exports and preview (wait for the children)
         _step(progress, "exports", 4, n_steps)

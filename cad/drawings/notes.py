@@ -5,7 +5,7 @@ Pure functions on :class:`cad.drawings.features.Cylinder` records and the part's
 
 from __future__ import annotations
 
-from cad.assembly.fits import fmt_mm, parse_fit
+from cad.assembly.fits import fmt_mm, metric_thread, parse_fit
 
 #: General tolerance for untoleranced dimensions when the design states none.
 GENERAL_TOLERANCE = "ISO 2768-m"
@@ -33,12 +33,15 @@ def callout(c, fits: tuple[str, ...], threads=(), extent_mm: float | None = None
     deep = "thru" if thru else f"{fmt_mm(length)} deep"
     if c.internal:
         for size, depth in threads:
-            key = size.split("-")[0]
-            if abs(tap_drill_mm(key) - c.d_mm) < MATCH_MM:
+            key = metric_thread(size)
+            if key is not None and abs(tap_drill_mm(key) - c.d_mm) < MATCH_MM:
                 thread = f", thread {fmt_mm(depth)} deep" if depth is not None else ""
                 return f"{key} tap drill Ø{fmt_mm(c.d_mm)}{thread}, drill {deep}"
     for text in fits:
-        label, d, cls = parse_fit(text)
+        parsed = parse_fit(text)
+        if parsed is None:  # a printed part's stated hole: no ISO fit to print
+            continue
+        label, d, cls = parsed
         if abs(d - c.d_mm) < MATCH_MM and cls[:1].isupper() == c.internal:
             return f"Ø{fmt_mm(d)} {cls} ({label}), {deep if c.internal else fmt_mm(length) + ' long'}"
     return f"Ø{fmt_mm(c.d_mm)}, {deep if c.internal else fmt_mm(length) + ' long'}"
