@@ -94,6 +94,16 @@ def test_c_matches_numpy_at_every_pose(request, tmp_path, fam, use_float):
         assert res["max_err_X"] <= 1e-9 and res["max_err_tau"] <= 1e-9 and res["max_err_fd"] <= 1e-7
 
 
+def _run_c(fw: Path, tmp_path: Path, source: str) -> list[float]:
+    """Compile ``source`` (C99) against the generated ``hapticad_device.c`` in ``fw``, run it,
+    and return the numbers it prints."""
+    (tmp_path / "m.c").write_text(source)
+    subprocess.run([_cc(), "-std=c99", f"-I{fw}", "-o", str(tmp_path / "m"), str(tmp_path / "m.c"),
+                    str(fw / "hapticad_device.c"), "-lm"], check=True, timeout=60)
+    return list(map(float, subprocess.run([str(tmp_path / "m")], capture_output=True, text=True,
+                                          check=True).stdout.split()))
+
+
 def test_fourbar_refuses_angles_outside_the_crank_range(request):
     d, out, _ = _build(request, "hoeken")
     doc = json.loads((out / "firmware" / "test_vectors.json").read_text())
@@ -305,15 +315,11 @@ def test_powermouse_gravity_saturation_and_max_force(request, tmp_path):
     direction gets within the continuous ampere-turns (checked on 20000 directions)."""
     _, out, rep = _powermouse(request)
     fw = out / "firmware"
-    (tmp_path / "m.c").write_text(
+    v = _run_c(fw, tmp_path,
         '#include <stdio.h>\n#include "hapticad_device.h"\nint main(void){hc_real g[6],w[6]='
         '{0,0,1e4,0,0,0},n[6];int i,s;hc_gravity_wrench(g);for(i=0;i<6;++i)printf("%.17g ",g[i]);'
         's=hc_ampere_turns_from_wrench(w,HC_LIMIT_CONTINUOUS,n);printf("%d ",s);'
         'for(i=0;i<6;++i)printf("%.17g ",n[i]);printf("\\n");return 0;}\n')
-    subprocess.run([_cc(), "-std=c99", f"-I{fw}", "-o", str(tmp_path / "m"), str(tmp_path / "m.c"),
-                    str(fw / "hapticad_device.c"), "-lm"], check=True, timeout=60)
-    v = list(map(float, subprocess.run([str(tmp_path / "m")], capture_output=True, text=True,
-                                       check=True).stdout.split()))
     m = rep["flotor"]["mass_kg"]
     r = np.array(rep["flotor"]["com_mm"]) * 1e-3
     F = np.array([0.0, 0.0, m * 9.80665])
@@ -354,15 +360,11 @@ def test_mass_matrix_at_home_equals_the_builds_effective_mass(request, tmp_path,
     effective_mass_home (cad.build.pantograph, the build's own mass model of the solids)."""
     _, out, rep = _build(request, fam)
     fw = out / "firmware"
-    (tmp_path / "m.c").write_text(
+    M = np.array(_run_c(fw, tmp_path,
         '#include <stdio.h>\n#include "hapticad_device.h"\nint main(void){hc_encoder_t e='
         'HC_ENCODER_DEFAULT;long c[HC_N_JOINTS]={0};hc_real q[HC_N_JOINTS],M[HC_N_TASK*HC_N_TASK];'
         'int i;hc_counts_to_angles(&e,c,q);if(hc_mass_matrix(q,M))return 1;'
-        'for(i=0;i<HC_N_TASK*HC_N_TASK;++i)printf("%.17g ",M[i]);return 0;}\n')
-    subprocess.run([_cc(), "-std=c99", f"-I{fw}", "-o", str(tmp_path / "m"), str(tmp_path / "m.c"),
-                    str(fw / "hapticad_device.c"), "-lm"], check=True, timeout=60)
-    M = np.array(list(map(float, subprocess.run([str(tmp_path / "m")], capture_output=True,
-                                                text=True, check=True).stdout.split())))
+        'for(i=0;i<HC_N_TASK*HC_N_TASK;++i)printf("%.17g ",M[i]);return 0;}\n'))
     eff = rep["effective_mass_home"]
     if fam == "pantograph":
         np.testing.assert_allclose(M.reshape(2, 2) * 1e3, eff["mass_matrix_g"], rtol=1e-9)
