@@ -8,7 +8,7 @@ and inertias in kg m^2 as the dict keys say; frames as in the README's Conventio
 >>> round(cad.analyze(d)["stroke_mm"], 2)
 48.87
 
-The build function is ``build_design`` (``cad.build`` is the build subpackage).
+The build function is ``build_design`` (``cad.pipeline`` is the build subpackage).
 
 Importing :mod:`cad` stays light: CAD libraries load on the first call that needs them
 (:func:`build_design`, :func:`check`, :func:`mass_properties` of a STEP file).
@@ -56,11 +56,11 @@ def build_design(design, out_dir: str | Path, formats=("step", "stl", "dxf"),
     """Build the parts, the posed assembly and the exports into ``out_dir``; the report dict.
 
     ``formats``: any of the ``hapticad build --formats`` names. ``options``: the keyword
-    options of :func:`cad.build.build_design` (``allow_interference``, ``phi1_deg``,
+    options of :func:`cad.pipeline.build_design` (``allow_interference``, ``phi1_deg``,
     ``use_cache`` ...). Raises a :class:`cad.errors.HapticadError` subclass on bad input, a
     collision or a failed CAD operation; ``out_dir`` is then left as it was.
     """
-    from cad.build import build_design as _build
+    from cad.pipeline import build_design as _build
 
     return _build(design, Path(out_dir), set(formats), fidelity=fidelity, **options)
 
@@ -110,7 +110,7 @@ def check(design, targets: tuple[str, ...] | list[str] = (), fidelity: str = "in
                 "checked": "default limits (no [targets]): cad/datasheet/limits.py"}
     wanted = {t.key for t in merged}
     if four_bar:
-        from cad.build.inertia import target_values
+        from cad.pipeline.inertia import target_values
 
         build_keys = {"min_clearance_mm", "first_mode_Hz", "max_stress_MPa",
                       "compliance_x_um_per_N", "compliance_z_um_per_N"}
@@ -124,7 +124,7 @@ def check(design, targets: tuple[str, ...] | list[str] = (), fidelity: str = "in
                 if r["value"] is not None and r["key"] in DATASHEET_TARGETS:
                     values.setdefault(r["key"], r["value"])
     else:
-        from cad.build.inertia import pantograph_target_values
+        from cad.pipeline.inertia import pantograph_target_values
 
         values, report = pantograph_target_values(design, fidelity, wanted)
     rows = evaluate(merged, values)

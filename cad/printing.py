@@ -27,7 +27,7 @@ PROCESSES = ("machined", "printed", "laser")
 
 @dataclass(frozen=True)
 class Filament:
-    """A printable material: key of :data:`cad.materials.MATERIALS`, printed XY tensile
+    """A printable material: key of :data:`cad.data.materials.MATERIALS`, printed XY tensile
     modulus (GPa) with its source, and ``machinable``: sold as plate/rod stock a shop can
     machine (ABS), or a filament only (PLA, PETG: a machined design in it is printed)."""
 

@@ -1,5 +1,5 @@
 """Catalog numbers read straight from bd_warehouse's CSV files, as an independent reference
-for the tests (not through :mod:`cad.parts.catalog`)."""
+for the tests (not through :mod:`cad.data.catalog`)."""
 
 from __future__ import annotations
 

@@ -31,8 +31,8 @@ def family_builds(tmp_path_factory):
     poses), every format."""
     from pathlib import Path
 
-    from cad.build import build_design
     from cad.design import load_design
+    from cad.pipeline import build_design
 
     root = Path(__file__).resolve().parents[1]
     out = {}
@@ -52,8 +52,8 @@ def hoeken_sim_build(tmp_path_factory):
     import json
     from pathlib import Path
 
-    from cad.build import build_design
     from cad.design import load_design
+    from cad.pipeline import build_design
 
     out = tmp_path_factory.mktemp("hoeken_sim")
     d = load_design(Path(__file__).resolve().parents[1] / "designs" / "hoeken.toml")

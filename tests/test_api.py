@@ -61,9 +61,9 @@ def test_api_check_and_mass_properties(tmp_path):
 
 
 def test_build_design_stays_callable_after_subpackage_imports():
-    """`cad.build` is the subpackage; the API function is `cad.build_design` and no later
+    """`cad.pipeline` is the subpackage; the API function is `cad.build_design` and no later
     import can shadow it."""
-    import cad.build.inertia  # noqa: F401  (binds the subpackage as cad.build)
+    import cad.pipeline.inertia  # noqa: F401  (binds the subpackage as cad.pipeline)
 
     assert callable(cad.build_design) and callable(cad.check)
     assert cad.build_design.__module__ == "cad.api"

@@ -39,7 +39,7 @@ _BUILT: dict[str, tuple[dict, Path]] = {}
 
 
 def _build(key: str, design, tmp_root: Path, fidelity: str = "preview", allow=False):
-    from cad.build import build_design
+    from cad.pipeline import build_design
 
     if key not in _BUILT:
         out = tmp_root / key
@@ -132,9 +132,9 @@ def test_stroke24_case_is_refused_before_cad_naming_joint_parts_and_fix(tmp_root
     The build refuses in the layer planning, before the CAD import, naming the joint, both
     parts, the overlap and the smallest stroke that clears; nothing is exported. The stroke
     it names is then built and read back: zero overlap."""
+    from cad.data import catalog
     from cad.design import load_design, parse_design
     from cad.errors import DesignError
-    from cad.parts import catalog
 
     d = load_design(CASES / "hoeken_stroke24.toml")
     with monkeypatch.context() as m:
@@ -230,8 +230,8 @@ def test_bom_and_report_state_fits_tapped_holes_and_the_set_screw(tmp_root):
 def test_dxf_mill_layer_holds_only_the_seat_and_notes_state_the_fits(tmp_root):
     import ezdxf
 
+    from cad.data import catalog
     from cad.design import load_design
-    from cad.parts import catalog
 
     d = load_design(ROOT / "designs" / "hoeken.toml")
     rep, out = _build("hoeken", d, tmp_root)
@@ -250,17 +250,17 @@ def test_dxf_mill_layer_holds_only_the_seat_and_notes_state_the_fits(tmp_root):
 def test_every_pair_check_property_over_random_four_bars(tmp_path, monkeypatch):
     """Random valid four-bars (family, stroke 20-120 mm, layer order or the planner's choice,
     hardware): each is either refused by the layer planning before the CAD import (the same
-    one-line error from :func:`cad.build.fourbar.check_layout` and from the build), or
+    one-line error from :func:`cad.families.fourbar.build.check_layout` and from the build), or
     builds and its assembly.step, read back from disk, has no two solids sharing volume.
     Seeded, few examples: a build costs seconds."""
     from hypothesis import HealthCheck, given, seed, settings
     from hypothesis import strategies as st
 
     import cad.parts.lazy_import as li
-    from cad.build import build_design
-    from cad.build.fourbar import check_layout
     from cad.design import parse_design
     from cad.errors import DesignError
+    from cad.families.fourbar.build import check_layout
+    from cad.pipeline import build_design
 
     hardware = st.sampled_from(
         [
@@ -329,8 +329,8 @@ def test_four_bar_cap_screws_engage_their_holes_in_the_step_file(name, tmp_root,
     in the coupler) and the hole depth, the hole deeper than its tip."""
     from step_pairs import read_parts, thread_in_part_mm
 
+    from cad.data import catalog
     from cad.design import load_design
-    from cad.parts import catalog
 
     rep, out = _build(name, load_design(ROOT / "designs" / f"{name}.toml"), tmp_root)
     parts = dict(read_parts(out / "assembly.step"))
@@ -361,8 +361,8 @@ def test_a4_pin_record_is_what_the_post_holds_in_the_step_file(name, tmp_root):
     hole. The hole is deeper than the tip."""
     from step_pairs import _box, read_parts, thread_in_part_mm, thread_length_mm
 
+    from cad.data import catalog
     from cad.design import load_design
-    from cad.parts import catalog
 
     d = load_design(ROOT / "designs" / f"{name}.toml")
     rep, out = _build(name, d, tmp_root)
@@ -407,8 +407,8 @@ def test_a2_a3_nut_records_are_the_thread_inside_the_nut_in_the_step_file(name, 
     the thinner relief: ``thread_length_mm``; a plain pin: all of it) overlap, to 0.01 mm."""
     from step_pairs import _box, _classifier, read_parts, thread_length_mm
 
+    from cad.data import catalog
     from cad.design import load_design
-    from cad.parts import catalog
 
     d = load_design(ROOT / "designs" / f"{name}.toml")
     rep, out = _build(name, d, tmp_root)

@@ -23,8 +23,8 @@ _BULLET = re.compile(r"^- `([^`]+)` \(([^)]+)\): ")
 @pytest.fixture(scope="module")
 def builds(family_builds, tmp_path_factory):
     """``{family: out_dir}``: the shared family builds and the bundled Hoeken (inertia)."""
-    from cad.build import build_design
     from cad.design import load_design
+    from cad.pipeline import build_design
 
     out = tmp_path_factory.mktemp("steps") / "hoeken"
     build_design(load_design(ROOT / "designs" / "hoeken.toml"), out, {"dxf"},
@@ -59,7 +59,7 @@ def test_steps_place_every_bom_instance_exactly_once(builds, fam):
     assert "[assembly.md](assembly.md)" in (out / "report.md").read_text()
     # every instance of report.json's part list that has a BOM line is placed; the BOM lines
     # with no solid (the four-bars' encoder) in the last step of their own
-    from cad.build.family import NO_SOLID_STEP
+    from cad.pipeline.family import NO_SOLID_STEP
 
     no_solid = {n for t, new, _ in _steps(out) if t.endswith(NO_SOLID_STEP) for n, _ in new}
     assert set(names) - no_solid <= set(rep["part_materials"])

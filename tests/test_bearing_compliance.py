@@ -135,7 +135,7 @@ def _hertz_ball_deflection_mm(Q_N: float, Dw: float, dm: float, f: float = 0.52)
 def test_palmgren_against_hertz_contact(size):
     """Palmgren's coefficient against Hertz's contact of the same ball set (bd_warehouse's
     model, pitch diameter (D1 + d1) / 2): within 5 % (measured: Hertz +2.5 .. +2.6 %)."""
-    from cad.parts import catalog
+    from cad.data import catalog
 
     Z, dw = bearings.ball_set(size)
     b = catalog.get_bearing(size)

@@ -41,8 +41,8 @@ def run_cli(*args, cwd=None):
 @pytest.fixture(scope="module")
 def built(tmp_path_factory):
     """The four bundled designs built in-process (inertia fidelity, DXF only: fast)."""
-    from cad.build import build_design
     from cad.design import load_design
+    from cad.pipeline import build_design
 
     root = tmp_path_factory.mktemp("builds")
     out = {}
@@ -117,7 +117,7 @@ def test_masses_add_up_and_H_follows_eqs_16_to_19(built):
 
 
 def test_bearing_masses_are_catalog_masses(built):
-    from cad.parts import catalog
+    from cad.data import catalog
 
     _, rep, _ = built["hoeken"]
     b = catalog.get_bearing("M8-16-4")
@@ -127,12 +127,12 @@ def test_bearing_masses_are_catalog_masses(built):
 def test_dxf_cut_layer_and_milled_seats_give_the_part_volume(built):
     """CUT area x t minus the milled seat rings minus the reaming stock left in the pin bores
     (cut at 8 - 0.2 mm: the 5-20 mm row of the reaming-allowance table,
-    cad.assembly.fits.REAM_ALLOWANCE_SOURCE) = the part's volume (from its mass)."""
+    cad.data.fits.REAM_ALLOWANCE_SOURCE) = the part's volume (from its mass)."""
     import ezdxf
 
+    from cad.data import catalog
+    from cad.data.materials import get_material
     from cad.export.dxf import dxf_profile_area_mm2
-    from cad.materials import get_material
-    from cad.parts import catalog
 
     d, rep, out = built["hoeken"]
     p = d.parts
@@ -195,7 +195,7 @@ def test_unchanged_rebuild_is_cached_without_cad_imports(tmp_path):
     out = tmp_path / "hoeken"
     code = (
         "import sys, json; from pathlib import Path; from cad.design import load_design;"
-        "from cad.build import build_design;"
+        "from cad.pipeline import build_design;"
         f"r = build_design(load_design({str(ROOT / 'designs' / 'hoeken.toml')!r}), Path({str(out)!r}), {{'dxf'}},"
         " fidelity='inertia');"
         "print(json.dumps({'cached': r['cached'], 'cad': sorted(m for m in ('OCP', 'build123d', 'cadquery')"
@@ -208,8 +208,8 @@ def test_unchanged_rebuild_is_cached_without_cad_imports(tmp_path):
 
 
 def test_a_changed_part_parameter_invalidates_the_cache(built, tmp_path):
-    from cad.build import build_key
     from cad.design import load_design
+    from cad.pipeline import build_key
 
     d = load_design(ROOT / "designs" / "hoeken.toml")
     src = (

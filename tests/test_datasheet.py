@@ -71,7 +71,7 @@ ANGLES = np.radians([140.0, 174.0, 210.0])
 def test_continuous_force_closed_form_at_three_angles():
     """F = T_cont / |dx/dphi1| at 3 crank angles of the bundled Hoeken (RE 35 30 V: nominal
     torque 97.2 mN m, data sheet value of the catalog), and the row's minimum over the stroke."""
-    from cad.datasheet import fourbar as dsf
+    from cad.families.fourbar import datasheet as dsf
     from cad.design import load_design
 
     d = load_design(ROOT / "designs" / "hoeken.toml")
@@ -85,7 +85,7 @@ def test_continuous_force_closed_form_at_three_angles():
 
 
 def test_resolution_is_two_pi_over_counts_times_lever(tmp_path):
-    from cad.datasheet import fourbar as dsf
+    from cad.families.fourbar import datasheet as dsf
     from cad.design import load_design
 
     p = tmp_path / "h.toml"
@@ -101,7 +101,7 @@ def test_resolution_is_two_pi_over_counts_times_lever(tmp_path):
 def test_friction_estimate_by_hand():
     """Motor Kt I0 (RE 35 30 V) + SKF M = 0.5 mu F d per joint bearing, joint loads by a 3x3
     statics solve, relative rotations by differences, all over |dx/dphi1| (virtual work)."""
-    from cad.datasheet import fourbar as dsf
+    from cad.families.fourbar import datasheet as dsf
     from cad.design import load_design
 
     d = load_design(ROOT / "designs" / "hoeken.toml")
@@ -129,8 +129,8 @@ def test_friction_estimate_by_hand():
 def test_pantograph_force_ellipse_against_hand_svd():
     """sigma(J^T S_J) at 2 workspace points, J by central differences of the 5-bar's inverse
     kinematics q(E) (q_dot = J x_dot), SVD by numpy."""
-    from cad.datasheet.pantograph import force_ellipses
     from cad.design import load_design
+    from cad.families.pantograph.datasheet import force_ellipses
     from cad.kinematics.fivebar import ik
 
     d = load_design(ROOT / "designs" / "pantograph.toml")

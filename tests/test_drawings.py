@@ -117,8 +117,8 @@ def _hits(rows, feat):
 def hoeken_drawings(tmp_path_factory):
     """The bundled Hoeken with STEP and drawings (inertia fidelity: the cheapest with every
     feature of the made parts)."""
-    from cad.build import build_design
     from cad.design import load_design
+    from cad.pipeline import build_design
 
     out = tmp_path_factory.mktemp("drawings") / "out"
     d = load_design(ROOT / "designs" / "hoeken.toml")
@@ -170,7 +170,7 @@ def test_hoeken_sheets_print_the_solids_holes_fits_and_threads(hoeken_drawings):
 
 
 def test_sheets_are_byte_identical_run_to_run(hoeken_drawings, tmp_path):
-    from cad.build import build_design
+    from cad.pipeline import build_design
 
     design, out = hoeken_drawings
     again = tmp_path / "again"

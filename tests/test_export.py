@@ -183,8 +183,8 @@ def test_bom_rows_and_columns(tmp_path):
 def test_a_failure_mid_build_leaves_the_output_untouched(tmp_path, monkeypatch):
     """The third STEP export fails: the output folder keeps its old content, no temp dirs."""
     import cad.export.step as step_mod
-    from cad.build import build_design
     from cad.design import load_design
+    from cad.pipeline import build_design
 
     out = tmp_path / "exports" / "hoeken"
     out.mkdir(parents=True)

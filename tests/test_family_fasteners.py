@@ -32,9 +32,9 @@ def _refused_before_cad(monkeypatch, tmp_path, design: str, table: str, also=Non
     import dataclasses
 
     import cad.parts.lazy_import as li
-    from cad.build import build_design
     from cad.design import load_design
     from cad.errors import DesignError
+    from cad.pipeline import build_design
 
     d = load_design(Path(__file__).resolve().parents[1] / "designs" / design)
     for t, ch in {table: changes, **(also or {})}.items():
@@ -48,7 +48,7 @@ def _refused_before_cad(monkeypatch, tmp_path, design: str, table: str, also=Non
 
 def _expected_counts(fam: str, d) -> dict[str, int]:
     """Screws per group, counted from the catalog and the design (not from the build)."""
-    from cad.parts import catalog
+    from cad.data import catalog
 
     if fam == "powermouse":
         # one per side wall, housing and flotor; the post's set screw; two turned tips
@@ -92,7 +92,7 @@ def _clamp_mm(fam: str, d, group: str, rep: dict) -> float:
 
 @pytest.mark.parametrize("fam", FAMILIES)
 def test_every_screw_has_fastener_data_within_its_hole(family_builds, fam):
-    from cad.parts import catalog
+    from cad.data import catalog
 
     d, out, rep = family_builds[fam]
     f, holes = rep["fasteners"], rep["tapped_holes"]
@@ -128,7 +128,7 @@ def test_every_screw_has_fastener_data_within_its_hole(family_builds, fam):
 def test_thread_engagement_measured_in_the_step_file(family_builds, fam):
     """Each screw read back from assembly.step sits in the part its record names, with the
     recorded engagement (to 0.01 mm: bisection to 0.005 mm) and a hole deeper than its tip."""
-    from cad.parts import catalog
+    from cad.data import catalog
 
     d, out, rep = family_builds[fam]
     parts = dict(read_parts(out / "assembly.step"))
@@ -218,7 +218,7 @@ def test_clevis_set_screw_record_against_the_catalog(family_builds, fam):
     proud of the clevis (3.5) is < 1.5 d = 3.75; M2 -> 3.928 mm, longest length 3.5 >= 3."""
     import math
 
-    from cad.parts import catalog
+    from cad.data import catalog
 
     d, _, rep = family_builds[fam]
     r_in = catalog.get_motor(d.parts.motor).shaft_diameter_mm / 2

@@ -4,7 +4,7 @@ and the DXF's ``NOTES`` layer (the four-bar's are in tests/test_assembly_clashes
 
 Read back from disk with second tools (the csv module, OCCT's STEP reader, ezdxf); every
 stated diameter is compared with an independent reference: the bearing's d and D read
-straight from bd_warehouse's CSV (not through ``cad.parts.catalog``), the motor's shaft and
+straight from bd_warehouse's CSV (not through ``cad.data.catalog``), the motor's shaft and
 pilot from the catalog entry the design names, the PowerMouse's post and handle diameters
 from the design; and each stated diameter must be a cylindrical face of the part's solid
 (``parts/<kind>.step``). Which kinds hold a bearing is derived from the assembly's
@@ -46,7 +46,7 @@ def _expected(fam: str, design) -> dict[str, set[tuple[str, float, str]]]:
             "pm_flotor_body": {("handle socket", stem, "H7")},
             "pm_handle": {("handle stem", stem, "g6")},
         }
-    from cad.parts.catalog import MOTORS
+    from cad.data.catalog import MOTORS
 
     d, D = _bd_bearing(design.parts.bearing)
     mot = MOTORS[design.parts.motor]
@@ -198,7 +198,7 @@ def test_dxf_notes_state_the_fits_and_mill_layers_hold_no_outline(family_builds,
 def _stock_area_mm2(msp, fits) -> float:
     """Area of the finishing stock a profile leaves in its reamed or bored holes: every CUT
     circle of a bore's diameter less the table allowance (mm^2)."""
-    from cad.assembly.fits import finish, parse_fit, ream_allowance_mm
+    from cad.data.fits import finish, parse_fit, ream_allowance_mm
 
     out = 0.0
     for f in fits:
@@ -219,9 +219,9 @@ def test_every_kind_holding_a_bearing_states_its_fit(family_builds, fam):
     at its outer diameter D holds the outer ring (a bearing seat); one at the bearing's bore
     d is the pin or journal in the inner ring or a bore holding that pin (the elbow clevis,
     the knob); every such kind states a fit of that diameter, the seats J7."""
-    from cad.build import pantograph as pg
-    from cad.build.family import world_tf
     from cad.export.shapes import placed
+    from cad.families.pantograph import build as pg
+    from cad.pipeline.family import world_tf
 
     design, out, _ = family_builds[fam]
     rows = _bom(out)
@@ -265,9 +265,9 @@ def test_write_outputs_puts_fits_in_the_bom_and_on_the_dxf_with_only_the_seat_mi
     import build123d as bd
     import ezdxf
 
-    from cad.assembly.fits import fit
-    from cad.build import family
+    from cad.data.fits import fit
     from cad.parts import PartInstance, PartKind
+    from cad.pipeline import family
 
     d, D = _bd_bearing("M4-9-2.5")
     plate = bd.Box(40, 20, 6, align=(bd.Align.CENTER, bd.Align.CENTER, bd.Align.MIN))

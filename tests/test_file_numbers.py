@@ -63,8 +63,8 @@ def test_reference_transfer_function_matches_published_values():
 @pytest.fixture(scope="module")
 def hoeken(tmp_path_factory):
     """The bundled Hoeken, preview fidelity, with STEP and the glb (and report.html)."""
-    from cad.build import build_design
     from cad.design import load_design
+    from cad.pipeline import build_design
 
     out = tmp_path_factory.mktemp("numbers") / "hoeken"
     d = load_design(ROOT / "designs" / "hoeken.toml")
@@ -83,7 +83,7 @@ def test_assembly_step_colours_are_the_table(hoeken):
     """Every COLOUR_RGB of assembly.step is a table colour of a material the assembly uses,
     and every such colour is written (aluminium 0.78, not its sRGB encoding 0.896); each
     part's STEP carries its material's colour."""
-    from cad.materials import MATERIALS
+    from cad.data.materials import MATERIALS
 
     out, rep = hoeken
     got = _step_colours(out / "assembly.step")
@@ -115,8 +115,8 @@ def _glb_colours(gl):
 
 
 def _check_linear_factors(gl, rep):
+    from cad.data.materials import MATERIALS
     from cad.export.gltf import BODY_COLORS
-    from cad.materials import MATERIALS
 
     made = {r["part"] for r in rep["bom"] if r["made_or_bought"] == "made"}
     parts = _glb_colours(gl)

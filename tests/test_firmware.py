@@ -63,7 +63,7 @@ def _run(fw: Path, tmp: Path, use_float: bool, extra: str = "") -> dict:
 @pytest.mark.parametrize("fam", (*FAMILIES, "powermouse"))
 def test_build_writes_firmware_that_names_design_hash_version_units(request, fam):
     import cad
-    from cad.build import design_hash
+    from cad.pipeline import design_hash
 
     d, out, rep = _build(request, fam)
     fw = out / "firmware"
@@ -138,7 +138,7 @@ def _potential_fourbar(d, rep, phi):
 
 
 def _potential_pantograph(d, rep, X):
-    from cad.build.pantograph import body_poses
+    from cad.families.pantograph.build import body_poses
 
     g = np.array([0.3, -1.0]) / math.hypot(0.3, 1.0) * 9.80665
     Xmm = np.array(X, dtype=float)
@@ -157,10 +157,10 @@ def test_gravity_torques_are_the_derivative_of_the_solids_potential(request, tmp
     (compiled run, 1e-9 N m), which equal dV/dq of the potential of the solids' masses and
     COMs placed by the build's own body transforms (central differences). Twin pantograph
     (redundant): Jq^T tau = dV/dX, the wrench the torques render."""
-    from cad.build import design_hash
     from cad.firmware import reference as ref
     from cad.firmware import write_firmware
     from cad.firmware.device import device_spec
+    from cad.pipeline import design_hash
 
     d, _, rep = _build(request, fam)
     dv = _vertical(d)
@@ -202,7 +202,7 @@ def test_gravity_torques_are_the_derivative_of_the_solids_potential(request, tmp
 
 def test_motor_currents_saturate_at_the_catalog_limits(request, tmp_path):
     """i = tau / Kt, scaled down together to the continuous / peak current of the catalog."""
-    from cad.parts.catalog import get_motor
+    from cad.data.catalog import get_motor
 
     _, out, rep = _build(request, "pantograph")
     m = get_motor(rep["motor"]["key"])
@@ -357,7 +357,7 @@ def test_generation_imports_no_cad_library(request):
 @pytest.mark.parametrize("fam", ("pantograph", "twin-pantograph"))
 def test_mass_matrix_at_home_equals_the_builds_effective_mass(request, tmp_path, fam):
     """hc_mass_matrix at the encoders' zero (the home pose) equals report.json's
-    effective_mass_home (cad.build.pantograph, the build's own mass model of the solids)."""
+    effective_mass_home (cad.families.pantograph.build, the build's own mass model of the solids)."""
     _, out, rep = _build(request, fam)
     fw = out / "firmware"
     M = np.array(_run_c(fw, tmp_path,

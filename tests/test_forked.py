@@ -1,4 +1,4 @@
-"""cad.build.forked: stages in forked children -- values and exceptions come back intact,
+"""cad.pipeline.forked: stages in forked children -- values and exceptions come back intact,
 failures and cancellations leave no process or half-published output behind, the serial
 fallback runs in the same order, and a forked build writes the same bytes as a serial one."""
 
@@ -13,8 +13,8 @@ from pathlib import Path
 
 import pytest
 
-from cad.build import forked
 from cad.errors import DesignError, GeometryError, InterferenceError, MeshError
+from cad.pipeline import forked
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -125,8 +125,8 @@ def _hashes(out: Path) -> dict:
 
 
 def test_forked_build_writes_the_same_bytes_as_a_serial_one(tmp_path, monkeypatch):
-    from cad.build import build_design
     from cad.design import load_design
+    from cad.pipeline import build_design
 
     d = load_design(ROOT / "designs" / "hoeken.toml")
     fmts = {"step", "stl", "dxf"}
@@ -144,8 +144,8 @@ def test_parent_failure_cancels_the_children_and_publishes_nothing(tmp_path, mon
     """An interference found while the export and preview children run: the error is the
     parent's, no child is left, the output folder is untouched and no temp dir remains."""
     import cad.assembly.interference as itf
-    from cad.build import build_design
     from cad.design import load_design
+    from cad.pipeline import build_design
 
     def collide(rep, clearance_min_mm):
         raise InterferenceError("simulated collision")

@@ -110,8 +110,8 @@ def test_hub_too_thin_for_a_set_screw_is_refused_before_cad(tmp_path, monkeypatc
     (The design file's own check refuses such a hub already for its hub screws; a spec made
     in code reaches the build.) Refused before any CAD import, nothing written."""
     import cad.parts.lazy_import as li
-    from cad.build import build_design
     from cad.errors import DesignError
+    from cad.pipeline import build_design
 
     monkeypatch.setattr(li, "import_build123d", lambda: pytest.fail("CAD imported"))
     with pytest.raises(DesignError) as e:

@@ -16,7 +16,7 @@ DESIGNS = Path(__file__).resolve().parents[1] / "designs"
 
 @pytest.fixture(scope="module")
 def hoeken_model():
-    from cad.build.inertia import inertia_model
+    from cad.pipeline.inertia import inertia_model
 
     d = load_design(DESIGNS / "hoeken.toml")
     return d, inertia_model(d)
@@ -73,9 +73,9 @@ def _shares(design):
     from cad.assembly.layers import choose_layers, footprint_bbox_mm
     from cad.assembly.mechanism import build_assembly
     from cad.assembly.pose import planar_transforms
-    from cad.build.fourbar import kind_mass_props, sweep_angles
-    from cad.build.inertia import PartShare
+    from cad.families.fourbar.build import kind_mass_props, sweep_angles
     from cad.kinematics.linkgeom import link_joints_mm
+    from cad.pipeline.inertia import PartShare
 
     fb = design.linkage
     J = link_joints_mm(fb)
@@ -98,7 +98,7 @@ def _shares(design):
 
 def test_check_exit_codes(tmp_path):
     """0 within tolerance, 1 when a target is missed, 2 on bad input."""
-    from cad.build.inertia import inertia_model
+    from cad.pipeline.inertia import inertia_model
 
     r = inertia_model(load_design(DESIGNS / "roberts.toml"))
     h11 = r["H11_kg_m2"]
@@ -136,7 +136,7 @@ def test_fit_meets_a_reachable_target(tmp_path):
     M11_max_g <= (value at 5.5 mm) -- 5 mm aluminium sheet, not 5.4xx -- and `check` passes."""
     import json
 
-    from cad.build.inertia import inertia_model
+    from cad.pipeline.inertia import inertia_model
 
     d = load_design(DESIGNS / "roberts.toml")
     raw = dict(d.raw)

@@ -7,9 +7,9 @@ import math
 
 import pytest
 
+from cad.data import catalog as cat
 from cad.design.parts import parse_parts
 from cad.errors import DesignError
-from cad.parts import catalog as cat
 
 # bd_warehouse din471.csv rows (shaft d1: thickness s, fitted outside d4) and SKT masses
 DIN471 = {3.0: (0.4, 7.0), 4.0: (0.4, 8.6), 5.0: (0.6, 10.2), 6.0: (0.7, 11.7), 8.0: (0.8, 14.7)}
@@ -64,8 +64,8 @@ def test_pin_material_is_a_design_key():
 @pytest.mark.parametrize("material", ["steel-1018", "aluminium-7075"])
 def test_pin_solid_mass_is_the_closed_form(material):
     """Pin cylinder (k + L + b) plus the ring annulus d..d4 x s, times the density."""
+    from cad.data.materials import get_material
     from cad.massprops.occt import solid_mass_props
-    from cad.materials import get_material
     from cad.parts.joints import shoulder_screw_shape
 
     size, L = "dowel-3", cat.get_shoulder_screw("dowel-3").lengths_mm[3]
@@ -90,9 +90,9 @@ def test_sleeve_part_mass_is_the_closed_form():
     """A sleeved design's parts: each joint gets a sleeve ds..d x B, mass of the annulus."""
     from pathlib import Path
 
-    from cad.build.inertia import inertia_model
+    from cad.data.materials import get_material
     from cad.design import parse_design
-    from cad.materials import get_material
+    from cad.pipeline.inertia import inertia_model
 
     raw = {"name": "sleeved", "mechanism": {"family": "hoeken", "stroke_mm": 50.0},
            "parts": {"bearing": "M5-11-3", "pin": "dowel-3", "pin_sleeve_material": "brass-360",

@@ -17,7 +17,7 @@ from build123d import Box, Cylinder, Pos, export_step, export_stl
 from typer.testing import CliRunner
 
 from cad.cli.app import _register_commands, app
-from cad.materials import MATERIALS
+from cad.data.materials import MATERIALS
 
 _register_commands()
 runner = CliRunner()

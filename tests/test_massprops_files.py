@@ -165,8 +165,8 @@ def test_hapticad_assembly_uses_per_solid_materials(tmp_path):
     # motor): a steel cylinder, closed form
     import math
 
-    from cad.materials import get_material
-    from cad.parts.catalog import get_motor
+    from cad.data.catalog import get_motor
+    from cad.data.materials import get_material
     from cad.parts.motor import SHAFT_ENVELOPE_GAP_MM
 
     assert res["solid_materials"]["motor_shaft"] == "steel-1018"

@@ -7,8 +7,8 @@ import sys
 
 import pytest
 
+from cad.data.materials import DEFAULT_MATERIAL, MATERIALS, Material, get_material
 from cad.errors import DesignError
-from cad.materials import DEFAULT_MATERIAL, MATERIALS, Material, get_material
 
 REQUIRED = (
     "aluminium-6061",
@@ -86,6 +86,6 @@ def test_unknown_material_names_field_and_lists_known():
 
 
 def test_materials_import_is_cad_free():
-    code = "import sys, cad.materials; print(any(m.split('.')[0] in ('OCP','build123d','cadquery') for m in sys.modules))"
+    code = "import sys, cad.data.materials; print(any(m.split('.')[0] in ('OCP','build123d','cadquery') for m in sys.modules))"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "False"

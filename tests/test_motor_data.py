@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import pytest
 
-from cad.parts.catalog import MOTOR_DATA_FIELDS, MOTORS, get_motor
+from cad.data.catalog import MOTOR_DATA_FIELDS, MOTORS, get_motor
 
 
 @pytest.mark.parametrize("key", sorted(MOTORS))

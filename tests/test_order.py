@@ -39,10 +39,10 @@ def _read(path: Path) -> list[dict]:
 def priced(tmp_path_factory):
     """The bundled Hoeken built (inertia fidelity, STEP parts) once with ``--prices`` and
     once with the same prices as a ``[prices]`` design table."""
-    from cad.build import build_design
     from cad.design import load_design, parse_design
     from cad.design.fields import load_toml
     from cad.export.order import load_prices
+    from cad.pipeline import build_design
 
     root = tmp_path_factory.mktemp("order")
     pfile = root / "prices.csv"

@@ -229,8 +229,8 @@ def test_powermouse_chart_is_the_same_bytes_every_time(tmp_path):
     """The Fig. 8 chart of the PowerMouse build: no date, no random SVG ids (read back as XML)."""
     import xml.etree.ElementTree as ET
 
-    from cad.build.powermouse import _fig8_chart
     from cad.design import load_design
+    from cad.families.powermouse.build import _fig8_chart
 
     d = load_design(ROOT / "designs" / "powermouse.toml")
     for sub in ("a", "b"):

@@ -93,7 +93,7 @@ def test_effective_mass_and_gii_reported(built):
 def test_interference_is_refused_before_anything_is_written(tmp_path):
     from pathlib import Path
 
-    from cad.build import build_design
+    from cad.pipeline import build_design
 
     root = Path(__file__).resolve().parents[1]
     raw = load_toml(root / DESIGN)

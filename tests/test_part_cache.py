@@ -18,7 +18,7 @@ def _kinds(raw):
     from cad.assembly.layers import choose_layers, footprint_bbox_mm
     from cad.assembly.mechanism import build_assembly
     from cad.assembly.pose import planar_transforms
-    from cad.build.fourbar import sweep_angles
+    from cad.families.fourbar.build import sweep_angles
     from cad.kinematics.linkgeom import link_joints_mm
     from cad.parts.lazy_import import import_build123d
 
@@ -48,9 +48,9 @@ def test_a_thickness_change_rebuilds_only_what_depends_on_it():
 
 
 def test_cached_values_equal_uncached(monkeypatch):
-    from cad.build.inertia import target_values
     from cad.massprops import occt
     from cad.parts import bars, part_cache
+    from cad.pipeline.inertia import target_values
 
     raw = apply(load_toml(HOEKEN), {"parts.bar_thickness_mm": 5.7})
     d = parse_design(raw, str(HOEKEN))

@@ -12,9 +12,9 @@ import math
 import numpy as np
 import pytest
 
+from cad.data import catalog
 from cad.design.parts import ALLOWED_KEYS, PartsSpec, parse_parts
 from cad.errors import DesignError
-from cad.parts import catalog
 
 T = 6.0
 

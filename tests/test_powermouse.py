@@ -129,9 +129,9 @@ def solids():
 
 
 def test_solids_volumes_and_masses(solids):
-    """Coil = stadium (2 w l + pi w^2) d_c; magnets w l t; mass = volume x density from cad.materials."""
+    """Coil = stadium (2 w l + pi w^2) d_c; magnets w l t; mass = volume x density from cad.data.materials."""
+    from cad.data.materials import get_material
     from cad.massprops.occt import solid_mass_props
-    from cad.materials import get_material
 
     d, g, fl, st = solids
     w, lm, t, dc = 8.0, 20.0, 4.0, 10.8 - 6.0
@@ -151,8 +151,8 @@ def _lid_screw_hole_fill(g, rho: float) -> list:
     per screw an ISO 273 clearance cylinder through the d_c lid and a tap drill
     ``LID_TAP_DRILL_DEPTH_MM`` deep below it (m = rho pi r^2 h; I = m r^2 / 2 along the axis,
     m (3 r^2 + h^2) / 12 across)."""
+    from cad.data import catalog
     from cad.massprops.props import MassProps
-    from cad.parts import catalog
     from cad.parts import powermouse as pp
 
     z0 = -(g.flotor_edge_mm / 2 - g.coil_width_mm)  # the split: ends of the side walls
@@ -286,7 +286,7 @@ def test_flotor_mass_and_peak_acceleration_pinned(family_builds):
     force is eq (8) at 36 W (F ~ sqrt(P): the 8 W force x sqrt(36/8)), doubled by the opposite
     coil pair (peak_force_N). The totals 234 g / 9.7 G are a regression pin (our own run)."""
     from cad.actuators import voicecoil as vc
-    from cad.materials import get_material
+    from cad.data.materials import get_material
     from cad.parts import powermouse as pp
 
     d, _, rep = family_builds["powermouse"]

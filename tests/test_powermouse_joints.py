@@ -122,8 +122,8 @@ def test_thin_handle_or_post_is_refused_before_cad(tmp_path, monkeypatch):
 
 @pytest.fixture(scope="module")
 def geo():
-    from cad.build.powermouse import _gap_mm
     from cad.design import load_design
+    from cad.families.powermouse.build import _gap_mm
     from cad.parts import powermouse as pp
 
     d = load_design(Path(__file__).resolve().parents[1] / "designs" / "powermouse.toml")
@@ -235,7 +235,7 @@ def test_powermouse_stands_on_its_legs(pm):
     from OCP.BRepGProp import BRepGProp
     from OCP.GProp import GProp_GProps
 
-    from cad.materials import get_material
+    from cad.data.materials import get_material
 
     d, rep, parts = pm
     low, m, mx = {}, 0.0, np.zeros(3)
@@ -266,8 +266,8 @@ def test_following_the_advice_of_a_refusal_gives_a_valid_geometry(geo):
     import dataclasses
     import re
 
-    from cad.build.powermouse import _gap_mm
     from cad.errors import DesignError
+    from cad.families.powermouse.build import _gap_mm
     from cad.parts import powermouse as pp
 
     d0, _ = geo

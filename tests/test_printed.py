@@ -149,8 +149,8 @@ def test_3mf_without_printed_parts_has_no_print_metadata():
 def printed_kinds(tmp_path_factory):
     """designs/hoeken_printed.toml with an aluminium hub (its radial set-screw hole makes every
     layer across it its own section: ~10 s of the layer model, left to the build)."""
-    from cad.build.inertia import inertia_assembly
     from cad.design import load_design
+    from cad.pipeline.inertia import inertia_assembly
 
     text = (ROOT / "designs" / "hoeken_printed.toml").read_text()
     p = tmp_path_factory.mktemp("printed") / "hoeken_printed.toml"
@@ -209,10 +209,10 @@ def test_hoeken_pla_case_warns_and_prints():
 def test_machined_default_unchanged():
     """The bundled aluminium Hoeken: the machined texts and ISO 286 fits of before, nothing
     printed, no print keys in parts_spec, and parts.3mf without print metadata."""
-    from cad.assembly.fits import fit
-    from cad.build.inertia import inertia_assembly
+    from cad.data.fits import fit
     from cad.design import load_design
     from cad.export.threemf import print_orientations
+    from cad.pipeline.inertia import inertia_assembly
 
     d = load_design(ROOT / "designs" / "hoeken.toml")
     asm = inertia_assembly(d, "preview")

@@ -124,7 +124,7 @@ def test_a_failed_shape_write_is_a_miss_said_once_and_stops_cache_writes(fresh, 
 def test_a_fault_in_a_forked_build_stage_stops_the_parent_writing_too(fresh, capfd):
     """The build stages run in forked children: the fault flag is shared with them (and back);
     the child says it on stderr itself (its warnings list dies with it)."""
-    from cad.build import forked
+    from cad.pipeline import forked
 
     def stage():
         cache_faults.write_failed("a derived entry", OSError(28, "No space left on device"))

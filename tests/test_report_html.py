@@ -29,8 +29,8 @@ ROOT = Path(__file__).resolve().parents[1]
 
 @pytest.fixture(scope="module")
 def hoeken(tmp_path_factory):
-    from cad.build import build_design
     from cad.design import load_design
+    from cad.pipeline import build_design
 
     out = tmp_path_factory.mktemp("viz") / "hoeken"
     d = load_design(ROOT / "designs" / "hoeken.toml")
@@ -43,7 +43,7 @@ def _listed_instances(d):
     from cad.assembly.layers import choose_layers, footprint_bbox_mm
     from cad.assembly.mechanism import build_assembly
     from cad.assembly.pose import planar_transforms
-    from cad.build.fourbar import sweep_angles
+    from cad.families.fourbar.build import sweep_angles
     from cad.kinematics.linkgeom import link_joints_mm
 
     fb, parts = d.linkage, d.parts
@@ -115,7 +115,7 @@ def test_3mf_reads_back_with_lib3mf(hoeken):
     import lib3mf
     import trimesh
 
-    from cad.materials import get_material
+    from cad.data.materials import get_material
 
     _, rep, out = hoeken
     model = lib3mf.get_wrapper().CreateModel()

@@ -2,7 +2,7 @@
 
 A bore finished by reaming is cut undersize by the stock of the reaming-allowance table
 (0-5 mm: 0.1, 5-20 mm: 0.2, 21-50 mm: 0.3, over 50 mm: 0.5 mm on the diameter, the low end
-of each row; source in cad.assembly.fits.REAM_ALLOWANCE_SOURCE) with the note "ream to 8
+of each row; source in cad.data.fits.REAM_ALLOWANCE_SOURCE) with the note "ream to 8
 H7"; a milled bearing seat carries its fit and depth; a tapped hole is cut at its tap drill
 d - P (M4: 4 - 0.7 = 3.3 mm, ISO 2306) with its thread note; the NOTES layer states units,
 material, thickness and quantity.
@@ -17,13 +17,13 @@ import pytest
 @pytest.mark.parametrize(("d_mm", "stock_mm"), [(3.0, 0.1), (5.0, 0.1), (8.0, 0.2),
                                                 (20.0, 0.2), (22.0, 0.3), (60.0, 0.5)])
 def test_reaming_allowance_is_the_table_row(d_mm, stock_mm):
-    from cad.assembly.fits import ream_allowance_mm
+    from cad.data.fits import ream_allowance_mm
 
     assert ream_allowance_mm(d_mm) == stock_mm
 
 
 def test_shop_holes_from_fits_and_threads():
-    from cad.assembly.fits import shop_holes
+    from cad.data.fits import shop_holes
 
     h = shop_holes(("bearing seat 16 J7", "pin bore 8 H7", "pin 8 m6", "pilot bore 22 H7"),
                    [("M4-0.7", 6.0), ("M4", 6.0)])
@@ -42,9 +42,9 @@ def test_dxf_cuts_the_reamed_bore_undersize_and_notes_the_seat_and_thread(tmp_pa
     import ezdxf
 
     from cad.assembly.fasteners import TappedHole
-    from cad.assembly.fits import fit
-    from cad.build import family
+    from cad.data.fits import fit
     from cad.parts import PartInstance, PartKind
+    from cad.pipeline import family
 
     a = (bd.Align.CENTER, bd.Align.CENTER, bd.Align.MIN)
     plate = bd.Box(80, 30, 6, align=a)
@@ -88,7 +88,7 @@ def test_dowel_pin_designs_build_their_dxf_profiles(tmp_path):
     import ezdxf
     from cli_helpers import hapticad
 
-    from cad.assembly.fits import shop_holes
+    from cad.data.fits import shop_holes
 
     assert [h.finish for h in shop_holes((), [("dowel-4", 8.0), ("M3-0.5", None)])] == ["tap"]
     root = __import__("pathlib").Path(__file__).resolve().parents[1]

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 from cli_helpers import assert_one_line_error, hapticad
 
-from cad.parts.catalog import get_motor
+from cad.data.catalog import get_motor
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -24,8 +24,8 @@ def hoeken(hoeken_sim_build):
 
 @pytest.fixture(scope="module")
 def mouse(tmp_path_factory):
-    from cad.build import build_design
     from cad.design import load_design
+    from cad.pipeline import build_design
 
     out = tmp_path_factory.mktemp("mouse_sim")
     d = load_design(ROOT / "designs" / "haptic_mouse.toml")

@@ -93,8 +93,8 @@ def test_handle_script_path_follows_the_new_file(tmp_path, monkeypatch):
 
 
 def test_swapped_design_builds_without_interference(tmp_path):
-    from cad.build import build_design
     from cad.design import load_design
+    from cad.pipeline import build_design
 
     r = swap(ROOT / "designs" / "hoeken.toml", "roberts", tmp_path / "r.toml")
     assert r.returncode == 0, r.stderr

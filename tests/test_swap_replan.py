@@ -2,7 +2,7 @@
 build accepts or is refused by ``swap`` itself (exit 2, one line, nothing written).
 
 Reference for "the build accepts": the file ``swap`` wrote, read back from disk and
-loaded, passes the build's pre-CAD layout check (:func:`cad.build.fourbar.check_layout`,
+loaded, passes the build's pre-CAD layout check (:func:`cad.families.fourbar.build.check_layout`,
 the same gate ``build`` runs first: no clear layer order -> exit 2 before any CAD); one
 product whose copied ``parts.layer_order`` had to be dropped is built at ``preview``
 fidelity and its ``assembly.step`` read back with an every-pair check
@@ -39,10 +39,10 @@ def _cases():
 
 @pytest.mark.parametrize(("src", "family"), _cases())
 def test_swap_product_passes_the_build_gate_or_swap_refuses(src, family, tmp_path):
-    from cad.build.fourbar import check_layout
     from cad.cli.cmd_swap import swap_raw
     from cad.design import load_design, parse_design
     from cad.errors import DesignError
+    from cad.families.fourbar.build import check_layout
 
     out = tmp_path / "new.toml"
     code, _, err = hapticad("swap", ROOT / "designs" / f"{src}.toml", "--to", family,
@@ -76,8 +76,8 @@ def test_dropped_layer_order_product_builds_with_no_overlap(tmp_path):
     two solids sharing volume, read back from disk."""
     from step_pairs import clashes
 
-    from cad.build import build_design
     from cad.design import load_design
+    from cad.pipeline import build_design
 
     out = tmp_path / "hl_roberts.toml"
     code, _, err = hapticad("swap", ROOT / "designs" / "hoeken_light.toml", "--to", "roberts",

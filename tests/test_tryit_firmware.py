@@ -38,9 +38,9 @@ def test_encoder_zero_given_with_another_turn_reads_the_power_up_pose(request, t
     cc = shutil.which("cc") or shutil.which("gcc")
     if not cc:
         pytest.skip("no C compiler (cc/gcc) on PATH")
-    from cad.build import design_hash
     from cad.firmware import firmware_files
     from cad.kinematics import fourbar as k4
+    from cad.pipeline import design_hash
 
     d, _, rep, _ = request.getfixturevalue("hoeken_sim_build")
     d2 = dataclasses.replace(d, firmware=dataclasses.replace(d.firmware, encoder_zero_deg=(-186.0,)))

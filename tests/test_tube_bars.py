@@ -19,9 +19,9 @@ import numpy as np
 import pytest
 from step_pairs import clashes
 
+from cad.data.materials import get_material
 from cad.design.parts import parse_parts
 from cad.errors import DesignError
-from cad.materials import get_material
 
 ROOT = Path(__file__).resolve().parents[1]
 TUBE = {"bar_style": "tube", "bar_thickness_mm": 8.0, "tube_od_mm": 6.0, "tube_id_mm": 4.0}
@@ -178,8 +178,8 @@ def test_optimizer_searches_stock_tubes_when_the_brief_asks(tmp_path):
 
     from cad.api import load_design
     from cad.codesign import cheap, search
+    from cad.data import catalog as cat
     from cad.kinematics.linkgeom import link_joints_mm
-    from cad.parts import catalog as cat
 
     p = tmp_path / "brief.toml"
     p.write_text(DESIGN.replace("force_N = 5.0", "force_N = 1.5").replace("stroke_mm = 110.0", "stroke_mm = 150.0")

@@ -61,9 +61,9 @@ def test_build123d_script_volume_is_the_closed_form(tmp_path):
 def test_both_dialects_go_through_the_build(tmp_path, dialect, monkeypatch):
     """Build a Hoeken with the user handle: its mass is volume x density and sits in the coupler."""
     monkeypatch.setenv("HAPTICAD_ALLOW_SCRIPTS", "1")  # the user's opt-in (README "Design scripts")
-    from cad.build import build_design
+    from cad.data.materials import get_material
     from cad.design import load_design
-    from cad.materials import get_material
+    from cad.pipeline import build_design
 
     if dialect == "cadquery":
         design = ROOT / "designs" / "hoeken_cq_handle.toml"

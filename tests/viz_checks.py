@@ -70,8 +70,8 @@ def check_family_glb(out: Path, design_path: Path) -> None:
         # assembly(): at the home pose both must place every body the same way
         from scipy.spatial.transform import Rotation
 
-        from cad.build.pantograph import body_poses
         from cad.design import load_design
+        from cad.families.pantograph.build import body_poses
 
         dd = load_design(design_path)
         home = np.asarray(d["workspace"].get("home_mm", d["workspace"]["center_mm"]), float)

@@ -25,8 +25,8 @@ from __future__ import annotations
 
 from dataclasses import asdict, dataclass
 
+from cad.data import catalog
 from cad.errors import DesignError
-from cad.parts import catalog
 
 #: Minimum thread engagement in a tapped aluminium hole, in thread diameters.
 MIN_ENGAGEMENT_ALU_D = 1.5

@@ -38,9 +38,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from cad.data import catalog
 from cad.design.parts import LINK_NAMES, PartsSpec
 from cad.errors import DesignError
-from cad.parts import catalog
 from cad.parts.motor import SET_SCREW
 
 #: Tap lead-out below a hole's full thread (mm); see :mod:`cad.assembly.fasteners`.

@@ -38,7 +38,6 @@ from cad.assembly.fasteners import (
     shoulder_screw_hole,
     size_cap_screw,
 )
-from cad.assembly.fits import fit
 from cad.assembly.layers import (
     HUB_SCREWS,
     POST_THREAD_EXTRA_MM,
@@ -48,10 +47,11 @@ from cad.assembly.layers import (
     post_bore_depth_mm,
     spacer_od_mm,
 )
+from cad.data import catalog as cat
+from cad.data.fits import fit
 from cad.design.parts import PartsSpec
 from cad.errors import DesignError
 from cad.parts import PartInstance, PartKind, flip_x, translation
-from cad.parts import catalog as cat
 
 #: Smallest engagement of the handle screw in the coupler plate, in thread diameters: the
 #: knob carries hand loads only (a few N), so a plate thinner than 1.5 d is tapped through

@@ -39,8 +39,8 @@ def posed_shapes(
     instances, tf_world_body: dict[str, np.ndarray], i: int = 0, listed_only: bool = True
 ):
     """``[(instance name, placed TopoDS_Shape, rgb)]`` of the assembly at pose ``i``."""
+    from cad.data.materials import get_material
     from cad.export.shapes import placed
-    from cad.materials import get_material
 
     out = []
     for inst in instances:

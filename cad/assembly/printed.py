@@ -13,7 +13,7 @@ from dataclasses import replace
 
 def printed_kind(kind, parts):
     """``kind`` as printed: ``mass_kg`` (wall/infill model), ``print_flip``, ``process``."""
-    from cad.materials import get_material
+    from cad.data.materials import get_material
     from cad.parts.printed import print_flip, printed_mass_kg
     from cad.printing import printed_process
 

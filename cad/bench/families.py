@@ -64,8 +64,8 @@ def motion_check(repeats: int) -> dict:
 
     from cad.actuators import powermouse as pm
     from cad.assembly import static
-    from cad.build import powermouse as B
     from cad.design import load_design
+    from cad.families.powermouse import build as B
     from cad.parts import powermouse as pp
     from cad.parts import voicecoil as pv
     from cad.parts.lazy_import import import_build123d

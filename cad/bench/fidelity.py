@@ -20,7 +20,7 @@ FIDELITIES = ("fabrication", "inertia", "preview")
 
 
 def _build(design, fidelity: str, formats: set[str]) -> tuple[float, dict]:
-    from cad.build import build_design
+    from cad.pipeline import build_design
 
     with tempfile.TemporaryDirectory() as tmp:
         t = time.perf_counter()

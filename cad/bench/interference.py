@@ -287,7 +287,7 @@ def _real_assembly(n_poses: int, repeats: int, n_ref: int) -> dict:
     clearance violation the sweep did not report."""
     from cad.assembly import interference as itf
     from cad.assembly.pose import body_transforms
-    from cad.build.fourbar import _joint_axes
+    from cad.families.fourbar.build import _joint_axes
 
     d, J, asm = _hoeken()
     clearance = d.parts.clearance_min_mm

@@ -21,9 +21,9 @@ import numpy as np
 
 
 def _device():
+    from cad.data.catalog import get_motor
     from cad.design import load_design
     from cad.dynamics.inertia import InertiaCoefficients
-    from cad.parts.catalog import get_motor
     from cad.sim import wall
     from cad.sim.device import device_build, read_device_report
 

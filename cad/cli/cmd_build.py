@@ -132,11 +132,11 @@ def register(app: typer.Typer) -> None:
         from cad.parts.handle import set_script_policy
 
         set_script_policy(allow_scripts, allow_scripts_anywhere)
-        from cad.build import FIDELITIES, build_design
         from cad.cli import flags
         from cad.design import load_design
         from cad.errors import DesignError
         from cad.export import parse_formats
+        from cad.pipeline import FIDELITIES, build_design
 
         t0 = time.perf_counter()
         fmts = parse_formats(formats)

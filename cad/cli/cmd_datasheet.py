@@ -28,12 +28,12 @@ def register(app: typer.Typer) -> None:
         ),
     ) -> None:
         """The device datasheet: force, resolution, friction, masses, structure, stiffness; verdicts."""
-        from cad.build import FIDELITIES
         from cad.cli import flags
         from cad.cli.cmd_build import datasheet_table, datasheet_warnings
         from cad.datasheet.run import device_datasheet
         from cad.design import load_design
         from cad.parts.handle import set_script_policy
+        from cad.pipeline import FIDELITIES
 
         set_script_policy(allow_scripts, False)
         flags.choice("--fidelity", fidelity, FIDELITIES)

@@ -30,7 +30,6 @@ def register(app: typer.Typer) -> None:
         from cad.parts.handle import set_script_policy
 
         set_script_policy(allow_scripts, allow_scripts_anywhere)
-        from cad.build.inertia import pantograph_target_values, target_values
         from cad.checks import evaluate, merge_targets
         from cad.cli import flags
         from cad.cli.cmd_gii import PANTOGRAPH_FAMILIES
@@ -43,6 +42,7 @@ def register(app: typer.Typer) -> None:
         from cad.fit import fit, parse_free, parse_free_pantograph
         from cad.io.atomic import write_text_atomic
         from cad.io.outdir import check_out_file
+        from cad.pipeline.inertia import pantograph_target_values, target_values
 
         flags.choice("--fidelity", fidelity, ("inertia", "fabrication"))
         flags.out_path("--out", out, folder=False)

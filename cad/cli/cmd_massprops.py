@@ -19,8 +19,8 @@ from pathlib import Path
 import typer
 
 from cad.cli.app import print_json
+from cad.data.materials import DEFAULT_MATERIAL, get_material
 from cad.errors import DesignError, GeometryError, HapticadError
-from cad.materials import DEFAULT_MATERIAL, get_material
 
 
 def _resolve_density(density: str | None, material: str | None) -> tuple[float, str | None, bool]:
@@ -117,12 +117,12 @@ def file_materials(path: Path, names: list[str]) -> tuple[dict[str, str] | None,
 
 def _step_props_isolated(path: Path, rho: float, mat_name: str | None, defaulted: bool):
     """:func:`_step_props` after :func:`cad.io.guard.check_step` (size, parenthesis nesting),
-    run in a forked child (:mod:`cad.build.forked`) so that a crash of OCCT's STEP reader on
+    run in a forked child (:mod:`cad.pipeline.forked`) so that a crash of OCCT's STEP reader on
     a hostile file is one error line naming the file, not a segmentation fault of the command.
     The child's warnings are recorded again here."""
-    from cad.build import forked
     from cad.design import bounds
     from cad.io import guard
+    from cad.pipeline import forked
 
     guard.check_step(path, "FILE")
 
@@ -174,7 +174,7 @@ def _step_props(path: Path, rho: float, mat_name: str | None, defaulted: bool):
     materials, source = (file_materials(path, sorted(set(names)))
                          if all(n is not None for n in names) else (None, ""))
     if materials is not None and defaulted:
-        from cad.materials import get_material
+        from cad.data.materials import get_material
 
         parts = [occt._to_si(*i, get_material(materials[n]).density_kg_m3)
                  for n, i in zip(names, integrals, strict=True)]

@@ -24,12 +24,12 @@ def render_designs(paths: list[Path], out: Path, fidelity: str | None = None) ->
     """Build each design and copy its pictures to ``out``; returns one dict per design."""
     import importlib
 
-    from cad.build import FIDELITIES, build_design, builder_module_name
     from cad.cli import flags
     from cad.design import load_design
     from cad.errors import DesignError
     from cad.io.atomic import write_bytes_atomic
     from cad.io.outdir import check_shared_files, record_shared_files
+    from cad.pipeline import FIDELITIES, build_design, builder_module_name
 
     designs = []
     for p in paths:
@@ -83,9 +83,9 @@ def register(app: typer.Typer) -> None:
         json_out: bool = typer.Option(False, "--json", help="Print the written files as JSON."),
     ) -> None:
         """Shaded picture and stroke GIF of each design, from its build."""
-        from cad.build import FIDELITIES
         from cad.cli import flags
         from cad.cli.app import print_json
+        from cad.pipeline import FIDELITIES
 
         flags.choice("--fidelity", fidelity, FIDELITIES)
         flags.out_path("--out", out, folder=True)

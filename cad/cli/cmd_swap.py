@@ -63,17 +63,17 @@ def swap_raw(design, family: str, out_path: Path) -> dict:
 
 def replan(raw: dict, target: Path, family: str):
     """Parse the swapped ``raw`` and run the build's pre-CAD layout check on it
-    (:func:`cad.build.fourbar.check_layout`, at the design's ``[parts]`` fidelity), so a
+    (:func:`cad.families.fourbar.build.check_layout`, at the design's ``[parts]`` fidelity), so a
     swap never writes a design ``build`` refuses. A ``parts.layer_order`` copied from the
     source that is not clear for the new bar set is dropped from ``raw`` (a warning on
     stderr names it) and the planner chooses; when no layer order is clear the build's
     one-line DesignError (naming the joint, both parts and the stroke that clears) is
     raised: the CLI exits 2 and writes nothing, with no unit-slip hint about the stroke swap
     computed (:func:`cad.design.bounds.computed`)."""
-    from cad.build.fourbar import check_layout
     from cad.design import parse_design
     from cad.design.bounds import computed, warn
     from cad.errors import DesignError
+    from cad.families.fourbar.build import check_layout
 
     new = parse_design(raw, str(target))
     computed(*(f"mechanism.{k}" for k in raw["mechanism"]))  # swap's numbers, not typed
@@ -175,8 +175,8 @@ def register(app: typer.Typer) -> None:
             },
         }
         if build:
-            from cad.build import build_design
             from cad.export import parse_formats
+            from cad.pipeline import build_design
 
             build_dir = Path("exports") / new.name
             rep = build_design(new, build_dir, parse_formats(None))

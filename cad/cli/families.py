@@ -1,33 +1,21 @@
 """Which command accepts which design family: one table, used for the hints of refusals
-and checked against the README's commands x families table (tests/test_readme.py).
+and checked against the README's commands x families table (tests/test_readme.py); derived
+from the one family registry, :mod:`cad.data.families`.
 
 No CAD imports; the family names are those of ``[mechanism] family``.
 """
 
 from __future__ import annotations
 
-FOUR_BARS = ("hoeken", "roberts", "chebyshev", "chebyshev-v", "custom")
-PANTOGRAPHS = ("pantograph", "twin-pantograph", "haptic-pen")
-FAMILY_GROUPS = {"four-bar": FOUR_BARS, "pantograph": ("pantograph",),
-                 "twin-pantograph": ("twin-pantograph",), "haptic-pen": ("haptic-pen",),
-                 "powermouse": ("powermouse",)}
+from cad.data import families as _registry
+
+FOUR_BARS = _registry.names("four-bar")
+PANTOGRAPHS = _registry.names("pantograph") + _registry.names("twin-pantograph") + \
+    _registry.names("haptic-pen")
+FAMILY_GROUPS = _registry.groups()
 
 #: command -> the design families it accepts (commands that take no design are absent).
-COMMAND_FAMILIES: dict[str, tuple[str, ...]] = {
-    "analyze": FOUR_BARS,
-    "synth": FOUR_BARS,
-    "swap": FOUR_BARS,
-    "check": FOUR_BARS + PANTOGRAPHS,
-    "fit": FOUR_BARS + PANTOGRAPHS,
-    "build": FOUR_BARS + ("pantograph", "twin-pantograph", "powermouse"),
-    "gii": PANTOGRAPHS,
-    "optimize": FOUR_BARS + PANTOGRAPHS,
-    "tolerance": FOUR_BARS,
-    "sweep": FOUR_BARS,
-    "wall": FOUR_BARS,
-    "render": FOUR_BARS + ("pantograph", "twin-pantograph", "powermouse"),
-    "datasheet": FOUR_BARS + ("pantograph", "twin-pantograph", "powermouse"),
-}
+COMMAND_FAMILIES: dict[str, tuple[str, ...]] = _registry.command_families()
 
 
 def refusal(command: str, family: str) -> str:
@@ -39,8 +27,7 @@ def refusal(command: str, family: str) -> str:
     return f"{command} works on {' / '.join(groups)} designs; for a {family} design use: {hint}"
 
 
-#: Commands that read no design file (they take a STEP/STL file, flags, or nothing).
-NO_DESIGN_COMMANDS = ("massprops", "voicecoil", "bench", "cache")
+NO_DESIGN_COMMANDS = _registry.NO_DESIGN_COMMANDS
 
 
 def markdown_table() -> str:

@@ -37,7 +37,7 @@ STEEL = 7870.0
 
 
 def _rho(material: str) -> float:
-    from cad.materials import get_material
+    from cad.data.materials import get_material
 
     return get_material(material).density_kg_m3
 
@@ -46,7 +46,7 @@ def _features(parts, J, link: str, plan=None) -> dict:
     """Joint features of a bar as :mod:`cad.parts.bars` wants them (sizes as the assembly):
     the bearing seat where ``link`` is the upper link of the joint in ``plan`` (without a
     plan: on the coupler), the pin hole elsewhere."""
-    from cad.parts import catalog as cat
+    from cad.data import catalog as cat
     from cad.parts.bars import Feature
 
     brg = cat.get_bearing(parts.bearing)
@@ -160,7 +160,7 @@ def joint_split_kg(parts, spacer_mm: float, pin_length_mm: float | None = None,
     on the lower link. ``pin_length_mm``: the pin's catalog length (default the clamp plus
     one bar thickness)."""
     from cad.assembly.layers import spacer_od_mm
-    from cad.parts import catalog as cat
+    from cad.data import catalog as cat
 
     brg = cat.get_bearing(parts.bearing)
     pin = cat.get_shoulder_screw(parts.pin)
@@ -230,7 +230,7 @@ def hardware_items(parts, J, plan=None) -> dict[str, list[tuple[float, np.ndarra
 
 def handle_kg(parts) -> float:
     """Knob (solid cylinder less the screw bore) and its cap screw, kg."""
-    from cad.parts import catalog as cat
+    from cad.data import catalog as cat
 
     cs = cat.get_cap_screw(parts.handle_screw, "parts.handle_screw")
     d, h = parts.handle_diameter_mm, parts.handle_height_mm
@@ -243,9 +243,9 @@ def handle_kg(parts) -> float:
 def link_inertias(design, parts=None, plan=None) -> dict:
     """{link: PlanarLinkInertia} of the cheap model (module docstring); ``plan``: the layer
     plan (:func:`layer_plan`; None: the order-free split)."""
+    from cad.data import catalog as cat
     from cad.dynamics.inertia import PlanarLinkInertia
     from cad.kinematics.linkgeom import link_joints_mm
-    from cad.parts import catalog as cat
 
     parts = parts or design.parts
     J = link_joints_mm(design.linkage)
@@ -268,7 +268,7 @@ def link_inertias(design, parts=None, plan=None) -> dict:
 
 
 def rotor_inertia_kg_m2(parts) -> float:
-    from cad.parts import catalog as cat
+    from cad.data import catalog as cat
 
     if parts.motor_rotor_inertia_g_cm2 is not None:
         return parts.motor_rotor_inertia_g_cm2 * 1e-7

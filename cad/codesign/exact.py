@@ -2,7 +2,7 @@
 
 Each candidate becomes a design (``family = "custom"`` with the scaled lengths and crank
 range, the ``[parts]`` of the trial) and is built at ``inertia`` fidelity without exports
-(:func:`cad.build.build_design`): exact B-rep mass properties, H11..H33 and M11, the
+(:func:`cad.pipeline.build_design`): exact B-rep mass properties, H11..H33 and M11, the
 interference sweep of the real solids (every pair, every pose) and the ``structure``
 entry (FE-calibrated frame, three poses, the solids' masses). A candidate is accepted
 when it has zero interference and passes the structural limits; the report gives the
@@ -29,8 +29,8 @@ def candidate_raw(design, cand, name: str) -> dict:
 
 def evaluate(design, cand, name: str) -> dict:
     """Exact numbers of one candidate (module docstring)."""
-    from cad.build import build_design
     from cad.design import parse_design
+    from cad.pipeline import build_design
 
     d = parse_design(candidate_raw(design, cand, name), str(design.source))
     with tempfile.TemporaryDirectory(prefix="hapticad-codesign-") as tmp:

@@ -43,7 +43,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from cad.parts.catalog import MOTORS
+from cad.data.catalog import MOTORS
 
 #: (bearing, pin) pairs whose pin diameter equals the bearing bore (bd_warehouse SKT + pins).
 JOINT_SETS = (
@@ -72,7 +72,7 @@ HANDLE_MATERIALS = ("abs", "delrin", "pla")
 LAYER_ORDERS = tuple("/".join(o) for o in itertools.permutations(("crank", "coupler", "rocker")))
 HANDLE_SCREWS = ("M3-0.5", "M4-0.7")
 #: Nominal (max. continuous) torque, mN m, of the searched motors: the catalog winding's
-#: ``torque_continuous_mNm`` (:data:`cad.parts.catalog.MOTORS`, each with its data-sheet source).
+#: ``torque_continuous_mNm`` (:data:`cad.data.catalog.MOTORS`, each with its data-sheet source).
 MOTOR_CONTINUOUS_TORQUE_MNM = {k: MOTORS[k].torque_continuous_mNm for k in ("maxon-re35", "maxon-re40")}
 #: Starting points enqueued before the TPE search (a workshop's light guesses: the smallest
 #: joint set, carbon-fibre or aluminium plate, a small knob, both motors, two layer orders that
@@ -165,7 +165,7 @@ def kinematics(pb: Problem, span_deg: float, shift_deg: float, ratios: dict | No
 
 def end_radius_mm(bearing: str, width_mm: float, wall_mm: float, hub_d_mm: float, hub_screw: str) -> float:
     """Smallest bar end radius (0.5 mm steps) holding the bearing seat and the hub screws."""
-    from cad.parts import catalog as cat
+    from cad.data import catalog as cat
 
     D = cat.get_bearing(bearing).D_mm
     r_bc = (3.0 + hub_d_mm / 2) / 2
@@ -204,8 +204,8 @@ def suggest_parts(trial, pb: Problem) -> dict:
 def suggest_tube(trial, parts: dict) -> dict:
     """Tube bars (brief with ``bar_style = "tube"``): a stock tube, and the shortest clevis
     whose socket clears the bearing seat, the hub screw circle and the handle tap by 1 mm."""
+    from cad.data import catalog as cat
     from cad.design.parts import PartsSpec
-    from cad.parts import catalog as cat
 
     od, idd = TUBE_STOCK_MM[trial.suggest_int("tube", 0, len(TUBE_STOCK_MM) - 1)]
     t = trial.suggest_categorical(f"clevis_thickness_od{od:g}",
@@ -297,7 +297,7 @@ def layer_problem(design):
     -- for a given ``[parts] layer_order`` -- a clash between links that widening the gaps
     does not cure (numpy only, the build's poses). Without a given order it is planned
     strictly, as the build refuses: no clear order in any of the six is an objection
-    (:func:`cad.build.fourbar.check_layout`)."""
+    (:func:`cad.families.fourbar.build.check_layout`)."""
     from cad.assembly.layers import choose_layers
     from cad.assembly.pose import planar_transforms
     from cad.errors import HapticadError

@@ -8,7 +8,7 @@
   over the workspace where the figure varies (else None), ``unit``;
 * ``model``: the model or source the value comes from, ``boundary``: the boundary conditions
   of a structural figure (crank held or free, handle free or loaded), ``unverified``: True
-  when it uses a value without a public source (:class:`cad.parts.catalog.MotorSpec`);
+  when it uses a value without a public source (:class:`cad.data.catalog.MotorSpec`);
 * ``limit`` (:mod:`cad.datasheet.limits`, None for a figure without one) and ``verdict``:
   ``"ok"``, ``"miss"`` or ``"info"``; ``paper``: the paper's measured value where it gives one.
 
@@ -18,9 +18,11 @@ numpy, no CAD import: computed by the build dispatcher and by ``hapticad datashe
 
 from __future__ import annotations
 
+import importlib
 import math
 from typing import Any
 
+from cad.data.families import datasheet_module
 from cad.datasheet.limits import Limit
 
 
@@ -63,12 +65,7 @@ def datasheet(design, report: dict, out_dir=None, simulate_wall: bool = True) ->
     the chart's file name is then in ``notes`` and ``charts``. ``simulate_wall=False``: no
     wall simulation (the four-bar K_max row says so; evaluation builds)."""
     fam = getattr(design, "family", "")
-    if fam in ("pantograph", "twin-pantograph", "haptic-pen"):
-        from cad.datasheet.pantograph import rows_and_limits
-    elif fam == "powermouse":
-        from cad.datasheet.powermouse import rows_and_limits
-    else:
-        from cad.datasheet.fourbar import rows_and_limits
+    rows_and_limits = importlib.import_module(datasheet_module(fam)).rows_and_limits
     rows, limits, notes = rows_and_limits(design, report, out_dir=out_dir, simulate_wall=simulate_wall)
     warnings = judge(rows, limits)
     charts = [n.rsplit(": ", 1)[1] for n in notes if n.startswith("force ellipses")]

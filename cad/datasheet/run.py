@@ -4,7 +4,7 @@ check`` without ``[targets]``.
 :func:`device_datasheet` builds the design (no exports, interference allowed so that a
 colliding design still gets its figures, the clearance row says it) into a temporary folder
 and keeps the datasheet in the derived cache (:mod:`cad.io.derived_cache`) under the build's
-own cache key (:func:`cad.build.build_key`: design, options, code): while the design and the
+own cache key (:func:`cad.pipeline.build_key`: design, options, code): while the design and the
 code are unchanged it is read back without importing a CAD library.
 """
 
@@ -16,8 +16,8 @@ from pathlib import Path
 
 def device_datasheet(design, fidelity: str = "inertia") -> dict:
     """``report["datasheet"]`` of a build of ``design`` at ``fidelity`` (module docstring)."""
-    from cad.build import build_design, build_key
     from cad.io import derived_cache
+    from cad.pipeline import build_design, build_key
 
     key = build_key(design, set(), fidelity, True, None, True)
 

@@ -12,20 +12,11 @@ import importlib
 from pathlib import Path
 from typing import Any
 
+from cad.data.families import FAMILIES
 from cad.design.fields import load_toml, require_str, require_table
 
-#: family name -> module owning its schema.
-FAMILY_MODULES: dict[str, str] = {
-    "hoeken": "cad.design.fourbar",
-    "roberts": "cad.design.fourbar",
-    "chebyshev": "cad.design.fourbar",
-    "chebyshev-v": "cad.design.fourbar",
-    "custom": "cad.design.fourbar",
-    "pantograph": "cad.design.pantograph",
-    "twin-pantograph": "cad.design.pantograph",
-    "haptic-pen": "cad.design.pantograph",
-    "powermouse": "cad.design.powermouse",
-}
+#: family name -> module owning its schema (from the one registry, :mod:`cad.data.families`).
+FAMILY_MODULES: dict[str, str] = {n: f.design_module for n, f in FAMILIES.items()}
 
 
 def family_of(raw: dict[str, Any]) -> str:

@@ -109,9 +109,9 @@ class FourBarDesign:
         (bore d) at each of their two joints; below D two seats of one bar can overlap, below d
         even the pin holes do. The crank has the hub at A1 and one joint (A2), never two
         seats: it is listed only below the pin bore; whether the A2 hardware clears the hub
-        is the layer planner's check (:func:`cad.build.fourbar.check_layout`, before CAD).
+        is the layer planner's check (:func:`cad.families.fourbar.build.check_layout`, before CAD).
         """
-        from cad.parts.catalog import get_bearing
+        from cad.data.catalog import get_bearing
 
         brg = get_bearing(self.parts.bearing, "parts.bearing")
         fb = self.linkage

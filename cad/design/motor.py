@@ -78,9 +78,9 @@ def parse_motor_table(table: dict[str, Any] | None, prefix: str = "motor") -> tu
 
 
 def resolve_motor(catalog_key: str, overrides: tuple[tuple[str, Any], ...] = (), field: str = "parts.motor"):
-    """The :class:`cad.parts.catalog.MotorSpec` a design uses: the catalog winding with the
+    """The :class:`cad.data.catalog.MotorSpec` a design uses: the catalog winding with the
     ``[motor]`` overrides applied, each overridden value sourced to the design file."""
-    from cad.parts.catalog import get_motor
+    from cad.data.catalog import get_motor
 
     m = get_motor(catalog_key, field)
     ov = dict(overrides)

@@ -125,7 +125,7 @@ class PantographParts:
     Links: carbon-fibre tubes bonded into aluminium clevises (isotropy paper
     §4.1: "aluminum clevises, carbon fibre links"); every passive joint a
     steel pin in two ball bearings (``bearing``: bd_warehouse size, bore =
-    pin diameter). Motors: ``motor`` key of :data:`cad.parts.catalog.MOTORS`
+    pin diameter). Motors: ``motor`` key of :data:`cad.data.catalog.MOTORS`
     (the paper's mouse used maxon motors; the catalogue's RE 35 is the
     default), mounted on square motor-mount plates; the crank pantograph's
     under the base plate, the knob pantograph's on a bridge above the links.
@@ -167,8 +167,8 @@ _PART_STR = (
 
 def parse_parts(table: dict[str, Any], prefix: str = "parts") -> PantographParts:
     """Validate the ``[parts]`` table of a twin-pantograph (an empty one gives the defaults)."""
-    from cad.materials import get_material
-    from cad.parts.catalog import get_bearing, get_motor
+    from cad.data.catalog import get_bearing, get_motor
+    from cad.data.materials import get_material
 
     default = PantographParts()
     allowed = list(PantographParts.__dataclass_fields__)

@@ -4,7 +4,7 @@ Every key is optional; an empty ``[parts]`` table gives the complete default
 :class:`PartsSpec` (the hardware of the bundled designs). Lengths in mm, masses in
 g, inertia in g cm^2, angles in deg, as the key names say. No CAD import here:
 catalog data (bearings, ISO 7379 shoulder screws, motors) comes from
-:mod:`cad.parts.catalog`, which reads bd_warehouse's CSV tables directly.
+:mod:`cad.data.catalog`, which reads bd_warehouse's CSV tables directly.
 
 Keys (default in brackets)
 --------------------------
@@ -19,7 +19,7 @@ Bars (crank, coupler, rocker; plates cut from sheet, DXF profiles exported):
     dog-bone). The bearing seat (bearing outside diameter) plus ``bar_min_wall_mm`` on each
     side must fit in 2 x this radius.
 ``bar_material`` ["aluminium-6061"]
-    any key of :data:`cad.materials.MATERIALS`.
+    any key of :data:`cad.data.materials.MATERIALS`.
 ``bar_pockets`` [true]
     cut lightening slots through the bars between joints.
 ``bar_pocket_web_mm`` [3.0]
@@ -51,7 +51,7 @@ the adequate set of bars", Hoeken paper §III.A):
 ``bearing`` ["M8-16-4"]
     deep groove ball bearing, bd_warehouse SKT size ``M<bore>-<OD>-<width>`` (618/8); every
     size of the table from 3 mm bore up: M3-10-4 (623), M4-9-2.5 (618/4), M5-11-3 (618/5),
-    M6-13-3.5 (618/6), M8-16-4 ... (``cad.parts.catalog.bearing_sizes()``).
+    M6-13-3.5 (618/6), M8-16-4 ... (``cad.data.catalog.bearing_sizes()``).
 ``bearing_lip_mm`` [1.0]
     lip under the bearing seat that locates the outer ring axially.
 ``bearing_mass_g`` [catalog]
@@ -86,7 +86,7 @@ the adequate set of bars", Hoeken paper §III.A):
 Motor and crank hub:
 
 ``motor`` ["maxon-re35"]
-    key of :data:`cad.parts.catalog.MOTORS` (maxon-re35, maxon-re40).
+    key of :data:`cad.data.catalog.MOTORS` (maxon-re35, maxon-re40).
 ``motor_rotor_inertia_g_cm2`` [catalog]
     override of the catalog rotor inertia Jm.
 ``motor_mount_thickness_mm`` [5.0] / ``motor_mount_material`` ["aluminium-6061"]
@@ -353,7 +353,7 @@ def parse_parts(table: dict[str, Any] | None, prefix: str = "parts") -> PartsSpe
     )
     vals["encoder_counts_per_rev"] = parse_encoder(table, prefix, vals["encoder"])
 
-    from cad.materials import get_material
+    from cad.data.materials import get_material
 
     for key in _MATERIALS:
         name = _string(table, key, prefix, getattr(d, key))
@@ -457,7 +457,7 @@ def _print_keys(table: dict[str, Any], prefix: str, vals: dict[str, Any]) -> Non
 def parse_encoder(table: dict[str, Any], prefix: str, encoder: str | None) -> int | None:
     """``encoder_counts_per_rev`` checked (an integer >= 1), and ``encoder`` a catalog key;
     both at once is refused (one encoder per crank)."""
-    from cad.parts import catalog
+    from cad.data import catalog
 
     if encoder is not None:
         catalog.get_encoder(encoder, _f(prefix, "encoder"))
@@ -498,7 +498,7 @@ SLEEVE_MIN_WALL_MM = 0.5
 
 def _check_hardware(v: dict[str, Any], prefix: str, end_radius_given: bool) -> None:
     """Cross-checks between bars and bought hardware (catalog dimensions)."""
-    from cad.parts import catalog
+    from cad.data import catalog
 
     brg = catalog.get_bearing(v["bearing"], _f(prefix, "bearing"))
     pin = catalog.get_shoulder_screw(v["pin"], _f(prefix, "pin"))

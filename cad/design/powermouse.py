@@ -179,7 +179,7 @@ class PowerMouseDesign:
 def _material(table: dict, key: str, prefix: str, default: str) -> str:
     if key not in table:
         return default
-    from cad.materials import get_material
+    from cad.data.materials import get_material
 
     return get_material(require_str(table, key, prefix), f"{prefix}.{key}").name
 

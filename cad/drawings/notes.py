@@ -5,7 +5,7 @@ Pure functions on :class:`cad.drawings.features.Cylinder` records and the part's
 
 from __future__ import annotations
 
-from cad.assembly.fits import fmt_mm, metric_thread, parse_fit
+from cad.data.fits import fmt_mm, metric_thread, parse_fit
 
 #: General tolerance for untoleranced dimensions when the design states none.
 GENERAL_TOLERANCE = "ISO 2768-m"
@@ -21,10 +21,10 @@ def callout(c, fits: tuple[str, ...], threads=(), extent_mm: float | None = None
     drill 8 deep"``, ``"Ø16 J7, 4 deep"``, ``"R10"``.
 
     c : :class:`cad.drawings.features.Cylinder`. fits : the part's fit texts
-    (:func:`cad.assembly.fits.fit`). threads : ``(size, depth mm or None)`` of its tapped
+    (:func:`cad.data.fits.fit`). threads : ``(size, depth mm or None)`` of its tapped
     holes. extent_mm : the part's size along ``c.axis`` (a hole that long is ``thru``).
     """
-    from cad.parts.catalog import tap_drill_mm
+    from cad.data.catalog import tap_drill_mm
 
     if not c.full:
         return f"R{fmt_mm(c.d_mm / 2)}"

@@ -19,7 +19,7 @@ import math
 import textwrap
 from dataclasses import dataclass
 
-from cad.assembly.fits import fmt_mm
+from cad.data.fits import fmt_mm
 from cad.drawings.notes import GENERAL_TOLERANCE, callout, stock
 
 #: Sheet size (ISO 216 A4 landscape) and the drawing border (mm).
@@ -41,7 +41,7 @@ ROW_MM, FONT_PT, FONT_MIN_PT = 3.6, 5.5, 3.0
 @dataclass(frozen=True)
 class SheetPart:
     """What one sheet shows: ``shape`` (``TopoDS_Shape``, part frame, mm) and the part's
-    BOM data; ``fits`` as :func:`cad.assembly.fits.fit` texts, ``threads`` ``(size, thread
+    BOM data; ``fits`` as :func:`cad.data.fits.fit` texts, ``threads`` ``(size, thread
     depth mm or None)`` pairs of its tapped holes."""
 
     name: str
@@ -162,7 +162,7 @@ def _section(ax, solid, y_mm, box, at, s):
     big = 4 * max(box[3] - box[0], box[5] - box[2]) + 10
     plane = bd.Plane(origin=(cx, y_mm, cz), x_dir=(1, 0, 0), z_dir=(0, -1, 0))
     # OCP's boolean, serial: build123d's intersect runs OCCT's thread pool, which hangs in
-    # the forked child that writes a family's files (cad.build.forked)
+    # the forked child that writes a family's files (cad.pipeline.forked)
     cut = BRepAlgoAPI_Common(solid.wrapped, bd.Face.make_rect(big, big, plane).wrapped)
     faces = bd.Compound(cut.Shape()).faces()
     # OCCT's boolean returns the faces in no fixed order: sort them so the file is the same

@@ -122,7 +122,7 @@ def export_part(
             "part-dxf", [topo, name, list(notes), [repr(h) for h in holes], material, quantity],
             lambda: plate_profile_dxf(topo, name, notes, holes, material=material,
                                       quantity=quantity),
-            ("cad.export.dxf", "cad.assembly.fits"))))
+            ("cad.export.dxf", "cad.data.fits"))))
     written = []
     for path, data in payload:
         if isinstance(data, str):

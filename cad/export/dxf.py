@@ -7,7 +7,7 @@ bar, say) is written on its own layer ``MILL_Z<lo>_<hi>`` (z in mm from the plat
 bottom face) for the machining after cutting -- only the edges that differ from the
 through profile (the seat, not the outline repeated). A plain 2.5-D plate has only
 ``CUT``. A bore finished by reaming (or boring) is cut undersize by the stock the shop
-needs (:data:`cad.assembly.fits.REAM_ALLOWANCE_MM`, source there) and noted ``ream to 8
+needs (:data:`cad.data.fits.REAM_ALLOWANCE_MM`, source there) and noted ``ream to 8
 H7``; a milled bearing seat is noted with its fit, depth and layer; a tapped hole is cut at
 its tap drill (d - P) with its thread note. The layer ``NOTES`` (TEXT under the part) holds
 the part name, units, material, thickness and quantity, the ISO 286 fits and those notes. Lines become LINE, full circles CIRCLE, circular arcs ARC
@@ -29,7 +29,7 @@ DXF_SAMPLE_DEFLECTION_MM = 0.005
 #: A profile circle is a listed hole when their diameters agree this closely (mm): the solid's
 #: holes are made at the listed diameter, so only round-off separates them.
 DXF_MATCH_MM = 1e-6
-#: Finishes whose bores the profile cuts at :attr:`cad.assembly.fits.ShopHole.cut_d_mm`.
+#: Finishes whose bores the profile cuts at :attr:`cad.data.fits.ShopHole.cut_d_mm`.
 CUT_FINISHES = ("ream", "bore", "tap")
 
 
@@ -146,7 +146,7 @@ def _full_circle_radii(edges) -> list[float]:
 
 
 def _match(holes, r_mm: float, finishes) -> object | None:
-    """The :class:`cad.assembly.fits.ShopHole` of ``finishes`` whose diameter is ``2 r_mm``."""
+    """The :class:`cad.data.fits.ShopHole` of ``finishes`` whose diameter is ``2 r_mm``."""
     for h in holes:
         if h.finish in finishes and abs(h.d_mm - 2.0 * r_mm) < DXF_MATCH_MM:
             return h
@@ -186,7 +186,7 @@ def plate_profile_dxf(
     """DXF text of a plate's cutting profile (layer ``CUT``), milled levels (``MILL_*``, only
     what differs from the profile) and the ``NOTES`` layer.
 
-    holes : :class:`cad.assembly.fits.ShopHole` of the part: a ``CUT`` circle of a reamed or
+    holes : :class:`cad.data.fits.ShopHole` of the part: a ``CUT`` circle of a reamed or
         bored hole's diameter is cut at its ``cut_d_mm`` (the finishing stock left), a tapped
         hole's circle (already the tap drill) keeps its size; each hole found gets a note
         (count, cut size, finish; a milled seat its depth and layer).
@@ -255,7 +255,7 @@ def _resizer(holes, found: dict):
 def _hole_notes(holes, found: dict) -> list[str]:
     """One line per hole of ``holes`` (how many the profile has, its cut size and finish),
     then the source of each allowance used."""
-    from cad.assembly.fits import REAM_ALLOWANCE_SOURCE, TAP_DRILL_SOURCE, fmt_mm
+    from cad.data.fits import REAM_ALLOWANCE_SOURCE, TAP_DRILL_SOURCE, fmt_mm
 
     out, sources = [], []
     for h in holes:

@@ -66,8 +66,8 @@ def body_color_map(bodies) -> dict[str, tuple[float, float, float]]:
 
 def instance_rgb(inst, body_rgb: dict) -> tuple[float, float, float]:
     """Made parts take their body's colour (the mechanism reads at a glance); bought parts
-    their material's colour (the STEP colour, :data:`cad.materials.MATERIALS`)."""
-    from cad.materials import get_material
+    their material's colour (the STEP colour, :data:`cad.data.materials.MATERIALS`)."""
+    from cad.data.materials import get_material
 
     if inst.kind.made and inst.body in body_rgb:
         return body_rgb[inst.body]

@@ -12,7 +12,7 @@ parts, and an optional price table (``hapticad build --prices FILE.csv`` or a de
 * :func:`bought_designation` -- ``(group, designation, order_code)`` of a bought part: the
   ISO/DIN designation read from its BOM description, a bearing's catalog designation
   (bd_warehouse's SKF table), a motor's catalog name and the order number its winding
-  states (:data:`cad.parts.catalog.MOTORS`); empty order code where no catalog gives one;
+  states (:data:`cad.data.catalog.MOTORS`); empty order code where no catalog gives one;
 * :func:`load_prices` / :func:`price_table` -- a price file / ``[prices]`` table as
   ``{key: unit price}`` (key = a BOM designation or part name), every bad cell refused as
   one :class:`cad.errors.DesignError` naming the file, row, column and value;
@@ -186,7 +186,7 @@ def bought_designation(kind) -> tuple[str, str, str]:
 
 def _motor_designation(desc: str) -> tuple[str, str, str] | None:
     """A catalog motor (its BOM description is the catalog's): name and order number."""
-    from cad.parts.catalog import MOTORS
+    from cad.data.catalog import MOTORS
 
     spec = next((sp for sp in MOTORS.values() if desc.startswith(sp.description)), None)
     if spec is None:

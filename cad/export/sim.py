@@ -2,8 +2,8 @@
 
 Input is a plain :class:`SimModel` (no CAD library): a spanning tree of rigid bodies,
 each with its exact mass properties from the solids, hinge joints, the meshes of its
-parts, sites, loop closures and motors. The builders (:mod:`cad.build.sim_fourbar`,
-:mod:`cad.build.sim_pantograph`) fill it from the build's assembly and mass properties.
+parts, sites, loop closures and motors. The builders (:mod:`cad.families.fourbar.sim`,
+:mod:`cad.families.pantograph.sim`) fill it from the build's assembly and mass properties.
 
 Frames and units (a public contract, README "Simulator export"):
 

@@ -63,7 +63,7 @@ def _kind(design) -> str:
 
 def device_spec(design, report: dict, design_hash: str, version: str) -> DeviceSpec:
     """The DeviceSpec of ``design`` built into ``report`` (module docstring)."""
-    from cad.parts.catalog import get_motor
+    from cad.data.catalog import get_motor
 
     kind = _kind(design)
     opts = design.firmware

@@ -34,7 +34,7 @@ class Body:
 
 @dataclass(frozen=True)
 class MotorData:
-    """Motor constants (SI) and their sources (catalog :class:`cad.parts.catalog.MotorSpec`)."""
+    """Motor constants (SI) and their sources (catalog :class:`cad.data.catalog.MotorSpec`)."""
 
     key: str
     kt_Nm_per_A: float

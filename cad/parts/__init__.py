@@ -2,7 +2,7 @@
 
 Modules:
 
-* :mod:`cad.parts.catalog` -- bought-part data (bearings, fasteners, motors), pure data;
+* :mod:`cad.data.catalog` -- bought-part data (bearings, fasteners, motors), pure data;
 * :mod:`cad.parts.bars` -- crank, coupler (binary or ternary plate), rocker;
 * :mod:`cad.parts.joints` -- bearings, ISO 7379 shoulder screws, nuts, washers, cap
   screws (bd_warehouse) and turned spacers;
@@ -33,7 +33,7 @@ class PartKind:
 
     name : file stem and BOM key (``crank``, ``bearing_M8-16-4`` ...).
     shape : ``TopoDS_Shape`` in the part frame, mm.
-    material : key of :data:`cad.materials.MATERIALS`.
+    material : key of :data:`cad.data.materials.MATERIALS`.
     made : True for parts to fabricate, False for bought parts.
     plate : 2.5-D plate cut from sheet (a DXF profile is exported).
     description, process : for the BOM (``"waterjet/laser 6 mm plate"``, ``"turned"``, ``"bought"``).

@@ -11,8 +11,8 @@ turned standoffs under the corners, long enough to clear the motor.
 
 from __future__ import annotations
 
+from cad.data.catalog import clearance_hole_mm, tap_drill_mm
 from cad.errors import GeometryError
-from cad.parts.catalog import clearance_hole_mm, tap_drill_mm
 from cad.parts.part_cache import part_cached
 
 #: Legs: diameter, corner inset of their axis from the plate edges, free space under the motor (mm).

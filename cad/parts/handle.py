@@ -29,8 +29,8 @@ import sys
 import tempfile
 from pathlib import Path
 
+from cad.data.catalog import clearance_hole_mm, get_cap_screw
 from cad.errors import DesignError
-from cad.parts.catalog import clearance_hole_mm, get_cap_screw
 from cad.parts.part_cache import part_cached
 
 

@@ -25,7 +25,7 @@ parts keyed by the library call and its version, :mod:`cad.parts.shape_cache`).
 
 from __future__ import annotations
 
-from cad.parts import catalog
+from cad.data import catalog
 from cad.parts.part_cache import part_cached
 
 
@@ -97,7 +97,7 @@ def spacer_shape(r_in_mm: float, r_out_mm: float, height_mm: float):
 def shoulder_screw_shape(size: str, length_mm: float):
     """ISO 7379 shoulder screw: under-head face at z = 0, head up, shoulder to z = -length.
 
-    A plain pin ``dowel-<d>`` (:func:`cad.parts.catalog.dowel_as_shoulder_screw`): the pin
+    A plain pin ``dowel-<d>`` (:func:`cad.data.catalog.dowel_as_shoulder_screw`): the pin
     from z = -(length + b) to z = k with its upper DIN 471 ring (d..d4, thickness s) on z = 0.
     """
     if catalog.is_dowel(size):

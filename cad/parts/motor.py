@@ -1,6 +1,6 @@
 """Motor envelope (bought), motor mount plate and the direct-drive crank hub.
 
-The motor is a catalog entry (:data:`cad.parts.catalog.MOTORS`, default maxon RE 35,
+The motor is a catalog entry (:data:`cad.data.catalog.MOTORS`, default maxon RE 35,
 the Hoeken paper's prototype motor, §III.A). Its solid is an envelope for the
 assembly and the interference sweep: housing cylinder, centring pilot, shaft. Its
 mass is the catalog weight; its rotor inertia Jm enters H11 (eq 16) from the
@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import math
 
-from cad.parts.catalog import MotorSpec, clearance_hole_mm, tap_drill_mm
+from cad.data.catalog import MotorSpec, clearance_hole_mm, tap_drill_mm
 from cad.parts.part_cache import part_cached
 
 #: Axial gap between the motor's pilot face and where the shaft envelope starts (mm):

@@ -119,7 +119,7 @@ def lid_screw_plan(
     wall cannot hold the tap drill with :data:`LID_HOLE_WALL_MM` each side (``hint``
     appended to the message)."""
     from cad.assembly import fasteners as fs
-    from cad.parts.catalog import tap_drill_mm, thread_diameter_mm
+    from cad.data.catalog import tap_drill_mm, thread_diameter_mm
 
     need = tap_drill_mm(size) + 2 * LID_HOLE_WALL_MM
     if wall_mm < need - 1e-9:
@@ -174,7 +174,7 @@ def handle_plan(g: PowerMouseGeometry, material: str) -> dict:
     Minimum engagement 1.5 d in a metal flotor, 2 d in a plastic one. Returns size,
     engagement_mm, depth_mm, min_engagement_mm (mm)."""
     from cad.assembly.fasteners import MIN_ENGAGEMENT_ALU_D, TAP_LEADOUT_MM
-    from cad.parts.catalog import thread_diameter_mm
+    from cad.data.catalog import thread_diameter_mm
 
     d = thread_diameter_mm(HANDLE_THREAD)
     k = MIN_ENGAGEMENT_ALU_D if material.startswith(_METALS) else MIN_ENGAGEMENT_PLASTIC_D
@@ -194,7 +194,7 @@ def post_plan(g: PowerMouseGeometry) -> dict:
     depth_mm, min_engagement_mm}, "set_screw": {size, length_mm, engagement_mm, depth_mm,
     min_engagement_mm}}`` (mm)."""
     from cad.assembly import fasteners as fs
-    from cad.parts.catalog import thread_diameter_mm
+    from cad.data.catalog import thread_diameter_mm
 
     e = g.post_thread_mm
     tip = {"size": POST_THREAD, "engagement_mm": e, "depth_mm": e + POST_HOLE_EXTRA_MM,
@@ -211,7 +211,7 @@ def post_plan(g: PowerMouseGeometry) -> dict:
 def post_set_screw_s_mm(g: PowerMouseGeometry, size: str) -> float:
     """Axial place of the post set screw (diagonal, mm): beyond the housing's outer corner
     by its radius + 1 mm, so its whole hole is in the collar."""
-    from cad.parts.catalog import thread_diameter_mm
+    from cad.data.catalog import thread_diameter_mm
 
     Ho = g.housing_inner_half_mm + g.housing_wall_mm
     return -Ho * _SQ3 - (thread_diameter_mm(size) / 2 + 1.0)
@@ -219,7 +219,7 @@ def post_set_screw_s_mm(g: PowerMouseGeometry, size: str) -> float:
 
 def post_collar_end_s_mm(g: PowerMouseGeometry, size: str) -> float:
     """Outer end of the housing's post collar and of the post (diagonal, mm)."""
-    from cad.parts.catalog import thread_diameter_mm
+    from cad.data.catalog import thread_diameter_mm
 
     return post_set_screw_s_mm(g, size) - (thread_diameter_mm(size) / 2 + 1.5)
 
@@ -272,7 +272,7 @@ def leg_shape(g: PowerMouseGeometry):
     tapped at the top (tap drill :data:`LID_TAP_DRILL_DEPTH_MM` deep)."""
     import build123d as bd
 
-    from cad.parts.catalog import tap_drill_mm
+    from cad.data.catalog import tap_drill_mm
 
     h, a = leg_height_mm(g), (bd.Align.CENTER, bd.Align.CENTER, bd.Align.MIN)
     leg = bd.Pos(0, 0, -h) * bd.Cylinder(LEG_DIAMETER_MM / 2, h, align=a)
@@ -285,7 +285,7 @@ def _leg_screw_holes(g: PowerMouseGeometry):
     """Clearance holes for the leg screws through the housing's bottom wall."""
     import build123d as bd
 
-    from cad.parts.catalog import clearance_hole_mm
+    from cad.data.catalog import clearance_hole_mm
 
     Ho, w = g.housing_inner_half_mm + g.housing_wall_mm, g.housing_wall_mm
     a = (bd.Align.CENTER, bd.Align.CENTER, bd.Align.MIN)
@@ -315,7 +315,7 @@ def _screw_holes(xy, size: str, z_split: float, z_top: float):
     (:data:`LID_TAP_DRILL_DEPTH_MM` deep) into the side walls' tops below ``z_split``."""
     import build123d as bd
 
-    from cad.parts.catalog import clearance_hole_mm, tap_drill_mm
+    from cad.data.catalog import clearance_hole_mm, tap_drill_mm
 
     a = (bd.Align.CENTER, bd.Align.CENTER, bd.Align.MIN)
     cut = None
@@ -369,7 +369,7 @@ class PowerMouseGeometry:
     def handle_thread_mm(self) -> float:
         """Thread length of the handle stem's tip: 2 d (:data:`MIN_ENGAGEMENT_PLASTIC_D`,
         the longer rule, so the boss serves a plastic or a metal flotor)."""
-        from cad.parts.catalog import thread_diameter_mm
+        from cad.data.catalog import thread_diameter_mm
 
         return MIN_ENGAGEMENT_PLASTIC_D * thread_diameter_mm(HANDLE_THREAD)
 
@@ -393,7 +393,7 @@ class PowerMouseGeometry:
     def post_thread_mm(self) -> float:
         """Thread length of the post's tip in the core: 1.5 d (a metal core)."""
         from cad.assembly.fasteners import MIN_ENGAGEMENT_ALU_D
-        from cad.parts.catalog import thread_diameter_mm
+        from cad.data.catalog import thread_diameter_mm
 
         return MIN_ENGAGEMENT_ALU_D * thread_diameter_mm(POST_THREAD)
 
@@ -482,7 +482,7 @@ class PowerMouseGeometry:
         """The corner hole clears the post over the motion (:attr:`corner_hole_min_mm`) and
         stays :data:`COIL_WALL_MM` off the coil pockets. Advised limits are rounded inwards
         (a lower bound up, an upper bound down, to 0.01 mm), so following them builds."""
-        from cad.parts.catalog import tap_drill_mm
+        from cad.data.catalog import tap_drill_mm
 
         need, room = self.corner_hole_min_mm, 2 * (self._coil_distance_mm() - COIL_WALL_MM)
         if need > room + 1e-9:
@@ -556,7 +556,7 @@ class PowerMouseGeometry:
 
     def _validate_turned_parts(self) -> None:
         """The post and the handle stem must leave a 1 mm shoulder round their tips' tap drill."""
-        from cad.parts.catalog import tap_drill_mm
+        from cad.data.catalog import tap_drill_mm
 
         for field, dia, thread in (("stator.post_diameter_mm", self.post_diameter_mm, POST_THREAD),
                                    ("handle.diameter_mm", self.handle_diameter_mm, HANDLE_THREAD)):
@@ -711,7 +711,7 @@ def _handle_boss(g: PowerMouseGeometry):
 
 def _handle_socket(g: PowerMouseGeometry):
     """The stem's socket (down to the seat) and the tap drill through the boss."""
-    from cad.parts.catalog import tap_drill_mm
+    from cad.data.catalog import tap_drill_mm
 
     top = g.flotor_edge_mm / 2 * _SQ3 + 1.0
     seat = g.handle_seat_s_mm
@@ -725,7 +725,7 @@ def _handle(g: PowerMouseGeometry):
     stem from the socket's seat out, spherical knob at its end."""
     import build123d as bd
 
-    from cad.parts.catalog import tap_drill_mm
+    from cad.data.catalog import tap_drill_mm
 
     seat = g.handle_seat_s_mm
     s1 = g.flotor_edge_mm / 2 * _SQ3 + g.handle_length_mm
@@ -791,7 +791,7 @@ def _core(g: PowerMouseGeometry):
     import build123d as bd
 
     from cad.assembly.fasteners import TAP_LEADOUT_MM
-    from cad.parts.catalog import tap_drill_mm
+    from cad.data.catalog import tap_drill_mm
 
     c, f = g.core_half_mm, g.core_flat_s_mm
     big = _SQ2 * (c * _SQ3 - f) + 1.0  # covers the corner's triangular section
@@ -805,7 +805,7 @@ def _core(g: PowerMouseGeometry):
 def _post(g: PowerMouseGeometry, set_screw: str):
     """The stator post: turned tip (tap-drill diameter) into the core, shoulder on the
     core's flat, round body out through the housing to the collar's end."""
-    from cad.parts.catalog import tap_drill_mm
+    from cad.data.catalog import tap_drill_mm
 
     f = g.core_flat_s_mm
     body = _diag_cylinder(g.post_diameter_mm / 2, -f, post_collar_end_s_mm(g, set_screw))
@@ -816,7 +816,7 @@ def _set_screw_drill(g: PowerMouseGeometry, size: str):
     """Tap drill of the post set screw: radial, from the post's axis out through the collar."""
     import build123d as bd
 
-    from cad.parts.catalog import tap_drill_mm
+    from cad.data.catalog import tap_drill_mm
 
     T = post_set_screw_tf(g, size)
     r, R = g.post_diameter_mm / 2, g.post_collar_radius_mm

@@ -305,7 +305,7 @@ def datasheet_html(report: dict) -> str:
 
 
 def fastener_table(report: dict) -> str:
-    """The fastener records (:func:`cad.build.family.fastener_report`) as a readable table."""
+    """The fastener records (:func:`cad.pipeline.family.fastener_report`) as a readable table."""
     fast = report.get("fasteners") or {}
     if not fast:
         return ""

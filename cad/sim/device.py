@@ -100,7 +100,7 @@ def device_build(design, build_dir: Path | None = None) -> Path:
 
 
 def _build_sim(design, out: Path) -> None:
-    from cad.build import build_design
+    from cad.pipeline import build_design
 
     build_design(design, out, {"mjcf", "stl"}, fidelity="preview", allow_interference=True,
                  simulate_wall=False)  # the wall command simulates itself
@@ -129,8 +129,8 @@ def _drop_if_damaged(entry: Path) -> None:
 def wall_inputs(design) -> tuple[dict, str]:
     """(Fv, Fs, Te, Delta, xdot, counts) of the wall and where they come from: the design's
     ``[stiffness]`` table, else its encoder (``parts.encoder`` / ``encoder_counts_per_rev``)
-    and the datasheet's Coulomb friction estimate at no load (:mod:`cad.datasheet.fourbar`)."""
-    from cad.datasheet.fourbar import friction, lever, stiffness_inputs
+    and the datasheet's Coulomb friction estimate at no load (:mod:`cad.families.fourbar.datasheet`)."""
+    from cad.families.fourbar.datasheet import friction, lever, stiffness_inputs
 
     _, Jx, pose, a2, a3 = lever(design)
     if design.stiffness is not None:
@@ -147,8 +147,8 @@ def wall_report(design, *, K: float | None = None, B: float = 0.0, Te_s: float |
                 counts_per_rev: float | None = None, model: str = "reduced",
                 build_dir: Path | None = None) -> dict:
     """Everything ``hapticad wall --json`` prints (README "Virtual wall")."""
-    from cad.datasheet.fourbar import eq25_K_max
     from cad.dynamics.inertia import InertiaCoefficients
+    from cad.families.fourbar.datasheet import eq25_K_max
     from cad.sim import wall
 
     t0 = time.perf_counter()
@@ -157,7 +157,7 @@ def wall_report(design, *, K: float | None = None, B: float = 0.0, Te_s: float |
     rep = read_device_report(folder, "--build-dir" if build_dir is not None else "wall")
     H = InertiaCoefficients(rep["H11_kg_m2"], rep["H12_kg_m2"], rep["H22_kg_m2"], rep["H33_kg_m2"],
                             math.radians(rep["beta2_deg"]))
-    from cad.build.sim_fourbar import motor_torque_Nm
+    from cad.families.fourbar.sim import motor_torque_Nm
 
     tau = motor_torque_Nm(design.motor_spec())
     tab = wall.device_tables(design, H)

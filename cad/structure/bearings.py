@@ -51,7 +51,7 @@ FORMULA = ("Palmgren (1959) radial deflection of a deep-groove ball bearing: del
 
 def ball_set(bearing: str) -> tuple[int, float]:
     """(ball count Z, ball diameter Dw mm) of bd_warehouse's model of a catalog bearing."""
-    from cad.parts import catalog
+    from cad.data import catalog
 
     b = catalog.get_bearing(bearing)
     dw = 0.625 * (b.D1_mm - b.d1_mm)

@@ -120,7 +120,7 @@ def link_edges(J: dict) -> dict[str, list[tuple[str, str]]]:
 
 def end_radius_mm(parts, joint: str) -> float:
     """Radius of the solid region around a joint before a pocket may start (mm)."""
-    from cad.parts import catalog
+    from cad.data import catalog
 
     if joint == "P":
         return parts.handle_diameter_mm / 2 + parts.bar_pocket_web_mm
@@ -154,8 +154,8 @@ def build_frame(design, pose_tf: dict, lumped: list[Lumped], bar_mass_kg: dict, 
 
     ``bar_mass_kg``: link -> bar mass spread along its beams; a link not in it gets the
     section area times the bar material's density."""
+    from cad.data.materials import get_material
     from cad.kinematics.linkgeom import link_joints_mm
-    from cad.materials import get_material
     from cad.structure.elastic import bar_elastic
 
     parts = design.parts
@@ -265,7 +265,7 @@ def limits(material: str, targets=None) -> dict:
 
 def lumped_from_assembly(asm, props: dict) -> tuple[list[Lumped], dict]:
     """Point masses (every moving part but the bars) and bar masses per link from the
-    assembly's instances and their mass properties (:mod:`cad.build.fourbar`)."""
+    assembly's instances and their mass properties (:mod:`cad.families.fourbar.build`)."""
     lumped: list[Lumped] = []
     bars: dict[str, float] = {}
     for inst in asm.instances:

@@ -2,7 +2,7 @@
 
 E (Young's modulus), nu (Poisson's ratio) and a working strength (yield for metals,
 the tensile strength for composites and printed plastics, which fail without
-yielding) for every key of :data:`cad.materials.MATERIALS` a moving part may use.
+yielding) for every key of :data:`cad.data.materials.MATERIALS` a moving part may use.
 Sources inline; printed parts are quoted at 100 % infill, printed flat (XY).
 """
 
@@ -52,11 +52,11 @@ ELASTIC: dict[str, Elastic] = {
 
 
 def get_elastic(material: str, field: str = "parts.bar_material") -> Elastic:
-    """Elastic data of ``material`` (a key of :data:`cad.materials.MATERIALS`).
+    """Elastic data of ``material`` (a key of :data:`cad.data.materials.MATERIALS`).
 
     Raises DesignError(field, ...) when the material has no elastic data here.
     """
-    from cad.materials import get_material
+    from cad.data.materials import get_material
 
     key = get_material(material, field).name
     if key not in ELASTIC:

@@ -1,6 +1,6 @@
 """Build a PowerMouse design: actuator optimum -> solids -> mass properties -> clearances -> exports.
 
-Contract: see :mod:`cad.build` (``build(design, out_dir, formats, *, fidelity,
+Contract: see :mod:`cad.pipeline` (``build(design, out_dir, formats, *, fidelity,
 allow_interference, progress, phi1_deg) -> report dict``). ``out_dir`` is the
 dispatcher's temporary directory. Isotropy paper sections 5-6.
 
@@ -8,7 +8,7 @@ Pipeline: actuator optimum (eqs 8-9) -> geometry -> one list of part instances
 (:func:`assembly`: bodies ``flotor`` and ``ground``) -> mass properties from the solids
 -> wrench map and isotropy -> every pair of solids at the centre pose and the flotor
 against the stator over the motion range (fast mesh pass, exact OCCT near contact:
-:mod:`cad.assembly.static`) -> the common outputs of :mod:`cad.build.family`.
+:mod:`cad.assembly.static`) -> the common outputs of :mod:`cad.pipeline.family`.
 
 Files written (the layout of every family): ``parts/<part>.step|.stl`` (``pm_flotor_body``
 and ``pm_flotor_lid``, ``pm_coil`` x6, ``pm_handle``, ``pm_core``, ``pm_post``,
@@ -42,7 +42,9 @@ from cad.errors import DesignError, InterferenceError
 
 #: Source the output depends on (build cache key).
 CODE_DEPS = (
-    "build",
+    "pipeline",
+    "families",
+    "datasheet",
     "firmware",  # --formats firmware (cad/firmware/powermouse.py)
     "report",  # report.html, the stroke GIF and render (cad/report)
     "parts",
@@ -52,7 +54,7 @@ CODE_DEPS = (
     "actuators",
     "design",
     "io",
-    "materials.py",
+    "data",
     "errors.py",
 )
 
@@ -291,8 +293,8 @@ def _kind(name, shape, role, design, labels=None, **kw):
     topo = getattr(shape, "wrapped", shape)
     mat = _materials(design)[role]
     if role == "coil":  # wound coil: conductor fraction eta_pack (insulation neglected)
+        from cad.data.materials import get_material
         from cad.massprops.occt import solid_mass_props
-        from cad.materials import get_material
 
         rho = get_material(mat).density_kg_m3
         kw["mass_kg"] = design.actuator.eta_pack * solid_mass_props(topo, rho).mass_kg
@@ -387,11 +389,11 @@ def _legs(design, g) -> list:
 
 
 def _fits(g) -> dict[str, tuple[str, ...]]:
-    """ISO 286 fits of the two diagonal sliding fits (:data:`cad.assembly.fits.FITS`):
+    """ISO 286 fits of the two diagonal sliding fits (:data:`cad.data.fits.FITS`):
     the housing collar's post bore on the stator post and the flotor's handle socket on the
     handle stem, both H7/g6 (diameters: ``stator.post_diameter_mm``,
     ``handle.diameter_mm``). No bearings in the PowerMouse."""
-    from cad.assembly.fits import fit
+    from cad.data.fits import fit
 
     return {
         "housing_body": (fit("post bore", g.post_diameter_mm),),
@@ -419,9 +421,9 @@ def _turned_tips(design, g) -> dict:
 def _post_set_screw(g):
     """The ISO 4026 set screw locking the post in the housing's collar, with its record."""
     from cad.assembly.fasteners import Fastener
+    from cad.data.catalog import FASTENER_MATERIAL
     from cad.parts import PartInstance, PartKind
     from cad.parts import powermouse as pp
-    from cad.parts.catalog import FASTENER_MATERIAL
     from cad.parts.motor import set_screw_shape
 
     ss = pp.post_plan(g)["set_screw"]
@@ -543,9 +545,9 @@ def build(
     allow_interference.
     """
     from cad.actuators import powermouse as pm
-    from cad.build import family, forked
     from cad.parts import powermouse as pp
     from cad.parts import voicecoil as pv
+    from cad.pipeline import family, forked
 
     check_options(design, fidelity, phi1_deg)
     out_dir = Path(out_dir)
@@ -582,7 +584,7 @@ def build(
     W_com = pm.wrench_map(coils, gain_per_At, about_mm=flotor_mp.com_m * 1e3)
 
     # the files (parts, assembly STEP, BOM, preview, rig) and the viewer files + Fig. 8 are
-    # written by two forked children while this process checks the solids (cad.build.forked;
+    # written by two forked children while this process checks the solids (cad.pipeline.forked;
     # serial where forking is off)
     bom = family.bom_rows(inst, props)
     rig_bom = family.bom_rows(rig, family.kind_props(rig))
@@ -666,7 +668,7 @@ ASSEMBLY_PLAN = (
 )
 
 
-#: This builder writes glb and 3mf (:mod:`cad.build.views`).
+#: This builder writes glb and 3mf (:mod:`cad.pipeline.views`).
 VIEW_EXPORT = True
 
 
@@ -693,7 +695,7 @@ def stroke_poses(design) -> dict[str, np.ndarray]:
 
 def _write_files(design, inst, tfs, rig, bom, rig_bom, out_dir, formats) -> list[str]:
     """Part files, assembly STEP, BOM and preview of the device; the rig in ``rig/``."""
-    from cad.build import family
+    from cad.pipeline import family
 
     files = family.write_outputs(
         inst,
@@ -720,9 +722,9 @@ def _write_files(design, inst, tfs, rig, bom, rig_bom, out_dir, formats) -> list
 
 
 def _write_views(design, inst, tfs, out_dir, formats, gap) -> tuple[list[str], bytes]:
-    """The viewer files (:func:`cad.build.views.write_viewer_outputs`) and Fig. 8; returns
+    """The viewer files (:func:`cad.pipeline.views.write_viewer_outputs`) and Fig. 8; returns
     (files, glb)."""
-    from cad.build.views import write_viewer_outputs
+    from cad.pipeline.views import write_viewer_outputs
 
     view_files, glb = write_viewer_outputs(
         inst,
@@ -795,7 +797,7 @@ def _report(
     gain_per_At,
 ) -> dict:
     from cad.actuators import powermouse as pm
-    from cad.materials import get_material
+    from cad.data.materials import get_material
 
     peak_F = pm.peak_force_N(act["peak_force_N"])
     acc = pm.peak_acceleration_m_s2(act["peak_force_N"], flotor_mp.mass_kg)

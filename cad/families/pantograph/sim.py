@@ -1,6 +1,6 @@
 """The twin-pantograph mouse as a simulator model (MJCF/URDF, issue 14).
 
-World frame: the kinematic base frame of :mod:`cad.build.pantograph` (metres, z up,
+World frame: the kinematic base frame of :mod:`cad.families.pantograph.build` (metres, z up,
 z = 0 on the base plate's top). Bodies (spanning tree), for each group ``g`` in
 (``crank``, ``knob``) and side ``s`` in (``left``, ``right``):
 

@@ -5,7 +5,7 @@ P(phi1_max)): the lever ``Jx = dx/dphi1`` (m/rad, Hoeken paper eq 12 in the path
 
 * **force at the handle** along the path: F = tau / |Jx| for the motor's continuous torque
   (maxon "nominal torque (max. continuous torque)") and its peak torque
-  (:class:`cad.parts.catalog.MotorSpec`); the value is the minimum over the stroke;
+  (:class:`cad.data.catalog.MotorSpec`); the value is the minimum over the stroke;
   force per ampere Kt / |Jx|;
 * **thermal duty**: the winding temperature rise holding ``force_N`` at the weakest point,
   dT = I^2 R (Rth_winding + Rth_housing), I = tau / Kt, R at 25 C (no hot-resistance
@@ -125,7 +125,7 @@ def thermal_rows(design, m, Jx) -> list[dict]:
 
 def encoder_counts(design, Jx) -> tuple[float, str, str | None]:
     """(counts per crank turn, where from, catalog key or None)."""
-    from cad.parts import catalog
+    from cad.data import catalog
 
     p = design.parts
     if p.encoder_counts_per_rev is not None:
@@ -151,8 +151,8 @@ def resolution_row(design, Jx) -> dict:
 
 def friction(design, m, Jx, pose, a2, a3) -> tuple[np.ndarray | None, np.ndarray]:
     """(motor friction at the handle N or None, bearing friction at the handle N at force_N)."""
+    from cad.data import catalog
     from cad.kinematics.metrics import path_frame
-    from cad.parts import catalog
     from cad.structure.bearings import joint_forces_per_N
 
     fb = design.linkage

@@ -7,10 +7,10 @@ body at ``tf_body_part`` -- and gives the world transform of each body at the ex
 pose. Everything below reads that one list:
 
 * :func:`kind_props` -- mass properties of each part kind (exact B-rep integration, or
-  the catalog mass of a bought part; :func:`cad.build.fourbar.kind_mass_props`);
+  the catalog mass of a bought part; :func:`cad.families.fourbar.build.kind_mass_props`);
 * :func:`body_props` -- combined mass properties per body in the body frame;
 * :func:`bom_rows` -- one BOM line per kind (quantity = number of instances), with its
-  ISO 286 fits (:attr:`cad.parts.PartKind.fits`, :mod:`cad.assembly.fits`);
+  ISO 286 fits (:attr:`cad.parts.PartKind.fits`, :mod:`cad.data.fits`);
 * :func:`fits_report` / :func:`dxf_notes` -- the same fits for report.json's ``fits`` key
   and the DXF's ``NOTES`` layer;
 * :func:`fastener_report` -- every screw's record (thread size, length, parts clamped, hole
@@ -63,7 +63,7 @@ def quantities(instances) -> dict[str, int]:
 
 def kind_props(instances) -> dict:
     """``{kind name: MassProps | None}`` (SI, part frame) of every kind of the assembly."""
-    from cad.build.fourbar import kind_mass_props
+    from cad.families.fourbar.build import kind_mass_props
 
     return {name: kind_mass_props(k) for name, k in kinds(instances).items()}
 
@@ -118,7 +118,7 @@ def bom_rows(instances, props: dict) -> list[dict]:
 
 def fits_report(instances) -> dict[str, list[str]]:
     """report.json's ``fits``: ``{kind name: [fit, ...]}`` of every listed kind that states
-    ISO 286 fits (:func:`cad.assembly.fits.fit`, e.g. ``"bearing seat 16 J7"``)."""
+    ISO 286 fits (:func:`cad.data.fits.fit`, e.g. ``"bearing seat 16 J7"``)."""
     return {n: list(k.fits) for n, k in kinds(instances).items() if k.listed and k.fits}
 
 
@@ -140,9 +140,9 @@ def kind_threads(kind_name: str, instances, holes) -> tuple[tuple[str, float | N
 
 def shop_args(kind, instances, holes=()) -> dict:
     """The shop data of one kind's files (:func:`cad.export.export_part`): DXF notes (its
-    fits), its holes as the shop makes them (:func:`cad.assembly.fits.shop_holes`), its
+    fits), its holes as the shop makes them (:func:`cad.data.fits.shop_holes`), its
     material and quantity."""
-    from cad.assembly.fits import shop_holes
+    from cad.data.fits import shop_holes
 
     return {
         "notes": dxf_notes(kind),
@@ -197,8 +197,8 @@ def world_tf(inst, tf_world_body: dict) -> np.ndarray:
 
 def posed_items(instances, tf_world_body: dict, listed_only: bool = True) -> list[tuple]:
     """``[(instance name, placed TopoDS_Shape, rgb)]`` at the exported pose."""
+    from cad.data.materials import get_material
     from cad.export.shapes import placed
-    from cad.materials import get_material
 
     out = []
     for inst in instances:
@@ -280,8 +280,8 @@ def write_outputs(
     """Part files, assembly STEP, BOM and preview of one assembly; returns the paths written
     (relative to ``out_dir``). ``holes``: the tapped holes
     (:class:`cad.assembly.fasteners.TappedHole`) for the DXF thread notes."""
+    from cad.data.materials import get_material
     from cad.export import STL_TOLERANCE_MM, export_assembly_step, export_part, write_bom
-    from cad.materials import get_material
 
     out_dir = Path(out_dir)
     files: list[str] = []

@@ -71,7 +71,7 @@ def inertia_assembly(design, fidelity: str = "inertia"):
     from cad.assembly.layers import choose_layers, footprint_bbox_mm
     from cad.assembly.mechanism import build_assembly
     from cad.assembly.pose import planar_transforms
-    from cad.build.fourbar import sweep_angles
+    from cad.families.fourbar.build import sweep_angles
     from cad.kinematics.linkgeom import link_joints_mm
     from cad.parts.handle import handle_params, resolve_script, user_handle_shape
     from cad.parts.part_cache import deferred_shapes
@@ -116,11 +116,11 @@ def inertia_model(design, fidelity: str = "inertia", samples: int = 401) -> dict
     ``apparent_mass`` (M11/M12/M22 ranges, g), ``links`` (``mass_g``, ``com_link_mm``,
     ``Izz_com_kg_m2`` per link), ``budget`` (rows per part), ``wall_s``.
     """
-    from cad.build.fourbar import inertia_from_links, kind_mass_props, link_mass_props
+    from cad.data import catalog
     from cad.dynamics.inertia import apparent_mass_matrix, apparent_mass_summary, equivalent_inertia
+    from cad.families.fourbar.build import inertia_from_links, kind_mass_props, link_mass_props
     from cad.kinematics.fourbar import jacobian_mm_per_rad, solve, velocity_ratios
     from cad.kinematics.metrics import path_frame
-    from cad.parts import catalog
 
     t0 = time.perf_counter()
     parts = design.parts
@@ -203,7 +203,7 @@ def target_values(design, fidelity: str, need_clearance: bool) -> tuple[dict, di
                         force_N=design.force_N)
     report = {**model, **m.as_dict()}
     if need_clearance:
-        from cad.build import build_design
+        from cad.pipeline import build_design
 
         with tempfile.TemporaryDirectory() as tmp:
             rep = build_design(design, Path(tmp) / "b", set(), fidelity=fidelity, simulate_wall=False,
@@ -222,7 +222,7 @@ def pantograph_target_values(design, fidelity: str, wanted: set[str]) -> tuple[d
     values = {"gii": float(design.gii().gii)}
     if not wanted - {"gii"}:
         return values, {}
-    from cad.build import build_design
+    from cad.pipeline import build_design
 
     with tempfile.TemporaryDirectory() as tmp:
         rep = build_design(design, Path(tmp) / "b", set(), fidelity=fidelity, use_cache=False,

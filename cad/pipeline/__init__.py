@@ -1,6 +1,6 @@
 """``hapticad build``: design -> parts -> exports, dispatched on the design's family.
 
-Contract for builder modules (``cad/build/fourbar.py``, ``pantograph.py``, ``powermouse.py``)::
+Contract for builder modules (``cad/families/fourbar/build.py``, ``pantograph.py``, ``powermouse.py``)::
 
     def build(design, out_dir: Path, formats: set[str], *, fidelity: str = "fabrication",
               allow_interference: bool = False, progress: Progress | None = None,
@@ -13,7 +13,7 @@ dispatcher adds ``build`` metadata, writes ``report.json`` and ``manifest.json``
 builder may put wall times under ``"_timings_s"``: they are returned (as
 ``timings_s``) but kept out of ``report.json`` so that the file is deterministic.
 A builder may put the bytes of its assembly's ``.glb`` under ``"_viewer_glb"``
-(:func:`cad.build.views.write_views`): the dispatcher embeds them in ``report.html``
+(:func:`cad.pipeline.views.write_views`): the dispatcher embeds them in ``report.html``
 (:mod:`cad.report.html`, written for every family, after ``report.json``).
 ``progress`` (may be None) is called as ``progress(description, done, total)``.
 A builder may expose ``check_options(design, fidelity, phi1_deg, formats)`` raising DesignError for
@@ -44,7 +44,7 @@ from pathlib import Path
 from typing import Any
 
 import cad
-from cad.design import FAMILY_MODULES
+from cad.data.families import FAMILIES, builder_module
 from cad.errors import DesignError
 from cad.io.atomic import atomic_dir, write_text_atomic
 from cad.io.outdir import check_out_dir
@@ -54,23 +54,27 @@ FIDELITIES = ("fabrication", "inertia", "preview")
 REPORT_NAME = "report.json"
 HTML_NAME = "report.html"
 #: Families whose build can write ``--formats firmware`` (:mod:`cad.firmware`).
-FIRMWARE_FAMILIES = ("hoeken", "roberts", "chebyshev", "chebyshev-v", "custom", "pantograph",
-                     "twin-pantograph", "powermouse")
+FIRMWARE_FAMILIES = tuple(n for n, f in FAMILIES.items() if f.firmware)
 #: Bump when the cache key payload changes shape.
 CACHE_SCHEMA = 1
 
 
 def builder_module_name(design) -> str:
-    """``cad.build.<x>`` for a design object (from its family's design module)."""
+    """``cad.families.<package>.build`` of a design object (:mod:`cad.data.families`).
+
+    Raises DesignError naming ``mechanism.family`` for an object that is no registered
+    family's design, or a family that has no parts yet."""
     family = getattr(design, "family", None)
-    design_mod = FAMILY_MODULES.get(family) if family is not None else None
-    if design_mod is None:
-        design_mod = type(design).__module__
-    if not design_mod.startswith("cad.design."):
+    if family not in FAMILIES or not type(design).__module__.startswith("cad.design."):
         raise DesignError(
             "mechanism.family", f"no builder for designs of type {type(design).__name__}"
         )
-    return "cad.build." + design_mod.rsplit(".", 1)[1]
+    mod = builder_module(family)
+    if mod is None:
+        raise DesignError(
+            "mechanism.family", f"building {family!r} designs is not available yet"
+        )
+    return mod
 
 
 def _jsonable(obj: Any) -> Any:
@@ -92,7 +96,7 @@ def _jsonable(obj: Any) -> Any:
 @functools.lru_cache(maxsize=8)
 def code_version(deps: tuple[str, ...] | None = None) -> str:
     """sha256 over the source of the ``cad`` package, or of the listed sub-packages/modules
-    (``deps``: paths relative to the package, e.g. ``("parts", "materials.py")``)."""
+    (``deps``: paths relative to the package, e.g. ``("parts", "data")``)."""
     root = Path(cad.__file__).parent
     files = (
         sorted(root.rglob("*.py"))
@@ -155,7 +159,7 @@ def build_key(
     deps = getattr(mod, "CODE_DEPS", None)
     payload["code"] = code_version(tuple(deps) if deps is not None else None)
     # the dispatcher adds the datasheet to every family's report (cad/datasheet, its inputs)
-    payload["datasheet_code"] = code_version(("datasheet", "parts/catalog.py", "sim/wall.py",
+    payload["datasheet_code"] = code_version(("datasheet", "data", "families", "sim/wall.py",
                                               "structure/bearings.py", "design/motor.py"))
     if mod is not None and hasattr(mod, "cache_inputs"):
         payload["extra"] = _jsonable(mod.cache_inputs(design))
@@ -246,7 +250,7 @@ def _children_cancelled_on_error():
     try:
         yield
     except BaseException:
-        from cad.build import forked
+        from cad.pipeline import forked
 
         forked.cancel_all()
         raise

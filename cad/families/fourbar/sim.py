@@ -21,7 +21,7 @@ from cad.export.sim import SimBody, SimLoop, SimMesh, SimModel, SimMotor
 
 
 def _rgba(material: str) -> tuple[float, float, float, float]:
-    from cad.materials import get_material
+    from cad.data.materials import get_material
 
     return (*get_material(material).color_rgb, 1.0)
 

@@ -15,11 +15,11 @@ Pipeline (``hapticad build designs/hoeken.toml``):
    :class:`cad.errors.InterferenceError` unless ``allow_interference``;
 6. exports into ``out_dir``: ``parts/<part>.step|.stl|.dxf``, ``assembly.step``,
    ``assembly.glb`` and ``parts.3mf`` when asked, ``bom.csv``, ``preview.png``,
-   ``animation.gif`` + ``render.png`` (:mod:`cad.build.views`), ``report.md`` (the
+   ``animation.gif`` + ``render.png`` (:mod:`cad.pipeline.views`), ``report.md`` (the
    dispatcher adds ``report.json``, ``report.html`` and ``manifest.json``).
 
 Once the parts exist, the part files + assembly STEP, the preview and the viewer files
-(glb, GIF, still) are written by three forked child processes while this process does steps 4-5 (:mod:`cad.build.forked`; serial
+(glb, GIF, still) are written by three forked child processes while this process does steps 4-5 (:mod:`cad.pipeline.forked`; serial
 where forking is off, same bytes either way).
 
 Fidelity (issue 7): ``fabrication`` -- every feature, bd_warehouse bearings with balls,
@@ -42,7 +42,9 @@ from cad.errors import DesignError
 
 #: Source the output depends on (build cache key): any change there rebuilds.
 CODE_DEPS = (
-    "build",
+    "pipeline",
+    "families",
+    "datasheet",
     "firmware",  # --formats firmware (cad/firmware)
     "report",  # report.html, the stroke GIF and render (cad/report)
     "parts",
@@ -54,7 +56,7 @@ CODE_DEPS = (
     "structure",
     "design",
     "io",
-    "materials.py",
+    "data",
     "analysis.py",
     "tolerances.py",
     "errors.py",
@@ -62,9 +64,9 @@ CODE_DEPS = (
 )
 #: Poses and STL tolerance of the preview fidelity.
 PREVIEW_POSES = 24
-#: This builder writes the simulator formats (mjcf, urdf; :mod:`cad.build.sim_fourbar`).
+#: This builder writes the simulator formats (mjcf, urdf; :mod:`cad.families.fourbar.sim`).
 SIM_EXPORT = True
-#: This builder writes glb and 3mf (:mod:`cad.build.views`).
+#: This builder writes glb and 3mf (:mod:`cad.pipeline.views`).
 VIEW_EXPORT = True
 PREVIEW_STL_TOL_MM = 0.1
 LINKS = ("crank", "coupler", "rocker")
@@ -90,9 +92,9 @@ def sweep_angles(design, n: int) -> np.ndarray:
 
 def _kind_props(kind):
     """MassProps of a part kind in its own frame (SI), or None when it carries no mass."""
+    from cad.data.catalog import ring_inertia_kg_m2
+    from cad.data.materials import get_material
     from cad.massprops.props import from_principal
-    from cad.materials import get_material
-    from cad.parts.catalog import ring_inertia_kg_m2
     from cad.parts.part_props import part_mass_props
 
     if kind.inertia_model == "none":
@@ -109,16 +111,16 @@ def _kind_props(kind):
     return props
 
 
-#: Public name of :func:`_kind_props` (used by :mod:`cad.build.inertia`).
+#: Public name of :func:`_kind_props` (used by :mod:`cad.pipeline.inertia`).
 kind_mass_props = _kind_props
 
 
 def encoder_bom_row(design) -> dict:
     """The crank encoder as a bought BOM line (no solid: it sits on the motor's rear shaft),
-    from the datasheet's encoder choice (:func:`cad.datasheet.fourbar.encoder_counts`); its
+    from the datasheet's encoder choice (:func:`cad.families.fourbar.datasheet.encoder_counts`); its
     mass is not in the catalog (0 in the totals, said in the description)."""
-    from cad.datasheet.fourbar import encoder_counts, lever
-    from cad.parts import catalog
+    from cad.data import catalog
+    from cad.families.fourbar.datasheet import encoder_counts, lever
 
     counts, src, key = encoder_counts(design, lever(design, 3)[1])
     enc = catalog.get_encoder(key) if key is not None else None
@@ -201,9 +203,9 @@ def _write_exports(
     asm, listed, out_dir: Path, formats, stl_tol, ang, tf_pose, name: str, progress, n_steps
 ) -> list[str]:
     """Part files (STEP/STL/DXF) and the posed assembly STEP; returns their paths in out_dir."""
-    from cad.build.family import shop_args
+    from cad.data.materials import get_material
     from cad.export import export_assembly_step, export_part
-    from cad.materials import get_material
+    from cad.pipeline.family import shop_args
 
     files: list[str] = []
     for k in listed:
@@ -222,7 +224,7 @@ def _write_exports(
         )
         files += [p.relative_to(out_dir).as_posix() for p in paths]
     if "drawings" in formats:
-        from cad.build.family import write_part_drawings
+        from cad.pipeline.family import write_part_drawings
 
         files += write_part_drawings(asm.instances, out_dir, name, asm.holes)
     if "step" in formats:
@@ -236,7 +238,7 @@ def _write_exports(
         )
         files.append("assembly.step")
     if "3mf" in formats:
-        from cad.build.views import write_parts_3mf
+        from cad.pipeline.views import write_parts_3mf
 
         files.append(
             write_parts_3mf(
@@ -247,12 +249,12 @@ def _write_exports(
 
 
 def _write_sim(design, asm, link_props, Jm, motor, phi1_rad, out_dir: Path, formats) -> list[str]:
-    """``<name>.xml`` (MJCF) / ``<name>.urdf`` when asked (:mod:`cad.build.sim_fourbar`)."""
+    """``<name>.xml`` (MJCF) / ``<name>.urdf`` when asked (:mod:`cad.families.fourbar.sim`)."""
     from cad.export.sim import SIM_FORMATS, write_sim_files
 
     if not set(formats) & set(SIM_FORMATS):
         return []
-    from cad.build.sim_fourbar import sim_model
+    from cad.families.fourbar.sim import sim_model
 
     model = sim_model(design, asm, link_props, Jm, motor, phi1_rad)
     paths = write_sim_files(model, out_dir, formats, design.name)
@@ -356,10 +358,10 @@ def build(
     from cad.assembly.layers import footprint_bbox_mm
     from cad.assembly.mechanism import build_assembly
     from cad.assembly.pose import body_transforms, planar_transforms
+    from cad.data import catalog
     from cad.kinematics.fourbar import solve
     from cad.kinematics.linkgeom import link_joints_mm
     from cad.kinematics.metrics import compute_metrics
-    from cad.parts import catalog
     from cad.parts.handle import handle_params, resolve_script, user_handle_shape
 
     timings: dict[str, float] = {}
@@ -403,12 +405,12 @@ def build(
     )
     timings["parts"] = time.perf_counter() - t1
 
-    # 4-6 run side by side (cad.build.forked): the part files and the assembly STEP in one
+    # 4-6 run side by side (cad.pipeline.forked): the part files and the assembly STEP in one
     # child process, the preview in another, while this process does the mass
     # properties and the interference sweep; any failure cancels the others and nothing
     # is published (the dispatcher owns the temporary out_dir).
-    from cad.build import forked
     from cad.export import STL_ANGULAR_TOLERANCE_RAD
+    from cad.pipeline import forked
 
     kinds = asm.kinds()
     listed = [k for k in kinds.values() if k.listed]
@@ -466,7 +468,7 @@ def build(
         return time.perf_counter() - t
 
     def views_stage() -> tuple[list[str], bytes, float]:
-        from cad.build.views import STROKE_POSES, write_views
+        from cad.pipeline.views import STROKE_POSES, write_views
 
         t = time.perf_counter()
         stroke = body_transforms(fb, sweep_angles(design, STROKE_POSES))
@@ -537,9 +539,9 @@ def build(
             itf.raise_on_collision(rep, parts.clearance_min_mm)
         timings["interference"] = time.perf_counter() - t1
 
-        # BOM (the rows every family writes, fits included: cad.build.family)
-        from cad.build import family
+        # BOM (the rows every family writes, fits included: cad.pipeline.family)
         from cad.export import write_bom
+        from cad.pipeline import family
 
         encoder = encoder_bom_row(design)
         bom = family.bom_rows(asm.instances, props) + [encoder]

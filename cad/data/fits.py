@@ -4,7 +4,7 @@ One table for every family (four-bar, pantograph, twin pantograph, PowerMouse): 
 kind states its fits as ``"<feature> <diameter mm> <class>"`` (:func:`fit`, e.g.
 ``"bearing seat 16 J7"``) in :attr:`cad.parts.PartKind.fits`; the BOM's ``fits`` column,
 report.json's ``fits`` key and the DXF's ``NOTES`` layer all read that tuple
-(:mod:`cad.build.family`). Bore classes are upper case, shaft classes lower case; the
+(:mod:`cad.pipeline.family`). Bore classes are upper case, shaft classes lower case; the
 limits of each class are those of ISO 286-2's tables. Pure data: no CAD import.
 """
 
@@ -81,7 +81,7 @@ REAM_ALLOWANCE_SOURCE = (
     ">50 mm 0.5-1 mm; low end used), https://eventexam.blogspot.com/2023/09/"
     "under-sizes-of-reaming.html; unverified against Machinery's Handbook"
 )
-#: Rule for the tap drill of an ISO metric coarse thread (:func:`cad.parts.catalog.tap_drill_mm`).
+#: Rule for the tap drill of an ISO metric coarse thread (:func:`cad.data.catalog.tap_drill_mm`).
 TAP_DRILL_SOURCE = "tap drill = d - P (ISO 2306 drill sizes for ISO metric coarse threads)"
 
 
@@ -154,7 +154,7 @@ def shop_holes(fits: tuple[str, ...], threads=()) -> tuple[ShopHole, ...]:
     """The holes of a part from its :func:`fit` texts and its ``threads`` (``(size, full
     thread depth mm)`` pairs, e.g. ``("M4", 8.0)``); shafts are left out. Tap drills by
     :data:`TAP_DRILL_SOURCE`; reaming stock by :data:`REAM_ALLOWANCE_SOURCE`."""
-    from cad.parts.catalog import tap_drill_mm
+    from cad.data.catalog import tap_drill_mm
 
     out = []
     for text in fits:

@@ -1,6 +1,6 @@
 """Build a pantograph-family device: the plain 5-bar or the twin-pantograph haptic mouse.
 
-Contract: see :mod:`cad.build` (``build(design, out_dir, formats, *, fidelity,
+Contract: see :mod:`cad.pipeline` (``build(design, out_dir, formats, *, fidelity,
 allow_interference, progress, phi1_deg) -> report dict``; ``phi1_deg`` must be None, the
 family has no crank: refused at load time by :func:`check_options`). Isotropy paper §3
 (Fig. 2, the plain 5-bar) and §4.1 (Fig. 1, Table 1, the twin pantograph).
@@ -8,7 +8,7 @@ family has no crank: refused at load time by :func:`check_options`). Isotropy pa
 Pipeline: layout (heights, plates; numpy) -> analytic clearances over the workspace ->
 one list of part instances (:func:`assembly`; body, kind, placement) -> mass properties
 per body from the solids -> effective mass -> every-pair solid check at the home pose ->
-the common outputs of :mod:`cad.build.family` (``parts/``, ``assembly.step``,
+the common outputs of :mod:`cad.pipeline.family` (``parts/``, ``assembly.step``,
 ``bom.csv``, ``preview.png``, ``report.md``).
 
 Arrangement (our reading of Fig. 1; world frame = the kinematic base frame, z up,
@@ -44,7 +44,7 @@ each moving body from the exact B-rep, in its link frame), ``effective_mass_home
 (mouse: diag and apparent readings beside ``paper_table1``; 5-bar: the 2x2 mass matrix
 at the workspace centre), ``interference`` (every pair of solids at home),
 ``bench_z_mm`` / ``lowest_z_mm``, ``bom``, ``fits`` (ISO 286 fits per part,
-:mod:`cad.assembly.fits`), ``files``.
+:mod:`cad.data.fits`), ``files``.
 """
 
 from __future__ import annotations
@@ -58,7 +58,9 @@ from cad.errors import DesignError, InterferenceError
 
 #: Source the output depends on (build cache key).
 CODE_DEPS = (
-    "build",
+    "pipeline",
+    "families",
+    "datasheet",
     "firmware",  # --formats firmware (cad/firmware)
     "report",  # report.html, the stroke GIF and render (cad/report)
     "parts",
@@ -69,7 +71,7 @@ CODE_DEPS = (
     "isotropy",
     "design",
     "io",
-    "materials.py",
+    "data",
     "errors.py",
     "dynamics",  # eq (25) of the firmware's wall
     "tolerances.py",
@@ -163,9 +165,9 @@ def screw_plan(design) -> dict[str, dict]:
     min_engagement_mm, joint, clamps (parts clamped, head side first). DesignError naming
     the joint when no catalog length fits."""
     from cad.assembly import fasteners as fs
+    from cad.data.catalog import get_motor
     from cad.parts import base
     from cad.parts import motor as pm
-    from cad.parts.catalog import get_motor
 
     p = design.parts
     m = get_motor(p.motor)
@@ -209,7 +211,7 @@ def set_screw_plan(design) -> dict:
     min_engagement_mm. DesignError naming ``parts.clevis_width_mm`` when no size fits,
     ``parts.clevis_height_mm`` when the shaft ends short of the screw."""
     from cad.assembly import fasteners as fs
-    from cad.parts.catalog import get_motor, thread_diameter_mm
+    from cad.data.catalog import get_motor, thread_diameter_mm
 
     p = design.parts
     m = get_motor(p.motor)
@@ -233,8 +235,8 @@ def set_screw_plan(design) -> dict:
 
 def layout(design) -> dict:
     """Heights and plate extents of the assembly (mm), from the design only (no CAD)."""
+    from cad.data.catalog import get_bearing, get_motor
     from cad.parts import base
-    from cad.parts.catalog import get_bearing, get_motor
     from cad.parts.motor import mount_side_mm
 
     twin = _twin(design)
@@ -376,8 +378,8 @@ def clearances(design, lay: dict | None = None) -> dict:
     crossing U0, the posts crossing every layer, the leg screw heads standing in L0.
     Returns {check: {"gap_mm", "at": [x_mm, y_mm(, theta_deg)]}} and the overall minimum.
     """
+    from cad.data.catalog import get_bearing, get_cap_screw
     from cad.parts import base
-    from cad.parts.catalog import get_bearing, get_cap_screw
 
     lay = lay or layout(design)
     p = design.parts
@@ -477,11 +479,7 @@ def _planar(mp):
 # -------------------------------------------------------------------------- assembly
 def _kinds(design, lay: dict, fidelity: str) -> dict:
     """Every distinct part (:class:`cad.parts.PartKind`) of the design, by name."""
-    from cad.assembly.fits import fit
-    from cad.parts import PartKind, base, joints
-    from cad.parts import motor as pm
-    from cad.parts import pantograph as pp
-    from cad.parts.catalog import (
+    from cad.data.catalog import (
         FASTENER_MATERIAL,
         clearance_hole_mm,
         get_bearing,
@@ -489,6 +487,10 @@ def _kinds(design, lay: dict, fidelity: str) -> dict:
         get_motor,
         tap_drill_mm,
     )
+    from cad.data.fits import fit
+    from cad.parts import PartKind, base, joints
+    from cad.parts import motor as pm
+    from cad.parts import pantograph as pp
 
     p = design.parts
     twin = _twin(design)
@@ -844,7 +846,7 @@ def assembly(design, lay: dict, fidelity: str):
     return inst, tfs, home, {**holes, **set_holes}
 
 
-#: This builder writes glb and 3mf (:mod:`cad.build.views`).
+#: This builder writes glb and 3mf (:mod:`cad.pipeline.views`).
 VIEW_EXPORT = True
 #: Poses of the stroke animation: the handle once round the workspace square.
 STROKE_POSES = 32
@@ -947,9 +949,9 @@ def _motor_station(place, holes, K, lay, p, tag: str, i: int, bxy, z_mount: floa
     """One motor on its mount plate: the plate, the motor, the plate's screws into the
     base/bridge plate and the motor face screws (through the plate into the face's tapped
     holes; heads in the base/bridge plate's opening)."""
+    from cad.data.catalog import get_motor
     from cad.parts import motor as pm
     from cad.parts import translation
-    from cad.parts.catalog import get_motor
 
     mot = get_motor(p.motor)
     mt = p.motor_mount_thickness_mm
@@ -1007,23 +1009,23 @@ def _ground(place, K, lay, p, B, twin) -> dict:
 
 # ------------------------------------------------------------------------------ build
 #: This builder writes the simulator formats for the twin pantograph (mjcf, urdf;
-#: :mod:`cad.build.sim_pantograph`).
+#: :mod:`cad.families.pantograph.sim`).
 SIM_EXPORT = True
 
 
 def _write_sim(design, out_dir, formats, instances, bodies, lay, home) -> list[str]:
     """``<name>.xml`` (MJCF) / ``<name>.urdf`` of the mouse when asked, from the instance list
-    (:mod:`cad.build.sim_pantograph`; meshes are ``parts/<kind>.stl``)."""
+    (:mod:`cad.families.pantograph.sim`; meshes are ``parts/<kind>.stl``)."""
     from cad.export.sim import SIM_FORMATS, write_sim_files
 
     if not set(formats) & set(SIM_FORMATS):
         return []
     import dataclasses
 
-    from cad.build.sim_pantograph import sim_model
+    from cad.data.catalog import get_motor
+    from cad.data.materials import get_material
+    from cad.families.pantograph.sim import sim_model
     from cad.kinematics import twin_pantograph as tw
-    from cad.materials import get_material
-    from cad.parts.catalog import get_motor
 
     th = math.radians(design.workspace["home_theta_deg"])
     ik = tw.ik(design.mechanism, np.array([[home[0], home[1], th]]))
@@ -1079,9 +1081,9 @@ def _write_sim(design, out_dir, formats, instances, bodies, lay, home) -> list[s
 
 def _effective_mass(design, bodies: dict, home: np.ndarray) -> tuple[dict, dict | None]:
     """Effective mass at home (with and, for the mouse, without rotor inertia)."""
+    from cad.data.catalog import get_motor
     from cad.kinematics import fivebar as fb5
     from cad.kinematics import twin_pantograph as tw
-    from cad.parts.catalog import get_motor
 
     rotor = get_motor(design.parts.motor).rotor_inertia_kg_m2
 
@@ -1133,8 +1135,8 @@ def build(
     :data:`MIN_CLEARANCE_MM` anywhere in the workspace, or two solids share volume at the
     home pose, unless allow_interference; GeometryError if a solid reaches below the bench.
     """
-    from cad.build import family, forked
     from cad.errors import GeometryError
+    from cad.pipeline import family, forked
 
     check_options(design, fidelity, phi1_deg, formats)
     out_dir = Path(out_dir)
@@ -1169,7 +1171,7 @@ def build(
     eff, eff_bare = _effective_mass(design, bodies, home)
 
     # the files are written by a forked child while this process checks the solids
-    # (cad.build.forked; serial where forking is off)
+    # (cad.pipeline.forked; serial where forking is off)
     bom = family.bom_rows(instances, props)
     title = f"{design.name}: {design.family} at home {home.round(2).tolist()} mm"
 
@@ -1207,7 +1209,7 @@ def build(
         files = task.result()
     if _twin(design):
         files += _write_sim(design, out_dir, formats, instances, bodies, lay, home)
-    from cad.build.views import write_viewer_outputs
+    from cad.pipeline.views import write_viewer_outputs
 
     view_files, viewer_glb = write_viewer_outputs(
         instances,
@@ -1244,7 +1246,7 @@ def _square(ws: dict) -> np.ndarray:
 
 
 def _report(design, lay, clr, bodies, eff, eff_bare, itf, bom, home, fidelity, low) -> dict:
-    from cad.parts.catalog import get_motor
+    from cad.data.catalog import get_motor
 
     g = design.gii()
     mot = get_motor(design.parts.motor)

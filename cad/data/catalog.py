@@ -27,7 +27,7 @@ from pathlib import Path
 
 from cad.errors import DesignError
 
-#: Material of bought steel fasteners (key of :data:`cad.materials.MATERIALS`).
+#: Material of bought steel fasteners (key of :data:`cad.data.materials.MATERIALS`).
 FASTENER_MATERIAL = "steel-1018"
 #: Material of bearing rings for the exported geometry (colour only; mass is catalog).
 BEARING_MATERIAL = "steel-1018"

@@ -13,7 +13,7 @@ and draws the ellipses over the workspace (``force_ellipses.png``, planar famili
 
 Position resolution: one encoder step ``2 pi / counts`` on each joint moves the handle at
 most ``sigma_max(J_pos^+) 2 pi / counts`` (J_pos the translational columns; counts of
-:data:`cad.parts.catalog.DEFAULT_ENCODER`, the Hoeken prototype's, as these designs name no
+:data:`cad.data.catalog.DEFAULT_ENCODER`, the Hoeken prototype's, as these designs name no
 encoder); the worst over the workspace. No CAD import.
 """
 
@@ -110,8 +110,8 @@ def write_ellipse_chart(design, out_dir, A, ok) -> str | None:
 
 def rows_and_limits(design, report: dict, out_dir=None, simulate_wall: bool = True):
     """(rows, limits, notes) of a pantograph-family build (module docstring)."""
+    from cad.data import catalog
     from cad.datasheet.limits import pantograph_limits
-    from cad.parts import catalog
 
     A, sig, ok = force_ellipses(design)
     ws = design.workspace

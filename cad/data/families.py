@@ -1,0 +1,104 @@
+"""The one family registry: every design family, its schema module, its layout package and
+the commands that accept it. Everything that dispatches on ``[mechanism] family`` reads
+this table (design loading, the build pipeline, the datasheet, the CLI refusals and the
+README's commands x families table). A new family is one row here and one
+``cad/families/<package>/`` package (see docs/architecture.md).
+
+No CAD imports.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+#: Commands that take a design, in the order of the README's commands x families table.
+DESIGN_COMMANDS = ("analyze", "synth", "swap", "check", "fit", "build", "gii", "optimize",
+                   "tolerance", "sweep", "wall", "render", "datasheet")
+#: Commands that read no design file (they take a STEP/STL file, flags, or nothing).
+NO_DESIGN_COMMANDS = ("massprops", "voicecoil", "bench", "cache")
+
+_FOURBAR_CMDS = ("analyze", "synth", "swap", "check", "fit", "build", "optimize", "tolerance",
+                 "sweep", "wall", "render", "datasheet")
+_PANTOGRAPH_CMDS = ("check", "fit", "build", "gii", "optimize", "render", "datasheet")
+
+
+@dataclass(frozen=True)
+class Family:
+    """One row of the registry.
+
+    name : ``[mechanism] family`` of a design file.
+    group : the column of the commands x families table (four-bars share one).
+    design_module : the module owning the schema (``parse(raw, source) -> design``).
+    package : ``cad.families.<package>``, the layout code the build pipeline calls
+        (``<package>.build``), or None while the family has no parts.
+    commands : the ``hapticad`` commands that accept its designs.
+    firmware : ``--formats firmware`` is written for it (:mod:`cad.firmware`).
+    """
+
+    name: str
+    group: str
+    design_module: str
+    package: str | None
+    commands: tuple[str, ...]
+    firmware: bool = True
+
+
+def _fourbar(name: str) -> Family:
+    return Family(name, "four-bar", "cad.design.fourbar", "fourbar", _FOURBAR_CMDS)
+
+
+FAMILIES: dict[str, Family] = {
+    f.name: f
+    for f in (
+        _fourbar("hoeken"),
+        _fourbar("roberts"),
+        _fourbar("chebyshev"),
+        _fourbar("chebyshev-v"),
+        _fourbar("custom"),
+        Family("pantograph", "pantograph", "cad.design.pantograph", "pantograph",
+               _PANTOGRAPH_CMDS),
+        Family("twin-pantograph", "twin-pantograph", "cad.design.pantograph", "pantograph",
+               _PANTOGRAPH_CMDS),
+        Family("haptic-pen", "haptic-pen", "cad.design.pantograph", None,
+               tuple(c for c in _PANTOGRAPH_CMDS if c not in ("build", "render", "datasheet")),
+               firmware=False),
+        Family("powermouse", "powermouse", "cad.design.powermouse", "powermouse",
+               ("build", "render", "datasheet")),
+    )
+}
+
+
+def family(name: str) -> Family:
+    """The registry row of ``name``; KeyError for an unknown family (the design loader
+    turns that into a DesignError naming ``mechanism.family``)."""
+    return FAMILIES[name]
+
+
+def names(group: str | None = None) -> tuple[str, ...]:
+    """Family names, in registry order (of one ``group`` when given)."""
+    return tuple(n for n, f in FAMILIES.items() if group is None or f.group == group)
+
+
+def groups() -> dict[str, tuple[str, ...]]:
+    """``{group: family names}`` in registry order (the table's columns)."""
+    out: dict[str, tuple[str, ...]] = {}
+    for f in FAMILIES.values():
+        out[f.group] = out.get(f.group, ()) + (f.name,)
+    return out
+
+
+def command_families() -> dict[str, tuple[str, ...]]:
+    """``{command: the family names it accepts}`` for every design command."""
+    return {c: tuple(n for n, f in FAMILIES.items() if c in f.commands) for c in DESIGN_COMMANDS}
+
+
+def builder_module(name: str) -> str | None:
+    """``cad.families.<package>.build`` of a family, None when it has no parts yet."""
+    pkg = FAMILIES[name].package
+    return None if pkg is None else f"cad.families.{pkg}.build"
+
+
+def datasheet_module(name: str) -> str | None:
+    """``cad.families.<package>.datasheet`` (``rows_and_limits``), None without parts."""
+    pkg = FAMILIES[name].package
+    return None if pkg is None else f"cad.families.{pkg}.datasheet"

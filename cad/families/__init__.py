@@ -1,0 +1,14 @@
+"""Families: the layout code of each device family behind one protocol.
+
+A package ``cad/families/<name>/`` holds what is particular to a family and nothing the
+pipeline (:mod:`cad.pipeline`) does for every family:
+
+* ``build.py`` -- ``build(design, out_dir, formats, *, fidelity, allow_interference,
+  progress, phi1_deg) -> report dict``; optionally ``check_options``, ``cache_inputs``,
+  ``CODE_DEPS`` (the contract is in :mod:`cad.pipeline`);
+* ``datasheet.py`` -- ``rows_and_limits(design, report, out_dir, simulate_wall)``, the
+  family's rows of the device datasheet (:mod:`cad.datasheet`);
+* ``sim.py`` (where the family exports MJCF/URDF) -- its simulator model.
+
+The registry row (:mod:`cad.data.families`) names the package.
+"""

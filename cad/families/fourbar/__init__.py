@@ -1,0 +1,1 @@
+"""The fourbar family's layout code (:mod:`cad.families`)."""

@@ -1,0 +1,1 @@
+"""The pantograph family's layout code (:mod:`cad.families`)."""

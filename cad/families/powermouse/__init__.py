@@ -1,0 +1,1 @@
+"""The powermouse family's layout code (:mod:`cad.families`)."""
