@@ -3,6 +3,9 @@
 A package ``cad/families/<name>/`` holds what is particular to a family and nothing the
 pipeline (:mod:`cad.pipeline`) does for every family:
 
+* ``assemble(design, fidelity="fabrication") -> cad.assembly.model.AssemblyModel``
+  (exported by the package's ``__init__``): the part instances, the bodies at the exported
+  pose and over the motion the interference check sweeps;
 * ``build.py`` -- ``build(design, out_dir, formats, *, fidelity, allow_interference,
   progress, phi1_deg) -> report dict``; optionally ``check_options``, ``cache_inputs``,
   ``CODE_DEPS`` (the contract is in :mod:`cad.pipeline`);
