@@ -89,7 +89,7 @@ def check(design, targets: tuple[str, ...] | list[str] = (), fidelity: str = "in
         raise DesignError("--fidelity", f"must be inertia or fabrication, got {fidelity!r}")
     four_bar = isinstance(design, FourBarDesign)
     if not four_bar and design.family not in ("pantograph", "twin-pantograph", "haptic-pen"):
-        from cad.cli.families import refusal
+        from cad.data.families import refusal
 
         raise DesignError("mechanism.family", refusal("check", design.family))
     keys = TARGET_KEYS if four_bar else PANTOGRAPH_TARGET_KEYS
@@ -143,8 +143,8 @@ def mass_properties(path: str | Path, density_kg_m3: float | None = None,
     density or material the default material is used (a note in ``notes``). Raises
     DesignError / MeshError / GeometryError naming the file and the fault.
     """
-    from cad.cli.cmd_massprops import compute
     from cad.design import bounds
+    from cad.pipeline.file_props import compute
 
     dens = None if density_kg_m3 is None else str(density_kg_m3)
     bounds.reset()  # this call's warnings only, as one CLI command
@@ -158,9 +158,8 @@ def gii(design) -> dict:
     Returns the ``hapticad gii --json`` object (``gii``, ``sigma_min``, ``sigma_max`` and
     where they occur). Raises DesignError for other families.
     """
-    from cad.cli.cmd_gii import PANTOGRAPH_FAMILIES, gii_report
-    from cad.errors import DesignError
+    from cad.data.families import require
+    from cad.isotropy.report import gii_report
 
-    if getattr(design, "family", None) not in PANTOGRAPH_FAMILIES:
-        raise DesignError("mechanism.family", f"gii needs one of {', '.join(PANTOGRAPH_FAMILIES)}")
+    require("gii", getattr(design, "family", None))
     return gii_report(design)

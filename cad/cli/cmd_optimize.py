@@ -18,37 +18,7 @@ import typer
 
 from cad.cli.app import print_json
 from cad.cli.families import FOUR_BARS as FOURBAR_FAMILIES
-
-
-def optimize_report(design, method: str) -> dict:
-    """JSON-able optimization report of a loaded pantograph-family design."""
-    from cad.isotropy.culling import optimize
-
-    problem = design.problem()
-    res = optimize(problem, method)
-    best = problem.candidate(res.best_index)
-    best = {k: v for k, v in best.items() if k in design.optimize or k in design.params}
-    at_bound = [
-        name
-        for name, (lo, hi, count) in design.optimize.items()
-        if count > 1 and (best[name] == lo or best[name] == hi)
-    ]
-    return {
-        "design": design.name,
-        "family": design.family,
-        "method": res.method,
-        "best": {k: best[k] for k in design.optimize},
-        "fixed": {k: v for k, v in design.params.items() if k not in design.optimize},
-        "gii": res.gii,
-        "jacobian_evaluations": res.jacobian_evaluations,
-        "brute_force_evaluations": res.brute_force_evaluations,
-        "evaluation_ratio": res.brute_force_evaluations / res.jacobian_evaluations,
-        "wall_time_s": res.wall_time_s,
-        "n_candidates": res.n_candidates,
-        "n_points": res.n_points,
-        "candidates_completed": res.candidates_completed,
-        "at_bound": at_bound,
-    }
+from cad.isotropy.report import optimize_report  # noqa: F401 - re-exported
 
 
 def write_optimum(design, rep: dict, out: Path, command: str) -> bool:

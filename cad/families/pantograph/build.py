@@ -123,7 +123,7 @@ def check_options(design, fidelity: str, phi1_deg, formats=frozenset()) -> None:
             f"not {design.family!r}",
         )
     if design.family not in FAMILIES:
-        from cad.cli.families import refusal
+        from cad.data.families import refusal
 
         raise DesignError("mechanism.family", refusal("build", design.family)
                           + " (the haptic pen has kinematics and GII only, no parts)")
