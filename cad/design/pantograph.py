@@ -57,6 +57,7 @@ from cad.design.fields import (
     require_positive,
     require_table,
 )
+from cad.design.replace import TableReplace, ValidatedReplace
 from cad.errors import DesignError
 
 FAMILIES = ("pantograph", "twin-pantograph", "haptic-pen")
@@ -119,7 +120,7 @@ OPTIMIZABLE = {
 
 
 @dataclass(frozen=True)
-class PantographParts:
+class PantographParts(TableReplace):
     """Part parameters of the twin-pantograph mouse (mm; catalogue keys named).
 
     Links: carbon-fibre tubes bonded into aluminium clevises (isotropy paper
@@ -229,7 +230,7 @@ def parse_parts(table: dict[str, Any], prefix: str = "parts") -> PantographParts
 
 
 @dataclass(frozen=True)
-class PantographDesign:
+class PantographDesign(ValidatedReplace):
     """A validated pantograph-family design.
 
     mechanism: :class:`~cad.kinematics.fivebar.FiveBar`,
