@@ -11,7 +11,7 @@ never import OCP, build123d or cadquery. CAD modules import lazily.
 __version__ = "0.1.0"
 
 #: The supported API (:mod:`cad.api`), loaded on first use so ``import cad`` stays light.
-__all__ = ["analyze", "build_design", "check", "gii", "load_design", "mass_properties"]
+__all__ = ["analyze", "assemble", "build_design", "check", "gii", "load_design", "mass_properties"]
 
 
 def __getattr__(name: str):

@@ -163,3 +163,34 @@ def gii(design) -> dict:
 
     require("gii", getattr(design, "family", None))
     return gii_report(design)
+
+
+def assemble(design, fidelity: str = "fabrication"):
+    """The device laid out as part instances: a :class:`cad.assembly.model.AssemblyModel`.
+
+    ``fidelity``: ``fabrication`` (every feature), ``inertia`` or ``preview`` (cheaper
+    solids, see the README's fidelity table). Dispatched through the family registry
+    (:mod:`cad.data.families`) to ``cad.families.<package>.assemble``. ``model.compound()``
+    is a labelled, coloured build123d ``Compound`` (one child per instance, world frame, mm).
+    Raises DesignError naming ``mechanism.family`` for a family with no parts (no package or
+    no ``assemble``), ``fidelity`` for an unknown fidelity. Imports the CAD libraries.
+    """
+    import importlib
+
+    from cad.data.families import FAMILIES
+    from cad.design.parts import FIDELITIES
+    from cad.errors import DesignError
+
+    if fidelity not in FIDELITIES:
+        raise DesignError("fidelity", f"must be one of {', '.join(FIDELITIES)}, got {fidelity!r}")
+    family = getattr(design, "family", None)
+    row = FAMILIES.get(family)
+    if row is None:
+        raise DesignError("mechanism.family", f"unknown family {family!r}")
+    fn = None
+    if row.package is not None:
+        fn = getattr(importlib.import_module(f"cad.families.{row.package}"), "assemble", None)
+    if fn is None:
+        raise DesignError("mechanism.family", f"{family} designs have no parts to assemble yet "
+                          f"(no cad.families.{row.package or '<package>'}.assemble)")
+    return fn(design, fidelity=fidelity)
