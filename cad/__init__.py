@@ -11,7 +11,9 @@ never import OCP, build123d or cadquery. CAD modules import lazily.
 __version__ = "0.1.0"
 
 #: The supported API (:mod:`cad.api`), loaded on first use so ``import cad`` stays light.
-__all__ = ["analyze", "assemble", "build_design", "check", "gii", "load_design", "mass_properties"]
+__all__ = ["analyze", "assemble", "build_design", "cache", "check", "device_datasheet",
+           "fit_design", "gii", "load_design", "mass_properties", "optimize", "render",
+           "run_bench", "swap", "sweep_design", "synth", "tolerance", "voicecoil", "wall"]
 
 
 def __getattr__(name: str):
