@@ -95,30 +95,35 @@ def register(app: typer.Typer) -> None:
         if json_out:
             print_json(result, sort_keys=True, default=float)
             return
-        from rich.console import Console
-        from rich.table import Table
+        _print_swap(d, new, result, target, replaced)
 
-        t = Table(title=f"swap {d.name} ({d.family}) -> {new.name} ({new.family}); hardware kept")
-        t.add_column("quantity")
-        t.add_column(d.family, justify="right")
-        t.add_column(new.family, justify="right")
-        for k, v in old_m.items():
-            nv = new_m.get(k)
-            if isinstance(v, (list, tuple)):
-                t.add_row(k, " x ".join(f"{x:.1f}" for x in v), " x ".join(f"{x:.1f}" for x in nv))
-            elif isinstance(v, str):
-                t.add_row(k, v, str(nv))
-            else:
-                t.add_row(k, f"{v:.5g}", f"{nv:.5g}")
-        con = Console()
-        con.print(t)
+
+def _print_swap(d, new, result: dict, target: Path, replaced: bool) -> None:
+    """The old and new metrics side by side, the layer order and what was written (text)."""
+    from rich.console import Console
+    from rich.table import Table
+
+    t = Table(title=f"swap {d.name} ({d.family}) -> {new.name} ({new.family}); hardware kept")
+    t.add_column("quantity")
+    t.add_column(d.family, justify="right")
+    t.add_column(new.family, justify="right")
+    for k, v in result["old"].items():
+        nv = result["new"].get(k)
+        if isinstance(v, (list, tuple)):
+            t.add_row(k, " x ".join(f"{x:.1f}" for x in v), " x ".join(f"{x:.1f}" for x in nv))
+        elif isinstance(v, str):
+            t.add_row(k, v, str(nv))
+        else:
+            t.add_row(k, f"{v:.5g}", f"{nv:.5g}")
+    con = Console()
+    con.print(t)
+    con.print(
+        f"layers {', '.join(result['layers']['order'])} (bottom to top), planar clearance "
+        f"{result['layers']['min_planar_clearance_mm']:.2f} mm; {'replaced' if replaced else 'wrote'} {target}"
+    )
+    if result["layers"]["conflicts"]:
+        con.print(f"[yellow]warning:[/] layer conflicts: {'; '.join(result['layers']['conflicts'])}")
+    if "build" in result:
         con.print(
-            f"layers {', '.join(plan['order'])} (bottom to top), planar clearance "
-            f"{plan['min_planar_clearance_mm']:.2f} mm; {'replaced' if replaced else 'wrote'} {target}"
+            f"built {result['build']['out']}: min clearance {result['build']['min_clearance_mm']:.3f} mm"
         )
-        if plan["conflicts"]:
-            con.print(f"[yellow]warning:[/] layer conflicts: {'; '.join(plan['conflicts'])}")
-        if build:
-            con.print(
-                f"built {result['build']['out']}: min clearance {result['build']['min_clearance_mm']:.3f} mm"
-            )
