@@ -123,11 +123,10 @@ def check(design, targets: tuple[str, ...] | list[str] = (), fidelity: str = "in
 
     if fidelity not in ("inertia", "fabrication"):
         raise DesignError("--fidelity", f"must be inertia or fabrication, got {fidelity!r}")
-    four_bar = isinstance(design, FourBarDesign)
-    if not four_bar and design.family not in ("pantograph", "twin-pantograph", "haptic-pen"):
-        from cad.data.families import refusal
+    from cad.data.families import require
 
-        raise DesignError("mechanism.family", refusal("check", design.family))
+    require("check", getattr(design, "family", None))
+    four_bar = isinstance(design, FourBarDesign)
     keys = TARGET_KEYS if four_bar else PANTOGRAPH_TARGET_KEYS
     if isinstance(targets, str):  # one "KEY=VALUE", not its characters
         targets = (targets,)
