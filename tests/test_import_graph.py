@@ -28,11 +28,9 @@ MASSPROPS_PURE = ("cad.massprops.props", "cad.massprops.mesh", "cad.massprops.sh
 #: Packages of the CAD layers (and the layers above them) the math layers must never import.
 CAD_LAYERS = ("parts", "assembly", "pipeline", "families", "export", "report", "cli", "occ",
               "drawings")
-#: Known edges into a CAD-layer package, each with its reason. The isotropy studies write
-#: their charts with cad.report.figures.save_figure (a matplotlib file writer whose own
-#: imports are checked clean below); the layout of issue 23 moves the studies to cad/studies/.
-KNOWN = {("cad.isotropy.fig2_study", "cad.report.figures"),
-         ("cad.isotropy.pen_study", "cad.report.figures")}
+#: Known edges into a CAD-layer package, each with its reason (none today: the isotropy
+#: studies write their charts with cad.io.figures, the writer cad.report.figures re-exports).
+KNOWN: set[tuple[str, str]] = set()
 
 
 def _name(path: Path) -> str:
