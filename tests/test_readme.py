@@ -218,3 +218,27 @@ def test_readme_points_nowhere_outside_and_names_no_internal_issue(page):
     assert "../shared" not in text
     assert not re.search(r"\bissues? \d+|\(issue|where the issues", text)
     assert not re.search(r":(class|data|mod|func):`", text)
+
+
+def _anchor(heading: str) -> str:
+    """The anchor a code host (and the site, pymdownx.slugs with case=lower) gives a heading."""
+    text = re.sub(r"[`*]", "", heading).strip().lower()
+    return re.sub(r"[^\w\- ]", "", text).replace(" ", "-")
+
+
+def test_readme_is_the_front_door_and_its_links_resolve():
+    """README.md stays short (at most ~250 lines) and opens with the two commands; every link
+    it gives into docs/ names a page that exists and, with an anchor, a heading of that page
+    (the site build checks links between pages; the README is not part of the site)."""
+    text = README.read_text()
+    assert len(text.splitlines()) <= 250
+    assert text.startswith("```\npython3 -m venv .venv && .venv/bin/pip install -q -c constraints.txt -e . && "
+                           ".venv/bin/hapticad build designs/hoeken.toml\n")
+    links = re.findall(r"\]\((docs/[^)#]+)(?:#([^)]+))?\)", text) + re.findall(r'src="(docs/[^"]+)"()', text)
+    assert len(links) >= 20
+    for path, anchor in links:
+        page = ROOT / path
+        assert page.is_file(), path
+        if anchor:
+            heads = re.findall(r"^#{1,6} (.+)$", page.read_text(), flags=re.M)
+            assert anchor in {_anchor(h) for h in heads}, (path, anchor)
