@@ -2,7 +2,7 @@
 objects.
 
 Everything else in :mod:`cad` is internal and may change. Lengths in mm, masses in g or kg
-and inertias in kg m^2 as the dict keys say; frames as in the README's Conventions. A
+and inertias in kg m^2 as the dict keys say; frames as in docs/conventions.md. A
 function returns what the command prints with ``--json`` (without the run's ``warnings``
 list: :func:`cad.design.bounds.collected` holds them) and writes nothing unless writing is
 what it is for (``build_design``, ``render``, ``sweep``, ``bench``). Bad input raises
@@ -77,7 +77,7 @@ def analyze(design, samples: int | None = None, inertia: dict[str, float] | None
     """Four-bar metrics (Hoeken paper Tables I/II), range check, apparent mass; no CAD.
 
     ``inertia``: optional ``{"H11": ..., "H12": ..., "H22": ..., "H33": ...}`` in kg m^2
-    (Hoeken paper eqs 16-19). Returns the ``hapticad analyze --json`` object (README schema).
+    (Hoeken paper eqs 16-19). Returns the ``hapticad analyze --json`` object (schema: docs/commands.md).
     Raises DesignError for a non-four-bar design.
     """
     from cad.analysis import analyze as _analyze
@@ -204,7 +204,7 @@ def assemble(design, fidelity: str = "fabrication"):
     """The device laid out as part instances: a :class:`cad.assembly.model.AssemblyModel`.
 
     ``fidelity``: ``fabrication`` (every feature), ``inertia`` or ``preview`` (cheaper
-    solids, see the README's fidelity table). Dispatched through the family registry
+    solids: docs/design-files.md, ``fidelity``). Dispatched through the family registry
     (:mod:`cad.data.families`) to ``cad.families.<package>.assemble``. ``model.compound()``
     is a labelled, coloured build123d ``Compound`` (one child per instance, world frame, mm).
     Raises DesignError naming ``mechanism.family`` for a family with no parts (no package or
@@ -433,7 +433,7 @@ def tolerance(design, hole_mm: float | None = None, hole=(), pivot_mm: float | N
               samples: int = 10000, seed: int = 0, angles: int = 401, targets=(),
               inertia: dict[str, float] | None = None) -> dict:
     """Monte Carlo of hole, pivot and length tolerances of a four-bar (``hapticad tolerance``):
-    distributions, yield against the targets, sensitivity (README "Tolerances").
+    distributions, yield against the targets, sensitivity (docs/tolerances.md).
 
     ``hole_mm`` / ``pivot_mm`` / ``length_mm``: +- mm on every bar hole / base pivot / link
     length; ``hole``, ``pivot``, ``length``: the specific ``"BAR.HOLE=T[:dist]"``,
@@ -641,7 +641,7 @@ def sweep_design(design: str | Path, vary, out_dir: str | Path, samples: int | N
                           "workers would run them unseen); sweep a design without one")
     parse_design(raw, str(design))  # the base design as every command loads it (load_design)
     _sweep_check_keys(raw, design, varies)
-    # only a folder hapticad wrote (README "Output folders"); a dead run's temporary
+    # only a folder hapticad wrote (docs/reliability.md "Output folders"); a dead run's temporary
     # files removed and its interrupted table write completed first (cad.sweep.table)
     check_folder(out, str(design))
     spec = SweepSpec(design=design.resolve(), raw=raw, varies=varies, samples=samples, seed=seed,

@@ -113,7 +113,7 @@ def run_bench(out: Path, quick: bool = False, only: str | None = None, echo=None
         for t in topics:
             if t not in TOPICS:
                 raise DesignError("--only", f"unknown topic {t!r} (known: {', '.join(TOPICS)})")
-    check_out_dir(out)  # only a folder bench (or build) wrote: README "Output folders"
+    check_out_dir(out)  # only a folder bench (or build) wrote: docs/reliability.md "Output folders"
     out.mkdir(parents=True, exist_ok=True)
     results: dict = {}
     for t in topics:
@@ -135,7 +135,7 @@ def run_bench(out: Path, quick: bool = False, only: str | None = None, echo=None
     results["total"] = {"wall_s": total_wall, "cpu_s": total_cpu, "quick": quick, "topics": topics,
                         "load_avg_1min": os.getloadavg()[0] if hasattr(os, "getloadavg") else None}
     results["goals"] = [{"goal": g, "measured": m, "target": tg, "met": ok} for g, m, tg, ok in rows]
-    results["measured"] = time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())  # README tables
+    results["measured"] = time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())  # the docs' generated tables
     results["command"] = "hapticad bench" + (" --quick" if quick else "") + (f" --only {only}" if only else "")
     write_text_atomic(out / "bench.json", json.dumps(results, indent=1, default=float))
     write_manifest(out)

@@ -12,7 +12,7 @@ from cad.bench.run import OPT_IN, TOPICS  # noqa: F401 - re-exported
 def register(app: typer.Typer) -> None:
     @app.command("bench")
     def bench_cmd(
-        quick: bool = typer.Option(False, "--quick", help="Fewer repeats and knobs (all topics: ~4 min of CPU, measured; README)."),
+        quick: bool = typer.Option(False, "--quick", help="Fewer repeats and knobs (all topics: ~4 min of CPU, measured; docs/performance.md)."),
         out: Path = typer.Option(Path("exports/bench"), "--out", help="Output folder for JSON and charts."),
         only: str = typer.Option(None, "--only", help=f"Comma list of topics: {','.join(TOPICS)}."),
     ) -> None:
