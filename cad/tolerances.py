@@ -156,3 +156,26 @@ STOCK_ROD_DIAMETER_ALLOWANCE_MM = 2.0
 STOCK_LENGTH_ALLOWANCE_MM = 5.0
 #: Block (milled parts that are neither plate nor turned): per side on every face.
 STOCK_BLOCK_MARGIN_MM = 2.0
+
+# ---------------------------------------------------------------- voice-coil optimisers
+# (cad/actuators/voicecoil.py, isotropy paper section 6 and Fig. 8)
+
+#: Default stopping bracket of the gap search (:func:`cad.actuators.voicecoil.optimal_gap`),
+#: relative to l_m + w_m + t_m + d_r: relative so tiny and huge actuators are solved alike;
+#: 1e-8 is far below any machining tolerance (1e-6 mm on a 100 mm actuator) and still ~8
+#: orders above float64 round-off of the log-space Brent search.
+GAP_XATOL_REL = 1e-8
+#: Least coil width d - d_r the actuator NLP allows (mm): eq (8)'s force is 0 at d = d_r and
+#: its sqrt(d - d_r) factor has an infinite slope there, which SLSQP's finite differences
+#: cannot step across; 1 um is far below any coil that can be wound.
+NLP_COIL_WIDTH_MIN_MM = 1e-3
+#: Constraint violation (mm) still counted feasible after SLSQP: its iterates meet the
+#: inequality constraints to round-off (~1e-12 of the ~10-100 mm sizes), not exactly.
+NLP_FEASIBLE_SLACK_MM = 1e-9
+#: A constraint within this (mm) of its bound is reported active: SLSQP stops with
+#: ftol NLP_SLSQP_FTOL, which leaves an active bound ~1e-8 mm off; 1e-6 mm is still
+#: far below any size that matters to a magnet or a coil.
+NLP_ACTIVE_MM = 1e-6
+#: SLSQP stopping tolerance on the normalized objective (force / 10 N, O(1)): 1e-12 is
+#: ~4 orders above float64 round-off, so the optimum is converged, not stalled.
+NLP_SLSQP_FTOL = 1e-12
