@@ -179,3 +179,15 @@ NLP_ACTIVE_MM = 1e-6
 #: SLSQP stopping tolerance on the normalized objective (force / 10 N, O(1)): 1e-12 is
 #: ~4 orders above float64 round-off, so the optimum is converged, not stalled.
 NLP_SLSQP_FTOL = 1e-12
+
+# ---------------------------------------------------------------- inverse design (cad/fit.py)
+
+#: Weight of the change from the start added to the max target violation in the optuna
+#: objective of ``hapticad fit``: the change is at most ~1 per free parameter, so 1e-6 only
+#: breaks ties between value sets whose violations agree to ~1e-6 (violations are relative,
+#: a target tolerance is ~1e-2), never trades a real violation for a smaller change.
+FIT_CHANGE_WEIGHT = 1e-6
+#: A stock plate thickness counts as inside a ``--free parts.bar_thickness_mm=LO:HI`` range
+#: when within this (mm) of it: LO and HI come from 0.5x/1.5x products that carry float
+#: round-off (~1e-15 mm); 1e-9 mm keeps a stock size given exactly as a bound inside.
+STOCK_RANGE_SLACK_MM = 1e-9
