@@ -122,100 +122,121 @@ def register(app: typer.Typer) -> None:
         ),
     ) -> None:
         """Same joint hardware, another straight-line bar set; old vs new metrics."""
-        import tomli_w
+        run_swap(design, to, out, json_out, build)
 
-        from cad.assembly.layers import choose_layers
-        from cad.assembly.pose import planar_transforms
-        from cad.cli import flags
-        from cad.cli.cmd_swap import SWAP_FAMILIES
-        from cad.design import load_design
-        from cad.design.fourbar import FourBarDesign
-        from cad.design.writer import dropped_targets_note
-        from cad.errors import DesignError
-        from cad.io.atomic import write_text_atomic
-        from cad.io.outdir import check_out_file
-        from cad.kinematics.linkgeom import link_joints_mm
 
-        flags.choice("--to", to, SWAP_FAMILIES)
-        flags.out_path("--out", out, folder=False)
-        d = load_design(design)
-        if not isinstance(d, FourBarDesign):
-            from cad.cli.families import refusal
+def run_swap(design: Path, to: str, out: Path | None, json_out: bool, build: bool) -> None:
+    """``hapticad swap``: swap the bar set, check its layout, optionally build, write, print.
 
-            raise DesignError("mechanism.family", refusal("swap", d.family))
-        target = (
-            out
-            if out is not None
-            else design.with_name(f"{design.stem}_{to.replace('-', '_')}.toml")
-        )
-        replaced = check_out_file(target, design)
-        raw = swap_raw(d, to, target)
-        if out is not None:  # the written file names the design (and its build folder)
-            raw["name"] = out.stem
-        dropped = [k for k in (d.raw.get("targets") or {}) if k not in (raw.get("targets") or {})]
-        new = replan(raw, target, to)  # validates before anything is written
-        import numpy as np
+    Raises DesignError on bad input or a bar set no layer order clears (nothing written).
+    """
+    import tomli_w
 
-        phi = np.linspace(new.phi1_min_rad, new.phi1_max_rad, new.parts.interference_poses)
-        plan = choose_layers(
-            link_joints_mm(new.linkage), new.parts, planar_transforms(new.linkage, phi)
-        )
-        text = tomli_w.dumps(raw)
-        header = f"written by `hapticad swap {design.name} --to {to}`" + dropped_targets_note(dropped)
-        old_m, new_m = metric_rows(d), metric_rows(new)
-        result = {
-            "old": old_m,
-            "new": new_m,
-            "out": str(target),
-            "replaced": replaced,
-            "layers": {
-                "order": list(plan.order),
-                "conflicts": list(plan.conflicts),
-                "min_planar_clearance_mm": plan.min_planar_clearance_mm,
-            },
-        }
-        if build:
-            from cad.export import parse_formats
-            from cad.pipeline import build_design
+    from cad.cli import flags
+    from cad.design import load_design
+    from cad.design.fourbar import FourBarDesign
+    from cad.design.writer import dropped_targets_note
+    from cad.errors import DesignError
+    from cad.io.atomic import write_text_atomic
+    from cad.io.outdir import check_out_file
 
-            build_dir = Path("exports") / new.name
-            rep = build_design(new, build_dir, parse_formats(None))
-            result["build"] = {
-                "min_clearance_mm": rep["min_clearance_mm"],
-                "overlap_volume_mm3": rep["overlap_volume_mm3"],
-                "out": str(build_dir),
-            }
-        # the design file last: it is the command's output (cad.io.signals commit point)
-        write_text_atomic(
-            target, "".join(f"# {ln}\n" for ln in header.splitlines()) + text, final=True
-        )
-        if json_out:
-            print_json(result, sort_keys=True, default=float)
-            return
-        from rich.console import Console
-        from rich.table import Table
+    flags.choice("--to", to, SWAP_FAMILIES)
+    flags.out_path("--out", out, folder=False)
+    d = load_design(design)
+    if not isinstance(d, FourBarDesign):
+        from cad.cli.families import refusal
 
-        t = Table(title=f"swap {d.name} ({d.family}) -> {new.name} ({new.family}); hardware kept")
-        t.add_column("quantity")
-        t.add_column(d.family, justify="right")
-        t.add_column(new.family, justify="right")
-        for k, v in old_m.items():
-            nv = new_m.get(k)
-            if isinstance(v, (list, tuple)):
-                t.add_row(k, " x ".join(f"{x:.1f}" for x in v), " x ".join(f"{x:.1f}" for x in nv))
-            elif isinstance(v, str):
-                t.add_row(k, v, str(nv))
-            else:
-                t.add_row(k, f"{v:.5g}", f"{nv:.5g}")
-        con = Console()
-        con.print(t)
+        raise DesignError("mechanism.family", refusal("swap", d.family))
+    target = (
+        out
+        if out is not None
+        else design.with_name(f"{design.stem}_{to.replace('-', '_')}.toml")
+    )
+    replaced = check_out_file(target, design)
+    raw = swap_raw(d, to, target)
+    if out is not None:  # the written file names the design (and its build folder)
+        raw["name"] = out.stem
+    dropped = [k for k in (d.raw.get("targets") or {}) if k not in (raw.get("targets") or {})]
+    new = replan(raw, target, to)  # validates before anything is written
+    plan = _layer_plan(new)
+    text = tomli_w.dumps(raw)
+    header = f"written by `hapticad swap {design.name} --to {to}`" + dropped_targets_note(dropped)
+    old_m, new_m = metric_rows(d), metric_rows(new)
+    result = {
+        "old": old_m,
+        "new": new_m,
+        "out": str(target),
+        "replaced": replaced,
+        "layers": {
+            "order": list(plan.order),
+            "conflicts": list(plan.conflicts),
+            "min_planar_clearance_mm": plan.min_planar_clearance_mm,
+        },
+    }
+    if build:
+        result["build"] = _build_swapped(new)
+    # the design file last: it is the command's output (cad.io.signals commit point)
+    write_text_atomic(
+        target, "".join(f"# {ln}\n" for ln in header.splitlines()) + text, final=True
+    )
+    if json_out:
+        print_json(result, sort_keys=True, default=float)
+        return
+    _print_swap(d, new, old_m, new_m, plan, result, replaced, target)
+
+
+def _layer_plan(new):
+    """The layer planner's choice for the swapped design over its interference poses."""
+    import numpy as np
+
+    from cad.assembly.layers import choose_layers
+    from cad.assembly.pose import planar_transforms
+    from cad.kinematics.linkgeom import link_joints_mm
+
+    phi = np.linspace(new.phi1_min_rad, new.phi1_max_rad, new.parts.interference_poses)
+    return choose_layers(link_joints_mm(new.linkage), new.parts, planar_transforms(new.linkage, phi))
+
+
+def _build_swapped(new) -> dict:
+    """Build the swapped design into exports/<name>/; its clearance, overlap and folder."""
+    from cad.export import parse_formats
+    from cad.pipeline import build_design
+
+    build_dir = Path("exports") / new.name
+    rep = build_design(new, build_dir, parse_formats(None))
+    return {
+        "min_clearance_mm": rep["min_clearance_mm"],
+        "overlap_volume_mm3": rep["overlap_volume_mm3"],
+        "out": str(build_dir),
+    }
+
+
+def _print_swap(d, new, old_m: dict, new_m: dict, plan, result: dict, replaced: bool, target: Path) -> None:
+    """The old and new metrics side by side (a rich table), the layers and what was written."""
+    from rich.console import Console
+    from rich.table import Table
+
+    t = Table(title=f"swap {d.name} ({d.family}) -> {new.name} ({new.family}); hardware kept")
+    t.add_column("quantity")
+    t.add_column(d.family, justify="right")
+    t.add_column(new.family, justify="right")
+    for k, v in old_m.items():
+        nv = new_m.get(k)
+        if isinstance(v, (list, tuple)):
+            t.add_row(k, " x ".join(f"{x:.1f}" for x in v), " x ".join(f"{x:.1f}" for x in nv))
+        elif isinstance(v, str):
+            t.add_row(k, v, str(nv))
+        else:
+            t.add_row(k, f"{v:.5g}", f"{nv:.5g}")
+    con = Console()
+    con.print(t)
+    con.print(
+        f"layers {', '.join(plan.order)} (bottom to top), planar clearance "
+        f"{plan.min_planar_clearance_mm:.2f} mm; {'replaced' if replaced else 'wrote'} {target}"
+    )
+    if plan.conflicts:
+        con.print(f"[yellow]warning:[/] layer conflicts: {'; '.join(plan.conflicts)}")
+    if "build" in result:
         con.print(
-            f"layers {', '.join(plan.order)} (bottom to top), planar clearance "
-            f"{plan.min_planar_clearance_mm:.2f} mm; {'replaced' if replaced else 'wrote'} {target}"
+            f"built {result['build']['out']}: min clearance {result['build']['min_clearance_mm']:.3f} mm"
         )
-        if plan.conflicts:
-            con.print(f"[yellow]warning:[/] layer conflicts: {'; '.join(plan.conflicts)}")
-        if build:
-            con.print(
-                f"built {result['build']['out']}: min clearance {result['build']['min_clearance_mm']:.3f} mm"
-            )
