@@ -191,3 +191,12 @@ FIT_CHANGE_WEIGHT = 1e-6
 #: when within this (mm) of it: LO and HI come from 0.5x/1.5x products that carry float
 #: round-off (~1e-15 mm); 1e-9 mm keeps a stock size given exactly as a bound inside.
 STOCK_RANGE_SLACK_MM = 1e-9
+
+# ---------------------------------------------------------------- layer planner (cad/assembly/layers.py)
+
+#: Slack (mm) of the layer planner's comparisons of stack heights and planar clearances
+#: against their required values: those are sums of catalog sizes and design numbers in
+#: mm (~1-100), whose float64 round-off is ~1e-14 mm; 1e-9 mm keeps a stack that meets a
+#: requirement exactly from being refused by round-off, and is far below any dimension
+#: that can be made.
+LAYER_SLACK_MM = 1e-9
