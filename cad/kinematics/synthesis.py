@@ -37,6 +37,7 @@ import numpy as np
 from cad.errors import DesignError, KinematicsError
 from cad.kinematics.fourbar import FourBar, check_range, closure_margin, solve
 from cad.kinematics.metrics import Metrics, compute_metrics
+from cad.tolerances import ROOT_XTOL_RAD
 
 OBJECTIVES = ("max-stroke", "min-torque-variation")
 FREE_SETS = ("range", "all")
@@ -103,7 +104,7 @@ def _hi_for_stroke(fb: FourBar, lo: float, stroke_mm: float, grid: int = 721) ->
     def gap(b: float) -> float:
         return float(np.linalg.norm(solve(fb, np.array([b])).P_mm[0] - p_lo) - stroke_mm)
 
-    return float(brentq(gap, phi[reach[0] - 1], phi[reach[0]], xtol=1e-12))
+    return float(brentq(gap, phi[reach[0] - 1], phi[reach[0]], xtol=ROOT_XTOL_RAD))
 
 
 def _straightest_at_stroke(fb0: FourBar, free: str, stroke_mm: float,
