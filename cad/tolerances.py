@@ -234,6 +234,18 @@ ON_WAIST_AXIS_MM = 1e-9
 #: the crank end of a given stroke (cad/kinematics/synthesis.py, brentq). 1e-12 rad moves the
 #: coupler point ~1e-10 mm on a 100 mm linkage: converged to round-off, not to a sample step.
 ROOT_XTOL_RAD = 1e-12
+#: Nelder-Mead stop of ``hapticad synth`` with the stroke held (cad/kinematics/synthesis.py;
+#: variables: crank angles in rad and link lengths relative to l2; objective dy_max/stroke):
+#: 1e-8 rad or 1e-8 of l2 is ~1e-6 mm on a 100 mm linkage, below any fabrication tolerance,
+#: and 1e-12 on dy_max/stroke is far below a deviation that can be made or measured.
+SYNTH_HELD_XATOL = 1e-8
+SYNTH_HELD_FATOL = 1e-12
+#: Nelder-Mead stop of the penalized ``synth`` search (same variables; objective the torque
+#: variation or -stroke/l2, O(0.1-1)): 1e-6 rad or 1e-6 of l2 (~1e-4 mm), 1e-9 on the objective;
+#: the best point is polished and re-evaluated with the refined metrics afterwards (module
+#: docstring there), so the search itself needs no finer stop.
+SYNTH_SEARCH_XATOL = 1e-6
+SYNTH_SEARCH_FATOL = 1e-9
 #: Manufacturing-tolerance analysis (cad/kinematics/tolerance.py): the zoom refinement of an
 #: extremum stops at this bracket (rad). A metric is flat to first order at its extremum, so
 #: its error goes as the square of the bracket: 1e-7 rad leaves it far below the 1e-7 relative
@@ -334,3 +346,9 @@ BENCH_OCCT_EPS = (1e-2, 1e-4, 1e-6, 1e-8)
 #: 0.2 mm (coarser than its 0.05 mm overlap, which meshes at 0.1 mm already miss, SPEC "Measured
 #: pitfalls") down to 0.01 mm, its smallest prescribed gap.
 BENCH_INTERFERENCE_MESH_TOLERANCES_MM = (0.2, 0.1, 0.05, 0.02, 0.01)
+
+# ---------------------------------------------------------------- display
+
+#: A datasheet row shows its min .. max range unless the two agree to this (relative): values
+#: printed to 3-4 significant digits, so a range narrower than 1e-6 is round-off of one value.
+RANGE_SAME_REL = 1e-6

@@ -158,9 +158,11 @@ def build_key(
         mod = None
     deps = getattr(mod, "CODE_DEPS", None)
     payload["code"] = code_version(tuple(deps) if deps is not None else None)
-    # the dispatcher adds the datasheet to every family's report (cad/datasheet, its inputs)
+    # the dispatcher adds the datasheet to every family's report (cad/datasheet, its inputs);
+    # cad/tolerances.py for every family (K_RTOL of the wall, part clearances, mesh tolerances)
     payload["datasheet_code"] = code_version(("datasheet", "data", "families", "sim/wall.py",
-                                              "structure/bearings.py", "design/motor.py"))
+                                              "structure/bearings.py", "design/motor.py",
+                                              "tolerances.py"))
     if mod is not None and hasattr(mod, "cache_inputs"):
         payload["extra"] = _jsonable(mod.cache_inputs(design))
     text = json.dumps(payload, sort_keys=True, separators=(",", ":"))
