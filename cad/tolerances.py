@@ -117,7 +117,7 @@ PART_EXTENT_MAX_MM = 5000.0
 #: relative, so a discrepancy above 1e-6 of the smaller shell is a real crossing.
 SHELL_OVERLAP_REL_EPS = 1e-6
 #: Stroke held by ``hapticad synth --stroke-mm`` (relative): the crank end is root-found
-#: (brentq, xtol ROOT_XTOL_RAD = 1e-12 rad) so the chord equals the asked stroke; 1e-6 leaves the root
+#: (brentq, xtol ROOT_XTOL_RAD) so the chord equals the asked stroke; 1e-6 leaves the root
 #: finder's ~1e-10 relative far below and is 0.06 um on a 60 mm stroke, under any
 #: fabrication tolerance.
 SYNTH_STROKE_REL = 1e-6
@@ -165,16 +165,17 @@ STOCK_BLOCK_MARGIN_MM = 2.0
 #: 1e-8 is far below any machining tolerance (1e-6 mm on a 100 mm actuator) and still ~8
 #: orders above float64 round-off of the log-space Brent search.
 GAP_XATOL_REL = 1e-8
-#: Least coil width d - d_r the actuator NLP allows (mm): eq (8)'s force is 0 at d = d_r and
-#: its sqrt(d - d_r) factor has an infinite slope there, which SLSQP's finite differences
-#: cannot step across; 1 um is far below any coil that can be wound.
+#: Least coil width d - d_r the actuator NLP allows (mm): eq (8)'s force is 0 at d = d_r,
+#: where the coil width enters under a square root (an infinite slope), so the NLP keeps the
+#: coil at least this wide; 1 um is far below any coil that can be wound.
 NLP_COIL_WIDTH_MIN_MM = 1e-3
 #: Constraint violation (mm) still counted feasible after SLSQP: its iterates meet the
-#: inequality constraints to round-off (~1e-12 of the ~10-100 mm sizes), not exactly.
+#: inequality constraints to round-off, not exactly; 1e-9 mm is ~7 orders below any size
+#: of a magnet or coil (~1-100 mm).
 NLP_FEASIBLE_SLACK_MM = 1e-9
-#: A constraint within this (mm) of its bound is reported active: SLSQP stops with
-#: ftol NLP_SLSQP_FTOL, which leaves an active bound ~1e-8 mm off; 1e-6 mm is still
-#: far below any size that matters to a magnet or a coil.
+#: A constraint within this (mm) of its bound is reported active (box bounds are exact after
+#: clipping; the height and footprint constraints are met to SLSQP's precision); 1e-6 mm is
+#: still far below any size that matters to a magnet or a coil.
 NLP_ACTIVE_MM = 1e-6
 #: SLSQP stopping tolerance on the normalized objective (force / 10 N, O(1)): 1e-12 is
 #: ~4 orders above float64 round-off, so the optimum is converged, not stalled.
@@ -184,8 +185,8 @@ NLP_SLSQP_FTOL = 1e-12
 
 #: Weight of the change from the start added to the max target violation in the optuna
 #: objective of ``hapticad fit``: the change is at most ~1 per free parameter, so 1e-6 only
-#: breaks ties between value sets whose violations agree to ~1e-6 (violations are relative,
-#: a target tolerance is ~1e-2), never trades a real violation for a smaller change.
+#: breaks ties between value sets whose violations agree to ~1e-6 (violations are relative;
+#: the default target tolerance is 5 %), never trades a real violation for a smaller change.
 FIT_CHANGE_WEIGHT = 1e-6
 #: A stock plate thickness counts as inside a ``--free parts.bar_thickness_mm=LO:HI`` range
 #: when within this (mm) of it: LO and HI come from 0.5x/1.5x products that carry float
