@@ -156,7 +156,6 @@ def register(app: typer.Typer) -> None:
         from cad.parts.handle import set_script_policy
 
         set_script_policy(allow_scripts, allow_scripts_anywhere)
-        from cad.cli.cmd_gii import load_pantograph_design
         from cad.errors import DesignError
 
         flags.out_path("--out", out, folder=False)
@@ -181,29 +180,36 @@ def register(app: typer.Typer) -> None:
         if objective is not None:
             raise DesignError("--objective", f"min-apparent-mass is for four-bar designs, not "
                                              f"{loaded.family!r} (use --method)")
-        method = method or "culling"
-        d = load_pantograph_design(design)
-        if out is not None:
-            from cad.io.outdir import check_out_file
+        _pantograph(design, method or "culling", out, json_out)
 
-            check_out_file(out, design)  # before the search, as for four-bars
-        rep = optimize_report(d, method)
-        if out is not None:
-            rep["replaced"] = write_optimum(
-                d, rep, out, f"hapticad optimize {design.name} --method {method}"
-            )
-            rep["out"] = str(out)
-        if json_out:
-            print_json(rep)
-            return
-        print(f"{rep['design']} ({rep['family']}), {rep['method']}: GII = {rep['gii']:.6f}")
-        print(f"  best: {rep['best']}")
-        print(
-            f"  {rep['jacobian_evaluations']} Jacobian evaluations "
-            f"(brute force {rep['brute_force_evaluations']}, ratio {rep['evaluation_ratio']:.1f}) "
-            f"in {rep['wall_time_s']:.3f} s; {rep['n_candidates']} candidates x {rep['n_points']} samples"
+
+def _pantograph(design: Path, method: str, out: Path | None, json_out: bool) -> None:
+    """``hapticad optimize`` of a pantograph-family design: the GII optimum by ``method``
+    (culling | brute), written to ``out`` when given, printed."""
+    from cad.cli.cmd_gii import load_pantograph_design
+
+    d = load_pantograph_design(design)
+    if out is not None:
+        from cad.io.outdir import check_out_file
+
+        check_out_file(out, design)  # before the search, as for four-bars
+    rep = optimize_report(d, method)
+    if out is not None:
+        rep["replaced"] = write_optimum(
+            d, rep, out, f"hapticad optimize {design.name} --method {method}"
         )
-        if rep["at_bound"]:
-            print(f"  note: optimum at the range bound of {', '.join(rep['at_bound'])}")
-        if out is not None:
-            print(f"  {'replaced' if rep['replaced'] else 'wrote'} {out}")
+        rep["out"] = str(out)
+    if json_out:
+        print_json(rep)
+        return
+    print(f"{rep['design']} ({rep['family']}), {rep['method']}: GII = {rep['gii']:.6f}")
+    print(f"  best: {rep['best']}")
+    print(
+        f"  {rep['jacobian_evaluations']} Jacobian evaluations "
+        f"(brute force {rep['brute_force_evaluations']}, ratio {rep['evaluation_ratio']:.1f}) "
+        f"in {rep['wall_time_s']:.3f} s; {rep['n_candidates']} candidates x {rep['n_points']} samples"
+    )
+    if rep["at_bound"]:
+        print(f"  note: optimum at the range bound of {', '.join(rep['at_bound'])}")
+    if out is not None:
+        print(f"  {'replaced' if rep['replaced'] else 'wrote'} {out}")
