@@ -337,12 +337,20 @@ def cull_pair(
     return ka, kb, min(gaps, default=np.inf)
 
 
+def _planar_body(T) -> bool:
+    T = np.asarray(T)
+    return bool(np.allclose(T[..., 2, :], [0.0, 0.0, 1.0, 0.0]) and np.allclose(T[..., :2, 2], 0.0))
+
+
+def _is_planar(tf_world_body: dict[str, np.ndarray]) -> bool:
+    """True when every body turns about z only, at z = 0 (row 2 of each transform is
+    (0, 0, 1, 0)): parts keep their z, so the fast pass may cull by z."""
+    return all(_planar_body(T) for T in tf_world_body.values())
+
+
 def _check_planar(tf_world_body: dict[str, np.ndarray]) -> None:
     for body, T in tf_world_body.items():
-        T = np.asarray(T)
-        if not (
-            np.allclose(T[..., 2, :], [0.0, 0.0, 1.0, 0.0]) and np.allclose(T[..., :2, 2], 0.0)
-        ):
+        if not _planar_body(T):
             raise InterferenceError(f"body {body!r}: the sweep assumes planar motion (z kept)")
 
 
@@ -593,191 +601,234 @@ def exact_check(
     return best[0], overlap, best[2], best[3]
 
 
+class _PoseNames:
+    """How a sweep names its poses: by crank angle (``phi1_rad``, a four-bar stroke: the
+    closest pose may be refined between samples) or by label (any motion: a workspace grid,
+    the 6-DOF excursions of a flotor). ``value(i)`` is the pose's position (phi1 in rad, or
+    the index), ``entry(v)`` its name in the report (degrees, or the label)."""
+
+    def __init__(self, phi1_rad, labels):
+        self.phi = None if labels is not None else np.asarray(phi1_rad, dtype=float)
+        self.labels = None if labels is None else tuple(labels)
+        self.key = "phi1_deg" if labels is None else "pose"
+        self.n = len(self.phi) if labels is None else len(self.labels)
+
+    def value(self, i: int):
+        return float(self.phi[i]) if self.phi is not None else int(i)
+
+    def entry(self, v):
+        return float(np.degrees(v)) if self.phi is not None else self.labels[int(v)]
+
+
+def _scenes(prepared: Prepared, method: str, margin: float, clearance_min_mm: float, joints):
+    """(culled scene, unculled scene) of the fast pass for ``method`` ("fcl", "manifold3d")."""
+    if method == "fcl":
+        jx = {}
+        for (a, b), axes in (joints or {}).items():
+            jx[(a, b)] = [(np.asarray(xa, float), np.asarray(xb, float)) for xa, xb in axes]
+            jx[(b, a)] = [(np.asarray(xb, float), np.asarray(xa, float)) for xa, xb in axes]
+        return _FclScene(prepared, margin, jx), _FclScene(prepared, np.inf, jx)
+    if method == "manifold3d":
+        return (_ManifoldScene(prepared, margin, clearance_min_mm + 10.0),
+                _ManifoldScene(prepared, np.inf, clearance_min_mm + 10.0))
+    raise InterferenceError(f"unknown sweep method {method!r} (fcl, manifold3d, auto)")
+
+
+def _fast_pass(scene, full, tfs: dict, pairs: list, threshold: float, slack: float,
+               names: _PoseNames, tf_at) -> tuple[dict, float]:
+    """Mesh distances of every body pair over the poses (z-culled where the scene culls,
+    unculled where a left-out part could be closer), the closest pose of each pair refined
+    between its neighbours when ``tf_at`` is given. Returns ``({(a, b): (d (N,), i_min,
+    pose_min, d_min, Ta_min, Tb_min)}, smallest distance of the coarse poses)``."""
+    n = names.n
+    for a, b in pairs:  # coarse poses of every pair first: a global minimum to prune with
+        scene.pair(a, b, tfs[a][0], tfs[b][0])
+    coarse = sorted(set(range(0, n, COARSE_STEP)) | {n - 1})
+    coarse_d = {(a, b): {i: scene.distance(a, b, tfs[a][i], tfs[b][i]) for i in coarse}
+                for a, b in pairs}
+    g_min = min((min(v.values()) for v in coarse_d.values()), default=np.inf)
+    dist, measured, scenes = {}, {}, {}
+    for a, b in pairs:
+        sc = scene
+        if scene.lower_bound[(a, b)] < g_min:  # a culled part may be closer: measure without culling
+            sc = full
+        dist[(a, b)], measured[(a, b)] = bounded_pair_distances(
+            sc, a, b, tfs[a], tfs[b],
+            lambda m, g=lambda: g_min: max(threshold, min(m, g())),
+            pre=coarse_d[(a, b)] if sc is scene else None,
+        )
+        scenes[(a, b)] = sc
+        g_min = min(g_min, float(dist[(a, b)][measured[(a, b)]].min()))
+    fast = {}
+    for (a, b), d in dist.items():
+        d = np.where(measured[(a, b)], d, np.inf)
+        i_min = int(np.argmin(d))
+        v_min, d_min = names.value(i_min), float(d[i_min])
+        Ta_min, Tb_min = tfs[a][i_min], tfs[b][i_min]
+        if d_min <= max(threshold, g_min + 2 * slack) and tf_at is not None and n > 2:
+            v_min, d_min, Ta_min, Tb_min = _refine(scenes[(a, b)], a, b, names, i_min,
+                                                   (v_min, d_min, Ta_min, Tb_min), tf_at)
+        fast[(a, b)] = (d, i_min, v_min, d_min, Ta_min, Tb_min)
+    return fast, g_min
+
+
+def _refine(sc, a: str, b: str, names: _PoseNames, i_min: int, best: tuple, tf_at) -> tuple:
+    """The closest pose of a pair refined between its neighbouring crank angles (bounded
+    scalar search); ``best`` = (phi, d, Ta, Tb) kept when the search finds nothing closer."""
+    from scipy.optimize import minimize_scalar
+
+    n = names.n
+    lo = float(names.phi[max(i_min - 1, 0)])
+    hi = float(names.phi[min(i_min + 1, n - 1)])
+
+    def f(p):
+        T = tf_at(p)
+        return sc.distance(a, b, T[a], T[b])
+
+    r = minimize_scalar(f, bounds=(lo, hi), method="bounded", options={"xatol": 1e-4})
+    if r.fun < best[1]:
+        T = tf_at(float(r.x))
+        return float(r.x), float(r.fun), T[a], T[b]
+    return best
+
+
+def _is_clash(de: float, vol: float, clearance_min_mm: float, contact_ok: bool) -> bool:
+    """A collision: a common volume above :data:`OVERLAP_MIN_MM3` when contact is allowed;
+    else contact or a distance under ``clearance_min_mm``."""
+    if contact_ok:
+        return de <= CONTACT_MM and vol > OVERLAP_MIN_MM3
+    return de <= CONTACT_MM or de < clearance_min_mm - CONTACT_MM
+
+
+# long-function: one loop over the body pairs carrying the exact pass's running minimum,
+# overlap and collision list (split further it would pass all of them back and forth)
+def _exact_pass(prepared: Prepared, fast: dict, tfs: dict, names: _PoseNames, *, threshold: float,
+                slack: float, clearance_min_mm: float, exact: bool, contact_ok: bool) -> dict:
+    """Exact pass: near contacts, and the closest pose of every pair that may hold the
+    minimum (OCCT distance; common volume at contact). Returns the report fields."""
+    key = names.key
+    pairs_out, collisions = [], []
+    n_exact, t_exact = 0, 0.0
+    best_clear, best_info, total_overlap = np.inf, {}, 0.0
+    global_mesh_min = min((v[3] for v in fast.values()), default=np.inf)
+    for (a, b), (d, i_min, v_min, d_min, Ta_min, Tb_min) in fast.items():
+        row = {"bodies": [a, b], "mesh_min_mm": d_min, f"{key}_at_min": names.entry(v_min)}
+        clear = d_min
+        if exact:
+            t1 = time.perf_counter()
+            checks = []
+            if d_min <= max(threshold, global_mesh_min + 2 * slack):
+                checks.append((v_min, Ta_min, Tb_min, max(threshold, d_min + slack)))
+            checks += [
+                (names.value(i), tfs[a][i], tfs[b][i], threshold)
+                for i in np.flatnonzero(d < threshold)
+                if i != i_min
+            ]
+            ex_min, ex_parts, ex_v = np.inf, ("", ""), v_min
+            for v, Ta, Tb, within in checks:
+                de, vol, pa, pb = exact_check(prepared.bodies[a], prepared.bodies[b], Ta, Tb, within)
+                n_exact += 1
+                if de < ex_min:
+                    ex_min, ex_parts, ex_v = de, (pa, pb), v
+                if _is_clash(de, vol, clearance_min_mm, contact_ok):
+                    collisions.append({"bodies": [a, b], "parts": [pa, pb], key: names.entry(v),
+                                       "distance_mm": max(de, 0.0), "overlap_volume_mm3": vol})
+                    total_overlap = max(total_overlap, vol)
+            t_exact += time.perf_counter() - t1
+            if np.isfinite(ex_min):
+                row.update({"exact_min_mm": ex_min, "parts": list(ex_parts),
+                            f"{key}_exact": names.entry(ex_v)})
+                clear = ex_min
+        elif not contact_ok and (d_min <= CONTACT_MM or d_min < clearance_min_mm - CONTACT_MM):
+            collisions.append({"bodies": [a, b], "parts": [], key: names.entry(v_min),
+                               "distance_mm": d_min, "overlap_volume_mm3": None})
+        pairs_out.append(row)
+        if clear < best_clear:
+            best_clear = clear
+            best_info = {"bodies": [a, b], "parts": row.get("parts", []),
+                         key: row.get(f"{key}_exact", row[f"{key}_at_min"]),
+                         "exact": "exact_min_mm" in row}
+    return {"min_clearance_mm": float(max(best_clear, 0.0)),
+            "overlap_volume_mm3": float(total_overlap), "closest": best_info,
+            "pairs": pairs_out, "collisions": collisions, "n_exact_checks": n_exact,
+            "t_exact": t_exact}
+
+
 def sweep(
     prepared: Prepared,
     tf_world_body: dict[str, np.ndarray],
-    phi1_rad: np.ndarray,
+    phi1_rad: np.ndarray | None,
     clearance_min_mm: float,
     *,
     method: str = "auto",
     exact: bool = True,
     tf_at=None,
     joints=None,
+    labels=None,
+    contact_ok: bool = False,
 ) -> InterferenceReport:
     """Sweep all body pairs over the poses (module docstring).
 
     ``tf_world_body``: ``{body: (N, 4, 4)}`` at ``phi1_rad`` (N,). ``tf_at(phi) -> {body: 4x4}``
     (optional) evaluates a single pose for the refinement step.
+    ``labels``: N pose names for any other motion (``phi1_rad`` None): poses are reported by
+    label (``"pose"`` keys instead of ``"phi1_deg"``), no refinement, and where the motion is
+    not planar (a flotor's 6-DOF excursions) nothing is culled by z.
     ``joints``: ``{(body a, body b): [(axis xy in a's frame, axis xy in b's frame), ...]}`` for
     bodies turning about a common joint: parts that are solids of revolution about such an
     axis keep their distance to the other body at every pose, so the fcl pass measures them
     once (pose-invariant pairs) and sweeps only the rest.
+    ``contact_ok``: touching is allowed (a bearing on its journal, a flotor at its stop): a
+    collision is a common volume above :data:`OVERLAP_MIN_MM3`; else (four-bar) contact or
+    a distance under ``clearance_min_mm`` is one.
     ``method``: "fcl", "manifold3d" or "auto" (fcl when installed) for the fast pass; ``exact=False`` reports the mesh
     distances only (preview fidelity).
     """
     t0 = time.perf_counter()
-    _check_planar(tf_world_body)
+    names = _PoseNames(phi1_rad, labels)
+    planar = _is_planar(tf_world_body)
+    if labels is None and not planar:
+        _check_planar(tf_world_body)
     if method == "auto":
         method = "fcl" if have_fcl() else "manifold3d"
-    n = len(phi1_rad)
     threshold = clearance_min_mm + 2 * prepared.mesh_tol_mm + CONFIRM_MARGIN_MM
-    margin = max(threshold, CULL_MARGIN_MM)
-    if method == "fcl":
-        jx = {}
-        for (a, b), axes in (joints or {}).items():
-            jx[(a, b)] = [(np.asarray(xa, float), np.asarray(xb, float)) for xa, xb in axes]
-            jx[(b, a)] = [(np.asarray(xb, float), np.asarray(xa, float)) for xa, xb in axes]
-        scene, full = _FclScene(prepared, margin, jx), _FclScene(prepared, np.inf, jx)
-    elif method == "manifold3d":
-        scene = _ManifoldScene(prepared, margin, clearance_min_mm + 10.0)
-        full = _ManifoldScene(prepared, np.inf, clearance_min_mm + 10.0)
-    else:
-        raise InterferenceError(f"unknown sweep method {method!r} (fcl, manifold3d, auto)")
+    margin = max(threshold, CULL_MARGIN_MM) if planar else np.inf
+    scene, full = _scenes(prepared, method, margin, clearance_min_mm, joints)
     t_build = time.perf_counter() - t0
-    bodies = sorted(prepared.bodies)
-    pairs_out, collisions = [], []
-    n_exact = 0
-    best_clear, best_info, total_overlap = np.inf, {}, 0.0
-    t_fast = t_exact = 0.0
     # fast pass over all pairs (z-culled), then uncull where a left-out part could be closer
     slack = 2 * prepared.mesh_tol_mm + CONFIRM_MARGIN_MM
     t1 = time.perf_counter()
-    dist: dict[tuple[str, str], np.ndarray] = {}
-    measured: dict[tuple[str, str], np.ndarray] = {}
-    scenes: dict[tuple[str, str], object] = {}
-    pairs = list(itertools.combinations(bodies, 2))
-    for a, b in pairs:  # coarse poses of every pair first: a global minimum to prune with
-        scene.pair(a, b, tf_world_body[a][0], tf_world_body[b][0])
-    coarse = sorted(set(range(0, n, COARSE_STEP)) | {n - 1})
-    coarse_d = {
-        (a, b): {i: scene.distance(a, b, tf_world_body[a][i], tf_world_body[b][i]) for i in coarse}
-        for a, b in pairs
-    }
-    g_min = min((min(v.values()) for v in coarse_d.values()), default=np.inf)
-    for a, b in pairs:
-        sc = scene
-        if (
-            scene.lower_bound[(a, b)] < g_min
-        ):  # a culled part may be closer: measure without culling
-            sc = full
-        dist[(a, b)], measured[(a, b)] = bounded_pair_distances(
-            sc,
-            a,
-            b,
-            tf_world_body[a],
-            tf_world_body[b],
-            lambda m, g=lambda: g_min: max(threshold, min(m, g())),
-            pre=coarse_d[(a, b)] if sc is scene else None,
-        )
-        scenes[(a, b)] = sc
-        g_min = min(g_min, float(dist[(a, b)][measured[(a, b)]].min()))
-    fast: dict[tuple[str, str], tuple] = {}
-    for (a, b), d in dist.items():
-        sc = scenes[(a, b)]
-        d = np.where(measured[(a, b)], d, np.inf)
-        i_min = int(np.argmin(d))
-        phi_min, d_min = float(phi1_rad[i_min]), float(d[i_min])
-        Ta_min, Tb_min = tf_world_body[a][i_min], tf_world_body[b][i_min]
-        near = d_min <= max(threshold, g_min + 2 * slack)
-        if near and tf_at is not None and n > 2:  # refine the closest pose between its neighbours
-            lo = float(phi1_rad[max(i_min - 1, 0)])
-            hi = float(phi1_rad[min(i_min + 1, n - 1)])
-            from scipy.optimize import minimize_scalar
-
-            def f(p, a=a, b=b, sc=sc):
-                T = tf_at(p)
-                return sc.distance(a, b, T[a], T[b])
-
-            r = minimize_scalar(f, bounds=(lo, hi), method="bounded", options={"xatol": 1e-4})
-            if r.fun < d_min:
-                phi_min, d_min = float(r.x), float(r.fun)
-                T = tf_at(phi_min)
-                Ta_min, Tb_min = T[a], T[b]
-        fast[(a, b)] = (d, i_min, phi_min, d_min, Ta_min, Tb_min)
+    pairs = list(itertools.combinations(sorted(prepared.bodies), 2))
+    fast, _ = _fast_pass(scene, full, tf_world_body, pairs, threshold, slack, names,
+                         tf_at if names.phi is not None else None)
     t_fast = time.perf_counter() - t1
-    global_mesh_min = min((v[3] for v in fast.values()), default=np.inf)
-    # exact pass: near contacts, and the closest pose of every pair that may hold the minimum
-    for (a, b), (d, i_min, phi_min, d_min, Ta_min, Tb_min) in fast.items():
-        row = {
-            "bodies": [a, b],
-            "mesh_min_mm": d_min,
-            "phi1_deg_at_min": float(np.degrees(phi_min)),
-        }
-        clear = d_min
-        if exact:
-            t1 = time.perf_counter()
-            checks = []
-            if d_min <= max(threshold, global_mesh_min + 2 * slack):
-                checks.append((phi_min, Ta_min, Tb_min, max(threshold, d_min + slack)))
-            checks += [
-                (float(phi1_rad[i]), tf_world_body[a][i], tf_world_body[b][i], threshold)
-                for i in np.flatnonzero(d < threshold)
-                if i != i_min
-            ]
-            ex_min, ex_parts, ex_phi = np.inf, ("", ""), phi_min
-            for phi, Ta, Tb, within in checks:
-                de, vol, pa, pb = exact_check(
-                    prepared.bodies[a], prepared.bodies[b], Ta, Tb, within
-                )
-                n_exact += 1
-                if de < ex_min:
-                    ex_min, ex_parts, ex_phi = de, (pa, pb), phi
-                if de <= CONTACT_MM or de < clearance_min_mm - CONTACT_MM:
-                    collisions.append(
-                        {
-                            "bodies": [a, b],
-                            "parts": [pa, pb],
-                            "phi1_deg": float(np.degrees(phi)),
-                            "distance_mm": max(de, 0.0),
-                            "overlap_volume_mm3": vol,
-                        }
-                    )
-                    total_overlap = max(total_overlap, vol)
-            t_exact += time.perf_counter() - t1
-            if np.isfinite(ex_min):
-                row.update(
-                    {
-                        "exact_min_mm": ex_min,
-                        "parts": list(ex_parts),
-                        "phi1_deg_exact": float(np.degrees(ex_phi)),
-                    }
-                )
-                clear = ex_min
-        elif d_min <= CONTACT_MM or d_min < clearance_min_mm - CONTACT_MM:
-            collisions.append(
-                {
-                    "bodies": [a, b],
-                    "parts": [],
-                    "phi1_deg": float(np.degrees(phi_min)),
-                    "distance_mm": d_min,
-                    "overlap_volume_mm3": None,
-                }
-            )
-        pairs_out.append(row)
-        if clear < best_clear:
-            best_clear = clear
-            best_info = {
-                "bodies": [a, b],
-                "parts": row.get("parts", []),
-                "phi1_deg": row.get("phi1_deg_exact", row["phi1_deg_at_min"]),
-                "exact": "exact_min_mm" in row,
-            }
+    r = _exact_pass(prepared, fast, tf_world_body, names, threshold=threshold, slack=slack,
+                    clearance_min_mm=clearance_min_mm, exact=exact, contact_ok=contact_ok)
     return InterferenceReport(
-        min_clearance_mm=float(max(best_clear, 0.0)),
-        overlap_volume_mm3=float(total_overlap),
-        closest=best_info,
-        pairs=pairs_out,
-        collisions=collisions,
+        min_clearance_mm=r["min_clearance_mm"],
+        overlap_volume_mm3=r["overlap_volume_mm3"],
+        closest=r["closest"],
+        pairs=r["pairs"],
+        collisions=r["collisions"],
         method=f"{method}{'+occt' if exact else ' (mesh only)'}",
         mesh_tol_mm=prepared.mesh_tol_mm,
-        n_poses=n,
-        n_exact_checks=n_exact,
-        time_s={"mesh": prepared.mesh_time_s, "bvh": t_build, "fast": t_fast, "exact": t_exact},
+        n_poses=names.n,
+        n_exact_checks=r["n_exact_checks"],
+        time_s={"mesh": prepared.mesh_time_s, "bvh": t_build, "fast": t_fast,
+                "exact": r["t_exact"]},
     )
 
 
+def _at(c: dict) -> str:
+    """Where a sweep collision happened: ``phi1 = 12.00 deg`` or ``pose <label>``."""
+    if "pose" in c:
+        return f"pose {c['pose']}"
+    return f"phi1 = {c['phi1_deg']:.2f} deg"
+
+
 def raise_on_collision(rep: InterferenceReport, clearance_min_mm: float) -> None:
-    """InterferenceError naming the first collision (or a clearance under the minimum)."""
+    """InterferenceError naming the first collision (or a clearance under the minimum): the
+    part pair, the pose (crank angle or label) and the overlap volume."""
     if not rep.collisions:
         return
     c = min(rep.collisions, key=lambda r: (r["distance_mm"], -(r["overlap_volume_mm3"] or 0.0)))
@@ -790,14 +841,15 @@ def raise_on_collision(rep: InterferenceReport, clearance_min_mm: float) -> None
     elif c["distance_mm"] <= CONTACT_MM:
         vol = c["overlap_volume_mm3"]
         what = f"overlap {vol:.3f} mm^3" if vol else "contact"
-        msg = f"{parts} collide at phi1 = {c['phi1_deg']:.2f} deg ({what})"
+        msg = f"{parts} collide at {_at(c)} ({what})"
     else:
         msg = (
-            f"{parts} are {c['distance_mm']:.3f} mm apart at phi1 = {c['phi1_deg']:.2f} deg "
+            f"{parts} are {c['distance_mm']:.3f} mm apart at {_at(c)} "
             f"(< clearance_min_mm = {clearance_min_mm:g})"
         )
+    where = "motion" if any("pose_at_min" in r for r in rep.pairs) else "stroke"
     raise InterferenceError(
-        f"{msg}; {len(rep.collisions)} near contact(s) in the stroke "
+        f"{msg}; {len(rep.collisions)} near contact(s) in the {where} "
         "(use --allow-interference to export anyway)"
     )
 
@@ -995,3 +1047,90 @@ def merge_same_body(rep: InterferenceReport, same: SameBodyResult) -> Interferen
     rep.same_body = same.as_dict()
     rep.time_s = {**rep.time_s, "same_body": same.time_s}
     return rep
+
+
+# --------------------------------------------------------------------- one assembly model
+def joint_axes(model) -> dict:
+    """``{(body, other body): [(axis xy in body, axis xy in other body), ...]}`` of every
+    joint the model's instances carry across two bodies (a part with ``other_body`` whose
+    kind is a solid of revolution about its vertical z axis: a bearing's inner ring moving
+    with its journal). Input of :func:`sweep`'s revolution shortcut."""
+    out: dict = {}
+    for inst in model.instances:
+        if inst.other_body is None or not getattr(inst.kind, "revolution", False):
+            continue
+        Ta, Tb = np.asarray(inst.tf_body_part, float), np.asarray(inst.tf_other_part, float)
+        if abs(abs(Ta[2, 2]) - 1.0) > 1e-12 or abs(abs(Tb[2, 2]) - 1.0) > 1e-12:
+            continue
+        a, b, ax = inst.body, inst.other_body, (Ta[:2, 3].copy(), Tb[:2, 3].copy())
+        if b < a:
+            a, b, ax = b, a, (ax[1], ax[0])
+        axes = out.setdefault((a, b), [])
+        if not any(np.allclose(ax[0], x[0]) and np.allclose(ax[1], x[1]) for x in axes):
+            axes.append(ax)
+    return out
+
+
+def model_motion(model, bodies) -> tuple[dict[str, np.ndarray], tuple[str, ...]]:
+    """``({body: (N, 4, 4)}, N labels)``: each of ``bodies`` over the model's motion (a body
+    the motion leaves out is fixed at its ``tf_world_body``); one pose, the exported one,
+    when the model has no motion."""
+    if not model.motion:
+        labels = ("exported pose",)
+    else:
+        labels = tuple(model.pose_labels)
+    n = len(labels)
+    out = {}
+    for b in bodies:
+        if model.motion and b in model.motion:
+            T = np.asarray(model.motion[b], float)
+            if T.shape != (n, 4, 4):
+                raise InterferenceError(
+                    f"motion of body {b!r} has shape {T.shape}, expected ({n}, 4, 4) for the "
+                    f"{n} pose labels")
+            out[b] = T
+        else:
+            out[b] = np.repeat(np.asarray(model.tf_world_body[b], float)[None], n, axis=0)
+    return out, labels
+
+
+def check_model(
+    model,
+    clearance_min_mm: float = 0.0,
+    *,
+    mesh_tol_mm: float = SWEEP_MESH_TOL_MM,
+    exact: bool = True,
+    contact_ok: bool = True,
+    joints=None,
+    method: str = "auto",
+) -> InterferenceReport:
+    """The one interference check of an assembly model (:class:`cad.assembly.model.AssemblyModel`)
+    of any family: every moving solid against every other solid over the model's motion.
+
+    * every pair of bodies (moving or ground) at each of the N poses of ``model.motion``
+      (:func:`sweep`: the collision envelopes meshed at ``mesh_tol_mm``, fcl BVH distances
+      with box and Lipschitz pruning, parts turning about a shared joint measured once,
+      z culling where the motion is planar; then the exact OCCT distance, and the common
+      volume at contact, near contact and at each pair's closest pose);
+    * every pair of parts on one body once (:func:`same_body_check` on the real solids).
+
+    ``contact_ok`` (default): touching is allowed, a common volume above
+    :data:`OVERLAP_MIN_MM3` is a collision; False: contact or a distance under
+    ``clearance_min_mm`` is one (the four-bar's rule). Collisions name the bodies, the parts,
+    the pose label (``"pose"``) and ``overlap_volume_mm3``; :func:`raise_on_collision`
+    turns the first into an :class:`cad.errors.InterferenceError`. ``joints``: as
+    :func:`sweep`, added to :func:`joint_axes` of the model (joints no part carries across,
+    a motor shaft in its housing). Distances mm, volumes mm^3.
+    Only the sampled poses are checked: a clash between two neighbouring samples is found
+    only where it reaches a sample.
+    """
+    prepared = prepare(collision_items(model.instances), mesh_tol_mm)
+    tfs, labels = model_motion(model, sorted(prepared.bodies))
+    jx = joint_axes(model)
+    for (a, b), axes in (joints or {}).items():
+        if b < a:
+            a, b, axes = b, a, [(xb, xa) for xa, xb in axes]
+        jx.setdefault((a, b), []).extend(axes)
+    rep = sweep(prepared, tfs, None, clearance_min_mm, method=method, exact=exact, joints=jx,
+                labels=labels, contact_ok=contact_ok)
+    return merge_same_body(rep, same_body_check(static_items(model.instances)))

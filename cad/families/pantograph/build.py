@@ -576,6 +576,7 @@ def _kinds(design, lay: dict, fidelity: str) -> dict:
         f"elbow pin d{brg.d_mm:g} x {lay['pin_short_mm']:g}, left arm",
         "ground dowel, cut",
         fits=(fit("pin", brg.d_mm),),
+        revolution=True,
     )
     add(
         "pin_long",
@@ -585,8 +586,10 @@ def _kinds(design, lay: dict, fidelity: str) -> dict:
         f"elbow pin d{brg.d_mm:g} x {lay['pin_long_mm']:g}, right arm",
         "ground dowel, cut",
         fits=(fit("pin", brg.d_mm),),
+        revolution=True,
     )
     detailed = fidelity == "fabrication"
+    rings = joints.bearing_rings(p.bearing)
     add(
         "bearing",
         joints.bearing_shape(p.bearing, detailed),
@@ -597,6 +600,10 @@ def _kinds(design, lay: dict, fidelity: str) -> dict:
         mass_kg=brg.mass_kg,
         inertia_model="ring",
         ring_mm=(brg.d_mm / 2, brg.D_mm / 2, brg.B_mm),
+        # the interference check: inner ring on the journal's body, outer ring in the seat
+        collision=(("other", rings[0]), ("self", rings[1])),
+        revolution=True,
+        hull=joints.bearing_shape(p.bearing, False) if detailed else None,
     )
     add(
         "motor",
@@ -617,6 +624,7 @@ def _kinds(design, lay: dict, fidelity: str) -> dict:
         "part of the motor",
         inertia_model="none",
         listed=False,
+        revolution=True,
     )
     add(
         "motor_mount",
@@ -693,6 +701,7 @@ def _kinds(design, lay: dict, fidelity: str) -> dict:
         f"knob, diameter {kd:g} mm",
         "turned; ream pin bore",
         fits=(fit("pin bore", brg.d_mm),),
+        revolution=True,
     )
     if not twin:
         add(
@@ -703,6 +712,7 @@ def _kinds(design, lay: dict, fidelity: str) -> dict:
             f"handle pin d{brg.d_mm:g} x {lay['handle_pin_mm']:g} (end effector E)",
             "ground dowel, cut",
             fits=(fit("pin", brg.d_mm),),
+            revolution=True,
         )
         return K
     l6 = design.mechanism.crank_mm
@@ -843,7 +853,26 @@ def assembly(design, lay: dict, fidelity: str):
         place("handle_pin", K["handle_pin"], "handle", translation(0, 0, lay["handle_pin_z_mm"]))
         place("knob", K["knob"], "handle", translation(0, 0, lay["knob_bottom_z_mm"]))
     holes = _ground(place, K, lay, p, B, twin)
-    return inst, tfs, home, {**holes, **set_holes}
+    return _journals(inst, tfs, "crankshaft" if twin else "handle"), tfs, home, {
+        **holes, **set_holes}
+
+
+def _journals(inst: list, tfs: dict, end_body: str) -> list:
+    """The instances with each distal link's bearings carried across their joint: the inner
+    ring moves with the journal's body (``other_body``: the proximal link at the elbow, the
+    crankshaft or handle at the end effector), placed there by ``tf_other_part`` (the
+    placement at home; the ring is a solid of revolution about the shared axis)."""
+    import dataclasses
+
+    out = []
+    for i in inst:
+        if i.kind.name == "bearing" and "distal_" in i.body:
+            pre, side = i.body.split("distal_")
+            other = f"{pre}proximal_{side}" if abs(i.tf_body_part[0, 3]) < 1e-9 else end_body
+            tf = np.linalg.inv(tfs[other]) @ tfs[i.body] @ i.tf_body_part
+            i = dataclasses.replace(i, other_body=other, tf_other_part=tf)
+        out.append(i)
+    return out
 
 
 #: This builder writes glb and 3mf (:mod:`cad.pipeline.views`).
@@ -913,6 +942,73 @@ def stroke_poses(design) -> dict[str, np.ndarray] | None:
     except ValueError:
         return None
     return poses
+
+
+#: Samples per side of the workspace square the interference check sweeps (boundary
+#: included: the corners, edge midpoints and centre are poses). Coarser than the GII grid
+#: (``workspace.grid``) to keep the build fast: a clash that reaches no sample is missed
+#: (the 2-D layer clearances, ``clearances_mm``, still cover the finer grid).
+MOTION_GRID = 5
+#: Crank angles of the twin pantograph's motion at each grid point (full turn).
+MOTION_THETA_SAMPLES = 8
+
+
+def motion_points(design) -> tuple[np.ndarray, tuple[str, ...]]:
+    """The poses the interference check sweeps: the home pose first, then the workspace
+    square on a :data:`MOTION_GRID` x :data:`MOTION_GRID` grid (the twin pantograph: x
+    :data:`MOTION_THETA_SAMPLES` crank angles over the full turn). Returns ``(X, labels)``:
+    X (N, 2) x, y mm (twin: (N, 3) x, y mm, theta rad), N labels (``"x=-50 y=150 mm"``,
+    twin ``"x=-50 y=150 mm theta=45 deg"``)."""
+    from cad.isotropy.gii import square_grid_mm
+    from cad.kinematics import twin_pantograph as tw
+
+    ws = design.workspace
+    home = home_xy_mm(design)
+    if _twin(design):
+        th = math.radians(design.workspace["home_theta_deg"])
+        grid = tw.workspace_grid(ws["center_mm"], ws["side_mm"], MOTION_GRID, MOTION_THETA_SAMPLES)
+        X = np.vstack([[home[0], home[1], th], grid])
+    else:
+        X = np.vstack([home, square_grid_mm(ws["center_mm"], ws["side_mm"], MOTION_GRID)])
+    labels = [f"x={x[0]:g} y={x[1]:g} mm" + (f" theta={math.degrees(x[2]):g} deg"
+                                              if len(x) > 2 else "") for x in X]
+    labels[0] = f"home ({labels[0]})"
+    return X, tuple(labels)
+
+
+def motor_joints(design) -> dict:
+    """``{(proximal body, "ground"): [(axis xy in the link, axis xy in the world)]}``: each
+    proximal link turns about its motor's axis (the motor shaft, a solid of revolution on
+    the link, keeps its distance to the motor housing): input of the interference check's
+    revolution shortcut (:func:`cad.assembly.interference.check_model`)."""
+    fb = _lower_five_bar(design)
+    B = [np.asarray(fb.base_left_mm, float), np.asarray(fb.base_right_mm, float)]
+    pres = ("crank_", "knob_") if _twin(design) else ("",)
+    out = {}
+    for pre in pres:
+        for side, b in zip(("left", "right"), B, strict=True):
+            out[("ground", f"{pre}proximal_{side}")] = [(b, np.zeros(2))]
+    return out
+
+
+def assemble(design, fidelity: str = "fabrication"):
+    """The device as a :class:`cad.assembly.model.AssemblyModel`: the part instances
+    (:func:`assembly`), every body at home (``tf_world_body``, mm) and over the motion the
+    interference check sweeps (``motion``: ``{body: (N, 4, 4)}`` at the poses of
+    :func:`motion_points`, ``pose_labels``), the tapped holes; ``extra``: ``layout`` (the
+    :func:`layout` dict) and ``home_mm`` ((2,) mm). InterferenceError when a motion pose
+    cannot be reached."""
+    from cad.assembly.model import AssemblyModel
+
+    lay = layout(design)
+    inst, tfs, home, holes = assembly(design, lay, fidelity)
+    X, labels = motion_points(design)
+    try:
+        motion = body_poses(design, X)
+    except ValueError as e:
+        raise InterferenceError(f"workspace motion: {e}") from None
+    return AssemblyModel(design, tuple(inst), tfs, motion, labels, holes,
+                         extra={"layout": lay, "home_mm": home})
 
 
 def _screw(place, holes, K, lay, group: str, name: str, hole: str, part: str, tf, clamps=None):
@@ -1162,7 +1258,9 @@ def build(
         )
 
     _step(progress, "solids", 1, total)
-    instances, tfs, home, holes = assembly(design, lay, fidelity)
+    model = assemble(design, fidelity)
+    instances, tfs, holes = list(model.instances), model.tf_world_body, model.holes
+    home = model.extra["home_mm"]
     fasteners = family.fastener_report(instances, holes)  # DesignError: two in a hole, ...
 
     _step(progress, "mass properties", 2, total)
