@@ -579,8 +579,16 @@ def exact_check(
 
     Only part pairs whose world bounding boxes -- and, when python-fcl is installed,
     whose meshes -- come within ``within_mm`` are measured exactly.
-    Returns (distance mm, overlap volume mm^3, part a, part b) of the closest pair.
+    Returns (distance mm, overlap volume mm^3 of all the pairs, part a, part b) of the
+    closest pair (:func:`exact_check_pair` also returns that pair's own volume).
     """
+    return exact_check_pair(pa, pb, Ta, Tb, within_mm)[:4]
+
+
+def exact_check_pair(
+    pa: list[PartMesh], pb: list[PartMesh], Ta: np.ndarray, Tb: np.ndarray, within_mm: float
+) -> tuple[float, float, str, str, float]:
+    """:func:`exact_check` and, last, the common volume (mm^3) of the closest pair alone."""
     from cad.export.shapes import placed
 
     best = (np.inf, 0.0, "", "")
@@ -598,7 +606,7 @@ def exact_check(
             overlap += vol
             if d < best[0] or (d <= CONTACT_MM and vol > best[1]):
                 best = (d, vol, p.name, q.name)
-    return best[0], overlap, best[2], best[3]
+    return best[0], overlap, best[2], best[3], best[1]
 
 
 class _PoseNames:
@@ -703,9 +711,11 @@ def _is_clash(de: float, vol: float, clearance_min_mm: float, contact_ok: bool) 
 # long-function: one loop over the body pairs carrying the exact pass's running minimum,
 # overlap and collision list (split further it would pass all of them back and forth)
 def _exact_pass(prepared: Prepared, fast: dict, tfs: dict, names: _PoseNames, *, threshold: float,
-                slack: float, clearance_min_mm: float, exact: bool, contact_ok: bool) -> dict:
+                slack: float, clearance_min_mm: float, exact: bool, contact_ok: bool,
+                fail_fast: bool = False) -> dict:
     """Exact pass: near contacts, and the closest pose of every pair that may hold the
-    minimum (OCCT distance; common volume at contact). Returns the report fields."""
+    minimum (OCCT distance; common volume at contact). Returns the report fields.
+    ``fail_fast``: stop at the first collision (the build is refused anyway)."""
     key = names.key
     pairs_out, collisions = [], []
     n_exact, t_exact = 0, 0.0
@@ -726,14 +736,20 @@ def _exact_pass(prepared: Prepared, fast: dict, tfs: dict, names: _PoseNames, *,
             ]
             ex_min, ex_parts, ex_v = np.inf, ("", ""), v_min
             for v, Ta, Tb, within in checks:
-                de, vol, pa, pb = exact_check(prepared.bodies[a], prepared.bodies[b], Ta, Tb, within)
+                de, vol, pa, pb, vp = exact_check_pair(prepared.bodies[a], prepared.bodies[b],
+                                                       Ta, Tb, within)
                 n_exact += 1
                 if de < ex_min:
                     ex_min, ex_parts, ex_v = de, (pa, pb), v
                 if _is_clash(de, vol, clearance_min_mm, contact_ok):
-                    collisions.append({"bodies": [a, b], "parts": [pa, pb], key: names.entry(v),
-                                       "distance_mm": max(de, 0.0), "overlap_volume_mm3": vol})
+                    c = {"bodies": [a, b], "parts": [pa, pb], key: names.entry(v),
+                         "distance_mm": max(de, 0.0), "overlap_volume_mm3": vol}
+                    if names.phi is None:  # the named pair's own share of the bodies' overlap
+                        c["parts_overlap_volume_mm3"] = vp
+                    collisions.append(c)
                     total_overlap = max(total_overlap, vol)
+                    if fail_fast:
+                        break
             t_exact += time.perf_counter() - t1
             if np.isfinite(ex_min):
                 row.update({"exact_min_mm": ex_min, "parts": list(ex_parts),
@@ -743,6 +759,8 @@ def _exact_pass(prepared: Prepared, fast: dict, tfs: dict, names: _PoseNames, *,
             collisions.append({"bodies": [a, b], "parts": [], key: names.entry(v_min),
                                "distance_mm": d_min, "overlap_volume_mm3": None})
         pairs_out.append(row)
+        if fail_fast and collisions:
+            break
         if clear < best_clear:
             best_clear = clear
             best_info = {"bodies": [a, b], "parts": row.get("parts", []),
@@ -766,6 +784,7 @@ def sweep(
     joints=None,
     labels=None,
     contact_ok: bool = False,
+    fail_fast: bool = False,
 ) -> InterferenceReport:
     """Sweep all body pairs over the poses (module docstring).
 
@@ -780,7 +799,8 @@ def sweep(
     once (pose-invariant pairs) and sweeps only the rest.
     ``contact_ok``: touching is allowed (a bearing on its journal, a flotor at its stop): a
     collision is a common volume above :data:`OVERLAP_MIN_MM3`; else (four-bar) contact or
-    a distance under ``clearance_min_mm`` is one.
+    a distance under ``clearance_min_mm`` is one. ``fail_fast``: the exact pass stops at the
+    first collision (the report is then incomplete: for a build about to be refused).
     ``method``: "fcl", "manifold3d" or "auto" (fcl when installed) for the fast pass; ``exact=False`` reports the mesh
     distances only (preview fidelity).
     """
@@ -803,7 +823,8 @@ def sweep(
                          tf_at if names.phi is not None else None)
     t_fast = time.perf_counter() - t1
     r = _exact_pass(prepared, fast, tf_world_body, names, threshold=threshold, slack=slack,
-                    clearance_min_mm=clearance_min_mm, exact=exact, contact_ok=contact_ok)
+                    clearance_min_mm=clearance_min_mm, exact=exact, contact_ok=contact_ok,
+                    fail_fast=fail_fast)
     return InterferenceReport(
         min_clearance_mm=r["min_clearance_mm"],
         overlap_volume_mm3=r["overlap_volume_mm3"],
@@ -841,6 +862,9 @@ def raise_on_collision(rep: InterferenceReport, clearance_min_mm: float) -> None
     elif c["distance_mm"] <= CONTACT_MM:
         vol = c["overlap_volume_mm3"]
         what = f"overlap {vol:.3f} mm^3" if vol else "contact"
+        if c.get("parts_overlap_volume_mm3") is not None and vol:
+            what = (f"overlap {c['parts_overlap_volume_mm3']:.3f} mm^3; {vol:.3f} mm^3 between "
+                    f"{c['bodies'][0]} and {c['bodies'][1]}")
         msg = f"{parts} collide at {_at(c)} ({what})"
     else:
         msg = (
@@ -1103,6 +1127,7 @@ def check_model(
     contact_ok: bool = True,
     joints=None,
     method: str = "auto",
+    fail_fast: bool = False,
 ) -> InterferenceReport:
     """The one interference check of an assembly model (:class:`cad.assembly.model.AssemblyModel`)
     of any family: every moving solid against every other solid over the model's motion.
@@ -1122,8 +1147,15 @@ def check_model(
     :func:`sweep`, added to :func:`joint_axes` of the model (joints no part carries across,
     a motor shaft in its housing). Distances mm, volumes mm^3.
     Only the sampled poses are checked: a clash between two neighbouring samples is found
-    only where it reaches a sample.
+    only where it reaches a sample. ``fail_fast`` (a build that refuses any clash): the
+    same-body pairs first, and on a collision there the sweep is not run; the sweep's exact
+    pass stops at its first collision (the report lists the clashes found until then).
     """
+    same = same_body_check(static_items(model.instances))
+    if fail_fast and same.collisions:
+        rep = InterferenceReport(0.0, 0.0, {}, [], [], "same-body check only (fail fast)",
+                                 mesh_tol_mm, len(model_motion(model, [])[1]), 0)
+        return merge_same_body(rep, same)
     prepared = prepare(collision_items(model.instances), mesh_tol_mm)
     tfs, labels = model_motion(model, sorted(prepared.bodies))
     jx = joint_axes(model)
@@ -1132,5 +1164,5 @@ def check_model(
             a, b, axes = b, a, [(xb, xa) for xa, xb in axes]
         jx.setdefault((a, b), []).extend(axes)
     rep = sweep(prepared, tfs, None, clearance_min_mm, method=method, exact=exact, joints=jx,
-                labels=labels, contact_ok=contact_ok)
-    return merge_same_body(rep, same_body_check(static_items(model.instances)))
+                labels=labels, contact_ok=contact_ok, fail_fast=fail_fast)
+    return merge_same_body(rep, same)
