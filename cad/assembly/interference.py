@@ -71,6 +71,7 @@ class PartMesh:
     aabb_mm: np.ndarray  # (2, 3) in the body frame
     axis_xy: np.ndarray | None = None  # solid of revolution about this vertical axis (body frame)
     bvh: object = None  # fcl CollisionObject of this part alone (exact-pass pre-filter)
+    tight_box: np.ndarray | None = None  # (2, 3) tight OCCT box in the body frame (lazy)
 
 
 @dataclass
@@ -95,6 +96,10 @@ class InterferenceReport:
     n_exact_checks: int
     time_s: dict = field(default_factory=dict)
     same_body: dict | None = None
+    #: labelled sweeps: ``{label: (distance_mm, "part a/part b", how)}`` -- the smallest
+    #: distance between two bodies at each pose; ``how`` is "exact" (OCCT), "mesh" (fcl, off
+    #: by at most 2 mesh tolerances) or "bound" (a lower bound: the pose was pruned)
+    poses: dict | None = None
 
     def as_dict(self) -> dict:
         return {
@@ -540,6 +545,26 @@ def _closest_of_pairs(
     return best
 
 
+def separated_boxes(box_a, Ta, box_b, Tb, eps_mm: float = 1e-9) -> bool:
+    """True when the oriented boxes ``box_a`` placed by ``Ta`` and ``box_b`` by ``Tb`` (each
+    (2, 3) in its own frame, 4x4 mm) are separated by a plane normal to one of their six
+    face directions, touching allowed: then the solids inside share no volume."""
+    ca = np.array(list(itertools.product(*np.asarray(box_a).T))) @ Ta[:3, :3].T + Ta[:3, 3]
+    cb = np.array(list(itertools.product(*np.asarray(box_b).T))) @ Tb[:3, :3].T + Tb[:3, 3]
+    for n in np.concatenate([Ta[:3, :3].T, Tb[:3, :3].T]):
+        pa, pb = ca @ n, cb @ n
+        if pb.min() - pa.max() >= -eps_mm or pa.min() - pb.max() >= -eps_mm:
+            return True
+    return False
+
+
+def _tight_body_box(p: PartMesh) -> np.ndarray:
+    """(2, 3) tight OCCT box of a part in its body frame (computed once per part)."""
+    if p.tight_box is None:
+        p.tight_box = _tight_box(p.shape)
+    return p.tight_box
+
+
 def _exact_distance_volume(sa, sb) -> tuple[float, float]:
     """OCCT distance (mm, inf when it fails) of two placed solids, and their common volume
     (mm^3) when they touch or overlap (distance <= :data:`CONTACT_MM`), else 0."""
@@ -586,9 +611,14 @@ def exact_check(
 
 
 def exact_check_pair(
-    pa: list[PartMesh], pb: list[PartMesh], Ta: np.ndarray, Tb: np.ndarray, within_mm: float
+    pa: list[PartMesh], pb: list[PartMesh], Ta: np.ndarray, Tb: np.ndarray, within_mm: float,
+    certify_touch: bool = False,
 ) -> tuple[float, float, str, str, float]:
-    """:func:`exact_check` and, last, the common volume (mm^3) of the closest pair alone."""
+    """:func:`exact_check` and, last, the common volume (mm^3) of the closest pair alone.
+    ``certify_touch`` (where touching is allowed): a pair whose meshes touch is taken as
+    touching (distance 0; the true gap is under two mesh tolerances) and given volume 0
+    without a boolean where a face plane separates their tight boxes
+    (:func:`separated_boxes`, flush faces); else the OCCT distance and boolean decide."""
     from cad.export.shapes import placed
 
     best = (np.inf, 0.0, "", "")
@@ -600,9 +630,18 @@ def exact_check_pair(
         for j, q in enumerate(pb):
             if _aabb_gap(boxes_a[i], boxes_b[j]) > within_mm:
                 continue
-            if use_fcl and _part_mesh_distance(p, q, Ta, Tb) > within_mm:
+            dm = _part_mesh_distance(p, q, Ta, Tb) if use_fcl else np.inf
+            if dm > within_mm:
                 continue
-            d, vol = _exact_pair(placed(p.shape, Ta), placed(q.shape, Tb))
+            if certify_touch and dm <= CONTACT_MM:
+                # meshes in contact: taken as touching (the true gap is under 2 mesh
+                # tolerances); no volume where a face plane separates the tight boxes
+                if separated_boxes(_tight_body_box(p), Ta, _tight_body_box(q), Tb):
+                    d, vol = 0.0, 0.0
+                else:
+                    d, vol = _exact_pair(placed(p.shape, Ta), placed(q.shape, Tb))
+            else:
+                d, vol = _exact_pair(placed(p.shape, Ta), placed(q.shape, Tb))
             overlap += vol
             if d < best[0] or (d <= CONTACT_MM and vol > best[1]):
                 best = (d, vol, p.name, q.name)
@@ -647,7 +686,8 @@ def _fast_pass(scene, full, tfs: dict, pairs: list, threshold: float, slack: flo
     """Mesh distances of every body pair over the poses (z-culled where the scene culls,
     unculled where a left-out part could be closer), the closest pose of each pair refined
     between its neighbours when ``tf_at`` is given. Returns ``({(a, b): (d (N,), i_min,
-    pose_min, d_min, Ta_min, Tb_min)}, smallest distance of the coarse poses)``."""
+    pose_min, d_min, Ta_min, Tb_min)}, smallest distance found, {(a, b): (distances or
+    lower bounds (N,), measured (N,))})``."""
     n = names.n
     for a, b in pairs:  # coarse poses of every pair first: a global minimum to prune with
         scene.pair(a, b, tfs[a][0], tfs[b][0])
@@ -677,7 +717,7 @@ def _fast_pass(scene, full, tfs: dict, pairs: list, threshold: float, slack: flo
             v_min, d_min, Ta_min, Tb_min = _refine(scenes[(a, b)], a, b, names, i_min,
                                                    (v_min, d_min, Ta_min, Tb_min), tf_at)
         fast[(a, b)] = (d, i_min, v_min, d_min, Ta_min, Tb_min)
-    return fast, g_min
+    return fast, g_min, {k: (dist[k], measured[k]) for k in dist}
 
 
 def _refine(sc, a: str, b: str, names: _PoseNames, i_min: int, best: tuple, tf_at) -> tuple:
@@ -712,11 +752,14 @@ def _is_clash(de: float, vol: float, clearance_min_mm: float, contact_ok: bool) 
 # overlap and collision list (split further it would pass all of them back and forth)
 def _exact_pass(prepared: Prepared, fast: dict, tfs: dict, names: _PoseNames, *, threshold: float,
                 slack: float, clearance_min_mm: float, exact: bool, contact_ok: bool,
-                fail_fast: bool = False) -> dict:
+                fail_fast: bool = False, groups=None, raw=None) -> dict:
     """Exact pass: near contacts, and the closest pose of every pair that may hold the
     minimum (OCCT distance; common volume at contact). Returns the report fields.
-    ``fail_fast``: stop at the first collision (the build is refused anyway)."""
+    ``fail_fast``: stop at the first collision (the build is refused anyway). ``groups``
+    (labelled poses): ``label -> group``; the closest pose of each group is checked too.
+    ``raw``: ``{pair: (distances or lower bounds (N,), measured (N,))}`` of the fast pass."""
     key = names.key
+    table = _PoseTable(names, raw or {})
     pairs_out, collisions = [], []
     n_exact, t_exact = 0, 0.0
     best_clear, best_info, total_overlap = np.inf, {}, 0.0
@@ -729,16 +772,20 @@ def _exact_pass(prepared: Prepared, fast: dict, tfs: dict, names: _PoseNames, *,
             checks = []
             if d_min <= max(threshold, global_mesh_min + 2 * slack):
                 checks.append((v_min, Ta_min, Tb_min, max(threshold, d_min + slack)))
-            checks += [
-                (names.value(i), tfs[a][i], tfs[b][i], threshold)
-                for i in np.flatnonzero(d < threshold)
+            near = set(np.flatnonzero(d < threshold).tolist())
+            more = near | _group_minima(d, names, groups)
+            checks += [  # a group's closest pose: every part pair that may hold its minimum
+                (names.value(i), tfs[a][i], tfs[b][i],
+                 threshold if i in near else max(threshold, float(d[i]) + slack))
+                for i in sorted(more)
                 if i != i_min
             ]
             ex_min, ex_parts, ex_v = np.inf, ("", ""), v_min
             for v, Ta, Tb, within in checks:
                 de, vol, pa, pb, vp = exact_check_pair(prepared.bodies[a], prepared.bodies[b],
-                                                       Ta, Tb, within)
+                                                       Ta, Tb, within, certify_touch=contact_ok)
                 n_exact += 1
+                table.exact((a, b), v, de, pa, pb)
                 if de < ex_min:
                     ex_min, ex_parts, ex_v = de, (pa, pb), v
                 if _is_clash(de, vol, clearance_min_mm, contact_ok):
@@ -769,7 +816,51 @@ def _exact_pass(prepared: Prepared, fast: dict, tfs: dict, names: _PoseNames, *,
     return {"min_clearance_mm": float(max(best_clear, 0.0)),
             "overlap_volume_mm3": float(total_overlap), "closest": best_info,
             "pairs": pairs_out, "collisions": collisions, "n_exact_checks": n_exact,
-            "t_exact": t_exact}
+            "t_exact": t_exact, "poses": table.result()}
+
+
+def _group_minima(d: np.ndarray, names: _PoseNames, groups) -> set[int]:
+    """Indices of the closest pose of each group (``groups(label) -> key``; labelled poses)."""
+    if groups is None or names.labels is None:
+        return set()
+    best: dict = {}
+    for i, label in enumerate(names.labels):
+        g = groups(label)
+        if np.isfinite(d[i]) and (g not in best or d[i] < d[best[g]]):
+            best[g] = i
+    return set(best.values())
+
+
+class _PoseTable:
+    """The smallest distance between two bodies at each labelled pose: per body pair the
+    fast pass's value (mesh distance where measured, else its lower bound), replaced by the
+    exact value where the pair was checked exactly there; then the smallest over the pairs
+    (:attr:`InterferenceReport.poses`)."""
+
+    def __init__(self, names: _PoseNames, raw: dict):
+        self.names = names
+        self.cells: dict = {}
+        if names.labels is None:
+            return
+        for pair, (d, measured) in raw.items():
+            for i, label in enumerate(names.labels):
+                self.cells[(pair, label)] = (float(d[i]), "", "mesh" if measured[i] else "bound")
+
+    def exact(self, pair, v, de: float, pa: str, pb: str) -> None:
+        if self.names.labels is None:
+            return
+        k = (pair, self.names.entry(v))
+        if self.cells.get(k, ("", "", ""))[2] != "exact" or de < self.cells[k][0]:
+            self.cells[k] = (float(de), f"{pa}/{pb}", "exact")
+
+    def result(self) -> dict | None:
+        if self.names.labels is None:
+            return None
+        out: dict = {}
+        for (_, label), cell in self.cells.items():
+            if label not in out or cell[0] < out[label][0]:
+                out[label] = cell
+        return out
 
 
 def sweep(
@@ -785,6 +876,7 @@ def sweep(
     labels=None,
     contact_ok: bool = False,
     fail_fast: bool = False,
+    groups=None,
 ) -> InterferenceReport:
     """Sweep all body pairs over the poses (module docstring).
 
@@ -801,6 +893,8 @@ def sweep(
     collision is a common volume above :data:`OVERLAP_MIN_MM3`; else (four-bar) contact or
     a distance under ``clearance_min_mm`` is one. ``fail_fast``: the exact pass stops at the
     first collision (the report is then incomplete: for a build about to be refused).
+    ``groups`` (labelled poses): ``label -> group key``; the closest pose of each group is
+    checked exactly too (so each group's minimum in ``poses`` is exact).
     ``method``: "fcl", "manifold3d" or "auto" (fcl when installed) for the fast pass; ``exact=False`` reports the mesh
     distances only (preview fidelity).
     """
@@ -819,12 +913,12 @@ def sweep(
     slack = 2 * prepared.mesh_tol_mm + CONFIRM_MARGIN_MM
     t1 = time.perf_counter()
     pairs = list(itertools.combinations(sorted(prepared.bodies), 2))
-    fast, _ = _fast_pass(scene, full, tf_world_body, pairs, threshold, slack, names,
-                         tf_at if names.phi is not None else None)
+    fast, _, raw = _fast_pass(scene, full, tf_world_body, pairs, threshold, slack, names,
+                              tf_at if names.phi is not None else None)
     t_fast = time.perf_counter() - t1
     r = _exact_pass(prepared, fast, tf_world_body, names, threshold=threshold, slack=slack,
                     clearance_min_mm=clearance_min_mm, exact=exact, contact_ok=contact_ok,
-                    fail_fast=fail_fast)
+                    fail_fast=fail_fast, groups=groups, raw=raw)
     return InterferenceReport(
         min_clearance_mm=r["min_clearance_mm"],
         overlap_volume_mm3=r["overlap_volume_mm3"],
@@ -837,6 +931,7 @@ def sweep(
         n_exact_checks=r["n_exact_checks"],
         time_s={"mesh": prepared.mesh_time_s, "bvh": t_build, "fast": t_fast,
                 "exact": r["t_exact"]},
+        poses=r["poses"],
     )
 
 
@@ -1128,6 +1223,7 @@ def check_model(
     joints=None,
     method: str = "auto",
     fail_fast: bool = False,
+    groups=None,
 ) -> InterferenceReport:
     """The one interference check of an assembly model (:class:`cad.assembly.model.AssemblyModel`)
     of any family: every moving solid against every other solid over the model's motion.
@@ -1150,6 +1246,8 @@ def check_model(
     only where it reaches a sample. ``fail_fast`` (a build that refuses any clash): the
     same-body pairs first, and on a collision there the sweep is not run; the sweep's exact
     pass stops at its first collision (the report lists the clashes found until then).
+    ``groups``: ``label -> group key``, the closest pose of each group checked exactly
+    (:func:`sweep`); the report's ``poses`` gives the smallest distance at every pose.
     """
     same = same_body_check(static_items(model.instances))
     if fail_fast and same.collisions:
@@ -1164,5 +1262,5 @@ def check_model(
             a, b, axes = b, a, [(xb, xa) for xa, xb in axes]
         jx.setdefault((a, b), []).extend(axes)
     rep = sweep(prepared, tfs, None, clearance_min_mm, method=method, exact=exact, joints=jx,
-                labels=labels, contact_ok=contact_ok, fail_fast=fail_fast)
+                labels=labels, contact_ok=contact_ok, fail_fast=fail_fast, groups=groups)
     return merge_same_body(rep, same)

@@ -38,7 +38,7 @@ from pathlib import Path
 
 import numpy as np
 
-from cad.errors import DesignError, InterferenceError
+from cad.errors import DesignError
 
 #: Source the output depends on (build cache key).
 CODE_DEPS = (
@@ -539,13 +539,12 @@ def build(
 ) -> dict:
     """Build the PowerMouse and its test rig into ``out_dir``; return the report dict (module docstring).
 
-    fidelity: "fabrication" checks all 52 extreme poses of the motion range; "inertia" /
-    "preview" only the 12 on-axis poses. Raises InterferenceError when two solids overlap
-    at the centre pose or the flotor overlaps the stator anywhere in the range, unless
-    allow_interference.
+    fidelity: "fabrication" checks the centre and every extreme and combined pose of the
+    motion range (:func:`motion_poses`); "inertia" / "preview" the centre and the 12 on-axis
+    poses. Raises InterferenceError when two solids share a volume at any of them
+    (:func:`interference`), unless allow_interference.
     """
     from cad.actuators import powermouse as pm
-    from cad.parts import powermouse as pp
     from cad.parts import voicecoil as pv
     from cad.pipeline import family, forked
 
@@ -553,24 +552,13 @@ def build(
     out_dir = Path(out_dir)
     total = 6
     _step(progress, "actuator optimum (eqs 8-9)", 0, total)
-    act = actuator_optimum(design)
-    gap = act["gap_mm"]
-    g = pp.geometry(design, gap)
-    a = design.actuator
-    ag = pv.ActuatorGeometry(
-        a.magnet_length_mm,
-        a.magnet_width_mm,
-        a.magnet_thickness_mm,
-        gap,
-        a.rattle_mm,
-        a.plate_thickness_mm,
-    )
-
     _step(progress, "solids", 1, total)
-    acts = pv.actuator_solids(ag)
-    inst, rig = assembly(design, g, acts)
-    fasteners = family.fastener_report(inst, lid_holes(design, g))
-    tfs = {"flotor": np.eye(4), "ground": np.eye(4)}
+    model = assemble(design, fidelity)
+    act, g, ag = model.extra["actuator"], model.extra["geometry"], model.extra["actuator_geometry"]
+    acts, rig = model.extra["actuator_solids"], model.extra["rig"]
+    gap, a = act["gap_mm"], design.actuator
+    inst, tfs = list(model.instances), model.tf_world_body
+    fasteners = family.fastener_report(inst, model.holes)
 
     _step(progress, "mass properties and wrench map", 2, total)
     props = family.kind_props(inst)
@@ -598,10 +586,8 @@ def build(
     task = forked.start(exports, "exports")
     views_task = forked.start(views, "views")
     with forked.cancel_on_error(task, views_task):
-        _step(progress, "every pair at the centre, flotor over the motion range", 3, total)
-        itf = family.check_assembly(inst, tfs)
-        cl = _motion(design, g, inst, fidelity)
-        _raise_on_overlap(design, itf, cl, allow_interference)
+        _step(progress, "every pair of solids over the motion range", 3, total)
+        itf, cl = interference(model, allow_interference)
         _step(progress, "exports", 4, total)
         files = task.result()
         more, viewer_glb = views_task.result()
@@ -738,7 +724,12 @@ def _write_views(design, inst, tfs, out_dir, formats, gap) -> tuple[list[str], b
     return _fig8_chart(design, gap, out_dir) + view_files, glb
 
 
-def _motion(design, g, inst, fidelity):
+def motion_poses(design, g, fidelity: str) -> list[tuple[str, np.ndarray, np.ndarray]]:
+    """The flotor poses the interference check sweeps, ``[(label, R (3, 3), t_mm (3,))]``:
+    fabrication -- the extreme poses of the motion range
+    (:func:`cad.actuators.powermouse.workspace_poses`: 26 translations, 26 rotations) and
+    the combined poses that move the handle and post furthest
+    (:func:`cad.parts.powermouse.combined_poses`); inertia / preview -- the 12 on-axis ones."""
     from cad.actuators import powermouse as pm
     from cad.parts import powermouse as pp
 
@@ -753,29 +744,90 @@ def _motion(design, g, inst, fidelity):
             or p[0].startswith("r(")
             and p[0][1:10] in ("(1, 0, 0)", "(0, 1, 0)", "(0, 0, 1)")
         ]
-    fl = {i.name: (i.kind.shape, "", i.tf_body_part) for i in inst if i.body == "flotor"}
-    st = {i.name: (i.kind.shape, "", i.tf_body_part) for i in inst if i.body == "ground"}
-    return pp.motion_clearances(g, design.motion.range_mm, design.motion.range_deg, fl, st, poses)
+    return poses
 
 
-def _raise_on_overlap(design, itf, cl, allow: bool) -> None:
-    if allow:
-        return
-    if itf["collisions"]:
-        c = itf["collisions"][0]
-        raise InterferenceError(
-            f"{c['parts'][0]} / {c['parts'][1]} overlap {c['overlap_volume_mm3']:.3f} mm^3 at the "
-            f"centre pose; {len(itf['collisions'])} overlapping pair(s) (use --allow-interference)"
-        )
-    if cl.minimum_mm < 0:
-        bad = [k for k, v in cl.poses.items() if v[0] < 0]
-        pair = f": {cl.poses[bad[0]][1]}" if bad else ""
-        raise InterferenceError(
-            f"flotor overlaps the stator at {len(bad)} pose(s) of the +-{design.motion.range_mm:g} mm / "
-            f"+-{design.motion.range_deg:g} deg range (e.g. {bad[0] if bad else 'centre'}{pair}); "
-            "enlarge actuator.rattle_mm or reduce motion.range_mm / range_deg, or pass "
-            "--allow-interference"
-        )
+def assemble(design, fidelity: str = "fabrication"):
+    """The PowerMouse as a :class:`cad.assembly.model.AssemblyModel`: the part instances
+    (:func:`assembly`; bodies ``flotor`` and ``ground``, both at the identity at the centre
+    pose), the flotor's motion (``{"flotor": (N, 4, 4)}`` mm: the centre, then
+    :func:`motion_poses`; ``pose_labels``: ``"centre"`` and the poses' labels), the lid's
+    tapped holes; ``extra``: ``actuator`` (:func:`actuator_optimum`), ``geometry``
+    (:class:`cad.parts.powermouse.PowerMouseGeometry`), ``actuator_geometry``,
+    ``actuator_solids`` and ``rig`` (the test rig's instances, not part of the device)."""
+    from cad.assembly.model import AssemblyModel
+    from cad.parts import powermouse as pp
+    from cad.parts import voicecoil as pv
+
+    act = actuator_optimum(design)
+    gap = act["gap_mm"]
+    g = pp.geometry(design, gap)
+    a = design.actuator
+    ag = pv.ActuatorGeometry(a.magnet_length_mm, a.magnet_width_mm, a.magnet_thickness_mm, gap,
+                             a.rattle_mm, a.plate_thickness_mm)
+    acts = pv.actuator_solids(ag)
+    inst, rig = assembly(design, g, acts)
+    poses = motion_poses(design, g, fidelity)
+    flotor = np.stack([np.eye(4)] + [_tf(R, t) for _, R, t in poses])
+    return AssemblyModel(
+        design, tuple(inst), {"flotor": np.eye(4), "ground": np.eye(4)},
+        {"flotor": flotor}, ("centre", *(label for label, _, _ in poses)), lid_holes(design, g),
+        extra={"actuator": act, "geometry": g, "actuator_geometry": ag,
+               "actuator_solids": acts, "rig": rig},
+    )
+
+
+def _group(label: str) -> str:
+    """Pose group of a motion label: centre, t(ranslations), r(otations), c(ombined)."""
+    return "centre" if label == "centre" else label[:1]
+
+
+def interference(model, allow_interference: bool = False) -> tuple[dict, dict]:
+    """The one interference check (:func:`cad.assembly.interference.check_model`) over the
+    flotor's motion: the flotor against the stator at the centre and every excursion, every
+    pair of parts on one body once; touching allowed (the flotor touches at its limits by
+    design), a common volume above :data:`cad.assembly.interference.OVERLAP_MIN_MM3` is a
+    clash; the closest pose of each group (centre, translations, rotations, combined) is
+    measured exactly. Returns ``(interference dict, {label: (clearance_mm, "flotor
+    part/stator part", how)})``; InterferenceError naming the pair, the pose and the volume
+    of the first clash unless allow_interference."""
+    from cad.assembly import interference as itf
+
+    rep = itf.check_model(model, fail_fast=not allow_interference, groups=_group)
+    if not allow_interference:
+        itf.raise_on_collision(rep, 0.0)
+    out = rep.as_dict()
+    out["parts"] = len(model.instances)
+    out["overlap_threshold_mm3"] = itf.OVERLAP_MIN_MM3
+    return out, rep.poses or {}
+
+
+def _clearances(design, poses: dict) -> dict:
+    """The report's ``clearances_mm``: the smallest flotor-stator distance at the centre and
+    over each pose group (exact OCCT at each group's closest pose), mm, the worst pose of
+    each, and every pose's value (``how``: exact, mesh or bound)."""
+    def worst(g: str) -> tuple[float | None, str]:
+        rows = {k: v[0] for k, v in poses.items() if _group(k) == g}
+        if not rows:
+            return None, ""
+        k = min(rows, key=rows.get)
+        return rows[k], k
+
+    (tr, wt), (ro, wr), (co, wc) = worst("t"), worst("r"), worst("c")
+    return {
+        "nominal_mm": poses["centre"][0],
+        "translation_mm": tr,
+        "rotation_mm": ro,
+        "worst_translation": wt,
+        "worst_rotation": wr,
+        "combined_mm": co,
+        "worst_combined": wc,
+        "poses_checked": len(poses) - 1,
+        "range_mm": design.motion.range_mm,
+        "range_deg": design.motion.range_deg,
+        "poses": {k: {"clearance_mm": v[0], "closest": v[1], "how": v[2]}
+                  for k, v in poses.items() if k != "centre"},
+    }
 
 
 def _report(
@@ -844,20 +896,8 @@ def _report(
         "peak_acceleration_G": acc / pm.G0_M_S2,
         "interference": itf,
         "overlap_volume_mm3": itf["overlap_volume_mm3"],
-        "clearances_mm": {
-            "nominal_mm": cl.nominal_mm,
-            "translation_mm": cl.translation_mm,
-            "rotation_mm": cl.rotation_mm,
-            "worst_translation": cl.worst_translation,
-            "worst_rotation": cl.worst_rotation,
-            "combined_mm": None if cl.combined_mm != cl.combined_mm else cl.combined_mm,
-            "worst_combined": cl.worst_combined,
-            "poses_checked": len(cl.poses),
-            "range_mm": design.motion.range_mm,
-            "range_deg": design.motion.range_deg,
-            "poses": {k: {"clearance_mm": v[0], "closest": v[1]} for k, v in cl.poses.items()},
-        },
-        "min_clearance_mm": cl.minimum_mm,
+        "clearances_mm": _clearances(design, cl),
+        "min_clearance_mm": itf["min_clearance_mm"],
         "paper_table4": PAPER_TABLE4,
         "bom": bom,
         "rig_bom": rig_bom,
@@ -877,8 +917,11 @@ def _report(
             "the set screw. Magnets and iron plates are bonded (structural epoxy).",
             "rig/ holds the single-actuator test rig of Fig. 7 (one coil between two magnet pairs): a bench "
             "fixture to measure one actuator's force against eq (8), not part of the PowerMouse.",
-            "Clearances over the motion range: fcl mesh distances at every pose, exact OCCT where the mesh "
-            "distance is within 0.15 mm of contact and at the closest pose of each group.",
+            "Interference over the motion range (cad.assembly.interference.check_model, the check "
+            "of every family): the flotor against the stator at the centre and every excursion "
+            "(fcl mesh distances, exact OCCT where within 0.15 mm of contact and at the closest "
+            "pose of each group), every pair of parts on one body once; touching is allowed, a "
+            "common volume is a clash.",
         ],
         "gain_N_per_ampere_turn": gain_per_At,
     }
@@ -897,8 +940,8 @@ def _md_rows(r: dict) -> list[tuple[str, str]]:
             + ("–" if c["combined_mm"] is None else f"{c['combined_mm']:.3f}"),
         ),
         (
-            "solids / pairs checked exactly at the centre",
-            f"{r['interference']['parts']} / {r['interference']['exact_pairs']}",
+            "solids / poses of the motion checked",
+            f"{r['interference']['parts']} / {r['interference']['n_poses']}",
         ),
-        ("overlap volume at the centre (mm^3)", f"{r['overlap_volume_mm3']:.4g}"),
+        ("overlap volume over the motion (mm^3)", f"{r['overlap_volume_mm3']:.4g}"),
     ]
