@@ -957,8 +957,9 @@ def raise_on_collision(rep: InterferenceReport, clearance_min_mm: float) -> None
     elif c["distance_mm"] <= CONTACT_MM:
         vol = c["overlap_volume_mm3"]
         what = f"overlap {vol:.3f} mm^3" if vol else "contact"
-        if c.get("parts_overlap_volume_mm3") is not None and vol:
-            what = (f"overlap {c['parts_overlap_volume_mm3']:.3f} mm^3; {vol:.3f} mm^3 between "
+        vp = c.get("parts_overlap_volume_mm3")
+        if vp is not None and vol and abs(vol - vp) > 1e-9 * vol:
+            what = (f"overlap {vp:.3f} mm^3; {vol:.3f} mm^3 between "
                     f"{c['bodies'][0]} and {c['bodies'][1]}")
         msg = f"{parts} collide at {_at(c)} ({what})"
     else:
@@ -1224,6 +1225,9 @@ def check_model(
     method: str = "auto",
     fail_fast: bool = False,
     groups=None,
+    phi1_rad=None,
+    tf_at=None,
+    same_body: SameBodyResult | None = None,
 ) -> InterferenceReport:
     """The one interference check of an assembly model (:class:`cad.assembly.model.AssemblyModel`)
     of any family: every moving solid against every other solid over the model's motion.
@@ -1248,8 +1252,12 @@ def check_model(
     pass stops at its first collision (the report lists the clashes found until then).
     ``groups``: ``label -> group key``, the closest pose of each group checked exactly
     (:func:`sweep`); the report's ``poses`` gives the smallest distance at every pose.
+    ``phi1_rad`` (N,) and ``tf_at`` (a four-bar stroke): the poses are crank angles (named
+    ``phi1_deg``, the closest pose refined between samples by ``tf_at(phi) -> {body: 4x4}``)
+    instead of ``model.pose_labels``. ``same_body``: the same-body result when already
+    computed (a build runs it beside other work), else it is computed here.
     """
-    same = same_body_check(static_items(model.instances))
+    same = same_body if same_body is not None else same_body_check(static_items(model.instances))
     if fail_fast and same.collisions:
         rep = InterferenceReport(0.0, 0.0, {}, [], [], "same-body check only (fail fast)",
                                  mesh_tol_mm, len(model_motion(model, [])[1]), 0)
@@ -1261,6 +1269,9 @@ def check_model(
         if b < a:
             a, b, axes = b, a, [(xb, xa) for xa, xb in axes]
         jx.setdefault((a, b), []).extend(axes)
-    rep = sweep(prepared, tfs, None, clearance_min_mm, method=method, exact=exact, joints=jx,
-                labels=labels, contact_ok=contact_ok, fail_fast=fail_fast, groups=groups)
+    if phi1_rad is not None:
+        labels = None
+    rep = sweep(prepared, tfs, phi1_rad, clearance_min_mm, method=method, exact=exact, joints=jx,
+                labels=labels, contact_ok=contact_ok, fail_fast=fail_fast, groups=groups,
+                tf_at=tf_at)
     return merge_same_body(rep, same)
