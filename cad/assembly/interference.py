@@ -1,4 +1,13 @@
-"""Interference over the stroke: N poses x all pairs of bodies, fast mesh pass then exact OCCT.
+"""Interference over a motion: N poses x all pairs of bodies, fast mesh pass then exact OCCT.
+
+The one check of every family is :func:`check_model`: it takes an assembly model
+(:class:`cad.assembly.model.AssemblyModel`: part instances on bodies, the bodies over the
+poses of ``motion`` -- a four-bar's crank angles, a pantograph's workspace grid, the
+PowerMouse flotor's 6-DOF excursions) and sweeps every moving solid against every other
+solid, moving or ground, with the method below (:func:`sweep`), plus every pair of parts
+on one body once (:func:`same_body_check`). A clash names the pair of parts, the pose
+(crank angle or label) and the overlap volume (:func:`raise_on_collision`). Planar motion
+(every body turning about z at z = 0) is culled by z; other motion is swept unculled.
 
 Method (SPEC "Measured pitfalls": meshes at 0.1 mm miss a 0.05 mm overlap; exact answers
 need OCCT):
