@@ -9,8 +9,10 @@ import numpy as np
 from cad.errors import InterferenceError
 from cad.families.pantograph.layout import _leg_xy, _lower_five_bar, _twin, layout
 
-#: Smallest accepted gap between moving parts in the same layer (mm): the
-#: clevises are machined parts, 0.5 mm covers their tolerance stack.
+#: Gap between moving parts in the same layer that covers the machined clevises' tolerance
+#: stack (mm). Formerly the refusal threshold of these 2-D figures; the build now refuses
+#: only a solid overlap found by the one interference check over the motion (kept for
+#: importers and as the reference to read ``clearances_mm`` against).
 MIN_CLEARANCE_MM = 0.5
 
 
