@@ -343,6 +343,32 @@ HOLE_MARGIN_MM = 0.5
 #: below a print layer (0.1-0.3 mm) and far above the round-off of the slab heights.
 PRINT_SECTION_EPS_MM = 1e-6
 
+# ---------------------------------------------------------------- interference check (cad/assembly/interference.py)
+
+#: Extra margin on top of 2 x mesh tolerance before a near contact is confirmed exactly (mm).
+CONFIRM_MARGIN_MM = 0.05
+#: Distances below this are contact (mm): OCCT's own confusion tolerance is 1e-7.
+CONTACT_MM = 1e-6
+#: Default absolute mesh tolerance of the fast pass (mm); see cad.bench.interference.
+SWEEP_MESH_TOL_MM = 0.05
+#: A pose is skipped when its lower bound is at least the level that matters minus this
+#: (mm): it absorbs float rounding between the box bounds and fcl's distance (a gap of
+#: exactly 1 mm between parallel faces comes back as 0.9999999999999999), so ties do not
+#: force a measurement. It moves a reported minimum by at most this much, far below
+#: CONFIRM_MARGIN_MM, so no near contact can be skipped.
+LB_SLACK_MM = 1e-9
+#: Parts farther than this in z from the other body are left out of a pair's fast pass
+#: (planar motion keeps z, so they stay at least that far); a pair whose mesh minimum
+#: exceeds the z gap of a left-out part is redone without culling (mm).
+CULL_MARGIN_MM = 5.0
+#: A common volume above this between two parts of one body is a collision (mm^3): far
+#: above OCCT's boolean noise on touching faces (~1e-9), below the issue-10 acceptance
+#: threshold (1e-3) so nothing the independent STEP check would find is let through.
+OVERLAP_MIN_MM3 = 1e-4
+#: Bounding boxes that overlap by no more than this along some axis only touch (mm): parts
+#: stacked face to face (a spacer on a bar, a leg under the plate) need no boolean.
+BOX_TOUCH_MM = 1e-6
+
 # ---------------------------------------------------------------- benchmark sweeps (cad/bench)
 
 #: Absolute mesh tolerances (mm) swept by the mass-properties bench (cad/bench/massprops.py):

@@ -53,6 +53,15 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from cad.errors import InterferenceError
+from cad.tolerances import (  # noqa: F401 (names of this module's API)
+    BOX_TOUCH_MM,
+    CONFIRM_MARGIN_MM,
+    CONTACT_MM,
+    CULL_MARGIN_MM,
+    LB_SLACK_MM,
+    OVERLAP_MIN_MM3,
+    SWEEP_MESH_TOL_MM,
+)
 
 #: What the check covers (copied into report.json ``interference.checked``).
 CHECKED = (
@@ -60,12 +69,6 @@ CHECKED = (
     "distance and common volume near contact), pairs on one body once (bounding boxes, then "
     "the exact OCCT common volume); touching is allowed, a common volume is a collision"
 )
-#: Extra margin on top of 2 x mesh tolerance before a near contact is confirmed exactly (mm).
-CONFIRM_MARGIN_MM = 0.05
-#: Distances below this are contact (mm): OCCT's own confusion tolerance is 1e-7.
-CONTACT_MM = 1e-6
-#: Default absolute mesh tolerance of the fast pass (mm); see cad.bench.interference.
-SWEEP_MESH_TOL_MM = 0.05
 #: Modules whose source the cached exact values (distances, volumes, boxes) depend on.
 _CODE = ("cad.assembly.interference", "cad.export.shapes")
 
@@ -200,12 +203,6 @@ def _corners(parts: list[PartMesh]) -> np.ndarray:
 COARSE_STEP = 8
 
 
-#: A pose is skipped when its lower bound is at least the level that matters minus this
-#: (mm): it absorbs float rounding between the box bounds and fcl's distance (a gap of
-#: exactly 1 mm between parallel faces comes back as 0.9999999999999999), so ties do not
-#: force a measurement. It moves a reported minimum by at most this much, far below
-#: CONFIRM_MARGIN_MM, so no near contact can be skipped.
-LB_SLACK_MM = 1e-9
 
 
 def _box_corners(parts: list[PartMesh]) -> np.ndarray:
@@ -328,10 +325,6 @@ def _z_range(parts: list[PartMesh]) -> tuple[float, float]:
     return min(p.aabb_mm[0, 2] for p in parts), max(p.aabb_mm[1, 2] for p in parts)
 
 
-#: Parts farther than this in z from the other body are left out of a pair's fast pass
-#: (planar motion keeps z, so they stay at least that far); a pair whose mesh minimum
-#: exceeds the z gap of a left-out part is redone without culling (mm).
-CULL_MARGIN_MM = 5.0
 
 
 def _z_gap(p: PartMesh, z: tuple[float, float]) -> float:
@@ -984,13 +977,6 @@ def raise_on_collision(rep: InterferenceReport, clearance_min_mm: float) -> None
 
 
 # --------------------------------------------------------------------------- same-body pairs
-#: A common volume above this between two parts of one body is a collision (mm^3): far
-#: above OCCT's boolean noise on touching faces (~1e-9), below the issue-10 acceptance
-#: threshold (1e-3) so nothing the independent STEP check would find is let through.
-OVERLAP_MIN_MM3 = 1e-4
-#: Bounding boxes that overlap by no more than this along some axis only touch (mm): parts
-#: stacked face to face (a spacer on a bar, a leg under the plate) need no boolean.
-BOX_TOUCH_MM = 1e-6
 
 
 @dataclass
