@@ -2,7 +2,9 @@
 
 CAD libraries are imported inside the functions, never at module import.
 
-* :func:`export_part` -- ``<name>.step``, ``<name>.stl``, ``<name>.dxf`` (plates) of one part;
+* :func:`export_part` -- ``<name>.step``, ``<name>.stl``, ``<name>.dxf`` (plates) of one part,
+  each in the part's own frame (the frame a ``tf_body_part`` places it from; the STEP
+  with its placements applied to the geometry, :func:`cad.export.shapes.in_own_frame`);
 * :func:`export_assembly_step` -- one named, coloured solid per part;
 * :func:`write_manifest` -- ``manifest.json`` with sha256 of every file;
 * :func:`write_bom` -- ``bom.csv``.
@@ -84,6 +86,12 @@ def export_part(
 ) -> list[Path]:
     """Write the files of one part and return their paths.
 
+    Every file is in the part's frame: the coordinates of ``shape`` with its location
+    applied. The STEP is written from :func:`cad.export.shapes.in_own_frame` (no nested
+    placement, which a STEP reader may drop: a tube or bearing whose solid carries a
+    location came out in its unplaced frame); the STL mesh and the DXF section apply the
+    location themselves.
+
     Parameters
     ----------
     shape : build123d / cadquery object or OCP ``TopoDS_Shape``, mm.
@@ -100,7 +108,7 @@ def export_part(
     :mod:`cad.export.stl`) before anything is written: a failure raises
     :class:`cad.errors.MeshError` and writes no file of this part.
     """
-    from cad.export.shapes import to_topods
+    from cad.export.shapes import in_own_frame, to_topods
     from cad.export.step import step_bytes
     from cad.export.stl import check_watertight, mesh_shape, stl_bytes
 
@@ -113,8 +121,8 @@ def export_part(
         payload.append((out_dir / f"{name}.stl", stl_bytes(v, f, name)))
     if "step" in formats:
         payload.append((out_dir / f"{name}.step", _cached_file(
-            "part-step", [topo, name, color], lambda: step_bytes(topo, name, color),
-            ("cad.export.step",))))
+            "part-step", [topo, name, color], lambda: step_bytes(in_own_frame(topo), name, color),
+            ("cad.export.step", "cad.export.shapes"))))
     if "dxf" in formats and plate:
         from cad.export.dxf import plate_profile_dxf
 
