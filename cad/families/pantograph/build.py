@@ -1227,6 +1227,7 @@ def build(
     report.update(fasteners)
     report["part_materials"] = family.part_materials(instances)
     report["fits"] = family.fits_report(instances)
+    report["placement"] = family.placement_report(instances, tfs, props)
     report["files"] = sorted(files + ["report.md"])
     family.write_report_md(
         out_dir, f"{design.name} ({design.family})", _md_rows(report), bom, report["notes"]

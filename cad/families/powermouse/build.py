@@ -629,6 +629,7 @@ def build(
     rep.update(fasteners)
     rep["part_materials"] = family.part_materials(inst)
     rep["fits"] = family.fits_report(inst)
+    rep["placement"] = family.placement_report(inst, tfs, props)
     rep["files"] = sorted(files + ["report.md"])
     family.write_report_md(out_dir, f"{design.name} (powermouse)", _md_rows(rep), bom, rep["notes"])
     family.write_assembly_md(out_dir, f"{design.name} (powermouse)", inst, ASSEMBLY_PLAN,
