@@ -329,11 +329,12 @@ def build(
     """Build ``design`` into ``out_dir`` (a fresh temporary directory); return the report dict
     (module docstring). Raises DesignError (``--phi1-deg`` outside the crank range, no layer
     order, ...), InterferenceError (a clash, unless ``allow_interference``), MeshError."""
-    from cad.families.fourbar.layout import assemble
+    from cad.families.fourbar.layout import assemble, exported_phi1_rad
     from cad.pipeline import forked
 
     timings: dict[str, float] = {}
     t0 = time.perf_counter()
+    exported_phi1_rad(design, phi1_deg)  # a bad --phi1-deg before the first progress line
     _step(progress, "layers and parts", 0)
     model = assemble(design, fidelity, phi1_deg=phi1_deg, strict=not allow_interference)
     timings["parts"] = time.perf_counter() - t0
