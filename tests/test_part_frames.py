@@ -178,6 +178,48 @@ def test_part_files_placed_by_the_report_give_its_body_mass_properties(built, na
             assert_same_body(got[b], mp["mass_kg"], mp["com_mm"], mp["inertia_com_kg_m2"], b)
 
 
+def located_volume_props(solids) -> tuple[float, np.ndarray]:
+    """(volume mm^3, centroid mm) of solids as placed (their locations applied by OCCT)."""
+    from OCP.BRepGProp import BRepGProp
+    from OCP.GProp import GProp_GProps
+
+    total = GProp_GProps()
+    for s in solids:
+        g = GProp_GProps()
+        BRepGProp.VolumeProperties_s(s, g)
+        total.Add(g)
+    c = total.CentreOfMass()
+    return total.Mass(), np.array([c.X(), c.Y(), c.Z()])
+
+
+@pytest.mark.parametrize("name", BUILDS)
+def test_part_files_placed_in_the_world_are_the_assembly_step(built, name):
+    """Each instance's part file moved by ``tf_world_body[body] @ tf_body_part`` (report.json,
+    the exported pose) has the volume and centroid of that instance in ``assembly.step``
+    (read back with OCCT's XCAF reader, ``tests/step_pairs.py``) to 1e-9."""
+    from step_pairs import read_parts
+
+    out, rep = built[name]
+    pl = rep["placement"]
+    placed_files = {}
+    for n, k in pl["kinds"].items():
+        if k["file"] is not None:
+            placed_files[n] = unplaced_volume_props(read_step_solids(out / k["file"]))[:2]
+    in_step = dict(read_parts(out / "assembly.step"))
+    checked = 0
+    for inst_name, inst in pl["instances"].items():
+        if inst["kind"] not in placed_files:
+            continue
+        vol, c_part = placed_files[inst["kind"]]
+        T = np.array(pl["tf_world_body"][inst["body"]]) @ np.array(inst["tf_body_part"])
+        vol_asm, c_asm = located_volume_props(in_step[inst_name])
+        assert vol_asm == pytest.approx(vol, rel=REL), inst_name
+        c_world = T[:3, :3] @ c_part + T[:3, 3]
+        assert np.abs(c_world - c_asm).max() <= REL * max(np.linalg.norm(c_asm), 1.0), inst_name
+        checked += 1
+    assert checked == sum(1 for i in pl["instances"].values() if i["kind"] in placed_files)
+
+
 @pytest.mark.parametrize("part", ["bearing_balls", "pantograph_tube", "handle_end_clevis"])
 def test_a_located_solid_is_written_in_its_frame(tmp_path, part):
     """Solids that carry a location in memory (a bd_warehouse bearing with its balls -- the

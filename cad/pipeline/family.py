@@ -155,17 +155,20 @@ def placement_report(instances, tf_world_body: dict, props: dict) -> dict:
     """report.json's ``placement``: everything needed to place each part file and recover
     the bodies' mass properties from them.
 
-    Returns ``{"frames": text, "instances": {name: {"kind", "body", "tf_body_part"}},
+    Returns ``{"frames": text, "mass_sources": MASS_SOURCES,
+    "instances": {name: {"kind", "body", "tf_body_part"}},
     "tf_world_body": {body: 4x4}, "kinds": {kind: {"file", "mass_source", "material",
     "mass_props"}}, "bodies": {body: MassProps.to_dict()}}``: transforms are 4x4 lists in
     mm (``tf_world_part = tf_world_body @ tf_body_part``, at the exported pose); a kind's
     ``mass_props`` (SI, its own frame = the frame of ``parts/<kind>.step``) as
-    :func:`kind_mass_props` gives it (None without mass), ``file`` its STEP (None: not
-    listed, no file); ``bodies`` the sums of :func:`body_props` in each body frame."""
+    :func:`kind_mass_props` gives it (None without mass), ``file`` its STEP when STEP is
+    written (None: a kind not listed, which has no file); ``bodies`` the sums of
+    :func:`body_props` in each body frame."""
     ks = kinds(instances)
     return {
         "frames": "mm; tf_world_part = tf_world_body[body] @ tf_body_part; parts/<kind>.step "
                   "is in the kind's frame; mass properties SI (com_mm in mm), body frames",
+        "mass_sources": dict(MASS_SOURCES),
         "instances": {
             i.name: {"kind": i.kind.name, "body": i.body,
                      "tf_body_part": np.asarray(i.tf_body_part, dtype=float).tolist()}
