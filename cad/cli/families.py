@@ -1,5 +1,5 @@
 """Which command accepts which design family: one table, used for the hints of refusals
-and checked against the README's commands x families table (tests/test_readme.py); derived
+and checked against the commands x families table of docs/commands.md (tests/test_readme.py); derived
 from the one family registry, :mod:`cad.data.families`.
 
 No CAD imports; the family names are those of ``[mechanism] family``.
@@ -18,20 +18,13 @@ FAMILY_GROUPS = _registry.groups()
 COMMAND_FAMILIES: dict[str, tuple[str, ...]] = _registry.command_families()
 
 
-def refusal(command: str, family: str) -> str:
-    """``"<command> works on ... designs; for a <family> design use: hapticad a, hapticad b"``."""
-    groups = [g for g, fams in FAMILY_GROUPS.items()
-              if set(fams) <= set(COMMAND_FAMILIES.get(command, ()))]
-    others = [c for c, fams in COMMAND_FAMILIES.items() if family in fams and c != command]
-    hint = ", ".join(f"hapticad {c}" for c in others) or "no design command"
-    return f"{command} works on {' / '.join(groups)} designs; for a {family} design use: {hint}"
-
+refusal = _registry.refusal  # the one text, shared with cad.api (cad.data.families)
 
 NO_DESIGN_COMMANDS = _registry.NO_DESIGN_COMMANDS
 
 
 def markdown_table() -> str:
-    """The README's commands x families table, from :data:`COMMAND_FAMILIES`."""
+    """The commands x families table (docs/commands.md), from :data:`COMMAND_FAMILIES`."""
     cols = list(FAMILY_GROUPS)
     lines = ["| command | " + " | ".join(cols) + " |", "|---|" + "---|" * len(cols)]
     for cmd, fams in COMMAND_FAMILIES.items():
