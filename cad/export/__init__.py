@@ -16,13 +16,13 @@ once its time stamp is fixed and OCCT's process-wide assembly counter renumbered
 
 from __future__ import annotations
 
-import math
 from pathlib import Path
 
 from cad.errors import DesignError
 from cad.export.bom import BOM_COLUMNS, bom_csv, write_bom
 from cad.export.manifest import MANIFEST_NAME, verify_manifest, write_manifest
 from cad.io.atomic import write_bytes_atomic, write_text_atomic
+from cad.tolerances import STL_ANGULAR_TOLERANCE_RAD, STL_TOLERANCE_MM  # re-exported
 
 FORMATS = ("step", "stl", "dxf")
 #: Every format ``--formats`` accepts: the default three plus the simulator models
@@ -32,9 +32,6 @@ FORMATS = ("step", "stl", "dxf")
 #: parts for a slicer (:mod:`cad.export.threemf`) and firmware = the generated C kinematics,
 #: test vectors, wall sketch and CHAI3D description (:mod:`cad.firmware`, folder firmware/).
 KNOWN_FORMATS = (*FORMATS, "mjcf", "urdf", "glb", "3mf", "firmware", "drawings")
-#: Default absolute chordal deflection of exported STL (mm) and angular deflection (rad).
-STL_TOLERANCE_MM = 0.01
-STL_ANGULAR_TOLERANCE_RAD = math.radians(15.0)
 
 __all__ = [
     "BOM_COLUMNS",

@@ -41,8 +41,9 @@ from pathlib import Path
 import numpy as np
 
 from cad.families.fourbar.layout import LINKS, PREVIEW_POSES, check_layout, sweep_angles
+from cad.tolerances import PREVIEW_STL_TOL_MM
 
-__all__ = ["LINKS", "PREVIEW_POSES", "build", "cache_inputs", "check_layout", "sweep_angles"]
+__all__ = ["LINKS", "PREVIEW_POSES", "PREVIEW_STL_TOL_MM", "build", "cache_inputs", "check_layout", "sweep_angles"]
 
 #: Source the output depends on (build cache key): any change there rebuilds.
 CODE_DEPS = (
@@ -70,8 +71,6 @@ CODE_DEPS = (
 SIM_EXPORT = True
 #: This builder writes glb and 3mf (:mod:`cad.pipeline.views`).
 VIEW_EXPORT = True
-#: STL tolerance of the preview fidelity (mm, at least).
-PREVIEW_STL_TOL_MM = 0.1
 #: Steps of the progress display.
 N_STEPS = 8
 #: Final checks of assembly.md (cad.assembly.steps).
