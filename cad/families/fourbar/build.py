@@ -268,23 +268,25 @@ def _fidelity_costs(design, model, mp: dict, fidelity: str) -> dict:
 
 
 def interference(design, model, fidelity: str, allow_interference: bool, same_body):
-    """The exact (``preview``: mesh-only) sweep of every body pair over ``model.motion``,
-    merged with the same-body check ``same_body``; InterferenceError unless
-    ``allow_interference``. Returns the :class:`cad.assembly.interference` report."""
+    """The one interference check of every family (:func:`cad.assembly.interference.check_model`)
+    on the four-bar: every body pair over ``model.motion`` by crank angle (the closest pose
+    refined between samples), exact (``preview``: mesh-only), contact or a distance under
+    ``parts.clearance_min_mm`` a clash; merged with the same-body check ``same_body``.
+    InterferenceError unless ``allow_interference``. Returns the
+    :class:`cad.assembly.interference.InterferenceReport`."""
     from cad.assembly import interference as itf
     from cad.assembly.pose import body_transforms
 
     parts, fb = design.parts, design.linkage
-    tol = itf.SWEEP_MESH_TOL_MM if fidelity != "preview" else PREVIEW_STL_TOL_MM
-    prepared = itf.prepare(itf.collision_items(model.instances), tol)
 
     def tf_at(p):
         return {b: v[0] for b, v in body_transforms(fb, [p]).items()}
 
-    rep = itf.sweep(prepared, model.motion, model.extra["phi1_rad"], parts.clearance_min_mm,
-                    exact=fidelity != "preview", tf_at=tf_at,
-                    joints=_joint_axes(model.extra["joints_mm"]))
-    rep = itf.merge_same_body(rep, same_body)
+    rep = itf.check_model(
+        model, parts.clearance_min_mm,
+        mesh_tol_mm=itf.SWEEP_MESH_TOL_MM if fidelity != "preview" else PREVIEW_STL_TOL_MM,
+        exact=fidelity != "preview", contact_ok=False, joints=_joint_axes(model.extra["joints_mm"]),
+        phi1_rad=model.extra["phi1_rad"], tf_at=tf_at, same_body=same_body)
     if not allow_interference:
         itf.raise_on_collision(rep, parts.clearance_min_mm)
     return rep
