@@ -3,6 +3,8 @@
 Lengths in mm unless the name says otherwise; angles in radians.
 """
 
+import math
+
 #: Loop-closure residual accepted from the closed-form four-bar solution (mm).
 #: The closed form is exact; 1e-9 mm leaves ~6 orders above float64 round-off
 #: for links of ~100 mm.
@@ -298,6 +300,19 @@ PREVIEW_ANGULAR_TOL_RAD = 0.6
 #: are only looked at (mass properties and interference use exact solids).
 VIEW_TOLERANCE_MM = 0.2
 VIEW_ANGULAR_TOLERANCE_RAD = 0.5
+
+# ---------------------------------------------------------------- exported part meshes
+
+#: Default chordal (mm) and angular (rad) deflection of the exported part STL files and
+#: parts.3mf (cad/export export_part, a design's parts.stl_tolerance_mm overrides the first):
+#: 0.01 mm is ten times below a print layer (0.1-0.3 mm) and below machining tolerances; the
+#: chordal criterion alone leaves facets of 2 sqrt(2 tol / r) rad, so 15 deg governs only on
+#: radii under ~1.2 mm (small fillets and holes).
+STL_TOLERANCE_MM = 0.01
+STL_ANGULAR_TOLERANCE_RAD = math.radians(15.0)
+#: Chordal deflection (mm) of the part STL at the four-bar's ``preview`` fidelity, at least
+#: (cad/families/fourbar/build.py): a preview is looked at, not made; ten times the default.
+PREVIEW_STL_TOL_MM = 0.1
 #: Pixel centres this close outside an edge (px) still count as inside in the rasterizer
 #: (cad/report/raster.py): a pixel centre on an edge shared by two triangles is not lost to
 #: round-off of the edge functions (no cracks), and 1e-7 px covers no visible area.

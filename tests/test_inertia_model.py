@@ -70,18 +70,11 @@ def test_D_equals_kinetic_energy_of_posed_parts(hoeken_model):
 
 def _shares(design):
     """The parts of every moving link with mass properties in the link frame (from the solids)."""
-    from cad.assembly.layers import choose_layers, footprint_bbox_mm
-    from cad.assembly.mechanism import build_assembly
-    from cad.assembly.pose import planar_transforms
-    from cad.families.fourbar.build import kind_mass_props, sweep_angles
-    from cad.kinematics.linkgeom import link_joints_mm
+    from cad.families.fourbar import assemble
+    from cad.pipeline.family import kind_mass_props
     from cad.pipeline.inertia import PartShare
 
-    fb = design.linkage
-    J = link_joints_mm(fb)
-    planar = planar_transforms(fb, sweep_angles(design, design.parts.interference_poses))
-    plan = choose_layers(J, design.parts, planar)
-    asm = build_assembly(J, plan, design.parts, footprint_bbox_mm(plan, planar), fidelity="inertia")
+    asm = assemble(design, "inertia", poses=design.parts.interference_poses)
     out = []
     for inst in asm.instances:
         if inst.body == "ground":

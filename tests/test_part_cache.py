@@ -15,20 +15,12 @@ HOEKEN = Path(__file__).resolve().parents[1] / "designs" / "hoeken.toml"
 
 
 def _kinds(raw):
-    from cad.assembly.layers import choose_layers, footprint_bbox_mm
-    from cad.assembly.mechanism import build_assembly
-    from cad.assembly.pose import planar_transforms
-    from cad.families.fourbar.build import sweep_angles
-    from cad.kinematics.linkgeom import link_joints_mm
+    from cad.families.fourbar import assemble
     from cad.parts.lazy_import import import_build123d
 
     import_build123d()
     d = parse_design(raw, str(HOEKEN))
-    J = link_joints_mm(d.linkage)
-    planar = planar_transforms(d.linkage, sweep_angles(d, d.parts.interference_poses))
-    plan = choose_layers(J, d.parts, planar)
-    asm = build_assembly(J, plan, d.parts, footprint_bbox_mm(plan, planar), fidelity="inertia")
-    return asm.kinds()
+    return assemble(d, "inertia", poses=d.parts.interference_poses).kinds()
 
 
 def test_a_thickness_change_rebuilds_only_what_depends_on_it():

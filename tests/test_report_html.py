@@ -39,19 +39,11 @@ def hoeken(tmp_path_factory):
 
 
 def _listed_instances(d):
-    """The assembly's listed part instances, rebuilt independently of the build output."""
-    from cad.assembly.layers import choose_layers, footprint_bbox_mm
-    from cad.assembly.mechanism import build_assembly
-    from cad.assembly.pose import planar_transforms
-    from cad.families.fourbar.build import sweep_angles
-    from cad.kinematics.linkgeom import link_joints_mm
+    """The assembly's listed part instances, laid out again (the four-bar's one layout,
+    :func:`cad.families.fourbar.assemble`), independently of the build output."""
+    from cad.families.fourbar import assemble
 
-    fb, parts = d.linkage, d.parts
-    planar = planar_transforms(fb, sweep_angles(d, 8))
-    J = link_joints_mm(fb)
-    plan = choose_layers(J, parts, planar)
-    asm = build_assembly(J, plan, parts, footprint_bbox_mm(plan, planar), fidelity="preview")
-    return [i for i in asm.instances if i.kind.listed]
+    return [i for i in assemble(d, "preview", poses=8).instances if i.kind.listed]
 
 
 def test_formats_are_parsed_and_listed(hoeken):

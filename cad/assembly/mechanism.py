@@ -18,6 +18,10 @@ screws in one hole or an engagement outside its hole's window.
 
 One small function per group of parts (:class:`_Builder` holds the instances): bars,
 joint hardware, motor and hub, base with post and legs, handle.
+
+Called through :func:`cad.families.fourbar.assemble`, the one place the four-bar is laid
+out (it plans the layers, calls :func:`build_assembly` and adds the bodies' poses and
+motion: a :class:`cad.assembly.model.AssemblyModel`).
 """
 
 from __future__ import annotations

@@ -199,19 +199,12 @@ REF_RADIUS_MM = 2.0
 
 
 def _hoeken(fidelity: str = "inertia"):
-    from cad.assembly.layers import choose_layers, footprint_bbox_mm
-    from cad.assembly.mechanism import build_assembly
-    from cad.assembly.pose import planar_transforms
     from cad.design import load_design
-    from cad.kinematics.linkgeom import link_joints_mm
+    from cad.families.fourbar import assemble
 
     d = load_design(Path(__file__).resolve().parents[2] / "designs" / "hoeken.toml")
-    phi = np.linspace(d.phi1_min_rad, d.phi1_max_rad, SWEEP_POSES)
-    J = link_joints_mm(d.linkage)
-    planar = planar_transforms(d.linkage, phi)
-    plan = choose_layers(J, d.parts, planar)
-    asm = build_assembly(J, plan, d.parts, footprint_bbox_mm(plan, planar), fidelity=fidelity)
-    return d, J, asm
+    model = assemble(d, fidelity, poses=SWEEP_POSES)  # layers planned over the timed sweep
+    return d, model.extra["joints_mm"], model
 
 
 def _exact_reference(prep, tfs, poses, radius_mm: float) -> dict:

@@ -2,7 +2,9 @@
 
 CAD libraries are imported inside the functions, never at module import.
 
-* :func:`export_part` -- ``<name>.step``, ``<name>.stl``, ``<name>.dxf`` (plates) of one part;
+* :func:`export_part` -- ``<name>.step``, ``<name>.stl``, ``<name>.dxf`` (plates) of one part,
+  each in the part's own frame (the frame a ``tf_body_part`` places it from; the STEP
+  with its placements applied to the geometry, :func:`cad.export.shapes.in_own_frame`);
 * :func:`export_assembly_step` -- one named, coloured solid per part;
 * :func:`write_manifest` -- ``manifest.json`` with sha256 of every file;
 * :func:`write_bom` -- ``bom.csv``.
@@ -14,13 +16,13 @@ once its time stamp is fixed and OCCT's process-wide assembly counter renumbered
 
 from __future__ import annotations
 
-import math
 from pathlib import Path
 
 from cad.errors import DesignError
 from cad.export.bom import BOM_COLUMNS, bom_csv, write_bom
 from cad.export.manifest import MANIFEST_NAME, verify_manifest, write_manifest
 from cad.io.atomic import write_bytes_atomic, write_text_atomic
+from cad.tolerances import STL_ANGULAR_TOLERANCE_RAD, STL_TOLERANCE_MM  # re-exported
 
 FORMATS = ("step", "stl", "dxf")
 #: Every format ``--formats`` accepts: the default three plus the simulator models
@@ -30,9 +32,6 @@ FORMATS = ("step", "stl", "dxf")
 #: parts for a slicer (:mod:`cad.export.threemf`) and firmware = the generated C kinematics,
 #: test vectors, wall sketch and CHAI3D description (:mod:`cad.firmware`, folder firmware/).
 KNOWN_FORMATS = (*FORMATS, "mjcf", "urdf", "glb", "3mf", "firmware", "drawings")
-#: Default absolute chordal deflection of exported STL (mm) and angular deflection (rad).
-STL_TOLERANCE_MM = 0.01
-STL_ANGULAR_TOLERANCE_RAD = math.radians(15.0)
 
 __all__ = [
     "BOM_COLUMNS",
@@ -84,6 +83,12 @@ def export_part(
 ) -> list[Path]:
     """Write the files of one part and return their paths.
 
+    Every file is in the part's frame: the coordinates of ``shape`` with its location
+    applied. The STEP is written from :func:`cad.export.shapes.in_own_frame` (no nested
+    placement, which a STEP reader may drop: a tube or bearing whose solid carries a
+    location came out in its unplaced frame); the STL mesh and the DXF section apply the
+    location themselves.
+
     Parameters
     ----------
     shape : build123d / cadquery object or OCP ``TopoDS_Shape``, mm.
@@ -100,7 +105,7 @@ def export_part(
     :mod:`cad.export.stl`) before anything is written: a failure raises
     :class:`cad.errors.MeshError` and writes no file of this part.
     """
-    from cad.export.shapes import to_topods
+    from cad.export.shapes import in_own_frame, to_topods
     from cad.export.step import step_bytes
     from cad.export.stl import check_watertight, mesh_shape, stl_bytes
 
@@ -113,8 +118,8 @@ def export_part(
         payload.append((out_dir / f"{name}.stl", stl_bytes(v, f, name)))
     if "step" in formats:
         payload.append((out_dir / f"{name}.step", _cached_file(
-            "part-step", [topo, name, color], lambda: step_bytes(topo, name, color),
-            ("cad.export.step",))))
+            "part-step", [topo, name, color], lambda: step_bytes(in_own_frame(topo), name, color),
+            ("cad.export.step", "cad.export.shapes"))))
     if "dxf" in formats and plate:
         from cad.export.dxf import plate_profile_dxf
 

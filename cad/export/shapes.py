@@ -50,6 +50,50 @@ def make_compound(shapes):
     return comp
 
 
+def in_own_frame(shape):
+    """``shape`` with every placement of its solids, shells and sub-compounds applied to
+    their geometry: the same solid at the same place, whose coordinates are those of the
+    part frame without any location (a STEP file of it has no nested placement, which a
+    reader may drop). A shape that carries none is returned as it is.
+
+    Rigid locations only (what the part scripts make); the geometry is copied and moved
+    (``BRepBuilderAPI_Transform`` with copy), exact to round-off.
+    """
+    from OCP.BRepBuilderAPI import BRepBuilderAPI_Transform
+    from OCP.TopAbs import TopAbs_COMPOUND, TopAbs_COMPSOLID
+    from OCP.TopLoc import TopLoc_Location
+    from OCP.TopoDS import TopoDS_Iterator
+
+    if not _has_location(shape):
+        return shape
+    if shape.ShapeType() in (TopAbs_COMPOUND, TopAbs_COMPSOLID):
+        it = TopoDS_Iterator(shape, True, True)  # children with the parent's location applied
+        children = []
+        while it.More():
+            children.append(in_own_frame(it.Value()))
+            it.Next()
+        return make_compound(children)
+    trsf = shape.Location().Transformation()
+    return BRepBuilderAPI_Transform(shape.Located(TopLoc_Location()), trsf, True).Shape()
+
+
+def _has_location(shape) -> bool:
+    """True when ``shape`` or a compound / solid / shell level under it has a location."""
+    from OCP.TopAbs import TopAbs_COMPOUND, TopAbs_COMPSOLID
+    from OCP.TopoDS import TopoDS_Iterator
+
+    if not shape.Location().IsIdentity():
+        return True
+    if shape.ShapeType() not in (TopAbs_COMPOUND, TopAbs_COMPSOLID):
+        return False
+    it = TopoDS_Iterator(shape, False, False)
+    while it.More():
+        if _has_location(it.Value()):
+            return True
+        it.Next()
+    return False
+
+
 def count_solids(shape) -> int:
     from OCP.TopAbs import TopAbs_SOLID
     from OCP.TopExp import TopExp_Explorer

@@ -1,14 +1,18 @@
 """What every family's build writes, from its one list of part instances.
 
-A family builder (pantograph, twin pantograph, PowerMouse) only lays out
+A family builder (four-bar, pantograph, twin pantograph, PowerMouse) only lays out
 :class:`cad.parts.PartInstance` objects -- a :class:`cad.parts.PartKind` (solid in its
 own frame, material, made/bought, description, process, catalog mass) carried by a
 body at ``tf_body_part`` -- and gives the world transform of each body at the exported
 pose. Everything below reads that one list:
 
 * :func:`kind_props` -- mass properties of each part kind (exact B-rep integration, or
-  the catalog mass of a bought part; :func:`cad.families.fourbar.build.kind_mass_props`);
-* :func:`body_props` -- combined mass properties per body in the body frame;
+  the catalog mass of a bought part; :func:`kind_mass_props`);
+* :func:`body_props` -- combined mass properties per body in the body frame (the one
+  body-mass-property function of every family), :func:`body_shares` each part's share;
+* :func:`placement_report` -- report.json's ``placement``: what places every instance
+  (kind, body, ``tf_body_part``; each body's ``tf_world_body``) and the mass properties
+  of every kind and body, so that the part files placed by it give the body's;
 * :func:`bom_rows` -- one BOM line per kind (quantity = number of instances), with its
   ISO 286 fits (:attr:`cad.parts.PartKind.fits`, :mod:`cad.data.fits`);
 * :func:`fits_report` / :func:`dxf_notes` -- the same fits for report.json's ``fits`` key
@@ -21,9 +25,10 @@ pose. Everything below reads that one list:
   a collision;
 * :func:`write_part_drawings` -- ``drawings/<part>.svg`` and ``drawings.pdf`` of the made
   parts (``--formats …,drawings``, :mod:`cad.drawings`);
-* :func:`write_outputs` -- ``parts/<kind>.step|.stl|.dxf``, ``assembly.step``,
-  ``bom.csv``, ``preview.png`` (the dispatcher adds ``report.json`` and
-  ``manifest.json``; :func:`write_report_md` writes ``report.md``).
+* :func:`write_outputs` -- ``parts/<kind>.step|.stl|.dxf`` (each in the frame of the
+  kind, the frame ``tf_body_part`` places: :func:`cad.export.export_part`),
+  ``assembly.step``, ``bom.csv``, ``preview.png`` (the dispatcher adds ``report.json``
+  and ``manifest.json``; :func:`write_report_md` writes ``report.md``).
 
 The output layout is the same for every family (docs/build-outputs.md).
 """
@@ -61,15 +66,68 @@ def quantities(instances) -> dict[str, int]:
     return q
 
 
-def kind_props(instances) -> dict:
-    """``{kind name: MassProps | None}`` (SI, part frame) of every kind of the assembly."""
-    from cad.families.fourbar.build import kind_mass_props
+#: How :func:`kind_mass_props` got a kind's mass properties (report.json ``placement``).
+MASS_SOURCES = {
+    "solid": "the solid's volume x the material density",
+    "solid, catalog mass": "the solid's distribution scaled to the catalog mass",
+    "ring": "the catalog mass as a uniform annulus (r_in, r_out, width), axis z, z 0..width",
+    "none": "no mass of its own (counted elsewhere, e.g. the motor shaft inside Jm)",
+}
 
+
+def mass_source(kind) -> str:
+    """Key of :data:`MASS_SOURCES` for a part kind (:func:`kind_mass_props`)."""
+    if kind.inertia_model in ("none", "ring"):
+        return kind.inertia_model
+    return "solid" if kind.mass_kg is None else "solid, catalog mass"
+
+
+def kind_mass_props(kind):
+    """MassProps (SI, the kind's own frame: the frame of its solid and of its part files) of
+    one :class:`cad.parts.PartKind`, or None when it carries no mass of its own.
+
+    ``"solid"``: exact B-rep integration x the material density
+    (:func:`cad.parts.part_props.part_mass_props`), scaled to ``kind.mass_kg`` when the
+    catalog gives the mass; ``"ring"``: the catalog mass as a uniform annulus
+    (:func:`cad.data.catalog.ring_inertia_kg_m2`, COM at z = width / 2); ``"none"``: None.
+    """
+    from cad.data.catalog import ring_inertia_kg_m2
+    from cad.data.materials import get_material
+    from cad.massprops.props import from_principal
+    from cad.parts.part_props import part_mass_props
+
+    if kind.inertia_model == "none":
+        return None
+    if kind.inertia_model == "ring":
+        ri, ro, b = kind.ring_mm
+        ia, it = ring_inertia_kg_m2(kind.mass_kg, ri, ro, b)
+        return from_principal(
+            kind.mass_kg, np.array([0.0, 0.0, b / 2 * 1e-3]), np.array([it, it, ia])
+        )
+    props = part_mass_props(kind.shape, get_material(kind.material).density_kg_m3)
+    if kind.mass_kg is not None:
+        props = props.scaled(kind.mass_kg / props.mass_kg)
+    return props
+
+
+def kind_props(instances) -> dict:
+    """``{kind name: MassProps | None}`` (SI, part frame) of every kind of the assembly
+    (:func:`kind_mass_props`)."""
     return {name: kind_mass_props(k) for name, k in kinds(instances).items()}
 
 
+def _in_body_frame(inst, mp):
+    T = inst.tf_body_part
+    return mp.transformed(T[:3, :3], T[:3, 3] * 1e-3)
+
+
 def body_props(instances, props: dict, bodies=None) -> dict:
-    """``{body: MassProps}`` combined in the body frame (SI), for ``bodies`` (default all)."""
+    """``{body: MassProps}`` combined in the body frame (SI), for ``bodies`` (default all).
+
+    instances : :class:`cad.parts.PartInstance` (``tf_body_part`` mm); props : ``{kind
+    name: MassProps | None}`` in each kind's frame (:func:`kind_props`). Each instance's
+    properties are moved into its body frame and combined (parallel axes,
+    :func:`cad.massprops.props.combine`), in instance order."""
     from cad.massprops.props import combine
 
     per: dict[str, list] = {}
@@ -77,9 +135,57 @@ def body_props(instances, props: dict, bodies=None) -> dict:
         mp = props[inst.kind.name]
         if mp is None or (bodies is not None and inst.body not in bodies):
             continue
-        T = inst.tf_body_part
-        per.setdefault(inst.body, []).append(mp.transformed(T[:3, :3], T[:3, 3] * 1e-3))
+        per.setdefault(inst.body, []).append(_in_body_frame(inst, mp))
     return {b: combine(v) for b, v in per.items()}
+
+
+def body_shares(instances, props: dict) -> dict[str, list[dict]]:
+    """``{body: [{"part": instance, "kind": kind, "mass_g": g}, ...]}``: what each instance
+    with mass adds to its body (:func:`body_props`), in instance order."""
+    out: dict[str, list[dict]] = {}
+    for inst in instances:
+        mp = props[inst.kind.name]
+        if mp is not None:
+            out.setdefault(inst.body, []).append(
+                {"part": inst.name, "kind": inst.kind.name, "mass_g": mp.mass_kg * 1e3})
+    return out
+
+
+def placement_report(instances, tf_world_body: dict, props: dict) -> dict:
+    """report.json's ``placement``: everything needed to place each part file and recover
+    the bodies' mass properties from them.
+
+    Returns ``{"frames": text, "mass_sources": MASS_SOURCES,
+    "instances": {name: {"kind", "body", "tf_body_part"}},
+    "tf_world_body": {body: 4x4}, "kinds": {kind: {"file", "mass_source", "material",
+    "mass_props"}}, "bodies": {body: MassProps.to_dict()}}``: transforms are 4x4 lists in
+    mm (``tf_world_part = tf_world_body @ tf_body_part``, at the exported pose); a kind's
+    ``mass_props`` (SI, its own frame = the frame of ``parts/<kind>.step``) as
+    :func:`kind_mass_props` gives it (None without mass), ``file`` its STEP when STEP is
+    written (None: a kind not listed, which has no file); ``bodies`` the sums of
+    :func:`body_props` in each body frame."""
+    ks = kinds(instances)
+    return {
+        "frames": "mm; tf_world_part = tf_world_body[body] @ tf_body_part; parts/<kind>.step "
+                  "is in the kind's frame; mass properties SI (com_mm in mm), body frames",
+        "mass_sources": dict(MASS_SOURCES),
+        "instances": {
+            i.name: {"kind": i.kind.name, "body": i.body,
+                     "tf_body_part": np.asarray(i.tf_body_part, dtype=float).tolist()}
+            for i in instances
+        },
+        "tf_world_body": {
+            b: np.asarray(tf_world_body[b], dtype=float).reshape(4, 4).tolist()
+            for b in dict.fromkeys(i.body for i in instances)
+        },
+        "kinds": {
+            n: {"file": f"parts/{n}.step" if k.listed else None, "mass_source": mass_source(k),
+                "material": k.material,
+                "mass_props": None if props.get(n) is None else props[n].to_dict()}
+            for n, k in ks.items()
+        },
+        "bodies": {b: mp.to_dict() for b, mp in body_props(instances, props).items()},
+    }
 
 
 def bom_rows(instances, props: dict) -> list[dict]:
@@ -254,13 +360,16 @@ def lowest_z_mm(instances, tf_world_body: dict) -> tuple[float, str]:
     return best
 
 
-def write_preview(instances, tf_world_body: dict, out: Path, title: str, marks=None) -> Path:
+def write_preview(instances, tf_world_body: dict, out: Path, title: str, marks=None,
+                  hide_ground_below_mm: float | None = None) -> Path:
     """Top (x-y) and side (x-z) projections of the posed assembly, PNG, one colour per body
     (:func:`cad.report.preview.write_preview`). ``marks``: optional ``(label, (N, 2) xy
-    points)`` drawn as a line on the top view (a path, a workspace)."""
+    points)`` drawn as a line on the top view (a path, a workspace);
+    ``hide_ground_below_mm``: ground parts under this z (mm) are left out of the top view."""
     from cad.report.preview import write_preview as write_projections
 
-    return write_projections(instances, tf_world_body, out, title, marks=marks or ())
+    return write_projections(instances, tf_world_body, out, title, marks=marks or (),
+                             hide_ground_below_mm=hide_ground_below_mm)
 
 
 def write_outputs(
@@ -271,17 +380,32 @@ def write_outputs(
     *,
     name: str,
     title: str,
-    bom: list[dict],
+    bom: list[dict] | None,
     stl_tolerance_mm: float | None = None,
+    angular_tolerance_rad: float | None = None,
     marks=None,
     preview: bool = True,
     holes=(),
 ) -> list[str]:
     """Part files, assembly STEP, BOM and preview of one assembly; returns the paths written
-    (relative to ``out_dir``). ``holes``: the tapped holes
-    (:class:`cad.assembly.fasteners.TappedHole`) for the DXF thread notes."""
+    (relative to ``out_dir``).
+
+    instances : :class:`cad.parts.PartInstance`; tf_world_body : ``{body: (4, 4)}`` mm at
+    the exported pose (assembly STEP, preview). Every ``parts/<kind>.*`` file is in the
+    kind's own frame, the frame ``tf_body_part`` places (:func:`cad.export.export_part`).
+    bom : the rows of ``bom.csv`` (None: not written here). stl_tolerance_mm,
+    angular_tolerance_rad : STL deflections (default :data:`cad.export.STL_TOLERANCE_MM`,
+    :data:`cad.export.STL_ANGULAR_TOLERANCE_RAD`). holes : the tapped holes
+    (:class:`cad.assembly.fasteners.TappedHole`) for the DXF thread notes.
+    Raises MeshError (a part's mesh not watertight: nothing of that part written)."""
     from cad.data.materials import get_material
-    from cad.export import STL_TOLERANCE_MM, export_assembly_step, export_part, write_bom
+    from cad.export import (
+        STL_ANGULAR_TOLERANCE_RAD,
+        STL_TOLERANCE_MM,
+        export_assembly_step,
+        export_part,
+        write_bom,
+    )
 
     out_dir = Path(out_dir)
     files: list[str] = []
@@ -297,6 +421,7 @@ def write_outputs(
             color=get_material(k.material).color_rgb,
             stl=k.made,
             tolerance_mm=stl_tolerance_mm or STL_TOLERANCE_MM,
+            angular_tolerance_rad=angular_tolerance_rad or STL_ANGULAR_TOLERANCE_RAD,
             **shop_args(k, instances, holes),
         )
         files += [p.relative_to(out_dir).as_posix() for p in paths]
@@ -309,18 +434,25 @@ def write_outputs(
             f"{name}_assembly",
         )
         files.append("assembly.step")
-    write_bom(bom, out_dir)
+    if bom is not None:
+        write_bom(bom, out_dir)
+        files.append("bom.csv")
     if not preview:
-        return files + ["bom.csv"]
+        return files
     write_preview(instances, tf_world_body, out_dir / "preview.png", title, marks)
-    return files + ["bom.csv", "preview.png"]
+    return files + ["preview.png"]
 
 
-def write_report_md(out_dir: Path, title: str, rows: list[tuple[str, str]], bom, notes=()) -> str:
-    """``report.md``: title, preview, a quantity table, the BOM and notes."""
+def write_report_md(out_dir: Path, title: str, rows: list[tuple[str, str]], bom, notes=(),
+                    images=()) -> str:
+    """``report.md``: title, preview (and ``images``: ``(alt text, file)`` pairs after it),
+    a quantity table, the BOM and notes."""
     from cad.io.atomic import write_text_atomic
 
-    lines = [f"# {title}", "", "![assembly preview](preview.png)", "", "| quantity | value |"]
+    lines = [f"# {title}", "", "![assembly preview](preview.png)", ""]
+    for alt, file in images:
+        lines += [f"![{alt}]({file})", ""]
+    lines.append("| quantity | value |")
     lines.append("|---|---|")
     lines += [f"| {k} | {v} |" for k, v in rows]
     lines += [

@@ -65,30 +65,15 @@ def part_D(design, share: PartShare, pose, a2, a3) -> np.ndarray:
 
 
 def inertia_assembly(design, fidelity: str = "inertia"):
-    """The four-bar's assembly as :func:`inertia_model` sees it: every part kind whose solid is
-    not in memory yet is a :class:`cad.parts.part_cache.DeferredShape` (built or read only
-    where its mass properties are not cached, :mod:`cad.parts.part_props`)."""
-    from cad.assembly.layers import choose_layers, footprint_bbox_mm
-    from cad.assembly.mechanism import build_assembly
-    from cad.assembly.pose import planar_transforms
-    from cad.families.fourbar.build import sweep_angles
-    from cad.kinematics.linkgeom import link_joints_mm
-    from cad.parts.handle import handle_params, resolve_script, user_handle_shape
-    from cad.parts.part_cache import deferred_shapes
+    """The four-bar's assembly as :func:`inertia_model` sees it
+    (:func:`cad.families.fourbar.assemble` over the design's ``parts.interference_poses``
+    crank angles, layers not strict): every part kind whose solid is not in memory yet is a
+    :class:`cad.parts.part_cache.DeferredShape` (built or read only where its mass
+    properties are not cached, :mod:`cad.parts.part_props`). Returns the
+    :class:`cad.assembly.model.AssemblyModel`."""
+    from cad.families.fourbar import assemble
 
-    parts = design.parts
-    J = link_joints_mm(design.linkage)
-    planar = planar_transforms(design.linkage, sweep_angles(design, parts.interference_poses))
-    plan = choose_layers(J, parts, planar)
-    footprint = footprint_bbox_mm(plan, planar)
-    script = resolve_script(parts, design.source)
-    user_handle = None
-    if script is not None:
-        floor = plan.handle_screw_length_mm - parts.bar_thickness_mm
-        user_handle = user_handle_shape(script, handle_params(parts, floor))
-    with deferred_shapes():  # solids only where a part's mass properties are not cached
-        return build_assembly(J, plan, parts, footprint, fidelity=fidelity, handle_shape=user_handle,
-                              design_label=design.name)
+    return assemble(design, fidelity, poses=design.parts.interference_poses, deferred=True)
 
 
 def warm_part_cache(design, fidelity: str = "inertia", share: tuple[int, int] = (0, 1)) -> int:
@@ -118,19 +103,18 @@ def inertia_model(design, fidelity: str = "inertia", samples: int = 401) -> dict
     """
     from cad.data import catalog
     from cad.dynamics.inertia import apparent_mass_matrix, apparent_mass_summary, equivalent_inertia
-    from cad.families.fourbar.build import inertia_from_links, kind_mass_props, link_mass_props
+    from cad.families.fourbar.build import inertia_from_links, rotor_inertia_kg_m2
     from cad.kinematics.fourbar import jacobian_mm_per_rad, solve, velocity_ratios
     from cad.kinematics.metrics import path_frame
+    from cad.pipeline import family
 
     t0 = time.perf_counter()
     parts = design.parts
     fb = design.linkage
     asm = inertia_assembly(design, fidelity)
-    props = {name: kind_mass_props(k) for name, k in asm.kinds().items()}
-    link_props, _ = link_mass_props(asm, props)
-    motor = catalog.get_motor(parts.motor)
-    Jm = (parts.motor_rotor_inertia_g_cm2 * 1e-7 if parts.motor_rotor_inertia_g_cm2 is not None
-          else motor.rotor_inertia_kg_m2)
+    props = family.kind_props(asm.instances)
+    link_props = family.body_props(asm.instances, props)
+    Jm = rotor_inertia_kg_m2(parts, catalog.get_motor(parts.motor))
     H, planar_links = inertia_from_links(design, link_props, Jm)
 
     shares: list[PartShare] = []

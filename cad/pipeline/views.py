@@ -6,7 +6,10 @@ Every builder calls these with its part instances (``name``, ``kind``, ``body``,
 * :func:`write_views` -- the ``.glb`` of the posed assembly with the stroke animation
   (``assembly.glb`` when ``"glb"`` is among the formats; always returned for
   ``report.html``), ``animation.gif`` (the stroke) and ``render.png`` (the still);
-* :func:`write_parts_3mf` -- ``parts.3mf``, the made parts for a slicer (``"3mf"``).
+* :func:`write_parts_3mf` -- ``parts.3mf``, the made parts for a slicer (``"3mf"``);
+* :func:`write_viewer_outputs` -- both of the above for one assembly;
+* :func:`write_sim_model` -- the simulator files (``mjcf``, ``urdf``) of a family's
+  :class:`cad.export.sim.SimModel` (:mod:`cad.export.sim`).
 
 The viewer meshes are coarser than the STL exports (:data:`VIEW_TOLERANCE_MM`): they are
 only looked at.
@@ -93,9 +96,12 @@ def write_viewer_outputs(
     title: str,
     stroke: dict[str, np.ndarray] | None = None,
     stl_tolerance_mm: float | None = None,
+    angular_tolerance_rad: float | None = None,
 ) -> tuple[list[str], bytes]:
     """Everything of this module for one assembly: :func:`write_views` (``stroke`` None:
-    the exported pose only) and, when ``"3mf"`` is asked, :func:`write_parts_3mf`.
+    the exported pose only) and, when ``"3mf"`` is asked, :func:`write_parts_3mf` at the
+    STL deflections (default :data:`cad.export.STL_TOLERANCE_MM`,
+    :data:`cad.export.STL_ANGULAR_TOLERANCE_RAD`).
 
     tf_world_body : ``{body: (4, 4)}`` the exported pose, mm. Returns ``(files, glb)``.
     """
@@ -112,7 +118,19 @@ def write_viewer_outputs(
                 out_dir,
                 title=name,
                 tolerance_mm=stl_tolerance_mm or STL_TOLERANCE_MM,
-                angular_tolerance_rad=STL_ANGULAR_TOLERANCE_RAD,
+                angular_tolerance_rad=angular_tolerance_rad or STL_ANGULAR_TOLERANCE_RAD,
             )
         )
     return files, glb
+
+
+def write_sim_model(make_model, out_dir: Path, formats: set[str], stem: str) -> list[str]:
+    """``<stem>.xml`` (MJCF) and/or ``<stem>.urdf`` when ``formats`` asks for them, of the
+    :class:`cad.export.sim.SimModel` that ``make_model()`` returns (called only then);
+    returns the names written (relative to ``out_dir``)."""
+    from cad.export.sim import SIM_FORMATS, write_sim_files
+
+    if not set(formats) & set(SIM_FORMATS):
+        return []
+    paths = write_sim_files(make_model(), out_dir, formats, stem)
+    return [Path(p).relative_to(out_dir).as_posix() for p in paths]

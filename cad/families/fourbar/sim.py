@@ -40,7 +40,7 @@ def motor_torque_Nm(motor) -> float:
 def sim_model(design, asm, link_props: dict, Jm_kg_m2: float, motor, phi1_rad: float) -> SimModel:
     """SimModel of a four-bar build posed at crank angle ``phi1_rad`` (module docstring).
 
-    ``asm``: the build's :class:`cad.assembly.mechanism.Assembly`; ``link_props``: MassProps
+    ``asm``: the build's :class:`cad.assembly.model.AssemblyModel`; ``link_props``: MassProps
     per body in the link frame (SI); mesh files are ``parts/<kind>.stl`` of made parts.
     """
     from cad.assembly.pose import body_transforms

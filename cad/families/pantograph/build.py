@@ -375,6 +375,7 @@ def build(
     report.update(fasteners)
     report["part_materials"] = family.part_materials(instances)
     report["fits"] = family.fits_report(instances)
+    report["placement"] = family.placement_report(instances, tfs, props)
     report["files"] = sorted(files + ["report.md"])
     _write_texts(design, out_dir, report, bom, instances)
     report["_viewer_glb"] = viewer_glb  # popped by the dispatcher: embedded in report.html

@@ -208,6 +208,7 @@ def build(
     rep.update(fasteners)
     rep["part_materials"] = family.part_materials(inst)
     rep["fits"] = family.fits_report(inst)
+    rep["placement"] = family.placement_report(inst, tfs, props)
     rep["files"] = sorted(files + ["report.md"])
     _write_texts(design, out_dir, rep, bom, inst)
     rep["_viewer_glb"] = viewer_glb  # popped by the dispatcher: embedded in report.html
