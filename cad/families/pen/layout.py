@@ -85,7 +85,9 @@ def layout(design) -> dict:
     if low_eng < h / 2:
         raise DesignError("parts.motor", f"{p.motor} shaft engages only {low_eng:.1f} mm of the "
                           f"{h:g} mm hub; use a thinner motor_mount_thickness_mm")
-    hub_half = ri - 1.0  # pen hub half length along b
+    r_hub = b.D_mm / 2 + 1.5
+    # pen hub half length along b: its end corners stay GIMBAL_GAP_MM inside the ring
+    hub_half = math.sqrt((ri - GIMBAL_GAP_MM) ** 2 - r_hub**2)
     return {
         "layer_pitch_mm": pitch,
         "layers_mm": layers,
@@ -95,7 +97,7 @@ def layout(design) -> dict:
         "yoke_base_mm": (base0, base1),
         "journal_mm": (base1, layers["distal_upper"] + h / 2),
         "pen_hub_half_mm": hub_half,
-        "pen_hub_radius_mm": b.D_mm / 2 + 1.5,
+        "pen_hub_radius_mm": r_hub,
         "motor_plate_mm": (plate0, plate1),
         "motor_plate_side_mm": mount_side_mm(m),
         "shoulder_shaft_tip_mm": shaft_tip,

@@ -114,14 +114,14 @@ def ring_shape(r_in_mm: float, r_out_mm: float, thickness_mm: float, pin_d_mm: f
     from build123d import Cylinder, Pos, Rot
 
     ring = Rot(0, 90, 0) * (Cylinder(r_out_mm, thickness_mm) - Cylinder(r_in_mm, thickness_mm))
-    w = r_out_mm - r_in_mm + 0.2
+    w = r_out_mm - r_in_mm + 2.0  # through both faces of the curved wall
     c = (r_in_mm + r_out_mm) / 2
     for axis in ("z", "y"):
         for s in (-1, 1):
             if axis == "z":
                 tool = Pos(0, 0, s * c) * Cylinder(pin_d_mm / 2, w)
-            else:
-                tool = Pos(0, s * c, 0) * Rot(90, 0, 0) * Cylinder(pin_d_mm / 2, w)
+            else:  # turned as the pin is placed (a coincident seam: no boolean sliver)
+                tool = Pos(0, s * c, 0) * Rot(-90 * s, 0, 0) * Cylinder(pin_d_mm / 2, w)
             ring = ring - tool
     return _solid(ring)
 
