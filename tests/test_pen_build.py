@@ -1,0 +1,191 @@
+"""The haptic pen built through the family protocol (cad/families/pen): files from the CLI,
+body masses against the STL files read back, the effective mass at home against MuJoCo's
+kinetic energy, the MJCF's loop closures, the interference check over the motion (and a bad
+variant caught with its pair and pose), the datasheet rows.
+
+One build per module (the CLI, ``--fidelity inertia``: plain-ring bearings, the same
+catalog masses).
+"""
+
+from __future__ import annotations
+
+import json
+import re
+import tomllib
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+DESIGN = ROOT / "designs" / "haptic_pen.toml"
+
+
+@pytest.fixture(scope="module")
+def built(tmp_path_factory):
+    from cli_helpers import hapticad
+
+    out = tmp_path_factory.mktemp("pen") / "out"
+    code, stdout, err = hapticad("build", DESIGN, "--out", out, "--formats", "step,stl,dxf,mjcf",
+                                 "--fidelity", "inertia", "--no-cache")
+    assert code == 0, err
+    rep = json.loads((out / "report.json").read_text())
+    return out, rep
+
+
+@pytest.fixture(scope="module")
+def model():
+    from cad.design import load_design
+    from cad.families.pen import assemble
+
+    return assemble(load_design(DESIGN), "inertia")
+
+
+def test_cli_build_writes_the_pen(built):
+    out, rep = built
+    assert rep["family"] == "haptic-pen"
+    for f in ("assembly.step", "bom.csv", "report.json", "report.md", "haptic-pen-200.xml",
+              "parts/yoke.stl", "parts/ring.stl", "parts/pen_rod.stl", "parts/waist_bracket.step",
+              "parts/base_plate.dxf"):
+        assert (out / f).is_file(), f
+    bodies = set(rep["bodies"])
+    assert {"pen", "A_yoke", "B_ring", "A_waist", "B_proximal_upper"} <= bodies and len(bodies) == 15
+
+
+def test_layout_closes_every_loop_over_the_motion(model):
+    """Identity: at every pose of the motion both distal tips meet the yoke's centre (E) and
+    the pen's far end meets arm B's gimbal centre; the pen length between them is l6."""
+    d = model.design
+    l3, l6 = d.params["distal_mm"], d.mechanism.pen_mm
+    T = model.motion
+    for arm in ("A", "B"):
+        E = T[f"{arm}_yoke"][:, :3, 3]
+        for side in ("lower", "upper"):
+            tip = (T[f"{arm}_distal_{side}"] @ np.array([l3, 0, 0, 1.0]))[:, :3]
+            np.testing.assert_allclose(tip, E, atol=1e-9)
+    far = (T["pen"] @ np.array([l6, 0, 0, 1.0]))[:, :3]
+    np.testing.assert_allclose(far, T["B_yoke"][:, :3, 3], atol=1e-9)
+    np.testing.assert_allclose(np.linalg.norm(far - T["A_yoke"][:, :3, 3], axis=1), l6, atol=1e-9)
+
+
+def test_body_masses_equal_the_stl_volumes_read_back(built, model):
+    """Each body's mass (exact B-rep, report.json) equals the sum over its parts of the STL
+    file's volume (trimesh, read from disk) x the material density, plus the catalog mass of
+    its bought parts (motors, bearings): a second route through the exported files."""
+    import trimesh
+
+    from cad.data.materials import get_material
+
+    out, rep = built
+    expect: dict[str, float] = {}
+    vol_cache: dict[str, float] = {}
+    for inst in model.instances:
+        k = inst.kind
+        if inst.body == "ground" or k.inertia_model == "none":
+            continue
+        if k.mass_kg is not None:
+            m = k.mass_kg
+        else:
+            if k.name not in vol_cache:
+                mesh = trimesh.load(out / "parts" / f"{k.name}.stl", force="mesh")
+                assert mesh.is_watertight, k.name
+                vol_cache[k.name] = float(mesh.volume)
+            m = vol_cache[k.name] * 1e-9 * get_material(k.material).density_kg_m3
+        expect[inst.body] = expect.get(inst.body, 0.0) + m
+    assert set(expect) == set(rep["bodies"])
+    for b, m in expect.items():
+        # STL at 0.01 mm chordal tolerance: volumes within 1e-3 of the B-rep
+        assert rep["bodies"][b]["mass_kg"] == pytest.approx(m, rel=1e-3), b
+
+
+def _mujoco_home(out: Path):
+    import mujoco
+
+    m = mujoco.MjModel.from_xml_path(str(out / "haptic-pen-200.xml"))
+    d = mujoco.MjData(m)
+    mujoco.mj_forward(m, d)
+    return mujoco, m, d
+
+
+def test_mjcf_loads_and_its_loops_close_at_home(built):
+    out, _ = built
+    mujoco, m, d = _mujoco_home(out)
+    assert m.neq == 4 and m.nu == 6 and m.nv == 15
+    eq = d.efc_type == mujoco.mjtConstraint.mjCNSTR_EQUALITY
+    assert eq.sum() == 12
+    assert np.abs(d.efc_pos[eq]).max() < 1e-9  # m: every loop closed at the written pose
+
+
+def test_effective_mass_at_home_equals_mujoco_kinetic_energy(built):
+    """Second method: MuJoCo's joint-space mass matrix (its own composite-rigid-body pass over
+    the MJCF's bodies, rotor inertia as armature), mapped to the task by the joint velocities
+    that satisfy every loop constraint and give the pen a unit task velocity -- against the
+    report's matrix (central differences of the body poses + the pen Jacobian)."""
+    out, rep = built
+    mujoco, m, d = _mujoco_home(out)
+    Mq = np.zeros((m.nv, m.nv))
+    mujoco.mj_fullM(m, d, Mq)  # armature (rotor inertia) included
+    eq = d.efc_type == mujoco.mjtConstraint.mjCNSTR_EQUALITY
+    Jeq = d.efc_J.reshape(-1, m.nv)[eq]
+    pen = m.body("pen").id
+    from cad.design import load_design
+
+    l6 = load_design(DESIGN).mechanism.pen_mm * 1e-3
+    centre = d.xpos[pen] + d.xmat[pen].reshape(3, 3)[:, 0] * l6 / 2
+    jp, jr = np.zeros((3, m.nv)), np.zeros((3, m.nv))
+    mujoco.mj_jac(m, d, jp, jr, centre, pen)
+    # task unit velocities at home (pen along +x): x, y, z; w_yaw -> omega z; w_pitch -> -y
+    target = np.zeros((6, 5))
+    target[:3, :3] = np.eye(3)
+    target[5, 3] = 1.0
+    target[4, 4] = -1.0
+    A = np.vstack([Jeq, jp, jr])
+    rhs = np.vstack([np.zeros((len(Jeq), 5)), target])
+    G = np.linalg.lstsq(A, rhs, rcond=None)[0]
+    np.testing.assert_allclose(A @ G, rhs, atol=1e-9)  # consistent: one motion per task velocity
+    M_mj = G.T @ Mq @ G
+    M = np.array(rep["effective_mass_home"]["mass_matrix_si"])
+    np.testing.assert_allclose(M, M_mj, rtol=1e-6, atol=1e-9 * np.abs(M).max())
+
+
+def test_no_solid_pair_overlaps_over_the_motion(built):
+    _, rep = built
+    itf = rep["interference"]
+    assert itf["poses"] == 21 and itf["pairs_per_pose"] > 3000
+    assert itf["collisions"] == [] and rep["overlap_volume_mm3"] == 0.0
+
+
+def test_a_bad_variant_is_caught_away_from_home_with_pair_and_pose(tmp_path):
+    """A pen twice as thick (20 mm): its hub's rod boss reaches the gimbal ring once the pen
+    pitches, so home is clear and the tilted poses are not; the build names the pair and
+    the pose."""
+    from cad.design import parse_design
+    from cad.errors import InterferenceError
+    from cad.families.pen import assemble, build
+    from cad.pipeline import family
+
+    raw = tomllib.loads(DESIGN.read_text())
+    raw["parts"]["pen_diameter_mm"] = 20.0
+    d = parse_design(raw, "thick_pen.toml")
+    mdl = assemble(d, "inertia")
+    assert family.check_assembly(mdl.instances, mdl.tf_world_body)["collisions"] == []
+    with pytest.raises(InterferenceError) as exc:
+        build.build(d, tmp_path / "o", {"step"}, fidelity="inertia")
+    msg = str(exc.value)
+    assert re.search(r"ring\d? / pen\.[AB]_pen_hub\d", msg), msg
+    assert "pitch -45 deg" in msg or "pitch 45 deg" in msg, msg
+    assert not (tmp_path / "o" / "assembly.step").exists()
+
+
+def test_datasheet_prints_the_pen_rows():
+    from cli_helpers import hapticad
+
+    code, out, err = hapticad("datasheet", DESIGN, "--json")
+    assert code == 0, err
+    rows = {r["key"]: r for r in json.loads(out)["datasheet"]["rows"]}
+    assert rows["force_any_dir_N"]["value"] > 0
+    assert rows["effective_mass_home.mass_x_g_apparent"]["paper"] == 190.0  # Table 3
+    assert rows["overlap_volume_mm3"]["value"] == 0.0
+    code, out, err = hapticad("datasheet", DESIGN)
+    assert code == 0, err
+    assert "effective mass at home" in out
