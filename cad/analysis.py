@@ -86,7 +86,7 @@ def apparent_mass_curves(design: FourBarDesign, H: InertiaCoefficients, samples:
 
 def analyze(design: FourBarDesign, samples: int | None = None,
             inertia: InertiaCoefficients | None = None) -> dict[str, Any]:
-    """Everything ``hapticad analyze --json`` prints (schema in README)."""
+    """Everything ``hapticad analyze --json`` prints (schema: docs/commands.md)."""
     n = samples or design.samples
     fb = design.linkage
     lo, hi = design.phi1_min_rad, design.phi1_max_rad

@@ -1,7 +1,7 @@
 """The supported Python API: what the CLI does, as functions on plain data.
 
 Everything else in :mod:`cad` is internal and may change. Lengths in mm, masses in g or kg
-and inertias in kg m^2 as the dict keys say; frames as in the README's Conventions.
+and inertias in kg m^2 as the dict keys say; frames as in docs/conventions.md.
 
 >>> import cad
 >>> d = cad.load_design("designs/hoeken.toml")
@@ -36,7 +36,7 @@ def analyze(design, samples: int | None = None, inertia: dict[str, float] | None
     """Four-bar metrics (Hoeken paper Tables I/II), range check, apparent mass; no CAD.
 
     ``inertia``: optional ``{"H11": ..., "H12": ..., "H22": ..., "H33": ...}`` in kg m^2
-    (Hoeken paper eqs 16-19). Returns the ``hapticad analyze --json`` object (README schema).
+    (Hoeken paper eqs 16-19). Returns the ``hapticad analyze --json`` object (schema: docs/commands.md).
     Raises DesignError for a non-four-bar design.
     """
     from cad.analysis import analyze as _analyze

@@ -39,7 +39,7 @@ def _value(text: str, flag: str, default_dist: str) -> tuple[float, str]:
 def tolerances_from_flags(hole_mm: float | None, holes: list[str], pivot_mm: float | None,
                           pivots: list[str], length_mm: float | None, lengths: list[str],
                           distribution: str) -> tuple[Tolerance, ...]:
-    """Tolerances from the CLI flags (README "hapticad tolerance"); specific flags override blanket ones.
+    """Tolerances from the CLI flags (docs/tolerances.md); specific flags override blanket ones.
 
     ``holes``: ``crank=T``, ``coupler.P=T[:uniform]``; ``pivots``: ``A4=T``; ``lengths``: ``l2=T``.
     """

@@ -133,7 +133,7 @@ FIRMWARE_DOUBLE_TORQUE_NM = 1e-9
 #: Float build: positions within 2e-5 m (a third of the Hoeken's encoder step, 5.46e-5 m,
 #: Hoeken paper §III.B.4: finer than the device can read) and torques within 2e-5 N m (0.02 %
 #: of the RE 35's 0.1 N m continuous torque); float32 rounding (6e-8 relative) amplified by
-#: the closed forms' conditioning stays well inside both (measured, README "Firmware").
+#: the closed forms' conditioning stays well inside both (measured, docs/firmware.md).
 FIRMWARE_FLOAT_POSITION_M = 2e-5
 FIRMWARE_FLOAT_TORQUE_NM = 2e-5
 #: Jacobian against central finite differences of the generated FK (double build, step
@@ -146,7 +146,7 @@ FIRMWARE_FLOAT_AMPERE_TURNS = 1e-3
 
 #: Stock to order for made parts (cad.export.order): the cutting allowance added to each
 #: part's bounding box. These are our stated ordering margins (shop practice, not a
-#: handbook value), shown in report.md and README "A BOM to order from".
+#: handbook value), shown in report.md and docs/ordering.md.
 #: Plate: per side around the profile, room for the waterjet/laser lead-in and for
 #: clamping the sheet (the kerf itself is ~0.2-1 mm).
 STOCK_PLATE_MARGIN_MM = 5.0

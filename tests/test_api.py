@@ -47,7 +47,7 @@ def test_api_check_and_mass_properties(tmp_path):
     assert merged["computed"]["stroke_mm"] == res["computed"]["stroke_mm"]
     own = cad.check(d)
     assert own["targets_source"] == "design" and own["targets_checked"] == [t.key for t in d.targets]
-    # the README's example: M11_max_g of the bundled Hoeken is under 100 g, so it passes alone
+    # the example in docs/python.md: M11_max_g of the bundled Hoeken is under 100 g, so it passes alone
     readme = cad.check(d, targets=["M11_max_g<=100"])
     assert readme["ok"] and readme["computed"]["M11_max_g"] <= 100.0
     assert rows["stroke_mm"]["target"] == {"min": 40.0}

@@ -24,7 +24,7 @@ def _bd_data() -> Path:
 
 
 def test_bd_warehouse_bearing_tables_have_no_stiffness_and_no_flanged_sizes():
-    """What the README says: the bearing tables are the five SKT single-row tables; their
+    """What docs/codesign.md says: the bearing tables are the five SKT single-row tables; their
     columns are dimensions, ratings, speeds, mass and the factors kr / f0 -- no stiffness, no
     flange diameter or width (a flanged bearing's D1/C1 columns)."""
     tables = sorted(p.name for p in _bd_data().glob("*bearing*.csv"))
@@ -96,7 +96,7 @@ def test_joint_loads_balance_the_crank_torque_by_virtual_work():
 def test_report_keeps_the_estimate_apart_from_the_fe_compliance():
     """``structure.bearing_compliance_estimate`` of the bundled Hoeken: the worst-pose virtual
     work sum of the three joints, the FE ``compliance_um_per_N`` unchanged by it, and the
-    bearings' share below the links' (README: 0.69 vs 6.3 um/N)."""
+    bearings' share below the links' (docs/structure.md: 0.69 vs 6.3 um/N)."""
     from cad.codesign import cheap
     from cad.codesign.search import cheap_structure
 

@@ -434,7 +434,7 @@ def test_bound_slip_hint_and_range_text():
 
 
 def test_readme_bounds_table_is_the_generated_one():
-    assert bounds.markdown_table() in (ROOT / "README.md").read_text()
+    assert bounds.markdown_table() in (ROOT / "docs" / "bounds.md").read_text()
 
 
 def test_bounds_run_before_any_cad_import():

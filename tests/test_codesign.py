@@ -45,7 +45,7 @@ def test_cheap_model_error_at_the_optimum(light_check):
 
     exact = light_check[1]["computed"]["M11_max_g"]
     est = cheap.apparent_mass(load_design(LIGHT))["M11_max_g"]
-    assert abs(est - exact) / exact < 0.05  # README: +1.5 % at this optimum
+    assert abs(est - exact) / exact < 0.05  # docs/codesign.md: +1.5 % at this optimum
 
 
 def test_search_candidates_meet_the_constraints_recomputed():

@@ -71,8 +71,8 @@ ANGLES = np.radians([140.0, 174.0, 210.0])
 def test_continuous_force_closed_form_at_three_angles():
     """F = T_cont / |dx/dphi1| at 3 crank angles of the bundled Hoeken (RE 35 30 V: nominal
     torque 97.2 mN m, data sheet value of the catalog), and the row's minimum over the stroke."""
-    from cad.families.fourbar import datasheet as dsf
     from cad.design import load_design
+    from cad.families.fourbar import datasheet as dsf
 
     d = load_design(ROOT / "designs" / "hoeken.toml")
     L_hand = _hand_lever(d, ANGLES)[0]
@@ -85,8 +85,8 @@ def test_continuous_force_closed_form_at_three_angles():
 
 
 def test_resolution_is_two_pi_over_counts_times_lever(tmp_path):
-    from cad.families.fourbar import datasheet as dsf
     from cad.design import load_design
+    from cad.families.fourbar import datasheet as dsf
 
     p = tmp_path / "h.toml"
     p.write_text((ROOT / "designs" / "hoeken.toml").read_text().replace("[parts]\n", "[parts]\nencoder_counts_per_rev = 2000\n"))
@@ -101,8 +101,8 @@ def test_resolution_is_two_pi_over_counts_times_lever(tmp_path):
 def test_friction_estimate_by_hand():
     """Motor Kt I0 (RE 35 30 V) + SKF M = 0.5 mu F d per joint bearing, joint loads by a 3x3
     statics solve, relative rotations by differences, all over |dx/dphi1| (virtual work)."""
-    from cad.families.fourbar import datasheet as dsf
     from cad.design import load_design
+    from cad.families.fourbar import datasheet as dsf
 
     d = load_design(ROOT / "designs" / "hoeken.toml")
     L, A2, A3, P, ex, q2, q3 = _hand_lever(d, ANGLES)

@@ -5,7 +5,7 @@ The paper gives H11 = 2.97e-5, H12 = 3.22e-5, H22 = 1.17e-4, H33 = 7.09e-5 kg m^
 M11 27.5 - 42.8 g (Fig. 6), not its parts. The hardware was picked so that M11 and D(phi1)
 (eq 14 over the Fig. 2 crank range) land within 10 % of those; the H one by one are not matched
 (which link carries the A3 hardware moves mass between H22, H12 and H33 without changing D:
-README "The paper's prototype"). The ratios are printed (``pytest -s``) for the README.
+docs/papers.md "The paper's prototype"). The ratios are printed (``pytest -s``) for docs/papers.md.
 """
 
 from __future__ import annotations
@@ -46,7 +46,7 @@ def test_hardware_matches_the_papers_M11_and_D(computed):
 
 def test_H_ratios_against_the_paper(computed):
     """ours / paper for H11, H12, H22, H33: not matched one by one (H33 is 3.2x lower).
-    Regression pin (our own run) of the ratios the README quotes."""
+    Regression pin (our own run) of the ratios docs/papers.md quotes."""
     ratios = {k: computed[k] / v for k, v in PAPER_H.items()}
     print("hoeken_paper H / paper H:", {k: round(r, 2) for k, r in ratios.items()})
     assert {k: round(r, 2) for k, r in ratios.items()} == {

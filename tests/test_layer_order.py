@@ -136,7 +136,7 @@ def test_search_returns_valid_orders(searched):
 def test_optimum_layer_order_rechecked_on_the_exact_solids(searched):
     """The best candidate rebuilt on the solids keeps its layer order, has zero interference, and
     the cheap model's M11 max is within 5 % of the solids' (measured +0.8 .. +2.3 % at the
-    three optima of the 300-trial run, README)."""
+    three optima of the 300-trial run, docs/codesign.md)."""
     from cad.codesign import exact
 
     pb, cands, _ = searched

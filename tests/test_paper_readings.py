@@ -1,4 +1,4 @@
-"""Readings of the Hoeken paper's Tables I/II that the README reports (scaling, linearity)."""
+"""Readings of the Hoeken paper's Tables I/II that docs/papers.md reports (scaling, linearity)."""
 
 from __future__ import annotations
 

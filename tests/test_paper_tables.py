@@ -3,7 +3,7 @@
 Each Table cell is compared with the paper **at its printed rounding** (Table I: <tau> to
 1 mN.m, Delta tau/<tau> to 3 decimals; Table II: (Delta y)max to 0.1 mm, slope to 3 decimals,
 linearity to 0.1 %). Cells that do not reproduce are strict expected failures whose reason
-names the explanation (README "Reproducing the Hoeken paper"); our own values are pinned
+names the explanation (docs/papers.md "Reproducing the Hoeken paper"); our own values are pinned
 separately as regression values.
 """
 
@@ -71,7 +71,7 @@ def test_table_cell_at_printed_rounding(family, key):
     assert round(_ours(metrics(family), key), d) == pytest.approx(PAPER_TABLES[family][key], abs=1e-9)
 
 
-#: Regression pin (our own run), not the paper: the values the README's table quotes.
+#: Regression pin (our own run), not the paper: the values the table in docs/papers.md quotes.
 OURS = {
     "hoeken": (48.874, 0.21203, 0.013737, 166.682, 0.012255),
     "roberts": (50.709, 0.28143, 0.067446, 382.305, 0.38876),
@@ -97,7 +97,7 @@ def test_mean_torque_is_force_times_chord_over_crank_span(family):
 
 
 def test_paper_mean_torque_implies_the_quoted_chords():
-    """The chords the xfail reasons and the README quote: Table I <tau> x Delta phi1 / F."""
+    """The chords the xfail reasons and docs/papers.md quote: Table I <tau> x Delta phi1 / F."""
     chords = {f: PAPER_TABLES[f]["torque_mean_mNm"] * (FAMILIES[f].phi1_range_rad[1]
               - FAMILIES[f].phi1_range_rad[0]) / 5.0 for f in FAMILIES}
     assert {f: round(c, 1) for f, c in chords.items()} == {

@@ -257,7 +257,7 @@ def test_combined_translation_and_rotation_range(solids):
     magnets (d_r/2). Measured on the solids (exact OCCT near contact): with a 5 deg rotation
     about any of the 13 axes, translations along the face normals clear up to 1.76 mm (1.70
     mm clears, 1.82 mm collides, a coil or the shell against a magnet: the coil gap is the
-    end stop, not the handle or the post in their corner holes); the README quotes this."""
+    end stop, not the handle or the post in their corner holes); docs/families/pantograph-powermouse.md quotes this."""
     from cad.parts import powermouse as pp
 
     _, g, fl, st = solids
@@ -279,7 +279,7 @@ def test_combined_translation_and_rotation_range(solids):
 
 
 def test_flotor_mass_and_peak_acceleration_pinned(family_builds):
-    """README "Voice-coil actuators and the PowerMouse": flotor 234 g from the solids, 9.7 G at
+    """docs/papers.md "Voice-coil actuators and the PowerMouse": flotor 234 g from the solids, 9.7 G at
     36 W. Hand checks: each coil is a stadium (2 w l + pi w^2) d_c of density eta_pack rho_Cu;
     the flotor mass is the sum of its solids' volumes x their materials' densities plus the
     four lid screws' catalog masses; the peak
@@ -308,5 +308,5 @@ def test_flotor_mass_and_peak_acceleration_pinned(family_builds):
     p8 = vc.VoiceCoilParams(lm, w, g.magnet_thickness_mm, d.actuator.rattle_mm, power_W=8.0)
     f36 = float(vc.force_vs_gap_N(gap, p8, "closed-form")[0]) * math.sqrt(36.0 / 8.0)
     assert rep["peak_acceleration_m_s2"] == pytest.approx(2 * f36 / parts_sum, rel=1e-6)
-    # regression pin (our own run): the README's numbers
+    # regression pin (our own run): the numbers of docs/papers.md
     assert round(rep["flotor_mass_g"]) == 234 and round(rep["peak_acceleration_G"], 1) == 9.7

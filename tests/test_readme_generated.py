@@ -1,4 +1,5 @@
-"""README measured tables are generated from their JSON (issue 21 §2): regenerated here and compared."""
+"""The documentation's measured tables (README.md and docs/**/*.md) are generated from their JSON
+(issue 21 §2): regenerated here and compared."""
 
 from __future__ import annotations
 
@@ -10,12 +11,22 @@ import pytest
 from cad.bench import readme
 from cad.errors import DesignError
 
-TEXT = readme.README.read_text()
+PAGES = readme.pages()
+TEXT = "\n".join(p.read_text(encoding="utf-8") for p in PAGES)
 BLOCKS = list(readme.BLOCK.finditer(TEXT))
 
 
+def test_the_blocks_are_found_in_the_pages():
+    """The pages holding blocks are read from docs/ (a block left behind would be found too)."""
+    names = {p.relative_to(readme.ROOT).as_posix() for p in PAGES}
+    assert "docs/performance.md" in names and all(n == "README.md" or n.startswith("docs/") for n in names)
+    for page in PAGES:
+        text = page.read_text(encoding="utf-8")
+        assert readme.stale_block(text) is None and readme.regenerate(text) == text, page
+
+
 def test_every_generated_block_equals_its_json():
-    """The README cannot disagree with its JSON: every block re-rendered from its sources is the
+    """A page cannot disagree with its JSON: every block re-rendered from its sources is the
     block as committed (run `python -m cad.bench.readme` after a new measurement)."""
     specs = [m.group("spec") for m in BLOCKS]
     assert len(specs) >= 4 and {s.split()[0] for s in specs} == set(readme.RENDERERS)

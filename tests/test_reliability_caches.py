@@ -178,7 +178,7 @@ def test_a_part_file_deleted_with_its_manifest_row_is_rebuilt(tmp_path, monkeypa
 
 @pytest.mark.parametrize("args", [("cache",), ("cache", "--clear")])
 def test_cache_cap_zero_is_refused_as_the_readme_says(fresh, monkeypatch, args):
-    """README "Size cap": anything that is not a positive number (or ``off``) is refused;
+    """docs/reliability.md "Size cap": anything that is not a positive number (or ``off``) is refused;
     ``0`` used to mean "no cap". Nothing is removed by a refused ``--clear``."""
     entry = fresh / "derived-v2" / "ab" / ("ab" + "0" * 38 + ".bin")
     entry.parent.mkdir(parents=True)

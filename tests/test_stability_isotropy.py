@@ -384,7 +384,7 @@ def test_absurd_magnitudes_and_sample_counts_exit_2_one_line(
 
 
 def test_bounds_leave_the_bundled_designs_unchanged():
-    """The bundled designs sit well inside the bounds: their GII is as before (README)."""
+    """The bundled designs sit well inside the bounds: their GII is as before (docs/papers.md)."""
     for name, ref in (
         ("pantograph", 0.6232007997359527),
         ("haptic_mouse", 0.20744437413513309),

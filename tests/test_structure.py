@@ -100,7 +100,7 @@ def test_structure_in_report_json_read_back(tmp_path):
     assert st["ok"] == (st["first_mode_Hz"] >= 150.0
                         and st["max_stress_MPa"] <= st["strength_MPa"] / 3)
     assert math.isfinite(st["handle_mode_x_Hz"])
-    # the bearings' Palmgren estimate sits beside the FE numbers, not in them (README)
+    # the bearings' Palmgren estimate sits beside the FE numbers, not in them (docs/structure.md)
     est = st["bearing_compliance_estimate"]
     assert est["included_in_compliance_um_per_N"] is False and est["bearing"] == "M8-16-4"
     assert 0 < est["x_um_per_N"] < st["compliance_um_per_N"]["x"]

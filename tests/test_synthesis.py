@@ -25,7 +25,7 @@ def test_max_stroke_over_crank_range_hoeken():
         m2 = compute_metrics(fb, r.phi1_min_rad + math.radians(dlo), r.phi1_max_rad + math.radians(dhi),
                              samples=4001)
         assert m2.dy_max_mm > 0.2 or m2.stroke_mm <= m.stroke_mm
-    # README "Link-length synthesis": 103.6 mm, 76.4 - 266.4 deg, 47.5 deg (regression pin, our run)
+    # docs/synthesis.md: 103.6 mm, 76.4 - 266.4 deg, 47.5 deg (regression pin, our run)
     assert (round(m.stroke_mm, 1), round(math.degrees(r.phi1_min_rad), 1),
             round(math.degrees(r.phi1_max_rad), 1)) == (103.6, 76.4, 266.4)
     assert round(m.min_transmission_angle_deg, 1) == 47.5
@@ -69,14 +69,14 @@ def test_min_torque_variation_improves_and_keeps_constraints():
     assert r.metrics.dy_max_mm / r.metrics.stroke_mm <= s0.dy_max_mm / s0.stroke_mm * 1.01
     assert r.phi1_max_rad - r.phi1_min_rad >= (hi - lo) * 0.999
     assert r.metrics.min_transmission_angle_deg >= 30.0
-    # regression pin (our own run) at this cheap setting; the README's 0.0020 is the default
+    # regression pin (our own run) at this cheap setting; docs/synthesis.md's 0.0020 is the default
     # setting's, pinned in test_min_torque_variation_readme_value (slow)
     assert r.metrics.torque_variation == pytest.approx(0.0021008, rel=1e-3)
 
 
 @pytest.mark.slow
 def test_min_torque_variation_readme_value():
-    """README "Link-length synthesis" (``synth --objective min-torque-variation --free all``,
+    """docs/synthesis.md (``synth --objective min-torque-variation --free all``,
     default samples/restarts, ~25 s): torque variation 0.0020, dy 0.094 mm, stroke 50.0 mm
     (regression pin, our own run)."""
     fb, lo, hi = family_linkage("hoeken")
@@ -147,7 +147,7 @@ def test_synth_cli_stroke_under_default_objective(tmp_path):
 
 def test_synth_cli_mu_min_deg_binds(tmp_path):
     """``synth --mu-min-deg 50``: the Hoeken max-stroke optimum at the default 30 deg has a
-    47.5 deg transmission angle (README), so a 50 deg floor must bind: the result keeps
+    47.5 deg transmission angle (docs/synthesis.md), so a 50 deg floor must bind: the result keeps
     mu >= 50 deg (recomputed here on its own linkage) and is shorter than 103.6 mm."""
     import json
     from pathlib import Path

@@ -1,6 +1,6 @@
 """Widening a sweep keeps one variant number per variant (found by trying, t1tester).
 
-``--vary parts.bar_thickness_mm=5,6`` then, in the same folder, ``=4,5,6``: the README's
+``--vary parts.bar_thickness_mm=5,6`` then, in the same folder, ``=4,5,6``: docs/sweeps.md's
 "widening a sweep evaluates only the new variants" held, but the resumed rows kept the
 numbers of the first sweep (5 -> 0, 6 -> 1) and the new one took its number in the
 widened sweep (4 -> 0): two rows ``variant = 0``. The table must be the one an

@@ -4,7 +4,7 @@ Reference: an independent brute force (tests below) -- a 0.5 deg grid of phi1_mi
 full turn of the bundled Hoeken's bar set, phi1_max root-found for a 100 mm chord, keeping
 segments with x(phi1) monotone and a transmission angle >= 30 deg. It finds phi1 = 77.5 ..
 259.668 deg with dy_max 0.169 mm (checked here by ``hapticad analyze``), so a 100 mm stroke
-*is* reachable under the default ``--dy-tol-mm 0.2``; README's own run [1] reaches 103.6 mm.
+*is* reachable under the default ``--dy-tol-mm 0.2``; docs/synthesis.md's own run [1] reaches 103.6 mm.
 """
 from __future__ import annotations
 

@@ -158,7 +158,7 @@ def test_tube_hoeken_bom_lists_tubes_and_bonded_clevises(tube_build):
 
 def test_cheap_tube_model_against_the_exact_solids(tube_build):
     """The optimizer's cheap tube-bar model (``cad/codesign/cheap.py``) against the solids'
-    M11 max of the same design (build report) -- README: -0.4 % on this Hoeken."""
+    M11 max of the same design (build report) -- docs/codesign.md: -0.4 % on this Hoeken."""
     import json
 
     from cad.api import load_design

@@ -60,7 +60,7 @@ def test_build123d_script_volume_is_the_closed_form(tmp_path):
 @pytest.mark.parametrize("dialect", ["cadquery", "build123d"])
 def test_both_dialects_go_through_the_build(tmp_path, dialect, monkeypatch):
     """Build a Hoeken with the user handle: its mass is volume x density and sits in the coupler."""
-    monkeypatch.setenv("HAPTICAD_ALLOW_SCRIPTS", "1")  # the user's opt-in (README "Design scripts")
+    monkeypatch.setenv("HAPTICAD_ALLOW_SCRIPTS", "1")  # the user's opt-in (docs/reliability.md "Design scripts")
     from cad.data.materials import get_material
     from cad.design import load_design
     from cad.pipeline import build_design

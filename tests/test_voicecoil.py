@@ -104,7 +104,7 @@ def test_paper_optimal_gap_is_about_11_mm():
 
 
 def test_images_optimum_10_59_mm_against_magpylib_image_stack():
-    """README Fig. 8 table, `images`: 10.59 mm. Independent: magpylib's cuboid field of a
+    """docs/papers.md Fig. 8 table, `images`: 10.59 mm. Independent: magpylib's cuboid field of a
     512-slab image stack (not the closed-form series) on a 0.01 mm grid of gaps, F ~ B_g
     sqrt(d - d_r) (eq 8 at fixed magnet), vertex of the parabola through the best three."""
     opt = vc.optimal_gap(PAPER, "images").optimal_gap_mm
@@ -118,7 +118,7 @@ def test_images_optimum_10_59_mm_against_magpylib_image_stack():
 
 
 def test_magpylib_optimum_10_38_mm_against_a_finer_quadrature_grid():
-    """README Fig. 8 table, `magpylib`: 10.38 mm. Second method: the coil-mean field with a
+    """docs/papers.md Fig. 8 table, `magpylib`: 10.38 mm. Second method: the coil-mean field with a
     finer Gauss rule (8 x 6 x 6 instead of 6 x 4 x 4) on a 0.02 mm gap grid, F ~ B_mean
     sqrt(d - d_r), parabola vertex; the two quadratures' optima differ by 0.009 mm."""
     opt = vc.optimal_gap(PAPER, "magpylib").optimal_gap_mm
@@ -281,7 +281,7 @@ def test_nlp_matches_brute_force_grid():
         0.75 * vc.eta_geom(L, W) * 8 / 1.72e-8 * 2 * W * L * (D - 6) * 1e-9
     )
     best = F[ok].max()
-    # README's claim: the 1.8M-point grid's best equals the NLP to 2e-5 (measured 1.55e-5 below)
+    # docs/papers.md's claim: the 1.8M-point grid's best equals the NLP to 2e-5 (measured 1.55e-5 below)
     assert 0.0 <= 1.0 - best / r.force_N < 2e-5
     assert "height" in r.active
 

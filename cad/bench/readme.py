@@ -1,6 +1,7 @@
-"""README measured tables, generated from the JSON they come from (issue 21 §2).
+"""The documentation's measured tables, generated from the JSON they come from (issue 21 §2).
 
-A generated block in README.md::
+A generated block in a page of the documentation (``README.md`` or a Markdown page under
+``docs/``, :func:`pages`)::
 
     <!-- generated: KIND SOURCE [SOURCE ...] -->
     ... written by this module, never by hand ...
@@ -9,11 +10,11 @@ A generated block in README.md::
 ``KIND`` names a renderer of :data:`RENDERERS`; each ``SOURCE`` is a JSON path relative to the
 repository root, optionally ``PATH:WORD`` to keep only the rows whose goal contains ``WORD``.
 Every block ends with each source's date and command, read from the JSON's ``measured`` and
-``command`` (or ``commands``) keys; a source without them is refused. The README then cannot
+``command`` (or ``commands``) keys; a source without them is refused. A page then cannot
 disagree with its JSON: ``tests/test_readme_generated.py`` regenerates every block and compares.
 
-``python -m cad.bench.readme`` rewrites README.md in place; ``--check`` only compares and exits 1
-naming the first block that differs; ``--capture OUT.json -- ARGV...`` runs ``hapticad ARGV``
+``python -m cad.bench.readme`` rewrites every page holding a block in place; ``--check`` only
+compares and exits 1 naming the page and the first block that differs; ``--capture OUT.json -- ARGV...`` runs ``hapticad ARGV``
 (a ``--json`` command) and saves its object with ``command`` and ``measured`` added, for a
 command that does not record them itself (``check``, ``tolerance``, ``swap``). ``hapticad
 bench``, ``optimize --json`` and ``synth --json`` record them. No CAD import here (a captured
@@ -32,8 +33,14 @@ from typing import Any
 from cad.errors import DesignError
 
 ROOT = Path(__file__).resolve().parents[2]
-README = ROOT / "README.md"
 BLOCK = re.compile(r"(<!-- generated: (?P<spec>[^>]*?) -->\n)(?P<body>.*?)(<!-- end generated -->)", re.S)
+
+
+def pages(root: Path = ROOT) -> list[Path]:
+    """The documentation pages that hold a generated block: ``README.md`` and the Markdown
+    pages under ``docs/`` (sorted), as paths under ``root``."""
+    candidates = [root / "README.md", *sorted((root / "docs").rglob("*.md"))]
+    return [p for p in candidates if p.is_file() and BLOCK.search(p.read_text(encoding="utf-8"))]
 
 
 def _load(source: str, root: Path) -> tuple[str, str | None, dict[str, Any]]:
@@ -42,9 +49,9 @@ def _load(source: str, root: Path) -> tuple[str, str | None, dict[str, Any]]:
     try:
         data = json.loads((root / path).read_text())
     except (OSError, ValueError) as exc:
-        raise DesignError("README generated block", f"source {path}: {exc}") from None
+        raise DesignError("generated block", f"source {path}: {exc}") from None
     if "measured" not in data or not ("command" in data or "commands" in data):
-        raise DesignError("README generated block", f"source {path} records no `measured` date and "
+        raise DesignError("generated block", f"source {path} records no `measured` date and "
                                                     "`command`: a table must say when and how it was measured")
     return path, word or None, data
 
@@ -283,7 +290,7 @@ def render_block(spec: str, root: Path = ROOT) -> str:
     """The body of one generated block (table, blank line, one provenance line per source)."""
     kind, *srcs = spec.split()
     if kind not in RENDERERS or not srcs:
-        raise DesignError("README generated block", f"{spec!r}: want KIND SOURCE..., KIND one of "
+        raise DesignError("generated block", f"{spec!r}: want KIND SOURCE..., KIND one of "
                                                     f"{', '.join(RENDERERS)}")
     sources = [_load(s, root) for s in srcs]
     prov = [_provenance(i, p, d) for i, (p, _, d) in enumerate(sources, 1)]
@@ -329,24 +336,28 @@ def capture(out: Path, argv: list[str]) -> int:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """``python -m cad.bench.readme [--check]``: rewrite README.md, or compare (exit 1 if stale).
+    """``python -m cad.bench.readme [--check]``: rewrite every page holding a generated block
+    (:func:`pages`), or compare (exit 1 if one is stale).
     ``python -m cad.bench.readme --capture OUT.json -- ARGV...``: save ``hapticad ARGV``'s JSON."""
     argv = sys.argv[1:] if argv is None else argv
     if argv[:1] == ["--capture"] and len(argv) > 3 and argv[2] == "--":
         return capture(Path(argv[1]), argv[3:])
-    text = README.read_text()
-    if "--check" in argv:
-        spec = stale_block(text)
-        if spec is not None:
-            print(f"README.md: generated block `{spec}` differs from its JSON; run python -m "
-                  "cad.bench.readme", file=sys.stderr)
-        return 0 if spec is None else 1
-    new = regenerate(text)
-    if new != text:
-        from cad.io.atomic import write_text_atomic
+    for page in pages():
+        name = page.relative_to(ROOT).as_posix()
+        text = page.read_text(encoding="utf-8")
+        if "--check" in argv:
+            spec = stale_block(text)
+            if spec is not None:
+                print(f"{name}: generated block `{spec}` differs from its JSON; run python -m "
+                      "cad.bench.readme", file=sys.stderr)
+                return 1
+            continue
+        new = regenerate(text)
+        if new != text:
+            from cad.io.atomic import write_text_atomic
 
-        write_text_atomic(README, new)
-    print(f"README.md: {len(BLOCK.findall(new))} generated blocks")
+            write_text_atomic(page, new)
+        print(f"{name}: {len(BLOCK.findall(new))} generated blocks")
     return 0
 
 

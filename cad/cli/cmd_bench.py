@@ -96,7 +96,7 @@ def _goals(results: dict) -> list[tuple[str, str, str, bool | None]]:
 def register(app: typer.Typer) -> None:
     @app.command("bench")
     def bench_cmd(
-        quick: bool = typer.Option(False, "--quick", help="Fewer repeats and knobs (all topics: ~4 min of CPU, measured; README)."),
+        quick: bool = typer.Option(False, "--quick", help="Fewer repeats and knobs (all topics: ~4 min of CPU, measured; docs/performance.md)."),
         out: Path = typer.Option(Path("exports/bench"), "--out", help="Output folder for JSON and charts."),
         only: str = typer.Option(None, "--only", help=f"Comma list of topics: {','.join(TOPICS)}."),
     ) -> None:
@@ -122,7 +122,7 @@ def register(app: typer.Typer) -> None:
         from cad.export.manifest import write_manifest
         from cad.io.outdir import check_out_dir
 
-        check_out_dir(out)  # only a folder bench (or build) wrote: README "Output folders"
+        check_out_dir(out)  # only a folder bench (or build) wrote: docs/reliability.md "Output folders"
         out.mkdir(parents=True, exist_ok=True)
         results: dict = {}
         for t in topics:
@@ -143,7 +143,7 @@ def register(app: typer.Typer) -> None:
         results["total"] = {"wall_s": total_wall, "cpu_s": total_cpu, "quick": quick, "topics": topics,
                             "load_avg_1min": os.getloadavg()[0] if hasattr(os, "getloadavg") else None}
         results["goals"] = [{"goal": g, "measured": m, "target": tg, "met": ok} for g, m, tg, ok in rows]
-        results["measured"] = time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())  # README tables
+        results["measured"] = time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())  # the docs' generated tables
         results["command"] = "hapticad bench" + (" --quick" if quick else "") + (f" --only {only}" if only else "")
         write_text_atomic(out / "bench.json", json.dumps(results, indent=1, default=float))
         write_manifest(out)

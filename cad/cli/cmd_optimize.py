@@ -100,7 +100,7 @@ def _fourbar(d, path: Path, objective: str, trials: int, seed: int, top: int, ou
            + ("" if starts else " --no-starts")
            + (f" --out {out}" if out is not None else ""))
     rep["command"] = cmd
-    rep["measured"] = time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())  # README tables (cad.bench.readme)
+    rep["measured"] = time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())  # the docs' generated tables (cad.bench.readme)
     if out is not None and best is not None:
         ex = rep["best"]["exact"]
         exact.write_optimum(d, best, out, f"Optimum of `{cmd}`\nexact solids: M11 {ex['M11_min_g']:.2f}-"

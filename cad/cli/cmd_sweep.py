@@ -1,7 +1,7 @@
 """``hapticad sweep DESIGN --vary KEY=V1,V2,... --vary KEY=LO:HI:N ... --out DIR``: design sweeps on Dask.
 
 See :mod:`cad.sweep.spec` (variants), :mod:`cad.sweep.task` (one variant),
-:mod:`cad.sweep.run` (Dask, table, resume) and README "Sweeps".
+:mod:`cad.sweep.run` (Dask, table, resume) and docs/sweeps.md.
 """
 
 from __future__ import annotations
@@ -77,7 +77,7 @@ def register(app: typer.Typer) -> None:
                               "workers would run them unseen); sweep a design without one")
         parse_design(raw, str(design))  # the base design as every command loads it (load_design)
         _check_keys(raw, design, varies)
-        # only a folder hapticad wrote (README "Output folders"); a dead run's temporary
+        # only a folder hapticad wrote (docs/reliability.md "Output folders"); a dead run's temporary
         # files removed and its interrupted table write completed first (cad.sweep.table)
         check_folder(out, str(design))
         spec = SweepSpec(design=design.resolve(), raw=raw, varies=varies, samples=samples, seed=seed,

@@ -59,7 +59,7 @@ def register(app: typer.Typer) -> None:
         out: Path = typer.Option(None, "--out", help="Write the optimized design (family custom) here."),
         json_out: bool = typer.Option(False, "--json", help="Print one JSON object."),
     ) -> None:
-        """Choose link lengths and the crank range for a stated objective (see README)."""
+        """Choose link lengths and the crank range for a stated objective (see docs/synthesis.md)."""
         import copy
         import time
 

@@ -1,6 +1,6 @@
 """``hapticad tolerance DESIGN --hole-mm T [...]``: Monte Carlo of manufacturing tolerances (four-bar).
 
-Pure numpy unless M11 needs the solids (no `--inertia` or `[inertia]`: the parts `check` builds, via the derived cache); see :mod:`cad.kinematics.tolerance` and README "Tolerances".
+Pure numpy unless M11 needs the solids (no `--inertia` or `[inertia]`: the parts `check` builds, via the derived cache); see :mod:`cad.kinematics.tolerance` and docs/tolerances.md.
 """
 
 from __future__ import annotations

@@ -1,5 +1,5 @@
 """Which command accepts which design family: one table, used for the hints of refusals
-and checked against the README's commands x families table (tests/test_readme.py); derived
+and checked against the commands x families table of docs/commands.md (tests/test_readme.py); derived
 from the one family registry, :mod:`cad.data.families`.
 
 No CAD imports; the family names are those of ``[mechanism] family``.
@@ -31,7 +31,7 @@ NO_DESIGN_COMMANDS = _registry.NO_DESIGN_COMMANDS
 
 
 def markdown_table() -> str:
-    """The README's commands x families table, from :data:`COMMAND_FAMILIES`."""
+    """The commands x families table (docs/commands.md), from :data:`COMMAND_FAMILIES`."""
     cols = list(FAMILY_GROUPS)
     lines = ["| command | " + " | ".join(cols) + " |", "|---|" + "---|" * len(cols)]
     for cmd, fams in COMMAND_FAMILIES.items():

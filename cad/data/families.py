@@ -1,7 +1,7 @@
 """The one family registry: every design family, its schema module, its layout package and
 the commands that accept it. Everything that dispatches on ``[mechanism] family`` reads
 this table (design loading, the build pipeline, the datasheet, the CLI refusals and the
-README's commands x families table). A new family is one row here and one
+commands x families table (docs/commands.md)). A new family is one row here and one
 ``cad/families/<package>/`` package (see docs/architecture.md).
 
 No CAD imports.
@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-#: Commands that take a design, in the order of the README's commands x families table.
+#: Commands that take a design, in the order of the commands x families table (docs/commands.md).
 DESIGN_COMMANDS = ("analyze", "synth", "swap", "check", "fit", "build", "gii", "optimize",
                    "tolerance", "sweep", "wall", "render", "datasheet")
 #: Commands that read no design file (they take a STEP/STL file, flags, or nothing).

@@ -97,7 +97,7 @@ def verdict_text(r: dict) -> str:
 
 
 def markdown(ds: dict) -> list[str]:
-    """The datasheet as markdown lines (report.md, README)."""
+    """The datasheet as markdown lines (report.md, docs/datasheet.md)."""
     lines = ["## Datasheet", "", "| figure | value (min .. max) | unit | model / source | verdict |",
              "|---|---|---|---|---|"]
     for r in ds["rows"]:

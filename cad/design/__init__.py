@@ -54,7 +54,7 @@ def parse_design(raw: dict[str, Any], source: str = "<design>"):
 
 
 def load_design(path: str | Path):
-    """Load and validate a TOML design file (see README "Design files").
+    """Load and validate a TOML design file (see docs/design-files.md).
 
     Numbers outside their bounds (:mod:`cad.design.bounds`) raise :class:`DesignError`;
     implausible ones are recorded as warnings (:func:`cad.design.bounds.collected`).

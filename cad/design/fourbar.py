@@ -1,6 +1,6 @@
 """Four-bar design files (families hoeken, roberts, chebyshev, chebyshev-v, custom).
 
-Schema (units in key names; see README "Design files")::
+Schema (units in key names; see docs/design-files.md)::
 
     name = "hoeken"                  # top level, required: output folder name
 

@@ -5,7 +5,7 @@ each with its exact mass properties from the solids, hinge joints, the meshes of
 parts, sites, loop closures and motors. The builders (:mod:`cad.families.fourbar.sim`,
 :mod:`cad.families.pantograph.sim`) fill it from the build's assembly and mass properties.
 
-Frames and units (a public contract, README "Simulator export"):
+Frames and units (a public contract, docs/simulation.md):
 
 * SI everywhere: metres, kilograms, kg m^2, radians, N m. Part meshes are the part STL
   files (mm) scaled by 0.001.

@@ -63,7 +63,7 @@ def max_bytes() -> int | None:
     if raw is None or not raw.strip():
         return int(DEFAULT_MAX_MB * 1e6)
     if raw.strip().lower() in ("off", "none"):
-        return None  # 0 is not "no cap": refused below, as the README says
+        return None  # 0 is not "no cap": refused below, as docs/reliability.md says
     try:
         mb = float(raw)
     except ValueError:

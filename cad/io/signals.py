@@ -1,4 +1,4 @@
-"""SIGINT and SIGTERM: abort cleanly, publish nothing (README "Signals").
+"""SIGINT and SIGTERM: abort cleanly, publish nothing (docs/reliability.md "Signals").
 
 :func:`install` (called first thing by the ``hapticad`` entry points, before any heavy
 import) makes SIGINT and SIGTERM record the signal and raise :class:`KeyboardInterrupt`.

@@ -3,7 +3,7 @@
 Pure numpy, vectorized over samples *and* crank angles (no CAD). What varies:
 
 - **joint holes** of the three bars, each a 2-D position error in the bar's own frame
-  (link frames as in README "Conventions"): crank holes ``A1`` (on the motor shaft) and
+  (link frames as in docs/conventions.md): crank holes ``A1`` (on the motor shaft) and
   ``A2``; coupler holes ``A2``, ``A3`` and ``P`` (the handle); rocker holes ``A4``, ``A3``.
   Each coordinate is drawn independently.
 - **pivots** on the base: ``A1`` (motor axis) and ``A4`` (rocker post), 2-D errors in R0.

@@ -25,7 +25,7 @@ pose. Everything below reads that one list:
   ``bom.csv``, ``preview.png`` (the dispatcher adds ``report.json`` and
   ``manifest.json``; :func:`write_report_md` writes ``report.md``).
 
-The output layout is the same for every family (README "Build output").
+The output layout is the same for every family (docs/build-outputs.md).
 """
 
 from __future__ import annotations

@@ -146,7 +146,7 @@ def wall_inputs(design) -> tuple[dict, str]:
 def wall_report(design, *, K: float | None = None, B: float = 0.0, Te_s: float | None = None,
                 counts_per_rev: float | None = None, model: str = "reduced",
                 build_dir: Path | None = None) -> dict:
-    """Everything ``hapticad wall --json`` prints (README "Virtual wall")."""
+    """Everything ``hapticad wall --json`` prints (docs/simulation.md "Virtual wall")."""
     from cad.dynamics.inertia import InertiaCoefficients
     from cad.families.fourbar.datasheet import eq25_K_max
     from cad.sim import wall

@@ -1,7 +1,7 @@
 """A sweep's folder on disk: the table, its manifest, and a protocol that survives any kill.
 
 The folder (``--out``) holds the sweep's own files (:data:`OWNED`) and ``manifest.json``
-(the ownership record of README "Output folders": each file with its sha256). The sweep
+(the ownership record of docs/reliability.md "Output folders": each file with its sha256). The sweep
 rewrites its files in place while it runs, so every rewrite follows one protocol
 (:func:`publish`), whose every intermediate state a rerun accepts:
 
