@@ -46,7 +46,7 @@ def test_cli_build_writes_the_pen(built):
     assert rep["family"] == "haptic-pen"
     for f in ("assembly.step", "bom.csv", "report.json", "report.md", "haptic-pen-200.xml",
               "parts/yoke.stl", "parts/ring.stl", "parts/pen_rod.stl", "parts/waist_bracket.step",
-              "parts/base_plate.dxf"):
+              "parts/base_plate.dxf", "render.png", "animation.gif", "report.html"):
         assert (out / f).is_file(), f
     bodies = set(rep["bodies"])
     assert {"pen", "A_yoke", "B_ring", "A_waist", "B_proximal_upper"} <= bodies and len(bodies) == 15

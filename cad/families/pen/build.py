@@ -28,6 +28,8 @@ CODE_DEPS = ("pipeline", "families", "datasheet", "report", "parts", "assembly",
              "tolerances.py", "sim")
 #: This builder writes the MJCF (:mod:`cad.families.pen.sim`).
 SIM_EXPORT = True
+#: This builder writes glb and 3mf, render.png and animation.gif (:mod:`cad.pipeline.views`).
+VIEW_EXPORT = True
 #: Table 3 of the isotropy paper (the built pen at home; g, g cm^2, N, N cm).
 PAPER_TABLE3 = {
     "mass_x_g": 190.0, "mass_y_g": 226.0, "mass_z_g": 156.0,
@@ -125,6 +127,13 @@ def build(design, out_dir: Path, formats: set[str], *, fidelity: str = "fabricat
         from cad.families.pen.sim import write_mjcf
 
         files += write_mjcf(design, model, bodies, out_dir)
+    from cad.families.pen.layout import body_poses, stroke_task
+    from cad.pipeline.views import write_viewer_outputs
+
+    view_files, viewer_glb = write_viewer_outputs(
+        inst, tfs, out_dir, formats, name=design.name, title=f"{design.name} ({design.family})",
+        stroke=body_poses(design, stroke_task(design)))
+    files += view_files
     _step(progress, "report", 4, total)
     report = _report(design, model, bodies, eff, itf, bom, fidelity, low)
     report["part_materials"] = family.part_materials(inst)
@@ -132,6 +141,7 @@ def build(design, out_dir: Path, formats: set[str], *, fidelity: str = "fabricat
     report["files"] = sorted(files + ["report.md"])
     family.write_report_md(out_dir, f"{design.name} ({design.family})", _md_rows(report), bom,
                            report["notes"])
+    report["_viewer_glb"] = viewer_glb  # popped by the dispatcher: embedded in report.html
     _step(progress, "done", total, total)
     return report
 

@@ -178,6 +178,19 @@ def motion_task(design) -> tuple[np.ndarray, tuple[str, ...]]:
     return X, labels
 
 
+def stroke_task(design, n: int = 24) -> np.ndarray:
+    """(n, 5) task poses of the animation: the pen once round an ellipse through 0.4 of the
+    workspace box in x and y at the centre height, yawing and pitching by half the rotation
+    range (a closed loop, first pose = last)."""
+    ws = design.workspace
+    c = np.asarray(ws["center_mm"], float)
+    s = np.asarray(ws["size_mm"], float)
+    r = math.radians(ws["rotation_deg"]) / 2
+    t = np.linspace(0.0, 2 * math.pi, n)
+    return np.column_stack([c[0] + 0.4 * s[0] * np.cos(t), c[1] + 0.4 * s[1] * np.sin(t),
+                            np.full(n, c[2]), r * np.sin(t), r * np.cos(t)])
+
+
 def _frame(x, z, origin) -> np.ndarray:
     """(..., 4, 4) frames with axes x, y = z cross x, z and ``origin`` (world, mm)."""
     x, z, origin = np.broadcast_arrays(x, z, origin)
@@ -194,7 +207,6 @@ def _unit(v):
     return v / np.linalg.norm(v, axis=-1, keepdims=True)
 
 
-# long-function: one pass over both arms, the gimbals and the pen, each body frame stated once
 def body_poses(design, X) -> dict[str, np.ndarray]:
     """``{body: (N, 4, 4)}`` world poses (mm) at task poses ``X`` (N, 5) = (x, y, z mm, yaw,
     pitch rad) (module docstring); ValueError naming how many poses cannot be reached."""
