@@ -189,3 +189,28 @@ def test_datasheet_prints_the_pen_rows():
     code, out, err = hapticad("datasheet", DESIGN)
     assert code == 0, err
     assert "effective mass at home" in out
+
+
+@pytest.mark.parametrize(
+    "key, value, field",
+    [
+        ("knob_height_mm", 20.0, "parts.knob_height_mm"),  # the mouse's, refused
+        ("pen_diamter_mm", 10.0, "parts.pen_diamter_mm"),  # a typo
+        ("gimbal_ring_mm", 20.0, "parts.gimbal_ring_mm"),  # cannot hold the hub's bearings
+        ("pen_diameter_mm", 29.0, "parts.pen_diameter_mm"),  # does not pass the ring
+        ("pen_diameter_mm", 1e300, "parts.pen_diameter_mm"),  # past the part-size bound
+        ("waist_motor", "maxon-re99", "parts.waist_motor"),  # not in the catalog
+        ("tube_id_mm", 9.0, "parts.tube_id_mm"),  # the twin pantograph's own check
+    ],
+)
+def test_bad_parts_keys_are_named_before_any_cad(tmp_path, key, value, field):
+    from cli_helpers import assert_one_line_error, hapticad
+
+    text = f'"{value}"' if isinstance(value, str) else repr(value)
+    raw = re.sub(rf"^{key} = .*\n", "", DESIGN.read_text(), flags=re.M)  # the design's own value
+    raw = raw.replace("[parts]\n", f"[parts]\n{key} = {text}\n")
+    bad = tmp_path / "bad.toml"
+    bad.write_text(raw)
+    code, _, err = hapticad("build", bad, "--out", tmp_path / "o")
+    assert_one_line_error(code, err, field)
+    assert not (tmp_path / "o").exists()
