@@ -186,6 +186,9 @@ def test_datasheet_prints_the_pen_rows():
     assert rows["force_any_dir_N"]["value"] > 0
     assert rows["effective_mass_home.mass_x_g_apparent"]["paper"] == 190.0  # Table 3
     assert rows["overlap_volume_mm3"]["value"] == 0.0
+    # from the catalog motors' data-sheet torques, Table 3's smallest axis figure beside it
+    assert rows["continuous_force_N"]["paper"] == 2.0 and rows["peak_force_N"]["paper"] == 20.0
+    assert 0 < rows["continuous_force_N"]["value"] < rows["peak_force_N"]["value"]
     code, out, err = hapticad("datasheet", DESIGN)
     assert code == 0, err
     assert "effective mass at home" in out
