@@ -59,8 +59,8 @@ FAMILIES: dict[str, Family] = {
                _PANTOGRAPH_CMDS),
         Family("twin-pantograph", "twin-pantograph", "cad.design.pantograph", "pantograph",
                _PANTOGRAPH_CMDS),
-        Family("haptic-pen", "haptic-pen", "cad.families.pen.design", "pen",
-               tuple(c for c in _PANTOGRAPH_CMDS if c != "render"), firmware=False),
+        Family("haptic-pen", "haptic-pen", "cad.families.pen.design", "pen", _PANTOGRAPH_CMDS,
+               firmware=False),
         Family("powermouse", "powermouse", "cad.design.powermouse", "powermouse",
                ("build", "render", "datasheet")),
     )
