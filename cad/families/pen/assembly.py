@@ -122,9 +122,10 @@ def _gimbal_kinds(design, lay: dict, add) -> None:
 
 def _ground_kinds(design, lay: dict, gl: dict, add) -> None:
     """Waist bracket and hub (moving with the waist), base plate, waist motor mounts, legs."""
-    from cad.data.catalog import clearance_hole_mm, get_motor, tap_drill_mm
+    from cad.data.catalog import clearance_hole_mm, get_cap_screw, get_motor, tap_drill_mm
     from cad.data.fits import fit
     from cad.families.pen import parts as pp2
+    from cad.families.pen.fasteners import bracket_bolt_xz_mm
     from cad.parts import base
     from cad.parts import motor as pm
     from cad.parts import pantograph as pp
@@ -137,7 +138,9 @@ def _ground_kinds(design, lay: dict, gl: dict, add) -> None:
     add("waist_bracket",
         pp2.waist_bracket_shape(gl["foot_mm"], lay["motor_plate_mm"], side, hub_d, hub_d,
                                 (-l1 / 2, l1 / 2), sm.pilot_diameter_mm + 2.0,
-                                wm.shaft_diameter_mm + 1.0, l1 / 2 + side / 2),
+                                wm.shaft_diameter_mm + 1.0, l1 / 2 + side / 2,
+                                [(x, z, clearance_hole_mm(sm.bolt_size))
+                                 for x, z in bracket_bolt_xz_mm(design)]),
         p.plate_material, True,
         "waist bracket: motor plate for both shoulder motors, foot under the links, boss",
         "CNC milled from block; bore both pilot seats", fits=(fit("pilot bore", sm.pilot_diameter_mm),))
@@ -150,7 +153,11 @@ def _ground_kinds(design, lay: dict, gl: dict, add) -> None:
         "waist motor mount plate", "waterjet/laser plate; bore the pilot seat", plate=True,
         fits=(fit("pilot bore", wm.pilot_diameter_mm),))
     l4 = design.mechanism.l4_mm
-    holes = [(s * l4 / 2, 0.0, wm.pilot_diameter_mm + 2 * pp.OPENING_MARGIN_MM) for s in (-1, 1)]
+    # the waist motor face screws' heads sit in the opening (as the pantographs' motors)
+    opening = max(wm.pilot_diameter_mm + 2 * pp.OPENING_MARGIN_MM,
+                  wm.bolt_circle_mm + get_cap_screw(wm.bolt_size, "parts.waist_motor").dk_mm
+                  + 2 * pp.OPENING_MARGIN_MM)
+    holes = [(s * l4 / 2, 0.0, opening) for s in (-1, 1)]
     holes += [(s * l4 / 2 + x, y, tap_drill_mm(pm.MOUNT_SCREW)) for s in (-1, 1)
               for x, y in pm.mount_hole_xy_mm(wm)]
     holes += [(x, y, clearance_hole_mm(base.LEG_SCREW)) for x, y in _leg_xy(gl)]
@@ -230,7 +237,8 @@ def _ground_parts(design, gl: dict) -> list[tuple[str, str, np.ndarray]]:
 
 
 def kinds(design, lay: dict, gl: dict, fidelity: str) -> dict:
-    """``{kind name: PartKind}`` of every distinct part of the pen."""
+    """``{kind name: PartKind}`` of every distinct part of the pen (and ``"_screws"``: the
+    cap screw kind of each screw group)."""
     from cad.parts import PartKind
 
     K: dict = {}
@@ -239,9 +247,12 @@ def kinds(design, lay: dict, gl: dict, fidelity: str) -> dict:
         K[name] = PartKind(name=name, shape=shape, material=material, made=made,
                            description=description, process=process, **kw)
 
+    from cad.families.pen.fasteners import screw_kinds
+
     _link_kinds(design, lay, fidelity, add)
     _gimbal_kinds(design, lay, add)
     _ground_kinds(design, lay, gl, add)
+    K["_screws"] = screw_kinds(design, add)
     return K
 
 
@@ -271,8 +282,9 @@ def assemble(design, fidelity: str = "fabrication"):
     motion = L.body_poses(design, X)
     inst: list = []
 
-    def place(name, kind, body, tf):
-        inst.append(PartInstance(name, K[kind], body, np.asarray(tf, dtype=float)))
+    def place(name, kind, body, tf, fastener=None):
+        inst.append(PartInstance(name, K[kind], body, np.asarray(tf, dtype=float),
+                                 fastener=fastener))
 
     for name, kind, tf in _ground_parts(design, gl):
         place(name, kind, "ground", tf)
@@ -294,8 +306,11 @@ def assemble(design, fidelity: str = "fabrication"):
             place(f"pen.{arm}_{kind}{k}", kind, "pen", T @ tf)
     sock = lay["pen_hub_radius_mm"]
     place("pen.pen_rod", "pen_rod", "pen", _tr(2 * sock - sock))
+    from cad.families.pen.fasteners import place_screws
+
+    holes = place_screws(design, lay, gl, K["_screws"], place, _rot)
     home = {b: T[0] for b, T in motion.items()}
     return AssemblyModel(
         design=design, instances=tuple(inst), tf_world_body=home, motion=motion,
-        pose_labels=labels, holes={},
+        pose_labels=labels, holes=holes,
         extra={"layout_mm": lay, "ground_mm": gl, "home_task": X[0], "motion_task": X})

@@ -54,11 +54,12 @@ def spigot_hub_shape(clevis_kw: dict, shaft_d_mm: float, spigot_d_mm: float,
 def waist_bracket_shape(foot_mm: tuple[float, float], plate_mm: tuple[float, float],
                         plate_side_mm: float, strip_w_mm: float, boss_d_mm: float,
                         motor_z_mm: tuple[float, float], pilot_d_mm: float,
-                        shaft_hole_mm: float, top_mm: float):
+                        shaft_hole_mm: float, top_mm: float, bolt_holes=()):
     """Waist bracket: a foot strip (width ``strip_w_mm``) from the boss on the waist axis out
     to the motor plate, the boss (``boss_d_mm``) and the vertical motor plate (side
     ``plate_side_mm`` wide, from the foot to ``top_mm``) with a pilot bore at each shoulder
-    height ``motor_z_mm``. Waist frame, one machined part."""
+    height ``motor_z_mm`` and the motor screws' clearance holes ``bolt_holes`` ``[(x, z,
+    diameter)]``. Waist frame, one machined part."""
     from build123d import Box, Cylinder, Pos, Rot
 
     f0, f1 = foot_mm
@@ -70,6 +71,8 @@ def waist_bracket_shape(foot_mm: tuple[float, float], plate_mm: tuple[float, flo
     body = strip + boss + plate
     for z in motor_z_mm:
         body = body - Pos(0, (p0 + p1) / 2, z) * Rot(90, 0, 0) * Cylinder(pilot_d_mm / 2, p1 - p0)
+    for x, z, d in bolt_holes:
+        body = body - Pos(x, (p0 + p1) / 2, z) * Rot(90, 0, 0) * Cylinder(d / 2, p1 - p0)
     body = body - Pos(0, 0, f0) * Cylinder(shaft_hole_mm / 2, t, align=_amin())
     return _solid(body)
 
