@@ -100,6 +100,33 @@ def test_body_masses_equal_the_stl_volumes_read_back(built, model):
         assert rep["bodies"][b]["mass_kg"] == pytest.approx(m, rel=1e-3), b
 
 
+def test_screws_sit_in_their_holes_in_the_step_file(built):
+    """Every screw has its record (catalog length, one screw per hole, engagement within the
+    hole's window) and, read back from assembly.step (OCCT's XCAF reader), each vertical one
+    engages the part its hole names by the recorded length, its tip free (tests/step_pairs)."""
+    from step_pairs import read_parts, thread_in_part_mm
+
+    from cad.data import catalog
+
+    out, rep = built
+    f, holes = rep["fasteners"], rep["tapped_holes"]
+    assert len(f) == 30 and len({x["hole"] for x in f.values()}) == 30
+    parts = dict(read_parts(out / "assembly.step"))
+    measured = 0
+    for name, x in f.items():
+        cs = catalog.get_cap_screw(x["size"], "test")
+        h = holes[x["hole"]]
+        assert x["length_mm"] in cs.lengths_mm and x["engagement_mm"] <= h["depth_mm"] + 1e-9
+        assert x["engagement_mm"] >= h["min_engagement_mm"] - 1e-9, name
+        if ".shoulder_screw_" in name:
+            continue  # horizontal: the check measures vertical screws
+        e, tip_free = thread_in_part_mm(parts[name], parts[h["part"]], cs.d_mm, cs.dk_mm)
+        assert e == pytest.approx(x["engagement_mm"], abs=0.01), (name, h["part"], e)
+        assert tip_free, name
+        measured += 1
+    assert measured == 18  # legs 4, waist mount plates 8, waist motor faces 6
+
+
 def _step_mesh(path: Path):
     """The STEP file read back (OCCT's reader), meshed at 0.01 mm, as a merged trimesh."""
     import trimesh

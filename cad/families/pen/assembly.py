@@ -76,8 +76,8 @@ def _link_kinds(design, lay: dict, fidelity: str, add) -> None:
     for key, tag in ((p.motor, "shoulder"), (p.waist_motor, "waist")):
         m = get_motor(key)
         add(f"motor_{tag}", pm.motor_housing_shape(m), "steel-1018", False, m.description,
-            f"bought ({tag} joint); with its shaft (solid motor_{tag}_shaft in assembly.step)",
-            mass_kg=m.mass_kg)
+            f"bought ({tag} joint); face tapped {m.bolt_size.split('-')[0]} x{m.bolt_count}; with "
+            f"its shaft (solid motor_{tag}_shaft in assembly.step)", mass_kg=m.mass_kg)
         add(f"motor_{tag}_shaft", pm.motor_shaft_shape(m), "steel-1018", False, "motor shaft",
             "part of the motor", inertia_model="none", listed=False)
 
@@ -164,7 +164,8 @@ def _ground_kinds(design, lay: dict, gl: dict, add) -> None:
     add("base_plate", pp.plate_shape(gl["base_plate_x_mm"], gl["base_plate_y_mm"],
                                      p.plate_thickness_mm, holes),
         p.plate_material, True, "base plate (waist motors under, legs at the corners)",
-        "waterjet/laser plate", plate=True)
+        f"waterjet/laser plate; tap {pm.MOUNT_SCREW.split('-')[0]} x{2 * len(pm.mount_hole_xy_mm(wm))}",
+        plate=True)
     add("leg", base.leg_shape(gl["leg_height_mm"]), p.plate_material, True,
         f"leg standoff d{base.LEG_DIAMETER_MM:g} x {gl['leg_height_mm']:g}",
         f"turned; tap {base.LEG_SCREW.split('-')[0]} both ends")
