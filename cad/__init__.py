@@ -4,14 +4,21 @@ Layers (one direction, no back-edges):
 design (TOML) -> kinematics -> link geometry -> parts -> mass properties
 -> dynamics -> report / checks / exports.
 
-``cad.kinematics``, ``cad.dynamics`` and ``cad.actuators`` are pure numpy and
-never import OCP, build123d or cadquery. CAD modules import lazily.
+``cad.kinematics``, ``cad.dynamics``, ``cad.actuators``, ``cad.isotropy``, the pure
+modules of ``cad.massprops``, ``cad.data`` and ``cad.design`` never import OCP, build123d or
+cadquery, nor a CAD-layer package (tests/test_import_graph.py). CAD modules import lazily.
+
+The supported API is :mod:`cad.api` (every command as a function; ``assemble`` and
+``design.replace`` for objects), its names re-exported here; the CLI (:mod:`cad.cli`) is
+built on it and imported by nothing but the entry point.
 """
 
 __version__ = "0.1.0"
 
 #: The supported API (:mod:`cad.api`), loaded on first use so ``import cad`` stays light.
-__all__ = ["analyze", "build_design", "check", "gii", "load_design", "mass_properties"]
+__all__ = ["analyze", "assemble", "build_design", "cache", "check", "device_datasheet",
+           "fit_design", "gii", "load_design", "mass_properties", "optimize", "render",
+           "run_bench", "swap", "sweep_design", "synth", "tolerance", "voicecoil", "wall"]
 
 
 def __getattr__(name: str):

@@ -1,23 +1,64 @@
-"""The supported Python API: what the CLI does, as functions on plain data.
+"""The supported Python API: every ``hapticad`` command as a function, on plain data and on
+objects.
 
 Everything else in :mod:`cad` is internal and may change. Lengths in mm, masses in g or kg
-and inertias in kg m^2 as the dict keys say; frames as in docs/conventions.md.
+and inertias in kg m^2 as the dict keys say; frames as in docs/conventions.md. A
+function returns what the command prints with ``--json`` (without the run's ``warnings``
+list: :func:`cad.design.bounds.collected` holds them) and writes nothing unless writing is
+what it is for (``build_design``, ``render``, ``sweep``, ``bench``). Bad input raises
+:class:`cad.errors.DesignError` (a ``ValueError``) naming the field or option.
 
 >>> import cad
 >>> d = cad.load_design("designs/hoeken.toml")
 >>> round(cad.analyze(d)["stroke_mm"], 2)
 48.87
 
-The build function is ``build_design`` (``cad.pipeline`` is the build subpackage).
+Objects: ``design.replace(**changes)`` (validated like a file, :mod:`cad.design.replace`);
+``cad.assemble(design)`` the :class:`cad.assembly.model.AssemblyModel`, whose
+``.compound()`` is a labelled, coloured build123d ``Compound`` (docs/python-api.md).
 
-Importing :mod:`cad` stays light: CAD libraries load on the first call that needs them
-(:func:`build_design`, :func:`check`, :func:`mass_properties` of a STEP file).
+======================  ===================================================
+command                 function
+======================  ===================================================
+``hapticad analyze``    :func:`analyze`
+``hapticad bench``      :func:`run_bench`
+``hapticad build``      :func:`build_design` (and :func:`assemble` for the solids)
+``hapticad cache``      :func:`cache`
+``hapticad check``      :func:`check`
+``hapticad datasheet``  :func:`device_datasheet`
+``hapticad fit``        :func:`fit_design`
+``hapticad gii``        :func:`gii`
+``hapticad massprops``  :func:`mass_properties`
+``hapticad optimize``   :func:`optimize`
+``hapticad render``     :func:`render`
+``hapticad swap``       :func:`swap`
+``hapticad sweep``      :func:`sweep_design`
+``hapticad synth``      :func:`synth`
+``hapticad tolerance``  :func:`tolerance`
+``hapticad voicecoil``  :func:`voicecoil`
+``hapticad wall``       :func:`wall`
+======================  ===================================================
+
+:data:`COMMANDS` is this table as data (tests/test_api_commands.py checks it against the
+CLI). Importing :mod:`cad` stays light: CAD libraries load on the first call that needs them
+(:func:`build_design`, :func:`assemble`, :func:`check`, :func:`mass_properties` of a STEP
+file ...). This module imports no :mod:`cad.cli` (the CLI is built on it).
 """
 
 from __future__ import annotations
 
 from pathlib import Path
 from typing import Any
+
+#: ``hapticad`` command -> the function of this module that does what it does.
+COMMANDS = {
+    "analyze": "analyze", "bench": "run_bench", "build": "build_design", "cache": "cache",
+    "check": "check", "datasheet": "device_datasheet", "fit": "fit_design", "gii": "gii",
+    "massprops": "mass_properties", "optimize": "optimize", "render": "render", "swap": "swap",
+    "sweep": "sweep_design", "synth": "synth", "tolerance": "tolerance", "voicecoil": "voicecoil",
+    "wall": "wall",
+}
+__all__ = sorted({*COMMANDS.values(), "assemble", "load_design"})
 
 
 def load_design(path: str | Path):
@@ -40,15 +81,10 @@ def analyze(design, samples: int | None = None, inertia: dict[str, float] | None
     Raises DesignError for a non-four-bar design.
     """
     from cad.analysis import analyze as _analyze
-    from cad.design.fourbar import FourBarDesign
-    from cad.dynamics.inertia import InertiaCoefficients
-    from cad.errors import DesignError
+    from cad.data.families import require
 
-    if not isinstance(design, FourBarDesign):
-        raise DesignError("mechanism.family", "analyze works on four-bar designs; use gii()")
-    H = None if inertia is None else InertiaCoefficients(
-        inertia["H11"], inertia["H12"], inertia["H22"], inertia["H33"])
-    return _analyze(design, samples=samples, inertia=H)
+    require("analyze", getattr(design, "family", None))
+    return _analyze(design, samples=samples, inertia=_inertia(inertia))
 
 
 def build_design(design, out_dir: str | Path, formats=("step", "stl", "dxf"),
@@ -87,11 +123,10 @@ def check(design, targets: tuple[str, ...] | list[str] = (), fidelity: str = "in
 
     if fidelity not in ("inertia", "fabrication"):
         raise DesignError("--fidelity", f"must be inertia or fabrication, got {fidelity!r}")
-    four_bar = isinstance(design, FourBarDesign)
-    if not four_bar and design.family not in ("pantograph", "twin-pantograph", "haptic-pen"):
-        from cad.cli.families import refusal
+    from cad.data.families import require
 
-        raise DesignError("mechanism.family", refusal("check", design.family))
+    require("check", getattr(design, "family", None))
+    four_bar = isinstance(design, FourBarDesign)
     keys = TARGET_KEYS if four_bar else PANTOGRAPH_TARGET_KEYS
     if isinstance(targets, str):  # one "KEY=VALUE", not its characters
         targets = (targets,)
@@ -143,8 +178,8 @@ def mass_properties(path: str | Path, density_kg_m3: float | None = None,
     density or material the default material is used (a note in ``notes``). Raises
     DesignError / MeshError / GeometryError naming the file and the fault.
     """
-    from cad.cli.cmd_massprops import compute
     from cad.design import bounds
+    from cad.pipeline.file_props import compute
 
     dens = None if density_kg_m3 is None else str(density_kg_m3)
     bounds.reset()  # this call's warnings only, as one CLI command
@@ -158,9 +193,488 @@ def gii(design) -> dict:
     Returns the ``hapticad gii --json`` object (``gii``, ``sigma_min``, ``sigma_max`` and
     where they occur). Raises DesignError for other families.
     """
-    from cad.cli.cmd_gii import PANTOGRAPH_FAMILIES, gii_report
+    from cad.data.families import require
+    from cad.isotropy.report import gii_report
+
+    require("gii", getattr(design, "family", None))
+    return gii_report(design)
+
+
+def assemble(design, fidelity: str = "fabrication"):
+    """The device laid out as part instances: a :class:`cad.assembly.model.AssemblyModel`.
+
+    ``fidelity``: ``fabrication`` (every feature), ``inertia`` or ``preview`` (cheaper
+    solids: docs/design-files.md, ``fidelity``). Dispatched through the family registry
+    (:mod:`cad.data.families`) to ``cad.families.<package>.assemble``. ``model.compound()``
+    is a labelled, coloured build123d ``Compound`` (one child per instance, world frame, mm).
+    Raises DesignError naming ``mechanism.family`` for a family with no parts (no package or
+    no ``assemble``), ``fidelity`` for an unknown fidelity. Imports the CAD libraries.
+    """
+    import importlib
+
+    from cad.data.families import FAMILIES
+    from cad.design.parts import FIDELITIES
     from cad.errors import DesignError
 
-    if getattr(design, "family", None) not in PANTOGRAPH_FAMILIES:
-        raise DesignError("mechanism.family", f"gii needs one of {', '.join(PANTOGRAPH_FAMILIES)}")
-    return gii_report(design)
+    if fidelity not in FIDELITIES:
+        raise DesignError("fidelity", f"must be one of {', '.join(FIDELITIES)}, got {fidelity!r}")
+    family = getattr(design, "family", None)
+    row = FAMILIES.get(family)
+    if row is None:
+        raise DesignError("mechanism.family", f"unknown family {family!r}")
+    fn = None
+    if row.package is not None:
+        fn = getattr(importlib.import_module(f"cad.families.{row.package}"), "assemble", None)
+    if fn is None:
+        raise DesignError("mechanism.family", f"{family} designs have no parts to assemble yet "
+                          f"(no cad.families.{row.package or '<package>'}.assemble)")
+    return fn(design, fidelity=fidelity)
+
+
+def voicecoil(magnet_length_mm: float, magnet_width_mm: float, magnet_thickness_mm: float,
+              rattle_mm: float, power_W: float | None = None, br_T: float | None = None,
+              resistivity_ohm_m: float | None = None, eta_pack: float | None = None,
+              model: str = "closed-form", gap_mm: float | None = None,
+              gap_max_mm: float | None = None) -> dict:
+    """Optimal gap of a flat voice-coil actuator (isotropy paper eqs 8-9, Fig. 8).
+
+    Lengths mm, power W, remanence T, resistivity ohm m; None takes the command's default
+    (8 W, 1.2 T, copper, 0.75). Returns the ``hapticad voicecoil --json`` object
+    (``optimal_gap_mm``, ``coil_width_mm``, ``Bg_T``, ``force_N`` ...; with ``gap_mm`` also
+    the field and force there). Raises DesignError naming the parameter. No CAD.
+    """
+    from cad.actuators import voicecoil as vc
+    from cad.actuators.report import voicecoil_report
+
+    params = vc.VoiceCoilParams(
+        magnet_length_mm, magnet_width_mm, magnet_thickness_mm, rattle_mm,
+        vc.POWER_DEFAULT_W if power_W is None else power_W,
+        vc.BR_DEFAULT_T if br_T is None else br_T,
+        vc.RHO_COPPER_OHM_M if resistivity_ohm_m is None else resistivity_ohm_m,
+        vc.ETA_PACK_DEFAULT if eta_pack is None else eta_pack)
+    return voicecoil_report(params, model, gap_mm, gap_max_mm)
+
+
+def cache(clear: bool = False) -> dict:
+    """Where hapticad's disk caches are and their size per folder (``hapticad cache --json``:
+    ``cache_dir``, ``enabled``, ``max_MB``, ``total_MB``, ``folders``); ``clear`` first
+    removes every cache entry hapticad wrote there (then ``removed``). Raises DesignError
+    for a bad ``HAPTICAD_CACHE_MAX_MB``."""
+    from cad.io.cache_report import cache_summary
+
+    return cache_summary(clear)
+
+
+def device_datasheet(design, fidelity: str = "inertia") -> dict:
+    """The device datasheet (``hapticad datasheet --json`` without ``warnings``): ``name``,
+    ``family``, ``fidelity`` and ``datasheet`` (every figure with value, unit, source and
+    verdict; ``datasheet["warnings"]`` the missed limits). ``fidelity``: inertia,
+    fabrication or preview. Raises DesignError for a family without a datasheet (naming
+    ``mechanism.family``) or a design that cannot be built. Builds (or reads the cache)."""
+    from cad.data.families import require
+    from cad.datasheet.run import device_datasheet as _datasheet
+    from cad.design.parts import FIDELITIES
+    from cad.errors import DesignError
+
+    if fidelity not in FIDELITIES:
+        raise DesignError("--fidelity", f"must be one of {', '.join(FIDELITIES)}, got {fidelity!r}")
+    require("datasheet", design.family)
+    if hasattr(design, "check_buildable"):
+        design.check_buildable()
+    ds = _datasheet(design, fidelity)
+    return {"name": design.name, "family": design.family, "fidelity": fidelity, "datasheet": ds}
+
+
+def wall(design, K_N_per_m: float | None = None, B_N_s_per_m: float = 0.0,
+         Te_s: float | None = None, encoder_counts_per_rev: int | None = None,
+         model: str = "reduced", build_dir: str | Path | None = None) -> dict:
+    """Largest stable virtual-wall stiffness of a four-bar (``hapticad wall --json``):
+    ``K_max_stable_N_per_m`` for damping ``B_N_s_per_m`` beside eq (25) and the passivity
+    bound; with ``K_N_per_m`` also whether that wall is stable. ``model``: reduced | mujoco.
+    Defaults from the design's ``[stiffness]`` (:func:`cad.sim.device.wall_inputs`).
+    Raises DesignError for another family (``mechanism.family``) or a bad value."""
+    from cad.data.families import require
+    from cad.sim.device import wall_report
+    from cad.sim.wall import check_sampling_period
+
+    require("wall", design.family)
+    if Te_s is None and design.stiffness is not None:  # the design's period: name its key
+        check_sampling_period(design.stiffness.Te_s, "stiffness.Te_s")
+    return wall_report(design, K=K_N_per_m, B=B_N_s_per_m, Te_s=Te_s,
+                       counts_per_rev=encoder_counts_per_rev, model=model,
+                       build_dir=None if build_dir is None else Path(build_dir))
+
+
+def optimize(design, method: str | None = None, objective: str | None = None, trials: int = 300,
+             seed: int = 0, exact_top: int = 3, proportions_tol: float = 0.0,
+             starts: bool = True) -> dict:
+    """Maximize the GII (pantograph families: ``method`` culling | brute, isotropy paper eq 6
+    over the design's ``[optimize]`` grid) or minimize the apparent mass (four-bars:
+    ``objective`` min-apparent-mass, the co-design search of :mod:`cad.codesign`).
+
+    Returns the ``hapticad optimize --json`` object without the file keys (``command``,
+    ``measured``, ``out``, ``replaced*``): pantographs ``best``, ``gii``, evaluations ...;
+    four-bars ``best`` (None when no candidate passed the exact solids), ``trials`` ... .
+    Raises DesignError naming the option or ``mechanism.family``.
+    """
+    from cad.data.families import FAMILIES, require
+    from cad.errors import DesignError
+
+    if FAMILIES[design.family].group == "four-bar":
+        if method is not None:
+            raise DesignError("--method", f"{method!r} is for pantograph designs; a four-bar "
+                                          "takes --objective min-apparent-mass")
+        if (objective or "min-apparent-mass") != "min-apparent-mass":
+            raise DesignError("--objective", f"must be min-apparent-mass, got {objective!r}")
+        from cad.codesign.report import optimize_fourbar
+
+        rep, _ = optimize_fourbar(design, "min-apparent-mass", trials, seed, exact_top, None,
+                                  None, None, proportions_tol, starts)
+        return rep
+    require("optimize", design.family)
+    if objective is not None:
+        raise DesignError("--objective", f"min-apparent-mass is for four-bar designs, not "
+                                         f"{design.family!r} (use --method)")
+    if method is not None and method not in ("culling", "brute"):
+        raise DesignError("--method", f"must be 'culling' or 'brute', got {method!r}")
+    from cad.isotropy.report import optimize_report
+
+    return optimize_report(design, method or "culling")
+
+
+def render(designs, out_dir: str | Path = "docs/devices", fidelity: str | None = None) -> list:
+    """Shaded picture and stroke GIF of each design (paths or loaded designs), from its build
+    in a temporary folder, written to ``out_dir/<name>.png`` and ``.gif``; the
+    ``hapticad render --json`` ``rendered`` list (``design``, ``name``, ``png``, ``gif``).
+    Raises DesignError (nothing written) for a family without pictures or a clash of names."""
+    from cad.pipeline.render import render_designs
+
+    return render_designs(list(designs), Path(out_dir), fidelity)
+
+
+def synth(design, objective: str = "max-stroke", free: str = "range", dy_tol_mm: float = 0.2,
+          mu_min_deg: float = 30.0, stroke_mm: float | None = None) -> dict:
+    """Link lengths and crank range of a four-bar for a stated objective (``hapticad synth``).
+
+    ``objective``: max-stroke | min-torque-variation; ``free``: range | all; ``dy_tol_mm``
+    the allowed max |y| (mm); ``mu_min_deg`` the minimum transmission angle; ``stroke_mm``
+    the stroke to hold (default the design's ``mechanism.stroke_mm``). Returns the
+    ``hapticad synth --json`` object without ``command`` / ``measured`` / ``out`` keys
+    (``feasible``, ``evaluations``, ``start``, ``result`` ...) plus ``mechanism``: the
+    result's ``[mechanism]`` table (family custom; ``design.replace(mechanism=...)`` makes the
+    design of it). Raises DesignError for another family or a stroke no linkage reaches.
+    """
+    from cad import tolerances as tol
+    from cad.data.families import require
+    from cad.design.writer import custom_mechanism_table
+    from cad.errors import DesignError
+    from cad.kinematics.synthesis import synthesize
+
+    require("synth", design.family)
+    held_mm = stroke_mm or (design.stroke_mm_requested or None)
+    r = synthesize(design.linkage, design.phi1_min_rad, design.phi1_max_rad, objective,
+                   free=free, dy_tol_mm=dy_tol_mm, mu_min_deg=mu_min_deg, stroke_mm=held_mm,
+                   force_N=design.force_N)
+    got = r.metrics.stroke_mm
+    if held_mm is not None and not abs(got - held_mm) <= tol.SYNTH_STROKE_REL * held_mm:
+        raise DesignError("--stroke-mm" if stroke_mm is not None else "mechanism.stroke_mm",
+                          f"no linkage of this family reaches a stroke of {held_mm:g} mm within "
+                          f"the constraints (none found; the start has {got:.4g} mm): change "
+                          "--objective, --free, --dy-tol-mm or the stroke")
+    mech = custom_mechanism_table(r.linkage, r.phi1_min_rad, r.phi1_max_rad, design.force_N)
+    return {
+        "objective": objective, "free": free, "feasible": r.feasible,
+        "evaluations": r.evaluations, "stroke_mm_held": held_mm,
+        "start": {**design.resolved_linkage(), **r.start_metrics.as_dict()},
+        "result": {**{k: v for k, v in mech.items() if k != "family"}, **r.metrics.as_dict()},
+        "mechanism": mech,
+    }
+
+
+def swap(design, to: str, out: str | Path | None = None, name: str | None = None) -> dict:
+    """The same joint hardware with another straight-line bar set (``hapticad swap``): the
+    four-bar swapped to ``to`` (hoeken | roberts | chebyshev | chebyshev-v) at the same stroke.
+
+    ``out``: where the new design would be written (relative paths of the design are rebased
+    there; default ``<stem>_<family>.toml`` beside the design's file; nothing is written);
+    ``name``: its name (default ``<name>__<family>``). Returns ``old`` / ``new`` metrics and
+    ``layers`` (as ``hapticad swap --json``), ``design`` (the new validated design), ``raw``
+    (its TOML mapping) and ``dropped`` (targets not carried over). Raises DesignError for
+    another family (``mechanism.family``), an unknown ``to`` or a bar set no layer order clears.
+    """
+    from cad.data.families import require
+    from cad.families.fourbar.swap import swap as _swap
+
+    require("swap", design.family)
+    src = Path(design.source)
+    target = Path(out) if out is not None else src.with_name(f"{src.stem}_{to.replace('-', '_')}.toml")
+    return _swap(design, to, target, name)
+
+
+def _inertia(inertia: dict[str, float] | None):
+    """``{"H11": .., "H12": .., "H22": .., "H33": ..}`` (kg m^2, ``_kg_m2`` suffixes allowed)
+    as InertiaCoefficients, each checked against its bounds; None stays None."""
+    if inertia is None:
+        return None
+    from cad.design.bounds import FIELDS, check_number
+    from cad.dynamics.inertia import InertiaCoefficients
+    from cad.errors import DesignError
+
+    vals = {str(k).removesuffix("_kg_m2"): v for k, v in inertia.items()}
+    missing = sorted({"H11", "H12", "H22", "H33"} - set(vals))
+    if missing or len(vals) != 4:
+        raise DesignError("inertia", f"expected H11, H12, H22 and H33 (kg m^2), got {sorted(vals)}")
+    return InertiaCoefficients(*(check_number(f"inertia.{k}_kg_m2", vals[k], FIELDS[f"inertia.{k}_kg_m2"])
+                                 for k in ("H11", "H12", "H22", "H33")))
+
+
+def tolerance(design, hole_mm: float | None = None, hole=(), pivot_mm: float | None = None,
+              pivot=(), length_mm: float | None = None, length=(), distribution: str = "normal",
+              samples: int = 10000, seed: int = 0, angles: int = 401, targets=(),
+              inertia: dict[str, float] | None = None) -> dict:
+    """Monte Carlo of hole, pivot and length tolerances of a four-bar (``hapticad tolerance``):
+    distributions, yield against the targets, sensitivity (docs/tolerances.md).
+
+    ``hole_mm`` / ``pivot_mm`` / ``length_mm``: +- mm on every bar hole / base pivot / link
+    length; ``hole``, ``pivot``, ``length``: the specific ``"BAR.HOLE=T[:dist]"``,
+    ``"A4=T"``, ``"l2=T"`` strings of the flags; ``distribution`` normal (T = 3 sigma) or
+    uniform; ``targets``: ``"KEY<=V"`` strings added to the design's; ``inertia`` as in
+    :func:`analyze` (default the design's ``[inertia]``, else the solids). Returns the
+    ``hapticad tolerance --json`` object (without ``files``). Raises DesignError.
+    """
+    from cad.design import bounds
+    from cad.design.targets import parse_cli_target
+    from cad.tolerance_study import tolerances_from_flags
+
+    bounds.check_work("tolerance", [("--samples", samples), ("--angles", angles)])
+    tols = tolerances_from_flags(hole_mm, list(hole), pivot_mm, list(pivot), length_mm,
+                                 list(length), distribution)
+    given = tuple(parse_cli_target(t) for t in ((targets,) if isinstance(targets, str) else targets))
+    return _tolerance_run(design, tols, given, _inertia(inertia), samples, seed, angles)[0]
+
+
+def _tolerance_run(design, tols, given, H, samples: int, seed: int, angles: int):
+    """The tolerance study of :func:`tolerance` from parsed inputs (Tolerance tuple, Target
+    tuple, InertiaCoefficients or None): ``(result dict, per-sample metrics, targets)``."""
+    from cad.checks import merge_targets
+    from cad.data.families import require
+    from cad.design import bounds
+    from cad.errors import DesignError
+    from cad.kinematics.tolerance import METRIC_KEYS
+    from cad.tolerance_study import inertia_for_m11, run
+
+    require("tolerance", design.family)
+    H, h_source = inertia_for_m11(design, H)
+    for t in given:
+        if t.key not in METRIC_KEYS:
+            raise DesignError("--target", f"{t.key} is not computed by the tolerance study "
+                              f"(it computes {', '.join(METRIC_KEYS)})")
+    skipped = [t.key for t in design.targets if t.key not in METRIC_KEYS]
+    if skipped:
+        bounds.warn(f"[targets] {', '.join(skipped)}: not computed by the tolerance study "
+                    "(kinematics and M11 only); not in the yield")
+    merged = merge_targets(design.targets, given)
+    res, m = run(design, tols, samples, seed, angles, H, merged)
+    res["inertia_source"] = h_source
+    res["inertia_kg_m2"] = H.as_dict()
+    return res, m, merged
+
+
+def fit_design(design, targets=(), free=(), fidelity: str = "inertia", echo=None) -> dict:
+    """Adjust free parameters of a design to meet targets (``hapticad fit``).
+
+    ``targets``: ``"KEY=VALUE"``, ``"KEY<=V"``, ``"KEY>=V"`` strings (default the design's
+    ``[targets]``); ``free``: ``"parts.KEY"`` or ``"parts.KEY=LO:HI"`` (pantographs also
+    ``mechanism.KEY``; default the design's ``[fit] free``); ``fidelity``: inertia |
+    fabrication; ``echo``: None or a callable receiving one progress line per evaluation.
+    Returns the ``hapticad fit --json`` object without the file keys (``start``, ``fitted``,
+    ``met``, ``max_violation``, ``evaluations``, ``iterations``, ``rows``) plus ``design``
+    (the fitted design, validated) and ``raw`` (its TOML mapping). Nothing is written.
+    Raises DesignError (no targets, no free parameter, another family ...).
+    """
+    from cad.errors import DesignError
+
+    if fidelity not in ("inertia", "fabrication"):
+        raise DesignError("--fidelity", f"must be inertia or fabrication, got {fidelity!r}")
+    setup = _fit_setup(design, (targets,) if isinstance(targets, str) else tuple(targets),
+                       (free,) if isinstance(free, str) else tuple(free))
+    return _fit_run(design, setup, fidelity, Path(design.source), f"{design.name}_fit", echo)
+
+
+def _fit_setup(design, targets: tuple[str, ...], free: tuple[str, ...]) -> dict:
+    """The parsed targets and free parameters of :func:`fit`, checked before any search."""
+    from cad.checks import merge_targets
+    from cad.data.families import FAMILIES, require
+    from cad.design.targets import PANTOGRAPH_TARGET_KEYS, TARGET_KEYS, parse_cli_target
+    from cad.errors import DesignError
+    from cad.fit import parse_free, parse_free_pantograph
+
+    require("fit", design.family)
+    four_bar = FAMILIES[design.family].group == "four-bar"
+    if four_bar:
+        design.check_buildable()
+    keys = TARGET_KEYS if four_bar else PANTOGRAPH_TARGET_KEYS
+    given = tuple(parse_cli_target(t, keys) for t in targets)
+    merged = given if given else merge_targets(design.targets, ())
+    if not merged:
+        raise DesignError("--target", "no targets: give --target KEY=VALUE or a [targets] table")
+    specs = list(free) if free else list(getattr(design, "fit_free", ()))
+    if not specs:
+        raise DesignError("--free", "no free parameters: give --free parts.KEY (four-bars), "
+                                    "mechanism.KEY / parts.KEY (pantographs) or [fit] free")
+    params = [parse_free(s, design.parts) if four_bar else parse_free_pantograph(s, design)
+              for s in specs]
+    seen = [q.path for q in params]
+    twice = next((k for i, k in enumerate(seen) if k in seen[:i]), None)
+    if twice is not None:
+        raise DesignError("--free", f"{twice} is given twice; give each free parameter once")
+    return {"four_bar": four_bar, "given": given, "targets": merged, "params": params}
+
+
+def _fit_run(design, setup: dict, fidelity: str, dest: Path, name: str, echo=None) -> dict:
+    """Run the fit of ``setup`` (:func:`_fit_setup`); the fitted mapping as a file at
+    ``dest`` named ``name`` would hold it (relative paths rebased)."""
+    import copy
+
+    from cad.checks import evaluate
+    from cad.datasheet.limits import STRUCTURE_FREE, structure_targets
+    from cad.design import parse_design
+    from cad.design.writer import rebase_paths
+    from cad.fit import fit as _fit
+    from cad.pipeline.inertia import pantograph_target_values, target_values
+
+    four_bar, targets, params = setup["four_bar"], setup["targets"], setup["params"]
+    # a free bar material: the candidates must also meet the default structural limits
+    limits = structure_targets if four_bar and any(q.path in STRUCTURE_FREE for q in params) else None
+    need_clear = limits is not None or any(t.key == "min_clearance_mm" for t in targets)
+    wanted = {t.key for t in targets}
+
+    def values_of(dd) -> dict:
+        if four_bar:
+            return target_values(dd, fidelity, need_clear)[0]
+        return pantograph_target_values(dd, fidelity, wanted)[0]
+
+    raw = dict(design.raw)
+    if four_bar:
+        raw.setdefault("parts", {})
+    if echo:
+        echo(f"fit {design.name}: {len(params)} free parameter(s), {len(targets)} target(s)")
+    res = _fit(raw, str(design.source), targets, params, values_of, echo=echo, limit_targets=limits)
+    fitted = rebase_paths(copy.deepcopy(res.raw), design.source, dest)
+    fitted["name"] = name
+    if setup["given"]:  # keep the targets the fit was made for
+        tt = dict(fitted.get("targets", {}))
+        for t in setup["given"]:
+            tt[t.key] = ({"value": t.value, "tol_rel": t.tol_rel} if t.value is not None and t.tol_abs is None
+                         else {"value": t.value, "tol_abs": t.tol_abs} if t.value is not None
+                         else {k: v for k, v in (("min", t.min), ("max", t.max)) if v is not None})
+        fitted["targets"] = tt
+    final = parse_design(fitted, str(dest))
+    rows = evaluate(tuple(targets) + (limits(final) if limits else ()), values_of(final))
+    return {"name": design.name, "start": res.start, "fitted": res.values,
+            "met": all(r.ok for r in rows), "max_violation": res.objective,
+            "evaluations": len(res.log), "iterations": res.log, "rows": [r.as_dict() for r in rows],
+            "design": final, "raw": fitted}
+
+
+def sweep_design(design: str | Path, vary, out_dir: str | Path, samples: int | None = None,
+          fidelity: str = "inertia", workers: int = 2, scheduler: str | None = None, targets=(),
+          chart: str = "torque_variation,M11_max_g", seed: int = 0) -> dict:
+    """Evaluate many variants of a four-bar design file on Dask (``hapticad sweep``).
+
+    ``design``: the TOML file (its workers reload it); ``vary``: ``"KEY=V1,V2,..."`` or
+    ``"KEY=LO:HI:N"`` strings (dotted design keys); ``out_dir``: the folder of
+    results.parquet/.csv, sweep.json, chart.png (a sweep there resumes); ``samples``: Latin
+    hypercube samples instead of every combination; ``scheduler``: ``tcp://HOST:PORT`` of an
+    existing Dask scheduler, else ``workers`` local processes; ``targets`` as in
+    :func:`check`; ``chart``: ``"X,Y"`` columns. Returns the ``hapticad sweep --json``
+    summary (``variants``, ``ok``, ``missed``, ``error``, ``lost``, ``resumed``, ``wall_s``
+    ...). Raises DesignError naming the option or the design key.
+    """
+    design, out = Path(design), Path(out_dir)
+    from cad.design.fields import load_toml
+    from cad.design.targets import parse_cli_target
+    from cad.errors import DesignError
+    from cad.sweep.run import SweepSpec, run_sweep
+    from cad.sweep.spec import parse_vary
+    from cad.sweep.table import check_folder
+    from cad.sweep.task import VALUE_KEYS
+
+    vary = (vary,) if isinstance(vary, str) else tuple(vary)
+    targets = (targets,) if isinstance(targets, str) else tuple(targets)
+    if not vary:
+        raise DesignError("--vary", "give at least one --vary KEY=V1,V2,... or KEY=LO:HI:N")
+    varies = tuple(parse_vary(v) for v in vary)
+    from cad.design.bounds import FIELDS, check_number
+
+    for v in varies:  # every value of a varied key within its bounds (cad/design/bounds.py)
+        if v.key in FIELDS:
+            for x in v.grid():
+                if not isinstance(x, (int, float)) or isinstance(x, bool):
+                    raise DesignError(f"--vary {v.key}", f"must be a number, got {x!r}")
+                check_number(f"--vary {v.key}", x, FIELDS[v.key])
+    keys = [v.key for v in varies]
+    if len(set(keys)) != len(keys):
+        raise DesignError("--vary", "a key is varied twice")
+    if samples is not None and not 1 <= samples <= 100_000:
+        raise DesignError("--samples", f"must be in [1, 100000], got {samples}")
+    if fidelity not in ("inertia", "fabrication"):
+        raise DesignError("--fidelity", f"must be inertia or fabrication, got {fidelity!r}")
+    if scheduler is None and not 1 <= workers <= 256:
+        raise DesignError("--workers", f"must be in [1, 256], got {workers}")
+    if scheduler is not None and not scheduler.startswith(("tcp://", "tls://", "inproc://", "ucx://")):
+        raise DesignError("--scheduler", f"expected tcp://HOST:PORT, got {scheduler!r}")
+    xy = tuple(c.strip() for c in chart.split(","))
+    if len(xy) != 2 or not all(c in VALUE_KEYS for c in xy):
+        raise DesignError("--chart", f"expected X,Y with X and Y in {', '.join(VALUE_KEYS)}, got {chart!r}")
+    cli = tuple(parse_cli_target(t) for t in targets)
+    raw = load_toml(design)
+    from cad.data.families import command_families, refusal
+    from cad.design import family_of, parse_design
+
+    fam = family_of(raw)
+    if fam not in command_families()["sweep"]:
+        raise DesignError("mechanism.family", refusal("sweep", fam))
+    if "handle_script" in (raw.get("parts") or {}) or any(v.key == "parts.handle_script"
+                                                            for v in varies):
+        raise DesignError("parts.handle_script", "sweep never runs design scripts (its "
+                          "workers would run them unseen); sweep a design without one")
+    parse_design(raw, str(design))  # the base design as every command loads it (load_design)
+    _sweep_check_keys(raw, design, varies)
+    # only a folder hapticad wrote (docs/reliability.md "Output folders"); a dead run's temporary
+    # files removed and its interrupted table write completed first (cad.sweep.table)
+    check_folder(out, str(design))
+    spec = SweepSpec(design=design.resolve(), raw=raw, varies=varies, samples=samples, seed=seed,
+                     fidelity=fidelity, cli_targets=cli, chart=xy,
+                     targets_text=";".join(sorted(t or "" for t in targets)))
+    return run_sweep(spec, out, workers, scheduler)
+
+
+def _sweep_check_keys(raw: dict, design: Path, varies) -> None:
+    """Exit 2 on a --vary key the design schema does not know (a typo would fail every variant)."""
+    from cad.design import parse_design
+    from cad.errors import DesignError
+    from cad.sweep.spec import apply
+
+    for v in varies:
+        first = v.grid()[0]
+        try:
+            parse_design(apply(raw, {v.key: first}), str(design))
+        except DesignError as exc:
+            named = exc.field == v.key or v.key.startswith(exc.field + ".")
+            if named and ("unknown key" in exc.reason or "not a table" in exc.reason):
+                raise DesignError(f"--vary {v.key}", exc.reason) from None
+        except Exception:  # noqa: S110 - other failures are a variant's business (a row with its error)
+            pass
+
+
+def run_bench(out_dir: str | Path = "exports/bench", quick: bool = False, only: str | None = None,
+          echo=None) -> dict:
+    """Speed against accuracy (``hapticad bench``): error-against-time charts for every
+    method with an accuracy knob and the performance goals, written to ``out_dir``
+    (``bench.json`` and charts). ``only``: comma list of topics (:data:`cad.bench.run.TOPICS`);
+    ``echo(topic)`` is called before each. Returns the ``bench.json`` object (``goals``:
+    goal, measured, target, met). Minutes of CPU; raises DesignError for an unknown topic."""
+    from cad.bench.run import run_bench as _run
+
+    return _run(Path(out_dir), quick, only, echo)

@@ -32,6 +32,7 @@ from typing import Any
 from cad.checks import evaluate, violation
 from cad.design.targets import Target
 from cad.errors import DesignError, HapticadError
+from cad.tolerances import FIT_CHANGE_WEIGHT, STOCK_RANGE_SLACK_MM
 
 #: candidates tried for a free material parameter (light to heavy)
 MATERIAL_CHOICES = ("carbon-fibre", "delrin", "pla", "petg", "aluminium-6061", "aluminium-7075",
@@ -200,7 +201,7 @@ def _stock_thickness(spec: str, key: str, rng: str, parts_spec) -> FreeParam:
     cur = parts_spec.bar_thickness_mm
     stock = STOCK_THICKNESS_MM.get(parts_spec.bar_material, STOCK_THICKNESS_MM["aluminium-6061"])
     lo, hi = _range(spec, key, rng, cur * NUMERIC_DEFAULT_SPAN[0], cur * NUMERIC_DEFAULT_SPAN[1])
-    inside = sorted((t for t in stock if lo - 1e-9 <= t <= hi + 1e-9), key=lambda t: (abs(t - cur), t))
+    inside = sorted((t for t in stock if lo - STOCK_RANGE_SLACK_MM <= t <= hi + STOCK_RANGE_SLACK_MM), key=lambda t: (abs(t - cur), t))
     if not inside:
         raise DesignError(f"--free {spec}", f"no stock {parts_spec.bar_material} thickness in {lo:g}..{hi:g} mm "
                                             f"(stock: {', '.join(f'{t:g}' for t in stock)} mm)")
@@ -235,60 +236,87 @@ def fit(raw: dict, source: str, targets: tuple[Target, ...], free: list[FreePara
     are at most :data:`GRID_MAX` of them; otherwise TPE (seeded) for ``trials`` evaluations
     (default ``12 + 6 x len(free)``), the start evaluated first.
     """
-    import warnings
+    search = _FitSearch(raw, source, targets, free, evaluate_values, echo, limit_targets)
+    _run_study(search, trials, seed)
+    obj, _, vals = min(search.scored.values(), key=lambda t: (t[0], t[1]))
+    cur = search.with_values(vals)
+    final_vals = search.objective(cur)[1]
+    rows = evaluate(targets, {k: v for k, v in final_vals.items() if isinstance(v, (int, float))})
+    return FitResult(raw=cur, start=search.start_vals, values=dict(vals), objective=obj,
+                     met=all(r.ok for r in rows), log=search.log)
 
-    import optuna
 
-    from cad.design import parse_design
+class _FitSearch:
+    """The objective of :func:`fit` over value sets of ``free``, with its cache and log.
 
-    cache: dict[str, tuple[float, dict]] = {}
-    log: list[dict] = []
+    ``scored``: every value set the study tried, keyed by its sorted items, as
+    (max violation, change from the start, values).
+    """
 
-    def objective(r: dict) -> tuple[float, dict]:
+    def __init__(self, raw: dict, source: str, targets: tuple[Target, ...], free: list[FreeParam],
+                 evaluate_values: Callable[[Any], dict[str, float]],
+                 echo: Callable[[str], None] | None,
+                 limit_targets: Callable[[Any], tuple[Target, ...]] | None) -> None:
+        from cad.design import parse_design
+
+        self.raw, self.source, self.targets, self.free = raw, source, targets, free
+        self.evaluate_values, self.echo, self.limit_targets = evaluate_values, echo, limit_targets
+        self.cache: dict[str, tuple[float, dict]] = {}
+        self.log: list[dict] = []
+        self.scored: dict[str, tuple[float, float, dict]] = {}
+        start_design = parse_design(raw, source)
+        self.start_vals = {p.path: current_value(start_design, p.path) for p in free}
+
+    def objective(self, r: dict) -> tuple[float, dict]:
+        """(max violation of the targets and limits, values) of the raw design ``r`` (cached);
+        a design that cannot be parsed, planned or evaluated scores inf."""
+        from cad.design import parse_design
+
+        free, targets = self.free, self.targets
         key = repr([(p.path, _get(r, p.path, None)) for p in free])
-        if key in cache:
-            return cache[key]
+        if key in self.cache:
+            return self.cache[key]
         try:
-            d = parse_design(r, source)
+            d = parse_design(r, self.source)
             _refuse_unbuildable_order(d, free)
-            vals = evaluate_values(d)
-            every = tuple(targets) + (tuple(limit_targets(d)) if limit_targets is not None else ())
+            vals = self.evaluate_values(d)
+            limits = tuple(self.limit_targets(d)) if self.limit_targets is not None else ()
+            every = tuple(targets) + limits
             obj = max((violation(t, vals[t.key]) if t.key in vals else math.inf) for t in every)
         except HapticadError as exc:
             vals, obj = {"error": str(exc)}, math.inf
         entry = {"params": {p.path: _get(r, p.path, None) for p in free}, "objective": obj,
                  **{t.key: vals.get(t.key) for t in targets}}
-        log.append(entry)
-        if echo:
+        self.log.append(entry)
+        if self.echo:
             ps = ", ".join(f"{k.split('.')[-1]}={v}" for k, v in entry["params"].items())
             why = f"  ({vals['error']})" if "error" in vals else ""
-            echo(f"  eval {len(log):2d}: {ps}  ->  max violation {obj:.4g}{why}")
-        cache[key] = (obj, vals)
+            self.echo(f"  eval {len(self.log):2d}: {ps}  ->  max violation {obj:.4g}{why}")
+        self.cache[key] = (obj, vals)
         return obj, vals
 
-    start_design = parse_design(raw, source)
-    start_vals = {p.path: current_value(start_design, p.path) for p in free}
-
-    def change(vals: dict) -> float:
+    def change(self, vals: dict) -> float:
         """Distance from the start: numeric |x - x0| / (hi - lo); choices: rank in the list."""
         out = 0.0
-        for p in free:
-            x, x0 = vals[p.path], start_vals[p.path]
+        for p in self.free:
+            x, x0 = vals[p.path], self.start_vals[p.path]
             if p.kind == "numeric":
                 out += abs(float(x) - float(x0)) / (p.hi - p.lo)
             elif x != x0:
                 out += (list(p.choices).index(x) + 1) / (len(p.choices) + 1) if x in p.choices else 1.0
         return out
 
-    def with_values(vals: dict) -> dict:
-        cur = copy.deepcopy(raw)
+    def with_values(self, vals: dict) -> dict:
+        """A deep copy of the raw design with ``vals`` ({dotted path: value}) set."""
+        cur = copy.deepcopy(self.raw)
         for path, v in vals.items():
             cur = _set(cur, path, v)
         return cur
 
-    def suggest(trial) -> dict:
+    def suggest(self, trial) -> dict:
+        """{path: value} drawn by an optuna trial (parameter ``p<i>`` for free[i])."""
         vals = {}
-        for i, p in enumerate(free):
+        for i, p in enumerate(self.free):
             name = f"p{i}"
             if p.kind == "choice":
                 vals[p.path] = p.choices[trial.suggest_categorical(name, list(range(len(p.choices))))]
@@ -296,14 +324,34 @@ def fit(raw: dict, source: str, targets: tuple[Target, ...], free: list[FreePara
                 vals[p.path] = round(trial.suggest_float(name, p.lo, p.hi), 6)
         return vals
 
-    scored: dict[str, tuple[float, float, dict]] = {}
+    def study_objective(self, trial) -> float:
+        """Optuna's objective: max violation plus FIT_CHANGE_WEIGHT x change (ties go to the
+        smallest change); 1e9 for an infeasible value set."""
+        vals = self.suggest(trial)
+        obj = self.objective(self.with_values(vals))[0]
+        self.scored[repr(sorted(vals.items(), key=lambda kv: kv[0]))] = (obj, self.change(vals), vals)
+        return obj + FIT_CHANGE_WEIGHT * self.change(vals) if math.isfinite(obj) else 1e9
 
-    def study_objective(trial) -> float:
-        vals = suggest(trial)
-        obj = objective(with_values(vals))[0]
-        scored[repr(sorted(vals.items(), key=lambda kv: kv[0]))] = (obj, change(vals), vals)
-        return obj + 1e-6 * change(vals) if math.isfinite(obj) else 1e9
+    def first_trial(self) -> dict:
+        """Optuna parameters of the start (choices by index, numbers clipped to their range)."""
+        first = {}
+        for i, p in enumerate(self.free):
+            x0 = self.start_vals[p.path]
+            first[f"p{i}"] = list(p.choices).index(x0) if p.kind == "choice" and x0 in p.choices else (
+                0 if p.kind == "choice" else float(min(max(x0, p.lo), p.hi)))
+        return first
 
+
+def _run_study(search: _FitSearch, trials: int | None, seed: int) -> None:
+    """Exhaustive grid (all choices, at most GRID_MAX combinations) or seeded TPE with the
+    start enqueued first; fills ``search.scored``. An interrupt raises KeyboardInterrupt."""
+    import warnings
+
+    import optuna
+
+    from cad.codesign.search import optimize_study
+
+    free = search.free
     n_grid = math.prod(len(p.choices) for p in free) if all(p.kind == "choice" for p in free) else None
     optuna.logging.set_verbosity(optuna.logging.WARNING)
     with warnings.catch_warnings():
@@ -316,19 +364,6 @@ def fit(raw: dict, source: str, targets: tuple[Target, ...], free: list[FreePara
             sampler = optuna.samplers.TPESampler(seed=seed, multivariate=True)
             n = trials or 12 + 6 * len(free)
         study = optuna.create_study(direction="minimize", sampler=sampler)
-        first = {}
-        for i, p in enumerate(free):
-            x0 = start_vals[p.path]
-            first[f"p{i}"] = list(p.choices).index(x0) if p.kind == "choice" and x0 in p.choices else (
-                0 if p.kind == "choice" else float(min(max(x0, p.lo), p.hi)))
         if n_grid is None or n_grid > GRID_MAX:
-            study.enqueue_trial(first)
-        from cad.codesign.search import optimize_study
-
-        optimize_study(study, study_objective, n)  # an interrupt: KeyboardInterrupt, no log
-    obj, _, vals = min(scored.values(), key=lambda t: (t[0], t[1]))
-    cur = with_values(vals)
-    final_vals = objective(cur)[1]
-    rows = evaluate(targets, {k: v for k, v in final_vals.items() if isinstance(v, (int, float))})
-    return FitResult(raw=cur, start=start_vals, values=dict(vals), objective=obj,
-                     met=all(r.ok for r in rows), log=log)
+            study.enqueue_trial(search.first_trial())
+        optimize_study(study, search.study_objective, n)  # an interrupt: KeyboardInterrupt, no log

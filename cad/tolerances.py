@@ -117,7 +117,7 @@ PART_EXTENT_MAX_MM = 5000.0
 #: relative, so a discrepancy above 1e-6 of the smaller shell is a real crossing.
 SHELL_OVERLAP_REL_EPS = 1e-6
 #: Stroke held by ``hapticad synth --stroke-mm`` (relative): the crank end is root-found
-#: (brentq, xtol 1e-12 rad) so the chord equals the asked stroke; 1e-6 leaves the root
+#: (brentq, xtol ROOT_XTOL_RAD) so the chord equals the asked stroke; 1e-6 leaves the root
 #: finder's ~1e-10 relative far below and is 0.06 um on a 60 mm stroke, under any
 #: fabrication tolerance.
 SYNTH_STROKE_REL = 1e-6
@@ -156,3 +156,234 @@ STOCK_ROD_DIAMETER_ALLOWANCE_MM = 2.0
 STOCK_LENGTH_ALLOWANCE_MM = 5.0
 #: Block (milled parts that are neither plate nor turned): per side on every face.
 STOCK_BLOCK_MARGIN_MM = 2.0
+
+# ---------------------------------------------------------------- voice-coil optimisers
+# (cad/actuators/voicecoil.py, isotropy paper section 6 and Fig. 8)
+
+#: Default stopping bracket of the gap search (:func:`cad.actuators.voicecoil.optimal_gap`),
+#: relative to l_m + w_m + t_m + d_r: relative so tiny and huge actuators are solved alike;
+#: 1e-8 is far below any machining tolerance (1e-6 mm on a 100 mm actuator) and still ~8
+#: orders above float64 round-off of the log-space Brent search.
+GAP_XATOL_REL = 1e-8
+#: Least coil width d - d_r the actuator NLP allows (mm): eq (8)'s force is 0 at d = d_r,
+#: where the coil width enters under a square root (an infinite slope), so the NLP keeps the
+#: coil at least this wide; 1 um is far below any coil that can be wound.
+NLP_COIL_WIDTH_MIN_MM = 1e-3
+#: Constraint violation (mm) still counted feasible after SLSQP: its iterates meet the
+#: inequality constraints to round-off, not exactly; 1e-9 mm is ~7 orders below any size
+#: of a magnet or coil (~1-100 mm).
+NLP_FEASIBLE_SLACK_MM = 1e-9
+#: A constraint within this (mm) of its bound is reported active (box bounds are exact after
+#: clipping; the height and footprint constraints are met to SLSQP's precision); 1e-6 mm is
+#: still far below any size that matters to a magnet or a coil.
+NLP_ACTIVE_MM = 1e-6
+#: SLSQP stopping tolerance on the normalized objective (force / 10 N, O(1)): 1e-12 is
+#: ~4 orders above float64 round-off, so the optimum is converged, not stalled.
+NLP_SLSQP_FTOL = 1e-12
+
+# ---------------------------------------------------------------- inverse design (cad/fit.py)
+
+#: Weight of the change from the start added to the max target violation in the optuna
+#: objective of ``hapticad fit``: the change is at most ~1 per free parameter, so 1e-6 only
+#: breaks ties between value sets whose violations agree to ~1e-6 (violations are relative;
+#: the default target tolerance is 5 %), never trades a real violation for a smaller change.
+FIT_CHANGE_WEIGHT = 1e-6
+#: A stock plate thickness counts as inside a ``--free parts.bar_thickness_mm=LO:HI`` range
+#: when within this (mm) of it: LO and HI come from 0.5x/1.5x products that carry float
+#: round-off (~1e-15 mm); 1e-9 mm keeps a stock size given exactly as a bound inside.
+STOCK_RANGE_SLACK_MM = 1e-9
+
+# ---------------------------------------------------------------- design targets (cad/design/targets.py)
+
+#: Relative tolerance of a target given as a bare number (``coupler_mass_g = 40.0``) or as
+#: ``{ value = ... }`` without ``tol_rel`` / ``tol_abs``: 5 %, the designer's stated default
+#: (docs/design-files.md); tighter than the 30 % the Hoeken paper's CAD values carry in the
+#: bundled design, looser than what our solids reproduce run to run (exact, 1e-9).
+TARGET_TOL_REL_DEFAULT = 0.05
+
+# ---------------------------------------------------------------- layer planner (cad/assembly/layers.py)
+
+#: Slack (mm) of the layer planner's comparisons of stack heights and planar clearances
+#: against their required values: those are sums of catalog sizes and design numbers in
+#: mm (~1-100), whose float64 round-off is ~1e-14 mm; 1e-9 mm keeps a stack that meets a
+#: requirement exactly from being refused by round-off, and is far below any dimension
+#: that can be made.
+LAYER_SLACK_MM = 1e-9
+
+# ---------------------------------------------------------------- 5-bar, twin pantograph, haptic pen
+# (cad/kinematics/fivebar.py, twin_pantograph.py, haptic_pen.py; the generated firmware uses the
+# same values, cad/firmware/csrc.py). Also importable from cad.kinematics.pantograph_tolerances.
+
+#: |sin| of the angle between a proximal and its distal link (serial, "type-1"
+#: singularity: the arm is fully stretched or folded, the workspace boundary)
+#: below this is singular. At 1e-9 the Jacobian row is ~1e9 times its regular
+#: size, so sigma_max and the GII are numerically meaningless anyway; float64
+#: round-off of the acos argument for 100 mm links is ~1e-16 relative, so a
+#: genuinely regular point is never flagged.
+ARM_SINGULAR_SIN = 1e-9
+#: |sin| of the angle between the two distal links (parallel, "type-2"
+#: singularity: the distal links are collinear and the end effector cannot
+#: resist a force along their normal) below this is singular. Same reasoning.
+DISTAL_SINGULAR_SIN = 1e-9
+#: Reach margin: |E - B| > (l2 + l3) * (1 + this) or < |l2 - l3| * (1 - this)
+#: is unreachable. Inside the margin the acos argument is clipped to [-1, 1]
+#: and the point is reported singular (not unreachable).
+REACH_REL_EPS = 1e-12
+#: |E - B| below this (mm) leaves atan2(E - B) undefined: the end effector sits
+#: on an actuated joint. Unreachable for any arm with l2 != l3, singular else.
+ON_JOINT_MM = 1e-9
+#: Radial distance (mm) of a pen end from its waist axis below which the waist
+#: angle is undefined (haptic pen, cylindrical coordinates).
+ON_WAIST_AXIS_MM = 1e-9
+
+# ---------------------------------------------------------------- root finding and extrema
+
+#: Bracket (rad of crank angle) at which the scalar root finders and minimisers of the
+#: four-bar stop: the closure-margin minimum (cad/kinematics/fourbar.py, golden section) and
+#: the crank end of a given stroke (cad/kinematics/synthesis.py, brentq). 1e-12 rad moves the
+#: coupler point ~1e-10 mm on a 100 mm linkage: converged to round-off, not to a sample step.
+ROOT_XTOL_RAD = 1e-12
+#: Nelder-Mead stop of ``hapticad synth`` with the stroke held (cad/kinematics/synthesis.py;
+#: variables: crank angles in rad and link lengths relative to l2; objective dy_max/stroke):
+#: 1e-8 rad or 1e-8 of l2 is ~1e-6 mm on a 100 mm linkage, below any fabrication tolerance,
+#: and 1e-12 on dy_max/stroke is far below a deviation that can be made or measured.
+SYNTH_HELD_XATOL = 1e-8
+SYNTH_HELD_FATOL = 1e-12
+#: Nelder-Mead stop of the penalized ``synth`` search (same variables; objective the torque
+#: variation or -stroke/l2, O(0.1-1)): 1e-6 rad or 1e-6 of l2 (~1e-4 mm), 1e-9 on the objective;
+#: the best point is polished and re-evaluated with the refined metrics afterwards (module
+#: docstring there), so the search itself needs no finer stop.
+SYNTH_SEARCH_XATOL = 1e-6
+SYNTH_SEARCH_FATOL = 1e-9
+#: Manufacturing-tolerance analysis (cad/kinematics/tolerance.py): the zoom refinement of an
+#: extremum stops at this bracket (rad). A metric is flat to first order at its extremum, so
+#: its error goes as the square of the bracket: 1e-7 rad leaves it far below the 1e-7 relative
+#: of the first-order propagation (FD_STEP_MM).
+ZOOM_XTOL_RAD = 1e-7
+#: The second-best grid peak is zoomed too when within this fraction of the best: two
+#: near-equal peaks of |y| may swap order between grid and exact values.
+ZOOM_SECOND_PEAK_REL = 0.01
+#: Central-difference step of the first-order tolerance propagation (mm): the metrics are
+#: smooth in the geometry and refined to ~1e-12 mm, so 1e-4 mm keeps truncation (~h^2) and
+#: round-off (~1e-12 / h) both below 1e-7 relative.
+FD_STEP_MM = 1e-4
+
+# ---------------------------------------------------------------- mass properties
+
+#: |R^T R - E| above this (max abs entry) is not a rotation matrix (cad/massprops/props.py):
+#: a rotation composed from a few float64 trig products is orthonormal to ~1e-15; 1e-9 still
+#: refuses any matrix with a scale or shear that would change an inertia tensor measurably.
+ROTATION_ORTHO_TOL = 1e-9
+
+# ---------------------------------------------------------------- simulation (cad/sim)
+
+#: Stopping residual (m) of the Newton iterations that close an exported MJCF's loops
+#: (cad/sim/mj.py close_loops, at most 50 iterations): the loop constraints are sums of ~0.1 m
+#: lengths, so 1e-14 m is a few hundred ulp: the loops are closed to float64 round-off (Newton
+#: converges quadratically, so the last iterations cost almost nothing).
+CLOSE_TOL_M = 1e-14
+#: Relative bracket at which the bisection of the largest stable wall stiffness K_max stops
+#: (cad/sim/wall.py): 1 % matches the reduced model's own accuracy (SUBSTEP_MAX_S there: within
+#: 1 % of the mujoco model), and each halving of the bracket costs a set of wall simulations.
+K_RTOL = 0.01
+
+# ---------------------------------------------------------------- meshes drawn, not measured
+
+#: Chordal (mm) and angular (rad) deflection of the 2-D preview meshes (cad/report/preview.py):
+#: coarse, only drawn at a few pixels per mm, never measured.
+PREVIEW_MESH_TOL_MM = 0.5
+PREVIEW_ANGULAR_TOL_RAD = 0.6
+#: Chordal (mm) and angular (rad) deflection of the viewer meshes (glb, GIF, still;
+#: cad/pipeline/views.py): 0.2 mm is below a pixel of the viewer at full size, and the meshes
+#: are only looked at (mass properties and interference use exact solids).
+VIEW_TOLERANCE_MM = 0.2
+VIEW_ANGULAR_TOLERANCE_RAD = 0.5
+#: Pixel centres this close outside an edge (px) still count as inside in the rasterizer
+#: (cad/report/raster.py): a pixel centre on an edge shared by two triangles is not lost to
+#: round-off of the edge functions (no cracks), and 1e-7 px covers no visible area.
+EDGE_EPS_PX = 1e-7
+#: Triangles thinner than this (px; seen edge-on) are skipped by the rasterizer: they cover
+#: no visible area, and their depth gradient would be ill-conditioned.
+MIN_HEIGHT_PX = 1e-3
+
+# ---------------------------------------------------------------- drawings (cad/drawings)
+
+#: Stock a blank is larger than the finished part on each side, as a drawing states it (mm):
+#: room to clamp and to face or profile the part to size (a workshop choice, not a standard;
+#: the BOM's order uses STOCK_BLOCK_MARGIN_MM, the same 2 mm).
+STOCK_MARGIN_MM = 2.0
+#: A diameter on a sheet is the fit's or tap drill's when they agree this closely (mm): both
+#: come from the same catalog numbers through a boolean, so they agree to round-off.
+MATCH_MM = 1e-6
+#: Two faces belong to one feature when axis, centre and diameter agree this closely (mm):
+#: faces of one boolean share the same circle up to round-off.
+SAME_FEATURE_MM = 1e-6
+#: A face is aligned with a part axis when its direction is within this of it (cosine
+#: slack): hapticad's holes are drilled along a part axis exactly, up to round-off.
+AXIS_SLACK = 1e-9
+
+# ---------------------------------------------------------------- part clearances (cad/parts)
+# The part cache hashes this file with cad/parts (cad/parts/part_cache.py): a change here
+# rebuilds the parts.
+
+#: Radial margin of pantograph plate openings around a motor pilot or pin (mm): a clearance
+#: (our choice), so that neither touches the plate whatever the cutting tolerance of the
+#: opening (tenths of a mm for a laser or waterjet cut).
+OPENING_MARGIN_MM = 1.0
+#: PowerMouse: radial margin of a shoulder's seat beyond the part's radius (mm): a faced corner
+#: or a socket bottom is made this much wider than the shoulder that bears on it (a
+#: clearance, our choice).
+SEAT_MARGIN_MM = 0.5
+#: PowerMouse: radial margin of the corner holes (the post's in the flotor, the handle's in the
+#: housing) beyond the excursion over the motion range (mm): covers the sampling of rotations in
+#: :func:`cad.actuators.powermouse.diagonal_excursion_mm`.
+HOLE_MARGIN_MM = 0.5
+#: Printed parts (cad/parts/printed.py): sections are taken this far inside a slab boundary (mm),
+#: never on a horizontal face, where a planar section of a B-rep is degenerate; 1e-6 mm is far
+#: below a print layer (0.1-0.3 mm) and far above the round-off of the slab heights.
+PRINT_SECTION_EPS_MM = 1e-6
+
+# ---------------------------------------------------------------- interference check (cad/assembly/interference.py)
+
+#: Extra margin on top of 2 x mesh tolerance before a near contact is confirmed exactly (mm).
+CONFIRM_MARGIN_MM = 0.05
+#: Distances below this are contact (mm): OCCT's own confusion tolerance is 1e-7.
+CONTACT_MM = 1e-6
+#: Default absolute mesh tolerance of the fast pass (mm); see cad.bench.interference.
+SWEEP_MESH_TOL_MM = 0.05
+#: A pose is skipped when its lower bound is at least the level that matters minus this
+#: (mm): it absorbs float rounding between the box bounds and fcl's distance (a gap of
+#: exactly 1 mm between parallel faces comes back as 0.9999999999999999), so ties do not
+#: force a measurement. It moves a reported minimum by at most this much, far below
+#: CONFIRM_MARGIN_MM, so no near contact can be skipped.
+LB_SLACK_MM = 1e-9
+#: Parts farther than this in z from the other body are left out of a pair's fast pass
+#: (planar motion keeps z, so they stay at least that far); a pair whose mesh minimum
+#: exceeds the z gap of a left-out part is redone without culling (mm).
+CULL_MARGIN_MM = 5.0
+#: A common volume above this between two parts of one body is a collision (mm^3): far
+#: above OCCT's boolean noise on touching faces (~1e-9), below the issue-10 acceptance
+#: threshold (1e-3) so nothing the independent STEP check would find is let through.
+OVERLAP_MIN_MM3 = 1e-4
+#: Bounding boxes that overlap by no more than this along some axis only touch (mm): parts
+#: stacked face to face (a spacer on a bar, a leg under the plate) need no boolean.
+BOX_TOUCH_MM = 1e-6
+
+# ---------------------------------------------------------------- benchmark sweeps (cad/bench)
+
+#: Absolute mesh tolerances (mm) swept by the mass-properties bench (cad/bench/massprops.py):
+#: from coarser than any part feature (1 mm) to below the exact-vs-mesh crossover (3 um).
+BENCH_MASSPROPS_MESH_TOLERANCES_MM = (1.0, 0.3, 0.1, 0.03, 0.01, 0.003)
+#: OCCT adaptive-mode targets swept by the same bench (OCCT does not adapt for eps > 1e-3):
+#: four decades down to 1e-8, where its inertia error stops improving.
+BENCH_OCCT_EPS = (1e-2, 1e-4, 1e-6, 1e-8)
+#: Mesh tolerances (mm) swept by the interference bench (cad/bench/interference.py): from
+#: 0.2 mm (coarser than its 0.05 mm overlap, which meshes at 0.1 mm already miss, SPEC "Measured
+#: pitfalls") down to 0.01 mm, its smallest prescribed gap.
+BENCH_INTERFERENCE_MESH_TOLERANCES_MM = (0.2, 0.1, 0.05, 0.02, 0.01)
+
+# ---------------------------------------------------------------- display
+
+#: A datasheet row shows its min .. max range unless the two agree to this (relative): values
+#: printed to 3-4 significant digits, so a range narrower than 1e-6 is round-off of one value.
+RANGE_SAME_REL = 1e-6

@@ -209,3 +209,71 @@ def test_layer_plan_is_conflict_free_for_the_paper_families(fam):
     assert plan.conflicts == ()
     assert plan.min_planar_clearance_mm >= p.clearance_min_mm
     assert sorted(plan.order) == ["coupler", "crank", "rocker"]
+
+
+def _two_cylinder_model(r_moving: float, n: int):
+    """The two cylinders of :func:`two_cylinder_sweep` as an AssemblyModel (bodies ground and
+    crank; motion over the n crank angles)."""
+    from cad.assembly.model import AssemblyModel
+    from cad.parts import PartInstance, PartKind
+
+    def kind(name, r):
+        return PartKind(name=name, shape=cylinder(r), material="steel-1018", made=True)
+
+    phi = np.linspace(0.0, 1.0, n)
+    x = 10.0 + (phi - 0.3) ** 2
+    inst = (PartInstance("fixed", kind("fixed", R_FIXED), "ground"),
+            PartInstance("moving", kind("moving", r_moving), "crank"))
+    motion = {"ground": translations(np.zeros(n)), "crank": translations(x)}
+    labels = tuple(f"phi1 = {math.degrees(p):.1f} deg" for p in phi)
+    return AssemblyModel(None, inst, {"ground": np.eye(4), "crank": motion["crank"][0]}, motion,
+                         labels), phi
+
+
+@pytest.mark.parametrize("r2", [4.0, 5.05])
+def test_check_model_on_crank_angles_equals_the_sweep(r2):
+    """The one check over an assembly model, given the crank angles (the four-bar's call),
+    reports what :func:`sweep` reports on the same solids: the closest pose refined between
+    samples, the overlap (lens x height at the closest pose), the same pairs."""
+    from cad.assembly import interference as itf
+
+    model, phi = _two_cylinder_model(r2, 11)
+
+    def tf_at(p):
+        return {"ground": np.eye(4), "crank": translations([10.0 + (p - 0.3) ** 2])[0]}
+
+    a = two_cylinder_sweep(r2, n=11)
+    b = itf.check_model(model, 0.5, contact_ok=False, phi1_rad=phi, tf_at=tf_at)
+    assert b.min_clearance_mm == pytest.approx(a.min_clearance_mm, abs=1e-12)
+    assert b.overlap_volume_mm3 == pytest.approx(a.overlap_volume_mm3, rel=1e-12)
+    assert b.pairs == a.pairs and b.collisions == a.collisions
+    assert b.same_body["collisions"] == []
+
+
+def test_labelled_six_dof_motion_names_the_clash_pose_and_volume():
+    """General (non-planar) motion by label: a 10 mm cube over a fixed 10 mm cube, lowered
+    0.5 mm into it at one pose only (overlap 10 x 10 x 0.5 = 50 mm^3, the closed form), tilted
+    and clear at another; touching is allowed (contact_ok)."""
+    from build123d import Align, Box
+
+    from cad.assembly import interference as itf
+    from cad.assembly.model import AssemblyModel
+    from cad.parts import PartInstance, PartKind
+
+    cube = Box(10, 10, 10, align=(Align.CENTER, Align.CENTER, Align.MIN)).solids()[0].wrapped
+    k = PartKind(name="cube", shape=cube, material="steel-1018", made=True)
+    inst = (PartInstance("base", k, "ground"), PartInstance("top", k, "lid"))
+    poses = {"resting": (np.eye(3), 10.0), "pressed": (np.eye(3), 9.5)}
+    c, s = math.cos(0.3), math.sin(0.3)
+    poses["tilted"] = (np.array([[1, 0, 0], [0, c, -s], [0, s, c]]), 20.0)
+    T = np.repeat(np.eye(4)[None], 3, axis=0)
+    for i, (R, z) in enumerate(poses.values()):
+        T[i, :3, :3], T[i, 2, 3] = R, z
+    model = AssemblyModel(None, inst, {"ground": np.eye(4), "lid": T[0]}, {"lid": T},
+                          tuple(poses))
+    rep = itf.check_model(model)
+    assert [x["pose"] for x in rep.collisions] == ["pressed"]
+    assert rep.collisions[0]["parts_overlap_volume_mm3"] == pytest.approx(50.0, rel=1e-9)
+    assert rep.poses["resting"][0] == 0.0 and rep.poses["tilted"][0] > 0.0
+    with pytest.raises(InterferenceError, match=r"base / top collide at pose pressed \(overlap 50\.000 mm\^3\)"):
+        itf.raise_on_collision(rep, 0.0)

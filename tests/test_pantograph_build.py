@@ -100,6 +100,61 @@ def test_interference_is_refused_before_anything_is_written(tmp_path):
     raw["mechanism"]["base_mm"] = 10.0  # proximal hubs 10 mm apart, 14 mm wide
     design = parse_design(raw, "tight.toml")
     out = tmp_path / "out"
-    with pytest.raises(InterferenceError, match="proximal L vs proximal R"):
+    # the solid check names the first clash: the motors 10 mm apart share a volume
+    with pytest.raises(InterferenceError, match=r"motor_\d / \w*motor_\d \(both on ground\) "
+                       r"share [0-9.]+ mm\^3"):
         build_design(design, out, {"step"}, fidelity="preview", use_cache=False)
     assert not out.exists()
+
+
+def _big_knob_mouse():
+    """The mouse with a 250 mm knob (crank kept at 20 mm): the knob, at the bridge plate's
+    height, reaches over the bridge plate (y <= 32.5 mm) when the crankshaft is on the near
+    row of the workspace (y = 150 mm: knob edge at y = 25 mm) and clears it elsewhere (home
+    y = 200 mm: edge at 75 mm; next row y = 175: edge at 50 mm)."""
+    from pathlib import Path
+
+    raw = load_toml(Path(__file__).resolve().parents[1] / DESIGN)
+    raw["mechanism"]["knob_diameter_mm"] = 250.0
+    raw["mechanism"]["crank_mm"] = 20.0
+    return parse_design(raw, "big_knob.toml")
+
+
+def test_solid_clash_away_from_home_is_found_with_pair_pose_and_volume():
+    """The one interference check sweeps the solids over the workspace grid: a clash that
+    exists only on the near row (not at home) is found, named by pair and pose, and its
+    volume equals the closed form (circular segment of the knob below the plate's edge x
+    plate thickness; the plate's holes lie outside the segment)."""
+    from cad.assembly import interference as itf
+    from cad.families.pantograph import assemble
+    from cad.families.pantograph.build import motor_joints
+
+    design = _big_knob_mouse()
+    model = assemble(design, "preview")
+    rep = itf.check_model(model, joints=motor_joints(design))
+    assert rep.collisions, "the knob over the bridge plate was not found"
+    assert {tuple(c["parts"]) for c in rep.collisions} == {("knob", "bridge_plate")}
+    poses = {c["pose"] for c in rep.collisions}
+    assert all(" y=150 mm" in p for p in poses), poses  # the near row only
+    assert not any(p.startswith("home") for p in poses)
+    assert len(poses) == 5 * 8  # 5 grid points of that row x 8 crank angles
+    c = next(c for c in rep.collisions if c["pose"] == "x=0 y=150 mm theta=0 deg")
+    r, h = 125.0, 32.5 - 25.0  # knob radius; the plate's edge y = 32.5 above its lowest y = 25
+    assert model.extra["layout"]["bridge_y_mm"][1] == pytest.approx(32.5)
+    segment_mm2 = r * r * math.acos((r - h) / r) - (r - h) * math.sqrt(2 * r * h - h * h)
+    expected = segment_mm2 * design.parts.plate_thickness_mm
+    assert c["parts_overlap_volume_mm3"] == pytest.approx(expected, rel=1e-9)
+    with pytest.raises(InterferenceError, match=r"knob / bridge_plate collide at pose x=-?\d+ "
+                       r"y=150 mm theta=\d+ deg \(overlap [0-9.]+ mm\^3"):
+        itf.raise_on_collision(rep, 0.0)
+
+
+def test_bundled_mouse_is_clear_over_its_motion(built):
+    """The bundled mouse passes the check over its whole motion grid (home + 5 x 5 points x 8
+    crank angles): no collision between bodies or within one, no two bodies touching."""
+    _, _, rep = built
+    itf = rep["interference"]
+    assert itf["collisions"] == [] and rep["overlap_volume_mm3"] == 0.0
+    assert itf["n_poses"] == 1 + 5 * 5 * 8
+    assert itf["same_body"]["collisions"] == []
+    assert rep["min_clearance_mm"] > 0.0

@@ -310,3 +310,46 @@ def test_flotor_mass_and_peak_acceleration_pinned(family_builds):
     assert rep["peak_acceleration_m_s2"] == pytest.approx(2 * f36 / parts_sum, rel=1e-6)
     # regression pin (our own run): the numbers of docs/papers.md
     assert round(rep["flotor_mass_g"]) == 234 and round(rep["peak_acceleration_G"], 1) == 9.7
+
+
+def test_one_interference_check_matches_analytic_clearances():
+    """The one interference check (cad.assembly.interference.check_model) on the PowerMouse's
+    model, with its motion replaced by poses of closed-form clearance (the cases of
+    test_clearances_match_analytic_values): centre d_r/2 = 3 mm; a translation by delta
+    along a face normal d_r/2 - delta (0.1 mm at 2.9 mm; touching, no volume, at 3 mm); a
+    5 deg rotation about x (E/2 + d_r/2) cos(theta) - (l_m/2) sin(theta) - E/2; beyond the
+    range (3.5 mm) a clash named with its pair, pose and a positive volume."""
+    import dataclasses
+
+    from cad.assembly import interference as itf
+    from cad.design import load_design
+    from cad.errors import InterferenceError
+    from cad.families.powermouse import assemble
+
+    d = load_design("designs/powermouse.toml")
+    model = assemble(d, "preview")
+    g = model.extra["geometry"]
+    assert d.actuator.rattle_mm == 6.0 and d.actuator.magnet_length_mm == 20.0
+    th = math.radians(5.0)
+    poses = {"centre": np.eye(4)}
+    for label, R, t in (("t+2.9x", np.eye(3), [2.9, 0, 0]), ("t+3z", np.eye(3), [0, 0, 3.0]),
+                        ("r(1, 0, 0)+", pm.rot_about((1, 0, 0), th), [0, 0, 0]),
+                        ("t+3.5x", np.eye(3), [3.5, 0, 0])):
+        T = np.eye(4)
+        T[:3, :3], T[:3, 3] = R, t
+        poses[label] = T
+    m = dataclasses.replace(model, motion={"flotor": np.stack(list(poses.values()))},
+                            pose_labels=tuple(poses))
+    rep = itf.check_model(m, groups=lambda label: label)
+    c = rep.poses
+    assert c["centre"][0] == pytest.approx(3.0, abs=1e-9) and c["centre"][2] == "exact"
+    assert c["t+2.9x"][0] == pytest.approx(0.1, abs=1e-9) and c["t+2.9x"][2] == "exact"
+    assert c["t+3z"][0] == 0.0
+    E = g.flotor_edge_mm
+    expect = (E / 2 + 3.0) * math.cos(th) - 10.0 * math.sin(th) - E / 2
+    assert c["r(1, 0, 0)+"][0] == pytest.approx(expect, abs=1e-7)
+    assert {x["pose"] for x in rep.collisions} == {"t+3.5x"}
+    clash = rep.collisions[0]
+    assert clash["bodies"] == ["flotor", "ground"] and clash["overlap_volume_mm3"] > 0
+    with pytest.raises(InterferenceError, match=r" / .* collide at pose t\+3\.5x \(overlap"):
+        itf.raise_on_collision(rep, 0.0)

@@ -59,6 +59,13 @@ from typing import Literal
 import numpy as np
 
 from cad.errors import DesignError
+from cad.tolerances import (
+    GAP_XATOL_REL,
+    NLP_ACTIVE_MM,
+    NLP_COIL_WIDTH_MIN_MM,
+    NLP_FEASIBLE_SLACK_MM,
+    NLP_SLSQP_FTOL,
+)
 
 #: Field models understood by :func:`gap_field_T` and the optimisers.
 MODELS = ("closed-form", "images", "magpylib")
@@ -454,62 +461,15 @@ def optimal_gap(
     if model not in MODELS:
         raise DesignError("model", f"unknown field model {model!r} (known: {', '.join(MODELS)})")
     dr = params.rattle_mm
-    size = params.magnet_length_mm + params.magnet_width_mm + params.magnet_thickness_mm
-    user_bound = gap_max_mm is not None
-    if user_bound:
-        try:
-            gmax = float(gap_max_mm)
-        except (TypeError, ValueError):
-            raise DesignError("gap_max_mm", f"must be a number, got {gap_max_mm!r}") from None
-        if not (math.isfinite(gmax) and gmax > dr):
-            raise DesignError(
-                "gap_max_mm",
-                f"must be finite and exceed the rattle space {dr} mm, got {gap_max_mm!r}",
-            )
-    else:
-        gmax = min(dr + 10.0 * (size + dr), _FLOAT_MAX / 16)  # sizes near float max: capped
-        if not gmax - dr > _FLOAT_TINY:
-            raise DesignError("rattle_mm", f"too large to search beyond in float64, got {dr!r}")
-    xatol = 1e-8 * (size + dr) if xatol_mm is None else float(xatol_mm)
-    if not (math.isfinite(xatol) and xatol > 0):
-        raise DesignError("xatol_mm", f"must be finite and > 0, got {xatol_mm!r}")
-    per_decade, n_min = (2, 17) if model == "magpylib" else (4, 33)
-    counter = {"n": 0}
-
-    def neg_shape(x, ref):
-        """-(B_g / B_r) sqrt(x / ref) at d = d_r + x: eq (8) up to constant factors.
-
-        Dimensionless and O(1) for any actuator size, so neither the grid nor
-        Brent over- or underflows where the force in newtons would.
-        """
-        counter["n"] += 1
-        bg = gap_field_T(dr + x, params, model, **kw)
-        return -(bg / params.br_T) * math.sqrt(x / ref)
-
-    for _ in range(GAP_BRACKET_EXTENSIONS):
-        span = gmax - dr
-        # from 1e-4 of the smallest size (at most ~616 decades: 2.5k points for absurd inputs)
-        lo = max(1e-4 * min(params.magnet_width_mm, params.magnet_thickness_mm, span), _FLOAT_TINY)
-        n = max(n_min, math.ceil(per_decade * (math.log10(span) - math.log10(lo))) + 1)
-        xs = np.geomspace(lo, gmax - dr, n)
-        vals = np.array([neg_shape(x, xs[-1]) for x in xs])
-        i = int(np.argmin(vals))
-        if i < n - 1 or user_bound:
-            break
-        gmax = dr + 10.0 * (gmax - dr)  # still rising at the default bound: look further
-        if not gmax < _FLOAT_MAX / 16:
-            break
-    if i == n - 1 and not user_bound:
-        raise DesignError(
-            "gap_max_mm",
-            f"the eq (8) force still rises at d = {gmax:g} mm: no interior optimum found",
-        )
+    gmax, user_bound, xatol = _gap_search_limits(params, gap_max_mm, xatol_mm)
+    shape = _GapShape(params, model, kw)
+    xs, vals, i, lo, gmax = _bracket_gap(shape, params, model, gmax, user_bound)
     # Brent in log(d - d_r): scale-free; xatol in mm becomes a relative tolerance there
     ref = xs[-1]
     a = math.log(xs[i - 1] if i > 0 else 0.5 * lo)
-    b = math.log(xs[min(i + 1, n - 1)])
+    b = math.log(xs[min(i + 1, len(xs) - 1)])
     res = minimize_scalar(
-        lambda u: neg_shape(min(math.exp(u), xs[-1]), ref),
+        lambda u: shape(min(math.exp(u), xs[-1]), ref),
         bounds=(a, b),
         method="bounded",
         options={"xatol": xatol / xs[i]},
@@ -532,9 +492,88 @@ def optimal_gap(
         force_N=force,
         eta_geom=params.eta_geom,
         model=model,
-        n_evaluations=counter["n"],
+        n_evaluations=shape.n,
         at_bound=bool(user_bound and gmax - d_opt <= 10.0 * xatol),
     )
+
+
+def _gap_search_limits(
+    params: VoiceCoilParams, gap_max_mm: float | None, xatol_mm: float | None
+) -> tuple[float, bool, float]:
+    """(gap_max_mm, given by the caller, xatol_mm) of :func:`optimal_gap`, validated.
+
+    Raises :class:`DesignError` on a gap bound not above d_r, a rattle space too
+    large for float64, or a non-positive xatol.
+    """
+    dr = params.rattle_mm
+    size = params.magnet_length_mm + params.magnet_width_mm + params.magnet_thickness_mm
+    user_bound = gap_max_mm is not None
+    if user_bound:
+        try:
+            gmax = float(gap_max_mm)
+        except (TypeError, ValueError):
+            raise DesignError("gap_max_mm", f"must be a number, got {gap_max_mm!r}") from None
+        if not (math.isfinite(gmax) and gmax > dr):
+            raise DesignError(
+                "gap_max_mm",
+                f"must be finite and exceed the rattle space {dr} mm, got {gap_max_mm!r}",
+            )
+    else:
+        gmax = min(dr + 10.0 * (size + dr), _FLOAT_MAX / 16)  # sizes near float max: capped
+        if not gmax - dr > _FLOAT_TINY:
+            raise DesignError("rattle_mm", f"too large to search beyond in float64, got {dr!r}")
+    xatol = GAP_XATOL_REL * (size + dr) if xatol_mm is None else float(xatol_mm)
+    if not (math.isfinite(xatol) and xatol > 0):
+        raise DesignError("xatol_mm", f"must be finite and > 0, got {xatol_mm!r}")
+    return gmax, user_bound, xatol
+
+
+class _GapShape:
+    """-(B_g / B_r) sqrt(x / ref) at d = d_r + x: eq (8) up to constant factors.
+
+    Dimensionless and O(1) for any actuator size, so neither the grid nor
+    Brent over- or underflows where the force in newtons would. ``n`` counts
+    the field evaluations.
+    """
+
+    def __init__(self, params: VoiceCoilParams, model: Model, kw: dict) -> None:
+        self.params, self.model, self.kw, self.n = params, model, kw, 0
+
+    def __call__(self, x: float, ref: float) -> float:
+        self.n += 1
+        bg = gap_field_T(self.params.rattle_mm + x, self.params, self.model, **self.kw)
+        return -(bg / self.params.br_T) * math.sqrt(x / ref)
+
+
+def _bracket_gap(shape: _GapShape, params: VoiceCoilParams, model: Model, gmax: float,
+                 user_bound: bool) -> tuple[np.ndarray, np.ndarray, int, float, float]:
+    """Log-spaced grid on x = d - d_r locating the maximum of eq (8) (:func:`optimal_gap`).
+
+    Returns (xs (n,) mm, shape values (n,), index of the best, grid start lo (mm),
+    gap_max_mm after any tenfold extension). Raises :class:`DesignError` when the
+    force still rises at the last default bound.
+    """
+    dr = params.rattle_mm
+    per_decade, n_min = (2, 17) if model == "magpylib" else (4, 33)
+    for _ in range(GAP_BRACKET_EXTENSIONS):
+        span = gmax - dr
+        # from 1e-4 of the smallest size (at most ~616 decades: 2.5k points for absurd inputs)
+        lo = max(1e-4 * min(params.magnet_width_mm, params.magnet_thickness_mm, span), _FLOAT_TINY)
+        n = max(n_min, math.ceil(per_decade * (math.log10(span) - math.log10(lo))) + 1)
+        xs = np.geomspace(lo, gmax - dr, n)
+        vals = np.array([shape(x, xs[-1]) for x in xs])
+        i = int(np.argmin(vals))
+        if i < n - 1 or user_bound:
+            break
+        gmax = dr + 10.0 * (gmax - dr)  # still rising at the default bound: look further
+        if not gmax < _FLOAT_MAX / 16:
+            break
+    if i == n - 1 and not user_bound:
+        raise DesignError(
+            "gap_max_mm",
+            f"the eq (8) force still rises at d = {gmax:g} mm: no interior optimum found",
+        )
+    return xs, vals, i, lo, gmax
 
 
 # ---------------------------------------------------------------- NLP over (d, t_m, w_m, l_m)
@@ -603,114 +642,24 @@ def optimize_actuator(
     Starts: the box centre plus seeded uniform draws, each projected into the
     feasible set by scaling towards the lower corner. Isotropy paper section 6.
     """
-    from scipy.optimize import minimize
-
     if model != "closed-form" and model != "images":
         raise DesignError("model", f"the NLP supports closed-form or images, got {model!r}")
-    lo = np.array(
-        [
-            bounds.gap_mm[0],
-            bounds.magnet_thickness_mm[0],
-            bounds.magnet_width_mm[0],
-            bounds.magnet_length_mm[0],
-        ]
-    )
-    hi = np.array(
-        [
-            bounds.gap_mm[1],
-            bounds.magnet_thickness_mm[1],
-            bounds.magnet_width_mm[1],
-            bounds.magnet_length_mm[1],
-        ]
-    )
-    lo[0] = max(lo[0], params.rattle_mm + 1e-3)
-    if lo[0] > hi[0]:
-        raise DesignError(
-            "gap_mm", f"upper bound {hi[0]} mm must exceed the rattle space {params.rattle_mm} mm"
-        )
-    scale = hi.copy()
-    dr = params.rattle_mm
-
-    def field(x):
-        d, t, w, lm = x
-        if model == "closed-form":
-            return float(bg_eq9_T(d, lm, w, t, params.br_T))
-        return float(bg_image_converged_T(d, lm, w, t, params.br_T, 512))
-
-    def force(x):
-        d, t, w, lm = x
-        p = VoiceCoilParams(
-            lm, w, t, dr, params.power_W, params.br_T, params.resistivity_ohm_m, params.eta_pack
-        )
-        return float(force_eq8_N(field(x), d, p))
-
-    def height(x):
-        return bounds.d_max_mm - (2 * bounds.alpha * x[2] + 2 * x[1] + x[0])
-
-    cons = [
-        {"type": "ineq", "fun": lambda u: height(u * scale) / bounds.d_max_mm},
-        {"type": "ineq", "fun": lambda u: (u[0] * scale[0] - dr - 1e-3) / scale[0]},
-    ]
-    if bounds.footprint_max_mm is not None:
-        fp = bounds.footprint_max_mm
-        cons.append(
-            {"type": "ineq", "fun": lambda u: (fp - (u[3] * scale[3] + 2 * u[2] * scale[2])) / fp}
-        )
-
-    def feasible(x):
-        ok = height(x) >= -1e-9 and x[0] > dr
-        if bounds.footprint_max_mm is not None:
-            ok = ok and x[3] + 2 * x[2] <= bounds.footprint_max_mm + 1e-9
-        return bool(ok)
-
-    rng = np.random.default_rng(seed)
-    starts_x = [0.5 * (lo + hi)] + [
-        lo + rng.random(4) * (hi - lo) for _ in range(max(starts - 1, 0))
-    ]
+    nlp = _ActuatorNLP(params, bounds, model)
     best = None
-    for x0 in starts_x:
-        x0 = np.array(x0)
-        for _ in range(60):  # pull towards the lower corner until feasible
-            if feasible(x0):
-                break
-            x0 = lo + 0.8 * (x0 - lo)
-        if not feasible(x0):
+    for x0 in _nlp_starts(nlp, starts, seed):
+        x = nlp.solve(x0)
+        if x is None:
             continue
-        res = minimize(
-            lambda u: -force(u * scale) / 10.0,
-            x0 / scale,
-            method="SLSQP",
-            bounds=list(zip(lo / scale, hi / scale, strict=True)),
-            constraints=cons,
-            options={"ftol": 1e-12, "maxiter": 300},
-        )
-        x = np.clip(res.x * scale, lo, hi)
-        if not feasible(x):
-            continue
-        f = force(x)
+        f = nlp.force(x)
         if best is None or f > best[0]:
             best = (f, x)
     if best is None:
         raise DesignError(
             "d_max_mm",
             f"actuator NLP: no feasible design within the bounds (2 alpha w_m + 2 t_m + d <= "
-            f"{bounds.d_max_mm:g} mm with the lower bounds and d > d_r = {dr:g} mm)",
+            f"{bounds.d_max_mm:g} mm with the lower bounds and d > d_r = {nlp.dr:g} mm)",
         )
     f, x = best
-    active = []
-    if abs(height(x)) < 1e-6:
-        active.append("height")
-    if (
-        bounds.footprint_max_mm is not None
-        and abs(bounds.footprint_max_mm - x[3] - 2 * x[2]) < 1e-6
-    ):
-        active.append("footprint")
-    names = ("gap_mm", "magnet_thickness_mm", "magnet_width_mm", "magnet_length_mm")
-    for i, n in enumerate(names):
-        if abs(x[i] - lo[i]) < 1e-6:
-            active.append(f"{n}>=min")
-        if abs(x[i] - hi[i]) < 1e-6:
-            active.append(f"{n}<=max")
     return ActuatorOptimum(
         gap_mm=float(x[0]),
         magnet_thickness_mm=float(x[1]),
@@ -718,9 +667,124 @@ def optimize_actuator(
         magnet_length_mm=float(x[3]),
         plate_thickness_mm=float(bounds.alpha * x[2]),
         force_N=f,
-        Bg_T=field(x),
-        active=tuple(active),
+        Bg_T=nlp.field(x),
+        active=nlp.active(x),
     )
+
+
+class _ActuatorNLP:
+    """The NLP of :func:`optimize_actuator` on x = (d, t_m, w_m, l_m) (mm).
+
+    lo, hi: (4,) box (d's lower bound raised to d_r + NLP_COIL_WIDTH_MIN_MM);
+    the optimiser works on u = x / hi. Raises :class:`DesignError` ("gap_mm")
+    when the gap's upper bound does not exceed the rattle space.
+    """
+
+    def __init__(self, params: VoiceCoilParams, bounds: ActuatorBounds, model: Model) -> None:
+        self.params, self.bounds, self.model = params, bounds, model
+        self.dr = params.rattle_mm
+        self.lo = np.array([bounds.gap_mm[0], bounds.magnet_thickness_mm[0],
+                            bounds.magnet_width_mm[0], bounds.magnet_length_mm[0]])
+        self.hi = np.array([bounds.gap_mm[1], bounds.magnet_thickness_mm[1],
+                            bounds.magnet_width_mm[1], bounds.magnet_length_mm[1]])
+        self.lo[0] = max(self.lo[0], params.rattle_mm + NLP_COIL_WIDTH_MIN_MM)
+        if self.lo[0] > self.hi[0]:
+            raise DesignError(
+                "gap_mm",
+                f"upper bound {self.hi[0]} mm must exceed the rattle space {params.rattle_mm} mm",
+            )
+        self.scale = self.hi.copy()
+
+    def field(self, x) -> float:
+        """Gap field B_g (T) at x."""
+        d, t, w, lm = x
+        if self.model == "closed-form":
+            return float(bg_eq9_T(d, lm, w, t, self.params.br_T))
+        return float(bg_image_converged_T(d, lm, w, t, self.params.br_T, 512))
+
+    def force(self, x) -> float:
+        """Eq (8) force (N) at x."""
+        d, t, w, lm = x
+        p = self.params
+        q = VoiceCoilParams(lm, w, t, self.dr, p.power_W, p.br_T, p.resistivity_ohm_m, p.eta_pack)
+        return float(force_eq8_N(self.field(x), d, q))
+
+    def height(self, x) -> float:
+        """Slack (mm) of 2 alpha w_m + 2 t_m + d <= d_max."""
+        return self.bounds.d_max_mm - (2 * self.bounds.alpha * x[2] + 2 * x[1] + x[0])
+
+    def feasible(self, x) -> bool:
+        """x meets the height, coil-width and footprint constraints (to NLP_FEASIBLE_SLACK_MM)."""
+        ok = self.height(x) >= -NLP_FEASIBLE_SLACK_MM and x[0] > self.dr
+        if self.bounds.footprint_max_mm is not None:
+            ok = ok and x[3] + 2 * x[2] <= self.bounds.footprint_max_mm + NLP_FEASIBLE_SLACK_MM
+        return bool(ok)
+
+    def constraints(self) -> list[dict]:
+        """SLSQP inequality constraints on u = x / scale, each normalized to O(1)."""
+        b, scale, dr = self.bounds, self.scale, self.dr
+        cons = [
+            {"type": "ineq", "fun": lambda u: self.height(u * scale) / b.d_max_mm},
+            {"type": "ineq", "fun": lambda u: (u[0] * scale[0] - dr - NLP_COIL_WIDTH_MIN_MM) / scale[0]},
+        ]
+        if b.footprint_max_mm is not None:
+            fp = b.footprint_max_mm
+            cons.append(
+                {"type": "ineq", "fun": lambda u: (fp - (u[3] * scale[3] + 2 * u[2] * scale[2])) / fp}
+            )
+        return cons
+
+    def solve(self, x0: np.ndarray) -> np.ndarray | None:
+        """SLSQP from x0 (4,) mm; the optimum clipped to the box, or None when infeasible."""
+        from scipy.optimize import minimize
+
+        lo, hi, scale = self.lo, self.hi, self.scale
+        res = minimize(
+            lambda u: -self.force(u * scale) / 10.0,
+            x0 / scale,
+            method="SLSQP",
+            bounds=list(zip(lo / scale, hi / scale, strict=True)),
+            constraints=self.constraints(),
+            options={"ftol": NLP_SLSQP_FTOL, "maxiter": 300},
+        )
+        x = np.clip(res.x * scale, lo, hi)
+        return x if self.feasible(x) else None
+
+    def active(self, x) -> tuple[str, ...]:
+        """Names of the constraints active at x (within NLP_ACTIVE_MM)."""
+        b, lo, hi = self.bounds, self.lo, self.hi
+        active = []
+        if abs(self.height(x)) < NLP_ACTIVE_MM:
+            active.append("height")
+        if b.footprint_max_mm is not None and abs(b.footprint_max_mm - x[3] - 2 * x[2]) < NLP_ACTIVE_MM:
+            active.append("footprint")
+        names = ("gap_mm", "magnet_thickness_mm", "magnet_width_mm", "magnet_length_mm")
+        for i, n in enumerate(names):
+            if abs(x[i] - lo[i]) < NLP_ACTIVE_MM:
+                active.append(f"{n}>=min")
+            if abs(x[i] - hi[i]) < NLP_ACTIVE_MM:
+                active.append(f"{n}<=max")
+        return tuple(active)
+
+
+def _nlp_starts(nlp: _ActuatorNLP, starts: int, seed: int) -> list[np.ndarray]:
+    """Feasible start points (mm): the box centre plus seeded uniform draws, each pulled
+    towards the lower corner until feasible (dropped when it never is)."""
+    lo, hi = nlp.lo, nlp.hi
+    rng = np.random.default_rng(seed)
+    starts_x = [0.5 * (lo + hi)] + [
+        lo + rng.random(4) * (hi - lo) for _ in range(max(starts - 1, 0))
+    ]
+    out = []
+    for x0 in starts_x:
+        x0 = np.array(x0)
+        for _ in range(60):  # pull towards the lower corner until feasible
+            if nlp.feasible(x0):
+                break
+            x0 = lo + 0.8 * (x0 - lo)
+        if nlp.feasible(x0):
+            out.append(x0)
+    return out
 
 
 # ---------------------------------------------------------------- force along the stroke

@@ -1,4 +1,13 @@
-"""Interference over the stroke: N poses x all pairs of bodies, fast mesh pass then exact OCCT.
+"""Interference over a motion: N poses x all pairs of bodies, fast mesh pass then exact OCCT.
+
+The one check of every family is :func:`check_model`: it takes an assembly model
+(:class:`cad.assembly.model.AssemblyModel`: part instances on bodies, the bodies over the
+poses of ``motion`` -- a four-bar's crank angles, a pantograph's workspace grid, the
+PowerMouse flotor's 6-DOF excursions) and sweeps every moving solid against every other
+solid, moving or ground, with the method below (:func:`sweep`), plus every pair of parts
+on one body once (:func:`same_body_check`). A clash names the pair of parts, the pose
+(crank angle or label) and the overlap volume (:func:`raise_on_collision`). Planar motion
+(every body turning about z at z = 0) is culled by z; other motion is swept unculled.
 
 Method (SPEC "Measured pitfalls": meshes at 0.1 mm miss a 0.05 mm overlap; exact answers
 need OCCT):
@@ -44,6 +53,15 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from cad.errors import InterferenceError
+from cad.tolerances import (  # noqa: F401 (names of this module's API)
+    BOX_TOUCH_MM,
+    CONFIRM_MARGIN_MM,
+    CONTACT_MM,
+    CULL_MARGIN_MM,
+    LB_SLACK_MM,
+    OVERLAP_MIN_MM3,
+    SWEEP_MESH_TOL_MM,
+)
 
 #: What the check covers (copied into report.json ``interference.checked``).
 CHECKED = (
@@ -51,12 +69,6 @@ CHECKED = (
     "distance and common volume near contact), pairs on one body once (bounding boxes, then "
     "the exact OCCT common volume); touching is allowed, a common volume is a collision"
 )
-#: Extra margin on top of 2 x mesh tolerance before a near contact is confirmed exactly (mm).
-CONFIRM_MARGIN_MM = 0.05
-#: Distances below this are contact (mm): OCCT's own confusion tolerance is 1e-7.
-CONTACT_MM = 1e-6
-#: Default absolute mesh tolerance of the fast pass (mm); see cad.bench.interference.
-SWEEP_MESH_TOL_MM = 0.05
 #: Modules whose source the cached exact values (distances, volumes, boxes) depend on.
 _CODE = ("cad.assembly.interference", "cad.export.shapes")
 
@@ -71,6 +83,7 @@ class PartMesh:
     aabb_mm: np.ndarray  # (2, 3) in the body frame
     axis_xy: np.ndarray | None = None  # solid of revolution about this vertical axis (body frame)
     bvh: object = None  # fcl CollisionObject of this part alone (exact-pass pre-filter)
+    tight_box: np.ndarray | None = None  # (2, 3) tight OCCT box in the body frame (lazy)
 
 
 @dataclass
@@ -95,6 +108,10 @@ class InterferenceReport:
     n_exact_checks: int
     time_s: dict = field(default_factory=dict)
     same_body: dict | None = None
+    #: labelled sweeps: ``{label: (distance_mm, "part a/part b", how)}`` -- the smallest
+    #: distance between two bodies at each pose; ``how`` is "exact" (OCCT), "mesh" (fcl, off
+    #: by at most 2 mesh tolerances) or "bound" (a lower bound: the pose was pruned)
+    poses: dict | None = None
 
     def as_dict(self) -> dict:
         return {
@@ -186,12 +203,6 @@ def _corners(parts: list[PartMesh]) -> np.ndarray:
 COARSE_STEP = 8
 
 
-#: A pose is skipped when its lower bound is at least the level that matters minus this
-#: (mm): it absorbs float rounding between the box bounds and fcl's distance (a gap of
-#: exactly 1 mm between parallel faces comes back as 0.9999999999999999), so ties do not
-#: force a measurement. It moves a reported minimum by at most this much, far below
-#: CONFIRM_MARGIN_MM, so no near contact can be skipped.
-LB_SLACK_MM = 1e-9
 
 
 def _box_corners(parts: list[PartMesh]) -> np.ndarray:
@@ -314,10 +325,6 @@ def _z_range(parts: list[PartMesh]) -> tuple[float, float]:
     return min(p.aabb_mm[0, 2] for p in parts), max(p.aabb_mm[1, 2] for p in parts)
 
 
-#: Parts farther than this in z from the other body are left out of a pair's fast pass
-#: (planar motion keeps z, so they stay at least that far); a pair whose mesh minimum
-#: exceeds the z gap of a left-out part is redone without culling (mm).
-CULL_MARGIN_MM = 5.0
 
 
 def _z_gap(p: PartMesh, z: tuple[float, float]) -> float:
@@ -337,12 +344,20 @@ def cull_pair(
     return ka, kb, min(gaps, default=np.inf)
 
 
+def _planar_body(T) -> bool:
+    T = np.asarray(T)
+    return bool(np.allclose(T[..., 2, :], [0.0, 0.0, 1.0, 0.0]) and np.allclose(T[..., :2, 2], 0.0))
+
+
+def _is_planar(tf_world_body: dict[str, np.ndarray]) -> bool:
+    """True when every body turns about z only, at z = 0 (row 2 of each transform is
+    (0, 0, 1, 0)): parts keep their z, so the fast pass may cull by z."""
+    return all(_planar_body(T) for T in tf_world_body.values())
+
+
 def _check_planar(tf_world_body: dict[str, np.ndarray]) -> None:
     for body, T in tf_world_body.items():
-        T = np.asarray(T)
-        if not (
-            np.allclose(T[..., 2, :], [0.0, 0.0, 1.0, 0.0]) and np.allclose(T[..., :2, 2], 0.0)
-        ):
+        if not _planar_body(T):
             raise InterferenceError(f"body {body!r}: the sweep assumes planar motion (z kept)")
 
 
@@ -532,6 +547,26 @@ def _closest_of_pairs(
     return best
 
 
+def separated_boxes(box_a, Ta, box_b, Tb, eps_mm: float = 1e-9) -> bool:
+    """True when the oriented boxes ``box_a`` placed by ``Ta`` and ``box_b`` by ``Tb`` (each
+    (2, 3) in its own frame, 4x4 mm) are separated by a plane normal to one of their six
+    face directions, touching allowed: then the solids inside share no volume."""
+    ca = np.array(list(itertools.product(*np.asarray(box_a).T))) @ Ta[:3, :3].T + Ta[:3, 3]
+    cb = np.array(list(itertools.product(*np.asarray(box_b).T))) @ Tb[:3, :3].T + Tb[:3, 3]
+    for n in np.concatenate([Ta[:3, :3].T, Tb[:3, :3].T]):
+        pa, pb = ca @ n, cb @ n
+        if pb.min() - pa.max() >= -eps_mm or pa.min() - pb.max() >= -eps_mm:
+            return True
+    return False
+
+
+def _tight_body_box(p: PartMesh) -> np.ndarray:
+    """(2, 3) tight OCCT box of a part in its body frame (computed once per part)."""
+    if p.tight_box is None:
+        p.tight_box = _tight_box(p.shape)
+    return p.tight_box
+
+
 def _exact_distance_volume(sa, sb) -> tuple[float, float]:
     """OCCT distance (mm, inf when it fails) of two placed solids, and their common volume
     (mm^3) when they touch or overlap (distance <= :data:`CONTACT_MM`), else 0."""
@@ -571,8 +606,21 @@ def exact_check(
 
     Only part pairs whose world bounding boxes -- and, when python-fcl is installed,
     whose meshes -- come within ``within_mm`` are measured exactly.
-    Returns (distance mm, overlap volume mm^3, part a, part b) of the closest pair.
+    Returns (distance mm, overlap volume mm^3 of all the pairs, part a, part b) of the
+    closest pair (:func:`exact_check_pair` also returns that pair's own volume).
     """
+    return exact_check_pair(pa, pb, Ta, Tb, within_mm)[:4]
+
+
+def exact_check_pair(
+    pa: list[PartMesh], pb: list[PartMesh], Ta: np.ndarray, Tb: np.ndarray, within_mm: float,
+    certify_touch: bool = False,
+) -> tuple[float, float, str, str, float]:
+    """:func:`exact_check` and, last, the common volume (mm^3) of the closest pair alone.
+    ``certify_touch`` (where touching is allowed): a pair whose meshes touch is taken as
+    touching (distance 0; the true gap is under two mesh tolerances) and given volume 0
+    without a boolean where a face plane separates their tight boxes
+    (:func:`separated_boxes`, flush faces); else the OCCT distance and boolean decide."""
     from cad.export.shapes import placed
 
     best = (np.inf, 0.0, "", "")
@@ -584,200 +632,321 @@ def exact_check(
         for j, q in enumerate(pb):
             if _aabb_gap(boxes_a[i], boxes_b[j]) > within_mm:
                 continue
-            if use_fcl and _part_mesh_distance(p, q, Ta, Tb) > within_mm:
+            dm = _part_mesh_distance(p, q, Ta, Tb) if use_fcl else np.inf
+            if dm > within_mm:
                 continue
-            d, vol = _exact_pair(placed(p.shape, Ta), placed(q.shape, Tb))
+            if certify_touch and dm <= CONTACT_MM:
+                # meshes in contact: taken as touching (the true gap is under 2 mesh
+                # tolerances); no volume where a face plane separates the tight boxes
+                if separated_boxes(_tight_body_box(p), Ta, _tight_body_box(q), Tb):
+                    d, vol = 0.0, 0.0
+                else:
+                    d, vol = _exact_pair(placed(p.shape, Ta), placed(q.shape, Tb))
+            else:
+                d, vol = _exact_pair(placed(p.shape, Ta), placed(q.shape, Tb))
             overlap += vol
             if d < best[0] or (d <= CONTACT_MM and vol > best[1]):
                 best = (d, vol, p.name, q.name)
-    return best[0], overlap, best[2], best[3]
+    return best[0], overlap, best[2], best[3], best[1]
+
+
+class _PoseNames:
+    """How a sweep names its poses: by crank angle (``phi1_rad``, a four-bar stroke: the
+    closest pose may be refined between samples) or by label (any motion: a workspace grid,
+    the 6-DOF excursions of a flotor). ``value(i)`` is the pose's position (phi1 in rad, or
+    the index), ``entry(v)`` its name in the report (degrees, or the label)."""
+
+    def __init__(self, phi1_rad, labels):
+        self.phi = None if labels is not None else np.asarray(phi1_rad, dtype=float)
+        self.labels = None if labels is None else tuple(labels)
+        self.key = "phi1_deg" if labels is None else "pose"
+        self.n = len(self.phi) if labels is None else len(self.labels)
+
+    def value(self, i: int):
+        return float(self.phi[i]) if self.phi is not None else int(i)
+
+    def entry(self, v):
+        return float(np.degrees(v)) if self.phi is not None else self.labels[int(v)]
+
+
+def _scenes(prepared: Prepared, method: str, margin: float, clearance_min_mm: float, joints):
+    """(culled scene, unculled scene) of the fast pass for ``method`` ("fcl", "manifold3d")."""
+    if method == "fcl":
+        jx = {}
+        for (a, b), axes in (joints or {}).items():
+            jx[(a, b)] = [(np.asarray(xa, float), np.asarray(xb, float)) for xa, xb in axes]
+            jx[(b, a)] = [(np.asarray(xb, float), np.asarray(xa, float)) for xa, xb in axes]
+        return _FclScene(prepared, margin, jx), _FclScene(prepared, np.inf, jx)
+    if method == "manifold3d":
+        return (_ManifoldScene(prepared, margin, clearance_min_mm + 10.0),
+                _ManifoldScene(prepared, np.inf, clearance_min_mm + 10.0))
+    raise InterferenceError(f"unknown sweep method {method!r} (fcl, manifold3d, auto)")
+
+
+def _fast_pass(scene, full, tfs: dict, pairs: list, threshold: float, slack: float,
+               names: _PoseNames, tf_at) -> tuple[dict, float]:
+    """Mesh distances of every body pair over the poses (z-culled where the scene culls,
+    unculled where a left-out part could be closer), the closest pose of each pair refined
+    between its neighbours when ``tf_at`` is given. Returns ``({(a, b): (d (N,), i_min,
+    pose_min, d_min, Ta_min, Tb_min)}, smallest distance found, {(a, b): (distances or
+    lower bounds (N,), measured (N,))})``."""
+    n = names.n
+    for a, b in pairs:  # coarse poses of every pair first: a global minimum to prune with
+        scene.pair(a, b, tfs[a][0], tfs[b][0])
+    coarse = sorted(set(range(0, n, COARSE_STEP)) | {n - 1})
+    coarse_d = {(a, b): {i: scene.distance(a, b, tfs[a][i], tfs[b][i]) for i in coarse}
+                for a, b in pairs}
+    g_min = min((min(v.values()) for v in coarse_d.values()), default=np.inf)
+    dist, measured, scenes = {}, {}, {}
+    for a, b in pairs:
+        sc = scene
+        if scene.lower_bound[(a, b)] < g_min:  # a culled part may be closer: measure without culling
+            sc = full
+        dist[(a, b)], measured[(a, b)] = bounded_pair_distances(
+            sc, a, b, tfs[a], tfs[b],
+            lambda m, g=lambda: g_min: max(threshold, min(m, g())),
+            pre=coarse_d[(a, b)] if sc is scene else None,
+        )
+        scenes[(a, b)] = sc
+        g_min = min(g_min, float(dist[(a, b)][measured[(a, b)]].min()))
+    fast = {}
+    for (a, b), d in dist.items():
+        d = np.where(measured[(a, b)], d, np.inf)
+        i_min = int(np.argmin(d))
+        v_min, d_min = names.value(i_min), float(d[i_min])
+        Ta_min, Tb_min = tfs[a][i_min], tfs[b][i_min]
+        if d_min <= max(threshold, g_min + 2 * slack) and tf_at is not None and n > 2:
+            v_min, d_min, Ta_min, Tb_min = _refine(scenes[(a, b)], a, b, names, i_min,
+                                                   (v_min, d_min, Ta_min, Tb_min), tf_at)
+        fast[(a, b)] = (d, i_min, v_min, d_min, Ta_min, Tb_min)
+    return fast, g_min, {k: (dist[k], measured[k]) for k in dist}
+
+
+def _refine(sc, a: str, b: str, names: _PoseNames, i_min: int, best: tuple, tf_at) -> tuple:
+    """The closest pose of a pair refined between its neighbouring crank angles (bounded
+    scalar search); ``best`` = (phi, d, Ta, Tb) kept when the search finds nothing closer."""
+    from scipy.optimize import minimize_scalar
+
+    n = names.n
+    lo = float(names.phi[max(i_min - 1, 0)])
+    hi = float(names.phi[min(i_min + 1, n - 1)])
+
+    def f(p):
+        T = tf_at(p)
+        return sc.distance(a, b, T[a], T[b])
+
+    r = minimize_scalar(f, bounds=(lo, hi), method="bounded", options={"xatol": 1e-4})
+    if r.fun < best[1]:
+        T = tf_at(float(r.x))
+        return float(r.x), float(r.fun), T[a], T[b]
+    return best
+
+
+def _is_clash(de: float, vol: float, clearance_min_mm: float, contact_ok: bool) -> bool:
+    """A collision: a common volume above :data:`OVERLAP_MIN_MM3` when contact is allowed;
+    else contact or a distance under ``clearance_min_mm``."""
+    if contact_ok:
+        return de <= CONTACT_MM and vol > OVERLAP_MIN_MM3
+    return de <= CONTACT_MM or de < clearance_min_mm - CONTACT_MM
+
+
+# long-function: one loop over the body pairs carrying the exact pass's running minimum,
+# overlap and collision list (split further it would pass all of them back and forth)
+def _exact_pass(prepared: Prepared, fast: dict, tfs: dict, names: _PoseNames, *, threshold: float,
+                slack: float, clearance_min_mm: float, exact: bool, contact_ok: bool,
+                fail_fast: bool = False, groups=None, raw=None) -> dict:
+    """Exact pass: near contacts, and the closest pose of every pair that may hold the
+    minimum (OCCT distance; common volume at contact). Returns the report fields.
+    ``fail_fast``: stop at the first collision (the build is refused anyway). ``groups``
+    (labelled poses): ``label -> group``; the closest pose of each group is checked too.
+    ``raw``: ``{pair: (distances or lower bounds (N,), measured (N,))}`` of the fast pass."""
+    key = names.key
+    table = _PoseTable(names, raw or {})
+    pairs_out, collisions = [], []
+    n_exact, t_exact = 0, 0.0
+    best_clear, best_info, total_overlap = np.inf, {}, 0.0
+    global_mesh_min = min((v[3] for v in fast.values()), default=np.inf)
+    for (a, b), (d, i_min, v_min, d_min, Ta_min, Tb_min) in fast.items():
+        row = {"bodies": [a, b], "mesh_min_mm": d_min, f"{key}_at_min": names.entry(v_min)}
+        clear = d_min
+        if exact:
+            t1 = time.perf_counter()
+            checks = []
+            if d_min <= max(threshold, global_mesh_min + 2 * slack):
+                checks.append((v_min, Ta_min, Tb_min, max(threshold, d_min + slack)))
+            near = set(np.flatnonzero(d < threshold).tolist())
+            more = near | _group_minima(d, names, groups)
+            checks += [  # a group's closest pose: every part pair that may hold its minimum
+                (names.value(i), tfs[a][i], tfs[b][i],
+                 threshold if i in near else max(threshold, float(d[i]) + slack))
+                for i in sorted(more)
+                if i != i_min
+            ]
+            ex_min, ex_parts, ex_v = np.inf, ("", ""), v_min
+            for v, Ta, Tb, within in checks:
+                de, vol, pa, pb, vp = exact_check_pair(prepared.bodies[a], prepared.bodies[b],
+                                                       Ta, Tb, within, certify_touch=contact_ok)
+                n_exact += 1
+                table.exact((a, b), v, de, pa, pb)
+                if de < ex_min:
+                    ex_min, ex_parts, ex_v = de, (pa, pb), v
+                if _is_clash(de, vol, clearance_min_mm, contact_ok):
+                    c = {"bodies": [a, b], "parts": [pa, pb], key: names.entry(v),
+                         "distance_mm": max(de, 0.0), "overlap_volume_mm3": vol}
+                    if names.phi is None:  # the named pair's own share of the bodies' overlap
+                        c["parts_overlap_volume_mm3"] = vp
+                    collisions.append(c)
+                    total_overlap = max(total_overlap, vol)
+                    if fail_fast:
+                        break
+            t_exact += time.perf_counter() - t1
+            if np.isfinite(ex_min):
+                row.update({"exact_min_mm": ex_min, "parts": list(ex_parts),
+                            f"{key}_exact": names.entry(ex_v)})
+                clear = ex_min
+        elif not contact_ok and (d_min <= CONTACT_MM or d_min < clearance_min_mm - CONTACT_MM):
+            collisions.append({"bodies": [a, b], "parts": [], key: names.entry(v_min),
+                               "distance_mm": d_min, "overlap_volume_mm3": None})
+        pairs_out.append(row)
+        if fail_fast and collisions:
+            break
+        if clear < best_clear:
+            best_clear = clear
+            best_info = {"bodies": [a, b], "parts": row.get("parts", []),
+                         key: row.get(f"{key}_exact", row[f"{key}_at_min"]),
+                         "exact": "exact_min_mm" in row}
+    return {"min_clearance_mm": float(max(best_clear, 0.0)),
+            "overlap_volume_mm3": float(total_overlap), "closest": best_info,
+            "pairs": pairs_out, "collisions": collisions, "n_exact_checks": n_exact,
+            "t_exact": t_exact, "poses": table.result()}
+
+
+def _group_minima(d: np.ndarray, names: _PoseNames, groups) -> set[int]:
+    """Indices of the closest pose of each group (``groups(label) -> key``; labelled poses)."""
+    if groups is None or names.labels is None:
+        return set()
+    best: dict = {}
+    for i, label in enumerate(names.labels):
+        g = groups(label)
+        if np.isfinite(d[i]) and (g not in best or d[i] < d[best[g]]):
+            best[g] = i
+    return set(best.values())
+
+
+class _PoseTable:
+    """The smallest distance between two bodies at each labelled pose: per body pair the
+    fast pass's value (mesh distance where measured, else its lower bound), replaced by the
+    exact value where the pair was checked exactly there; then the smallest over the pairs
+    (:attr:`InterferenceReport.poses`)."""
+
+    def __init__(self, names: _PoseNames, raw: dict):
+        self.names = names
+        self.cells: dict = {}
+        if names.labels is None:
+            return
+        for pair, (d, measured) in raw.items():
+            for i, label in enumerate(names.labels):
+                self.cells[(pair, label)] = (float(d[i]), "", "mesh" if measured[i] else "bound")
+
+    def exact(self, pair, v, de: float, pa: str, pb: str) -> None:
+        if self.names.labels is None:
+            return
+        k = (pair, self.names.entry(v))
+        if self.cells.get(k, ("", "", ""))[2] != "exact" or de < self.cells[k][0]:
+            self.cells[k] = (float(de), f"{pa}/{pb}", "exact")
+
+    def result(self) -> dict | None:
+        if self.names.labels is None:
+            return None
+        out: dict = {}
+        for (_, label), cell in self.cells.items():
+            if label not in out or cell[0] < out[label][0]:
+                out[label] = cell
+        return out
 
 
 def sweep(
     prepared: Prepared,
     tf_world_body: dict[str, np.ndarray],
-    phi1_rad: np.ndarray,
+    phi1_rad: np.ndarray | None,
     clearance_min_mm: float,
     *,
     method: str = "auto",
     exact: bool = True,
     tf_at=None,
     joints=None,
+    labels=None,
+    contact_ok: bool = False,
+    fail_fast: bool = False,
+    groups=None,
 ) -> InterferenceReport:
     """Sweep all body pairs over the poses (module docstring).
 
     ``tf_world_body``: ``{body: (N, 4, 4)}`` at ``phi1_rad`` (N,). ``tf_at(phi) -> {body: 4x4}``
     (optional) evaluates a single pose for the refinement step.
+    ``labels``: N pose names for any other motion (``phi1_rad`` None): poses are reported by
+    label (``"pose"`` keys instead of ``"phi1_deg"``), no refinement, and where the motion is
+    not planar (a flotor's 6-DOF excursions) nothing is culled by z.
     ``joints``: ``{(body a, body b): [(axis xy in a's frame, axis xy in b's frame), ...]}`` for
     bodies turning about a common joint: parts that are solids of revolution about such an
     axis keep their distance to the other body at every pose, so the fcl pass measures them
     once (pose-invariant pairs) and sweeps only the rest.
+    ``contact_ok``: touching is allowed (a bearing on its journal, a flotor at its stop): a
+    collision is a common volume above :data:`OVERLAP_MIN_MM3`; else (four-bar) contact or
+    a distance under ``clearance_min_mm`` is one. ``fail_fast``: the exact pass stops at the
+    first collision (the report is then incomplete: for a build about to be refused).
+    ``groups`` (labelled poses): ``label -> group key``; the closest pose of each group is
+    checked exactly too (so each group's minimum in ``poses`` is exact).
     ``method``: "fcl", "manifold3d" or "auto" (fcl when installed) for the fast pass; ``exact=False`` reports the mesh
     distances only (preview fidelity).
     """
     t0 = time.perf_counter()
-    _check_planar(tf_world_body)
+    names = _PoseNames(phi1_rad, labels)
+    planar = _is_planar(tf_world_body)
+    if labels is None and not planar:
+        _check_planar(tf_world_body)
     if method == "auto":
         method = "fcl" if have_fcl() else "manifold3d"
-    n = len(phi1_rad)
     threshold = clearance_min_mm + 2 * prepared.mesh_tol_mm + CONFIRM_MARGIN_MM
-    margin = max(threshold, CULL_MARGIN_MM)
-    if method == "fcl":
-        jx = {}
-        for (a, b), axes in (joints or {}).items():
-            jx[(a, b)] = [(np.asarray(xa, float), np.asarray(xb, float)) for xa, xb in axes]
-            jx[(b, a)] = [(np.asarray(xb, float), np.asarray(xa, float)) for xa, xb in axes]
-        scene, full = _FclScene(prepared, margin, jx), _FclScene(prepared, np.inf, jx)
-    elif method == "manifold3d":
-        scene = _ManifoldScene(prepared, margin, clearance_min_mm + 10.0)
-        full = _ManifoldScene(prepared, np.inf, clearance_min_mm + 10.0)
-    else:
-        raise InterferenceError(f"unknown sweep method {method!r} (fcl, manifold3d, auto)")
+    margin = max(threshold, CULL_MARGIN_MM) if planar else np.inf
+    scene, full = _scenes(prepared, method, margin, clearance_min_mm, joints)
     t_build = time.perf_counter() - t0
-    bodies = sorted(prepared.bodies)
-    pairs_out, collisions = [], []
-    n_exact = 0
-    best_clear, best_info, total_overlap = np.inf, {}, 0.0
-    t_fast = t_exact = 0.0
     # fast pass over all pairs (z-culled), then uncull where a left-out part could be closer
     slack = 2 * prepared.mesh_tol_mm + CONFIRM_MARGIN_MM
     t1 = time.perf_counter()
-    dist: dict[tuple[str, str], np.ndarray] = {}
-    measured: dict[tuple[str, str], np.ndarray] = {}
-    scenes: dict[tuple[str, str], object] = {}
-    pairs = list(itertools.combinations(bodies, 2))
-    for a, b in pairs:  # coarse poses of every pair first: a global minimum to prune with
-        scene.pair(a, b, tf_world_body[a][0], tf_world_body[b][0])
-    coarse = sorted(set(range(0, n, COARSE_STEP)) | {n - 1})
-    coarse_d = {
-        (a, b): {i: scene.distance(a, b, tf_world_body[a][i], tf_world_body[b][i]) for i in coarse}
-        for a, b in pairs
-    }
-    g_min = min((min(v.values()) for v in coarse_d.values()), default=np.inf)
-    for a, b in pairs:
-        sc = scene
-        if (
-            scene.lower_bound[(a, b)] < g_min
-        ):  # a culled part may be closer: measure without culling
-            sc = full
-        dist[(a, b)], measured[(a, b)] = bounded_pair_distances(
-            sc,
-            a,
-            b,
-            tf_world_body[a],
-            tf_world_body[b],
-            lambda m, g=lambda: g_min: max(threshold, min(m, g())),
-            pre=coarse_d[(a, b)] if sc is scene else None,
-        )
-        scenes[(a, b)] = sc
-        g_min = min(g_min, float(dist[(a, b)][measured[(a, b)]].min()))
-    fast: dict[tuple[str, str], tuple] = {}
-    for (a, b), d in dist.items():
-        sc = scenes[(a, b)]
-        d = np.where(measured[(a, b)], d, np.inf)
-        i_min = int(np.argmin(d))
-        phi_min, d_min = float(phi1_rad[i_min]), float(d[i_min])
-        Ta_min, Tb_min = tf_world_body[a][i_min], tf_world_body[b][i_min]
-        near = d_min <= max(threshold, g_min + 2 * slack)
-        if near and tf_at is not None and n > 2:  # refine the closest pose between its neighbours
-            lo = float(phi1_rad[max(i_min - 1, 0)])
-            hi = float(phi1_rad[min(i_min + 1, n - 1)])
-            from scipy.optimize import minimize_scalar
-
-            def f(p, a=a, b=b, sc=sc):
-                T = tf_at(p)
-                return sc.distance(a, b, T[a], T[b])
-
-            r = minimize_scalar(f, bounds=(lo, hi), method="bounded", options={"xatol": 1e-4})
-            if r.fun < d_min:
-                phi_min, d_min = float(r.x), float(r.fun)
-                T = tf_at(phi_min)
-                Ta_min, Tb_min = T[a], T[b]
-        fast[(a, b)] = (d, i_min, phi_min, d_min, Ta_min, Tb_min)
+    pairs = list(itertools.combinations(sorted(prepared.bodies), 2))
+    fast, _, raw = _fast_pass(scene, full, tf_world_body, pairs, threshold, slack, names,
+                              tf_at if names.phi is not None else None)
     t_fast = time.perf_counter() - t1
-    global_mesh_min = min((v[3] for v in fast.values()), default=np.inf)
-    # exact pass: near contacts, and the closest pose of every pair that may hold the minimum
-    for (a, b), (d, i_min, phi_min, d_min, Ta_min, Tb_min) in fast.items():
-        row = {
-            "bodies": [a, b],
-            "mesh_min_mm": d_min,
-            "phi1_deg_at_min": float(np.degrees(phi_min)),
-        }
-        clear = d_min
-        if exact:
-            t1 = time.perf_counter()
-            checks = []
-            if d_min <= max(threshold, global_mesh_min + 2 * slack):
-                checks.append((phi_min, Ta_min, Tb_min, max(threshold, d_min + slack)))
-            checks += [
-                (float(phi1_rad[i]), tf_world_body[a][i], tf_world_body[b][i], threshold)
-                for i in np.flatnonzero(d < threshold)
-                if i != i_min
-            ]
-            ex_min, ex_parts, ex_phi = np.inf, ("", ""), phi_min
-            for phi, Ta, Tb, within in checks:
-                de, vol, pa, pb = exact_check(
-                    prepared.bodies[a], prepared.bodies[b], Ta, Tb, within
-                )
-                n_exact += 1
-                if de < ex_min:
-                    ex_min, ex_parts, ex_phi = de, (pa, pb), phi
-                if de <= CONTACT_MM or de < clearance_min_mm - CONTACT_MM:
-                    collisions.append(
-                        {
-                            "bodies": [a, b],
-                            "parts": [pa, pb],
-                            "phi1_deg": float(np.degrees(phi)),
-                            "distance_mm": max(de, 0.0),
-                            "overlap_volume_mm3": vol,
-                        }
-                    )
-                    total_overlap = max(total_overlap, vol)
-            t_exact += time.perf_counter() - t1
-            if np.isfinite(ex_min):
-                row.update(
-                    {
-                        "exact_min_mm": ex_min,
-                        "parts": list(ex_parts),
-                        "phi1_deg_exact": float(np.degrees(ex_phi)),
-                    }
-                )
-                clear = ex_min
-        elif d_min <= CONTACT_MM or d_min < clearance_min_mm - CONTACT_MM:
-            collisions.append(
-                {
-                    "bodies": [a, b],
-                    "parts": [],
-                    "phi1_deg": float(np.degrees(phi_min)),
-                    "distance_mm": d_min,
-                    "overlap_volume_mm3": None,
-                }
-            )
-        pairs_out.append(row)
-        if clear < best_clear:
-            best_clear = clear
-            best_info = {
-                "bodies": [a, b],
-                "parts": row.get("parts", []),
-                "phi1_deg": row.get("phi1_deg_exact", row["phi1_deg_at_min"]),
-                "exact": "exact_min_mm" in row,
-            }
+    r = _exact_pass(prepared, fast, tf_world_body, names, threshold=threshold, slack=slack,
+                    clearance_min_mm=clearance_min_mm, exact=exact, contact_ok=contact_ok,
+                    fail_fast=fail_fast, groups=groups, raw=raw)
     return InterferenceReport(
-        min_clearance_mm=float(max(best_clear, 0.0)),
-        overlap_volume_mm3=float(total_overlap),
-        closest=best_info,
-        pairs=pairs_out,
-        collisions=collisions,
+        min_clearance_mm=r["min_clearance_mm"],
+        overlap_volume_mm3=r["overlap_volume_mm3"],
+        closest=r["closest"],
+        pairs=r["pairs"],
+        collisions=r["collisions"],
         method=f"{method}{'+occt' if exact else ' (mesh only)'}",
         mesh_tol_mm=prepared.mesh_tol_mm,
-        n_poses=n,
-        n_exact_checks=n_exact,
-        time_s={"mesh": prepared.mesh_time_s, "bvh": t_build, "fast": t_fast, "exact": t_exact},
+        n_poses=names.n,
+        n_exact_checks=r["n_exact_checks"],
+        time_s={"mesh": prepared.mesh_time_s, "bvh": t_build, "fast": t_fast,
+                "exact": r["t_exact"]},
+        poses=r["poses"],
     )
 
 
+def _at(c: dict) -> str:
+    """Where a sweep collision happened: ``phi1 = 12.00 deg`` or ``pose <label>``."""
+    if "pose" in c:
+        return f"pose {c['pose']}"
+    return f"phi1 = {c['phi1_deg']:.2f} deg"
+
+
 def raise_on_collision(rep: InterferenceReport, clearance_min_mm: float) -> None:
-    """InterferenceError naming the first collision (or a clearance under the minimum)."""
+    """InterferenceError naming the first collision (or a clearance under the minimum): the
+    part pair, the pose (crank angle or label) and the overlap volume."""
     if not rep.collisions:
         return
     c = min(rep.collisions, key=lambda r: (r["distance_mm"], -(r["overlap_volume_mm3"] or 0.0)))
@@ -790,26 +959,24 @@ def raise_on_collision(rep: InterferenceReport, clearance_min_mm: float) -> None
     elif c["distance_mm"] <= CONTACT_MM:
         vol = c["overlap_volume_mm3"]
         what = f"overlap {vol:.3f} mm^3" if vol else "contact"
-        msg = f"{parts} collide at phi1 = {c['phi1_deg']:.2f} deg ({what})"
+        vp = c.get("parts_overlap_volume_mm3")
+        if vp is not None and vol and abs(vol - vp) > 1e-9 * vol:
+            what = (f"overlap {vp:.3f} mm^3; {vol:.3f} mm^3 between "
+                    f"{c['bodies'][0]} and {c['bodies'][1]}")
+        msg = f"{parts} collide at {_at(c)} ({what})"
     else:
         msg = (
-            f"{parts} are {c['distance_mm']:.3f} mm apart at phi1 = {c['phi1_deg']:.2f} deg "
+            f"{parts} are {c['distance_mm']:.3f} mm apart at {_at(c)} "
             f"(< clearance_min_mm = {clearance_min_mm:g})"
         )
+    where = "motion" if any("pose_at_min" in r for r in rep.pairs) else "stroke"
     raise InterferenceError(
-        f"{msg}; {len(rep.collisions)} near contact(s) in the stroke "
+        f"{msg}; {len(rep.collisions)} near contact(s) in the {where} "
         "(use --allow-interference to export anyway)"
     )
 
 
 # --------------------------------------------------------------------------- same-body pairs
-#: A common volume above this between two parts of one body is a collision (mm^3): far
-#: above OCCT's boolean noise on touching faces (~1e-9), below the issue-10 acceptance
-#: threshold (1e-3) so nothing the independent STEP check would find is let through.
-OVERLAP_MIN_MM3 = 1e-4
-#: Bounding boxes that overlap by no more than this along some axis only touch (mm): parts
-#: stacked face to face (a spacer on a bar, a leg under the plate) need no boolean.
-BOX_TOUCH_MM = 1e-6
 
 
 @dataclass
@@ -995,3 +1162,111 @@ def merge_same_body(rep: InterferenceReport, same: SameBodyResult) -> Interferen
     rep.same_body = same.as_dict()
     rep.time_s = {**rep.time_s, "same_body": same.time_s}
     return rep
+
+
+# --------------------------------------------------------------------- one assembly model
+def joint_axes(model) -> dict:
+    """``{(body, other body): [(axis xy in body, axis xy in other body), ...]}`` of every
+    joint the model's instances carry across two bodies (a part with ``other_body`` whose
+    kind is a solid of revolution about its vertical z axis: a bearing's inner ring moving
+    with its journal). Input of :func:`sweep`'s revolution shortcut."""
+    out: dict = {}
+    for inst in model.instances:
+        if inst.other_body is None or not getattr(inst.kind, "revolution", False):
+            continue
+        Ta, Tb = np.asarray(inst.tf_body_part, float), np.asarray(inst.tf_other_part, float)
+        if abs(abs(Ta[2, 2]) - 1.0) > 1e-12 or abs(abs(Tb[2, 2]) - 1.0) > 1e-12:
+            continue
+        a, b, ax = inst.body, inst.other_body, (Ta[:2, 3].copy(), Tb[:2, 3].copy())
+        if b < a:
+            a, b, ax = b, a, (ax[1], ax[0])
+        axes = out.setdefault((a, b), [])
+        if not any(np.allclose(ax[0], x[0]) and np.allclose(ax[1], x[1]) for x in axes):
+            axes.append(ax)
+    return out
+
+
+def model_motion(model, bodies) -> tuple[dict[str, np.ndarray], tuple[str, ...]]:
+    """``({body: (N, 4, 4)}, N labels)``: each of ``bodies`` over the model's motion (a body
+    the motion leaves out is fixed at its ``tf_world_body``); one pose, the exported one,
+    when the model has no motion."""
+    if not model.motion:
+        labels = ("exported pose",)
+    else:
+        labels = tuple(model.pose_labels)
+    n = len(labels)
+    out = {}
+    for b in bodies:
+        if model.motion and b in model.motion:
+            T = np.asarray(model.motion[b], float)
+            if T.shape != (n, 4, 4):
+                raise InterferenceError(
+                    f"motion of body {b!r} has shape {T.shape}, expected ({n}, 4, 4) for the "
+                    f"{n} pose labels")
+            out[b] = T
+        else:
+            out[b] = np.repeat(np.asarray(model.tf_world_body[b], float)[None], n, axis=0)
+    return out, labels
+
+
+def check_model(
+    model,
+    clearance_min_mm: float = 0.0,
+    *,
+    mesh_tol_mm: float = SWEEP_MESH_TOL_MM,
+    exact: bool = True,
+    contact_ok: bool = True,
+    joints=None,
+    method: str = "auto",
+    fail_fast: bool = False,
+    groups=None,
+    phi1_rad=None,
+    tf_at=None,
+    same_body: SameBodyResult | None = None,
+) -> InterferenceReport:
+    """The one interference check of an assembly model (:class:`cad.assembly.model.AssemblyModel`)
+    of any family: every moving solid against every other solid over the model's motion.
+
+    * every pair of bodies (moving or ground) at each of the N poses of ``model.motion``
+      (:func:`sweep`: the collision envelopes meshed at ``mesh_tol_mm``, fcl BVH distances
+      with box and Lipschitz pruning, parts turning about a shared joint measured once,
+      z culling where the motion is planar; then the exact OCCT distance, and the common
+      volume at contact, near contact and at each pair's closest pose);
+    * every pair of parts on one body once (:func:`same_body_check` on the real solids).
+
+    ``contact_ok`` (default): touching is allowed, a common volume above
+    :data:`OVERLAP_MIN_MM3` is a collision; False: contact or a distance under
+    ``clearance_min_mm`` is one (the four-bar's rule). Collisions name the bodies, the parts,
+    the pose label (``"pose"``) and ``overlap_volume_mm3``; :func:`raise_on_collision`
+    turns the first into an :class:`cad.errors.InterferenceError`. ``joints``: as
+    :func:`sweep`, added to :func:`joint_axes` of the model (joints no part carries across,
+    a motor shaft in its housing). Distances mm, volumes mm^3.
+    Only the sampled poses are checked: a clash between two neighbouring samples is found
+    only where it reaches a sample. ``fail_fast`` (a build that refuses any clash): the
+    same-body pairs first, and on a collision there the sweep is not run; the sweep's exact
+    pass stops at its first collision (the report lists the clashes found until then).
+    ``groups``: ``label -> group key``, the closest pose of each group checked exactly
+    (:func:`sweep`); the report's ``poses`` gives the smallest distance at every pose.
+    ``phi1_rad`` (N,) and ``tf_at`` (a four-bar stroke): the poses are crank angles (named
+    ``phi1_deg``, the closest pose refined between samples by ``tf_at(phi) -> {body: 4x4}``)
+    instead of ``model.pose_labels``. ``same_body``: the same-body result when already
+    computed (a build runs it beside other work), else it is computed here.
+    """
+    same = same_body if same_body is not None else same_body_check(static_items(model.instances))
+    if fail_fast and same.collisions:
+        rep = InterferenceReport(0.0, 0.0, {}, [], [], "same-body check only (fail fast)",
+                                 mesh_tol_mm, len(model_motion(model, [])[1]), 0)
+        return merge_same_body(rep, same)
+    prepared = prepare(collision_items(model.instances), mesh_tol_mm)
+    tfs, labels = model_motion(model, sorted(prepared.bodies))
+    jx = joint_axes(model)
+    for (a, b), axes in (joints or {}).items():
+        if b < a:
+            a, b, axes = b, a, [(xb, xa) for xa, xb in axes]
+        jx.setdefault((a, b), []).extend(axes)
+    if phi1_rad is not None:
+        labels = None
+    rep = sweep(prepared, tfs, phi1_rad, clearance_min_mm, method=method, exact=exact, joints=jx,
+                labels=labels, contact_ok=contact_ok, fail_fast=fail_fast, groups=groups,
+                tf_at=tf_at)
+    return merge_same_body(rep, same)

@@ -42,6 +42,7 @@ from cad.data import catalog
 from cad.design.parts import LINK_NAMES, PartsSpec
 from cad.errors import DesignError
 from cad.parts.motor import SET_SCREW
+from cad.tolerances import LAYER_SLACK_MM
 
 #: Tap lead-out below a hole's full thread (mm); see :mod:`cad.assembly.fasteners`.
 TAP_LEADOUT_MM = 1.0
@@ -218,7 +219,7 @@ def planar_clearances(elements, tf_world_body) -> list[tuple[float, Element, Ele
     for i, j in itertools.combinations(range(len(elements)), 2):
         a, b = elements[i], elements[j]
         margin = max(a.z_margin_mm, b.z_margin_mm) if a.body != b.body else 0.0
-        if min(a.z_mm[1], b.z_mm[1]) - max(a.z_mm[0], b.z_mm[0]) <= -margin + 1e-9:
+        if min(a.z_mm[1], b.z_mm[1]) - max(a.z_mm[0], b.z_mm[0]) <= -margin + LAYER_SLACK_MM:
             continue
         key = (digest[a.body], np.asarray(a.points_mm, dtype=float).tobytes(),
                digest[b.body], np.asarray(b.points_mm, dtype=float).tobytes())
@@ -346,7 +347,7 @@ def hub_set_screw(parts: PartsSpec) -> HubSetScrew:
                                     "crank hub set screw onto the motor shaft",
                                     "parts.hub_diameter_mm")
     d = catalog.thread_diameter_mm(size)
-    if parts.hub_shaft_engagement_min_mm < d + 1.0 - 1e-9:  # axis at half the engagement
+    if parts.hub_shaft_engagement_min_mm < d + 1.0 - LAYER_SLACK_MM:  # axis at half the engagement
         raise DesignError(
             "parts.hub_shaft_engagement_min_mm",
             f"{parts.hub_shaft_engagement_min_mm:g} mm: the hub's {size.split('-')[0]} set screw "
@@ -371,7 +372,7 @@ def _shaft_blame(parts: PartsSpec, shaft_length_mm: float) -> str:
 
     def ok(p: PartsSpec) -> bool:
         reach = shaft_length_mm - p.base_thickness_mm - p.motor_mount_thickness_mm
-        return reach - p.base_clearance_mm >= p.hub_shaft_engagement_min_mm - 1e-9
+        return reach - p.base_clearance_mm >= p.hub_shaft_engagement_min_mm - LAYER_SLACK_MM
 
     for f in _SHAFT_FIELDS:
         default = getattr(PartsSpec, f)
@@ -428,160 +429,23 @@ def plan_for_order(
     level = {name: i for i, name in enumerate(order)}
     offs = (0.0, t + gaps[0], 2 * t + gaps[0] + gaps[1])
     motor = catalog.get_motor(parts.motor)
-    pin = catalog.get_shoulder_screw(parts.pin)
-    nut = catalog.get_nut(parts.pin)
-    washer = catalog.get_washer(parts.pin)
-    hub_cs = catalog.get_cap_screw(parts.hub_screw, "parts.hub_screw")
+    els = _Elements(parts, motor)  # the catalog hardware looked up first, as ever
     hub_L, hub_engaged = _hub_screw_length(parts)
     handle_L = _handle_screw_length(parts)
-
-    def stacks_for(z0: float) -> dict[str, JointStack]:
-        z = {n: z0 + offs[level[n]] for n in order}
-        out = {}
-        for j, (a, b) in JOINTS.items():
-            if b == "ground":
-                out[j] = joint_stack(j, a, b, z[a], z[a] - g, parts)
-                continue
-            up, low = (a, b) if level[a] > level[b] else (b, a)
-            out[j] = joint_stack(j, up, low, z[up], z[low] + t, parts)
-        return out
-
-    # lowest layer: clear the base plate, the nuts hanging under it and the hub screws
-    base_clear = parts.base_clearance_mm
-    probe = stacks_for(100.0)
-    lowest = order[0]
-    hang = 0.0
-    for s in probe.values():
-        if s.lower == lowest and s.nut:
-            hang = max(hang, 100.0 - s.thread_end_mm)
-    z0 = base_clear + hang
-    # the hub (base_clear .. crank bottom) holds the hub screws' tapped holes, the post
-    # (0 .. A4 stack) both its screws: raise the whole stack where they would not fit
-    z0 = max(z0, base_clear + hub_engaged + TAP_LEADOUT_MM + HUB_FLOOR_MM - offs[level["crank"]])
-    post_need = post_min_height_mm(probe["A4"], parts) - (probe["A4"].z_lower_top_mm - 100.0)
-    z0 = max(z0, post_need)
-    js = stacks_for(z0)
+    z0 = _lowest_layer_z(order, level, offs, parts, hub_engaged)
+    js = _stacks_at(order, level, offs, z0, parts)
     z = {n: z0 + offs[level[n]] for n in order}
 
     flange_z = -(parts.base_thickness_mm + parts.motor_mount_thickness_mm)
     shaft_top = flange_z + motor.shaft_length_mm
-    hub_lo = base_clear
+    hub_lo = parts.base_clearance_mm
     hub_hi = z["crank"]
-    engaged = min(shaft_top, hub_hi) - hub_lo
-    if engaged < parts.hub_shaft_engagement_min_mm - 1e-9:
-        f = _shaft_blame(parts, motor.shaft_length_mm)
-        raise DesignError(
-            f"parts.{f}",
-            f"{getattr(parts, f):g} mm: the {motor.shaft_length_mm:g} mm {parts.motor} shaft "
-            f"reaches only {engaged:.2f} mm into the crank hub (need "
-            f"parts.hub_shaft_engagement_min_mm = {parts.hub_shaft_engagement_min_mm:g}; the hub "
-            "starts parts.base_clearance_mm above the base plate, the shaft rises from under "
-            "the base and motor mount plates)",
-        )
+    _check_shaft_engagement(parts, motor, min(shaft_top, hub_hi) - hub_lo)
 
-    J = joints_link
-    els: list[Element] = []
-
-    def add(label, body, pts, r, zlo, zhi, anchor):
-        proud = any(w in label for w in ("screw head", "washer+nut", "handle"))
-        els.append(
-            Element(
-                label,
-                body,
-                np.atleast_2d(np.asarray(pts, dtype=float)),
-                float(r),
-                (float(zlo), float(zhi)),
-                anchor,
-                parts.clearance_min_mm if proud else 0.0,
-            )
-        )
-
-    r_end = parts.bar_end_radius_mm
-    for link in LINK_NAMES:
-        pts = np.array(list(J[link].values()))
-        add(f"{link} bar", link, pts, r_end, z[link], z[link] + t, level[link])
-    r_nut = max(washer.d2_mm, nut.s_mm * 2.0 / np.sqrt(3.0)) / 2.0
-    spacer_r = spacer_od_mm(parts) / 2.0
-    for j, s in js.items():
-        carrier = s.lower  # the pin, spacers and nut move with the lower link (or ground)
-        p_c = J[carrier][j]
-        add(
-            f"{j} screw head",
-            carrier,
-            p_c,
-            pin.dk_mm / 2.0,
-            s.head_face_mm,
-            s.head_top_mm,
-            level[s.upper],
-        )
-        add(f"{j} gap spacer", carrier, p_c, spacer_r, s.z_lower_top_mm, s.z_upper_mm, None)
-        if s.nut:
-            add(
-                f"{j} washer+nut",
-                carrier,
-                p_c,
-                r_nut,
-                s.thread_end_mm,
-                s.z_lower_top_mm - t,
-                level[s.lower],
-            )
-        else:
-            add(
-                f"{j} post",
-                "ground",
-                J["ground"][j],
-                parts.post_diameter_mm / 2.0,
-                0.0,
-                s.z_lower_top_mm,
-                None,
-            )
-    add("hub", "crank", J["crank"]["A1"], parts.hub_diameter_mm / 2.0, hub_lo, hub_hi, None)
-    r_bc = hub_bolt_circle_mm(parts) / 2.0
-    a1 = np.asarray(J["crank"]["A1"], dtype=float)
-    for k, (hx, hy) in enumerate(catalog.polar_points_mm(r_bc, HUB_SCREWS)):
-        add(
-            f"hub screw head {k + 1}",
-            "crank",
-            a1 + (hx, hy),
-            hub_cs.dk_mm / 2.0,
-            z["crank"] + t,
-            z["crank"] + t + hub_cs.k_mm,
-            level["crank"],
-        )
-    if shaft_top > z["crank"] + t:
-        add(
-            "motor shaft end",
-            "crank",
-            J["crank"]["A1"],
-            motor.shaft_diameter_mm / 2.0,
-            z["crank"] + t,
-            shaft_top,
-            None,
-        )
-    zc = z["coupler"]
-    add(
-        "handle",
-        "coupler",
-        J["coupler"]["P"],
-        parts.handle_diameter_mm / 2.0,
-        zc + t,
-        zc + t + parts.handle_height_mm,
-        level["coupler"],
-    )
-
-    pairs = planar_clearances(els, tf_world_body)
-    conflicts = tuple(
-        f"{a.label} / {b.label}: {d:.2f} mm"
-        for d, a, b in sorted(pairs, key=lambda x: x[0])
-        if d < required_clearance_mm(a, b, parts) - 1e-9
-    )
-    same = tuple(
-        f"{a.label} / {b.label}: {d:.2f} mm"
-        for d, a, b in sorted(pairs, key=lambda x: x[0])
-        if a.body == b.body and d < -1e-9
-    )
-    min_cl = min((d for d, a, b in pairs if a.body != b.body), default=np.inf)
-    top = max(e.z_mm[1] for e in els)
+    els.links_and_joints(joints_link, level, z, js)
+    els.crank_and_handle(joints_link, level, z, (hub_lo, hub_hi), shaft_top)
+    pairs = planar_clearances(els.out, tf_world_body)
+    conflicts, same, min_cl = _plan_conflicts(pairs, parts)
     return LayerPlan(
         order=tuple(order),
         thickness_mm=t,
@@ -592,16 +456,154 @@ def plan_for_order(
         shaft_top_mm=shaft_top,
         flange_z_mm=flange_z,
         post_top_mm=js["A4"].z_lower_top_mm,
-        handle_z_mm=zc + t,
+        handle_z_mm=z["coupler"] + t,
         handle_screw_length_mm=handle_L,
-        top_mm=top,
-        elements=tuple(els),
+        top_mm=max(e.z_mm[1] for e in els.out),
+        elements=tuple(els.out),
         min_planar_clearance_mm=float(min_cl),
         conflicts=conflicts,
         same_body_conflicts=same,
         gaps_mm=gaps,
         pairs=tuple(pairs),
     )
+
+
+def _stacks_at(order, level: dict[str, int], offs: tuple[float, float, float], z0: float,
+               parts: PartsSpec) -> dict[str, JointStack]:
+    """Joint stacks of every joint with the lowest layer's bottom face at ``z0`` (mm)."""
+    t, g = parts.bar_thickness_mm, parts.layer_gap_mm
+    z = {n: z0 + offs[level[n]] for n in order}
+    out = {}
+    for j, (a, b) in JOINTS.items():
+        if b == "ground":
+            out[j] = joint_stack(j, a, b, z[a], z[a] - g, parts)
+            continue
+        up, low = (a, b) if level[a] > level[b] else (b, a)
+        out[j] = joint_stack(j, up, low, z[up], z[low] + t, parts)
+    return out
+
+
+def _lowest_layer_z(order, level: dict[str, int], offs: tuple[float, float, float],
+                    parts: PartsSpec, hub_engaged: float) -> float:
+    """Bottom face of the lowest layer (mm above the base plate): it clears the base plate
+    and the nuts hanging under it, and leaves room in the hub for the hub screws' tapped
+    holes and in the A4 post for both its screws."""
+    # lowest layer: clear the base plate, the nuts hanging under it and the hub screws
+    base_clear = parts.base_clearance_mm
+    probe = _stacks_at(order, level, offs, 100.0, parts)
+    lowest = order[0]
+    hang = 0.0
+    for s in probe.values():
+        if s.lower == lowest and s.nut:
+            hang = max(hang, 100.0 - s.thread_end_mm)
+    z0 = base_clear + hang
+    # the hub (base_clear .. crank bottom) holds the hub screws' tapped holes, the post
+    # (0 .. A4 stack) both its screws: raise the whole stack where they would not fit
+    z0 = max(z0, base_clear + hub_engaged + TAP_LEADOUT_MM + HUB_FLOOR_MM - offs[level["crank"]])
+    post_need = post_min_height_mm(probe["A4"], parts) - (probe["A4"].z_lower_top_mm - 100.0)
+    return max(z0, post_need)
+
+
+def _check_shaft_engagement(parts: PartsSpec, motor, engaged: float) -> None:
+    """DesignError naming the field to change when the motor shaft reaches less than
+    ``hub_shaft_engagement_min_mm`` into the crank hub (``engaged``, mm)."""
+    if engaged < parts.hub_shaft_engagement_min_mm - LAYER_SLACK_MM:
+        f = _shaft_blame(parts, motor.shaft_length_mm)
+        raise DesignError(
+            f"parts.{f}",
+            f"{getattr(parts, f):g} mm: the {motor.shaft_length_mm:g} mm {parts.motor} shaft "
+            f"reaches only {engaged:.2f} mm into the crank hub (need "
+            f"parts.hub_shaft_engagement_min_mm = {parts.hub_shaft_engagement_min_mm:g}; the hub "
+            "starts parts.base_clearance_mm above the base plate, the shaft rises from under "
+            "the base and motor mount plates)",
+        )
+
+
+class _Elements:
+    """The planar elements of a layer plan (``out``), added part group by part group."""
+
+    def __init__(self, parts: PartsSpec, motor) -> None:
+        self.parts, self.motor = parts, motor
+        self.pin = catalog.get_shoulder_screw(parts.pin)
+        self.nut = catalog.get_nut(parts.pin)
+        self.washer = catalog.get_washer(parts.pin)
+        self.hub_cs = catalog.get_cap_screw(parts.hub_screw, "parts.hub_screw")
+        self.out: list[Element] = []
+
+    def add(self, label, body, pts, r, zlo, zhi, anchor) -> None:
+        """One element; hardware standing proud of its layer gets the z margin clearance_min_mm."""
+        proud = any(w in label for w in ("screw head", "washer+nut", "handle"))
+        self.out.append(
+            Element(
+                label,
+                body,
+                np.atleast_2d(np.asarray(pts, dtype=float)),
+                float(r),
+                (float(zlo), float(zhi)),
+                anchor,
+                self.parts.clearance_min_mm if proud else 0.0,
+            )
+        )
+
+    def links_and_joints(self, J, level: dict[str, int], z: dict[str, float],
+                         js: dict[str, JointStack]) -> None:
+        """The bars, and at each joint the screw head, gap spacer and washer + nut or post."""
+        parts, add = self.parts, self.add
+        t = parts.bar_thickness_mm
+        pin, nut, washer = self.pin, self.nut, self.washer
+        for link in LINK_NAMES:
+            pts = np.array(list(J[link].values()))
+            add(f"{link} bar", link, pts, parts.bar_end_radius_mm, z[link], z[link] + t, level[link])
+        r_nut = max(washer.d2_mm, nut.s_mm * 2.0 / np.sqrt(3.0)) / 2.0
+        spacer_r = spacer_od_mm(parts) / 2.0
+        for j, s in js.items():
+            carrier = s.lower  # the pin, spacers and nut move with the lower link (or ground)
+            p_c = J[carrier][j]
+            add(f"{j} screw head", carrier, p_c, pin.dk_mm / 2.0, s.head_face_mm, s.head_top_mm,
+                level[s.upper])
+            add(f"{j} gap spacer", carrier, p_c, spacer_r, s.z_lower_top_mm, s.z_upper_mm, None)
+            if s.nut:
+                add(f"{j} washer+nut", carrier, p_c, r_nut, s.thread_end_mm, s.z_lower_top_mm - t,
+                    level[s.lower])
+            else:
+                add(f"{j} post", "ground", J["ground"][j], parts.post_diameter_mm / 2.0, 0.0,
+                    s.z_lower_top_mm, None)
+
+    def crank_and_handle(self, J, level: dict[str, int], z: dict[str, float],
+                         hub_z: tuple[float, float], shaft_top: float) -> None:
+        """The crank hub and its screw heads, the motor shaft end above the crank, the handle."""
+        parts, add = self.parts, self.add
+        t = parts.bar_thickness_mm
+        motor, hub_cs = self.motor, self.hub_cs
+        add("hub", "crank", J["crank"]["A1"], parts.hub_diameter_mm / 2.0, hub_z[0], hub_z[1], None)
+        r_bc = hub_bolt_circle_mm(parts) / 2.0
+        a1 = np.asarray(J["crank"]["A1"], dtype=float)
+        for k, (hx, hy) in enumerate(catalog.polar_points_mm(r_bc, HUB_SCREWS)):
+            add(f"hub screw head {k + 1}", "crank", a1 + (hx, hy), hub_cs.dk_mm / 2.0,
+                z["crank"] + t, z["crank"] + t + hub_cs.k_mm, level["crank"])
+        if shaft_top > z["crank"] + t:
+            add("motor shaft end", "crank", J["crank"]["A1"], motor.shaft_diameter_mm / 2.0,
+                z["crank"] + t, shaft_top, None)
+        zc = z["coupler"]
+        add("handle", "coupler", J["coupler"]["P"], parts.handle_diameter_mm / 2.0, zc + t,
+            zc + t + parts.handle_height_mm, level["coupler"])
+
+
+def _plan_conflicts(pairs, parts: PartsSpec) -> tuple[tuple[str, ...], tuple[str, ...], float]:
+    """(pairs closer than their required clearance, same-body pairs that overlap, least
+    clearance between different bodies (mm; inf when none)), closest first."""
+    conflicts = tuple(
+        f"{a.label} / {b.label}: {d:.2f} mm"
+        for d, a, b in sorted(pairs, key=lambda x: x[0])
+        if d < required_clearance_mm(a, b, parts) - LAYER_SLACK_MM
+    )
+    same = tuple(
+        f"{a.label} / {b.label}: {d:.2f} mm"
+        for d, a, b in sorted(pairs, key=lambda x: x[0])
+        if a.body == b.body and d < -LAYER_SLACK_MM
+    )
+    min_cl = min((d for d, a, b in pairs if a.body != b.body), default=np.inf)
+    return conflicts, same, min_cl
 
 
 #: Most times the layer gaps are widened for one order before it is given up.
@@ -615,7 +617,7 @@ def _widen(plan: LayerPlan, parts: PartsSpec) -> tuple[float, float] | None:
     gaps = list(plan.gaps_mm)
     changed = False
     for d, a, b in plan.pairs:
-        if d >= required_clearance_mm(a, b, parts) - 1e-9:
+        if d >= required_clearance_mm(a, b, parts) - LAYER_SLACK_MM:
             continue
         if a.anchor is None or b.anchor is None or a.anchor == b.anchor:
             return None

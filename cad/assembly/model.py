@@ -59,6 +59,51 @@ class AssemblyModel:
             out.setdefault(inst.kind.name, inst.kind)
         return out
 
-    def tf_world_part(self, inst) -> np.ndarray:
-        """(4, 4) world transform of one instance at the exported pose (mm)."""
-        return np.asarray(self.tf_world_body[inst.body]) @ np.asarray(inst.tf_body_part)
+    def tf_world_part(self, inst, pose: int | None = None) -> np.ndarray:
+        """(4, 4) world transform of one instance (mm): ``tf_world_body @ tf_body_part`` at
+        the exported pose, or at pose ``pose`` of :attr:`motion` (a body the motion does not
+        move stays at its ``tf_world_body``). Raises DesignError for a pose the motion lacks."""
+        return self._tf_world_body(inst.body, pose) @ np.asarray(inst.tf_body_part, dtype=float)
+
+    def _tf_world_body(self, body: str, pose: int | None) -> np.ndarray:
+        if pose is None:
+            return np.asarray(self.tf_world_body[body], dtype=float)
+        n = len(self.pose_labels) if self.motion is None else \
+            max((len(m) for m in self.motion.values()), default=0)
+        if isinstance(pose, bool) or not isinstance(pose, (int, np.integer)) or not 0 <= pose < n:
+            from cad.errors import DesignError
+
+            raise DesignError("pose", f"must be an index of the motion's {n} poses, got {pose!r}")
+        if self.motion is not None and body in self.motion:
+            return np.asarray(self.motion[body][pose], dtype=float)
+        return np.asarray(self.tf_world_body[body], dtype=float)
+
+    def compound(self, pose: int | None = None):
+        """The device as a build123d ``Compound``: one child per part instance, in instance
+        order, each a ``Solid`` (or a ``Compound`` for a part of several solids) placed at its
+        world transform (:meth:`tf_world_part`, mm), labelled with the instance's name (the
+        names of ``assembly.step``'s solids and of report.json's ``part_materials``) and
+        coloured with its material's colour (:data:`cad.data.materials.MATERIALS`
+        ``color_rgb``). The compound's label is the design's name.
+
+        ``pose``: None for the exported pose, else an index of :attr:`motion` (its label is
+        ``pose_labels[pose]``). ``show(model.compound())`` displays it in ocp_vscode (not a
+        hapticad dependency); build123d's ``export_step(model.compound(), path)`` writes it
+        with those names and colours. Imports build123d (on first use).
+        """
+        from build123d import Compound
+        from OCP.BRepBuilderAPI import BRepBuilderAPI_Copy
+
+        from cad.data.materials import get_material
+        from cad.export.shapes import placed
+        from cad.export.step import _labelled  # a labelled, coloured Solid, as part files are
+
+        children, seen = [], set()
+        for inst in self.instances:
+            shape = inst.kind.shape
+            if inst.kind.name in seen:  # its own geometry: a STEP writer merges instances that
+                shape = BRepBuilderAPI_Copy(shape, True, False).Shape()  # share it (one name)
+            seen.add(inst.kind.name)
+            children.append(_labelled(placed(shape, self.tf_world_part(inst, pose)), inst.name,
+                                      get_material(inst.kind.material).color_rgb))
+        return Compound(children=children, label=str(getattr(self.design, "name", "assembly")))

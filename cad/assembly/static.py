@@ -1,6 +1,11 @@
 """Interference of one rigid body against another over arbitrary rigid poses (6-DOF). Fast
 pass first, exact OCCT only near contact.
 
+The builds no longer use this module: every family's check is
+:func:`cad.assembly.interference.check_model` (the PowerMouse's flotor excursions
+included). :func:`pose_clearances` stays for the PowerMouse's part-level study
+:func:`cad.parts.powermouse.motion_clearances` and the bench that times it.
+
 Built on the primitives of :mod:`cad.assembly.interference` (one mesh per shape at an
 absolute tolerance, python-fcl BVH distances, the boolean common), for motion that is not
 a planar crank sweep (the PowerMouse flotor over its motion range; every pair of solids at
@@ -19,8 +24,11 @@ import itertools
 
 import numpy as np
 
-#: Margin on top of 2 x mesh tolerance before a pair is handed to OCCT (mm).
-MARGIN_MM = 0.05
+from cad.assembly.interference import CONFIRM_MARGIN_MM, separated_boxes  # noqa: F401
+
+#: Margin on top of 2 x mesh tolerance before a pair is handed to OCCT (mm): the one
+#: interference check's (:data:`cad.assembly.interference.CONFIRM_MARGIN_MM`).
+MARGIN_MM = CONFIRM_MARGIN_MM
 
 
 def exact_box(shape) -> np.ndarray:
@@ -43,18 +51,6 @@ def _world_box(box: np.ndarray, T: np.ndarray) -> np.ndarray:
 def _box_corners_world(box: np.ndarray, T: np.ndarray) -> np.ndarray:
     c = np.array(list(itertools.product(*box.T)))
     return c @ T[:3, :3].T + T[:3, 3]
-
-
-def separated_boxes(box_a, Ta, box_b, Tb, eps_mm: float = 1e-9) -> bool:
-    """True when the oriented boxes ``box_a`` placed by ``Ta`` and ``box_b`` by ``Tb`` (each
-    (2, 3) in its part frame, 4x4 mm) are separated by a plane normal to one of their six
-    face directions, touching allowed: then the solids inside share no volume."""
-    ca, cb = _box_corners_world(box_a, Ta), _box_corners_world(box_b, Tb)
-    for n in np.concatenate([Ta[:3, :3].T, Tb[:3, :3].T]):
-        pa, pb = ca @ n, cb @ n
-        if pb.min() - pa.max() >= -eps_mm or pa.min() - pb.max() >= -eps_mm:
-            return True
-    return False
 
 
 def inside_void(box_b, Tb, voids_a, Ta, eps_mm: float = 1e-9) -> bool:

@@ -37,6 +37,7 @@ from pathlib import Path
 import numpy as np
 
 from cad.bench.common import median_time as _median_time
+from cad.tolerances import BENCH_INTERFERENCE_MESH_TOLERANCES_MM as MESH_TOLERANCES_MM
 
 #: Prescribed smallest gaps of the cylinder pairs (mm); negative = overlap depth.
 GAPS_MM = (-0.2, -0.05, -0.01, 0.01, 0.03, 0.08, 0.2, 0.5)
@@ -45,7 +46,6 @@ CONTACT_CLEARANCE_MM = 0.1
 #: The gap error is scored on pairs up to this gap (mm): the contacts and the near misses
 #: a clearance check must get right; farther pairs only need to be known to be far.
 ERROR_RANGE_MM = 0.1
-MESH_TOLERANCES_MM = (0.2, 0.1, 0.05, 0.02, 0.01)
 RADIUS_MM = 5.0
 HEIGHT_MM = 5.0
 REFERENCE = "closed form: cylinder pair k has smallest gap g_k at phi = 0 (a sample)"

@@ -29,16 +29,14 @@ import numpy as np
 
 from cad.bench.common import median_time as _median_time
 from cad.report.figures import save_figure
+from cad.tolerances import BENCH_MASSPROPS_MESH_TOLERANCES_MM as MESH_TOLERANCES_MM
+from cad.tolerances import BENCH_OCCT_EPS as OCCT_EPS
 
 #: Density of every benchmark part (aluminium 6061), kg/m^3.
 BENCH_DENSITY_KG_M3 = 2700.0
-#: Absolute mesh tolerances, mm.
-MESH_TOLERANCES_MM = (1.0, 0.3, 0.1, 0.03, 0.01, 0.003)
 #: Angular deflection used for every mesh (the library default), rad. It caps the chord
 #: angle, so on these radii (3-10 mm) tolerances >= 0.3 mm give the same mesh.
 MESH_ANGULAR_RAD = 0.5
-#: OCCT adaptive-mode targets (OCCT does not adapt for eps > 1e-3).
-OCCT_EPS = (1e-2, 1e-4, 1e-6, 1e-8)
 #: Errors below this are drawn at this value on the log axis (exact results give 0).
 ERROR_FLOOR = 1e-17
 

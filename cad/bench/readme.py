@@ -311,25 +311,23 @@ def stale_block(text: str, root: Path = ROOT) -> str | None:
 
 
 def capture(out: Path, argv: list[str]) -> int:
-    """Run ``hapticad ARGV`` (which must print one JSON object) in this process and save that
+    """Run ``hapticad ARGV`` (which must print one JSON object; ``python -m cad``) and save that
     object to ``out`` with ``command`` and ``measured`` (UTC) added: a source for a block.
     The command's exit code is saved as ``exit_code`` (``check`` exits 1 when a target is
     missed); returns 0 once saved, or the command's code when it failed (2)."""
-    import contextlib
-    import io
     import shlex
+    import subprocess
     import time
 
-    from cad.cli.app import run
     from cad.io.atomic import write_text_atomic
 
-    buf = io.StringIO()
-    with contextlib.redirect_stdout(buf):
-        code = run(list(argv))
+    # through the entry point, as a user runs it (nothing outside cad/cli imports the CLI)
+    proc = subprocess.run([sys.executable, "-m", "cad", *argv], stdout=subprocess.PIPE, text=True)
+    code = proc.returncode
     if code not in (0, 1):
         return code
     data = {"command": "hapticad " + shlex.join(argv), "measured": time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()),
-            "exit_code": code, **json.loads(buf.getvalue())}
+            "exit_code": code, **json.loads(proc.stdout)}
     out.parent.mkdir(parents=True, exist_ok=True)
     write_text_atomic(out, json.dumps(data, indent=1) + "\n")
     return 0

@@ -57,11 +57,11 @@ def _eq25(spec, tab, Te=None, counts=None):
 
 
 def run(quick: bool, out_dir: Path) -> dict:
-    from dataclasses import replace
+    """The wall bench: Z-width, K_max against Te and encoder counts, speed against accuracy.
 
-    from matplotlib.figure import Figure
-
-    from cad.bench.common import save_chart
+    Returns the result dict (SI units named in the keys) with ``charts``: the files written
+    to ``out_dir``.
+    """
     from cad.sim import wall
 
     d, folder, tab, spec = _device()
@@ -75,8 +75,21 @@ def run(quick: bool, out_dir: Path) -> dict:
     res["zwidth"] = {"B_N_s_per_m": Bs, "K_max_N_per_m": kB,
                      "passivity_K_max_N_per_m": [wall.passivity_K_max(spec.Fv_N_s_per_m, B, spec.Te_s) for B in Bs]}
     res["charts"] = plot_zwidth(res, spec.Fv_N_s_per_m, out_dir)
+    res["charts"] += _sampling_and_encoder(res, tab, spec, quick, out_dir)
+    res["charts"] += _speed_accuracy(res, d, folder, tab, spec, quick, out_dir)
+    return res
 
-    # 2 K_max against Te and encoder counts
+
+def _sampling_and_encoder(res: dict, tab, spec, quick: bool, out_dir: Path) -> list[str]:
+    """K_max against Te and encoder counts (B = 0) into res["sampling"] / res["encoder"];
+    the chart files written."""
+    from dataclasses import replace
+
+    from matplotlib.figure import Figure
+
+    from cad.bench.common import save_chart
+    from cad.sim import wall
+
     Tes = [2e-4, 3.3e-4, 1e-3] if quick else [1e-4, 2e-4, 3.3e-4, 5e-4, 1e-3, 2e-3]
     cnts = [1000, spec.counts_per_rev, 20000] if quick else [500, 1000, 2000, spec.counts_per_rev, 10000, 40000, 100000]
     kT = [_kmax_reduced(tab, replace(spec, Te_s=T)) for T in Tes]
@@ -100,22 +113,32 @@ def run(quick: bool, out_dir: Path) -> dict:
         ax.legend(fontsize=7)
     fig.suptitle("Hoeken: largest stable wall against sampling period and encoder resolution (B = 0)")
     fig.tight_layout()
-    res["charts"] += save_chart(fig, out_dir, "wall_kmax_sampling_encoder")
+    return save_chart(fig, out_dir, "wall_kmax_sampling_encoder")
 
-    # 3 speed against accuracy: reduced (plant sub-steps) and mujoco (time steps) against the
-    # mujoco model at its finest step
-    def mujoco_kmax(step):
-        saved = wall.MJ_STEP_MAX_S
-        wall.MJ_STEP_MAX_S = step
-        try:
-            t0 = time.perf_counter()
-            plant = wall.MujocoWall(folder / f"{d.name}.xml", tab, spec)
-            k = wall.k_max(wall.mujoco_stable_of(plant, 0.0))["K_max_N_per_m"]
-            return {"step_s": plant.m.opt.timestep, "K_max_N_per_m": k, "wall_s": time.perf_counter() - t0}
-        finally:
-            wall.MJ_STEP_MAX_S = saved
 
-    mj_rows = [mujoco_kmax(s) for s in ([1e-4, 2e-5] if quick else [1e-4, 4e-5, 2e-5])]
+def _mujoco_kmax(d, folder: Path, tab, spec, step: float) -> dict:
+    """K_max (B = 0) of the mujoco model at time step ``step`` (s), with its wall time."""
+    from cad.sim import wall
+
+    saved = wall.MJ_STEP_MAX_S
+    wall.MJ_STEP_MAX_S = step
+    try:
+        t0 = time.perf_counter()
+        plant = wall.MujocoWall(folder / f"{d.name}.xml", tab, spec)
+        k = wall.k_max(wall.mujoco_stable_of(plant, 0.0))["K_max_N_per_m"]
+        return {"step_s": plant.m.opt.timestep, "K_max_N_per_m": k, "wall_s": time.perf_counter() - t0}
+    finally:
+        wall.MJ_STEP_MAX_S = saved
+
+
+def _speed_accuracy(res: dict, d, folder: Path, tab, spec, quick: bool, out_dir: Path) -> list[str]:
+    """Speed against accuracy: reduced (plant sub-steps) and mujoco (time steps) against the
+    mujoco model at its finest step, into res["speed_accuracy"]; the chart files written."""
+    from matplotlib.figure import Figure
+
+    from cad.bench.common import save_chart
+
+    mj_rows = [_mujoco_kmax(d, folder, tab, spec, s) for s in ([1e-4, 2e-5] if quick else [1e-4, 4e-5, 2e-5])]
     ref = mj_rows[-1]["K_max_N_per_m"]
     rows = []
     for sub in ([5e-5, 2e-5] if quick else [3.3e-4, 1e-4, 5e-5, 2e-5, 1e-5]):
@@ -141,8 +164,7 @@ def run(quick: bool, out_dir: Path) -> dict:
     ax.legend(fontsize=7)
     ax.grid(True, which="both", lw=0.3)
     fig.tight_layout()
-    res["charts"] += save_chart(fig, out_dir, "wall_error_vs_time")
-    return res
+    return save_chart(fig, out_dir, "wall_error_vs_time")
 
 
 def plot_zwidth(res: dict, Fv: float, out_dir: Path) -> list[str]:

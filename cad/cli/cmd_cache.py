@@ -12,26 +12,6 @@ import typer
 from cad.cli.app import print_json
 
 
-def _summary(root) -> dict:
-    from collections import Counter
-
-    from cad.io.cache_limit import entries, max_bytes
-
-    es = entries(root) if root is not None and root.is_dir() else []
-    n, size = Counter(), Counter()
-    for e in es:
-        n[e.folder] += 1
-        size[e.folder] += e.size_bytes
-    cap = max_bytes()
-    return {
-        "cache_dir": None if root is None else str(root),
-        "enabled": root is not None,
-        "max_MB": None if cap is None else cap / 1e6,
-        "total_MB": sum(size.values()) / 1e6,
-        "folders": {k: {"entries": n[k], "MB": size[k] / 1e6} for k in sorted(n)},
-    }
-
-
 def register(app: typer.Typer) -> None:
     @app.command("cache")
     def cache_cmd(
@@ -39,18 +19,10 @@ def register(app: typer.Typer) -> None:
         json_out: bool = typer.Option(False, "--json", help="Print one JSON object."),
     ) -> None:
         """Show (or clear) the shape, derived, mass-property and simulator caches."""
-        from cad.io.cache_limit import cache_root, max_bytes
-        from cad.io.cache_limit import clear as clear_all
+        from cad.api import cache
 
-        max_bytes()  # a bad HAPTICAD_CACHE_MAX_MB is refused before anything is removed
-        root = cache_root()
-        removed = None
-        if clear and root is not None and root.is_dir():
-            n, b = clear_all(root)
-            removed = {"entries": n, "MB": b / 1e6}
-        doc = _summary(root)
-        if removed is not None:
-            doc["removed"] = removed
+        doc = cache(clear)
+        root, removed = doc["cache_dir"], doc.get("removed")
         if json_out:
             print_json(doc, indent=2)
             return

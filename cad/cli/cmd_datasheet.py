@@ -30,28 +30,21 @@ def register(app: typer.Typer) -> None:
         """The device datasheet: force, resolution, friction, masses, structure, stiffness; verdicts."""
         from cad.cli import flags
         from cad.cli.cmd_build import datasheet_table, datasheet_warnings
-        from cad.datasheet.run import device_datasheet
         from cad.design import load_design
         from cad.parts.handle import set_script_policy
         from cad.pipeline import FIDELITIES
 
         set_script_policy(allow_scripts, False)
         flags.choice("--fidelity", fidelity, FIDELITIES)
-        d = load_design(design)
-        from cad.cli.families import COMMAND_FAMILIES, refusal
-        from cad.errors import DesignError
+        from cad.api import device_datasheet
 
-        if d.family not in COMMAND_FAMILIES["datasheet"]:
-            raise DesignError("mechanism.family", refusal("datasheet", d.family))
-        if hasattr(d, "check_buildable"):
-            d.check_buildable()
-        ds = device_datasheet(d, fidelity)
-        rep = {"name": d.name, "family": d.family, "fidelity": fidelity, "datasheet": ds}
+        rep = device_datasheet(load_design(design), fidelity)
+        ds = rep["datasheet"]
         if json_out:
             datasheet_warnings(rep, False)  # in the JSON's warnings list
             print_json(rep, indent=1)
         else:
             from rich.console import Console
 
-            Console().print(datasheet_table(ds, f"{d.name} ({d.family}): datasheet ({fidelity})"))
+            Console().print(datasheet_table(ds, f"{rep['name']} ({rep['family']}): datasheet ({fidelity})"))
         datasheet_warnings(rep, strict)

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import copy
 from pathlib import Path
 
 import typer
@@ -30,90 +29,39 @@ def register(app: typer.Typer) -> None:
         from cad.parts.handle import set_script_policy
 
         set_script_policy(allow_scripts, allow_scripts_anywhere)
-        from cad.checks import evaluate, merge_targets
+        from cad.api import _fit_run, _fit_setup
         from cad.cli import flags
-        from cad.cli.cmd_gii import PANTOGRAPH_FAMILIES
-        from cad.cli.families import refusal
-        from cad.design import load_design, parse_design
-        from cad.design.fourbar import FourBarDesign
-        from cad.design.targets import PANTOGRAPH_TARGET_KEYS, TARGET_KEYS, parse_cli_target
-        from cad.design.writer import dumps_design, rebase_paths
-        from cad.errors import DesignError, TargetMissed
-        from cad.fit import fit, parse_free, parse_free_pantograph
+        from cad.design import load_design
+        from cad.design.writer import dumps_design
+        from cad.errors import TargetMissed
         from cad.io.atomic import write_text_atomic
         from cad.io.outdir import check_out_file
-        from cad.pipeline.inertia import pantograph_target_values, target_values
 
         flags.choice("--fidelity", fidelity, ("inertia", "fabrication"))
         flags.out_path("--out", out, folder=False)
         d = load_design(design)
-        four_bar = isinstance(d, FourBarDesign)
-        if not four_bar and d.family not in PANTOGRAPH_FAMILIES:
-            raise DesignError("mechanism.family", refusal("fit", d.family))
-        if four_bar:
-            d.check_buildable()
-        keys = TARGET_KEYS if four_bar else PANTOGRAPH_TARGET_KEYS
-        cli_targets = tuple(parse_cli_target(t, keys) for t in (target or []))
-        targets = cli_targets if cli_targets else merge_targets(d.targets, ())
-        if not targets:
-            raise DesignError("--target", "no targets: give --target KEY=VALUE or a [targets] table")
-        specs = list(free) if free else list(getattr(d, "fit_free", ()))
-        if not specs:
-            raise DesignError("--free", "no free parameters: give --free parts.KEY (four-bars), "
-                                        "mechanism.KEY / parts.KEY (pantographs) or [fit] free")
-        params = [parse_free(s, d.parts) if four_bar else parse_free_pantograph(s, d) for s in specs]
-        seen = [q.path for q in params]
-        twice = next((k for i, k in enumerate(seen) if k in seen[:i]), None)
-        if twice is not None:
-            raise DesignError("--free", f"{twice} is given twice; give each free parameter once")
+        setup = _fit_setup(d, tuple(target or ()), tuple(free or ()))
         dst = out if out is not None else design.with_suffix(".fit.toml")
         replaced = check_out_file(dst, design)
-        from cad.datasheet.limits import STRUCTURE_FREE, structure_targets
-
-        # a free bar material: the candidates must also meet the default structural limits
-        limits = structure_targets if four_bar and any(q.path in STRUCTURE_FREE for q in params) else None
-        need_clear = limits is not None or any(t.key == "min_clearance_mm" for t in targets)
-        wanted = {t.key for t in targets}
-
-        def values_of(dd) -> dict:
-            if four_bar:
-                return target_values(dd, fidelity, need_clear)[0]
-            return pantograph_target_values(dd, fidelity, wanted)[0]
-
-        raw = {k: v for k, v in d.raw.items()}
-        if four_bar:
-            raw.setdefault("parts", {})
         echo = None if json_out else (lambda s: print(s, flush=True))
-        if echo:
-            echo(f"fit {d.name}: {len(params)} free parameter(s), {len(targets)} target(s)")
-        res = fit(raw, str(design), targets, params, values_of, echo=echo, limit_targets=limits)
-        fitted = rebase_paths(copy.deepcopy(res.raw), d.source, dst)
-        fitted["name"] = f"{d.name}_fit" if out is None else out.name.split(".")[0]
-        if cli_targets:  # keep the targets the fit was made for
-            tt = dict(fitted.get("targets", {}))
-            for t in cli_targets:
-                tt[t.key] = ({"value": t.value, "tol_rel": t.tol_rel} if t.value is not None and t.tol_abs is None
-                             else {"value": t.value, "tol_abs": t.tol_abs} if t.value is not None
-                             else {k: v for k, v in (("min", t.min), ("max", t.max)) if v is not None})
-            fitted["targets"] = tt
-        final_design = parse_design(fitted, str(dst))
-        final_vals = values_of(final_design)
+        name = f"{d.name}_fit" if out is None else out.name.split(".")[0]
+        res = _fit_run(d, setup, fidelity, dst, name, echo)
+        fitted = res.pop("raw")
+        res.pop("design")
         # the design file last: it is the command's output (cad.io.signals commit point)
         write_text_atomic(dst, dumps_design(fitted, f"Fitted by `hapticad fit {design}`: "
-                                            + ", ".join(f"{k}={v}" for k, v in res.values.items())),
+                                            + ", ".join(f"{k}={v}" for k, v in res["fitted"].items())),
                           final=True)
-        rows = evaluate(tuple(targets) + (limits(final_design) if limits else ()), final_vals)
-        payload = {"name": d.name, "out": str(dst), "replaced": replaced, "start": res.start, "fitted": res.values,
-                   "met": all(r.ok for r in rows), "max_violation": res.objective,
-                   "evaluations": len(res.log), "iterations": res.log, "rows": [r.as_dict() for r in rows]}
+        payload = {"name": res["name"], "out": str(dst), "replaced": replaced,
+                   **{k: v for k, v in res.items() if k != "name"}}
         if json_out:
             print_json(payload, indent=1, default=str)
         else:
-            for k, v in res.values.items():
-                print(f"{k}: {res.start[k]} -> {v}")
-            for r in rows:
-                comp = "—" if r.computed is None else f"{r.computed:.4g}"
-                print(f"  {r.key}: {comp} (target {r.target}) {'ok' if r.ok else 'MISSED'}")
+            for k, v in res["fitted"].items():
+                print(f"{k}: {res['start'][k]} -> {v}")
+            for r in payload["rows"]:
+                comp = "—" if r["computed"] is None else f"{r['computed']:.4g}"
+                print(f"  {r['key']}: {comp} (target {r['target_text']}) {'ok' if r['ok'] else 'MISSED'}")
             print(f"{'replaced' if replaced else 'wrote'} {dst}")
         if not payload["met"]:
             raise TargetMissed("targets not met within the free parameters' bounds (the best design was written)")

@@ -11,51 +11,17 @@ from pathlib import Path
 import typer
 
 from cad.cli.app import print_json
-
-PANTOGRAPH_FAMILIES = ("pantograph", "twin-pantograph", "haptic-pen")
-
-
-def _point(units: tuple[str, ...], p) -> dict[str, float]:
-    return {u: round(float(v), 9) for u, v in zip(units, p, strict=True)}
-
-
-def gii_report(design) -> dict:
-    """JSON-able GII report of a loaded pantograph-family design."""
-    import time
-
-    t0 = time.perf_counter()
-    r = design.gii()
-    dt = time.perf_counter() - t0
-    units = design.point_units()
-    npos = sum(u.endswith("_mm") for u in units)
-    return {
-        "design": design.name,
-        "family": design.family,
-        "gii": r.gii,
-        "sigma_min": r.sigma_min,
-        "sigma_max": r.sigma_max,
-        "sigma_min_at_mm": [float(v) for v in r.sigma_min_at[:npos]],
-        "sigma_max_at_mm": [float(v) for v in r.sigma_max_at[:npos]],
-        "sigma_min_at": _point(units, r.sigma_min_at),
-        "sigma_max_at": _point(units, r.sigma_max_at),
-        "n_points": r.n_points,
-        "jacobian_evaluations": r.jacobian_evaluations,
-        "failure": r.failure,
-        "failed_at": None if r.failed_at is None else _point(units, r.failed_at),
-        "n_failed": r.n_failed,
-        "wall_time_s": dt,
-    }
+from cad.isotropy.report import PANTOGRAPH_FAMILIES, gii_report  # noqa: F401 - re-exported
 
 
 def load_pantograph_design(path: Path):
     """Load a design and check it belongs to a pantograph family."""
+    from cad.data.families import refusal
     from cad.design import load_design
     from cad.errors import DesignError
 
     design = load_design(path)
     if getattr(design, "family", None) not in PANTOGRAPH_FAMILIES:
-        from cad.cli.families import refusal
-
         raise DesignError("mechanism.family", refusal("gii", design.family))
     return design
 

@@ -18,37 +18,7 @@ import typer
 
 from cad.cli.app import print_json
 from cad.cli.families import FOUR_BARS as FOURBAR_FAMILIES
-
-
-def optimize_report(design, method: str) -> dict:
-    """JSON-able optimization report of a loaded pantograph-family design."""
-    from cad.isotropy.culling import optimize
-
-    problem = design.problem()
-    res = optimize(problem, method)
-    best = problem.candidate(res.best_index)
-    best = {k: v for k, v in best.items() if k in design.optimize or k in design.params}
-    at_bound = [
-        name
-        for name, (lo, hi, count) in design.optimize.items()
-        if count > 1 and (best[name] == lo or best[name] == hi)
-    ]
-    return {
-        "design": design.name,
-        "family": design.family,
-        "method": res.method,
-        "best": {k: best[k] for k in design.optimize},
-        "fixed": {k: v for k, v in design.params.items() if k not in design.optimize},
-        "gii": res.gii,
-        "jacobian_evaluations": res.jacobian_evaluations,
-        "brute_force_evaluations": res.brute_force_evaluations,
-        "evaluation_ratio": res.brute_force_evaluations / res.jacobian_evaluations,
-        "wall_time_s": res.wall_time_s,
-        "n_candidates": res.n_candidates,
-        "n_points": res.n_points,
-        "candidates_completed": res.candidates_completed,
-        "at_bound": at_bound,
-    }
+from cad.isotropy.report import optimize_report  # noqa: F401 - re-exported
 
 
 def write_optimum(design, rep: dict, out: Path, command: str) -> bool:
@@ -186,7 +156,6 @@ def register(app: typer.Typer) -> None:
         from cad.parts.handle import set_script_policy
 
         set_script_policy(allow_scripts, allow_scripts_anywhere)
-        from cad.cli.cmd_gii import load_pantograph_design
         from cad.errors import DesignError
 
         flags.out_path("--out", out, folder=False)
@@ -211,29 +180,36 @@ def register(app: typer.Typer) -> None:
         if objective is not None:
             raise DesignError("--objective", f"min-apparent-mass is for four-bar designs, not "
                                              f"{loaded.family!r} (use --method)")
-        method = method or "culling"
-        d = load_pantograph_design(design)
-        if out is not None:
-            from cad.io.outdir import check_out_file
+        _pantograph(design, method or "culling", out, json_out)
 
-            check_out_file(out, design)  # before the search, as for four-bars
-        rep = optimize_report(d, method)
-        if out is not None:
-            rep["replaced"] = write_optimum(
-                d, rep, out, f"hapticad optimize {design.name} --method {method}"
-            )
-            rep["out"] = str(out)
-        if json_out:
-            print_json(rep)
-            return
-        print(f"{rep['design']} ({rep['family']}), {rep['method']}: GII = {rep['gii']:.6f}")
-        print(f"  best: {rep['best']}")
-        print(
-            f"  {rep['jacobian_evaluations']} Jacobian evaluations "
-            f"(brute force {rep['brute_force_evaluations']}, ratio {rep['evaluation_ratio']:.1f}) "
-            f"in {rep['wall_time_s']:.3f} s; {rep['n_candidates']} candidates x {rep['n_points']} samples"
+
+def _pantograph(design: Path, method: str, out: Path | None, json_out: bool) -> None:
+    """``hapticad optimize`` of a pantograph-family design: the GII optimum by ``method``
+    (culling | brute), written to ``out`` when given, printed."""
+    from cad.cli.cmd_gii import load_pantograph_design
+
+    d = load_pantograph_design(design)
+    if out is not None:
+        from cad.io.outdir import check_out_file
+
+        check_out_file(out, design)  # before the search, as for four-bars
+    rep = optimize_report(d, method)
+    if out is not None:
+        rep["replaced"] = write_optimum(
+            d, rep, out, f"hapticad optimize {design.name} --method {method}"
         )
-        if rep["at_bound"]:
-            print(f"  note: optimum at the range bound of {', '.join(rep['at_bound'])}")
-        if out is not None:
-            print(f"  {'replaced' if rep['replaced'] else 'wrote'} {out}")
+        rep["out"] = str(out)
+    if json_out:
+        print_json(rep)
+        return
+    print(f"{rep['design']} ({rep['family']}), {rep['method']}: GII = {rep['gii']:.6f}")
+    print(f"  best: {rep['best']}")
+    print(
+        f"  {rep['jacobian_evaluations']} Jacobian evaluations "
+        f"(brute force {rep['brute_force_evaluations']}, ratio {rep['evaluation_ratio']:.1f}) "
+        f"in {rep['wall_time_s']:.3f} s; {rep['n_candidates']} candidates x {rep['n_points']} samples"
+    )
+    if rep["at_bound"]:
+        print(f"  note: optimum at the range bound of {', '.join(rep['at_bound'])}")
+    if out is not None:
+        print(f"  {'replaced' if rep['replaced'] else 'wrote'} {out}")

@@ -18,18 +18,6 @@ def synth_flags(objective: str, free: str, dy_tol_mm: float, mu_min_deg: float,
     return flags + (f" --stroke-mm {stroke_mm:g}" if stroke_mm is not None else "")
 
 
-def _refuse_unheld_stroke(held_mm: float | None, got_mm: float, from_flag: bool) -> None:
-    """DesignError (exit 2, nothing written) when a stroke was asked and the result misses it."""
-    from cad import tolerances as tol
-    from cad.errors import DesignError
-
-    if held_mm is not None and not abs(got_mm - held_mm) <= tol.SYNTH_STROKE_REL * held_mm:
-        raise DesignError("--stroke-mm" if from_flag else "mechanism.stroke_mm",
-                          f"no linkage of this family reaches a stroke of {held_mm:g} mm within the "
-                          f"constraints (none found; the start has {got_mm:.4g} mm): change --objective, "
-                          f"--free, --dy-tol-mm or the stroke")
-
-
 def _print_table(res: dict, title: str) -> None:
     """The start and the optimized linkage side by side (text output)."""
     from rich.console import Console
@@ -68,7 +56,6 @@ def register(app: typer.Typer) -> None:
         from cad.design import load_design, parse_design
         from cad.design.fourbar import FourBarDesign
         from cad.design.writer import (
-            custom_mechanism_table,
             drop_source_targets,
             dropped_targets_note,
             dumps_design,
@@ -77,7 +64,7 @@ def register(app: typer.Typer) -> None:
         from cad.errors import DesignError
         from cad.io.atomic import write_text_atomic
         from cad.io.outdir import check_out_file
-        from cad.kinematics.synthesis import FREE_SETS, OBJECTIVES, synthesize
+        from cad.kinematics.synthesis import FREE_SETS, OBJECTIVES
 
         flags.choice("--objective", objective, OBJECTIVES)
         flags.choice("--free", free, FREE_SETS)
@@ -89,18 +76,15 @@ def register(app: typer.Typer) -> None:
         if not isinstance(d, FourBarDesign):
             raise DesignError("mechanism.family", refusal("synth", d.family))
         replaced = check_out_file(out, design) if out is not None else False
-        held_mm = stroke_mm or (d.stroke_mm_requested or None)
-        r = synthesize(d.linkage, d.phi1_min_rad, d.phi1_max_rad, objective, free=free,
-                       dy_tol_mm=dy_tol_mm, mu_min_deg=mu_min_deg, stroke_mm=held_mm, force_N=d.force_N)
-        _refuse_unheld_stroke(held_mm, r.metrics.stroke_mm, stroke_mm is not None)
-        mech = custom_mechanism_table(r.linkage, r.phi1_min_rad, r.phi1_max_rad, d.force_N)
+        from cad.api import synth
+
+        syn = synth(d, objective, free, dy_tol_mm, mu_min_deg, stroke_mm)
+        mech, held_mm = syn.pop("mechanism"), syn["stroke_mm_held"]
         res = {
-            "objective": objective, "free": free, "feasible": r.feasible, "evaluations": r.evaluations,
-            "stroke_mm_held": held_mm,
+            **{k: syn[k] for k in ("objective", "free", "feasible", "evaluations", "stroke_mm_held")},
             "command": f"hapticad synth {design} {synth_flags(objective, free, dy_tol_mm, mu_min_deg, stroke_mm)}",
             "measured": time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()),
-            "start": {**d.resolved_linkage(), **r.start_metrics.as_dict()},
-            "result": {**{k: v for k, v in mech.items() if k != "family"}, **r.metrics.as_dict()},
+            "start": syn["start"], "result": syn["result"],
         }
         if out is not None:
             raw = rebase_paths(copy.deepcopy(d.raw), d.source, out)
@@ -120,7 +104,7 @@ def register(app: typer.Typer) -> None:
         if json_out:
             print_json(res, indent=1)
             return
-        _print_table(res, f"synth {objective} ({free}) — feasible: {r.feasible}")
+        _print_table(res, f"synth {objective} ({free}) — feasible: {res['feasible']}")
         if out is not None:
             print(f"{'replaced' if replaced else 'wrote'} {out}")
         if not math.isfinite(res["result"]["stroke_mm"]):

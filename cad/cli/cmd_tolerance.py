@@ -60,16 +60,12 @@ def register(app: typer.Typer) -> None:
         json_out: bool = typer.Option(False, "--json", help="Print one JSON object."),
     ) -> None:
         """Monte Carlo of hole, pivot and length tolerances: distributions, yield, sensitivity (no CAD)."""
-        from cad.checks import merge_targets
         from cad.cli import flags
         from cad.cli.cmd_analyze import parse_inertia_option
         from cad.design import bounds, load_design
-        from cad.design.fourbar import FourBarDesign
         from cad.design.targets import parse_cli_target
-        from cad.errors import DesignError
         from cad.io.outdir import check_out_dir
-        from cad.kinematics.tolerance import METRIC_KEYS
-        from cad.tolerance_study import inertia_for_m11, run, tolerances_from_flags, write_chart
+        from cad.tolerance_study import tolerances_from_flags, write_chart
 
         for flag, value in (("--hole-mm", hole_mm), ("--pivot-mm", pivot_mm),
                             ("--length-mm", length_mm), ("--seed", seed)):
@@ -82,25 +78,9 @@ def register(app: typer.Typer) -> None:
         H = parse_inertia_option(inertia) if inertia is not None else None
         if out is not None:
             check_out_dir(out, str(design))  # only a folder hapticad wrote
-        d = load_design(design)
-        if not isinstance(d, FourBarDesign):
-            from cad.cli.families import refusal
+        from cad.api import _tolerance_run
 
-            raise DesignError("mechanism.family", refusal("tolerance", d.family))
-        H, h_source = inertia_for_m11(d, H)
-        computable = METRIC_KEYS
-        for t in cli:
-            if t.key not in computable:
-                raise DesignError("--target", f"{t.key} is not computed by the tolerance study "
-                                  f"(it computes {', '.join(computable)})")
-        skipped = [t.key for t in d.targets if t.key not in computable]
-        if skipped:
-            bounds.warn(f"[targets] {', '.join(skipped)}: not computed by the tolerance study "
-                        "(kinematics and M11 only); not in the yield")
-        targets = merge_targets(d.targets, cli)
-        res, m = run(d, tols, samples, seed, angles, H, targets)
-        res["inertia_source"] = h_source
-        res["inertia_kg_m2"] = H.as_dict()
+        res, m, targets = _tolerance_run(load_design(design), tols, cli, H, samples, seed, angles)
         if out is not None:
             from cad.io.atomic import write_text_atomic
 

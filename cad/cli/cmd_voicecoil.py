@@ -24,8 +24,6 @@ Bad values exit 2 with one line naming the flag.
 
 from __future__ import annotations
 
-import math
-
 import typer
 
 from cad.cli.app import print_json
@@ -92,19 +90,9 @@ def compute(
     if gmax is not None and gmax <= dr:
         raise DesignError("--gap-max-mm", f"must exceed --rattle-mm {dr:g}, got {gap_max!r}")
     try:
-        params = vc.VoiceCoilParams(lm, wm, tm, dr, pw, b, r, ep)
-        opt = vc.optimal_gap(params, model, gap_max_mm=gmax)
-        out = opt.as_dict()
-        out.update(power_W=pw, br_T=b, rattle_mm=dr, resistivity_ohm_m=r, eta_pack=ep)
-        if g is not None:
-            import numpy as np
+        from cad.actuators.report import voicecoil_report
 
-            bg = vc.gap_field_T(g, params, model)
-            with np.errstate(over="ignore"):
-                f_g = float(vc.force_eq8_N(bg, g, params))
-            if not math.isfinite(f_g):
-                raise DesignError("force_N", f"the eq (8) force at --gap-mm {g:g} is {f_g!r} N")
-            out.update(gap_mm=g, Bg_at_gap_T=bg, force_at_gap_N=f_g)
+        out = voicecoil_report(vc.VoiceCoilParams(lm, wm, tm, dr, pw, b, r, ep), model, g, gmax)
     except DesignError as exc:  # name the flag the user typed, not the API parameter
         raise DesignError(_FLAGS.get(exc.field, exc.field), exc.reason) from None
     return out

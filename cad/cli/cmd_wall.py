@@ -34,24 +34,17 @@ def register(app: typer.Typer) -> None:
     ) -> None:
         """Largest stable virtual-wall stiffness (sampled data, quantized encoder, friction)."""
         from cad.cli import flags
-        from cad.cli.families import COMMAND_FAMILIES, refusal
         from cad.design import load_design
-        from cad.errors import DesignError
-        from cad.sim.wall import MODELS, check_sampling_period
+        from cad.sim.wall import MODELS
 
         flags.choice("--model", model, MODELS)
         flags.number("--K-N-per-m", K)
         flags.number("--B-N-s-per-m", B)
         flags.number("--Te-s", Te)
         flags.number("--encoder-counts-per-rev", counts)
-        d = load_design(design)
-        if d.family not in COMMAND_FAMILIES["wall"]:
-            raise DesignError("mechanism.family", refusal("wall", d.family))
-        if Te is None and d.stiffness is not None:  # the design's period: name its key
-            check_sampling_period(d.stiffness.Te_s, "stiffness.Te_s")
-        from cad.sim.device import wall_report
+        from cad.api import wall
 
-        res = wall_report(d, K=K, B=B, Te_s=Te, counts_per_rev=counts, model=model, build_dir=build_dir)
+        res = wall(load_design(design), K, B, Te, counts, model, build_dir)
         if json_out:
             print_json(res, indent=1)
             return

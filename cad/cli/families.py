@@ -18,14 +18,7 @@ FAMILY_GROUPS = _registry.groups()
 COMMAND_FAMILIES: dict[str, tuple[str, ...]] = _registry.command_families()
 
 
-def refusal(command: str, family: str) -> str:
-    """``"<command> works on ... designs; for a <family> design use: hapticad a, hapticad b"``."""
-    groups = [g for g, fams in FAMILY_GROUPS.items()
-              if set(fams) <= set(COMMAND_FAMILIES.get(command, ()))]
-    others = [c for c, fams in COMMAND_FAMILIES.items() if family in fams and c != command]
-    hint = ", ".join(f"hapticad {c}" for c in others) or "no design command"
-    return f"{command} works on {' / '.join(groups)} designs; for a {family} design use: {hint}"
-
+refusal = _registry.refusal  # the one text, shared with cad.api (cad.data.families)
 
 NO_DESIGN_COMMANDS = _registry.NO_DESIGN_COMMANDS
 

@@ -101,3 +101,24 @@ def datasheet_module(name: str) -> str | None:
     """``cad.families.<package>.datasheet`` (``rows_and_limits``), None without parts."""
     pkg = FAMILIES[name].package
     return None if pkg is None else f"cad.families.{pkg}.datasheet"
+
+
+def refusal(command: str, family: str) -> str:
+    """``"<command> works on ... designs; for a <family> design use: hapticad a, hapticad b"``:
+    the reason of the DesignError (``mechanism.family``) a command gives a family it does not
+    take (the CLI and :mod:`cad.api` raise the same one)."""
+    accepts = command_families()
+    fams = set(accepts.get(command, ()))
+    cols = [g for g, members in groups().items() if set(members) <= fams]
+    others = [c for c, f in accepts.items() if family in f and c != command]
+    hint = ", ".join(f"hapticad {c}" for c in others) or "no design command"
+    return f"{command} works on {' / '.join(cols)} designs; for a {family} design use: {hint}"
+
+
+def require(command: str, family: str) -> None:
+    """Raise :class:`cad.errors.DesignError` (``mechanism.family``, :func:`refusal`) when
+    ``command`` does not accept designs of ``family``."""
+    if family not in command_families().get(command, ()):
+        from cad.errors import DesignError
+
+        raise DesignError("mechanism.family", refusal(command, family))

@@ -24,6 +24,7 @@ from typing import Any
 
 from cad.data.families import datasheet_module
 from cad.datasheet.limits import Limit
+from cad.tolerances import RANGE_SAME_REL
 
 
 def row(key: str, figure: str, value, unit: str, model: str, *, lo=None, hi=None,
@@ -79,7 +80,7 @@ def fmt_value(r: dict) -> str:
     if v is None:
         return "—"
     s = _num(v)
-    if r["min"] is not None and r["max"] is not None and not math.isclose(r["min"], r["max"], rel_tol=1e-6):
+    if r["min"] is not None and r["max"] is not None and not math.isclose(r["min"], r["max"], rel_tol=RANGE_SAME_REL):
         s += f" ({_num(r['min'])} .. {_num(r['max'])})"
     return s
 

@@ -32,10 +32,10 @@ def family_of(raw: dict[str, Any]) -> str:
 
 
 def design_prices(raw: dict[str, Any]) -> dict | None:
-    """The design's ``[prices]`` table, validated (:func:`cad.export.order.price_table`:
+    """The design's ``[prices]`` table, validated (:func:`cad.design.prices.price_table`:
     ``"designation" = unit price``, optional ``currency``), or None without one."""
     from cad.design.fields import optional_table
-    from cad.export.order import price_table
+    from cad.design.prices import price_table
 
     if "prices" not in raw:
         return None
@@ -48,7 +48,7 @@ def parse_design(raw: dict[str, Any], source: str = "<design>"):
 
     fam = family_of(raw)
     check_raw_design(raw)  # every number against cad/design/bounds.py, before the schema
-    design_prices(raw)  # [prices] (any family): cad.export.order.price_table
+    design_prices(raw)  # [prices] (any family): cad.design.prices.price_table
     module = importlib.import_module(FAMILY_MODULES[fam])
     return module.parse(raw, source)
 

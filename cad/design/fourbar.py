@@ -45,6 +45,7 @@ from cad.design.fields import (
 )
 from cad.design.firmware import FOURBAR_COUNTS_PER_REV, FirmwareOptions, parse_firmware
 from cad.design.motor import parse_motor_table
+from cad.design.replace import ValidatedReplace
 from cad.design.targets import Target, parse_targets
 from cad.dynamics.inertia import InertiaCoefficients
 from cad.dynamics.stiffness import StiffnessInputs
@@ -62,7 +63,7 @@ FORCE_BASES = ("continuous", "peak")
 
 
 @dataclass(frozen=True)
-class FourBarDesign:
+class FourBarDesign(ValidatedReplace):
     """A validated four-bar design. Lengths mm, angles rad."""
 
     name: str

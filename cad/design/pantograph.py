@@ -57,6 +57,7 @@ from cad.design.fields import (
     require_positive,
     require_table,
 )
+from cad.design.replace import TableReplace, ValidatedReplace
 from cad.errors import DesignError
 
 FAMILIES = ("pantograph", "twin-pantograph", "haptic-pen")
@@ -119,7 +120,7 @@ OPTIMIZABLE = {
 
 
 @dataclass(frozen=True)
-class PantographParts:
+class PantographParts(TableReplace):
     """Part parameters of the twin-pantograph mouse (mm; catalogue keys named).
 
     Links: carbon-fibre tubes bonded into aluminium clevises (isotropy paper
@@ -229,7 +230,7 @@ def parse_parts(table: dict[str, Any], prefix: str = "parts") -> PantographParts
 
 
 @dataclass(frozen=True)
-class PantographDesign:
+class PantographDesign(ValidatedReplace):
     """A validated pantograph-family design.
 
     mechanism: :class:`~cad.kinematics.fivebar.FiveBar`,
@@ -524,102 +525,11 @@ def parse(raw: dict[str, Any], source: str = "<design>") -> PantographDesign:
     check_unknown(act, _ACT_KEYS[family], "actuators")
     name = check_name(raw.get("name", family))
     optimize = _parse_optimize(raw, family)
-    parts = None
-    workspace: dict[str, Any] = {}
-    actuators: dict[str, Any] = {}
-
     if family in ("pantograph", "twin-pantograph"):
-        base = require_number(mech, "base_mm", "mechanism")
-        if base < 0:
-            raise DesignError("mechanism.base_mm", f"must be >= 0, got {mech['base_mm']!r}")
-        l2 = require_positive(mech, "proximal_mm", "mechanism")
-        l3 = require_positive(mech, "distal_mm", "mechanism")
-        params = {"base_mm": base, "proximal_mm": l2, "distal_mm": l3}
-        side = require_positive(ws, "side_mm", "workspace")
-        center = number_list(ws, "center_mm", "workspace", length=2)
-        grid = optional_int(ws, "grid", "workspace", 11 if family == "pantograph" else 7, minimum=2)
-        workspace = {"side_mm": side, "center_mm": center, "grid": grid}
-        force = optional_positive(act, "force_max_N", "actuators", 1.0)
-        if family == "pantograph":
-            from cad.kinematics.fivebar import FiveBar
-
-            l2r = optional_positive(mech, "proximal_right_mm", "mechanism", l2)
-            l3r = optional_positive(mech, "distal_right_mm", "mechanism", l3)
-            mechanism = FiveBar(
-                (-base / 2, 0.0),
-                (base / 2, 0.0),
-                l2,
-                l2r,
-                l3,
-                l3r,
-                _elbow(mech, "elbow_left", 1),
-                _elbow(mech, "elbow_right", -1),
-            )
-            actuators = {"torque_max_Nm": _torque(act, 2), "force_max_N": force}
-            parts = parse_parts(optional_table(raw, "parts", ""))
-        else:
-            from cad.kinematics.twin_pantograph import TwinPantograph, crank_length_mm
-
-            knob = optional_positive(mech, "knob_diameter_mm", "mechanism", 12.5)
-            crank = optional_positive(mech, "crank_mm", "mechanism", crank_length_mm(knob))
-            mechanism = TwinPantograph.symmetric(base, l2, l3, knob, crank)
-            params.update(knob_diameter_mm=knob, crank_mm=crank)
-            workspace["theta_grid"] = optional_int(ws, "theta_grid", "workspace", 8, minimum=1)
-            workspace["home_mm"] = (
-                number_list(ws, "home_mm", "workspace", length=2)
-                if "home_mm" in ws
-                else list(center)
-            )
-            workspace["home_theta_deg"] = optional_number(ws, "home_theta_deg", "workspace", 90.0)
-            moment = optional_positive(act, "moment_max_Nm", "actuators", force * crank * 1e-3 / 2)
-            actuators = {
-                "torque_max_Nm": _torque(act, 4),
-                "force_max_N": force,
-                "moment_max_Nm": moment,
-            }
-            parts = parse_parts(optional_table(raw, "parts", ""))
+        mechanism, params, workspace, actuators, parts = _parse_planar(raw, family, mech, ws, act)
     else:
-        from cad.kinematics.haptic_pen import HapticPen
-
-        l1 = require_positive(mech, "shoulder_base_mm", "mechanism")
-        l2 = require_positive(mech, "proximal_mm", "mechanism")
-        l3 = require_positive(mech, "distal_mm", "mechanism")
-        l6 = require_positive(mech, "pen_mm", "mechanism")
-        l4 = optional_positive(mech, "arm_spacing_mm", "mechanism", None)
-        q1 = optional_positive(mech, "waist_torque_ratio", "mechanism", 1.6)
-        mechanism = HapticPen(l1, l2, l3, l6, l4, q1)
-        params = {
-            "shoulder_base_mm": l1,
-            "proximal_mm": l2,
-            "distal_mm": l3,
-            "pen_mm": l6,
-            "waist_torque_ratio": q1,
-        }
-        if l4 is not None:
-            params["arm_spacing_mm"] = l4
-        center = number_list(ws, "center_mm", "workspace", length=3)
-        size = (
-            number_list(ws, "size_mm", "workspace", length=3)
-            if "size_mm" in ws
-            else [160.0, 100.0, 100.0]
-        )
-        if min(size) <= 0:
-            raise DesignError("workspace.size_mm", f"must be > 0, got {ws['size_mm']!r}")
-        rot = optional_number(ws, "rotation_deg", "workspace", 45.0)
-        if not 0 <= rot < 90:
-            raise DesignError("workspace.rotation_deg", f"must be in [0, 90), got {rot!r}")
-        workspace = {
-            "center_mm": center,
-            "size_mm": size,
-            "grid": _int_or_list(ws, "grid", 3, (5, 3, 3), "workspace"),
-            "rotation_deg": rot,
-            "rotation_grid": optional_int(ws, "rotation_grid", "workspace", 3, minimum=1),
-        }
-        actuators = {
-            "torque_max_Nm": _torque(act, 1),
-            "force_max_N": optional_positive(act, "force_max_N", "actuators", 1.0),
-            "moment_arm_mm": optional_positive(act, "moment_arm_mm", "actuators", 35.0),
-        }
+        mechanism, params, workspace, actuators = _parse_pen(mech, ws, act)
+        parts = None
     _check_magnitudes(family, mech, workspace, actuators, optimize)
     _check_sizes(family, workspace, optimize)
     if "parts" in raw and family not in ("pantograph", "twin-pantograph"):
@@ -640,6 +550,113 @@ def parse(raw: dict[str, Any], source: str = "<design>") -> PantographDesign:
         targets=_parse_targets(raw),
         firmware=_parse_firmware(raw, family),
     )
+
+
+def _parse_planar(raw: dict[str, Any], family: str, mech: dict, ws: dict, act: dict) -> tuple:
+    """(mechanism, params, workspace, actuators, parts) of a pantograph or twin-pantograph
+    design from its [mechanism], [workspace], [actuators] and [parts] tables (lengths in mm).
+
+    Raises DesignError naming the field.
+    """
+    base = require_number(mech, "base_mm", "mechanism")
+    if base < 0:
+        raise DesignError("mechanism.base_mm", f"must be >= 0, got {mech['base_mm']!r}")
+    l2 = require_positive(mech, "proximal_mm", "mechanism")
+    l3 = require_positive(mech, "distal_mm", "mechanism")
+    params = {"base_mm": base, "proximal_mm": l2, "distal_mm": l3}
+    side = require_positive(ws, "side_mm", "workspace")
+    center = number_list(ws, "center_mm", "workspace", length=2)
+    grid = optional_int(ws, "grid", "workspace", 11 if family == "pantograph" else 7, minimum=2)
+    workspace = {"side_mm": side, "center_mm": center, "grid": grid}
+    force = optional_positive(act, "force_max_N", "actuators", 1.0)
+    if family == "pantograph":
+        from cad.kinematics.fivebar import FiveBar
+
+        l2r = optional_positive(mech, "proximal_right_mm", "mechanism", l2)
+        l3r = optional_positive(mech, "distal_right_mm", "mechanism", l3)
+        mechanism = FiveBar(
+            (-base / 2, 0.0),
+            (base / 2, 0.0),
+            l2,
+            l2r,
+            l3,
+            l3r,
+            _elbow(mech, "elbow_left", 1),
+            _elbow(mech, "elbow_right", -1),
+        )
+        actuators = {"torque_max_Nm": _torque(act, 2), "force_max_N": force}
+    else:
+        from cad.kinematics.twin_pantograph import TwinPantograph, crank_length_mm
+
+        knob = optional_positive(mech, "knob_diameter_mm", "mechanism", 12.5)
+        crank = optional_positive(mech, "crank_mm", "mechanism", crank_length_mm(knob))
+        mechanism = TwinPantograph.symmetric(base, l2, l3, knob, crank)
+        params.update(knob_diameter_mm=knob, crank_mm=crank)
+        workspace["theta_grid"] = optional_int(ws, "theta_grid", "workspace", 8, minimum=1)
+        workspace["home_mm"] = (
+            number_list(ws, "home_mm", "workspace", length=2)
+            if "home_mm" in ws
+            else list(center)
+        )
+        workspace["home_theta_deg"] = optional_number(ws, "home_theta_deg", "workspace", 90.0)
+        moment = optional_positive(act, "moment_max_Nm", "actuators", force * crank * 1e-3 / 2)
+        actuators = {
+            "torque_max_Nm": _torque(act, 4),
+            "force_max_N": force,
+            "moment_max_Nm": moment,
+        }
+    parts = parse_parts(optional_table(raw, "parts", ""))
+    return mechanism, params, workspace, actuators, parts
+
+
+def _parse_pen(mech: dict, ws: dict, act: dict) -> tuple:
+    """(mechanism, params, workspace, actuators) of a haptic-pen design from its
+    [mechanism], [workspace] and [actuators] tables (lengths in mm, angles in deg).
+
+    Raises DesignError naming the field.
+    """
+    from cad.kinematics.haptic_pen import HapticPen
+
+    l1 = require_positive(mech, "shoulder_base_mm", "mechanism")
+    l2 = require_positive(mech, "proximal_mm", "mechanism")
+    l3 = require_positive(mech, "distal_mm", "mechanism")
+    l6 = require_positive(mech, "pen_mm", "mechanism")
+    l4 = optional_positive(mech, "arm_spacing_mm", "mechanism", None)
+    q1 = optional_positive(mech, "waist_torque_ratio", "mechanism", 1.6)
+    mechanism = HapticPen(l1, l2, l3, l6, l4, q1)
+    params = {
+        "shoulder_base_mm": l1,
+        "proximal_mm": l2,
+        "distal_mm": l3,
+        "pen_mm": l6,
+        "waist_torque_ratio": q1,
+    }
+    if l4 is not None:
+        params["arm_spacing_mm"] = l4
+    center = number_list(ws, "center_mm", "workspace", length=3)
+    size = (
+        number_list(ws, "size_mm", "workspace", length=3)
+        if "size_mm" in ws
+        else [160.0, 100.0, 100.0]
+    )
+    if min(size) <= 0:
+        raise DesignError("workspace.size_mm", f"must be > 0, got {ws['size_mm']!r}")
+    rot = optional_number(ws, "rotation_deg", "workspace", 45.0)
+    if not 0 <= rot < 90:
+        raise DesignError("workspace.rotation_deg", f"must be in [0, 90), got {rot!r}")
+    workspace = {
+        "center_mm": center,
+        "size_mm": size,
+        "grid": _int_or_list(ws, "grid", 3, (5, 3, 3), "workspace"),
+        "rotation_deg": rot,
+        "rotation_grid": optional_int(ws, "rotation_grid", "workspace", 3, minimum=1),
+    }
+    actuators = {
+        "torque_max_Nm": _torque(act, 1),
+        "force_max_N": optional_positive(act, "force_max_N", "actuators", 1.0),
+        "moment_arm_mm": optional_positive(act, "moment_arm_mm", "actuators", 35.0),
+    }
+    return mechanism, params, workspace, actuators
 
 
 def _parse_firmware(raw: dict[str, Any], family: str):

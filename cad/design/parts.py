@@ -154,6 +154,7 @@ from dataclasses import asdict, dataclass, fields
 from typing import Any
 
 from cad.design.fields import check_unknown, optional_int, optional_number
+from cad.design.replace import TableReplace
 from cad.errors import DesignError
 from cad.printing import PrintSettings
 
@@ -162,7 +163,7 @@ FIDELITIES = ("fabrication", "inertia", "preview")
 
 
 @dataclass(frozen=True)
-class PartsSpec:
+class PartsSpec(TableReplace):
     """Resolved part parameters (see module docstring for every key, units in names)."""
 
     bar_width_mm: float = 20.0

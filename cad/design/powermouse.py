@@ -63,6 +63,7 @@ from cad.design.fields import (
     require_str,
     require_table,
 )
+from cad.design.replace import TableReplace, ValidatedReplace
 from cad.errors import DesignError
 
 TOP_KEYS = ("name", "description", "mechanism", "actuator", "flotor", "stator", "handle", "motion",
@@ -85,7 +86,7 @@ FIELD_MODELS = ("closed-form", "images", "magpylib")
 
 
 @dataclass(frozen=True)
-class ActuatorSpec:
+class ActuatorSpec(TableReplace):
     """[actuator]: magnet sizes (mm), rattle d_r (mm), optional gap (mm), electrical data."""
 
     magnet_length_mm: float
@@ -123,7 +124,7 @@ class ActuatorSpec:
 
 
 @dataclass(frozen=True)
-class FlotorSpec:
+class FlotorSpec(TableReplace):
     """[flotor]: outer edge (mm), shell and coil materials, corner hole diameter (mm)."""
 
     edge_mm: float = 64.0
@@ -133,7 +134,7 @@ class FlotorSpec:
 
 
 @dataclass(frozen=True)
-class StatorSpec:
+class StatorSpec(TableReplace):
     """[stator]: housing material and wall (mm), iron and magnet materials, post diameter (mm)."""
 
     housing_material: str = "aluminium-6061"
@@ -144,7 +145,7 @@ class StatorSpec:
 
 
 @dataclass(frozen=True)
-class HandleSpec:
+class HandleSpec(TableReplace):
     """[handle]: stem length and diameter, knob diameter (mm), material."""
 
     length_mm: float = 45.0
@@ -154,7 +155,7 @@ class HandleSpec:
 
 
 @dataclass(frozen=True)
-class MotionSpec:
+class MotionSpec(TableReplace):
     """[motion]: translation range +- (mm) and rotation range +- (deg) (Table 4)."""
 
     range_mm: float = 3.0
@@ -162,7 +163,7 @@ class MotionSpec:
 
 
 @dataclass(frozen=True)
-class PowerMouseDesign:
+class PowerMouseDesign(ValidatedReplace):
     """A validated PowerMouse design (see module docstring for the keys)."""
 
     name: str

@@ -20,6 +20,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from cad.errors import DesignError
+from cad.tolerances import TARGET_TOL_REL_DEFAULT
 
 TARGET_KEYS: tuple[str, ...] = (
     "H11_kg_m2", "H12_kg_m2", "H22_kg_m2", "H33_kg_m2",
@@ -42,7 +43,7 @@ PANTOGRAPH_TARGET_KEYS: tuple[str, ...] = (
     "mass_x_g_diag", "mass_y_g_diag", "inertia_theta_g_cm2_diag",
 )
 
-DEFAULT_TOL_REL = 0.05
+DEFAULT_TOL_REL = TARGET_TOL_REL_DEFAULT  # the old name
 
 
 @dataclass(frozen=True)

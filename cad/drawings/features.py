@@ -11,11 +11,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-#: Two faces belong to one feature when axis, centre and diameter agree this closely (mm):
-#: faces of one boolean share the same circle up to round-off.
-SAME_FEATURE_MM = 1e-6
-#: A face is aligned with a part axis when its direction is within this of it (cosine slack).
-AXIS_SLACK = 1e-9
+from cad.tolerances import AXIS_SLACK, SAME_FEATURE_MM
 
 
 @dataclass(frozen=True)

@@ -6,14 +6,10 @@ Pure functions on :class:`cad.drawings.features.Cylinder` records and the part's
 from __future__ import annotations
 
 from cad.data.fits import fmt_mm, metric_thread, parse_fit
+from cad.tolerances import MATCH_MM, STOCK_MARGIN_MM
 
 #: General tolerance for untoleranced dimensions when the design states none.
 GENERAL_TOLERANCE = "ISO 2768-m"
-#: Stock a blank is larger than the finished part, on each side (mm): room to clamp and to
-#: face or profile the part to size (a workshop choice, not a standard).
-STOCK_MARGIN_MM = 2.0
-#: A diameter on a sheet is the fit's or tap drill's when they agree this closely (mm).
-MATCH_MM = 1e-6
 
 
 def callout(c, fits: tuple[str, ...], threads=(), extent_mm: float | None = None) -> str:

@@ -30,6 +30,7 @@ import math
 import re
 from pathlib import Path
 
+from cad.design.prices import price_table  # noqa: F401 - validated where designs are (cad.design)
 from cad.errors import DesignError
 
 #: Groups of bought parts by the standard in their designation.
@@ -257,23 +258,6 @@ def load_prices(path: str | Path) -> dict:
         if cur and not currency[0]:
             currency = (cur, i)
     return {"prices": prices, "currency": currency[0], "source": str(p)}
-
-
-def price_table(table: dict, field: str = "prices") -> dict:
-    """A design's ``[prices]`` table (``"designation" = unit price``, optional
-    ``currency = "EUR"``) in the form of :func:`load_prices`; DesignError naming the key."""
-    prices = {}
-    for k, v in table.items():
-        if k == "currency":
-            if not isinstance(v, str) or not v:
-                raise DesignError(f"{field}.currency", f"must be a non-empty string, got {v!r}")
-            continue
-        if isinstance(v, bool) or not isinstance(v, (int, float)):
-            raise DesignError(f"{field}.{k}", f"must be a number (unit price), got {v!r}")
-        if not math.isfinite(float(v)) or v < 0:
-            raise DesignError(f"{field}.{k}", f"must be a finite price >= 0, got {v!r}")
-        prices[str(k)] = float(v)
-    return {"prices": prices, "currency": table.get("currency", ""), "source": f"[{field}]"}
 
 
 def _price_of(prices: dict, keys) -> str | None:

@@ -13,7 +13,7 @@ here, next to the shape cache, under a key made of:
 * every parameter in canonical form (floats by ``repr``: a tolerance of 0.05 and of
   0.0500001 are two entries);
 * the versions of OCP, bd_warehouse, build123d and numpy, and a hash of the source of the
-  modules that compute the value (a code change is a miss).
+  modules that compute the value and of ``cad/tolerances.py`` (a code change is a miss).
 
 Integrity as in the shape cache: each entry ``<key>.bin`` has its sha256 in
 ``<key>.bin.sha256``, checked before the value is decoded; a mismatch, a missing hash or a
@@ -122,8 +122,10 @@ def _versions() -> str:
 
 @functools.cache
 def _code_hash(modules: tuple[str, ...]) -> str:
+    """Hash of the source of ``modules``, of this module and of :mod:`cad.tolerances` (the
+    tolerances a derived value is computed to live there, not in the modules that use them)."""
     h = hashlib.sha256()
-    for m in (__name__, *modules):
+    for m in (__name__, "cad.tolerances", *modules):
         spec = importlib.util.find_spec(m)
         h.update(m.encode())
         h.update(Path(spec.origin).read_bytes())

@@ -17,10 +17,10 @@ from pathlib import Path
 
 import numpy as np
 
+from cad.io.figures import save_figure
 from cad.isotropy.culling import brute_force, culling
 from cad.isotropy.gii import square_grid_mm
 from cad.isotropy.problems import FiveBarProblem, candidate_grid
-from cad.report.figures import save_figure
 
 SIDE_MM = 100.0
 GRID = 11

@@ -113,26 +113,11 @@ class GIIResult:
     n_failed: int = 0
 
 
-def gii_from_jacobians(
-    J: np.ndarray,
-    status: np.ndarray,
-    points: np.ndarray,
-    actuator_scale,
-    task_scale,
-    status_names: dict[int, str] | None = None,
-) -> GIIResult:
-    """GII (eq 5) from Jacobians sampled at workspace points.
+def _checked_samples(J, status, points) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Validated (J (N, m, n), status (N,), points (N, d), ok (N,) bool) of :func:`gii_from_jacobians`.
 
-    J: (N, m, n) SI Jacobians; status: (N,) int, 0 = ok, anything else names a
-    failure through ``status_names``; points: (N, d) coordinates of the
-    samples, reported back. Scales as :func:`normalized_jacobian`.
-
-    Bad input is a :class:`DesignError`: non-finite J at a point whose status is
-    ok (a failure must be a status, never a NaN), non-finite points, scales that
-    are not finite and > 0, or scales that push J_hat out of float64. The
-    singular values are computed with S_J and S_T divided by their largest
-    entry (eq 5 is invariant to that), so the units chosen cannot lose
-    precision; ``sigma_min`` / ``sigma_max`` are reported in the given units.
+    Raises :class:`DesignError` on shapes that disagree, non-finite points, or a
+    non-finite J at a point whose status is ok.
     """
     J = np.asarray(J, dtype=float)
     status = np.asarray(status).reshape(-1)
@@ -155,13 +140,18 @@ def gii_from_jacobians(
             f"non-finite entries at sample {i} (point {points[i].tolist()}) whose status is ok: "
             "a failed point must carry a non-zero status, never NaN",
         )
-    m, n = J.shape[1:]
-    sj = _scale_vector(actuator_scale, m, "actuator_scale")
-    st = _scale_vector(task_scale, n, "task_scale")
+    return J, status, points, ok
+
+
+def _normalized_singular_values(J, ok, points, sj, st) -> tuple[np.ndarray, np.ndarray]:
+    """(sigma_min (N,), sigma_max (N,)) of J_hat with S_J and S_T scaled to a largest entry of 1.
+
+    Failed samples (``ok`` false) get 0 for both. Raises :class:`DesignError`
+    ("task_scale") when J_hat overflows float64.
+    """
     # eq (5) is invariant to a uniform factor on S_J and on S_T: evaluate with both
     # normalized to a largest entry of 1 (no over/underflow from the units chosen),
     # then report the singular values in the caller's units.
-    k = sj.max() / st.max()
     with np.errstate(over="ignore", invalid="ignore"):
         Jh = np.where(ok[:, None, None], J, 0.0) * (sj / sj.max())[:, None] / (st / st.max())
     over = ~np.all(np.isfinite(Jh), axis=(1, 2))
@@ -173,37 +163,79 @@ def gii_from_jacobians(
             f"the entries of S_T span {np.log10(st.max()) - np.log10(st.min()):.0f} decades",
         )
     smin, smax = singular_value_extremes(Jh)
-    smin = np.where(ok, smin, 0.0)
-    smax = np.where(ok, smax, 0.0)
-    i_min = int(np.argmin(smin))
-    i_max = int(np.argmax(smax))
-    gii = float(gii_ratio(smin[i_min], smax[i_max]))
+    return np.where(ok, smin, 0.0), np.where(ok, smax, 0.0)
+
+
+def _in_caller_units(smin_i: float, smax_i: float, k: float) -> tuple[float, float]:
+    """(sigma_min, sigma_max) of normalized J_hat times k = max S_J / max S_T.
+
+    Raises :class:`DesignError` ("actuator_scale") when the product leaves float64.
+    """
     with np.errstate(over="ignore", under="ignore"):
-        s_min, s_max = float(smin[i_min] * k), float(smax[i_max] * k)
+        s_min, s_max = float(smin_i * k), float(smax_i * k)
     if (
         not (np.isfinite(s_max) and np.isfinite(s_min))
-        or (s_max == 0.0 and smax[i_max] > 0)
-        or (s_min == 0.0 and smin[i_min] > 0)
+        or (s_max == 0.0 and smax_i > 0)
+        or (s_min == 0.0 and smin_i > 0)
     ):
         raise DesignError(
             "actuator_scale",
             f"S_J / S_T = {k:.3g} puts the singular values of J_hat = S_J J S_T^-1 outside "
             "float64: give torques in N m and forces in N",
         )
-    failure = failed_index = failed_at = None
+    return s_min, s_max
+
+
+def _first_failure(status, ok, points, smin, i_min, status_names):
+    """(failure text | None, failed_index | None, failed_at (d,) | None, n_failed, i_min).
+
+    The first sample whose status is not ok, else the first with sigma_min = 0;
+    i_min moves to a failed status sample so that sigma_min_at points at it.
+    """
     n_failed = int(np.count_nonzero(~ok))
     if n_failed:
         failed_index = int(np.flatnonzero(~ok)[0])
         code = int(status[failed_index])
-        names = status_names or {}
-        failure = names.get(code, f"status {code}")
-        failed_at = points[failed_index].copy()
-        i_min = failed_index
-    elif smin[i_min] == 0.0:
-        failure = "singular: sigma_min(J_hat) = 0"
-        failed_index = i_min
-        failed_at = points[i_min].copy()
+        failure = (status_names or {}).get(code, f"status {code}")
+        return failure, failed_index, points[failed_index].copy(), n_failed, failed_index
+    if smin[i_min] == 0.0:
         n_failed = int(np.count_nonzero(smin == 0.0))
+        return "singular: sigma_min(J_hat) = 0", i_min, points[i_min].copy(), n_failed, i_min
+    return None, None, None, 0, i_min
+
+
+def gii_from_jacobians(
+    J: np.ndarray,
+    status: np.ndarray,
+    points: np.ndarray,
+    actuator_scale,
+    task_scale,
+    status_names: dict[int, str] | None = None,
+) -> GIIResult:
+    """GII (eq 5) from Jacobians sampled at workspace points.
+
+    J: (N, m, n) SI Jacobians; status: (N,) int, 0 = ok, anything else names a
+    failure through ``status_names``; points: (N, d) coordinates of the
+    samples, reported back. Scales as :func:`normalized_jacobian`.
+
+    Bad input is a :class:`DesignError`: non-finite J at a point whose status is
+    ok (a failure must be a status, never a NaN), non-finite points, scales that
+    are not finite and > 0, or scales that push J_hat out of float64. The
+    singular values are computed with S_J and S_T divided by their largest
+    entry (eq 5 is invariant to that), so the units chosen cannot lose
+    precision; ``sigma_min`` / ``sigma_max`` are reported in the given units.
+    """
+    J, status, points, ok = _checked_samples(J, status, points)
+    m, n = J.shape[1:]
+    sj = _scale_vector(actuator_scale, m, "actuator_scale")
+    st = _scale_vector(task_scale, n, "task_scale")
+    smin, smax = _normalized_singular_values(J, ok, points, sj, st)
+    i_min = int(np.argmin(smin))
+    i_max = int(np.argmax(smax))
+    gii = float(gii_ratio(smin[i_min], smax[i_max]))
+    s_min, s_max = _in_caller_units(smin[i_min], smax[i_max], sj.max() / st.max())
+    failure, failed_index, failed_at, n_failed, i_min = _first_failure(
+        status, ok, points, smin, i_min, status_names)
     return GIIResult(
         gii=gii,
         sigma_min=s_min,

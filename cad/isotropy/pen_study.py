@@ -16,10 +16,10 @@ from pathlib import Path
 
 import numpy as np
 
+from cad.io.figures import save_figure
 from cad.isotropy.culling import brute_force, culling
 from cad.isotropy.problems import PenProblem, candidate_grid
 from cad.kinematics.haptic_pen import TABLE2, workspace_grid
-from cad.report.figures import save_figure
 
 PEN_MM = 70.0
 

@@ -347,7 +347,7 @@ def _margin_dip_between_samples(fb: FourBar, phi1: np.ndarray):
         if b <= a:
             continue
         x, fx = golden_minimize(lambda t: float(closure_margin(fb, np.array([t]))[0]), a, b,
-                                xtol=1e-12)
+                                xtol=tol.ROOT_XTOL_RAD)
         val = min(float(fx), float(m[i]))
         if best is None or val < best[2]:
             best = (a, b, val, float(x))

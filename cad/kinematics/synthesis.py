@@ -37,6 +37,13 @@ import numpy as np
 from cad.errors import DesignError, KinematicsError
 from cad.kinematics.fourbar import FourBar, check_range, closure_margin, solve
 from cad.kinematics.metrics import Metrics, compute_metrics
+from cad.tolerances import (
+    ROOT_XTOL_RAD,
+    SYNTH_HELD_FATOL,
+    SYNTH_HELD_XATOL,
+    SYNTH_SEARCH_FATOL,
+    SYNTH_SEARCH_XATOL,
+)
 
 OBJECTIVES = ("max-stroke", "min-torque-variation")
 FREE_SETS = ("range", "all")
@@ -103,7 +110,7 @@ def _hi_for_stroke(fb: FourBar, lo: float, stroke_mm: float, grid: int = 721) ->
     def gap(b: float) -> float:
         return float(np.linalg.norm(solve(fb, np.array([b])).P_mm[0] - p_lo) - stroke_mm)
 
-    return float(brentq(gap, phi[reach[0] - 1], phi[reach[0]], xtol=1e-12))
+    return float(brentq(gap, phi[reach[0] - 1], phi[reach[0]], xtol=ROOT_XTOL_RAD))
 
 
 def _straightest_at_stroke(fb0: FourBar, free: str, stroke_mm: float,
@@ -137,7 +144,8 @@ def _straightest_at_stroke(fb0: FourBar, free: str, stroke_mm: float,
     best = None
     for xs in starts + _screened_starts(cost, starts[0]):
         res = minimize(cost, np.delete(xs, 1), method="Nelder-Mead",
-                       options={"xatol": 1e-8, "fatol": 1e-12, "maxiter": 400 * xs.size})
+                       options={"xatol": SYNTH_HELD_XATOL, "fatol": SYNTH_HELD_FATOL,
+                                "maxiter": 400 * xs.size})
         if best is None or res.fun < best.fun:
             best = res
     return point(best.x) if best.fun < 1e5 else None
@@ -193,7 +201,8 @@ def _penalized_search(fb0: FourBar, free: str, objective: str, start: Metrics, s
     best = None
     for xs in starts:
         res = minimize(cost, xs, method="Nelder-Mead",
-                       options={"xatol": 1e-6, "fatol": 1e-9, "maxiter": 400 * xs.size})
+                       options={"xatol": SYNTH_SEARCH_XATOL, "fatol": SYNTH_SEARCH_FATOL,
+                                "maxiter": 400 * xs.size})
         if best is None or res.fun < best.fun:
             best = res
     return _unpack(best.x, fb0, free) if best.fun < 1e5 else None

@@ -52,6 +52,7 @@ import numpy as np
 from cad import tolerances as tol
 from cad.errors import DesignError
 from cad.kinematics.fourbar import FourBar
+from cad.tolerances import FD_STEP_MM, ZOOM_SECOND_PEAK_REL, ZOOM_XTOL_RAD
 
 #: holes of each bar, in the bar's own frame
 BAR_HOLES: dict[str, tuple[str, ...]] = {
@@ -67,16 +68,10 @@ METRIC_KEYS: tuple[str, ...] = (
     "min_transmission_angle_deg", "M11_min_g", "M11_max_g",
 )
 
-#: zoom refinement of extrema: points per pass and the bracket at which it stops (rad)
+#: zoom refinement of extrema: points per pass (the bracket at which it stops: ZOOM_XTOL_RAD;
+#: the second peak zoomed too: ZOOM_SECOND_PEAK_REL; propagation step: FD_STEP_MM, cad.tolerances)
 ZOOM_POINTS = 21
-ZOOM_XTOL_RAD = 1e-7
-#: the second-best grid peak is zoomed too when within this fraction of the best (two
-#: near-equal peaks of |y| may swap order between grid and exact values)
-ZOOM_SECOND_PEAK_REL = 0.01
-#: central-difference step of the first-order propagation (mm): the metrics are smooth
-#: in the geometry and refined to ~1e-12 mm, so 1e-4 mm keeps truncation (~h^2) and
-#: round-off (~1e-12 / h) both below 1e-7 relative.
-FD_STEP_MM = 1e-4
+
 #: samples evaluated per vectorized batch at the default 401 crank angles (memory ~ CHUNK x
 #: angles x 30 float64 arrays, ~200 MB); with more angles a batch holds fewer samples
 #: (:func:`chunk_rows`), so memory stays there whatever ``--angles`` is (20001 angles at 2048

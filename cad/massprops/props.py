@@ -21,10 +21,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from cad.errors import GeometryError
-from cad.tolerances import INERTIA_REL_EPS
-
-#: |R^T R - E| above this (max abs entry) is not a rotation matrix.
-ROTATION_ORTHO_TOL = 1e-9
+from cad.tolerances import INERTIA_REL_EPS, ROTATION_ORTHO_TOL
 
 
 class InertiaError(GeometryError):

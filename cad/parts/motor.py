@@ -23,8 +23,9 @@ from cad.parts.part_cache import part_cached
 #: from the housing so that the (rotating) shaft and the (fixed) housing are separate
 #: bodies in the interference sweep.
 SHAFT_ENVELOPE_GAP_MM = 1.0
-#: Motor mount plate margin around the motor housing (mm) and its corner-hole inset.
-MOUNT_MARGIN_MM = 10.0
+#: Motor mount plate border around the motor housing (mm; a plate dimension, not a
+#: tolerance) and its corner-hole inset.
+MOUNT_BORDER_MM = 10.0
 MOUNT_HOLE_INSET_MM = 6.0
 #: Screws fixing the motor mount plate under the base plate: M3, so that 1.5 d of thread
 #: (4.5 mm) fits in the 6 mm base plate with a catalog length through the 5 mm plate.
@@ -72,7 +73,7 @@ def motor_shaft_shape(m: MotorSpec):
 
 def mount_side_mm(m: MotorSpec) -> float:
     """Side of the square motor mount plate (mm)."""
-    return m.body_diameter_mm + 2 * MOUNT_MARGIN_MM
+    return m.body_diameter_mm + 2 * MOUNT_BORDER_MM
 
 
 def mount_hole_xy_mm(m: MotorSpec) -> list[tuple[float, float]]:

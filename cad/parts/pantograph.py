@@ -23,11 +23,11 @@ from __future__ import annotations
 
 import math
 
+from cad.tolerances import OPENING_MARGIN_MM  # noqa: F401 - read as pp.OPENING_MARGIN_MM by the builder
+
 #: Diametral press-fit interference of the elbow pins in their clevis bore (mm):
 #: the bore is drawn at nominal (the interference is a machining note).
 PIN_PRESS_FIT_MM = 0.0
-#: Radial margin of plate openings around a motor pilot or pin (mm).
-OPENING_MARGIN_MM = 1.0
 
 
 def _amin():

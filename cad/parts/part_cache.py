@@ -61,8 +61,11 @@ _STATE = threading.local()
 
 @functools.cache
 def _code_version() -> str:
+    """Hash of the part scripts' source (cad/parts/*.py) and of cad/tolerances.py, which holds
+    the part clearances (OPENING_MARGIN_MM, SEAT_MARGIN_MM, HOLE_MARGIN_MM)."""
     h = hashlib.sha256()
-    for p in sorted(Path(__file__).parent.glob("*.py")):
+    here = Path(__file__).parent
+    for p in [*sorted(here.glob("*.py")), here.parent / "tolerances.py"]:
         h.update(p.name.encode())
         h.update(p.read_bytes())
     return h.hexdigest()[:16]

@@ -48,6 +48,7 @@ import numpy as np
 
 from cad.actuators import powermouse as pm
 from cad.errors import DesignError
+from cad.tolerances import HOLE_MARGIN_MM, SEAT_MARGIN_MM
 
 #: Housing lid screws (ISO 4762): size, drilled depth of their tapped holes in the top of
 #: the side walls (mm), wall left each side of a tap drill (mm). One screw at the middle of
@@ -68,9 +69,6 @@ _METALS = ("aluminium", "steel", "brass", "titanium", "soft-iron", "copper")
 #: handle stem's tip into the flotor's corner boss, the post's tip into the core.
 HANDLE_THREAD = "M4-0.7"
 POST_THREAD = "M4-0.7"
-#: Radial margin of a shoulder's seat beyond the part's radius (mm): a faced corner or a
-#: socket bottom is made this much wider than the shoulder that bears on it.
-SEAT_MARGIN_MM = 0.5
 #: Wall of the flotor's handle boss round the handle stem's radius (mm).
 HANDLE_BOSS_WALL_MM = 2.0
 #: Full thread of the core's post hole beyond the post tip's thread (mm); the hole is
@@ -88,10 +86,6 @@ LEG_SCREW = "M3-0.5"
 LEG_DIAMETER_MM = 12.0
 LEG_INSET_MM = 9.0
 LEG_CLEARANCE_MM = 2.0
-#: Radial margin of the corner holes (the post's in the flotor, the handle's in the housing)
-#: beyond the excursion over the motion range (mm): covers the sampling of rotations in
-#: :func:`cad.actuators.powermouse.diagonal_excursion_mm`.
-HOLE_MARGIN_MM = 0.5
 #: Least wall between a corner hole or the handle boss and a coil pocket (mm).
 COIL_WALL_MM = 1.5
 #: Direction of the post set screw's axis (flotor frame): radial to the diagonal,

@@ -19,9 +19,7 @@ from __future__ import annotations
 import math
 
 from cad.printing import PrintSettings
-
-#: Sections are this far inside a slab boundary (mm): never on a horizontal face.
-_EPS_MM = 1e-6
+from cad.tolerances import PRINT_SECTION_EPS_MM as _EPS_MM
 
 
 def _b3d(shape):

@@ -158,9 +158,11 @@ def build_key(
         mod = None
     deps = getattr(mod, "CODE_DEPS", None)
     payload["code"] = code_version(tuple(deps) if deps is not None else None)
-    # the dispatcher adds the datasheet to every family's report (cad/datasheet, its inputs)
+    # the dispatcher adds the datasheet to every family's report (cad/datasheet, its inputs);
+    # cad/tolerances.py for every family (K_RTOL of the wall, part clearances, mesh tolerances)
     payload["datasheet_code"] = code_version(("datasheet", "data", "families", "sim/wall.py",
-                                              "structure/bearings.py", "design/motor.py"))
+                                              "structure/bearings.py", "design/motor.py",
+                                              "tolerances.py"))
     if mod is not None and hasattr(mod, "cache_inputs"):
         payload["extra"] = _jsonable(mod.cache_inputs(design))
     text = json.dumps(payload, sort_keys=True, separators=(",", ":"))
@@ -276,7 +278,6 @@ def build_design(
     (the build a user keeps; ``hapticad datasheet`` asks for it at any fidelity, evaluation
     builds of ``check``/``fit``/``optimize`` never).
 
-
     ``prices``: a price table (:func:`cad.export.order.load_prices`, ``--prices``), used
     instead of the design's ``[prices]`` table; the BOM gets unit and line prices and
     ``order.csv`` is written (:func:`write_order`).
@@ -303,37 +304,9 @@ def build_design(
         rep = cached_report(out_dir, key)
         if rep is not None:
             return rep
-    mod_name = builder_module_name(design)
-    try:
-        mod = importlib.import_module(mod_name)
-    except ModuleNotFoundError as exc:
-        if exc.name == mod_name:
-            raise DesignError(
-                "mechanism.family", f"building {design.family!r} designs is not available yet"
-            ) from None
-        raise
-    if hasattr(mod, "check_options"):  # unsupported combinations: before any CAD import
-        mod.check_options(design, fidelity, phi1_deg, set(formats))
-    if set(formats) & {"mjcf", "urdf"} and not getattr(mod, "SIM_EXPORT", False):
-        raise DesignError(
-            "--formats",
-            f"mjcf/urdf export is available for four-bar and twin-pantograph designs, "
-            f"not {design.family!r}",
-        )
-    if set(formats) & {"glb", "3mf"} and not getattr(mod, "VIEW_EXPORT", False):
-        raise DesignError(
-            "--formats", f"glb/3mf export is not available for {design.family!r} designs"
-        )
-    if "firmware" in formats and design.family not in FIRMWARE_FAMILIES:
-        raise DesignError(
-            "--formats", f"firmware is generated for four-bars, the pantograph, the twin "
-            f"pantograph and the PowerMouse, not {design.family!r}")
-    check_buildable = getattr(design, "check_buildable", None)
-    if check_buildable is not None:  # links shorter than their joint hardware, before any CAD
-        check_buildable()
-    if hasattr(mod, "check_layout"):  # no clear layer order: refused before the CAD import
-        mod.check_layout(design, fidelity, allow_interference)
-    from cad.export.manifest import write_manifest
+    mod = _builder_module(design)
+    _check_before_cad(mod, design, set(formats), fidelity, phi1_deg, allow_interference)
+    from cad.export.manifest import write_manifest  # noqa: F401 - imported before the routed import, as always
     from cad.parts.lazy_import import routed_first_import
 
     # build123d is imported only if a solid (or a file derived from one) is missing from the
@@ -357,27 +330,76 @@ def build_design(
         timings = report.pop("_timings_s", None)
         viewer_glb = report.pop("_viewer_glb", None)
         write_order(report, tmp, prices if prices is not None else _design_prices(design))
-        if "firmware" in formats:  # from the report's mass properties (cad.firmware, no CAD)
-            from cad.firmware import write_firmware
-
-            fw = write_firmware(design, _jsonable(report), tmp, design_hash(design))
-            report["files"] = sorted({*report.get("files", []), *fw})
-        if isinstance(report.get("files"), list):
-            report["files"] = sorted({*report["files"], HTML_NAME})
-        report["build"] = {
-            "formats": sorted(formats),
-            "fidelity": fidelity,
-            "allow_interference": bool(allow_interference),
-            "build_key": key,
-        }
-        doc = _jsonable(report)
-        write_text_atomic(tmp / REPORT_NAME, json.dumps(doc, indent=2, sort_keys=True) + "\n")
-        from cad.report.html import write_report_html
-
-        write_report_html(doc, tmp, viewer_glb)
-        write_manifest(tmp, {"build_key": key})
+        build = {"formats": sorted(formats), "fidelity": fidelity,
+                 "allow_interference": bool(allow_interference), "build_key": key}
+        _write_report_files(design, report, tmp, formats, build, viewer_glb)
     report["cached"] = False
     if timings is not None:
         report["timings_s"] = timings
     cache_limit.prune_after_build()  # least recently used cache entries beyond the cap
     return report
+
+
+def _builder_module(design):
+    """The family's builder module (:func:`builder_module_name`), imported.
+
+    DesignError ("mechanism.family") when the family has none.
+    """
+    mod_name = builder_module_name(design)
+    try:
+        return importlib.import_module(mod_name)
+    except ModuleNotFoundError as exc:
+        if exc.name == mod_name:
+            raise DesignError(
+                "mechanism.family", f"building {design.family!r} designs is not available yet"
+            ) from None
+        raise
+
+
+def _check_before_cad(mod, design, formats: set[str], fidelity: str, phi1_deg: float | None,
+                      allow_interference: bool) -> None:
+    """Refuse, before any CAD import, what the family cannot build: its unsupported
+    options, a format it does not export, links shorter than their joint hardware, a
+    stack with no clear layer order. Raises DesignError."""
+    if hasattr(mod, "check_options"):  # unsupported combinations: before any CAD import
+        mod.check_options(design, fidelity, phi1_deg, set(formats))
+    if formats & {"mjcf", "urdf"} and not getattr(mod, "SIM_EXPORT", False):
+        raise DesignError(
+            "--formats",
+            f"mjcf/urdf export is available for four-bar and twin-pantograph designs, "
+            f"not {design.family!r}",
+        )
+    if formats & {"glb", "3mf"} and not getattr(mod, "VIEW_EXPORT", False):
+        raise DesignError(
+            "--formats", f"glb/3mf export is not available for {design.family!r} designs"
+        )
+    if "firmware" in formats and design.family not in FIRMWARE_FAMILIES:
+        raise DesignError(
+            "--formats", f"firmware is generated for four-bars, the pantograph, the twin "
+            f"pantograph and the PowerMouse, not {design.family!r}")
+    check_buildable = getattr(design, "check_buildable", None)
+    if check_buildable is not None:  # links shorter than their joint hardware, before any CAD
+        check_buildable()
+    if hasattr(mod, "check_layout"):  # no clear layer order: refused before the CAD import
+        mod.check_layout(design, fidelity, allow_interference)
+
+
+def _write_report_files(design, report: dict, tmp: Path, formats, build: dict, viewer_glb) -> None:
+    """Into the build's temporary folder: the firmware (when asked), report.json,
+    report.html and the manifest; ``report["files"]`` lists them, ``report["build"]`` is
+    ``build`` (formats, fidelity, allow_interference, build_key)."""
+    from cad.export.manifest import write_manifest
+    from cad.report.html import write_report_html
+
+    if "firmware" in formats:  # from the report's mass properties (cad.firmware, no CAD)
+        from cad.firmware import write_firmware
+
+        fw = write_firmware(design, _jsonable(report), tmp, design_hash(design))
+        report["files"] = sorted({*report.get("files", []), *fw})
+    if isinstance(report.get("files"), list):
+        report["files"] = sorted({*report["files"], HTML_NAME})
+    report["build"] = build
+    doc = _jsonable(report)
+    write_text_atomic(tmp / REPORT_NAME, json.dumps(doc, indent=2, sort_keys=True) + "\n")
+    write_report_html(doc, tmp, viewer_glb)
+    write_manifest(tmp, {"build_key": build["build_key"]})

@@ -18,9 +18,8 @@ from pathlib import Path
 
 import numpy as np
 
-#: Chordal and angular deflection of the viewer meshes (glb, GIF, still).
-VIEW_TOLERANCE_MM = 0.2
-VIEW_ANGULAR_TOLERANCE_RAD = 0.5
+from cad.tolerances import VIEW_ANGULAR_TOLERANCE_RAD, VIEW_TOLERANCE_MM
+
 #: Poses of the stroke animation in the glb (the GIF uses at most GIF_POSES of them).
 STROKE_POSES = 24
 GLB_NAME = "assembly.glb"

@@ -8,19 +8,12 @@ Matplotlib stamps SVGs with a date and random element ids and PNGs with its vers
 
 from __future__ import annotations
 
+from cad.io.figures import _NO_STAMPS, save_figure  # noqa: F401 - the writer lives in cad.io
+
 #: Axes title height (axes fraction) given explicitly: with matplotlib's automatic one
 #: (``axes.titley`` None) every draw measures the tick labels' extents to place the
 #: title, a third of a chart's drawing time; 1.0 is where it lands without top ticks.
 TITLE_Y = 1.0
-
-#: Metadata that would differ between runs or matplotlib versions, per format.
-#: Every chart names hapticad as its creator (a fixed text: :func:`written_by_hapticad`
-#: tells our charts from a user's file of the same name before one is replaced).
-_NO_STAMPS = {
-    "svg": {"Date": None, "Creator": "hapticad"},
-    "png": {"Software": "hapticad"},
-    "pdf": {"CreationDate": None, "Creator": "hapticad"},
-}
 
 
 def written_by_hapticad(path) -> bool:
@@ -38,19 +31,3 @@ def written_by_hapticad(path) -> bool:
     if data.startswith(b"\x89PNG"):
         return b"Software\x00hapticad" in data
     return b"<dc:title>hapticad</dc:title>" in data[:4096]
-
-
-def save_figure(fig, target, fmt: str | None = None, **kwargs) -> None:
-    """``fig.savefig(target, format=fmt, **kwargs)`` without time stamps or random ids.
-
-    ``target``: a path or a binary file object; ``fmt``: "png", "svg", "pdf" (default:
-    from the path's suffix, else png).
-    """
-    import matplotlib
-
-    if fmt is None:
-        suffix = str(getattr(target, "name", target)).rsplit(".", 1)[-1].lower()
-        fmt = suffix if suffix in _NO_STAMPS else "png"
-    meta = {**_NO_STAMPS.get(fmt, {}), **kwargs.pop("metadata", {})}
-    with matplotlib.rc_context({"svg.hashsalt": "hapticad"}):
-        fig.savefig(target, format=fmt, metadata=meta, **kwargs)

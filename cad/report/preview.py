@@ -17,9 +17,8 @@ from pathlib import Path
 
 import numpy as np
 
-#: Chordal (mm) and angular (rad) deflection of the preview meshes: coarse, only drawn.
-PREVIEW_MESH_TOL_MM = 0.5
-PREVIEW_ANGULAR_TOL_RAD = 0.6
+from cad.tolerances import PREVIEW_ANGULAR_TOL_RAD, PREVIEW_MESH_TOL_MM
+
 #: Opacity of the part outlines (overlapping parts stay visible).
 ALPHA = 0.35
 

@@ -21,15 +21,12 @@ from __future__ import annotations
 
 import numpy as np
 
+from cad.tolerances import EDGE_EPS_PX, MIN_HEIGHT_PX
+
 #: Bits of the triangle index in a key (up to 16.7 M triangles per picture).
 ID_BITS = 24
 #: Bits of the quantized depth (2**-32 of the scene's depth range: far below any gap).
 DEPTH_BITS = 32
-#: Pixel centres this close outside an edge (px) still count as inside (no cracks).
-EDGE_EPS_PX = 1e-7
-#: Triangles thinner than this (px; seen edge-on) are skipped: they cover no visible
-#: area, and their depth gradient would be ill-conditioned.
-MIN_HEIGHT_PX = 1e-3
 #: Fragments expanded at once (bounds the memory to ~ 40 bytes x this).
 CHUNK_FRAGMENTS = 1 << 21
 #: Key of a pixel no triangle covers (triangle ``t`` is stored as ``t + 1``).

@@ -20,9 +20,10 @@ from pathlib import Path
 
 import numpy as np
 
-#: Newton iterations of :func:`close_loops` and their stopping residual (m).
+from cad.tolerances import CLOSE_TOL_M
+
+#: Newton iterations of :func:`close_loops` (their stopping residual: CLOSE_TOL_M, m).
 CLOSE_MAX_ITER = 50
-CLOSE_TOL_M = 1e-14
 
 
 def load(path: Path):

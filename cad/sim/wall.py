@@ -49,6 +49,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from cad.errors import DesignError
+from cad.tolerances import K_RTOL
 
 #: Hand force pushing into the wall (N): a light touch.
 HAND_FORCE_N = 1.0
@@ -63,12 +64,11 @@ SUBSTEP_MAX_S = 2e-5
 #: Largest MuJoCo time step of the mujoco model (s): the exported loop solref (0.2 ms)
 #: needs <= 0.1 ms.
 MJ_STEP_MAX_S = 1e-4
-#: Bisection bracket and tolerance of K_max (N/m, relative). The hand pushes the handle
+#: Bisection bracket of K_max (N/m; its relative tolerance: K_RTOL). The hand pushes the handle
 #: F/K into the wall: below ~300 N/m that is several mm and the first bounce takes
 #: longer than the simulated time to die out.
 K_LO_N_PER_M = 300.0
 K_HI_N_PER_M = 1e6
-K_RTOL = 0.01
 N_PROBE = 15
 #: Stroke fraction where the wall sits (0 = P(phi1_min), 1 = P(phi1_max)).
 WALL_AT = 0.5

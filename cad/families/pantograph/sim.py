@@ -34,31 +34,27 @@ def _T(R: np.ndarray, p) -> np.ndarray:
     return T
 
 
-def sim_model(design, bodies: dict, bodies_parts: dict, ground_items, lay: dict, home, ik,
-              rotor_kg_m2: float, made: set[str], color) -> SimModel:
-    """SimModel of the twin pantograph written at ``home`` (module docstring).
+def _meshes(bodies_parts: dict, made: set[str], color, prefix: str, link_type: str, F) -> tuple:
+    """SimMesh of each made part of a link type (``bodies_parts``: (kind, 4x4 mm) per link
+    type), in the body frame turned by ``F`` (the upper group's flip)."""
+    out = []
+    for k, (kind, tf) in enumerate(bodies_parts[link_type]):
+        if kind not in made:
+            continue
+        T = F @ tf
+        out.append(SimMesh(f"{prefix}_{kind}_{k}", f"{kind}.stl", T[:3, 3] * 1e-3, T[:3, :3],
+                           (*color(kind), 1.0)))
+    return tuple(out)
 
-    ``bodies``: MassProps per body (link frame, SI); ``bodies_parts``: (kind, 4x4 mm) per
-    link type; ``ground_items``: (name, kind, 4x4 mm world) of the fixed parts; ``made``:
-    kinds with an STL file; ``color(kind)``: rgb.
-    """
-    tp = design.mechanism
+
+def _link_bodies(design, bodies: dict, lay: dict, ik, rotor_kg_m2: float, meshes) -> tuple:
+    """The eight link bodies (proximal on the world, distal on its proximal) with their
+    motors: ``(bodies, {distal body: 4x4 world mm}, motors)``."""
     a = design.params["base_mm"]
-    l3, l6 = design.params["distal_mm"], tp.crank_mm
+    l3 = design.params["distal_mm"]
     B = [(-a / 2, 0.0), (a / 2, 0.0)]
     flip = np.diag([1.0, -1.0, -1.0, 1.0])
     torque = float(np.max(np.atleast_1d(design.actuators["torque_max_Nm"])))
-
-    def meshes(prefix, link_type, F):
-        out = []
-        for k, (kind, tf) in enumerate(bodies_parts[link_type]):
-            if kind not in made:
-                continue
-            T = F @ tf
-            out.append(SimMesh(f"{prefix}_{kind}_{k}", f"{kind}.stl", T[:3, 3] * 1e-3, T[:3, :3],
-                               (*color(kind), 1.0)))
-        return tuple(out)
-
     out: list[SimBody] = []
     world = {}
     motors = []
@@ -88,6 +84,23 @@ def sim_model(design, bodies: dict, bodies_parts: dict, ground_items, lay: dict,
                 inertia_com_kg_m2=np.asarray(bodies[f"{grp}_distal"].inertia_com_kg_m2),
                 meshes=meshes(dn, "distal", F), sites=tip))
             motors.append(SimMotor(f"{grp}_motor_{side}", f"{grp}_q_{side}", torque))
+    return out, world, motors
+
+
+def sim_model(design, bodies: dict, bodies_parts: dict, ground_items, lay: dict, home, ik,
+              rotor_kg_m2: float, made: set[str], color) -> SimModel:
+    """SimModel of the twin pantograph written at ``home`` (module docstring).
+
+    ``bodies``: MassProps per body (link frame, SI); ``bodies_parts``: (kind, 4x4 mm) per
+    link type; ``ground_items``: (name, kind, 4x4 mm world) of the fixed parts; ``made``:
+    kinds with an STL file; ``color(kind)``: rgb.
+    """
+    l6 = design.mechanism.crank_mm
+
+    def meshes(prefix, link_type, F):
+        return _meshes(bodies_parts, made, color, prefix, link_type, F)
+
+    out, world, motors = _link_bodies(design, bodies, lay, ik, rotor_kg_m2, meshes)
     th = float(home[2])
     Tc = _T(rot_z(th), (home[0], home[1], lay["web_z_mm"]))
     Tk = world["knob_distal_left"]

@@ -1,0 +1,25 @@
+"""A design's ``[prices]`` table, validated at load (no CAD import; the BOM prices it in
+:func:`cad.export.order.apply_prices`)."""
+
+from __future__ import annotations
+
+import math
+
+from cad.errors import DesignError
+
+
+def price_table(table: dict, field: str = "prices") -> dict:
+    """A design's ``[prices]`` table (``"designation" = unit price``, optional
+    ``currency = "EUR"``) in the form of :func:`load_prices`; DesignError naming the key."""
+    prices = {}
+    for k, v in table.items():
+        if k == "currency":
+            if not isinstance(v, str) or not v:
+                raise DesignError(f"{field}.currency", f"must be a non-empty string, got {v!r}")
+            continue
+        if isinstance(v, bool) or not isinstance(v, (int, float)):
+            raise DesignError(f"{field}.{k}", f"must be a number (unit price), got {v!r}")
+        if not math.isfinite(float(v)) or v < 0:
+            raise DesignError(f"{field}.{k}", f"must be a finite price >= 0, got {v!r}")
+        prices[str(k)] = float(v)
+    return {"prices": prices, "currency": table.get("currency", ""), "source": f"[{field}]"}

@@ -1,0 +1,59 @@
+"""Effective mass of a pantograph-family device at home from the bodies' mass properties
+(isotropy paper Table 1 for the twin pantograph; the plain 5-bar's 2x2 mass matrix)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from cad.families.pantograph.layout import _twin
+
+
+def _planar(mp):
+    """MassProps (3-D, link frame) -> LinkMass (mass, COM xy, Izz about the COM)."""
+    from cad.kinematics.fivebar import LinkMass
+
+    return LinkMass(
+        float(mp.mass_kg),
+        (float(mp.com_m[0]), float(mp.com_m[1])),
+        float(mp.inertia_com_kg_m2[2, 2]),
+    )
+
+
+def _effective_mass(design, bodies: dict, home: np.ndarray) -> tuple[dict, dict | None]:
+    """Effective mass at home (with and, for the mouse, without rotor inertia)."""
+    from cad.data.catalog import get_motor
+    from cad.kinematics import fivebar as fb5
+    from cad.kinematics import twin_pantograph as tw
+
+    rotor = get_motor(design.parts.motor).rotor_inertia_kg_m2
+
+    def fbm(pre: str, jm: float):
+        d = [_planar(bodies[f"{pre}distal_{s}"]) for s in ("left", "right")]
+        pr = [_planar(bodies[f"{pre}proximal_{s}"]) for s in ("left", "right")]
+        return fb5.FiveBarMass(pr[0], pr[1], d[0], d[1], jm)
+
+    if not _twin(design):
+        M = fb5.mass_matrix_kg(design.mechanism, home[None, :], fbm("", rotor))[0]
+        M = M + bodies["handle"].mass_kg * np.eye(2)  # the handle translates with E
+        return {
+            "at_mm": home.tolist(),
+            "mass_matrix_g": (M * 1e3).tolist(),
+            "mass_x_g_diag": float(M[0, 0] * 1e3),
+            "mass_y_g_diag": float(M[1, 1] * 1e3),
+        }, None
+    th = math.radians(design.workspace["home_theta_deg"])
+    X = np.array([home[0], home[1], th])
+    cs = bodies["crankshaft"]
+    crank = fb5.LinkMass(
+        float(cs.mass_kg),
+        (float(cs.com_m[0]), float(cs.com_m[1])),
+        float(cs.inertia_com_kg_m2[2, 2]),
+    )
+    tm = design.mechanism
+    eff = tw.effective_mass_home(
+        tm, X, tw.TwinMass(fbm("knob_", rotor), fbm("crank_", rotor), crank)
+    )
+    bare = tw.effective_mass_home(tm, X, tw.TwinMass(fbm("knob_", 0.0), fbm("crank_", 0.0), crank))
+    return eff, bare

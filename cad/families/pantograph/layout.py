@@ -1,0 +1,238 @@
+"""Layout of a pantograph-family device from the design only (numpy, no CAD): heights,
+plate extents, the screw plans, and the planar transforms the placement uses.
+
+World frame = the kinematic base frame (z up, z = 0 on the base plate's top face; the
+bench plane at ``bench_z_mm`` below it); mm throughout. Isotropy paper §3 (Fig. 2, the
+plain 5-bar) and §4.1 (Fig. 1, the twin pantograph); the arrangement is described in
+:mod:`cad.families.pantograph.build`.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from cad.errors import DesignError
+
+#: Posts: offset along x from each actuated joint (mm), and their screws.
+POST_DX_MM = 22.0
+
+
+POST_SCREW = "M4-0.7"
+
+
+POST_TAP_DEPTH_MM = 10.0
+
+
+#: Depth of the journal / handle pin in the knob's bore (mm).
+KNOB_BORE_DEPTH_MM = 15.0
+
+
+#: Knob diameter of the plain 5-bar's handle (mm); the mouse's is mechanism.knob_diameter_mm.
+PLAIN_KNOB_DIAMETER_MM = 20.0
+
+
+#: Smallest thread engagement of a cap screw in a tapped hole (x thread diameter):
+#: 1.5 d in aluminium.
+MIN_ENGAGEMENT_D = 1.5
+
+
+def _twin(design) -> bool:
+    return design.family == "twin-pantograph"
+
+
+def _lower_five_bar(design):
+    return design.mechanism.crank if _twin(design) else design.mechanism
+
+
+def home_xy_mm(design) -> np.ndarray:
+    """End-effector (mouse: main journal) position of the exported pose (mm)."""
+    ws = design.workspace
+    return np.asarray(ws.get("home_mm", ws["center_mm"]), dtype=float)
+
+
+def screw_plan(design) -> dict[str, dict]:
+    """Every screw group of the device sized from its stack, before any CAD
+    (:func:`cad.assembly.fasteners.size_cap_screw`: catalog ISO 4762 length, engagement
+    between 1.5 d in aluminium -- the maker's minimum in the motor face -- and the hole's
+    full-thread depth). Group -> size, clamp_mm, length_mm, engagement_mm, depth_mm,
+    min_engagement_mm, joint, clamps (parts clamped, head side first). DesignError naming
+    the joint when no catalog length fits."""
+    from cad.assembly import fasteners as fs
+    from cad.data.catalog import get_motor
+    from cad.parts import base
+    from cad.parts import motor as pm
+
+    p = design.parts
+    m = get_motor(p.motor)
+    pt, mt = p.plate_thickness_mm, p.motor_mount_thickness_mm
+    face = min(m.bolt_thread_depth_mm, fs.MIN_ENGAGEMENT_BOUGHT_MM)
+    groups = {
+        "leg": (base.LEG_SCREW, pt, base.STANDOFF_TAP_DEPTH_MM - fs.TAP_LEADOUT_MM, None,
+                "leg to base plate", "parts.plate_thickness_mm", ("base_plate",)),
+        "mount": (pm.MOUNT_SCREW, mt, pt, None, "motor mount plate to base/bridge plate",
+                  "parts.motor_mount_thickness_mm", ("motor_mount",)),
+        "motor": (m.bolt_size, mt, m.bolt_thread_depth_mm, face, "motor face to mount plate",
+                  "parts.motor_mount_thickness_mm", ("motor_mount",)),
+    }
+    if _twin(design):
+        groups["post"] = (POST_SCREW, pt, POST_TAP_DEPTH_MM - fs.TAP_LEADOUT_MM, None,
+                          "bridge post to base/bridge plate", "parts.plate_thickness_mm",
+                          ("plate",))
+    out = {}
+    for g, (size, clamp, depth, need, joint, field, clamps) in groups.items():
+        hole = fs.alu_hole(g, g, size, depth)
+        if need is not None:
+            hole = fs.TappedHole(g, g, size, depth, need)
+        L, e = fs.size_cap_screw(size, clamp, hole, joint, field)
+        out[g] = {"size": size, "clamp_mm": clamp, "length_mm": L, "engagement_mm": e,
+                  "depth_mm": depth, "min_engagement_mm": hole.min_engagement_mm,
+                  "joint": joint, "clamps": clamps}
+    return out
+
+
+#: ISO 4026 set screws that may lock a hub clevis on its motor shaft, largest first tried.
+SET_SCREW_SIZES = ("M3-0.5", "M2.5-0.45", "M2-0.4")
+
+
+def set_screw_plan(design) -> dict:
+    """The set screw locking each hub clevis on its motor shaft, before any CAD: radial, at
+    the clevis mid-plane, tapped through the round end's wall (``clevis_width_mm / 2`` minus
+    the shaft radius) with its flat point touching the shaft and its end inside the clevis
+    outer surface (:func:`cad.assembly.fasteners.size_set_screw`: the largest of
+    :data:`SET_SCREW_SIZES` with a bd_warehouse ISO 4026 length 1.5 d <= L <= full-thread
+    depth). Returns size, length_mm, engagement_mm (= L), depth_mm, wall_mm, shaft_radius_mm,
+    min_engagement_mm. DesignError naming ``parts.clevis_width_mm`` when no size fits,
+    ``parts.clevis_height_mm`` when the shaft ends short of the screw."""
+    from cad.assembly import fasteners as fs
+    from cad.data.catalog import get_motor, thread_diameter_mm
+
+    p = design.parts
+    m = get_motor(p.motor)
+    r_in, r_out = m.shaft_diameter_mm / 2, p.clevis_width_mm / 2
+    size, L, depth = fs.size_set_screw(r_in, r_out, SET_SCREW_SIZES,
+                                       "hub clevis set screw onto the motor shaft",
+                                       "parts.clevis_width_mm")
+    d = thread_diameter_mm(size)
+    # shaft length inside a hub clevis (the same for the crank and knob pantographs)
+    engaged = m.shaft_length_mm - p.plate_thickness_mm - p.motor_mount_thickness_mm - p.layer_gap_mm
+    if engaged - p.clevis_height_mm / 2 < d / 2:
+        raise DesignError(
+            "parts.clevis_height_mm",
+            f"the {p.motor} shaft ends {engaged:g} mm into the {p.clevis_height_mm:g} mm hub "
+            f"clevis, short of its {size.split('-')[0]} set screw at mid-height",
+        )
+    return {"size": size, "length_mm": L, "engagement_mm": L, "depth_mm": depth,
+            "wall_mm": r_out - r_in, "shaft_radius_mm": r_in,
+            "min_engagement_mm": fs.MIN_ENGAGEMENT_ALU_D * d}
+
+
+def layout(design) -> dict:
+    """Heights and plate extents of the assembly (mm), from the design only (no CAD)."""
+    from cad.data.catalog import get_bearing, get_motor
+    from cad.parts import base
+    from cad.parts.motor import mount_side_mm
+
+    twin = _twin(design)
+    p = design.parts
+    a = design.params["base_mm"]
+    l2 = design.params["proximal_mm"]
+    l6 = design.mechanism.crank_mm if twin else 0.0
+    b = get_bearing(p.bearing)
+    m = get_motor(p.motor)
+    h, g, t = p.clevis_height_mm, p.layer_gap_mm, p.crank_thickness_mm
+    pitch = h + g
+    L0 = g + h / 2
+    L = [L0, L0 + pitch, L0 + 2 * pitch]
+    ms = mount_side_mm(m)
+    ws = design.workspace
+    cx, cy = ws["center_mm"]
+    half = ws["side_mm"] / 2
+    reach_x = a / 2 + l2 + p.clevis_width_mm
+    margin = base.LEG_INSET_MM + base.LEG_DIAMETER_MM / 2 + 4.0
+    post_y = -(ms / 2 + p.post_diameter_mm / 2 + 8.0)
+    y_back = (post_y - p.post_diameter_mm / 2) if twin else -ms / 2
+    base_x = (
+        min(-reach_x, cx - half - l6 - 20, -a / 2 - ms / 2) - margin,
+        max(reach_x, cx + half + l6 + 20, a / 2 + ms / 2) + margin,
+    )
+    base_y = (y_back - margin, cy + half + l6 + p.clevis_width_mm + 20 + margin)
+    leg_h = p.motor_mount_thickness_mm + m.body_length_mm + base.LEG_GROUND_CLEARANCE_MM
+    pt, mt = p.plate_thickness_mm, p.motor_mount_thickness_mm
+    shaft_tip = -pt - mt + m.shaft_length_mm
+    out = {
+        "layer_pitch_mm": pitch,
+        "lower_layers_z_mm": L,
+        "base_plate_x_mm": base_x,
+        "base_plate_y_mm": base_y,
+        "leg_height_mm": leg_h,
+        "bench_z_mm": -pt - leg_h,
+        "journal_d_mm": b.d_mm,
+        "pin_short_mm": 2 * h + g,
+        "pin_long_mm": 3 * h + 2 * g,
+        "tube_proximal_mm": l2 - 2 * (p.clevis_length_mm - p.socket_depth_mm),
+        "tube_distal_mm": design.params["distal_mm"] - 2 * (p.clevis_length_mm - p.socket_depth_mm),
+        "lower_shaft_engagement_mm": shaft_tip - (L[0] - h / 2),
+        "motor_mount_side_mm": ms,
+        "screws": screw_plan(design),
+        "set_screw": set_screw_plan(design),
+    }
+    if not twin:
+        knob_z = L[2] + h / 2 + g
+        out.update(
+            knob_bottom_z_mm=knob_z,
+            handle_pin_z_mm=L[1] - h / 2,
+            handle_pin_mm=knob_z + KNOB_BORE_DEPTH_MM - (L[1] - h / 2),
+        )
+        return out
+    zW = L[2] + h / 2 + g + t / 2
+    U2 = zW + t / 2 + g + h / 2
+    U = [U2 + 2 * pitch, U2 + pitch, U2]  # U0 (proximal, top), U1, U2
+    z_bridge = U[0] + h / 2 + g
+    posts = [(sx * a / 2 + dx, post_y) for sx in (-1, 1) for dx in (-POST_DX_MM, POST_DX_MM)]
+    out.update(
+        web_z_mm=zW,
+        upper_layers_z_mm=U,
+        bridge_bottom_z_mm=z_bridge,
+        knob_bottom_z_mm=U[0] + h / 2 + g,
+        posts_xy_mm=posts,
+        bridge_x_mm=(
+            min(x for x, _ in posts) - p.post_diameter_mm,
+            max(x for x, _ in posts) + p.post_diameter_mm,
+        ),
+        bridge_y_mm=(post_y - p.post_diameter_mm, ms / 2 + 5),
+        journal_up_mm=(U[0] + h / 2 + g + KNOB_BORE_DEPTH_MM) - (zW + t / 2),
+        crank_pin_down_mm=(zW - t / 2) - (L[1] - h / 2),
+        web_width_mm=max(b.d_mm + 6.0, 10.0),
+        upper_shaft_engagement_mm=(U[0] + h / 2) - (z_bridge + pt + mt - m.shaft_length_mm),
+    )
+    return out
+
+
+def _rz(angle: float, x: float = 0.0, y: float = 0.0, z: float = 0.0) -> np.ndarray:
+    T = np.eye(4)
+    c, s = math.cos(angle), math.sin(angle)
+    T[:2, :2] = [[c, -s], [s, c]]
+    T[:3, 3] = (x, y, z)
+    return T
+
+
+def _flip() -> np.ndarray:
+    T = np.eye(4)
+    T[1, 1] = T[2, 2] = -1.0
+    return T
+
+
+def _leg_xy(lay: dict) -> list[tuple[float, float]]:
+    from cad.parts import base
+
+    (x0, x1), (y0, y1) = lay["base_plate_x_mm"], lay["base_plate_y_mm"]
+    return base.leg_xy_mm((x0, y0, x1, y1))
+
+
+def _square(ws: dict) -> np.ndarray:
+    (cx, cy), h = ws["center_mm"], ws["side_mm"] / 2
+    return np.array(
+        [[cx - h, cy - h], [cx + h, cy - h], [cx + h, cy + h], [cx - h, cy + h], [cx - h, cy - h]]
+    )
