@@ -218,8 +218,9 @@ def test_effective_mass_at_home_equals_mujoco_kinetic_energy(built):
 def test_no_solid_pair_overlaps_over_the_motion(built):
     _, rep = built
     itf = rep["interference"]
-    assert itf["poses"] == 21 and itf["pairs_per_pose"] > 3000
+    assert itf["n_poses"] == 21 and itf["method"].endswith("occt")  # exact pass on the solids
     assert itf["collisions"] == [] and rep["overlap_volume_mm3"] == 0.0
+    assert rep["min_clearance_mm"] >= 0.0
 
 
 def test_a_bad_variant_is_caught_away_from_home_with_pair_and_pose(tmp_path):
@@ -239,7 +240,8 @@ def test_a_bad_variant_is_caught_away_from_home_with_pair_and_pose(tmp_path):
     with pytest.raises(InterferenceError) as exc:
         build.build(d, tmp_path / "o", {"step"}, fidelity="inertia")
     msg = str(exc.value)
-    assert re.search(r"ring\d? / pen\.[AB]_pen_hub\d", msg), msg
+    pair = r"[AB]_ring\.ring\d / pen\.[AB]_pen_hub\d|pen\.[AB]_pen_hub\d / [AB]_ring\.ring\d"
+    assert re.search(pair, msg), msg
     assert "pitch -45 deg" in msg or "pitch 45 deg" in msg, msg
     assert not (tmp_path / "o" / "assembly.step").exists()
 

@@ -4,15 +4,15 @@ properties, effective mass at home, the interference check over its motion, MJCF
 Contract: :mod:`cad.pipeline` (``build(design, out_dir, formats, *, fidelity,
 allow_interference, progress, phi1_deg) -> report dict``; ``phi1_deg`` must be None, the pen
 has no crank). Everything goes through the shared writers of :mod:`cad.pipeline.family`
-(part files, assembly STEP, BOM, report.md) and its shared solid check
-(:func:`cad.pipeline.family.check_assembly`, i.e.
-:func:`cad.assembly.interference.same_body_check` on every placed solid) evaluated at every
-pose of the assembly model's motion (:func:`cad.families.pen.layout.motion_task`).
+(part files, assembly STEP, BOM, report.md) and the one interference check of every family
+(:func:`cad.assembly.interference.check_model`) over the assembly model's motion
+(:func:`cad.families.pen.layout.motion_task`).
 
 Report keys: ``layout_mm``, ``ground_mm``, ``bodies`` (mass properties of each moving body
 from the exact B-rep, in its body frame), ``effective_mass_home`` (the 5 x 5 operational mass
 matrix at home and its diagonal, :func:`cad.families.pen.dynamics.effective_mass`),
-``interference`` (every pair of solids at every pose of the motion), ``moving_mass_g``,
+``interference`` (every pair of bodies at every pose of the motion, every pair of parts on
+one body once), ``min_clearance_mm``, ``moving_mass_g``,
 ``total_mass_g``, ``bom``, ``fits``, ``files``, ``paper_table3``.
 """
 
@@ -20,7 +20,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from cad.errors import DesignError, InterferenceError
+from cad.errors import DesignError
 
 #: Source the output depends on (build cache key).
 CODE_DEPS = ("pipeline", "families", "datasheet", "report", "parts", "assembly", "export",
@@ -56,30 +56,23 @@ def _step(progress, text: str, done: int, total: int) -> None:
         progress(text, done, total)
 
 
-def check_motion(model) -> dict:
-    """Every pair of solids of ``model`` at every pose of its motion, by the shared check
-    (:func:`cad.pipeline.family.check_assembly`). Returns ``{"poses", "pairs_per_pose",
-    "exact_checks", "collisions": [{"parts", "bodies", "pose", "overlap_volume_mm3"}],
-    "overlap_volume_mm3" (largest), "overlap_threshold_mm3"}``."""
-    from cad.pipeline import family
+def interference(model, allow_interference: bool = False) -> dict:
+    """The one interference check (:func:`cad.assembly.interference.check_model`) of the pen
+    over its motion: every pair of bodies at each pose of ``model.motion`` (labelled), every
+    pair of parts on one body once; touching allowed, a common volume above
+    :data:`cad.assembly.interference.OVERLAP_MIN_MM3` is a clash. Returns the report's
+    ``interference`` dict (``min_clearance_mm``, ``overlap_volume_mm3``, ``pairs``,
+    ``collisions`` with parts, pose label and volume, ``n_poses`` ...); InterferenceError
+    naming the pair, the pose and the volume of the first clash unless allow_interference."""
+    from cad.assembly import interference as itf
 
-    bodies = {i.name: i.body for i in model.instances}
-    out, exact, pairs = [], 0, 0
-    n = len(model.pose_labels)
-    for k in range(n):
-        tfs = {b: T[k] for b, T in model.motion.items()}
-        res = family.check_assembly(model.instances, tfs)
-        exact += res["exact_pairs"]
-        pairs = res["pairs"]
-        out += [{"parts": c["parts"], "bodies": [bodies[p] for p in c["parts"]],
-                 "pose": model.pose_labels[k], "pose_index": k,
-                 "overlap_volume_mm3": c["overlap_volume_mm3"]} for c in res["collisions"]]
-    out.sort(key=lambda c: -c["overlap_volume_mm3"])
-    from cad.assembly.interference import OVERLAP_MIN_MM3
-
-    return {"poses": n, "pairs_per_pose": pairs, "exact_checks": exact, "collisions": out,
-            "overlap_volume_mm3": max([0.0] + [c["overlap_volume_mm3"] for c in out]),
-            "overlap_threshold_mm3": OVERLAP_MIN_MM3}
+    rep = itf.check_model(model, fail_fast=not allow_interference)
+    if not allow_interference:
+        itf.raise_on_collision(rep, 0.0)
+    out = rep.as_dict()
+    out["parts"] = len(model.instances)
+    out["overlap_threshold_mm3"] = itf.OVERLAP_MIN_MM3
+    return out
 
 
 def build(design, out_dir: Path, formats: set[str], *, fidelity: str = "fabrication",
@@ -108,13 +101,7 @@ def build(design, out_dir: Path, formats: set[str], *, fidelity: str = "fabricat
     eff = effective_mass(design, bodies, model.extra["home_task"])
     bom = family.bom_rows(inst, props)
     _step(progress, "every pair of solids over the motion", 2, total)
-    itf = check_motion(model)
-    if itf["collisions"] and not allow_interference:
-        c = itf["collisions"][0]
-        raise InterferenceError(
-            f"{c['parts'][0]} / {c['parts'][1]} overlap {c['overlap_volume_mm3']:.3f} mm^3 at pose "
-            f"{c['pose']}; {len(itf['collisions'])} overlapping pair(s) over "
-            f"{itf['poses']} poses (use --allow-interference)")
+    itf = interference(model, allow_interference)
     gl = model.extra["ground_mm"]
     low, low_part = family.lowest_z_mm(inst, tfs)
     if low < gl["bench_z_mm"] - 1e-6:
@@ -161,6 +148,7 @@ def _report(design, model, bodies, eff, itf, bom, fidelity, low) -> dict:
         "home": {"x_mm": float(home[0]), "y_mm": float(home[1]), "z_mm": float(home[2]),
                  "yaw_deg": 0.0, "pitch_deg": 0.0},
         "interference": itf, "overlap_volume_mm3": itf["overlap_volume_mm3"],
+        "min_clearance_mm": itf["min_clearance_mm"],
         "bench_z_mm": gl["bench_z_mm"], "lowest_z_mm": low,
         "bodies": {k: v.to_dict() for k, v in bodies.items()},
         "moving_mass_g": sum(v.mass_kg for v in bodies.values()) * 1e3,
@@ -169,10 +157,11 @@ def _report(design, model, bodies, eff, itf, bom, fidelity, low) -> dict:
         "paper_table3": PAPER_TABLE3,
         "bom": bom,
         "notes": [
-            "Every pair of solids is checked at every pose of the motion (home, the eight "
-            "corners of the workspace box at the rotation extremes, the four rotation corners at "
-            "the centre): common volume > "
-            f"{itf['overlap_threshold_mm3']:g} mm^3 is a collision.",
+            "Every pair of bodies is checked at every pose of the motion (home, the eight "
+            "corners of the workspace box at two rotation extremes each, the four rotation "
+            "corners at the centre; cad.assembly.interference.check_model), every pair of parts "
+            f"on one body once: common volume > {itf['overlap_threshold_mm3']:g} mm^3 is a "
+            "collision.",
             "The pen's roll is passive; the poses keep the pen hub's b axis horizontal.",
             "Effective mass: 5 x 5 operational mass matrix at home, task velocity (x, y, z m/s, "
             "w_yaw, w_pitch rad/s), from the solids' body mass properties and the rotors' "
@@ -189,8 +178,8 @@ def _md_rows(r: dict) -> list[tuple[str, str]]:
     rows = [("GII (workspace)", f"{r['gii']['gii']:.4f}"),
             ("moving mass (g)", f"{r['moving_mass_g']:.1f}"),
             ("total mass (g)", f"{r['total_mass_g']:.1f}"),
-            ("poses / solid pairs per pose checked", f"{r['interference']['poses']} / "
-                                                      f"{r['interference']['pairs_per_pose']}"),
+            ("poses checked / smallest clearance over them (mm)",
+             f"{r['interference']['n_poses']} / {r['min_clearance_mm']:.3g}"),
             ("largest overlap (mm^3)", f"{r['overlap_volume_mm3']:.4g}"),
             ("bench plane / lowest solid z (mm)", f"{r['bench_z_mm']:.1f} / {r['lowest_z_mm']:.1f}")]
     for k, v in em.items():

@@ -35,7 +35,7 @@ def rows_and_limits(design, report: dict, out_dir=None, simulate_wall: bool = Tr
     if itf:
         out.append(row("overlap_volume_mm3", "largest solid overlap over the motion",
                        itf.get("overlap_volume_mm3"), "mm^3",
-                       f"every pair of solids at {itf.get('poses')} poses of the workspace "
+                       f"every pair of solids at {itf.get('n_poses')} poses of the workspace "
                        "(home, box corners at the rotation extremes)"))
     return out, limits, notes
 
