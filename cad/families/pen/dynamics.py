@@ -20,10 +20,7 @@ import math
 
 import numpy as np
 
-#: Central-difference step of the body poses (task units: mm for x, y, z; rad for the
-#: angles, scaled to the same motion): truncation O(h^2) ~1e-10 relative, round-off
-#: ~1e-16 / h ~1e-10 relative on poses of a few hundred mm.
-FD_STEP = 1e-5
+from cad.tolerances import PEN_FD_STEP as FD_STEP
 
 
 def _vee(W: np.ndarray) -> np.ndarray:

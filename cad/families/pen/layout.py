@@ -36,18 +36,16 @@ import math
 import numpy as np
 
 from cad.errors import DesignError
+from cad.tolerances import PEN_FOOT_MARGIN_MM as FOOT_MARGIN_MM
+from cad.tolerances import PEN_GIMBAL_GAP_MM as GIMBAL_GAP_MM
 
 ARMS = ("A", "B")
 #: Radial wall of the gimbal ring and its axial thickness (mm).
 RING_WALL_MM = 4.0
 RING_THICKNESS_MM = 6.0
-#: Gap between the ring and the yoke (arms and base), and between the pen hub and the ring (mm).
-GIMBAL_GAP_MM = 1.5
 #: Yoke arm and base thickness (mm).
 YOKE_ARM_MM = 5.0
 YOKE_BASE_MM = 6.0
-#: Margin of the waist bracket's foot below the lowest link point over the motion (mm).
-FOOT_MARGIN_MM = 5.0
 #: Waist hub: height, diameter, gap above the base plate (mm).
 WAIST_HUB_MM = (15.0, 26.0, 1.0)
 #: Samples per rotation axis of the motion the interference check sweeps (corners and centre).
