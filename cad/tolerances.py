@@ -402,3 +402,18 @@ BENCH_INTERFERENCE_MESH_TOLERANCES_MM = (0.2, 0.1, 0.05, 0.02, 0.01)
 #: A datasheet row shows its min .. max range unless the two agree to this (relative): values
 #: printed to 3-4 significant digits, so a range narrower than 1e-6 is round-off of one value.
 RANGE_SAME_REL = 1e-6
+
+# --------------------------------------------------------------------------- haptic pen
+#: Gap between the lowest point any link clevis reaches over the pen's motion and the top of
+#: the waist bracket's foot strip (mm): the clevises are machined parts, 5 mm covers their
+#: stack and a bent tube (cad/families/pen/layout.py).
+PEN_FOOT_MARGIN_MM = 5.0
+#: Gap of the pen gimbal's ring to its yoke (arms and base) and of the pen hub to the ring
+#: (mm): 1.5 mm clears the bearings' axial play and the turned parts' tolerances, and keeps the
+#: rotating parts apart over the whole range (checked by the interference check).
+PEN_GIMBAL_GAP_MM = 1.5
+#: Central-difference step of the pen's body poses for the effective mass (task units: mm and
+#: rad, times the task scaling): truncation O(h^2) ~1e-10 relative and round-off ~1e-16 / h
+#: ~1e-11 relative on poses of a few hundred mm; MuJoCo's mass matrix agrees to 1e-6
+#: (tests/test_pen_build.py).
+PEN_FD_STEP = 1e-5

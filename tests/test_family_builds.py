@@ -127,7 +127,7 @@ def test_powermouse_can_be_put_together(builds, step_parts):
 @pytest.mark.parametrize(
     "design, extra, field",
     [
-        ("haptic_pen.toml", [], "mechanism.family"),
+        ("haptic_pen.toml", ["--phi1-deg", "10"], "--phi1-deg"),
         ("pantograph.toml", ["--phi1-deg", "10"], "--phi1-deg"),
         ("powermouse.toml", ["--phi1-deg", "10"], "--phi1-deg"),
     ],

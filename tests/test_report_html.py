@@ -225,14 +225,19 @@ def test_render_command_writes_the_pictures_and_refuses_other_families(tmp_path)
     from PIL import Image
 
     out = tmp_path / "devices"
+    # every family renders (the haptic pen too): the design refused is one whose build is
+    # refused -- a waist bracket plate so thick the shoulder motor shafts miss their hubs
+    bad = tmp_path / "thick_plate_pen.toml"
+    bad.write_text((ROOT / "designs" / "haptic_pen.toml").read_text().replace(
+        "[parts]\n", "[parts]\nmotor_mount_thickness_mm = 15.0\n"))
     code, _, err = hapticad(
         "render",
         ROOT / "designs" / "hoeken.toml",
-        ROOT / "designs" / "haptic_pen.toml",
+        bad,
         "--out",
         out,
     )
-    assert_one_line_error(code, err, "haptic_pen.toml", "haptic-pen")
+    assert_one_line_error(code, err, "thick_plate_pen.toml", "parts.motor")
     assert not out.exists()  # checked before anything is built
     code, stdout, err = hapticad(
         "render", ROOT / "designs" / "hoeken.toml", "--out", out, "--fidelity", "preview"

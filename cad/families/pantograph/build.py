@@ -162,8 +162,7 @@ def check_options(design, fidelity: str, phi1_deg, formats=frozenset()) -> None:
     if design.family not in FAMILIES:
         from cad.data.families import refusal
 
-        raise DesignError("mechanism.family", refusal("build", design.family)
-                          + " (the haptic pen has kinematics and GII only, no parts)")
+        raise DesignError("mechanism.family", refusal("build", design.family))
     if phi1_deg is not None:
         raise DesignError(
             "--phi1-deg",

@@ -1,0 +1,317 @@
+"""The haptic pen as part instances on bodies (:class:`cad.assembly.model.AssemblyModel`).
+
+Layout and frames: :mod:`cad.families.pen.layout`. Every kind is a
+:class:`cad.parts.PartKind`; the link hardware is the twin pantograph's part scripts, the
+waist bracket, gimbal and pen are :mod:`cad.families.pen.parts`.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from cad.families.pen import layout as L
+
+
+def _rot(axis: str, deg: float) -> np.ndarray:
+    c, s = math.cos(math.radians(deg)), math.sin(math.radians(deg))
+    T = np.eye(4)
+    i, j = {"x": (1, 2), "y": (2, 0), "z": (0, 1)}[axis]
+    T[i, i], T[i, j], T[j, i], T[j, j] = c, -s, s, c
+    return T
+
+
+def _tr(x=0.0, y=0.0, z=0.0) -> np.ndarray:
+    from cad.parts import translation
+
+    return translation(x, y, z)
+
+
+def _link_kinds(design, lay: dict, fidelity: str, add) -> None:
+    """Clevises, tubes, pins, bearings, shoulder motors (the twin pantograph's hardware)."""
+    from cad.data.catalog import get_motor
+    from cad.data.fits import fit
+    from cad.families.pen import parts as pp2
+    from cad.parts import joints
+    from cad.parts import motor as pm
+    from cad.parts import pantograph as pp
+
+    p = design.parts
+    b, mot = lay["bearing"], get_motor(p.motor)
+    cl = dict(length_mm=p.clevis_length_mm, width_mm=p.clevis_width_mm,
+              height_mm=p.clevis_height_mm, socket_depth_mm=p.socket_depth_mm,
+              tube_od_mm=p.tube_od_mm)
+    cm = p.clevis_material
+    add("clevis_hub", pp.clevis_shape("hub", bore_mm=mot.shaft_diameter_mm, **cl), cm, True,
+        "clevis on the lower shoulder motor shaft", "CNC milled; ream shaft bore",
+        fits=(fit("hub shaft bore", mot.shaft_diameter_mm, "shaft bore"),))
+    z2 = lay["layers_mm"]["proximal_upper"]
+    top = lay["spigot_mm"][1] - z2
+    eng = lay["spigot_mm"][1] - lay["shoulder_shaft_tip_mm"]
+    add("clevis_hub_spigot", pp2.spigot_hub_shape(cl, mot.shaft_diameter_mm, 12.0, top, eng), cm,
+        True, "clevis with a spigot on the upper shoulder motor shaft (reaches layer 2)",
+        "CNC milled + turned; ream shaft bore",
+        fits=(fit("hub shaft bore", mot.shaft_diameter_mm, "shaft bore"),))
+    add("clevis_pin", pp.clevis_shape("pin", bore_mm=b.d_mm, **cl), cm, True,
+        "clevis at the elbow, pin pressed in", "CNC milled; ream pin bore",
+        fits=(fit("pin bore", b.d_mm),))
+    add("clevis_bearing", pp.clevis_shape("bearing", bore_mm=b.D_mm, **cl), cm, True,
+        "clevis with two ball bearings", "CNC milled; bore bearing seat (both bearings)",
+        fits=(fit("bearing seat", b.D_mm),))
+    for which in ("proximal", "distal"):
+        n = lay[f"tube_{which}_mm"]
+        add(f"tube_{which}", pp.tube_shape(n, p.tube_od_mm, p.tube_id_mm), p.tube_material, True,
+            f"tube {p.tube_od_mm:g}/{p.tube_id_mm:g} x {n:g} mm, {which} links",
+            "cut to length, bonded")
+    for side in ("lower", "upper"):
+        z0, z1 = lay[f"pin_{side}_mm"]
+        add(f"pin_{side}", pp.pin_shape(b.d_mm, z1 - z0), p.pin_material, True,
+            f"elbow pin d{b.d_mm:g} x {z1 - z0:g}, {side} chain", "ground dowel, cut",
+            fits=(fit("pin", b.d_mm),))
+    add("bearing", joints.bearing_shape(p.bearing, fidelity == "fabrication"), "steel-1018", False,
+        f"ball bearing {b.designation} ({p.bearing})", "bought", mass_kg=b.mass_kg,
+        inertia_model="ring", ring_mm=(b.d_mm / 2, b.D_mm / 2, b.B_mm),
+        hull=joints.ring_shape(b.d_mm / 2, b.D_mm / 2, b.B_mm))
+    for key, tag in ((p.motor, "shoulder"), (p.waist_motor, "waist")):
+        m = get_motor(key)
+        add(f"motor_{tag}", pm.motor_housing_shape(m), "steel-1018", False, m.description,
+            f"bought ({tag} joint); face tapped {m.bolt_size.split('-')[0]} x{m.bolt_count}; with "
+            f"its shaft (solid motor_{tag}_shaft in assembly.step)", mass_kg=m.mass_kg)
+        add(f"motor_{tag}_shaft", pm.motor_shaft_shape(m), "steel-1018", False, "motor shaft",
+            "part of the motor", inertia_model="none", listed=False)
+
+
+def _gimbal_kinds(design, lay: dict, add) -> None:
+    """Yoke (with its journal), ring, ring pins, pen hub, pen rod."""
+    from cad.data.fits import fit
+    from cad.families.pen import parts as pp2
+    from cad.parts import pantograph as pp
+
+    p = design.parts
+    b = lay["bearing"]
+    gm = p.gimbal_material
+    ri, ro = lay["ring_inner_mm"], lay["ring_outer_mm"]
+    add("yoke", pp2.yoke_shape(lay["yoke_arm_x_mm"], L.YOKE_ARM_MM, p.clevis_width_mm,
+                               lay["yoke_base_mm"], lay["journal_mm"][1], b.d_mm, b.D_mm, b.B_mm),
+        gm, True, "gimbal yoke with its journal (runs in the distal clevises' bearings)",
+        "CNC milled + turned; bore both bearing seats; grind the journal",
+        fits=(fit("bearing seat", b.D_mm), fit("journal", b.d_mm)))
+    add("ring", pp2.ring_shape(ri, ro, L.RING_THICKNESS_MM, b.d_mm), gm, True,
+        f"gimbal ring {2 * ri:g}/{2 * ro:g} x {L.RING_THICKNESS_MM:g}, four pins pressed in",
+        "turned; drill and ream four pin bores", fits=(fit("pin bore", b.d_mm),))
+    pa = lay["yoke_arm_x_mm"] + b.B_mm - ri
+    pb = ro - (lay["pen_hub_half_mm"] - b.B_mm)
+    add("pin_ring_a", pp.pin_shape(b.d_mm, pa), p.pin_material, True,
+        f"ring pin d{b.d_mm:g} x {pa:g} (axis a, in the yoke's bearings)", "ground dowel, cut",
+        fits=(fit("pin", b.d_mm),))
+    add("pin_ring_b", pp.pin_shape(b.d_mm, pb), p.pin_material, True,
+        f"ring pin d{b.d_mm:g} x {pb:g} (axis b, in the pen hub's bearings)", "ground dowel, cut",
+        fits=(fit("pin", b.d_mm),))
+    boss, sock = 2 * lay["pen_hub_radius_mm"], lay["pen_hub_radius_mm"]
+    add("pen_hub", pp2.pen_hub_shape(lay["pen_hub_half_mm"], lay["pen_hub_radius_mm"], b.D_mm,
+                                     b.B_mm, p.pen_diameter_mm, boss, sock),
+        gm, True, "pen hub (two bearings on the ring's b pins, holds the pen rod)",
+        "turned + milled; bore both bearing seats and the rod socket",
+        fits=(fit("bearing seat", b.D_mm),))
+    rod = design.mechanism.pen_mm - 2 * (boss - sock)
+    add("pen_rod", pp2.rod_shape(rod, p.pen_diameter_mm), p.pen_material, True,
+        f"pen rod d{p.pen_diameter_mm:g} x {rod:g} (l6 = {design.mechanism.pen_mm:g} mm between "
+        "the gimbal centres)", "turned; bonded into both hubs")
+
+
+def _ground_kinds(design, lay: dict, gl: dict, add) -> None:
+    """Waist bracket and hub (moving with the waist), base plate, waist motor mounts, legs."""
+    from cad.data.catalog import clearance_hole_mm, get_cap_screw, get_motor, tap_drill_mm
+    from cad.data.fits import fit
+    from cad.families.pen import parts as pp2
+    from cad.families.pen.fasteners import bracket_bolt_xz_mm
+    from cad.parts import base
+    from cad.parts import motor as pm
+    from cad.parts import pantograph as pp
+
+    p = design.parts
+    sm, wm = get_motor(p.motor), get_motor(p.waist_motor)
+    l1 = design.mechanism.shoulder_base_mm
+    side = lay["motor_plate_side_mm"]
+    hub_d = gl["waist_hub_d_mm"]
+    add("waist_bracket",
+        pp2.waist_bracket_shape(gl["foot_mm"], lay["motor_plate_mm"], side, hub_d, hub_d,
+                                (-l1 / 2, l1 / 2), sm.pilot_diameter_mm + 2.0,
+                                wm.shaft_diameter_mm + 1.0, l1 / 2 + side / 2,
+                                [(x, z, clearance_hole_mm(sm.bolt_size))
+                                 for x, z in bracket_bolt_xz_mm(design)]),
+        p.plate_material, True,
+        "waist bracket: motor plate for both shoulder motors, foot under the links, boss",
+        "CNC milled from block; bore both pilot seats", fits=(fit("pilot bore", sm.pilot_diameter_mm),))
+    h0, h1 = gl["waist_hub_mm"]
+    add("waist_hub", pp2.waist_hub_shape(hub_d, h1 - h0, wm.shaft_diameter_mm,
+                                         gl["waist_shaft_engagement_mm"]),
+        p.plate_material, True, "waist hub on the waist motor shaft (bracket screwed on)",
+        "turned; ream shaft bore", fits=(fit("hub shaft bore", wm.shaft_diameter_mm, "shaft bore"),))
+    add("motor_mount", pm.motor_mount_shape(wm, p.motor_mount_thickness_mm), p.plate_material, True,
+        "waist motor mount plate", "waterjet/laser plate; bore the pilot seat", plate=True,
+        fits=(fit("pilot bore", wm.pilot_diameter_mm),))
+    l4 = design.mechanism.l4_mm
+    # the waist motor face screws' heads sit in the opening (as the pantographs' motors)
+    opening = max(wm.pilot_diameter_mm + 2 * pp.OPENING_MARGIN_MM,
+                  wm.bolt_circle_mm + get_cap_screw(wm.bolt_size, "parts.waist_motor").dk_mm
+                  + 2 * pp.OPENING_MARGIN_MM)
+    holes = [(s * l4 / 2, 0.0, opening) for s in (-1, 1)]
+    holes += [(s * l4 / 2 + x, y, tap_drill_mm(pm.MOUNT_SCREW)) for s in (-1, 1)
+              for x, y in pm.mount_hole_xy_mm(wm)]
+    holes += [(x, y, clearance_hole_mm(base.LEG_SCREW)) for x, y in _leg_xy(gl)]
+    add("base_plate", pp.plate_shape(gl["base_plate_x_mm"], gl["base_plate_y_mm"],
+                                     p.plate_thickness_mm, holes),
+        p.plate_material, True, "base plate (waist motors under, legs at the corners)",
+        f"waterjet/laser plate; tap {pm.MOUNT_SCREW.split('-')[0]} x{2 * len(pm.mount_hole_xy_mm(wm))}",
+        plate=True)
+    add("leg", base.leg_shape(gl["leg_height_mm"]), p.plate_material, True,
+        f"leg standoff d{base.LEG_DIAMETER_MM:g} x {gl['leg_height_mm']:g}",
+        f"turned; tap {base.LEG_SCREW.split('-')[0]} both ends")
+
+
+def _leg_xy(gl: dict):
+    from cad.parts import base
+
+    (x0, x1), (y0, y1) = gl["base_plate_x_mm"], gl["base_plate_y_mm"]
+    return base.leg_xy_mm((x0, y0, x1, y1))
+
+
+def _link_parts(which: str, side: str, lay: dict, design) -> list[tuple[str, np.ndarray]]:
+    """``[(kind, tf_body_part)]`` of one link (link frame, module docstring of layout)."""
+    p = design.parts
+    z = lay["layers_mm"][f"{which}_{side}"]
+    Lc, s, h = p.clevis_length_mm, p.socket_depth_mm, p.clevis_height_mm
+    if which == "proximal":
+        n = design.params["proximal_mm"]
+        z0 = lay[f"pin_{side}_mm"][0]
+        hub = "clevis_hub" if side == "lower" else "clevis_hub_spigot"
+        return [(hub, _tr(0, 0, z)), ("tube_proximal", _tr(Lc - s, 0, z)),
+                ("clevis_pin", _tr(n, 0, z) @ _rot("z", 180)), (f"pin_{side}", _tr(n, 0, z0)),
+                ("motor_shoulder_shaft", _tr(0, 0, lay["motor_plate_mm"][1]) @ _rot("x", 180))]
+    n = design.params["distal_mm"]
+    B = lay["bearing"].B_mm
+    out = [("clevis_bearing", _tr(0, 0, z)), ("tube_distal", _tr(Lc - s, 0, z)),
+           ("clevis_bearing", _tr(n, 0, z) @ _rot("z", 180))]
+    return out + [("bearing", _tr(x, 0, z + dz)) for x in (0.0, n) for dz in (-h / 2, h / 2 - B)]
+
+
+def _gimbal_parts(lay: dict) -> dict[str, list[tuple[str, np.ndarray]]]:
+    """``{yoke|ring|pen_end: [(kind, tf_body_part)]}`` of one gimbal (yoke, ring frames; the
+    pen hub in the pen frame at arm A's end)."""
+    B = lay["bearing"].B_mm
+    ax, ri, hh = lay["yoke_arm_x_mm"], lay["ring_inner_mm"], lay["pen_hub_half_mm"]
+    yoke = [("yoke", np.eye(4)), ("bearing", _tr(ax, 0, 0) @ _rot("y", 90)),
+            ("bearing", _tr(-ax, 0, 0) @ _rot("y", -90))]
+    ring = [("ring", np.eye(4)), ("pin_ring_a", _tr(0, 0, ri)), ("pin_ring_a", _tr(0, 0, -ri) @ _rot("x", 180)),
+            ("pin_ring_b", _tr(0, hh - B, 0) @ _rot("x", -90)),
+            ("pin_ring_b", _tr(0, -(hh - B), 0) @ _rot("x", 90))]
+    pen_end = [("pen_hub", np.eye(4)), ("bearing", _tr(0, 0, hh - B)), ("bearing", _tr(0, 0, -hh))]
+    return {"yoke": yoke, "ring": ring, "pen_end": pen_end}
+
+
+def _waist_parts(design, lay: dict, gl: dict) -> list[tuple[str, np.ndarray]]:
+    """``[(kind, tf_body_part)]`` of a waist body (waist frame)."""
+    p = design.parts
+    l1 = design.mechanism.shoulder_base_mm
+    y1 = lay["motor_plate_mm"][1]
+    face = gl["base_top_z_mm"] - p.plate_thickness_mm - p.motor_mount_thickness_mm
+    return [("waist_bracket", np.eye(4)), ("waist_hub", _tr(0, 0, gl["waist_hub_mm"][0])),
+            ("motor_shoulder", _tr(0, y1, -l1 / 2) @ _rot("x", 90)),
+            ("motor_shoulder", _tr(0, y1, l1 / 2) @ _rot("x", 90)),
+            ("motor_waist_shaft", _tr(0, 0, face))]
+
+
+def _ground_parts(design, gl: dict) -> list[tuple[str, str, np.ndarray]]:
+    """``[(instance, kind, tf_world_part)]`` of the fixed parts."""
+    p = design.parts
+    l4 = design.mechanism.l4_mm
+    zb, pt, mt = gl["base_top_z_mm"], p.plate_thickness_mm, p.motor_mount_thickness_mm
+    out = [("base_plate", "base_plate", _tr(0, 0, zb - pt))]
+    for arm, s in (("A", -1), ("B", 1)):
+        out.append((f"{arm}_waist_motor_mount", "motor_mount", _tr(s * l4 / 2, 0, zb - pt - mt)))
+        out.append((f"{arm}_waist_motor", "motor_waist", _tr(s * l4 / 2, 0, zb - pt - mt)))
+    for i, (x, y) in enumerate(_leg_xy(gl)):
+        out.append((f"leg_{i + 1}", "leg", _tr(x, y, gl["bench_z_mm"])))
+    return out
+
+
+def kinds(design, lay: dict, gl: dict, fidelity: str) -> dict:
+    """``{kind name: PartKind}`` of every distinct part of the pen (and ``"_screws"``: the
+    cap screw kind of each screw group)."""
+    from cad.parts import PartKind
+
+    K: dict = {}
+
+    def add(name, shape, material, made, description, process, **kw):
+        K[name] = PartKind(name=name, shape=shape, material=material, made=made,
+                           description=description, process=process, **kw)
+
+    from cad.families.pen.fasteners import screw_kinds
+
+    _link_kinds(design, lay, fidelity, add)
+    _gimbal_kinds(design, lay, add)
+    _ground_kinds(design, lay, gl, add)
+    K["_screws"] = screw_kinds(design, add)
+    return K
+
+
+def assemble(design, fidelity: str = "fabrication"):
+    """The haptic pen as an :class:`cad.assembly.model.AssemblyModel` (mm).
+
+    Bodies: ``ground``; per arm ``X`` in (A, B): ``X_waist``, ``X_proximal_lower``,
+    ``X_proximal_upper``, ``X_distal_lower``, ``X_distal_upper``, ``X_yoke``, ``X_ring``; and
+    ``pen``. ``tf_world_body`` at home (the workspace centre, pen along +x); ``motion`` over
+    :func:`cad.families.pen.layout.motion_task` (home first) with its labels. ``extra``:
+    ``layout_mm``, ``ground_mm``, ``home_task`` and ``motion_task`` (x, y, z mm, yaw, pitch
+    rad). Raises DesignError for hardware that does not fit (layout), ValueError when a
+    pose of the motion cannot be reached.
+    """
+    from cad.assembly.model import AssemblyModel
+    from cad.kinematics import haptic_pen as hp
+    from cad.parts import PartInstance
+
+    lay = L.layout(design)
+    X, labels = L.motion_task(design)
+    ws = design.workspace
+    grid = hp.workspace_grid(ws["center_mm"], ws["size_mm"], ws["grid"], ws["rotation_deg"],
+                             ws["rotation_grid"])
+    reach = np.vstack([X, grid[L.ik_elbows_ok(design, grid)]])
+    gl = L.ground_layout(design, lay, L.lowest_link_z_mm(design, lay, reach))
+    K = kinds(design, lay, gl, fidelity)
+    motion = L.body_poses(design, X)
+    inst: list = []
+
+    def place(name, kind, body, tf, fastener=None):
+        inst.append(PartInstance(name, K[kind], body, np.asarray(tf, dtype=float),
+                                 fastener=fastener))
+
+    for name, kind, tf in _ground_parts(design, gl):
+        place(name, kind, "ground", tf)
+    gp = _gimbal_parts(lay)
+    for arm in L.ARMS:
+        for k, (kind, tf) in enumerate(_waist_parts(design, lay, gl)):
+            place(f"{arm}_waist.{kind}{k}", kind, f"{arm}_waist", tf)
+        for which in ("proximal", "distal"):
+            for side in ("lower", "upper"):
+                body = f"{arm}_{which}_{side}"
+                for k, (kind, tf) in enumerate(_link_parts(which, side, lay, design)):
+                    place(f"{body}.{kind}{k}", kind, body, tf)
+        for part in ("yoke", "ring"):
+            for k, (kind, tf) in enumerate(gp[part]):
+                place(f"{arm}_{part}.{kind}{k}", kind, f"{arm}_{part}", tf)
+    l6 = design.mechanism.pen_mm
+    for arm, T in (("A", np.eye(4)), ("B", _tr(l6) @ _rot("z", 180))):
+        for k, (kind, tf) in enumerate(gp["pen_end"]):
+            place(f"pen.{arm}_{kind}{k}", kind, "pen", T @ tf)
+    sock = lay["pen_hub_radius_mm"]
+    place("pen.pen_rod", "pen_rod", "pen", _tr(2 * sock - sock))
+    from cad.families.pen.fasteners import place_screws
+
+    holes = place_screws(design, lay, gl, K["_screws"], place, _rot)
+    home = {b: T[0] for b, T in motion.items()}
+    return AssemblyModel(
+        design=design, instances=tuple(inst), tf_world_body=home, motion=motion,
+        pose_labels=labels, holes=holes,
+        extra={"layout_mm": lay, "ground_mm": gl, "home_task": X[0], "motion_task": X})

@@ -1,0 +1,99 @@
+"""Effective (operational) mass of the haptic pen from its bodies' mass properties.
+
+Task velocity ``v = (x_dot, y_dot, z_dot [m/s], w_yaw, w_pitch [rad/s])`` (the columns of
+:func:`cad.kinematics.haptic_pen.jacobian_si`: ``u_dot = w_yaw e_yaw + w_pitch e_pitch``).
+Kinetic energy ``T = 1/2 v^T M v`` with
+
+    M = sum_b (m_b J_vb^T J_vb + J_wb^T R_b I_b R_b^T J_wb) + J^T diag(Jm) J
+
+``J_vb`` (3 x 5, m per unit v) the velocity of body b's centre of mass, ``J_wb`` its angular
+velocity (rad/s per unit v), both by central differences of the body poses of
+:func:`cad.families.pen.layout.body_poses`; ``I_b`` its inertia about the COM in its body
+frame (:class:`cad.massprops.props.MassProps`); ``J`` the pen Jacobian (6 x 5, q_dot = J v)
+and ``Jm`` the rotors' inertia (waist motors on q1, q4, shoulder motors on the others).
+No CAD import.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from cad.tolerances import PEN_FD_STEP as FD_STEP
+
+
+def _vee(W: np.ndarray) -> np.ndarray:
+    return np.array([W[2, 1] - W[1, 2], W[0, 2] - W[2, 0], W[1, 0] - W[0, 1]]) / 2
+
+
+def body_jacobians(design, X, step: float = FD_STEP) -> dict[str, tuple[np.ndarray, np.ndarray]]:
+    """``{body: (J_origin (3, 5) m per unit v, J_w (3, 5) rad/s per unit v, T (4, 4) mm)}`` at
+    task pose ``X`` (5,) (mm, rad), by central differences (:data:`FD_STEP`)."""
+    from cad.families.pen.layout import body_poses
+
+    X = np.asarray(X, float)
+    # d X / d v: mm per (m/s) for translations; yaw_dot = w_yaw / cos(pitch), pitch_dot = w_pitch
+    D = np.diag([1e3, 1e3, 1e3, 1.0 / math.cos(X[4]), 1.0])
+    P = np.vstack([X[None], X + step * D.T, X - step * D.T])
+    T = body_poses(design, P)
+    out = {}
+    for b, Tb in T.items():
+        if b == "ground":
+            continue
+        Jv, Jw = np.zeros((3, 5)), np.zeros((3, 5))
+        R0 = Tb[0, :3, :3]
+        for i in range(5):
+            Tp, Tm = Tb[1 + i], Tb[6 + i]
+            Jv[:, i] = (Tp[:3, 3] - Tm[:3, 3]) / (2 * step) * 1e-3
+            Jw[:, i] = _vee((Tp[:3, :3] - Tm[:3, :3]) @ R0.T) / (2 * step)
+        out[b] = (Jv, Jw, Tb[0])
+    return out
+
+
+def mass_matrix_si(design, bodies: dict, X, rotor_kg_m2=None) -> np.ndarray:
+    """(5, 5) operational mass matrix at task pose ``X`` (module docstring): kg for the
+    translations, kg m^2 for the rotations, SI mixed blocks. ``bodies``: ``{body: MassProps}``
+    in the body frames of :func:`cad.families.pen.layout.body_poses`; ``rotor_kg_m2``: (6,)
+    rotor inertias on the joints (default: the design's catalog motors)."""
+    from cad.kinematics import haptic_pen as hp
+
+    M = np.zeros((5, 5))
+    for b, (Jv, Jw, T) in body_jacobians(design, X).items():
+        mp = bodies.get(b)
+        if mp is None:
+            continue
+        R = T[:3, :3]
+        c = R @ np.asarray(mp.com_m, float)  # COM offset from the body origin, world, m
+        Jc = Jv - np.cross(c[:, None].T, Jw.T).T  # v_c = v_o + w x c
+        Iw = R @ np.asarray(mp.inertia_com_kg_m2, float) @ R.T
+        M += mp.mass_kg * Jc.T @ Jc + Jw.T @ Iw @ Jw
+    if rotor_kg_m2 is None:
+        rotor_kg_m2 = rotor_inertias(design)
+    J, st = hp.jacobian_si(design.mechanism, np.asarray(X, float)[None])
+    if st[0] != 0:
+        raise ValueError(f"pen Jacobian singular at {X}: {hp.STATUS_NAMES[int(st[0])]}")
+    return M + J[0].T @ np.diag(rotor_kg_m2) @ J[0]
+
+
+def rotor_inertias(design) -> np.ndarray:
+    """(6,) rotor inertia (kg m^2) on the joints (q1 waist A, q2, q3, q4 waist B, q5, q6)."""
+    from cad.data.catalog import get_motor
+
+    w = get_motor(design.parts.waist_motor).rotor_inertia_kg_m2
+    s = get_motor(design.parts.motor).rotor_inertia_kg_m2
+    return np.array([w, s, s, w, s, s])
+
+
+def effective_mass(design, bodies: dict, X) -> dict:
+    """Report entry: the matrix at ``X`` and its diagonal in g and g cm^2 (held: the mass felt
+    moving one task axis with the others held) and apparent ``1 / (M^-1)_ii`` (others free)."""
+    M = mass_matrix_si(design, bodies, X)
+    Mi = np.linalg.inv(M)
+    names = ("mass_x_g", "mass_y_g", "mass_z_g", "inertia_yaw_g_cm2", "inertia_pitch_g_cm2")
+    scale = np.array([1e3, 1e3, 1e3, 1e7, 1e7])
+    out = {"at_task": [float(v) for v in X], "mass_matrix_si": M.tolist()}
+    for i, n in enumerate(names):
+        out[f"{n}_diag"] = float(M[i, i] * scale[i])
+        out[f"{n}_apparent"] = float(scale[i] / Mi[i, i])
+    return out
