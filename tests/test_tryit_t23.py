@@ -1,0 +1,104 @@
+"""Issue 23 try-it (tester t23): bad inputs to the Python API give one DesignError naming the
+field, as the command's flags do (reference: the CLI's flag checks, cad/cli/flags.py and
+cad.design.bounds.FLAGS), never a TypeError/AttributeError or a silent result."""
+
+from __future__ import annotations
+
+import pytest
+
+import cad
+from cad.errors import DesignError
+
+
+@pytest.fixture(scope="module")
+def hoeken():
+    return cad.load_design("designs/hoeken.toml")
+
+
+@pytest.mark.parametrize("samples, field", [("x", "--samples"), (-3, "--samples"),
+                                            (1, "--samples"), (2.5, "--samples"),
+                                            (True, "--samples")])
+def test_analyze_bad_samples(hoeken, samples, field):
+    with pytest.raises(DesignError) as e:
+        cad.analyze(hoeken, samples=samples)
+    assert e.value.field == field and "\n" not in str(e.value)
+
+
+def test_analyze_inertia_not_a_mapping(hoeken):
+    with pytest.raises(DesignError, match="^inertia: "):
+        cad.analyze(hoeken, inertia=[1e-4, 0, 1e-4, 1e-5])
+
+
+@pytest.mark.parametrize("kw, field", [
+    ({"model": "x"}, "--model"),                 # was silently run as 'reduced'
+    ({"K_N_per_m": -5}, "--K-N-per-m"),          # was a result for a negative wall
+    ({"K_N_per_m": "5"}, "--K-N-per-m"),         # was silently ignored
+    ({"encoder_counts_per_rev": 2.5}, "--encoder-counts-per-rev"),
+])
+def test_wall_bad_options(hoeken, kw, field):
+    with pytest.raises(DesignError) as e:
+        cad.wall(hoeken, **kw)
+    assert e.value.field == field
+
+
+@pytest.mark.parametrize("call", [
+    lambda d: cad.analyze("designs/hoeken.toml"), lambda d: cad.gii(None),
+    lambda d: cad.device_datasheet("designs/hoeken.toml"), lambda d: cad.assemble(None),
+    lambda d: cad.load_design(None), lambda d: cad.load_design(5),
+])
+def test_not_a_design(hoeken, call):
+    with pytest.raises(DesignError) as e:
+        call(hoeken)
+    assert e.value.field == "design"
+
+
+@pytest.mark.parametrize("to", [None, 5])
+def test_swap_bad_to(hoeken, to):
+    with pytest.raises(DesignError) as e:
+        cad.swap(hoeken, to=to)
+    assert e.value.field == "--to"
+
+
+@pytest.mark.parametrize("targets", [[5], None])
+def test_check_bad_targets(hoeken, targets):
+    with pytest.raises(DesignError) as e:
+        cad.check(hoeken, targets=targets)
+    assert e.value.field == "targets"
+
+
+def test_synth_and_optimize_bad_numbers(hoeken):
+    with pytest.raises(DesignError) as e:
+        cad.synth(hoeken, mu_min_deg="30")
+    assert e.value.field == "--mu-min-deg"
+    with pytest.raises(DesignError) as e:
+        cad.synth(hoeken, mu_min_deg=100)  # a transmission angle lies in [0, 90)
+    assert e.value.field == "--mu-min-deg"
+    for trials in (-1, "5"):
+        with pytest.raises(DesignError) as e:
+            cad.optimize(hoeken, trials=trials)
+        assert e.value.field == "--trials"
+
+
+def test_voicecoil_metres_refused_as_the_command_does():
+    # hapticad voicecoil --magnet-length-mm 0.02 ... exits 2 ("did you give metres?")
+    with pytest.raises(DesignError, match="metres") as e:
+        cad.voicecoil(0.02, 0.008, 0.004, 0.006)
+    assert e.value.field == "magnet_length_mm"
+
+
+@pytest.mark.parametrize("kw, field", [
+    ({"formats": ("xyz",)}, "formats"),          # was built with no error
+    ({"formats": 5}, "formats"),
+    ({"phi1_deg": "x", "formats": ("step",)}, "--phi1-deg"),
+])
+def test_build_design_bad_options(hoeken, tmp_path, kw, field):
+    with pytest.raises(DesignError) as e:
+        cad.build_design(hoeken, tmp_path / "out", fidelity="inertia", **kw)
+    assert e.value.field == field
+    assert not (tmp_path / "out").exists()
+
+
+def test_cache_clear_must_be_bool():
+    with pytest.raises(DesignError) as e:  # "no" is truthy: it cleared the cache
+        cad.cache(clear="no")
+    assert e.value.field == "clear"
