@@ -102,3 +102,10 @@ def test_cache_clear_must_be_bool():
     with pytest.raises(DesignError) as e:  # "no" is truthy: it cleared the cache
         cad.cache(clear="no")
     assert e.value.field == "clear"
+
+
+@pytest.mark.parametrize("changes", ["parts.bar_width_mm", [("parts.bar_width_mm", 24)]])
+def test_replace_positional_not_a_mapping(hoeken, changes):
+    with pytest.raises(DesignError) as e:  # was TypeError: 'str' object is not a mapping
+        hoeken.replace(changes)
+    assert e.value.field == "changes"
