@@ -39,6 +39,9 @@ class ValidatedReplace:
         """A copy of this design with ``changes`` (dotted keys) and ``kw`` (table or top-level
         keys) applied, validated as :func:`cad.design.load_design` validates a file
         (module docstring). Raises DesignError naming the dotted field."""
+        if changes is not None and not isinstance(changes, Mapping):
+            raise DesignError("changes", f"must be a mapping of dotted keys such as "
+                              f"{{'parts.bar_width_mm': 24}}, got {changes!r}")
         return replace_design(self, {**(changes or {}), **kw})
 
 
