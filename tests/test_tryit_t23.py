@@ -109,3 +109,39 @@ def test_replace_positional_not_a_mapping(hoeken, changes):
     with pytest.raises(DesignError) as e:  # was TypeError: 'str' object is not a mapping
         hoeken.replace(changes)
     assert e.value.field == "changes"
+
+
+def test_pen_workspace_out_of_reach_is_one_design_error():
+    """A pen workspace partly out of reach (centre 330 mm out; the arms reach ~320 mm) loads,
+    then `hapticad build` / cad.assemble died with a bare ValueError traceback (exit 1, the
+    code of a missed target). It is the workspace's fault: DesignError naming it."""
+    pen = cad.load_design("designs/haptic_pen.toml").replace(
+        {"workspace.center_mm": [0.0, 330.0, 0.0]})
+    with pytest.raises(DesignError) as e:
+        cad.assemble(pen, fidelity="inertia")
+    assert e.value.field == "workspace" and "cannot be reached" in str(e.value)
+
+
+def test_pantograph_workspace_out_of_reach_is_a_design_error_not_a_collision():
+    panto = cad.load_design("designs/pantograph.toml").replace({"workspace.center_mm": [0.0, 60.0]})
+    with pytest.raises(DesignError) as e:  # was InterferenceError "workspace motion: ..."
+        cad.assemble(panto, fidelity="inertia")
+    assert e.value.field == "workspace" and "cannot be reached" in str(e.value)
+
+
+def test_pen_build_cli_out_of_reach_exits_2_in_one_line(tmp_path):
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    src = Path("designs/haptic_pen.toml").read_text()
+    assert "center_mm = [0.0, 200.0, 0.0]" in src
+    (tmp_path / "pen.toml").write_text(src.replace("center_mm = [0.0, 200.0, 0.0]",
+                                                   "center_mm = [0.0, 330.0, 0.0]"))
+    r = subprocess.run([sys.executable, "-m", "cad", "build", str(tmp_path / "pen.toml"),
+                        "--fidelity", "inertia", "--formats", "step", "--out",
+                        str(tmp_path / "out")], capture_output=True, text=True, timeout=600)
+    assert r.returncode == 2, r.stderr[-2000:]
+    assert "Traceback" not in r.stderr
+    assert "hapticad: error: workspace:" in r.stderr
+    assert not (tmp_path / "out").exists()
