@@ -145,3 +145,33 @@ def test_pen_build_cli_out_of_reach_exits_2_in_one_line(tmp_path):
     assert "Traceback" not in r.stderr
     assert "hapticad: error: workspace:" in r.stderr
     assert not (tmp_path / "out").exists()
+
+
+def test_pen_report_places_every_part_file_as_assembly_step(tmp_path):
+    """report.json ``placement`` (issue 23: every per-part file in its instance frame, for every
+    family) was missing from the haptic pen's report. Reference: each ``parts/<kind>.step``
+    moved by ``tf_world_body @ tf_body_part`` has the volume and centroid of its instance in
+    ``assembly.step`` read back with OCCT (the check of tests/test_part_frames.py)."""
+    import numpy as np
+    from step_pairs import read_parts
+    from test_part_frames import located_volume_props, read_step_solids, unplaced_volume_props
+
+    out = tmp_path / "pen"
+    rep = cad.build_design(cad.load_design("designs/haptic_pen.toml"), out, formats=("step",),
+                           fidelity="inertia")
+    pl = rep["placement"]
+    files = {n: unplaced_volume_props(read_step_solids(out / k["file"]))[:2]
+             for n, k in pl["kinds"].items() if k["file"] is not None}
+    in_step = dict(read_parts(out / "assembly.step"))
+    checked = 0
+    for name, inst in pl["instances"].items():
+        if inst["kind"] not in files:
+            continue
+        vol, c_part = files[inst["kind"]]
+        T = np.array(pl["tf_world_body"][inst["body"]]) @ np.array(inst["tf_body_part"])
+        vol_asm, c_asm = located_volume_props(in_step[name])
+        assert vol_asm == pytest.approx(vol, rel=1e-9), name
+        assert np.abs(T[:3, :3] @ c_part + T[:3, 3] - c_asm).max() <= 1e-9 * max(
+            np.linalg.norm(c_asm), 1.0), name
+        checked += 1
+    assert checked >= 100  # 114 listed instances, the motor shafts have no file
