@@ -175,3 +175,30 @@ def test_pen_report_places_every_part_file_as_assembly_step(tmp_path):
             np.linalg.norm(c_asm), 1.0), name
         checked += 1
     assert checked >= 100  # 114 listed instances, the motor shafts have no file
+
+
+def _sh_block_lines() -> list[tuple[str, str]]:
+    import re
+    from pathlib import Path
+
+    pages = [Path("README.md"), *sorted(Path("docs").rglob("*.md"))]
+    return [(p.as_posix(), line) for p in pages
+            for body in re.findall(r"^```sh\n(.*?)^```", p.read_text(), flags=re.M | re.S)
+            for line in body.splitlines() if line.strip()]
+
+
+@pytest.mark.parametrize("page, line", _sh_block_lines())
+def test_sh_lines_mean_in_a_shell_what_the_readme_test_runs(page, line, tmp_path):
+    """tests/test_readme.py runs each `sh` line split by shlex, with no shell; a user pastes it
+    into one. `--target gii>=0.6` (docs/papers.md) is, in sh, `--target gii` with stdout sent to
+    a file named `=0.6` (exit 2). Reference: bash itself, `hapticad` a function printing its
+    argv; the same words as shlex gives, and no file made."""
+    import shlex
+    import subprocess
+
+    cmd = line.partition(" #")[0]
+    r = subprocess.run(["bash", "-c", 'hapticad() { printf "%s\\0" "$@"; }\n' + cmd],
+                       cwd=tmp_path, capture_output=True, timeout=30)
+    assert r.returncode == 0, (page, line, r.stderr)
+    assert r.stdout.decode().split("\0")[:-1] == shlex.split(cmd)[1:], (page, line)
+    assert not list(tmp_path.iterdir()), (page, line, "the shell made a file")
