@@ -235,8 +235,11 @@ def mass_properties(path: str | Path, density_kg_m3: float | None = None,
     DesignError / MeshError / GeometryError naming the file and the fault.
     """
     from cad.design import bounds
+    from cad.errors import DesignError
     from cad.pipeline.file_props import compute
 
+    if not isinstance(path, (str, Path)):
+        raise DesignError("FILE", f"expected the path of a STEP or STL file, got {path!r}")
     dens = None if density_kg_m3 is None else str(density_kg_m3)
     bounds.reset()  # this call's warnings only, as one CLI command
     out, notes = compute(Path(path), dens, material)
@@ -534,10 +537,13 @@ def tolerance(design, hole_mm: float | None = None, hole=(), pivot_mm: float | N
     from cad.design.targets import parse_cli_target
     from cad.tolerance_study import tolerances_from_flags
 
+    _need_design(design)
+    _flag_numbers(hole_mm=hole_mm, pivot_mm=pivot_mm, length_mm=length_mm, seed=seed)
     bounds.check_work("tolerance", [("--samples", samples), ("--angles", angles)])
-    tols = tolerances_from_flags(hole_mm, list(hole), pivot_mm, list(pivot), length_mm,
-                                 list(length), distribution)
-    given = tuple(parse_cli_target(t) for t in ((targets,) if isinstance(targets, str) else targets))
+    tols = tolerances_from_flags(hole_mm, list(_targets(hole, "hole")), pivot_mm,
+                                 list(_targets(pivot, "pivot")), length_mm,
+                                 list(_targets(length, "length")), distribution)
+    given = tuple(parse_cli_target(t) for t in _targets(targets))
     return _tolerance_run(design, tols, given, _inertia(inertia), samples, seed, angles)[0]
 
 
@@ -584,8 +590,8 @@ def fit_design(design, targets=(), free=(), fidelity: str = "inertia", echo=None
 
     if fidelity not in ("inertia", "fabrication"):
         raise DesignError("--fidelity", f"must be inertia or fabrication, got {fidelity!r}")
-    setup = _fit_setup(design, (targets,) if isinstance(targets, str) else tuple(targets),
-                       (free,) if isinstance(free, str) else tuple(free))
+    _need_design(design)
+    setup = _fit_setup(design, _targets(targets), _targets(free, "free"))
     return _fit_run(design, setup, fidelity, Path(design.source), f"{design.name}_fit", echo)
 
 
@@ -679,6 +685,12 @@ def sweep_design(design: str | Path, vary, out_dir: str | Path, samples: int | N
     summary (``variants``, ``ok``, ``missed``, ``error``, ``lost``, ``resumed``, ``wall_s``
     ...). Raises DesignError naming the option or the design key.
     """
+    from cad.errors import DesignError
+
+    if not isinstance(design, (str, Path)):  # its workers reload the file
+        raise DesignError("design", f"sweep_design takes the design file's path, got "
+                          f"{type(design).__name__}"
+                          + (f" (give {design.source!r})" if hasattr(design, "source") else ""))
     design, out = Path(design), Path(out_dir)
     from cad.design.fields import load_toml
     from cad.design.targets import parse_cli_target
@@ -688,7 +700,7 @@ def sweep_design(design: str | Path, vary, out_dir: str | Path, samples: int | N
     from cad.sweep.table import check_folder
     from cad.sweep.task import VALUE_KEYS
 
-    vary = (vary,) if isinstance(vary, str) else tuple(vary)
+    vary = _targets(vary, "vary")
     targets = (targets,) if isinstance(targets, str) else tuple(targets)
     if not vary:
         raise DesignError("--vary", "give at least one --vary KEY=V1,V2,... or KEY=LO:HI:N")

@@ -4,15 +4,24 @@ cad.design.bounds.FLAGS), never a TypeError/AttributeError or a silent result.""
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
 
 import cad
 from cad.errors import DesignError
 
+ROOT = Path(__file__).resolve().parents[1]
+
+
+@pytest.fixture(autouse=True)
+def _at_root(monkeypatch):
+    monkeypatch.chdir(ROOT)  # the bundled designs by their relative paths, as the docs give them
+
 
 @pytest.fixture(scope="module")
 def hoeken():
-    return cad.load_design("designs/hoeken.toml")
+    return cad.load_design(ROOT / "designs" / "hoeken.toml")
 
 
 @pytest.mark.parametrize("samples, field", [("x", "--samples"), (-3, "--samples"),
@@ -132,8 +141,6 @@ def test_pantograph_workspace_out_of_reach_is_a_design_error_not_a_collision():
 def test_pen_build_cli_out_of_reach_exits_2_in_one_line(tmp_path):
     import subprocess
     import sys
-    from pathlib import Path
-
     src = Path("designs/haptic_pen.toml").read_text()
     assert "center_mm = [0.0, 200.0, 0.0]" in src
     (tmp_path / "pen.toml").write_text(src.replace("center_mm = [0.0, 200.0, 0.0]",
@@ -179,10 +186,9 @@ def test_pen_report_places_every_part_file_as_assembly_step(tmp_path):
 
 def _sh_block_lines() -> list[tuple[str, str]]:
     import re
-    from pathlib import Path
 
-    pages = [Path("README.md"), *sorted(Path("docs").rglob("*.md"))]
-    return [(p.as_posix(), line) for p in pages
+    pages = [ROOT / "README.md", *sorted((ROOT / "docs").rglob("*.md"))]
+    return [(p.relative_to(ROOT).as_posix(), line) for p in pages
             for body in re.findall(r"^```sh\n(.*?)^```", p.read_text(), flags=re.M | re.S)
             for line in body.splitlines() if line.strip()]
 
@@ -202,3 +208,22 @@ def test_sh_lines_mean_in_a_shell_what_the_readme_test_runs(page, line, tmp_path
     assert r.returncode == 0, (page, line, r.stderr)
     assert r.stdout.decode().split("\0")[:-1] == shlex.split(cmd)[1:], (page, line)
     assert not list(tmp_path.iterdir()), (page, line, "the shell made a file")
+
+
+@pytest.mark.parametrize("call, field", [
+    (lambda d: cad.fit_design(d, targets=5, free=["parts.bar_width_mm"]), "targets"),
+    (lambda d: cad.fit_design(d, targets=["M11_max_g<=60"], free=None), "free"),
+    (lambda d: cad.fit_design("designs/hoeken.toml"), "design"),
+    (lambda d: cad.tolerance(d, hole_mm=0.05, samples=200, targets=5), "targets"),
+    (lambda d: cad.tolerance(d, hole=5, samples=200), "hole"),
+    (lambda d: cad.tolerance(d, hole_mm="0.05", samples=200), "--hole-mm"),
+    (lambda d: cad.tolerance(d, hole_mm=0.05, samples=200, seed="a"), "--seed"),
+    (lambda d: cad.tolerance("designs/hoeken.toml", hole_mm=0.05, samples=200), "design"),
+    (lambda d: cad.sweep_design("designs/hoeken.toml", 5, "/nonexistent/unused"), "vary"),
+    (lambda d: cad.sweep_design(d, ["parts.bar_width_mm=10,12"], "/nonexistent/unused"), "design"),
+    (lambda d: cad.mass_properties(None), "FILE"),
+])
+def test_study_functions_bad_types(hoeken, call, field):
+    with pytest.raises(DesignError) as e:  # were TypeError / AttributeError tracebacks
+        call(hoeken)
+    assert e.value.field == field
