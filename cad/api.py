@@ -154,6 +154,15 @@ def build_design(design, out_dir: str | Path, formats=("step", "stl", "dxf"),
         from cad.errors import DesignError
 
         raise DesignError("formats", f"must be format names such as ('step', 'stl'), got {formats!r}")
+    import inspect
+
+    known = [n for n, p in inspect.signature(_build).parameters.items()
+             if p.kind is p.KEYWORD_ONLY and n != "fidelity"]
+    for key in options:
+        if key not in known:
+            from cad.errors import DesignError
+
+            raise DesignError(key, f"unknown option of build_design (known: {', '.join(known)})")
     _flag_numbers(phi1_deg=options.get("phi1_deg"))
     return _build(design, Path(out_dir), fmts, fidelity=fidelity, **options)
 

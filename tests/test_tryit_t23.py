@@ -99,6 +99,7 @@ def test_voicecoil_metres_refused_as_the_command_does():
     ({"formats": ("xyz",)}, "formats"),          # was built with no error
     ({"formats": 5}, "formats"),
     ({"phi1_deg": "x", "formats": ("step",)}, "--phi1-deg"),
+    ({"allow_scripts": True, "formats": ("step",)}, "allow_scripts"),  # was a TypeError
 ])
 def test_build_design_bad_options(hoeken, tmp_path, kw, field):
     with pytest.raises(DesignError) as e:
