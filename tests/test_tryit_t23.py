@@ -228,3 +228,16 @@ def test_study_functions_bad_types(hoeken, call, field):
     with pytest.raises(DesignError) as e:  # were TypeError / AttributeError tracebacks
         call(hoeken)
     assert e.value.field == field
+
+
+def test_cad_api_commands_after_a_bare_import_cad():
+    """docs/python-api.md: ``cad.api.COMMANDS`` after ``import cad`` (was AttributeError: module
+    'cad' has no attribute 'api', until some function had loaded it)."""
+    import subprocess
+    import sys
+
+    code = ("import cad; c = cad.api.COMMANDS; assert getattr(cad, c['analyze']) is cad.analyze; "
+            "import sys; assert 'build123d' not in sys.modules")
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120,
+                       cwd=ROOT)
+    assert r.returncode == 0, r.stderr
