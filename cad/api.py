@@ -114,7 +114,9 @@ def load_design(path: str | Path):
 
     if not isinstance(path, (str, Path)):
         raise DesignError("design", f"expected a path to a TOML design, got {type(path).__name__} {path!r}")
-    return _load(path)
+    from cad.design.replace import with_slip_hint
+
+    return with_slip_hint(_load, path)  # its error: the command's error line
 
 
 def analyze(design, samples: int | None = None, inertia: dict[str, float] | None = None) -> dict:

@@ -241,3 +241,24 @@ def test_cad_api_commands_after_a_bare_import_cad():
     r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120,
                        cwd=ROOT)
     assert r.returncode == 0, r.stderr
+
+
+def test_api_design_error_is_the_command_error_line(tmp_path):
+    """docs/python.md: a DesignError "naming the dotted field ..., as the command's one error
+    line does". A bar width typed in metres: the command's line ends "did you give metres?
+    (0.012 metres = 12 mm)"; cad.load_design and design.replace dropped that hint.
+    Reference: the CLI's error line for the same file."""
+    from cli_helpers import hapticad
+
+    src = (ROOT / "designs" / "hoeken.toml").read_text()
+    bad = tmp_path / "hw.toml"
+    bad.write_text(src.replace("[parts]\n", "[parts]\nbar_width_mm = 0.012\n", 1))
+    code, _, err = hapticad("check", bad)
+    assert code == 2 and "did you give metres?" in err, err
+    line = err.strip().removeprefix("hapticad: error: ")
+    with pytest.raises(DesignError) as e:
+        cad.load_design(bad)
+    assert str(e.value) == line
+    with pytest.raises(DesignError) as e:
+        cad.load_design(ROOT / "designs" / "hoeken.toml").replace(parts={"bar_width_mm": 0.012})
+    assert str(e.value) == line and e.value.field == "parts.bar_width_mm"
