@@ -22,8 +22,9 @@ __all__ = ["analyze", "assemble", "build_design", "cache", "check", "device_data
 
 
 def __getattr__(name: str):
-    if name in __all__:
-        from cad import api
+    if name in __all__ or name == "api":  # cad.api.COMMANDS works after a bare `import cad`
+        import importlib
 
-        return getattr(api, name)
+        api = importlib.import_module("cad.api")
+        return api if name == "api" else getattr(api, name)
     raise AttributeError(f"module 'cad' has no attribute {name!r}")

@@ -61,6 +61,47 @@ COMMANDS = {
 __all__ = sorted({*COMMANDS.values(), "assemble", "load_design"})
 
 
+def _need_design(design) -> None:
+    """DesignError naming ``design`` when it is not a loaded design (a path, None ...)."""
+    from cad.errors import DesignError
+
+    if not hasattr(design, "family") or not hasattr(design, "raw"):
+        hint = " (load it first: cad.load_design(path))" if isinstance(design, (str, Path)) else ""
+        raise DesignError("design", f"expected a design from cad.load_design, got "
+                          f"{type(design).__name__} {design!r}"[:200] + hint)
+
+
+def _flag_numbers(**values) -> None:
+    """Check keyword numbers against the bounds of the command's flags
+    (:data:`cad.design.bounds.FLAGS`, keys ``--name-with-dashes``; None passes), as the CLI does."""
+    from cad.design.bounds import FLAGS, check_number
+
+    for key, value in values.items():
+        if value is not None:
+            flag = "--" + key.replace("_", "-")
+            check_number(flag, value, FLAGS[flag])
+
+
+def _choice(flag: str, value, choices) -> None:
+    """DesignError naming ``flag`` when ``value`` is not one of ``choices``."""
+    from cad.errors import DesignError
+
+    if value not in choices:
+        raise DesignError(flag, f"must be one of {', '.join(choices)}, got {value!r}")
+
+
+def _targets(targets, field: str = "targets") -> tuple:
+    """``targets`` as a tuple of strings (one string is one target); DesignError otherwise."""
+    from cad.errors import DesignError
+
+    if isinstance(targets, str):
+        return (targets,)
+    if targets is None or not isinstance(targets, (list, tuple, set, frozenset)) or not all(
+            isinstance(t, str) for t in targets):
+        raise DesignError(field, f"must be 'KEY=VALUE' strings (a list of them), got {targets!r}")
+    return tuple(targets)
+
+
 def load_design(path: str | Path):
     """Read and validate a TOML design (any family).
 
@@ -69,8 +110,13 @@ def load_design(path: str | Path):
     the dotted field, the value and the reason.
     """
     from cad.design import load_design as _load
+    from cad.errors import DesignError
 
-    return _load(path)
+    if not isinstance(path, (str, Path)):
+        raise DesignError("design", f"expected a path to a TOML design, got {type(path).__name__} {path!r}")
+    from cad.design.replace import with_slip_hint
+
+    return with_slip_hint(_load, path)  # its error: the command's error line
 
 
 def analyze(design, samples: int | None = None, inertia: dict[str, float] | None = None) -> dict:
@@ -83,7 +129,9 @@ def analyze(design, samples: int | None = None, inertia: dict[str, float] | None
     from cad.analysis import analyze as _analyze
     from cad.data.families import require
 
-    require("analyze", getattr(design, "family", None))
+    _need_design(design)
+    require("analyze", design.family)
+    _flag_numbers(samples=samples)
     return _analyze(design, samples=samples, inertia=_inertia(inertia))
 
 
@@ -96,9 +144,29 @@ def build_design(design, out_dir: str | Path, formats=("step", "stl", "dxf"),
     ``use_cache`` ...). Raises a :class:`cad.errors.HapticadError` subclass on bad input, a
     collision or a failed CAD operation; ``out_dir`` is then left as it was.
     """
+    from cad.export import parse_formats
     from cad.pipeline import build_design as _build
 
-    return _build(design, Path(out_dir), set(formats), fidelity=fidelity, **options)
+    _need_design(design)
+    if isinstance(formats, str):
+        fmts = parse_formats(formats, "formats")
+    elif isinstance(formats, (list, tuple, set, frozenset)) and all(isinstance(f, str) for f in formats):
+        fmts = parse_formats(",".join(formats), "formats")
+    else:
+        from cad.errors import DesignError
+
+        raise DesignError("formats", f"must be format names such as ('step', 'stl'), got {formats!r}")
+    import inspect
+
+    known = [n for n, p in inspect.signature(_build).parameters.items()
+             if p.kind is p.KEYWORD_ONLY and n != "fidelity"]
+    for key in options:
+        if key not in known:
+            from cad.errors import DesignError
+
+            raise DesignError(key, f"unknown option of build_design (known: {', '.join(known)})")
+    _flag_numbers(phi1_deg=options.get("phi1_deg"))
+    return _build(design, Path(out_dir), fmts, fidelity=fidelity, **options)
 
 
 def check(design, targets: tuple[str, ...] | list[str] = (), fidelity: str = "inertia",
@@ -125,12 +193,11 @@ def check(design, targets: tuple[str, ...] | list[str] = (), fidelity: str = "in
         raise DesignError("--fidelity", f"must be inertia or fabrication, got {fidelity!r}")
     from cad.data.families import require
 
-    require("check", getattr(design, "family", None))
+    _need_design(design)
+    require("check", design.family)
     four_bar = isinstance(design, FourBarDesign)
     keys = TARGET_KEYS if four_bar else PANTOGRAPH_TARGET_KEYS
-    if isinstance(targets, str):  # one "KEY=VALUE", not its characters
-        targets = (targets,)
-    given = tuple(parse_cli_target(t, keys) for t in targets)
+    given = tuple(parse_cli_target(t, keys) for t in _targets(targets))  # one str: one target
     merged = merge_targets(design.targets, given) if merge or not given else given
     source = "design+given" if merge and given else ("given" if given else "design")
     if not merged:  # no targets: the default limits of the datasheet (cad.datasheet.limits)
@@ -179,8 +246,11 @@ def mass_properties(path: str | Path, density_kg_m3: float | None = None,
     DesignError / MeshError / GeometryError naming the file and the fault.
     """
     from cad.design import bounds
+    from cad.errors import DesignError
     from cad.pipeline.file_props import compute
 
+    if not isinstance(path, (str, Path)):
+        raise DesignError("FILE", f"expected the path of a STEP or STL file, got {path!r}")
     dens = None if density_kg_m3 is None else str(density_kg_m3)
     bounds.reset()  # this call's warnings only, as one CLI command
     out, notes = compute(Path(path), dens, material)
@@ -196,7 +266,8 @@ def gii(design) -> dict:
     from cad.data.families import require
     from cad.isotropy.report import gii_report
 
-    require("gii", getattr(design, "family", None))
+    _need_design(design)
+    require("gii", design.family)
     return gii_report(design)
 
 
@@ -218,7 +289,8 @@ def assemble(design, fidelity: str = "fabrication"):
 
     if fidelity not in FIDELITIES:
         raise DesignError("fidelity", f"must be one of {', '.join(FIDELITIES)}, got {fidelity!r}")
-    family = getattr(design, "family", None)
+    _need_design(design)
+    family = design.family
     row = FAMILIES.get(family)
     if row is None:
         raise DesignError("mechanism.family", f"unknown family {family!r}")
@@ -245,7 +317,16 @@ def voicecoil(magnet_length_mm: float, magnet_width_mm: float, magnet_thickness_
     """
     from cad.actuators import voicecoil as vc
     from cad.actuators.report import voicecoil_report
+    from cad.design.bounds import FLAGS, check_number
 
+    given = {"magnet_length_mm": magnet_length_mm, "magnet_width_mm": magnet_width_mm,
+             "magnet_thickness_mm": magnet_thickness_mm, "rattle_mm": rattle_mm,
+             "power_W": power_W, "br_T": br_T, "resistivity_ohm_m": resistivity_ohm_m,
+             "eta_pack": eta_pack, "gap_mm": gap_mm, "gap_max_mm": gap_max_mm}
+    flag = {"resistivity_ohm_m": "--rho-ohm-m"}  # the others: --name-with-dashes
+    for key, value in given.items():  # the command's bounds (a slip in metres is refused)
+        if value is not None and isinstance(value, (int, float)) and not isinstance(value, bool):
+            check_number(key, value, FLAGS[flag.get(key, "--" + key.replace("_", "-"))])
     params = vc.VoiceCoilParams(
         magnet_length_mm, magnet_width_mm, magnet_thickness_mm, rattle_mm,
         vc.POWER_DEFAULT_W if power_W is None else power_W,
@@ -260,8 +341,11 @@ def cache(clear: bool = False) -> dict:
     ``cache_dir``, ``enabled``, ``max_MB``, ``total_MB``, ``folders``); ``clear`` first
     removes every cache entry hapticad wrote there (then ``removed``). Raises DesignError
     for a bad ``HAPTICAD_CACHE_MAX_MB``."""
+    from cad.errors import DesignError
     from cad.io.cache_report import cache_summary
 
+    if not isinstance(clear, bool):  # "no" is truthy: it would clear the cache
+        raise DesignError("clear", f"must be True or False, got {clear!r}")
     return cache_summary(clear)
 
 
@@ -278,6 +362,7 @@ def device_datasheet(design, fidelity: str = "inertia") -> dict:
 
     if fidelity not in FIDELITIES:
         raise DesignError("--fidelity", f"must be one of {', '.join(FIDELITIES)}, got {fidelity!r}")
+    _need_design(design)
     require("datasheet", design.family)
     if hasattr(design, "check_buildable"):
         design.check_buildable()
@@ -295,9 +380,13 @@ def wall(design, K_N_per_m: float | None = None, B_N_s_per_m: float = 0.0,
     Raises DesignError for another family (``mechanism.family``) or a bad value."""
     from cad.data.families import require
     from cad.sim.device import wall_report
-    from cad.sim.wall import check_sampling_period
+    from cad.sim.wall import MODELS, check_sampling_period
 
+    _need_design(design)
     require("wall", design.family)
+    _choice("--model", model, MODELS)
+    _flag_numbers(K_N_per_m=K_N_per_m, B_N_s_per_m=B_N_s_per_m, Te_s=Te_s,
+                  encoder_counts_per_rev=encoder_counts_per_rev)
     if Te_s is None and design.stiffness is not None:  # the design's period: name its key
         check_sampling_period(design.stiffness.Te_s, "stiffness.Te_s")
     return wall_report(design, K=K_N_per_m, B=B_N_s_per_m, Te_s=Te_s,
@@ -320,6 +409,9 @@ def optimize(design, method: str | None = None, objective: str | None = None, tr
     from cad.data.families import FAMILIES, require
     from cad.errors import DesignError
 
+    _need_design(design)
+    require("optimize", design.family)
+    _flag_numbers(trials=trials, exact_top=exact_top, proportions_tol=proportions_tol)
     if FAMILIES[design.family].group == "four-bar":
         if method is not None:
             raise DesignError("--method", f"{method!r} is for pantograph designs; a four-bar "
@@ -349,6 +441,8 @@ def render(designs, out_dir: str | Path = "docs/devices", fidelity: str | None =
     Raises DesignError (nothing written) for a family without pictures or a clash of names."""
     from cad.pipeline.render import render_designs
 
+    if isinstance(designs, (str, Path)) or hasattr(designs, "family"):  # one design, not its characters
+        designs = [designs]
     return render_designs(list(designs), Path(out_dir), fidelity)
 
 
@@ -370,7 +464,9 @@ def synth(design, objective: str = "max-stroke", free: str = "range", dy_tol_mm:
     from cad.errors import DesignError
     from cad.kinematics.synthesis import synthesize
 
+    _need_design(design)
     require("synth", design.family)
+    _flag_numbers(stroke_mm=stroke_mm, dy_tol_mm=dy_tol_mm, mu_min_deg=mu_min_deg)
     held_mm = stroke_mm or (design.stroke_mm_requested or None)
     r = synthesize(design.linkage, design.phi1_min_rad, design.phi1_max_rad, objective,
                    free=free, dy_tol_mm=dy_tol_mm, mu_min_deg=mu_min_deg, stroke_mm=held_mm,
@@ -403,9 +499,12 @@ def swap(design, to: str, out: str | Path | None = None, name: str | None = None
     another family (``mechanism.family``), an unknown ``to`` or a bar set no layer order clears.
     """
     from cad.data.families import require
+    from cad.families.fourbar.swap import SWAP_FAMILIES as _TO
     from cad.families.fourbar.swap import swap as _swap
 
+    _need_design(design)
     require("swap", design.family)
+    _choice("--to", to, _TO)
     src = Path(design.source)
     target = Path(out) if out is not None else src.with_name(f"{src.stem}_{to.replace('-', '_')}.toml")
     return _swap(design, to, target, name)
@@ -420,6 +519,9 @@ def _inertia(inertia: dict[str, float] | None):
     from cad.dynamics.inertia import InertiaCoefficients
     from cad.errors import DesignError
 
+    if not isinstance(inertia, dict):
+        raise DesignError("inertia", f"must be a mapping {{'H11': .., 'H12': .., 'H22': .., "
+                          f"'H33': ..}} (kg m^2), got {inertia!r}")
     vals = {str(k).removesuffix("_kg_m2"): v for k, v in inertia.items()}
     missing = sorted({"H11", "H12", "H22", "H33"} - set(vals))
     if missing or len(vals) != 4:
@@ -446,10 +548,13 @@ def tolerance(design, hole_mm: float | None = None, hole=(), pivot_mm: float | N
     from cad.design.targets import parse_cli_target
     from cad.tolerance_study import tolerances_from_flags
 
+    _need_design(design)
+    _flag_numbers(hole_mm=hole_mm, pivot_mm=pivot_mm, length_mm=length_mm, seed=seed)
     bounds.check_work("tolerance", [("--samples", samples), ("--angles", angles)])
-    tols = tolerances_from_flags(hole_mm, list(hole), pivot_mm, list(pivot), length_mm,
-                                 list(length), distribution)
-    given = tuple(parse_cli_target(t) for t in ((targets,) if isinstance(targets, str) else targets))
+    tols = tolerances_from_flags(hole_mm, list(_targets(hole, "hole")), pivot_mm,
+                                 list(_targets(pivot, "pivot")), length_mm,
+                                 list(_targets(length, "length")), distribution)
+    given = tuple(parse_cli_target(t) for t in _targets(targets))
     return _tolerance_run(design, tols, given, _inertia(inertia), samples, seed, angles)[0]
 
 
@@ -496,8 +601,8 @@ def fit_design(design, targets=(), free=(), fidelity: str = "inertia", echo=None
 
     if fidelity not in ("inertia", "fabrication"):
         raise DesignError("--fidelity", f"must be inertia or fabrication, got {fidelity!r}")
-    setup = _fit_setup(design, (targets,) if isinstance(targets, str) else tuple(targets),
-                       (free,) if isinstance(free, str) else tuple(free))
+    _need_design(design)
+    setup = _fit_setup(design, _targets(targets), _targets(free, "free"))
     return _fit_run(design, setup, fidelity, Path(design.source), f"{design.name}_fit", echo)
 
 
@@ -591,6 +696,12 @@ def sweep_design(design: str | Path, vary, out_dir: str | Path, samples: int | N
     summary (``variants``, ``ok``, ``missed``, ``error``, ``lost``, ``resumed``, ``wall_s``
     ...). Raises DesignError naming the option or the design key.
     """
+    from cad.errors import DesignError
+
+    if not isinstance(design, (str, Path)):  # its workers reload the file
+        raise DesignError("design", f"sweep_design takes the design file's path, got "
+                          f"{type(design).__name__}"
+                          + (f" (give {design.source!r})" if hasattr(design, "source") else ""))
     design, out = Path(design), Path(out_dir)
     from cad.design.fields import load_toml
     from cad.design.targets import parse_cli_target
@@ -600,7 +711,7 @@ def sweep_design(design: str | Path, vary, out_dir: str | Path, samples: int | N
     from cad.sweep.table import check_folder
     from cad.sweep.task import VALUE_KEYS
 
-    vary = (vary,) if isinstance(vary, str) else tuple(vary)
+    vary = _targets(vary, "vary")
     targets = (targets,) if isinstance(targets, str) else tuple(targets)
     if not vary:
         raise DesignError("--vary", "give at least one --vary KEY=V1,V2,... or KEY=LO:HI:N")

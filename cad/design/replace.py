@@ -39,7 +39,10 @@ class ValidatedReplace:
         """A copy of this design with ``changes`` (dotted keys) and ``kw`` (table or top-level
         keys) applied, validated as :func:`cad.design.load_design` validates a file
         (module docstring). Raises DesignError naming the dotted field."""
-        return replace_design(self, {**(changes or {}), **kw})
+        if changes is not None and not isinstance(changes, Mapping):
+            raise DesignError("changes", f"must be a mapping of dotted keys such as "
+                              f"{{'parts.bar_width_mm': 24}}, got {changes!r}")
+        return with_slip_hint(replace_design, self, {**(changes or {}), **kw})
 
 
 class TableReplace:
@@ -58,6 +61,24 @@ class TableReplace:
             hint = f"; did you mean {close[0]!r}" if close else ""
             raise DesignError(unknown[0], f"unknown key of {type(self).__name__}{hint}")
         return dataclasses.replace(self, **kw)
+
+
+def with_slip_hint(load, *args):
+    """``load(*args)`` as one command of the CLI: this call's warnings only
+    (:func:`cad.design.bounds.reset`), and a DesignError carries the unit-slip hint the
+    command's error line gives (:func:`cad.design.bounds.error_line`: "did you give
+    metres?")."""
+    from cad.design import bounds
+
+    bounds.reset()
+    try:
+        return load(*args)
+    except DesignError as e:
+        line = bounds.error_line(str(e), e.field)
+        if line != str(e) and len(e.args) == 1 and line.startswith(str(e)):
+            e.reason += line[len(str(e)):]
+            e.args = (f"{e.field}: {e.reason}",)
+        raise
 
 
 def replace_design(design, changes: Mapping[str, Any]):

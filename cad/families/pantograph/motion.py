@@ -9,7 +9,7 @@ import math
 
 import numpy as np
 
-from cad.errors import InterferenceError
+from cad.errors import DesignError
 from cad.families.pantograph.layout import _lower_five_bar, _rz, _square, _twin, home_xy_mm, layout
 from cad.families.pantograph.placement import assembly
 
@@ -36,7 +36,9 @@ def body_poses(design, X) -> dict[str, np.ndarray]:
         ik = fb5.ik(fb, X[:, :2])
         groups = [("", ik)]
     if np.any(ik.status != 0):
-        raise ValueError(f"{int(np.sum(ik.status != 0))} of the {n} points cannot be reached")
+        x = X[int(np.argmax(ik.status != 0))]
+        raise ValueError(f"{int(np.sum(ik.status != 0))} of the {n} points cannot be reached "
+                         f"(first: {', '.join(f'{v:g}' for v in x)})")
     out = {"ground": np.repeat(np.eye(4)[None], n, axis=0)}
     for pre, fp in groups:
         E = fp.E_mm
@@ -134,8 +136,8 @@ def assemble(design, fidelity: str = "fabrication"):
     (:func:`assembly`), every body at home (``tf_world_body``, mm) and over the motion the
     interference check sweeps (``motion``: ``{body: (N, 4, 4)}`` at the poses of
     :func:`motion_points`, ``pose_labels``), the tapped holes; ``extra``: ``layout`` (the
-    :func:`layout` dict) and ``home_mm`` ((2,) mm). InterferenceError when a motion pose
-    cannot be reached."""
+    :func:`layout` dict) and ``home_mm`` ((2,) mm). DesignError (``workspace``) when a motion
+    pose cannot be reached."""
     from cad.assembly.model import AssemblyModel
 
     lay = layout(design)
@@ -143,8 +145,9 @@ def assemble(design, fidelity: str = "fabrication"):
     X, labels = motion_points(design)
     try:
         motion = body_poses(design, X)
-    except ValueError as e:
-        raise InterferenceError(f"workspace motion: {e}") from None
+    except ValueError as e:  # the design's workspace is the fault, not a collision
+        raise DesignError("workspace", f"{e}; move workspace.center_mm or shrink "
+                          "workspace.side_mm") from None
     return AssemblyModel(design, tuple(inst), tfs, motion, labels, holes,
                          extra={"layout": lay, "home_mm": home})
 

@@ -265,8 +265,8 @@ def assemble(design, fidelity: str = "fabrication"):
     ``pen``. ``tf_world_body`` at home (the workspace centre, pen along +x); ``motion`` over
     :func:`cad.families.pen.layout.motion_task` (home first) with its labels. ``extra``:
     ``layout_mm``, ``ground_mm``, ``home_task`` and ``motion_task`` (x, y, z mm, yaw, pitch
-    rad). Raises DesignError for hardware that does not fit (layout), ValueError when a
-    pose of the motion cannot be reached.
+    rad). Raises DesignError for hardware that does not fit (layout) or a pose of the motion
+    that cannot be reached (``workspace``).
     """
     from cad.assembly.model import AssemblyModel
     from cad.kinematics import haptic_pen as hp

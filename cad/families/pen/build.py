@@ -127,6 +127,7 @@ def build(design, out_dir: Path, formats: set[str], *, fidelity: str = "fabricat
     report.update(fasteners)
     report["part_materials"] = family.part_materials(inst)
     report["fits"] = family.fits_report(inst)
+    report["placement"] = family.placement_report(inst, tfs, props)
     report["files"] = sorted(files + ["report.md"])
     family.write_report_md(out_dir, f"{design.name} ({design.family})", _md_rows(report), bom,
                            report["notes"])

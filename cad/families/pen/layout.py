@@ -207,7 +207,8 @@ def _unit(v):
 
 def body_poses(design, X) -> dict[str, np.ndarray]:
     """``{body: (N, 4, 4)}`` world poses (mm) at task poses ``X`` (N, 5) = (x, y, z mm, yaw,
-    pitch rad) (module docstring); ValueError naming how many poses cannot be reached."""
+    pitch rad) (module docstring); DesignError (``workspace``) naming how many poses cannot be
+    reached and the first."""
     from cad.kinematics import fivebar as fb5
     from cad.kinematics import haptic_pen as hp
 
@@ -215,8 +216,14 @@ def body_poses(design, X) -> dict[str, np.ndarray]:
     X = np.atleast_2d(np.asarray(X, float))
     n = len(X)
     q, st = hp.ik(pen, X)
-    if np.any(st != 0):
-        raise ValueError(f"{int(np.sum(st != 0))} of the {n} pen poses cannot be reached")
+    if np.any(st != 0):  # a DesignError (a ValueError): the design's workspace is the fault
+        from cad.errors import DesignError
+
+        x = X[int(np.argmax(st != 0))]
+        raise DesignError("workspace", f"{int(np.sum(st != 0))} of the {n} pen poses cannot be "
+                          f"reached (first: x {x[0]:g}, y {x[1]:g}, z {x[2]:g} mm, yaw "
+                          f"{np.degrees(x[3]):g}, pitch {np.degrees(x[4]):g} deg); move "
+                          "workspace.center_mm or shrink workspace.size_mm / rotation_deg")
     u, e_yaw, _ = hp.pen_directions(X[:, 3], X[:, 4])
     l1, l2, l3, l6, l4 = (pen.shoulder_base_mm, pen.proximal_mm, pen.distal_mm, pen.pen_mm,
                           pen.l4_mm)
