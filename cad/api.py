@@ -399,7 +399,7 @@ def optimize(design, method: str | None = None, objective: str | None = None, tr
              starts: bool = True) -> dict:
     """Maximize the GII (pantograph families: ``method`` culling | brute, isotropy paper eq 6
     over the design's ``[optimize]`` grid) or minimize the apparent mass (four-bars:
-    ``objective`` min-apparent-mass, the co-design search of :mod:`cad.codesign`).
+    ``objective`` min-apparent-mass, the co-design search of :mod:`cad.studies.codesign`).
 
     Returns the ``hapticad optimize --json`` object without the file keys (``command``,
     ``measured``, ``out``, ``replaced*``): pantographs ``best``, ``gii``, evaluations ...;
@@ -418,7 +418,7 @@ def optimize(design, method: str | None = None, objective: str | None = None, tr
                                           "takes --objective min-apparent-mass")
         if (objective or "min-apparent-mass") != "min-apparent-mass":
             raise DesignError("--objective", f"must be min-apparent-mass, got {objective!r}")
-        from cad.codesign.report import optimize_fourbar
+        from cad.studies.codesign.report import optimize_fourbar
 
         rep, _ = optimize_fourbar(design, "min-apparent-mass", trials, seed, exact_top, None,
                                   None, None, proportions_tol, starts)
@@ -546,7 +546,7 @@ def tolerance(design, hole_mm: float | None = None, hole=(), pivot_mm: float | N
     """
     from cad.design import bounds
     from cad.design.targets import parse_cli_target
-    from cad.tolerance_study import tolerances_from_flags
+    from cad.studies.tolerance_study import tolerances_from_flags
 
     _need_design(design)
     _flag_numbers(hole_mm=hole_mm, pivot_mm=pivot_mm, length_mm=length_mm, seed=seed)
@@ -566,7 +566,7 @@ def _tolerance_run(design, tols, given, H, samples: int, seed: int, angles: int)
     from cad.design import bounds
     from cad.errors import DesignError
     from cad.kinematics.tolerance import METRIC_KEYS
-    from cad.tolerance_study import inertia_for_m11, run
+    from cad.studies.tolerance_study import inertia_for_m11, run
 
     require("tolerance", design.family)
     H, h_source = inertia_for_m11(design, H)
@@ -612,7 +612,7 @@ def _fit_setup(design, targets: tuple[str, ...], free: tuple[str, ...]) -> dict:
     from cad.data.families import FAMILIES, require
     from cad.design.targets import PANTOGRAPH_TARGET_KEYS, TARGET_KEYS, parse_cli_target
     from cad.errors import DesignError
-    from cad.fit import parse_free, parse_free_pantograph
+    from cad.studies.fit import parse_free, parse_free_pantograph
 
     require("fit", design.family)
     four_bar = FAMILIES[design.family].group == "four-bar"
@@ -645,8 +645,8 @@ def _fit_run(design, setup: dict, fidelity: str, dest: Path, name: str, echo=Non
     from cad.datasheet.limits import STRUCTURE_FREE, structure_targets
     from cad.design import parse_design
     from cad.design.writer import rebase_paths
-    from cad.fit import fit as _fit
     from cad.pipeline.inertia import pantograph_target_values, target_values
+    from cad.studies.fit import fit as _fit
 
     four_bar, targets, params = setup["four_bar"], setup["targets"], setup["params"]
     # a free bar material: the candidates must also meet the default structural limits
@@ -706,10 +706,10 @@ def sweep_design(design: str | Path, vary, out_dir: str | Path, samples: int | N
     from cad.design.fields import load_toml
     from cad.design.targets import parse_cli_target
     from cad.errors import DesignError
-    from cad.sweep.run import SweepSpec, run_sweep
-    from cad.sweep.spec import parse_vary
-    from cad.sweep.table import check_folder
-    from cad.sweep.task import VALUE_KEYS
+    from cad.studies.sweep.run import SweepSpec, run_sweep
+    from cad.studies.sweep.spec import parse_vary
+    from cad.studies.sweep.table import check_folder
+    from cad.studies.sweep.task import VALUE_KEYS
 
     vary = _targets(vary, "vary")
     targets = (targets,) if isinstance(targets, str) else tuple(targets)
@@ -753,7 +753,7 @@ def sweep_design(design: str | Path, vary, out_dir: str | Path, samples: int | N
     parse_design(raw, str(design))  # the base design as every command loads it (load_design)
     _sweep_check_keys(raw, design, varies)
     # only a folder hapticad wrote (docs/reliability.md "Output folders"); a dead run's temporary
-    # files removed and its interrupted table write completed first (cad.sweep.table)
+    # files removed and its interrupted table write completed first (cad.studies.sweep.table)
     check_folder(out, str(design))
     spec = SweepSpec(design=design.resolve(), raw=raw, varies=varies, samples=samples, seed=seed,
                      fidelity=fidelity, cli_targets=cli, chart=xy,
@@ -765,7 +765,7 @@ def _sweep_check_keys(raw: dict, design: Path, varies) -> None:
     """Exit 2 on a --vary key the design schema does not know (a typo would fail every variant)."""
     from cad.design import parse_design
     from cad.errors import DesignError
-    from cad.sweep.spec import apply
+    from cad.studies.sweep.spec import apply
 
     for v in varies:
         first = v.grid()[0]

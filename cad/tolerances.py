@@ -183,7 +183,7 @@ NLP_ACTIVE_MM = 1e-6
 #: ~4 orders above float64 round-off, so the optimum is converged, not stalled.
 NLP_SLSQP_FTOL = 1e-12
 
-# ---------------------------------------------------------------- inverse design (cad/fit.py)
+# ---------------------------------------------------------------- inverse design (cad/studies/fit.py)
 
 #: Weight of the change from the start added to the max target violation in the optuna
 #: objective of ``hapticad fit``: the change is at most ~1 per free parameter, so 1e-6 only

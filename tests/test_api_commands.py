@@ -62,7 +62,7 @@ def test_every_cli_command_has_an_api_function_and_the_table_says_which():
 
 def test_no_api_name_is_shadowed_by_a_subpackage_of_cad():
     """``cad.<name>`` is the API function even after every subpackage of cad is imported
-    (a submodule binds its name on the package: cad.fit, cad.sweep, cad.bench ...)."""
+    (a submodule binds its name on the package: cad.studies.fit, cad.studies.sweep, cad.bench ...)."""
     import importlib
     import pkgutil
 

@@ -124,7 +124,7 @@ def test_none_removes_a_key_and_the_default_applies_again():
 def test_replace_is_what_the_solids_see():
     """The issue's failure end to end, without CAD: the changed bar width reaches the cheap
     mass model (heavier bars, larger M11), the refused one never does."""
-    from cad.codesign.cheap import apparent_mass
+    from cad.studies.codesign.cheap import apparent_mass
 
     d = _load("hoeken.toml")
     wide = d.replace(parts={"bar_width_mm": 26.0})

@@ -97,8 +97,8 @@ def test_report_keeps_the_estimate_apart_from_the_fe_compliance():
     """``structure.bearing_compliance_estimate`` of the bundled Hoeken: the worst-pose virtual
     work sum of the three joints, the FE ``compliance_um_per_N`` unchanged by it, and the
     bearings' share below the links' (docs/structure.md: 0.69 vs 6.3 um/N)."""
-    from cad.codesign import cheap
-    from cad.codesign.search import cheap_structure
+    from cad.studies.codesign import cheap
+    from cad.studies.codesign.search import cheap_structure
 
     d = load_design(ROOT / "designs" / "hoeken.toml")
     st = cheap_structure(d, cheap.apparent_mass(d)["M11_max_g"], cheap.layer_plan(d))

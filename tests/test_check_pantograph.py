@@ -69,7 +69,7 @@ def test_fit_pantograph_free_parameters_are_validated():
     code, _, err = hapticad("fit", "designs/haptic_pen.toml", "--target", "gii>=0.6",
                             "--free", "parts.tube_od_mm")  # the pen has no parts
     assert_one_line_error(code, err, "--free parts.tube_od_mm", "not a free parameter")
-    from cad.fit import parse_free_pantograph
+    from cad.studies.fit import parse_free_pantograph
 
     p = parse_free_pantograph("parts.tube_od_mm=6:10", load_design("designs/haptic_mouse.toml"))
     assert (p.kind, p.lo, p.hi) == ("numeric", 6.0, 10.0)

@@ -35,13 +35,13 @@ def test_hoeken_light_meets_its_brief_on_the_exact_solids(light_check):
     d = load_design(LIGHT)
     assert d.force_N == 5.0
     # peak crank torque within the chosen motor's continuous torque
-    from cad.codesign.search import MOTOR_CONTINUOUS_TORQUE_MNM
+    from cad.studies.codesign.search import MOTOR_CONTINUOUS_TORQUE_MNM
 
     assert c["torque_mean_mNm"] * (1 + c["torque_variation"]) <= MOTOR_CONTINUOUS_TORQUE_MNM[d.parts.motor]
 
 
 def test_cheap_model_error_at_the_optimum(light_check):
-    from cad.codesign import cheap
+    from cad.studies.codesign import cheap
 
     exact = light_check[1]["computed"]["M11_max_g"]
     est = cheap.apparent_mass(load_design(LIGHT))["M11_max_g"]
@@ -49,9 +49,9 @@ def test_cheap_model_error_at_the_optimum(light_check):
 
 
 def test_search_candidates_meet_the_constraints_recomputed():
-    from cad.codesign import search
     from cad.kinematics.fourbar import FourBar
     from cad.kinematics.metrics import compute_metrics
+    from cad.studies.codesign import search
 
     d = load_design(ROOT / "designs" / "hoeken_light_brief.toml")
     pb = search.problem_from(d)
@@ -72,7 +72,7 @@ def test_search_candidates_meet_the_constraints_recomputed():
 
 
 def test_pareto_front_is_non_dominated():
-    from cad.codesign.search import pareto
+    from cad.studies.codesign.search import pareto
 
     recs = [{"trial": i, "value": 1.0, "M11_max_g": a, "torque_variation": b}
             for i, (a, b) in enumerate([(30, 0.5), (31, 0.1), (32, 0.2), (29, 0.9), (35, 0.05)])]
@@ -92,9 +92,9 @@ def test_search_perturbs_the_family_proportions_within_the_tolerance():
     transmission angle, recomputed on the candidate's own linkage, meet the brief."""
     import math
 
-    from cad.codesign import search
     from cad.kinematics.fourbar import FourBar
     from cad.kinematics.metrics import compute_metrics
+    from cad.studies.codesign import search
 
     d = load_design(ROOT / "designs" / "hoeken_light_brief.toml")
     pb = search.problem_from(d)
@@ -182,7 +182,7 @@ def test_optimize_exact_top_and_no_starts_flags():
     """`--exact-top K` re-evaluates exactly K distinct candidates on the solids (here 1, the
     cheapest); `--no-starts` drops the hand-written guesses: with them trial 0 is STARTS[0]
     (span 96 deg, carbon-fibre), without them it is TPE's own seeded random draw."""
-    from cad.codesign import search
+    from cad.studies.codesign import search
 
     brief = str(ROOT / "designs" / "hoeken_light_brief.toml")
     code, o, err = hapticad("optimize", brief, "--objective", "min-apparent-mass", "--trials", "12",

@@ -352,7 +352,7 @@ def test_fit_with_a_free_bar_material_respects_the_structural_limits():
     from cad.datasheet.limits import FIRST_MODE_MIN_HZ, structure_targets
     from cad.design import load_design
     from cad.design.targets import Target
-    from cad.fit import fit, parse_free
+    from cad.studies.fit import fit, parse_free
 
     d = load_design(ROOT / "designs" / "hoeken.toml")
     free = [parse_free("parts.bar_material", d.parts)]

@@ -150,7 +150,7 @@ def test_report_html_viewer_gets_the_same_linear_colours(hoeken):
     blob = re.search(r"<script[^>]*id=['\"]glb['\"][^>]*>([^<]*)</script>", page).group(1)
     gl = pygltflib.GLTF2.load_from_bytes(base64.b64decode(blob.strip()))
     _check_linear_factors(gl, rep)
-    static = ROOT / "cad" / "report" / "static"
+    static = ROOT / "cad" / "report" / "vendor"
     loader = (static / "GLTFLoader.js").read_text()
     assert "setRGB( array[ 0 ], array[ 1 ], array[ 2 ], LinearSRGBColorSpace )" in loader
     three = (static / "three.module.min.js").read_text()  # the renderer's default output

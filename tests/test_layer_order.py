@@ -44,7 +44,7 @@ def test_bad_layer_order_is_one_line_exit_2(tmp_path, value):
 
 
 def _start_problem():
-    from cad.codesign import search
+    from cad.studies.codesign import search
 
     pb = search.problem_from(load_design(BRIEF))
     pb.fixed_parts = {"hub_shaft_engagement_min_mm": 5.0}
@@ -68,7 +68,7 @@ def test_every_order_is_evaluated_and_a_clash_is_infeasible_not_an_error():
     hub clash (the planner, 60 poses) and are infeasible, the others are feasible; the cheap
     model sees the order (H33 and M11 differ), and its joint hardware sits on the links the
     plan gives it (bearing on the upper link)."""
-    from cad.codesign import cheap, search
+    from cad.studies.codesign import cheap, search
 
     pb = _start_problem()
     start = dict(search.STARTS[0])
@@ -110,7 +110,7 @@ def test_every_order_is_evaluated_and_a_clash_is_infeasible_not_an_error():
 
 @pytest.fixture(scope="module")
 def searched():
-    from cad.codesign import search
+    from cad.studies.codesign import search
 
     pb = _start_problem()
     cands, records = search.run(pb, 12, seed=1)
@@ -120,7 +120,7 @@ def searched():
 def test_search_returns_valid_orders(searched):
     """Every feasible candidate carries a permutation of the three links, and the planner (an
     independent call, 60 poses) finds no clash between links in that order."""
-    from cad.codesign import cheap, exact
+    from cad.studies.codesign import cheap, exact
 
     pb, cands, records = searched
     assert cands
@@ -137,7 +137,7 @@ def test_optimum_layer_order_rechecked_on_the_exact_solids(searched):
     """The best candidate rebuilt on the solids keeps its layer order, has zero interference, and
     the cheap model's M11 max is within 5 % of the solids' (measured +0.8 .. +2.3 % at the
     three optima of the 300-trial run, docs/codesign.md)."""
-    from cad.codesign import exact
+    from cad.studies.codesign import exact
 
     pb, cands, _ = searched
     c = cands[0]
@@ -223,7 +223,7 @@ def test_an_order_without_a_layout_is_infeasible_in_the_search(tmp_path):
     every fixed order the search's layer check returns a reason instead of raising -- the A2 nut
     meets the hub on the crank (named against ``parts.layer_order``), or the coupler bar meets
     the hub -- and ``check`` with such an order exits 2 with one error line naming the field."""
-    from cad.codesign import search
+    from cad.studies.codesign import search
 
     case = ROOT / "tests" / "cases" / "assembly-clashes" / "hoeken_stroke24.toml"
     for order in ORDERS:

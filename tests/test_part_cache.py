@@ -9,7 +9,7 @@ import pytest
 
 from cad.design import parse_design
 from cad.design.fields import load_toml
-from cad.sweep.spec import apply
+from cad.studies.sweep.spec import apply
 
 HOEKEN = Path(__file__).resolve().parents[1] / "designs" / "hoeken.toml"
 

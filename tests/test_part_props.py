@@ -14,7 +14,7 @@ import pytest
 
 from cad.design import parse_design
 from cad.design.fields import load_toml
-from cad.sweep.spec import apply
+from cad.studies.sweep.spec import apply
 
 ROOT = Path(__file__).resolve().parents[1]
 HOEKEN = ROOT / "designs" / "hoeken.toml"
@@ -25,7 +25,7 @@ from cad.pipeline.inertia import target_values
 from cad.design import parse_design
 from cad.design.fields import load_toml
 from cad.parts import part_cache, part_props
-from cad.sweep.spec import apply
+from cad.studies.sweep.spec import apply
 raw = apply(load_toml(sys.argv[1]), json.loads(sys.argv[2]))
 values, report = target_values(parse_design(raw, sys.argv[1]), "inertia", False)
 print(json.dumps({"values": values, "links": report["links"],

@@ -95,7 +95,7 @@ def test_ctrl_c_in_optuna_trials_is_aborted_without_a_traceback(tmp_path, comman
     if command == "optimize":
         argv = ["optimize", str(ROOT / "designs" / "hoeken_light_brief.toml"), "--objective",
                 "min-apparent-mass", "--trials", "40", "--exact-top", "1", "--out", str(out)]
-        r = _interrupted(tmp_path, "cad.codesign.search", "evaluate", 5, argv)
+        r = _interrupted(tmp_path, "cad.studies.codesign.search", "evaluate", 5, argv)
     else:
         argv = ["fit", str(ROOT / "designs" / "hoeken.toml"), "--target", "M11_max_g<=60",
                 "--free", "parts.bar_thickness_mm=5:8", "--out", str(out)]
@@ -114,7 +114,7 @@ def test_optimize_study_stops_at_an_interrupt_and_logs_nothing(capfd):
     caller."""
     import optuna
 
-    from cad.codesign.search import optimize_study
+    from cad.studies.codesign.search import optimize_study
 
     was = optuna.logging.get_verbosity()
     optuna.logging.set_verbosity(optuna.logging.WARNING)

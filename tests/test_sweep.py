@@ -18,7 +18,7 @@ import pytest
 
 from cad.design.fields import load_toml
 from cad.design.writer import write_design
-from cad.sweep.spec import apply, assignments, design_hash, parse_vary
+from cad.studies.sweep.spec import apply, assignments, design_hash, parse_vary
 from tests.cli_helpers import assert_one_line_error, hapticad
 
 DESIGNS = Path(__file__).resolve().parents[1] / "designs"
@@ -58,7 +58,7 @@ def test_design_hash_keys_the_resolved_design():
 def scheduler():
     from dask.distributed import LocalCluster
 
-    from cad.sweep.run import NO_HTTP_PORT
+    from cad.studies.sweep.run import NO_HTTP_PORT
 
     cluster = LocalCluster(n_workers=1, processes=False, threads_per_worker=1, dashboard_address=None,
                            scheduler_kwargs=NO_HTTP_PORT)
@@ -199,7 +199,7 @@ def test_worker_killed_mid_variant_is_restarted_and_its_variant_rerun(tmp_path):
 
     from dask.distributed import Client, LocalCluster, WorkerPlugin
 
-    from cad.sweep.run import NO_HTTP_PORT
+    from cad.studies.sweep.run import NO_HTTP_PORT
 
     marker = tmp_path / "killed"
 

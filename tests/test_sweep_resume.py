@@ -3,7 +3,7 @@
 Cases of ``shared/cases/reliability/sweep-*`` (cheap variants): a signal or SIGKILL at
 the first table write and at seeded random moments resumes with exactly the rows of an
 uninterrupted run (read back with pyarrow); SIGKILL at every step of the table protocol
-(:mod:`cad.sweep.table`) leaves a folder the rerun accepts, holding the old or the new
+(:mod:`cad.studies.sweep.table`) leaves a folder the rerun accepts, holding the old or the new
 table; a damaged table is refused in one line; duplicated rows are removed on resume;
 an invalid base design and other refusals create nothing; an interrupt during the
 cluster's start-up ends with `hapticad: aborted` as the last line and no folder.
@@ -43,7 +43,7 @@ def scheduler():
     """A TCP scheduler with one worker thread, reachable from the sweep processes."""
     from dask.distributed import LocalCluster
 
-    from cad.sweep.run import NO_HTTP_PORT
+    from cad.studies.sweep.run import NO_HTTP_PORT
 
     cluster = LocalCluster(
         n_workers=1,
@@ -155,7 +155,7 @@ _KILLER = r"""
 import os, signal, sys
 from pathlib import Path
 import pyarrow as pa, pyarrow.parquet as pq
-from cad.sweep import table
+from cad.studies.sweep import table
 
 out, kill_at = Path(sys.argv[1]), int(sys.argv[2])
 def writers(n):
@@ -184,10 +184,10 @@ os.kill(os.getpid(), signal.SIGKILL)                  # after the whole publish
 
 
 def test_sigkill_at_every_step_of_a_table_write_leaves_a_folder_the_rerun_resumes(tmp_path):
-    """Steps (cad.sweep.table): 0 inside a writer, before rename 1 (pending manifest),
+    """Steps (cad.studies.sweep.table): 0 inside a writer, before rename 1 (pending manifest),
     2 (parquet), 3 (csv), 4 (final manifest), 5 after everything: each leaves the old
     rows (2) or the new (3), and the rerun's folder check accepts it and cleans up."""
-    from cad.sweep.table import check_folder, read_table
+    from cad.studies.sweep.table import check_folder, read_table
 
     env = {**os.environ, "PYTHONPATH": str(ROOT)}
     steps = range(6)
@@ -218,7 +218,7 @@ def test_sigkill_at_every_step_of_a_table_write_leaves_a_folder_the_rerun_resume
 def test_a_file_edited_after_an_interrupted_write_is_still_refused(tmp_path):
     """Rolling forward accepts only the listed or the pending bytes: an edit is the user's."""
     from cad.errors import DesignError
-    from cad.sweep.table import check_folder, publish
+    from cad.studies.sweep.table import check_folder, publish
 
     out = tmp_path / "o"
     publish(out, {"results.csv": lambda p: p.write_text("a\n")})
@@ -319,7 +319,7 @@ def test_sweep_refuses_at_load_a_base_design_other_commands_refuse(tmp_path, edi
 
 
 def test_refusals_after_the_out_check_create_nothing(tmp_path, monkeypatch):
-    from cad.sweep import run
+    from cad.studies.sweep import run
 
     monkeypatch.setattr(run, "CONNECT_TIMEOUT_S", 1.0)
     cases = [

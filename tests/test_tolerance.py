@@ -165,7 +165,7 @@ def test_m11_from_the_solids_equals_check():
     targets' own H values (which gave 100 % yield while ``check`` missed the same targets by
     64-89 %). The nominal M11 and each target's nominal verdict equal ``cad.check``'s."""
     import cad
-    from cad.tolerance_study import SOLIDS_SOURCE
+    from cad.studies.tolerance_study import SOLIDS_SOURCE
 
     res = hapticad_json("tolerance", DESIGNS / "hoeken.toml", "--hole-mm", "0.05",
                         "--samples", "100", "--angles", "201")

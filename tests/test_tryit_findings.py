@@ -131,10 +131,10 @@ def test_fit_free_layer_order_never_returns_an_order_the_build_refuses():
     are logged as errors naming parts.layer_order."""
     import tomllib
 
-    from cad.codesign.search import layer_problem
     from cad.design import parse_design
     from cad.design.targets import parse_cli_target
-    from cad.fit import fit, parse_free
+    from cad.studies.codesign.search import layer_problem
+    from cad.studies.fit import fit, parse_free
 
     path = ROOT / "designs" / "hoeken.toml"
     raw = tomllib.loads(path.read_text())

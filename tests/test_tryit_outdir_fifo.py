@@ -26,7 +26,7 @@ pytestmark = pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="named pipes a
 
 def _sweep_folder(out: Path) -> None:
     """A folder as the sweep writes it: its files and a manifest naming them."""
-    from cad.sweep.table import publish
+    from cad.studies.sweep.table import publish
 
     publish(out, {"results.parquet": lambda p: p.write_bytes(b"PAR1 not really"),
                   "results.csv": lambda p: p.write_text("variant\n0\n")})
@@ -56,8 +56,8 @@ def _outcome(check, fifo: Path) -> BaseException | None:
 
 @pytest.mark.parametrize("name", ["results.parquet", "manifest.json", "other.bin"])
 def test_sweep_folder_with_a_fifo_refused_naming_it(tmp_path, name):
-    """sweep's --out check (cad.sweep.table.check_folder): one DesignError naming the entry."""
-    from cad.sweep.table import check_folder
+    """sweep's --out check (cad.studies.sweep.table.check_folder): one DesignError naming the entry."""
+    from cad.studies.sweep.table import check_folder
 
     out = tmp_path / "sw"
     _sweep_folder(out)

@@ -75,7 +75,7 @@ def test_tolerance_interrupted_after_a_warning_ends_with_the_aborted_line(tmp_pa
     recorded before the study (the design's inertia targets not computed) was printed AFTER
     ``hapticad: aborted``, so ``aborted`` was not the last line. Warnings come first."""
     argv = ["tolerance", str(DESIGNS / "hoeken.toml"), "--hole-mm", "0.05", "--samples", "100"]
-    prog = SELF_INTERRUPT.format(module="cad.tolerance_study", name="run", sig=sig, argv=argv)
+    prog = SELF_INTERRUPT.format(module="cad.studies.tolerance_study", name="run", sig=sig, argv=argv)
     r = subprocess.run([sys.executable, "-c", prog], capture_output=True, text=True, timeout=120,
                        cwd=tmp_path, env={**os.environ, "PYTHONPATH": str(ROOT),
                                           "HAPTICAD_CACHE_DIR": str(tmp_path / "cache")})
@@ -162,7 +162,7 @@ def test_a_manifest_listing_a_huge_file_is_refused_without_reading_it(tmp_path, 
     if reader == "build-verify":
         call = "from cad.export.manifest import verify_manifest\nverify_manifest(out)"
     else:
-        call = ("import hashlib\nfrom cad.sweep import table\nos.rename(out / 'parts' / 'x.step', "
+        call = ("import hashlib\nfrom cad.studies.sweep import table\nos.rename(out / 'parts' / 'x.step', "
                 "out / 'results.csv')\n(out / 'manifest.json').write_text(json.dumps({'files': "
                 "[{'path': 'results.csv', 'sha256': '0' * 64, 'bytes': %d}], 'pending': "
                 "{'results.csv': '1' * 64}}))\ntable.roll_forward(out)").replace("%d", str(HUGE_SPARSE_BYTES))

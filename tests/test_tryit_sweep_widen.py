@@ -26,7 +26,7 @@ def scheduler():
     """A TCP scheduler with one worker thread (as tests/test_sweep_resume.py)."""
     from dask.distributed import LocalCluster
 
-    from cad.sweep.run import NO_HTTP_PORT
+    from cad.studies.sweep.run import NO_HTTP_PORT
 
     cluster = LocalCluster(n_workers=1, processes=False, threads_per_worker=1,
                            dashboard_address=None, scheduler_kwargs=NO_HTTP_PORT,
@@ -53,10 +53,10 @@ def test_a_widened_sweep_numbers_its_variants_as_a_fresh_run(tmp_path, scheduler
 
 
 def test_kept_rows_numbered_by_this_sweep_and_other_sweeps_after():
-    """cad.sweep.run.numbered_rows: a row whose ``variant`` was lost (null in a damaged
+    """cad.studies.sweep.run.numbered_rows: a row whose ``variant`` was lost (null in a damaged
     table, kept as-is before) or stale gets its number in this sweep; a row of another
     sweep (hash not among the variants) is numbered after them; ``changed`` says so."""
-    from cad.sweep.run import numbered_rows
+    from cad.studies.sweep.run import numbered_rows
 
     variants = [({}, {}, "h0"), ({}, {}, "h1"), ({}, {}, "h2")]
     rows = [{"design_hash": "h2", "variant": None}, {"design_hash": "old", "variant": 0},

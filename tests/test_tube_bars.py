@@ -157,12 +157,12 @@ def test_tube_hoeken_bom_lists_tubes_and_bonded_clevises(tube_build):
 
 
 def test_cheap_tube_model_against_the_exact_solids(tube_build):
-    """The optimizer's cheap tube-bar model (``cad/codesign/cheap.py``) against the solids'
+    """The optimizer's cheap tube-bar model (``cad/studies/codesign/cheap.py``) against the solids'
     M11 max of the same design (build report) -- docs/codesign.md: -0.4 % on this Hoeken."""
     import json
 
     from cad.api import load_design
-    from cad.codesign import cheap
+    from cad.studies.codesign import cheap
 
     rep = json.loads((tube_build / "report.json").read_text())
     exact = rep["apparent_mass"]["M11_max_g"]
@@ -177,9 +177,9 @@ def test_optimizer_searches_stock_tubes_when_the_brief_asks(tmp_path):
     from dataclasses import replace
 
     from cad.api import load_design
-    from cad.codesign import cheap, search
     from cad.data import catalog as cat
     from cad.kinematics.linkgeom import link_joints_mm
+    from cad.studies.codesign import cheap, search
 
     p = tmp_path / "brief.toml"
     p.write_text(DESIGN.replace("force_N = 5.0", "force_N = 1.5").replace("stroke_mm = 110.0", "stroke_mm = 150.0")

@@ -52,7 +52,7 @@ import_build123d()
 from cad.pipeline.inertia import target_values
 from cad.design import parse_design
 from cad.design.fields import load_toml
-from cad.sweep.spec import apply
+from cad.studies.sweep.spec import apply
 imp = since(t)
 raw = load_toml(sys.argv[1])
 repeats = int(sys.argv[2])

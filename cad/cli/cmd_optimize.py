@@ -6,7 +6,7 @@ brute-force optimum exactly while evaluating far fewer Jacobians.
 
 Four-bar families: ``--objective min-apparent-mass [--trials N] [--seed S] [--exact-top K]
 [--no-starts]``,
-the co-design search of :mod:`cad.codesign` (optuna on the cheap mass model, the best K
+the co-design search of :mod:`cad.studies.codesign` (optuna on the cheap mass model, the best K
 candidates re-evaluated on the exact solids with interference and structure).
 """
 
@@ -51,8 +51,8 @@ def _fourbar(d, path: Path, objective: str, trials: int, seed: int, top: int, ou
     import sys
     import time
 
-    from cad.codesign import exact
-    from cad.codesign.report import optimize_fourbar
+    from cad.studies.codesign import exact
+    from cad.studies.codesign.report import optimize_fourbar
 
     def progress(msg):
         print(f"hapticad: {msg}", file=sys.stderr)

@@ -1,7 +1,7 @@
 """``hapticad sweep DESIGN --vary KEY=V1,V2,... --vary KEY=LO:HI:N ... --out DIR``: design sweeps on Dask.
 
-See :mod:`cad.sweep.spec` (variants), :mod:`cad.sweep.task` (one variant),
-:mod:`cad.sweep.run` (Dask, table, resume) and docs/sweeps.md.
+See :mod:`cad.studies.sweep.spec` (variants), :mod:`cad.studies.sweep.task` (one variant),
+:mod:`cad.studies.sweep.run` (Dask, table, resume) and docs/sweeps.md.
 """
 
 from __future__ import annotations

@@ -65,7 +65,7 @@ def register(app: typer.Typer) -> None:
         from cad.design import bounds, load_design
         from cad.design.targets import parse_cli_target
         from cad.io.outdir import check_out_dir
-        from cad.tolerance_study import tolerances_from_flags, write_chart
+        from cad.studies.tolerance_study import tolerances_from_flags, write_chart
 
         for flag, value in (("--hole-mm", hole_mm), ("--pivot-mm", pivot_mm),
                             ("--length-mm", length_mm), ("--seed", seed)):

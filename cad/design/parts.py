@@ -81,7 +81,7 @@ the adequate set of bars", Hoeken paper §III.A):
     first order without collision over the stroke is taken
     (:func:`cad.assembly.layers.choose_layers`). The lower link at a joint carries the pin,
     spacers and nut or rings, the upper one the bearing. Searched by ``hapticad optimize``
-    (:data:`cad.codesign.search.LAYER_ORDERS`), freed by ``fit --free parts.layer_order``.
+    (:data:`cad.studies.codesign.search.LAYER_ORDERS`), freed by ``fit --free parts.layer_order``.
 
 Motor and crank hub:
 

@@ -24,7 +24,7 @@ pose. Everything below reads that one list:
   checker (:func:`cad.assembly.interference.same_body_check`): a positive common volume is
   a collision;
 * :func:`write_part_drawings` -- ``drawings/<part>.svg`` and ``drawings.pdf`` of the made
-  parts (``--formats …,drawings``, :mod:`cad.drawings`);
+  parts (``--formats …,drawings``, :mod:`cad.export.drawings`);
 * :func:`write_outputs` -- ``parts/<kind>.step|.stl|.dxf`` (each in the frame of the
   kind, the frame ``tf_body_part`` places: :func:`cad.export.export_part`),
   ``assembly.step``, ``bom.csv``, ``preview.png`` (the dispatcher adds ``report.json``
@@ -260,8 +260,8 @@ def shop_args(kind, instances, holes=()) -> dict:
 
 def write_part_drawings(instances, out_dir: Path, design: str, holes=()) -> list[str]:
     """``drawings/<part>.svg`` per made, listed kind and ``drawings.pdf``
-    (:func:`cad.drawings.write_drawings`); returns the paths relative to ``out_dir``."""
-    from cad.drawings import SheetPart, write_drawings
+    (:func:`cad.export.drawings.write_drawings`); returns the paths relative to ``out_dir``."""
+    from cad.export.drawings import SheetPart, write_drawings
 
     q = quantities(instances)
     parts = [

@@ -5,7 +5,7 @@ What the page holds (nothing is fetched: no network, no file beside it is read):
 * the 3D assembly (the build's ``.glb``, :mod:`cad.export.gltf`, base64 inside the page)
   in a three.js viewer the reader can orbit (drag), zoom (wheel) and pan (right drag),
   playing the mechanism's ``stroke`` animation (play/pause, a slider over the stroke);
-  three.js is vendored in ``cad/report/static/`` and inlined as ``data:`` URLs of an
+  three.js is vendored in ``cad/report/vendor/`` and inlined as ``data:`` URLs of an
   import map (see its README.md);
 * ``animation.gif`` (the same stroke, rendered without a GPU, :mod:`cad.report.render`);
 * every chart of the build (the top-level ``*.png`` files listed in the report);
@@ -26,7 +26,7 @@ import html
 import json
 from pathlib import Path
 
-STATIC = Path(__file__).resolve().parent / "static"
+STATIC = Path(__file__).resolve().parent / "vendor"
 #: Import-map key -> (vendored file, relative imports in it renamed to map keys).
 MODULES = {
     "three/core": ("three.core.min.js", {}),

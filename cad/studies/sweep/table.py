@@ -21,7 +21,7 @@ record and every file of ours has either its listed or its pending sha256, compl
 step 4 (roll forward); only then the owned-folder rule (:func:`cad.io.outdir.check_out_dir`)
 runs, unchanged: a file edited by someone else, or one we never wrote, is still refused.
 
-Rows are keyed by ``design_hash`` (:func:`cad.sweep.spec.design_hash`): :func:`read_table`
+Rows are keyed by ``design_hash`` (:func:`cad.studies.sweep.spec.design_hash`): :func:`read_table`
 keeps one row per hash (a finished one before a ``lost`` one), so a table can never
 hold a variant twice, and refuses a damaged table in one line naming the file.
 """

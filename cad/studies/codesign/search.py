@@ -14,7 +14,7 @@ Free (per trial):
 * the layer order (``[parts] layer_order``): one of the 6 stackings of crank, coupler and
   rocker (:data:`LAYER_ORDERS`), unless the brief fixes it. The cheap model sees it: each
   joint's hardware rides on the link the plan gives it (bearing on the upper link, pin,
-  spacers, nut on the lower) with the plan's stack heights (:mod:`cad.codesign.cheap`);
+  spacers, nut on the lower) with the plan's stack heights (:mod:`cad.studies.codesign.cheap`);
 * tube bars, when the brief sets ``[parts] bar_style = "tube"``: a stock tube of
   :data:`TUBE_STOCK_MM` and a clevis height of :data:`CLEVIS_STOCK_MM` that holds it with 1 mm walls, the clevis
   length the shortest that clears the joint features (:func:`suggest_tube`).
@@ -28,7 +28,7 @@ gaps cannot cure, or a stack no catalog pin or screw can fasten, makes the trial
 not an error), and the structural limits (first mode, stress: the frame of
 :mod:`cad.structure.device` with FE-calibrated bars at the middle pose, run only for trials
 that would improve the best). Interference is checked on the exact solids
-(:mod:`cad.codesign.exact`), as are the structure limits again (three poses, the solids' masses).
+(:mod:`cad.studies.codesign.exact`), as are the structure limits again (three poses, the solids' masses).
 
 Why optuna: TPE handles the conditional, mixed categorical/integer/float space (the
 thickness list depends on the material) natively, is seeded (reproducible), keeps every
@@ -238,10 +238,10 @@ def evaluate(pb: Problem, span_deg: float, shift_deg: float, parts: dict, best: 
     """Cheap evaluation: (objective M11_max_g or inf, info dict). The beam-frame structure
     check (FE-calibrated frame, middle pose) runs only when the trial could beat ``best`` (the
     best feasible M11 so far)."""
-    from cad.codesign import cheap
     from cad.design.parts import parse_parts
     from cad.design.writer import custom_mechanism_table
     from cad.errors import HapticadError
+    from cad.studies.codesign import cheap
 
     k = kinematics(pb, span_deg, shift_deg, ratios)
     if k is None:
@@ -319,9 +319,9 @@ def layer_problem(design):
 def cheap_structure(design, M11_max_g: float, plan=None) -> dict:
     """Frame structure with FE-calibrated bars (one pose, the range's middle), cheap masses
     (joint hardware on the links that carry it in ``plan``)."""
-    from cad.codesign import cheap
     from cad.kinematics.linkgeom import link_joints_mm
     from cad.structure import device
+    from cad.studies.codesign import cheap
 
     J = link_joints_mm(design.linkage)
     parts = design.parts

@@ -2,8 +2,8 @@
 
 One A4 sheet per made part, ``drawings/<part>.svg``, and every sheet in one multi-page
 ``drawings.pdf`` (matplotlib's PdfPages), drawn from the part's solid (views from
-build123d's hidden-line projection, :mod:`cad.drawings.sheet`; features from its cylindrical
-faces, :mod:`cad.drawings.features`; fit, thread and stock texts, :mod:`cad.drawings.notes`).
+build123d's hidden-line projection, :mod:`cad.export.drawings.sheet`; features from its cylindrical
+faces, :mod:`cad.export.drawings.features`; fit, thread and stock texts, :mod:`cad.export.drawings.notes`).
 The files are byte-identical run to run (no dates, fixed SVG ids).
 """
 
@@ -12,7 +12,7 @@ from __future__ import annotations
 import io
 from pathlib import Path
 
-from cad.drawings.sheet import SheetPart
+from cad.export.drawings.sheet import SheetPart
 
 PDF_NAME = "drawings.pdf"
 SVG_DIR = "drawings"
@@ -29,7 +29,7 @@ def write_drawings(parts: list[SheetPart], out_dir: Path, design: str) -> list[P
     import matplotlib.pyplot as plt
     from matplotlib.backends.backend_pdf import PdfPages
 
-    from cad.drawings.sheet import draw_sheet
+    from cad.export.drawings.sheet import draw_sheet
     from cad.io.atomic import write_bytes_atomic
 
     out_dir = Path(out_dir)

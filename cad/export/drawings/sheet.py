@@ -7,7 +7,7 @@ one. Visible and hidden edges come from build123d's hidden-line projection
 (``Shape.project_to_viewport``). Overall sizes are dimensioned on the views; every
 cylindrical feature gets a tag on the view it is seen round in and a row of the feature
 table: its centre from the datum (the bounding box's minimum corner), its diameter with the
-ISO 286 fit or the thread with its depth (:func:`cad.drawings.notes.callout`). The title
+ISO 286 fit or the thread with its depth (:func:`cad.export.drawings.notes.callout`). The title
 block states design, part, material, quantity, process, stock, the general tolerance, units,
 scale and sheet number. Text stays text in the SVG (``svg.fonttype = "none"``), so a test
 can read every number back.
@@ -20,7 +20,7 @@ import textwrap
 from dataclasses import dataclass
 
 from cad.data.fits import fmt_mm
-from cad.drawings.notes import GENERAL_TOLERANCE, callout, stock
+from cad.export.drawings.notes import GENERAL_TOLERANCE, callout, stock
 
 #: Sheet size (ISO 216 A4 landscape) and the drawing border (mm).
 SHEET_MM = (297.0, 210.0)
@@ -57,7 +57,7 @@ class SheetPart:
 
 def feature_rows(part: SheetPart):
     """``[(tag, Cylinder, text)]`` of the feature table and the part's bounding box."""
-    from cad.drawings.features import bbox_mm, cylinders
+    from cad.export.drawings.features import bbox_mm, cylinders
 
     box = bbox_mm(part.shape)
     ext = {"x": box[3] - box[0], "y": box[4] - box[1], "z": box[5] - box[2]}

@@ -12,8 +12,8 @@ def optimize_fourbar(design, objective: str, trials: int, seed: int, top: int, c
     """Search (cheap model), re-evaluate the best ``top`` candidates exactly, pick the lightest
     accepted one. ``starts=False``: without the hand-written :data:`search.STARTS`.
     Returns (JSON-able report, accepted Candidate or None)."""
-    from cad.codesign import exact, search
     from cad.errors import HapticadError
+    from cad.studies.codesign import exact, search
 
     t0 = time.perf_counter()
     pb = search.problem_from(design)

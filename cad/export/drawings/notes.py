@@ -1,6 +1,6 @@
 """What a sheet writes beside each feature: the fit, the thread with its depth, the stock.
 
-Pure functions on :class:`cad.drawings.features.Cylinder` records and the part's data.
+Pure functions on :class:`cad.export.drawings.features.Cylinder` records and the part's data.
 """
 
 from __future__ import annotations
@@ -16,7 +16,7 @@ def callout(c, fits: tuple[str, ...], threads=(), extent_mm: float | None = None
     """The text of one feature: ``"Ø8 H7 thru"``, ``"M4 tap drill Ø3.3, thread 6 deep,
     drill 8 deep"``, ``"Ø16 J7, 4 deep"``, ``"R10"``.
 
-    c : :class:`cad.drawings.features.Cylinder`. fits : the part's fit texts
+    c : :class:`cad.export.drawings.features.Cylinder`. fits : the part's fit texts
     (:func:`cad.data.fits.fit`). threads : ``(size, depth mm or None)`` of its tapped
     holes. extent_mm : the part's size along ``c.axis`` (a hole that long is ``thru``).
     """

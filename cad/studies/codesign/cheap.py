@@ -24,7 +24,7 @@ Per link, in the link frame (mm in, SI out):
 
 Then H11..H33 (eqs 16-19, :func:`cad.dynamics.inertia.h_from_links`) and M11 over the
 stroke (eq 22). The model's error against the exact solids is measured at every reported
-optimum (:mod:`cad.codesign.exact`).
+optimum (:mod:`cad.studies.codesign.exact`).
 """
 
 from __future__ import annotations

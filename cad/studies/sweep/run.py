@@ -11,7 +11,7 @@
   that kills workers repeatedly ends as a ``lost`` row, rerun on the next resume.
 * The table (``results.parquet`` and ``results.csv``) is rewritten as rows complete -- at
   most every :data:`WRITE_EVERY_S` seconds and :data:`WRITE_COST_FACTOR` times the last
-  rewrite's duration -- and at the end, by the protocol of :mod:`cad.sweep.table` (the
+  rewrite's duration -- and at the end, by the protocol of :mod:`cad.studies.sweep.table` (the
   manifest names each file's next sha256 before it is renamed into place), so a crash or a
   signal at any moment loses at most the variants completed since the last rewrite and
   never blocks the rerun.
@@ -36,9 +36,9 @@ from typing import Any
 
 from cad.errors import DesignError, HapticadError
 from cad.report.figures import save_figure
-from cad.sweep.spec import Vary, apply, assignments, design_hash
-from cad.sweep.table import DONE, MANIFEST, OWNED, TABLE, publish, read_table
-from cad.sweep.task import VALUE_KEYS, evaluate_variant
+from cad.studies.sweep.spec import Vary, apply, assignments, design_hash
+from cad.studies.sweep.table import DONE, MANIFEST, OWNED, TABLE, publish, read_table
+from cad.studies.sweep.task import VALUE_KEYS, evaluate_variant
 
 WRITE_EVERY_S = 1.0
 #: ...and never more often than this many times its own duration: the rewrite is O(rows)
@@ -122,7 +122,7 @@ def columns(varies: tuple[Vary, ...]) -> list[str]:
 
 
 def table_writers(rows: list[dict[str, Any]], cols: list[str]) -> dict[str, Any]:
-    """``results.parquet`` and ``results.csv`` writers (:func:`cad.sweep.table.publish`),
+    """``results.parquet`` and ``results.csv`` writers (:func:`cad.studies.sweep.table.publish`),
     rows sorted by variant."""
     import pyarrow as pa
     import pyarrow.csv as pacsv
@@ -235,7 +235,7 @@ def run_sweep(spec: SweepSpec, out: Path, workers: int, scheduler: str | None) -
     """Evaluate every variant not yet in ``out``'s table; returns the summary (``sweep.json``).
 
     ``out`` is created by the first write only (a refusal or an interrupt before it
-    leaves nothing); every write follows :func:`cad.sweep.table.publish`.
+    leaves nothing); every write follows :func:`cad.studies.sweep.table.publish`.
     """
     from cad.io import signals
 

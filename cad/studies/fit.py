@@ -2,10 +2,10 @@
 
 The objective is the largest target violation (0 when every target is met,
 :func:`cad.checks.violation`); ties go to the smallest change from the start.
-The search runs on optuna, the engine of ``hapticad optimize`` (:mod:`cad.codesign`):
+The search runs on optuna, the engine of ``hapticad optimize`` (:mod:`cad.studies.codesign`):
 
 - choice parameters (materials, ``bar_pockets``, and ``bar_thickness_mm``, picked from
-  the stock thicknesses of the bar material, :data:`cad.codesign.search.STOCK_THICKNESS_MM`,
+  the stock thicknesses of the bar material, :data:`cad.studies.codesign.search.STOCK_THICKNESS_MM`,
   nearest to the start first): when every free parameter is a choice and there are at most
   :data:`GRID_MAX` combinations, all of them are evaluated (optuna ``GridSampler``);
 - otherwise (numeric parameters such as ``parts.bar_width_mm=10:30``) a seeded TPE study
@@ -101,7 +101,7 @@ def layer_order_of(design) -> list[str]:
     automatic choice (:func:`cad.assembly.layers.choose_layers`, numpy only)."""
     if design.parts.layer_order is not None:
         return list(design.parts.layer_order)
-    from cad.codesign.cheap import layer_plan
+    from cad.studies.codesign.cheap import layer_plan
 
     plan = layer_plan(design)
     return list(plan.order) if plan is not None else list(LAYER_ORDER_CHOICES[0])
@@ -194,9 +194,9 @@ def parse_free(spec: str, parts_spec) -> FreeParam:
 
 def _stock_thickness(spec: str, key: str, rng: str, parts_spec) -> FreeParam:
     """Plate thickness: a choice among the stock thicknesses of the bar material
-    (:data:`cad.codesign.search.STOCK_THICKNESS_MM`) inside LO:HI (default 0.5x..1.5x the
+    (:data:`cad.studies.codesign.search.STOCK_THICKNESS_MM`) inside LO:HI (default 0.5x..1.5x the
     current value), nearest to the current value first (ties go to the smallest change)."""
-    from cad.codesign.search import STOCK_THICKNESS_MM
+    from cad.studies.codesign.search import STOCK_THICKNESS_MM
 
     cur = parts_spec.bar_thickness_mm
     stock = STOCK_THICKNESS_MM.get(parts_spec.bar_material, STOCK_THICKNESS_MM["aluminium-6061"])
@@ -210,11 +210,11 @@ def _stock_thickness(spec: str, key: str, rng: str, parts_spec) -> FreeParam:
 
 def _refuse_unbuildable_order(design, free: list[FreeParam]) -> None:
     """Raise :class:`DesignError` (``parts.layer_order``) when the layer order is free and
-    the build's planner (numpy, :func:`cad.codesign.search.layer_problem`) objects to the
+    the build's planner (numpy, :func:`cad.studies.codesign.search.layer_problem`) objects to the
     design's order: a fit must not return a design ``build`` refuses."""
     if not any(p.path == "parts.layer_order" for p in free):
         return
-    from cad.codesign.search import layer_problem
+    from cad.studies.codesign.search import layer_problem
 
     _, why = layer_problem(design)
     if why:
@@ -349,7 +349,7 @@ def _run_study(search: _FitSearch, trials: int | None, seed: int) -> None:
 
     import optuna
 
-    from cad.codesign.search import optimize_study
+    from cad.studies.codesign.search import optimize_study
 
     free = search.free
     n_grid = math.prod(len(p.choices) for p in free) if all(p.kind == "choice" for p in free) else None
