@@ -6,7 +6,7 @@ design (TOML) -> kinematics -> link geometry -> parts -> mass properties
 
 ``cad.kinematics``, ``cad.dynamics``, ``cad.actuators``, ``cad.isotropy``, the pure
 modules of ``cad.massprops``, ``cad.data`` and ``cad.design`` never import OCP, build123d or
-cadquery, nor a CAD-layer package (tests/test_import_graph.py). CAD modules import lazily.
+cadquery, nor a CAD-layer package (tests/architecture/test_import_graph.py). CAD modules import lazily.
 
 The supported API is :mod:`cad.api` (every command as a function; ``assemble`` and
 ``design.replace`` for objects), its names re-exported here; the CLI (:mod:`cad.cli`) is

@@ -39,7 +39,7 @@ command                 function
 ``hapticad wall``       :func:`wall`
 ======================  ===================================================
 
-:data:`COMMANDS` is this table as data (tests/test_api_commands.py checks it against the
+:data:`COMMANDS` is this table as data (tests/api/test_api_commands.py checks it against the
 CLI). Importing :mod:`cad` stays light: CAD libraries load on the first call that needs them
 (:func:`build_design`, :func:`assemble`, :func:`check`, :func:`mass_properties` of a STEP
 file ...). This module imports no :mod:`cad.cli` (the CLI is built on it).

@@ -415,5 +415,5 @@ PEN_GIMBAL_GAP_MM = 1.5
 #: Central-difference step of the pen's body poses for the effective mass (task units: mm and
 #: rad, times the task scaling): truncation O(h^2) ~1e-10 relative and round-off ~1e-16 / h
 #: ~1e-11 relative on poses of a few hundred mm; MuJoCo's mass matrix agrees to 1e-6
-#: (tests/test_pen_build.py).
+#: (tests/families/pen/test_pen_build.py).
 PEN_FD_STEP = 1e-5

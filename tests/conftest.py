@@ -11,7 +11,7 @@ settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
 
 import pytest  # noqa: E402
 
-#: Bundled designs of the non-four-bar families (tests/test_family_builds.py and others).
+#: Bundled designs of the non-four-bar families (tests/families/test_family_builds.py and others).
 FAMILY_DESIGNS = {
     "pantograph": "pantograph.toml",
     "twin-pantograph": "haptic_mouse.toml",
@@ -47,8 +47,8 @@ def family_builds(tmp_path_factory):
 @pytest.fixture(scope="session")
 def hoeken_sim_build(tmp_path_factory):
     """The bundled Hoeken built with the simulator formats and STEP (preview fidelity: same
-    mass properties as inertia), shared by tests/test_sim_export.py, tests/test_wall.py,
-    tests/test_fourbar_set_screw.py (its assembly.step) and tests/test_firmware.py."""
+    mass properties as inertia), shared by tests/unit/export/test_sim_export.py, tests/unit/sim/test_wall.py,
+    tests/families/fourbar/test_fourbar_set_screw.py (its assembly.step) and tests/unit/firmware/test_firmware.py."""
     import json
     from pathlib import Path
 

@@ -39,7 +39,7 @@ magnets contribute equally, hence
     B_g = (2 B_r / pi) [atan(w l / (d sqrt(d^2+l^2+w^2))) - atan(w l / ((4t+d) sqrt((4t+d)^2+l^2+w^2)))]   (9)
 
 which equals magpylib's exact cuboid field with one image per plate to
-~1e-15 relative (tests/test_voicecoil.py).
+~1e-15 relative (tests/unit/actuators/test_voicecoil.py).
 
 Eq (9) keeps one image per plate. Two parallel ideal plates (at z = +-(d/2+t))
 reflect each other's images without end: the full series is a periodic stack
@@ -90,7 +90,7 @@ IMAGE_SERIES_CONVERGED_TERMS = 4096
 MAGPYLIB_IMAGE_SLABS = 32
 #: Tenfold extensions of the default gap search before giving up: the optimum
 #: lies below d_r + 10 (l_m + w_m + t_m + d_r) for every geometry tried
-#: (tests/test_stability_actuators.py), so this is a safety net.
+#: (tests/unit/actuators/test_stability_actuators.py), so this is a safety net.
 GAP_BRACKET_EXTENSIONS = 30
 #: Magnitude bounds of every VoiceCoilParams number (mm, W, T, ohm m). The kernels are
 #: scale-free (eq 9 depends on length ratios; eq 8 is evaluated factor by factor), but

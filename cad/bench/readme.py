@@ -11,7 +11,7 @@ A generated block in a page of the documentation (``README.md`` or a Markdown pa
 repository root, optionally ``PATH:WORD`` to keep only the rows whose goal contains ``WORD``.
 Every block ends with each source's date and command, read from the JSON's ``measured`` and
 ``command`` (or ``commands``) keys; a source without them is refused. A page then cannot
-disagree with its JSON: ``tests/test_readme_generated.py`` regenerates every block and compares.
+disagree with its JSON: ``tests/docs/test_readme_generated.py`` regenerates every block and compares.
 
 ``python -m cad.bench.readme`` rewrites every page holding a block in place; ``--check`` only
 compares and exits 1 naming the page and the first block that differs; ``--capture OUT.json -- ARGV...`` runs ``hapticad ARGV``

@@ -1,5 +1,5 @@
 """Which command accepts which design family: one table, used for the hints of refusals
-and checked against the commands x families table of docs/commands.md (tests/test_readme.py); derived
+and checked against the commands x families table of docs/commands.md (tests/docs/test_readme.py); derived
 from the one family registry, :mod:`cad.data.families`.
 
 No CAD imports; the family names are those of ``[mechanism] family``.

@@ -19,7 +19,7 @@ What the format forces and how it is handled (measured with OCCT 7.9.3 / build12
   is defined in whichever block comes first; :func:`_canonical_styles` renumbers that
   tail canonically (blocks sorted by the part they style, entities numbered depth-first).
 
-With these, a part or an assembly STEP is byte-identical run to run (tests/test_export.py).
+With these, a part or an assembly STEP is byte-identical run to run (tests/unit/export/test_export.py).
 """
 
 from __future__ import annotations

@@ -38,7 +38,7 @@ against the yield, excluded from the distributions).
 First-order (Jacobian) propagation: central differences of every metric with respect to
 every error variable give sigma_lin(m) = sqrt(sum_i (dm/de_i sigma_i)^2); the share of
 each tolerance is its part of that variance (the sensitivity). At small tolerances the
-Monte Carlo standard deviation must equal sigma_lin (tests/test_tolerance.py).
+Monte Carlo standard deviation must equal sigma_lin (tests/unit/studies/test_tolerance.py).
 """
 
 from __future__ import annotations

@@ -6,7 +6,7 @@ is in mm^5. This module converts to SI exactly once (:func:`_to_si`):
 volume x 1e-9 -> m^3, COM x 1e-3 -> m, inertia x 1e-15 -> m^5, then x density.
 
 Measured facts about ``GProp_GProps.MatrixOfInertia()`` (OCCT 7.9.3, checked by
-``tests/test_massprops_occt.py`` on a rotated, translated box):
+``tests/unit/massprops/test_massprops_occt.py`` on a rotated, translated box):
 
 * it is taken about the centre of mass (not the framework's reference point),
   with axes parallel to the global axes;

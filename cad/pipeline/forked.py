@@ -26,7 +26,7 @@ Contract of :func:`start`:
 
 Where forking is off (:func:`fork_enabled`: not Linux, or ``HAPTICAD_FORK=0``), ``fn``
 runs in-process when :meth:`Forked.result` is called -- the serial order, with the same
-results (tests/test_forked.py compares the bytes of both).
+results (tests/unit/pipeline/test_forked.py compares the bytes of both).
 
 Measured on ``hapticad build designs/hoeken.toml`` (2 cores): the stages after the parts
 take ~1.3 s side by side instead of ~3 s one after the other.

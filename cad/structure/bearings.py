@@ -18,7 +18,7 @@ compliance):
   kgf and Dw in mm, i.e. delta_r = 4.36e-4 (Q^2 / Dw)^(1/3) mm with Q in N (steel on steel,
   contact angle 0). Hertz's elliptical contact at the inner and outer race (Hamrock & Brewe's
   approximations, groove radius 0.52 Dw, steel E = 208 GPa, nu = 0.3) gives 2.5-2.6 % more for these
-  sizes (``tests/test_bearing_compliance.py``);
+  sizes (``tests/unit/structure/test_bearing_compliance.py``);
 * joint loads: the links rigid, the crank held at A1, the rocker a two-force member, a force
   F at P along the path direction x: the rocker carries s along A4-A3 with
   s = -((P - A2) x F) / ((A3 - A2) x u34) (moments on the coupler about A2), and A2 carries
