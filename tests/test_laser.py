@@ -223,11 +223,12 @@ def test_pack_random_rectangles():
     ('bar_material = "acrylic-cast"', "parts.bar_material",
      ("coupler", "tapped M4 handle hole", "acrylic-cast")),
     ('base_material = "birch-plywood"\nbase_thickness_mm = 6.5', "parts.base_material",
-     ("base plate", "tapped M3 motor-mount screw holes")),
+     ("base plate", "tapped motor-mount screw holes x4")),
     ("bar_thickness_mm = 7.0", "parts.bar_thickness_mm", ("7 mm", "nearest: 6 or 8 mm")),
     ('motor_mount_material = "steel-1018"', "parts.motor_mount_material",
      ("motor mount", "not a sheet material")),
-    ("laser_sheet_mm = [20.0, 300.0]", "parts.laser_sheet_mm", ("50..4000",)),
+    ("laser_sheet_mm = [20.0, 300.0]", "parts.laser_sheet_mm", ("[50, 4000] mm", "got 20")),
+    ("laser_sheet_mm = [300.0]", "parts.laser_sheet_mm", ("[width, length]",)),
 ])
 def test_refused_names_part_and_feature(tmp_path, edit, field, words):
     from cad.errors import DesignError

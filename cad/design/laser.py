@@ -36,11 +36,10 @@ def plate_groups(v: dict[str, Any]) -> list[tuple[str, str, str, tuple[str, ...]
 def _feature(v: dict[str, Any], names: str, feat: str) -> str:
     """The one feature ``feat`` of plate parts ``names`` as the shop calls it."""
     from cad.data import catalog
-    from cad.parts.motor import MOUNT_SCREW
 
     if feat == "tap":
-        if names == "base plate":
-            return f"tapped {MOUNT_SCREW.split('-')[0]} motor-mount screw holes x4"
+        if names == "base plate":  # (their size is cad.parts.motor.MOUNT_SCREW: design imports no part)
+            return "tapped motor-mount screw holes x4"
         return f"coupler's tapped {v['handle_screw'].split('-')[0]} handle hole"
     if feat == "ream":
         pin = catalog.get_shoulder_screw(v["pin"])
