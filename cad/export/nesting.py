@@ -30,6 +30,11 @@ from cad import tolerances as tol
 from cad.errors import DesignError
 
 
+#: ACI colour of each sheet layer (laser software maps operations by colour): CUT red,
+#: ENGRAVE blue, SHEET grey, NOTES white/black.
+LAYER_COLOURS = {"CUT": 1, "ENGRAVE": 5, "SHEET": 8, "NOTES": 7}
+
+
 @dataclass
 class Placed:
     """One part instance on a sheet: ``x_mm, y_mm`` of its box's lower-left corner on the
@@ -271,8 +276,8 @@ def sheet_dxf(sheet: Sheet, index: int, count: int, profiles: dict) -> str:
     try:
         doc = ezdxf.new("R2000", setup=False)
         doc.header["$INSUNITS"] = 4
-        for layer in ("CUT", "ENGRAVE", "SHEET", "NOTES"):
-            doc.layers.add(layer)
+        for layer, colour in LAYER_COLOURS.items():
+            doc.layers.add(layer, color=colour)
         msp = doc.modelspace()
         W, H = sheet.size_mm
         msp.add_lwpolyline([(0, 0), (W, 0), (W, H), (0, H)], close=True, dxfattribs={"layer": "SHEET"})
