@@ -95,6 +95,18 @@ def _inside(p, segs) -> bool:
     return n % 2 == 1
 
 
+def _text_box(t) -> list[tuple[float, float]]:
+    """5 x 3 points over a centred TEXT's box: len x 1.0 h wide (no font character is wider
+    than its height), h high, turned by its rotation."""
+    h, n = t.dxf.height, len(t.dxf.text)
+    c, a = t.dxf.align_point, math.radians(t.dxf.rotation)
+    out = []
+    for u in np.linspace(-n * h / 2, n * h / 2, 5):
+        for v in np.linspace(-h / 2, h / 2, 3):
+            out.append((c.x + u * math.cos(a) - v * math.sin(a), c.y + u * math.sin(a) + v * math.cos(a)))
+    return out
+
+
 def _box(segs):
     a = np.asarray(segs)
     xs, ys = np.r_[a[:, 0], a[:, 2]], np.r_[a[:, 1], a[:, 3]]
@@ -156,6 +168,8 @@ def test_sheets_read_back(laser_build):
         for t in labels:
             p = (t.dxf.align_point.x, t.dxf.align_point.y)
             assert _inside(p, all_cut), t.dxf.text  # in material, not in a hole
+            for q in _text_box(t):  # the whole label box (1.0 h per character bounds the font)
+                assert _inside(q, all_cut), (t.dxf.text, q)
             assert sum(_inside(p, lp) for lp, _ in outs) == 1
             labelled[t.dxf.text] = labelled.get(t.dxf.text, 0) + 1
         notes = " | ".join(e.dxf.text for e in msp if e.dxf.layer == "NOTES")

@@ -29,7 +29,6 @@ import numpy as np
 from cad import tolerances as tol
 from cad.errors import DesignError
 
-
 #: ACI colour of each sheet layer (laser software maps operations by colour): CUT red,
 #: ENGRAVE blue, SHEET grey, NOTES white/black.
 LAYER_COLOURS = {"CUT": 1, "ENGRAVE": 5, "SHEET": 8, "NOTES": 7}
