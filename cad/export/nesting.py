@@ -170,9 +170,10 @@ def plan_sheets(instances) -> list[Sheet]:
     return sheets
 
 
-def sheets_report(sheets: list[Sheet]) -> dict:
-    """report.json ``sheets``: ``count``, and per sheet its file, material, thickness, size,
-    utilisation and parts; the gap, margin and packing used."""
+def sheets_report(sheets: list[Sheet], written: bool = True) -> dict:
+    """report.json ``sheets``: ``count``, and per sheet its file (None when the DXF was not
+    asked for: ``written`` False), material, thickness, size, utilisation and parts; the gap,
+    margin and packing used."""
     return {
         "count": len(sheets),
         "gap_mm": tol.NEST_GAP_MM,
@@ -180,7 +181,7 @@ def sheets_report(sheets: list[Sheet]) -> dict:
         "packing": "part bounding boxes, rectpack 0.2.2 MaxRects BSSF, 90 deg rotation",
         "utilisation_means": "sum of part volumes / (sheet width x length x thickness)",
         "sheets": [
-            {"file": sheet_file(i), "material": s.material, "thickness_mm": s.thickness_mm,
+            {"file": sheet_file(i) if written else None, "material": s.material, "thickness_mm": s.thickness_mm,
              "size_mm": list(s.size_mm), "utilisation": s.utilisation,
              "parts": [p.instance for p in s.parts]}
             for i, s in enumerate(sheets)

@@ -376,7 +376,7 @@ def build(
     if family.laser_kinds(model.instances):  # parts.process = "laser": the nested stock sheets
         from cad.export.nesting import plan_sheets, sheets_report
 
-        report["sheets"] = sheets_report(plan_sheets(model.instances))
+        report["sheets"] = sheets_report(plan_sheets(model.instances), "dxf" in formats)
     report["files"] = sorted(files + view_files + [
         "bom.csv", "preview.png", "report.md", "kinematics.png", "apparent_mass.png"])
     _write_report_md(out_dir, report)
