@@ -21,7 +21,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-#: Made-part processes (``parts.process``).
+#: Made-part processes (``parts.process``); "laser" is checked in :mod:`cad.design.laser`.
 PROCESSES = ("machined", "printed", "laser")
 
 

@@ -417,3 +417,31 @@ PEN_GIMBAL_GAP_MM = 1.5
 #: ~1e-11 relative on poses of a few hundred mm; MuJoCo's mass matrix agrees to 1e-6
 #: (tests/families/pen/test_pen_build.py).
 PEN_FD_STEP = 1e-5
+
+# --------------------------------------------------------------------- laser sheets
+# (cad/export/nesting.py: laser-cut plate parts nested on stock sheets, parts.process = "laser")
+
+#: Gap between the bounding boxes of two nested parts (mm): more than twice the widest kerf
+#: of the sheet table (0.25 mm) plus the beam's heat-affected zone, and room for the thin web
+#: between two cuts not to warp or burn through; shops quote 2-5 mm part spacing (stated
+#: choice, not a handbook value).
+NEST_GAP_MM = 3.0
+#: Margin from the sheet's edge to any part (mm): the cut sheet edge is not square or clean,
+#: the sheet is clamped/weighted there, and the laser's lead-ins need room (the plate stock
+#: margin STOCK_PLATE_MARGIN_MM is per part; this is per sheet; stated choice).
+NEST_EDGE_MARGIN_MM = 10.0
+#: Rectangle sizes are handed to rectpack in integer units of this (mm): rectpack's float
+#: sizes are rounded; parts are rounded up and sheets down, so a placement never grows.
+NEST_GRID_MM = 0.01
+#: Engraved label: text height tried from the largest down (mm); the label goes where its box
+#: (character width x height, see LABEL_CHAR_WIDTH) lies inside the part's material with
+#: LABEL_CLEARANCE_MM around it, and no lower than the last height (a part too thin for
+#: that gets its label beside it on the NOTES layer).
+LABEL_HEIGHTS_MM = (5.0, 4.0, 3.0, 2.5, 2.0, 1.5, 1.0)
+#: Width of one character of the DXF's standard font per unit text height: ezdxf's default
+#: style is ~0.6-0.9 h per character; 1.0 bounds it (a label box never too small).
+LABEL_CHAR_WIDTH = 1.0
+#: Material left around an engraved label's box (mm).
+LABEL_CLEARANCE_MM = 0.5
+#: Step of the grid of candidate label centres over a part's bounding box (mm).
+LABEL_GRID_MM = 1.0

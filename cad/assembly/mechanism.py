@@ -168,9 +168,11 @@ def build_assembly(
     rect = _base_post_legs(b, footprint_mm)
     _handle(b, handle_shape)
     check_fasteners({i.name: i.fastener for i in b.inst if i.fastener}, b.holes)
+    from cad.assembly.laser import as_laser
     from cad.assembly.printed import as_printed
 
-    return as_printed(Assembly(tuple(b.inst), rect, holes=tuple(b.holes.values())), parts)
+    return as_laser(as_printed(Assembly(tuple(b.inst), rect, holes=tuple(b.holes.values())), parts),
+                    parts)
 
 
 def _bars(b: _Builder, design_label: str) -> None:

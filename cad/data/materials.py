@@ -117,6 +117,26 @@ _TABLE: tuple[Material, ...] = (
         "ABS bulk (100 % infill): 1.04 g/cm^3, MatWeb generic ABS / Prusament ASA-ABS datasheet",
     ),
     Material(
+        "aluminium-5083",
+        2660.0,
+        (0.80, 0.81, 0.84),
+        "5083-O/H111: 2.66 g/cm^3 (Aluminum Association typical), MatWeb 'Aluminum 5083-O'",
+    ),
+    Material(
+        "acrylic-cast",
+        1190.0,
+        (0.80, 0.90, 0.95),
+        "cell-cast PMMA sheet: specific gravity 1.19 (ASTM D792), CCT Precision acrylic data sheet "
+        "/ Samson cast acrylic technical data",
+    ),
+    Material(
+        "birch-plywood",
+        670.0,
+        (0.85, 0.72, 0.52),
+        "birch plywood, sanded, 1.4 mm veneers: 660-710 kg/m^3 by thickness (6.5 mm: 670), "
+        "'Birch Plywood Datasheet' (UK distributor, EN 315 tolerances), vdocuments.site copy",
+    ),
+    Material(
         "delrin",
         1410.0,
         (0.97, 0.97, 0.95),
@@ -131,12 +151,17 @@ MATERIALS: dict[str, Material] = {m.name: m for m in _TABLE}
 DEFAULT_MATERIAL = "aluminium-6061"
 
 
+#: Other names of the sheet materials (``acrylic`` is cast PMMA, ``plywood`` birch).
+_ALIASES = {"acrylic": "acrylic-cast", "pmma": "acrylic-cast", "plywood": "birch-plywood"}
+
+
 def _normalise(name: str) -> str:
     key = name.strip().lower().replace("_", "-").replace(" ", "-")
     if key.startswith("aluminum-"):
         key = "aluminium-" + key[len("aluminum-") :]
     if key == "carbon-fiber":
         key = "carbon-fibre"
+    key = _ALIASES.get(key, key)
     return key
 
 
@@ -159,3 +184,115 @@ def get_material(name: str, field: str = "material") -> Material:
         known = ", ".join(sorted(MATERIALS))
         raise DesignError(field, f"unknown material {name!r} (known: {known})")
     return mat
+
+
+# ------------------------------------------------------------------ sheet stock (laser)
+@dataclass(frozen=True)
+class SheetStock:
+    """Sheet stock of one material for laser-cut plate parts (``parts.process = "laser"``).
+
+    material : key of :data:`MATERIALS`.
+    thickness_range_mm : ``{nominal thickness: (min, max)}`` mm, the stock thicknesses sold and
+        the band a sheet of that nominal thickness may measure (its thickness tolerance).
+    sizes_mm : standard sheet sizes ``(width, length)`` mm, smallest first.
+    E_GPa, strength_MPa : Young's modulus and working strength (yield or proof stress for
+        metals, tensile or bending strength for the rest).
+    kerf_mm : width of the laser cut: the DXF is drawn at finished size and the shop
+        offsets the beam by kerf / 2 (its CAM's kerf compensation).
+    tappable, reamable : a thread can be tapped in it / a bore reamed to H7 and held.
+    source : ``{field: source}`` of every value; ``unverified`` where none was found.
+    """
+
+    material: str
+    thickness_range_mm: dict
+    sizes_mm: tuple
+    E_GPa: float
+    strength_MPa: float
+    kerf_mm: float
+    tappable: bool
+    reamable: bool
+    source: dict
+
+    @property
+    def thicknesses_mm(self) -> tuple[float, ...]:
+        """Stock thicknesses (nominal, mm), ascending."""
+        return tuple(sorted(self.thickness_range_mm))
+
+    def nearest_mm(self, t_mm: float, n: int = 2) -> tuple[float, ...]:
+        """The ``n`` stock thicknesses nearest ``t_mm`` (ascending)."""
+        return tuple(sorted(sorted(self.thicknesses_mm, key=lambda x: abs(x - t_mm))[:n]))
+
+
+def _pm(table: dict) -> dict:
+    """``{t: (t - d, t + d)}`` of a ``{t: +-d}`` table."""
+    return {t: (round(t - d, 6), round(t + d, 6)) for t, d in table.items()}
+
+
+_EN485_4 = ("EN 485-4:1993 Table 1 (cold-rolled sheet), alloy group II (5083, 6061), width over "
+            "1000 up to 1250 mm; BS EN 485-4:1994 copy at pdfcoffee.com. Sheets of 6 mm and over "
+            "may be hot rolled (EN 485-3, not checked)")
+#: EN 485-4 Table 1 thickness tolerance (+-mm), group II, width 1000..1250 mm, by nominal thickness.
+_AL_TOL = {1.0: 0.08, 1.5: 0.11, 2.0: 0.13, 3.0: 0.15, 4.0: 0.20, 5.0: 0.22, 6.0: 0.24,
+           8.0: 0.30, 10.0: 0.33}
+_AL_SIZES = ((1000.0, 2000.0), (1250.0, 2500.0))
+_AL_SOURCE_COMMON = {
+    "thickness_range_mm": f"tolerance: {_EN485_4}; the thickness list: unverified (common stock)",
+    "sizes_mm": "unverified (the 1000 / 1250 mm widths are EN 485-4 Table 1 width classes)",
+    "kerf_mm": "fibre laser on aluminium plate: cut seam 0.1-0.2 mm (upper value taken), "
+               "mallhometrade.com 'laser cutting of aluminum plate'",
+    "tappable": "aluminium alloys are tapped as machined parts are (as the machined process)",
+}
+
+SHEETS: dict[str, SheetStock] = {
+    "aluminium-5083": SheetStock(
+        "aluminium-5083", _pm(_AL_TOL), _AL_SIZES, 71.0, 125.0, 0.2, True, True,
+        {**_AL_SOURCE_COMMON,
+         "E_GPa": "5083-O, 71 GPa (AA typical, tension/compression average), MatWeb 'Aluminum 5083-O'",
+         "strength_MPa": "5083 O/H111 sheet 0.2-6.3 mm: 0.2 % proof stress 125 MPa min, EN 485-2 "
+                         "(as quoted by cryodeck.com 'Aluminium sheet')"}),
+    "aluminium-6061": SheetStock(
+        "aluminium-6061", _pm(_AL_TOL), _AL_SIZES, 68.9, 276.0, 0.2, True, True,
+        {**_AL_SOURCE_COMMON,
+         "E_GPa": "6061-T6, ASM Handbook Vol. 2 / MatWeb (cad.structure.elastic)",
+         "strength_MPa": "6061-T6 yield, ASM Handbook Vol. 2 / MatWeb (cad.structure.elastic)"}),
+    "acrylic-cast": SheetStock(
+        "acrylic-cast",
+        {t: (round(t - (0.4 + 0.1 * t), 6), round(t + 0.4 + 0.1 * t, 6))
+         for t in (2.0, 3.0, 4.0, 5.0, 6.0, 8.0, 10.0, 12.0)},
+        ((1000.0, 600.0), (2030.0, 3050.0)), 3.10, 72.4, 0.25, False, False,
+        {"thickness_range_mm": "tolerance +-(0.4 + 0.1 t) mm, ISO 7823-1 (cell cast PMMA), as "
+                               "stated by Evonik/Roehm 'PLEXIGLAS tolerances' FAQ "
+                               "(plexiglas.net); the thickness list: unverified (common stock)",
+         "sizes_mm": "unverified (3050 x 2030 mm full sheet and 1000 x 600 mm laser-bed cut "
+                     "are common retail sizes)",
+         "E_GPa": "cast acrylic, tensile modulus 450,000 psi = 3.10 GPa (ASTM D638), Samson "
+                  "Supply 'cast acrylic colors' technical data",
+         "strength_MPa": "tensile strength 10,500 psi = 72.4 MPa (ASTM D638), same data sheet",
+         "kerf_mm": "CO2 laser, 1/4 in acrylic: average kerf 0.010 in = 0.25 mm, laser504.com "
+                    "'Kerfs and laser thickness'",
+         "tappable": "not tapped here: a thread in PMMA strips and crazes under a screw's "
+                     "preload (stated design rule, unverified)",
+         "reamable": "an H7 bore is not held in PMMA (thermal expansion 7e-5 /K, CCT Precision "
+                     "data sheet 4.0e-5 /F); laser-cut at nominal instead"}),
+    "birch-plywood": SheetStock(
+        "birch-plywood",
+        {4.0: (3.5, 4.1), 6.5: (6.1, 6.9), 9.0: (8.8, 9.5), 12.0: (11.5, 12.5),
+         15.0: (14.3, 15.3), 18.0: (17.1, 18.1)},
+        ((1220.0, 2440.0), (1525.0, 3050.0)), 8.0, 40.0, 0.25, False, False,
+        {"thickness_range_mm": "'Birch Plywood Datasheet' (UK distributor): nominal 4 / 6.5 / 9 / "
+                               "12 / 15 / 18 mm with lower and upper limits (EN 315 tolerances), "
+                               "vdocuments.site copy",
+         "sizes_mm": "same data sheet: 1220 x 2440 and 1525 x 3050 mm",
+         "E_GPa": "unverified (no birch plywood data sheet value found; 8 GPa is a low "
+                  "bending modulus for birch plywood)",
+         "strength_MPa": "unverified (no data sheet value found)",
+         "kerf_mm": "CO2 laser, 1/4 in birch plywood: average kerf 0.010 in = 0.25 mm, "
+                    "laser504.com 'Kerfs and laser thickness'",
+         "tappable": "wood does not hold a machine thread (stated design rule)",
+         "reamable": "wood moves with moisture: no H7 bore is held (stated design rule)"}),
+}
+
+
+def sheet_stock(material: str) -> SheetStock | None:
+    """The :class:`SheetStock` of a material key, or None when it is not sold as sheet here."""
+    return SHEETS.get(material)

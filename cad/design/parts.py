@@ -125,11 +125,21 @@ Handle (at the coupler point P):
 Process of the made parts (:mod:`cad.printing`):
 
 ``process`` ["machined"]
-    machined | printed ("laser" is not made yet: error). "printed": every made part in a
+    machined | printed | laser. "printed": every made part in a
     printable material (pla, petg, abs) is FDM printed: holes compensated, bearing seats
     press-fit, tapped holes opened for heat-set inserts, mass and bar stiffness from the
     wall/infill model, a print orientation in parts.3mf. A made part in PLA or PETG under
     "machined" is printed too, with a warning naming the parts and features (filament only).
+    "laser": every plate part (crank, coupler, rocker, base plate, motor mount) is laser-cut
+    from sheet of its material (:data:`cad.data.materials.SHEETS`: aluminium-5083,
+    aluminium-6061, acrylic-cast, birch-plywood; another material: error) and nested on
+    stock sheets (``sheets/sheet_NN.dxf`` with ``--formats dxf``); its thickness must be a
+    stock thickness of that sheet (error naming the nearest). A tapped thread in a sheet that
+    holds none (acrylic, plywood) is refused naming the part and feature; a reamed or bored
+    H7 bore there is laser-cut at nominal instead (warning). The turned and bought parts
+    stay as they are (one warning lists the made ones).
+``laser_sheet_mm`` [smallest standard size that holds the largest part]
+    ``[width, length]`` of the sheets to nest on (e.g. the laser's bed), 50..4000 mm each.
 ``print_layer_height_mm`` [0.2] / ``print_line_width_mm`` [0.45] / ``print_walls`` [2] /
 ``print_solid_layers`` [4] / ``print_infill_percent`` [20]
     slicer settings of the wall/infill model (:class:`cad.printing.PrintSettings`).
@@ -226,6 +236,7 @@ class PartsSpec(TableReplace):
     print_infill_percent: float = PrintSettings.infill_percent
     print_hole_compensation_mm: float = PrintSettings.hole_compensation_mm
     print_press_fit_mm: float = PrintSettings.press_fit_mm
+    laser_sheet_mm: tuple[float, float] | None = None
 
     def print_settings(self) -> PrintSettings:
         """The :class:`cad.printing.PrintSettings` of these parts."""
@@ -245,6 +256,10 @@ class PartsSpec(TableReplace):
         d = asdict(self)
         if d["layer_order"] is not None:
             d["layer_order"] = list(d["layer_order"])
+        if d["laser_sheet_mm"] is not None:
+            d["laser_sheet_mm"] = list(d["laser_sheet_mm"])
+        if report and self.process != "laser":
+            d.pop("laser_sheet_mm")  # not laser: report.json as before the process existed
         if report and not any(self.printed(getattr(self, k)) for k in _MATERIALS):
             for k in _PRINT_KEYS:  # nothing printed: the keys of before the process existed
                 d.pop(k)
@@ -426,11 +441,14 @@ def _print_keys(table: dict[str, Any], prefix: str, vals: dict[str, Any]) -> Non
     from cad.printing import FILAMENTS, PROCESSES
 
     proc = _string(table, "process", prefix, "machined")
-    if proc not in PROCESSES[:2]:
-        why = ("laser-cut parts (sheet stock, nesting) are not made yet" if proc == "laser"
-               else f"must be one of {', '.join(PROCESSES)}")
-        raise DesignError(_f(prefix, "process"), f"{why}, got {proc!r}")
+    if proc not in PROCESSES:
+        raise DesignError(_f(prefix, "process"), f"must be one of {', '.join(PROCESSES)}, got {proc!r}")
     vals["process"] = proc
+    vals["laser_sheet_mm"] = _laser_sheet(table, prefix)
+    if proc == "laser":
+        from cad.design.laser import check_laser
+
+        check_laser(vals, prefix)
     for key in ("print_layer_height_mm", "print_line_width_mm"):
         vals[key] = optional_number(table, key, prefix, getattr(PartsSpec, key))
         if not 0.05 <= vals[key] <= 1.2:
@@ -453,6 +471,20 @@ def _print_keys(table: dict[str, Any], prefix: str, vals: dict[str, Any]) -> Non
                         f"(set {_f(prefix, 'process')} = \"printed\" to say so)")
         elif change:
             bounds.warn(f"{_f(prefix, 'process')} = \"printed\": {names} ({vals[key]}): {change}")
+
+
+def _laser_sheet(table: dict[str, Any], prefix: str) -> tuple[float, float] | None:
+    """``laser_sheet_mm``: two numbers, 50..4000 mm (a laser bed to a full 4 m sheet)."""
+    v = table.get("laser_sheet_mm")
+    if v is None:
+        return None
+    ok = (isinstance(v, list) and len(v) == 2
+          and all(isinstance(x, int | float) and not isinstance(x, bool) for x in v))
+    if not ok or not all(50.0 <= x <= 4000.0 for x in v):
+        raise DesignError(_f(prefix, "laser_sheet_mm"),
+                          f"must be [width, length] in 50..4000 mm (a laser bed to a full sheet), "
+                          f"got {v!r}")
+    return (float(v[0]), float(v[1]))
 
 
 def parse_encoder(table: dict[str, Any], prefix: str, encoder: str | None) -> int | None:

@@ -56,6 +56,9 @@ class PartKind:
     revolution : the collision solid(s) are solids of revolution about the part's z axis
         (rings, spacers, pin envelopes): their distance to a link turning about that axis
         is the same at every pose (used to speed up the interference sweep).
+    sheet_mm : None for a part that is not laser-cut; else ``(width, length)`` mm of the
+        sheets it is nested on, ``(0.0, 0.0)`` for the smallest standard size of its sheet
+        material that holds the largest part (:mod:`cad.export.nesting`).
     """
 
     name: str
@@ -74,6 +77,7 @@ class PartKind:
     fits: tuple[str, ...] = ()
     hull: Any = None
     print_flip: bool | None = None
+    sheet_mm: tuple[float, float] | None = None
 
 
 @dataclass(frozen=True)

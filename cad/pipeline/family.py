@@ -219,7 +219,41 @@ def bom_rows(instances, props: dict) -> list[dict]:
                 "stock": stock(k, mass_g) if k.made else "",
             }
         )
+    if laser_kinds(instances):
+        from cad.export.nesting import plan_sheets
+
+        sheets = plan_sheets(instances)
+        where = {p.kind.name: f"sheet_{i + 1:02d}" for i, s in enumerate(sheets) for p in s.parts}
+        for r in rows:
+            if r["part"] in where:
+                r["stock"] = f"nested on {where[r['part']]} (sheet stock line)"
+        rows += sheet_rows(sheets)
     return rows
+
+
+def laser_kinds(instances) -> dict:
+    """``{kind name: PartKind}`` of the laser-cut kinds (``sheet_mm`` set, process "laser")."""
+    return {n: k for n, k in kinds(instances).items() if getattr(k, "sheet_mm", None) is not None}
+
+
+def sheet_rows(sheets) -> list[dict]:
+    """BOM rows of the stock sheets the laser-cut parts are nested on
+    (:func:`cad.export.nesting.plan_sheets`): one bought row per material, thickness and size,
+    quantity = number of sheets."""
+    rows: dict = {}
+    for i, s in enumerate(sheets):
+        key = (s.material, s.thickness_mm, tuple(s.size_mm))
+        rows.setdefault(key, []).append(f"sheet_{i + 1:02d}")
+    out = []
+    for (mat, t, (w, h)), names in rows.items():
+        des = f"sheet {t:g} x {w:g} x {h:g} mm {mat}"
+        out.append({"part": f"sheet_{t:g}mm_{mat}", "description": f"stock {des}, laser-cut parts "
+                    f"nested on {', '.join(names)} (sheets/)", "material": mat,
+                    "quantity": len(names), "made_or_bought": "bought",
+                    "process": "bought: sheet stock for the laser-cut parts", "fits": "",
+                    "mass_g": 0.0, "group": "sheet stock", "designation": des, "order_code": "",
+                    "stock": ""})
+    return out
 
 
 def fits_report(instances) -> dict[str, list[str]]:
@@ -425,6 +459,11 @@ def write_outputs(
             **shop_args(k, instances, holes),
         )
         files += [p.relative_to(out_dir).as_posix() for p in paths]
+    if "dxf" in formats and laser_kinds(instances):
+        from cad.export.nesting import write_sheets
+
+        files += write_sheets(instances, out_dir,
+                              {n: shop_args(k, instances, holes) for n, k in laser_kinds(instances).items()})
     if "drawings" in formats:
         files += write_part_drawings(instances, out_dir, name, holes)
     if "step" in formats:

@@ -47,6 +47,13 @@ ELASTIC: dict[str, Elastic] = {
     "pla": Elastic(3.5, 0.36, 50.0, "PLA printed 100 % infill XY, NatureWorks 4043D / Prusament PLA"),
     "petg": Elastic(2.0, 0.38, 45.0, "PETG printed 100 % infill XY, Prusament PETG datasheet"),
     "abs": Elastic(2.2, 0.35, 40.0, "ABS printed 100 % infill XY, MatWeb generic ABS"),
+    # sheet materials of the laser process (sources in cad.data.materials.SHEETS)
+    "aluminium-5083": Elastic(71.0, 0.33, 125.0, "5083-O/H111 sheet: MatWeb (E), EN 485-2 proof "
+                              "stress min (cad.data.materials.SHEETS)"),
+    "acrylic-cast": Elastic(3.10, 0.35, 72.4, "cast acrylic, Samson Supply technical data (E, "
+                            "tensile strength, Poisson 0.35)"),
+    "birch-plywood": Elastic(8.0, 0.30, 40.0, "unverified (no birch plywood data sheet value found; "
+                             "cad.data.materials.SHEETS)"),
     "delrin": Elastic(3.1, 0.35, 69.0, "POM homopolymer (Delrin 150), DuPont datasheet"),
 }
 

@@ -331,7 +331,7 @@ def build(
     (module docstring). Raises DesignError (``--phi1-deg`` outside the crank range, no layer
     order, ...), InterferenceError (a clash, unless ``allow_interference``), MeshError."""
     from cad.families.fourbar.layout import assemble, exported_phi1_rad
-    from cad.pipeline import forked
+    from cad.pipeline import family, forked
 
     timings: dict[str, float] = {}
     t0 = time.perf_counter()
@@ -373,6 +373,10 @@ def build(
 
     _step(progress, "report", 7)
     report = _report(design, model, mp, rep, structure, bom, fidelity)
+    if family.laser_kinds(model.instances):  # parts.process = "laser": the nested stock sheets
+        from cad.export.nesting import plan_sheets, sheets_report
+
+        report["sheets"] = sheets_report(plan_sheets(model.instances), "dxf" in formats)
     report["files"] = sorted(files + view_files + [
         "bom.csv", "preview.png", "report.md", "kinematics.png", "apparent_mass.png"])
     _write_report_md(out_dir, report)

@@ -228,7 +228,7 @@ def test_machined_default_unchanged():
 
 
 @pytest.mark.parametrize("table,field", [
-    ({"process": "laser"}, "parts.process"),
+    ({"process": "laser", "bar_thickness_mm": 7.0}, "parts.bar_thickness_mm"),  # not stock
     ({"process": "milled"}, "parts.process"),
     ({"print_infill_percent": 120}, "parts.print_infill_percent"),
     ({"print_walls": 0}, "parts.print_walls"),
