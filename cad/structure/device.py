@@ -42,6 +42,7 @@ from __future__ import annotations
 
 import functools
 import math
+
 import numpy as np
 
 # Default structural limits: defined with their reasons in cad.datasheet.limits, the one

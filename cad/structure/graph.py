@@ -108,7 +108,7 @@ def plane_modes(fr: Frame, k: int = 12) -> dict[str, float]:
     freqs, shapes = fr.modes(k)
     m = fr.masses()
     out = {"in_plane_Hz": math.inf, "out_of_plane_Hz": math.inf}
-    for f, s in zip(freqs, shapes):
+    for f, s in zip(freqs, shapes, strict=True):
         u = s.reshape(-1, 6)
         ez = float(m @ u[:, 2] ** 2)
         exy = float(m @ (u[:, 0] ** 2 + u[:, 1] ** 2))

@@ -40,8 +40,19 @@ import math
 import numpy as np
 
 from cad.structure.frame import Section, rect_torsion_J
-from cad.structure.graph import Beam, LinkGraph, Lumped, directions, frame_at, plane_modes, worst_stress_Pa
+from cad.structure.graph import (
+    Beam,
+    LinkGraph,
+    Lumped,
+    directions,
+    frame_at,
+    plane_modes,
+    worst_stress_Pa,
+)
 
+#: The crankshaft web's width floor (mm) where a report gives no ``web_width_mm``
+#: (:func:`cad.families.pantograph.layout.layout`: max(bearing bore + 6, 10)).
+WEB_WIDTH_MIN_MM = 10.0
 #: Modes searched for the lowest in-plane and out-of-plane ones.
 MODES = 12
 SIDES = ("left", "right")
@@ -176,7 +187,7 @@ def link_poses(design, X: np.ndarray) -> dict[str, np.ndarray]:
         return T
 
     out = {}
-    for (pre, fp), (_, fb) in zip(grp, groups(design)):
+    for (pre, fp), (_, fb) in zip(grp, groups(design), strict=True):
         E = fp.E_mm
         for i, (side, C) in enumerate((("left", fp.C_left_mm), ("right", fp.C_right_mm))):
             B = getattr(fb, f"base_{side}_mm")
@@ -248,7 +259,7 @@ def analyse(design, bodies: dict, force_N: float, web_width_mm: float) -> dict:
         for key, f in plane_modes(fr, MODES).items():
             modes[key] = min(modes[key], f)
         sig, _ = worst_stress_Pa(fr, P, force_N, dirs)
-        for e, sv in zip(fr.elements, sig * 1e-6):
+        for e, sv in zip(fr.elements, sig * 1e-6, strict=True):
             st = strength["crankshaft" if e[3] == "crankshaft" else "tube"]
             if sv / st > crit[0]:
                 crit = (sv / st, float(sv), e[3], st, lab)
