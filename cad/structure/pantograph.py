@@ -27,7 +27,8 @@ Figures (worst over the poses): ``first_mode_in_plane_Hz`` and ``first_mode_out_
 ``compliance_um_per_N`` {x, y, z} at the handle along the world axes; ``max_stress_MPa``:
 von Mises beam stress under ``force_N`` at the handle in the worst of
 :func:`cad.structure.graph.directions`, at the element with the highest stress / strength
-(``critical_link``, ``strength_MPa`` of its material); ``bearing_compliance_estimate``: the
+(``critical_link``, ``strength_MPa`` of its material); ``per_pose``: the same figures at each
+pose (and ``max_stress_in_plane_MPa``, in-plane directions only); ``bearing_compliance_estimate``: the
 radial compliance of the ball bearings at C and E the rigid ties leave out (Palmgren,
 :func:`cad.structure.bearings.radial_deflection_mm`; distal links two-force members, each
 clevis two bearings sharing the load), not added to the frame's compliance.
@@ -240,7 +241,7 @@ def analyse(design, bodies: dict, force_N: float, web_width_mm: float) -> dict:
     strength = {"tube": get_elastic(design.parts.tube_material, "parts.tube_material").strength_MPa,
                 "crankshaft": get_elastic(design.parts.crank_material, "parts.crank_material").strength_MPa}
     dirs = directions()
-    used, skipped = [], []
+    used, skipped, per_pose = [], [], {}
     c = {"x": 0.0, "y": 0.0, "z": 0.0}
     modes = {"in_plane_Hz": math.inf, "out_of_plane_Hz": math.inf}
     crit = (-1.0, 0.0, "", 0.0, "")  # (utilisation, stress MPa, link, strength, pose)
@@ -253,12 +254,18 @@ def analyse(design, bodies: dict, force_N: float, web_width_mm: float) -> dict:
         used.append(lab)
         fr, ids = frame_at(g, tf, lumped)
         P = ids[g.handle]
+        here = {"compliance_um_per_N": {}}
         for i, ax in enumerate("xyz"):
             u = fr.solve({P: np.r_[np.eye(3)[i], 0, 0, 0]})
-            c[ax] = max(c[ax], float(u[6 * P + i]) * 1e6)
-        for key, f in plane_modes(fr, MODES).items():
-            modes[key] = min(modes[key], f)
+            here["compliance_um_per_N"][ax] = float(u[6 * P + i]) * 1e6
+            c[ax] = max(c[ax], here["compliance_um_per_N"][ax])
+        here.update(plane_modes(fr, MODES))
+        for key in modes:
+            modes[key] = min(modes[key], here[key])
         sig, _ = worst_stress_Pa(fr, P, force_N, dirs)
+        here["max_stress_MPa"] = float(sig.max()) * 1e-6
+        here["max_stress_in_plane_MPa"] = float(worst_stress_Pa(fr, P, force_N, dirs[dirs[:, 2] == 0])[0].max()) * 1e-6
+        per_pose[lab] = here
         for e, sv in zip(fr.elements, sig * 1e-6, strict=True):
             st = strength["crankshaft" if e[3] == "crankshaft" else "tube"]
             if sv / st > crit[0]:
@@ -271,6 +278,6 @@ def analyse(design, bodies: dict, force_N: float, web_width_mm: float) -> dict:
         "first_mode_Hz": min(modes.values()),
         "max_stress_MPa": smax, "critical_link": link, "critical_pose": at, "strength_MPa": st,
         "stress_limit_MPa": st / STRESS_SAFETY_FACTOR, "force_N": float(force_N),
-        "poses": used, "poses_skipped": skipped, "method": "beam",
+        "poses": used, "poses_skipped": skipped, "per_pose": per_pose, "method": "beam",
         "bearing_compliance_estimate": bearing_compliance(design, X[[labels.index(x) for x in used]], force_N),
     }
