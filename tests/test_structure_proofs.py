@@ -97,16 +97,17 @@ def _j_rect(b: float, h: float) -> float:
     return a**3 * bb / 3 * (1 - 192 * a / (math.pi**5 * bb) * s)
 
 
-def _hoeken_members(d, el, end_r, pose):
+def _hoeken_members(d, el, end_r, pose, beam: bool = False):
     """Members of the Hoeken at a pose, oriented away from the root A1 (world m):
-    ``name -> (start, end, pieces with their section)``; the coupler's two collinear beams."""
+    ``name -> (start, end, pieces with their section)``; the coupler's two collinear beams.
+    ``beam``: the pocket section over each whole member (the device's ``beam`` method)."""
     J = {k: np.asarray(v, float).reshape(-1, 2)[0] * 1e-3 for k, v in
          (("A1", pose.A1_mm), ("A2", pose.A2_mm), ("A3", pose.A3_mm), ("A4", pose.A4_mm), ("P", pose.P_mm))}
     out = {}
     for name, a, b in (("crank", "A1", "A2"), ("coupler_23", "A2", "A3"), ("coupler_3P", "A3", "P"),
                        ("rocker", "A3", "A4")):
         L_mm = float(np.linalg.norm(J[b] - J[a])) * 1e3
-        pcs = _pieces(d.parts, L_mm, end_r[a], end_r[b])
+        pcs = [(0.0, L_mm * 1e-3, True)] if beam else _pieces(d.parts, L_mm, end_r[a], end_r[b])
         out[name] = (J[a], J[b], [(s0, s1, _props(d.parts, el, sl)) for s0, s1, sl in pcs])
     return out, J
 
@@ -245,33 +246,41 @@ def _tree_paths():
             "coupler_3P": ["crank", "coupler_23", "coupler_3P"], "rocker": ["crank", "coupler_23", "rocker"]}
 
 
-def _hoeken_grillage_flexibility(d, el, end_r, pose, points):
+def _unit_moments(mem, name, x, s, points):
+    """(Mb, T) at station ``s`` of member ``name`` (world point ``x``, (3,)) of each unit load
+    of ``points`` (only loads beyond the station, away from the root, reach it)."""
+    paths = _tree_paths()
+    p0, p1, _ = mem[name]
+    e = np.r_[(p1 - p0) / np.linalg.norm(p1 - p0), 0.0]
+    nb = np.cross([0.0, 0.0, 1.0], e)
+    Mb, T = np.zeros(len(points)), np.zeros(len(points))
+    for i, (m_i, s_i, kind) in enumerate(points):
+        if name not in paths[m_i] or (m_i == name and s_i <= s):
+            continue
+        q0, q1, _ = mem[m_i]
+        eq = (q1 - q0) / np.linalg.norm(q1 - q0)
+        q = np.r_[q0 + s_i * eq, 0.0]
+        mv = (np.cross(q - x, [0.0, 0.0, 1.0]) if kind == "Fz"
+              else np.array([1.0, 0.0, 0.0]) if kind == "Mx" else np.array([0.0, 1.0, 0.0]))
+        Mb[i], T[i] = mv @ nb, mv @ e
+    return Mb, T
+
+
+def _hoeken_grillage_flexibility(d, el, end_r, pose, points, beam: bool = False):
     """Out-of-plane flexibility (force method) of the Hoeken released at A4: ``points`` are
     generalized loads ``(member, s (m from the member's start), kind)`` with kind "Fz", "Mx"
     or "My"; returns F_ij = sum over pieces of the integral of (Mb_i Mb_j / E I_y + T_i T_j /
-    G J), Mb / T the bending / twisting moment of unit load i at each station (only stations
-    between the root and the load carry it)."""
-    mem, _ = _hoeken_members(d, el, end_r, pose)
-    paths = _tree_paths()
+    G J), Mb / T the bending / twisting moment of unit load i at each station
+    (:func:`_unit_moments`)."""
+    mem, _ = _hoeken_members(d, el, end_r, pose, beam)
     n = len(points)
     F = np.zeros((n, n))
     for name, (p0, p1, pcs) in mem.items():
-        e = np.r_[(p1 - p0) / np.linalg.norm(p1 - p0), 0.0]
-        nb = np.cross([0.0, 0.0, 1.0], e)
+        e = (p1 - p0) / np.linalg.norm(p1 - p0)
         for s0, s1, sec in pcs:
             xs, ws = _gauss(s0, s1)
             for s, wq in zip(xs, ws, strict=True):
-                x = np.r_[p0 + s * e[:2], 0.0]
-                Mb, T = np.zeros(n), np.zeros(n)
-                for i, (m_i, s_i, kind) in enumerate(points):
-                    if name not in paths[m_i] or (m_i == name and s_i <= s):
-                        continue
-                    q0, q1, _ = mem[m_i]
-                    eq = (q1 - q0) / np.linalg.norm(q1 - q0)
-                    q = np.r_[q0 + s_i * eq, 0.0]
-                    mv = (np.cross(q - x, [0.0, 0.0, 1.0]) if kind == "Fz"
-                          else np.array([1.0, 0.0, 0.0]) if kind == "Mx" else np.array([0.0, 1.0, 0.0]))
-                    Mb[i], T[i] = mv @ nb, mv @ e
+                Mb, T = _unit_moments(mem, name, np.r_[p0 + s * e, 0.0], s, points)
                 F += wq * (np.outer(Mb, Mb) / sec["EIy"] + np.outer(T, T) / sec["GJ"])
     return F
 
@@ -406,3 +415,51 @@ def test_pantograph_home_stress_is_m_c_over_i_of_the_critical_link(pantograph_ho
             worst = max(worst, abs(si) / sec["A"], M * sec["c"] / sec["I"] + abs(si * u @ ep) / sec["A"])
     assert st["per_pose"]["home"]["max_stress_in_plane_MPa"] == pytest.approx(worst * 1e-6, rel=STRUCTURE_SAME_MODEL_REL)
     assert st["max_stress_MPa"] >= st["per_pose"]["home"]["max_stress_in_plane_MPa"]
+
+
+def test_hoeken_beam_stress_is_m_c_over_i_at_the_critical_section(hoeken_device):
+    """(c) The Hoeken's peak stress at force_N (``beam`` method: the pocket section over every
+    member, as that method states) by hand at every member end, where the linear moment
+    diagrams peak: along the path, rigid-link statics, sigma = |N| / A + |M| c_y / I_z; out of
+    plane, the grillage's redundants at A4 by compatibility (:func:`_hoeken_grillage_flexibility`),
+    sigma = |Mb| c_z / I_y, tau = |T| t / J (t the web, the thinner side), von Mises
+    sqrt(sigma^2 + 3 tau^2)."""
+    from cad.kinematics.metrics import path_frame
+    from cad.structure import device
+
+    d, el, rho, end_r, pose, _ = hoeken_device
+    st = device.analyse(d, [device.Lumped("coupler", (d.linkage.le_mm, 0.0), KNOB_KG)], {}, "beam", poses=1)
+    p = d.parts
+    w, t, web = p.bar_width_mm * 1e-3, p.bar_thickness_mm * 1e-3, p.bar_pocket_web_mm * 1e-3
+    wp = w - 2 * web
+    A, Iz, Iy, Jt = (w - wp) * t, t * (w**3 - wp**3) / 12, (w - wp) * t**3 / 12, _j_pocket(p)
+    mem, J = _hoeken_members(d, el, end_r, pose, beam=True)
+    ends = {name: (0.0, float(np.linalg.norm(p1 - p0)) * (1 - 1e-9)) for name, (p0, p1, _) in mem.items()}
+    # along the path: statics as in _hoeken_inplane_compliance_m_per_N
+    f = np.asarray(path_frame(d.linkage, d.phi1_min_rad, d.phi1_max_rad).x_hat, float)
+    u34 = (J["A3"] - J["A4"]) / np.linalg.norm(J["A3"] - J["A4"])
+    tr = -_cross(J["P"] - J["A2"], f) / _cross(J["A3"] - J["A2"], u34)
+    loads = {"coupler_3P": [(J["P"], f)], "coupler_23": [(J["P"], f), (J["A3"], tr * u34)],
+             "crank": [(J["P"], f), (J["A3"], tr * u34)], "rocker": [(J["A4"], tr * u34)]}
+    sig_x = 0.0
+    for name, (p0, p1, _) in mem.items():
+        e = (p1 - p0) / np.linalg.norm(p1 - p0)
+        for s in ends[name]:
+            x = p0 + s * e
+            F = sum(fq for _, fq in loads[name])
+            M = 0.0 if name == "rocker" else sum(_cross(q - x, fq) for q, fq in loads[name])
+            sig_x = max(sig_x, abs(F @ e) / A + abs(M) * (w / 2) / Iz)
+    # out of plane: unit z at P, redundants at A4
+    pts = [("coupler_3P", ends["coupler_3P"][1] * (1 - 1e-6), "Fz")]
+    red = [("rocker", ends["rocker"][1] * (1 + 1e-10), k) for k in ("Fz", "Mx", "My")]
+    Fl = _hoeken_grillage_flexibility(d, el, end_r, pose, pts + red, beam=True)
+    X = -np.linalg.solve(Fl[1:, 1:], Fl[1:, :1])[:, 0]
+    sig_z = 0.0
+    for name, (p0, p1, _) in mem.items():
+        e = (p1 - p0) / np.linalg.norm(p1 - p0)
+        for s in ends[name]:
+            Mb, T = _unit_moments(mem, name, np.r_[p0 + s * e, 0.0], s, pts + red)
+            mb, tq = Mb[0] + Mb[1:] @ X, T[0] + T[1:] @ X
+            sig_z = max(sig_z, math.hypot(abs(mb) * (t / 2) / Iy, math.sqrt(3) * abs(tq) * min(web, t) / Jt))
+    hand = float(d.force_N) * max(sig_x, sig_z) * 1e-6
+    assert st["max_stress_MPa"] == pytest.approx(hand, rel=STRUCTURE_PROOF_REL)
