@@ -138,9 +138,9 @@ def test_pantograph_lumped_masses_keep_each_body_mass_and_first_moment():
     from cad.structure import pantograph as sp
 
     d = _panto("pantograph.toml")
-    _, lengths = sp.link_graph(d, sp.WEB_WIDTH_MIN_MM)
+    g, lengths = sp.link_graph(d, sp.WEB_WIDTH_MIN_MM)
     bodies = {k: {"mass_kg": 0.025, "com_mm": [0.4 * L, 0.0, 0.0]} for k, L in lengths.items()}
-    lumped = sp.lumped_from_bodies(d, bodies, lengths)
+    lumped = sp.lumped_from_bodies(g, bodies, lengths)
     for link, L in lengths.items():
         mine = [lp for lp in lumped if lp.link == link]
         mt = sp.tube_mass_kg(d, L)

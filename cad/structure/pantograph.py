@@ -15,10 +15,10 @@ Model (world = the kinematic base frame, SI inside, mm / g / um at the edges):
   motor's axis B in all six DOFs: shaft locked by the servo, motor bearings rigid),
   **handle free** (loads at E / the main journal, no support there);
 * masses: from the build's bodies (``report["bodies"]``: mass and COM of every moving body
-  in its link frame): the tube's own mass spread along its beam, the rest of the body (the
-  clevises, pins, bearings, knob, screws) split between the link's two joints by the lever
-  rule so that the body's mass and first moment are kept; the plain 5-bar's handle body a
-  point mass at E;
+  in its link frame): the tube's (the crankshaft's web's) own mass spread along its beam,
+  the rest of the body (the clevises, pins, bearings, knob, screws) split between the link's
+  two joints by the lever rule so that the body's mass and first moment are kept; the plain
+  5-bar's handle body a point mass at E;
 * poses: home and the four corners of the workspace square (the mouse at its home crank
   angle ``home_theta_deg``); a pose the mechanism cannot reach is skipped and named.
 
@@ -144,16 +144,18 @@ def link_graph(design, web_width_mm: float) -> tuple[LinkGraph, dict[str, float]
     return LinkGraph(joints, beams, ties, fixed, handle), lengths
 
 
-def lumped_from_bodies(design, bodies: dict, lengths: dict[str, float]) -> list[Lumped]:
-    """Point masses (module docstring: lever rule of each body less its tube) from
-    ``report["bodies"]`` (``{body: {"mass_kg", "com_mm"}}``, link frames)."""
+def lumped_from_bodies(graph: LinkGraph, bodies: dict, lengths: dict[str, float]) -> list[Lumped]:
+    """Point masses (module docstring: lever rule of each body less its beam's own mass, the
+    tube or the crankshaft's web, already spread along the beam) from ``report["bodies"]``
+    (``{body: {"mass_kg", "com_mm"}}``, link frames)."""
+    own = {b.link: b.section.rho * b.section.A * lengths[b.link] * 1e-3 for b in graph.beams}
     out = []
     for link, L in lengths.items():
         b = bodies.get(link)
         if b is None:
             continue
         m, xc = float(b["mass_kg"]), float(b["com_mm"][0])
-        mt = 0.0 if link == "crankshaft" else tube_mass_kg(design, L)
+        mt = own[link]
         rest = m - mt
         if rest <= 0:
             continue
@@ -236,7 +238,7 @@ def analyse(design, bodies: dict, force_N: float, web_width_mm: float) -> dict:
     from cad.structure.elastic import get_elastic
 
     g, lengths = link_graph(design, web_width_mm)
-    lumped = lumped_from_bodies(design, bodies, lengths)
+    lumped = lumped_from_bodies(g, bodies, lengths)
     X, labels = poses(design)
     strength = {"tube": get_elastic(design.parts.tube_material, "parts.tube_material").strength_MPa,
                 "crankshaft": get_elastic(design.parts.crank_material, "parts.crank_material").strength_MPa}
