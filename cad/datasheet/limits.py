@@ -16,11 +16,16 @@ peak_force_N           >=    ``force_N`` when ``force_basis = "peak"``     a pea
                                                                            force at every point, for a moment
 force_any_dir_N        >=    ``[actuators] force_N`` of a pantograph       the force asked for must be there in
                              design when it gives one                      every direction at every point
-first_mode_Hz          >=    :data:`FIRST_MODE_MIN_HZ`                     Hoeken paper §III.B.1: 150 Hz force
-                                                                           bandwidth; a structural mode inside
-                                                                           it is rendered as a vibration
+first_mode_Hz          >=    :data:`FIRST_MODE_MIN_HZ` (four-bars and      Hoeken paper §III.B.1: 150 Hz force
+                             the planar pantographs: the same limit)       bandwidth; a structural mode inside
+                                                                           it is rendered as a vibration (the
+                                                                           isotropy paper gives no bandwidth of
+                                                                           its own: the same limit for the
+                                                                           5-bar and the twin pantograph)
 max_stress_MPa         <=    strength / :data:`STRESS_SAFETY_FACTOR`       static safety factor 3 at ``force_N``
-                                                                           (fatigue, notches, impacts)
+                             (pantographs: the strength of the critical    (fatigue, notches, impacts)
+                             link's material, force ``[actuators]
+                             force_max_N``)
 min_clearance_mm       >=    ``parts.clearance_min_mm``                    the build's own clearance rule
 resolution_um,         only where ``[targets]`` asks                       a resolution or a wall stiffness is a
 K_max_N_per_m,                                                             requirement of the application, not
@@ -87,9 +92,21 @@ def fourbar_limits(design, strength_MPa: float | None) -> dict[str, Limit]:
     return with_targets(lim, design.targets)
 
 
-def pantograph_limits(design, force_N: float | None) -> dict[str, Limit]:
-    """Default limits of a pantograph-family design (module table), then its [targets]."""
+PANTO_MODE_CHANGE = "parts.tube_od_mm, parts.tube_id_mm, parts.tube_material (stiffer, lighter links)"
+PANTO_STRESS_CHANGE = "parts.tube_od_mm / parts.tube_id_mm or parts.tube_material (parts.crank_material)"
+
+
+def pantograph_limits(design, force_N: float | None, strength_MPa: float | None = None,
+                      structure: bool = False) -> dict[str, Limit]:
+    """Default limits of a pantograph-family design (module table), then its [targets].
+    ``structure``: the design has structure rows (the planar families): first-mode limit,
+    and the stress limit from ``strength_MPa`` of the critical link's material."""
     lim: dict[str, Limit] = {}
+    if structure:
+        lim["first_mode_Hz"] = Limit(">=", FIRST_MODE_MIN_HZ, MODE_REASON, PANTO_MODE_CHANGE)
+        if strength_MPa is not None:
+            lim["max_stress_MPa"] = Limit("<=", strength_MPa / STRESS_SAFETY_FACTOR, STRESS_REASON,
+                                          PANTO_STRESS_CHANGE)
     if force_N is not None:
         lim["force_any_dir_N"] = Limit(">=", force_N, "[actuators] force_max_N (S_T, isotropy paper eq 4): the "
                                        "force asked for, in every direction at every point of the workspace",

@@ -42,7 +42,6 @@ from __future__ import annotations
 
 import functools
 import math
-from dataclasses import dataclass
 
 import numpy as np
 
@@ -50,21 +49,13 @@ import numpy as np
 # place of every default limit (overridable in [targets]: first_mode_Hz = { min = ... },
 # max_stress_MPa = { max = ... }).
 from cad.datasheet.limits import FIRST_MODE_MIN_HZ, STRESS_SAFETY_FACTOR
-from cad.structure.frame import Frame, Section, rect_torsion_J
+from cad.structure.frame import Section, rect_torsion_J
+from cad.structure.graph import Beam, LinkGraph, Lumped, frame_at  # noqa: F401 (Lumped: public here)
 
 POSES = 3
 METHODS = ("beam", "fem")
 #: Modes searched for the handle's path mode.
 HANDLE_MODES = 12
-
-
-@dataclass(frozen=True)
-class Lumped:
-    """A point mass on a link: link name, position in the link frame (mm), mass (kg)."""
-
-    link: str
-    xy_mm: tuple[float, float]
-    mass_kg: float
 
 
 def bar_section(parts, E: float, G: float, rho: float) -> Section:
@@ -149,8 +140,9 @@ def _fem_compliances(parts, L_mm: float, ends: tuple[str, str], E: float, nu: fl
     return fem.cached_cantilever(g, E, nu, "y"), fem.cached_cantilever(g, E, nu, "z")
 
 
-def build_frame(design, pose_tf: dict, lumped: list[Lumped], bar_mass_kg: dict, method: str):
-    """The frame at one pose (``pose_tf``: link -> 3x3 planar transform, mm) and its P node.
+def link_graph(design, bar_mass_kg: dict, method: str) -> LinkGraph:
+    """The four-bar's moving links as a :class:`~cad.structure.graph.LinkGraph` (module
+    docstring): crank clamped at A1, rocker pinned at A4, revolute joints A2 and A3, handle P.
 
     ``bar_mass_kg``: link -> bar mass spread along its beams; a link not in it gets the
     section area times the bar material's density."""
@@ -161,17 +153,9 @@ def build_frame(design, pose_tf: dict, lumped: list[Lumped], bar_mass_kg: dict, 
     parts = design.parts
     el = bar_elastic(parts)
     J = link_joints_mm(design.linkage)
-    fr = Frame()
-    ids: dict[tuple[str, str], int] = {}
-
-    def world(link, xy):
-        T = pose_tf[link]
-        return (T[:2, :2] @ np.asarray(xy, float) + T[:2, 2]) * 1e-3
-
+    beams = []
     edges = link_edges(J)
     for link, ed in edges.items():
-        for n in sorted({x for e in ed for x in e}):  # node order fixed (reproducible digits)
-            ids[(link, n)] = fr.node(world(link, J[link][n]))
         total_L = sum(float(np.linalg.norm(J[link][b] - J[link][a])) for a, b in ed) * 1e-3
         base = link_section(parts, el.E_Pa, el.G_Pa, 0.0)
         rho = (bar_mass_kg[link] / (base.A * total_L) if link in bar_mass_kg
@@ -181,19 +165,20 @@ def build_frame(design, pose_tf: dict, lumped: list[Lumped], bar_mass_kg: dict, 
             if method == "fem" and parts.bar_style != "tube":  # a tube's beam is exact
                 L_mm = float(np.linalg.norm(J[link][b] - J[link][a]))
                 s = fem_section(parts, s, L_mm, (a, b), el.nu)
-            fr.element(ids[(link, a)], ids[(link, b)], s, link, n_sub=4)
-    fr.ties += [(ids[("crank", "A2")], ids[("coupler", "A2")]),
-                (ids[("coupler", "A3")], ids[("rocker", "A3")])]
-    fr.fixed[ids[("crank", "A1")]] = (0, 1, 2, 3, 4, 5)
-    fr.fixed[ids[("rocker", "A4")]] = (0, 1, 2, 3, 4)
-    for lp in lumped:
-        if lp.link not in edges:
-            continue
-        p = world(lp.link, lp.xy_mm)
-        cand = [i for (lk, _), i in ids.items() if lk == lp.link]
-        nearest = min(cand, key=lambda i: float(np.linalg.norm(fr.nodes[i] - p)))
-        fr.add_mass(nearest, lp.mass_kg)
-    return fr, ids[("coupler", "P")]
+            beams.append(Beam(link, a, b, s))
+    return LinkGraph(
+        joints_mm={k: dict(v) for k, v in J.items()}, beams=beams,
+        ties=[(("crank", "A2"), ("coupler", "A2")), (("coupler", "A3"), ("rocker", "A3"))],
+        fixed={("crank", "A1"): (0, 1, 2, 3, 4, 5), ("rocker", "A4"): (0, 1, 2, 3, 4)},
+        handle=("coupler", "P"))
+
+
+def build_frame(design, pose_tf: dict, lumped: list[Lumped], bar_mass_kg: dict, method: str):
+    """The frame at one pose (``pose_tf``: link -> 3x3 planar transform, mm) and its P node
+    (:func:`link_graph` posed by :func:`cad.structure.graph.frame_at`)."""
+    g = link_graph(design, bar_mass_kg, method)
+    fr, ids = frame_at(g, pose_tf, lumped)
+    return fr, ids[g.handle]
 
 
 def analyse(design, lumped: list[Lumped], bar_mass_kg: dict, method: str = "beam",

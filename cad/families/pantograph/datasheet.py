@@ -108,6 +108,48 @@ def write_ellipse_chart(design, out_dir, A, ok) -> str | None:
     return "force_ellipses.png"
 
 
+def structure(design, report: dict) -> dict | None:
+    """:func:`cad.structure.pantograph.analyse` of a planar family's build report (its
+    ``bodies`` and ``layout_mm``) at ``[actuators] force_max_N``; None for the haptic pen (not
+    planar) or a report without bodies."""
+    if design.family not in ("pantograph", "twin-pantograph") or not report.get("bodies"):
+        return None
+    from cad.structure.pantograph import WEB_WIDTH_MIN_MM, analyse
+
+    web = (report.get("layout_mm") or {}).get("web_width_mm", WEB_WIDTH_MIN_MM)
+    return analyse(design, report["bodies"], float(design.actuators["force_max_N"]), web)
+
+
+HELD = ("motors held (each proximal link clamped at its motor axis B in all six DOFs), "
+        "revolute joints rigid but in z rotation")
+
+
+def structure_rows(st: dict) -> list[dict]:
+    """Datasheet rows of :func:`structure` (boundary conditions stated per row)."""
+    at = f"worst of {len(st['poses'])} poses ({', '.join(st['poses'])})"
+    if st["poses_skipped"]:
+        at += f"; not reachable, skipped: {', '.join(st['poses_skipped'])}"
+    frame = "beam frame of the links (carbon tubes joint to joint, clevises not credited)"
+    free = f"{HELD}; handle free"
+    load = f"{HELD}; force at the handle"
+    b = st["bearing_compliance_estimate"]
+    return [
+        row("first_mode_Hz", "first structural mode (lower of in plane and out of plane)", st["first_mode_Hz"],
+            "Hz", f"{frame} with the bodies' masses, lowest over the poses: {at}", boundary=free),
+        row("first_mode_in_plane_Hz", "first in-plane mode", st["first_mode_in_plane_Hz"], "Hz",
+            f"{frame}, modes with their kinetic energy in x, y; {at}", boundary=free),
+        row("first_mode_out_of_plane_Hz", "first out-of-plane mode", st["first_mode_out_of_plane_Hz"], "Hz",
+            f"{frame}, modes with their kinetic energy in z; {at}", boundary=free),
+        *[row(f"compliance_{ax}_um_per_N", f"handle compliance along {ax}", st["compliance_um_per_N"][ax], "um/N",
+              f"{frame}, {at}" + ("" if ax == "z" else f"; bearing radial compliance not included (estimate "
+                                  f"{b[f'{ax}_um_per_N']:.3g} um/N, Palmgren)"), boundary=load)
+          for ax in "xyz"],
+        row("max_stress_MPa", f"peak stress at force_max_N = {st['force_N']:g} N, worst direction",
+            st["max_stress_MPa"], "MPa", f"von Mises, beam stresses, critical link {st['critical_link']} at "
+            f"{st['critical_pose']} (material strength {st['strength_MPa']:g} MPa); {at}", boundary=load),
+    ]
+
+
 def rows_and_limits(design, report: dict, out_dir=None, simulate_wall: bool = True):
     """(rows, limits, notes) of a pantograph-family build (module docstring)."""
     from cad.data import catalog
@@ -155,11 +197,16 @@ def rows_and_limits(design, report: dict, out_dir=None, simulate_wall: bool = Tr
     if report.get("min_clearance_mm") is not None:
         rows.append(row("min_clearance_mm", "smallest clearance between parts", report["min_clearance_mm"], "mm",
                         "interference check of the build"))
-    rows.append(row("first_mode_Hz", "first structural mode", None, "Hz",
-                    "not modelled for this family (the structure model covers four-bars)"))
+    st = structure(design, report)
+    if st is None:
+        rows.append(row("first_mode_Hz", "first structural mode", None, "Hz",
+                        "not modelled for this family (the structure model covers the planar linkages)"))
+    else:
+        rows += structure_rows(st)
     notes = []
     if out_dir is not None and ok.any():
         chart = write_ellipse_chart(design, out_dir, A, ok)
         if chart:
             notes.append(f"force ellipses over the workspace: {chart}")
-    return rows, pantograph_limits(design, design.actuators.get("force_max_N")), notes
+    return rows, pantograph_limits(design, design.actuators.get("force_max_N"),
+                                   st and st["strength_MPa"], structure=st is not None), notes

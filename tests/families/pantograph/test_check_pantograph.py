@@ -28,11 +28,16 @@ def test_gii_target_against_the_gii_command(tmp_path):
 def test_pantograph_targets_are_validated():
     code, _, err = hapticad("check", "designs/pantograph.toml", "--target", "H11_kg_m2=1e-5")
     assert_one_line_error(code, err, "--target.H11_kg_m2", "unknown target", "gii")
-    # no targets: the default limits (force in every direction >= [actuators] force_max_N = 1 N)
+    # no targets: the default limits (force in every direction >= [actuators] force_max_N = 1 N;
+    # issue 24: first mode >= 150 Hz, stress <= strength / 3, motors held)
     code, out, err = hapticad("check", "designs/pantograph.toml", "--json")
     res = json.loads(out)
-    assert [r["key"] for r in res["rows"]] == ["force_any_dir_N"] and res["rows"][0]["computed"] > 1.0
-    assert code == 0, err
+    rows = {r["key"]: r for r in res["rows"]}
+    assert list(rows) == ["force_any_dir_N", "first_mode_Hz", "max_stress_MPa"]
+    assert rows["force_any_dir_N"]["computed"] > 1.0 and rows["force_any_dir_N"]["ok"]
+    assert rows["max_stress_MPa"]["ok"]
+    # the bundled 5-bar's 8 x 6 mm carbon tubes: first mode ~33 Hz (out of plane) < 150 Hz
+    assert not rows["first_mode_Hz"]["ok"] and code == 1, err
 
 
 def test_twin_pantograph_effective_mass_from_the_build(tmp_path):
