@@ -84,8 +84,9 @@ def test_shape_cache_reads_register_the_file_digest(cache, tmp_path):
 
 @pytest.mark.parametrize("rot_deg", [0.0, 90.0, 180.0, 33.0])
 def test_placed_tight_box_is_occt_box_of_the_placed_shape(cache, rot_deg):
-    from cad.assembly.interference import _tight_box, placed_tight_box
+    from cad.assembly.interference import placed_tight_box
     from cad.export.shapes import placed
+    from cad.occ.bbox import tight_box as _tight_box
 
     shape = _plate()
     c, s = np.cos(np.radians(rot_deg)), np.sin(np.radians(rot_deg))

@@ -346,9 +346,9 @@ def _setup_worker(one_core: bool) -> None:
     import cad.pipeline.inertia  # noqa: F401
 
     if one_core:
-        from OCP.OSD import OSD_ThreadPool
+        from cad.occ.threads import limit_occt_threads
 
-        OSD_ThreadPool.DefaultPool_s().Init(1)
+        limit_occt_threads(1)
 
 
 def _warm_share(raw: dict[str, Any], source: str, fidelity: str, share: tuple[int, int]) -> int:
