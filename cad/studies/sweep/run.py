@@ -343,7 +343,7 @@ def _setup_worker(one_core: bool) -> None:
     from cad.parts.lazy_import import import_build123d
 
     import_build123d()
-    import cad.pipeline.inertia  # noqa: F401
+    import cad.families.fourbar.inertia  # noqa: F401
 
     if one_core:
         from cad.occ.threads import limit_occt_threads
@@ -352,9 +352,9 @@ def _setup_worker(one_core: bool) -> None:
 
 
 def _warm_share(raw: dict[str, Any], source: str, fidelity: str, share: tuple[int, int]) -> int:
-    """This worker's share of :func:`cad.pipeline.inertia.warm_part_cache` for one variant."""
+    """This worker's share of :func:`cad.families.fourbar.inertia.warm_part_cache` for one variant."""
     from cad.design import parse_design
-    from cad.pipeline.inertia import warm_part_cache
+    from cad.families.fourbar.inertia import warm_part_cache
 
     try:
         return warm_part_cache(parse_design(raw, source), fidelity, share)
