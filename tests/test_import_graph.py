@@ -28,7 +28,8 @@ PKG = ROOT / "cad"
 CAD_LIBRARIES = ("build123d", "OCP", "cadquery")
 MATH_PACKAGES = ("kinematics", "dynamics", "actuators", "isotropy", "data", "design")
 #: The modules of cad.massprops that import no CAD library (occt.py is its one OCP module).
-MASSPROPS_PURE = ("cad.massprops.props", "cad.massprops.mesh", "cad.massprops.shells")
+MASSPROPS_PURE = ("cad.massprops.props", "cad.massprops.mesh", "cad.massprops.shells",
+                  "cad.massprops.io")
 #: Packages of the CAD layers (and the layers above them) the math layers must never import.
 CAD_LAYERS = ("parts", "assembly", "pipeline", "families", "export", "report", "cli", "occ",
               "drawings")
