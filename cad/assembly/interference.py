@@ -1018,20 +1018,20 @@ def placed_tight_box(shape, T: np.ndarray) -> np.ndarray:
     ``T`` exactly."""
     from cad.export.shapes import placed
     from cad.io import derived_cache
-    from cad.occ.bbox import tight_box as _tight_box
+    from cad.occ.bbox import tight_box
 
     T = np.asarray(T, float)
     if not derived_cache.enabled():
-        return _tight_box(placed(shape, T))
+        return tight_box(placed(shape, T))
     digest = derived_cache.shape_digest(shape)
     if _signed_permutation(T[:3, :3]):
         lo, hi = (np.array(c) for c in derived_cache.cached_json(
-            "tight-box", [digest], lambda: _tight_box(shape).tolist(), code=_CODE))
+            "tight-box", [digest], lambda: tight_box(shape).tolist(), code=_CODE))
         c = np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1])
                       for z in (lo[2], hi[2])]) @ T[:3, :3].T + T[:3, 3]
         return np.array([c.min(axis=0), c.max(axis=0)])
     return np.array(derived_cache.cached_json(
-        "tight-box-placed", [digest, T], lambda: _tight_box(placed(shape, T)).tolist(), code=_CODE))
+        "tight-box-placed", [digest, T], lambda: tight_box(placed(shape, T)).tolist(), code=_CODE))
 
 
 def _pair_volume(p, q, min_volume_mm3: float) -> float:
