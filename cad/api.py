@@ -212,7 +212,7 @@ def check(design, targets: tuple[str, ...] | list[str] = (), fidelity: str = "in
                 "checked": "default limits (no [targets]): cad/datasheet/limits.py"}
     wanted = {t.key for t in merged}
     if four_bar:
-        from cad.pipeline.inertia import target_values
+        from cad.families.fourbar.inertia import target_values
 
         build_keys = {"min_clearance_mm", "first_mode_Hz", "max_stress_MPa",
                       "compliance_x_um_per_N", "compliance_z_um_per_N"}
@@ -226,7 +226,7 @@ def check(design, targets: tuple[str, ...] | list[str] = (), fidelity: str = "in
                 if r["value"] is not None and r["key"] in DATASHEET_TARGETS:
                     values.setdefault(r["key"], r["value"])
     else:
-        from cad.pipeline.inertia import pantograph_target_values
+        from cad.families.pantograph.targets import pantograph_target_values
 
         values, report = pantograph_target_values(design, fidelity, wanted)
     rows = evaluate(merged, values)
@@ -645,7 +645,8 @@ def _fit_run(design, setup: dict, fidelity: str, dest: Path, name: str, echo=Non
     from cad.datasheet.limits import STRUCTURE_FREE, structure_targets
     from cad.design import parse_design
     from cad.design.writer import rebase_paths
-    from cad.pipeline.inertia import pantograph_target_values, target_values
+    from cad.families.fourbar.inertia import target_values
+    from cad.families.pantograph.targets import pantograph_target_values
     from cad.studies.fit import fit as _fit
 
     four_bar, targets, params = setup["four_bar"], setup["targets"], setup["params"]

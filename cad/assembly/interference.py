@@ -70,7 +70,7 @@ CHECKED = (
     "the exact OCCT common volume); touching is allowed, a common volume is a collision"
 )
 #: Modules whose source the cached exact values (distances, volumes, boxes) depend on.
-_CODE = ("cad.assembly.interference", "cad.export.shapes")
+_CODE = ("cad.assembly.interference", "cad.export.shapes", "cad.occ.bbox", "cad.occ.distance")
 
 
 @dataclass
@@ -563,25 +563,19 @@ def separated_boxes(box_a, Ta, box_b, Tb, eps_mm: float = 1e-9) -> bool:
 def _tight_body_box(p: PartMesh) -> np.ndarray:
     """(2, 3) tight OCCT box of a part in its body frame (computed once per part)."""
     if p.tight_box is None:
-        p.tight_box = _tight_box(p.shape)
+        from cad.occ.bbox import tight_box
+
+        p.tight_box = tight_box(p.shape)
     return p.tight_box
 
 
 def _exact_distance_volume(sa, sb) -> tuple[float, float]:
     """OCCT distance (mm, inf when it fails) of two placed solids, and their common volume
     (mm^3) when they touch or overlap (distance <= :data:`CONTACT_MM`), else 0."""
-    from OCP.BRepAlgoAPI import BRepAlgoAPI_Common
-    from OCP.BRepExtrema import BRepExtrema_DistShapeShape
-    from OCP.BRepGProp import BRepGProp
-    from OCP.GProp import GProp_GProps
+    from cad.occ.distance import common_volume_mm3, min_distance_mm
 
-    ext = BRepExtrema_DistShapeShape(sa, sb)
-    d = float(ext.Value()) if ext.IsDone() else np.inf
-    vol = 0.0
-    if d <= CONTACT_MM:
-        props = GProp_GProps()
-        BRepGProp.VolumeProperties_s(BRepAlgoAPI_Common(sa, sb).Shape(), props)
-        vol = max(0.0, float(props.Mass()))
+    d = min_distance_mm(sa, sb)
+    vol = common_volume_mm3(sa, sb) if d <= CONTACT_MM else 0.0
     return d, vol
 
 
@@ -1009,16 +1003,6 @@ def static_items(instances) -> list[tuple]:
     ]
 
 
-def _tight_box(shape) -> np.ndarray:
-    """(2, 3) tight bounding box of a placed shape (OCCT ``AddOptimal``, mm)."""
-    from OCP.Bnd import Bnd_Box
-    from OCP.BRepBndLib import BRepBndLib
-
-    b = Bnd_Box()
-    BRepBndLib.AddOptimal_s(shape, b, False, False)
-    return np.array(b.Get()).reshape(2, 3)
-
-
 def _signed_permutation(R: np.ndarray) -> bool:
     """True when ``R`` maps each axis onto +-one axis exactly (90-degree turns, flips)."""
     a = np.abs(R)
@@ -1034,36 +1018,28 @@ def placed_tight_box(shape, T: np.ndarray) -> np.ndarray:
     ``T`` exactly."""
     from cad.export.shapes import placed
     from cad.io import derived_cache
+    from cad.occ.bbox import tight_box
 
     T = np.asarray(T, float)
     if not derived_cache.enabled():
-        return _tight_box(placed(shape, T))
+        return tight_box(placed(shape, T))
     digest = derived_cache.shape_digest(shape)
     if _signed_permutation(T[:3, :3]):
         lo, hi = (np.array(c) for c in derived_cache.cached_json(
-            "tight-box", [digest], lambda: _tight_box(shape).tolist(), code=_CODE))
+            "tight-box", [digest], lambda: tight_box(shape).tolist(), code=_CODE))
         c = np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1])
                       for z in (lo[2], hi[2])]) @ T[:3, :3].T + T[:3, 3]
         return np.array([c.min(axis=0), c.max(axis=0)])
     return np.array(derived_cache.cached_json(
-        "tight-box-placed", [digest, T], lambda: _tight_box(placed(shape, T)).tolist(), code=_CODE))
-
-
-def common_volume_mm3(sa, sb) -> float:
-    """Volume of ``sa`` ∩ ``sb`` (OCCT ``BRepAlgoAPI_Common``), mm^3 (0 for touching solids)."""
-    from OCP.BRepAlgoAPI import BRepAlgoAPI_Common
-    from OCP.BRepGProp import BRepGProp
-    from OCP.GProp import GProp_GProps
-
-    props = GProp_GProps()
-    BRepGProp.VolumeProperties_s(BRepAlgoAPI_Common(sa, sb).Shape(), props)
-    return max(0.0, float(props.Mass()))
+        "tight-box-placed", [digest, T], lambda: tight_box(placed(shape, T)).tolist(), code=_CODE))
 
 
 def _pair_volume(p, q, min_volume_mm3: float) -> float:
     """Common volume of two same-body parts ``(name, shape, box, hull, ...)``: their hulls
     first (a hull encloses its part, so no hull overlap means no part overlap), then the
     parts."""
+    from cad.occ.distance import common_volume_mm3
+
     if p[3] is not None or q[3] is not None:
         hp = p[3] if p[3] is not None else p[1]
         hq = q[3] if q[3] is not None else q[1]
@@ -1270,3 +1246,153 @@ def check_model(
                 labels=labels, contact_ok=contact_ok, fail_fast=fail_fast, groups=groups,
                 tf_at=tf_at)
     return merge_same_body(rep, same)
+
+
+# ------------------------------------------------------------- poses of a free body (6-DOF)
+# (was cad/assembly/static.py) The smallest distance between a moving part set and a fixed
+# one at arbitrary rigid poses, for motion that is not a planar crank sweep: the PowerMouse's
+# part-level study :func:`cad.parts.powermouse.motion_clearances` (the builds' check is
+# :func:`check_model`). fcl mesh distance at every pose; OCCT ``BRepExtrema_DistShapeShape``
+# (and the common volume at contact) only at poses whose mesh distance is within
+# ``2 tol + CONFIRM_MARGIN_MM`` of contact, and at the closest pose of each pose group (so
+# the reported minimum is exact).
+def _box_corners_world(box: np.ndarray, T: np.ndarray) -> np.ndarray:
+    c = np.array(list(itertools.product(*box.T)))
+    return c @ T[:3, :3].T + T[:3, 3]
+
+
+def inside_void(box_b, Tb, voids_a, Ta, eps_mm: float = 1e-9) -> bool:
+    """True when the box ``box_b`` placed by ``Tb`` lies inside one of the boxes ``voids_a``
+    ((2, 3) each, in the frame of part a, placed by ``Ta``) that part a leaves empty (the
+    cavity of a shell): then the two share no volume (touching allowed)."""
+    if not voids_a:
+        return False
+    c = _box_corners_world(box_b, Tb)
+    Ti = np.linalg.inv(Ta)
+    local = c @ Ti[:3, :3].T + Ti[:3, 3]
+    return any(
+        bool(
+            np.all(local >= np.asarray(v)[0] - eps_mm)
+            and np.all(local <= np.asarray(v)[1] + eps_mm)
+        )
+        for v in voids_a
+    )
+
+
+def _contact_or_overlap(a, b, box_a, Ta, box_b, Tb, voids_a=(), voids_b=()) -> float:
+    """0 for touching solids, minus the cube root of the common volume for overlapping ones."""
+    if (
+        separated_boxes(box_a, Ta, box_b, Tb)
+        or inside_void(box_b, Tb, voids_a, Ta)
+        or inside_void(box_a, Ta, voids_b, Tb)
+    ):
+        return 0.0
+    from cad.occ.distance import common_volume_mm3
+
+    vol = common_volume_mm3(a, b)
+    return -(vol ** (1 / 3)) if vol > 1e-6 else 0.0
+
+
+def _merged_bvh(parts):
+    import fcl
+
+    v, f = _body_arrays(parts)
+    m = fcl.BVHModel()
+    m.beginModel(len(v), len(f))
+    m.addSubModel(v.astype(np.float64), f.astype(np.int32))
+    m.endModel()
+    return fcl.CollisionObject(m, fcl.Transform())
+
+
+_BVH: dict[int, object] = {}
+
+
+def _body_distance(pa, pb, T: np.ndarray) -> float:
+    """fcl mesh distance between all parts of ``pa`` (placed by ``T``) and all of ``pb``."""
+    import fcl
+
+    for parts in (pa, pb):
+        if id(parts) not in _BVH:
+            _BVH[id(parts)] = _merged_bvh(parts)
+    oa, ob = _BVH[id(pa)], _BVH[id(pb)]
+    oa.setTransform(fcl.Transform(T[:3, :3], T[:3, 3]))
+    ob.setTransform(fcl.Transform())
+    return max(0.0, float(fcl.distance(oa, ob, fcl.DistanceRequest(), fcl.DistanceResult())))
+
+
+def pose_clearances(
+    moving, fixed, poses, *, mesh_tol_mm: float = 0.05, groups=None, near_mm: float | None = None
+) -> dict[str, tuple[float, str, bool]]:
+    """Smallest distance between the moving and the fixed solids at each rigid pose.
+
+    moving, fixed : ``[(name, TopoDS_Shape in the part frame, tf_body_part 4x4[, voids])]``
+        (the moving body's frame / the world frame); ``voids``: boxes ((2, 3), part frame)
+        the part leaves empty, e.g. the cavity of a shell.
+    poses : ``[(label, 4x4 tf_world_moving)]``.
+    groups : ``label -> group key`` (default: first character); the closest pose of each
+        group is measured exactly whatever its distance.
+    near_mm : poses whose mesh distance is below this are measured exactly (default
+        ``2 mesh_tol_mm + CONFIRM_MARGIN_MM``; ``inf``: every pose, the reference of the bench).
+
+    Method: fcl mesh distance of every part pair at every pose (pairs ordered by box gap);
+    at a pose within ``2 tol + margin`` of contact (or the closest of its group), every
+    part pair whose mesh distance is that close is measured exactly: OCCT distance where
+    the meshes are apart; where they touch, contact is certified without a boolean when a
+    face plane of either part's tight box separates the two boxes (flush faces), else the
+    boolean common decides (overlap volume). Returns ``{label: (clearance_mm, "moving
+    part/fixed part", exact)}``; negative = overlap (minus the cube root of the common
+    volume, mm), 0 = contact.
+    """
+    from cad.export.shapes import placed
+    from cad.occ.bbox import tight_box
+    from cad.occ.distance import min_distance_mm
+
+    pm = prepare([(it[0], "m", it[1], it[2]) for it in moving], mesh_tol_mm)
+    pf = prepare([(it[0], "f", it[1], it[2]) for it in fixed], mesh_tol_mm)
+    pa, pb = pm.bodies["m"], pf.bodies["f"]
+    la = [
+        (tight_box(it[1]), np.asarray(it[2], float), it[3] if len(it) > 3 else ()) for it in moving
+    ]
+    lb = [
+        (tight_box(it[1]), np.asarray(it[2], float), it[3] if len(it) > 3 else ()) for it in fixed
+    ]
+    eye = np.eye(4)
+    near_mm = 2 * mesh_tol_mm + CONFIRM_MARGIN_MM if near_mm is None else near_mm
+    _BVH.clear()
+    fast = {label: _body_distance(pa, pb, np.asarray(T, float)) for label, T in poses}
+    group = groups or (lambda s: s[:1])
+    closest: dict[str, str] = {}
+    for label, d in fast.items():
+        g = group(label)
+        if g not in closest or d < fast[closest[g]]:
+            closest[g] = label
+    out = {}
+    _BVH.clear()
+    for label, T in poses:
+        T = np.asarray(T, float)
+        d = fast[label]
+        if d > near_mm and label not in closest.values():
+            out[label] = (float(d), "", False)
+            continue
+        within = d + 2 * mesh_tol_mm + CONFIRM_MARGIN_MM  # pairs that may hold the minimum
+        best = (np.inf, "")
+        for i, p in enumerate(pa):
+            wa = _world_aabb(p.aabb_mm, T)
+            for j, q in enumerate(pb):
+                if _aabb_gap(wa, q.aabb_mm) > within:
+                    continue
+                dm = _part_mesh_distance(p, q, T, eye)
+                if dm > within:
+                    continue
+                sa = placed(p.shape, T)
+                de = 0.0
+                if dm > 1e-6:
+                    de = min_distance_mm(sa, q.shape)
+                if de <= CONTACT_MM:
+                    de = _contact_or_overlap(
+                        sa, q.shape, la[i][0], T @ la[i][1], lb[j][0], lb[j][1], la[i][2], lb[j][2]
+                    )
+                if de < best[0]:
+                    best = (de, f"{p.name}/{q.name}")
+        out[label] = (float(best[0]), best[1], True)
+    return out

@@ -91,19 +91,17 @@ class AssemblyModel:
         hapticad dependency); build123d's ``export_step(model.compound(), path)`` writes it
         with those names and colours. Imports build123d (on first use).
         """
-        from build123d import Compound
-        from OCP.BRepBuilderAPI import BRepBuilderAPI_Copy
-
         from cad.data.materials import get_material
         from cad.export.shapes import placed
         from cad.export.step import _labelled  # a labelled, coloured Solid, as part files are
+        from cad.occ.compound import deep_copy, labelled_compound
 
         children, seen = [], set()
         for inst in self.instances:
             shape = inst.kind.shape
             if inst.kind.name in seen:  # its own geometry: a STEP writer merges instances that
-                shape = BRepBuilderAPI_Copy(shape, True, False).Shape()  # share it (one name)
+                shape = deep_copy(shape)  # share it (one name)
             seen.add(inst.kind.name)
             children.append(_labelled(placed(shape, self.tf_world_part(inst, pose)), inst.name,
                                       get_material(inst.kind.material).color_rgb))
-        return Compound(children=children, label=str(getattr(self.design, "name", "assembly")))
+        return labelled_compound(children, str(getattr(self.design, "name", "assembly")))

@@ -4,7 +4,7 @@ One fresh process with an empty shape cache (``HAPTICAD_CACHE_DIR`` in a tempora
 times, in order:
 
 * ``import`` -- the CAD import (build123d and OCP through the lazy-import shim);
-* ``first`` -- the first evaluation (:func:`cad.pipeline.inertia.target_values` of the Hoeken):
+* ``first`` -- the first evaluation (:func:`cad.families.fourbar.inertia.target_values` of the Hoeken):
   every part built, validated and integrated;
 * ``same`` -- the same design again (median of repeats): every solid and its mass
   properties from the in-process part cache;
@@ -49,7 +49,7 @@ def since(t):
 t = clock()
 from cad.parts.lazy_import import import_build123d
 import_build123d()
-from cad.pipeline.inertia import target_values
+from cad.families.fourbar.inertia import target_values
 from cad.design import parse_design
 from cad.design.fields import load_toml
 from cad.studies.sweep.spec import apply

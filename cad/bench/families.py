@@ -6,7 +6,7 @@
    <= 8 s, issue 16 section 3; measured 27-46 s before the fast-then-exact check), and in
    the full run the plain 5-bar and the twin pantograph;
 2. ``motion check`` (in-process, PowerMouse, 52 extreme poses of the +-3 mm / +-5 deg
-   range): :func:`cad.assembly.static.pose_clearances` as built (fcl mesh distance at every
+   range): :func:`cad.assembly.interference.pose_clearances` as built (fcl mesh distance at every
    pose, exact OCCT only within 2 tol + 0.05 mm of contact and at each group's closest
    pose) against the reference with every pose exact (``near_mm = inf``). Wall and CPU
    times are both recorded: on a shared machine the CPU time (process + children) is the

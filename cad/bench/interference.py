@@ -52,15 +52,10 @@ REFERENCE = "closed form: cylinder pair k has smallest gap g_k at phi = 0 (a sam
 
 
 def _scene(n_poses: int):
-    from build123d import Align, Cylinder
-
     from cad.parts import translation
+    from cad.parts.reference_solids import cylinder_on_xy
 
-    cyl = (
-        Cylinder(RADIUS_MM, HEIGHT_MM, align=(Align.CENTER, Align.CENTER, Align.MIN))
-        .solids()[0]
-        .wrapped
-    )
+    cyl = cylinder_on_xy(RADIUS_MM, HEIGHT_MM)
     items, tfs = [], {}
     phi = np.linspace(-1.0, 1.0, n_poses if n_poses % 2 else n_poses + 1)
     for k, g in enumerate(GAPS_MM):
@@ -105,18 +100,15 @@ def _pair_gaps(rep) -> dict[int, float]:
 
 
 def _occt_brute(items, tfs, phi) -> dict[int, float]:
-    from OCP.BRepExtrema import BRepExtrema_DistShapeShape
-
     from cad.export.shapes import placed
+    from cad.occ.distance import min_distance_mm
 
     out = {}
     for k in range(len(GAPS_MM)):
         (_, fb, fs, ft), (_, mb, ms, mt) = items[2 * k], items[2 * k + 1]
         best = np.inf
         for i in range(len(phi)):
-            d = BRepExtrema_DistShapeShape(
-                placed(fs, tfs[fb][i] @ ft), placed(ms, tfs[mb][i] @ mt)
-            ).Value()
+            d = min_distance_mm(placed(fs, tfs[fb][i] @ ft), placed(ms, tfs[mb][i] @ mt))
             best = min(best, d)
         out[k] = best
     return out
@@ -212,10 +204,9 @@ def _exact_reference(prep, tfs, poses, radius_mm: float) -> dict:
     boxes come within ``radius_mm`` (no mesh involved): ``{(a, b): {pose: distance}}``."""
     import itertools
 
-    from OCP.BRepExtrema import BRepExtrema_DistShapeShape
-
     from cad.assembly import interference as itf
     from cad.export.shapes import placed
+    from cad.occ.distance import min_distance_mm
 
     out: dict = {}
     within = radius_mm + prep.mesh_tol_mm
@@ -228,9 +219,7 @@ def _exact_reference(prep, tfs, poses, radius_mm: float) -> dict:
                 for q in prep.bodies[b]:
                     if itf._aabb_gap(ba, itf._world_aabb(q.aabb_mm, Tb)) > within:
                         continue
-                    ext = BRepExtrema_DistShapeShape(placed(p.shape, Ta), placed(q.shape, Tb))
-                    if ext.IsDone():
-                        best = min(best, float(ext.Value()))
+                    best = min(best, min_distance_mm(placed(p.shape, Ta), placed(q.shape, Tb)))
             out[(a, b)] = {**out.get((a, b), {}), int(i): best}
     return out
 
@@ -241,6 +230,7 @@ def _same_body(repeats: int, brute_force: bool) -> dict:
     intersected without box culling (the reference: culling must lose no collision)."""
     from cad.assembly import interference as itf
     from cad.export.shapes import placed
+    from cad.occ.distance import common_volume_mm3
 
     _, _, asm = _hoeken("fabrication")
     items = itf.static_items(asm.instances)
@@ -259,7 +249,7 @@ def _same_body(repeats: int, brute_force: bool) -> dict:
         t0 = time.perf_counter()
         ps = [(n, b, placed(s, T)) for n, b, s, T, _ in items]
         found = sum(
-            itf.common_volume_mm3(p[2], q[2]) > itf.OVERLAP_MIN_MM3
+            common_volume_mm3(p[2], q[2]) > itf.OVERLAP_MIN_MM3
             for i, p in enumerate(ps)
             for q in ps[i + 1 :]
             if p[1] == q[1]

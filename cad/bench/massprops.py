@@ -105,23 +105,7 @@ def tube_closed_form(
 
 
 # ------------------------------------------------------------------ solids
-def stadium_bar(L_mm: float, R_mm: float, r_mm: float, T_mm: float):
-    """build123d solid of :func:`stadium_bar_closed_form`'s part, centred on the origin."""
-    from build123d import Box, Cylinder, Pos
-
-    body = Box(L_mm, 2 * R_mm, T_mm)
-    for x in (-L_mm / 2, L_mm / 2):
-        body = body + Pos(x, 0, 0) * Cylinder(R_mm, T_mm)
-    for x in (-L_mm / 2, L_mm / 2):
-        body = body - Pos(x, 0, 0) * Cylinder(r_mm, T_mm)
-    return body
-
-
-def tube(Ro_mm: float, Ri_mm: float, h_mm: float):
-    """build123d tube along z, centred on the origin."""
-    from build123d import Cylinder
-
-    return Cylinder(Ro_mm, h_mm) - Cylinder(Ri_mm, h_mm)
+# stadium_bar and tube: cad.parts.reference_solids (part scripts)
 
 
 # ------------------------------------------------------------------ timing
@@ -238,6 +222,8 @@ def run(quick: bool, out_dir: Path) -> dict:
 
     ``quick``: 3 repeats per point instead of 9 (same methods and tolerances).
     """
+    from cad.parts.reference_solids import stadium_bar, tube
+
     repeats = 3 if quick else 9
     rho = BENCH_DENSITY_KG_M3
     points: list[dict] = []

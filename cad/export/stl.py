@@ -1,7 +1,7 @@
 """Binary STL with a controlled absolute tolerance and a watertight check before writing.
 
 The mesh comes from OCCT's ``BRepMesh_IncrementalMesh`` on a fresh copy of the shape
-with an ABSOLUTE chordal deflection (:func:`cad.massprops.mesh.triangulate`), because
+with an ABSOLUTE chordal deflection (:func:`cad.massprops.occt.triangulate`), because
 build123d's ``export_stl`` uses a relative tolerance with a fixed 0.1 rad angle and
 reuses any mesh already on the shape (SPEC "Measured pitfalls"). Meshing is serial
 (``parallel=False``), so the triangle order, hence the file, is the same every run.
@@ -77,7 +77,7 @@ def mesh_shape(
     from cad.io import derived_cache
 
     def make():
-        from cad.massprops.mesh import extract_arrays, triangulate
+        from cad.massprops.occt import extract_arrays, triangulate
 
         v, f = extract_arrays(triangulate(shape, tolerance_mm, angular_tolerance_rad))
         return merge_vertices(v, f)

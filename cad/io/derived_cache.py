@@ -89,14 +89,9 @@ def shape_digest(shape) -> str:
     hit = _DIGESTS.get(id(shape))
     if hit is not None and hit[0] is shape:
         return hit[1]
-    from OCP.BRepTools import BRepTools
-    from OCP.TopTools import TopTools_FormatVersion
+    from cad.occ.shape_io import brep_bytes
 
-    buf = io.BytesIO()
-    BRepTools.Write_s(
-        shape, buf, False, False, TopTools_FormatVersion.TopTools_FormatVersion_VERSION_1
-    )
-    digest = "brep:" + hashlib.sha256(buf.getvalue()).hexdigest()
+    digest = "brep:" + hashlib.sha256(brep_bytes(shape)).hexdigest()
     STATS["digests_computed"] += 1
     register_digest(shape, digest)
     return digest
@@ -122,10 +117,11 @@ def _versions() -> str:
 
 @functools.cache
 def _code_hash(modules: tuple[str, ...]) -> str:
-    """Hash of the source of ``modules``, of this module and of :mod:`cad.tolerances` (the
-    tolerances a derived value is computed to live there, not in the modules that use them)."""
+    """Hash of the source of ``modules``, of this module, of :mod:`cad.occ.shape_io` (the
+    BREP text the digests hash) and of :mod:`cad.tolerances` (the tolerances a derived value
+    is computed to live there, not in the modules that use them)."""
     h = hashlib.sha256()
-    for m in (__name__, "cad.tolerances", *modules):
+    for m in (__name__, "cad.occ.shape_io", "cad.tolerances", *modules):
         spec = importlib.util.find_spec(m)
         h.update(m.encode())
         h.update(Path(spec.origin).read_bytes())

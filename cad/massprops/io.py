@@ -1,4 +1,5 @@
-"""Read solids for ``hapticad massprops``: STEP through OCP, STL through trimesh (lazy imports).
+"""Read solids for ``hapticad massprops``: STEP through OCP (:func:`cad.massprops.occt.read_step`,
+``read_step_named``, ``split_solids``), STL through trimesh (lazy imports).
 
 Both readers assume the file's length unit is the millimetre (STEP files written by
 build123d/cadquery are; an STL carries no unit, mm is the 3D-printing convention).
@@ -6,15 +7,12 @@ build123d/cadquery are; an STL carries no unit, mm is the 3D-printing convention
 
 from __future__ import annotations
 
-import contextlib
 import os
-import sys
-from collections.abc import Iterator
 from pathlib import Path
 
 import numpy as np
 
-from cad.errors import DesignError, GeometryError, MeshError
+from cad.errors import DesignError, MeshError
 
 STEP_SUFFIXES = (".step", ".stp")
 STL_SUFFIXES = (".stl",)
@@ -40,148 +38,6 @@ def file_kind(path: str | Path, field: str = "FILE") -> str:
         )
     guard.check_file(p, kind, field)
     return kind
-
-
-@contextlib.contextmanager
-def _quiet_stdout() -> Iterator[None]:
-    """Silence C++ writes to file descriptor 1 (OCCT's STEP parser prints errors there).
-
-    Keeps stdout clean for ``--json`` output; our own error message says what failed.
-    """
-    sys.stdout.flush()
-    saved = os.dup(1)
-    try:
-        with open(os.devnull, "wb") as null:
-            os.dup2(null.fileno(), 1)
-            try:
-                yield
-            finally:
-                os.dup2(saved, 1)
-    finally:
-        os.close(saved)
-
-
-def read_step(path: str | Path):
-    """Read a STEP file (mm) and return its shape as one OCP ``TopoDS_Shape``.
-
-    Raises :class:`GeometryError` when the file cannot be read or holds no solid.
-    """
-    from OCP.IFSelect import IFSelect_RetDone
-    from OCP.STEPControl import STEPControl_Reader
-    from OCP.TopAbs import TopAbs_SOLID
-    from OCP.TopExp import TopExp_Explorer
-
-    p = Path(path)
-    reader = STEPControl_Reader()
-    with _quiet_stdout():
-        status = reader.ReadFile(str(p))
-        n_roots = reader.TransferRoots() if status == IFSelect_RetDone else 0
-    if status != IFSelect_RetDone:
-        raise GeometryError(f"{p.name}: not a readable STEP file (reader status {status.name})")
-    if n_roots == 0:
-        raise GeometryError(f"{p.name}: STEP file has no transferable shape")
-    shape = reader.OneShape()
-    if shape.IsNull() or not TopExp_Explorer(shape, TopAbs_SOLID).More():
-        raise GeometryError(f"{p.name}: STEP file holds no solid (only surfaces or curves?)")
-    return shape
-
-
-def read_step_named(path: str | Path) -> list[tuple[str | None, object]]:
-    """``[(name, placed shape)]`` of every leaf of a STEP file's product structure (XCAF).
-
-    Names are the instance names of assembly components (hapticad's ``assembly.step`` names
-    every solid after its part instance), else the product name, else ``None``. Raises
-    :class:`GeometryError` when the file cannot be read.
-    """
-    from OCP.IFSelect import IFSelect_RetDone
-    from OCP.STEPCAFControl import STEPCAFControl_Reader
-    from OCP.TCollection import TCollection_ExtendedString
-    from OCP.TDataStd import TDataStd_Name
-    from OCP.TDF import TDF_Label, TDF_LabelSequence
-    from OCP.TDocStd import TDocStd_Document
-    from OCP.TopLoc import TopLoc_Location
-    from OCP.XCAFApp import XCAFApp_Application
-    from OCP.XCAFDoc import XCAFDoc_DocumentTool
-
-    p = Path(path)
-    doc = TDocStd_Document(TCollection_ExtendedString("XmlOcaf"))
-    XCAFApp_Application.GetApplication_s().NewDocument(TCollection_ExtendedString("MDTV-XCAF"), doc)
-    reader = STEPCAFControl_Reader()
-    reader.SetNameMode(True)
-    with _quiet_stdout():
-        status = reader.ReadFile(str(p))
-        ok = status == IFSelect_RetDone and reader.Transfer(doc)
-    if status != IFSelect_RetDone:
-        raise GeometryError(f"{p.name}: not a readable STEP file (reader status {status.name})")
-    if not ok:
-        raise GeometryError(f"{p.name}: STEP file has no transferable shape")
-    tool = XCAFDoc_DocumentTool.ShapeTool_s(doc.Main())
-
-    def name_of(label) -> str | None:
-        attr = TDataStd_Name()
-        if label.FindAttribute(TDataStd_Name.GetID_s(), attr):
-            return attr.Get().ToExtString() or None
-        return None
-
-    out: list[tuple[str | None, object]] = []
-
-    def walk(label, loc, name) -> None:
-        if tool.IsAssembly_s(label):
-            comps = TDF_LabelSequence()
-            tool.GetComponents_s(label, comps)
-            for i in range(1, comps.Length() + 1):
-                comp = comps.Value(i)
-                ref = TDF_Label()
-                if tool.GetReferredShape_s(comp, ref):
-                    walk(ref, loc.Multiplied(tool.GetLocation_s(comp)),
-                         name_of(comp) or name_of(ref))
-            return
-        out.append((name, tool.GetShape_s(label).Moved(loc)))
-
-    free = TDF_LabelSequence()
-    tool.GetFreeShapes(free)
-    for i in range(1, free.Length() + 1):
-        lab = free.Value(i)
-        walk(lab, TopLoc_Location(), name_of(lab))
-    return out
-
-
-def split_solids(shape) -> tuple[list, dict[str, int]]:
-    """``(closed solids, ignored)`` of a STEP shape: only solids bound volume.
-
-    ``ignored`` counts what is not integrated: ``faces`` (free faces, e.g. construction
-    surfaces), ``open_shells`` and ``closed_shells`` (shells that are not solids). A box plus
-    a free face used to integrate to 106000 mm^3 instead of 6000 (issue 12 §2).
-    """
-    from OCP.BRep import BRep_Tool
-    from OCP.TopAbs import TopAbs_FACE, TopAbs_SHELL, TopAbs_SOLID
-    from OCP.TopExp import TopExp_Explorer
-    from OCP.TopoDS import TopoDS
-
-    solids = []
-    exp = TopExp_Explorer(shape, TopAbs_SOLID)
-    while exp.More():
-        solids.append(TopoDS.Solid_s(exp.Current()))
-        exp.Next()
-    ignored = {"faces": 0, "open_shells": 0, "closed_shells": 0}
-    exp = TopExp_Explorer(shape, TopAbs_SHELL, TopAbs_SOLID)
-    while exp.More():
-        shell = TopoDS.Shell_s(exp.Current())
-        n_faces, fexp = 0, TopExp_Explorer(shell, TopAbs_FACE)
-        while fexp.More():
-            n_faces += 1
-            fexp.Next()
-        if n_faces == 1:  # a lone face (STEP readers wrap free faces in a shell)
-            ignored["faces"] += 1
-        else:
-            closed = BRep_Tool.IsClosed_s(shell)
-            ignored["closed_shells" if closed else "open_shells"] += 1
-        exp.Next()
-    exp = TopExp_Explorer(shape, TopAbs_FACE, TopAbs_SHELL)
-    while exp.More():
-        ignored["faces"] += 1
-        exp.Next()
-    return solids, {k: v for k, v in ignored.items() if v}
 
 
 def ignored_text(ignored: dict[str, int]) -> str:

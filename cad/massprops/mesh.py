@@ -38,19 +38,17 @@ import numpy as np
 
 from cad.errors import GeometryError, MeshError
 from cad.massprops.occt import (
+    DEFAULT_ANGULAR_DEFLECTION_RAD,
     MM3_TO_M3,
     MM5_TO_M5,
     MM_TO_M,
-    as_topods,
+    extract_arrays,
+    triangle_count,
+    triangulate,
     volume_props_mm,
 )
 from cad.massprops.props import MassProps
 from cad.tolerances import PART_EXTENT_MAX_MM, PART_EXTENT_MIN_MM
-
-#: OCCT's own default angular deflection for BRepMesh_IncrementalMesh (rad). With an
-#: absolute linear deflection below ~0.1 mm the linear criterion governs on the
-#: radii of haptic parts (>= 1.5 mm): chord angle 2*sqrt(2*tol/r) < 0.5 rad.
-DEFAULT_ANGULAR_DEFLECTION_RAD = 0.5
 
 #: Largest |vertex coordinate| accepted, mm. trimesh merges vertices by hashing
 #: coordinates / tol.merge (1e-8) as int64: beyond 2^63 * 1e-8 ~ 9.2e10 mm the hash
@@ -81,102 +79,6 @@ class MeshMassResult:
     method: str
     notes: tuple[str, ...] = ()
 
-
-def _check_tolerances(linear_tol_mm: float, angular_tol_rad: float) -> None:
-    if not np.isfinite(linear_tol_mm) or linear_tol_mm <= 0:
-        raise GeometryError(f"mesh linear tolerance must be > 0 mm, got {linear_tol_mm!r}")
-    if not np.isfinite(angular_tol_rad) or not 0 < angular_tol_rad <= np.pi:
-        raise GeometryError(
-            f"mesh angular tolerance must be in (0, pi] rad, got {angular_tol_rad!r}"
-        )
-
-
-def triangulate(
-    shape, linear_tol_mm: float, angular_tol_rad: float = DEFAULT_ANGULAR_DEFLECTION_RAD
-):
-    """Mesh a fresh copy of ``shape`` with OCCT and return the meshed ``TopoDS_Shape``.
-
-    Parameters
-    ----------
-    shape : build123d Shape or OCP TopoDS_Shape (mm). Left untouched (its own cached
-        triangulation, if any, is neither used nor changed).
-    linear_tol_mm : absolute linear (chordal) deflection, mm.
-    angular_tol_rad : angular deflection, rad.
-
-    Raises :class:`MeshError` when a face ends up without a triangulation.
-    """
-    from OCP.BRep import BRep_Tool
-    from OCP.BRepBuilderAPI import BRepBuilderAPI_Copy
-    from OCP.BRepMesh import BRepMesh_IncrementalMesh
-    from OCP.BRepTools import BRepTools
-    from OCP.TopAbs import TopAbs_FACE
-    from OCP.TopExp import TopExp_Explorer
-    from OCP.TopLoc import TopLoc_Location
-    from OCP.TopoDS import TopoDS
-
-    _check_tolerances(linear_tol_mm, angular_tol_rad)
-    copy = BRepBuilderAPI_Copy(as_topods(shape), True, False).Shape()
-    BRepTools.Clean_s(copy)
-    mesher = BRepMesh_IncrementalMesh(
-        copy, float(linear_tol_mm), False, float(angular_tol_rad), False
-    )
-    if not mesher.IsDone():
-        raise MeshError(f"OCCT meshing failed at linear tolerance {linear_tol_mm} mm")
-    exp = TopExp_Explorer(copy, TopAbs_FACE)
-    i = 0
-    while exp.More():
-        loc = TopLoc_Location()
-        if BRep_Tool.Triangulation_s(TopoDS.Face_s(exp.Current()), loc) is None:
-            raise MeshError(
-                f"OCCT left face #{i} without a triangulation (tolerance {linear_tol_mm} mm)"
-            )
-        exp.Next()
-        i += 1
-    return copy
-
-
-def extract_arrays(meshed) -> tuple[np.ndarray, np.ndarray]:
-    """Triangle soup of a meshed ``TopoDS_Shape``: ``(vertices_mm (N, 3), faces (M, 3) int64)``.
-
-    Nodes are in the global frame (face locations applied); triangles of REVERSED faces
-    are flipped so every normal points out of the solid. Vertices on shared edges are
-    duplicated per face (merge before any topology check).
-    """
-    from OCP.BRep import BRep_Tool
-    from OCP.TopAbs import TopAbs_FACE, TopAbs_REVERSED
-    from OCP.TopExp import TopExp_Explorer
-    from OCP.TopLoc import TopLoc_Location
-    from OCP.TopoDS import TopoDS
-
-    verts: list[np.ndarray] = []
-    faces: list[np.ndarray] = []
-    offset = 0
-    exp = TopExp_Explorer(as_topods(meshed), TopAbs_FACE)
-    while exp.More():
-        face = TopoDS.Face_s(exp.Current())
-        loc = TopLoc_Location()
-        tri = BRep_Tool.Triangulation_s(face, loc)
-        exp.Next()
-        if tri is None:
-            raise MeshError("a face has no triangulation; call triangulate() first")
-        n = tri.NbNodes()
-        nodes = np.array([tri.Node(i).Coord() for i in range(1, n + 1)], dtype=float).reshape(n, 3)
-        trsf = loc.Transformation()
-        if not loc.IsIdentity():
-            A = np.array([[trsf.Value(r, c) for c in (1, 2, 3, 4)] for r in (1, 2, 3)])
-            nodes = nodes @ A[:, :3].T + A[:, 3]
-        t = np.array(
-            [tri.Triangle(i).Get() for i in range(1, tri.NbTriangles() + 1)], dtype=np.int64
-        )
-        t = t.reshape(-1, 3) - 1 + offset
-        if face.Orientation() == TopAbs_REVERSED:
-            t = t[:, [0, 2, 1]]
-        verts.append(nodes)
-        faces.append(t)
-        offset += n
-    if not faces:
-        raise MeshError("shape has no faces to mesh")
-    return np.concatenate(verts), np.concatenate(faces)
 
 
 def _merged_trimesh(vertices_mm, faces, what: str = "mesh"):
@@ -352,21 +254,9 @@ def occt_triangulation_mass_props(
         shared edges once, so a valid solid gives a closed mesh).
     allow_open : with ``check_watertight``, accept an open mesh instead of raising.
     """
-    from OCP.BRep import BRep_Tool
-    from OCP.TopAbs import TopAbs_FACE
-    from OCP.TopExp import TopExp_Explorer
-    from OCP.TopLoc import TopLoc_Location
-    from OCP.TopoDS import TopoDS
-
     meshed = triangulate(shape, linear_tol_mm, angular_tol_rad)
     vol, com, inertia = volume_props_mm(meshed, use_triangulation=True)
-    n_tri = 0
-    exp = TopExp_Explorer(meshed, TopAbs_FACE)
-    while exp.More():
-        n_tri += BRep_Tool.Triangulation_s(
-            TopoDS.Face_s(exp.Current()), TopLoc_Location()
-        ).NbTriangles()
-        exp.Next()
+    n_tri = triangle_count(meshed)
     watertight = None
     if check_watertight:
         v, f = extract_arrays(meshed)

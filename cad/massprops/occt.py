@@ -1,4 +1,8 @@
-"""Exact mass properties of B-rep solids by OCCT's volume integration (OCP, imported lazily).
+"""Exact mass properties of B-rep solids by OCCT's volume integration (OCP, imported lazily);
+OCCT's triangulation of a shape (:func:`triangulate`, :func:`extract_arrays`, used by
+:mod:`cad.massprops.mesh` and the STL writer) and STEP reading (:func:`read_step`,
+:func:`read_step_named`, :func:`split_solids`, used by :mod:`cad.massprops.io`): the one
+module of ``cad.massprops`` that imports OCP (issue 23; ``tests/architecture/test_import_graph.py``).
 
 Shapes are in millimetres. OCCT integrates with unit density in model units:
 ``Mass()`` is the volume in mm^3, ``CentreOfMass()`` is in mm, ``MatrixOfInertia()``
@@ -22,11 +26,16 @@ for the benchmark only.
 
 from __future__ import annotations
 
+import contextlib
+import os
+import sys
 from collections import OrderedDict
+from collections.abc import Iterator
+from pathlib import Path
 
 import numpy as np
 
-from cad.errors import GeometryError
+from cad.errors import GeometryError, MeshError
 from cad.massprops.props import MassProps
 
 #: mm^3 -> m^3
@@ -320,3 +329,272 @@ def cached_unit_props(shape):
     while len(_PROPS_MEMO) > PROPS_MEMO_MAX:
         _PROPS_MEMO.popitem(last=False)
     return out
+
+
+# ------------------------------------------------------------------------ meshing
+# (was in cad/massprops/mesh.py) OCCT's triangulation of a fresh copy at an absolute
+# deflection; the mesh methods of cad.massprops.mesh and the STL writer use it.
+#: OCCT's own default angular deflection for BRepMesh_IncrementalMesh (rad). With an
+#: absolute linear deflection below ~0.1 mm the linear criterion governs on the
+#: radii of haptic parts (>= 1.5 mm): chord angle 2*sqrt(2*tol/r) < 0.5 rad.
+DEFAULT_ANGULAR_DEFLECTION_RAD = 0.5
+
+
+def _check_tolerances(linear_tol_mm: float, angular_tol_rad: float) -> None:
+    if not np.isfinite(linear_tol_mm) or linear_tol_mm <= 0:
+        raise GeometryError(f"mesh linear tolerance must be > 0 mm, got {linear_tol_mm!r}")
+    if not np.isfinite(angular_tol_rad) or not 0 < angular_tol_rad <= np.pi:
+        raise GeometryError(
+            f"mesh angular tolerance must be in (0, pi] rad, got {angular_tol_rad!r}"
+        )
+
+
+def triangulate(
+    shape, linear_tol_mm: float, angular_tol_rad: float = DEFAULT_ANGULAR_DEFLECTION_RAD
+):
+    """Mesh a fresh copy of ``shape`` with OCCT and return the meshed ``TopoDS_Shape``.
+
+    Parameters
+    ----------
+    shape : build123d Shape or OCP TopoDS_Shape (mm). Left untouched (its own cached
+        triangulation, if any, is neither used nor changed).
+    linear_tol_mm : absolute linear (chordal) deflection, mm.
+    angular_tol_rad : angular deflection, rad.
+
+    Raises :class:`MeshError` when a face ends up without a triangulation.
+    """
+    from OCP.BRep import BRep_Tool
+    from OCP.BRepBuilderAPI import BRepBuilderAPI_Copy
+    from OCP.BRepMesh import BRepMesh_IncrementalMesh
+    from OCP.BRepTools import BRepTools
+    from OCP.TopAbs import TopAbs_FACE
+    from OCP.TopExp import TopExp_Explorer
+    from OCP.TopLoc import TopLoc_Location
+    from OCP.TopoDS import TopoDS
+
+    _check_tolerances(linear_tol_mm, angular_tol_rad)
+    copy = BRepBuilderAPI_Copy(as_topods(shape), True, False).Shape()
+    BRepTools.Clean_s(copy)
+    mesher = BRepMesh_IncrementalMesh(
+        copy, float(linear_tol_mm), False, float(angular_tol_rad), False
+    )
+    if not mesher.IsDone():
+        raise MeshError(f"OCCT meshing failed at linear tolerance {linear_tol_mm} mm")
+    exp = TopExp_Explorer(copy, TopAbs_FACE)
+    i = 0
+    while exp.More():
+        loc = TopLoc_Location()
+        if BRep_Tool.Triangulation_s(TopoDS.Face_s(exp.Current()), loc) is None:
+            raise MeshError(
+                f"OCCT left face #{i} without a triangulation (tolerance {linear_tol_mm} mm)"
+            )
+        exp.Next()
+        i += 1
+    return copy
+
+
+def extract_arrays(meshed) -> tuple[np.ndarray, np.ndarray]:
+    """Triangle soup of a meshed ``TopoDS_Shape``: ``(vertices_mm (N, 3), faces (M, 3) int64)``.
+
+    Nodes are in the global frame (face locations applied); triangles of REVERSED faces
+    are flipped so every normal points out of the solid. Vertices on shared edges are
+    duplicated per face (merge before any topology check).
+    """
+    from OCP.BRep import BRep_Tool
+    from OCP.TopAbs import TopAbs_FACE, TopAbs_REVERSED
+    from OCP.TopExp import TopExp_Explorer
+    from OCP.TopLoc import TopLoc_Location
+    from OCP.TopoDS import TopoDS
+
+    verts: list[np.ndarray] = []
+    faces: list[np.ndarray] = []
+    offset = 0
+    exp = TopExp_Explorer(as_topods(meshed), TopAbs_FACE)
+    while exp.More():
+        face = TopoDS.Face_s(exp.Current())
+        loc = TopLoc_Location()
+        tri = BRep_Tool.Triangulation_s(face, loc)
+        exp.Next()
+        if tri is None:
+            raise MeshError("a face has no triangulation; call triangulate() first")
+        n = tri.NbNodes()
+        nodes = np.array([tri.Node(i).Coord() for i in range(1, n + 1)], dtype=float).reshape(n, 3)
+        trsf = loc.Transformation()
+        if not loc.IsIdentity():
+            A = np.array([[trsf.Value(r, c) for c in (1, 2, 3, 4)] for r in (1, 2, 3)])
+            nodes = nodes @ A[:, :3].T + A[:, 3]
+        t = np.array(
+            [tri.Triangle(i).Get() for i in range(1, tri.NbTriangles() + 1)], dtype=np.int64
+        )
+        t = t.reshape(-1, 3) - 1 + offset
+        if face.Orientation() == TopAbs_REVERSED:
+            t = t[:, [0, 2, 1]]
+        verts.append(nodes)
+        faces.append(t)
+        offset += n
+    if not faces:
+        raise MeshError("shape has no faces to mesh")
+    return np.concatenate(verts), np.concatenate(faces)
+
+
+def triangle_count(meshed) -> int:
+    """Number of triangles of a meshed ``TopoDS_Shape`` (every face's triangulation)."""
+    from OCP.BRep import BRep_Tool
+    from OCP.TopAbs import TopAbs_FACE
+    from OCP.TopExp import TopExp_Explorer
+    from OCP.TopLoc import TopLoc_Location
+    from OCP.TopoDS import TopoDS
+
+    n_tri = 0
+    exp = TopExp_Explorer(meshed, TopAbs_FACE)
+    while exp.More():
+        n_tri += BRep_Tool.Triangulation_s(
+            TopoDS.Face_s(exp.Current()), TopLoc_Location()
+        ).NbTriangles()
+        exp.Next()
+    return n_tri
+
+
+# ------------------------------------------------------------------ STEP files
+# (was in cad/massprops/io.py) STEP files read for ``hapticad massprops`` (mm assumed: STEP
+# files written by build123d/cadquery are).
+@contextlib.contextmanager
+def _quiet_stdout() -> Iterator[None]:
+    """Silence C++ writes to file descriptor 1 (OCCT's STEP parser prints errors there).
+
+    Keeps stdout clean for ``--json`` output; our own error message says what failed.
+    """
+    sys.stdout.flush()
+    saved = os.dup(1)
+    try:
+        with open(os.devnull, "wb") as null:
+            os.dup2(null.fileno(), 1)
+            try:
+                yield
+            finally:
+                os.dup2(saved, 1)
+    finally:
+        os.close(saved)
+
+
+def read_step(path: str | Path):
+    """Read a STEP file (mm) and return its shape as one OCP ``TopoDS_Shape``.
+
+    Raises :class:`GeometryError` when the file cannot be read or holds no solid.
+    """
+    from OCP.IFSelect import IFSelect_RetDone
+    from OCP.STEPControl import STEPControl_Reader
+    from OCP.TopAbs import TopAbs_SOLID
+    from OCP.TopExp import TopExp_Explorer
+
+    p = Path(path)
+    reader = STEPControl_Reader()
+    with _quiet_stdout():
+        status = reader.ReadFile(str(p))
+        n_roots = reader.TransferRoots() if status == IFSelect_RetDone else 0
+    if status != IFSelect_RetDone:
+        raise GeometryError(f"{p.name}: not a readable STEP file (reader status {status.name})")
+    if n_roots == 0:
+        raise GeometryError(f"{p.name}: STEP file has no transferable shape")
+    shape = reader.OneShape()
+    if shape.IsNull() or not TopExp_Explorer(shape, TopAbs_SOLID).More():
+        raise GeometryError(f"{p.name}: STEP file holds no solid (only surfaces or curves?)")
+    return shape
+
+
+def read_step_named(path: str | Path) -> list[tuple[str | None, object]]:
+    """``[(name, placed shape)]`` of every leaf of a STEP file's product structure (XCAF).
+
+    Names are the instance names of assembly components (hapticad's ``assembly.step`` names
+    every solid after its part instance), else the product name, else ``None``. Raises
+    :class:`GeometryError` when the file cannot be read.
+    """
+    from OCP.IFSelect import IFSelect_RetDone
+    from OCP.STEPCAFControl import STEPCAFControl_Reader
+    from OCP.TCollection import TCollection_ExtendedString
+    from OCP.TDataStd import TDataStd_Name
+    from OCP.TDF import TDF_Label, TDF_LabelSequence
+    from OCP.TDocStd import TDocStd_Document
+    from OCP.TopLoc import TopLoc_Location
+    from OCP.XCAFApp import XCAFApp_Application
+    from OCP.XCAFDoc import XCAFDoc_DocumentTool
+
+    p = Path(path)
+    doc = TDocStd_Document(TCollection_ExtendedString("XmlOcaf"))
+    XCAFApp_Application.GetApplication_s().NewDocument(TCollection_ExtendedString("MDTV-XCAF"), doc)
+    reader = STEPCAFControl_Reader()
+    reader.SetNameMode(True)
+    with _quiet_stdout():
+        status = reader.ReadFile(str(p))
+        ok = status == IFSelect_RetDone and reader.Transfer(doc)
+    if status != IFSelect_RetDone:
+        raise GeometryError(f"{p.name}: not a readable STEP file (reader status {status.name})")
+    if not ok:
+        raise GeometryError(f"{p.name}: STEP file has no transferable shape")
+    tool = XCAFDoc_DocumentTool.ShapeTool_s(doc.Main())
+
+    def name_of(label) -> str | None:
+        attr = TDataStd_Name()
+        if label.FindAttribute(TDataStd_Name.GetID_s(), attr):
+            return attr.Get().ToExtString() or None
+        return None
+
+    out: list[tuple[str | None, object]] = []
+
+    def walk(label, loc, name) -> None:
+        if tool.IsAssembly_s(label):
+            comps = TDF_LabelSequence()
+            tool.GetComponents_s(label, comps)
+            for i in range(1, comps.Length() + 1):
+                comp = comps.Value(i)
+                ref = TDF_Label()
+                if tool.GetReferredShape_s(comp, ref):
+                    walk(ref, loc.Multiplied(tool.GetLocation_s(comp)),
+                         name_of(comp) or name_of(ref))
+            return
+        out.append((name, tool.GetShape_s(label).Moved(loc)))
+
+    free = TDF_LabelSequence()
+    tool.GetFreeShapes(free)
+    for i in range(1, free.Length() + 1):
+        lab = free.Value(i)
+        walk(lab, TopLoc_Location(), name_of(lab))
+    return out
+
+
+def split_solids(shape) -> tuple[list, dict[str, int]]:
+    """``(closed solids, ignored)`` of a STEP shape: only solids bound volume.
+
+    ``ignored`` counts what is not integrated: ``faces`` (free faces, e.g. construction
+    surfaces), ``open_shells`` and ``closed_shells`` (shells that are not solids). A box plus
+    a free face used to integrate to 106000 mm^3 instead of 6000 (issue 12 §2).
+    """
+    from OCP.BRep import BRep_Tool
+    from OCP.TopAbs import TopAbs_FACE, TopAbs_SHELL, TopAbs_SOLID
+    from OCP.TopExp import TopExp_Explorer
+    from OCP.TopoDS import TopoDS
+
+    solids = []
+    exp = TopExp_Explorer(shape, TopAbs_SOLID)
+    while exp.More():
+        solids.append(TopoDS.Solid_s(exp.Current()))
+        exp.Next()
+    ignored = {"faces": 0, "open_shells": 0, "closed_shells": 0}
+    exp = TopExp_Explorer(shape, TopAbs_SHELL, TopAbs_SOLID)
+    while exp.More():
+        shell = TopoDS.Shell_s(exp.Current())
+        n_faces, fexp = 0, TopExp_Explorer(shell, TopAbs_FACE)
+        while fexp.More():
+            n_faces += 1
+            fexp.Next()
+        if n_faces == 1:  # a lone face (STEP readers wrap free faces in a shell)
+            ignored["faces"] += 1
+        else:
+            closed = BRep_Tool.IsClosed_s(shell)
+            ignored["closed_shells" if closed else "open_shells"] += 1
+        exp.Next()
+    exp = TopExp_Explorer(shape, TopAbs_FACE, TopAbs_SHELL)
+    while exp.More():
+        ignored["faces"] += 1
+        exp.Next()
+    return solids, {k: v for k, v in ignored.items() if v}

@@ -879,11 +879,11 @@ def motion_clearances(
     Mesh distances (python-fcl) at every pose; exact OCCT (BRepExtrema, and the boolean
     common at contact) only within 2 mesh_tol_mm + 0.05 mm of contact and at the closest
     pose of the translations, of the rotations and at the centre
-    (:func:`cad.assembly.static.pose_clearances`). Touching (distance 0) at the range limit
+    (:func:`cad.assembly.interference.pose_clearances`). Touching (distance 0) at the range limit
     counts as 0 when the solids do not overlap (common volume < 1e-6 mm^3); an overlap gives
     a negative clearance.
     """
-    from cad.assembly.static import pose_clearances
+    from cad.assembly.interference import pose_clearances
 
     fl = flotor_solids(g) if flotor is None else flotor
     st = stator_solids(g) if stator is None else stator

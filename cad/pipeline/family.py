@@ -379,16 +379,12 @@ def check_assembly(instances, tf_world_body: dict) -> dict:
 
 def lowest_z_mm(instances, tf_world_body: dict) -> tuple[float, str]:
     """Lowest world z of any solid (from its exact bounding box, mm) and the instance there."""
-    from OCP.Bnd import Bnd_Box
-    from OCP.BRepBndLib import BRepBndLib
-
     from cad.export.shapes import placed
+    from cad.occ.bbox import tight_box
 
     best = (math.inf, "")
     for inst in instances:
-        b = Bnd_Box()
-        BRepBndLib.AddOptimal_s(placed(inst.kind.shape, world_tf(inst, tf_world_body)), b, False)
-        z = b.CornerMin().Z()
+        z = float(tight_box(placed(inst.kind.shape, world_tf(inst, tf_world_body)))[0, 2])
         if z < best[0]:
             best = (z, inst.name)
     return best

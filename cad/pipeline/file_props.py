@@ -143,8 +143,8 @@ def _step_props(path: Path, rho: float, mat_name: str | None, defaulted: bool):
     name = path.name
     named: list[tuple[str | None, object]] = []
     ignored: dict[str, int] = {}
-    for leaf_name, leaf in mpio.read_step_named(path):
-        solids, ign = mpio.split_solids(leaf)
+    for leaf_name, leaf in occt.read_step_named(path):
+        solids, ign = occt.split_solids(leaf)
         named += [(leaf_name, s) for s in solids]
         for k, n in ign.items():
             ignored[k] = ignored.get(k, 0) + n

@@ -12,7 +12,7 @@ The search runs on optuna, the engine of ``hapticad optimize`` (:mod:`cad.studie
   of ``12 + 6 x (number of free parameters)`` evaluations, the start enqueued first.
 
 Every evaluation rebuilds the parts and integrates them exactly
-(:func:`cad.pipeline.inertia.inertia_model`); a parameter value for which the parts
+(:func:`cad.families.fourbar.inertia.inertia_model`); a parameter value for which the parts
 cannot be built counts as infeasible. The log of every evaluation is returned.
 
 Why not the plate-thickness shortcut alone: a bar's own mass properties scale

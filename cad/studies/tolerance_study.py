@@ -88,7 +88,7 @@ SOLIDS_SOURCE = "solids (fidelity inertia, as hapticad check)"
 def inertia_for_m11(design, inertia):
     """H for M11: the --inertia flag, else the design's ``[inertia]``, else the solids.
 
-    The solids are the parts ``hapticad check`` builds (:func:`cad.pipeline.inertia.inertia_model`,
+    The solids are the parts ``hapticad check`` builds (:func:`cad.families.fourbar.inertia.inertia_model`,
     fidelity ``inertia``, through the derived cache): a target's value is what the design
     should reach, never its inertia. Returns (InertiaCoefficients, source text). Raises
     DesignError when the parts cannot carry their joints (give ``--inertia`` instead).
@@ -98,7 +98,7 @@ def inertia_for_m11(design, inertia):
     if design.inertia is not None:
         return design.inertia, "[inertia]"
     from cad.dynamics.inertia import InertiaCoefficients
-    from cad.pipeline.inertia import inertia_model
+    from cad.families.fourbar.inertia import inertia_model
 
     design.check_buildable()
     model = inertia_model(design, fidelity="inertia")

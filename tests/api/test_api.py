@@ -63,7 +63,7 @@ def test_api_check_and_mass_properties(tmp_path):
 def test_build_design_stays_callable_after_subpackage_imports():
     """`cad.pipeline` is the subpackage; the API function is `cad.build_design` and no later
     import can shadow it."""
-    import cad.pipeline.inertia  # noqa: F401  (binds the subpackage as cad.pipeline)
+    import cad.pipeline.family  # noqa: F401  (binds the subpackage as cad.pipeline)
 
     assert callable(cad.build_design) and callable(cad.check)
     assert cad.build_design.__module__ == "cad.api"

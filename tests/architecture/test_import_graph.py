@@ -8,6 +8,10 @@
   function-level (lazy) imports included: read from the source with :mod:`ast`.
 * Importing every module of those layers in a fresh interpreter loads no CAD library
   (build123d, OCP, cadquery), read from ``sys.modules``.
+* Only ``cad/occ/``, ``cad/parts/``, ``cad/massprops/occt.py`` and ``cad/export/`` (its
+  ``drawings/`` included) import a CAD library (OCP, build123d, cadquery, bd_warehouse,
+  ocp_vscode), at module level or inside a function (issue 23's layout: ``occ/`` is "the only
+  non-part package that imports OCP/build123d besides parts/, massprops/occt, export/").
 """
 
 from __future__ import annotations
@@ -23,11 +27,17 @@ ROOT = Path(__file__).resolve().parents[2]
 PKG = ROOT / "cad"
 CAD_LIBRARIES = ("build123d", "OCP", "cadquery")
 MATH_PACKAGES = ("kinematics", "dynamics", "actuators", "isotropy", "data", "design")
-#: The modules of cad.massprops that are pure numpy (occt.py and io.py read B-reps with OCP).
-MASSPROPS_PURE = ("cad.massprops.props", "cad.massprops.mesh", "cad.massprops.shells")
+#: The modules of cad.massprops that import no CAD library (occt.py is its one OCP module).
+MASSPROPS_PURE = ("cad.massprops.props", "cad.massprops.mesh", "cad.massprops.shells",
+                  "cad.massprops.io")
 #: Packages of the CAD layers (and the layers above them) the math layers must never import.
 CAD_LAYERS = ("parts", "assembly", "pipeline", "families", "export", "report", "cli", "occ",
               "drawings")
+#: Libraries only :data:`CAD_IMPORTERS` may import (issue 23).
+CAD_IMPORT_LIBRARIES = ("OCP", "build123d", "cadquery", "bd_warehouse", "ocp_vscode")
+#: The modules allowed to import them: module-name prefixes (a package and what is below it)
+#: and single modules.
+CAD_IMPORTERS = ("cad.occ", "cad.parts", "cad.export", "cad.massprops.occt")
 #: Known edges into a CAD-layer package, each with its reason (none today: the isotropy
 #: studies write their charts with cad.io.figures, the writer cad.report.figures re-exports).
 KNOWN: set[tuple[str, str]] = set()
@@ -136,3 +146,53 @@ def test_importing_the_math_layers_loads_no_cad_library():
     assert r.returncode == 0, r.stderr
     assert json.loads(r.stdout.strip().splitlines()[-1]) == []
     assert len(mods) > 40  # the whole layer, not an empty list
+
+
+def cad_library_imports(module: str) -> set[str]:
+    """Top-level names of the CAD libraries (:data:`CAD_IMPORT_LIBRARIES`) ``module`` imports
+    anywhere in its source: ``import``/``from`` statements at any depth (inside functions
+    too) and ``importlib.import_module("...")``/``__import__("...")`` with a literal name."""
+    out: set[str] = set()
+    for node in ast.walk(ast.parse(MODULES[module].read_text())):
+        names: list[str] = []
+        if isinstance(node, ast.Import):
+            names = [a.name for a in node.names]
+        elif isinstance(node, ast.ImportFrom) and not node.level and node.module:
+            names = [node.module]
+        elif (isinstance(node, ast.Call) and node.args
+              and isinstance(node.args[0], ast.Constant) and isinstance(node.args[0].value, str)
+              and ((isinstance(node.func, ast.Attribute) and node.func.attr == "import_module")
+                   or (isinstance(node.func, ast.Name) and node.func.id == "__import__"))):
+            names = [node.args[0].value]
+        out |= {n.split(".")[0] for n in names} & set(CAD_IMPORT_LIBRARIES)
+    return out
+
+
+def _may_import_cad(module: str) -> bool:
+    return any(module == p or module.startswith(p + ".") for p in CAD_IMPORTERS)
+
+
+def test_the_cad_library_scan_sees_lazy_imports():
+    """The scan finds function-level imports: cad.occ.bbox imports OCP inside ``tight_box``,
+    cad.parts.lazy_import names build123d to ``importlib.import_module``; a plain module that
+    only mentions the names in text (cad.data.catalog reads bd_warehouse's CSV tables) has
+    none."""
+    assert cad_library_imports("cad.occ.bbox") == {"OCP"}
+    assert "build123d" in cad_library_imports("cad.parts.lazy_import")
+    assert cad_library_imports("cad.data.catalog") == set()
+    assert all(_may_import_cad(m) for m in ("cad.occ", "cad.export.drawings.features",
+                                            "cad.massprops.occt", "cad.parts.pen"))
+    assert not any(_may_import_cad(m) for m in ("cad.occupancy", "cad.massprops.mesh",
+                                                "cad.exporter", "cad.assembly.interference"))
+
+
+def test_only_the_cad_layers_import_cad_libraries():
+    """Every module under ``cad/`` outside :data:`CAD_IMPORTERS` imports none of OCP,
+    build123d, cadquery, bd_warehouse, ocp_vscode (it calls ``cad.occ``, a part script or a
+    writer of ``cad.export`` instead)."""
+    offenders = sorted(
+        f"{m}: {', '.join(sorted(libs))}"
+        for m in MODULES if not _may_import_cad(m) and (libs := cad_library_imports(m))
+    )
+    assert offenders == []
+    assert sum(1 for m in MODULES if cad_library_imports(m)) > 20  # the importers are seen

@@ -40,31 +40,19 @@ from pathlib import Path
 
 import numpy as np
 
+from cad.families import SHARED_CODE_DEPS
 from cad.families.fourbar.layout import LINKS, PREVIEW_POSES, check_layout, sweep_angles
 from cad.tolerances import PREVIEW_STL_TOL_MM
 
 __all__ = ["LINKS", "PREVIEW_POSES", "PREVIEW_STL_TOL_MM", "build", "cache_inputs", "check_layout", "sweep_angles"]
 
 #: Source the output depends on (build cache key): any change there rebuilds.
-CODE_DEPS = (
-    "pipeline",
-    "families",
-    "datasheet",
+CODE_DEPS = SHARED_CODE_DEPS + (
     "firmware",  # --formats firmware (cad/firmware)
-    "report",  # report.html, the stroke GIF and render (cad/report)
-    "parts",
-    "assembly",
-    "export",
-    "massprops",
     "kinematics",
     "dynamics",
     "structure",
-    "design",
-    "io",
-    "data",
     "analysis.py",
-    "tolerances.py",
-    "errors.py",
     "__init__.py",
 )
 #: This builder writes the simulator formats (mjcf, urdf; :mod:`cad.families.fourbar.sim`).

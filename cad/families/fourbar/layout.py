@@ -179,7 +179,7 @@ def assemble(
     strict : refuse a design with no clear layer order (:func:`plan_layers`, the build
         without ``allow_interference``); else the best order, its conflicts listed.
     deferred : part solids as :class:`cad.parts.part_cache.DeferredShape` where their mass
-        properties are cached (:func:`cad.pipeline.inertia.inertia_model`).
+        properties are cached (:func:`cad.families.fourbar.inertia.inertia_model`).
 
     Returns the model: instances on bodies ground / crank / coupler / rocker (mm, body =
     link frame), ``tf_world_body`` ``{body: (4, 4)}`` at the exported crank angle,

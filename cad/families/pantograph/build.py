@@ -63,6 +63,7 @@ from pathlib import Path
 import numpy as np
 
 from cad.errors import DesignError
+from cad.families import SHARED_CODE_DEPS
 
 # every name of the former single-module builder stays importable from here
 from cad.families.pantograph.clearances import (  # noqa: F401
@@ -118,24 +119,11 @@ from cad.families.pantograph.placement import (  # noqa: F401
 from cad.families.pantograph.report import PAPER_TABLE1, _md_rows, _report  # noqa: F401
 
 #: Source the output depends on (build cache key).
-CODE_DEPS = (
-    "pipeline",
-    "families",
-    "datasheet",
+CODE_DEPS = SHARED_CODE_DEPS + (
     "firmware",  # --formats firmware (cad/firmware)
-    "report",  # report.html, the stroke GIF and render (cad/report)
-    "parts",
-    "assembly",
-    "export",
-    "massprops",
     "kinematics",
     "isotropy",
-    "design",
-    "io",
-    "data",
-    "errors.py",
     "dynamics",  # eq (25) of the firmware's wall
-    "tolerances.py",
 )
 
 

@@ -2,7 +2,7 @@
 
 Layout and frames: :mod:`cad.families.pen.layout`. Every kind is a
 :class:`cad.parts.PartKind`; the link hardware is the twin pantograph's part scripts, the
-waist bracket, gimbal and pen are :mod:`cad.families.pen.parts`.
+waist bracket, gimbal and pen are :mod:`cad.parts.pen`.
 """
 
 from __future__ import annotations
@@ -32,10 +32,10 @@ def _link_kinds(design, lay: dict, fidelity: str, add) -> None:
     """Clevises, tubes, pins, bearings, shoulder motors (the twin pantograph's hardware)."""
     from cad.data.catalog import get_motor
     from cad.data.fits import fit
-    from cad.families.pen import parts as pp2
     from cad.parts import joints
     from cad.parts import motor as pm
     from cad.parts import pantograph as pp
+    from cad.parts import pen as pp2
 
     p = design.parts
     b, mot = lay["bearing"], get_motor(p.motor)
@@ -85,8 +85,8 @@ def _link_kinds(design, lay: dict, fidelity: str, add) -> None:
 def _gimbal_kinds(design, lay: dict, add) -> None:
     """Yoke (with its journal), ring, ring pins, pen hub, pen rod."""
     from cad.data.fits import fit
-    from cad.families.pen import parts as pp2
     from cad.parts import pantograph as pp
+    from cad.parts import pen as pp2
 
     p = design.parts
     b = lay["bearing"]
@@ -124,11 +124,11 @@ def _ground_kinds(design, lay: dict, gl: dict, add) -> None:
     """Waist bracket and hub (moving with the waist), base plate, waist motor mounts, legs."""
     from cad.data.catalog import clearance_hole_mm, get_cap_screw, get_motor, tap_drill_mm
     from cad.data.fits import fit
-    from cad.families.pen import parts as pp2
     from cad.families.pen.fasteners import bracket_bolt_xz_mm
     from cad.parts import base
     from cad.parts import motor as pm
     from cad.parts import pantograph as pp
+    from cad.parts import pen as pp2
 
     p = design.parts
     sm, wm = get_motor(p.motor), get_motor(p.waist_motor)

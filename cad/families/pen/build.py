@@ -21,11 +21,10 @@ from __future__ import annotations
 from pathlib import Path
 
 from cad.errors import DesignError
+from cad.families import SHARED_CODE_DEPS
 
 #: Source the output depends on (build cache key).
-CODE_DEPS = ("pipeline", "families", "datasheet", "report", "parts", "assembly", "export",
-             "massprops", "kinematics", "isotropy", "design", "io", "data", "errors.py",
-             "tolerances.py", "sim")
+CODE_DEPS = SHARED_CODE_DEPS + ("kinematics", "isotropy", "sim")
 #: This builder writes the MJCF (:mod:`cad.families.pen.sim`).
 SIM_EXPORT = True
 #: This builder writes glb and 3mf, render.png and animation.gif (:mod:`cad.pipeline.views`).

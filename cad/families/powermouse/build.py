@@ -42,6 +42,7 @@ from pathlib import Path
 import numpy as np
 
 from cad.errors import DesignError
+from cad.families import SHARED_CODE_DEPS
 
 # every name of the former single-module builder stays importable from here
 from cad.families.powermouse.actuator import _fig8_chart, _gap_mm, actuator_optimum  # noqa: F401
@@ -73,21 +74,9 @@ from cad.families.powermouse.placement import (  # noqa: F401
 from cad.families.powermouse.report import PAPER_TABLE4, _md_rows, _report  # noqa: F401
 
 #: Source the output depends on (build cache key).
-CODE_DEPS = (
-    "pipeline",
-    "families",
-    "datasheet",
+CODE_DEPS = SHARED_CODE_DEPS + (
     "firmware",  # --formats firmware (cad/firmware/powermouse.py)
-    "report",  # report.html, the stroke GIF and render (cad/report)
-    "parts",
-    "assembly",
-    "export",
-    "massprops",
     "actuators",
-    "design",
-    "io",
-    "data",
-    "errors.py",
 )
 
 

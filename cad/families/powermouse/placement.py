@@ -320,7 +320,7 @@ def _lid_screws(design, g) -> list:
 
 def _rig(design, acts) -> list:
     """The Fig. 7 test rig: instances of translated copies share one kind."""
-    from cad.assembly.static import exact_box
+    from cad.occ.bbox import tight_box
     from cad.parts import PartInstance, translation
 
     groups = {
@@ -334,7 +334,7 @@ def _rig(design, acts) -> list:
     first: dict[str, tuple] = {}
     inst = []
     for key, (shape, role) in acts.items():
-        c = exact_box(getattr(shape, "wrapped", shape)).mean(axis=0)
+        c = tight_box(getattr(shape, "wrapped", shape)).mean(axis=0)
         if role not in first:
             kw = {"plate": role in ("iron", "base")}
             first[role] = (_kind(groups[role], shape, role, design, **kw), c)

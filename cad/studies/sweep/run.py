@@ -343,18 +343,18 @@ def _setup_worker(one_core: bool) -> None:
     from cad.parts.lazy_import import import_build123d
 
     import_build123d()
-    import cad.pipeline.inertia  # noqa: F401
+    import cad.families.fourbar.inertia  # noqa: F401
 
     if one_core:
-        from OCP.OSD import OSD_ThreadPool
+        from cad.occ.threads import limit_occt_threads
 
-        OSD_ThreadPool.DefaultPool_s().Init(1)
+        limit_occt_threads(1)
 
 
 def _warm_share(raw: dict[str, Any], source: str, fidelity: str, share: tuple[int, int]) -> int:
-    """This worker's share of :func:`cad.pipeline.inertia.warm_part_cache` for one variant."""
+    """This worker's share of :func:`cad.families.fourbar.inertia.warm_part_cache` for one variant."""
     from cad.design import parse_design
-    from cad.pipeline.inertia import warm_part_cache
+    from cad.families.fourbar.inertia import warm_part_cache
 
     try:
         return warm_part_cache(parse_design(raw, source), fidelity, share)

@@ -1,7 +1,7 @@
 """One sweep variant: load, validate, build at the fidelity, check against the targets.
 
 Runs inside a Dask worker process. It computes exactly what ``hapticad check`` computes
-(:func:`cad.pipeline.inertia.target_values`, as :func:`cad.api.check`), so a row equals a separate check of the
+(:func:`cad.families.fourbar.inertia.target_values`, as :func:`cad.api.check`), so a row equals a separate check of the
 variant. A variant that cannot be evaluated (bad combination, parts that cannot be
 built, an interference) returns a row with status ``error`` and the one-line error;
 it never raises.
@@ -40,7 +40,7 @@ def evaluate_variant(raw: dict[str, Any], source: str, fidelity: str, cli_target
         from cad.design import parse_design
         from cad.design.fourbar import FourBarDesign
         from cad.errors import DesignError
-        from cad.pipeline.inertia import target_values
+        from cad.families.fourbar.inertia import target_values
 
         d = parse_design(raw, source)
         if not isinstance(d, FourBarDesign):

@@ -16,7 +16,7 @@ DESIGNS = Path(__file__).resolve().parents[3] / "designs"
 
 @pytest.fixture(scope="module")
 def hoeken_model():
-    from cad.pipeline.inertia import inertia_model
+    from cad.families.fourbar.inertia import inertia_model
 
     d = load_design(DESIGNS / "hoeken.toml")
     return d, inertia_model(d)
@@ -71,8 +71,8 @@ def test_D_equals_kinetic_energy_of_posed_parts(hoeken_model):
 def _shares(design):
     """The parts of every moving link with mass properties in the link frame (from the solids)."""
     from cad.families.fourbar import assemble
+    from cad.families.fourbar.inertia import PartShare
     from cad.pipeline.family import kind_mass_props
-    from cad.pipeline.inertia import PartShare
 
     asm = assemble(design, "inertia", poses=design.parts.interference_poses)
     out = []
@@ -91,7 +91,7 @@ def _shares(design):
 
 def test_check_exit_codes(tmp_path):
     """0 within tolerance, 1 when a target is missed, 2 on bad input."""
-    from cad.pipeline.inertia import inertia_model
+    from cad.families.fourbar.inertia import inertia_model
 
     r = inertia_model(load_design(DESIGNS / "roberts.toml"))
     h11 = r["H11_kg_m2"]
@@ -129,7 +129,7 @@ def test_fit_meets_a_reachable_target(tmp_path):
     M11_max_g <= (value at 5.5 mm) -- 5 mm aluminium sheet, not 5.4xx -- and `check` passes."""
     import json
 
-    from cad.pipeline.inertia import inertia_model
+    from cad.families.fourbar.inertia import inertia_model
 
     d = load_design(DESIGNS / "roberts.toml")
     raw = dict(d.raw)

@@ -150,7 +150,7 @@ def printed_kinds(tmp_path_factory):
     """designs/hoeken_printed.toml with an aluminium hub (its radial set-screw hole makes every
     layer across it its own section: ~10 s of the layer model, left to the build)."""
     from cad.design import load_design
-    from cad.pipeline.inertia import inertia_assembly
+    from cad.families.fourbar.inertia import inertia_assembly
 
     text = (ROOT / "designs" / "hoeken_printed.toml").read_text()
     p = tmp_path_factory.mktemp("printed") / "hoeken_printed.toml"
@@ -212,7 +212,7 @@ def test_machined_default_unchanged():
     from cad.data.fits import fit
     from cad.design import load_design
     from cad.export.threemf import print_orientations
-    from cad.pipeline.inertia import inertia_assembly
+    from cad.families.fourbar.inertia import inertia_assembly
 
     d = load_design(ROOT / "designs" / "hoeken.toml")
     asm = inertia_assembly(d, "preview")

@@ -92,7 +92,7 @@ def test_sleeve_part_mass_is_the_closed_form():
 
     from cad.data.materials import get_material
     from cad.design import parse_design
-    from cad.pipeline.inertia import inertia_model
+    from cad.families.fourbar.inertia import inertia_model
 
     raw = {"name": "sleeved", "mechanism": {"family": "hoeken", "stroke_mm": 50.0},
            "parts": {"bearing": "M5-11-3", "pin": "dowel-3", "pin_sleeve_material": "brass-360",

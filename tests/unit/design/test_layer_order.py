@@ -175,7 +175,7 @@ def test_layer_order_moves_H33_not_D_on_the_exact_solids():
     while D and M11 stay within 3 % over the whole stroke (measured 2.3 %: what differs is not
     the carrier -- a point mass at A3 has one velocity -- but the parts the order reshapes: the
     A2 stack spans two layers, the bars get seats where they are the upper link)."""
-    from cad.pipeline.inertia import inertia_model
+    from cad.families.fourbar.inertia import inertia_model
 
     res = {}
     for order in (["crank", "coupler", "rocker"], ["crank", "rocker", "coupler"]):
@@ -207,7 +207,7 @@ def test_fit_frees_the_layer_order(tmp_path):
     assert order.index("rocker") < order.index("coupler")
     d = load_design(out)
     assert list(d.parts.layer_order) == order
-    from cad.pipeline.inertia import inertia_model
+    from cad.families.fourbar.inertia import inertia_model
 
     assert inertia_model(d)["H33_kg_m2"] >= 8e-5
 

@@ -41,8 +41,7 @@ def test_plate_fixture_volume(plate):
 def test_step_reimports_valid_with_the_same_volume(plate, tmp_path):
     from cad.export import export_part
     from cad.export.shapes import is_valid
-    from cad.massprops.io import read_step
-    from cad.massprops.occt import volume_mm3
+    from cad.massprops.occt import read_step, volume_mm3
 
     paths = export_part(plate, "plate", tmp_path, {"step"})
     assert [p.name for p in paths] == ["plate.step"]

@@ -84,15 +84,16 @@ def test_shape_cache_reads_register_the_file_digest(cache, tmp_path):
 
 @pytest.mark.parametrize("rot_deg", [0.0, 90.0, 180.0, 33.0])
 def test_placed_tight_box_is_occt_box_of_the_placed_shape(cache, rot_deg):
-    from cad.assembly.interference import _tight_box, placed_tight_box
+    from cad.assembly.interference import placed_tight_box
     from cad.export.shapes import placed
+    from cad.occ.bbox import tight_box
 
     shape = _plate()
     c, s = np.cos(np.radians(rot_deg)), np.sin(np.radians(rot_deg))
     if rot_deg in (90.0, 180.0):
         c, s = round(c), round(s)  # exact signed permutation
     T = np.array([[c, -s, 0, 5.0], [s, c, 0, -2.0], [0, 0, 1, 1.5], [0, 0, 0, 1]])
-    want = _tight_box(placed(shape, T))
+    want = tight_box(placed(shape, T))
     for _ in range(2):  # computed, then read back
         assert np.allclose(placed_tight_box(shape, T), want, rtol=0, atol=1e-9)
 

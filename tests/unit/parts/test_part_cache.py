@@ -40,9 +40,9 @@ def test_a_thickness_change_rebuilds_only_what_depends_on_it():
 
 
 def test_cached_values_equal_uncached(monkeypatch):
+    from cad.families.fourbar.inertia import target_values
     from cad.massprops import occt
     from cad.parts import bars, part_cache
-    from cad.pipeline.inertia import target_values
 
     raw = apply(load_toml(HOEKEN), {"parts.bar_thickness_mm": 5.7})
     d = parse_design(raw, str(HOEKEN))

@@ -21,7 +21,7 @@ HOEKEN = ROOT / "designs" / "hoeken.toml"
 
 _SECOND = r"""
 import json, sys
-from cad.pipeline.inertia import target_values
+from cad.families.fourbar.inertia import target_values
 from cad.design import parse_design
 from cad.design.fields import load_toml
 from cad.parts import part_cache, part_props
@@ -48,7 +48,7 @@ def _fresh(monkeypatch, cache: Path):
 
 
 def _evaluate():
-    from cad.pipeline.inertia import target_values
+    from cad.families.fourbar.inertia import target_values
 
     return target_values(parse_design(apply(load_toml(HOEKEN), CHANGE), str(HOEKEN)), "inertia", False)
 
@@ -116,8 +116,8 @@ def test_workers_warm_the_cache_together_each_part_once(cold, monkeypatch, tmp_p
     """``hapticad sweep``'s warm-up: two shares split the design's parts (the cached ones
     cost a read); together they integrate each missing part once, and afterwards an
     evaluation makes and integrates nothing."""
+    from cad.families.fourbar.inertia import warm_part_cache
     from cad.parts import part_cache, part_props
-    from cad.pipeline.inertia import warm_part_cache
 
     _copy(cold, monkeypatch, tmp_path)  # catalog parts cached, the new thickness's parts not
     d = parse_design(apply(load_toml(HOEKEN), {"parts.bar_thickness_mm": 6.15}), str(HOEKEN))
@@ -129,7 +129,7 @@ def test_workers_warm_the_cache_together_each_part_once(cold, monkeypatch, tmp_p
     part_cache.clear_memo()
     part_props.clear_memo()
     built, integrated = part_cache.STATS["built"], part_props.STATS["integrated"]
-    from cad.pipeline.inertia import target_values
+    from cad.families.fourbar.inertia import target_values
 
     target_values(d, "inertia", False)
     assert (part_cache.STATS["built"], part_props.STATS["integrated"]) == (built, integrated)

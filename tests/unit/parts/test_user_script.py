@@ -80,8 +80,7 @@ def test_both_dialects_go_through_the_build(tmp_path, dialect, monkeypatch):
     rep = build_design(d, tmp_path / "out", {"step"}, fidelity="inertia", use_cache=False)
     assert rep["handle"].startswith("user script")
     assert rep["interference"]["collisions"] == []
-    from cad.massprops.io import read_step
-    from cad.massprops.occt import volume_mm3
+    from cad.massprops.occt import read_step, volume_mm3
 
     shape = read_step(tmp_path / "out" / "parts" / "handle.step")
     rho = get_material(d.parts.handle_material).density_kg_m3
