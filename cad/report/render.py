@@ -29,6 +29,8 @@ GIF_POSES = 12
 GIF_FRAME_MS = 90
 #: Frames are drawn at this multiple of their size and reduced (anti-aliasing).
 SUPERSAMPLE = 2
+#: Colour of the thin lines drawn over a picture (exploded views' axes).
+LINE_RGB = (90, 90, 90)
 
 
 def view_basis(azim_deg: float = VIEW_AZIM_DEG, elev_deg: float = VIEW_ELEV_DEG) -> np.ndarray:
@@ -98,11 +100,14 @@ def render_images(
     size_px=(640, 480),
     title: str = "",
     supersample: int = SUPERSAMPLE,
+    lines=(),
 ) -> list:
     """RGB pictures (``PIL.Image``, ``size_px``) of the assembly at each pose index in ``poses``
     (module docstring); only listed parts are drawn.
 
     colors : ``{instance name: (r, g, b)}`` in 0..1 (:func:`cad.export.gltf.instance_rgb`).
+    lines : world segments (L, 2, 3) mm drawn thin over every picture (the axes of an
+        exploded view, :mod:`cad.report.step_views`); they do not widen the frame.
     """
     from PIL import Image, ImageDraw, ImageFont
 
@@ -110,15 +115,9 @@ def render_images(
 
     basis = view_basis()
     shown = [inst for inst in instances if inst.kind.listed]
-    lo, hi = _extent(shown, tf_world_body, meshes, basis, poses)
-    pad = 0.04 * (hi[:2] - lo[:2]).max()
     W, H = size_px[0] * supersample, size_px[1] * supersample
-    scale = min(W / (hi[0] - lo[0] + 2 * pad), H / (hi[1] - lo[1] + 2 * pad))
-    centre = 0.5 * (lo + hi)
+    lo, hi, to_px = _frame(shown, tf_world_body, meshes, basis, poses, (W, H))
     z_range = max(hi[2] - lo[2], 1e-9)
-
-    def to_px(s):
-        return W / 2 + (s[..., 0] - centre[0]) * scale, H / 2 - (s[..., 1] - centre[1]) * scale
 
     def draw(insts, i, keys, box, id_offset=0):
         """Rasterize into ``keys``, the (rows, cols) = ``box`` part of the picture."""
@@ -162,10 +161,45 @@ def render_images(
             rgb = draw(moving, i, keys, box, len(static_rgb) - 1)
             palette = np.concatenate([static_rgb, rgb[1:]])
             img.paste(picture(keys, palette, box), (box[1].start // n, box[0].start // n))
+        if len(lines):
+            _draw_lines(ImageDraw.Draw(img), np.asarray(lines, float) @ basis.T, to_px, supersample)
         if title:
             ImageDraw.Draw(img).text((8, 6), title, fill=(64, 64, 64), font=font)
         out.append(img)
     return out
+
+
+def _frame(shown, tf_world_body, meshes, basis, poses, size_px):
+    """The picture's frame: the view box ``(lo, hi)`` of ``shown`` over ``poses`` and
+    ``to_px(view points (..., 3)) -> (x, y)`` pixels of a ``size_px = (W, H)`` picture
+    (the box fills it with a 4 % margin, centred)."""
+    lo, hi = _extent(shown, tf_world_body, meshes, basis, poses)
+    pad = 0.04 * (hi[:2] - lo[:2]).max()
+    W, H = size_px
+    scale = min(W / (hi[0] - lo[0] + 2 * pad), H / (hi[1] - lo[1] + 2 * pad))
+    centre = 0.5 * (lo + hi)
+
+    def to_px(s):
+        return W / 2 + (s[..., 0] - centre[0]) * scale, H / 2 - (s[..., 1] - centre[1]) * scale
+
+    return lo, hi, to_px
+
+
+def _draw_lines(draw, segs_view, to_px, supersample: int) -> None:
+    """Thin lines (``LINE_RGB``, 1 px, over the parts) of segments (L, 2, 3) in view
+    coordinates, into a picture reduced by ``supersample``."""
+    x, y = to_px(segs_view)
+    for (x0, x1), (y0, y1) in zip(x / supersample, y / supersample, strict=True):
+        draw.line([(x0, y0), (x1, y1)], fill=LINE_RGB, width=1)
+
+
+def picture_px(points_mm, instances, tf_world_body, meshes, poses, size_px=(640, 480)):
+    """Pixel coordinates (..., 2) (x right, y down) of world points (..., 3) mm in the
+    picture :func:`render_images` draws of the same inputs."""
+    basis = view_basis()
+    shown = [inst for inst in instances if inst.kind.listed]
+    _, _, to_px = _frame(shown, tf_world_body, meshes, basis, poses, size_px)
+    return np.stack(to_px(np.asarray(points_mm, float) @ basis.T), axis=-1)
 
 
 def png_bytes(img) -> bytes:

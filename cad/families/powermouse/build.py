@@ -132,15 +132,16 @@ def _wrench(design, act: dict, g, flotor_mp) -> tuple:
     return gain_per_At, W, iso, W_com
 
 
-def _write_texts(design, out_dir: Path, rep: dict, bom, inst) -> None:
-    """``report.md`` and ``assembly.md``."""
+def _write_texts(design, out_dir: Path, rep: dict, bom, inst, tfs=None, formats=()) -> None:
+    """``report.md`` and ``assembly.md`` (its exploded views: ``tfs``, ``formats``)."""
     from cad.pipeline import family
 
     family.write_report_md(out_dir, f"{design.name} (powermouse)", _md_rows(rep), bom, rep["notes"])
     family.write_assembly_md(out_dir, f"{design.name} (powermouse)", inst, ASSEMBLY_PLAN,
                              [f"the flotor moves freely by +-{design.motion.range_mm:g} mm and "
                               f"+-{design.motion.range_deg:g} deg about the centre, touching only "
-                              "at the limits (clearances in report.md)"])
+                              "at the limits (clearances in report.md)"],
+                             tf_world_body=tfs, formats=formats)
 
 
 def build(
@@ -210,7 +211,7 @@ def build(
     rep["fits"] = family.fits_report(inst)
     rep["placement"] = family.placement_report(inst, tfs, props)
     rep["files"] = sorted(files + ["report.md"])
-    _write_texts(design, out_dir, rep, bom, inst)
+    _write_texts(design, out_dir, rep, bom, inst, tfs, formats)
     rep["_viewer_glb"] = viewer_glb  # popped by the dispatcher: embedded in report.html
     _step(progress, "done", total, total)
     return rep
