@@ -43,16 +43,22 @@ def view_basis(azim_deg: float = VIEW_AZIM_DEG, elev_deg: float = VIEW_ELEV_DEG)
     return np.array([right, up, toward])
 
 
-def _view_triangles(instances, tf_world_body, meshes, colors, basis, i: int):
+def _view_triangles(instances, tf_world_body, meshes, colors, basis, i: int, cutaway=None):
     """Triangles at pose ``i`` in view coordinates (T, 3, 3) mm (x right, y up, z toward
-    the viewer; ``basis`` from :func:`view_basis`) and their RGB (T, 3)."""
+    the viewer; ``basis`` from :func:`view_basis`) and their RGB (T, 3). ``cutaway``:
+    ``(centre (3,) mm world, instance names)``: those instances lose the quarter facing
+    the viewer (:func:`cad.report.cutaway.cut_quarter`)."""
+    from cad.report.cutaway import cut_quarter
+
     tris, rgb = [np.empty((0, 3, 3))], [np.empty((0, 3))]
     for inst in instances:
         v, f = meshes[inst.kind.name]
         T = tf_world_body[inst.body][i] @ inst.tf_body_part
-        R = basis @ T[:3, :3]  # part frame -> view
-        tris.append((np.asarray(v) @ R.T + basis @ T[:3, 3])[np.asarray(f)])
-        rgb.append(np.broadcast_to(np.asarray(colors[inst.name], dtype=float), (len(f), 3)))
+        t = (np.asarray(v) @ T[:3, :3].T + T[:3, 3])[np.asarray(f)]  # world
+        if cutaway is not None and inst.name in cutaway[1]:
+            t, _ = cut_quarter(t, cutaway[0], basis[2])
+        tris.append(t @ basis.T)
+        rgb.append(np.broadcast_to(np.asarray(colors[inst.name], dtype=float), (len(t), 3)))
     return np.concatenate(tris), np.concatenate(rgb)
 
 
@@ -101,6 +107,7 @@ def render_images(
     title: str = "",
     supersample: int = SUPERSAMPLE,
     lines=(),
+    cutaway=None,
 ) -> list:
     """RGB pictures (``PIL.Image``, ``size_px``) of the assembly at each pose index in ``poses``
     (module docstring); only listed parts are drawn.
@@ -108,6 +115,8 @@ def render_images(
     colors : ``{instance name: (r, g, b)}`` in 0..1 (:func:`cad.export.gltf.instance_rgb`).
     lines : world segments (L, 2, 3) mm drawn thin over every picture (the axes of an
         exploded view, :mod:`cad.report.step_views`); they do not widen the frame.
+    cutaway : ``(centre (3,) mm world, instance names)`` or None: those instances are
+        drawn without the quarter facing the viewer (:mod:`cad.report.cutaway`).
     """
     from PIL import Image, ImageDraw, ImageFont
 
@@ -121,7 +130,8 @@ def render_images(
 
     def draw(insts, i, keys, box, id_offset=0):
         """Rasterize into ``keys``, the (rows, cols) = ``box`` part of the picture."""
-        s, rgb = _shaded(*_view_triangles(insts, tf_world_body, meshes, colors, basis, i))
+        s, rgb = _shaded(*_view_triangles(insts, tf_world_body, meshes, colors, basis, i,
+                                          cutaway))
         px = np.stack(to_px(s), axis=-1) - [box[1].start, box[0].start]
         width = box[1].stop - box[1].start
         raster.rasterize(px, (s[..., 2] - lo[2]) / z_range, keys, width, id_offset)
@@ -223,22 +233,38 @@ def gif_bytes(imgs: list, frame_ms: int = GIF_FRAME_MS) -> bytes:
     return buf.getvalue()
 
 
+def cutaway_of(names, instances, tf_pose, meshes):
+    """``(centre (3,) mm, names)`` for :func:`render_images`: the centre of the named
+    instances' world box at ``tf_pose`` (``{body: (4, 4)}``); None when ``names`` is empty."""
+    chosen = [i for i in instances if i.name in set(names) and i.kind.name in meshes]
+    if not chosen:
+        return None
+    pts = []
+    for inst in chosen:
+        T = np.asarray(tf_pose[inst.body], dtype=float).reshape(4, 4) @ inst.tf_body_part
+        pts.append(np.asarray(meshes[inst.kind.name][0]) @ T[:3, :3].T + T[:3, 3])
+    p = np.concatenate(pts)
+    return 0.5 * (p.min(axis=0) + p.max(axis=0)), frozenset(i.name for i in chosen)
+
+
 def write_stroke_pictures(
-    instances, tf_pose, stroke, meshes, colors, out_dir: Path, *, title: str
+    instances, tf_pose, stroke, meshes, colors, out_dir: Path, *, title: str, cutaway=()
 ) -> list[str]:
     """``animation.gif`` (``stroke``: ``{body: (N, 4, 4)}``) and ``render.png`` (the still
-    at ``tf_pose``: ``{body: (4, 4)}``), mm."""
+    at ``tf_pose``: ``{body: (4, 4)}``), mm. ``cutaway``: names of the instances drawn
+    cut away (:func:`cutaway_of`; a housing that would hide what moves inside)."""
     from cad.io.atomic import write_bytes_atomic
 
     n = len(next(iter(stroke.values())))
     poses = list(range(n))
     if n > GIF_POSES:
         poses = sorted({int(round(x)) for x in np.linspace(0, n - 1, GIF_POSES)})
-    frames = render_images(instances, stroke, meshes, colors, poses, title=title)
+    cut = cutaway_of(cutaway, instances, tf_pose, meshes)
+    frames = render_images(instances, stroke, meshes, colors, poses, title=title, cutaway=cut)
     write_bytes_atomic(Path(out_dir) / "animation.gif", gif_bytes(frames))
     static = {b: np.asarray(T, dtype=float).reshape(1, 4, 4) for b, T in tf_pose.items()}
     (still,) = render_images(
-        instances, static, meshes, colors, [0], size_px=(960, 720), title=title
+        instances, static, meshes, colors, [0], size_px=(960, 720), title=title, cutaway=cut
     )
     write_bytes_atomic(Path(out_dir) / "render.png", png_bytes(still))
     return ["animation.gif", "render.png"]

@@ -37,6 +37,7 @@ fits per part: the post bore / post and handle socket / stem, H7/g6).
 
 from __future__ import annotations
 
+import fnmatch
 from pathlib import Path
 
 import numpy as np
@@ -245,6 +246,12 @@ ASSEMBLY_PLAN = (
 )
 
 
+#: Instances drawn cut away (the quarter facing the viewer removed) in render.png and
+#: animation.gif: the housing, its plates and magnets, the flotor box and their lid screws,
+#: so that the flotor, its coils and the core show (issue 24 §3); the glb keeps them whole.
+PICTURE_CUTAWAY = ("housing_*", "iron_*", "magnet_*_outer-*", "flotor_body", "flotor_lid",
+                   "*lid_screw_*")
+
 #: This builder writes glb and 3mf (:mod:`cad.pipeline.views`).
 VIEW_EXPORT = True
 
@@ -290,5 +297,7 @@ def _write_views(design, inst, tfs, out_dir, formats, gap) -> tuple[list[str], b
         name=design.name,
         title=f"{design.name} (powermouse)",
         stroke=stroke_poses(design),
+        cutaway=[i.name for i in inst
+                 if any(fnmatch.fnmatchcase(i.name, p) for p in PICTURE_CUTAWAY)],
     )
     return _fig8_chart(design, gap, out_dir) + view_files, glb
