@@ -177,16 +177,29 @@ pre{background:#f6f8fa;padding:8px;overflow:auto;max-height:480px;font-size:12px
 """
 
 
-def _fmt(v) -> str:
+#: Longest text of a nested value in a table cell (characters; the rest in report.json).
+CELL_CHARS = 300
+
+
+def _fmt(v, depth: int = 0) -> str:
+    """A value as table text: numbers to 6 significant digits, lists comma-separated,
+    dicts as ``key: value; ...`` (nested ones in parentheses), never JSON; cut at
+    :data:`CELL_CHARS`."""
+    if v is None:
+        return "none"
     if isinstance(v, bool):
         return str(v).lower()
     if isinstance(v, float):
         return f"{v:.6g}"
-    if isinstance(v, (list, tuple)) and all(isinstance(x, (int, float)) for x in v) and len(v) <= 8:
-        return ", ".join(_fmt(x) for x in v)
-    if isinstance(v, (dict, list)):
-        return json.dumps(v, default=str)[:300]
-    return str(v)
+    if isinstance(v, (list, tuple)):
+        text = ", ".join(_fmt(x, depth + 1) for x in v) if v else "none"
+        return f"({text})" if depth and len(v) > 1 else text
+    if isinstance(v, dict):
+        text = "; ".join(f"{k}: {_fmt(x, depth + 1)}" for k, x in v.items()) if v else "none"
+        text = f"({text})" if depth and v else text
+    else:
+        text = str(v)
+    return text if depth or len(text) <= CELL_CHARS else text[: CELL_CHARS - 1] + "…"
 
 
 def _table(rows: list[list], head: list[str]) -> str:
@@ -238,16 +251,23 @@ def checks_rows(report: dict) -> list[list]:
     for k in keys:
         v = report[k]
         verdict = _verdict(k, v)
-        rows.append([k, _summary(v), verdict or ("", "")])
-        if isinstance(v, dict) and k not in ("interference", "fasteners", "tapped_holes"):
+        expand = isinstance(v, dict) and k not in ("interference", "fasteners", "tapped_holes")
+        text = f"{len(v)} entries (rows below)" if expand and v else _summary(v)
+        rows.append([k, text, verdict or ("", "")])
+        if expand:
             for sk, sv in v.items():
                 rows.append([f"{k}.{sk}", _summary(sv), _verdict(sk, sv) or ("", "")])
+                if isinstance(sv, dict) and sv and all(isinstance(x, dict) for x in sv.values()):
+                    rows += [[f"{k}.{sk}.{n}", _summary(x), _verdict(n, x) or ("", "")]
+                             for n, x in sv.items()]  # records by name: one row each
     return rows
 
 
 def _summary(v) -> str:
     if isinstance(v, dict) and v and all(isinstance(x, dict) and "size" in x for x in v.values()):
         return f"{len(v)} records (table below)"
+    if isinstance(v, dict) and v and all(isinstance(x, dict) for x in v.values()):
+        return f"{len(v)} records (rows below)"
     if isinstance(v, dict) and "collisions" in v:
         keep = {
             k: v[k] for k in ("min_clearance_mm", "overlap_volume_mm3", "method", "poses") if k in v
