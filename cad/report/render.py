@@ -153,14 +153,8 @@ def render_images(
     static_keys = raster.empty_keys(H, W)
     static_rgb = draw([x for x in shown if x.body in still], poses[0], static_keys, frame)
     static_img = picture(static_keys, static_rgb, frame)
-    box, n = frame, supersample
-    m_lo, m_hi = _extent(moving, tf_world_body, meshes, basis, poses)
-    if np.isfinite(m_lo).all() and np.isfinite(m_hi).all():
-        # the moving parts' box, in whole supersampling blocks (reduce cuts the same)
-        (x0, x1), (y1, y0) = to_px(np.array([m_lo, m_hi]))  # y down: hi is the top
-        c0, c1 = max(int(x0 // n) * n - n, 0), min(int(x1 // n) * n + 2 * n, W)
-        r0, r1 = max(int(y0 // n) * n - n, 0), min(int(y1 // n) * n + 2 * n, H)
-        box = (slice(r0, r1), slice(c0, c1))
+    n = supersample
+    box = _moving_box(_extent(moving, tf_world_body, meshes, basis, poses), to_px, n, (W, H))
     box_keys = static_keys.reshape(H, W)[box]
     font = ImageFont.load_default(size=max(12, size_px[1] // 30)) if title else None
     out = []
@@ -177,6 +171,20 @@ def render_images(
             ImageDraw.Draw(img).text((8, 6), title, fill=(64, 64, 64), font=font)
         out.append(img)
     return out
+
+
+def _moving_box(extent, to_px, n: int, size_px) -> tuple[slice, slice]:
+    """Rows and columns of the picture (``size_px = (W, H)``, supersampled by ``n``) that the
+    view box ``extent = (lo, hi)`` covers, in whole supersampling blocks (reduce cuts the
+    same); the whole picture when the box is empty."""
+    W, H = size_px
+    m_lo, m_hi = extent
+    if not (np.isfinite(m_lo).all() and np.isfinite(m_hi).all()):
+        return slice(0, H), slice(0, W)
+    (x0, x1), (y1, y0) = to_px(np.array([m_lo, m_hi]))  # y down: hi is the top
+    c0, c1 = max(int(x0 // n) * n - n, 0), min(int(x1 // n) * n + 2 * n, W)
+    r0, r1 = max(int(y0 // n) * n - n, 0), min(int(y1 // n) * n + 2 * n, H)
+    return slice(r0, r1), slice(c0, c1)
 
 
 def _frame(shown, tf_world_body, meshes, basis, poses, size_px):
