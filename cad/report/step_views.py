@@ -16,9 +16,11 @@ build's still (:func:`cad.report.render.render_images`, same view direction):
 Insertion axis: the first fastener of the step (screws and pins are modelled head up along
 their local +z, :mod:`cad.parts.joints`) -- its local +z in the world; a step with no
 fastener: world z. Along it a fastener moves towards its head; another instance moves away
-from the assembled parts (the sign of its centre's offset from theirs along the axis), by
-:data:`EXPLODE_FRACTION` of the scene's size plus its own offset from their centre (so a
-stack opens up in order). With nothing assembled yet, everything moves along +axis.
+from a reference point along the axis -- the middle of the step's parts in a step with a
+fastener (a joint's stack opens about its middle: spacers above it up, the nut below it
+down), else the centre of the assembled parts -- by :data:`EXPLODE_FRACTION` of the scene's
+size plus its own distance from that point (so a stack opens up in order). With nothing
+assembled yet, everything moves along +axis.
 """
 
 from __future__ import annotations
@@ -81,7 +83,9 @@ def explode(new, placed, tf_world_body, meshes, scene_mm: float):
     (module doc); ``placed``: instances assembled before; ``scene_mm``: the scene's size."""
     axis = _axis(new, tf_world_body)
     c_new = {i.name: _centre_mm(i, tf_world_body, meshes) @ axis for i in new}
-    if placed:
+    if any(i.fastener is not None for i in new):  # a joint's stack opens about its middle
+        ref = float(np.mean(list(c_new.values())))
+    elif placed:
         ref = float(np.mean([_centre_mm(i, tf_world_body, meshes) @ axis for i in placed]))
     else:
         ref = min(c_new.values())
