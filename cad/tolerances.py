@@ -336,6 +336,9 @@ SAME_FEATURE_MM = 1e-6
 #: A face is aligned with a part axis when its direction is within this of it (cosine
 #: slack): hapticad's holes are drilled along a part axis exactly, up to round-off.
 AXIS_SLACK = 1e-9
+#: A floor face lies inside a pocket's outline when its box is within this of the walls'
+#: box (mm): both are exact boxes of faces of one boolean, equal up to round-off.
+SAME_POCKET_MM = 1e-6
 
 # ---------------------------------------------------------------- part clearances (cad/parts)
 # The part cache hashes this file with cad/parts (cad/parts/part_cache.py): a change here

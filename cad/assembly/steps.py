@@ -162,14 +162,23 @@ def assembly_steps(instances, designation, plan=None, final_checks=()) -> list[S
     return steps
 
 
-def assembly_md(title: str, steps: list[Step], describe) -> str:
+def assembly_md(title: str, steps: list[Step], describe, images=None) -> str:
     """``assembly.md`` text: numbered steps, one bullet per instance placed
-    (``- `name` (kind): description``; ``describe(name) -> (kind, text)``)."""
+    (``- `name` (kind): description``; ``describe(name) -> (kind, text)``); ``images``:
+    ``{step number from 1: relative path}`` of the exploded views, linked under their
+    step's heading (:mod:`cad.report.step_views`)."""
+    images = images or {}
     lines = [f"# Assembly: {title}", "",
              "Generated from the assembly model (part instances, bodies, fastener records: "
              "`cad/assembly/steps.py`); every part instance is placed in exactly one step.", ""]
+    if images:
+        lines += ["Each picture shows the parts already assembled in grey and the parts the "
+                  "step adds in colour, moved out along the step's insertion axis (a thin "
+                  "line from where each one goes).", ""]
     for k, s in enumerate(steps, 1):
         lines += [f"## Step {k}: {s.title}", ""]
+        if k in images:
+            lines += [f"![step {k}: exploded view]({images[k]})", ""]
         for n in s.new:
             kind, text = describe(n)
             lines.append(f"- `{n}` ({kind}): {text}")

@@ -241,8 +241,10 @@ def write_order(report: dict, out_dir: Path, prices: dict | None) -> None:
     if steps and md.is_file():
         write_text_atomic(md, md.read_text(encoding="utf-8")
                           + "\nAssembly steps: [assembly.md](assembly.md).\n")
+    pictures = sorted(p.relative_to(out_dir).as_posix() for p in out_dir.glob("steps/step_*.png"))
     if isinstance(report.get("files"), list):
-        report["files"] = sorted({*report["files"], "order.csv", *([steps] if steps else [])})
+        report["files"] = sorted({*report["files"], "order.csv", *([steps] if steps else []),
+                                  *pictures})
 
 
 @contextlib.contextmanager

@@ -512,24 +512,53 @@ def write_report_md(out_dir: Path, title: str, rows: list[tuple[str, str]], bom,
 NO_SOLID_STEP = "fit the bought parts that have no modelled solid"
 
 
-def write_assembly_md(out_dir: Path, title: str, instances, plan=None, checks=(),
-                      no_solid_rows=()) -> str:
-    """``assembly.md``: the assembly steps of :func:`cad.assembly.steps.assembly_steps`
-    (``plan``: optional stages, ``checks``: the final checks), each part instance named
-    with its kind and BOM description; fasteners by their BOM designation. ``no_solid_rows``:
-    BOM rows with no part instance (the encoder), placed in a last step of their own."""
-    from cad.assembly.steps import Step, assembly_md, assembly_steps
+def build_steps(instances, plan=None, checks=(), no_solid_rows=()) -> list:
+    """The :class:`cad.assembly.steps.Step` list of :func:`write_assembly_md` (fasteners
+    named by their BOM designation; ``no_solid_rows`` in a last step of their own)."""
+    from cad.assembly.steps import Step, assembly_steps
     from cad.export.order import bought_designation
-    from cad.io.atomic import write_text_atomic
 
     def designation(kind) -> str:
         return bought_designation(kind)[1] if not kind.made else kind.description or kind.name
 
-    by = {i.name: (i.kind.name, i.kind.description) for i in instances}
     steps = assembly_steps(instances, designation, plan, checks)
     if no_solid_rows:
-        by |= {r["part"]: (r["part"], r["description"]) for r in no_solid_rows}
         steps.append(Step(NO_SOLID_STEP, [r["part"] for r in no_solid_rows]))
-    text = assembly_md(title, steps, by.__getitem__)
+    return steps
+
+
+def write_assembly_md(out_dir: Path, title: str, instances, plan=None, checks=(),
+                      no_solid_rows=(), *, tf_world_body=None, formats=()) -> list[str]:
+    """``assembly.md``: the assembly steps of :func:`cad.assembly.steps.assembly_steps`
+    (``plan``: optional stages, ``checks``: the final checks), each part instance named
+    with its kind and BOM description; fasteners by their BOM designation. ``no_solid_rows``:
+    BOM rows with no part instance (the encoder), placed in a last step of their own.
+    With ``tf_world_body`` (``{body: (4, 4)}`` mm, the exported pose) and a fabrication
+    format asked (:data:`cad.report.step_views.STEP_VIEW_FORMATS`), an exploded view per step,
+    ``steps/step_NN.png`` (:mod:`cad.report.step_views`), linked from its step.
+    Returns the files written (relative to ``out_dir``)."""
+    from cad.assembly.steps import assembly_md
+    from cad.io.atomic import write_text_atomic
+    from cad.report.step_views import STEP_VIEW_FORMATS
+
+    by = {i.name: (i.kind.name, i.kind.description) for i in instances}
+    by |= {r["part"]: (r["part"], r["description"]) for r in no_solid_rows}
+    steps = build_steps(instances, plan, checks, no_solid_rows)
+    images = {}
+    if tf_world_body is not None and set(formats) & set(STEP_VIEW_FORMATS):
+        images = _step_pictures(steps, instances, tf_world_body, out_dir)
+    text = assembly_md(title, steps, by.__getitem__, images)
     write_text_atomic(Path(out_dir) / "assembly.md", text)
-    return "assembly.md"
+    return ["assembly.md", *images.values()]
+
+
+def _step_pictures(steps, instances, tf_world_body, out_dir: Path) -> dict:
+    """The exploded views of :func:`write_assembly_md` at the viewer's mesh tolerances."""
+    from cad.export.gltf import kind_meshes
+    from cad.pipeline.views import instance_colors
+    from cad.report.step_views import write_step_pictures
+    from cad.tolerances import VIEW_ANGULAR_TOLERANCE_RAD, VIEW_TOLERANCE_MM
+
+    meshes = kind_meshes(instances, VIEW_TOLERANCE_MM, VIEW_ANGULAR_TOLERANCE_RAD)
+    return write_step_pictures(steps, instances, tf_world_body, meshes,
+                               instance_colors(instances), out_dir)

@@ -46,11 +46,14 @@ def write_views(
     *,
     name: str,
     title: str,
+    cutaway=(),
 ) -> tuple[list[str], bytes]:
     """Write the viewer files (module docstring); return ``(files written, glb bytes)``.
 
     tf_pose : ``{body: (4, 4)}`` the static pose (the assembly STEP's pose), mm.
     stroke : ``{body: (N, 4, 4)}`` poses over the stroke, mm.
+    cutaway : instance names drawn cut away in the still and the GIF (not in the glb):
+        a housing hiding what moves inside (:mod:`cad.report.cutaway`).
     """
     from cad.export.gltf import glb_bytes, kind_meshes
     from cad.io.atomic import write_bytes_atomic
@@ -63,7 +66,8 @@ def write_views(
         write_bytes_atomic(Path(out_dir) / GLB_NAME, glb)
         files.append(GLB_NAME)
     files += write_stroke_pictures(
-        instances, tf_pose, stroke, meshes, instance_colors(instances), out_dir, title=title
+        instances, tf_pose, stroke, meshes, instance_colors(instances), out_dir, title=title,
+        cutaway=cutaway,
     )
     return files, glb
 
@@ -97,9 +101,10 @@ def write_viewer_outputs(
     stroke: dict[str, np.ndarray] | None = None,
     stl_tolerance_mm: float | None = None,
     angular_tolerance_rad: float | None = None,
+    cutaway=(),
 ) -> tuple[list[str], bytes]:
     """Everything of this module for one assembly: :func:`write_views` (``stroke`` None:
-    the exported pose only) and, when ``"3mf"`` is asked, :func:`write_parts_3mf` at the
+    the exported pose only; ``cutaway``: instance names drawn cut away) and, when ``"3mf"`` is asked, :func:`write_parts_3mf` at the
     STL deflections (default :data:`cad.export.STL_TOLERANCE_MM`,
     :data:`cad.export.STL_ANGULAR_TOLERANCE_RAD`).
 
@@ -110,7 +115,8 @@ def write_viewer_outputs(
     pose = {b: np.asarray(T, dtype=float).reshape(4, 4) for b, T in tf_world_body.items()}
     if stroke is None:
         stroke = {b: T[None] for b, T in pose.items()}
-    files, glb = write_views(instances, pose, stroke, out_dir, formats, name=name, title=title)
+    files, glb = write_views(instances, pose, stroke, out_dir, formats, name=name, title=title,
+                             cutaway=cutaway)
     if "3mf" in formats:
         files.append(
             write_parts_3mf(

@@ -12,7 +12,8 @@ What the page holds (nothing is fetched: no network, no file beside it is read):
 * first, the device datasheet (``report["datasheet"]``, :mod:`cad.datasheet`): one row per
   figure with its value, model and verdict, every missed limit as a red line above it;
 * the fastener records as a table (size, length, parts clamped, hole, engagement);
-* the BOM (``report["bom"]``), the checks (interference, clearances, targets: every
+* the BOM (``report["bom"]``), the assembly steps (``assembly.md`` with each step's
+  exploded view, :mod:`cad.report.step_views`), the checks (interference, clearances, targets: every
   ``checks``-like entry of report.json) and the key numbers, and report.json itself.
 
 The viewer sets ``window.hapticadViewer = {ready, meshes, ground_meshes, animations, error}`` once the
@@ -170,21 +171,35 @@ table{border-collapse:collapse;font-size:14px} td,th{border:1px solid #ddd;paddi
 td.num{text-align:right;font-variant-numeric:tabular-nums}
 .ok{color:#1a7f37;font-weight:600} .bad{color:#c62828;font-weight:600}
 img.chart{max-width:100%;border:1px solid #eee;margin:6px 0}
+img.step{max-width:100%;border:1px solid #eee}
 pre{background:#f6f8fa;padding:8px;overflow:auto;max-height:480px;font-size:12px}
 .muted{color:#666;font-size:13px}
 """
 
 
-def _fmt(v) -> str:
+#: Longest text of a nested value in a table cell (characters; the rest in report.json).
+CELL_CHARS = 300
+
+
+def _fmt(v, depth: int = 0) -> str:
+    """A value as table text: numbers to 6 significant digits, lists comma-separated,
+    dicts as ``key: value; ...`` (nested ones in parentheses), never JSON; cut at
+    :data:`CELL_CHARS`."""
+    if v is None:
+        return "none"
     if isinstance(v, bool):
         return str(v).lower()
     if isinstance(v, float):
         return f"{v:.6g}"
-    if isinstance(v, (list, tuple)) and all(isinstance(x, (int, float)) for x in v) and len(v) <= 8:
-        return ", ".join(_fmt(x) for x in v)
-    if isinstance(v, (dict, list)):
-        return json.dumps(v, default=str)[:300]
-    return str(v)
+    if isinstance(v, (list, tuple)):
+        text = ", ".join(_fmt(x, depth + 1) for x in v) if v else "none"
+        return f"({text})" if depth and len(v) > 1 else text
+    if isinstance(v, dict):
+        text = "; ".join(f"{k}: {_fmt(x, depth + 1)}" for k, x in v.items()) if v else "none"
+        text = f"({text})" if depth and v else text
+    else:
+        text = str(v)
+    return text if depth or len(text) <= CELL_CHARS else text[: CELL_CHARS - 1] + "…"
 
 
 def _table(rows: list[list], head: list[str]) -> str:
@@ -236,16 +251,23 @@ def checks_rows(report: dict) -> list[list]:
     for k in keys:
         v = report[k]
         verdict = _verdict(k, v)
-        rows.append([k, _summary(v), verdict or ("", "")])
-        if isinstance(v, dict) and k not in ("interference", "fasteners", "tapped_holes"):
+        expand = isinstance(v, dict) and k not in ("interference", "fasteners", "tapped_holes")
+        text = f"{len(v)} entries (rows below)" if expand and v else _summary(v)
+        rows.append([k, text, verdict or ("", "")])
+        if expand:
             for sk, sv in v.items():
                 rows.append([f"{k}.{sk}", _summary(sv), _verdict(sk, sv) or ("", "")])
+                if isinstance(sv, dict) and sv and all(isinstance(x, dict) for x in sv.values()):
+                    rows += [[f"{k}.{sk}.{n}", _summary(x), _verdict(n, x) or ("", "")]
+                             for n, x in sv.items()]  # records by name: one row each
     return rows
 
 
 def _summary(v) -> str:
     if isinstance(v, dict) and v and all(isinstance(x, dict) and "size" in x for x in v.values()):
         return f"{len(v)} records (table below)"
+    if isinstance(v, dict) and v and all(isinstance(x, dict) for x in v.values()):
+        return f"{len(v)} records (rows below)"
     if isinstance(v, dict) and "collisions" in v:
         keep = {
             k: v[k] for k in ("min_clearance_mm", "overlap_volume_mm3", "method", "poses") if k in v
@@ -319,6 +341,48 @@ def fastener_table(report: dict) -> str:
                                                 "hole engaged", "engagement (mm)"])
 
 
+def _md_inline(text: str) -> str:
+    """Escaped text with ``code`` spans of assembly.md as <code>."""
+    bits = html.escape(text).split("`")
+    return "".join(f"<code>{b}</code>" if k % 2 else b for k, b in enumerate(bits))
+
+
+def assembly_steps_html(out_dir: Path) -> str:
+    """The "Assembly steps" section: ``assembly.md`` of the build (written by
+    :func:`cad.pipeline.family.write_assembly_md`: ``## Step`` headings, ``- `` bullets and
+    the exploded view of each step, ``![alt](steps/step_NN.png)``, embedded here); empty
+    when the build wrote no assembly.md."""
+    import re
+
+    md = Path(out_dir) / "assembly.md"
+    if not md.is_file():
+        return ""
+    out, items = ["<h2>Assembly steps</h2>"], []
+
+    def close() -> None:
+        if items:
+            out.append("<ul>" + "".join(f"<li>{i}</li>" for i in items) + "</ul>")
+            items.clear()
+
+    for line in md.read_text(encoding="utf-8").splitlines()[1:]:
+        img = re.fullmatch(r"!\[([^\]]*)\]\((steps/step_\d+\.png)\)", line)
+        if line.startswith("## "):
+            close()
+            out.append(f"<h3>{_md_inline(line[3:])}</h3>")
+        elif line.startswith("- "):
+            items.append(_md_inline(line[2:]))
+        elif img and (Path(out_dir) / img[2]).is_file():
+            close()
+            data = _data_url("image/png", (Path(out_dir) / img[2]).read_bytes())
+            out.append(f"<figure><img class='step' alt='{html.escape(img[1])}' src='{data}'>"
+                       f"<figcaption class='muted'>{html.escape(img[2])}</figcaption></figure>")
+        elif line.strip():
+            close()
+            out.append(f"<p class='muted'>{_md_inline(line)}</p>")
+    close()
+    return "".join(out)
+
+
 def report_html(report: dict, out_dir: Path, glb: bytes | None) -> str:
     """The page (module docstring) for ``report`` (report.json's content) built in ``out_dir``."""
     out_dir = Path(out_dir)
@@ -373,6 +437,7 @@ def report_html(report: dict, out_dir: Path, glb: bytes | None) -> str:
     )
     parts.append(fastener_table(report))
     parts.append("<h2>Bill of materials</h2>" + bom_table(report))
+    parts.append(assembly_steps_html(out_dir))
     parts.append("<h2>Key numbers</h2>" + _table(key_numbers(report), ["key", "value"]))
     parts.append(
         "<h2>report.json</h2><details><summary>show</summary><pre>"

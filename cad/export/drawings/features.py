@@ -11,7 +11,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from cad.tolerances import AXIS_SLACK, SAME_FEATURE_MM
+from cad.tolerances import AXIS_SLACK, SAME_FEATURE_MM, SAME_POCKET_MM
 
 
 @dataclass(frozen=True)
@@ -136,3 +136,267 @@ def _group_key(groups, axis, where, d, internal):
                 and all(abs(p - q) < SAME_FEATURE_MM for p, q in zip(where, w0, strict=True))):
             return key
     return (axis, tuple(where), d, internal)
+
+
+@dataclass(frozen=True)
+class Pocket:
+    """A pocket or through slot: side walls (planes parallel to ``axis`` and internal
+    cylinders about it) joined edge to edge around an opening, measured in its own frame.
+
+    axis : the part axis the walls are parallel to (``"x"``, ``"y"``, ``"z"``).
+    u_mm, v_mm : centre of its outline in the two other axes, from the datum.
+    length_mm, width_mm : outline along and across its longest wall (``angle_deg`` from the
+        first other axis, counter-clockwise about ``axis``).
+    depth_mm : wall height along ``axis``; lo_mm, hi_mm : its extent from the datum.
+    corner_r_mm : smallest wall radius (a slot's round ends: width / 2), None when sharp.
+    through : no floor (it opens on both sides).
+    """
+
+    axis: str
+    u_mm: float
+    v_mm: float
+    length_mm: float
+    width_mm: float
+    depth_mm: float
+    lo_mm: float
+    hi_mm: float
+    angle_deg: float
+    corner_r_mm: float | None
+    through: bool
+
+
+@dataclass(frozen=True)
+class Chamfer:
+    """A conical face: the chamfer of a round edge (a bore's or a boss's).
+
+    axis : the part axis of the cone; u_mm, v_mm : its centre from the datum; lo_mm,
+    hi_mm : its extent along the axis from the datum. axial_mm, radial_mm : the chamfer's
+    legs; angle_deg : the cone's half angle (45 for C-chamfers); internal : on a bore.
+    """
+
+    axis: str
+    u_mm: float
+    v_mm: float
+    lo_mm: float
+    hi_mm: float
+    axial_mm: float
+    radial_mm: float
+    angle_deg: float
+    internal: bool
+
+
+def _face_list(shape) -> list:
+    """The faces of ``shape`` in explorer order."""
+    from OCP.TopAbs import TopAbs_FACE
+    from OCP.TopExp import TopExp_Explorer
+    from OCP.TopoDS import TopoDS
+
+    out = []
+    exp = TopExp_Explorer(shape, TopAbs_FACE)
+    while exp.More():
+        out.append(TopoDS.Face_s(exp.Current()))
+        exp.Next()
+    return out
+
+
+def _neighbours(shape, faces) -> list[set[int]]:
+    """For each face (index in ``faces``), the indices of the faces sharing an edge with it."""
+    from OCP.TopAbs import TopAbs_EDGE, TopAbs_FACE
+    from OCP.TopExp import TopExp
+    from OCP.TopTools import TopTools_IndexedDataMapOfShapeListOfShape
+
+    emap = TopTools_IndexedDataMapOfShapeListOfShape()
+    TopExp.MapShapesAndAncestors_s(shape, TopAbs_EDGE, TopAbs_FACE, emap)
+    index = {f.__hash__(): [] for f in faces}
+    for k, f in enumerate(faces):
+        index[f.__hash__()].append(k)
+    out = [set() for _ in faces]
+    for e in range(1, emap.Extent() + 1):
+        ks = [k for f in emap.FindFromIndex(e) for k in index.get(f.__hash__(), [])
+              if faces[k].IsSame(f)]
+        for a in ks:
+            out[a] |= {b for b in ks if b != a}
+    return out
+
+
+def _outward_normal(face) -> tuple[float, float, float]:
+    """Unit normal of a planar face pointing out of the material (face orientation kept)."""
+    from OCP.BRepGProp import BRepGProp_Face
+    from OCP.gp import gp_Pnt, gp_Vec
+
+    g = BRepGProp_Face(face)
+    u0, u1, v0, v1 = g.Bounds()
+    p, n = gp_Pnt(), gp_Vec()
+    g.Normal(0.5 * (u0 + u1), 0.5 * (v0 + v1), p, n)
+    m = n.Magnitude()
+    return n.X() / m, n.Y() / m, n.Z() / m
+
+
+def _centre(face) -> tuple[float, float, float]:
+    """Centre of a face's exact bounding box (mm)."""
+    b = bbox_mm(face)
+    return 0.5 * (b[0] + b[3]), 0.5 * (b[1] + b[4]), 0.5 * (b[2] + b[5])
+
+
+def _side_faces(faces, k_axis: int) -> dict[int, tuple]:
+    """Faces that can wall a pocket along part axis ``k_axis``: ``{index: ("plane", outward
+    normal) | ("cyl", radius mm, internal)}`` -- planes parallel to the axis and cylinders
+    about a parallel axis."""
+    from OCP.BRepAdaptor import BRepAdaptor_Surface
+    from OCP.GeomAbs import GeomAbs_Cylinder, GeomAbs_Plane
+    from OCP.TopAbs import TopAbs_REVERSED
+
+    out = {}
+    for k, f in enumerate(faces):
+        srf = BRepAdaptor_Surface(f)
+        if srf.GetType() == GeomAbs_Plane:
+            n = _outward_normal(f)
+            if abs(n[k_axis]) <= AXIS_SLACK:
+                out[k] = ("plane", n)
+        elif srf.GetType() == GeomAbs_Cylinder:
+            cyl = srf.Cylinder()
+            d = cyl.Axis().Direction()
+            if abs(abs((d.X(), d.Y(), d.Z())[k_axis]) - 1.0) <= AXIS_SLACK:
+                internal = (f.Orientation() == TopAbs_REVERSED) == cyl.Position().Direct()
+                out[k] = ("cyl", cyl.Radius(), internal)
+    return out
+
+
+def _components(keys, neighbours) -> list[list[int]]:
+    """Connected groups of ``keys`` (face indices) through ``neighbours``."""
+    left, out = set(keys), []
+    while left:
+        stack, comp = [min(left)], []
+        left.discard(stack[0])
+        while stack:
+            k = stack.pop()
+            comp.append(k)
+            nxt = neighbours[k] & left
+            left -= nxt
+            stack += sorted(nxt)
+        out.append(sorted(comp))
+    return out
+
+
+def _box_in_frame(faces, frame) -> tuple[float, float, float, float, float, float]:
+    """Exact box ``(x0, y0, z0, x1, y1, z1)`` of ``faces`` in ``frame`` (rows: the frame's
+    unit x, y, z in part coordinates)."""
+    from OCP.BRep import BRep_Builder
+    from OCP.BRepBuilderAPI import BRepBuilderAPI_Transform
+    from OCP.gp import gp_Trsf
+    from OCP.TopoDS import TopoDS_Compound
+
+    comp, b = TopoDS_Compound(), BRep_Builder()
+    b.MakeCompound(comp)
+    for f in faces:
+        b.Add(comp, f)
+    t = gp_Trsf()
+    (a, bb, c), (d, e, f_), (g, h, i) = frame
+    t.SetValues(a, bb, c, 0.0, d, e, f_, 0.0, g, h, i, 0.0)
+    return bbox_mm(BRepBuilderAPI_Transform(comp, t, True).Shape())
+
+
+def _pocket(faces, comp, side, neighbours, k_axis: int, datum) -> Pocket | None:
+    """The :class:`Pocket` walled by the faces ``comp`` (indices), or None when they are an
+    outer boundary (a plane facing away from the group) or only cylinders (a hole)."""
+    planes = [k for k in comp if side[k][0] == "plane"]
+    cyls = [side[k] for k in comp if side[k][0] == "cyl"]
+    if not planes or any(not c[2] for c in cyls):
+        return None
+    cs = [_centre(faces[k]) for k in comp]
+    mid = [sum(c[q] for c in cs) / len(cs) for q in range(3)]
+    for k in planes:  # every wall faces into the group: a pocket, not the outline
+        n, c = side[k][1], _centre(faces[k])
+        if sum(n[q] * (mid[q] - c[q]) for q in range(3)) <= 0:
+            return None
+    longest = max(planes, key=lambda k: _face_area(faces[k]))
+    n = side[longest][1]
+    az = [1.0 if q == k_axis else 0.0 for q in range(3)]
+    tx = [az[1] * n[2] - az[2] * n[1], az[2] * n[0] - az[0] * n[2], az[0] * n[1] - az[1] * n[0]]
+    i, j = [q for q in range(3) if q != k_axis]
+    if tx[i] < -AXIS_SLACK or (abs(tx[i]) <= AXIS_SLACK and tx[j] < 0):
+        tx = [-x for x in tx]  # along: pointing to +first other axis
+    ty = [az[1] * tx[2] - az[2] * tx[1], az[2] * tx[0] - az[0] * tx[2], az[0] * tx[1] - az[1] * tx[0]]
+    box = _box_in_frame([faces[k] for k in comp], (tx, ty, az))
+    ctr = [0.5 * (box[q] + box[q + 3]) for q in range(3)]
+    world = [ctr[0] * tx[q] + ctr[1] * ty[q] + ctr[2] * az[q] for q in range(3)]
+    floor = _has_floor(faces, comp, neighbours, k_axis, (tx, ty, az), box)
+    return Pocket("xyz"[k_axis], world[i] - datum[i], world[j] - datum[j], box[3] - box[0],
+                  box[4] - box[1], box[5] - box[2], box[2] - datum[k_axis],
+                  box[5] - datum[k_axis], math.degrees(math.atan2(tx[j], tx[i])),
+                  min((c[1] for c in cyls), default=None), not floor)
+
+
+def _face_area(face) -> float:
+    from OCP.BRepGProp import BRepGProp
+    from OCP.GProp import GProp_GProps
+
+    g = GProp_GProps()
+    BRepGProp.SurfaceProperties_s(face, g)
+    return g.Mass()
+
+
+def _has_floor(faces, comp, neighbours, k_axis, frame, box) -> bool:
+    """A plane across ``k_axis`` next to the walls and inside their outline: a floor."""
+    from OCP.BRepAdaptor import BRepAdaptor_Surface
+    from OCP.GeomAbs import GeomAbs_Plane
+
+    near = set().union(*(neighbours[k] for k in comp)) - set(comp)
+    for k in sorted(near):
+        if BRepAdaptor_Surface(faces[k]).GetType() != GeomAbs_Plane:
+            continue
+        if abs(abs(_outward_normal(faces[k])[k_axis]) - 1.0) > AXIS_SLACK:
+            continue
+        b = _box_in_frame([faces[k]], frame)
+        if (b[0] >= box[0] - SAME_POCKET_MM and b[3] <= box[3] + SAME_POCKET_MM
+                and b[1] >= box[1] - SAME_POCKET_MM and b[4] <= box[4] + SAME_POCKET_MM):
+            return True
+    return False
+
+
+def pockets(shape) -> list[Pocket]:
+    """Every pocket and through slot of ``shape`` (``TopoDS_Shape``, mm) along a part axis:
+    side faces joined edge to edge that all face into their group (module docstring for
+    the datum); sorted by axis, then centre."""
+    faces = _face_list(shape)
+    neighbours = _neighbours(shape, faces)
+    datum = bbox_mm(shape)[:3]
+    out = []
+    for k_axis in range(3):
+        side = _side_faces(faces, k_axis)
+        for comp in _components(side, neighbours):
+            p = _pocket(faces, comp, side, neighbours, k_axis, datum)
+            if p is not None:
+                out.append(p)
+    return sorted(out, key=lambda p: (p.axis, round(p.u_mm, 3), round(p.v_mm, 3), p.lo_mm))
+
+
+def chamfers(shape) -> list[Chamfer]:
+    """Every conical face of ``shape`` whose axis is a part axis, as a :class:`Chamfer`
+    (legs from the cone's half angle and the face's extent along its generatrix)."""
+    from OCP.BRepAdaptor import BRepAdaptor_Surface
+    from OCP.GeomAbs import GeomAbs_Cone
+    from OCP.TopAbs import TopAbs_REVERSED
+
+    datum = bbox_mm(shape)[:3]
+    out = []
+    for f in _face_list(shape):
+        srf = BRepAdaptor_Surface(f)
+        if srf.GetType() != GeomAbs_Cone:
+            continue
+        cone = srf.Cone()
+        d, loc = cone.Axis().Direction(), cone.Axis().Location()
+        comp = (d.X(), d.Y(), d.Z())
+        k = max(range(3), key=lambda q: abs(comp[q]))
+        if abs(abs(comp[k]) - 1.0) > AXIS_SLACK:
+            continue
+        i, j = [q for q in range(3) if q != k]
+        p = (loc.X(), loc.Y(), loc.Z())
+        slant = abs(srf.LastVParameter() - srf.FirstVParameter())
+        a = abs(cone.SemiAngle())
+        b = bbox_mm(f)
+        internal = (f.Orientation() == TopAbs_REVERSED) == cone.Position().Direct()
+        out.append(Chamfer("xyz"[k], p[i] - datum[i], p[j] - datum[j], b[k] - datum[k],
+                           b[k + 3] - datum[k], slant * math.cos(a), slant * math.sin(a),
+                           math.degrees(a), internal))
+    return sorted(out, key=lambda c: (c.axis, round(c.u_mm, 3), round(c.v_mm, 3), c.lo_mm))

@@ -7,7 +7,9 @@ one. Visible and hidden edges come from build123d's hidden-line projection
 (``Shape.project_to_viewport``). Overall sizes are dimensioned on the views; every
 cylindrical feature gets a tag on the view it is seen round in and a row of the feature
 table: its centre from the datum (the bounding box's minimum corner), its diameter with the
-ISO 286 fit or the thread with its depth (:func:`cad.export.drawings.notes.callout`). The title
+ISO 286 fit or the thread with its depth (:func:`cad.export.drawings.notes.callout`); so
+does every pocket or through slot (length x width x depth, corner radius, direction) and
+every conical chamfer (C size x 45 deg, or legs and angle) found on the solid. The title
 block states design, part, material, quantity, process, stock, the general tolerance, units,
 scale and sheet number. Text stays text in the SVG (``svg.fonttype = "none"``), so a test
 can read every number back.
@@ -76,6 +78,40 @@ def feature_rows(part: SheetPart):
                 f"{callout(c, part.fits, part.threads, ext.get(c.axis))}")
         rows.append((tag, c, text))
     return rows, box
+
+
+def pocket_text(tag: str, p) -> str:
+    """The table row of a :class:`cad.export.drawings.features.Pocket`: ``P1 pocket z
+    x=40.61 y=9.50 47.22 x 2.00 x 5.00 z=0.00..5.00 | through; corners R1.00; length
+    along 0.0 deg from x``."""
+    a, b = {"z": ("x", "y"), "x": ("y", "z"), "y": ("x", "z")}[p.axis]
+    corners = f"corners R{p.corner_r_mm:.2f}" if p.corner_r_mm is not None else "sharp corners"
+    return (f"{tag} pocket {p.axis} {a}={p.u_mm:.2f} {b}={p.v_mm:.2f} {p.length_mm:.2f} x "
+            f"{p.width_mm:.2f} x {p.depth_mm:.2f} {p.axis}={p.lo_mm:.2f}..{p.hi_mm:.2f} | "
+            f"{'through' if p.through else 'blind (floor)'}; {corners}; length along "
+            f"{p.angle_deg:.1f} deg from {a}")
+
+
+def chamfer_text(tag: str, c) -> str:
+    """The table row of a :class:`cad.export.drawings.features.Chamfer`: ``C1 chamfer z
+    x=2.45 y=2.45 z=0.00..0.15 | bore C0.15 x 45 deg`` (legs: axial, radial)."""
+    a, b = {"z": ("x", "y"), "x": ("y", "z"), "y": ("x", "z")}[c.axis]
+    where = "bore" if c.internal else "edge"
+    size = (f"C{c.axial_mm:.2f} x 45 deg" if abs(c.angle_deg - 45.0) < 0.05 else
+            f"{c.axial_mm:.2f} x {c.angle_deg:.1f} deg (radial {c.radial_mm:.2f})")
+    return (f"{tag} chamfer {c.axis} {a}={c.u_mm:.2f} {b}={c.v_mm:.2f} "
+            f"{c.axis}={c.lo_mm:.2f}..{c.hi_mm:.2f} | {where} {size}")
+
+
+def pocket_chamfer_rows(part: SheetPart):
+    """``[(tag, Pocket or Chamfer, text)]``: the part's pockets (P1..) and chamfers (C1..)
+    (:func:`cad.export.drawings.features.pockets`, :func:`~cad.export.drawings.features.chamfers`)."""
+    from cad.export.drawings.features import chamfers, pockets
+
+    rows = [(f"P{k}", p, pocket_text(f"P{k}", p)) for k, p in enumerate(pockets(part.shape), 1)]
+    rows += [(f"C{k}", c, chamfer_text(f"C{k}", c))
+             for k, c in enumerate(chamfers(part.shape), 1)]
+    return rows
 
 
 def _scale(size, section: bool) -> float:
@@ -253,8 +289,9 @@ def draw_sheet(part: SheetPart, design: str, page: tuple[int, int]):
          (front[0] - s * x / 2, front[1] + s * z / 2), f"{z:.2f}", (-6, 0))
     ax.plot([x0s], [y0s], marker="^", ms=3, color="black")
     ax.text(x0s + 1, y0s + 1, "datum", fontsize=FONT_MIN_PT + 1)
-    _tags(ax, rows, box, {"z": (top, "x", "y"), "y": (front, "x", "z"),
-                          "x": (side, "y", "z")}, s)
+    more = pocket_chamfer_rows(part)
+    _tags(ax, rows + more, box, {"z": (top, "x", "y"), "y": (front, "x", "z"),
+                                 "x": (side, "y", "z")}, s)
     if y_sec is not None:
         sec = (top[0], top[1] - s * y / 2 - VIEW_GAP_MM - s * z / 2)
         _section(ax, solid, y_sec, box, sec, s)
@@ -262,7 +299,7 @@ def draw_sheet(part: SheetPart, design: str, page: tuple[int, int]):
         ys = top[1] + s * (y_sec - ctr[1])
         ax.plot([x0s - 3, x0s + s * x + 3], [ys, ys], lw=0.3, color="black", ls="-.")
         ax.text(x0s + s * x + 4, ys, "A-A", fontsize=FONT_PT, va="center")
-    _table(ax, rows, 200.0, SHEET_MM[1] - b - 2, 54.0)
+    _table(ax, rows + more, 200.0, SHEET_MM[1] - b - 2, 54.0)
     rd = max((c.d_mm for _, c, _ in rows if c.axis == "z" and not c.internal and c.full),
              default=None)
     _title_block(ax, part, design, s, page, stock(part.process, size, part.plate, rd))

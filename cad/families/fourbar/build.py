@@ -280,9 +280,10 @@ def interference(design, model, fidelity: str, allow_interference: bool, same_bo
     return rep
 
 
-def _write_bom(design, model, props: dict, out_dir: Path) -> list[dict]:
+def _write_bom(design, model, props: dict, out_dir: Path, formats=()) -> list[dict]:
     """``bom.csv`` (the rows every family writes, fits included, and the encoder) and
-    ``assembly.md``; returns the BOM rows."""
+    ``assembly.md`` (with its exploded views when ``formats`` asks for fabrication files);
+    returns the BOM rows."""
     from cad.export import write_bom
     from cad.pipeline import family
 
@@ -290,7 +291,8 @@ def _write_bom(design, model, props: dict, out_dir: Path) -> list[dict]:
     bom = family.bom_rows(model.instances, props) + [encoder]
     write_bom(bom, out_dir)
     family.write_assembly_md(out_dir, f"{design.name} ({design.family})", model.instances,
-                             checks=ASSEMBLY_CHECKS, no_solid_rows=[encoder])
+                             checks=ASSEMBLY_CHECKS, no_solid_rows=[encoder],
+                             tf_world_body=model.tf_world_body, formats=formats)
     return bom
 
 
@@ -351,7 +353,7 @@ def build(
         rep = interference(design, model, fidelity, allow_interference,
                            tasks["same_body"].result()[0])
         timings["interference"] = time.perf_counter() - t1
-        bom = _write_bom(design, model, mp["props"], out_dir)
+        bom = _write_bom(design, model, mp["props"], out_dir, formats)
         _step(progress, "exports", 4)
         files, timings["exports"] = tasks["exports"].result()
         files += _sim_files(design, model, mp, out_dir, formats)

@@ -284,15 +284,16 @@ def _write_views(design, instances, tfs: dict, out_dir: Path, formats) -> tuple[
     )
 
 
-def _write_texts(design, out_dir: Path, report: dict, bom, instances) -> None:
-    """``report.md`` and ``assembly.md``."""
+def _write_texts(design, out_dir: Path, report: dict, bom, instances, tfs=None,
+                 formats=()) -> None:
+    """``report.md`` and ``assembly.md`` (its exploded views: ``tfs``, ``formats``)."""
     from cad.pipeline import family
 
     family.write_report_md(
         out_dir, f"{design.name} ({design.family})", _md_rows(report), bom, report["notes"]
     )
     family.write_assembly_md(out_dir, f"{design.name} ({design.family})", instances,
-                             checks=ASSEMBLY_CHECKS)
+                             checks=ASSEMBLY_CHECKS, tf_world_body=tfs, formats=formats)
 
 
 def build(
@@ -364,7 +365,7 @@ def build(
     report["fits"] = family.fits_report(instances)
     report["placement"] = family.placement_report(instances, tfs, props)
     report["files"] = sorted(files + ["report.md"])
-    _write_texts(design, out_dir, report, bom, instances)
+    _write_texts(design, out_dir, report, bom, instances, tfs, formats)
     report["_viewer_glb"] = viewer_glb  # popped by the dispatcher: embedded in report.html
     _step(progress, "done", total, total)
     return report

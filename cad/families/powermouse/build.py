@@ -37,6 +37,7 @@ fits per part: the post bore / post and handle socket / stem, H7/g6).
 
 from __future__ import annotations
 
+import fnmatch
 from pathlib import Path
 
 import numpy as np
@@ -121,15 +122,16 @@ def _wrench(design, act: dict, g, flotor_mp) -> tuple:
     return gain_per_At, W, iso, W_com
 
 
-def _write_texts(design, out_dir: Path, rep: dict, bom, inst) -> None:
-    """``report.md`` and ``assembly.md``."""
+def _write_texts(design, out_dir: Path, rep: dict, bom, inst, tfs=None, formats=()) -> None:
+    """``report.md`` and ``assembly.md`` (its exploded views: ``tfs``, ``formats``)."""
     from cad.pipeline import family
 
     family.write_report_md(out_dir, f"{design.name} (powermouse)", _md_rows(rep), bom, rep["notes"])
     family.write_assembly_md(out_dir, f"{design.name} (powermouse)", inst, ASSEMBLY_PLAN,
                              [f"the flotor moves freely by +-{design.motion.range_mm:g} mm and "
                               f"+-{design.motion.range_deg:g} deg about the centre, touching only "
-                              "at the limits (clearances in report.md)"])
+                              "at the limits (clearances in report.md)"],
+                             tf_world_body=tfs, formats=formats)
 
 
 def build(
@@ -199,7 +201,7 @@ def build(
     rep["fits"] = family.fits_report(inst)
     rep["placement"] = family.placement_report(inst, tfs, props)
     rep["files"] = sorted(files + ["report.md"])
-    _write_texts(design, out_dir, rep, bom, inst)
+    _write_texts(design, out_dir, rep, bom, inst, tfs, formats)
     rep["_viewer_glb"] = viewer_glb  # popped by the dispatcher: embedded in report.html
     _step(progress, "done", total, total)
     return rep
@@ -232,6 +234,12 @@ ASSEMBLY_PLAN = (
     ("legs under the housing", ["leg_[0-9]"]),
 )
 
+
+#: Instances drawn cut away (the quarter facing the viewer removed) in render.png and
+#: animation.gif: the housing, its plates and magnets, the flotor box and their lid screws,
+#: so that the flotor, its coils and the core show (issue 24 §3); the glb keeps them whole.
+PICTURE_CUTAWAY = ("housing_*", "iron_*", "magnet_*_outer-*", "flotor_body", "flotor_lid",
+                   "*lid_screw_*")
 
 #: This builder writes glb and 3mf (:mod:`cad.pipeline.views`).
 VIEW_EXPORT = True
@@ -278,5 +286,7 @@ def _write_views(design, inst, tfs, out_dir, formats, gap) -> tuple[list[str], b
         name=design.name,
         title=f"{design.name} (powermouse)",
         stroke=stroke_poses(design),
+        cutaway=[i.name for i in inst
+                 if any(fnmatch.fnmatchcase(i.name, p) for p in PICTURE_CUTAWAY)],
     )
     return _fig8_chart(design, gap, out_dir) + view_files, glb

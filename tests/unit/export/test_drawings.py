@@ -81,6 +81,49 @@ def solid_features(step: Path) -> set[tuple]:
     return {(*key, span > 2 * math.pi - 1e-6) for key, span in spans.items()}
 
 
+#: A chamfer row: axis, centre, extent along the axis, then C size x 45 deg or legs x angle.
+CHAMFER_ROW = re.compile(r"^C\d+ chamfer ([xyz]) [xyz]=(-?\d+\.\d+) [xyz]=(-?\d+\.\d+) "
+                         r"[xyz]=(-?\d+\.\d+)\.\.(-?\d+\.\d+)$")
+CHAMFER_SIZE = re.compile(r"^(?:bore|edge) (?:C(\d+\.\d+) x 45 deg|(\d+\.\d+) x "
+                          r"(\d+\.\d+) deg \(radial (\d+\.\d+)\))$")
+
+
+def chamfer_table(texts: list[str]) -> list[tuple]:
+    """``(axis, u, v, lo, hi, axial leg)`` of every chamfer row (geometry line, then its
+    callout line below)."""
+    out = []
+    for t, note in zip(texts, texts[1:], strict=False):
+        m = CHAMFER_ROW.match(t)
+        if m:
+            c = CHAMFER_SIZE.match(note)
+            assert c, note
+            axial = float(c[1] or c[2])
+            out.append((m[1], *(float(m[k]) for k in range(2, 6)), axial))
+    return out
+
+
+def solid_chamfers(step: Path) -> list[tuple]:
+    """``(axis, u, v, lo, hi, axial leg)`` of the conical faces of a STEP (build123d):
+    centre from the cone's axis, extent and axial leg from the face's bounding box, all from
+    the part's bounding-box minimum corner."""
+    import build123d as bd
+
+    shape = bd.import_step(step)
+    box = shape.bounding_box(optimal=True)
+    lo = (box.min.X, box.min.Y, box.min.Z)
+    out = []
+    for f in shape.faces().filter_by(bd.GeomType.CONE):
+        ax = f.axis_of_rotation
+        d = (ax.direction.X, ax.direction.Y, ax.direction.Z)
+        k = max(range(3), key=lambda i: abs(d[i]))
+        i, j = [q for q in range(3) if q != k]
+        p = (ax.position.X - lo[0], ax.position.Y - lo[1], ax.position.Z - lo[2])
+        fb = f.bounding_box(optimal=True)
+        a0, a1 = (fb.min.X, fb.min.Y, fb.min.Z)[k] - lo[k], (fb.max.X, fb.max.Y, fb.max.Z)[k] - lo[k]
+        out.append(("xyz"[k], p[i], p[j], a0, a1, a1 - a0))
+    return out
+
+
 def table_rows(texts: list[str]) -> list[tuple]:
     """``(axis, u, v, size, full, kind, text)``; an oblique axis: ``(direction, x, y, z, size,
     full, kind, text)``."""
@@ -137,6 +180,14 @@ def _check_sheet(out: Path, part: str, row: dict):
         assert hit, (part, feat)
         matched |= {x[-1] for x in hit}
     assert matched == {x[-1] for x in rows}, part  # no row without a face
+    chamfer_rows = chamfer_table(texts)
+    cones = solid_chamfers(out / "parts" / f"{part}.step")
+    assert len(chamfer_rows) == len(cones), (part, chamfer_rows, cones)
+    for cone in cones:  # each conical face printed with its place and legs, once
+        hit = [r for r in chamfer_rows if r[0] == cone[0]
+               and all(abs(a - b) <= PRINTED_MM for a, b in zip(r[1:5], cone[1:5], strict=True))
+               and abs(r[5] - cone[5]) <= PRINTED_MM]
+        assert hit, (part, cone, chamfer_rows)
     assert f"part: {part}" in texts
     assert f"material: {row['material']}" in texts
     assert f"quantity: {row['quantity']}" in texts
@@ -191,3 +242,81 @@ def test_every_made_part_of_every_family_has_a_sheet(family_builds, fam):
         assert pdf_pages(f / "drawings.pdf") == len(made)
         for part in made:
             _check_sheet(f, part, rows[part])
+
+
+POCKET_ROW = re.compile(r"^P\d+ pocket z x=(-?\d+\.\d+) y=(-?\d+\.\d+) (\d+\.\d+) x "
+                        r"(\d+\.\d+) x (\d+\.\d+) z=(-?\d+\.\d+)\.\.(-?\d+\.\d+)$")
+POCKET_NOTE = re.compile(r"^(through|blind \(floor\)); corners R(\d+\.\d+); length along "
+                         r"(-?\d+\.\d) deg from x$")
+
+
+def test_bar_pockets_are_dimensioned_from_the_solid(tmp_path):
+    """hoeken_light (``bar_pockets = true``): each bar's sheet prints every through slot
+    (length x width x depth, corner radius, centre) as its solid shows it, read
+    independently with build123d (the inner wires of the bar's top face: their bounding
+    box and arc radii, the bar's thickness), and the width is the design's closed form
+    ``bar_width - 2 web`` with round ends of half that (cad/parts/bars.py)."""
+    import build123d as bd
+
+    from cad.design import load_design
+    from cad.export.drawings import SheetPart, write_drawings
+    from cad.families.fourbar import assemble
+
+    d = load_design(ROOT / "designs" / "hoeken_light.toml")
+    assert d.parts.bar_pockets
+    width = d.parts.bar_width_mm - 2 * d.parts.bar_pocket_web_mm
+    kinds = {i.kind.name: i.kind for i in assemble(d, "preview").instances}
+    bars = [kinds[n] for n in ("crank", "coupler", "rocker")]
+    write_drawings([SheetPart(k.name, k.shape, k.material, 1, k.process, k.plate) for k in bars],
+                   tmp_path, d.name)
+    total = 0
+    for k in bars:
+        texts = sheet_texts(tmp_path / "drawings" / f"{k.name}.svg")
+        rows = []
+        for t, note in zip(texts, texts[1:], strict=False):
+            if m := POCKET_ROW.match(t):
+                n = POCKET_NOTE.match(note)
+                assert n, note
+                assert n[1] == "through" and float(n[3]) == 0.0  # along the bar (link x)
+                rows.append((*(float(x) for x in m.groups()), float(n[2])))
+        solid = bd.Solid(k.shape)
+        box = solid.bounding_box(optimal=True)
+        top = solid.faces().sort_by(bd.Axis.Z)[-1]
+        slots = []
+        for w in top.inner_wires():
+            arcs = [e for e in w.edges() if e.geom_type == bd.GeomType.CIRCLE]
+            if len(w.edges()) == 1:
+                continue  # a round hole (a cylinder row of its own)
+            wb = w.bounding_box(optimal=True)
+            slots.append((wb.center().X - box.min.X, wb.center().Y - box.min.Y, wb.size.X,
+                          wb.size.Y, box.size.Z, 0.0, box.size.Z, min(e.radius for e in arcs)))
+        assert len(rows) == len(slots) >= 1, (k.name, rows, slots)
+        for sl in slots:
+            hit = [r for r in rows if all(abs(a - b) <= PRINTED_MM for a, b in
+                                          zip(r, sl, strict=True))]
+            assert len(hit) == 1, (k.name, sl, rows)
+            assert hit[0][3] == pytest.approx(width, abs=PRINTED_MM)
+            assert hit[0][7] == pytest.approx(width / 2, abs=PRINTED_MM)
+        total += len(slots)
+    assert total >= 3
+
+
+def test_pocket_with_a_floor_and_sharp_corners_is_blind():
+    """A 30 x 20 x 10 block with a 12 x 6 x 4 deep pocket (sharp corners, centre (10, 8)):
+    detected blind with its sizes; a cylinder with a C1.5 chamfer on its top edge: one
+    external conical chamfer, legs 1.5 and 1.5 at 45 deg, z 6.5..8 (build123d made both)."""
+    import build123d as bd
+
+    from cad.export.drawings.features import chamfers, pockets
+
+    block = bd.Box(30, 20, 10, align=(bd.Align.MIN,) * 3)
+    cut = bd.Pos(10, 8, 8) * bd.Box(12, 6, 4)
+    (p,) = pockets((block - cut).wrapped)
+    assert (p.axis, p.through, p.corner_r_mm) == ("z", False, None)
+    assert (p.length_mm, p.width_mm, p.depth_mm) == pytest.approx((12, 6, 4), abs=1e-9)
+    assert (p.u_mm, p.v_mm, p.lo_mm, p.hi_mm) == pytest.approx((10, 8, 6, 10), abs=1e-9)
+    round_block = bd.Cylinder(10, 8, align=(bd.Align.CENTER, bd.Align.CENTER, bd.Align.MIN))
+    round_block = bd.chamfer(round_block.edges().sort_by(bd.Axis.Z)[-1], 1.5)
+    (c,) = chamfers(round_block.wrapped)
+    assert (c.axial_mm, c.radial_mm, c.angle_deg) == pytest.approx((1.5, 1.5, 45.0), abs=1e-9)
+    assert (c.lo_mm, c.hi_mm, c.internal) == (pytest.approx(6.5), pytest.approx(8.0), False)

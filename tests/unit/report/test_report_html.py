@@ -19,6 +19,8 @@ from __future__ import annotations
 import io
 import json
 import os
+import re
+from html.parser import HTMLParser
 from pathlib import Path
 
 import numpy as np
@@ -311,3 +313,167 @@ def test_render_of_several_designs_writes_nothing_when_one_build_fails(tmp_path)
     )
     assert_one_line_error(code, err, "stroke_mm", "A2")
     assert not out.exists() or list(out.iterdir()) == []
+
+
+# --- issue 24 §3: the page of every family, read back with html.parser -------------------
+
+PAGE_FAMILIES = {"hoeken": "hoeken.toml", "pantograph": "pantograph.toml",
+                 "twin-pantograph": "haptic_mouse.toml", "powermouse": "powermouse.toml"}
+
+
+class _Page(HTMLParser):
+    """``h2`` headings in order, every table as rows of cell texts (after the ``h2`` it
+    follows), the design file named in the ``<code>`` of the first muted paragraph."""
+
+    def __init__(self):
+        super().__init__()
+        self.h2: list[str] = []
+        self.tables: list[tuple[str, list[list[str]]]] = []
+        self.source = None
+        self._in, self._cell = None, None
+
+    def handle_starttag(self, tag, attrs):
+        if tag == "h2":
+            self._in = "h2"
+            self.h2.append("")
+        elif tag == "table":
+            self.tables.append((self.h2[-1] if self.h2 else "", []))
+        elif tag == "tr" and self.tables:
+            self.tables[-1][1].append([])
+        elif tag in ("td", "th") and self.tables:
+            self.tables[-1][1][-1].append("")
+            self._cell = True
+        elif tag == "code" and self.source is None:
+            self._in = "code"
+            self.source = ""
+
+    def handle_endtag(self, tag):
+        if tag in ("h2", "code"):
+            self._in = None
+        elif tag in ("td", "th"):
+            self._cell = None
+
+    def handle_data(self, data):
+        if self._in == "h2":
+            self.h2[-1] += data
+        elif self._in == "code":
+            self.source += data
+        elif self._cell:
+            self.tables[-1][1][-1][-1] += data
+
+
+@pytest.fixture(scope="module")
+def pages(family_builds, hoeken_sim_build):
+    """``{family: (design file name, out_dir, parsed report.html)}`` of the shared builds."""
+    outs = {"hoeken": hoeken_sim_build[1], **{f: o for f, (_, o, _) in family_builds.items()}}
+    out = {}
+    for fam, o in outs.items():
+        p = _Page()
+        p.feed((o / "report.html").read_text(encoding="utf-8"))
+        out[fam] = (PAGE_FAMILIES[fam], o, p)
+    return out
+
+
+@pytest.mark.parametrize("fam", list(PAGE_FAMILIES))
+def test_page_order_source_and_readable_tables(pages, fam):
+    """Verdicts first, then the 3D view and the stroke, the charts, the BOM; the design
+    file's name; the fastener records as a table equal to report.json's; no table cell
+    holds JSON."""
+    fname, out, p = pages[fam]
+    order = ["Datasheet", "Assembly (3D)", "The stroke", "Charts", "Bill of materials"]
+    assert [h for h in p.h2 if h in order] == order
+    assert p.source == fname
+    rep = json.loads((out / "report.json").read_text())
+    fast = rep["fasteners"]
+    assert fast, fam  # every family's build has screws
+    (rows,) = [r for h, r in p.tables if h == "Fasteners"]
+    assert rows[0] == ["screw", "standard", "size", "length (mm)", "clamps", "hole engaged",
+                       "engagement (mm)"]
+    body = {r[0]: r for r in rows[1:]}
+    assert set(body) == set(fast)
+    for name, f in fast.items():
+        r = body[name]
+        assert (r[1], r[2], r[5]) == (f["kind"], f["size"], f["hole"])
+        assert float(r[3]) == pytest.approx(f["length_mm"], rel=1e-5)
+        assert float(r[6]) == pytest.approx(f["engagement_mm"], rel=1e-5)
+        assert r[4] == ", ".join(f["clamps"])
+    cells = [c for _, rows in p.tables for r in rows for c in r]
+    json_like = [c for c in cells if re.search(r"[{\[]\s*[\"']|[\"']\s*:\s", c)]
+    assert not json_like, json_like[:3]
+
+
+def test_split_by_plane_keeps_area_winding_and_sides():
+    """Random triangles cut by a plane: the pieces cover the same area, keep their
+    source's normal direction and lie on one side each (seeded)."""
+    from cad.report.cutaway import split_by_plane
+
+    rng = np.random.default_rng(7)
+    tris = rng.uniform(-10, 10, (200, 3, 3))
+    n, off = np.array([0.3, -0.5, 0.8]) / np.linalg.norm([0.3, -0.5, 0.8]), 0.7
+    out, src = split_by_plane(tris, n, off)
+
+    def cross(t):
+        return np.cross(t[:, 1] - t[:, 0], t[:, 2] - t[:, 0])
+
+    area = np.zeros(len(tris))
+    np.add.at(area, src, 0.5 * np.linalg.norm(cross(out), axis=1))
+    assert np.allclose(area, 0.5 * np.linalg.norm(cross(tris), axis=1), rtol=1e-9)
+    c, c0 = cross(out), cross(tris)[src]
+    big = np.linalg.norm(c, axis=1) > 1e-9
+    assert (np.einsum("ij,ij->i", c[big], c0[big]) > 0).all()  # same winding
+    s = out @ n - off
+    assert ((s >= -1e-9).all(axis=1) | (s <= 1e-9).all(axis=1)).all()
+    assert len(out) > len(tris)  # some were cut
+
+
+def test_powermouse_pictures_show_the_flotor_and_coils(family_builds):
+    """The still and the GIF are a quarter cut-away: with the build's cut-away
+    (:data:`PICTURE_CUTAWAY`) the flotor, the core and coils own pixels (each drawn alone in
+    red, the rest grey); in the closed box neither the core nor any coil does. render.png on
+    disk has more than 3x the pixels of the flotor's colour of an uncut render."""
+    import fnmatch
+
+    from PIL import Image
+
+    from cad.export.gltf import kind_meshes
+    from cad.families.powermouse import assemble
+    from cad.families.powermouse.build import PICTURE_CUTAWAY
+    from cad.pipeline.views import instance_colors
+    from cad.report.render import cutaway_of, render_images
+    from cad.tolerances import VIEW_ANGULAR_TOLERANCE_RAD, VIEW_TOLERANCE_MM
+
+    d, out, _ = family_builds["powermouse"]
+    m = assemble(d, "inertia")
+    insts = [i for i in m.instances if i.kind.listed]
+    meshes = kind_meshes(insts, VIEW_TOLERANCE_MM, VIEW_ANGULAR_TOLERANCE_RAD)
+    tf = {b: np.asarray(T, float).reshape(1, 4, 4) for b, T in m.tf_world_body.items()}
+    names = [i.name for i in insts if any(fnmatch.fnmatchcase(i.name, p) for p in PICTURE_CUTAWAY)]
+    cut = cutaway_of(names, insts, m.tf_world_body, meshes)
+
+    def visible(name: str, cutaway) -> bool:
+        """Whether ``name`` owns a pixel: it alone drawn pure red, the rest grey."""
+        cols = {i.name: (1.0, 0.0, 0.0) if i.name == name else (0.6, 0.6, 0.6) for i in insts}
+        (img,) = render_images(insts, tf, meshes, cols, [0], size_px=(320, 240), supersample=1,
+                               cutaway=cutaway)
+        a = np.asarray(img, dtype=int)
+        return bool(((a[..., 0] > 60) & (a[..., 1] < 10) & (a[..., 2] < 10)).any())
+
+    assert "flotor_body" in names and "housing_body" in names
+    inside = ["core", *sorted(i.name for i in insts if i.name.startswith("coil_"))]
+    seen_cut = {n for n in ["flotor_body", *inside] if visible(n, cut)}
+    assert {"flotor_body", "core"} <= seen_cut and len(seen_cut) >= 5, seen_cut
+    assert not any(visible(n, None) for n in inside)  # the closed box hides them all
+    colors = instance_colors(insts)
+    flotor = np.asarray(colors["flotor_body"]) * 255
+
+    def flotor_px(img) -> int:
+        a = np.asarray(img.convert("RGB"), dtype=float)
+        norm = np.linalg.norm(a, axis=-1) * np.linalg.norm(flotor)
+        cos = (a @ flotor) / np.where(norm > 0, norm, 1)
+        return int((cos > 0.995).sum())
+
+    with Image.open(out / "render.png") as im:
+        on_disk = flotor_px(im)
+        size = im.size
+    (uncut,) = render_images(insts, tf, meshes, colors, [0], size_px=size)
+    assert on_disk > 3 * flotor_px(uncut)
