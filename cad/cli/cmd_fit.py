@@ -62,6 +62,8 @@ def register(app: typer.Typer) -> None:
             for r in payload["rows"]:
                 comp = "—" if r["computed"] is None else f"{r['computed']:.4g}"
                 print(f"  {r['key']}: {comp} (target {r['target_text']}) {'ok' if r['ok'] else 'MISSED'}")
+            print(f"{payload['evaluations']} candidates evaluated, {payload['rejected_pre_cad']} rejected "
+                  "before CAD (layer planner, part checks, force limit)")
             print(f"{'replaced' if replaced else 'wrote'} {dst}")
         if not payload["met"]:
             raise TargetMissed("targets not met within the free parameters' bounds (the best design was written)")

@@ -8,17 +8,25 @@ from pathlib import Path
 
 def optimize_fourbar(design, objective: str, trials: int, seed: int, top: int, chart_dir: Path | None,
                      progress=None, out_stem: str | None = None,
-                     proportions_tol: float = 0.0, starts: bool = True) -> tuple[dict, object]:
+                     proportions_tol: float = 0.0, starts: bool = True,
+                     beat_prototype: bool = False) -> tuple[dict, object]:
     """Search (cheap model), re-evaluate the best ``top`` candidates exactly, pick the lightest
     accepted one. ``starts=False``: without the hand-written :data:`search.STARTS`.
+    ``beat_prototype``: the brief of :mod:`cad.studies.codesign.prototype` (every trial judged
+    on every limit; without an accepted design, the report's ``prototype_front``).
     Returns (JSON-able report, accepted Candidate or None)."""
     from cad.errors import HapticadError
     from cad.studies.codesign import exact, search
 
     t0 = time.perf_counter()
+    if beat_prototype:
+        from cad.studies.codesign.prototype import prototype_design
+
+        design = prototype_design(design)
     pb = search.problem_from(design)
     pb.fixed_parts = search.fixed_parts(design)
     pb.proportions_tol = proportions_tol
+    pb.all_limits = beat_prototype
     cands, records = search.run(pb, trials, seed, starts=starts)
     t_search = time.perf_counter() - t0
     checked, best = [], None
@@ -39,7 +47,9 @@ def optimize_fourbar(design, objective: str, trials: int, seed: int, top: int, c
                             "rejected": str(exc)})
             continue
         checked.append({"trial": c.number, "parts": c.parts, "mechanism": c.mechanism, "exact": ex})
-        if exact.accepted(ex) and (best is None or ex["M11_max_g"] < best[1]["M11_max_g"]):
+        if beat_prototype:
+            ex["datasheet"] = _datasheet_check(design, c)
+        if exact.accepted(ex) and (not beat_prototype or ex["datasheet"]["ok"]) and (best is None or ex["M11_max_g"] < best[1]["M11_max_g"]):
             best = (c, ex)
     front = search.pareto(records)
     rep = {
@@ -59,9 +69,83 @@ def optimize_fourbar(design, objective: str, trials: int, seed: int, top: int, c
                          for r in front],
         "wall_s": time.perf_counter() - t0,
     }
+    if beat_prototype:
+        rep["prototype"] = _prototype_report(design, pb, records, best, chart_dir, out_stem)
+        rep["wall_s"] = time.perf_counter() - t0
     if chart_dir is not None:
         rep["chart"] = plot_pareto(records, front, best, chart_dir / f"{out_stem or design.name}_pareto")
     return rep, (best[0] if best else None)
+
+
+def _datasheet_check(design, cand) -> dict:
+    """The full datasheet of a candidate (:func:`cad.datasheet.run.device_datasheet`: a build at
+    inertia fidelity, the reduced-model wall bisection for K_max): {key: (value, verdict)} of
+    its limited rows and ``ok``."""
+    from cad.datasheet.run import device_datasheet
+    from cad.design import parse_design
+    from cad.studies.codesign import exact
+
+    d = parse_design(exact.candidate_raw(design, cand, f"{design.name}_candidate"), str(design.source))
+    ds = device_datasheet(d)
+    rows = {r["key"]: {"value": r["value"], "verdict": r["verdict"],
+                       "limit": None if r["limit"] is None else f"{r['limit']['op']} {r['limit']['value']:g}"}
+            for r in ds["rows"] if r["limit"] is not None}
+    return {"ok": ds["ok"], "rows": rows, "warnings": ds["warnings"]}
+
+
+def _prototype_report(design, pb, records, best, chart_dir, out_stem) -> dict:
+    """The --beat-prototype part of the report: the limits, the motors' bound, and without an
+    accepted design the Pareto front of (continuous force, friction) with its two ends
+    verified on the full datasheet."""
+    from cad.datasheet.limits import prototype_limits
+    from cad.studies.codesign import prototype, search
+
+    lim = prototype_limits()
+    out = {"limits": {k: {"op": v.op, "value": v.value, "reason": v.reason} for k, v in lim.items()},
+           "motor_bounds": [prototype.motor_bound(k) for k in search.MOTOR_CONTINUOUS_TORQUE_MNM],
+           "met_by": None if best is None else best[0].number}
+    fr = prototype.front(records, lim)
+    keep = ("trial", "M11_max_g", "first_mode_Hz", "max_stress_MPa", "stroke_mm", "dy_max_mm",
+            prototype.FRONT_X, prototype.FRONT_Y)
+    out["front_axes"] = [prototype.FRONT_X, prototype.FRONT_Y]
+    out["front"] = [{**{k: r.get(k) for k in keep}, "motor": pb.evaluated[r["trial"]].parts["motor"],
+                     "crank_span_deg": pb.evaluated[r["trial"]].mechanism["phi1_max_deg"]
+                     - pb.evaluated[r["trial"]].mechanism["phi1_min_deg"]} for r in fr]
+    out["front_trials_considered"] = sum(1 for r in records if r.get("misses") is not None and "first_mode_Hz" in r
+                                         and set(r["misses"]) <= {prototype.FRONT_X, prototype.FRONT_Y})
+    ends = [] if not fr else ([fr[0], fr[-1]] if len(fr) > 1 else [fr[0]])
+    out["front_ends_exact"] = [{"trial": r["trial"], **_datasheet_check(design, pb.evaluated[r["trial"]])}
+                               for r in ends]
+    if chart_dir is not None and fr:
+        out["chart"] = plot_front(records, fr, lim, chart_dir / f"{out_stem or design.name}_front")
+    return out
+
+
+def plot_front(records, fr, lim, stem: Path) -> list[str]:
+    """Continuous force against friction: the trials meeting every other limit, the front,
+    the two limits."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from matplotlib.figure import Figure
+
+    from cad.bench.common import save_chart
+    from cad.studies.codesign.prototype import FRONT_X, FRONT_Y
+
+    pts = [r for r in records if r.get("misses") is not None and FRONT_X in r and FRONT_Y in r and "first_mode_Hz" in r
+           and set(r["misses"]) <= {FRONT_X, FRONT_Y}]
+    fig = Figure(figsize=(6.5, 4.5))
+    ax = fig.subplots()
+    ax.scatter([r[FRONT_Y] for r in pts], [r[FRONT_X] for r in pts], s=8, c="0.7",
+               label="trials meeting every other limit (cheap model)")
+    ax.plot([r[FRONT_Y] for r in fr], [r[FRONT_X] for r in fr], "o-", color="C0", ms=4, label="Pareto front")
+    ax.axhline(lim[FRONT_X].value, color="C3", lw=1, ls="--", label=f"continuous force >= {lim[FRONT_X].value:g} N")
+    ax.axvline(lim[FRONT_Y].value, color="C2", lw=1, ls="--", label=f"friction <= {lim[FRONT_Y].value:g} N (paper)")
+    ax.set_xlabel("Coulomb friction at the handle (N), max over the stroke")
+    ax.set_ylabel("continuous force at the handle (N), min over the stroke")
+    ax.grid(True, lw=0.3)
+    ax.legend(fontsize=8)
+    return save_chart(fig, stem.parent, stem.name)
 
 
 def _clean(d: dict) -> dict:
