@@ -278,7 +278,27 @@ def render_voicecoil(sources: list[tuple[str, str | None, dict[str, Any]]]) -> s
     return "\n".join(lines)
 
 
+def render_prototype_front(sources: list[tuple[str, str | None, dict[str, Any]]]) -> str:
+    """The Pareto front of ``optimize --beat-prototype --json`` (continuous force against
+    friction, every other limit met on the cheap model), its ends on the full datasheet."""
+    (_, _, data), = sources
+    p = data["prototype"]
+    ends = {e["trial"]: e for e in p["front_ends_exact"]}
+    lines = ["| trial | motor | crank span | continuous force | friction | M11 max | first mode | "
+             "datasheet (solids, simulated K_max) |", "|---|---|---|---|---|---|---|---|"]
+    for r in p["front"]:
+        e = ends.get(r["trial"])
+        ds = "—" if e is None else "; ".join(
+            f"{k} {v['value']:.4g} {'ok' if v['verdict'] == 'ok' else '**miss**'}"
+            for k, v in e["rows"].items() if k in ("continuous_force_N", "friction_N", "K_max_N_per_m",
+                                                   "first_mode_Hz") and v["value"] is not None)
+        lines.append(f"| {r['trial']} | {r['motor']} | {r['crank_span_deg']:.0f}° | {r['continuous_force_N']:.2f} N | "
+                     f"{r['friction_N']:.3f} N | {r['M11_max_g']:.1f} g | {r['first_mode_Hz']:.0f} Hz | {ds} |")
+    return "\n".join(lines)
+
+
 RENDERERS: dict[str, Callable[[list], str]] = {
+    "prototype-front": render_prototype_front,
     "goals": render_goals, "codesign": render_codesign, "candidates": render_candidates,
     "massprops": render_massprops, "voicecoil": render_voicecoil, "families": render_families,
     "synth": render_synth, "check": render_check, "tolerance": render_tolerance,

@@ -260,17 +260,18 @@ def cheap_figures(design, samples: int = 201) -> dict:
     return out
 
 
-def design_limits(design) -> dict:
+def design_limits(design, m11: bool = True) -> dict:
     """{key: Limit} a candidate must meet: the datasheet's default limits of its material
     (:func:`cad.datasheet.limits.fourbar_limits`, the design's ``[targets]`` bounds over
-    them) and an ``M11_max_g`` max target of the brief."""
+    them) and, with ``m11``, an ``M11_max_g`` max target of the brief (the plain search
+    minimizes M11 and checks its target on the exact optimum instead)."""
     from cad.datasheet.limits import Limit, fourbar_limits
     from cad.structure.device import link_material
     from cad.structure.elastic import get_elastic
 
     lim = fourbar_limits(design, get_elastic(link_material(design.parts)).strength_MPa)
     for t in design.targets:
-        if t.key == "M11_max_g" and t.max is not None:
+        if m11 and t.key == "M11_max_g" and t.max is not None:
             lim["M11_max_g"] = Limit("<=", float(t.max), "[targets]", "targets.M11_max_g", "targets")
     return lim
 
@@ -320,7 +321,7 @@ def evaluate(pb: Problem, span_deg: float, shift_deg: float, parts: dict, best: 
         info["infeasible"] = "; ".join(viol)
         return math.inf, info
     d = replace(pb.design, linkage=fb, phi1_min_rad=lo, phi1_max_rad=hi, parts=ps)
-    limits = design_limits(d)
+    limits = design_limits(d, m11=pb.all_limits)
     info.update(cheap_figures(d))
     info["misses"] = misses(limits, info)
     if info["misses"] and not pb.all_limits:
@@ -448,8 +449,9 @@ def run(pb: Problem, trials: int, seed: int = 0,
         if math.isfinite(val):
             cands.append(Candidate(trial.number, info["mechanism"], parts, info))
             return val
-        # infeasible: toward the limits (the sum of their relative violations), else flat
-        return 1e3 + sum(v for v in info.get("misses", {}).values() if v is not None) if info.get("misses") else 1e6
+        if pb.all_limits and info.get("misses"):  # toward the limits: their relative violations
+            return 1e3 + sum(v for v in info["misses"].values() if v is not None)
+        return 1e6
 
     for start in STARTS if starts else ():
         study.enqueue_trial(start)
