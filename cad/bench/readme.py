@@ -279,21 +279,23 @@ def render_voicecoil(sources: list[tuple[str, str | None, dict[str, Any]]]) -> s
 
 
 def render_prototype_front(sources: list[tuple[str, str | None, dict[str, Any]]]) -> str:
-    """The Pareto front of ``optimize --beat-prototype --json`` (continuous force against
-    friction, every other limit met on the cheap model), its ends on the full datasheet."""
+    """The Pareto fronts of ``optimize --beat-prototype --json`` (cheap model, every limit
+    outside the pair met), their ends on the full datasheet (solids, simulated K_max)."""
     (_, _, data), = sources
-    p = data["prototype"]
-    ends = {e["trial"]: e for e in p["front_ends_exact"]}
-    lines = ["| trial | motor | crank span | continuous force | friction | M11 max | first mode | "
-             "datasheet (solids, simulated K_max) |", "|---|---|---|---|---|---|---|---|"]
-    for r in p["front"]:
-        e = ends.get(r["trial"])
-        ds = "—" if e is None else "; ".join(
-            f"{k} {v['value']:.4g} {'ok' if v['verdict'] == 'ok' else '**miss**'}"
-            for k, v in e["rows"].items() if k in ("continuous_force_N", "friction_N", "K_max_N_per_m",
-                                                   "first_mode_Hz") and v["value"] is not None)
-        lines.append(f"| {r['trial']} | {r['motor']} | {r['crank_span_deg']:.0f}° | {r['continuous_force_N']:.2f} N | "
-                     f"{r['friction_N']:.3f} N | {r['M11_max_g']:.1f} g | {r['first_mode_Hz']:.0f} Hz | {ds} |")
+    lines = ["| front (x up, y down) | trial | motor, bars | crank span | continuous force | friction | "
+             "M11 max | first mode | datasheet of the end (solids, simulated K_max) |",
+             "|---|---|---|---|---|---|---|---|---|"]
+    for f in data["prototype"]["fronts"].values():
+        ends = {e["trial"]: e for e in f["ends_exact"]}
+        name = f"{f['x']} / {f['y']}" + (f" ({', '.join(f['relaxed'])} relaxed)" if f["relaxed"] else "")
+        for r in f["points"]:
+            e = ends.get(r["trial"])
+            ds = "—" if e is None else "; ".join(
+                f"{k} {v['value']:.4g} {'ok' if v['verdict'] == 'ok' else '**miss**' if v['verdict'] == 'miss' else ''}"
+                for k, v in e["rows"].items() if v["value"] is not None)
+            lines.append(f"| {name} | {r['trial']} | {r['motor']}, {r['bar_material']} | {r['crank_span_deg']:.0f}° | "
+                         f"{r['continuous_force_N']:.2f} N | {r['friction_N']:.3f} N | {r['M11_max_g']:.1f} g | "
+                         f"{r['first_mode_Hz']:.0f} Hz | {ds} |")
     return "\n".join(lines)
 
 

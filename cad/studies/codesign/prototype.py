@@ -18,9 +18,11 @@ from __future__ import annotations
 
 import copy
 
-#: The two figures of the front (maximize the first, minimize the second).
-FRONT_X = "continuous_force_N"
-FRONT_Y = "friction_N"
+#: The fronts reported, each (name, x key, y key, figures relaxed besides the two): the pair
+#: the motor data make exclusive, continuous force up and friction down, every other limit
+#: judged in the loop met (:func:`motor_bound`).
+FRONTS = (("force_friction", "continuous_force_N", "friction_N", ()),)
+FRONT_X, FRONT_Y = FRONTS[0][1], FRONTS[0][2]
 
 
 def prototype_design(design):
@@ -53,23 +55,26 @@ def motor_bound(motor_key: str) -> dict:
     return {"motor": motor_key, "ratio": ratio, "friction_at_force_limit_N": PROTOTYPE_FORCE_MIN_N / ratio}
 
 
-def front(records: list[dict], limits: dict) -> list[dict]:
-    """Non-dominated records (max ``FRONT_X``, min ``FRONT_Y``) among the trials that meet
-    every other limit judged in the loop (their ``misses`` hold only the two figures)."""
-    pair = {FRONT_X, FRONT_Y}
-    pts = [r for r in records if r.get("misses") is not None and "first_mode_Hz" in r
-           and set(r["misses"]) <= pair and all(k in r for k in pair)]
-    pts.sort(key=lambda r: (-r[FRONT_X], r[FRONT_Y]))
+def judged(records: list[dict]) -> list[dict]:
+    """The records judged on every limit of the loop (they reached the structure check)."""
+    return [r for r in records if r.get("misses") is not None and "first_mode_Hz" in r]
+
+
+def front(records: list[dict], x: str = FRONT_X, y: str = FRONT_Y, relaxed: tuple = ()) -> list[dict]:
+    """Non-dominated records (max ``x``, min ``y``) among the judged trials that meet every
+    other limit (their ``misses`` hold only ``x``, ``y`` and the ``relaxed`` figures)."""
+    allowed = {x, y, *relaxed}
+    pts = [r for r in judged(records) if set(r["misses"]) <= allowed]
+    pts.sort(key=lambda r: (-r[x], r[y]))
     out, best_y = [], float("inf")
     for r in pts:
-        if r[FRONT_Y] < best_y:
+        if r[y] < best_y:
             out.append(r)
-            best_y = r[FRONT_Y]
+            best_y = r[y]
     return out
 
 
-def dominated(a: dict, b: dict) -> bool:
-    """True when ``b`` dominates ``a`` (at least as much force, at most as much friction, one
+def dominated(a: dict, b: dict, x: str = FRONT_X, y: str = FRONT_Y) -> bool:
+    """True when ``b`` dominates ``a`` (at least as much ``x``, at most as much ``y``, one
     strictly)."""
-    return (b[FRONT_X] >= a[FRONT_X] and b[FRONT_Y] <= a[FRONT_Y]
-            and (b[FRONT_X] > a[FRONT_X] or b[FRONT_Y] < a[FRONT_Y]))
+    return b[x] >= a[x] and b[y] <= a[y] and (b[x] > a[x] or b[y] < a[y])

@@ -89,8 +89,15 @@ def _datasheet_check(design, cand) -> dict:
     ds = device_datasheet(d)
     rows = {r["key"]: {"value": r["value"], "verdict": r["verdict"],
                        "limit": None if r["limit"] is None else f"{r['limit']['op']} {r['limit']['value']:g}"}
-            for r in ds["rows"] if r["limit"] is not None}
-    return {"ok": ds["ok"], "rows": rows, "warnings": ds["warnings"]}
+            for r in ds["rows"] if r["limit"] is not None or r["key"] == "M11_g"}
+    m11 = rows.get("M11_g")
+    if m11 is not None and m11["value"] is not None:  # the M11 limit is a brief target, not a datasheet row's
+        lim = next((t for t in design.targets if t.key == "M11_max_g" and t.max is not None), None)
+        if lim is not None:
+            m11["limit"] = f"<= {lim.max:g}"
+            m11["verdict"] = "ok" if m11["value"] <= lim.max else "miss"
+    return {"ok": ds["ok"] and all(v["verdict"] != "miss" for v in rows.values()), "rows": rows,
+            "warnings": ds["warnings"]}
 
 
 def _prototype_report(design, pb, records, best, chart_dir, out_stem) -> dict:
@@ -104,47 +111,55 @@ def _prototype_report(design, pb, records, best, chart_dir, out_stem) -> dict:
     out = {"limits": {k: {"op": v.op, "value": v.value, "reason": v.reason} for k, v in lim.items()},
            "motor_bounds": [prototype.motor_bound(k) for k in search.MOTOR_CONTINUOUS_TORQUE_MNM],
            "met_by": None if best is None else best[0].number}
-    fr = prototype.front(records, lim)
     keep = ("trial", "M11_max_g", "first_mode_Hz", "max_stress_MPa", "stroke_mm", "dy_max_mm",
-            prototype.FRONT_X, prototype.FRONT_Y)
-    out["front_axes"] = [prototype.FRONT_X, prototype.FRONT_Y]
-    out["front"] = [{**{k: r.get(k) for k in keep}, "motor": pb.evaluated[r["trial"]].parts["motor"],
-                     "crank_span_deg": pb.evaluated[r["trial"]].mechanism["phi1_max_deg"]
-                     - pb.evaluated[r["trial"]].mechanism["phi1_min_deg"]} for r in fr]
-    out["front_trials_considered"] = sum(1 for r in records if r.get("misses") is not None and "first_mode_Hz" in r
-                                         and set(r["misses"]) <= {prototype.FRONT_X, prototype.FRONT_Y})
-    ends = [] if not fr else ([fr[0], fr[-1]] if len(fr) > 1 else [fr[0]])
-    out["front_ends_exact"] = [{"trial": r["trial"], **_datasheet_check(design, pb.evaluated[r["trial"]])}
-                               for r in ends]
-    if chart_dir is not None and fr:
-        out["chart"] = plot_front(records, fr, lim, chart_dir / f"{out_stem or design.name}_front")
+            "continuous_force_N", "friction_N")
+    out["judged_trials"] = len(prototype.judged(records))
+    out["fronts"] = {}
+    for name, x, y, relaxed in prototype.FRONTS:
+        fr = prototype.front(records, x, y, relaxed)
+        pts = [{**{k: r.get(k) for k in keep}, "motor": pb.evaluated[r["trial"]].parts["motor"],
+                "bar_material": pb.evaluated[r["trial"]].parts["bar_material"],
+                "crank_span_deg": pb.evaluated[r["trial"]].mechanism["phi1_max_deg"]
+                - pb.evaluated[r["trial"]].mechanism["phi1_min_deg"]} for r in fr]
+        ends = [] if not fr else ([fr[0], fr[-1]] if len(fr) > 1 else [fr[0]])
+        out["fronts"][name] = {
+            "x": x, "y": y, "relaxed": list(relaxed), "points": pts,
+            "ends_exact": [{"trial": r["trial"], **_datasheet_check(design, pb.evaluated[r["trial"]])}
+                           for r in ends]}
+    if chart_dir is not None:
+        out["chart"] = plot_fronts(records, out["fronts"], lim, chart_dir / f"{out_stem or design.name}_front")
     return out
 
 
-def plot_front(records, fr, lim, stem: Path) -> list[str]:
-    """Continuous force against friction: the trials meeting every other limit, the front,
-    the two limits."""
+def plot_fronts(records, fronts: dict, lim, stem: Path) -> list[str]:
+    """One panel per front: the judged trials meeting every other limit, the front, the two
+    limits."""
     import matplotlib
+    import numpy as np
 
     matplotlib.use("Agg")
     from matplotlib.figure import Figure
 
     from cad.bench.common import save_chart
-    from cad.studies.codesign.prototype import FRONT_X, FRONT_Y
+    from cad.studies.codesign.prototype import judged
 
-    pts = [r for r in records if r.get("misses") is not None and FRONT_X in r and FRONT_Y in r and "first_mode_Hz" in r
-           and set(r["misses"]) <= {FRONT_X, FRONT_Y}]
-    fig = Figure(figsize=(6.5, 4.5))
-    ax = fig.subplots()
-    ax.scatter([r[FRONT_Y] for r in pts], [r[FRONT_X] for r in pts], s=8, c="0.7",
-               label="trials meeting every other limit (cheap model)")
-    ax.plot([r[FRONT_Y] for r in fr], [r[FRONT_X] for r in fr], "o-", color="C0", ms=4, label="Pareto front")
-    ax.axhline(lim[FRONT_X].value, color="C3", lw=1, ls="--", label=f"continuous force >= {lim[FRONT_X].value:g} N")
-    ax.axvline(lim[FRONT_Y].value, color="C2", lw=1, ls="--", label=f"friction <= {lim[FRONT_Y].value:g} N (paper)")
-    ax.set_xlabel("Coulomb friction at the handle (N), max over the stroke")
-    ax.set_ylabel("continuous force at the handle (N), min over the stroke")
-    ax.grid(True, lw=0.3)
-    ax.legend(fontsize=8)
+    fig = Figure(figsize=(6.5 * len(fronts), 4.5))
+    axes = np.atleast_1d(fig.subplots(1, len(fronts)))
+    for ax, f in zip(axes, fronts.values(), strict=True):
+        x, y = f["x"], f["y"]
+        allowed = {x, y, *f["relaxed"]}
+        pts = [r for r in judged(records) if set(r["misses"]) <= allowed]
+        ax.scatter([r[y] for r in pts], [r[x] for r in pts], s=8, c="0.7",
+                   label="trials meeting every other limit" + (f" ({', '.join(f['relaxed'])} relaxed)"
+                                                               if f["relaxed"] else "") + ", cheap model")
+        ax.plot([r[y] for r in f["points"]], [r[x] for r in f["points"]], "o-", color="C0", ms=4,
+                label="Pareto front")
+        ax.axhline(lim[x].value, color="C3", lw=1, ls="--", label=f"{x} {lim[x].op} {lim[x].value:g}")
+        ax.axvline(lim[y].value, color="C2", lw=1, ls="--", label=f"{y} {lim[y].op} {lim[y].value:g}")
+        ax.set_xlabel(y)
+        ax.set_ylabel(x)
+        ax.grid(True, lw=0.3)
+        ax.legend(fontsize=7)
     return save_chart(fig, stem.parent, stem.name)
 
 
