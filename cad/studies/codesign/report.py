@@ -141,6 +141,7 @@ def plot_fronts(records, fronts: dict, lim, stem: Path) -> list[str]:
     from matplotlib.figure import Figure
 
     from cad.bench.common import save_chart
+    from cad.studies.codesign import search
     from cad.studies.codesign.prototype import judged
 
     fig = Figure(figsize=(6.5 * len(fronts), 4.5))
@@ -154,10 +155,19 @@ def plot_fronts(records, fronts: dict, lim, stem: Path) -> list[str]:
                                                                if f["relaxed"] else "") + ", cheap model")
         ax.plot([r[y] for r in f["points"]], [r[x] for r in f["points"]], "o-", color="C0", ms=4,
                 label="Pareto front")
+        if (x, y) == ("continuous_force_N", "friction_N"):  # F_cont / F_s <= T_cont / (Kt I0)
+            from cad.studies.codesign.prototype import motor_bound
+
+            fs = np.linspace(lim[y].value * 0.9, max([r[y] for r in pts] + [lim[y].value]) * 1.05, 2)
+            for i, k in enumerate(search.MOTOR_CONTINUOUS_TORQUE_MNM):
+                b = motor_bound(k)
+                ax.plot(fs, b["ratio"] * fs, ls=":", color=f"C{4 + i}", lw=1,
+                        label=f"{k}: bound T_cont / (Kt I0) = {b['ratio']:.1f}")
         ax.axhline(lim[x].value, color="C3", lw=1, ls="--", label=f"{x} {lim[x].op} {lim[x].value:g}")
         ax.axvline(lim[y].value, color="C2", lw=1, ls="--", label=f"{y} {lim[y].op} {lim[y].value:g}")
         ax.set_xlabel(y)
         ax.set_ylabel(x)
+        ax.set_ylim(0.0, max([r[x] for r in pts] + [lim[x].value]) * 1.25)
         ax.grid(True, lw=0.3)
         ax.legend(fontsize=7)
     return save_chart(fig, stem.parent, stem.name)
