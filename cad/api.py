@@ -595,8 +595,9 @@ def fit_design(design, targets=(), free=(), fidelity: str = "inertia", echo=None
     ``mechanism.KEY``; default the design's ``[fit] free``); ``fidelity``: inertia |
     fabrication; ``echo``: None or a callable receiving one progress line per evaluation.
     Returns the ``hapticad fit --json`` object without the file keys (``start``, ``fitted``,
-    ``met``, ``max_violation``, ``evaluations`` (built), ``rejected_pre_cad``, ``iterations``,
-    ``rows``: the targets, then every default datasheet limit (four-bars)) plus ``design``
+    ``met`` (the targets), ``limits_met``, ``limit_warnings``, ``max_violation``,
+    ``evaluations`` (built), ``rejected_pre_cad``, ``iterations``, ``rows``: the targets, then
+    every default datasheet limit (four-bars)) plus ``design``
     (the fitted design, validated) and ``raw`` (its TOML mapping). Nothing is written.
     Raises DesignError (no targets, no free parameter, another family ...).
     """
@@ -681,9 +682,15 @@ def _fit_run(design, setup: dict, fidelity: str, dest: Path, name: str, echo=Non
                          else {k: v for k, v in (("min", t.min), ("max", t.max)) if v is not None})
         fitted["targets"] = tt
     final = parse_design(fitted, str(dest))
-    rows = evaluate(tuple(targets) + (limits(final) if limits else ()), values_of(final))
+    lim_t = tuple(limits(final)) if limits else ()
+    rows = evaluate(tuple(targets) + lim_t, values_of(final))
+    # exit status from the targets (as before); a missed default limit is a warning, as in the
+    # datasheet (the search already ranked every candidate meeting the limits first)
+    missed = [f"{r.key} = {'not computed' if r.computed is None else f'{r.computed:.4g}'}, limit {r.target}"
+              for r in rows[len(targets):] if not r.ok]
     return {"name": design.name, "start": res.start, "fitted": res.values,
-            "met": all(r.ok for r in rows), "max_violation": res.objective,
+            "met": all(r.ok for r in rows[:len(targets)]), "limits_met": not missed,
+            "limit_warnings": missed, "max_violation": res.objective,
             "evaluations": len(res.log) - res.rejected_pre_cad, "rejected_pre_cad": res.rejected_pre_cad,
             "iterations": res.log, "rows": [r.as_dict() for r in rows],
             "design": final, "raw": fitted}
