@@ -55,8 +55,8 @@ def test_precad_rejections_are_counted_apart_and_spare_the_budget():
     candidates are rejected before CAD, counted apart, and the budget of evaluated
     candidates is still spent in full."""
     from cad.data.catalog import get_bearing
-    from cad.studies.fit import fit, parse_free, precad_checks
     from cad.design.targets import Target
+    from cad.studies.fit import fit, parse_free, precad_checks
 
     d = _hoeken()
     need_mm = get_bearing(d.parts.bearing).D_mm + 2 * d.parts.bar_min_wall_mm
@@ -79,7 +79,11 @@ def test_precad_rejections_are_counted_apart_and_spare_the_budget():
 def test_optimize_limits_come_from_the_datasheet():
     """The co-design judges the datasheet's default limits (one source) and the §4 preset
     sets the paper's figures as the brief's targets."""
-    from cad.datasheet.limits import FIRST_MODE_MIN_HZ, PROTOTYPE_FIRST_MODE_MIN_HZ, prototype_limits
+    from cad.datasheet.limits import (
+        FIRST_MODE_MIN_HZ,
+        PROTOTYPE_FIRST_MODE_MIN_HZ,
+        prototype_limits,
+    )
     from cad.studies.codesign import prototype, search
 
     d = _hoeken()

@@ -26,6 +26,10 @@ resolution_um,         only where ``[targets]`` asks                       a res
 K_max_N_per_m,                                                             requirement of the application, not
 friction_N                                                                 of every device
 =====================  ====  ============================================  ==================================
+
+:func:`default_limit_targets`: these defaults as ``[targets]`` bounds (``hapticad fit`` and
+``hapticad optimize`` constrain every candidate with them). :func:`prototype_limits`: the
+Hoeken prototype's figures (``hapticad optimize --beat-prototype``), each with its source.
 """
 
 from __future__ import annotations

@@ -20,8 +20,9 @@ Free (per trial):
   length the shortest that clears the joint features (:func:`suggest_tube`).
 
 Constraints (a trial violating one is infeasible): ``dy_max_mm`` (design target, default
-0.2), ``min_transmission_angle_deg`` (target, default 40), peak crank torque at
-``force_N`` <= the motor's continuous torque, a valid ``[parts]`` table (bearing fits the
+0.2), ``min_transmission_angle_deg`` (target, default 40), the datasheet's default limits
+(:func:`design_limits`, from :mod:`cad.datasheet.limits`: continuous force at the handle >=
+``force_N``, first mode, stress; ``--beat-prototype`` adds M11, friction and K_max), a valid ``[parts]`` table (bearing fits the
 bar, hub fits the crank end), a layout in the trial's layer order (the planner of
 :mod:`cad.assembly.layers` over the build's poses: a clash between links that widening the
 gaps cannot cure, or a stack no catalog pin or screw can fasten, makes the trial infeasible,
