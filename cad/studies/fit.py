@@ -1,7 +1,11 @@
 """Inverse design: adjust a four-bar design's free part parameters to meet its targets.
 
 The objective is the largest target violation (0 when every target is met,
-:func:`cad.checks.violation`); ties go to the smallest change from the start.
+:func:`cad.checks.violation`); ties go to the smallest change from the start. The default
+datasheet limits (``limit_targets``, :func:`cad.datasheet.limits.default_limit_targets` for
+four-bars) are hard: a candidate meeting them all ranks before any that misses one. The
+pre-CAD checks (:func:`precad_checks`) reject a candidate before any solid is made; it is
+counted apart and not in the evaluation budget.
 The search runs on optuna, the engine of ``hapticad optimize`` (:mod:`cad.studies.codesign`):
 
 - choice parameters (materials, ``bar_pockets``, and ``bar_thickness_mm``, picked from
