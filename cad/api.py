@@ -396,14 +396,16 @@ def wall(design, K_N_per_m: float | None = None, B_N_s_per_m: float = 0.0,
 
 def optimize(design, method: str | None = None, objective: str | None = None, trials: int = 300,
              seed: int = 0, exact_top: int = 3, proportions_tol: float = 0.0,
-             starts: bool = True) -> dict:
+             starts: bool = True, beat_prototype: bool = False) -> dict:
     """Maximize the GII (pantograph families: ``method`` culling | brute, isotropy paper eq 6
     over the design's ``[optimize]`` grid) or minimize the apparent mass (four-bars:
     ``objective`` min-apparent-mass, the co-design search of :mod:`cad.studies.codesign`).
 
     Returns the ``hapticad optimize --json`` object without the file keys (``command``,
     ``measured``, ``out``, ``replaced*``): pantographs ``best``, ``gii``, evaluations ...;
-    four-bars ``best`` (None when no candidate passed the exact solids), ``trials`` ... .
+    four-bars ``best`` (None when no candidate passed the exact solids), ``trials`` ...;
+    ``beat_prototype``: the issue 24 §4 limits (:mod:`cad.studies.codesign.prototype`), the
+    report's ``prototype`` entry.
     Raises DesignError naming the option or ``mechanism.family``.
     """
     from cad.data.families import FAMILIES, require
@@ -421,7 +423,7 @@ def optimize(design, method: str | None = None, objective: str | None = None, tr
         from cad.studies.codesign.report import optimize_fourbar
 
         rep, _ = optimize_fourbar(design, "min-apparent-mass", trials, seed, exact_top, None,
-                                  None, None, proportions_tol, starts)
+                                  None, None, proportions_tol, starts, beat_prototype)
         return rep
     require("optimize", design.family)
     if objective is not None:
@@ -593,7 +595,9 @@ def fit_design(design, targets=(), free=(), fidelity: str = "inertia", echo=None
     ``mechanism.KEY``; default the design's ``[fit] free``); ``fidelity``: inertia |
     fabrication; ``echo``: None or a callable receiving one progress line per evaluation.
     Returns the ``hapticad fit --json`` object without the file keys (``start``, ``fitted``,
-    ``met``, ``max_violation``, ``evaluations``, ``iterations``, ``rows``) plus ``design``
+    ``met`` (the targets), ``limits_met``, ``limit_warnings``, ``max_violation``,
+    ``evaluations`` (built), ``rejected_pre_cad``, ``iterations``, ``rows``: the targets, then
+    every default datasheet limit (four-bars)) plus ``design``
     (the fitted design, validated) and ``raw`` (its TOML mapping). Nothing is written.
     Raises DesignError (no targets, no free parameter, another family ...).
     """
@@ -642,22 +646,24 @@ def _fit_run(design, setup: dict, fidelity: str, dest: Path, name: str, echo=Non
     import copy
 
     from cad.checks import evaluate
-    from cad.datasheet.limits import STRUCTURE_FREE, structure_targets
+    from cad.datasheet.limits import default_limit_targets
     from cad.design import parse_design
     from cad.design.writer import rebase_paths
     from cad.families.fourbar.inertia import target_values
     from cad.families.pantograph.targets import pantograph_target_values
     from cad.studies.fit import fit as _fit
+    from cad.studies.fit import precad_checks
 
     four_bar, targets, params = setup["four_bar"], setup["targets"], setup["params"]
-    # a free bar material: the candidates must also meet the default structural limits
-    limits = structure_targets if four_bar and any(q.path in STRUCTURE_FREE for q in params) else None
+    # four-bars: every default datasheet limit is a constraint of each candidate (its own
+    # material's stress limit), and the pre-CAD checks reject candidates before any build
+    limits = default_limit_targets if four_bar else None
     need_clear = limits is not None or any(t.key == "min_clearance_mm" for t in targets)
     wanted = {t.key for t in targets}
 
     def values_of(dd) -> dict:
         if four_bar:
-            return target_values(dd, fidelity, need_clear)[0]
+            return {**precad_checks(dd)[0], **target_values(dd, fidelity, need_clear)[0]}
         return pantograph_target_values(dd, fidelity, wanted)[0]
 
     raw = dict(design.raw)
@@ -665,7 +671,8 @@ def _fit_run(design, setup: dict, fidelity: str, dest: Path, name: str, echo=Non
         raw.setdefault("parts", {})
     if echo:
         echo(f"fit {design.name}: {len(params)} free parameter(s), {len(targets)} target(s)")
-    res = _fit(raw, str(design.source), targets, params, values_of, echo=echo, limit_targets=limits)
+    res = _fit(raw, str(design.source), targets, params, values_of, echo=echo, limit_targets=limits,
+               precad=precad_checks if four_bar else None)
     fitted = rebase_paths(copy.deepcopy(res.raw), design.source, dest)
     fitted["name"] = name
     if setup["given"]:  # keep the targets the fit was made for
@@ -676,10 +683,17 @@ def _fit_run(design, setup: dict, fidelity: str, dest: Path, name: str, echo=Non
                          else {k: v for k, v in (("min", t.min), ("max", t.max)) if v is not None})
         fitted["targets"] = tt
     final = parse_design(fitted, str(dest))
-    rows = evaluate(tuple(targets) + (limits(final) if limits else ()), values_of(final))
+    lim_t = tuple(limits(final)) if limits else ()
+    rows = evaluate(tuple(targets) + lim_t, values_of(final))
+    # exit status from the targets (as before); a missed default limit is a warning, as in the
+    # datasheet (the search already ranked every candidate meeting the limits first)
+    missed = [f"{r.key} = {'not computed' if r.computed is None else f'{r.computed:.4g}'}, limit {r.target}"
+              for r in rows[len(targets):] if not r.ok]
     return {"name": design.name, "start": res.start, "fitted": res.values,
-            "met": all(r.ok for r in rows), "max_violation": res.objective,
-            "evaluations": len(res.log), "iterations": res.log, "rows": [r.as_dict() for r in rows],
+            "met": all(r.ok for r in rows[:len(targets)]), "limits_met": not missed,
+            "limit_warnings": missed, "max_violation": res.objective,
+            "evaluations": len(res.log) - res.rejected_pre_cad, "rejected_pre_cad": res.rejected_pre_cad,
+            "iterations": res.log, "rows": [r.as_dict() for r in rows],
             "design": final, "raw": fitted}
 
 

@@ -278,7 +278,29 @@ def render_voicecoil(sources: list[tuple[str, str | None, dict[str, Any]]]) -> s
     return "\n".join(lines)
 
 
+def render_prototype_front(sources: list[tuple[str, str | None, dict[str, Any]]]) -> str:
+    """The Pareto fronts of ``optimize --beat-prototype --json`` (cheap model, every limit
+    outside the pair met), their ends on the full datasheet (solids, simulated K_max)."""
+    (_, _, data), = sources
+    lines = ["| front (x up, y down) | trial | motor, bars | crank span | continuous force | friction | "
+             "M11 max | first mode | datasheet of the end (solids, simulated K_max) |",
+             "|---|---|---|---|---|---|---|---|---|"]
+    for f in data["prototype"]["fronts"].values():
+        ends = {e["trial"]: e for e in f["ends_exact"]}
+        name = f"{f['x']} / {f['y']}" + (f" ({', '.join(f['relaxed'])} relaxed)" if f["relaxed"] else "")
+        for r in f["points"]:
+            e = ends.get(r["trial"])
+            ds = "—" if e is None else "; ".join(
+                f"{k} {v['value']:.4g} {'ok' if v['verdict'] == 'ok' else '**miss**' if v['verdict'] == 'miss' else ''}"
+                for k, v in e["rows"].items() if v["value"] is not None)
+            lines.append(f"| {name} | {r['trial']} | {r['motor']}, {r['bar_material']} | {r['crank_span_deg']:.0f}° | "
+                         f"{r['continuous_force_N']:.2f} N | {r['friction_N']:.3f} N | {r['M11_max_g']:.1f} g | "
+                         f"{r['first_mode_Hz']:.0f} Hz | {ds} |")
+    return "\n".join(lines)
+
+
 RENDERERS: dict[str, Callable[[list], str]] = {
+    "prototype-front": render_prototype_front,
     "goals": render_goals, "codesign": render_codesign, "candidates": render_candidates,
     "massprops": render_massprops, "voicecoil": render_voicecoil, "families": render_families,
     "synth": render_synth, "check": render_check, "tolerance": render_tolerance,

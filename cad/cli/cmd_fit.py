@@ -62,6 +62,13 @@ def register(app: typer.Typer) -> None:
             for r in payload["rows"]:
                 comp = "—" if r["computed"] is None else f"{r['computed']:.4g}"
                 print(f"  {r['key']}: {comp} (target {r['target_text']}) {'ok' if r['ok'] else 'MISSED'}")
+            print(f"{payload['evaluations']} candidates evaluated, {payload['rejected_pre_cad']} rejected "
+                  "before CAD (layer planner, part checks, force limit)")
             print(f"{'replaced' if replaced else 'wrote'} {dst}")
+        import sys
+
+        for w in payload["limit_warnings"]:
+            print(f"hapticad: warning: the fitted design misses a default datasheet limit: {w}",
+                  file=sys.stderr)
         if not payload["met"]:
             raise TargetMissed("targets not met within the free parameters' bounds (the best design was written)")

@@ -31,6 +31,10 @@ resolution_um,         only where ``[targets]`` asks                       a res
 K_max_N_per_m,                                                             requirement of the application, not
 friction_N                                                                 of every device
 =====================  ====  ============================================  ==================================
+
+:func:`default_limit_targets`: these defaults as ``[targets]`` bounds (``hapticad fit`` and
+``hapticad optimize`` constrain every candidate with them). :func:`prototype_limits`: the
+Hoeken prototype's figures (``hapticad optimize --beat-prototype``), each with its source.
 """
 
 from __future__ import annotations
@@ -156,3 +160,47 @@ def structure_targets(design) -> tuple:
     if stress.origin == "default":
         out.append(Target("max_stress_MPa", max=stress.value))
     return tuple(out)
+
+
+def default_limit_targets(design) -> tuple:
+    """Every default limit of a four-bar candidate (:func:`fourbar_limits`, the stress limit
+    from its own bar material) as ``[targets]`` bounds, except keys its targets set: the
+    constraints of ``hapticad fit`` (issue 24 §2)."""
+    from cad.design.targets import Target
+    from cad.structure.device import link_material
+    from cad.structure.elastic import get_elastic
+
+    lim = fourbar_limits(design, get_elastic(link_material(design.parts)).strength_MPa)
+    return tuple(Target(k, min=v.value) if v.op.startswith(">") else Target(k, max=v.value)
+                 for k, v in lim.items() if v.origin == "default")
+
+
+#: The Hoeken prototype's figures a new device must beat at once (issue 24 §4), as
+#: ``{row key: (op, value, source)}``; ``hapticad optimize --beat-prototype``. The Coulomb
+#: friction is the paper's identified F_s (:data:`cad.families.fourbar.datasheet.PAPER_FS_N`).
+PROTOTYPE_M11_MAX_G = 30.0
+PROTOTYPE_STROKE_MIN_MM = 50.0
+PROTOTYPE_DY_MAX_MM = 0.2
+PROTOTYPE_FIRST_MODE_MIN_HZ = 250.0
+PROTOTYPE_FORCE_MIN_N = 5.0
+PROTOTYPE_K_MAX_MIN_N_PER_M = 15000.0
+
+
+def prototype_limits() -> dict[str, Limit]:
+    """The issue 24 §4 limits (module constants above), each with the paper value it beats."""
+    from cad.families.fourbar.datasheet import PAPER_FS_N
+
+    why = "issue 24 §4: beat the Hoeken prototype"
+    chg = "hapticad optimize --beat-prototype (the co-design)"
+    return {
+        "M11_max_g": Limit("<=", PROTOTYPE_M11_MAX_G, f"{why} (27.5 .. 42.8 g CAD, paper §III.B.2)", chg),
+        "stroke_mm": Limit(">=", PROTOTYPE_STROKE_MIN_MM, f"{why} (50 mm range of motion, paper §I)", chg),
+        "dy_max_mm": Limit("<=", PROTOTYPE_DY_MAX_MM, f"{why} (straight-line error)", chg),
+        "first_mode_Hz": Limit(">=", PROTOTYPE_FIRST_MODE_MIN_HZ,
+                               f"{why} (250 Hz measured first resonance, paper §III.B.1), crank held", chg),
+        "continuous_force_N": Limit(">=", PROTOTYPE_FORCE_MIN_N,
+                                    f"{why} (5 N output force goal, 3.3 N continuous, paper §I, §III.A)", chg),
+        "K_max_N_per_m": Limit(">=", PROTOTYPE_K_MAX_MIN_N_PER_M,
+                               f"{why} (15000 N/m rendered, paper §III.B.4), Te 0.33 ms, 2000 counts/rev", chg),
+        "friction_N": Limit("<=", PAPER_FS_N, f"{why} (F_s = 0.083 N identified, paper eq 24, Fig. 10)", chg),
+    }

@@ -1,7 +1,11 @@
 """Inverse design: adjust a four-bar design's free part parameters to meet its targets.
 
 The objective is the largest target violation (0 when every target is met,
-:func:`cad.checks.violation`); ties go to the smallest change from the start.
+:func:`cad.checks.violation`); ties go to the smallest change from the start. The default
+datasheet limits (``limit_targets``, :func:`cad.datasheet.limits.default_limit_targets` for
+four-bars) are hard: a candidate meeting them all ranks before any that misses one. The
+pre-CAD checks (:func:`precad_checks`) reject a candidate before any solid is made; it is
+counted apart and not in the evaluation budget.
 The search runs on optuna, the engine of ``hapticad optimize`` (:mod:`cad.studies.codesign`):
 
 - choice parameters (materials, ``bar_pockets``, and ``bar_thickness_mm``, picked from
@@ -44,6 +48,9 @@ NUMERIC_DEFAULT_SPAN = (0.5, 1.5)
 LAYER_ORDER_CHOICES = tuple(list(o) for o in itertools.permutations(("crank", "coupler", "rocker")))
 #: all-choice searches up to this many combinations are exhaustive (GridSampler)
 GRID_MAX = 64
+#: TPE trials at most this many times the evaluation budget (the candidates the pre-CAD checks
+#: reject are cheap and do not count in the budget)
+PRECAD_TRIALS_FACTOR = 5
 
 
 @dataclass
@@ -66,6 +73,7 @@ class FitResult:
     met: bool
     log: list[dict] = field(default_factory=list)
     linearity_note: str = ""
+    rejected_pre_cad: int = 0
 
 
 def _get(raw: dict, path: str, default: Any) -> Any:
@@ -224,75 +232,129 @@ def _refuse_unbuildable_order(design, free: list[FreeParam]) -> None:
 def fit(raw: dict, source: str, targets: tuple[Target, ...], free: list[FreeParam],
         evaluate_values: Callable[[Any], dict[str, float]], echo: Callable[[str], None] | None = None,
         trials: int | None = None, seed: int = 0,
-        limit_targets: Callable[[Any], tuple[Target, ...]] | None = None) -> FitResult:
+        limit_targets: Callable[[Any], tuple[Target, ...]] | None = None,
+        precad: Callable[[Any], tuple[dict, str | None]] | None = None) -> FitResult:
     """Search ``free`` on the raw design with optuna (see module docstring).
 
     ``limit_targets(design)``: the default limits a candidate must also meet (e.g.
-    :func:`cad.datasheet.limits.structure_targets`: first mode, stress for its material),
-    counted in its violation like the targets.
+    :func:`cad.datasheet.limits.default_limit_targets`: continuous force, first mode, stress
+    for its material, clearance). They are hard: a candidate missing one ranks after every
+    candidate that meets them all, whatever its target violation.
 
-    Score of a value set: (max target violation, change from the start); the best by that
-    order is returned. Only choices: every combination (optuna ``GridSampler``) when there
-    are at most :data:`GRID_MAX` of them; otherwise TPE (seeded) for ``trials`` evaluations
-    (default ``12 + 6 x len(free)``), the start evaluated first.
+    ``precad(design) -> (values, reason or None)``: the cheap checks run before any CAD
+    (:func:`precad_checks`). A candidate is rejected before CAD when they give a reason (the
+    build would refuse it), or when its limit violation known before CAD (the force figures)
+    already exceeds the smallest limit violation of a candidate evaluated so far (it cannot
+    rank above it); a rejected candidate does not count in the evaluation budget
+    (``FitResult.rejected_pre_cad`` counts it).
+
+    Score of a value set: (limits missed, max target violation, change from the start); the
+    best by that order is returned. Only choices: every combination (optuna ``GridSampler``)
+    when there are at most :data:`GRID_MAX` of them; otherwise TPE (seeded) until ``trials``
+    candidates were evaluated (default ``12 + 6 x len(free)``), the start evaluated first.
     """
-    search = _FitSearch(raw, source, targets, free, evaluate_values, echo, limit_targets)
+    search = _FitSearch(raw, source, targets, free, evaluate_values, echo, limit_targets, precad)
     _run_study(search, trials, seed)
-    obj, _, vals = min(search.scored.values(), key=lambda t: (t[0], t[1]))
+    _, _, obj, _, vals = min(search.scored.values(), key=lambda t: t[:4])
     cur = search.with_values(vals)
     final_vals = search.objective(cur)[1]
     rows = evaluate(targets, {k: v for k, v in final_vals.items() if isinstance(v, (int, float))})
     return FitResult(raw=cur, start=search.start_vals, values=dict(vals), objective=obj,
-                     met=all(r.ok for r in rows), log=search.log)
+                     met=all(r.ok for r in rows), log=search.log,
+                     rejected_pre_cad=search.rejected_pre_cad)
+
+
+def precad_checks(design) -> tuple[dict, str | None]:
+    """(values, reason or None) of the checks a four-bar candidate gets before any CAD: the
+    layer planner of the build (:func:`cad.studies.codesign.search.layer_problem`, numpy) and
+    the tube bars' geometry (a reason: the build would refuse it); ``values``: the force
+    figures, which need no CAD (continuous / peak force at the handle, motor torque /
+    |dx/dphi1|, :func:`cad.families.fourbar.datasheet.force_rows`)."""
+    from cad.families.fourbar.datasheet import force_rows, lever
+    from cad.studies.codesign import cheap
+    from cad.studies.codesign.search import layer_problem
+
+    _, why = layer_problem(design)
+    if why:
+        return {}, f"layers: {why}"
+    why = cheap.tube_problem(design)
+    if why:
+        return {}, f"tubes: {why}"
+    Jx = lever(design)[1]
+    return {r["key"]: r["value"] for r in force_rows(design, design.motor_spec(), Jx)
+            if r["value"] is not None and r["key"] in ("continuous_force_N", "peak_force_N")}, None
 
 
 class _FitSearch:
     """The objective of :func:`fit` over value sets of ``free``, with its cache and log.
 
-    ``scored``: every value set the study tried, keyed by its sorted items, as
-    (max violation, change from the start, values).
+    ``scored``: every value set the study evaluated, keyed by its sorted items, as
+    (limits missed, limit violation, max target violation, change from the start, values);
+    ``cad_evaluations`` / ``rejected_pre_cad``: candidates evaluated / rejected before CAD.
     """
 
     def __init__(self, raw: dict, source: str, targets: tuple[Target, ...], free: list[FreeParam],
                  evaluate_values: Callable[[Any], dict[str, float]],
                  echo: Callable[[str], None] | None,
-                 limit_targets: Callable[[Any], tuple[Target, ...]] | None) -> None:
+                 limit_targets: Callable[[Any], tuple[Target, ...]] | None,
+                 precad: Callable[[Any], tuple[dict, str | None]] | None = None) -> None:
         from cad.design import parse_design
 
         self.raw, self.source, self.targets, self.free = raw, source, targets, free
         self.evaluate_values, self.echo, self.limit_targets = evaluate_values, echo, limit_targets
-        self.cache: dict[str, tuple[float, dict]] = {}
+        self.precad = precad
+        self.cache: dict[str, tuple[float, dict, float]] = {}
         self.log: list[dict] = []
-        self.scored: dict[str, tuple[float, float, dict]] = {}
+        self.scored: dict[str, tuple] = {}
+        self.cad_evaluations = 0
+        self.rejected_pre_cad = 0
+        self.budget: int | None = None
+        self.best_limit_violation = math.inf
         start_design = parse_design(raw, source)
         self.start_vals = {p.path: current_value(start_design, p.path) for p in free}
 
     def objective(self, r: dict) -> tuple[float, dict]:
-        """(max violation of the targets and limits, values) of the raw design ``r`` (cached);
-        a design that cannot be parsed, planned or evaluated scores inf."""
+        """(max target violation, values) of the raw design ``r`` (cached); ``values["limit
+        violation"]``: the largest violation of the limits. A design that cannot be parsed,
+        planned or evaluated, or that the pre-CAD checks reject, scores inf."""
         from cad.design import parse_design
 
         free, targets = self.free, self.targets
         key = repr([(p.path, _get(r, p.path, None)) for p in free])
         if key in self.cache:
-            return self.cache[key]
+            return self.cache[key][:2]
+        pre_cad = True
         try:
             d = parse_design(r, self.source)
             _refuse_unbuildable_order(d, free)
-            vals = self.evaluate_values(d)
             limits = tuple(self.limit_targets(d)) if self.limit_targets is not None else ()
-            every = tuple(targets) + limits
-            obj = max((violation(t, vals[t.key]) if t.key in vals else math.inf) for t in every)
+            vals, why = self.precad(d) if self.precad is not None else ({}, None)
+            if why:
+                raise DesignError("pre-CAD", why)
+            pre = max((violation(t, vals[t.key]) for t in limits if t.key in vals), default=0.0)
+            if pre > self.best_limit_violation:  # bound: it cannot rank above the best so far
+                raise DesignError("pre-CAD", f"a limit violation of {pre:.3g} before CAD, worse than "
+                                             f"{self.best_limit_violation:.3g} of an evaluated candidate")
+            pre_cad = False
+            vals = {**vals, **self.evaluate_values(d)}
+            obj = max((violation(t, vals[t.key]) if t.key in vals else math.inf) for t in targets)
+            lim = max((violation(t, vals[t.key]) if t.key in vals else math.inf for t in limits), default=0.0)
+            vals["limit_violation"] = lim
+            self.best_limit_violation = min(self.best_limit_violation, lim)
         except HapticadError as exc:
-            vals, obj = {"error": str(exc)}, math.inf
+            vals, obj = {"error": str(exc), "limit_violation": math.inf}, math.inf
+        self.cad_evaluations += not pre_cad
+        self.rejected_pre_cad += pre_cad
         entry = {"params": {p.path: _get(r, p.path, None) for p in free}, "objective": obj,
+                 "limit_violation": vals["limit_violation"], "pre_cad_rejected": pre_cad,
                  **{t.key: vals.get(t.key) for t in targets}}
         self.log.append(entry)
         if self.echo:
             ps = ", ".join(f"{k.split('.')[-1]}={v}" for k, v in entry["params"].items())
             why = f"  ({vals['error']})" if "error" in vals else ""
-            self.echo(f"  eval {len(self.log):2d}: {ps}  ->  max violation {obj:.4g}{why}")
-        self.cache[key] = (obj, vals)
+            word = "rejected before CAD" if pre_cad else f"max violation {obj:.4g}, limits {vals['limit_violation']:.3g}"
+            self.echo(f"  eval {len(self.log):2d}: {ps}  ->  {word}{why}")
+        self.cache[key] = (obj, vals, vals["limit_violation"])
         return obj, vals
 
     def change(self, vals: dict) -> float:
@@ -325,12 +387,19 @@ class _FitSearch:
         return vals
 
     def study_objective(self, trial) -> float:
-        """Optuna's objective: max violation plus FIT_CHANGE_WEIGHT x change (ties go to the
-        smallest change); 1e9 for an infeasible value set."""
+        """Optuna's objective: max target violation plus FIT_CHANGE_WEIGHT x change (ties go to
+        the smallest change) when every limit is met; 1e6 (1 + limit violation) when one is
+        missed; 1e9 for an infeasible value set."""
         vals = self.suggest(trial)
-        obj = self.objective(self.with_values(vals))[0]
-        self.scored[repr(sorted(vals.items(), key=lambda kv: kv[0]))] = (obj, self.change(vals), vals)
-        return obj + FIT_CHANGE_WEIGHT * self.change(vals) if math.isfinite(obj) else 1e9
+        obj, got = self.objective(self.with_values(vals))
+        lim = got["limit_violation"]
+        self.scored[repr(sorted(vals.items(), key=lambda kv: kv[0]))] = (
+            lim > 0, lim, obj, self.change(vals), vals)
+        if self.budget is not None and self.cad_evaluations >= self.budget:
+            trial.study.stop()
+        if not (math.isfinite(obj) and math.isfinite(lim)):
+            return 1e9
+        return obj + FIT_CHANGE_WEIGHT * self.change(vals) if lim == 0 else 1e6 * (1.0 + lim)
 
     def first_trial(self) -> dict:
         """Optuna parameters of the start (choices by index, numbers clipped to their range)."""
@@ -362,7 +431,8 @@ def _run_study(search: _FitSearch, trials: int | None, seed: int) -> None:
             n = n_grid
         else:
             sampler = optuna.samplers.TPESampler(seed=seed, multivariate=True)
-            n = trials or 12 + 6 * len(free)
+            search.budget = trials or 12 + 6 * len(free)
+            n = PRECAD_TRIALS_FACTOR * search.budget  # rejected before CAD: not in the budget
         study = optuna.create_study(direction="minimize", sampler=sampler)
         if n_grid is None or n_grid > GRID_MAX:
             study.enqueue_trial(search.first_trial())

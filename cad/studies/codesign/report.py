@@ -8,17 +8,25 @@ from pathlib import Path
 
 def optimize_fourbar(design, objective: str, trials: int, seed: int, top: int, chart_dir: Path | None,
                      progress=None, out_stem: str | None = None,
-                     proportions_tol: float = 0.0, starts: bool = True) -> tuple[dict, object]:
+                     proportions_tol: float = 0.0, starts: bool = True,
+                     beat_prototype: bool = False) -> tuple[dict, object]:
     """Search (cheap model), re-evaluate the best ``top`` candidates exactly, pick the lightest
     accepted one. ``starts=False``: without the hand-written :data:`search.STARTS`.
+    ``beat_prototype``: the brief of :mod:`cad.studies.codesign.prototype` (every trial judged
+    on every limit; without an accepted design, the report's ``prototype_front``).
     Returns (JSON-able report, accepted Candidate or None)."""
     from cad.errors import HapticadError
     from cad.studies.codesign import exact, search
 
     t0 = time.perf_counter()
+    if beat_prototype:
+        from cad.studies.codesign.prototype import prototype_design
+
+        design = prototype_design(design)
     pb = search.problem_from(design)
     pb.fixed_parts = search.fixed_parts(design)
     pb.proportions_tol = proportions_tol
+    pb.all_limits = beat_prototype
     cands, records = search.run(pb, trials, seed, starts=starts)
     t_search = time.perf_counter() - t0
     checked, best = [], None
@@ -39,7 +47,9 @@ def optimize_fourbar(design, objective: str, trials: int, seed: int, top: int, c
                             "rejected": str(exc)})
             continue
         checked.append({"trial": c.number, "parts": c.parts, "mechanism": c.mechanism, "exact": ex})
-        if exact.accepted(ex) and (best is None or ex["M11_max_g"] < best[1]["M11_max_g"]):
+        if beat_prototype:
+            ex["datasheet"] = _datasheet_check(design, c)
+        if exact.accepted(ex) and (not beat_prototype or ex["datasheet"]["ok"]) and (best is None or ex["M11_max_g"] < best[1]["M11_max_g"]):
             best = (c, ex)
     front = search.pareto(records)
     rep = {
@@ -59,9 +69,108 @@ def optimize_fourbar(design, objective: str, trials: int, seed: int, top: int, c
                          for r in front],
         "wall_s": time.perf_counter() - t0,
     }
+    if beat_prototype:
+        rep["prototype"] = _prototype_report(design, pb, records, best, chart_dir, out_stem)
+        rep["wall_s"] = time.perf_counter() - t0
     if chart_dir is not None:
         rep["chart"] = plot_pareto(records, front, best, chart_dir / f"{out_stem or design.name}_pareto")
     return rep, (best[0] if best else None)
+
+
+def _datasheet_check(design, cand) -> dict:
+    """The full datasheet of a candidate (:func:`cad.datasheet.run.device_datasheet`: a build at
+    inertia fidelity, the reduced-model wall bisection for K_max): {key: (value, verdict)} of
+    its limited rows and ``ok``."""
+    from cad.datasheet.run import device_datasheet
+    from cad.design import parse_design
+    from cad.studies.codesign import exact
+
+    d = parse_design(exact.candidate_raw(design, cand, f"{design.name}_candidate"), str(design.source))
+    ds = device_datasheet(d)
+    rows = {r["key"]: {"value": r["value"], "verdict": r["verdict"],
+                       "limit": None if r["limit"] is None else f"{r['limit']['op']} {r['limit']['value']:g}"}
+            for r in ds["rows"] if r["limit"] is not None or r["key"] == "M11_g"}
+    m11 = rows.get("M11_g")
+    if m11 is not None and m11["value"] is not None:  # the M11 limit is a brief target, not a datasheet row's
+        lim = next((t for t in design.targets if t.key == "M11_max_g" and t.max is not None), None)
+        if lim is not None:
+            m11["limit"] = f"<= {lim.max:g}"
+            m11["verdict"] = "ok" if m11["value"] <= lim.max else "miss"
+    return {"ok": ds["ok"] and all(v["verdict"] != "miss" for v in rows.values()), "rows": rows,
+            "warnings": ds["warnings"]}
+
+
+def _prototype_report(design, pb, records, best, chart_dir, out_stem) -> dict:
+    """The --beat-prototype part of the report: the limits, the motors' bound, and without an
+    accepted design the Pareto front of (continuous force, friction) with its two ends
+    verified on the full datasheet."""
+    from cad.datasheet.limits import prototype_limits
+    from cad.studies.codesign import prototype, search
+
+    lim = prototype_limits()
+    out = {"limits": {k: {"op": v.op, "value": v.value, "reason": v.reason} for k, v in lim.items()},
+           "motor_bounds": [prototype.motor_bound(k) for k in search.MOTOR_CONTINUOUS_TORQUE_MNM],
+           "met_by": None if best is None else best[0].number}
+    keep = ("trial", "M11_max_g", "first_mode_Hz", "max_stress_MPa", "stroke_mm", "dy_max_mm",
+            "continuous_force_N", "friction_N")
+    out["judged_trials"] = len(prototype.judged(records))
+    out["fronts"] = {}
+    for name, x, y, relaxed in prototype.FRONTS:
+        fr = prototype.front(records, x, y, relaxed)
+        pts = [{**{k: r.get(k) for k in keep}, "motor": pb.evaluated[r["trial"]].parts["motor"],
+                "bar_material": pb.evaluated[r["trial"]].parts["bar_material"],
+                "crank_span_deg": pb.evaluated[r["trial"]].mechanism["phi1_max_deg"]
+                - pb.evaluated[r["trial"]].mechanism["phi1_min_deg"]} for r in fr]
+        ends = [] if not fr else ([fr[0], fr[-1]] if len(fr) > 1 else [fr[0]])
+        out["fronts"][name] = {
+            "x": x, "y": y, "relaxed": list(relaxed), "points": pts,
+            "ends_exact": [{"trial": r["trial"], **_datasheet_check(design, pb.evaluated[r["trial"]])}
+                           for r in ends]}
+    if chart_dir is not None:
+        out["chart"] = plot_fronts(records, out["fronts"], lim, chart_dir / f"{out_stem or design.name}_front")
+    return out
+
+
+def plot_fronts(records, fronts: dict, lim, stem: Path) -> list[str]:
+    """One panel per front: the judged trials meeting every other limit, the front, the two
+    limits."""
+    import matplotlib
+    import numpy as np
+
+    matplotlib.use("Agg")
+    from matplotlib.figure import Figure
+
+    from cad.bench.common import save_chart
+    from cad.studies.codesign import search
+    from cad.studies.codesign.prototype import judged
+
+    fig = Figure(figsize=(6.5 * len(fronts), 4.5))
+    axes = np.atleast_1d(fig.subplots(1, len(fronts)))
+    for ax, f in zip(axes, fronts.values(), strict=True):
+        x, y = f["x"], f["y"]
+        allowed = {x, y, *f["relaxed"]}
+        pts = [r for r in judged(records) if set(r["misses"]) <= allowed]
+        ax.scatter([r[y] for r in pts], [r[x] for r in pts], s=8, c="0.7",
+                   label="trials meeting every other limit" + (f" ({', '.join(f['relaxed'])} relaxed)"
+                                                               if f["relaxed"] else "") + ", cheap model")
+        ax.plot([r[y] for r in f["points"]], [r[x] for r in f["points"]], "o-", color="C0", ms=4,
+                label="Pareto front")
+        if (x, y) == ("continuous_force_N", "friction_N"):  # F_cont / F_s <= T_cont / (Kt I0)
+            from cad.studies.codesign.prototype import motor_bound
+
+            fs = np.linspace(lim[y].value * 0.9, max([r[y] for r in pts] + [lim[y].value]) * 1.05, 2)
+            for i, k in enumerate(search.MOTOR_CONTINUOUS_TORQUE_MNM):
+                b = motor_bound(k)
+                ax.plot(fs, b["ratio"] * fs, ls=":", color=f"C{4 + i}", lw=1,
+                        label=f"{k}: bound T_cont / (Kt I0) = {b['ratio']:.1f}")
+        ax.axhline(lim[x].value, color="C3", lw=1, ls="--", label=f"{x} {lim[x].op} {lim[x].value:g}")
+        ax.axvline(lim[y].value, color="C2", lw=1, ls="--", label=f"{y} {lim[y].op} {lim[y].value:g}")
+        ax.set_xlabel(y)
+        ax.set_ylabel(x)
+        ax.set_ylim(0.0, max([r[x] for r in pts] + [lim[x].value]) * 1.25)
+        ax.grid(True, lw=0.3)
+        ax.legend(fontsize=7)
+    return save_chart(fig, stem.parent, stem.name)
 
 
 def _clean(d: dict) -> dict:
