@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[3]
 FRONT_JSON = ROOT / "docs" / "codesign" / "hoeken_prototype.json"
 
 
