@@ -43,7 +43,17 @@ def check_unknown(table: dict[str, Any], allowed: Iterable[str], prefix: str) ->
             hint = ", ".join(sorted(allowed))
             close = difflib.get_close_matches(str(key), sorted(allowed), n=1, cutoff=0.6)
             guess = f"did you mean {close[0]!r}? " if close else ""
+            if prefix.endswith("parts") and _fourbar_process_key(str(key)):
+                guess = (f"{key} is a four-bar [parts] key (families hoeken, chebyshev, roberts, "
+                         f"custom: parts.process = \"printed\" or \"laser\"); this family's "
+                         f"parts are machined; ")
             raise DesignError(_path(prefix, key), f"unknown key ({guess}allowed: {hint})")
+
+
+def _fourbar_process_key(key: str) -> bool:
+    """``key`` is one of the four-bar's process keys (:mod:`cad.design.parts`: ``process``,
+    ``laser_sheet_mm``, ``print_*``), which the other families' ``[parts]`` do not take."""
+    return key in ("process", "laser_sheet_mm") or key.startswith("print_")
 
 
 def require_table(raw: dict[str, Any], key: str, prefix: str) -> dict[str, Any]:

@@ -463,12 +463,14 @@ def _print_keys(table: dict[str, Any], prefix: str, vals: dict[str, Any]) -> Non
     for key, (names, change) in _MATERIAL_PARTS.items():
         f = FILAMENTS.get(vals[key])
         change = change.format(comp=f"{vals['print_hole_compensation_mm']:g}")
-        if f is None or (proc == "machined" and f.machinable):
+        if f is None or (proc != "printed" and f.machinable):
             continue
-        if proc == "machined":
+        if proc != "printed":  # machined, or laser (which cuts the plate parts only)
+            tail = (f"set {_f(prefix, 'process')} = \"printed\" to say so" if proc == "machined"
+                    else f"{_f(prefix, 'process')} = \"laser\" cuts the plate parts only")
             bounds.warn(f"{_f(prefix, key)} = {vals[key]!r} is a printing filament, not stock a shop "
                         f"machines: the {names} are FDM printed instead{': ' + change if change else ''} "
-                        f"(set {_f(prefix, 'process')} = \"printed\" to say so)")
+                        f"({tail})")
         elif change:
             bounds.warn(f"{_f(prefix, 'process')} = \"printed\": {names} ({vals[key]}): {change}")
 
