@@ -445,6 +445,10 @@ def _print_keys(table: dict[str, Any], prefix: str, vals: dict[str, Any]) -> Non
         raise DesignError(_f(prefix, "process"), f"must be one of {', '.join(PROCESSES)}, got {proc!r}")
     vals["process"] = proc
     vals["laser_sheet_mm"] = _laser_sheet(table, prefix)
+    if proc != "laser" and vals["laser_sheet_mm"] is not None:
+        bounds.warn(f"{_f(prefix, 'laser_sheet_mm')} is set but {_f(prefix, 'process')} = {proc!r}: "
+                    f"no part is laser-cut and the sheet size is not used (set "
+                    f"{_f(prefix, 'process')} = \"laser\" to nest the plates on sheets)")
     if proc == "laser":
         from cad.design.laser import check_laser
 

@@ -12,6 +12,7 @@ session), each with the check that failed before its fix.
 * A PLA post under ``process = "laser"``: warned as ``parts.process = "printed"`` (not what
   the design says) while the laser warning said the post "stays turned (machined)".
 * The acrylic pilot-seat warning named no key to change and read "seat are".
+* ``laser_sheet_mm`` set without ``process = "laser"`` was ignored without a word.
 """
 
 from __future__ import annotations
@@ -149,3 +150,12 @@ def test_acrylic_pilot_seat_warning_names_the_key(tmp_path):
     assert len(w) == 1 and "\n" not in w[0]
     assert "motor mount (acrylic-cast)" in w[0] and "pilot seat is laser-cut" in w[0]
     assert "parts.motor_mount_material" in w[0]
+
+
+def test_sheet_size_without_laser_process_warns(tmp_path):
+    """``laser_sheet_mm`` with the default process "machined" was silently ignored (no sheets,
+    no word): now one warning naming both keys."""
+    p = _design(tmp_path, "chebyshev", "laser_sheet_mm = [600.0, 400.0]")
+    _, warns = _load(p)
+    w = [x for x in warns if "laser_sheet_mm" in x]
+    assert len(w) == 1 and "parts.process = 'machined'" in w[0] and "not used" in w[0]
