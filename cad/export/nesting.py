@@ -305,7 +305,8 @@ def sheet_dxf(sheet: Sheet, index: int, count: int, profiles: dict) -> str:
                 spot_xy, h, rot = (x, y), tol.LABEL_HEIGHTS_MM[-1], 0.0
             else:
                 spot_xy = (m3 @ [spot[0], spot[1], 1])[:2]
-                h, rot = spot[2], spot[3] + (90.0 if p.rotated else 0.0)
+                # (mod 180: a label turned 180 deg reads upside down; its centred box is the same)
+                h, rot = spot[2], (spot[3] + (90.0 if p.rotated else 0.0)) % 180.0
             msp.add_text(p.instance, height=h, rotation=rot, dxfattribs={"layer": "ENGRAVE"}) \
                 .set_placement(tuple(map(float, spot_xy)), align=TextEntityAlignment.MIDDLE_CENTER)
         st = SHEETS[sheet.material]

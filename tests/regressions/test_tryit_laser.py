@@ -13,6 +13,8 @@ session), each with the check that failed before its fix.
   the design says) while the laser warning said the post "stays turned (machined)".
 * The acrylic pilot-seat warning named no key to change and read "seat are".
 * ``laser_sheet_mm`` set without ``process = "laser"`` was ignored without a word.
+* A label placed at 90 deg on a part nested turned by 90 deg was engraved at 180 deg (upside
+  down; the rocker of designs/hoeken_laser.toml on sheet_01).
 """
 
 from __future__ import annotations
@@ -159,3 +161,28 @@ def test_sheet_size_without_laser_process_warns(tmp_path):
     _, warns = _load(p)
     w = [x for x in warns if "laser_sheet_mm" in x]
     assert len(w) == 1 and "parts.process = 'machined'" in w[0] and "not used" in w[0]
+
+
+def test_label_of_a_turned_part_reads_upright():
+    """A tall 10 x 100 mm part gets its label at 90 deg (the only way it fits); nested turned
+    by 90 deg, the label was written at 180 deg (upside down). Read back with ezdxf: 0 deg,
+    its centre still on the part's centre line (x = 50 on the sheet, in material)."""
+    import io
+    from types import SimpleNamespace
+
+    import ezdxf
+
+    from cad.export.nesting import Placed, Sheet, sheet_dxf
+
+    prof = ezdxf.new("R2000")
+    prof.layers.add("CUT")
+    prof.modelspace().add_lwpolyline([(0, 0), (10, 0), (10, 100), (0, 100)], close=True,
+                                     dxfattribs={"layer": "CUT"})
+    kind = SimpleNamespace(name="rocker")
+    sheet = Sheet("aluminium-5083", 6.0, (200.0, 100.0),
+                  [Placed("rocker", kind, (0.0, 0.0, 10.0, 100.0), 0.0, 10.0, True)])
+    doc = ezdxf.read(io.StringIO(sheet_dxf(sheet, 0, 1, {"rocker": prof})))
+    (t,) = doc.modelspace().query("TEXT[layer=='ENGRAVE']")
+    assert t.dxf.rotation == 0.0
+    # turned: part x in [0, 10] -> sheet y in [10, 20]; part y in [0, 100] -> sheet x in [0, 100]
+    assert 10.0 < t.dxf.align_point.y < 20.0 and 0.0 < t.dxf.align_point.x < 100.0
