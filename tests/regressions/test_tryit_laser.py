@@ -8,7 +8,7 @@ session), each with the check that failed before its fix.
   ``stock: nested``, designation "nested on sheet_01 (sheet stock line)", quantity 1) beside
   the sheet it is cut from, and counted them as unpriced lines: the sheet was ordered twice.
 * ``process = "laser"`` on a pantograph design: "parts.process: unknown key" with no word
-  that the process is a four-bar key.
+  that the process is a four-bar key (on the PowerMouse: "parts: unknown key").
 * A PLA post under ``process = "laser"``: warned as ``parts.process = "printed"`` (not what
   the design says) while the laser warning said the post "stays turned (machined)".
 * The acrylic pilot-seat warning named no key to change and read "seat are".
@@ -186,3 +186,14 @@ def test_label_of_a_turned_part_reads_upright():
     assert t.dxf.rotation == 0.0
     # turned: part x in [0, 10] -> sheet y in [10, 20]; part y in [0, 100] -> sheet x in [0, 100]
     assert 10.0 < t.dxf.align_point.y < 20.0 and 0.0 < t.dxf.align_point.x < 100.0
+
+
+def test_laser_on_the_powermouse_says_it_is_a_fourbar_key(tmp_path):
+    """The PowerMouse has no [parts] table: ``[parts] process = "laser"`` is refused as the
+    unknown table ``parts``, now saying that ``process`` is a four-bar key."""
+    p = tmp_path / "p.toml"
+    p.write_text((ROOT / "designs" / "powermouse.toml").read_text() + '\n[parts]\nprocess = "laser"\n')
+    with pytest.raises(DesignError) as e:
+        _load(p)
+    assert e.value.field == "parts"
+    assert "process is a four-bar [parts] key" in str(e.value) and "chebyshev-v" in str(e.value)
