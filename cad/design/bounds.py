@@ -297,7 +297,8 @@ FIELDS: dict[str, Bound] = {
     "parts.print_infill_percent": Bound("%", 0.0, 100.0, "infill is 0 to 100 % of solid"),
     "parts.print_hole_compensation_mm": Bound("mm", 0.0, 1.0, "more than 1 mm is not a printer's error"),
     "parts.print_press_fit_mm": Bound("mm", 0.0, 0.5, "more than 0.5 mm interference splits a printed seat"),
-    "parts.laser_sheet_mm": Bound("mm", 50.0, 4000.0, "a sheet side is a laser bed (>= 50 mm) up to a full 4 m sheet"),
+    "parts.laser_sheet_mm": Bound("mm", 50.0, 4000.0, "a sheet side is a laser bed (>= 50 mm) up to a full 4 m sheet",
+                                   slips=_LEN_SLIPS),
     # twin-pantograph [parts]
     **{f"parts.{k}": PART_MM for k in _TWIN_PART_MM},
     # pantograph families

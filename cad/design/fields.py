@@ -43,7 +43,25 @@ def check_unknown(table: dict[str, Any], allowed: Iterable[str], prefix: str) ->
             hint = ", ".join(sorted(allowed))
             close = difflib.get_close_matches(str(key), sorted(allowed), n=1, cutoff=0.6)
             guess = f"did you mean {close[0]!r}? " if close else ""
+            guess = _process_hint(table, str(key), prefix) or guess
             raise DesignError(_path(prefix, key), f"unknown key ({guess}allowed: {hint})")
+
+
+def _process_hint(table: dict[str, Any], key: str, prefix: str) -> str:
+    """Why ``key`` is unknown when it is a four-bar process key (:mod:`cad.design.parts`:
+    ``process``, ``laser_sheet_mm``, ``print_*``) in another family's ``[parts]``, or a
+    ``[parts]`` table holding one where the family has none; else ``""``."""
+    def fourbar(k) -> bool:
+        return k in ("process", "laser_sheet_mm") or str(k).startswith("print_")
+
+    sub = table[key] if not prefix and key == "parts" and isinstance(table[key], dict) else {}
+    named = key if prefix.endswith("parts") and fourbar(key) else next(filter(fourbar, sub), None)
+    if named is None:
+        return ""
+    from cad.kinematics.families import FAMILIES
+
+    return (f"{named} is a four-bar [parts] key (families {', '.join([*FAMILIES, 'custom'])}: "
+            f"parts.process = \"printed\" or \"laser\"); this family's parts are machined; ")
 
 
 def require_table(raw: dict[str, Any], key: str, prefix: str) -> dict[str, Any]:

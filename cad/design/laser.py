@@ -75,14 +75,21 @@ def check_laser(v: dict[str, Any], prefix: str) -> None:
                                        f"thread); cut it from aluminium sheet or use process "
                                        f"\"machined\"")
         for feat in feats:
+            said = f"{f('process')} = \"laser\": {names} ({mat}): the"
             if feat in ("ream", "bore") and not sheet.reamable:
-                bounds.warn(f"{f('process')} = \"laser\": {names} ({mat}): the "
-                            f"{_feature(v, names, feat)} are laser-cut at nominal "
-                            f"(kerf-compensated), not H7: {mat} holds no reamed fit")
+                verb = "is" if feat == "bore" else "are"
+                bounds.warn(f"{said} {_feature(v, names, feat)} {verb} laser-cut at nominal "
+                            f"(kerf-compensated), not H7: {mat} holds no reamed fit (aluminium "
+                            f"sheet in {f(mkey)} does)")
             if feat == "seat" and not sheet.reamable:
-                bounds.warn(f"{f('process')} = \"laser\": {names} ({mat}): the "
-                            f"{_feature(v, names, 'seat')} are milled after cutting (a laser "
-                            f"cuts no blind step); J7 is not held in {mat}: bond the bearings")
-    turned = ["hub", "post", "spacers", "legs", "handle"]
+                bounds.warn(f"{said} {_feature(v, names, 'seat')} are milled after cutting (a "
+                            f"laser cuts no blind step); J7 is not held in {mat}: bond the bearings "
+                            f"(aluminium sheet in {f(mkey)} holds J7)")
+    from cad.printing import is_printed
+
+    keys = {"hub": "hub_material", "post": "post_material", "spacers": "spacer_material",
+            "handle": "handle_material"}  # (a PLA or PETG one is printed: its own warning)
+    turned = [n for n in ("hub", "post", "spacers", "legs", "handle")
+              if n not in keys or not is_printed("laser", v[keys[n]])]
     bounds.warn(f"{f('process')} = \"laser\": {', '.join(turned)} are not plate parts: they stay "
                 f"turned (machined), as the BOM process column says")

@@ -445,6 +445,10 @@ def _print_keys(table: dict[str, Any], prefix: str, vals: dict[str, Any]) -> Non
         raise DesignError(_f(prefix, "process"), f"must be one of {', '.join(PROCESSES)}, got {proc!r}")
     vals["process"] = proc
     vals["laser_sheet_mm"] = _laser_sheet(table, prefix)
+    if proc != "laser" and vals["laser_sheet_mm"] is not None:
+        bounds.warn(f"{_f(prefix, 'laser_sheet_mm')} is set but {_f(prefix, 'process')} = {proc!r}: "
+                    f"no part is laser-cut and the sheet size is not used (set "
+                    f"{_f(prefix, 'process')} = \"laser\" to nest the plates on sheets)")
     if proc == "laser":
         from cad.design.laser import check_laser
 
@@ -463,12 +467,14 @@ def _print_keys(table: dict[str, Any], prefix: str, vals: dict[str, Any]) -> Non
     for key, (names, change) in _MATERIAL_PARTS.items():
         f = FILAMENTS.get(vals[key])
         change = change.format(comp=f"{vals['print_hole_compensation_mm']:g}")
-        if f is None or (proc == "machined" and f.machinable):
+        if f is None or (proc != "printed" and f.machinable):
             continue
-        if proc == "machined":
+        if proc != "printed":  # machined, or laser (which cuts the plate parts only)
+            tail = (f"set {_f(prefix, 'process')} = \"printed\" to say so" if proc == "machined"
+                    else f"{_f(prefix, 'process')} = \"laser\" cuts the plate parts only")
             bounds.warn(f"{_f(prefix, key)} = {vals[key]!r} is a printing filament, not stock a shop "
                         f"machines: the {names} are FDM printed instead{': ' + change if change else ''} "
-                        f"(set {_f(prefix, 'process')} = \"printed\" to say so)")
+                        f"({tail})")
         elif change:
             bounds.warn(f"{_f(prefix, 'process')} = \"printed\": {names} ({vals[key]}): {change}")
 

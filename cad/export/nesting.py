@@ -91,21 +91,24 @@ def _volume_mm3(shape) -> float:
     return g.Mass()
 
 
-def pack(sizes_mm, sheet_mm, gap_mm: float, margin_mm: float) -> list[tuple[int, float, float, bool]]:
+def pack(sizes_mm, sheet_mm, gap_mm: float, margin_mm: float,
+         names=None) -> list[tuple[int, float, float, bool]]:
     """Place rectangles ``sizes_mm`` ((w, h) mm each) on as few ``sheet_mm`` (W, H) sheets as
     rectpack finds, ``gap_mm`` between any two and ``margin_mm`` from the sheet edges.
 
     Returns per rectangle ``(sheet index, x, y, rotated)``: its lower-left corner (mm) on its
-    sheet, rotated by 90 degrees when True. Raises ValueError when one cannot fit a sheet.
+    sheet, rotated by 90 degrees when True. Raises ValueError when one cannot fit a sheet,
+    naming it by ``names[i]`` (the part) when given.
     """
     import rectpack
 
     g = tol.NEST_GRID_MM
     W, H = (math.floor((s - 2 * margin_mm + gap_mm) / g) for s in sheet_mm)
     cells = [(math.ceil((w + gap_mm) / g), math.ceil((h + gap_mm) / g)) for w, h in sizes_mm]
-    for w, h in cells:
+    for i, (w, h) in enumerate(cells):
         if not ((w <= W and h <= H) or (h <= W and w <= H)):
-            raise ValueError(f"a {w * g - gap_mm:.1f} x {h * g - gap_mm:.1f} mm part does not fit "
+            what = f"the {names[i]}" if names else "a"
+            raise ValueError(f"{what} {w * g - gap_mm:.1f} x {h * g - gap_mm:.1f} mm part does not fit "
                              f"a {sheet_mm[0]:g} x {sheet_mm[1]:g} mm sheet less {margin_mm:g} mm margins")
     packer = rectpack.newPacker(mode=rectpack.PackingMode.Offline, bin_algo=rectpack.PackingBin.BFF,
                                 pack_algo=rectpack.MaxRectsBssf, rotation=True)
@@ -158,7 +161,8 @@ def plan_sheets(instances) -> list[Sheet]:
                   boxes[i.kind.name][3] - boxes[i.kind.name][1]) for i in insts]
         size = _sheet_size(mat, asked, max(sizes, key=lambda s: max(s)))
         try:
-            spots = pack(sizes, size, tol.NEST_GAP_MM, tol.NEST_EDGE_MARGIN_MM)
+            spots = pack(sizes, size, tol.NEST_GAP_MM, tol.NEST_EDGE_MARGIN_MM,
+                         [i.name for i in insts])
         except ValueError as exc:
             raise DesignError("parts.laser_sheet_mm", f"{mat} {t:g} mm: {exc}") from None
         mine: dict[int, Sheet] = {}
@@ -301,7 +305,8 @@ def sheet_dxf(sheet: Sheet, index: int, count: int, profiles: dict) -> str:
                 spot_xy, h, rot = (x, y), tol.LABEL_HEIGHTS_MM[-1], 0.0
             else:
                 spot_xy = (m3 @ [spot[0], spot[1], 1])[:2]
-                h, rot = spot[2], spot[3] + (90.0 if p.rotated else 0.0)
+                # (mod 180: a label turned 180 deg reads upside down; its centred box is the same)
+                h, rot = spot[2], (spot[3] + (90.0 if p.rotated else 0.0)) % 180.0
             msp.add_text(p.instance, height=h, rotation=rot, dxfattribs={"layer": "ENGRAVE"}) \
                 .set_placement(tuple(map(float, spot_xy)), align=TextEntityAlignment.MIDDLE_CENTER)
         st = SHEETS[sheet.material]

@@ -47,6 +47,16 @@ _STANDARD = re.compile(r"\b(?:ISO|DIN|EN) \d+\b[^,()]*")
 _RINGS = re.compile(r"(\d+) (DIN 471) rings (\S+)")
 ORDER_COLUMNS = ("group", "designation", "order_code", "quantity", "unit_price", "line_price",
                  "parts")
+#: Start of the stock cell of a laser-cut part (:func:`cad.pipeline.family.bom_rows`): its stock
+#: is the sheet it is nested on, ordered on that sheet's own bought line, so the part itself
+#: is no order line (it would be ordered twice, as "stock: nested").
+NESTED_STOCK = "nested on "
+
+
+def ordered(row: dict) -> bool:
+    """False for a BOM row that is no order line of its own: a laser-cut part (stock
+    :data:`NESTED_STOCK`), whose sheet is ordered instead."""
+    return not (row["made_or_bought"] == "made" and row.get("stock", "").startswith(NESTED_STOCK))
 
 
 def _bbox_mm(shape) -> tuple[float, float, float]:
@@ -274,8 +284,10 @@ def apply_prices(rows: list[dict], table: dict | None) -> dict:
     matching no line), ``price_source``, ``extra_lines`` (priced like the rows)."""
     prices = (table or {}).get("prices", {})
     used, unpriced, total, extra = set(), [], 0.0, []
-    lines = [(r, (r.get("designation", ""), r["part"]), r["part"]) for r in rows]
+    lines = [(r, (r.get("designation", ""), r["part"]), r["part"]) for r in rows if ordered(r)]
     for r in rows:
+        if not ordered(r):
+            r["unit_price"] = r["line_price"] = ""
         extra += extra_order_lines(r)
     lines += [(e, (e["designation"],), e["designation"]) for e in extra]
     for line, keys, label in lines:
@@ -321,6 +333,8 @@ def order_lines(rows: list[dict], extra=()) -> list[dict]:
     the stock) after them."""
     out = list(extra)
     for r in rows:
+        if not ordered(r):
+            continue
         made = r["made_or_bought"] == "made"
         group = f"stock: {r['stock'].split(' ', 1)[0]}" if made and r.get("stock") else r["group"]
         out.append({"group": group, "designation": r["stock"] if made else r["designation"],

@@ -221,12 +221,13 @@ def bom_rows(instances, props: dict) -> list[dict]:
         )
     if laser_kinds(instances):
         from cad.export.nesting import plan_sheets
+        from cad.export.order import NESTED_STOCK
 
         sheets = plan_sheets(instances)
         where = {p.kind.name: f"sheet_{i + 1:02d}" for i, s in enumerate(sheets) for p in s.parts}
         for r in rows:
             if r["part"] in where:
-                r["stock"] = f"nested on {where[r['part']]} (sheet stock line)"
+                r["stock"] = f"{NESTED_STOCK}{where[r['part']]} (sheet stock line)"
         rows += sheet_rows(sheets)
     return rows
 
