@@ -162,7 +162,11 @@ def test_pen_report_places_every_part_file_as_assembly_step(tmp_path):
     ``assembly.step`` read back with OCCT (the check of tests/unit/assembly/test_part_frames.py)."""
     import numpy as np
     from step_pairs import read_parts
-    from unit.assembly.test_part_frames import located_volume_props, read_step_solids, unplaced_volume_props
+    from unit.assembly.test_part_frames import (
+        located_volume_props,
+        read_step_solids,
+        unplaced_volume_props,
+    )
 
     out = tmp_path / "pen"
     rep = cad.build_design(cad.load_design("designs/haptic_pen.toml"), out, formats=("step",),

@@ -18,8 +18,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 from catalog_ref import iso4026_lengths_mm
-from step_pairs import radial_screw_mm, read_parts, tip_on_axis_mm
 from families.test_family_fasteners import _refused_before_cad
+from step_pairs import radial_screw_mm, read_parts, tip_on_axis_mm
 
 U = np.ones(3) / math.sqrt(3.0)  # the diagonal (1,1,1)/sqrt3 (flotor frame = assembly frame)
 

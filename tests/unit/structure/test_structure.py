@@ -129,7 +129,7 @@ def test_plane_modes_of_a_cantilever_with_a_tip_mass_are_the_closed_forms():
 def _panto(name):
     from cad.design import load_design
 
-    return load_design(Path(__file__).resolve().parents[1] / "designs" / name)
+    return load_design(Path(__file__).resolve().parents[3] / "designs" / name)
 
 
 def test_pantograph_lumped_masses_keep_each_body_mass_and_first_moment():
