@@ -79,7 +79,10 @@ REAM_ALLOWANCE_MM = ((5.0, 0.1), (20.0, 0.2), (50.0, 0.3), (float("inf"), 0.5))
 REAM_ALLOWANCE_SOURCE = (
     "undersize of reaming table (0-5 mm 0.1-0.2, 5-20 mm 0.2-0.3, 21-50 mm 0.3-0.5, "
     ">50 mm 0.5-1 mm; low end used), https://eventexam.blogspot.com/2023/09/"
-    "under-sizes-of-reaming.html; unverified against Machinery's Handbook"
+    "under-sizes-of-reaming.html; the same rows (steel, up to 5 mm 0.1-0.2, 5-20 mm 0.2-0.3) "
+    "in 'Manual Reaming', Technique for manual working of materials, trainees' handbook, "
+    "Institut fuer Berufliche Entwicklung (GTZ), section 5.3; not checked against "
+    "Machinery's Handbook"
 )
 #: Rule for the tap drill of an ISO metric coarse thread (:func:`cad.data.catalog.tap_drill_mm`).
 TAP_DRILL_SOURCE = "tap drill = d - P (ISO 2306 drill sizes for ISO metric coarse threads)"

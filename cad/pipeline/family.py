@@ -188,11 +188,15 @@ def placement_report(instances, tf_world_body: dict, props: dict) -> dict:
     }
 
 
-def bom_rows(instances, props: dict) -> list[dict]:
+def bom_rows(instances, props: dict, formats=None) -> list[dict]:
     """One row per listed kind: part, description, material, quantity, made_or_bought,
     process, fits (its ISO 286 fits joined by ``"; "``), mass_g (each), and what to order
     (:mod:`cad.export.order`): group, designation and order_code of a bought part (a made
-    part: group ``"made"``, designation = its name), stock of a made part."""
+    part: group ``"made"``, designation = its name), stock of a made part.
+
+    ``formats`` (the build's ``--formats``; None: as if every format were written): without
+    ``dxf`` the nested sheets are planned but not written, and the rows that name ``sheets/``
+    say so (:func:`_unwritten_sheets`)."""
     from cad.export.order import bought_designation, stock
 
     q = quantities(instances)
@@ -229,7 +233,23 @@ def bom_rows(instances, props: dict) -> list[dict]:
             if r["part"] in where:
                 r["stock"] = f"{NESTED_STOCK}{where[r['part']]} (sheet stock line)"
         rows += sheet_rows(sheets)
+        if formats is not None and "dxf" not in formats:
+            rows = [_unwritten_sheets(r) for r in rows]
     return rows
+
+
+#: What a BOM row says of ``sheets/`` when the build wrote no DXF.
+SHEETS_NOT_WRITTEN = "sheets/: not written, add dxf to --formats"
+
+
+def _unwritten_sheets(row: dict) -> dict:
+    """``row`` with its mentions of the ``sheets/`` folder (``nested: sheets/``,
+    ``(sheets/)``) saying that folder was not written."""
+    out = dict(row)
+    for key in ("description", "process"):
+        out[key] = (out[key].replace("nested: sheets/", f"nested, {SHEETS_NOT_WRITTEN}")
+                    .replace("(sheets/)", f"({SHEETS_NOT_WRITTEN})"))
+    return out
 
 
 def laser_kinds(instances) -> dict:

@@ -288,7 +288,7 @@ def _write_bom(design, model, props: dict, out_dir: Path, formats=()) -> list[di
     from cad.pipeline import family
 
     encoder = encoder_bom_row(design)
-    bom = family.bom_rows(model.instances, props) + [encoder]
+    bom = family.bom_rows(model.instances, props, formats) + [encoder]
     write_bom(bom, out_dir)
     family.write_assembly_md(out_dir, f"{design.name} ({design.family})", model.instances,
                              checks=ASSEMBLY_CHECKS, no_solid_rows=[encoder],

@@ -324,3 +324,23 @@ def test_machined_report_keys_unchanged():
 
     assert "laser_sheet_mm" not in parse_parts({}).as_dict(report=True)
     assert parse_parts({"process": "laser"}).as_dict(report=True)["laser_sheet_mm"] is None
+
+
+def test_bom_says_when_sheets_are_not_written():
+    """A laser build without ``dxf`` in ``--formats`` plans the sheets but writes no
+    ``sheets/``: the BOM rows that name the folder (a laser part's process, the sheet stock
+    line) say it was not written and how to get it; with dxf they name it plainly."""
+    from cad.assembly.laser import laser_process
+    from cad.export.nesting import Sheet
+    from cad.pipeline.family import SHEETS_NOT_WRITTEN, _unwritten_sheets, sheet_rows
+
+    part = {"part": "crank", "description": "crank",
+            "process": laser_process("waterjet/laser 8 mm plate; ream pin bore x1",
+                                     "acrylic-cast", 8.0)}
+    stock = sheet_rows([Sheet("acrylic-cast", 8.0, (1000.0, 600.0))])[0]
+    assert "nested: sheets/" in part["process"] and "(sheets/)" in stock["description"]
+    for row in (part, stock):
+        got = _unwritten_sheets(row)
+        said = got["process"] + got["description"]
+        assert SHEETS_NOT_WRITTEN in said and "add dxf to --formats" in said
+        assert "nested: sheets/" not in said and "(sheets/)" not in said
