@@ -309,14 +309,17 @@ def joint_stack(
 def _hub_screw_length(parts: PartsSpec) -> tuple[float, float]:
     """(length, engagement) of the hub screws: through the crank into the hub's tapped holes
     (1.5 d minimum in aluminium, :mod:`cad.assembly.fasteners`); the hub is made tall
-    enough for the hole (:func:`plan_for_order`)."""
-    from cad.assembly.fasteners import alu_hole, size_cap_screw
+    enough for the hole (:func:`plan_for_order`). Engagement: at the thinnest crank sheet in a
+    laser build (:func:`cad.assembly.sheet_tolerance.thinnest_mm`), the nominal otherwise."""
+    from cad.assembly.fasteners import alu_hole
+    from cad.assembly.sheet_tolerance import sheet_bands, size_over_band, thinnest_mm
 
     hole = alu_hole("crank_hub:screw", "crank_hub", parts.hub_screw, math.inf)
-    return size_cap_screw(
-        parts.hub_screw, parts.bar_thickness_mm, hole, "A1 (crank to hub)", "parts.hub_screw",
-        clamp_field="parts.bar_thickness_mm",
-    )
+    bands = sheet_bands(parts)  # a laser-cut crank: long enough at its thickest, the hole
+    t = parts.bar_thickness_mm  # deep enough at its thinnest (cad.assembly.sheet_tolerance)
+    L, _ = size_over_band(parts.hub_screw, t, hole, "A1 (crank to hub)", "parts.hub_screw",
+                          ["crank"], bands, clamp_field="parts.bar_thickness_mm")
+    return L, L - thinnest_mm(bands, "crank", t)
 
 
 @dataclass(frozen=True)

@@ -40,7 +40,6 @@ from cad.assembly.fasteners import (
     check_fasteners,
     iso7379_thread_mm,
     shoulder_screw_hole,
-    size_cap_screw,
 )
 from cad.assembly.layers import (
     HUB_SCREWS,
@@ -50,6 +49,15 @@ from cad.assembly.layers import (
     hub_bolt_circle_mm,
     post_bore_depth_mm,
     spacer_od_mm,
+)
+from cad.assembly.sheet_tolerance import (
+    handle_floor_mm,
+    handle_min_engagement_mm,
+    pin_rows,
+    sheet_bands,
+    size_over_band,
+    thinnest_mm,
+    warn_pins,
 )
 from cad.data import catalog as cat
 from cad.data.fits import fit
@@ -104,6 +112,7 @@ class _Builder:
         self.inst: list[PartInstance] = []
         self.kinds: dict[str, PartKind] = {}
         self.holes: dict[str, TappedHole] = {}
+        self.bands = sheet_bands(parts)  # laser-cut plate parts: their thickness bands
 
     def kind(self, name, make, **kw) -> PartKind:
         if name not in self.kinds:
@@ -138,8 +147,9 @@ class _Builder:
 
     def screw(self, name, size, clamp, hole, joint, field, body, tf, clamps, **blame):  # noqa: PLR0913
         """Size an ISO 4762 screw from its stack and place it with its fastener record
-        (``blame``: ``hole_field`` / ``clamp_field`` of :func:`size_cap_screw`)."""
-        L, e = size_cap_screw(size, clamp, hole, joint, field, **blame)
+        (``blame``: ``hole_field`` / ``clamp_field`` of :func:`size_cap_screw`); in a laser
+        build held over the sheets' thickness bands (:func:`size_over_band`)."""
+        L, e = size_over_band(size, clamp, hole, joint, field, clamps, self.bands, **blame)
         f = Fastener("ISO 4762", size, L, tuple(clamps), hole.name, e)
         self.place(name, self.cap_screw(size, L), body, tf, fastener=f)
         return L
@@ -164,6 +174,7 @@ def build_assembly(
     b = _Builder(parts, plan, joints_link, fidelity == "fabrication")
     _bars(b, design_label)
     _joint_hardware(b)
+    warn_pins(pin_rows(plan, parts, b.bands))
     _motor_and_hub(b)
     rect = _base_post_legs(b, footprint_mm)
     _handle(b, handle_shape)
@@ -517,7 +528,7 @@ def _motor_and_hub(b: _Builder) -> None:
     hub_h = plan.hub_z_mm[1] - plan.hub_z_mm[0]
     hub_bc = hub_bolt_circle_mm(parts)
     engaged = min(plan.shaft_top_mm, plan.hub_z_mm[1]) - plan.hub_z_mm[0]
-    hub_e = plan.hub_screw_length_mm - t
+    hub_e = plan.hub_screw_length_mm - thinnest_mm(b.bands, "crank", t)  # a thin crank: deeper
     ss = plan.hub_set_screw.size.split("-")[0]
     hk = b.kind(
         "crank_hub",
@@ -621,14 +632,21 @@ def _leg_screw_stack(parts: PartsSpec, i: int) -> dict:
                 clamp_field="parts.base_thickness_mm")
 
 
-def check_plate_screws(parts: PartsSpec) -> None:
+def check_plate_screws(parts: PartsSpec) -> list:
     """Size the motor face, motor mount and leg screws before any CAD
     (:func:`cad.assembly.fasteners.size_cap_screw`): they depend on the ``[parts]`` plates
-    only, so a plate no catalog screw fits is refused naming its field."""
-    for stack in (_motor_screw_stack, _mount_screw_stack, _leg_screw_stack):
+    only, so a plate no catalog screw fits is refused naming its field. In a laser build each
+    is held over its sheets' thickness bands (:func:`size_over_band`: a warning where no catalog
+    length does). Returns ``[(stack arguments, clamped parts, (length, engagement))]``."""
+    bands, out = sheet_bands(parts), []
+    for stack, clamps in ((_motor_screw_stack, ["motor_mount"]),
+                          (_mount_screw_stack, ["motor_mount"]), (_leg_screw_stack, ["base_plate"])):
         st = stack(parts, 1)
-        size_cap_screw(st.pop("size"), st.pop("clamp"), st.pop("hole"), st.pop("joint"),
-                       st.pop("field"), **st)
+        a = dict(st)
+        got = size_over_band(st.pop("size"), st.pop("clamp"), st.pop("hole"), st.pop("joint"),
+                             st.pop("field"), clamps, bands, **st)
+        out.append((a, clamps, got))
+    return out
 
 
 def _set_screw(b: _Builder, m, hub_h: float, engaged: float) -> None:
@@ -811,7 +829,7 @@ def _handle(b: _Builder, handle_shape) -> None:
 
     parts, plan = b.parts, b.plan
     t = parts.bar_thickness_mm
-    floor = plan.handle_screw_length_mm - t
+    floor = handle_floor_mm(plan, parts)  # tip flush with the (thinnest) coupler's bottom
     px, py = b.J["coupler"]["P"]
     if handle_shape is None:
         hk = b.kind(
@@ -832,9 +850,8 @@ def _handle(b: _Builder, handle_shape) -> None:
             process="3D print / turned",
         )
     b.place("handle", hk, "coupler", translation(px, py, plan.handle_z_mm))
-    d = cat.thread_diameter_mm(parts.handle_screw)
     # the knob carries hand loads only: the full plate, at least 1 d (1.5 d when it fits)
-    need = min(MIN_ENGAGEMENT_ALU_D * d, max(t, HANDLE_MIN_ENGAGEMENT_D * d))
+    need = handle_min_engagement_mm(parts, MIN_ENGAGEMENT_ALU_D, HANDLE_MIN_ENGAGEMENT_D)
     hole = b.hole(TappedHole("coupler:P", "coupler", parts.handle_screw, t, need))
     b.screw(
         "handle_screw",

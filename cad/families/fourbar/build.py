@@ -232,11 +232,12 @@ def _fidelity_costs(design, model, mp: dict, fidelity: str) -> dict:
     if model.extra["handle_script"] is not None or design.parts.handle_fillet_mm <= 0:
         out["handle_round"] = "not applicable"
         return out
+    from cad.assembly.sheet_tolerance import handle_floor_mm
     from cad.parts import PartKind
     from cad.parts.handle import knob_shape
     from cad.pipeline import family
 
-    floor = model.extra["plan"].handle_screw_length_mm - design.parts.bar_thickness_mm
+    floor = handle_floor_mm(model.extra["plan"], design.parts)
     other = knob_shape(design.parts, floor, cosmetic=fidelity != "fabrication")
     props, H, am = mp["props"], mp["H"], mp["apparent_mass"]
     kind = model.kinds()["handle"]
@@ -364,9 +365,13 @@ def build(
     _step(progress, "report", 7)
     report = _report(design, model, mp, rep, structure, bom, fidelity)
     if family.laser_kinds(model.instances):  # parts.process = "laser": the nested stock sheets
+        from cad.assembly.sheet_tolerance import tolerance_report
         from cad.export.nesting import plan_sheets, sheets_report
 
         report["sheets"] = sheets_report(plan_sheets(model.instances), "dxf" in formats)
+        # every fastener touching a sheet over the sheets' thickness bands (issue 25)
+        report["sheets"]["thickness_tolerance"] = tolerance_report(
+            model.instances, model.holes, model.extra["plan"], design.parts)
     report["files"] = sorted(files + view_files + [
         "bom.csv", "preview.png", "report.md", "kinematics.png", "apparent_mass.png"])
     _write_report_md(out_dir, report)

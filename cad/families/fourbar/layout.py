@@ -151,7 +151,9 @@ def _parts(design, J, plan, footprint, fidelity: str, deferred: bool, script):
     parts = design.parts
     user_handle = None
     if script is not None:
-        floor = plan.handle_screw_length_mm - parts.bar_thickness_mm
+        from cad.assembly.sheet_tolerance import handle_floor_mm
+
+        floor = handle_floor_mm(plan, parts)
         user_handle = user_handle_shape(script, handle_params(parts, floor))
     # deferred: solids only where a part's mass properties are not cached
     with deferred_shapes() if deferred else contextlib.nullcontext():

@@ -344,3 +344,25 @@ def test_bom_says_when_sheets_are_not_written():
         said = got["process"] + got["description"]
         assert SHEETS_NOT_WRITTEN in said and "add dxf to --formats" in said
         assert "nested: sheets/" not in said and "(sheets/)" not in said
+
+
+def test_thickness_tolerance_in_report(laser_build):
+    """report.json sheets.thickness_tolerance (:mod:`cad.assembly.sheet_tolerance`): a row for
+    every ISO 4762 screw that clamps a sheet or engages one, and each pin stack; on
+    hoeken_laser all hold over EN 485-4 +-0.24 mm (6 mm) / +-0.22 mm (5 mm). The hub's thread
+    is cut for the thinnest crank (12 - 5.76 = 6.24 mm) and the handle screw's tip ends flush
+    with the thinnest coupler (engages 5.76 mm, all of it)."""
+    _, report = laser_build
+    rows = {r["fastener"]: r for r in report["sheets"]["thickness_tolerance"]}
+    sheet = {"crank", "coupler", "rocker", "base_plate", "motor_mount"}
+    want = {n for n, f in report["fasteners"].items() if f["kind"] == "ISO 4762" and
+            (sheet & set(f["clamps"]) or report["tapped_holes"][f["hole"]]["part"] in sheet)}
+    assert want == {n for n in rows if not n.startswith("pin_")}
+    assert {"pin_A2", "pin_A3", "pin_A4"} <= set(rows)
+    assert all(r["verdict"] == "holds" for r in rows.values())
+    assert rows["leg_screw_1"]["engagement_worst_mm"] == pytest.approx([10 - 0.24, 10 + 0.24])
+    assert rows["post_screw"]["engagement_worst_mm"] == pytest.approx([10 - 0.24, 10 + 0.24])
+    assert report["tapped_holes"]["crank_hub:screw_1"]["depth_mm"] == pytest.approx(12 - 5.76)
+    assert rows["hub_screw_1"]["engagement_worst_mm"] == pytest.approx([5.76, 6.24])
+    assert report["fasteners"]["handle_screw"]["engagement_mm"] == pytest.approx(5.76)
+    assert rows["handle_screw"]["window_mm"] == pytest.approx([5.76, 5.76])
