@@ -169,11 +169,14 @@ def size_over_band(size: str, clamp_mm: float, hole, joint: str, field: str, cla
 
     keys = row["keys"]
     e_min, e_max = row["engagement_worst_mm"]
+    why = (f"{need:g} mm of thread in {_each(hole.name)} at the thickest, no deeper than its "
+           f"{d_min:g} mm at the thinnest")
+    need_L = (f"needs L in {lo:g}..{hi:g} mm: {why}" if lo <= hi else  # else no L: band > window
+              f"no L can: L >= {lo:g} mm for {why.replace(', no deeper', ' but L <= ' + f'{hi:g} mm no deeper')}")
     miss = [f"only {e_min:g} mm at the thickest" if e_min < need - 1e-9 else "",
             f"{e_max - d_min:.2f} mm past the thread at the thinnest" if e_max > d_min + 1e-9 else ""]
     bounds.warn(f"{_each(joint)}: {'; '.join(row['sheets'])}: no {size.split('-')[0]} ISO 4762 "
-                f"length holds over that band (needs L in {lo:g}..{hi:g} mm: {need:g} mm of thread "
-                f"in {_each(hole.name)} at the thickest, no deeper than its {d_min:g} mm at the thinnest); "
+                f"length holds over that band ({need_L}); "
                 f"the {L0:g} mm screw engages {e_min:g}..{e_max:g} mm "
                 f"({', '.join(m for m in miss if m)}); change "
                 f"{' or '.join(dict.fromkeys(keys + [field]))}")

@@ -65,8 +65,11 @@ def check_laser(v: dict[str, Any], prefix: str) -> None:
             raise DesignError(f(mkey), f"process \"laser\" cuts the {names} from sheet; {mat!r} is "
                                        f"not a sheet material here (sheets: {', '.join(SHEETS)})")
         if not any(abs(t - s) < 1e-9 for s in sheet.thicknesses_mm):
-            near = " or ".join(f"{x:g}" for x in sheet.nearest_mm(t))
-            raise DesignError(f(tkey), f"{t:g} mm is not a stock thickness of {mat} sheet for the "
+            stock = sheet.thicknesses_mm  # nearest: the stock just under and just over t
+            near = " or ".join(f"{x:g}" for x in ([max(x for x in stock if x < t)] if t > stock[0] else [])
+                               + ([min(x for x in stock if x > t)] if t < stock[-1] else []))
+            shown = f"{t:g}" if float(f"{t:g}") == t else repr(t)  # 6.00000001 is not "6"
+            raise DesignError(f(tkey), f"{shown} mm is not a stock thickness of {mat} sheet for the "
                                        f"{names} (nearest: {near} mm; stock: "
                                        f"{', '.join(f'{x:g}' for x in sheet.thicknesses_mm)} mm)")
         if "tap" in feats and not sheet.tappable:

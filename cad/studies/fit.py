@@ -253,10 +253,13 @@ def fit(raw: dict, source: str, targets: tuple[Target, ...], free: list[FreePara
     when there are at most :data:`GRID_MAX` of them; otherwise TPE (seeded) until ``trials``
     candidates were evaluated (default ``12 + 6 x len(free)``), the start evaluated first.
     """
+    from cad.design import parse_design
+
     search = _FitSearch(raw, source, targets, free, evaluate_values, echo, limit_targets, precad)
     _run_study(search, trials, seed)
     _, _, obj, _, vals = min(search.scored.values(), key=lambda t: t[:4])
     cur = search.with_values(vals)
+    parse_design(cur, source)  # the fitted design's own warnings (the trials' were muted)
     final_vals = search.objective(cur)[1]
     rows = evaluate(targets, {k: v for k, v in final_vals.items() if isinstance(v, (int, float))})
     return FitResult(raw=cur, start=search.start_vals, values=dict(vals), objective=obj,

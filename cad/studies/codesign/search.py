@@ -494,7 +494,10 @@ def optimize_study(study, objective, n_trials: int) -> None:
         except KeyboardInterrupt:
             raise stop() from None
 
-    with signals.deferred(), warnings.catch_warnings():
+    from cad.design import bounds
+
+    # the trials' own design warnings (a PLA candidate's "printing filament") are not the user's
+    with signals.deferred(), warnings.catch_warnings(), bounds.muted():
         warnings.simplefilter("ignore")  # optuna's experimental-feature warnings (multivariate TPE)
         study.optimize(trial_fn, n_trials=n_trials)
     if stopped:
