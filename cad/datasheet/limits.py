@@ -93,8 +93,18 @@ def fourbar_limits(design, strength_MPa: float | None) -> dict[str, Limit]:
         lim["max_stress_MPa"] = Limit("<=", strength_MPa / STRESS_SAFETY_FACTOR, STRESS_REASON, STRESS_CHANGE)
     lim["min_clearance_mm"] = Limit(">=", float(design.parts.clearance_min_mm),
                                     "parts.clearance_min_mm (the build's clearance rule)", CLEARANCE_CHANGE)
-    return with_targets(lim, design.targets)
+    return with_targets(lim, design.targets, FOURBAR_TARGET_CHANGE)
 
+
+#: Design keys that move the four-bar figures a ``[targets]`` bound alone limits (the datasheet's
+#: models: the resolution from the encoder's counts, ``stiffness.encoder_resolution_m`` when
+#: given; the no-load friction from the motor's no-load current (the bearings add nothing
+#: unloaded); K_max from the loop period, friction and the encoder).
+FOURBAR_TARGET_CHANGE = {
+    "resolution_um": "parts.encoder, parts.encoder_counts_per_rev or stiffness.encoder_resolution_m",
+    "friction_N": "parts.motor or [motor] (its no-load current)",
+    "K_max_N_per_m": "stiffness.Te_s, stiffness.Fv_N_s_per_m, stiffness.encoder_resolution_m or parts.encoder",
+}
 
 PANTO_MODE_CHANGE = "parts.tube_od_mm, parts.tube_id_mm, parts.tube_material (stiffer, lighter links)"
 PANTO_STRESS_CHANGE = "parts.tube_od_mm / parts.tube_id_mm or parts.tube_material (parts.crank_material)"
@@ -118,9 +128,11 @@ def pantograph_limits(design, force_N: float | None, strength_MPa: float | None 
     return with_targets(lim, getattr(design, "targets", ()))
 
 
-def with_targets(lim: dict[str, Limit], targets) -> dict[str, Limit]:
+def with_targets(lim: dict[str, Limit], targets, change: dict[str, str] | None = None) -> dict[str, Limit]:
     """A ``[targets]`` bound of a limited key (``min`` for a ``>=`` figure, ``max`` for a
-    ``<=`` one) replaces its default limit; ``value +/- tol`` targets stay check rows only."""
+    ``<=`` one) replaces its default limit; ``value +/- tol`` targets stay check rows only.
+    Its keys to change: the design keys of the default it replaces (or ``change[key]``),
+    then the target itself."""
     out = dict(lim)
     for t in targets or ():
         op = DATASHEET_TARGETS.get(t.key)
@@ -128,7 +140,9 @@ def with_targets(lim: dict[str, Limit], targets) -> dict[str, Limit]:
             continue
         bound = t.min if op == ">=" else t.max
         if bound is not None:
-            out[t.key] = Limit(op, float(bound), "[targets]", f"targets.{t.key}", "targets")
+            keys = lim[t.key].change if t.key in lim else (change or {}).get(t.key)
+            out[t.key] = Limit(op, float(bound), "[targets]",
+                               f"{keys}, or targets.{t.key}" if keys else f"targets.{t.key}", "targets")
     return out
 
 

@@ -132,3 +132,26 @@ def test_non_stock_thickness_names_the_value_and_its_neighbours(tmp_path, t, sho
     msg = str(e.value)
     assert f": {shown} is not a stock thickness of aluminium-5083" in msg
     assert near in msg
+
+
+def test_a_targets_limit_names_the_design_keys_that_move_it():
+    """``[targets] resolution_um = { max = 10 }`` on the Hoeken missed with "change
+    targets.resolution_um" only (loosen the requirement); a target replacing a default limit
+    (first mode) lost the default's design keys. The datasheet's models: resolution =
+    (2 pi / counts) |dx/dphi1| (the encoder), no-load friction = Kt I0 / |dx/dphi1| (the motor),
+    K_max of the wall model at Te and the encoder (docs/datasheet.md)."""
+    import cad
+    from cad.datasheet.limits import MODE_CHANGE, fourbar_limits
+
+    d = cad.load_design(HOEKEN).replace(targets={
+        "resolution_um": {"max": 10.0}, "friction_N": {"max": 0.1},
+        "K_max_N_per_m": {"min": 20000.0}, "first_mode_Hz": {"min": 200.0}})
+    lim = fourbar_limits(d, 276.0)
+    assert lim["resolution_um"].origin == "targets" and lim["resolution_um"].value == 10.0
+    assert "parts.encoder_counts_per_rev" in lim["resolution_um"].change
+    assert "parts.motor" in lim["friction_N"].change
+    assert "stiffness.Te_s" in lim["K_max_N_per_m"].change
+    assert lim["first_mode_Hz"].value == 200.0
+    assert lim["first_mode_Hz"].change.startswith(MODE_CHANGE)
+    for key in ("resolution_um", "friction_N", "K_max_N_per_m", "first_mode_Hz"):
+        assert lim[key].change.endswith(f"targets.{key}")
