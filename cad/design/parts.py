@@ -473,7 +473,7 @@ def _print_keys(table: dict[str, Any], prefix: str, vals: dict[str, Any]) -> Non
             tail = (f"set {_f(prefix, 'process')} = \"printed\" to say so" if proc == "machined"
                     else f"{_f(prefix, 'process')} = \"laser\" cuts the plate parts only")
             bounds.warn(f"{_f(prefix, key)} = {vals[key]!r} is a printing filament, not stock a shop "
-                        f"machines: the {names} are FDM printed instead{': ' + change if change else ''} "
+                        f"machines: the {names} {'are' if ',' in names or names.endswith('s') else 'is'} FDM printed instead{': ' + change if change else ''} "
                         f"({tail})")
         elif change:
             bounds.warn(f"{_f(prefix, 'process')} = \"printed\": {names} ({vals[key]}): {change}")

@@ -155,3 +155,12 @@ def test_a_targets_limit_names_the_design_keys_that_move_it():
     assert lim["first_mode_Hz"].change.startswith(MODE_CHANGE)
     for key in ("resolution_um", "friction_N", "K_max_N_per_m", "first_mode_Hz"):
         assert lim[key].change.endswith(f"targets.{key}")
+
+
+def test_printed_instead_warning_agrees_in_number():
+    """``tests/cases/silent-limits/hoeken_pla.toml`` (every made part PLA, process machined)
+    warned "the hub are FDM printed instead" (and base plate, post, motor mount, handle)."""
+    _, warns = _load(ROOT / "tests" / "cases" / "silent-limits" / "hoeken_pla.toml")
+    said = {w.split("the ", 1)[1].split(" FDM printed")[0] for w in warns if "FDM printed instead" in w}
+    assert said == {"crank, coupler, rocker are", "hub is", "base plate is", "post is",
+                    "motor mount is", "handle is", "spacers are"}
