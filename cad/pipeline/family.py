@@ -313,14 +313,22 @@ def shop_args(kind, instances, holes=()) -> dict:
     }
 
 
-def write_part_drawings(instances, out_dir: Path, design: str, holes=()) -> list[str]:
+def write_part_drawings(instances, out_dir: Path, design: str, holes=(),
+                        sheets_written: bool = True) -> list[str]:
     """``drawings/<part>.svg`` per made, listed kind and ``drawings.pdf``
-    (:func:`cad.export.drawings.write_drawings`); returns the paths relative to ``out_dir``."""
+    (:func:`cad.export.drawings.write_drawings`); returns the paths relative to ``out_dir``.
+    ``sheets_written`` False (no ``dxf``): a process naming ``sheets/`` says, as the BOM
+    does, that the folder was not written."""
     from cad.export.drawings import SheetPart, write_drawings
+
+    def process(k) -> str:
+        if sheets_written or not k.process:
+            return k.process
+        return _unwritten_sheets({"description": "", "process": k.process})["process"]
 
     q = quantities(instances)
     parts = [
-        SheetPart(k.name, k.shape, k.material, q[k.name], k.process, k.plate, k.fits,
+        SheetPart(k.name, k.shape, k.material, q[k.name], process(k), k.plate, k.fits,
                   kind_threads(k.name, instances, holes), k.description)
         for k in kinds(instances).values()
         if k.listed and k.made
@@ -482,7 +490,7 @@ def write_outputs(
         files += write_sheets(instances, out_dir,
                               {n: shop_args(k, instances, holes) for n, k in laser_kinds(instances).items()})
     if "drawings" in formats:
-        files += write_part_drawings(instances, out_dir, name, holes)
+        files += write_part_drawings(instances, out_dir, name, holes, sheets_written="dxf" in formats)
     if "step" in formats:
         export_assembly_step(
             posed_items(instances, tf_world_body, listed_only=False),

@@ -164,3 +164,25 @@ def test_printed_instead_warning_agrees_in_number():
     said = {w.split("the ", 1)[1].split(" FDM printed")[0] for w in warns if "FDM printed instead" in w}
     assert said == {"crank, coupler, rocker are", "hub is", "base plate is", "post is",
                     "motor mount is", "handle is", "spacers are"}
+
+
+def test_laser_drawings_without_dxf_say_sheets_were_not_written(tmp_path):
+    """``build designs/hoeken_laser.toml --formats drawings`` (no dxf): the BOM's process says
+    "sheets/: not written, add dxf to --formats", the crank's drawing said "nested: sheets/"
+    (a folder that is not there). The title block now says what the BOM says."""
+    import csv
+    import xml.etree.ElementTree as ET
+
+    out = tmp_path / "out"
+    code, _, err = _hapticad("build", LASER, "--fidelity", "preview", "--formats", "drawings",
+                             "--out", out, cache=tmp_path / "cache")
+    assert code == 0, err
+    assert not (out / "sheets").exists()
+    with open(out / "bom.csv", newline="") as f:
+        bom = {r["part"]: r["process"] for r in csv.DictReader(f)}
+    assert "sheets/: not written" in bom["crank"]
+    texts = [e.text for e in ET.parse(out / "drawings" / "crank.svg").iter()
+             if e.tag.endswith("text") and e.text]
+    block = " ".join(t.strip() for t in texts)
+    assert "nested: sheets/" not in block
+    assert f"process: {bom['crank']}" in block
