@@ -42,6 +42,9 @@ class ValidatedReplace:
         if changes is not None and not isinstance(changes, Mapping):
             raise DesignError("changes", f"must be a mapping of dotted keys such as "
                               f"{{'parts.bar_width_mm': 24}}, got {changes!r}")
+        both = sorted(set(changes or {}) & set(kw))
+        if both:
+            raise DesignError(both[0], "given twice (in the mapping and as a keyword): give it once")
         return with_slip_hint(replace_design, self, {**(changes or {}), **kw})
 
 
@@ -93,15 +96,31 @@ def replace_design(design, changes: Mapping[str, Any]):
     dotted field (bad value, unknown key, a value no TOML file can hold).
     """
     raw = copy.deepcopy(design.raw)
+    leaves: dict[str, Any] = {}  # every dotted key a change sets: two changes of one key conflict
     for key, value in changes.items():
         if not isinstance(key, str) or not key or any(not p for p in key.split(".")):
             raise DesignError(str(key), "a change is named by a key such as 'parts.bar_width_mm'")
         if dataclasses.is_dataclass(value) and not isinstance(value, type):
             value = _changed_fields(design, key, value)
+        for leaf, v in _leaves(key, value):
+            for other, w in leaves.items():
+                if (leaf == other and v != w) or leaf.startswith(other + ".") or other.startswith(leaf + "."):
+                    raise DesignError(leaf, f"changed twice ({other} = {w!r} and {leaf} = {v!r}): "
+                                            f"give each key once")
+            leaves[leaf] = v
         _apply(raw, key.split("."), value)
     from cad.design import parse_design
 
     return parse_design(_through_toml(raw), design.source)
+
+
+def _leaves(key: str, value: Any):
+    """``(dotted key, value)`` of every key a change sets (a mapping merged key by key)."""
+    if isinstance(value, Mapping) and value:
+        for k, v in value.items():
+            yield from _leaves(f"{key}.{k}", v)
+    else:
+        yield key, value
 
 
 def _changed_fields(design, key: str, value) -> dict[str, Any]:

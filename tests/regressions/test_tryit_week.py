@@ -186,3 +186,24 @@ def test_laser_drawings_without_dxf_say_sheets_were_not_written(tmp_path):
     block = " ".join(t.strip() for t in texts)
     assert "nested: sheets/" not in block
     assert f"process: {bom['crank']}" in block
+
+
+def test_replace_refuses_one_key_changed_twice():
+    """``design.replace({"parts.bar_width_mm": 24}, parts={"bar_width_mm": 30})`` gave a 30 mm
+    bar without a word (the last form won); one key with two values is now refused naming it.
+    The same value twice, and different keys of one table, still mix."""
+    import cad
+
+    d = cad.load_design(HOEKEN)
+    with pytest.raises(DesignError) as e:
+        d.replace({"parts.bar_width_mm": 24}, parts={"bar_width_mm": 30})
+    assert e.value.field == "parts.bar_width_mm"
+    with pytest.raises(DesignError) as e:
+        d.replace({"parts.bar_width_mm": 24, "parts": None})
+    assert e.value.field == "parts"
+    with pytest.raises(DesignError) as e:
+        d.replace({"parts": {"bar_width_mm": 24}}, parts={"bar_thickness_mm": 8})
+    assert e.value.field == "parts"
+    both = d.replace({"parts.bar_width_mm": 24}, parts={"bar_thickness_mm": 8})
+    assert (both.parts.bar_width_mm, both.parts.bar_thickness_mm) == (24.0, 8.0)
+    assert d.replace({"parts.bar_width_mm": 24}, parts={"bar_width_mm": 24}).parts.bar_width_mm == 24.0
