@@ -9,7 +9,8 @@ with the design's own ``source`` (relative paths keep resolving beside the origi
 Every problem is the :class:`cad.errors.DesignError` loading that file would raise, naming
 the dotted field (``parts.bar_width_mm``), the value and the reason.
 
-A change is given in one of three forms (they mix freely):
+A change is given in one of three forms (they mix freely; a key set twice to two values is
+refused):
 
 * a dotted key, for any key of the file: ``design.replace({"parts.bar_width_mm": 8})``;
 * a table name and a mapping of the keys to change in it (merged into the table, nested
