@@ -544,11 +544,14 @@ def collected() -> list[str]:
 @contextlib.contextmanager
 def muted():
     """Drop the warnings recorded inside the block (a search's trial candidates: they are not
-    the user's design, and the user cannot act on them); those recorded before stay."""
-    n = len(_warnings)
+    the user's design, and the user cannot act on them); those recorded before stay. Yields a
+    list that holds the dropped warnings when the block ends (to re-say a chosen candidate's
+    with :func:`warn`)."""
+    n, dropped = len(_warnings), []
     try:
-        yield
+        yield dropped
     finally:
+        dropped.extend(_warnings[n:])
         for text in _warnings[n:]:
             _implausible.pop(text, None)
         del _warnings[n:]

@@ -253,14 +253,15 @@ def fit(raw: dict, source: str, targets: tuple[Target, ...], free: list[FreePara
     when there are at most :data:`GRID_MAX` of them; otherwise TPE (seeded) until ``trials``
     candidates were evaluated (default ``12 + 6 x len(free)``), the start evaluated first.
     """
-    from cad.design import parse_design
+    from cad.design import bounds
 
     search = _FitSearch(raw, source, targets, free, evaluate_values, echo, limit_targets, precad)
     _run_study(search, trials, seed)
     _, _, obj, _, vals = min(search.scored.values(), key=lambda t: t[:4])
     cur = search.with_values(vals)
-    parse_design(cur, source)  # the fitted design's own warnings (the trials' were muted)
     final_vals = search.objective(cur)[1]
+    for text in search.warned.get(search.key(cur), ()):  # the fitted design's own warnings
+        bounds.warn(text)  # (every candidate's were muted)
     rows = evaluate(targets, {k: v for k, v in final_vals.items() if isinstance(v, (int, float))})
     return FitResult(raw=cur, start=search.start_vals, values=dict(vals), objective=obj,
                      met=all(r.ok for r in rows), log=search.log,
@@ -307,6 +308,7 @@ class _FitSearch:
         self.evaluate_values, self.echo, self.limit_targets = evaluate_values, echo, limit_targets
         self.precad = precad
         self.cache: dict[str, tuple[float, dict, float]] = {}
+        self.warned: dict[str, list[str]] = {}  # each candidate's own warnings (muted)
         self.log: list[dict] = []
         self.scored: dict[str, tuple] = {}
         self.cad_evaluations = 0
@@ -320,32 +322,34 @@ class _FitSearch:
         """(max target violation, values) of the raw design ``r`` (cached); ``values["limit
         violation"]``: the largest violation of the limits. A design that cannot be parsed,
         planned or evaluated, or that the pre-CAD checks reject, scores inf."""
-        from cad.design import parse_design
+        from cad.design import bounds, parse_design
 
         free, targets = self.free, self.targets
-        key = repr([(p.path, _get(r, p.path, None)) for p in free])
+        key = self.key(r)
         if key in self.cache:
             return self.cache[key][:2]
         pre_cad = True
-        try:
-            d = parse_design(r, self.source)
-            _refuse_unbuildable_order(d, free)
-            limits = tuple(self.limit_targets(d)) if self.limit_targets is not None else ()
-            vals, why = self.precad(d) if self.precad is not None else ({}, None)
-            if why:
-                raise DesignError("pre-CAD", why)
-            pre = max((violation(t, vals[t.key]) for t in limits if t.key in vals), default=0.0)
-            if pre > self.best_limit_violation:  # bound: it cannot rank above the best so far
-                raise DesignError("pre-CAD", f"a limit violation of {pre:.3g} before CAD, worse than "
-                                             f"{self.best_limit_violation:.3g} of an evaluated candidate")
-            pre_cad = False
-            vals = {**vals, **self.evaluate_values(d)}
-            obj = max((violation(t, vals[t.key]) if t.key in vals else math.inf) for t in targets)
-            lim = max((violation(t, vals[t.key]) if t.key in vals else math.inf for t in limits), default=0.0)
-            vals["limit_violation"] = lim
-            self.best_limit_violation = min(self.best_limit_violation, lim)
-        except HapticadError as exc:
-            vals, obj = {"error": str(exc), "limit_violation": math.inf}, math.inf
+        with bounds.muted() as said:  # kept per candidate: fit() re-says the fitted one's
+            try:
+                d = parse_design(r, self.source)
+                _refuse_unbuildable_order(d, free)
+                limits = tuple(self.limit_targets(d)) if self.limit_targets is not None else ()
+                vals, why = self.precad(d) if self.precad is not None else ({}, None)
+                if why:
+                    raise DesignError("pre-CAD", why)
+                pre = max((violation(t, vals[t.key]) for t in limits if t.key in vals), default=0.0)
+                if pre > self.best_limit_violation:  # bound: it cannot rank above the best so far
+                    raise DesignError("pre-CAD", f"a limit violation of {pre:.3g} before CAD, worse than "
+                                                 f"{self.best_limit_violation:.3g} of an evaluated candidate")
+                pre_cad = False
+                vals = {**vals, **self.evaluate_values(d)}
+                obj = max((violation(t, vals[t.key]) if t.key in vals else math.inf) for t in targets)
+                lim = max((violation(t, vals[t.key]) if t.key in vals else math.inf for t in limits), default=0.0)
+                vals["limit_violation"] = lim
+                self.best_limit_violation = min(self.best_limit_violation, lim)
+            except HapticadError as exc:
+                vals, obj = {"error": str(exc), "limit_violation": math.inf}, math.inf
+        self.warned[key] = said
         self.cad_evaluations += not pre_cad
         self.rejected_pre_cad += pre_cad
         entry = {"params": {p.path: _get(r, p.path, None) for p in free}, "objective": obj,
@@ -359,6 +363,10 @@ class _FitSearch:
             self.echo(f"  eval {len(self.log):2d}: {ps}  ->  {word}{why}")
         self.cache[key] = (obj, vals, vals["limit_violation"])
         return obj, vals
+
+    def key(self, r: dict) -> str:
+        """The cache key of the raw design ``r``: its free parameters' values."""
+        return repr([(p.path, _get(r, p.path, None)) for p in self.free])
 
     def change(self, vals: dict) -> float:
         """Distance from the start: numeric |x - x0| / (hi - lo); choices: rank in the list."""

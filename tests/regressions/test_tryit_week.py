@@ -207,3 +207,17 @@ def test_replace_refuses_one_key_changed_twice():
     both = d.replace({"parts.bar_width_mm": 24}, parts={"bar_thickness_mm": 8})
     assert (both.parts.bar_width_mm, both.parts.bar_thickness_mm) == (24.0, 8.0)
     assert d.replace({"parts.bar_width_mm": 24}, parts={"bar_width_mm": 24}).parts.bar_width_mm == 24.0
+
+
+def test_fit_keeps_the_fitted_designs_own_build_warnings(tmp_path):
+    """Muting the candidates must not lose the fitted design's own warnings: a 6.5 mm birch
+    plywood motor mount (6.1..6.9 mm, EN 315) holds no M3 catalog length over its band (L in
+    9.4..9.6 mm, docs/fabrication.md), whatever bar material is fitted."""
+    p = _laser(tmp_path, motor_mount_material='"birch-plywood"', motor_mount_thickness_mm="6.5")
+    code, out, err = _hapticad("fit", p, "--free", "parts.bar_material", "--target", "M11_max_g<=100",
+                               "--out", tmp_path / "fit.toml", "--json", cache=tmp_path / "cache")
+    assert code in (0, 1), err
+    rep = json.loads(out)
+    a1 = [w for w in rep["warnings"] if w.startswith("A1 (motor to mount plate)")]
+    assert len(a1) == 1 and "needs L in 9.4..9.6 mm" in a1[0]
+    assert [w for w in rep["warnings"] if "printing filament" in w] == []
