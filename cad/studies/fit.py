@@ -202,12 +202,17 @@ def parse_free(spec: str, parts_spec) -> FreeParam:
 
 def _stock_thickness(spec: str, key: str, rng: str, parts_spec) -> FreeParam:
     """Plate thickness: a choice among the stock thicknesses of the bar material
-    (:data:`cad.studies.codesign.search.STOCK_THICKNESS_MM`) inside LO:HI (default 0.5x..1.5x the
+    (:data:`cad.studies.codesign.search.STOCK_THICKNESS_MM`; its sheet's under ``process =
+    "laser"``, :data:`cad.data.materials.SHEETS`) inside LO:HI (default 0.5x..1.5x the
     current value), nearest to the current value first (ties go to the smallest change)."""
+    from cad.data.materials import SHEETS
     from cad.studies.codesign.search import STOCK_THICKNESS_MM
 
     cur = parts_spec.bar_thickness_mm
     stock = STOCK_THICKNESS_MM.get(parts_spec.bar_material, STOCK_THICKNESS_MM["aluminium-6061"])
+    sheet = SHEETS.get(parts_spec.bar_material) if getattr(parts_spec, "process", "") == "laser" else None
+    if sheet is not None:  # laser-cut bars: the sheet's stock thicknesses (cad.design.laser)
+        stock = sheet.thicknesses_mm
     lo, hi = _range(spec, key, rng, cur * NUMERIC_DEFAULT_SPAN[0], cur * NUMERIC_DEFAULT_SPAN[1])
     inside = sorted((t for t in stock if lo - STOCK_RANGE_SLACK_MM <= t <= hi + STOCK_RANGE_SLACK_MM), key=lambda t: (abs(t - cur), t))
     if not inside:

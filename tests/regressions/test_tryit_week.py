@@ -221,3 +221,14 @@ def test_fit_keeps_the_fitted_designs_own_build_warnings(tmp_path):
     a1 = [w for w in rep["warnings"] if w.startswith("A1 (motor to mount plate)")]
     assert len(a1) == 1 and "needs L in 9.4..9.6 mm" in a1[0]
     assert [w for w in rep["warnings"] if "printing filament" in w] == []
+
+
+def test_fit_free_thickness_of_laser_bars_is_a_sheet_thickness():
+    """``fit designs/hoeken_laser.toml --free parts.bar_thickness_mm=8:10`` offered only 8 mm (the
+    machined bar stock 3, 4, 5, 6, 8 mm), though 5083 sheet is stocked at 10 mm (the sheet table,
+    docs/fabrication.md: 1, 1.5, 2, 3, 4, 5, 6, 8, 10 mm) -- and ``=1:2`` was refused."""
+    from cad.studies.fit import parse_free
+
+    d, _ = _load(LASER)
+    assert parse_free("parts.bar_thickness_mm=8:10", d.parts).choices == (8.0, 10.0)
+    assert set(parse_free("parts.bar_thickness_mm=1:2", d.parts).choices) == {1.0, 1.5, 2.0}
