@@ -20,7 +20,8 @@ Order (each family callback receives the :class:`Build` filled so far)::
     mass_label       props = kind_props, bodies = body_props(moving_bodies(model))
                      dyn = dynamics(build)                    the family's (optional)
                      bom = bom_rows(instances, props)
-    fork: exports    write_outputs(...) + more_exports(build) (the PowerMouse rig)
+    fork: exports    write_outputs(...) + more_exports(build) (the PowerMouse rig; in this
+                     process after the checks below with exports_after_check)
     fork: views      write_viewer_outputs(stroke, cutaway) + figures(build) (Fig. 8)
     "every pair of solids over the " + motion_label
                      itf = interference(model, allow_interference)
@@ -65,8 +66,11 @@ class Stages:
     ``thread_notes`` (tapped holes to the DXF notes), ``more_exports(build)`` (in the export
     child), ``figures(build)`` (in the views child), ``more_files(build)`` (after the exports),
     ``cutaway`` (instance name patterns drawn cut away in the pictures), ``assembly(design) ->
-    (plan, checks)`` (``assembly.md``; None: not written). Each file callback returns the paths
-    it wrote, relative to the output folder."""
+    (plan, checks)`` (``assembly.md``; None: not written), ``exports_after_check`` (the
+    exports in this process after the interference check instead of a forked child beside it:
+    the pen: on a cold shape cache its ``drawings/ring.svg`` drawn after the check differs
+    from one drawn before it -- state the check leaves on the solids -- and the pen's files
+    stay those of its former, serial builder). Each file callback returns the paths it wrote, relative to the output folder."""
 
     check_options: Callable[..., None]
     assemble: Callable[[Any, str], Any]
@@ -89,6 +93,7 @@ class Stages:
     more_files: Callable[[Build], list[str]] | None = None
     cutaway: tuple[str, ...] = ()
     assembly: Callable[[Any], tuple] | None = None
+    exports_after_check: bool = False
 
 
 @dataclasses.dataclass
@@ -184,15 +189,16 @@ def _checks_and_files(stages: Stages, b: Build, step) -> tuple[list[str], bytes]
     the files made from their results. Returns (files, glb bytes)."""
     from cad.pipeline import forked
 
-    task = forked.start(lambda: _exports(stages, b), "exports")
+    early = not stages.exports_after_check
+    task = forked.start(lambda: _exports(stages, b), "exports") if early else None
     views_task = forked.start(lambda: _views(stages, b), "views")
-    with forked.cancel_on_error(task, views_task):
+    with forked.cancel_on_error(*([task] if early else []), views_task):
         step(f"every pair of solids over the {stages.motion_label}")
         b.itf = stages.interference(b.model, b.allow_interference)
         if stages.bench_z_mm is not None:
             b.low = check_bench(b.instances, b.tfs, stages.bench_z_mm(b))
         step("exports")
-        files = task.result()
+        files = task.result() if early else _exports(stages, b)
         if stages.more_files is not None:
             files += stages.more_files(b)
         view_files, viewer_glb = views_task.result()
