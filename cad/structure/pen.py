@@ -32,9 +32,10 @@ its lever-rule share of the rod. With the rod, gimbals and waists rigid, the cou
 system's first mode lies at or above the lower of the two arms' (Rayleigh: a coupled
 shape's quotient (U_A + U_B) / (T_A + T_B) is at least the smaller of the two arms'
 quotients, each at least its arm's first eigenvalue; the two lever-rule point masses have
-the rod's mass and first moment and, its mass lying between the gimbals, at least its
-moment of inertia about its COM (Bhatia-Davis: variance <= (l6 - x_c) x_c), so they
-over-count its kinetic energy; its spin about its own axis is a free mechanism DOF), so the
+the rod's mass and first moment and, for the part of its mass lying along the rod between
+the gimbals, at least its moment of inertia about its COM (Bhatia-Davis: variance <=
+(l6 - x_c) x_c; the hubs' small extent across the rod is left out), so they over-count its
+kinetic energy; its spin about its own axis is a free mechanism DOF), so the
 device's first mode is reported as the lower of the two. Not modelled: the rod's bending,
 the gimbals' and the waist brackets' compliance (the out-of-plane figures hold the waist
 rigid).
