@@ -16,12 +16,12 @@ peak_force_N           >=    ``force_N`` when ``force_basis = "peak"``     a pea
                                                                            force at every point, for a moment
 force_any_dir_N        >=    ``[actuators] force_N`` of a pantograph       the force asked for must be there in
                              design when it gives one                      every direction at every point
-first_mode_Hz          >=    :data:`FIRST_MODE_MIN_HZ` (four-bars and      Hoeken paper §III.B.1: 150 Hz force
-                             the planar pantographs: the same limit)       bandwidth; a structural mode inside
+first_mode_Hz          >=    :data:`FIRST_MODE_MIN_HZ` (four-bars, the     Hoeken paper §III.B.1: 150 Hz force
+                             planar pantographs, the haptic pen: same)     bandwidth; a structural mode inside
                                                                            it is rendered as a vibration (the
                                                                            isotropy paper gives no bandwidth of
                                                                            its own: the same limit for the
-                                                                           5-bar and the twin pantograph)
+                                                                           5-bar, the twin pantograph, the pen)
 max_stress_MPa         <=    strength / :data:`STRESS_SAFETY_FACTOR`       static safety factor 3 at ``force_N``
                              (pantographs: the strength of the critical    (fatigue, notches, impacts)
                              link's material, force ``[actuators]
@@ -113,8 +113,8 @@ PANTO_STRESS_CHANGE = "parts.tube_od_mm / parts.tube_id_mm or parts.tube_materia
 def pantograph_limits(design, force_N: float | None, strength_MPa: float | None = None,
                       structure: bool = False) -> dict[str, Limit]:
     """Default limits of a pantograph-family design (module table), then its [targets].
-    ``structure``: the design has structure rows (the planar families): first-mode limit,
-    and the stress limit from ``strength_MPa`` of the critical link's material."""
+    ``structure``: the design has structure rows (the planar families and the haptic pen):
+    first-mode limit, and the stress limit from ``strength_MPa`` of the critical link's material."""
     lim: dict[str, Limit] = {}
     if structure:
         lim["first_mode_Hz"] = Limit(">=", FIRST_MODE_MIN_HZ, MODE_REASON, PANTO_MODE_CHANGE)

@@ -9,7 +9,9 @@ pipeline (:mod:`cad.pipeline`) does for every family:
 * ``build.py`` -- ``build(design, out_dir, formats, *, fidelity, allow_interference,
   progress, phi1_deg) -> report dict``; optionally ``check_options``, ``cache_inputs``,
   ``CODE_DEPS`` (the contract is in :mod:`cad.pipeline`; :data:`SHARED_CODE_DEPS` plus the
-  family's own packages);
+  family's own packages); for the pen, the pantographs and the PowerMouse ``build`` is one
+  call to the build driver :func:`cad.pipeline.run.run_family` with the family's
+  :class:`cad.pipeline.run.Stages` (the four-bar still runs its own sequence);
 * ``datasheet.py`` -- ``rows_and_limits(design, report, out_dir, simulate_wall)``, the
   family's rows of the device datasheet (:mod:`cad.datasheet`);
 * ``sim.py`` (where the family exports MJCF/URDF) -- its simulator model.

@@ -1,6 +1,6 @@
 """``hapticad build``: design -> parts -> exports, dispatched on the design's family.
 
-Contract for builder modules (``cad/families/fourbar/build.py``, ``pantograph.py``, ``powermouse.py``)::
+Contract for builder modules (``cad/families/<family>/build.py``)::
 
     def build(design, out_dir: Path, formats: set[str], *, fidelity: str = "fabrication",
               allow_interference: bool = False, progress: Progress | None = None,
@@ -22,6 +22,20 @@ A builder may also expose ``cache_inputs(design) -> dict`` with anything outside
 design object that its output depends on (e.g. the hash of a user part script), and
 ``CODE_DEPS`` (paths inside the ``cad`` package whose source its output depends on; by
 default the whole package).
+
+One driver: the pen, pantograph, twin-pantograph and PowerMouse builders are a single call
+to :func:`cad.pipeline.run.run_family` with the family's :class:`cad.pipeline.run.Stages`
+(a frozen dataclass of callbacks: ``check_options``, ``assemble``, ``interference``,
+``report``, ``md_rows``, ``preview_title``, ``stroke``, ``motion_label``; optionally
+``prepare``, ``dynamics``, ``bench_z_mm``, ``marks``, ``more_exports``, ``figures``,
+``more_files``, ``cutaway``, ``assembly``; each callback reads the
+:class:`cad.pipeline.run.Build` state filled so far). The driver owns the order check ->
+layout -> assemble -> props -> dynamics -> interference -> files -> report, the progress
+lines, the forked exports and viewer files, the bench-plane check, ``report.md`` /
+``assembly.md`` and the common tail of the report (``fasteners``, ``tapped_holes``,
+``part_materials``, ``fits``, ``placement``, ``files``, ``_viewer_glb``). The four-bar's
+builder (``cad/families/fourbar/build.py``) still runs its own sequence (derived-cached mass
+properties, a second forked child for the preview and plots, timings).
 
 Build cache: the dispatcher hashes the design object, the build options and the source
 code (``CODE_DEPS``) into ``build_key``. When ``out_dir/manifest.json`` already

@@ -195,23 +195,35 @@ class Frame:
         u[free] = np.linalg.solve(K[np.ix_(free, free)], f[free])
         return u[idx]
 
+    def element_end_forces(self, u: np.ndarray) -> np.ndarray:
+        """(n_elements, 12) local end forces ``k_local T u_e`` of every element (N, N m):
+        linear in ``u``, so a load case's forces are the sum of its parts' (superposition)."""
+        out = np.zeros((len(self.elements), 12))
+        for k, e in enumerate(self.elements):
+            T, L = self._T(e)
+            d = np.r_[6 * e[0]:6 * e[0] + 6, 6 * e[1]:6 * e[1] + 6]
+            out[k] = local_stiffness(L, e[2]) @ (T @ u[d])
+        return out
+
+    def stress_of_end_forces(self, f: np.ndarray) -> np.ndarray:
+        """Largest von Mises stress (Pa) at the ends of every element from its local end
+        forces ``f`` (..., n_elements, 12): normal N/A + |My| cz/Iy + |Mz| cy/Iz, shear
+        torsion T t / J, sqrt(sig^2 + 3 tau^2), the larger of the two ends."""
+        s = self.elements
+        A, Iy, Iz, J = (np.array([getattr(e[2], k) for e in s]) for k in ("A", "Iy", "Iz", "J"))
+        cy, cz, t = (np.array([getattr(e[2], k) for e in s]) for k in ("cy", "cz", "t_torsion"))
+        best = np.zeros(np.shape(f)[:-1])
+        for b in (0, 6):
+            N, Tq, My, Mz = f[..., b], f[..., b + 3], f[..., b + 4], f[..., b + 5]
+            sig = np.abs(N) / A + np.abs(My) * cz / Iy + np.abs(Mz) * cy / Iz
+            tau = np.abs(Tq) * t / J
+            best = np.maximum(best, np.sqrt(sig * sig + 3 * tau * tau))
+        return best
+
     def element_stress_Pa(self, u: np.ndarray) -> np.ndarray:
         """Largest von Mises stress at the ends of every element (normal: N/A + |My| cz/Iy +
         |Mz| cy/Iz; shear: torsion T t / J)."""
-        out = []
-        for e in self.elements:
-            T, L = self._T(e)
-            s = e[2]
-            d = np.r_[6 * e[0]:6 * e[0] + 6, 6 * e[1]:6 * e[1] + 6]
-            f = local_stiffness(L, s) @ (T @ u[d])
-            best = 0.0
-            for b in (0, 6):
-                N, Tq, My, Mz = f[b], f[b + 3], f[b + 4], f[b + 5]
-                sig = abs(N) / s.A + abs(My) * s.cz / s.Iy + abs(Mz) * s.cy / s.Iz
-                tau = abs(Tq) * s.t_torsion / s.J
-                best = max(best, math.sqrt(sig * sig + 3 * tau * tau))
-            out.append(best)
-        return np.array(out)
+        return self.stress_of_end_forces(self.element_end_forces(u))
 
     def _condensed(self):
         """Guyan condensation onto the massive DOFs: (map, K, free, massive mask, Kc, masses,

@@ -130,11 +130,8 @@ def worst_stress_Pa(fr: Frame, node: int, force_N: float, dirs: np.ndarray) -> t
     """Peak von Mises stress of every element (Pa, (n_elements,)) under ``force_N`` at
     ``node`` in the worst of ``dirs`` (M, 3) for that element, and the index of that
     direction per element. Superposition of three unit-load solutions (linear frame)."""
-    U = [fr.solve({node: np.r_[e, 0, 0, 0]}) for e in np.eye(3)]
-    best = np.zeros(len(fr.elements))
-    arg = np.zeros(len(fr.elements), dtype=int)
-    for i, d in enumerate(np.asarray(dirs, float)):
-        s = force_N * fr.element_stress_Pa(d[0] * U[0] + d[1] * U[1] + d[2] * U[2])
-        better = s > best
-        best[better], arg[better] = s[better], i
-    return best, arg
+    F = np.stack([fr.element_end_forces(fr.solve({node: np.r_[e, 0, 0, 0]})) for e in np.eye(3)])
+    d = np.asarray(dirs, float)
+    s = force_N * fr.stress_of_end_forces(np.einsum("mk,kej->mej", d, F))  # (M, n_elements)
+    arg = np.argmax(s, axis=0)
+    return s[arg, np.arange(s.shape[1])], arg

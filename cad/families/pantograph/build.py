@@ -5,7 +5,8 @@ allow_interference, progress, phi1_deg) -> report dict``; ``phi1_deg`` must be N
 family has no crank: refused at load time by :func:`check_options`). Isotropy paper §3
 (Fig. 2, the plain 5-bar) and §4.1 (Fig. 1, Table 1, the twin pantograph).
 
-Pipeline: layout (heights, plates; numpy, :mod:`~cad.families.pantograph.layout`) ->
+Pipeline (``build`` is one call to :func:`cad.pipeline.run.run_family` with the family's
+stages, :func:`_stages`): layout (heights, plates; numpy, :mod:`~cad.families.pantograph.layout`) ->
 2-D layer clearances over the workspace (report figures,
 :mod:`~cad.families.pantograph.clearances`) -> the assembly model
 (:func:`~cad.families.pantograph.motion.assemble`: part kinds
@@ -161,11 +162,6 @@ def check_options(design, fidelity: str, phi1_deg, formats=frozenset()) -> None:
     set_screw_plan(design)  # a clevis wall no set screw fits: named before any CAD
 
 
-def _step(progress, text: str, done: int, total: int) -> None:
-    if progress is not None:
-        progress(text, done, total)
-
-
 #: This builder writes glb and 3mf (:mod:`cad.pipeline.views`).
 VIEW_EXPORT = True
 
@@ -254,46 +250,48 @@ def _check_shafts(design, lay: dict) -> None:
             )
 
 
-def _check_bench(instances, tfs: dict, lay: dict) -> float:
-    """Lowest world z of any solid (mm); GeometryError if it reaches below the bench plane."""
-    from cad.errors import GeometryError
-    from cad.pipeline import family
-
-    low, low_part = family.lowest_z_mm(instances, tfs)
-    if low < lay["bench_z_mm"] - 1e-6:
-        raise GeometryError(
-            f"{low_part} reaches z = {low:.2f} mm, below the bench plane at "
-            f"{lay['bench_z_mm']:.2f} mm"
-        )
-    return low
+def _prepare(design) -> tuple[dict, dict]:
+    """``(layout, 2-D layer clearances)`` before any solid (:func:`layout`,
+    :func:`clearances`: report figures; the check is on the solids). DesignError when a
+    motor shaft engages less than half its hub."""
+    lay = layout(design)
+    _check_shafts(design, lay)
+    return lay, clearances(design, lay)
 
 
-def _write_views(design, instances, tfs: dict, out_dir: Path, formats) -> tuple[list[str], bytes]:
-    """The viewer files (:func:`cad.pipeline.views.write_viewer_outputs`, the stroke round
-    the workspace square); returns (files, glb)."""
-    from cad.pipeline.views import write_viewer_outputs
-
-    return write_viewer_outputs(
-        instances,
-        tfs,
-        out_dir,
-        formats,
-        name=design.name,
-        title=f"{design.name} ({design.family})",
-        stroke=stroke_poses(design),
-    )
+def _report_of(b) -> dict:
+    """The family's report dict (:func:`cad.families.pantograph.report._report`)."""
+    lay, clr = b.pre
+    eff, eff_bare = b.dyn
+    return _report(b.design, lay, clr, b.bodies, eff, eff_bare, b.itf, b.bom,
+                   b.model.extra["home_mm"], b.fidelity, b.low)
 
 
-def _write_texts(design, out_dir: Path, report: dict, bom, instances, tfs=None,
-                 formats=()) -> None:
-    """``report.md`` and ``assembly.md`` (its exploded views: ``tfs``, ``formats``)."""
-    from cad.pipeline import family
+def _sim_files(b) -> list[str]:
+    """MJCF / URDF of the twin pantograph when asked (:func:`_write_sim`)."""
+    if not _twin(b.design):
+        return []
+    return _write_sim(b.design, b.out_dir, b.formats, b.instances, b.bodies, b.pre[0],
+                      b.model.extra["home_mm"])
 
-    family.write_report_md(
-        out_dir, f"{design.name} ({design.family})", _md_rows(report), bom, report["notes"]
-    )
-    family.write_assembly_md(out_dir, f"{design.name} ({design.family})", instances,
-                             checks=ASSEMBLY_CHECKS, tf_world_body=tfs, formats=formats)
+
+def _title(b) -> str:
+    home = b.model.extra["home_mm"]
+    return f"{b.design.name}: {b.design.family} at home {home.round(2).tolist()} mm"
+
+
+def _stages():
+    """The family's stages of the one build driver (:class:`cad.pipeline.run.Stages`)."""
+    from cad.pipeline.run import Stages
+
+    return Stages(
+        check_options=check_options, assemble=assemble, interference=interference,
+        report=_report_of, md_rows=_md_rows, stroke=stroke_poses, preview_title=_title,
+        motion_label="workspace", prepare=_prepare, prepare_label="layout and clearances",
+        dynamics=lambda b: _effective_mass(b.design, b.bodies, b.model.extra["home_mm"]),
+        bench_z_mm=lambda b: b.pre[0]["bench_z_mm"],
+        marks=lambda b: [("workspace", _square(b.design.workspace))],
+        more_files=_sim_files, assembly=lambda design: (None, ASSEMBLY_CHECKS))
 
 
 def build(
@@ -306,7 +304,8 @@ def build(
     progress=None,
     phi1_deg: float | None = None,
 ) -> dict:
-    """Build a plain 5-bar or a twin-pantograph mouse into ``out_dir``; return the report dict.
+    """Build a plain 5-bar or a twin-pantograph mouse into ``out_dir``; return the report dict,
+    through the one build driver (:func:`cad.pipeline.run.run_family`).
 
     fidelity: "fabrication" uses bd_warehouse ball bearings (races and balls); "inertia"
     and "preview" a plain ring (same catalogue mass: the mass properties do not change).
@@ -314,58 +313,8 @@ def build(
     motion (:func:`~cad.families.pantograph.motion.interference`: pair, pose and volume
     named), unless allow_interference; GeometryError if a solid reaches below the bench.
     """
-    from cad.pipeline import family, forked
+    from cad.pipeline.run import run_family
 
-    check_options(design, fidelity, phi1_deg, formats)
-    out_dir = Path(out_dir)
-    total = 6
-    _step(progress, "layout and clearances", 0, total)
-    lay = layout(design)
-    _check_shafts(design, lay)
-    clr = clearances(design, lay)  # 2-D figures of the report (the check is on the solids)
-
-    _step(progress, "solids", 1, total)
-    model = assemble(design, fidelity)
-    instances, tfs, holes = list(model.instances), model.tf_world_body, model.holes
-    home = model.extra["home_mm"]
-    fasteners = family.fastener_report(instances, holes)  # DesignError: two in a hole, ...
-
-    _step(progress, "mass properties", 2, total)
-    props = family.kind_props(instances)
-    bodies = family.body_props(instances, props, [b for b in tfs if b != "ground"])
-    eff, eff_bare = _effective_mass(design, bodies, home)
-
-    # the files are written by a forked child while this process checks the solids
-    # (cad.pipeline.forked; serial where forking is off)
-    bom = family.bom_rows(instances, props)
-    title = f"{design.name}: {design.family} at home {home.round(2).tolist()} mm"
-
-    def exports() -> list[str]:
-        return family.write_outputs(instances, tfs, out_dir, formats, name=design.name,
-                                    title=title, bom=bom,
-                                    marks=[("workspace", _square(design.workspace))],
-                                    holes=tuple(holes.values()))
-
-    task = forked.start(exports, "exports")
-    with forked.cancel_on_error(task):
-        _step(progress, "every pair of solids over the workspace", 3, total)
-        itf = interference(model, allow_interference)
-        low = _check_bench(instances, tfs, lay)
-        _step(progress, "exports", 4, total)
-        files = task.result()
-    if _twin(design):
-        files += _write_sim(design, out_dir, formats, instances, bodies, lay, home)
-    view_files, viewer_glb = _write_views(design, instances, tfs, out_dir, formats)
-    files += view_files
-
-    _step(progress, "report", 5, total)
-    report = _report(design, lay, clr, bodies, eff, eff_bare, itf, bom, home, fidelity, low)
-    report.update(fasteners)
-    report["part_materials"] = family.part_materials(instances)
-    report["fits"] = family.fits_report(instances)
-    report["placement"] = family.placement_report(instances, tfs, props)
-    report["files"] = sorted(files + ["report.md"])
-    _write_texts(design, out_dir, report, bom, instances, tfs, formats)
-    report["_viewer_glb"] = viewer_glb  # popped by the dispatcher: embedded in report.html
-    _step(progress, "done", total, total)
-    return report
+    return run_family(_stages(), design, out_dir, formats, fidelity=fidelity,
+                      allow_interference=allow_interference, progress=progress,
+                      phi1_deg=phi1_deg)

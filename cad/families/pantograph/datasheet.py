@@ -110,8 +110,8 @@ def write_ellipse_chart(design, out_dir, A, ok) -> str | None:
 
 def structure(design, report: dict) -> dict | None:
     """:func:`cad.structure.pantograph.analyse` of a planar family's build report (its
-    ``bodies`` and ``layout_mm``) at ``[actuators] force_max_N``; None for the haptic pen (not
-    planar) or a report without bodies."""
+    ``bodies`` and ``layout_mm``) at ``[actuators] force_max_N``; None for the haptic pen (its
+    own rows, per arm: :func:`cad.families.pen.datasheet.structure`) or a report without bodies."""
     if design.family not in ("pantograph", "twin-pantograph") or not report.get("bodies"):
         return None
     from cad.structure.pantograph import WEB_WIDTH_MIN_MM, analyse

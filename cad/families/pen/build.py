@@ -3,7 +3,9 @@ properties, effective mass at home, the interference check over its motion, MJCF
 
 Contract: :mod:`cad.pipeline` (``build(design, out_dir, formats, *, fidelity,
 allow_interference, progress, phi1_deg) -> report dict``; ``phi1_deg`` must be None, the pen
-has no crank). Everything goes through the shared writers of :mod:`cad.pipeline.family`
+has no crank). ``build`` is one call to the build driver of every family
+(:func:`cad.pipeline.run.run_family`) with the pen's stages (:func:`_stages`): the shared
+writers of :mod:`cad.pipeline.family`
 (part files, assembly STEP, BOM, report.md) and the one interference check of every family
 (:func:`cad.assembly.interference.check_model`) over the assembly model's motion
 (:func:`cad.families.pen.layout.motion_task`).
@@ -50,11 +52,6 @@ def check_options(design, fidelity: str, phi1_deg, formats=frozenset()) -> None:
     L.layout(design)  # hardware that does not fit: named before any CAD
 
 
-def _step(progress, text: str, done: int, total: int) -> None:
-    if progress is not None:
-        progress(text, done, total)
-
-
 def interference(model, allow_interference: bool = False) -> dict:
     """The one interference check (:func:`cad.assembly.interference.check_model`) of the pen
     over its motion: every pair of bodies at each pose of ``model.motion`` (labelled), every
@@ -74,65 +71,66 @@ def interference(model, allow_interference: bool = False) -> dict:
     return out
 
 
+def _dynamics(b):
+    """The 5 x 5 operational mass matrix at home (:func:`cad.families.pen.dynamics.effective_mass`)."""
+    from cad.families.pen.dynamics import effective_mass
+
+    return effective_mass(b.design, b.bodies, b.model.extra["home_task"])
+
+
+def _mjcf(b) -> list[str]:
+    """``<name>.xml`` when ``mjcf`` is asked (:mod:`cad.families.pen.sim`)."""
+    if "mjcf" not in b.formats:
+        return []
+    from cad.families.pen.sim import write_mjcf
+
+    return write_mjcf(b.design, b.model, b.bodies, b.out_dir)
+
+
+def _stroke(design):
+    from cad.families.pen.layout import body_poses, stroke_task
+
+    return body_poses(design, stroke_task(design))
+
+
+def _assemble(design, fidelity: str):
+    from cad.families.pen import assemble
+
+    return assemble(design, fidelity)
+
+
+def _stages():
+    """The pen's stages of the one build driver (:class:`cad.pipeline.run.Stages`)."""
+    from cad.pipeline.run import Stages
+
+    return Stages(
+        check_options=check_options, assemble=_assemble, interference=interference,
+        report=lambda b: _report(b.design, b.model, b.bodies, b.dyn, b.itf, b.bom, b.fidelity,
+                                 b.low),
+        md_rows=_md_rows, stroke=_stroke, motion_label="motion",
+        preview_title=lambda b: f"{b.design.name}: haptic pen at the workspace centre",
+        dynamics=_dynamics, bench_z_mm=lambda b: b.model.extra["ground_mm"]["bench_z_mm"],
+        thread_notes=False,  # the pen's DXF/drawings carry no tapped-hole notes (as before)
+        more_files=_mjcf,
+        # after the check, in this process, as the pen always did: on a cold shape cache the
+        # ring's drawing depends on state the check leaves on it (Stages.exports_after_check)
+        exports_after_check=True)
+
+
 def build(design, out_dir: Path, formats: set[str], *, fidelity: str = "fabrication",
           allow_interference: bool = False, progress=None, phi1_deg: float | None = None) -> dict:
-    """Build the pen into ``out_dir``; return the report dict (module docstring).
+    """Build the pen into ``out_dir``; return the report dict (module docstring), through the
+    one build driver (:func:`cad.pipeline.run.run_family`).
 
     Raises InterferenceError naming both parts and the pose when two solids share volume at
     any pose of the motion (unless ``allow_interference``); GeometryError when a solid
     reaches below the bench plane.
     """
-    from cad.errors import GeometryError
-    from cad.families.pen import assemble
-    from cad.families.pen.dynamics import effective_mass
-    from cad.pipeline import family
+    from cad.pipeline.run import run_family
 
-    check_options(design, fidelity, phi1_deg, formats)
-    out_dir = Path(out_dir)
-    total = 6
-    _step(progress, "solids", 0, total)
-    model = assemble(design, fidelity)
-    inst, tfs = model.instances, model.tf_world_body
-    fasteners = family.fastener_report(inst, model.holes)  # DesignError: two in a hole, ...
-    _step(progress, "mass properties", 1, total)
-    props = family.kind_props(inst)
-    bodies = family.body_props(inst, props, [b for b in model.bodies if b != "ground"])
-    eff = effective_mass(design, bodies, model.extra["home_task"])
-    bom = family.bom_rows(inst, props)
-    _step(progress, "every pair of solids over the motion", 2, total)
-    itf = interference(model, allow_interference)
-    gl = model.extra["ground_mm"]
-    low, low_part = family.lowest_z_mm(inst, tfs)
-    if low < gl["bench_z_mm"] - 1e-6:
-        raise GeometryError(f"{low_part} reaches z = {low:.2f} mm, below the bench plane at "
-                            f"{gl['bench_z_mm']:.2f} mm")
-    _step(progress, "exports", 3, total)
-    title = f"{design.name}: haptic pen at the workspace centre"
-    files = family.write_outputs(inst, tfs, out_dir, formats, name=design.name, title=title,
-                                 bom=bom)
-    if "mjcf" in formats:
-        from cad.families.pen.sim import write_mjcf
-
-        files += write_mjcf(design, model, bodies, out_dir)
-    from cad.families.pen.layout import body_poses, stroke_task
-    from cad.pipeline.views import write_viewer_outputs
-
-    view_files, viewer_glb = write_viewer_outputs(
-        inst, tfs, out_dir, formats, name=design.name, title=f"{design.name} ({design.family})",
-        stroke=body_poses(design, stroke_task(design)))
-    files += view_files
-    _step(progress, "report", 4, total)
-    report = _report(design, model, bodies, eff, itf, bom, fidelity, low)
-    report.update(fasteners)
-    report["part_materials"] = family.part_materials(inst)
-    report["fits"] = family.fits_report(inst)
-    report["placement"] = family.placement_report(inst, tfs, props)
-    report["files"] = sorted(files + ["report.md"])
-    family.write_report_md(out_dir, f"{design.name} ({design.family})", _md_rows(report), bom,
-                           report["notes"])
-    report["_viewer_glb"] = viewer_glb  # popped by the dispatcher: embedded in report.html
-    _step(progress, "done", total, total)
-    return report
+    return run_family(_stages(), design, out_dir, formats, fidelity=fidelity,
+                      allow_interference=allow_interference, progress=progress,
+                      phi1_deg=phi1_deg)
 
 
 def _report(design, model, bodies, eff, itf, bom, fidelity, low) -> dict:

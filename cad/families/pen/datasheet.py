@@ -4,8 +4,11 @@
 masses), the continuous and peak force from the catalog motors' data-sheet torques (waist
 motors on q1, q4, shoulder motors on the others; same ellipsoid model: the smallest singular
 value of the translational rows of ``J^T S_J`` over the workspace samples, the moments left
-free), with Table 3 of the isotropy paper beside the figures it gives, and the interference
-check over the motion. No CAD import.
+free), with Table 3 of the isotropy paper beside the figures it gives, the interference
+check over the motion, and the structure rows (:func:`cad.structure.pen.analyse`: first mode,
+pen-end compliance, peak stress; each arm's 5-bar a planar beam frame, motors held, pen end
+free, the lower arm's figure) with the default limits of the planar pantographs
+(:func:`cad.datasheet.limits.pantograph_limits` with ``structure=True``). No CAD import.
 """
 
 from __future__ import annotations
@@ -20,15 +23,20 @@ _PAPER = {"effective_mass_home.mass_x_g_apparent": "mass_x_g",
 
 def rows_and_limits(design, report: dict, out_dir=None, simulate_wall: bool = True):
     """(rows, limits, notes) of a haptic-pen build report (module docstring)."""
+    from cad.datasheet.limits import pantograph_limits
     from cad.families.pantograph.datasheet import rows_and_limits as pantograph_rows
 
-    rows, limits, notes = pantograph_rows(design, report, out_dir, simulate_wall)
+    rows, _, notes = pantograph_rows(design, report, out_dir, simulate_wall)
     paper = report.get("paper_table3") or {}
+    st = structure(design, report)
     out = []
     for r in rows:
         key = _PAPER.get(r.get("key", ""))
         if key and paper.get(key) is not None:
             r = {**r, "paper": paper[key]}
+        if r.get("key") == "first_mode_Hz" and st is not None:  # the planar families' placeholder
+            out += structure_rows(st)
+            continue
         out.append(r)
     out += motor_force_rows(design, paper)
     itf = report.get("interference") or {}
@@ -37,7 +45,62 @@ def rows_and_limits(design, report: dict, out_dir=None, simulate_wall: bool = Tr
                        itf.get("overlap_volume_mm3"), "mm^3",
                        f"every pair of solids at {itf.get('n_poses')} poses of the workspace "
                        "(home, box corners at the rotation extremes)"))
+    limits = pantograph_limits(design, design.actuators.get("force_max_N"), st and st["strength_MPa"],
+                               structure=st is not None)
     return out, limits, notes
+
+
+def structure(design, report: dict) -> dict | None:
+    """:func:`cad.structure.pen.analyse` of the build report's ``bodies`` at ``[actuators]
+    force_max_N``; None for a report without bodies."""
+    if not report.get("bodies"):
+        return None
+    from cad.structure.pen import analyse
+
+    return analyse(design, report["bodies"], float(design.actuators["force_max_N"]))
+
+
+#: The boundary conditions of every structure row (cad.structure.pen).
+HELD = ("motors held (each arm's proximal links clamped at their shoulder axes B in all six DOFs; "
+        "waist motors held, waist brackets rigid), revolute joints rigid but in their rotation")
+APPROX = ("planar, per pantograph: each arm's 5-bar a beam frame in its own plane (carbon tubes joint "
+          "to joint, clevises not credited) carrying its links' masses, its gimbal and its lever-rule "
+          "share of the pen rod at its end point; the device's figure the worse arm's (with the rod, gimbals "
+          "and waists rigid the arms coupled through the rod have their first mode at or above it: Rayleigh); "
+          "out-of-plane coupling through the pen, the waist brackets' and gimbals' compliance and the rod's "
+          "bending not modelled")
+#: The short form on the rows after the first.
+PLANAR = "planar, per pantograph (model as first_mode_Hz)"
+
+
+def structure_rows(st: dict) -> list[dict]:
+    """Datasheet rows of :func:`structure` (boundary conditions and approximation per row)."""
+    at = f"worst of arms A, B over the {len(st['poses'])} poses of the interference check"
+    free, load = f"{HELD}; pen end free", f"{HELD}; force at the pen end"
+    arm = st["per_arm"][st["first_mode_arm"]]
+    pose = arm["in_plane_Hz_pose" if arm["in_plane_Hz"] <= arm["out_of_plane_Hz"] else "out_of_plane_Hz_pose"]
+    share = ", ".join(f"{a} {v * 1e3:.3g} g" for a, v in st["pen_share_kg"].items())
+    ax_text = {"vertical": "vertical (the arm's plane, along its waist axis)",
+               "radial": "radial (the arm's plane, away from its waist axis)",
+               "normal": "normal to the arm's plane"}
+    return [
+        row("first_mode_Hz", "first structural mode (lower arm, lower of in plane and out of plane)",
+            st["first_mode_Hz"], "Hz", f"{APPROX}; arm {st['first_mode_arm']} at {pose} (pen rod shares: "
+            f"{share}); {at}", boundary=free),
+        row("first_mode_in_plane_Hz", "first in-plane mode (per arm, its plane)", st["first_mode_in_plane_Hz"], "Hz",
+            f"{PLANAR}; modes with their kinetic energy in the arm's plane; {at}", boundary=free),
+        row("first_mode_out_of_plane_Hz", "first out-of-plane mode (per arm, waist held)",
+            st["first_mode_out_of_plane_Hz"], "Hz",
+            f"{PLANAR}; modes with their kinetic energy normal to the arm's plane; {at}", boundary=free),
+        *[row(f"compliance_{ax}_um_per_N", f"pen-end compliance, {ax_text[ax]}", st["compliance_um_per_N"][ax],
+              "um/N", f"{PLANAR}; at one arm's end point, {at}; bearing compliance not included", boundary=load)
+          for ax in ("vertical", "radial", "normal")],
+        row("max_stress_MPa", f"peak stress at force_max_N = {st['force_N']:g} N, worst direction",
+            st["max_stress_MPa"], "MPa", f"{PLANAR}; von Mises beam stress under {st['end_force_N']:.3g} N at "
+            f"one pen end (force_max_N with the moment force_max_N x moment_arm_mm = {st['moment_arm_mm']:g} mm, "
+            f"the worst split between the ends), critical link {st['critical_link']} at {st['critical_pose']} "
+            f"(material strength {st['strength_MPa']:g} MPa); {at}", boundary=load),
+    ]
 
 
 def motor_force_rows(design, paper: dict) -> list[dict]:

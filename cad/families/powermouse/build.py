@@ -4,7 +4,8 @@ Contract: see :mod:`cad.pipeline` (``build(design, out_dir, formats, *, fidelity
 allow_interference, progress, phi1_deg) -> report dict``). ``out_dir`` is the
 dispatcher's temporary directory. Isotropy paper sections 5-6.
 
-Pipeline: actuator optimum (eqs 8-9) -> geometry -> one list of part instances
+Pipeline (``build`` is one call to :func:`cad.pipeline.run.run_family` with the
+PowerMouse's stages, :func:`_stages`): actuator optimum (eqs 8-9) -> geometry -> one list of part instances
 (:func:`assembly`: bodies ``flotor`` and ``ground``) -> mass properties from the solids
 -> wrench map and isotropy -> the one interference check of every family over the
 flotor's motion (:func:`cad.families.powermouse.motion.interference`: the flotor against
@@ -37,7 +38,6 @@ fits per part: the post bore / post and handle socket / stem, H7/g6).
 
 from __future__ import annotations
 
-import fnmatch
 from pathlib import Path
 
 import numpy as np
@@ -81,11 +81,6 @@ CODE_DEPS = SHARED_CODE_DEPS + (
 )
 
 
-def _step(progress, text: str, done: int, total: int) -> None:
-    if progress is not None:
-        progress(text, done, total)
-
-
 def check_options(design, fidelity: str, phi1_deg, formats=frozenset()) -> None:
     """Refuse what this builder cannot do, before any CAD import (DesignError)."""
     if phi1_deg is not None:
@@ -99,14 +94,22 @@ def check_options(design, fidelity: str, phi1_deg, formats=frozenset()) -> None:
     pp.leg_plan(design.stator.housing_wall_mm)  # no catalog leg screw for the wall
 
 
-def _masses(inst, props: dict) -> tuple:
-    """``(flotor MassProps (flotor frame), {flotor part: mass_kg}, stator mass kg)``."""
+def _dynamics(b) -> dict:
+    """The flotor's mass properties (flotor frame), its parts' and the stator's masses, the
+    wrench map (:func:`_wrench`) and the test rig's BOM rows."""
     from cad.pipeline import family
 
-    flotor_mp = family.body_props(inst, props, ["flotor"])["flotor"]
-    parts_mass = {i.name: props[i.kind.name].mass_kg for i in inst if i.body == "flotor"}
-    stator_mass_kg = sum(props[i.kind.name].mass_kg for i in inst if i.body == "ground")
-    return flotor_mp, parts_mass, stator_mass_kg
+    inst, props, act = b.instances, b.props, b.model.extra["actuator"]
+    flotor_mp = b.bodies["flotor"]
+    gain_per_At, W, iso, W_com = _wrench(b.design, act, b.model.extra["geometry"], flotor_mp)
+    rig = b.model.extra["rig"]
+    return {
+        "flotor_mp": flotor_mp,
+        "parts_mass": {i.name: props[i.kind.name].mass_kg for i in inst if i.body == "flotor"},
+        "stator_mass_kg": sum(props[i.kind.name].mass_kg for i in inst if i.body == "ground"),
+        "gain_per_At": gain_per_At, "W": W, "iso": iso, "W_com": W_com,
+        "rig_bom": family.bom_rows(rig, family.kind_props(rig)),
+    }
 
 
 def _wrench(design, act: dict, g, flotor_mp) -> tuple:
@@ -122,16 +125,41 @@ def _wrench(design, act: dict, g, flotor_mp) -> tuple:
     return gain_per_At, W, iso, W_com
 
 
-def _write_texts(design, out_dir: Path, rep: dict, bom, inst, tfs=None, formats=()) -> None:
-    """``report.md`` and ``assembly.md`` (its exploded views: ``tfs``, ``formats``)."""
-    from cad.pipeline import family
+def _report_of(b) -> dict:
+    """The family's report dict (:func:`cad.families.powermouse.report._report`)."""
+    from cad.parts import voicecoil as pv
 
-    family.write_report_md(out_dir, f"{design.name} (powermouse)", _md_rows(rep), bom, rep["notes"])
-    family.write_assembly_md(out_dir, f"{design.name} (powermouse)", inst, ASSEMBLY_PLAN,
-                             [f"the flotor moves freely by +-{design.motion.range_mm:g} mm and "
-                              f"+-{design.motion.range_deg:g} deg about the centre, touching only "
-                              "at the limits (clearances in report.md)"],
-                             tf_world_body=tfs, formats=formats)
+    x, dy = b.model.extra, b.dyn
+    itf, cl = b.itf
+    return _report(b.design, x["actuator"], x["actuator_geometry"], x["geometry"], dy["W"],
+                   dy["iso"], dy["W_com"], dy["flotor_mp"], dy["parts_mass"],
+                   dy["stator_mass_kg"], itf, cl, b.bom, dy["rig_bom"],
+                   pv.rattle_clearances_mm(x["actuator_geometry"], x["actuator_solids"]),
+                   dy["gain_per_At"])
+
+
+def _assembly(design) -> tuple:
+    """``(plan, checks)`` of ``assembly.md``."""
+    return ASSEMBLY_PLAN, [
+        f"the flotor moves freely by +-{design.motion.range_mm:g} mm and "
+        f"+-{design.motion.range_deg:g} deg about the centre, touching only "
+        "at the limits (clearances in report.md)"]
+
+
+def _stages():
+    """The PowerMouse's stages of the one build driver (:class:`cad.pipeline.run.Stages`)."""
+    from cad.pipeline.run import Stages
+
+    return Stages(
+        check_options=check_options, assemble=assemble, interference=interference,
+        report=_report_of, md_rows=_md_rows, stroke=stroke_poses,
+        preview_title=lambda b: f"{b.design.name}: PowerMouse at the centre pose",
+        motion_label="motion range", mass_label="mass properties and wrench map",
+        prepare_label="actuator optimum (eqs 8-9)", dynamics=_dynamics,
+        thread_notes=False,  # no tapped-hole notes in the DXF/drawings (as before)
+        more_exports=_write_rig, cutaway=PICTURE_CUTAWAY,
+        figures=lambda b: _fig8_chart(b.design, b.model.extra["actuator"]["gap_mm"], b.out_dir),
+        assembly=_assembly)
 
 
 def build(
@@ -144,67 +172,19 @@ def build(
     progress=None,
     phi1_deg: float | None = None,
 ) -> dict:
-    """Build the PowerMouse and its test rig into ``out_dir``; return the report dict (module docstring).
+    """Build the PowerMouse and its test rig into ``out_dir``; return the report dict (module
+    docstring), through the one build driver (:func:`cad.pipeline.run.run_family`).
 
     fidelity: "fabrication" checks the centre and every extreme and combined pose of the
     motion range (:func:`motion_poses`); "inertia" / "preview" the centre and the 12 on-axis
     poses. Raises InterferenceError when two solids share a volume at any of them
     (:func:`interference`), unless allow_interference.
     """
-    from cad.parts import voicecoil as pv
-    from cad.pipeline import family, forked
+    from cad.pipeline.run import run_family
 
-    check_options(design, fidelity, phi1_deg)
-    out_dir = Path(out_dir)
-    total = 6
-    _step(progress, "actuator optimum (eqs 8-9)", 0, total)
-    _step(progress, "solids", 1, total)
-    model = assemble(design, fidelity)
-    act, g, ag = model.extra["actuator"], model.extra["geometry"], model.extra["actuator_geometry"]
-    acts, rig = model.extra["actuator_solids"], model.extra["rig"]
-    gap = act["gap_mm"]
-    inst, tfs = list(model.instances), model.tf_world_body
-    fasteners = family.fastener_report(inst, model.holes)
-
-    _step(progress, "mass properties and wrench map", 2, total)
-    props = family.kind_props(inst)
-    flotor_mp, parts_mass, stator_mass_kg = _masses(inst, props)
-    gain_per_At, W, iso, W_com = _wrench(design, act, g, flotor_mp)
-
-    # the files (parts, assembly STEP, BOM, preview, rig) and the viewer files + Fig. 8 are
-    # written by two forked children while this process checks the solids (cad.pipeline.forked;
-    # serial where forking is off)
-    bom = family.bom_rows(inst, props)
-    rig_bom = family.bom_rows(rig, family.kind_props(rig))
-
-    def exports() -> list[str]:
-        return _write_files(design, inst, tfs, rig, bom, rig_bom, out_dir, formats)
-
-    def views() -> tuple[list[str], bytes]:
-        return _write_views(design, inst, tfs, out_dir, formats, gap)
-
-    task = forked.start(exports, "exports")
-    views_task = forked.start(views, "views")
-    with forked.cancel_on_error(task, views_task):
-        _step(progress, "every pair of solids over the motion range", 3, total)
-        itf, cl = interference(model, allow_interference)
-        _step(progress, "exports", 4, total)
-        files = task.result()
-        more, viewer_glb = views_task.result()
-        files += more
-
-    _step(progress, "report", 5, total)
-    rep = _report(design, act, ag, g, W, iso, W_com, flotor_mp, parts_mass, stator_mass_kg, itf,
-                  cl, bom, rig_bom, pv.rattle_clearances_mm(ag, acts), gain_per_At)
-    rep.update(fasteners)
-    rep["part_materials"] = family.part_materials(inst)
-    rep["fits"] = family.fits_report(inst)
-    rep["placement"] = family.placement_report(inst, tfs, props)
-    rep["files"] = sorted(files + ["report.md"])
-    _write_texts(design, out_dir, rep, bom, inst, tfs, formats)
-    rep["_viewer_glb"] = viewer_glb  # popped by the dispatcher: embedded in report.html
-    _step(progress, "done", total, total)
-    return rep
+    return run_family(_stages(), design, out_dir, formats, fidelity=fidelity,
+                      allow_interference=allow_interference, progress=progress,
+                      phi1_deg=phi1_deg)
 
 
 #: The PowerMouse's assembly order (cad.assembly.steps): (title, instance name patterns,
@@ -245,48 +225,20 @@ PICTURE_CUTAWAY = ("housing_*", "iron_*", "magnet_*_outer-*", "flotor_body", "fl
 VIEW_EXPORT = True
 
 
-def _write_files(design, inst, tfs, rig, bom, rig_bom, out_dir, formats) -> list[str]:
-    """Part files, assembly STEP, BOM and preview of the device; the rig in ``rig/``."""
+def _write_rig(b) -> list[str]:
+    """The single-actuator test rig (Fig. 7) in ``rig/``: part files, assembly STEP, BOM."""
     from cad.pipeline import family
 
-    files = family.write_outputs(
-        inst,
-        tfs,
-        out_dir,
-        formats,
-        name=design.name,
-        title=f"{design.name}: PowerMouse at the centre pose",
-        bom=bom,
-    )
-    return files + [
+    return [
         "rig/" + f
         for f in family.write_outputs(
-            rig,
+            b.model.extra["rig"],
             {"rig": np.eye(4)},
-            out_dir / "rig",
-            formats,
-            name=f"{design.name}_rig",
+            b.out_dir / "rig",
+            b.formats,
+            name=f"{b.design.name}_rig",
             title="single-actuator test rig (Fig. 7), not part of the device",
-            bom=rig_bom,
+            bom=b.dyn["rig_bom"],
             preview=False,
         )
     ]
-
-
-def _write_views(design, inst, tfs, out_dir, formats, gap) -> tuple[list[str], bytes]:
-    """The viewer files (:func:`cad.pipeline.views.write_viewer_outputs`) and Fig. 8; returns
-    (files, glb)."""
-    from cad.pipeline.views import write_viewer_outputs
-
-    view_files, glb = write_viewer_outputs(
-        inst,
-        tfs,
-        out_dir,
-        formats,
-        name=design.name,
-        title=f"{design.name} (powermouse)",
-        stroke=stroke_poses(design),
-        cutaway=[i.name for i in inst
-                 if any(fnmatch.fnmatchcase(i.name, p) for p in PICTURE_CUTAWAY)],
-    )
-    return _fig8_chart(design, gap, out_dir) + view_files, glb

@@ -258,9 +258,19 @@ def test_datasheet_prints_the_pen_rows():
     # from the catalog motors' data-sheet torques, Table 3's smallest axis figure beside it
     assert rows["continuous_force_N"]["paper"] == 2.0 and rows["peak_force_N"]["paper"] == 20.0
     assert 0 < rows["continuous_force_N"]["value"] < rows["peak_force_N"]["value"]
+    # the structure rows (cad/structure/pen.py), never silent: a value, its boundary
+    # conditions and a verdict against the default limits; the pen's first mode misses
+    # 150 Hz, one warning line on stderr, the JSON's warnings list holds it
+    fm, st = rows["first_mode_Hz"], rows["max_stress_MPa"]
+    assert fm["value"] is not None and fm["verdict"] == "miss" and fm["limit"]["value"] == 150.0
+    assert "motors held" in fm["boundary"] and "planar, per pantograph" in fm["model"]
+    assert st["verdict"] == "ok" and 0 < st["value"] < st["limit"]["value"]
+    assert any(w.startswith("datasheet: first structural mode") for w in json.loads(out)["warnings"])
+    assert "warning: datasheet: first structural mode" in err
     code, out, err = hapticad("datasheet", DESIGN)
     assert code == 0, err
-    assert "effective mass at home" in out
+    assert "effective mass at home" in out and "first structural mode" in out
+    assert "warning: datasheet: first structural mode" in err
 
 
 @pytest.mark.parametrize(
