@@ -181,8 +181,11 @@ def check(design, targets: tuple[str, ...] | list[str] = (), fidelity: str = "in
     replacing those of the same key (``merge=True``, what ``hapticad check --target`` does).
     Returns the ``hapticad check --json`` object: ``ok``, ``rows`` (``key``, ``computed``,
     ``target`` as data, ``margin``, ``gap_rel``), ``computed``, ``targets_checked`` (the keys
-    of ``rows``, in order) and ``targets_source`` (``design``, ``given`` or ``design+given``).
-    Raises DesignError when there are no targets or the family has no check.
+    of ``rows``, in order) and ``targets_source`` (``design``, ``given`` or ``design+given``);
+    with targets also ``limits_met`` and ``limit_warnings`` (the datasheet's default limits the
+    design misses outside its targets: warning lines; ``ok`` follows the targets).
+    Without targets the rows are the default limits (:mod:`cad.datasheet.limits`).
+    Raises DesignError when the family has no check.
     """
     from cad.checks import evaluate, merge_targets
     from cad.design.fourbar import FourBarDesign
@@ -230,10 +233,23 @@ def check(design, targets: tuple[str, ...] | list[str] = (), fidelity: str = "in
 
         values, report = pantograph_target_values(design, fidelity, wanted)
     rows = evaluate(merged, values)
+    warnings = _missed_limits(design, fidelity, wanted)
     return {"name": design.name, "ok": all(r.ok for r in rows), "fidelity": fidelity,
             "targets_checked": [r.key for r in rows], "targets_source": source,
             "rows": [r.as_dict() for r in rows], "computed": values,
-            "budget": report.get("budget")}
+            "budget": report.get("budget"), "limits_met": not warnings,
+            "limit_warnings": warnings}
+
+
+def _missed_limits(design, fidelity: str, checked: set[str]) -> list[str]:
+    """The datasheet's warning lines (:func:`cad.datasheet.judge`) of the default limits a
+    design misses, other than the figures ``checked`` as targets: a check with ``[targets]``
+    says so too (its exit status follows the targets, as ``fit``'s does)."""
+    from cad.datasheet.run import device_datasheet
+
+    ds = device_datasheet(design, fidelity)
+    missed = [r for r in ds["rows"] if r.get("verdict") == "miss"]  # judge's order
+    return [w for r, w in zip(missed, ds["warnings"], strict=True) if r["key"] not in checked]
 
 
 def mass_properties(path: str | Path, density_kg_m3: float | None = None,

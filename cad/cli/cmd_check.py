@@ -62,6 +62,10 @@ def register(app: typer.Typer) -> None:
                 t.add_row(r["key"], comp, r["target_text"], gap,
                           "[green]yes[/]" if r["ok"] else "[red]NO[/]")
             Console().print(t)
+        import sys
+
+        for w in res.get("limit_warnings", ()):
+            print(f"hapticad: warning: datasheet: {w}", file=sys.stderr)
         if missed:
             raise TargetMissed(f"{len(missed)} of {len(res['rows'])} targets missed: "
                                + ", ".join(r["key"] for r in missed))

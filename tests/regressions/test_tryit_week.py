@@ -232,3 +232,27 @@ def test_fit_free_thickness_of_laser_bars_is_a_sheet_thickness():
     d, _ = _load(LASER)
     assert parse_free("parts.bar_thickness_mm=8:10", d.parts).choices == (8.0, 10.0)
     assert set(parse_free("parts.bar_thickness_mm=1:2", d.parts).choices) == {1.0, 1.5, 2.0}
+
+
+def test_check_with_targets_still_warns_the_missed_default_limits(tmp_path):
+    """``tests/cases/silent-limits/cheb80.toml`` with ``[targets] first_mode_Hz >= 20`` passed
+    ``check`` (exit 0) without a word, though its continuous force (about 0.47 N from the RE 35's
+    continuous torque) and its peak stress (about 150 MPa) miss the datasheet's default limits
+    (>= force_N = 10 N; <= 6061-T6 strength 276 MPa / 3 = 92 MPa). Now: exit follows the target
+    (met: 0), one ``warning:`` line per missed limit outside the targets, JSON
+    ``limits_met`` false with the same lines."""
+    src = ROOT / "tests" / "cases" / "silent-limits" / "cheb80.toml"
+    d = tmp_path / "cheb80.toml"
+    d.write_text(src.read_text() + "\n[targets]\nfirst_mode_Hz = {min = 20}\n")
+    code, out, err = _hapticad("check", d, cache=tmp_path / "c")
+    assert code == 0, err
+    lines = [x for x in err.splitlines() if x.startswith("hapticad: warning: datasheet:")]
+    assert len(lines) == 2, err
+    assert any("continuous force" in x and "limit >= 10 N" in x and "parts.motor" in x for x in lines)
+    assert any("peak stress" in x and "limit <= 92 MPa" in x and "parts.bar_material" in x for x in lines)
+    assert not any("first" in x and "mode" in x for x in lines)  # the target's own figure: a row
+    code, out, _ = _hapticad("check", d, "--json", cache=tmp_path / "c")
+    res = json.loads(out)
+    assert code == 0 and res["ok"] is True and res["limits_met"] is False
+    assert [w.split(" = ")[0] for w in res["limit_warnings"]] == [
+        x.removeprefix("hapticad: warning: datasheet: ").split(" = ")[0] for x in lines]
