@@ -298,10 +298,10 @@ def apply_prices(rows: list[dict], table: dict | None) -> dict:
             continue
         used.add(key)
         line["unit_price"] = prices[key]
-        line["line_price"] = prices[key] * int(line["quantity"])
+        line["line_price"] = round(prices[key] * int(line["quantity"]), PRICE_DECIMALS)
         total += line["line_price"]
     return {
-        "total_price": total,
+        "total_price": round(total, PRICE_DECIMALS),
         "currency": (table or {}).get("currency", ""),
         "priced_lines": len(lines) - len(unpriced),
         "unpriced_lines": len(unpriced),
@@ -310,6 +310,11 @@ def apply_prices(rows: list[dict], table: dict | None) -> dict:
         "price_source": (table or {}).get("source", ""),
         "extra_lines": extra,
     }
+
+
+#: Prices are kept to this many decimals (a billionth of the currency unit): sums of decimal
+#: prices in binary floating point print as 48.05, not 48.050000000000004, in report.json.
+PRICE_DECIMALS = 9
 
 
 def money(x) -> str:

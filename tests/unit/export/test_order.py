@@ -246,3 +246,18 @@ def test_bad_design_prices_table_names_the_key():
     raw["prices"] = {"crank": -math.inf}
     with pytest.raises(DesignError, match="finite price >= 0"):
         parse_design(raw)
+
+
+def test_totals_are_the_decimal_sums_not_float_noise():
+    """12.60 + 0.45 + 35 is 48.05 (by hand), and 3 x 0.15 is 0.45: report.json showed
+    48.050000000000004 (the binary sum). Line and total prices are kept to 9 decimals."""
+    from cad.export.order import apply_prices
+
+    rows = [{"part": p, "designation": p, "quantity": q, "made_or_bought": "bought"}
+            for p, q in (("a", 1), ("b", 1), ("c", 1), ("d", 3))]
+    table = {"prices": {"a": 12.60, "b": 0.45, "c": 35.0, "d": 0.15}, "currency": "EUR", "source": "hand"}
+    s = apply_prices(rows, table)
+    assert s["total_price"] == 48.5 and repr(s["total_price"]) == "48.5"
+    assert rows[3]["line_price"] == 0.45 and repr(rows[3]["line_price"]) == "0.45"
+    s = apply_prices(rows[:3], table)
+    assert repr(s["total_price"]) == "48.05"
