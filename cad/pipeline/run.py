@@ -17,18 +17,24 @@ Order (each family callback receives the :class:`Build` filled so far)::
     [prepare_label]  pre = prepare(design)                    layout, 2-D figures (optional)
     "solids"         model = assemble(design, fidelity)       AssemblyModel
                      fastener_report(instances, holes)        DesignError: two in a hole ...
+    [fork here with fork_before_props: the children below run beside the mass properties]
     mass_label       props = kind_props, bodies = body_props(moving_bodies(model))
                      dyn = dynamics(build)                    the family's (optional)
-                     bom = bom_rows(instances, props)
+                     bom = bom_rows(instances, props) + no_solid_rows(design)
     fork: exports    write_outputs(...) + more_exports(build) (the PowerMouse rig; in this
                      process after the checks below with exports_after_check)
     fork: views      write_viewer_outputs(stroke, cutaway) + figures(build) (Fig. 8)
+    fork: children(build), then children_after_props(build)  (the four-bar's same-body
+                     check; its preview and plots, which need H)
     "every pair of solids over the " + motion_label
-                     itf = interference(model, allow_interference)
+                     itf = interference(model, allow_interference) (or sweep(build))
                      low = lowest z, GeometryError below bench_z_mm(build) (optional)
     "exports"        the children's files; more_files(build) (MJCF, URDF) in this process
     "report"         report(build) + the common tail; report.md (md_rows), assembly.md
     "done"
+
+With ``timed`` the report carries the wall times of the stages under ``"_timings_s"``
+(returned by the dispatcher, kept out of ``report.json``).
 
 Any failure cancels the forked children (:func:`cad.pipeline.forked.cancel_on_error`); the
 dispatcher (:func:`cad.pipeline.build_design`) discards the temporary folder.
@@ -38,6 +44,7 @@ from __future__ import annotations
 
 import dataclasses
 import fnmatch
+import time
 from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
@@ -70,11 +77,28 @@ class Stages:
     exports in this process after the interference check instead of a forked child beside it:
     the pen: on a cold shape cache its ``drawings/ring.svg`` drawn after the check differs
     from one drawn before it -- state the check leaves on the solids -- and the pen's files
-    stay those of its former, serial builder). Each file callback returns the paths it wrote, relative to the output folder."""
+    stay those of its former, serial builder).
+
+    Optional, for a family whose sequence has more (the four-bar): ``sweep(build)`` (the
+    interference check given the whole build -- fidelity, the children's results --
+    instead of ``interference``, which may then be None); ``fork_before_props`` (the
+    exports, views and ``children`` start right after the solids, beside the mass
+    properties: the export child then writes no BOM, this process writes ``bom.csv``);
+    ``children(build)`` / ``children_after_props(build)`` (``{name: fn}``: further forked
+    children started with the exports / after the mass properties; ``fn() -> (files,
+    value)``, the value read with :meth:`Build.child`); ``export_kw(build)`` /
+    ``view_kw(build)`` (further keyword arguments of
+    :func:`cad.pipeline.family.write_outputs` / :func:`cad.pipeline.views.write_viewer_outputs`:
+    STL deflections, ``preview=False``); ``no_solid_rows(design)`` (bought BOM rows with no
+    solid, e.g. the four-bar's encoder: appended to the BOM, a last step of assembly.md);
+    ``bom_formats`` (the BOM says which ``sheets/`` files were not written:
+    :func:`cad.pipeline.family.bom_rows` with the formats); ``md_images`` (``(alt text,
+    file)`` pairs of report.md); ``timed`` (``"_timings_s"``).
+    Each file callback returns the paths it wrote, relative to the output folder."""
 
     check_options: Callable[..., None]
     assemble: Callable[[Any, str], Any]
-    interference: Callable[[Any, bool], Any]
+    interference: Callable[[Any, bool], Any] | None
     report: Callable[[Build], dict]
     md_rows: Callable[[dict], list]
     preview_title: Callable[[Build], str]
@@ -94,6 +118,16 @@ class Stages:
     cutaway: tuple[str, ...] = ()
     assembly: Callable[[Any], tuple] | None = None
     exports_after_check: bool = False
+    sweep: Callable[[Build], Any] | None = None
+    fork_before_props: bool = False
+    children: Callable[[Build], dict] | None = None
+    children_after_props: Callable[[Build], dict] | None = None
+    export_kw: Callable[[Build], dict] | None = None
+    view_kw: Callable[[Build], dict] | None = None
+    no_solid_rows: Callable[[Any], list] | None = None
+    bom_formats: bool = False
+    md_images: tuple = ()
+    timed: bool = False
 
 
 @dataclasses.dataclass
@@ -104,7 +138,10 @@ class Build:
     ``{kind: MassProps}``; ``bodies``: ``{body: MassProps}`` in the body frame; ``dyn``:
     :attr:`Stages.dynamics`' result; ``bom``: the BOM rows; ``itf``:
     :attr:`Stages.interference`'s result; ``low``: lowest world z of any solid (mm, None
-    without a bench plane)."""
+    without a bench plane); ``extra_rows``: :attr:`Stages.no_solid_rows`; ``common``: the
+    common tail of the report (fastener keys, ``part_materials``, ``fits``, ``placement``),
+    set before :attr:`Stages.report` so a family may place its keys; ``files``: files
+    written in this process or by the further children; ``timings``: wall times (s)."""
 
     design: Any
     out_dir: Path
@@ -119,6 +156,24 @@ class Build:
     bom: list = dataclasses.field(default_factory=list)
     itf: Any = None
     low: float | None = None
+    extra_rows: list = dataclasses.field(default_factory=list)
+    common: dict = dataclasses.field(default_factory=dict)
+    files: list = dataclasses.field(default_factory=list)
+    timings: dict = dataclasses.field(default_factory=dict)
+    tasks: dict = dataclasses.field(default_factory=dict)
+    results: dict = dataclasses.field(default_factory=dict)
+    further: set = dataclasses.field(default_factory=set)
+
+    def child(self, name: str) -> Any:
+        """The value of the forked child ``name`` (waited for once; its wall time kept in
+        ``timings``; a further child's files added to ``files``). Raises what it raised."""
+        if name not in self.results:
+            value, self.timings[name] = self.tasks[name].result()
+            if name in self.further:
+                files, value = value
+                self.files += files
+            self.results[name] = value
+        return self.results[name]
 
     @property
     def instances(self) -> list:
@@ -157,8 +212,9 @@ def run_family(stages: Stages, design, out_dir: Path, formats: set[str], *,
     Raises what the stages raise: DesignError (options, fasteners), InterferenceError (a
     clash over the motion unless ``allow_interference``), GeometryError (a solid below the
     bench plane), MeshError (an export)."""
-    from cad.pipeline import family
+    from cad.pipeline import family, forked
 
+    t0 = time.perf_counter()
     stages.check_options(design, fidelity, phi1_deg, formats)
     b = Build(design, Path(out_dir), set(formats), fidelity, allow_interference)
     step = _Progress(progress, stages)
@@ -168,41 +224,100 @@ def run_family(stages: Stages, design, out_dir: Path, formats: set[str], *,
         b.pre = stages.prepare(design)
     step("solids")
     b.model = stages.assemble(design, fidelity)
+    b.timings["parts"] = time.perf_counter() - t0
     fasteners = family.fastener_report(b.instances, b.model.holes)  # DesignError: two in a hole
-    step(stages.mass_label)
-    b.props = family.kind_props(b.instances)
-    b.bodies = family.body_props(b.instances, b.props, list(stages.moving_bodies(b.model)))
-    if stages.dynamics is not None:
-        b.dyn = stages.dynamics(b)
-    b.bom = family.bom_rows(b.instances, b.props)
+    if stages.fork_before_props:
+        _start_children(stages, b, stages.children)
+    with forked.cancel_on_error(*b.tasks.values()):
+        _mass_properties(stages, b, step)
+    if not stages.fork_before_props:
+        _start_children(stages, b, stages.children)
+    _start_children(stages, b, stages.children_after_props, files=False)
     files, viewer_glb = _checks_and_files(stages, b, step)
     step("report")
     report = _report(stages, b, fasteners, files)
+    if stages.timed:
+        b.timings["total_build"] = time.perf_counter() - t0
+        report["_timings_s"] = b.timings  # popped by the dispatcher (non-deterministic)
     report["_viewer_glb"] = viewer_glb  # popped by the dispatcher: embedded in report.html
     step.finish()
     return report
 
 
-def _checks_and_files(stages: Stages, b: Build, step) -> tuple[list[str], bytes]:
-    """The exports and the viewer files in two forked children (serial where forking is off)
-    while this process checks the solids over the motion and against the bench plane; then
-    the files made from their results. Returns (files, glb bytes)."""
+def _mass_properties(stages: Stages, b: Build, step) -> None:
+    """Mass properties per kind and body, the family's dynamics and the BOM rows (into
+    ``b``); ``bom.csv`` here when the export child was forked before them."""
+    from cad.pipeline import family
+
+    step(stages.mass_label)
+    t = time.perf_counter()
+    b.props = family.kind_props(b.instances)
+    b.bodies = family.body_props(b.instances, b.props, list(stages.moving_bodies(b.model)))
+    if stages.dynamics is not None:
+        b.dyn = stages.dynamics(b)
+    b.timings["massprops"] = time.perf_counter() - t
+    if stages.no_solid_rows is not None:
+        b.extra_rows = list(stages.no_solid_rows(b.design))
+    b.bom = family.bom_rows(b.instances, b.props,
+                            b.formats if stages.bom_formats else None) + b.extra_rows
+    if stages.fork_before_props:
+        from cad.export import write_bom
+
+        write_bom(b.bom, b.out_dir)
+        b.files.append("bom.csv")
+
+
+def _timed(fn: Callable[[], Any]) -> Callable[[], tuple[Any, float]]:
+    """``fn`` returning ``(its value, its wall time in s)``."""
+    def run():
+        t = time.perf_counter()
+        value = fn()
+        return value, time.perf_counter() - t
+    return run
+
+
+def _start_children(stages: Stages, b: Build, further, files: bool = True) -> None:
+    """Fork the exports (unless :attr:`Stages.exports_after_check`) and the views (with
+    ``files``) and the ``further`` children (``further(b) -> {name: fn}``) into ``b.tasks``
+    (:mod:`cad.pipeline.forked`: deferred where forking is off)."""
     from cad.pipeline import forked
 
-    early = not stages.exports_after_check
-    task = forked.start(lambda: _exports(stages, b), "exports") if early else None
-    views_task = forked.start(lambda: _views(stages, b), "views")
-    with forked.cancel_on_error(*([task] if early else []), views_task):
+    todo = {}
+    if files and not stages.exports_after_check:
+        todo["exports"] = lambda: _exports(stages, b)
+    if files:
+        todo["views"] = lambda: _views(stages, b)
+    more = further(b) if further is not None else {}
+    b.further |= set(more)
+    for name, fn in {**todo, **more}.items():
+        b.tasks[name] = forked.start(_timed(fn), name)
+
+
+def _checks_and_files(stages: Stages, b: Build, step) -> tuple[list[str], bytes]:
+    """The checks of the solids over the motion and against the bench plane in this process
+    while the forked children write; then the files made from their results. Returns
+    (files, glb bytes)."""
+    from cad.pipeline import forked
+
+    with forked.cancel_on_error(*b.tasks.values()):
         step(f"every pair of solids over the {stages.motion_label}")
-        b.itf = stages.interference(b.model, b.allow_interference)
+        t = time.perf_counter()
+        if stages.sweep is not None:
+            b.itf = stages.sweep(b)
+        else:
+            b.itf = stages.interference(b.model, b.allow_interference)
+        b.timings["interference"] = time.perf_counter() - t
         if stages.bench_z_mm is not None:
             b.low = check_bench(b.instances, b.tfs, stages.bench_z_mm(b))
         step("exports")
-        files = task.result() if early else _exports(stages, b)
+        files = b.child("exports") if "exports" in b.tasks else _exports(stages, b)
         if stages.more_files is not None:
             files += stages.more_files(b)
-        view_files, viewer_glb = views_task.result()
-    return files + view_files, viewer_glb
+        for name in b.tasks:
+            if name in b.further:
+                b.child(name)
+        view_files, viewer_glb = b.child("views")
+    return files + b.files + view_files, viewer_glb
 
 
 def check_bench(instances, tfs: dict, bench_z_mm: float) -> float:
@@ -223,11 +338,12 @@ def _exports(stages: Stages, b: Build) -> list[str]:
     and the family's further exports."""
     from cad.pipeline import family
 
-    d = b.design
-    files = family.write_outputs(
-        b.instances, b.tfs, b.out_dir, b.formats, name=d.name, title=stages.preview_title(b),
-        bom=b.bom, marks=stages.marks(b) if stages.marks is not None else None,
-        holes=tuple(b.model.holes.values()) if stages.thread_notes else ())
+    kw = dict(name=b.design.name, title=stages.preview_title(b),
+              bom=None if stages.fork_before_props else b.bom,
+              marks=stages.marks(b) if stages.marks is not None else None,
+              holes=tuple(b.model.holes.values()) if stages.thread_notes else ())
+    kw.update(stages.export_kw(b) if stages.export_kw is not None else {})
+    files = family.write_outputs(b.instances, b.tfs, b.out_dir, b.formats, **kw)
     if stages.more_exports is not None:
         files += stages.more_exports(b)
     return files
@@ -243,7 +359,8 @@ def _views(stages: Stages, b: Build) -> tuple[list[str], bytes]:
                if any(fnmatch.fnmatchcase(i.name, p) for p in stages.cutaway)]
     files, glb = write_viewer_outputs(
         b.instances, b.tfs, b.out_dir, b.formats, name=d.name, title=f"{d.name} ({d.family})",
-        stroke=stages.stroke(d), cutaway=cutaway or ())
+        stroke=stages.stroke(d), cutaway=cutaway or (),
+        **(stages.view_kw(b) if stages.view_kw is not None else {}))
     figures = stages.figures(b) if stages.figures is not None else []
     return figures + files, glb
 
@@ -253,16 +370,18 @@ def _report(stages: Stages, b: Build, fasteners: dict, files: list[str]) -> dict
     from cad.pipeline import family
 
     inst, d = b.instances, b.design
+    b.common = {**fasteners, "part_materials": family.part_materials(inst),
+                "fits": family.fits_report(inst),
+                "placement": family.placement_report(inst, b.tfs, b.props)}
     report = stages.report(b)
-    report.update(fasteners)
-    report["part_materials"] = family.part_materials(inst)
-    report["fits"] = family.fits_report(inst)
-    report["placement"] = family.placement_report(inst, b.tfs, b.props)
+    report.update(b.common)  # the keys the family did not place go last
     report["files"] = sorted(files + ["report.md"])
     title = f"{d.name} ({d.family})"
-    family.write_report_md(b.out_dir, title, stages.md_rows(report), b.bom, report["notes"])
+    family.write_report_md(b.out_dir, title, stages.md_rows(report), b.bom,
+                           report.get("notes", ()), images=stages.md_images)
     if stages.assembly is not None:
         plan, checks = stages.assembly(d)
-        family.write_assembly_md(b.out_dir, title, inst, plan, checks, tf_world_body=b.tfs,
+        family.write_assembly_md(b.out_dir, title, inst, plan, checks,
+                                 no_solid_rows=b.extra_rows, tf_world_body=b.tfs,
                                  formats=b.formats)
     return report

@@ -1,7 +1,9 @@
 """One build driver (issue 23 "one pipeline"): a family adds layout code, never its own copy of
-a check or an export. The pen, pantograph and PowerMouse builders are one call to
-:func:`cad.pipeline.run.run_family`; none of their modules calls the shared stages the driver
-owns (read from the source with :mod:`ast`, function-level calls included).
+a check or an export. The pen, pantograph, PowerMouse and four-bar builders are one call to
+:func:`cad.pipeline.run.run_family` (the four-bar's extra stages are the driver's optional
+hooks: further forked children, a sweep given the build, the encoder row); none of their
+modules calls the shared stages the driver owns (read from the source with :mod:`ast`,
+function-level calls included).
 """
 
 from __future__ import annotations
@@ -11,16 +13,18 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
 FAMILIES = ROOT / "cad" / "families"
-#: Families built through the driver (the four-bar still runs its own sequence).
-DRIVEN = ("pen", "pantograph", "powermouse")
+#: Families built through the driver (every family).
+DRIVEN = ("pen", "pantograph", "powermouse", "fourbar")
 #: What the driver does for every family (cad/pipeline/run.py, cad/pipeline/family.py).
 DRIVER_OWNS = {"fastener_report", "kind_props", "bom_rows", "write_viewer_outputs",
                "lowest_z_mm", "write_report_md", "write_assembly_md", "part_materials",
                "fits_report", "placement_report", "start", "cancel_on_error"}
 #: Known calls, each with its reason: the PowerMouse's single-actuator test rig (Fig. 7) is a
-#: second assembly, not part of the device; its BOM rows are made from its own kinds.
+#: second assembly, not part of the device; its BOM rows are made from its own kinds. The
+#: four-bar's inertia model (``hapticad check`` / ``fit``) is mass properties without a build.
 KNOWN = {("cad/families/powermouse/build.py", "bom_rows"),
-         ("cad/families/powermouse/build.py", "kind_props")}
+         ("cad/families/powermouse/build.py", "kind_props"),
+         ("cad/families/fourbar/inertia.py", "kind_props")}
 
 
 def _calls(path: Path) -> set[str]:

@@ -19,9 +19,13 @@ Pipeline (``hapticad build designs/hoeken.toml``):
    ``preview.png`` and ``report.md`` (:mod:`cad.pipeline.family`; the dispatcher adds
    ``report.json``, ``report.html`` and ``manifest.json``).
 
-Once the parts exist, the part files + assembly STEP, the preview and the viewer files
-(glb, 3mf, GIF, still) are written by forked child processes while this process does
-steps 2-3 (:mod:`cad.pipeline.forked`; serial where forking is off, same bytes either way).
+``build`` is one call to the build driver of every family
+(:func:`cad.pipeline.run.run_family`) with the four-bar's stages (:func:`_stages`). Once the
+parts exist, the part files + assembly STEP, the viewer files (glb, 3mf, GIF, still) and the
+same-body check run in forked children beside the mass properties
+(``Stages.fork_before_props``); once H is known, ``preview.png`` and the paper's plots run in
+a further child beside the sweep (:mod:`cad.pipeline.forked`; serial where forking is off,
+same bytes either way). The report carries the stages' wall times (``_timings_s``).
 
 Fidelity (issue 7): ``fabrication`` -- every feature, bd_warehouse bearings with balls,
 exact interference confirmation; ``inertia`` -- cosmetic features dropped (knob round,
@@ -35,7 +39,6 @@ sweep. The report states what the dropped features cost on this design
 from __future__ import annotations
 
 import math
-import time
 from pathlib import Path
 
 import numpy as np
@@ -59,8 +62,6 @@ CODE_DEPS = SHARED_CODE_DEPS + (
 SIM_EXPORT = True
 #: This builder writes glb and 3mf (:mod:`cad.pipeline.views`).
 VIEW_EXPORT = True
-#: Steps of the progress display.
-N_STEPS = 8
 #: Final checks of assembly.md (cad.assembly.steps).
 ASSEMBLY_CHECKS = (
     "the crank turns by hand over its whole range (report.md: crank range) with no binding "
@@ -75,11 +76,6 @@ def cache_inputs(design) -> dict:
 
     p = resolve_script(design.parts, design.source)
     return {"handle_script_sha256": script_sha256(p) if p is not None else None}
-
-
-def _step(progress, desc: str, i: int, n: int = N_STEPS) -> None:
-    if progress is not None:
-        progress(desc, i, n)
 
 
 def encoder_bom_row(design) -> dict:
@@ -148,81 +144,66 @@ def _stl_tolerances(parts, fidelity: str) -> tuple[float, float]:
     return tol, ang
 
 
-def _file_stages(design, model, out_dir: Path, formats, fidelity: str, progress) -> dict:
-    """The stages that need only the parts, as functions returning ``(result, wall s)``:
-    ``exports`` (part files, assembly STEP, drawings), ``views`` (glb, 3mf, GIF, still) and
-    ``same_body`` (every pair of solids on one body)."""
+def _mesh_kw(b) -> dict:
+    """The STL deflections of the part files and the viewer files (:func:`_stl_tolerances`)."""
+    tol, ang = _stl_tolerances(b.design.parts, b.fidelity)
+    return {"stl_tolerance_mm": tol, "angular_tolerance_rad": ang}
+
+
+def _same_body(b) -> dict:
+    """The forked child of the same-body check (every pair of solids on one body), read by
+    the sweep (:func:`interference`)."""
     from cad.assembly import interference as itf
-    from cad.assembly.pose import body_transforms
-    from cad.pipeline import family, forked
-    from cad.pipeline.views import STROKE_POSES, write_viewer_outputs
 
-    tol, ang = _stl_tolerances(design.parts, fidelity)
-    title = f"{design.name} ({design.family})"
-    quiet = forked.fork_enabled()
-
-    def exports():
-        t = time.perf_counter()
-        _step(None if quiet else progress, "export parts", 4)
-        files = family.write_outputs(
-            model.instances, model.tf_world_body, out_dir, formats, name=design.name,
-            title=title, bom=None, stl_tolerance_mm=tol, angular_tolerance_rad=ang,
-            preview=False, holes=tuple(model.holes.values()))
-        return files, time.perf_counter() - t
-
-    def views():
-        t = time.perf_counter()
-        stroke = body_transforms(design.linkage, sweep_angles(design, STROKE_POSES))
-        files, glb = write_viewer_outputs(
-            model.instances, model.tf_world_body, out_dir, formats, name=design.name,
-            title=title, stroke=stroke, stl_tolerance_mm=tol, angular_tolerance_rad=ang)
-        return (files, glb), time.perf_counter() - t
-
-    def same_body():
-        return itf.same_body_check(itf.static_items(model.instances)), 0.0
-
-    return {"exports": exports, "views": views, "same_body": same_body}
+    return {"same_body": lambda: ([], itf.same_body_check(itf.static_items(b.model.instances)))}
 
 
-def _preview_stage(design, model, H, out_dir: Path):
-    """``preview.png`` (posed assembly with the coupler point's path) and the paper's plots
-    from the solids (coupler curve, y deviation and torque; M11 / M12 / M22 over x, Fig. 6)."""
+def _preview_title(b) -> str:
+    phi_deg = math.degrees(b.model.extra["pose_phi1_rad"])
+    return f"{b.design.name}: {b.design.family}, phi1 = {phi_deg:.1f} deg"
+
+
+def _preview(b) -> dict:
+    """The forked child of ``preview.png`` (posed assembly with the coupler point's path) and
+    the paper's plots from the solids (coupler curve, y deviation and torque; M11 / M12 / M22
+    over x, Fig. 6), which need H."""
     from cad.kinematics.fourbar import solve
     from cad.pipeline import family
     from cad.report.fourbar import plot_apparent_mass, plot_kinematics
 
+    design, model = b.design, b.model
+
     def run():
-        t = time.perf_counter()
         P_path = solve(design.linkage, sweep_angles(design, 200)).P_mm
-        phi_deg = math.degrees(model.extra["pose_phi1_rad"])
-        family.write_preview(
-            model.instances, model.tf_world_body, out_dir / "preview.png",
-            f"{design.name}: {design.family}, phi1 = {phi_deg:.1f} deg",
-            marks=[("P path", P_path)], hide_ground_below_mm=-1.0,
-        )
-        plot_kinematics(design, out_dir / "kinematics.png")
-        plot_apparent_mass(design, H, out_dir / "apparent_mass.png")
-        return None, time.perf_counter() - t
+        family.write_preview(model.instances, model.tf_world_body, b.out_dir / "preview.png",
+                             _preview_title(b), marks=[("P path", P_path)],
+                             hide_ground_below_mm=-1.0)
+        plot_kinematics(design, b.out_dir / "kinematics.png")
+        plot_apparent_mass(design, b.dyn["H"], b.out_dir / "apparent_mass.png")
+        return ["preview.png", "kinematics.png", "apparent_mass.png"], None
 
-    return run
+    return {"preview": run}
 
 
-def mass_properties(design, model, fidelity: str) -> dict:
-    """Per kind and per body (link frame, SI) mass properties, Jm, H and the apparent mass:
+def _dynamics(b) -> dict:
+    """From the driver's mass properties (``b.props`` per kind, ``b.bodies`` per body in the
+    link frame, SI): Jm, H and the apparent mass, the fidelity costs and the structure:
     ``{"props", "links", "shares", "motor", "Jm_kg_m2", "H", "planar", "apparent_mass",
-    "fidelity_costs"}``."""
+    "fidelity_costs", "structure"}``."""
     from cad.data import catalog
     from cad.pipeline import family
+    from cad.structure.device import structure_of_build
 
-    props = family.kind_props(model.instances)
-    links = family.body_props(model.instances, props)
+    design, model = b.design, b.model
     motor = catalog.get_motor(design.parts.motor)
     Jm = rotor_inertia_kg_m2(design.parts, motor)
-    H, planar = inertia_from_links(design, links, Jm)
+    H, planar = inertia_from_links(design, b.bodies, Jm)
     am = apparent_mass(design, H)
-    out = {"props": props, "links": links, "shares": family.body_shares(model.instances, props),
-           "motor": motor, "Jm_kg_m2": Jm, "H": H, "planar": planar, "apparent_mass": am}
-    out["fidelity_costs"] = _fidelity_costs(design, model, out, fidelity)
+    out = {"props": b.props, "links": b.bodies,
+           "shares": family.body_shares(model.instances, b.props), "motor": motor,
+           "Jm_kg_m2": Jm, "H": H, "planar": planar, "apparent_mass": am}
+    out["fidelity_costs"] = _fidelity_costs(design, model, out, b.fidelity)
+    out["structure"] = structure_of_build(design, model, b.props, am["M11_max_g"])
     return out
 
 
@@ -281,31 +262,54 @@ def interference(design, model, fidelity: str, allow_interference: bool, same_bo
     return rep
 
 
-def _write_bom(design, model, props: dict, out_dir: Path, formats=()) -> list[dict]:
-    """``bom.csv`` (the rows every family writes, fits included, and the encoder) and
-    ``assembly.md`` (with its exploded views when ``formats`` asks for fabrication files);
-    returns the BOM rows."""
-    from cad.export import write_bom
-    from cad.pipeline import family
-
-    encoder = encoder_bom_row(design)
-    bom = family.bom_rows(model.instances, props, formats) + [encoder]
-    write_bom(bom, out_dir)
-    family.write_assembly_md(out_dir, f"{design.name} ({design.family})", model.instances,
-                             checks=ASSEMBLY_CHECKS, no_solid_rows=[encoder],
-                             tf_world_body=model.tf_world_body, formats=formats)
-    return bom
-
-
-def _sim_files(design, model, mp: dict, out_dir: Path, formats) -> list[str]:
+def _sim_files(b) -> list[str]:
     """``<name>.xml`` (MJCF) / ``<name>.urdf`` when asked (:mod:`cad.families.fourbar.sim`)."""
     from cad.families.fourbar.sim import sim_model
     from cad.pipeline.views import write_sim_model
 
+    design, model, mp = b.design, b.model, b.dyn
     return write_sim_model(
         lambda: sim_model(design, model, mp["links"], mp["Jm_kg_m2"], mp["motor"],
                           model.extra["pose_phi1_rad"]),
-        out_dir, formats, design.name)
+        b.out_dir, b.formats, design.name)
+
+
+def check_options(design, fidelity: str, phi1_deg, formats=frozenset()) -> None:
+    """A bad ``--phi1-deg`` (outside the crank range) before any CAD (DesignError)."""
+    from cad.families.fourbar.layout import exported_phi1_rad
+
+    exported_phi1_rad(design, phi1_deg)
+
+
+def _stages(phi1_deg: float | None, allow_interference: bool):
+    """The four-bar's stages of the one build driver (:class:`cad.pipeline.run.Stages`):
+    its children (the same-body check beside the mass properties; the preview and the
+    paper's plots, which need H, beside the sweep), its dynamics (H, M, structure), the
+    encoder row, its report."""
+    from cad.assembly.pose import body_transforms
+    from cad.families.fourbar.layout import assemble
+    from cad.pipeline.run import Stages
+    from cad.pipeline.views import STROKE_POSES
+
+    return Stages(
+        check_options=check_options,
+        assemble=lambda design, fidelity: assemble(design, fidelity, phi1_deg=phi1_deg,
+                                                   strict=not allow_interference),
+        interference=None,
+        sweep=lambda b: interference(b.design, b.model, b.fidelity, b.allow_interference,
+                                     b.child("same_body")),
+        report=_report, md_rows=_md_rows, preview_title=_preview_title,
+        stroke=lambda d: body_transforms(d.linkage, sweep_angles(d, STROKE_POSES)),
+        motion_label="crank range", moving_bodies=lambda model: list(model.bodies),
+        dynamics=_dynamics, more_files=_sim_files,
+        assembly=lambda design: (None, ASSEMBLY_CHECKS),
+        fork_before_props=True, children=_same_body, children_after_props=_preview,
+        export_kw=lambda b: {**_mesh_kw(b), "preview": False}, view_kw=_mesh_kw,
+        no_solid_rows=lambda design: [encoder_bom_row(design)], bom_formats=True,
+        md_images=(("coupler curve, deviation and torque", "kinematics.png"),
+                   ("apparent mass over the stroke (eq 22, H from the solids)",
+                    "apparent_mass.png")),
+        timed=True)
 
 
 def build(
@@ -319,66 +323,14 @@ def build(
     phi1_deg: float | None = None,
 ) -> dict:
     """Build ``design`` into ``out_dir`` (a fresh temporary directory); return the report dict
-    (module docstring). Raises DesignError (``--phi1-deg`` outside the crank range, no layer
-    order, ...), InterferenceError (a clash, unless ``allow_interference``), MeshError."""
-    from cad.families.fourbar.layout import assemble, exported_phi1_rad
-    from cad.pipeline import family, forked
+    (module docstring), through the one build driver (:func:`cad.pipeline.run.run_family`).
+    Raises DesignError (``--phi1-deg`` outside the crank range, no layer order, ...),
+    InterferenceError (a clash, unless ``allow_interference``), MeshError."""
+    from cad.pipeline.run import run_family
 
-    timings: dict[str, float] = {}
-    t0 = time.perf_counter()
-    exported_phi1_rad(design, phi1_deg)  # a bad --phi1-deg before the first progress line
-    _step(progress, "layers and parts", 0)
-    model = assemble(design, fidelity, phi1_deg=phi1_deg, strict=not allow_interference)
-    timings["parts"] = time.perf_counter() - t0
-
-    # the part files, the viewer files and the same-body check in child processes while
-    # this process does the mass properties and the sweep; any failure cancels the others
-    # and nothing is published (the dispatcher owns the temporary out_dir)
-    stages = _file_stages(design, model, out_dir, formats, fidelity, progress)
-    tasks = {k: forked.start(f, k) for k, f in stages.items()}
-    with forked.cancel_on_error(*tasks.values()):
-        _step(progress, "mass properties", 2)
-        t1 = time.perf_counter()
-        mp = mass_properties(design, model, fidelity)
-        timings["massprops"] = time.perf_counter() - t1
-
-    # the preview and the paper's plots (which need H) in a second child, beside the sweep
-    tasks["preview"] = forked.start(_preview_stage(design, model, mp["H"], out_dir), "preview")
-    with forked.cancel_on_error(*tasks.values()):
-        from cad.structure.device import structure_of_build
-
-        structure = structure_of_build(design, model, mp["props"],
-                                       mp["apparent_mass"]["M11_max_g"])
-        _step(progress, "interference sweep", 3)
-        t1 = time.perf_counter()
-        rep = interference(design, model, fidelity, allow_interference,
-                           tasks["same_body"].result()[0])
-        timings["interference"] = time.perf_counter() - t1
-        bom = _write_bom(design, model, mp["props"], out_dir, formats)
-        _step(progress, "exports", 4)
-        files, timings["exports"] = tasks["exports"].result()
-        files += _sim_files(design, model, mp, out_dir, formats)
-        _step(progress, "preview", 6)
-        _, timings["preview"] = tasks["preview"].result()
-        (view_files, viewer_glb), timings["views"] = tasks["views"].result()
-
-    _step(progress, "report", 7)
-    report = _report(design, model, mp, rep, structure, bom, fidelity)
-    if family.laser_kinds(model.instances):  # parts.process = "laser": the nested stock sheets
-        from cad.assembly.sheet_tolerance import tolerance_report
-        from cad.export.nesting import plan_sheets, sheets_report
-
-        report["sheets"] = sheets_report(plan_sheets(model.instances), "dxf" in formats)
-        # every fastener touching a sheet over the sheets' thickness bands (issue 25)
-        report["sheets"]["thickness_tolerance"] = tolerance_report(
-            model.instances, model.holes, model.extra["plan"], design.parts)
-    report["files"] = sorted(files + view_files + [
-        "bom.csv", "preview.png", "report.md", "kinematics.png", "apparent_mass.png"])
-    _write_report_md(out_dir, report)
-    timings["total_build"] = time.perf_counter() - t0
-    report["_timings_s"] = timings  # popped by the CLI before writing (non-deterministic)
-    report["_viewer_glb"] = viewer_glb  # popped by the dispatcher: embedded in report.html
-    return report
+    return run_family(_stages(phi1_deg, allow_interference), design, out_dir, formats,
+                      fidelity=fidelity, allow_interference=allow_interference,
+                      progress=progress, phi1_deg=phi1_deg)
 
 
 def _links_report(mp: dict) -> dict:
@@ -420,17 +372,19 @@ def _layers_report(plan, parts) -> dict:
     }
 
 
-def _report(design, model, mp: dict, rep, structure, bom, fidelity: str) -> dict:
-    """report.json's content from the build's results (the dispatcher adds the rest)."""
+def _report(b) -> dict:
+    """report.json's content from the build's results (the driver adds ``files``, the
+    dispatcher the rest); the driver's common keys (``b.common``) placed among the
+    four-bar's; ``sheets`` (the nested stock sheets) when ``parts.process = "laser"``."""
     from cad.analysis import METRIC_KEYS
     from cad.kinematics.metrics import compute_metrics
-    from cad.pipeline import family
 
+    design, model, mp, rep, bom, c = b.design, b.model, b.dyn, b.itf, b.bom, b.common
     fb, parts, H, motor = design.linkage, design.parts, mp["H"], mp["motor"]
     m = compute_metrics(fb, design.phi1_min_rad, design.phi1_max_rad, force_N=design.force_N,
                         samples=design.samples).as_dict()
     script = model.extra["handle_script"]
-    return {
+    report = {
         "name": design.name,
         "source": Path(str(design.source)).name,  # the file name: no path of this machine
         **design.resolved_linkage(),
@@ -443,21 +397,21 @@ def _report(design, model, mp: dict, rep, structure, bom, fidelity: str) -> dict
         "beta2_deg": math.degrees(H.beta2_rad),
         "Jm_kg_m2": mp["Jm_kg_m2"],
         "apparent_mass": mp["apparent_mass"],
-        "structure": structure,
+        "structure": mp["structure"],
         "links": _links_report(mp),
         "part_masses_g": {r["part"]: r["mass_g"] for r in bom},
         # material of every solid of assembly.step, by its name there (hapticad massprops)
-        "part_materials": family.part_materials(model.instances),
+        "part_materials": c["part_materials"],
         "ground_mass_g": mp["links"]["ground"].mass_kg * 1e3,
         "total_mass_g": sum(r["mass_g"] * r["quantity"] for r in bom),
         "bom": bom,
         "min_clearance_mm": rep.min_clearance_mm,
         "overlap_volume_mm3": rep.overlap_volume_mm3,
         "interference": rep.as_dict(),
-        **family.fastener_report(model.instances, model.holes),
-        "fits": family.fits_report(model.instances),
+        **{k: c[k] for k in ("fasteners", "tapped_holes")},
+        "fits": c["fits"],
         "bodies": {i.name: i.body for i in model.instances},
-        "placement": family.placement_report(model.instances, model.tf_world_body, mp["props"]),
+        "placement": c["placement"],
         "layers": _layers_report(model.extra["plan"], parts),
         "base_plate_mm": list(model.extra["base_rect_mm"]),
         "motor": {
@@ -466,21 +420,37 @@ def _report(design, model, mp: dict, rep, structure, bom, fidelity: str) -> dict
             "rotor_inertia_g_cm2": mp["Jm_kg_m2"] * 1e7,
             "source": motor.source,
         },
-        "fidelity": fidelity,
+        "fidelity": b.fidelity,
         "fidelity_costs": mp["fidelity_costs"],
         "handle": "user script " + script.name if script is not None else "built-in knob",
         "parts_spec": parts.as_dict(report=True),
         "preview": "preview.png",
     }
+    _sheets(b, report)
+    return report
 
 
-def _write_report_md(out_dir: Path, r: dict) -> str:
-    """``report.md`` through the shared writer (:func:`cad.pipeline.family.write_report_md`):
-    the paper's plots, the linkage, H, M11, clearance and layers, the BOM."""
+def _sheets(b, report: dict) -> None:
+    """``report["sheets"]`` when ``parts.process = "laser"``: the nested stock sheets and
+    every fastener touching a sheet over the sheets' thickness bands (issue 25)."""
     from cad.pipeline import family
 
+    model = b.model
+    if not family.laser_kinds(model.instances):
+        return
+    from cad.assembly.sheet_tolerance import tolerance_report
+    from cad.export.nesting import plan_sheets, sheets_report
+
+    report["sheets"] = sheets_report(plan_sheets(model.instances), "dxf" in b.formats)
+    report["sheets"]["thickness_tolerance"] = tolerance_report(
+        model.instances, model.holes, model.extra["plan"], b.design.parts)
+
+
+def _md_rows(r: dict) -> list[tuple[str, str]]:
+    """report.md's table: the linkage, H, M11, clearance and layers (the driver adds the
+    paper's plots, :attr:`cad.pipeline.run.Stages.md_images`, and the BOM)."""
     am = r["apparent_mass"]
-    rows = [
+    return [
         ("l1..l5, le (mm)", f"{r['l1_mm']:.3f}, {r['l2_mm']:.3f}, {r['l3_mm']:.3f}, "
                             f"{r['l4_mm']:.3f}, {r['l5_mm']:.3f}, {r['le_mm']:.3f}"),
         ("phi_e, crank range (deg)",
@@ -493,7 +463,3 @@ def _write_report_md(out_dir: Path, r: dict) -> str:
         ("overlap volume (mm^3)", f"{r['overlap_volume_mm3']:.4g}"),
         ("layers (bottom to top)", ", ".join(r["layers"]["order"])),
     ]
-    images = (("coupler curve, deviation and torque", "kinematics.png"),
-              ("apparent mass over the stroke (eq 22, H from the solids)", "apparent_mass.png"))
-    return family.write_report_md(out_dir, f"{r['name']} ({r['family']})", rows, r["bom"],
-                                  images=images)
