@@ -40,11 +40,11 @@ def _section_edges(shape, z_mm: float):
     from OCP.TopExp import TopExp_Explorer
     from OCP.TopoDS import TopoDS
 
-    # non-destructive and serial, as cad.occ.boolean: the plate's solid is shared with its
-    # other exports and must keep its tolerances
-    sec = BRepAlgoAPI_Section(shape, gp_Pln(gp_Pnt(0, 0, z_mm), gp_Dir(0, 0, 1)), False)
-    sec.SetNonDestructive(True)
-    sec.SetRunParallel(False)
+    from cad.occ.compound import deep_copy
+
+    # on a copy, as cad.occ.boolean: the plate's solid is shared with its other exports and
+    # must keep its tolerances
+    sec = BRepAlgoAPI_Section(deep_copy(shape), gp_Pln(gp_Pnt(0, 0, z_mm), gp_Dir(0, 0, 1)))
     sec.Build()
     if not sec.IsDone():
         raise GeometryError("DXF: section of the plate failed")

@@ -1,32 +1,39 @@
-"""Booleans that leave their arguments as they were (OCCT ``BRepAlgoAPI``, non-destructive).
+"""Booleans that leave their arguments as they were (OCCT ``BRepAlgoAPI`` on copies).
 
-By default an OCCT Boolean may modify its arguments in place: the pave filler raises the
-tolerances of the vertices and edges it intersects and stores them on the shared
-``TopoDS_TShape`` (OCCT 7.x, Boolean Operations user guide, "Safe processing mode": "By
-default, the non-destructive mode is OFF ... the input shapes can be modified"). A part's
-solid is shared by every instance of the part, by the interference check and by the
-exports, so a Boolean run by one stage (the check's common volume of two touching solids)
-would change what a later stage reads from the same solid (the hidden-line projection of its
-drawing, its BREP digest). Every Boolean on a part's solid outside its part script goes
-through here: ``SetNonDestructive(True)`` (OCCT copies a sub-shape before it changes its
-tolerance) and serial (``SetRunParallel(False)``: OCCT's thread pool hangs in a forked child,
-:mod:`cad.pipeline.forked`).
+An OCCT Boolean may modify its arguments in place: the pave filler raises the tolerances of
+the vertices and edges it intersects and stores them on the shared ``TopoDS_TShape`` (OCCT
+7.x, Boolean Operations user guide, "Safe processing mode": by default the non-destructive
+mode is off and "the input shapes can be modified"). A part's solid is shared by every
+instance of the part, by the interference check and by the exports, so a Boolean run by one
+stage (the check's common volume of two touching solids) would change what a later stage
+reads from the same solid (the hidden-line projection of its drawing, its BREP digest).
+Every Boolean on a part's solid outside its part script goes through here: it runs on
+independent copies of the arguments (``BRepBuilderAPI_Copy``: geometry copied, no mesh), so
+the caller's shapes keep their tolerances, and its result is the one the same Boolean gives
+on the original (same topology order: the same edge order, the same file bytes). Serial
+(``SetRunParallel(False)``): OCCT's thread pool hangs in a forked child
+(:mod:`cad.pipeline.forked`).
 """
 
 from __future__ import annotations
 
 
+def _copy(shape):
+    from OCP.BRepBuilderAPI import BRepBuilderAPI_Copy
+
+    return BRepBuilderAPI_Copy(shape, True, False).Shape()
+
+
 def _run(op, a, b):
-    """Set up ``op`` (a ``BRepAlgoAPI_BooleanOperation``) on ``a`` and ``b``, non-destructive
-    and serial, build it and return its result shape."""
+    """Set up ``op`` (a ``BRepAlgoAPI_BooleanOperation``) on copies of ``a`` and ``b``,
+    serial, build it and return its result shape."""
     from OCP.TopTools import TopTools_ListOfShape
 
     args, tools = TopTools_ListOfShape(), TopTools_ListOfShape()
-    args.Append(a)
-    tools.Append(b)
+    args.Append(_copy(a))
+    tools.Append(_copy(b))
     op.SetArguments(args)
     op.SetTools(tools)
-    op.SetNonDestructive(True)
     op.SetRunParallel(False)
     op.Build()
     return op.Shape()

@@ -39,7 +39,7 @@ def _section(shape, z: float, size: float) -> list:
     from cad.occ.boolean import common
 
     plane = Face.make_rect(size, size, Plane.XY).moved(Location((0, 0, z)))
-    cut = common(shape, plane.wrapped)  # non-destructive: ``shape`` keeps its tolerances
+    cut = common(shape, plane.wrapped)  # on a copy: ``shape`` keeps its tolerances
     down = Location((0, 0, -z))
     return [f.moved(down) for f in Shape.cast(cut).faces() if f.area > 1e-12]
 

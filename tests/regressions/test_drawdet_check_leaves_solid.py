@@ -5,8 +5,8 @@ than on a warm one. On a cold cache the interference check ran OCCT's ``BRepAlgo
 on the ring and its pressed-in pins; that Boolean (destructive by default) raised the
 tolerances of the ring's vertices and edges in place, on the ``TShape`` the ring's drawing
 shares, and the hidden-line projection of the sheet read them. On a warm cache the volumes
-came from the derived cache and no Boolean ran. Now every Boolean on a shared solid is
-non-destructive (:mod:`cad.occ.boolean`).
+came from the derived cache and no Boolean ran. Now every Boolean on a shared solid runs
+on copies of its arguments (:mod:`cad.occ.boolean`).
 
 References: the sheet drawn from the ring before any check (the bytes must not change), the
 ring's BREP text (OCCT ``BRepTools::Write``) and its largest vertex and edge tolerances
