@@ -40,7 +40,11 @@ def _section_edges(shape, z_mm: float):
     from OCP.TopExp import TopExp_Explorer
     from OCP.TopoDS import TopoDS
 
-    sec = BRepAlgoAPI_Section(shape, gp_Pln(gp_Pnt(0, 0, z_mm), gp_Dir(0, 0, 1)))
+    from cad.occ.compound import deep_copy
+
+    # on a copy, as cad.occ.boolean: the plate's solid is shared with its other exports and
+    # must keep its tolerances
+    sec = BRepAlgoAPI_Section(deep_copy(shape), gp_Pln(gp_Pnt(0, 0, z_mm), gp_Dir(0, 0, 1)))
     sec.Build()
     if not sec.IsDone():
         raise GeometryError("DXF: section of the plate failed")
@@ -82,19 +86,20 @@ def _z_levels(shape) -> list[float]:
 def _slab_area_mm2(shape, z0: float, z1: float) -> float:
     """Mean cross-section area of ``shape`` between z0 and z1 (volume of the slab / height)."""
     from OCP.Bnd import Bnd_Box
-    from OCP.BRepAlgoAPI import BRepAlgoAPI_Common
     from OCP.BRepBndLib import BRepBndLib
     from OCP.BRepGProp import BRepGProp
     from OCP.BRepPrimAPI import BRepPrimAPI_MakeBox
     from OCP.gp import gp_Pnt
     from OCP.GProp import GProp_GProps
 
+    from cad.occ.boolean import common
+
     box = Bnd_Box()
     BRepBndLib.Add_s(shape, box)
     x0, y0, _, x1, y1, _ = box.Get()
     slab = BRepPrimAPI_MakeBox(gp_Pnt(x0 - 1, y0 - 1, z0), gp_Pnt(x1 + 1, y1 + 1, z1)).Shape()
     props = GProp_GProps()
-    BRepGProp.VolumeProperties_s(BRepAlgoAPI_Common(shape, slab).Shape(), props)
+    BRepGProp.VolumeProperties_s(common(shape, slab), props)
     return props.Mass() / (z1 - z0)
 
 

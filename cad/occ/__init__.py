@@ -8,6 +8,8 @@ build123d (``tests/architecture/test_import_graph.py``). One module per concern:
 * :mod:`cad.occ.bbox` -- tight bounding boxes;
 * :mod:`cad.occ.distance` -- exact distance (``BRepExtrema_DistShapeShape``) and common
   volume (``BRepAlgoAPI_Common``) of two solids, for the interference check;
+* :mod:`cad.occ.boolean` -- serial Booleans (common, section) on copies of shared
+  part solids (the check and the exports leave a solid as they found it);
 * :mod:`cad.occ.shape_io` -- BREP text of a shape (the derived cache's digest);
 * :mod:`cad.occ.compound` -- the labelled build123d ``Compound`` of an assembly model;
 * :mod:`cad.occ.threads` -- OCCT's thread pool.

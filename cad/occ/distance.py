@@ -16,11 +16,14 @@ def min_distance_mm(sa, sb) -> float:
 
 def common_volume_mm3(sa, sb) -> float:
     """Volume of ``sa`` ∩ ``sb`` (OCCT ``BRepAlgoAPI_Common``, then ``BRepGProp`` volume),
-    mm^3; 0 for touching solids (a negative round-off is clipped to 0)."""
-    from OCP.BRepAlgoAPI import BRepAlgoAPI_Common
+    mm^3; 0 for touching solids (a negative round-off is clipped to 0). Neither solid is
+    modified (:func:`cad.occ.boolean.common`: the check must leave the parts' shared solids
+    as the exports read them)."""
     from OCP.BRepGProp import BRepGProp
     from OCP.GProp import GProp_GProps
 
+    from cad.occ.boolean import common
+
     props = GProp_GProps()
-    BRepGProp.VolumeProperties_s(BRepAlgoAPI_Common(sa, sb).Shape(), props)
+    BRepGProp.VolumeProperties_s(common(sa, sb), props)
     return max(0.0, float(props.Mass()))

@@ -35,13 +35,13 @@ def _section(shape, z: float, size: float) -> list:
     """The faces of ``shape`` cut by the plane at height ``z`` (mm), moved down to z = 0 (so
     that sections at different heights intersect)."""
     from build123d import Face, Location, Plane, Shape
-    from OCP.BRepAlgoAPI import BRepAlgoAPI_Common
+
+    from cad.occ.boolean import common
 
     plane = Face.make_rect(size, size, Plane.XY).moved(Location((0, 0, z)))
-    op = BRepAlgoAPI_Common(shape, plane.wrapped)
-    op.Build()
+    cut = common(shape, plane.wrapped)  # on a copy: ``shape`` keeps its tolerances
     down = Location((0, 0, -z))
-    return [f.moved(down) for f in Shape.cast(op.Shape()).faces() if f.area > 1e-12]
+    return [f.moved(down) for f in Shape.cast(cut).faces() if f.area > 1e-12]
 
 
 def _common(a: list, b: list) -> list:

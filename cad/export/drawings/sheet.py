@@ -192,15 +192,16 @@ def _section(ax, solid, y_mm, box, at, s):
     import build123d as bd
     from matplotlib.patches import PathPatch
     from matplotlib.path import Path as MPath
-    from OCP.BRepAlgoAPI import BRepAlgoAPI_Common
+
+    from cad.occ.boolean import common
 
     cx, cz = 0.5 * (box[0] + box[3]), 0.5 * (box[2] + box[5])
     big = 4 * max(box[3] - box[0], box[5] - box[2]) + 10
     plane = bd.Plane(origin=(cx, y_mm, cz), x_dir=(1, 0, 0), z_dir=(0, -1, 0))
-    # OCP's boolean, serial: build123d's intersect runs OCCT's thread pool, which hangs in
-    # the forked child that writes a family's files (cad.pipeline.forked)
-    cut = BRepAlgoAPI_Common(solid.wrapped, bd.Face.make_rect(big, big, plane).wrapped)
-    faces = bd.Compound(cut.Shape()).faces()
+    # serial (build123d's intersect runs OCCT's thread pool, which hangs in the forked child
+    # that writes a family's files, cad.pipeline.forked) and on a copy: the part's solid
+    # is shared with its other exports, which must not see the cut's tolerances
+    faces = bd.Compound(common(solid.wrapped, bd.Face.make_rect(big, big, plane).wrapped)).faces()
     # OCCT's boolean returns the faces in no fixed order: sort them so the file is the same
     for face in sorted(faces, key=lambda f: (round(f.center().X, 6), round(f.center().Z, 6),
                                             round(f.area, 6))):
