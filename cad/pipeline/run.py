@@ -21,8 +21,7 @@ Order (each family callback receives the :class:`Build` filled so far)::
     mass_label       props = kind_props, bodies = body_props(moving_bodies(model))
                      dyn = dynamics(build)                    the family's (optional)
                      bom = bom_rows(instances, props) + no_solid_rows(design)
-    fork: exports    write_outputs(...) + more_exports(build) (the PowerMouse rig; in this
-                     process after the checks below with exports_after_check)
+    fork: exports    write_outputs(...) + more_exports(build) (the PowerMouse rig)
     fork: views      write_viewer_outputs(stroke, cutaway) + figures(build) (Fig. 8)
     fork: children(build), then children_after_props(build)  (the four-bar's same-body
                      check; its preview and plots, which need H)
@@ -73,11 +72,9 @@ class Stages:
     ``thread_notes`` (tapped holes to the DXF notes), ``more_exports(build)`` (in the export
     child), ``figures(build)`` (in the views child), ``more_files(build)`` (after the exports),
     ``cutaway`` (instance name patterns drawn cut away in the pictures), ``assembly(design) ->
-    (plan, checks)`` (``assembly.md``; None: not written), ``exports_after_check`` (the
-    exports in this process after the interference check instead of a forked child beside it:
-    the pen: on a cold shape cache its ``drawings/ring.svg`` drawn after the check differs
-    from one drawn before it -- state the check leaves on the solids -- and the pen's files
-    stay those of its former, serial builder).
+    (plan, checks)`` (``assembly.md``; None: not written). The exports run beside the
+    interference check: the check leaves every solid untouched (its Booleans work on copies,
+    :mod:`cad.occ.boolean`), so a file does not depend on when it is written.
 
     Optional, for a family whose sequence has more (the four-bar): ``sweep(build)`` (the
     interference check given the whole build -- fidelity, the children's results --
@@ -117,7 +114,6 @@ class Stages:
     more_files: Callable[[Build], list[str]] | None = None
     cutaway: tuple[str, ...] = ()
     assembly: Callable[[Any], tuple] | None = None
-    exports_after_check: bool = False
     sweep: Callable[[Build], Any] | None = None
     fork_before_props: bool = False
     children: Callable[[Build], dict] | None = None
@@ -277,15 +273,13 @@ def _timed(fn: Callable[[], Any]) -> Callable[[], tuple[Any, float]]:
 
 
 def _start_children(stages: Stages, b: Build, further, files: bool = True) -> None:
-    """Fork the exports (unless :attr:`Stages.exports_after_check`) and the views (with
-    ``files``) and the ``further`` children (``further(b) -> {name: fn}``) into ``b.tasks``
+    """Fork the exports and the views (with ``files``) and the ``further`` children (``further(b) -> {name: fn}``) into ``b.tasks``
     (:mod:`cad.pipeline.forked`: deferred where forking is off)."""
     from cad.pipeline import forked
 
     todo = {}
-    if files and not stages.exports_after_check:
-        todo["exports"] = lambda: _exports(stages, b)
     if files:
+        todo["exports"] = lambda: _exports(stages, b)
         todo["views"] = lambda: _views(stages, b)
     more = further(b) if further is not None else {}
     b.further |= set(more)
@@ -310,7 +304,7 @@ def _checks_and_files(stages: Stages, b: Build, step) -> tuple[list[str], bytes]
         if stages.bench_z_mm is not None:
             b.low = check_bench(b.instances, b.tfs, stages.bench_z_mm(b))
         step("exports")
-        files = b.child("exports") if "exports" in b.tasks else _exports(stages, b)
+        files = b.child("exports")
         if stages.more_files is not None:
             files += stages.more_files(b)
         for name in b.tasks:

@@ -111,10 +111,7 @@ def _stages():
         preview_title=lambda b: f"{b.design.name}: haptic pen at the workspace centre",
         dynamics=_dynamics, bench_z_mm=lambda b: b.model.extra["ground_mm"]["bench_z_mm"],
         thread_notes=False,  # the pen's DXF/drawings carry no tapped-hole notes (as before)
-        more_files=_mjcf,
-        # after the check, in this process, as the pen always did: on a cold shape cache the
-        # ring's drawing depends on state the check leaves on it (Stages.exports_after_check)
-        exports_after_check=True)
+        more_files=_mjcf)
 
 
 def build(design, out_dir: Path, formats: set[str], *, fidelity: str = "fabrication",

@@ -1,4 +1,4 @@
-"""Helper drawdet: a part's drawing is a function of its solid alone.
+"""A part's drawing is a function of its solid alone: the interference check leaves shared solids untouched.
 
 The defect: the haptic pen's ``drawings/ring.svg`` had other bytes on a cold shape cache
 than on a warm one. On a cold cache the interference check ran OCCT's ``BRepAlgoAPI_Common``
