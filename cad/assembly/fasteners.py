@@ -40,13 +40,25 @@ TAP_LEADOUT_MM = 1.0
 @dataclass(frozen=True)
 class TappedHole:
     """A tapped hole: ``name`` (unique, e.g. ``post_A4:top``), the part it is in, thread size,
-    usable (full-thread) depth and the minimum engagement it needs (mm)."""
+    usable (full-thread) depth and the minimum engagement it needs (mm).
+
+    axis, point_mm : where the hole is, in the part's own frame (the frame of its kind's
+    shape): the axis direction (unit, either sense) and one point on the axis (mm); None
+    when the builder does not state it. A shop drawing matches the hole found on the solid
+    to its record by them (:func:`cad.export.drawings.notes.callout`)."""
 
     name: str
     part: str
     size: str
     depth_mm: float
     min_engagement_mm: float
+    axis: tuple[float, float, float] | None = None
+    point_mm: tuple[float, float, float] | None = None
+
+    def report(self) -> dict:
+        """The record for report.json: every field, the place only when it is stated."""
+        return {k: (list(v) if isinstance(v, tuple) else v)
+                for k, v in self.__dict__.items() if v is not None}
 
 
 @dataclass(frozen=True)

@@ -27,7 +27,7 @@ motion: a :class:`cad.assembly.model.AssemblyModel`).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -554,7 +554,8 @@ def _motor_and_hub(b: _Builder) -> None:
     )
     b.place("crank_hub", hk, "crank", translation(0, 0, plan.hub_z_mm[0]))
     for i, (x, y) in enumerate(cat.polar_points_mm(hub_bc / 2, HUB_SCREWS)):
-        hole = b.hole(alu_hole(f"crank_hub:screw_{i + 1}", "crank_hub", parts.hub_screw, hub_e))
+        hole = b.hole(replace(alu_hole(f"crank_hub:screw_{i + 1}", "crank_hub", parts.hub_screw,
+                                       hub_e), axis=(0.0, 0.0, 1.0), point_mm=(x, y, 0.0)))
         b.screw(
             f"hub_screw_{i + 1}",
             parts.hub_screw,
@@ -668,7 +669,8 @@ def _set_screw(b: _Builder, m, hub_h: float, engaged: float) -> None:
     T[:3, :3] = [[0, 0, 1], [0, 1, 0], [-1, 0, 0]]  # part z -> +x (radial)
     T[:3, 3] = (ss.shaft_radius_mm, 0.0, b.plan.hub_z_mm[0] + motor.set_screw_z_mm(hub_h, engaged))
     hole = b.hole(TappedHole("crank_hub:set_screw", "crank_hub", ss.size, ss.depth_mm,
-                             ss.min_engagement_mm))
+                             ss.min_engagement_mm, axis=(1.0, 0.0, 0.0),
+                             point_mm=(0.0, 0.0, motor.set_screw_z_mm(hub_h, engaged))))
     f = Fastener("ISO 4026", ss.size, L, ("motor_shaft",), hole.name, L)
     b.place("hub_set_screw", k, "crank", T, fastener=f)
 
@@ -776,13 +778,16 @@ def _post(b: _Builder, a4, pin, through: bool) -> None:
         revolution=True,
     )
     b.place("post_A4", pok, "ground", translation(a4[0], a4[1], 0.0))
+    z_up = dict(axis=(0.0, 0.0, 1.0), point_mm=(0.0, 0.0, 0.0))  # post frame: its axis
     if dowel:  # a plain pin is pressed, not screwed: the whole hole, no thread minimum
-        b.hole(TappedHole("post_A4:top", "post_A4", parts.pin, bore_depth + thread_depth, 0.0))
+        b.hole(TappedHole("post_A4:top", "post_A4", parts.pin, bore_depth + thread_depth, 0.0,
+                          **z_up))
     else:
-        b.hole(shoulder_screw_hole("post_A4:top", "post_A4", parts.pin, thread_depth))
-    bottom = b.hole(
-        alu_hole("post_A4:bottom", "post_A4", screw, base.STANDOFF_TAP_DEPTH_MM - TAP_LEADOUT_MM)
-    )
+        b.hole(replace(shoulder_screw_hole("post_A4:top", "post_A4", parts.pin, thread_depth),
+                       **z_up))
+    bottom = b.hole(replace(
+        alu_hole("post_A4:bottom", "post_A4", screw, base.STANDOFF_TAP_DEPTH_MM - TAP_LEADOUT_MM),
+        **z_up))
     clamp = parts.base_thickness_mm + (parts.motor_mount_thickness_mm if through else 0.0)
     b.screw(
         "post_screw",

@@ -299,6 +299,19 @@ def kind_threads(kind_name: str, instances, holes) -> tuple[tuple[str, float | N
     )
 
 
+def kind_thread_places(kind_name: str, instances, holes) -> tuple[tuple, ...]:
+    """``((size, full-thread depth mm or None, name, axis, point_mm), ...)`` of the tapped
+    holes in the instances of kind ``kind_name`` (:func:`kind_threads` with each record's name
+    and its place in the part frame, None when unstated: the drawing's callouts)."""
+    names = {i.name for i in instances if i.kind.name == kind_name} | {kind_name}
+    return tuple(
+        (h.size, h.depth_mm if math.isfinite(h.depth_mm) else None, h.name,
+         getattr(h, "axis", None), getattr(h, "point_mm", None))
+        for h in holes
+        if h.part in names
+    )
+
+
 def shop_args(kind, instances, holes=()) -> dict:
     """The shop data of one kind's files (:func:`cad.export.export_part`): DXF notes (its
     fits), its holes as the shop makes them (:func:`cad.data.fits.shop_holes`), its
@@ -329,7 +342,7 @@ def write_part_drawings(instances, out_dir: Path, design: str, holes=(),
     q = quantities(instances)
     parts = [
         SheetPart(k.name, k.shape, k.material, q[k.name], process(k), k.plate, k.fits,
-                  kind_threads(k.name, instances, holes), k.description)
+                  kind_thread_places(k.name, instances, holes), k.description)
         for k in kinds(instances).values()
         if k.listed and k.made
     ]
@@ -355,7 +368,7 @@ def fastener_report(instances, holes: dict) -> dict:
     check_fasteners(fast, holes)
     return {
         "fasteners": {n: f.as_dict() for n, f in fast.items()},
-        "tapped_holes": {n: h.__dict__ for n, h in holes.items()},
+        "tapped_holes": {n: h.report() for n, h in holes.items()},
     }
 
 

@@ -43,8 +43,9 @@ ROW_MM, FONT_PT, FONT_MIN_PT = 3.6, 5.5, 3.0
 @dataclass(frozen=True)
 class SheetPart:
     """What one sheet shows: ``shape`` (``TopoDS_Shape``, part frame, mm) and the part's
-    BOM data; ``fits`` as :func:`cad.data.fits.fit` texts, ``threads`` ``(size, thread
-    depth mm or None)`` pairs of its tapped holes."""
+    BOM data; ``fits`` as :func:`cad.data.fits.fit` texts, ``threads`` its tapped holes,
+    ``(size, thread depth mm or None)`` or ``(size, depth, name, axis, point_mm)`` (place in
+    the part frame or None; :func:`cad.export.drawings.notes.callout`)."""
 
     name: str
     shape: object
@@ -75,7 +76,7 @@ def feature_rows(part: SheetPart):
         else:
             where = f"axis {c.axis} {a}={c.u_mm:.2f} {b}={c.v_mm:.2f} {size} {c.axis}"
         text = (f"{tag} {where}={c.lo_mm:.2f}..{c.hi_mm:.2f} | "
-                f"{callout(c, part.fits, part.threads, ext.get(c.axis))}")
+                f"{callout(c, part.fits, part.threads, ext.get(c.axis), box[:3])}")
         rows.append((tag, c, text))
     return rows, box
 

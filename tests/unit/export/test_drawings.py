@@ -320,3 +320,88 @@ def test_pocket_with_a_floor_and_sharp_corners_is_blind():
     (c,) = chamfers(round_block.wrapped)
     assert (c.axial_mm, c.radial_mm, c.angle_deg) == pytest.approx((1.5, 1.5, 45.0), abs=1e-9)
     assert (c.lo_mm, c.hi_mm, c.internal) == (pytest.approx(6.5), pytest.approx(8.0), False)
+
+
+#: A thread callout: size, the thread text (one depth, or one per record on the axis), drill.
+THREAD_NOTE = re.compile(r"^(M\d+(?:\.\d+)?) tap drill Ø[\d.]+(?:, thread (.+))?, drill (.+)$")
+
+
+def _record_on_row(h: dict, row: tuple, datum: tuple) -> bool:
+    """Does report.json's hole ``h`` (axis and point in the part frame) lie on the sheet row's
+    axis (an aligned axis; centre from the datum, printed to 0.01 mm)?"""
+    axis, u, v = row[0], row[1], row[2]
+    k = "xyz".index(axis)
+    a = h["axis"]
+    if abs(abs(a[k]) - math.sqrt(sum(c * c for c in a))) > 1e-9:
+        return False
+    i, j = [q for q in range(3) if q != k]
+    return (abs(h["point_mm"][i] - datum[i] - u) <= PRINTED_MM
+            and abs(h["point_mm"][j] - datum[j] - v) <= PRINTED_MM)
+
+
+def test_hoeken_thread_depths_are_each_holes_own_record(hoeken_drawings):
+    """Each tapped hole printed on each Hoeken sheet states the full-thread depth of its own
+    record in report.json (``tapped_holes``), found by the record's place (axis and a point,
+    part frame) on the hole's axis as the sheet prints it from the datum (the STEP's
+    bounding-box minimum, build123d); a record without a place: the one depth of the
+    part's records of that size, or else "(from the solid)" with the drill's depth. The crank
+    hub's radial set-screw hole (its record 6.887 mm) and its axial M3 screw holes (6 mm) are
+    both M3: matching by size alone printed 6 on the radial one. Every placed record lies on
+    exactly one printed hole."""
+    import build123d as bd
+
+    _, out = hoeken_drawings
+    rep = json.loads((out / "report.json").read_text())
+    made = [p for p, r in bom(out).items() if r["made_or_bought"] == "made"]
+    checked = set()
+    for part in made:
+        texts = sheet_texts(out / "drawings" / f"{part}.svg")
+        box = bd.import_step(out / "parts" / f"{part}.step").bounding_box(optimal=True)
+        datum = (box.min.X, box.min.Y, box.min.Z)
+        mine = [h for h in rep["tapped_holes"].values()
+                if h["part"] == part or re.fullmatch(rf"{re.escape(part)}_\d+", h["part"])]
+        placed_hits = {h["name"]: 0 for h in mine if "axis" in h}
+        for geom, note in zip(texts, texts[1:], strict=False):
+            m, t = ROW.match(geom), THREAD_NOTE.match(note)
+            if not (m and t):
+                continue
+            row = table_rows([geom])[0]
+            same = [h for h in mine if h["size"].split("-")[0] == t[1]]
+            on = [h for h in same if "axis" in h and _record_on_row(h, row, datum)]
+            for h in on:
+                placed_hits[h["name"]] += 1
+            pool = on or [h for h in same if "axis" not in h]
+            want = sorted({round(h["depth_mm"], 9) for h in pool})
+            assert t[2] is not None, (part, note)
+            got = [float(x) for x in re.findall(r"(\d+(?:\.\d+)?) deep", t[2])]
+            if len(want) > 1 and not on:  # no record says which: the solid's depth
+                lo, hi = float(m[10]), float(m[11])
+                assert t[2].endswith("(from the solid)") and got == [pytest.approx(hi - lo, abs=PRINTED_MM)]
+            else:
+                assert want, (part, note)
+                assert sorted(got) == [pytest.approx(d, abs=PRINTED_MM) for d in want], (part, note, want)
+            checked.add((part, geom))
+        assert all(n == 1 for n in placed_hits.values()), (part, placed_hits)
+    hub = [g for p, g in checked if p == "crank_hub"]
+    assert len(hub) == 4 and any(g.split()[2] != "z" for g in hub)  # 3 axial, 1 radial
+
+
+def test_thread_depth_of_an_unplaced_ambiguous_record_is_the_solids():
+    """Records without a place (:func:`cad.export.drawings.notes.thread_depths`): one depth of
+    the size, that one; two the hole can hold, neither (the solid's drill depth printed); two
+    of which the hole holds one (a 7 mm hole, records 6 and 9 mm), that one."""
+    from cad.export.drawings.features import Cylinder
+    from cad.export.drawings.notes import callout
+
+    hole = Cylinder("z", 5.0, 5.0, 2.5, 3.0, 10.0, True, 360.0)  # M3 tap drill, 7 deep
+    one = (("M3-0.5", 6.0, "p:a", None, None), ("M3-0.5", 6.0, "p:b", None, None))
+    assert callout(hole, (), one, 20.0) == "M3 tap drill Ø2.5, thread 6 deep, drill 7 deep"
+    two = (("M3-0.5", 6.0, "p:a", None, None), ("M3-0.5", 6.8, "p:b", None, None))
+    assert callout(hole, (), two, 20.0) == \
+        "M3 tap drill Ø2.5, thread 7 deep (from the solid), drill 7 deep"
+    held = (("M3-0.5", 6.0, "p:a", None, None), ("M3-0.5", 9.0, "p:b", None, None))
+    assert callout(hole, (), held, 20.0) == "M3 tap drill Ø2.5, thread 6 deep, drill 7 deep"
+    # placed on another axis (x = 1 from a datum at the origin): not this hole's record
+    away = (("M3-0.5", 6.0, "p:a", (0.0, 0.0, 1.0), (1.0, 5.0, 0.0)),
+            ("M3-0.5", 6.8, "p:b", (0.0, 0.0, 1.0), (5.0, 5.0, 0.0)))
+    assert callout(hole, (), away, 20.0) == "M3 tap drill Ø2.5, thread 6.8 deep, drill 7 deep"
