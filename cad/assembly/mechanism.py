@@ -532,16 +532,8 @@ def _motor_and_hub(b: _Builder) -> None:
     ss = plan.hub_set_screw.size.split("-")[0]
     hk = b.kind(
         "crank_hub",
-        lambda: motor.hub_shape(
-            m,
-            parts.hub_diameter_mm,
-            hub_h,
-            hub_bc,
-            parts.hub_screw,
-            hub_e + TAP_LEADOUT_MM,
-            engaged,
-            plan.hub_set_screw.size,
-        ),
+        lambda: motor.hub_shape(m, parts.hub_diameter_mm, hub_h, hub_bc, parts.hub_screw,
+                                hub_e + TAP_LEADOUT_MM, engaged, plan.hub_set_screw.size),
         material=parts.hub_material,
         made=True,
         description=f"direct-drive crank hub (set screw {ss})",

@@ -226,11 +226,11 @@ def test_no_solid_pair_overlaps_over_the_motion(built):
 def test_a_bad_variant_is_caught_away_from_home_with_pair_and_pose(tmp_path):
     """A pen twice as thick (20 mm): its hub's rod boss reaches the gimbal ring once the pen
     pitches, so home is clear and the tilted poses are not; the build names the pair and
-    the pose."""
+    the pose; nothing is published."""
     from cad.design import parse_design
     from cad.errors import InterferenceError
-    from cad.families.pen import assemble, build
-    from cad.pipeline import family
+    from cad.families.pen import assemble
+    from cad.pipeline import build_design, family
 
     raw = tomllib.loads(DESIGN.read_text())
     raw["parts"]["pen_diameter_mm"] = 20.0
@@ -238,12 +238,12 @@ def test_a_bad_variant_is_caught_away_from_home_with_pair_and_pose(tmp_path):
     mdl = assemble(d, "inertia")
     assert family.check_assembly(mdl.instances, mdl.tf_world_body)["collisions"] == []
     with pytest.raises(InterferenceError) as exc:
-        build.build(d, tmp_path / "o", {"step"}, fidelity="inertia")
+        build_design(d, tmp_path / "o", {"step"}, fidelity="inertia", use_cache=False)
     msg = str(exc.value)
     pair = r"[AB]_ring\.ring\d / pen\.[AB]_pen_hub\d|pen\.[AB]_pen_hub\d / [AB]_ring\.ring\d"
     assert re.search(pair, msg), msg
     assert "pitch -45 deg" in msg or "pitch 45 deg" in msg, msg
-    assert not (tmp_path / "o" / "assembly.step").exists()
+    assert not (tmp_path / "o").exists()  # nothing published (the exports child wrote to a temporary folder)
 
 
 def test_datasheet_prints_the_pen_rows():
