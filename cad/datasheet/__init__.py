@@ -68,10 +68,26 @@ def datasheet(design, report: dict, out_dir=None, simulate_wall: bool = True) ->
     fam = getattr(design, "family", "")
     rows_and_limits = importlib.import_module(datasheet_module(fam)).rows_and_limits
     rows, limits, notes = rows_and_limits(design, report, out_dir=out_dir, simulate_wall=simulate_wall)
+    rows += cost_rows(report)
     warnings = judge(rows, limits)
     charts = [n.rsplit(": ", 1)[1] for n in notes if n.startswith("force ellipses")]
     return {"family": fam, "rows": rows, "warnings": warnings, "ok": not warnings, "notes": notes,
             "charts": charts}
+
+
+def cost_rows(report: dict) -> list[dict]:
+    """The BOM cost row of every family when the build was priced (``report["order"]``,
+    :func:`cad.export.order.apply_prices`: ``--prices FILE.csv`` or the design's ``[prices]``):
+    the total of the priced lines, in the price table's currency; the model names the price
+    source and how many lines are unpriced (not in the total). No row without a price."""
+    order = report.get("order") or {}
+    if not order.get("priced_lines"):
+        return []
+    n, m = order["unpriced_lines"], order["priced_lines"] + order["unpriced_lines"]
+    left = "every line priced" if n == 0 else f"{n} of {m} lines unpriced, not in the total"
+    return [row("bom_cost", "BOM cost (priced lines)", order["total_price"], order.get("currency") or "",
+                f"sum of quantity x unit price from {order.get('price_source') or 'the price table'}; "
+                f"{left}")]
 
 
 def fmt_value(r: dict) -> str:

@@ -342,10 +342,11 @@ def build_design(
             phi1_deg=phi1_deg,
         )
         report = dict(report)
+        # priced first: the datasheet's BOM cost row reads report["order"]
+        write_order(report, tmp, prices if prices is not None else _design_prices(design))
         add_datasheet(design, report, tmp, simulate_wall)
         timings = report.pop("_timings_s", None)
         viewer_glb = report.pop("_viewer_glb", None)
-        write_order(report, tmp, prices if prices is not None else _design_prices(design))
         build = {"formats": sorted(formats), "fidelity": fidelity,
                  "allow_interference": bool(allow_interference), "build_key": key}
         _write_report_files(design, report, tmp, formats, build, viewer_glb)

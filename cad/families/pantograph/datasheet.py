@@ -194,6 +194,7 @@ def rows_and_limits(design, report: dict, out_dir=None, simulate_wall: bool = Tr
     for k, fig_k in (("moving_mass_g", "moving mass"), ("total_mass_g", "total mass")):
         if isinstance(report.get(k), (int, float)):
             rows.append(row(k, fig_k, report[k], "g", "from the solids (bought parts: catalog masses)"))
+    rows += footprint_rows(report)
     if report.get("min_clearance_mm") is not None:
         rows.append(row("min_clearance_mm", "smallest clearance between parts", report["min_clearance_mm"], "mm",
                         "interference check of the build"))
@@ -210,3 +211,15 @@ def rows_and_limits(design, report: dict, out_dir=None, simulate_wall: bool = Tr
             notes.append(f"force ellipses over the workspace: {chart}")
     return rows, pantograph_limits(design, design.actuators.get("force_max_N"),
                                    st and st["strength_MPa"], structure=st is not None), notes
+
+
+def footprint_rows(report: dict) -> list[dict]:
+    """The footprint row of a pantograph-family build (the pen too): the base plate's outline
+    on the bench, from the layout (``layout_mm`` of the 5-bar and the mouse, ``ground_mm`` of
+    the pen: ``base_plate_x_mm``, ``base_plate_y_mm``, world frame, mm); none without it."""
+    for src in (report.get("layout_mm") or {}, report.get("ground_mm") or {}):
+        if "base_plate_x_mm" in src and "base_plate_y_mm" in src:
+            (x0, x1), (y0, y1) = src["base_plate_x_mm"], src["base_plate_y_mm"]
+            return [row("footprint_mm2", f"footprint (base plate {x1 - x0:.0f} x {y1 - y0:.0f} mm)",
+                        (x1 - x0) * (y1 - y0), "mm^2", "base plate outline")]
+    return []

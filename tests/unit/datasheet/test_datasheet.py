@@ -371,3 +371,17 @@ def test_fit_with_a_free_bar_material_respects_the_structural_limits():
     assert res.objective == pytest.approx((45.0 - 42.0) / 42.0)
     lim = {t.key: t for t in structure_targets(d)}
     assert lim["first_mode_Hz"].min == FIRST_MODE_MIN_HZ and lim["max_stress_MPa"].max == pytest.approx(276 / 3)
+
+
+def test_pantograph_family_footprint_is_the_base_plate_outline(family_builds):
+    """Issue 24 §1 footprint for the 5-bar and the mouse: the base plate's width x depth read
+    back from its own DXF outline (ezdxf, the profile's bounding box), not from the report."""
+    import ezdxf
+    from ezdxf import bbox
+
+    for fam in ("pantograph", "twin-pantograph"):
+        _, out, rep = family_builds[fam]
+        rows = {r["key"]: r for r in rep["datasheet"]["rows"]}
+        box = bbox.extents(e for e in ezdxf.readfile(out / "parts" / "base_plate.dxf").modelspace()
+                           if e.dxf.layer == "CUT")
+        assert rows["footprint_mm2"]["value"] == pytest.approx(box.size.x * box.size.y, rel=1e-6), fam

@@ -261,3 +261,17 @@ def test_totals_are_the_decimal_sums_not_float_noise():
     assert rows[3]["line_price"] == 0.45 and repr(rows[3]["line_price"]) == "0.45"
     s = apply_prices(rows[:3], table)
     assert repr(s["total_price"]) == "48.05"
+
+
+def test_datasheet_states_the_bom_cost_when_priced(priced, family_builds):
+    """Issue 24 §1: the datasheet's BOM cost row (every family) = the total recomputed from the
+    price file and bom.csv by hand, in the file's currency, naming the unpriced lines; a build
+    without prices has no such row (nothing invented)."""
+    pfile, out, rep, _, _ = priced
+    total, unpriced = _expected_total(pfile, _read(out / "bom.csv"))
+    rows = {r["key"]: r for r in rep["datasheet"]["rows"]}
+    assert rows["bom_cost"]["value"] == pytest.approx(total) and rows["bom_cost"]["unit"] == "EUR"
+    assert f"{unpriced} of " in rows["bom_cost"]["model"] and "unpriced" in rows["bom_cost"]["model"]
+    assert "| BOM cost (priced lines) |" in (out / "report.md").read_text()
+    for _, _, frep in family_builds.values():
+        assert "bom_cost" not in {r["key"] for r in frep["datasheet"]["rows"]}
