@@ -342,8 +342,7 @@ def build_design(
             phi1_deg=phi1_deg,
         )
         report = dict(report)
-        # priced first: the datasheet's BOM cost row reads report["order"]
-        write_order(report, tmp, prices if prices is not None else _design_prices(design))
+        write_order(report, tmp, prices if prices is not None else _design_prices(design))  # (BOM cost row)
         add_datasheet(design, report, tmp, simulate_wall)
         timings = report.pop("_timings_s", None)
         viewer_glb = report.pop("_viewer_glb", None)
