@@ -48,21 +48,29 @@ def bom(out: Path) -> dict[str, dict]:
         return {r["part"]: r for r in csv.DictReader(fh)}
 
 
-def solid_features(step: Path) -> set[tuple]:
-    """``{(axis, u, v, d_or_r, full)}`` of the cylindrical faces of a STEP (build123d):
-    centre from the bounding box's minimum corner; full circles by diameter, arcs by radius."""
+def _axis_faces(step: Path, geom: str):
+    """``(face, direction, k, position, lo)`` of each face of type ``geom`` ("CYLINDER",
+    "CONE") of a STEP (build123d): its axis direction, the index ``k`` of the axis' largest
+    component, its position from the part's bounding-box minimum corner ``lo``."""
     import build123d as bd
-    from OCP.BRepTools import BRepTools
 
     shape = bd.import_step(step)
     box = shape.bounding_box(optimal=True)
     lo = (box.min.X, box.min.Y, box.min.Z)
-    out = []
-    for f in shape.faces().filter_by(bd.GeomType.CYLINDER):
+    for f in shape.faces().filter_by(getattr(bd.GeomType, geom)):
         ax = f.axis_of_rotation
         d = (ax.direction.X, ax.direction.Y, ax.direction.Z)
         k = max(range(3), key=lambda i: abs(d[i]))
-        p = (ax.position.X - lo[0], ax.position.Y - lo[1], ax.position.Z - lo[2])
+        yield f, d, k, (ax.position.X - lo[0], ax.position.Y - lo[1], ax.position.Z - lo[2]), lo
+
+
+def solid_features(step: Path) -> set[tuple]:
+    """``{(axis, u, v, d_or_r, full)}`` of the cylindrical faces of a STEP (build123d):
+    centre from the bounding box's minimum corner; full circles by diameter, arcs by radius."""
+    from OCP.BRepTools import BRepTools
+
+    out = []
+    for f, d, k, p, _ in _axis_faces(step, "CYLINDER"):
         r = f.radius if f.radius is not None else f.geom_adaptor().Radius()
         u0, u1, _, _ = BRepTools.UVBounds_s(f.wrapped)  # angle range of the face (rad)
         if abs(abs(d[k]) - 1.0) < 1e-9:
@@ -106,18 +114,9 @@ def solid_chamfers(step: Path) -> list[tuple]:
     """``(axis, u, v, lo, hi, axial leg)`` of the conical faces of a STEP (build123d):
     centre from the cone's axis, extent and axial leg from the face's bounding box, all from
     the part's bounding-box minimum corner."""
-    import build123d as bd
-
-    shape = bd.import_step(step)
-    box = shape.bounding_box(optimal=True)
-    lo = (box.min.X, box.min.Y, box.min.Z)
     out = []
-    for f in shape.faces().filter_by(bd.GeomType.CONE):
-        ax = f.axis_of_rotation
-        d = (ax.direction.X, ax.direction.Y, ax.direction.Z)
-        k = max(range(3), key=lambda i: abs(d[i]))
+    for f, _, k, p, lo in _axis_faces(step, "CONE"):
         i, j = [q for q in range(3) if q != k]
-        p = (ax.position.X - lo[0], ax.position.Y - lo[1], ax.position.Z - lo[2])
         fb = f.bounding_box(optimal=True)
         a0, a1 = (fb.min.X, fb.min.Y, fb.min.Z)[k] - lo[k], (fb.max.X, fb.max.Y, fb.max.Z)[k] - lo[k]
         out.append(("xyz"[k], p[i], p[j], a0, a1, a1 - a0))
