@@ -360,6 +360,19 @@ HOLE_MARGIN_MM = 0.5
 #: never on a horizontal face, where a planar section of a B-rep is degenerate; 1e-6 mm is far
 #: below a print layer (0.1-0.3 mm) and far above the round-off of the slab heights.
 PRINT_SECTION_EPS_MM = 1e-6
+#: Printed parts: a section contour with any edge that is not a line or a circle (a B-spline cut
+#: through a fillet or a cone) is replaced by a polygon of chords this long (mm) before the wall
+#: offset: OCCT's 2D offset of such a curve ran for 20 minutes and grew to 5 GB on a 12 mm knob,
+#: a polygon's offset is linear in its vertices. The chord error s^2 / (8 r) is 1.3e-4 mm on a
+#: 1 mm radius, far below a print line (0.4 mm).
+PRINT_CHORD_MM = 0.1
+#: ... and at most this many vertices per contour (the chord grows instead): bounds the work of
+#: one offset whatever the part's size (a 1 m contour still gets 1 mm chords).
+PRINT_CONTOUR_MAX_POINTS = 2000
+#: ... unless every sampled point of it lies within this fraction of the mean radius from the
+#: centroid: it is then the circle (a turned part cut through a fillet; the B-spline OCCT makes
+#: of it is exact to ~1e-8 relative), offset exactly.
+PRINT_CIRCLE_FIT_REL = 1e-6
 
 # ---------------------------------------------------------------- interference check (cad/assembly/interference.py)
 

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import math
 import os
+import unicodedata
 from collections.abc import Iterable
 from pathlib import Path
 from typing import Any
@@ -178,7 +179,7 @@ def check_name(name: Any, field: str = "name") -> str:
         raise DesignError(field, f"must be a string, got {name!r}")
     if not name:
         raise bad("empty")
-    if any(ord(c) < 32 or ord(c) == 127 for c in name):
+    if any(unicodedata.category(c) == "Cc" for c in name):  # C0, DEL and C1 (U+0080..U+009F)
         raise bad("control character or NUL")
     if _NAME_FORBIDDEN & set(name):
         raise bad('no / \\ < > : " | ? *')
