@@ -42,6 +42,14 @@ FD_STEP_RAD = 1e-6
 #: Largest file hapticad reads, by kind (bytes), checked (``os.stat``/``fstat``) before a
 #: byte is parsed (:mod:`cad.io.guard`, issue 22 §2): a file far larger than its kind can
 #: legitimately be is hostile or damaged, and parsing it whole would exhaust memory.
+#: A price (``--prices`` CSV or a design's ``[prices]``) is at most this (any currency): a
+#: unit price of a thousand million is a typo, and line and total (quantity x price, summed)
+#: stay finite far beyond it (1e308 overflowed the total to inf).
+PRICE_MAX = 1e9
+#: A ``--prices`` CSV cell is at most this many characters (a designation is ~10-60): the csv
+#: module's own limit (131 072) ended in a traceback.
+PRICE_FIELD_MAX_CHARS = 1000
+
 READ_MAX_BYTES = {
     # designs/*.toml are 0.2-2.2 KB; 1 MiB is ~500x the largest and tomllib parses it in ~0.1 s
     "design": 1 << 20,
@@ -51,6 +59,8 @@ READ_MAX_BYTES = {
     "report": 64 << 20,
     # any other JSON hapticad wrote (a cached part's integrals, a design script's result)
     "json": 16 << 20,
+    # a --prices CSV: ~40 bytes a line, a BOM has tens of lines; 4 MiB is ~100 000 lines
+    "prices": 4 << 20,
     # a design's handle script (Python source): a few KB
     "script": 1 << 20,
     # an MJCF model of a build (wall --build-dir): tens of KB

@@ -6,6 +6,7 @@ from __future__ import annotations
 import math
 
 from cad.errors import DesignError
+from cad.tolerances import PRICE_MAX
 
 
 def price_table(table: dict, field: str = "prices") -> dict:
@@ -19,7 +20,8 @@ def price_table(table: dict, field: str = "prices") -> dict:
             continue
         if isinstance(v, bool) or not isinstance(v, (int, float)):
             raise DesignError(f"{field}.{k}", f"must be a number (unit price), got {v!r}")
-        if not math.isfinite(float(v)) or v < 0:
-            raise DesignError(f"{field}.{k}", f"must be a finite price >= 0, got {v!r}")
+        if not math.isfinite(float(v)) or not 0 <= v <= PRICE_MAX:
+            raise DesignError(f"{field}.{k}", f"must be a price in 0..{PRICE_MAX:g} "
+                              f"(cad/tolerances.py PRICE_MAX), got {v!r}")
         prices[str(k)] = float(v)
     return {"prices": prices, "currency": table.get("currency", ""), "source": f"[{field}]"}
