@@ -25,6 +25,7 @@ from typing import Any
 from cad.data.families import datasheet_module
 from cad.datasheet.limits import Limit
 from cad.tolerances import RANGE_SAME_REL
+from cad.io.escape import md
 
 
 def row(key: str, figure: str, value, unit: str, model: str, *, lo=None, hi=None,
@@ -122,7 +123,7 @@ def markdown(ds: dict) -> list[str]:
         model += " (uses unverified data)" if r["unverified"] else ""
         if r.get("paper") is not None:
             model += f"; paper: {r['paper']}"
-        lines.append(f"| {r['figure']} | {fmt_value(r)} | {r['unit']} | {model.replace('|', chr(92) + '|')} | "
+        lines.append(f"| {md(r['figure'])} | {fmt_value(r)} | {md(r['unit'])} | {md(model)} | "
                      f"{verdict_text(r)} |")
     if ds["warnings"]:
         lines += ["", *[f"- **warning:** {w}" for w in ds["warnings"]]]

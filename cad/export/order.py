@@ -31,8 +31,10 @@ import re
 from pathlib import Path
 
 from cad.design.prices import price_table  # noqa: F401 - validated where designs are (cad.design)
+from cad.design.fields import check_text
 from cad.errors import DesignError
 from cad.tolerances import PRICE_FIELD_MAX_CHARS, PRICE_MAX
+from cad.io.escape import csv_cell, md
 
 #: Groups of bought parts by the standard in their designation.
 STANDARD_GROUPS = {
@@ -270,6 +272,8 @@ def _read_prices(reader, p: Path) -> dict:
                               "PRICE_FIELD_MAX_CHARS)")
         key = row.get("designation", "")
         where = f"{p} row {i} column"
+        for col in ("designation", "currency"):
+            check_text(row.get(col, ""), "--prices", f"{where} {col}")
         if not key:
             raise DesignError("--prices", f"{where} designation: value '' is empty")
         if key in prices:
@@ -373,8 +377,9 @@ def order_csv(rows: list[dict], summary: dict) -> str:
     w = csv.DictWriter(buf, fieldnames=ORDER_COLUMNS, lineterminator="\n")
     w.writeheader()
     for o in order_lines(rows, summary.get("extra_lines", ())):
-        w.writerow({**o, "unit_price": money(o["unit_price"]), "line_price": money(o["line_price"])})
-    w.writerow({"group": "total", "designation": summary["currency"],
+        w.writerow({**o, **{k: csv_cell(o[k]) for k in ("group", "designation", "order_code", "parts")},
+                    "unit_price": money(o["unit_price"]), "line_price": money(o["line_price"])})
+    w.writerow({"group": "total", "designation": csv_cell(summary["currency"]),
                 "line_price": money(summary["total_price"]) if summary["priced_lines"] else "",
                 "parts": f"{summary['unpriced_lines']} unpriced lines"})
     return buf.getvalue()
@@ -396,11 +401,11 @@ def order_md(rows: list[dict], summary: dict) -> str:
              "| group | designation | order code | qty | unit price | line price | parts |",
              "|---|---|---|---|---|---|---|"]
     for o in order_lines(rows, summary.get("extra_lines", ())):
-        lines.append(f"| {o['group']} | {o['designation']} | {o['order_code']} | "
+        lines.append(f"| {md(o['group'])} | {md(o['designation'])} | {md(o['order_code'])} | "
                      f"{o['quantity']} | {money(o['unit_price'])} | {money(o['line_price'])} | "
-                     f"{o['parts']} |")
-    src = f" (prices: {summary['price_source']})" if summary["price_source"] else ""
-    lines += ["", f"Total: {total_text(summary)}{src}.", "", f"Stock: {allowance_text()}."]
+                     f"{md(o['parts'])} |")
+    src = f" (prices: {md(summary['price_source'])})" if summary["price_source"] else ""
+    lines += ["", f"Total: {md(total_text(summary))}{src}.", "", f"Stock: {allowance_text()}."]
     if summary["unused_prices"]:
-        lines.append(f"Prices matching no line: {', '.join(summary['unused_prices'])}.")
+        lines.append(f"Prices matching no line: {', '.join(map(md, summary['unused_prices']))}.")
     return "\n".join(lines) + "\n"

@@ -15,6 +15,7 @@ import numpy as np
 
 from cad.errors import DesignError
 from cad.kinematics.tolerance import (
+from cad.io.escape import mathtext
     BAR_HOLES,
     DISTRIBUTIONS,
     LENGTHS,
@@ -196,7 +197,7 @@ def write_chart(res: dict[str, Any], m: dict[str, np.ndarray], targets, path) ->
     for extra in flat[len(keys):5]:
         extra.axis("off")
     tols = ", ".join(f"{t['name']} ±{t['tol_mm']:g} ({t['distribution']})" for t in res["tolerances"][:4])
-    fig.suptitle(f"{res['name']}: {res['samples']} Monte Carlo samples; {tols}"
+    fig.suptitle(f"{mathtext(res['name'])}: {res['samples']} Monte Carlo samples; {tols}"
                  + (" ..." if len(res["tolerances"]) > 4 else ""), fontsize=10)
     fig.tight_layout()
     with atomic_path(path) as tmp:
