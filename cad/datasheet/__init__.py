@@ -126,7 +126,7 @@ def markdown(ds: dict) -> list[str]:
         lines.append(f"| {md(r['figure'])} | {fmt_value(r)} | {md(r['unit'])} | {md(model)} | "
                      f"{verdict_text(r)} |")
     if ds["warnings"]:
-        lines += ["", *[f"- **warning:** {w}" for w in ds["warnings"]]]
+        lines += ["", *[f"- **warning:** {md(w)}" for w in ds["warnings"]]]
     for n in ds.get("notes", ()):
-        lines.append(f"- {n}")
+        lines.append(f"- {md(n)}")
     return lines + [""]

@@ -20,11 +20,11 @@ import html
 import unicodedata
 
 #: CommonMark punctuation that starts structure that can fetch or break out inside one line:
-#: ``[`` (every link and image, inline or by reference), ``<`` (raw HTML, autolinks), ``|``
-#: (a table cell) and the backslash itself (else a string ending in one would un-escape the
-#: next). Headings, lists and quotes need a line start, which :func:`one_line` removes;
+#: ``[`` (every link and image, inline or by reference), ``|`` (a table cell) and the
+#: backslash itself (else a string ending in one would un-escape the next); ``<`` (raw HTML,
+#: autolinks) becomes ``&lt;``. Headings, lists and quotes need a line start, which :func:`one_line` removes;
 #: emphasis is cosmetic. Backslash-escaped (section 2.4): each renders as itself.
-_MD_SPECIAL = set("\\[<|")
+_MD_SPECIAL = set("\\[|")
 #: first characters a spreadsheet reads as a formula (OWASP CSV injection)
 _CSV_FORMULA = ("=", "+", "-", "@", "\t", "\r")
 
@@ -39,7 +39,8 @@ def md(s: str) -> str:
     """Text for a Markdown line or table cell: :func:`one_line`, then every character of
     :data:`_MD_SPECIAL` backslash-escaped (renders as itself: no heading, link, image, HTML
     or cell break). Text that is not placed at the start of a line."""
-    return "".join("\\" + c if c in _MD_SPECIAL else c for c in one_line(s))
+    t = "".join("\\" + c if c in _MD_SPECIAL else c for c in one_line(s))
+    return t.replace("<", "&lt;")  # an entity: Python-Markdown has no backslash escape for "<"
 
 
 def csv_cell(s: str) -> str:

@@ -121,7 +121,7 @@ def test_hostile_motor_strings_stay_inside_one_c_comment(request, tmp_path, text
 
     d, out, rep, _ = request.getfixturevalue("hoeken_sim_build")
     spec = device_spec(d, rep, design_hash(d), "0")
-    name = "dev ü$#%'??=x"  # a legal design name (cad.design.fields.check_name) with C-hostile characters
+    name = "dev ü$#%'=x &amp; [y]"  # a legal design name (cad.design.fields.check_name) with C-hostile characters
     spec = dataclasses.replace(spec, name=name, motor=dataclasses.replace(spec.motor, key=text, source=text))
     h = csrc.header(spec)
     line = next(x for x in h.splitlines() if x.startswith("/* motor "))
