@@ -14,8 +14,8 @@ from typing import Any
 import numpy as np
 
 from cad.errors import DesignError
-from cad.kinematics.tolerance import (
 from cad.io.escape import mathtext
+from cad.kinematics.tolerance import (
     BAR_HOLES,
     DISTRIBUTIONS,
     LENGTHS,
