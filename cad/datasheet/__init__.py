@@ -24,8 +24,8 @@ from typing import Any
 
 from cad.data.families import datasheet_module
 from cad.datasheet.limits import Limit
-from cad.tolerances import RANGE_SAME_REL
 from cad.io.escape import md
+from cad.tolerances import RANGE_SAME_REL
 
 
 def row(key: str, figure: str, value, unit: str, model: str, *, lo=None, hi=None,

@@ -30,11 +30,11 @@ import math
 import re
 from pathlib import Path
 
-from cad.design.prices import price_table  # noqa: F401 - validated where designs are (cad.design)
 from cad.design.fields import check_text
+from cad.design.prices import price_table  # noqa: F401 - validated where designs are (cad.design)
 from cad.errors import DesignError
-from cad.tolerances import PRICE_FIELD_MAX_CHARS, PRICE_MAX
 from cad.io.escape import csv_cell, md
+from cad.tolerances import PRICE_FIELD_MAX_CHARS, PRICE_MAX
 
 #: Groups of bought parts by the standard in their designation.
 STANDARD_GROUPS = {

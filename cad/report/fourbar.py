@@ -13,8 +13,8 @@ from typing import Any
 import numpy as np
 
 from cad.io.atomic import atomic_path, write_text_atomic
-from cad.report.figures import TITLE_Y, save_figure
 from cad.io.escape import mathtext
+from cad.report.figures import TITLE_Y, save_figure
 
 
 def _figure(width_in: float, height_in: float, ncols: int = 1, **adjust):

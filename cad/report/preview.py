@@ -17,8 +17,8 @@ from pathlib import Path
 
 import numpy as np
 
-from cad.tolerances import PREVIEW_ANGULAR_TOL_RAD, PREVIEW_MESH_TOL_MM
 from cad.io.escape import mathtext
+from cad.tolerances import PREVIEW_ANGULAR_TOL_RAD, PREVIEW_MESH_TOL_MM
 
 #: Opacity of the part outlines (overlapping parts stay visible).
 ALPHA = 0.35

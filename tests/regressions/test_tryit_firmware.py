@@ -15,7 +15,6 @@ import math
 import subprocess
 
 import numpy as np
-import pytest
 
 from tests.compilers import compiler
 

@@ -35,11 +35,11 @@ from pathlib import Path
 from typing import Any
 
 from cad.errors import DesignError, HapticadError
+from cad.io.escape import mathtext
 from cad.report.figures import save_figure
 from cad.studies.sweep.spec import Vary, apply, assignments, design_hash
 from cad.studies.sweep.table import DONE, MANIFEST, OWNED, TABLE, publish, read_table
 from cad.studies.sweep.task import VALUE_KEYS, evaluate_variant
-from cad.io.escape import mathtext
 
 WRITE_EVERY_S = 1.0
 #: ...and never more often than this many times its own duration: the rewrite is O(rows)
