@@ -39,9 +39,6 @@ INERTIA_REL_EPS = 1e-9
 #: round-off ~eps/h: 1e-6 balances both near 1e-10 relative.
 FD_STEP_RAD = 1e-6
 
-#: Largest file hapticad reads, by kind (bytes), checked (``os.stat``/``fstat``) before a
-#: byte is parsed (:mod:`cad.io.guard`, issue 22 §2): a file far larger than its kind can
-#: legitimately be is hostile or damaged, and parsing it whole would exhaust memory.
 #: A price (``--prices`` CSV or a design's ``[prices]``) is at most this (any currency): a
 #: unit price of a thousand million is a typo, and line and total (quantity x price, summed)
 #: stay finite far beyond it (1e308 overflowed the total to inf).
@@ -50,6 +47,9 @@ PRICE_MAX = 1e9
 #: module's own limit (131 072) ended in a traceback.
 PRICE_FIELD_MAX_CHARS = 1000
 
+#: Largest file hapticad reads, by kind (bytes), checked (``os.stat``/``fstat``) before a
+#: byte is parsed (:mod:`cad.io.guard`, issue 22 §2): a file far larger than its kind can
+#: legitimately be is hostile or damaged, and parsing it whole would exhaust memory.
 READ_MAX_BYTES = {
     # designs/*.toml are 0.2-2.2 KB; 1 MiB is ~500x the largest and tomllib parses it in ~0.1 s
     "design": 1 << 20,
