@@ -223,6 +223,13 @@ def _watch(r: int, parent: int) -> None:
         signal.signal(s, signal.SIG_IGN)  # the terminal's Ctrl-C reaches the whole group
     with contextlib.suppress(OSError):
         os.close(0)
+        os.chdir("/")  # holds no folder of the command's
+    with contextlib.suppress(Exception):  # Linux: named (ps, tests), and gone with the command
+        import ctypes
+
+        libc = ctypes.CDLL(None, use_errno=True)
+        libc.prctl(15, b"hapticad-watch", 0, 0, 0)  # PR_SET_NAME
+        libc.prctl(1, int(signal.SIGKILL), 0, 0, 0)  # PR_SET_PDEATHSIG
     hold, done, deadline = 0, False, None
     while os.getppid() == parent:
         if select.select([r], [], [], 0.1)[0]:
