@@ -383,6 +383,11 @@ PRINT_CONTOUR_MAX_POINTS = 2000
 #: centroid: it is then the circle (a turned part cut through a fillet; the B-spline OCCT makes
 #: of it is exact to ~1e-8 relative), offset exactly.
 PRINT_CIRCLE_FIT_REL = 1e-6
+#: Printed parts: at most this many layers per part (its height / the layer height). The wall
+#: model cuts up to one section per layer (within a fillet or cone every layer is its own), so
+#: the work grows with it: 2000 layers is a 400 mm part at 0.2 mm, beyond any desktop device's
+#: printed part (the largest bundled one is ~25 mm, 125 layers).
+PRINT_LAYERS_MAX = 2000
 
 # ---------------------------------------------------------------- interference check (cad/assembly/interference.py)
 

@@ -19,7 +19,12 @@ from __future__ import annotations
 import math
 
 from cad.printing import PrintSettings
-from cad.tolerances import PRINT_CHORD_MM, PRINT_CIRCLE_FIT_REL, PRINT_CONTOUR_MAX_POINTS
+from cad.tolerances import (
+    PRINT_CHORD_MM,
+    PRINT_CIRCLE_FIT_REL,
+    PRINT_CONTOUR_MAX_POINTS,
+    PRINT_LAYERS_MAX,
+)
 from cad.tolerances import PRINT_SECTION_EPS_MM as _EPS_MM
 
 
@@ -152,6 +157,13 @@ def printed_core_mm3(shape, s: PrintSettings) -> float:
     bb = part.bounding_box()
     z0, T = bb.min.Z, bb.max.Z - bb.min.Z
     n_layers = max(1, round(T / s.layer_height_mm))
+    if n_layers > PRINT_LAYERS_MAX:  # refused before any section is cut: the work is per layer
+        from cad.errors import DesignError
+
+        raise DesignError("parts.print_layer_height_mm", f"{s.layer_height_mm:g} mm layers make "
+                          f"{n_layers} layers of a {T:.4g} mm tall printed part, over "
+                          f"{PRINT_LAYERS_MAX} (cad/tolerances.py PRINT_LAYERS_MAX): use thicker "
+                          "layers or a shorter part")
     h = T / n_layers
     zs = [z0 + (k + 0.5) * h for k in range(n_layers)]
     size = 4 * max(bb.size.X, bb.size.Y) + 10

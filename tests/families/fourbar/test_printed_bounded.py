@@ -100,3 +100,36 @@ def test_printed_knob_12mm_builds(tmp_path):
     (tmp_path / "d.toml").write_text(text)
     code, _, err = hapticad("build", str(tmp_path / "d.toml"), "--formats", "step", "--out", str(tmp_path / "o"))
     assert code == 0, err
+
+
+def test_too_many_layers_is_refused_before_the_work():
+    from build123d import Box
+
+    from cad.errors import DesignError
+    from cad.tolerances import PRINT_LAYERS_MAX
+
+    s = PrintSettings(0.05, 0.45, 2, 4, 20.0)
+    tall = Box(10, 10, 0.05 * (PRINT_LAYERS_MAX + 10))
+    with pytest.raises(DesignError, match=rf"parts.print_layer_height_mm: .* {PRINT_LAYERS_MAX + 10} layers"):
+        P.printed_core_mm3(tall, s)
+
+
+def test_seeded_knobs_give_a_core_inside_the_solid():
+    """Property over the knob keys (diameter, height, fillet, screw hole, walls): a turned knob
+    with a filleted top (every layer in the fillet is its own B-spline section) and a blind
+    hole; the core is finite and lies in [0, volume] for every seeded sample, and is 0 when the
+    walls alone are wider than the knob's radius."""
+    from build123d import Axis, Cylinder, fillet
+
+    rng = random.Random(3312)
+    for _ in range(4):
+        d, h = rng.uniform(8.0, 30.0), rng.uniform(5.0, 14.0)
+        knob = Cylinder(d / 2, h)
+        knob = fillet(knob.edges().sort_by(Axis.Z)[-1], rng.uniform(0.5, min(3.0, d / 2 - 0.5)))
+        knob -= Cylinder(rng.uniform(1.2, min(3.0, d / 2 - 2.0)), h / 2).translate((0, 0, -h / 4))
+        walls = rng.randint(1, 50)
+        s = PrintSettings(0.2, 0.45, walls, 3, 20.0)
+        core = P.printed_core_mm3(knob, s)
+        assert math.isfinite(core) and 0.0 <= core <= knob.volume
+        if walls * 0.45 >= d / 2:
+            assert core == 0.0
