@@ -5,8 +5,9 @@ currency, designations read from a ``--prices`` file) are written into Markdown,
 matplotlib text, SVG/HTML, DXF and JSON. Each writer passes them through the function of its
 format here, so that a string can never become structure in the file it lands in: a heading
 or a remote image in ``report.md``, a live formula in ``order.csv``, the end of a C comment,
-mathtext in a drawing. JSON needs nothing (``json.dumps`` escapes), SVG/HTML use
-:func:`xml` (the standard library's ``html.escape``), DXF text uses :func:`one_line`.
+mathtext in a drawing. JSON needs nothing (``json.dumps`` escapes); report.html escapes
+with the standard library's ``html.escape`` and the SVG drawings are written by matplotlib,
+which escapes XML (both read back in tests/regressions/test_hostile_strings.py).
 
 Plain functions on ``str``; no CAD import. References: CommonMark 0.31 (backslash escapes of
 ASCII punctuation, section 2.4), OWASP "CSV Injection" (cells starting with ``= + - @``, tab
@@ -16,7 +17,6 @@ escapes), matplotlib "Writing mathematical expressions" (an unescaped ``$`` star
 
 from __future__ import annotations
 
-import html
 import unicodedata
 
 #: CommonMark punctuation that starts structure that can fetch or break out inside one line:
@@ -81,9 +81,3 @@ def mathtext(s: str) -> str:
     """Text for a matplotlib text artist shown as written: :func:`one_line`, every ``$``
     escaped (an unescaped pair starts mathtext; a lone one raised a parse error)."""
     return one_line(s).replace("$", r"\$")
-
-
-def xml(s: str) -> str:
-    """Text or attribute value in SVG / HTML: :func:`one_line`, then ``& < > " '`` as
-    entities."""
-    return html.escape(one_line(s), quote=True)
