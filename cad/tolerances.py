@@ -39,6 +39,14 @@ INERTIA_REL_EPS = 1e-9
 #: round-off ~eps/h: 1e-6 balances both near 1e-10 relative.
 FD_STEP_RAD = 1e-6
 
+#: A price (``--prices`` CSV or a design's ``[prices]``) is at most this (any currency): a
+#: unit price of a thousand million is a typo, and line and total (quantity x price, summed)
+#: stay finite far beyond it (1e308 overflowed the total to inf).
+PRICE_MAX = 1e9
+#: A ``--prices`` CSV cell is at most this many characters (a designation is ~10-60): the csv
+#: module's own limit (131 072) ended in a traceback.
+PRICE_FIELD_MAX_CHARS = 1000
+
 #: Largest file hapticad reads, by kind (bytes), checked (``os.stat``/``fstat``) before a
 #: byte is parsed (:mod:`cad.io.guard`, issue 22 §2): a file far larger than its kind can
 #: legitimately be is hostile or damaged, and parsing it whole would exhaust memory.
@@ -51,6 +59,8 @@ READ_MAX_BYTES = {
     "report": 64 << 20,
     # any other JSON hapticad wrote (a cached part's integrals, a design script's result)
     "json": 16 << 20,
+    # a --prices CSV: ~40 bytes a line, a BOM has tens of lines; 4 MiB is ~100 000 lines
+    "prices": 4 << 20,
     # a design's handle script (Python source): a few KB
     "script": 1 << 20,
     # an MJCF model of a build (wall --build-dir): tens of KB
@@ -360,6 +370,24 @@ HOLE_MARGIN_MM = 0.5
 #: never on a horizontal face, where a planar section of a B-rep is degenerate; 1e-6 mm is far
 #: below a print layer (0.1-0.3 mm) and far above the round-off of the slab heights.
 PRINT_SECTION_EPS_MM = 1e-6
+#: Printed parts: a section contour with any edge that is not a line or a circle (a B-spline cut
+#: through a fillet or a cone) is replaced by a polygon of chords this long (mm) before the wall
+#: offset: OCCT's 2D offset of such a curve ran for 20 minutes and grew to 5 GB on a 12 mm knob,
+#: a polygon's offset is linear in its vertices. The chord error s^2 / (8 r) is 1.3e-4 mm on a
+#: 1 mm radius, far below a print line (0.4 mm).
+PRINT_CHORD_MM = 0.1
+#: ... and at most this many vertices per contour (the chord grows instead): bounds the work of
+#: one offset whatever the part's size (a 1 m contour still gets 1 mm chords).
+PRINT_CONTOUR_MAX_POINTS = 2000
+#: ... unless every sampled point of it lies within this fraction of the mean radius from the
+#: centroid: it is then the circle (a turned part cut through a fillet; the B-spline OCCT makes
+#: of it is exact to ~1e-8 relative), offset exactly.
+PRINT_CIRCLE_FIT_REL = 1e-6
+#: Printed parts: at most this many layers per part (its height / the layer height). The wall
+#: model cuts up to one section per layer (within a fillet or cone every layer is its own), so
+#: the work grows with it: 2000 layers is a 400 mm part at 0.2 mm, beyond any desktop device's
+#: printed part (the largest bundled one is ~25 mm, 125 layers).
+PRINT_LAYERS_MAX = 2000
 
 # ---------------------------------------------------------------- interference check (cad/assembly/interference.py)
 

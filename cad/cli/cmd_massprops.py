@@ -68,8 +68,9 @@ def register(app: typer.Typer) -> None:
 
         try:
             out, notes = compute(file, density, material)
-        except HapticadError as exc:
-            raise fail(str(exc)) from None
+        except HapticadError as exc:  # every refusal names the file it is about
+            msg = str(exc)
+            raise fail(msg if str(file) in msg or file.name in msg else f"{file}: {msg}") from None
         from cad.design import bounds
 
         for note in notes:

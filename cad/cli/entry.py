@@ -18,6 +18,7 @@ try:  # Python's own SIGINT handler until install(): a Ctrl-C in this import is 
     from cad.io import signals  # noqa: E402 - after the BLAS setting
 
     signals.install()
+    signals.start_watchdog()  # Ctrl-C acts within a second even inside a long OCCT call
 except KeyboardInterrupt:
     print("hapticad: aborted", file=sys.stderr, flush=True)
     os._exit(130)

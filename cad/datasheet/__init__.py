@@ -24,6 +24,7 @@ from typing import Any
 
 from cad.data.families import datasheet_module
 from cad.datasheet.limits import Limit
+from cad.io.escape import md
 from cad.tolerances import RANGE_SAME_REL
 
 
@@ -122,10 +123,10 @@ def markdown(ds: dict) -> list[str]:
         model += " (uses unverified data)" if r["unverified"] else ""
         if r.get("paper") is not None:
             model += f"; paper: {r['paper']}"
-        lines.append(f"| {r['figure']} | {fmt_value(r)} | {r['unit']} | {model.replace('|', chr(92) + '|')} | "
+        lines.append(f"| {md(r['figure'])} | {fmt_value(r)} | {md(r['unit'])} | {md(model)} | "
                      f"{verdict_text(r)} |")
     if ds["warnings"]:
-        lines += ["", *[f"- **warning:** {w}" for w in ds["warnings"]]]
+        lines += ["", *[f"- **warning:** {md(w)}" for w in ds["warnings"]]]
     for n in ds.get("notes", ()):
-        lines.append(f"- {n}")
+        lines.append(f"- {md(n)}")
     return lines + [""]

@@ -326,6 +326,14 @@ FIELDS: dict[str, Bound] = {
     "handle.length_mm": PART_MM, "handle.diameter_mm": PART_MM,
     "handle.knob_diameter_mm": PART_MM,
     "motion.range_mm": RATTLE_MM, "motion.range_deg": STROKE_DEG,
+    # [firmware] (cad/design/firmware.py): an encoder zero beyond two turns is a typo (1e308
+    # deg made every pose read from counts out of range in hc_forward)
+    "firmware.encoder_zero_deg": ANGLE_DEG,
+    "firmware.encoder_counts_per_rev": Bound("", 1, 10**9, "a count per turn; over 1e9 overflows "
+                                             "a 32-bit long within a turn", integer=True),
+    "firmware.wall_stiffness_N_per_m": Bound("N/m", 0.0, 1e7, "over 1e7 N/m is stiffer than the "
+                                             "links it is rendered through", lo_open=True),
+    "firmware.wall_damping_N_s_per_m": Bound("N s/m", 0.0, 1e4, "over 1e4 N s/m no amplifier renders"),
 }
 
 #: [targets] key -> Bound of the quantity (value, min, max, tol_abs are checked with it).

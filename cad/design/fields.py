@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import math
 import os
+import unicodedata
 from collections.abc import Iterable
 from pathlib import Path
 from typing import Any
@@ -162,6 +163,29 @@ _NAME_FORBIDDEN = set('/\\<>:"|?*')
 _WINDOWS_DEVICES = {"con", "prn", "aux", "nul"} | {f"{p}{i}" for p in ("com", "lpt") for i in range(1, 10)}
 
 
+#: A free text of a design (a motor's name or source, a price key or currency) is at most this
+#: many characters: one line of a report, not a document.
+TEXT_MAX_CHARS = 500
+
+
+def check_text(value: Any, field: str, where: str = "") -> str:
+    """Validate a free one-line text of a design (``[motor]`` name and source, ``[prices]``
+    keys and currency, cells of a ``--prices`` file) and return it: a string of at most
+    :data:`TEXT_MAX_CHARS` characters with no control character (C0, DEL, C1) and no line or
+    paragraph separator. Writers escape the rest per format (:mod:`cad.io.escape`).
+    Raises :class:`DesignError` naming ``field`` (and ``where`` in it, e.g. a file's row)."""
+    at = f"{where}: " if where else ""
+    if not isinstance(value, str):
+        raise DesignError(field, f"{at}must be a string, got {value!r}")
+    bad = next((c for c in value if unicodedata.category(c) in ("Cc", "Zl", "Zp")), None)
+    if bad is not None:
+        raise DesignError(field, f"{at}must be one line of text (no control character or line break: "
+                                 f"U+{ord(bad):04X}), got {value[:80]!r}")
+    if len(value) > TEXT_MAX_CHARS:
+        raise DesignError(field, f"{at}must be at most {TEXT_MAX_CHARS} characters, got {len(value)}")
+    return value
+
+
 def check_name(name: Any, field: str = "name") -> str:
     """Validate a design ``name`` (one validator for every family) and return it.
 
@@ -178,7 +202,7 @@ def check_name(name: Any, field: str = "name") -> str:
         raise DesignError(field, f"must be a string, got {name!r}")
     if not name:
         raise bad("empty")
-    if any(ord(c) < 32 or ord(c) == 127 for c in name):
+    if any(unicodedata.category(c) == "Cc" for c in name):  # C0, DEL and C1 (U+0080..U+009F)
         raise bad("control character or NUL")
     if _NAME_FORBIDDEN & set(name):
         raise bad('no / \\ < > : " | ? *')

@@ -28,7 +28,7 @@ from __future__ import annotations
 from dataclasses import replace
 from typing import Any
 
-from cad.design.fields import check_unknown, optional_number
+from cad.design.fields import check_text, check_unknown, optional_number
 from cad.errors import DesignError
 
 #: numeric keys of [motor] -> MotorSpec field (mass in g in the file, kg in the spec)
@@ -62,7 +62,7 @@ def parse_motor_table(table: dict[str, Any] | None, prefix: str = "motor") -> tu
             v = table[k]
             if not isinstance(v, str) or not v.strip():
                 raise DesignError(f"{prefix}.{k}", f"must be a non-empty string, got {v!r}")
-            out[k] = v.strip()
+            out[k] = check_text(v, f"{prefix}.{k}").strip()
     for k in NUMERIC:
         v = optional_number(table, k, prefix, None)
         if v is None:

@@ -11,6 +11,7 @@ from pathlib import Path
 
 from cad.export.order import money
 from cad.io.atomic import write_text_atomic
+from cad.io.escape import csv_cell
 
 BOM_COLUMNS = (
     "part",
@@ -31,6 +32,11 @@ BOM_COLUMNS = (
 )
 
 
+#: columns whose text may come from a design (names, motor name and source, designations):
+#: written through :func:`cad.io.escape.csv_cell`
+_TEXT_COLUMNS = ("part", "description", "material", "designation", "order_code", "process")
+
+
 def bom_csv(rows: list[dict]) -> str:
     """CSV text of the BOM rows (columns :data:`BOM_COLUMNS`; masses to 0.01 g)."""
     buf = io.StringIO()
@@ -45,7 +51,8 @@ def bom_csv(rows: list[dict]) -> str:
             r[k] = money(r.get(k, ""))
         r["total_mass_g"] = f"{float(r['mass_g']) * int(r['quantity']):.2f}"
         r["mass_g"] = f"{float(r['mass_g']):.2f}"
-        w.writerow(r)
+        w.writerow({k: csv_cell(v) if k in _TEXT_COLUMNS and isinstance(v, str) else v
+                    for k, v in r.items()})
     return buf.getvalue()
 
 

@@ -30,8 +30,11 @@ import math
 import re
 from pathlib import Path
 
+from cad.design.fields import check_text
 from cad.design.prices import price_table  # noqa: F401 - validated where designs are (cad.design)
 from cad.errors import DesignError
+from cad.io.escape import csv_cell, md
+from cad.tolerances import PRICE_FIELD_MAX_CHARS, PRICE_MAX
 
 #: Groups of bought parts by the standard in their designation.
 STANDARD_GROUPS = {
@@ -223,9 +226,10 @@ def _price_value(value, where: str) -> float:
     except (TypeError, ValueError):
         raise DesignError("--prices" if "row" in where else "prices",
                           f"{where}: value {value!r} is not a number") from None
-    if not math.isfinite(x) or x < 0:
+    if not math.isfinite(x) or not 0 <= x <= PRICE_MAX:
         raise DesignError("--prices" if "row" in where else "prices",
-                          f"{where}: value {value!r} must be a finite price >= 0")
+                          f"{where}: value {value!r} must be a price in 0..{PRICE_MAX:g} "
+                          "(cad/tolerances.py PRICE_MAX)")
     return x
 
 
@@ -233,17 +237,25 @@ def load_prices(path: str | Path) -> dict:
     """Read a price CSV: header with columns ``designation`` and ``unit_price`` (optional
     ``currency``, one for the whole file; optional ``source``). Rows are counted as a
     spreadsheet shows them (header = row 1). Returns ``{"prices": {key: float},
-    "currency": str, "source": str}``; DesignError ``--prices`` naming file, row, column
-    and value for a missing file, a missing column, an empty or repeated designation, a
-    price that is not a finite number >= 0, or a second currency."""
+    "currency": str, "source": the file's name (never its folder: reports are shared)}``.
+    The file goes through :mod:`cad.io.guard` (kind ``prices``: a regular file within its
+    size limit, UTF-8); DesignError ``--prices`` naming file, row, column and value for a
+    file refused there, a missing column, an empty or repeated designation, a cell over
+    :data:`cad.tolerances.PRICE_FIELD_MAX_CHARS` characters, a price that is not a number in
+    0..:data:`cad.tolerances.PRICE_MAX`, or a second currency."""
+    from cad.io import guard
+
     p = Path(path)
-    try:
-        text = p.read_text(encoding="utf-8-sig")
-    except FileNotFoundError:
-        raise DesignError("--prices", f"file not found: {p}") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise DesignError("--prices", f"{p} cannot be read as UTF-8 text ({exc})") from None
+    text = guard.read_text(p, "prices", "--prices", encoding="utf-8-sig")
     reader = csv.DictReader(io.StringIO(text))
+    try:
+        return _read_prices(reader, p)
+    except csv.Error as exc:  # a field over the csv module's own limit, a NUL byte
+        raise DesignError("--prices", f"{p} row {reader.line_num + 1}: not a valid CSV row ({exc})") from None
+
+
+def _read_prices(reader, p: Path) -> dict:
+    """:func:`load_prices` on the open ``csv.DictReader`` of ``p``."""
     cols = [c.strip() for c in (reader.fieldnames or [])]
     for need in ("designation", "unit_price"):
         if need not in cols:
@@ -251,9 +263,17 @@ def load_prices(path: str | Path) -> dict:
                                           f"(columns: {', '.join(cols) or 'none'})")
     prices, first_row, currency = {}, {}, ("", 0)
     for i, raw in enumerate(reader, start=2):
-        row = {(k or "").strip(): (v or "").strip() for k, v in raw.items() if k is not None}
+        row = {(k or "").strip(): (v or "").strip() for k, v in raw.items()
+               if k is not None and isinstance(v, str | None)}
+        long = next((k for k, v in row.items() if len(v) > PRICE_FIELD_MAX_CHARS), None)
+        if long is not None:
+            raise DesignError("--prices", f"{p} row {i} column {long}: a value of {len(row[long])} "
+                              f"characters, over {PRICE_FIELD_MAX_CHARS} (cad/tolerances.py "
+                              "PRICE_FIELD_MAX_CHARS)")
         key = row.get("designation", "")
         where = f"{p} row {i} column"
+        for col in ("designation", "currency"):
+            check_text(row.get(col, ""), "--prices", f"{where} {col}")
         if not key:
             raise DesignError("--prices", f"{where} designation: value '' is empty")
         if key in prices:
@@ -267,7 +287,7 @@ def load_prices(path: str | Path) -> dict:
                                           f"{currency[0]!r} (row {currency[1]}): one currency")
         if cur and not currency[0]:
             currency = (cur, i)
-    return {"prices": prices, "currency": currency[0], "source": str(p)}
+    return {"prices": prices, "currency": currency[0], "source": p.name}
 
 
 def _price_of(prices: dict, keys) -> str | None:
@@ -357,8 +377,9 @@ def order_csv(rows: list[dict], summary: dict) -> str:
     w = csv.DictWriter(buf, fieldnames=ORDER_COLUMNS, lineterminator="\n")
     w.writeheader()
     for o in order_lines(rows, summary.get("extra_lines", ())):
-        w.writerow({**o, "unit_price": money(o["unit_price"]), "line_price": money(o["line_price"])})
-    w.writerow({"group": "total", "designation": summary["currency"],
+        w.writerow({**o, **{k: csv_cell(o[k]) for k in ("group", "designation", "order_code", "parts")},
+                    "unit_price": money(o["unit_price"]), "line_price": money(o["line_price"])})
+    w.writerow({"group": "total", "designation": csv_cell(summary["currency"]),
                 "line_price": money(summary["total_price"]) if summary["priced_lines"] else "",
                 "parts": f"{summary['unpriced_lines']} unpriced lines"})
     return buf.getvalue()
@@ -380,11 +401,11 @@ def order_md(rows: list[dict], summary: dict) -> str:
              "| group | designation | order code | qty | unit price | line price | parts |",
              "|---|---|---|---|---|---|---|"]
     for o in order_lines(rows, summary.get("extra_lines", ())):
-        lines.append(f"| {o['group']} | {o['designation']} | {o['order_code']} | "
+        lines.append(f"| {md(o['group'])} | {md(o['designation'])} | {md(o['order_code'])} | "
                      f"{o['quantity']} | {money(o['unit_price'])} | {money(o['line_price'])} | "
-                     f"{o['parts']} |")
-    src = f" (prices: {summary['price_source']})" if summary["price_source"] else ""
-    lines += ["", f"Total: {total_text(summary)}{src}.", "", f"Stock: {allowance_text()}."]
+                     f"{md(o['parts'])} |")
+    src = f" (prices: {md(summary['price_source'])})" if summary["price_source"] else ""
+    lines += ["", f"Total: {md(total_text(summary))}{src}.", "", f"Stock: {allowance_text()}."]
     if summary["unused_prices"]:
-        lines.append(f"Prices matching no line: {', '.join(summary['unused_prices'])}.")
+        lines.append(f"Prices matching no line: {', '.join(map(md, summary['unused_prices']))}.")
     return "\n".join(lines) + "\n"

@@ -1,8 +1,8 @@
 """One guard for every file hapticad reads: checked before a byte of it is parsed.
 
-Every reader (a design's TOML, a STEP or STL given to ``massprops``, an output folder's
-``manifest.json``, a build's ``report.json``, a cache entry, a sweep's Parquet table) goes
-through this module, which refuses, with :class:`FileRefused` (one line, exit 2, naming
+Every reader (a design's TOML, a ``--prices`` CSV, a STEP or STL given to ``massprops``, an
+output folder's ``manifest.json``, a build's ``report.json``, a cache entry, a sweep's
+Parquet table) goes through this module, which refuses, with :class:`FileRefused` (one line, exit 2, naming
 the field, the file and the reason):
 
 * anything that is not a regular file once symbolic links are resolved: a FIFO (reading it
@@ -12,7 +12,8 @@ the field, the file and the reason):
 * a file larger than its kind's limit (:data:`cad.tolerances.READ_MAX_BYTES`, each with
   its reason); at most the limit is ever read, even from a file that grows meanwhile;
 * TOML or JSON nested deeper than :data:`cad.tolerances.NESTING_MAX_DEPTH` (a scan of the
-  brackets outside strings and comments, before ``tomllib``/``json`` recurse into it), and
+  brackets outside strings and comments, before ``tomllib``/``json`` recurse into it; TOML's
+  dotted keys, which nest without brackets, measured on the parsed tables), and
   STEP files whose parentheses nest deeper (OCCT's reader crashes on them).
 
 ``kind`` is a key of ``READ_MAX_BYTES``; ``field`` is what the error line names first (the
@@ -205,13 +206,34 @@ def load_toml(path: str | os.PathLike, kind: str, field: str) -> dict[str, Any]:
     data = read_bytes(path, kind, field)
     check_nesting(data, "toml", path, field)
     try:
-        return tomllib.loads(data.decode("utf-8"))
+        doc = tomllib.loads(data.decode("utf-8"))
     except UnicodeDecodeError:
         raise FileDamaged(field, Path(path), "is not UTF-8 text") from None
     except RecursionError:  # unreachable after the scan; a second wall
         raise FileRefused(field, Path(path), "is not valid TOML (nesting too deep)") from None
     except tomllib.TOMLDecodeError as exc:
         raise FileDamaged(field, Path(path), f"is not valid TOML ({exc})") from None
+    depth = value_depth(doc)
+    if depth > NESTING_MAX_DEPTH:  # dotted keys (a.b.c = 1, [a.b.c]) nest without brackets
+        raise FileRefused(field, Path(path), f"is not valid TOML for hapticad (tables nested {depth} "
+                          f"levels deep through dotted keys, the limit is {NESTING_MAX_DEPTH}; "
+                          "cad/tolerances.py NESTING_MAX_DEPTH)")
+    return doc
+
+
+def value_depth(doc: Any) -> int:
+    """How deep tables and arrays nest in a parsed document (a scalar is 0, ``{"a": 1}`` is 1);
+    iterative, so a document nested past Python's recursion limit is measured too."""
+    deepest, stack = 0, [(doc, 0)]
+    while stack:
+        v, d = stack.pop()
+        if isinstance(v, dict):
+            v = list(v.values())
+        elif not isinstance(v, list):
+            continue
+        deepest = max(deepest, d + 1)
+        stack.extend((x, d + 1) for x in v)
+    return deepest
 
 
 def check_step(path: str | os.PathLike, field: str) -> None:

@@ -98,7 +98,7 @@ def _merged_trimesh(vertices_mm, faces, what: str = "mesh"):
         raise MeshError(f"{what}: vertex {i} is not finite: {v[i].tolist()}")
     if np.abs(v).max() > MAX_COORD_MM:
         raise MeshError(
-            f"mesh coordinates reach {np.abs(v).max():.3g} mm, beyond {MAX_COORD_MM:g} mm "
+            f"{what}: coordinates reach {np.abs(v).max():.3g} mm, beyond {MAX_COORD_MM:g} mm "
             "(vertex merging would fail): is the unit mm?"
         )
     if f_in.dtype.kind not in "iu":

@@ -19,6 +19,12 @@ from __future__ import annotations
 import math
 
 from cad.printing import PrintSettings
+from cad.tolerances import (
+    PRINT_CHORD_MM,
+    PRINT_CIRCLE_FIT_REL,
+    PRINT_CONTOUR_MAX_POINTS,
+    PRINT_LAYERS_MAX,
+)
 from cad.tolerances import PRINT_SECTION_EPS_MM as _EPS_MM
 
 
@@ -54,11 +60,35 @@ def _common(a: list, b: list) -> list:
     return [f for f in out.faces() if f.area > 1e-12]
 
 
+def _bounded_wire(wire):
+    """``wire`` itself when all its edges are lines and circles; the exact circle through it
+    when it is one (within :data:`cad.tolerances.PRINT_CIRCLE_FIT_REL` of its radius: a
+    turned part cut through a fillet or a cone, which OCCT returns as a B-spline); else the
+    closed polygon of chords of at most :data:`cad.tolerances.PRINT_CHORD_MM` through it (at
+    most :data:`~cad.tolerances.PRINT_CONTOUR_MAX_POINTS` vertices). OCCT's 2D offset of the
+    B-spline cut of a 12 mm knob ran for 20 minutes; of a circle it is immediate."""
+    from build123d import Edge, GeomType, Plane, Wire
+
+    if all(e.geom_type in (GeomType.LINE, GeomType.CIRCLE) for e in wire.edges()):
+        return wire
+    n = min(PRINT_CONTOUR_MAX_POINTS, max(16, math.ceil(wire.length / PRINT_CHORD_MM)))
+    pts = wire.positions([k / n for k in range(n)])
+    cx, cy = sum(p.X for p in pts) / n, sum(p.Y for p in pts) / n
+    r = [math.hypot(p.X - cx, p.Y - cy) for p in pts]
+    r_mean = sum(r) / n
+    if r_mean > 0 and max(abs(x - r_mean) for x in r) <= PRINT_CIRCLE_FIT_REL * r_mean:
+        return Wire([Edge.make_circle(r_mean, Plane.XY.offset(pts[0].Z).shift_origin((cx, cy, pts[0].Z)))])
+    return Wire.make_polygon(pts, close=True)
+
+
 def _offset_face(wire, w: float, grow: bool):
     """The face inside ``wire`` offset by ``w`` outward (``grow``) or inward, whatever the
-    wire's orientation (the smaller / larger of the two offsets); None when it closes up."""
+    wire's orientation (the smaller / larger of the two offsets); None when it closes up.
+    A contour of curves other than lines and circles is offset as a polygon
+    (:func:`_bounded_wire`)."""
     from build123d import Face
 
+    wire = _bounded_wire(wire)
     base = Face(wire).area
     got = []
     for d in (w, -w):
@@ -80,11 +110,10 @@ def _shrunk_area_mm2(faces: list, w: float) -> float:
         region = _offset_face(f.outer_wire(), w, grow=False)
         if region is None:
             continue
-        for inner in f.inner_wires():
-            hole = _offset_face(inner, w, grow=True)
-            if hole is not None:
-                region = region - hole
-        total += sum(x.area for x in region.faces())
+        holes = [h for h in (_offset_face(i, w, grow=True) for i in f.inner_wires()) if h is not None]
+        if holes:  # one cut by all the grown holes: they may overlap or swallow the region
+            region = region.cut(*holes)
+        total += sum(x.area for x in region.faces() if x.area > 1e-12)
     return total
 
 
@@ -128,6 +157,13 @@ def printed_core_mm3(shape, s: PrintSettings) -> float:
     bb = part.bounding_box()
     z0, T = bb.min.Z, bb.max.Z - bb.min.Z
     n_layers = max(1, round(T / s.layer_height_mm))
+    if n_layers > PRINT_LAYERS_MAX:  # refused before any section is cut: the work is per layer
+        from cad.errors import DesignError
+
+        raise DesignError("parts.print_layer_height_mm", f"{s.layer_height_mm:g} mm layers make "
+                          f"{n_layers} layers of a {T:.4g} mm tall printed part, over "
+                          f"{PRINT_LAYERS_MAX} (cad/tolerances.py PRINT_LAYERS_MAX): use thicker "
+                          "layers or a shorter part")
     h = T / n_layers
     zs = [z0 + (k + 0.5) * h for k in range(n_layers)]
     size = 4 * max(bb.size.X, bb.size.Y) + 10

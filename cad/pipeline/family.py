@@ -525,13 +525,14 @@ def write_report_md(out_dir: Path, title: str, rows: list[tuple[str, str]], bom,
     """``report.md``: title, preview (and ``images``: ``(alt text, file)`` pairs after it),
     a quantity table, the BOM and notes."""
     from cad.io.atomic import write_text_atomic
+    from cad.io.escape import md
 
-    lines = [f"# {title}", "", "![assembly preview](preview.png)", ""]
+    lines = [f"# {md(title)}", "", "![assembly preview](preview.png)", ""]
     for alt, file in images:
         lines += [f"![{alt}]({file})", ""]
     lines.append("| quantity | value |")
     lines.append("|---|---|")
-    lines += [f"| {k} | {v} |" for k, v in rows]
+    lines += [f"| {md(k)} | {md(v)} |" for k, v in rows]
     lines += [
         "",
         "## Bill of materials",
@@ -541,11 +542,11 @@ def write_report_md(out_dir: Path, title: str, rows: list[tuple[str, str]], bom,
     lines.append("|---|---|---|---|---|---|---|")
     for b in bom:
         lines.append(
-            f"| {b['part']} | {b['description']} | {b['material']} | {b['quantity']} | "
-            f"{b['made_or_bought']} | {b['process']} | {b['mass_g']:.2f} |"
+            f"| {md(b['part'])} | {md(b['description'])} | {md(b['material'])} | {b['quantity']} | "
+            f"{b['made_or_bought']} | {md(b['process'])} | {b['mass_g']:.2f} |"
         )
     if notes:
-        lines += ["", "## Notes", ""] + [f"- {n}" for n in notes]
+        lines += ["", "## Notes", ""] + [f"- {md(n)}" for n in notes]
     write_text_atomic(Path(out_dir) / "report.md", "\n".join(lines) + "\n")
     return "report.md"
 

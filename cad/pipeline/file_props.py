@@ -58,7 +58,7 @@ def compute(
         v, f = mpio.read_stl(file, stl_warnings)
         for w in stl_warnings:
             warn(w)
-        res = mesh.mesh_arrays_mass_props(v, f, rho, allow_open=True, what=Path(file).name)
+        res = _mesh_props(mesh, v, f, rho, Path(file).name)
         for note in res.notes:
             warn(note)
         if not res.watertight:
@@ -179,3 +179,25 @@ def _step_props(path: Path, rho: float, mat_name: str | None, defaulted: bool):
              "this material)")
     v, com, inertia = occt.sum_volume_props(integrals)
     return occt._to_si(v, com, inertia, rho), v, info
+
+
+def _mesh_props(mesh, v, f, rho: float, name: str):
+    """:func:`cad.massprops.mesh.mesh_arrays_mass_props` of an STL, open meshes accepted with a
+    warning; when an open mesh gives no physical inertia the refusal says it is open and how
+    many edges bound only one triangle (the cause a user can act on), naming the file."""
+    from cad.errors import HapticadError
+
+    try:
+        return mesh.mesh_arrays_mass_props(v, f, rho, allow_open=True, what=name)
+    except HapticadError as exc:
+        import numpy as np
+
+        _, same = np.unique(np.asarray(v, dtype=float), axis=0, return_inverse=True)  # STL: a soup
+        e = np.sort(same.reshape(-1)[np.asarray(f, dtype=np.int64)][:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2), axis=1)
+        _, counts = np.unique(e, axis=0, return_counts=True)
+        n_open = int((counts == 1).sum())
+        if n_open:
+            raise type(exc)(f"{name}: the mesh is not closed ({n_open} open edges): it encloses no "
+                            f"volume, so it has no mass properties ({exc})") from None
+        raise
+

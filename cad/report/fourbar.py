@@ -13,6 +13,7 @@ from typing import Any
 import numpy as np
 
 from cad.io.atomic import atomic_path, write_text_atomic
+from cad.io.escape import mathtext
 from cad.report.figures import TITLE_Y, save_figure
 
 
@@ -59,7 +60,7 @@ def plot_kinematics(design, path: Path) -> Path:
         ax[0].plot([pose.A2_mm[k, 0], pose.P_mm[k, 0]], [pose.A2_mm[k, 1], pose.P_mm[k, 1]],
                    "--", color="C0", lw=0.8)
     ax[0].set_aspect("equal")
-    ax[0].set_title(f"{design.name}: coupler curve (R0, mm)", y=TITLE_Y)
+    ax[0].set_title(f"{mathtext(design.name)}: coupler curve (R0, mm)", y=TITLE_Y)
     ax[0].legend(loc="best", fontsize=8)
     ax[1].plot(xy[:, 0], xy[:, 1] * 1e3, color="C3")
     ax[1].set_xlabel("x along path (mm)")
@@ -88,7 +89,7 @@ def plot_apparent_mass(design, H, path: Path) -> Path:
     ax.plot(c["x_mm"], M[:, 1, 1], label="M22")
     ax.set_xlabel("x along path (mm)")
     ax.set_ylabel("apparent mass (g)")
-    ax.set_title(f"{design.name}: operational mass matrix (eq 22)", y=TITLE_Y)
+    ax.set_title(f"{mathtext(design.name)}: operational mass matrix (eq 22)", y=TITLE_Y)
     ax.grid(alpha=0.3)
     ax.legend()
     with atomic_path(path) as tmp:

@@ -17,6 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
+from cad.io.escape import mathtext
 from cad.tolerances import PREVIEW_ANGULAR_TOL_RAD, PREVIEW_MESH_TOL_MM
 
 #: Opacity of the part outlines (overlapping parts stay visible).
@@ -123,7 +124,7 @@ def write_preview(
         ax.grid(True, lw=0.3)
     handles, labels = axes[0].get_legend_handles_labels()
     fig.legend(handles, labels, loc="lower center", ncol=len(labels), fontsize=8, frameon=False)
-    fig.suptitle(title)
+    fig.suptitle(mathtext(title))
     buf = io.BytesIO()
     save_figure(fig, buf, "png", dpi=100)
     return write_bytes_atomic(out, buf.getvalue())

@@ -14,6 +14,7 @@ from typing import Any
 import numpy as np
 
 from cad.errors import DesignError
+from cad.io.escape import mathtext
 from cad.kinematics.tolerance import (
     BAR_HOLES,
     DISTRIBUTIONS,
@@ -196,7 +197,7 @@ def write_chart(res: dict[str, Any], m: dict[str, np.ndarray], targets, path) ->
     for extra in flat[len(keys):5]:
         extra.axis("off")
     tols = ", ".join(f"{t['name']} ±{t['tol_mm']:g} ({t['distribution']})" for t in res["tolerances"][:4])
-    fig.suptitle(f"{res['name']}: {res['samples']} Monte Carlo samples; {tols}"
+    fig.suptitle(f"{mathtext(res['name'])}: {res['samples']} Monte Carlo samples; {tols}"
                  + (" ..." if len(res["tolerances"]) > 4 else ""), fontsize=10)
     fig.tight_layout()
     with atomic_path(path) as tmp:

@@ -45,8 +45,8 @@ def _children(pid: int) -> list[int]:
                 stat = (d / "stat").read_text()
             except OSError:
                 continue
-            if int(stat.rsplit(")", 1)[1].split()[1]) == pid:
-                kids.append(int(d.name))
+            if int(stat.rsplit(")", 1)[1].split()[1]) == pid and "(hapticad-watch)" not in stat:
+                kids.append(int(d.name))  # the forks, not the signal watchdog (cad.io.signals)
     return kids
 
 

@@ -12,11 +12,11 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import shutil
 import subprocess
 
 import numpy as np
-import pytest
+
+from tests.compilers import compiler
 
 MAIN = r"""
 #include <stdio.h>
@@ -35,9 +35,7 @@ int main(void) {
 
 
 def test_encoder_zero_given_with_another_turn_reads_the_power_up_pose(request, tmp_path):
-    cc = shutil.which("cc") or shutil.which("gcc")
-    if not cc:
-        pytest.skip("no C compiler (cc/gcc) on PATH")
+    cc = compiler("c")  # skips with the reason, fails under HAPTICAD_REQUIRE_CC=1
     from cad.firmware import firmware_files
     from cad.kinematics import fourbar as k4
     from cad.pipeline import design_hash
@@ -85,9 +83,7 @@ int main(void) {
 def test_motor_currents_of_a_nan_or_infinite_torque_are_zero(request, tmp_path):
     """A NaN torque used to pass through as a NaN current (returning 0, "not scaled"), an
     infinite one became inf * 0 = NaN: an amplifier command no firmware should send."""
-    cc = shutil.which("cc") or shutil.which("gcc")
-    if not cc:
-        pytest.skip("no C compiler (cc/gcc) on PATH")
+    cc = compiler("c")  # skips with the reason, fails under HAPTICAD_REQUIRE_CC=1
     _, out, _, _ = request.getfixturevalue("hoeken_sim_build")
     fw = out / "firmware"
     src = tmp_path / "cur.c"

@@ -23,6 +23,7 @@ from dataclasses import dataclass
 
 from cad.data.fits import fmt_mm
 from cad.export.drawings.notes import GENERAL_TOLERANCE, callout, stock
+from cad.io.escape import mathtext
 
 #: Sheet size (ISO 216 A4 landscape) and the drawing border (mm).
 SHEET_MM = (297.0, 210.0)
@@ -234,11 +235,11 @@ def _title_block(ax, part: SheetPart, design: str, s: float, page: tuple[int, in
     x0, y0, x1, y1 = 180.0, BORDER_MM, SHEET_MM[0] - BORDER_MM, 50.0
     ax.plot([x0, x1, x1, x0, x0], [y0, y0, y1, y1, y0], lw=0.5, color="black")
     lines = [
-        f"design: {design}",
-        f"part: {part.name}",
-        f"material: {part.material}",
+        f"design: {mathtext(design)}",
+        f"part: {mathtext(part.name)}",
+        f"material: {mathtext(part.material)}",
         f"quantity: {part.quantity}",
-        *textwrap.wrap(f"process: {part.process or 'unstated'}", 62),
+        *textwrap.wrap(mathtext(f"process: {part.process or 'unstated'}"), 62),
         f"stock: {stock_t}",
         f"general tolerance: {GENERAL_TOLERANCE}",
         f"units: mm; scale {scale_text(s)}; first-angle projection",

@@ -24,6 +24,7 @@ import math
 import numpy as np
 
 from cad.datasheet import row
+from cad.io.escape import mathtext
 
 #: Translational task coordinates (columns of J) per family.
 FORCE_COLS = {"pantograph": (0, 1), "twin-pantograph": (0, 1), "haptic-pen": (0, 1, 2)}
@@ -101,7 +102,7 @@ def write_ellipse_chart(design, out_dir, A, ok) -> str | None:
     ax.set_aspect("equal")
     ax.set_xlabel("x (mm)")
     ax.set_ylabel("y (mm)")
-    ax.set_title(f"{design.name}: force ellipses J^T S_J u, |u| <= 1 ({scale:.3g} mm per N)")
+    ax.set_title(f"{mathtext(design.name)}: force ellipses J^T S_J u, |u| <= 1 ({scale:.3g} mm per N)")
     from pathlib import Path
 
     fig.savefig(Path(out_dir) / "force_ellipses.png", dpi=110)

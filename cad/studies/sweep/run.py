@@ -35,6 +35,7 @@ from pathlib import Path
 from typing import Any
 
 from cad.errors import DesignError, HapticadError
+from cad.io.escape import mathtext
 from cad.report.figures import save_figure
 from cad.studies.sweep.spec import Vary, apply, assignments, design_hash
 from cad.studies.sweep.table import DONE, MANIFEST, OWNED, TABLE, publish, read_table
@@ -398,7 +399,7 @@ def write_chart(path: Path, rows: list[dict[str, Any]], spec: SweepSpec) -> None
     n_err = sum(r.get("status") in ("error", "lost") for r in rows)
     ax.set_xlabel(xk)
     ax.set_ylabel(yk)
-    ax.set_title(f"{spec.design.name}: {len(good)} variants ({spec.fidelity})"
+    ax.set_title(f"{mathtext(spec.design.name)}: {len(good)} variants ({spec.fidelity})"
                  + (f", {n_err} failed (see results table)" if n_err else ""), fontsize=10)
     fig.tight_layout()
     save_figure(fig, path, "png", dpi=90)
