@@ -43,7 +43,7 @@ MOTOR_FIELDS = ("torque_constant_mNm_per_A", "current_continuous_A", "torque_con
 class ResolvedMotor:
     """One motor of the device.
 
-    joint : the joint it drives (``A1`` crank of a four-bar; ``q_left`` ... of the 5-bars, the
+    joint : the joint it drives (``crank`` of a four-bar, at A1; ``q_left`` ... of the 5-bars: the
         joint names of the MJCF export); catalog_key : ``parts.motor`` (the mount interface);
     name : what the device uses (the ``[motor]`` name or the catalog winding);
     from_motor_table : True when a ``[motor]`` value replaced a catalog value;
@@ -210,7 +210,7 @@ def _joints(design) -> tuple[tuple[str, str], ...]:
                      for a in ("A", "B") for j in ("waist", "lower", "upper"))
     if fam == "powermouse" or getattr(design, "parts", None) is None:
         return ()
-    return (("A1", "motor"),)
+    return (("crank", "motor"),)
 
 
 def _motors(design) -> tuple[ResolvedMotor, ...]:
@@ -262,11 +262,10 @@ def _stated_counts(design) -> dict[str, tuple[int, str, str | None]]:
         out["parts.encoder"] = (e.counts_per_rev, f"parts.encoder = {e.key} ({e.source})", e.key)
     n = getattr(p, "encoder_counts_per_rev", None)
     if n is not None:
-        out["parts.encoder_counts_per_rev"] = (int(n), "design file: parts.encoder_counts_per_rev", None)
+        out["parts.encoder_counts_per_rev"] = (int(n), "parts.encoder_counts_per_rev", None)
     fw = _firmware_counts(design)
     if fw is not None:
-        out["firmware.encoder_counts_per_rev"] = (int(fw), "design file: [firmware] encoder_counts_per_rev",
-                                                  None)
+        out["firmware.encoder_counts_per_rev"] = (int(fw), "firmware.encoder_counts_per_rev", None)
     return out
 
 
@@ -314,8 +313,25 @@ def _stiffness_counts(design) -> tuple[int, str]:
     delta = design.stiffness.encoder_resolution_m
     exact = 2 * math.pi * J / delta
     n = max(1, round(exact))
-    return n, (f"stiffness.encoder_resolution_m = {delta:g} m at mid-stroke: 2 pi |dx/dphi1| / Delta = "
-               f"{exact:.6g}, rounded to {n} counts/rev")
+    return n, (f"stiffness.encoder_resolution_m at mid-stroke; Delta = {delta:g} m: 2 pi |dx/dphi1| / "
+               f"Delta = {exact:.6g}, rounded to {n} counts/rev")
+
+
+def encoder_bom_rows(device: ResolvedDevice) -> list[dict]:
+    """The device's encoders as bought BOM lines (no solid: each sits on its motor's rear
+    shaft), one line per distinct encoder with its quantity; the description states the
+    counts per turn and where they come from; mass not in the catalog (0 in the totals)."""
+    rows: dict[tuple, dict] = {}
+    for e in device.encoders:
+        key = (e.catalog_key, e.counts_per_rev)
+        if key in rows:
+            rows[key]["quantity"] += 1
+            continue
+        rows[key] = {"part": "encoder", "description": f"{e.description} ({e.source.split(';')[0]}; mass not "
+                     "known, not in the totals)", "material": "bought", "quantity": 1,
+                     "made_or_bought": "bought", "process": "bought", "fits": "", "mass_g": 0.0,
+                     "group": "encoders", "designation": e.description, "order_code": "", "stock": ""}
+    return list(rows.values())
 
 
 # ------------------------------------------------------------------- parts and limits

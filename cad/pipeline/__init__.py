@@ -321,6 +321,9 @@ def build_design(
         if rep is not None:
             return rep
     mod = _builder_module(design)
+    from cad.device import resolve_device
+
+    device = resolve_device(design, fidelity)  # once: every writer reads these facts (cad.device)
     _check_before_cad(mod, design, set(formats), fidelity, phi1_deg, allow_interference)
     from cad.export.manifest import write_manifest  # noqa: F401 - imported before the routed import, as always
     from cad.parts.lazy_import import routed_first_import
@@ -348,7 +351,11 @@ def build_design(
         viewer_glb = report.pop("_viewer_glb", None)
         build = {"formats": sorted(formats), "fidelity": fidelity,
                  "allow_interference": bool(allow_interference), "build_key": key}
-        _write_report_files(design, report, tmp, formats, build, viewer_glb)
+        report["device"] = device.as_dict()
+        _write_report_files(design, report, tmp, formats, build, viewer_glb, device)
+        from cad.device.readback import check_outputs
+
+        check_outputs(device, tmp)  # the files read back agree with the device, or nothing is published
     report["cached"] = False
     if timings is not None:
         report["timings_s"] = timings
@@ -400,7 +407,8 @@ def _check_before_cad(mod, design, formats: set[str], fidelity: str, phi1_deg: f
         mod.check_layout(design, fidelity, allow_interference)
 
 
-def _write_report_files(design, report: dict, tmp: Path, formats, build: dict, viewer_glb) -> None:
+def _write_report_files(design, report: dict, tmp: Path, formats, build: dict, viewer_glb,
+                        device=None) -> None:
     """Into the build's temporary folder: the firmware (when asked), report.json,
     report.html and the manifest; ``report["files"]`` lists them, ``report["build"]`` is
     ``build`` (formats, fidelity, allow_interference, build_key)."""
@@ -410,7 +418,7 @@ def _write_report_files(design, report: dict, tmp: Path, formats, build: dict, v
     if "firmware" in formats:  # from the report's mass properties (cad.firmware, no CAD)
         from cad.firmware import write_firmware
 
-        fw = write_firmware(design, _jsonable(report), tmp, design_hash(design))
+        fw = write_firmware(design, _jsonable(report), tmp, design_hash(design), device)
         report["files"] = sorted({*report.get("files", []), *fw})
     if isinstance(report.get("files"), list):
         report["files"] = sorted({*report["files"], HTML_NAME})

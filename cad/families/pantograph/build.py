@@ -280,6 +280,14 @@ def _title(b) -> str:
     return f"{b.design.name}: {b.design.family} at home {home.round(2).tolist()} mm"
 
 
+def _encoder_rows(design) -> list[dict]:
+    """The joint encoders the device carries (one per motor, no solid): BOM lines from the
+    resolved device (:func:`cad.device.encoder_bom_rows`)."""
+    from cad.device import encoder_bom_rows, resolve_device
+
+    return encoder_bom_rows(resolve_device(design))
+
+
 def _stages():
     """The family's stages of the one build driver (:class:`cad.pipeline.run.Stages`)."""
     from cad.pipeline.run import Stages
@@ -291,7 +299,8 @@ def _stages():
         dynamics=lambda b: _effective_mass(b.design, b.bodies, b.model.extra["home_mm"]),
         bench_z_mm=lambda b: b.pre[0]["bench_z_mm"],
         marks=lambda b: [("workspace", _square(b.design.workspace))],
-        more_files=_sim_files, assembly=lambda design: (None, ASSEMBLY_CHECKS))
+        more_files=_sim_files, assembly=lambda design: (None, ASSEMBLY_CHECKS),
+        no_solid_rows=_encoder_rows)
 
 
 def build(
