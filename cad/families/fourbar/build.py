@@ -404,7 +404,8 @@ def _report(b) -> dict:
             **({"name": motor.winding} if dict(b.design.motor).get("name") else {}),
             "mass_kg": motor.mass_kg,
             "rotor_inertia_g_cm2": mp["Jm_kg_m2"] * 1e7,
-            "source": motor.source,
+            "source": (motor.source if not b.design.motor else
+                       f"the design's [motor] table over the mount of {motor.key} ({motor.source})"),
         },
         "fidelity": b.fidelity,
         "fidelity_costs": mp["fidelity_costs"],
