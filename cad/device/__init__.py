@@ -5,8 +5,8 @@ device (one fact, one place)").
 motor (the catalog entry named by ``parts.motor`` with the design's ``[motor]`` table and
 ``parts.motor_rotor_inertia_g_cm2`` applied, every constant with its source), each encoder
 (counts per turn after quadrature decoding, the joint it sits on, catalog key, source), the
-transmission of each motor, each part group's material and process, the limits the datasheet
-checks and the build fidelity. Every writer of a build (BOM, datasheet, firmware, CHAI3D file,
+transmission of each motor, each part group's material and process, the design's limits
+(``[targets]``) and the build fidelity. Every writer of a build (BOM, datasheet, firmware, CHAI3D file,
 MJCF/URDF, report.json) reads its facts from here and keeps no default of its own;
 ``report.json`` carries :meth:`ResolvedDevice.as_dict` under ``device``.
 
@@ -128,9 +128,8 @@ class PartMaterial:
 
 @dataclass(frozen=True)
 class ResolvedDevice:
-    """The device of one build (module docstring). ``limits``: the design's ``[targets]`` and
-    the default first-mode limit, as ``(key, bound text)`` pairs; ``fidelity``: the build
-    fidelity."""
+    """The device of one build (module docstring). ``limits``: the design's ``[targets]`` as
+    ``(key, bound text)`` pairs; ``fidelity``: the build fidelity."""
 
     name: str
     family: str
@@ -346,11 +345,6 @@ def _parts(design) -> tuple[PartMaterial, ...]:
 
 
 def _limits(design) -> dict:
-    """The design's ``[targets]`` (``hapticad check`` limits) as ``{key: describe()}``, and the
-    default first-mode limit every datasheet checks (:mod:`cad.datasheet.limits`)."""
-    from cad.datasheet.limits import FIRST_MODE_MIN_HZ
-
-    out: dict[str, Any] = {"first_mode_Hz (default)": f">= {FIRST_MODE_MIN_HZ:g}"}
-    for t in getattr(design, "targets", ()) or ():
-        out[t.key] = t.describe()
-    return out
+    """The design's ``[targets]`` (``hapticad check`` bounds) as ``{key: bound text}``; the
+    datasheet's default limits are stated in its own rows (:mod:`cad.datasheet.limits`)."""
+    return {t.key: t.describe() for t in (getattr(design, "targets", ()) or ())}

@@ -95,9 +95,9 @@ def _mjcf_files(out: Path) -> list[Path]:
 def _encoder_facts(out: Path, facts: list) -> None:
     for name in ("bom.csv", "order.csv"):
         if (out / name).is_file():
-            for counts, qty in bom_encoders(out / name):
-                facts.append((name, "encoder counts/rev", counts, "encoder"))
-            total = sum(q for _, q in bom_encoders(out / name))
+            lines = bom_encoders(out / name)
+            facts += [(name, "encoder counts/rev", counts, "encoder") for counts, _ in lines]
+            total = sum(q for _, q in lines)
             facts.append((name, "encoders ordered", total, "n_encoders"))
     fw = out / "firmware"
     if (fw / "hapticad_device.h").is_file():
@@ -153,7 +153,7 @@ def device_values(device) -> dict:
         vals.update(kt_Nm_per_A=m.kt_Nm_per_A, current_continuous_A=m.spec.current_continuous_A,
                     current_peak_A=m.current_peak_A, motor_key=m.catalog_key,
                     rotor_inertia_g_cm2=m.spec.rotor_inertia_g_cm2)
-    for t, m in zip(device.transmissions, device.motors):
+    for t, m in zip(device.transmissions, device.motors, strict=True):
         vals[f"armature:{m.joint}"] = m.rotor_inertia_kg_m2 * t.ratio ** 2  # reflected to the joint
         if device.family in MOTOR_FORCE_RANGE_FAMILIES and m.spec.torque_peak_mNm is not None:
             vals[f"forcerange:{m.joint}"] = m.spec.torque_peak_mNm * 1e-3 * t.ratio

@@ -371,7 +371,8 @@ def _random_mouse(rng: random.Random, fn: str) -> str:
 
 @pytest.mark.slow
 @pytest.mark.parametrize("name", SLOW)
-def test_outputs_agree_every_bundled_design(tmp_path, name):
+def test_outputs_agree_every_bundled_design(tmp_path, monkeypatch, name):
+    monkeypatch.setenv("HAPTICAD_ALLOW_SCRIPTS", "1")  # hoeken_cq_handle.toml runs its bundled handle script
     toml, out = _build((DESIGNS / name).read_text(), tmp_path, Path(name).stem)
     check_agree(toml, out)
 

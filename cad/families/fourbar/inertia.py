@@ -101,8 +101,8 @@ def inertia_model(design, fidelity: str = "inertia", samples: int = 401) -> dict
     ``apparent_mass`` (M11/M12/M22 ranges, g), ``links`` (``mass_g``, ``com_link_mm``,
     ``Izz_com_kg_m2`` per link), ``budget`` (rows per part), ``wall_s``.
     """
-    from cad.dynamics.inertia import apparent_mass_matrix, apparent_mass_summary, equivalent_inertia
     from cad.device import resolve_device
+    from cad.dynamics.inertia import apparent_mass_matrix, apparent_mass_summary, equivalent_inertia
     from cad.families.fourbar.build import inertia_from_links
     from cad.kinematics.fourbar import jacobian_mm_per_rad, solve, velocity_ratios
     from cad.kinematics.metrics import path_frame
