@@ -180,8 +180,8 @@ def _write_sim(design, out_dir, formats, instances, bodies, lay, home) -> list[s
         return []
     import dataclasses
 
-    from cad.data.catalog import get_motor
     from cad.data.materials import get_material
+    from cad.device import resolve_device
     from cad.families.pantograph.sim import sim_model
     from cad.kinematics import twin_pantograph as tw
 
@@ -229,7 +229,7 @@ def _write_sim(design, out_dir, formats, instances, bodies, lay, home) -> list[s
         lay,
         [*home, th],
         ik,
-        get_motor(p.motor).rotor_inertia_kg_m2,
+        resolve_device(design).motor.rotor_inertia_kg_m2,
         made,
         lambda kind: get_material(K[kind].material).color_rgb,
     )
