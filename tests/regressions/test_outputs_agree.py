@@ -330,6 +330,17 @@ def test_two_encoder_fields_that_disagree_are_refused(tmp_path):
     assert resolve_device(load_design(p)).encoder.counts_per_rev == 4096
 
 
+def test_the_cli_refuses_disagreeing_encoder_fields_before_building(tmp_path):
+    from cli_helpers import assert_one_line_error, hapticad
+
+    p = tmp_path / "d.toml"
+    p.write_text((DESIGNS / "hoeken.toml").read_text().replace('[parts]\n', '[parts]\nencoder = "maxon-hedl5540-500"\n')
+                 + "\n[firmware]\nencoder_counts_per_rev = 4096\n")
+    code, _, err = hapticad("build", p, "--out", tmp_path / "o", "--fidelity", "preview", "--formats", "firmware")
+    assert_one_line_error(code, err, "parts.encoder", "firmware.encoder_counts_per_rev", "2000", "4096")
+    assert not (tmp_path / "o").exists()
+
+
 def test_a_build_whose_files_disagree_is_not_published(tmp_path, monkeypatch):
     """A writer corrupted (the header compiled for 2000 counts whatever the device): the build
     reads its files back, refuses with one line naming the file, the fact and both values,
