@@ -148,7 +148,7 @@ def resolution_row(design, Jx) -> dict:
     counts, src, _ = encoder_counts(design, Jx)
     r = 2 * math.pi / counts * np.abs(Jx) * 1e6
     return row("resolution_um", "position resolution at the handle", r.max(), "um",
-               f"(2 pi / {counts} counts) |dx/dphi1|, worst over the stroke; encoder {src}", lo=r.min(), hi=r.max())
+               f"(2 pi / {counts} counts) |dx/dphi1|, worst over the stroke; {src}", lo=r.min(), hi=r.max())
 
 
 def friction(design, m, Jx, pose, a2, a3) -> tuple[np.ndarray | None, np.ndarray]:

@@ -181,7 +181,7 @@ def rows_and_limits(design, report: dict, out_dir=None, simulate_wall: bool = Tr
     good = res[np.isfinite(res)]
     rows.append(row("resolution_um", "position resolution at the handle", good.max() if good.size else None, "um",
                     f"sigma_max(J^+) 2 pi / {enc.counts_per_rev} counts per joint, worst over the workspace; "
-                    f"encoder {enc.source}",
+                    f"{enc.source}",
                     lo=good.min() if good.size else None, hi=good.max() if good.size else None))
     rows.append(row("friction_N", "Coulomb friction at the handle", None, "N",
                     "not modelled: [actuators] gives torque limits only (no motor data sheet)"))
