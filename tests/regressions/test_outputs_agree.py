@@ -362,8 +362,8 @@ def test_a_build_whose_files_disagree_is_not_published(tmp_path, monkeypatch):
 
 
 # ------------------------------------------------------------ the slow, larger sweep
-def _random_fourbar(rng: random.Random) -> str:
-    text = (DESIGNS / rng.choice(["hoeken.toml", "hoeken_printed.toml"])).read_text()
+def _random_fourbar(rng: random.Random, bases=("hoeken.toml", "hoeken_printed.toml")) -> str:
+    text = (DESIGNS / rng.choice(bases)).read_text()
     kt = rng.uniform(20.0, 80.0)
     cont = rng.uniform(50.0, 200.0)
     table = (f'\n[motor]\nname = "rand-{rng.randrange(1000)}"\ntorque_constant_mNm_per_A = {kt!r}\n'
@@ -378,6 +378,17 @@ def _random_fourbar(rng: random.Random) -> str:
 
 def _random_mouse(rng: random.Random, fn: str) -> str:
     return (DESIGNS / fn).read_text() + f"\n[firmware]\nencoder_counts_per_rev = {rng.randrange(500, 20000)}\n"
+
+
+@pytest.mark.parametrize("seed", [101, 102])
+def test_outputs_agree_one_random_variant_per_family(tmp_path, seed):
+    """Default-suite share of the random sweep below: a seeded [motor] table, encoder and
+    prices on the bundled Hoeken (same solids: cheap), a seeded [firmware] encoder count on
+    the bundled pantograph."""
+    rng = random.Random(seed)
+    text = _random_fourbar(rng, ("hoeken.toml",)) if seed % 2 else _random_mouse(rng, "pantograph.toml")
+    toml, out = _build(text, tmp_path, f"r{seed}")
+    check_agree(toml, out)
 
 
 @pytest.mark.slow
