@@ -222,8 +222,7 @@ def _motors(design) -> tuple[ResolvedMotor, ...]:
         key = getattr(design.parts, fld)
         spec = resolve_motor(key, table, f"parts.{fld}") if table else get_motor(key, f"parts.{fld}")
         spec = _rotor_override(design, spec, dict(table))
-        name = spec.winding if table and dict(table).get("name") else (spec.winding or spec.key)
-        out.append(ResolvedMotor(joint, key, name, bool(table), spec))
+        out.append(ResolvedMotor(joint, key, spec.winding or spec.key, bool(table), spec))
     return tuple(out)
 
 
