@@ -272,9 +272,21 @@ def _check_K(toml: dict, out: Path, rep: dict) -> None:
 
 
 def _check_masses(out: Path, rep: dict) -> None:
+    """BOM lines summed = report.json total; every MJCF body's mass = report.json's body
+    (four-bars: ``links``, the 5-bars: ``bodies``)."""
     rows = bom_rows(out)
     total = sum(float(r["mass_g"]) * int(r["quantity"]) for r in rows)
     assert total == pytest.approx(rep["total_mass_g"], abs=BOM_MASS_ABS_G * sum(int(r["quantity"]) for r in rows))
+    if not [p for p in out.glob("*.xml") if "<mujoco" in p.read_text()[:400]]:
+        return
+    bodies = rep.get("links") if isinstance(rep.get("links"), dict) else rep["bodies"]
+    seen = 0
+    for b in mjcf(out).iter("body"):
+        if b.get("name") in bodies and isinstance(bodies[b.get("name")], dict):
+            assert float(b.find("inertial").get("mass")) == pytest.approx(bodies[b.get("name")]["mass_kg"],
+                                                                          rel=EXACT_REL)
+            seen += 1
+    assert seen >= 3
 
 
 @pytest.mark.parametrize("name", [*FAST, "hoeken_motor_table", "hoeken_enc4096", "hoeken_hedl"])
