@@ -77,6 +77,7 @@ def device_spec(design, report: dict, design_hash: str, version: str, device=Non
     rotor = device.motor.rotor_inertia_kg_m2
     if kind == "fourbar":
         params = _fourbar_params(design, report)
+        params["q_slack"] = math.pi / device.encoder.counts_per_rev  # half a count at the range ends
         q_home = (0.5 * (design.phi1_min_rad + design.phi1_max_rad),)
         bodies = {k: body_from_report(report["links"][k]) for k in ("crank", "coupler", "rocker")}
         n_joints, n_task = 1, 2

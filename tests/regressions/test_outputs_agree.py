@@ -305,10 +305,13 @@ def test_encoder_counts_bom_vs_firmware(builds):
         h = header(out)
         assert h["counts"] == n
         zero = h["zero"][0]
+        d = defines((out / "firmware" / "hapticad_device.c").read_text())  # the range constants
+        lo, hi = c_real(d["Q_MIN"]) - c_real(d["Q_SLACK"]), c_real(d["Q_MAX"]) + c_real(d["Q_SLACK"])
         for deg in np.linspace(132.0, 216.0, 13):
-            counts = math.floor((math.radians(deg) - zero) / (2 * math.pi) * n + 0.5)
+            counts = math.floor((math.radians(deg) - zero) / (2 * math.pi) * n + 0.5)  # nearest count
             q_fw = zero + 2 * math.pi * counts / n
             assert abs(q_fw - math.radians(deg)) <= math.pi / n + 1e-12
+            assert lo <= q_fw <= hi, (deg, counts)  # hc_forward's range test: no pose of the range refused
 
 
 def test_firmware_takes_the_motor_table(builds):
