@@ -45,9 +45,9 @@ def wall_numbers(spec: DeviceSpec, design) -> dict:
     opts = design.firmware
     K = opts.wall_stiffness_N_per_m or k_max
     what = ("[firmware] wall_stiffness_N_per_m" if opts.wall_stiffness_N_per_m else
-            f"eq (25)'s K_max (a conservative bound; the datasheet's simulated K_max is another, "
-            f"larger figure) with Delta = {inputs.encoder_resolution_m:.4g} m, for the "
-            f"{spec.encoder_counts_per_rev} counts/rev encoder of the device")
+            f"eq (25)'s K_max (a conservative bound, not the datasheet's simulated K_max) with "
+            f"Delta = {inputs.encoder_resolution_m:.4g} m; the device's encoder: "
+            f"{spec.encoder_counts_per_rev} counts/rev")
     B = opts.wall_damping_N_s_per_m
     if B is None:
         B = max(0.0, inputs.Fv_N_s_per_m - K * inputs.Te_s / 2)
