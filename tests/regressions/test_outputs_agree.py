@@ -356,23 +356,45 @@ def test_the_cli_refuses_disagreeing_encoder_fields_before_building(tmp_path):
     assert not (tmp_path / "o").exists()
 
 
-def test_a_build_whose_files_disagree_is_not_published(tmp_path, monkeypatch):
-    """A writer corrupted (the header compiled for 2000 counts whatever the device): the build
-    reads its files back, refuses with one line naming the file, the fact and both values,
-    and publishes nothing."""
-    from cad.design import load_design
-    from cad.device.readback import OutputsDisagree
+def _corrupt_header(monkeypatch):
     from cad.firmware import csrc
-    from cad.pipeline import build_design
 
     real = csrc.header
     monkeypatch.setattr(csrc, "header", lambda spec: re.sub(r"\{ \d+L,", "{ 2000L,", real(spec)))
+    return "firmware/hapticad_device.h", "HC_ENCODER_DEFAULT"
+
+
+def _corrupt_bom(monkeypatch):
+    from cad.families.fourbar import build
+
+    real = build.encoder_bom_row
+
+    def row(design):
+        r = dict(real(design))
+        r["description"] = r["description"].replace("3837 counts/rev", "2000 counts/rev")
+        return r
+
+    monkeypatch.setattr(build, "encoder_bom_row", row)
+    return "bom.csv", "encoder counts/rev"
+
+
+@pytest.mark.parametrize("corrupt", [_corrupt_header, _corrupt_bom])
+def test_a_build_whose_files_disagree_is_not_published(tmp_path, monkeypatch, corrupt):
+    """A writer corrupted (the header compiled for, or the BOM ordering, 2000 counts whatever
+    the device): the build reads its files back, refuses with one line naming the file, the
+    fact and both values, and publishes nothing."""
+    from cad.design import load_design
+    from cad.device.readback import OutputsDisagree
+    from cad.pipeline import build_design
+
+    file, fact = corrupt(monkeypatch)
     out = tmp_path / "out"
     with pytest.raises(OutputsDisagree) as e:
         build_design(load_design(DESIGNS / "hoeken.toml"), out, {"firmware"}, fidelity="preview", use_cache=False)
     msg = str(e.value)
     assert "\n" not in msg
-    assert "firmware/hapticad_device.h" in msg and "HC_ENCODER_DEFAULT" in msg and "2000" in msg and "3837" in msg
+    assert msg.startswith(f"outputs disagree, nothing published: {file}: {fact}")
+    assert "2000" in msg and "3837" in msg
     assert not out.exists()
 
 
