@@ -284,10 +284,11 @@ def _encoders(design, motors) -> tuple[ResolvedEncoder, ...]:
         field, counts, src, key = "stiffness.encoder_resolution_m", *_stiffness_counts(design), None
         desc = _plain(counts)
     else:
-        key = catalog.DEFAULT_ENCODER if hasattr(design, "linkage") else catalog.PAPER_MOUSE_ENCODER
+        fourbar = hasattr(design, "linkage")
+        key = catalog.DEFAULT_ENCODER if fourbar else catalog.PAPER_MOUSE_ENCODER
         e = catalog.get_encoder(key)
-        field, counts, src, desc = "default", e.counts_per_rev, f"default encoder {e.key} ({e.source})", \
-            e.description
+        src = f"default encoder {e.key} ({e.source})" + ("; set parts.encoder" if fourbar else "")
+        field, counts, desc = "default", e.counts_per_rev, e.description
     return tuple(ResolvedEncoder(m.joint, int(counts), key, desc, field, src) for m in motors)
 
 

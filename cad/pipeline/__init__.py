@@ -176,7 +176,7 @@ def build_key(
     # the dispatcher adds the datasheet to every family's report (cad/datasheet, its inputs);
     # cad/tolerances.py for every family (K_RTOL of the wall, part clearances, mesh tolerances)
     payload["datasheet_code"] = code_version(("datasheet", "data", "families", "sim/wall.py",
-                                              "structure", "design/motor.py",
+                                              "structure", "design/motor.py", "device",
                                               "tolerances.py"))
     if mod is not None and hasattr(mod, "cache_inputs"):
         payload["extra"] = _jsonable(mod.cache_inputs(design))
