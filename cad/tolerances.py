@@ -485,3 +485,9 @@ STRUCTURE_PROOF_REL = 0.10
 #: (Euler-Bernoulli links, two-force members): round-off only, 1e-6 relative leaves ~8
 #: orders above float64 eps for the conditioning of a ~100-DOF frame.
 STRUCTURE_SAME_MODEL_REL = 1e-6
+
+#: Issue 32 §2: a device fact read back from a written file (C header, MJCF, json: numbers
+#: written with repr, so round-trip exact) against the resolved device. Only the order of
+#: the arithmetic of a derived value differs (peak current T/Kt in mN m or in N m: ~1 ulp);
+#: 1e-12 relative leaves ~4 orders above float64 eps and catches any real disagreement.
+OUTPUT_AGREE_REL = 1e-12

@@ -530,7 +530,9 @@ class EncoderSpec:
 
 #: Encoder catalog. ``optical-2000``: the Hoeken prototype's "general purpose 2000 counts/rev
 #: optical encoder" (paper §III.A); ``maxon-hedl5540-500``: maxon HEDL 5540, 500 counts per turn,
-#: 3 channels, the encoder maxon combines with the RE 35 / RE 40 (x4 quadrature = 2000 counts).
+#: 3 channels, the encoder maxon combines with the RE 35 / RE 40 (x4 quadrature = 2000 counts);
+#: ``optical-4000``: the haptic mouse's "1000 window (4000 cpt) optical encoder" (isotropy paper
+#: §3.2), the default of the pantograph, twin-pantograph and pen designs.
 ENCODERS: dict[str, EncoderSpec] = {
     "optical-2000": EncoderSpec(
         "optical-2000", "optical encoder, 2000 counts/rev (quadrature)", 2000, None,
@@ -538,9 +540,14 @@ ENCODERS: dict[str, EncoderSpec] = {
     "maxon-hedl5540-500": EncoderSpec(
         "maxon-hedl5540-500", "maxon encoder HEDL 5540, 500 CPT, 3 channels (2000 counts/rev x4)",
         2000, None, "maxon catalog, Encoder HEDL 5540, 500 counts per turn (mass unverified)"),
+    "optical-4000": EncoderSpec(
+        "optical-4000", "optical encoder, 1000 windows, 4000 counts/rev (quadrature)", 4000, None,
+        "isotropy paper §3.2: 'sensed by a 1000 window (4000 cpt) optical encoder' (mass unverified)"),
 }
-#: Encoder assumed when a design names none (the paper prototype's).
+#: Encoder assumed when a four-bar design names none (the Hoeken paper prototype's).
 DEFAULT_ENCODER = "optical-2000"
+#: Encoder of the isotropy paper's devices (pantograph, twin pantograph, pen): §3.2.
+PAPER_MOUSE_ENCODER = "optical-4000"
 
 
 def get_encoder(key: str, field: str = "parts.encoder") -> EncoderSpec:

@@ -4,15 +4,19 @@ beyond the mechanism (issue 26). Every key is optional::
     [firmware]
     plane = "horizontal"            # or "vertical": gravity acts in the mechanism plane
     gravity_direction = [0, -1]     # unit direction of g in the device frame (vertical only)
-    encoder_counts_per_rev = 2000   # quadrature counts per motor turn (family default below)
+    encoder_counts_per_rev = 2000   # quadrature counts per motor turn (default: the BOM's encoder)
     encoder_direction = 1           # +1 / -1, or one per motor: sign of counts vs joint angle
     encoder_zero_deg = 174.0        # joint angle at count 0, or one per motor (default: home)
     wall_stiffness_N_per_m = 1000   # the example sketch's virtual wall (default: stable range)
     wall_damping_N_s_per_m = 0.5
 
-Family defaults of ``encoder_counts_per_rev`` come from the papers: the Hoeken prototype's
-"general purpose 2000 counts/rev optical encoder" (Hoeken paper §III.A) for four-bars, the
-pantograph devices' "1000 window (4000 cpt) optical encoder" (isotropy paper §3.2).
+``encoder_counts_per_rev`` is one of the three ways to state the device's encoder (with
+``parts.encoder`` and ``parts.encoder_counts_per_rev``); None when not given. The count the
+firmware is compiled for is the resolved device's (:func:`cad.device.resolve_device`): the
+encoder the BOM orders; two fields that disagree are refused there. Family defaults come from
+the papers: the Hoeken prototype's "general purpose 2000 counts/rev optical encoder" (Hoeken
+paper §III.A) for four-bars, the pantograph devices' "1000 window (4000 cpt) optical encoder"
+(isotropy paper §3.2).
 """
 
 from __future__ import annotations
@@ -36,12 +40,13 @@ COUNTS_MAX = 10**9
 
 @dataclass(frozen=True)
 class FirmwareOptions:
-    """Validated ``[firmware]`` table. ``encoder_zero_deg`` None = the home pose's angles;
+    """Validated ``[firmware]`` table. ``encoder_counts_per_rev`` None = not stated (the
+    resolved device's encoder); ``encoder_zero_deg`` None = the home pose's angles;
     ``gravity_direction`` is a unit (x, y) vector in the device frame."""
 
     plane: str = "horizontal"
     gravity_direction: tuple[float, float] = (0.0, -1.0)
-    encoder_counts_per_rev: int = FOURBAR_COUNTS_PER_REV
+    encoder_counts_per_rev: int | None = None
     encoder_direction: tuple[int, ...] = (1,)
     encoder_zero_deg: tuple[float, ...] | None = None
     wall_stiffness_N_per_m: float | None = None
@@ -63,7 +68,7 @@ def _per_motor(tab: dict, key: str, n: int, check) -> tuple | None:
     return tuple(check(x) for x in vals)
 
 
-def parse_firmware(tab: dict[str, Any], n_motors: int, default_counts: int) -> FirmwareOptions:
+def parse_firmware(tab: dict[str, Any], n_motors: int) -> FirmwareOptions:
     """Validate the ``[firmware]`` table for a device with ``n_motors`` motors."""
     check_unknown(tab, KEYS, "firmware")
     plane = tab.get("plane", "horizontal")
@@ -75,8 +80,8 @@ def parse_firmware(tab: dict[str, Any], n_motors: int, default_counts: int) -> F
             or not all(math.isfinite(c) for c in g) or math.hypot(*g) == 0):
         raise DesignError("firmware.gravity_direction", f"must be a non-zero [x, y], got {g!r}")
     n = math.hypot(*g)
-    counts = optional_int(tab, "encoder_counts_per_rev", "firmware", default_counts, minimum=1)
-    if counts > COUNTS_MAX:
+    counts = optional_int(tab, "encoder_counts_per_rev", "firmware", None, minimum=1)
+    if counts is not None and counts > COUNTS_MAX:
         raise DesignError("firmware.encoder_counts_per_rev", f"must be <= {COUNTS_MAX}, got {counts}")
 
     def sign(x):

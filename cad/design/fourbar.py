@@ -43,7 +43,7 @@ from cad.design.fields import (
     require_str,
     require_table,
 )
-from cad.design.firmware import FOURBAR_COUNTS_PER_REV, FirmwareOptions, parse_firmware
+from cad.design.firmware import FirmwareOptions, parse_firmware
 from cad.design.motor import parse_motor_table
 from cad.design.replace import ValidatedReplace
 from cad.design.targets import Target, parse_targets
@@ -254,7 +254,7 @@ def parse(raw: dict[str, Any], source: str = "<design>") -> FourBarDesign:
         inertia=_parse_inertia(optional_table(raw, "inertia", "")),
         stiffness=_parse_stiffness(optional_table(raw, "stiffness", "")),
         parts=parts, targets=targets, fit_free=tuple(free), raw=raw,
-        firmware=parse_firmware(optional_table(raw, "firmware", ""), 1, FOURBAR_COUNTS_PER_REV),
+        firmware=parse_firmware(optional_table(raw, "firmware", ""), 1),
         force_basis=basis, motor=parse_motor_table(optional_table(raw, "motor", ""), "motor"),
     )
     from cad.design.bounds import warn

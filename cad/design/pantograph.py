@@ -661,11 +661,11 @@ def _parse_pen(mech: dict, ws: dict, act: dict) -> tuple:
 
 def _parse_firmware(raw: dict[str, Any], family: str):
     """``[firmware]`` (:mod:`cad.design.firmware`) of the families that build; None otherwise."""
-    from cad.design.firmware import PANTOGRAPH_COUNTS_PER_REV, parse_firmware
+    from cad.design.firmware import parse_firmware
 
     tab = optional_table(raw, "firmware", "")
     if family not in ("pantograph", "twin-pantograph"):
         if tab:
             raise DesignError("firmware", f"firmware is generated for built devices, not {family!r}")
         return None
-    return parse_firmware(tab, 2 if family == "pantograph" else 4, PANTOGRAPH_COUNTS_PER_REV)
+    return parse_firmware(tab, 2 if family == "pantograph" else 4)

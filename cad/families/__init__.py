@@ -35,6 +35,7 @@ SHARED_CODE_DEPS = (
     "export",
     "massprops",
     "design",
+    "device",  # the resolved device every writer reads (cad/device)
     "io",
     "data",
     "errors.py",

@@ -18,7 +18,7 @@ The PowerMouse gets its current-to-wrench map instead (:mod:`cad.firmware.powerm
 
 Every file names the design, its hash and the hapticad version, and states units (SI) and
 frames. Inputs: the design, the build's report (mass properties from the solids, the motor
-key) and the motor catalog (:class:`cad.firmware.spec.MotorData`).
+key) and the resolved device (:mod:`cad.device`: motor constants, rotor inertia, encoder).
 """
 
 from __future__ import annotations
@@ -33,8 +33,10 @@ FILES = ("hapticad_device.h", "hapticad_device.c", "test_vectors.json", "test_de
          "wall_example/wall_example.ino", "chai3d_device.json")
 
 
-def firmware_files(design, report: dict, design_hash: str) -> dict[str, str]:
-    """``{relative path: text}`` of every generated file (paths under ``firmware/``)."""
+def firmware_files(design, report: dict, design_hash: str, device=None) -> dict[str, str]:
+    """``{relative path: text}`` of every generated file (paths under ``firmware/``); the
+    motor and encoder facts are ``device``'s (:class:`cad.device.ResolvedDevice`, resolved
+    from ``design`` when None)."""
     import cad
     from cad.firmware import csrc, extras, reference, vectors
     from cad.firmware.device import device_spec
@@ -43,7 +45,7 @@ def firmware_files(design, report: dict, design_hash: str) -> dict[str, str]:
         from cad.firmware import powermouse
 
         return powermouse.files(design, report, design_hash, cad.__version__)
-    spec = device_spec(design, report, design_hash, cad.__version__)
+    spec = device_spec(design, report, design_hash, cad.__version__, device)
     rows, summary = vectors.rows(spec, design)
     q_ok = np.array([r[1 + 2 * spec.n_joints: 1 + 3 * spec.n_joints] for r in rows if r[0] == 0])
     wall = extras.wall_numbers(spec, design)
@@ -76,11 +78,11 @@ def firmware_files(design, report: dict, design_hash: str) -> dict[str, str]:
     }
 
 
-def write_firmware(design, report: dict, out_dir: Path, design_hash: str) -> list[str]:
+def write_firmware(design, report: dict, out_dir: Path, design_hash: str, device=None) -> list[str]:
     """Write :func:`firmware_files` into ``out_dir`` atomically; return the relative paths."""
     from cad.io.atomic import write_text_atomic
 
-    files = firmware_files(design, report, design_hash)
+    files = firmware_files(design, report, design_hash, device)
     for rel, text in files.items():
         write_text_atomic(Path(out_dir) / rel, text)
     return sorted(files)

@@ -204,8 +204,10 @@ static int hc_pose4(hc_real phi1, hc_pose4_t *p)
 {
     hc_real dx, dy, A, B, C, R, ratio, phi2;
     if (!(HC_FABS(phi1) <= HC_R(1e4))) return HC_ERR_RANGE;  /* NaN, inf, no turn count */
-    phi1 -= HC_TWO_PI * HC_FLOOR((phi1 - Q_MIN) / HC_TWO_PI);  /* the same pose, in Q_MIN + [0, 2 pi) */
-    if (!(phi1 >= Q_MIN && phi1 <= Q_MAX)) return HC_ERR_RANGE;
+    /* the same pose, in Q_MIN - Q_SLACK + [0, 2 pi); Q_SLACK = half an encoder count: a reading
+     * of the crank at a range end rounds to within it (an encoder resolves no finer) */
+    phi1 -= HC_TWO_PI * HC_FLOOR((phi1 - (Q_MIN - Q_SLACK)) / HC_TWO_PI);
+    if (!(phi1 >= Q_MIN - Q_SLACK && phi1 <= Q_MAX + Q_SLACK)) return HC_ERR_RANGE;
     p->c1 = HC_COS(phi1); p->s1 = HC_SIN(phi1);
     dx = L1 * p->c1 - L5; dy = L1 * p->s1 - L4;             /* A2 - A4 */
     A = HC_R(2.0) * L2 * dx; B = HC_R(2.0) * L2 * dy;
@@ -303,7 +305,7 @@ def _fourbar(spec: DeviceSpec) -> str:
         "L1": p["l1"], "L2": p["l2"], "L3": p["l3"], "L4": p["l4"], "L5": p["l5"],
         "LE": p["le"], "CE": math.cos(p["phi_e"]),
         "SE": math.sin(p["phi_e"]), "BRANCH": p["branch"],
-        "Q_MIN": p["q_min"], "Q_MAX": p["q_max"], "TOGGLE_SIN": TOGGLE_SIN,
+        "Q_MIN": p["q_min"], "Q_MAX": p["q_max"], "Q_SLACK": p["q_slack"], "TOGGLE_SIN": TOGGLE_SIN,
         "GX": g[0], "GY": g[1],
         "M_CRANK": b["crank"].mass_kg, "CX_CRANK": b["crank"].com_m[0],
         "CY_CRANK": b["crank"].com_m[1],

@@ -9,6 +9,7 @@ body masses and COMs of report.json ``bodies``. Lengths leave in metres.
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 
@@ -61,22 +62,27 @@ def _kind(design) -> str:
                       f"the twin pantograph and the PowerMouse, not {design.family!r}")
 
 
-def device_spec(design, report: dict, design_hash: str, version: str) -> DeviceSpec:
-    """The DeviceSpec of ``design`` built into ``report`` (module docstring)."""
-    from cad.data.catalog import get_motor
+def device_spec(design, report: dict, design_hash: str, version: str, device=None) -> DeviceSpec:
+    """The DeviceSpec of ``design`` built into ``report`` (module docstring). The motor
+    constants, rotor inertia and encoder count are the resolved device's
+    (:func:`cad.device.resolve_device`; resolved here when ``device`` is None)."""
+    from cad.device import resolve_device
 
     kind = _kind(design)
     opts = design.firmware
-    motor = motor_data(get_motor(report["motor"]["key"]))
+    device = device if device is not None else resolve_device(design)
+    motor = motor_data(device.motor.spec)
+    if device.motor.from_motor_table:  # the header names the motor the device uses
+        motor = replace(motor, key=device.motor.name)
+    rotor = device.motor.rotor_inertia_kg_m2
     if kind == "fourbar":
         params = _fourbar_params(design, report)
+        params["q_slack"] = math.pi / device.encoder.counts_per_rev  # half a count at the range ends
         q_home = (0.5 * (design.phi1_min_rad + design.phi1_max_rad),)
         bodies = {k: body_from_report(report["links"][k]) for k in ("crank", "coupler", "rocker")}
         n_joints, n_task = 1, 2
-        rotor = float(report["Jm_kg_m2"])
     else:
         bodies = {k: body_from_report(v) for k, v in report["bodies"].items()}
-        rotor = float(report["motor"]["rotor_inertia_g_cm2"]) * 1e-7
         home = design.workspace.get("home_mm", design.workspace["center_mm"])
         if kind == "fivebar":
             params, q = _fivebar_params(design.mechanism, home)
@@ -94,7 +100,7 @@ def device_spec(design, report: dict, design_hash: str, version: str) -> DeviceS
     return DeviceSpec(
         kind=kind, name=design.name, family=design.family, design_hash=design_hash,
         version=version, n_joints=n_joints, n_task=n_task, params=params, q_home_rad=q_home,
-        encoder_counts_per_rev=opts.encoder_counts_per_rev,
+        encoder_counts_per_rev=device.encoder.counts_per_rev,
         encoder_direction=tuple(opts.encoder_direction), encoder_zero_rad=encoder_zero(opts, q_home),
         motor=motor, gravity_m_s2=gravity_vector(opts), bodies=bodies, rotor_kg_m2=rotor,
     )

@@ -44,12 +44,16 @@ def wall_numbers(spec: DeviceSpec, design) -> dict:
     k_min, k_max = stiffness_range_N_per_m(inputs)
     opts = design.firmware
     K = opts.wall_stiffness_N_per_m or k_max
+    what = ("[firmware] wall_stiffness_N_per_m" if opts.wall_stiffness_N_per_m else
+            f"eq (25)'s K_max (a conservative bound, not the datasheet's simulated K_max) with "
+            f"Delta = {inputs.encoder_resolution_m:.4g} m; the device's encoder: "
+            f"{spec.encoder_counts_per_rev} counts/rev")
     B = opts.wall_damping_N_s_per_m
     if B is None:
         B = max(0.0, inputs.Fv_N_s_per_m - K * inputs.Te_s / 2)
     return {"K_N_per_m": K, "B_N_s_per_m": B, "eq25_K_min_N_per_m": k_min,
             "eq25_K_max_N_per_m": k_max, "Te_s": inputs.Te_s, "Fv_N_s_per_m": inputs.Fv_N_s_per_m,
-            "encoder_step_m": inputs.encoder_resolution_m, "source": source}
+            "encoder_step_m": inputs.encoder_resolution_m, "source": source, "K_is": what}
 
 
 def max_forces_N(spec: DeviceSpec, q_ok: np.ndarray) -> dict:
@@ -81,13 +85,17 @@ def chai3d_json(spec: DeviceSpec, design, wall: dict, forces: dict) -> str:
         "m_maxLinearForce": forces["continuous_N"],
         "m_maxLinearForce_peak": forces["peak_N"],
         "m_maxLinearStiffness": wall["eq25_K_max_N_per_m"],
+        "encoder_counts_per_rev": spec.encoder_counts_per_rev,
         "m_maxLinearDamping": wall["Fv_N_s_per_m"],
         "m_workspaceRadius": workspace_radius_m(spec, design),
         "m_sensedRotation": spec.kind == "twin", "m_actuatedRotation": spec.kind == "twin",
         "notes": {
             "m_maxLinearForce": "min over the test poses of the continuous motor torque / "
                                 "sigma_max(J^T) (every direction); _peak: the same at peak torque",
-            "m_maxLinearStiffness": "eq (25) K_max: " + wall["source"],
+            "m_maxLinearStiffness": "eq (25) K_max, the conservative bound (not the datasheet's "
+                                    "simulated K_max): " + wall["source"],
+            "encoder_counts_per_rev": "the device's encoder (report.json device.encoders), "
+                                      "the count hapticad_device.h is compiled for",
             "m_maxLinearDamping": "passivity at K -> 0 (Colgate and Schenkel): B < Fv; Fv from "
                                   + wall["source"],
             "m_workspaceRadius": "four-bar: half the stroke; pantographs: half the workspace side",
@@ -111,6 +119,7 @@ def sketch(spec: DeviceSpec, wall: dict) -> str:
 /* The wall: through the home position WALL_X0_M, normal WALL_N (device frame; four-bar: the
  * direction of motion at home, pantographs: +x); with the penetration s = N . (X - X0) > 0
  * the handle feels F = -(K s + B s_dot) N. K and B: {wall['source']};
+ * WALL_K_N_PER_M is {wall['K_is']};
  * eq (25) range {wall['eq25_K_min_N_per_m']:.4g} .. {wall['eq25_K_max_N_per_m']:.4g} N/m at Te = {wall['Te_s']:g} s.
  * Run the loop every SAMPLE_PERIOD_US (the Te of eq 25); a slower loop needs a smaller K.
  * Copy hapticad_device.h / hapticad_device.c beside this sketch; on an 8-bit AVR define

@@ -53,11 +53,13 @@ def _fourbar(spec, q):
     p = spec.params
     fb = fourbar_of(p)
     phi = q[:, 0]
-    # the crank pose repeats every turn: range-checked in q_min + [0, 2 pi), as the C code
+    # the crank pose repeats every turn: range-checked in q_min - q_slack + [0, 2 pi), as the C
+    # code; q_slack = half an encoder count (a reading at a range end rounds to within it)
+    lo, hi = p["q_min"] - p["q_slack"], p["q_max"] + p["q_slack"]
     turnable = np.abs(phi) <= 1e4  # NaN, inf: refused
     ph = np.where(turnable, phi, p["q_min"])
-    phi = np.where(turnable, ph - 2 * np.pi * np.floor((ph - p["q_min"]) / (2 * np.pi)), np.nan)
-    ok = (phi >= p["q_min"]) & (phi <= p["q_max"])
+    phi = np.where(turnable, ph - 2 * np.pi * np.floor((ph - lo) / (2 * np.pi)), np.nan)
+    ok = (phi >= lo) & (phi <= hi)
     safe = np.where(ok, phi, 0.5 * (p["q_min"] + p["q_max"]))
     P, J = k4.coupler_point_and_jacobian(fb, safe)
     pose = k4.solve(fb, safe)

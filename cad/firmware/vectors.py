@@ -46,8 +46,8 @@ def _poses_bad(spec: DeviceSpec, q_ok: np.ndarray, rng) -> np.ndarray:
     p = spec.params
     if spec.kind == "fourbar":
         span = p["q_max"] - p["q_min"]
-        lo = p["q_min"] - rng.uniform(1e-3, span, N_BAD // 2)
-        hi = p["q_max"] + rng.uniform(1e-3, span, N_BAD - N_BAD // 2)
+        lo = p["q_min"] - p["q_slack"] - rng.uniform(1e-3, span, N_BAD // 2)
+        hi = p["q_max"] + p["q_slack"] + rng.uniform(1e-3, span, N_BAD - N_BAD // 2)
         return np.concatenate([lo, hi])[:, None]
     q = q_ok[rng.integers(0, len(q_ok), N_BAD)].copy()
     third = N_BAD // 3

@@ -59,6 +59,7 @@ from typing import Any
 
 import cad
 from cad.data.families import FAMILIES, builder_module
+from cad.device import resolve_device
 from cad.errors import DesignError
 from cad.io.atomic import atomic_dir, write_text_atomic
 from cad.io.outdir import check_out_dir
@@ -175,7 +176,7 @@ def build_key(
     # the dispatcher adds the datasheet to every family's report (cad/datasheet, its inputs);
     # cad/tolerances.py for every family (K_RTOL of the wall, part clearances, mesh tolerances)
     payload["datasheet_code"] = code_version(("datasheet", "data", "families", "sim/wall.py",
-                                              "structure", "design/motor.py",
+                                              "structure", "design/motor.py", "device",
                                               "tolerances.py"))
     if mod is not None and hasattr(mod, "cache_inputs"):
         payload["extra"] = _jsonable(mod.cache_inputs(design))
@@ -321,6 +322,7 @@ def build_design(
         if rep is not None:
             return rep
     mod = _builder_module(design)
+    device = resolve_device(design, fidelity)  # once: every writer reads these facts (cad.device)
     _check_before_cad(mod, design, set(formats), fidelity, phi1_deg, allow_interference)
     from cad.export.manifest import write_manifest  # noqa: F401 - imported before the routed import, as always
     from cad.parts.lazy_import import routed_first_import
@@ -332,23 +334,16 @@ def build_design(
         atomic_dir(out_dir, check=check) as tmp,
         _children_cancelled_on_error(),
     ):
-        report = mod.build(
-            design,
-            tmp,
-            set(formats),
-            fidelity=fidelity,
-            allow_interference=allow_interference,
-            progress=progress,
-            phi1_deg=phi1_deg,
-        )
-        report = dict(report)
+        report = dict(mod.build(design, tmp, set(formats), fidelity=fidelity,
+                                allow_interference=allow_interference, progress=progress,
+                                phi1_deg=phi1_deg))
         write_order(report, tmp, prices if prices is not None else _design_prices(design))  # (BOM cost row)
         add_datasheet(design, report, tmp, simulate_wall)
         timings = report.pop("_timings_s", None)
         viewer_glb = report.pop("_viewer_glb", None)
         build = {"formats": sorted(formats), "fidelity": fidelity,
                  "allow_interference": bool(allow_interference), "build_key": key}
-        _write_report_files(design, report, tmp, formats, build, viewer_glb)
+        _write_report_files(design, report, tmp, formats, build, viewer_glb, device)
     report["cached"] = False
     if timings is not None:
         report["timings_s"] = timings
@@ -400,22 +395,28 @@ def _check_before_cad(mod, design, formats: set[str], fidelity: str, phi1_deg: f
         mod.check_layout(design, fidelity, allow_interference)
 
 
-def _write_report_files(design, report: dict, tmp: Path, formats, build: dict, viewer_glb) -> None:
-    """Into the build's temporary folder: the firmware (when asked), report.json,
-    report.html and the manifest; ``report["files"]`` lists them, ``report["build"]`` is
-    ``build`` (formats, fidelity, allow_interference, build_key)."""
+def _write_report_files(design, report: dict, tmp: Path, formats, build: dict, viewer_glb,
+                        device) -> None:
+    """Into the build's temporary folder: the firmware (when asked), report.json (with
+    ``device``: the resolved device), report.html and the manifest; ``report["files"]`` lists
+    them, ``report["build"]`` is ``build`` (formats, fidelity, allow_interference, build_key).
+    Then the written files are read back (:func:`cad.device.readback.check_outputs`): a file
+    that disagrees with ``device`` raises OutputsDisagree and nothing is published."""
+    from cad.device.readback import check_outputs
     from cad.export.manifest import write_manifest
     from cad.report.html import write_report_html
 
     if "firmware" in formats:  # from the report's mass properties (cad.firmware, no CAD)
         from cad.firmware import write_firmware
 
-        fw = write_firmware(design, _jsonable(report), tmp, design_hash(design))
+        fw = write_firmware(design, _jsonable(report), tmp, design_hash(design), device)
         report["files"] = sorted({*report.get("files", []), *fw})
     if isinstance(report.get("files"), list):
         report["files"] = sorted({*report["files"], HTML_NAME})
     report["build"] = build
+    report["device"] = device.as_dict()
     doc = _jsonable(report)
     write_text_atomic(tmp / REPORT_NAME, json.dumps(doc, indent=2, sort_keys=True) + "\n")
     write_report_html(doc, tmp, viewer_glb)
     write_manifest(tmp, {"build_key": build["build_key"]})
+    check_outputs(device, tmp)  # the files read back agree with the device, or nothing is published

@@ -566,8 +566,19 @@ def build_steps(instances, plan=None, checks=(), no_solid_rows=()) -> list:
 
     steps = assembly_steps(instances, designation, plan, checks)
     if no_solid_rows:
-        steps.append(Step(NO_SOLID_STEP, [r["part"] for r in no_solid_rows]))
+        steps.append(Step(NO_SOLID_STEP, list(_no_solid_names(no_solid_rows))))
     return steps
+
+
+def _no_solid_names(rows) -> dict[str, tuple[str, str]]:
+    """``{instance name: (part, description)}`` of BOM rows with no solid: one instance per
+    unit of the row's quantity (``encoder``, or ``encoder_1`` ... ``encoder_n``)."""
+    out = {}
+    for r in rows:
+        q = int(r.get("quantity", 1))
+        names = [r["part"]] if q == 1 else [f"{r['part']}_{i}" for i in range(1, q + 1)]
+        out |= {n: (r["part"], r["description"]) for n in names}
+    return out
 
 
 def write_assembly_md(out_dir: Path, title: str, instances, plan=None, checks=(),
@@ -585,7 +596,7 @@ def write_assembly_md(out_dir: Path, title: str, instances, plan=None, checks=()
     from cad.report.step_views import STEP_VIEW_FORMATS
 
     by = {i.name: (i.kind.name, i.kind.description) for i in instances}
-    by |= {r["part"]: (r["part"], r["description"]) for r in no_solid_rows}
+    by |= _no_solid_names(no_solid_rows)
     steps = build_steps(instances, plan, checks, no_solid_rows)
     images = {}
     if tf_world_body is not None and set(formats) & set(STEP_VIEW_FORMATS):

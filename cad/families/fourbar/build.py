@@ -79,19 +79,11 @@ def cache_inputs(design) -> dict:
 
 
 def encoder_bom_row(design) -> dict:
-    """The crank encoder as a bought BOM line (no solid: it sits on the motor's rear shaft),
-    from the datasheet's encoder choice (:func:`cad.families.fourbar.datasheet.encoder_counts`); its
-    mass is not in the catalog (0 in the totals, said in the description)."""
-    from cad.data import catalog
-    from cad.families.fourbar.datasheet import encoder_counts, lever
+    """The crank encoder as a bought BOM line (no solid: it sits on the motor's rear shaft):
+    the resolved device's encoder (:func:`cad.device.encoder_bom_rows`)."""
+    from cad.device import encoder_bom_rows, resolve_device
 
-    counts, src, key = encoder_counts(design, lever(design, 3)[1])
-    enc = catalog.get_encoder(key) if key is not None else None
-    desc = enc.description if enc is not None else f"encoder on the motor's rear shaft, {counts:.0f} counts/rev"
-    return {"part": "encoder", "description": f"{desc} ({src.split(';')[0]}; mass not known, not in the totals)",
-            "material": "bought", "quantity": 1, "made_or_bought": "bought", "process": "bought",
-            "fits": "", "mass_g": 0.0, "group": "encoders",
-            "designation": desc, "order_code": getattr(enc, "order_code", "") or "", "stock": ""}
+    return encoder_bom_rows(resolve_device(design))[0]
 
 
 def inertia_from_links(design, link_props: dict, Jm_kg_m2: float):
@@ -114,13 +106,6 @@ def apparent_mass(design, H) -> dict:
     from cad.dynamics.inertia import apparent_mass_summary
 
     return apparent_mass_summary(apparent_mass_curves(design, H)["M_kg"])
-
-
-def rotor_inertia_kg_m2(parts, motor) -> float:
-    """Jm (kg m^2): ``parts.motor_rotor_inertia_g_cm2`` when given, else the catalog's."""
-    if parts.motor_rotor_inertia_g_cm2 is not None:
-        return parts.motor_rotor_inertia_g_cm2 * 1e-7
-    return motor.rotor_inertia_kg_m2
 
 
 def _joint_axes(J) -> dict:
@@ -190,13 +175,13 @@ def _dynamics(b) -> dict:
     link frame, SI): Jm, H and the apparent mass, the fidelity costs and the structure:
     ``{"props", "links", "shares", "motor", "Jm_kg_m2", "H", "planar", "apparent_mass",
     "fidelity_costs", "structure"}``."""
-    from cad.data import catalog
+    from cad.device import resolve_device
     from cad.pipeline import family
     from cad.structure.device import structure_of_build
 
     design, model = b.design, b.model
-    motor = catalog.get_motor(design.parts.motor)
-    Jm = rotor_inertia_kg_m2(design.parts, motor)
+    dm = resolve_device(design).motor  # [motor] and parts.motor_rotor_inertia_g_cm2 applied
+    motor, Jm = dm.spec, dm.rotor_inertia_kg_m2
     H, planar = inertia_from_links(design, b.bodies, Jm)
     am = apparent_mass(design, H)
     out = {"props": b.props, "links": b.bodies,
@@ -416,9 +401,11 @@ def _report(b) -> dict:
         "base_plate_mm": list(model.extra["base_rect_mm"]),
         "motor": {
             "key": motor.key,
+            **({"name": motor.winding} if dict(b.design.motor).get("name") else {}),
             "mass_kg": motor.mass_kg,
             "rotor_inertia_g_cm2": mp["Jm_kg_m2"] * 1e7,
-            "source": motor.source,
+            "source": (motor.source if not b.design.motor else
+                       f"the design's [motor] table over the mount of {motor.key} ({motor.source})"),
         },
         "fidelity": b.fidelity,
         "fidelity_costs": mp["fidelity_costs"],

@@ -11,8 +11,10 @@ P(phi1_max)): the lever ``Jx = dx/dphi1`` (m/rad, Hoeken paper eq 12 in the path
   dT = I^2 R (Rth_winding + Rth_housing), I = tau / Kt, R at 25 C (no hot-resistance
   correction); the force at :data:`DUTY` duty cycle, F_cont / sqrt(duty) capped at the peak
   (on-time much shorter than the winding's thermal time constant, tens of s for these motors);
-* **resolution**: (2 pi / counts) |Jx|, counts from ``parts.encoder_counts_per_rev``,
-  ``parts.encoder``, the ``[stiffness]`` encoder step, or :data:`catalog.DEFAULT_ENCODER`;
+* **resolution**: (2 pi / counts) |Jx|, counts of the resolved device's encoder
+  (:mod:`cad.device`: ``parts.encoder``, ``parts.encoder_counts_per_rev``, ``[firmware]
+  encoder_counts_per_rev``, the ``[stiffness]`` encoder step rounded to whole counts, or
+  :data:`catalog.DEFAULT_ENCODER`), the encoder the BOM orders;
 * **Coulomb friction at the handle** (virtual work): the motor's brush and bearing friction
   Kt I0 (no-load current) / |Jx|, plus, while the handle pushes ``force_N``, each joint
   bearing's SKF simplified frictional moment M = 0.5 mu F d (:data:`SKF_MU`, F its radial load
@@ -68,6 +70,15 @@ def lever(design, samples: int = SAMPLES, phi=None):
     return phi, Jx, pose, a2, a3
 
 
+def _label(m) -> str:
+    """The motor's name in a row: the catalog key, or the ``[motor]`` name / data it carries."""
+    if "(data of [motor]" in m.description:
+        return m.winding
+    if any("[motor]" in src for _, src in m.sources):
+        return f"{m.key} with the [motor] data"
+    return m.key
+
+
 def _motor_src(m, *fields) -> tuple[str, bool]:
     src = "; ".join(f"{f}: {m.source_of(f)}" for f in fields)
     return f"{m.winding or m.key} ({src})", any(m.is_unverified(f) for f in fields)
@@ -81,7 +92,7 @@ def force_rows(design, m, Jx) -> list[dict]:
         tau = getattr(m, f)
         src, unv = _motor_src(m, f)
         if tau is None:
-            out.append(row(key, fig, None, "N", f"no {f} for {m.key}", unverified=True))
+            out.append(row(key, fig, None, "N", f"no {f} for {_label(m)}", unverified=True))
             continue
         F = tau * 1e-3 / L
         paper = (f"{PAPER_CONT_FORCE_N:g} N (Hoeken paper §III.A, its RE 35 winding)"
@@ -112,7 +123,7 @@ def thermal_rows(design, m, Jx) -> list[dict]:
                        unverified=unv))
     else:
         out.append(row("winding_rise_at_force_K", "winding temperature rise holding force_N", None, "K",
-                       f"not computed: {m.key} has no {', '.join(f for f in need if getattr(m, f) is None)}",
+                       f"not computed: {_label(m)} has no {', '.join(f for f in need if getattr(m, f) is None)}",
                        unverified=True))
     if m.torque_continuous_mNm is not None and m.torque_peak_mNm is not None:
         F = min(m.torque_continuous_mNm / math.sqrt(DUTY), m.torque_peak_mNm) * 1e-3 / L
@@ -123,30 +134,21 @@ def thermal_rows(design, m, Jx) -> list[dict]:
     return out
 
 
-def encoder_counts(design, Jx) -> tuple[float, str, str | None]:
-    """(counts per crank turn, where from, catalog key or None)."""
-    from cad.data import catalog
+def encoder_counts(design, Jx=None) -> tuple[int, str, str | None]:
+    """(counts per crank turn, where from, catalog key or None): the resolved device's encoder
+    (:func:`cad.device.resolve_device`), the one the BOM orders and the firmware is compiled
+    for. ``Jx`` is not used (kept for callers)."""
+    from cad.device import resolve_device
 
-    p = design.parts
-    if p.encoder_counts_per_rev is not None:
-        return float(p.encoder_counts_per_rev), "parts.encoder_counts_per_rev", None
-    if p.encoder is not None:
-        e = catalog.get_encoder(p.encoder)
-        return float(e.counts_per_rev), f"parts.encoder = {e.key} ({e.source})", e.key
-    st = design.stiffness
-    if st is not None:
-        J_mid = abs(float(Jx[len(Jx) // 2]))
-        return (2 * math.pi * J_mid / st.encoder_resolution_m,
-                "stiffness.encoder_resolution_m at mid-stroke", None)
-    e = catalog.get_encoder(catalog.DEFAULT_ENCODER)
-    return float(e.counts_per_rev), f"default encoder {e.key} ({e.source}); set parts.encoder", e.key
+    e = resolve_device(design).encoder
+    return e.counts_per_rev, e.source, e.catalog_key
 
 
 def resolution_row(design, Jx) -> dict:
     counts, src, _ = encoder_counts(design, Jx)
     r = 2 * math.pi / counts * np.abs(Jx) * 1e6
     return row("resolution_um", "position resolution at the handle", r.max(), "um",
-               f"(2 pi / {counts:.6g} counts) |dx/dphi1|, worst over the stroke; {src}", lo=r.min(), hi=r.max())
+               f"(2 pi / {counts} counts) |dx/dphi1|, worst over the stroke; {src}", lo=r.min(), hi=r.max())
 
 
 def friction(design, m, Jx, pose, a2, a3) -> tuple[np.ndarray | None, np.ndarray]:
@@ -173,7 +175,7 @@ def friction_rows(design, m, Jx, pose, a2, a3) -> list[dict]:
     out = []
     if Fm is None:
         out.append(row("friction_N", "Coulomb friction at the handle (no load)", None, "N",
-                       f"not computed: {m.key} has no torque constant or no-load current", unverified=True, paper=paper))
+                       f"not computed: {_label(m)} has no torque constant or no-load current", unverified=True, paper=paper))
         Fm = np.zeros_like(Fb)
     else:
         out.append(row("friction_N", "Coulomb friction at the handle (no load)", Fm.max(), "N",
@@ -302,8 +304,9 @@ def mass_rows(report) -> list[dict]:
 def rows_and_limits(design, report: dict, out_dir=None, simulate_wall: bool = True):
     """(rows, limits, notes) of a four-bar build report (module docstring)."""
     from cad.datasheet.limits import fourbar_limits
+    from cad.device import resolve_device
 
-    m = design.motor_spec()
+    m = resolve_device(design).motor.spec  # the motor the BOM orders, [motor] applied
     phi, Jx, pose, a2, a3 = lever(design)
     rows = [row("stroke_mm", "stroke", report.get("stroke_mm"), "mm", "|P(phi1_max) - P(phi1_min)| (Table I)")]
     rows += force_rows(design, m, Jx) + thermal_rows(design, m, Jx)

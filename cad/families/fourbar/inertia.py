@@ -101,9 +101,9 @@ def inertia_model(design, fidelity: str = "inertia", samples: int = 401) -> dict
     ``apparent_mass`` (M11/M12/M22 ranges, g), ``links`` (``mass_g``, ``com_link_mm``,
     ``Izz_com_kg_m2`` per link), ``budget`` (rows per part), ``wall_s``.
     """
-    from cad.data import catalog
+    from cad.device import resolve_device
     from cad.dynamics.inertia import apparent_mass_matrix, apparent_mass_summary, equivalent_inertia
-    from cad.families.fourbar.build import inertia_from_links, rotor_inertia_kg_m2
+    from cad.families.fourbar.build import inertia_from_links
     from cad.kinematics.fourbar import jacobian_mm_per_rad, solve, velocity_ratios
     from cad.kinematics.metrics import path_frame
     from cad.pipeline import family
@@ -114,7 +114,7 @@ def inertia_model(design, fidelity: str = "inertia", samples: int = 401) -> dict
     asm = inertia_assembly(design, fidelity)
     props = family.kind_props(asm.instances)
     link_props = family.body_props(asm.instances, props)
-    Jm = rotor_inertia_kg_m2(parts, catalog.get_motor(parts.motor))
+    Jm = resolve_device(design).motor.rotor_inertia_kg_m2  # [motor] / parts overrides applied
     H, planar_links = inertia_from_links(design, link_props, Jm)
 
     shares: list[PartShare] = []

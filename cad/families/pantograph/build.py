@@ -180,8 +180,8 @@ def _write_sim(design, out_dir, formats, instances, bodies, lay, home) -> list[s
         return []
     import dataclasses
 
-    from cad.data.catalog import get_motor
     from cad.data.materials import get_material
+    from cad.device import resolve_device
     from cad.families.pantograph.sim import sim_model
     from cad.kinematics import twin_pantograph as tw
 
@@ -229,7 +229,7 @@ def _write_sim(design, out_dir, formats, instances, bodies, lay, home) -> list[s
         lay,
         [*home, th],
         ik,
-        get_motor(p.motor).rotor_inertia_kg_m2,
+        resolve_device(design).motor.rotor_inertia_kg_m2,
         made,
         lambda kind: get_material(K[kind].material).color_rgb,
     )
@@ -280,6 +280,14 @@ def _title(b) -> str:
     return f"{b.design.name}: {b.design.family} at home {home.round(2).tolist()} mm"
 
 
+def _encoder_rows(design) -> list[dict]:
+    """The joint encoders the device carries (one per motor, no solid): BOM lines from the
+    resolved device (:func:`cad.device.encoder_bom_rows`)."""
+    from cad.device import encoder_bom_rows, resolve_device
+
+    return encoder_bom_rows(resolve_device(design))
+
+
 def _stages():
     """The family's stages of the one build driver (:class:`cad.pipeline.run.Stages`)."""
     from cad.pipeline.run import Stages
@@ -291,7 +299,8 @@ def _stages():
         dynamics=lambda b: _effective_mass(b.design, b.bodies, b.model.extra["home_mm"]),
         bench_z_mm=lambda b: b.pre[0]["bench_z_mm"],
         marks=lambda b: [("workspace", _square(b.design.workspace))],
-        more_files=_sim_files, assembly=lambda design: (None, ASSEMBLY_CHECKS))
+        more_files=_sim_files, assembly=lambda design: (None, ASSEMBLY_CHECKS),
+        no_solid_rows=_encoder_rows)
 
 
 def build(

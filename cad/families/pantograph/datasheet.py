@@ -12,9 +12,10 @@ datasheet gives the minimum of sigma_min over the workspace (the figure a user c
 and draws the ellipses over the workspace (``force_ellipses.png``, planar families).
 
 Position resolution: one encoder step ``2 pi / counts`` on each joint moves the handle at
-most ``sigma_max(J_pos^+) 2 pi / counts`` (J_pos the translational columns; counts of
-:data:`cad.data.catalog.DEFAULT_ENCODER`, the Hoeken prototype's, as these designs name no
-encoder); the worst over the workspace. No CAD import.
+most ``sigma_max(J_pos^+) 2 pi / counts`` (J_pos the translational columns; counts of the
+resolved device's encoder, :mod:`cad.device`: the haptic mouse's 4000 cpt optical encoder of
+isotropy paper §3.2 unless ``[firmware] encoder_counts_per_rev`` says otherwise, the encoder
+the BOM orders); the worst over the workspace. No CAD import.
 """
 
 from __future__ import annotations
@@ -153,8 +154,8 @@ def structure_rows(st: dict) -> list[dict]:
 
 def rows_and_limits(design, report: dict, out_dir=None, simulate_wall: bool = True):
     """(rows, limits, notes) of a pantograph-family build (module docstring)."""
-    from cad.data import catalog
     from cad.datasheet.limits import pantograph_limits
+    from cad.device import resolve_device
 
     A, sig, ok = force_ellipses(design)
     ws = design.workspace
@@ -176,12 +177,12 @@ def rows_and_limits(design, report: dict, out_dir=None, simulate_wall: bool = Tr
     rows.append(row("force_best_dir_N", "largest force (best direction)", smaxv.max() if ok.any() else None, "N",
                     f"max over the workspace of sigma_max(J^T S_J), {tau_txt}",
                     lo=smaxv.min() if ok.any() else None, hi=smaxv.max() if ok.any() else None))
-    enc = catalog.get_encoder(catalog.DEFAULT_ENCODER)
+    enc = resolve_device(design).encoder  # the encoder the BOM orders
     res = resolution_m(design, enc.counts_per_rev) * 1e6
     good = res[np.isfinite(res)]
     rows.append(row("resolution_um", "position resolution at the handle", good.max() if good.size else None, "um",
                     f"sigma_max(J^+) 2 pi / {enc.counts_per_rev} counts per joint, worst over the workspace; "
-                    f"encoder {enc.key} assumed ({enc.source})",
+                    f"{enc.source}",
                     lo=good.min() if good.size else None, hi=good.max() if good.size else None))
     rows.append(row("friction_N", "Coulomb friction at the handle", None, "N",
                     "not modelled: [actuators] gives torque limits only (no motor data sheet)"))

@@ -23,11 +23,11 @@ def _planar(mp):
 
 def _effective_mass(design, bodies: dict, home: np.ndarray) -> tuple[dict, dict | None]:
     """Effective mass at home (with and, for the mouse, without rotor inertia)."""
-    from cad.data.catalog import get_motor
+    from cad.device import resolve_device
     from cad.kinematics import fivebar as fb5
     from cad.kinematics import twin_pantograph as tw
 
-    rotor = get_motor(design.parts.motor).rotor_inertia_kg_m2
+    rotor = resolve_device(design).motor.rotor_inertia_kg_m2  # the motors the BOM orders
 
     def fbm(pre: str, jm: float):
         d = [_planar(bodies[f"{pre}distal_{s}"]) for s in ("left", "right")]

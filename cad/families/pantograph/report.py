@@ -16,10 +16,10 @@ PAPER_TABLE1 = {
 
 
 def _report(design, lay, clr, bodies, eff, eff_bare, itf, bom, home, fidelity, low) -> dict:
-    from cad.data.catalog import get_motor
+    from cad.device import resolve_device
 
     g = design.gii()
-    mot = get_motor(design.parts.motor)
+    mot = resolve_device(design).motor.spec  # the motor the BOM orders
     report = {
         "name": design.name,
         "design": design.name,

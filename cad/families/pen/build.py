@@ -99,6 +99,14 @@ def _assemble(design, fidelity: str):
     return assemble(design, fidelity)
 
 
+def _encoder_rows(design) -> list[dict]:
+    """The joint encoders the device carries (one per motor, no solid): BOM lines from the
+    resolved device (:func:`cad.device.encoder_bom_rows`)."""
+    from cad.device import encoder_bom_rows, resolve_device
+
+    return encoder_bom_rows(resolve_device(design))
+
+
 def _stages():
     """The pen's stages of the one build driver (:class:`cad.pipeline.run.Stages`)."""
     from cad.pipeline.run import Stages
@@ -111,7 +119,8 @@ def _stages():
         preview_title=lambda b: f"{b.design.name}: haptic pen at the workspace centre",
         dynamics=_dynamics, bench_z_mm=lambda b: b.model.extra["ground_mm"]["bench_z_mm"],
         thread_notes=False,  # the pen's DXF/drawings carry no tapped-hole notes (as before)
-        more_files=_mjcf)
+        more_files=_mjcf,
+        no_solid_rows=_encoder_rows)
 
 
 def build(design, out_dir: Path, formats: set[str], *, fidelity: str = "fabrication",

@@ -78,11 +78,10 @@ def mass_matrix_si(design, bodies: dict, X, rotor_kg_m2=None) -> np.ndarray:
 
 def rotor_inertias(design) -> np.ndarray:
     """(6,) rotor inertia (kg m^2) on the joints (q1 waist A, q2, q3, q4 waist B, q5, q6)."""
-    from cad.data.catalog import get_motor
+    from cad.device import resolve_device
 
-    w = get_motor(design.parts.waist_motor).rotor_inertia_kg_m2
-    s = get_motor(design.parts.motor).rotor_inertia_kg_m2
-    return np.array([w, s, s, w, s, s])
+    jm = {m.joint: m.rotor_inertia_kg_m2 for m in resolve_device(design).motors}
+    return np.array([jm[f"{a}_q_{j}"] for a in ("A", "B") for j in ("waist", "lower", "upper")])
 
 
 def effective_mass(design, bodies: dict, X) -> dict:

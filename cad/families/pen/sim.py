@@ -38,16 +38,15 @@ def _joint_value(T_parent: np.ndarray, T_child: np.ndarray) -> float:
 def sim_model(design, model, bodies: dict) -> SimModel:
     """SimModel of the pen at home (module docstring). ``bodies``: MassProps per body (body
     frame, SI)."""
-    from cad.data.catalog import get_motor
     from cad.data.materials import get_material
+    from cad.device import resolve_device
 
     T = model.tf_world_body
     l3 = design.params["distal_mm"] * 1e-3
     l6 = design.mechanism.pen_mm * 1e-3
     made = {i.kind.name for i in model.instances if i.kind.made and i.kind.listed}
-    rotor = {"waist": get_motor(design.parts.waist_motor).rotor_inertia_kg_m2,
-             "lower": get_motor(design.parts.motor).rotor_inertia_kg_m2}
-    rotor["upper"] = rotor["lower"]
+    jm = {m.joint: m.rotor_inertia_kg_m2 for m in resolve_device(design).motors}  # the BOM's motors
+    rotor = {j: jm[f"A_q_{j}"] for j in ("waist", "lower", "upper")}
     tau = float(np.atleast_1d(design.actuators["torque_max_Nm"])[0])
     q1 = float(design.params["waist_torque_ratio"])
 

@@ -58,12 +58,13 @@ def test_steps_place_every_bom_instance_exactly_once(builds, fam):
     assert "assembly.md" in rep["files"]
     assert "[assembly.md](assembly.md)" in (out / "report.md").read_text()
     # every instance of report.json's part list that has a BOM line is placed; the BOM lines
-    # with no solid (the four-bars' encoder) in the last step of their own
+    # with no solid (the joint encoders: one per motor) in the last step of their own
     from cad.pipeline.family import NO_SOLID_STEP
 
     no_solid = {n for t, new, _ in _steps(out) if t.endswith(NO_SOLID_STEP) for n, _ in new}
     assert set(names) - no_solid <= set(rep["part_materials"])
-    assert no_solid == ({"encoder"} if fam == "hoeken" else set())
+    n_motors = {"hoeken": 1, "pantograph": 2, "twin-pantograph": 4, "powermouse": 0}[fam]
+    assert no_solid == ({"encoder"} if n_motors == 1 else {f"encoder_{i}" for i in range(1, n_motors + 1)})
 
 
 @pytest.mark.parametrize("fam", ["hoeken", "powermouse"])

@@ -121,7 +121,7 @@ def _vertical(d):
 
     n = {"hoeken": 1, "pantograph": 2}.get(d.family, 4)
     return dataclasses.replace(d, firmware=parse_firmware(
-        {"plane": "vertical", "gravity_direction": [0.3, -1.0]}, n, d.firmware.encoder_counts_per_rev))
+        {"plane": "vertical", "gravity_direction": [0.3, -1.0]}, n))
 
 
 def _potential_fourbar(d, rep, phi):

@@ -1,0 +1,350 @@
+"""The device as it will be made, resolved once per build (issue 32 item 1; SPEC "The resolved
+device (one fact, one place)").
+
+:func:`resolve_device` turns a validated design into a frozen :class:`ResolvedDevice`: each
+motor (the catalog entry named by ``parts.motor`` with the design's ``[motor]`` table and
+``parts.motor_rotor_inertia_g_cm2`` applied, every constant with its source), each encoder
+(counts per turn after quadrature decoding, the joint it sits on, catalog key, source), the
+transmission of each motor, each part group's material and process, the design's limits
+(``[targets]``) and the build fidelity. Every writer of a build (BOM, datasheet, firmware, CHAI3D file,
+MJCF/URDF, report.json) reads its facts from here and keeps no default of its own;
+``report.json`` carries :meth:`ResolvedDevice.as_dict` under ``device``.
+
+One encoder value (per joint): ``parts.encoder`` (a catalog key), ``parts.encoder_counts_per_rev``
+and ``[firmware] encoder_counts_per_rev`` are three ways to state it; two that disagree are
+refused (DesignError naming both fields). Without any, a four-bar with a ``[stiffness]`` table
+gets the encoder whose step at mid-stroke is the table's ``encoder_resolution_m`` (rounded to
+whole counts: the encoder the BOM orders), else the Hoeken prototype's "general purpose 2000
+counts/rev optical encoder" (Hoeken paper §III.A); the pantograph, twin-pantograph and pen
+designs follow the haptic mouse of the isotropy paper: "The position of each active joint is
+sensed by a 1000 window (4000 cpt) optical encoder" (isotropy paper §3.2,
+``/work/shared/seeds/002``), catalog ``optical-4000``. The PowerMouse (maglev, Lorentz coils)
+has no rotary motor or encoder here.
+
+Pure math and data: imports no CAD library.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+from typing import Any
+
+from cad.errors import DesignError
+
+#: MotorSpec fields a resolved motor states (value and source each), in report order.
+MOTOR_FIELDS = ("torque_constant_mNm_per_A", "current_continuous_A", "torque_continuous_mNm",
+                "torque_peak_mNm", "stall_torque_mNm", "terminal_resistance_ohm",
+                "thermal_resistance_housing_K_per_W", "thermal_resistance_winding_K_per_W",
+                "no_load_current_mA", "rotor_inertia_g_cm2", "mass_kg")
+
+
+@dataclass(frozen=True)
+class ResolvedMotor:
+    """One motor of the device.
+
+    joint : the joint it drives (``crank`` of a four-bar, at A1; ``q_left`` ... of the 5-bars: the
+        joint names of the MJCF export); catalog_key : ``parts.motor`` (the mount interface);
+    name : what the device uses (the ``[motor]`` name or the catalog winding);
+    from_motor_table : True when a ``[motor]`` value replaced a catalog value;
+    spec : the :class:`cad.data.catalog.MotorSpec` with every override applied (``sources``
+        names where each constant comes from; ``unverified`` the ones without a public source).
+    """
+
+    joint: str
+    catalog_key: str
+    name: str
+    from_motor_table: bool
+    spec: Any
+
+    @property
+    def kt_Nm_per_A(self) -> float | None:
+        k = self.spec.torque_constant_mNm_per_A
+        return None if k is None else k * 1e-3
+
+    @property
+    def current_peak_A(self) -> float | None:
+        """Peak torque / Kt (A): the current limit the firmware saturates at."""
+        t, k = self.spec.torque_peak_mNm, self.spec.torque_constant_mNm_per_A
+        return None if t is None or k is None else t / k
+
+    @property
+    def rotor_inertia_kg_m2(self) -> float:
+        return self.spec.rotor_inertia_g_cm2 * 1e-7
+
+    def as_dict(self) -> dict:
+        m = self.spec
+        consts = {f: {"value": getattr(m, f), "source": m.source_of(f) or m.source,
+                      **({"unverified": True} if m.is_unverified(f) else {})} for f in MOTOR_FIELDS}
+        return {"joint": self.joint, "catalog_key": self.catalog_key, "name": self.name,
+                "from_motor_table": self.from_motor_table, "current_peak_A": self.current_peak_A,
+                "constants": consts}
+
+
+@dataclass(frozen=True)
+class ResolvedEncoder:
+    """One shaft encoder: ``counts_per_rev`` after x4 quadrature decoding on ``joint``;
+    ``catalog_key`` (None when the count comes from a design field), ``description`` (the BOM
+    wording), ``field`` (the design field that set it, or "default"), ``source``."""
+
+    joint: str
+    counts_per_rev: int
+    catalog_key: str | None
+    description: str
+    field: str
+    source: str
+
+    def as_dict(self) -> dict:
+        return {"joint": self.joint, "counts_per_rev": self.counts_per_rev,
+                "catalog_key": self.catalog_key, "description": self.description,
+                "field": self.field, "source": self.source}
+
+
+@dataclass(frozen=True)
+class Transmission:
+    """Motor -> joint transmission. ``kind`` "direct" (ratio 1) today; a capstan states its
+    ``ratio`` (joint turn per motor turn inverse: joint torque = ratio * motor torque), its
+    cable and drum/capstan diameters (mm). Writers multiply torques and divide counts by
+    ``ratio``, so a capstan needs no new code path."""
+
+    motor_joint: str
+    kind: str = "direct"
+    ratio: float = 1.0
+    cable_diameter_mm: float | None = None
+    drum_diameter_mm: float | None = None
+    capstan_diameter_mm: float | None = None
+    source: str = "direct drive: the motor shaft is the joint (Hoeken paper §III.A; isotropy paper §3.2)"
+
+
+@dataclass(frozen=True)
+class PartMaterial:
+    """A group of made parts (``group``: the ``parts.<group>_material`` key), its material and
+    the process it is made by."""
+
+    group: str
+    material: str
+    process: str
+
+
+@dataclass(frozen=True)
+class ResolvedDevice:
+    """The device of one build (module docstring). ``limits``: the design's ``[targets]`` as
+    ``(key, bound text)`` pairs; ``fidelity``: the build fidelity."""
+
+    name: str
+    family: str
+    motors: tuple[ResolvedMotor, ...]
+    encoders: tuple[ResolvedEncoder, ...]
+    transmissions: tuple[Transmission, ...]
+    parts: tuple[PartMaterial, ...]
+    limits: tuple[tuple[str, Any], ...]
+    fidelity: str
+
+    @property
+    def motor(self) -> ResolvedMotor | None:
+        """The first motor (the four-bar's only one); None for the PowerMouse."""
+        return self.motors[0] if self.motors else None
+
+    @property
+    def encoder(self) -> ResolvedEncoder | None:
+        """The first encoder (every encoder of a device has the same count)."""
+        return self.encoders[0] if self.encoders else None
+
+    def as_dict(self) -> dict:
+        """report.json ``device``: every resolved fact with its source (plain JSON types)."""
+        return {"name": self.name, "family": self.family, "fidelity": self.fidelity,
+                "motors": [m.as_dict() for m in self.motors],
+                "encoders": [e.as_dict() for e in self.encoders],
+                "transmissions": [t.__dict__.copy() for t in self.transmissions],
+                "parts": [p.__dict__.copy() for p in self.parts],
+                "limits": dict(self.limits)}
+
+
+def resolve_device(design, fidelity: str = "fabrication") -> ResolvedDevice:
+    """The :class:`ResolvedDevice` of a validated ``design`` (module docstring).
+
+    Raises DesignError naming both fields when two encoder fields disagree, or
+    ``parts.motor_rotor_inertia_g_cm2`` and ``[motor] rotor_inertia_g_cm2`` disagree.
+    Cached per design object (a build resolves once; its writers read the same object).
+    """
+    return replace(_resolve(design), fidelity=fidelity)
+
+
+#: id(design) -> (design, device): the designs of the pantograph families hold dicts (not
+#: hashable); the design is kept so that its id is not reused while cached.
+_CACHE: dict[int, tuple[Any, ResolvedDevice]] = {}
+_CACHE_MAX = 32
+
+
+def _resolve(design) -> ResolvedDevice:
+    hit = _CACHE.get(id(design))
+    if hit is not None and hit[0] is design:
+        return hit[1]
+    dev = _resolve_uncached(design)
+    if len(_CACHE) >= _CACHE_MAX:
+        _CACHE.pop(next(iter(_CACHE)))
+    _CACHE[id(design)] = (design, dev)
+    return dev
+
+
+def _resolve_uncached(design) -> ResolvedDevice:
+    motors = _motors(design)
+    encoders = _encoders(design, motors)
+    return ResolvedDevice(
+        name=design.name, family=design.family, motors=motors, encoders=encoders,
+        transmissions=tuple(Transmission(m.joint) for m in motors), parts=_parts(design),
+        limits=tuple(sorted(_limits(design).items())), fidelity="fabrication")
+
+
+# ----------------------------------------------------------------------------- motors
+def _joints(design) -> tuple[tuple[str, str], ...]:
+    """(joint, parts field naming its motor) of every motor of the family."""
+    fam = design.family
+    if fam == "pantograph":
+        return (("q_left", "motor"), ("q_right", "motor"))
+    if fam == "twin-pantograph":
+        return tuple((f"{g}_q_{s}", "motor") for g in ("knob", "crank") for s in ("left", "right"))
+    if fam == "haptic-pen":
+        return tuple((f"{a}_q_{j}", "waist_motor" if j == "waist" else "motor")
+                     for a in ("A", "B") for j in ("waist", "lower", "upper"))
+    if fam == "powermouse" or getattr(design, "parts", None) is None:
+        return ()
+    return (("crank", "motor"),)
+
+
+def _motors(design) -> tuple[ResolvedMotor, ...]:
+    from cad.data.catalog import get_motor
+    from cad.design.motor import resolve_motor
+
+    out = []
+    table = tuple(getattr(design, "motor", ()) or ()) if hasattr(design, "linkage") else ()
+    for joint, fld in _joints(design):
+        key = getattr(design.parts, fld)
+        spec = resolve_motor(key, table, f"parts.{fld}") if table else get_motor(key, f"parts.{fld}")
+        spec = _rotor_override(design, spec, dict(table))
+        out.append(ResolvedMotor(joint, key, spec.winding or spec.key, bool(table), spec))
+    return tuple(out)
+
+
+def _rotor_override(design, spec, table: dict):
+    """``parts.motor_rotor_inertia_g_cm2`` (four-bars) applied; refused when ``[motor]
+    rotor_inertia_g_cm2`` states another value."""
+    jm = getattr(design.parts, "motor_rotor_inertia_g_cm2", None)
+    if jm is None:
+        return spec
+    if "rotor_inertia_g_cm2" in table and not math.isclose(table["rotor_inertia_g_cm2"], jm):
+        raise DesignError("parts.motor_rotor_inertia_g_cm2",
+                          f"{jm:g} g cm^2 disagrees with motor.rotor_inertia_g_cm2 = "
+                          f"{table['rotor_inertia_g_cm2']:g}: give the rotor inertia once")
+    sources = dict(spec.sources)
+    sources["rotor_inertia_g_cm2"] = "design file: parts.motor_rotor_inertia_g_cm2"
+    return replace(spec, rotor_inertia_g_cm2=float(jm), sources=tuple(sorted(sources.items())),
+                   unverified=tuple(f for f in spec.unverified if f != "rotor_inertia_g_cm2"))
+
+
+# ---------------------------------------------------------------------------- encoders
+def _firmware_counts(design) -> int | None:
+    fw = getattr(design, "firmware", None)
+    return None if fw is None else fw.encoder_counts_per_rev
+
+
+def _stated_counts(design) -> dict[str, tuple[int, str, str | None]]:
+    """{field: (counts, source, catalog key)} of every encoder field the design gives."""
+    from cad.data import catalog
+
+    p = design.parts
+    out: dict[str, tuple[int, str, str | None]] = {}
+    key = getattr(p, "encoder", None)
+    if key is not None:
+        e = catalog.get_encoder(key)
+        out["parts.encoder"] = (e.counts_per_rev, f"parts.encoder = {e.key} ({e.source})", e.key)
+    n = getattr(p, "encoder_counts_per_rev", None)
+    if n is not None:
+        out["parts.encoder_counts_per_rev"] = (int(n), "parts.encoder_counts_per_rev", None)
+    fw = _firmware_counts(design)
+    if fw is not None:
+        out["firmware.encoder_counts_per_rev"] = (int(fw), "firmware.encoder_counts_per_rev", None)
+    return out
+
+
+def _encoders(design, motors) -> tuple[ResolvedEncoder, ...]:
+    if not motors:
+        return ()
+    from cad.data import catalog
+
+    stated = _stated_counts(design)
+    if len({v[0] for v in stated.values()}) > 1:
+        (fa, (a, _, _)), (fb, (b, _, _)) = list(stated.items())[:2]
+        raise DesignError(fa, f"{a} counts/rev disagrees with {fb} = {b}: one encoder per joint, "
+                              "state its count once (or the same count in both)")
+    if stated:
+        field, (counts, src, key) = next(iter(stated.items()))
+        desc = catalog.get_encoder(key).description if key else _plain(counts)
+    elif hasattr(design, "linkage") and design.stiffness is not None:
+        field, counts, src, key = "stiffness.encoder_resolution_m", *_stiffness_counts(design), None
+        desc = _plain(counts)
+    else:
+        fourbar = hasattr(design, "linkage")
+        key = catalog.DEFAULT_ENCODER if fourbar else catalog.PAPER_MOUSE_ENCODER
+        e = catalog.get_encoder(key)
+        src = f"default encoder {e.key} ({e.source})" + ("; set parts.encoder" if fourbar else "")
+        field, counts, desc = "default", e.counts_per_rev, e.description
+    return tuple(ResolvedEncoder(m.joint, int(counts), key, desc, field, src) for m in motors)
+
+
+def _plain(counts: int) -> str:
+    return f"encoder on the motor's rear shaft, {counts} counts/rev"
+
+
+def _stiffness_counts(design) -> tuple[int, str]:
+    """Counts per crank turn whose handle step at mid-stroke is ``[stiffness]
+    encoder_resolution_m``: 2 pi |dx/dphi1| / Delta, rounded to whole counts."""
+    import numpy as np
+
+    from cad.kinematics.fourbar import jacobian_mm_per_rad, solve
+    from cad.kinematics.metrics import path_frame
+
+    fb = design.linkage
+    mid = 0.5 * (design.phi1_min_rad + design.phi1_max_rad)
+    pose = solve(fb, np.array([mid]))
+    fr = path_frame(fb, design.phi1_min_rad, design.phi1_max_rad)
+    J = abs(float(fr.rotate(jacobian_mm_per_rad(fb, pose))[0, 0])) * 1e-3
+    delta = design.stiffness.encoder_resolution_m
+    exact = 2 * math.pi * J / delta
+    n = max(1, round(exact))
+    return n, (f"stiffness.encoder_resolution_m at mid-stroke; Delta = {delta:g} m: 2 pi |dx/dphi1| / "
+               f"Delta = {exact:.6g}, rounded to {n} counts/rev")
+
+
+def encoder_bom_rows(device: ResolvedDevice) -> list[dict]:
+    """The device's encoders as bought BOM lines (no solid: each sits on its motor's rear
+    shaft), one line per distinct encoder with its quantity; the description states the
+    counts per turn and where they come from; mass not in the catalog (0 in the totals)."""
+    rows: dict[tuple, dict] = {}
+    for e in device.encoders:
+        key = (e.catalog_key, e.counts_per_rev)
+        if key in rows:
+            rows[key]["quantity"] += 1
+            continue
+        rows[key] = {"part": "encoder", "description": f"{e.description} ({e.source.split(';')[0]}; mass not "
+                     "known, not in the totals)", "material": "bought", "quantity": 1,
+                     "made_or_bought": "bought", "process": "bought", "fits": "", "mass_g": 0.0,
+                     "group": "encoders", "designation": e.description, "order_code": "", "stock": ""}
+    return list(rows.values())
+
+
+# ------------------------------------------------------------------- parts and limits
+def _parts(design) -> tuple[PartMaterial, ...]:
+    p = getattr(design, "parts", None)
+    if p is None or not hasattr(p, "__dataclass_fields__"):
+        return ()
+    proc = getattr(p, "process", "machined")
+    return tuple(PartMaterial(f[: -len("_material")], getattr(p, f), proc)
+                 for f in sorted(p.__dataclass_fields__)
+                 if f.endswith("_material") and isinstance(getattr(p, f), str))
+
+
+def _limits(design) -> dict:
+    """The design's ``[targets]`` (``hapticad check`` bounds) as ``{key: bound text}``; the
+    datasheet's default limits are stated in its own rows (:mod:`cad.datasheet.limits`)."""
+    return {t.key: t.describe() for t in (getattr(design, "targets", ()) or ())}

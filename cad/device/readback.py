@@ -1,0 +1,190 @@
+"""Read a build's written files back and compare what they say with the resolved device
+(issue 32 item 2: "a build that finds its own outputs disagreeing fails loudly rather than
+publishing").
+
+Each reader parses the file as a user's tool would (``csv`` for ``bom.csv`` / ``order.csv``,
+a regex over the C header's ``#define`` lines, ``json`` for ``chai3d_device.json``,
+``test_vectors.json`` and ``report.json``, ``xml.etree`` for the MJCF), never the objects the
+writers held. :func:`output_facts` returns what the files state; :func:`check_outputs` raises
+:class:`OutputsDisagree` naming the file, the fact and both values at the first mismatch.
+
+Pure Python (csv, json, re, xml): no CAD import.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+import re
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+from cad.errors import HapticadError
+from cad.tolerances import OUTPUT_AGREE_REL
+
+#: The encoder's counts per turn in a BOM description ("... 3837 counts/rev ...").
+COUNTS_RE = re.compile(r"(\d+) counts/rev")
+#: The datasheet resolution row's count ("(2 pi / 3837 counts)", "2 pi / 4000 counts per joint").
+RESOLUTION_COUNTS_RE = re.compile(r"2 pi / (\d+) counts")
+#: Families whose MJCF motor force range is the motor's peak torque (the pantograph families'
+#: is the ``[actuators]`` GII normalisation, isotropy paper eq 3, stated in their MJCF docs).
+MOTOR_FORCE_RANGE_FAMILIES = ("hoeken", "roberts", "chebyshev", "chebyshev-v", "custom")
+
+
+class OutputsDisagree(HapticadError):
+    """A written file states another value of a device fact than the resolved device (exit 2)."""
+
+
+def _define(text: str, name: str) -> str | None:
+    m = re.search(rf"^#define {name} (.+)$", text, re.M)
+    return None if m is None else m.group(1).strip()
+
+
+def header_facts(text: str) -> dict:
+    """``HC_ENCODER_DEFAULT`` counts, ``HC_KT_NM_PER_A``, ``HC_CURRENT_CONTINUOUS_A``,
+    ``HC_CURRENT_PEAK_A`` of a generated ``hapticad_device.h`` (SI), None when absent."""
+    out: dict = {}
+    enc = _define(text, "HC_ENCODER_DEFAULT")
+    m = re.match(r"\{\s*(\d+)L", enc or "")
+    out["encoder_counts_per_rev"] = int(m.group(1)) if m else None
+    for key, name in (("kt_Nm_per_A", "HC_KT_NM_PER_A"), ("current_continuous_A", "HC_CURRENT_CONTINUOUS_A"),
+                      ("current_peak_A", "HC_CURRENT_PEAK_A")):
+        v = re.match(r"HC_R\(([^)]+)\)", _define(text, name) or "")
+        out[key] = float(v.group(1)) if v else None
+    return out
+
+
+def bom_encoders(path: Path) -> list[tuple[int | None, int]]:
+    """(counts per turn or None, quantity) of every ``encoder`` line of ``bom.csv`` (column
+    ``part``) or ``order.csv`` (column ``parts``, its designation states the counts)."""
+    with path.open(newline="", encoding="utf-8") as f:
+        rows = [r for r in csv.DictReader(f)
+                if r.get("part") == "encoder" or "encoder" in (r.get("parts") or "").split()]
+    out = []
+    for r in rows:
+        m = COUNTS_RE.search(r.get("description") or r.get("designation") or "")
+        out.append((int(m.group(1)) if m else None, int(float(r.get("quantity") or 0))))
+    return out
+
+
+def mjcf_motors(path: Path) -> dict[str, dict]:
+    """``{joint: {"armature": kg m^2, "forcerange": N m}}`` of every motor of an MJCF file."""
+    root = ET.parse(path).getroot()
+    arm = {j.get("name"): float(j.get("armature", 0.0)) for j in root.iter("joint")}
+    out = {}
+    for m in root.iter("motor"):
+        j = m.get("joint")
+        hi = float((m.get("forcerange") or "0 0").split()[-1])
+        out[j] = {"armature": arm.get(j), "forcerange": hi}
+    return out
+
+
+def _datasheet_counts(report: dict) -> int | None:
+    for r in (report.get("datasheet") or {}).get("rows", []):
+        if r.get("key") == "resolution_um":
+            m = RESOLUTION_COUNTS_RE.search(r.get("model") or "")
+            return int(m.group(1)) if m else None
+    return None
+
+
+def _mjcf_files(out: Path) -> list[Path]:
+    return [p for p in sorted(out.rglob("*.xml")) if p.read_text(encoding="utf-8")[:400].find("<mujoco") >= 0]
+
+
+def _encoder_facts(out: Path, facts: list) -> None:
+    for name in ("bom.csv", "order.csv"):
+        if (out / name).is_file():
+            lines = bom_encoders(out / name)
+            facts += [(name, "encoder counts/rev", counts, "encoder") for counts, _ in lines]
+            total = sum(q for _, q in lines)
+            facts.append((name, "encoders ordered", total, "n_encoders"))
+    fw = out / "firmware"
+    if (fw / "hapticad_device.h").is_file():
+        h = header_facts((fw / "hapticad_device.h").read_text(encoding="utf-8"))
+        facts.append(("firmware/hapticad_device.h", "HC_ENCODER_DEFAULT counts/rev", h["encoder_counts_per_rev"],
+                      "encoder"))
+        for k, name in (("kt_Nm_per_A", "HC_KT_NM_PER_A"), ("current_continuous_A", "HC_CURRENT_CONTINUOUS_A"),
+                        ("current_peak_A", "HC_CURRENT_PEAK_A")):
+            facts.append(("firmware/hapticad_device.h", name, h[k], k))
+    for rel, keys in (("chai3d_device.json", ("encoder_counts_per_rev",)),
+                      ("test_vectors.json", ("encoder", "counts_per_rev"))):
+        if (fw / rel).is_file():
+            doc = json.loads((fw / rel).read_text(encoding="utf-8"))
+            for k in keys:
+                doc = doc.get(k) if isinstance(doc, dict) else None
+            facts.append((f"firmware/{rel}", "encoder counts/rev", doc, "encoder"))
+
+
+def output_facts(out: Path) -> list[tuple[str, str, object, str]]:
+    """Every device fact the files in ``out`` state: ``(file, fact, value, device key)``;
+    device key one of ``encoder``, ``n_encoders``, ``kt_Nm_per_A``, ``current_continuous_A``,
+    ``current_peak_A``, ``motor_key``, ``rotor_inertia_g_cm2``, ``armature:<joint>``,
+    ``forcerange:<joint>``."""
+    out = Path(out)
+    facts: list = []
+    _encoder_facts(out, facts)
+    if (out / "report.json").is_file():
+        rep = json.loads((out / "report.json").read_text(encoding="utf-8"))
+        if "datasheet" in rep:
+            facts.append(("report.json", "datasheet resolution_um counts/rev", _datasheet_counts(rep), "encoder"))
+        mot = rep.get("motor")
+        if isinstance(mot, dict):
+            facts.append(("report.json", "motor.key", mot.get("key"), "motor_key"))
+            if "rotor_inertia_g_cm2" in mot:
+                facts.append(("report.json", "motor.rotor_inertia_g_cm2", mot["rotor_inertia_g_cm2"],
+                              "rotor_inertia_g_cm2"))
+    for p in _mjcf_files(out):
+        rel = p.relative_to(out).as_posix()
+        for joint, v in mjcf_motors(p).items():
+            facts.append((rel, f"armature of joint {joint}", v["armature"], f"armature:{joint}"))
+            facts.append((rel, f"forcerange of motor on {joint}", v["forcerange"], f"forcerange:{joint}"))
+    return facts
+
+
+def device_values(device) -> dict:
+    """The resolved device's value of every key of :func:`output_facts`."""
+    vals: dict = {}
+    if device.encoders:
+        vals["encoder"] = device.encoder.counts_per_rev
+        vals["n_encoders"] = len(device.encoders)
+    if device.motors:
+        m = device.motor
+        vals.update(kt_Nm_per_A=m.kt_Nm_per_A, current_continuous_A=m.spec.current_continuous_A,
+                    current_peak_A=m.current_peak_A, motor_key=m.catalog_key,
+                    rotor_inertia_g_cm2=m.spec.rotor_inertia_g_cm2)
+    for t, m in zip(device.transmissions, device.motors, strict=True):
+        vals[f"armature:{m.joint}"] = m.rotor_inertia_kg_m2 * t.ratio ** 2  # reflected to the joint
+        if device.family in MOTOR_FORCE_RANGE_FAMILIES and m.spec.torque_peak_mNm is not None:
+            vals[f"forcerange:{m.joint}"] = m.spec.torque_peak_mNm * 1e-3 * t.ratio
+    return vals
+
+
+def _same(a, b) -> bool:
+    if isinstance(a, (int, float)) and isinstance(b, (int, float)) and not isinstance(a, bool):
+        return math.isclose(float(a), float(b), rel_tol=OUTPUT_AGREE_REL, abs_tol=0.0)
+    return a == b
+
+
+def disagreements(device, out: Path) -> list[str]:
+    """One line per fact a file in ``out`` states differently from ``device`` (empty: agree)."""
+    want = device_values(device)
+    bad = []
+    for file, fact, got, key in output_facts(out):
+        if key not in want:
+            continue
+        if not _same(got, want[key]):
+            bad.append(f"{file}: {fact} = {got!r}, the resolved device (report.json device) has {want[key]!r}")
+    if "encoder" in want and (Path(out) / "bom.csv").is_file() and not bom_encoders(Path(out) / "bom.csv"):
+        bad.append(f"bom.csv: no encoder line, the resolved device has {len(device.encoders)} encoder(s) of "
+                   f"{want['encoder']} counts/rev")
+    return bad
+
+
+def check_outputs(device, out: Path) -> None:
+    """Raise :class:`OutputsDisagree` (one line: file, fact, both values) when a written file
+    in ``out`` disagrees with ``device``; list the further mismatches' count."""
+    bad = disagreements(device, out)
+    if bad:
+        more = f" (and {len(bad) - 1} more)" if len(bad) > 1 else ""
+        raise OutputsDisagree(f"outputs disagree, nothing published: {bad[0]}{more}")

@@ -1,0 +1,446 @@
+"""Every output of one build states the same device (issue 32 items 1-2).
+
+Builds bundled designs (and variants: a ``[motor]`` table, an encoder count, a catalog
+encoder, a process, prices; a seeded random sweep marked ``slow``), then reads the WRITTEN
+files back with readers of this module (``csv`` for bom.csv / order.csv, a regex over the C
+header's ``#define`` lines, ``json`` for chai3d_device.json / test_vectors.json / report.json,
+``xml.etree`` for the MJCF) -- not :mod:`cad.device.readback` -- and compares them with each
+other and with independent references:
+
+* the encoder count from the design file (TOML read here): the catalog count of
+  ``parts.encoder``, ``parts.encoder_counts_per_rev``, or for a ``[stiffness]`` table
+  2 pi |dx/dphi1| / Delta at mid-stroke with dx/dphi1 by central finite differences of the
+  coupler point (a second method beside the analytic Jacobian), else the papers' encoders:
+  "a general purpose 2000 counts/rev optical encoder" (Hoeken paper §III.A) and "a 1000
+  window (4000 cpt) optical encoder" (isotropy paper §3.2);
+* the datasheet resolution recomputed from those counts and the finite-difference lever;
+* Kt from the datasheet's force-per-ampere row times the lever (Kt / |dx/dphi1|, min over
+  the stroke) against HC_KT_NM_PER_A; currents against the ``[motor]`` table / catalog data;
+  the peak current as T_peak / Kt (closed form);
+* K: eq (25) by hand from the design's ``[stiffness]`` table against the wall sketch, the
+  CHAI3D file and the datasheet's eq (25) row; each other K labelled for what it is;
+* masses: the BOM's lines summed against report.json; the MJCF bodies against report.json.
+
+The two reproducers of ``cases/outputs-agree/encoder-counts-bom-vs-firmware`` and
+``cases/reliability3/firmware-ignores-motor-table`` are tests here (their design changes are
+written from the bundled hoeken.toml, as their cmd.sh does).
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+import random
+import re
+import tomllib
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+ROOT = Path(__file__).resolve().parents[2]
+DESIGNS = ROOT / "designs"
+#: Hoeken paper §III.A and isotropy paper §3.2 (module docstring).
+FOURBAR_PAPER_COUNTS = 2000
+MOUSE_PAPER_COUNTS = 4000
+#: maxon HEDL 5540: 500 counts per turn, x4 quadrature (maxon catalog).
+HEDL_COUNTS = 2000
+#: Finite-difference step of the lever dx/dphi1 (rad): central differences, error ~h^2 ~ 1e-12.
+FD_STEP_RAD = 1e-6
+#: Relative agreement of a finite-difference figure with the build's analytic one: the FD
+#: truncation and round-off (~1e-9 at h = 1e-6 rad) well below it.
+FD_REL = 1e-6
+#: Numbers written with repr() read back exactly; derived ones (T/Kt in mN m or N m) to ~1 ulp.
+EXACT_REL = 1e-12
+#: bom.csv prints masses with 2 decimals (g): half a unit per line.
+BOM_MASS_ABS_G = 0.005
+MOTOR_TABLE = ('\n[motor]\nname = "acme-60"\ntorque_constant_mNm_per_A = 60.0\ncurrent_continuous_A = 1.5\n'
+               'torque_continuous_mNm = 90.0\ntorque_peak_mNm = 500.0\nrotor_inertia_g_cm2 = 20.0\n')
+
+
+# ------------------------------------------------------------------ second readers
+def bom_rows(out: Path, name: str = "bom.csv") -> list[dict]:
+    with (out / name).open(newline="", encoding="utf-8") as f:
+        return list(csv.DictReader(f))
+
+
+def bom_encoders(out: Path) -> list[tuple[int, int]]:
+    """(counts per turn, quantity) of the encoder lines of bom.csv and order.csv."""
+    found = []
+    for r in bom_rows(out):
+        if r["part"] == "encoder":
+            found.append((int(re.search(r"(\d+) counts/rev", r["description"]).group(1)), int(r["quantity"])))
+    if (out / "order.csv").is_file():
+        for r in bom_rows(out, "order.csv"):
+            if "encoder" in r["parts"].split():
+                found.append((int(re.search(r"(\d+) counts/rev", r["designation"]).group(1)), int(r["quantity"])))
+    return found
+
+
+def defines(text: str) -> dict[str, str]:
+    return dict(re.findall(r"^#define (\w+) (.+)$", text, re.M))
+
+
+def c_real(v: str) -> float:
+    return float(re.fullmatch(r"HC_R\((.+)\)", v.strip()).group(1))
+
+
+def header(out: Path) -> dict:
+    d = defines((out / "firmware" / "hapticad_device.h").read_text())
+    return {"counts": int(re.match(r"\{\s*(\d+)L", d["HC_ENCODER_DEFAULT"]).group(1)),
+            "kt": c_real(d["HC_KT_NM_PER_A"]), "i_cont": c_real(d["HC_CURRENT_CONTINUOUS_A"]),
+            "i_peak": c_real(d["HC_CURRENT_PEAK_A"]),
+            "zero": [float(z) for z in re.findall(r"HC_R\(([^)]+)\)", d["HC_ENCODER_DEFAULT"])],
+            "motor_comment": re.search(r"/\* motor (\S+):", (out / "firmware" / "hapticad_device.h").read_text())}
+
+
+def jread(p: Path) -> dict:
+    return json.loads(p.read_text())
+
+
+def ds_row(rep: dict, key: str) -> dict:
+    return next(r for r in rep["datasheet"]["rows"] if r["key"] == key)
+
+
+def mjcf(out: Path) -> ET.Element:
+    (p,) = [p for p in out.glob("*.xml") if "<mujoco" in p.read_text()[:400]]
+    return ET.parse(p).getroot()
+
+
+# --------------------------------------------------------------- independent references
+def lever_fd(toml: dict, n: int = 401) -> np.ndarray:
+    """|dx/dphi1| (m/rad) along the path direction P(min) -> P(max), central finite
+    differences of the coupler point (cad.kinematics loop closure) at n crank angles."""
+    from cad.design import parse_design
+    from cad.kinematics.fourbar import coupler_point_and_jacobian
+
+    d = parse_design(toml)
+
+    def P(phi):
+        return coupler_point_and_jacobian(d.linkage, np.asarray(phi))[0] * 1e-3
+
+    ends = P(np.array([d.phi1_min_rad, d.phi1_max_rad]))
+    xhat = (ends[1] - ends[0]) / np.linalg.norm(ends[1] - ends[0])
+    phi = np.linspace(d.phi1_min_rad, d.phi1_max_rad, n)
+    dP = (P(phi + FD_STEP_RAD) - P(phi - FD_STEP_RAD)) / (2 * FD_STEP_RAD)
+    return np.abs(dP @ xhat)
+
+
+def expected_counts(toml: dict) -> int:
+    parts, fam = toml.get("parts", {}), toml["mechanism"].get("family", "")
+    if "encoder" in parts:
+        return {"maxon-hedl5540-500": HEDL_COUNTS, "optical-2000": FOURBAR_PAPER_COUNTS}[parts["encoder"]]
+    if "encoder_counts_per_rev" in parts:
+        return parts["encoder_counts_per_rev"]
+    if "encoder_counts_per_rev" in toml.get("firmware", {}):
+        return toml["firmware"]["encoder_counts_per_rev"]
+    if fam in ("pantograph", "twin-pantograph", "haptic-pen"):
+        return MOUSE_PAPER_COUNTS
+    if "stiffness" in toml:
+        J = lever_fd(toml, 3)[1]
+        return round(2 * math.pi * J / toml["stiffness"]["encoder_resolution_m"])
+    return FOURBAR_PAPER_COUNTS
+
+
+def eq25_K_max(st: dict) -> float:
+    """Hoeken paper eq (25): 2 (Fs + Fv xdot_max) / (Delta + xdot_max Te)."""
+    return 2 * (st["Fs_N"] + st["Fv_N_s_per_m"] * st["xdot_max_m_per_s"]) / (
+        st["encoder_resolution_m"] + st["xdot_max_m_per_s"] * st["Te_s"])
+
+
+# ------------------------------------------------------------------------ the builds
+FOURBAR_FORMATS = {"firmware", "mjcf"}
+FORMATS = {"hoeken": FOURBAR_FORMATS, "pantograph": {"firmware"}, "twin-pantograph": {"firmware", "mjcf"},
+           "haptic-pen": {"mjcf"}, "powermouse": {"firmware"}}
+#: Bundled designs built by default (the rest: slow).
+FAST = ("hoeken.toml", "pantograph.toml", "haptic_mouse.toml", "powermouse.toml")
+SLOW = tuple(sorted(p.name for p in DESIGNS.glob("*.toml") if p.name not in FAST))
+
+
+def _build(toml_text: str, tmp: Path, name: str) -> tuple[dict, Path]:
+    from cad.design import load_design
+    from cad.pipeline import build_design
+
+    src = tmp / f"{name}.toml"
+    src.write_text(toml_text)
+    for extra in DESIGNS.glob("*.py"):  # handle scripts named by a bundled design
+        (tmp / extra.name).write_text(extra.read_text())
+    toml = tomllib.loads(toml_text)
+    d = load_design(src)
+    fam = toml["mechanism"].get("family", "")
+    formats = FORMATS.get(fam, FOURBAR_FORMATS)
+    out = tmp / f"out_{name}"
+    build_design(d, out, formats, fidelity="preview", use_cache=False)
+    return toml, out
+
+
+@pytest.fixture(scope="module")
+def builds(tmp_path_factory):
+    tmp = tmp_path_factory.mktemp("agree")
+    hoeken = (DESIGNS / "hoeken.toml").read_text()
+    texts = {p: (DESIGNS / p).read_text() for p in FAST}
+    texts["hoeken_motor_table"] = hoeken + MOTOR_TABLE
+    texts["hoeken_enc4096"] = hoeken.replace("[parts]\n", "[parts]\nencoder_counts_per_rev = 4096\n")
+    texts["hoeken_hedl"] = hoeken.replace("[parts]\n", '[parts]\nencoder = "maxon-hedl5540-500"\n')
+    return {k: _build(v, tmp, Path(k).stem) for k, v in texts.items()}
+
+
+def check_agree(toml: dict, out: Path) -> None:
+    """Every cross-file comparison of the module docstring on one build."""
+    rep = jread(out / "report.json")
+    fam = toml["mechanism"].get("family", "")
+    dev = rep["device"]
+    if fam == "powermouse":
+        assert dev["encoders"] == [] and not [r for r in bom_rows(out) if r["part"] == "encoder"]
+        return
+    n = expected_counts(toml)
+    enc = bom_encoders(out)
+    assert enc and {c for c, _ in enc} == {n}, enc
+    assert {q for _, q in enc} == {len(dev["motors"])}  # one encoder per motor, in bom and order
+    assert [e["counts_per_rev"] for e in dev["encoders"]] == [n] * len(dev["motors"])
+    res = ds_row(rep, "resolution_um")
+    assert re.search(rf"2 pi / {n} counts", res["model"]), res["model"]
+    fw = out / "firmware"
+    if (fw / "hapticad_device.h").is_file():
+        h = header(out)
+        assert h["counts"] == n
+        assert jread(fw / "chai3d_device.json")["encoder_counts_per_rev"] == n
+        assert jread(fw / "test_vectors.json")["encoder"]["counts_per_rev"] == n
+    if "linkage" in toml or fam in ("hoeken", "roberts", "chebyshev", "chebyshev-v", "custom"):
+        _check_fourbar(toml, out, rep, n)
+    _check_masses(out, rep)
+
+
+def _motor_data(toml: dict) -> dict:
+    """Kt (N m/A), continuous current (A), peak torque (N m), rotor inertia (kg m^2) the
+    design states: its [motor] table, else the catalog entry (data, not our computation)."""
+    from cad.data.catalog import get_motor
+
+    m = get_motor(toml.get("parts", {}).get("motor", "maxon-re35"))
+    t = toml.get("motor", {})
+    return {"kt": t.get("torque_constant_mNm_per_A", m.torque_constant_mNm_per_A) * 1e-3,
+            "i_cont": t.get("current_continuous_A", m.current_continuous_A),
+            "tau_peak": t.get("torque_peak_mNm", m.torque_peak_mNm) * 1e-3,
+            "Jm": t.get("rotor_inertia_g_cm2", toml.get("parts", {}).get("motor_rotor_inertia_g_cm2",
+                                                                        m.rotor_inertia_g_cm2)) * 1e-7}
+
+
+def _check_fourbar(toml: dict, out: Path, rep: dict, n: int) -> None:
+    L = lever_fd(toml)
+    res = ds_row(rep, "resolution_um")
+    assert res["value"] == pytest.approx(2 * math.pi / n * L.max() * 1e6, rel=FD_REL)
+    m = _motor_data(toml)
+    fpa = ds_row(rep, "force_per_ampere_N_per_A")  # Kt / |dx/dphi1|, min over the stroke
+    assert fpa["value"] * L.max() == pytest.approx(m["kt"], rel=FD_REL)
+    assert rep["Jm_kg_m2"] == pytest.approx(m["Jm"], rel=EXACT_REL)
+    assert rep["motor"]["rotor_inertia_g_cm2"] == pytest.approx(m["Jm"] * 1e7, rel=EXACT_REL)
+    root = mjcf(out)
+    crank = next(j for j in root.iter("joint") if j.get("name") == "crank")
+    assert float(crank.get("armature")) == pytest.approx(m["Jm"], rel=EXACT_REL)
+    (motor,) = list(root.iter("motor"))
+    assert float(motor.get("forcerange").split()[1]) == pytest.approx(m["tau_peak"], rel=EXACT_REL)
+    if (out / "firmware").is_dir():
+        h = header(out)
+        assert h["kt"] == pytest.approx(m["kt"], rel=EXACT_REL)
+        assert h["i_cont"] == pytest.approx(m["i_cont"], rel=EXACT_REL)
+        assert h["i_peak"] == pytest.approx(m["tau_peak"] / m["kt"], rel=EXACT_REL)
+        _check_K(toml, out, rep)
+    bodies = {b.get("name"): b for b in root.iter("body")}
+    for link in ("crank", "coupler", "rocker"):
+        mass = float(bodies[link].find("inertial").get("mass"))
+        assert mass == pytest.approx(rep["links"][link]["mass_kg"], rel=EXACT_REL)
+
+
+def _check_K(toml: dict, out: Path, rep: dict) -> None:
+    fw = out / "firmware"
+    ino = (fw / "wall_example" / "wall_example.ino").read_text()
+    K_ino = float(defines(ino)["WALL_K_N_PER_M"])
+    chai = jread(fw / "chai3d_device.json")
+    assert "eq (25) K_max" in chai["notes"]["m_maxLinearStiffness"]
+    assert "not the datasheet's simulated K_max" in chai["notes"]["m_maxLinearStiffness"]
+    assert "WALL_K_N_PER_M is eq (25)'s K_max" in ino or "wall_stiffness_N_per_m" in toml.get("firmware", {})
+    assert "simulated" in ds_row(rep, "K_max_N_per_m")["figure"]
+    if "stiffness" in toml:
+        K = eq25_K_max(toml["stiffness"])
+        assert K_ino == pytest.approx(K, rel=EXACT_REL)
+        assert chai["m_maxLinearStiffness"] == pytest.approx(K, rel=EXACT_REL)
+        assert ds_row(rep, "eq25_K_max_N_per_m")["value"] == pytest.approx(K, rel=EXACT_REL)
+    else:
+        assert chai["m_maxLinearStiffness"] == pytest.approx(K_ino, rel=EXACT_REL)
+
+
+def _check_masses(out: Path, rep: dict) -> None:
+    """BOM lines summed = report.json total; every MJCF body's mass = report.json's body
+    (four-bars: ``links``, the 5-bars: ``bodies``)."""
+    rows = bom_rows(out)
+    total = sum(float(r["mass_g"]) * int(r["quantity"]) for r in rows)
+    assert total == pytest.approx(rep["total_mass_g"], abs=BOM_MASS_ABS_G * sum(int(r["quantity"]) for r in rows))
+    if not [p for p in out.glob("*.xml") if "<mujoco" in p.read_text()[:400]]:
+        return
+    bodies = rep.get("links") if isinstance(rep.get("links"), dict) else rep["bodies"]
+    seen = 0
+    for b in mjcf(out).iter("body"):
+        if b.get("name") in bodies and isinstance(bodies[b.get("name")], dict):
+            assert float(b.find("inertial").get("mass")) == pytest.approx(bodies[b.get("name")]["mass_kg"],
+                                                                          rel=EXACT_REL)
+            seen += 1
+    assert seen >= 3
+
+
+@pytest.mark.parametrize("name", [*FAST, "hoeken_motor_table", "hoeken_enc4096", "hoeken_hedl"])
+def test_outputs_agree(builds, name):
+    toml, out = builds[name]
+    check_agree(toml, out)
+
+
+def test_encoder_counts_bom_vs_firmware(builds):
+    """Reproducer outputs-agree/encoder-counts-bom-vs-firmware: with the BOM's encoder fitted,
+    the firmware's crank angle from the counts is the real crank angle to one count over the
+    whole range 132..216 deg (was: 2000 compiled for a 3837 encoder, 11 mm off, 6 poses refused)."""
+    for name, n in (("hoeken.toml", 3837), ("hoeken_enc4096", 4096), ("hoeken_hedl", HEDL_COUNTS)):
+        toml, out = builds[name]
+        assert bom_encoders(out)[0][0] == n
+        h = header(out)
+        assert h["counts"] == n
+        zero = h["zero"][0]
+        d = defines((out / "firmware" / "hapticad_device.c").read_text())  # the range constants
+        lo, hi = c_real(d["Q_MIN"]) - c_real(d["Q_SLACK"]), c_real(d["Q_MAX"]) + c_real(d["Q_SLACK"])
+        for deg in np.linspace(132.0, 216.0, 13):
+            counts = math.floor((math.radians(deg) - zero) / (2 * math.pi) * n + 0.5)  # nearest count
+            q_fw = zero + 2 * math.pi * counts / n
+            assert abs(q_fw - math.radians(deg)) <= math.pi / n + 1e-12
+            assert lo <= q_fw <= hi, (deg, counts)  # hc_forward's range test: no pose of the range refused
+
+
+def test_firmware_takes_the_motor_table(builds):
+    """Reproducer reliability3/firmware-ignores-motor-table: HC_KT_NM_PER_A = 0.06,
+    HC_CURRENT_CONTINUOUS_A = 1.5 as the [motor] table says; report.json names acme-60."""
+    _, out = builds["hoeken_motor_table"]
+    h = header(out)
+    assert (h["kt"], h["i_cont"]) == (0.06, 1.5)
+    assert h["i_peak"] == pytest.approx(500.0 / 60.0, rel=EXACT_REL)
+    assert h["motor_comment"].group(1) == "acme-60"
+    rep = jread(out / "report.json")
+    assert rep["motor"]["name"] == "acme-60"
+    assert rep["device"]["motors"][0]["name"] == "acme-60"
+    assert rep["Jm_kg_m2"] == pytest.approx(20.0e-7, rel=EXACT_REL)
+
+
+def test_two_encoder_fields_that_disagree_are_refused(tmp_path):
+    from cad.design import load_design
+    from cad.device import resolve_device
+    from cad.errors import DesignError
+
+    text = (DESIGNS / "hoeken.toml").read_text().replace("[parts]\n", "[parts]\nencoder_counts_per_rev = 4096\n")
+    p = tmp_path / "d.toml"
+    p.write_text(text + "\n[firmware]\nencoder_counts_per_rev = 2000\n")
+    with pytest.raises(DesignError) as e:
+        resolve_device(load_design(p))
+    msg = str(e.value)
+    assert "\n" not in msg and "parts.encoder_counts_per_rev" in msg and "firmware.encoder_counts_per_rev" in msg
+    assert "4096" in msg and "2000" in msg
+    p.write_text(text + "\n[firmware]\nencoder_counts_per_rev = 4096\n")  # the same count twice: one encoder
+    assert resolve_device(load_design(p)).encoder.counts_per_rev == 4096
+
+
+def test_the_cli_refuses_disagreeing_encoder_fields_before_building(tmp_path):
+    from cli_helpers import assert_one_line_error, hapticad
+
+    p = tmp_path / "d.toml"
+    p.write_text((DESIGNS / "hoeken.toml").read_text().replace('[parts]\n', '[parts]\nencoder = "maxon-hedl5540-500"\n')
+                 + "\n[firmware]\nencoder_counts_per_rev = 4096\n")
+    code, _, err = hapticad("build", p, "--out", tmp_path / "o", "--fidelity", "preview", "--formats", "firmware")
+    assert_one_line_error(code, err, "parts.encoder", "firmware.encoder_counts_per_rev", "2000", "4096")
+    assert not (tmp_path / "o").exists()
+
+
+def _corrupt_header(monkeypatch):
+    from cad.firmware import csrc
+
+    real = csrc.header
+    monkeypatch.setattr(csrc, "header", lambda spec: re.sub(r"\{ \d+L,", "{ 2000L,", real(spec)))
+    return "firmware/hapticad_device.h", "HC_ENCODER_DEFAULT"
+
+
+def _corrupt_bom(monkeypatch):
+    from cad.families.fourbar import build
+
+    real = build.encoder_bom_row
+
+    def row(design):
+        r = dict(real(design))
+        r["description"] = r["description"].replace("3837 counts/rev", "2000 counts/rev")
+        return r
+
+    monkeypatch.setattr(build, "encoder_bom_row", row)
+    return "bom.csv", "encoder counts/rev"
+
+
+@pytest.mark.parametrize("corrupt", [_corrupt_header, _corrupt_bom])
+def test_a_build_whose_files_disagree_is_not_published(tmp_path, monkeypatch, corrupt):
+    """A writer corrupted (the header compiled for, or the BOM ordering, 2000 counts whatever
+    the device): the build reads its files back, refuses with one line naming the file, the
+    fact and both values, and publishes nothing."""
+    from cad.design import load_design
+    from cad.device.readback import OutputsDisagree
+    from cad.pipeline import build_design
+
+    file, fact = corrupt(monkeypatch)
+    out = tmp_path / "out"
+    with pytest.raises(OutputsDisagree) as e:
+        build_design(load_design(DESIGNS / "hoeken.toml"), out, {"firmware"}, fidelity="preview", use_cache=False)
+    msg = str(e.value)
+    assert "\n" not in msg
+    assert msg.startswith(f"outputs disagree, nothing published: {file}: {fact}")
+    assert "2000" in msg and "3837" in msg
+    assert not out.exists()
+
+
+# ------------------------------------------------------------ the slow, larger sweep
+def _random_fourbar(rng: random.Random, bases=("hoeken.toml", "hoeken_printed.toml")) -> str:
+    text = (DESIGNS / rng.choice(bases)).read_text()
+    kt = rng.uniform(20.0, 80.0)
+    cont = rng.uniform(50.0, 200.0)
+    table = (f'\n[motor]\nname = "rand-{rng.randrange(1000)}"\ntorque_constant_mNm_per_A = {kt!r}\n'
+             f"current_continuous_A = {rng.uniform(0.5, 5.0)!r}\ntorque_continuous_mNm = {cont!r}\n"
+             f"torque_peak_mNm = {cont * rng.uniform(2.0, 10.0)!r}\nrotor_inertia_g_cm2 = {rng.uniform(5.0, 150.0)!r}\n")
+    enc = rng.choice(['encoder = "maxon-hedl5540-500"\n', f"encoder_counts_per_rev = {rng.randrange(500, 20000)}\n"])
+    text = text.replace("[parts]\n", "[parts]\n" + enc, 1) + table
+    if rng.random() < 0.5:
+        text += f'\n[prices]\n"618/8 (8x16x4)" = {rng.uniform(1, 20):.2f}\n'
+    return text
+
+
+def _random_mouse(rng: random.Random, fn: str) -> str:
+    return (DESIGNS / fn).read_text() + f"\n[firmware]\nencoder_counts_per_rev = {rng.randrange(500, 20000)}\n"
+
+
+@pytest.mark.parametrize("seed", [101, 102])
+def test_outputs_agree_one_random_variant_per_family(tmp_path, seed):
+    """Default-suite share of the random sweep below: a seeded [motor] table, encoder and
+    prices on the bundled Hoeken (same solids: cheap), a seeded [firmware] encoder count on
+    the bundled pantograph."""
+    rng = random.Random(seed)
+    text = _random_fourbar(rng, ("hoeken.toml",)) if seed % 2 else _random_mouse(rng, "pantograph.toml")
+    toml, out = _build(text, tmp_path, f"r{seed}")
+    check_agree(toml, out)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", SLOW)
+def test_outputs_agree_every_bundled_design(tmp_path, monkeypatch, name):
+    monkeypatch.setenv("HAPTICAD_ALLOW_SCRIPTS", "1")  # hoeken_cq_handle.toml runs its bundled handle script
+    toml, out = _build((DESIGNS / name).read_text(), tmp_path, Path(name).stem)
+    check_agree(toml, out)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("seed", range(6))
+def test_outputs_agree_random_variants(tmp_path, seed):
+    rng = random.Random(seed)
+    text = _random_fourbar(rng) if seed % 2 == 0 else _random_mouse(rng, rng.choice(["pantograph.toml",
+                                                                                     "haptic_mouse.toml"]))
+    toml, out = _build(text, tmp_path, f"v{seed}")
+    check_agree(toml, out)
