@@ -464,6 +464,10 @@ NEST_EDGE_MARGIN_MM = 10.0
 #: Rectangle sizes are handed to rectpack in integer units of this (mm): rectpack's float
 #: sizes are rounded; parts are rounded up and sheets down, so a placement never grows.
 NEST_GRID_MM = 0.01
+#: A part box within this of the sheet less its margins fits (mm): the round-off of a box read
+#: from OCCT and of sizes summed in floating point, far below any cut tolerance; the same
+#: 1e-6 mm the order's whole-mm stock rounding forgives (cad/export/order.py).
+NEST_FIT_EPS_MM = 1e-6
 #: Engraved label: text height tried from the largest down (mm); the label goes where its box
 #: (character width x height, see LABEL_CHAR_WIDTH) lies inside the part's material with
 #: LABEL_CLEARANCE_MM around it, and no lower than the last height (a part too thin for

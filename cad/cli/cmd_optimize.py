@@ -30,7 +30,7 @@ def write_optimum(design, rep: dict, out: Path, command: str) -> bool:
     """
     import copy
 
-    from cad.design.pantograph import parse
+    from cad.design import parse_design
     from cad.design.writer import write_design
     from cad.io.outdir import check_out_file
 
@@ -38,7 +38,7 @@ def write_optimum(design, rep: dict, out: Path, command: str) -> bool:
     raw = copy.deepcopy(design.raw)
     raw["mechanism"].update(rep["best"])
     raw["name"] = out.stem
-    parse(raw, str(out))  # must validate before anything is written
+    parse_design(raw, str(out))  # its own family's schema; validated before anything is written
     write_design(out, raw, f"Optimum of `{command}`: GII {rep['gii']:.6f} ({rep['method']})")
     return replaced
 

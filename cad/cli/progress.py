@@ -3,9 +3,9 @@
 ``with stages("build") as progress: work(progress=progress)`` -- ``progress(description,
 done, total)`` is the callback the build and the sweeps accept. Off a terminal (a pipe, a
 log file, CI) each new stage prints ``hapticad: [done/total] description`` on stderr, so
-long work is never silent. The run's warnings (:mod:`cad.design.bounds`) are printed before
-the first stage, so an implausible value is seen before minutes of work; a command that fails
-before its first stage prints only its error line.
+long work is never silent. The run's implausible values (:mod:`cad.design.bounds`) are printed before
+the first stage, so a unit slip is seen before minutes of work; its other warnings when the
+command ends; a command that fails prints only its error line (with one warning as a note).
 """
 
 from __future__ import annotations
@@ -33,7 +33,7 @@ def stages(title: str, stream=None) -> Iterator[Progress]:
             task = bar.add_task(title, total=1)
 
             def update(desc: str, done: int, total: int) -> None:
-                bounds.flush()  # sys.stderr now: rich prints it above the bar
+                bounds.flush(early=True)  # sys.stderr now: rich prints it above the bar
                 bar.update(task, description=desc, completed=done, total=total)
 
             yield update
@@ -43,7 +43,7 @@ def stages(title: str, stream=None) -> Iterator[Progress]:
     def line(desc: str, done: int, total: int) -> None:
         if desc != last[0]:
             last[0] = desc
-            bounds.flush(stream)
+            bounds.flush(stream, early=True)
             print(f"hapticad: [{done}/{total}] {desc}", file=stream, flush=True)
 
     yield line

@@ -521,7 +521,7 @@ class _Implausible:
 _warnings: list[str] = []
 _implausible: dict[str, _Implausible] = {}  # warning text -> its record
 _values: dict[str, tuple[float, Bound] | None] = {}  # field -> (value typed, bound); None: a list
-_printed = 0
+_printed: set[str] = set()  # warning texts already printed
 
 
 def warn(text: str, record: _Implausible | None = None) -> None:
@@ -567,24 +567,27 @@ def muted():
 
 def reset() -> None:
     """Forget recorded warnings and values (the CLI calls this at the start of every command)."""
-    global _printed
     _warnings.clear()
     _implausible.clear()
     _values.clear()
-    _printed = 0
+    _printed.clear()
 
 
-def flush(stream=None) -> None:
+def flush(stream=None, early: bool = False) -> None:
     """Print the warnings not printed yet, one line each, on ``stream`` (stderr).
 
-    The CLI calls this when a command succeeds (or misses a target), and ``build`` before its
-    first progress line (:func:`cad.cli.progress.stages`); never when it fails with exit 2.
+    The CLI calls this when a command succeeds (or misses a target); never when it fails with
+    exit 2. ``early``: only the implausible values (a likely unit slip), which ``build`` prints
+    before its first progress line (:func:`cad.cli.progress.stages`) so a slip is seen before
+    minutes of CAD work; its other warnings wait for the end, so a refusal found during the
+    work is still the one error line (:func:`error_line` carries the first as a note).
     """
-    global _printed
     stream = stream or sys.stderr
-    for text in _warnings[_printed:]:
+    for text in _warnings:
+        if text in _printed or (early and text not in _implausible):
+            continue
         print(f"hapticad: warning: {text}", file=stream)
-    _printed = len(_warnings)
+        _printed.add(text)
 
 
 #: a limit an error message states: for its own field ("need >= 5.3 mm", "must be <= 0.3")
@@ -664,7 +667,7 @@ def error_line(message: str, field: str | None = None) -> str:
     if own is not None:
         return f"{message}; note: {own.note()}"
     if not records:  # another warning of this run (e.g. a link shorter than its hardware)
-        rest = [w for w in _warnings if w not in message]
+        rest = [w for w in _warnings if w not in message and w not in _printed]
         more = f" (and {len(rest) - 1} more warning(s))" if len(rest) > 1 else ""
         return f"{message}; note: {rest[0]}{more}" if rest else message
     key = [r for r in records if r.field.rsplit(".", 1)[-1] in message]

@@ -91,6 +91,24 @@ def _volume_mm3(shape) -> float:
     return g.Mass()
 
 
+def _fits(size_mm, free_mm) -> bool:
+    """True when a (w, h) part box lies within the (W, H) sheet less its margins, to
+    NEST_FIT_EPS_MM of round-off (a part exactly the free size fits)."""
+    return all(a <= b + tol.NEST_FIT_EPS_MM for a, b in zip(size_mm, free_mm))
+
+
+def _cells(size_mm, grid_WH, free_mm, gap_mm: float) -> tuple[int, int]:
+    """A part's (w, h) in NEST_GRID_MM cells, rounded up with its gap; a side that fits the
+    free sheet in mm but rounds past the grid's (W, H) takes the whole side (it then sits at
+    the margin, where its true size fits)."""
+    g = tol.NEST_GRID_MM
+    out = []
+    for a, n, f in zip(size_mm, grid_WH, free_mm):
+        c = math.ceil((a + gap_mm) / g)
+        out.append(n if c > n and a <= f + tol.NEST_FIT_EPS_MM else c)
+    return tuple(out)
+
+
 def pack(sizes_mm, sheet_mm, gap_mm: float, margin_mm: float,
          names=None) -> list[tuple[int, float, float, bool]]:
     """Place rectangles ``sizes_mm`` ((w, h) mm each) on as few ``sheet_mm`` (W, H) sheets as
@@ -103,13 +121,16 @@ def pack(sizes_mm, sheet_mm, gap_mm: float, margin_mm: float,
     import rectpack
 
     g = tol.NEST_GRID_MM
-    W, H = (math.floor((s - 2 * margin_mm + gap_mm) / g) for s in sheet_mm)
-    cells = [(math.ceil((w + gap_mm) / g), math.ceil((h + gap_mm) / g)) for w, h in sizes_mm]
-    for i, (w, h) in enumerate(cells):
-        if not ((w <= W and h <= H) or (h <= W and w <= H)):
+    free = [s - 2 * margin_mm for s in sheet_mm]  # the sheet less its margins (mm)
+    W, H = (math.floor((f + gap_mm) / g) for f in free)
+    cells, turned = [], []  # cells in the orientation that fits; True: (h, w) of the part
+    for i, (w, h) in enumerate(sizes_mm):
+        if not _fits((w, h), free) and not _fits((h, w), free):
             what = f"the {names[i]}" if names else "a"
-            raise ValueError(f"{what} {w * g - gap_mm:.1f} x {h * g - gap_mm:.1f} mm part does not fit "
-                             f"a {sheet_mm[0]:g} x {sheet_mm[1]:g} mm sheet less {margin_mm:g} mm margins")
+            raise ValueError(f"{what} {w:.1f} x {h:.1f} mm part does not fit a {sheet_mm[0]:g} x "
+                             f"{sheet_mm[1]:g} mm sheet less {margin_mm:g} mm margins")
+        turned.append(not _fits((w, h), free))
+        cells.append(_cells((h, w) if turned[-1] else (w, h), (W, H), free, gap_mm))
     packer = rectpack.newPacker(mode=rectpack.PackingMode.Offline, bin_algo=rectpack.PackingBin.BFF,
                                 pack_algo=rectpack.MaxRectsBssf, rotation=True)
     packer.add_bin(W, H, count=float("inf"))
@@ -118,7 +139,7 @@ def pack(sizes_mm, sheet_mm, gap_mm: float, margin_mm: float,
     packer.pack()
     out: list = [None] * len(cells)
     for b, x, y, w, _h, rid in packer.rect_list():
-        rot = w != cells[rid][0]
+        rot = (w != cells[rid][0]) != turned[rid]
         out[rid] = (b, margin_mm + x * g, margin_mm + y * g, rot)
     if any(o is None for o in out):
         raise ValueError("rectpack left a part unplaced")
