@@ -68,6 +68,7 @@ def optimize_fourbar(design, objective: str, trials: int, seed: int, top: int, c
         "pareto_front": [{k: r[k] for k in ("trial", "M11_max_g", "torque_variation", "footprint_mm2")}
                          for r in front],
         "wall_s": time.perf_counter() - t0,
+        "misses": [] if best is None else exact.misses(best[1], checked),
     }
     if beat_prototype:
         rep["prototype"] = _prototype_report(design, pb, records, best, chart_dir, out_stem)
