@@ -89,7 +89,7 @@ def misses(best_ex: dict, checked: list[dict]) -> list[dict]:
 def miss_line(m: dict) -> str:
     """One line for one missed target: its key, the target, the best figure reached."""
     def fmt(v):
-        return "not computed" if v is None else f"{v:.4g}"
+        return "not computed" if v is None else f"{v:.6g}"
 
     line = f"target missed: {m['key']} (target {m['target_text']}): best reached {fmt(m['best'])}"
     if m["best"] != m["written"]:

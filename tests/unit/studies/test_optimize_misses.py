@@ -40,7 +40,7 @@ def test_unmet_target_exits_1_with_one_line_and_the_header_names_it(tmp_path):
     assert len(lines) == 1 and "M11_max_g (target <= 25)" in lines[0]
     m11 = rep["best"]["exact"]["M11_max_g"]
     assert rep["misses"][0]["written"] == m11 > 25.0
-    assert f"best reached {m11:.4g}" in lines[0]
+    assert f"best reached {m11:.6g}" in lines[0]
     header = [ln for ln in out.read_text().splitlines() if ln.startswith("#")]
     assert any("target missed: M11_max_g" in ln for ln in header)
     # independent re-check: `hapticad check` builds the written design again
