@@ -87,14 +87,10 @@ def misses(best_ex: dict, checked: list[dict]) -> list[dict]:
 
 
 def miss_line(m: dict) -> str:
-    """One line for one missed target: its key, the target, the best figure reached."""
-    def fmt(v):
-        return "not computed" if v is None else f"{v:.6g}"
+    """One line for one missed target of :func:`misses` (:func:`cad.checks.miss_line`)."""
+    from cad.checks import miss_line as line
 
-    line = f"target missed: {m['key']} (target {m['target_text']}): best reached {fmt(m['best'])}"
-    if m["best"] != m["written"]:
-        line += f", written design {fmt(m['written'])}"
-    return line
+    return line(m["key"], m["target_text"], m["best"], m["written"])
 
 
 def accepted(ex: dict) -> bool:

@@ -14,7 +14,9 @@ def optimize_fourbar(design, objective: str, trials: int, seed: int, top: int, c
     accepted one. ``starts=False``: without the hand-written :data:`search.STARTS`.
     ``beat_prototype``: the brief of :mod:`cad.studies.codesign.prototype` (every trial judged
     on every limit; without an accepted design, the report's ``prototype_front``).
-    Returns (JSON-able report, accepted Candidate or None)."""
+    The report's ``misses``: the design's targets the accepted optimum misses
+    (:func:`cad.studies.codesign.exact.misses`). Returns (JSON-able report, accepted Candidate
+    or None)."""
     from cad.errors import HapticadError
     from cad.studies.codesign import exact, search
 

@@ -64,3 +64,22 @@ def test_without_out_nothing_is_written_and_met_targets_exit_0(tmp_path):
     assert code == 0, err
     assert json.loads(o)["misses"] == [] and "target missed" not in err
     assert sorted(p.name for p in tmp_path.iterdir()) == ["brief.toml"]
+
+
+def test_fit_miss_is_one_line_per_target_and_check_agrees(tmp_path):
+    """`fit` with a target its free parameter cannot reach (M11 <= 1 g by the handle material
+    alone): exit 1, one 'target missed' line naming the written design's figure, and `check` of
+    the written design computes the same figure."""
+    out = tmp_path / "fit.toml"
+    code, o, err = hapticad("fit", str(ROOT / "designs" / "hoeken.toml"), "--target", "M11_max_g<=1",
+                            "--free", "parts.handle_material", "--out", str(out), "--json")
+    assert code == 1, err
+    rep = json.loads(o)
+    lines = [ln for ln in err.splitlines() if "target missed" in ln]
+    m11 = next(r["computed"] for r in rep["rows"] if r["key"] == "M11_max_g")
+    # a missed default datasheet limit (continuous force) stays a warning line, not a miss line
+    assert lines == [f"hapticad: target missed: M11_max_g (target <= 1): best reached {m11:.6g}"]
+    code_c, oc, errc = hapticad("check", str(out), "--target", "M11_max_g<=1", "--json")
+    assert code_c == 1, errc
+    row = next(r for r in json.loads(oc)["rows"] if r["key"] == "M11_max_g")
+    assert not row["ok"] and abs(row["computed"] - m11) <= 1e-9 * m11
