@@ -79,6 +79,7 @@ def test_fit_miss_is_one_line_per_target_and_check_agrees(tmp_path):
     m11 = next(r["computed"] for r in rep["rows"] if r["key"] == "M11_max_g")
     # a missed default datasheet limit (continuous force) stays a warning line, not a miss line
     assert lines == [f"hapticad: target missed: M11_max_g (target <= 1): best reached {m11:.6g}"]
+    assert "# " + lines[0].removeprefix("hapticad: ") in out.read_text()  # in the comment header
     code_c, oc, errc = hapticad("check", str(out), "--target", "M11_max_g<=1", "--json")
     assert code_c == 1, errc
     row = next(r for r in json.loads(oc)["rows"] if r["key"] == "M11_max_g")
