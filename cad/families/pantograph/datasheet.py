@@ -75,6 +75,52 @@ def resolution_m(design, counts: float) -> np.ndarray:
     return out
 
 
+def motor_torques_mNm(design, field: str) -> tuple[np.ndarray | None, tuple]:
+    """(data-sheet ``field`` torque (m,) mN m of every motor the BOM orders, in the order of
+    J's columns, or None when a motor has none; the motor specs (m,)).
+
+    field: a :class:`cad.data.catalog.MotorSpec` torque (``torque_continuous_mNm``,
+    ``torque_peak_mNm``). Source: the resolved device (:func:`cad.device.resolve_device`:
+    ``parts.motor`` / ``parts.waist_motor`` with the ``[motor]`` table), the one read of the
+    motors for these rows."""
+    from cad.device import resolve_device
+
+    specs = tuple(m.spec for m in resolve_device(design).motors)
+    vals = [getattr(m, field) for m in specs]
+    return (None if any(v is None for v in vals) else np.asarray(vals, float)), specs
+
+
+def motor_force_rows(design, paper: dict | None = None) -> list[dict]:
+    """``continuous_force_N`` and ``peak_force_N``: the force available in every direction at
+    the handle, the worst over the workspace, from the data-sheet torques of the motors the
+    BOM orders (not ``[actuators]``, the GII's normalisation).
+
+    Model: ``F = A u``, ``A`` = translational rows of ``J^T S_J`` with S_J = diag(motor
+    torques), ``|u| <= 1`` (the torque ellipsoid inscribed in the torque box, the moment left
+    free); the figure is ``min`` over the reachable samples of ``sigma_min(A)`` (N).
+    ``paper``: the pen's Table 3 values (``continuous_force_x_N`` ...), smallest axis beside."""
+    J, _, ok = jacobian_and_limits(design)
+    cols = FORCE_COLS[design.family]
+    rows = []
+    for key, field, label in (("continuous_force_N", "torque_continuous_mNm", "continuous"),
+                              ("peak_force_N", "torque_peak_mNm", "peak")):
+        tau, specs = motor_torques_mNm(design, field)
+        if tau is None or not ok.any():
+            rows.append(row(key, f"{label} force in every direction", None, "N",
+                            "no data-sheet torque for a motor" if tau is None else "no reachable sample"))
+            continue
+        A = np.swapaxes(J, -1, -2)[:, cols, :] * (tau * 1e-3)[None, None, :]
+        sig = np.linalg.svd(A[ok], compute_uv=False)[:, -1]
+        named = dict.fromkeys(f"{m.key} ({getattr(m, field):g} mN m)" for m in specs)
+        ref = [(paper or {}).get(f"{label}_force_{a}_N") for a in "xyz"]
+        rows.append(row(key, f"{label} force in every direction", sig.min(), "N",
+                        f"min over the workspace of sigma_min(J^T S_J), S_J = the {label} torques "
+                        f"of the motors the BOM orders: {', '.join(named)}",
+                        lo=sig.min(), hi=sig.max(), unverified=any(m.is_unverified(field) for m in specs),
+                        paper=min(v for v in ref if v is not None) if any(ref) else None))
+    return rows
+
+
 def write_ellipse_chart(design, out_dir, A, ok) -> str | None:
     """``force_ellipses.png``: the force ellipse (N, scaled) at every planar workspace sample."""
     if design.family == "haptic-pen":
@@ -170,13 +216,16 @@ def rows_and_limits(design, report: dict, out_dir=None, simulate_wall: bool = Tr
         fig = f"workspace square {ws['side_mm']:g} mm" + (", full crank turn" if design.family == "twin-pantograph" else "")
     rows.append(row("workspace", fig, area, unit, f"[workspace] table; {share:.0%} of its {ok.size} samples "
                     "reachable and non-singular (the figures below hold there)"))
-    tau_txt = f"[actuators] torque_max_Nm = {design.actuators['torque_max_Nm']}"
+    tau_txt = (f"[actuators] torque_max_Nm = {design.actuators['torque_max_Nm']} (the GII's normalisation, "
+               "not the motors: continuous_force_N / peak_force_N)")
     rows.append(row("force_any_dir_N", "force available in every direction", smin.min() if ok.any() else None, "N",
                     f"min over the workspace of sigma_min(J^T S_J) (translational rows), {tau_txt}",
                     lo=smin.min() if ok.any() else None, hi=smin.max() if ok.any() else None))
     rows.append(row("force_best_dir_N", "largest force (best direction)", smaxv.max() if ok.any() else None, "N",
                     f"max over the workspace of sigma_max(J^T S_J), {tau_txt}",
                     lo=smaxv.min() if ok.any() else None, hi=smaxv.max() if ok.any() else None))
+    if design.family != "haptic-pen":  # the pen adds its own, with Table 3 beside
+        rows += motor_force_rows(design)
     enc = resolve_device(design).encoder  # the encoder the BOM orders
     res = resolution_m(design, enc.counts_per_rev) * 1e6
     good = res[np.isfinite(res)]

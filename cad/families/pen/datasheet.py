@@ -105,31 +105,9 @@ def structure_rows(st: dict) -> list[dict]:
 
 def motor_force_rows(design, paper: dict) -> list[dict]:
     """Continuous and peak force in every direction at the pen over the workspace, from the
-    catalog torques of the waist and shoulder motors (module docstring); Table 3's smallest
-    axis value beside each (its x, y, z figures are per axis)."""
-    import numpy as np
+    catalog torques of the waist and shoulder motors
+    (:func:`cad.families.pantograph.datasheet.motor_force_rows`); Table 3's smallest axis
+    value beside each (its x, y, z figures are per axis)."""
+    from cad.families.pantograph.datasheet import motor_force_rows as rows_of
 
-    from cad.data.catalog import get_motor
-    from cad.families.pantograph.datasheet import FORCE_COLS, jacobian_and_limits
-
-    J, _, ok = jacobian_and_limits(design)
-    w, s = get_motor(design.parts.waist_motor), get_motor(design.parts.motor)
-    rows = []
-    for key, field, label in (("continuous_force_N", "torque_continuous_mNm", "continuous"),
-                              ("peak_force_N", "torque_peak_mNm", "peak")):
-        tw, ts = getattr(w, field), getattr(s, field)
-        if tw is None or ts is None or not ok.any():
-            rows.append(row(key, f"{label} force in every direction", None, "N",
-                            "no data-sheet torque for a motor"))
-            continue
-        tau = np.array([tw, ts, ts, tw, ts, ts]) * 1e-3
-        A = np.swapaxes(J, -1, -2)[:, FORCE_COLS["haptic-pen"], :] * tau[None, None, :]
-        sig = np.linalg.svd(A[ok], compute_uv=False)[:, -1]
-        ref = [paper.get(f"{label}_force_{a}_N") for a in "xyz"]
-        unverified = w.is_unverified(field) or s.is_unverified(field)
-        rows.append(row(key, f"{label} force in every direction", sig.min(), "N",
-                        f"min over the workspace of sigma_min(J^T S_J), S_J = the {label} torques "
-                        f"of {w.key} (waist, {tw:g} mN m) and {s.key} (shoulders, {ts:g} mN m)",
-                        lo=sig.min(), hi=sig.max(), unverified=unverified,
-                        paper=min(v for v in ref if v is not None) if any(ref) else None))
-    return rows
+    return rows_of(design, paper)
