@@ -142,18 +142,24 @@ def _up(x: float) -> int:
     return int(math.ceil(x - 1e-6))
 
 
+#: A printed part's process text: the BOM's "FDM print PLA: ..." (:meth:`cad.printing.
+#: PrintSettings.describe`) or "printed" (matching only "print..." ordered PLA plates).
+#: "3D print / turned" (a user-script handle: either) keeps its machined stock.
+_PRINTED = re.compile(r"^(fdm )?print")
+
+
 def stock(kind, mass_g: float) -> str:
     """Stock to order for one piece of made part ``kind`` (``mass_g``: its mass, used for
     printed parts), e.g. ``"plate 6 x 35 x 130 mm aluminium-6061"``; see the module doc."""
     from cad import tolerances as tol
 
-    dims = _bbox_mm(kind.shape)
     mat = kind.material
     proc = kind.process.lower()
-    if proc.startswith("print"):
+    if _PRINTED.search(proc):  # "printed", "FDM print PLA: 0.2 mm layers, ..."
         return f"filament {mass_g:.0f} g {mat}"
     if proc.startswith("wound"):
         return f"wire {mass_g:.0f} g {mat}"
+    dims = _bbox_mm(kind.shape)
     if kind.plate:
         w, l_ = sorted(dims[:2])
         m = 2 * tol.STOCK_PLATE_MARGIN_MM
