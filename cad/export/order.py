@@ -148,6 +148,11 @@ def _up(x: float) -> int:
 _PRINTED = re.compile(r"^(fdm )?print")
 
 
+def _grams(mass_g: float) -> str:
+    """A mass to order: whole grams, 0.1 g below 10 g (a 0.4 g spacer is not "0 g")."""
+    return f"{mass_g:.1f}" if mass_g < 10 else f"{mass_g:.0f}"
+
+
 def stock(kind, mass_g: float) -> str:
     """Stock to order for one piece of made part ``kind`` (``mass_g``: its mass, used for
     printed parts), e.g. ``"plate 6 x 35 x 130 mm aluminium-6061"``; see the module doc."""
@@ -156,9 +161,9 @@ def stock(kind, mass_g: float) -> str:
     mat = kind.material
     proc = kind.process.lower()
     if _PRINTED.search(proc):  # "printed", "FDM print PLA: 0.2 mm layers, ..."
-        return f"filament {mass_g:.0f} g {mat}"
+        return f"filament {_grams(mass_g)} g {mat}"
     if proc.startswith("wound"):
-        return f"wire {mass_g:.0f} g {mat}"
+        return f"wire {_grams(mass_g)} g {mat}"
     dims = _bbox_mm(kind.shape)
     if kind.plate:
         w, l_ = sorted(dims[:2])

@@ -26,7 +26,9 @@ def _kind(process: str, material: str = "pla"):
 @pytest.mark.parametrize("process", [PrintSettings().describe("pla"), "printed"])
 def test_printed_part_is_ordered_as_filament_by_mass(process):
     assert process.startswith(("FDM print PLA: 0.2 mm layers", "printed"))
-    assert stock(_kind(process), 4.4) == "filament 4 g pla"
+    assert stock(_kind(process), 4.4) == "filament 4.4 g pla"
+    assert stock(_kind(process), 0.37) == "filament 0.4 g pla"  # a spacer: not "0 g"
+    assert stock(_kind(process), 78.6) == "filament 79 g pla"
 
 
 def test_machined_plate_still_ordered_as_plate():
