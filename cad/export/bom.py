@@ -9,7 +9,7 @@ import csv
 import io
 from pathlib import Path
 
-from cad.export.order import money
+from cad.export.order import money, unit_money
 from cad.io.atomic import write_text_atomic
 from cad.io.escape import csv_cell
 
@@ -47,8 +47,8 @@ def bom_csv(rows: list[dict]) -> str:
         r.setdefault("description", "")
         r.setdefault("process", "")
         r.setdefault("fits", "")
-        for k in ("unit_price", "line_price"):
-            r[k] = money(r.get(k, ""))
+        r["unit_price"] = unit_money(r.get("unit_price", ""))
+        r["line_price"] = money(r.get("line_price", ""))
         r["total_mass_g"] = f"{float(r['mass_g']) * int(r['quantity']):.2f}"
         r["mass_g"] = f"{float(r['mass_g']):.2f}"
         w.writerow({k: csv_cell(v) if k in _TEXT_COLUMNS and isinstance(v, str) else v

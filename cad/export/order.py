@@ -28,6 +28,7 @@ import csv
 import io
 import math
 import re
+from decimal import ROUND_HALF_UP, Decimal
 from pathlib import Path
 
 from cad.design.fields import check_text
@@ -141,18 +142,29 @@ def _up(x: float) -> int:
     return int(math.ceil(x - 1e-6))
 
 
+#: A printed part's process text: the BOM's "FDM print PLA: ..." (:meth:`cad.printing.
+#: PrintSettings.describe`) or "printed" (matching only "print..." ordered PLA plates).
+#: "3D print / turned" (a user-script handle: either) keeps its machined stock.
+_PRINTED = re.compile(r"^(fdm )?print")
+
+
+def _grams(mass_g: float) -> str:
+    """A mass to order: whole grams, 0.1 g below 10 g (a 0.4 g spacer is not "0 g")."""
+    return f"{mass_g:.1f}" if mass_g < 10 else f"{mass_g:.0f}"
+
+
 def stock(kind, mass_g: float) -> str:
     """Stock to order for one piece of made part ``kind`` (``mass_g``: its mass, used for
     printed parts), e.g. ``"plate 6 x 35 x 130 mm aluminium-6061"``; see the module doc."""
     from cad import tolerances as tol
 
-    dims = _bbox_mm(kind.shape)
     mat = kind.material
     proc = kind.process.lower()
-    if proc.startswith("print"):
-        return f"filament {mass_g:.0f} g {mat}"
+    if _PRINTED.search(proc):  # "printed", "FDM print PLA: 0.2 mm layers, ..."
+        return f"filament {_grams(mass_g)} g {mat}"
     if proc.startswith("wound"):
-        return f"wire {mass_g:.0f} g {mat}"
+        return f"wire {_grams(mass_g)} g {mat}"
+    dims = _bbox_mm(kind.shape)
     if kind.plate:
         w, l_ = sorted(dims[:2])
         m = 2 * tol.STOCK_PLATE_MARGIN_MM
@@ -287,7 +299,7 @@ def _read_prices(reader, p: Path) -> dict:
                                           f"{currency[0]!r} (row {currency[1]}): one currency")
         if cur and not currency[0]:
             currency = (cur, i)
-    return {"prices": prices, "currency": currency[0], "source": p.name}
+    return {"prices": prices, "currency": currency[0], "source": p.name, "rows": first_row}
 
 
 def _price_of(prices: dict, keys) -> str | None:
@@ -299,11 +311,13 @@ def apply_prices(rows: list[dict], table: dict | None) -> dict:
     ``table`` (:func:`load_prices`; a row is looked up by its designation, then its part
     name); unpriced rows get empty cells. The lines bought with a row
     (:func:`extra_order_lines`) are priced the same way. Returns the summary:
-    ``total_price`` (sum of the priced lines), ``currency``, ``priced_lines``,
+    ``total_price`` (sum of the priced lines, each rounded half-up to the cent:
+    :func:`line_cents`), ``currency``, ``priced_lines``,
     ``unpriced_lines``, ``unpriced`` (part names or designations), ``unused_prices`` (keys
-    matching no line), ``price_source``, ``extra_lines`` (priced like the rows)."""
+    matching no line; each one is also a warning naming its row), ``price_source``,
+    ``extra_lines`` (priced like the rows)."""
     prices = (table or {}).get("prices", {})
-    used, unpriced, total, extra = set(), [], 0.0, []
+    used, unpriced, total, extra = set(), [], Decimal(0), []
     lines = [(r, (r.get("designation", ""), r["part"]), r["part"]) for r in rows if ordered(r)]
     for r in rows:
         if not ordered(r):
@@ -318,10 +332,11 @@ def apply_prices(rows: list[dict], table: dict | None) -> dict:
             continue
         used.add(key)
         line["unit_price"] = prices[key]
-        line["line_price"] = round(prices[key] * int(line["quantity"]), PRICE_DECIMALS)
-        total += line["line_price"]
+        line["line_price"] = float(line_cents(prices[key], line["quantity"]))
+        total += line_cents(prices[key], line["quantity"])
+    _warn_unused(table, sorted(set(prices) - used))
     return {
-        "total_price": round(total, PRICE_DECIMALS),
+        "total_price": float(total),
         "currency": (table or {}).get("currency", ""),
         "priced_lines": len(lines) - len(unpriced),
         "unpriced_lines": len(unpriced),
@@ -332,14 +347,43 @@ def apply_prices(rows: list[dict], table: dict | None) -> dict:
     }
 
 
-#: Prices are kept to this many decimals (a billionth of the currency unit): sums of decimal
-#: prices in binary floating point print as 48.05, not 48.050000000000004, in report.json.
-PRICE_DECIMALS = 9
+def _warn_unused(table: dict | None, keys: list[str]) -> None:
+    """A warning per price row (file row, or ``[prices]`` key) that matches no order line."""
+    from cad.design import bounds
+
+    rows, src = (table or {}).get("rows", {}), (table or {}).get("source", "prices")
+    for k in keys:
+        where = f"{src} row {rows[k]}" if k in rows else f"{src} key"
+        bounds.warn(f"{where}: designation {k!r} matches no BOM or order line (a BOM "
+                    "designation or part name); its price is not used")
+
+
+def _dec(x) -> Decimal:
+    """The decimal a price was written as (a float from a CSV cell: its shortest repr)."""
+    return Decimal(repr(float(x)))
+
+
+def line_cents(unit_price, quantity) -> Decimal:
+    """An order line's price: ``quantity`` x ``unit_price`` in exact decimal, rounded half-up
+    to the cent (3 x 0.015 = 0.045 -> 0.05). The total is the sum of these lines, so the
+    printed lines add up to the printed total."""
+    return (_dec(unit_price) * int(quantity)).quantize(Decimal("0.01"), rounding=ROUND_HALF_UP)
 
 
 def money(x) -> str:
-    """A price cell: two decimals, or empty for no price."""
-    return "" if x in ("", None) else f"{float(x):.2f}"
+    """A line or total price cell: two decimals (half-up), or empty for no price."""
+    if x in ("", None):
+        return ""
+    return str(_dec(x).quantize(Decimal("0.01"), rounding=ROUND_HALF_UP))
+
+
+def unit_money(x) -> str:
+    """A unit price cell as given: two decimals, more when the price has more (0.0125 stays
+    0.0125: fasteners bought by the box cost below a cent), or empty for no price."""
+    if x in ("", None):
+        return ""
+    d = _dec(x)
+    return str(d.quantize(Decimal("0.01"))) if d.as_tuple().exponent >= -2 else str(d.normalize())
 
 
 def total_text(summary: dict) -> str:
@@ -349,7 +393,7 @@ def total_text(summary: dict) -> str:
     if summary["priced_lines"] == 0:
         return f"no price given: all {m} lines unpriced, no total"
     tail = "all lines priced" if n == 0 else f"{n} of {m} lines unpriced, not in the total"
-    return f"{summary['total_price']:.2f}{cur} ({tail})"
+    return f"{money(summary['total_price'])}{cur} ({tail})"
 
 
 def order_lines(rows: list[dict], extra=()) -> list[dict]:
@@ -378,7 +422,7 @@ def order_csv(rows: list[dict], summary: dict) -> str:
     w.writeheader()
     for o in order_lines(rows, summary.get("extra_lines", ())):
         w.writerow({**o, **{k: csv_cell(o[k]) for k in ("group", "designation", "order_code", "parts")},
-                    "unit_price": money(o["unit_price"]), "line_price": money(o["line_price"])})
+                    "unit_price": unit_money(o["unit_price"]), "line_price": money(o["line_price"])})
     w.writerow({"group": "total", "designation": csv_cell(summary["currency"]),
                 "line_price": money(summary["total_price"]) if summary["priced_lines"] else "",
                 "parts": f"{summary['unpriced_lines']} unpriced lines"})
@@ -402,7 +446,7 @@ def order_md(rows: list[dict], summary: dict) -> str:
              "|---|---|---|---|---|---|---|"]
     for o in order_lines(rows, summary.get("extra_lines", ())):
         lines.append(f"| {md(o['group'])} | {md(o['designation'])} | {md(o['order_code'])} | "
-                     f"{o['quantity']} | {money(o['unit_price'])} | {money(o['line_price'])} | "
+                     f"{o['quantity']} | {unit_money(o['unit_price'])} | {money(o['line_price'])} | "
                      f"{md(o['parts'])} |")
     src = f" (prices: {md(summary['price_source'])})" if summary["price_source"] else ""
     lines += ["", f"Total: {md(total_text(summary))}{src}.", "", f"Stock: {allowance_text()}."]

@@ -250,7 +250,7 @@ def test_bad_design_prices_table_names_the_key():
 
 def test_totals_are_the_decimal_sums_not_float_noise():
     """12.60 + 0.45 + 35 is 48.05 (by hand), and 3 x 0.15 is 0.45: report.json showed
-    48.050000000000004 (the binary sum). Line and total prices are kept to 9 decimals."""
+    48.050000000000004 (the binary sum). Lines are exact decimals rounded to the cent."""
     from cad.export.order import apply_prices
 
     rows = [{"part": p, "designation": p, "quantity": q, "made_or_bought": "bought"}
