@@ -419,7 +419,9 @@ def optimize(design, method: str | None = None, objective: str | None = None, tr
 
     Returns the ``hapticad optimize --json`` object without the file keys (``command``,
     ``measured``, ``out``, ``replaced*``): pantographs ``best``, ``gii``, evaluations ...;
-    four-bars ``best`` (None when no candidate passed the exact solids), ``trials`` ...;
+    four-bars ``best`` (None when no candidate passed the exact solids), ``trials`` ...,
+    ``misses`` (the design's ``[targets]`` the chosen optimum misses on the exact solids:
+    ``key``, ``target_text``, ``written``, ``best`` reached; the CLI exits 1 when not empty);
     ``beat_prototype``: the issue 24 §4 limits (:mod:`cad.studies.codesign.prototype`), the
     report's ``prototype`` entry.
     Raises DesignError naming the option or ``mechanism.family``.

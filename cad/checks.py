@@ -82,6 +82,19 @@ def evaluate(targets: tuple[Target, ...] | list[Target], values: dict[str, float
     return rows
 
 
+def miss_line(key: str, target_text: str, best: float | None, written: float | None = None) -> str:
+    """One line for one missed target (``optimize``, ``fit``): the key, the target and the best
+    figure reached, 6 significant digits (a 35.004 miss of <= 35 stays visible); ``written``,
+    the written design's figure, when it differs from ``best``."""
+    def fmt(v):
+        return "not computed" if v is None else f"{v:.6g}"
+
+    line = f"target missed: {key} (target {target_text}): best reached {fmt(best)}"
+    if written is not None and written != best:
+        line += f", written design {fmt(written)}"
+    return line
+
+
 def violation(t: Target, computed: float) -> float:
     """How far outside its tolerance a value is, relative to the reference (0 when met)."""
     if t.value is not None:

@@ -78,7 +78,8 @@ def _fourbar(d, path: Path, objective: str, trials: int, seed: int, top: int, ou
         exact.write_optimum(d, best, out, f"Optimum of `{cmd}`\nexact solids: M11 {ex['M11_min_g']:.2f}-"
                             f"{ex['M11_max_g']:.2f} g, cheap model {rep['best']['cheap']['M11_max_g']:.2f} g "
                             f"({100 * ex['cheap_error_rel']:+.1f} %), first mode "
-                            f"{ex['structure']['first_mode_Hz']:.0f} Hz, min clearance {ex['min_clearance_mm']:.2f} mm")
+                            f"{ex['structure']['first_mode_Hz']:.0f} Hz, min clearance {ex['min_clearance_mm']:.2f} mm"
+                            + "".join(f"\n{exact.miss_line(m)}" for m in rep["misses"]))
         rep["out"] = str(out)
         rep["replaced"] = replaced
     rep["replaced_files"] = replaced_charts + ([str(out)] if replaced else [])
@@ -86,7 +87,9 @@ def _fourbar(d, path: Path, objective: str, trials: int, seed: int, top: int, ou
         print_json(rep)
     else:
         _print_fourbar(rep)
-    if best is None and not beat_prototype:
+    for m in rep["misses"]:  # one line per missed target of the design (the optimum was not enough)
+        print(f"hapticad: {exact.miss_line(m)}", file=sys.stderr)
+    if (best is None and not beat_prototype) or rep["misses"]:
         raise typer.Exit(1)
 
 

@@ -51,7 +51,46 @@ def evaluate(design, cand, name: str) -> dict:
         "torque_mean_mNm": rep["torque_mean_mNm"], "torque_variation": rep["torque_variation"],
         "dy_max_mm": rep["dy_max_mm"], "stroke_mm": rep["stroke_mm"],
         "min_transmission_angle_deg": rep["min_transmission_angle_deg"],
+        "targets": _target_rows(d, rep),
     }
+
+
+def _target_rows(d, rep: dict) -> list[dict]:
+    """The design's ``[targets]`` against this build's figures, by the code ``hapticad check``
+    uses (:func:`cad.checks.values_from_report`, :func:`cad.checks.evaluate`): check rows."""
+    from cad.checks import evaluate, values_from_report
+
+    return [r.as_dict() for r in evaluate(d.targets, values_from_report(rep))]
+
+
+def misses(best_ex: dict, checked: list[dict]) -> list[dict]:
+    """The design's targets the chosen candidate (``best_ex``, from :func:`evaluate`) misses:
+    ``key``, ``target_text``, ``written`` (its figure, the one ``check`` of the written design
+    gives) and ``best`` (the best figure of that key over every exactly evaluated candidate in
+    ``checked``, towards the target's bound; None when no candidate computed it)."""
+    out = []
+    for row in best_ex["targets"]:
+        if row["ok"]:
+            continue
+        seen = [r["computed"] for c in checked if "exact" in c for r in c["exact"]["targets"]
+                if r["key"] == row["key"] and r["computed"] is not None]
+        t = row["target"] or {}
+        lower = "max" in t and "min" not in t  # a <= bound: the lowest figure is the best reached
+        best = None
+        if seen:
+            ref = t.get("value")
+            best = (min(seen) if lower else max(seen) if "min" in t and "max" not in t
+                    else min(seen, key=lambda v: abs(v - (ref if ref is not None else v))))
+        out.append({"key": row["key"], "target_text": row["target_text"], "written": row["computed"],
+                    "best": best})
+    return out
+
+
+def miss_line(m: dict) -> str:
+    """One line for one missed target of :func:`misses` (:func:`cad.checks.miss_line`)."""
+    from cad.checks import miss_line as line
+
+    return line(m["key"], m["target_text"], m["best"], m["written"])
 
 
 def accepted(ex: dict) -> bool:

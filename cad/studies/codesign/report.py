@@ -14,7 +14,9 @@ def optimize_fourbar(design, objective: str, trials: int, seed: int, top: int, c
     accepted one. ``starts=False``: without the hand-written :data:`search.STARTS`.
     ``beat_prototype``: the brief of :mod:`cad.studies.codesign.prototype` (every trial judged
     on every limit; without an accepted design, the report's ``prototype_front``).
-    Returns (JSON-able report, accepted Candidate or None)."""
+    The report's ``misses``: the design's targets the accepted optimum misses
+    (:func:`cad.studies.codesign.exact.misses`). Returns (JSON-able report, accepted Candidate
+    or None)."""
     from cad.errors import HapticadError
     from cad.studies.codesign import exact, search
 
@@ -68,6 +70,7 @@ def optimize_fourbar(design, objective: str, trials: int, seed: int, top: int, c
         "pareto_front": [{k: r[k] for k in ("trial", "M11_max_g", "torque_variation", "footprint_mm2")}
                          for r in front],
         "wall_s": time.perf_counter() - t0,
+        "misses": [] if best is None else exact.misses(best[1], checked),
     }
     if beat_prototype:
         rep["prototype"] = _prototype_report(design, pb, records, best, chart_dir, out_stem)
