@@ -17,6 +17,18 @@ import typer
 from cad.cli.app import print_json
 
 
+def gap_text(row: dict) -> str:
+    """The ``gap`` cell of one ``check`` row (a :meth:`CheckRow.as_dict`): ``"+8.1%"`` from a
+    ``value ± tol`` target; for a met ``min``/``max`` limit the room left in the key's unit
+    (``"met, 12.5 to spare"``), not a gap of 0 %; ``"—"`` without a computed value."""
+    if row["gap_rel"] is None:
+        return "—"
+    data = row.get("target") or {}
+    if row["ok"] and "value" not in data and row.get("margin") is not None:
+        return f"met, {row['margin']:.3g} to spare"
+    return f"{100 * row['gap_rel']:+.1f}%"
+
+
 def register(app: typer.Typer) -> None:
     @app.command("check")
     def check_cmd(
@@ -58,7 +70,7 @@ def register(app: typer.Typer) -> None:
                 t.add_column(c, justify="right" if c != "target key" else "left")
             for r in res["rows"]:
                 comp = "—" if r["computed"] is None else f"{r['computed']:.4g}"
-                gap = "—" if r["gap_rel"] is None else f"{100 * r['gap_rel']:+.1f}%"
+                gap = gap_text(r)
                 t.add_row(r["key"], comp, r["target_text"], gap,
                           "[green]yes[/]" if r["ok"] else "[red]NO[/]")
             Console().print(t)

@@ -26,6 +26,20 @@ def load_pantograph_design(path: Path):
     return design
 
 
+def point_text(at: dict | None) -> str:
+    """A workspace point for a reader: ``{"x_mm": 0.0, "y_mm": 150.0}`` ->
+    ``"x = 0 mm, y = 150 mm"`` (a key with a unit suffix ``_<unit>`` prints the unit after
+    the value)."""
+    if not isinstance(at, dict):
+        return str(at)
+    parts = []
+    for k, v in at.items():
+        name, _, unit = k.partition("_")
+        val = f"{v:g}" if isinstance(v, (int, float)) else str(v)
+        parts.append(f"{name} = {val} {unit}" if unit else f"{k} = {val}")
+    return ", ".join(parts)
+
+
 def register(app: typer.Typer) -> None:
     @app.command("gii")
     def gii_cmd(
@@ -42,7 +56,8 @@ def register(app: typer.Typer) -> None:
         print(
             f"{rep['design']} ({rep['family']}): GII = {rep['gii']:.6f} over {rep['n_points']} samples"
         )
-        print(f"  sigma_min = {rep['sigma_min']:.6g} at {rep['sigma_min_at']}")
-        print(f"  sigma_max = {rep['sigma_max']:.6g} at {rep['sigma_max_at']}")
+        print(f"  sigma_min = {rep['sigma_min']:.6g} at {point_text(rep['sigma_min_at'])}")
+        print(f"  sigma_max = {rep['sigma_max']:.6g} at {point_text(rep['sigma_max_at'])}")
         if rep["failure"]:
-            print(f"  GII = 0: {rep['failure']} at {rep['failed_at']} ({rep['n_failed']} samples)")
+            at = point_text(rep["failed_at"])
+            print(f"  GII = 0: {rep['failure']} at {at} ({rep['n_failed']} samples)")

@@ -90,14 +90,27 @@ def bearing_sizes() -> list[str]:
     return list(_table("single_row_deep_groove_ball_bearing_parameters.csv", "SKT"))
 
 
-def get_bearing(size: str, field: str = "parts.bearing") -> BearingSpec:
-    """Catalog data of bearing ``size`` (bd_warehouse form ``M<d>-<D>-<B>``, e.g. ``M8-16-4``)."""
+def _bearing_by_designation() -> dict[str, str]:
+    """ISO designation (``"608"``, ``"618/4"``) -> bd_warehouse size (``"M8-22-7"``).
+
+    Source: the ``Designation`` column of the same SKF catalog table that gives the sizes
+    (bd_warehouse 0.4.0 ``single_row_deep_groove_ball_bearing_parameters.csv``, SKT)."""
     tab = _table("single_row_deep_groove_ball_bearing_parameters.csv", "SKT")
-    if size not in tab:
+    return {r["Designation"].replace("*", "").strip(): k for k, r in tab.items()}
+
+
+def get_bearing(size: str, field: str = "parts.bearing") -> BearingSpec:
+    """Catalog data of bearing ``size``: the bd_warehouse form ``M<d>-<D>-<B>`` (``M8-22-7``)
+    or its ISO designation (``608``, the common name of 8 x 22 x 7 mm; SKF catalog column).
+    ``BearingSpec.size`` is always the ``M`` form. Raises DesignError(field) when unknown."""
+    tab = _table("single_row_deep_groove_ball_bearing_parameters.csv", "SKT")
+    key = size if size in tab else _bearing_by_designation().get(str(size).strip())
+    if key is None:
         raise DesignError(
-            field, f"unknown bearing {size!r} (bd_warehouse SKT sizes: {', '.join(tab)})"
+            field, f"unknown bearing {size!r} (bd_warehouse SKT sizes: {', '.join(tab)}; "
+            "or an ISO designation such as 608)"
         )
-    r = tab[size]
+    size, r = key, tab[key]
     return BearingSpec(
         size,
         r["Designation"].replace("*", "").strip(),

@@ -76,12 +76,28 @@ class Bound:
 
         ``ok(w)``: an extra condition the converted value ``w`` must meet (e.g. the limit an
         error message states, :func:`error_line`).
+
+        When cm and inches both explain ``v``: a value on the 1/16 in grid but not on the
+        0.1 cm grid (``0.375``, ``1.25``) is inches; one on both grids (``3``, ``2.5``) names
+        both (``"; did you give cm or inches? (3 cm = 30 mm; 3 inches = 76.2 mm)"``); else cm.
         """
-        for name, factor in self.slips:
-            w = v * factor
-            if w != 0 and self.plausible(w) and (ok is None or ok(w)):
-                return f"; did you give {name}? ({v:g} {name} = {w:g} {self.unit})"
-        return ""
+        fits = [(name, v * f) for name, f in self.slips
+                if v * f != 0 and self.plausible(v * f) and (ok is None or ok(v * f))]
+        names = [n for n, _ in fits]
+        if "cm" in names and "inches" in names:
+            sixteenths, tenths = _on_grid(v, 1 / 16), _on_grid(v, 0.1)
+            if sixteenths and not tenths:
+                fits = [f for f in fits if f[0] != "cm"]
+            elif sixteenths:
+                fits = [f for f in fits if f[0] in ("cm", "inches")]
+                both = "; ".join(f"{v:g} {n} = {w:g} {self.unit}" for n, w in fits)
+                return f"; did you give cm or inches? ({both})"
+            else:
+                fits = [f for f in fits if f[0] != "inches"]
+        if not fits:
+            return ""
+        name, w = fits[0]
+        return f"; did you give {name}? ({v:g} {name} = {w:g} {self.unit})"
 
     def range_text(self) -> str:
         u = f" {self.unit}" if self.unit else ""
@@ -93,6 +109,12 @@ class Bound:
         if self.lo is not None:
             return f"{'>' if self.lo_open else '>='} {self.lo:g}{u}"
         return f"<= {self.hi:g}{u}"
+
+
+def _on_grid(v: float, step: float) -> bool:
+    """True when ``v`` is a whole number of ``step`` (to 1e-9 of a step)."""
+    q = abs(v) / step
+    return abs(q - round(q)) < 1e-9
 
 
 # ----------------------------------------------------------------------------- reasons

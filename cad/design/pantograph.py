@@ -189,6 +189,7 @@ def parse_parts(table: dict[str, Any], prefix: str = "parts") -> PantographParts
     for key in _PART_STR[:6]:
         get_material(getattr(p, key), f"{prefix}.{key}")
     b = get_bearing(p.bearing, f"{prefix}.bearing")
+    p = replace(p, bearing=b.size)  # an ISO designation ("608") in its catalog form
     m = get_motor(p.motor, f"{prefix}.motor")
 
     def need(cond: bool, key: str, reason: str) -> None:

@@ -540,6 +540,7 @@ def _check_hardware(v: dict[str, Any], prefix: str, end_radius_given: bool) -> N
     from cad.data import catalog
 
     brg = catalog.get_bearing(v["bearing"], _f(prefix, "bearing"))
+    v["bearing"] = brg.size  # an ISO designation ("608") is kept in its catalog form
     pin = catalog.get_shoulder_screw(v["pin"], _f(prefix, "pin"))
     motor = catalog.get_motor(v["motor"], _f(prefix, "motor"))
     catalog.get_cap_screw(v["hub_screw"], _f(prefix, "hub_screw"))

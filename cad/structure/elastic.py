@@ -44,7 +44,12 @@ ELASTIC: dict[str, Elastic] = {
         "quasi-isotropic T300/epoxy plate (in-plane modulus ~45 GPa, strength ~450 MPa), Toray / "
         "DragonPlate quasi-isotropic sheet data",
     ),
-    "pla": Elastic(3.5, 0.36, 50.0, "PLA printed 100 % infill XY, NatureWorks 4043D / Prusament PLA"),
+    "pla": Elastic(
+        2.539, 0.36, 26.0,
+        "PLA printed XY (FDM, ASTM D638 Type 1): tensile modulus 2539 MPa, tensile strength at "
+        "yield 26 MPa; Pro3D Composites PLA data sheet, https://pro3dcomposites.com/materials/pla/ "
+        "(Poisson's ratio 0.36 unverified: no printed-PLA source states it)",
+    ),
     "petg": Elastic(2.0, 0.38, 45.0, "PETG printed 100 % infill XY, Prusament PETG datasheet"),
     "abs": Elastic(2.2, 0.35, 40.0, "ABS printed 100 % infill XY, MatWeb generic ABS"),
     # sheet materials of the laser process (sources in cad.data.materials.SHEETS)

@@ -52,3 +52,30 @@ def test_H_ratios_against_the_paper(computed):
     assert {k: round(r, 2) for k, r in ratios.items()} == {
         "H11_kg_m2": 1.16, "H12_kg_m2": 1.50, "H22_kg_m2": 1.57, "H33_kg_m2": 0.32}
     assert 1 / ratios["H33_kg_m2"] == pytest.approx(3.17, abs=0.01)
+
+
+def test_met_limit_shows_room_to_spare_not_zero_gap(computed, monkeypatch):
+    """A met ``>=`` / ``<=`` target prints the room left (computed - min, max - computed, from
+    the JSON's computed values), not "gap +0.0%" (issue 34 item 6); a ``value ± tol`` target
+    keeps its signed gap."""
+    lo, hi = 20.0, 50.0
+    monkeypatch.setenv("COLUMNS", "200")  # one table row per line
+    code, out, err = hapticad("check", ROOT / "designs" / "hoeken_paper.toml",
+                              "--target", f"M11_min_g>={lo:g}", "--target", f"M11_max_g<={hi:g}")
+    assert code == 0, err
+    rows = {ln.split("│")[1].strip(): ln.split("│")[4].strip()
+            for ln in out.splitlines() if ln.count("│") == 6}
+    assert rows["M11_min_g"] == f"met, {computed['M11_min_g'] - lo:.3g} to spare"
+    assert rows["M11_max_g"] == f"met, {hi - computed['M11_max_g']:.3g} to spare"
+    assert "+0.0%" not in out and rows["D_min_kg_m2"].endswith("%")
+
+
+def test_gap_text_cells():
+    from cad.cli.cmd_check import gap_text
+
+    met = {"gap_rel": 0.0, "ok": True, "target": {"min": 20.0}, "margin": 9.72}
+    assert gap_text(met) == "met, 9.72 to spare"
+    assert gap_text({**met, "ok": False, "gap_rel": -0.25, "margin": -5.0}) == "-25.0%"
+    assert gap_text({"gap_rel": 0.081, "ok": True, "target": {"value": 27.5, "tol_rel": 0.1},
+                     "margin": 0.5}) == "+8.1%"
+    assert gap_text({**met, "gap_rel": None}) == "—"

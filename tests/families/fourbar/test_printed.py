@@ -5,7 +5,7 @@
 * the printed bar modulus against the rule of mixtures computed by hand;
 * parts.3mf read back (zip + XML, and lib3mf): the flipped item rotated 180 deg about x,
   resting on z = 0, with its orientation metadata; no metadata without printed parts;
-* the BOM wording of the printed Hoeken, the warning for shared/cases hoeken_pla, and the
+* the BOM wording of the printed Hoeken, the warning for tests/cases hoeken_pla, and the
   machined default unchanged (process texts, fits, 3MF bytes, parts_spec keys).
 """
 
@@ -21,7 +21,7 @@ import numpy as np
 import pytest
 
 ROOT = Path(__file__).resolve().parents[3]
-PLA_CASE = Path("/work/shared/cases/silent-limits/hoeken_pla.toml")
+PLA_CASE = ROOT / "tests" / "cases" / "silent-limits" / "hoeken_pla.toml"
 NS = {"m": "http://schemas.microsoft.com/3dmanufacturing/core/2015/02"}
 
 

@@ -155,3 +155,14 @@ def test_negative_base_through_the_console_entry_point(tmp_path):
     assert r.returncode == 2 and r.stdout == ""
     assert len(r.stderr.strip().splitlines()) == 1 and "mechanism.base_mm" in r.stderr
     assert "Traceback" not in r.stderr
+
+
+def test_gii_text_output_is_readable_lines():
+    """``gii`` without --json prints readable lines (issue 34 item 6): the extreme points as
+    ``x = .. mm, y = .. mm`` (no Python dict), the same point the JSON gives."""
+    out = hapticad_json("gii", DESIGNS / "pantograph.toml")
+    code, text, err = hapticad("gii", DESIGNS / "pantograph.toml")
+    assert code == 0, err
+    assert "{" not in text and "'" not in text
+    p = out["sigma_min_at"]
+    assert f"at x = {p['x_mm']:g} mm, y = {p['y_mm']:g} mm" in text.splitlines()[1]

@@ -89,3 +89,18 @@ def test_materials_import_is_cad_free():
     code = "import sys, cad.data.materials; print(any(m.split('.')[0] in ('OCP','build123d','cadquery') for m in sys.modules))"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "False"
+
+
+def test_printed_pla_uses_printed_part_values():
+    """PLA is only printed here, so its stiffness and strength are printed-part values:
+    Pro3D Composites PLA data sheet, XY axis, ASTM D638 Type 1 (typed from the sheet):
+    tensile modulus 2539 MPa, tensile strength at yield 26 MPa, not the ~50 MPa / 3.5 GPa of
+    injection-moulded PLA; the printed-modulus filament table agrees."""
+    from cad.printing import FILAMENTS
+    from cad.structure.elastic import ELASTIC
+
+    pla = ELASTIC["pla"]
+    assert (pla.E_GPa, pla.strength_MPa) == (2.539, 26.0)
+    assert "printed XY" in pla.source and "Pro3D" in pla.source
+    assert "unverified" in pla.source  # Poisson's ratio: no printed-PLA source states it
+    assert FILAMENTS["pla"].E_xy_GPa == pla.E_GPa

@@ -1,6 +1,7 @@
 """The haptic pen's structure figures (cad/structure/pen.py, no CAD): each arm's 5-bar frame
 (motors held, pen end free) against Rayleigh's quotient of its own static deflection (an
-upper bound of the first mode, a second method beside the eigen-solver), the masses kept,
+upper bound of the first mode: a *consistency check* of the eigen-solution on the device
+model's own frame, not an independent model of the frame), the masses kept,
 the lever rule of the pen rod, the end load against a brute-force maximum of the rod's
 statics, and the datasheet rows with their verdicts and warnings (no build: the body masses
 below are the inertia build's, rounded, as input).
@@ -66,8 +67,8 @@ def rayleigh_Hz(fr, node: int, load: np.ndarray) -> float:
 
 
 @pytest.mark.parametrize("arm, k", [("A", 0), ("B", 0), ("A", 5), ("B", 12)])
-def test_arm_first_modes_match_rayleigh(design, arm, k):
-    """In plane: the load along the most compliant principal direction of the 2 x 2 in-plane
+def test_arm_first_modes_consistent_with_rayleigh(design, arm, k):
+    """Consistency check (same frame, second method). In plane: the load along the most compliant principal direction of the 2 x 2 in-plane
     compliance at E; out of plane: the load normal to the plane. Upper bound, within 10 %."""
     from cad.structure.graph import plane_modes
 
