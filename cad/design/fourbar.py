@@ -210,6 +210,31 @@ def _parse_stiffness(tab: dict[str, Any]) -> StiffnessInputs | None:
     return StiffnessInputs(*vals)
 
 
+def _delta_of_the_encoder(design: FourBarDesign) -> FourBarDesign:
+    """``[stiffness] encoder_resolution_m`` (eq 25's Delta) as the step of the encoder the
+    design states (``parts.encoder``, ``parts.encoder_counts_per_rev``, ``[firmware]``) at
+    mid-stroke, with a warning when the table gave another encoder's step: one encoder in
+    the BOM, the firmware, eq (25), the simulated K_max and the wall sketch."""
+    from dataclasses import replace
+
+    from cad.device import mid_stroke_lever_m_per_rad, stated_encoder_counts
+
+    counts = stated_encoder_counts(design) if design.stiffness is not None else None
+    if counts is None:
+        return design
+    lever = mid_stroke_lever_m_per_rad(design)
+    delta = design.stiffness.encoder_resolution_m
+    if round(2 * math.pi * lever / delta) == counts:
+        return design
+    own = 2 * math.pi * lever / counts
+    from cad.design.bounds import warn
+
+    warn(f"stiffness.encoder_resolution_m = {delta:g} m is the mid-stroke step of "
+         f"{round(2 * math.pi * lever / delta)} counts/rev, not of the design's encoder ({counts} "
+         f"counts/rev): eq (25), the simulated K_max and the firmware use its step, {own:.4g} m")
+    return replace(design, stiffness=replace(design.stiffness, encoder_resolution_m=own))
+
+
 def parse(raw: dict[str, Any], source: str = "<design>") -> FourBarDesign:
     """Validate a raw four-bar design mapping (see module docstring)."""
     check_unknown(raw, TOP_KEYS, "")
@@ -257,6 +282,7 @@ def parse(raw: dict[str, Any], source: str = "<design>") -> FourBarDesign:
         firmware=parse_firmware(optional_table(raw, "firmware", ""), 1),
         force_basis=basis, motor=parse_motor_table(optional_table(raw, "motor", ""), "motor"),
     )
+    design = _delta_of_the_encoder(design)
     from cad.design.bounds import warn
 
     gaps = design.hardware_gaps()

@@ -296,9 +296,9 @@ def _plain(counts: int) -> str:
     return f"encoder on the motor's rear shaft, {counts} counts/rev"
 
 
-def _stiffness_counts(design) -> tuple[int, str]:
-    """Counts per crank turn whose handle step at mid-stroke is ``[stiffness]
-    encoder_resolution_m``: 2 pi |dx/dphi1| / Delta, rounded to whole counts."""
+def mid_stroke_lever_m_per_rad(design) -> float:
+    """|dx/dphi1| of a four-bar design's handle along its path at mid-stroke (m/rad): the
+    lever that turns one encoder step (rad) into eq (25)'s Delta (m)."""
     import numpy as np
 
     from cad.kinematics.fourbar import jacobian_mm_per_rad, solve
@@ -308,9 +308,21 @@ def _stiffness_counts(design) -> tuple[int, str]:
     mid = 0.5 * (design.phi1_min_rad + design.phi1_max_rad)
     pose = solve(fb, np.array([mid]))
     fr = path_frame(fb, design.phi1_min_rad, design.phi1_max_rad)
-    J = abs(float(fr.rotate(jacobian_mm_per_rad(fb, pose))[0, 0])) * 1e-3
+    return abs(float(fr.rotate(jacobian_mm_per_rad(fb, pose))[0, 0])) * 1e-3
+
+
+def stated_encoder_counts(design) -> int | None:
+    """The encoder count the design states first (``parts.encoder``, ``parts.
+    encoder_counts_per_rev``, ``[firmware] encoder_counts_per_rev``), or None."""
+    stated = _stated_counts(design)
+    return next(iter(stated.values()))[0] if stated else None
+
+
+def _stiffness_counts(design) -> tuple[int, str]:
+    """Counts per crank turn whose handle step at mid-stroke is ``[stiffness]
+    encoder_resolution_m``: 2 pi |dx/dphi1| / Delta, rounded to whole counts."""
     delta = design.stiffness.encoder_resolution_m
-    exact = 2 * math.pi * J / delta
+    exact = 2 * math.pi * mid_stroke_lever_m_per_rad(design) / delta
     n = max(1, round(exact))
     return n, (f"stiffness.encoder_resolution_m at mid-stroke; Delta = {delta:g} m: 2 pi |dx/dphi1| / "
                f"Delta = {exact:.6g}, rounded to {n} counts/rev")

@@ -43,6 +43,7 @@ from xml.sax.saxutils import quoteattr
 import numpy as np
 
 from cad.io.atomic import write_text_atomic
+from cad.io.escape import xml_comment
 
 SIM_FORMATS = ("mjcf", "urdf")
 #: MJCF equality solver parameters of the loop closures: stiff enough that the loop
@@ -183,7 +184,7 @@ def mjcf_text(model: SimModel) -> str:
         children.setdefault(b.parent, []).append(b)
     out = [f"<mujoco model={quoteattr(model.name)}>"]
     if model.comment:
-        out.append(f"  <!-- {model.comment} -->")
+        out.append(f"  <!-- {xml_comment(model.comment)} -->")
     out += [
         f'  <compiler angle="radian" meshdir={quoteattr(model.meshdir)} inertiafromgeom="false"/>',
         f'  <option timestep="{_f(TIMESTEP_S)}" integrator="RK4"/>',
@@ -236,7 +237,7 @@ def urdf_text(model: SimModel) -> str:
     base = "base_link"
     out = ['<?xml version="1.0"?>', f"<robot name={quoteattr(model.name)}>"]
     if model.comment:
-        out.append(f"  <!-- {model.comment} -->")
+        out.append(f"  <!-- {xml_comment(model.comment)} -->")
     for lp in model.loops:
         out.append(
             f"  <!-- loop closure {lp.name}: frames {lp.name}_a (on {lp.body_a}) and {lp.name}_b "

@@ -61,6 +61,16 @@ def c_comment(s: str) -> str:
     return t
 
 
+def xml_comment(s: str) -> str:
+    """Text inside an XML ``<!-- ... -->`` comment on one line: :func:`one_line`, and ``--``
+    (not allowed inside a comment, XML 1.0 section 2.5) and a trailing ``-`` broken by a
+    space."""
+    t = one_line(s)
+    while "--" in t:
+        t = t.replace("--", "- -")
+    return t + " " if t.endswith("-") else t
+
+
 def c_string(s: str) -> str:
     """The body of a C string literal (without the quotes) whose bytes are the UTF-8 of
     ``s``: printable ASCII as itself, ``\\``, ``"`` and ``?`` escaped, every other byte as

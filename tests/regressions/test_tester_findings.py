@@ -1,0 +1,62 @@
+"""Faults a new-user trial found on the merged tree (this session's tester): a design name with
+``--`` in the MJCF/URDF comments (XML 1.0 section 2.5 forbids ``--`` inside a comment), and a
+four-bar whose stated encoder is not the one its ``[stiffness]`` Delta describes."""
+
+from __future__ import annotations
+
+import math
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+import pytest
+
+from cad.io.escape import xml_comment
+from tests.cli_helpers import hapticad
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+@pytest.mark.parametrize("text", ["a--b", "x-", "---", "--->", "a\nb--"])
+def test_xml_comment_text_parses_inside_a_comment(text):
+    root = ET.fromstring(f"<r><!-- {xml_comment(text)} --></r>")  # the XML parser is the reference
+    assert root.tag == "r"
+
+
+def test_a_name_with_double_dashes_builds_mjcf_and_urdf_that_parse(tmp_path):
+    mujoco = pytest.importorskip("mujoco")
+    d = tmp_path / "d.toml"
+    d.write_text((ROOT / "designs" / "hoeken.toml").read_text().replace('name = "hoeken"', 'name = "a--b-"', 1))
+    code, _, err = hapticad("build", str(d), "--fidelity", "preview", "--formats", "mjcf,urdf",
+                            "--out", str(tmp_path / "o"))
+    assert code == 0, err
+    mjcf = next((tmp_path / "o").glob("*.xml"))
+    ET.parse(mjcf)
+    ET.parse(next((tmp_path / "o").glob("*.urdf")))
+    mujoco.MjModel.from_xml_path(str(mjcf))
+
+
+def test_a_stated_encoder_sets_eq25_delta_in_every_output(tmp_path):
+    text = (ROOT / "designs" / "hoeken.toml").read_text()
+    d = tmp_path / "d.toml"
+    d.write_text(text.replace("[parts]\n", "[parts]\nencoder_counts_per_rev = 1000\n", 1))
+    code, _, err = hapticad("build", str(d), "--fidelity", "inertia", "--formats", "firmware",
+                            "--out", str(tmp_path / "o"))
+    assert code == 0, err
+    assert "stiffness.encoder_resolution_m = 5.46e-05 m is the mid-stroke step of 3837" in err
+    import json
+
+    o = tmp_path / "o"
+    chai = json.loads((o / "firmware" / "chai3d_device.json").read_text())
+    ino = (o / "firmware" / "wall_example" / "wall_example.ino").read_text()
+    k_ino = float(next(ln.split()[2] for ln in ino.splitlines() if ln.startswith("#define WALL_K_N_PER_M")))
+    rep = json.loads((o / "report.json").read_text())
+    row = next(r for r in rep["datasheet"]["rows"] if r["key"] == "eq25_K_max_N_per_m")
+    # eq (25) by hand with Delta = 5.46e-5 m x 3837 / 1000 (the table's Delta is the step of
+    # 3837 counts: the 1000-count encoder's step is 3.837x it, to the table's rounding)
+    delta = 5.46e-5 * 3836.75 / 1000  # 3836.75: 2 pi |dx/dphi1| / 5.46e-5 at mid-stroke
+    k_hand = 2 * (0.083 + 0.12 * 0.04) / (delta + 0.04 * 0.00033)
+    assert chai["encoder_counts_per_rev"] == 1000
+    assert chai["m_maxLinearStiffness"] == pytest.approx(k_ino, rel=1e-12)
+    assert row["value"] == pytest.approx(k_ino, rel=1e-12)
+    assert k_ino == pytest.approx(k_hand, rel=1e-5)
+    assert not math.isclose(k_ino, 2590.0, rel_tol=0.1)
