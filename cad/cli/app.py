@@ -11,6 +11,7 @@ import importlib
 import pkgutil
 import re
 import sys
+import unicodedata
 
 import typer
 
@@ -86,11 +87,18 @@ def _cut(text: str, keep: int) -> str:
     return f"{text[:head]}...[{len(text) - head - tail} characters cut]...{text[len(text) - tail:]}"
 
 
+def _visible(line: str) -> str:
+    """``line`` with every control character (C0, DEL, C1: ESC, BEL, NUL ...) shown as its
+    Python escape, so an error quoting a design's key or a file's cell never drives the
+    terminal (an OSC 52 clipboard write, a screen clear)."""
+    return "".join(repr(c)[1:-1] if unicodedata.category(c) == "Cc" else c for c in line)
+
+
 def readable(line: str) -> str:
     """``line`` cut to a readable length: every word (run without spaces) to
     :data:`WORD_MAX_CHARS`, the whole to :data:`LINE_MAX_CHARS`, keeping both ends (the
     field comes first, the reason and the fix last); one line (newlines become spaces)."""
-    line = " ".join(line.splitlines())
+    line = _visible(" ".join(line.splitlines()))
     if len(line) <= WORD_MAX_CHARS:
         return line
     long_word = re.compile(r"\S{" + str(WORD_MAX_CHARS + 1) + ",}")

@@ -60,3 +60,13 @@ def test_a_stated_encoder_sets_eq25_delta_in_every_output(tmp_path):
     assert row["value"] == pytest.approx(k_ino, rel=1e-12)
     assert k_ino == pytest.approx(k_hand, rel=1e-5)
     assert not math.isclose(k_ino, 2590.0, rel_tol=0.1)
+
+
+def test_an_error_quoting_a_control_character_does_not_reach_the_terminal_raw(tmp_path):
+    d = tmp_path / "d.toml"
+    text = (ROOT / "designs" / "hoeken.toml").read_text()
+    d.write_text(text.replace("[parts]\n", '[parts]\n"x\\u001b]52;c;cHdu\\u0007" = 1\n', 1))
+    code, _, err = hapticad("check", str(d))
+    assert code == 2 and err.count("\n") == 1
+    assert "\x1b" not in err and "\x07" not in err
+    assert "\\x1b]52;c;cHdu\\x07" in err  # shown as its escape, as a value's repr is

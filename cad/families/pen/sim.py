@@ -47,8 +47,8 @@ def sim_model(design, model, bodies: dict) -> SimModel:
     made = {i.kind.name for i in model.instances if i.kind.made and i.kind.listed}
     jm = {m.joint: m.rotor_inertia_kg_m2 for m in resolve_device(design).motors}  # the BOM's motors
     rotor = {j: jm[f"A_q_{j}"] for j in ("waist", "lower", "upper")}
-    tau = float(np.atleast_1d(design.actuators["torque_max_Nm"])[0])
-    q1 = float(design.params["waist_torque_ratio"])
+    # actuator limits: each BOM motor's peak torque (N m), not the GII's [actuators] normalisation
+    tau = {m.joint: m.spec.torque_peak_mNm * 1e-3 for m in resolve_device(design).motors}
 
     def meshes(body):
         return tuple(SimMesh(i.name, f"{i.kind.name}.stl", i.tf_body_part[:3, 3] * 1e-3,
@@ -79,8 +79,7 @@ def sim_model(design, model, bodies: dict) -> SimModel:
             add(name, par, f"{arm}_q_{motor}" if motor else f"{arm}_j_{part}", sites,
                 rotor[motor] if motor else 0.0)
             if motor:
-                motors.append(SimMotor(f"{arm}_motor_{motor}", f"{arm}_q_{motor}",
-                                       tau * (q1 if motor == "waist" else 1.0)))
+                motors.append(SimMotor(f"{arm}_motor_{motor}", f"{arm}_q_{motor}", tau[f"{arm}_q_{motor}"]))
     add("pen", "A_ring", "A_j_pen", {f"pen_b{k}": np.array([l6, 0.0, s * B_AXIS_POINT_M])
                                      for k, s in ((1, 1), (2, -1))})
     loops = [SimLoop(f"{a}_loop_E", f"{a}_distal_upper", f"{a}_distal_upper_tip",

@@ -183,6 +183,24 @@ def test_mjcf_loads_and_its_loops_close_at_home(built):
     assert np.abs(d.efc_pos[eq]).max() < 1e-9  # m: every loop closed at the written pose
 
 
+def test_mjcf_actuators_are_the_bom_motors_peak_torques(built):
+    """Each actuator's force range (read back by MuJoCo) is the peak torque of the motor the
+    BOM orders for its joint (catalog: RE 40 2560 mN m on the waists, RE 35 972.5 mN m on the
+    shoulders, the data sheets cited in cad/data/catalog.py), not the GII's normalisation."""
+    from cad.data.catalog import get_motor
+
+    out, _ = built
+    mujoco, m, _d = _mujoco_home(out)
+    d = tomllib.loads(Path(DESIGN).read_text())
+    peak = {"waist": get_motor(d["parts"]["waist_motor"]).torque_peak_mNm * 1e-3,
+            "lower": get_motor(d["parts"]["motor"]).torque_peak_mNm * 1e-3}
+    peak["upper"] = peak["lower"]
+    for i in range(m.nu):
+        name = mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_ACTUATOR, i)
+        assert m.actuator_forcerange[i] == pytest.approx([-peak[name.split("_")[-1]], peak[name.split("_")[-1]]],
+                                                         rel=1e-12), name
+
+
 def test_effective_mass_at_home_equals_mujoco_kinetic_energy(built):
     """Second method: MuJoCo's joint-space mass matrix (its own composite-rigid-body pass over
     the MJCF's bodies, rotor inertia as armature), mapped to the task by the joint velocities
