@@ -77,6 +77,39 @@ def parse_motor_table(table: dict[str, Any] | None, prefix: str = "motor") -> tu
     return tuple(sorted(out.items()))
 
 
+_CONTINUOUS_KEYS = ("current_continuous_A", "torque_continuous_mNm", "torque_constant_mNm_per_A",
+                    "no_load_current_mA")
+
+
+def _check_continuous(m, changes: dict, ov: dict) -> None:
+    """One continuous limit per motor: the continuous torque T_N must be what the continuous
+    current carries, Kt (I_N - I0) <= T_N <= Kt I_N (maxon's relation I_N = T_N / Kt + I0, or
+    without the no-load current), to MOTOR_CONTINUOUS_REL; checked when ``[motor]`` gives one
+    of them (the catalog's are consistent by derivation). DesignError naming the key given."""
+    from cad import tolerances as tol
+
+    given = [k for k in _CONTINUOUS_KEYS if k in ov]
+    if not given:
+        return
+    kt = changes.get("torque_constant_mNm_per_A", m.torque_constant_mNm_per_A)
+    i_n = changes.get("current_continuous_A", m.current_continuous_A)
+    t_n = changes.get("torque_continuous_mNm", m.torque_continuous_mNm)
+    i0 = changes.get("no_load_current_mA", m.no_load_current_mA or 0.0) * 1e-3
+    if None in (kt, i_n, t_n):
+        return
+    lo, hi = kt * max(i_n - i0, 0.0), kt * i_n
+    r = tol.MOTOR_CONTINUOUS_REL
+    if lo * (1 - r) <= t_n <= hi * (1 + r):
+        return
+    vals = {"current_continuous_A": i_n, "torque_constant_mNm_per_A": kt, "torque_continuous_mNm": t_n}
+    said = {k: f"{k} = {v:g}" + ("" if k in ov else f" ({m.key})") for k, v in vals.items()}
+    raise DesignError(f"motor.{given[0]}",
+                      f"{said['current_continuous_A']} A at {said['torque_constant_mNm_per_A']} mN m/A "
+                      f"carries {lo:.4g}..{hi:.4g} mN m continuous, not {said['torque_continuous_mNm']} "
+                      "mN m: one continuous limit per motor (give the torque_continuous_mNm and "
+                      "current_continuous_A of the same data sheet)")
+
+
 def resolve_motor(catalog_key: str, overrides: tuple[tuple[str, Any], ...] = (), field: str = "parts.motor"):
     """The :class:`cad.data.catalog.MotorSpec` a design uses: the catalog winding with the
     ``[motor]`` overrides applied, each overridden value sourced to the design file."""
@@ -99,6 +132,7 @@ def resolve_motor(catalog_key: str, overrides: tuple[tuple[str, Any], ...] = (),
         changes["torque_peak_mNm"] = ov["stall_torque_mNm"]
         sources["torque_peak_mNm"] = f"the stall torque of {src}"
         unverified.discard("torque_peak_mNm")
+    _check_continuous(m, changes, ov)
     name = ov.get("name")
     return replace(m, **changes, sources=tuple(sorted(sources.items())),
                    unverified=tuple(sorted(unverified)),

@@ -418,7 +418,7 @@ def _random_fourbar(rng: random.Random, bases=("hoeken.toml", "hoeken_printed.to
     kt = rng.uniform(20.0, 80.0)
     cont = rng.uniform(50.0, 200.0)
     table = (f'\n[motor]\nname = "rand-{rng.randrange(1000)}"\ntorque_constant_mNm_per_A = {kt!r}\n'
-             f"current_continuous_A = {rng.uniform(0.5, 5.0)!r}\ntorque_continuous_mNm = {cont!r}\n"
+             f"current_continuous_A = {cont / kt!r}\ntorque_continuous_mNm = {cont!r}\n"  # T_N = Kt I_N
              f"torque_peak_mNm = {cont * rng.uniform(2.0, 10.0)!r}\nrotor_inertia_g_cm2 = {rng.uniform(5.0, 150.0)!r}\n")
     enc = rng.choice(['encoder = "maxon-hedl5540-500"\n', f"encoder_counts_per_rev = {rng.randrange(500, 20000)}\n"])
     text = text.replace("[parts]\n", "[parts]\n" + enc, 1) + table

@@ -70,3 +70,24 @@ def test_an_error_quoting_a_control_character_does_not_reach_the_terminal_raw(tm
     assert code == 2 and err.count("\n") == 1
     assert "\x1b" not in err and "\x07" not in err
     assert "\\x1b]52;c;cHdu\\x07" in err  # shown as its escape, as a value's repr is
+
+
+@pytest.mark.parametrize("table, ok", [
+    # 0.5 A x 38.9 mN m/A (the catalog RE 35's Kt) carries at most 19.45 mN m, not its 97.2
+    ("current_continuous_A = 0.5\n", False),
+    ("current_continuous_A = 1e-300\n", False),
+    # 60 mN m/A x 1.5 A = 90 mN m exactly (I0 left out: the upper end of the relation)
+    ("torque_constant_mNm_per_A = 60.0\ncurrent_continuous_A = 1.5\ntorque_continuous_mNm = 90.0\n", True),
+    # maxon's relation with I0: 60 x (1.5 - 0.1) = 84 mN m
+    ("torque_constant_mNm_per_A = 60.0\ncurrent_continuous_A = 1.5\nno_load_current_mA = 100.0\n"
+     "torque_continuous_mNm = 84.0\n", True),
+    ("torque_constant_mNm_per_A = 60.0\ncurrent_continuous_A = 1.5\ntorque_continuous_mNm = 120.0\n", False),
+])
+def test_a_motor_table_states_one_continuous_limit(tmp_path, table, ok):
+    d = tmp_path / "d.toml"
+    d.write_text((ROOT / "designs" / "hoeken.toml").read_text() + "\n[motor]\n" + table)
+    code, _, err = hapticad("check", str(d))
+    if ok:
+        assert code in (0, 1), err
+    else:
+        assert code == 2 and err.count("\n") == 1 and "one continuous limit per motor" in err

@@ -336,7 +336,9 @@ def test_force_basis_peak_and_motor_table(tmp_path):
     lim = fourbar_limits(load_design(p), 276.0)
     assert "peak_force_N" in lim and "continuous_force_N" not in lim
     q = tmp_path / "motor.toml"
-    q.write_text(text + '\n[motor]\nsource = "my sheet"\ntorque_continuous_mNm = 200.0\n')
+    # 200 mN m continuous at the RE 35's Kt 38.9 mN m/A needs 200 / 38.9 = 5.14 A (one limit)
+    q.write_text(text + '\n[motor]\nsource = "my sheet"\ntorque_continuous_mNm = 200.0\n'
+                 'current_continuous_A = 5.15\n')
     m = load_design(q).motor_spec()
     assert m.torque_continuous_mNm == 200.0 and m.source_of("torque_continuous_mNm").startswith("my sheet")
     for bad, key in (("torque_continuous_mNm = -1.0", "motor.torque_continuous_mNm"),

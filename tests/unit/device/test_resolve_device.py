@@ -65,13 +65,15 @@ def test_the_powermouse_has_no_rotary_motor_or_encoder():
 
 
 def test_the_motor_table_overrides_the_catalog_with_its_sources(tmp_path):
+    # Kt 60 mN m/A with 1.5 A carries 90 mN m continuous (T_N = Kt I_N: one continuous limit)
     d = _hoeken(tmp_path, extra='\n[motor]\nname = "acme-60"\ntorque_constant_mNm_per_A = 60.0\n'
-                                'rotor_inertia_g_cm2 = 20.0\n')
+                                'torque_continuous_mNm = 90.0\nrotor_inertia_g_cm2 = 20.0\n'
+                                'current_continuous_A = 1.5\n')
     m = resolve_device(d).motor
     assert (m.name, m.catalog_key, m.from_motor_table) == ("acme-60", "maxon-re35", True)
     assert m.kt_Nm_per_A == 0.06 and m.rotor_inertia_kg_m2 == pytest.approx(2.0e-6, rel=1e-15)
     assert "[motor] torque_constant_mNm_per_A" in m.spec.source_of("torque_constant_mNm_per_A")
-    assert m.spec.current_continuous_A == 2.63  # not given: the catalog's, sourced to it
+    assert m.spec.stall_torque_mNm == 972.5  # not given: the catalog's, sourced to it
     doc = json.loads(json.dumps(resolve_device(d).as_dict()))
     assert doc["motors"][0]["constants"]["torque_constant_mNm_per_A"]["value"] == 60.0
 
