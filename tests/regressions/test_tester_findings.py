@@ -110,3 +110,13 @@ def test_a_price_cell_must_be_an_ascii_number(tmp_path, price):
                             "--fidelity", "preview", "--out", str(tmp_path / "o"))
     assert code == 2 and err.count("\n") == 1 and "is not a number" in err
     assert not (tmp_path / "o").exists()
+
+
+@pytest.mark.parametrize("out", ["/proc/self/x", "/sys/kernel/x"])
+def test_an_out_folder_on_a_file_system_that_takes_none_is_named(out):
+    if not Path(out).parent.exists():
+        pytest.skip(f"{Path(out).parent} does not exist on this system (Linux /proc and /sys)")
+    code, _, err = hapticad("build", str(ROOT / "designs" / "hoeken.toml"), "--out", out,
+                            "--fidelity", "preview", "--formats", "stl")
+    assert code == 2 and err.count("\n") == 1
+    assert f"--out: cannot write {out}: " in err and ".tmp." not in err
