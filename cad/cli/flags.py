@@ -8,6 +8,7 @@ temporary file or an errno of an internal step.
 
 from __future__ import annotations
 
+import os
 from collections.abc import Iterable
 from pathlib import Path
 
@@ -59,9 +60,26 @@ def out_path(flag: str, path: Path | None, *, folder: bool) -> Path | None:
         raise DesignError(flag, f"cannot write {p}: {bad} is not a folder")
     if folder and exists and not is_dir:
         raise DesignError(flag, f"{p} is a file, not a folder")
+    if folder:
+        _probe_parent(flag, p)
     if not folder and is_dir:
         raise DesignError(flag, f"{p} is a folder; give a file name (e.g. {p / 'new.toml'})")
     return p
+
+
+def _probe_parent(flag: str, p: Path) -> None:
+    """DesignError naming ``flag`` and ``p`` when the existing parent of folder ``p`` takes no
+    new folder (a read-only or virtual file system: /proc, /sys): the output is written to a
+    temporary sibling first (:func:`cad.io.atomic.atomic_dir`). The probe folder is removed."""
+    import tempfile
+
+    parent = p.absolute().parent
+    while not parent.exists() and parent != parent.parent:
+        parent = parent.parent
+    try:
+        os.rmdir(tempfile.mkdtemp(prefix=".hapticad-probe.", dir=parent))
+    except OSError as exc:
+        raise DesignError(flag, f"cannot write {p}: {parent} takes no new folder ({exc.strerror})") from None
 
 
 def design_script(design) -> None:

@@ -168,18 +168,27 @@ _WINDOWS_DEVICES = {"con", "prn", "aux", "nul"} | {f"{p}{i}" for p in ("com", "l
 TEXT_MAX_CHARS = 500
 
 
+#: Unicode categories no design string may hold: controls (Cc: C0, DEL, C1), format characters
+#: (Cf: the bidirectional overrides and isolates U+202A..U+202E, U+2066..U+2069 that reorder
+#: what a reader sees -- Trojan Source, CVE-2021-42574 -- and zero-width characters), line
+#: and paragraph separators (Zl, Zp: U+2028, U+2029 end a line in many readers) and lone
+#: surrogates (Cs).
+HIDDEN_CATEGORIES = ("Cc", "Cf", "Zl", "Zp", "Cs")
+
+
 def check_text(value: Any, field: str, where: str = "") -> str:
     """Validate a free one-line text of a design (``[motor]`` name and source, ``[prices]``
     keys and currency, cells of a ``--prices`` file) and return it: a string of at most
-    :data:`TEXT_MAX_CHARS` characters with no control character (C0, DEL, C1) and no line or
-    paragraph separator. Writers escape the rest per format (:mod:`cad.io.escape`).
+    :data:`TEXT_MAX_CHARS` characters with no character of :data:`HIDDEN_CATEGORIES` (controls,
+    bidirectional and zero-width format characters, line or paragraph separators). Writers escape the rest per format (:mod:`cad.io.escape`).
     Raises :class:`DesignError` naming ``field`` (and ``where`` in it, e.g. a file's row)."""
     at = f"{where}: " if where else ""
     if not isinstance(value, str):
         raise DesignError(field, f"{at}must be a string, got {value!r}")
-    bad = next((c for c in value if unicodedata.category(c) in ("Cc", "Zl", "Zp")), None)
+    bad = next((c for c in value if unicodedata.category(c) in HIDDEN_CATEGORIES), None)
     if bad is not None:
-        raise DesignError(field, f"{at}must be one line of text (no control character or line break: "
+        raise DesignError(field, f"{at}must be one line of text (no control character, format "
+                                 f"character or line break: "
                                  f"U+{ord(bad):04X}), got {value[:80]!r}")
     if len(value) > TEXT_MAX_CHARS:
         raise DesignError(field, f"{at}must be at most {TEXT_MAX_CHARS} characters, got {len(value)}")
@@ -191,7 +200,7 @@ def check_name(name: Any, field: str = "name") -> str:
 
     The name becomes the output folder ``exports/<name>/``, so it must be one plain
     folder name: a non-empty string of at most :data:`NAME_MAX_BYTES` UTF-8 bytes, no
-    ``/``, ``\\``, NUL or other control character, none of ``<>:"|?*``, not starting
+    ``/``, ``\\``, NUL or other character of :data:`HIDDEN_CATEGORIES`, none of ``<>:"|?*``, not starting
     with ``.`` or ``-`` (``.``, ``..``, hidden folders, options), no leading or trailing
     space, not a Windows device name. Raises :class:`DesignError` naming ``field``.
     """
@@ -202,14 +211,17 @@ def check_name(name: Any, field: str = "name") -> str:
         raise DesignError(field, f"must be a string, got {name!r}")
     if not name:
         raise bad("empty")
-    if any(unicodedata.category(c) == "Cc" for c in name):  # C0, DEL and C1 (U+0080..U+009F)
-        raise bad("control character or NUL")
+    hidden = next((c for c in name if unicodedata.category(c) in HIDDEN_CATEGORIES), None)
+    if hidden is not None:  # C0, DEL, C1, bidi/zero-width format characters, U+2028/2029
+        raise bad(f"control character, format character or line break: U+{ord(hidden):04X}")
     if _NAME_FORBIDDEN & set(name):
         raise bad('no / \\ < > : " | ? *')
     if name[0] in ".-":
         raise bad("must not start with '.' or '-'")
     if name != name.strip():
         raise bad("leading or trailing space")
+    if name.endswith("."):
+        raise bad("must not end with '.': not a folder name on Windows")
     if name.split(".")[0].lower() in _WINDOWS_DEVICES:
         raise bad("a reserved device name")
     if len(name.encode("utf-8", "surrogatepass")) > NAME_MAX_BYTES:

@@ -232,8 +232,17 @@ def extra_order_lines(row: dict) -> list[dict]:
 
 
 # --------------------------------------------------------------------------- prices
+#: a number as a CSV cell writes it: ASCII digits, a sign, one optional point, an optional
+#: exponent, or nan/inf (refused by the range check with their own reason); float() alone
+#: also takes "1_000" and full-width digits
+_PRICE_TEXT = re.compile(r"\s*[-+]?((\d+\.?\d*|\.\d+)([eE][-+]?\d+)?|nan|inf|infinity)\s*",
+                         re.ASCII | re.IGNORECASE)
+
+
 def _price_value(value, where: str) -> float:
     try:
+        if isinstance(value, str) and not _PRICE_TEXT.fullmatch(value):
+            raise ValueError(value)
         x = float(value) if not isinstance(value, bool) else math.nan
     except (TypeError, ValueError):
         raise DesignError("--prices" if "row" in where else "prices",

@@ -70,9 +70,16 @@ def _start(tmp_path: Path) -> tuple[subprocess.Popen, Path]:
     return p, cwd
 
 
-def _wait_for_children(p: subprocess.Popen, timeout_s: float = 240.0) -> None:
+def _building(cwd: Path) -> bool:
+    """The build's temporary output folder exists (cad.io.atomic.atomic_dir): its export
+    children are forked inside it. Waiting for it too keeps the signal watchdog, forked at
+    start and named only a moment later (cad.io.signals), from passing for an export child."""
+    return any(e.name.startswith(".hoeken.tmp.") for e in (cwd / "exports").iterdir())
+
+
+def _wait_for_children(p: subprocess.Popen, cwd: Path, timeout_s: float = 240.0) -> None:
     t0 = time.monotonic()
-    while not _children(p.pid):
+    while not (_building(cwd) and _children(p.pid)):
         assert p.poll() is None, p.communicate()
         assert time.monotonic() - t0 < timeout_s, "no export child appeared"
         time.sleep(0.02)
@@ -95,7 +102,7 @@ def test_interrupted_build_aborts_cleanly(tmp_path, sig, moment):
     if moment == "imports":
         time.sleep(0.3)
     else:
-        _wait_for_children(p)
+        _wait_for_children(p, cwd)
     p.send_signal(sig)
     out, err = p.communicate(timeout=120)
     assert p.returncode == 128 + sig, err
@@ -111,7 +118,7 @@ def test_sigkill_children_die_and_the_next_build_cleans_up(tmp_path):
 
     p, cwd = _start(tmp_path)
     before = _tree(cwd / "exports" / "hoeken")
-    _wait_for_children(p)
+    _wait_for_children(p, cwd)
     p.kill()
     p.communicate(timeout=60)
     assert _gone(cwd), "a forked child outlived its SIGKILLed parent"

@@ -91,3 +91,32 @@ def test_a_motor_table_states_one_continuous_limit(tmp_path, table, ok):
         assert code in (0, 1), err
     else:
         assert code == 2 and err.count("\n") == 1 and "one continuous limit per motor" in err
+
+
+@pytest.mark.parametrize("name", ["a\u2028b", "a\u202eb", "a\u2066b", "a\u200bb", "ab."])
+def test_a_name_with_invisible_or_line_breaking_characters_is_refused(tmp_path, name):
+    d = tmp_path / "d.toml"
+    text = (ROOT / "designs" / "hoeken.toml").read_text()
+    d.write_text(text.replace('name = "hoeken"', f'name = "{name}"', 1))
+    code, _, err = hapticad("check", str(d))
+    assert code == 2 and err.count("\n") == 1 and "name: must be a plain folder name" in err
+
+
+@pytest.mark.parametrize("price", ["1_000", "\uff11\uff12", "0x10", "1e3e3"])
+def test_a_price_cell_must_be_an_ascii_number(tmp_path, price):
+    p = tmp_path / "p.csv"
+    p.write_text(f"designation,unit_price\n618/8 (8x16x4),{price}\n", encoding="utf-8")
+    code, _, err = hapticad("build", str(ROOT / "designs" / "hoeken.toml"), "--prices", str(p),
+                            "--fidelity", "preview", "--out", str(tmp_path / "o"))
+    assert code == 2 and err.count("\n") == 1 and "is not a number" in err
+    assert not (tmp_path / "o").exists()
+
+
+@pytest.mark.parametrize("out", ["/proc/self/x", "/sys/kernel/x"])
+def test_an_out_folder_on_a_file_system_that_takes_none_is_named(out):
+    if not Path(out).parent.exists():
+        pytest.skip(f"{Path(out).parent} does not exist on this system (Linux /proc and /sys)")
+    code, _, err = hapticad("build", str(ROOT / "designs" / "hoeken.toml"), "--out", out,
+                            "--fidelity", "preview", "--formats", "stl")
+    assert code == 2 and err.count("\n") == 1
+    assert f"--out: cannot write {out}: " in err and ".tmp." not in err
