@@ -241,6 +241,13 @@ DISTAL_SINGULAR_SIN = 1e-9
 #: is unreachable. Inside the margin the acos argument is clipped to [-1, 1]
 #: and the point is reported singular (not unreachable).
 REACH_REL_EPS = 1e-12
+#: Delta (cad/kinematics/delta.py): an arm is serially singular when |b_i| / (L_a L_b), the
+#: cosine between its lower arm and its elbow's velocity, is below this; at 1e-9 the row of
+#: J is ~1e9 times its regular size (the same reasoning as ARM_SINGULAR_SIN).
+DELTA_SERIAL_SINGULAR = 1e-9
+#: Delta: the pose is parallel-singular when |det A_x| / L_b^3, the triple product of the
+#: three lower arms' unit vectors, is below this (the same reasoning as DISTAL_SINGULAR_SIN).
+DELTA_PARALLEL_SINGULAR = 1e-9
 #: |E - B| below this (mm) leaves atan2(E - B) undefined: the end effector sits
 #: on an actuated joint. Unreachable for any arm with l2 != l3, singular else.
 ON_JOINT_MM = 1e-9

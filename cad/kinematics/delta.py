@@ -1,0 +1,273 @@
+"""3-DOF delta (Clavel) kinematics: closed-form IK and FK, the Jacobian, vectorized.
+
+Geometry (issue 36 §2). Base frame: origin at the centre of the base, z up, the effector
+below the base (z < 0). Motor i (i = 0, 1, 2) sits at azimuth ``phi_i`` (0°, 120°, 240° for
+the symmetric delta) at radius ``R`` (``base_radius_mm``), its axis horizontal and tangent to
+the base circle; u_i = (cos phi_i, sin phi_i, 0) is its radial direction. The upper arm of
+length ``L_a`` turns by the joint angle theta_i, measured from the horizontal radial
+direction u_i, positive DOWNWARD (the convention of Clavel's delta and of R. L. Williams II,
+"The Delta Parallel Robot: Kinematics Solutions", 2016). The elbow is
+
+    E_i = R u_i + L_a (cos theta_i u_i - sin theta_i z).
+
+The parallelogram lower arm of length ``L_b`` joins E_i to the effector joint P + r u_i
+(``r`` = ``effector_radius_mm``; the effector translates, the parallelograms keep it level),
+so with the shifted elbow C_i = E_i - r u_i every arm states one sphere:
+
+    |P - C_i(theta_i)|^2 = L_b^2.                                              (1)
+
+IK (per arm, closed form). In the arm's plane, with x' = u_i . P - (R - r),
+y' = (z x u_i) . P, z = P_z, equation (1) is A cos theta + B sin theta = K with
+A = 2 L_a x', B = -2 L_a z, K = x'^2 + y'^2 + z^2 + L_a^2 - L_b^2, whose two roots
+atan2(B, A) +- acos(K / sqrt(A^2 + B^2)) are the two branches of the arm. Branch stated: ``elbow out``, the root whose elbow lies farther from
+the z axis (the larger cos theta), the configuration of the Falcon and of every delta built.
+
+FK (closed form): the intersection of the three spheres (1); of its two points the lower
+one (the effector below the plane of the three shifted elbows) is the assembly mode.
+
+Jacobian: differentiating (1), A_x x_dot + diag(b) theta_dot = 0 with rows
+A_x[i] = (P - C_i)^T and b_i = -(P - C_i) . dC_i/dtheta_i, so
+
+    theta_dot = J x_dot,   J = -diag(b)^-1 A_x,   f = J^T tau                  (2)
+
+(the convention of the isotropy paper eq 1 and of :mod:`cad.kinematics.fivebar`).
+Singularities, named: serial (an arm's lower arm perpendicular to its elbow's velocity,
+b_i = 0: the arm fully stretched or folded against its reach; J unbounded) and parallel
+(the three lower arms parallel to one plane, det A_x = 0: the effector cannot resist a
+force along that plane's normal; J loses rank). Joint limits: the design's motor angle
+range. Failures are status codes (:data:`STATUS_NAMES`), never NaN.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from cad.errors import DesignError, KinematicsError
+from cad.tolerances import DELTA_PARALLEL_SINGULAR, DELTA_SERIAL_SINGULAR, REACH_REL_EPS
+
+STATUS_OK = 0
+STATUS_UNREACHABLE = 1
+STATUS_JOINT_LIMIT = 2
+STATUS_SINGULAR_SERIAL = 3
+STATUS_SINGULAR_PARALLEL = 4
+STATUS_NO_ASSEMBLY = 5
+
+#: status code -> reason (messages and reports).
+STATUS_NAMES: dict[int, str] = {
+    STATUS_OK: "ok",
+    STATUS_UNREACHABLE: "unreachable: an arm cannot reach (|K| > sqrt(A^2 + B^2) in its IK)",
+    STATUS_JOINT_LIMIT: "outside the motor angle range",
+    STATUS_SINGULAR_SERIAL: "singular (serial): a lower arm perpendicular to its elbow's path",
+    STATUS_SINGULAR_PARALLEL: "singular (parallel): the three lower arms parallel to one plane",
+    STATUS_NO_ASSEMBLY: "the three lower arms cannot meet (the spheres do not intersect)",
+}
+
+UNREACHABLE_CODES = (STATUS_UNREACHABLE, STATUS_NO_ASSEMBLY)
+SINGULAR_CODES = (STATUS_SINGULAR_SERIAL, STATUS_SINGULAR_PARALLEL)
+
+
+@dataclass(frozen=True)
+class Delta:
+    """A delta's kinematic parameters (mm, rad); :meth:`symmetric` for motors 120° apart.
+
+    base_radius_mm R: motor axes' distance from the z axis. effector_radius_mm r: the lower
+    arms' effector joints' distance from the effector centre. upper_arm_mm L_a, lower_arm_mm
+    L_b (the parallelogram's length). motor_azimuth_rad: (3,) phi_i. theta_min_rad /
+    theta_max_rad: the motor angle range (joint limits), same for every motor.
+    Raises :class:`DesignError` naming the field on a non-finite or non-positive length.
+    """
+
+    base_radius_mm: float
+    effector_radius_mm: float
+    upper_arm_mm: float
+    lower_arm_mm: float
+    motor_azimuth_rad: tuple[float, float, float] = (0.0, 2 * np.pi / 3, 4 * np.pi / 3)
+    theta_min_rad: float = -np.pi / 2
+    theta_max_rad: float = np.pi / 2
+
+    def __post_init__(self) -> None:
+        for name in ("base_radius_mm", "upper_arm_mm", "lower_arm_mm"):
+            v = float(getattr(self, name))
+            if not np.isfinite(v) or v <= 0:
+                raise DesignError(f"delta.{name}", f"must be > 0, got {v!r}")
+        r = float(self.effector_radius_mm)
+        if not np.isfinite(r) or r < 0:
+            raise DesignError("delta.effector_radius_mm", f"must be >= 0, got {r!r}")
+        if len(self.motor_azimuth_rad) != 3 or not np.all(np.isfinite(self.motor_azimuth_rad)):
+            raise DesignError("delta.motor_azimuth_rad", "must be 3 finite angles")
+        if not self.theta_min_rad < self.theta_max_rad:
+            raise DesignError(
+                "delta.theta_max_rad",
+                f"must exceed theta_min_rad ({self.theta_min_rad!r}), got {self.theta_max_rad!r}",
+            )
+
+    @property
+    def radial(self) -> np.ndarray:
+        """(3, 3) u_i: each motor's radial unit vector (rows), base frame."""
+        phi = np.asarray(self.motor_azimuth_rad, dtype=float)
+        return np.stack([np.cos(phi), np.sin(phi), np.zeros(3)], axis=-1)
+
+    def shifted_elbows_mm(self, theta_rad) -> np.ndarray:
+        """C_i (..., 3, 3): the elbows less r u_i at joint angles ``theta_rad`` (..., 3)."""
+        t = np.asarray(theta_rad, dtype=float)
+        u = self.radial
+        rad = self.base_radius_mm - self.effector_radius_mm + self.upper_arm_mm * np.cos(t)
+        C = rad[..., None] * u
+        C[..., 2] = -self.upper_arm_mm * np.sin(t)
+        return C
+
+
+@dataclass(frozen=True)
+class DeltaPose:
+    """Configurations at N points (base frame, mm / rad).
+
+    P_mm (N, 3) effector centre; theta_rad (N, 3) joint angles; status (N,) codes of
+    :data:`STATUS_NAMES`. Entries of unreachable points are 0, not NaN.
+    """
+
+    P_mm: np.ndarray
+    theta_rad: np.ndarray
+    status: np.ndarray
+
+    @property
+    def ok(self) -> np.ndarray:
+        """(N,) bool: reachable, inside the joint limits and regular."""
+        return self.status == STATUS_OK
+
+    def describe(self, i: int) -> str:
+        """One line naming point ``i`` and its status."""
+        x, y, z = self.P_mm[i]
+        return f"P = ({x:.3f}, {y:.3f}, {z:.3f}) mm: {STATUS_NAMES[int(self.status[i])]}"
+
+
+def _points(P_mm, field: str = "P_mm") -> np.ndarray:
+    P = np.asarray(P_mm, dtype=float)
+    if P.ndim == 1:
+        P = P[None, :]
+    if P.ndim != 2 or P.shape[1] != 3 or not np.all(np.isfinite(P)):
+        raise DesignError(field, f"must be finite with shape (N, 3), got {np.shape(P_mm)}")
+    return P
+
+
+def _arm_ik(d: Delta, P: np.ndarray, i: int) -> tuple[np.ndarray, np.ndarray]:
+    """Arm i's joint angle (N,) and its unreachable flags (N,) at effector points P (N, 3).
+
+    In the arm's plane (x' radial from the shifted base joint, y' tangential, z), (1) reads
+    (x' - L_a cos t)^2 + y'^2 + (z + L_a sin t)^2 = L_b^2, i.e.
+    A cos t + B sin t = K with A = 2 L_a x', B = -2 L_a z,
+    K = x'^2 + y'^2 + z^2 + L_a^2 - L_b^2; t = atan2(B, A) + acos(K / sqrt(A^2 + B^2))
+    (elbow out: the root with the larger cos t, i.e. the elbow farther out).
+    """
+    u = d.radial[i]
+    la, lb = d.upper_arm_mm, d.lower_arm_mm
+    xp = P @ u - (d.base_radius_mm - d.effector_radius_mm)
+    yp = P[:, 1] * u[0] - P[:, 0] * u[1]
+    z = P[:, 2]
+    A, B = 2 * la * xp, -2 * la * z
+    K = xp * xp + yp * yp + z * z + la * la - lb * lb
+    norm = np.hypot(A, B)
+    c = K / np.where(norm > 0, norm, 1.0)
+    unreachable = np.abs(c) > 1 + REACH_REL_EPS
+    base = np.arctan2(B, A)
+    roots = base[:, None] + np.array([1.0, -1.0]) * np.arccos(np.clip(c, -1, 1))[:, None]
+    pick = np.argmax(np.cos(roots), axis=1)
+    t = np.take_along_axis(roots, pick[:, None], axis=1)[:, 0]
+    t = np.angle(np.exp(1j * t))  # wrapped to (-pi, pi]
+    return np.where(unreachable, 0.0, t), unreachable
+
+
+def _status(d: Delta, P: np.ndarray, theta: np.ndarray, unreachable: np.ndarray) -> np.ndarray:
+    """Status codes (N,) at consistent (P, theta); precedence: reach, limits, singular."""
+    A, b = _constraint_jacobians(d, P, theta)
+    serial = np.min(np.abs(b), axis=1) / (d.upper_arm_mm * d.lower_arm_mm)
+    parallel = np.abs(np.linalg.det(A)) / d.lower_arm_mm**3
+    limits = (theta < d.theta_min_rad) | (theta > d.theta_max_rad)
+    status = np.full(P.shape[0], STATUS_OK, dtype=np.int8)
+    status = np.where(parallel < DELTA_PARALLEL_SINGULAR, STATUS_SINGULAR_PARALLEL, status)
+    status = np.where(serial < DELTA_SERIAL_SINGULAR, STATUS_SINGULAR_SERIAL, status)
+    status = np.where(np.any(limits, axis=1), STATUS_JOINT_LIMIT, status)
+    return np.where(unreachable, STATUS_UNREACHABLE, status).astype(np.int8)
+
+
+def _constraint_jacobians(d: Delta, P: np.ndarray, theta: np.ndarray):
+    """A_x (N, 3, 3) rows (P - C_i)^T and b (N, 3) = -(P - C_i) . dC_i/dtheta_i, mm^2."""
+    C = d.shifted_elbows_mm(theta)
+    A = P[:, None, :] - C
+    dC = -d.upper_arm_mm * np.sin(theta)[..., None] * d.radial
+    dC[..., 2] = -d.upper_arm_mm * np.cos(theta)
+    b = -np.einsum("nij,nij->ni", A, dC)
+    return A, b
+
+
+def ik(d: Delta, P_mm) -> DeltaPose:
+    """Inverse kinematics at effector points ``P_mm`` (N, 3), base frame, mm (elbow out)."""
+    P = _points(P_mm)
+    arms = [_arm_ik(d, P, i) for i in range(3)]
+    theta = np.stack([a[0] for a in arms], axis=-1)
+    unreachable = np.any(np.stack([a[1] for a in arms], axis=-1), axis=1)
+    return DeltaPose(P_mm=P, theta_rad=theta, status=_status(d, P, theta, unreachable))
+
+
+def fk(d: Delta, theta_rad) -> DeltaPose:
+    """Forward kinematics at joint angles ``theta_rad`` (N, 3): the lower intersection of
+    the three spheres (1). Points where they do not meet get :data:`STATUS_NO_ASSEMBLY`
+    and P = 0. Raises :class:`DesignError` on a non-finite or mis-shaped input."""
+    t = np.asarray(theta_rad, dtype=float)
+    t = t[None, :] if t.ndim == 1 else t
+    if t.ndim != 2 or t.shape[1] != 3 or not np.all(np.isfinite(t)):
+        raise DesignError("theta_rad", f"must be finite with shape (N, 3), got {np.shape(theta_rad)}")
+    C = d.shifted_elbows_mm(t)
+    n = np.cross(C[:, 1] - C[:, 0], C[:, 2] - C[:, 0])
+    n_len = np.linalg.norm(n, axis=1)
+    degenerate = n_len <= 1e-12 * d.upper_arm_mm**2
+    n_hat = n / np.where(degenerate, 1.0, n_len)[:, None]
+    n_hat *= np.where(n_hat[:, 2] < 0, -1.0, 1.0)[:, None]  # z-up normal
+    # P0: the point of the plane of the C_i equidistant from them (circumcentre)
+    M = np.stack([2 * (C[:, 1] - C[:, 0]), 2 * (C[:, 2] - C[:, 0]), n_hat], axis=1)
+    rhs = np.stack([
+        np.sum(C[:, 1] ** 2 - C[:, 0] ** 2, axis=1),
+        np.sum(C[:, 2] ** 2 - C[:, 0] ** 2, axis=1),
+        np.sum(n_hat * C[:, 0], axis=1),
+    ], axis=1)
+    M = np.where(degenerate[:, None, None], np.eye(3), M)
+    P0 = np.linalg.solve(M, rhs[..., None])[..., 0]
+    h2 = d.lower_arm_mm**2 - np.sum((P0 - C[:, 0]) ** 2, axis=1)
+    no_assembly = degenerate | (h2 < -REACH_REL_EPS * d.lower_arm_mm**2)
+    P = P0 - np.sqrt(np.clip(h2, 0, None))[:, None] * n_hat
+    P = np.where(no_assembly[:, None], 0.0, P)
+    status = _status(d, P, t, np.zeros(len(t), bool))
+    status = np.where(no_assembly, STATUS_NO_ASSEMBLY, status).astype(np.int8)
+    return DeltaPose(P_mm=P, theta_rad=t.copy(), status=status)
+
+
+def jacobian_rad_per_m(d: Delta, P_mm) -> tuple[np.ndarray, np.ndarray]:
+    """J (N, 3, 3) with theta_dot = J x_dot in rad/m at points ``P_mm`` (N, 3) mm, and the
+    status (N,). Rows of non-ok points are 0. f [N] = J^T tau [N m] (eq 2)."""
+    pose = ik(d, P_mm)
+    A, b = _constraint_jacobians(d, pose.P_mm, pose.theta_rad)
+    ok = pose.ok
+    b_safe = np.where(ok[:, None], b, 1.0)
+    J = -A / b_safe[..., None] * 1e3
+    return np.where(ok[:, None, None], J, 0.0), pose.status
+
+
+def joint_torques_Nm(d: Delta, P_mm, force_N) -> np.ndarray:
+    """The joint torques tau (N, 3) [N m] that make the effector exert ``force_N`` (N, 3) [N]
+    at ``P_mm`` (N, 3) mm: statics by virtual work, f = J^T tau (eq 2), so tau = J^-T f.
+    Raises :class:`KinematicsError` naming the first non-ok point."""
+    J, status = jacobian_rad_per_m(d, P_mm)
+    bad = np.flatnonzero(status != STATUS_OK)
+    if bad.size:
+        P = _points(P_mm)
+        raise KinematicsError(f"P = {P[bad[0]].round(3).tolist()} mm: {STATUS_NAMES[int(status[bad[0]])]}")
+    F = np.broadcast_to(np.asarray(force_N, dtype=float), (J.shape[0], 3))
+    return np.linalg.solve(np.swapaxes(J, -1, -2), F[..., None])[..., 0]
+
+
+def require_ok(pose: DeltaPose) -> None:
+    """Raise :class:`KinematicsError` naming the first non-ok point, if any."""
+    bad = np.flatnonzero(~pose.ok)
+    if bad.size:
+        raise KinematicsError(f"{bad.size} point(s) not ok; first {pose.describe(int(bad[0]))}")

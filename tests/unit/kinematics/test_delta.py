@@ -1,0 +1,130 @@
+"""Delta kinematics (cad/kinematics/delta.py) against independent references.
+
+References: a closed form of the symmetric pose (all joint angles equal: the effector on the
+z axis), a second method (FK by numerical least squares on the sphere equations, scipy),
+finite differences of the IK for the Jacobian, virtual work for the statics, and closed-form
+constructions of each singularity and of the reach edge (issue 36 §2: "tested at the
+failure edges").
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scipy.optimize import least_squares
+
+from cad.errors import DesignError, KinematicsError
+from cad.kinematics import delta as D
+
+R, r, LA, LB = 60.0, 20.0, 100.0, 200.0
+DELTA = D.Delta(R, r, LA, LB, theta_min_rad=-1.0, theta_max_rad=1.4)
+
+
+def _symmetric_z(theta: float) -> float:
+    """Closed form: equal angles put P on the z axis at the lower sphere point."""
+    rho = R - r + LA * np.cos(theta)
+    return -LA * np.sin(theta) - np.sqrt(LB**2 - rho**2)
+
+
+@pytest.mark.parametrize("theta", [-0.5, 0.0, 0.3, 0.9, 1.3])
+def test_fk_symmetric_pose_matches_closed_form(theta):
+    pose = D.fk(DELTA, [theta] * 3)
+    assert pose.status[0] == D.STATUS_OK
+    np.testing.assert_allclose(pose.P_mm[0], [0, 0, _symmetric_z(theta)], atol=1e-10)
+
+
+def test_fk_matches_least_squares_and_ik_inverts_it():
+    rng = np.random.default_rng(7)
+    theta = rng.uniform(-0.4, 1.1, (40, 3))
+    pose = D.fk(DELTA, theta)
+    assert np.all(pose.ok)
+    for t, P in zip(theta, pose.P_mm):
+        C = DELTA.shifted_elbows_mm(t)
+        sol = least_squares(lambda x: np.linalg.norm(x - C, axis=1) - LB, P + [3, -2, -4],
+                            xtol=1e-14, ftol=1e-14, gtol=1e-14)
+        np.testing.assert_allclose(sol.x, P, atol=1e-8)
+    back = D.ik(DELTA, pose.P_mm)
+    np.testing.assert_allclose(back.theta_rad, theta, atol=1e-12)
+
+
+def test_ik_takes_the_elbow_out_branch():
+    P = D.fk(DELTA, [0.2, 0.5, 0.8]).P_mm
+    elbow_radius = R + LA * np.cos(D.ik(DELTA, P).theta_rad)
+    # the other root of each arm's IK: reflect theta about atan2(B, A)
+    for i in range(3):
+        u = DELTA.radial[i]
+        xp = P[0] @ u - (R - r)
+        other = 2 * np.arctan2(-2 * LA * P[0, 2], 2 * LA * xp) - D.ik(DELTA, P).theta_rad[0, i]
+        assert elbow_radius[0, i] > R + LA * np.cos(other)
+
+
+def test_jacobian_matches_finite_differences_of_ik():
+    P = D.fk(DELTA, np.random.default_rng(3).uniform(-0.2, 1.0, (10, 3))).P_mm
+    J, status = D.jacobian_rad_per_m(DELTA, P)
+    assert np.all(status == D.STATUS_OK)
+    h = 1e-5
+    for k in range(3):
+        e = np.zeros(3)
+        e[k] = h
+        dtheta = (D.ik(DELTA, P + e).theta_rad - D.ik(DELTA, P - e).theta_rad) / (2 * h)
+        np.testing.assert_allclose(J[:, :, k], dtheta * 1e3, rtol=1e-6, atol=1e-6)
+
+
+def test_statics_by_virtual_work():
+    """tau . dtheta = f . dx for a small displacement (J from the IK, not reused)."""
+    P = D.fk(DELTA, [0.1, 0.6, 0.4]).P_mm
+    f = np.array([[1.5, -2.0, 4.0]])
+    tau = D.joint_torques_Nm(DELTA, P, f)
+    dx_mm = np.array([1e-4, 2e-4, -1.5e-4])
+    dtheta = D.ik(DELTA, P + dx_mm).theta_rad - D.ik(DELTA, P).theta_rad
+    assert tau[0] @ dtheta[0] == pytest.approx(f[0] @ dx_mm * 1e-3, rel=1e-4)
+
+
+def test_reach_edge_unreachable_just_outside_singular_on_ok_inside():
+    """With r = R the shifted bases meet on the z axis, and P = (0, 0, -(L_a + L_b)) has
+    every arm fully stretched straight down (serial singular, closed form); 1 ppm farther no
+    arm reaches; 1 mm higher every arm is regular."""
+    d = D.Delta(40.0, 40.0, LA, LB, theta_min_rad=-2.0, theta_max_rad=2.0)
+    at = D.ik(d, [0, 0, -(LA + LB)])
+    assert at.status[0] == D.STATUS_SINGULAR_SERIAL
+    np.testing.assert_allclose(at.theta_rad[0], [np.pi / 2] * 3, atol=1e-7)
+    assert D.ik(d, [0, 0, -(LA + LB) * (1 + 1e-6)]).status[0] == D.STATUS_UNREACHABLE
+    assert D.ik(d, [0, 0, -(LA + LB) + 1.0]).status[0] == D.STATUS_OK
+
+
+def test_parallel_singularity_lower_arms_horizontal():
+    """Equal angles with R - r + L_a cos theta = L_b put the three lower arms in one
+    horizontal plane: det A_x = 0 (the effector cannot resist a vertical force)."""
+    d = D.Delta(150.0, 20.0, 100.0, 200.0, theta_min_rad=-2, theta_max_rad=2)
+    theta = np.arccos((200.0 - 150.0 + 20.0) / 100.0)
+    C = d.shifted_elbows_mm([theta] * 3)
+    P = np.array([0.0, 0.0, C[0, 2]])
+    assert D.ik(d, P).status[0] == D.STATUS_SINGULAR_PARALLEL
+    J, status = D.jacobian_rad_per_m(d, P)
+    assert status[0] == D.STATUS_SINGULAR_PARALLEL and not np.any(J)
+
+
+def test_joint_limits_named_and_refused_in_statics():
+    P = D.fk(DELTA, [1.35, 1.35, 1.35]).P_mm
+    tight = D.Delta(R, r, LA, LB, theta_min_rad=-1.0, theta_max_rad=1.3)
+    assert D.ik(tight, P).status[0] == D.STATUS_JOINT_LIMIT
+    with pytest.raises(KinematicsError, match="outside the motor angle range"):
+        D.joint_torques_Nm(tight, P, [0, 0, 1])
+
+
+def test_no_assembly_when_spheres_do_not_meet():
+    short = D.Delta(R, r, LA, 30.0)
+    assert D.fk(short, [0.0, 0.0, 0.0]).status[0] == D.STATUS_NO_ASSEMBLY
+
+
+@pytest.mark.parametrize("field,kwargs", [
+    ("delta.upper_arm_mm", dict(upper_arm_mm=0.0)),
+    ("delta.effector_radius_mm", dict(effector_radius_mm=-1.0)),
+    ("delta.theta_max_rad", dict(theta_min_rad=1.0, theta_max_rad=0.5)),
+])
+def test_bad_parameters_name_the_field(field, kwargs):
+    args = dict(base_radius_mm=R, effector_radius_mm=r, upper_arm_mm=LA, lower_arm_mm=LB)
+    args.update(kwargs)
+    with pytest.raises(DesignError) as err:
+        D.Delta(**args)
+    assert err.value.field == field
