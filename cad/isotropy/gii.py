@@ -313,3 +313,17 @@ def fivebar_gii(
     pts = square_grid_mm(center_mm, side_mm, grid)
     J, status = jacobian_rad_per_m(fb, pts)
     return gii_from_jacobians(J, status, pts, torque_max_Nm, force_max_N, STATUS_NAMES)
+
+
+def delta_gii(d, points_mm, torque_max_Nm=1.0, force_max_N=1.0) -> GIIResult:
+    """GII (eqs 2-5) of a 3-DOF delta over workspace points ``points_mm`` (N, 3), mm.
+
+    d: :class:`cad.kinematics.delta.Delta`; torque_max_Nm (3,) or scalar (S_J);
+    force_max_N (3,) or scalar (S_T). A point outside the reachable, regular, in-limits
+    workspace makes the GII 0 and is named (:data:`cad.kinematics.delta.STATUS_NAMES`).
+    """
+    from cad.kinematics.delta import STATUS_NAMES, jacobian_rad_per_m
+
+    J, status = jacobian_rad_per_m(d, points_mm)
+    return gii_from_jacobians(J, status, np.asarray(points_mm, float), torque_max_Nm,
+                              force_max_N, STATUS_NAMES)

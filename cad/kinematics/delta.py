@@ -271,3 +271,60 @@ def require_ok(pose: DeltaPose) -> None:
     bad = np.flatnonzero(~pose.ok)
     if bad.size:
         raise KinematicsError(f"{bad.size} point(s) not ok; first {pose.describe(int(bad[0]))}")
+
+
+def box_grid_mm(center_mm, size_mm, n: int) -> np.ndarray:
+    """An n x n x n grid over a box workspace, faces included: (n^3, 3) mm, base frame.
+
+    center_mm: (x, y, z) of the box centre; size_mm: (W, D, H) along x, y, z (> 0); n >= 2.
+    Raises :class:`DesignError` naming ``workspace.*`` on a bad value.
+    """
+    c = _vector3(center_mm, "workspace.center_mm")
+    s = _vector3(size_mm, "workspace.size_mm")
+    if np.any(s <= 0):
+        raise DesignError("workspace.size_mm", f"must be > 0 on every axis, got {s.tolist()}")
+    n = _grid_n(n)
+    axes = [c[k] + np.linspace(-0.5, 0.5, n) * s[k] for k in range(3)]
+    return np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, 3)
+
+
+def cylinder_grid_mm(center_mm, diameter_mm: float, height_mm: float, n: int) -> np.ndarray:
+    """Points over a vertical cylinder workspace (axis along z through ``center_mm``): the
+    axis plus n rings of 6k points (k = 1..n-1, the rim included) on each of n levels,
+    faces included. (N, 3) mm, base frame."""
+    c = _vector3(center_mm, "workspace.center_mm")
+    for name, v in (("workspace.diameter_mm", diameter_mm), ("workspace.height_mm", height_mm)):
+        if not np.isfinite(v) or v <= 0:
+            raise DesignError(name, f"must be > 0, got {v!r}")
+    n = _grid_n(n)
+    ring = [np.zeros((1, 2))]
+    for k in range(1, n):
+        a = np.linspace(0, 2 * np.pi, 6 * k, endpoint=False)
+        rho = 0.5 * diameter_mm * k / (n - 1)
+        ring.append(rho * np.stack([np.cos(a), np.sin(a)], axis=-1))
+    xy = np.concatenate(ring)
+    z = np.linspace(-0.5, 0.5, n) * height_mm
+    pts = np.concatenate([np.column_stack([xy, np.full(len(xy), zk)]) for zk in z])
+    return pts + c
+
+
+def inverse_condition(d: Delta, P_mm) -> tuple[np.ndarray, np.ndarray]:
+    """sigma_min / sigma_max of J (N,) at ``P_mm`` (0 at a non-ok point) and the status (N,).
+    The well-conditioned workspace is where this is at least the design's threshold."""
+    J, status = jacobian_rad_per_m(d, P_mm)
+    s = np.linalg.svd(J, compute_uv=False)
+    ratio = np.where(status == STATUS_OK, s[:, -1] / np.where(s[:, 0] > 0, s[:, 0], 1.0), 0.0)
+    return ratio, status
+
+
+def _vector3(v, field: str) -> np.ndarray:
+    a = np.asarray(v, dtype=float).reshape(-1)
+    if a.size != 3 or not np.all(np.isfinite(a)):
+        raise DesignError(field, f"must be 3 finite numbers [x, y, z], got {v!r}")
+    return a
+
+
+def _grid_n(n) -> int:
+    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 2:
+        raise DesignError("workspace.grid", f"must be an integer >= 2 (faces sampled), got {n!r}")
+    return int(n)

@@ -128,3 +128,39 @@ def test_bad_parameters_name_the_field(field, kwargs):
     with pytest.raises(DesignError) as err:
         D.Delta(**args)
     assert err.value.field == field
+
+
+def test_box_grid_and_gii_of_symmetric_point_is_isotropic():
+    """On the z axis the symmetric delta's J is, by its 3-fold symmetry, sigma-equal in x
+    and y; the GII over a single axis point is sigma_min / sigma_max of that J (eq 5)."""
+    from cad.isotropy.gii import delta_gii
+
+    P = D.fk(DELTA, [0.6] * 3).P_mm
+    J, _ = D.jacobian_rad_per_m(DELTA, P)
+    s = np.linalg.svd(J[0], compute_uv=False)
+    res = delta_gii(DELTA, P)
+    assert res.gii == pytest.approx(s[-1] / s[0], rel=1e-12)
+    # 3-fold symmetry: J^T J is diag(a, a, c) on the axis
+    JTJ = J[0].T @ J[0]
+    assert JTJ[0, 0] == pytest.approx(JTJ[1, 1], rel=1e-12)
+    assert abs(JTJ[0, 1]) < 1e-9 * JTJ[0, 0]
+    ratio, status = D.inverse_condition(DELTA, P)
+    assert ratio[0] == pytest.approx(res.gii, rel=1e-12) and status[0] == D.STATUS_OK
+
+
+def test_box_grid_faces_and_gii_names_an_unreachable_corner():
+    from cad.isotropy.gii import delta_gii
+
+    z0 = D.fk(DELTA, [0.6] * 3).P_mm[0, 2]
+    pts = D.box_grid_mm([0, 0, z0], [40, 40, 30], 3)
+    assert pts.shape == (27, 3)
+    np.testing.assert_allclose(pts.min(axis=0), [-20, -20, z0 - 15])
+    assert delta_gii(DELTA, pts).gii > 0
+    far = D.box_grid_mm([0, 0, z0], [600, 600, 30], 3)
+    res = delta_gii(DELTA, far)
+    assert res.gii == 0 and "unreachable" in res.failure
+    cyl = D.cylinder_grid_mm([0, 0, z0], 40.0, 20.0, 3)
+    assert cyl.shape == (3 * (1 + 6 + 12), 3)
+    assert np.max(np.hypot(cyl[:, 0], cyl[:, 1])) == pytest.approx(20.0)
+    with pytest.raises(DesignError, match="workspace.size_mm"):
+        D.box_grid_mm([0, 0, z0], [40, 0, 30], 3)
