@@ -279,3 +279,45 @@ class PenProblem:
 
     def candidate(self, k: int) -> dict[str, float]:
         return {name: float(self.p[name][k]) for name in self.param_names}
+
+
+class DeltaProblem:
+    """Delta candidates over a workspace grid (C order of ``grid_shape``).
+
+    params: {"base_radius_mm", "effector_radius_mm", "upper_arm_mm", "lower_arm_mm":
+    (M,) arrays}; points_mm (N, 3); theta_range_rad (min, max) joint limits;
+    torque_max_Nm (3,) or scalar S_J; force_max_N (3,) or scalar S_T (eqs 2-4).
+    """
+
+    param_names = ("base_radius_mm", "effector_radius_mm", "upper_arm_mm", "lower_arm_mm")
+
+    def __init__(self, params, points_mm, grid_shape, theta_range_rad, torque_max_Nm=1.0,
+                 force_max_N=1.0):
+        self.p = _params(params, self.param_names, nonnegative=("effector_radius_mm",))
+        self.grid_shape = tuple(int(g) for g in grid_shape)
+        self.points_mm = _points(points_mm, 3, self.grid_shape)
+        self.n_candidates = int(self.p["upper_arm_mm"].size)
+        self.n_points = int(self.points_mm.shape[0])
+        self.theta_range_rad = (float(theta_range_rad[0]), float(theta_range_rad[1]))
+        self.sj = _scale_vector(torque_max_Nm, 3, "actuators.torque_max_Nm")
+        self.st = _scale_vector(force_max_N, 3, "actuators.force_max_N")
+
+    def sigma(self, cand: np.ndarray, point: np.ndarray):
+        from cad.kinematics.delta import STATUS_OK, DeltaArrays, jacobian_kernel
+
+        d = DeltaArrays(*(self.p[n][cand] for n in self.param_names),
+                        theta_min_rad=self.theta_range_rad[0],
+                        theta_max_rad=self.theta_range_rad[1])
+        J, status = jacobian_kernel(d, self.points_mm[point])
+        s0, s1 = singular_value_extremes(J * self.sj[:, None] / self.st[None, :])
+        ok = status == STATUS_OK
+        return np.where(ok, s0, 0.0), np.where(ok, s1, 0.0)
+
+    def point_order(self) -> np.ndarray:
+        return boundary_first_order(self.grid_shape)
+
+    def seed_points(self) -> np.ndarray:
+        return centre_seed(self.grid_shape)
+
+    def candidate(self, k: int) -> dict[str, float]:
+        return {n: float(self.p[n][k]) for n in self.param_names}

@@ -111,12 +111,37 @@ class Delta:
 
     def shifted_elbows_mm(self, theta_rad) -> np.ndarray:
         """C_i (..., 3, 3): the elbows less r u_i at joint angles ``theta_rad`` (..., 3)."""
-        t = np.asarray(theta_rad, dtype=float)
-        u = self.radial
-        rad = self.base_radius_mm - self.effector_radius_mm + self.upper_arm_mm * np.cos(t)
-        C = rad[..., None] * u
-        C[..., 2] = -self.upper_arm_mm * np.sin(t)
-        return C
+        return _shifted_elbows(self, np.asarray(theta_rad, dtype=float))
+
+
+@dataclass(frozen=True)
+class DeltaArrays:
+    """K deltas at once for the array kernels (the GII optimizer's candidates): the length
+    fields of :class:`Delta` as (K,) arrays (mm), one azimuth set and joint range for all.
+    No validation (the caller's candidate grid is checked)."""
+
+    base_radius_mm: np.ndarray
+    effector_radius_mm: np.ndarray
+    upper_arm_mm: np.ndarray
+    lower_arm_mm: np.ndarray
+    motor_azimuth_rad: tuple[float, float, float] = (0.0, 2 * np.pi / 3, 4 * np.pi / 3)
+    theta_min_rad: float = -np.pi / 2
+    theta_max_rad: float = np.pi / 2
+
+    radial = Delta.radial
+
+
+def _lengths(d) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(R - r, L_a, L_b) as arrays: 0-d for a :class:`Delta`, (K,) for :class:`DeltaArrays`."""
+    return (np.asarray(d.base_radius_mm, float) - np.asarray(d.effector_radius_mm, float),
+            np.asarray(d.upper_arm_mm, float), np.asarray(d.lower_arm_mm, float))
+
+
+def _shifted_elbows(d, t: np.ndarray) -> np.ndarray:
+    rr, la, _ = _lengths(d)
+    C = (rr[..., None] + la[..., None] * np.cos(t))[..., None] * d.radial
+    C[..., 2] = -la[..., None] * np.sin(t)
+    return C
 
 
 @dataclass(frozen=True)
@@ -161,8 +186,8 @@ def _arm_ik(d: Delta, P: np.ndarray, i: int) -> tuple[np.ndarray, np.ndarray]:
     (elbow out: the root with the larger cos t, i.e. the elbow farther out).
     """
     u = d.radial[i]
-    la, lb = d.upper_arm_mm, d.lower_arm_mm
-    xp = P @ u - (d.base_radius_mm - d.effector_radius_mm)
+    rr, la, lb = _lengths(d)
+    xp = P @ u - rr
     yp = P[:, 1] * u[0] - P[:, 0] * u[1]
     z = P[:, 2]
     A, B = 2 * la * xp, -2 * la * z
@@ -181,8 +206,9 @@ def _arm_ik(d: Delta, P: np.ndarray, i: int) -> tuple[np.ndarray, np.ndarray]:
 def _status(d: Delta, P: np.ndarray, theta: np.ndarray, unreachable: np.ndarray) -> np.ndarray:
     """Status codes (N,) at consistent (P, theta); precedence: reach, limits, singular."""
     A, b = _constraint_jacobians(d, P, theta)
-    serial = np.min(np.abs(b), axis=1) / (d.upper_arm_mm * d.lower_arm_mm)
-    parallel = np.abs(np.linalg.det(A)) / d.lower_arm_mm**3
+    _, la, lb = _lengths(d)
+    serial = np.min(np.abs(b), axis=1) / (la * lb)
+    parallel = np.abs(np.linalg.det(A)) / lb**3
     limits = (theta < d.theta_min_rad) | (theta > d.theta_max_rad)
     status = np.full(P.shape[0], STATUS_OK, dtype=np.int8)
     status = np.where(parallel < DELTA_PARALLEL_SINGULAR, STATUS_SINGULAR_PARALLEL, status)
@@ -193,10 +219,11 @@ def _status(d: Delta, P: np.ndarray, theta: np.ndarray, unreachable: np.ndarray)
 
 def _constraint_jacobians(d: Delta, P: np.ndarray, theta: np.ndarray):
     """A_x (N, 3, 3) rows (P - C_i)^T and b (N, 3) = -(P - C_i) . dC_i/dtheta_i, mm^2."""
-    C = d.shifted_elbows_mm(theta)
+    C = _shifted_elbows(d, theta)
     A = P[:, None, :] - C
-    dC = -d.upper_arm_mm * np.sin(theta)[..., None] * d.radial
-    dC[..., 2] = -d.upper_arm_mm * np.cos(theta)
+    _, la, _ = _lengths(d)
+    dC = -la[..., None, None] * np.sin(theta)[..., None] * d.radial
+    dC[..., 2] = -la[..., None] * np.cos(theta)
     b = -np.einsum("nij,nij->ni", A, dC)
     return A, b
 
@@ -218,7 +245,7 @@ def fk(d: Delta, theta_rad) -> DeltaPose:
     t = t[None, :] if t.ndim == 1 else t
     if t.ndim != 2 or t.shape[1] != 3 or not np.all(np.isfinite(t)):
         raise DesignError("theta_rad", f"must be finite with shape (N, 3), got {np.shape(theta_rad)}")
-    C = d.shifted_elbows_mm(t)
+    C = _shifted_elbows(d, t)
     n = np.cross(C[:, 1] - C[:, 0], C[:, 2] - C[:, 0])
     n_len = np.linalg.norm(n, axis=1)
     degenerate = n_len <= 1e-12 * d.upper_arm_mm**2
@@ -245,12 +272,21 @@ def fk(d: Delta, theta_rad) -> DeltaPose:
 def jacobian_rad_per_m(d: Delta, P_mm) -> tuple[np.ndarray, np.ndarray]:
     """J (N, 3, 3) with theta_dot = J x_dot in rad/m at points ``P_mm`` (N, 3) mm, and the
     status (N,). Rows of non-ok points are 0. f [N] = J^T tau [N m] (eq 2)."""
-    pose = ik(d, P_mm)
-    A, b = _constraint_jacobians(d, pose.P_mm, pose.theta_rad)
-    ok = pose.ok
+    return jacobian_kernel(d, _points(P_mm))
+
+
+def jacobian_kernel(d, P: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`jacobian_rad_per_m` without input checks, for a :class:`Delta` or a
+    :class:`DeltaArrays` of K deltas paired with K points P (K, 3) mm."""
+    arms = [_arm_ik(d, P, i) for i in range(3)]
+    theta = np.stack([a[0] for a in arms], axis=-1)
+    unreachable = np.any(np.stack([a[1] for a in arms], axis=-1), axis=1)
+    status = _status(d, P, theta, unreachable)
+    A, b = _constraint_jacobians(d, P, theta)
+    ok = status == STATUS_OK
     b_safe = np.where(ok[:, None], b, 1.0)
     J = -A / b_safe[..., None] * 1e3
-    return np.where(ok[:, None, None], J, 0.0), pose.status
+    return np.where(ok[:, None, None], J, 0.0), status
 
 
 def joint_torques_Nm(d: Delta, P_mm, force_N) -> np.ndarray:

@@ -164,3 +164,24 @@ def test_box_grid_faces_and_gii_names_an_unreachable_corner():
     assert np.max(np.hypot(cyl[:, 0], cyl[:, 1])) == pytest.approx(20.0)
     with pytest.raises(DesignError, match="workspace.size_mm"):
         D.box_grid_mm([0, 0, z0], [40, 0, 30], 3)
+
+
+def test_delta_problem_culling_equals_brute_force_and_per_candidate_gii():
+    """The culling optimizer (exact by construction) against brute force and against the
+    GII of each candidate computed on its own (delta_gii, the scalar path)."""
+    from cad.isotropy.culling import optimize
+    from cad.isotropy.gii import delta_gii
+    from cad.isotropy.problems import DeltaProblem, candidate_grid
+
+    z0 = D.fk(DELTA, [0.6] * 3).P_mm[0, 2]
+    pts = D.box_grid_mm([0, 0, z0], [60, 60, 40], 3)
+    ranges = {"upper_arm_mm": (70.0, 130.0, 4), "lower_arm_mm": (170.0, 240.0, 4)}
+    names, params = candidate_grid(ranges, {"base_radius_mm": R, "effector_radius_mm": r})
+    prob = DeltaProblem(params, pts, (3, 3, 3), (-1.0, 1.4))
+    cull, brute = optimize(prob, "culling"), optimize(prob, "brute")
+    assert cull.best_index == brute.best_index and cull.gii == brute.gii
+    scalar = [delta_gii(D.Delta(R, r, params["upper_arm_mm"][k], params["lower_arm_mm"][k],
+                                theta_min_rad=-1.0, theta_max_rad=1.4), pts).gii
+              for k in range(prob.n_candidates)]
+    np.testing.assert_allclose(brute.gii_all, scalar, rtol=1e-12)
+    assert cull.gii == pytest.approx(max(scalar), rel=1e-12) and max(scalar) > 0
