@@ -63,6 +63,8 @@ FAMILIES: dict[str, Family] = {
                firmware=False),
         Family("powermouse", "powermouse", "cad.design.powermouse", "powermouse",
                ("build", "render", "datasheet")),
+        Family("delta", "delta", "cad.families.delta.design", None, ("gii", "optimize"),
+               firmware=False),
     )
 }
 

@@ -58,7 +58,7 @@ from pathlib import Path
 from typing import Any
 
 import cad
-from cad.data.families import FAMILIES, builder_module
+from cad.data.families import FAMILIES, builder_module, refusal
 from cad.device import resolve_device
 from cad.errors import DesignError
 from cad.io.atomic import atomic_dir, write_text_atomic
@@ -80,6 +80,8 @@ def builder_module_name(design) -> str:
     Raises DesignError naming ``mechanism.family`` for an object that is no registered
     family's design, or a family that has no parts yet."""
     family = getattr(design, "family", None)
+    if family in FAMILIES and "build" not in FAMILIES[family].commands:
+        raise DesignError("mechanism.family", refusal("build", family))
     if family not in FAMILIES or not type(design).__module__.startswith("cad.design."):
         raise DesignError(
             "mechanism.family", f"no builder for designs of type {type(design).__name__}"

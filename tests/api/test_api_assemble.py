@@ -22,11 +22,12 @@ from cad.data import families as registry
 from cad.errors import DesignError
 
 ROOT = Path(__file__).resolve().parents[2]
-#: One bundled design per family that has a layout package (the registry's ``package``).
+#: One bundled design per family of the registry.
 BUNDLED = {"hoeken": "hoeken.toml", "roberts": "roberts.toml", "chebyshev": "chebyshev.toml",
            "chebyshev-v": "chebyshev_v.toml", "custom": "custom_example.toml",
            "pantograph": "pantograph.toml", "twin-pantograph": "haptic_mouse.toml",
-           "haptic-pen": "haptic_pen.toml", "powermouse": "powermouse.toml"}
+           "haptic-pen": "haptic_pen.toml", "powermouse": "powermouse.toml",
+           "delta": "delta.toml"}
 WITH_PARTS = [n for n, f in registry.FAMILIES.items() if f.package is not None]
 
 

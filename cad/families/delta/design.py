@@ -1,0 +1,195 @@
+"""Design files of the 3-DOF delta (``[mechanism] family = "delta"``, issue 36 §1).
+
+Schema (mm, deg, N, N m; * = required)::
+
+    [mechanism]  family*, base_radius_mm*, effector_radius_mm*, upper_arm_mm*, lower_arm_mm*,
+                 parallelogram_width_mm (30), motor_angle_min_deg (-40), motor_angle_max_deg (85)
+    [workspace]  shape ("box" | "cylinder"), center_mm* = [x, y, z],
+                 size_mm = [W, D, H] (box), diameter_mm + height_mm (cylinder), grid (5)
+    [actuators]  torque_max_Nm (1.0, or [m0, m1, m2]), force_max_N (1.0)  -- the GII's
+                 normalisation S_J, S_T (isotropy paper eqs 3-4), not a motor
+    [optimize]   base_radius_mm / effector_radius_mm / upper_arm_mm / lower_arm_mm =
+                 [min, max, count]
+
+Frames and angles: :mod:`cad.kinematics.delta` (base frame z up, effector below, theta from
+the horizontal, positive down, elbow-out branch). ``[parts]``, ``[motor]``,
+``[transmission]`` and ``[targets]`` are refused with one line until the family has parts.
+No CAD import.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from cad.design.bounds import ANGLE_DEG, COORD_MM, GRID, LINK_MM, check_number
+from cad.design.fields import check_name, check_unknown, number_list, optional_table
+from cad.design.fields import require_table
+from cad.errors import DesignError
+
+MECH_KEYS = ("family", "base_radius_mm", "effector_radius_mm", "upper_arm_mm", "lower_arm_mm",
+             "parallelogram_width_mm", "motor_angle_min_deg", "motor_angle_max_deg")
+MECH_DEFAULTS = {"parallelogram_width_mm": 30.0, "motor_angle_min_deg": -40.0,
+                 "motor_angle_max_deg": 85.0}
+WS_KEYS = ("shape", "center_mm", "size_mm", "diameter_mm", "height_mm", "grid")
+OPTIMIZABLE = ("base_radius_mm", "effector_radius_mm", "upper_arm_mm", "lower_arm_mm")
+NOT_YET = ("parts", "motor", "transmission", "targets", "firmware", "prices")
+
+
+@dataclass(frozen=True)
+class DeltaDesign:
+    """A validated delta design: ``mechanism`` a :class:`cad.kinematics.delta.Delta`,
+    ``params`` its lengths (mm), ``workspace``/``actuators`` the validated tables with
+    defaults, ``optimize`` {name: (min, max, count)}, ``raw`` the TOML mapping."""
+
+    name: str
+    source: str
+    family: str
+    mechanism: Any
+    params: dict[str, float]
+    parallelogram_width_mm: float
+    workspace: dict[str, Any]
+    actuators: dict[str, Any]
+    optimize: dict[str, tuple[float, float, int]]
+    raw: dict = field(repr=False)
+
+    def workspace_points(self) -> np.ndarray:
+        """Workspace samples (N, 3) mm, base frame (box: C order of ``grid_shape``)."""
+        from cad.kinematics.delta import box_grid_mm, cylinder_grid_mm
+
+        ws = self.workspace
+        if ws["shape"] == "box":
+            return box_grid_mm(ws["center_mm"], ws["size_mm"], ws["grid"])
+        return cylinder_grid_mm(ws["center_mm"], ws["diameter_mm"], ws["height_mm"], ws["grid"])
+
+    def grid_shape(self) -> tuple[int, ...]:
+        """The sample grid's shape (box: (n, n, n); cylinder: (N,), axis and rings)."""
+        n = self.workspace["grid"]
+        return (n, n, n) if self.workspace["shape"] == "box" else (len(self.workspace_points()),)
+
+    def gii(self):
+        """GII (isotropy paper eq 5) over the workspace: a :class:`cad.isotropy.gii.GIIResult`."""
+        from cad.isotropy.gii import delta_gii
+
+        act = self.actuators
+        return delta_gii(self.mechanism, self.workspace_points(), act["torque_max_Nm"],
+                         act["force_max_N"])
+
+    def point_units(self) -> tuple[str, ...]:
+        """Names of a workspace point's coordinates, with units."""
+        return ("x_mm", "y_mm", "z_mm")
+
+    def problem(self):
+        """The ``[optimize]`` candidate grid x workspace as a culling problem (eq 6)."""
+        from cad.isotropy.problems import DeltaProblem, candidate_grid
+
+        if not self.optimize:
+            raise DesignError("optimize", "no free parameters: add e.g. upper_arm_mm = [min, max, count]")
+        _, params = candidate_grid(self.optimize, self.params)
+        d = self.mechanism
+        return DeltaProblem(params, self.workspace_points(), self.grid_shape(),
+                            (d.theta_min_rad, d.theta_max_rad), self.actuators["torque_max_Nm"],
+                            self.actuators["force_max_N"])
+
+
+def _mechanism(mech: dict[str, Any]):
+    from cad.kinematics.delta import Delta
+
+    check_unknown(mech, MECH_KEYS, "mechanism")
+    vals = {}
+    for key in OPTIMIZABLE:
+        if key not in mech:
+            raise DesignError(f"mechanism.{key}", "is required (mm)")
+        if key == "effector_radius_mm" and mech[key] == 0:
+            vals[key] = 0.0
+            continue
+        vals[key] = check_number(f"mechanism.{key}", mech[key], LINK_MM)
+    extra = {k: mech.get(k, v) for k, v in MECH_DEFAULTS.items()}
+    width = check_number("mechanism.parallelogram_width_mm", extra["parallelogram_width_mm"], LINK_MM)
+    lo = check_number("mechanism.motor_angle_min_deg", extra["motor_angle_min_deg"], ANGLE_DEG)
+    hi = check_number("mechanism.motor_angle_max_deg", extra["motor_angle_max_deg"], ANGLE_DEG)
+    if not lo < hi or hi - lo > 360:
+        raise DesignError("mechanism.motor_angle_max_deg",
+                          f"must exceed motor_angle_min_deg ({lo:g}) by at most 360 deg, got {hi:g}")
+    d = Delta(vals["base_radius_mm"], vals["effector_radius_mm"], vals["upper_arm_mm"],
+              vals["lower_arm_mm"], theta_min_rad=math.radians(lo), theta_max_rad=math.radians(hi))
+    return d, vals, width
+
+
+def _workspace(ws: dict[str, Any]) -> dict[str, Any]:
+    check_unknown(ws, WS_KEYS, "workspace")
+    shape = ws.get("shape", "box")
+    if shape not in ("box", "cylinder"):
+        raise DesignError("workspace.shape", f"must be 'box' or 'cylinder', got {shape!r}")
+    center = number_list(ws, "center_mm", "workspace", length=3)
+    for k, v in zip("xyz", center):
+        check_number(f"workspace.center_mm[{k}]", v, COORD_MM)
+    grid = int(check_number("workspace.grid", ws.get("grid", 5), GRID))
+    if grid < 2:
+        raise DesignError("workspace.grid", f"must be >= 2 (the faces are sampled), got {grid}")
+    out: dict[str, Any] = {"shape": shape, "center_mm": center, "grid": grid}
+    wrong = ("diameter_mm", "height_mm") if shape == "box" else ("size_mm",)
+    for key in wrong:
+        if key in ws:
+            raise DesignError(f"workspace.{key}", f"is not a key of a {shape} workspace")
+    if shape == "box":
+        size = number_list(ws, "size_mm", "workspace", length=3)
+        out["size_mm"] = [check_number(f"workspace.size_mm[{k}]", v, LINK_MM)
+                          for k, v in zip("xyz", size)]
+    else:
+        for key in ("diameter_mm", "height_mm"):
+            if key not in ws:
+                raise DesignError(f"workspace.{key}", "is required for a cylinder workspace (mm)")
+            out[key] = check_number(f"workspace.{key}", ws[key], LINK_MM)
+    return out
+
+
+def _actuators(act: dict[str, Any]) -> dict[str, Any]:
+    check_unknown(act, ("torque_max_Nm", "force_max_N"), "actuators")
+    out: dict[str, Any] = {}
+    for key in ("torque_max_Nm", "force_max_N"):
+        v = act.get(key, 1.0)
+        vals = number_list(act, key, "actuators", length=3) if isinstance(v, list) else [v]
+        for x in vals:
+            if isinstance(x, bool) or not isinstance(x, (int, float)) or not (x > 0 and math.isfinite(x)):
+                raise DesignError(f"actuators.{key}", f"must be finite and > 0, got {v!r}")
+        out[key] = [float(x) for x in vals] if isinstance(v, list) else float(v)
+    return out
+
+
+def _optimize(raw: dict[str, Any]) -> dict[str, tuple[float, float, int]]:
+    table = optional_table(raw, "optimize", "")
+    check_unknown(table, OPTIMIZABLE, "optimize")
+    out = {}
+    for key in table:
+        lo, hi, count = number_list(table, key, "optimize", length=3)
+        f = f"optimize.{key}"
+        if not float(count).is_integer() or count < 1:
+            raise DesignError(f, f"count must be an integer >= 1, got {table[key][2]!r}")
+        if hi < lo or (lo < 0 if key == "effector_radius_mm" else lo <= 0):
+            raise DesignError(f, f"needs 0 < min <= max, got [{lo}, {hi}]")
+        out[key] = (lo, hi, int(count))
+    return out
+
+
+def parse(raw: dict[str, Any], source: str = "<design>") -> DeltaDesign:
+    """Validate a raw delta design; every problem is a :class:`DesignError` naming the key."""
+    check_unknown(raw, ("name", "description", "mechanism", "workspace", "actuators", "optimize",
+                        *NOT_YET), "")
+    for key in NOT_YET:
+        if key in raw:
+            raise DesignError(key, "the delta has no parts, firmware or checks yet (issue 36): "
+                                   "gii and optimize take a delta design")
+    mech = require_table(raw, "mechanism", "")
+    if mech.get("family") != "delta":
+        raise DesignError("mechanism.family", f"must be 'delta', got {mech.get('family')!r}")
+    d, params, width = _mechanism(mech)
+    return DeltaDesign(
+        name=check_name(raw.get("name", "delta")), source=source, family="delta", mechanism=d,
+        params=params, parallelogram_width_mm=width,
+        workspace=_workspace(require_table(raw, "workspace", "")),
+        actuators=_actuators(optional_table(raw, "actuators", "")), optimize=_optimize(raw),
+        raw=raw)
