@@ -575,10 +575,10 @@ def tolerance(design, hole_mm: float | None = None, hole=(), pivot_mm: float | N
                                  list(_targets(pivot, "pivot")), length_mm,
                                  list(_targets(length, "length")), distribution)
     given = tuple(parse_cli_target(t) for t in _targets(targets))
-    return _tolerance_run(design, tols, given, _inertia(inertia), samples, seed, angles)[0]
+    return tolerance_run(design, tols, given, _inertia(inertia), samples, seed, angles)[0]
 
 
-def _tolerance_run(design, tols, given, H, samples: int, seed: int, angles: int):
+def tolerance_run(design, tols, given, H, samples: int, seed: int, angles: int):
     """The tolerance study of :func:`tolerance` from parsed inputs (Tolerance tuple, Target
     tuple, InertiaCoefficients or None): ``(result dict, per-sample metrics, targets)``."""
     from cad.checks import merge_targets
@@ -624,11 +624,11 @@ def fit_design(design, targets=(), free=(), fidelity: str = "inertia", echo=None
     if fidelity not in ("inertia", "fabrication"):
         raise DesignError("--fidelity", f"must be inertia or fabrication, got {fidelity!r}")
     _need_design(design)
-    setup = _fit_setup(design, _targets(targets), _targets(free, "free"))
-    return _fit_run(design, setup, fidelity, Path(design.source), f"{design.name}_fit", echo)
+    setup = fit_setup(design, _targets(targets), _targets(free, "free"))
+    return fit_run(design, setup, fidelity, Path(design.source), f"{design.name}_fit", echo)
 
 
-def _fit_setup(design, targets: tuple[str, ...], free: tuple[str, ...]) -> dict:
+def fit_setup(design, targets: tuple[str, ...], free: tuple[str, ...]) -> dict:
     """The parsed targets and free parameters of :func:`fit`, checked before any search."""
     from cad.checks import merge_targets
     from cad.data.families import FAMILIES, require
@@ -658,8 +658,8 @@ def _fit_setup(design, targets: tuple[str, ...], free: tuple[str, ...]) -> dict:
     return {"four_bar": four_bar, "given": given, "targets": merged, "params": params}
 
 
-def _fit_run(design, setup: dict, fidelity: str, dest: Path, name: str, echo=None) -> dict:
-    """Run the fit of ``setup`` (:func:`_fit_setup`); the fitted mapping as a file at
+def fit_run(design, setup: dict, fidelity: str, dest: Path, name: str, echo=None) -> dict:
+    """Run the fit of ``setup`` (:func:`fit_setup`); the fitted mapping as a file at
     ``dest`` named ``name`` would hold it (relative paths rebased)."""
     import copy
 

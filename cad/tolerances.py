@@ -213,7 +213,7 @@ STOCK_RANGE_SLACK_MM = 1e-9
 #: bundled design, looser than what our solids reproduce run to run (exact, 1e-9).
 TARGET_TOL_REL_DEFAULT = 0.05
 
-# ---------------------------------------------------------------- layer planner (cad/assembly/layers.py)
+# ---------------------------------------------------------------- layer planner (cad/families/fourbar/layers.py)
 
 #: Slack (mm) of the layer planner's comparisons of stack heights and planar clearances
 #: against their required values: those are sums of catalog sizes and design numbers in

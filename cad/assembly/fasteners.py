@@ -108,7 +108,7 @@ def shoulder_screw_hole(name: str, part: str, size: str, depth_mm: float) -> Tap
     clamps the stack, and the makers' tightening torques for shoulder screws are well below a
     cap screw's of the same thread (the neck at the relief is the weak section). So the rule
     is the one the standard leaves: every turn of the thread engaged -- the reamed bore ends
-    where the relief ends (:func:`cad.assembly.layers.post_bore_depth_mm`) and the hole is
+    where the relief ends (:func:`cad.families.fourbar.layers.post_bore_depth_mm`) and the hole is
     tapped deeper than the tip. For a joint preloaded to the screw's proof load use a steel
     post (``parts.post_material``) or a thread insert."""
     return TappedHole(name, part, size, depth_mm, iso7379_thread_mm(size))

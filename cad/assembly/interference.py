@@ -569,7 +569,7 @@ def _tight_body_box(p: PartMesh) -> np.ndarray:
     return p.tight_box
 
 
-def _exact_distance_volume(sa, sb) -> tuple[float, float]:
+def exact_distance_volume(sa, sb) -> tuple[float, float]:
     """OCCT distance (mm, inf when it fails) of two placed solids, and their common volume
     (mm^3) when they touch or overlap (distance <= :data:`CONTACT_MM`), else 0."""
     from cad.occ.distance import common_volume_mm3, min_distance_mm
@@ -579,17 +579,17 @@ def _exact_distance_volume(sa, sb) -> tuple[float, float]:
     return d, vol
 
 
-def _exact_pair(sa, sb) -> tuple[float, float]:
-    """:func:`_exact_distance_volume` through the derived cache, keyed by the digests of
+def exact_pair(sa, sb) -> tuple[float, float]:
+    """:func:`exact_distance_volume` through the derived cache, keyed by the digests of
     both placed solids (their geometry and world placement, exactly)."""
     from cad.io import derived_cache
 
     if not derived_cache.enabled():
-        return _exact_distance_volume(sa, sb)
+        return exact_distance_volume(sa, sb)
     key = [derived_cache.shape_digest(sa), derived_cache.shape_digest(sb)]
     d, vol = derived_cache.cached_json(
         "exact-distance", key,
-        lambda: [repr(x) for x in _exact_distance_volume(sa, sb)], code=_CODE)
+        lambda: [repr(x) for x in exact_distance_volume(sa, sb)], code=_CODE)
     return float(d), float(vol)
 
 
@@ -635,9 +635,9 @@ def exact_check_pair(
                 if separated_boxes(_tight_body_box(p), Ta, _tight_body_box(q), Tb):
                     d, vol = 0.0, 0.0
                 else:
-                    d, vol = _exact_pair(placed(p.shape, Ta), placed(q.shape, Tb))
+                    d, vol = exact_pair(placed(p.shape, Ta), placed(q.shape, Tb))
             else:
-                d, vol = _exact_pair(placed(p.shape, Ta), placed(q.shape, Tb))
+                d, vol = exact_pair(placed(p.shape, Ta), placed(q.shape, Tb))
             overlap += vol
             if d < best[0] or (d <= CONTACT_MM and vol > best[1]):
                 best = (d, vol, p.name, q.name)

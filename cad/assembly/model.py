@@ -93,7 +93,7 @@ class AssemblyModel:
         """
         from cad.data.materials import get_material
         from cad.export.shapes import placed
-        from cad.export.step import _labelled  # a labelled, coloured Solid, as part files are
+        from cad.export.step import labelled_shape  # a labelled, coloured Solid, as part files are
         from cad.occ.compound import deep_copy, labelled_compound
 
         children, seen = [], set()
@@ -102,6 +102,6 @@ class AssemblyModel:
             if inst.kind.name in seen:  # its own geometry: a STEP writer merges instances that
                 shape = deep_copy(shape)  # share it (one name)
             seen.add(inst.kind.name)
-            children.append(_labelled(placed(shape, self.tf_world_part(inst, pose)), inst.name,
+            children.append(labelled_shape(placed(shape, self.tf_world_part(inst, pose)), inst.name,
                                       get_material(inst.kind.material).color_rgb))
         return labelled_compound(children, str(getattr(self.design, "name", "assembly")))

@@ -66,14 +66,14 @@ def motion_check(repeats: int) -> dict:
     from cad.assembly import interference as itf
     from cad.design import load_design
     from cad.families.powermouse import assemble
-    from cad.families.powermouse.motion import _group
+    from cad.families.powermouse.motion import pose_group
 
     d = load_design(ROOT / DESIGNS["powermouse"])
     model = assemble(d)
     every = {label: label for label in model.pose_labels}
-    itf.check_model(model, groups=_group)  # warm-up: meshes and OCCT caches, not timed
+    itf.check_model(model, groups=pose_group)  # warm-up: meshes and OCCT caches, not timed
     out = {}
-    for name, groups in (("fast-then-exact", _group), ("every pose exact", every.get)):
+    for name, groups in (("fast-then-exact", pose_group), ("every pose exact", every.get)):
         ts, cpu = [], []
         for _ in range(repeats):
             t0, c0 = time.perf_counter(), time.process_time()

@@ -51,7 +51,7 @@ HEIGHT_MM = 5.0
 REFERENCE = "closed form: cylinder pair k has smallest gap g_k at phi = 0 (a sample)"
 
 
-def _scene(n_poses: int):
+def interference_scene(n_poses: int):
     from cad.parts import translation
     from cad.parts.reference_solids import cylinder_on_xy
 
@@ -120,7 +120,7 @@ def run(quick: bool, out_dir: Path) -> dict:
 
     repeats = 1 if quick else 3
     n_poses = 21 if quick else 201
-    items, tfs, phi = _scene(n_poses)
+    items, tfs, phi = interference_scene(n_poses)
     points: list[dict] = []
 
     t, gaps = _median_time(lambda: _occt_brute(items, tfs, phi), repeats)
@@ -269,8 +269,8 @@ def _real_assembly(n_poses: int, repeats: int, n_ref: int) -> dict:
     ``min_clearance_mm`` (the sweep claims a minimum over the stroke) or an exact
     clearance violation the sweep did not report."""
     from cad.assembly import interference as itf
-    from cad.assembly.pose import body_transforms
-    from cad.families.fourbar.build import _joint_axes
+    from cad.families.fourbar.pose import body_transforms
+    from cad.families.fourbar.build import joint_axes
 
     d, J, asm = _hoeken()
     clearance = d.parts.clearance_min_mm
@@ -283,7 +283,7 @@ def _real_assembly(n_poses: int, repeats: int, n_ref: int) -> dict:
         prep = itf.prepare(items, itf.SWEEP_MESH_TOL_MM)  # fresh meshes and BVHs every time
         mesh_times.append(time.perf_counter() - t0)
         t0 = time.perf_counter()
-        rep = itf.sweep(prep, tfs, phi, clearance, joints=_joint_axes(J))
+        rep = itf.sweep(prep, tfs, phi, clearance, joints=joint_axes(J))
         times.append(time.perf_counter() - t0)
     poses = set(np.linspace(0, n_poses - 1, n_ref).round().astype(int).tolist())
     at_min = {int(np.argmin(np.abs(phi - np.radians(r["phi1_deg_at_min"])))) for r in rep.pairs}

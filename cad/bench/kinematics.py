@@ -32,7 +32,7 @@ from cad.report.figures import save_figure
 REPO = Path(__file__).resolve().parents[2]
 
 
-def _pylinkage_linkage(pl, fb, lo: float, dphi: float):
+def pylinkage_linkage(pl, fb, lo: float, dphi: float):
     """The same four-bar in pylinkage: crank, RRR dyad for A3, fixed dyad for P."""
     p0 = solve(fb, np.array([lo]))
     O1 = pl.Ground(0.0, 0.0)
@@ -82,20 +82,20 @@ def bench_poses(n: int = 100_000, repeats: int = 7) -> dict:
         out["pylinkage"] = "not installed"
         return out
     dphi = (hi - lo) / (n - 1)
-    link = _pylinkage_linkage(pl, fb, lo, dphi)
+    link = pylinkage_linkage(pl, fb, lo, dphi)
     link.step_fast(iterations=10)  # numba JIT warm-up
 
     def theirs():
-        return _pylinkage_linkage(pl, fb, lo, dphi).step_fast(iterations=n)
+        return pylinkage_linkage(pl, fb, lo, dphi).step_fast(iterations=n)
 
     t_pl = _median_time(theirs, max(3, repeats // 2))
     # agreement: pylinkage steps before recording, so row i is phi1 = lo + (i + 1) * dphi
-    tr = _pylinkage_linkage(pl, fb, lo, dphi).step_fast(iterations=1000)
+    tr = pylinkage_linkage(pl, fb, lo, dphi).step_fast(iterations=1000)
     ref = solve(fb, lo + dphi * (np.arange(1000) + 1)).P_mm
     import itertools
 
     t = time.perf_counter()
-    list(itertools.islice(_pylinkage_linkage(pl, fb, lo, dphi).step(), 2000))
+    list(itertools.islice(pylinkage_linkage(pl, fb, lo, dphi).step(), 2000))
     t_py = (time.perf_counter() - t) / 2000
     out.update(
         {

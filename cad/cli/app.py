@@ -48,7 +48,7 @@ def _root(
     """Parametric CAD generator for haptic-device hardware."""
 
 
-def _register_commands() -> None:
+def register_commands() -> None:
     global _REGISTERED
     if _REGISTERED:
         return
@@ -162,7 +162,7 @@ def run(argv: list[str] | None = None) -> int:
 
 def _run(argv: list[str] | None) -> int:
     if not _REGISTERED:
-        _register_commands()
+        register_commands()
     try:
         return _run_app(argv)
     finally:

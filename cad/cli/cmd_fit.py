@@ -29,7 +29,7 @@ def register(app: typer.Typer) -> None:
         from cad.parts.handle import set_script_policy
 
         set_script_policy(allow_scripts, allow_scripts_anywhere)
-        from cad.api import _fit_run, _fit_setup
+        from cad.api import fit_run, fit_setup
         from cad.cli import flags
         from cad.design import load_design
         from cad.design.writer import dumps_design
@@ -39,12 +39,12 @@ def register(app: typer.Typer) -> None:
         flags.choice("--fidelity", fidelity, ("inertia", "fabrication"))
         flags.out_path("--out", out, folder=False)
         d = load_design(design)
-        setup = _fit_setup(d, tuple(target or ()), tuple(free or ()))
+        setup = fit_setup(d, tuple(target or ()), tuple(free or ()))
         dst = out if out is not None else design.with_suffix(".fit.toml")
         replaced = check_out_file(dst, design)
         echo = None if json_out else (lambda s: print(s, flush=True))
         name = f"{d.name}_fit" if out is None else out.name.split(".")[0]
-        res = _fit_run(d, setup, fidelity, dst, name, echo)
+        res = fit_run(d, setup, fidelity, dst, name, echo)
         fitted = res.pop("raw")
         res.pop("design")
         # the design file last: it is the command's output (cad.io.signals commit point)

@@ -24,7 +24,7 @@ from cad.errors import HapticadError
 from cad.pipeline.file_props import compute, file_materials  # noqa: F401 - re-exported
 
 
-def _g(values, scale: float | None = None, digits: int = 6) -> str:
+def format_g(values, scale: float | None = None, digits: int = 6) -> str:
     """``digits`` significant digits; entries below 1e-9 of ``scale`` (default: the group's
     largest) print as 0 (round-off of the integration, not data). ``--json`` keeps all digits."""
     vals = [float(v) for v in values]
@@ -37,16 +37,16 @@ def _fmt_text(out: dict) -> str:
     mat = f" ({out['material']})" if out["material"] else ""
     tensor = out["inertia_com_kg_m2"]
     scale = max(abs(float(x)) for r in tensor for x in r)
-    rows_t = [_g(r, scale) for r in tensor]
+    rows_t = [format_g(r, scale) for r in tensor]
     rows = [
         f"file                     {out['file']}  [{out['format']}, {out['method']}]",
-        f"density_kg_m3            {_g([out['density_kg_m3']])}{mat}",
-        f"volume_mm3               {_g([out['volume_mm3']])}",
-        f"mass_kg                  {_g([out['mass_kg']])}",
-        "com_mm                   " + _g(out["com_mm"]),
+        f"density_kg_m3            {format_g([out['density_kg_m3']])}{mat}",
+        f"volume_mm3               {format_g([out['volume_mm3']])}",
+        f"mass_kg                  {format_g([out['mass_kg']])}",
+        "com_mm                   " + format_g(out["com_mm"]),
         "inertia_com_kg_m2        " + rows_t[0],
         *("                         " + r for r in rows_t[1:]),
-        "principal_moments_kg_m2  " + _g(out["principal_moments_kg_m2"]),
+        "principal_moments_kg_m2  " + format_g(out["principal_moments_kg_m2"]),
     ]
     if out["watertight"] is not None:
         rows.append(f"watertight               {out['watertight']}")

@@ -63,7 +63,7 @@ def _fourbar(d, path: Path, objective: str, trials: int, seed: int, top: int, ou
     replaced = check_out_file(out, path) if out is not None else False  # before the search
     chart_dir = out.parent if out is not None else None  # <out stem>_pareto.png/.svg beside --out
     charts = [] if out is None else [out.parent / f"{out.stem}_pareto.{e}" for e in ("png", "svg")]
-    replaced_charts = [str(c) for c in charts if _chart_replaceable(c, path)]  # said, never silent
+    replaced_charts = [str(c) for c in charts if chart_replaceable(c, path)]  # said, never silent
     rep, best = optimize_fourbar(d, objective, trials, seed, top, chart_dir, progress,
                                  out.stem if out is not None else None, proportions_tol, starts,
                                  beat_prototype)
@@ -93,7 +93,7 @@ def _fourbar(d, path: Path, objective: str, trials: int, seed: int, top: int, ou
         raise typer.Exit(1)
 
 
-def _chart_replaceable(chart: Path, design: Path) -> bool:
+def chart_replaceable(chart: Path, design: Path) -> bool:
     """True when the Pareto chart ``chart`` (named after ``--out``, not by the user) exists
     and hapticad wrote it; a user's file of that name is refused (DesignError ``--out``)."""
     from cad.errors import DesignError

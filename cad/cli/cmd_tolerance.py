@@ -78,9 +78,9 @@ def register(app: typer.Typer) -> None:
         H = parse_inertia_option(inertia) if inertia is not None else None
         if out is not None:
             check_out_dir(out, str(design))  # only a folder hapticad wrote
-        from cad.api import _tolerance_run
+        from cad.api import tolerance_run
 
-        res, m, targets = _tolerance_run(load_design(design), tols, cli, H, samples, seed, angles)
+        res, m, targets = tolerance_run(load_design(design), tols, cli, H, samples, seed, angles)
         if out is not None:
             from cad.io.atomic import write_text_atomic
 

@@ -585,7 +585,7 @@ def polar_points_mm(
 # --------------------------------------------------------------------------- plain pins
 #: Plain joint pins ("dowel-<d>"): ground pins h6/m6 of diameter d (ISO 2338 / ISO 8734
 #: sizes) retained by DIN 471 rings in grooves, with an ISO 7089 washer under the lower
-#: link. The layer model (:mod:`cad.assembly.layers`) treats a pin like a shoulder screw
+#: link. The layer model (:mod:`cad.families.fourbar.layers`) treats a pin like a shoulder screw
 #: whose "head" is the upper retaining ring and whose "nut" is the lower ring (see
 #: :func:`dowel_as_shoulder_screw`); the pin material is ``parts.pin_material``.
 DOWEL_PREFIX = "dowel-"

@@ -72,7 +72,7 @@ MAGNITUDE_MAX = 1e9
 #: Workspace samples and [optimize] (candidate, sample) pairs: bounded in
 #: :data:`cad.design.bounds.WORK` (one place for every command's work).
 
-_MECH_KEYS = {
+MECH_KEYS = {
     "pantograph": (
         "family",
         "base_mm",
@@ -101,12 +101,12 @@ _MECH_KEYS = {
         "waist_torque_ratio",
     ),
 }
-_WS_KEYS = {
+WS_KEYS = {
     "pantograph": ("side_mm", "center_mm", "grid"),
     "twin-pantograph": ("side_mm", "center_mm", "grid", "theta_grid", "home_mm", "home_theta_deg"),
     "haptic-pen": ("center_mm", "size_mm", "grid", "rotation_deg", "rotation_grid"),
 }
-_ACT_KEYS = {
+ACT_KEYS = {
     "pantograph": ("torque_max_Nm", "force_max_N"),
     "twin-pantograph": ("torque_max_Nm", "force_max_N", "moment_max_Nm"),
     "haptic-pen": ("torque_max_Nm", "force_max_N", "moment_arm_mm"),
@@ -413,7 +413,7 @@ def _check_magnitudes(
     optimize: dict[str, tuple[float, float, int]],
 ) -> None:
     """Every number inside [MAGNITUDE_MIN, MAGNITUDE_MAX] (coordinates and the base: upper bound only)."""
-    for key in _MECH_KEYS[family]:
+    for key in MECH_KEYS[family]:
         if key in mech and key not in ("family", "elbow_left", "elbow_right"):
             _magnitude(mech[key], f"mechanism.{key}", small_ok=key == "base_mm")
     if not workspace:
@@ -518,12 +518,12 @@ def parse(raw: dict[str, Any], source: str = "<design>") -> PantographDesign:
         raise DesignError(
             "mechanism.family", f"must be one of {', '.join(FAMILIES)}, got {family!r}"
         )
-    check_unknown(mech, _MECH_KEYS[family], "mechanism")
+    check_unknown(mech, MECH_KEYS[family], "mechanism")
     _check_magnitudes(family, mech, {}, {}, {})  # before derived values (crank = 1.6 knob) exist
     ws = require_table(raw, "workspace", "")
-    check_unknown(ws, _WS_KEYS[family], "workspace")
+    check_unknown(ws, WS_KEYS[family], "workspace")
     act = optional_table(raw, "actuators", "")
-    check_unknown(act, _ACT_KEYS[family], "actuators")
+    check_unknown(act, ACT_KEYS[family], "actuators")
     name = check_name(raw.get("name", family))
     optimize = _parse_optimize(raw, family)
     if family in ("pantograph", "twin-pantograph"):

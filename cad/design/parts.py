@@ -79,7 +79,7 @@ the adequate set of bars", Hoeken paper §III.A):
     list of the three moving links bottom to top, e.g. ["crank", "coupler", "rocker"]
     (each once; anything else: DesignError naming ``parts.layer_order``); by default the
     first order without collision over the stroke is taken
-    (:func:`cad.assembly.layers.choose_layers`). The lower link at a joint carries the pin,
+    (:func:`cad.families.fourbar.layers.choose_layers`). The lower link at a joint carries the pin,
     spacers and nut or rings, the upper one the bearing. Searched by ``hapticad optimize``
     (:data:`cad.studies.codesign.search.LAYER_ORDERS`), freed by ``fit --free parts.layer_order``.
 

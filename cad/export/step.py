@@ -95,7 +95,7 @@ def _canonical_styles(data: bytes) -> bytes:
     return head + b"".join(out) + rest
 
 
-def _labelled(shape, name: str, color):
+def labelled_shape(shape, name: str, color):
     """A build123d Solid/Compound wrapping ``shape`` with a label (and colour)."""
     from build123d import Color, Compound, Solid
     from OCP.TopAbs import TopAbs_SOLID
@@ -187,7 +187,7 @@ def _write(obj) -> bytes:
 
 def step_bytes(shape, name: str, color: tuple[float, float, float] | None = None) -> bytes:
     """STEP (AP214, mm) of one part as bytes; ``shape`` is a ``TopoDS_Shape``."""
-    return _write(_labelled(shape, name, color))
+    return _write(labelled_shape(shape, name, color))
 
 
 def assembly_step_bytes(items, name: str) -> bytes:

@@ -12,7 +12,7 @@ from __future__ import annotations
 #: Metadata that would differ between runs or matplotlib versions, per format.
 #: Every chart names hapticad as its creator (a fixed text: :func:`written_by_hapticad`
 #: tells our charts from a user's file of the same name before one is replaced).
-_NO_STAMPS = {
+NO_STAMPS = {
     "svg": {"Date": None, "Creator": "hapticad"},
     "png": {"Software": "hapticad"},
     "pdf": {"CreationDate": None, "Creator": "hapticad"},
@@ -29,7 +29,7 @@ def save_figure(fig, target, fmt: str | None = None, **kwargs) -> None:
 
     if fmt is None:
         suffix = str(getattr(target, "name", target)).rsplit(".", 1)[-1].lower()
-        fmt = suffix if suffix in _NO_STAMPS else "png"
-    meta = {**_NO_STAMPS.get(fmt, {}), **kwargs.pop("metadata", {})}
+        fmt = suffix if suffix in NO_STAMPS else "png"
+    meta = {**NO_STAMPS.get(fmt, {}), **kwargs.pop("metadata", {})}
     with matplotlib.rc_context({"svg.hashsalt": "hapticad"}):
         fig.savefig(target, format=fmt, metadata=meta, **kwargs)

@@ -26,7 +26,7 @@ import numpy as np
 from cad.errors import DesignError
 
 
-def _scale_vector(values, n: int, name: str) -> np.ndarray:
+def scale_vector(values, n: int, name: str) -> np.ndarray:
     try:
         v = np.asarray(values, dtype=float).reshape(-1)
     except (TypeError, ValueError):
@@ -52,8 +52,8 @@ def normalized_jacobian(J: np.ndarray, actuator_scale, task_scale) -> np.ndarray
     if J.ndim < 2:
         raise DesignError("jacobian", f"must be at least 2-D (..., m, n), got shape {J.shape}")
     m, n = J.shape[-2:]
-    sj = _scale_vector(actuator_scale, m, "actuator_scale")
-    st = _scale_vector(task_scale, n, "task_scale")
+    sj = scale_vector(actuator_scale, m, "actuator_scale")
+    st = scale_vector(task_scale, n, "task_scale")
     return J * sj[:, None] / st[None, :]
 
 
@@ -227,8 +227,8 @@ def gii_from_jacobians(
     """
     J, status, points, ok = _checked_samples(J, status, points)
     m, n = J.shape[1:]
-    sj = _scale_vector(actuator_scale, m, "actuator_scale")
-    st = _scale_vector(task_scale, n, "task_scale")
+    sj = scale_vector(actuator_scale, m, "actuator_scale")
+    st = scale_vector(task_scale, n, "task_scale")
     smin, smax = _normalized_singular_values(J, ok, points, sj, st)
     i_min = int(np.argmin(smin))
     i_max = int(np.argmax(smax))

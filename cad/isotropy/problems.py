@@ -16,7 +16,7 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 
 from cad.errors import DesignError
-from cad.isotropy.gii import _scale_vector, boundary_first_order, singular_value_extremes
+from cad.isotropy.gii import scale_vector, boundary_first_order, singular_value_extremes
 
 
 def _params(params, names: Sequence[str], nonnegative: Sequence[str] = ()) -> dict[str, np.ndarray]:
@@ -128,8 +128,8 @@ class FiveBarProblem:
         self.points_mm = _points(points_mm, 2, (self.grid_n, self.grid_n))
         self.n_candidates = int(self.a.size)
         self.n_points = int(self.points_mm.shape[0])
-        self.sj = _scale_vector(torque_max_Nm, 2, "actuators.torque_max_Nm")
-        self.st = _scale_vector(force_max_N, 2, "actuators.force_max_N")
+        self.sj = scale_vector(torque_max_Nm, 2, "actuators.torque_max_Nm")
+        self.st = scale_vector(force_max_N, 2, "actuators.force_max_N")
 
     def sigma(self, cand: np.ndarray, point: np.ndarray):
         from cad.kinematics.fivebar import jacobian_arrays
@@ -183,7 +183,7 @@ class TwinPantographProblem:
         self.points = _points(points, 3, self.grid_shape)
         self.n_candidates = int(self.p["base_mm"].size)
         self.n_points = int(self.points.shape[0])
-        self.sj = _scale_vector(torque_max_Nm, 4, "actuators.torque_max_Nm")
+        self.sj = scale_vector(torque_max_Nm, 4, "actuators.torque_max_Nm")
         self.F = _positive(force_max_N, "actuators.force_max_N")
         self.M = (
             None if moment_max_Nm is None else _positive(moment_max_Nm, "actuators.moment_max_Nm")
@@ -241,10 +241,10 @@ class PenProblem:
         self.points = _points(points, 5, self.grid_shape)
         self.n_candidates = int(self.p["pen_mm"].size)
         self.n_points = int(self.points.shape[0])
-        self.tau = float(_scale_vector(torque_max_Nm, 1, "actuators.torque_max_Nm")[0])
+        self.tau = float(scale_vector(torque_max_Nm, 1, "actuators.torque_max_Nm")[0])
         F = _positive(force_max_N, "actuators.force_max_N")
         M = F * _positive(moment_arm_mm, "actuators.moment_arm_mm") * 1e-3
-        self.st = _scale_vector([F, F, F, M, M], 5, "actuators.moment_arm_mm")
+        self.st = scale_vector([F, F, F, M, M], 5, "actuators.moment_arm_mm")
 
     def sigma(self, cand, point):
         from cad.kinematics.haptic_pen import jacobian_arrays
@@ -299,8 +299,8 @@ class DeltaProblem:
         self.n_candidates = int(self.p["upper_arm_mm"].size)
         self.n_points = int(self.points_mm.shape[0])
         self.theta_range_rad = (float(theta_range_rad[0]), float(theta_range_rad[1]))
-        self.sj = _scale_vector(torque_max_Nm, 3, "actuators.torque_max_Nm")
-        self.st = _scale_vector(force_max_N, 3, "actuators.force_max_N")
+        self.sj = scale_vector(torque_max_Nm, 3, "actuators.torque_max_Nm")
+        self.st = scale_vector(force_max_N, 3, "actuators.force_max_N")
 
     def sigma(self, cand: np.ndarray, point: np.ndarray):
         from cad.kinematics.delta import STATUS_OK, DeltaArrays, jacobian_kernel

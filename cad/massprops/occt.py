@@ -6,7 +6,7 @@ module of ``cad.massprops`` that imports OCP (issue 23; ``tests/architecture/tes
 
 Shapes are in millimetres. OCCT integrates with unit density in model units:
 ``Mass()`` is the volume in mm^3, ``CentreOfMass()`` is in mm, ``MatrixOfInertia()``
-is in mm^5. This module converts to SI exactly once (:func:`_to_si`):
+is in mm^5. This module converts to SI exactly once (:func:`to_si`):
 volume x 1e-9 -> m^3, COM x 1e-3 -> m, inertia x 1e-15 -> m^5, then x density.
 
 Measured facts about ``GProp_GProps.MatrixOfInertia()`` (OCCT 7.9.3, checked by
@@ -242,7 +242,7 @@ def _far_centre(s, factor: float | None = None):
     return c
 
 
-def _to_si(vol_mm3: float, com_mm, inertia_mm5, density_kg_m3: float) -> MassProps:
+def to_si(vol_mm3: float, com_mm, inertia_mm5, density_kg_m3: float) -> MassProps:
     """The single mm -> SI conversion of unit-density OCCT integrals, times density."""
     rho = float(density_kg_m3)
     if not np.isfinite(rho) or rho <= 0:
@@ -275,7 +275,7 @@ def solid_mass_props(
     if check:
         check_valid(shape)
     vol, com, inertia = volume_props_mm(shape, eps=eps)
-    return _to_si(vol, com, inertia, density_kg_m3)
+    return to_si(vol, com, inertia, density_kg_m3)
 
 
 def volume_mm3(shape) -> float:
@@ -313,7 +313,7 @@ def cached_solid_mass_props(shape, density_kg_m3: float) -> MassProps:
     the density is applied afterwards (a material change integrates nothing).
     """
     vol, com, inertia = cached_unit_props(shape)
-    return _to_si(vol, com, inertia, density_kg_m3)
+    return to_si(vol, com, inertia, density_kg_m3)
 
 
 def cached_unit_props(shape):

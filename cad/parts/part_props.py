@@ -56,12 +56,12 @@ def _code_version() -> str:
 
 
 def _entry_path(key: str) -> Path | None:
-    from cad.parts.shape_cache import _versions, cache_dir
+    from cad.parts.shape_cache import library_versions, cache_dir
 
     d = cache_dir()
     if d is None:
         return None
-    name = hashlib.sha256(f"props:{_code_version()}|{key}|{_versions()}".encode()).hexdigest()[:32]
+    name = hashlib.sha256(f"props:{_code_version()}|{key}|{library_versions()}".encode()).hexdigest()[:32]
     return d / PROPS_DIR / name[:2] / f"{name}.json"
 
 
@@ -154,11 +154,11 @@ def unit_volume_props(shape) -> tuple[float, np.ndarray, np.ndarray]:
 
 def part_mass_props(shape, density_kg_m3: float):
     """:class:`cad.massprops.props.MassProps` (SI, part frame) of a part solid of uniform
-    density: :func:`unit_volume_props` converted by :func:`cad.massprops.occt._to_si`."""
-    from cad.massprops.occt import _to_si
+    density: :func:`unit_volume_props` converted by :func:`cad.massprops.occt.to_si`."""
+    from cad.massprops.occt import to_si
 
     vol, com, inertia = unit_volume_props(shape)
-    return _to_si(vol, com, inertia, density_kg_m3)
+    return to_si(vol, com, inertia, density_kg_m3)
 
 
 def clear_memo() -> None:

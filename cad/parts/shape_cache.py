@@ -39,7 +39,7 @@ def cache_dir() -> Path | None:
 
 
 @functools.cache
-def _versions() -> str:
+def library_versions() -> str:
     out = []
     for pkg in ("bd_warehouse", "build123d", "cadquery-ocp", "cadquery-ocp-novtk"):
         try:
@@ -107,7 +107,7 @@ def entry_path(key: str) -> Path | None:
     d = cache_dir()
     if d is None:
         return None
-    return d / (hashlib.sha256(f"{key}|{_versions()}".encode()).hexdigest()[:32] + ".brep")
+    return d / (hashlib.sha256(f"{key}|{library_versions()}".encode()).hexdigest()[:32] + ".brep")
 
 
 def read_cached_shape(key: str):

@@ -196,7 +196,7 @@ def bom_rows(instances, props: dict, formats=None) -> list[dict]:
 
     ``formats`` (the build's ``--formats``; None: as if every format were written): without
     ``dxf`` the nested sheets are planned but not written, and the rows that name ``sheets/``
-    say so (:func:`_unwritten_sheets`)."""
+    say so (:func:`unwritten_sheets`)."""
     from cad.export.order import bought_designation, stock
 
     q = quantities(instances)
@@ -234,7 +234,7 @@ def bom_rows(instances, props: dict, formats=None) -> list[dict]:
                 r["stock"] = f"{NESTED_STOCK}{where[r['part']]} (sheet stock line)"
         rows += sheet_rows(sheets)
         if formats is not None and "dxf" not in formats:
-            rows = [_unwritten_sheets(r) for r in rows]
+            rows = [unwritten_sheets(r) for r in rows]
     return rows
 
 
@@ -242,7 +242,7 @@ def bom_rows(instances, props: dict, formats=None) -> list[dict]:
 SHEETS_NOT_WRITTEN = "sheets/: not written, add dxf to --formats"
 
 
-def _unwritten_sheets(row: dict) -> dict:
+def unwritten_sheets(row: dict) -> dict:
     """``row`` with its mentions of the ``sheets/`` folder (``nested: sheets/``,
     ``(sheets/)``) saying that folder was not written."""
     out = dict(row)
@@ -337,7 +337,7 @@ def write_part_drawings(instances, out_dir: Path, design: str, holes=(),
     def process(k) -> str:
         if sheets_written or not k.process:
             return k.process
-        return _unwritten_sheets({"description": "", "process": k.process})["process"]
+        return unwritten_sheets({"description": "", "process": k.process})["process"]
 
     q = quantities(instances)
     parts = [

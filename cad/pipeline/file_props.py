@@ -162,7 +162,7 @@ def _step_props(path: Path, rho: float, mat_name: str | None, defaulted: bool):
     if materials is not None and defaulted:
         from cad.data.materials import get_material
 
-        parts = [occt._to_si(*i, get_material(materials[n]).density_kg_m3)
+        parts = [occt.to_si(*i, get_material(materials[n]).density_kg_m3)
                  for n, i in zip(names, integrals, strict=True)]
         props = combine(parts)
         vol = sum(i[0] for i in integrals)
@@ -178,7 +178,7 @@ def _step_props(path: Path, rho: float, mat_name: str | None, defaulted: bool):
              "file names no materials per solid (the mass is right only if every part is of "
              "this material)")
     v, com, inertia = occt.sum_volume_props(integrals)
-    return occt._to_si(v, com, inertia, rho), v, info
+    return occt.to_si(v, com, inertia, rho), v, info
 
 
 def _mesh_props(mesh, v, f, rho: float, name: str):

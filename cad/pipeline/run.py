@@ -263,7 +263,7 @@ def _mass_properties(stages: Stages, b: Build, step) -> None:
         b.files.append("bom.csv")
 
 
-def _timed(fn: Callable[[], Any]) -> Callable[[], tuple[Any, float]]:
+def timed_call(fn: Callable[[], Any]) -> Callable[[], tuple[Any, float]]:
     """``fn`` returning ``(its value, its wall time in s)``."""
     def run():
         t = time.perf_counter()
@@ -284,7 +284,7 @@ def _start_children(stages: Stages, b: Build, further, files: bool = True) -> No
     more = further(b) if further is not None else {}
     b.further |= set(more)
     for name, fn in {**todo, **more}.items():
-        b.tasks[name] = forked.start(_timed(fn), name)
+        b.tasks[name] = forked.start(timed_call(fn), name)
 
 
 def _checks_and_files(stages: Stages, b: Build, step) -> tuple[list[str], bytes]:

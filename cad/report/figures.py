@@ -8,7 +8,7 @@ Matplotlib stamps SVGs with a date and random element ids and PNGs with its vers
 
 from __future__ import annotations
 
-from cad.io.figures import _NO_STAMPS, save_figure  # noqa: F401 - the writer lives in cad.io
+from cad.io.figures import NO_STAMPS, save_figure  # noqa: F401 - the writer lives in cad.io
 
 #: Axes title height (axes fraction) given explicitly: with matplotlib's automatic one
 #: (``axes.titley`` None) every draw measures the tick labels' extents to place the

@@ -185,7 +185,7 @@ def analyse(design, lumped: list[Lumped], bar_mass_kg: dict, method: str = "beam
             M11_max_kg: float | None = None, targets=None, poses: int = POSES) -> dict:
     """The ``structure`` report (module docstring). ``targets``: the design's Target tuple
     (``first_mode_Hz`` min, ``max_stress_MPa`` max override the defaults, :func:`limits`)."""
-    from cad.assembly.pose import planar_transforms
+    from cad.families.fourbar.pose import planar_transforms
     from cad.kinematics.metrics import path_frame
     from cad.structure.bearings import bearing_compliance
     from cad.structure.elastic import bar_elastic, get_elastic

@@ -106,7 +106,7 @@ def current_value(design, path: str) -> Any:
 
 def layer_order_of(design) -> list[str]:
     """The design's layer order (bottom to top): ``[parts] layer_order`` or the planner's
-    automatic choice (:func:`cad.assembly.layers.choose_layers`, numpy only)."""
+    automatic choice (:func:`cad.families.fourbar.layers.choose_layers`, numpy only)."""
     if design.parts.layer_order is not None:
         return list(design.parts.layer_order)
     from cad.studies.codesign.cheap import layer_plan

@@ -29,9 +29,9 @@ H_FLAG = ",".join(f"{k}={v}" for k, v in H.items())
 
 
 def _cli_commands() -> set[str]:
-    from cad.cli.app import _register_commands, app
+    from cad.cli.app import register_commands, app
 
-    _register_commands()
+    register_commands()
     return {c.name for c in app.registered_commands}
 
 

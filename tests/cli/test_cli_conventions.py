@@ -6,7 +6,7 @@ import io
 import tomllib
 
 from cad import __version__
-from cad.cli.cmd_massprops import _g
+from cad.cli.cmd_massprops import format_g
 from cad.cli.progress import stages
 from tests.cli_helpers import hapticad
 
@@ -28,9 +28,9 @@ def test_progress_lines_off_a_terminal():
 
 
 def test_massprops_text_rounding():
-    assert _g([8589.709636763706, 0.023192216019262007]) == "8589.71  0.0231922"
+    assert format_g([8589.709636763706, 0.023192216019262007]) == "8589.71  0.0231922"
     # round-off below 1e-9 of the group's scale is printed as 0, not as 1e-19
-    assert _g([1.2172e-06, -1.58e-19, 2.59e-08]) == "1.2172e-06  0  2.59e-08"
+    assert format_g([1.2172e-06, -1.58e-19, 2.59e-08]) == "1.2172e-06  0  2.59e-08"
 
 
 def test_synth_out_provenance_and_source_targets(tmp_path):
@@ -168,9 +168,9 @@ def test_help_texts_are_consistent():
     choice list, ending with a period), and no help loses text to markup ("[parts]")."""
     import typer
 
-    from cad.cli.app import _register_commands, app
+    from cad.cli.app import register_commands, app
 
-    _register_commands()
+    register_commands()
     for name, cmd in typer.main.get_command(app).commands.items():
         for p in cmd.params:
             h = getattr(p, "help", None)

@@ -16,10 +16,10 @@ import pytest
 from build123d import Box, Cylinder, Pos, export_step, export_stl
 from typer.testing import CliRunner
 
-from cad.cli.app import _register_commands, app
+from cad.cli.app import register_commands, app
 from cad.data.materials import MATERIALS
 
-_register_commands()
+register_commands()
 runner = CliRunner()
 
 A, B, C = 10.0, 20.0, 30.0

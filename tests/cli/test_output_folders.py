@@ -230,11 +230,11 @@ def test_powermouse_chart_is_the_same_bytes_every_time(tmp_path):
     import xml.etree.ElementTree as ET
 
     from cad.design import load_design
-    from cad.families.powermouse.build import _fig8_chart
+    from cad.families.powermouse.build import fig8_chart
 
     d = load_design(ROOT / "designs" / "powermouse.toml")
     for sub in ("a", "b"):
-        _fig8_chart(d, 5.0, tmp_path / sub)
+        fig8_chart(d, 5.0, tmp_path / sub)
     for name in ("actuator_fig8.svg", "actuator_fig8.png"):
         assert (tmp_path / "a" / name).read_bytes() == (tmp_path / "b" / name).read_bytes(), name
     root = ET.parse(tmp_path / "a" / "actuator_fig8.svg").getroot()

@@ -11,7 +11,7 @@ from pathlib import Path
 import pytest
 import typer
 
-from cad.cli.app import _register_commands, app
+from cad.cli.app import register_commands, app
 from cad.cli.families import COMMAND_FAMILIES, NO_DESIGN_COMMANDS, markdown_table
 
 README = Path(__file__).resolve().parents[2] / "README.md"
@@ -23,7 +23,7 @@ DESIGN_PAGE = DOCS / "design-files.md"  # the design-file key tables
 
 
 def _commands() -> dict:
-    _register_commands()
+    register_commands()
     return typer.main.get_command(app).commands
 
 
@@ -177,7 +177,7 @@ def test_schema_tables_list_every_key_the_parsers_accept():
     """[parts] of four-bars and pantographs, the pen, the PowerMouse and the pantograph targets."""
     from dataclasses import fields
 
-    from cad.design.pantograph import _ACT_KEYS, _MECH_KEYS, _WS_KEYS, OPTIMIZABLE, PantographParts
+    from cad.design.pantograph import ACT_KEYS, MECH_KEYS, WS_KEYS, OPTIMIZABLE, PantographParts
     from cad.design.parts import ALLOWED_KEYS
     from cad.design.targets import PANTOGRAPH_TARGET_KEYS
 
@@ -187,7 +187,7 @@ def test_schema_tables_list_every_key_the_parsers_accept():
     panto = _section("## Pantographs and the PowerMouse")
     for f in fields(PantographParts):
         assert f"`{f.name}`" in panto, f.name
-    for table in (_MECH_KEYS, _WS_KEYS, _ACT_KEYS, OPTIMIZABLE):
+    for table in (MECH_KEYS, WS_KEYS, ACT_KEYS, OPTIMIZABLE):
         for keys in table.values():
             for key in keys:
                 assert key == "family" or f"{key}`" in panto, key

@@ -56,7 +56,7 @@ def test_hoeken_frame_does_not_depend_on_node_numbering():
     """The bundled Hoeken's frame at mid-stroke, its nodes renumbered at random: same first
     mode and handle compliance to 1e-9 (penalty ties: 3e-5 apart)."""
     import cad
-    from cad.assembly.pose import planar_transforms
+    from cad.families.fourbar.pose import planar_transforms
     from cad.structure.device import build_frame
 
     d = cad.load_design(ROOT / "designs" / "hoeken.toml")

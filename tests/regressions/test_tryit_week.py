@@ -102,7 +102,7 @@ def test_band_wider_than_the_thread_window_is_not_printed_as_a_range(tmp_path):
     """5 mm cast acrylic (5 +- (0.4 + 0.1 x 5) = 4.1..5.9 mm, ISO 7823-1) on the maxon's face
     holes (2.5 mm minimum engagement, 3.5 mm of thread): L >= 5.9 + 2.5 = 8.4 and L <= 4.1 +
     3.5 = 7.6 -- no length; the warning says so instead of "needs L in 8.4..7.6 mm"."""
-    from cad.assembly.mechanism import check_plate_screws
+    from cad.families.fourbar.mechanism import check_plate_screws
     from cad.design import bounds
 
     d, _ = _load(_laser(tmp_path, motor_mount_material='"acrylic-cast"'))

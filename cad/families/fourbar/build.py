@@ -108,7 +108,7 @@ def apparent_mass(design, H) -> dict:
     return apparent_mass_summary(apparent_mass_curves(design, H)["M_kg"])
 
 
-def _joint_axes(J) -> dict:
+def joint_axes(J) -> dict:
     return {
         ("crank", "ground"): [(J["crank"]["A1"], J["ground"]["A1"])],
         ("coupler", "crank"): [(J["coupler"]["A2"], J["crank"]["A2"])],
@@ -198,7 +198,7 @@ def _fidelity_costs(design, model, mp: dict, fidelity: str) -> dict:
     if model.extra["handle_script"] is not None or design.parts.handle_fillet_mm <= 0:
         out["handle_round"] = "not applicable"
         return out
-    from cad.assembly.sheet_tolerance import handle_floor_mm
+    from cad.families.fourbar.sheet_tolerance import handle_floor_mm
     from cad.parts import PartKind
     from cad.parts.handle import knob_shape
     from cad.pipeline import family
@@ -230,7 +230,7 @@ def interference(design, model, fidelity: str, allow_interference: bool, same_bo
     InterferenceError unless ``allow_interference``. Returns the
     :class:`cad.assembly.interference.InterferenceReport`."""
     from cad.assembly import interference as itf
-    from cad.assembly.pose import body_transforms
+    from cad.families.fourbar.pose import body_transforms
 
     parts, fb = design.parts, design.linkage
 
@@ -240,7 +240,7 @@ def interference(design, model, fidelity: str, allow_interference: bool, same_bo
     rep = itf.check_model(
         model, parts.clearance_min_mm,
         mesh_tol_mm=itf.SWEEP_MESH_TOL_MM if fidelity != "preview" else PREVIEW_STL_TOL_MM,
-        exact=fidelity != "preview", contact_ok=False, joints=_joint_axes(model.extra["joints_mm"]),
+        exact=fidelity != "preview", contact_ok=False, joints=joint_axes(model.extra["joints_mm"]),
         phi1_rad=model.extra["phi1_rad"], tf_at=tf_at, same_body=same_body)
     if not allow_interference:
         itf.raise_on_collision(rep, parts.clearance_min_mm)
@@ -271,7 +271,7 @@ def _stages(phi1_deg: float | None, allow_interference: bool):
     its children (the same-body check beside the mass properties; the preview and the
     paper's plots, which need H, beside the sweep), its dynamics (H, M, structure), the
     encoder row, its report."""
-    from cad.assembly.pose import body_transforms
+    from cad.families.fourbar.pose import body_transforms
     from cad.families.fourbar.layout import assemble
     from cad.pipeline.run import Stages
     from cad.pipeline.views import STROKE_POSES
@@ -425,7 +425,7 @@ def _sheets(b, report: dict) -> None:
     model = b.model
     if not family.laser_kinds(model.instances):
         return
-    from cad.assembly.sheet_tolerance import tolerance_report
+    from cad.families.fourbar.sheet_tolerance import tolerance_report
     from cad.export.nesting import plan_sheets, sheets_report
 
     report["sheets"] = sheets_report(plan_sheets(model.instances), "dxf" in b.formats)

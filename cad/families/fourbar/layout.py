@@ -6,10 +6,10 @@
 1. kinematics (no CAD): the crank angles of the sweep (:func:`sweep_angles`), the link
    transforms and the joint positions in each link's frame
    (:mod:`cad.kinematics.linkgeom`);
-2. z-layers and joint stacks (:func:`cad.assembly.layers.choose_layers`, through
+2. z-layers and joint stacks (:func:`cad.families.fourbar.layers.choose_layers`, through
    :func:`plan_layers` for the refusal with a hint);
 3. parts placed on the bodies ground / crank / coupler / rocker
-   (:func:`cad.assembly.mechanism.build_assembly`), the handle from a user script when
+   (:func:`cad.families.fourbar.mechanism.build_assembly`), the handle from a user script when
    ``parts.handle_script`` is set;
 4. the bodies at the exported crank angle (``tf_world_body``: mid-stroke, or ``phi1_deg``)
    and over the crank angles the interference sweep uses (``motion``, labelled
@@ -66,20 +66,20 @@ def exported_phi1_rad(design, phi1_deg: float | None = None) -> float:
 
 def check_layout(design, fidelity: str, allow_interference: bool) -> None:
     """Refuse, before any CAD import, a hub wall no ISO 4026 set screw fits
-    (:func:`cad.assembly.layers.hub_set_screw`, DesignError naming ``parts.hub_diameter_mm``),
-    plates no catalog cap screw fits (:func:`cad.assembly.mechanism.check_plate_screws`,
+    (:func:`cad.families.fourbar.layers.hub_set_screw`, DesignError naming ``parts.hub_diameter_mm``),
+    plates no catalog cap screw fits (:func:`cad.families.fourbar.mechanism.check_plate_screws`,
     naming the plate's field), and a design whose joint hardware has no clear layer order
     (:func:`plan_layers`) or whose jointed bars sit closer than ``parts.clearance_min_mm``
     (:func:`check_joint_gaps`); the last two skipped with ``allow_interference``: the build
     then exports the clash and reports it)."""
-    from cad.assembly.layers import hub_set_screw
-    from cad.assembly.mechanism import check_plate_screws
+    from cad.families.fourbar.layers import hub_set_screw
+    from cad.families.fourbar.mechanism import check_plate_screws
 
     hub_set_screw(design.parts)
     check_plate_screws(design.parts)
     if allow_interference:
         return
-    from cad.assembly.pose import planar_transforms
+    from cad.families.fourbar.pose import planar_transforms
     from cad.kinematics.linkgeom import link_joints_mm
 
     n = n_poses(design.parts, fidelity)
@@ -97,7 +97,7 @@ def check_joint_gaps(plan, parts) -> None:
     (:func:`cad.assembly.interference.raise_on_collision`) would refuse the build at every
     pose, after the CAD work (``layer_gap_mm = 0.002`` typed in metres).
     """
-    from cad.assembly.layers import JOINTS
+    from cad.families.fourbar.layers import JOINTS
 
     level = {name: i for i, name in enumerate(plan.order)}
     for joint, (a, b) in JOINTS.items():
@@ -115,10 +115,10 @@ def check_joint_gaps(plan, parts) -> None:
 
 
 def plan_layers(design, J, planar, n_poses: int, strict: bool):
-    """:func:`cad.assembly.layers.choose_layers`; when ``strict`` and no layer order is clear,
+    """:func:`cad.families.fourbar.layers.choose_layers`; when ``strict`` and no layer order is clear,
     the refusal (before any CAD import) names the joint and parts and, for a family scaled
     by ``stroke_mm``, the smallest stroke whose layout is clear (the crank length with it)."""
-    from cad.assembly.layers import NoLayout, choose_layers, clearing_stroke_mm
+    from cad.families.fourbar.layers import NoLayout, choose_layers, clearing_stroke_mm
 
     try:
         return choose_layers(J, design.parts, planar, strict=strict)
@@ -140,18 +140,18 @@ def plan_layers(design, J, planar, n_poses: int, strict: bool):
 
 
 def _parts(design, J, plan, footprint, fidelity: str, deferred: bool, script):
-    """:class:`cad.assembly.mechanism.Assembly` of the design (``script``: the user handle
+    """:class:`cad.families.fourbar.mechanism.Assembly` of the design (``script``: the user handle
     script's path or None)."""
     import contextlib
 
-    from cad.assembly.mechanism import build_assembly
+    from cad.families.fourbar.mechanism import build_assembly
     from cad.parts.handle import handle_params, user_handle_shape
     from cad.parts.part_cache import deferred_shapes
 
     parts = design.parts
     user_handle = None
     if script is not None:
-        from cad.assembly.sheet_tolerance import handle_floor_mm
+        from cad.families.fourbar.sheet_tolerance import handle_floor_mm
 
         floor = handle_floor_mm(plan, parts)
         user_handle = user_handle_shape(script, handle_params(parts, floor))
@@ -193,9 +193,9 @@ def assemble(
     Raises DesignError: ``--phi1-deg`` outside the crank range, no layer order when
     ``strict`` (:func:`plan_layers`), a fastener that cannot be sized, a bad user handle.
     """
-    from cad.assembly.layers import footprint_bbox_mm
+    from cad.families.fourbar.layers import footprint_bbox_mm
     from cad.assembly.model import AssemblyModel
-    from cad.assembly.pose import body_transforms, planar_transforms
+    from cad.families.fourbar.pose import body_transforms, planar_transforms
     from cad.kinematics.linkgeom import link_joints_mm
     from cad.parts.handle import resolve_script
 

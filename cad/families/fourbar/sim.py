@@ -43,7 +43,7 @@ def sim_model(design, asm, link_props: dict, Jm_kg_m2: float, motor, phi1_rad: f
     ``asm``: the build's :class:`cad.assembly.model.AssemblyModel`; ``link_props``: MassProps
     per body in the link frame (SI); mesh files are ``parts/<kind>.stl`` of made parts.
     """
-    from cad.assembly.pose import body_transforms
+    from cad.families.fourbar.pose import body_transforms
     from cad.kinematics.fourbar import solve
 
     fb = design.linkage

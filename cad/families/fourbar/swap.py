@@ -102,8 +102,8 @@ def swap(design, family: str, target: Path, name: str | None = None) -> dict:
     carried over). Raises DesignError (``--to``, the layout check's one line)."""
     import numpy as np
 
-    from cad.assembly.layers import choose_layers
-    from cad.assembly.pose import planar_transforms
+    from cad.families.fourbar.layers import choose_layers
+    from cad.families.fourbar.pose import planar_transforms
     from cad.kinematics.linkgeom import link_joints_mm
 
     raw = swap_raw(design, family, target)

@@ -70,13 +70,13 @@ from cad.families import SHARED_CODE_DEPS
 from cad.families.pantograph.clearances import (  # noqa: F401
     CLEARANCE_THETA_SAMPLES,
     MIN_CLEARANCE_MM,
-    _poses,
-    _pt_seg,
+    clearance_poses,
+    pt_seg,
     clearances,
     seg_seg_distance,
 )
-from cad.families.pantograph.dynamics import _effective_mass, _planar  # noqa: F401
-from cad.families.pantograph.kinds import _kinds  # noqa: F401
+from cad.families.pantograph.dynamics import effective_mass, planar_props  # noqa: F401
+from cad.families.pantograph.kinds import part_kinds  # noqa: F401
 from cad.families.pantograph.layout import (  # noqa: F401
     KNOB_BORE_DEPTH_MM,
     MIN_ENGAGEMENT_D,
@@ -85,12 +85,12 @@ from cad.families.pantograph.layout import (  # noqa: F401
     POST_SCREW,
     POST_TAP_DEPTH_MM,
     SET_SCREW_SIZES,
-    _flip,
-    _leg_xy,
-    _lower_five_bar,
-    _rz,
-    _square,
-    _twin,
+    flip_matrix,
+    leg_xy,
+    lower_five_bar,
+    rz,
+    workspace_square,
+    is_twin,
     home_xy_mm,
     layout,
     screw_plan,
@@ -109,15 +109,15 @@ from cad.families.pantograph.motion import (  # noqa: F401
     stroke_poses,
 )
 from cad.families.pantograph.placement import (  # noqa: F401
-    _ground,
-    _journals,
-    _link_parts,
-    _motor_station,
-    _screw,
-    _set_screw,
+    ground_parts,
+    journal_parts,
+    link_parts,
+    motor_station,
+    place_screw,
+    place_set_screw,
     assembly,
 )
-from cad.families.pantograph.report import PAPER_TABLE1, _md_rows, _report  # noqa: F401
+from cad.families.pantograph.report import PAPER_TABLE1, report_md_rows, build_report  # noqa: F401
 
 #: Source the output depends on (build cache key).
 CODE_DEPS = SHARED_CODE_DEPS + (
@@ -211,13 +211,13 @@ def _write_sim(design, out_dir, formats, instances, bodies, lay, home) -> list[s
         "distal_mm": design.params["distal_mm"],
     }
     parts = {
-        f"proximal_{s}": [(k.name, tf) for k, tf in _link_parts("proximal", s, K, lay2, p, pin)]
+        f"proximal_{s}": [(k.name, tf) for k, tf in link_parts("proximal", s, K, lay2, p, pin)]
         for s, pin in (("left", "pin_short"), ("right", "pin_long"))
     }
-    parts["distal"] = [(k.name, tf) for k, tf in _link_parts("distal", "left", K, lay2, p, "")]
+    parts["distal"] = [(k.name, tf) for k, tf in link_parts("distal", "left", K, lay2, p, "")]
     parts["crankshaft"] = [
         ("crankshaft", np.eye(4)),
-        ("knob", _rz(0.0, 0.0, 0.0, lay["knob_bottom_z_mm"] - lay["web_z_mm"])),
+        ("knob", rz(0.0, 0.0, 0.0, lay["knob_bottom_z_mm"] - lay["web_z_mm"])),
     ]
     ground = [(i.name, i.kind.name, i.tf_body_part) for i in instances if i.body == "ground"]
     made = {k.name for k in K.values() if k.made and k.listed}
@@ -260,16 +260,16 @@ def _prepare(design) -> tuple[dict, dict]:
 
 
 def _report_of(b) -> dict:
-    """The family's report dict (:func:`cad.families.pantograph.report._report`)."""
+    """The family's report dict (:func:`cad.families.pantograph.report.build_report`)."""
     lay, clr = b.pre
     eff, eff_bare = b.dyn
-    return _report(b.design, lay, clr, b.bodies, eff, eff_bare, b.itf, b.bom,
+    return build_report(b.design, lay, clr, b.bodies, eff, eff_bare, b.itf, b.bom,
                    b.model.extra["home_mm"], b.fidelity, b.low)
 
 
 def _sim_files(b) -> list[str]:
     """MJCF / URDF of the twin pantograph when asked (:func:`_write_sim`)."""
-    if not _twin(b.design):
+    if not is_twin(b.design):
         return []
     return _write_sim(b.design, b.out_dir, b.formats, b.instances, b.bodies, b.pre[0],
                       b.model.extra["home_mm"])
@@ -294,11 +294,11 @@ def _stages():
 
     return Stages(
         check_options=check_options, assemble=assemble, interference=interference,
-        report=_report_of, md_rows=_md_rows, stroke=stroke_poses, preview_title=_title,
+        report=_report_of, md_rows=report_md_rows, stroke=stroke_poses, preview_title=_title,
         motion_label="workspace", prepare=_prepare, prepare_label="layout and clearances",
-        dynamics=lambda b: _effective_mass(b.design, b.bodies, b.model.extra["home_mm"]),
+        dynamics=lambda b: effective_mass(b.design, b.bodies, b.model.extra["home_mm"]),
         bench_z_mm=lambda b: b.pre[0]["bench_z_mm"],
-        marks=lambda b: [("workspace", _square(b.design.workspace))],
+        marks=lambda b: [("workspace", workspace_square(b.design.workspace))],
         more_files=_sim_files, assembly=lambda design: (None, ASSEMBLY_CHECKS),
         no_solid_rows=_encoder_rows)
 

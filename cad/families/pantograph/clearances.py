@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 
 from cad.errors import InterferenceError
-from cad.families.pantograph.layout import _leg_xy, _lower_five_bar, _twin, layout
+from cad.families.pantograph.layout import leg_xy, lower_five_bar, is_twin, layout
 
 #: Gap between moving parts in the same layer that covers the machined clevises' tolerance
 #: stack (mm). Formerly the refusal threshold of these 2-D figures; the build now refuses
@@ -44,17 +44,17 @@ def seg_seg_distance(p1, q1, p2, q2) -> np.ndarray:
     return np.linalg.norm(c1 - c2, axis=-1)
 
 
-def _pt_seg(pt, p, q):
+def pt_seg(pt, p, q):
     return seg_seg_distance(pt, pt, p, q)
 
 
-def _poses(design):
+def clearance_poses(design):
     """Workspace samples (N, 2 or 3) and the five-bar poses of each group there."""
     from cad.kinematics import fivebar as fb5
     from cad.kinematics import twin_pantograph as tw
 
     ws = design.workspace
-    if _twin(design):
+    if is_twin(design):
         X = tw.workspace_grid(
             ws["center_mm"], ws["side_mm"], max(ws["grid"], 5), CLEARANCE_THETA_SAMPLES
         )
@@ -87,8 +87,8 @@ def clearances(design, lay: dict | None = None) -> dict:
 
     lay = lay or layout(design)
     p = design.parts
-    fb = _lower_five_bar(design)
-    X, groups = _poses(design)
+    fb = lower_five_bar(design)
+    X, groups = clearance_poses(design)
     rc = p.clevis_width_mm / 2
     rpin = get_bearing(p.bearing).d_mm / 2
     rpost = p.post_diameter_mm / 2
@@ -100,15 +100,15 @@ def clearances(design, lay: dict | None = None) -> dict:
         checks[key] = np.minimum(checks[key], d) if key in checks else d
 
     head = get_cap_screw(base.LEG_SCREW, "parts").dk_mm / 2
-    for x, y in _leg_xy(lay):
+    for x, y in leg_xy(lay):
         leg = np.array([x, y])
-        fp = groups["crank" if _twin(design) else "lower"]
+        fp = groups["crank" if is_twin(design) else "lower"]
         for C, B in ((fp.C_left_mm, B1), (fp.C_right_mm, B2)):
-            worst("L0 proximal links vs leg screw heads", _pt_seg(leg, B, C) - rc - head)
+            worst("L0 proximal links vs leg screw heads", pt_seg(leg, B, C) - rc - head)
     for grp, fp in groups.items():
         C1, C2, E = fp.C_left_mm, fp.C_right_mm, fp.E_mm
         checks[f"{grp}: proximal L vs proximal R"] = seg_seg_distance(B1, C1, B2, C2) - 2 * rc
-        checks[f"{grp}: left distal vs right elbow pin"] = _pt_seg(C2, C1, E) - rc - rpin
+        checks[f"{grp}: left distal vs right elbow pin"] = pt_seg(C2, C1, E) - rc - rpin
         for x, y in lay.get("posts_xy_mm", ()):
             post = np.array([x, y])
             for name, (s0, s1) in {
@@ -117,12 +117,12 @@ def clearances(design, lay: dict | None = None) -> dict:
                 "distal L": (C1, E),
                 "distal R": (C2, E),
             }.items():
-                worst(f"{grp}: {name} vs posts", _pt_seg(post, s0, s1) - rc - rpost)
-    if _twin(design):
+                worst(f"{grp}: {name} vs posts", pt_seg(post, s0, s1) - rc - rpost)
+    if is_twin(design):
         kn = groups["knob"]
         Ek = kn.E_mm
         checks["knob: main journal vs proximal links (U0)"] = (
-            np.minimum(_pt_seg(Ek, B1, kn.C_left_mm), _pt_seg(Ek, B2, kn.C_right_mm)) - rc - rpin
+            np.minimum(pt_seg(Ek, B1, kn.C_left_mm), pt_seg(Ek, B2, kn.C_right_mm)) - rc - rpin
         )
         # knob (above U0) against the bridge plate, in plan
         bx, by = lay["bridge_x_mm"], lay["bridge_y_mm"]

@@ -7,10 +7,10 @@ import math
 
 import numpy as np
 
-from cad.families.pantograph.layout import _twin
+from cad.families.pantograph.layout import is_twin
 
 
-def _planar(mp):
+def planar_props(mp):
     """MassProps (3-D, link frame) -> LinkMass (mass, COM xy, Izz about the COM)."""
     from cad.kinematics.fivebar import LinkMass
 
@@ -21,7 +21,7 @@ def _planar(mp):
     )
 
 
-def _effective_mass(design, bodies: dict, home: np.ndarray) -> tuple[dict, dict | None]:
+def effective_mass(design, bodies: dict, home: np.ndarray) -> tuple[dict, dict | None]:
     """Effective mass at home (with and, for the mouse, without rotor inertia)."""
     from cad.device import resolve_device
     from cad.kinematics import fivebar as fb5
@@ -30,11 +30,11 @@ def _effective_mass(design, bodies: dict, home: np.ndarray) -> tuple[dict, dict 
     rotor = resolve_device(design).motor.rotor_inertia_kg_m2  # the motors the BOM orders
 
     def fbm(pre: str, jm: float):
-        d = [_planar(bodies[f"{pre}distal_{s}"]) for s in ("left", "right")]
-        pr = [_planar(bodies[f"{pre}proximal_{s}"]) for s in ("left", "right")]
+        d = [planar_props(bodies[f"{pre}distal_{s}"]) for s in ("left", "right")]
+        pr = [planar_props(bodies[f"{pre}proximal_{s}"]) for s in ("left", "right")]
         return fb5.FiveBarMass(pr[0], pr[1], d[0], d[1], jm)
 
-    if not _twin(design):
+    if not is_twin(design):
         M = fb5.mass_matrix_kg(design.mechanism, home[None, :], fbm("", rotor))[0]
         M = M + bodies["handle"].mass_kg * np.eye(2)  # the handle translates with E
         return {

@@ -9,13 +9,13 @@ from cad.families.pantograph.layout import (
     PLAIN_KNOB_DIAMETER_MM,
     POST_SCREW,
     POST_TAP_DEPTH_MM,
-    _leg_xy,
-    _lower_five_bar,
-    _twin,
+    leg_xy,
+    lower_five_bar,
+    is_twin,
 )
 
 
-def _kinds(design, lay: dict, fidelity: str) -> dict:
+def part_kinds(design, lay: dict, fidelity: str) -> dict:
     """Every distinct part (:class:`cad.parts.PartKind`) of the design, by name (in the
     order the part groups below add them)."""
     from types import SimpleNamespace
@@ -24,10 +24,10 @@ def _kinds(design, lay: dict, fidelity: str) -> dict:
     from cad.parts import PartKind
 
     p = design.parts
-    fb = _lower_five_bar(design)
+    fb = lower_five_bar(design)
     c = SimpleNamespace(design=design, p=p, lay=lay, brg=get_bearing(p.bearing),
                         mot=get_motor(p.motor), B=[fb.base_left_mm, fb.base_right_mm],
-                        twin=_twin(design), fidelity=fidelity)
+                        twin=is_twin(design), fidelity=fidelity)
     K: dict[str, PartKind] = {}
 
     def add(name, shape, material, made, description, process, **kw):
@@ -235,7 +235,7 @@ def _plate_holes(c) -> tuple:
                   mot.bolt_circle_mm + head_d + 2 * pp.OPENING_MARGIN_MM)
     openings = [(bx, by, opening) for bx, by in B]
     ms = pm.MOUNT_SCREW.split("-")[0]
-    leg_holes = [(x, y, clearance_hole_mm(base.LEG_SCREW)) for x, y in _leg_xy(lay)]
+    leg_holes = [(x, y, clearance_hole_mm(base.LEG_SCREW)) for x, y in leg_xy(lay)]
     post_holes = [(x, y, clearance_hole_mm(POST_SCREW)) for x, y in lay.get("posts_xy_mm", ())]
     return openings, mount_holes, post_holes, leg_holes, ms, pt
 

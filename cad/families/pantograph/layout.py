@@ -38,12 +38,12 @@ PLAIN_KNOB_DIAMETER_MM = 20.0
 MIN_ENGAGEMENT_D = 1.5
 
 
-def _twin(design) -> bool:
+def is_twin(design) -> bool:
     return design.family == "twin-pantograph"
 
 
-def _lower_five_bar(design):
-    return design.mechanism.crank if _twin(design) else design.mechanism
+def lower_five_bar(design):
+    return design.mechanism.crank if is_twin(design) else design.mechanism
 
 
 def home_xy_mm(design) -> np.ndarray:
@@ -76,7 +76,7 @@ def screw_plan(design) -> dict[str, dict]:
         "motor": (m.bolt_size, mt, m.bolt_thread_depth_mm, face, "motor face to mount plate",
                   "parts.motor_mount_thickness_mm", ("motor_mount",)),
     }
-    if _twin(design):
+    if is_twin(design):
         groups["post"] = (POST_SCREW, pt, POST_TAP_DEPTH_MM - fs.TAP_LEADOUT_MM, None,
                           "bridge post to base/bridge plate", "parts.plate_thickness_mm",
                           ("plate",))
@@ -134,7 +134,7 @@ def layout(design) -> dict:
     from cad.parts import base
     from cad.parts.motor import mount_side_mm
 
-    twin = _twin(design)
+    twin = is_twin(design)
     p = design.parts
     a = design.params["base_mm"]
     l2 = design.params["proximal_mm"]
@@ -210,7 +210,7 @@ def layout(design) -> dict:
     return out
 
 
-def _rz(angle: float, x: float = 0.0, y: float = 0.0, z: float = 0.0) -> np.ndarray:
+def rz(angle: float, x: float = 0.0, y: float = 0.0, z: float = 0.0) -> np.ndarray:
     T = np.eye(4)
     c, s = math.cos(angle), math.sin(angle)
     T[:2, :2] = [[c, -s], [s, c]]
@@ -218,20 +218,20 @@ def _rz(angle: float, x: float = 0.0, y: float = 0.0, z: float = 0.0) -> np.ndar
     return T
 
 
-def _flip() -> np.ndarray:
+def flip_matrix() -> np.ndarray:
     T = np.eye(4)
     T[1, 1] = T[2, 2] = -1.0
     return T
 
 
-def _leg_xy(lay: dict) -> list[tuple[float, float]]:
+def leg_xy(lay: dict) -> list[tuple[float, float]]:
     from cad.parts import base
 
     (x0, x1), (y0, y1) = lay["base_plate_x_mm"], lay["base_plate_y_mm"]
     return base.leg_xy_mm((x0, y0, x1, y1))
 
 
-def _square(ws: dict) -> np.ndarray:
+def workspace_square(ws: dict) -> np.ndarray:
     (cx, cy), h = ws["center_mm"], ws["side_mm"] / 2
     return np.array(
         [[cx - h, cy - h], [cx + h, cy - h], [cx + h, cy + h], [cx - h, cy + h], [cx - h, cy - h]]

@@ -10,7 +10,7 @@ import math
 import numpy as np
 
 from cad.errors import DesignError
-from cad.families.pantograph.layout import _lower_five_bar, _rz, _square, _twin, home_xy_mm, layout
+from cad.families.pantograph.layout import lower_five_bar, rz, workspace_square, is_twin, home_xy_mm, layout
 from cad.families.pantograph.placement import assembly
 
 #: Poses of the stroke animation: the handle once round the workspace square.
@@ -27,9 +27,9 @@ def body_poses(design, X) -> dict[str, np.ndarray]:
 
     X = np.atleast_2d(np.asarray(X, dtype=float))
     n = len(X)
-    fb = _lower_five_bar(design)
+    fb = lower_five_bar(design)
     B = [fb.base_left_mm, fb.base_right_mm]
-    if _twin(design):
+    if is_twin(design):
         ik = tw.ik(design.mechanism, X)
         groups = [("crank_", ik.crank), ("knob_", ik.knob)]
     else:
@@ -44,16 +44,16 @@ def body_poses(design, X) -> dict[str, np.ndarray]:
         E = fp.E_mm
         for i, (side, C) in enumerate((("left", fp.C_left_mm), ("right", fp.C_right_mm))):
             out[f"{pre}proximal_{side}"] = np.stack(
-                [_rz(float(fp.q_rad[k, i]), B[i][0], B[i][1]) for k in range(n)]
+                [rz(float(fp.q_rad[k, i]), B[i][0], B[i][1]) for k in range(n)]
             )
             out[f"{pre}distal_{side}"] = np.stack(
                 [
-                    _rz(math.atan2(E[k, 1] - C[k, 1], E[k, 0] - C[k, 0]), C[k, 0], C[k, 1])
+                    rz(math.atan2(E[k, 1] - C[k, 1], E[k, 0] - C[k, 0]), C[k, 0], C[k, 1])
                     for k in range(n)
                 ]
             )
-    if _twin(design):
-        out["crankshaft"] = np.stack([_rz(X[k, 2], X[k, 0], X[k, 1]) for k in range(n)])
+    if is_twin(design):
+        out["crankshaft"] = np.stack([rz(X[k, 2], X[k, 0], X[k, 1]) for k in range(n)])
     else:
         out["handle"] = np.stack([translation(X[k, 0], X[k, 1]) for k in range(n)])
     return out
@@ -62,11 +62,11 @@ def body_poses(design, X) -> dict[str, np.ndarray]:
 def stroke_points(design, n: int = STROKE_POSES) -> np.ndarray:
     """The handle once round the workspace square (from its centre's left, counter-clockwise),
     ``n`` points, (n, 2) mm; the twin pantograph adds theta = the home angle (rad)."""
-    sq = _square(design.workspace)
+    sq = workspace_square(design.workspace)
     seg = np.linalg.norm(np.diff(sq, axis=0), axis=1)
     s = np.linspace(0.0, seg.sum(), n)
     xy = np.column_stack([np.interp(s, np.r_[0, np.cumsum(seg)], sq[:, j]) for j in (0, 1)])
-    if not _twin(design):
+    if not is_twin(design):
         return xy
     th = math.radians(design.workspace["home_theta_deg"])
     return np.column_stack([xy, np.full(n, th)])
@@ -104,7 +104,7 @@ def motion_points(design) -> tuple[np.ndarray, tuple[str, ...]]:
 
     ws = design.workspace
     home = home_xy_mm(design)
-    if _twin(design):
+    if is_twin(design):
         th = math.radians(design.workspace["home_theta_deg"])
         grid = tw.workspace_grid(ws["center_mm"], ws["side_mm"], MOTION_GRID, MOTION_THETA_SAMPLES)
         X = np.vstack([[home[0], home[1], th], grid])
@@ -121,9 +121,9 @@ def motor_joints(design) -> dict:
     proximal link turns about its motor's axis (the motor shaft, a solid of revolution on
     the link, keeps its distance to the motor housing): input of the interference check's
     revolution shortcut (:func:`cad.assembly.interference.check_model`)."""
-    fb = _lower_five_bar(design)
+    fb = lower_five_bar(design)
     B = [np.asarray(fb.base_left_mm, float), np.asarray(fb.base_right_mm, float)]
-    pres = ("crank_", "knob_") if _twin(design) else ("",)
+    pres = ("crank_", "knob_") if is_twin(design) else ("",)
     out = {}
     for pre in pres:
         for side, b in zip(("left", "right"), B, strict=True):

@@ -12,30 +12,30 @@ import math
 
 import numpy as np
 
-from cad.families.pantograph.kinds import _kinds
-from cad.families.pantograph.layout import _flip, _leg_xy, _lower_five_bar, _rz, _twin, home_xy_mm
+from cad.families.pantograph.kinds import part_kinds
+from cad.families.pantograph.layout import flip_matrix, leg_xy, lower_five_bar, rz, is_twin, home_xy_mm
 
 
-def _link_parts(which: str, side: str, K: dict, lay: dict, p, elbow_pin: str) -> list:
+def link_parts(which: str, side: str, K: dict, lay: dict, p, elbow_pin: str) -> list:
     """``[(kind, tf in the link's layer frame)]`` of one link (x along the link, z centred)."""
     Lc, s, h = p.clevis_length_mm, p.socket_depth_mm, p.clevis_height_mm
     if which == "proximal":
         length = lay["proximal_mm"]
         return [
             (K["clevis_hub"], np.eye(4)),
-            (K["tube_proximal"], _rz(0.0, Lc - s)),
-            (K["clevis_pin"], _rz(math.pi, length)),
-            (K[elbow_pin], _rz(0.0, length, 0.0, -h / 2)),
+            (K["tube_proximal"], rz(0.0, Lc - s)),
+            (K["clevis_pin"], rz(math.pi, length)),
+            (K[elbow_pin], rz(0.0, length, 0.0, -h / 2)),
         ]
     length = lay["distal_mm"]
     B = K["bearing"].ring_mm[2]
     out = [
         (K["clevis_bearing"], np.eye(4)),
-        (K["tube_distal"], _rz(0.0, Lc - s)),
-        (K["clevis_bearing"], _rz(math.pi, length)),
+        (K["tube_distal"], rz(0.0, Lc - s)),
+        (K["clevis_bearing"], rz(math.pi, length)),
     ]
     return out + [
-        (K["bearing"], _rz(0.0, x, 0.0, z)) for x in (0.0, length) for z in (-h / 2, h / 2 - B)
+        (K["bearing"], rz(0.0, x, 0.0, z)) for x in (0.0, length) for z in (-h / 2, h / 2 - B)
     ]
 
 
@@ -52,14 +52,14 @@ def assembly(design, lay: dict, fidelity: str):
     from cad.parts import PartInstance, translation
 
     p = design.parts
-    twin = _twin(design)
-    K = _kinds(design, lay, fidelity)
+    twin = is_twin(design)
+    K = part_kinds(design, lay, fidelity)
     lay = {
         **lay,
         "proximal_mm": design.params["proximal_mm"],
         "distal_mm": design.params["distal_mm"],
     }
-    fb = _lower_five_bar(design)
+    fb = lower_five_bar(design)
     B = [fb.base_left_mm, fb.base_right_mm]
     inst: list = []
     tfs: dict[str, np.ndarray] = {"ground": np.eye(4)}
@@ -82,39 +82,39 @@ def assembly(design, lay: dict, fidelity: str):
     pt, mt = p.plate_thickness_mm, p.motor_mount_thickness_mm
     zb = lay.get("bridge_bottom_z_mm", 0.0)
     for grp, fp, zs, upper in groups:
-        F = _flip() if upper else np.eye(4)
+        F = flip_matrix() if upper else np.eye(4)
         pre = f"{grp}_" if grp else ""
         C = [fp.C_left_mm[0], fp.C_right_mm[0]]
         E = fp.E_mm[0]
         shaft_tf = (
-            translation(0, 0, zb + pt + mt) @ _flip() if upper else translation(0, 0, -pt - mt)
+            translation(0, 0, zb + pt + mt) @ flip_matrix() if upper else translation(0, 0, -pt - mt)
         )
         for i, side in enumerate(("left", "right")):
             body = f"{pre}proximal_{side}"
-            tfs[body] = _rz(float(fp.q_rad[0, i]), B[i][0], B[i][1])
+            tfs[body] = rz(float(fp.q_rad[0, i]), B[i][0], B[i][1])
             pin = "pin_short" if side == "left" else "pin_long"
-            for k, (kind, tf) in enumerate(_link_parts("proximal", side, K, lay, p, pin)):
+            for k, (kind, tf) in enumerate(link_parts("proximal", side, K, lay, p, pin)):
                 place(f"{body}.{kind.name}{k}", kind, body, translation(0, 0, zs[0]) @ F @ tf)
             place(f"{body}.motor_shaft", K["motor_shaft"], body, shaft_tf)
-            _set_screw(place, set_holes, K, lay, body, translation(0, 0, zs[0]) @ F)
+            place_set_screw(place, set_holes, K, lay, body, translation(0, 0, zs[0]) @ F)
             body = f"{pre}distal_{side}"
-            tfs[body] = _rz(math.atan2(E[1] - C[i][1], E[0] - C[i][0]), C[i][0], C[i][1])
-            for k, (kind, tf) in enumerate(_link_parts("distal", side, K, lay, p, pin)):
+            tfs[body] = rz(math.atan2(E[1] - C[i][1], E[0] - C[i][0]), C[i][0], C[i][1])
+            for k, (kind, tf) in enumerate(link_parts("distal", side, K, lay, p, pin)):
                 place(f"{body}.{kind.name}{k}", kind, body, translation(0, 0, zs[1 + i]) @ F @ tf)
     if twin:
-        tfs["crankshaft"] = _rz(th, home[0], home[1])
+        tfs["crankshaft"] = rz(th, home[0], home[1])
         place("crankshaft", K["crankshaft"], "crankshaft", translation(0, 0, lay["web_z_mm"]))
         place("knob", K["knob"], "crankshaft", translation(0, 0, lay["knob_bottom_z_mm"]))
     else:
         tfs["handle"] = translation(home[0], home[1])
         place("handle_pin", K["handle_pin"], "handle", translation(0, 0, lay["handle_pin_z_mm"]))
         place("knob", K["knob"], "handle", translation(0, 0, lay["knob_bottom_z_mm"]))
-    holes = _ground(place, K, lay, p, B, twin)
-    return _journals(inst, tfs, "crankshaft" if twin else "handle"), tfs, home, {
+    holes = ground_parts(place, K, lay, p, B, twin)
+    return journal_parts(inst, tfs, "crankshaft" if twin else "handle"), tfs, home, {
         **holes, **set_holes}
 
 
-def _journals(inst: list, tfs: dict, end_body: str) -> list:
+def journal_parts(inst: list, tfs: dict, end_body: str) -> list:
     """The instances with each distal link's bearings carried across their joint: the inner
     ring moves with the journal's body (``other_body``: the proximal link at the elbow, the
     crankshaft or handle at the end effector), placed there by ``tf_other_part`` (the
@@ -132,7 +132,7 @@ def _journals(inst: list, tfs: dict, end_body: str) -> list:
     return out
 
 
-def _screw(place, holes, K, lay, group: str, name: str, hole: str, part: str, tf, clamps=None):
+def place_screw(place, holes, K, lay, group: str, name: str, hole: str, part: str, tf, clamps=None):
     """Place one screw of ``group`` (:func:`screw_plan`) with its fastener record, and the
     tapped hole ``hole`` (in the instance ``part``) it engages."""
     from cad.assembly.fasteners import Fastener, TappedHole
@@ -144,7 +144,7 @@ def _screw(place, holes, K, lay, group: str, name: str, hole: str, part: str, tf
     place(name, K[f"_{group}_screw"], "ground", tf, fastener=f)
 
 
-def _set_screw(place, holes, K, lay, body: str, tf_clevis) -> None:
+def place_set_screw(place, holes, K, lay, body: str, tf_clevis) -> None:
     """The set screw of the hub clevis of ``body`` (clevis frame ``tf_clevis``): axis along
     -x at z = 0, flat point on the shaft surface (x = -shaft radius), its other end at or
     inside the clevis outer surface; the wall's tapped hole is its record's hole."""
@@ -162,7 +162,7 @@ def _set_screw(place, holes, K, lay, body: str, tf_clevis) -> None:
     place(f"{body}.set_screw", K["set_screw"], body, tf_clevis @ T, fastener=f)
 
 
-def _motor_station(place, holes, K, lay, p, tag: str, i: int, bxy, z_mount: float, upper: bool):
+def motor_station(place, holes, K, lay, p, tag: str, i: int, bxy, z_mount: float, upper: bool):
     """One motor on its mount plate: the plate, the motor, the plate's screws into the
     base/bridge plate and the motor face screws (through the plate into the face's tapped
     holes; heads in the base/bridge plate's opening)."""
@@ -183,18 +183,18 @@ def _motor_station(place, holes, K, lay, p, tag: str, i: int, bxy, z_mount: floa
     tf_motor = translation(bx, by, z_face) @ (turn if upper else np.eye(4))
     motor = f"{tag}_motor_{i}"
     place(motor, K["motor"], "ground", tf_motor)
-    z_mount_head, f_mount = (z_mount + mt, np.eye(4)) if upper else (z_mount, _flip())
+    z_mount_head, f_mount = (z_mount + mt, np.eye(4)) if upper else (z_mount, flip_matrix())
     for k, (x, y) in enumerate(pm.mount_hole_xy_mm(mot)):
-        _screw(place, holes, K, lay, "mount", f"{tag}_mount_screw_{i}_{k + 1}",
+        place_screw(place, holes, K, lay, "mount", f"{tag}_mount_screw_{i}_{k + 1}",
                f"{plate}:{tag}_mount_{i}_{k + 1}", plate,
                translation(bx + x, by + y, z_mount_head) @ f_mount)
-    z_head, f_face = (z_mount, _flip()) if upper else (z_mount + mt, np.eye(4))
+    z_head, f_face = (z_mount, flip_matrix()) if upper else (z_mount + mt, np.eye(4))
     for k, (x, y) in enumerate(pm.motor_bolt_xy_mm(mot)):
-        _screw(place, holes, K, lay, "motor", f"{tag}_motor_screw_{i}_{k + 1}",
+        place_screw(place, holes, K, lay, "motor", f"{tag}_motor_screw_{i}_{k + 1}",
                f"{motor}:face_{k + 1}", motor, translation(bx + x, by + y, z_head) @ f_face)
 
 
-def _ground(place, K, lay, p, B, twin) -> dict:
+def ground_parts(place, K, lay, p, B, twin) -> dict:
     """The fixed parts: base plate, legs, motors with their mounts, (mouse) posts and bridge.
     Returns the tapped holes the screws engage ({name: TappedHole})."""
     from cad.parts import translation
@@ -202,23 +202,23 @@ def _ground(place, K, lay, p, B, twin) -> dict:
     holes: dict = {}
     pt, mt = p.plate_thickness_mm, p.motor_mount_thickness_mm
     place("base_plate", K["base_plate"], "ground", translation(0, 0, -pt))
-    for i, (x, y) in enumerate(_leg_xy(lay)):
+    for i, (x, y) in enumerate(leg_xy(lay)):
         place(f"leg_{i + 1}", K["leg"], "ground", translation(x, y, lay["bench_z_mm"]))
-        _screw(place, holes, K, lay, "leg", f"leg_screw_{i + 1}", f"leg_{i + 1}:top",
+        place_screw(place, holes, K, lay, "leg", f"leg_screw_{i + 1}", f"leg_{i + 1}:top",
                f"leg_{i + 1}", translation(x, y, 0.0))
     zb = lay.get("bridge_bottom_z_mm", 0.0)
     stations = [("lower", -pt - mt, False)] + ([("upper", zb + pt, True)] if twin else [])
     for tag, z_mount, upper in stations:
         for i, bxy in enumerate(B):
-            _motor_station(place, holes, K, lay, p, tag, i + 1, bxy, z_mount, upper)
+            motor_station(place, holes, K, lay, p, tag, i + 1, bxy, z_mount, upper)
     if not twin:
         return holes
     place("bridge_plate", K["bridge_plate"], "ground", translation(0, 0, zb))
     for k, (x, y) in enumerate(lay["posts_xy_mm"]):
         post = f"post_{k + 1}"
         place(post, K["post"], "ground", translation(x, y, 0.0))
-        _screw(place, holes, K, lay, "post", f"post_screw_{k + 1}_bottom", f"{post}:bottom",
-               post, translation(x, y, -pt) @ _flip(), ["base_plate"])
-        _screw(place, holes, K, lay, "post", f"post_screw_{k + 1}_top", f"{post}:top", post,
+        place_screw(place, holes, K, lay, "post", f"post_screw_{k + 1}_bottom", f"{post}:bottom",
+               post, translation(x, y, -pt) @ flip_matrix(), ["base_plate"])
+        place_screw(place, holes, K, lay, "post", f"post_screw_{k + 1}_top", f"{post}:top", post,
                translation(x, y, zb + pt), ["bridge_plate"])
     return holes

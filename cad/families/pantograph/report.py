@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from cad.families.pantograph.layout import _twin
+from cad.families.pantograph.layout import is_twin
 
 #: Paper Table 1 (haptic mouse at its home position).
 PAPER_TABLE1 = {
@@ -15,7 +15,7 @@ PAPER_TABLE1 = {
 }
 
 
-def _report(design, lay, clr, bodies, eff, eff_bare, itf, bom, home, fidelity, low) -> dict:
+def build_report(design, lay, clr, bodies, eff, eff_bare, itf, bom, home, fidelity, low) -> dict:
     from cad.device import resolve_device
 
     g = design.gii()
@@ -55,7 +55,7 @@ def _report(design, lay, clr, bodies, eff, eff_bare, itf, bom, home, fidelity, l
             f"z = {lay['bench_z_mm']:.1f} mm (lowest solid at {low:.1f} mm).",
             f"Every pair of bodies is checked on the solids at {itf['n_poses']} poses of the "
             "workspace (home, a grid over the square" + (", x crank angles over the full turn"
-            if _twin(design) else "") + "), every pair of parts on one body once (common "
+            if is_twin(design) else "") + "), every pair of parts on one body once (common "
             f"volume > {itf['overlap_threshold_mm3']:g} mm^3 is a collision; touching is "
             "allowed); clearances_mm gives the 2-D gaps between parts of one layer over the "
             "finer GII grid.",
@@ -67,7 +67,7 @@ def _report(design, lay, clr, bodies, eff, eff_bare, itf, bom, home, fidelity, l
             "(the longest catalog length not proud of the round end, >= 1.5 d).",
         ],
     }
-    if _twin(design):
+    if is_twin(design):
         report["crank_mm"] = design.mechanism.crank_mm
         report["home"]["theta_deg"] = float(design.workspace["home_theta_deg"])
         report["effective_mass_home_without_rotors"] = eff_bare
@@ -82,7 +82,7 @@ def _report(design, lay, clr, bodies, eff, eff_bare, itf, bom, home, fidelity, l
     return report
 
 
-def _md_rows(r: dict) -> list[tuple[str, str]]:
+def report_md_rows(r: dict) -> list[tuple[str, str]]:
     rows = [
         ("GII (workspace)", f"{r['gii']['gii']:.4f}"),
         ("moving mass (g)", f"{r['moving_mass_g']:.1f}"),

@@ -160,7 +160,7 @@ def _ground_kinds(design, lay: dict, gl: dict, add) -> None:
     holes = [(s * l4 / 2, 0.0, opening) for s in (-1, 1)]
     holes += [(s * l4 / 2 + x, y, tap_drill_mm(pm.MOUNT_SCREW)) for s in (-1, 1)
               for x, y in pm.mount_hole_xy_mm(wm)]
-    holes += [(x, y, clearance_hole_mm(base.LEG_SCREW)) for x, y in _leg_xy(gl)]
+    holes += [(x, y, clearance_hole_mm(base.LEG_SCREW)) for x, y in leg_xy(gl)]
     add("base_plate", pp.plate_shape(gl["base_plate_x_mm"], gl["base_plate_y_mm"],
                                      p.plate_thickness_mm, holes),
         p.plate_material, True, "base plate (waist motors under, legs at the corners)",
@@ -171,7 +171,7 @@ def _ground_kinds(design, lay: dict, gl: dict, add) -> None:
         f"turned; tap {base.LEG_SCREW.split('-')[0]} both ends")
 
 
-def _leg_xy(gl: dict):
+def leg_xy(gl: dict):
     from cad.parts import base
 
     (x0, x1), (y0, y1) = gl["base_plate_x_mm"], gl["base_plate_y_mm"]
@@ -232,7 +232,7 @@ def _ground_parts(design, gl: dict) -> list[tuple[str, str, np.ndarray]]:
     for arm, s in (("A", -1), ("B", 1)):
         out.append((f"{arm}_waist_motor_mount", "motor_mount", _tr(s * l4 / 2, 0, zb - pt - mt)))
         out.append((f"{arm}_waist_motor", "motor_waist", _tr(s * l4 / 2, 0, zb - pt - mt)))
-    for i, (x, y) in enumerate(_leg_xy(gl)):
+    for i, (x, y) in enumerate(leg_xy(gl)):
         out.append((f"leg_{i + 1}", "leg", _tr(x, y, gl["bench_z_mm"])))
     return out
 

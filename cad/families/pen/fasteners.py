@@ -67,9 +67,9 @@ def place_screws(design, lay: dict, gl: dict, kinds: dict, place, rot) -> dict:
         place(name, kinds[group], body, tf,
               Fastener("ISO 4762", sp["size"], sp["length_mm"], clamps, hole, sp["engagement_mm"]))
 
-    from cad.families.pen.assembly import _leg_xy
+    from cad.families.pen.assembly import leg_xy
 
-    for i, (x, y) in enumerate(_leg_xy(gl)):
+    for i, (x, y) in enumerate(leg_xy(gl)):
         screw("leg", f"leg_screw_{i + 1}", "ground", tr(x, y, gl["base_top_z_mm"]),
               f"leg_{i + 1}:top", f"leg_{i + 1}", ("base_plate",))
     wm = get_motor(p.waist_motor)

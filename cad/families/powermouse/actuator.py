@@ -37,7 +37,7 @@ def actuator_optimum(design) -> dict:
     }
 
 
-def _fig8_chart(design, gap_mm: float, out_dir: Path) -> list[str]:
+def fig8_chart(design, gap_mm: float, out_dir: Path) -> list[str]:
     """Paper Fig. 8: eq (8) force vs gap (three models) and B_z along the centre line at the gap used."""
     import matplotlib
 
@@ -103,7 +103,7 @@ def _fig8_chart(design, gap_mm: float, out_dir: Path) -> list[str]:
     return names
 
 
-def _gap_mm(design) -> float:
+def actuator_gap_mm(design) -> float:
     """The magnet gap d (mm): the design's, else the eq (8) optimum of its field model."""
     from cad.actuators import voicecoil as vc
 

@@ -46,33 +46,33 @@ from cad.errors import DesignError
 from cad.families import SHARED_CODE_DEPS
 
 # every name of the former single-module builder stays importable from here
-from cad.families.powermouse.actuator import _fig8_chart, _gap_mm, actuator_optimum  # noqa: F401
+from cad.families.powermouse.actuator import fig8_chart, actuator_gap_mm, actuator_optimum  # noqa: F401
 from cad.families.powermouse.motion import (  # noqa: F401
-    _clearances,
-    _group,
+    pose_clearances,
+    pose_group,
     assemble,
     interference,
     motion_poses,
     stroke_poses,
 )
 from cad.families.powermouse.placement import (  # noqa: F401
-    _PARTS,
-    _fits,
-    _kind,
-    _labels,
-    _legs,
-    _lid_plans,
-    _lid_screws,
-    _materials,
-    _post_set_screw,
-    _rig,
-    _screw_uses,
-    _tf,
-    _turned_tips,
+    PARTS,
+    part_fits,
+    part_kind,
+    part_labels,
+    leg_parts,
+    lid_plans,
+    lid_screws,
+    materials,
+    post_set_screw_parts,
+    rig_parts,
+    screw_uses,
+    tf,
+    turned_tips,
     assembly,
     lid_holes,
 )
-from cad.families.powermouse.report import PAPER_TABLE4, _md_rows, _report  # noqa: F401
+from cad.families.powermouse.report import PAPER_TABLE4, report_md_rows, build_report  # noqa: F401
 
 #: Source the output depends on (build cache key).
 CODE_DEPS = SHARED_CODE_DEPS + (
@@ -88,7 +88,7 @@ def check_options(design, fidelity: str, phi1_deg, formats=frozenset()) -> None:
     from cad.parts import powermouse as pp
 
     pp.lid_screw_plan(design.stator.housing_wall_mm)  # walls too thin for the lid screws
-    g = pp.geometry(design, _gap_mm(design))  # the post's and the handle's shoulders
+    g = pp.geometry(design, actuator_gap_mm(design))  # the post's and the handle's shoulders
     pp.flotor_lid_screw_plan(g, design.flotor.material)
     pp.post_plan(g)  # a collar too thin for a set screw
     pp.leg_plan(design.stator.housing_wall_mm)  # no catalog leg screw for the wall
@@ -126,12 +126,12 @@ def _wrench(design, act: dict, g, flotor_mp) -> tuple:
 
 
 def _report_of(b) -> dict:
-    """The family's report dict (:func:`cad.families.powermouse.report._report`)."""
+    """The family's report dict (:func:`cad.families.powermouse.report.build_report`)."""
     from cad.parts import voicecoil as pv
 
     x, dy = b.model.extra, b.dyn
     itf, cl = b.itf
-    return _report(b.design, x["actuator"], x["actuator_geometry"], x["geometry"], dy["W"],
+    return build_report(b.design, x["actuator"], x["actuator_geometry"], x["geometry"], dy["W"],
                    dy["iso"], dy["W_com"], dy["flotor_mp"], dy["parts_mass"],
                    dy["stator_mass_kg"], itf, cl, b.bom, dy["rig_bom"],
                    pv.rattle_clearances_mm(x["actuator_geometry"], x["actuator_solids"]),
@@ -152,13 +152,13 @@ def _stages():
 
     return Stages(
         check_options=check_options, assemble=assemble, interference=interference,
-        report=_report_of, md_rows=_md_rows, stroke=stroke_poses,
+        report=_report_of, md_rows=report_md_rows, stroke=stroke_poses,
         preview_title=lambda b: f"{b.design.name}: PowerMouse at the centre pose",
         motion_label="motion range", mass_label="mass properties and wrench map",
         prepare_label="actuator optimum (eqs 8-9)", dynamics=_dynamics,
         thread_notes=False,  # no tapped-hole notes in the DXF/drawings (as before)
         more_exports=_write_rig, cutaway=PICTURE_CUTAWAY,
-        figures=lambda b: _fig8_chart(b.design, b.model.extra["actuator"]["gap_mm"], b.out_dir),
+        figures=lambda b: fig8_chart(b.design, b.model.extra["actuator"]["gap_mm"], b.out_dir),
         assembly=_assembly)
 
 

@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 
 from cad.families.powermouse.actuator import actuator_optimum
-from cad.families.powermouse.placement import _tf, assembly, lid_holes
+from cad.families.powermouse.placement import tf, assembly, lid_holes
 
 
 def stroke_poses(design) -> dict[str, np.ndarray]:
@@ -75,7 +75,7 @@ def assemble(design, fidelity: str = "fabrication"):
     acts = pv.actuator_solids(ag)
     inst, rig = assembly(design, g, acts)
     poses = motion_poses(design, g, fidelity)
-    flotor = np.stack([np.eye(4)] + [_tf(R, t) for _, R, t in poses])
+    flotor = np.stack([np.eye(4)] + [tf(R, t) for _, R, t in poses])
     return AssemblyModel(
         design, tuple(inst), {"flotor": np.eye(4), "ground": np.eye(4)},
         {"flotor": flotor}, ("centre", *(label for label, _, _ in poses)), lid_holes(design, g),
@@ -84,7 +84,7 @@ def assemble(design, fidelity: str = "fabrication"):
     )
 
 
-def _group(label: str) -> str:
+def pose_group(label: str) -> str:
     """Pose group of a motion label: centre, t(ranslations), r(otations), c(ombined)."""
     return "centre" if label == "centre" else label[:1]
 
@@ -100,7 +100,7 @@ def interference(model, allow_interference: bool = False) -> tuple[dict, dict]:
     of the first clash unless allow_interference."""
     from cad.assembly import interference as itf
 
-    rep = itf.check_model(model, fail_fast=not allow_interference, groups=_group)
+    rep = itf.check_model(model, fail_fast=not allow_interference, groups=pose_group)
     if not allow_interference:
         itf.raise_on_collision(rep, 0.0)
     out = rep.as_dict()
@@ -109,12 +109,12 @@ def interference(model, allow_interference: bool = False) -> tuple[dict, dict]:
     return out, rep.poses or {}
 
 
-def _clearances(design, poses: dict) -> dict:
+def pose_clearances(design, poses: dict) -> dict:
     """The report's ``clearances_mm``: the smallest flotor-stator distance at the centre and
     over each pose group (exact OCCT at each group's closest pose), mm, the worst pose of
     each, and every pose's value (``how``: exact, mesh or bound)."""
     def worst(g: str) -> tuple[float | None, str]:
-        rows = {k: v[0] for k, v in poses.items() if _group(k) == g}
+        rows = {k: v[0] for k, v in poses.items() if pose_group(k) == g}
         if not rows:
             return None, ""
         k = min(rows, key=rows.get)

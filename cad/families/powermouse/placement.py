@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 
 
-def _materials(design) -> dict[str, str]:
+def materials(design) -> dict[str, str]:
     return {
         "shell": design.flotor.material,
         "coil": design.flotor.coil_material,
@@ -24,7 +24,7 @@ def _materials(design) -> dict[str, str]:
 
 
 #: BOM text per part: (description, process, made).
-_PARTS = {
+PARTS = {
     "pm_flotor_body": (
         "flotor: open cube shell (open at -z) with 5 coil pockets, post hole at (-,-,-), "
         "handle socket and boss inside the (+,+,+) corner",
@@ -85,14 +85,14 @@ _PARTS = {
 }
 
 
-def _tf(R, t) -> np.ndarray:
+def tf(R, t) -> np.ndarray:
     T = np.eye(4)
     T[:3, :3], T[:3, 3] = np.asarray(R, float), np.asarray(t, float)
     return T
 
 
-def _labels(g) -> dict:
-    """Thread sizes and lengths named in the BOM texts of :data:`_PARTS`."""
+def part_labels(g) -> dict:
+    """Thread sizes and lengths named in the BOM texts of :data:`PARTS`."""
     from cad.parts import powermouse as pp
 
     ss = pp.post_plan(g)["set_screw"]["size"]
@@ -100,14 +100,14 @@ def _labels(g) -> dict:
             "pt": pp.POST_THREAD.split("-")[0], "pl": g.post_thread_mm, "st": ss.split("-")[0]}
 
 
-def _kind(name, shape, role, design, labels=None, **kw):
+def part_kind(name, shape, role, design, labels=None, **kw):
     from cad.parts import PartKind
 
-    desc, proc, made = _PARTS[name]
+    desc, proc, made = PARTS[name]
     if labels:
         desc, proc = desc.format(**labels), proc.format(**labels)
     topo = getattr(shape, "wrapped", shape)
-    mat = _materials(design)[role]
+    mat = materials(design)[role]
     if role == "coil":  # wound coil: conductor fraction eta_pack (insulation neglected)
         from cad.data.materials import get_material
         from cad.massprops.occt import solid_mass_props
@@ -134,7 +134,7 @@ def assembly(design, g, acts) -> tuple[list, list]:
     fl, st = pp.flotor_solids(g), pp.stator_solids(g)
     coils = g.coils()
     inst: list = []
-    labels, tips, fits = _labels(g), _turned_tips(design, g), _fits(g)
+    labels, tips, fits = part_labels(g), turned_tips(design, g), part_fits(g)
 
     def local(shape, T):
         return placed(getattr(shape, "wrapped", shape), np.linalg.inv(T))
@@ -149,40 +149,40 @@ def assembly(design, g, acts) -> tuple[list, list]:
         ("housing_lid", "pm_housing_lid", "ground"),
     ):
         shape, role = (fl | st)[key]
-        kind = _kind(kname, shape, role, design, labels, fits=fits.get(key, ()))
+        kind = part_kind(kname, shape, role, design, labels, fits=fits.get(key, ()))
         inst.append(PartInstance(key, kind, body, np.eye(4), fastener=tips.get(key)))
-    Tc = {c.face: _tf(c.R_flotor_act, c.centre_mm) for c in coils}
-    ck = _kind("pm_coil", local(fl[f"coil_{coils[0].face}"][0], Tc[coils[0].face]), "coil", design)
+    Tc = {c.face: tf(c.R_flotor_act, c.centre_mm) for c in coils}
+    ck = part_kind("pm_coil", local(fl[f"coil_{coils[0].face}"][0], Tc[coils[0].face]), "coil", design)
     inst += [PartInstance(f"coil_{f}", ck, "flotor", T) for f, T in Tc.items()]
     a, d, t = g.coil_plane_half_mm, g.gap_mm, g.magnet_thickness_mm
     zc = a + d / 2 + t + g.plate_thickness_mm / 2
-    Ti = {c.face: _tf(c.R_flotor_act, c.normal * zc) for c in coils}
-    ik = _kind(
+    Ti = {c.face: tf(c.R_flotor_act, c.normal * zc) for c in coils}
+    ik = part_kind(
         "pm_iron_plate", local(st[f"iron_{coils[0].face}"][0], Ti[coils[0].face]), "iron", design
     )
     inst += [PartInstance(f"iron_{f}", ik, "ground", T) for f, T in Ti.items()]
     mags = pm.stator_magnets(coils, d, g.magnet_length_mm, g.magnet_width_mm, t, 1.0)
-    Tm = {f"magnet_{coils[m.actuator].face}_{m.role}": _tf(m.R, m.centre_mm) for m in mags}
+    Tm = {f"magnet_{coils[m.actuator].face}_{m.role}": tf(m.R, m.centre_mm) for m in mags}
     k0 = next(iter(Tm))
-    mk = _kind("pm_magnet", local(st[k0][0], Tm[k0]), "magnet", design)
+    mk = part_kind("pm_magnet", local(st[k0][0], Tm[k0]), "magnet", design)
     inst += [PartInstance(k, mk, "ground", T) for k, T in Tm.items()]
-    return inst + _lid_screws(design, g) + [_post_set_screw(g)] + _legs(design, g), _rig(design, acts)
+    return inst + lid_screws(design, g) + [post_set_screw_parts(g)] + leg_parts(design, g), rig_parts(design, acts)
 
 
-def _screw_uses(design, g) -> dict:
+def screw_uses(design, g) -> dict:
     """``{(size, length): "housing lid, legs"}``: what each ISO 4762 screw kind holds (one
     BOM row per kind, so screws of one size and length share its text)."""
     from cad.parts import powermouse as pp
 
     uses: dict = {}
-    for sp, _, _, _, lid, _ in _lid_plans(design, g).values():
+    for sp, _, _, _, lid, _ in lid_plans(design, g).values():
         uses.setdefault((sp["size"], sp["length_mm"]), []).append(lid.replace("_", " "))
     lp = pp.leg_plan(design.stator.housing_wall_mm)
     uses.setdefault((lp["size"], lp["length_mm"]), []).append("legs")
     return {k: ", ".join(v) for k, v in uses.items()}
 
 
-def _legs(design, g) -> list:
+def leg_parts(design, g) -> list:
     """The four legs under the housing and their ISO 4762 screws (from inside the housing,
     head on the bottom wall's inner face), each screw with its fastener record."""
     from cad.assembly.fasteners import Fastener
@@ -191,9 +191,9 @@ def _legs(design, g) -> list:
 
     sp = pp.leg_plan(design.stator.housing_wall_mm)
     Ho = g.housing_inner_half_mm + g.housing_wall_mm
-    leg = _kind("pm_leg", pp.leg_shape(g), "base", design)
+    leg = part_kind("pm_leg", pp.leg_shape(g), "base", design)
     screw = joints.cap_screw_kind(sp["size"], sp["length_mm"], "stator.housing_wall_mm",
-                                  _screw_uses(design, g)[sp["size"], sp["length_mm"]])
+                                  screw_uses(design, g)[sp["size"], sp["length_mm"]])
     out = []
     for k, (x, y) in enumerate(pp.leg_xy_mm(g), start=1):
         out.append(PartInstance(f"leg_{k}", leg, "ground", translation(x, y, -Ho)))
@@ -204,7 +204,7 @@ def _legs(design, g) -> list:
     return out
 
 
-def _fits(g) -> dict[str, tuple[str, ...]]:
+def part_fits(g) -> dict[str, tuple[str, ...]]:
     """ISO 286 fits of the two diagonal sliding fits (:data:`cad.data.fits.FITS`):
     the housing collar's post bore on the stator post and the flotor's handle socket on the
     handle stem, both H7/g6 (diameters: ``stator.post_diameter_mm``,
@@ -219,7 +219,7 @@ def _fits(g) -> dict[str, tuple[str, ...]]:
     }
 
 
-def _turned_tips(design, g) -> dict:
+def turned_tips(design, g) -> dict:
     """Fastener records of the two turned parts screwed in along the diagonal: ``handle``
     (its tip in the flotor's corner boss) and ``post`` (its tip in the core)."""
     from cad.assembly.fasteners import Fastener
@@ -234,7 +234,7 @@ def _turned_tips(design, g) -> dict:
     }
 
 
-def _post_set_screw(g):
+def post_set_screw_parts(g):
     """The ISO 4026 set screw locking the post in the housing's collar, with its record."""
     from cad.assembly.fasteners import Fastener
     from cad.data.catalog import FASTENER_MATERIAL
@@ -255,7 +255,7 @@ def _post_set_screw(g):
                         fastener=f)
 
 
-def _lid_plans(design, g) -> dict:
+def lid_plans(design, g) -> dict:
     """``{prefix: (plan, screw (x, y) list, z of the lid's outer face, body, lid, tapped
     part)}`` for the housing lid (+z wall, screws from above) and the flotor lid (-z wall,
     screws from below) (:mod:`cad.parts.powermouse`)."""
@@ -281,7 +281,7 @@ def lid_holes(design, g) -> dict:
     from cad.parts import powermouse as pp
 
     out = {}
-    for sp, xy, _, _, _, part in _lid_plans(design, g).values():
+    for sp, xy, _, _, _, part in lid_plans(design, g).values():
         for k in range(len(xy)):
             n = f"{part}:lid_{k + 1}"
             out[n] = TappedHole(n, part, sp["size"], sp["depth_mm"], sp["min_engagement_mm"])
@@ -296,14 +296,14 @@ def lid_holes(design, g) -> dict:
     return out
 
 
-def _lid_screws(design, g) -> list:
+def lid_screws(design, g) -> list:
     """The ISO 4762 screws holding the housing lid and the flotor lid (heads on the lid,
     shanks through its clearance holes into the side walls), each with its fastener record."""
     from cad.assembly.fasteners import Fastener
     from cad.parts import PartInstance, flip_x, joints, translation
 
-    out, uses = [], _screw_uses(design, g)
-    for prefix, (sp, xy, z, body, lid, part) in _lid_plans(design, g).items():
+    out, uses = [], screw_uses(design, g)
+    for prefix, (sp, xy, z, body, lid, part) in lid_plans(design, g).items():
         size, L = sp["size"], sp["length_mm"]
         kind = joints.cap_screw_kind(size, L, "stator.housing_wall_mm", uses[size, L])
         up = np.eye(4) if z > 0 else flip_x()  # head on the lid's outer face
@@ -318,7 +318,7 @@ def _lid_screws(design, g) -> list:
     return out
 
 
-def _rig(design, acts) -> list:
+def rig_parts(design, acts) -> list:
     """The Fig. 7 test rig: instances of translated copies share one kind."""
     from cad.occ.bbox import tight_box
     from cad.parts import PartInstance, translation
@@ -337,7 +337,7 @@ def _rig(design, acts) -> list:
         c = tight_box(getattr(shape, "wrapped", shape)).mean(axis=0)
         if role not in first:
             kw = {"plate": role in ("iron", "base")}
-            first[role] = (_kind(groups[role], shape, role, design, **kw), c)
+            first[role] = (part_kind(groups[role], shape, role, design, **kw), c)
         kind, c0 = first[role]
         inst.append(PartInstance(key, kind, "rig", translation(*(c - c0))))
     return inst

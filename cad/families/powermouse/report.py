@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from cad.families.powermouse.motion import _clearances
+from cad.families.powermouse.motion import pose_clearances
 
 #: Paper Table 4 (PowerMouse performance), for side-by-side reporting.
 PAPER_TABLE4 = {
@@ -43,7 +43,7 @@ def _notes(design) -> list[str]:
     ]
 
 
-def _report(
+def build_report(
     design,
     act,
     ag,
@@ -109,7 +109,7 @@ def _report(
         "peak_acceleration_G": acc / pm.G0_M_S2,
         "interference": itf,
         "overlap_volume_mm3": itf["overlap_volume_mm3"],
-        "clearances_mm": _clearances(design, cl),
+        "clearances_mm": pose_clearances(design, cl),
         "min_clearance_mm": itf["min_clearance_mm"],
         "paper_table4": PAPER_TABLE4,
         "bom": bom,
@@ -119,7 +119,7 @@ def _report(
     }
 
 
-def _md_rows(r: dict) -> list[tuple[str, str]]:
+def report_md_rows(r: dict) -> list[tuple[str, str]]:
     c = r["clearances_mm"]
     return [
         ("actuator gap d (mm)", f"{r['actuator']['gap_mm']:.3f} ({r['actuator']['gap_source']})"),

@@ -7,11 +7,11 @@ Per link, in the link frame (mm in, SI out):
   x thickness x density; COM at the joints' centroid; Izz = m (L^2 + w^2) / 12 about
   it (L the outline length along the hull);
 * joint hardware as point masses at the joint, on the link that carries it in the
-  layer plan (:func:`cad.assembly.layers.choose_layers`, numpy only, for the design's
+  layer plan (:func:`cad.families.fourbar.layers.choose_layers`, numpy only, for the design's
   ``layer_order`` or the planner's choice): the bearing on the UPPER link, the pin
   (cylinder d x its catalog length, or ISO 7379 head + shoulder + thread), the gap and
   head spacers, nut or ring and washer on the LOWER link (the ground at A4), each of
-  the plan's height at that joint (:class:`cad.assembly.layers.JointStack`); the bars
+  the plan's height at that joint (:class:`cad.families.fourbar.layers.JointStack`); the bars
   have the bearing seat where they are the upper link and the pin hole elsewhere. A
   point mass at a joint has the same velocity whichever link carries it, so the layer
   order moves mass between H22, H12 and H33 but changes D (and M11) only through the
@@ -159,7 +159,7 @@ def joint_split_kg(parts, spacer_mm: float, pin_length_mm: float | None = None,
     spacer (``shim_mm``, default t - B + head clearance), nut or ring and washer (when ``nut``)
     on the lower link. ``pin_length_mm``: the pin's catalog length (default the clamp plus
     one bar thickness)."""
-    from cad.assembly.layers import spacer_od_mm
+    from cad.families.fourbar.layers import spacer_od_mm
     from cad.data import catalog as cat
 
     brg = cat.get_bearing(parts.bearing)
@@ -198,8 +198,8 @@ def joint_hardware_kg(parts) -> float:
 def layer_plan(design, parts=None):
     """The layer plan of ``design`` (numpy only, the build's poses), or None when the planner
     finds no layout (the build refuses it)."""
-    from cad.assembly.layers import choose_layers
-    from cad.assembly.pose import planar_transforms
+    from cad.families.fourbar.layers import choose_layers
+    from cad.families.fourbar.pose import planar_transforms
     from cad.errors import HapticadError
     from cad.kinematics.linkgeom import link_joints_mm
 

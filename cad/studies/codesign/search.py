@@ -24,7 +24,7 @@ Constraints (a trial violating one is infeasible): ``dy_max_mm`` (design target,
 (:func:`design_limits`, from :mod:`cad.datasheet.limits`: continuous force at the handle >=
 ``force_N``, first mode, stress; ``--beat-prototype`` adds M11, friction and K_max), a valid ``[parts]`` table (bearing fits the
 bar, hub fits the crank end), a layout in the trial's layer order (the planner of
-:mod:`cad.assembly.layers` over the build's poses: a clash between links that widening the
+:mod:`cad.families.fourbar.layers` over the build's poses: a clash between links that widening the
 gaps cannot cure, or a stack no catalog pin or screw can fasten, makes the trial infeasible,
 not an error), and the structural limits (first mode, stress: the frame of
 :mod:`cad.structure.device` with FE-calibrated bars at the middle pose, run only for trials
@@ -377,13 +377,13 @@ def wall_stable(design, info: dict, K_N_per_m: float) -> bool:
 
 def layer_problem(design):
     """(layer plan, None) or (plan or None, the planner's objection): no layout in any order,
-    a stack no catalog pin or screw fastens (DesignError of :mod:`cad.assembly.layers`), or
+    a stack no catalog pin or screw fastens (DesignError of :mod:`cad.families.fourbar.layers`), or
     -- for a given ``[parts] layer_order`` -- a clash between links that widening the gaps
     does not cure (numpy only, the build's poses). Without a given order it is planned
     strictly, as the build refuses: no clear order in any of the six is an objection
     (:func:`cad.families.fourbar.build.check_layout`)."""
-    from cad.assembly.layers import choose_layers
-    from cad.assembly.pose import planar_transforms
+    from cad.families.fourbar.layers import choose_layers
+    from cad.families.fourbar.pose import planar_transforms
     from cad.errors import HapticadError
     from cad.kinematics.linkgeom import link_joints_mm
 

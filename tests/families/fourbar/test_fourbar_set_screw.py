@@ -54,7 +54,7 @@ def _hoeken(**parts):
      (14.0, "M2-0.4", 3.5), (13.0, "M2-0.4", 3.0)],
 )
 def test_hub_set_screw_sizing_against_the_closed_form(hub_mm, size, length_mm):
-    from cad.assembly.layers import hub_set_screw
+    from cad.families.fourbar.layers import hub_set_screw
 
     ss = hub_set_screw(_hoeken(hub_diameter_mm=hub_mm).parts)
     size_ref, L_ref, depth_ref = _closed_form(3.0, hub_mm / 2)  # RE 35: 6 mm shaft
@@ -128,7 +128,7 @@ def test_hub_no_allowed_set_screw_fits_exits_2_from_the_cli(tmp_path, monkeypatc
     """Through the CLI: M2 hub screws let the design file take a 15 mm hub; with the hub
     limited to M3 set screws (4.35 mm of full M3 thread < 1.5 d = 4.5) the build exits 2,
     one line naming parts.hub_diameter_mm, no CAD import, nothing written."""
-    import cad.assembly.layers as layers
+    import cad.families.fourbar.layers as layers
     import cad.parts.lazy_import as li
 
     monkeypatch.setattr(layers, "HUB_SET_SCREW_SIZES", ("M3-0.5",))
@@ -156,6 +156,6 @@ def test_shaft_engagement_too_short_for_the_set_screw_hole_exits_2(tmp_path, mon
     code, _, err = hapticad("build", src, "--out", tmp_path / "out", "--no-cache")
     assert_one_line_error(code, err, "parts.hub_shaft_engagement_min_mm: 3.5 mm", ">= 4 mm")
     assert sorted(p.name for p in tmp_path.iterdir()) == ["short.toml"]
-    from cad.assembly.layers import hub_set_screw
+    from cad.families.fourbar.layers import hub_set_screw
 
     assert hub_set_screw(_hoeken(hub_shaft_engagement_min_mm=4.0).parts).size == "M3-0.5"

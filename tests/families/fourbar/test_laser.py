@@ -332,7 +332,7 @@ def test_bom_says_when_sheets_are_not_written():
     line) say it was not written and how to get it; with dxf they name it plainly."""
     from cad.assembly.laser import laser_process
     from cad.export.nesting import Sheet
-    from cad.pipeline.family import SHEETS_NOT_WRITTEN, _unwritten_sheets, sheet_rows
+    from cad.pipeline.family import SHEETS_NOT_WRITTEN, unwritten_sheets, sheet_rows
 
     part = {"part": "crank", "description": "crank",
             "process": laser_process("waterjet/laser 8 mm plate; ream pin bore x1",
@@ -340,14 +340,14 @@ def test_bom_says_when_sheets_are_not_written():
     stock = sheet_rows([Sheet("acrylic-cast", 8.0, (1000.0, 600.0))])[0]
     assert "nested: sheets/" in part["process"] and "(sheets/)" in stock["description"]
     for row in (part, stock):
-        got = _unwritten_sheets(row)
+        got = unwritten_sheets(row)
         said = got["process"] + got["description"]
         assert SHEETS_NOT_WRITTEN in said and "add dxf to --formats" in said
         assert "nested: sheets/" not in said and "(sheets/)" not in said
 
 
 def test_thickness_tolerance_in_report(laser_build):
-    """report.json sheets.thickness_tolerance (:mod:`cad.assembly.sheet_tolerance`): a row for
+    """report.json sheets.thickness_tolerance (:mod:`cad.families.fourbar.sheet_tolerance`): a row for
     every ISO 4762 screw that clamps a sheet or engages one, and each pin stack; on
     hoeken_laser all hold over EN 485-4 +-0.24 mm (6 mm) / +-0.22 mm (5 mm). The hub's thread
     is cut for the thinnest crank (12 - 5.76 = 6.24 mm) and the handle screw's tip ends flush

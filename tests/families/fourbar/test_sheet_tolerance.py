@@ -1,5 +1,5 @@
 """Fasteners of a laser build over the sheets' thickness tolerance (issue 25,
-:mod:`cad.assembly.sheet_tolerance`), at design load (no CAD).
+:mod:`cad.families.fourbar.sheet_tolerance`), at design load (no CAD).
 
 References typed here, not read from our tables: EN 485-4:1993 Table 1 (alloy group II, width
 1000..1250 mm) +-0.22 mm at 5 mm and +-0.24 mm at 6 mm; the birch plywood data sheet (EN 315
@@ -36,8 +36,8 @@ def _load(tmp_path, *edits: tuple[str, str]):
 
 def _rows(parts):
     """{joint: report row} of the plate screws (motor face, mount, leg) at design load."""
-    from cad.assembly.mechanism import check_plate_screws
-    from cad.assembly.sheet_tolerance import screw_row, sheet_bands
+    from cad.families.fourbar.mechanism import check_plate_screws
+    from cad.families.fourbar.sheet_tolerance import screw_row, sheet_bands
 
     out = {}
     for a, clamps, (L, e) in check_plate_screws(parts):
@@ -104,15 +104,15 @@ def test_hub_screw_lengthened_over_band(tmp_path):
     """An M4 hub screw through the 6 mm crank sheet: nominal 6 + 1.5 x 4 = 12 -> M4 x 12, but
     at 6.24 mm it needs 12.24 -> the next catalog length, 16; the hub's thread is cut for the
     thinnest crank, 16 - 5.76 = 10.24 mm. Machined, the same screw stays M4 x 12 (6 mm)."""
-    from cad.assembly.layers import _hub_screw_length
+    from cad.families.fourbar.layers import hub_screw_length
     from cad.design import load_design
 
     d = _load(tmp_path, ("[parts]\n", '[parts]\nhub_screw = "M4-0.7"\n'))
-    assert _hub_screw_length(d.parts) == pytest.approx((16.0, 16 - (6 - AL6)))
+    assert hub_screw_length(d.parts) == pytest.approx((16.0, 16 - (6 - AL6)))
     m = MACHINED.read_text().replace("[parts]\n", '[parts]\nhub_screw = "M4-0.7"\n')
     p = tmp_path / "m.toml"
     p.write_text(m)
-    assert _hub_screw_length(load_design(p).parts) == (12.0, 6.0)
+    assert hub_screw_length(load_design(p).parts) == (12.0, 6.0)
 
 
 def test_pin_stacks_over_band(tmp_path):
@@ -120,8 +120,8 @@ def test_pin_stacks_over_band(tmp_path):
     ISO 4032 via bd_warehouse): the shoulder's entry into a 5.76..6.24 mm lower bar must lie in
     max(1, 6.24 + 1.8 + 5.2 - 11) .. min(5.76 - 0.5, 5.76 + 1.8 - 2.5) = 2.24..5.06 mm; the
     head's 1 mm clearance over the upper bar drops by 0.24 mm at its thickest."""
-    from cad.assembly.pose import planar_transforms
-    from cad.assembly.sheet_tolerance import pin_rows, sheet_bands
+    from cad.families.fourbar.pose import planar_transforms
+    from cad.families.fourbar.sheet_tolerance import pin_rows, sheet_bands
     from cad.families.fourbar.layout import n_poses, plan_layers, sweep_angles
     from cad.kinematics.linkgeom import link_joints_mm
 
@@ -145,13 +145,13 @@ def test_pin_stacks_over_band(tmp_path):
 def test_machined_unchanged():
     """process = "machined": no sheet, and every screw as before this change (regression pins:
     the hoeken.toml values at commit afbd453, before it)."""
-    from cad.assembly.layers import _hub_screw_length
-    from cad.assembly.mechanism import check_plate_screws
-    from cad.assembly.sheet_tolerance import handle_min_engagement_mm, sheet_bands
+    from cad.families.fourbar.layers import hub_screw_length
+    from cad.families.fourbar.mechanism import check_plate_screws
+    from cad.families.fourbar.sheet_tolerance import handle_min_engagement_mm, sheet_bands
     from cad.design import load_design
 
     parts = load_design(MACHINED).parts
     assert sheet_bands(parts) == {}
     assert [got for _, _, got in check_plate_screws(parts)] == [(8.0, 3.0), (10.0, 5.0), (16.0, 10.0)]
-    assert _hub_screw_length(parts) == (12.0, 6.0)
+    assert hub_screw_length(parts) == (12.0, 6.0)
     assert handle_min_engagement_mm(parts, 1.5, 1.0) == 6.0  # min(1.5 x 4, max(6, 4))

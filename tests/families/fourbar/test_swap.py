@@ -31,8 +31,8 @@ def bar_lengths(d):
 
 
 def test_round_trip_hoeken_roberts_hoeken_gives_the_same_bar_set(tmp_path):
-    from cad.assembly.layers import choose_layers
-    from cad.assembly.pose import planar_transforms
+    from cad.families.fourbar.layers import choose_layers
+    from cad.families.fourbar.pose import planar_transforms
     from cad.design import load_design
     from cad.kinematics.linkgeom import link_joints_mm
 

@@ -123,11 +123,11 @@ def test_thin_handle_or_post_is_refused_before_cad(tmp_path, monkeypatch):
 @pytest.fixture(scope="module")
 def geo():
     from cad.design import load_design
-    from cad.families.powermouse.build import _gap_mm
+    from cad.families.powermouse.build import actuator_gap_mm
     from cad.parts import powermouse as pp
 
     d = load_design(Path(__file__).resolve().parents[3] / "designs" / "powermouse.toml")
-    return d, pp.geometry(d, _gap_mm(d))
+    return d, pp.geometry(d, actuator_gap_mm(d))
 
 
 def _lp_excursion(g, s_mm, Rs, n_e=36) -> float:
@@ -267,7 +267,7 @@ def test_following_the_advice_of_a_refusal_gives_a_valid_geometry(geo):
     import re
 
     from cad.errors import DesignError
-    from cad.families.powermouse.build import _gap_mm
+    from cad.families.powermouse.build import actuator_gap_mm
     from cad.parts import powermouse as pp
 
     d0, _ = geo
@@ -276,7 +276,7 @@ def test_following_the_advice_of_a_refusal_gives_a_valid_geometry(geo):
         d = d0
         for t, ch in tables.items():
             d = dataclasses.replace(d, **{t: dataclasses.replace(getattr(d, t), **ch)})
-        return pp.geometry(d, _gap_mm(d))
+        return pp.geometry(d, actuator_gap_mm(d))
 
     for bad in (25.66, 25.84):
         with pytest.raises(DesignError) as e:

@@ -178,7 +178,7 @@ def test_non_planar_transforms_are_refused():
 @given(st.lists(st.floats(-50, 50), min_size=12, max_size=12))
 def test_hull_distance_matches_dense_sampling(vals):
     """Distance between convex hulls of 3 + 2 points vs sampling both hulls densely."""
-    from cad.assembly.layers import hull_distance
+    from cad.families.fourbar.layers import hull_distance
 
     pa = np.array(vals[:6]).reshape(1, 3, 2)
     pb = np.array(vals[6:10]).reshape(1, 2, 2)
@@ -197,8 +197,8 @@ def test_hull_distance_matches_dense_sampling(vals):
 
 @pytest.mark.parametrize("fam", ["hoeken", "roberts", "chebyshev", "chebyshev-v"])
 def test_layer_plan_is_conflict_free_for_the_paper_families(fam):
-    from cad.assembly.layers import choose_layers
-    from cad.assembly.pose import planar_transforms
+    from cad.families.fourbar.layers import choose_layers
+    from cad.families.fourbar.pose import planar_transforms
     from cad.design.parts import PartsSpec
     from cad.kinematics.families import family_linkage
     from cad.kinematics.linkgeom import link_joints_mm

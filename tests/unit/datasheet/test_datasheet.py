@@ -168,7 +168,7 @@ def test_first_mode_and_handle_mode_consistent_with_rayleigh(method):
     structure's first mode and the crank-held handle mode along x (handle_mode_x_Hz)
     within 10 % of a lumped Rayleigh estimate (static deflection shape out of plane / along
     x) on the bundled Hoeken's frame with a 30 g knob at P."""
-    from cad.assembly.pose import planar_transforms
+    from cad.families.fourbar.pose import planar_transforms
     from cad.design import load_design
     from cad.kinematics.metrics import path_frame
     from cad.structure import device

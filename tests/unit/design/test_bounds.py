@@ -101,10 +101,10 @@ def test_every_numeric_schema_key_has_a_bound():
     keys += [f"parts.{k}" for k in _numeric_fields(PartsSpec)]
     keys += [f"parts.{k}" for k in _numeric_fields(pantograph.PantographParts)]
     for fam in pantograph.FAMILIES:
-        keys += [f"mechanism.{k}" for k in pantograph._MECH_KEYS[fam]
+        keys += [f"mechanism.{k}" for k in pantograph.MECH_KEYS[fam]
                  if k not in ("family", "elbow_left", "elbow_right")]
-        keys += [f"workspace.{k}" for k in pantograph._WS_KEYS[fam]]
-        keys += [f"actuators.{k}" for k in pantograph._ACT_KEYS[fam]]
+        keys += [f"workspace.{k}" for k in pantograph.WS_KEYS[fam]]
+        keys += [f"actuators.{k}" for k in pantograph.ACT_KEYS[fam]]
     keys += [f"actuator.{k}" for k in powermouse.ACTUATOR_KEYS if k != "field_model"]
     for table, cls in (("flotor", powermouse.FlotorSpec), ("stator", powermouse.StatorSpec),
                        ("handle", powermouse.HandleSpec), ("motion", powermouse.MotionSpec)):
@@ -362,9 +362,9 @@ def test_flag_table_covers_every_option_of_every_command():
     """Every option that takes a value, of every command of the app, is in BAD_FLAGS."""
     import typer
 
-    from cad.cli.app import _register_commands, app
+    from cad.cli.app import register_commands, app
 
-    _register_commands()
+    register_commands()
     group = typer.main.get_command(app)
     seen = set()
     for name, cmd in group.commands.items():

@@ -125,7 +125,7 @@ def _vertical(d):
 
 
 def _potential_fourbar(d, rep, phi):
-    from cad.assembly.pose import body_transforms
+    from cad.families.fourbar.pose import body_transforms
 
     g = np.array([0.3, -1.0]) / math.hypot(0.3, 1.0) * 9.80665
     T = body_transforms(d.linkage, phi)

@@ -138,7 +138,7 @@ def test_fem_cantilever_cached_equals_computed(cache):
 
 @pytest.mark.parametrize("dx", [50.0, 40.0, 35.0])  # 10 mm apart, touching, overlapping
 def test_exact_pair_cached_equals_computed(cache, dx):
-    from cad.assembly.interference import _exact_distance_volume, _exact_pair
+    from cad.assembly.interference import exact_distance_volume, exact_pair
     from cad.export.shapes import placed
 
     a, b = _plate(), _plate()
@@ -147,7 +147,7 @@ def test_exact_pair_cached_equals_computed(cache, dx):
     T = np.eye(4)
     T[0, 3] = dx  # the plates are 40 mm long, centred
     sa, sb = placed(a, np.eye(4)), placed(b, T)
-    want = _exact_distance_volume(sa, sb)
-    assert _exact_pair(sa, sb) == want
-    assert _exact_pair(placed(a, np.eye(4)), placed(b, T.copy())) == want  # read back
+    want = exact_distance_volume(sa, sb)
+    assert exact_pair(sa, sb) == want
+    assert exact_pair(placed(a, np.eye(4)), placed(b, T.copy())) == want  # read back
     assert (want[0] > 9.9) == (dx == 50.0) and (want[1] > 1.0) == (dx == 35.0)

@@ -9,7 +9,7 @@ import numpy as np
 import pylinkage as pl
 import pytest
 
-from cad.bench.kinematics import _pylinkage_linkage
+from cad.bench.kinematics import pylinkage_linkage
 from cad.kinematics.families import FAMILIES, family_linkage
 from cad.kinematics.fourbar import solve
 
@@ -22,7 +22,7 @@ def test_coupler_point_equals_pylinkage(family):
     fb, lo, hi = family_linkage(family)
     n = 200
     dphi = (hi - lo) / n
-    rows = np.array(list(_pylinkage_linkage(pl, fb, lo, dphi).step(iterations=n)))  # (n, 5, 2)
+    rows = np.array(list(pylinkage_linkage(pl, fb, lo, dphi).step(iterations=n)))  # (n, 5, 2)
     ours = solve(fb, lo + dphi * (np.arange(n) + 1))  # pylinkage steps before it records
     assert rows.shape == (n, 5, 2)
     np.testing.assert_allclose(rows[:, 2], ours.A2_mm, rtol=0, atol=1e-9)

@@ -244,8 +244,8 @@ def test_bad_part_parameters_name_the_field(table, field, words):
 # ----------------------------------------------------------------- joint stacks (no CAD)
 @pytest.mark.parametrize("fam", ["hoeken", "roberts", "chebyshev", "chebyshev-v"])
 def test_joint_stacks_are_consistent_and_use_catalog_lengths(fam):
-    from cad.assembly.layers import choose_layers
-    from cad.assembly.pose import planar_transforms
+    from cad.families.fourbar.layers import choose_layers
+    from cad.families.fourbar.pose import planar_transforms
     from cad.kinematics.families import family_linkage
     from cad.kinematics.linkgeom import link_joints_mm
 

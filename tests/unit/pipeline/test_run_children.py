@@ -9,16 +9,16 @@ from __future__ import annotations
 import os
 
 from cad.pipeline import forked
-from cad.pipeline.run import Build, _timed
+from cad.pipeline.run import Build, timed_call
 
 
 def test_a_further_childs_value_is_read_once_and_its_files_listed(tmp_path):
     b = Build(design=None, out_dir=tmp_path, formats=set(), fidelity="preview",
               allow_interference=False)
     parent = os.getpid()
-    b.tasks["x"] = forked.start(_timed(lambda: (["a.png"], os.getpid())), "x")
+    b.tasks["x"] = forked.start(timed_call(lambda: (["a.png"], os.getpid())), "x")
     b.further.add("x")
-    b.tasks["y"] = forked.start(_timed(lambda: ["y.step"]), "y")
+    b.tasks["y"] = forked.start(timed_call(lambda: ["y.step"]), "y")
     pid = b.child("x")
     assert b.child("x") == pid  # read twice: one wait
     assert (pid != parent) == forked.fork_enabled()  # from the child where forking is on

@@ -131,7 +131,7 @@ def test_optimize_never_replaces_a_users_file_named_like_its_chart(tmp_path):
     matplotlib.use("Agg")
     from matplotlib.figure import Figure
 
-    from cad.cli.cmd_optimize import _chart_replaceable
+    from cad.cli.cmd_optimize import chart_replaceable
     from cad.errors import DesignError
     from cad.report.figures import save_figure
 
@@ -148,11 +148,11 @@ def test_optimize_never_replaces_a_users_file_named_like_its_chart(tmp_path):
     for ext in ("png", "svg"):
         ours = tmp_path / f"ours_pareto.{ext}"
         save_figure(fig, ours)
-        assert _chart_replaceable(ours, tmp_path / "d.toml")
+        assert chart_replaceable(ours, tmp_path / "d.toml")
         fig.savefig(tmp_path / f"theirs.{ext}")  # plain matplotlib: no hapticad mark
         with pytest.raises(DesignError):
-            _chart_replaceable(tmp_path / f"theirs.{ext}", tmp_path / "d.toml")
-    assert not _chart_replaceable(tmp_path / "absent.png", tmp_path / "d.toml")
+            chart_replaceable(tmp_path / f"theirs.{ext}", tmp_path / "d.toml")
+    assert not chart_replaceable(tmp_path / "absent.png", tmp_path / "d.toml")
 
 
 @pytest.mark.slow

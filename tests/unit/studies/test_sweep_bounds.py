@@ -74,9 +74,9 @@ def test_bounded_pass_measures_every_near_pose_of_the_brute_force(n_poses):
     """The bench's cylinder scene (closed-form gaps -0.2 .. 0.5 mm): at every pose the brute
     force distance; the bounded pass must measure each pose below the near threshold, agree
     where it measures, bound from below where it skips, and find the same minimum."""
-    from cad.bench.interference import CONTACT_CLEARANCE_MM, _scene
+    from cad.bench.interference import CONTACT_CLEARANCE_MM, interference_scene
 
-    items, tfs, _ = _scene(n_poses)
+    items, tfs, _ = interference_scene(n_poses)
     prep = itf.prepare(items, itf.SWEEP_MESH_TOL_MM)
     threshold = CONTACT_CLEARANCE_MM + 2 * prep.mesh_tol_mm + itf.CONFIRM_MARGIN_MM
     scene = itf._FclScene(prep, np.inf)

@@ -22,7 +22,7 @@ def body_transforms(fb: FourBar, phi1_rad) -> dict[str, np.ndarray]:
 
 
 def planar_transforms(fb: FourBar, phi1_rad) -> dict[str, np.ndarray]:
-    """``{body: (N, 3, 3)}`` planar link transforms (for :mod:`cad.assembly.layers`)."""
+    """``{body: (N, 3, 3)}`` planar link transforms (for :mod:`cad.families.fourbar.layers`)."""
     phi = np.atleast_1d(np.asarray(phi1_rad, dtype=float))
     pose = solve(fb, phi)
     return {b: tf_world_link(fb, pose, b) for b in BODIES}

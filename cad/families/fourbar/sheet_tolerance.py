@@ -19,7 +19,7 @@ the keys to change).
 
 ISO 7379 pin stacks (:func:`pin_rows`): the clamp (head spacer, bearing ring, gap spacer) holds
 no sheet, but the shoulder ends inside the lower bar with the nut on full thread, a window
-that moves with the lower bar's thickness (:func:`cad.assembly.layers._pin_window` at its
+that moves with the lower bar's thickness (:func:`cad.families.fourbar.layers.pin_window` at its
 ``hi`` and ``lo``), and the screw head stands above the upper bar by the head clearance less
 what the upper bar's lip grows.
 
@@ -185,11 +185,11 @@ def size_over_band(size: str, clamp_mm: float, hole, joint: str, field: str, cla
 
 def pin_rows(plan, parts, bands: dict[str, SheetBand]) -> list[dict]:
     """report.json rows of the ISO 7379 pin stacks of a layer plan
-    (:class:`cad.assembly.layers.LayerPlan`) with a sheet bar in them: the shoulder entry into
+    (:class:`cad.families.fourbar.layers.LayerPlan`) with a sheet bar in them: the shoulder entry into
     the lower bar ``L - c`` against its window at the lower bar's ``hi`` (nut on full thread)
     and ``lo`` (shoulder inside the bar), the head's clearance above the upper bar at its
     ``hi``, and the stack height (lower bar bottom to head top) over the lower bar's band."""
-    from cad.assembly.layers import _pin_window
+    from cad.families.fourbar.layers import pin_window
 
     pin = catalog.get_shoulder_screw(parts.pin)
     brg = catalog.get_bearing(parts.bearing)
@@ -201,9 +201,9 @@ def pin_rows(plan, parts, bands: dict[str, SheetBand]) -> list[dict]:
         entry = s.pin_length_mm - s.clamp_mm
         t = parts.bar_thickness_mm
         if s.nut and low is not None:
-            win = (_pin_window(parts, low.hi_mm, False)[0], _pin_window(parts, low.lo_mm, False)[1])
+            win = (pin_window(parts, low.hi_mm, False)[0], pin_window(parts, low.lo_mm, False)[1])
         else:
-            win = _pin_window(parts, t, not s.nut)
+            win = pin_window(parts, t, not s.nut)
         clear = s.shim_mm - (t - brg.B_mm)
         clear_min = clear - ((up.hi_mm - up.nominal_mm) if up else 0.0)
         h = t + s.clamp_mm + pin.k_mm if s.nut else s.clamp_mm + pin.k_mm

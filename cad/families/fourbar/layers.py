@@ -249,7 +249,7 @@ _HULL_MEMO: dict[tuple, float] = {}
 
 
 # --------------------------------------------------------------------------- stack
-def _pin_window(parts: PartsSpec, t: float, on_post: bool) -> tuple[float, float]:
+def pin_window(parts: PartsSpec, t: float, on_post: bool) -> tuple[float, float]:
     pin = catalog.get_shoulder_screw(parts.pin)
     if on_post:
         return SHOULDER_MIN_ENTRY_MM, np.inf
@@ -277,7 +277,7 @@ def joint_stack(
     spacer = z_upper - z_lower_top
     shim = (t - brg.B_mm) + parts.pin_head_clearance_mm
     clamp = shim + brg.B_mm + spacer
-    lo, hi = _pin_window(parts, t, on_post)
+    lo, hi = pin_window(parts, t, on_post)
     L = catalog.shortest_length(pin.lengths_mm, clamp + lo)
     if L is None:
         raise DesignError(
@@ -306,17 +306,17 @@ def joint_stack(
     )
 
 
-def _hub_screw_length(parts: PartsSpec) -> tuple[float, float]:
+def hub_screw_length(parts: PartsSpec) -> tuple[float, float]:
     """(length, engagement) of the hub screws: through the crank into the hub's tapped holes
     (1.5 d minimum in aluminium, :mod:`cad.assembly.fasteners`); the hub is made tall
     enough for the hole (:func:`plan_for_order`). Engagement: at the thinnest crank sheet in a
-    laser build (:func:`cad.assembly.sheet_tolerance.thinnest_mm`), the nominal otherwise."""
+    laser build (:func:`cad.families.fourbar.sheet_tolerance.thinnest_mm`), the nominal otherwise."""
     from cad.assembly.fasteners import alu_hole
-    from cad.assembly.sheet_tolerance import sheet_bands, size_over_band, thinnest_mm
+    from cad.families.fourbar.sheet_tolerance import sheet_bands, size_over_band, thinnest_mm
 
     hole = alu_hole("crank_hub:screw", "crank_hub", parts.hub_screw, math.inf)
     bands = sheet_bands(parts)  # a laser-cut crank: long enough at its thickest, the hole
-    t = parts.bar_thickness_mm  # deep enough at its thinnest (cad.assembly.sheet_tolerance)
+    t = parts.bar_thickness_mm  # deep enough at its thinnest (cad.families.fourbar.sheet_tolerance)
     L, _ = size_over_band(parts.hub_screw, t, hole, "A1 (crank to hub)", "parts.hub_screw",
                           ["crank"], bands, clamp_field="parts.bar_thickness_mm")
     return L, L - thinnest_mm(bands, "crank", t)
@@ -433,7 +433,7 @@ def plan_for_order(
     offs = (0.0, t + gaps[0], 2 * t + gaps[0] + gaps[1])
     motor = catalog.get_motor(parts.motor)
     els = _Elements(parts, motor)  # the catalog hardware looked up first, as ever
-    hub_L, hub_engaged = _hub_screw_length(parts)
+    hub_L, hub_engaged = hub_screw_length(parts)
     handle_L = _handle_screw_length(parts)
     z0 = _lowest_layer_z(order, level, offs, parts, hub_engaged)
     js = _stacks_at(order, level, offs, z0, parts)
@@ -772,7 +772,7 @@ def clearing_stroke_mm(family: str, stroke_mm: float, parts: PartsSpec, n_poses:
     """Smallest stroke (0.1 mm, scanning up from ``stroke_mm`` to :data:`STROKE_SCAN_MAX` x)
     at which the family scaled to it has a conflict-free layer order, or None. Longer links
     move the joint hardware away from the hub (the hardware does not scale)."""
-    from cad.assembly.pose import planar_transforms
+    from cad.families.fourbar.pose import planar_transforms
     from cad.kinematics.families import family_linkage
     from cad.kinematics.linkgeom import link_joints_mm
 

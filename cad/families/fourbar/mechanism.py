@@ -2,14 +2,14 @@
 
 Input: the linkage (joint positions in each link's frame from
 :func:`cad.kinematics.linkgeom.link_joints_mm`), the layer plan
-(:func:`cad.assembly.layers.choose_layers`) and the ``[parts]`` spec. Output: a list
+(:func:`cad.families.fourbar.layers.choose_layers`) and the ``[parts]`` spec. Output: a list
 of :class:`cad.parts.PartInstance` -- a part kind (solid in its own frame) carried by
 a body ("ground", "crank", "coupler", "rocker") at a 4x4 placement. Bodies move with
 the link transforms of :mod:`cad.kinematics.linkgeom`; z = 0 is the base plate's top.
 
 Joint hardware belongs to the link that holds the pin (the LOWER link at A2/A3, the
 ground at A4); the bearing belongs to the link with the seat, its inner ring's
-collision envelope to the pin's link (see :mod:`cad.assembly.layers`).
+collision envelope to the pin's link (see :mod:`cad.families.fourbar.layers`).
 
 Fasteners are sized from their stacks (:mod:`cad.assembly.fasteners`): every screw
 instance carries a :class:`cad.assembly.fasteners.Fastener` record, every tapped hole a
@@ -41,7 +41,7 @@ from cad.assembly.fasteners import (
     iso7379_thread_mm,
     shoulder_screw_hole,
 )
-from cad.assembly.layers import (
+from cad.families.fourbar.layers import (
     HUB_SCREWS,
     POST_THREAD_EXTRA_MM,
     TAP_LEADOUT_MM,
@@ -50,7 +50,7 @@ from cad.assembly.layers import (
     post_bore_depth_mm,
     spacer_od_mm,
 )
-from cad.assembly.sheet_tolerance import (
+from cad.families.fourbar.sheet_tolerance import (
     handle_floor_mm,
     handle_min_engagement_mm,
     pin_rows,
@@ -508,7 +508,7 @@ def _joint_hardware(b: _Builder) -> None:
 
 def _post_engagement_mm(parts: PartsSpec, s4) -> float:
     """What the A4 pin holds in the post (mm): an ISO 7379 screw its whole thread b - g2 (the
-    reamed bore ends where the relief ends, :func:`cad.assembly.layers.post_bore_depth_mm`);
+    reamed bore ends where the relief ends, :func:`cad.families.fourbar.layers.post_bore_depth_mm`);
     a plain pin its pressed length, shoulder entry L - c plus b (the post's hole is the pin's
     diameter all the way)."""
     pin = cat.get_shoulder_screw(parts.pin)
@@ -644,7 +644,7 @@ def check_plate_screws(parts: PartsSpec) -> list:
 
 def _set_screw(b: _Builder, m, hub_h: float, engaged: float) -> None:
     """ISO 4026 set screw in the hub's radial tapped hole, flat point on the shaft, its end
-    inside the hub (sized before any CAD: :func:`cad.assembly.layers.hub_set_screw`)."""
+    inside the hub (sized before any CAD: :func:`cad.families.fourbar.layers.hub_set_screw`)."""
     from cad.parts import motor
 
     ss = b.plan.hub_set_screw
