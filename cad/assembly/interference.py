@@ -1251,7 +1251,7 @@ def check_model(
 # ------------------------------------------------------------- poses of a free body (6-DOF)
 # (was cad/assembly/static.py) The smallest distance between a moving part set and a fixed
 # one at arbitrary rigid poses, for motion that is not a planar crank sweep: the PowerMouse's
-# part-level study :func:`cad.parts.powermouse.motion_clearances` (the builds' check is
+# part-level study :func:`cad.families.powermouse.parts.motion_clearances` (the builds' check is
 # :func:`check_model`). fcl mesh distance at every pose; OCCT ``BRepExtrema_DistShapeShape``
 # (and the common volume at contact) only at poses whose mesh distance is within
 # ``2 tol + CONFIRM_MARGIN_MM`` of contact, and at the closest pose of each pose group (so

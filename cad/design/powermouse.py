@@ -44,7 +44,7 @@ Schema (units in key names; every table but [mechanism] and [actuator] optional)
     range_mm = 3.0                   # translation range +- (Table 4)
     range_deg = 5.0                  # rotation range +- (Table 4)
 
-Geometry derived in :mod:`cad.parts.powermouse`; the flotor frame has its
+Geometry derived in :mod:`cad.families.powermouse.parts`; the flotor frame has its
 origin at the cube centre and axes normal to the faces.
 """
 

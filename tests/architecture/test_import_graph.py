@@ -12,7 +12,9 @@
 * Only ``cad/occ/``, ``cad/parts/``, ``cad/massprops/occt.py`` and ``cad/export/`` (its
   ``drawings/`` included) import a CAD library (OCP, build123d, cadquery, bd_warehouse,
   ocp_vscode), at module level or inside a function (issue 23's layout: ``occ/`` is "the only
-  non-part package that imports OCP/build123d besides parts/, massprops/occt, export/").
+  non-part package that imports OCP/build123d besides parts/, massprops/occt, export/"),
+  and a family's own solids, ``cad/families/<name>/parts.py`` (issue 32 §6: a family is one
+  package; the PowerMouse's geometry and solids live in ``cad/families/powermouse/parts.py``).
 """
 
 from __future__ import annotations
@@ -170,6 +172,11 @@ def cad_library_imports(module: str) -> set[str]:
 
 
 def _may_import_cad(module: str) -> bool:
+    """In :data:`CAD_IMPORTERS`, or a family's own solids: ``cad.families.<name>.parts``
+    (issue 32 §6: a family is one package, its geometry and solids included)."""
+    fam = module.split(".")
+    if len(fam) == 4 and fam[:2] == ["cad", "families"] and fam[3] == "parts":
+        return True
     return any(module == p or module.startswith(p + ".") for p in CAD_IMPORTERS)
 
 
@@ -182,9 +189,12 @@ def test_the_cad_library_scan_sees_lazy_imports():
     assert "build123d" in cad_library_imports("cad.parts.lazy_import")
     assert cad_library_imports("cad.data.catalog") == set()
     assert all(_may_import_cad(m) for m in ("cad.occ", "cad.export.drawings.features",
-                                            "cad.massprops.occt", "cad.parts.pen"))
+                                            "cad.massprops.occt", "cad.parts.pen",
+                                            "cad.families.powermouse.parts"))
     assert not any(_may_import_cad(m) for m in ("cad.occupancy", "cad.massprops.mesh",
-                                                "cad.exporter", "cad.assembly.interference"))
+                                                "cad.exporter", "cad.assembly.interference",
+                                                "cad.families.powermouse.build",
+                                                "cad.families.parts"))
 
 
 def test_only_the_cad_layers_import_cad_libraries():

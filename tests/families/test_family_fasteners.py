@@ -160,7 +160,7 @@ def test_bom_states_tapped_holes(family_builds, fam):
 
 
 def test_powermouse_bom_states_the_lid_screw_holes(family_builds):
-    from cad.parts import powermouse as pp
+    from cad.families.powermouse import parts as pp
 
     _, out, rep = family_builds["powermouse"]
     with (out / "bom.csv").open() as fh:

@@ -85,7 +85,7 @@ def check_options(design, fidelity: str, phi1_deg, formats=frozenset()) -> None:
     """Refuse what this builder cannot do, before any CAD import (DesignError)."""
     if phi1_deg is not None:
         raise DesignError("--phi1-deg", f"the PowerMouse has no crank angle, got {phi1_deg!r}")
-    from cad.parts import powermouse as pp
+    from cad.families.powermouse import parts as pp
 
     pp.lid_screw_plan(design.stator.housing_wall_mm)  # walls too thin for the lid screws
     g = pp.geometry(design, actuator_gap_mm(design))  # the post's and the handle's shoulders

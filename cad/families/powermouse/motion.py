@@ -36,9 +36,9 @@ def motion_poses(design, g, fidelity: str) -> list[tuple[str, np.ndarray, np.nda
     fabrication -- the extreme poses of the motion range
     (:func:`cad.actuators.powermouse.workspace_poses`: 26 translations, 26 rotations) and
     the combined poses that move the handle and post furthest
-    (:func:`cad.parts.powermouse.combined_poses`); inertia / preview -- the 12 on-axis ones."""
+    (:func:`cad.families.powermouse.parts.combined_poses`); inertia / preview -- the 12 on-axis ones."""
     from cad.actuators import powermouse as pm
-    from cad.parts import powermouse as pp
+    from cad.families.powermouse import parts as pp
 
     poses = pm.workspace_poses(design.motion.range_mm, design.motion.range_deg)
     poses += pp.combined_poses(g)  # translation + rotation: the handle's and post's worst
@@ -60,10 +60,10 @@ def assemble(design, fidelity: str = "fabrication"):
     pose), the flotor's motion (``{"flotor": (N, 4, 4)}`` mm: the centre, then
     :func:`motion_poses`; ``pose_labels``: ``"centre"`` and the poses' labels), the lid's
     tapped holes; ``extra``: ``actuator`` (:func:`actuator_optimum`), ``geometry``
-    (:class:`cad.parts.powermouse.PowerMouseGeometry`), ``actuator_geometry``,
+    (:class:`cad.families.powermouse.parts.PowerMouseGeometry`), ``actuator_geometry``,
     ``actuator_solids`` and ``rig`` (the test rig's instances, not part of the device)."""
     from cad.assembly.model import AssemblyModel
-    from cad.parts import powermouse as pp
+    from cad.families.powermouse import parts as pp
     from cad.parts import voicecoil as pv
 
     act = actuator_optimum(design)

@@ -93,7 +93,7 @@ def tf(R, t) -> np.ndarray:
 
 def part_labels(g) -> dict:
     """Thread sizes and lengths named in the BOM texts of :data:`PARTS`."""
-    from cad.parts import powermouse as pp
+    from cad.families.powermouse import parts as pp
 
     ss = pp.post_plan(g)["set_screw"]["size"]
     return {"ht": pp.HANDLE_THREAD.split("-")[0], "hl": g.handle_thread_mm,
@@ -122,14 +122,14 @@ def part_kind(name, shape, role, design, labels=None, **kw):
 def assembly(design, g, acts) -> tuple[list, list]:
     """``(device instances, rig instances)``: :class:`cad.parts.PartInstance` lists.
 
-    Device bodies: ``flotor`` (frame = the flotor frame of :mod:`cad.parts.powermouse`)
+    Device bodies: ``flotor`` (frame = the flotor frame of :mod:`cad.families.powermouse.parts`)
     and ``ground`` (the stator), both at the identity at the centre pose. Repeated parts
     (coils, magnets, iron plates) are one kind placed several times.
     """
     from cad.actuators import powermouse as pm
     from cad.export.shapes import placed
     from cad.parts import PartInstance
-    from cad.parts import powermouse as pp
+    from cad.families.powermouse import parts as pp
 
     fl, st = pp.flotor_solids(g), pp.stator_solids(g)
     coils = g.coils()
@@ -172,7 +172,7 @@ def assembly(design, g, acts) -> tuple[list, list]:
 def screw_uses(design, g) -> dict:
     """``{(size, length): "housing lid, legs"}``: what each ISO 4762 screw kind holds (one
     BOM row per kind, so screws of one size and length share its text)."""
-    from cad.parts import powermouse as pp
+    from cad.families.powermouse import parts as pp
 
     uses: dict = {}
     for sp, _, _, _, lid, _ in lid_plans(design, g).values():
@@ -187,7 +187,7 @@ def leg_parts(design, g) -> list:
     head on the bottom wall's inner face), each screw with its fastener record."""
     from cad.assembly.fasteners import Fastener
     from cad.parts import PartInstance, joints, translation
-    from cad.parts import powermouse as pp
+    from cad.families.powermouse import parts as pp
 
     sp = pp.leg_plan(design.stator.housing_wall_mm)
     Ho = g.housing_inner_half_mm + g.housing_wall_mm
@@ -223,7 +223,7 @@ def turned_tips(design, g) -> dict:
     """Fastener records of the two turned parts screwed in along the diagonal: ``handle``
     (its tip in the flotor's corner boss) and ``post`` (its tip in the core)."""
     from cad.assembly.fasteners import Fastener
-    from cad.parts import powermouse as pp
+    from cad.families.powermouse import parts as pp
 
     h, t = pp.handle_plan(g, design.flotor.material), pp.post_plan(g)["tip"]
     return {
@@ -239,7 +239,7 @@ def post_set_screw_parts(g):
     from cad.assembly.fasteners import Fastener
     from cad.data.catalog import FASTENER_MATERIAL
     from cad.parts import PartInstance, PartKind
-    from cad.parts import powermouse as pp
+    from cad.families.powermouse import parts as pp
     from cad.parts.motor import set_screw_shape
 
     ss = pp.post_plan(g)["set_screw"]
@@ -258,8 +258,8 @@ def post_set_screw_parts(g):
 def lid_plans(design, g) -> dict:
     """``{prefix: (plan, screw (x, y) list, z of the lid's outer face, body, lid, tapped
     part)}`` for the housing lid (+z wall, screws from above) and the flotor lid (-z wall,
-    screws from below) (:mod:`cad.parts.powermouse`)."""
-    from cad.parts import powermouse as pp
+    screws from below) (:mod:`cad.families.powermouse.parts`)."""
+    from cad.families.powermouse import parts as pp
 
     return {
         "lid_screw": (pp.lid_screw_plan(design.stator.housing_wall_mm), pp.lid_screw_xy_mm(g),
@@ -274,11 +274,11 @@ def lid_plans(design, g) -> dict:
 def lid_holes(design, g) -> dict:
     """Every tapped hole of the device -> :class:`cad.assembly.fasteners.TappedHole`: the lid
     screws' ``housing_body:lid_<k>`` and ``flotor_body:lid_<k>`` (depth and minimum
-    engagement from :func:`cad.parts.powermouse.lid_screw_plan`), ``flotor_body:handle``,
+    engagement from :func:`cad.families.powermouse.parts.lid_screw_plan`), ``flotor_body:handle``,
     ``core:post`` and ``housing_body:post_set_screw``
-    (:func:`cad.parts.powermouse.handle_plan`, :func:`cad.parts.powermouse.post_plan`)."""
+    (:func:`cad.families.powermouse.parts.handle_plan`, :func:`cad.families.powermouse.parts.post_plan`)."""
     from cad.assembly.fasteners import TappedHole
-    from cad.parts import powermouse as pp
+    from cad.families.powermouse import parts as pp
 
     out = {}
     for sp, xy, _, _, _, part in lid_plans(design, g).values():

@@ -107,7 +107,7 @@ def test_design_loads_and_rejects_bad_values():
 
 
 def test_geometry_rejects_a_too_small_flotor():
-    from cad.parts import powermouse as pp
+    from cad.families.powermouse import parts as pp
 
     d = load_design(DESIGN_PATH)
     raw = dict(d.raw)
@@ -121,7 +121,7 @@ def test_geometry_rejects_a_too_small_flotor():
 
 @pytest.fixture(scope="module")
 def solids():
-    from cad.parts import powermouse as pp
+    from cad.families.powermouse import parts as pp
 
     d = load_design(DESIGN_PATH)
     g = pp.geometry(d, 10.8)
@@ -153,7 +153,7 @@ def _lid_screw_hole_fill(g, rho: float) -> list:
     m (3 r^2 + h^2) / 12 across)."""
     from cad.data import catalog
     from cad.massprops.props import MassProps
-    from cad.parts import powermouse as pp
+    from cad.families.powermouse import parts as pp
 
     z0 = -(g.flotor_edge_mm / 2 - g.coil_width_mm)  # the split: ends of the side walls
     size = pp.FLOTOR_LID_SCREW
@@ -196,7 +196,7 @@ def test_clearances_match_analytic_values(solids):
     +z outer magnet corner at y = l_m/2 meets the tilted shell face:
     (E/2 + d_r/2) cos(theta) - (l_m/2) sin(theta) - E/2.
     """
-    from cad.parts import powermouse as pp
+    from cad.families.powermouse import parts as pp
 
     _, g, fl, st = solids
     th = math.radians(5.0)
@@ -258,7 +258,7 @@ def test_combined_translation_and_rotation_range(solids):
     about any of the 13 axes, translations along the face normals clear up to 1.76 mm (1.70
     mm clears, 1.82 mm collides, a coil or the shell against a magnet: the coil gap is the
     end stop, not the handle or the post in their corner holes); docs/families/pantograph-powermouse.md quotes this."""
-    from cad.parts import powermouse as pp
+    from cad.families.powermouse import parts as pp
 
     _, g, fl, st = solids
     th = math.radians(5.0)
@@ -287,7 +287,7 @@ def test_flotor_mass_and_peak_acceleration_pinned(family_builds):
     coil pair (peak_force_N). The totals 234 g / 9.7 G are a regression pin (our own run)."""
     from cad.actuators import voicecoil as vc
     from cad.data.materials import get_material
-    from cad.parts import powermouse as pp
+    from cad.families.powermouse import parts as pp
 
     d, _, rep = family_builds["powermouse"]
     gap = rep["actuator"]["gap_mm"]

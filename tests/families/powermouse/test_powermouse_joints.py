@@ -90,7 +90,7 @@ def test_post_set_screw_against_the_catalog_and_the_step_file(pm):
     sqrt(10^2 - 1.5^2) - 4 = 5.887 mm, so the longest ISO 4026 M3 length not proud of it is
     5 >= 1.5 d = 4.5. Read back: its point on the post (4 mm from the diagonal), the whole
     length in full thread in the housing, its end inside the collar."""
-    from cad.parts import powermouse as pp
+    from cad.families.powermouse import parts as pp
 
     d, rep, parts = pm
     r, R = d.stator.post_diameter_mm / 2, d.stator.post_diameter_mm / 2 + pp.POST_COLLAR_WALL_MM
@@ -124,7 +124,7 @@ def test_thin_handle_or_post_is_refused_before_cad(tmp_path, monkeypatch):
 def geo():
     from cad.design import load_design
     from cad.families.powermouse.build import actuator_gap_mm
-    from cad.parts import powermouse as pp
+    from cad.families.powermouse import parts as pp
 
     d = load_design(Path(__file__).resolve().parents[3] / "designs" / "powermouse.toml")
     return d, pp.geometry(d, actuator_gap_mm(d))
@@ -189,7 +189,7 @@ def test_tester_poses_are_clear_and_the_worst_pose_only_touches(geo):
     now; at the bound's worst pose for the handle and the post, read exactly with OCCT, the
     coils touch their magnets (the stop, 0 mm) and nothing overlaps."""
     from cad.actuators.powermouse import diagonal_excursion_mm, rot_about
-    from cad.parts import powermouse as pp
+    from cad.families.powermouse import parts as pp
 
     d, g = geo
     th = math.radians(5.0)
@@ -268,7 +268,7 @@ def test_following_the_advice_of_a_refusal_gives_a_valid_geometry(geo):
 
     from cad.errors import DesignError
     from cad.families.powermouse.build import actuator_gap_mm
-    from cad.parts import powermouse as pp
+    from cad.families.powermouse import parts as pp
 
     d0, _ = geo
 
