@@ -14,8 +14,10 @@ continuous_force_N     >=    ``force_N`` (four-bars; unless                the f
                                                                            motor, at every point of the stroke
 peak_force_N           >=    ``force_N`` when ``force_basis = "peak"``     a peak-only design still needs its
                                                                            force at every point, for a moment
-force_any_dir_N        >=    ``[actuators] force_N`` of a pantograph       the force asked for must be there in
-                             design when it gives one                      every direction at every point
+continuous_force_N     >=    ``[actuators] force_max_N`` of a pantograph   the force asked for must be there in
+(pantograph families)        design when it gives one (judged on the       every direction at every point,
+                             BOM motors' continuous torque, not on         without overheating the motors
+                             ``force_any_dir_N``, the GII's normalisation)
 first_mode_Hz          >=    :data:`FIRST_MODE_MIN_HZ` (four-bars, the     Hoeken paper §III.B.1: 150 Hz force
                              planar pantographs, the haptic pen: same)     bandwidth; a structural mode inside
                                                                            it is rendered as a vibration (the
@@ -106,6 +108,7 @@ FOURBAR_TARGET_CHANGE = {
     "K_max_N_per_m": "stiffness.Te_s, stiffness.Fv_N_s_per_m, stiffness.encoder_resolution_m or parts.encoder",
 }
 
+PANTO_FORCE_CHANGE = "parts.motor or [motor] (a stronger motor), actuators.force_max_N or the link lengths"
 PANTO_MODE_CHANGE = "parts.tube_od_mm, parts.tube_id_mm, parts.tube_material (stiffer, lighter links)"
 PANTO_STRESS_CHANGE = "parts.tube_od_mm / parts.tube_id_mm or parts.tube_material (parts.crank_material)"
 
@@ -121,10 +124,11 @@ def pantograph_limits(design, force_N: float | None, strength_MPa: float | None 
         if strength_MPa is not None:
             lim["max_stress_MPa"] = Limit("<=", strength_MPa / STRESS_SAFETY_FACTOR, STRESS_REASON,
                                           PANTO_STRESS_CHANGE)
-    if force_N is not None:
-        lim["force_any_dir_N"] = Limit(">=", force_N, "[actuators] force_max_N (S_T, isotropy paper eq 4): the "
-                                       "force asked for, in every direction at every point of the workspace",
-                                       "actuators.torque_max_Nm, actuators.force_max_N or the link lengths")
+    if force_N is not None:  # judged on the motors the BOM orders, not the GII's normalisation
+        lim["continuous_force_N"] = Limit(">=", force_N, "[actuators] force_max_N (S_T, isotropy paper eq 4): "
+                                          "the force asked for, in every direction at every point of the "
+                                          "workspace, from the continuous torque of the motors the BOM orders",
+                                          PANTO_FORCE_CHANGE)
     return with_targets(lim, getattr(design, "targets", ()))
 
 

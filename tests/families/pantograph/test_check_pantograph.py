@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from cad.design import load_design
@@ -28,13 +29,25 @@ def test_gii_target_against_the_gii_command(tmp_path):
 def test_pantograph_targets_are_validated():
     code, _, err = hapticad("check", "designs/pantograph.toml", "--target", "H11_kg_m2=1e-5")
     assert_one_line_error(code, err, "--target.H11_kg_m2", "unknown target", "gii")
-    # no targets: the default limits (force in every direction >= [actuators] force_max_N = 1 N;
-    # issue 24: first mode >= 150 Hz, stress <= strength / 3, motors held)
+    # no targets: the default limits (issue 32: the force in every direction from the motors the
+    # BOM orders >= [actuators] force_max_N = 1 N, not the GII's 1 N m normalisation; issue 24:
+    # first mode >= 150 Hz, stress <= strength / 3, motors held)
     code, out, err = hapticad("check", "designs/pantograph.toml", "--json")
     res = json.loads(out)
     rows = {r["key"]: r for r in res["rows"]}
-    assert list(rows) == ["force_any_dir_N", "first_mode_Hz", "max_stress_MPa"]
-    assert rows["force_any_dir_N"]["computed"] > 1.0 and rows["force_any_dir_N"]["ok"]
+    assert list(rows) == ["continuous_force_N", "first_mode_Hz", "max_stress_MPa"]
+    # equal motors: the force scales with the torque, so the RE 35's continuous torque (catalog)
+    # times the force per N m of the GII's normalisation (hand SVD of J^T over the grid)
+    from cad.data.catalog import MOTORS
+    from cad.kinematics.fivebar import STATUS_OK, jacobian_rad_per_m
+
+    d = load_design("designs/pantograph.toml")
+    J, st = jacobian_rad_per_m(d.mechanism, d.workspace_points())
+    per_Nm = min(np.linalg.svd(J[i].T, compute_uv=False)[-1] for i in np.flatnonzero(st == STATUS_OK))
+    ref = per_Nm * MOTORS["maxon-re35"].torque_continuous_mNm * 1e-3
+    assert rows["continuous_force_N"]["computed"] == pytest.approx(ref, rel=1e-9)
+    assert rows["continuous_force_N"]["computed"] == pytest.approx(0.677, abs=5e-4)  # < 1 N: missed
+    assert not rows["continuous_force_N"]["ok"] and "force_any_dir_N" not in rows
     assert rows["max_stress_MPa"]["ok"]
     # the bundled 5-bar's 8 x 6 mm carbon tubes: first mode ~33 Hz (out of plane) < 150 Hz
     assert not rows["first_mode_Hz"]["ok"] and code == 1, err
