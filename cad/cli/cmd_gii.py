@@ -54,7 +54,8 @@ def register(app: typer.Typer) -> None:
             print_json(rep)
             return
         print(
-            f"{rep['design']} ({rep['family']}): GII = {rep['gii']:.6f} over {rep['n_points']} samples"
+            f"{rep['design']} ({rep['family']}): GII = {rep['gii']:.6f} over {rep['n_points']} samples "
+            f"of a {' x '.join(f'{v:g}' for v in rep['workspace_size_mm'])} mm workspace"
         )
         print(f"  sigma_min = {rep['sigma_min']:.6g} at {point_text(rep['sigma_min_at'])}")
         print(f"  sigma_max = {rep['sigma_max']:.6g} at {point_text(rep['sigma_max_at'])}")

@@ -7,7 +7,8 @@ Schema (mm, N, N m; every key optional unless marked *):
     [mechanism]  family*, base_mm*, proximal_mm*, distal_mm*,
                  proximal_right_mm, distal_right_mm (general 5-bar; default = left),
                  elbow_left (+1), elbow_right (-1)
-    [workspace]  side_mm*, center_mm* = [x, y], grid (11)
+    [workspace]  side_mm* (a square) or size_mm* = [W, H] (a rectangle, W along x; exactly
+                 one of the two), center_mm* = [x, y], grid (11: samples per side)
     [actuators]  torque_max_Nm (1.0, or [left, right]), force_max_N (1.0)
     [optimize]   base_mm / proximal_mm / distal_mm = [min, max, count]
     [parts]      see :class:`PantographParts` (the mouse's lower group and a handle at E)
@@ -16,7 +17,7 @@ Schema (mm, N, N m; every key optional unless marked *):
 
     [mechanism]  family*, base_mm*, proximal_mm*, distal_mm*, knob_diameter_mm (12.5),
                  crank_mm (eq 7: 1.6 * knob_diameter_mm)
-    [workspace]  side_mm*, center_mm*, grid (7), theta_grid (8),
+    [workspace]  side_mm* or size_mm* = [W, H], center_mm*, grid (7), theta_grid (8),
                  home_mm (= center_mm), home_theta_deg (90)
     [actuators]  torque_max_Nm (1.0), force_max_N (1.0), moment_max_Nm (F * crank / 2)
     [optimize]   base_mm / proximal_mm / distal_mm = [min, max, count]
@@ -102,8 +103,8 @@ MECH_KEYS = {
     ),
 }
 WS_KEYS = {
-    "pantograph": ("side_mm", "center_mm", "grid"),
-    "twin-pantograph": ("side_mm", "center_mm", "grid", "theta_grid", "home_mm", "home_theta_deg"),
+    "pantograph": ("side_mm", "size_mm", "center_mm", "grid"),
+    "twin-pantograph": ("side_mm", "size_mm", "center_mm", "grid", "theta_grid", "home_mm", "home_theta_deg"),
     "haptic-pen": ("center_mm", "size_mm", "grid", "rotation_deg", "rotation_grid"),
 }
 ACT_KEYS = {
@@ -261,11 +262,11 @@ class PantographDesign(ValidatedReplace):
         if self.family == "pantograph":
             from cad.isotropy.gii import square_grid_mm
 
-            return square_grid_mm(ws["center_mm"], ws["side_mm"], ws["grid"])
+            return square_grid_mm(ws["center_mm"], ws["size_mm"], ws["grid"])
         if self.family == "twin-pantograph":
             from cad.kinematics.twin_pantograph import workspace_grid
 
-            return workspace_grid(ws["center_mm"], ws["side_mm"], ws["grid"], ws["theta_grid"])
+            return workspace_grid(ws["center_mm"], ws["size_mm"], ws["grid"], ws["theta_grid"])
         from cad.kinematics.haptic_pen import workspace_grid
 
         return workspace_grid(
@@ -281,7 +282,7 @@ class PantographDesign(ValidatedReplace):
             return fivebar_gii(
                 self.mechanism,
                 ws["center_mm"],
-                ws["side_mm"],
+                ws["size_mm"],
                 ws["grid"],
                 act["torque_max_Nm"],
                 act["force_max_N"],
@@ -292,7 +293,7 @@ class PantographDesign(ValidatedReplace):
             return twin_gii(
                 self.mechanism,
                 ws["center_mm"],
-                ws["side_mm"],
+                ws["size_mm"],
                 ws["grid"],
                 ws["theta_grid"],
                 act["torque_max_Nm"],
@@ -553,6 +554,21 @@ def parse(raw: dict[str, Any], source: str = "<design>") -> PantographDesign:
     )
 
 
+def _planar_size(ws: dict) -> tuple[float, float]:
+    """(W, H) mm of a planar ``[workspace]``: ``side_mm`` (a square) or ``size_mm = [W, H]``,
+    exactly one of the two. Raises DesignError naming the field."""
+    if ("side_mm" in ws) == ("size_mm" in ws):
+        raise DesignError("workspace.side_mm", "give exactly one of side_mm (a square) and size_mm = [W, H] "
+                          f"(a rectangle), got {'both' if 'side_mm' in ws else 'neither'}")
+    if "side_mm" in ws:
+        side = require_positive(ws, "side_mm", "workspace")
+        return side, side
+    w, h = number_list(ws, "size_mm", "workspace", length=2)
+    if not (w > 0 and h > 0):
+        raise DesignError("workspace.size_mm", f"must be [W, H] with both > 0, got {ws['size_mm']!r}")
+    return float(w), float(h)
+
+
 def _parse_planar(raw: dict[str, Any], family: str, mech: dict, ws: dict, act: dict) -> tuple:
     """(mechanism, params, workspace, actuators, parts) of a pantograph or twin-pantograph
     design from its [mechanism], [workspace], [actuators] and [parts] tables (lengths in mm).
@@ -565,10 +581,12 @@ def _parse_planar(raw: dict[str, Any], family: str, mech: dict, ws: dict, act: d
     l2 = require_positive(mech, "proximal_mm", "mechanism")
     l3 = require_positive(mech, "distal_mm", "mechanism")
     params = {"base_mm": base, "proximal_mm": l2, "distal_mm": l3}
-    side = require_positive(ws, "side_mm", "workspace")
+    size = _planar_size(ws)
     center = number_list(ws, "center_mm", "workspace", length=2)
     grid = optional_int(ws, "grid", "workspace", 11 if family == "pantograph" else 7, minimum=2)
-    workspace = {"side_mm": side, "center_mm": center, "grid": grid}
+    workspace = {"size_mm": size, "center_mm": center, "grid": grid}
+    if "side_mm" in ws:
+        workspace["side_mm"] = size[0]
     force = optional_positive(act, "force_max_N", "actuators", 1.0)
     if family == "pantograph":
         from cad.kinematics.fivebar import FiveBar

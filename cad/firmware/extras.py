@@ -69,11 +69,14 @@ def max_forces_N(spec: DeviceSpec, q_ok: np.ndarray) -> dict:
 
 
 def workspace_radius_m(spec: DeviceSpec, design) -> float:
-    """Four-bar: half the stroke (|P(max) - P(min)| / 2); pantographs: half the workspace side."""
+    """Four-bar: half the stroke (|P(max) - P(min)| / 2); pantographs: half the workspace side
+    (a rectangle: half its longer side)."""
     if spec.kind == "fourbar":
         P, _ = ref.forward(spec, np.array([[spec.params["q_min"]], [spec.params["q_max"]]]))
         return float(np.linalg.norm(P[1] - P[0]) / 2)
-    return design.workspace["side_mm"] * 1e-3 / 2
+    from cad.isotropy.gii import workspace_half_mm
+
+    return max(workspace_half_mm(design.workspace)) * 1e-3
 
 
 def chai3d_json(spec: DeviceSpec, design, wall: dict, forces: dict) -> str:

@@ -21,6 +21,7 @@ import numpy as np
 
 from cad.firmware import reference as ref
 from cad.firmware.spec import DeviceSpec, angles_from_counts
+from cad.isotropy.gii import workspace_half_mm
 
 N_OK = 1200
 N_BAD = 60
@@ -32,8 +33,8 @@ def _poses_ok(spec: DeviceSpec, design, rng) -> np.ndarray:
     if spec.kind == "fourbar":
         return rng.uniform(p["q_min"], p["q_max"], (N_OK, 1))
     ws = design.workspace
-    (cx, cy), h = ws["center_mm"], ws["side_mm"] / 2
-    E = np.column_stack([rng.uniform(cx - h, cx + h, N_OK), rng.uniform(cy - h, cy + h, N_OK)])
+    (cx, cy), (hx, hy) = ws["center_mm"], workspace_half_mm(ws)
+    E = np.column_stack([rng.uniform(cx - hx, cx + hx, N_OK), rng.uniform(cy - hy, cy + hy, N_OK)])
     if spec.kind == "fivebar":
         ik = ref.fb5.ik(ref.fivebar_of(p), E)
         return ik.q_rad[ik.ok]

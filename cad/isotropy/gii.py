@@ -261,20 +261,37 @@ def _check_grid(n, field_name: str) -> int:
     return int(n)
 
 
-def square_grid_mm(center_mm, side_mm: float, n: int) -> np.ndarray:
-    """n x n grid over a square workspace, boundary included, (n*n, 2) mm.
+def size_pair_mm(side_mm, field_name: str = "workspace.side_mm") -> tuple[float, float]:
+    """(W, H) mm of a planar workspace: a square's side (scalar) or a rectangle's [W, H].
 
-    center_mm: (x, y) of the square's centre, base frame; side_mm: its side.
-    Points are ordered row by row (y outer, x inner).
+    Raises DesignError naming ``field_name`` for a value that is not one or two finite
+    numbers > 0."""
+    a = np.asarray(side_mm, dtype=float).reshape(-1) if np.ndim(side_mm) else np.array([side_mm] * 2, float)
+    if a.size != 2 or not np.all(np.isfinite(a)) or np.any(a <= 0):
+        raise DesignError(field_name, f"must be > 0 (a side or [W, H]), got {side_mm!r}")
+    return float(a[0]), float(a[1])
+
+
+def workspace_half_mm(ws: dict) -> tuple[float, float]:
+    """Half extents (W/2, H/2) mm of a planar design's ``[workspace]`` (its ``size_mm``)."""
+    w, h = size_pair_mm(ws["size_mm"], "workspace.size_mm")
+    return w / 2, h / 2
+
+
+def square_grid_mm(center_mm, side_mm, n: int) -> np.ndarray:
+    """n x n grid over a square or rectangular workspace, boundary included, (n*n, 2) mm.
+
+    center_mm: (x, y) of the centre, base frame; side_mm: a square's side, or [W, H] of a
+    rectangle (W along x, H along y; ``[workspace] size_mm``). Points are ordered row by
+    row (y outer, x inner). Raises DesignError naming the workspace field.
     """
     n = _check_grid(n, "workspace.grid")
     c = np.asarray(center_mm, dtype=float).reshape(-1)
     if c.size != 2 or not np.all(np.isfinite(c)):
         raise DesignError("workspace.center_mm", f"must be a finite [x, y], got {center_mm!r}")
-    if not np.isfinite(side_mm) or side_mm <= 0:
-        raise DesignError("workspace.side_mm", f"must be > 0, got {side_mm!r}")
-    t = np.linspace(-0.5, 0.5, n) * side_mm
-    X, Y = np.meshgrid(c[0] + t, c[1] + t)
+    w, h = size_pair_mm(side_mm, "workspace.size_mm" if np.ndim(side_mm) else "workspace.side_mm")
+    t = np.linspace(-0.5, 0.5, n)
+    X, Y = np.meshgrid(c[0] + t * w, c[1] + t * h)
     return np.stack([X.ravel(), Y.ravel()], axis=-1)
 
 
@@ -297,12 +314,13 @@ def boundary_first_order(n_per_axis: tuple[int, ...]) -> np.ndarray:
 def fivebar_gii(
     fb,
     center_mm,
-    side_mm: float,
+    side_mm,
     grid: int,
     torque_max_Nm=1.0,
     force_max_N=1.0,
 ) -> GIIResult:
-    """GII of a 5-bar over a square workspace (eqs 2-5), grid incl. boundary.
+    """GII of a 5-bar over a square (side_mm scalar) or rectangular (side_mm = [W, H])
+    workspace (eqs 2-5), grid incl. boundary.
 
     fb: :class:`cad.kinematics.fivebar.FiveBar`; torque_max_Nm: (2,) or scalar
     (S_J); force_max_N: (2,) or scalar (S_T). Equal scalars leave the GII that

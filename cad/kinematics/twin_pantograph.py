@@ -189,10 +189,10 @@ def task_scale(force_N: float, crank_mm: float, moment_Nm: float | None = None) 
     return np.array([force_N, force_N, M])
 
 
-def workspace_grid(center_mm, side_mm: float, grid: int, theta_grid: int) -> np.ndarray:
+def workspace_grid(center_mm, side_mm, grid: int, theta_grid: int) -> np.ndarray:
     """Task samples (grid * grid * theta_grid, 3) = (x_mm, y_mm, theta_rad), C order (y, x, theta).
 
-    The square (boundary included) times theta_grid angles over the full turn
+    The square (side_mm scalar) or rectangle (side_mm = [W, H] mm), boundary included, times theta_grid angles over the full turn
     [0, 2 pi) (the rotation range is unlimited).
     """
     from cad.isotropy.gii import square_grid_mm
@@ -212,7 +212,7 @@ def workspace_grid(center_mm, side_mm: float, grid: int, theta_grid: int) -> np.
 def twin_gii(
     tp: TwinPantograph,
     center_mm,
-    side_mm: float,
+    side_mm,
     grid: int,
     theta_grid: int,
     torque_max_Nm=1.0,

@@ -71,8 +71,10 @@ def poses(design) -> tuple[np.ndarray, tuple[str, ...]]:
     home and the four corners of the workspace square; and their labels."""
     ws = design.workspace
     home = np.asarray(ws.get("home_mm", ws["center_mm"]), float)
-    (cx, cy), h = ws["center_mm"], ws["side_mm"] / 2
-    pts = [home, *[np.array([cx + sx * h, cy + sy * h]) for sy in (-1, 1) for sx in (-1, 1)]]
+    from cad.isotropy.gii import workspace_half_mm
+
+    (cx, cy), (hx, hy) = ws["center_mm"], workspace_half_mm(ws)
+    pts = [home, *[np.array([cx + sx * hx, cy + sy * hy]) for sy in (-1, 1) for sx in (-1, 1)]]
     labels = ("home", "corner -x -y", "corner +x -y", "corner -x +y", "corner +x +y")
     if design.family == "twin-pantograph":
         th = math.radians(ws["home_theta_deg"])

@@ -56,7 +56,7 @@ def clearance_poses(design):
     ws = design.workspace
     if is_twin(design):
         X = tw.workspace_grid(
-            ws["center_mm"], ws["side_mm"], max(ws["grid"], 5), CLEARANCE_THETA_SAMPLES
+            ws["center_mm"], ws["size_mm"], max(ws["grid"], 5), CLEARANCE_THETA_SAMPLES
         )
         pose = tw.ik(design.mechanism, X)
         names = tw.STATUS_NAMES

@@ -134,7 +134,7 @@ def write_ellipse_chart(design, out_dir, A, ok) -> str | None:
     m = A.shape[-1]
     U = np.zeros((m, t.size))
     smax = float(np.linalg.svd(A[ok], compute_uv=False).max()) if ok.any() else 1.0
-    step = (design.workspace["side_mm"] / max(design.workspace["grid"] - 1, 1))
+    step = min(design.workspace["size_mm"]) / max(design.workspace["grid"] - 1, 1)
     scale = 0.45 * step / smax
     seen = set()
     for i in np.flatnonzero(ok):
@@ -212,8 +212,9 @@ def rows_and_limits(design, report: dict, out_dir=None, simulate_wall: bool = Tr
         area, unit = float(np.prod(ws["size_mm"])), "mm^3"
         fig = f"workspace box {' x '.join(f'{v:g}' for v in ws['size_mm'])} mm, +-{ws['rotation_deg']:g} deg"
     else:
-        area, unit = ws["side_mm"] ** 2, "mm^2"
-        fig = f"workspace square {ws['side_mm']:g} mm" + (", full crank turn" if design.family == "twin-pantograph" else "")
+        (w, h), unit = ws["size_mm"], "mm^2"
+        area = w * h
+        fig = (f"workspace square {w:g} mm" if w == h else f"workspace rectangle {w:g} x {h:g} mm") + (", full crank turn" if design.family == "twin-pantograph" else "")
     rows.append(row("workspace", fig, area, unit, f"[workspace] table; {share:.0%} of its {ok.size} samples "
                     "reachable and non-singular (the figures below hold there)"))
     tau_txt = (f"[actuators] torque_max_Nm = {design.actuators['torque_max_Nm']} (the GII's normalisation, "

@@ -14,6 +14,7 @@ import math
 import numpy as np
 
 from cad.errors import DesignError
+from cad.isotropy.gii import workspace_half_mm
 
 #: Posts: offset along x from each actuated joint (mm), and their screws.
 POST_DX_MM = 22.0
@@ -148,16 +149,16 @@ def layout(design) -> dict:
     ms = mount_side_mm(m)
     ws = design.workspace
     cx, cy = ws["center_mm"]
-    half = ws["side_mm"] / 2
+    half_x, half_y = workspace_half_mm(ws)
     reach_x = a / 2 + l2 + p.clevis_width_mm
     margin = base.LEG_INSET_MM + base.LEG_DIAMETER_MM / 2 + 4.0
     post_y = -(ms / 2 + p.post_diameter_mm / 2 + 8.0)
     y_back = (post_y - p.post_diameter_mm / 2) if twin else -ms / 2
     base_x = (
-        min(-reach_x, cx - half - l6 - 20, -a / 2 - ms / 2) - margin,
-        max(reach_x, cx + half + l6 + 20, a / 2 + ms / 2) + margin,
+        min(-reach_x, cx - half_x - l6 - 20, -a / 2 - ms / 2) - margin,
+        max(reach_x, cx + half_x + l6 + 20, a / 2 + ms / 2) + margin,
     )
-    base_y = (y_back - margin, cy + half + l6 + p.clevis_width_mm + 20 + margin)
+    base_y = (y_back - margin, cy + half_y + l6 + p.clevis_width_mm + 20 + margin)
     leg_h = p.motor_mount_thickness_mm + m.body_length_mm + base.LEG_GROUND_CLEARANCE_MM
     pt, mt = p.plate_thickness_mm, p.motor_mount_thickness_mm
     shaft_tip = -pt - mt + m.shaft_length_mm
@@ -232,7 +233,8 @@ def leg_xy(lay: dict) -> list[tuple[float, float]]:
 
 
 def workspace_square(ws: dict) -> np.ndarray:
-    (cx, cy), h = ws["center_mm"], ws["side_mm"] / 2
+    """Closed outline (5, 2) mm of the planar workspace (square or rectangle), world frame."""
+    (cx, cy), (hx, hy) = ws["center_mm"], workspace_half_mm(ws)
     return np.array(
-        [[cx - h, cy - h], [cx + h, cy - h], [cx + h, cy + h], [cx - h, cy + h], [cx - h, cy - h]]
+        [[cx - hx, cy - hy], [cx + hx, cy - hy], [cx + hx, cy + hy], [cx - hx, cy + hy], [cx - hx, cy - hy]]
     )

@@ -106,10 +106,10 @@ def motion_points(design) -> tuple[np.ndarray, tuple[str, ...]]:
     home = home_xy_mm(design)
     if is_twin(design):
         th = math.radians(design.workspace["home_theta_deg"])
-        grid = tw.workspace_grid(ws["center_mm"], ws["side_mm"], MOTION_GRID, MOTION_THETA_SAMPLES)
+        grid = tw.workspace_grid(ws["center_mm"], ws["size_mm"], MOTION_GRID, MOTION_THETA_SAMPLES)
         X = np.vstack([[home[0], home[1], th], grid])
     else:
-        X = np.vstack([home, square_grid_mm(ws["center_mm"], ws["side_mm"], MOTION_GRID)])
+        X = np.vstack([home, square_grid_mm(ws["center_mm"], ws["size_mm"], MOTION_GRID)])
     labels = [f"x={x[0]:g} y={x[1]:g} mm" + (f" theta={math.degrees(x[2]):g} deg"
                                               if len(x) > 2 else "") for x in X]
     labels[0] = f"home ({labels[0]})"
@@ -147,7 +147,7 @@ def assemble(design, fidelity: str = "fabrication"):
         motion = body_poses(design, X)
     except ValueError as e:  # the design's workspace is the fault, not a collision
         raise DesignError("workspace", f"{e}; move workspace.center_mm or shrink "
-                          "workspace.side_mm") from None
+                          "workspace.side_mm / size_mm") from None
     return AssemblyModel(design, tuple(inst), tfs, motion, labels, holes,
                          extra={"layout": lay, "home_mm": home})
 
