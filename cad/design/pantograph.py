@@ -23,6 +23,8 @@ Schema (mm, N, N m; every key optional unless marked *):
     [optimize]   base_mm / proximal_mm / distal_mm = [min, max, count]
     [parts]      see :class:`PantographParts`
     [firmware]   (both families) plane, encoders, wall: :mod:`cad.design.firmware`
+    [motor]      (every family here) the data of the motor ``parts.motor`` names, replacing
+                 catalog values: :mod:`cad.design.motor` (the pen's waist motor keeps its own)
 
 ``haptic-pen`` (§4.2, Table 2)::
 
@@ -58,6 +60,7 @@ from cad.design.fields import (
     require_positive,
     require_table,
 )
+from cad.design.motor import parse_motor_table
 from cad.design.replace import TableReplace, ValidatedReplace
 from cad.errors import DesignError
 
@@ -254,6 +257,9 @@ class PantographDesign(ValidatedReplace):
     raw: dict = field(repr=False)
     targets: tuple = ()
     firmware: Any = None
+    #: ``[motor]`` overrides of ``parts.motor`` (:func:`cad.design.motor.parse_motor_table`;
+    #: the pen's waist motor stays its catalog entry)
+    motor: tuple = ()
 
     # ------------------------------------------------------------------ GII
     def workspace_points(self) -> np.ndarray:
@@ -510,7 +516,7 @@ def parse(raw: dict[str, Any], source: str = "<design>") -> PantographDesign:
     check_unknown(
         raw,
         ("name", "description", "mechanism", "workspace", "actuators", "optimize", "parts", "targets",
-         "firmware", "prices"),
+         "firmware", "prices", "motor"),
         "",
     )
     mech = require_table(raw, "mechanism", "")
@@ -551,6 +557,7 @@ def parse(raw: dict[str, Any], source: str = "<design>") -> PantographDesign:
         raw=raw,
         targets=_parse_targets(raw),
         firmware=_parse_firmware(raw, family),
+        motor=parse_motor_table(optional_table(raw, "motor", ""), "motor"),
     )
 
 
@@ -683,6 +690,12 @@ def _parse_firmware(raw: dict[str, Any], family: str):
     from cad.design.firmware import parse_firmware
 
     tab = optional_table(raw, "firmware", "")
+    if family == "haptic-pen":  # no firmware generator yet: only the encoder the BOM orders
+        extra = sorted(set(tab) - {"encoder_counts_per_rev"})
+        if extra:
+            raise DesignError(f"firmware.{extra[0]}", "the haptic pen has no firmware generator: its "
+                              "[firmware] takes encoder_counts_per_rev only (the encoder the BOM orders)")
+        return parse_firmware(tab, 6) if tab else None
     if family not in ("pantograph", "twin-pantograph"):
         if tab:
             raise DesignError("firmware", f"firmware is generated for built devices, not {family!r}")

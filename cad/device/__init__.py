@@ -213,17 +213,27 @@ def _joints(design) -> tuple[tuple[str, str], ...]:
 
 
 def _motors(design) -> tuple[ResolvedMotor, ...]:
+    out = []
+    for joint, fld in _joints(design):
+        key = getattr(design.parts, fld)
+        spec, table = parts_motor(design, fld)
+        out.append(ResolvedMotor(joint, key, spec.winding or spec.key, bool(table), spec))
+    return tuple(out)
+
+
+def parts_motor(design, fld: str = "motor"):
+    """(:class:`cad.data.catalog.MotorSpec`, the ``[motor]`` overrides applied) of the motor
+    ``parts.<fld>`` names: the catalog entry with the design's ``[motor]`` table (which
+    describes ``parts.motor``; the pen's ``waist_motor`` keeps its catalog data) and
+    ``parts.motor_rotor_inertia_g_cm2``. What the BOM, the datasheet, the firmware and the
+    simulators read (through :func:`resolve_device`). DesignError naming the field."""
     from cad.data.catalog import get_motor
     from cad.design.motor import resolve_motor
 
-    out = []
-    table = tuple(getattr(design, "motor", ()) or ()) if hasattr(design, "linkage") else ()
-    for joint, fld in _joints(design):
-        key = getattr(design.parts, fld)
-        spec = resolve_motor(key, table, f"parts.{fld}") if table else get_motor(key, f"parts.{fld}")
-        spec = _rotor_override(design, spec, dict(table))
-        out.append(ResolvedMotor(joint, key, spec.winding or spec.key, bool(table), spec))
-    return tuple(out)
+    table = tuple(getattr(design, "motor", ()) or ()) if fld == "motor" else ()
+    key = getattr(design.parts, fld)
+    spec = resolve_motor(key, table, f"parts.{fld}") if table else get_motor(key, f"parts.{fld}")
+    return _rotor_override(design, spec, dict(table)), table
 
 
 def _rotor_override(design, spec, table: dict):

@@ -20,13 +20,14 @@ def part_kinds(design, lay: dict, fidelity: str) -> dict:
     order the part groups below add them)."""
     from types import SimpleNamespace
 
-    from cad.data.catalog import get_bearing, get_motor
+    from cad.data.catalog import get_bearing
+    from cad.device import parts_motor
     from cad.parts import PartKind
 
     p = design.parts
     fb = lower_five_bar(design)
     c = SimpleNamespace(design=design, p=p, lay=lay, brg=get_bearing(p.bearing),
-                        mot=get_motor(p.motor), B=[fb.base_left_mm, fb.base_right_mm],
+                        mot=parts_motor(design)[0], B=[fb.base_left_mm, fb.base_right_mm],
                         twin=is_twin(design), fidelity=fidelity)
     K: dict[str, PartKind] = {}
 

@@ -54,7 +54,9 @@ def _link_bodies(design, bodies: dict, lay: dict, ik, rotor_kg_m2: float, meshes
     l3 = design.params["distal_mm"]
     B = [(-a / 2, 0.0), (a / 2, 0.0)]
     flip = np.diag([1.0, -1.0, -1.0, 1.0])
-    torque = float(np.max(np.atleast_1d(design.actuators["torque_max_Nm"])))
+    from cad.device import resolve_device
+
+    torque = resolve_device(design).motor.spec.torque_peak_mNm * 1e-3  # the motor the BOM orders
     out: list[SimBody] = []
     world = {}
     motors = []

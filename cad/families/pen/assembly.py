@@ -73,8 +73,10 @@ def _link_kinds(design, lay: dict, fidelity: str, add) -> None:
         f"ball bearing {b.designation} ({p.bearing})", "bought", mass_kg=b.mass_kg,
         inertia_model="ring", ring_mm=(b.d_mm / 2, b.D_mm / 2, b.B_mm),
         hull=joints.ring_shape(b.d_mm / 2, b.D_mm / 2, b.B_mm))
-    for key, tag in ((p.motor, "shoulder"), (p.waist_motor, "waist")):
-        m = get_motor(key)
+    from cad.device import parts_motor
+
+    for fld, tag in (("motor", "shoulder"), ("waist_motor", "waist")):
+        m = parts_motor(design, fld)[0]  # [motor] applied: the motor the datasheet uses
         add(f"motor_{tag}", pm.motor_housing_shape(m), "steel-1018", False, m.description,
             f"bought ({tag} joint); face tapped {m.bolt_size.split('-')[0]} x{m.bolt_count}; with "
             f"its shaft (solid motor_{tag}_shaft in assembly.step)", mass_kg=m.mass_kg)
