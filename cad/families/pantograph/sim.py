@@ -6,7 +6,8 @@ z = 0 on the base plate's top). Bodies (spanning tree), for each group ``g`` in
 
 * ``g_proximal_s``: hinge ``g_q_s`` at B_s on the world (value = the actuated angle q,
   isotropy paper Fig. 1), the motor ``g_motor_s`` (rotor inertia as armature, torque limit
-  ``[actuators] torque_max_Nm``);
+  the peak torque of the motor the BOM orders, ``parts.motor`` with ``[motor]``:
+  :func:`cad.device.resolve_device`);
 * ``g_distal_s``: hinge ``g_elbow_s`` at the elbow C_s (value = distal angle - q);
 * ``crankshaft``: hinge ``theta`` at the main journal, on ``knob_distal_left`` (value =
   theta - the distal angle). Sites ``handle`` (main journal, the knob axis) and
