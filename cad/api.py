@@ -211,7 +211,7 @@ def check(design, targets: tuple[str, ...] | list[str] = (), fidelity: str = "in
         return {"name": design.name, "ok": all(r["ok"] for r in rows), "fidelity": fidelity,
                 "rows": rows, "computed": {r["key"]: r["value"] for r in ds["rows"]},
                 "budget": None, "targets_checked": [r["key"] for r in rows],
-                "targets_source": "default limits",
+                "targets_source": "default limits", "limit_warnings": list(ds["warnings"]),
                 "checked": "default limits (no [targets]): cad/datasheet/limits.py"}
     wanted = {t.key for t in merged}
     if four_bar:
@@ -234,6 +234,10 @@ def check(design, targets: tuple[str, ...] | list[str] = (), fidelity: str = "in
         values, report = pantograph_target_values(design, fidelity, wanted)
     rows = evaluate(merged, values)
     warnings = _missed_limits(design, fidelity, wanted)
+    if not four_bar:  # a missed first-mode target: what limits it, the best the tubes reach
+        from cad.families.pantograph.targets import mode_blocker_lines
+
+        warnings += mode_blocker_lines(design, report, rows)
     return {"name": design.name, "ok": all(r.ok for r in rows), "fidelity": fidelity,
             "targets_checked": [r.key for r in rows], "targets_source": source,
             "rows": [r.as_dict() for r in rows], "computed": values,
@@ -702,7 +706,14 @@ def fit_run(design, setup: dict, fidelity: str, dest: Path, name: str, echo=None
         fitted["targets"] = tt
     final = parse_design(fitted, str(dest))
     lim_t = tuple(limits(final)) if limits else ()
-    rows = evaluate(tuple(targets) + lim_t, values_of(final))
+    if four_bar:
+        rows, blockers = evaluate(tuple(targets) + lim_t, values_of(final)), []
+    else:  # a missed first mode: what limits it, the best the tubes reach (mode_ceiling)
+        from cad.families.pantograph.targets import mode_blocker_lines
+
+        vals, rep = pantograph_target_values(final, fidelity, wanted)
+        rows = evaluate(tuple(targets), vals)
+        blockers = mode_blocker_lines(final, rep, rows)
     # exit status from the targets (as before); a missed default limit is a warning, as in the
     # datasheet (the search already ranked every candidate meeting the limits first)
     missed = [f"{r.key} = {'not computed' if r.computed is None else f'{r.computed:.4g}'}, limit {r.target}"
@@ -711,7 +722,7 @@ def fit_run(design, setup: dict, fidelity: str, dest: Path, name: str, echo=None
             "met": all(r.ok for r in rows[:len(targets)]), "limits_met": not missed,
             "limit_warnings": missed, "max_violation": res.objective,
             "evaluations": len(res.log) - res.rejected_pre_cad, "rejected_pre_cad": res.rejected_pre_cad,
-            "iterations": res.log, "rows": [r.as_dict() for r in rows],
+            "iterations": res.log, "rows": [r.as_dict() for r in rows], "blockers": blockers,
             "design": final, "raw": fitted}
 
 

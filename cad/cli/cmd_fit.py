@@ -55,7 +55,8 @@ def register(app: typer.Typer) -> None:
                   if not r["ok"] and r["key"] in wanted]
         write_text_atomic(dst, dumps_design(fitted, f"Fitted by `hapticad fit {design}`: "
                                             + ", ".join(f"{k}={v}" for k, v in res["fitted"].items())
-                                            + "".join(f"\n{m}" for m in missed)),
+                                            + "".join(f"\n{m}" for m in missed)
+                                            + "".join(f"\n{b}" for b in res["blockers"])),
                           final=True)
         payload = {"name": res["name"], "out": str(dst), "replaced": replaced,
                    **{k: v for k, v in res.items() if k != "name"}}
@@ -78,4 +79,6 @@ def register(app: typer.Typer) -> None:
         if not payload["met"]:  # one line per missed target: the written (best) design's figure
             for m in missed:
                 print(f"hapticad: {m}", file=sys.stderr)
+            for b in payload["blockers"]:  # what blocks it and by how much (pantograph first mode)
+                print(f"hapticad: {b}", file=sys.stderr)
             raise typer.Exit(1)

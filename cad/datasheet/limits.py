@@ -109,7 +109,8 @@ FOURBAR_TARGET_CHANGE = {
 }
 
 PANTO_FORCE_CHANGE = "parts.motor or [motor] (a stronger motor), actuators.force_max_N or the link lengths"
-PANTO_MODE_CHANGE = "parts.tube_od_mm, parts.tube_id_mm, parts.tube_material (stiffer, lighter links)"
+PANTO_MODE_CHANGE = ("parts.tube_od_mm, parts.tube_id_mm, parts.tube_material (stiffer, lighter links), "
+                     "parts.clevis_height_mm / clevis_width_mm (room for a larger tube)")
 PANTO_STRESS_CHANGE = "parts.tube_od_mm / parts.tube_id_mm or parts.tube_material (parts.crank_material)"
 
 

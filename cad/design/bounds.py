@@ -384,10 +384,15 @@ TARGETS: dict[str, Bound] = {
                            None, 1e4, f"a first mode over 10 kHz is not {_DESK}", (("kHz", 1000.0),)),
     "max_stress_MPa": Bound("MPa", 0.0, 1e5, "no material holds 100 GPa", slips=(("Pa", 1e-6), ("GPa", 1e3))),
     **{k: Bound("um/N", 0.0, 1e9, "a compliance above 1 m/N is no structure", slips=(("m/N", 1e6), ("mm/N", 1e3)))
-       for k in ("compliance_x_um_per_N", "compliance_z_um_per_N")},
+       for k in ("compliance_x_um_per_N", "compliance_y_um_per_N", "compliance_z_um_per_N")},
+    **{k: Bound("Hz", 0.0, 1e6, "a mechanical mode above 1 MHz is a typo", None, 1e4,
+                f"a first mode over 10 kHz is not {_DESK}", (("kHz", 1000.0),))
+       for k in ("first_mode_in_plane_Hz", "first_mode_out_of_plane_Hz")},
+    "total_mass_g": _MASS_TARGET_G,
     **{k: H12_KG_M2 for k in ("D_min_kg_m2", "D_max_kg_m2")},
     # datasheet figures (cad/datasheet)
-    **{k: FORCE_N for k in ("continuous_force_N", "peak_force_N", "friction_N")},
+    **{k: FORCE_N for k in ("continuous_force_N", "peak_force_N", "friction_N", "force_any_dir_N",
+                            "force_best_dir_N")},
     "resolution_um": Bound("um", 0.0, 1e6, "a resolution over 1 m is no encoder", slips=(("mm", 1e3), ("m", 1e6))),
     "K_max_N_per_m": Bound("N/m", 0.0, 1e8, "stiffer than 1e8 N/m is no rendered wall (a steel block is ~1e8)",
                            slips=(("N/mm", 1e3),)),

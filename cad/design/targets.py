@@ -41,6 +41,12 @@ PANTOGRAPH_TARGET_KEYS: tuple[str, ...] = (
     "gii", "moving_mass_g",
     "mass_x_g_apparent", "mass_y_g_apparent", "inertia_theta_g_cm2_apparent",
     "mass_x_g_diag", "mass_y_g_diag", "inertia_theta_g_cm2_diag",
+    # datasheet figures (cad/families/pantograph/datasheet.py): bounds replace their default limits
+    *(PANTOGRAPH_DATASHEET_KEYS := (
+        "continuous_force_N", "peak_force_N", "force_any_dir_N", "force_best_dir_N", "resolution_um",
+        "first_mode_Hz", "first_mode_in_plane_Hz", "first_mode_out_of_plane_Hz",
+        "compliance_x_um_per_N", "compliance_y_um_per_N", "compliance_z_um_per_N",
+        "max_stress_MPa", "min_clearance_mm", "total_mass_g")),
 )
 
 DEFAULT_TOL_REL = TARGET_TOL_REL_DEFAULT  # the old name

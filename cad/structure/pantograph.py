@@ -230,6 +230,38 @@ def bearing_compliance(design, X: np.ndarray, force_N: float) -> dict:
             "included_in_compliance_um_per_N": False}
 
 
+def pose_frames(design) -> list[tuple[str, dict]]:
+    """``[(pose label, {link: 4x4 world transform})]`` of the reachable structure poses
+    (:func:`poses`; an unreachable one left out)."""
+    X, labels = poses(design)
+    out = []
+    for k, lab in enumerate(labels):
+        try:
+            out.append((lab, {n: v[0] for n, v in link_poses(design, X[k:k + 1]).items()}))
+        except ValueError:
+            continue
+    return out
+
+
+def first_modes(design, bodies: dict, web_width_mm: float, frames=None) -> dict:
+    """Lowest in-plane and out-of-plane modes (Hz) over the poses, and where: the modes of
+    :func:`analyse` alone (no compliance, no stress), for searches over link sections.
+    ``frames``: :func:`pose_frames` of a design with the same link lengths (computed when
+    None). Returns ``{"in_plane_Hz", "out_of_plane_Hz", "first_mode_Hz", "pose", "plane"}``."""
+    g, lengths = link_graph(design, web_width_mm)
+    lumped = lumped_from_bodies(g, bodies, lengths)
+    best = {"in_plane_Hz": (math.inf, ""), "out_of_plane_Hz": (math.inf, "")}
+    for lab, tf in frames if frames is not None else pose_frames(design):
+        fr, _ = frame_at(g, tf, lumped)
+        for key, f in plane_modes(fr, MODES).items():
+            if key in best and f < best[key][0]:
+                best[key] = (f, lab)
+    plane = min(best, key=lambda k: best[k][0])
+    return {"in_plane_Hz": best["in_plane_Hz"][0], "out_of_plane_Hz": best["out_of_plane_Hz"][0],
+            "first_mode_Hz": best[plane][0], "pose": best[plane][1],
+            "plane": "in plane" if plane == "in_plane_Hz" else "out of plane"}
+
+
 def analyse(design, bodies: dict, force_N: float, web_width_mm: float) -> dict:
     """The ``structure`` figures of a pantograph-family design (module docstring).
 

@@ -261,8 +261,30 @@ def rows_and_limits(design, report: dict, out_dir=None, simulate_wall: bool = Tr
         chart = write_ellipse_chart(design, out_dir, A, ok)
         if chart:
             notes.append(f"force ellipses over the workspace: {chart}")
-    return rows, pantograph_limits(design, design.actuators.get("force_max_N"),
-                                   st and st["strength_MPa"], structure=st is not None), notes
+    limits = pantograph_limits(design, design.actuators.get("force_max_N"), st and st["strength_MPa"],
+                               structure=st is not None)
+    rows += mode_blocker(design, report, st, limits)
+    return rows, limits, notes
+
+
+def mode_blocker(design, report: dict, st: dict | None, limits: dict) -> list[dict]:
+    """When a planar family's first mode misses its limit: the ``first_mode_reachable_Hz``
+    row (:func:`cad.families.pantograph.mode_ceiling.mode_ceiling`: what limits the mode and
+    the best figure the link tubes reach in this layout) and the same line in the limit's
+    keys to change (so the datasheet warning and ``hapticad check`` say it); none otherwise."""
+    import dataclasses
+
+    lim = limits.get("first_mode_Hz")
+    if st is None or lim is None or lim.met(st["first_mode_Hz"]):
+        return []
+    from cad.families.pantograph.mode_ceiling import mode_ceiling
+    from cad.structure.pantograph import WEB_WIDTH_MIN_MM
+
+    web = (report.get("layout_mm") or {}).get("web_width_mm", WEB_WIDTH_MIN_MM)
+    c = mode_ceiling(design, report["bodies"], web, lim.value)
+    limits["first_mode_Hz"] = dataclasses.replace(lim, change=f"{lim.change}; {c['text']}")
+    return [row("first_mode_reachable_Hz", "best first mode the link tubes reach in this layout",
+                c["best"]["first_mode_Hz"], "Hz", c["text"], boundary=HELD)]
 
 
 def footprint_rows(report: dict) -> list[dict]:
