@@ -171,6 +171,30 @@ def _numeric(spec: str, key: str, rng: str, current: float) -> FreeParam:
     return FreeParam(key, "numeric", lo=lo, hi=hi)
 
 
+#: Four-bar plate parts a laser cuts from sheet: their material key -> does the part hold a
+#: tapped thread (:func:`cad.design.laser.plate_groups`: the coupler's handle hole, the base
+#: plate's motor-mount screws; the motor mount holds none).
+LASER_PLATE_KEYS = {"bar_material": True, "base_material": True, "motor_mount_material": False}
+
+
+def material_choices(parts_spec, name: str) -> tuple[str, ...]:
+    """Materials a ``--free parts.<name>`` may take under the design's ``parts.process``:
+    laser, for a plate part, the sheets the laser process cuts it from (tappable where the
+    part holds a thread: :mod:`cad.design.laser`); printed, the printing filaments
+    (:data:`cad.printing.FILAMENTS`) for the made parts; otherwise :data:`MATERIAL_CHOICES`."""
+    process = getattr(parts_spec, "process", "machined")
+    if process == "laser" and name in LASER_PLATE_KEYS and not (
+            name == "bar_material" and getattr(parts_spec, "bar_style", "plate") != "plate"):
+        from cad.data.materials import SHEETS
+
+        return tuple(k for k, s in SHEETS.items() if s.tappable or not LASER_PLATE_KEYS[name])
+    if process == "printed" and name not in ("pin_material",):
+        from cad.printing import FILAMENTS
+
+        return tuple(FILAMENTS)
+    return MATERIAL_CHOICES
+
+
 def parse_free(spec: str, parts_spec) -> FreeParam:
     """``parts.KEY`` or ``parts.KEY=LO:HI`` (numeric) -> FreeParam with defaults from the spec."""
     from cad.design.parts import ALLOWED_KEYS
@@ -190,7 +214,7 @@ def parse_free(spec: str, parts_spec) -> FreeParam:
     if name.endswith("_material"):
         if rng:
             raise DesignError(f"--free {spec}", "a material takes no range")
-        return FreeParam(key, "choice", choices=MATERIAL_CHOICES)
+        return FreeParam(key, "choice", choices=material_choices(parts_spec, name))
     if isinstance(current, bool):
         return FreeParam(key, "choice", choices=(True, False))
     if name == "bar_thickness_mm":
@@ -212,7 +236,7 @@ def _stock_thickness(spec: str, key: str, rng: str, parts_spec) -> FreeParam:
     stock = STOCK_THICKNESS_MM.get(parts_spec.bar_material, STOCK_THICKNESS_MM["aluminium-6061"])
     sheet = SHEETS.get(parts_spec.bar_material) if getattr(parts_spec, "process", "") == "laser" else None
     if sheet is not None:  # laser-cut bars: the sheet's stock thicknesses (cad.design.laser)
-        stock = sheet.thicknesses_mm
+        stock = tuple(sheet.thicknesses_mm)
     lo, hi = _range(spec, key, rng, cur * NUMERIC_DEFAULT_SPAN[0], cur * NUMERIC_DEFAULT_SPAN[1])
     inside = sorted((t for t in stock if lo - STOCK_RANGE_SLACK_MM <= t <= hi + STOCK_RANGE_SLACK_MM), key=lambda t: (abs(t - cur), t))
     if not inside:

@@ -8,7 +8,9 @@ Free (per trial):
   factor in 1 +- tol before the scaling, l2 and phi_e kept; ``dy_max_mm`` and the
   transmission angle are then checked on the perturbed linkage like any other);
 * joint hardware: a (bearing, pin) pair of :data:`JOINT_SETS` and ``pin_material``;
-* bars: material, a stock thickness of that material (:data:`STOCK_THICKNESS_MM`),
+* bars: material, a stock thickness of that material (:data:`STOCK_THICKNESS_MM`; under the
+  brief's ``parts.process`` only what that process makes: :func:`bar_stock`, laser sheets or
+  printing filaments; the process and its sheet / print settings are kept),
   width, pockets on/off (end radius: the smallest that holds the bearing seat and hub);
 * handle: material, diameter, height, screw; the motor (:data:`MOTOR_CONTINUOUS_TORQUE_MNM`);
 * the layer order (``[parts] layer_order``): one of the 6 stackings of crank, coupler and
@@ -69,6 +71,33 @@ CLEVIS_STOCK_MM = (6.0, 8.0, 10.0, 12.0)
 #: Socket depth of the searched tube bars (mm), >= the tube's outside diameter.
 TUBE_SOCKET_MM = 6.0
 HANDLE_MATERIALS = ("abs", "delrin", "pla")
+
+
+def bar_stock(process: str = "machined") -> dict[str, tuple[float, ...]]:
+    """{bar material: stock thicknesses (mm)} the optimisers search under ``parts.process``:
+    ``"laser"``: the sheets the laser process cuts the bars from and holds their tapped
+    handle hole in (:data:`cad.data.materials.SHEETS` with ``tappable``, each sheet's stock
+    thicknesses; :func:`cad.design.laser.check_laser` refuses the others); ``"printed"``: the
+    printing filaments of :data:`STOCK_THICKNESS_MM` (:data:`cad.printing.FILAMENTS`);
+    otherwise :data:`STOCK_THICKNESS_MM`."""
+    if process == "laser":
+        from cad.data.materials import SHEETS
+
+        return {k: tuple(s.thicknesses_mm) for k, s in SHEETS.items() if s.tappable}
+    if process == "printed":
+        from cad.printing import FILAMENTS
+
+        return {k: v for k, v in STOCK_THICKNESS_MM.items() if k in FILAMENTS}
+    return dict(STOCK_THICKNESS_MM)
+
+
+def handle_materials(process: str = "machined") -> tuple[str, ...]:
+    """Handle materials searched: printed, the filaments of :data:`HANDLE_MATERIALS`."""
+    if process == "printed":
+        from cad.printing import FILAMENTS
+
+        return tuple(m for m in HANDLE_MATERIALS if m in FILAMENTS)
+    return HANDLE_MATERIALS
 #: Layer orders searched (bottom to top), as optuna categorical strings "crank/coupler/rocker".
 LAYER_ORDERS = tuple("/".join(o) for o in itertools.permutations(("crank", "coupler", "rocker")))
 HANDLE_SCREWS = ("M3-0.5", "M4-0.7")
@@ -89,6 +118,26 @@ STARTS = (
      "handle_screw": "M3-0.5", "motor": "maxon-re35", "layer_order": "crank/rocker/coupler"},
 )
 DEFAULT_DY_MAX_MM = 0.2
+
+
+def starts_for(process: str) -> list[dict]:
+    """:data:`STARTS` in materials ``process`` makes: a bar material it does not take becomes
+    the first of :func:`bar_stock` at its stock thickness nearest the start's, a handle
+    material the first of :func:`handle_materials`."""
+    stock, handles = bar_stock(process), handle_materials(process)
+    out = []
+    for s in STARTS:
+        s = dict(s)
+        mat = s["bar_material"]
+        if mat not in stock:
+            t = s.pop(f"thickness_{mat}")
+            mat = next(iter(stock))
+            s["bar_material"] = mat
+            s[f"thickness_{mat}"] = min(stock[mat], key=lambda x: (abs(x - t), x))
+        if s["handle_material"] not in handles:
+            s["handle_material"] = handles[0]
+        out.append(s)
+    return out
 #: Kinematic table samples of the in-loop wall stability check (the datasheet's K_max uses
 #: :data:`cad.sim.wall.TABLE_SAMPLES`; 2001 gives the same stable / unstable answer at 15 kN/m
 #: on hoeken_light, measured: 13.44 vs 13.52 kN/m K_max)
@@ -118,7 +167,11 @@ class Problem:
 #: [parts] keys of the brief the search keeps as given (the rest it chooses).
 FIXED_PARTS_KEYS = ("hub_shaft_engagement_min_mm", "layer_gap_mm", "clearance_min_mm",
                     "interference_poses", "base_thickness_mm", "motor_mount_thickness_mm",
-                    "bar_style", "tube_material", "clevis_material", "layer_order")
+                    "bar_style", "tube_material", "clevis_material", "layer_order",
+                    # the process and what it fixes (the search picks bars it accepts: bar_stock)
+                    "process", "laser_sheet_mm", "base_material", "motor_mount_material",
+                    "print_layer_height_mm", "print_line_width_mm", "print_walls", "print_solid_layers",
+                    "print_infill_percent", "print_hole_compensation_mm", "print_press_fit_mm")
 
 
 def fixed_parts(design) -> dict:
@@ -188,8 +241,10 @@ def end_radius_mm(bearing: str, width_mm: float, wall_mm: float, hub_d_mm: float
 def suggest_parts(trial, pb: Problem) -> dict:
     """The [parts] table of one trial (module docstring)."""
     bearing, pin = JOINT_SETS[trial.suggest_int("joint", 0, len(JOINT_SETS) - 1)]
-    mat = trial.suggest_categorical("bar_material", list(STOCK_THICKNESS_MM))
-    t = trial.suggest_categorical(f"thickness_{mat}", list(STOCK_THICKNESS_MM[mat]))
+    process = pb.fixed_parts.get("process", "machined")
+    stock = bar_stock(process)
+    mat = trial.suggest_categorical("bar_material", list(stock))
+    t = trial.suggest_categorical(f"thickness_{mat}", list(stock[mat]))
     w = float(trial.suggest_int("bar_width_mm", 8, 24, step=2))
     parts = dict(pb.fixed_parts)
     parts.update({
@@ -197,7 +252,7 @@ def suggest_parts(trial, pb: Problem) -> dict:
         "pin_material": trial.suggest_categorical("pin_material", list(PIN_MATERIALS)),
         "bar_material": mat, "bar_thickness_mm": t, "bar_width_mm": w,
         "bar_pockets": trial.suggest_categorical("bar_pockets", [True, False]),
-        "handle_material": trial.suggest_categorical("handle_material", list(HANDLE_MATERIALS)),
+        "handle_material": trial.suggest_categorical("handle_material", list(handle_materials(process))),
         "handle_diameter_mm": float(trial.suggest_int("handle_diameter_mm", 12, 24, step=2)),
         "handle_height_mm": float(trial.suggest_int("handle_height_mm", 12, 25)),
         "handle_screw": trial.suggest_categorical("handle_screw", list(HANDLE_SCREWS)),
@@ -455,7 +510,7 @@ def run(pb: Problem, trials: int, seed: int = 0,
             return 1e3 + sum(v for v in info["misses"].values() if v is not None)
         return 1e6
 
-    for start in STARTS if starts else ():
+    for start in starts_for(pb.fixed_parts.get("process", "machined")) if starts else ():
         study.enqueue_trial(start)
     optimize_study(study, objective, trials)
     cands.sort(key=lambda c: c.cheap["M11_max_g"])
