@@ -39,8 +39,30 @@ def write_optimum(design, rep: dict, out: Path, command: str) -> bool:
     raw["mechanism"].update(rep["best"])
     raw["name"] = out.stem
     parse_design(raw, str(out))  # its own family's schema; validated before anything is written
-    write_design(out, raw, f"Optimum of `{command}`: GII {rep['gii']:.6f} ({rep['method']})")
+    write_design(out, raw, f"Optimum of `{command}`: GII {rep['gii']:.6f} ({rep['method']})"
+                 + "".join(f"\n{m}" for m in rep.get("misses", ())))
     return replaced
+
+
+def optimum_misses(design, rep: dict) -> tuple[list[dict], list[str]]:
+    """(rows, "target missed:" lines) of the design's ``[targets]`` on the GII optimum of a
+    pantograph-family design (:func:`cad.families.pantograph.targets.pantograph_target_values`:
+    the GII, masses and datasheet figures, built when a target needs it); none without targets."""
+    if not design.targets:
+        return [], []
+    import copy
+
+    from cad.checks import evaluate, miss_line
+    from cad.design import parse_design
+    from cad.families.pantograph.targets import mode_blocker_lines, pantograph_target_values
+
+    raw = copy.deepcopy(design.raw)
+    raw["mechanism"].update(rep["best"])
+    best = parse_design(raw, str(design.source))
+    vals, report = pantograph_target_values(best, "inertia", {t.key for t in design.targets})
+    rows = evaluate(design.targets, vals)
+    lines = [miss_line(r.key, r.target, r.computed) for r in rows if not r.ok]
+    return [r.as_dict() for r in rows], lines + (mode_blocker_lines(best, report, rows) if lines else [])
 
 
 
@@ -204,6 +226,7 @@ def _pantograph(design: Path, method: str, out: Path | None, json_out: bool) -> 
 
         check_out_file(out, design)  # before the search, as for four-bars
     rep = optimize_report(d, method)
+    rep["targets"], rep["misses"] = optimum_misses(d, rep)  # the design's [targets] on the optimum
     if out is not None:
         rep["replaced"] = write_optimum(
             d, rep, out, f"hapticad optimize {design.name} --method {method}"
@@ -211,6 +234,7 @@ def _pantograph(design: Path, method: str, out: Path | None, json_out: bool) -> 
         rep["out"] = str(out)
     if json_out:
         print_json(rep)
+        _exit_on_misses(rep)
         return
     print(f"{rep['design']} ({rep['family']}), {rep['method']}: GII = {rep['gii']:.6f}")
     print(f"  best: {rep['best']}")
@@ -223,3 +247,14 @@ def _pantograph(design: Path, method: str, out: Path | None, json_out: bool) -> 
         print(f"  note: optimum at the range bound of {', '.join(rep['at_bound'])}")
     if out is not None:
         print(f"  {'replaced' if rep['replaced'] else 'wrote'} {out}")
+    _exit_on_misses(rep)
+
+
+def _exit_on_misses(rep: dict) -> None:
+    """One ``hapticad: target missed:`` line per target the optimum misses, then exit 1."""
+    if rep["misses"]:
+        import sys
+
+        for m in rep["misses"]:
+            print(f"hapticad: {m}", file=sys.stderr)
+        raise typer.Exit(1)

@@ -107,3 +107,22 @@ def test_fit_first_mode_with_the_tubes_misses_and_says_why(tmp_path):
                             "--free", "parts.tube_od_mm=6:10", "--out", out)
     assert code == 1
     assert "target missed: first_mode_Hz" in err and "best the tubes reach" in err
+
+
+def test_optimize_says_which_targets_its_gii_optimum_misses(tmp_path):
+    """The GII optimum of a 5-bar whose [targets] ask 2 N continuous: exit 1, one line with the
+    optimum's figure (= the written design's force by hand), and the same line in its comment."""
+    src = tmp_path / "p.toml"
+    text = (DESIGNS / "pantograph.toml").read_text()
+    text = text.split("\n[optimize]")[0] + ("\n[optimize]\nbase_mm = [0.0, 400.0, 5]\nproximal_mm = [100.0, 200.0, 5]\n"
+                                          "distal_mm = [150.0, 250.0, 5]\n\n[targets]\ncontinuous_force_N = { min = 2.0 }\n")
+    src.write_text(text)
+    out = tmp_path / "opt.toml"
+    code, _, err = hapticad("optimize", src, "--out", out)
+    assert code == 1
+    (line,) = [ln for ln in err.splitlines() if "target missed: continuous_force_N" in ln]
+    assert float(line.rsplit("best reached ", 1)[1]) == pytest.approx(_force_by_hand_N(out), rel=1e-5)
+    assert "target missed: continuous_force_N" in out.read_text()
+    src.write_text(text.replace("min = 2.0", "min = 0.5"))  # met: exit 0, nothing said
+    code, _, err = hapticad("optimize", src, "--out", tmp_path / "opt2.toml")
+    assert code == 0 and "target missed" not in err
