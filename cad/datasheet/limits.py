@@ -14,9 +14,9 @@ continuous_force_N     >=    ``force_N`` (four-bars; unless                the f
                                                                            motor, at every point of the stroke
 peak_force_N           >=    ``force_N`` when ``force_basis = "peak"``     a peak-only design still needs its
                                                                            force at every point, for a moment
-continuous_force_N     >=    ``[actuators] force_max_N`` of a pantograph   the force asked for must be there in
-(pantograph families)        design when it gives one (judged on the       every direction at every point,
-                             BOM motors' continuous torque, not on         without overheating the motors
+continuous_force_N     >=    pantograph families: ``[actuators]            the force asked for must be there in
+                             force_max_N`` when given (from the BOM        every direction at every point,
+                             motors' continuous torque, not from           without overheating the motors
                              ``force_any_dir_N``, the GII's normalisation)
 first_mode_Hz          >=    :data:`FIRST_MODE_MIN_HZ` (four-bars, the     Hoeken paper §III.B.1: 150 Hz force
                              planar pantographs, the haptic pen: same)     bandwidth; a structural mode inside
