@@ -453,9 +453,12 @@ def optimize(design, method: str | None = None, objective: str | None = None, tr
                                          f"{design.family!r} (use --method)")
     if method is not None and method not in ("culling", "brute"):
         raise DesignError("--method", f"must be 'culling' or 'brute', got {method!r}")
+    from cad.families.pantograph.targets import optimum_misses
     from cad.isotropy.report import optimize_report
 
-    return optimize_report(design, method or "culling")
+    rep = optimize_report(design, method or "culling")
+    rep["targets"], rep["misses"] = optimum_misses(design, rep)  # the design's [targets] on the optimum
+    return rep
 
 
 def render(designs, out_dir: str | Path = "docs/devices", fidelity: str | None = None) -> list:

@@ -44,26 +44,6 @@ def write_optimum(design, rep: dict, out: Path, command: str) -> bool:
     return replaced
 
 
-def optimum_misses(design, rep: dict) -> tuple[list[dict], list[str]]:
-    """(rows, "target missed:" lines) of the design's ``[targets]`` on the GII optimum of a
-    pantograph-family design (:func:`cad.families.pantograph.targets.pantograph_target_values`:
-    the GII, masses and datasheet figures, built when a target needs it); none without targets."""
-    if not design.targets:
-        return [], []
-    import copy
-
-    from cad.checks import evaluate, miss_line
-    from cad.design import parse_design
-    from cad.families.pantograph.targets import mode_blocker_lines, pantograph_target_values
-
-    raw = copy.deepcopy(design.raw)
-    raw["mechanism"].update(rep["best"])
-    best = parse_design(raw, str(design.source))
-    vals, report = pantograph_target_values(best, "inertia", {t.key for t in design.targets})
-    rows = evaluate(design.targets, vals)
-    lines = [miss_line(r.key, r.target, r.computed) for r in rows if not r.ok]
-    return [r.as_dict() for r in rows], lines + (mode_blocker_lines(best, report, rows) if lines else [])
-
 
 
 
@@ -226,6 +206,8 @@ def _pantograph(design: Path, method: str, out: Path | None, json_out: bool) -> 
 
         check_out_file(out, design)  # before the search, as for four-bars
     rep = optimize_report(d, method)
+    from cad.families.pantograph.targets import optimum_misses
+
     rep["targets"], rep["misses"] = optimum_misses(d, rep)  # the design's [targets] on the optimum
     if out is not None:
         rep["replaced"] = write_optimum(

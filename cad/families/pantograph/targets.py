@@ -68,3 +68,22 @@ def mode_blocker_lines(design, report: dict, rows) -> list[str]:
 
     web = (report.get("layout_mm") or {}).get("web_width_mm", WEB_WIDTH_MIN_MM)
     return [mode_ceiling(design, report["bodies"], web, float(missed[0].target_data["min"]))["text"]]
+
+
+def optimum_misses(design, rep: dict) -> tuple[list[dict], list[str]]:
+    """(rows, "target missed:" lines) of the design's ``[targets]`` on the GII optimum of a
+    pantograph-family design (:func:`pantograph_target_values`:
+    the GII, masses and datasheet figures, built when a target needs it); none without targets."""
+    if not design.targets:
+        return [], []
+    import copy
+
+    from cad.checks import evaluate, miss_line
+    from cad.design import parse_design
+    raw = copy.deepcopy(design.raw)
+    raw["mechanism"].update(rep["best"])
+    best = parse_design(raw, str(design.source))
+    vals, report = pantograph_target_values(best, "inertia", {t.key for t in design.targets})
+    rows = evaluate(design.targets, vals)
+    lines = [miss_line(r.key, r.target, r.computed) for r in rows if not r.ok]
+    return [r.as_dict() for r in rows], lines + (mode_blocker_lines(best, report, rows) if lines else [])
