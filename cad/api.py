@@ -422,7 +422,9 @@ def optimize(design, method: str | None = None, objective: str | None = None, tr
     ``objective`` min-apparent-mass, the co-design search of :mod:`cad.studies.codesign`).
 
     Returns the ``hapticad optimize --json`` object without the file keys (``command``,
-    ``measured``, ``out``, ``replaced*``): pantographs ``best``, ``gii``, evaluations ...;
+    ``measured``, ``out``, ``replaced*``): pantographs ``best``, ``gii``, evaluations ...,
+    ``targets`` (the design's ``[targets]`` evaluated on the optimum: check rows) and
+    ``misses`` (their ``target missed:`` lines; the CLI exits 1 when not empty);
     four-bars ``best`` (None when no candidate passed the exact solids), ``trials`` ...,
     ``misses`` (the design's ``[targets]`` the chosen optimum misses on the exact solids:
     ``key``, ``target_text``, ``written``, ``best`` reached; the CLI exits 1 when not empty);
