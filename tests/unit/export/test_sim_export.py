@@ -219,7 +219,7 @@ def test_formats_errors(tmp_path):
     code, _, err = hapticad("build", ROOT / "designs" / "hoeken.toml", "--formats", "mjcf,sdf",
                             "--out", tmp_path / "x")
     assert_one_line_error(code, err, "--formats", "sdf")
-    code, _, err = hapticad("build", ROOT / "designs" / "powermouse.toml", "--formats", "mjcf",
+    code, _, err = hapticad("build", ROOT / "designs" / "powermouse.toml", "--formats", "urdf",
                             "--out", tmp_path / "y")
-    assert_one_line_error(code, err, "--formats", "mjcf")
+    assert_one_line_error(code, err, "--formats", "urdf")
     assert not (tmp_path / "x").exists() and not (tmp_path / "y").exists()
