@@ -6,7 +6,7 @@ allow_interference, progress, phi1_deg) -> report dict``; ``phi1_deg`` must be N
 has no crank). ``build`` is one call to the build driver of every family
 (:func:`cad.pipeline.run.run_family`) with the pen's stages (:func:`_stages`): the shared
 writers of :mod:`cad.pipeline.family`
-(part files, assembly STEP, BOM, report.md) and the one interference check of every family
+(part files, assembly STEP, BOM, report.md, assembly.md) and the one interference check of every family
 (:func:`cad.assembly.interference.check_model`) over the assembly model's motion
 (:func:`cad.families.pen.layout.motion_task`).
 
@@ -38,6 +38,16 @@ PAPER_TABLE3 = {
     "peak_force_x_N": 24.0, "peak_force_y_N": 21.0, "peak_force_z_N": 20.0,
     "continuous_force_x_N": 2.5, "continuous_force_y_N": 3.3, "continuous_force_z_N": 2.0,
 }
+
+
+#: Final checks of assembly.md (:mod:`cad.assembly.steps`; the steps follow the bodies in
+#: the order of the assembly model, each body's parts before the fasteners that join them).
+ASSEMBLY_CHECKS = (
+    "each motor shaft turned by hand moves its arm over the whole workspace box (report.md) "
+    "with no binding and no contact between links",
+    "the pen turns freely about its own axis (the roll is passive) and in both gimbals",
+    "the clevis set screws are tight (no slip of a hub on its shaft flat)",
+)
 
 
 def check_options(design, fidelity: str, phi1_deg, formats=frozenset()) -> None:
@@ -119,7 +129,7 @@ def _stages():
         preview_title=lambda b: f"{b.design.name}: haptic pen at the workspace centre",
         dynamics=_dynamics, bench_z_mm=lambda b: b.model.extra["ground_mm"]["bench_z_mm"],
         thread_notes=False,  # the pen's DXF/drawings carry no tapped-hole notes (as before)
-        more_files=_mjcf,
+        more_files=_mjcf, assembly=lambda design: (None, ASSEMBLY_CHECKS),
         no_solid_rows=_encoder_rows)
 
 

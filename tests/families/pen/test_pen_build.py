@@ -314,3 +314,23 @@ def test_bad_parts_keys_are_named_before_any_cad(tmp_path, key, value, field):
     code, _, err = hapticad("build", bad, "--out", tmp_path / "o")
     assert_one_line_error(code, err, field)
     assert not (tmp_path / "o").exists()
+
+
+def test_assembly_md_places_every_bom_line_once(built):
+    """The pen writes assembly.md through the writer of every family: every BOM line (read
+    back from bom.csv, a second writer) appears as many times as its quantity among the
+    steps' part lines, and the pen's final checks close it."""
+    import collections
+    import csv
+
+    from cad.families.pen.build import ASSEMBLY_CHECKS
+
+    out, rep = built
+    assert "assembly.md" in rep["files"]
+    text = (out / "assembly.md").read_text()
+    placed = collections.Counter(re.findall(r"^- `[^`]+` \(([^)]+)\)", text, re.M))
+    with (out / "bom.csv").open(newline="") as f:
+        rows = list(csv.DictReader(f))
+    assert rows and {r["part"]: int(r["quantity"]) for r in rows} == dict(placed)
+    for check in ASSEMBLY_CHECKS:
+        assert f"- check: {check}" in text
