@@ -94,7 +94,6 @@ def test_fivebar_forceranges_are_the_bom_motors_peak_torques(fivebar):
     """Force range = the catalog motor's peak torque (the BOM's motor), armature = its rotor
     inertia -- not the GII's ``[actuators] torque_max_Nm`` normalisation."""
     from cad.data.catalog import get_motor
-
     from cad.sim import mj
 
     design, out, rep = fivebar
@@ -116,8 +115,8 @@ def test_fivebar_mass_matrix_from_mujoco_equals_the_dynamics_module(fivebar):
     home (report.json effective_mass_home) and at the four workspace corners."""
     import mujoco
 
-    from cad.kinematics import fivebar as fb5
     from cad.families.pantograph.layout import lower_five_bar
+    from cad.kinematics import fivebar as fb5
     from cad.sim import mj
 
     design, out, rep = fivebar
