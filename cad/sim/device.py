@@ -189,6 +189,7 @@ def wall_report(design, *, K: float | None = None, B: float = 0.0, Te_s: float |
                       "rtol": wall.K_RTOL, "probes_per_round": n_probe,
                       "simulations": km["simulations"]},
         "K_max_sampling_error_rel": km.get("sampling_error_rel"),
+        "K_band_N_per_m": [km.get("K_first_unstable_N_per_m"), km.get("K_last_stable_N_per_m")],
         "K_max_method": ("threshold with the fewest exceptions over a fine K grid around a bisection "
                          f"(step {wall.K_GRID_STEP:g}; {km.get('probes')} probes, {km.get('exceptions')} "
                          "exceptions; stability is intermittent near K_max)") if model == "reduced"

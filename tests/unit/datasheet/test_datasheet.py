@@ -403,3 +403,22 @@ def test_pantograph_family_footprint_is_the_base_plate_outline(family_builds):
         box = bbox.extents(e for e in ezdxf.readfile(out / "parts" / "base_plate.dxf").modelspace()
                            if e.dxf.layer == "CUT")
         assert rows["footprint_mm2"]["value"] == pytest.approx(box.size.x * box.size.y, rel=1e-6), fam
+
+
+def test_a_miss_within_the_sampling_error_is_not_a_miss():
+    """judge(): K_max 14,959 N/m +/- 6 % against >= 15,000 is 'within sampling error' (14,959 x
+    1.06 = 15,857 meets it), no warning, and `check` counts it as met; 13,000 +/- 6 % (13,780)
+    is a miss with its warning; a row without a stated error misses by any amount."""
+    from cad.datasheet import WITHIN_ERROR, judge, row
+    from cad.datasheet.limits import Limit
+    from cad.datasheet.run import limit_rows
+
+    lim = {"K_max_N_per_m": Limit(">=", 15000.0, "test", "x", "targets")}
+    rows = []
+    for v, e in ((14959.0, 0.06), (13000.0, 0.06), (14999.0, None)):
+        rows.append(row("K_max_N_per_m", "renderable stiffness, simulated K_max", v, "N/m", "m"))
+        rows[-1]["sampling_error_rel"] = e
+    warnings = [judge([r], lim) for r in rows]
+    assert [r["verdict"] for r in rows] == [WITHIN_ERROR, "miss", "miss"]
+    assert [len(w) for w in warnings] == [0, 1, 1]
+    assert [r["ok"] for r in limit_rows({"rows": rows})] == [True, False, False]
