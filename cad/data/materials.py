@@ -259,6 +259,8 @@ _AL_SOURCE_COMMON = {
     "kerf_mm": "fibre laser on aluminium plate: cut seam 0.1-0.2 mm (upper value taken), "
                "mallhometrade.com 'laser cutting of aluminum plate'",
     "tappable": "aluminium alloys are tapped as machined parts are (as the machined process)",
+    "reamable": "aluminium alloys are reamed to H7 as machined parts are (as the machined process; "
+                "stated design rule)",
 }
 
 SHEETS: dict[str, SheetStock] = {
