@@ -215,5 +215,12 @@ def test_laser_build_without_sheet_size_orders_the_smallest_stock(tmp_path):
     assert sorted(s["thickness_mm"] for s in sheets) == [5.0, 6.0]
     assert all(s["size_mm"] == [304.8, 609.6] for s in sheets)
     with open(tmp_path / "out" / "bom.csv", newline="") as fh:
-        stock = [r for r in csv.DictReader(fh) if r["group"] == "sheet stock"]
+        rows = list(csv.DictReader(fh))
+    stock = [r for r in rows if r["group"] == "sheet stock"]
     assert len(stock) == 2 and all("least sheet area" in r["description"] for r in stock)
+    # issue 34 §3: the motor line names the catalog values no public source states, as
+    # report.json's device does
+    motor = next(r for r in rows if r["part"].startswith("motor_"))
+    unv = sorted(k for k, c in rep["device"]["motors"][0]["constants"].items() if c.get("unverified"))
+    assert "unverified data" in motor["description"] and unv
+    assert all(k in motor["description"] for k in unv)
