@@ -1,0 +1,166 @@
+"""The virtual bench (issue 37): a built four-bar simulated with perturbed parameters, running
+the firmware's identification routine (:mod:`cad.identify.excitation`), logged in the public
+CSV format (:mod:`cad.identify.logfile`) with a sidecar JSON of the true parameters.
+
+Device model ``reduced``: the 1-DOF crank dynamics of the build (Hoeken paper eq 14 in one
+coordinate, :func:`cad.sim.wall.device_tables`) with the true parameters
+``a(q) = mass (D(q) - Jm) + rotor Jm``::
+
+    a q'' + 1/2 a'(q) q'^2 = kt Kt i_applied - Tc tanh(q' / OMEGA_S) - b q' - gravity g(q) - T0
+
+integrated by semi-implicit Euler in sub-steps of at most :data:`SUBSTEP_MAX_S`. The log is
+what the firmware sees and writes: encoder counts quantized (floor) in the true encoder
+direction, the commanded current; the applied current is the command ``delay`` periods late
+plus Gaussian noise. During the hand phase the handle follows a prescribed hand move towards
+the + end and back (the operator).
+
+Perturbations (``--perturb KEY=VALUE``; factors on the prediction unless said): ``mass`` (every
+link, not the rotor), ``rotor``, ``friction`` (Coulomb and viscous), ``coulomb``, ``viscous``,
+``gravity``, ``kt`` (negative: current gain reversed), ``encoder`` (+1 or -1: reversed),
+``offset_mNm`` (a constant torque added, mN m), ``delay`` (periods, 0..4), ``noise`` (current
+noise, standard deviation as a fraction of the continuous current).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from cad.errors import DesignError
+from cad.identify import excitation
+
+#: Default true perturbation of each key (no perturbation; one period of delay and 0.5 % noise:
+#: what a real driver adds).
+DEFAULTS = {"mass": 1.0, "rotor": 1.0, "friction": 1.0, "coulomb": 1.0, "viscous": 1.0,
+            "gravity": 1.0, "kt": 1.0, "encoder": 1.0, "offset_mNm": 0.0, "delay": 1.0,
+            "noise": 0.005}
+#: Bounds of each key (inclusive) and why.
+BOUNDS = {"mass": (0.1, 10.0), "rotor": (0.0, 10.0), "friction": (0.0, 20.0), "coulomb": (0.0, 20.0),
+          "viscous": (0.0, 20.0), "gravity": (0.0, 10.0), "kt": (-2.0, 2.0), "encoder": (-1.0, 1.0),
+          "offset_mNm": (-1e3, 1e3), "delay": (0.0, 4.0), "noise": (0.0, 0.2)}
+#: Regularization of the Coulomb sign in the simulated device (rad/s).
+OMEGA_S = 0.02
+SUBSTEP_MAX_S = 1e-4
+#: Mechanical stops of the simulated crank, as a fraction of its range beyond each end.
+STOP_FRACTION = 0.05
+#: The hand phase moves the crank by this fraction of its range towards the + end and back.
+HAND_FRACTION = 0.25
+
+
+def parse_perturb(items) -> dict[str, float]:
+    """``{key: value}`` of ``KEY=VALUE`` strings over :data:`DEFAULTS`; DesignError naming
+    ``--perturb``, the item and the reason."""
+    out = dict(DEFAULTS)
+    for item in items or ():
+        key, sep, val = str(item).partition("=")
+        key = key.strip()
+        if not sep or key not in DEFAULTS:
+            raise DesignError("--perturb", f"{item!r}: expected KEY=VALUE with KEY one of {', '.join(DEFAULTS)}")
+        try:
+            v = float(val)
+        except ValueError:
+            raise DesignError("--perturb", f"{item!r}: {val!r} is not a number") from None
+        lo, hi = BOUNDS[key]
+        if not (math.isfinite(v) and lo <= v <= hi):
+            raise DesignError("--perturb", f"{item!r}: {key} must be in [{lo:g}, {hi:g}]")
+        if key == "encoder" and v not in (1.0, -1.0):
+            raise DesignError("--perturb", f"{item!r}: encoder must be 1 or -1 (reversed)")
+        if key == "delay" and v != round(v):
+            raise DesignError("--perturb", f"{item!r}: delay is a whole number of periods")
+        if key == "kt" and abs(v) < 0.1:
+            raise DesignError("--perturb", f"{item!r}: |kt| must be >= 0.1 (a motor that pushes)")
+        out[key] = v
+    return out
+
+
+def truth(pred, p: dict) -> dict:
+    """The true parameters of the simulated device (the sidecar JSON), SI and the handle's
+    figures the identification should find."""
+    Jm = pred.rotor_kg_m2
+    J = pred.J_mid
+    Tc = pred.Fs_N * J * p["friction"] * p["coulomb"]
+    b = pred.Fv_N_s_per_m * J * J * p["friction"] * p["viscous"]
+    return {"perturb": p, "Tc_Nm": Tc, "b_Nm_s_per_rad": b, "Fs_N": Tc / J, "Fv_N_s_per_m": b / J**2,
+            "offset_Nm": 1e-3 * p["offset_mNm"], "gravity_scale": p["gravity"],
+            "rotor_kg_m2": Jm * p["rotor"], "mass_factor": p["mass"], "kt_Nm_per_A": pred.kt_Nm_per_A * p["kt"],
+            "encoder_direction": int(p["encoder"]), "current_gain_sign": 1 if p["kt"] > 0 else -1,
+            "delay_samples": int(p["delay"]), "current_noise_A": p["noise"] * pred.i_max_A}
+
+
+def true_apparent_mass_g(pred, tr: dict, q) -> np.ndarray:
+    """The simulated device's apparent mass along the path at crank angles ``q`` (g)."""
+    Jm = pred.rotor_kg_m2
+    a = tr["mass_factor"] * (pred.D(q) - Jm) + tr["rotor_kg_m2"]
+    return 1e3 * a / pred.Jx(q) ** 2
+
+
+class _Plant:
+    """The reduced model's right-hand side with plain-float table look-ups (fast scalar loop)."""
+
+    def __init__(self, pred, tr: dict):
+        tab = pred.tab
+        Jm = pred.rotor_kg_m2
+        self.phi0, self.h, self.n = tab.phi0, tab.h, tab.x.size
+        self.a = (tr["mass_factor"] * (tab.a - Jm) + tr["rotor_kg_m2"]).tolist()
+        self.da = (tr["mass_factor"] * tab.da).tolist()
+        g = pred.g_table
+        self.g = None if g is None else (tr["gravity_scale"] * g).tolist()
+        self.Tc, self.b, self.T0 = tr["Tc_Nm"], tr["b_Nm_s_per_rad"], tr["offset_Nm"]
+
+    def _at(self, table, q):
+        u = (q - self.phi0) / self.h
+        i = min(max(int(math.floor(u)), 0), self.n - 2)
+        f = u - i
+        return table[i] + f * (table[i + 1] - table[i])
+
+    def accel(self, q: float, w: float, tau: float) -> float:
+        load = 0.5 * self._at(self.da, q) * w * w + self.Tc * math.tanh(w / OMEGA_S) + self.b * w + self.T0
+        if self.g is not None:
+            load += self._at(self.g, q)
+        return (tau - load) / self._at(self.a, q)
+
+
+def simulate(pred, p: dict, seed: int = 0) -> tuple[np.ndarray, np.ndarray, np.ndarray, dict]:
+    """(t_s (N,), counts (N,), commanded current (N,) A, truth) of one run of the routine on
+    the reduced model with perturbations ``p`` (:func:`parse_perturb`)."""
+    rng = np.random.default_rng(seed)
+    tr = truth(pred, p)
+    plant = _Plant(pred, tr)
+    plan = pred.plan
+    n = plan.n_samples
+    Te, nsub = plan.Te_s, max(1, math.ceil(plan.Te_s / SUBSTEP_MAX_S))
+    dt = Te / nsub
+    step = 2 * math.pi / pred.counts_per_rev
+    sgn = pred.direction * tr["encoder_direction"]
+    qc, amp = plan.q_center_rad, HAND_FRACTION * (plan.q_max_rad - plan.q_min_rad)
+    noise = rng.normal(0.0, tr["current_noise_A"], n).tolist()
+    delay, ktt = tr["delay_samples"], tr["kt_Nm_per_A"]
+    counts, cmd = np.zeros(n, np.int64), np.zeros(n)
+    st = excitation.State()
+    q, w = qc, 0.0
+    stop = STOP_FRACTION * (plan.q_max_rad - plan.q_min_rad)
+    lo, hi = plan.q_min_rad - stop, plan.q_max_rad + stop
+    for k in range(n):
+        t = k * Te
+        if t < plan.T_hand_s:  # the operator's hand move (prescribed)
+            q = qc + amp * math.sin(math.pi * t / plan.T_hand_s) ** 2
+            w = 0.0
+        c = math.floor(sgn * (q - pred.zero_rad) / step)
+        counts[k] = c
+        cmd[k], status = excitation.step(plan, st, float(pred.angles(c)))
+        if status != excitation.RUNNING:  # the routine stopped: so does its log
+            n = k + 1
+            break
+        if t < plan.T_hand_s:
+            continue
+        i_app = (cmd[k - delay] if k >= delay else 0.0) + noise[k]
+        tau = ktt * i_app
+        for _ in range(nsub):
+            w += dt * plant.accel(q, w, tau)
+            q += dt * w
+            if not lo <= q <= hi:  # an inelastic stop
+                q, w = min(max(q, lo), hi), 0.0
+    tr["status"] = {excitation.DONE: "done", excitation.RANGE: "stopped: the crank left its range",
+                    excitation.ENCODER: "stopped: the hand move went towards -"}.get(st.status, "running")
+    return np.arange(n) * Te, counts[:n], cmd[:n], tr
