@@ -89,7 +89,8 @@ class Plan:
 
     @property
     def n_samples(self) -> int:
-        return int(math.ceil((self.T_hand_s + 2 * self.T_settle_s + self.T_chirp_s) / self.Te_s))
+        """Periods until the routine reports done (that period included)."""
+        return int(math.ceil((self.T_hand_s + 2 * self.T_settle_s + self.T_chirp_s) / self.Te_s)) + 1
 
     def as_dict(self) -> dict:
         return asdict(self)

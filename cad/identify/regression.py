@@ -9,7 +9,8 @@ with D(q) the predicted crank inertia (kg m^2, rotor included) and g(q) the pred
 torque (N m; absent for a horizontal device). Unknowns: ``c0`` (kg m^2, inertia not in the
 prediction's shape) and ``c1`` (scale of the predicted inertia), Coulomb ``Tc`` (N m) and
 viscous ``b`` (N m s/rad) friction, gravity scale ``cg``, a constant torque offset ``T0``
-(N m), the sample delay ``n`` (0..:data:`MAX_DELAY`, chosen by the smallest residual) and
+(N m), the delay ``n`` (0..:data:`MAX_DELAY` periods in steps of half a period, chosen by the
+smallest residual) and
 the sign ``s`` of the current gain (the fit's inertia comes out negative when the motor
 pushes the other way than the encoder counts). Predicted: c0 = 0, c1 = 1, cg = 1, T0 = 0.
 
@@ -19,7 +20,8 @@ than :data:`cad.tolerances.IDENT_SLOW_FRACTION` of the peak rate are left out (C
 sign undefined). Covariance: sigma^2 (X^T X)^-1 with sigma^2 = RSS / (N - p), inflated by the
 rows per independent sample of the filtered signal, 1 / (2 FILTER_HZ Te). The delay found
 includes the zero-order hold (the command of period k acts until k + 1: half a period more
-than the transport delay, rounded up).
+than the transport delay); a whole-period grid would leave half a period of the hold's
+``kp`` as a false viscous term (kp Te / 2).
 """
 
 from __future__ import annotations
@@ -52,7 +54,7 @@ class Fit:
     theta: dict[str, float]
     cov: np.ndarray
     names: tuple[str, ...]
-    delay_samples: int
+    delay_samples: float
     current_sign: int
     rms_residual_Nm: float
     mask: np.ndarray
@@ -100,6 +102,12 @@ def regressors(q, v, a, D, dD, g, Te_s: float) -> tuple[np.ndarray, tuple[str, .
     return np.column_stack(cols), tuple(names)
 
 
+def shifted(x: np.ndarray, n: float) -> np.ndarray:
+    """``x`` delayed by ``n`` samples (a multiple of 0.5: the mean of the two neighbours)."""
+    lo, hi = int(math.floor(n)), int(math.ceil(n))
+    return 0.5 * (np.roll(x, lo) + np.roll(x, hi))
+
+
 def _solve(X, y):
     scale = np.linalg.norm(X, axis=0)
     scale[scale == 0] = 1.0
@@ -126,8 +134,8 @@ def fit(t_s, q_rad, current_A, kt_Nm_per_A: float, D, dD, g=None) -> Fit:
     X, names = regressors(qf, v, a, D, dD, g, Te)
     X = X[mask]
     best = None
-    for n in range(MAX_DELAY + 1):
-        y = np.roll(tau_all, n)[mask]  # torque acting at row k was commanded at k - n
+    for n in np.arange(0.0, MAX_DELAY + 0.25, 0.5):
+        y = shifted(tau_all, n)[mask]  # torque acting at row k was commanded at k - n
         th, Xn, scale, cond = _solve(X, y)
         rss = float(np.sum((y - X @ th) ** 2))
         if best is None or rss < best[0]:
@@ -144,7 +152,7 @@ def fit(t_s, q_rad, current_A, kt_Nm_per_A: float, D, dD, g=None) -> Fit:
     tau_fit = np.full_like(tau_all, np.nan)
     tau_fit[mask] = X @ th
     return Fit(dict(zip(names, map(float, th))), cov_s, names, n, sign,
-               math.sqrt(rss / len(y)), mask, t_s, qf, v, a, sign * np.roll(tau_all, n), tau_fit,
+               math.sqrt(rss / len(y)), mask, t_s, qf, v, a, sign * shifted(tau_all, n), tau_fit,
                {"condition": cond, "rows_used": int(mask.sum())})
 
 
