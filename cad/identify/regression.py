@@ -9,8 +9,8 @@ with D(q) the predicted crank inertia (kg m^2, rotor included) and g(q) the pred
 torque (N m; absent for a horizontal device). Unknowns: ``c0`` (kg m^2, inertia not in the
 prediction's shape) and ``c1`` (scale of the predicted inertia), Coulomb ``Tc`` (N m) and
 viscous ``b`` (N m s/rad) friction, gravity scale ``cg``, a constant torque offset ``T0``
-(N m), the delay ``n`` (0..:data:`MAX_DELAY` periods in steps of half a period, chosen by the
-smallest residual) and
+(N m), the delay ``n`` (periods; one more linear unknown through
+``tau(t - n Te) ~ tau(t) - n Te tau'(t)``) and
 the sign ``s`` of the current gain (the fit's inertia comes out negative when the motor
 pushes the other way than the encoder counts). Predicted: c0 = 0, c1 = 1, cg = 1, T0 = 0.
 
@@ -20,8 +20,8 @@ than :data:`cad.tolerances.IDENT_SLOW_FRACTION` of the peak rate are left out (C
 sign undefined). Covariance: sigma^2 (X^T X)^-1 with sigma^2 = RSS / (N - p), inflated by the
 rows per independent sample of the filtered signal, 1 / (2 FILTER_HZ Te). The delay found
 includes the zero-order hold (the command of period k acts until k + 1: half a period more
-than the transport delay); a whole-period grid would leave half a period of the hold's
-``kp`` as a false viscous term (kp Te / 2).
+than the transport delay). Fitted, not assumed: a delay off by half a period leaves
+``kp Te / 2`` of the position hold as a false viscous term.
 """
 
 from __future__ import annotations
@@ -36,8 +36,8 @@ from cad.tolerances import IDENT_CONDITION_MAX, IDENT_SLOW_FRACTION
 #: Low-pass of the angle and current before differentiation (Hz): above the chirp's 15 Hz
 #: end, below the encoder quantization noise that dominates the second derivative.
 FILTER_HZ = 40.0
-#: Largest sample delay tried (control periods).
-MAX_DELAY = 4
+#: Rows left out at each end of the log (the filter's edge transients).
+EDGE_ROWS = 8
 NAMES = ("c0_kg_m2", "c1", "Tc_Nm", "b_Nm_s_per_rad", "cg", "T0_Nm")
 
 
@@ -102,12 +102,6 @@ def regressors(q, v, a, D, dD, g, Te_s: float) -> tuple[np.ndarray, tuple[str, .
     return np.column_stack(cols), tuple(names)
 
 
-def shifted(x: np.ndarray, n: float) -> np.ndarray:
-    """``x`` delayed by ``n`` samples (a multiple of 0.5: the mean of the two neighbours)."""
-    lo, hi = int(math.floor(n)), int(math.ceil(n))
-    return 0.5 * (np.roll(x, lo) + np.roll(x, hi))
-
-
 def _solve(X, y):
     scale = np.linalg.norm(X, axis=0)
     scale[scale == 0] = 1.0
@@ -126,21 +120,24 @@ def fit(t_s, q_rad, current_A, kt_Nm_per_A: float, D, dD, g=None) -> Fit:
     Te = float(np.median(np.diff(t_s)))
     qf, v, a = derivatives(np.asarray(q_rad, float), Te)
     tau_all = kt_Nm_per_A * lowpass(np.asarray(current_A, float), Te)
-    mask = np.abs(v) > IDENT_SLOW_FRACTION * np.max(np.abs(v))
-    mask[: MAX_DELAY + 1] = False
+    slow = np.abs(v) <= IDENT_SLOW_FRACTION * np.max(np.abs(v))
+    # a reversal smears over the filter's impulse response: drop its neighbours too
+    k = max(1, round(0.5 / (FILTER_HZ * Te)))
+    mask = ~(np.convolve(slow.astype(float), np.ones(2 * k + 1), "same") > 0)
+    mask[:EDGE_ROWS] = False
+    mask[-EDGE_ROWS:] = False
     if mask.sum() < 50:
         raise NotExcited(f"only {int(mask.sum())} samples move faster than "
                          f"{100 * IDENT_SLOW_FRACTION:g} % of the peak rate")
     X, names = regressors(qf, v, a, D, dD, g, Te)
     X = X[mask]
-    best = None
-    for n in np.arange(0.0, MAX_DELAY + 0.25, 0.5):
-        y = shifted(tau_all, n)[mask]  # torque acting at row k was commanded at k - n
-        th, Xn, scale, cond = _solve(X, y)
-        rss = float(np.sum((y - X @ th) ** 2))
-        if best is None or rss < best[0]:
-            best = (rss, n, th, Xn, scale, cond, y)
-    rss, n, th, Xn, scale, cond, y = best
+    # the delay: tau(t - n Te) ~ tau(t) - n Te tau'(t), one more linear unknown (n Te)
+    dtau = np.gradient(tau_all, Te)
+    X = np.column_stack([X, dtau[mask]])
+    y = tau_all[mask]
+    th, Xn, scale, cond = _solve(X, y)
+    n = float(th[-1] / Te)
+    rss = float(np.sum((y - X @ th) ** 2))
     if cond > IDENT_CONDITION_MAX:
         raise NotExcited(f"the regressors are ill-conditioned (condition {cond:.3g} > "
                          f"{IDENT_CONDITION_MAX:.3g}): the motion does not separate inertia, friction and offset")
@@ -148,11 +145,13 @@ def fit(t_s, q_rad, current_A, kt_Nm_per_A: float, D, dD, g=None) -> Fit:
     inflate = max(1.0, 1.0 / (2.0 * FILTER_HZ * Te))
     cov = rss / dof * inflate * np.linalg.inv(Xn.T @ Xn) / np.outer(scale, scale)
     sign = 1 if th[names.index("c1")] >= 0 else -1
-    th, cov_s = sign * th, cov  # a reversed gain negates every estimate; the covariance stays
+    p = len(names)
     tau_fit = np.full_like(tau_all, np.nan)
-    tau_fit[mask] = X @ th
-    return Fit(dict(zip(names, map(float, th))), cov_s, names, n, sign,
-               math.sqrt(rss / len(y)), mask, t_s, qf, v, a, sign * shifted(tau_all, n), tau_fit,
+    tau_fit[mask] = sign * (X[:, :p] @ th[:p])
+    tau_meas = sign * (tau_all - th[-1] * dtau)  # the torque acting, delay removed
+    th = sign * th[:p]  # a reversed gain negates every estimate; the covariance stays
+    return Fit(dict(zip(names, map(float, th))), cov[:p, :p], names, n, sign,
+               math.sqrt(rss / len(y)), mask, t_s, qf, v, a, tau_meas, tau_fit,
                {"condition": cond, "rows_used": int(mask.sum())})
 
 

@@ -2,8 +2,8 @@
 the firmware's identification routine (:mod:`cad.identify.excitation`), logged in the public
 CSV format (:mod:`cad.identify.logfile`) with a sidecar JSON of the true parameters.
 
-Device model ``reduced``: the 1-DOF crank dynamics of the build (Hoeken paper eq 14 in one
-coordinate, :func:`cad.sim.wall.device_tables`) with the true parameters
+Device model ``reduced``: the 1-DOF crank dynamics of the build (Hoeken paper eq 14, D(q) of
+:func:`cad.sim.identify_device.predict`) with the true parameters
 ``a(q) = mass (D(q) - Jm) + rotor Jm``::
 
     a q'' + 1/2 a'(q) q'^2 = kt Kt i_applied - Tc tanh(q' / OMEGA_S) - b q' - gravity g(q) - T0
@@ -89,10 +89,11 @@ def truth(pred, p: dict) -> dict:
 
 
 def true_apparent_mass_g(pred, tr: dict, q) -> np.ndarray:
-    """The simulated device's apparent mass along the path at crank angles ``q`` (g)."""
+    """The simulated device's apparent mass along the path at crank angles ``q`` (g): the
+    prediction's M11 scaled as its crank inertia D is."""
     Jm = pred.rotor_kg_m2
-    a = tr["mass_factor"] * (pred.D(q) - Jm) + tr["rotor_kg_m2"]
-    return 1e3 * a / pred.Jx(q) ** 2
+    D = pred.D(q)
+    return pred.M11_g(q) * (tr["mass_factor"] * (D - Jm) + tr["rotor_kg_m2"]) / D
 
 
 class _Plant:
@@ -102,8 +103,8 @@ class _Plant:
         tab = pred.tab
         Jm = pred.rotor_kg_m2
         self.phi0, self.h, self.n = tab.phi0, tab.h, tab.x.size
-        self.a = (tr["mass_factor"] * (tab.a - Jm) + tr["rotor_kg_m2"]).tolist()
-        self.da = (tr["mass_factor"] * tab.da).tolist()
+        self.a = (tr["mass_factor"] * (pred.D_table - Jm) + tr["rotor_kg_m2"]).tolist()
+        self.da = (tr["mass_factor"] * pred.dD_table).tolist()
         g = pred.g_table
         self.g = None if g is None else (tr["gravity_scale"] * g).tolist()
         self.Tc, self.b, self.T0 = tr["Tc_Nm"], tr["b_Nm_s_per_rad"], tr["offset_Nm"]

@@ -1,8 +1,9 @@
 """The four-bar's predicted figures for identification (issue 37) and the identification run.
 
 :func:`predict` gathers, from the resolved device and the datasheet's functions (one fact,
-one place): the crank inertia table D(q) = M11 Jx^2 of the build's H11..H33 (rotor included,
-:func:`cad.sim.wall.device_tables`), the motor's torque constant and continuous current
+one place): the crank's equivalent inertia D(q) of the build's H11..H33 (Hoeken paper eq 14,
+rotor included, :func:`cad.dynamics.inertia.equivalent_inertia`) and the apparent mass along
+the path M11(q) (eq 22, path frame, :func:`cad.sim.wall.device_tables`), the motor's torque constant and continuous current
 (:func:`cad.device.resolve_device`), the encoder (counts, ``[firmware]`` direction and zero),
 the control period and the friction at the handle (:func:`cad.sim.device.wall_inputs`:
 ``[stiffness]`` or the datasheet's estimate), the gravity torque of a vertical device
@@ -57,12 +58,19 @@ class Prediction:
     friction_source: str
     g_table: np.ndarray | None
     plan: excitation.Plan
+    D_table: np.ndarray
+    dD_table: np.ndarray
 
     def D(self, q):
-        return self.tab.at(self.tab.a, q)
+        """Equivalent crank inertia (kg m^2), eq (14)."""
+        return self.tab.at(self.D_table, q)
 
     def dD(self, q):
-        return self.tab.at(self.tab.da, q)
+        return self.tab.at(self.dD_table, q)
+
+    def M11_g(self, q):
+        """Predicted apparent mass along the path (g), eq (22)."""
+        return 1e3 * self.tab.at(self.tab.a, q) / self.tab.at(self.tab.Jx, q) ** 2
 
     def Jx(self, q):
         return self.tab.at(self.tab.Jx, q)
@@ -108,17 +116,21 @@ def predict(design, H, report: dict | None = None) -> Prediction:
     device = resolve_device(design)
     motor = motor_data(device.motor.spec)
     s, src = wall_inputs(design)
+    from cad.dynamics.inertia import equivalent_inertia
+    from cad.kinematics.fourbar import solve
+
     tab = device_tables(design, H, 4001)
     lo, hi = design.phi1_min_rad, design.phi1_max_rad
+    D = equivalent_inertia(design.linkage, solve(design.linkage, np.linspace(lo, hi, tab.x.size)), H)
     h = design_hash(design)
     zero = encoder_zero(design.firmware, (0.5 * (lo + hi),))[0]
-    D_mid = float(tab.at(tab.a, 0.5 * (lo + hi)))
+    D_mid = float(tab.at(D, 0.5 * (lo + hi)))
     plan = excitation.plan(s["Te"], motor.kt_Nm_per_A, motor.current_continuous_A, lo, hi, D_mid,
                            device.encoder.counts_per_rev)
     return Prediction(design.name, h, tab, s["Te"], motor.kt_Nm_per_A, motor.current_continuous_A,
                       device.encoder.counts_per_rev, int(design.firmware.encoder_direction[0]), zero,
                       lo, hi, device.motor.rotor_inertia_kg_m2, s["Fs"], s["Fv"], src,
-                      _gravity_table(design, report, device, h, tab), plan)
+                      _gravity_table(design, report, device, h, tab), plan, D, np.gradient(D, tab.h))
 
 
 def predict_from_build(design, build_dir=None) -> Prediction:
@@ -175,11 +187,11 @@ def _mass_rows(pred: Prediction, f: Fit) -> list[dict]:
     rows = []
     for p in POSES:
         q = float(np.quantile(f.q[f.mask], p))
-        D, J2 = float(pred.D(q)), float(pred.Jx(q)) ** 2
-        m = (f.theta["c0_kg_m2"] + f.theta["c1"] * D) / J2
-        s = math.sqrt(max(float(np.array([1.0, D]) @ C @ np.array([1.0, D])), 0.0)) / J2
+        D, M = float(pred.D(q)), float(pred.M11_g(q))
+        m = (f.theta["c0_kg_m2"] + f.theta["c1"] * D) / D * M  # M11 scales with D at a pose
+        s = math.sqrt(max(float(np.array([1.0, D]) @ C @ np.array([1.0, D])), 0.0)) / D * M
         rows.append({**_row(f"M11_g@{math.degrees(q):.1f}deg", f"apparent mass along the path at "
-                            f"phi1 = {math.degrees(q):.1f} deg", 1e3 * m, 1e3 * s, "g", 1e3 * D / J2,
+                            f"phi1 = {math.degrees(q):.1f} deg", m, s, "g", M,
                             tol_rel=IDENT_MASS_TOL_REL, explain="apparent_mass"), "phi1_deg": math.degrees(q)})
     return rows
 
