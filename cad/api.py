@@ -29,7 +29,7 @@ command                 function
 ``hapticad datasheet``  :func:`device_datasheet`
 ``hapticad fit``        :func:`fit_design`
 ``hapticad gii``        :func:`gii`
-``hapticad identify``   :func:`identify`
+``hapticad identify``   :func:`identify_device`
 ``hapticad massprops``  :func:`mass_properties`
 ``hapticad optimize``   :func:`optimize`
 ``hapticad render``     :func:`render`
@@ -58,7 +58,7 @@ COMMANDS = {
     "check": "check", "datasheet": "device_datasheet", "fit": "fit_design", "gii": "gii",
     "massprops": "mass_properties", "optimize": "optimize", "render": "render", "swap": "swap",
     "sweep": "sweep_design", "synth": "synth", "tolerance": "tolerance", "voicecoil": "voicecoil",
-    "wall": "wall", "identify": "identify", "bench-log": "bench_log",
+    "wall": "wall", "identify": "identify_device", "bench-log": "bench_log",
 }
 __all__ = sorted({*COMMANDS.values(), "assemble", "load_design"})
 
@@ -826,7 +826,7 @@ def run_bench(out_dir: str | Path = "exports/bench", quick: bool = False, only: 
     return _run(Path(out_dir), quick, only, echo)
 
 
-def identify(design, log_path: str | Path, build_dir: str | Path | None = None,
+def identify_device(design, log_path: str | Path, build_dir: str | Path | None = None,
              out: str | Path | None = None) -> dict:
     """Identify a built four-bar from a log in the identification format (``hapticad identify
     --json``; docs/identify.md): apparent mass at the log's poses, Coulomb and viscous friction,

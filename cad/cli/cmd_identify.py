@@ -85,9 +85,9 @@ def register(app: typer.Typer) -> None:
             from cad.io.outdir import check_out_dir
 
             check_out_dir(out, str(design))
-        from cad.api import identify
+        from cad.api import identify_device
 
-        res = identify(d, log, build_dir, out)
+        res = identify_device(d, log, build_dir, out)
         if out is not None:
             from cad.export.manifest import write_manifest
 
