@@ -862,12 +862,13 @@ def identify_device(design, log_path: str | Path, build_dir: str | Path | None =
 
 
 def bench_log(design, out_csv: str | Path, seed: int = 0, perturb=(),
-              build_dir: str | Path | None = None) -> dict:
+              build_dir: str | Path | None = None, model: str = "mujoco") -> dict:
     """The virtual bench (``hapticad bench-log``, :mod:`cad.sim.bench`): simulate the built
-    four-bar with the perturbations ``perturb`` (``KEY=VALUE`` strings) running the firmware's
-    identification routine; write the log to ``out_csv`` and the true parameters to
-    ``<out_csv stem>.true.json`` beside it. Returns the true parameters and the paths.
-    Raises DesignError naming ``--perturb``, ``--seed`` or ``mechanism.family``."""
+    four-bar (``model`` mujoco: its exported MJCF; reduced: the 1-DOF crank model) with the
+    perturbations ``perturb`` (``KEY=VALUE`` strings) running the firmware's identification
+    routine; write the log to ``out_csv`` and the true parameters to ``<out_csv stem>.true.json``
+    beside it. Returns the true parameters and the paths.
+    Raises DesignError naming ``--perturb``, ``--seed``, ``--model`` or ``mechanism.family``."""
     import json
     import math
 
@@ -881,20 +882,24 @@ def bench_log(design, out_csv: str | Path, seed: int = 0, perturb=(),
 
     _need_design(design)
     require("bench-log", design.family)
+    _choice("--model", model, ("mujoco", "reduced"))
     p = bench.parse_perturb(perturb)
     if not isinstance(seed, int) or isinstance(seed, bool) or not 0 <= seed < 2**32:
         from cad.errors import DesignError
 
         raise DesignError("--seed", f"must be an integer in [0, 2^32), got {seed!r}")
-    pred = predict_from_build(design, None if build_dir is None else Path(build_dir))
-    t, counts, cmd, tr = bench.simulate(pred, p, seed)
+    from cad.sim.device import device_build
+
+    folder = device_build(design, None if build_dir is None else Path(build_dir))
+    pred = predict_from_build(design, folder)
+    mjcf = folder / f"{design.name}.xml" if model == "mujoco" else None
+    t, counts, cmd, tr = bench.simulate(pred, p, seed, mjcf)
     out_csv = Path(out_csv)
     side = out_csv.with_name(out_csv.stem + ".true.json")
-    head = header_line(design.name, pred.design_hash, f"virtual bench (reduced model, seed {seed})", pred.Te_s)
+    head = header_line(design.name, pred.design_hash, f"virtual bench ({model} model, seed {seed})", pred.Te_s)
     write_text_atomic(out_csv, format_log(head, t, counts, cmd))
     q_poses = [float(np.quantile(pred.angles(counts), x)) for x in (0.05, 0.5, 0.95)] if len(counts) else []
-    tr = {**tr, "design": design.name, "design_hash": pred.design_hash, "seed": seed,
-          "model": "reduced", "rows": len(t),
+    tr = {**tr, "design": design.name, "design_hash": pred.design_hash, "seed": seed, "rows": len(t),
           "M11_g_at": {f"{math.degrees(q):.1f}": float(bench.true_apparent_mass_g(pred, tr, q)) for q in q_poses}}
     write_text_atomic(side, json.dumps(tr, indent=1))
     return {**tr, "log": str(out_csv), "truth": str(side)}

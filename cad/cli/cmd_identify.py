@@ -1,5 +1,5 @@
 """``hapticad identify DESIGN LOG.csv [--json] [--out DIR] [--build-dir DIR]`` and
-``hapticad bench-log DESIGN --out LOG.csv [--seed S] [--perturb KEY=VALUE ...]``.
+``hapticad bench-log DESIGN --out LOG.csv [--seed S] [--perturb KEY=VALUE ...] [--model mujoco|reduced]``.
 
 identify: the built device against its prediction (issue 37, docs/identify.md): a table of
 every identified figure beside the datasheet's, with its verdict; ``--out`` writes
@@ -106,6 +106,7 @@ def register(app: typer.Typer) -> None:
                                           help="KEY=VALUE, repeatable: mass, rotor, friction, coulomb, viscous, "
                                                "gravity, kt (factors), encoder (1 or -1), offset_mNm, delay "
                                                "(periods), noise (fraction of the continuous current)."),
+        model: str = typer.Option("mujoco", "--model", help="mujoco (the exported MJCF) | reduced (1-DOF, fast)."),
         build_dir: Path = typer.Option(None, "--build-dir",
                                        help="a finished `build --formats mjcf` of DESIGN (default: cached build)."),
         json_out: bool = typer.Option(False, "--json", help="Print one JSON object."),
@@ -116,14 +117,15 @@ def register(app: typer.Typer) -> None:
         from cad.sim.bench import parse_perturb
 
         flags.out_path("--out", out, folder=False)
+        flags.choice("--model", model, ("mujoco", "reduced"))
         parse_perturb(perturb)
         _owned_or_absent(out, "# hapticad identification log", "--out")
         _owned_or_absent(out.with_name(out.stem + ".true.json"), "{", "--out")
         d = load_design(design)
         from cad.api import bench_log
 
-        res = bench_log(d, out, seed, perturb or (), build_dir)
+        res = bench_log(d, out, seed, perturb or (), build_dir, model)
         if json_out:
             print_json(res, indent=1)
             return
-        print(f"wrote {res['log']} ({res['rows']} rows, {res['status']}) and {res['truth']}")
+        print(f"wrote {res['log']} ({res['model']} model, {res['rows']} rows, {res['status']}) and {res['truth']}")

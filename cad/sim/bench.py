@@ -2,7 +2,8 @@
 the firmware's identification routine (:mod:`cad.identify.excitation`), logged in the public
 CSV format (:mod:`cad.identify.logfile`) with a sidecar JSON of the true parameters.
 
-Device model ``reduced``: the 1-DOF crank dynamics of the build (Hoeken paper eq 14, D(q) of
+Device models: ``mujoco`` (the default where the build has an MJCF: the four-bars), the
+exported model with every link and its closed loop (:class:`_MujocoPlant`); ``reduced``, the 1-DOF crank dynamics of the build (Hoeken paper eq 14, D(q) of
 :func:`cad.sim.identify_device.predict`) with the true parameters
 ``a(q) = mass (D(q) - Jm) + rotor Jm``::
 
@@ -97,9 +98,11 @@ def true_apparent_mass_g(pred, tr: dict, q) -> np.ndarray:
 
 
 class _Plant:
-    """The reduced model's right-hand side with plain-float table look-ups (fast scalar loop)."""
+    """The reduced model (plain-float table look-ups: a fast scalar loop). Interface of both
+    plants: ``place(q)`` (the hand holds the crank at q, at rest), ``advance(tau, Te)`` (one
+    control period under the motor torque tau), ``q`` (the crank angle, rad)."""
 
-    def __init__(self, pred, tr: dict):
+    def __init__(self, pred, tr: dict, lo: float, hi: float):
         tab = pred.tab
         Jm = pred.rotor_kg_m2
         self.phi0, self.h, self.n = tab.phi0, tab.h, tab.x.size
@@ -108,6 +111,8 @@ class _Plant:
         g = pred.g_table
         self.g = None if g is None else (tr["gravity_scale"] * g).tolist()
         self.Tc, self.b, self.T0 = tr["Tc_Nm"], tr["b_Nm_s_per_rad"], tr["offset_Nm"]
+        self.lo, self.hi = lo, hi
+        self.q, self.w = 0.5 * (lo + hi), 0.0
 
     def _at(self, table, q):
         u = (q - self.phi0) / self.h
@@ -121,17 +126,89 @@ class _Plant:
             load += self._at(self.g, q)
         return (tau - load) / self._at(self.a, q)
 
+    def place(self, q: float) -> None:
+        self.q, self.w = q, 0.0
 
-def simulate(pred, p: dict, seed: int = 0) -> tuple[np.ndarray, np.ndarray, np.ndarray, dict]:
-    """(t_s (N,), counts (N,), commanded current (N,) A, truth) of one run of the routine on
-    the reduced model with perturbations ``p`` (:func:`parse_perturb`)."""
+    def advance(self, tau: float, Te: float) -> None:
+        nsub = max(1, math.ceil(Te / SUBSTEP_MAX_S))
+        dt = Te / nsub
+        q, w = self.q, self.w
+        for _ in range(nsub):  # semi-implicit Euler
+            w += dt * self.accel(q, w, tau)
+            q += dt * w
+            if not self.lo <= q <= self.hi:  # an inelastic stop
+                q, w = min(max(q, self.lo), self.hi), 0.0
+        self.q, self.w = q, w
+
+
+class _MujocoPlant:
+    """The exported MJCF in MuJoCo (closed loop, every link, the rotor as the crank's armature):
+    link masses and inertias scaled by ``mass``, the rotor's armature by ``rotor``, Coulomb
+    friction as the crank's ``frictionloss`` (hard, as :class:`cad.sim.wall.MujocoWall`),
+    viscous as its ``damping``, the offset as a constant applied torque, gravity scaled; the
+    stops as in the reduced model."""
+
+    def __init__(self, mjcf, tr: dict, lo: float, hi: float, tau_max_Nm: float):
+        import mujoco
+
+        from cad.sim import mj
+
+        self.mujoco, self.mj = mujoco, mj
+        self.m, self.d = mj.load(mjcf)
+        m = self.m
+        self.iq, self.iv = mj.joint_qpos(m, "crank"), mj.joint_dof(m, "crank")
+        m.body_mass[1:] *= tr["mass_factor"]
+        m.body_inertia[1:] *= tr["mass_factor"]
+        m.dof_armature[self.iv] = tr["rotor_kg_m2"]
+        m.dof_damping[self.iv] = tr["b_Nm_s_per_rad"]
+        m.dof_frictionloss[self.iv] = tr["Tc_Nm"]
+        m.opt.gravity[:] = m.opt.gravity * tr["gravity_scale"]
+        m.actuator_ctrlrange[0] = m.actuator_forcerange[0] = (-tau_max_Nm, tau_max_Nm)
+        self.T0, self.lo, self.hi = tr["offset_Nm"], lo, hi
+
+    def _timestep(self, Te: float) -> int:
+        from cad.sim.wall import MJ_STEP_MAX_S
+
+        nsub = max(1, math.ceil(Te / MJ_STEP_MAX_S))
+        if self.m.opt.timestep != Te / nsub:
+            self.m.opt.timestep = Te / nsub
+            self.m.dof_solref[self.iv] = (2.0 * self.m.opt.timestep, 1.0)
+            self.m.dof_solimp[self.iv] = (0.9999, 0.9999, 0.001, 0.5, 2.0)
+        return nsub
+
+    @property
+    def q(self) -> float:
+        return float(self.d.qpos[self.iq])
+
+    def place(self, q: float) -> None:
+        self.d.qpos[self.iq] = q
+        self.mj.close_loops(self.m, self.d, ["crank"])
+        self.d.qvel[:] = 0.0
+        self.mujoco.mj_forward(self.m, self.d)
+
+    def advance(self, tau: float, Te: float) -> None:
+        nsub = self._timestep(Te)
+        self.d.ctrl[0] = tau
+        self.d.qfrc_applied[:] = 0.0
+        self.d.qfrc_applied[self.iv] = -self.T0
+        for _ in range(nsub):
+            self.mujoco.mj_step(self.m, self.d)
+            if not self.lo <= self.q <= self.hi:  # an inelastic stop
+                self.place(min(max(self.q, self.lo), self.hi))
+
+
+def simulate(pred, p: dict, seed: int = 0, mjcf=None) -> tuple[np.ndarray, np.ndarray, np.ndarray, dict]:
+    """(t_s (N,), counts (N,), commanded current (N,) A, truth) of one run of the routine with
+    perturbations ``p`` (:func:`parse_perturb`) on the reduced model, or on MuJoCo with the
+    MJCF file ``mjcf``."""
     rng = np.random.default_rng(seed)
     tr = truth(pred, p)
-    plant = _Plant(pred, tr)
     plan = pred.plan
-    n = plan.n_samples
-    Te, nsub = plan.Te_s, max(1, math.ceil(plan.Te_s / SUBSTEP_MAX_S))
-    dt = Te / nsub
+    stop = STOP_FRACTION * (plan.q_max_rad - plan.q_min_rad)
+    lo, hi = plan.q_min_rad - stop, plan.q_max_rad + stop
+    plant = (_Plant(pred, tr, lo, hi) if mjcf is None else
+             _MujocoPlant(mjcf, tr, lo, hi, 2 * abs(tr["kt_Nm_per_A"]) * pred.i_max_A))
+    n, Te = plan.n_samples, plan.Te_s
     step = 2 * math.pi / pred.counts_per_rev
     sgn = pred.direction * tr["encoder_direction"]
     qc, amp = plan.q_center_rad, HAND_FRACTION * (plan.q_max_rad - plan.q_min_rad)
@@ -139,29 +216,19 @@ def simulate(pred, p: dict, seed: int = 0) -> tuple[np.ndarray, np.ndarray, np.n
     delay, ktt = tr["delay_samples"], tr["kt_Nm_per_A"]
     counts, cmd = np.zeros(n, np.int64), np.zeros(n)
     st = excitation.State()
-    q, w = qc, 0.0
-    stop = STOP_FRACTION * (plan.q_max_rad - plan.q_min_rad)
-    lo, hi = plan.q_min_rad - stop, plan.q_max_rad + stop
     for k in range(n):
         t = k * Te
         if t < plan.T_hand_s:  # the operator's hand move (prescribed)
-            q = qc + amp * math.sin(math.pi * t / plan.T_hand_s) ** 2
-            w = 0.0
-        c = math.floor(sgn * (q - pred.zero_rad) / step)
+            plant.place(qc + amp * math.sin(math.pi * t / plan.T_hand_s) ** 2)
+        c = math.floor(sgn * (plant.q - pred.zero_rad) / step)
         counts[k] = c
         cmd[k], status = excitation.step(plan, st, float(pred.angles(c)))
         if status != excitation.RUNNING:  # the routine stopped: so does its log
             n = k + 1
             break
-        if t < plan.T_hand_s:
-            continue
-        i_app = (cmd[k - delay] if k >= delay else 0.0) + noise[k]
-        tau = ktt * i_app
-        for _ in range(nsub):
-            w += dt * plant.accel(q, w, tau)
-            q += dt * w
-            if not lo <= q <= hi:  # an inelastic stop
-                q, w = min(max(q, lo), hi), 0.0
+        if t >= plan.T_hand_s:
+            plant.advance(ktt * ((cmd[k - delay] if k >= delay else 0.0) + noise[k]), Te)
     tr["status"] = {excitation.DONE: "done", excitation.RANGE: "stopped: the crank left its range",
                     excitation.ENCODER: "stopped: the hand move went towards -"}.get(st.status, "running")
+    tr["model"] = "reduced" if mjcf is None else "mujoco"
     return np.arange(n) * Te, counts[:n], cmd[:n], tr
