@@ -841,7 +841,8 @@ def identify_device(design, log_path: str | Path, build_dir: str | Path | None =
     from cad.firmware.spec import motor_data
     from cad.identify.logfile import parse_log
     from cad.io import guard
-    from cad.sim.identify_device import identify as run, predict_from_build
+    from cad.sim.identify_device import identify as run
+    from cad.sim.identify_device import predict_from_build
 
     _need_design(design)
     require("identify", design.family)

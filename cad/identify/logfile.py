@@ -64,7 +64,7 @@ def format_log(comment: str, t_s, counts, current_A) -> str:
     counts = np.asarray(counts, dtype=np.int64).reshape(len(t_s), -1)
     cur = np.asarray(current_A, dtype=float).reshape(len(t_s), -1)
     lines = [comment, ",".join(columns(counts.shape[1]))]
-    for t, c, i in zip(np.asarray(t_s, dtype=float), counts, cur):
+    for t, c, i in zip(np.asarray(t_s, dtype=float), counts, cur, strict=True):
         lines.append(",".join([repr(float(t)), *map(str, c.tolist()), *map(repr, i.tolist())]))
     return "\n".join(lines) + "\n"
 

@@ -150,7 +150,7 @@ def fit(t_s, q_rad, current_A, kt_Nm_per_A: float, D, dD, g=None) -> Fit:
     tau_fit[mask] = sign * (X[:, :p] @ th[:p])
     tau_meas = sign * (tau_all - th[-1] * dtau)  # the torque acting, delay removed
     th = sign * th[:p]  # a reversed gain negates every estimate; the covariance stays
-    return Fit(dict(zip(names, map(float, th))), cov[:p, :p], names, n, sign,
+    return Fit(dict(zip(names, map(float, th), strict=True)), cov[:p, :p], names, n, sign,
                math.sqrt(rss / len(y)), mask, t_s, qf, v, a, tau_meas, tau_fit,
                {"condition": cond, "rows_used": int(mask.sum())})
 
