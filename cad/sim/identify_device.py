@@ -205,13 +205,42 @@ def _figures(pred: Prediction, f: Fit) -> list[dict]:
     rows.append(_row("Fv_N_s_per_m", "viscous friction at the handle (mid-stroke)", th["b_Nm_s_per_rad"] / J**2,
                      f.sigma("b_Nm_s_per_rad") / J**2, "N s/m", pred.Fv_N_s_per_m,
                      tol_rel=IDENT_FRICTION_TOL_REL, explain="viscous"))
-    if "cg" in th:
-        rows.append(_row("gravity_scale", "gravity load / the solids' prediction", th["cg"], f.sigma("cg"),
-                         "1", 1.0, tol_rel=IDENT_GRAVITY_TOL_REL, explain="gravity"))
-    rows.append(_row("offset_mNm", "constant torque offset on the crank", 1e3 * th["T0_Nm"],
-                     1e3 * f.sigma("T0_Nm"), "mN m", 0.0,
-                     tol_abs=1e3 * IDENT_OFFSET_TOL_FRACTION * pred.tau_cont_Nm, explain="offset"))
+    rows += _gravity_rows(pred, f)
     return rows
+
+
+#: |correlation| of the gravity scale and the offset estimates above which the log cannot tell
+#: them apart (the gravity torque barely varies over the poses it visited).
+SEPARABLE_CORRELATION = 0.95
+
+
+def _gravity_rows(pred: Prediction, f: Fit) -> list[dict]:
+    """The offset; for a vertical device also the gravity load at the log's middle pose
+    (gravity and offset together: always well determined) and the gravity scale, whose verdict
+    (and the offset's) is n/a when the two are not separable on this log."""
+    th = f.theta
+    tol0 = 1e3 * IDENT_OFFSET_TOL_FRACTION * pred.tau_cont_Nm
+    off = _row("offset_mNm", "constant torque offset on the crank", 1e3 * th["T0_Nm"], 1e3 * f.sigma("T0_Nm"),
+               "mN m", 0.0, tol_abs=tol0, explain="offset")
+    if "cg" not in th:
+        return [off]
+    i, j = f.names.index("cg"), f.names.index("T0_Nm")
+    q = float(np.median(f.q[f.mask]))
+    gm = float(pred.g(q))
+    w = np.zeros(len(f.names))
+    w[i], w[j] = gm, 1.0
+    load = _row("gravity_load_mNm", f"gravity load and offset at phi1 = {math.degrees(q):.1f} deg",
+                1e3 * (th["cg"] * gm + th["T0_Nm"]), 1e3 * math.sqrt(max(float(w @ f.cov @ w), 0.0)),
+                "mN m", 1e3 * gm, tol_rel=IDENT_GRAVITY_TOL_REL, explain="gravity")
+    cg = _row("gravity_scale", "gravity load / the solids' prediction", th["cg"], f.sigma("cg"), "1", 1.0,
+              tol_rel=IDENT_GRAVITY_TOL_REL, explain="gravity")
+    rho = f.cov[i, j] / math.sqrt(max(f.cov[i, i] * f.cov[j, j], 1e-300))
+    if abs(rho) > SEPARABLE_CORRELATION:
+        why = (f"not separable on this log (correlation {rho:.3f}): the gravity torque varies too little "
+               "over the poses visited; gravity_load_mNm holds both")
+        for r in (cg, off):
+            r.update(verdict="n/a", explain=why)
+    return [load, cg, off]
 
 
 def _signs(enc: int, gain: int) -> list[dict]:
