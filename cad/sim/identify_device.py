@@ -103,6 +103,21 @@ def _gravity_table(design, report: dict | None, device, h: str, tab) -> np.ndarr
     return reference.gravity_torques(spec, phi[:, None])[:, 0]
 
 
+def _friction_inputs(design) -> tuple[dict, str]:
+    """Te and the friction prediction of :func:`cad.sim.device.wall_inputs`; a motor without
+    friction data gives Fs = Fv = 0 (their verdicts n/a) instead of an error: the firmware
+    and the bench do not need a friction prediction."""
+    from cad.errors import DesignError
+    from cad.families.fourbar.datasheet import lever, stiffness_inputs
+    from cad.sim.device import wall_inputs
+
+    try:
+        return wall_inputs(design)
+    except DesignError:
+        s, src = stiffness_inputs(design, lever(design)[1], None)
+        return s, src + "; the motor has no friction data: no friction prediction"
+
+
 def predict(design, H, report: dict | None = None) -> Prediction:
     """The :class:`Prediction` of a four-bar design with inertia coefficients ``H``
     (:class:`cad.dynamics.inertia.InertiaCoefficients`, from its build); ``report`` (the build's
@@ -110,12 +125,11 @@ def predict(design, H, report: dict | None = None) -> Prediction:
     from cad.device import resolve_device
     from cad.firmware.spec import encoder_zero, motor_data
     from cad.pipeline import design_hash
-    from cad.sim.device import wall_inputs
     from cad.sim.wall import device_tables
 
     device = resolve_device(design)
     motor = motor_data(device.motor.spec)
-    s, src = wall_inputs(design)
+    s, src = _friction_inputs(design)
     from cad.dynamics.inertia import equivalent_inertia
     from cad.kinematics.fourbar import solve
 

@@ -188,3 +188,26 @@ def test_vertical_device_gravity_scale_is_recovered(hoeken, paper_H):
     assert load["value"] == pytest.approx(1.3 * load["predicted"], rel=0.05) and load["verdict"] == "MISS"
     for key in ("gravity_scale", "offset_mNm"):
         assert _fig(res, key)["verdict"] == "n/a" and "not separable" in _fig(res, key)["explain"]
+
+
+def test_no_friction_data_gives_no_friction_verdict(paper_H, monkeypatch):
+    """A design without [stiffness] whose motor has no friction data (wall_inputs refuses):
+    the prediction, the firmware's plan and the bench still work; the friction verdicts are
+    n/a (nothing to compare with)."""
+    from cad.design import load_design
+    from cad.sim import device as sim_device
+    from cad.sim.identify_device import predict
+    from tests.unit.identify.conftest import ROOT
+
+    hoeken = load_design(ROOT / "designs" / "hoeken_light.toml")
+    assert hoeken.stiffness is None
+
+    def refuse(design):
+        raise DesignError("stiffness", "no friction data")
+
+    monkeypatch.setattr(sim_device, "wall_inputs", refuse)
+    p = predict(hoeken, paper_H)
+    assert p.Fs_N == 0.0 and p.Fv_N_s_per_m == 0.0 and "no friction prediction" in p.friction_source
+    t, c, i, tr = bench.simulate(p, bench.parse_perturb([]), seed=0)
+    res, _ = identify(p, _log(p, t, c, i), "t.csv")
+    assert _fig(res, "Fs_N")["verdict"] == "n/a" and _fig(res, "Fv_N_s_per_m")["verdict"] == "n/a"
