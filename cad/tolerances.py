@@ -244,6 +244,12 @@ DISTAL_SINGULAR_SIN = 1e-9
 #: is unreachable. Inside the margin the acos argument is clipped to [-1, 1]
 #: and the point is reported singular (not unreachable).
 REACH_REL_EPS = 1e-12
+#: Global max-stroke (cad/kinematics/max_stroke.py): the branch and bound stops splitting
+#: when the next level would take the cells bounded past this. Near a closure limit or a
+#: toggle the coupler point's speed bound grows without limit, so cells there are never
+#: dropped; the cap keeps `synth` to seconds (the Hoeken's proof takes ~3e4 cells) and the
+#: bound reported is that of the cells left (valid, possibly loose).
+SYNTH_BOUND_MAX_CELLS = 300_000
 #: Delta (cad/kinematics/delta.py): an arm is serially singular when |b_i| / (L_a L_b), the
 #: cosine between its lower arm and its elbow's velocity, is below this; at 1e-9 the row of
 #: J is ~1e9 times its regular size (the same reasoning as ARM_SINGULAR_SIN).
