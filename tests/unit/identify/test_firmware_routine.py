@@ -116,3 +116,30 @@ def test_c_routine_refuses_a_reversed_encoder(routine, pred, tmp_path):
     assert np.all(amps == 0) and status[-1] == 3  # HC_IDENT_ENCODER
     assert tr["status"].startswith("stopped")
     assert math.isclose(float(np.max(np.abs(cmd))), 0.0)
+
+
+def test_float_build_and_a_hostile_name(hoeken, paper_H, pred, tmp_path):
+    """The routine compiles in the float build too, for a design whose name holds format
+    (%s), quote, shell and markup specials, and its log header still parses with the hash."""
+    from cad.firmware import firmware_files
+    from cad.pipeline import design_hash
+
+    d = hoeken.replace(name="ev$il #1 [x](y) =cmd ü 'q' %s &amp;")  # tests/regressions/test_hostile_strings.py
+    for rel, text in firmware_files(d, _report(paper_H), design_hash(d)).items():
+        p = tmp_path / rel
+        p.parent.mkdir(parents=True, exist_ok=True)
+        p.write_text(text)
+    fw = tmp_path / "firmware"
+    (fw / "drv.c").write_text(DRIVER)
+    exe = tmp_path / "drv_f"
+    cmd = [compiler("c"), "-std=c99", "-O2", "-Wall", "-Wextra", "-pedantic", "-Werror", "-DHAPTICAD_USE_FLOAT",
+           "-o", str(exe), str(fw / "drv.c"), str(fw / "identify" / "hapticad_identify.c"),
+           str(fw / "hapticad_device.c"), "-lm"]
+    r = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0, r.stderr
+    t, counts, cmd_A, _ = bench.simulate(pred, bench.parse_perturb([]), seed=0)
+    amps, status = _run(exe, counts[:8000], tmp_path / "log.csv")
+    # float: angles to ~1e-7 rad relative, the hold's kp / Kt ~ 6 A/rad
+    np.testing.assert_allclose(amps, cmd_A[:8000], rtol=0, atol=1e-4)
+    log = logfile.parse_log((tmp_path / "log.csv").read_text(), "log.csv", 1, pred.i_max_A)
+    assert log.design_hash == design_hash(d)
