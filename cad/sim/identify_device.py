@@ -297,7 +297,8 @@ def _stopped(pred: Prediction, log: Log, q: np.ndarray, k0: int, enc: int) -> di
     # (integrated twice) against the motion seen; friction only slows, never reverses it
     seg = slice(k0, end + 1)
     acc = pred.kt_Nm_per_A * log.current_A[seg, 0] / pred.D(q[seg])
-    moved_cmd = float(np.sum(np.cumsum(acc))) * pred.Te_s**2
+    Te = float(np.median(np.diff(log.t_s[seg]))) if end > k0 else pred.Te_s
+    moved_cmd = float(np.sum(np.cumsum(acc))) * Te**2
     sig = _signs(enc, 1 if moved_cmd * (q[end] - q[k0]) >= 0 else -1)
     return {**base, "stopped": f"at t = {log.t_s[end]:.3f} s: the crank left its range",
             "figures": sig, "misses": [r["key"] for r in sig if r["verdict"] == "MISS"]}
