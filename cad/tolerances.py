@@ -322,6 +322,14 @@ CLOSE_TOL_M = 1e-14
 #: (cad/sim/wall.py): 1 % matches the reduced model's own accuracy (SUBSTEP_MAX_S there: within
 #: 1 % of the mujoco model), and each halving of the bracket costs a set of wall simulations.
 K_RTOL = 0.01
+#: Relative step of the fine K grid over which K_max is estimated as a stability threshold
+#: (cad/sim/wall.py k_max_estimate): near K_max the wall's stability is intermittent (stable
+#: and unstable stiffnesses interleave over ~15 %: a 0.2 % change of apparent mass moved the
+#: first unstable probe of a bisection by 14 %), so K_max is the threshold that best separates
+#: ~400 probes 0.25 % apart; its bootstrap error (measured ~1 % on the Hoeken) is reported.
+K_GRID_STEP = 0.0025
+#: Bootstrap resamples of those probes for the stated sampling error of K_max (95 % interval).
+K_BOOTSTRAP = 200
 
 # ---------------------------------------------------------------- meshes drawn, not measured
 
