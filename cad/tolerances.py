@@ -82,6 +82,9 @@ READ_MAX_BYTES = {
     "chart": 64 << 20,
     # a small marker file hapticad writes (the owner of a temporary folder: host and pid)
     "marker": 4 << 10,
+    # an identification log (identify LOG.csv): ~40 bytes a row per motor; 10 s at 3 kHz is
+    # ~1.5 MB for one motor; 256 MiB is ~100x a minute-long four-motor log
+    "log": 256 << 20,
 }
 
 #: Deepest bracket nesting accepted in a TOML or JSON file, or parenthesis nesting in a STEP
@@ -241,6 +244,12 @@ DISTAL_SINGULAR_SIN = 1e-9
 #: is unreachable. Inside the margin the acos argument is clipped to [-1, 1]
 #: and the point is reported singular (not unreachable).
 REACH_REL_EPS = 1e-12
+#: Global max-stroke (cad/kinematics/max_stroke.py): the branch and bound stops splitting
+#: when the next level would take the cells bounded past this. Near a closure limit or a
+#: toggle the coupler point's speed bound grows without limit, so cells there are never
+#: dropped; the cap keeps `synth` to seconds (the Hoeken's proof takes ~3e4 cells) and the
+#: bound reported is that of the cells left (valid, possibly loose).
+SYNTH_BOUND_MAX_CELLS = 300_000
 #: Delta (cad/kinematics/delta.py): an arm is serially singular when |b_i| / (L_a L_b), the
 #: cosine between its lower arm and its elbow's velocity, is below this; at 1e-9 the row of
 #: J is ~1e9 times its regular size (the same reasoning as ARM_SINGULAR_SIN).
@@ -313,6 +322,14 @@ CLOSE_TOL_M = 1e-14
 #: (cad/sim/wall.py): 1 % matches the reduced model's own accuracy (SUBSTEP_MAX_S there: within
 #: 1 % of the mujoco model), and each halving of the bracket costs a set of wall simulations.
 K_RTOL = 0.01
+#: Relative step of the fine K grid over which K_max is estimated as a stability threshold
+#: (cad/sim/wall.py k_max_estimate): near K_max the wall's stability is intermittent (stable
+#: and unstable stiffnesses interleave over ~15 %: a 0.2 % change of apparent mass moved the
+#: first unstable probe of a bisection by 14 %), so K_max is the threshold that best separates
+#: ~400 probes 0.25 % apart; its bootstrap error (measured ~1 % on the Hoeken) is reported.
+K_GRID_STEP = 0.0025
+#: Bootstrap resamples of those probes for the stated sampling error of K_max (95 % interval).
+K_BOOTSTRAP = 200
 
 # ---------------------------------------------------------------- meshes drawn, not measured
 
@@ -516,3 +533,28 @@ OUTPUT_AGREE_REL = 1e-12
 #: digits, and maxon's own RE 35 figures (38.9 mN m/A x (2.63 - 0.126) A = 97.4 against
 #: T_N = 97.2 mN m) agree to 0.2 %; 2 % leaves that rounding and no contradiction.
 MOTOR_CONTINUOUS_REL = 0.02
+
+# ---------------------------------------------------------------- identification (issue 37)
+#: A log whose commanded current sits at the firmware's clamp (the continuous limit) in more
+#: than this fraction of its rows is refused as saturated: the clamp cuts the excitation and
+#: the hold, so the current no longer follows the model's torque. The generated routine's
+#: excitation peaks at 60 % of the limit and reaches the clamp only in the first hold samples.
+IDENT_SATURATION_FRACTION_MAX = 0.02
+#: Too little excitation: the crank must travel at least this many encoder counts (peak to
+#: peak) during the excitation, and the fit's regressors must be this well conditioned
+#: (largest / smallest singular value of the normalized regressor matrix).
+IDENT_MIN_TRAVEL_COUNTS = 40
+IDENT_CONDITION_MAX = 1e6
+#: Samples slower than this fraction of the log's peak crank rate are left out of the fit:
+#: Coulomb friction's sign(velocity) is undefined there (stick, the velocity estimate's
+#: quantization noise); 5 % keeps > 85 % of a chirp's samples.
+IDENT_SLOW_FRACTION = 0.05
+#: Verdict tolerances of identify (measured against the datasheet's prediction): apparent mass
+#: 10 % (the solids' masses are exact; a printed or hand-made part differs by a few %, a
+#: heavier knob or wrong material by more), friction 50 % (the datasheet's friction is an
+#: estimate from the motor's no-load current or the paper's identified Fs), gravity load 15 %,
+#: a constant torque offset up to 5 % of the motor's continuous torque.
+IDENT_MASS_TOL_REL = 0.10
+IDENT_FRICTION_TOL_REL = 0.50
+IDENT_GRAVITY_TOL_REL = 0.15
+IDENT_OFFSET_TOL_FRACTION = 0.05
