@@ -340,10 +340,6 @@ MIN_HEIGHT_PX = 1e-3
 
 # ---------------------------------------------------------------- drawings (cad/drawings)
 
-#: Stock a blank is larger than the finished part on each side, as a drawing states it (mm):
-#: room to clamp and to face or profile the part to size (a workshop choice, not a standard;
-#: the BOM's order uses STOCK_BLOCK_MARGIN_MM, the same 2 mm).
-STOCK_MARGIN_MM = 2.0
 #: A diameter on a sheet is the fit's or tap drill's when they agree this closely (mm): both
 #: come from the same catalog numbers through a boolean, so they agree to round-off.
 MATCH_MM = 1e-6

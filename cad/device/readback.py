@@ -181,10 +181,100 @@ def disagreements(device, out: Path) -> list[str]:
     return bad
 
 
+# ------------------------------------------------- files against each other (issue 32 item 2)
+#: A printed part's process text in bom.csv ("FDM print PLA: ...", "printed"): its stock is
+#: filament (docs/ordering.md); a wound coil's ("wound ..."): wire.
+PRINTED_PROCESS_RE = re.compile(r"^(fdm )?print", re.I)
+#: Start of a laser-cut part's stock (cad.export.order.NESTED_STOCK): no order line of its own.
+NESTED_STOCK_PREFIX = "nested on "
+SVG_NS = "{http://www.w3.org/2000/svg}"
+
+
+def _csv_rows(path: Path) -> list[dict]:
+    with path.open(newline="", encoding="utf-8") as f:
+        return list(csv.DictReader(f))
+
+
+def drawing_facts(path: Path) -> dict[str, str]:
+    """``{"part": ..., "stock": ..., "process": ..., "quantity": ...}`` of one drawing sheet
+    (``drawings/<part>.svg``): the title block's ``key: value`` texts (xml.etree), the first
+    of each key, matplotlib's ``\$`` escape undone."""
+    out: dict[str, str] = {}
+    for t in ET.parse(path).getroot().iter(SVG_NS + "text"):
+        key, sep, value = "".join(t.itertext()).partition(": ")
+        if sep and key in ("part", "stock", "process", "quantity") and key not in out:
+            out[key] = value.replace(r"\$", "$")
+    return out
+
+
+def _drawing_stock(out: Path, bom: dict, bad: list) -> None:
+    """Every sheet of every ``drawings/`` folder under ``out`` states the stock of its part in
+    the ``bom.csv`` beside that folder."""
+    for folder in sorted(p for p in out.rglob("drawings") if p.is_dir()):
+        rows = bom if folder.parent == out else (
+            {r["part"]: r for r in _csv_rows(folder.parent / "bom.csv")}
+            if (folder.parent / "bom.csv").is_file() else None)
+        if rows is None:
+            continue
+        for svg in sorted(folder.glob("*.svg")):
+            d = drawing_facts(svg)
+            rel = svg.relative_to(out).as_posix()
+            row = rows.get(d.get("part", svg.stem))
+            if row is None:
+                bad.append(f"{rel}: part {d.get('part')!r} has no bom.csv line")
+            elif d.get("stock") != row["stock"]:
+                bad.append(f"{rel}: stock = {d.get('stock')!r}, bom.csv has {row['stock']!r}")
+
+
+def _order_stock(out: Path, bom: dict, bad: list) -> None:
+    """Every made part of ``bom.csv`` is ordered in ``order.csv`` as its stock (a nested
+    laser-cut part: not at all, its sheet is), in the form its process asks for."""
+    order: dict[str, list[dict]] = {}
+    for r in _csv_rows(out / "order.csv"):
+        for part in (r.get("parts") or "").split():
+            order.setdefault(part, []).append(r)
+    for name, row in bom.items():
+        if row.get("made_or_bought") != "made":
+            continue
+        lines = [o for o in order.get(name, []) if o["group"].startswith("stock:")]
+        stock = row["stock"]
+        if stock.startswith(NESTED_STOCK_PREFIX):
+            if lines:
+                bad.append(f"order.csv: {name} is ordered as {lines[0]['designation']!r}, bom.csv "
+                           f"says it is {stock!r}")
+            continue
+        got = [o["designation"] for o in lines]
+        if got != [stock]:
+            bad.append(f"order.csv: stock of {name} = {got!r}, bom.csv has {stock!r}")
+        form = stock.split(" ", 1)[0]
+        proc = row.get("process") or ""
+        want = ("filament" if PRINTED_PROCESS_RE.search(proc) else
+                "wire" if proc.lower().startswith("wound") else None)
+        if (want or form) in ("filament", "wire") and form != want:
+            bad.append(f"order.csv: {name} is ordered as {form} stock ({stock!r}), its bom.csv "
+                       f"process is {proc!r}")
+
+
+def file_disagreements(out: Path) -> list[str]:
+    """One line per fact two written files in ``out`` state differently: the stock of each
+    made part on its drawing, in ``bom.csv`` and in ``order.csv``; the process in ``bom.csv``
+    against the stock form ordered (printed: filament, wound: wire)."""
+    out = Path(out)
+    bad: list[str] = []
+    if not (out / "bom.csv").is_file():
+        return bad
+    bom = {r["part"]: r for r in _csv_rows(out / "bom.csv")}
+    _drawing_stock(out, bom, bad)
+    if (out / "order.csv").is_file():
+        _order_stock(out, bom, bad)
+    return bad
+
+
 def check_outputs(device, out: Path) -> None:
     """Raise :class:`OutputsDisagree` (one line: file, fact, both values) when a written file
-    in ``out`` disagrees with ``device``; list the further mismatches' count."""
-    bad = disagreements(device, out)
+    in ``out`` disagrees with ``device`` (:func:`disagreements`) or with another written file
+    (:func:`file_disagreements`); list the further mismatches' count."""
+    bad = disagreements(device, out) + file_disagreements(out)
     if bad:
         more = f" (and {len(bad) - 1} more)" if len(bad) > 1 else ""
         raise OutputsDisagree(f"outputs disagree, nothing published: {bad[0]}{more}")

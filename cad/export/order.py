@@ -153,6 +153,13 @@ def _grams(mass_g: float) -> str:
     return f"{mass_g:.1f}" if mass_g < 10 else f"{mass_g:.0f}"
 
 
+def stock_is_mass(kind) -> bool:
+    """Is the stock of made part ``kind`` ordered by mass (a printed part's filament, a wound
+    coil's wire) rather than by size?"""
+    proc = kind.process.lower()
+    return _PRINTED.search(proc) is not None or proc.startswith("wound")
+
+
 def stock(kind, mass_g: float) -> str:
     """Stock to order for one piece of made part ``kind`` (``mass_g``: its mass, used for
     printed parts), e.g. ``"plate 6 x 35 x 130 mm aluminium-6061"``; see the module doc."""
@@ -160,7 +167,7 @@ def stock(kind, mass_g: float) -> str:
 
     mat = kind.material
     proc = kind.process.lower()
-    if _PRINTED.search(proc):  # "printed", "FDM print PLA: 0.2 mm layers, ..."
+    if _PRINTED.search(proc) is not None:  # "printed", "FDM print PLA: 0.2 mm layers, ..."
         return f"filament {_grams(mass_g)} g {mat}"
     if proc.startswith("wound"):
         return f"wire {_grams(mass_g)} g {mat}"

@@ -1,4 +1,4 @@
-"""What a sheet writes beside each feature: the fit, the thread with its depth, the stock.
+"""What a sheet writes beside each feature: the fit, the thread with its depth.
 
 Pure functions on :class:`cad.export.drawings.features.Cylinder` records and the part's data.
 """
@@ -6,7 +6,7 @@ Pure functions on :class:`cad.export.drawings.features.Cylinder` records and the
 from __future__ import annotations
 
 from cad.data.fits import fmt_mm, metric_thread, parse_fit
-from cad.tolerances import MATCH_MM, STOCK_MARGIN_MM
+from cad.tolerances import MATCH_MM
 
 #: General tolerance for untoleranced dimensions when the design states none.
 GENERAL_TOLERANCE = "ISO 2768-m"
@@ -109,17 +109,3 @@ def thread_depths(c, threads, datum_mm=(0.0, 0.0, 0.0)):
     length = c.hi_mm - c.lo_mm
     fit = {d for _, d in depths if d is not None and d <= length + MATCH_MM}
     return (key, [("", fit.pop())]) if len(fit) == 1 else (key, "solid")
-
-
-def stock(process: str, size_mm: tuple[float, float, float], plate: bool,
-          round_d_mm: float | None) -> str:
-    """The stock to cut a part from: a plate of its thickness with a blank
-    :data:`STOCK_MARGIN_MM` larger each side, round bar for a turned part (its largest
-    boss diameter, the length with facing stock), else a block."""
-    m = 2 * STOCK_MARGIN_MM
-    x, y, z = size_mm
-    if plate:
-        return f"plate {fmt_mm(z)} mm, blank {fmt_mm(x + m)} x {fmt_mm(y + m)}"
-    if process.startswith("turned") and round_d_mm is not None:
-        return f"round bar Ø{fmt_mm(round_d_mm + m)}, length {fmt_mm(z + m)}"
-    return f"block {fmt_mm(x + m)} x {fmt_mm(y + m)} x {fmt_mm(z + m)}"

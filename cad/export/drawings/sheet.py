@@ -24,7 +24,7 @@ import textwrap
 from dataclasses import dataclass
 
 from cad.data.fits import fmt_mm
-from cad.export.drawings.notes import GENERAL_TOLERANCE, callout, stock
+from cad.export.drawings.notes import GENERAL_TOLERANCE, callout
 from cad.io.escape import mathtext
 
 #: Sheet size (ISO 216 A4 landscape) and the drawing border (mm).
@@ -51,7 +51,8 @@ class SheetPart:
     """What one sheet shows: ``shape`` (``TopoDS_Shape``, part frame, mm) and the part's
     BOM data; ``fits`` as :func:`cad.data.fits.fit` texts, ``threads`` its tapped holes,
     ``(size, thread depth mm or None)`` or ``(size, depth, name, axis, point_mm)`` (place in
-    the part frame or None; :func:`cad.export.drawings.notes.callout`)."""
+    the part frame or None; :func:`cad.export.drawings.notes.callout`); ``stock`` the BOM's
+    stock text (:func:`cad.pipeline.family.kind_stock`: the sheet states what is ordered)."""
 
     name: str
     shape: object
@@ -62,6 +63,7 @@ class SheetPart:
     fits: tuple[str, ...] = ()
     threads: tuple = ()
     description: str = ""
+    stock: str = ""
 
 
 def feature_rows(part: SheetPart):
@@ -236,7 +238,7 @@ def _table(ax, rows, x0, y_top, y_bottom):
         ax.text(x0 + 4, y - pitch, note, fontsize=font, va="top", family="monospace")
 
 
-def _title_block(ax, part: SheetPart, design: str, s: float, page: tuple[int, int], stock_t):
+def _title_block(ax, part: SheetPart, design: str, s: float, page: tuple[int, int]):
     x0, y0, x1, y1 = 180.0, BORDER_MM, SHEET_MM[0] - BORDER_MM, 50.0
     ax.plot([x0, x1, x1, x0, x0], [y0, y0, y1, y1, y0], lw=0.5, color="black")
     lines = [
@@ -245,7 +247,7 @@ def _title_block(ax, part: SheetPart, design: str, s: float, page: tuple[int, in
         f"material: {mathtext(part.material)}",
         f"quantity: {part.quantity}",
         *textwrap.wrap(mathtext(f"process: {part.process or 'unstated'}"), 62),
-        f"stock: {stock_t}",
+        f"stock: {mathtext(part.stock or 'unstated')}",
         f"general tolerance: {GENERAL_TOLERANCE}",
         f"units: mm; scale {scale_text(s)}; first-angle projection",
         f"sheet {page[0]} of {page[1]}; hapticad",
@@ -308,9 +310,7 @@ def draw_sheet(part: SheetPart, design: str, page: tuple[int, int]):
         ax.plot([x0s - 3, x0s + s * x + 3], [ys, ys], lw=0.3, color="black", ls="-.")
         ax.text(x0s + s * x + 4, ys, "A-A", fontsize=FONT_PT, va="center")
     _table(ax, rows + more, 200.0, SHEET_MM[1] - b - 2, 54.0)
-    rd = max((c.d_mm for _, c, _ in rows if c.axis == "z" and not c.internal and c.full),
-             default=None)
-    _title_block(ax, part, design, s, page, stock(part.process, size, part.plate, rd))
+    _title_block(ax, part, design, s, page)
     notes = [f"All dimensions in mm from the datum; untoleranced: {GENERAL_TOLERANCE}.",
              "Fits ISO 286-2; threads ISO 261 metric coarse, tap drill d - P (ISO 2306).",
              f"{part.description}" if part.description else ""]
