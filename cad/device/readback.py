@@ -198,7 +198,7 @@ def _csv_rows(path: Path) -> list[dict]:
 def drawing_facts(path: Path) -> dict[str, str]:
     """``{"part": ..., "stock": ..., "process": ..., "quantity": ...}`` of one drawing sheet
     (``drawings/<part>.svg``): the title block's ``key: value`` texts (xml.etree), the first
-    of each key, matplotlib's ``\$`` escape undone."""
+    of each key, the backslash before a dollar sign (cad.io.escape.mathtext) undone."""
     out: dict[str, str] = {}
     for t in ET.parse(path).getroot().iter(SVG_NS + "text"):
         key, sep, value = "".join(t.itertext()).partition(": ")
