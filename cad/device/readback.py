@@ -270,11 +270,37 @@ def file_disagreements(out: Path) -> list[str]:
     return bad
 
 
+#: bom.csv prints a mass with 2 decimals (g): half a unit of the last digit.
+BOM_MASS_ABS_G = 0.005 + 1e-9
+
+
+def motor_disagreements(device, out: Path) -> list[str]:
+    """One line per ``bom.csv`` motor line (group ``motors``) that names no motor of the
+    resolved device (its description) or states another mass than that motor's (a
+    ``[motor]`` table's name and mass, issue 32 item 5)."""
+    path = Path(out) / "bom.csv"
+    if not device.motors or not path.is_file():
+        return []
+    want = {m.spec.description: m.spec.mass_kg for m in device.motors}
+    bad = []
+    for r in _csv_rows(path):
+        if r.get("group") != "motors":
+            continue
+        desc = r.get("description", "")
+        if desc not in want:
+            bad.append(f"bom.csv: motor line {desc!r}, the resolved device (report.json device) has "
+                       f"{' / '.join(sorted(want))!r}")
+        elif want[desc] is not None and abs(float(r["mass_g"]) - want[desc] * 1e3) > BOM_MASS_ABS_G:
+            bad.append(f"bom.csv: mass of motor {desc!r} = {r['mass_g']} g, the resolved device has "
+                       f"{want[desc] * 1e3:g} g")
+    return bad
+
+
 def check_outputs(device, out: Path) -> None:
     """Raise :class:`OutputsDisagree` (one line: file, fact, both values) when a written file
-    in ``out`` disagrees with ``device`` (:func:`disagreements`) or with another written file
-    (:func:`file_disagreements`); list the further mismatches' count."""
-    bad = disagreements(device, out) + file_disagreements(out)
+    in ``out`` disagrees with ``device`` (:func:`disagreements`, :func:`motor_disagreements`)
+    or with another written file (:func:`file_disagreements`); list the further mismatches' count."""
+    bad = disagreements(device, out) + motor_disagreements(device, out) + file_disagreements(out)
     if bad:
         more = f" (and {len(bad) - 1} more)" if len(bad) > 1 else ""
         raise OutputsDisagree(f"outputs disagree, nothing published: {bad[0]}{more}")

@@ -217,10 +217,19 @@ def bought_designation(kind) -> tuple[str, str, str]:
     return ("other", desc, "")
 
 
+#: A motor of a design's ``[motor]`` table on the catalog motor's mount
+#: (:func:`cad.design.motor.resolve_motor`): "acme-60 (data of [motor]; mount of maxon-re35)".
+_TABLE_MOTOR = re.compile(r"^(.+) \(data of \[motor\]; mount of (\S+)\)$")
+
+
 def _motor_designation(desc: str) -> tuple[str, str, str] | None:
-    """A catalog motor (its BOM description is the catalog's): name and order number."""
+    """A catalog motor (its BOM description is the catalog's): name and order number; a
+    ``[motor]`` table's motor: its name, no order number (no catalog gives one)."""
     from cad.data.catalog import MOTORS
 
+    table = _TABLE_MOTOR.match(desc)
+    if table is not None:
+        return ("motors", table.group(1), "")
     spec = next((sp for sp in MOTORS.values() if desc.startswith(sp.description)), None)
     if spec is None:
         return None

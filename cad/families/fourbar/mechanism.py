@@ -163,10 +163,14 @@ def build_assembly(
     fidelity: str = "fabrication",
     handle_shape=None,
     design_label: str = "",
+    motor_spec=None,
 ) -> Assembly:
     """Build every part and place it (module docstring).
 
     ``handle_shape``: a user handle (OCP shape, knob frame) replacing the built-in knob.
+    ``motor_spec``: the resolved device's motor (:class:`cad.data.catalog.MotorSpec`, the
+    ``[motor]`` table applied, :func:`cad.device.resolve_device`): its name and mass go on the
+    motor's BOM line; the mount geometry stays ``parts.motor``'s. None: the catalog motor.
     ``fidelity``: "fabrication" builds bd_warehouse bearings with balls and the knob's
     cosmetic round; "inertia" and "preview" use plain bearing rings and no round.
     Raises DesignError naming the joint when a fastener cannot be sized.
@@ -175,7 +179,7 @@ def build_assembly(
     _bars(b, design_label)
     _joint_hardware(b)
     warn_pins(pin_rows(plan, parts, b.bands))
-    _motor_and_hub(b)
+    _motor_and_hub(b, motor_spec)
     rect = _base_post_legs(b, footprint_mm)
     _handle(b, handle_shape)
     check_fasteners({i.name: i.fastener for i in b.inst if i.fastener}, b.holes)
@@ -517,9 +521,9 @@ def _post_engagement_mm(parts: PartsSpec, s4) -> float:
     return iso7379_thread_mm(parts.pin)
 
 
-def _motor_and_hub(b: _Builder) -> None:
-    """Crank hub with its screws and set screw, the motor (housing and shaft), its mount plate
-    and screws."""
+def _motor_and_hub(b: _Builder, motor_spec=None) -> None:
+    """Crank hub with its screws and set screw, the motor (housing and shaft; its BOM name and
+    mass from ``motor_spec``, the resolved motor, when given), its mount plate and screws."""
     from cad.parts import joints, motor
 
     parts, plan = b.parts, b.plan
@@ -567,10 +571,10 @@ def _motor_and_hub(b: _Builder) -> None:
         lambda: motor.motor_housing_shape(m),
         material="steel-1018",
         made=False,
-        description=m.description,
+        description=(motor_spec or m).description,
         process=f"bought; face tapped {m.bolt_size.split('-')[0]} x{m.bolt_count}; with its shaft "
                 "(solid motor_shaft in assembly.step)",
-        mass_kg=m.mass_kg,
+        mass_kg=(motor_spec or m).mass_kg,
         revolution=True,
     )
     b.place("motor", mk, "ground", translation(0, 0, zf))
