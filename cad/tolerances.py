@@ -504,3 +504,13 @@ OUTPUT_AGREE_REL = 1e-12
 #: digits, and maxon's own RE 35 figures (38.9 mN m/A x (2.63 - 0.126) A = 97.4 against
 #: T_N = 97.2 mN m) agree to 0.2 %; 2 % leaves that rounding and no contradiction.
 MOTOR_CONTINUOUS_REL = 0.02
+
+# ---------------------------------------------------------------- printed parts (cad/printing)
+
+#: Dimensional tolerance of an FDM print: +-0.5 mm or +-1 % of the size, whichever is greater
+#: ("FDM parts need to be produced within an accuracy of +-0.5 mm or 1% depending on which is
+#: greater", "FDM Quality Guideline" of a print service's wiki (Imagine That 3D),
+#: https://imaginethat3d.atlassian.net/wiki/spaces/IMAGINETHA/pages/196679/FDM+QUALITY+GUIDELINE).
+#: A printed hole is stated with it (:func:`cad.printing.printed_fit`), never with an ISO 286 class.
+FDM_TOL_MM = 0.5
+FDM_TOL_REL = 0.01

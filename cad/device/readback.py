@@ -255,16 +255,33 @@ def _order_stock(out: Path, bom: dict, bad: list) -> None:
                        f"process is {proc!r}")
 
 
+#: An ISO 286 fit at the end of a fit text ("spacer bore 8 H7", "journal 8 js5").
+ISO_FIT_RE = re.compile(r" \d+(?:\.\d+)? [A-Za-z]{1,2}\d{1,2}$")
+
+
+def _printed_fits(bom: dict, bad: list) -> None:
+    """No printed part of ``bom.csv`` states an ISO 286 fit: a print holds its process's
+    tolerance (cad.printing.printed_fit), not H7."""
+    for name, row in bom.items():
+        if row.get("made_or_bought") == "made" and PRINTED_PROCESS_RE.search(row.get("process") or ""):
+            iso = [f for f in (row.get("fits") or "").split("; ") if ISO_FIT_RE.search(f)]
+            if iso:
+                bad.append(f"bom.csv: printed part {name} states the ISO 286 fit {iso[0]!r}: a print "
+                           "holds its process tolerance, not an ISO class")
+
+
 def file_disagreements(out: Path) -> list[str]:
     """One line per fact two written files in ``out`` state differently: the stock of each
     made part on its drawing, in ``bom.csv`` and in ``order.csv``; the process in ``bom.csv``
-    against the stock form ordered (printed: filament, wound: wire)."""
+    against the stock form ordered (printed: filament, wound: wire) and against its fits (a
+    printed part states no ISO 286 fit)."""
     out = Path(out)
     bad: list[str] = []
     if not (out / "bom.csv").is_file():
         return bad
     bom = {r["part"]: r for r in _csv_rows(out / "bom.csv")}
     _drawing_stock(out, bom, bad)
+    _printed_fits(bom, bad)
     if (out / "order.csv").is_file():
         _order_stock(out, bom, bad)
     return bad

@@ -5,9 +5,14 @@ Pure functions on :class:`cad.export.drawings.features.Cylinder` records and the
 
 from __future__ import annotations
 
+import re
+
 from cad.data.fits import fmt_mm, metric_thread, parse_fit
 from cad.tolerances import MATCH_MM
 
+#: A printed part's fit text (:func:`cad.printing.printed_fit`, the printed bars' pin bores):
+#: label, nominal, printed diameter (mm), how it is held.
+PRINTED_FIT = re.compile(r"(.*\S) (\d+(?:\.\d+)?) printed (\d+(?:\.\d+)?) \((.*)\)")
 #: General tolerance for untoleranced dimensions when the design states none.
 GENERAL_TOLERANCE = "ISO 2768-m"
 
@@ -36,7 +41,10 @@ def callout(c, fits: tuple[str, ...], threads=(), extent_mm: float | None = None
             return f"{key} tap drill Ø{fmt_mm(c.d_mm)}{_thread_text(depths, length)}, drill {deep}"
     for text in fits:
         parsed = parse_fit(text)
-        if parsed is None:  # a printed part's stated hole: no ISO fit to print
+        if parsed is None:  # a printed part's stated hole: its printed size and tolerance
+            printed = PRINTED_FIT.fullmatch(text)
+            if printed is not None and abs(float(printed[3]) - c.d_mm) < MATCH_MM and c.internal:
+                return f"Ø{printed[3]} printed ({printed[1]} {printed[2]}: {printed[4]}), {deep}"
             continue
         label, d, cls = parsed
         if abs(d - c.d_mm) < MATCH_MM and cls[:1].isupper() == c.internal:
