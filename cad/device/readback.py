@@ -270,11 +270,57 @@ def _printed_fits(bom: dict, bad: list) -> None:
                            "holds its process tolerance, not an ISO class")
 
 
+#: An instance of ``assembly.step``: its PRODUCT entity, named after the part instance.
+STEP_PRODUCT_RE = re.compile(r"PRODUCT\('((?:[^']|'')*)'")
+
+
+def step_instances(path: Path) -> list[str]:
+    """The product names of a STEP file (regex over its ``PRODUCT('name', ...)`` entities;
+    ``''`` unescaped): in ``assembly.step`` one per part instance, and the assembly itself."""
+    return [m.replace("''", "'") for m in STEP_PRODUCT_RE.findall(path.read_text(encoding="utf-8",
+                                                                                errors="replace"))]
+
+
+def _bought_counts(out: Path, bom: dict, bad: list) -> None:
+    """Every bought ``bom.csv`` line with solids orders as many as ``assembly.step`` holds
+    (instances mapped to kinds by report.json ``placement``); ``order.csv`` orders, per
+    designation, what those lines sum to (nothing bought twice, e.g. rings inside a pin)."""
+    rep_path, step = out / "report.json", out / "assembly.step"
+    if not (rep_path.is_file() and step.is_file()):
+        return
+    placed = ((json.loads(rep_path.read_text(encoding="utf-8")).get("placement") or {})
+              .get("instances") or {})
+    count: dict[str, int] = {}
+    for name in step_instances(step):
+        if name in placed:
+            kind = placed[name].get("kind")
+            count[kind] = count.get(kind, 0) + 1
+    want: dict[str, int] = {}
+    for name, row in bom.items():
+        if row.get("made_or_bought") != "bought":
+            continue
+        q = int(float(row.get("quantity") or 0))
+        if name in count and count[name] != q:
+            bad.append(f"bom.csv: {name} quantity = {q}, assembly.step holds {count[name]} instance(s)")
+        des = row.get("designation") or name
+        want[des] = want.get(des, 0) + q
+    if not (out / "order.csv").is_file():
+        return
+    got: dict[str, int] = {}
+    for r in _csv_rows(out / "order.csv"):
+        if r.get("group") != "total" and not r.get("group", "").startswith("stock:"):
+            got[r["designation"]] = got.get(r["designation"], 0) + int(float(r.get("quantity") or 0))
+    for des, q in got.items():
+        if des in want and q != want[des]:
+            bad.append(f"order.csv: {des} quantity = {q}, bom.csv lines sum to {want[des]}")
+
+
 def file_disagreements(out: Path) -> list[str]:
     """One line per fact two written files in ``out`` state differently: the stock of each
     made part on its drawing, in ``bom.csv`` and in ``order.csv``; the process in ``bom.csv``
     against the stock form ordered (printed: filament, wound: wire) and against its fits (a
-    printed part states no ISO 286 fit)."""
+    printed part states no ISO 286 fit); the quantity of each bought part against its
+    instances in ``assembly.step`` and against what ``order.csv`` orders."""
     out = Path(out)
     bad: list[str] = []
     if not (out / "bom.csv").is_file():
@@ -282,6 +328,7 @@ def file_disagreements(out: Path) -> list[str]:
     bom = {r["part"]: r for r in _csv_rows(out / "bom.csv")}
     _drawing_stock(out, bom, bad)
     _printed_fits(bom, bad)
+    _bought_counts(out, bom, bad)
     if (out / "order.csv").is_file():
         _order_stock(out, bom, bad)
     return bad

@@ -495,8 +495,10 @@ def _joint_hardware(b: _Builder) -> None:
             clamps += [low, f"washer_{j}"]
         else:
             hole, engaged = "post_A4:top", _post_engagement_mm(parts, s)
-        std = "ISO 2338 + DIN 471" if cat.is_dowel(parts.pin) else "ISO 7379"
-        f = Fastener(std, parts.pin, s.pin_length_mm, tuple(clamps), hole, engaged)
+        dowel = cat.is_dowel(parts.pin)
+        std = "ISO 2338 + DIN 471" if dowel else "ISO 7379"
+        f = Fastener(std, parts.pin, s.pin_length_mm, tuple(clamps), hole, engaged,
+                     fitted=(f"ring_{j}",) if dowel else ())
         b.place(
             f"pin_{j}",
             _pin_kind(b, s.pin_length_mm),
@@ -504,6 +506,8 @@ def _joint_hardware(b: _Builder) -> None:
             translation(px, py, s.head_face_mm),
             fastener=f,
         )
+        if dowel:  # its upper retaining ring (the pin's "head"), its own part
+            b.place(f"ring_{j}", k["nut"], low, translation(px, py, s.head_face_mm))
         if s.nut:
             z_bot = s.z_lower_top_mm - t
             b.place(f"washer_{j}", k["washer"], low, translation(px, py, z_bot - washer.h_mm))
