@@ -91,7 +91,8 @@ def test_bought_parts_are_ordered_as_fitted(tmp_path, name):
 
 @pytest.mark.slow
 @pytest.mark.parametrize("name", [n for n in BUILDS if n not in FAST])
-def test_bought_parts_are_ordered_as_fitted_every_bundled_design(tmp_path, name):
+def test_bought_parts_are_ordered_as_fitted_every_bundled_design(tmp_path, monkeypatch, name):
+    monkeypatch.setenv("HAPTICAD_ALLOW_SCRIPTS", "1")  # hoeken_cq_handle's bundled handle script
     check_bought_instances(_build(name, tmp_path))
 
 
