@@ -105,9 +105,9 @@ def test_an_order_with_rings_on_top_is_not_published(tmp_path, monkeypatch):
 
     real = order.order_lines
 
-    def corrupt(rows, extra=()):
+    def corrupt(rows):
         return [{**o, "quantity": int(o["quantity"]) + 6} if o["designation"] == "DIN 471 4" else o
-                for o in real(rows, extra)]
+                for o in real(rows)]
 
     monkeypatch.setattr(order, "order_lines", corrupt)
     out = tmp_path / "out"

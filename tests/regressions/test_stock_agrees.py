@@ -147,9 +147,9 @@ def test_an_order_that_states_other_stock_is_not_published(tmp_path, monkeypatch
 
     real = order.order_lines
 
-    def corrupt(rows, extra=()):
+    def corrupt(rows):
         return [{**o, "designation": "plate 8 x 30 x 155 mm pla", "group": "stock: plate"}
-                if o["group"].startswith("stock:") else o for o in real(rows, extra)]
+                if o["group"].startswith("stock:") else o for o in real(rows)]
 
     monkeypatch.setattr(order, "order_lines", corrupt)
     out = tmp_path / "out"
