@@ -248,6 +248,14 @@ DELTA_SERIAL_SINGULAR = 1e-9
 #: Delta: the pose is parallel-singular when |det A_x| / L_b^3, the triple product of the
 #: three lower arms' unit vectors, is below this (the same reasoning as DISTAL_SINGULAR_SIN).
 DELTA_PARALLEL_SINGULAR = 1e-9
+#: Delta FK with Stamper's joint offset (no closed form): Newton steps from the sphere point of
+#: radius L_b + g. The start is within ~g^2 / L_b of the answer and Newton converges
+#: quadratically, so 8 steps reach round-off from any start a device meets (the tests check
+#: IK(FK) to 1e-10 rad over random poses of the Falcon's geometry).
+DELTA_FK_NEWTON_STEPS = 8
+#: Largest |f_i| / L_b^2 of a converged delta FK point: float64 round-off of mm^2 sums is
+#: ~1e-16 relative; 1e-10 leaves six orders of margin and still flags a point Newton left.
+DELTA_FK_RESIDUAL_REL = 1e-10
 #: |E - B| below this (mm) leaves atan2(E - B) undefined: the end effector sits
 #: on an actuated joint. Unreachable for any arm with l2 != l3, singular else.
 ON_JOINT_MM = 1e-9

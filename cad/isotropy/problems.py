@@ -285,29 +285,33 @@ class DeltaProblem:
     """Delta candidates over a workspace grid (C order of ``grid_shape``).
 
     params: {"base_radius_mm", "effector_radius_mm", "upper_arm_mm", "lower_arm_mm":
-    (M,) arrays}; points_mm (N, 3); theta_range_rad (min, max) joint limits;
-    torque_max_Nm (3,) or scalar S_J; force_max_N (3,) or scalar S_T (eqs 2-4).
+    (M,) arrays}; points_mm (N, 3); template: the design's
+    :class:`cad.kinematics.delta.Delta`, whose azimuths, joint range and offsets every
+    candidate keeps; torque_max_Nm (3,) or scalar S_J; force_max_N (3,) or scalar S_T
+    (eqs 2-4).
     """
 
     param_names = ("base_radius_mm", "effector_radius_mm", "upper_arm_mm", "lower_arm_mm")
 
-    def __init__(self, params, points_mm, grid_shape, theta_range_rad, torque_max_Nm=1.0,
+    def __init__(self, params, points_mm, grid_shape, template, torque_max_Nm=1.0,
                  force_max_N=1.0):
         self.p = _params(params, self.param_names, nonnegative=("effector_radius_mm",))
         self.grid_shape = tuple(int(g) for g in grid_shape)
         self.points_mm = _points(points_mm, 3, self.grid_shape)
         self.n_candidates = int(self.p["upper_arm_mm"].size)
         self.n_points = int(self.points_mm.shape[0])
-        self.theta_range_rad = (float(theta_range_rad[0]), float(theta_range_rad[1]))
+        self.template = template
         self.sj = scale_vector(torque_max_Nm, 3, "actuators.torque_max_Nm")
         self.st = scale_vector(force_max_N, 3, "actuators.force_max_N")
 
     def sigma(self, cand: np.ndarray, point: np.ndarray):
         from cad.kinematics.delta import STATUS_OK, DeltaArrays, jacobian_kernel
 
+        t = self.template
         d = DeltaArrays(*(self.p[n][cand] for n in self.param_names),
-                        theta_min_rad=self.theta_range_rad[0],
-                        theta_max_rad=self.theta_range_rad[1])
+                        motor_azimuth_rad=t.motor_azimuth_rad, theta_min_rad=t.theta_min_rad,
+                        theta_max_rad=t.theta_max_rad, joint_offset_mm=t.joint_offset_mm,
+                        axis_offset_mm=t.axis_offset_mm)
         J, status = jacobian_kernel(d, self.points_mm[point])
         s0, s1 = singular_value_extremes(J * self.sj[:, None] / self.st[None, :])
         ok = status == STATUS_OK

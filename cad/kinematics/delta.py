@@ -76,6 +76,12 @@ class Delta:
     arms' effector joints' distance from the effector centre. upper_arm_mm L_a, lower_arm_mm
     L_b (the parallelogram's length). motor_azimuth_rad: (3,) phi_i. theta_min_rad /
     theta_max_rad: the motor angle range (joint limits), same for every motor.
+    Two offsets of Stamper's model of the Novint Falcon (R. E. Stamper, PhD thesis, U.
+    Maryland 1997, as libnifalcon implements it; 0 for Clavel's delta): ``joint_offset_mm`` g,
+    the sum of the knee and effector universal joints' offsets along the lower arm's
+    projection in the arm's plane (the in-plane distance knee -> effector joint is
+    L_b sin(theta_3) + g), and ``axis_offset_mm`` delta, the effector joint's offset from the
+    base joint along the motor axis t_i = z x u_i.
     Raises :class:`DesignError` naming the field on a non-finite or non-positive length.
     """
 
@@ -86,8 +92,15 @@ class Delta:
     motor_azimuth_rad: tuple[float, float, float] = (0.0, 2 * np.pi / 3, 4 * np.pi / 3)
     theta_min_rad: float = -np.pi / 2
     theta_max_rad: float = np.pi / 2
+    joint_offset_mm: float = 0.0
+    axis_offset_mm: float = 0.0
 
     def __post_init__(self) -> None:
+        for name in ("joint_offset_mm", "axis_offset_mm"):
+            if not np.isfinite(float(getattr(self, name))):
+                raise DesignError(f"delta.{name}", f"must be finite, got {getattr(self, name)!r}")
+        if self.joint_offset_mm < 0:
+            raise DesignError("delta.joint_offset_mm", f"must be >= 0, got {self.joint_offset_mm!r}")
         for name in ("base_radius_mm", "upper_arm_mm", "lower_arm_mm"):
             v = float(getattr(self, name))
             if not np.isfinite(v) or v <= 0:
@@ -109,6 +122,12 @@ class Delta:
         phi = np.asarray(self.motor_azimuth_rad, dtype=float)
         return np.stack([np.cos(phi), np.sin(phi), np.zeros(3)], axis=-1)
 
+    @property
+    def tangential(self) -> np.ndarray:
+        """(3, 3) t_i = z x u_i: each motor's axis direction (rows), base frame."""
+        phi = np.asarray(self.motor_azimuth_rad, dtype=float)
+        return np.stack([-np.sin(phi), np.cos(phi), np.zeros(3)], axis=-1)
+
     def shifted_elbows_mm(self, theta_rad) -> np.ndarray:
         """C_i (..., 3, 3): the elbows less r u_i at joint angles ``theta_rad`` (..., 3)."""
         return _shifted_elbows(self, np.asarray(theta_rad, dtype=float))
@@ -127,8 +146,11 @@ class DeltaArrays:
     motor_azimuth_rad: tuple[float, float, float] = (0.0, 2 * np.pi / 3, 4 * np.pi / 3)
     theta_min_rad: float = -np.pi / 2
     theta_max_rad: float = np.pi / 2
+    joint_offset_mm: float = 0.0
+    axis_offset_mm: float = 0.0
 
     radial = Delta.radial
+    tangential = Delta.tangential
 
 
 def _lengths(d) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -140,6 +162,7 @@ def _lengths(d) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 def _shifted_elbows(d, t: np.ndarray) -> np.ndarray:
     rr, la, _ = _lengths(d)
     C = (rr[..., None] + la[..., None] * np.cos(t))[..., None] * d.radial
+    C = C + d.axis_offset_mm * d.tangential
     C[..., 2] = -la[..., None] * np.sin(t)
     return C
 
@@ -179,22 +202,25 @@ def _points(P_mm, field: str = "P_mm") -> np.ndarray:
 def _arm_ik(d: Delta, P: np.ndarray, i: int) -> tuple[np.ndarray, np.ndarray]:
     """Arm i's joint angle (N,) and its unreachable flags (N,) at effector points P (N, 3).
 
-    In the arm's plane (x' radial from the shifted base joint, y' tangential, z), (1) reads
-    (x' - L_a cos t)^2 + y'^2 + (z + L_a sin t)^2 = L_b^2, i.e.
-    A cos t + B sin t = K with A = 2 L_a x', B = -2 L_a z,
-    K = x'^2 + y'^2 + z^2 + L_a^2 - L_b^2; t = atan2(B, A) + acos(K / sqrt(A^2 + B^2))
-    (elbow out: the root with the larger cos t, i.e. the elbow farther out).
+    In the arm's plane (x' radial from the shifted base joint, y' along the motor axis less
+    the axis offset, z), the in-plane distance knee -> effector joint is
+    rho = g + sqrt(L_b^2 - y'^2), so (x' - L_a cos t)^2 + (z + L_a sin t)^2 = rho^2, i.e.
+    A cos t + B sin t = K with A = 2 L_a x', B = -2 L_a z, K = x'^2 + z^2 + L_a^2 - rho^2;
+    t = atan2(B, A) + acos(K / sqrt(A^2 + B^2)) (elbow out: the root with the larger cos t,
+    i.e. the elbow farther out). With g = 0 this is the sphere of Clavel's delta.
     """
     u = d.radial[i]
     rr, la, lb = _lengths(d)
     xp = P @ u - rr
-    yp = P[:, 1] * u[0] - P[:, 0] * u[1]
+    yp = P @ d.tangential[i] - d.axis_offset_mm
     z = P[:, 2]
+    off_axis = np.abs(yp) > lb * (1 + REACH_REL_EPS)
+    rho = d.joint_offset_mm + np.sqrt(np.clip(lb * lb - yp * yp, 0.0, None))
     A, B = 2 * la * xp, -2 * la * z
-    K = xp * xp + yp * yp + z * z + la * la - lb * lb
+    K = xp * xp + z * z + la * la - rho * rho
     norm = np.hypot(A, B)
     c = K / np.where(norm > 0, norm, 1.0)
-    unreachable = np.abs(c) > 1 + REACH_REL_EPS
+    unreachable = (np.abs(c) > 1 + REACH_REL_EPS) | off_axis
     base = np.arctan2(B, A)
     roots = base[:, None] + np.array([1.0, -1.0]) * np.arccos(np.clip(c, -1, 1))[:, None]
     pick = np.argmax(np.cos(roots), axis=1)
@@ -218,13 +244,22 @@ def _status(d: Delta, P: np.ndarray, theta: np.ndarray, unreachable: np.ndarray)
 
 
 def _constraint_jacobians(d: Delta, P: np.ndarray, theta: np.ndarray):
-    """A_x (N, 3, 3) rows (P - C_i)^T and b (N, 3) = -(P - C_i) . dC_i/dtheta_i, mm^2."""
+    """A_x (N, 3, 3) = d f_i/dP / 2 and b (N, 3) = d f_i/dtheta_i / 2 (mm^2) of the arm
+    constraints f_i = (rho_i - g)^2 + y'_i^2 - L_b^2 (rho_i the in-plane distance knee ->
+    effector joint); with w = P - C_i and w_p its part in the arm's plane,
+    A_x[i] = w - (g / rho) w_p and b_i = -(1 - g / rho) w_p . dC_i/dtheta_i (g = 0: the
+    sphere's (P - C_i) and -(P - C_i) . dC_i/dtheta_i)."""
     C = _shifted_elbows(d, theta)
-    A = P[:, None, :] - C
+    w = P[:, None, :] - C
+    t = d.tangential
+    wp = w - np.einsum("nij,ij->ni", w, t)[..., None] * t
+    rho = np.linalg.norm(wp, axis=-1)
+    k = d.joint_offset_mm / np.where(rho > 0, rho, 1.0)
+    A = w - k[..., None] * wp
     _, la, _ = _lengths(d)
     dC = -la[..., None, None] * np.sin(theta)[..., None] * d.radial
     dC[..., 2] = -la[..., None] * np.cos(theta)
-    b = -np.einsum("nij,nij->ni", A, dC)
+    b = -(1 - k) * np.einsum("nij,nij->ni", wp, dC)
     return A, b
 
 
@@ -239,12 +274,27 @@ def ik(d: Delta, P_mm) -> DeltaPose:
 
 def fk(d: Delta, theta_rad) -> DeltaPose:
     """Forward kinematics at joint angles ``theta_rad`` (N, 3): the lower intersection of
-    the three spheres (1). Points where they do not meet get :data:`STATUS_NO_ASSEMBLY`
-    and P = 0. Raises :class:`DesignError` on a non-finite or mis-shaped input."""
+    the three spheres (1) (closed form); with a joint offset g > 0 (Stamper's Falcon model)
+    that point for spheres of radius L_b + g, refined by Newton's method on the arm
+    constraints to round-off (:data:`cad.tolerances.DELTA_FK_NEWTON_STEPS` steps). Points
+    where the arms cannot meet get :data:`STATUS_NO_ASSEMBLY` and P = 0. Raises
+    :class:`DesignError` on a non-finite or mis-shaped input."""
     t = np.asarray(theta_rad, dtype=float)
     t = t[None, :] if t.ndim == 1 else t
     if t.ndim != 2 or t.shape[1] != 3 or not np.all(np.isfinite(t)):
         raise DesignError("theta_rad", f"must be finite with shape (N, 3), got {np.shape(theta_rad)}")
+    P, no_assembly = _sphere_point(d, t, d.lower_arm_mm + d.joint_offset_mm)
+    if d.joint_offset_mm > 0:
+        P, no_assembly = _newton_fk(d, t, P, no_assembly)
+    P = np.where(no_assembly[:, None], 0.0, P)
+    status = _status(d, P, t, np.zeros(len(t), bool))
+    status = np.where(no_assembly, STATUS_NO_ASSEMBLY, status).astype(np.int8)
+    return DeltaPose(P_mm=P, theta_rad=t.copy(), status=status)
+
+
+def _sphere_point(d: Delta, t: np.ndarray, radius_mm: float) -> tuple[np.ndarray, np.ndarray]:
+    """The lower intersection (N, 3) of the spheres of ``radius_mm`` about the shifted elbows
+    at joint angles t (N, 3), and where there is none (N,)."""
     C = _shifted_elbows(d, t)
     n = np.cross(C[:, 1] - C[:, 0], C[:, 2] - C[:, 0])
     n_len = np.linalg.norm(n, axis=1)
@@ -260,13 +310,32 @@ def fk(d: Delta, theta_rad) -> DeltaPose:
     ], axis=1)
     M = np.where(degenerate[:, None, None], np.eye(3), M)
     P0 = np.linalg.solve(M, rhs[..., None])[..., 0]
-    h2 = d.lower_arm_mm**2 - np.sum((P0 - C[:, 0]) ** 2, axis=1)
-    no_assembly = degenerate | (h2 < -REACH_REL_EPS * d.lower_arm_mm**2)
-    P = P0 - np.sqrt(np.clip(h2, 0, None))[:, None] * n_hat
-    P = np.where(no_assembly[:, None], 0.0, P)
-    status = _status(d, P, t, np.zeros(len(t), bool))
-    status = np.where(no_assembly, STATUS_NO_ASSEMBLY, status).astype(np.int8)
-    return DeltaPose(P_mm=P, theta_rad=t.copy(), status=status)
+    h2 = radius_mm**2 - np.sum((P0 - C[:, 0]) ** 2, axis=1)
+    no_assembly = degenerate | (h2 < -REACH_REL_EPS * radius_mm**2)
+    return P0 - np.sqrt(np.clip(h2, 0, None))[:, None] * n_hat, no_assembly
+
+
+def _newton_fk(d: Delta, t: np.ndarray, P: np.ndarray, bad: np.ndarray):
+    """Newton's method on f_i(P) = (rho_i - g)^2 + y'_i^2 - L_b^2 = 0 from P (N, 3); points
+    whose residual stays above round-off (or whose Jacobian is singular) join ``bad``."""
+    from cad.tolerances import DELTA_FK_NEWTON_STEPS, DELTA_FK_RESIDUAL_REL
+
+    def residual(X):
+        C = _shifted_elbows(d, t)
+        w = X[:, None, :] - C
+        y = np.einsum("nij,ij->ni", w, d.tangential)
+        rho = np.linalg.norm(w - y[..., None] * d.tangential, axis=-1)
+        return (rho - d.joint_offset_mm) ** 2 + y * y - d.lower_arm_mm**2
+
+    X = np.where(bad[:, None], 0.0, P)
+    for _ in range(DELTA_FK_NEWTON_STEPS):
+        A, _ = _constraint_jacobians(d, X, t)
+        ok = np.abs(np.linalg.det(A)) > 1e-12 * d.lower_arm_mm**3
+        A = np.where(ok[:, None, None], A, np.eye(3))
+        X = X - np.linalg.solve(2 * A, residual(X)[..., None])[..., 0]
+        bad = bad | ~ok
+    converged = np.max(np.abs(residual(X)), axis=1) <= DELTA_FK_RESIDUAL_REL * d.lower_arm_mm**2
+    return X, bad | ~converged
 
 
 def jacobian_rad_per_m(d: Delta, P_mm) -> tuple[np.ndarray, np.ndarray]:
@@ -364,3 +433,27 @@ def _grid_n(n) -> int:
     if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 2:
         raise DesignError("workspace.grid", f"must be an integer >= 2 (faces sampled), got {n!r}")
     return int(n)
+
+
+def largest_cube_mm(d: Delta, z_range_mm: tuple[float, float], n: int = 5,
+                    tol_mm: float = 0.1) -> dict:
+    """The largest cube on the z axis (faces sampled n x n x n) every point of which is
+    reachable, regular and inside the joint range: {"side_mm", "center_z_mm"}.
+
+    For each centre z on a 1 mm grid over ``z_range_mm`` the side is found by bisection to
+    ``tol_mm`` (the reachable set need not be convex, so a side is accepted only when every
+    sample is ok; the bisection assumes a smaller cube about the same centre is ok when a
+    larger one is, true of the sampled faces of the workspaces met here). A side of 0 means
+    no centre in the range is reachable."""
+    best = {"side_mm": 0.0, "center_z_mm": None}
+    for zc in np.arange(z_range_mm[0], z_range_mm[1] + 0.5, 1.0):
+        if not ik(d, [0.0, 0.0, zc]).ok[0]:
+            continue
+        lo, hi = 0.0, 2.0 * (d.upper_arm_mm + d.lower_arm_mm)
+        while hi - lo > tol_mm:
+            mid = 0.5 * (lo + hi)
+            pts = box_grid_mm([0.0, 0.0, zc], [mid] * 3, n)
+            lo, hi = (mid, hi) if np.all(ik(d, pts).ok) else (lo, mid)
+        if lo > best["side_mm"]:
+            best = {"side_mm": float(lo), "center_z_mm": float(zc)}
+    return best

@@ -3,7 +3,9 @@
 Schema (mm, deg, N, N m; * = required)::
 
     [mechanism]  family*, base_radius_mm*, effector_radius_mm*, upper_arm_mm*, lower_arm_mm*,
-                 parallelogram_width_mm (30), motor_angle_min_deg (-40), motor_angle_max_deg (85)
+                 parallelogram_width_mm (30), motor_angle_min_deg (-40), motor_angle_max_deg (85),
+                 motor_azimuth_deg ([0, 120, 240]), joint_offset_mm (0), axis_offset_mm (0)
+                 (the last two: Stamper's Falcon model, :class:`cad.kinematics.delta.Delta`)
     [workspace]  shape ("box" | "cylinder"), center_mm* = [x, y, z],
                  size_mm = [W, D, H] (box), diameter_mm + height_mm (cylinder), grid (5)
     [actuators]  torque_max_Nm (1.0, or [m0, m1, m2]), force_max_N (1.0)  -- the GII's
@@ -31,7 +33,8 @@ from cad.design.fields import require_table
 from cad.errors import DesignError
 
 MECH_KEYS = ("family", "base_radius_mm", "effector_radius_mm", "upper_arm_mm", "lower_arm_mm",
-             "parallelogram_width_mm", "motor_angle_min_deg", "motor_angle_max_deg")
+             "parallelogram_width_mm", "motor_angle_min_deg", "motor_angle_max_deg",
+             "motor_azimuth_deg", "joint_offset_mm", "axis_offset_mm")
 MECH_DEFAULTS = {"parallelogram_width_mm": 30.0, "motor_angle_min_deg": -40.0,
                  "motor_angle_max_deg": 85.0}
 WS_KEYS = ("shape", "center_mm", "size_mm", "diameter_mm", "height_mm", "grid")
@@ -89,10 +92,8 @@ class DeltaDesign:
         if not self.optimize:
             raise DesignError("optimize", "no free parameters: add e.g. upper_arm_mm = [min, max, count]")
         _, params = candidate_grid(self.optimize, self.params)
-        d = self.mechanism
-        return DeltaProblem(params, self.workspace_points(), self.grid_shape(),
-                            (d.theta_min_rad, d.theta_max_rad), self.actuators["torque_max_Nm"],
-                            self.actuators["force_max_N"])
+        return DeltaProblem(params, self.workspace_points(), self.grid_shape(), self.mechanism,
+                            self.actuators["torque_max_Nm"], self.actuators["force_max_N"])
 
 
 def _mechanism(mech: dict[str, Any]):
@@ -114,8 +115,17 @@ def _mechanism(mech: dict[str, Any]):
     if not lo < hi or hi - lo > 360:
         raise DesignError("mechanism.motor_angle_max_deg",
                           f"must exceed motor_angle_min_deg ({lo:g}) by at most 360 deg, got {hi:g}")
+    az = mech.get("motor_azimuth_deg", [0.0, 120.0, 240.0])
+    if not isinstance(az, list) or len(az) != 3:
+        raise DesignError("mechanism.motor_azimuth_deg", f"must be 3 angles [deg], got {az!r}")
+    az = [check_number(f"mechanism.motor_azimuth_deg[{k}]", a, ANGLE_DEG) for k, a in enumerate(az)]
+    offsets = {k: check_number(f"mechanism.{k}", mech.get(k, 0.0), COORD_MM)
+               for k in ("joint_offset_mm", "axis_offset_mm")}
+    if offsets["joint_offset_mm"] < 0:
+        raise DesignError("mechanism.joint_offset_mm", f"must be >= 0, got {offsets['joint_offset_mm']!r}")
     d = Delta(vals["base_radius_mm"], vals["effector_radius_mm"], vals["upper_arm_mm"],
-              vals["lower_arm_mm"], theta_min_rad=math.radians(lo), theta_max_rad=math.radians(hi))
+              vals["lower_arm_mm"], motor_azimuth_rad=tuple(math.radians(a) for a in az),
+              theta_min_rad=math.radians(lo), theta_max_rad=math.radians(hi), **offsets)
     return d, vals, width
 
 

@@ -177,7 +177,7 @@ def test_delta_problem_culling_equals_brute_force_and_per_candidate_gii():
     pts = D.box_grid_mm([0, 0, z0], [60, 60, 40], 3)
     ranges = {"upper_arm_mm": (70.0, 130.0, 4), "lower_arm_mm": (170.0, 240.0, 4)}
     names, params = candidate_grid(ranges, {"base_radius_mm": R, "effector_radius_mm": r})
-    prob = DeltaProblem(params, pts, (3, 3, 3), (-1.0, 1.4))
+    prob = DeltaProblem(params, pts, (3, 3, 3), DELTA)
     cull, brute = optimize(prob, "culling"), optimize(prob, "brute")
     assert cull.best_index == brute.best_index and cull.gii == brute.gii
     scalar = [delta_gii(D.Delta(R, r, params["upper_arm_mm"][k], params["lower_arm_mm"][k],
