@@ -360,11 +360,12 @@ def shop_args(kind, instances, holes=(), stocks: dict | None = None) -> dict:
 
 
 def write_part_drawings(instances, out_dir: Path, design: str, holes=(),
-                        sheets_written: bool = True) -> list[str]:
+                        sheets_written: bool = True, stocks: dict | None = None) -> list[str]:
     """``drawings/<part>.svg`` per made, listed kind and ``drawings.pdf``
     (:func:`cad.export.drawings.write_drawings`); returns the paths relative to ``out_dir``.
     ``sheets_written`` False (no ``dxf``): a process naming ``sheets/`` says, as the BOM
-    does, that the folder was not written."""
+    does, that the folder was not written. ``stocks``: :func:`kind_stock` of ``instances``
+    (computed here when None)."""
     from cad.export.drawings import SheetPart, write_drawings
 
     def process(k) -> str:
@@ -373,7 +374,7 @@ def write_part_drawings(instances, out_dir: Path, design: str, holes=(),
         return unwritten_sheets({"description": "", "process": k.process})["process"]
 
     q = quantities(instances)
-    stocks = kind_stock(instances)
+    stocks = stocks if stocks is not None else kind_stock(instances)
     parts = [
         SheetPart(k.name, k.shape, k.material, q[k.name], process(k), k.plate, k.fits,
                   kind_thread_places(k.name, instances, holes), k.description, stocks[k.name])
@@ -515,7 +516,7 @@ def write_outputs(
 
     out_dir = Path(out_dir)
     files: list[str] = []
-    stocks = kind_stock(instances) if "dxf" in formats else {}
+    stocks = kind_stock(instances) if {"dxf", "drawings"} & set(formats) else {}
     for k in kinds(instances).values():
         if not k.listed:
             continue
@@ -539,7 +540,8 @@ def write_outputs(
                               {n: shop_args(k, instances, holes, stocks)
                                for n, k in laser_kinds(instances).items()})
     if "drawings" in formats:
-        files += write_part_drawings(instances, out_dir, name, holes, sheets_written="dxf" in formats)
+        files += write_part_drawings(instances, out_dir, name, holes, sheets_written="dxf" in formats,
+                                     stocks=stocks)
     if "step" in formats:
         export_assembly_step(
             posed_items(instances, tf_world_body, listed_only=False),
