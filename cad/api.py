@@ -501,6 +501,7 @@ def synth(design, objective: str = "max-stroke", free: str = "range", dy_tol_mm:
     return {
         "objective": objective, "free": free, "feasible": r.feasible,
         "evaluations": r.evaluations, "stroke_mm_held": held_mm,
+        "stroke_upper_bound_mm": r.upper_bound_mm,
         "start": {**design.resolved_linkage(), **r.start_metrics.as_dict()},
         "result": {**{k: v for k, v in mech.items() if k != "family"}, **r.metrics.as_dict()},
         "mechanism": mech,

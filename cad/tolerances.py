@@ -241,6 +241,12 @@ DISTAL_SINGULAR_SIN = 1e-9
 #: is unreachable. Inside the margin the acos argument is clipped to [-1, 1]
 #: and the point is reported singular (not unreachable).
 REACH_REL_EPS = 1e-12
+#: Global max-stroke (cad/kinematics/max_stroke.py): the branch and bound stops splitting
+#: when the next level would take the cells bounded past this. Near a closure limit or a
+#: toggle the coupler point's speed bound grows without limit, so cells there are never
+#: dropped; the cap keeps `synth` to seconds (the Hoeken's proof takes ~3e4 cells) and the
+#: bound reported is that of the cells left (valid, possibly loose).
+SYNTH_BOUND_MAX_CELLS = 300_000
 #: Delta (cad/kinematics/delta.py): an arm is serially singular when |b_i| / (L_a L_b), the
 #: cosine between its lower arm and its elbow's velocity, is below this; at 1e-9 the row of
 #: J is ~1e9 times its regular size (the same reasoning as ARM_SINGULAR_SIN).
@@ -313,6 +319,14 @@ CLOSE_TOL_M = 1e-14
 #: (cad/sim/wall.py): 1 % matches the reduced model's own accuracy (SUBSTEP_MAX_S there: within
 #: 1 % of the mujoco model), and each halving of the bracket costs a set of wall simulations.
 K_RTOL = 0.01
+#: Relative step of the fine K grid over which K_max is estimated as a stability threshold
+#: (cad/sim/wall.py k_max_estimate): near K_max the wall's stability is intermittent (stable
+#: and unstable stiffnesses interleave over ~15 %: a 0.2 % change of apparent mass moved the
+#: first unstable probe of a bisection by 14 %), so K_max is the threshold that best separates
+#: ~400 probes 0.25 % apart; its bootstrap error (measured ~1 % on the Hoeken) is reported.
+K_GRID_STEP = 0.0025
+#: Bootstrap resamples of those probes for the stated sampling error of K_max (95 % interval).
+K_BOOTSTRAP = 200
 
 # ---------------------------------------------------------------- meshes drawn, not measured
 

@@ -278,6 +278,41 @@ def render_voicecoil(sources: list[tuple[str, str | None, dict[str, Any]]]) -> s
     return "\n".join(lines)
 
 
+#: How a datasheet verdict reads in a generated table.
+VERDICT_WORDS = {"ok": "ok", "miss": "**miss**", "within sampling error": "within sampling error"}
+
+
+def render_datasheet(sources: list[tuple[str, str | None, dict[str, Any]]]) -> str:
+    """A ``datasheet --json`` capture: every figure with its range, unit, verdict and the paper's value."""
+    from cad.datasheet import fmt_value, verdict_text
+
+    (_, _, data), = sources
+    lines = ["| figure | value (min .. max over the stroke) | unit | verdict | the paper's prototype |",
+             "|---|---|---|---|---|"]
+    for r in data["datasheet"]["rows"]:
+        err = r.get("sampling_error_rel")
+        val = fmt_value(r) + (f" ± {100 * err:.1f} %" if err else "")
+        lines.append(f"| {r['figure']}{' *' if r['unverified'] else ''} | {val} | {r['unit']} | "
+                     f"{verdict_text(r)} | {r.get('paper') or ''} |")
+    return "\n".join(lines)
+
+
+def render_wall(sources: list[tuple[str, str | None, dict[str, Any]]]) -> str:
+    """``wall --json`` captures, one row each: K_max with its sampling error and intermittent
+    band, beside eq (25) and the passivity bound."""
+    lines = ["| model | B | K_max | sampling error | stable and unstable walls interleave | eq (25) | "
+             "passivity | M11 at the wall | method |", "|---|---|---|---|---|---|---|---|---|"]
+    for _, _, d in sources:
+        e = d.get("K_max_sampling_error_rel")
+        band = d.get("K_band_N_per_m") or [None, None]
+        lines.append(f"| {d['model']} | {d['B_N_s_per_m']:g} N·s/m | **{d['K_max_stable_N_per_m'] / 1e3:.1f} kN/m** | "
+                     f"{'—' if e is None else f'± {100 * e:.1f} %'} | "
+                     f"{'—' if band[0] is None else f'{band[0] / 1e3:.1f} .. {band[1] / 1e3:.1f} kN/m'} | "
+                     f"{d['eq25_K_max_N_per_m']:.0f} N/m | {d['passivity_K_max_N_per_m']:.0f} N/m | "
+                     f"{d['M11_wall_g']:.1f} g | {d.get('K_max_method', '')} |")
+    return "\n".join(lines)
+
+
 def render_prototype_front(sources: list[tuple[str, str | None, dict[str, Any]]]) -> str:
     """The Pareto fronts of ``optimize --beat-prototype --json`` (cheap model, every limit
     outside the pair met), their ends on the full datasheet (solids, simulated K_max)."""
@@ -291,7 +326,7 @@ def render_prototype_front(sources: list[tuple[str, str | None, dict[str, Any]]]
         for r in f["points"]:
             e = ends.get(r["trial"])
             ds = "—" if e is None else "; ".join(
-                f"{k} {v['value']:.4g} {'ok' if v['verdict'] == 'ok' else '**miss**' if v['verdict'] == 'miss' else ''}"
+                f"{k} {v['value']:.4g} {VERDICT_WORDS.get(v['verdict'], '')}"
                 for k, v in e["rows"].items() if v["value"] is not None)
             lines.append(f"| {name} | {r['trial']} | {r['motor']}, {r['bar_material']} | {r['crank_span_deg']:.0f}° | "
                          f"{r['continuous_force_N']:.2f} N | {r['friction_N']:.3f} N | {r['M11_max_g']:.1f} g | "
@@ -304,7 +339,7 @@ RENDERERS: dict[str, Callable[[list], str]] = {
     "goals": render_goals, "codesign": render_codesign, "candidates": render_candidates,
     "massprops": render_massprops, "voicecoil": render_voicecoil, "families": render_families,
     "synth": render_synth, "check": render_check, "tolerance": render_tolerance,
-    "swap": render_swap,
+    "swap": render_swap, "datasheet": render_datasheet, "wall": render_wall,
 }
 
 

@@ -81,7 +81,8 @@ def register(app: typer.Typer) -> None:
         syn = synth(d, objective, free, dy_tol_mm, mu_min_deg, stroke_mm)
         mech, held_mm = syn.pop("mechanism"), syn["stroke_mm_held"]
         res = {
-            **{k: syn[k] for k in ("objective", "free", "feasible", "evaluations", "stroke_mm_held")},
+            **{k: syn[k] for k in ("objective", "free", "feasible", "evaluations", "stroke_mm_held",
+                                 "stroke_upper_bound_mm")},
             "command": f"hapticad synth {design} {synth_flags(objective, free, dy_tol_mm, mu_min_deg, stroke_mm)}",
             "measured": time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()),
             "start": syn["start"], "result": syn["result"],
@@ -105,6 +106,9 @@ def register(app: typer.Typer) -> None:
             print_json(res, indent=1)
             return
         _print_table(res, f"synth {objective} ({free}) — feasible: {res['feasible']}")
+        if res["stroke_upper_bound_mm"] is not None:
+            print(f"no crank window of this linkage is longer than "
+                  f"{res['stroke_upper_bound_mm']:.3f} mm (branch and bound over every window)")
         if out is not None:
             print(f"{'replaced' if replaced else 'wrote'} {out}")
         if not math.isfinite(res["result"]["stroke_mm"]):

@@ -61,6 +61,10 @@ def register(app: typer.Typer) -> None:
         for k in ("K_max_stable_N_per_m", "eq25_K_max_N_per_m", "passivity_K_max_N_per_m",
                   "Te_s", "encoder_counts_per_rev", "encoder_resolution_m", "M11_wall_g", "tau_max_Nm"):
             t.add_row(k, fmt(res[k]))
+        if res.get("K_max_sampling_error_rel") is not None:
+            lo, hi = res["K_band_N_per_m"]
+            t.add_row("K_max sampling error", f"+/-{100 * res['K_max_sampling_error_rel']:.1f} %")
+            t.add_row("stable and unstable walls interleave", f"{fmt(lo)} .. {fmt(hi)}")
         if "stable" in res:
             t.add_row(f"wall K = {K:g} N/m", ("stable" if res["stable"] else "UNSTABLE")
                       + f" ({res['amplitude_counts']:.2f} counts p-p)")

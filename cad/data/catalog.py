@@ -409,6 +409,13 @@ class MotorSpec:
         """True when ``field`` has no value or a value without a public source that was read."""
         return getattr(self, field) is None or field in self.unverified
 
+    def bom_description(self) -> str:
+        """The BOM description: ``description``, then the data fields no public source states
+        (``unverified``), so an order and a datasheet read from the same line say so."""
+        if not self.unverified:
+            return self.description
+        return f"{self.description}; unverified data (no public source read): {', '.join(self.unverified)}"
+
     def friction_torque_mNm(self) -> float | None:
         """Brush and bearing friction of the motor, Kt * I0 (mN m); None without data."""
         if self.torque_constant_mNm_per_A is None or self.no_load_current_mA is None:
@@ -421,13 +428,17 @@ class MotorSpec:
 #: RE 35 data-sheet values L 0.34 mH, Kt 0.0389 N m/A, R 1.2 ohm, J 6.81e-6 kg m^2,
 #: U_nom 30 V, T_nom 0.0972 N m (the maxon sheet's order number is not given there).
 _RE35_SHEET = ("maxon RE 35 (35 mm, graphite brushes, 90 W) data sheet, 30 V winding, as listed in "
-               "the public file MLohoefener/Mechatronische_Systeme_Master RE_35.m")
+               "the public file MLohoefener/Mechatronische_Systeme_Master RE_35.m (commit 6176a66)")
 #: maxon RE 40, order number 148877 (48 V): the sheet's tables 'Values at nominal voltage',
 #: 'Characteristics', 'Thermal data' as reproduced in a public copy (edition not identified);
 #: Kt 0.0603 N m/A and the continuous current 3.12 A 'from datasheet' (an older edition) are
 #: also in the RAVEN II surgical robot's motor.h (RE 40 motor constants).
+#: Kt of the RE 40 as the RAVEN II surgical robot's control software states it (a public
+#: repository at a fixed commit).
+_RAVEN_MOTOR_H = ("uw-biorobotics/raven2 include/raven/motor.h (commit 92eb7997, Copyright 2005-2012 "
+                  "University of Washington BioRobotics Laboratory)")
 _RE40_SHEET = ("maxon RE 40 (40 mm, graphite brushes, 150 W) data sheet, order number 148877, 48 V "
-               "(edition not identified; Kt and continuous current also in RAVEN II motor.h)")
+               "(edition not identified; Kt also in RAVEN II motor.h)")
 
 #: Motor catalog. Dimensions are the nominal outline of the maxon data sheets
 #: (RE 35: 90 W, graphite brushes; RE 40: 150 W) as used for mounting; check the
@@ -473,11 +484,13 @@ MOTORS: dict[str, MotorSpec] = {
             ("thermal_resistance_housing_K_per_W", "no public source found"),
             ("thermal_resistance_winding_K_per_W", "no public source found"),
             ("no_load_current_mA", "derived: K_f * U_N / K_b / Kt from " + _RE35_SHEET + " (K_f 6.33e-6 N m s)"),
-            ("rotor_inertia_g_cm2", "maxon catalog RE 35 range 65.2-79.2 g cm^2 (upper value)"),
-            ("mass_kg", "maxon catalog RE 35 (weight 340 g)"),
+            ("rotor_inertia_g_cm2", "maxon catalog RE 35 range 65.2-79.2 g cm^2 (upper value; edition not "
+             "identified)"),
+            ("mass_kg", "maxon catalog RE 35 (weight 340 g; edition not identified)"),
         ),
         unverified=("stall_torque_mNm", "torque_peak_mNm", "current_continuous_A",
-                    "no_load_current_mA"),
+                    "no_load_current_mA", "thermal_resistance_housing_K_per_W",
+                    "thermal_resistance_winding_K_per_W", "rotor_inertia_g_cm2", "mass_kg"),
     ),
     "maxon-re40": MotorSpec(
         key="maxon-re40",
@@ -506,7 +519,8 @@ MOTORS: dict[str, MotorSpec] = {
         thermal_resistance_winding_K_per_W=1.93,
         no_load_current_mA=68.6,
         sources=(
-            ("torque_constant_mNm_per_A", _RE40_SHEET + ": torque constant 60.3 mNm/A"),
+            ("torque_constant_mNm_per_A", _RAVEN_MOTOR_H + ": T_PER_AMP_RE40 0.0603 Nm/A 'From datasheet' "
+             "(the same 60.3 mNm/A as the 148877 sheet copy)"),
             ("terminal_resistance_ohm", _RE40_SHEET + ": terminal resistance 1.13 ohm"),
             ("torque_continuous_mNm", _RE40_SHEET + ": nominal torque (max. continuous torque) 187 mNm"),
             ("stall_torque_mNm", _RE40_SHEET + ": stall torque 2560 mNm"),
@@ -515,9 +529,17 @@ MOTORS: dict[str, MotorSpec] = {
             ("thermal_resistance_housing_K_per_W", _RE40_SHEET + ": thermal resistance housing-ambient 4.65 K/W"),
             ("thermal_resistance_winding_K_per_W", _RE40_SHEET + ": thermal resistance winding-housing 1.93 K/W"),
             ("no_load_current_mA", _RE40_SHEET + ": no load current 68.6 mA"),
-            ("rotor_inertia_g_cm2", "maxon catalog RE 40 (134 g cm^2; the 148877 edition read: 137)"),
-            ("mass_kg", "maxon catalog RE 40 (weight 480 g)"),
+            ("rotor_inertia_g_cm2", "maxon catalog RE 40 (134 g cm^2; the 148877 sheet read: 137; edition not "
+             "identified)"),
+            ("mass_kg", "maxon catalog RE 40 (weight 480 g; edition not identified)"),
         ),
+        # the sheet copy these were read from names no edition and no public copy stating them
+        # was found (issue 34 §3: a search of stored pages and docs for the 148877 sheet found
+        # none); Kt is also in RAVEN II motor.h, so it stays verified
+        unverified=("terminal_resistance_ohm", "torque_continuous_mNm", "stall_torque_mNm",
+                    "torque_peak_mNm", "current_continuous_A", "thermal_resistance_housing_K_per_W",
+                    "thermal_resistance_winding_K_per_W", "no_load_current_mA", "rotor_inertia_g_cm2",
+                    "mass_kg"),
     ),
 }
 

@@ -214,6 +214,12 @@ class SheetStock:
     source: dict
 
     @property
+    def stock_sizes_mm(self) -> tuple[tuple[float, float], ...]:
+        """Every size a sheet of this material is ordered in, smallest area first: the laser
+        services' cut pieces :data:`LASER_CUT_SIZES_MM` and the mill sizes ``sizes_mm``."""
+        return tuple(sorted({*LASER_CUT_SIZES_MM, *self.sizes_mm}, key=lambda s: (s[0] * s[1], s)))
+
+    @property
     def thicknesses_mm(self) -> tuple[float, ...]:
         """Stock thicknesses (nominal, mm), ascending."""
         return tuple(sorted(self.thickness_range_mm))
@@ -221,6 +227,18 @@ class SheetStock:
     def nearest_mm(self, t_mm: float, n: int = 2) -> tuple[float, ...]:
         """The ``n`` stock thicknesses nearest ``t_mm`` (ascending)."""
         return tuple(sorted(sorted(self.thicknesses_mm, key=lambda x: abs(x - t_mm))[:n]))
+
+
+#: Cut sheet pieces a laser service stocks besides the mill's full sheets ((width, length) mm):
+#: the quarter (12 x 24 in) and half (24 x 24 in) of the 24 x 48 in full sheet, "many laser
+#: systems have a standard bed size of 12 by 24 in, so a quarter sheet fits perfectly".
+LASER_CUT_SIZES_MM = ((304.8, 609.6), (609.6, 609.6))
+#: Where :data:`LASER_CUT_SIZES_MM` come from (stated for plastic sheet; for metal and plywood
+#: sheets the same bed-sized pieces are unverified).
+LASER_CUT_SIZES_SOURCE = ("A&E Magazine, 'What is the standard size and thickness of engraving plastic "
+                          "sheet?' (a-e-mag.com, question-answers, undated page read 2026-12-04): full "
+                          "sheet 24 x 48 in, half 24 x 24 in, quarter 12 x 24 in; unverified for "
+                          "aluminium and plywood")
 
 
 def _pm(table: dict) -> dict:
@@ -241,6 +259,8 @@ _AL_SOURCE_COMMON = {
     "kerf_mm": "fibre laser on aluminium plate: cut seam 0.1-0.2 mm (upper value taken), "
                "mallhometrade.com 'laser cutting of aluminum plate'",
     "tappable": "aluminium alloys are tapped as machined parts are (as the machined process)",
+    "reamable": "aluminium alloys are reamed to H7 as machined parts are (as the machined process; "
+                "stated design rule)",
 }
 
 SHEETS: dict[str, SheetStock] = {

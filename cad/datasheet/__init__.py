@@ -10,7 +10,8 @@
   of a structural figure (crank held or free, handle free or loaded), ``unverified``: True
   when it uses a value without a public source (:class:`cad.data.catalog.MotorSpec`);
 * ``limit`` (:mod:`cad.datasheet.limits`, None for a figure without one) and ``verdict``:
-  ``"ok"``, ``"miss"`` or ``"info"``; ``paper``: the paper's measured value where it gives one.
+  ``"ok"``, ``"miss"``, ``"info"`` or ``"within sampling error"`` (a miss smaller than the
+  row's ``sampling_error_rel``, the simulated K_max's); ``paper``: the paper's measured value where it gives one.
 
 ``warnings`` holds one line per missed limit (figure, value, limit, key to change). Pure
 numpy, no CAD import: computed by the build dispatcher and by ``hapticad datasheet``.
@@ -49,9 +50,22 @@ def judge(rows: list[dict], limits: dict[str, Limit]) -> list[str]:
         r["limit"] = lim.as_dict()
         ok = lim.met(r["value"])
         r["verdict"] = "ok" if ok else "miss"
-        if not ok:
+        if not ok and within_sampling_error(r, lim):
+            r["verdict"] = WITHIN_ERROR
+        elif not ok:
             warnings.append(warning_line(r, lim))
     return warnings
+
+
+#: Verdict of a figure that misses its limit by less than its own stated sampling error
+#: (``sampling_error_rel`` of the row: the simulated K_max): neither met nor missed.
+WITHIN_ERROR = "within sampling error"
+
+
+def within_sampling_error(r: dict, lim: Limit) -> bool:
+    """True when the row's value moved by its ``sampling_error_rel`` (either way) meets ``lim``."""
+    e, v = r.get("sampling_error_rel"), r.get("value")
+    return bool(e) and v is not None and (lim.met(v * (1.0 + e)) or lim.met(v * (1.0 - e)))
 
 
 def warning_line(r: dict, lim: Limit) -> str:
@@ -110,7 +124,7 @@ def verdict_text(r: dict) -> str:
     lim = r.get("limit")
     if lim is None:
         return "—"
-    word = "ok" if r["verdict"] == "ok" else "MISS"
+    word = {"ok": "ok", WITHIN_ERROR: WITHIN_ERROR}.get(r["verdict"], "MISS")
     return f"{word} ({lim['op']} {lim['value']:.4g})"
 
 

@@ -43,6 +43,6 @@ def limit_rows(ds: dict) -> list[dict]:
         margin = None if v is None else ((v - b) if side == "min" else (b - v))
         out.append({"key": r["key"], "computed": v, "target": {side: b},
                     "target_text": f"{lim['op']} {b:.6g} ({lim['origin']})", "reason": lim["reason"],
-                    "ok": r["verdict"] == "ok", "margin": margin,
-                    "gap_rel": None if (v is None or b == 0 or r["verdict"] == "ok") else (v - b) / abs(b)})
+                    "ok": r["verdict"] != "miss", "margin": margin,
+                    "gap_rel": None if (v is None or b == 0 or r["verdict"] != "miss") else (v - b) / abs(b)})
     return out

@@ -138,7 +138,7 @@ Process of the made parts (:mod:`cad.printing`):
     holds none (acrylic, plywood) is refused naming the part and feature; a reamed or bored
     H7 bore there is laser-cut at nominal instead (warning). The turned and bought parts
     stay as they are (one warning lists the made ones).
-``laser_sheet_mm`` [smallest standard size that holds the largest part]
+``laser_sheet_mm`` [the stock size that orders the least sheet area, cad/export/nesting.py]
     ``[width, length]`` of the sheets to nest on (e.g. the laser's bed), 50..4000 mm each.
 ``print_layer_height_mm`` [0.2] / ``print_line_width_mm`` [0.45] / ``print_walls`` [2] /
 ``print_solid_layers`` [4] / ``print_infill_percent`` [20]

@@ -27,9 +27,10 @@ from cad.tolerances import OUTPUT_AGREE_REL
 COUNTS_RE = re.compile(r"(\d+) counts/rev")
 #: The datasheet resolution row's count ("(2 pi / 3837 counts)", "2 pi / 4000 counts per joint").
 RESOLUTION_COUNTS_RE = re.compile(r"2 pi / (\d+) counts")
-#: Families whose MJCF motor force range is the motor's peak torque (the pantograph families'
-#: is the ``[actuators]`` GII normalisation, isotropy paper eq 3, stated in their MJCF docs).
-MOTOR_FORCE_RANGE_FAMILIES = ("hoeken", "roberts", "chebyshev", "chebyshev-v", "custom")
+#: Families whose MJCF motor force range is the motor's peak torque (every family with rotary
+#: motors; the pantograph families' ``[actuators]`` stays the GII's normalisation, eq 3).
+MOTOR_FORCE_RANGE_FAMILIES = ("hoeken", "roberts", "chebyshev", "chebyshev-v", "custom",
+                              "pantograph", "twin-pantograph", "haptic-pen")
 
 
 class OutputsDisagree(HapticadError):
@@ -75,6 +76,8 @@ def mjcf_motors(path: Path) -> dict[str, dict]:
     out = {}
     for m in root.iter("motor"):
         j = m.get("joint")
+        if j is None:  # a force actuator at a site (the PowerMouse's coils): no joint, no armature
+            continue
         hi = float((m.get("forcerange") or "0 0").split()[-1])
         out[j] = {"armature": arm.get(j), "forcerange": hi}
     return out
@@ -340,12 +343,12 @@ BOM_MASS_ABS_G = 0.005 + 1e-9
 
 def motor_disagreements(device, out: Path) -> list[str]:
     """One line per ``bom.csv`` motor line (group ``motors``) that names no motor of the
-    resolved device (its description) or states another mass than that motor's (a
+    resolved device (its BOM description, :meth:`cad.data.catalog.MotorSpec.bom_description`) or states another mass than that motor's (a
     ``[motor]`` table's name and mass, issue 32 item 5)."""
     path = Path(out) / "bom.csv"
     if not device.motors or not path.is_file():
         return []
-    want = {m.spec.description: m.spec.mass_kg for m in device.motors}
+    want = {m.spec.bom_description(): m.spec.mass_kg for m in device.motors}
     bad = []
     for r in _csv_rows(path):
         if r.get("group") != "motors":

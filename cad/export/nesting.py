@@ -57,13 +57,26 @@ class Placed:
 
 @dataclass
 class Sheet:
-    """One stock sheet: material, nominal thickness, size (width, length) mm, its parts."""
+    """One stock sheet: material, nominal thickness, size (width, length) mm, its parts;
+    ``tried_mm``: the stock sizes its group was nested on when the design named none (the
+    size is the one ordering the least sheet area), empty for ``parts.laser_sheet_mm``."""
 
     material: str
     thickness_mm: float
     size_mm: tuple
     parts: list = field(default_factory=list)
     volume_mm3: float = 0.0
+    tried_mm: tuple = ()
+
+    def size_note(self) -> str:
+        """Why this size: the design's, or the smallest stock sheet the nesting fits."""
+        if not self.tried_mm:
+            return "size from parts.laser_sheet_mm"
+        from cad.data.materials import LASER_CUT_SIZES_SOURCE
+
+        sizes = ", ".join(f"{w:g} x {h:g}" for w, h in self.tried_mm)
+        return (f"the stock size needing the least sheet area the nesting fits (nested on {sizes} mm; "
+                f"cut-piece sizes: {LASER_CUT_SIZES_SOURCE}); set parts.laser_sheet_mm to order another")
 
     @property
     def utilisation(self) -> float:
@@ -146,25 +159,41 @@ def pack(sizes_mm, sheet_mm, gap_mm: float, margin_mm: float,
     return out
 
 
-def _sheet_size(material: str, asked, largest) -> tuple[float, float]:
-    """The sheet size: ``asked`` (the design's) or the smallest standard size of the material
-    that holds the ``largest`` (w, h) part box with the margins, either way round."""
+def _candidate_sizes(material: str, asked, largest) -> list[tuple[float, float]]:
+    """Sheet sizes to try: ``asked`` (the design's) alone, or every stock size of the material
+    (:attr:`cad.data.materials.SheetStock.stock_sizes_mm`, smallest first) that holds the
+    ``largest`` (w, h) part box with the margins either way round (the largest size when
+    none does: the packer then names the part that does not fit)."""
     from cad.data.materials import SHEETS
 
     if asked and asked[0] > 0:
-        return tuple(asked)
+        return [tuple(asked)]
     m = 2 * tol.NEST_EDGE_MARGIN_MM
     w, h = sorted(largest)
-    for size in sorted(SHEETS[material].sizes_mm, key=lambda s: s[0] * s[1]):
-        a, b = sorted(size)
-        if w + m <= a and h + m <= b:
-            return size
-    return max(SHEETS[material].sizes_mm, key=lambda s: s[0] * s[1])
+    sizes = SHEETS[material].stock_sizes_mm
+    fit = [size for size in sizes if w + m <= sorted(size)[0] and h + m <= sorted(size)[1]]
+    return fit or [max(sizes, key=lambda s: s[0] * s[1])]
+
+
+def _smallest_stock(sizes_mm, names, candidates) -> tuple[tuple, list]:
+    """(sheet size, packing) of the candidate that orders the least sheet area (sheets x W x
+    L; ties: fewer sheets, then the smaller sheet). Raises ValueError from :func:`pack`."""
+    best = None
+    for size in candidates:
+        spots = pack(sizes_mm, size, tol.NEST_GAP_MM, tol.NEST_EDGE_MARGIN_MM, names)
+        n = 1 + max(b for b, *_ in spots)
+        score = (n * size[0] * size[1], n, size[0] * size[1])
+        if best is None or score < best[0]:
+            best = (score, tuple(size), spots)
+    return best[1], best[2]
 
 
 def plan_sheets(instances) -> list[Sheet]:
     """The sheets of every laser-cut instance (module docstring), in order: by material,
-    thickness and size as first met, then sheet index. Raises DesignError
+    thickness and size as first met, then sheet index. Without ``parts.laser_sheet_mm`` each
+    group is nested on every stock size of its material that holds its largest part and
+    ordered on the one needing the least sheet area (:func:`_smallest_stock`; the sizes and
+    their source: :attr:`cad.data.materials.SheetStock.stock_sizes_mm`). Raises DesignError
     (``parts.laser_sheet_mm``) when a part fits no sheet."""
     groups: dict = {}
     boxes: dict = {}
@@ -180,15 +209,14 @@ def plan_sheets(instances) -> list[Sheet]:
     for (mat, t, asked), insts in groups.items():
         sizes = [(boxes[i.kind.name][2] - boxes[i.kind.name][0],
                   boxes[i.kind.name][3] - boxes[i.kind.name][1]) for i in insts]
-        size = _sheet_size(mat, asked, max(sizes, key=lambda s: max(s)))
+        cands = _candidate_sizes(mat, asked, max(sizes, key=lambda s: max(s)))
         try:
-            spots = pack(sizes, size, tol.NEST_GAP_MM, tol.NEST_EDGE_MARGIN_MM,
-                         [i.name for i in insts])
+            size, spots = _smallest_stock(sizes, [i.name for i in insts], cands)
         except ValueError as exc:
             raise DesignError("parts.laser_sheet_mm", f"{mat} {t:g} mm: {exc}") from None
         mine: dict[int, Sheet] = {}
         for inst, (b, x, y, rot) in zip(insts, spots, strict=True):
-            s = mine.setdefault(b, Sheet(mat, t, size))
+            s = mine.setdefault(b, Sheet(mat, t, size, tried_mm=() if asked and asked[0] > 0 else tuple(cands)))
             s.parts.append(Placed(inst.name, inst.kind, boxes[inst.kind.name][:4], x, y, rot))
             s.volume_mm3 += _volume_mm3(inst.kind.shape)
         sheets += [mine[b] for b in sorted(mine)]
@@ -207,7 +235,7 @@ def sheets_report(sheets: list[Sheet], written: bool = True) -> dict:
         "utilisation_means": "sum of part volumes / (sheet width x length x thickness)",
         "sheets": [
             {"file": sheet_file(i) if written else None, "material": s.material, "thickness_mm": s.thickness_mm,
-             "size_mm": list(s.size_mm), "utilisation": s.utilisation,
+             "size_mm": list(s.size_mm), "size_choice": s.size_note(), "utilisation": s.utilisation,
              "parts": [p.instance for p in s.parts]}
             for i, s in enumerate(sheets)
         ],

@@ -217,8 +217,9 @@ def bought_designation(kind) -> tuple[str, str, str]:
 
 
 #: A motor of a design's ``[motor]`` table on the catalog motor's mount
-#: (:func:`cad.design.motor.resolve_motor`): "acme-60 (data of [motor]; mount of maxon-re35)".
-_TABLE_MOTOR = re.compile(r"^(.+) \(data of \[motor\]; mount of (\S+)\)$")
+#: (:func:`cad.design.motor.resolve_motor`): "acme-60 (data of [motor]; mount of maxon-re35)",
+#: then its unverified fields when it has any (:meth:`cad.data.catalog.MotorSpec.bom_description`).
+_TABLE_MOTOR = re.compile(r"^(.+?) \(data of \[motor\]; mount of ([^)\s]+)\)")
 
 
 def _motor_designation(desc: str) -> tuple[str, str, str] | None:

@@ -28,7 +28,10 @@ Frames and units (a public contract, docs/simulation.md):
   ``<loop>_b`` (on body b); a tool that closes loops itself must make the two frames'
   origins coincide (a revolute pair about z). An XML comment lists them too.
 * Motors: MJCF ``<motor joint gear=1 ctrlrange=forcerange=[-tau, tau]>`` (N m), rotor
-  inertia Jm as the joint's ``armature``; URDF ``<limit effort=tau>`` and
+  inertia Jm as the joint's ``armature``; a force actuator at a site (the PowerMouse's coils)
+  ``<motor site gear="direction 0 0 0">``, control and range in N. A free body (the
+  PowerMouse flotor) has ``<freejoint>`` (qpos: position, unit quaternion; qvel: linear
+  velocity in the world, angular velocity in the body frame). URDF ``<limit effort=tau>`` and
   has no armature: Jm is stated in a comment (the link inertias stay the solids' exact
   values). All URDF hinges are ``continuous`` (the crank range may cross +-pi).
 """
@@ -84,6 +87,9 @@ class SimBody:
     armature_kg_m2: float = 0.0
     meshes: tuple[SimMesh, ...] = ()
     sites: dict[str, np.ndarray] = field(default_factory=dict)
+    #: "hinge" (about the body z axis) or "free" (6 DOF, a body on the world: the PowerMouse's
+    #: levitated flotor; MJCF ``<freejoint>``, no ref or armature).
+    joint_type: str = "hinge"
 
 
 @dataclass(frozen=True)
@@ -99,11 +105,16 @@ class SimLoop:
 
 @dataclass(frozen=True)
 class SimMotor:
-    """A direct-drive motor on ``joint`` with torque limit ``torque_max_Nm``."""
+    """A direct-drive motor on ``joint`` with torque limit ``torque_max_Nm``; or, with
+    ``site`` set (``joint`` then ""), a force actuator at that site along the unit direction
+    ``direction`` (3,) in the site's body frame, limit ``torque_max_Nm`` read as N (a Lorentz
+    coil: MJCF ``<motor site gear="dx dy dz 0 0 0">``)."""
 
     name: str
     joint: str
     torque_max_Nm: float
+    site: str | None = None
+    direction: tuple[float, float, float] = (1.0, 0.0, 0.0)
 
 
 @dataclass(frozen=True)
@@ -198,10 +209,13 @@ def mjcf_text(model: SimModel) -> str:
 
     def body(b: SimBody, ind: str) -> None:
         out.append(f'{ind}<body name={quoteattr(b.name)} pos="{_v(b.pos_m)}" quat="{_v(rot_to_quat(b.rot))}">')
-        out.append(
-            f'{ind}  <joint name={quoteattr(b.joint)} type="hinge" axis="0 0 1" pos="0 0 0" '
-            f'ref="{_f(b.joint_ref_rad)}" armature="{_f(b.armature_kg_m2)}" damping="0"/>'
-        )
+        if b.joint_type == "free":
+            out.append(f"{ind}  <freejoint name={quoteattr(b.joint)}/>")
+        else:
+            out.append(
+                f'{ind}  <joint name={quoteattr(b.joint)} type="hinge" axis="0 0 1" pos="0 0 0" '
+                f'ref="{_f(b.joint_ref_rad)}" armature="{_f(b.armature_kg_m2)}" damping="0"/>'
+            )
         out.append(
             f'{ind}  <inertial pos="{_v(b.com_m)}" mass="{_f(b.mass_kg)}" '
             f'fullinertia="{_fullinertia(b.inertia_com_kg_m2)}"/>'
@@ -224,8 +238,10 @@ def mjcf_text(model: SimModel) -> str:
     out += ["  </equality>", "  <actuator>"]
     for m in model.motors:
         t = _f(m.torque_max_Nm)
+        where = (f'site={quoteattr(m.site)} gear="{_v([*m.direction, 0.0, 0.0, 0.0])}"' if m.site
+                 else f'joint={quoteattr(m.joint)} gear="1"')
         out.append(
-            f'    <motor name={quoteattr(m.name)} joint={quoteattr(m.joint)} gear="1" '
+            f'    <motor name={quoteattr(m.name)} {where} '
             f'ctrllimited="true" ctrlrange="-{t} {t}" forcelimited="true" forcerange="-{t} {t}"/>'
         )
     out += ["  </actuator>", "</mujoco>"]
@@ -233,7 +249,9 @@ def mjcf_text(model: SimModel) -> str:
 
 
 def urdf_text(model: SimModel) -> str:
-    """The URDF document of ``model``: spanning tree + loop-closure joint pairs."""
+    """The URDF document of ``model``: spanning tree + loop-closure joint pairs. Hinge
+    bodies and joint motors only (a free body or a site actuator has no URDF form: the
+    family refuses ``urdf`` before the build)."""
     base = "base_link"
     out = ['<?xml version="1.0"?>', f"<robot name={quoteattr(model.name)}>"]
     if model.comment:

@@ -21,10 +21,13 @@ Two documented objectives, both starting from a family's Fig. 2 proportions
 Both objectives also require x(phi1) to be monotone over the range (dx/dphi1
 keeps its sign: a haptic display must not reverse along its path).
 
-The search is a bounded Nelder-Mead on a penalized objective (penalties are
-exact zero inside the feasible set), from the start and from a few seeded
-perturbations; the best feasible point is polished and re-evaluated with the
-refined metrics of :mod:`cad.kinematics.metrics`. Pure numpy/scipy.
+``max-stroke`` over the crank range (``free="range"``, no stroke held) is solved globally by
+branch and bound over every crank window (:mod:`cad.kinematics.max_stroke`), with a proven
+upper bound on the stroke of any window (``upper_bound_mm``); with ``free="all"`` that
+window is the first start of the search below. The other searches are a bounded Nelder-Mead
+on a penalized objective (penalties are exact zero inside the feasible set), from the start
+and from a few seeded perturbations; the best feasible point is polished and re-evaluated
+with the refined metrics of :mod:`cad.kinematics.metrics`. Pure numpy/scipy.
 """
 
 from __future__ import annotations
@@ -61,6 +64,9 @@ class SynthesisResult:
     start_metrics: Metrics
     evaluations: int
     feasible: bool
+    #: max-stroke over the crank range: no window of the linkage meeting the constraints is
+    #: longer (the global search's proof, :mod:`cad.kinematics.max_stroke`); None otherwise.
+    upper_bound_mm: float | None = None
 
 
 def _unpack(x, fb0: FourBar, free: str) -> tuple[FourBar, float, float]:
@@ -236,9 +242,20 @@ def synthesize(
     x0 = _pack(fb0, phi1_min_rad, phi1_max_rad, free)
     rng = np.random.default_rng(seed)
     starts = [x0] + [x0 * (1 + 0.05 * rng.standard_normal(x0.size)) for _ in range(restarts)]
+    bound = None
+    if objective == "max-stroke" and stroke_mm is None:
+        from cad.kinematics.max_stroke import global_max_stroke
+
+        g = global_max_stroke(fb0, dy_tol_mm, mu_min_deg, force_N)
+        counter["n"] += 0 if g is None else g.cells
+        if g is not None:
+            starts = [_pack(fb0, g.phi1_min_rad, g.phi1_max_rad, free)] + starts
+            bound = g.upper_bound_mm if free == "range" else None
     if objective == "max-stroke" and stroke_mm is not None:
         found = _straightest_at_stroke(fb0, free, stroke_mm, mu_min_deg, force_N, samples, starts,
                                        counter)
+    elif bound is not None:
+        found = (fb0, g.phi1_min_rad, g.phi1_max_rad)
     else:
         found = _penalized_search(fb0, free, objective, start, phi1_max_rad - phi1_min_rad, dy_tol_mm,
                                   mu_min_deg, force_N, samples, starts, counter)
@@ -254,4 +271,4 @@ def synthesize(
         feasible = feasible and m.dy_max_mm <= dy_tol_mm * 1.001
     if stroke_mm is not None:
         feasible = feasible and abs(m.stroke_mm - stroke_mm) <= tol.SYNTH_STROKE_REL * stroke_mm
-    return SynthesisResult(objective, fb, lo, hi, m, start, counter["n"], bool(feasible))
+    return SynthesisResult(objective, fb, lo, hi, m, start, counter["n"], bool(feasible), bound)

@@ -57,8 +57,8 @@ class PartKind:
         (rings, spacers, pin envelopes): their distance to a link turning about that axis
         is the same at every pose (used to speed up the interference sweep).
     sheet_mm : None for a part that is not laser-cut; else ``(width, length)`` mm of the
-        sheets it is nested on, ``(0.0, 0.0)`` for the smallest standard size of its sheet
-        material that holds the largest part (:mod:`cad.export.nesting`).
+        sheets it is nested on, ``(0.0, 0.0)`` for the stock size of its material that orders the
+        least sheet area (:mod:`cad.export.nesting`).
     """
 
     name: str

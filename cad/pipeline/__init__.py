@@ -379,8 +379,8 @@ def _check_before_cad(mod, design, formats: set[str], fidelity: str, phi1_deg: f
     if formats & {"mjcf", "urdf"} and not getattr(mod, "SIM_EXPORT", False):
         raise DesignError(
             "--formats",
-            f"mjcf/urdf export is available for four-bar and twin-pantograph designs, "
-            f"not {design.family!r}",
+            f"mjcf/urdf export is available for four-bar, pantograph, twin-pantograph, "
+            f"haptic-pen and PowerMouse designs, not {design.family!r}",
         )
     if formats & {"glb", "3mf"} and not getattr(mod, "VIEW_EXPORT", False):
         raise DesignError(

@@ -293,14 +293,16 @@ def sheet_rows(sheets) -> list[dict]:
     (:func:`cad.export.nesting.plan_sheets`): one bought row per material, thickness and size,
     quantity = number of sheets."""
     rows: dict = {}
+    notes: dict = {}
     for i, s in enumerate(sheets):
         key = (s.material, s.thickness_mm, tuple(s.size_mm))
         rows.setdefault(key, []).append(f"sheet_{i + 1:02d}")
+        notes[key] = s.size_note()
     out = []
     for (mat, t, (w, h)), names in rows.items():
         des = f"sheet {t:g} x {w:g} x {h:g} mm {mat}"
         out.append({"part": f"sheet_{t:g}mm_{mat}", "description": f"stock {des}, laser-cut parts "
-                    f"nested on {', '.join(names)} (sheets/)", "material": mat,
+                    f"nested on {', '.join(names)} (sheets/); {notes[(mat, t, (w, h))]}", "material": mat,
                     "quantity": len(names), "made_or_bought": "bought",
                     "process": "bought: sheet stock for the laser-cut parts", "fits": "",
                     "mass_g": 0.0, "group": "sheet stock", "designation": des, "order_code": "",

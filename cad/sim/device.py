@@ -167,10 +167,11 @@ def wall_report(design, *, K: float | None = None, B: float = 0.0, Te_s: float |
     delta = tab.delta_m(counts)
     if model == "reduced":
         stable_of, n_probe = wall.reduced_stable_of(tab, spec, B), wall.N_PROBE
+        km = wall.k_max_estimate(stable_of)
     else:
         plant = wall.MujocoWall(folder / f"{design.name}.xml", tab, spec)
         stable_of, n_probe = wall.mujoco_stable_of(plant, B), 1
-    km = wall.k_max(stable_of, n_probe=n_probe)
+        km = wall.k_max(stable_of, n_probe=n_probe)
     out = {
         "design": design.name, "model": model, "B_N_s_per_m": B, "Te_s": Te,
         "encoder_counts_per_rev": counts, "encoder_resolution_m": delta,
@@ -187,6 +188,12 @@ def wall_report(design, *, K: float | None = None, B: float = 0.0, Te_s: float |
         "bisection": {"K_lo_N_per_m": wall.K_LO_N_PER_M, "K_hi_N_per_m": wall.K_HI_N_PER_M,
                       "rtol": wall.K_RTOL, "probes_per_round": n_probe,
                       "simulations": km["simulations"]},
+        "K_max_sampling_error_rel": km.get("sampling_error_rel"),
+        "K_band_N_per_m": [km.get("K_first_unstable_N_per_m"), km.get("K_last_stable_N_per_m")],
+        "K_max_method": ("threshold with the fewest exceptions over a fine K grid around a bisection "
+                         f"(step {wall.K_GRID_STEP:g}; {km.get('probes')} probes, {km.get('exceptions')} "
+                         "exceptions; stability is intermittent near K_max)") if model == "reduced"
+                        else f"bisection in log K to {wall.K_RTOL:g}",
     }
     if K is not None:
         if model == "reduced":

@@ -146,3 +146,22 @@ def twin_task_mass_matrix(m, d) -> dict:
     T = np.vstack([jp[:2], jr[2:3]]) @ N  # task velocity = T u_dot
     Ti = np.linalg.inv(T)
     return {"M_task": Ti.T @ Mu @ Ti, "residual_m": loop_residual_m(m, d)}
+
+
+def fivebar_task_mass_matrix(m, d) -> dict:
+    """Task mass matrix of the plain 5-bar at the current pose, from MuJoCo alone: the
+    kinetic-energy matrix (2, 2) kg in the handle's (x, y) velocity with the handle pin not
+    spinning (``M_xy``), and the apparent mass (2, 2) kg with the pin free to spin in its
+    bearings (``M_apparent`` = inverse of the xy block of the inverse task matrix);
+    ``residual_m`` of the loop. Independent joints: ``q_left``, ``q_right``, ``handle_spin``."""
+    indep = ["q_left", "q_right", "handle_spin"]
+    close_loops(m, d, indep)
+    N = null_basis(m, d, indep)
+    M = full_mass_matrix(m, d)
+    Mu = N.T @ M @ N
+    jp, jr = site_jacobian(m, d, "handle")
+    T = np.vstack([jp[:2], jr[2:3]]) @ N  # (x, y, spin) velocity = T u_dot
+    Ti = np.linalg.inv(T)
+    Mt = Ti.T @ Mu @ Ti
+    return {"M_xy": Mt[:2, :2], "M_apparent": np.linalg.inv(np.linalg.inv(Mt)[:2, :2]),
+            "residual_m": loop_residual_m(m, d)}

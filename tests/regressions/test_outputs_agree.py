@@ -154,7 +154,7 @@ def eq25_K_max(st: dict) -> float:
 
 # ------------------------------------------------------------------------ the builds
 FOURBAR_FORMATS = {"firmware", "mjcf"}
-FORMATS = {"hoeken": FOURBAR_FORMATS, "pantograph": {"firmware"}, "twin-pantograph": {"firmware", "mjcf"},
+FORMATS = {"hoeken": FOURBAR_FORMATS, "pantograph": {"firmware", "mjcf"}, "twin-pantograph": {"firmware", "mjcf"},
            "haptic-pen": {"mjcf"}, "powermouse": {"firmware"}}
 #: Bundled designs built by default (the rest: slow).
 FAST = ("hoeken.toml", "pantograph.toml", "haptic_mouse.toml", "powermouse.toml")

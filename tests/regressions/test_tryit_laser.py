@@ -84,8 +84,7 @@ def test_part_too_large_for_the_sheet_is_named():
 def _rows():
     """BOM rows as :func:`cad.pipeline.family.bom_rows` writes them for two laser-cut parts
     on one sheet, the sheet's stock line, and one bought bearing."""
-    from types import SimpleNamespace
-
+    from cad.export.nesting import Sheet
     from cad.export.order import NESTED_STOCK
     from cad.pipeline.family import sheet_rows
 
@@ -94,7 +93,7 @@ def _rows():
             for n in ("crank", "coupler")]
     bearing = {"part": "bearing", "designation": "618/8", "made_or_bought": "bought",
                "quantity": 3, "group": "ball bearings", "order_code": "SKF 618/8", "stock": ""}
-    sheet = SimpleNamespace(material="aluminium-5083", thickness_mm=6.0, size_mm=(400.0, 300.0))
+    sheet = Sheet("aluminium-5083", 6.0, (400.0, 300.0))
     return made + [bearing] + sheet_rows([sheet])
 
 
@@ -197,3 +196,31 @@ def test_laser_on_the_powermouse_says_it_is_a_fourbar_key(tmp_path):
         _load(p)
     assert e.value.field == "parts"
     assert "process is a four-bar [parts] key" in str(e.value) and "chebyshev-v" in str(e.value)
+
+
+def test_laser_build_without_sheet_size_orders_the_smallest_stock(tmp_path):
+    """Issue 34 §5: designs/hoeken_laser.toml without ``laser_sheet_mm`` ordered two 1000 x
+    2000 mm sheets for a ~170 mm device; its plates (largest: the 153 x 168 mm base plate)
+    fit the 304.8 x 609.6 mm quarter sheet with room, one per thickness (6 and 5 mm), and the
+    BOM's sheet lines say why that size."""
+    import csv
+
+    from cad.api import build_design, load_design
+
+    text = (ROOT / "designs" / "hoeken_laser.toml").read_text()
+    p = tmp_path / "auto.toml"
+    p.write_text("\n".join(x for x in text.splitlines() if not x.startswith("laser_sheet_mm")))
+    rep = build_design(load_design(p), tmp_path / "out", formats=("dxf",), fidelity="preview")
+    sheets = rep["sheets"]["sheets"]
+    assert sorted(s["thickness_mm"] for s in sheets) == [5.0, 6.0]
+    assert all(s["size_mm"] == [304.8, 609.6] for s in sheets)
+    with open(tmp_path / "out" / "bom.csv", newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    stock = [r for r in rows if r["group"] == "sheet stock"]
+    assert len(stock) == 2 and all("least sheet area" in r["description"] for r in stock)
+    # issue 34 §3: the motor line names the catalog values no public source states, as
+    # report.json's device does
+    motor = next(r for r in rows if r["part"].startswith("motor_"))
+    unv = sorted(k for k, c in rep["device"]["motors"][0]["constants"].items() if c.get("unverified"))
+    assert "unverified data" in motor["description"] and unv
+    assert all(k in motor["description"] for k in unv)

@@ -4,7 +4,7 @@ Reference: an independent brute force (tests below) -- a 0.5 deg grid of phi1_mi
 full turn of the bundled Hoeken's bar set, phi1_max root-found for a 100 mm chord, keeping
 segments with x(phi1) monotone and a transmission angle >= 30 deg. It finds phi1 = 77.5 ..
 259.668 deg with dy_max 0.169 mm (checked here by ``hapticad analyze``), so a 100 mm stroke
-*is* reachable under the default ``--dy-tol-mm 0.2``; docs/synthesis.md's own run [1] reaches 103.6 mm.
+*is* reachable under the default ``--dy-tol-mm 0.2``; docs/synthesis.md's own run [1] reaches 110.2 mm.
 """
 from __future__ import annotations
 
@@ -70,9 +70,6 @@ HOEKEN_110 = HOEKEN_100.replace("hoeken_100_brute", "hoeken_110_brute").replace(
     "phi1_max_deg = 259.6677545304832", "phi1_max_deg = 283.02340337090294")
 
 
-@pytest.mark.xfail(strict=True, reason="max-stroke without a held stroke stops at a local optimum: "
-                   "103.6 mm (dy 0.200 mm) although the same bar set holds 110 mm with dy 0.190 mm "
-                   "(phi1 77.0 .. 283.0 deg, brute force, checked by analyze below)")
 def test_max_stroke_finds_the_110_mm_segment_the_brute_force_finds(tmp_path):
     ref = _analyze(tmp_path, HOEKEN_110)
     assert ref["stroke_mm"] > 109.99 and ref["dy_max_mm"] < 0.2

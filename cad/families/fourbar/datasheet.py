@@ -210,8 +210,10 @@ def eq25_K_max(s: dict) -> float:
     return 2.0 * (s["Fs"] + s["Fv"] * s["xdot"]) / (s["delta"] + s["xdot"] * s["Te"])
 
 
-def simulated_K_max(design, report: dict, s: dict, tau_max_Nm: float) -> float | None:
-    """K_max of the reduced-model wall (B = 0) with the report's H, N/m (None: unstable at K_lo)."""
+def simulated_K_max(design, report: dict, s: dict, tau_max_Nm: float) -> dict:
+    """K_max of the reduced-model wall (B = 0) with the report's H: ``{"K": N/m or None (unstable
+    at K_lo), "err": relative sampling error or None, "band": [first unstable, last stable]
+    probe N/m}`` (:func:`cad.sim.wall.k_max_estimate`)."""
     from cad.dynamics.inertia import InertiaCoefficients
     from cad.sim import wall
 
@@ -221,14 +223,16 @@ def simulated_K_max(design, report: dict, s: dict, tau_max_Nm: float) -> float |
 
     def make():
         tab = wall.device_tables(design, H)
-        return {"K": wall.k_max(wall.reduced_stable_of(tab, spec, 0.0), n_probe=wall.N_PROBE)["K_max_N_per_m"]}
+        r = wall.k_max_estimate(wall.reduced_stable_of(tab, spec, 0.0))
+        return {"K": r["K_max_N_per_m"], "err": r["sampling_error_rel"],
+                "band": [r["K_first_unstable_N_per_m"], r["K_last_stable_N_per_m"]]}
 
     from cad.io import derived_cache
 
     # a few seconds of simulation: through the derived cache (same linkage, H and spec: a hit)
     key = [design.resolved_linkage(), H.as_dict(), [spec.Te_s, spec.counts_per_rev, spec.Fv_N_s_per_m,
            spec.Fs_N, spec.tau_max_Nm, spec.v0_m_per_s]]
-    return derived_cache.cached_json("datasheet-kmax", key, make, code=("cad.sim.wall",))["K"]
+    return derived_cache.cached_json("datasheet-kmax", key, make, code=("cad.sim.wall", "cad.tolerances"))
 
 
 def stiffness_rows(design, report, m, Jx, friction_N, simulate: bool = True) -> list[dict]:
@@ -238,19 +242,25 @@ def stiffness_rows(design, report, m, Jx, friction_N, simulate: bool = True) -> 
                f"conservative bound; {src}"),
            row("passivity_K_max_N_per_m", "renderable stiffness, passivity bound", 2 * s["Fv"] / s["Te"], "N/m",
                f"Colgate and Schenkel: passive iff K < 2 Fv / Te (viscous friction only, Coulomb ignored); {src}")]
-    km = None
+    from cad.sim import wall
+
+    km = {"K": None, "err": None, "band": [None, None]}
     if simulate and m.torque_peak_mNm is not None and all(k in report for k in ("H11_kg_m2", "H12_kg_m2")):
         km = simulated_K_max(design, report, s, m.torque_peak_mNm * 1e-3)
-    from cad.sim import wall
+    err = "" if km["err"] is None else (
+        f"; K_max is the threshold best separating stable from unstable walls on a {wall.K_GRID_STEP:.2%} K grid "
+        f"(stability is intermittent from {km['band'][0]:.4g} to {km['band'][1]:.4g} N/m), sampling error "
+        f"+/-{km['err']:.1%} (95 % bootstrap + grid step)")
 
     skipped = "" if simulate else ("not simulated in this build (a fabrication build and `hapticad datasheet` "
                                    "give it): ")
-    out.append(row("K_max_N_per_m", "renderable stiffness, simulated K_max", km, "N/m",
+    out.append(row("K_max_N_per_m", "renderable stiffness, simulated K_max", km["K"], "N/m",
                    f"{skipped}largest stable virtual wall (B = 0) of the reduced 1-DOF model (sampled, quantized encoder, "
                    f"Coulomb + viscous friction, motor saturation; `hapticad wall`), Te = {s['Te']:g} s, "
                    f"{s['counts']:.5g} counts/rev, Fs = {s['Fs']:.3g} N; stable = contact oscillation "
-                   f"< {wall.AMPLITUDE_COUNTS:g} encoder steps; {src}",
+                   f"< {wall.AMPLITUDE_COUNTS:g} encoder steps{err}; {src}",
                    paper="15000 N/m measured (Hoeken paper §III.B.4)" if design.family == "hoeken" else None))
+    out[-1]["sampling_error_rel"] = km["err"]
     return out
 
 

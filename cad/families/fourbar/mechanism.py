@@ -575,7 +575,7 @@ def _motor_and_hub(b: _Builder, motor_spec=None) -> None:
         lambda: motor.motor_housing_shape(m),
         material="steel-1018",
         made=False,
-        description=(motor_spec or m).description,
+        description=(motor_spec or m).bom_description(),
         process=f"bought; face tapped {m.bolt_size.split('-')[0]} x{m.bolt_count}; with its shaft "
                 "(solid motor_shaft in assembly.step)",
         mass_kg=(motor_spec or m).mass_kg,

@@ -142,12 +142,6 @@ ASSEMBLY_CHECKS = (
 
 def check_options(design, fidelity: str, phi1_deg, formats=frozenset()) -> None:
     """Refuse what this builder cannot do, before any CAD import (DesignError)."""
-    if set(formats) & {"mjcf", "urdf"} and design.family != "twin-pantograph":
-        raise DesignError(
-            "--formats",
-            f"mjcf/urdf export is available for four-bar and twin-pantograph designs, "
-            f"not {design.family!r}",
-        )
     if design.family not in FAMILIES:
         from cad.data.families import refusal
 
@@ -166,8 +160,8 @@ def check_options(design, fidelity: str, phi1_deg, formats=frozenset()) -> None:
 VIEW_EXPORT = True
 
 
-#: This builder writes the simulator formats for the twin pantograph (mjcf, urdf;
-#: :mod:`cad.families.pantograph.sim`).
+#: This builder writes the simulator formats (mjcf, urdf) of the twin pantograph and the
+#: plain 5-bar (:mod:`cad.families.pantograph.sim`).
 SIM_EXPORT = True
 
 
@@ -268,9 +262,14 @@ def _report_of(b) -> dict:
 
 
 def _sim_files(b) -> list[str]:
-    """MJCF / URDF of the twin pantograph when asked (:func:`_write_sim`)."""
+    """MJCF / URDF when asked: the twin pantograph (:func:`_write_sim`), the plain 5-bar
+    (:func:`cad.families.pantograph.sim.fivebar_sim_model`, from the assembly model)."""
     if not is_twin(b.design):
-        return []
+        from cad.families.pantograph.sim import fivebar_sim_model
+        from cad.pipeline.views import write_sim_model
+
+        return write_sim_model(lambda: fivebar_sim_model(b.design, b.model, b.bodies), b.out_dir,
+                               b.formats, b.design.name)
     return _write_sim(b.design, b.out_dir, b.formats, b.instances, b.bodies, b.pre[0],
                       b.model.extra["home_mm"])
 

@@ -1,4 +1,5 @@
-"""The twin-pantograph mouse as a simulator model (MJCF/URDF, issue 14).
+"""The pantograph families as simulator models (MJCF/URDF, issues 14 and 32): the twin-pantograph
+mouse (:func:`sim_model`) and the plain 5-bar (:func:`fivebar_sim_model`, end of the module).
 
 World frame: the kinematic base frame of :mod:`cad.families.pantograph.build` (metres, z up,
 z = 0 on the base plate's top). Bodies (spanning tree), for each group ``g`` in
@@ -6,7 +7,8 @@ z = 0 on the base plate's top). Bodies (spanning tree), for each group ``g`` in
 
 * ``g_proximal_s``: hinge ``g_q_s`` at B_s on the world (value = the actuated angle q,
   isotropy paper Fig. 1), the motor ``g_motor_s`` (rotor inertia as armature, torque limit
-  ``[actuators] torque_max_Nm``);
+  the BOM motor's peak torque, :func:`peak_torque_Nm`; ``[actuators] torque_max_Nm`` stays
+  the GII's normalisation);
 * ``g_distal_s``: hinge ``g_elbow_s`` at the elbow C_s (value = distal angle - q);
 * ``crankshaft``: hinge ``theta`` at the main journal, on ``knob_distal_left`` (value =
   theta - the distal angle). Sites ``handle`` (main journal, the knob axis) and
@@ -24,6 +26,7 @@ import math
 
 import numpy as np
 
+from cad.errors import DesignError
 from cad.export.sim import SimBody, SimLoop, SimMesh, SimModel, SimMotor, rot_z
 
 
@@ -47,6 +50,20 @@ def _meshes(bodies_parts: dict, made: set[str], color, prefix: str, link_type: s
     return tuple(out)
 
 
+def peak_torque_Nm(device) -> dict[str, float]:
+    """``{joint: N m}``: each motor's peak torque (the catalog / ``[motor]`` value of the
+    resolved device) through its transmission -- the MJCF force range and the URDF effort.
+    DesignError (``parts.motor``) when the motor states none."""
+    ratio = {t.motor_joint: t.ratio for t in device.transmissions}
+    out = {}
+    for m in device.motors:
+        if m.spec.torque_peak_mNm is None:
+            raise DesignError("parts.motor", f"{m.catalog_key!r} states no peak torque: the mjcf/urdf "
+                              "force range needs one (add torque_peak_mNm to [motor])")
+        out[m.joint] = m.spec.torque_peak_mNm * 1e-3 * ratio[m.joint]
+    return out
+
+
 def _link_bodies(design, bodies: dict, lay: dict, ik, rotor_kg_m2: float, meshes) -> tuple:
     """The eight link bodies (proximal on the world, distal on its proximal) with their
     motors: ``(bodies, {distal body: 4x4 world mm}, motors)``."""
@@ -54,7 +71,9 @@ def _link_bodies(design, bodies: dict, lay: dict, ik, rotor_kg_m2: float, meshes
     l3 = design.params["distal_mm"]
     B = [(-a / 2, 0.0), (a / 2, 0.0)]
     flip = np.diag([1.0, -1.0, -1.0, 1.0])
-    torque = float(np.max(np.atleast_1d(design.actuators["torque_max_Nm"])))
+    from cad.device import resolve_device
+
+    torque = peak_torque_Nm(resolve_device(design))  # the BOM's motors, not [actuators]
     out: list[SimBody] = []
     world = {}
     motors = []
@@ -83,7 +102,7 @@ def _link_bodies(design, bodies: dict, lay: dict, ik, rotor_kg_m2: float, meshes
                 com_m=np.asarray(bodies[f"{grp}_distal"].com_m),
                 inertia_com_kg_m2=np.asarray(bodies[f"{grp}_distal"].inertia_com_kg_m2),
                 meshes=meshes(dn, "distal", F), sites=tip))
-            motors.append(SimMotor(f"{grp}_motor_{side}", f"{grp}_q_{side}", torque))
+            motors.append(SimMotor(f"{grp}_motor_{side}", f"{grp}_q_{side}", torque[f"{grp}_q_{side}"]))
     return out, world, motors
 
 
@@ -135,4 +154,79 @@ def sim_model(design, bodies: dict, bodies_parts: dict, ground_items, lay: dict,
         meshdir=".",
         comment=(f"hapticad twin pantograph '{design.name}': world = base frame (m), written at home "
                  f"(x, y, theta) = ({home[0]!r} mm, {home[1]!r} mm, {th!r} rad)"),
+    )
+
+
+# ------------------------------------------------------------------ the plain 5-bar
+#: Spanning tree of the plain 5-bar (body -> parent): two chains from the base, the handle
+#: pin on the left distal link's tip (it runs in both distal clevises' bearings).
+FIVEBAR_TREE = {"proximal_left": "world", "distal_left": "proximal_left",
+                "proximal_right": "world", "distal_right": "proximal_right",
+                "handle": "distal_left"}
+#: Hinge name of each body of :data:`FIVEBAR_TREE` (the motors' joints are the resolved
+#: device's joint names, :func:`cad.device.resolve_device`).
+FIVEBAR_JOINTS = {"proximal_left": "q_left", "distal_left": "elbow_left",
+                  "proximal_right": "q_right", "distal_right": "elbow_right",
+                  "handle": "handle_spin"}
+
+
+def _planar_angle(T_parent: np.ndarray, T_child: np.ndarray) -> float:
+    """Angle of the child's x axis about z from the parent's (both frames z up)."""
+    R = T_parent[:3, :3].T @ T_child[:3, :3]
+    return float(np.arctan2(R[1, 0], R[0, 0]))
+
+
+def fivebar_sim_model(design, model, bodies: dict) -> SimModel:
+    """SimModel of the plain 5-bar pantograph at home, from the build's assembly model.
+
+    ``model``: the :class:`cad.assembly.model.AssemblyModel` (bodies ``proximal_*``,
+    ``distal_*``, ``handle``; frames z up, z = 0 on the base plate's top, mm); ``bodies``:
+    MassProps per body in the same body frames (SI) -- exactly ``report.json`` ``bodies``.
+    World = the kinematic base frame (m). Tree :data:`FIVEBAR_TREE`, hinges
+    :data:`FIVEBAR_JOINTS` (``q_left`` / ``q_right`` = the actuated angles q of isotropy paper
+    Fig. 2; ``handle_spin`` = the handle pin's free turn in its bearings). One loop,
+    ``loop_E``: the right distal tip meets the left distal tip at E (both hinges parallel
+    to z, so one point closes it). Motors ``motor_left`` / ``motor_right``: armature = the
+    BOM motor's rotor inertia reflected through its transmission, force range = its peak
+    torque (:func:`cad.device.resolve_device`), not the GII's ``[actuators]`` normalisation.
+    """
+    from cad.data.materials import get_material
+    from cad.device import resolve_device
+
+    T = model.tf_world_body
+    l3 = design.params["distal_mm"] * 1e-3
+    dev = resolve_device(design)
+    ratio = {t.motor_joint: t.ratio for t in dev.transmissions}
+    arm = {m.joint: m.rotor_inertia_kg_m2 * ratio[m.joint] ** 2 for m in dev.motors}
+    made = {i.kind.name for i in model.instances if i.kind.made and i.kind.listed}
+
+    def meshes(body):
+        return tuple(SimMesh(i.name, f"{i.kind.name}.stl", i.tf_body_part[:3, 3] * 1e-3,
+                             i.tf_body_part[:3, :3], (*get_material(i.kind.material).color_rgb, 1.0))
+                     for i in model.instances if i.body == body and i.kind.name in made)
+
+    out = []
+    for name, parent in FIVEBAR_TREE.items():
+        Tp = np.eye(4) if parent == "world" else T[parent]
+        rel = np.linalg.inv(Tp) @ T[name]
+        mp, joint = bodies[name], FIVEBAR_JOINTS[name]
+        sites = {f"{name}_tip": np.array([l3, 0.0, 0.0])} if name.startswith("distal") else {}
+        if name == "handle":
+            sites = {"handle": np.zeros(3)}
+        out.append(SimBody(name=name, parent=parent, pos_m=rel[:3, 3] * 1e-3, rot=rel[:3, :3],
+                           joint=joint, joint_ref_rad=_planar_angle(Tp, T[name]),
+                           mass_kg=float(mp.mass_kg), com_m=np.asarray(mp.com_m),
+                           inertia_com_kg_m2=np.asarray(mp.inertia_com_kg_m2),
+                           armature_kg_m2=arm.get(joint, 0.0), meshes=meshes(name), sites=sites))
+    motors = tuple(SimMotor(f"motor_{m.joint.split('_', 1)[1]}", m.joint, peak_torque_Nm(dev)[m.joint])
+                   for m in dev.motors)
+    ground = meshes("ground")
+    home = model.extra["home_mm"]
+    return SimModel(
+        name=design.name, bodies=tuple(out), world_meshes=ground,
+        loops=(SimLoop("loop_E", "distal_right", "distal_right_tip", "distal_left", "distal_left_tip"),),
+        motors=motors, meshdir="parts",
+        comment=(f"hapticad 5-bar pantograph '{design.name}': world = base frame (m), written at home "
+                 f"(x, y) = ({float(home[0])!r} mm, {float(home[1])!r} mm); joints q_left, q_right = "
+                 "actuated angles, elbow_* = distal - proximal angle, handle_spin = the handle pin's turn"),
     )

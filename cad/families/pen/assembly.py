@@ -75,7 +75,7 @@ def _link_kinds(design, lay: dict, fidelity: str, add) -> None:
         hull=joints.ring_shape(b.d_mm / 2, b.D_mm / 2, b.B_mm))
     for key, tag in ((p.motor, "shoulder"), (p.waist_motor, "waist")):
         m = get_motor(key)
-        add(f"motor_{tag}", pm.motor_housing_shape(m), "steel-1018", False, m.description,
+        add(f"motor_{tag}", pm.motor_housing_shape(m), "steel-1018", False, m.bom_description(),
             f"bought ({tag} joint); face tapped {m.bolt_size.split('-')[0]} x{m.bolt_count}; with "
             f"its shaft (solid motor_{tag}_shaft in assembly.step)", mass_kg=m.mass_kg)
         add(f"motor_{tag}_shaft", pm.motor_shaft_shape(m), "steel-1018", False, "motor shaft",

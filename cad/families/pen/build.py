@@ -6,7 +6,7 @@ allow_interference, progress, phi1_deg) -> report dict``; ``phi1_deg`` must be N
 has no crank). ``build`` is one call to the build driver of every family
 (:func:`cad.pipeline.run.run_family`) with the pen's stages (:func:`_stages`): the shared
 writers of :mod:`cad.pipeline.family`
-(part files, assembly STEP, BOM, report.md) and the one interference check of every family
+(part files, assembly STEP, BOM, report.md, assembly.md) and the one interference check of every family
 (:func:`cad.assembly.interference.check_model`) over the assembly model's motion
 (:func:`cad.families.pen.layout.motion_task`).
 
@@ -38,6 +38,16 @@ PAPER_TABLE3 = {
     "peak_force_x_N": 24.0, "peak_force_y_N": 21.0, "peak_force_z_N": 20.0,
     "continuous_force_x_N": 2.5, "continuous_force_y_N": 3.3, "continuous_force_z_N": 2.0,
 }
+
+
+#: Final checks of assembly.md (:mod:`cad.assembly.steps`; the steps follow the bodies in
+#: the order of the assembly model, each body's parts before the fasteners that join them).
+ASSEMBLY_CHECKS = (
+    "each motor shaft turned by hand moves its arm over the whole workspace box (report.md) "
+    "with no binding and no contact between links",
+    "the pen turns freely about its own axis (the roll is passive) and in both gimbals",
+    "the clevis set screws are tight (no slip of a hub on its shaft flat)",
+)
 
 
 def check_options(design, fidelity: str, phi1_deg, formats=frozenset()) -> None:
@@ -113,13 +123,13 @@ def _stages():
 
     return Stages(
         check_options=check_options, assemble=_assemble, interference=interference,
-        report=lambda b: _report(b.design, b.model, b.bodies, b.dyn, b.itf, b.bom, b.fidelity,
-                                 b.low),
+        report=lambda b: {**_report(b.design, b.model, b.bodies, b.dyn, b.itf, b.bom, b.fidelity, b.low),
+                          "effective_mass_breakdown": mass_breakdown_report(b.design, b.model, b.props)},
         md_rows=_md_rows, stroke=_stroke, motion_label="motion",
         preview_title=lambda b: f"{b.design.name}: haptic pen at the workspace centre",
         dynamics=_dynamics, bench_z_mm=lambda b: b.model.extra["ground_mm"]["bench_z_mm"],
         thread_notes=False,  # the pen's DXF/drawings carry no tapped-hole notes (as before)
-        more_files=_mjcf,
+        more_files=_mjcf, assembly=lambda design: (None, ASSEMBLY_CHECKS),
         no_solid_rows=_encoder_rows)
 
 
@@ -177,6 +187,49 @@ def _report(design, model, bodies, eff, itf, bom, fidelity, low) -> dict:
     }
 
 
+#: Table 3's effective mass along x (g), the figure the breakdown is set against.
+PAPER_MASS_X_G = PAPER_TABLE3["mass_x_g"]
+#: Groups of the breakdown: (label, test on (body, kind name)), first match wins; rotors apart.
+BREAKDOWN_GROUPS = (
+    ("shoulder motors (on the waist brackets)", lambda b, k: b.endswith("_waist") and k.startswith("motor")),
+    ("waist brackets (bracket, hub, screws)", lambda b, k: b.endswith("_waist")),
+    ("links (tubes, clevises, pins, bearings)", lambda b, k: "proximal" in b or "distal" in b),
+    ("gimbals (yokes, rings, their pins and bearings)", lambda b, k: b.endswith(("_yoke", "_ring"))),
+    ("pen (rod, hubs, bearings)", lambda b, k: b == "pen"),
+)
+
+
+def mass_breakdown_report(design, model, props: dict) -> dict:
+    """report.json ``effective_mass_breakdown``: the effective mass at home along x (diagonal,
+    others held) split over every part and the rotors
+    (:func:`cad.families.pen.dynamics.mass_breakdown`), grouped by :data:`BREAKDOWN_GROUPS`, with
+    Table 3's 190 g beside it and the figure with the shoulder motors taken off the waists
+    (``without_shoulder_motors_g``: what grounding them would leave; not the paper's layout,
+    whose shoulder motors turn with the waists, §4.2). Grams."""
+    from cad.families.pen.dynamics import mass_breakdown
+
+    parts: dict[str, list] = {}
+    for i in model.instances:
+        mp = props.get(i.kind.name)
+        if mp is not None:
+            T = i.tf_body_part
+            parts.setdefault(i.body, []).append((i.kind.name, mp.transformed(T[:3, :3], T[:3, 3] * 1e-3)))
+    home = model.extra["home_task"]
+    r = mass_breakdown(design, parts, home, "x")
+    groups = {label: 0.0 for label, _ in BREAKDOWN_GROUPS}
+    by_kind: dict[str, float] = {}
+    for body, kind, v in r["parts"]:
+        label = next(lab for lab, test in (*BREAKDOWN_GROUPS, ("other", lambda b, k: True)) if test(body, kind))
+        groups[label] = groups.get(label, 0.0) + v * 1e3
+        by_kind[kind] = by_kind.get(kind, 0.0) + v * 1e3
+    groups["motor rotors (reflected)"] = sum(v for _, v in r["rotors"]) * 1e3
+    motors = groups[BREAKDOWN_GROUPS[0][0]]
+    return {"axis": "x", "at_task": [float(v) for v in home], "total_g": r["total"] * 1e3,
+            "groups_g": groups, "by_kind_g": dict(sorted(by_kind.items(), key=lambda kv: -kv[1])),
+            "rotors_g": {j: v * 1e3 for j, v in r["rotors"]},
+            "without_shoulder_motors_g": r["total"] * 1e3 - motors, "paper_g": PAPER_MASS_X_G}
+
+
 def _md_rows(r: dict) -> list[tuple[str, str]]:
     em = r["effective_mass_home"]
     rows = [("GII (workspace)", f"{r['gii']['gii']:.4f}"),
@@ -189,4 +242,9 @@ def _md_rows(r: dict) -> list[tuple[str, str]]:
     for k, v in em.items():
         if isinstance(v, float):
             rows.append((f"effective mass at home: {k}", f"{v:.4g}"))
+    bd = r.get("effective_mass_breakdown")
+    if bd:
+        from cad.families.pen.datasheet import breakdown_text
+
+        rows.append(("effective mass along x: where it comes from", breakdown_text(bd)))
     return rows

@@ -39,6 +39,11 @@ def rows_and_limits(design, report: dict, out_dir=None, simulate_wall: bool = Tr
             continue
         out.append(r)
     out += motor_force_rows(design, paper)
+    bd = report.get("effective_mass_breakdown")
+    if bd:
+        out.append(row("mass_x_breakdown_g", "effective mass along x at home: contributions", bd["total_g"], "g",
+                       breakdown_text(bd) + " (cad.families.pen.dynamics.mass_breakdown: kinetic energy part by "
+                       "part)", paper=paper.get("mass_x_g")))
     itf = report.get("interference") or {}
     if itf:
         out.append(row("overlap_volume_mm3", "largest solid overlap over the motion",
@@ -111,3 +116,16 @@ def motor_force_rows(design, paper: dict) -> list[dict]:
     from cad.families.pantograph.datasheet import motor_force_rows as rows_of
 
     return rows_of(design, paper)
+
+
+def breakdown_text(bd: dict) -> str:
+    """One line: the x effective mass, its groups, Table 3 and the figure without the
+    shoulder motors (report.md note, datasheet row)."""
+    parts = ", ".join(f"{k} {v:.0f} g" for k, v in sorted(bd["groups_g"].items(), key=lambda kv: -kv[1]))
+    return (f"effective mass along x at home (others held) {bd['total_g']:.0f} g = {parts}; Table 3 measured "
+            f"{bd['paper_g']:g} g. Moving x turns both waists, carrying their shoulder motors at the motor "
+            f"plate outside four link layers and the gimbal; with the shoulder motors off the waists it would be "
+            f"{bd['without_shoulder_motors_g']:.0f} g. The paper's layout keeps them on the waists (they turn with "
+            "the 5-bar's plane, §4.2) and its steel counterbalances add to this figure (they balance gravity, "
+            "not inertia), so no option of that layout closes the gap: its shoulder actuators are narrower "
+            "(l1 = 2.4 cm 'to account for the width of the shoulder actuators', Table 2) and lighter")

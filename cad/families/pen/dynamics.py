@@ -96,3 +96,39 @@ def effective_mass(design, bodies: dict, X) -> dict:
         out[f"{n}_diag"] = float(M[i, i] * scale[i])
         out[f"{n}_apparent"] = float(scale[i] / Mi[i, i])
     return out
+
+
+#: Task axes of :func:`mass_matrix_si` by name.
+TASK_AXES = ("x", "y", "z", "yaw", "pitch")
+
+
+def mass_breakdown(design, parts_by_body: dict, X, axis: str = "x", rotor_kg_m2=None) -> dict:
+    """Contribution of every part and every rotor to the diagonal term ``M_ii`` of the
+    operational mass matrix at task pose ``X`` (the mass felt moving task axis ``axis`` with
+    the others held; :func:`mass_matrix_si`): kinetic energy is additive over rigid parts,
+    so ``M_ii = sum_p (m_p |J_cp e_i|^2 + (J_w e_i)^T I_p (J_w e_i)) + sum_j Jm_j J_ji^2``.
+
+    parts_by_body : ``{body: [(label, MassProps in the body frame, SI)]}`` (a label may repeat:
+        the same kind twice on one body); rotor_kg_m2 : (6,) as :func:`mass_matrix_si`.
+    Returns ``{"axis", "total", "parts": [(body, label, value)], "rotors": [(joint, value)]}``,
+    values in kg (translation axes) or kg m^2 (rotations), total = their sum.
+    """
+    from cad.kinematics import haptic_pen as hp
+
+    i = TASK_AXES.index(axis)
+    parts = []
+    for b, (Jv, Jw, T) in body_jacobians(design, X).items():
+        R = T[:3, :3]
+        for label, mp in parts_by_body.get(b, ()):
+            c = R @ np.asarray(mp.com_m, float)
+            vc = Jv[:, i] - np.cross(c, Jw[:, i])  # v_c = v_o + w x c
+            w = Jw[:, i]
+            Iw = R @ np.asarray(mp.inertia_com_kg_m2, float) @ R.T
+            parts.append((b, label, float(mp.mass_kg * vc @ vc + w @ Iw @ w)))
+    if rotor_kg_m2 is None:
+        rotor_kg_m2 = rotor_inertias(design)
+    J, _ = hp.jacobian_si(design.mechanism, np.asarray(X, float)[None])
+    joints = [f"{a}_q_{j}" for a in ("A", "B") for j in ("waist", "lower", "upper")]
+    rotors = [(j, float(jm * J[0][k, i] ** 2)) for k, (j, jm) in enumerate(zip(joints, rotor_kg_m2, strict=True))]
+    total = sum(v for *_, v in parts) + sum(v for _, v in rotors)
+    return {"axis": axis, "total": total, "parts": parts, "rotors": rotors}

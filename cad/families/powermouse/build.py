@@ -85,6 +85,9 @@ def check_options(design, fidelity: str, phi1_deg, formats=frozenset()) -> None:
     """Refuse what this builder cannot do, before any CAD import (DesignError)."""
     if phi1_deg is not None:
         raise DesignError("--phi1-deg", f"the PowerMouse has no crank angle, got {phi1_deg!r}")
+    if "urdf" in set(formats):
+        raise DesignError("--formats", "urdf is not written for the PowerMouse: URDF has no force "
+                          "actuator at a point (its six coils) and no free body; mjcf is")
     from cad.families.powermouse import parts as pp
 
     pp.lid_screw_plan(design.stator.housing_wall_mm)  # walls too thin for the lid screws
@@ -157,7 +160,7 @@ def _stages():
         motion_label="motion range", mass_label="mass properties and wrench map",
         prepare_label="actuator optimum (eqs 8-9)", dynamics=_dynamics,
         thread_notes=False,  # no tapped-hole notes in the DXF/drawings (as before)
-        more_exports=_write_rig, cutaway=PICTURE_CUTAWAY,
+        more_exports=_write_rig, cutaway=PICTURE_CUTAWAY, more_files=_sim_files,
         figures=lambda b: fig8_chart(b.design, b.model.extra["actuator"]["gap_mm"], b.out_dir),
         assembly=_assembly)
 
@@ -223,6 +226,18 @@ PICTURE_CUTAWAY = ("housing_*", "iron_*", "magnet_*_outer-*", "flotor_body", "fl
 
 #: This builder writes glb and 3mf (:mod:`cad.pipeline.views`).
 VIEW_EXPORT = True
+#: This builder writes the MJCF (:mod:`cad.families.powermouse.sim`; urdf is refused).
+SIM_EXPORT = True
+
+
+def _sim_files(b) -> list[str]:
+    """``<name>.xml`` (MJCF) when asked: the free flotor and its coil actuators
+    (:func:`cad.families.powermouse.sim.sim_model`)."""
+    from cad.families.powermouse.sim import sim_model
+    from cad.pipeline.views import write_sim_model
+
+    return write_sim_model(lambda: sim_model(b.design, b.model, b.dyn["flotor_mp"], b.model.extra["actuator"]),
+                           b.out_dir, b.formats, b.design.name)
 
 
 def _write_rig(b) -> list[str]:

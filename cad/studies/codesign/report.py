@@ -82,7 +82,8 @@ def optimize_fourbar(design, objective: str, trials: int, seed: int, top: int, c
 
 def _datasheet_check(design, cand) -> dict:
     """The full datasheet of a candidate (:func:`cad.datasheet.run.device_datasheet`: a build at
-    inertia fidelity, the reduced-model wall bisection for K_max): {key: (value, verdict)} of
+    inertia fidelity, the reduced-model wall threshold for K_max; a figure within its sampling
+    error of the limit is "within sampling error", not a miss): {key: (value, verdict)} of
     its limited rows and ``ok``."""
     from cad.datasheet.run import device_datasheet
     from cad.design import parse_design

@@ -361,7 +361,8 @@ def wall_stable(design, info: dict, K_N_per_m: float) -> bool:
     """Is a virtual wall of stiffness ``K_N_per_m`` stable on the reduced 1-DOF model
     (:mod:`cad.sim.wall`: one simulation, the datasheet's inputs without a ``[stiffness]``
     table: Te 0.33 ms, the design's encoder, Fs = its friction estimate, Fv = 0) with the
-    cheap model's H (``info``)? The datasheet's K_max is the largest such K (bisection)."""
+    cheap model's H (``info``)? The datasheet's K_max is the stability threshold of such walls
+    (:func:`cad.sim.wall.k_max_estimate`, with its sampling error)."""
     from cad.dynamics.inertia import InertiaCoefficients
     from cad.families.fourbar.datasheet import lever, stiffness_inputs
     from cad.sim import wall

@@ -314,3 +314,77 @@ def test_bad_parts_keys_are_named_before_any_cad(tmp_path, key, value, field):
     code, _, err = hapticad("build", bad, "--out", tmp_path / "o")
     assert_one_line_error(code, err, field)
     assert not (tmp_path / "o").exists()
+
+
+def test_assembly_md_places_every_bom_line_once(built):
+    """The pen writes assembly.md through the writer of every family: every BOM line (read
+    back from bom.csv, a second writer) appears as many times as its quantity among the
+    steps' part lines, and the pen's final checks close it."""
+    import collections
+    import csv
+
+    from cad.families.pen.build import ASSEMBLY_CHECKS
+
+    out, rep = built
+    assert "assembly.md" in rep["files"]
+    text = (out / "assembly.md").read_text()
+    placed = collections.Counter(re.findall(r"^- `[^`]+` \(([^)]+)\)", text, re.M))
+    with (out / "bom.csv").open(newline="") as f:
+        rows = list(csv.DictReader(f))
+    assert rows and {r["part"]: int(r["quantity"]) for r in rows} == dict(placed)
+    for check in ASSEMBLY_CHECKS:
+        assert f"- check: {check}" in text
+
+
+def test_mass_x_breakdown_sums_to_the_effective_mass_part_by_part(built, model):
+    """The breakdown of the x effective mass (report.json ``effective_mass_breakdown``, every
+    part's kinetic energy) sums to ``effective_mass_home.mass_x_g_diag`` (computed from the
+    combined body mass properties); each body's parts sum to that body's term; the shoulder
+    motors' share equals the closed form of a rigid waist turning at v / R about its vertical
+    axis (R = the home distance of E from the waist axis), sum of m d^2 + I_zz over the motors
+    placed in the world."""
+    from cad.families.pen.dynamics import body_jacobians, mass_breakdown
+    from cad.massprops.props import MassProps
+    from cad.pipeline import family
+
+    out, rep = built
+    bd = rep["effective_mass_breakdown"]
+    em = rep["effective_mass_home"]
+    assert bd["total_g"] == pytest.approx(em["mass_x_g_diag"], rel=1e-12)
+    assert sum(bd["groups_g"].values()) == pytest.approx(bd["total_g"], rel=1e-12)
+    assert sum(bd["by_kind_g"].values()) + sum(bd["rotors_g"].values()) == pytest.approx(bd["total_g"], rel=1e-12)
+    assert bd["paper_g"] == 190.0 and "other" not in bd["groups_g"]
+    d = model.design
+    props = family.kind_props(model.instances)
+    X = np.array(em["at_task"])
+    parts: dict = {}
+    for i in model.instances:
+        if props[i.kind.name] is not None:
+            T = i.tf_body_part
+            parts.setdefault(i.body, []).append((i.kind.name, props[i.kind.name].transformed(T[:3, :3], T[:3, 3] * 1e-3)))
+    r = mass_breakdown(d, parts, X, "x")
+    jac = body_jacobians(d, X)
+    for body, b in rep["bodies"].items():  # each body: its parts' terms = the combined body's term
+        mp = MassProps(b["mass_kg"], np.array(b["com_mm"]) * 1e-3, np.array(b["inertia_com_kg_m2"]))
+        whole = mass_breakdown(d, {body: [("all", mp)]}, X, "x", rotor_kg_m2=np.zeros(6))["total"]
+        assert sum(v for bb, _, v in r["parts"] if bb == body) == pytest.approx(whole, rel=1e-9, abs=1e-15), body
+    # closed form for the shoulder motors: the waist is a rigid body turning about z at v / R
+    R_m = np.hypot(*(model.tf_world_body["A_yoke"][:2, 3] - model.tf_world_body["A_waist"][:2, 3])) * 1e-3
+    want = 0.0
+    for i in model.instances:
+        if i.body.endswith("_waist") and i.kind.name.startswith("motor") and props[i.kind.name] is not None:
+            Tw = model.tf_world_body[i.body] @ i.tf_body_part
+            mp = props[i.kind.name].transformed(Tw[:3, :3], Tw[:3, 3] * 1e-3)  # world frame
+            axis = model.tf_world_body[i.body][:2, 3] * 1e-3
+            want += mp.mass_kg * np.sum((mp.com_m[:2] - axis) ** 2) + mp.inertia_com_kg_m2[2, 2]
+    want /= R_m**2
+    assert jac["A_waist"][1][2, 0] == pytest.approx(-1 / R_m, rel=1e-6)  # the waist turns at v / R
+    got = bd["groups_g"]["shoulder motors (on the waist brackets)"] * 1e-3
+    assert got == pytest.approx(want, rel=1e-6)
+    assert bd["without_shoulder_motors_g"] == pytest.approx(bd["total_g"] - got * 1e3, rel=1e-12)
+    from cad.families.pen.datasheet import rows_and_limits
+
+    rows, _, _ = rows_and_limits(d, rep, simulate_wall=False)
+    (row,) = [x for x in rows if x["key"] == "mass_x_breakdown_g"]
+    assert row["value"] == bd["total_g"] and row["paper"] == 190.0
+    assert f"{got * 1e3:.0f} g" in row["model"] and "shoulder motors" in row["model"]

@@ -185,6 +185,11 @@ def test_twin_pantograph_effective_mass_from_mujoco(mouse):
     _, out, rep = mouse
     m, data = mj.load(out / "haptic-mouse.xml")
     assert m.nv == 9 and m.neq == 3 and m.nu == 4
+    # force ranges: the peak torque of the motor the BOM orders (catalog), not [actuators] torque_max_Nm
+    peak = get_motor("maxon-re35").torque_peak_mNm * 1e-3
+    assert [m.actuator(i).name for i in range(4)] == [f"{g}_motor_{s}" for g in ("crank", "knob")
+                                                      for s in ("left", "right")]
+    np.testing.assert_allclose(m.actuator_forcerange, [[-peak, peak]] * 4, rtol=1e-12)
     r = mj.twin_task_mass_matrix(m, data)
     M, Mi = r["M_task"], np.linalg.inv(r["M_task"])
     em = rep["effective_mass_home"]
@@ -219,7 +224,7 @@ def test_formats_errors(tmp_path):
     code, _, err = hapticad("build", ROOT / "designs" / "hoeken.toml", "--formats", "mjcf,sdf",
                             "--out", tmp_path / "x")
     assert_one_line_error(code, err, "--formats", "sdf")
-    code, _, err = hapticad("build", ROOT / "designs" / "powermouse.toml", "--formats", "mjcf",
+    code, _, err = hapticad("build", ROOT / "designs" / "powermouse.toml", "--formats", "urdf",
                             "--out", tmp_path / "y")
-    assert_one_line_error(code, err, "--formats", "mjcf")
+    assert_one_line_error(code, err, "--formats", "urdf")
     assert not (tmp_path / "x").exists() and not (tmp_path / "y").exists()

@@ -12,50 +12,52 @@ from cad.kinematics.synthesis import synthesize
 
 
 def test_max_stroke_over_crank_range_hoeken():
-    """Longest Hoeken segment with dy_max <= 0.2 mm: longer than the paper's 84 deg choice
-    (whose dy_max is 0.21 mm), and no feasible neighbour range is longer."""
+    """Longest Hoeken segment with dy_max <= 0.2 mm over every crank window (the global
+    branch and bound): longer than the paper's 84 deg choice, with a proven bound, and no
+    window of an independent brute force over every window is longer."""
     fb, lo, hi = family_linkage("hoeken")
     r = synthesize(fb, lo, hi, "max-stroke", free="range", dy_tol_mm=0.2, samples=121, restarts=1)
     assert r.feasible
     m = compute_metrics(fb, r.phi1_min_rad, r.phi1_max_rad, samples=4001)
-    assert m.dy_max_mm <= 0.2 * 1.002
+    assert m.dy_max_mm <= 0.2 * 1.002 and m.min_transmission_angle_deg >= 30.0
     assert m.stroke_mm > r.start_metrics.stroke_mm
-    # local optimality: widening the range by 1 deg on either side violates the tolerance
-    for dlo, dhi in ((-1, 0), (0, 1)):
-        m2 = compute_metrics(fb, r.phi1_min_rad + math.radians(dlo), r.phi1_max_rad + math.radians(dhi),
-                             samples=4001)
-        assert m2.dy_max_mm > 0.2 or m2.stroke_mm <= m.stroke_mm
-    # docs/synthesis.md: 103.6 mm, 76.4 - 266.4 deg, 47.5 deg (regression pin, our run)
+    # the proof: no window is longer than the bound, which sits within 0.05 mm of the answer
+    assert m.stroke_mm <= r.upper_bound_mm <= m.stroke_mm + 0.05
+    # docs/synthesis.md: 110.2 mm, 76.7 - 283.3 deg, 47.6 deg (regression pin, our run)
     assert (round(m.stroke_mm, 1), round(math.degrees(r.phi1_min_rad), 1),
-            round(math.degrees(r.phi1_max_rad), 1)) == (103.6, 76.4, 266.4)
-    assert round(m.min_transmission_angle_deg, 1) == 47.5
-    # independent: a brute 0.01 deg grid of crank ranges, deviation from the chord over points
-    # 0.01 deg apart, holds the same optimum to its resolution (~0.01 mm of stroke per step)
-    assert m.stroke_mm == pytest.approx(_brute_max_stroke(fb, 0.2), abs=0.03)
+            round(math.degrees(r.phi1_max_rad), 1)) == (110.2, 76.7, 283.3)
+    assert round(m.min_transmission_angle_deg, 1) == 47.6
+    # independent of the answer: every window of a 0.5 deg grid over the whole turn
+    b_stroke, b_lo, b_hi = _brute_max_stroke(fb, 0.2, 30.0)
+    assert m.stroke_mm >= b_stroke - 0.5  # the grid's resolution: ~2 x 30 mm/rad x 0.25 deg
+    ref = compute_metrics(fb, b_lo, b_hi, samples=4001)
+    if ref.dy_max_mm <= 0.2:  # the grid's best window, truly feasible, is under the bound
+        assert ref.stroke_mm <= r.upper_bound_mm
 
 
-def _brute_max_stroke(fb, dy_tol_mm, step_deg=0.01, points_deg=0.05):
-    """Longest chord over crank ranges [lo, hi] of a grid (lo 76.0-77.0, hi 262-269 deg, both
-    every ``step_deg``) whose deviation from the chord, sampled every ``points_deg`` (the
-    sampling error of a smooth maximum ~ y'' h^2 / 8 < 1e-7 mm), stays <= ``dy_tol_mm``."""
-    from cad.kinematics.fourbar import solve
+def _brute_max_stroke(fb, dy_tol_mm, mu_min_deg, step_deg=0.5):
+    """(stroke, lo, hi) of the longest chord over every crank window of a ``step_deg`` grid
+    (a full turn of starts, every length up to a turn) whose deviation from the chord at the
+    grid's angles stays <= ``dy_tol_mm`` and whose transmission angle stays >= mu_min_deg."""
+    from cad.kinematics.fourbar import solve, transmission_angle_rad
 
-    his = np.radians(np.arange(262.0, 269.0 + step_deg / 2, step_deg))
-    Q_deg = np.arange(76.0, 269.0, points_deg)
-    Q = solve(fb, np.radians(Q_deg)).P_mm
-    P_hi = solve(fb, his).P_mm
-    best = 0.0
-    for lo in np.radians(np.arange(76.0, 77.0 + step_deg / 2, step_deg)):
-        a = solve(fb, np.array([lo])).P_mm[0]
-        c = P_hi - a  # (n_hi, 2) chords
-        n = np.linalg.norm(c, axis=1)
-        d = Q - a  # (n_Q, 2)
-        y = np.abs(c[:, 0, None] * d[None, :, 1] - c[:, 1, None] * d[None, :, 0]) / n[:, None]
-        inside = (np.radians(Q_deg)[None, :] > lo) & (np.radians(Q_deg)[None, :] < his[:, None])
-        dy = np.where(inside, y, 0.0).max(axis=1)
-        ok = dy <= dy_tol_mm
+    phi = np.radians(np.arange(0.0, 360.0, step_deg))
+    pose = solve(fb, phi)
+    P, mu = pose.P_mm, np.degrees(transmission_angle_rad(pose))
+    n = phi.size
+    P2, mu2 = np.concatenate([P, P]), np.concatenate([mu, mu])
+    best = (0.0, 0.0, 0.0)
+    for i in range(n):
+        c = P2[i:i + n] - P2[i]
+        L = np.maximum(np.linalg.norm(c, axis=1), 1e-12)
+        u = c / L[:, None]
+        y = np.abs(u[:, 0, None] * c[None, :, 1] - u[:, 1, None] * c[None, :, 0])
+        dy = np.where(np.arange(n)[None, :] <= np.arange(n)[:, None], y, 0.0).max(axis=1)
+        ok = (dy <= dy_tol_mm) & (np.minimum.accumulate(mu2[i:i + n]) >= mu_min_deg)
         if ok.any():
-            best = max(best, float(n[ok].max()))
+            j = int(np.flatnonzero(ok)[np.argmax(L[ok])])
+            if L[j] > best[0]:
+                best = (float(L[j]), float(phi[i]), float(phi[i] + np.radians(step_deg) * j))
     return best
 
 
@@ -147,8 +149,9 @@ def test_synth_cli_stroke_under_default_objective(tmp_path):
 
 def test_synth_cli_mu_min_deg_binds(tmp_path):
     """``synth --mu-min-deg 50``: the Hoeken max-stroke optimum at the default 30 deg has a
-    47.5 deg transmission angle (docs/synthesis.md), so a 50 deg floor must bind: the result keeps
-    mu >= 50 deg (recomputed here on its own linkage) and is shorter than 103.6 mm."""
+    47.6 deg transmission angle (docs/synthesis.md), so a 50 deg floor must bind: the result keeps
+    mu >= 50 deg (recomputed here on its own linkage) and is shorter than 110.2 mm, and its
+    proven bound is below the 30 deg optimum."""
     import json
     from pathlib import Path
 
@@ -165,4 +168,5 @@ def test_synth_cli_mu_min_deg_binds(tmp_path):
     assert m.min_transmission_angle_deg >= 50.0 - 1e-6
     assert res["min_transmission_angle_deg"] == pytest.approx(m.min_transmission_angle_deg, abs=1e-3)
     assert m.dy_max_mm <= 0.2 * 1.002
-    assert 48.9 < m.stroke_mm < 103.0  # longer than the paper's range, shorter than at 30 deg
+    assert 48.9 < m.stroke_mm < 110.19  # longer than the paper's range, shorter than at 30 deg
+    assert m.stroke_mm <= json.loads(o)["stroke_upper_bound_mm"] < 110.19
