@@ -343,8 +343,8 @@ BOM_MASS_ABS_G = 0.005 + 1e-9
 
 def motor_disagreements(device, out: Path) -> list[str]:
     """One line per ``bom.csv`` motor line (group ``motors``) that names no motor of the
-    resolved device (its BOM description, :meth:`cad.data.catalog.MotorSpec.bom_description`) or states another mass than that motor's (a
-    ``[motor]`` table's name and mass, issue 32 item 5)."""
+    resolved device (its BOM description, :meth:`cad.data.catalog.MotorSpec.bom_description`)
+    or states another mass than that motor's (a ``[motor]`` table's name and mass)."""
     path = Path(out) / "bom.csv"
     if not device.motors or not path.is_file():
         return []
