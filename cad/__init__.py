@@ -16,8 +16,8 @@ built on it and imported by nothing but the entry point.
 __version__ = "0.1.0"
 
 #: The supported API (:mod:`cad.api`), loaded on first use so ``import cad`` stays light.
-__all__ = ["analyze", "assemble", "build_design", "cache", "check", "device_datasheet",
-           "fit_design", "gii", "load_design", "mass_properties", "optimize", "render",
+__all__ = ["analyze", "assemble", "bench_log", "build_design", "cache", "check", "device_datasheet",
+           "fit_design", "gii", "identify_device", "load_design", "mass_properties", "optimize", "render",
            "run_bench", "swap", "sweep_design", "synth", "tolerance", "voicecoil", "wall"]
 
 

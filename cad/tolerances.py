@@ -82,6 +82,9 @@ READ_MAX_BYTES = {
     "chart": 64 << 20,
     # a small marker file hapticad writes (the owner of a temporary folder: host and pid)
     "marker": 4 << 10,
+    # an identification log (identify LOG.csv): ~40 bytes a row per motor; 10 s at 3 kHz is
+    # ~1.5 MB for one motor; 256 MiB is ~100x a minute-long four-motor log
+    "log": 256 << 20,
 }
 
 #: Deepest bracket nesting accepted in a TOML or JSON file, or parenthesis nesting in a STEP
@@ -536,3 +539,28 @@ MOTOR_CONTINUOUS_REL = 0.02
 #: A printed hole is stated with it (:func:`cad.printing.printed_fit`), never with an ISO 286 class.
 FDM_TOL_MM = 0.5
 FDM_TOL_REL = 0.01
+
+# ---------------------------------------------------------------- identification (issue 37)
+#: A log whose commanded current sits at the firmware's clamp (the continuous limit) in more
+#: than this fraction of its rows is refused as saturated: the clamp cuts the excitation and
+#: the hold, so the current no longer follows the model's torque. The generated routine's
+#: excitation peaks at 60 % of the limit and reaches the clamp only in the first hold samples.
+IDENT_SATURATION_FRACTION_MAX = 0.02
+#: Too little excitation: the crank must travel at least this many encoder counts (peak to
+#: peak) during the excitation, and the fit's regressors must be this well conditioned
+#: (largest / smallest singular value of the normalized regressor matrix).
+IDENT_MIN_TRAVEL_COUNTS = 40
+IDENT_CONDITION_MAX = 1e6
+#: Samples slower than this fraction of the log's peak crank rate are left out of the fit:
+#: Coulomb friction's sign(velocity) is undefined there (stick, the velocity estimate's
+#: quantization noise); 5 % keeps > 85 % of a chirp's samples.
+IDENT_SLOW_FRACTION = 0.05
+#: Verdict tolerances of identify (measured against the datasheet's prediction): apparent mass
+#: 10 % (the solids' masses are exact; a printed or hand-made part differs by a few %, a
+#: heavier knob or wrong material by more), friction 50 % (the datasheet's friction is an
+#: estimate from the motor's no-load current or the paper's identified Fs), gravity load 15 %,
+#: a constant torque offset up to 5 % of the motor's continuous torque.
+IDENT_MASS_TOL_REL = 0.10
+IDENT_FRICTION_TOL_REL = 0.50
+IDENT_GRAVITY_TOL_REL = 0.15
+IDENT_OFFSET_TOL_FRACTION = 0.05

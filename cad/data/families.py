@@ -13,12 +13,12 @@ from dataclasses import dataclass
 
 #: Commands that take a design, in the order of the commands x families table (docs/commands.md).
 DESIGN_COMMANDS = ("analyze", "synth", "swap", "check", "fit", "build", "gii", "optimize",
-                   "tolerance", "sweep", "wall", "render", "datasheet")
+                   "tolerance", "sweep", "wall", "render", "datasheet", "identify", "bench-log")
 #: Commands that read no design file (they take a STEP/STL file, flags, or nothing).
 NO_DESIGN_COMMANDS = ("massprops", "voicecoil", "bench", "cache")
 
 _FOURBAR_CMDS = ("analyze", "synth", "swap", "check", "fit", "build", "optimize", "tolerance",
-                 "sweep", "wall", "render", "datasheet")
+                 "sweep", "wall", "render", "datasheet", "identify", "bench-log")
 _PANTOGRAPH_CMDS = ("check", "fit", "build", "gii", "optimize", "render", "datasheet")
 
 

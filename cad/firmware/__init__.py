@@ -12,7 +12,9 @@ Pure generation code (numpy; no CAD import). :func:`write_firmware` writes into
   (:mod:`cad.firmware.csrc`);
 * ``test_vectors.json`` (>= 1000 poses from the numpy model, :mod:`cad.firmware.vectors`)
   and ``test_device.c`` that checks the C code against it;
-* ``wall_example/wall_example.ino`` and ``chai3d_device.json`` (:mod:`cad.firmware.extras`).
+* ``wall_example/wall_example.ino`` and ``chai3d_device.json`` (:mod:`cad.firmware.extras`);
+* four-bars: ``identify/`` -- the identification routine, its CSV log writer and an example
+  sketch (:mod:`cad.firmware.identify_c`, issue 37).
 
 The PowerMouse gets its current-to-wrench map instead (:mod:`cad.firmware.powermouse`).
 
@@ -69,13 +71,28 @@ def firmware_files(design, report: dict, design_hash: str, device=None) -> dict[
     text = text[:-2] + ',\n "rows": [\n' + ",\n".join(
         "  [" + ", ".join(repr(v) for v in r) + "]" for r in rows) + "\n ]\n}\n"
     p = f"{FOLDER}/"
-    return {
+    ident = {} if spec.kind != "fourbar" else {p + k: v for k, v in _identify_files(design, report, spec).items()}
+    return ident | {
         p + "hapticad_device.h": csrc.header(spec), p + "hapticad_device.c": csrc.source(spec),
         p + "test_vectors.json": text,
         p + "test_device.c": csrc.banner(spec, "test_device.c") + vectors.TEST_PROGRAM,
         p + "wall_example/wall_example.ino": extras.sketch(spec, wall),
         p + "chai3d_device.json": extras.chai3d_json(spec, design, wall, forces),
     }
+
+
+def _identify_files(design, report: dict, spec) -> dict[str, str]:
+    """The four-bar's identification routine (:mod:`cad.firmware.identify_c`), its constants
+    from the same plan as the virtual bench (:func:`cad.sim.identify_device.predict`)."""
+    import math
+
+    from cad.dynamics.inertia import InertiaCoefficients
+    from cad.firmware import identify_c
+    from cad.sim.identify_device import predict
+
+    H = InertiaCoefficients(report["H11_kg_m2"], report["H12_kg_m2"], report["H22_kg_m2"],
+                            report["H33_kg_m2"], math.radians(report["beta2_deg"]))
+    return identify_c.files(spec, predict(design, H, report).plan)
 
 
 def write_firmware(design, report: dict, out_dir: Path, design_hash: str, device=None) -> list[str]:

@@ -4,7 +4,8 @@
   (the API is a layer under the CLI, never the reverse).
 * The math and data layers (``cad.kinematics``, ``cad.dynamics``, ``cad.actuators``,
   ``cad.isotropy``, the pure modules of ``cad.massprops``, ``cad.data``, ``cad.design``,
-  ``cad.device``: the resolved device and its read-back of the written files)
+  ``cad.device``: the resolved device and its read-back of the written files, ``cad.identify``:
+  the identification log, excitation and regression)
   never reach a CAD-layer package, counting every import of every module they reach,
   function-level (lazy) imports included: read from the source with :mod:`ast`.
 * Importing every module of those layers in a fresh interpreter loads no CAD library
@@ -29,7 +30,8 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[2]
 PKG = ROOT / "cad"
 CAD_LIBRARIES = ("build123d", "OCP", "cadquery")
-MATH_PACKAGES = ("kinematics", "dynamics", "actuators", "isotropy", "data", "design", "device")
+MATH_PACKAGES = ("kinematics", "dynamics", "actuators", "isotropy", "data", "design", "device",
+                 "identify")
 #: The modules of cad.massprops that import no CAD library (occt.py is its one OCP module).
 MASSPROPS_PURE = ("cad.massprops.props", "cad.massprops.mesh", "cad.massprops.shells",
                   "cad.massprops.io")

@@ -64,7 +64,7 @@ def test_every_command_is_in_the_family_table():
 def test_commands_table_flags_exist():
     """Every `--flag` in the Commands table (docs/commands.md) exists on that command."""
     cmds = _commands()
-    rows = re.findall(r"^\| `hapticad (\w+)([^`]*)`", COMMANDS_PAGE.read_text(), flags=re.M)
+    rows = re.findall(r"^\| `hapticad ([\w-]+)([^`]*)`", COMMANDS_PAGE.read_text(), flags=re.M)
     assert {r[0] for r in rows} == set(cmds), "every command has a row in the Commands table"
     for name, rest in rows:
         flags = set(re.findall(r"--[a-zA-Z][\w-]*", rest))

@@ -388,3 +388,18 @@ def test_mass_x_breakdown_sums_to_the_effective_mass_part_by_part(built, model):
     (row,) = [x for x in rows if x["key"] == "mass_x_breakdown_g"]
     assert row["value"] == bd["total_g"] and row["paper"] == 190.0
     assert f"{got * 1e3:.0f} g" in row["model"] and "shoulder motors" in row["model"]
+
+
+def test_docs_pen_page_states_this_builds_breakdown(built):
+    """docs/families/pen.md's "Why x is 860 g" table and text are this build's numbers (the
+    typed-number ledger points here): the total, the motors' share and the rest, rounded as
+    printed."""
+    from pathlib import Path
+
+    bd = built[1]["effective_mass_breakdown"]
+    text = (Path(__file__).resolve().parents[3] / "docs" / "families" / "pen.md").read_text()
+    assert f"**Why x is {bd['total_g']:.0f} g, not 190 g.**" in text
+    assert f"| **{bd['total_g']:.0f}** |" in text
+    assert f"it would be {bd['without_shoulder_motors_g']:.0f} g" in text
+    for group, g in bd["groups_g"].items():
+        assert f"| {g:.0f} |" in text, group

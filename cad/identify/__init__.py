@@ -1,0 +1,15 @@
+"""Identification of a built device from a bench log (issue 37): pure numpy, no CAD import.
+
+* :mod:`cad.identify.logfile` -- the public CSV log format (``t_s, counts_0[, counts_1 ...],
+  current_A_0[, current_A_1 ...]`` after one ``#`` comment line naming the design hash):
+  writer and parser, every bad log refused in one line (:class:`cad.errors.FileDamaged`);
+* :mod:`cad.identify.excitation` -- the excitation the generated firmware runs (hand phase,
+  position hold, a tapered chirp gated by the joint range, clamped at the continuous current),
+  the Python reference of the C routine;
+* :mod:`cad.identify.regression` -- the 1-DOF least-squares fit of a four-bar's crank
+  dynamics (inertia, Coulomb and viscous friction, gravity scale and offset, delay, signs)
+  with the covariance of every estimate.
+
+The device facts (predicted inertia table, motor constants, encoder) come in as plain arrays
+and numbers; :mod:`cad.sim.identify_device` reads them from the resolved device.
+"""
