@@ -863,6 +863,10 @@ def identify_device(design, log_path: str | Path, build_dir: str | Path | None =
 
     _need_design(design)
     require("identify", design.family)
+    if build_dir is not None:  # a bad --build-dir is named before the log is read
+        from cad.sim.device import device_build
+
+        device_build(design, Path(build_dir))
     text = guard.read_text(log_path, "log", "LOG")
     log = parse_log(text, log_path, 1, motor_data(resolve_device(design).motor.spec).current_continuous_A)
     pred = predict_from_build(design, None if build_dir is None else Path(build_dir))

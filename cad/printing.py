@@ -165,3 +165,35 @@ def printed_process(machined: str, material: str, s: PrintSettings, flip: bool) 
     done = [x for x in map(_printed_op, ops) if x]
     side = "flipped (part z down)" if flip else "as modelled (part z up)"
     return "; ".join([f"{s.describe(material)}, oriented {side}", *done])
+
+
+#: Where :data:`cad.tolerances.FDM_TOL_MM` / ``FDM_TOL_REL`` come from.
+FDM_TOLERANCE_SOURCE = ("FDM Quality Guideline (Imagine That 3D print-service wiki): +-0.5 mm or 1 %, "
+                        "whichever is greater, "
+                        "https://imaginethat3d.atlassian.net/wiki/spaces/IMAGINETHA/pages/196679/"
+                        "FDM+QUALITY+GUIDELINE")
+
+
+def fdm_tolerance_mm(size_mm: float) -> float:
+    """The +- tolerance of a printed size (mm): the greater of :data:`cad.tolerances.FDM_TOL_MM`
+    and ``FDM_TOL_REL`` x size (:data:`FDM_TOLERANCE_SOURCE`)."""
+    from cad.tolerances import FDM_TOL_MM, FDM_TOL_REL
+
+    return max(FDM_TOL_MM, FDM_TOL_REL * size_mm)
+
+
+def printed_fit(text: str) -> str:
+    """The fit text of a feature of a printed part: an ISO 286 fit (``"spacer bore 8 H7"``)
+    becomes ``"spacer bore 8 printed 8 (FDM +-0.5 mm; drill to 8 after printing, not H7)"``
+    (a bore: printed at nominal, drilled to size) or ``"... printed 8 (FDM +-0.5 mm, not
+    g6)"`` (a shaft); a text that states no ISO fit (already a printed one) is kept. The
+    tolerance: :func:`fdm_tolerance_mm`. A print holds no ISO 286 class."""
+    from cad.data.fits import fmt_mm, parse_fit
+
+    parsed = parse_fit(text)
+    if parsed is None:
+        return text
+    label, d, cls = parsed
+    tol = f"FDM +-{fmt_mm(fdm_tolerance_mm(d))} mm"
+    how = f"; drill to {fmt_mm(d)} after printing, not {cls}" if cls[:1].isupper() else f", not {cls}"
+    return f"{label} {fmt_mm(d)} printed {fmt_mm(d)} ({tol}{how})"

@@ -365,10 +365,6 @@ MIN_HEIGHT_PX = 1e-3
 
 # ---------------------------------------------------------------- drawings (cad/drawings)
 
-#: Stock a blank is larger than the finished part on each side, as a drawing states it (mm):
-#: room to clamp and to face or profile the part to size (a workshop choice, not a standard;
-#: the BOM's order uses STOCK_BLOCK_MARGIN_MM, the same 2 mm).
-STOCK_MARGIN_MM = 2.0
 #: A diameter on a sheet is the fit's or tap drill's when they agree this closely (mm): both
 #: come from the same catalog numbers through a boolean, so they agree to round-off.
 MATCH_MM = 1e-6
@@ -533,6 +529,16 @@ OUTPUT_AGREE_REL = 1e-12
 #: digits, and maxon's own RE 35 figures (38.9 mN m/A x (2.63 - 0.126) A = 97.4 against
 #: T_N = 97.2 mN m) agree to 0.2 %; 2 % leaves that rounding and no contradiction.
 MOTOR_CONTINUOUS_REL = 0.02
+
+# ---------------------------------------------------------------- printed parts (cad/printing)
+
+#: Dimensional tolerance of an FDM print: +-0.5 mm or +-1 % of the size, whichever is greater
+#: ("FDM parts need to be produced within an accuracy of +-0.5 mm or 1% depending on which is
+#: greater", "FDM Quality Guideline" of a print service's wiki (Imagine That 3D),
+#: https://imaginethat3d.atlassian.net/wiki/spaces/IMAGINETHA/pages/196679/FDM+QUALITY+GUIDELINE).
+#: A printed hole is stated with it (:func:`cad.printing.printed_fit`), never with an ISO 286 class.
+FDM_TOL_MM = 0.5
+FDM_TOL_REL = 0.01
 
 # ---------------------------------------------------------------- identification (issue 37)
 #: A log whose commanded current sits at the firmware's clamp (the continuous limit) in more

@@ -66,7 +66,8 @@ class Fastener:
     """What a fastener instance is: ``kind`` (standard), thread ``size``, ``length_mm``
     (under-head to tip; shoulder length for ISO 7379), the parts it ``clamps`` (head side
     first), the ``hole`` it engages (a :class:`TappedHole` name; a nut is one too) and the
-    thread ``engagement_mm`` there."""
+    thread ``engagement_mm`` there; ``fitted``: the bought parts fitted on the fastener itself
+    (a plain pin's upper retaining ring, its "head"), placed with it."""
 
     kind: str
     size: str
@@ -74,10 +75,15 @@ class Fastener:
     clamps: tuple[str, ...]
     hole: str
     engagement_mm: float
+    fitted: tuple[str, ...] = ()
 
     def as_dict(self) -> dict:
         d = asdict(self)
         d["clamps"] = list(self.clamps)
+        if self.fitted:
+            d["fitted"] = list(self.fitted)
+        else:
+            d.pop("fitted")
         return d
 
 

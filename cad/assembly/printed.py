@@ -12,10 +12,11 @@ from dataclasses import replace
 
 
 def printed_kind(kind, parts):
-    """``kind`` as printed: ``mass_kg`` (wall/infill model), ``print_flip``, ``process``."""
+    """``kind`` as printed: ``mass_kg`` (wall/infill model), ``print_flip``, ``process``, and
+    its fits as a print holds them (:func:`cad.printing.printed_fit`: no ISO 286 class)."""
     from cad.data.materials import get_material
     from cad.parts.printed import print_flip, printed_mass_kg
-    from cad.printing import printed_process
+    from cad.printing import printed_fit, printed_process
 
     s = parts.print_settings()
     flip = print_flip(kind.shape, s)
@@ -24,6 +25,7 @@ def printed_kind(kind, parts):
         mass_kg=printed_mass_kg(kind.shape, get_material(kind.material).density_kg_m3, s),
         print_flip=flip,
         process=printed_process(kind.process, kind.material, s, flip),
+        fits=tuple(printed_fit(f) for f in kind.fits),
     )
 
 

@@ -16,7 +16,8 @@ Order (:func:`assembly_steps`):
 2. after each stage, every fastener whose clamped parts and hole part are all in place,
    identical ones (same designation, clamped kinds and hole part) as one step;
 3. the joints: one step per fastener that joins two bodies (a shoulder screw or pin), its
-   whole stack (spacers, bearing, washer, nut or retaining ring) placed with it, then a
+   whole stack (spacers, bearing, washer, nut or retaining ring) placed with it and the
+   parts fitted on it (a plain pin's upper retaining ring), then a
    check that the bodies turn freely about it;
 4. what is left (a fastener whose parts never came together) in a last step, said so;
    then the builder's final checks.
@@ -108,6 +109,7 @@ def assembly_steps(instances, designation, plan=None, final_checks=()) -> list[S
                      if n.kind.revolution or not n.kind.made}
         hardware |= {n.name for n in _resolve(j.fastener.hole.split(":", 1)[0], by_name, by_kind)
                      if not n.kind.made}
+        hardware |= set(j.fastener.fitted)
     placed = {i.name for i in instances if not i.kind.listed}  # inside a bought item
     steps: list[Step] = []
 
@@ -149,7 +151,7 @@ def assembly_steps(instances, designation, plan=None, final_checks=()) -> list[S
         if j.name in placed:
             continue
         stack = [n.name for n in _needs(j, by_name, by_kind)]
-        s = Step(f"joint {j.name}: {designation(j.kind)}", take([*stack, j.name]))
+        s = Step(f"joint {j.name}: {designation(j.kind)}", take([*stack, j.name, *j.fastener.fitted]))
         s.fasteners = [fastener_line(j, designation(j.kind))]
         bodies = sorted(_bodies([j, *_needs(j, by_name, by_kind)]))
         s.checks = [f"{' and '.join(bodies)} turn freely about {j.name}, no axial play"]

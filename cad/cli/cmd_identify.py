@@ -16,7 +16,7 @@ import typer
 
 from cad.cli.app import print_json
 
-OUT_HELP = "folder for identify.json, identify.md and the fit and residual plots (only a folder hapticad wrote)."
+OUT_HELP = "Folder for identify.json, identify.md and the fit and residual plots (only a folder hapticad wrote)."
 
 
 def _print(res: dict) -> None:
@@ -72,7 +72,7 @@ def register(app: typer.Typer) -> None:
         log: Path = typer.Argument(..., help="Log in the identification format (docs/identify.md)."),
         out: Path = typer.Option(None, "--out", help=OUT_HELP),
         build_dir: Path = typer.Option(None, "--build-dir",
-                                       help="a finished `build --formats mjcf` of DESIGN (default: cached build)."),
+                                       help="A finished `build --formats mjcf` of DESIGN (default: the cached build)."),
         json_out: bool = typer.Option(False, "--json", help="Print one JSON object."),
     ) -> None:
         """Identify the built device from a bench log and check it against its prediction."""
@@ -108,7 +108,7 @@ def register(app: typer.Typer) -> None:
                                                "(periods), noise (fraction of the continuous current)."),
         model: str = typer.Option("mujoco", "--model", help="mujoco (the exported MJCF) | reduced (1-DOF, fast)."),
         build_dir: Path = typer.Option(None, "--build-dir",
-                                       help="a finished `build --formats mjcf` of DESIGN (default: cached build)."),
+                                       help="A finished `build --formats mjcf` of DESIGN (default: the cached build)."),
         json_out: bool = typer.Option(False, "--json", help="Print one JSON object."),
     ) -> None:
         """Virtual bench: simulate the built device running the identification routine; write its log."""

@@ -710,7 +710,7 @@ def pin_description(pin: str, shoulder_length_mm: float) -> str:
     if is_dowel(pin):
         d = dowel_diameter_mm(pin)
         L = dowel_total_length_mm(pin, shoulder_length_mm)
-        return f"ground pin ISO 2338 {d:g} m6 x {L:g}, 2 DIN 471 rings {d:g}"
+        return f"ground pin ISO 2338 {d:g} m6 x {L:g}, grooved for DIN 471 rings"
     return f"shoulder screw ISO 7379 {pin} x {shoulder_length_mm:g}"
 
 

@@ -424,12 +424,14 @@ _MATERIAL_PARTS = {
     "bar_material": ("crank, coupler, rocker", "reamed H7 pin bores printed {comp} mm over (a slip "
                      "fit, not H7), milled bearing seats printed as press fits, the tapped handle "
                      "hole opened for a heat-set insert"),
-    "hub_material": ("hub", "tapped screw and set-screw holes take heat-set inserts, the H7 shaft "
-                     "bore is reamed after printing"),
+    "hub_material": ("hub", "tapped screw and set-screw holes take heat-set inserts, the shaft "
+                     "bore (H7 when machined) is printed at nominal and drilled to size (FDM "
+                     "tolerance, no ISO fit)"),
     "base_material": ("base plate", "tapped post and leg holes take heat-set inserts"),
-    "post_material": ("post", "the H7 top bore is reamed after printing, tapped holes take heat-set "
-                      "inserts"),
-    "motor_mount_material": ("motor mount", "the bored H7 pilot seat is reamed after printing"),
+    "post_material": ("post", "the top bore (H7 when machined) is printed at nominal and drilled "
+                      "to size (FDM tolerance, no ISO fit), tapped holes take heat-set inserts"),
+    "motor_mount_material": ("motor mount", "the pilot seat (H7 when machined) is printed at "
+                             "nominal and drilled to size (FDM tolerance, no ISO fit)"),
     "handle_material": ("handle", ""),
     "spacer_material": ("spacers", ""),
 }

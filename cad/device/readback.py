@@ -184,10 +184,190 @@ def disagreements(device, out: Path) -> list[str]:
     return bad
 
 
+# ------------------------------------------------- files against each other (issue 32 item 2)
+#: A printed part's process text in bom.csv ("FDM print PLA: ...", "printed"): its stock is
+#: filament (docs/ordering.md); a wound coil's ("wound ..."): wire.
+PRINTED_PROCESS_RE = re.compile(r"^(fdm )?print", re.I)
+#: Start of a laser-cut part's stock (cad.export.order.NESTED_STOCK): no order line of its own.
+NESTED_STOCK_PREFIX = "nested on "
+SVG_NS = "{http://www.w3.org/2000/svg}"
+
+
+def _csv_rows(path: Path) -> list[dict]:
+    with path.open(newline="", encoding="utf-8") as f:
+        return list(csv.DictReader(f))
+
+
+def drawing_facts(path: Path) -> dict[str, str]:
+    """``{"part": ..., "stock": ..., "process": ..., "quantity": ...}`` of one drawing sheet
+    (``drawings/<part>.svg``): the title block's ``key: value`` texts (xml.etree), the first
+    of each key, the backslash before a dollar sign (cad.io.escape.mathtext) undone."""
+    out: dict[str, str] = {}
+    for t in ET.parse(path).getroot().iter(SVG_NS + "text"):
+        key, sep, value = "".join(t.itertext()).partition(": ")
+        if sep and key in ("part", "stock", "process", "quantity") and key not in out:
+            out[key] = value.replace(r"\$", "$")
+    return out
+
+
+def _drawing_stock(out: Path, bom: dict, bad: list) -> None:
+    """Every sheet of every ``drawings/`` folder under ``out`` states the stock of its part in
+    the ``bom.csv`` beside that folder."""
+    for folder in sorted(p for p in out.rglob("drawings") if p.is_dir()):
+        rows = bom if folder.parent == out else (
+            {r["part"]: r for r in _csv_rows(folder.parent / "bom.csv")}
+            if (folder.parent / "bom.csv").is_file() else None)
+        if rows is None:
+            continue
+        for svg in sorted(folder.glob("*.svg")):
+            d = drawing_facts(svg)
+            rel = svg.relative_to(out).as_posix()
+            row = rows.get(d.get("part", svg.stem))
+            if row is None:
+                bad.append(f"{rel}: part {d.get('part')!r} has no bom.csv line")
+            elif d.get("stock") != row["stock"]:
+                bad.append(f"{rel}: stock = {d.get('stock')!r}, bom.csv has {row['stock']!r}")
+
+
+def _order_stock(out: Path, bom: dict, bad: list) -> None:
+    """Every made part of ``bom.csv`` is ordered in ``order.csv`` as its stock (a nested
+    laser-cut part: not at all, its sheet is), in the form its process asks for."""
+    order: dict[str, list[dict]] = {}
+    for r in _csv_rows(out / "order.csv"):
+        for part in (r.get("parts") or "").split():
+            order.setdefault(part, []).append(r)
+    for name, row in bom.items():
+        if row.get("made_or_bought") != "made":
+            continue
+        lines = [o for o in order.get(name, []) if o["group"].startswith("stock:")]
+        stock = row["stock"]
+        if stock.startswith(NESTED_STOCK_PREFIX):
+            if lines:
+                bad.append(f"order.csv: {name} is ordered as {lines[0]['designation']!r}, bom.csv "
+                           f"says it is {stock!r}")
+            continue
+        got = [o["designation"] for o in lines]
+        if got != [stock]:
+            bad.append(f"order.csv: stock of {name} = {got!r}, bom.csv has {stock!r}")
+        form = stock.split(" ", 1)[0]
+        proc = row.get("process") or ""
+        want = ("filament" if PRINTED_PROCESS_RE.search(proc) else
+                "wire" if proc.lower().startswith("wound") else None)
+        if (want or form) in ("filament", "wire") and form != want:
+            bad.append(f"order.csv: {name} is ordered as {form} stock ({stock!r}), its bom.csv "
+                       f"process is {proc!r}")
+
+
+#: An ISO 286 fit at the end of a fit text ("spacer bore 8 H7", "journal 8 js5").
+ISO_FIT_RE = re.compile(r" \d+(?:\.\d+)? [A-Za-z]{1,2}\d{1,2}$")
+
+
+def _printed_fits(bom: dict, bad: list) -> None:
+    """No printed part of ``bom.csv`` states an ISO 286 fit: a print holds its process's
+    tolerance (cad.printing.printed_fit), not H7."""
+    for name, row in bom.items():
+        if row.get("made_or_bought") == "made" and PRINTED_PROCESS_RE.search(row.get("process") or ""):
+            iso = [f for f in (row.get("fits") or "").split("; ") if ISO_FIT_RE.search(f)]
+            if iso:
+                bad.append(f"bom.csv: printed part {name} states the ISO 286 fit {iso[0]!r}: a print "
+                           "holds its process tolerance, not an ISO class")
+
+
+#: An instance of ``assembly.step``: its PRODUCT entity, named after the part instance.
+STEP_PRODUCT_RE = re.compile(r"PRODUCT\('((?:[^']|'')*)'")
+
+
+def step_instances(path: Path) -> list[str]:
+    """The product names of a STEP file (regex over its ``PRODUCT('name', ...)`` entities;
+    ``''`` unescaped): in ``assembly.step`` one per part instance, and the assembly itself."""
+    return [m.replace("''", "'") for m in STEP_PRODUCT_RE.findall(path.read_text(encoding="utf-8",
+                                                                                errors="replace"))]
+
+
+def _bought_counts(out: Path, bom: dict, bad: list) -> None:
+    """Every bought ``bom.csv`` line with solids orders as many as ``assembly.step`` holds
+    (instances mapped to kinds by report.json ``placement``); ``order.csv`` orders, per
+    designation, what those lines sum to (nothing bought twice, e.g. rings inside a pin)."""
+    rep_path, step = out / "report.json", out / "assembly.step"
+    if not (rep_path.is_file() and step.is_file()):
+        return
+    placed = ((json.loads(rep_path.read_text(encoding="utf-8")).get("placement") or {})
+              .get("instances") or {})
+    count: dict[str, int] = {}
+    for name in step_instances(step):
+        if name in placed:
+            kind = placed[name].get("kind")
+            count[kind] = count.get(kind, 0) + 1
+    want: dict[str, int] = {}
+    for name, row in bom.items():
+        if row.get("made_or_bought") != "bought":
+            continue
+        q = int(float(row.get("quantity") or 0))
+        if name in count and count[name] != q:
+            bad.append(f"bom.csv: {name} quantity = {q}, assembly.step holds {count[name]} instance(s)")
+        des = row.get("designation") or name
+        want[des] = want.get(des, 0) + q
+    if not (out / "order.csv").is_file():
+        return
+    got: dict[str, int] = {}
+    for r in _csv_rows(out / "order.csv"):
+        if r.get("group") != "total" and not r.get("group", "").startswith("stock:"):
+            got[r["designation"]] = got.get(r["designation"], 0) + int(float(r.get("quantity") or 0))
+    for des, q in got.items():
+        if des in want and q != want[des]:
+            bad.append(f"order.csv: {des} quantity = {q}, bom.csv lines sum to {want[des]}")
+
+
+def file_disagreements(out: Path) -> list[str]:
+    """One line per fact two written files in ``out`` state differently: the stock of each
+    made part on its drawing, in ``bom.csv`` and in ``order.csv``; the process in ``bom.csv``
+    against the stock form ordered (printed: filament, wound: wire) and against its fits (a
+    printed part states no ISO 286 fit); the quantity of each bought part against its
+    instances in ``assembly.step`` and against what ``order.csv`` orders."""
+    out = Path(out)
+    bad: list[str] = []
+    if not (out / "bom.csv").is_file():
+        return bad
+    bom = {r["part"]: r for r in _csv_rows(out / "bom.csv")}
+    _drawing_stock(out, bom, bad)
+    _printed_fits(bom, bad)
+    _bought_counts(out, bom, bad)
+    if (out / "order.csv").is_file():
+        _order_stock(out, bom, bad)
+    return bad
+
+
+#: bom.csv prints a mass with 2 decimals (g): half a unit of the last digit.
+BOM_MASS_ABS_G = 0.005 + 1e-9
+
+
+def motor_disagreements(device, out: Path) -> list[str]:
+    """One line per ``bom.csv`` motor line (group ``motors``) that names no motor of the
+    resolved device (its BOM description, :meth:`cad.data.catalog.MotorSpec.bom_description`)
+    or states another mass than that motor's (a ``[motor]`` table's name and mass)."""
+    path = Path(out) / "bom.csv"
+    if not device.motors or not path.is_file():
+        return []
+    want = {m.spec.bom_description(): m.spec.mass_kg for m in device.motors}
+    bad = []
+    for r in _csv_rows(path):
+        if r.get("group") != "motors":
+            continue
+        desc = r.get("description", "")
+        if desc not in want:
+            bad.append(f"bom.csv: motor line {desc!r}, the resolved device (report.json device) has "
+                       f"{' / '.join(sorted(want))!r}")
+        elif want[desc] is not None and abs(float(r["mass_g"]) - want[desc] * 1e3) > BOM_MASS_ABS_G:
+            bad.append(f"bom.csv: mass of motor {desc!r} = {r['mass_g']} g, the resolved device has "
+                       f"{want[desc] * 1e3:g} g")
+    return bad
+
+
 def check_outputs(device, out: Path) -> None:
     """Raise :class:`OutputsDisagree` (one line: file, fact, both values) when a written file
-    in ``out`` disagrees with ``device``; list the further mismatches' count."""
-    bad = disagreements(device, out)
+    in ``out`` disagrees with ``device`` (:func:`disagreements`, :func:`motor_disagreements`)
+    or with another written file (:func:`file_disagreements`); list the further mismatches' count."""
+    bad = disagreements(device, out) + motor_disagreements(device, out) + file_disagreements(out)
     if bad:
         more = f" (and {len(bad) - 1} more)" if len(bad) > 1 else ""
         raise OutputsDisagree(f"outputs disagree, nothing published: {bad[0]}{more}")

@@ -80,6 +80,7 @@ def export_part(
     holes: tuple = (),
     material: str = "",
     quantity: int | None = None,
+    stock: str = "",
 ) -> list[Path]:
     """Write the files of one part and return their paths.
 
@@ -98,8 +99,9 @@ def export_part(
     stl : False for bought parts (only STEP is useful for those).
     tolerance_mm, angular_tolerance_rad : absolute STL deflections.
     notes : text lines written on the DXF's ``NOTES`` layer (fits of seats and bores).
-    holes, material, quantity : the DXF's shop data (:func:`cad.export.dxf.plate_profile_dxf`:
-        reamed bores cut undersize, seats and threads noted; material and quantity noted).
+    holes, material, quantity, stock : the DXF's shop data (:func:`cad.export.dxf.plate_profile_dxf`:
+        reamed bores cut undersize, seats and threads noted; material, quantity and the stock
+        of the BOM, :func:`cad.pipeline.family.kind_stock`, noted).
 
     The STL mesh is checked watertight (two independent checks, see
     :mod:`cad.export.stl`) before anything is written: a failure raises
@@ -124,9 +126,9 @@ def export_part(
         from cad.export.dxf import plate_profile_dxf
 
         payload.append((out_dir / f"{name}.dxf", _cached_file(
-            "part-dxf", [topo, name, list(notes), [repr(h) for h in holes], material, quantity],
+            "part-dxf", [topo, name, list(notes), [repr(h) for h in holes], material, quantity, stock],
             lambda: plate_profile_dxf(topo, name, notes, holes, material=material,
-                                      quantity=quantity),
+                                      quantity=quantity, stock=stock),
             ("cad.export.dxf", "cad.data.fits"))))
     written = []
     for path, data in payload:

@@ -186,7 +186,8 @@ def _mill_edges(shape, z_mm: float, cut_edges, z_cut: float) -> list:
 
 
 def plate_profile_dxf(
-    shape, name: str, notes=(), holes=(), *, material: str = "", quantity: int | None = None
+    shape, name: str, notes=(), holes=(), *, material: str = "", quantity: int | None = None,
+    stock: str = "",
 ) -> str:
     """DXF text of a plate's cutting profile (layer ``CUT``), milled levels (``MILL_*``, only
     what differs from the profile) and the ``NOTES`` layer.
@@ -195,7 +196,8 @@ def plate_profile_dxf(
         bored hole's diameter is cut at its ``cut_d_mm`` (the finishing stock left), a tapped
         hole's circle (already the tap drill) keeps its size; each hole found gets a note
         (count, cut size, finish; a milled seat its depth and layer).
-    NOTES : part, units, material, thickness, quantity, ``notes`` (the fits), the hole notes.
+    NOTES : part, units, material, thickness, quantity, stock (the BOM's, when given),
+    ``notes`` (the fits), the hole notes.
     """
     import ezdxf
 
@@ -234,7 +236,8 @@ def plate_profile_dxf(
                     found.setdefault(h, [0, f"{depth}, layer {layer}"])[0] += 1
         head = [f"part: {name}", "units: mm", f"material: {material or 'unstated'}",
                 f"thickness: {z_top - z_bottom:.2f} mm",
-                f"quantity: {quantity if quantity is not None else 'unstated'}"]
+                f"quantity: {quantity if quantity is not None else 'unstated'}",
+                *([f"stock: {stock}"] if stock else [])]
         _add_notes(doc, msp, shape, [*head, *notes, *_hole_notes(holes, found)])
         buf = io.StringIO()
         doc.write(buf)

@@ -312,7 +312,8 @@ def _profile_doc(kind, shop: dict):
     from cad.export.dxf import plate_profile_dxf
 
     text = plate_profile_dxf(kind.shape, kind.name, shop.get("notes", ()), shop.get("holes", ()),
-                             material=kind.material, quantity=shop.get("quantity"))
+                             material=kind.material, quantity=shop.get("quantity"),
+                             stock=shop.get("stock", ""))
     return ezdxf.read(io.StringIO(text))
 
 

@@ -48,7 +48,6 @@ STANDARD_GROUPS = {
     "ISO 2338": "dowel pins",
 }
 _STANDARD = re.compile(r"\b(?:ISO|DIN|EN) \d+\b[^,()]*")
-_RINGS = re.compile(r"(\d+) (DIN 471) rings (\S+)")
 ORDER_COLUMNS = ("group", "designation", "order_code", "quantity", "unit_price", "line_price",
                  "parts")
 #: Start of the stock cell of a laser-cut part (:func:`cad.pipeline.family.bom_rows`): its stock
@@ -153,6 +152,13 @@ def _grams(mass_g: float) -> str:
     return f"{mass_g:.1f}" if mass_g < 10 else f"{mass_g:.0f}"
 
 
+def stock_is_mass(kind) -> bool:
+    """Is the stock of made part ``kind`` ordered by mass (a printed part's filament, a wound
+    coil's wire) rather than by size?"""
+    proc = kind.process.lower()
+    return _PRINTED.search(proc) is not None or proc.startswith("wound")
+
+
 def stock(kind, mass_g: float) -> str:
     """Stock to order for one piece of made part ``kind`` (``mass_g``: its mass, used for
     printed parts), e.g. ``"plate 6 x 35 x 130 mm aluminium-6061"``; see the module doc."""
@@ -160,7 +166,7 @@ def stock(kind, mass_g: float) -> str:
 
     mat = kind.material
     proc = kind.process.lower()
-    if _PRINTED.search(proc):  # "printed", "FDM print PLA: 0.2 mm layers, ..."
+    if _PRINTED.search(proc) is not None:  # "printed", "FDM print PLA: 0.2 mm layers, ..."
         return f"filament {_grams(mass_g)} g {mat}"
     if proc.startswith("wound"):
         return f"wire {_grams(mass_g)} g {mat}"
@@ -210,25 +216,25 @@ def bought_designation(kind) -> tuple[str, str, str]:
     return ("other", desc, "")
 
 
+#: A motor of a design's ``[motor]`` table on the catalog motor's mount
+#: (:func:`cad.design.motor.resolve_motor`): "acme-60 (data of [motor]; mount of maxon-re35)",
+#: then its unverified fields when it has any (:meth:`cad.data.catalog.MotorSpec.bom_description`).
+_TABLE_MOTOR = re.compile(r"^(.+?) \(data of \[motor\]; mount of ([^)\s]+)\)")
+
+
 def _motor_designation(desc: str) -> tuple[str, str, str] | None:
-    """A catalog motor (its BOM description is the catalog's): name and order number."""
+    """A catalog motor (its BOM description is the catalog's): name and order number; a
+    ``[motor]`` table's motor: its name, no order number (no catalog gives one)."""
     from cad.data.catalog import MOTORS
 
+    table = _TABLE_MOTOR.match(desc)
+    if table is not None:
+        return ("motors", table.group(1), "")
     spec = next((sp for sp in MOTORS.values() if desc.startswith(sp.description)), None)
     if spec is None:
         return None
     m = re.search(r"order number (\d+)", spec.winding)
     return ("motors", spec.description.split(",")[0], m.group(1) if m else "")
-
-
-def extra_order_lines(row: dict) -> list[dict]:
-    """Order lines bought with a BOM line: the DIN 471 rings of a ground pin."""
-    m = _RINGS.search(row.get("description", ""))
-    if row.get("made_or_bought") != "bought" or m is None:
-        return []
-    return [{"group": STANDARD_GROUPS["DIN 471"], "designation": f"{m.group(2)} {m.group(3)}",
-             "order_code": "", "quantity": int(m.group(1)) * int(row["quantity"]),
-             "parts": row["part"]}]
 
 
 # --------------------------------------------------------------------------- prices
@@ -318,21 +324,19 @@ def _price_of(prices: dict, keys) -> str | None:
 def apply_prices(rows: list[dict], table: dict | None) -> dict:
     """Set ``unit_price`` / ``line_price`` (quantity x unit) on every BOM row priced by
     ``table`` (:func:`load_prices`; a row is looked up by its designation, then its part
-    name); unpriced rows get empty cells. The lines bought with a row
-    (:func:`extra_order_lines`) are priced the same way. Returns the summary:
+    name); unpriced rows get empty cells. Every bought part is its own BOM row (a pin's
+    retaining rings are instances of their own), so no line is bought with another. Returns the summary:
     ``total_price`` (sum of the priced lines, each rounded half-up to the cent:
     :func:`line_cents`), ``currency``, ``priced_lines``,
     ``unpriced_lines``, ``unpriced`` (part names or designations), ``unused_prices`` (keys
-    matching no line; each one is also a warning naming its row), ``price_source``,
-    ``extra_lines`` (priced like the rows)."""
+    matching no line; each one is also a warning naming its row), ``price_source``.
+    """
     prices = (table or {}).get("prices", {})
-    used, unpriced, total, extra = set(), [], Decimal(0), []
+    used, unpriced, total = set(), [], Decimal(0)
     lines = [(r, (r.get("designation", ""), r["part"]), r["part"]) for r in rows if ordered(r)]
     for r in rows:
         if not ordered(r):
             r["unit_price"] = r["line_price"] = ""
-        extra += extra_order_lines(r)
-    lines += [(e, (e["designation"],), e["designation"]) for e in extra]
     for line, keys, label in lines:
         key = _price_of(prices, keys)
         if key is None:
@@ -352,7 +356,6 @@ def apply_prices(rows: list[dict], table: dict | None) -> dict:
         "unpriced": unpriced,
         "unused_prices": sorted(set(prices) - used),
         "price_source": (table or {}).get("source", ""),
-        "extra_lines": extra,
     }
 
 
@@ -405,11 +408,11 @@ def total_text(summary: dict) -> str:
     return f"{money(summary['total_price'])}{cur} ({tail})"
 
 
-def order_lines(rows: list[dict], extra=()) -> list[dict]:
-    """Order lines of the BOM rows (and the ``extra`` lines bought with them): bought parts
+def order_lines(rows: list[dict]) -> list[dict]:
+    """Order lines of the BOM rows: bought parts
     sorted by group then designation, made parts (group ``"stock: <form>"``, designation =
     the stock) after them."""
-    out = list(extra)
+    out = []
     for r in rows:
         if not ordered(r):
             continue
@@ -429,7 +432,7 @@ def order_csv(rows: list[dict], summary: dict) -> str:
     buf = io.StringIO()
     w = csv.DictWriter(buf, fieldnames=ORDER_COLUMNS, lineterminator="\n")
     w.writeheader()
-    for o in order_lines(rows, summary.get("extra_lines", ())):
+    for o in order_lines(rows):
         w.writerow({**o, **{k: csv_cell(o[k]) for k in ("group", "designation", "order_code", "parts")},
                     "unit_price": unit_money(o["unit_price"]), "line_price": money(o["line_price"])})
     w.writerow({"group": "total", "designation": csv_cell(summary["currency"]),
@@ -453,7 +456,7 @@ def order_md(rows: list[dict], summary: dict) -> str:
     lines = ["", "## Order (order.csv)", "",
              "| group | designation | order code | qty | unit price | line price | parts |",
              "|---|---|---|---|---|---|---|"]
-    for o in order_lines(rows, summary.get("extra_lines", ())):
+    for o in order_lines(rows):
         lines.append(f"| {md(o['group'])} | {md(o['designation'])} | {md(o['order_code'])} | "
                      f"{o['quantity']} | {unit_money(o['unit_price'])} | {money(o['line_price'])} | "
                      f"{md(o['parts'])} |")

@@ -98,7 +98,8 @@ def shoulder_screw_shape(size: str, length_mm: float):
     """ISO 7379 shoulder screw: under-head face at z = 0, head up, shoulder to z = -length.
 
     A plain pin ``dowel-<d>`` (:func:`cad.data.catalog.dowel_as_shoulder_screw`): the pin
-    from z = -(length + b) to z = k with its upper DIN 471 ring (d..d4, thickness s) on z = 0.
+    from z = -(length + b) to z = k (its upper DIN 471 ring, d..d4 x s on z = 0, is placed as
+    its own part: :func:`dowel_pin_shape`).
     """
     if catalog.is_dowel(size):
         return dowel_pin_shape(size, float(length_mm))
@@ -177,17 +178,17 @@ def _bd_washer(metric: str):
 
 @part_cached
 def dowel_pin_shape(size: str, shoulder_length_mm: float):
-    """Plain pin and its upper retaining ring in the shoulder-screw frame (see
-    :func:`shoulder_screw_shape`); the ring's bore is the pin diameter (groove not modelled)."""
+    """Plain pin in the shoulder-screw frame (see :func:`shoulder_screw_shape`): the ground
+    pin alone, z = -(length + b) .. k. Its upper DIN 471 ring (d..d4 x s on z = 0) is a part
+    of its own in the assembly (:func:`nut_shape`, the same ring as the lower one), not fused
+    into the pin: every bought part is its own instance."""
     from build123d import Align, Cylinder, Pos
 
     s = catalog.get_shoulder_screw(size)
-    ring = catalog.get_retaining_ring(s.ds_mm)
     a = (Align.CENTER, Align.CENTER, Align.MIN)
     total = s.k_mm + shoulder_length_mm + s.b_mm
     pin = Pos(0, 0, -(shoulder_length_mm + s.b_mm)) * Cylinder(s.ds_mm / 2, total, align=a)
-    shape = pin + Cylinder(ring.d4_mm / 2, ring.s_mm, align=a)
-    return shape.solids()[0].wrapped
+    return pin.solids()[0].wrapped
 
 
 def cap_screw_kind(size: str, length_mm: float, field: str = "parts", note: str = ""):

@@ -192,14 +192,21 @@ def bom_rows(instances, props: dict, formats=None) -> list[dict]:
     """One row per listed kind: part, description, material, quantity, made_or_bought,
     process, fits (its ISO 286 fits joined by ``"; "``), mass_g (each), and what to order
     (:mod:`cad.export.order`): group, designation and order_code of a bought part (a made
-    part: group ``"made"``, designation = its name), stock of a made part.
+    part: group ``"made"``, designation = its name), stock of a made part
+    (:func:`kind_stock`, the one stock every file states).
 
     ``formats`` (the build's ``--formats``; None: as if every format were written): without
     ``dxf`` the nested sheets are planned but not written, and the rows that name ``sheets/``
     say so (:func:`unwritten_sheets`)."""
-    from cad.export.order import bought_designation, stock
+    from cad.export.order import bought_designation
 
     q = quantities(instances)
+    sheets = None
+    if laser_kinds(instances):
+        from cad.export.nesting import plan_sheets
+
+        sheets = plan_sheets(instances)
+    stocks = kind_stock(instances, props, sheets)
     rows = []
     for name, k in kinds(instances).items():
         if not k.listed:
@@ -220,22 +227,46 @@ def bom_rows(instances, props: dict, formats=None) -> list[dict]:
                 "group": group,
                 "designation": des,
                 "order_code": code,
-                "stock": stock(k, mass_g) if k.made else "",
+                "stock": stocks.get(name, ""),
             }
         )
-    if laser_kinds(instances):
-        from cad.export.nesting import plan_sheets
-        from cad.export.order import NESTED_STOCK
-
-        sheets = plan_sheets(instances)
-        where = {p.kind.name: f"sheet_{i + 1:02d}" for i, s in enumerate(sheets) for p in s.parts}
-        for r in rows:
-            if r["part"] in where:
-                r["stock"] = f"{NESTED_STOCK}{where[r['part']]} (sheet stock line)"
+    if sheets is not None:
         rows += sheet_rows(sheets)
         if formats is not None and "dxf" not in formats:
             rows = [unwritten_sheets(r) for r in rows]
     return rows
+
+
+def kind_stock(instances, props: dict | None = None, sheets=None) -> dict[str, str]:
+    """``{kind name: stock text}`` of every made, listed kind: the one stock of a build, which
+    the BOM, ``order.csv``, the drawings' title blocks and the DXF notes all state.
+
+    A laser-cut part's stock is the sheet it is nested on (``"nested on sheet_01 (sheet stock
+    line)"``, :data:`cad.export.order.NESTED_STOCK`; ``sheets`` from
+    :func:`cad.export.nesting.plan_sheets`, planned here when None); any other part's is
+    :func:`cad.export.order.stock` of the kind with its mass (g): ``props[name]`` (:func:`kind_props`)
+    or, when ``props`` is None (a writer running beside the mass properties), the same
+    :func:`kind_mass_props`, computed only for the parts whose stock is a mass (printed, wound)."""
+    from cad.export.order import NESTED_STOCK, stock, stock_is_mass
+
+    made = {n: k for n, k in kinds(instances).items() if k.listed and k.made}
+    out = {}
+    for name, k in made.items():
+        mass_g = 0.0
+        if stock_is_mass(k):
+            mp = props.get(name) if props is not None else kind_mass_props(k)
+            mass_g = mp.mass_kg * 1e3 if mp is not None else 0.0
+        out[name] = stock(k, mass_g)
+    if any(n in made for n in laser_kinds(instances)):
+        if sheets is None:
+            from cad.export.nesting import plan_sheets
+
+            sheets = plan_sheets(instances)
+        for i, s in enumerate(sheets):
+            for p in s.parts:
+                if p.kind.name in out:
+                    out[p.kind.name] = f"{NESTED_STOCK}sheet_{i + 1:02d} (sheet stock line)"
+    return out
 
 
 #: What a BOM row says of ``sheets/`` when the build wrote no DXF.
@@ -314,10 +345,11 @@ def kind_thread_places(kind_name: str, instances, holes) -> tuple[tuple, ...]:
     )
 
 
-def shop_args(kind, instances, holes=()) -> dict:
+def shop_args(kind, instances, holes=(), stocks: dict | None = None) -> dict:
     """The shop data of one kind's files (:func:`cad.export.export_part`): DXF notes (its
     fits), its holes as the shop makes them (:func:`cad.data.fits.shop_holes`), its
-    material and quantity."""
+    material, quantity and stock (``stocks``: :func:`kind_stock` of ``instances``, computed
+    here when None)."""
     from cad.data.fits import shop_holes
 
     return {
@@ -325,15 +357,17 @@ def shop_args(kind, instances, holes=()) -> dict:
         "holes": shop_holes(kind.fits, kind_threads(kind.name, instances, holes)),
         "material": kind.material,
         "quantity": quantities(instances).get(kind.name, 0),
+        "stock": (stocks if stocks is not None else kind_stock(instances)).get(kind.name, ""),
     }
 
 
 def write_part_drawings(instances, out_dir: Path, design: str, holes=(),
-                        sheets_written: bool = True) -> list[str]:
+                        sheets_written: bool = True, stocks: dict | None = None) -> list[str]:
     """``drawings/<part>.svg`` per made, listed kind and ``drawings.pdf``
     (:func:`cad.export.drawings.write_drawings`); returns the paths relative to ``out_dir``.
     ``sheets_written`` False (no ``dxf``): a process naming ``sheets/`` says, as the BOM
-    does, that the folder was not written."""
+    does, that the folder was not written. ``stocks``: :func:`kind_stock` of ``instances``
+    (computed here when None)."""
     from cad.export.drawings import SheetPart, write_drawings
 
     def process(k) -> str:
@@ -342,9 +376,10 @@ def write_part_drawings(instances, out_dir: Path, design: str, holes=(),
         return unwritten_sheets({"description": "", "process": k.process})["process"]
 
     q = quantities(instances)
+    stocks = stocks if stocks is not None else kind_stock(instances)
     parts = [
         SheetPart(k.name, k.shape, k.material, q[k.name], process(k), k.plate, k.fits,
-                  kind_thread_places(k.name, instances, holes), k.description)
+                  kind_thread_places(k.name, instances, holes), k.description, stocks[k.name])
         for k in kinds(instances).values()
         if k.listed and k.made
     ]
@@ -483,6 +518,7 @@ def write_outputs(
 
     out_dir = Path(out_dir)
     files: list[str] = []
+    stocks = kind_stock(instances) if {"dxf", "drawings"} & set(formats) else {}
     for k in kinds(instances).values():
         if not k.listed:
             continue
@@ -496,16 +532,18 @@ def write_outputs(
             stl=k.made,
             tolerance_mm=stl_tolerance_mm or STL_TOLERANCE_MM,
             angular_tolerance_rad=angular_tolerance_rad or STL_ANGULAR_TOLERANCE_RAD,
-            **shop_args(k, instances, holes),
+            **shop_args(k, instances, holes, stocks),
         )
         files += [p.relative_to(out_dir).as_posix() for p in paths]
     if "dxf" in formats and laser_kinds(instances):
         from cad.export.nesting import write_sheets
 
         files += write_sheets(instances, out_dir,
-                              {n: shop_args(k, instances, holes) for n, k in laser_kinds(instances).items()})
+                              {n: shop_args(k, instances, holes, stocks)
+                               for n, k in laser_kinds(instances).items()})
     if "drawings" in formats:
-        files += write_part_drawings(instances, out_dir, name, holes, sheets_written="dxf" in formats)
+        files += write_part_drawings(instances, out_dir, name, holes, sheets_written="dxf" in formats,
+                                     stocks=stocks)
     if "step" in formats:
         export_assembly_step(
             posed_items(instances, tf_world_body, listed_only=False),

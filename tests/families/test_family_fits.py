@@ -167,7 +167,8 @@ def test_dxf_notes_state_the_fits_and_mill_layers_hold_no_outline(family_builds,
         assert notes[:5] == [f"part: {path.stem}", "units: mm",
                              f"material: {rows[path.stem]['material']}", notes[3],
                              f"quantity: {rows[path.stem]['quantity']}"], path.stem
-        assert notes[5 : 5 + len(fits)] == [f"{f} (ISO 286)" for f in fits], path.stem
+        assert notes[5] == f"stock: {rows[path.stem]['stock']}", path.stem  # the BOM's stock
+        assert notes[6 : 6 + len(fits)] == [f"{f} (ISO 286)" for f in fits], path.stem
         noted |= {path.stem} if fits else set()
 
         def sig(e):
@@ -292,8 +293,11 @@ def test_write_outputs_puts_fits_in_the_bom_and_on_the_dxf_with_only_the_seat_mi
     assert family.fits_report(inst) == {"seat_plate": ["bearing seat 9 J7"]}
     msp = list(ezdxf.readfile(tmp_path / "parts" / "seat_plate.dxf").modelspace())
     notes = [e.dxf.text for e in msp if e.dxf.layer == "NOTES"]
-    assert notes[5] == "bearing seat 9 J7 (ISO 286)"
-    assert notes[6] == "bearing seat x1: mill bearing seat 9 J7 (ISO 286), 2.50 deep from the " \
+    # the plate's stock: 20 x 40 mm + STOCK_PLATE_MARGIN_MM (5 mm) per side, 6 mm thick
+    # (docs/ordering.md), as bom.csv states it
+    assert notes[5] == "stock: plate 6 x 30 x 50 mm aluminium-6061" == f"stock: {bom[0]['stock']}"
+    assert notes[6] == "bearing seat 9 J7 (ISO 286)"
+    assert notes[7] == "bearing seat x1: mill bearing seat 9 J7 (ISO 286), 2.50 deep from the " \
         "top face, layer MILL_Z3.50_6.00"
     mill = [e for e in msp if e.dxf.layer.startswith("MILL")]
     assert [(e.dxftype(), e.dxf.radius) for e in mill] == [("CIRCLE", pytest.approx(D / 2))]

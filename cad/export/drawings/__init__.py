@@ -3,7 +3,7 @@
 One A4 sheet per made part, ``drawings/<part>.svg``, and every sheet in one multi-page
 ``drawings.pdf`` (matplotlib's PdfPages), drawn from the part's solid (views from
 build123d's hidden-line projection, :mod:`cad.export.drawings.sheet`; features from its cylindrical
-faces, :mod:`cad.export.drawings.features`; fit, thread and stock texts, :mod:`cad.export.drawings.notes`).
+faces, :mod:`cad.export.drawings.features`; fit and thread texts, :mod:`cad.export.drawings.notes`; the stock the BOM orders, :func:`cad.pipeline.family.kind_stock`).
 The files are byte-identical run to run (no dates, fixed SVG ids).
 """
 

@@ -1,13 +1,18 @@
-"""What a sheet writes beside each feature: the fit, the thread with its depth, the stock.
+"""What a sheet writes beside each feature: the fit, the thread with its depth.
 
 Pure functions on :class:`cad.export.drawings.features.Cylinder` records and the part's data.
 """
 
 from __future__ import annotations
 
-from cad.data.fits import fmt_mm, metric_thread, parse_fit
-from cad.tolerances import MATCH_MM, STOCK_MARGIN_MM
+import re
 
+from cad.data.fits import fmt_mm, metric_thread, parse_fit
+from cad.tolerances import MATCH_MM
+
+#: A printed part's fit text (:func:`cad.printing.printed_fit`, the printed bars' pin bores):
+#: label, nominal, printed diameter (mm), how it is held.
+PRINTED_FIT = re.compile(r"(.*\S) (\d+(?:\.\d+)?) printed (\d+(?:\.\d+)?) \((.*)\)")
 #: General tolerance for untoleranced dimensions when the design states none.
 GENERAL_TOLERANCE = "ISO 2768-m"
 
@@ -36,7 +41,10 @@ def callout(c, fits: tuple[str, ...], threads=(), extent_mm: float | None = None
             return f"{key} tap drill Ø{fmt_mm(c.d_mm)}{_thread_text(depths, length)}, drill {deep}"
     for text in fits:
         parsed = parse_fit(text)
-        if parsed is None:  # a printed part's stated hole: no ISO fit to print
+        if parsed is None:  # a printed part's stated hole: its printed size and tolerance
+            printed = PRINTED_FIT.fullmatch(text)
+            if printed is not None and abs(float(printed[3]) - c.d_mm) < MATCH_MM and c.internal:
+                return f"Ø{printed[3]} printed ({printed[1]} {printed[2]}: {printed[4]}), {deep}"
             continue
         label, d, cls = parsed
         if abs(d - c.d_mm) < MATCH_MM and cls[:1].isupper() == c.internal:
@@ -109,17 +117,3 @@ def thread_depths(c, threads, datum_mm=(0.0, 0.0, 0.0)):
     length = c.hi_mm - c.lo_mm
     fit = {d for _, d in depths if d is not None and d <= length + MATCH_MM}
     return (key, [("", fit.pop())]) if len(fit) == 1 else (key, "solid")
-
-
-def stock(process: str, size_mm: tuple[float, float, float], plate: bool,
-          round_d_mm: float | None) -> str:
-    """The stock to cut a part from: a plate of its thickness with a blank
-    :data:`STOCK_MARGIN_MM` larger each side, round bar for a turned part (its largest
-    boss diameter, the length with facing stock), else a block."""
-    m = 2 * STOCK_MARGIN_MM
-    x, y, z = size_mm
-    if plate:
-        return f"plate {fmt_mm(z)} mm, blank {fmt_mm(x + m)} x {fmt_mm(y + m)}"
-    if process.startswith("turned") and round_d_mm is not None:
-        return f"round bar Ø{fmt_mm(round_d_mm + m)}, length {fmt_mm(z + m)}"
-    return f"block {fmt_mm(x + m)} x {fmt_mm(y + m)} x {fmt_mm(z + m)}"

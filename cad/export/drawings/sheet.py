@@ -1,7 +1,9 @@
 """One A4 landscape drawing sheet per made part (matplotlib, from build123d projections).
 
-Views (first-angle projection, ISO 128-30): front (x-z, looking along +y) top left, top
-(x-y) below it, side (y-z, looking along -x) right of the front view, and a section A-A
+Views in first-angle projection (ISO 5456-2, ISO 128-30), as the title block states: front
+(x-z, seen from -y, looking along +y) top left; the view from above (x-y, seen from +z) BELOW
+it; the view from the left (y-z, seen from -x, looking along +x: part +y runs to the sheet's
+left) RIGHT of the front view (:data:`SIDE_FROM`); and a section A-A
 (x-z plane through a stepped or blind hole) below the top view when a bore or seat needs
 one. Visible and hidden edges come from build123d's hidden-line projection
 (``Shape.project_to_viewport``). Overall sizes are dimensioned on the views; every
@@ -22,7 +24,7 @@ import textwrap
 from dataclasses import dataclass
 
 from cad.data.fits import fmt_mm
-from cad.export.drawings.notes import GENERAL_TOLERANCE, callout, stock
+from cad.export.drawings.notes import GENERAL_TOLERANCE, callout
 from cad.io.escape import mathtext
 
 #: Sheet size (ISO 216 A4 landscape) and the drawing border (mm).
@@ -33,6 +35,9 @@ BORDER_MM = 10.0
 VIEWS_MM = (14.0, 52.0, 196.0, 196.0)
 #: Gap between two views on the sheet (mm): room for a dimension line and its text.
 VIEW_GAP_MM = 14.0
+#: Where the side view is seen from: -x (the view from the left), which first-angle projection
+#: (ISO 5456-2) places RIGHT of the front view; in it part +y runs to the sheet's left.
+SIDE_FROM = -1.0
 #: Preferred scales of ISO 5455, largest first.
 ISO_SCALES = (10.0, 5.0, 2.0, 1.0, 0.5, 0.2, 0.1, 0.05)
 #: Sample count of a curved edge drawn as a polyline (a circle at scale 10:1 stays smooth).
@@ -46,7 +51,8 @@ class SheetPart:
     """What one sheet shows: ``shape`` (``TopoDS_Shape``, part frame, mm) and the part's
     BOM data; ``fits`` as :func:`cad.data.fits.fit` texts, ``threads`` its tapped holes,
     ``(size, thread depth mm or None)`` or ``(size, depth, name, axis, point_mm)`` (place in
-    the part frame or None; :func:`cad.export.drawings.notes.callout`)."""
+    the part frame or None; :func:`cad.export.drawings.notes.callout`); ``stock`` the BOM's
+    stock text (:func:`cad.pipeline.family.kind_stock`: the sheet states what is ordered)."""
 
     name: str
     shape: object
@@ -57,6 +63,7 @@ class SheetPart:
     fits: tuple[str, ...] = ()
     threads: tuple = ()
     description: str = ""
+    stock: str = ""
 
 
 def feature_rows(part: SheetPart):
@@ -231,7 +238,7 @@ def _table(ax, rows, x0, y_top, y_bottom):
         ax.text(x0 + 4, y - pitch, note, fontsize=font, va="top", family="monospace")
 
 
-def _title_block(ax, part: SheetPart, design: str, s: float, page: tuple[int, int], stock_t):
+def _title_block(ax, part: SheetPart, design: str, s: float, page: tuple[int, int]):
     x0, y0, x1, y1 = 180.0, BORDER_MM, SHEET_MM[0] - BORDER_MM, 50.0
     ax.plot([x0, x1, x1, x0, x0], [y0, y0, y1, y1, y0], lw=0.5, color="black")
     lines = [
@@ -240,7 +247,7 @@ def _title_block(ax, part: SheetPart, design: str, s: float, page: tuple[int, in
         f"material: {mathtext(part.material)}",
         f"quantity: {part.quantity}",
         *textwrap.wrap(mathtext(f"process: {part.process or 'unstated'}"), 62),
-        f"stock: {stock_t}",
+        f"stock: {mathtext(part.stock or 'unstated')}",
         f"general tolerance: {GENERAL_TOLERANCE}",
         f"units: mm; scale {scale_text(s)}; first-angle projection",
         f"sheet {page[0]} of {page[1]}; hapticad",
@@ -281,7 +288,7 @@ def draw_sheet(part: SheetPart, design: str, page: tuple[int, int]):
     far = 1e3 + 10 * max(size)
     _view(ax, solid, (ctr[0], ctr[1] - far, ctr[2]), (0, 0, 1), ctr, front, s)
     _view(ax, solid, (ctr[0], ctr[1], ctr[2] + far), (0, 1, 0), ctr, top, s)
-    _view(ax, solid, (ctr[0] + far, ctr[1], ctr[2]), (0, 0, 1), ctr, side, s)
+    _view(ax, solid, (ctr[0] + SIDE_FROM * far, ctr[1], ctr[2]), (0, 0, 1), ctr, side, s)
     for at, name, h in ((front, "FRONT", z), (top, "TOP", y), (side, "SIDE", z)):
         ax.text(at[0], at[1] + s * h / 2 + 2, name, fontsize=FONT_PT, ha="center")
     # overall sizes from the datum corner
@@ -293,8 +300,8 @@ def draw_sheet(part: SheetPart, design: str, page: tuple[int, int]):
     ax.plot([x0s], [y0s], marker="^", ms=3, color="black")
     ax.text(x0s + 1, y0s + 1, "datum", fontsize=FONT_MIN_PT + 1)
     more = pocket_chamfer_rows(part)
-    _tags(ax, rows + more, box, {"z": (top, "x", "y"), "y": (front, "x", "z"),
-                                 "x": (side, "y", "z")}, s)
+    _tags(ax, rows + more, box, {"z": (top, "x", "y", 1.0), "y": (front, "x", "z", 1.0),
+                                 "x": (side, "y", "z", SIDE_FROM)}, s)
     if y_sec is not None:
         sec = (top[0], top[1] - s * y / 2 - VIEW_GAP_MM - s * z / 2)
         _section(ax, solid, y_sec, box, sec, s)
@@ -303,9 +310,7 @@ def draw_sheet(part: SheetPart, design: str, page: tuple[int, int]):
         ax.plot([x0s - 3, x0s + s * x + 3], [ys, ys], lw=0.3, color="black", ls="-.")
         ax.text(x0s + s * x + 4, ys, "A-A", fontsize=FONT_PT, va="center")
     _table(ax, rows + more, 200.0, SHEET_MM[1] - b - 2, 54.0)
-    rd = max((c.d_mm for _, c, _ in rows if c.axis == "z" and not c.internal and c.full),
-             default=None)
-    _title_block(ax, part, design, s, page, stock(part.process, size, part.plate, rd))
+    _title_block(ax, part, design, s, page)
     notes = [f"All dimensions in mm from the datum; untoleranced: {GENERAL_TOLERANCE}.",
              "Fits ISO 286-2; threads ISO 261 metric coarse, tap drill d - P (ISO 2306).",
              f"{part.description}" if part.description else ""]
@@ -315,13 +320,15 @@ def draw_sheet(part: SheetPart, design: str, page: tuple[int, int]):
 
 
 def _tags(ax, rows, box, views, s):
-    """Each feature's tag at its centre on the view it is seen round in."""
+    """Each feature's tag at its centre on the view it is seen round in. ``views``: ``{axis:
+    (sheet centre, horizontal part axis, vertical part axis, +1 or -1: the horizontal axis runs
+    to the sheet's right or left)}``."""
     ctr = {"x": 0.5 * (box[0] + box[3]) - box[0], "y": 0.5 * (box[1] + box[4]) - box[1],
            "z": 0.5 * (box[2] + box[5]) - box[2]}
     for tag, c, _ in rows:
         if c.axis not in views:
             continue  # an oblique axis is seen round in no view: its row gives its place
-        at, a, b = views[c.axis]
-        px, py = at[0] + s * (c.u_mm - ctr[a]), at[1] + s * (c.v_mm - ctr[b])
+        at, a, b, sign = views[c.axis]
+        px, py = at[0] + sign * s * (c.u_mm - ctr[a]), at[1] + s * (c.v_mm - ctr[b])
         ax.plot([px], [py], marker="+", ms=3, mew=0.3, color="tab:blue")
         ax.text(px + 0.8, py + 0.8, tag, fontsize=FONT_MIN_PT + 0.5, color="tab:blue")

@@ -144,6 +144,7 @@ def _parts(design, J, plan, footprint, fidelity: str, deferred: bool, script):
     script's path or None)."""
     import contextlib
 
+    from cad.device import resolve_device
     from cad.families.fourbar.mechanism import build_assembly
     from cad.parts.handle import handle_params, user_handle_shape
     from cad.parts.part_cache import deferred_shapes
@@ -158,7 +159,8 @@ def _parts(design, J, plan, footprint, fidelity: str, deferred: bool, script):
     # deferred: solids only where a part's mass properties are not cached
     with deferred_shapes() if deferred else contextlib.nullcontext():
         asm = build_assembly(J, plan, parts, footprint, fidelity=fidelity,
-                             handle_shape=user_handle, design_label=design.name)
+                             handle_shape=user_handle, design_label=design.name,
+                             motor_spec=resolve_device(design).motor.spec)
     return asm
 
 

@@ -163,10 +163,14 @@ def build_assembly(
     fidelity: str = "fabrication",
     handle_shape=None,
     design_label: str = "",
+    motor_spec=None,
 ) -> Assembly:
     """Build every part and place it (module docstring).
 
     ``handle_shape``: a user handle (OCP shape, knob frame) replacing the built-in knob.
+    ``motor_spec``: the resolved device's motor (:class:`cad.data.catalog.MotorSpec`, the
+    ``[motor]`` table applied, :func:`cad.device.resolve_device`): its name and mass go on the
+    motor's BOM line; the mount geometry stays ``parts.motor``'s. None: the catalog motor.
     ``fidelity``: "fabrication" builds bd_warehouse bearings with balls and the knob's
     cosmetic round; "inertia" and "preview" use plain bearing rings and no round.
     Raises DesignError naming the joint when a fastener cannot be sized.
@@ -175,7 +179,7 @@ def build_assembly(
     _bars(b, design_label)
     _joint_hardware(b)
     warn_pins(pin_rows(plan, parts, b.bands))
-    _motor_and_hub(b)
+    _motor_and_hub(b, motor_spec)
     rect = _base_post_legs(b, footprint_mm)
     _handle(b, handle_shape)
     check_fasteners({i.name: i.fastener for i in b.inst if i.fastener}, b.holes)
@@ -491,8 +495,10 @@ def _joint_hardware(b: _Builder) -> None:
             clamps += [low, f"washer_{j}"]
         else:
             hole, engaged = "post_A4:top", _post_engagement_mm(parts, s)
-        std = "ISO 2338 + DIN 471" if cat.is_dowel(parts.pin) else "ISO 7379"
-        f = Fastener(std, parts.pin, s.pin_length_mm, tuple(clamps), hole, engaged)
+        dowel = cat.is_dowel(parts.pin)
+        std = "ISO 2338 + DIN 471" if dowel else "ISO 7379"
+        f = Fastener(std, parts.pin, s.pin_length_mm, tuple(clamps), hole, engaged,
+                     fitted=(f"ring_{j}",) if dowel else ())
         b.place(
             f"pin_{j}",
             _pin_kind(b, s.pin_length_mm),
@@ -500,6 +506,8 @@ def _joint_hardware(b: _Builder) -> None:
             translation(px, py, s.head_face_mm),
             fastener=f,
         )
+        if dowel:  # its upper retaining ring (the pin's "head"), its own part
+            b.place(f"ring_{j}", k["nut"], low, translation(px, py, s.head_face_mm))
         if s.nut:
             z_bot = s.z_lower_top_mm - t
             b.place(f"washer_{j}", k["washer"], low, translation(px, py, z_bot - washer.h_mm))
@@ -517,9 +525,9 @@ def _post_engagement_mm(parts: PartsSpec, s4) -> float:
     return iso7379_thread_mm(parts.pin)
 
 
-def _motor_and_hub(b: _Builder) -> None:
-    """Crank hub with its screws and set screw, the motor (housing and shaft), its mount plate
-    and screws."""
+def _motor_and_hub(b: _Builder, motor_spec=None) -> None:
+    """Crank hub with its screws and set screw, the motor (housing and shaft; its BOM name and
+    mass from ``motor_spec``, the resolved motor, when given), its mount plate and screws."""
     from cad.parts import joints, motor
 
     parts, plan = b.parts, b.plan
@@ -567,10 +575,10 @@ def _motor_and_hub(b: _Builder) -> None:
         lambda: motor.motor_housing_shape(m),
         material="steel-1018",
         made=False,
-        description=m.bom_description(),
+        description=(motor_spec or m).bom_description(),
         process=f"bought; face tapped {m.bolt_size.split('-')[0]} x{m.bolt_count}; with its shaft "
                 "(solid motor_shaft in assembly.step)",
-        mass_kg=m.mass_kg,
+        mass_kg=(motor_spec or m).mass_kg,
         revolution=True,
     )
     b.place("motor", mk, "ground", translation(0, 0, zf))

@@ -182,7 +182,7 @@ def _motor_kinds(add, K: dict, c) -> None:
         pm.motor_housing_shape(mot),
         "steel-1018",
         False,
-        mot.description,
+        mot.bom_description(),
         f"bought; face tapped {mot.bolt_size.split('-')[0]} x{mot.bolt_count}; with its "
         "shaft (solid motor_shaft in assembly.step)",
         mass_kg=mot.mass_kg,

@@ -63,7 +63,7 @@ def test_pin_material_is_a_design_key():
 
 @pytest.mark.parametrize("material", ["steel-1018", "aluminium-7075"])
 def test_pin_solid_mass_is_the_closed_form(material):
-    """Pin cylinder (k + L + b) plus the ring annulus d..d4 x s, times the density."""
+    """Pin cylinder (k + L + b) times the density: its rings are parts of their own."""
     from cad.data.materials import get_material
     from cad.massprops.occt import solid_mass_props
     from cad.parts.joints import shoulder_screw_shape
@@ -71,8 +71,7 @@ def test_pin_solid_mass_is_the_closed_form(material):
     size, L = "dowel-3", cat.get_shoulder_screw("dowel-3").lengths_mm[3]
     rho = get_material(material).density_kg_m3
     mp = solid_mass_props(shoulder_screw_shape(size, L), rho)
-    ring = cat.get_retaining_ring(3.0)
-    vol = math.pi / 4 * (3.0**2 * cat.dowel_total_length_mm(size, L) + (ring.d4_mm**2 - 9.0) * ring.s_mm)
+    vol = math.pi / 4 * 3.0**2 * cat.dowel_total_length_mm(size, L)
     assert mp.mass_kg == pytest.approx(vol * 1e-9 * rho, rel=1e-6)
     assert "ISO 2338 3 m6 x" in cat.pin_description(size, L)
 

@@ -323,6 +323,13 @@ BAD_FLAGS: dict[tuple[str, str], list[str]] = {
     ("render", "--out"): ["/dev/null/x", H],
     ("bench", "--only"): ["everything"],
     ("bench", "--out"): ["/dev/null/x"],
+    ("bench-log", "--out"): ["/dev/null/x", H],
+    ("bench-log", "--seed"): ["-1", "4294967296"],
+    ("bench-log", "--perturb"): ["mass=x", "mass", "weight=2", "encoder=2"],
+    ("bench-log", "--model"): ["ode"],
+    ("bench-log", "--build-dir"): ["/dev/null/x"],
+    ("identify", "--out"): ["/dev/null/x"],
+    ("identify", "--build-dir"): ["/dev/null/x"],
 }
 BASE = {
     "analyze": ["analyze", H], "synth": ["synth", H], "build": ["build", H],
@@ -332,6 +339,7 @@ BASE = {
     "wall": ["wall", H],
     "render": ["render", H], "sweep": ["sweep", H], "cache": ["cache"],
     "datasheet": ["datasheet", H],
+    "bench-log": ["bench-log", H, "--out", "log.csv"], "identify": ["identify", H, "log.csv"],
 }
 CASES_FLAGS = [(c, f, v) for (c, f), vals in BAD_FLAGS.items() for v in vals]
 

@@ -348,10 +348,15 @@ def test_generation_imports_no_cad_library(request):
         f"rep = json.loads(open(r'{out / 'report.json'}').read())\n"
         f"files = firmware_files(load_design(r'{ROOT / 'designs' / 'hoeken.toml'}'), rep, 'h')\n"
         "bad = [m for m in ('OCP', 'build123d', 'cadquery', 'trimesh', 'manifold3d') if m in sys.modules]\n"
-        "print('BAD', bad, len(files))\n"
+        "print('BAD', bad, len(files), sorted(files))\n"
     )
     r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
-    assert "BAD [] 6" in r.stdout, r.stdout + r.stderr
+    # the six device files (cad.firmware.FILES) and the identification routine's three
+    assert "BAD [] 9" in r.stdout, r.stdout + r.stderr
+    from cad.firmware import FILES
+
+    assert all(f"firmware/{f}" in r.stdout for f in FILES)
+    assert r.stdout.count("firmware/identify/") == 3
 
 
 @pytest.mark.parametrize("fam", ("pantograph", "twin-pantograph"))
