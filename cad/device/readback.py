@@ -348,7 +348,10 @@ def motor_disagreements(device, out: Path) -> list[str]:
     path = Path(out) / "bom.csv"
     if not device.motors or not path.is_file():
         return []
-    want = {m.spec.bom_description(): m.spec.mass_kg for m in device.motors}
+    from cad.io.escape import csv_cell
+
+    # bom.csv writes a text cell a spreadsheet could read as a formula with a leading "'"
+    want = {csv_cell(m.spec.bom_description()): m.spec.mass_kg for m in device.motors}
     bad = []
     for r in _csv_rows(path):
         if r.get("group") != "motors":

@@ -58,6 +58,8 @@ class DeltaDesign:
     actuators: dict[str, Any]
     optimize: dict[str, tuple[float, float, int]]
     raw: dict = field(repr=False)
+    #: the delta takes no [targets] yet (refused at load): optimize checks none on its optimum
+    targets: tuple = ()
 
     def workspace_points(self) -> np.ndarray:
         """Workspace samples (N, 3) mm, base frame (box: C order of ``grid_shape``)."""
