@@ -190,8 +190,7 @@ def check(design, targets: tuple[str, ...] | list[str] = (), fidelity: str = "in
     Raises DesignError when the family has no check.
     """
     from cad.checks import evaluate, merge_targets
-    from cad.design.fourbar import FourBarDesign
-    from cad.design.targets import PANTOGRAPH_TARGET_KEYS, TARGET_KEYS, parse_cli_target
+    from cad.design.targets import parse_cli_target
     from cad.errors import DesignError
 
     if fidelity not in ("inertia", "fabrication"):
@@ -200,9 +199,8 @@ def check(design, targets: tuple[str, ...] | list[str] = (), fidelity: str = "in
 
     _need_design(design)
     require("check", design.family)
-    four_bar = isinstance(design, FourBarDesign)
-    keys = TARGET_KEYS if four_bar else PANTOGRAPH_TARGET_KEYS
-    given = tuple(parse_cli_target(t, keys) for t in _targets(targets))  # one str: one target
+    hooks = _target_hooks(design, "check")
+    given = tuple(parse_cli_target(t, hooks.keys) for t in _targets(targets))  # one str: one target
     merged = merge_targets(design.targets, given) if merge or not given else given
     source = "design+given" if merge and given else ("given" if given else "design")
     if not merged:  # no targets: the default limits of the datasheet (cad.datasheet.limits)
@@ -216,35 +214,29 @@ def check(design, targets: tuple[str, ...] | list[str] = (), fidelity: str = "in
                 "targets_source": "default limits", "limit_warnings": list(ds["warnings"]),
                 "checked": "default limits (no [targets]): cad/datasheet/limits.py"}
     wanted = {t.key for t in merged}
-    if four_bar:
-        from cad.families.fourbar.inertia import target_values
-
-        build_keys = {"min_clearance_mm", "first_mode_Hz", "max_stress_MPa",
-                      "compliance_x_um_per_N", "compliance_z_um_per_N"}
-        values, report = target_values(design, fidelity, bool(wanted & build_keys))
-        from cad.datasheet.limits import DATASHEET_TARGETS
-
-        if wanted & (set(DATASHEET_TARGETS) - build_keys):  # figures only the datasheet has
-            from cad.datasheet.run import device_datasheet
-
-            for r in device_datasheet(design, fidelity)["rows"]:
-                if r["value"] is not None and r["key"] in DATASHEET_TARGETS:
-                    values.setdefault(r["key"], r["value"])
-    else:
-        from cad.families.pantograph.targets import pantograph_target_values
-
-        values, report = pantograph_target_values(design, fidelity, wanted)
+    values, report = hooks.values(design, fidelity, wanted)
     rows = evaluate(merged, values)
     warnings = _missed_limits(design, fidelity, wanted)
-    if not four_bar:  # a missed first-mode target: what limits it, the best the tubes reach
-        from cad.families.pantograph.targets import mode_blocker_lines
-
-        warnings += mode_blocker_lines(design, report, rows)
+    if hooks.blockers is not None:  # a missed target: what in the layout blocks it
+        warnings += hooks.blockers(design, report, rows)
     return {"name": design.name, "ok": all(r.ok for r in rows), "fidelity": fidelity,
             "targets_checked": [r.key for r in rows], "targets_source": source,
             "rows": [r.as_dict() for r in rows], "computed": values,
             "budget": report.get("budget"), "limits_met": not warnings,
             "limit_warnings": warnings}
+
+
+def _target_hooks(design, command: str):
+    """The family's :class:`cad.families.protocol.TargetHooks`; DesignError naming
+    ``mechanism.family`` when it has none (the registry lets ``command`` through)."""
+    from cad.data.families import refusal
+    from cad.errors import DesignError
+    from cad.families import family_package
+
+    hooks = family_package(design.family).targets
+    if hooks is None:
+        raise DesignError("mechanism.family", refusal(command, design.family))
+    return hooks
 
 
 def _missed_limits(design, fidelity: str, checked: set[str]) -> list[str]:
@@ -303,26 +295,18 @@ def assemble(design, fidelity: str = "fabrication"):
     Raises DesignError naming ``mechanism.family`` for a family with no parts (no package or
     no ``assemble``), ``fidelity`` for an unknown fidelity. Imports the CAD libraries.
     """
-    import importlib
-
-    from cad.data.families import FAMILIES
     from cad.design.parts import FIDELITIES
     from cad.errors import DesignError
+    from cad.families import family_package
 
     if fidelity not in FIDELITIES:
         raise DesignError("fidelity", f"must be one of {', '.join(FIDELITIES)}, got {fidelity!r}")
     _need_design(design)
-    family = design.family
-    row = FAMILIES.get(family)
-    if row is None:
-        raise DesignError("mechanism.family", f"unknown family {family!r}")
-    fn = None
-    if row.package is not None:
-        fn = getattr(importlib.import_module(f"cad.families.{row.package}"), "assemble", None)
-    if fn is None:
-        raise DesignError("mechanism.family", f"{family} designs have no parts to assemble yet "
-                          f"(no cad.families.{row.package or '<package>'}.assemble)")
-    return fn(design, fidelity=fidelity)
+    fam = family_package(design.family)  # DesignError: an unknown family
+    if fam.assemble is None:
+        raise DesignError("mechanism.family", f"{design.family} designs have no parts to "
+                                              f"assemble yet")
+    return fam.assemble(design, fidelity=fidelity)
 
 
 def voicecoil(magnet_length_mm: float, magnet_width_mm: float, magnet_thickness_mm: float,
@@ -434,35 +418,16 @@ def optimize(design, method: str | None = None, objective: str | None = None, tr
     report's ``prototype`` entry.
     Raises DesignError naming the option or ``mechanism.family``.
     """
-    from cad.data.families import FAMILIES, require
-    from cad.errors import DesignError
+    from cad.data.families import require
+    from cad.families import family_package
 
     _need_design(design)
     require("optimize", design.family)
     _flag_numbers(trials=trials, exact_top=exact_top, proportions_tol=proportions_tol)
-    if FAMILIES[design.family].group == "four-bar":
-        if method is not None:
-            raise DesignError("--method", f"{method!r} is for pantograph designs; a four-bar "
-                                          "takes --objective min-apparent-mass")
-        if (objective or "min-apparent-mass") != "min-apparent-mass":
-            raise DesignError("--objective", f"must be min-apparent-mass, got {objective!r}")
-        from cad.studies.codesign.report import optimize_fourbar
-
-        rep, _ = optimize_fourbar(design, "min-apparent-mass", trials, seed, exact_top, None,
-                                  None, None, proportions_tol, starts, beat_prototype)
-        return rep
-    require("optimize", design.family)
-    if objective is not None:
-        raise DesignError("--objective", f"min-apparent-mass is for four-bar designs, not "
-                                         f"{design.family!r} (use --method)")
-    if method is not None and method not in ("culling", "brute"):
-        raise DesignError("--method", f"must be 'culling' or 'brute', got {method!r}")
-    from cad.families.pantograph.targets import optimum_misses
-    from cad.isotropy.report import optimize_report
-
-    rep = optimize_report(design, method or "culling")
-    rep["targets"], rep["misses"] = optimum_misses(design, rep)  # the design's [targets] on the optimum
-    return rep
+    options = {"method": method, "objective": objective, "trials": trials, "seed": seed,
+               "exact_top": exact_top, "proportions_tol": proportions_tol, "starts": starts,
+               "beat_prototype": beat_prototype}
+    return family_package(design.family).optimize(design, options)
 
 
 def render(designs, out_dir: str | Path = "docs/devices", fidelity: str | None = None) -> list:
@@ -643,17 +608,15 @@ def fit_design(design, targets=(), free=(), fidelity: str = "inertia", echo=None
 def fit_setup(design, targets: tuple[str, ...], free: tuple[str, ...]) -> dict:
     """The parsed targets and free parameters of :func:`fit`, checked before any search."""
     from cad.checks import merge_targets
-    from cad.data.families import FAMILIES, require
-    from cad.design.targets import PANTOGRAPH_TARGET_KEYS, TARGET_KEYS, parse_cli_target
+    from cad.data.families import require
+    from cad.design.targets import parse_cli_target
     from cad.errors import DesignError
-    from cad.studies.fit import parse_free, parse_free_pantograph
 
     require("fit", design.family)
-    four_bar = FAMILIES[design.family].group == "four-bar"
-    if four_bar:
+    hooks = _target_hooks(design, "fit")
+    if hasattr(design, "check_buildable"):  # links shorter than their hardware: before a search
         design.check_buildable()
-    keys = TARGET_KEYS if four_bar else PANTOGRAPH_TARGET_KEYS
-    given = tuple(parse_cli_target(t, keys) for t in targets)
+    given = tuple(parse_cli_target(t, hooks.keys) for t in targets)
     merged = given if given else merge_targets(design.targets, ())
     if not merged:
         raise DesignError("--target", "no targets: give --target KEY=VALUE or a [targets] table")
@@ -661,13 +624,12 @@ def fit_setup(design, targets: tuple[str, ...], free: tuple[str, ...]) -> dict:
     if not specs:
         raise DesignError("--free", "no free parameters: give --free parts.KEY (four-bars), "
                                     "mechanism.KEY / parts.KEY (pantographs) or [fit] free")
-    params = [parse_free(s, design.parts) if four_bar else parse_free_pantograph(s, design)
-              for s in specs]
+    params = [hooks.parse_free(s, design) for s in specs]
     seen = [q.path for q in params]
     twice = next((k for i, k in enumerate(seen) if k in seen[:i]), None)
     if twice is not None:
         raise DesignError("--free", f"{twice} is given twice; give each free parameter once")
-    return {"four_bar": four_bar, "given": given, "targets": merged, "params": params}
+    return {"hooks": hooks, "given": given, "targets": merged, "params": params}
 
 
 def fit_run(design, setup: dict, fidelity: str, dest: Path, name: str, echo=None) -> dict:
@@ -676,52 +638,33 @@ def fit_run(design, setup: dict, fidelity: str, dest: Path, name: str, echo=None
     import copy
 
     from cad.checks import evaluate
-    from cad.datasheet.limits import default_limit_targets
     from cad.design import parse_design
     from cad.design.writer import rebase_paths
-    from cad.families.fourbar.inertia import target_values
-    from cad.families.pantograph.targets import pantograph_target_values
     from cad.studies.fit import fit as _fit
-    from cad.studies.fit import precad_checks
 
-    four_bar, targets, params = setup["four_bar"], setup["targets"], setup["params"]
-    # four-bars: every default datasheet limit is a constraint of each candidate (its own
-    # material's stress limit), and the pre-CAD checks reject candidates before any build
-    limits = default_limit_targets if four_bar else None
-    need_clear = limits is not None or any(t.key == "min_clearance_mm" for t in targets)
+    hooks, targets, params = setup["hooks"], setup["targets"], setup["params"]
+    # every default datasheet limit the family names is a constraint of each candidate (its
+    # own material's stress limit); the pre-CAD checks reject candidates before any build
+    limits = hooks.fit_limits
     wanted = {t.key for t in targets}
+    values = hooks.fit_values or hooks.values
 
     def values_of(dd) -> dict:
-        if four_bar:
-            return {**precad_checks(dd)[0], **target_values(dd, fidelity, need_clear)[0]}
-        return pantograph_target_values(dd, fidelity, wanted)[0]
+        return values(dd, fidelity, wanted)[0]
 
-    raw = dict(design.raw)
-    if four_bar:
-        raw.setdefault("parts", {})
     if echo:
         echo(f"fit {design.name}: {len(params)} free parameter(s), {len(targets)} target(s)")
-    res = _fit(raw, str(design.source), targets, params, values_of, echo=echo, limit_targets=limits,
-               precad=precad_checks if four_bar else None)
+    res = _fit(dict(design.raw), str(design.source), targets, params, values_of, echo=echo,
+               limit_targets=limits, precad=hooks.precad)
     fitted = rebase_paths(copy.deepcopy(res.raw), design.source, dest)
     fitted["name"] = name
     if setup["given"]:  # keep the targets the fit was made for
-        tt = dict(fitted.get("targets", {}))
-        for t in setup["given"]:
-            tt[t.key] = ({"value": t.value, "tol_rel": t.tol_rel} if t.value is not None and t.tol_abs is None
-                         else {"value": t.value, "tol_abs": t.tol_abs} if t.value is not None
-                         else {k: v for k, v in (("min", t.min), ("max", t.max)) if v is not None})
-        fitted["targets"] = tt
+        fitted["targets"] = _targets_table(fitted.get("targets", {}), setup["given"])
     final = parse_design(fitted, str(dest))
     lim_t = tuple(limits(final)) if limits else ()
-    if four_bar:
-        rows, blockers = evaluate(tuple(targets) + lim_t, values_of(final)), []
-    else:  # a missed first mode: what limits it, the best the tubes reach (mode_ceiling)
-        from cad.families.pantograph.targets import mode_blocker_lines
-
-        vals, rep = pantograph_target_values(final, fidelity, wanted)
-        rows = evaluate(tuple(targets), vals)
-        blockers = mode_blocker_lines(final, rep, rows)
+    vals, rep = values(final, fidelity, wanted)
+    rows = evaluate(tuple(targets) + lim_t, vals)
+    blockers = hooks.blockers(final, rep, rows) if hooks.blockers is not None else []
     # exit status from the targets (as before); a missed default limit is a warning, as in the
     # datasheet (the search already ranked every candidate meeting the limits first)
     missed = [f"{r.key} = {'not computed' if r.computed is None else f'{r.computed:.4g}'}, limit {r.target}"
@@ -732,6 +675,16 @@ def fit_run(design, setup: dict, fidelity: str, dest: Path, name: str, echo=None
             "evaluations": len(res.log) - res.rejected_pre_cad, "rejected_pre_cad": res.rejected_pre_cad,
             "iterations": res.log, "rows": [r.as_dict() for r in rows], "blockers": blockers,
             "design": final, "raw": fitted}
+
+
+def _targets_table(table: dict, given) -> dict:
+    """The ``[targets]`` table ``table`` with the ``given`` targets (:class:`Target`) set."""
+    tt = dict(table)
+    for t in given:
+        tt[t.key] = ({"value": t.value, "tol_rel": t.tol_rel} if t.value is not None and t.tol_abs is None
+                     else {"value": t.value, "tol_abs": t.tol_abs} if t.value is not None
+                     else {k: v for k, v in (("min", t.min), ("max", t.max)) if v is not None})
+    return tt
 
 
 def sweep_design(design: str | Path, vary, out_dir: str | Path, samples: int | None = None,

@@ -206,7 +206,7 @@ def _pantograph(design: Path, method: str, out: Path | None, json_out: bool) -> 
 
         check_out_file(out, design)  # before the search, as for four-bars
     rep = optimize_report(d, method)
-    from cad.families.pantograph.targets import optimum_misses
+    from cad.studies.gii_optimize import optimum_misses
 
     rep["targets"], rep["misses"] = optimum_misses(d, rep)  # the design's [targets] on the optimum
     if out is not None:

@@ -29,10 +29,10 @@ class Family:
     name : ``[mechanism] family`` of a design file.
     group : the column of the commands x families table (four-bars share one).
     design_module : the module owning the schema (``parse(raw, source) -> design``).
-    package : ``cad.families.<package>``, the layout code the build pipeline calls
-        (``<package>.build``), or None while the family has no parts.
+    package : the family package ``cad.families.<package>`` (or a full module path) whose
+        ``FAMILY`` (:class:`cad.families.protocol.FamilyPackage`) gives every hook: build,
+        datasheet rows, targets, optimiser, firmware, simulator.
     commands : the ``hapticad`` commands that accept its designs.
-    firmware : ``--formats firmware`` is written for it (:mod:`cad.firmware`).
     """
 
     name: str
@@ -40,7 +40,11 @@ class Family:
     design_module: str
     package: str | None
     commands: tuple[str, ...]
-    firmware: bool = True
+
+    @property
+    def package_module(self) -> str:
+        """The importable module of :attr:`package`."""
+        return self.package if "." in self.package else f"cad.families.{self.package}"
 
 
 def _fourbar(name: str) -> Family:
@@ -59,12 +63,10 @@ FAMILIES: dict[str, Family] = {
                _PANTOGRAPH_CMDS),
         Family("twin-pantograph", "twin-pantograph", "cad.design.pantograph", "pantograph",
                _PANTOGRAPH_CMDS),
-        Family("haptic-pen", "haptic-pen", "cad.families.pen.design", "pen", _PANTOGRAPH_CMDS,
-               firmware=False),
+        Family("haptic-pen", "haptic-pen", "cad.families.pen.design", "pen", _PANTOGRAPH_CMDS),
         Family("powermouse", "powermouse", "cad.design.powermouse", "powermouse",
                ("build", "render", "datasheet")),
-        Family("delta", "delta", "cad.families.delta.design", None, ("gii", "optimize"),
-               firmware=False),
+        Family("delta", "delta", "cad.families.delta.design", "delta", ("gii", "optimize")),
     )
 }
 
@@ -91,18 +93,6 @@ def groups() -> dict[str, tuple[str, ...]]:
 def command_families() -> dict[str, tuple[str, ...]]:
     """``{command: the family names it accepts}`` for every design command."""
     return {c: tuple(n for n, f in FAMILIES.items() if c in f.commands) for c in DESIGN_COMMANDS}
-
-
-def builder_module(name: str) -> str | None:
-    """``cad.families.<package>.build`` of a family, None when it has no parts yet."""
-    pkg = FAMILIES[name].package
-    return None if pkg is None else f"cad.families.{pkg}.build"
-
-
-def datasheet_module(name: str) -> str | None:
-    """``cad.families.<package>.datasheet`` (``rows_and_limits``), None without parts."""
-    pkg = FAMILIES[name].package
-    return None if pkg is None else f"cad.families.{pkg}.datasheet"
 
 
 def refusal(command: str, family: str) -> str:

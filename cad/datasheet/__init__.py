@@ -19,12 +19,11 @@ numpy, no CAD import: computed by the build dispatcher and by ``hapticad datashe
 
 from __future__ import annotations
 
-import importlib
 import math
 from typing import Any
 
-from cad.data.families import datasheet_module
 from cad.datasheet.limits import Limit
+from cad.families import family_package
 from cad.io.escape import md
 from cad.tolerances import RANGE_SAME_REL
 
@@ -81,7 +80,7 @@ def datasheet(design, report: dict, out_dir=None, simulate_wall: bool = True) ->
     the chart's file name is then in ``notes`` and ``charts``. ``simulate_wall=False``: no
     wall simulation (the four-bar K_max row says so; evaluation builds)."""
     fam = getattr(design, "family", "")
-    rows_and_limits = importlib.import_module(datasheet_module(fam)).rows_and_limits
+    rows_and_limits = family_package(fam).datasheet_rows
     rows, limits, notes = rows_and_limits(design, report, out_dir=out_dir, simulate_wall=simulate_wall)
     rows += cost_rows(report)
     warnings = judge(rows, limits)

@@ -1,22 +1,14 @@
-"""Families: the layout code of each device family behind one protocol.
+"""Families: the code particular to each device family, behind one protocol.
 
-A package ``cad/families/<name>/`` holds what is particular to a family and nothing the
-pipeline (:mod:`cad.pipeline`) does for every family:
-
-* ``assemble(design, fidelity="fabrication") -> cad.assembly.model.AssemblyModel``
-  (exported by the package's ``__init__``): the part instances, the bodies at the exported
-  pose and over the motion the interference check sweeps;
-* ``build.py`` -- ``build(design, out_dir, formats, *, fidelity, allow_interference,
-  progress, phi1_deg) -> report dict``; optionally ``check_options``, ``cache_inputs``,
-  ``CODE_DEPS`` (the contract is in :mod:`cad.pipeline`; :data:`SHARED_CODE_DEPS` plus the
-  family's own packages); for the pen, the pantographs and the PowerMouse ``build`` is one
-  call to the build driver :func:`cad.pipeline.run.run_family` with the family's
-  :class:`cad.pipeline.run.Stages` (the four-bar still runs its own sequence);
-* ``datasheet.py`` -- ``rows_and_limits(design, report, out_dir, simulate_wall)``, the
-  family's rows of the device datasheet (:mod:`cad.datasheet`);
-* ``sim.py`` (where the family exports MJCF/URDF) -- its simulator model.
-
-The registry row (:mod:`cad.data.families`) names the package.
+A package ``cad/families/<package>/`` holds what is particular to a family and nothing the
+pipeline (:mod:`cad.pipeline`), the datasheet (:mod:`cad.datasheet`), the commands
+(:mod:`cad.api`) or the firmware generator (:mod:`cad.firmware`) does for every family. Its
+``__init__`` exports one object, ``FAMILY``: a :class:`cad.families.protocol.FamilyPackage`
+(layout/assembly, build stages, datasheet rows, target values, optimiser, firmware and
+simulator hooks). The registry row (:mod:`cad.data.families`) names the package and the
+commands that take the family; :func:`family_package` is the one place that turns a family
+name into its ``FAMILY``. A new family is one package and one registry row
+(``tests/architecture/test_toy_family.py`` proves it).
 """
 
 #: Sources of ``cad`` every family's build output depends on (its ``CODE_DEPS``, the build
@@ -41,3 +33,22 @@ SHARED_CODE_DEPS = (
     "errors.py",
     "tolerances.py",
 )
+
+
+def family_package(name: str):
+    """The :class:`cad.families.protocol.FamilyPackage` of the family ``name`` (the
+    ``FAMILY`` of the package its registry row names).
+
+    Raises DesignError naming ``mechanism.family`` for an unknown family or one whose row
+    names no package."""
+    import importlib
+
+    from cad.data.families import FAMILIES
+    from cad.errors import DesignError
+
+    row = FAMILIES.get(name)
+    if row is None:
+        raise DesignError("mechanism.family", f"unknown family {name!r}")
+    if row.package is None:
+        raise DesignError("mechanism.family", f"{name} designs have no family package yet")
+    return importlib.import_module(row.package_module).FAMILY

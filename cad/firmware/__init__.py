@@ -16,7 +16,9 @@ Pure generation code (numpy; no CAD import). :func:`write_firmware` writes into
 * four-bars: ``identify/`` -- the identification routine, its CSV log writer and an example
   sketch (:mod:`cad.firmware.identify_c`, issue 37).
 
-The PowerMouse gets its current-to-wrench map instead (:mod:`cad.firmware.powermouse`).
+The family's firmware hook chooses the generator (:func:`firmware_files`): the linkages use
+:func:`linkage_files`, the PowerMouse its current-to-wrench map
+(:mod:`cad.families.powermouse.firmware`).
 
 Every file names the design, its hash and the hapticad version, and states units (SI) and
 frames. Inputs: the design, the build's report (mass properties from the solids, the motor
@@ -36,17 +38,27 @@ FILES = ("hapticad_device.h", "hapticad_device.c", "test_vectors.json", "test_de
 
 
 def firmware_files(design, report: dict, design_hash: str, device=None) -> dict[str, str]:
-    """``{relative path: text}`` of every generated file (paths under ``firmware/``); the
-    motor and encoder facts are ``device``'s (:class:`cad.device.ResolvedDevice`, resolved
-    from ``design`` when None)."""
+    """``{relative path: text}`` of every generated file (paths under ``firmware/``) of
+    ``design`` built into ``report``: its family's firmware hook
+    (:attr:`cad.families.protocol.FamilyPackage.firmware`). Raises DesignError naming
+    ``--formats`` for a family without firmware."""
+    from cad.errors import DesignError
+    from cad.families import family_package
+
+    hook = family_package(design.family).firmware
+    if hook is None:
+        raise DesignError("--formats", f"firmware is not written for {design.family!r} designs")
+    return hook(design, report, design_hash, device)
+
+
+def linkage_files(design, report: dict, design_hash: str, device=None) -> dict[str, str]:
+    """The firmware of a linkage (joint encoders, motors on joints): ``{relative path:
+    text}`` under ``firmware/`` (module docstring); the motor and encoder facts are
+    ``device``'s (:class:`cad.device.ResolvedDevice`, resolved from ``design`` when None)."""
     import cad
     from cad.firmware import csrc, extras, reference, vectors
     from cad.firmware.device import device_spec
 
-    if design.family == "powermouse":
-        from cad.firmware import powermouse
-
-        return powermouse.files(design, report, design_hash, cad.__version__)
     spec = device_spec(design, report, design_hash, cad.__version__, device)
     rows, summary = vectors.rows(spec, design)
     q_ok = np.array([r[1 + 2 * spec.n_joints: 1 + 3 * spec.n_joints] for r in rows if r[0] == 0])
@@ -97,9 +109,13 @@ def _identify_files(design, report: dict, spec) -> dict[str, str]:
 
 def write_firmware(design, report: dict, out_dir: Path, design_hash: str, device=None) -> list[str]:
     """Write :func:`firmware_files` into ``out_dir`` atomically; return the relative paths."""
+    return write_files(out_dir, firmware_files(design, report, design_hash, device))
+
+
+def write_files(out_dir: Path, files: dict[str, str]) -> list[str]:
+    """Write ``{relative path: text}`` into ``out_dir`` atomically; the sorted paths."""
     from cad.io.atomic import write_text_atomic
 
-    files = firmware_files(design, report, design_hash, device)
     for rel, text in files.items():
         write_text_atomic(Path(out_dir) / rel, text)
     return sorted(files)

@@ -50,7 +50,6 @@ import contextlib
 import dataclasses
 import functools
 import hashlib
-import importlib
 import json
 import math
 from collections.abc import Callable
@@ -58,9 +57,10 @@ from pathlib import Path
 from typing import Any
 
 import cad
-from cad.data.families import FAMILIES, builder_module, refusal
+from cad.data.families import FAMILIES, refusal
 from cad.device import resolve_device
 from cad.errors import DesignError
+from cad.families import family_package
 from cad.io.atomic import atomic_dir, write_text_atomic
 from cad.io.outdir import check_out_dir
 
@@ -68,30 +68,27 @@ Progress = Callable[[str, int, int], None]
 FIDELITIES = ("fabrication", "inertia", "preview")
 REPORT_NAME = "report.json"
 HTML_NAME = "report.html"
-#: Families whose build can write ``--formats firmware`` (:mod:`cad.firmware`).
-FIRMWARE_FAMILIES = tuple(n for n, f in FAMILIES.items() if f.firmware)
 #: Bump when the cache key payload changes shape.
 CACHE_SCHEMA = 1
 
 
-def builder_module_name(design) -> str:
-    """``cad.families.<package>.build`` of a design object (:mod:`cad.data.families`).
+def family_of(design):
+    """The :class:`cad.families.protocol.FamilyPackage` that builds ``design``.
 
     Raises DesignError naming ``mechanism.family`` for an object that is no registered
-    family's design, or a family that has no parts yet."""
+    family's design, a family whose registry row does not take ``build``, or one with no
+    parts yet."""
     family = getattr(design, "family", None)
     if family in FAMILIES and "build" not in FAMILIES[family].commands:
         raise DesignError("mechanism.family", refusal("build", family))
-    if family not in FAMILIES or not type(design).__module__.startswith("cad.design."):
+    if family not in FAMILIES or not hasattr(design, "raw"):
         raise DesignError(
             "mechanism.family", f"no builder for designs of type {type(design).__name__}"
         )
-    mod = builder_module(family)
-    if mod is None:
-        raise DesignError(
-            "mechanism.family", f"building {family!r} designs is not available yet"
-        )
-    return mod
+    fam = family_package(family)
+    if fam.build is None:
+        raise DesignError("mechanism.family", f"building {family!r} designs is not available yet")
+    return fam
 
 
 def _jsonable(obj: Any) -> Any:
@@ -169,19 +166,15 @@ def build_key(
         payload["simulate_wall"] = bool(simulate_wall)
     if prices is not None:
         payload["prices"] = _jsonable(prices)
-    try:
-        mod = importlib.import_module(builder_module_name(design))
-    except ModuleNotFoundError:
-        mod = None
-    deps = getattr(mod, "CODE_DEPS", None)
-    payload["code"] = code_version(tuple(deps) if deps is not None else None)
+    fam = family_of(design)
+    payload["code"] = code_version(fam.code_deps)
     # the dispatcher adds the datasheet to every family's report (cad/datasheet, its inputs);
     # cad/tolerances.py for every family (K_RTOL of the wall, part clearances, mesh tolerances)
     payload["datasheet_code"] = code_version(("datasheet", "data", "families", "sim/wall.py",
                                               "structure", "design/motor.py", "device",
                                               "tolerances.py"))
-    if mod is not None and hasattr(mod, "cache_inputs"):
-        payload["extra"] = _jsonable(mod.cache_inputs(design))
+    if fam.cache_inputs is not None:
+        payload["extra"] = _jsonable(fam.cache_inputs(design))
     text = json.dumps(payload, sort_keys=True, separators=(",", ":"))
     return hashlib.sha256(text.encode()).hexdigest()
 
@@ -323,9 +316,9 @@ def build_design(
         rep = cached_report(out_dir, key)
         if rep is not None:
             return rep
-    mod = _builder_module(design)
+    fam = family_of(design)
     device = resolve_device(design, fidelity)  # once: every writer reads these facts (cad.device)
-    _check_before_cad(mod, design, set(formats), fidelity, phi1_deg, allow_interference)
+    _check_before_cad(fam, design, set(formats), fidelity, phi1_deg, allow_interference)
     from cad.export.manifest import write_manifest  # noqa: F401 - imported before the routed import, as always
     from cad.parts.lazy_import import routed_first_import
 
@@ -336,7 +329,7 @@ def build_design(
         atomic_dir(out_dir, check=check) as tmp,
         _children_cancelled_on_error(),
     ):
-        report = dict(mod.build(design, tmp, set(formats), fidelity=fidelity,
+        report = dict(fam.build(design, tmp, set(formats), fidelity=fidelity,
                                 allow_interference=allow_interference, progress=progress,
                                 phi1_deg=phi1_deg))
         write_order(report, tmp, prices if prices is not None else _design_prices(design))  # (BOM cost row)
@@ -345,7 +338,7 @@ def build_design(
         viewer_glb = report.pop("_viewer_glb", None)
         build = {"formats": sorted(formats), "fidelity": fidelity,
                  "allow_interference": bool(allow_interference), "build_key": key}
-        _write_report_files(design, report, tmp, formats, build, viewer_glb, device)
+        _write_report_files(fam, design, report, tmp, formats, build, viewer_glb, device)
     report["cached"] = False
     if timings is not None:
         report["timings_s"] = timings
@@ -353,51 +346,27 @@ def build_design(
     return report
 
 
-def _builder_module(design):
-    """The family's builder module (:func:`builder_module_name`), imported.
-
-    DesignError ("mechanism.family") when the family has none.
-    """
-    mod_name = builder_module_name(design)
-    try:
-        return importlib.import_module(mod_name)
-    except ModuleNotFoundError as exc:
-        if exc.name == mod_name:
-            raise DesignError(
-                "mechanism.family", f"building {design.family!r} designs is not available yet"
-            ) from None
-        raise
-
-
-def _check_before_cad(mod, design, formats: set[str], fidelity: str, phi1_deg: float | None,
+def _check_before_cad(fam, design, formats: set[str], fidelity: str, phi1_deg: float | None,
                       allow_interference: bool) -> None:
-    """Refuse, before any CAD import, what the family cannot build: its unsupported
-    options, a format it does not export, links shorter than their joint hardware, a
-    stack with no clear layer order. Raises DesignError."""
-    if hasattr(mod, "check_options"):  # unsupported combinations: before any CAD import
-        mod.check_options(design, fidelity, phi1_deg, set(formats))
-    if formats & {"mjcf", "urdf"} and not getattr(mod, "SIM_EXPORT", False):
-        raise DesignError(
-            "--formats",
-            f"mjcf/urdf export is available for four-bar, pantograph, twin-pantograph, "
-            f"haptic-pen and PowerMouse designs, not {design.family!r}",
-        )
-    if formats & {"glb", "3mf"} and not getattr(mod, "VIEW_EXPORT", False):
-        raise DesignError(
-            "--formats", f"glb/3mf export is not available for {design.family!r} designs"
-        )
-    if "firmware" in formats and design.family not in FIRMWARE_FAMILIES:
-        raise DesignError(
-            "--formats", f"firmware is generated for four-bars, the pantograph, the twin "
-            f"pantograph and the PowerMouse, not {design.family!r}")
+    """Refuse, before any CAD import, what the family ``fam`` cannot build: its unsupported
+    options, a format it does not write, links shorter than their joint hardware, a stack with
+    no clear layer order. Raises DesignError."""
+    if fam.check_options is not None:  # unsupported combinations: before any CAD import
+        fam.check_options(design, fidelity, phi1_deg, set(formats))
+    for fmt, ok in (("mjcf", "mjcf" in fam.sim_formats), ("urdf", "urdf" in fam.sim_formats),
+                    ("glb", fam.view_formats), ("3mf", fam.view_formats),
+                    ("firmware", fam.firmware is not None)):
+        if fmt in formats and not ok:
+            raise DesignError("--formats", f"{fmt} is not written for {design.family!r} designs "
+                                           f"(docs/commands.md lists the formats of each family)")
     check_buildable = getattr(design, "check_buildable", None)
     if check_buildable is not None:  # links shorter than their joint hardware, before any CAD
         check_buildable()
-    if hasattr(mod, "check_layout"):  # no clear layer order: refused before the CAD import
-        mod.check_layout(design, fidelity, allow_interference)
+    if fam.check_layout is not None:  # no clear layer order: refused before the CAD import
+        fam.check_layout(design, fidelity, allow_interference)
 
 
-def _write_report_files(design, report: dict, tmp: Path, formats, build: dict, viewer_glb,
+def _write_report_files(fam, design, report: dict, tmp: Path, formats, build: dict, viewer_glb,
                         device) -> None:
     """Into the build's temporary folder: the firmware (when asked), report.json (with
     ``device``: the resolved device), report.html and the manifest; ``report["files"]`` lists
@@ -408,10 +377,10 @@ def _write_report_files(design, report: dict, tmp: Path, formats, build: dict, v
     from cad.export.manifest import write_manifest
     from cad.report.html import write_report_html
 
-    if "firmware" in formats:  # from the report's mass properties (cad.firmware, no CAD)
-        from cad.firmware import write_firmware
+    if "firmware" in formats:  # from the report's mass properties (the family's hook, no CAD)
+        from cad.firmware import write_files
 
-        fw = write_firmware(design, _jsonable(report), tmp, design_hash(design), device)
+        fw = write_files(tmp, fam.firmware(design, _jsonable(report), design_hash(design), device))
         report["files"] = sorted({*report.get("files", []), *fw})
     if isinstance(report.get("files"), list):
         report["files"] = sorted({*report["files"], HTML_NAME})

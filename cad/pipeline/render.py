@@ -12,13 +12,11 @@ RENDER_FILES = {"render.png": ".png", "animation.gif": ".gif"}
 def render_designs(paths: list, out: Path, fidelity: str | None = None) -> list[dict]:
     """Build each design (a path or a loaded design) and copy its pictures to ``out``;
     returns one dict per design (``design``, ``name``, ``png``, ``gif``: paths)."""
-    import importlib
-
     from cad.design import load_design
     from cad.errors import DesignError
     from cad.io.atomic import write_bytes_atomic
     from cad.io.outdir import check_shared_files, record_shared_files
-    from cad.pipeline import FIDELITIES, build_design, builder_module_name
+    from cad.pipeline import FIDELITIES, build_design, family_of
 
     designs = []
     for p in paths:
@@ -28,18 +26,18 @@ def render_designs(paths: list, out: Path, fidelity: str | None = None) -> list[
         if fid not in FIDELITIES:
             raise DesignError("--fidelity", f"must be one of {', '.join(FIDELITIES)}, got {fid!r}")
         try:
-            mod = importlib.import_module(builder_module_name(d))
-        except ModuleNotFoundError:
-            mod = None
-        if not getattr(mod, "VIEW_EXPORT", False):
+            fam = family_of(d)
+        except DesignError:
+            fam = None
+        if fam is None or not fam.view_formats:
             raise DesignError(str(p), f"rendering {d.family!r} designs is not available")
         if getattr(getattr(d, "parts", None), "handle_script", None) is not None:
             from cad.parts.handle import resolve_script
 
             resolve_script(d.parts, d.source)  # a script not allowed: refused before any build
-        if hasattr(mod, "check_options"):  # what the build would refuse, before any build
+        if fam.check_options is not None:  # what the build would refuse, before any build
             try:
-                mod.check_options(d, fid, None)
+                fam.check_options(d, fid, None)
             except DesignError as exc:
                 raise DesignError(str(p), str(exc)) from None
         same = next((q for q, e, _ in designs if e.name == d.name), None)

@@ -224,6 +224,12 @@ def parse_free(spec: str, parts_spec) -> FreeParam:
     return _numeric(spec, key, rng, float(current))
 
 
+def parse_free_parts(spec: str, design) -> FreeParam:
+    """:func:`parse_free` against a four-bar design's ``[parts]`` (the family's
+    ``TargetHooks.parse_free``). Raises DesignError naming ``--free``."""
+    return parse_free(spec, design.parts)
+
+
 def _stock_thickness(spec: str, key: str, rng: str, parts_spec) -> FreeParam:
     """Plate thickness: a choice among the stock thicknesses of the bar material
     (:data:`cad.studies.codesign.search.STOCK_THICKNESS_MM`; its sheet's under ``process =

@@ -43,25 +43,11 @@ from pathlib import Path
 
 import numpy as np
 
-from cad.families import SHARED_CODE_DEPS
 from cad.families.fourbar.layout import LINKS, PREVIEW_POSES, check_layout, sweep_angles
 from cad.tolerances import PREVIEW_STL_TOL_MM
 
 __all__ = ["LINKS", "PREVIEW_POSES", "PREVIEW_STL_TOL_MM", "build", "cache_inputs", "check_layout", "sweep_angles"]
 
-#: Source the output depends on (build cache key): any change there rebuilds.
-CODE_DEPS = SHARED_CODE_DEPS + (
-    "firmware",  # --formats firmware (cad/firmware)
-    "kinematics",
-    "dynamics",
-    "structure",
-    "analysis.py",
-    "__init__.py",
-)
-#: This builder writes the simulator formats (mjcf, urdf; :mod:`cad.families.fourbar.sim`).
-SIM_EXPORT = True
-#: This builder writes glb and 3mf (:mod:`cad.pipeline.views`).
-VIEW_EXPORT = True
 #: Final checks of assembly.md (cad.assembly.steps).
 ASSEMBLY_CHECKS = (
     "the crank turns by hand over its whole range (report.md: crank range) with no binding "

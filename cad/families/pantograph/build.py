@@ -64,7 +64,6 @@ from pathlib import Path
 import numpy as np
 
 from cad.errors import DesignError
-from cad.families import SHARED_CODE_DEPS
 
 # every name of the former single-module builder stays importable from here
 from cad.families.pantograph.clearances import (  # noqa: F401
@@ -119,13 +118,6 @@ from cad.families.pantograph.placement import (  # noqa: F401
 )
 from cad.families.pantograph.report import PAPER_TABLE1, report_md_rows, build_report  # noqa: F401
 
-#: Source the output depends on (build cache key).
-CODE_DEPS = SHARED_CODE_DEPS + (
-    "firmware",  # --formats firmware (cad/firmware)
-    "kinematics",
-    "isotropy",
-    "dynamics",  # eq (25) of the firmware's wall
-)
 
 
 #: Families this module builds (others of cad.design.pantograph are refused at load).
@@ -156,13 +148,8 @@ def check_options(design, fidelity: str, phi1_deg, formats=frozenset()) -> None:
     set_screw_plan(design)  # a clevis wall no set screw fits: named before any CAD
 
 
-#: This builder writes glb and 3mf (:mod:`cad.pipeline.views`).
-VIEW_EXPORT = True
 
 
-#: This builder writes the simulator formats (mjcf, urdf) of the twin pantograph and the
-#: plain 5-bar (:mod:`cad.families.pantograph.sim`).
-SIM_EXPORT = True
 
 
 def _write_sim(design, out_dir, formats, instances, bodies, lay, home) -> list[str]:

@@ -46,12 +46,10 @@ def pantograph_target_values(design, fidelity: str, wanted: set[str]) -> tuple[d
 def datasheet_values(design, report: dict) -> dict[str, float]:
     """{row key: value} of the design's datasheet rows (its family's ``rows_and_limits`` on
     the build ``report``; ``{}`` for the rows that need no build), None values left out."""
-    import importlib
+    from cad.families import family_package
 
-    from cad.data.families import datasheet_module
-
-    rows, _, _ = importlib.import_module(datasheet_module(design.family)).rows_and_limits(
-        design, report, None, simulate_wall=False)
+    rows, _, _ = family_package(design.family).datasheet_rows(design, report, None,
+                                                             simulate_wall=False)
     return {r["key"]: float(r["value"]) for r in rows if r["value"] is not None}
 
 
@@ -61,29 +59,10 @@ def mode_blocker_lines(design, report: dict, rows) -> list[str]:
     :func:`cad.families.pantograph.mode_ceiling.mode_ceiling` saying what limits the mode and
     the best figure the tubes reach in this layout; none otherwise."""
     missed = [r for r in rows if r.key == "first_mode_Hz" and not r.ok and (r.target_data or {}).get("min") is not None]
-    if not missed or design.family not in ("pantograph", "twin-pantograph") or not report.get("bodies"):
+    if not missed or not report.get("bodies"):
         return []
     from cad.families.pantograph.mode_ceiling import mode_ceiling
     from cad.structure.pantograph import WEB_WIDTH_MIN_MM
 
     web = (report.get("layout_mm") or {}).get("web_width_mm", WEB_WIDTH_MIN_MM)
     return [mode_ceiling(design, report["bodies"], web, float(missed[0].target_data["min"]))["text"]]
-
-
-def optimum_misses(design, rep: dict) -> tuple[list[dict], list[str]]:
-    """(rows, "target missed:" lines) of the design's ``[targets]`` on the GII optimum of a
-    pantograph-family design (:func:`pantograph_target_values`:
-    the GII, masses and datasheet figures, built when a target needs it); none without targets."""
-    if not design.targets:
-        return [], []
-    import copy
-
-    from cad.checks import evaluate, miss_line
-    from cad.design import parse_design
-    raw = copy.deepcopy(design.raw)
-    raw["mechanism"].update(rep["best"])
-    best = parse_design(raw, str(design.source))
-    vals, report = pantograph_target_values(best, "inertia", {t.key for t in design.targets})
-    rows = evaluate(design.targets, vals)
-    lines = [miss_line(r.key, r.target, r.computed) for r in rows if not r.ok]
-    return [r.as_dict() for r in rows], lines + (mode_blocker_lines(best, report, rows) if lines else [])

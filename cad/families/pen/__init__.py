@@ -1,11 +1,35 @@
-"""The haptic pen's layout code (:mod:`cad.families`): the isotropy paper's 5-DOF
-twin-pantograph pen (§4.2, Fig. 4, Table 2) with parts.
+"""The haptic pen: the isotropy paper's 5-DOF twin-pantograph pen (§4.2, Fig. 4, Table 2)
+with parts, behind one :class:`cad.families.protocol.FamilyPackage`, :data:`FAMILY`.
 
-``assemble(design, fidelity="fabrication") -> AssemblyModel`` (:mod:`cad.families.pen.assembly`);
-``build.py`` the build, ``datasheet.py`` its rows, ``sim.py`` its MJCF, ``design.py`` its
-``[parts]`` schema, ``layout.py`` its numbers and body poses, ``parts.py`` its own part scripts.
-"""
+:mod:`.assembly` lays it out (``assemble(design, fidelity) -> AssemblyModel``), :mod:`.build`
+builds it, :mod:`.datasheet` gives its rows, :mod:`.sim` its MJCF, :mod:`.design` its
+``[parts]`` schema, :mod:`.layout` its numbers and body poses, :mod:`.parts` its part
+scripts. It has no firmware generator yet (``--formats firmware`` is refused)."""
 
-from cad.families.pen.assembly import assemble
+from cad.design.targets import PANTOGRAPH_TARGET_KEYS
+from cad.families import SHARED_CODE_DEPS
+from cad.families.protocol import FamilyPackage, Lazy, TargetHooks
 
-__all__ = ["assemble"]
+_P = "cad.families.pen"
+
+FAMILY = FamilyPackage(
+    package="pen",
+    build=Lazy(f"{_P}.build:build"),
+    assemble=Lazy(f"{_P}.assembly:assemble"),
+    check_options=Lazy(f"{_P}.build:check_options"),
+    code_deps=SHARED_CODE_DEPS + ("kinematics", "isotropy", "sim"),
+    sim_formats=frozenset({"mjcf"}),
+    view_formats=True,
+    datasheet_rows=Lazy(f"{_P}.datasheet:rows_and_limits"),
+    targets=TargetHooks(
+        keys=PANTOGRAPH_TARGET_KEYS,
+        values=Lazy("cad.families.pantograph.targets:pantograph_target_values"),
+        parse_free=Lazy("cad.studies.fit:parse_free_pantograph"),
+    ),
+    optimize=Lazy("cad.studies.gii_optimize:optimize"),
+)
+
+#: ``assemble(design, fidelity="fabrication") -> AssemblyModel``.
+assemble = FAMILY.assemble
+
+__all__ = ["FAMILY", "assemble"]

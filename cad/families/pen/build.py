@@ -23,14 +23,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from cad.errors import DesignError
-from cad.families import SHARED_CODE_DEPS
 
-#: Source the output depends on (build cache key).
-CODE_DEPS = SHARED_CODE_DEPS + ("kinematics", "isotropy", "sim")
-#: This builder writes the MJCF (:mod:`cad.families.pen.sim`).
-SIM_EXPORT = True
-#: This builder writes glb and 3mf, render.png and animation.gif (:mod:`cad.pipeline.views`).
-VIEW_EXPORT = True
 #: Table 3 of the isotropy paper (the built pen at home; g, g cm^2, N, N cm).
 PAPER_TABLE3 = {
     "mass_x_g": 190.0, "mass_y_g": 226.0, "mass_z_g": 156.0,

@@ -1,7 +1,26 @@
-"""The powermouse family's layout code (:mod:`cad.families`): the maglev PowerMouse.
-``assemble(design, fidelity)`` returns the :class:`cad.assembly.model.AssemblyModel`
-(instances, centre pose, the flotor's excursions)."""
+"""The maglev PowerMouse (haptic mouse paper): actuator optimum, flotor and stator layout,
+build, datasheet rows and its current-to-wrench firmware, behind one
+:class:`cad.families.protocol.FamilyPackage`, :data:`FAMILY`. It takes no ``check``/``fit``
+targets and no optimiser (its actuator optimum is eqs 8-9, solved in the build)."""
 
-from cad.families.powermouse.build import assemble
+from cad.families import SHARED_CODE_DEPS
+from cad.families.protocol import FamilyPackage, Lazy
 
-__all__ = ["assemble"]
+_P = "cad.families.powermouse"
+
+FAMILY = FamilyPackage(
+    package="powermouse",
+    build=Lazy(f"{_P}.build:build"),
+    assemble=Lazy(f"{_P}.build:assemble"),
+    check_options=Lazy(f"{_P}.build:check_options"),
+    code_deps=SHARED_CODE_DEPS + ("actuators",),
+    sim_formats=frozenset({"mjcf"}),
+    view_formats=True,
+    datasheet_rows=Lazy(f"{_P}.datasheet:rows_and_limits"),
+    firmware=Lazy(f"{_P}.firmware:device_files"),
+)
+
+#: ``assemble(design, fidelity="fabrication") -> AssemblyModel``.
+assemble = FAMILY.assemble
+
+__all__ = ["FAMILY", "assemble"]

@@ -43,7 +43,6 @@ from pathlib import Path
 import numpy as np
 
 from cad.errors import DesignError
-from cad.families import SHARED_CODE_DEPS
 
 # every name of the former single-module builder stays importable from here
 from cad.families.powermouse.actuator import fig8_chart, actuator_gap_mm, actuator_optimum  # noqa: F401
@@ -74,11 +73,6 @@ from cad.families.powermouse.placement import (  # noqa: F401
 )
 from cad.families.powermouse.report import PAPER_TABLE4, report_md_rows, build_report  # noqa: F401
 
-#: Source the output depends on (build cache key).
-CODE_DEPS = SHARED_CODE_DEPS + (
-    "firmware",  # --formats firmware (cad/firmware/powermouse.py)
-    "actuators",
-)
 
 
 def check_options(design, fidelity: str, phi1_deg, formats=frozenset()) -> None:
@@ -224,10 +218,6 @@ ASSEMBLY_PLAN = (
 PICTURE_CUTAWAY = ("housing_*", "iron_*", "magnet_*_outer-*", "flotor_body", "flotor_lid",
                    "*lid_screw_*")
 
-#: This builder writes glb and 3mf (:mod:`cad.pipeline.views`).
-VIEW_EXPORT = True
-#: This builder writes the MJCF (:mod:`cad.families.powermouse.sim`; urdf is refused).
-SIM_EXPORT = True
 
 
 def _sim_files(b) -> list[str]:

@@ -236,3 +236,11 @@ def files(design, report: dict, design_hash: str, version: str) -> dict[str, str
             pre + "test_vectors.json": text,
             pre + "test_device.c": _banner(design.name, design_hash, version, "test_device.c") + TEST_PROGRAM,
             pre + "chai3d_device.json": json.dumps(chai, indent=2, sort_keys=True) + "\n"}
+
+
+def device_files(design, report: dict, design_hash: str, device=None) -> dict[str, str]:
+    """The family's firmware hook (:attr:`cad.families.protocol.FamilyPackage.firmware`):
+    :func:`files` for this hapticad version (``device`` carries no fact the map needs)."""
+    import cad
+
+    return files(design, report, design_hash, cad.__version__)

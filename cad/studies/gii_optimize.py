@@ -1,0 +1,52 @@
+"""``hapticad optimize`` of the families searched by their global isotropy index (the
+pantographs, the pen, the delta): isotropy paper eq 6 over the design's ``[optimize]`` grid,
+then the design's ``[targets]`` evaluated on the optimum through the family's target hooks
+(:class:`cad.families.protocol.TargetHooks`)."""
+
+from __future__ import annotations
+
+import copy
+
+from cad.checks import evaluate, miss_line
+from cad.errors import DesignError
+from cad.isotropy.report import optimize_report
+
+METHODS = ("culling", "brute")
+
+
+def optimize(design, options: dict) -> dict:
+    """The ``hapticad optimize --json`` object (without the file keys) of a GII family:
+    ``best``, ``gii``, evaluations ..., ``targets`` (check rows of the design's
+    ``[targets]`` on the optimum) and ``misses`` (their ``target missed:`` lines and what
+    blocks them; the CLI exits 1 when not empty). ``options``: ``method`` (culling | brute,
+    default culling), ``objective`` (must be None). Raises DesignError naming the flag."""
+    if options.get("objective") is not None:
+        raise DesignError("--objective", f"min-apparent-mass is for four-bar designs, not "
+                                         f"{design.family!r} (use --method)")
+    method = options.get("method") or "culling"
+    if method not in METHODS:
+        raise DesignError("--method", f"must be 'culling' or 'brute', got {method!r}")
+    rep = optimize_report(design, method)
+    rep["targets"], rep["misses"] = optimum_misses(design, rep)
+    return rep
+
+
+def optimum_misses(design, rep: dict) -> tuple[list[dict], list[str]]:
+    """(rows, "target missed:" lines) of the design's ``[targets]`` on the optimum ``rep``
+    (its ``best`` mechanism parameters), from the family's target values (a build when a
+    target needs one) and, for a miss, the family's blocker lines; none without targets."""
+    from cad.design import parse_design
+    from cad.families import family_package
+
+    if not design.targets:
+        return [], []
+    hooks = family_package(design.family).targets
+    raw = copy.deepcopy(design.raw)
+    raw["mechanism"].update(rep["best"])
+    best = parse_design(raw, str(design.source))
+    vals, report = hooks.values(best, "inertia", {t.key for t in design.targets})
+    rows = evaluate(design.targets, vals)
+    lines = [miss_line(r.key, r.target, r.computed) for r in rows if not r.ok]
+    if lines and hooks.blockers is not None:
+        lines += hooks.blockers(best, report, rows)
+    return [r.as_dict() for r in rows], lines
