@@ -50,5 +50,5 @@ def family_package(name: str):
     if row is None:
         raise DesignError("mechanism.family", f"unknown family {name!r}")
     if row.package is None:
-        raise DesignError("mechanism.family", f"{name} designs have no family package yet")
+        raise DesignError("mechanism.family", f"{name} designs have no family package yet (no parts)")
     return importlib.import_module(row.package_module).FAMILY

@@ -114,8 +114,10 @@ class FamilyPackage:
     optimize : ``optimize(design, options: dict) -> dict`` (the ``hapticad optimize --json``
         object; ``options``: method, objective, trials, seed, exact_top, proportions_tol,
         starts, beat_prototype; DesignError naming a flag the family does not take), or None.
-    firmware : ``firmware(design, report, design_hash, version, device) -> {path: text}``
-        (the files under ``firmware/``, :mod:`cad.firmware`), or None (no firmware).
+    firmware : ``firmware(design, report, design_hash, device) -> {path: text}`` (the files
+        under ``firmware/``, :mod:`cad.firmware`), or None (no firmware).
+    firmware_model : ``firmware_model(design) -> cad.firmware.model.KinematicModel``: the
+        linkage's kinematic model :func:`cad.firmware.linkage_files` generates from, or None.
     """
 
     package: str
@@ -131,3 +133,4 @@ class FamilyPackage:
     targets: TargetHooks | None = None
     optimize: Hook | None = None
     firmware: Hook | None = None
+    firmware_model: Hook | None = None

@@ -51,15 +51,30 @@ def firmware_files(design, report: dict, design_hash: str, device=None) -> dict[
     return hook(design, report, design_hash, device)
 
 
+def linkage_model(design):
+    """The :class:`cad.firmware.model.KinematicModel` the design's family gives
+    (:attr:`cad.families.protocol.FamilyPackage.firmware_model`). Raises DesignError naming
+    ``--formats`` for a family without one."""
+    from cad.errors import DesignError
+    from cad.families import family_package
+
+    hook = family_package(design.family).firmware_model
+    if hook is None:
+        raise DesignError("--formats", f"firmware is not written for {design.family!r} designs")
+    return hook(design)
+
+
 def linkage_files(design, report: dict, design_hash: str, device=None) -> dict[str, str]:
-    """The firmware of a linkage (joint encoders, motors on joints): ``{relative path:
-    text}`` under ``firmware/`` (module docstring); the motor and encoder facts are
-    ``device``'s (:class:`cad.device.ResolvedDevice`, resolved from ``design`` when None)."""
+    """The firmware of a linkage (joint encoders, motors on joints) through its family's
+    kinematic model (:func:`linkage_model`): ``{relative path: text}`` under ``firmware/``
+    (module docstring); the motor and encoder facts are ``device``'s
+    (:class:`cad.device.ResolvedDevice`, resolved from ``design`` when None)."""
     import cad
     from cad.firmware import csrc, extras, reference, vectors
     from cad.firmware.device import device_spec
 
-    spec = device_spec(design, report, design_hash, cad.__version__, device)
+    spec = device_spec(design, report, design_hash, cad.__version__, device,
+                       linkage_model(design))
     rows, summary = vectors.rows(spec, design)
     q_ok = np.array([r[1 + 2 * spec.n_joints: 1 + 3 * spec.n_joints] for r in rows if r[0] == 0])
     wall = extras.wall_numbers(spec, design)
@@ -83,7 +98,8 @@ def linkage_files(design, report: dict, design_hash: str, device=None) -> dict[s
     text = text[:-2] + ',\n "rows": [\n' + ",\n".join(
         "  [" + ", ".join(repr(v) for v in r) + "]" for r in rows) + "\n ]\n}\n"
     p = f"{FOLDER}/"
-    ident = {} if spec.kind != "fourbar" else {p + k: v for k, v in _identify_files(design, report, spec).items()}
+    ident = {} if spec.model.identify is None else {
+        p + k: v for k, v in spec.model.identify(design, report, spec).items()}
     return ident | {
         p + "hapticad_device.h": csrc.header(spec), p + "hapticad_device.c": csrc.source(spec),
         p + "test_vectors.json": text,
@@ -91,20 +107,6 @@ def linkage_files(design, report: dict, design_hash: str, device=None) -> dict[s
         p + "wall_example/wall_example.ino": extras.sketch(spec, wall),
         p + "chai3d_device.json": extras.chai3d_json(spec, design, wall, forces),
     }
-
-
-def _identify_files(design, report: dict, spec) -> dict[str, str]:
-    """The four-bar's identification routine (:mod:`cad.firmware.identify_c`), its constants
-    from the same plan as the virtual bench (:func:`cad.sim.identify_device.predict`)."""
-    import math
-
-    from cad.dynamics.inertia import InertiaCoefficients
-    from cad.firmware import identify_c
-    from cad.sim.identify_device import predict
-
-    H = InertiaCoefficients(report["H11_kg_m2"], report["H12_kg_m2"], report["H22_kg_m2"],
-                            report["H33_kg_m2"], math.radians(report["beta2_deg"]))
-    return identify_c.files(spec, predict(design, H, report).plan)
 
 
 def write_firmware(design, report: dict, out_dir: Path, design_hash: str, device=None) -> list[str]:

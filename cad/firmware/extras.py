@@ -59,24 +59,12 @@ def wall_numbers(spec: DeviceSpec, design) -> dict:
 def max_forces_N(spec: DeviceSpec, q_ok: np.ndarray) -> dict:
     """Force the motors give in every direction at every test pose (continuous / peak torque):
     min over poses of tau / sigma_max(J^T) for the translational rows."""
-    J = ref.jacobian(spec, q_ok)[:, :2, :]
-    if spec.kind == "twin":
-        J = np.linalg.pinv(ref.twin_task_jacobian(spec, q_ok))[:, :2, :]
+    fj = spec.model.force_jacobian
+    J = fj(spec, q_ok) if fj is not None else ref.jacobian(spec, q_ok)[:, :2, :]
     smax = np.linalg.svd(J, compute_uv=False)[:, 0]
     m = spec.motor
     return {"continuous_N": float(np.min(m.torque_continuous_Nm / smax)),
             "peak_N": float(np.min(m.torque_peak_Nm / smax))}
-
-
-def workspace_radius_m(spec: DeviceSpec, design) -> float:
-    """Four-bar: half the stroke (|P(max) - P(min)| / 2); pantographs: half the workspace side
-    (a rectangle: half its longer side)."""
-    if spec.kind == "fourbar":
-        P, _ = ref.forward(spec, np.array([[spec.params["q_min"]], [spec.params["q_max"]]]))
-        return float(np.linalg.norm(P[1] - P[0]) / 2)
-    from cad.isotropy.gii import workspace_half_mm
-
-    return max(workspace_half_mm(design.workspace)) * 1e-3
 
 
 def chai3d_json(spec: DeviceSpec, design, wall: dict, forces: dict) -> str:
@@ -90,8 +78,9 @@ def chai3d_json(spec: DeviceSpec, design, wall: dict, forces: dict) -> str:
         "m_maxLinearStiffness": wall["eq25_K_max_N_per_m"],
         "encoder_counts_per_rev": spec.encoder_counts_per_rev,
         "m_maxLinearDamping": wall["Fv_N_s_per_m"],
-        "m_workspaceRadius": workspace_radius_m(spec, design),
-        "m_sensedRotation": spec.kind == "twin", "m_actuatedRotation": spec.kind == "twin",
+        "m_workspaceRadius": spec.model.workspace_radius_m(spec, design),
+        "m_sensedRotation": spec.model.senses_rotation,
+        "m_actuatedRotation": spec.model.senses_rotation,
         "notes": {
             "m_maxLinearForce": "min over the test poses of the continuous motor torque / "
                                 "sigma_max(J^T) (every direction); _peak: the same at peak torque",
@@ -115,7 +104,8 @@ def sketch(spec: DeviceSpec, wall: dict) -> str:
 
     qh = np.asarray(spec.q_home_rad)[None, :]
     X0, _ = ref.forward(spec, qh)
-    n = ref.jacobian(spec, qh)[0][:2, 0] if spec.kind == "fourbar" else np.array([1.0, 0.0])
+    wn = spec.model.wall_normal
+    n = wn(spec, qh) if wn is not None else np.array([1.0, 0.0])
     n = n / np.linalg.norm(n)
     nj, nt = spec.n_joints, spec.n_task
     return banner(spec, "wall_example.ino: a virtual wall (Arduino / Teensy style)") + f"""

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -53,7 +54,8 @@ class DeviceSpec:
     ``q_home_rad``: joint angles at the home pose; ``encoder_*``: defaults of the encoder
     parameters; ``gravity_m_s2``: the gravity vector in the device plane (None when the
     device works in a horizontal plane); ``bodies``: moving bodies by name; ``rotor_kg_m2``:
-    each motor's rotor inertia (the build's Jm).
+    each motor's rotor inertia (the build's Jm); ``model``: the family's
+    :class:`cad.firmware.model.KinematicModel` (``kind`` is its name).
     """
 
     kind: str
@@ -74,6 +76,7 @@ class DeviceSpec:
     rotor_kg_m2: float = 0.0
     wall: dict[str, float] = field(default_factory=dict)
     device: dict[str, float] = field(default_factory=dict)
+    model: Any = field(default=None, compare=False, repr=False)
 
 
 def motor_data(motor) -> MotorData:

@@ -15,94 +15,42 @@ that cannot close, the other working mode, an inconsistent crank pin).
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 from cad.firmware import reference as ref
 from cad.firmware.spec import DeviceSpec, angles_from_counts
-from cad.isotropy.gii import workspace_half_mm
 
 N_OK = 1200
 N_BAD = 60
 SEED = 26
 
 
-def _poses_ok(spec: DeviceSpec, design, rng) -> np.ndarray:
-    p = spec.params
-    if spec.kind == "fourbar":
-        return rng.uniform(p["q_min"], p["q_max"], (N_OK, 1))
-    ws = design.workspace
-    (cx, cy), (hx, hy) = ws["center_mm"], workspace_half_mm(ws)
-    E = np.column_stack([rng.uniform(cx - hx, cx + hx, N_OK), rng.uniform(cy - hy, cy + hy, N_OK)])
-    if spec.kind == "fivebar":
-        ik = ref.fb5.ik(ref.fivebar_of(p), E)
-        return ik.q_rad[ik.ok]
-    X = np.column_stack([E, rng.uniform(0.0, 2 * math.pi, N_OK)])
-    ik = ref.tw.ik(ref.twin_of(p), X)
-    return ik.q_rad[ik.status == 0]
-
-
-def _poses_bad(spec: DeviceSpec, q_ok: np.ndarray, rng) -> np.ndarray:
-    p = spec.params
-    if spec.kind == "fourbar":
-        span = p["q_max"] - p["q_min"]
-        lo = p["q_min"] - p["q_slack"] - rng.uniform(1e-3, span, N_BAD // 2)
-        hi = p["q_max"] + p["q_slack"] + rng.uniform(1e-3, span, N_BAD - N_BAD // 2)
-        return np.concatenate([lo, hi])[:, None]
-    q = q_ok[rng.integers(0, len(q_ok), N_BAD)].copy()
-    third = N_BAD // 3
-    q[:third, 0] += math.pi  # left arm folded back: no closure or the other mode
-    q[third:2 * third, 1] -= rng.uniform(2.0, 3.0, third)  # arms crossed
-    if spec.kind == "twin":
-        q[2 * third:, 2] += rng.uniform(0.05, 0.2, N_BAD - 2 * third)  # crank pin off its circle
-    else:
-        q[2 * third:, :] += np.array([0.9, -0.9])
-    return q
-
-
 def rows(spec: DeviceSpec, design) -> tuple[list[list[float]], dict]:
     """The test-vector rows (module docstring) and a summary (counts of ok / refused rows)."""
     rng = np.random.default_rng(SEED)
-    q_ok = _poses_ok(spec, design, rng)
-    bad = _poses_bad(spec, q_ok, rng)
-    if spec.kind == "twin":  # a perturbed reading the FK still accepts (crank pin within
-        # FIRMWARE_CRANK_TOL_M of its circle) is no task pose of the model: not a vector
-        bad = bad[ref.forward(spec, bad)[1] != 0]
+    q_ok = spec.model.poses_ok(spec, design, rng, N_OK)
+    bad = spec.model.poses_bad(spec, q_ok, rng, N_BAD)
     q = np.concatenate([q_ok, bad])
     n, nj, nt = len(q), spec.n_joints, spec.n_task
     half = spec.encoder_counts_per_rev // 4
     counts = rng.integers(-half, half + 1, (n, nj))
     qc = angles_from_counts(spec, counts)
     F = rng.uniform(-5.0, 5.0, (n, nt))
-    if spec.kind == "twin":
-        F[:, 2] *= 0.01  # moments of N m / 100 (a 20 mm crank)
+    if spec.model.force_scale is not None:  # e.g. the twin's moments: N m / 100 (a 20 mm crank)
+        F *= np.asarray(spec.model.force_scale)
     X, status = ref.forward(spec, q)
     ok = status == 0
     J = ref.jacobian(spec, q)
     tau = np.where(ok[:, None], ref.joint_torques(spec, q, F), 0.0)
     tg = ref.gravity_torques(spec, q)
     m_app = np.zeros(n)
-    if spec.kind == "fourbar":
-        m_app[ok] = apparent_mass_kg(spec, q[ok, 0])
+    if spec.model.apparent_mass_kg is not None:
+        m_app[ok] = spec.model.apparent_mass_kg(spec, q[ok, 0])
     M = ref.mass_matrix(spec, q).reshape(n, nt * nt)
     out = np.column_stack([status, counts, qc, q, F, X, J.reshape(n, nt * nj), tau, tg, m_app, M])
     summary = {"n_rows": n, "ok": int(ok.sum()), "refused": int((~ok).sum()),
                "refused_by_status": {k: int((status == v).sum()) for k, v in ref.STATUS.items() if v}}
     return [[float(v) for v in r] for r in out], summary
-
-
-def apparent_mass_kg(spec: DeviceSpec, phi1: np.ndarray) -> np.ndarray:
-    """Four-bar: D(phi1) / |J|^2, the mass felt along the path (kg; Hoeken paper eq 22 reads
-    D J+^T J+ in the direction of J): :func:`cad.dynamics.inertia.equivalent_inertia`."""
-    from cad.dynamics.inertia import InertiaCoefficients, equivalent_inertia
-
-    p = spec.params
-    fb = ref.fourbar_of(p)
-    H = InertiaCoefficients(p["H11"], p["H12"], p["H22"], p["H33"], p["beta2"])
-    pose = ref.k4.solve(fb, phi1)
-    J = ref.k4.jacobian_mm_per_rad(fb, pose) * 1e-3
-    return equivalent_inertia(fb, pose, H) / np.einsum("ni,ni->n", J, J)
 
 
 TEST_PROGRAM = r"""/* test_device.c: checks hapticad_device.c against test_vectors.json (hapticad's numpy model).

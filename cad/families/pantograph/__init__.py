@@ -26,6 +26,7 @@ FAMILY = FamilyPackage(
     ),
     optimize=Lazy("cad.studies.gii_optimize:optimize"),
     firmware=Lazy("cad.firmware:linkage_files"),
+    firmware_model=Lazy(f"{_P}.firmware:model"),
 )
 
 #: ``assemble(design, fidelity="fabrication") -> AssemblyModel``.

@@ -157,8 +157,10 @@ def test_gravity_torques_are_the_derivative_of_the_solids_potential(request, tmp
     (compiled run, 1e-9 N m), which equal dV/dq of the potential of the solids' masses and
     COMs placed by the build's own body transforms (central differences). Twin pantograph
     (redundant): Jq^T tau = dV/dX, the wrench the torques render."""
+    from cad.families.pantograph import firmware as pf
     from cad.firmware import reference as ref
     from cad.firmware import write_firmware
+    from cad.kinematics import twin_pantograph as tw
     from cad.firmware.device import device_spec
     from cad.pipeline import design_hash
 
@@ -194,9 +196,9 @@ def test_gravity_torques_are_the_derivative_of_the_solids_potential(request, tmp
     else:  # poses where the crank pin lies on its circle (IK(FK(q)) = q; the vectors also
         # hold readings up to FIRMWARE_CRANK_TOL_M off it, which no task pose X describes)
         Xmm = np.column_stack([X[:, :2] * 1e3, X[:, 2]])
-        on = np.all(np.abs(ref.tw.ik(ref.twin_of(spec.params), Xmm).q_rad - q) < 1e-9, axis=1)
+        on = np.all(np.abs(tw.ik(pf.twin_of(spec.params), Xmm).q_rad - q) < 1e-9, axis=1)
         assert on.sum() >= 25
-        Jq, tg, grad = ref.twin_task_jacobian(spec, q[on]), tg[on], grad[on]
+        Jq, tg, grad = pf.twin_task_jacobian(spec, q[on]), tg[on], grad[on]
         np.testing.assert_allclose(np.einsum("nij,ni->nj", Jq, tg), grad, rtol=0, atol=1e-8)
 
 
