@@ -2,7 +2,8 @@
 
 ``load_design(path)`` reads a TOML file and dispatches on
 ``[mechanism].family`` to the module that owns that family's schema
-(:data:`FAMILY_MODULES`). Each module exposes ``parse(raw, source) -> design``.
+(the registry row's ``design_module``, :mod:`cad.data.families`). Each module exposes
+``parse(raw, source) -> design``.
 Every problem is a :class:`cad.errors.DesignError` naming the dotted field.
 """
 
@@ -15,16 +16,13 @@ from typing import Any
 from cad.data.families import FAMILIES
 from cad.design.fields import load_toml, require_str, require_table
 
-#: family name -> module owning its schema (from the one registry, :mod:`cad.data.families`).
-FAMILY_MODULES: dict[str, str] = {n: f.design_module for n, f in FAMILIES.items()}
-
 
 def family_of(raw: dict[str, Any]) -> str:
     """Return ``[mechanism].family`` of a raw design, validated."""
     mech = require_table(raw, "mechanism", "")
     fam = require_str(mech, "family", "mechanism")
-    if fam not in FAMILY_MODULES:
-        known = ", ".join(sorted(FAMILY_MODULES))
+    if fam not in FAMILIES:
+        known = ", ".join(sorted(FAMILIES))
         from cad.errors import DesignError
 
         raise DesignError("mechanism.family", f"unknown family {fam!r} (known: {known})")
@@ -49,7 +47,7 @@ def parse_design(raw: dict[str, Any], source: str = "<design>"):
     fam = family_of(raw)
     check_raw_design(raw)  # every number against cad/design/bounds.py, before the schema
     design_prices(raw)  # [prices] (any family): cad.design.prices.price_table
-    module = importlib.import_module(FAMILY_MODULES[fam])
+    module = importlib.import_module(FAMILIES[fam].design_module)
     return module.parse(raw, source)
 
 

@@ -217,7 +217,8 @@ def _delta_of_the_encoder(design: FourBarDesign) -> FourBarDesign:
     the BOM, the firmware, eq (25), the simulated K_max and the wall sketch."""
     from dataclasses import replace
 
-    from cad.device import mid_stroke_lever_m_per_rad, stated_encoder_counts
+    from cad.device import stated_encoder_counts
+    from cad.families.fourbar.encoder import mid_stroke_lever_m_per_rad
 
     counts = stated_encoder_counts(design) if design.stiffness is not None else None
     if counts is None:

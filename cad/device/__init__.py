@@ -30,6 +30,7 @@ import math
 from dataclasses import dataclass, replace
 from typing import Any
 
+from cad.families import family_package
 from cad.errors import DesignError
 
 #: MotorSpec fields a resolved motor states (value and source each), in report order.
@@ -198,18 +199,10 @@ def _resolve_uncached(design) -> ResolvedDevice:
 
 # ----------------------------------------------------------------------------- motors
 def _joints(design) -> tuple[tuple[str, str], ...]:
-    """(joint, parts field naming its motor) of every motor of the family."""
-    fam = design.family
-    if fam == "pantograph":
-        return (("q_left", "motor"), ("q_right", "motor"))
-    if fam == "twin-pantograph":
-        return tuple((f"{g}_q_{s}", "motor") for g in ("knob", "crank") for s in ("left", "right"))
-    if fam == "haptic-pen":
-        return tuple((f"{a}_q_{j}", "waist_motor" if j == "waist" else "motor")
-                     for a in ("A", "B") for j in ("waist", "lower", "upper"))
-    if fam == "powermouse" or getattr(design, "parts", None) is None:
-        return ()
-    return (("crank", "motor"),)
+    """(joint, parts field naming its motor) of every motor: the family's ``motor_joints``
+    hook (:class:`cad.families.protocol.FamilyPackage`)."""
+    hook = family_package(design.family).motor_joints
+    return () if hook is None else tuple(hook(design))
 
 
 def _motors(design) -> tuple[ResolvedMotor, ...]:
@@ -290,35 +283,24 @@ def _encoders(design, motors) -> tuple[ResolvedEncoder, ...]:
     if stated:
         field, (counts, src, key) = next(iter(stated.items()))
         desc = catalog.get_encoder(key).description if key else _plain(counts)
-    elif hasattr(design, "linkage") and design.stiffness is not None:
-        field, counts, src, key = "stiffness.encoder_resolution_m", *_stiffness_counts(design), None
+    elif (implied := _stiffness_encoder(design)) is not None:
+        field, counts, src, key = "stiffness.encoder_resolution_m", *implied, None
         desc = _plain(counts)
     else:
-        fourbar = hasattr(design, "linkage")
-        key = catalog.DEFAULT_ENCODER if fourbar else catalog.PAPER_MOUSE_ENCODER
+        key, hint = family_package(design.family).default_encoder or (catalog.DEFAULT_ENCODER, "")
         e = catalog.get_encoder(key)
-        src = f"default encoder {e.key} ({e.source})" + ("; set parts.encoder" if fourbar else "")
+        src = f"default encoder {e.key} ({e.source})" + hint
         field, counts, desc = "default", e.counts_per_rev, e.description
     return tuple(ResolvedEncoder(m.joint, int(counts), key, desc, field, src) for m in motors)
 
 
+def _stiffness_encoder(design) -> tuple[int, str] | None:
+    hook = family_package(design.family).stiffness_encoder
+    return None if hook is None else hook(design)
+
+
 def _plain(counts: int) -> str:
     return f"encoder on the motor's rear shaft, {counts} counts/rev"
-
-
-def mid_stroke_lever_m_per_rad(design) -> float:
-    """|dx/dphi1| of a four-bar design's handle along its path at mid-stroke (m/rad): the
-    lever that turns one encoder step (rad) into eq (25)'s Delta (m)."""
-    import numpy as np
-
-    from cad.kinematics.fourbar import jacobian_mm_per_rad, solve
-    from cad.kinematics.metrics import path_frame
-
-    fb = design.linkage
-    mid = 0.5 * (design.phi1_min_rad + design.phi1_max_rad)
-    pose = solve(fb, np.array([mid]))
-    fr = path_frame(fb, design.phi1_min_rad, design.phi1_max_rad)
-    return abs(float(fr.rotate(jacobian_mm_per_rad(fb, pose))[0, 0])) * 1e-3
 
 
 def stated_encoder_counts(design) -> int | None:
@@ -326,16 +308,6 @@ def stated_encoder_counts(design) -> int | None:
     encoder_counts_per_rev``, ``[firmware] encoder_counts_per_rev``), or None."""
     stated = _stated_counts(design)
     return next(iter(stated.values()))[0] if stated else None
-
-
-def _stiffness_counts(design) -> tuple[int, str]:
-    """Counts per crank turn whose handle step at mid-stroke is ``[stiffness]
-    encoder_resolution_m``: 2 pi |dx/dphi1| / Delta, rounded to whole counts."""
-    delta = design.stiffness.encoder_resolution_m
-    exact = 2 * math.pi * mid_stroke_lever_m_per_rad(design) / delta
-    n = max(1, round(exact))
-    return n, (f"stiffness.encoder_resolution_m at mid-stroke; Delta = {delta:g} m: 2 pi |dx/dphi1| / "
-               f"Delta = {exact:.6g}, rounded to {n} counts/rev")
 
 
 def encoder_bom_rows(device: ResolvedDevice) -> list[dict]:

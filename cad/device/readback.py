@@ -27,10 +27,8 @@ from cad.tolerances import OUTPUT_AGREE_REL
 COUNTS_RE = re.compile(r"(\d+) counts/rev")
 #: The datasheet resolution row's count ("(2 pi / 3837 counts)", "2 pi / 4000 counts per joint").
 RESOLUTION_COUNTS_RE = re.compile(r"2 pi / (\d+) counts")
-#: Families whose MJCF motor force range is the motor's peak torque (every family with rotary
-#: motors; the pantograph families' ``[actuators]`` stays the GII's normalisation, eq 3).
-MOTOR_FORCE_RANGE_FAMILIES = ("hoeken", "roberts", "chebyshev", "chebyshev-v", "custom",
-                              "pantograph", "twin-pantograph", "haptic-pen")
+# The MJCF motor force range of every motor is its peak torque through its transmission
+# (rotary motors; the pantograph families' ``[actuators]`` stays the GII's normalisation, eq 3).
 
 
 class OutputsDisagree(HapticadError):
@@ -158,7 +156,7 @@ def device_values(device) -> dict:
                     rotor_inertia_g_cm2=m.spec.rotor_inertia_g_cm2)
     for t, m in zip(device.transmissions, device.motors, strict=True):
         vals[f"armature:{m.joint}"] = m.rotor_inertia_kg_m2 * t.ratio ** 2  # reflected to the joint
-        if device.family in MOTOR_FORCE_RANGE_FAMILIES and m.spec.torque_peak_mNm is not None:
+        if m.spec.torque_peak_mNm is not None:
             vals[f"forcerange:{m.joint}"] = m.spec.torque_peak_mNm * 1e-3 * t.ratio
     return vals
 

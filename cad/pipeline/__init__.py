@@ -206,9 +206,9 @@ def cached_report(out_dir: Path, key: str) -> dict | None:
     return report
 
 
-def add_datasheet(design, report: dict, out_dir: Path, simulate_wall: bool = True) -> None:
-    """``report["datasheet"]`` (:mod:`cad.datasheet`), the design file's name in
-    ``report["source"]`` (every family), and the datasheet at the top of ``report.md``."""
+def add_datasheet(design, report: dict, out_dir: Path, simulate_wall: bool = True) -> list[str]:
+    """``report["datasheet"]`` (:mod:`cad.datasheet`) and the design file's name in
+    ``report["source"]`` (every family); returns the datasheet's lines of ``report.md``."""
     from cad.datasheet import datasheet, markdown
 
     if not report.get("source") and getattr(design, "source", None):
@@ -217,10 +217,7 @@ def add_datasheet(design, report: dict, out_dir: Path, simulate_wall: bool = Tru
     report["datasheet"] = ds
     if isinstance(report.get("files"), list):
         report["files"] = sorted({*report["files"], *ds["charts"]})
-    md = Path(out_dir) / "report.md"
-    if md.is_file():
-        lines = md.read_text(encoding="utf-8").split("\n")
-        write_text_atomic(md, "\n".join([lines[0], "", *markdown(ds), *lines[1:]]))
+    return markdown(ds)
 
 
 def _design_prices(design) -> dict | None:
@@ -229,32 +226,36 @@ def _design_prices(design) -> dict | None:
     return design_prices(getattr(design, "raw", None) or {})
 
 
-def write_order(report: dict, out_dir: Path, prices: dict | None) -> None:
-    """Price the report's BOM (:func:`cad.export.order.apply_prices`), rewrite ``bom.csv``
-    with the prices, write ``order.csv`` and an "Order" section at the end of ``report.md``;
-    ``report["order"]``: the total and its unpriced lines. A report without a BOM is left."""
+def write_order(report: dict, out_dir: Path, prices: dict | None) -> str:
+    """Price the report's BOM (:func:`cad.export.order.apply_prices`), write ``bom.csv`` (its
+    one writer) with the prices and ``order.csv``; ``report["order"]``: the total and its
+    unpriced lines. Returns the "Order" section of ``report.md`` (and the assembly steps'
+    link); a report without a BOM: nothing written, "" returned."""
     from cad.export import write_bom
     from cad.export.order import apply_prices, order_csv, order_md, total_text
 
     bom = report.get("bom")
     if not bom:
-        return
+        return ""
     summary = apply_prices(bom, prices)
     write_bom(bom, out_dir)
     write_text_atomic(out_dir / "order.csv", order_csv(bom, summary))
-    md = out_dir / "report.md"
-    if md.is_file():
-        write_text_atomic(md, md.read_text(encoding="utf-8") + order_md(bom, summary))
     report["order"] = {**{k: v for k, v in summary.items() if k != "extra_lines"},
                        "total": total_text(summary)}
     steps = "assembly.md" if (out_dir / "assembly.md").is_file() else None
-    if steps and md.is_file():
-        write_text_atomic(md, md.read_text(encoding="utf-8")
-                          + "\nAssembly steps: [assembly.md](assembly.md).\n")
     pictures = sorted(p.relative_to(out_dir).as_posix() for p in out_dir.glob("steps/step_*.png"))
     if isinstance(report.get("files"), list):
-        report["files"] = sorted({*report["files"], "order.csv", *([steps] if steps else []),
-                                  *pictures})
+        report["files"] = sorted({*report["files"], "bom.csv", "order.csv",
+                                  *([steps] if steps else []), *pictures})
+    return order_md(bom, summary) + ("\nAssembly steps: [assembly.md](assembly.md).\n" if steps else "")
+
+
+def write_report_md(out_dir: Path, family_lines: list[str], datasheet_lines: list[str],
+                    order_text: str) -> None:
+    """``report.md``, written once: the family's title, the datasheet, the family's table,
+    BOM and notes (:func:`cad.pipeline.family.report_md_lines`), then the order section."""
+    lines = [family_lines[0], "", *datasheet_lines, *family_lines[1:]]
+    write_text_atomic(Path(out_dir) / "report.md", "\n".join(lines) + "\n" + order_text)
 
 
 @contextlib.contextmanager
@@ -332,8 +333,9 @@ def build_design(
         report = dict(fam.build(design, tmp, set(formats), fidelity=fidelity,
                                 allow_interference=allow_interference, progress=progress,
                                 phi1_deg=phi1_deg))
-        write_order(report, tmp, prices if prices is not None else _design_prices(design))  # (BOM cost row)
-        add_datasheet(design, report, tmp, simulate_wall)
+        family_md = report.pop("_report_md")
+        order_text = write_order(report, tmp, prices if prices is not None else _design_prices(design))
+        write_report_md(tmp, family_md, add_datasheet(design, report, tmp, simulate_wall), order_text)
         timings = report.pop("_timings_s", None)
         viewer_glb = report.pop("_viewer_glb", None)
         build = {"formats": sorted(formats), "fidelity": fidelity,

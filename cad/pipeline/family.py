@@ -28,7 +28,7 @@ pose. Everything below reads that one list:
 * :func:`write_outputs` -- ``parts/<kind>.step|.stl|.dxf`` (each in the frame of the
   kind, the frame ``tf_body_part`` places: :func:`cad.export.export_part`),
   ``assembly.step``, ``bom.csv``, ``preview.png`` (the dispatcher adds ``report.json``
-  and ``manifest.json``; :func:`write_report_md` writes ``report.md``).
+  and ``manifest.json``; :func:`report_md_lines` gives the family's part of ``report.md``).
 
 The output layout is the same for every family (docs/build-outputs.md).
 """
@@ -560,11 +560,12 @@ def write_outputs(
     return files + ["preview.png"]
 
 
-def write_report_md(out_dir: Path, title: str, rows: list[tuple[str, str]], bom, notes=(),
-                    images=()) -> str:
-    """``report.md``: title, preview (and ``images``: ``(alt text, file)`` pairs after it),
-    a quantity table, the BOM and notes."""
-    from cad.io.atomic import write_text_atomic
+def report_md_lines(title: str, rows: list[tuple[str, str]], bom, notes=(),
+                    images=()) -> list[str]:
+    """The family's part of ``report.md`` (the dispatcher, :func:`cad.pipeline.build_design`,
+    writes the file once, with the datasheet after the title and the order at the end):
+    title, preview (and ``images``: ``(alt text, file)`` pairs after it), a quantity table,
+    the BOM and notes."""
     from cad.io.escape import md
 
     lines = [f"# {md(title)}", "", "![assembly preview](preview.png)", ""]
@@ -587,8 +588,7 @@ def write_report_md(out_dir: Path, title: str, rows: list[tuple[str, str]], bom,
         )
     if notes:
         lines += ["", "## Notes", ""] + [f"- {md(n)}" for n in notes]
-    write_text_atomic(Path(out_dir) / "report.md", "\n".join(lines) + "\n")
-    return "report.md"
+    return lines
 
 
 #: Title of the last assembly step: BOM lines with no solid in the model (the encoder).

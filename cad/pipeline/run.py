@@ -17,23 +17,24 @@ Order (each family callback receives the :class:`Build` filled so far)::
     [prepare_label]  pre = prepare(design)                    layout, 2-D figures (optional)
     "solids"         model = assemble(design, fidelity)       AssemblyModel
                      fastener_report(instances, holes)        DesignError: two in a hole ...
-    [fork here with fork_before_props: the children below run beside the mass properties]
-    mass_label       props = kind_props, bodies = body_props(moving_bodies(model))
-                     dyn = dynamics(build)                    the family's (optional)
-                     bom = bom_rows(instances, props) + no_solid_rows(design)
     fork: exports    write_outputs(...) + more_exports(build) (the PowerMouse rig)
     fork: views      write_viewer_outputs(stroke, cutaway) + figures(build) (Fig. 8)
-    fork: children(build), then children_after_props(build)  (the four-bar's same-body
-                     check; its preview and plots, which need H)
+    fork: children(build)                                     (the four-bar's same-body check)
+    mass_label       props = kind_props, bodies = body_props(moving_bodies(model))
+                     dyn = dynamics(build)                    the family's (optional)
+                     bom = bom_rows(instances, props, formats) + no_solid_rows(design)
+    fork: children_after_props(build)                         (the four-bar's preview, plots)
     "every pair of solids over the " + motion_label
-                     itf = interference(model, allow_interference) (or sweep(build))
+                     itf = interference(build)
                      low = lowest z, GeometryError below bench_z_mm(build) (optional)
     "exports"        the children's files; more_files(build) (MJCF, URDF) in this process
-    "report"         report(build) + the common tail; report.md (md_rows), assembly.md
+    "report"         report(build) + the common tail; report.md's family part (md_rows),
+                     assembly.md
     "done"
 
-With ``timed`` the report carries the wall times of the stages under ``"_timings_s"``
-(returned by the dispatcher, kept out of ``report.json``).
+The report carries the wall times of the stages under ``"_timings_s"`` and the family's part
+of ``report.md`` under ``"_report_md"`` (both popped by the dispatcher, which writes
+``bom.csv``, ``order.csv`` and ``report.md`` once, after pricing and the datasheet).
 
 Any failure cancels the forked children (:func:`cad.pipeline.forked.cancel_on_error`); the
 dispatcher (:func:`cad.pipeline.build_design`) discards the temporary folder.
@@ -59,12 +60,12 @@ class Stages:
     """What one family supplies to :func:`run_family` (module docstring for the order).
 
     Required: ``check_options(design, fidelity, phi1_deg, formats)`` (DesignError),
-    ``assemble(design, fidelity) -> AssemblyModel``, ``interference(model,
-    allow_interference)`` (the family's result, kept as ``Build.itf``; InterferenceError),
-    ``report(build) -> dict`` (the family's keys, with ``"notes"``: list of str),
-    ``md_rows(report) -> [(quantity, value)]`` (report.md's table), ``preview_title(build)``
-    (preview.png's title), ``stroke(design) -> {body: (n, 4, 4)}`` (the viewer's motion, mm),
-    ``motion_label`` (progress: "every pair of solids over the <motion_label>").
+    ``assemble(design, fidelity) -> AssemblyModel``, ``interference(build)`` (the family's
+    result, kept as ``Build.itf``; InterferenceError), ``report(build) -> dict`` (the
+    family's keys, with ``"notes"``: list of str), ``md_rows(report) -> [(quantity,
+    value)]`` (report.md's table), ``preview_title(build)`` (preview.png's title),
+    ``stroke(design) -> {body: (n, 4, 4)}`` (the viewer's motion, mm), ``motion_label``
+    (progress: "every pair of solids over the <motion_label>").
     Optional: ``prepare(design)`` (kept as ``Build.pre``) and its progress label,
     ``moving_bodies(model)`` (bodies whose mass properties are summed; default every body but
     ground), ``dynamics(build)`` (kept as ``Build.dyn``), ``bench_z_mm(build)`` (mm; the
@@ -72,30 +73,24 @@ class Stages:
     ``thread_notes`` (tapped holes to the DXF notes), ``more_exports(build)`` (in the export
     child), ``figures(build)`` (in the views child), ``more_files(build)`` (after the exports),
     ``cutaway`` (instance name patterns drawn cut away in the pictures), ``assembly(design) ->
-    (plan, checks)`` (``assembly.md``; None: not written). The exports run beside the
-    interference check: the check leaves every solid untouched (its Booleans work on copies,
-    :mod:`cad.occ.boolean`), so a file does not depend on when it is written.
-
-    Optional, for a family whose sequence has more (the four-bar): ``sweep(build)`` (the
-    interference check given the whole build -- fidelity, the children's results --
-    instead of ``interference``, which may then be None); ``fork_before_props`` (the
-    exports, views and ``children`` start right after the solids, beside the mass
-    properties: the export child then writes no BOM, this process writes ``bom.csv``);
+    (plan, checks)`` (``assembly.md``; None: not written), ``no_solid_rows(design)`` (bought
+    BOM rows with no solid, e.g. an encoder: appended to the BOM, a last step of
+    assembly.md), ``md_images`` (``(alt text, file)`` pairs of report.md),
     ``children(build)`` / ``children_after_props(build)`` (``{name: fn}``: further forked
     children started with the exports / after the mass properties; ``fn() -> (files,
-    value)``, the value read with :meth:`Build.child`); ``export_kw(build)`` /
+    value)``, the value read with :meth:`Build.child`), ``export_kw(build)`` /
     ``view_kw(build)`` (further keyword arguments of
     :func:`cad.pipeline.family.write_outputs` / :func:`cad.pipeline.views.write_viewer_outputs`:
-    STL deflections, ``preview=False``); ``no_solid_rows(design)`` (bought BOM rows with no
-    solid, e.g. the four-bar's encoder: appended to the BOM, a last step of assembly.md);
-    ``bom_formats`` (the BOM says which ``sheets/`` files were not written:
-    :func:`cad.pipeline.family.bom_rows` with the formats); ``md_images`` (``(alt text,
-    file)`` pairs of report.md); ``timed`` (``"_timings_s"``).
+    STL deflections, ``preview=False``).
+    The exports and views start right after the solids, beside the mass properties and the
+    interference check: the check leaves every solid untouched (its Booleans work on copies,
+    :mod:`cad.occ.boolean`), so a file does not depend on when it is written, and no export
+    needs a mass property (``bom.csv`` is the dispatcher's).
     Each file callback returns the paths it wrote, relative to the output folder."""
 
     check_options: Callable[..., None]
     assemble: Callable[[Any, str], Any]
-    interference: Callable[[Any, bool], Any] | None
+    interference: Callable[[Build], Any]
     report: Callable[[Build], dict]
     md_rows: Callable[[dict], list]
     preview_title: Callable[[Build], str]
@@ -114,16 +109,12 @@ class Stages:
     more_files: Callable[[Build], list[str]] | None = None
     cutaway: tuple[str, ...] = ()
     assembly: Callable[[Any], tuple] | None = None
-    sweep: Callable[[Build], Any] | None = None
-    fork_before_props: bool = False
     children: Callable[[Build], dict] | None = None
     children_after_props: Callable[[Build], dict] | None = None
     export_kw: Callable[[Build], dict] | None = None
     view_kw: Callable[[Build], dict] | None = None
     no_solid_rows: Callable[[Any], list] | None = None
-    bom_formats: bool = False
     md_images: tuple = ()
-    timed: bool = False
 
 
 @dataclasses.dataclass
@@ -222,19 +213,15 @@ def run_family(stages: Stages, design, out_dir: Path, formats: set[str], *,
     b.model = stages.assemble(design, fidelity)
     b.timings["parts"] = time.perf_counter() - t0
     fasteners = family.fastener_report(b.instances, b.model.holes)  # DesignError: two in a hole
-    if stages.fork_before_props:
-        _start_children(stages, b, stages.children)
+    _start_children(stages, b, stages.children)  # the exports need no mass property
     with forked.cancel_on_error(*b.tasks.values()):
         _mass_properties(stages, b, step)
-    if not stages.fork_before_props:
-        _start_children(stages, b, stages.children)
     _start_children(stages, b, stages.children_after_props, files=False)
     files, viewer_glb = _checks_and_files(stages, b, step)
     step("report")
     report = _report(stages, b, fasteners, files)
-    if stages.timed:
-        b.timings["total_build"] = time.perf_counter() - t0
-        report["_timings_s"] = b.timings  # popped by the dispatcher (non-deterministic)
+    b.timings["total_build"] = time.perf_counter() - t0
+    report["_timings_s"] = b.timings  # popped by the dispatcher (non-deterministic)
     report["_viewer_glb"] = viewer_glb  # popped by the dispatcher: embedded in report.html
     step.finish()
     return report
@@ -242,7 +229,7 @@ def run_family(stages: Stages, design, out_dir: Path, formats: set[str], *,
 
 def _mass_properties(stages: Stages, b: Build, step) -> None:
     """Mass properties per kind and body, the family's dynamics and the BOM rows (into
-    ``b``); ``bom.csv`` here when the export child was forked before them."""
+    ``b``)."""
     from cad.pipeline import family
 
     step(stages.mass_label)
@@ -254,13 +241,7 @@ def _mass_properties(stages: Stages, b: Build, step) -> None:
     b.timings["massprops"] = time.perf_counter() - t
     if stages.no_solid_rows is not None:
         b.extra_rows = list(stages.no_solid_rows(b.design))
-    b.bom = family.bom_rows(b.instances, b.props,
-                            b.formats if stages.bom_formats else None) + b.extra_rows
-    if stages.fork_before_props:
-        from cad.export import write_bom
-
-        write_bom(b.bom, b.out_dir)
-        b.files.append("bom.csv")
+    b.bom = family.bom_rows(b.instances, b.props, b.formats) + b.extra_rows
 
 
 def timed_call(fn: Callable[[], Any]) -> Callable[[], tuple[Any, float]]:
@@ -296,10 +277,7 @@ def _checks_and_files(stages: Stages, b: Build, step) -> tuple[list[str], bytes]
     with forked.cancel_on_error(*b.tasks.values()):
         step(f"every pair of solids over the {stages.motion_label}")
         t = time.perf_counter()
-        if stages.sweep is not None:
-            b.itf = stages.sweep(b)
-        else:
-            b.itf = stages.interference(b.model, b.allow_interference)
+        b.itf = stages.interference(b)
         b.timings["interference"] = time.perf_counter() - t
         if stages.bench_z_mm is not None:
             b.low = check_bench(b.instances, b.tfs, stages.bench_z_mm(b))
@@ -333,7 +311,7 @@ def _exports(stages: Stages, b: Build) -> list[str]:
     from cad.pipeline import family
 
     kw = dict(name=b.design.name, title=stages.preview_title(b),
-              bom=None if stages.fork_before_props else b.bom,
+              bom=None,  # bom.csv: the dispatcher, once, priced (cad.pipeline.write_order)
               marks=stages.marks(b) if stages.marks is not None else None,
               holes=tuple(b.model.holes.values()) if stages.thread_notes else ())
     kw.update(stages.export_kw(b) if stages.export_kw is not None else {})
@@ -360,7 +338,9 @@ def _views(stages: Stages, b: Build) -> tuple[list[str], bytes]:
 
 
 def _report(stages: Stages, b: Build, fasteners: dict, files: list[str]) -> dict:
-    """The family's report dict with the common tail; writes report.md and assembly.md."""
+    """The family's report dict with the common tail and its part of report.md (under
+    ``"_report_md"``, written by the dispatcher with the datasheet and the order); writes
+    assembly.md."""
     from cad.pipeline import family
 
     inst, d = b.instances, b.design
@@ -369,10 +349,10 @@ def _report(stages: Stages, b: Build, fasteners: dict, files: list[str]) -> dict
                 "placement": family.placement_report(inst, b.tfs, b.props)}
     report = stages.report(b)
     report.update(b.common)  # the keys the family did not place go last
-    report["files"] = sorted(files + ["report.md"])
+    report["files"] = sorted(files + ["report.md", "bom.csv"])
     title = f"{d.name} ({d.family})"
-    family.write_report_md(b.out_dir, title, stages.md_rows(report), b.bom,
-                           report.get("notes", ()), images=stages.md_images)
+    report["_report_md"] = family.report_md_lines(title, stages.md_rows(report), b.bom,
+                                                  report.get("notes", ()), images=stages.md_images)
     if stages.assembly is not None:
         plan, checks = stages.assembly(d)
         family.write_assembly_md(b.out_dir, title, inst, plan, checks,

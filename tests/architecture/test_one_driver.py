@@ -17,7 +17,7 @@ FAMILIES = ROOT / "cad" / "families"
 DRIVEN = ("pen", "pantograph", "powermouse", "fourbar")
 #: What the driver does for every family (cad/pipeline/run.py, cad/pipeline/family.py).
 DRIVER_OWNS = {"fastener_report", "kind_props", "bom_rows", "write_viewer_outputs",
-               "lowest_z_mm", "write_report_md", "write_assembly_md", "part_materials",
+               "lowest_z_mm", "report_md_lines", "write_report_md", "write_bom", "write_assembly_md", "part_materials",
                "fits_report", "placement_report", "start", "cancel_on_error"}
 #: Known calls, each with its reason: the PowerMouse's single-actuator test rig (Fig. 7) is a
 #: second assembly, not part of the device; its BOM rows are made from its own kinds. The

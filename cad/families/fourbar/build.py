@@ -22,8 +22,8 @@ Pipeline (``hapticad build designs/hoeken.toml``):
 ``build`` is one call to the build driver of every family
 (:func:`cad.pipeline.run.run_family`) with the four-bar's stages (:func:`_stages`). Once the
 parts exist, the part files + assembly STEP, the viewer files (glb, 3mf, GIF, still) and the
-same-body check run in forked children beside the mass properties
-(``Stages.fork_before_props``); once H is known, ``preview.png`` and the paper's plots run in
+same-body check run in forked children beside the mass properties (as for every family);
+once H is known, ``preview.png`` and the paper's plots run in
 a further child beside the sweep (:mod:`cad.pipeline.forked`; serial where forking is off,
 same bytes either way). The report carries the stages' wall times (``_timings_s``).
 
@@ -266,21 +266,19 @@ def _stages(phi1_deg: float | None, allow_interference: bool):
         check_options=check_options,
         assemble=lambda design, fidelity: assemble(design, fidelity, phi1_deg=phi1_deg,
                                                    strict=not allow_interference),
-        interference=None,
-        sweep=lambda b: interference(b.design, b.model, b.fidelity, b.allow_interference,
+        interference=lambda b: interference(b.design, b.model, b.fidelity, b.allow_interference,
                                      b.child("same_body")),
         report=_report, md_rows=_md_rows, preview_title=_preview_title,
         stroke=lambda d: body_transforms(d.linkage, sweep_angles(d, STROKE_POSES)),
         motion_label="crank range", moving_bodies=lambda model: list(model.bodies),
         dynamics=_dynamics, more_files=_sim_files,
         assembly=lambda design: (None, ASSEMBLY_CHECKS),
-        fork_before_props=True, children=_same_body, children_after_props=_preview,
+        children=_same_body, children_after_props=_preview,
         export_kw=lambda b: {**_mesh_kw(b), "preview": False}, view_kw=_mesh_kw,
-        no_solid_rows=lambda design: [encoder_bom_row(design)], bom_formats=True,
+        no_solid_rows=lambda design: [encoder_bom_row(design)],
         md_images=(("coupler curve, deviation and torque", "kinematics.png"),
                    ("apparent mass over the stroke (eq 22, H from the solids)",
-                    "apparent_mass.png")),
-        timed=True)
+                    "apparent_mass.png")))
 
 
 def build(

@@ -279,7 +279,7 @@ def _stages():
     from cad.pipeline.run import Stages
 
     return Stages(
-        check_options=check_options, assemble=assemble, interference=interference,
+        check_options=check_options, assemble=assemble, interference=lambda b: interference(b.model, b.allow_interference),
         report=_report_of, md_rows=report_md_rows, stroke=stroke_poses, preview_title=_title,
         motion_label="workspace", prepare=_prepare, prepare_label="layout and clearances",
         dynamics=lambda b: effective_mass(b.design, b.bodies, b.model.extra["home_mm"]),

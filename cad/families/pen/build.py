@@ -115,7 +115,7 @@ def _stages():
     from cad.pipeline.run import Stages
 
     return Stages(
-        check_options=check_options, assemble=_assemble, interference=interference,
+        check_options=check_options, assemble=_assemble, interference=lambda b: interference(b.model, b.allow_interference),
         report=lambda b: {**_report(b.design, b.model, b.bodies, b.dyn, b.itf, b.bom, b.fidelity, b.low),
                           "effective_mass_breakdown": mass_breakdown_report(b.design, b.model, b.props)},
         md_rows=_md_rows, stroke=_stroke, motion_label="motion",

@@ -94,19 +94,24 @@ def check_options(design, fidelity: str, phi1_deg, formats=frozenset()) -> None:
 def _dynamics(b) -> dict:
     """The flotor's mass properties (flotor frame), its parts' and the stator's masses, the
     wrench map (:func:`_wrench`) and the test rig's BOM rows."""
-    from cad.pipeline import family
 
     inst, props, act = b.instances, b.props, b.model.extra["actuator"]
     flotor_mp = b.bodies["flotor"]
     gain_per_At, W, iso, W_com = _wrench(b.design, act, b.model.extra["geometry"], flotor_mp)
-    rig = b.model.extra["rig"]
     return {
         "flotor_mp": flotor_mp,
         "parts_mass": {i.name: props[i.kind.name].mass_kg for i in inst if i.body == "flotor"},
         "stator_mass_kg": sum(props[i.kind.name].mass_kg for i in inst if i.body == "ground"),
         "gain_per_At": gain_per_At, "W": W, "iso": iso, "W_com": W_com,
-        "rig_bom": family.bom_rows(rig, family.kind_props(rig)),
+        "rig_bom": rig_bom(b.model.extra["rig"]),  # report.json (the export child writes its own)
     }
+
+
+def rig_bom(rig) -> list[dict]:
+    """The BOM rows of the single-actuator test rig's instances (its own kinds' masses)."""
+    from cad.pipeline import family
+
+    return family.bom_rows(rig, family.kind_props(rig))
 
 
 def _wrench(design, act: dict, g, flotor_mp) -> tuple:
@@ -148,7 +153,7 @@ def _stages():
     from cad.pipeline.run import Stages
 
     return Stages(
-        check_options=check_options, assemble=assemble, interference=interference,
+        check_options=check_options, assemble=assemble, interference=lambda b: interference(b.model, b.allow_interference),
         report=_report_of, md_rows=report_md_rows, stroke=stroke_poses,
         preview_title=lambda b: f"{b.design.name}: PowerMouse at the centre pose",
         motion_label="motion range", mass_label="mass properties and wrench map",
@@ -243,7 +248,7 @@ def _write_rig(b) -> list[str]:
             b.formats,
             name=f"{b.design.name}_rig",
             title="single-actuator test rig (Fig. 7), not part of the device",
-            bom=b.dyn["rig_bom"],
+            bom=rig_bom(b.model.extra["rig"]),  # forked before the mass properties: its own
             preview=False,
         )
     ]
