@@ -1,44 +1,27 @@
 """``hapticad build``: design -> parts -> exports, dispatched on the design's family.
 
-Contract for builder modules (``cad/families/<family>/build.py``)::
-
-    def build(design, out_dir: Path, formats: set[str], *, fidelity: str = "fabrication",
-              allow_interference: bool = False, progress: Progress | None = None,
-              phi1_deg: float | None = None) -> dict
-
-``out_dir`` is a fresh temporary directory (the dispatcher publishes it atomically with
-:func:`cad.io.atomic.atomic_dir` only when everything succeeded); the builder writes
-the part files, ``bom.csv`` and the preview into it and returns the report dict. The
-dispatcher adds ``build`` metadata, writes ``report.json`` and ``manifest.json``. A
-builder may put wall times under ``"_timings_s"``: they are returned (as
-``timings_s``) but kept out of ``report.json`` so that the file is deterministic.
-A builder may put the bytes of its assembly's ``.glb`` under ``"_viewer_glb"``
-(:func:`cad.pipeline.views.write_views`): the dispatcher embeds them in ``report.html``
-(:mod:`cad.report.html`, written for every family, after ``report.json``).
-``progress`` (may be None) is called as ``progress(description, done, total)``.
-A builder may expose ``check_options(design, fidelity, phi1_deg, formats)`` raising DesignError for
-a combination it cannot build; the dispatcher calls it before any CAD import.
-A builder may also expose ``cache_inputs(design) -> dict`` with anything outside the
-design object that its output depends on (e.g. the hash of a user part script), and
-``CODE_DEPS`` (paths inside the ``cad`` package whose source its output depends on; by
-default the whole package).
-
-One driver: the pen, pantograph, twin-pantograph and PowerMouse builders are a single call
-to :func:`cad.pipeline.run.run_family` with the family's :class:`cad.pipeline.run.Stages`
-(a frozen dataclass of callbacks: ``check_options``, ``assemble``, ``interference``,
-``report``, ``md_rows``, ``preview_title``, ``stroke``, ``motion_label``; optionally
-``prepare``, ``dynamics``, ``bench_z_mm``, ``marks``, ``more_exports``, ``figures``,
-``more_files``, ``cutaway``, ``assembly``; each callback reads the
-:class:`cad.pipeline.run.Build` state filled so far). The driver owns the order check ->
-layout -> assemble -> props -> dynamics -> interference -> files -> report, the progress
-lines, the forked exports and viewer files, the bench-plane check, ``report.md`` /
-``assembly.md`` and the common tail of the report (``fasteners``, ``tapped_holes``,
-``part_materials``, ``fits``, ``placement``, ``files``, ``_viewer_glb``). The four-bar's
-builder (``cad/families/fourbar/build.py``) still runs its own sequence (derived-cached mass
-properties, a second forked child for the preview and plots, timings).
+The family's :class:`cad.families.protocol.FamilyPackage` (:func:`family_of`) gives the
+build: ``FAMILY.build(design, out_dir, formats, *, fidelity, allow_interference, progress,
+phi1_deg) -> report dict``, one call to the build driver :func:`cad.pipeline.run.run_family`
+with the family's :class:`cad.pipeline.run.Stages`. ``out_dir`` is a fresh temporary
+directory (the dispatcher publishes it atomically with :func:`cad.io.atomic.atomic_dir` only
+when everything succeeded); the driver writes the part files, the assembly STEP, the viewer
+files and ``assembly.md`` into it and returns the report dict, with the stage wall times
+under ``"_timings_s"`` (returned as ``timings_s``, kept out of ``report.json`` so that the
+file is deterministic), the bytes of the assembly's ``.glb`` under ``"_viewer_glb"``
+(embedded in ``report.html``) and the family's part of ``report.md`` under ``"_report_md"``.
+The dispatcher then writes, once each: ``bom.csv`` and ``order.csv`` (priced,
+:func:`write_order`), ``report.md`` (title, datasheet, the family's table, BOM and notes,
+order: :func:`write_report_md`), the firmware (the family's ``firmware`` hook),
+``report.json`` (with ``device``: the resolved device), ``report.html`` and
+``manifest.json``; then it reads the files back against the device
+(:func:`cad.device.readback.check_outputs`). ``progress`` (may be None) is called as
+``progress(description, done, total)``. Before any CAD import the family's
+``check_options`` / ``check_layout`` refuse what it cannot build and the formats it does not
+write are refused in one line.
 
 Build cache: the dispatcher hashes the design object, the build options and the source
-code (``CODE_DEPS``) into ``build_key``. When ``out_dir/manifest.json`` already
+code (the family's ``code_deps``) into ``build_key``. When ``out_dir/manifest.json`` already
 carries that key, every listed file still has its size and sha256 and every file the report
 names is listed, nothing is rebuilt and no CAD library is imported (the report is read back,
 ``"cached": true``); otherwise the folder is built again, whole.

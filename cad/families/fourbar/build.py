@@ -379,7 +379,9 @@ def _report(b) -> dict:
         "interference": rep.as_dict(),
         **{k: c[k] for k in ("fasteners", "tapped_holes")},
         "fits": c["fits"],
-        "bodies": {i.name: i.body for i in model.instances},
+        # every family's "bodies": each moving body's mass properties in its body frame (the
+        # part -> body map is placement.instances)
+        "bodies": {k: mp.to_dict() for k, mp in b.bodies.items() if k != "ground"},
         "placement": c["placement"],
         "layers": _layers_report(model.extra["plan"], parts),
         "base_plate_mm": list(model.extra["base_rect_mm"]),
