@@ -21,6 +21,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from cad.data.fits import fmt_mm, parse_fit
+from cad.tolerances import FDM_TOL_MM, FDM_TOL_REL
+
 #: Made-part processes (``parts.process``); "laser" is checked in :mod:`cad.design.laser`.
 PROCESSES = ("machined", "printed", "laser")
 
@@ -177,8 +180,6 @@ FDM_TOLERANCE_SOURCE = ("FDM Quality Guideline (Imagine That 3D print-service wi
 def fdm_tolerance_mm(size_mm: float) -> float:
     """The +- tolerance of a printed size (mm): the greater of :data:`cad.tolerances.FDM_TOL_MM`
     and ``FDM_TOL_REL`` x size (:data:`FDM_TOLERANCE_SOURCE`)."""
-    from cad.tolerances import FDM_TOL_MM, FDM_TOL_REL
-
     return max(FDM_TOL_MM, FDM_TOL_REL * size_mm)
 
 
@@ -188,8 +189,6 @@ def printed_fit(text: str) -> str:
     (a bore: printed at nominal, drilled to size) or ``"... printed 8 (FDM +-0.5 mm, not
     g6)"`` (a shaft); a text that states no ISO fit (already a printed one) is kept. The
     tolerance: :func:`fdm_tolerance_mm`. A print holds no ISO 286 class."""
-    from cad.data.fits import fmt_mm, parse_fit
-
     parsed = parse_fit(text)
     if parsed is None:
         return text

@@ -53,6 +53,11 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from cad.errors import InterferenceError
+from cad.export.shapes import placed
+from cad.export.stl import mesh_shape
+from cad.io import derived_cache
+from cad.occ.bbox import tight_box
+from cad.occ.distance import common_volume_mm3, min_distance_mm
 from cad.tolerances import (  # noqa: F401 (names of this module's API)
     BOX_TOUCH_MM,
     CONFIRM_MARGIN_MM,
@@ -157,9 +162,6 @@ def collision_items(instances) -> list[tuple[str, str, object, np.ndarray, bool]
 
 def prepare(items, mesh_tol_mm: float = SWEEP_MESH_TOL_MM) -> Prepared:
     """Mesh every collision item once (cached per shape) and place it in its body frame."""
-    from cad.export.shapes import placed
-    from cad.export.stl import mesh_shape
-
     t0 = time.perf_counter()
     cache: dict[int, tuple[np.ndarray, np.ndarray]] = {}
     bodies: dict[str, list[PartMesh]] = {}
@@ -572,8 +574,6 @@ def _tight_body_box(p: PartMesh) -> np.ndarray:
 def exact_distance_volume(sa, sb) -> tuple[float, float]:
     """OCCT distance (mm, inf when it fails) of two placed solids, and their common volume
     (mm^3) when they touch or overlap (distance <= :data:`CONTACT_MM`), else 0."""
-    from cad.occ.distance import common_volume_mm3, min_distance_mm
-
     d = min_distance_mm(sa, sb)
     vol = common_volume_mm3(sa, sb) if d <= CONTACT_MM else 0.0
     return d, vol
@@ -582,8 +582,6 @@ def exact_distance_volume(sa, sb) -> tuple[float, float]:
 def exact_pair(sa, sb) -> tuple[float, float]:
     """:func:`exact_distance_volume` through the derived cache, keyed by the digests of
     both placed solids (their geometry and world placement, exactly)."""
-    from cad.io import derived_cache
-
     if not derived_cache.enabled():
         return exact_distance_volume(sa, sb)
     key = [derived_cache.shape_digest(sa), derived_cache.shape_digest(sb)]
@@ -615,8 +613,6 @@ def exact_check_pair(
     touching (distance 0; the true gap is under two mesh tolerances) and given volume 0
     without a boolean where a face plane separates their tight boxes
     (:func:`separated_boxes`, flush faces); else the OCCT distance and boolean decide."""
-    from cad.export.shapes import placed
-
     best = (np.inf, 0.0, "", "")
     overlap = 0.0
     use_fcl = have_fcl()
@@ -1016,10 +1012,6 @@ def placed_tight_box(shape, T: np.ndarray) -> np.ndarray:
     box is the part-frame box moved (exact: every world axis is one part axis), so one
     cached box serves every such placement; otherwise the placed shape's own box, keyed by
     ``T`` exactly."""
-    from cad.export.shapes import placed
-    from cad.io import derived_cache
-    from cad.occ.bbox import tight_box
-
     T = np.asarray(T, float)
     if not derived_cache.enabled():
         return tight_box(placed(shape, T))
@@ -1038,8 +1030,6 @@ def _pair_volume(p, q, min_volume_mm3: float) -> float:
     """Common volume of two same-body parts ``(name, shape, box, hull, ...)``: their hulls
     first (a hull encloses its part, so no hull overlap means no part overlap), then the
     parts."""
-    from cad.occ.distance import common_volume_mm3
-
     if p[3] is not None or q[3] is not None:
         hp = p[3] if p[3] is not None else p[1]
         hq = q[3] if q[3] is not None else q[1]
@@ -1058,8 +1048,6 @@ def _rigid_inverse(T: np.ndarray) -> np.ndarray:
 def _cached_pair_volume(p, q, shapes, rel: np.ndarray, min_volume_mm3: float) -> float:
     """:func:`_pair_volume` through the derived cache, keyed by the digests of both solids
     (and hulls), their relative placement ``rel`` (rounded to 1e-9) and the threshold."""
-    from cad.io import derived_cache
-
     if not derived_cache.enabled():
         return _pair_volume(p, q, min_volume_mm3)
     dg = derived_cache.shape_digest
@@ -1082,8 +1070,6 @@ def same_body_check(items, min_volume_mm3: float = OVERLAP_MIN_MM3) -> SameBodyR
     ``min_volume_mm3`` is a collision ``{"kind": "same body", "bodies", "parts",
     "overlap_volume_mm3", "distance_mm": 0, "phi1_deg": None}`` (the pose does not matter).
     """
-    from cad.export.shapes import placed
-
     t0 = time.perf_counter()
     by_body: dict[str, list[tuple]] = {}
     for name, body, shape, tf, *rest in items:
@@ -1287,7 +1273,6 @@ def _contact_or_overlap(a, b, box_a, Ta, box_b, Tb, voids_a=(), voids_b=()) -> f
         or inside_void(box_a, Ta, voids_b, Tb)
     ):
         return 0.0
-    from cad.occ.distance import common_volume_mm3
 
     vol = common_volume_mm3(a, b)
     return -(vol ** (1 / 3)) if vol > 1e-6 else 0.0
@@ -1343,10 +1328,6 @@ def pose_clearances(
     part/fixed part", exact)}``; negative = overlap (minus the cube root of the common
     volume, mm), 0 = contact.
     """
-    from cad.export.shapes import placed
-    from cad.occ.bbox import tight_box
-    from cad.occ.distance import min_distance_mm
-
     pm = prepare([(it[0], "m", it[1], it[2]) for it in moving], mesh_tol_mm)
     pf = prepare([(it[0], "f", it[1], it[2]) for it in fixed], mesh_tol_mm)
     pa, pb = pm.bodies["m"], pf.bodies["f"]

@@ -11,6 +11,8 @@ from __future__ import annotations
 
 from dataclasses import replace
 
+from cad.data.materials import SHEETS
+
 #: A fit of a bore that a sheet which holds no reamed fit gets instead of its H7.
 LASER_FIT = "laser-cut at nominal, kerf-compensated (not H7)"
 
@@ -19,8 +21,6 @@ def laser_process(process: str, material: str, thickness_mm: float) -> str:
     """The BOM process text of a laser-cut plate: the cut, then each later operation of its
     machined ``process`` text ("waterjet/laser ... plate; mill ...; ream ...; tap ...") as
     done on that sheet (reaming and boring dropped where the sheet holds no H7)."""
-    from cad.data.materials import SHEETS
-
     sheet = SHEETS[material]
     ops = [o.strip() for o in process.split(";") if o.strip()]
     out = [f"laser cut {thickness_mm:g} mm {material} sheet (kerf {sheet.kerf_mm:g} mm, "
@@ -39,8 +39,6 @@ def laser_process(process: str, material: str, thickness_mm: float) -> str:
 
 def laser_kind(kind, parts):
     """``kind`` (a made plate) as laser-cut: process, fits, ``sheet_mm``."""
-    from cad.data.materials import SHEETS
-
     sheet = SHEETS[kind.material]
     t = {"base_plate": parts.base_thickness_mm,
          "motor_mount": parts.motor_mount_thickness_mm}.get(kind.name, parts.bar_thickness_mm)

@@ -20,6 +20,11 @@ from typing import Any
 
 import numpy as np
 
+from cad.data.materials import get_material
+from cad.export.shapes import placed
+from cad.export.step import labelled_shape  # a labelled, coloured Solid, as part files are
+from cad.occ.compound import deep_copy, labelled_compound
+
 
 @dataclass(frozen=True)
 class AssemblyModel:
@@ -91,11 +96,6 @@ class AssemblyModel:
         hapticad dependency); build123d's ``export_step(model.compound(), path)`` writes it
         with those names and colours. Imports build123d (on first use).
         """
-        from cad.data.materials import get_material
-        from cad.export.shapes import placed
-        from cad.export.step import labelled_shape  # a labelled, coloured Solid, as part files are
-        from cad.occ.compound import deep_copy, labelled_compound
-
         children, seen = [], set()
         for inst in self.instances:
             shape = inst.kind.shape

@@ -10,14 +10,14 @@ from __future__ import annotations
 
 from dataclasses import replace
 
+from cad.data.materials import get_material
+from cad.parts.printed import print_flip, printed_mass_kg
+from cad.printing import printed_fit, printed_process
+
 
 def printed_kind(kind, parts):
     """``kind`` as printed: ``mass_kg`` (wall/infill model), ``print_flip``, ``process``, and
     its fits as a print holds them (:func:`cad.printing.printed_fit`: no ISO 286 class)."""
-    from cad.data.materials import get_material
-    from cad.parts.printed import print_flip, printed_mass_kg
-    from cad.printing import printed_fit, printed_process
-
     s = parts.print_settings()
     flip = print_flip(kind.shape, s)
     return replace(

@@ -35,6 +35,8 @@ import tempfile
 import time
 from pathlib import Path
 
+from cad.bench.common import save_chart
+
 ROOT = Path(__file__).resolve().parents[2]
 GOALS_S = {"cold": 4.5, "cold-empty-shape-cache": 8.0, "unchanged": 1.5}
 #: Top-level result key of each case (read by ``hapticad bench``).
@@ -173,7 +175,6 @@ def _chart(points, out_dir: Path) -> list[str]:
     ax.set_title("hapticad build designs/hoeken.toml")
     fig.suptitle(REFERENCE, fontsize=8)
     fig.tight_layout(rect=(0, 0, 1, 0.93))
-    from cad.bench.common import save_chart
 
     paths = save_chart(fig, out_dir, "build_time")
     plt.close(fig)

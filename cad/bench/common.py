@@ -7,6 +7,7 @@ import time
 from collections.abc import Callable
 from pathlib import Path
 
+from cad.io.atomic import atomic_path
 from cad.report.figures import save_figure
 
 
@@ -22,8 +23,6 @@ def median_time(fn: Callable[[], object], repeats: int) -> tuple[float, object]:
 
 def save_chart(fig, out_dir: Path, stem: str, dpi: int = 120) -> list[str]:
     """Write ``fig`` as ``<stem>.png`` and ``<stem>.svg`` in ``out_dir`` atomically; return the paths."""
-    from cad.io.atomic import atomic_path
-
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     paths = []

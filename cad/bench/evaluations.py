@@ -35,6 +35,8 @@ import sys
 import tempfile
 from pathlib import Path
 
+from cad.bench.common import save_chart
+
 ROOT = Path(__file__).resolve().parents[2]
 GOAL_S = 0.3
 REFERENCE = "goal: <= 0.3 s per check/fit evaluation after the CAD import (issue 16 section 3)"
@@ -131,7 +133,6 @@ def _chart(points, out_dir: Path) -> list[str]:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from cad.bench.common import save_chart
 
     fig, ax = plt.subplots(figsize=(7, 4))
     names = [p["method"] for p in points]

@@ -25,6 +25,12 @@ import tempfile
 import time
 from pathlib import Path
 
+from cad.assembly import interference as itf
+from cad.bench.common import save_chart
+from cad.design import load_design
+from cad.families.powermouse import assemble
+from cad.families.powermouse.motion import pose_group
+
 ROOT = Path(__file__).resolve().parents[2]
 DESIGNS = {
     "powermouse": "designs/powermouse.toml",
@@ -63,11 +69,6 @@ def motion_check(repeats: int) -> dict:
     over the flotor's excursions, as its build runs it: the closest pose of each pose group
     measured exactly) against the same check with every pose measured exactly; compare the
     clearance of every pose."""
-    from cad.assembly import interference as itf
-    from cad.design import load_design
-    from cad.families.powermouse import assemble
-    from cad.families.powermouse.motion import pose_group
-
     d = load_design(ROOT / DESIGNS["powermouse"])
     model = assemble(d)
     every = {label: label for label in model.pose_labels}
@@ -175,7 +176,6 @@ def _chart(cold: dict, mc: dict, out_dir: Path) -> list[str]:
     ax2.set_title("error 1e-12 plotted for 0")
     fig.suptitle(REFERENCE, fontsize=8)
     fig.tight_layout(rect=(0, 0, 1, 0.93))
-    from cad.bench.common import save_chart
 
     paths = save_chart(fig, out_dir, "families_build")
     plt.close(fig)

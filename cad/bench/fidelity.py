@@ -15,13 +15,14 @@ import tempfile
 import time
 from pathlib import Path
 
+from cad.design import load_design
+from cad.pipeline import build_design
+
 REPO = Path(__file__).resolve().parents[2]
 FIDELITIES = ("fabrication", "inertia", "preview")
 
 
 def _build(design, fidelity: str, formats: set[str]) -> tuple[float, dict]:
-    from cad.pipeline import build_design
-
     with tempfile.TemporaryDirectory() as tmp:
         t = time.perf_counter()
         rep = build_design(design, Path(tmp) / "out", formats, fidelity=fidelity, use_cache=False)
@@ -29,8 +30,6 @@ def _build(design, fidelity: str, formats: set[str]) -> tuple[float, dict]:
 
 
 def run(quick: bool, out_dir: Path, design_path: Path | None = None) -> dict:
-    from cad.design import load_design
-
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     d = load_design(design_path or REPO / "designs" / "hoeken.toml")

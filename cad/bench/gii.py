@@ -30,6 +30,7 @@ from pathlib import Path
 import numpy as np
 
 from cad.bench.common import median_time as _median_time
+from cad.io.atomic import atomic_path
 from cad.isotropy.culling import brute_force, culling
 from cad.isotropy.gii import fivebar_gii, gii_from_jacobians, square_grid_mm
 from cad.isotropy.problems import FiveBarProblem, candidate_grid
@@ -167,7 +168,6 @@ def _plot(samp, opt, out_dir: Path) -> list[str]:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from cad.io.atomic import atomic_path
 
     out_dir.mkdir(parents=True, exist_ok=True)
     paths = []

@@ -36,7 +36,17 @@ from pathlib import Path
 
 import numpy as np
 
+from cad.assembly import interference as itf
 from cad.bench.common import median_time as _median_time
+from cad.bench.common import save_chart
+from cad.design import load_design
+from cad.export.shapes import placed
+from cad.families.fourbar import assemble
+from cad.families.fourbar.build import joint_axes
+from cad.families.fourbar.pose import body_transforms
+from cad.occ.distance import common_volume_mm3, min_distance_mm
+from cad.parts import translation
+from cad.parts.reference_solids import cylinder_on_xy
 from cad.tolerances import BENCH_INTERFERENCE_MESH_TOLERANCES_MM as MESH_TOLERANCES_MM
 
 #: Prescribed smallest gaps of the cylinder pairs (mm); negative = overlap depth.
@@ -52,9 +62,6 @@ REFERENCE = "closed form: cylinder pair k has smallest gap g_k at phi = 0 (a sam
 
 
 def interference_scene(n_poses: int):
-    from cad.parts import translation
-    from cad.parts.reference_solids import cylinder_on_xy
-
     cyl = cylinder_on_xy(RADIUS_MM, HEIGHT_MM)
     items, tfs = [], {}
     phi = np.linspace(-1.0, 1.0, n_poses if n_poses % 2 else n_poses + 1)
@@ -100,9 +107,6 @@ def _pair_gaps(rep) -> dict[int, float]:
 
 
 def _occt_brute(items, tfs, phi) -> dict[int, float]:
-    from cad.export.shapes import placed
-    from cad.occ.distance import min_distance_mm
-
     out = {}
     for k in range(len(GAPS_MM)):
         (_, fb, fs, ft), (_, mb, ms, mt) = items[2 * k], items[2 * k + 1]
@@ -116,8 +120,6 @@ def _occt_brute(items, tfs, phi) -> dict[int, float]:
 
 def run(quick: bool, out_dir: Path) -> dict:
     """Run the benchmark, write the chart (PNG + SVG) into ``out_dir``, return the points."""
-    from cad.assembly import interference as itf
-
     repeats = 1 if quick else 3
     n_poses = 21 if quick else 201
     items, tfs, phi = interference_scene(n_poses)
@@ -191,9 +193,6 @@ REF_RADIUS_MM = 2.0
 
 
 def _hoeken(fidelity: str = "inertia"):
-    from cad.design import load_design
-    from cad.families.fourbar import assemble
-
     d = load_design(Path(__file__).resolve().parents[2] / "designs" / "hoeken.toml")
     model = assemble(d, fidelity, poses=SWEEP_POSES)  # layers planned over the timed sweep
     return d, model.extra["joints_mm"], model
@@ -203,10 +202,6 @@ def _exact_reference(prep, tfs, poses, radius_mm: float) -> dict:
     """Exact OCCT distance of every body pair at the given poses, over every part pair whose
     boxes come within ``radius_mm`` (no mesh involved): ``{(a, b): {pose: distance}}``."""
     import itertools
-
-    from cad.assembly import interference as itf
-    from cad.export.shapes import placed
-    from cad.occ.distance import min_distance_mm
 
     out: dict = {}
     within = radius_mm + prep.mesh_tol_mm
@@ -228,10 +223,6 @@ def _same_body(repeats: int, brute_force: bool) -> dict:
     """The same-body check (issue 10) on the Hoeken assembly at fabrication fidelity (bearings
     with balls): median time of ``repeats``; with ``brute_force``, every same-body pair
     intersected without box culling (the reference: culling must lose no collision)."""
-    from cad.assembly import interference as itf
-    from cad.export.shapes import placed
-    from cad.occ.distance import common_volume_mm3
-
     _, _, asm = _hoeken("fabrication")
     items = itf.static_items(asm.instances)
     times, r = [], None
@@ -268,10 +259,6 @@ def _real_assembly(n_poses: int, repeats: int, n_ref: int) -> dict:
     pair's reported minimum): a *miss* is an exact sample below the reported
     ``min_clearance_mm`` (the sweep claims a minimum over the stroke) or an exact
     clearance violation the sweep did not report."""
-    from cad.assembly import interference as itf
-    from cad.families.fourbar.pose import body_transforms
-    from cad.families.fourbar.build import joint_axes
-
     d, J, asm = _hoeken()
     clearance = d.parts.clearance_min_mm
     phi = np.linspace(d.phi1_min_rad, d.phi1_max_rad, n_poses)
@@ -346,7 +333,6 @@ def _chart(points: list[dict], out_dir: Path) -> list[str]:
     ax.legend(fontsize=8)
     fig.suptitle("reference: " + REFERENCE, fontsize=8)
     fig.tight_layout(rect=(0, 0, 1, 0.95))
-    from cad.bench.common import save_chart
 
     paths = save_chart(fig, out_dir, "interference_error_vs_time")
     plt.close(fig)

@@ -28,6 +28,9 @@ from pathlib import Path
 import numpy as np
 
 from cad.bench.common import median_time as _median_time
+from cad.io.atomic import atomic_path
+from cad.massprops import mesh, occt
+from cad.parts.reference_solids import stadium_bar, tube
 from cad.report.figures import save_figure
 from cad.tolerances import BENCH_MASSPROPS_MESH_TOLERANCES_MM as MESH_TOLERANCES_MM
 from cad.tolerances import BENCH_OCCT_EPS as OCCT_EPS
@@ -116,8 +119,6 @@ def _rel(a: float, b: float) -> float:
 
 
 def _bench_part(part: str, shape, m_ref: float, izz_ref: float, repeats: int) -> list[dict]:
-    from cad.massprops import mesh, occt
-
     rho = BENCH_DENSITY_KG_M3
     pts: list[dict] = []
 
@@ -173,7 +174,6 @@ def _chart(points: list[dict], out_dir: Path) -> list[str]:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from cad.io.atomic import atomic_path
 
     parts = sorted({p["part"] for p in points})
     methods = ["occt-exact", "occt-eps", "occt-triangulation", "trimesh", "manifold3d"]
@@ -222,8 +222,6 @@ def run(quick: bool, out_dir: Path) -> dict:
 
     ``quick``: 3 repeats per point instead of 9 (same methods and tolerances).
     """
-    from cad.parts.reference_solids import stadium_bar, tube
-
     repeats = 3 if quick else 9
     rho = BENCH_DENSITY_KG_M3
     points: list[dict] = []

@@ -30,7 +30,9 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
+from cad.datasheet import fmt_value, verdict_text
 from cad.errors import DesignError
+from cad.io.atomic import write_text_atomic
 
 ROOT = Path(__file__).resolve().parents[2]
 BLOCK = re.compile(r"(<!-- generated: (?P<spec>[^>]*?) -->\n)(?P<body>.*?)(<!-- end generated -->)", re.S)
@@ -284,8 +286,6 @@ VERDICT_WORDS = {"ok": "ok", "miss": "**miss**", "within sampling error": "withi
 
 def render_datasheet(sources: list[tuple[str, str | None, dict[str, Any]]]) -> str:
     """A ``datasheet --json`` capture: every figure with its range, unit, verdict and the paper's value."""
-    from cad.datasheet import fmt_value, verdict_text
-
     (_, _, data), = sources
     lines = ["| figure | value (min .. max over the stroke) | unit | verdict | the paper's prototype |",
              "|---|---|---|---|---|"]
@@ -376,7 +376,6 @@ def capture(out: Path, argv: list[str]) -> int:
     import subprocess
     import time
 
-    from cad.io.atomic import write_text_atomic
 
     # through the entry point, as a user runs it (nothing outside cad/cli imports the CLI)
     proc = subprocess.run([sys.executable, "-m", "cad", *argv], stdout=subprocess.PIPE, text=True)

@@ -18,6 +18,9 @@ import time
 from pathlib import Path
 
 from cad.bench.common import median_time, save_chart
+from cad.design import load_design
+from cad.structure import device, fem
+from cad.structure.fem import euler_bernoulli_tip_m_per_N
 
 E, NU = 68.9e9, 0.33
 BARS = {
@@ -29,22 +32,16 @@ REF_MESH = (128, 16)
 
 
 def _beam(L, w, t, wp):
-    from cad.structure.fem import euler_bernoulli_tip_m_per_N
-
     Iz = t * (w**3 - wp**3) / 12 * 1e-12
     Iy = (w - wp) * t**3 / 12 * 1e-12
     return euler_bernoulli_tip_m_per_N(L * 1e-3, E, Iz), euler_bernoulli_tip_m_per_N(L * 1e-3, E, Iy)
 
 
 def _fem(g, n):
-    from cad.structure import fem
-
     return fem.cantilever(g, E, NU, "y", n), fem.cantilever(g, E, NU, "z", n)
 
 
 def bar_points(quick: bool) -> list[dict]:
-    from cad.structure import fem
-
     pts = []
     for label, dims in BARS.items():
         g = fem.BarGeometry(*dims)
@@ -69,9 +66,6 @@ def bar_points(quick: bool) -> list[dict]:
 
 
 def device_points() -> dict:
-    from cad.design import load_design
-    from cad.structure import device
-
     d = load_design(Path(__file__).resolve().parents[2] / "designs" / "hoeken.toml")
     out = {}
     for m in device.METHODS:

@@ -23,6 +23,8 @@ import sys
 import tempfile
 from pathlib import Path
 
+from cad.bench.common import save_chart
+
 ROOT = Path(__file__).resolve().parents[2]
 GOAL_SPEEDUP = 1.7
 REFERENCE = "goal: 2 workers >= 1.7x the throughput of 1 worker (issue 16 section 1)"
@@ -82,7 +84,6 @@ def _chart(points, speedup: float, out_dir: Path) -> list[str]:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from cad.bench.common import save_chart
 
     fig, ax = plt.subplots(figsize=(5, 4))
     ax.bar([p["method"] for p in points], [p["variants_per_s"] for p in points], color=["#337ab7", "#5cb85c"])

@@ -34,7 +34,10 @@ from pathlib import Path
 
 import numpy as np
 
+from cad.actuators import field_magpylib as fm
+from cad.actuators import voicecoil as vc
 from cad.bench.common import median_time as _median_time
+from cad.io.atomic import atomic_path
 from cad.report.figures import save_figure
 
 GEOM = {
@@ -52,9 +55,6 @@ REFERENCE = (
 
 
 def _field_points(repeats: int, quick: bool) -> tuple[list[dict], dict]:
-    from cad.actuators import field_magpylib as fm
-    from cad.actuators import voicecoil as vc
-
     lm, w, t = GEOM["magnet_length_mm"], GEOM["magnet_width_mm"], GEOM["magnet_thickness_mm"]
     ref = {d: vc.bg_image_converged_T(d, lm, w, t, BR_T) for d in GAPS_MM}
     check = {d: vc.bg_image_series_T(d, lm, w, t, BR_T, 2**20) for d in GAPS_MM}
@@ -95,9 +95,6 @@ def _field_points(repeats: int, quick: bool) -> tuple[list[dict], dict]:
 
 
 def _quadrature_points(repeats: int, quick: bool) -> list[dict]:
-    from cad.actuators import field_magpylib as fm
-    from cad.actuators import voicecoil as vc
-
     p = vc.VoiceCoilParams(**GEOM, br_T=BR_T)
     d = 11.0
     ref = fm.coil_mean_bz_T(d, p, n_quad=(16, 12, 12))
@@ -112,9 +109,6 @@ def _quadrature_points(repeats: int, quick: bool) -> list[dict]:
 
 
 def _models(quick: bool) -> dict:
-    from cad.actuators import field_magpylib as fm
-    from cad.actuators import voicecoil as vc
-
     p = vc.VoiceCoilParams(**GEOM, br_T=BR_T)
     out = {}
 
@@ -154,9 +148,6 @@ def _models(quick: bool) -> dict:
 
 def _finite_iron(quick: bool) -> dict:
     """Finite-permeability, finite-size plates (optional package): B at the gap centre vs mesh."""
-    from cad.actuators import field_magpylib as fm
-    from cad.actuators import voicecoil as vc
-
     if not fm.material_response_available():
         return {"available": False}
     p = vc.VoiceCoilParams(**GEOM, br_T=BR_T)
@@ -184,8 +175,6 @@ def _finite_iron(quick: bool) -> dict:
 
 
 def _stroke() -> dict:
-    from cad.actuators import voicecoil as vc
-
     p = vc.VoiceCoilParams(**GEOM, br_T=BR_T)
     d = vc.optimal_gap(p).optimal_gap_mm
     x = np.linspace(-p.rattle_mm / 2, p.rattle_mm / 2, 13)
@@ -206,7 +195,6 @@ def _chart(points: list[dict], out_dir: Path) -> list[str]:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from cad.io.atomic import atomic_path
 
     fig, ax = plt.subplots(figsize=(7, 5))
     floor = 1e-17

@@ -19,14 +19,16 @@ from pathlib import Path
 
 import numpy as np
 
+from cad.bench.common import save_chart
+from cad.data.catalog import get_motor
+from cad.design import load_design
+from cad.dynamics.inertia import InertiaCoefficients
+from cad.dynamics.stiffness import StiffnessInputs, stiffness_range_N_per_m
+from cad.sim import wall
+from cad.sim.device import device_build, read_device_report
+
 
 def _device():
-    from cad.data.catalog import get_motor
-    from cad.design import load_design
-    from cad.dynamics.inertia import InertiaCoefficients
-    from cad.sim import wall
-    from cad.sim.device import device_build, read_device_report
-
     root = Path(__file__).resolve().parents[2]
     d = load_design(root / "designs" / "hoeken.toml")
     folder = device_build(d)
@@ -42,15 +44,11 @@ def _device():
 
 
 def _kmax_reduced(tab, spec, B=0.0, substep_s=None):
-    from cad.sim import wall
-
     f = wall.reduced_stable_of(tab, spec, B, substep_s or wall.SUBSTEP_MAX_S)
     return wall.k_max(f, n_probe=wall.N_PROBE)["K_max_N_per_m"]
 
 
 def _eq25(spec, tab, Te=None, counts=None):
-    from cad.dynamics.stiffness import StiffnessInputs, stiffness_range_N_per_m
-
     delta = tab.delta_m(counts or spec.counts_per_rev)
     return stiffness_range_N_per_m(StiffnessInputs(spec.Fv_N_s_per_m, spec.Fs_N, Te or spec.Te_s,
                                                    delta, spec.v0_m_per_s))[1]
@@ -62,8 +60,6 @@ def run(quick: bool, out_dir: Path) -> dict:
     Returns the result dict (SI units named in the keys) with ``charts``: the files written
     to ``out_dir``.
     """
-    from cad.sim import wall
-
     d, folder, tab, spec = _device()
     res: dict = {"design": d.name, "Te_s": spec.Te_s, "encoder_counts_per_rev": spec.counts_per_rev,
                  "encoder_resolution_m": tab.delta_m(spec.counts_per_rev),
@@ -86,9 +82,6 @@ def _sampling_and_encoder(res: dict, tab, spec, quick: bool, out_dir: Path) -> l
     from dataclasses import replace
 
     from matplotlib.figure import Figure
-
-    from cad.bench.common import save_chart
-    from cad.sim import wall
 
     Tes = [2e-4, 3.3e-4, 1e-3] if quick else [1e-4, 2e-4, 3.3e-4, 5e-4, 1e-3, 2e-3]
     cnts = [1000, spec.counts_per_rev, 20000] if quick else [500, 1000, 2000, spec.counts_per_rev, 10000, 40000, 100000]
@@ -118,8 +111,6 @@ def _sampling_and_encoder(res: dict, tab, spec, quick: bool, out_dir: Path) -> l
 
 def _mujoco_kmax(d, folder: Path, tab, spec, step: float) -> dict:
     """K_max (B = 0) of the mujoco model at time step ``step`` (s), with its wall time."""
-    from cad.sim import wall
-
     saved = wall.MJ_STEP_MAX_S
     wall.MJ_STEP_MAX_S = step
     try:
@@ -136,7 +127,6 @@ def _speed_accuracy(res: dict, d, folder: Path, tab, spec, quick: bool, out_dir:
     mujoco model at its finest step, into res["speed_accuracy"]; the chart files written."""
     from matplotlib.figure import Figure
 
-    from cad.bench.common import save_chart
 
     mj_rows = [_mujoco_kmax(d, folder, tab, spec, s) for s in ([1e-4, 2e-5] if quick else [1e-4, 4e-5, 2e-5])]
     ref = mj_rows[-1]["K_max_N_per_m"]
@@ -170,9 +160,6 @@ def _speed_accuracy(res: dict, d, folder: Path, tab, spec, quick: bool, out_dir:
 def plot_zwidth(res: dict, Fv: float, out_dir: Path) -> list[str]:
     """The K-B chart from the bench result (B on a categorical axis: it spans signs and decades)."""
     from matplotlib.figure import Figure
-
-    from cad.bench.common import save_chart
-    from cad.sim import wall
 
     z = res["zwidth"]
     Bs = z["B_N_s_per_m"]

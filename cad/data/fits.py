@@ -13,6 +13,8 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass
 
+from cad.data.catalog import tap_drill_mm
+
 #: Class of each feature (bore, or shaft where lower case), with the fit it makes:
 #:
 #: * ``bearing seat`` J7 -- housing bore of a ball bearing's outer ring: direction of load
@@ -157,8 +159,6 @@ def shop_holes(fits: tuple[str, ...], threads=()) -> tuple[ShopHole, ...]:
     """The holes of a part from its :func:`fit` texts and its ``threads`` (``(size, full
     thread depth mm)`` pairs, e.g. ``("M4", 8.0)``); shafts are left out. Tap drills by
     :data:`TAP_DRILL_SOURCE`; reaming stock by :data:`REAM_ALLOWANCE_SOURCE`."""
-    from cad.data.catalog import tap_drill_mm
-
     out = []
     for text in fits:
         parsed = parse_fit(text)

@@ -43,6 +43,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from cad.design.targets import Target
+from cad.structure.elastic import get_elastic
+
 #: First structural mode limit (Hz): above the Hoeken prototype's 150 Hz force bandwidth
 #: (paper §III.B.1, which measured its first resonance at 250 Hz).
 FIRST_MODE_MIN_HZ = 150.0
@@ -167,9 +170,7 @@ STRUCTURE_FREE = ("parts.bar_material", "parts.bar_style", "parts.tube_material"
 def structure_targets(design) -> tuple:
     """The default first-mode and stress limits of a four-bar candidate as ``[targets]``
     bounds (the stress limit from its own bar material), except keys its targets set."""
-    from cad.design.targets import Target
     from cad.structure.device import link_material
-    from cad.structure.elastic import get_elastic
 
     lim = fourbar_limits(design, get_elastic(link_material(design.parts)).strength_MPa)
     mode, stress = lim["first_mode_Hz"], lim["max_stress_MPa"]
@@ -185,9 +186,7 @@ def default_limit_targets(design) -> tuple:
     """Every default limit of a four-bar candidate (:func:`fourbar_limits`, the stress limit
     from its own bar material) as ``[targets]`` bounds, except keys its targets set: the
     constraints of ``hapticad fit`` (issue 24 §2)."""
-    from cad.design.targets import Target
     from cad.structure.device import link_material
-    from cad.structure.elastic import get_elastic
 
     lim = fourbar_limits(design, get_elastic(link_material(design.parts)).strength_MPa)
     return tuple(Target(k, min=v.value) if v.op.startswith(">") else Target(k, max=v.value)

@@ -13,12 +13,12 @@ from __future__ import annotations
 import tempfile
 from pathlib import Path
 
+from cad.io import derived_cache
+from cad.pipeline import build_design, build_key
+
 
 def device_datasheet(design, fidelity: str = "inertia") -> dict:
     """``report["datasheet"]`` of a build of ``design`` at ``fidelity`` (module docstring)."""
-    from cad.io import derived_cache
-    from cad.pipeline import build_design, build_key
-
     key = build_key(design, set(), fidelity, True, None, True)
 
     def make() -> dict:

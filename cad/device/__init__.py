@@ -30,8 +30,11 @@ import math
 from dataclasses import dataclass, replace
 from typing import Any
 
-from cad.families import family_package
+from cad.data import catalog
+from cad.data.catalog import get_motor
+from cad.design.motor import resolve_motor
 from cad.errors import DesignError
+from cad.families import family_package
 
 #: MotorSpec fields a resolved motor states (value and source each), in report order.
 MOTOR_FIELDS = ("torque_constant_mNm_per_A", "current_continuous_A", "torque_continuous_mNm",
@@ -220,9 +223,6 @@ def parts_motor(design, fld: str = "motor"):
     describes ``parts.motor``; the pen's ``waist_motor`` keeps its catalog data) and
     ``parts.motor_rotor_inertia_g_cm2``. What the BOM, the datasheet, the firmware and the
     simulators read (through :func:`resolve_device`). DesignError naming the field."""
-    from cad.data.catalog import get_motor
-    from cad.design.motor import resolve_motor
-
     table = tuple(getattr(design, "motor", ()) or ()) if fld == "motor" else ()
     key = getattr(design.parts, fld)
     spec = resolve_motor(key, table, f"parts.{fld}") if table else get_motor(key, f"parts.{fld}")
@@ -253,8 +253,6 @@ def _firmware_counts(design) -> int | None:
 
 def _stated_counts(design) -> dict[str, tuple[int, str, str | None]]:
     """{field: (counts, source, catalog key)} of every encoder field the design gives."""
-    from cad.data import catalog
-
     p = design.parts
     out: dict[str, tuple[int, str, str | None]] = {}
     key = getattr(p, "encoder", None)
@@ -273,7 +271,6 @@ def _stated_counts(design) -> dict[str, tuple[int, str, str | None]]:
 def _encoders(design, motors) -> tuple[ResolvedEncoder, ...]:
     if not motors:
         return ()
-    from cad.data import catalog
 
     stated = _stated_counts(design)
     if len({v[0] for v in stated.values()}) > 1:

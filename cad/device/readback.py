@@ -21,6 +21,7 @@ import xml.etree.ElementTree as ET
 from pathlib import Path
 
 from cad.errors import HapticadError
+from cad.io.escape import csv_cell
 from cad.tolerances import OUTPUT_AGREE_REL
 
 #: The encoder's counts per turn in a BOM description ("... 3837 counts/rev ...").
@@ -346,7 +347,6 @@ def motor_disagreements(device, out: Path) -> list[str]:
     path = Path(out) / "bom.csv"
     if not device.motors or not path.is_file():
         return []
-    from cad.io.escape import csv_cell
 
     # bom.csv writes a text cell a spreadsheet could read as a formula with a leading "'"
     want = {csv_cell(m.spec.bom_description()): m.spec.mass_kg for m in device.motors}

@@ -22,7 +22,11 @@ from __future__ import annotations
 import io
 import math
 
+from cad.data.fits import REAM_ALLOWANCE_SOURCE, TAP_DRILL_SOURCE, fmt_mm
 from cad.errors import GeometryError
+from cad.export.shapes import make_compound
+from cad.occ.boolean import common
+from cad.occ.compound import deep_copy
 
 #: Chordal deflection used to sample edges that are neither lines nor circles (mm).
 DXF_SAMPLE_DEFLECTION_MM = 0.005
@@ -40,7 +44,6 @@ def _section_edges(shape, z_mm: float):
     from OCP.TopExp import TopExp_Explorer
     from OCP.TopoDS import TopoDS
 
-    from cad.occ.compound import deep_copy
 
     # on a copy, as cad.occ.boolean: the plate's solid is shared with its other exports and
     # must keep its tolerances
@@ -92,7 +95,6 @@ def _slab_area_mm2(shape, z0: float, z1: float) -> float:
     from OCP.gp import gp_Pnt
     from OCP.GProp import GProp_GProps
 
-    from cad.occ.boolean import common
 
     box = Bnd_Box()
     BRepBndLib.Add_s(shape, box)
@@ -177,7 +179,6 @@ def _mill_edges(shape, z_mm: float, cut_edges, z_cut: float) -> list:
     from OCP.gp import gp_Trsf, gp_Vec
     from OCP.TopLoc import TopLoc_Location
 
-    from cad.export.shapes import make_compound
 
     tr = gp_Trsf()
     tr.SetTranslation(gp_Vec(0.0, 0.0, z_mm - z_cut))
@@ -263,8 +264,6 @@ def _resizer(holes, found: dict):
 def _hole_notes(holes, found: dict) -> list[str]:
     """One line per hole of ``holes`` (how many the profile has, its cut size and finish),
     then the source of each allowance used."""
-    from cad.data.fits import REAM_ALLOWANCE_SOURCE, TAP_DRILL_SOURCE, fmt_mm
-
     out, sources = [], []
     for h in holes:
         n, detail = found.get(h, [0, ""])

@@ -30,6 +30,10 @@ import json
 
 import numpy as np
 
+from cad.data.materials import get_material
+from cad.export.shapes import make_compound, to_topods
+from cad.export.stl import mesh_shape
+
 #: Duration of one forward-and-back stroke in the animation (s).
 STROKE_PERIOD_S = 4.0
 #: Root rotation (x, y, z, w): R0 is z-up, glTF is y-up -> rotate -90 deg about x.
@@ -67,8 +71,6 @@ def body_color_map(bodies) -> dict[str, tuple[float, float, float]]:
 def instance_rgb(inst, body_rgb: dict) -> tuple[float, float, float]:
     """Made parts take their body's colour (the mechanism reads at a glance); bought parts
     their material's colour (the STEP colour, :data:`cad.data.materials.MATERIALS`)."""
-    from cad.data.materials import get_material
-
     if inst.kind.made and inst.body in body_rgb:
         return body_rgb[inst.body]
     return tuple(get_material(inst.kind.material).color_rgb)
@@ -83,7 +85,6 @@ def visible_solids(shape):
     from OCP.TopAbs import TopAbs_SOLID
     from OCP.TopExp import TopExp_Explorer
 
-    from cad.export.shapes import make_compound
 
     solids, exp = [], TopExp_Explorer(shape, TopAbs_SOLID)
     while exp.More():
@@ -110,9 +111,6 @@ def visible_solids(shape):
 def kind_meshes(instances, tolerance_mm: float, angular_tolerance_rad: float) -> dict:
     """``{kind name: (vertices_mm (V, 3), faces (F, 3))}`` of the listed parts (OCCT mesh of
     :func:`visible_solids`)."""
-    from cad.export.shapes import to_topods
-    from cad.export.stl import mesh_shape
-
     out = {}
     for inst in instances:
         k = inst.kind

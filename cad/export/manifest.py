@@ -7,6 +7,8 @@ import json
 import os
 from pathlib import Path
 
+from cad.errors import FileRefused
+from cad.io import guard
 from cad.io.atomic import write_text_atomic
 
 MANIFEST_NAME = "manifest.json"
@@ -54,9 +56,6 @@ def verify_manifest(out_dir: Path) -> dict | None:
     a mismatch, never read); a listed path must stay inside ``out_dir`` (relative, no ``..``)
     and name a regular file of the listed size before it is hashed (``/dev/zero`` never ends).
     """
-    from cad.errors import FileRefused
-    from cad.io import guard
-
     path = Path(out_dir) / MANIFEST_NAME
     try:
         doc = guard.load_json(path, "manifest", "--out")

@@ -27,7 +27,10 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from cad import tolerances as tol
+from cad.data.materials import LASER_CUT_SIZES_SOURCE, SHEETS
 from cad.errors import DesignError
+from cad.export.dxf import plate_profile_dxf
+from cad.io.atomic import write_text_atomic
 
 #: ACI colour of each sheet layer (laser software maps operations by colour): CUT red,
 #: ENGRAVE blue, SHEET grey, NOTES white/black.
@@ -72,7 +75,6 @@ class Sheet:
         """Why this size: the design's, or the smallest stock sheet the nesting fits."""
         if not self.tried_mm:
             return "size from parts.laser_sheet_mm"
-        from cad.data.materials import LASER_CUT_SIZES_SOURCE
 
         sizes = ", ".join(f"{w:g} x {h:g}" for w, h in self.tried_mm)
         return (f"the stock size needing the least sheet area the nesting fits (nested on {sizes} mm; "
@@ -164,8 +166,6 @@ def _candidate_sizes(material: str, asked, largest) -> list[tuple[float, float]]
     (:attr:`cad.data.materials.SheetStock.stock_sizes_mm`, smallest first) that holds the
     ``largest`` (w, h) part box with the margins either way round (the largest size when
     none does: the packer then names the part that does not fit)."""
-    from cad.data.materials import SHEETS
-
     if asked and asked[0] > 0:
         return [tuple(asked)]
     m = 2 * tol.NEST_EDGE_MARGIN_MM
@@ -309,7 +309,6 @@ def _profile_doc(kind, shop: dict):
     """The ezdxf document of ``kind``'s own profile (:func:`cad.export.dxf.plate_profile_dxf`)."""
     import ezdxf
 
-    from cad.export.dxf import plate_profile_dxf
 
     text = plate_profile_dxf(kind.shape, kind.name, shop.get("notes", ()), shop.get("holes", ()),
                              material=kind.material, quantity=shop.get("quantity"),
@@ -323,7 +322,6 @@ def sheet_dxf(sheet: Sheet, index: int, count: int, profiles: dict) -> str:
     from ezdxf.enums import TextEntityAlignment
     from ezdxf.math import Matrix44
 
-    from cad.data.materials import SHEETS
 
     old = ezdxf.options.write_fixed_meta_data_for_testing
     ezdxf.options.write_fixed_meta_data_for_testing = True
@@ -391,7 +389,6 @@ def write_sheets(instances, out_dir, shop: dict) -> list[str]:
     paths relative to ``out_dir`` (none without laser-cut parts)."""
     from pathlib import Path
 
-    from cad.io.atomic import write_text_atomic
 
     sheets = plan_sheets(instances)
     profiles = {}

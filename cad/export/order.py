@@ -31,9 +31,13 @@ import re
 from decimal import ROUND_HALF_UP, Decimal
 from pathlib import Path
 
+from cad import tolerances as tol
+from cad.data.catalog import MOTORS
+from cad.design import bounds
 from cad.design.fields import check_text
 from cad.design.prices import price_table  # noqa: F401 - validated where designs are (cad.design)
 from cad.errors import DesignError
+from cad.io import guard
 from cad.io.escape import csv_cell, md
 from cad.tolerances import PRICE_FIELD_MAX_CHARS, PRICE_MAX
 
@@ -162,8 +166,6 @@ def stock_is_mass(kind) -> bool:
 def stock(kind, mass_g: float) -> str:
     """Stock to order for one piece of made part ``kind`` (``mass_g``: its mass, used for
     printed parts), e.g. ``"plate 6 x 35 x 130 mm aluminium-6061"``; see the module doc."""
-    from cad import tolerances as tol
-
     mat = kind.material
     proc = kind.process.lower()
     if _PRINTED.search(proc) is not None:  # "printed", "FDM print PLA: 0.2 mm layers, ..."
@@ -225,8 +227,6 @@ _TABLE_MOTOR = re.compile(r"^(.+?) \(data of \[motor\]; mount of ([^)\s]+)\)")
 def _motor_designation(desc: str) -> tuple[str, str, str] | None:
     """A catalog motor (its BOM description is the catalog's): name and order number; a
     ``[motor]`` table's motor: its name, no order number (no catalog gives one)."""
-    from cad.data.catalog import MOTORS
-
     table = _TABLE_MOTOR.match(desc)
     if table is not None:
         return ("motors", table.group(1), "")
@@ -270,8 +270,6 @@ def load_prices(path: str | Path) -> dict:
     file refused there, a missing column, an empty or repeated designation, a cell over
     :data:`cad.tolerances.PRICE_FIELD_MAX_CHARS` characters, a price that is not a number in
     0..:data:`cad.tolerances.PRICE_MAX`, or a second currency."""
-    from cad.io import guard
-
     p = Path(path)
     text = guard.read_text(p, "prices", "--prices", encoding="utf-8-sig")
     reader = csv.DictReader(io.StringIO(text))
@@ -361,8 +359,6 @@ def apply_prices(rows: list[dict], table: dict | None) -> dict:
 
 def _warn_unused(table: dict | None, keys: list[str]) -> None:
     """A warning per price row (file row, or ``[prices]`` key) that matches no order line."""
-    from cad.design import bounds
-
     rows, src = (table or {}).get("rows", {}), (table or {}).get("source", "prices")
     for k in keys:
         where = f"{src} row {rows[k]}" if k in rows else f"{src} key"
@@ -443,8 +439,6 @@ def order_csv(rows: list[dict], summary: dict) -> str:
 
 def allowance_text() -> str:
     """The cutting allowances the stock column adds (:mod:`cad.tolerances`)."""
-    from cad import tolerances as tol
-
     return (f"stock = the part's bounding box + {tol.STOCK_PLATE_MARGIN_MM:g} mm per side (plate), "
             f"+ {tol.STOCK_ROD_DIAMETER_ALLOWANCE_MM:g} mm on the diameter and "
             f"{tol.STOCK_LENGTH_ALLOWANCE_MM:g} mm on the length (rod; tube: length only), "

@@ -27,6 +27,8 @@ from __future__ import annotations
 import io
 import re
 
+from cad.export.shapes import count_solids
+
 #: Fixed ISO 8601 time stamp written in every STEP header.
 STEP_TIMESTAMP = "2000-01-01T00:00:00"
 
@@ -100,7 +102,6 @@ def labelled_shape(shape, name: str, color):
     from build123d import Color, Compound, Solid
     from OCP.TopAbs import TopAbs_SOLID
 
-    from cad.export.shapes import count_solids
 
     if shape.ShapeType() == TopAbs_SOLID:
         obj = Solid(shape)

@@ -21,6 +21,8 @@ from __future__ import annotations
 import numpy as np
 
 from cad.errors import MeshError
+from cad.io import derived_cache
+from cad.massprops.occt import as_topods, extract_arrays, triangulate
 
 #: Vertices closer than this grid (mm) are merged. OCCT computes the nodes of a shared
 #: edge once per face from the same edge discretization: they agree to ~1e-12 mm.
@@ -74,17 +76,12 @@ def mesh_shape(
     Cached on disk by the solid's digest and both tolerances (:mod:`cad.io.derived_cache`;
     the meshing is serial and deterministic, so a hit is the same arrays bit for bit).
     """
-    from cad.io import derived_cache
-
     def make():
-        from cad.massprops.occt import extract_arrays, triangulate
-
         v, f = extract_arrays(triangulate(shape, tolerance_mm, angular_tolerance_rad))
         return merge_vertices(v, f)
 
     if not derived_cache.enabled():
         return make()
-    from cad.massprops.occt import as_topods
 
     key = [derived_cache.shape_digest(as_topods(shape)), float(tolerance_mm), float(angular_tolerance_rad)]
     v, f = derived_cache.cached_arrays("mesh", key, make, code=MESH_CODE)

@@ -19,6 +19,8 @@ from xml.sax.saxutils import quoteattr
 
 import numpy as np
 
+from cad.export.stl import check_watertight
+
 GAP_MM = 5.0
 
 #: Decimals of every coordinate written (mm, fixed point): 1e-4 mm steps, so a vertex is
@@ -117,8 +119,6 @@ def threemf_bytes(parts: list[tuple[str, np.ndarray, np.ndarray, int]], title: s
                   prints: dict[str, tuple[bool, str]] | None = None) -> bytes:
     """A ``.3mf`` package (zip) of ``[(name, vertices_mm, faces, quantity)]`` (``prints``:
     :func:`model_xml`)."""
-    from cad.export.stl import check_watertight
-
     for name, v, f, _ in parts:
         check_watertight(v, f, name)
     buf = io.BytesIO()

@@ -10,6 +10,8 @@ commands that take the family; :func:`family_package` is the one place that turn
 name into its ``FAMILY``. A new family is one package and one registry row
 (``tests/architecture/test_toy_family.py`` proves it).
 """
+from cad.data.families import FAMILIES
+from cad.errors import DesignError
 
 #: Sources of ``cad`` every family's build output depends on (its ``CODE_DEPS``, the build
 #: cache key, :func:`cad.pipeline.code_version`): the pipeline and the families' layout code,
@@ -42,9 +44,6 @@ def family_package(name: str):
     Raises DesignError naming ``mechanism.family`` for an unknown family or one whose row
     names no package."""
     import importlib
-
-    from cad.data.families import FAMILIES
-    from cad.errors import DesignError
 
     row = FAMILIES.get(name)
     if row is None:

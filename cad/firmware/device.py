@@ -9,6 +9,7 @@ from __future__ import annotations
 
 from dataclasses import replace
 
+from cad.device import resolve_device
 from cad.firmware.spec import (
     DeviceSpec,
     encoder_zero,
@@ -24,8 +25,6 @@ def device_spec(design, report: dict, design_hash: str, version: str, device=Non
     :func:`cad.firmware.linkage_model`). The motor constants, rotor inertia and encoder
     count are the resolved device's (:func:`cad.device.resolve_device`; resolved here when
     ``device`` is None). Raises DesignError naming ``--formats`` for a family without one."""
-    from cad.device import resolve_device
-
     if model is None:
         from cad.firmware import linkage_model
 

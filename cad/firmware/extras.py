@@ -19,6 +19,7 @@ import numpy as np
 
 from cad.dynamics.stiffness import StiffnessInputs, stiffness_range_N_per_m
 from cad.firmware import reference as ref
+from cad.firmware.csrc import banner
 from cad.firmware.spec import DeviceSpec
 
 #: Hoeken paper §III.B.4 (eq 25 inputs identified on the prototype, Fig. 10).
@@ -100,8 +101,6 @@ def chai3d_json(spec: DeviceSpec, design, wall: dict, forces: dict) -> str:
 def sketch(spec: DeviceSpec, wall: dict) -> str:
     """``wall_example.ino``: read encoders, render a wall through the home position (module
     docstring of the sketch), write motor currents; board I/O is left to three stubs."""
-    from cad.firmware.csrc import banner
-
     qh = np.asarray(spec.q_home_rad)[None, :]
     X0, _ = ref.forward(spec, qh)
     wn = spec.model.wall_normal

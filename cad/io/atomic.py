@@ -29,7 +29,8 @@ import tempfile
 from collections.abc import Callable, Iterator
 from pathlib import Path
 
-from cad.io import signals
+from cad.errors import FileRefused
+from cad.io import guard, signals
 
 #: Owner file inside a temporary folder: ``<host>\n<pid>\n``.
 OWNER_FILE = ".hapticad-owner"
@@ -191,9 +192,6 @@ def _stale_dir(path: str, name: str) -> bool:
     if m is None:
         return False
     pid = int(m.group(2))
-    from cad.errors import FileRefused
-    from cad.io import guard
-
     try:  # never a FIFO or a device planted as the owner file (cad/io/guard.py)
         lines = guard.read_text(Path(path, OWNER_FILE), "marker", "owner").splitlines()
     except FileRefused:

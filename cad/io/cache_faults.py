@@ -20,6 +20,8 @@ import shutil
 import sys
 from pathlib import Path
 
+from cad.io.cache_limit import cache_root
+
 #: one byte shared with forked children (MAP_SHARED | MAP_ANONYMOUS): 1 once a write failed
 _SHARED = mmap.mmap(-1, 1)
 _OWNER_PID = os.getpid()
@@ -47,7 +49,6 @@ def write_failed(what: str, exc: BaseException) -> None:
     if _SHARED[0]:
         return
     _SHARED[0] = 1
-    from cad.io.cache_limit import cache_root
 
     root = cache_root()
     text = (f"cache {root}: cannot write {what} ({_reason(exc, root)}); this command works "

@@ -4,11 +4,13 @@ every entry hapticad wrote first. No CAD import."""
 
 from __future__ import annotations
 
+from cad.io.cache_limit import cache_root, entries, max_bytes
+from cad.io.cache_limit import clear as clear_all
+
 
 def _summary(root) -> dict:
     from collections import Counter
 
-    from cad.io.cache_limit import entries, max_bytes
 
     es = entries(root) if root is not None and root.is_dir() else []
     n, size = Counter(), Counter()
@@ -29,9 +31,6 @@ def cache_summary(clear: bool = False) -> dict:
     """``{"cache_dir", "enabled", "max_MB", "total_MB", "folders": {folder: {"entries",
     "MB"}}}`` (MB = 1e6 bytes), plus ``removed`` (entries, MB) when ``clear`` removed them.
     A bad ``HAPTICAD_CACHE_MAX_MB`` raises DesignError before anything is removed."""
-    from cad.io.cache_limit import cache_root, max_bytes
-    from cad.io.cache_limit import clear as clear_all
-
     max_bytes()
     root = cache_root()
     removed = None

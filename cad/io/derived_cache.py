@@ -38,6 +38,12 @@ from typing import Any
 
 import numpy as np
 
+from cad.errors import FileRefused
+from cad.io import cache_faults, guard
+from cad.io.atomic import write_bytes_atomic, write_text_atomic
+from cad.io.cache_limit import touch
+from cad.occ.shape_io import brep_bytes
+
 #: Folder beside the shape cache's ``shapes-v2`` (bump to drop every derived entry); entries
 #: in 256 sub-folders by the first two hex digits of their name.
 SCHEMA = "derived-v2"
@@ -89,7 +95,6 @@ def shape_digest(shape) -> str:
     hit = _DIGESTS.get(id(shape))
     if hit is not None and hit[0] is shape:
         return hit[1]
-    from cad.occ.shape_io import brep_bytes
 
     digest = "brep:" + hashlib.sha256(brep_bytes(shape)).hexdigest()
     STATS["digests_computed"] += 1
@@ -159,9 +164,6 @@ def entry_path(kind: str, key: Any, code: tuple[str, ...] = ()) -> Path | None:
 
 
 def _read(path: Path) -> bytes | None:
-    from cad.errors import FileRefused
-    from cad.io import guard
-
     try:  # a regular file of bounded size, or a miss (cad/io/guard.py)
         data = guard.read_bytes(path, "cache", "cache")
         want = guard.read_text(path.with_name(path.name + ".sha256"), "marker", "cache", "ascii").strip()
@@ -169,15 +171,12 @@ def _read(path: Path) -> bytes | None:
         return None
     if hashlib.sha256(data).hexdigest() != want:
         return None
-    from cad.io.cache_limit import touch
 
     touch(path)  # recently used (cad.io.cache_limit prunes the oldest)
     return data
 
 
 def _write(path: Path, data: bytes) -> None:
-    from cad.io.atomic import write_bytes_atomic, write_text_atomic
-
     path.parent.mkdir(parents=True, exist_ok=True)
     write_bytes_atomic(path, data)
     write_text_atomic(
@@ -209,7 +208,6 @@ def cached(
                 return value
     STATS["misses"] += 1
     value = make()
-    from cad.io import cache_faults
 
     if path is not None and cache_faults.writable():
         try:

@@ -26,7 +26,10 @@ import os
 from pathlib import Path
 from typing import Any
 
-from cad.errors import DesignError, FileRefused
+from cad.errors import DesignError, FileDamaged, FileRefused
+from cad.io import guard
+from cad.io.atomic import write_text_atomic
+from cad.io.guard import sha256_of_output
 
 MANIFEST_NAME = "manifest.json"
 
@@ -35,9 +38,6 @@ def _manifest_doc(folder: Path, field: str = "--out") -> Any:
     """The parsed ``folder/manifest.json`` through :func:`cad.io.guard.load_json`; None when
     it is absent or damaged (not JSON). A FIFO, a device, a link to one, an oversized or a too
     deeply nested manifest raises :class:`cad.errors.FileRefused` (never read: issue 22 §2)."""
-    from cad.errors import FileDamaged
-    from cad.io import guard
-
     path = folder / MANIFEST_NAME
     if not os.path.lexists(path):
         return None
@@ -61,8 +61,6 @@ def _listed(folder: Path, field: str = "--out") -> dict[str, dict]:
 def _changed(p: Path, row: dict) -> str | None:
     """Why the file ``p`` differs from its manifest ``row``, or None. A FIFO or device is never
     opened (it would block or never end); the size is compared before the file is hashed."""
-    from cad.io import guard
-
     st = os.lstat(p)
     what = guard.not_regular(st.st_mode)
     if what is not None:
@@ -78,8 +76,6 @@ def _changed(p: Path, row: dict) -> str | None:
 def foreign_entry(folder: Path) -> tuple[str, str] | None:
     """The first entry of ``folder`` hapticad did not write, as ``(relative path, why)``,
     or None when the folder is absent or owned (module docstring)."""
-    from cad.io import guard
-
     folder = Path(folder)
     if not os.path.lexists(folder):
         return None
@@ -198,9 +194,6 @@ def _foreign_manifest(path: Path) -> str | None:
     """Why ``path`` (an existing ``manifest.json``) is not one hapticad writes -- a JSON
     object whose ``files`` is a list of ``{"path": str, "sha256": str, ...}`` -- or None
     (also None when it does not exist)."""
-    from cad.errors import FileDamaged
-    from cad.io import guard
-
     if not os.path.lexists(path):
         return None
     if path.is_symlink():
@@ -223,15 +216,12 @@ def _foreign_manifest(path: Path) -> str | None:
 def record_shared_files(folder: Path, names: list[str]) -> None:
     """Add ``names`` (files just written into ``folder``) with their sha256 and size to
     ``folder/manifest.json``, keeping the entries already there; atomic."""
-    from cad.io.atomic import write_text_atomic
-
     folder = Path(folder)
     doc = _manifest_doc(folder)  # check_shared_files refused a hostile one before the writes
     try:
         rows = {str(r["path"]): r for r in doc["files"]}
     except (KeyError, TypeError, AttributeError):
         doc, rows = {}, {}
-    from cad.io.guard import sha256_of_output
 
     for name in names:
         p = folder / name

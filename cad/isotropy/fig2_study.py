@@ -17,6 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
+from cad.io.atomic import atomic_path
 from cad.io.figures import save_figure
 from cad.isotropy.culling import brute_force, culling
 from cad.isotropy.gii import square_grid_mm
@@ -94,7 +95,6 @@ def _plot(rows, out_dir: Path) -> list[str]:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from cad.io.atomic import atomic_path
 
     y = [r["center_y_mm"] / 10 for r in rows]
     fig, ax = plt.subplots(2, 1, figsize=(6.5, 6.5), sharex=True)

@@ -16,10 +16,11 @@ from pathlib import Path
 
 import numpy as np
 
+from cad.io.atomic import atomic_path
 from cad.io.figures import save_figure
 from cad.isotropy.culling import brute_force, culling
 from cad.isotropy.problems import PenProblem, candidate_grid
-from cad.kinematics.haptic_pen import TABLE2, workspace_grid
+from cad.kinematics.haptic_pen import TABLE2, HapticPen, pen_gii, workspace_grid
 
 PEN_MM = 70.0
 
@@ -91,7 +92,6 @@ def _plot(rows, out_dir: Path) -> list[str]:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from cad.io.atomic import atomic_path
 
     d = [r["distance_mm"] / 10 for r in rows]
     fig, ax = plt.subplots(1, 2, figsize=(10, 4))
@@ -131,8 +131,6 @@ def _plot(rows, out_dir: Path) -> list[str]:
 def table2_gii(moment_arm_mm: float) -> np.ndarray:
     """GII (eq 5) of Table 2's own optimal geometries at their distances, shape (6,), for a
     moment-to-force ratio ``moment_arm_mm`` (S_T = (F, F, F, M, M), M = F * arm)."""
-    from cad.kinematics.haptic_pen import HapticPen, pen_gii
-
     out = []
     for d_cm, (l1, l2, l3, l6, q1, _) in sorted(TABLE2.items()):
         pen = HapticPen(l1 * 10, l2 * 10, l3 * 10, l6 * 10, None, q1)

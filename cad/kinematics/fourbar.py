@@ -19,6 +19,7 @@ import numpy as np
 
 from cad import tolerances as tol
 from cad.errors import BranchJumpError, ClosureError, DesignError, ToggleError
+from cad.kinematics.search import golden_minimize
 
 
 @dataclass(frozen=True)
@@ -336,8 +337,6 @@ def _margin_dip_between_samples(fb: FourBar, phi1: np.ndarray):
     The margin 1 - C^2/(A^2+B^2) is smooth in phi1, so a gap or toggle hidden
     between two samples shows as a local minimum of the sampled margin.
     """
-    from cad.kinematics.search import golden_minimize
-
     m = closure_margin(fb, phi1)
     n = len(phi1)
     cand = [i for i in range(n) if (i == 0 or m[i] <= m[i - 1]) and (i == n - 1 or m[i] <= m[i + 1])]

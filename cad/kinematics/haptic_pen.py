@@ -38,6 +38,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from cad.errors import DesignError
+from cad.isotropy.gii import gii_from_jacobians
 from cad.kinematics import fivebar as fb5
 from cad.kinematics.pantograph_tolerances import ON_WAIST_AXIS_MM
 
@@ -271,8 +272,6 @@ def pen_gii(
     S_T = (F, F, F, M, M) with M = F * moment_arm_mm; S_J from Q1. Points of
     the result are (x, y, z mm, yaw, pitch deg).
     """
-    from cad.isotropy.gii import gii_from_jacobians
-
     for name, v in (("force_max_N", force_N), ("moment_arm_mm", moment_arm_mm)):
         if not (np.isfinite(v) and v > 0):
             raise DesignError(f"actuators.{name}", f"must be finite and > 0, got {v!r}")

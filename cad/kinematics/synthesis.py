@@ -37,6 +37,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from cad import tolerances as tol
 from cad.errors import DesignError, KinematicsError
 from cad.kinematics.fourbar import FourBar, check_range, closure_margin, solve
 from cad.kinematics.metrics import Metrics, compute_metrics
@@ -227,8 +228,6 @@ def synthesize(
     every length rescaled). Raises DesignError on a bad objective, free set or tolerance,
     KinematicsError when the start does not run over its range.
     """
-    from cad import tolerances as tol
-
     if objective not in OBJECTIVES:
         raise DesignError("--objective", f"unknown objective {objective!r} (known: {', '.join(OBJECTIVES)})")
     if free not in FREE_SETS:

@@ -32,6 +32,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from cad.errors import DesignError
+from cad.isotropy.gii import gii_from_jacobians, square_grid_mm
 from cad.kinematics import fivebar as fb5
 
 #: Eq (7): l6 / l5 = 2 tau_max / (d f_max) = 1.6 (hand data from the scaling paper, ref [21]).
@@ -195,8 +196,6 @@ def workspace_grid(center_mm, side_mm, grid: int, theta_grid: int) -> np.ndarray
     The square (side_mm scalar) or rectangle (side_mm = [W, H] mm), boundary included, times theta_grid angles over the full turn
     [0, 2 pi) (the rotation range is unlimited).
     """
-    from cad.isotropy.gii import square_grid_mm
-
     if (
         isinstance(theta_grid, bool)
         or not isinstance(theta_grid, (int, np.integer))
@@ -224,8 +223,6 @@ def twin_gii(
     Returns a :class:`cad.isotropy.gii.GIIResult` whose points are
     (x_mm, y_mm, theta_deg).
     """
-    from cad.isotropy.gii import gii_from_jacobians
-
     X = workspace_grid(center_mm, side_mm, grid, theta_grid)
     J, status = jacobian_si(tp, X)
     pts = X.copy()

@@ -13,6 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from cad.errors import DesignError, MeshError
+from cad.io import guard
 
 STEP_SUFFIXES = (".step", ".stp")
 STL_SUFFIXES = (".stl",)
@@ -22,8 +23,6 @@ def file_kind(path: str | Path, field: str = "FILE") -> str:
     """``"step"`` or ``"stl"`` from the file suffix; DesignError for a missing file or other
     suffix, :class:`cad.errors.FileRefused` for a FIFO, a device, a folder or a file over its
     kind's size limit (:func:`cad.io.guard.check_file`)."""
-    from cad.io import guard
-
     p = Path(path)
     if not os.path.lexists(p):
         raise DesignError(field, f"file not found: {p}")
@@ -63,8 +62,6 @@ def _is_binary_stl(data: bytes) -> bool:
 def read_binary_stl(path: str | Path, warnings: list[str] | None = None, field: str = "FILE"):
     """Triangles of a binary STL as ``(vertices_mm (3M, 3) float64, faces (M, 3))``, or ``None``
     when the file is ASCII (read through :func:`cad.io.guard.read_bytes`, kind ``stl``)."""
-    from cad.io import guard
-
     p = Path(path)
     return binary_stl_arrays(guard.read_bytes(p, "stl", field), p.name, warnings)
 
@@ -112,7 +109,6 @@ def read_stl(path: str | Path, warnings: list[str] | None = None) -> tuple[np.nd
 
     import trimesh
 
-    from cad.io import guard
 
     p = Path(path)
     data = guard.read_bytes(p, "stl", "FILE")

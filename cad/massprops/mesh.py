@@ -37,6 +37,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from cad.errors import GeometryError, MeshError
+from cad.massprops import shells
 from cad.massprops.occt import (
     DEFAULT_ANGULAR_DEFLECTION_RAD,
     MM3_TO_M3,
@@ -176,7 +177,6 @@ def _checked_shells(tm, allow_open: bool, what: str, origin):
     (:func:`cad.massprops.shells.orient_shells`; an open mesh has no inside to nest by)."""
     import trimesh
 
-    from cad.massprops import shells
 
     notes: list[str] = []
     faces, n_dup = shells.drop_duplicate_faces(tm.faces)

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import math
 
+from cad.occ.boolean import common
+
 
 def min_distance_mm(sa, sb) -> float:
     """Smallest distance (mm) between two placed OCP shapes (``BRepExtrema_DistShapeShape``);
@@ -22,7 +24,6 @@ def common_volume_mm3(sa, sb) -> float:
     from OCP.BRepGProp import BRepGProp
     from OCP.GProp import GProp_GProps
 
-    from cad.occ.boolean import common
 
     props = GProp_GProps()
     BRepGProp.VolumeProperties_s(common(sa, sb), props)

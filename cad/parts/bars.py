@@ -35,7 +35,7 @@ import numpy as np
 
 from cad.design.parts import PartsSpec
 from cad.errors import GeometryError
-from cad.parts.part_cache import part_cached
+from cad.parts.part_cache import canonical, part_cached
 
 
 @dataclass(frozen=True)
@@ -219,7 +219,6 @@ def bar_profile(joints: dict[str, tuple[np.ndarray, Feature]], width_mm: float, 
 
     from build123d import Polygon
 
-    from cad.parts.part_cache import canonical
 
     key = json.dumps(canonical([joints, width_mm, end_radius_mm, pockets, pocket_web_mm,
                                 pocket_min_length_mm]), sort_keys=True)

@@ -29,8 +29,11 @@ import sys
 import tempfile
 from pathlib import Path
 
+import cad
 from cad.data.catalog import clearance_hole_mm, get_cap_screw
-from cad.errors import DesignError
+from cad.errors import DesignError, FileRefused
+from cad.export.shapes import count_solids, is_valid
+from cad.io import guard
 from cad.parts.part_cache import part_cached
 
 
@@ -144,15 +147,11 @@ def script_timeout_s() -> float:
 
 def script_sha256(path: Path) -> str:
     """sha256 of the handle script, read through :mod:`cad.io.guard` (a regular file <= 1 MiB)."""
-    from cad.io import guard
-
     return hashlib.sha256(guard.read_bytes(path, "script", "parts.handle_script")).hexdigest()
 
 
 def _run_script(path: Path, params: dict, workdir: Path) -> Path:
     """Run the script in a child process (:mod:`cad.parts.handle_runner`); the BREP path."""
-    import cad
-
     out, result = workdir / "handle.brep", workdir / "result.json"
     env = dict(os.environ)
     root = str(Path(cad.__file__).resolve().parents[1])
@@ -170,9 +169,6 @@ def _run_script(path: Path, params: dict, workdir: Path) -> Path:
             "parts.handle_script",
             f"{path} did not finish within {timeout:g} s (HAPTICAD_SCRIPT_TIMEOUT_S); stopped",
         ) from None
-    from cad.errors import FileRefused
-    from cad.io import guard
-
     try:
         doc = guard.load_json(result, "json", "parts.handle_script")
         doc = doc if isinstance(doc, dict) else {"error": f"result {doc!r} is not an object"}
@@ -196,9 +192,6 @@ def user_handle_shape(path: Path, params: dict):
     from OCP.BRep import BRep_Builder
     from OCP.BRepTools import BRepTools
     from OCP.TopoDS import TopoDS_Shape
-
-    from cad.export.shapes import count_solids, is_valid
-    from cad.io import guard
 
     path = Path(path)
     guard.check_file(path, "script", "parts.handle_script")  # a regular file <= 1 MiB

@@ -15,13 +15,14 @@ import json
 import os
 import sys
 
+from cad.errors import GeometryError
+from cad.export.shapes import to_topods
+from cad.io.signals import child_dies_with_parent
+
 
 def _run(script: str, params: dict, out_brep: str) -> str | None:
     """None on success (shape written), else the error message."""
     import runpy
-
-    from cad.errors import GeometryError
-    from cad.export.shapes import to_topods
 
     name = os.path.basename(script)
     try:
@@ -55,8 +56,6 @@ def _run(script: str, params: dict, out_brep: str) -> str | None:
 
 
 def main(argv: list[str]) -> int:
-    from cad.io.signals import child_dies_with_parent
-
     script, params_json, out_brep, result_json = argv
     child_dies_with_parent(int(os.environ.get("HAPTICAD_PARENT_PID", os.getppid())))
     err = _run(script, json.loads(params_json), out_brep)

@@ -26,6 +26,7 @@ parts keyed by the library call and its version, :mod:`cad.parts.shape_cache`).
 from __future__ import annotations
 
 from cad.data import catalog
+from cad.parts import PartKind
 from cad.parts.part_cache import part_cached
 
 
@@ -196,8 +197,6 @@ def cap_screw_kind(size: str, length_mm: float, field: str = "parts", note: str 
     ``size`` x ``length_mm`` (solid, material, BOM text, collision envelope); ``field`` is
     the design field an unknown size is blamed on (:func:`catalog.get_cap_screw`), ``note``
     is added to the BOM description in parentheses."""
-    from cad.parts import PartKind
-
     cs = catalog.get_cap_screw(size, field)
     length = f"{length_mm:.2f}".rstrip("0").rstrip(".")
     return PartKind(

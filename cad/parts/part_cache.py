@@ -43,6 +43,9 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
+from cad.parts.lazy_import import import_build123d
+from cad.parts.shape_cache import cached_shape, read_cached_shape
+
 #: shapes kept in the in-process LRU (a four-bar has ~25 distinct parts per design)
 MEMO_MAX = 512
 #: PartsSpec fields that never change a solid (mass and inertia inputs, mesh and sweep settings)
@@ -120,7 +123,6 @@ class DeferredShape:
             return self.resolve()
         if self._memo_key in _MEMO:
             return _MEMO[self._memo_key]
-        from cad.parts.shape_cache import read_cached_shape
 
         got = read_cached_shape(self.key)
         if got is not None:
@@ -154,16 +156,12 @@ def shape_key(shape) -> str | None:
 
 
 def _build(make: Callable[[], Any]):
-    from cad.parts.lazy_import import import_build123d
-
     import_build123d()  # the first build123d import of a process goes through the shim
     STATS["built"] += 1
     return make()
 
 
 def _materialize(memo_key: str, key: str, make: Callable[[], Any]):
-    from cad.parts.shape_cache import cached_shape
-
     if memo_key in _MEMO:
         return _MEMO[memo_key]
     shape = cached_shape(key, lambda: _build(make))

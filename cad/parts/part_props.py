@@ -38,6 +38,14 @@ from pathlib import Path
 
 import numpy as np
 
+from cad.errors import FileRefused
+from cad.io import cache_faults, guard
+from cad.io.atomic import write_text_atomic
+from cad.io.cache_limit import touch
+from cad.massprops.occt import check_valid, to_si, volume_props_mm
+from cad.parts.part_cache import DeferredShape, shape_key
+from cad.parts.shape_cache import cache_dir, library_versions
+
 #: Folder under the shape cache holding the entries; v1: payload + sha256 in one JSON file.
 PROPS_DIR = "props-v1"
 #: in-process entries kept (unit-density integrals are ~100 bytes each)
@@ -56,8 +64,6 @@ def _code_version() -> str:
 
 
 def _entry_path(key: str) -> Path | None:
-    from cad.parts.shape_cache import library_versions, cache_dir
-
     d = cache_dir()
     if d is None:
         return None
@@ -71,9 +77,6 @@ def _payload_text(payload: dict) -> str:
 
 def _read(path: Path, key: str):
     """The integrals stored for ``key`` in ``path``, or None (module docstring: a miss)."""
-    from cad.errors import FileRefused
-    from cad.io import guard
-
     try:  # a regular file of bounded size, or a miss (cad/io/guard.py)
         doc = guard.load_json(path, "cache", "cache")
         payload = doc["payload"]
@@ -88,20 +91,16 @@ def _read(path: Path, key: str):
         return None
     if not (math.isfinite(vol) and vol > 0 and np.all(np.isfinite(com)) and np.all(np.isfinite(inertia))):
         return None
-    from cad.io.cache_limit import touch
 
     touch(path)  # recently used (cad.io.cache_limit prunes the oldest)
     return vol, com, inertia
 
 
 def _write(path: Path, key: str, vol: float, com, inertia) -> None:
-    from cad.io.atomic import write_text_atomic
-
     payload = {"key": key, "volume_mm3": float(vol),
                "com_mm": [float(x) for x in np.asarray(com).reshape(3)],
                "inertia_com_mm5": [[float(x) for x in row] for row in np.asarray(inertia).reshape(3, 3)]}
     doc = {"payload": payload, "sha256": hashlib.sha256(_payload_text(payload).encode()).hexdigest()}
-    from cad.io import cache_faults
 
     if not cache_faults.writable():
         return
@@ -113,8 +112,6 @@ def _write(path: Path, key: str, vol: float, com, inertia) -> None:
 
 
 def _integrate(shape):
-    from cad.massprops.occt import check_valid, volume_props_mm
-
     check_valid(shape)
     STATS["integrated"] += 1
     return volume_props_mm(shape)
@@ -126,8 +123,6 @@ def unit_volume_props(shape) -> tuple[float, np.ndarray, np.ndarray]:
     a solid from :mod:`cad.parts.part_cache`, or any other solid (then integrated through
     :func:`cad.massprops.occt.cached_solid_mass_props`'s per-object memo). Raises
     :class:`cad.errors.GeometryError` for an invalid solid."""
-    from cad.parts.part_cache import DeferredShape, shape_key
-
     key = shape_key(shape)
     if key is None:
         from cad.massprops.occt import cached_unit_props
@@ -155,8 +150,6 @@ def unit_volume_props(shape) -> tuple[float, np.ndarray, np.ndarray]:
 def part_mass_props(shape, density_kg_m3: float):
     """:class:`cad.massprops.props.MassProps` (SI, part frame) of a part solid of uniform
     density: :func:`unit_volume_props` converted by :func:`cad.massprops.occt.to_si`."""
-    from cad.massprops.occt import to_si
-
     vol, com, inertia = unit_volume_props(shape)
     return to_si(vol, com, inertia, density_kg_m3)
 

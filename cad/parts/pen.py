@@ -22,6 +22,8 @@ Frames:
 
 from __future__ import annotations
 
+from cad.parts.pantograph import clevis_shape
+
 
 def _amin():
     from build123d import Align
@@ -40,7 +42,6 @@ def spigot_hub_shape(clevis_kw: dict, shaft_d_mm: float, spigot_d_mm: float,
     frame), its bore taking ``shaft_engaged_mm`` of the motor shaft from the top."""
     from build123d import Cylinder, Pos, Solid
 
-    from cad.parts.pantograph import clevis_shape
 
     h = clevis_kw["height_mm"]
     block = clevis_shape("pin", bore_mm=shaft_d_mm, **clevis_kw)

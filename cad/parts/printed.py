@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import math
 
+from cad.occ.boolean import common
 from cad.printing import PrintSettings
 from cad.tolerances import (
     PRINT_CHORD_MM,
@@ -42,7 +43,6 @@ def _section(shape, z: float, size: float) -> list:
     that sections at different heights intersect)."""
     from build123d import Face, Location, Plane, Shape
 
-    from cad.occ.boolean import common
 
     plane = Face.make_rect(size, size, Plane.XY).moved(Location((0, 0, z)))
     cut = common(shape, plane.wrapped)  # on a copy: ``shape`` keeps its tolerances

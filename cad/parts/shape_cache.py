@@ -26,6 +26,12 @@ from collections.abc import Callable
 from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
 
+from cad.errors import FileRefused
+from cad.io import cache_faults, guard
+from cad.io.atomic import atomic_path, write_text_atomic
+from cad.io.cache_limit import touch
+from cad.parts.lazy_import import import_build123d
+
 #: v2: every ``<key>.brep`` has ``<key>.brep.sha256`` beside it, checked before reading.
 CACHE_SCHEMA = "shapes-v2"
 
@@ -57,9 +63,6 @@ def _read(path: Path):
     from OCP.BRepTools import BRepTools
     from OCP.TopoDS import TopoDS_Shape
 
-    from cad.errors import FileRefused
-    from cad.io import guard
-
     try:  # a regular file of bounded size, or a miss (cad/io/guard.py)
         data = guard.read_bytes(path, "cache", "cache")
         want = guard.read_text(_hash_path(path), "marker", "cache", "ascii").strip()
@@ -77,7 +80,6 @@ def _read(path: Path):
     from cad.io.derived_cache import register_digest
 
     register_digest(shape, want)  # what is derived from it is cached by this digest
-    from cad.io.cache_limit import touch
 
     touch(path)  # recently used (cad.io.cache_limit prunes the oldest)
     return shape
@@ -92,7 +94,6 @@ def _write(shape, path: Path) -> None:
     a BREP without a matching hash is a miss)."""
     from OCP.BRepTools import BRepTools
 
-    from cad.io.atomic import atomic_path, write_text_atomic
 
     path.parent.mkdir(parents=True, exist_ok=True)
     with atomic_path(path) as tmp:
@@ -123,8 +124,6 @@ def cached_shape(key: str, make: Callable[[], object]):
     A damaged entry (truncated, a flipped bit, a missing or wrong ``.sha256``, unreadable)
     is a miss: the shape is made again and the entry rewritten.
     """
-    from cad.parts.lazy_import import import_build123d
-
     path = entry_path(key)
     if path is None:
         import_build123d()  # before a part generator imports it (defers scikit-learn)
@@ -135,7 +134,6 @@ def cached_shape(key: str, make: Callable[[], object]):
             return shape
     import_build123d()  # a miss: the part generator needs build123d (defers scikit-learn)
     shape = make()
-    from cad.io import cache_faults
 
     if not cache_faults.writable():
         return _round_trip(shape)

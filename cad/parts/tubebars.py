@@ -26,6 +26,9 @@ import numpy as np
 from cad.design.parts import PartsSpec
 from cad.errors import DesignError
 from cad.parts.bars import Feature, hull_points
+from cad.parts.pantograph import clevis_shape as pantograph_clevis
+from cad.parts.pantograph import tube_length_mm as base
+from cad.parts.pantograph import tube_shape as pantograph_tube
 from cad.parts.part_cache import part_cached
 
 #: Radial adhesive gap between tube and socket (mm): 0.05-0.1 mm is the bond line of a
@@ -39,8 +42,6 @@ TUBE_END_GAP_MM = 0.1
 
 def tube_length_mm(joint_distance_mm: float, parts: PartsSpec) -> float:
     """Length of the tube between two clevises ``joint_distance_mm`` apart (mm)."""
-    from cad.parts.pantograph import tube_length_mm as base
-
     return base(joint_distance_mm, parts.clevis_length_mm, parts.socket_depth_mm) - 2 * TUBE_END_GAP_MM
 
 
@@ -91,7 +92,6 @@ def clevis_shape(feature: Feature, directions_deg: tuple[float, ...], parts: Par
     bore ``feature.d_mm``, the bearing seat counterbore from the bottom face, hub screw holes."""
     from build123d import Align, Cylinder, Pos, Rot, Solid
 
-    from cad.parts.pantograph import clevis_shape as pantograph_clevis
 
     t, w = parts.bar_thickness_mm, 2 * parts.bar_end_radius_mm
     body = None
@@ -118,8 +118,6 @@ def clevis_shape(feature: Feature, directions_deg: tuple[float, ...], parts: Par
 @part_cached
 def tube_shape(length_mm: float, parts: PartsSpec):
     """The tube (module docstring frame)."""
-    from cad.parts.pantograph import tube_shape as pantograph_tube
-
     return pantograph_tube(length_mm, parts.tube_od_mm, parts.tube_id_mm)
 
 

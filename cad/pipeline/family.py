@@ -40,6 +40,33 @@ from pathlib import Path
 
 import numpy as np
 
+from cad.assembly import interference as itf
+from cad.assembly.fasteners import check_fasteners
+from cad.assembly.steps import Step, assembly_md, assembly_steps
+from cad.data.catalog import ring_inertia_kg_m2
+from cad.data.fits import shop_holes
+from cad.data.materials import get_material
+from cad.export import (
+    STL_ANGULAR_TOLERANCE_RAD,
+    STL_TOLERANCE_MM,
+    export_assembly_step,
+    export_part,
+    write_bom,
+)
+from cad.export.drawings import SheetPart, write_drawings
+from cad.export.gltf import kind_meshes
+from cad.export.order import NESTED_STOCK, bought_designation, stock, stock_is_mass
+from cad.export.shapes import placed
+from cad.io.atomic import write_text_atomic
+from cad.io.escape import md
+from cad.massprops.props import combine, from_principal
+from cad.occ.bbox import tight_box
+from cad.parts.part_props import part_mass_props
+from cad.pipeline.views import instance_colors
+from cad.report.preview import write_preview as write_projections
+from cad.report.step_views import STEP_VIEW_FORMATS, write_step_pictures
+from cad.tolerances import VIEW_ANGULAR_TOLERANCE_RAD, VIEW_TOLERANCE_MM
+
 #: Files every build writes at the top of its output folder (``parts/`` holds the rest).
 LAYOUT = (
     "assembly.step",
@@ -91,11 +118,6 @@ def kind_mass_props(kind):
     catalog gives the mass; ``"ring"``: the catalog mass as a uniform annulus
     (:func:`cad.data.catalog.ring_inertia_kg_m2`, COM at z = width / 2); ``"none"``: None.
     """
-    from cad.data.catalog import ring_inertia_kg_m2
-    from cad.data.materials import get_material
-    from cad.massprops.props import from_principal
-    from cad.parts.part_props import part_mass_props
-
     if kind.inertia_model == "none":
         return None
     if kind.inertia_model == "ring":
@@ -128,8 +150,6 @@ def body_props(instances, props: dict, bodies=None) -> dict:
     name: MassProps | None}`` in each kind's frame (:func:`kind_props`). Each instance's
     properties are moved into its body frame and combined (parallel axes,
     :func:`cad.massprops.props.combine`), in instance order."""
-    from cad.massprops.props import combine
-
     per: dict[str, list] = {}
     for inst in instances:
         mp = props[inst.kind.name]
@@ -198,8 +218,6 @@ def bom_rows(instances, props: dict, formats=None) -> list[dict]:
     ``formats`` (the build's ``--formats``; None: as if every format were written): without
     ``dxf`` the nested sheets are planned but not written, and the rows that name ``sheets/``
     say so (:func:`unwritten_sheets`)."""
-    from cad.export.order import bought_designation
-
     q = quantities(instances)
     sheets = None
     if laser_kinds(instances):
@@ -247,8 +265,6 @@ def kind_stock(instances, props: dict | None = None, sheets=None) -> dict[str, s
     :func:`cad.export.order.stock` of the kind with its mass (g): ``props[name]`` (:func:`kind_props`)
     or, when ``props`` is None (a writer running beside the mass properties), the same
     :func:`kind_mass_props`, computed only for the parts whose stock is a mass (printed, wound)."""
-    from cad.export.order import NESTED_STOCK, stock, stock_is_mass
-
     made = {n: k for n, k in kinds(instances).items() if k.listed and k.made}
     out = {}
     for name, k in made.items():
@@ -350,8 +366,6 @@ def shop_args(kind, instances, holes=(), stocks: dict | None = None) -> dict:
     fits), its holes as the shop makes them (:func:`cad.data.fits.shop_holes`), its
     material, quantity and stock (``stocks``: :func:`kind_stock` of ``instances``, computed
     here when None)."""
-    from cad.data.fits import shop_holes
-
     return {
         "notes": dxf_notes(kind),
         "holes": shop_holes(kind.fits, kind_threads(kind.name, instances, holes)),
@@ -368,8 +382,6 @@ def write_part_drawings(instances, out_dir: Path, design: str, holes=(),
     ``sheets_written`` False (no ``dxf``): a process naming ``sheets/`` says, as the BOM
     does, that the folder was not written. ``stocks``: :func:`kind_stock` of ``instances``
     (computed here when None)."""
-    from cad.export.drawings import SheetPart, write_drawings
-
     def process(k) -> str:
         if sheets_written or not k.process:
             return k.process
@@ -399,8 +411,6 @@ def fastener_report(instances, holes: dict) -> dict:
     """``{"fasteners": {instance: record}, "tapped_holes": {name: hole}}`` for report.json,
     after :func:`cad.assembly.fasteners.check_fasteners` (one screw per hole, engagement in
     the hole's window; DesignError naming the screw and hole otherwise)."""
-    from cad.assembly.fasteners import check_fasteners
-
     fast = {i.name: i.fastener for i in instances if i.fastener is not None}
     check_fasteners(fast, holes)
     return {
@@ -416,9 +426,6 @@ def world_tf(inst, tf_world_body: dict) -> np.ndarray:
 
 def posed_items(instances, tf_world_body: dict, listed_only: bool = True) -> list[tuple]:
     """``[(instance name, placed TopoDS_Shape, rgb)]`` at the exported pose."""
-    from cad.data.materials import get_material
-    from cad.export.shapes import placed
-
     out = []
     for inst in instances:
         if listed_only and not inst.kind.listed:
@@ -435,8 +442,6 @@ def check_assembly(instances, tf_world_body: dict) -> dict:
     boxes, then the boolean common; touching is allowed, a common volume above
     ``OVERLAP_MIN_MM3`` is a collision). Returns ``{"parts", "pairs", "exact_pairs",
     "collisions", "overlap_volume_mm3", "overlap_threshold_mm3"}``."""
-    from cad.assembly import interference as itf
-
     items = [
         (inst.name, "assembly", inst.kind.shape, world_tf(inst, tf_world_body), inst.kind.hull)
         for inst in instances
@@ -458,9 +463,6 @@ def check_assembly(instances, tf_world_body: dict) -> dict:
 
 def lowest_z_mm(instances, tf_world_body: dict) -> tuple[float, str]:
     """Lowest world z of any solid (from its exact bounding box, mm) and the instance there."""
-    from cad.export.shapes import placed
-    from cad.occ.bbox import tight_box
-
     best = (math.inf, "")
     for inst in instances:
         z = float(tight_box(placed(inst.kind.shape, world_tf(inst, tf_world_body)))[0, 2])
@@ -475,8 +477,6 @@ def write_preview(instances, tf_world_body: dict, out: Path, title: str, marks=N
     (:func:`cad.report.preview.write_preview`). ``marks``: optional ``(label, (N, 2) xy
     points)`` drawn as a line on the top view (a path, a workspace);
     ``hide_ground_below_mm``: ground parts under this z (mm) are left out of the top view."""
-    from cad.report.preview import write_preview as write_projections
-
     return write_projections(instances, tf_world_body, out, title, marks=marks or (),
                              hide_ground_below_mm=hide_ground_below_mm)
 
@@ -507,15 +507,6 @@ def write_outputs(
     :data:`cad.export.STL_ANGULAR_TOLERANCE_RAD`). holes : the tapped holes
     (:class:`cad.assembly.fasteners.TappedHole`) for the DXF thread notes.
     Raises MeshError (a part's mesh not watertight: nothing of that part written)."""
-    from cad.data.materials import get_material
-    from cad.export import (
-        STL_ANGULAR_TOLERANCE_RAD,
-        STL_TOLERANCE_MM,
-        export_assembly_step,
-        export_part,
-        write_bom,
-    )
-
     out_dir = Path(out_dir)
     files: list[str] = []
     stocks = kind_stock(instances) if {"dxf", "drawings"} & set(formats) else {}
@@ -566,8 +557,6 @@ def report_md_lines(title: str, rows: list[tuple[str, str]], bom, notes=(),
     writes the file once, with the datasheet after the title and the order at the end):
     title, preview (and ``images``: ``(alt text, file)`` pairs after it), a quantity table,
     the BOM and notes."""
-    from cad.io.escape import md
-
     lines = [f"# {md(title)}", "", "![assembly preview](preview.png)", ""]
     for alt, file in images:
         lines += [f"![{alt}]({file})", ""]
@@ -598,9 +587,6 @@ NO_SOLID_STEP = "fit the bought parts that have no modelled solid"
 def build_steps(instances, plan=None, checks=(), no_solid_rows=()) -> list:
     """The :class:`cad.assembly.steps.Step` list of :func:`write_assembly_md` (fasteners
     named by their BOM designation; ``no_solid_rows`` in a last step of their own)."""
-    from cad.assembly.steps import Step, assembly_steps
-    from cad.export.order import bought_designation
-
     def designation(kind) -> str:
         return bought_designation(kind)[1] if not kind.made else kind.description or kind.name
 
@@ -631,10 +617,6 @@ def write_assembly_md(out_dir: Path, title: str, instances, plan=None, checks=()
     format asked (:data:`cad.report.step_views.STEP_VIEW_FORMATS`), an exploded view per step,
     ``steps/step_NN.png`` (:mod:`cad.report.step_views`), linked from its step.
     Returns the files written (relative to ``out_dir``)."""
-    from cad.assembly.steps import assembly_md
-    from cad.io.atomic import write_text_atomic
-    from cad.report.step_views import STEP_VIEW_FORMATS
-
     by = {i.name: (i.kind.name, i.kind.description) for i in instances}
     by |= _no_solid_names(no_solid_rows)
     steps = build_steps(instances, plan, checks, no_solid_rows)
@@ -648,11 +630,6 @@ def write_assembly_md(out_dir: Path, title: str, instances, plan=None, checks=()
 
 def _step_pictures(steps, instances, tf_world_body, out_dir: Path) -> dict:
     """The exploded views of :func:`write_assembly_md` at the viewer's mesh tolerances."""
-    from cad.export.gltf import kind_meshes
-    from cad.pipeline.views import instance_colors
-    from cad.report.step_views import write_step_pictures
-    from cad.tolerances import VIEW_ANGULAR_TOLERANCE_RAD, VIEW_TOLERANCE_MM
-
     meshes = kind_meshes(instances, VIEW_TOLERANCE_MM, VIEW_ANGULAR_TOLERANCE_RAD)
     return write_step_pictures(steps, instances, tf_world_body, meshes,
                                instance_colors(instances), out_dir)

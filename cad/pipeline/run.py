@@ -49,6 +49,10 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
+from cad.errors import GeometryError
+from cad.pipeline import family, forked
+from cad.pipeline.views import write_viewer_outputs
+
 
 def _moving_bodies(model) -> list[str]:
     """Every body of the model but ``ground``, in order of first appearance."""
@@ -199,8 +203,6 @@ def run_family(stages: Stages, design, out_dir: Path, formats: set[str], *,
     Raises what the stages raise: DesignError (options, fasteners), InterferenceError (a
     clash over the motion unless ``allow_interference``), GeometryError (a solid below the
     bench plane), MeshError (an export)."""
-    from cad.pipeline import family, forked
-
     t0 = time.perf_counter()
     stages.check_options(design, fidelity, phi1_deg, formats)
     b = Build(design, Path(out_dir), set(formats), fidelity, allow_interference)
@@ -230,8 +232,6 @@ def run_family(stages: Stages, design, out_dir: Path, formats: set[str], *,
 def _mass_properties(stages: Stages, b: Build, step) -> None:
     """Mass properties per kind and body, the family's dynamics and the BOM rows (into
     ``b``)."""
-    from cad.pipeline import family
-
     step(stages.mass_label)
     t = time.perf_counter()
     b.props = family.kind_props(b.instances)
@@ -256,8 +256,6 @@ def timed_call(fn: Callable[[], Any]) -> Callable[[], tuple[Any, float]]:
 def _start_children(stages: Stages, b: Build, further, files: bool = True) -> None:
     """Fork the exports and the views (with ``files``) and the ``further`` children (``further(b) -> {name: fn}``) into ``b.tasks``
     (:mod:`cad.pipeline.forked`: deferred where forking is off)."""
-    from cad.pipeline import forked
-
     todo = {}
     if files:
         todo["exports"] = lambda: _exports(stages, b)
@@ -272,8 +270,6 @@ def _checks_and_files(stages: Stages, b: Build, step) -> tuple[list[str], bytes]
     """The checks of the solids over the motion and against the bench plane in this process
     while the forked children write; then the files made from their results. Returns
     (files, glb bytes)."""
-    from cad.pipeline import forked
-
     with forked.cancel_on_error(*b.tasks.values()):
         step(f"every pair of solids over the {stages.motion_label}")
         t = time.perf_counter()
@@ -295,9 +291,6 @@ def _checks_and_files(stages: Stages, b: Build, step) -> tuple[list[str], bytes]
 def check_bench(instances, tfs: dict, bench_z_mm: float) -> float:
     """Lowest world z of any solid (mm); GeometryError naming the instance when it reaches
     below the bench plane at ``bench_z_mm`` (mm, world frame)."""
-    from cad.errors import GeometryError
-    from cad.pipeline import family
-
     low, low_part = family.lowest_z_mm(instances, tfs)
     if low < bench_z_mm - 1e-6:
         raise GeometryError(f"{low_part} reaches z = {low:.2f} mm, below the bench plane at "
@@ -308,8 +301,6 @@ def check_bench(instances, tfs: dict, bench_z_mm: float) -> float:
 def _exports(stages: Stages, b: Build) -> list[str]:
     """Part files, assembly STEP, BOM, preview (:func:`cad.pipeline.family.write_outputs`)
     and the family's further exports."""
-    from cad.pipeline import family
-
     kw = dict(name=b.design.name, title=stages.preview_title(b),
               bom=None,  # bom.csv: the dispatcher, once, priced (cad.pipeline.write_order)
               marks=stages.marks(b) if stages.marks is not None else None,
@@ -324,8 +315,6 @@ def _exports(stages: Stages, b: Build) -> list[str]:
 def _views(stages: Stages, b: Build) -> tuple[list[str], bytes]:
     """The viewer files (:func:`cad.pipeline.views.write_viewer_outputs`) and the family's
     figures; returns (files, glb bytes)."""
-    from cad.pipeline.views import write_viewer_outputs
-
     d = b.design
     cutaway = [i.name for i in b.instances
                if any(fnmatch.fnmatchcase(i.name, p) for p in stages.cutaway)]
@@ -341,8 +330,6 @@ def _report(stages: Stages, b: Build, fasteners: dict, files: list[str]) -> dict
     """The family's report dict with the common tail and its part of report.md (under
     ``"_report_md"``, written by the dispatcher with the datasheet and the order); writes
     assembly.md."""
-    from cad.pipeline import family
-
     inst, d = b.instances, b.design
     b.common = {**fasteners, "part_materials": family.part_materials(inst),
                 "fits": family.fits_report(inst),

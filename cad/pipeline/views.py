@@ -21,6 +21,13 @@ from pathlib import Path
 
 import numpy as np
 
+from cad.export import STL_ANGULAR_TOLERANCE_RAD, STL_TOLERANCE_MM
+from cad.export.gltf import body_color_map, glb_bytes, instance_rgb, kind_meshes
+from cad.export.sim import SIM_FORMATS, write_sim_files
+from cad.export.stl import mesh_shape
+from cad.export.threemf import print_orientations, printable_parts, threemf_bytes
+from cad.io.atomic import write_bytes_atomic
+from cad.report.render import write_stroke_pictures
 from cad.tolerances import VIEW_ANGULAR_TOLERANCE_RAD, VIEW_TOLERANCE_MM
 
 #: Poses of the stroke animation in the glb (the GIF uses at most GIF_POSES of them).
@@ -31,8 +38,6 @@ THREEMF_NAME = "parts.3mf"
 
 def instance_colors(instances) -> dict[str, tuple[float, float, float]]:
     """``{instance name: rgb}`` as in the glb (:func:`cad.export.gltf.instance_rgb`)."""
-    from cad.export.gltf import body_color_map, instance_rgb
-
     body_rgb = body_color_map(list(dict.fromkeys(i.body for i in instances)))
     return {i.name: instance_rgb(i, body_rgb) for i in instances}
 
@@ -55,10 +60,6 @@ def write_views(
     cutaway : instance names drawn cut away in the still and the GIF (not in the glb):
         a housing hiding what moves inside (:mod:`cad.report.cutaway`).
     """
-    from cad.export.gltf import glb_bytes, kind_meshes
-    from cad.io.atomic import write_bytes_atomic
-    from cad.report.render import write_stroke_pictures
-
     meshes = kind_meshes(instances, VIEW_TOLERANCE_MM, VIEW_ANGULAR_TOLERANCE_RAD)
     glb = glb_bytes(instances, tf_pose, meshes, name=name, stroke=stroke)
     files = []
@@ -76,10 +77,6 @@ def write_parts_3mf(
     instances, out_dir: Path, *, title: str, tolerance_mm: float, angular_tolerance_rad: float
 ) -> str:
     """``parts.3mf`` of the made parts at the STL tolerances; returns its name."""
-    from cad.export.stl import mesh_shape
-    from cad.export.threemf import print_orientations, printable_parts, threemf_bytes
-    from cad.io.atomic import write_bytes_atomic
-
     meshes = {}
     for inst in instances:
         k = inst.kind
@@ -110,8 +107,6 @@ def write_viewer_outputs(
 
     tf_world_body : ``{body: (4, 4)}`` the exported pose, mm. Returns ``(files, glb)``.
     """
-    from cad.export import STL_ANGULAR_TOLERANCE_RAD, STL_TOLERANCE_MM
-
     pose = {b: np.asarray(T, dtype=float).reshape(4, 4) for b, T in tf_world_body.items()}
     if stroke is None:
         stroke = {b: T[None] for b, T in pose.items()}
@@ -134,8 +129,6 @@ def write_sim_model(make_model, out_dir: Path, formats: set[str], stem: str) -> 
     """``<stem>.xml`` (MJCF) and/or ``<stem>.urdf`` when ``formats`` asks for them, of the
     :class:`cad.export.sim.SimModel` that ``make_model()`` returns (called only then);
     returns the names written (relative to ``out_dir``)."""
-    from cad.export.sim import SIM_FORMATS, write_sim_files
-
     if not set(formats) & set(SIM_FORMATS):
         return []
     paths = write_sim_files(make_model(), out_dir, formats, stem)

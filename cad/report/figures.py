@@ -8,6 +8,8 @@ Matplotlib stamps SVGs with a date and random element ids and PNGs with its vers
 
 from __future__ import annotations
 
+from cad.errors import FileRefused
+from cad.io import guard
 from cad.io.figures import NO_STAMPS, save_figure  # noqa: F401 - the writer lives in cad.io
 
 #: Axes title height (axes fraction) given explicitly: with matplotlib's automatic one
@@ -20,9 +22,6 @@ def written_by_hapticad(path) -> bool:
     """True when the PNG or SVG chart at ``path`` carries :func:`save_figure`'s creator
     mark (PNG text ``Software: hapticad``; SVG ``dc:creator`` hapticad)."""
     from pathlib import Path
-
-    from cad.errors import FileRefused
-    from cad.io import guard
 
     try:  # a FIFO or a device planted as the chart is never read (cad/io/guard.py)
         data = guard.read_bytes(Path(path), "chart", "--out")

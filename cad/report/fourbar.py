@@ -12,8 +12,11 @@ from typing import Any
 
 import numpy as np
 
+from cad.analysis import apparent_mass_curves
 from cad.io.atomic import atomic_path, write_text_atomic
 from cad.io.escape import mathtext
+from cad.kinematics.fourbar import closure_margin, jacobian_mm_per_rad, solve
+from cad.kinematics.metrics import path_frame
 from cad.report.figures import TITLE_Y, save_figure
 
 
@@ -32,9 +35,6 @@ def _figure(width_in: float, height_in: float, ncols: int = 1, **adjust):
 
 def plot_kinematics(design, path: Path) -> Path:
     """Coupler curve (full turn where it closes) and the straight segment, in R0."""
-    from cad.kinematics.fourbar import closure_margin, jacobian_mm_per_rad, solve
-    from cad.kinematics.metrics import path_frame
-
     fb = design.linkage
     lo, hi = design.phi1_min_rad, design.phi1_max_rad
     full = np.linspace(lo - np.pi, lo + np.pi, 1441)
@@ -79,8 +79,6 @@ def plot_kinematics(design, path: Path) -> Path:
 
 def plot_apparent_mass(design, H, path: Path) -> Path:
     """M11, M12, M22 (g) over x (Hoeken paper Fig. 6)."""
-    from cad.analysis import apparent_mass_curves
-
     c = apparent_mass_curves(design, H, 401)
     M = c["M_kg"] * 1e3
     fig, ax = _figure(6.5, 4.2, left=0.12, right=0.97, bottom=0.12, top=0.92)

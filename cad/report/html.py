@@ -27,6 +27,9 @@ import html
 import json
 from pathlib import Path
 
+from cad.datasheet import fmt_value, verdict_text
+from cad.io.atomic import write_text_atomic
+
 STATIC = Path(__file__).resolve().parent / "vendor"
 #: Import-map key -> (vendored file, relative imports in it renamed to map keys).
 MODULES = {
@@ -301,8 +304,6 @@ def charts(report: dict, out_dir: Path) -> list[tuple[str, bytes]]:
 def datasheet_html(report: dict) -> str:
     """The datasheet section: missed limits in red first, then the table (empty string
     when the report has no datasheet)."""
-    from cad.datasheet import fmt_value, verdict_text
-
     ds = report.get("datasheet")
     if not ds:
         return ""
@@ -449,6 +450,4 @@ def report_html(report: dict, out_dir: Path, glb: bytes | None) -> str:
 
 def write_report_html(report: dict, out_dir: Path, glb: bytes | None) -> Path:
     """Write ``out_dir/report.html`` atomically."""
-    from cad.io.atomic import write_text_atomic
-
     return write_text_atomic(Path(out_dir) / "report.html", report_html(report, out_dir, glb))

@@ -7,6 +7,9 @@ from pathlib import Path
 
 import numpy as np
 
+from cad.io.atomic import write_text_atomic
+from cad.io.figures import save_figure
+
 FILES = ("identify.json", "identify.md", "identify_fit.svg", "identify_residual.svg")
 
 
@@ -16,7 +19,6 @@ def _plots(fit, out: Path) -> None:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from cad.io.figures import save_figure
 
     t = fit.t_s
     m = fit.mask
@@ -68,7 +70,6 @@ def write(res: dict, fit, out: Path) -> list[str]:
     ``out`` (atomically, file by file); return the names written."""
     import json
 
-    from cad.io.atomic import write_text_atomic
 
     out.mkdir(parents=True, exist_ok=True)
     names = ["identify.json", "identify.md"]

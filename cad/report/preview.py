@@ -17,7 +17,11 @@ from pathlib import Path
 
 import numpy as np
 
+from cad.export.gltf import body_color_map
+from cad.export.stl import mesh_shape
+from cad.io.atomic import write_bytes_atomic
 from cad.io.escape import mathtext
+from cad.report.figures import TITLE_Y, save_figure
 from cad.tolerances import PREVIEW_ANGULAR_TOL_RAD, PREVIEW_MESH_TOL_MM
 
 #: Opacity of the part outlines (overlapping parts stay visible).
@@ -36,8 +40,6 @@ def _hull(pts2: np.ndarray) -> np.ndarray | None:
 
 def _kind_outline(kind) -> tuple[np.ndarray, np.ndarray | None]:
     """``(vertices_mm (V, 3), upward faces (F, 3) of a plate, else None)`` in the part frame."""
-    from cad.export.stl import mesh_shape
-
     v, f = mesh_shape(kind.shape, PREVIEW_MESH_TOL_MM, PREVIEW_ANGULAR_TOL_RAD)
     if not kind.plate:
         return v, None
@@ -91,10 +93,6 @@ def write_preview(
 
     from matplotlib.collections import PolyCollection
     from matplotlib.figure import Figure
-
-    from cad.export.gltf import body_color_map
-    from cad.io.atomic import write_bytes_atomic
-    from cad.report.figures import TITLE_Y, save_figure
 
     polys = projection_polygons(instances, tf_world_body, hide_ground_below_mm)
     bodies = list(dict.fromkeys(["ground"] + [i.body for i in instances]))

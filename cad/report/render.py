@@ -21,6 +21,10 @@ from pathlib import Path
 
 import numpy as np
 
+from cad.io.atomic import write_bytes_atomic
+from cad.report import raster
+from cad.report.cutaway import cut_quarter
+
 VIEW_AZIM_DEG = -55.0
 VIEW_ELEV_DEG = 35.0
 AMBIENT = 0.35
@@ -48,8 +52,6 @@ def _view_triangles(instances, tf_world_body, meshes, colors, basis, i: int, cut
     the viewer; ``basis`` from :func:`view_basis`) and their RGB (T, 3). ``cutaway``:
     ``(centre (3,) mm world, instance names)``: those instances lose the quarter facing
     the viewer (:func:`cad.report.cutaway.cut_quarter`)."""
-    from cad.report.cutaway import cut_quarter
-
     tris, rgb = [np.empty((0, 3, 3))], [np.empty((0, 3))]
     for inst in instances:
         v, f = meshes[inst.kind.name]
@@ -120,7 +122,6 @@ def render_images(
     """
     from PIL import Image, ImageDraw, ImageFont
 
-    from cad.report import raster
 
     basis = view_basis()
     shown = [inst for inst in instances if inst.kind.listed]
@@ -261,8 +262,6 @@ def write_stroke_pictures(
     """``animation.gif`` (``stroke``: ``{body: (N, 4, 4)}``) and ``render.png`` (the still
     at ``tf_pose``: ``{body: (4, 4)}``), mm. ``cutaway``: names of the instances drawn
     cut away (:func:`cutaway_of`; a housing that would hide what moves inside)."""
-    from cad.io.atomic import write_bytes_atomic
-
     n = len(next(iter(stroke.values())))
     poses = list(range(n))
     if n > GIF_POSES:

@@ -30,6 +30,9 @@ from pathlib import Path
 
 import numpy as np
 
+from cad.io.atomic import write_bytes_atomic
+from cad.report.render import png_bytes, render_images
+
 #: Grey of the parts already assembled, and how much of it replaces their own colour.
 ASSEMBLED_RGB = (0.90, 0.90, 0.92)
 ASSEMBLED_GREY = 0.85
@@ -154,9 +157,6 @@ def step_image_name(k: int) -> str:
 def write_step_pictures(steps, instances, tf_world_body, meshes, colors, out_dir: Path) -> dict:
     """Write ``steps/step_NN.png`` for every step that places a drawn part; returns
     ``{step index from 1: relative path}``."""
-    from cad.io.atomic import write_bytes_atomic
-    from cad.report.render import png_bytes, render_images
-
     done = {}
     for k, sc in step_scenes(steps, instances, tf_world_body, meshes, colors):
         (img,) = render_images(sc.instances, sc.tf_world_body, meshes, sc.colors, [0],

@@ -30,6 +30,8 @@ import numpy as np
 
 from cad.errors import DesignError
 from cad.identify import excitation
+from cad.sim import mj
+from cad.sim.wall import MJ_STEP_MAX_S
 
 #: Default true perturbation of each key (no perturbation; one period of delay and 0.5 % noise:
 #: what a real driver adds).
@@ -151,7 +153,6 @@ class _MujocoPlant:
     def __init__(self, mjcf, tr: dict, lo: float, hi: float, tau_max_Nm: float):
         import mujoco
 
-        from cad.sim import mj
 
         self.mujoco, self.mj = mujoco, mj
         self.m, self.d = mj.load(mjcf)
@@ -167,8 +168,6 @@ class _MujocoPlant:
         self.T0, self.lo, self.hi = tr["offset_Nm"], lo, hi
 
     def _timestep(self, Te: float) -> int:
-        from cad.sim.wall import MJ_STEP_MAX_S
-
         nsub = max(1, math.ceil(Te / MJ_STEP_MAX_S))
         if self.m.opt.timestep != Te / nsub:
             self.m.opt.timestep = Te / nsub

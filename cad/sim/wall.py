@@ -53,7 +53,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from cad.errors import DesignError
+from cad.dynamics.inertia import apparent_mass_matrix
+from cad.errors import DesignError, FileDamaged
+from cad.io import guard
+from cad.kinematics.fourbar import jacobian_mm_per_rad, solve
+from cad.kinematics.metrics import path_frame
+from cad.sim import mj
 from cad.tolerances import K_BOOTSTRAP, K_GRID_STEP, K_RTOL
 
 #: Hand force pushing into the wall (N): a light touch.
@@ -160,10 +165,6 @@ class DeviceTables:
 
 def device_tables(design, H, samples: int = TABLE_SAMPLES) -> DeviceTables:
     """Tables of the reduced model from the linkage and H (eq 22, path frame)."""
-    from cad.dynamics.inertia import apparent_mass_matrix
-    from cad.kinematics.fourbar import jacobian_mm_per_rad, solve
-    from cad.kinematics.metrics import path_frame
-
     fb = design.linkage
     lo, hi = design.phi1_min_rad, design.phi1_max_rad
     phi = np.linspace(lo, hi, samples)
@@ -240,7 +241,6 @@ class MujocoWall:
     def __init__(self, mjcf_path, tab: DeviceTables, spec: WallSpec):
         import mujoco
 
-        from cad.sim import mj
 
         self.mujoco, self.mj = mujoco, mj
         self.tab, self.spec = tab, spec
@@ -255,9 +255,6 @@ class MujocoWall:
         """The model and what the wall uses of it (crank joint, handle site, one actuator);
         a file that is not a regular file within the ``mjcf`` limit, not loadable or lacking
         one of those is :class:`cad.errors.FileDamaged` naming it, never a traceback."""
-        from cad.errors import FileDamaged
-        from cad.io import guard
-
         guard.check_mjcf(mjcf_path, "MJCF")
         try:
             self.m, self.d = self.mj.load(mjcf_path)

@@ -34,8 +34,17 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from cad.checks import evaluate, violation
+from cad.data.materials import SHEETS
+from cad.design import bounds, parse_design
+from cad.design.bounds import FIELDS, check_number
+from cad.design.pantograph import OPTIMIZABLE
+from cad.design.parts import ALLOWED_KEYS
 from cad.design.targets import Target
 from cad.errors import DesignError, HapticadError
+from cad.families.fourbar.datasheet import force_rows, lever
+from cad.studies.codesign import cheap
+from cad.studies.codesign.cheap import layer_plan
+from cad.studies.codesign.search import STOCK_THICKNESS_MM, layer_problem, optimize_study
 from cad.tolerances import FIT_CHANGE_WEIGHT, STOCK_RANGE_SLACK_MM
 
 #: candidates tried for a free material parameter (light to heavy)
@@ -109,7 +118,6 @@ def layer_order_of(design) -> list[str]:
     automatic choice (:func:`cad.families.fourbar.layers.choose_layers`, numpy only)."""
     if design.parts.layer_order is not None:
         return list(design.parts.layer_order)
-    from cad.studies.codesign.cheap import layer_plan
 
     plan = layer_plan(design)
     return list(plan.order) if plan is not None else list(LAYER_ORDER_CHOICES[0])
@@ -121,7 +129,6 @@ def parse_free_pantograph(spec: str, design) -> FreeParam:
     (numeric) / ``parts.*_material`` (choice)."""
     import dataclasses
 
-    from cad.design.pantograph import OPTIMIZABLE
 
     key, _, rng = spec.partition("=")
     key = key.strip()
@@ -155,7 +162,6 @@ def _range(spec: str, key: str, rng: str, lo: float, hi: float) -> tuple[float, 
         raise DesignError(f"--free {spec}", "range must be LO:HI (numbers)") from None
     if not (0 < lo < hi):
         raise DesignError(f"--free {spec}", f"need 0 < LO < HI, got {lo}:{hi}")
-    from cad.design.bounds import FIELDS, check_number
 
     bound = FIELDS.get(key)
     if bound is not None:
@@ -197,8 +203,6 @@ def material_choices(parts_spec, name: str) -> tuple[str, ...]:
 
 def parse_free(spec: str, parts_spec) -> FreeParam:
     """``parts.KEY`` or ``parts.KEY=LO:HI`` (numeric) -> FreeParam with defaults from the spec."""
-    from cad.design.parts import ALLOWED_KEYS
-
     key, _, rng = spec.partition("=")
     key = key.strip()
     if not key.startswith("parts."):
@@ -235,9 +239,6 @@ def _stock_thickness(spec: str, key: str, rng: str, parts_spec) -> FreeParam:
     (:data:`cad.studies.codesign.search.STOCK_THICKNESS_MM`; its sheet's under ``process =
     "laser"``, :data:`cad.data.materials.SHEETS`) inside LO:HI (default 0.5x..1.5x the
     current value), nearest to the current value first (ties go to the smallest change)."""
-    from cad.data.materials import SHEETS
-    from cad.studies.codesign.search import STOCK_THICKNESS_MM
-
     cur = parts_spec.bar_thickness_mm
     stock = STOCK_THICKNESS_MM.get(parts_spec.bar_material, STOCK_THICKNESS_MM["aluminium-6061"])
     sheet = SHEETS.get(parts_spec.bar_material) if getattr(parts_spec, "process", "") == "laser" else None
@@ -257,7 +258,6 @@ def _refuse_unbuildable_order(design, free: list[FreeParam]) -> None:
     design's order: a fit must not return a design ``build`` refuses."""
     if not any(p.path == "parts.layer_order" for p in free):
         return
-    from cad.studies.codesign.search import layer_problem
 
     _, why = layer_problem(design)
     if why:
@@ -288,8 +288,6 @@ def fit(raw: dict, source: str, targets: tuple[Target, ...], free: list[FreePara
     when there are at most :data:`GRID_MAX` of them; otherwise TPE (seeded) until ``trials``
     candidates were evaluated (default ``12 + 6 x len(free)``), the start evaluated first.
     """
-    from cad.design import bounds
-
     search = _FitSearch(raw, source, targets, free, evaluate_values, echo, limit_targets, precad)
     _run_study(search, trials, seed)
     _, _, obj, _, vals = min(search.scored.values(), key=lambda t: t[:4])
@@ -309,10 +307,6 @@ def precad_checks(design) -> tuple[dict, str | None]:
     the tube bars' geometry (a reason: the build would refuse it); ``values``: the force
     figures, which need no CAD (continuous / peak force at the handle, motor torque /
     |dx/dphi1|, :func:`cad.families.fourbar.datasheet.force_rows`)."""
-    from cad.families.fourbar.datasheet import force_rows, lever
-    from cad.studies.codesign import cheap
-    from cad.studies.codesign.search import layer_problem
-
     _, why = layer_problem(design)
     if why:
         return {}, f"layers: {why}"
@@ -337,8 +331,6 @@ class _FitSearch:
                  echo: Callable[[str], None] | None,
                  limit_targets: Callable[[Any], tuple[Target, ...]] | None,
                  precad: Callable[[Any], tuple[dict, str | None]] | None = None) -> None:
-        from cad.design import parse_design
-
         self.raw, self.source, self.targets, self.free = raw, source, targets, free
         self.evaluate_values, self.echo, self.limit_targets = evaluate_values, echo, limit_targets
         self.precad = precad
@@ -357,8 +349,6 @@ class _FitSearch:
         """(max target violation, values) of the raw design ``r`` (cached); ``values["limit
         violation"]``: the largest violation of the limits. A design that cannot be parsed,
         planned or evaluated, or that the pre-CAD checks reject, scores inf."""
-        from cad.design import bounds, parse_design
-
         free, targets = self.free, self.targets
         key = self.key(r)
         if key in self.cache:
@@ -464,7 +454,6 @@ def _run_study(search: _FitSearch, trials: int | None, seed: int) -> None:
 
     import optuna
 
-    from cad.studies.codesign.search import optimize_study
 
     free = search.free
     n_grid = math.prod(len(p.choices) for p in free) if all(p.kind == "choice" for p in free) else None

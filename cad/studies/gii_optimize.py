@@ -8,7 +8,9 @@ from __future__ import annotations
 import copy
 
 from cad.checks import evaluate, miss_line
+from cad.design import parse_design
 from cad.errors import DesignError
+from cad.families import family_package
 from cad.isotropy.report import optimize_report
 
 METHODS = ("culling", "brute")
@@ -35,9 +37,6 @@ def optimum_misses(design, rep: dict) -> tuple[list[dict], list[str]]:
     """(rows, "target missed:" lines) of the design's ``[targets]`` on the optimum ``rep``
     (its ``best`` mechanism parameters), from the family's target values (a build when a
     target needs one) and, for a miss, the family's blocker lines; none without targets."""
-    from cad.design import parse_design
-    from cad.families import family_package
-
     if not design.targets:
         return [], []
     hooks = family_package(design.family).targets

@@ -13,7 +13,10 @@ from typing import Any
 
 import numpy as np
 
+from cad.dynamics.inertia import InertiaCoefficients
 from cad.errors import DesignError
+from cad.families.fourbar.inertia import inertia_model
+from cad.io.atomic import atomic_path
 from cad.io.escape import mathtext
 from cad.kinematics.tolerance import (
     BAR_HOLES,
@@ -98,9 +101,6 @@ def inertia_for_m11(design, inertia):
         return inertia, "--inertia"
     if design.inertia is not None:
         return design.inertia, "[inertia]"
-    from cad.dynamics.inertia import InertiaCoefficients
-    from cad.families.fourbar.inertia import inertia_model
-
     design.check_buildable()
     model = inertia_model(design, fidelity="inertia")
     keys = ("H11_kg_m2", "H12_kg_m2", "H22_kg_m2", "H33_kg_m2")
@@ -170,7 +170,6 @@ def write_chart(res: dict[str, Any], m: dict[str, np.ndarray], targets, path) ->
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from cad.io.atomic import atomic_path
 
     keys = [k for k in ("dy_max_mm", "stroke_mm", "slope_max", "torque_variation", "M11_max_g")
             if k in res["metrics"]]

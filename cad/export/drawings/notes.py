@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import re
 
+from cad.data.catalog import tap_drill_mm
 from cad.data.fits import fmt_mm, metric_thread, parse_fit
 from cad.tolerances import MATCH_MM
 
@@ -93,8 +94,6 @@ def thread_depths(c, threads, datum_mm=(0.0, 0.0, 0.0)):
     label each, the name after ``:``, when their depths differ); else those that state none:
     one depth among them is it; several, the one the hole can hold (recorded depth <= its
     length), if one; still several, or none left: ``"solid"`` (print the solid's depth)."""
-    from cad.data.catalog import tap_drill_mm
-
     key, cands = None, []
     for size, depth, *place in threads:
         k = metric_thread(size)

@@ -24,8 +24,10 @@ import textwrap
 from dataclasses import dataclass
 
 from cad.data.fits import fmt_mm
+from cad.export.drawings.features import bbox_mm, chamfers, cylinders, pockets
 from cad.export.drawings.notes import GENERAL_TOLERANCE, callout
 from cad.io.escape import mathtext
+from cad.occ.boolean import common
 
 #: Sheet size (ISO 216 A4 landscape) and the drawing border (mm).
 SHEET_MM = (297.0, 210.0)
@@ -68,8 +70,6 @@ class SheetPart:
 
 def feature_rows(part: SheetPart):
     """``[(tag, Cylinder, text)]`` of the feature table and the part's bounding box."""
-    from cad.export.drawings.features import bbox_mm, cylinders
-
     box = bbox_mm(part.shape)
     ext = {"x": box[3] - box[0], "y": box[4] - box[1], "z": box[5] - box[2]}
     rows = []
@@ -115,8 +115,6 @@ def chamfer_text(tag: str, c) -> str:
 def pocket_chamfer_rows(part: SheetPart):
     """``[(tag, Pocket or Chamfer, text)]``: the part's pockets (P1..) and chamfers (C1..)
     (:func:`cad.export.drawings.features.pockets`, :func:`~cad.export.drawings.features.chamfers`)."""
-    from cad.export.drawings.features import chamfers, pockets
-
     rows = [(f"P{k}", p, pocket_text(f"P{k}", p)) for k, p in enumerate(pockets(part.shape), 1)]
     rows += [(f"C{k}", c, chamfer_text(f"C{k}", c))
              for k, c in enumerate(chamfers(part.shape), 1)]
@@ -202,7 +200,6 @@ def _section(ax, solid, y_mm, box, at, s):
     from matplotlib.patches import PathPatch
     from matplotlib.path import Path as MPath
 
-    from cad.occ.boolean import common
 
     cx, cz = 0.5 * (box[0] + box[3]), 0.5 * (box[2] + box[5])
     big = 4 * max(box[3] - box[0], box[5] - box[2]) + 10

@@ -43,7 +43,24 @@ from pathlib import Path
 
 import numpy as np
 
+from cad.analysis import METRIC_KEYS, apparent_mass_curves
+from cad.assembly import interference as itf
+from cad.device import encoder_bom_rows, resolve_device
+from cad.dynamics.inertia import PlanarLinkInertia, apparent_mass_summary, h_from_links
+from cad.export import STL_ANGULAR_TOLERANCE_RAD
+from cad.export.nesting import plan_sheets, sheets_report
 from cad.families.fourbar.layout import LINKS, PREVIEW_POSES, check_layout, sweep_angles
+from cad.families.fourbar.pose import body_transforms
+from cad.families.fourbar.sim import sim_model
+from cad.kinematics.fourbar import solve
+from cad.kinematics.metrics import compute_metrics
+from cad.parts import PartKind
+from cad.parts.handle import knob_shape, resolve_script, script_sha256
+from cad.pipeline import family
+from cad.pipeline.run import Stages, run_family
+from cad.pipeline.views import STROKE_POSES, write_sim_model
+from cad.report.fourbar import plot_apparent_mass, plot_kinematics
+from cad.structure.device import structure_of_build
 from cad.tolerances import PREVIEW_STL_TOL_MM
 
 __all__ = ["LINKS", "PREVIEW_POSES", "PREVIEW_STL_TOL_MM", "build", "cache_inputs", "check_layout", "sweep_angles"]
@@ -58,8 +75,6 @@ ASSEMBLY_CHECKS = (
 
 def cache_inputs(design) -> dict:
     """Inputs outside the design object: the user handle script's content."""
-    from cad.parts.handle import resolve_script, script_sha256
-
     p = resolve_script(design.parts, design.source)
     return {"handle_script_sha256": script_sha256(p) if p is not None else None}
 
@@ -67,16 +82,12 @@ def cache_inputs(design) -> dict:
 def encoder_bom_row(design) -> dict:
     """The crank encoder as a bought BOM line (no solid: it sits on the motor's rear shaft):
     the resolved device's encoder (:func:`cad.device.encoder_bom_rows`)."""
-    from cad.device import encoder_bom_rows, resolve_device
-
     return encoder_bom_rows(resolve_device(design))[0]
 
 
 def inertia_from_links(design, link_props: dict, Jm_kg_m2: float):
     """H11..H33 (Hoeken paper eqs 16-19, COM angle generalization) from the link mass props
     (``{link: MassProps}`` SI, link frame); returns ``(H, {link: PlanarLinkInertia})``."""
-    from cad.dynamics.inertia import PlanarLinkInertia, h_from_links
-
     pl = {
         k: PlanarLinkInertia.from_com(
             link_props[k].mass_kg, link_props[k].com_m, float(link_props[k].inertia_com_kg_m2[2, 2])
@@ -88,9 +99,6 @@ def inertia_from_links(design, link_props: dict, Jm_kg_m2: float):
 
 def apparent_mass(design, H) -> dict:
     """M11/M12/M22 over the stroke (Hoeken paper eq 22), summarised (g)."""
-    from cad.analysis import apparent_mass_curves
-    from cad.dynamics.inertia import apparent_mass_summary
-
     return apparent_mass_summary(apparent_mass_curves(design, H)["M_kg"])
 
 
@@ -105,8 +113,6 @@ def joint_axes(J) -> dict:
 
 def _stl_tolerances(parts, fidelity: str) -> tuple[float, float]:
     """(chordal mm, angular rad) deflections of the part STL and parts.3mf meshes."""
-    from cad.export import STL_ANGULAR_TOLERANCE_RAD
-
     tol = parts.stl_tolerance_mm
     if fidelity == "preview":
         tol = max(tol, PREVIEW_STL_TOL_MM)
@@ -124,8 +130,6 @@ def _mesh_kw(b) -> dict:
 def _same_body(b) -> dict:
     """The forked child of the same-body check (every pair of solids on one body), read by
     the sweep (:func:`interference`)."""
-    from cad.assembly import interference as itf
-
     return {"same_body": lambda: ([], itf.same_body_check(itf.static_items(b.model.instances)))}
 
 
@@ -138,10 +142,6 @@ def _preview(b) -> dict:
     """The forked child of ``preview.png`` (posed assembly with the coupler point's path) and
     the paper's plots from the solids (coupler curve, y deviation and torque; M11 / M12 / M22
     over x, Fig. 6), which need H."""
-    from cad.kinematics.fourbar import solve
-    from cad.pipeline import family
-    from cad.report.fourbar import plot_apparent_mass, plot_kinematics
-
     design, model = b.design, b.model
 
     def run():
@@ -161,10 +161,6 @@ def _dynamics(b) -> dict:
     link frame, SI): Jm, H and the apparent mass, the fidelity costs and the structure:
     ``{"props", "links", "shares", "motor", "Jm_kg_m2", "H", "planar", "apparent_mass",
     "fidelity_costs", "structure"}``."""
-    from cad.device import resolve_device
-    from cad.pipeline import family
-    from cad.structure.device import structure_of_build
-
     design, model = b.design, b.model
     dm = resolve_device(design).motor  # [motor] and parts.motor_rotor_inertia_g_cm2 applied
     motor, Jm = dm.spec, dm.rotor_inertia_kg_m2
@@ -185,10 +181,6 @@ def _fidelity_costs(design, model, mp: dict, fidelity: str) -> dict:
         out["handle_round"] = "not applicable"
         return out
     from cad.families.fourbar.sheet_tolerance import handle_floor_mm
-    from cad.parts import PartKind
-    from cad.parts.handle import knob_shape
-    from cad.pipeline import family
-
     floor = handle_floor_mm(model.extra["plan"], design.parts)
     other = knob_shape(design.parts, floor, cosmetic=fidelity != "fabrication")
     props, H, am = mp["props"], mp["H"], mp["apparent_mass"]
@@ -215,9 +207,6 @@ def interference(design, model, fidelity: str, allow_interference: bool, same_bo
     ``parts.clearance_min_mm`` a clash; merged with the same-body check ``same_body``.
     InterferenceError unless ``allow_interference``. Returns the
     :class:`cad.assembly.interference.InterferenceReport`."""
-    from cad.assembly import interference as itf
-    from cad.families.fourbar.pose import body_transforms
-
     parts, fb = design.parts, design.linkage
 
     def tf_at(p):
@@ -235,9 +224,6 @@ def interference(design, model, fidelity: str, allow_interference: bool, same_bo
 
 def _sim_files(b) -> list[str]:
     """``<name>.xml`` (MJCF) / ``<name>.urdf`` when asked (:mod:`cad.families.fourbar.sim`)."""
-    from cad.families.fourbar.sim import sim_model
-    from cad.pipeline.views import write_sim_model
-
     design, model, mp = b.design, b.model, b.dyn
     return write_sim_model(
         lambda: sim_model(design, model, mp["links"], mp["Jm_kg_m2"], mp["motor"],
@@ -257,11 +243,7 @@ def _stages(phi1_deg: float | None, allow_interference: bool):
     its children (the same-body check beside the mass properties; the preview and the
     paper's plots, which need H, beside the sweep), its dynamics (H, M, structure), the
     encoder row, its report."""
-    from cad.families.fourbar.pose import body_transforms
     from cad.families.fourbar.layout import assemble
-    from cad.pipeline.run import Stages
-    from cad.pipeline.views import STROKE_POSES
-
     return Stages(
         check_options=check_options,
         assemble=lambda design, fidelity: assemble(design, fidelity, phi1_deg=phi1_deg,
@@ -295,8 +277,6 @@ def build(
     (module docstring), through the one build driver (:func:`cad.pipeline.run.run_family`).
     Raises DesignError (``--phi1-deg`` outside the crank range, no layer order, ...),
     InterferenceError (a clash, unless ``allow_interference``), MeshError."""
-    from cad.pipeline.run import run_family
-
     return run_family(_stages(phi1_deg, allow_interference), design, out_dir, formats,
                       fidelity=fidelity, allow_interference=allow_interference,
                       progress=progress, phi1_deg=phi1_deg)
@@ -345,9 +325,6 @@ def _report(b) -> dict:
     """report.json's content from the build's results (the driver adds ``files``, the
     dispatcher the rest); the driver's common keys (``b.common``) placed among the
     four-bar's; ``sheets`` (the nested stock sheets) when ``parts.process = "laser"``."""
-    from cad.analysis import METRIC_KEYS
-    from cad.kinematics.metrics import compute_metrics
-
     design, model, mp, rep, bom, c = b.design, b.model, b.dyn, b.itf, b.bom, b.common
     fb, parts, H, motor = design.linkage, design.parts, mp["H"], mp["motor"]
     m = compute_metrics(fb, design.phi1_min_rad, design.phi1_max_rad, force_N=design.force_N,
@@ -406,13 +383,10 @@ def _report(b) -> dict:
 def _sheets(b, report: dict) -> None:
     """``report["sheets"]`` when ``parts.process = "laser"``: the nested stock sheets and
     every fastener touching a sheet over the sheets' thickness bands (issue 25)."""
-    from cad.pipeline import family
-
     model = b.model
     if not family.laser_kinds(model.instances):
         return
     from cad.families.fourbar.sheet_tolerance import tolerance_report
-    from cad.export.nesting import plan_sheets, sheets_report
 
     report["sheets"] = sheets_report(plan_sheets(model.instances), "dxf" in b.formats)
     report["sheets"]["thickness_tolerance"] = tolerance_report(

@@ -32,7 +32,15 @@ import math
 
 import numpy as np
 
+from cad.data import catalog
 from cad.datasheet import row
+from cad.device import resolve_device
+from cad.dynamics.inertia import InertiaCoefficients
+from cad.io import derived_cache
+from cad.kinematics.fourbar import jacobian_mm_per_rad, solve, velocity_ratios
+from cad.kinematics.metrics import path_frame
+from cad.sim import wall
+from cad.structure.bearings import joint_forces_per_N
 
 SAMPLES = 401
 #: Duty cycle of the duty-cycle force row.
@@ -57,9 +65,6 @@ PAPER_CONT_FORCE_N = 3.3
 def lever(design, samples: int = SAMPLES, phi=None):
     """(phi1 rad, Jx m/rad signed, pose, a2, a3) over the stroke (path frame x), at ``samples``
     evenly spaced crank angles or at the crank angles ``phi`` (rad)."""
-    from cad.kinematics.fourbar import jacobian_mm_per_rad, solve, velocity_ratios
-    from cad.kinematics.metrics import path_frame
-
     fb = design.linkage
     phi = (np.linspace(design.phi1_min_rad, design.phi1_max_rad, samples) if phi is None
            else np.atleast_1d(np.asarray(phi, float)))
@@ -138,8 +143,6 @@ def encoder_counts(design, Jx=None) -> tuple[int, str, str | None]:
     """(counts per crank turn, where from, catalog key or None): the resolved device's encoder
     (:func:`cad.device.resolve_device`), the one the BOM orders and the firmware is compiled
     for. ``Jx`` is not used (kept for callers)."""
-    from cad.device import resolve_device
-
     e = resolve_device(design).encoder
     return e.counts_per_rev, e.source, e.catalog_key
 
@@ -153,10 +156,6 @@ def resolution_row(design, Jx) -> dict:
 
 def friction(design, m, Jx, pose, a2, a3) -> tuple[np.ndarray | None, np.ndarray]:
     """(motor friction at the handle N or None, bearing friction at the handle N at force_N)."""
-    from cad.data import catalog
-    from cad.kinematics.metrics import path_frame
-    from cad.structure.bearings import joint_forces_per_N
-
     fb = design.linkage
     L = np.abs(Jx)
     ex = path_frame(fb, design.phi1_min_rad, design.phi1_max_rad).x_hat
@@ -214,9 +213,6 @@ def simulated_K_max(design, report: dict, s: dict, tau_max_Nm: float) -> dict:
     """K_max of the reduced-model wall (B = 0) with the report's H: ``{"K": N/m or None (unstable
     at K_lo), "err": relative sampling error or None, "band": [first unstable, last stable]
     probe N/m}`` (:func:`cad.sim.wall.k_max_estimate`)."""
-    from cad.dynamics.inertia import InertiaCoefficients
-    from cad.sim import wall
-
     H = InertiaCoefficients(report["H11_kg_m2"], report["H12_kg_m2"], report["H22_kg_m2"],
                             report["H33_kg_m2"], math.radians(report.get("beta2_deg", 0.0)))
     spec = wall.WallSpec(s["Te"], s["counts"], s["Fv"], s["Fs"], tau_max_Nm, s["xdot"])
@@ -227,7 +223,6 @@ def simulated_K_max(design, report: dict, s: dict, tau_max_Nm: float) -> dict:
         return {"K": r["K_max_N_per_m"], "err": r["sampling_error_rel"],
                 "band": [r["K_first_unstable_N_per_m"], r["K_last_stable_N_per_m"]]}
 
-    from cad.io import derived_cache
 
     # a few seconds of simulation: through the derived cache (same linkage, H and spec: a hit)
     key = [design.resolved_linkage(), H.as_dict(), [spec.Te_s, spec.counts_per_rev, spec.Fv_N_s_per_m,
@@ -242,7 +237,6 @@ def stiffness_rows(design, report, m, Jx, friction_N, simulate: bool = True) -> 
                f"conservative bound; {src}"),
            row("passivity_K_max_N_per_m", "renderable stiffness, passivity bound", 2 * s["Fv"] / s["Te"], "N/m",
                f"Colgate and Schenkel: passive iff K < 2 Fv / Te (viscous friction only, Coulomb ignored); {src}")]
-    from cad.sim import wall
 
     km = {"K": None, "err": None, "band": [None, None]}
     if simulate and m.torque_peak_mNm is not None and all(k in report for k in ("H11_kg_m2", "H12_kg_m2")):
@@ -314,7 +308,6 @@ def mass_rows(report) -> list[dict]:
 def rows_and_limits(design, report: dict, out_dir=None, simulate_wall: bool = True):
     """(rows, limits, notes) of a four-bar build report (module docstring)."""
     from cad.datasheet.limits import fourbar_limits
-    from cad.device import resolve_device
 
     m = resolve_device(design).motor.spec  # the motor the BOM orders, [motor] applied
     phi, Jx, pose, a2, a3 = lever(design)

@@ -10,11 +10,14 @@ import math
 
 import numpy as np
 
+from cad.dynamics.inertia import InertiaCoefficients, apparent_mass_matrix, equivalent_inertia
+from cad.firmware import identify_c
 from cad.firmware.csrc import JT_F, lit
 from cad.firmware.model import KinematicModel, SpecParams, perp, rot
 from cad.firmware.reference import STATUS
 from cad.firmware.spec import body_from_report
 from cad.kinematics import fourbar as k4
+from cad.sim.identify_device import predict
 from cad.tolerances import TOGGLE_SIN
 
 
@@ -79,8 +82,6 @@ def com_rates(spec, q):
 def mass_matrix(spec, q_ok, X_ok) -> np.ndarray:
     """M = J+^T D J+ (Hoeken paper eq 22, :func:`cad.dynamics.inertia.apparent_mass_matrix`,
     R0 axes) at ok crank angles."""
-    from cad.dynamics.inertia import InertiaCoefficients, apparent_mass_matrix
-
     p = spec.params
     fb = fourbar_of(p)
     H = InertiaCoefficients(p["H11"], p["H12"], p["H22"], p["H33"], p["beta2"])
@@ -90,8 +91,6 @@ def mass_matrix(spec, q_ok, X_ok) -> np.ndarray:
 def apparent_mass_kg(spec, phi1: np.ndarray) -> np.ndarray:
     """Four-bar: D(phi1) / |J|^2, the mass felt along the path (kg; Hoeken paper eq 22 reads
     D J+^T J+ in the direction of J): :func:`cad.dynamics.inertia.equivalent_inertia`."""
-    from cad.dynamics.inertia import InertiaCoefficients, equivalent_inertia
-
     p = spec.params
     fb = fourbar_of(p)
     H = InertiaCoefficients(p["H11"], p["H12"], p["H22"], p["H33"], p["beta2"])
@@ -150,10 +149,6 @@ def wall_normal(spec, qh) -> np.ndarray:
 def identify_files(design, report: dict, spec) -> dict[str, str]:
     """The identification routine (:mod:`cad.firmware.identify_c`), its constants from the
     same plan as the virtual bench (:func:`cad.sim.identify_device.predict`)."""
-    from cad.dynamics.inertia import InertiaCoefficients
-    from cad.firmware import identify_c
-    from cad.sim.identify_device import predict
-
     H = InertiaCoefficients(report["H11_kg_m2"], report["H12_kg_m2"], report["H22_kg_m2"],
                             report["H33_kg_m2"], math.radians(report["beta2_deg"]))
     return identify_c.files(spec, predict(design, H, report).plan)

@@ -30,6 +30,17 @@ from typing import Any
 
 import numpy as np
 
+from cad.checks import values_from_report
+from cad.device import resolve_device
+from cad.dynamics.inertia import apparent_mass_matrix, apparent_mass_summary, equivalent_inertia
+from cad.families.fourbar import assemble
+from cad.families.fourbar.build import inertia_from_links
+from cad.kinematics.fourbar import jacobian_mm_per_rad, solve, velocity_ratios
+from cad.kinematics.metrics import compute_metrics, path_frame
+from cad.parts.part_cache import DeferredShape
+from cad.parts.part_props import unit_volume_props
+from cad.pipeline import family
+
 LINKS = ("crank", "coupler", "rocker")
 
 
@@ -71,8 +82,6 @@ def inertia_assembly(design, fidelity: str = "inertia"):
     :class:`cad.parts.part_cache.DeferredShape` (built or read only where its mass
     properties are not cached, :mod:`cad.parts.part_props`). Returns the
     :class:`cad.assembly.model.AssemblyModel`."""
-    from cad.families.fourbar import assemble
-
     return assemble(design, fidelity, poses=design.parts.interference_poses, deferred=True)
 
 
@@ -82,9 +91,6 @@ def warm_part_cache(design, fidelity: str = "inertia", share: tuple[int, int] = 
     made, validated and integrated unless cached, so that ``share[1]`` processes warm the
     shape and mass-property caches together, each part once (``hapticad sweep`` at worker
     start). Returns the number of parts of this share."""
-    from cad.parts.part_cache import DeferredShape
-    from cad.parts.part_props import unit_volume_props
-
     kinds = inertia_assembly(design, fidelity).kinds().values()
     todo = sorted({k.shape.key: k.shape for k in kinds
                    if k.inertia_model == "solid" and isinstance(k.shape, DeferredShape)}.items())
@@ -101,13 +107,6 @@ def inertia_model(design, fidelity: str = "inertia", samples: int = 401) -> dict
     ``apparent_mass`` (M11/M12/M22 ranges, g), ``links`` (``mass_g``, ``com_link_mm``,
     ``Izz_com_kg_m2`` per link), ``budget`` (rows per part), ``wall_s``.
     """
-    from cad.device import resolve_device
-    from cad.dynamics.inertia import apparent_mass_matrix, apparent_mass_summary, equivalent_inertia
-    from cad.families.fourbar.build import inertia_from_links
-    from cad.kinematics.fourbar import jacobian_mm_per_rad, solve, velocity_ratios
-    from cad.kinematics.metrics import path_frame
-    from cad.pipeline import family
-
     t0 = time.perf_counter()
     parts = design.parts
     fb = design.linkage
@@ -178,9 +177,6 @@ def target_values(design, fidelity: str, need_clearance: bool) -> tuple[dict, di
     also build (no exports) for the interference sweep and the ``structure`` entry."""
     import tempfile
     from pathlib import Path
-
-    from cad.checks import values_from_report
-    from cad.kinematics.metrics import compute_metrics
 
     model = inertia_model(design, fidelity=fidelity)
     m = compute_metrics(design.linkage, design.phi1_min_rad, design.phi1_max_rad,

@@ -38,9 +38,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from cad.assembly.fasteners import MIN_ENGAGEMENT_ALU_D, alu_hole, size_set_screw
 from cad.data import catalog
 from cad.design.parts import LINK_NAMES, PartsSpec
 from cad.errors import DesignError
+from cad.families.fourbar.pose import planar_transforms
+from cad.kinematics.families import family_linkage
+from cad.kinematics.linkgeom import link_joints_mm
+from cad.parts.base import STANDOFF_TAP_DEPTH_MM
 from cad.parts.motor import SET_SCREW
 from cad.tolerances import LAYER_SLACK_MM
 
@@ -311,7 +316,6 @@ def hub_screw_length(parts: PartsSpec) -> tuple[float, float]:
     (1.5 d minimum in aluminium, :mod:`cad.assembly.fasteners`); the hub is made tall
     enough for the hole (:func:`plan_for_order`). Engagement: at the thinnest crank sheet in a
     laser build (:func:`cad.families.fourbar.sheet_tolerance.thinnest_mm`), the nominal otherwise."""
-    from cad.assembly.fasteners import alu_hole
     from cad.families.fourbar.sheet_tolerance import sheet_bands, size_over_band, thinnest_mm
 
     hole = alu_hole("crank_hub:screw", "crank_hub", parts.hub_screw, math.inf)
@@ -343,8 +347,6 @@ def hub_set_screw(parts: PartsSpec) -> HubSetScrew:
     :data:`HUB_SET_SCREW_SIZES` with a bd_warehouse ISO 4026 length 1.5 d <= L <= that depth
     (its end never proud of the hub), L the longest. DesignError naming
     ``parts.hub_diameter_mm`` when no size fits."""
-    from cad.assembly.fasteners import MIN_ENGAGEMENT_ALU_D, size_set_screw
-
     r_in = catalog.get_motor(parts.motor).shaft_diameter_mm / 2
     size, L, depth = size_set_screw(r_in, parts.hub_diameter_mm / 2, HUB_SET_SCREW_SIZES,
                                     "crank hub set screw onto the motor shaft",
@@ -389,8 +391,6 @@ def post_min_height_mm(stack: JointStack, parts: PartsSpec) -> float:
     shoulder entry and thread relief (:func:`post_bore_depth_mm`), the tapped hole for the
     ISO 7379 thread (b plus :data:`POST_THREAD_EXTRA_MM`), :data:`POST_WEB_MM` of solid, then
     the bottom tapped hole for the post screw."""
-    from cad.parts.base import STANDOFF_TAP_DEPTH_MM
-
     pin = catalog.get_shoulder_screw(parts.pin)
     bore = post_bore_depth_mm(stack, parts)
     return bore + pin.b_mm + POST_THREAD_EXTRA_MM + POST_WEB_MM + STANDOFF_TAP_DEPTH_MM
@@ -772,10 +772,6 @@ def clearing_stroke_mm(family: str, stroke_mm: float, parts: PartsSpec, n_poses:
     """Smallest stroke (0.1 mm, scanning up from ``stroke_mm`` to :data:`STROKE_SCAN_MAX` x)
     at which the family scaled to it has a conflict-free layer order, or None. Longer links
     move the joint hardware away from the hub (the hardware does not scale)."""
-    from cad.families.fourbar.pose import planar_transforms
-    from cad.kinematics.families import family_linkage
-    from cad.kinematics.linkgeom import link_joints_mm
-
     def clear(s: float) -> bool:
         fb, lo, hi = family_linkage(family, s)
         tf = planar_transforms(fb, np.linspace(lo, hi, n_poses))

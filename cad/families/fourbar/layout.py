@@ -30,7 +30,14 @@ import math
 
 import numpy as np
 
+from cad.assembly.model import AssemblyModel
+from cad.device import resolve_device
 from cad.errors import DesignError
+from cad.families.fourbar.mechanism import build_assembly, check_plate_screws
+from cad.families.fourbar.pose import body_transforms, planar_transforms
+from cad.kinematics.linkgeom import link_joints_mm
+from cad.parts.handle import handle_params, resolve_script, user_handle_shape
+from cad.parts.part_cache import deferred_shapes
 
 #: Crank angles of the layer planning and the interference sweep at ``preview`` fidelity
 #: (at most; the design's ``parts.interference_poses`` otherwise).
@@ -73,15 +80,11 @@ def check_layout(design, fidelity: str, allow_interference: bool) -> None:
     (:func:`check_joint_gaps`); the last two skipped with ``allow_interference``: the build
     then exports the clash and reports it)."""
     from cad.families.fourbar.layers import hub_set_screw
-    from cad.families.fourbar.mechanism import check_plate_screws
 
     hub_set_screw(design.parts)
     check_plate_screws(design.parts)
     if allow_interference:
         return
-    from cad.families.fourbar.pose import planar_transforms
-    from cad.kinematics.linkgeom import link_joints_mm
-
     n = n_poses(design.parts, fidelity)
     planar = planar_transforms(design.linkage, sweep_angles(design, n))
     plan = plan_layers(design, link_joints_mm(design.linkage), planar, n, strict=True)
@@ -144,11 +147,6 @@ def _parts(design, J, plan, footprint, fidelity: str, deferred: bool, script):
     script's path or None)."""
     import contextlib
 
-    from cad.device import resolve_device
-    from cad.families.fourbar.mechanism import build_assembly
-    from cad.parts.handle import handle_params, user_handle_shape
-    from cad.parts.part_cache import deferred_shapes
-
     parts = design.parts
     user_handle = None
     if script is not None:
@@ -196,11 +194,6 @@ def assemble(
     ``strict`` (:func:`plan_layers`), a fastener that cannot be sized, a bad user handle.
     """
     from cad.families.fourbar.layers import footprint_bbox_mm
-    from cad.assembly.model import AssemblyModel
-    from cad.families.fourbar.pose import body_transforms, planar_transforms
-    from cad.kinematics.linkgeom import link_joints_mm
-    from cad.parts.handle import resolve_script
-
     fb = design.linkage
     pose_phi = exported_phi1_rad(design, phi1_deg)
     script = resolve_script(design.parts, design.source)

@@ -41,6 +41,12 @@ from cad.assembly.fasteners import (
     iso7379_thread_mm,
     shoulder_screw_hole,
 )
+from cad.assembly.laser import as_laser
+from cad.assembly.printed import as_printed
+from cad.data import catalog as cat
+from cad.data.fits import fit
+from cad.design.parts import PartsSpec
+from cad.errors import DesignError
 from cad.families.fourbar.layers import (
     HUB_SCREWS,
     POST_THREAD_EXTRA_MM,
@@ -59,11 +65,9 @@ from cad.families.fourbar.sheet_tolerance import (
     thinnest_mm,
     warn_pins,
 )
-from cad.data import catalog as cat
-from cad.data.fits import fit
-from cad.design.parts import PartsSpec
-from cad.errors import DesignError
-from cad.parts import PartInstance, PartKind, flip_x, translation
+from cad.parts import PartInstance, PartKind, bars, base, flip_x, handle, joints, motor, translation
+from cad.parts import tubebars as tb
+from cad.printing import HEAT_SET_PILOT_MM
 
 #: Smallest engagement of the handle screw in the coupler plate, in thread diameters: the
 #: knob carries hand loads only (a few N), so a plate thinner than 1.5 d is tapped through
@@ -138,8 +142,6 @@ class _Builder:
 
     def cap_screw(self, size: str, length: float) -> PartKind:
         """A bought ISO 4762 socket head cap screw (one kind per size and length)."""
-        from cad.parts import joints
-
         name = f"cap_screw_{size}x{_fmt(length)}"
         if name not in self.kinds:
             self.kinds[name] = joints.cap_screw_kind(size, length, "parts")
@@ -183,16 +185,11 @@ def build_assembly(
     rect = _base_post_legs(b, footprint_mm)
     _handle(b, handle_shape)
     check_fasteners({i.name: i.fastener for i in b.inst if i.fastener}, b.holes)
-    from cad.assembly.laser import as_laser
-    from cad.assembly.printed import as_printed
-
     return as_laser(as_printed(Assembly(tuple(b.inst), rect, holes=tuple(b.holes.values())), parts),
                     parts)
 
 
 def _bars(b: _Builder, design_label: str) -> None:
-    from cad.parts import bars
-
     parts, plan, J = b.parts, b.plan, b.J
     t = parts.bar_thickness_mm
     brg = cat.get_bearing(parts.bearing)
@@ -258,8 +255,6 @@ def _bars(b: _Builder, design_label: str) -> None:
 def _printed_diameters(parts) -> dict[str, float]:
     """Modelled diameters (mm) of a printed bar's features (:class:`cad.printing.PrintSettings`):
     holes ``comp`` over nominal, the bearing seat a press fit, the handle hole an insert pilot."""
-    from cad.printing import HEAT_SET_PILOT_MM
-
     s = parts.print_settings()
     brg = cat.get_bearing(parts.bearing)
     c = s.hole_compensation_mm
@@ -307,8 +302,6 @@ def _printed_bar_ops(parts, link, seats, pins, d):
 
 def _tube_bars(b: _Builder, bar_joints: dict, design_label: str) -> None:
     """Crank, coupler, rocker as carbon tubes bonded into clevises (:mod:`cad.parts.tubebars`)."""
-    from cad.parts import tubebars as tb
-
     parts, plan = b.parts, b.plan
     t = parts.bar_thickness_mm
     brg = cat.get_bearing(parts.bearing)
@@ -358,8 +351,6 @@ def _tube_bars(b: _Builder, bar_joints: dict, design_label: str) -> None:
 
 
 def _joint_kinds(b: _Builder) -> dict[str, PartKind]:
-    from cad.parts import joints
-
     parts = b.parts
     brg = cat.get_bearing(parts.bearing)
     nut = cat.get_nut(parts.pin)
@@ -409,8 +400,6 @@ def _joint_kinds(b: _Builder) -> dict[str, PartKind]:
 
 
 def _spacer_kind(b: _Builder, role: str, h: float) -> PartKind:
-    from cad.parts import joints
-
     pin = cat.get_shoulder_screw(b.parts.pin)
     od = spacer_od_mm(b.parts)
     return b.kind(
@@ -426,8 +415,6 @@ def _spacer_kind(b: _Builder, role: str, h: float) -> PartKind:
 
 
 def _pin_kind(b: _Builder, L: float) -> PartKind:
-    from cad.parts import joints
-
     parts = b.parts
     pin = cat.get_shoulder_screw(parts.pin)
     env = joints.screw_envelope(pin.dk_mm, pin.k_mm, pin.ds_mm, L, pin.thread_mm, pin.b_mm)
@@ -445,8 +432,6 @@ def _pin_kind(b: _Builder, L: float) -> PartKind:
 
 def _joint_hardware(b: _Builder) -> None:
     """Bearing, (sleeve,) spacers, shoulder screw and (between links) washer + nut at A2, A3, A4."""
-    from cad.parts import joints
-
     parts, J = b.parts, b.J
     t = parts.bar_thickness_mm
     brg = cat.get_bearing(parts.bearing)
@@ -528,8 +513,6 @@ def _post_engagement_mm(parts: PartsSpec, s4) -> float:
 def _motor_and_hub(b: _Builder, motor_spec=None) -> None:
     """Crank hub with its screws and set screw, the motor (housing and shaft; its BOM name and
     mass from ``motor_spec``, the resolved motor, when given), its mount plate and screws."""
-    from cad.parts import joints, motor
-
     parts, plan = b.parts, b.plan
     t = parts.bar_thickness_mm
     m = cat.get_motor(parts.motor)
@@ -613,8 +596,6 @@ def _motor_screw_stack(parts: PartsSpec, i: int) -> dict:
 
 def _mount_screw_stack(parts: PartsSpec, i: int) -> dict:
     """Motor mount screw ``i`` (M3) through the mount plate into the base plate's tapped hole."""
-    from cad.parts import motor
-
     hole = alu_hole(f"base_plate:mount_{i}", "base_plate", motor.MOUNT_SCREW,
                     parts.base_thickness_mm)
     return dict(size=motor.MOUNT_SCREW, clamp=parts.motor_mount_thickness_mm, hole=hole,
@@ -624,8 +605,6 @@ def _mount_screw_stack(parts: PartsSpec, i: int) -> dict:
 
 def _leg_screw_stack(parts: PartsSpec, i: int) -> dict:
     """Leg screw ``i`` through the base plate into the leg's top tapped hole."""
-    from cad.parts import base
-
     hole = alu_hole(f"leg_{i}:top", f"leg_{i}", base.LEG_SCREW,
                     base.STANDOFF_TAP_DEPTH_MM - TAP_LEADOUT_MM)
     return dict(size=base.LEG_SCREW, clamp=parts.base_thickness_mm, hole=hole,
@@ -653,8 +632,6 @@ def check_plate_screws(parts: PartsSpec) -> list:
 def _set_screw(b: _Builder, m, hub_h: float, engaged: float) -> None:
     """ISO 4026 set screw in the hub's radial tapped hole, flat point on the shaft, its end
     inside the hub (sized before any CAD: :func:`cad.families.fourbar.layers.hub_set_screw`)."""
-    from cad.parts import motor
-
     ss = b.plan.hub_set_screw
     L = ss.length_mm
     k = b.kind(
@@ -678,8 +655,6 @@ def _set_screw(b: _Builder, m, hub_h: float, engaged: float) -> None:
 def _post_through_mount(parts: PartsSpec, m, a4) -> bool:
     """Does the A4 post screw head (under the base plate) land on the motor mount plate? Then
     the screw passes through it too; DesignError when the head would meet the motor housing."""
-    from cad.parts import motor
-
     cs = cat.get_cap_screw(cat.standoff_screw(parts.pin), "parts.pin")
     half = motor.mount_side_mm(m) / 2 + HEAD_CLEARANCE_MM
     r = cs.dk_mm / 2
@@ -697,8 +672,6 @@ def _post_through_mount(parts: PartsSpec, m, a4) -> bool:
 
 def _base_post_legs(b: _Builder, footprint_mm):
     """Base plate, motor mount plate (with its screws), A4 post and its screw, legs."""
-    from cad.parts import base, motor
-
     parts, plan = b.parts, b.plan
     m = cat.get_motor(parts.motor)
     pin = cat.get_shoulder_screw(parts.pin)
@@ -755,8 +728,6 @@ def _base_post_legs(b: _Builder, footprint_mm):
 
 
 def _post(b: _Builder, a4, pin, through: bool) -> None:
-    from cad.parts import base
-
     parts = b.parts
     s4 = b.plan.joints["A4"]
     post_h = s4.z_lower_top_mm
@@ -803,8 +774,6 @@ def _post(b: _Builder, a4, pin, through: bool) -> None:
 
 
 def _legs(b: _Builder, rect) -> None:
-    from cad.parts import base
-
     parts = b.parts
     m = cat.get_motor(parts.motor)
     leg_h = parts.motor_mount_thickness_mm + m.body_length_mm + base.LEG_GROUND_CLEARANCE_MM
@@ -830,8 +799,6 @@ def _legs(b: _Builder, rect) -> None:
 
 
 def _handle(b: _Builder, handle_shape) -> None:
-    from cad.parts import handle
-
     parts, plan = b.parts, b.plan
     t = parts.bar_thickness_mm
     floor = handle_floor_mm(plan, parts)  # tip flush with the (thinnest) coupler's bottom

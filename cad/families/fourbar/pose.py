@@ -9,6 +9,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from cad.data.materials import get_material
+from cad.export.shapes import placed
 from cad.kinematics.fourbar import FourBar, solve
 from cad.kinematics.linkgeom import tf_world_link
 from cad.parts import BODIES, PartInstance, planar_to_4x4
@@ -39,9 +41,6 @@ def posed_shapes(
     instances, tf_world_body: dict[str, np.ndarray], i: int = 0, listed_only: bool = True
 ):
     """``[(instance name, placed TopoDS_Shape, rgb)]`` of the assembly at pose ``i``."""
-    from cad.data.materials import get_material
-    from cad.export.shapes import placed
-
     out = []
     for inst in instances:
         if listed_only and not inst.kind.listed:

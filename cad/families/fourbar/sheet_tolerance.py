@@ -31,7 +31,10 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass
 
+from cad.assembly.fasteners import size_cap_screw
 from cad.data import catalog
+from cad.data.materials import SHEETS
+from cad.design import bounds
 
 #: The standard (or source) each sheet material's thickness band is from
 #: (:data:`cad.data.materials.SHEETS` ``source["thickness_range_mm"]`` gives the full text).
@@ -62,7 +65,6 @@ def sheet_bands(parts) -> dict[str, SheetBand]:
     :class:`cad.design.parts.PartsSpec`); empty unless ``parts.process == "laser"``."""
     if parts.process != "laser":
         return {}
-    from cad.data.materials import SHEETS
 
     plates = [("base_plate", parts.base_material, parts.base_thickness_mm, "base_thickness_mm"),
               ("motor_mount", parts.motor_mount_material, parts.motor_mount_thickness_mm,
@@ -154,8 +156,6 @@ def size_over_band(size: str, clamp_mm: float, hole, joint: str, field: str, cla
     ``L - c_lo <= `` the hole's thinnest depth. When no catalog length does, the nominal one
     is kept and a warning (:func:`cad.design.bounds.warn`) names ``joint``, each sheet and its
     band, the engagement it gets and the keys to change. No sheet: exactly ``size_cap_screw``."""
-    from cad.assembly.fasteners import size_cap_screw
-
     L0, e0 = size_cap_screw(size, clamp_mm, hole, joint, field, **blame)
     row = screw_row("", size, L0, clamp_mm, clamps, hole, bands)
     if row is None or row["verdict"] == "holds":
@@ -165,7 +165,6 @@ def size_over_band(size: str, clamp_mm: float, hole, joint: str, field: str, cla
     for L in catalog.get_cap_screw(size, field).lengths_mm:
         if lo - 1e-9 <= L <= hi + 1e-9:
             return L, L - clamp_mm
-    from cad.design import bounds
 
     keys = row["keys"]
     e_min, e_max = row["engagement_worst_mm"]
@@ -226,8 +225,6 @@ def pin_rows(plan, parts, bands: dict[str, SheetBand]) -> list[dict]:
 def warn_pins(rows: list[dict]) -> None:
     """A warning per pin row (:func:`pin_rows`) that misses, naming the joint, the sheets,
     the window and the keys to change."""
-    from cad.design import bounds
-
     for r in rows:
         if r["verdict"] == "holds":
             continue

@@ -16,13 +16,14 @@ import math
 
 import numpy as np
 
+from cad.data.materials import get_material
 from cad.errors import DesignError
 from cad.export.sim import SimBody, SimLoop, SimMesh, SimModel, SimMotor
+from cad.families.fourbar.pose import body_transforms
+from cad.kinematics.fourbar import solve
 
 
 def _rgba(material: str) -> tuple[float, float, float, float]:
-    from cad.data.materials import get_material
-
     return (*get_material(material).color_rgb, 1.0)
 
 
@@ -43,9 +44,6 @@ def sim_model(design, asm, link_props: dict, Jm_kg_m2: float, motor, phi1_rad: f
     ``asm``: the build's :class:`cad.assembly.model.AssemblyModel`; ``link_props``: MassProps
     per body in the link frame (SI); mesh files are ``parts/<kind>.stl`` of made parts.
     """
-    from cad.families.fourbar.pose import body_transforms
-    from cad.kinematics.fourbar import solve
-
     fb = design.linkage
     pose = solve(fb, np.array([phi1_rad]))
     tf = {b: v[0] for b, v in body_transforms(fb, [phi1_rad]).items()}

@@ -6,7 +6,10 @@ structure, the datasheet when a target is a datasheet figure only it computes.""
 from __future__ import annotations
 
 from cad.datasheet.limits import DATASHEET_TARGETS
+from cad.datasheet.run import device_datasheet
+from cad.errors import DesignError
 from cad.families.fourbar.inertia import target_values
+from cad.studies.codesign.report import optimize_fourbar
 from cad.studies.fit import precad_checks
 
 #: Target keys that need a build (the interference sweep, the structure model).
@@ -18,8 +21,6 @@ def check_values(design, fidelity: str, wanted: set[str]) -> tuple[dict, dict]:
     """(flat values, inertia model report) of ``design`` for the ``wanted`` target keys
     (:func:`cad.families.fourbar.inertia.target_values`; the datasheet's figures added for
     wanted keys only it has). Raises what the build raises (DesignError, GeometryError)."""
-    from cad.datasheet.run import device_datasheet
-
     values, report = target_values(design, fidelity, bool(wanted & BUILD_KEYS))
     if wanted & (set(DATASHEET_TARGETS) - BUILD_KEYS):  # figures only the datasheet has
         for r in device_datasheet(design, fidelity)["rows"]:
@@ -41,9 +42,6 @@ def optimize(design, options: dict) -> dict:
     (:func:`cad.studies.codesign.report.optimize_fourbar`). ``options`` as
     :attr:`cad.families.protocol.FamilyPackage.optimize`. Raises DesignError naming
     ``--method`` (a pantograph flag) or ``--objective``."""
-    from cad.errors import DesignError
-    from cad.studies.codesign.report import optimize_fourbar
-
     if options.get("method") is not None:
         raise DesignError("--method", f"{options['method']!r} is for pantograph designs; a "
                                       "four-bar takes --objective min-apparent-mass")

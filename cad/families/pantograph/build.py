@@ -63,15 +63,18 @@ from pathlib import Path
 
 import numpy as np
 
+from cad.data.materials import get_material
+from cad.device import encoder_bom_rows, resolve_device
 from cad.errors import DesignError
+from cad.export.sim import SIM_FORMATS, write_sim_files
 
 # every name of the former single-module builder stays importable from here
 from cad.families.pantograph.clearances import (  # noqa: F401
     CLEARANCE_THETA_SAMPLES,
     MIN_CLEARANCE_MM,
     clearance_poses,
-    pt_seg,
     clearances,
+    pt_seg,
     seg_seg_distance,
 )
 from cad.families.pantograph.dynamics import effective_mass, planar_props  # noqa: F401
@@ -85,15 +88,15 @@ from cad.families.pantograph.layout import (  # noqa: F401
     POST_TAP_DEPTH_MM,
     SET_SCREW_SIZES,
     flip_matrix,
+    home_xy_mm,
+    is_twin,
+    layout,
     leg_xy,
     lower_five_bar,
     rz,
-    workspace_square,
-    is_twin,
-    home_xy_mm,
-    layout,
     screw_plan,
     set_screw_plan,
+    workspace_square,
 )
 from cad.families.pantograph.motion import (  # noqa: F401
     MOTION_GRID,
@@ -108,17 +111,18 @@ from cad.families.pantograph.motion import (  # noqa: F401
     stroke_poses,
 )
 from cad.families.pantograph.placement import (  # noqa: F401
+    assembly,
     ground_parts,
     journal_parts,
     link_parts,
     motor_station,
     place_screw,
     place_set_screw,
-    assembly,
 )
-from cad.families.pantograph.report import PAPER_TABLE1, report_md_rows, build_report  # noqa: F401
-
-
+from cad.families.pantograph.report import PAPER_TABLE1, build_report, report_md_rows  # noqa: F401
+from cad.families.pantograph.sim import sim_model
+from cad.kinematics import twin_pantograph as tw
+from cad.pipeline.run import Stages, run_family
 
 #: Families this module builds (others of cad.design.pantograph are refused at load).
 FAMILIES = ("pantograph", "twin-pantograph")
@@ -155,16 +159,9 @@ def check_options(design, fidelity: str, phi1_deg, formats=frozenset()) -> None:
 def _write_sim(design, out_dir, formats, instances, bodies, lay, home) -> list[str]:
     """``<name>.xml`` (MJCF) / ``<name>.urdf`` of the mouse when asked, from the instance list
     (:mod:`cad.families.pantograph.sim`; meshes are ``parts/<kind>.stl``)."""
-    from cad.export.sim import SIM_FORMATS, write_sim_files
-
     if not set(formats) & set(SIM_FORMATS):
         return []
     import dataclasses
-
-    from cad.data.materials import get_material
-    from cad.device import resolve_device
-    from cad.families.pantograph.sim import sim_model
-    from cad.kinematics import twin_pantograph as tw
 
     th = math.radians(design.workspace["home_theta_deg"])
     ik = tw.ik(design.mechanism, np.array([[home[0], home[1], th]]))
@@ -269,15 +266,11 @@ def _title(b) -> str:
 def _encoder_rows(design) -> list[dict]:
     """The joint encoders the device carries (one per motor, no solid): BOM lines from the
     resolved device (:func:`cad.device.encoder_bom_rows`)."""
-    from cad.device import encoder_bom_rows, resolve_device
-
     return encoder_bom_rows(resolve_device(design))
 
 
 def _stages():
     """The family's stages of the one build driver (:class:`cad.pipeline.run.Stages`)."""
-    from cad.pipeline.run import Stages
-
     return Stages(
         check_options=check_options, assemble=assemble, interference=lambda b: interference(b.model, b.allow_interference),
         report=_report_of, md_rows=report_md_rows, stroke=stroke_poses, preview_title=_title,
@@ -308,8 +301,6 @@ def build(
     motion (:func:`~cad.families.pantograph.motion.interference`: pair, pose and volume
     named), unless allow_interference; GeometryError if a solid reaches below the bench.
     """
-    from cad.pipeline.run import run_family
-
     return run_family(_stages(), design, out_dir, formats, fidelity=fidelity,
                       allow_interference=allow_interference, progress=progress,
                       phi1_deg=phi1_deg)

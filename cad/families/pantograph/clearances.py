@@ -6,8 +6,12 @@ from __future__ import annotations
 
 import numpy as np
 
+from cad.data.catalog import get_bearing, get_cap_screw
 from cad.errors import InterferenceError
-from cad.families.pantograph.layout import leg_xy, lower_five_bar, is_twin, layout
+from cad.families.pantograph.layout import is_twin, layout, leg_xy, lower_five_bar
+from cad.kinematics import fivebar as fb5
+from cad.kinematics import twin_pantograph as tw
+from cad.parts import base
 
 #: Gap between moving parts in the same layer that covers the machined clevises' tolerance
 #: stack (mm). Formerly the refusal threshold of these 2-D figures; the build now refuses
@@ -50,9 +54,6 @@ def pt_seg(pt, p, q):
 
 def clearance_poses(design):
     """Workspace samples (N, 2 or 3) and the five-bar poses of each group there."""
-    from cad.kinematics import fivebar as fb5
-    from cad.kinematics import twin_pantograph as tw
-
     ws = design.workspace
     if is_twin(design):
         X = tw.workspace_grid(
@@ -82,9 +83,6 @@ def clearances(design, lay: dict | None = None) -> dict:
     crossing U0, the posts crossing every layer, the leg screw heads standing in L0.
     Returns {check: {"gap_mm", "at": [x_mm, y_mm(, theta_deg)]}} and the overall minimum.
     """
-    from cad.data.catalog import get_bearing, get_cap_screw
-    from cad.parts import base
-
     lay = lay or layout(design)
     p = design.parts
     fb = lower_five_bar(design)

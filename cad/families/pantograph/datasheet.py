@@ -25,7 +25,11 @@ import math
 import numpy as np
 
 from cad.datasheet import row
+from cad.datasheet.limits import pantograph_limits
+from cad.device import resolve_device
+from cad.families.pantograph.mode_ceiling import mode_ceiling
 from cad.io.escape import mathtext
+from cad.structure.pantograph import WEB_WIDTH_MIN_MM, analyse
 
 #: Translational task coordinates (columns of J) per family.
 FORCE_COLS = {"pantograph": (0, 1), "twin-pantograph": (0, 1), "haptic-pen": (0, 1, 2)}
@@ -83,8 +87,6 @@ def motor_torques_mNm(design, field: str) -> tuple[np.ndarray | None, tuple]:
     ``torque_peak_mNm``). Source: the resolved device (:func:`cad.device.resolve_device`:
     ``parts.motor`` / ``parts.waist_motor`` with the ``[motor]`` table), the one read of the
     motors for these rows."""
-    from cad.device import resolve_device
-
     specs = tuple(m.spec for m in resolve_device(design).motors)
     vals = [getattr(m, field) for m in specs]
     return (None if any(v is None for v in vals) else np.asarray(vals, float)), specs
@@ -162,7 +164,6 @@ def structure(design, report: dict) -> dict | None:
     own rows, per arm: :func:`cad.families.pen.datasheet.structure`) or a report without bodies."""
     if design.family not in ("pantograph", "twin-pantograph") or not report.get("bodies"):
         return None
-    from cad.structure.pantograph import WEB_WIDTH_MIN_MM, analyse
 
     web = (report.get("layout_mm") or {}).get("web_width_mm", WEB_WIDTH_MIN_MM)
     return analyse(design, report["bodies"], float(design.actuators["force_max_N"]), web)
@@ -200,9 +201,6 @@ def structure_rows(st: dict) -> list[dict]:
 
 def rows_and_limits(design, report: dict, out_dir=None, simulate_wall: bool = True):
     """(rows, limits, notes) of a pantograph-family build (module docstring)."""
-    from cad.datasheet.limits import pantograph_limits
-    from cad.device import resolve_device
-
     A, sig, ok = force_ellipses(design)
     ws = design.workspace
     smin, smaxv = sig[ok, -1], sig[ok, 0]
@@ -277,9 +275,6 @@ def mode_blocker(design, report: dict, st: dict | None, limits: dict) -> list[di
     lim = limits.get("first_mode_Hz")
     if st is None or lim is None or lim.met(st["first_mode_Hz"]):
         return []
-    from cad.families.pantograph.mode_ceiling import mode_ceiling
-    from cad.structure.pantograph import WEB_WIDTH_MIN_MM
-
     web = (report.get("layout_mm") or {}).get("web_width_mm", WEB_WIDTH_MIN_MM)
     c = mode_ceiling(design, report["bodies"], web, lim.value)
     limits["first_mode_Hz"] = dataclasses.replace(lim, change=f"{lim.change}; {c['text']}")

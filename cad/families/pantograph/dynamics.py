@@ -7,13 +7,15 @@ import math
 
 import numpy as np
 
+from cad.device import resolve_device
 from cad.families.pantograph.layout import is_twin
+from cad.kinematics import fivebar as fb5
+from cad.kinematics import twin_pantograph as tw
+from cad.kinematics.fivebar import LinkMass
 
 
 def planar_props(mp):
     """MassProps (3-D, link frame) -> LinkMass (mass, COM xy, Izz about the COM)."""
-    from cad.kinematics.fivebar import LinkMass
-
     return LinkMass(
         float(mp.mass_kg),
         (float(mp.com_m[0]), float(mp.com_m[1])),
@@ -23,10 +25,6 @@ def planar_props(mp):
 
 def effective_mass(design, bodies: dict, home: np.ndarray) -> tuple[dict, dict | None]:
     """Effective mass at home (with and, for the mouse, without rotor inertia)."""
-    from cad.device import resolve_device
-    from cad.kinematics import fivebar as fb5
-    from cad.kinematics import twin_pantograph as tw
-
     rotor = resolve_device(design).motor.rotor_inertia_kg_m2  # the motors the BOM orders
 
     def fbm(pre: str, jm: float):

@@ -4,25 +4,33 @@ screws, the knob, and the twin's crankshaft, posts and bridge."""
 
 from __future__ import annotations
 
+from cad.data.catalog import (
+    FASTENER_MATERIAL,
+    clearance_hole_mm,
+    get_bearing,
+    get_cap_screw,
+    tap_drill_mm,
+)
+from cad.data.fits import fit
+from cad.device import parts_motor
 from cad.families.pantograph.layout import (
     KNOB_BORE_DEPTH_MM,
     PLAIN_KNOB_DIAMETER_MM,
     POST_SCREW,
     POST_TAP_DEPTH_MM,
+    is_twin,
     leg_xy,
     lower_five_bar,
-    is_twin,
 )
+from cad.parts import PartKind, base, joints
+from cad.parts import motor as pm
+from cad.parts import pantograph as pp
 
 
 def part_kinds(design, lay: dict, fidelity: str) -> dict:
     """Every distinct part (:class:`cad.parts.PartKind`) of the design, by name (in the
     order the part groups below add them)."""
     from types import SimpleNamespace
-
-    from cad.data.catalog import get_bearing
-    from cad.device import parts_motor
-    from cad.parts import PartKind
 
     p = design.parts
     fb = lower_five_bar(design)
@@ -56,14 +64,6 @@ def part_kinds(design, lay: dict, fidelity: str) -> dict:
 
 def _clevis_kinds(add, K: dict, c) -> None:
     """The three clevises (hub on the motor shaft, pin, bearing) and the hub's set screw."""
-    from cad.data.catalog import (
-        FASTENER_MATERIAL,
-        tap_drill_mm,
-    )
-    from cad.data.fits import fit
-    from cad.parts import motor as pm
-    from cad.parts import pantograph as pp
-
     p, lay, brg, mot = c.p, c.lay, c.brg, c.mot
     cl = dict(
         length_mm=p.clevis_length_mm,
@@ -116,10 +116,6 @@ def _clevis_kinds(add, K: dict, c) -> None:
 
 def _link_kinds(add, K: dict, c) -> None:
     """The tubes, the elbow pins and the ball bearing of the links."""
-    from cad.data.fits import fit
-    from cad.parts import joints
-    from cad.parts import pantograph as pp
-
     p, lay, brg, fidelity = c.p, c.lay, c.brg, c.fidelity
     tm = p.tube_material
     for which in ("proximal", "distal"):
@@ -173,9 +169,6 @@ def _link_kinds(add, K: dict, c) -> None:
 
 def _motor_kinds(add, K: dict, c) -> None:
     """The motor, its shaft (a solid of the motor, not listed) and its mount plate."""
-    from cad.data.fits import fit
-    from cad.parts import motor as pm
-
     p, mot = c.p, c.mot
     add(
         "motor",
@@ -214,15 +207,6 @@ def _plate_holes(c) -> tuple:
     """Holes of the base and bridge plates ``(x_mm, y_mm, diameter_mm)``: ``(motor openings,
     mount screw taps, post clearance holes, leg clearance holes, mount screw size, plate
     thickness mm)``."""
-    from cad.data.catalog import (
-        clearance_hole_mm,
-        get_cap_screw,
-        tap_drill_mm,
-    )
-    from cad.parts import base
-    from cad.parts import motor as pm
-    from cad.parts import pantograph as pp
-
     p, lay, mot, B = c.p, c.lay, c.mot, c.B
     pt = p.plate_thickness_mm
     mount_holes = [
@@ -243,9 +227,6 @@ def _plate_holes(c) -> tuple:
 
 def _base_kinds(add, K: dict, c, holes) -> None:
     """The base plate (motors under it, legs at its corners) and the leg standoffs."""
-    from cad.parts import base
-    from cad.parts import pantograph as pp
-
     p, lay = c.p, c.lay
     openings, mount_holes, post_holes, leg_holes, ms, pt = holes
     add(
@@ -275,12 +256,6 @@ def _base_kinds(add, K: dict, c, holes) -> None:
 
 def _screws_kinds(add, K: dict, c) -> None:
     """One cap screw kind per screw group of :func:`cad.families.pantograph.layout.screw_plan` (also under the alias ``_<group>_screw``)."""
-    from cad.data.catalog import (
-        FASTENER_MATERIAL,
-        get_cap_screw,
-    )
-    from cad.parts import joints
-
     lay = c.lay
     steel = FASTENER_MATERIAL
 
@@ -305,9 +280,6 @@ def _screws_kinds(add, K: dict, c) -> None:
 
 def _knob_kinds(add, K: dict, c) -> None:
     """The knob and, on the plain 5-bar, the handle pin; the mouse's knob rides the crankshaft."""
-    from cad.data.fits import fit
-    from cad.parts import pantograph as pp
-
     design, p, lay, brg, twin = c.design, c.p, c.lay, c.brg, c.twin
     kd = design.mechanism.knob_diameter_mm if twin else PLAIN_KNOB_DIAMETER_MM
     add(
@@ -336,12 +308,6 @@ def _knob_kinds(add, K: dict, c) -> None:
 
 def _twin_kinds(add, K: dict, c, holes) -> None:
     """The twin pantograph's crankshaft, bridge posts and bridge plate."""
-    from cad.data.catalog import (
-        tap_drill_mm,
-    )
-    from cad.data.fits import fit
-    from cad.parts import pantograph as pp
-
     design, p, lay, brg = c.design, c.p, c.lay, c.brg
     openings, mount_holes, post_holes, leg_holes, ms, pt = holes
     l6 = design.mechanism.crank_mm

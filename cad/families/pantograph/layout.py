@@ -13,8 +13,13 @@ import math
 
 import numpy as np
 
+from cad.assembly import fasteners as fs
+from cad.data.catalog import get_bearing, get_motor, thread_diameter_mm
 from cad.errors import DesignError
 from cad.isotropy.gii import workspace_half_mm
+from cad.parts import base
+from cad.parts import motor as pm
+from cad.parts.motor import mount_side_mm
 
 #: Posts: offset along x from each actuated joint (mm), and their screws.
 POST_DX_MM = 22.0
@@ -60,11 +65,6 @@ def screw_plan(design) -> dict[str, dict]:
     full-thread depth). Group -> size, clamp_mm, length_mm, engagement_mm, depth_mm,
     min_engagement_mm, joint, clamps (parts clamped, head side first). DesignError naming
     the joint when no catalog length fits."""
-    from cad.assembly import fasteners as fs
-    from cad.data.catalog import get_motor
-    from cad.parts import base
-    from cad.parts import motor as pm
-
     p = design.parts
     m = get_motor(p.motor)
     pt, mt = p.plate_thickness_mm, p.motor_mount_thickness_mm
@@ -106,9 +106,6 @@ def set_screw_plan(design) -> dict:
     depth). Returns size, length_mm, engagement_mm (= L), depth_mm, wall_mm, shaft_radius_mm,
     min_engagement_mm. DesignError naming ``parts.clevis_width_mm`` when no size fits,
     ``parts.clevis_height_mm`` when the shaft ends short of the screw."""
-    from cad.assembly import fasteners as fs
-    from cad.data.catalog import get_motor, thread_diameter_mm
-
     p = design.parts
     m = get_motor(p.motor)
     r_in, r_out = m.shaft_diameter_mm / 2, p.clevis_width_mm / 2
@@ -131,10 +128,6 @@ def set_screw_plan(design) -> dict:
 
 def layout(design) -> dict:
     """Heights and plate extents of the assembly (mm), from the design only (no CAD)."""
-    from cad.data.catalog import get_bearing, get_motor
-    from cad.parts import base
-    from cad.parts.motor import mount_side_mm
-
     twin = is_twin(design)
     p = design.parts
     a = design.params["base_mm"]
@@ -226,8 +219,6 @@ def flip_matrix() -> np.ndarray:
 
 
 def leg_xy(lay: dict) -> list[tuple[float, float]]:
-    from cad.parts import base
-
     (x0, x1), (y0, y1) = lay["base_plate_x_mm"], lay["base_plate_y_mm"]
     return base.leg_xy_mm((x0, y0, x1, y1))
 

@@ -26,6 +26,10 @@ from __future__ import annotations
 import copy
 import dataclasses
 
+from cad.data.catalog import get_motor, thread_diameter_mm
+from cad.families.pantograph.layout import set_screw_plan
+from cad.structure.pantograph import first_modes, pose_frames, tube_mass_kg
+
 #: Tube materials searched (with elastic data in :mod:`cad.structure.elastic`).
 TUBE_MATERIALS = ("carbon-fibre", "aluminium-7075", "titanium-6al4v")
 #: Tube walls searched (mm).
@@ -40,8 +44,6 @@ OD_SEARCH_STEP_MM = 0.25
 def _rebased(design0, design, bodies: dict) -> dict:
     """``bodies`` of ``design0``'s build with each link's tube mass replaced by ``design``'s
     (same link lengths), placed at the tube's centre (L / 2 in the link frame)."""
-    from cad.structure.pantograph import tube_mass_kg
-
     out = copy.deepcopy(bodies)
     for name, b in out.items():
         kind = next((k for k in ("proximal", "distal") if f"{k}_" in name), None)
@@ -57,9 +59,6 @@ def _rebased(design0, design, bodies: dict) -> dict:
 
 def clevis_height_max_mm(design) -> float:
     """Largest ``clevis_height_mm`` the motor shaft allows (module docstring), mm."""
-    from cad.data.catalog import get_motor, thread_diameter_mm
-    from cad.families.pantograph.layout import set_screw_plan
-
     p = design.parts
     m = get_motor(p.motor)
     engaged = m.shaft_length_mm - p.plate_thickness_mm - p.motor_mount_thickness_mm - p.layer_gap_mm
@@ -79,8 +78,6 @@ def mode_ceiling(design, bodies: dict, web_width_mm: float, limit_Hz: float) -> 
     design), ``clevis_height_max_mm``, ``tube_od_max_mm``, ``best`` (``first_mode_Hz``,
     ``plane``, ``tube_od_mm``, ``tube_id_mm``, ``tube_material``), ``od_needed_mm`` (None
     when even :data:`OD_SEARCH_MAX_MM` falls short) and ``text``: one line for a reader."""
-    from cad.structure.pantograph import first_modes, pose_frames
-
     frames = pose_frames(design)
     now = first_modes(design, bodies, web_width_mm, frames)
     h_max = clevis_height_max_mm(design)

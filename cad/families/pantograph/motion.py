@@ -9,9 +9,22 @@ import math
 
 import numpy as np
 
+from cad.assembly import interference as itf
+from cad.assembly.model import AssemblyModel
 from cad.errors import DesignError
-from cad.families.pantograph.layout import lower_five_bar, rz, workspace_square, is_twin, home_xy_mm, layout
+from cad.families.pantograph.layout import (
+    home_xy_mm,
+    is_twin,
+    layout,
+    lower_five_bar,
+    rz,
+    workspace_square,
+)
 from cad.families.pantograph.placement import assembly
+from cad.isotropy.gii import square_grid_mm
+from cad.kinematics import fivebar as fb5
+from cad.kinematics import twin_pantograph as tw
+from cad.parts import translation
 
 #: Poses of the stroke animation: the handle once round the workspace square.
 STROKE_POSES = 32
@@ -21,10 +34,6 @@ def body_poses(design, X) -> dict[str, np.ndarray]:
     """``{body: (N, 4, 4)}`` world poses (mm) with the handle at the workspace points ``X``
     ((N, 2) x, y mm; the twin pantograph (N, 3) x, y mm, theta rad), placed as
     :func:`assembly` places the bodies at home (tests compare the two)."""
-    from cad.kinematics import fivebar as fb5
-    from cad.kinematics import twin_pantograph as tw
-    from cad.parts import translation
-
     X = np.atleast_2d(np.asarray(X, dtype=float))
     n = len(X)
     fb = lower_five_bar(design)
@@ -99,9 +108,6 @@ def motion_points(design) -> tuple[np.ndarray, tuple[str, ...]]:
     :data:`MOTION_THETA_SAMPLES` crank angles over the full turn). Returns ``(X, labels)``:
     X (N, 2) x, y mm (twin: (N, 3) x, y mm, theta rad), N labels (``"x=-50 y=150 mm"``,
     twin ``"x=-50 y=150 mm theta=45 deg"``)."""
-    from cad.isotropy.gii import square_grid_mm
-    from cad.kinematics import twin_pantograph as tw
-
     ws = design.workspace
     home = home_xy_mm(design)
     if is_twin(design):
@@ -138,8 +144,6 @@ def assemble(design, fidelity: str = "fabrication"):
     :func:`motion_points`, ``pose_labels``), the tapped holes; ``extra``: ``layout`` (the
     :func:`layout` dict) and ``home_mm`` ((2,) mm). DesignError (``workspace``) when a motion
     pose cannot be reached."""
-    from cad.assembly.model import AssemblyModel
-
     lay = layout(design)
     inst, tfs, home, holes = assembly(design, lay, fidelity)
     X, labels = motion_points(design)
@@ -160,8 +164,6 @@ def interference(model, allow_interference: bool = False) -> dict:
     ``interference`` dict (``min_clearance_mm``, ``overlap_volume_mm3``, ``pairs``,
     ``collisions`` with parts, pose label and volume, ``n_poses`` ...). InterferenceError
     naming the pair, the pose and the volume of the first clash unless allow_interference."""
-    from cad.assembly import interference as itf
-
     rep = itf.check_model(model, joints=motor_joints(model.design),
                           fail_fast=not allow_interference)
     if not allow_interference:

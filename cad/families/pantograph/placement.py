@@ -12,8 +12,21 @@ import math
 
 import numpy as np
 
+from cad.assembly.fasteners import Fastener, TappedHole
+from cad.data.catalog import get_motor
 from cad.families.pantograph.kinds import part_kinds
-from cad.families.pantograph.layout import flip_matrix, leg_xy, lower_five_bar, rz, is_twin, home_xy_mm
+from cad.families.pantograph.layout import (
+    flip_matrix,
+    home_xy_mm,
+    is_twin,
+    leg_xy,
+    lower_five_bar,
+    rz,
+)
+from cad.kinematics import fivebar as fb5
+from cad.kinematics import twin_pantograph as tw
+from cad.parts import PartInstance, translation
+from cad.parts import motor as pm
 
 
 def link_parts(which: str, side: str, K: dict, lay: dict, p, elbow_pin: str) -> list:
@@ -47,10 +60,6 @@ def assembly(design, lay: dict, fidelity: str):
     :class:`cad.assembly.fasteners.Fastener` record); tf_world_body maps body -> 4x4 (mm);
     tapped_holes maps hole name -> :class:`cad.assembly.fasteners.TappedHole`.
     """
-    from cad.kinematics import fivebar as fb5
-    from cad.kinematics import twin_pantograph as tw
-    from cad.parts import PartInstance, translation
-
     p = design.parts
     twin = is_twin(design)
     K = part_kinds(design, lay, fidelity)
@@ -135,8 +144,6 @@ def journal_parts(inst: list, tfs: dict, end_body: str) -> list:
 def place_screw(place, holes, K, lay, group: str, name: str, hole: str, part: str, tf, clamps=None):
     """Place one screw of ``group`` (:func:`screw_plan`) with its fastener record, and the
     tapped hole ``hole`` (in the instance ``part``) it engages."""
-    from cad.assembly.fasteners import Fastener, TappedHole
-
     sp = lay["screws"][group]
     holes[hole] = TappedHole(hole, part, sp["size"], sp["depth_mm"], sp["min_engagement_mm"])
     f = Fastener("ISO 4762", sp["size"], sp["length_mm"], tuple(clamps or sp["clamps"]), hole,
@@ -148,8 +155,6 @@ def place_set_screw(place, holes, K, lay, body: str, tf_clevis) -> None:
     """The set screw of the hub clevis of ``body`` (clevis frame ``tf_clevis``): axis along
     -x at z = 0, flat point on the shaft surface (x = -shaft radius), its other end at or
     inside the clevis outer surface; the wall's tapped hole is its record's hole."""
-    from cad.assembly.fasteners import Fastener, TappedHole
-
     ss = lay["set_screw"]
     clevis = f"{body}.clevis_hub0"
     hole = f"{clevis}:set_screw"
@@ -166,10 +171,6 @@ def motor_station(place, holes, K, lay, p, tag: str, i: int, bxy, z_mount: float
     """One motor on its mount plate: the plate, the motor, the plate's screws into the
     base/bridge plate and the motor face screws (through the plate into the face's tapped
     holes; heads in the base/bridge plate's opening)."""
-    from cad.data.catalog import get_motor
-    from cad.parts import motor as pm
-    from cad.parts import translation
-
     mot = get_motor(p.motor)
     mt = p.motor_mount_thickness_mm
     bx, by = bxy
@@ -197,8 +198,6 @@ def motor_station(place, holes, K, lay, p, tag: str, i: int, bxy, z_mount: float
 def ground_parts(place, K, lay, p, B, twin) -> dict:
     """The fixed parts: base plate, legs, motors with their mounts, (mouse) posts and bridge.
     Returns the tapped holes the screws engage ({name: TappedHole})."""
-    from cad.parts import translation
-
     holes: dict = {}
     pt, mt = p.plate_thickness_mm, p.motor_mount_thickness_mm
     place("base_plate", K["base_plate"], "ground", translation(0, 0, -pt))

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from cad.device import resolve_device
 from cad.families.pantograph.layout import is_twin
 
 #: Paper Table 1 (haptic mouse at its home position).
@@ -16,8 +17,6 @@ PAPER_TABLE1 = {
 
 
 def build_report(design, lay, clr, bodies, eff, eff_bare, itf, bom, home, fidelity, low) -> dict:
-    from cad.device import resolve_device
-
     g = design.gii()
     mot = resolve_device(design).motor.spec  # the motor the BOM orders
     report = {

@@ -26,6 +26,8 @@ import math
 
 import numpy as np
 
+from cad.data.materials import get_material
+from cad.device import resolve_device
 from cad.errors import DesignError
 from cad.export.sim import SimBody, SimLoop, SimMesh, SimModel, SimMotor, rot_z
 
@@ -71,7 +73,6 @@ def _link_bodies(design, bodies: dict, lay: dict, ik, rotor_kg_m2: float, meshes
     l3 = design.params["distal_mm"]
     B = [(-a / 2, 0.0), (a / 2, 0.0)]
     flip = np.diag([1.0, -1.0, -1.0, 1.0])
-    from cad.device import resolve_device
 
     torque = peak_torque_Nm(resolve_device(design))  # the BOM's motors, not [actuators]
     out: list[SimBody] = []
@@ -190,9 +191,6 @@ def fivebar_sim_model(design, model, bodies: dict) -> SimModel:
     BOM motor's rotor inertia reflected through its transmission, force range = its peak
     torque (:func:`cad.device.resolve_device`), not the GII's ``[actuators]`` normalisation.
     """
-    from cad.data.materials import get_material
-    from cad.device import resolve_device
-
     T = model.tf_world_body
     l3 = design.params["distal_mm"] * 1e-3
     dev = resolve_device(design)

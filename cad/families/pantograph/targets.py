@@ -8,6 +8,11 @@ target needs it. (Was in cad/pipeline/inertia.py; the four-bar's part is
 
 from __future__ import annotations
 
+from cad.design.targets import PANTOGRAPH_DATASHEET_KEYS
+from cad.families import family_package
+from cad.families.pantograph.mode_ceiling import mode_ceiling
+from cad.structure.pantograph import WEB_WIDTH_MIN_MM
+
 #: Datasheet figures that need no build (the Jacobian, the motors, the encoder).
 NO_BUILD_KEYS = frozenset({"continuous_force_N", "peak_force_N", "force_any_dir_N", "force_best_dir_N",
                            "resolution_um"})
@@ -20,7 +25,6 @@ def pantograph_target_values(design, fidelity: str, wanted: set[str]) -> tuple[d
     import tempfile
     from pathlib import Path
 
-    from cad.design.targets import PANTOGRAPH_DATASHEET_KEYS
 
     values = {"gii": float(design.gii().gii)}
     rest = wanted - {"gii"}
@@ -46,8 +50,6 @@ def pantograph_target_values(design, fidelity: str, wanted: set[str]) -> tuple[d
 def datasheet_values(design, report: dict) -> dict[str, float]:
     """{row key: value} of the design's datasheet rows (its family's ``rows_and_limits`` on
     the build ``report``; ``{}`` for the rows that need no build), None values left out."""
-    from cad.families import family_package
-
     rows, _, _ = family_package(design.family).datasheet_rows(design, report, None,
                                                              simulate_wall=False)
     return {r["key"]: float(r["value"]) for r in rows if r["value"] is not None}
@@ -61,8 +63,5 @@ def mode_blocker_lines(design, report: dict, rows) -> list[str]:
     missed = [r for r in rows if r.key == "first_mode_Hz" and not r.ok and (r.target_data or {}).get("min") is not None]
     if not missed or not report.get("bodies"):
         return []
-    from cad.families.pantograph.mode_ceiling import mode_ceiling
-    from cad.structure.pantograph import WEB_WIDTH_MIN_MM
-
     web = (report.get("layout_mm") or {}).get("web_width_mm", WEB_WIDTH_MIN_MM)
     return [mode_ceiling(design, report["bodies"], web, float(missed[0].target_data["min"]))["text"]]

@@ -11,7 +11,16 @@ import math
 
 import numpy as np
 
+from cad.assembly.model import AssemblyModel
+from cad.data.catalog import clearance_hole_mm, get_cap_screw, get_motor, tap_drill_mm
+from cad.data.fits import fit
+from cad.device import parts_motor
 from cad.families.pen import layout as L
+from cad.kinematics import haptic_pen as hp
+from cad.parts import PartInstance, PartKind, base, joints, translation
+from cad.parts import motor as pm
+from cad.parts import pantograph as pp
+from cad.parts import pen as pp2
 
 
 def _rot(axis: str, deg: float) -> np.ndarray:
@@ -23,20 +32,11 @@ def _rot(axis: str, deg: float) -> np.ndarray:
 
 
 def _tr(x=0.0, y=0.0, z=0.0) -> np.ndarray:
-    from cad.parts import translation
-
     return translation(x, y, z)
 
 
 def _link_kinds(design, lay: dict, fidelity: str, add) -> None:
     """Clevises, tubes, pins, bearings, shoulder motors (the twin pantograph's hardware)."""
-    from cad.data.catalog import get_motor
-    from cad.data.fits import fit
-    from cad.parts import joints
-    from cad.parts import motor as pm
-    from cad.parts import pantograph as pp
-    from cad.parts import pen as pp2
-
     p = design.parts
     b, mot = lay["bearing"], get_motor(p.motor)
     cl = dict(length_mm=p.clevis_length_mm, width_mm=p.clevis_width_mm,
@@ -73,7 +73,6 @@ def _link_kinds(design, lay: dict, fidelity: str, add) -> None:
         f"ball bearing {b.designation} ({p.bearing})", "bought", mass_kg=b.mass_kg,
         inertia_model="ring", ring_mm=(b.d_mm / 2, b.D_mm / 2, b.B_mm),
         hull=joints.ring_shape(b.d_mm / 2, b.D_mm / 2, b.B_mm))
-    from cad.device import parts_motor
 
     for fld, tag in (("motor", "shoulder"), ("waist_motor", "waist")):
         m = parts_motor(design, fld)[0]  # [motor] applied: the motor the datasheet uses
@@ -86,10 +85,6 @@ def _link_kinds(design, lay: dict, fidelity: str, add) -> None:
 
 def _gimbal_kinds(design, lay: dict, add) -> None:
     """Yoke (with its journal), ring, ring pins, pen hub, pen rod."""
-    from cad.data.fits import fit
-    from cad.parts import pantograph as pp
-    from cad.parts import pen as pp2
-
     p = design.parts
     b = lay["bearing"]
     gm = p.gimbal_material
@@ -124,14 +119,7 @@ def _gimbal_kinds(design, lay: dict, add) -> None:
 
 def _ground_kinds(design, lay: dict, gl: dict, add) -> None:
     """Waist bracket and hub (moving with the waist), base plate, waist motor mounts, legs."""
-    from cad.data.catalog import clearance_hole_mm, get_cap_screw, get_motor, tap_drill_mm
-    from cad.data.fits import fit
     from cad.families.pen.fasteners import bracket_bolt_xz_mm
-    from cad.parts import base
-    from cad.parts import motor as pm
-    from cad.parts import pantograph as pp
-    from cad.parts import pen as pp2
-
     p = design.parts
     sm, wm = get_motor(p.motor), get_motor(p.waist_motor)
     l1 = design.mechanism.shoulder_base_mm
@@ -174,8 +162,6 @@ def _ground_kinds(design, lay: dict, gl: dict, add) -> None:
 
 
 def leg_xy(gl: dict):
-    from cad.parts import base
-
     (x0, x1), (y0, y1) = gl["base_plate_x_mm"], gl["base_plate_y_mm"]
     return base.leg_xy_mm((x0, y0, x1, y1))
 
@@ -242,8 +228,6 @@ def _ground_parts(design, gl: dict) -> list[tuple[str, str, np.ndarray]]:
 def kinds(design, lay: dict, gl: dict, fidelity: str) -> dict:
     """``{kind name: PartKind}`` of every distinct part of the pen (and ``"_screws"``: the
     cap screw kind of each screw group)."""
-    from cad.parts import PartKind
-
     K: dict = {}
 
     def add(name, shape, material, made, description, process, **kw):
@@ -270,10 +254,6 @@ def assemble(design, fidelity: str = "fabrication"):
     rad). Raises DesignError for hardware that does not fit (layout) or a pose of the motion
     that cannot be reached (``workspace``).
     """
-    from cad.assembly.model import AssemblyModel
-    from cad.kinematics import haptic_pen as hp
-    from cad.parts import PartInstance
-
     lay = L.layout(design)
     X, labels = L.motion_task(design)
     ws = design.workspace

@@ -22,7 +22,15 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from cad.assembly import interference as itf
+from cad.device import encoder_bom_rows, resolve_device
 from cad.errors import DesignError
+from cad.families.pen import assemble
+from cad.families.pen import layout as L
+from cad.families.pen.dynamics import effective_mass, mass_breakdown
+from cad.families.pen.layout import body_poses, stroke_task
+from cad.families.pen.sim import write_mjcf
+from cad.pipeline.run import Stages, run_family
 
 #: Table 3 of the isotropy paper (the built pen at home; g, g cm^2, N, N cm).
 PAPER_TABLE3 = {
@@ -50,7 +58,6 @@ def check_options(design, fidelity: str, phi1_deg, formats=frozenset()) -> None:
                           "the assembly is exported at the workspace centre")
     if "urdf" in set(formats):
         raise DesignError("--formats", "urdf is not written for the haptic pen (mjcf is)")
-    from cad.families.pen import layout as L
 
     L.layout(design)  # hardware that does not fit: named before any CAD
 
@@ -63,8 +70,6 @@ def interference(model, allow_interference: bool = False) -> dict:
     ``interference`` dict (``min_clearance_mm``, ``overlap_volume_mm3``, ``pairs``,
     ``collisions`` with parts, pose label and volume, ``n_poses`` ...); InterferenceError
     naming the pair, the pose and the volume of the first clash unless allow_interference."""
-    from cad.assembly import interference as itf
-
     rep = itf.check_model(model, fail_fast=not allow_interference)
     if not allow_interference:
         itf.raise_on_collision(rep, 0.0)
@@ -76,8 +81,6 @@ def interference(model, allow_interference: bool = False) -> dict:
 
 def _dynamics(b):
     """The 5 x 5 operational mass matrix at home (:func:`cad.families.pen.dynamics.effective_mass`)."""
-    from cad.families.pen.dynamics import effective_mass
-
     return effective_mass(b.design, b.bodies, b.model.extra["home_task"])
 
 
@@ -85,35 +88,26 @@ def _mjcf(b) -> list[str]:
     """``<name>.xml`` when ``mjcf`` is asked (:mod:`cad.families.pen.sim`)."""
     if "mjcf" not in b.formats:
         return []
-    from cad.families.pen.sim import write_mjcf
 
     return write_mjcf(b.design, b.model, b.bodies, b.out_dir)
 
 
 def _stroke(design):
-    from cad.families.pen.layout import body_poses, stroke_task
-
     return body_poses(design, stroke_task(design))
 
 
 def _assemble(design, fidelity: str):
-    from cad.families.pen import assemble
-
     return assemble(design, fidelity)
 
 
 def _encoder_rows(design) -> list[dict]:
     """The joint encoders the device carries (one per motor, no solid): BOM lines from the
     resolved device (:func:`cad.device.encoder_bom_rows`)."""
-    from cad.device import encoder_bom_rows, resolve_device
-
     return encoder_bom_rows(resolve_device(design))
 
 
 def _stages():
     """The pen's stages of the one build driver (:class:`cad.pipeline.run.Stages`)."""
-    from cad.pipeline.run import Stages
-
     return Stages(
         check_options=check_options, assemble=_assemble, interference=lambda b: interference(b.model, b.allow_interference),
         report=lambda b: {**_report(b.design, b.model, b.bodies, b.dyn, b.itf, b.bom, b.fidelity, b.low),
@@ -135,8 +129,6 @@ def build(design, out_dir: Path, formats: set[str], *, fidelity: str = "fabricat
     any pose of the motion (unless ``allow_interference``); GeometryError when a solid
     reaches below the bench plane.
     """
-    from cad.pipeline.run import run_family
-
     return run_family(_stages(), design, out_dir, formats, fidelity=fidelity,
                       allow_interference=allow_interference, progress=progress,
                       phi1_deg=phi1_deg)
@@ -199,8 +191,6 @@ def mass_breakdown_report(design, model, props: dict) -> dict:
     Table 3's 190 g beside it and the figure with the shoulder motors taken off the waists
     (``without_shoulder_motors_g``: what grounding them would leave; not the paper's layout,
     whose shoulder motors turn with the waists, §4.2). Grams."""
-    from cad.families.pen.dynamics import mass_breakdown
-
     parts: dict[str, list] = {}
     for i in model.instances:
         mp = props.get(i.kind.name)

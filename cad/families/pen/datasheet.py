@@ -14,6 +14,10 @@ free, the lower arm's figure) with the default limits of the planar pantographs
 from __future__ import annotations
 
 from cad.datasheet import row
+from cad.datasheet.limits import pantograph_limits
+from cad.families.pantograph.datasheet import motor_force_rows as rows_of
+from cad.families.pantograph.datasheet import rows_and_limits as pantograph_rows
+from cad.structure.pen import analyse
 
 #: report key of our figure -> the Table 3 key beside it.
 _PAPER = {"effective_mass_home.mass_x_g_apparent": "mass_x_g",
@@ -23,9 +27,6 @@ _PAPER = {"effective_mass_home.mass_x_g_apparent": "mass_x_g",
 
 def rows_and_limits(design, report: dict, out_dir=None, simulate_wall: bool = True):
     """(rows, limits, notes) of a haptic-pen build report (module docstring)."""
-    from cad.datasheet.limits import pantograph_limits
-    from cad.families.pantograph.datasheet import rows_and_limits as pantograph_rows
-
     rows, _, notes = pantograph_rows(design, report, out_dir, simulate_wall)
     paper = report.get("paper_table3") or {}
     st = structure(design, report)
@@ -60,7 +61,6 @@ def structure(design, report: dict) -> dict | None:
     force_max_N``; None for a report without bodies."""
     if not report.get("bodies"):
         return None
-    from cad.structure.pen import analyse
 
     return analyse(design, report["bodies"], float(design.actuators["force_max_N"]))
 
@@ -113,8 +113,6 @@ def motor_force_rows(design, paper: dict) -> list[dict]:
     catalog torques of the waist and shoulder motors
     (:func:`cad.families.pantograph.datasheet.motor_force_rows`); Table 3's smallest axis
     value beside each (its x, y, z figures are per axis)."""
-    from cad.families.pantograph.datasheet import motor_force_rows as rows_of
-
     return rows_of(design, paper)
 
 

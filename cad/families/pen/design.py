@@ -28,7 +28,10 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 from typing import Any
 
+from cad.data.catalog import get_bearing, get_motor
+from cad.data.materials import get_material
 from cad.design import pantograph as _pg
+from cad.design.bounds import PART_MM, check_number
 from cad.design.fields import check_unknown, optional_table
 from cad.errors import DesignError
 
@@ -75,10 +78,6 @@ class PenParts:
 def parse_pen_parts(table: dict[str, Any], prefix: str = "parts") -> PenParts:
     """Validate the ``[parts]`` table of a haptic pen (empty: the defaults); DesignError
     naming the key otherwise."""
-    from cad.data.catalog import get_bearing, get_motor
-    from cad.data.materials import get_material
-    from cad.design.bounds import PART_MM, check_number
-
     allowed = [k for k in _pg.PantographParts.__dataclass_fields__ if k not in MOUSE_ONLY]
     for key in MOUSE_ONLY:
         if key in table:

@@ -20,6 +20,9 @@ import math
 
 import numpy as np
 
+from cad.device import resolve_device
+from cad.families.pen.layout import body_poses
+from cad.kinematics import haptic_pen as hp
 from cad.tolerances import PEN_FD_STEP as FD_STEP
 
 
@@ -30,8 +33,6 @@ def _vee(W: np.ndarray) -> np.ndarray:
 def body_jacobians(design, X, step: float = FD_STEP) -> dict[str, tuple[np.ndarray, np.ndarray]]:
     """``{body: (J_origin (3, 5) m per unit v, J_w (3, 5) rad/s per unit v, T (4, 4) mm)}`` at
     task pose ``X`` (5,) (mm, rad), by central differences (:data:`FD_STEP`)."""
-    from cad.families.pen.layout import body_poses
-
     X = np.asarray(X, float)
     # d X / d v: mm per (m/s) for translations; yaw_dot = w_yaw / cos(pitch), pitch_dot = w_pitch
     D = np.diag([1e3, 1e3, 1e3, 1.0 / math.cos(X[4]), 1.0])
@@ -56,8 +57,6 @@ def mass_matrix_si(design, bodies: dict, X, rotor_kg_m2=None) -> np.ndarray:
     translations, kg m^2 for the rotations, SI mixed blocks. ``bodies``: ``{body: MassProps}``
     in the body frames of :func:`cad.families.pen.layout.body_poses`; ``rotor_kg_m2``: (6,)
     rotor inertias on the joints (default: the design's catalog motors)."""
-    from cad.kinematics import haptic_pen as hp
-
     M = np.zeros((5, 5))
     for b, (Jv, Jw, T) in body_jacobians(design, X).items():
         mp = bodies.get(b)
@@ -78,8 +77,6 @@ def mass_matrix_si(design, bodies: dict, X, rotor_kg_m2=None) -> np.ndarray:
 
 def rotor_inertias(design) -> np.ndarray:
     """(6,) rotor inertia (kg m^2) on the joints (q1 waist A, q2, q3, q4 waist B, q5, q6)."""
-    from cad.device import resolve_device
-
     jm = {m.joint: m.rotor_inertia_kg_m2 for m in resolve_device(design).motors}
     return np.array([jm[f"{a}_q_{j}"] for a in ("A", "B") for j in ("waist", "lower", "upper")])
 
@@ -113,8 +110,6 @@ def mass_breakdown(design, parts_by_body: dict, X, axis: str = "x", rotor_kg_m2=
     Returns ``{"axis", "total", "parts": [(body, label, value)], "rotors": [(joint, value)]}``,
     values in kg (translation axes) or kg m^2 (rotations), total = their sum.
     """
-    from cad.kinematics import haptic_pen as hp
-
     i = TASK_AXES.index(axis)
     parts = []
     for b, (Jv, Jw, T) in body_jacobians(design, X).items():

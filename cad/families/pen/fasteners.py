@@ -11,15 +11,17 @@ link side into each shoulder motor). The waist motors' faces take the shoulder m
 
 from __future__ import annotations
 
+from cad.assembly.fasteners import Fastener, TappedHole
+from cad.data.catalog import FASTENER_MATERIAL, get_cap_screw, get_motor
 from cad.errors import DesignError
+from cad.families.pantograph.build import screw_plan
+from cad.parts import joints
+from cad.parts import motor as pm
+from cad.parts import translation as tr
 
 
 def screw_kinds(design, add) -> dict[str, str]:
     """Add the cap screw kinds of every group; returns ``{group: kind name}``."""
-    from cad.data.catalog import FASTENER_MATERIAL, get_cap_screw, get_motor
-    from cad.families.pantograph.build import screw_plan
-    from cad.parts import joints
-
     p = design.parts
     sm, wm = get_motor(p.motor), get_motor(p.waist_motor)
     if (wm.bolt_size, wm.bolt_thread_depth_mm) != (sm.bolt_size, sm.bolt_thread_depth_mm):
@@ -40,9 +42,6 @@ def screw_kinds(design, add) -> dict[str, str]:
 
 def bracket_bolt_xz_mm(design) -> list[tuple[float, float]]:
     """(x, z) of the shoulder motor face screws in the waist frame (mm)."""
-    from cad.data.catalog import get_motor
-    from cad.parts import motor as pm
-
     l1 = design.mechanism.shoulder_base_mm
     return [(x, zs + y) for zs in (-l1 / 2, l1 / 2)
             for x, y in pm.motor_bolt_xy_mm(get_motor(design.parts.motor))]
@@ -51,12 +50,6 @@ def bracket_bolt_xz_mm(design) -> list[tuple[float, float]]:
 def place_screws(design, lay: dict, gl: dict, kinds: dict, place, rot) -> dict:
     """Place every screw (``place(name, kind, body, tf, fastener)``; ``rot(axis, deg)`` a 4x4
     rotation); returns ``{hole name: TappedHole}``."""
-    from cad.assembly.fasteners import Fastener, TappedHole
-    from cad.data.catalog import get_motor
-    from cad.families.pantograph.build import screw_plan
-    from cad.parts import motor as pm
-    from cad.parts import translation as tr
-
     plan = screw_plan(design)
     p = design.parts
     holes: dict = {}

@@ -35,7 +35,12 @@ import math
 
 import numpy as np
 
+from cad.data.catalog import get_bearing, get_motor
 from cad.errors import DesignError
+from cad.kinematics import fivebar as fb5
+from cad.kinematics import haptic_pen as hp
+from cad.parts import base
+from cad.parts.motor import mount_side_mm
 from cad.tolerances import PEN_FOOT_MARGIN_MM as FOOT_MARGIN_MM
 from cad.tolerances import PEN_GIMBAL_GAP_MM as GIMBAL_GAP_MM
 
@@ -53,16 +58,11 @@ MOTION_ROT = (-1.0, 0.0, 1.0)
 
 
 def _motor(key: str):
-    from cad.data.catalog import get_motor
-
     return get_motor(key)
 
 
 def layout(design) -> dict:
     """Offsets and sizes of the pen's assembly (mm), from the design only."""
-    from cad.data.catalog import get_bearing
-    from cad.parts.motor import mount_side_mm
-
     p = design.parts
     b = get_bearing(p.bearing)
     h, g = p.clevis_height_mm, p.layer_gap_mm
@@ -111,9 +111,6 @@ def layout(design) -> dict:
 def ground_layout(design, lay: dict, z_low_mm: float) -> dict:
     """Heights of the waist bracket's foot, the base plate and the bench (mm, world z), from
     the lowest link point over the motion ``z_low_mm``."""
-    from cad.parts import base
-    from cad.parts.motor import mount_side_mm
-
     p = design.parts
     wm = _motor(p.waist_motor)
     foot_top = z_low_mm - FOOT_MARGIN_MM
@@ -209,9 +206,6 @@ def body_poses(design, X) -> dict[str, np.ndarray]:
     """``{body: (N, 4, 4)}`` world poses (mm) at task poses ``X`` (N, 5) = (x, y, z mm, yaw,
     pitch rad) (module docstring); DesignError (``workspace``) naming how many poses cannot be
     reached and the first."""
-    from cad.kinematics import fivebar as fb5
-    from cad.kinematics import haptic_pen as hp
-
     pen = design.mechanism
     X = np.atleast_2d(np.asarray(X, float))
     n = len(X)
@@ -259,8 +253,6 @@ def body_poses(design, X) -> dict[str, np.ndarray]:
 
 def ik_elbows_ok(design, X) -> np.ndarray:
     """(N,) bool: every arm of the pen reaches ``X`` (status ok of the pen kinematics)."""
-    from cad.kinematics import haptic_pen as hp
-
     return hp.ik(design.mechanism, np.atleast_2d(X))[1] == 0
 
 

@@ -17,6 +17,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from cad.data.materials import get_material
+from cad.device import resolve_device
 from cad.export.sim import SimBody, SimLoop, SimMesh, SimModel, SimMotor, write_sim_files
 
 #: Distance of the two b-axis closure points from the gimbal centre (m).
@@ -38,9 +40,6 @@ def _joint_value(T_parent: np.ndarray, T_child: np.ndarray) -> float:
 def sim_model(design, model, bodies: dict) -> SimModel:
     """SimModel of the pen at home (module docstring). ``bodies``: MassProps per body (body
     frame, SI)."""
-    from cad.data.materials import get_material
-    from cad.device import resolve_device
-
     T = model.tf_world_body
     l3 = design.params["distal_mm"] * 1e-3
     l6 = design.mechanism.pen_mm * 1e-3

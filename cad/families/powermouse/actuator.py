@@ -7,11 +7,13 @@ from pathlib import Path
 
 import numpy as np
 
+from cad.actuators import voicecoil as vc
+from cad.io.atomic import atomic_path
+from cad.report.figures import save_figure
+
 
 def actuator_optimum(design) -> dict:
     """The gap used by the design and the eq (8) optimum under every field model (dict of dicts)."""
-    from cad.actuators import voicecoil as vc
-
     params = design.actuator.params()
     models = {}
     for m in vc.MODELS:
@@ -44,7 +46,6 @@ def fig8_chart(design, gap_mm: float, out_dir: Path) -> list[str]:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from cad.actuators import voicecoil as vc
 
     p = design.actuator.params()
     d = np.linspace(p.rattle_mm + 0.05, p.rattle_mm + 30.0, 200)
@@ -89,10 +90,8 @@ def fig8_chart(design, gap_mm: float, out_dir: Path) -> list[str]:
     ax2.set_ylabel("B_z on the magnet centre line (T)")
     ax2.set_title(f"gap {gap_mm:.2f} mm (eq 9 extended)")
     fig.tight_layout()
-    from cad.io.atomic import atomic_path
 
     names = []
-    from cad.report.figures import save_figure
 
     for ext in ("png", "svg"):  # same bytes every build (save_figure)
         target = Path(out_dir) / f"actuator_fig8.{ext}"
@@ -105,8 +104,6 @@ def fig8_chart(design, gap_mm: float, out_dir: Path) -> list[str]:
 
 def actuator_gap_mm(design) -> float:
     """The magnet gap d (mm): the design's, else the eq (8) optimum of its field model."""
-    from cad.actuators import voicecoil as vc
-
     a = design.actuator
     if a.gap_mm is not None:
         return a.gap_mm

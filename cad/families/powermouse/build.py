@@ -42,37 +42,43 @@ from pathlib import Path
 
 import numpy as np
 
+from cad.actuators import powermouse as pm
 from cad.errors import DesignError
+from cad.families.powermouse import parts as pp
 
 # every name of the former single-module builder stays importable from here
-from cad.families.powermouse.actuator import fig8_chart, actuator_gap_mm, actuator_optimum  # noqa: F401
+from cad.families.powermouse.actuator import actuator_gap_mm, actuator_optimum, fig8_chart  # noqa: F401
 from cad.families.powermouse.motion import (  # noqa: F401
-    pose_clearances,
-    pose_group,
     assemble,
     interference,
     motion_poses,
+    pose_clearances,
+    pose_group,
     stroke_poses,
 )
 from cad.families.powermouse.placement import (  # noqa: F401
     PARTS,
-    part_fits,
-    part_kind,
-    part_labels,
+    assembly,
     leg_parts,
+    lid_holes,
     lid_plans,
     lid_screws,
     materials,
+    part_fits,
+    part_kind,
+    part_labels,
     post_set_screw_parts,
     rig_parts,
     screw_uses,
     tf,
     turned_tips,
-    assembly,
-    lid_holes,
 )
-from cad.families.powermouse.report import PAPER_TABLE4, report_md_rows, build_report  # noqa: F401
-
+from cad.families.powermouse.report import PAPER_TABLE4, build_report, report_md_rows  # noqa: F401
+from cad.families.powermouse.sim import sim_model
+from cad.parts import voicecoil as pv
+from cad.pipeline import family
+from cad.pipeline.run import Stages, run_family
+from cad.pipeline.views import write_sim_model
 
 
 def check_options(design, fidelity: str, phi1_deg, formats=frozenset()) -> None:
@@ -82,7 +88,6 @@ def check_options(design, fidelity: str, phi1_deg, formats=frozenset()) -> None:
     if "urdf" in set(formats):
         raise DesignError("--formats", "urdf is not written for the PowerMouse: URDF has no force "
                           "actuator at a point (its six coils) and no free body; mjcf is")
-    from cad.families.powermouse import parts as pp
 
     pp.lid_screw_plan(design.stator.housing_wall_mm)  # walls too thin for the lid screws
     g = pp.geometry(design, actuator_gap_mm(design))  # the post's and the handle's shoulders
@@ -109,16 +114,12 @@ def _dynamics(b) -> dict:
 
 def rig_bom(rig) -> list[dict]:
     """The BOM rows of the single-actuator test rig's instances (its own kinds' masses)."""
-    from cad.pipeline import family
-
     return family.bom_rows(rig, family.kind_props(rig))
 
 
 def _wrench(design, act: dict, g, flotor_mp) -> tuple:
     """``(N per ampere-turn, wrench map about the cube centre (6, 6), its isotropy, wrench map
     about the flotor's COM)`` (:mod:`cad.actuators.powermouse`)."""
-    from cad.actuators import powermouse as pm
-
     coils = g.coils()
     gain_per_At = act["Bg_T"] * 2.0 * design.actuator.magnet_length_mm * 1e-3  # N per ampere-turn
     W = pm.wrench_map(coils, gain_per_At)
@@ -129,8 +130,6 @@ def _wrench(design, act: dict, g, flotor_mp) -> tuple:
 
 def _report_of(b) -> dict:
     """The family's report dict (:func:`cad.families.powermouse.report.build_report`)."""
-    from cad.parts import voicecoil as pv
-
     x, dy = b.model.extra, b.dyn
     itf, cl = b.itf
     return build_report(b.design, x["actuator"], x["actuator_geometry"], x["geometry"], dy["W"],
@@ -150,8 +149,6 @@ def _assembly(design) -> tuple:
 
 def _stages():
     """The PowerMouse's stages of the one build driver (:class:`cad.pipeline.run.Stages`)."""
-    from cad.pipeline.run import Stages
-
     return Stages(
         check_options=check_options, assemble=assemble, interference=lambda b: interference(b.model, b.allow_interference),
         report=_report_of, md_rows=report_md_rows, stroke=stroke_poses,
@@ -182,8 +179,6 @@ def build(
     poses. Raises InterferenceError when two solids share a volume at any of them
     (:func:`interference`), unless allow_interference.
     """
-    from cad.pipeline.run import run_family
-
     return run_family(_stages(), design, out_dir, formats, fidelity=fidelity,
                       allow_interference=allow_interference, progress=progress,
                       phi1_deg=phi1_deg)
@@ -228,17 +223,12 @@ PICTURE_CUTAWAY = ("housing_*", "iron_*", "magnet_*_outer-*", "flotor_body", "fl
 def _sim_files(b) -> list[str]:
     """``<name>.xml`` (MJCF) when asked: the free flotor and its coil actuators
     (:func:`cad.families.powermouse.sim.sim_model`)."""
-    from cad.families.powermouse.sim import sim_model
-    from cad.pipeline.views import write_sim_model
-
     return write_sim_model(lambda: sim_model(b.design, b.model, b.dyn["flotor_mp"], b.model.extra["actuator"]),
                            b.out_dir, b.formats, b.design.name)
 
 
 def _write_rig(b) -> list[str]:
     """The single-actuator test rig (Fig. 7) in ``rig/``: part files, assembly STEP, BOM."""
-    from cad.pipeline import family
-
     return [
         "rig/" + f
         for f in family.write_outputs(

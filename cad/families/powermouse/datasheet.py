@@ -16,12 +16,11 @@ from __future__ import annotations
 import numpy as np
 
 from cad.datasheet import row
+from cad.datasheet.limits import Limit
 
 
 def rows_and_limits(design, report: dict, out_dir=None, simulate_wall: bool = True):
     """(rows, limits, notes) of a PowerMouse build report (module docstring)."""
-    from cad.datasheet.limits import Limit
-
     paper = report.get("paper_table4") or {}
     mo = design.motion
     rows = [row("workspace", f"workspace +-{mo.range_mm:g} mm, +-{mo.range_deg:g} deg", mo.range_mm, "mm",

@@ -22,6 +22,7 @@ import json
 
 import numpy as np
 
+import cad
 from cad.firmware.spec import G0_M_S2
 from cad.io.escape import c_comment, c_string
 
@@ -241,6 +242,4 @@ def files(design, report: dict, design_hash: str, version: str) -> dict[str, str
 def device_files(design, report: dict, design_hash: str, device=None) -> dict[str, str]:
     """The family's firmware hook (:attr:`cad.families.protocol.FamilyPackage.firmware`):
     :func:`files` for this hapticad version (``device`` carries no fact the map needs)."""
-    import cad
-
     return files(design, report, design_hash, cad.__version__)

@@ -6,16 +6,20 @@ from __future__ import annotations
 
 import numpy as np
 
+from cad.actuators import powermouse as pm
+from cad.actuators.powermouse import rot_about
+from cad.assembly import interference as itf
+from cad.assembly.model import AssemblyModel
+from cad.families.powermouse import parts as pp
 from cad.families.powermouse.actuator import actuator_optimum
-from cad.families.powermouse.placement import tf, assembly, lid_holes
+from cad.families.powermouse.placement import assembly, lid_holes, tf
+from cad.parts import voicecoil as pv
 
 
 def stroke_poses(design) -> dict[str, np.ndarray]:
     """The flotor over its motion range for the animation, ``{body: (N, 4, 4)}`` mm: out
     to +range and -range along x, y, z, then +-range_deg about x, y, z (the cube centre),
     through the centre pose between each (:func:`cad.actuators.powermouse.rot_about`)."""
-    from cad.actuators.powermouse import rot_about
-
     r_mm, r_rad = design.motion.range_mm, np.deg2rad(design.motion.range_deg)
     poses = [np.eye(4)]
     for kind in ("t", "r"):
@@ -37,9 +41,6 @@ def motion_poses(design, g, fidelity: str) -> list[tuple[str, np.ndarray, np.nda
     (:func:`cad.actuators.powermouse.workspace_poses`: 26 translations, 26 rotations) and
     the combined poses that move the handle and post furthest
     (:func:`cad.families.powermouse.parts.combined_poses`); inertia / preview -- the 12 on-axis ones."""
-    from cad.actuators import powermouse as pm
-    from cad.families.powermouse import parts as pp
-
     poses = pm.workspace_poses(design.motion.range_mm, design.motion.range_deg)
     poses += pp.combined_poses(g)  # translation + rotation: the handle's and post's worst
     if fidelity != "fabrication":
@@ -62,10 +63,6 @@ def assemble(design, fidelity: str = "fabrication"):
     tapped holes; ``extra``: ``actuator`` (:func:`actuator_optimum`), ``geometry``
     (:class:`cad.families.powermouse.parts.PowerMouseGeometry`), ``actuator_geometry``,
     ``actuator_solids`` and ``rig`` (the test rig's instances, not part of the device)."""
-    from cad.assembly.model import AssemblyModel
-    from cad.families.powermouse import parts as pp
-    from cad.parts import voicecoil as pv
-
     act = actuator_optimum(design)
     gap = act["gap_mm"]
     g = pp.geometry(design, gap)
@@ -98,8 +95,6 @@ def interference(model, allow_interference: bool = False) -> tuple[dict, dict]:
     measured exactly. Returns ``(interference dict, {label: (clearance_mm, "flotor
     part/stator part", how)})``; InterferenceError naming the pair, the pose and the volume
     of the first clash unless allow_interference."""
-    from cad.assembly import interference as itf
-
     rep = itf.check_model(model, fail_fast=not allow_interference, groups=pose_group)
     if not allow_interference:
         itf.raise_on_collision(rep, 0.0)

@@ -47,7 +47,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from cad.actuators import powermouse as pm
+from cad.assembly import fasteners as fs
+from cad.assembly.fasteners import MIN_ENGAGEMENT_ALU_D, TAP_LEADOUT_MM
+from cad.assembly.interference import pose_clearances
+from cad.data.catalog import clearance_hole_mm, tap_drill_mm, thread_diameter_mm
 from cad.errors import DesignError
+from cad.parts.voicecoil import stadium
 from cad.tolerances import HOLE_MARGIN_MM, SEAT_MARGIN_MM
 
 #: Housing lid screws (ISO 4762): size, drilled depth of their tapped holes in the top of
@@ -112,9 +117,6 @@ def lid_screw_plan(
     length_mm, engagement_mm, depth_mm, min_engagement_mm. DesignError (``field``) when the
     wall cannot hold the tap drill with :data:`LID_HOLE_WALL_MM` each side (``hint``
     appended to the message)."""
-    from cad.assembly import fasteners as fs
-    from cad.data.catalog import tap_drill_mm, thread_diameter_mm
-
     need = tap_drill_mm(size) + 2 * LID_HOLE_WALL_MM
     if wall_mm < need - 1e-9:
         raise DesignError(
@@ -139,8 +141,6 @@ def flotor_lid_screw_plan(g: PowerMouseGeometry, material: str) -> dict:
     ``actuator.rattle_mm`` when the d_c wall cannot hold the tap drill, ``flotor.edge_mm``
     when a tap drill would come within :data:`LID_HOLE_WALL_MM` of the +-x coil pockets
     (their long axis is z: they reach l_m/2 + w_m from the face centre)."""
-    from cad.assembly.fasteners import MIN_ENGAGEMENT_ALU_D
-
     dc = g.coil_width_mm
     metal = material.startswith(_METALS)
     sp = lid_screw_plan(
@@ -167,9 +167,6 @@ def handle_plan(g: PowerMouseGeometry, material: str) -> dict:
     tip (2 d long) in a hole tapped through the corner boss (full thread = tip + lead-out).
     Minimum engagement 1.5 d in a metal flotor, 2 d in a plastic one. Returns size,
     engagement_mm, depth_mm, min_engagement_mm (mm)."""
-    from cad.assembly.fasteners import MIN_ENGAGEMENT_ALU_D, TAP_LEADOUT_MM
-    from cad.data.catalog import thread_diameter_mm
-
     d = thread_diameter_mm(HANDLE_THREAD)
     k = MIN_ENGAGEMENT_ALU_D if material.startswith(_METALS) else MIN_ENGAGEMENT_PLASTIC_D
     e = g.handle_thread_mm
@@ -187,9 +184,6 @@ def post_plan(g: PowerMouseGeometry) -> dict:
     ``stator.post_diameter_mm`` when none fits). Returns ``{"tip": {size, engagement_mm,
     depth_mm, min_engagement_mm}, "set_screw": {size, length_mm, engagement_mm, depth_mm,
     min_engagement_mm}}`` (mm)."""
-    from cad.assembly import fasteners as fs
-    from cad.data.catalog import thread_diameter_mm
-
     e = g.post_thread_mm
     tip = {"size": POST_THREAD, "engagement_mm": e, "depth_mm": e + POST_HOLE_EXTRA_MM,
            "min_engagement_mm": fs.MIN_ENGAGEMENT_ALU_D * thread_diameter_mm(POST_THREAD)}
@@ -205,16 +199,12 @@ def post_plan(g: PowerMouseGeometry) -> dict:
 def post_set_screw_s_mm(g: PowerMouseGeometry, size: str) -> float:
     """Axial place of the post set screw (diagonal, mm): beyond the housing's outer corner
     by its radius + 1 mm, so its whole hole is in the collar."""
-    from cad.data.catalog import thread_diameter_mm
-
     Ho = g.housing_inner_half_mm + g.housing_wall_mm
     return -Ho * _SQ3 - (thread_diameter_mm(size) / 2 + 1.0)
 
 
 def post_collar_end_s_mm(g: PowerMouseGeometry, size: str) -> float:
     """Outer end of the housing's post collar and of the post (diagonal, mm)."""
-    from cad.data.catalog import thread_diameter_mm
-
     return post_set_screw_s_mm(g, size) - (thread_diameter_mm(size) / 2 + 1.5)
 
 
@@ -235,8 +225,6 @@ def leg_plan(wall_mm: float) -> dict:
     :func:`cad.assembly.fasteners.size_cap_screw`). Returns size, clamp_mm, length_mm,
     engagement_mm, depth_mm, min_engagement_mm; DesignError naming
     ``stator.housing_wall_mm`` when no catalog length fits."""
-    from cad.assembly import fasteners as fs
-
     depth = LID_TAP_DRILL_DEPTH_MM - fs.TAP_LEADOUT_MM
     hole = fs.alu_hole("leg:top", "leg", LEG_SCREW, depth)
     L, e = fs.size_cap_screw(LEG_SCREW, wall_mm, hole, "housing to its legs",
@@ -266,7 +254,6 @@ def leg_shape(g: PowerMouseGeometry):
     tapped at the top (tap drill :data:`LID_TAP_DRILL_DEPTH_MM` deep)."""
     import build123d as bd
 
-    from cad.data.catalog import tap_drill_mm
 
     h, a = leg_height_mm(g), (bd.Align.CENTER, bd.Align.CENTER, bd.Align.MIN)
     leg = bd.Pos(0, 0, -h) * bd.Cylinder(LEG_DIAMETER_MM / 2, h, align=a)
@@ -279,7 +266,6 @@ def _leg_screw_holes(g: PowerMouseGeometry):
     """Clearance holes for the leg screws through the housing's bottom wall."""
     import build123d as bd
 
-    from cad.data.catalog import clearance_hole_mm
 
     Ho, w = g.housing_inner_half_mm + g.housing_wall_mm, g.housing_wall_mm
     a = (bd.Align.CENTER, bd.Align.CENTER, bd.Align.MIN)
@@ -309,7 +295,6 @@ def _screw_holes(xy, size: str, z_split: float, z_top: float):
     (:data:`LID_TAP_DRILL_DEPTH_MM` deep) into the side walls' tops below ``z_split``."""
     import build123d as bd
 
-    from cad.data.catalog import clearance_hole_mm, tap_drill_mm
 
     a = (bd.Align.CENTER, bd.Align.CENTER, bd.Align.MIN)
     cut = None
@@ -363,16 +348,12 @@ class PowerMouseGeometry:
     def handle_thread_mm(self) -> float:
         """Thread length of the handle stem's tip: 2 d (:data:`MIN_ENGAGEMENT_PLASTIC_D`,
         the longer rule, so the boss serves a plastic or a metal flotor)."""
-        from cad.data.catalog import thread_diameter_mm
-
         return MIN_ENGAGEMENT_PLASTIC_D * thread_diameter_mm(HANDLE_THREAD)
 
     @property
     def handle_boss_bottom_s_mm(self) -> float:
         """End of the handle boss inside the flotor (diagonal, mm): the tapped hole runs
         through the boss, its full thread the tip's thread + the tap lead-out."""
-        from cad.assembly.fasteners import TAP_LEADOUT_MM
-
         return self.handle_seat_s_mm - self.handle_thread_mm - TAP_LEADOUT_MM
 
     @property
@@ -386,9 +367,6 @@ class PowerMouseGeometry:
     @property
     def post_thread_mm(self) -> float:
         """Thread length of the post's tip in the core: 1.5 d (a metal core)."""
-        from cad.assembly.fasteners import MIN_ENGAGEMENT_ALU_D
-        from cad.data.catalog import thread_diameter_mm
-
         return MIN_ENGAGEMENT_ALU_D * thread_diameter_mm(POST_THREAD)
 
     @property
@@ -476,8 +454,6 @@ class PowerMouseGeometry:
         """The corner hole clears the post over the motion (:attr:`corner_hole_min_mm`) and
         stays :data:`COIL_WALL_MM` off the coil pockets. Advised limits are rounded inwards
         (a lower bound up, an upper bound down, to 0.01 mm), so following them builds."""
-        from cad.data.catalog import tap_drill_mm
-
         need, room = self.corner_hole_min_mm, 2 * (self._coil_distance_mm() - COIL_WALL_MM)
         if need > room + 1e-9:
             post_max = self.post_diameter_mm - (need - room)
@@ -550,8 +526,6 @@ class PowerMouseGeometry:
 
     def _validate_turned_parts(self) -> None:
         """The post and the handle stem must leave a 1 mm shoulder round their tips' tap drill."""
-        from cad.data.catalog import tap_drill_mm
-
         for field, dia, thread in (("stator.post_diameter_mm", self.post_diameter_mm, POST_THREAD),
                                    ("handle.diameter_mm", self.handle_diameter_mm, HANDLE_THREAD)):
             need = tap_drill_mm(thread) + 2.0
@@ -671,7 +645,6 @@ def flotor_solids(g: PowerMouseGeometry) -> dict[str, tuple[object, str]]:
     ``coil_<face>`` x6 and ``handle``."""
     import build123d as bd
 
-    from cad.parts.voicecoil import stadium
 
     E, dc = g.flotor_edge_mm, g.coil_width_mm
     w, lm = g.magnet_width_mm, g.magnet_length_mm
@@ -705,8 +678,6 @@ def _handle_boss(g: PowerMouseGeometry):
 
 def _handle_socket(g: PowerMouseGeometry):
     """The stem's socket (down to the seat) and the tap drill through the boss."""
-    from cad.data.catalog import tap_drill_mm
-
     top = g.flotor_edge_mm / 2 * _SQ3 + 1.0
     seat = g.handle_seat_s_mm
     return _diag_cylinder(g.handle_diameter_mm / 2, seat, top) + _diag_cylinder(
@@ -719,7 +690,6 @@ def _handle(g: PowerMouseGeometry):
     stem from the socket's seat out, spherical knob at its end."""
     import build123d as bd
 
-    from cad.data.catalog import tap_drill_mm
 
     seat = g.handle_seat_s_mm
     s1 = g.flotor_edge_mm / 2 * _SQ3 + g.handle_length_mm
@@ -784,9 +754,6 @@ def _core(g: PowerMouseGeometry):
     + the tap lead-out deep)."""
     import build123d as bd
 
-    from cad.assembly.fasteners import TAP_LEADOUT_MM
-    from cad.data.catalog import tap_drill_mm
-
     c, f = g.core_half_mm, g.core_flat_s_mm
     big = _SQ2 * (c * _SQ3 - f) + 1.0  # covers the corner's triangular section
     core = bd.Box(2 * c, 2 * c, 2 * c)
@@ -799,8 +766,6 @@ def _core(g: PowerMouseGeometry):
 def _post(g: PowerMouseGeometry, set_screw: str):
     """The stator post: turned tip (tap-drill diameter) into the core, shoulder on the
     core's flat, round body out through the housing to the collar's end."""
-    from cad.data.catalog import tap_drill_mm
-
     f = g.core_flat_s_mm
     body = _diag_cylinder(g.post_diameter_mm / 2, -f, post_collar_end_s_mm(g, set_screw))
     return body + _diag_cylinder(tap_drill_mm(POST_THREAD) / 2, -f, -f + g.post_thread_mm)
@@ -810,7 +775,6 @@ def _set_screw_drill(g: PowerMouseGeometry, size: str):
     """Tap drill of the post set screw: radial, from the post's axis out through the collar."""
     import build123d as bd
 
-    from cad.data.catalog import tap_drill_mm
 
     T = post_set_screw_tf(g, size)
     r, R = g.post_diameter_mm / 2, g.post_collar_radius_mm
@@ -883,8 +847,6 @@ def motion_clearances(
     counts as 0 when the solids do not overlap (common volume < 1e-6 mm^3); an overlap gives
     a negative clearance.
     """
-    from cad.assembly.interference import pose_clearances
-
     fl = flotor_solids(g) if flotor is None else flotor
     st = stator_solids(g) if stator is None else stator
 

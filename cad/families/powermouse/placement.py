@@ -6,6 +6,16 @@ from __future__ import annotations
 
 import numpy as np
 
+from cad.actuators import powermouse as pm
+from cad.assembly.fasteners import Fastener, TappedHole
+from cad.data.catalog import FASTENER_MATERIAL
+from cad.data.fits import fit
+from cad.export.shapes import placed
+from cad.families.powermouse import parts as pp
+from cad.occ.bbox import tight_box
+from cad.parts import PartInstance, PartKind, flip_x, joints, translation
+from cad.parts.motor import set_screw_shape
+
 
 def materials(design) -> dict[str, str]:
     return {
@@ -93,16 +103,12 @@ def tf(R, t) -> np.ndarray:
 
 def part_labels(g) -> dict:
     """Thread sizes and lengths named in the BOM texts of :data:`PARTS`."""
-    from cad.families.powermouse import parts as pp
-
     ss = pp.post_plan(g)["set_screw"]["size"]
     return {"ht": pp.HANDLE_THREAD.split("-")[0], "hl": g.handle_thread_mm,
             "pt": pp.POST_THREAD.split("-")[0], "pl": g.post_thread_mm, "st": ss.split("-")[0]}
 
 
 def part_kind(name, shape, role, design, labels=None, **kw):
-    from cad.parts import PartKind
-
     desc, proc, made = PARTS[name]
     if labels:
         desc, proc = desc.format(**labels), proc.format(**labels)
@@ -126,11 +132,6 @@ def assembly(design, g, acts) -> tuple[list, list]:
     and ``ground`` (the stator), both at the identity at the centre pose. Repeated parts
     (coils, magnets, iron plates) are one kind placed several times.
     """
-    from cad.actuators import powermouse as pm
-    from cad.export.shapes import placed
-    from cad.parts import PartInstance
-    from cad.families.powermouse import parts as pp
-
     fl, st = pp.flotor_solids(g), pp.stator_solids(g)
     coils = g.coils()
     inst: list = []
@@ -172,8 +173,6 @@ def assembly(design, g, acts) -> tuple[list, list]:
 def screw_uses(design, g) -> dict:
     """``{(size, length): "housing lid, legs"}``: what each ISO 4762 screw kind holds (one
     BOM row per kind, so screws of one size and length share its text)."""
-    from cad.families.powermouse import parts as pp
-
     uses: dict = {}
     for sp, _, _, _, lid, _ in lid_plans(design, g).values():
         uses.setdefault((sp["size"], sp["length_mm"]), []).append(lid.replace("_", " "))
@@ -185,10 +184,6 @@ def screw_uses(design, g) -> dict:
 def leg_parts(design, g) -> list:
     """The four legs under the housing and their ISO 4762 screws (from inside the housing,
     head on the bottom wall's inner face), each screw with its fastener record."""
-    from cad.assembly.fasteners import Fastener
-    from cad.parts import PartInstance, joints, translation
-    from cad.families.powermouse import parts as pp
-
     sp = pp.leg_plan(design.stator.housing_wall_mm)
     Ho = g.housing_inner_half_mm + g.housing_wall_mm
     leg = part_kind("pm_leg", pp.leg_shape(g), "base", design)
@@ -209,8 +204,6 @@ def part_fits(g) -> dict[str, tuple[str, ...]]:
     the housing collar's post bore on the stator post and the flotor's handle socket on the
     handle stem, both H7/g6 (diameters: ``stator.post_diameter_mm``,
     ``handle.diameter_mm``). No bearings in the PowerMouse."""
-    from cad.data.fits import fit
-
     return {
         "housing_body": (fit("post bore", g.post_diameter_mm),),
         "post": (fit("post", g.post_diameter_mm),),
@@ -222,9 +215,6 @@ def part_fits(g) -> dict[str, tuple[str, ...]]:
 def turned_tips(design, g) -> dict:
     """Fastener records of the two turned parts screwed in along the diagonal: ``handle``
     (its tip in the flotor's corner boss) and ``post`` (its tip in the core)."""
-    from cad.assembly.fasteners import Fastener
-    from cad.families.powermouse import parts as pp
-
     h, t = pp.handle_plan(g, design.flotor.material), pp.post_plan(g)["tip"]
     return {
         "handle": Fastener("turned tip", h["size"], h["engagement_mm"], (),
@@ -236,12 +226,6 @@ def turned_tips(design, g) -> dict:
 
 def post_set_screw_parts(g):
     """The ISO 4026 set screw locking the post in the housing's collar, with its record."""
-    from cad.assembly.fasteners import Fastener
-    from cad.data.catalog import FASTENER_MATERIAL
-    from cad.parts import PartInstance, PartKind
-    from cad.families.powermouse import parts as pp
-    from cad.parts.motor import set_screw_shape
-
     ss = pp.post_plan(g)["set_screw"]
     size, L = ss["size"], ss["length_mm"]
     kind = PartKind(
@@ -259,8 +243,6 @@ def lid_plans(design, g) -> dict:
     """``{prefix: (plan, screw (x, y) list, z of the lid's outer face, body, lid, tapped
     part)}`` for the housing lid (+z wall, screws from above) and the flotor lid (-z wall,
     screws from below) (:mod:`cad.families.powermouse.parts`)."""
-    from cad.families.powermouse import parts as pp
-
     return {
         "lid_screw": (pp.lid_screw_plan(design.stator.housing_wall_mm), pp.lid_screw_xy_mm(g),
                       g.housing_inner_half_mm + g.housing_wall_mm, "ground", "housing_lid",
@@ -277,9 +259,6 @@ def lid_holes(design, g) -> dict:
     engagement from :func:`cad.families.powermouse.parts.lid_screw_plan`), ``flotor_body:handle``,
     ``core:post`` and ``housing_body:post_set_screw``
     (:func:`cad.families.powermouse.parts.handle_plan`, :func:`cad.families.powermouse.parts.post_plan`)."""
-    from cad.assembly.fasteners import TappedHole
-    from cad.families.powermouse import parts as pp
-
     out = {}
     for sp, xy, _, _, _, part in lid_plans(design, g).values():
         for k in range(len(xy)):
@@ -299,9 +278,6 @@ def lid_holes(design, g) -> dict:
 def lid_screws(design, g) -> list:
     """The ISO 4762 screws holding the housing lid and the flotor lid (heads on the lid,
     shanks through its clearance holes into the side walls), each with its fastener record."""
-    from cad.assembly.fasteners import Fastener
-    from cad.parts import PartInstance, flip_x, joints, translation
-
     out, uses = [], screw_uses(design, g)
     for prefix, (sp, xy, z, body, lid, part) in lid_plans(design, g).items():
         size, L = sp["size"], sp["length_mm"]
@@ -320,9 +296,6 @@ def lid_screws(design, g) -> list:
 
 def rig_parts(design, acts) -> list:
     """The Fig. 7 test rig: instances of translated copies share one kind."""
-    from cad.occ.bbox import tight_box
-    from cad.parts import PartInstance, translation
-
     groups = {
         "magnet": "rig_magnet",
         "iron": "rig_iron_plate",

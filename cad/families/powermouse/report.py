@@ -5,6 +5,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from cad.actuators import powermouse as pm
+from cad.data.materials import get_material
 from cad.families.powermouse.motion import pose_clearances
 
 #: Paper Table 4 (PowerMouse performance), for side-by-side reporting.
@@ -61,9 +63,6 @@ def build_report(
     rattle_single,
     gain_per_At,
 ) -> dict:
-    from cad.actuators import powermouse as pm
-    from cad.data.materials import get_material
-
     peak_F = pm.peak_force_N(act["peak_force_N"])
     acc = pm.peak_acceleration_m_s2(act["peak_force_N"], flotor_mp.mass_kg)
     return {

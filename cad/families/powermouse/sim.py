@@ -19,6 +19,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from cad.actuators import powermouse as pm
+from cad.data.materials import get_material
 from cad.export.sim import SimBody, SimMesh, SimModel, SimMotor
 
 
@@ -29,9 +31,6 @@ def sim_model(design, model, flotor_mp, actuator: dict) -> SimModel:
     ``ground``, mm); ``flotor_mp``: the flotor's MassProps (flotor frame, SI); ``actuator``:
     the report's ``actuator`` dict (``peak_force_N``: one coil's force at peak power, N).
     """
-    from cad.actuators import powermouse as pm
-    from cad.data.materials import get_material
-
     g = model.extra["geometry"]
     made = {i.kind.name for i in model.instances if i.kind.made and i.kind.listed}
 

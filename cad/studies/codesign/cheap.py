@@ -33,12 +33,27 @@ import math
 
 import numpy as np
 
+from cad.data import catalog as cat
+from cad.data.materials import get_material
+from cad.dynamics.inertia import (
+    PlanarLinkInertia,
+    apparent_mass_matrix,
+    apparent_mass_summary,
+    h_from_links,
+)
+from cad.errors import HapticadError
+from cad.families.fourbar.layers import choose_layers, spacer_od_mm
+from cad.families.fourbar.pose import planar_transforms
+from cad.kinematics.fourbar import solve
+from cad.kinematics.linkgeom import link_joints_mm
+from cad.kinematics.metrics import path_frame
+from cad.parts import tubebars as tb
+from cad.parts.bars import Feature, hull_points, outline_area_mm2, pocket_segments
+
 STEEL = 7870.0
 
 
 def _rho(material: str) -> float:
-    from cad.data.materials import get_material
-
     return get_material(material).density_kg_m3
 
 
@@ -46,9 +61,6 @@ def _features(parts, J, link: str, plan=None) -> dict:
     """Joint features of a bar as :mod:`cad.parts.bars` wants them (sizes as the assembly):
     the bearing seat where ``link`` is the upper link of the joint in ``plan`` (without a
     plan: on the coupler), the pin hole elsewhere."""
-    from cad.data import catalog as cat
-    from cad.parts.bars import Feature
-
     brg = cat.get_bearing(parts.bearing)
     pin = cat.get_shoulder_screw(parts.pin)
     seat = Feature("seat", d_mm=brg.Da_mm, cb_d_mm=brg.D_mm, cb_depth_mm=brg.B_mm)
@@ -73,8 +85,6 @@ def tube_bar_props(parts, J, link: str, plan=None) -> tuple[float, np.ndarray, f
     each tube a thick-walled cylinder (m (3 (R^2 + r^2) + L^2) / 12 about its middle), each
     clevis its primitives (half disc + block per socket arm, two opposite arms a 2 Lc x w
     block; minus sockets, bore, seat annulus) as a point mass at its COM."""
-    from cad.parts import tubebars as tb
-
     feats = _features(parts, J, link, plan)
     pts = {n: p for n, (p, _) in feats.items()}
     segs = tb.segments(link, pts)
@@ -111,10 +121,6 @@ def tube_bar_props(parts, J, link: str, plan=None) -> tuple[float, np.ndarray, f
 def tube_problem(design) -> str | None:
     """Why tube bars cannot be made for this design (socket into a joint feature, bare tube
     too short, non-collinear joints), or None; plate bars: None."""
-    from cad.errors import HapticadError
-    from cad.kinematics.linkgeom import link_joints_mm
-    from cad.parts import tubebars as tb
-
     parts = design.parts
     if parts.bar_style != "tube":
         return None
@@ -129,8 +135,6 @@ def tube_problem(design) -> str | None:
 
 def bar_props(parts, J, link: str, plan=None) -> tuple[float, np.ndarray, float]:
     """(mass kg, COM m (2,), Izz about COM kg m^2) of a bar (module docstring)."""
-    from cad.parts.bars import hull_points, outline_area_mm2, pocket_segments
-
     if parts.bar_style == "tube":
         return tube_bar_props(parts, J, link, plan)
     feats = _features(parts, J, link, plan)
@@ -159,9 +163,6 @@ def joint_split_kg(parts, spacer_mm: float, pin_length_mm: float | None = None,
     spacer (``shim_mm``, default t - B + head clearance), nut or ring and washer (when ``nut``)
     on the lower link. ``pin_length_mm``: the pin's catalog length (default the clamp plus
     one bar thickness)."""
-    from cad.families.fourbar.layers import spacer_od_mm
-    from cad.data import catalog as cat
-
     brg = cat.get_bearing(parts.bearing)
     pin = cat.get_shoulder_screw(parts.pin)
     t = parts.bar_thickness_mm
@@ -198,11 +199,6 @@ def joint_hardware_kg(parts) -> float:
 def layer_plan(design, parts=None):
     """The layer plan of ``design`` (numpy only, the build's poses), or None when the planner
     finds no layout (the build refuses it)."""
-    from cad.families.fourbar.layers import choose_layers
-    from cad.families.fourbar.pose import planar_transforms
-    from cad.errors import HapticadError
-    from cad.kinematics.linkgeom import link_joints_mm
-
     parts = parts or design.parts
     fb = design.linkage
     phi = np.linspace(design.phi1_min_rad, design.phi1_max_rad, parts.interference_poses)
@@ -230,8 +226,6 @@ def hardware_items(parts, J, plan=None) -> dict[str, list[tuple[float, np.ndarra
 
 def handle_kg(parts) -> float:
     """Knob (solid cylinder less the screw bore) and its cap screw, kg."""
-    from cad.data import catalog as cat
-
     cs = cat.get_cap_screw(parts.handle_screw, "parts.handle_screw")
     d, h = parts.handle_diameter_mm, parts.handle_height_mm
     knob = math.pi / 4 * (d**2 * h - (cs.dk_mm + 1) ** 2 * 5.0) * 1e-9 * _rho(parts.handle_material)
@@ -243,10 +237,6 @@ def handle_kg(parts) -> float:
 def link_inertias(design, parts=None, plan=None) -> dict:
     """{link: PlanarLinkInertia} of the cheap model (module docstring); ``plan``: the layer
     plan (:func:`layer_plan`; None: the order-free split)."""
-    from cad.data import catalog as cat
-    from cad.dynamics.inertia import PlanarLinkInertia
-    from cad.kinematics.linkgeom import link_joints_mm
-
     parts = parts or design.parts
     J = link_joints_mm(design.linkage)
     hw = hardware_items(parts, J, plan)
@@ -268,8 +258,6 @@ def link_inertias(design, parts=None, plan=None) -> dict:
 
 
 def rotor_inertia_kg_m2(parts) -> float:
-    from cad.data import catalog as cat
-
     if parts.motor_rotor_inertia_g_cm2 is not None:
         return parts.motor_rotor_inertia_g_cm2 * 1e-7
     return cat.get_motor(parts.motor).rotor_inertia_kg_m2
@@ -279,10 +267,6 @@ def apparent_mass(design, parts=None, samples: int = 201, plan=False) -> dict:
     """Cheap-model H11..H33 and M11 range (g) of ``design`` (optionally other ``parts``);
     ``plan``: the layer plan (:func:`layer_plan`), computed when not given (False), None for
     the order-free split."""
-    from cad.dynamics.inertia import apparent_mass_matrix, apparent_mass_summary, h_from_links
-    from cad.kinematics.fourbar import solve
-    from cad.kinematics.metrics import path_frame
-
     parts = parts or design.parts
     if plan is False:
         plan = layer_plan(design, parts)

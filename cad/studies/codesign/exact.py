@@ -15,6 +15,12 @@ import copy
 import tempfile
 from pathlib import Path
 
+from cad.checks import miss_line as line
+from cad.design import parse_design
+from cad.design.writer import rebase_paths, write_design
+from cad.io.outdir import check_out_file
+from cad.pipeline import build_design
+
 
 def candidate_raw(design, cand, name: str) -> dict:
     """The raw design mapping of a candidate (source design's other tables kept)."""
@@ -29,9 +35,6 @@ def candidate_raw(design, cand, name: str) -> dict:
 
 def evaluate(design, cand, name: str) -> dict:
     """Exact numbers of one candidate (module docstring)."""
-    from cad.design import parse_design
-    from cad.pipeline import build_design
-
     d = parse_design(candidate_raw(design, cand, name), str(design.source))
     with tempfile.TemporaryDirectory(prefix="hapticad-codesign-") as tmp:
         rep = build_design(d, Path(tmp) / "b", set(), fidelity="inertia", allow_interference=True,
@@ -88,8 +91,6 @@ def misses(best_ex: dict, checked: list[dict]) -> list[dict]:
 
 def miss_line(m: dict) -> str:
     """One line for one missed target of :func:`misses` (:func:`cad.checks.miss_line`)."""
-    from cad.checks import miss_line as line
-
     return line(m["key"], m["target_text"], m["best"], m["written"])
 
 
@@ -99,10 +100,6 @@ def accepted(ex: dict) -> bool:
 
 def write_optimum(design, cand, out: Path, header: str) -> Path:
     """Write the candidate as a design TOML (validated by re-parsing before writing)."""
-    from cad.design import parse_design
-    from cad.design.writer import rebase_paths, write_design
-    from cad.io.outdir import check_out_file
-
     check_out_file(out, Path(design.source))  # never the input design (any link), never a folder
     raw = rebase_paths(candidate_raw(design, cand, out.stem), design.source, out)
     raw["description"] = f"optimum of {design.name}: light co-design (hapticad optimize --objective min-apparent-mass)"

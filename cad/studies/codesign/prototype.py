@@ -18,6 +18,10 @@ from __future__ import annotations
 
 import copy
 
+from cad.data.catalog import DEFAULT_ENCODER, MOTORS
+from cad.datasheet.limits import PROTOTYPE_FORCE_MIN_N, prototype_limits
+from cad.design import parse_design
+
 #: The fronts reported, each (name, x key, y key, figures relaxed besides the two): the pair
 #: the motor data make exclusive, continuous force up and friction down, every other limit
 #: judged in the loop met (:func:`motor_bound`).
@@ -28,10 +32,6 @@ FRONT_X, FRONT_Y = FRONTS[0][1], FRONTS[0][2]
 def prototype_design(design):
     """The brief of the search (module docstring): ``design`` with the §4 limits as
     ``[targets]``, no ``[stiffness]``, the paper's encoder, force_N at least the force limit."""
-    from cad.data.catalog import DEFAULT_ENCODER
-    from cad.datasheet.limits import prototype_limits
-    from cad.design import parse_design
-
     raw = copy.deepcopy(design.raw)
     lim = prototype_limits()
     raw["targets"] = {k: {("min" if v.op.startswith(">") else "max"): v.value} for k, v in lim.items()}
@@ -47,9 +47,6 @@ def prototype_design(design):
 def motor_bound(motor_key: str) -> dict:
     """The best (continuous force / friction) ratio any linkage can give with this motor,
     T_cont / (Kt I0), and the least friction at the force limit, F_min x Kt I0 / T_cont (N)."""
-    from cad.data.catalog import MOTORS
-    from cad.datasheet.limits import PROTOTYPE_FORCE_MIN_N
-
     m = MOTORS[motor_key]
     ratio = m.torque_continuous_mNm / m.friction_torque_mNm()
     return {"motor": motor_key, "ratio": ratio, "friction_at_force_limit_N": PROTOTYPE_FORCE_MIN_N / ratio}

@@ -5,6 +5,14 @@ from __future__ import annotations
 import time
 from pathlib import Path
 
+from cad.bench.common import save_chart
+from cad.datasheet.limits import prototype_limits
+from cad.datasheet.run import device_datasheet
+from cad.design import parse_design
+from cad.errors import HapticadError
+from cad.studies.codesign import exact, prototype, search
+from cad.studies.codesign.prototype import judged
+
 
 def optimize_fourbar(design, objective: str, trials: int, seed: int, top: int, chart_dir: Path | None,
                      progress=None, out_stem: str | None = None,
@@ -17,9 +25,6 @@ def optimize_fourbar(design, objective: str, trials: int, seed: int, top: int, c
     The report's ``misses``: the design's targets the accepted optimum misses
     (:func:`cad.studies.codesign.exact.misses`). Returns (JSON-able report, accepted Candidate
     or None)."""
-    from cad.errors import HapticadError
-    from cad.studies.codesign import exact, search
-
     t0 = time.perf_counter()
     if beat_prototype:
         from cad.studies.codesign.prototype import prototype_design
@@ -85,10 +90,6 @@ def _datasheet_check(design, cand) -> dict:
     inertia fidelity, the reduced-model wall threshold for K_max; a figure within its sampling
     error of the limit is "within sampling error", not a miss): {key: (value, verdict)} of
     its limited rows and ``ok``."""
-    from cad.datasheet.run import device_datasheet
-    from cad.design import parse_design
-    from cad.studies.codesign import exact
-
     d = parse_design(exact.candidate_raw(design, cand, f"{design.name}_candidate"), str(design.source))
     ds = device_datasheet(d)
     rows = {r["key"]: {"value": r["value"], "verdict": r["verdict"],
@@ -108,9 +109,6 @@ def _prototype_report(design, pb, records, best, chart_dir, out_stem) -> dict:
     """The --beat-prototype part of the report: the limits, the motors' bound, and without an
     accepted design the Pareto front of (continuous force, friction) with its two ends
     verified on the full datasheet."""
-    from cad.datasheet.limits import prototype_limits
-    from cad.studies.codesign import prototype, search
-
     lim = prototype_limits()
     out = {"limits": {k: {"op": v.op, "value": v.value, "reason": v.reason} for k, v in lim.items()},
            "motor_bounds": [prototype.motor_bound(k) for k in search.MOTOR_CONTINUOUS_TORQUE_MNM],
@@ -143,10 +141,6 @@ def plot_fronts(records, fronts: dict, lim, stem: Path) -> list[str]:
 
     matplotlib.use("Agg")
     from matplotlib.figure import Figure
-
-    from cad.bench.common import save_chart
-    from cad.studies.codesign import search
-    from cad.studies.codesign.prototype import judged
 
     fig = Figure(figsize=(6.5 * len(fronts), 4.5))
     axes = np.atleast_1d(fig.subplots(1, len(fronts)))
@@ -187,7 +181,6 @@ def plot_pareto(records, front, best, stem: Path) -> list[str]:
     matplotlib.use("Agg")
     from matplotlib.figure import Figure
 
-    from cad.bench.common import save_chart
 
     ok = [r for r in records if r.get("value") is not None]
     fig = Figure(figsize=(6.5, 4.5))

@@ -46,7 +46,25 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from cad.data import catalog as cat
 from cad.data.catalog import MOTORS
+from cad.datasheet.limits import Limit, fourbar_limits
+from cad.design import bounds
+from cad.design.parts import PartsSpec, parse_parts
+from cad.design.writer import custom_mechanism_table
+from cad.dynamics.inertia import InertiaCoefficients
+from cad.errors import HapticadError
+from cad.families.fourbar.datasheet import force_rows, friction, lever, stiffness_inputs
+from cad.families.fourbar.layers import choose_layers
+from cad.families.fourbar.pose import planar_transforms
+from cad.io import signals
+from cad.kinematics.linkgeom import link_joints_mm
+from cad.kinematics.metrics import compute_metrics
+from cad.sim import wall
+from cad.structure import device
+from cad.structure.device import link_material
+from cad.structure.elastic import get_elastic
+from cad.studies.codesign import cheap
 
 #: (bearing, pin) pairs whose pin diameter equals the bearing bore (bd_warehouse SKT + pins).
 JOINT_SETS = (
@@ -181,8 +199,6 @@ def fixed_parts(design) -> dict:
 
 def problem_from(design) -> Problem:
     """Requirements from the design's targets (bounds) with the defaults above."""
-    from cad.kinematics.metrics import compute_metrics
-
     tg = {t.key: t for t in design.targets}
     m = compute_metrics(design.linkage, design.phi1_min_rad, design.phi1_max_rad, design.force_N,
                         samples=401, refine=False)
@@ -211,9 +227,6 @@ def kinematics(pb: Problem, span_deg: float, shift_deg: float, ratios: dict | No
 
     ``ratios``: {PROPORTIONS key: factor} applied to the family's link dimensions before
     the scaling (l2 and phi_e kept), i.e. the proportions perturbed within the family."""
-    from cad.errors import HapticadError
-    from cad.kinematics.metrics import compute_metrics
-
     c = 0.5 * (pb.base_lo_rad + pb.base_hi_rad) + math.radians(shift_deg)
     lo, hi = c - math.radians(span_deg) / 2, c + math.radians(span_deg) / 2
     fb0 = pb.design.linkage
@@ -230,8 +243,6 @@ def kinematics(pb: Problem, span_deg: float, shift_deg: float, ratios: dict | No
 
 def end_radius_mm(bearing: str, width_mm: float, wall_mm: float, hub_d_mm: float, hub_screw: str) -> float:
     """Smallest bar end radius (0.5 mm steps) holding the bearing seat and the hub screws."""
-    from cad.data import catalog as cat
-
     D = cat.get_bearing(bearing).D_mm
     r_bc = (3.0 + hub_d_mm / 2) / 2
     need = max(width_mm / 2, D / 2 + wall_mm, r_bc + cat.clearance_hole_mm(hub_screw) / 2 + 1.0)
@@ -271,9 +282,6 @@ def suggest_parts(trial, pb: Problem) -> dict:
 def suggest_tube(trial, parts: dict) -> dict:
     """Tube bars (brief with ``bar_style = "tube"``): a stock tube, and the shortest clevis
     whose socket clears the bearing seat, the hub screw circle and the handle tap by 1 mm."""
-    from cad.data import catalog as cat
-    from cad.design.parts import PartsSpec
-
     od, idd = TUBE_STOCK_MM[trial.suggest_int("tube", 0, len(TUBE_STOCK_MM) - 1)]
     t = trial.suggest_categorical(f"clevis_thickness_od{od:g}",
                                   [x for x in CLEVIS_STOCK_MM if x >= od + 2.0])
@@ -305,8 +313,6 @@ def cheap_figures(design, samples: int = 201) -> dict:
     ``peak_force_N`` (motor torque / |dx/dphi1|, minimum over the stroke) and ``friction_N``
     (motor Kt I0 / |dx/dphi1|, maximum), by the datasheet's own functions
     (:mod:`cad.families.fourbar.datasheet`)."""
-    from cad.families.fourbar.datasheet import force_rows, friction, lever
-
     m = design.motor_spec()
     _, Jx, pose, a2, a3 = lever(design, samples)
     out = {r["key"]: r["value"] for r in force_rows(design, m, Jx) if r["value"] is not None}
@@ -321,10 +327,6 @@ def design_limits(design, m11: bool = True) -> dict:
     (:func:`cad.datasheet.limits.fourbar_limits`, the design's ``[targets]`` bounds over
     them) and, with ``m11``, an ``M11_max_g`` max target of the brief (the plain search
     minimizes M11 and checks its target on the exact optimum instead)."""
-    from cad.datasheet.limits import Limit, fourbar_limits
-    from cad.structure.device import link_material
-    from cad.structure.elastic import get_elastic
-
     lim = fourbar_limits(design, get_elastic(link_material(design.parts)).strength_MPa)
     for t in design.targets:
         if m11 and t.key == "M11_max_g" and t.max is not None:
@@ -349,11 +351,6 @@ def evaluate(pb: Problem, span_deg: float, shift_deg: float, parts: dict, best: 
     solid (:func:`cheap_figures`), then on the cheap M11 and the beam-frame structure (run only
     when the trial could beat ``best``, the best feasible M11 so far). ``info["misses"]``:
     {limit key: relative violation} of the limits missed."""
-    from cad.design.parts import parse_parts
-    from cad.design.writer import custom_mechanism_table
-    from cad.errors import HapticadError
-    from cad.studies.codesign import cheap
-
     k = kinematics(pb, span_deg, shift_deg, ratios)
     if k is None:
         return math.inf, {"infeasible": "crank range"}
@@ -418,10 +415,6 @@ def wall_stable(design, info: dict, K_N_per_m: float) -> bool:
     table: Te 0.33 ms, the design's encoder, Fs = its friction estimate, Fv = 0) with the
     cheap model's H (``info``)? The datasheet's K_max is the stability threshold of such walls
     (:func:`cad.sim.wall.k_max_estimate`, with its sampling error)."""
-    from cad.dynamics.inertia import InertiaCoefficients
-    from cad.families.fourbar.datasheet import lever, stiffness_inputs
-    from cad.sim import wall
-
     m = design.motor_spec()
     Jx = lever(design)[1]
     s, _ = stiffness_inputs(design, Jx, info.get("friction_N"))
@@ -438,11 +431,6 @@ def layer_problem(design):
     does not cure (numpy only, the build's poses). Without a given order it is planned
     strictly, as the build refuses: no clear order in any of the six is an objection
     (:func:`cad.families.fourbar.build.check_layout`)."""
-    from cad.families.fourbar.layers import choose_layers
-    from cad.families.fourbar.pose import planar_transforms
-    from cad.errors import HapticadError
-    from cad.kinematics.linkgeom import link_joints_mm
-
     parts = design.parts
     phi = np.linspace(design.phi1_min_rad, design.phi1_max_rad, parts.interference_poses)
     try:
@@ -459,10 +447,6 @@ def layer_problem(design):
 def cheap_structure(design, M11_max_g: float, plan=None) -> dict:
     """Frame structure with FE-calibrated bars (one pose, the range's middle), cheap masses
     (joint hardware on the links that carry it in ``plan``)."""
-    from cad.kinematics.linkgeom import link_joints_mm
-    from cad.structure import device
-    from cad.studies.codesign import cheap
-
     J = link_joints_mm(design.linkage)
     parts = design.parts
     hw = cheap.hardware_items(parts, J, plan)
@@ -533,7 +517,6 @@ def optimize_study(study, objective, n_trials: int) -> None:
 
     import optuna
 
-    from cad.io import signals
 
     stopped: list[bool] = []
 
@@ -550,7 +533,6 @@ def optimize_study(study, objective, n_trials: int) -> None:
         except KeyboardInterrupt:
             raise stop() from None
 
-    from cad.design import bounds
 
     # the trials' own design warnings (a PLA candidate's "printing filament") are not the user's
     with signals.deferred(), warnings.catch_warnings(), bounds.muted():

@@ -34,8 +34,13 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+import cad.families.fourbar.inertia  # noqa: F401
+from cad.design import parse_design
 from cad.errors import DesignError, HapticadError
+from cad.families.fourbar.inertia import warm_part_cache
+from cad.io import signals
 from cad.io.escape import mathtext
+from cad.parts.lazy_import import import_build123d
 from cad.report.figures import save_figure
 from cad.studies.sweep.spec import Vary, apply, assignments, design_hash
 from cad.studies.sweep.table import DONE, MANIFEST, OWNED, TABLE, publish, read_table
@@ -186,7 +191,6 @@ def _shutdown(client, cluster) -> None:
     import gc
     import multiprocessing.util as mpu
 
-    from cad.io import signals
 
     with signals.deferred():
         try:
@@ -238,8 +242,6 @@ def run_sweep(spec: SweepSpec, out: Path, workers: int, scheduler: str | None) -
     ``out`` is created by the first write only (a refusal or an interrupt before it
     leaves nothing); every write follows :func:`cad.studies.sweep.table.publish`.
     """
-    from cad.io import signals
-
     cols = columns(spec.varies)
     kept = read_table(out, [v.key for v in spec.varies])
     variants = spec.variants()
@@ -341,10 +343,7 @@ def _setup_worker(one_core: bool) -> None:
     ``one_core``, OCCT's thread pool (parallel booleans, build123d turns them on) is cut to
     one thread so that two workers on two cores do not oversubscribe them. BLAS threads are
     already 1 in Dask's worker processes (``distributed.nanny.pre-spawn-environ``)."""
-    from cad.parts.lazy_import import import_build123d
-
     import_build123d()
-    import cad.families.fourbar.inertia  # noqa: F401
 
     if one_core:
         from cad.occ.threads import limit_occt_threads
@@ -354,9 +353,6 @@ def _setup_worker(one_core: bool) -> None:
 
 def _warm_share(raw: dict[str, Any], source: str, fidelity: str, share: tuple[int, int]) -> int:
     """This worker's share of :func:`cad.families.fourbar.inertia.warm_part_cache` for one variant."""
-    from cad.design import parse_design
-    from cad.families.fourbar.inertia import warm_part_cache
-
     try:
         return warm_part_cache(parse_design(raw, source), fidelity, share)
     except Exception:  # noqa: BLE001 - the variant reports its own error as a row

@@ -38,6 +38,11 @@ from pathlib import Path
 from typing import Any
 
 from cad.errors import DesignError
+from cad.export.manifest import sha256_file
+from cad.io import signals
+from cad.io.atomic import host_tag, remove_stale_temps, umask
+from cad.io.guard import check_file, sha256_of_output
+from cad.io.outdir import check_out_dir
 
 MANIFEST = "manifest.json"
 TABLE = "results.parquet"
@@ -63,8 +68,6 @@ def _regular(path: Path) -> os.stat_result | None:
 
 def _temp(out: Path, name: str) -> Path:
     """A new empty temporary file for ``out/name`` (module docstring, step 1)."""
-    from cad.io.atomic import host_tag, umask
-
     out.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(
         prefix=f".{name}.tmp.{host_tag()}.{os.getpid()}.", suffix=Path(name).suffix, dir=out
@@ -75,8 +78,6 @@ def _temp(out: Path, name: str) -> Path:
 
 
 def _entries(out: Path, names: tuple[str, ...]) -> list[dict[str, Any]]:
-    from cad.export.manifest import sha256_file
-
     return [
         {"path": n, "sha256": sha256_file(out / n), "bytes": (out / n).stat().st_size}
         for n in sorted(names)
@@ -106,9 +107,6 @@ def publish(out: Path, writers: dict[str, Callable[[Path], None]]) -> None:
     Raises whatever a writer raises (nothing is then replaced); ``KeyboardInterrupt``
     after the four steps when a signal arrived meanwhile.
     """
-    from cad.export.manifest import sha256_file
-    from cad.io import signals
-
     with signals.deferred():
         tmps: dict[str, Path] = {}
         try:
@@ -141,8 +139,6 @@ def _manifest(out: Path) -> dict[str, Any] | None:
 def roll_forward(out: Path) -> bool:
     """Complete step 4 of an interrupted :func:`publish` when every file of ours has its
     listed or its pending sha256; True when the manifest was rewritten."""
-    from cad.io.guard import sha256_of_output
-
     doc = _manifest(out)
     pending = doc.get("pending") if doc else None
     if not isinstance(pending, dict) or not isinstance(doc.get("files"), list):
@@ -163,9 +159,6 @@ def roll_forward(out: Path) -> bool:
 def check_folder(out: Path, design_source: str) -> None:
     """Refuse (exit 2) an ``--out`` the sweep may not write to; before the owned-folder
     rule, remove a dead run's temporary files and roll an interrupted publish forward."""
-    from cad.io.atomic import remove_stale_temps
-    from cad.io.outdir import check_out_dir
-
     if out.is_dir() and not out.is_symlink():
         remove_stale_temps(out)
         roll_forward(out)
@@ -192,7 +185,6 @@ def read_table(out: Path, keys: list[str]) -> list[dict[str, Any]]:
     p = out / TABLE
     if _regular(p) is None:
         return []
-    from cad.io.guard import check_file
 
     check_file(p, "parquet", "--out")  # the size limit of every file hapticad reads
     why = f"; move {p.name} away to restart the sweep there, or name another --out"
