@@ -61,7 +61,8 @@ def test_unknown_cable_names_the_field_and_the_catalog():
 def test_largest_rope_a_capstan_allows():
     # a 10 mm capstan (WoodenHaptics): no catalog rope meets its minimum (0.6 mm 7x19 needs 15.6)
     assert largest_rope_for(10.0) is None
-    assert largest_rope_for(18.0).key == "steel-7x7-0.45"
+    assert largest_rope_for(18.0, "7x7").key == "steel-7x7-0.45"   # 40 * 0.45 = 18.0 mm
+    assert largest_rope_for(18.0).key == "steel-7x19-0.6"          # 26 * 0.6 = 15.6 mm
     assert largest_rope_for(26.0).diameter_mm == 1.0
     assert largest_rope_for(20.8, "7x19").key == "steel-7x19-0.8"
     assert largest_rope_for(5.0) is None
