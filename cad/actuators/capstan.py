@@ -23,6 +23,7 @@ reflected inertia n^2 J_m (kinetic energy J_m (n qdot)^2 / 2 seen at the joint).
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -232,3 +233,54 @@ def check_drum_range(joint_range_deg: float, drum_diameter_mm: float, anchor_len
                       f"range {joint_range_deg:g} deg + anchors of {anchor_length_mm:g} mm) but "
                       f"{sector_available_deg:g} deg is available; use a drum of at least "
                       f"{d_fit:.1f} mm or shorter anchors")
+
+
+# --------------------------------------------------------------------------- one joint
+@dataclass(frozen=True)
+class CapstanJointFigures:
+    """Every figure of one capstan joint at its peak load (SI; see the functions above).
+
+    ratio : n. reflected_inertia_kg_m2 : n^2 J_m. reflected_friction_Nm : n K_t I_0 (None
+    without motor friction data). tension_difference_N : dT at the peak joint torque.
+    pretension_N : T_0 needed for no slip at the stated wraps (``pretension_given_N`` when the
+    design states one). slip_margin : at that pretension. wraps : turns on the capstan.
+    strength : (verdict, reason) of :func:`cable_strength_verdict`. warnings : one-line
+    warnings (bend ratio)."""
+
+    ratio: float
+    reflected_inertia_kg_m2: float
+    reflected_friction_Nm: float | None
+    tension_difference_N: float
+    pretension_N: float
+    slip_margin: float
+    wraps: float
+    strength: tuple[str, str]
+    warnings: tuple[str, ...]
+
+
+def capstan_joint_figures(capstan_diameter_mm: float, drum_diameter_mm: float, cable: CableSpec,
+                          rotor_inertia_kg_m2: float, peak_joint_torque_Nm: float,
+                          wrap_angle_rad: float, motor_friction_Nm: float | None = None,
+                          pretension_given_N: float | None = None,
+                          mu: float = MU_STEEL_ROPE_ON_STEEL) -> CapstanJointFigures:
+    """The figures above for one joint: the transmission's diameters (mm), its rope, the motor's
+    rotor inertia (and friction K_t I_0, N m), the joint's peak torque (N m) and the wrap angle
+    on the capstan (rad). Without ``pretension_given_N`` the pretension is the smallest that
+    holds the peak (slip margin 1 exactly)."""
+    n = float(ratio(capstan_diameter_mm, drum_diameter_mm))
+    dT = float(cable_tension_difference_N(peak_joint_torque_Nm, drum_diameter_mm))
+    T0 = (float(pretension_needed_N(dT, mu, wrap_angle_rad)) if pretension_given_N is None
+          else float(pretension_given_N))
+    bend = bend_ratio_warning(cable, capstan_diameter_mm)
+    return CapstanJointFigures(
+        ratio=n,
+        reflected_inertia_kg_m2=float(reflected_inertia_kg_m2(rotor_inertia_kg_m2, n)),
+        reflected_friction_Nm=(None if motor_friction_Nm is None
+                               else float(reflected_friction_Nm(motor_friction_Nm, n))),
+        tension_difference_N=dT,
+        pretension_N=T0,
+        slip_margin=float(slip_margin(dT, T0, mu, wrap_angle_rad)),
+        wraps=float(wraps(wrap_angle_rad)),
+        strength=cable_strength_verdict(cable, dT, T0),
+        warnings=() if bend is None else (bend,),
+    )

@@ -172,3 +172,30 @@ def test_every_catalog_rope_gets_a_one_line_warning_below_its_minimum():
     for rope in CABLES.values():
         w = cap.bend_ratio_warning(rope, 0.5 * rope.min_capstan_diameter_mm())
         assert w and rope.key in w and "\n" not in w
+
+
+def test_one_joint_figures_by_hand():
+    """A WoodenHaptics-like joint: 10 mm capstan, 160 mm drum, RE 35 rotor (79.2 g cm^2), 0.8 N m
+    peak at the joint, three wraps: n = 16, n^2 J = 256 * 79.2e-7, dT = 0.8 / 0.08 = 10 N."""
+    f = cap.capstan_joint_figures(10.0, 160.0, get_cable("steel-7x7-0.54"), 79.2e-7, 0.8,
+                                  3 * 2 * math.pi, motor_friction_Nm=4.9e-3)
+    assert f.ratio == pytest.approx(16.0)
+    assert f.reflected_inertia_kg_m2 == pytest.approx(256 * 79.2e-7)
+    assert f.reflected_friction_Nm == pytest.approx(16 * 4.9e-3)
+    assert f.tension_difference_N == pytest.approx(10.0)
+    e = math.exp(0.12 * 6 * math.pi)
+    assert f.pretension_N == pytest.approx(5.0 * (e + 1) / (e - 1))
+    assert f.slip_margin == pytest.approx(1.0) and f.wraps == pytest.approx(3.0)
+    assert f.strength[0] == "unverified"
+    assert len(f.warnings) == 1 and "D/d = 18.5" in f.warnings[0]
+    g = cap.capstan_joint_figures(25.0, 200.0, get_cable("steel-7x7-1.6"), 79.2e-7, 0.8,
+                                  2 * math.pi, pretension_given_N=30.0)
+    assert g.pretension_N == 30.0 and g.strength[0] == "ok"
+    assert g.warnings[0].startswith("cable steel-7x7-1.6 on a 25 mm capstan")  # 25 / 1.5875 < 40
+
+
+def test_the_docs_page_shows_what_the_warning_prints():
+    from pathlib import Path
+
+    page = (Path(__file__).resolve().parents[3] / "docs" / "capstan.md").read_text()
+    assert cap.bend_ratio_warning(get_cable("steel-7x7-0.54"), 10.0) in page
