@@ -133,3 +133,20 @@ def _ratio(value: Any, field: str) -> float:
         raise DesignError(field, f"must be > 1 (drum / capstan), got {value!r}; did you give "
                           f"capstan / drum? (1 / {value:g} = {1 / value:g})")
     return check_number(field, value, RATIO)
+
+
+def parse_transmissions(value: Any, n_motors: int,
+                        prefix: str = "transmission") -> tuple[Transmission, ...]:
+    """One :class:`Transmission` per motor: ``value`` None (direct drive on every motor), one
+    table (``[transmission]``: the same on every motor) or an array of ``n_motors`` tables
+    (``[[transmission]]``, in the family's motor order; field ``transmission.<i>.<key>``).
+    Raises DesignError(prefix) when the array's length is not ``n_motors``."""
+    if value is None or isinstance(value, dict):
+        return (parse_transmission(value, prefix),) * n_motors
+    if not isinstance(value, list):
+        raise DesignError(prefix, f"must be a table or an array of {n_motors} tables (one per "
+                          f"motor), got {value!r}")
+    if len(value) != n_motors:
+        raise DesignError(prefix, f"must be one table or {n_motors} (one per motor), got "
+                          f"{len(value)} tables")
+    return tuple(parse_transmission(t, f"{prefix}.{i}") for i, t in enumerate(value))

@@ -63,3 +63,19 @@ def test_bad_tables_one_line_naming_field_value_reason(tab, field, words):
 def test_prefix_names_the_motor_table():
     with pytest.raises(DesignError, match=r"^motors\.1\.transmission\.kind:"):
         parse_transmission({"kind": "gear"}, prefix="motors.1.transmission")
+
+
+def test_one_table_per_motor_or_one_for_all():
+    from cad.design.transmission import parse_transmissions
+
+    assert parse_transmissions(None, 2) == (DIRECT, DIRECT)
+    both = parse_transmissions(ISSUE_TABLE, 2)
+    assert both[0] == both[1] and both[0].ratio == 12.0
+    mixed = parse_transmissions([{"kind": "direct"}, ISSUE_TABLE], 2)
+    assert mixed[0] is DIRECT and mixed[1].is_capstan
+    with pytest.raises(DesignError, match=r"^transmission: must be one table or 2 \(one per motor\), got 3"):
+        parse_transmissions([ISSUE_TABLE] * 3, 2)
+    with pytest.raises(DesignError, match=r"^transmission\.1\.kind: must be one of"):
+        parse_transmissions([ISSUE_TABLE, {"kind": "belt"}], 2)
+    with pytest.raises(DesignError, match=r"^transmission: must be a table or an array"):
+        parse_transmissions("capstan", 1)
