@@ -36,7 +36,7 @@ class BallJoint:
 
 BALL_JOINT = BallJoint(
     designation="ball link, 4.8 mm ball, M2.5 stud (RC-model class)", ball_d_mm=4.8,
-    neck_d_mm=2.5, neck_mm=5.0, socket_d_mm=7.5, clearance_mm=0.05, cone_deg=60.0, mass_g=1.2,
+    neck_d_mm=2.5, neck_mm=7.0, socket_d_mm=7.5, clearance_mm=0.05, cone_deg=78.0, mass_g=1.2,
     source="unverified: generic dimensions of the 4.8 mm ball-link class, no vendor sheet "
            "read; replace with an ordered part's drawing")
 
@@ -45,9 +45,9 @@ BALL_JOINT = BallJoint(
 ARM_WIDTH_MM = 16.0
 ARM_THICKNESS_MM = 6.0
 ARM_MATERIAL = "aluminium-6061"
-#: Hub clamping the arm on the motor shaft (along the axis, between arm and bracket).
-HUB_D_MM = 16.0
-HUB_LENGTH_MM = 10.0
+#: Hub clamping the arm on the motor shaft (along the axis, from the arm to the bracket less
+#: the gap); with a joint offset the arm is a fork of two plates with a spacer between them.
+HUB_D_MM = 12.0
 #: Cross bars (elbow and effector): round bar along the motor axis, aluminium.
 CROSS_BAR_D_MM = 8.0
 #: Knee link (Stamper's joint offset g > 0): a plate bar like the upper arm.
@@ -61,10 +61,28 @@ EFFECTOR_MARGIN_MM = 4.0
 HANDLE_D_MM = 20.0
 HANDLE_LENGTH_MM = 40.0
 #: Ground: base plate thickness, margin past the motor brackets, bracket thickness, the gap
-#: between the hub and the bracket, clearance above the arms' highest reach.
+#: between the hub and the bracket, clearance above the arms' highest reach; the bracket
+#: stands this far past the outer ball socket along the motor axis.
 PLATE_THICKNESS_MM = 6.0
 PLATE_MARGIN_MM = 10.0
 BRACKET_THICKNESS_MM = 5.0
 HUB_GAP_MM = 1.0
 PLATE_CLEARANCE_MM = 5.0
+BRACKET_CLEARANCE_MM = 3.0
 PLATE_MATERIAL = "aluminium-6061"
+
+
+def effector_disk_radius_mm(effector_radius_mm: float, width_mm: float) -> float:
+    """Radius of the effector plate: past the farthest ball-joint centre by the margin."""
+    import math
+
+    return math.hypot(effector_radius_mm, width_mm / 2) + EFFECTOR_MARGIN_MM
+
+
+def base_plate_z_mm(upper_arm_mm: float, theta_min_rad: float, joint_offset_mm: float) -> float:
+    """Height of the base plate's underside above the motor axes: the highest elbow (at the
+    lowest motor angle), the knee link, half the arm or socket, and the clearance."""
+    import math
+
+    up = upper_arm_mm * max(0.0, math.sin(-theta_min_rad)) + joint_offset_mm
+    return up + max(ARM_WIDTH_MM, BALL_JOINT.socket_d_mm) / 2 + PLATE_CLEARANCE_MM

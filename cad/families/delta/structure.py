@@ -187,14 +187,14 @@ class DeltaSections:
     joint_kg: float
 
 
-def default_sections(effector_radius_mm: float) -> DeltaSections:
+def default_sections(effector_radius_mm: float, width_mm: float) -> DeltaSections:
     """The :mod:`.hardware` members: arm plate, cross bars, effector plate (width = the
     effector disk's diameter), carbon rods, aluminium effector disk + handle, ball joints."""
     from cad.data.materials import get_material
 
     rod = round_section(hw.ROD_OD_MM * MM, hw.ROD_ID_MM * MM, hw.ROD_MATERIAL)
     rho_al = get_material(hw.PLATE_MATERIAL).density_kg_m3
-    r_disk = (effector_radius_mm + hw.CROSS_BAR_D_MM / 2 + hw.EFFECTOR_MARGIN_MM) * MM
+    r_disk = hw.effector_disk_radius_mm(effector_radius_mm, width_mm) * MM
     eff_kg = rho_al * (math.pi * r_disk**2 * hw.EFFECTOR_THICKNESS_MM * MM
                        + math.pi / 4 * (hw.HANDLE_D_MM * MM) ** 2 * hw.HANDLE_LENGTH_MM * MM)
     return DeltaSections(
@@ -242,7 +242,7 @@ def first_mode(d: Delta, P_mm, width_mm: float, sec: DeltaSections | None = None
     first mode, "compliance_m_per_N" (3, 3) effector displacement per force at its centre,
     "compliance_max_um_per_N" its largest eigenvalue (worst direction), "boundary":
     sentence}. Sections default to :func:`default_sections`."""
-    sec = sec or default_sections(d.effector_radius_mm)
+    sec = sec or default_sections(d.effector_radius_mm, width_mm)
     f, c = delta_frame(d, P_mm, width_mm, sec)
     hz, shapes = f.modes(3)
     C = np.stack([f.solve({c: e})[6 * c:6 * c + 3] for e in np.eye(3)], axis=1)

@@ -79,7 +79,7 @@ def _rigid_reduction(d, P_mm, w_mm, k_rod, m):
 def test_rigid_delta_is_a_mass_on_twelve_rod_springs():
     des = load_design(ROOT / "designs" / "delta.toml")
     d, w = des.mechanism, des.parallelogram_width_mm
-    sec = default_sections(d.effector_radius_mm)
+    sec = default_sections(d.effector_radius_mm, w)
     stiff = lambda s: replace(s, E=s.E * 1e6, G=s.G * 1e6, rho=0.0)  # noqa: E731
     sec = replace(sec, arm=stiff(sec.arm), cross_bar=stiff(sec.cross_bar),
                   effector=stiff(sec.effector), rod_kg_per_m=0.0, joint_kg=0.0)
