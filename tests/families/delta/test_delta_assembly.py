@@ -79,3 +79,21 @@ def test_delta_is_clear_over_the_whole_workspace_grid(models):
     rep = check_model(models["delta"])
     assert rep.collisions == []
     assert rep.min_clearance_mm == pytest.approx(0.05, abs=1e-6)
+
+
+def test_lambda_from_the_solids_regression_pin(models):
+    """Regression pin (our own run): Lambda(x) of the bundled delta from its solids' body mass
+    properties (OCCT integration) and the RE 35 rotors, at the workspace centre and its
+    extremes over the grid; the formula itself is checked in test_delta_bodies.py."""
+    from cad.data.catalog import get_motor
+    from cad.families.delta.dynamics import mass_matrix_from_bodies_kg
+    from cad.pipeline.family import body_props, kind_props
+
+    m = models["delta"]
+    bp = body_props(m.instances, kind_props(m.instances))
+    rotor = get_motor("maxon-re35").rotor_inertia_g_cm2 * 1e-7
+    X = m.extra["workspace_mm"]
+    ev = np.linalg.eigvalsh(mass_matrix_from_bodies_kg(m.design.mechanism, X, 30.0, bp, rotor))
+    np.testing.assert_allclose(ev[len(X) // 2], [0.0959427, 0.0959427, 0.0985726], rtol=1e-5)
+    assert ev[:, -1].max() == pytest.approx(0.1207128, rel=1e-5)
+    assert ev[:, 0].min() == pytest.approx(0.0871720, rel=1e-5)
