@@ -89,7 +89,7 @@ def kinds(design, fidelity: str = "fabrication") -> dict[str, PartKind]:
     fork = d.joint_offset_mm > 0
     st = stack_mm(w, fork)
     r_base = math.hypot(d.base_radius_mm + abs(d.axis_offset_mm) + side / 2,
-                        -st["motor_face"]) + hw.PLATE_MARGIN_MM
+                        -st["motor_face"]) + hw.PLATE_RIM_MM
     add("base_plate", dp.disk_plate_shape(r_base, hw.PLATE_THICKNESS_MM), hw.PLATE_MATERIAL,
         True, f"base plate d{2 * r_base:.0f} x {hw.PLATE_THICKNESS_MM:g}",
         "waterjet/laser plate", plate=True)

@@ -6,6 +6,7 @@ delta yet, so these are the family's fixed choices.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 #: The motor of every arm (:data:`cad.data.catalog.MOTORS`): direct drive.
@@ -57,14 +58,14 @@ ROD_ID_MM = 3.0
 ROD_MATERIAL = "carbon-fibre"
 #: Effector: a disk of the effector radius + margin, thickness; handle: a knob below it.
 EFFECTOR_THICKNESS_MM = 5.0
-EFFECTOR_MARGIN_MM = 4.0
+EFFECTOR_RIM_MM = 4.0
 HANDLE_D_MM = 20.0
 HANDLE_LENGTH_MM = 40.0
 #: Ground: base plate thickness, margin past the motor brackets, bracket thickness, the gap
 #: between the hub and the bracket, clearance above the arms' highest reach; the bracket
 #: stands this far past the outer ball socket along the motor axis.
 PLATE_THICKNESS_MM = 6.0
-PLATE_MARGIN_MM = 10.0
+PLATE_RIM_MM = 10.0
 BRACKET_THICKNESS_MM = 5.0
 HUB_GAP_MM = 1.0
 PLATE_CLEARANCE_MM = 5.0
@@ -74,15 +75,11 @@ PLATE_MATERIAL = "aluminium-6061"
 
 def effector_disk_radius_mm(effector_radius_mm: float, width_mm: float) -> float:
     """Radius of the effector plate: past the farthest ball-joint centre by the margin."""
-    import math
-
-    return math.hypot(effector_radius_mm, width_mm / 2) + EFFECTOR_MARGIN_MM
+    return math.hypot(effector_radius_mm, width_mm / 2) + EFFECTOR_RIM_MM
 
 
 def base_plate_z_mm(upper_arm_mm: float, theta_min_rad: float, joint_offset_mm: float) -> float:
     """Height of the base plate's underside above the motor axes: the highest elbow (at the
     lowest motor angle), the knee link, half the arm or socket, and the clearance."""
-    import math
-
     up = upper_arm_mm * max(0.0, math.sin(-theta_min_rad)) + joint_offset_mm
     return up + max(ARM_WIDTH_MM, BALL_JOINT.socket_d_mm) / 2 + PLATE_CLEARANCE_MM

@@ -24,10 +24,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from cad.data.materials import get_material
 from cad.errors import DesignError
 from cad.families.delta import hardware as hw
 from cad.families.delta.layout import arm_points_mm
 from cad.kinematics.delta import Delta, ik, require_ok
+from cad.structure.elastic import get_elastic
 from cad.structure.frame import Section, local_stiffness, rect_torsion_J
 
 MM = 1e-3
@@ -149,9 +151,6 @@ class Frame3D:
 def rect_section(width_m: float, thick_m: float, material: str) -> Section:
     """Section of a width x thick rectangle: local y along the width (bending in the local
     x-y plane uses Iz = thick width^3 / 12), local z along the thickness."""
-    from cad.data.materials import get_material
-    from cad.structure.elastic import get_elastic
-
     el = get_elastic(material, "delta.structure")
     b, h = width_m, thick_m
     return Section(A=b * h, Iz=h * b**3 / 12, Iy=b * h**3 / 12, J=rect_torsion_J(b, h),
@@ -161,13 +160,10 @@ def rect_section(width_m: float, thick_m: float, material: str) -> Section:
 
 def round_section(od_m: float, id_m: float, material: str) -> Section:
     """Section of a round bar or tube (od, id m)."""
-    from cad.data.materials import get_material
-    from cad.structure.elastic import get_elastic
-
     el = get_elastic(material, "delta.structure")
     A = math.pi / 4 * (od_m**2 - id_m**2)
-    I = math.pi / 64 * (od_m**4 - id_m**4)
-    return Section(A=A, Iz=I, Iy=I, J=2 * I, cy=od_m / 2, cz=od_m / 2,
+    i_m4 = math.pi / 64 * (od_m**4 - id_m**4)
+    return Section(A=A, Iz=i_m4, Iy=i_m4, J=2 * i_m4, cy=od_m / 2, cz=od_m / 2,
                    t_torsion=od_m / 2, E=el.E_Pa, G=el.G_Pa,
                    rho=get_material(material).density_kg_m3)
 
@@ -190,8 +186,6 @@ class DeltaSections:
 def default_sections(effector_radius_mm: float, width_mm: float) -> DeltaSections:
     """The :mod:`.hardware` members: arm plate, cross bars, effector plate (width = the
     effector disk's diameter), carbon rods, aluminium effector disk + handle, ball joints."""
-    from cad.data.materials import get_material
-
     rod = round_section(hw.ROD_OD_MM * MM, hw.ROD_ID_MM * MM, hw.ROD_MATERIAL)
     rho_al = get_material(hw.PLATE_MATERIAL).density_kg_m3
     r_disk = hw.effector_disk_radius_mm(effector_radius_mm, width_mm) * MM

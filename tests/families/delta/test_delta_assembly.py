@@ -60,7 +60,7 @@ def _corners_and_centre(m):
     X = m.extra["workspace_mm"]
     lo, hi = X.min(axis=0), X.max(axis=0)
     keep = [k for k, x in enumerate(X)
-            if np.all((np.isclose(x, lo) | np.isclose(x, hi))) or np.allclose(x, (lo + hi) / 2)]
+            if np.all(np.isclose(x, lo) | np.isclose(x, hi)) or np.allclose(x, (lo + hi) / 2)]
     motion = {b: T[keep] for b, T in m.motion.items()}
     return replace(m, motion=motion, pose_labels=tuple(m.pose_labels[k] for k in keep))
 

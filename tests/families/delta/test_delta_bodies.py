@@ -85,8 +85,8 @@ def _random_props(rng, names):
         if b == "ground":
             continue
         A = rng.normal(size=(3, 3))
-        I = (A @ A.T + 0.1 * np.eye(3)) * 1e-5
-        ev, V = np.linalg.eigh(I)
+        inertia = (A @ A.T + 0.1 * np.eye(3)) * 1e-5
+        ev, V = np.linalg.eigh(inertia)
         ev = np.maximum(ev, 0.5 * ev.max())  # principal moments satisfy a + b >= c
         out[b] = MassProps(rng.uniform(0.01, 0.2), rng.normal(scale=0.02, size=3), V @ np.diag(ev) @ V.T)
     return out
