@@ -31,6 +31,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from cad.dynamics.delta import DeltaMass
 from cad.errors import DesignError
 from cad.families.delta.layout import ARMS, arm_points_mm, poses_at
 from cad.kinematics.delta import Delta, ik, jacobian_rad_per_m, require_ok
@@ -122,3 +123,23 @@ def mass_matrix_from_bodies_kg(d: Delta, P_mm, width_mm: float, props: dict,
         I_w = R @ np.asarray(mp.inertia_com_kg_m2) @ np.swapaxes(R, 1, 2)
         Lam += mp.mass_kg * np.swapaxes(Jcom, 1, 2) @ Jcom + np.swapaxes(Jw, 1, 2) @ I_w @ Jw
     return Lam
+
+
+def delta_mass_from_bodies(d: Delta, props: dict, rotor_kg_m2: float = 0.0,
+                           ratio: float = 1.0) -> DeltaMass:
+    """The :class:`cad.dynamics.delta.DeltaMass` (gravity, firmware) of body mass properties
+    ``props`` ({body: MassProps}, body frames of :mod:`.layout`, SI), from arm 0 (the three
+    arms are alike): the upper arm's inertia about its motor axis (parallel axes), its mass
+    and its centre's distance along the arm; both rods of parallelogram 0; the effector.
+    DesignError for a joint offset g > 0 (the knee has no place in that model)."""
+    if d.joint_offset_mm > 0:
+        raise DesignError("mechanism.joint_offset_mm",
+                          f"the point-mass model has no knee link, got g = {d.joint_offset_mm!r} mm")
+    arm = props["upper_0"]
+    c = np.asarray(arm.com_m)
+    y = np.array([0.0, 1.0, 0.0])  # the motor axis in the upper arm's frame
+    I_axis = float(y @ np.asarray(arm.inertia_com_kg_m2) @ y + arm.mass_kg * (c[0] ** 2 + c[2] ** 2))
+    rods = sum(props[b].mass_kg for b in ("lower_0_a", "lower_0_b") if b in props)
+    return DeltaMass(upper_arm_kg_m2=I_axis, upper_arm_kg=arm.mass_kg,
+                     upper_arm_com_mm=float(c[0]) / MM, lower_arm_kg=rods,
+                     effector_kg=props["effector"].mass_kg, rotor_kg_m2=rotor_kg_m2, ratio=ratio)

@@ -19,7 +19,7 @@ import pytest
 from cad.design import load_design
 from cad.dynamics.delta import DeltaMass, mass_matrix_kg
 from cad.errors import DesignError
-from cad.families.delta.dynamics import mass_matrix_from_bodies_kg
+from cad.families.delta.dynamics import delta_mass_from_bodies, mass_matrix_from_bodies_kg
 from cad.families.delta.layout import body_names, body_poses
 from cad.kinematics import delta as D
 from cad.massprops.props import MassProps
@@ -77,6 +77,9 @@ def test_slender_rods_reduce_to_the_point_mass_model():
     P = des.workspace_points()
     ours = mass_matrix_from_bodies_kg(d, P, des.parallelogram_width_mm, props, 1e-6, 8.0)
     np.testing.assert_allclose(ours, mass_matrix_kg(d, P, mass), rtol=1e-12, atol=1e-15)
+    back = delta_mass_from_bodies(d, props, 1e-6, 8.0)
+    for k, v in vars(mass).items():
+        assert getattr(back, k) == pytest.approx(v, rel=1e-12), k
 
 
 def _random_props(rng, names):
