@@ -105,6 +105,7 @@ def test_a_printed_part_with_an_iso_fit_is_not_published(tmp_path, monkeypatch):
     from cad.pipeline import build_design
 
     monkeypatch.setattr(printing, "printed_fit", lambda text: text)
+    monkeypatch.setattr("cad.assembly.printed.printed_fit", lambda text: text)  # its caller
     out = tmp_path / "out"
     with pytest.raises(OutputsDisagree) as e:
         build_design(load_design(DESIGNS / "hoeken_printed.toml"), out, {"step"}, fidelity="preview",

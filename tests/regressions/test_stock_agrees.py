@@ -127,6 +127,7 @@ def test_a_drawing_that_states_other_stock_is_not_published(tmp_path, monkeypatc
                     out_dir, design)
 
     monkeypatch.setattr(drawings, "write_drawings", corrupt)
+    monkeypatch.setattr("cad.pipeline.family.write_drawings", corrupt)  # its caller
     out = tmp_path / "out"
     with pytest.raises(OutputsDisagree) as e:
         build_design(load_design(DESIGNS / "hoeken.toml"), out, {"drawings"}, fidelity="preview",
