@@ -6,6 +6,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from cad.design import load_design
@@ -35,3 +36,24 @@ def test_analyze_sentence_matches_the_hoeken_design(hoeken_metrics):
 def test_swap_keeps_the_hoeken_stroke(hoeken_metrics):
     """`swap` keeps the source design's stroke: the README's kept stroke is hoeken's, to 3 decimals."""
     assert f"`swap` keeps the stroke ({hoeken_metrics.stroke_mm:.3f} mm)" in README
+
+
+def test_continuous_force_sentence_matches_a_finite_difference_lever():
+    """README's datasheet sentence: the continuous force at the handle of designs/hoeken.toml is
+    T_cont / max |dx/dphi1| over the stroke. Independent of the datasheet's analytic Jacobian:
+    the lever is a central finite difference of the solved handle point P in the path frame;
+    T_cont is the catalog's RE 35 value (hoeken.toml names no motor: the parts default
+    ``maxon-re35``, cad/design/parts.py)."""
+    from cad.data.catalog import MOTORS
+    from cad.design.parts import PartsSpec
+    from cad.kinematics.fourbar import solve
+    from cad.kinematics.metrics import path_frame
+    d = load_design(ROOT / "designs/hoeken.toml")
+    assert PartsSpec.__dataclass_fields__["motor"].default == "maxon-re35"
+    fr = path_frame(d.linkage, d.phi1_min_rad, d.phi1_max_rad)
+    phi = np.linspace(d.phi1_min_rad, d.phi1_max_rad, 2001)
+    h = 1e-6
+    x = lambda p: fr.to_path(solve(d.linkage, p).P_mm)[:, 0]  # noqa: E731
+    lever_m = np.abs(x(phi + h) - x(phi - h)) / (2 * h) * 1e-3
+    force_N = MOTORS["maxon-re35"].torque_continuous_mNm * 1e-3 / lever_m.max()
+    assert f"continuous force at the handle of {force_N:.2f} N" in " ".join(README.split())
