@@ -57,3 +57,21 @@ def test_continuous_force_sentence_matches_a_finite_difference_lever():
     lever_m = np.abs(x(phi + h) - x(phi - h)) / (2 * h) * 1e-3
     force_N = MOTORS["maxon-re35"].torque_continuous_mNm * 1e-3 / lever_m.max()
     assert f"continuous force at the handle of {force_N:.2f} N" in " ".join(README.split())
+
+
+def test_swap_sentence_matches_the_swapped_design_and_its_json(hoeken_metrics):
+    """README's swap sentence. dy_max and torque variation of Roberts are recomputed from the
+    committed swapped design (docs/swap/hoeken_roberts.toml) with the current kinematics; the
+    bounding boxes (a build's output) must equal the committed swap capture
+    docs/swap/hoeken_to_roberts.json, which generates the table in docs/fabrication.md."""
+    import json
+    d = load_design(ROOT / "docs/swap/hoeken_roberts.toml")
+    m = compute_metrics(d.linkage, d.phi1_min_rad, d.phi1_max_rad, force_N=d.force_N, samples=d.samples)
+    text = " ".join(README.split())
+    assert f"dy_max {m.dy_max_mm:.3f} mm against {hoeken_metrics.dy_max_mm:.3f}" in text
+    tv_new, tv_old = m.as_dict()["torque_variation"], hoeken_metrics.as_dict()["torque_variation"]
+    assert f"torque variation {tv_new:.3f} against {tv_old:.3f}" in text
+    assert abs(m.stroke_mm - hoeken_metrics.stroke_mm) < 5e-4  # swap keeps the stroke
+    data = json.loads((ROOT / "docs/swap/hoeken_to_roberts.json").read_text())
+    box = [" × ".join(f"{v:.1f}" for v in data[k]["bbox_mm"]) for k in ("new", "old")]
+    assert f"bounding box {box[0]} mm against {box[1]} mm" in text
