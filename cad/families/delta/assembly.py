@@ -21,6 +21,7 @@ Tangential stack along motor axis i (body y of upper_i, 0 = the arm's plane):
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -32,6 +33,15 @@ from cad.families.delta import parts as dp
 from cad.families.delta.layout import ARMS, body_poses
 from cad.parts import PartInstance, PartKind, translation
 from cad.parts import motor as pm
+
+
+@dataclasses.dataclass(frozen=True)
+class DeltaLayout:
+    """The delta's layout record (``AssemblyModel.extra``): the effector points of the
+    motion ``workspace_mm`` (N, 3) and the exported one ``home_mm`` (3,), mm, base frame."""
+
+    workspace_mm: np.ndarray
+    home_mm: np.ndarray
 
 
 def _rot_x(deg: float) -> np.ndarray:
@@ -218,8 +228,8 @@ def assemble(design, fidelity: str = "fabrication") -> AssemblyModel:
     Bodies: :func:`cad.families.delta.layout.body_names`. ``tf_world_body`` with the
     effector at the workspace centre; ``motion`` over the design's workspace grid
     (:meth:`DeltaDesign.workspace_points`, joint angles from the IK, elbow out), labelled
-    ``"P = (x, y, z) mm"``. ``extra``: ``workspace_mm`` (N, 3) the motion's effector points,
-    ``home_mm`` the exported one. Raises :class:`cad.errors.KinematicsError` naming a
+    ``"P = (x, y, z) mm"``. ``extra``: :class:`DeltaLayout` (the motion's effector points
+    ``workspace_mm`` (N, 3), the exported one ``home_mm``). Raises :class:`cad.errors.KinematicsError` naming a
     workspace point that is unreachable, singular or outside the joint limits.
     """
     d = design.mechanism
@@ -245,4 +255,4 @@ def assemble(design, fidelity: str = "fabrication") -> AssemblyModel:
     labels = tuple(f"P = ({x:.1f}, {y:.1f}, {z:.1f}) mm" for x, y, z in X)
     return AssemblyModel(design=design, instances=tuple(inst), tf_world_body=tf_home,
                          motion={b: T for b, T in motion.items() if b != "ground"},
-                         pose_labels=labels, extra={"workspace_mm": X, "home_mm": home})
+                         pose_labels=labels, extra=DeltaLayout(X, home))

@@ -44,7 +44,7 @@ def test_counts(models, name, n_inst, n_bodies):
 def test_effector_and_joints_sit_where_the_kinematics_put_them(models, name):
     m = models[name]
     d = m.design.mechanism
-    X = m.extra["workspace_mm"]
+    X = m.extra.workspace_mm
     P_fk = D.fk(d, D.ik(d, X).theta_rad).P_mm
     np.testing.assert_allclose(m.motion["effector"][:, :3, 3], P_fk, atol=1e-6)
     studs = [i for i in m.instances if i.kind.name == "ball_stud"]
@@ -57,7 +57,7 @@ def test_effector_and_joints_sit_where_the_kinematics_put_them(models, name):
 
 
 def _corners_and_centre(m):
-    X = m.extra["workspace_mm"]
+    X = m.extra.workspace_mm
     lo, hi = X.min(axis=0), X.max(axis=0)
     keep = [k for k, x in enumerate(X)
             if np.all(np.isclose(x, lo) | np.isclose(x, hi)) or np.allclose(x, (lo + hi) / 2)]
@@ -92,7 +92,7 @@ def test_lambda_from_the_solids_regression_pin(models):
     m = models["delta"]
     bp = body_props(m.instances, kind_props(m.instances))
     rotor = get_motor("maxon-re35").rotor_inertia_g_cm2 * 1e-7
-    X = m.extra["workspace_mm"]
+    X = m.extra.workspace_mm
     ev = np.linalg.eigvalsh(mass_matrix_from_bodies_kg(m.design.mechanism, X, 30.0, bp, rotor))
     np.testing.assert_allclose(ev[len(X) // 2], [0.0959427, 0.0959427, 0.0985726], rtol=1e-5)
     assert ev[:, -1].max() == pytest.approx(0.1207128, rel=1e-5)
