@@ -30,6 +30,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
+from cad.data.catalog import MOTORS
 from cad.datasheet import fmt_value, verdict_text
 from cad.errors import DesignError
 from cad.io.atomic import write_text_atomic
@@ -107,7 +108,6 @@ def _motor_limit(req: dict[str, Any], motor: str) -> str:
     """The continuous-torque limit the run checked ``motor`` against, and the catalog's current
     value (``cad.data.catalog.MOTORS``, no CAD import) when they differ, so a catalog correction
     made after the run is visible in the table instead of hidden by it."""
-    from cad.data.catalog import MOTORS
     used = req["motor_continuous_torque_mNm"][motor]
     now = MOTORS[motor].torque_continuous_mNm if motor in MOTORS else None
     if now is None or abs(now - used) < 0.05:
