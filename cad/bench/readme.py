@@ -30,6 +30,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
+from cad.data.catalog import MOTORS
 from cad.datasheet import fmt_value, verdict_text
 from cad.errors import DesignError
 from cad.io.atomic import write_text_atomic
@@ -103,6 +104,17 @@ def _range_g(ex: dict[str, Any]) -> str:
     return f"{ex['M11_min_g']:.2f} – {ex['M11_max_g']:.2f} g"
 
 
+def _motor_limit(req: dict[str, Any], motor: str) -> str:
+    """The continuous-torque limit the run checked ``motor`` against, and the catalog's current
+    value (``cad.data.catalog.MOTORS``, no CAD import) when they differ, so a catalog correction
+    made after the run is visible in the table instead of hidden by it."""
+    used = req["motor_continuous_torque_mNm"][motor]
+    now = MOTORS[motor].torque_continuous_mNm if motor in MOTORS else None
+    if now is None or abs(now - used) < 0.05:
+        return f"{used:g} mN·m continuous"
+    return f"the run checked {used:g} mN·m continuous, the catalog now gives {now:g} mN·m"
+
+
 def render_codesign(sources: list[tuple[str, str | None, dict[str, Any]]]) -> str:
     """The optimum an ``optimize --json`` run accepted, rebuilt on the exact solids."""
     (_, _, data), = sources
@@ -119,8 +131,8 @@ def render_codesign(sources: list[tuple[str, str | None, dict[str, Any]]]) -> st
                  f"{', pockets' if p.get('bar_pockets') else ''}, {p['bar_end_radius_mm']:g} mm ends"),
         ("layers (bottom to top)", ", ".join(b["layer_order"])),
         ("handle, motor", f"{p['handle_material']} ⌀{p['handle_diameter_mm']:g} × {p['handle_height_mm']:g} mm "
-                          f"on {p['handle_screw']}, {p['motor']} ({req['motor_continuous_torque_mNm'][p['motor']]:g} "
-                          f"mN·m continuous, {b['cheap']['torque_max_mNm']:.1f} mN·m peak at {req['force_N']:g} N)"),
+                          f"on {p['handle_screw']}, {p['motor']} ({b['cheap']['torque_max_mNm']:.1f} mN·m peak at "
+                          f"{req['force_N']:g} N; {_motor_limit(req, p['motor'])})"),
         ("crank range, dy_max, torque variation",
          f"{mech['phi1_min_deg']:.1f}–{mech['phi1_max_deg']:.1f}°, {ex['dy_max_mm']:.3f} mm, {ex['torque_variation']:.3f}"),
         ("overlap, min clearance", f"{ex['overlap_volume_mm3']:g} mm³, {ex['min_clearance_mm']:.2f} mm"),

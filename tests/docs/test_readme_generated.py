@@ -144,3 +144,18 @@ def test_typed_layer_order_row_equals_the_optimum_json():
     row = (f"| {', '.join(b['layer_order'])} (chosen) | {b['cheap']['M11_max_g']:.2f} g | "
            f"**{b['exact']['M11_min_g']:.2f} – {b['exact']['M11_max_g']:.2f} g** |")
     assert row in TEXT
+
+
+def test_codesign_motor_row_shows_the_run_limit_and_the_current_catalog():
+    """The light-design row names the continuous-torque limit the run checked (from the JSON)
+    and, where the catalog was corrected afterwards, the catalog's current value
+    (independent reference: cad.data.catalog.MOTORS, the data-sheet values)."""
+    from cad.data.catalog import MOTORS
+    data = json.loads((readme.ROOT / "docs/codesign/hoeken_light_optimize.json").read_text())
+    motor = data["best"]["parts"]["motor"]
+    used = data["requirements"]["motor_continuous_torque_mNm"][motor]
+    now = MOTORS[motor].torque_continuous_mNm
+    body = next(m.group("body") for m in BLOCKS if m.group("spec").startswith("codesign "))
+    assert f"{used:g} mN·m continuous" in body
+    assert (f"catalog now gives {now:g} mN·m" in body) == (abs(now - used) >= 0.05)
+    assert f"{data['best']['cheap']['torque_max_mNm']:.1f} mN·m peak" in body
