@@ -102,6 +102,30 @@ def _turning_axis(shape):
     return axis
 
 
+def coaxial_radii_mm(shape, axis) -> list[float]:
+    """Exact radii (mm, sorted, distinct to 1e-6) of the cylindrical faces of ``shape``
+    whose axis is ``axis`` (a tube's outer and bore radii, a dowel's radius)."""
+    from OCP.BRepAdaptor import BRepAdaptor_Surface
+    from OCP.GeomAbs import GeomAbs_Cylinder
+    from OCP.gp import gp_Lin
+    from OCP.TopAbs import TopAbs_FACE
+    from OCP.TopExp import TopExp_Explorer
+    from OCP.TopoDS import TopoDS
+
+    line, radii = gp_Lin(axis), []
+    ex = TopExp_Explorer(getattr(shape, "wrapped", shape), TopAbs_FACE)
+    while ex.More():
+        surf = BRepAdaptor_Surface(TopoDS.Face_s(ex.Current()))
+        if surf.GetType() == GeomAbs_Cylinder:
+            c = surf.Cylinder()
+            if c.Axis().IsParallel(axis, 1e-9) and line.Distance(c.Location()) < 1e-6:
+                r = c.Radius()
+                if all(abs(r - q) > 1e-6 for q in radii):
+                    radii.append(r)
+        ex.Next()
+    return sorted(radii)
+
+
 #: Chordal deflection of the mesh that measures a turned part's radius (mm); added back to
 #: the largest vertex radius, so the diameter found is never below the solid's.
 RADIUS_MESH_DEFLECTION_MM = 0.02
@@ -182,8 +206,12 @@ def stock(kind, mass_g: float) -> str:
     if axis is not None and (tube or proc.startswith(("turned", "ground dowel"))):
         d, length = _about_axis_mm(kind.shape, axis)
         length = _up(length + tol.STOCK_LENGTH_ALLOWANCE_MM)
-        if tube or proc.startswith("ground dowel"):  # bought at the finished diameter
-            return f"{'tube' if tube else 'rod'} {d:.6g} x {length} mm {mat}"
+        if tube or proc.startswith("ground dowel"):  # bought at the finished size: exact
+            radii = coaxial_radii_mm(kind.shape, axis) or [d / 2]
+            size = f"{2 * radii[-1]:.6g}"
+            if tube and len(radii) > 1:  # outer / bore diameter: the wall to order
+                size += f"/{2 * radii[0]:.6g}"
+            return f"{'tube' if tube else 'rod'} {size} x {length} mm {mat}"
         return f"rod {_up(d + tol.STOCK_ROD_DIAMETER_ALLOWANCE_MM)} x {length} mm {mat}"
     m = 2 * tol.STOCK_BLOCK_MARGIN_MM
     return "block " + " x ".join(str(_up(x + m)) for x in sorted(dims)) + f" mm {mat}"
@@ -191,10 +219,11 @@ def stock(kind, mass_g: float) -> str:
 
 def stock_dims_mm(text: str) -> tuple[str, tuple[float, ...]]:
     """``(form, numbers)`` of a :func:`stock` text (``"rod 14 x 91 mm ..."`` ->
-    ``("rod", (14.0, 91.0))``), for reading ``bom.csv`` back."""
+    ``("rod", (14.0, 91.0))``; a tube's ``"8/6 x 110"``: ``(8.0, 6.0, 110.0)``), for reading
+    ``bom.csv`` back."""
     form, rest = text.split(" ", 1)
     nums = rest.split(" g" if form in ("filament", "wire") else " mm", 1)[0]
-    return form, tuple(float(x) for x in nums.split(" x "))
+    return form, tuple(float(y) for x in nums.split(" x ") for y in x.split("/"))
 
 
 def bought_designation(kind) -> tuple[str, str, str]:

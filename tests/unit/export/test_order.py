@@ -169,7 +169,9 @@ def _check_stock(out: Path) -> set[str]:
                 assert nums[0] == pytest.approx(bb[0], abs=1e-3)  # thickness = the part's
         else:  # a round bar (its axis may be oblique) holds the solid, by at most the
             # allowance (+1 mm of rounding)
-            rad = _rod_fit_mm(out / "parts" / f"{r['part']}.step", nums[1])
+            if form == "tube" and len(nums) == 3:  # outer / bore: a wall to order
+                assert 0 < nums[1] < nums[0], (r["part"], nums)
+            rad = _rod_fit_mm(out / "parts" / f"{r['part']}.step", nums[-1])
             assert rad <= nums[0] / 2 + 1e-3, (r["part"], nums, rad)
             extra = tol.STOCK_ROD_DIAMETER_ALLOWANCE_MM if form == "rod" else 0.0
             assert nums[0] - 2 * rad <= extra + 1.1, (r["part"], nums, rad)
