@@ -45,15 +45,14 @@ def test_the_bundled_printed_designs_are_found():
     assert "hoeken_printed.toml" in PRINTED
 
 
-@pytest.fixture(scope="module", params=PRINTED)
-def build(request, tmp_path_factory):
-    from cad.design import load_design
-    from cad.pipeline import build_design
+#: The formats read here (step, drawings) and the DXF: the same build as
+#: tests/regressions/test_stock_agrees.py, made once per run (tests/conftest.py ``shared_build``).
+FORMATS = {"step", "dxf", "drawings"}
 
-    out = tmp_path_factory.mktemp("printed") / "out"
-    build_design(load_design(DESIGNS / request.param), out, {"step", "drawings"}, fidelity="preview",
-                 use_cache=False)
-    return out
+
+@pytest.fixture(scope="module", params=PRINTED)
+def build(request, shared_build):
+    return shared_build(request.param, FORMATS, "preview")[1]
 
 
 def test_no_printed_part_states_an_iso_fit(build):
@@ -100,11 +99,15 @@ def test_each_printed_bore_states_the_fdm_tolerance_at_its_size(build):
 def test_a_printed_part_with_an_iso_fit_is_not_published(tmp_path, monkeypatch):
     """The printed fits turned back into ISO ones: the build reads bom.csv back and refuses."""
     from cad import printing
+    from cad.assembly import printed
     from cad.design import load_design
     from cad.device.readback import OutputsDisagree
     from cad.pipeline import build_design
 
+    # patched where it is defined and where it is called (a module-level import binds the name
+    # once: patching only cad.printing passes or fails with the order the tests run in)
     monkeypatch.setattr(printing, "printed_fit", lambda text: text)
+    monkeypatch.setattr(printed, "printed_fit", lambda text: text)
     out = tmp_path / "out"
     with pytest.raises(OutputsDisagree) as e:
         build_design(load_design(DESIGNS / "hoeken_printed.toml"), out, {"step"}, fidelity="preview",

@@ -53,16 +53,10 @@ def dxf_stock(path: Path) -> str | None:
 
 
 @pytest.fixture(scope="module")
-def builds(tmp_path_factory):
-    from cad.design import load_design
-    from cad.pipeline import build_design
-
-    tmp = tmp_path_factory.mktemp("stock")
-    out = {}
-    for name in VARIANTS:
-        out[name] = tmp / Path(name).stem
-        build_design(load_design(DESIGNS / name), out[name], FORMATS, fidelity="preview", use_cache=False)
-    return out
+def builds(shared_build):
+    """The three variants at preview fidelity with FORMATS, shared with
+    tests/regressions/test_printed_fits.py (tests/conftest.py ``shared_build``)."""
+    return {name: shared_build(name, FORMATS, "preview")[1] for name in VARIANTS}
 
 
 @pytest.mark.parametrize("name", VARIANTS)
@@ -126,7 +120,11 @@ def test_a_drawing_that_states_other_stock_is_not_published(tmp_path, monkeypatc
         return real([dataclasses.replace(p, stock="block 1 x 1 x 1 mm unobtainium") for p in parts],
                     out_dir, design)
 
+    from cad.pipeline import family
+
+    # patched where it is defined and where it is called (cad.pipeline.family imports the name)
     monkeypatch.setattr(drawings, "write_drawings", corrupt)
+    monkeypatch.setattr(family, "write_drawings", corrupt)
     out = tmp_path / "out"
     with pytest.raises(OutputsDisagree) as e:
         build_design(load_design(DESIGNS / "hoeken.toml"), out, {"drawings"}, fidelity="preview",
