@@ -40,8 +40,9 @@ class AssemblyModel:
         in clash messages.
     holes : ``{hole name: record}`` of tapped and clearance holes that fasteners engage
         (:func:`cad.pipeline.family.fastener_report`).
-    extra : family-specific layout data the family's own dynamics and report rows read
-        (never read by the pipeline).
+    extra : the family's layout record, a frozen dataclass of its package
+        (``FourBarLayout``, ``PantographLayout``, ``PenLayout``, ``PowerMouseLayout``) that
+        its own dynamics and report rows read (never read by the pipeline); None: none.
     """
 
     design: Any
@@ -50,7 +51,7 @@ class AssemblyModel:
     motion: dict[str, np.ndarray] | None = None
     pose_labels: tuple[str, ...] = ()
     holes: dict = field(default_factory=dict)
-    extra: dict = field(default_factory=dict)
+    extra: Any = None
 
     @property
     def bodies(self) -> tuple[str, ...]:

@@ -195,7 +195,7 @@ REF_RADIUS_MM = 2.0
 def _hoeken(fidelity: str = "inertia"):
     d = load_design(Path(__file__).resolve().parents[2] / "designs" / "hoeken.toml")
     model = assemble(d, fidelity, poses=SWEEP_POSES)  # layers planned over the timed sweep
-    return d, model.extra["joints_mm"], model
+    return d, model.extra.joints_mm, model
 
 
 def _exact_reference(prep, tfs, poses, radius_mm: float) -> dict:

@@ -31,6 +31,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from cad import tolerances as tol
+from cad.data.catalog import DEFAULT_ENCODER
 from cad.design.fields import (
     check_name,
     check_unknown,
@@ -50,6 +51,7 @@ from cad.design.targets import Target, parse_targets
 from cad.dynamics.inertia import InertiaCoefficients
 from cad.dynamics.stiffness import StiffnessInputs
 from cad.errors import DesignError, KinematicsError
+from cad.kinematics.encoder_counts import mid_stroke_lever_m_per_rad, stiffness_counts
 from cad.kinematics.families import FAMILIES, family_linkage
 from cad.kinematics.fourbar import FourBar, require_range
 
@@ -133,6 +135,19 @@ class FourBarDesign(ValidatedReplace):
         seat = gaps[0][3]
         return (f"{links} shorter than the joint hardware ({self.parts.bearing} bearing seats "
                 f"need >= {seat:g} mm between the joints of a bar){hint}")
+
+    def motor_joints(self) -> tuple[tuple[str, str], ...]:
+        """(joint, parts field naming its motor): the crank's motor."""
+        return (("crank", "motor"),)
+
+    def default_encoder(self) -> tuple[str, str]:
+        """(catalog encoder, hint) a design that states no encoder gets."""
+        return DEFAULT_ENCODER, "; set parts.encoder"
+
+    def stiffness_encoder(self) -> tuple[int, str] | None:
+        """The counts per turn ``[stiffness] encoder_resolution_m`` implies, with its source
+        (:func:`cad.kinematics.encoder_counts.stiffness_counts`); None without the table."""
+        return stiffness_counts(self)
 
     def check_buildable(self) -> None:
         """Raise DesignError (before any CAD import) when a link cannot carry its joints.
@@ -218,7 +233,6 @@ def _delta_of_the_encoder(design: FourBarDesign) -> FourBarDesign:
     from dataclasses import replace
 
     from cad.device import stated_encoder_counts
-    from cad.families.fourbar.encoder import mid_stroke_lever_m_per_rad
 
     counts = stated_encoder_counts(design) if design.stiffness is not None else None
     if counts is None:

@@ -48,6 +48,7 @@ from typing import Any
 
 import numpy as np
 
+from cad.data.catalog import PAPER_MOUSE_ENCODER
 from cad.design.fields import (
     check_name,
     check_unknown,
@@ -262,6 +263,22 @@ class PantographDesign(ValidatedReplace):
     motor: tuple = ()
 
     # ------------------------------------------------------------------ GII
+    def motor_joints(self) -> tuple[tuple[str, str], ...]:
+        """(joint, parts field naming its motor) of every motor: the 5-bar's two, the twin
+        pantograph's four (knob and crank, left and right), the pen's six (two arms: waist,
+        lower, upper; the waist motors are ``parts.waist_motor``)."""
+        if self.family == "twin-pantograph":
+            return tuple((f"{g}_q_{s}", "motor") for g in ("knob", "crank") for s in ("left", "right"))
+        if self.family == "haptic-pen":
+            return tuple((f"{a}_q_{j}", "waist_motor" if j == "waist" else "motor")
+                         for a in ("A", "B") for j in ("waist", "lower", "upper"))
+        return (("q_left", "motor"), ("q_right", "motor"))
+
+    def default_encoder(self) -> tuple[str, str]:
+        """(catalog encoder, hint) a design that states no encoder gets: the haptic mouse
+        paper's 4000 counts (:data:`cad.data.catalog.PAPER_MOUSE_ENCODER`)."""
+        return PAPER_MOUSE_ENCODER, ""
+
     def workspace_points(self) -> np.ndarray:
         """Workspace samples (N, d) in task coordinates (mm, rad)."""
         ws = self.workspace

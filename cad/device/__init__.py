@@ -34,7 +34,6 @@ from cad.data import catalog
 from cad.data.catalog import get_motor
 from cad.design.motor import resolve_motor
 from cad.errors import DesignError
-from cad.families import family_package
 
 #: MotorSpec fields a resolved motor states (value and source each), in report order.
 MOTOR_FIELDS = ("torque_constant_mNm_per_A", "current_continuous_A", "torque_continuous_mNm",
@@ -202,10 +201,10 @@ def _resolve_uncached(design) -> ResolvedDevice:
 
 # ----------------------------------------------------------------------------- motors
 def _joints(design) -> tuple[tuple[str, str], ...]:
-    """(joint, parts field naming its motor) of every motor: the family's ``motor_joints``
-    hook (:class:`cad.families.protocol.FamilyPackage`)."""
-    hook = family_package(design.family).motor_joints
-    return () if hook is None else tuple(hook(design))
+    """(joint, parts field naming its motor) of every motor: the design's
+    ``motor_joints()`` (its family's schema; none: no motor)."""
+    joints = getattr(design, "motor_joints", None)
+    return () if joints is None else tuple(joints())
 
 
 def _motors(design) -> tuple[ResolvedMotor, ...]:
@@ -284,7 +283,8 @@ def _encoders(design, motors) -> tuple[ResolvedEncoder, ...]:
         field, counts, src, key = "stiffness.encoder_resolution_m", *implied, None
         desc = _plain(counts)
     else:
-        key, hint = family_package(design.family).default_encoder or (catalog.DEFAULT_ENCODER, "")
+        key, hint = (design.default_encoder() if hasattr(design, "default_encoder")
+                     else (catalog.DEFAULT_ENCODER, ""))
         e = catalog.get_encoder(key)
         src = f"default encoder {e.key} ({e.source})" + hint
         field, counts, desc = "default", e.counts_per_rev, e.description
@@ -292,8 +292,8 @@ def _encoders(design, motors) -> tuple[ResolvedEncoder, ...]:
 
 
 def _stiffness_encoder(design) -> tuple[int, str] | None:
-    hook = family_package(design.family).stiffness_encoder
-    return None if hook is None else hook(design)
+    implied = getattr(design, "stiffness_encoder", None)
+    return None if implied is None else implied()
 
 
 def _plain(counts: int) -> str:

@@ -118,13 +118,6 @@ class FamilyPackage:
         under ``firmware/``, :mod:`cad.firmware`), or None (no firmware).
     firmware_model : ``firmware_model(design) -> cad.firmware.model.KinematicModel``: the
         linkage's kinematic model :func:`cad.firmware.linkage_files` generates from, or None.
-    motor_joints : ``motor_joints(design) -> ((joint, parts field naming its motor), ...)``:
-        every motor of the device (:func:`cad.device.resolve_device`); None: no motor.
-    default_encoder : the catalog encoder (:mod:`cad.data.catalog`) a design that states
-        none gets, and the hint appended to its source (e.g. ``"; set parts.encoder"``).
-    stiffness_encoder : ``stiffness_encoder(design) -> (counts, source) | None``: the count
-        a design's own stiffness inputs imply when it states no encoder (the four-bar's
-        ``[stiffness] encoder_resolution_m``), or None.
     """
 
     package: str
@@ -141,6 +134,3 @@ class FamilyPackage:
     optimize: Hook | None = None
     firmware: Hook | None = None
     firmware_model: Hook | None = None
-    motor_joints: Hook | None = None
-    default_encoder: tuple[str, str] | None = None
-    stiffness_encoder: Hook | None = None

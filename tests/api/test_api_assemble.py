@@ -19,6 +19,7 @@ import pytest
 
 import cad
 from cad.data import families as registry
+from cad.families import family_package
 from cad.errors import DesignError
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -28,7 +29,7 @@ BUNDLED = {"hoeken": "hoeken.toml", "roberts": "roberts.toml", "chebyshev": "che
            "pantograph": "pantograph.toml", "twin-pantograph": "haptic_mouse.toml",
            "haptic-pen": "haptic_pen.toml", "powermouse": "powermouse.toml",
            "delta": "delta.toml"}
-WITH_PARTS = [n for n, f in registry.FAMILIES.items() if f.package is not None]
+WITH_PARTS = [n for n in registry.FAMILIES if family_package(n).assemble is not None]
 
 
 def _rot_z(a: float) -> np.ndarray:
@@ -155,14 +156,15 @@ def test_unknown_fidelity_and_family_without_parts_are_design_errors(monkeypatch
 
 
 def test_a_package_without_assemble_is_a_design_error(monkeypatch):
+    import dataclasses
     import importlib
 
     row = registry.FAMILIES["hoeken"]
-    pkg = importlib.import_module(f"cad.families.{row.package}")
-    monkeypatch.delattr(pkg, "assemble", raising=False)
+    pkg = importlib.import_module(row.package_module)
+    monkeypatch.setattr(pkg, "FAMILY", dataclasses.replace(pkg.FAMILY, assemble=None))
     with pytest.raises(DesignError) as exc:
         cad.assemble(cad.load_design(ROOT / "designs" / "hoeken.toml"))
-    assert exc.value.field == "mechanism.family"
+    assert exc.value.field == "mechanism.family" and "no parts" in str(exc.value)
 
 
 def test_every_family_in_the_registry_has_a_bundled_design():

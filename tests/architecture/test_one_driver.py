@@ -56,11 +56,12 @@ def test_driven_families_call_none_of_the_drivers_stages():
 
 
 def test_each_driven_build_is_one_call_to_run_family():
-    """``build()`` is an import of ``run_family`` and one ``return run_family(...)``."""
+    """``build()`` is one ``return run_family(...)`` (``run_family`` imported at module level
+    or, where an import cycle asks for it, in the function)."""
     for fam in DRIVEN:
         body = _build_body(FAMILIES / fam / "build.py")
-        assert [type(s) for s in body] == [ast.ImportFrom, ast.Return], fam
-        call = body[1].value
+        assert [type(s) for s in body] in ([ast.ImportFrom, ast.Return], [ast.Return]), fam
+        call = body[-1].value
         assert isinstance(call, ast.Call) and getattr(call.func, "id", "") == "run_family", fam
 
 

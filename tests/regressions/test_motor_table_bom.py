@@ -87,8 +87,9 @@ def test_a_bom_naming_the_catalog_motor_is_not_published(tmp_path, monkeypatch):
     from cad.pipeline import build_design
 
     real = mechanism.build_assembly
-    monkeypatch.setattr(mechanism, "build_assembly",
-                        lambda *a, **kw: real(*a, **{**kw, "motor_spec": get_motor("maxon-re35")}))
+    corrupt = lambda *a, **kw: real(*a, **{**kw, "motor_spec": get_motor("maxon-re35")})  # noqa: E731
+    monkeypatch.setattr(mechanism, "build_assembly", corrupt)
+    monkeypatch.setattr("cad.families.fourbar.layout.build_assembly", corrupt)  # its caller
     (tmp_path / "d.toml").write_text((DESIGNS / "hoeken.toml").read_text() + MOTOR)
     out = tmp_path / "out"
     with pytest.raises(OutputsDisagree) as e:

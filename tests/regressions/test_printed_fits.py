@@ -99,15 +99,12 @@ def test_each_printed_bore_states_the_fdm_tolerance_at_its_size(build):
 def test_a_printed_part_with_an_iso_fit_is_not_published(tmp_path, monkeypatch):
     """The printed fits turned back into ISO ones: the build reads bom.csv back and refuses."""
     from cad import printing
-    from cad.assembly import printed
     from cad.design import load_design
     from cad.device.readback import OutputsDisagree
     from cad.pipeline import build_design
 
-    # patched where it is defined and where it is called (a module-level import binds the name
-    # once: patching only cad.printing passes or fails with the order the tests run in)
     monkeypatch.setattr(printing, "printed_fit", lambda text: text)
-    monkeypatch.setattr(printed, "printed_fit", lambda text: text)
+    monkeypatch.setattr("cad.assembly.printed.printed_fit", lambda text: text)  # its caller
     out = tmp_path / "out"
     with pytest.raises(OutputsDisagree) as e:
         build_design(load_design(DESIGNS / "hoeken_printed.toml"), out, {"step"}, fidelity="preview",

@@ -120,11 +120,8 @@ def test_a_drawing_that_states_other_stock_is_not_published(tmp_path, monkeypatc
         return real([dataclasses.replace(p, stock="block 1 x 1 x 1 mm unobtainium") for p in parts],
                     out_dir, design)
 
-    from cad.pipeline import family
-
-    # patched where it is defined and where it is called (cad.pipeline.family imports the name)
     monkeypatch.setattr(drawings, "write_drawings", corrupt)
-    monkeypatch.setattr(family, "write_drawings", corrupt)
+    monkeypatch.setattr("cad.pipeline.family.write_drawings", corrupt)  # its caller
     out = tmp_path / "out"
     with pytest.raises(OutputsDisagree) as e:
         build_design(load_design(DESIGNS / "hoeken.toml"), out, {"drawings"}, fidelity="preview",

@@ -33,9 +33,6 @@ FAMILY = FamilyPackage(
     optimize=Lazy(f"{_P}.targets:optimize"),
     firmware=Lazy("cad.firmware:linkage_files"),
     firmware_model=Lazy(f"{_P}.firmware:model"),
-    motor_joints=lambda design: (("crank", "motor"),),
-    default_encoder=("optical-2000", "; set parts.encoder"),
-    stiffness_encoder=Lazy(f"{_P}.encoder:stiffness_counts"),
 )
 
 #: ``assemble(design, fidelity="fabrication") -> AssemblyModel`` (:func:`.layout.assemble`).

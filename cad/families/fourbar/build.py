@@ -38,8 +38,10 @@ sweep. The report states what the dropped features cost on this design
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -134,7 +136,7 @@ def _same_body(b) -> dict:
 
 
 def _preview_title(b) -> str:
-    phi_deg = math.degrees(b.model.extra["pose_phi1_rad"])
+    phi_deg = math.degrees(b.model.extra.pose_phi1_rad)
     return f"{b.design.name}: {b.design.family}, phi1 = {phi_deg:.1f} deg"
 
 
@@ -150,45 +152,61 @@ def _preview(b) -> dict:
                              _preview_title(b), marks=[("P path", P_path)],
                              hide_ground_below_mm=-1.0)
         plot_kinematics(design, b.out_dir / "kinematics.png")
-        plot_apparent_mass(design, b.dyn["H"], b.out_dir / "apparent_mass.png")
+        plot_apparent_mass(design, b.dyn.H, b.out_dir / "apparent_mass.png")
         return ["preview.png", "kinematics.png", "apparent_mass.png"], None
 
     return {"preview": run}
 
 
-def _dynamics(b) -> dict:
+@dataclasses.dataclass(frozen=True)
+class FourBarDynamics:
+    """The four-bar's dynamics from the solids (``Build.dyn``): mass properties per kind
+    (``props``) and per link in the link frame (``links``, SI), each link's parts
+    (``shares``), the motor (catalog spec with ``[motor]`` applied) and its rotor inertia
+    ``Jm_kg_m2``, H11..H33 (``H``, Hoeken paper eqs 13-21) and the planar link terms,
+    the apparent mass over the stroke (eq 22), the fidelity costs and the structure model."""
+
+    props: dict
+    links: dict
+    shares: dict
+    motor: Any
+    Jm_kg_m2: float
+    H: Any
+    planar: dict
+    apparent_mass: dict
+    fidelity_costs: dict
+    structure: Any
+
+
+def _dynamics(b) -> FourBarDynamics:
     """From the driver's mass properties (``b.props`` per kind, ``b.bodies`` per body in the
-    link frame, SI): Jm, H and the apparent mass, the fidelity costs and the structure:
-    ``{"props", "links", "shares", "motor", "Jm_kg_m2", "H", "planar", "apparent_mass",
-    "fidelity_costs", "structure"}``."""
+    link frame, SI): Jm, H and the apparent mass, the fidelity costs and the structure."""
     design, model = b.design, b.model
     dm = resolve_device(design).motor  # [motor] and parts.motor_rotor_inertia_g_cm2 applied
-    motor, Jm = dm.spec, dm.rotor_inertia_kg_m2
+    Jm = dm.rotor_inertia_kg_m2
     H, planar = inertia_from_links(design, b.bodies, Jm)
     am = apparent_mass(design, H)
-    out = {"props": b.props, "links": b.bodies,
-           "shares": family.body_shares(model.instances, b.props), "motor": motor,
-           "Jm_kg_m2": Jm, "H": H, "planar": planar, "apparent_mass": am}
-    out["fidelity_costs"] = _fidelity_costs(design, model, out, b.fidelity)
-    out["structure"] = structure_of_build(design, model, b.props, am["M11_max_g"])
-    return out
+    return FourBarDynamics(
+        props=b.props, links=b.bodies, shares=family.body_shares(model.instances, b.props),
+        motor=dm.spec, Jm_kg_m2=Jm, H=H, planar=planar, apparent_mass=am,
+        fidelity_costs=_fidelity_costs(design, model, b.props, H, am, Jm, b.fidelity),
+        structure=structure_of_build(design, model, b.props, am["M11_max_g"]))
 
 
-def _fidelity_costs(design, model, mp: dict, fidelity: str) -> dict:
+def _fidelity_costs(design, model, props: dict, H, am: dict, Jm: float, fidelity: str) -> dict:
     """What dropping the cosmetic features costs on this design (measured, not assumed)."""
     out = {"bearing_balls": "none: the bearing mass is the catalog mass at every fidelity"}
-    if model.extra["handle_script"] is not None or design.parts.handle_fillet_mm <= 0:
+    if model.extra.handle_script is not None or design.parts.handle_fillet_mm <= 0:
         out["handle_round"] = "not applicable"
         return out
     from cad.families.fourbar.sheet_tolerance import handle_floor_mm
-    floor = handle_floor_mm(model.extra["plan"], design.parts)
+    floor = handle_floor_mm(model.extra.plan, design.parts)
     other = knob_shape(design.parts, floor, cosmetic=fidelity != "fabrication")
-    props, H, am = mp["props"], mp["H"], mp["apparent_mass"]
     kind = model.kinds()["handle"]
     alt = family.kind_mass_props(PartKind(name="handle", shape=other, material=kind.material,
                                           made=True))
     H2, _ = inertia_from_links(design, family.body_props(model.instances, {**props, "handle": alt}),
-                               mp["Jm_kg_m2"])
+                               Jm)
     am2 = apparent_mass(design, H2)
     sign = 1.0 if fidelity == "fabrication" else -1.0  # report inertia - fabrication
     out["handle_round"] = {
@@ -215,8 +233,8 @@ def interference(design, model, fidelity: str, allow_interference: bool, same_bo
     rep = itf.check_model(
         model, parts.clearance_min_mm,
         mesh_tol_mm=itf.SWEEP_MESH_TOL_MM if fidelity != "preview" else PREVIEW_STL_TOL_MM,
-        exact=fidelity != "preview", contact_ok=False, joints=joint_axes(model.extra["joints_mm"]),
-        phi1_rad=model.extra["phi1_rad"], tf_at=tf_at, same_body=same_body)
+        exact=fidelity != "preview", contact_ok=False, joints=joint_axes(model.extra.joints_mm),
+        phi1_rad=model.extra.phi1_rad, tf_at=tf_at, same_body=same_body)
     if not allow_interference:
         itf.raise_on_collision(rep, parts.clearance_min_mm)
     return rep
@@ -226,8 +244,8 @@ def _sim_files(b) -> list[str]:
     """``<name>.xml`` (MJCF) / ``<name>.urdf`` when asked (:mod:`cad.families.fourbar.sim`)."""
     design, model, mp = b.design, b.model, b.dyn
     return write_sim_model(
-        lambda: sim_model(design, model, mp["links"], mp["Jm_kg_m2"], mp["motor"],
-                          model.extra["pose_phi1_rad"]),
+        lambda: sim_model(design, model, mp.links, mp.Jm_kg_m2, mp.motor,
+                          model.extra.pose_phi1_rad),
         b.out_dir, b.formats, design.name)
 
 
@@ -282,12 +300,12 @@ def build(
                       progress=progress, phi1_deg=phi1_deg)
 
 
-def _links_report(mp: dict) -> dict:
+def _links_report(mp: FourBarDynamics) -> dict:
     """report.json ``links``: per moving link its mass properties (link frame), lG, beta,
     Jzz about the COM and each part's share."""
     out = {}
     for k in LINKS:
-        lp, pl = mp["links"][k], mp["planar"][k]
+        lp, pl = mp.links[k], mp.planar[k]
         out[k] = {
             **lp.to_dict(),
             "mass_g": lp.mass_kg * 1e3,
@@ -295,7 +313,7 @@ def _links_report(mp: dict) -> dict:
             "lG_mm": pl.lG_m * 1e3,
             "beta_deg": math.degrees(pl.beta_rad),
             "Jzz_com_kg_m2": pl.Jzz_com_kg_m2,
-            "parts": mp["shares"].get(k, []),
+            "parts": mp.shares.get(k, []),
         }
     return out
 
@@ -326,10 +344,10 @@ def _report(b) -> dict:
     dispatcher the rest); the driver's common keys (``b.common``) placed among the
     four-bar's; ``sheets`` (the nested stock sheets) when ``parts.process = "laser"``."""
     design, model, mp, rep, bom, c = b.design, b.model, b.dyn, b.itf, b.bom, b.common
-    fb, parts, H, motor = design.linkage, design.parts, mp["H"], mp["motor"]
+    fb, parts, H, motor = design.linkage, design.parts, mp.H, mp.motor
     m = compute_metrics(fb, design.phi1_min_rad, design.phi1_max_rad, force_N=design.force_N,
                         samples=design.samples).as_dict()
-    script = model.extra["handle_script"]
+    script = model.extra.handle_script
     report = {
         "name": design.name,
         "source": Path(str(design.source)).name,  # the file name: no path of this machine
@@ -341,14 +359,14 @@ def _report(b) -> dict:
         "H22_kg_m2": H.H22_kg_m2,
         "H33_kg_m2": H.H33_kg_m2,
         "beta2_deg": math.degrees(H.beta2_rad),
-        "Jm_kg_m2": mp["Jm_kg_m2"],
-        "apparent_mass": mp["apparent_mass"],
-        "structure": mp["structure"],
+        "Jm_kg_m2": mp.Jm_kg_m2,
+        "apparent_mass": mp.apparent_mass,
+        "structure": mp.structure,
         "links": _links_report(mp),
         "part_masses_g": {r["part"]: r["mass_g"] for r in bom},
         # material of every solid of assembly.step, by its name there (hapticad massprops)
         "part_materials": c["part_materials"],
-        "ground_mass_g": mp["links"]["ground"].mass_kg * 1e3,
+        "ground_mass_g": mp.links["ground"].mass_kg * 1e3,
         "total_mass_g": sum(r["mass_g"] * r["quantity"] for r in bom),
         "bom": bom,
         "min_clearance_mm": rep.min_clearance_mm,
@@ -358,20 +376,20 @@ def _report(b) -> dict:
         "fits": c["fits"],
         # every family's "bodies": each moving body's mass properties in its body frame (the
         # part -> body map is placement.instances)
-        "bodies": {k: mp.to_dict() for k, mp in b.bodies.items() if k != "ground"},
+        "bodies": {k: v.to_dict() for k, v in b.bodies.items() if k != "ground"},
         "placement": c["placement"],
-        "layers": _layers_report(model.extra["plan"], parts),
-        "base_plate_mm": list(model.extra["base_rect_mm"]),
+        "layers": _layers_report(model.extra.plan, parts),
+        "base_plate_mm": list(model.extra.base_rect_mm),
         "motor": {
             "key": motor.key,
             **({"name": motor.winding} if dict(b.design.motor).get("name") else {}),
             "mass_kg": motor.mass_kg,
-            "rotor_inertia_g_cm2": mp["Jm_kg_m2"] * 1e7,
+            "rotor_inertia_g_cm2": mp.Jm_kg_m2 * 1e7,
             "source": (motor.source if not b.design.motor else
                        f"the design's [motor] table over the mount of {motor.key} ({motor.source})"),
         },
         "fidelity": b.fidelity,
-        "fidelity_costs": mp["fidelity_costs"],
+        "fidelity_costs": mp.fidelity_costs,
         "handle": "user script " + script.name if script is not None else "built-in knob",
         "parts_spec": parts.as_dict(report=True),
         "preview": "preview.png",
@@ -390,7 +408,7 @@ def _sheets(b, report: dict) -> None:
 
     report["sheets"] = sheets_report(plan_sheets(model.instances), "dxf" in b.formats)
     report["sheets"]["thickness_tolerance"] = tolerance_report(
-        model.instances, model.holes, model.extra["plan"], b.design.parts)
+        model.instances, model.holes, model.extra.plan, b.design.parts)
 
 
 def _md_rows(r: dict) -> list[tuple[str, str]]:

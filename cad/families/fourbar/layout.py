@@ -26,6 +26,9 @@ on the base plate's top face; ``tf_world_body`` maps body coordinates into the w
 
 from __future__ import annotations
 
+import dataclasses
+from typing import Any
+
 import math
 
 import numpy as np
@@ -44,6 +47,22 @@ from cad.parts.part_cache import deferred_shapes
 PREVIEW_POSES = 24
 #: The moving bodies, in the order of the Hoeken paper's links 1..3.
 LINKS = ("crank", "coupler", "rocker")
+
+
+@dataclasses.dataclass(frozen=True)
+class FourBarLayout:
+    """The four-bar's layout record (``AssemblyModel.extra``): the layer ``plan``, the joint
+    centres ``joints_mm`` (mm, world), the base plate's rectangle ``base_rect_mm``, the swept
+    crank angles ``phi1_rad`` and the exported one ``pose_phi1_rad`` (rad), the user's
+    ``handle_script`` (None: the built-in knob)."""
+
+    plan: Any
+    joints_mm: Any
+    base_rect_mm: Any
+    phi1_rad: Any
+    pose_phi1_rad: float
+    handle_script: Any = None
+
 
 
 def sweep_angles(design, n: int) -> np.ndarray:
@@ -210,6 +229,5 @@ def assemble(
         motion=body_transforms(fb, phi),
         pose_labels=tuple(f"phi1 = {math.degrees(p):.1f} deg" for p in phi),
         holes={h.name: h for h in asm.holes},
-        extra={"plan": plan, "joints_mm": J, "base_rect_mm": asm.base_rect_mm,
-               "phi1_rad": phi, "pose_phi1_rad": pose_phi, "handle_script": script},
+        extra=FourBarLayout(plan, J, asm.base_rect_mm, phi, pose_phi, script),
     )

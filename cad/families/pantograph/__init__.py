@@ -10,13 +10,6 @@ from cad.families.protocol import FamilyPackage, Lazy, TargetHooks
 _P = "cad.families.pantograph"
 
 
-def _motor_joints(design) -> tuple[tuple[str, str], ...]:
-    """The 5-bar's two motors; the twin pantograph's four (knob and crank, left and right)."""
-    if design.family == "twin-pantograph":
-        return tuple((f"{g}_q_{s}", "motor") for g in ("knob", "crank") for s in ("left", "right"))
-    return (("q_left", "motor"), ("q_right", "motor"))
-
-
 FAMILY = FamilyPackage(
     package="pantograph",
     build=Lazy(f"{_P}.build:build"),
@@ -35,8 +28,6 @@ FAMILY = FamilyPackage(
     optimize=Lazy("cad.studies.gii_optimize:optimize"),
     firmware=Lazy("cad.firmware:linkage_files"),
     firmware_model=Lazy(f"{_P}.firmware:model"),
-    motor_joints=lambda design: _motor_joints(design),
-    default_encoder=("optical-4000", ""),  # the haptic mouse paper's 4000 counts
 )
 
 #: ``assemble(design, fidelity="fabrication") -> AssemblyModel``.

@@ -242,7 +242,7 @@ def _report_of(b) -> dict:
     lay, clr = b.pre
     eff, eff_bare = b.dyn
     return build_report(b.design, lay, clr, b.bodies, eff, eff_bare, b.itf, b.bom,
-                   b.model.extra["home_mm"], b.fidelity, b.low)
+                   b.model.extra.home_mm, b.fidelity, b.low)
 
 
 def _sim_files(b) -> list[str]:
@@ -255,11 +255,11 @@ def _sim_files(b) -> list[str]:
         return write_sim_model(lambda: fivebar_sim_model(b.design, b.model, b.bodies), b.out_dir,
                                b.formats, b.design.name)
     return _write_sim(b.design, b.out_dir, b.formats, b.instances, b.bodies, b.pre[0],
-                      b.model.extra["home_mm"])
+                      b.model.extra.home_mm)
 
 
 def _title(b) -> str:
-    home = b.model.extra["home_mm"]
+    home = b.model.extra.home_mm
     return f"{b.design.name}: {b.design.family} at home {home.round(2).tolist()} mm"
 
 
@@ -275,7 +275,7 @@ def _stages():
         check_options=check_options, assemble=assemble, interference=lambda b: interference(b.model, b.allow_interference),
         report=_report_of, md_rows=report_md_rows, stroke=stroke_poses, preview_title=_title,
         motion_label="workspace", prepare=_prepare, prepare_label="layout and clearances",
-        dynamics=lambda b: effective_mass(b.design, b.bodies, b.model.extra["home_mm"]),
+        dynamics=lambda b: effective_mass(b.design, b.bodies, b.model.extra.home_mm),
         bench_z_mm=lambda b: b.pre[0]["bench_z_mm"],
         marks=lambda b: [("workspace", workspace_square(b.design.workspace))],
         more_files=_sim_files, assembly=lambda design: (None, ASSEMBLY_CHECKS),

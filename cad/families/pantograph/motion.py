@@ -5,6 +5,9 @@ itself (:func:`interference`)."""
 
 from __future__ import annotations
 
+import dataclasses
+from typing import Any
+
 import math
 
 import numpy as np
@@ -28,6 +31,16 @@ from cad.parts import translation
 
 #: Poses of the stroke animation: the handle once round the workspace square.
 STROKE_POSES = 32
+
+
+@dataclasses.dataclass(frozen=True)
+class PantographLayout:
+    """The pantographs' layout record (``AssemblyModel.extra``): the numbers of the layout
+    (``layout``: lengths, heights, clearances in mm) and the home point ``home_mm``."""
+
+    layout: dict
+    home_mm: Any
+
 
 
 def body_poses(design, X) -> dict[str, np.ndarray]:
@@ -153,7 +166,7 @@ def assemble(design, fidelity: str = "fabrication"):
         raise DesignError("workspace", f"{e}; move workspace.center_mm or shrink "
                           "workspace.side_mm / size_mm") from None
     return AssemblyModel(design, tuple(inst), tfs, motion, labels, holes,
-                         extra={"layout": lay, "home_mm": home})
+                         extra=PantographLayout(lay, home))
 
 
 def interference(model, allow_interference: bool = False) -> dict:

@@ -219,7 +219,7 @@ def fivebar_sim_model(design, model, bodies: dict) -> SimModel:
     motors = tuple(SimMotor(f"motor_{m.joint.split('_', 1)[1]}", m.joint, peak_torque_Nm(dev)[m.joint])
                    for m in dev.motors)
     ground = meshes("ground")
-    home = model.extra["home_mm"]
+    home = model.extra.home_mm
     return SimModel(
         name=design.name, bodies=tuple(out), world_meshes=ground,
         loops=(SimLoop("loop_E", "distal_right", "distal_right_tip", "distal_left", "distal_left_tip"),),

@@ -27,9 +27,6 @@ FAMILY = FamilyPackage(
         parse_free=Lazy("cad.studies.fit:parse_free_pantograph"),
     ),
     optimize=Lazy("cad.studies.gii_optimize:optimize"),
-    motor_joints=lambda design: tuple((f"{a}_q_{j}", "waist_motor" if j == "waist" else "motor")
-                                      for a in ("A", "B") for j in ("waist", "lower", "upper")),
-    default_encoder=("optical-4000", ""),  # the haptic mouse paper's 4000 counts
 )
 
 #: ``assemble(design, fidelity="fabrication") -> AssemblyModel``.

@@ -7,6 +7,9 @@ waist bracket, gimbal and pen are :mod:`cad.parts.pen`.
 
 from __future__ import annotations
 
+import dataclasses
+from typing import Any
+
 import math
 
 import numpy as np
@@ -21,6 +24,19 @@ from cad.parts import PartInstance, PartKind, base, joints, translation
 from cad.parts import motor as pm
 from cad.parts import pantograph as pp
 from cad.parts import pen as pp2
+
+
+@dataclasses.dataclass(frozen=True)
+class PenLayout:
+    """The pen's layout record (``AssemblyModel.extra``): its numbers ``layout_mm``, the
+    ground and bench ``ground_mm``, the home task pose ``home_task`` and the swept ones
+    ``motion_task``."""
+
+    layout_mm: dict
+    ground_mm: dict
+    home_task: Any
+    motion_task: Any
+
 
 
 def _rot(axis: str, deg: float) -> np.ndarray:
@@ -296,4 +312,4 @@ def assemble(design, fidelity: str = "fabrication"):
     return AssemblyModel(
         design=design, instances=tuple(inst), tf_world_body=home, motion=motion,
         pose_labels=labels, holes=holes,
-        extra={"layout_mm": lay, "ground_mm": gl, "home_task": X[0], "motion_task": X})
+        extra=PenLayout(lay, gl, X[0], X))

@@ -81,7 +81,7 @@ def interference(model, allow_interference: bool = False) -> dict:
 
 def _dynamics(b):
     """The 5 x 5 operational mass matrix at home (:func:`cad.families.pen.dynamics.effective_mass`)."""
-    return effective_mass(b.design, b.bodies, b.model.extra["home_task"])
+    return effective_mass(b.design, b.bodies, b.model.extra.home_task)
 
 
 def _mjcf(b) -> list[str]:
@@ -114,7 +114,7 @@ def _stages():
                           "effective_mass_breakdown": mass_breakdown_report(b.design, b.model, b.props)},
         md_rows=_md_rows, stroke=_stroke, motion_label="motion",
         preview_title=lambda b: f"{b.design.name}: haptic pen at the workspace centre",
-        dynamics=_dynamics, bench_z_mm=lambda b: b.model.extra["ground_mm"]["bench_z_mm"],
+        dynamics=_dynamics, bench_z_mm=lambda b: b.model.extra.ground_mm["bench_z_mm"],
         thread_notes=False,  # the pen's DXF/drawings carry no tapped-hole notes (as before)
         more_files=_mjcf, assembly=lambda design: (None, ASSEMBLY_CHECKS),
         no_solid_rows=_encoder_rows)
@@ -136,9 +136,9 @@ def build(design, out_dir: Path, formats: set[str], *, fidelity: str = "fabricat
 
 def _report(design, model, bodies, eff, itf, bom, fidelity, low) -> dict:
     g = design.gii()
-    lay = {k: v for k, v in model.extra["layout_mm"].items() if k != "bearing"}
-    gl = model.extra["ground_mm"]
-    home = model.extra["home_task"]
+    lay = {k: v for k, v in model.extra.layout_mm.items() if k != "bearing"}
+    gl = model.extra.ground_mm
+    home = model.extra.home_task
     return {
         "name": design.name, "design": design.name, "family": design.family,
         "fidelity": fidelity,
@@ -197,7 +197,7 @@ def mass_breakdown_report(design, model, props: dict) -> dict:
         if mp is not None:
             T = i.tf_body_part
             parts.setdefault(i.body, []).append((i.kind.name, mp.transformed(T[:3, :3], T[:3, 3] * 1e-3)))
-    home = model.extra["home_task"]
+    home = model.extra.home_task
     r = mass_breakdown(design, parts, home, "x")
     groups = {label: 0.0 for label, _ in BREAKDOWN_GROUPS}
     by_kind: dict[str, float] = {}

@@ -38,7 +38,9 @@ fits per part: the post bore / post and handle socket / stem, H7/g6).
 
 from __future__ import annotations
 
+import dataclasses
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -96,20 +98,35 @@ def check_options(design, fidelity: str, phi1_deg, formats=frozenset()) -> None:
     pp.leg_plan(design.stator.housing_wall_mm)  # no catalog leg screw for the wall
 
 
-def _dynamics(b) -> dict:
-    """The flotor's mass properties (flotor frame), its parts' and the stator's masses, the
-    wrench map (:func:`_wrench`) and the test rig's BOM rows."""
+@dataclasses.dataclass(frozen=True)
+class PowerMouseDynamics:
+    """The PowerMouse's dynamics from the solids (``Build.dyn``): the flotor's mass
+    properties (flotor frame, SI), its parts' and the stator's masses (kg), the coil gain
+    (N per ampere-turn), the wrench maps about the cube centre (``W``, 6 x 6) and about the
+    flotor's COM (``W_com``), its isotropy (``iso``) and the test rig's BOM rows."""
 
-    inst, props, act = b.instances, b.props, b.model.extra["actuator"]
+    flotor_mp: Any
+    parts_mass: dict
+    stator_mass_kg: float
+    gain_per_At: float
+    W: Any
+    iso: Any
+    W_com: Any
+    rig_bom: list
+
+
+def _dynamics(b) -> PowerMouseDynamics:
+    """The flotor's mass properties, masses, the wrench map (:func:`_wrench`) and the rig's
+    BOM rows (:class:`PowerMouseDynamics`)."""
+    inst, props, act = b.instances, b.props, b.model.extra.actuator
     flotor_mp = b.bodies["flotor"]
-    gain_per_At, W, iso, W_com = _wrench(b.design, act, b.model.extra["geometry"], flotor_mp)
-    return {
-        "flotor_mp": flotor_mp,
-        "parts_mass": {i.name: props[i.kind.name].mass_kg for i in inst if i.body == "flotor"},
-        "stator_mass_kg": sum(props[i.kind.name].mass_kg for i in inst if i.body == "ground"),
-        "gain_per_At": gain_per_At, "W": W, "iso": iso, "W_com": W_com,
-        "rig_bom": rig_bom(b.model.extra["rig"]),  # report.json (the export child writes its own)
-    }
+    gain_per_At, W, iso, W_com = _wrench(b.design, act, b.model.extra.geometry, flotor_mp)
+    return PowerMouseDynamics(
+        flotor_mp=flotor_mp,
+        parts_mass={i.name: props[i.kind.name].mass_kg for i in inst if i.body == "flotor"},
+        stator_mass_kg=sum(props[i.kind.name].mass_kg for i in inst if i.body == "ground"),
+        gain_per_At=gain_per_At, W=W, iso=iso, W_com=W_com,
+        rig_bom=rig_bom(b.model.extra.rig))  # report.json (the export child writes its own)
 
 
 def rig_bom(rig) -> list[dict]:
@@ -132,11 +149,11 @@ def _report_of(b) -> dict:
     """The family's report dict (:func:`cad.families.powermouse.report.build_report`)."""
     x, dy = b.model.extra, b.dyn
     itf, cl = b.itf
-    return build_report(b.design, x["actuator"], x["actuator_geometry"], x["geometry"], dy["W"],
-                   dy["iso"], dy["W_com"], dy["flotor_mp"], dy["parts_mass"],
-                   dy["stator_mass_kg"], itf, cl, b.bom, dy["rig_bom"],
-                   pv.rattle_clearances_mm(x["actuator_geometry"], x["actuator_solids"]),
-                   dy["gain_per_At"])
+    return build_report(b.design, x.actuator, x.actuator_geometry, x.geometry, dy.W,
+                   dy.iso, dy.W_com, dy.flotor_mp, dy.parts_mass,
+                   dy.stator_mass_kg, itf, cl, b.bom, dy.rig_bom,
+                   pv.rattle_clearances_mm(x.actuator_geometry, x.actuator_solids),
+                   dy.gain_per_At)
 
 
 def _assembly(design) -> tuple:
@@ -157,7 +174,7 @@ def _stages():
         prepare_label="actuator optimum (eqs 8-9)", dynamics=_dynamics,
         thread_notes=False,  # no tapped-hole notes in the DXF/drawings (as before)
         more_exports=_write_rig, cutaway=PICTURE_CUTAWAY, more_files=_sim_files,
-        figures=lambda b: fig8_chart(b.design, b.model.extra["actuator"]["gap_mm"], b.out_dir),
+        figures=lambda b: fig8_chart(b.design, b.model.extra.actuator["gap_mm"], b.out_dir),
         assembly=_assembly)
 
 
@@ -223,7 +240,7 @@ PICTURE_CUTAWAY = ("housing_*", "iron_*", "magnet_*_outer-*", "flotor_body", "fl
 def _sim_files(b) -> list[str]:
     """``<name>.xml`` (MJCF) when asked: the free flotor and its coil actuators
     (:func:`cad.families.powermouse.sim.sim_model`)."""
-    return write_sim_model(lambda: sim_model(b.design, b.model, b.dyn["flotor_mp"], b.model.extra["actuator"]),
+    return write_sim_model(lambda: sim_model(b.design, b.model, b.dyn.flotor_mp, b.model.extra.actuator),
                            b.out_dir, b.formats, b.design.name)
 
 
@@ -232,13 +249,13 @@ def _write_rig(b) -> list[str]:
     return [
         "rig/" + f
         for f in family.write_outputs(
-            b.model.extra["rig"],
+            b.model.extra.rig,
             {"rig": np.eye(4)},
             b.out_dir / "rig",
             b.formats,
             name=f"{b.design.name}_rig",
             title="single-actuator test rig (Fig. 7), not part of the device",
-            bom=rig_bom(b.model.extra["rig"]),  # forked before the mass properties: its own
+            bom=rig_bom(b.model.extra.rig),  # forked before the mass properties: its own
             preview=False,
         )
     ]

@@ -4,6 +4,9 @@ check (:func:`interference`) with the clearance figures of the report."""
 
 from __future__ import annotations
 
+import dataclasses
+from typing import Any
+
 import numpy as np
 
 from cad.actuators import powermouse as pm
@@ -14,6 +17,21 @@ from cad.families.powermouse import parts as pp
 from cad.families.powermouse.actuator import actuator_optimum
 from cad.families.powermouse.placement import assembly, lid_holes, tf
 from cad.parts import voicecoil as pv
+
+
+@dataclasses.dataclass(frozen=True)
+class PowerMouseLayout:
+    """The PowerMouse's layout record (``AssemblyModel.extra``): the actuator optimum
+    (``actuator``, eqs 8-9), the flotor/stator ``geometry``, the actuator's
+    ``actuator_geometry`` and ``actuator_solids``, the single-actuator test ``rig``'s
+    instances (Fig. 7)."""
+
+    actuator: dict
+    geometry: Any
+    actuator_geometry: Any
+    actuator_solids: Any
+    rig: Any
+
 
 
 def stroke_poses(design) -> dict[str, np.ndarray]:
@@ -76,8 +94,7 @@ def assemble(design, fidelity: str = "fabrication"):
     return AssemblyModel(
         design, tuple(inst), {"flotor": np.eye(4), "ground": np.eye(4)},
         {"flotor": flotor}, ("centre", *(label for label, _, _ in poses)), lid_holes(design, g),
-        extra={"actuator": act, "geometry": g, "actuator_geometry": ag,
-               "actuator_solids": acts, "rig": rig},
+        extra=PowerMouseLayout(act, g, ag, acts, rig),
     )
 
 

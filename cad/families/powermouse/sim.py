@@ -31,7 +31,7 @@ def sim_model(design, model, flotor_mp, actuator: dict) -> SimModel:
     ``ground``, mm); ``flotor_mp``: the flotor's MassProps (flotor frame, SI); ``actuator``:
     the report's ``actuator`` dict (``peak_force_N``: one coil's force at peak power, N).
     """
-    g = model.extra["geometry"]
+    g = model.extra.geometry
     made = {i.kind.name for i in model.instances if i.kind.made and i.kind.listed}
 
     def meshes(body):

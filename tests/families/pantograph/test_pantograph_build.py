@@ -140,7 +140,7 @@ def test_solid_clash_away_from_home_is_found_with_pair_pose_and_volume():
     assert len(poses) == 5 * 8  # 5 grid points of that row x 8 crank angles
     c = next(c for c in rep.collisions if c["pose"] == "x=0 y=150 mm theta=0 deg")
     r, h = 125.0, 32.5 - 25.0  # knob radius; the plate's edge y = 32.5 above its lowest y = 25
-    assert model.extra["layout"]["bridge_y_mm"][1] == pytest.approx(32.5)
+    assert model.extra.layout["bridge_y_mm"][1] == pytest.approx(32.5)
     segment_mm2 = r * r * math.acos((r - h) / r) - (r - h) * math.sqrt(2 * r * h - h * h)
     expected = segment_mm2 * design.parts.plate_thickness_mm
     assert c["parts_overlap_volume_mm3"] == pytest.approx(expected, rel=1e-9)

@@ -328,7 +328,7 @@ def test_one_interference_check_matches_analytic_clearances():
 
     d = load_design("designs/powermouse.toml")
     model = assemble(d, "preview")
-    g = model.extra["geometry"]
+    g = model.extra.geometry
     assert d.actuator.rattle_mm == 6.0 and d.actuator.magnet_length_mm == 20.0
     th = math.radians(5.0)
     poses = {"centre": np.eye(4)}

@@ -1,6 +1,6 @@
-"""The four-bar's encoder implied by its ``[stiffness]`` inputs (the family's
-``stiffness_encoder`` hook, :class:`cad.families.protocol.FamilyPackage`): the counts per
-crank turn whose handle step at mid-stroke is ``encoder_resolution_m``."""
+"""The four-bar's encoder implied by its ``[stiffness]`` inputs
+(:meth:`cad.design.fourbar.FourBarDesign.stiffness_encoder`): the counts per crank turn
+whose handle step at mid-stroke is ``encoder_resolution_m``. Pure numpy."""
 
 from __future__ import annotations
 
