@@ -265,6 +265,10 @@ DELTA_FK_NEWTON_STEPS = 8
 #: Largest |f_i| / L_b^2 of a converged delta FK point: float64 round-off of mm^2 sums is
 #: ~1e-16 relative; 1e-10 leaves six orders of margin and still flags a point Newton left.
 DELTA_FK_RESIDUAL_REL = 1e-10
+#: The same test in the float build of the generated delta firmware
+#: (cad/families/delta/firmware.py): float32 resolves ~1.2e-7 relative, and f_i sums three
+#: squares of lengths ~L_b, so its round-off is a few 1e-7 L_b^2; 1e-5 leaves ~30x margin.
+DELTA_FK_RESIDUAL_REL_FLOAT = 1e-5
 #: |E - B| below this (mm) leaves atan2(E - B) undefined: the end effector sits
 #: on an actuated joint. Unreachable for any arm with l2 != l3, singular else.
 ON_JOINT_MM = 1e-9

@@ -7,11 +7,6 @@ import json
 import os
 from pathlib import Path
 
-from cad.errors import DesignError
-from cad.export.manifest import write_manifest
-from cad.io.atomic import write_text_atomic
-from cad.io.outdir import check_out_dir
-
 #: topic -> module in cad.bench exposing run(quick, out_dir) -> dict
 TOPICS = {
     "kinematics": "cad.bench.kinematics",
@@ -105,6 +100,11 @@ def run_bench(out: Path, quick: bool = False, only: str | None = None, echo=None
     ``command``. Raises DesignError for an unknown topic."""
     import importlib
     import time
+
+    from cad.errors import DesignError
+    from cad.export.manifest import write_manifest
+    from cad.io.atomic import write_text_atomic
+    from cad.io.outdir import check_out_dir
 
     out = Path(out)
     topics = [t for t in TOPICS if t not in OPT_IN]

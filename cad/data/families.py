@@ -66,7 +66,8 @@ FAMILIES: dict[str, Family] = {
         Family("haptic-pen", "haptic-pen", "cad.families.pen.design", "pen", _PANTOGRAPH_CMDS),
         Family("powermouse", "powermouse", "cad.design.powermouse", "powermouse",
                ("build", "render", "datasheet")),
-        Family("delta", "delta", "cad.families.delta.design", "delta", ("gii", "optimize")),
+        Family("delta", "delta", "cad.families.delta.design", "delta",
+               ("build", "gii", "optimize", "render", "datasheet")),
     )
 }
 

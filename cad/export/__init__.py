@@ -21,8 +21,6 @@ from pathlib import Path
 from cad.errors import DesignError
 from cad.export.bom import BOM_COLUMNS, bom_csv, write_bom
 from cad.export.manifest import MANIFEST_NAME, verify_manifest, write_manifest
-from cad.export.step import assembly_step_bytes, step_bytes
-from cad.export.stl import check_watertight, mesh_shape, stl_bytes
 from cad.io.atomic import write_bytes_atomic, write_text_atomic
 from cad.tolerances import STL_ANGULAR_TOLERANCE_RAD, STL_TOLERANCE_MM  # re-exported
 
@@ -110,6 +108,9 @@ def export_part(
     :class:`cad.errors.MeshError` and writes no file of this part.
     """
     from cad.export.shapes import in_own_frame, to_topods
+    from cad.export.step import step_bytes
+    from cad.export.stl import check_watertight, mesh_shape, stl_bytes
+
     topo = to_topods(shape, name)
     out_dir = Path(out_dir)
     payload: list[tuple[Path, bytes | str]] = []
@@ -147,6 +148,7 @@ def export_assembly_step(
     Shapes must already be placed in the world frame (mm).
     """
     from cad.export.shapes import to_topods
+    from cad.export.step import assembly_step_bytes
 
     topo_items = [(n, to_topods(s, n), c) for n, s, c in items]
     name = name or Path(path).stem

@@ -32,13 +32,6 @@ from pathlib import Path
 
 import numpy as np
 
-import cad
-from cad.errors import DesignError
-from cad.families import family_package
-from cad.firmware import csrc, extras, reference, vectors
-from cad.firmware.device import device_spec
-from cad.io.atomic import write_text_atomic
-
 FOLDER = "firmware"
 FILES = ("hapticad_device.h", "hapticad_device.c", "test_vectors.json", "test_device.c",
          "wall_example/wall_example.ino", "chai3d_device.json")
@@ -49,6 +42,9 @@ def firmware_files(design, report: dict, design_hash: str, device=None) -> dict[
     ``design`` built into ``report``: its family's firmware hook
     (:attr:`cad.families.protocol.FamilyPackage.firmware`). Raises DesignError naming
     ``--formats`` for a family without firmware."""
+    from cad.errors import DesignError
+    from cad.families import family_package
+
     hook = family_package(design.family).firmware
     if hook is None:
         raise DesignError("--formats", f"firmware is not written for {design.family!r} designs")
@@ -59,6 +55,9 @@ def linkage_model(design):
     """The :class:`cad.firmware.model.KinematicModel` the design's family gives
     (:attr:`cad.families.protocol.FamilyPackage.firmware_model`). Raises DesignError naming
     ``--formats`` for a family without one."""
+    from cad.errors import DesignError
+    from cad.families import family_package
+
     hook = family_package(design.family).firmware_model
     if hook is None:
         raise DesignError("--formats", f"firmware is not written for {design.family!r} designs")
@@ -70,6 +69,10 @@ def linkage_files(design, report: dict, design_hash: str, device=None) -> dict[s
     kinematic model (:func:`linkage_model`): ``{relative path: text}`` under ``firmware/``
     (module docstring); the motor and encoder facts are ``device``'s
     (:class:`cad.device.ResolvedDevice`, resolved from ``design`` when None)."""
+    import cad
+    from cad.firmware import csrc, extras, reference, vectors
+    from cad.firmware.device import device_spec
+
     spec = device_spec(design, report, design_hash, cad.__version__, device,
                        linkage_model(design))
     rows, summary = vectors.rows(spec, design)
@@ -113,6 +116,8 @@ def write_firmware(design, report: dict, out_dir: Path, design_hash: str, device
 
 def write_files(out_dir: Path, files: dict[str, str]) -> list[str]:
     """Write ``{relative path: text}`` into ``out_dir`` atomically; the sorted paths."""
+    from cad.io.atomic import write_text_atomic
+
     for rel, text in files.items():
         write_text_atomic(Path(out_dir) / rel, text)
     return sorted(files)

@@ -7,7 +7,6 @@ return. Pure numpy (through the design's problem); no CAD import, no printing.
 from __future__ import annotations
 
 from cad.data.families import command_families
-from cad.isotropy.culling import optimize
 
 #: The design families the GII is computed for (the registry's ``gii`` column).
 PANTOGRAPH_FAMILIES = command_families()["gii"]
@@ -55,6 +54,8 @@ def optimize_report(design, method: str) -> dict:
     over its ``[optimize]`` candidate grid, ``method`` "culling" or "brute"): the best
     candidate, the fixed parameters, the GII, Jacobian evaluations against brute force, the
     parameters whose optimum sits on their range bound."""
+    from cad.isotropy.culling import optimize
+
     problem = design.problem()
     res = optimize(problem, method)
     best = problem.candidate(res.best_index)

@@ -41,23 +41,11 @@ from typing import Any
 
 import cad
 from cad.data.families import FAMILIES, refusal
-from cad.datasheet import datasheet, markdown
-from cad.design import design_prices
 from cad.device import resolve_device
-from cad.device.readback import check_outputs
-from cad.errors import DesignError, FileRefused
-from cad.export import write_bom
-from cad.export.manifest import (
-    verify_manifest,
-    write_manifest,  # noqa: F401 - imported before the routed import, as always
-)
-from cad.export.order import apply_prices, order_csv, order_md, total_text
+from cad.errors import DesignError
 from cad.families import family_package
-from cad.io import cache_faults, cache_limit, guard
 from cad.io.atomic import atomic_dir, write_text_atomic
 from cad.io.outdir import check_out_dir
-from cad.parts.lazy_import import routed_first_import
-from cad.report.html import write_report_html
 
 Progress = Callable[[str, int, int], None]
 FIDELITIES = ("fabrication", "inertia", "preview")
@@ -181,9 +169,14 @@ def cached_report(out_dir: Path, key: str) -> dict | None:
     and it lists every file the build made -- ``report.json`` (itself listed, so checked by
     hash) names them all, so a part file deleted together with its manifest row is a miss.
     """
+    from cad.export.manifest import verify_manifest
+
     doc = verify_manifest(out_dir)
     if doc is None or doc.get("build_key") != key:
         return None
+    from cad.errors import FileRefused
+    from cad.io import guard
+
     try:  # listed and hashed above; read through the guard all the same (cad/io/guard.py)
         report = guard.load_json(Path(out_dir) / REPORT_NAME, "report", "--out")
         listed = {str(row["path"]) for row in doc["files"]}
@@ -199,6 +192,8 @@ def cached_report(out_dir: Path, key: str) -> dict | None:
 def add_datasheet(design, report: dict, out_dir: Path, simulate_wall: bool = True) -> list[str]:
     """``report["datasheet"]`` (:mod:`cad.datasheet`) and the design file's name in
     ``report["source"]`` (every family); returns the datasheet's lines of ``report.md``."""
+    from cad.datasheet import datasheet, markdown
+
     if not report.get("source") and getattr(design, "source", None):
         report["source"] = Path(design.source).name
     ds = datasheet(design, report, out_dir, simulate_wall=simulate_wall)
@@ -209,6 +204,8 @@ def add_datasheet(design, report: dict, out_dir: Path, simulate_wall: bool = Tru
 
 
 def _design_prices(design) -> dict | None:
+    from cad.design import design_prices
+
     return design_prices(getattr(design, "raw", None) or {})
 
 
@@ -217,6 +214,9 @@ def write_order(report: dict, out_dir: Path, prices: dict | None) -> str:
     one writer) with the prices and ``order.csv``; ``report["order"]``: the total and its
     unpriced lines. Returns the "Order" section of ``report.md`` (and the assembly steps'
     link); a report without a BOM: nothing written, "" returned."""
+    from cad.export import write_bom
+    from cad.export.order import apply_prices, order_csv, order_md, total_text
+
     bom = report.get("bom")
     if not bom:
         return ""
@@ -286,6 +286,7 @@ def build_design(
     """
     if fidelity not in FIDELITIES:
         raise DesignError("--fidelity", f"must be one of {', '.join(FIDELITIES)}, got {fidelity!r}")
+    from cad.io import cache_faults, cache_limit
 
     cache_faults.writable()  # the cache-fault flag exists before any stage is forked (shared)
     cache_limit.max_bytes()  # a bad HAPTICAD_CACHE_MAX_MB is refused before anything is made
@@ -302,6 +303,9 @@ def build_design(
     fam = family_of(design)
     device = resolve_device(design, fidelity)  # once: every writer reads these facts (cad.device)
     _check_before_cad(fam, design, set(formats), fidelity, phi1_deg, allow_interference)
+    from cad.export.manifest import write_manifest  # noqa: F401 - imported before the routed import, as always
+    from cad.parts.lazy_import import routed_first_import
+
     # build123d is imported only if a solid (or a file derived from one) is missing from the
     # shape and derived caches, and then without scikit-learn (cad.parts.lazy_import)
     with (
@@ -354,6 +358,10 @@ def _write_report_files(fam, design, report: dict, tmp: Path, formats, build: di
     them, ``report["build"]`` is ``build`` (formats, fidelity, allow_interference, build_key).
     Then the written files are read back (:func:`cad.device.readback.check_outputs`): a file
     that disagrees with ``device`` raises OutputsDisagree and nothing is published."""
+    from cad.device.readback import check_outputs
+    from cad.export.manifest import write_manifest
+    from cad.report.html import write_report_html
+
     if "firmware" in formats:  # from the report's mass properties (the family's hook, no CAD)
         from cad.firmware import write_files
 

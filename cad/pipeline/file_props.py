@@ -15,14 +15,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from cad.data.materials import DEFAULT_MATERIAL, get_material
-from cad.design import bounds
-from cad.design.bounds import warn
-from cad.errors import DesignError, FileRefused, GeometryError, HapticadError
-from cad.io import guard
-from cad.massprops import io as mpio
-from cad.massprops import occt
-from cad.massprops.props import combine
-from cad.pipeline import forked
+from cad.errors import DesignError, GeometryError
 
 
 def _resolve_density(density: str | None, material: str | None) -> tuple[float, str | None, bool]:
@@ -44,6 +37,8 @@ def compute(
     file: Path, density: str | None = None, material: str | None = None
 ) -> tuple[dict, list[str]]:
     """Mass properties of ``file`` as the command's JSON dict, plus stderr notes (no printing)."""
+    from cad.massprops import io as mpio
+
     notes: list[str] = []
     kind = mpio.file_kind(file)
     rho, mat_name, defaulted = _resolve_density(density, material)
@@ -91,6 +86,9 @@ def file_materials(path: Path, names: list[str]) -> tuple[dict[str, str] | None,
     ``report.json`` beside it maps those names to materials (``part_materials``). ``None``
     when a solid is unnamed or not in such a map.
     """
+    from cad.errors import FileRefused
+    from cad.io import guard
+
     rep = path.parent / "report.json"
     if not rep.is_file() or not names:
         return None, ""
@@ -108,6 +106,10 @@ def _step_props_isolated(path: Path, rho: float, mat_name: str | None, defaulted
     run in a forked child (:mod:`cad.pipeline.forked`) so that a crash of OCCT's STEP reader on
     a hostile file is one error line naming the file, not a segmentation fault of the command.
     The child's warnings are recorded again here."""
+    from cad.design import bounds
+    from cad.io import guard
+    from cad.pipeline import forked
+
     guard.check_step(path, "FILE")
 
     def child():
@@ -133,6 +135,11 @@ def _step_props_isolated(path: Path, rho: float, mat_name: str | None, defaulted
 def _step_props(path: Path, rho: float, mat_name: str | None, defaulted: bool):
     """Exact mass properties of the closed solids of a STEP file, per-solid materials where
     the file names them (:func:`file_materials`); loose faces and shells ignored and warned."""
+    from cad.design.bounds import warn
+    from cad.massprops import io as mpio
+    from cad.massprops import occt
+    from cad.massprops.props import combine
+
     name = path.name
     named: list[tuple[str | None, object]] = []
     ignored: dict[str, int] = {}
@@ -178,6 +185,8 @@ def _mesh_props(mesh, v, f, rho: float, name: str):
     """:func:`cad.massprops.mesh.mesh_arrays_mass_props` of an STL, open meshes accepted with a
     warning; when an open mesh gives no physical inertia the refusal says it is open and how
     many edges bound only one triangle (the cause a user can act on), naming the file."""
+    from cad.errors import HapticadError
+
     try:
         return mesh.mesh_arrays_mass_props(v, f, rho, allow_open=True, what=name)
     except HapticadError as exc:

@@ -6,18 +6,18 @@ from __future__ import annotations
 import tempfile
 from pathlib import Path
 
-from cad.design import load_design
-from cad.errors import DesignError
-from cad.io.atomic import write_bytes_atomic
-from cad.io.outdir import check_shared_files, record_shared_files
-from cad.pipeline import FIDELITIES, build_design, family_of
-
 RENDER_FILES = {"render.png": ".png", "animation.gif": ".gif"}
 
 
 def render_designs(paths: list, out: Path, fidelity: str | None = None) -> list[dict]:
     """Build each design (a path or a loaded design) and copy its pictures to ``out``;
     returns one dict per design (``design``, ``name``, ``png``, ``gif``: paths)."""
+    from cad.design import load_design
+    from cad.errors import DesignError
+    from cad.io.atomic import write_bytes_atomic
+    from cad.io.outdir import check_shared_files, record_shared_files
+    from cad.pipeline import FIDELITIES, build_design, family_of
+
     designs = []
     for p in paths:
         d = p if hasattr(p, "family") else load_design(p)

@@ -18,19 +18,12 @@ import tempfile
 import time
 from pathlib import Path
 
-from cad.design import bounds
-from cad.dynamics.inertia import InertiaCoefficients
-from cad.errors import DesignError, FileRefused, HapticadError
-from cad.export.manifest import verify_manifest
-from cad.families.fourbar.datasheet import eq25_K_max, friction, lever, stiffness_inputs
-from cad.families.fourbar.sim import motor_torque_Nm
-from cad.io import cache_faults, guard
-from cad.parts.shape_cache import cache_dir
-from cad.pipeline import build_design
-from cad.sim import wall
+from cad.errors import DesignError, HapticadError
 
 
 def _cache_root() -> Path | None:
+    from cad.parts.shape_cache import cache_dir
+
     d = cache_dir()
     return None if d is None else d.parent / "sim"
 
@@ -45,6 +38,9 @@ def read_device_report(folder: Path, field: str) -> dict:
     uses checked: ``name`` and ``motor.key`` strings, :data:`REPORT_NUMBERS` finite numbers.
     Anything else is :class:`cad.errors.FileRefused` (field ``field``) naming the file and the
     first missing or wrong key, never a KeyError/TypeError traceback (issue 22 §2)."""
+    from cad.errors import FileRefused
+    from cad.io import guard
+
     path = Path(folder) / "report.json"
     rep = guard.load_json(path, "report", field)
     fix = "; rebuild it: hapticad build DESIGN --formats mjcf --out DIR"
@@ -85,6 +81,7 @@ def device_build(design, build_dir: Path | None = None) -> Path:
         ):
             raise DesignError("--build-dir", f"{build_dir} is a build of another design than {design.name!r}")
         return build_dir
+    from cad.io import cache_faults
 
     root = _cache_root()
     if root is not None and cache_faults.writable():
@@ -103,6 +100,8 @@ def device_build(design, build_dir: Path | None = None) -> Path:
 
 
 def _build_sim(design, out: Path) -> None:
+    from cad.pipeline import build_design
+
     build_design(design, out, {"mjcf", "stl"}, fidelity="preview", allow_interference=True,
                  simulate_wall=False)  # the wall command simulates itself
 
@@ -112,6 +111,9 @@ def _drop_if_damaged(entry: Path) -> None:
     ``manifest.json`` (a damaged model is a miss: rebuilt, said once). The whole folder is a
     cache entry hapticad made (:mod:`cad.io.cache_limit` removes it whole too)."""
     import shutil
+
+    from cad.design import bounds
+    from cad.export.manifest import verify_manifest
 
     if not os.path.lexists(entry) or (entry.is_dir() and not entry.is_symlink()
                                       and verify_manifest(entry) is not None):
@@ -128,6 +130,8 @@ def wall_inputs(design) -> tuple[dict, str]:
     """(Fv, Fs, Te, Delta, xdot, counts) of the wall and where they come from: the design's
     ``[stiffness]`` table, else its encoder (``parts.encoder`` / ``encoder_counts_per_rev``)
     and the datasheet's Coulomb friction estimate at no load (:mod:`cad.families.fourbar.datasheet`)."""
+    from cad.families.fourbar.datasheet import friction, lever, stiffness_inputs
+
     _, Jx, pose, a2, a3 = lever(design)
     if design.stiffness is not None:
         return stiffness_inputs(design, Jx, None)
@@ -143,12 +147,17 @@ def wall_report(design, *, K: float | None = None, B: float = 0.0, Te_s: float |
                 counts_per_rev: float | None = None, model: str = "reduced",
                 build_dir: Path | None = None) -> dict:
     """Everything ``hapticad wall --json`` prints (docs/simulation.md "Virtual wall")."""
+    from cad.dynamics.inertia import InertiaCoefficients
+    from cad.families.fourbar.datasheet import eq25_K_max
+    from cad.sim import wall
+
     t0 = time.perf_counter()
     s, src = wall_inputs(design)
     folder = device_build(design, build_dir)
     rep = read_device_report(folder, "--build-dir" if build_dir is not None else "wall")
     H = InertiaCoefficients(rep["H11_kg_m2"], rep["H12_kg_m2"], rep["H22_kg_m2"], rep["H33_kg_m2"],
                             math.radians(rep["beta2_deg"]))
+    from cad.families.fourbar.sim import motor_torque_Nm
 
     tau = motor_torque_Nm(design.motor_spec())
     tab = wall.device_tables(design, H)

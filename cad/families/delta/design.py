@@ -28,8 +28,7 @@ from typing import Any
 import numpy as np
 
 from cad.design.bounds import ANGLE_DEG, COORD_MM, GRID, LINK_MM, check_number
-from cad.design.fields import check_name, check_unknown, number_list, optional_table
-from cad.design.fields import require_table
+from cad.design.fields import check_name, check_unknown, number_list, optional_table, require_table
 from cad.errors import DesignError
 
 MECH_KEYS = ("family", "base_radius_mm", "effector_radius_mm", "upper_arm_mm", "lower_arm_mm",

@@ -18,7 +18,7 @@ FAMILY = FamilyPackage(
     check_layout=Lazy(f"{_P}.layout:check_layout"),
     code_deps=SHARED_CODE_DEPS + ("firmware", "kinematics", "dynamics", "structure",
                                   "analysis.py", "__init__.py"),
-    cache_inputs=Lazy(f"{_P}.build:cache_inputs"),
+    cache_inputs=Lazy(f"{_P}.cache:cache_inputs"),
     sim_formats=frozenset({"mjcf", "urdf"}),
     view_formats=True,
     datasheet_rows=Lazy(f"{_P}.datasheet:rows_and_limits"),

@@ -57,7 +57,7 @@ from cad.families.fourbar.sim import sim_model
 from cad.kinematics.fourbar import solve
 from cad.kinematics.metrics import compute_metrics
 from cad.parts import PartKind
-from cad.parts.handle import knob_shape, resolve_script, script_sha256
+from cad.parts.handle import knob_shape
 from cad.pipeline import family
 from cad.pipeline.run import Stages, run_family
 from cad.pipeline.views import STROKE_POSES, write_sim_model
@@ -65,7 +65,7 @@ from cad.report.fourbar import plot_apparent_mass, plot_kinematics
 from cad.structure.device import structure_of_build
 from cad.tolerances import PREVIEW_STL_TOL_MM
 
-__all__ = ["LINKS", "PREVIEW_POSES", "PREVIEW_STL_TOL_MM", "build", "cache_inputs", "check_layout", "sweep_angles"]
+__all__ = ["LINKS", "PREVIEW_POSES", "PREVIEW_STL_TOL_MM", "build", "check_layout", "sweep_angles"]
 
 #: Final checks of assembly.md (cad.assembly.steps).
 ASSEMBLY_CHECKS = (
@@ -73,12 +73,6 @@ ASSEMBLY_CHECKS = (
     "and no contact between the bars",
     "the motor turns the crank with the hub's set screw tight (no slip on the shaft flat)",
 )
-
-
-def cache_inputs(design) -> dict:
-    """Inputs outside the design object: the user handle script's content."""
-    p = resolve_script(design.parts, design.source)
-    return {"handle_script_sha256": script_sha256(p) if p is not None else None}
 
 
 def encoder_bom_row(design) -> dict:

@@ -8,16 +8,6 @@ from __future__ import annotations
 import copy
 from pathlib import Path
 
-from cad.analysis import METRIC_KEYS
-from cad.design import parse_design
-from cad.design.bounds import computed, warn
-from cad.design.writer import drop_source_targets, rebase_paths
-from cad.errors import DesignError
-from cad.families.fourbar.pose import planar_transforms
-from cad.kinematics.fourbar import solve
-from cad.kinematics.linkgeom import link_joints_mm
-from cad.kinematics.metrics import compute_metrics
-
 SWAP_FAMILIES = ("hoeken", "roberts", "chebyshev", "chebyshev-v")
 #: Sections of a design that describe the old mechanism only and are dropped by a swap.
 DROPPED_SECTIONS = ("inertia",)
@@ -27,6 +17,7 @@ def stroke_of(design) -> float:
     """|P(phi1_max) - P(phi1_min)| of a design, mm."""
     import numpy as np
 
+    from cad.kinematics.fourbar import solve
 
     P = solve(design.linkage, np.array([design.phi1_min_rad, design.phi1_max_rad])).P_mm
     return float(np.linalg.norm(P[1] - P[0]))
@@ -34,8 +25,11 @@ def stroke_of(design) -> float:
 
 def swap_raw(design, family: str, out_path: Path) -> dict:
     """The raw TOML mapping of ``design`` swapped to ``family`` (same stroke, same [parts])."""
+    from cad.errors import DesignError
+
     if family not in SWAP_FAMILIES:
         raise DesignError("--to", f"must be one of {', '.join(SWAP_FAMILIES)}, got {family!r}")
+    from cad.design.writer import drop_source_targets, rebase_paths
 
     raw = copy.deepcopy(design.raw)
     for s in DROPPED_SECTIONS:
@@ -61,6 +55,9 @@ def replan(raw: dict, target: Path, family: str):
     one-line DesignError (naming the joint, both parts and the stroke that clears) is
     raised: the CLI exits 2 and writes nothing, with no unit-slip hint about the stroke swap
     computed (:func:`cad.design.bounds.computed`)."""
+    from cad.design import parse_design
+    from cad.design.bounds import computed, warn
+    from cad.errors import DesignError
     from cad.families.fourbar.build import check_layout
 
     new = parse_design(raw, str(target))
@@ -81,6 +78,9 @@ def replan(raw: dict, target: Path, family: str):
 
 
 def metric_rows(design) -> dict:
+    from cad.analysis import METRIC_KEYS
+    from cad.kinematics.metrics import compute_metrics
+
     m = compute_metrics(
         design.linkage,
         design.phi1_min_rad,
@@ -103,6 +103,9 @@ def swap(design, family: str, target: Path, name: str | None = None) -> dict:
     import numpy as np
 
     from cad.families.fourbar.layers import choose_layers
+    from cad.families.fourbar.pose import planar_transforms
+    from cad.kinematics.linkgeom import link_joints_mm
+
     raw = swap_raw(design, family, target)
     if name is not None:
         raw["name"] = name

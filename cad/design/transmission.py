@@ -1,0 +1,152 @@
+"""The ``[transmission]`` table of a design: direct drive or a capstan (cable) reduction on an
+actuated joint (issue 35, a public contract)::
+
+    [transmission]          # per motor; omitted = direct drive
+    kind = "capstan"        # "direct" | "capstan"
+    capstan_diameter_mm = 10.0
+    drum_diameter_mm = 120.0   # or ratio = 12.0 (exactly one of the two)
+    cable = "steel-7x19-0.6"   # a key of cad.data.cables.CABLES
+
+:func:`parse_transmission` validates one such table and returns a frozen :class:`Transmission`.
+Bad input is a one-line :class:`cad.errors.DesignError` naming the field, the value, the reason
+and the likely unit slip ("did you give metres?"). The parser is pure (no CAD import); a family
+schema calls it on its ``transmission`` table (not wired into the families yet).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+from cad.data.cables import CABLES, get_cable
+from cad.design.bounds import Bound, check_number
+from cad.design.fields import check_unknown
+from cad.errors import DesignError
+
+KINDS = ("direct", "capstan")
+KEYS = ("kind", "capstan_diameter_mm", "drum_diameter_mm", "ratio", "cable")
+_CAPSTAN_ONLY = KEYS[1:]
+_LEN_SLIPS = (("metres", 1000.0), ("cm", 10.0), ("inches", 25.4))
+
+#: A capstan carries a rope wrapped round it: below 1 mm no catalog rope bends round it; over
+#: 100 mm it is no longer the small pulley of a reduction. Plausible: 3-40 mm (haptic kits use
+#: 5-20 mm; WoodenHaptics 10 mm, cad.data.cables.WOODENHAPTICS_SOURCE).
+CAPSTAN_DIAMETER_MM = Bound(
+    "mm", 1.0, 100.0, "a capstan is a pulley of 1 to 100 mm on the motor shaft", 3.0, 40.0,
+    "haptic capstans are 3 to 40 mm", _LEN_SLIPS)
+#: The drum (or sector) on the link: up to 1 m (the desktop-device part bound of
+#: cad.design.bounds.PART_MM); plausible up to 400 mm.
+DRUM_DIAMETER_MM = Bound(
+    "mm", 1.0, 1000.0, "a drum on a desktop device's link is 1 mm to 1 m", 10.0, 400.0,
+    "haptic drums are 10 to 400 mm", _LEN_SLIPS)
+#: Drum / capstan: a reduction (> 1); beyond 50 the reflected rotor inertia n^2 J_m of any
+#: catalog motor dwarfs the links (the RE 35's 79.2 g cm^2 becomes 20 g m^2 at n = 50).
+RATIO = Bound("", 1.0, 50.0, "the ratio is drum / capstan diameter, a reduction in (1, 50]",
+              2.0, 25.0, "haptic capstan ratios are 2 to 25 (WoodenHaptics: 12 and 16)",
+              lo_open=True)
+
+
+@dataclass(frozen=True)
+class Transmission:
+    """A validated ``[transmission]`` table.
+
+    kind : "direct" or "capstan". ratio : n = drum / capstan diameter (1 for direct drive;
+    joint torque = n * motor torque, joint angle = motor angle / n). capstan_diameter_mm :
+    the capstan on the motor shaft; drum_diameter_mm : the drum or sector on the link (given,
+    or n * capstan when the design gave ``ratio``). cable : key of
+    :data:`cad.data.cables.CABLES`. The three are None for direct drive."""
+
+    kind: str = "direct"
+    ratio: float = 1.0
+    capstan_diameter_mm: float | None = None
+    drum_diameter_mm: float | None = None
+    cable: str | None = None
+
+    @property
+    def is_capstan(self) -> bool:
+        return self.kind == "capstan"
+
+
+DIRECT = Transmission()
+
+
+def parse_transmission(tab: dict[str, Any] | None, prefix: str = "transmission") -> Transmission:
+    """Validate one ``[transmission]`` table (None or absent: direct drive).
+
+    Raises DesignError(``<prefix>.<key>``) for an unknown key, a kind other than
+    :data:`KINDS`, capstan keys on a direct drive, a missing capstan key, both or neither of
+    ``drum_diameter_mm`` / ``ratio``, a number out of its bound (with the unit slip), a drum
+    not larger than its capstan, or a cable not in the catalog.
+    """
+    if tab is None:
+        return DIRECT
+    if not isinstance(tab, dict):
+        raise DesignError(prefix, f"must be a table, got {tab!r}")
+    check_unknown(tab, KEYS, prefix)
+    kind = tab.get("kind", "direct")
+    if kind not in KINDS:
+        raise DesignError(f"{prefix}.kind", f"must be one of {', '.join(KINDS)}, got {kind!r}")
+    if kind == "direct":
+        extra = [k for k in _CAPSTAN_ONLY if k in tab]
+        if extra:
+            raise DesignError(f"{prefix}.{extra[0]}",
+                              f"only for kind = \"capstan\" (kind is {kind!r}); remove it or "
+                              "set kind = \"capstan\"")
+        return DIRECT
+    return _parse_capstan(tab, prefix)
+
+
+def _parse_capstan(tab: dict[str, Any], prefix: str) -> Transmission:
+    if "capstan_diameter_mm" not in tab:
+        raise DesignError(f"{prefix}.capstan_diameter_mm", "missing (the capstan on the motor "
+                          "shaft, mm)")
+    dc = check_number(f"{prefix}.capstan_diameter_mm", tab["capstan_diameter_mm"],
+                      CAPSTAN_DIAMETER_MM)
+    has_drum, has_ratio = "drum_diameter_mm" in tab, "ratio" in tab
+    if has_drum == has_ratio:
+        raise DesignError(f"{prefix}.drum_diameter_mm",
+                          ("give drum_diameter_mm or ratio, not both" if has_drum else
+                           "missing: give drum_diameter_mm (mm) or ratio (drum / capstan)"))
+    if has_drum:
+        dd = check_number(f"{prefix}.drum_diameter_mm", tab["drum_diameter_mm"],
+                          DRUM_DIAMETER_MM)
+        if dd <= dc:
+            raise DesignError(f"{prefix}.drum_diameter_mm",
+                              f"{dd:g} mm must be larger than capstan_diameter_mm = {dc:g} mm "
+                              "(a capstan reduces: drum / capstan > 1)")
+        n = dd / dc
+    else:
+        n = _ratio(tab["ratio"], f"{prefix}.ratio")
+        dd = n * dc
+    if "cable" not in tab:
+        raise DesignError(f"{prefix}.cable", f"missing (a catalog key: {', '.join(CABLES)})")
+    cable = tab["cable"]
+    if not isinstance(cable, str):
+        raise DesignError(f"{prefix}.cable", f"must be a catalog key (a string), got {cable!r}")
+    get_cable(cable, f"{prefix}.cable")
+    return Transmission("capstan", n, dc, dd, cable)
+
+
+def _ratio(value: Any, field: str) -> float:
+    """The ratio with its slip: below 1 it is likely capstan / drum given the wrong way up."""
+    if (isinstance(value, (int, float)) and not isinstance(value, bool) and 0 < value < 1):
+        raise DesignError(field, f"must be > 1 (drum / capstan), got {value!r}; did you give "
+                          f"capstan / drum? (1 / {value:g} = {1 / value:g})")
+    return check_number(field, value, RATIO)
+
+
+def parse_transmissions(value: Any, n_motors: int,
+                        prefix: str = "transmission") -> tuple[Transmission, ...]:
+    """One :class:`Transmission` per motor: ``value`` None (direct drive on every motor), one
+    table (``[transmission]``: the same on every motor) or an array of ``n_motors`` tables
+    (``[[transmission]]``, in the family's motor order; field ``transmission.<i>.<key>``).
+    Raises DesignError(prefix) when the array's length is not ``n_motors``."""
+    if value is None or isinstance(value, dict):
+        return (parse_transmission(value, prefix),) * n_motors
+    if not isinstance(value, list):
+        raise DesignError(prefix, f"must be a table or an array of {n_motors} tables (one per "
+                          f"motor), got {value!r}")
+    if len(value) != n_motors:
+        raise DesignError(prefix, f"must be one table or {n_motors} (one per motor), got "
+                          f"{len(value)} tables")
+    return tuple(parse_transmission(t, f"{prefix}.{i}") for i, t in enumerate(value))

@@ -1,0 +1,121 @@
+"""The delta's build (issue 36): one call to the build driver
+(:func:`cad.pipeline.run.run_family`) with the delta's stages. The parts and the assembly
+are :func:`cad.families.delta.assembly.assemble` (base, three motors in brackets, upper arms,
+parallelogram rods with ball joints, effector with a handle); every pair of solids is checked
+at every point of the design's workspace grid; the dynamics are the task-space mass matrix
+Lambda(x) from the solids' body mass properties and the catalog rotor inertia
+(:func:`cad.families.delta.dynamics.mass_matrix_from_bodies_kg`, eq 1) over that grid, and
+the first structural mode at the workspace centre
+(:func:`cad.families.delta.structure.first_mode`).
+
+Report keys (units in names): ``moving_mass_g``, ``bodies`` (each moving body's mass
+properties, body frames), ``apparent_mass`` (``Lambda_max_eig_g`` / ``Lambda_min_eig_g``:
+the largest and smallest eigenvalue of Lambda over the grid, where), ``structure``
+(``first_mode_Hz``, ``compliance_max_um_per_N``, the boundary conditions),
+``workspace_points``, ``interference``, ``bom``, ``notes``. No encoder, firmware or
+simulator model yet (``--formats firmware / mjcf / urdf`` are refused in one line).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from cad.assembly import interference as itf
+from cad.data.catalog import get_motor
+from cad.errors import DesignError
+from cad.families.delta import hardware as hw
+from cad.families.delta.assembly import assemble
+from cad.families.delta.dynamics import mass_matrix_from_bodies_kg
+from cad.families.delta.layout import body_poses
+from cad.families.delta.structure import first_mode
+from cad.pipeline.run import Stages, run_family
+
+
+def check_options(design, fidelity: str, phi1_deg, formats=frozenset()) -> None:
+    """Refuse what the delta's build cannot do, before any CAD (DesignError)."""
+    if phi1_deg is not None:
+        raise DesignError("--phi1-deg", "a delta has no crank: its pose is the workspace centre")
+    if design.mechanism.joint_offset_mm > 0:
+        raise DesignError("mechanism.joint_offset_mm", f"{design.mechanism.joint_offset_mm:g} mm: "
+                          "the delta's structure model and mass matrix from the solids take "
+                          "joint_offset_mm = 0 only (a knee link is laid out, not yet analysed)")
+
+
+def interference(b) -> dict:
+    """Every pair of solids at every workspace point (:func:`cad.assembly.interference.
+    check_model`); InterferenceError naming the pair, the point and the volume unless
+    allowed."""
+    rep = itf.check_model(b.model, fail_fast=not b.allow_interference)
+    if not b.allow_interference:
+        itf.raise_on_collision(rep, 0.0)
+    out = rep.as_dict()
+    out["overlap_threshold_mm3"] = itf.OVERLAP_MIN_MM3
+    return out
+
+
+def _dynamics(b) -> dict:
+    """Lambda(x) over the workspace grid from the body mass properties (rotor of the catalog
+    motor, direct drive) and the first mode at the centre."""
+    d, X = b.design, b.model.extra.workspace_mm
+    rotor = get_motor(hw.MOTOR).rotor_inertia_g_cm2 * 1e-7
+    lam = mass_matrix_from_bodies_kg(d.mechanism, X, d.parallelogram_width_mm, b.bodies, rotor)
+    eig = np.linalg.eigvalsh(0.5 * (lam + np.swapaxes(lam, 1, 2)))
+    hi, lo = int(np.argmax(eig[:, -1])), int(np.argmin(eig[:, 0]))
+    st = first_mode(d.mechanism, np.asarray(d.workspace["center_mm"], float),
+                    d.parallelogram_width_mm)
+    return {"Lambda_max_eig_g": float(eig[hi, -1] * 1e3), "at_max_mm": X[hi].tolist(),
+            "Lambda_min_eig_g": float(eig[lo, 0] * 1e3), "at_min_mm": X[lo].tolist(),
+            "rotor_inertia_kg_m2": rotor, "motor": hw.MOTOR,
+            "structure": {"first_mode_Hz": st["first_mode_Hz"],
+                          "compliance_max_um_per_N": st["compliance_max_um_per_N"],
+                          "boundary": st["boundary"]}}
+
+
+def _report(b) -> dict:
+    dy = b.dyn
+    moving = sum(mp.mass_kg for k, mp in b.bodies.items() if k != "ground")
+    return {
+        "name": b.design.name, "family": b.design.family, "moving_mass_g": moving * 1e3,
+        "bodies": {k: mp.to_dict() for k, mp in b.bodies.items() if k != "ground"},
+        "apparent_mass": {k: dy[k] for k in ("Lambda_max_eig_g", "at_max_mm", "Lambda_min_eig_g",
+                                             "at_min_mm", "rotor_inertia_kg_m2", "motor")},
+        "structure": dy["structure"], "workspace_points": len(b.model.extra.workspace_mm),
+        "interference": b.itf, "min_clearance_mm": b.itf.get("min_clearance_mm"),
+        "overlap_volume_mm3": b.itf.get("overlap_volume_mm3"), "bom": b.bom,
+        "notes": [f"Lambda(x) from the solids and the {dy['motor']} rotor over "
+                  f"{len(b.model.extra.workspace_mm)} workspace points (eq 1, base frame)",
+                  "no encoder, firmware or simulator model for the delta yet"]}
+
+
+def _md_rows(r: dict) -> list[tuple[str, str]]:
+    a, s = r["apparent_mass"], r["structure"]
+    return [("moving mass", f"{r['moving_mass_g']:.1f} g"),
+            ("apparent mass, largest eigenvalue of Lambda", f"{a['Lambda_max_eig_g']:.1f} g"),
+            ("apparent mass, smallest eigenvalue of Lambda", f"{a['Lambda_min_eig_g']:.1f} g"),
+            ("first structural mode (centre)", f"{s['first_mode_Hz']:.1f} Hz"),
+            ("workspace points checked", str(r["workspace_points"]))]
+
+
+def _stroke(design) -> dict:
+    """The viewer's motion: the effector along the workspace's x extent at its centre height."""
+    c = np.asarray(design.workspace["center_mm"], float)
+    X = design.workspace_points()
+    xs = np.linspace(X[:, 0].min(), X[:, 0].max(), 9)
+    P = np.column_stack([xs, np.full(9, c[1]), np.full(9, c[2])])
+    return body_poses(design.mechanism, P, design.parallelogram_width_mm)
+
+
+STAGES = Stages(
+    check_options=check_options, assemble=assemble, interference=interference, report=_report,
+    md_rows=_md_rows, stroke=_stroke, motion_label="workspace grid", dynamics=_dynamics,
+    preview_title=lambda b: f"{b.design.name}: delta at the workspace centre")
+
+
+def build(design, out_dir: Path, formats: set[str], *, fidelity: str = "fabrication",
+          allow_interference: bool = False, progress=None, phi1_deg: float | None = None) -> dict:
+    """Build ``design`` into ``out_dir`` through the one build driver (module docstring).
+    Raises DesignError, InterferenceError (a clash at a workspace point), MeshError."""
+    return run_family(STAGES, design, out_dir, formats, fidelity=fidelity,
+                      allow_interference=allow_interference, progress=progress, phi1_deg=phi1_deg)

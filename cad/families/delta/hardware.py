@@ -1,0 +1,85 @@
+"""The delta's hardware dimensions and materials (pure data, no CAD import), shared by the
+part scripts (:mod:`.parts`), the assembly (:mod:`.assembly`) and the frame model
+(:mod:`.structure`). mm and catalog keys; the design file has no ``[parts]`` table for the
+delta yet, so these are the family's fixed choices.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+#: The motor of every arm (:data:`cad.data.catalog.MOTORS`): direct drive.
+MOTOR = "maxon-re35"
+
+
+@dataclass(frozen=True)
+class BallJoint:
+    """A ball stud in a ball socket (the parallelogram's joints; all twelve alike).
+
+    ball_d_mm, neck_d_mm, neck_mm: the stud's ball, its neck's diameter and length from
+    the ball centre to the bar it is screwed into; socket_d_mm: the socket's outer sphere;
+    clearance_mm: radial running clearance ball -> socket; cone_deg: half-angle of the
+    socket's opening around its axis (the stud tilts up to about cone_deg - asin(neck_d /
+    ball_d) before its neck meets the rim); mass_g: stud + socket.
+    """
+
+    designation: str
+    ball_d_mm: float
+    neck_d_mm: float
+    neck_mm: float
+    socket_d_mm: float
+    clearance_mm: float
+    cone_deg: float
+    mass_g: float
+    source: str
+
+
+BALL_JOINT = BallJoint(
+    designation="ball link, 4.8 mm ball, M2.5 stud (RC-model class)", ball_d_mm=4.8,
+    neck_d_mm=2.5, neck_mm=7.0, socket_d_mm=7.5, clearance_mm=0.05, cone_deg=78.0, mass_g=1.2,
+    source="unverified: generic dimensions of the 4.8 mm ball-link class, no vendor sheet "
+           "read; replace with an ordered part's drawing")
+
+#: Upper arm: a plate bar in the arm's plane (width in that plane x thickness along the motor
+#: axis), joint bores at both ends; aluminium.
+ARM_WIDTH_MM = 16.0
+ARM_THICKNESS_MM = 6.0
+ARM_MATERIAL = "aluminium-6061"
+#: Hub clamping the arm on the motor shaft (along the axis, from the arm to the bracket less
+#: the gap); with a joint offset the arm is a fork of two plates with a spacer between them.
+HUB_D_MM = 12.0
+#: Cross bars (elbow and effector): round bar along the motor axis, aluminium.
+CROSS_BAR_D_MM = 8.0
+#: Knee link (Stamper's joint offset g > 0): a plate bar like the upper arm.
+#: Lower-arm rods: carbon tubes between the sockets.
+ROD_OD_MM = 4.0
+ROD_ID_MM = 3.0
+ROD_MATERIAL = "carbon-fibre"
+#: Effector: a disk of the effector radius + margin, thickness; handle: a knob below it.
+EFFECTOR_THICKNESS_MM = 5.0
+EFFECTOR_RIM_MM = 4.0
+HANDLE_D_MM = 20.0
+HANDLE_LENGTH_MM = 40.0
+#: Ground: base plate thickness, margin past the motor brackets, bracket thickness, the gap
+#: between the hub and the bracket, clearance above the arms' highest reach; the bracket
+#: stands this far past the outer ball socket along the motor axis.
+PLATE_THICKNESS_MM = 6.0
+PLATE_RIM_MM = 10.0
+BRACKET_THICKNESS_MM = 5.0
+HUB_GAP_MM = 1.0
+PLATE_CLEARANCE_MM = 5.0
+BRACKET_CLEARANCE_MM = 3.0
+PLATE_MATERIAL = "aluminium-6061"
+
+
+def effector_disk_radius_mm(effector_radius_mm: float, width_mm: float) -> float:
+    """Radius of the effector plate: past the farthest ball-joint centre by the margin."""
+    return math.hypot(effector_radius_mm, width_mm / 2) + EFFECTOR_RIM_MM
+
+
+def base_plate_z_mm(upper_arm_mm: float, theta_min_rad: float, joint_offset_mm: float) -> float:
+    """Height of the base plate's underside above the motor axes: the highest elbow (at the
+    lowest motor angle), the knee link, half the arm or socket, and the clearance."""
+    up = upper_arm_mm * max(0.0, math.sin(-theta_min_rad)) + joint_offset_mm
+    return up + max(ARM_WIDTH_MM, BALL_JOINT.socket_d_mm) / 2 + PLATE_CLEARANCE_MM

@@ -1,0 +1,86 @@
+"""Part scripts of the delta (build123d, imported lazily): parameters in, OCP solids out (mm,
+each part in its own frame). Dimensions: :mod:`.hardware`; the motor and its shaft are
+:mod:`cad.parts.motor`'s."""
+
+from __future__ import annotations
+
+import math
+
+
+def _amin():
+    from build123d import Align
+
+    return (Align.CENTER, Align.CENTER, Align.MIN)
+
+
+def disk_plate_shape(radius_mm: float, thickness_mm: float):
+    """Round plate (base plate, effector plate), centre at the origin, z 0..thickness."""
+    from build123d import Cylinder
+
+    return Cylinder(radius_mm, thickness_mm, align=_amin()).solids()[0].wrapped
+
+
+def bracket_shape(width_mm: float, y_min_mm: float, y_max_mm: float, thickness_mm: float,
+                  pilot_d_mm: float, holes_xyd):
+    """Motor bracket: a plate x -width/2..width/2, y y_min..y_max (y up), z 0..thickness,
+    with the motor's pilot bore at the origin and holes ``[(x, y, diameter)]``."""
+    from build123d import Circle, Pos, Rectangle, extrude
+
+    sk = Pos(0, (y_min_mm + y_max_mm) / 2) * Rectangle(width_mm, y_max_mm - y_min_mm)
+    sk = sk - Circle(pilot_d_mm / 2)
+    for x, y, dia in holes_xyd:
+        sk = sk - Pos(x, y) * Circle(dia / 2)
+    return extrude(sk, amount=thickness_mm).solids()[0].wrapped
+
+
+def arm_shape(length_mm: float, width_mm: float, thickness_mm: float, bore0_mm: float,
+              bore1_mm: float):
+    """Plate bar: stadium from (0, 0) to (length, 0), width, z -t/2..t/2, bores at both ends."""
+    from build123d import Circle, Pos, SlotCenterToCenter, extrude
+
+    sk = Pos(length_mm / 2, 0) * SlotCenterToCenter(length_mm, width_mm)
+    sk = sk - Circle(bore0_mm / 2) - Pos(length_mm, 0) * Circle(bore1_mm / 2)
+    return (Pos(0, 0, -thickness_mm / 2) * extrude(sk, amount=thickness_mm)).solids()[0].wrapped
+
+
+def bar_shape(diameter_mm: float, length_mm: float, bore_mm: float = 0.0):
+    """Round bar (or hub with a bore), axis z, centred on the origin."""
+    from build123d import Cylinder
+
+    s = Cylinder(diameter_mm / 2, length_mm)
+    if bore_mm > 0:
+        s = s - Cylinder(bore_mm / 2, length_mm)
+    return s.solids()[0].wrapped
+
+
+def tube_shape(od_mm: float, id_mm: float, x0_mm: float, x1_mm: float):
+    """Tube along x from x0 to x1."""
+    from build123d import Cylinder, Pos, Rot
+
+    L = x1_mm - x0_mm
+    t = Cylinder(od_mm / 2, L) - Cylinder(id_mm / 2, L)
+    return (Pos((x0_mm + x1_mm) / 2, 0, 0) * Rot(0, 90, 0) * t).solids()[0].wrapped
+
+
+def ball_stud_shape(ball_d_mm: float, neck_d_mm: float, neck_mm: float):
+    """Ball stud: the ball centred on the origin, its neck along +z to z = neck_mm."""
+    from build123d import Cylinder, Sphere
+
+    s = Sphere(ball_d_mm / 2) + Cylinder(neck_d_mm / 2, neck_mm, align=_amin())
+    return s.solids()[0].wrapped
+
+
+def socket_shape(ball_d_mm: float, clearance_mm: float, socket_d_mm: float, cone_deg: float,
+                 shank_d_mm: float, shank_mm: float):
+    """Ball socket: a sphere shell around the ball (centre at the origin, running clearance),
+    an opening cone of half-angle ``cone_deg`` about +z, a shank along +x from the shell to
+    x = socket_d / 2 + shank_mm (the rod tube slides over it)."""
+    from build123d import Cone, Cylinder, Pos, Rot, Sphere
+
+    rs = socket_d_mm / 2
+    h = rs + 1.0
+    cone = Cone(0.0, h * math.tan(math.radians(cone_deg)), h, align=_amin())
+    shank = Pos(rs / 2 + (rs + shank_mm) / 2, 0, 0) * Rot(0, 90, 0) * Cylinder(
+        shank_d_mm / 2, rs + shank_mm - rs / 2)
+    s = Sphere(rs) + shank - Sphere(ball_d_mm / 2 + clearance_mm) - cone
+    return s.solids()[0].wrapped

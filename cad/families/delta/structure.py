@@ -1,0 +1,249 @@
+"""First structural mode and effector compliance of a delta: a 3-D frame model (numpy).
+
+:class:`Frame3D`: nodes in space with 6 DOFs (ux, uy, uz, rx, ry, rz; m, rad, base
+frame), Euler-Bernoulli beams (the 12 x 12 local matrix of
+:func:`cad.structure.frame.local_stiffness`, Przemieniecki eq 5.117, turned into the base
+frame by the element's own axes: local x along it, local z a given reference direction
+made normal to x) and pin-ended trusses (axial E A / L only: a rod between two ball
+joints carries no moment). Masses are lumped (half of each element at each end, point
+masses at nodes); modes solve K phi = w^2 M phi after static (Guyan) condensation of the
+massless DOFs, exact for lumped translational masses.
+
+:func:`delta_frame` builds the delta at one effector point: each upper arm a beam
+clamped at its motor axis (boundary condition: motors held by the servo at infinite gain,
+base and brackets rigid), the elbow and effector cross bars and the effector plate
+beams, the twelve rods trusses between the ball-joint centres, the effector with its
+handle a point mass at the effector centre. Stamper's joint offset (g > 0) is not
+modelled (a DesignError names it). Dimensions and materials: :mod:`.hardware`.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from cad.data.materials import get_material
+from cad.errors import DesignError
+from cad.families.delta import hardware as hw
+from cad.families.delta.layout import arm_points_mm
+from cad.kinematics.delta import Delta, ik, require_ok
+from cad.structure.elastic import get_elastic
+from cad.structure.frame import Section, local_stiffness, rect_torsion_J
+
+MM = 1e-3
+
+
+def element_axes(p, q, ref) -> np.ndarray:
+    """3 x 3 rows = local x (p -> q), y = z x x, z (``ref`` made normal to x) in the base
+    frame. ValueError for a zero-length element or ``ref`` parallel to it."""
+    d = np.asarray(q, float) - np.asarray(p, float)
+    L = float(np.linalg.norm(d))
+    if L <= 0:
+        raise ValueError("element of zero length")
+    ex = d / L
+    z = np.asarray(ref, float) - (np.asarray(ref, float) @ ex) * ex
+    if np.linalg.norm(z) < 1e-9:
+        raise ValueError("element reference direction parallel to the element")
+    ez = z / np.linalg.norm(z)
+    return np.vstack([ex, np.cross(ez, ex), ez])
+
+
+@dataclass
+class Frame3D:
+    """Nodes (m), beams (i, j, section, local z reference), trusses (i, j, E A, mass kg),
+    clamped nodes, point masses (kg)."""
+
+    nodes: list[np.ndarray] = field(default_factory=list)
+    beams: list[tuple[int, int, Section, np.ndarray]] = field(default_factory=list)
+    trusses: list[tuple[int, int, float, float]] = field(default_factory=list)
+    clamped: set[int] = field(default_factory=set)
+    point_mass_kg: dict[int, float] = field(default_factory=dict)
+
+    def node(self, xyz_m) -> int:
+        self.nodes.append(np.asarray(xyz_m, float).reshape(3))
+        return len(self.nodes) - 1
+
+    def beam(self, i: int, j: int, s: Section, ref, n_sub: int = 1) -> None:
+        """Beam i -> j split into ``n_sub`` elements (finer mass lumping)."""
+        s.check()
+        prev = i
+        for k in range(1, n_sub + 1):
+            nxt = j if k == n_sub else self.node(self.nodes[i] + (self.nodes[j] - self.nodes[i]) * k / n_sub)
+            self.beams.append((prev, nxt, s, np.asarray(ref, float)))
+            prev = nxt
+
+    def truss(self, i: int, j: int, EA_N: float, mass_kg: float) -> None:
+        if not EA_N > 0:
+            raise ValueError(f"truss E A must be > 0, got {EA_N!r}")
+        self.trusses.append((i, j, float(EA_N), float(mass_kg)))
+
+    def add_mass(self, i: int, m_kg: float) -> None:
+        self.point_mass_kg[i] = self.point_mass_kg.get(i, 0.0) + m_kg
+
+    def stiffness(self) -> np.ndarray:
+        """Assembled stiffness (6 DOFs per node, N/m, N m/rad)."""
+        K = np.zeros((6 * len(self.nodes),) * 2)
+        for i, j, s, ref in self.beams:
+            R = element_axes(self.nodes[i], self.nodes[j], ref)
+            T = np.kron(np.eye(4), R)
+            L = float(np.linalg.norm(self.nodes[j] - self.nodes[i]))
+            d = np.r_[6 * i:6 * i + 6, 6 * j:6 * j + 6]
+            K[np.ix_(d, d)] += T.T @ local_stiffness(L, s) @ T
+        for i, j, EA, _ in self.trusses:
+            v = self.nodes[j] - self.nodes[i]
+            L = float(np.linalg.norm(v))
+            kk = EA / L * np.outer(v, v) / (L * L)
+            d = np.r_[6 * i:6 * i + 3, 6 * j:6 * j + 3]
+            K[np.ix_(d, d)] += np.block([[kk, -kk], [-kk, kk]])
+        return K
+
+    def masses(self) -> np.ndarray:
+        """Lumped translational mass per node (kg)."""
+        m = np.zeros(len(self.nodes))
+        for i, j, s, _ in self.beams:
+            me = s.rho * s.A * float(np.linalg.norm(self.nodes[j] - self.nodes[i]))
+            m[i] += me / 2
+            m[j] += me / 2
+        for i, j, _, mt in self.trusses:
+            m[i] += mt / 2
+            m[j] += mt / 2
+        for i, v in self.point_mass_kg.items():
+            m[i] += v
+        return m
+
+    def _free(self) -> np.ndarray:
+        fixed = {6 * i + d for i in self.clamped for d in range(6)}
+        return np.array([k for k in range(6 * len(self.nodes)) if k not in fixed])
+
+    def solve(self, loads: dict[int, np.ndarray]) -> np.ndarray:
+        """Displacements (6 per node) under nodal loads {node: (Fx, Fy, Fz[, Mx, My, Mz])}."""
+        K, free = self.stiffness(), self._free()
+        f = np.zeros(K.shape[0])
+        for i, F in loads.items():
+            F = np.asarray(F, float)
+            f[6 * i:6 * i + len(F)] += F
+        u = np.zeros_like(f)
+        u[free] = np.linalg.solve(K[np.ix_(free, free)], f[free])
+        return u
+
+    def modes(self, k: int = 3) -> tuple[np.ndarray, np.ndarray]:
+        """Lowest ``k`` modes: (frequencies Hz (k,), shapes (k, 6 N), mass-normalized)."""
+        from scipy.linalg import eigh
+
+        K, free = self.stiffness(), self._free()
+        m = np.repeat(self.masses()[:, None], 6, axis=1)
+        m[:, 3:] = 0.0
+        m = m.ravel()[free]
+        Kf = K[np.ix_(free, free)]
+        t = m > 0
+        Ktr, Krr = Kf[np.ix_(t, ~t)], Kf[np.ix_(~t, ~t)]
+        Kc = Kf[np.ix_(t, t)] - Ktr @ np.linalg.solve(Krr, Ktr.T)
+        n = min(k, int(t.sum()))
+        w2, V = eigh(0.5 * (Kc + Kc.T), np.diag(m[t]), subset_by_index=[0, n - 1])
+        shapes = np.zeros((n, K.shape[0]))
+        shapes[:, free[t]] = V.T
+        shapes[:, free[~t]] = -np.linalg.solve(Krr, Ktr.T @ V).T
+        return np.sqrt(np.maximum(w2, 0.0)) / (2 * math.pi), shapes
+
+
+def rect_section(width_m: float, thick_m: float, material: str) -> Section:
+    """Section of a width x thick rectangle: local y along the width (bending in the local
+    x-y plane uses Iz = thick width^3 / 12), local z along the thickness."""
+    el = get_elastic(material, "delta.structure")
+    b, h = width_m, thick_m
+    return Section(A=b * h, Iz=h * b**3 / 12, Iy=b * h**3 / 12, J=rect_torsion_J(b, h),
+                   cy=b / 2, cz=h / 2, t_torsion=min(b, h), E=el.E_Pa, G=el.G_Pa,
+                   rho=get_material(material).density_kg_m3)
+
+
+def round_section(od_m: float, id_m: float, material: str) -> Section:
+    """Section of a round bar or tube (od, id m)."""
+    el = get_elastic(material, "delta.structure")
+    A = math.pi / 4 * (od_m**2 - id_m**2)
+    i_m4 = math.pi / 64 * (od_m**4 - id_m**4)
+    return Section(A=A, Iz=i_m4, Iy=i_m4, J=2 * i_m4, cy=od_m / 2, cz=od_m / 2,
+                   t_torsion=od_m / 2, E=el.E_Pa, G=el.G_Pa,
+                   rho=get_material(material).density_kg_m3)
+
+
+@dataclass(frozen=True)
+class DeltaSections:
+    """Sections of the delta's members and its lumped masses (SI): arm, cross bar, effector
+    plate beams (centre -> cross bar), rod E A (N) and mass per metre (kg/m), effector with
+    handle (kg, at the centre), one ball joint (kg, half at each rod end)."""
+
+    arm: Section
+    cross_bar: Section
+    effector: Section
+    rod_EA_N: float
+    rod_kg_per_m: float
+    effector_kg: float
+    joint_kg: float
+
+
+def default_sections(effector_radius_mm: float, width_mm: float) -> DeltaSections:
+    """The :mod:`.hardware` members: arm plate, cross bars, effector plate (width = the
+    effector disk's diameter), carbon rods, aluminium effector disk + handle, ball joints."""
+    rod = round_section(hw.ROD_OD_MM * MM, hw.ROD_ID_MM * MM, hw.ROD_MATERIAL)
+    rho_al = get_material(hw.PLATE_MATERIAL).density_kg_m3
+    r_disk = hw.effector_disk_radius_mm(effector_radius_mm, width_mm) * MM
+    eff_kg = rho_al * (math.pi * r_disk**2 * hw.EFFECTOR_THICKNESS_MM * MM
+                       + math.pi / 4 * (hw.HANDLE_D_MM * MM) ** 2 * hw.HANDLE_LENGTH_MM * MM)
+    return DeltaSections(
+        arm=rect_section(hw.ARM_WIDTH_MM * MM, hw.ARM_THICKNESS_MM * MM, hw.ARM_MATERIAL),
+        cross_bar=round_section(hw.CROSS_BAR_D_MM * MM, 0.0, hw.ARM_MATERIAL),
+        effector=rect_section(2 * r_disk, hw.EFFECTOR_THICKNESS_MM * MM, hw.PLATE_MATERIAL),
+        rod_EA_N=rod.E * rod.A, rod_kg_per_m=rod.rho * rod.A, effector_kg=eff_kg,
+        joint_kg=hw.BALL_JOINT.mass_g * 1e-3)
+
+
+def delta_frame(d: Delta, P_mm, width_mm: float, sec: DeltaSections) -> tuple[Frame3D, int]:
+    """(frame, index of the effector-centre node) of the delta at effector point ``P_mm``
+    (3,) mm (module docstring). KinematicsError when P is not ok; DesignError for g > 0."""
+    if d.joint_offset_mm > 0:
+        raise DesignError("mechanism.joint_offset_mm",
+                          f"the frame model covers g = 0 only, got {d.joint_offset_mm!r} mm")
+    pose = ik(d, np.asarray(P_mm, float).reshape(1, 3))
+    require_ok(pose)
+    pts = {k: v[:, 0] * MM for k, v in arm_points_mm(d, pose.P_mm, pose.theta_rad).items()}
+    P = pose.P_mm[0] * MM
+    f = Frame3D()
+    c = f.node(P)
+    f.add_mass(c, sec.effector_kg)
+    half = width_mm / 2 * MM
+    for i in range(3):
+        t, u = d.tangential[i], d.radial[i]
+        a, e = f.node(pts["axis"][i]), f.node(pts["elbow"][i])
+        f.clamped.add(a)
+        f.beam(a, e, sec.arm, t, n_sub=4)
+        bc = f.node(pts["bottom"][i])
+        f.beam(c, bc, sec.effector, np.array([0.0, 0.0, 1.0]))
+        for s in (-1.0, 1.0):
+            top, bot = f.node(pts["top"][i] + s * half * t), f.node(pts["bottom"][i] + s * half * t)
+            f.beam(e, top, sec.cross_bar, u)
+            f.beam(bc, bot, sec.cross_bar, u)
+            f.truss(top, bot, sec.rod_EA_N, sec.rod_kg_per_m * d.lower_arm_mm * MM)
+            f.add_mass(top, sec.joint_kg / 2)
+            f.add_mass(bot, sec.joint_kg / 2)
+    return f, c
+
+
+def first_mode(d: Delta, P_mm, width_mm: float, sec: DeltaSections | None = None) -> dict:
+    """First structural mode and the effector's compliance at ``P_mm`` (3,) mm:
+    {"first_mode_Hz", "modes_Hz" (3,), "mode_direction" (3,) unit effector motion of the
+    first mode, "compliance_m_per_N" (3, 3) effector displacement per force at its centre,
+    "compliance_max_um_per_N" its largest eigenvalue (worst direction), "boundary":
+    sentence}. Sections default to :func:`default_sections`."""
+    sec = sec or default_sections(d.effector_radius_mm, width_mm)
+    f, c = delta_frame(d, P_mm, width_mm, sec)
+    hz, shapes = f.modes(3)
+    C = np.stack([f.solve({c: e})[6 * c:6 * c + 3] for e in np.eye(3)], axis=1)
+    v = shapes[0, 6 * c:6 * c + 3]
+    return {"first_mode_Hz": float(hz[0]), "modes_Hz": hz, "mode_direction": v / np.linalg.norm(v),
+            "compliance_m_per_N": C,
+            "compliance_max_um_per_N": float(np.linalg.eigvalsh(0.5 * (C + C.T))[-1] * 1e6),
+            "boundary": "upper arms clamped at the motor axes (motors held, base rigid); "
+                        "rods pin-ended between the ball-joint centres; effector and handle "
+                        "a point mass at its centre"}

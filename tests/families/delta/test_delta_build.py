@@ -1,0 +1,78 @@
+"""The delta through the family protocol (issue 36 §3-4): ``hapticad build`` and its
+datasheet rows.
+
+* the force in every direction (:func:`cad.families.delta.datasheet.force_in_every_direction_N`,
+  tau sigma_min(J^T)) against a brute force over 2000 sampled force directions at every grid
+  point, each mapped to joint torques by :func:`cad.kinematics.delta.joint_torques_Nm`
+  (tau = J^-T f, eq 2) and scaled to |tau|_2 = the torque: a second path through the
+  statics;
+* the Falcon design (Stamper's joint offset g > 0) is refused before any CAD in one line;
+* (slow) the bundled delta builds: the report's moving mass is the sum of the placement's
+  body masses read back from report.json, its Lambda eigenvalues are recomputed from those
+  body mass properties, its first mode is the frame model's at the centre.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import cad
+from cad.errors import DesignError
+from cad.families.delta.datasheet import force_in_every_direction_N
+from cad.kinematics.delta import joint_torques_Nm
+
+ROOT = Path(__file__).resolve().parents[3]
+
+
+def test_force_in_every_direction_matches_sampled_directions():
+    d = cad.load_design(ROOT / "designs" / "delta.toml")
+    tau = 0.0876  # N m, a motor's continuous torque (any value: the figure is linear in it)
+    got, where = force_in_every_direction_N(d, tau)
+    rng = np.random.default_rng(36)
+    u = rng.normal(size=(2000, 3))
+    u /= np.linalg.norm(u, axis=1)[:, None]
+    X = d.workspace_points()
+    worst = np.inf
+    for P in X:
+        t = joint_torques_Nm(d.mechanism, np.repeat(P[None], len(u), 0), u)  # per unit force
+        worst = min(worst, float(np.min(tau / np.linalg.norm(t, axis=1))))
+    # sampled directions can only find a force at or above the exact minimum
+    assert worst >= got * (1 - 1e-12)
+    assert worst == pytest.approx(got, rel=2e-3)
+    assert any(np.allclose(where, P) for P in X)
+
+
+def test_the_falcon_layout_is_refused_before_any_cad(tmp_path):
+    d = cad.load_design(ROOT / "designs" / "delta_falcon.toml")
+    with pytest.raises(DesignError, match="mechanism.joint_offset_mm") as e:
+        cad.build_design(d, tmp_path / "f", formats="step")
+    assert "\n" not in str(e.value) and not (tmp_path / "f").exists()
+
+
+@pytest.mark.slow  # a minute: every pair of solids at 125 workspace points (the cheap checks above)
+def test_the_bundled_delta_builds_and_its_report_reads_back(tmp_path):
+    from cad.families.delta.dynamics import mass_matrix_from_bodies_kg
+    from cad.families.delta.structure import first_mode
+    from cad.massprops.props import MassProps
+
+    d = cad.load_design(ROOT / "designs" / "delta.toml")
+    out = tmp_path / "delta"
+    cad.build_design(d, out, formats="step", fidelity="preview")
+    rep = json.loads((out / "report.json").read_text())
+    bodies = {k: MassProps(v["mass_kg"], np.asarray(v["com_mm"]) * 1e-3,
+                           np.asarray(v["inertia_com_kg_m2"]))
+              for k, v in rep["placement"]["bodies"].items()}
+    moving = sum(mp.mass_kg for k, mp in bodies.items() if k != "ground")
+    assert rep["moving_mass_g"] == pytest.approx(moving * 1e3, rel=1e-9)
+    lam = mass_matrix_from_bodies_kg(d.mechanism, d.workspace_points(), d.parallelogram_width_mm,
+                                     bodies, rep["apparent_mass"]["rotor_inertia_kg_m2"])
+    eig = np.linalg.eigvalsh(lam)
+    assert rep["apparent_mass"]["Lambda_max_eig_g"] == pytest.approx(eig[:, -1].max() * 1e3, rel=1e-9)
+    st = first_mode(d.mechanism, np.asarray(d.workspace["center_mm"]), d.parallelogram_width_mm)
+    rows = {r["key"]: r for r in rep["datasheet"]["rows"]}
+    assert rows["first_mode_Hz"]["value"] == pytest.approx(st["first_mode_Hz"], rel=1e-12)
+    assert rep["overlap_volume_mm3"] == 0.0 and (out / "bom.csv").is_file()

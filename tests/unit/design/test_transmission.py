@@ -1,0 +1,81 @@
+"""The [transmission] table (issue 35, a public contract): cad.design.transmission.parse_transmission
+returns the ratio the table implies (n = drum / capstan, by hand) and refuses bad input with one
+line naming the field, the value, the reason and the likely unit slip."""
+
+from __future__ import annotations
+
+import pytest
+
+from cad.design.transmission import DIRECT, Transmission, parse_transmission
+from cad.errors import DesignError
+
+ISSUE_TABLE = {"kind": "capstan", "capstan_diameter_mm": 10.0, "drum_diameter_mm": 120.0,
+               "cable": "steel-7x19-0.6"}
+
+
+def test_the_issue_table_parses_to_ratio_12():
+    t = parse_transmission(ISSUE_TABLE)
+    assert t == Transmission("capstan", 12.0, 10.0, 120.0, "steel-7x19-0.6")
+    assert t.is_capstan
+
+
+def test_ratio_instead_of_drum_gives_the_drum():
+    t = parse_transmission({"kind": "capstan", "capstan_diameter_mm": 10, "ratio": 16,
+                            "cable": "steel-7x7-0.54"})
+    assert t.drum_diameter_mm == pytest.approx(160.0) and t.ratio == 16.0
+
+
+def test_omitted_or_direct_is_direct_drive():
+    assert parse_transmission(None) is DIRECT
+    assert parse_transmission({"kind": "direct"}) == Transmission()
+    assert parse_transmission({}).ratio == 1.0 and not DIRECT.is_capstan
+
+
+@pytest.mark.parametrize("tab, field, words", [
+    ({**ISSUE_TABLE, "kind": "belt"}, "transmission.kind", "must be one of direct, capstan, got 'belt'"),
+    ({"kind": "direct", "ratio": 3}, "transmission.ratio", 'only for kind = "capstan"'),
+    ({**ISSUE_TABLE, "ratio": 12}, "transmission.drum_diameter_mm", "not both"),
+    ({k: v for k, v in ISSUE_TABLE.items() if k != "drum_diameter_mm"},
+     "transmission.drum_diameter_mm", "missing"),
+    ({**ISSUE_TABLE, "capstan_diameter_mm": 0.01}, "transmission.capstan_diameter_mm",
+     "did you give metres? (0.01 metres = 10 mm)"),
+    ({**ISSUE_TABLE, "drum_diameter_mm": 0.12}, "transmission.drum_diameter_mm",
+     "did you give metres? (0.12 metres = 120 mm)"),
+    ({**ISSUE_TABLE, "drum_diameter_mm": 8.0}, "transmission.drum_diameter_mm",
+     "8 mm must be larger than capstan_diameter_mm = 10 mm"),
+    ({"kind": "capstan", "capstan_diameter_mm": 10, "ratio": 0.25, "cable": "steel-7x7-0.54"},
+     "transmission.ratio", "did you give capstan / drum? (1 / 0.25 = 4)"),
+    ({"kind": "capstan", "capstan_diameter_mm": 10, "ratio": 80, "cable": "steel-7x7-0.54"},
+     "transmission.ratio", "must be in (1, 50], got 80"),
+    ({**ISSUE_TABLE, "cable": "steel-7x19-0.54"}, "transmission.cable", "unknown cable 'steel-7x19-0.54'"),
+    ({**ISSUE_TABLE, "cable": 0.6}, "transmission.cable", "must be a catalog key"),
+    ({k: v for k, v in ISSUE_TABLE.items() if k != "cable"}, "transmission.cable", "missing"),
+    ({**ISSUE_TABLE, "capstan_diam_mm": 10}, "transmission.capstan_diam_mm", "unknown key"),
+    ({**ISSUE_TABLE, "capstan_diameter_mm": "10"}, "transmission.capstan_diameter_mm", "must be a number"),
+])
+def test_bad_tables_one_line_naming_field_value_reason(tab, field, words):
+    with pytest.raises(DesignError) as e:
+        parse_transmission(tab)
+    assert e.value.field == field
+    assert words in str(e.value) and "\n" not in str(e.value)
+
+
+def test_prefix_names_the_motor_table():
+    with pytest.raises(DesignError, match=r"^motors\.1\.transmission\.kind:"):
+        parse_transmission({"kind": "gear"}, prefix="motors.1.transmission")
+
+
+def test_one_table_per_motor_or_one_for_all():
+    from cad.design.transmission import parse_transmissions
+
+    assert parse_transmissions(None, 2) == (DIRECT, DIRECT)
+    both = parse_transmissions(ISSUE_TABLE, 2)
+    assert both[0] == both[1] and both[0].ratio == 12.0
+    mixed = parse_transmissions([{"kind": "direct"}, ISSUE_TABLE], 2)
+    assert mixed[0] is DIRECT and mixed[1].is_capstan
+    with pytest.raises(DesignError, match=r"^transmission: must be one table or 2 \(one per motor\), got 3"):
+        parse_transmissions([ISSUE_TABLE] * 3, 2)
+    with pytest.raises(DesignError, match=r"^transmission\.1\.kind: must be one of"):
+        parse_transmissions([ISSUE_TABLE, {"kind": "belt"}], 2)
+    with pytest.raises(DesignError, match=r"^transmission: must be a table or an array"):
+        parse_transmissions("capstan", 1)
