@@ -60,3 +60,40 @@ def hoeken_sim_build(tmp_path_factory):
     rep = build_design(d, out, set(HOEKEN_SIM_FORMATS), fidelity="preview",
                        use_cache=False)
     return d, out, json.loads((out / "report.json").read_text()), rep
+
+
+@pytest.fixture(scope="session")
+def shared_build(tmp_path_factory):
+    """``shared_build(name, formats, fidelity)`` -> ``(design, out_dir, report)``: the bundled
+    design ``designs/<name>`` built once per test run with exactly ``formats`` at ``fidelity``
+    (``report``: its ``report.json`` read back), shared by every test module and both xdist
+    workers (the first caller builds under a file lock in the run's common temporary folder,
+    the others wait and read the same files). The folder is read-only for tests: a test that
+    edits or rebuilds an output builds its own."""
+    import fcntl
+    import json
+    from pathlib import Path
+
+    from cad.design import load_design
+    from cad.pipeline import build_design
+
+    root = Path(__file__).resolve().parents[1]
+    common = tmp_path_factory.getbasetemp()
+    if os.environ.get("PYTEST_XDIST_WORKER"):
+        common = common.parent  # pytest-N/popen-gwK -> pytest-N: one folder for the whole run
+    common = common / "shared_builds"
+    common.mkdir(exist_ok=True)
+
+    def build(name: str, formats, fidelity: str):
+        fmts = sorted(set(formats))
+        key = f"{Path(name).stem}-{fidelity}-{'+'.join(fmts)}"
+        out, done = common / key / "out", common / f"{key}.done"
+        d = load_design(root / "designs" / name)
+        with (common / f"{key}.lock").open("w") as lock:
+            fcntl.flock(lock, fcntl.LOCK_EX)  # released when the file closes
+            if not done.is_file():
+                build_design(d, out, set(fmts), fidelity=fidelity, use_cache=False)
+                done.write_text("built\n")
+        return d, out, json.loads((out / "report.json").read_text())
+
+    return build

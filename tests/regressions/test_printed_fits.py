@@ -45,15 +45,14 @@ def test_the_bundled_printed_designs_are_found():
     assert "hoeken_printed.toml" in PRINTED
 
 
-@pytest.fixture(scope="module", params=PRINTED)
-def build(request, tmp_path_factory):
-    from cad.design import load_design
-    from cad.pipeline import build_design
+#: The formats read here (step, drawings) and the DXF: the same build as
+#: tests/regressions/test_stock_agrees.py, made once per run (tests/conftest.py ``shared_build``).
+FORMATS = {"step", "dxf", "drawings"}
 
-    out = tmp_path_factory.mktemp("printed") / "out"
-    build_design(load_design(DESIGNS / request.param), out, {"step", "drawings"}, fidelity="preview",
-                 use_cache=False)
-    return out
+
+@pytest.fixture(scope="module", params=PRINTED)
+def build(request, shared_build):
+    return shared_build(request.param, FORMATS, "preview")[1]
 
 
 def test_no_printed_part_states_an_iso_fit(build):

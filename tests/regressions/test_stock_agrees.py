@@ -53,16 +53,10 @@ def dxf_stock(path: Path) -> str | None:
 
 
 @pytest.fixture(scope="module")
-def builds(tmp_path_factory):
-    from cad.design import load_design
-    from cad.pipeline import build_design
-
-    tmp = tmp_path_factory.mktemp("stock")
-    out = {}
-    for name in VARIANTS:
-        out[name] = tmp / Path(name).stem
-        build_design(load_design(DESIGNS / name), out[name], FORMATS, fidelity="preview", use_cache=False)
-    return out
+def builds(shared_build):
+    """The three variants at preview fidelity with FORMATS, shared with
+    tests/regressions/test_printed_fits.py (tests/conftest.py ``shared_build``)."""
+    return {name: shared_build(name, FORMATS, "preview")[1] for name in VARIANTS}
 
 
 @pytest.mark.parametrize("name", VARIANTS)

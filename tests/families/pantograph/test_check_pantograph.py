@@ -53,15 +53,14 @@ def test_pantograph_targets_are_validated():
     assert not rows["first_mode_Hz"]["ok"] and code == 1, err
 
 
-def test_twin_pantograph_effective_mass_from_the_build(tmp_path):
+def test_twin_pantograph_effective_mass_from_the_build(family_builds):
+    """check's values against the report.json of the shared inertia build (tests/conftest.py
+    ``family_builds``; the CLI build of the same design: tests/families/fourbar/test_build_cli.py)."""
     code, out, err = hapticad("check", "designs/haptic_mouse.toml", "--target", "mass_x_g_apparent<=80",
                               "--target", "moving_mass_g<=1000", "--json")
     assert code == 0, err
     vals = json.loads(out)["computed"]
-    code, bout, err = hapticad("build", "designs/haptic_mouse.toml", "--fidelity", "inertia",
-                               "--formats", "step", "--out", tmp_path / "b", "--json")
-    assert code == 0, err
-    rep = json.loads(bout)
+    rep = json.loads((family_builds["twin-pantograph"][1] / "report.json").read_text())
     assert vals["mass_x_g_apparent"] == pytest.approx(rep["effective_mass_home"]["mass_x_g_apparent"], rel=1e-9)
     assert vals["moving_mass_g"] == pytest.approx(rep["moving_mass_g"], rel=1e-9)
 
