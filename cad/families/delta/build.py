@@ -18,6 +18,7 @@ simulator model yet (``--formats firmware / mjcf / urdf`` are refused in one lin
 
 from __future__ import annotations
 
+import dataclasses
 from pathlib import Path
 
 import numpy as np
@@ -55,7 +56,23 @@ def interference(b) -> dict:
     return out
 
 
-def _dynamics(b) -> dict:
+@dataclasses.dataclass(frozen=True)
+class DeltaDynamics:
+    """The delta's dynamics from the solids (``Build.dyn``): the largest / smallest
+    eigenvalue of Lambda(x) over the workspace grid (g) and where (mm), the rotor inertia
+    used (kg m^2) and its motor, the structure at the centre (first mode Hz, compliance
+    um/N, boundary conditions)."""
+
+    Lambda_max_eig_g: float
+    at_max_mm: list
+    Lambda_min_eig_g: float
+    at_min_mm: list
+    rotor_inertia_kg_m2: float
+    motor: str
+    structure: dict
+
+
+def _dynamics(b) -> DeltaDynamics:
     """Lambda(x) over the workspace grid from the body mass properties (rotor of the catalog
     motor, direct drive) and the first mode at the centre."""
     d, X = b.design, b.model.extra.workspace_mm
@@ -65,12 +82,13 @@ def _dynamics(b) -> dict:
     hi, lo = int(np.argmax(eig[:, -1])), int(np.argmin(eig[:, 0]))
     st = first_mode(d.mechanism, np.asarray(d.workspace["center_mm"], float),
                     d.parallelogram_width_mm)
-    return {"Lambda_max_eig_g": float(eig[hi, -1] * 1e3), "at_max_mm": X[hi].tolist(),
-            "Lambda_min_eig_g": float(eig[lo, 0] * 1e3), "at_min_mm": X[lo].tolist(),
-            "rotor_inertia_kg_m2": rotor, "motor": hw.MOTOR,
-            "structure": {"first_mode_Hz": st["first_mode_Hz"],
-                          "compliance_max_um_per_N": st["compliance_max_um_per_N"],
-                          "boundary": st["boundary"]}}
+    return DeltaDynamics(
+        Lambda_max_eig_g=float(eig[hi, -1] * 1e3), at_max_mm=X[hi].tolist(),
+        Lambda_min_eig_g=float(eig[lo, 0] * 1e3), at_min_mm=X[lo].tolist(),
+        rotor_inertia_kg_m2=rotor, motor=hw.MOTOR,
+        structure={"first_mode_Hz": st["first_mode_Hz"],
+                   "compliance_max_um_per_N": st["compliance_max_um_per_N"],
+                   "boundary": st["boundary"]})
 
 
 def _report(b) -> dict:
@@ -79,12 +97,13 @@ def _report(b) -> dict:
     return {
         "name": b.design.name, "family": b.design.family, "moving_mass_g": moving * 1e3,
         "bodies": {k: mp.to_dict() for k, mp in b.bodies.items() if k != "ground"},
-        "apparent_mass": {k: dy[k] for k in ("Lambda_max_eig_g", "at_max_mm", "Lambda_min_eig_g",
-                                             "at_min_mm", "rotor_inertia_kg_m2", "motor")},
-        "structure": dy["structure"], "workspace_points": len(b.model.extra.workspace_mm),
+        "apparent_mass": {k: getattr(dy, k) for k in ("Lambda_max_eig_g", "at_max_mm",
+                                                      "Lambda_min_eig_g", "at_min_mm",
+                                                      "rotor_inertia_kg_m2", "motor")},
+        "structure": dy.structure, "workspace_points": len(b.model.extra.workspace_mm),
         "interference": b.itf, "min_clearance_mm": b.itf.get("min_clearance_mm"),
         "overlap_volume_mm3": b.itf.get("overlap_volume_mm3"), "bom": b.bom,
-        "notes": [f"Lambda(x) from the solids and the {dy['motor']} rotor over "
+        "notes": [f"Lambda(x) from the solids and the {dy.motor} rotor over "
                   f"{len(b.model.extra.workspace_mm)} workspace points (eq 1, base frame)",
                   "no encoder, firmware or simulator model for the delta yet"]}
 
