@@ -15,35 +15,16 @@ from __future__ import annotations
 
 import csv
 import json
-import tomllib
 from pathlib import Path
 
 import pytest
 
-from cad.data import families as _registry
+from tests.bundled import buildable
 from tests.step_pairs import read_parts
 
 ROOT = Path(__file__).resolve().parents[2]
 DESIGNS = ROOT / "designs"
-def _buildable(p: Path) -> bool:
-    """The family takes ``build`` and the design passes its pre-CAD refusals (the Falcon
-    delta's knee link is laid out, not analysed: refused in one line, tested in
-    tests/families/delta/test_delta_build.py)."""
-    from cad.design import load_design
-    from cad.errors import DesignError
-    from cad.pipeline import family_of
-
-    if "build" not in _registry.FAMILIES[tomllib.loads(p.read_text())["mechanism"]["family"]].commands:
-        return False
-    d = load_design(p)
-    try:
-        family_of(d).check_options(d, "preview", None, set())
-    except DesignError:
-        return False
-    return True
-
-
-BUILDS = tuple(sorted(p.name for p in DESIGNS.glob("*.toml") if _buildable(p)))
+BUILDS = tuple(sorted(p.name for p in DESIGNS.glob("*.toml") if buildable(p)))
 FAST = ("hoeken.toml", "hoeken_light.toml")
 
 

@@ -40,7 +40,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from cad.data import families as _registry
+from tests.bundled import buildable
 
 ROOT = Path(__file__).resolve().parents[2]
 DESIGNS = ROOT / "designs"
@@ -152,31 +152,13 @@ def eq25_K_max(st: dict) -> float:
         st["encoder_resolution_m"] + st["xdot_max_m_per_s"] * st["Te_s"])
 
 
-def _buildable(p: Path) -> bool:
-    """The family takes ``build`` and the design passes its pre-CAD refusals (the Falcon
-    delta's knee link is laid out, not analysed: refused in one line, tested in
-    tests/families/delta/test_delta_build.py)."""
-    from cad.design import load_design
-    from cad.errors import DesignError
-    from cad.pipeline import family_of
-
-    if "build" not in _registry.FAMILIES[tomllib.loads(p.read_text())["mechanism"]["family"]].commands:
-        return False
-    d = load_design(p)
-    try:
-        family_of(d).check_options(d, "preview", None, set())
-    except DesignError:
-        return False
-    return True
-
-
 # ------------------------------------------------------------------------ the builds
 FOURBAR_FORMATS = {"firmware", "mjcf"}
 FORMATS = {"hoeken": FOURBAR_FORMATS, "pantograph": {"firmware", "mjcf"}, "twin-pantograph": {"firmware", "mjcf"},
            "haptic-pen": {"mjcf"}, "powermouse": {"firmware"}, "delta": set()}
 #: Bundled designs built by default (the rest: slow).
 FAST = ("hoeken.toml", "pantograph.toml", "haptic_mouse.toml", "powermouse.toml")
-SLOW = tuple(sorted(p.name for p in DESIGNS.glob("*.toml") if p.name not in FAST and _buildable(p)))
+SLOW = tuple(sorted(p.name for p in DESIGNS.glob("*.toml") if p.name not in FAST and buildable(p)))
 
 
 def _build(toml_text: str, tmp: Path, name: str) -> tuple[dict, Path]:
