@@ -1,0 +1,179 @@
+"""Numbers typed on docs/papers.md, docs/check-fit.md and docs/codesign.md that come from the
+code, recomputed now and compared with the page at its printed rounding (issue 34 §4: a typed
+run number is generated or checked, never left to drift). Each test reads its numbers from the
+page, so the page and the code cannot part. Pure kinematics, closed forms and catalog data: no
+CAD build, about a second in all."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from cad.kinematics.families import FAMILIES, PAPER_TABLES, family_linkage
+from cad.kinematics.metrics import compute_metrics
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def _page(name: str) -> str:
+    """The page's text with line breaks folded to single spaces (sentences wrap anywhere)."""
+    return " ".join((ROOT / "docs" / name).read_text(encoding="utf-8").split())
+
+
+def _printed(text: str, value: float) -> None:
+    """``value`` rounds to ``text`` at the decimals ``text`` prints (half a unit of its last digit)."""
+    decimals = len(text.split(".")[1]) if "." in text else 0
+    assert abs(value - float(text)) <= 0.5 * 10 ** -decimals + 1e-12, (text, value)
+
+
+def _metrics(family: str, branch_flip: bool = False):
+    fb, lo, hi = family_linkage(family)
+    if branch_flip:
+        fb = dataclasses.replace(fb, branch=-fb.branch)
+    return compute_metrics(fb, lo, hi, force_N=5.0)
+
+
+PAPERS = _page("papers.md")
+#: One row of the table in docs/papers.md "Reproducing the Hoeken paper": ours (paper) per column.
+ROW = re.compile(r"\| (?P<f>[a-z-]+) \| [−+]1 \| (?P<stroke>[\d.]+) \| (?P<dy>[\d.]+) \([\d.]+\) \| "
+                 r"(?P<slope>[\d.]+) \([\d.]+\) \| (?P<tau>[\d.]+) \([\d.]+\) \| (?P<tv>[\d.]+) \([\d.]+\) \| "
+                 r"(?P<bx>\d+) × (?P<by>\d+) \(\d+ × \d+\) \| (?P<mu>[\d.]+)° \|")
+
+
+def test_papers_table_is_the_code_at_the_papers_dimensions():
+    """Every "ours" cell of the Fig. 2 / Tables I-II table (stroke, dy, slope, torque mean and
+    variation, joint-centre box, min transmission angle) is ``compute_metrics`` at the paper's
+    Fig. 2 dimensions and 5 N (what ``hapticad analyze designs/<family>.toml`` prints), and the
+    paper's column is PAPER_TABLES (the paper's Tables I and II)."""
+    rows = {m["f"]: m for m in ROW.finditer(PAPERS)}
+    assert set(rows) == set(FAMILIES)
+    for f, r in rows.items():
+        m = _metrics(f)
+        for key, value in (("stroke", m.stroke_mm), ("dy", m.dy_max_mm), ("slope", m.slope_max),
+                           ("tau", m.torque_mean_mNm), ("tv", m.torque_variation),
+                           ("bx", m.bbox_mm[0]), ("by", m.bbox_mm[1]),
+                           ("mu", m.min_transmission_angle_deg)):
+            _printed(r[key], value)
+        assert f"{r['tv']} ({PAPER_TABLES[f]['torque_variation']:.3f})" in r[0]
+
+
+def test_papers_other_assembly_modes():
+    """The branches paragraph: the other mode of Roberts (stroke, dy), of Chebyshev-V (dy) and of
+    Chebyshev (stroke, dy), the flipped ``branch`` at the same dimensions and crank range."""
+    m = re.search(r"other mode of Roberts has a (\d+) mm stroke and dy = ([\d.]+) mm; of "
+                  r"Chebyshev-V dy = ([\d.]+) mm", PAPERS)
+    rob, chv = _metrics("roberts", True), _metrics("chebyshev-v", True)
+    _printed(m[1], rob.stroke_mm)
+    _printed(m[2], rob.dy_max_mm)
+    _printed(m[3], chv.dy_max_mm)
+    m = re.search(r"the other mode gives ([\d.]+) mm but dy = ([\d.]+) mm", PAPERS)
+    ch = _metrics("chebyshev", True)
+    _printed(m[1], ch.stroke_mm)
+    _printed(m[2], ch.dy_max_mm)
+
+
+def test_papers_slope_excess_and_roberts_height():
+    """The slope item's +35 / +29 / +8 % (ours / Table II - 1) and the Roberts joint centres'
+    46.5 mm height the Dimensions item quotes."""
+    m = re.search(r"Slope \(\+(\d+) % Roberts, \+(\d+) % Chebyshev, \+(\d+) % Chebyshev-V\)", PAPERS)
+    for pct, f in zip(m.groups(), ("roberts", "chebyshev", "chebyshev-v"), strict=True):
+        _printed(pct, 100 * (_metrics(f).slope_max / PAPER_TABLES[f]["slope_max"] - 1))
+    m = re.search(r"joint centres alone span ([\d.]+) mm", PAPERS)
+    _printed(m[1], _metrics("roberts").bbox_mm[1])
+
+
+def test_papers_apparent_mass_and_eq25_with_the_papers_values():
+    """`hapticad analyze designs/hoeken.toml --inertia` with the paper's H (§III.B.2): M11, M12
+    and M22 as the page prints them; eq (25)'s K_max and lower bound 2 Fv / Te from the
+    design's [stiffness] table (the paper's identified values)."""
+    from cad.analysis import analyze
+    from cad.design import load_design
+    from cad.dynamics.inertia import InertiaCoefficients
+
+    H = InertiaCoefficients(2.97e-5, 3.22e-5, 1.17e-4, 7.09e-5)
+    out = analyze(load_design(ROOT / "designs" / "hoeken.toml"), inertia=H)
+    am, k = out["apparent_mass"], out["stiffness"]
+    m = re.search(r"\*\*M11 ([\d.]+) – ([\d.]+) g\*\* \(paper 27.5 – 42.8\), \*\*M12 −([\d.]+) – "
+                  r"([\d.]+) g\*\* \(−0.4 – 0.5\), M22 < ([\d.]+) g", PAPERS)
+    _printed(m[1], am["M11_min_g"])
+    _printed(m[2], am["M11_max_g"])
+    _printed(m[3], -am["M12_min_g"])
+    _printed(m[4], am["M12_max_g"])
+    assert 0 <= am["M22_max_g"] < float(m[5])
+    m = re.search(r"K ≤ \*\*(\d+) N/m\*\* \(paper: \"about 2500 N/m\"\); lower bound 2Fv/Te = (\d+) N/m", PAPERS)
+    _printed(m[1], round(k["K_max_N_per_m"], -1))
+    _printed(m[2], k["K_min_N_per_m"])
+    assert k["K_min_N_per_m"] == pytest.approx(2 * 0.12 / 0.33e-3, rel=1e-12)
+
+
+def test_papers_image_series_excess_over_eq9():
+    """"The full two-plate image series is 13.1 / 9.6 / 6.3 % stronger than eq (9) at d = 6 /
+    11 / 30 mm" for the Fig. 8 magnet (l 20, w 8, t 4 mm, B_r 1.2 T)."""
+    from cad.actuators import voicecoil as vc
+
+    m = re.search(r"series is ([\d.]+) / ([\d.]+) / ([\d.]+) % stronger than eq \(9\) at d = (\d+) / "
+                  r"(\d+) / (\d+) mm", PAPERS)
+    for pct, gap in zip(m.groups()[:3], m.groups()[3:], strict=True):
+        d = float(gap)
+        _printed(pct, 100 * (vc.bg_image_converged_T(d, 20, 8, 4, 1.2) / float(vc.bg_eq9_T(d, 20, 8, 4, 1.2)) - 1))
+
+
+def _continuous_force_N(design_path: Path) -> float:
+    """T_cont / max |dx/dphi1| over the design's stroke, the lever a central finite difference of
+    the solved handle point in the path frame (independent of the datasheet's analytic
+    Jacobian); T_cont of the design's motor from the catalog."""
+    from cad.data.catalog import MOTORS
+    from cad.design import load_design
+    from cad.kinematics.fourbar import solve
+    from cad.kinematics.metrics import path_frame
+
+    d = load_design(design_path)
+    fr = path_frame(d.linkage, d.phi1_min_rad, d.phi1_max_rad)
+    phi = np.linspace(d.phi1_min_rad, d.phi1_max_rad, 2001)
+    h = 1e-6
+    x = lambda p: fr.to_path(solve(d.linkage, p).P_mm)[:, 0]  # noqa: E731
+    lever_m = np.abs(x(phi + h) - x(phi - h)) / (2 * h) * 1e-3
+    return MOTORS[d.parts.motor].torque_continuous_mNm * 1e-3 / lever_m.max()
+
+
+def test_check_fit_cheb80_continuous_force():
+    """docs/check-fit.md: the silent-limits case cheb80 (no motor named: the RE 35 default)
+    misses its 10 N (``mechanism.force_N``) with the continuous force the page prints."""
+    from cad.design import load_design
+
+    path = ROOT / "tests" / "cases" / "silent-limits" / "cheb80.toml"
+    assert load_design(path).force_N == 10.0
+    m = re.search(r"its continuous force \(([\d.]+) N\) misses 10 N", _page("check-fit.md"))
+    _printed(m[1], _continuous_force_N(path))
+
+
+def test_codesign_friction_bound_is_the_catalog_motors():
+    """docs/codesign.md's friction bound F_cont / F_s <= T_cont / (Kt I0) for the RE 40 and the
+    RE 35 from the catalog, the ratio 5 N / 0.083 N needs, the RE 40's least friction at 5 N
+    (5 N Kt I0 / T_cont) and its excess over the paper's 0.083 N; and the continuous force of
+    designs/hoeken.toml in the fit example."""
+    from cad.data.catalog import MOTORS
+
+    text = _page("codesign.md")
+    re40, re35 = MOTORS["maxon-re40"], MOTORS["maxon-re35"]
+    ratio = {k: m.torque_continuous_mNm / (m.torque_constant_mNm_per_A * m.no_load_current_mA * 1e-3)
+             for k, m in (("re40", re40), ("re35", re35))}
+    m = re.search(r"linkage: ([\d.]+) for the RE 40 \(([\d.]+) mN·m, ([\d.]+) mN·m/A × ([\d.]+) mA\) and "
+                  r"([\d.]+) for the RE 35, where 5 N with 0.083 N needs ([\d.]+)\. At 5 N the RE 40 "
+                  r"cannot go below ([\d.]+) N of friction \(\+(\d+) % over", text)
+    _printed(m[1], ratio["re40"])
+    _printed(m[2], re40.torque_continuous_mNm)
+    _printed(m[3], re40.torque_constant_mNm_per_A)
+    _printed(m[4], re40.no_load_current_mA)
+    _printed(m[5], ratio["re35"])
+    _printed(m[6], 5 / 0.083)
+    _printed(m[7], 5 / ratio["re40"])
+    _printed(m[8], 100 * (5 / ratio["re40"] / 0.083 - 1))
+    m = re.search(r"missed by every candidate there \(([\d.]+) N with the RE 35 against 5 N", text)
+    _printed(m[1], _continuous_force_N(ROOT / "designs" / "hoeken.toml"))
+    assert math.isfinite(ratio["re35"])
