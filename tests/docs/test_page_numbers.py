@@ -177,3 +177,21 @@ def test_codesign_friction_bound_is_the_catalog_motors():
     m = re.search(r"missed by every candidate there \(([\d.]+) N with the RE 35 against 5 N", text)
     _printed(m[1], _continuous_force_N(ROOT / "designs" / "hoeken.toml"))
     assert math.isfinite(ratio["re35"])
+
+
+def test_papers_pen_moment_arm_read_back_from_table2():
+    """The haptic pen's moment-to-force ratio read back from Table 2
+    (``cad.isotropy.pen_study.fit_moment_arm``): the ratio, the worst error of the fitted rows,
+    each row's ours / paper and the 15 cm row's, as the page prints them."""
+    from cad.isotropy.pen_study import fit_moment_arm
+
+    fit = fit_moment_arm()
+    m = re.search(r"a single ratio of \*\*≈ (\d+) mm\*\* reproduces the 20–40 cm rows' GII within "
+                  r"\*\*([\d.]+) %\*\* \(ours / paper ([\d., ]+)\), while the 15 cm row stays "
+                  r"\*\*~[\d.]+×\*\* off \(([\d.]+)\)", PAPERS)
+    _printed(m[1], fit["moment_arm_mm"])
+    _printed(m[2], 100 * fit["max_rel_error_fitted_rows"])
+    ratios = fit["ratio_ours_to_paper"]
+    for text, cm in zip(m[3].split(", "), (20, 25, 30, 35, 40), strict=True):
+        _printed(text, ratios[cm])
+    _printed(m[4], ratios[15])
