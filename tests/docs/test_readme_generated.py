@@ -102,7 +102,8 @@ def test_a_bench_run_is_a_source_as_written(tmp_path):
 def test_check_and_tolerance_blocks_read_their_captures():
     """Second reading of the captured check / tolerance JSON, and the two agree with each other:
     the tolerance study's nominal M11 is check's M11 of the same design (both from the solids)."""
-    bodies = {m.group("spec").split()[0]: m.group("body") for m in BLOCKS}
+    bodies = {m.group("spec").split()[0]: m.group("body") for m in BLOCKS
+              if m.group("spec").split()[0] != "check" or m.group("spec") == "check docs/check/hoeken.json"}
     chk = json.loads((readme.ROOT / "docs/check/hoeken.json").read_text())
     assert chk["exit_code"] == 1 and chk["command"] == "hapticad check designs/hoeken.toml --json"
     for r in chk["rows"]:
@@ -113,6 +114,16 @@ def test_check_and_tolerance_blocks_read_their_captures():
     assert tol["inertia_source"] in bodies["tolerance"]
     for k in ("M11_min_g", "M11_max_g"):
         assert tol["metrics"][k]["nominal"] == pytest.approx(chk["computed"][k], rel=1e-9)
+
+
+def test_hoeken_paper_check_block_reads_its_capture():
+    """docs/papers.md's check of designs/hoeken_paper.toml: every target met (exit 0), each row's
+    computed value as captured."""
+    chk = json.loads((readme.ROOT / "docs/check/hoeken_paper.json").read_text())
+    assert chk["exit_code"] == 0 and chk["command"] == "hapticad check designs/hoeken_paper.toml --json"
+    body = next(m.group("body") for m in BLOCKS if m.group("spec") == "check docs/check/hoeken_paper.json")
+    for r in chk["rows"]:
+        assert r["ok"] and f"| {r['key']} | {r['computed']:.4g} | {r['target_text']} |" in body
 
 
 def test_swap_block_reads_its_capture():
