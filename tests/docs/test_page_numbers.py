@@ -195,3 +195,60 @@ def test_papers_pen_moment_arm_read_back_from_table2():
     for text, cm in zip(m[3].split(", "), (20, 25, 30, 35, 40), strict=True):
         _printed(text, ratios[cm])
     _printed(m[4], ratios[15])
+
+
+STRUCTURE = _page("structure.md")
+
+
+def test_structure_bearing_table_is_the_code():
+    """docs/structure.md's table: the links' FE compliance along x (``cad.structure.device.analyse``
+    with ``fem``, the function a build calls; a static compliance, so the masses do not enter:
+    checked by two mass sets), the bearings' Palmgren estimate, the share, and the bundled
+    Hoeken's joint loads and ball deflections; and the ball sets quoted (bd_warehouse's model)."""
+    from cad.design import load_design
+    from cad.structure import bearings
+    from cad.structure.device import analyse
+
+    for name, bearing in (("hoeken", "618/8"), ("hoeken_paper", "618/6"), ("hoeken_light", "618/4")):
+        d = load_design(ROOT / "designs" / f"{name}.toml")
+        r = analyse(d, [], {"crank": 0.01, "coupler": 0.01, "rocker": 0.01}, "fem", M11_max_kg=0.05)
+        r2 = analyse(d, [], {"crank": 0.05, "coupler": 0.02, "rocker": 0.03}, "fem", M11_max_kg=0.08)
+        assert r2["compliance_um_per_N"]["x"] == pytest.approx(r["compliance_um_per_N"]["x"], rel=1e-9)
+        fe, est = r["compliance_um_per_N"]["x"], r["bearing_compliance_estimate"]
+        m = re.search(rf"\| `{name}.toml` \({re.escape(bearing)}\) \| ([\d.]+) µm/N \| ([\d.]+) µm/N "
+                      rf"(?:\(joint loads ([\d.]+) / ([\d.]+) / ([\d.]+) N, deflections ([\d.]+) / ([\d.]+) / "
+                      rf"([\d.]+) µm\) )?\| (\d+) % \|", STRUCTURE)
+        _printed(m[1], fe)
+        _printed(m[2], est["x_um_per_N"])
+        _printed(m[9], 100 * est["x_um_per_N"] / fe)
+        if name == "hoeken":
+            for i, j in enumerate(("A2", "A3", "A4")):
+                _printed(m[3 + i], est["joint_load_N"][j])
+                _printed(m[6 + i], est["joint_deflection_um"][j])
+    m = re.search(r"(\d+) × ([\d.]+) mm for 618/8, (\d+) × ([\d.]+) mm for 618/4", STRUCTURE)
+    for (z, dw), size in zip(((m[1], m[2]), (m[3], m[4])), ("M8-16-4", "M4-9-2.5"), strict=True):
+        Z, Dw = bearings.ball_set(size)
+        assert int(z) == Z
+        _printed(dw, Dw)
+
+
+def test_structure_beam_against_fe_is_the_committed_bench():
+    """The FE paragraph's figures are the committed bench (docs/bench/bench_structure.json,
+    ``hapticad bench --only structure``, the data of the chart the page shows): the pocketed
+    bar's beam and finest-FE compliance in plane and the beam's error, the solid bar's beam and
+    Timoshenko errors, and the 16×2 meshes' errors."""
+    import json
+
+    pts = json.loads((ROOT / "docs/bench/bench_structure.json").read_text())["structure"]["points"]
+    pt = {(p["bar"].split()[0], p["method"], tuple(p["knob"] or ())): p for p in pts}
+    m = re.search(r"beam ([\d.]+) µm/N, FE ([\d.]+) µm/N\); the beam model is unconservative in x and "
+                  r"off by (\d+) %", STRUCTURE)
+    _printed(m[1], pt["pocketed", "beam", ()]["compliance_um_per_N"][0])
+    _printed(m[2], pt["pocketed", "fem", (64, 8)]["compliance_um_per_N"][0])
+    _printed(m[3], 100 * pt["pocketed", "beam", ()]["error"])
+    m = re.search(r"the solid bar's beam error is ([\d.]+) % \(shear; Timoshenko ([\d.]+) %\), FE meshes "
+                  r"16×2 reach ([\d.]+) % \(solid\) / (\d+) % \(pocketed\)", STRUCTURE)
+    _printed(m[1], 100 * pt["solid", "beam", ()]["error"])
+    _printed(m[2], 100 * pt["solid", "timoshenko closed form", ()]["error"])
+    _printed(m[3], 100 * pt["solid", "fem", (16, 2)]["error"])
+    _printed(m[4], 100 * pt["pocketed", "fem", (16, 2)]["error"])
