@@ -252,3 +252,37 @@ def test_structure_beam_against_fe_is_the_committed_bench():
     _printed(m[2], 100 * pt["solid", "timoshenko closed form", ()]["error"])
     _printed(m[3], 100 * pt["solid", "fem", (16, 2)]["error"])
     _printed(m[4], 100 * pt["pocketed", "fem", (16, 2)]["error"])
+
+
+def test_design_files_light_optimum_is_the_committed_run():
+    """docs/design-files.md's M11 max of designs/hoeken_light.toml is the accepted optimum of the
+    committed run (docs/codesign/hoeken_light_optimize.json, the source of docs/codesign.md's
+    generated table), at its printed rounding."""
+    import json
+
+    data = json.loads((ROOT / "docs/codesign/hoeken_light_optimize.json").read_text())
+    m = re.search(r"`hoeken_light.toml` \(its optimum, M11 max ([\d.]+) g\)", _page("design-files.md"))
+    _printed(m[1], data["best"]["exact"]["M11_max_g"])
+
+
+def test_limits_page_figures():
+    """docs/limits.md: Roberts' torque variation against Table I and its joint-centre height
+    against the paper's Dimensions, the Chebyshev stroke at Fig. 2's dimensions (the code now),
+    and the RE 35 catalog values it quotes (cad/data/catalog.py, as the catalog holds them)."""
+    from cad.data.catalog import MOTORS
+
+    text = _page("limits.md")
+    rob = _metrics("roberts")
+    m = re.search(r"Roberts' torque variation \(([\d.]+) vs ([\d.]+)\) and its Dimensions \((\d+) mm high vs "
+                  r"([\d.]+) mm between joint centres\)", text)
+    _printed(m[1], rob.torque_variation)
+    assert float(m[2]) == PAPER_TABLES["roberts"]["torque_variation"]
+    _printed(m[4], rob.bbox_mm[1])
+    m = re.search(r"the table's dimensions give a ([\d.]+) mm stroke", text)
+    _printed(m[1], _metrics("chebyshev").stroke_mm)
+    re35 = MOTORS["maxon-re35"]
+    m = re.search(r"\(pilot Ø(\d+), 3×M3 on Ø(\d+), (\d+) mm shaft, (\d+) g, Jm ([\d.]+) g·cm²\)", text)
+    for text_value, value in zip(m.groups(), (re35.pilot_diameter_mm, re35.bolt_circle_mm, re35.shaft_length_mm,
+                                              1e3 * re35.mass_kg, re35.rotor_inertia_g_cm2), strict=True):
+        _printed(text_value, value)
+    assert (re35.bolt_count, re35.bolt_size) == (3, "M3-0.5")
