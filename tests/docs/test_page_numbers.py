@@ -286,3 +286,29 @@ def test_limits_page_figures():
                                               1e3 * re35.mass_kg, re35.rotor_inertia_g_cm2), strict=True):
         _printed(text_value, value)
     assert (re35.bolt_count, re35.bolt_size) == (3, "M3-0.5")
+
+
+def test_firmware_page_wall_and_force_of_the_hoeken():
+    """docs/firmware.md: eq (25)'s K_max of designs/hoeken.toml's [stiffness] (the wall example
+    and the CHAI3D stiffness), and the CHAI3D force of the Hoeken, min over poses of T_cont /
+    sigma_max(J^T): recomputed here over the whole stroke (a superset of the firmware's test
+    poses) with a finite-difference J of the handle point and the catalog's RE 35."""
+    from cad.data.catalog import MOTORS
+    from cad.design import load_design
+    from cad.dynamics.stiffness import stiffness_range_N_per_m
+    from cad.kinematics.fourbar import solve
+
+    text = _page("firmware.md")
+    d = load_design(ROOT / "designs" / "hoeken.toml")
+    k_max = stiffness_range_N_per_m(d.stiffness)[1]
+    m = re.search(r"\((\d+) N/m at Te = 0.33 ms, the paper's \"2500 N/m\"", text)
+    _printed(m[1], round(k_max, -1))
+    m = re.search(r"\(the Hoeken: (\d+) N/m; its simulated K_max is several times more\)", text)
+    _printed(m[1], round(k_max, -1))
+    assert d.stiffness.Te_s == 0.33e-3
+    phi = np.linspace(d.phi1_min_rad, d.phi1_max_rad, 2001)
+    h = 1e-6
+    J_m = (solve(d.linkage, phi + h).P_mm - solve(d.linkage, phi - h).P_mm) / (2 * h) * 1e-3
+    force_N = MOTORS[d.parts.motor].torque_continuous_mNm * 1e-3 / np.linalg.norm(J_m, axis=1).max()
+    m = re.search(r"\(Hoeken: ([\d.]+) N, the paper states 3.3 N continuous\)", text)
+    _printed(m[1], force_N)
