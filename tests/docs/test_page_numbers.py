@@ -312,3 +312,14 @@ def test_firmware_page_wall_and_force_of_the_hoeken():
     force_N = MOTORS[d.parts.motor].torque_continuous_mNm * 1e-3 / np.linalg.norm(J_m, axis=1).max()
     m = re.search(r"\(Hoeken: ([\d.]+) N, the paper states 3.3 N continuous\)", text)
     _printed(m[1], force_N)
+
+
+def test_tolerances_page_nominal_dy_of_the_hoeken():
+    """docs/tolerances.md: the bundled Hoeken's nominal dy_max (compute_metrics with the
+    design's range and samples, as ``analyze`` and ``tolerance`` take them)."""
+    from cad.design import load_design
+
+    d = load_design(ROOT / "designs" / "hoeken.toml")
+    m = compute_metrics(d.linkage, d.phi1_min_rad, d.phi1_max_rad, force_N=d.force_N, samples=d.samples)
+    dy = re.search(r"The nominal bar set already gives \*\*dy_max = ([\d.]+) mm\*\*", _page("tolerances.md"))
+    _printed(dy[1], m.dy_max_mm)
