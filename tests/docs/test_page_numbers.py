@@ -323,3 +323,29 @@ def test_tolerances_page_nominal_dy_of_the_hoeken():
     m = compute_metrics(d.linkage, d.phi1_min_rad, d.phi1_max_rad, force_N=d.force_N, samples=d.samples)
     dy = re.search(r"The nominal bar set already gives \*\*dy_max = ([\d.]+) mm\*\*", _page("tolerances.md"))
     _printed(dy[1], m.dy_max_mm)
+
+
+def test_codesign_re35_span_and_rotor_mass():
+    """docs/codesign.md, why the light optimum takes the RE 40: the least crank span at which the
+    RE 35's continuous torque gives 5 N over 50 mm (mean torque F s / span, virtual work) and
+    its rotor's apparent mass Jm / lever^2 over the mean lever s / span, from the catalog; and
+    trial 442's crank span in the committed beat-prototype run."""
+    import json
+
+    from cad.data.catalog import MOTORS
+
+    re35 = MOTORS["maxon-re35"]
+    text = _page("codesign.md")
+    m = re.search(r"at 5 N over 50 mm an RE 35 \(([\d.]+) mN·m continuous\) needs a crank span of at least "
+                  r"5 N × 50 mm / [\d.]+ mN·m = (\d+)°, and over the lever 50 mm / \d+° its rotor \(Jm "
+                  r"([\d.]+) g·cm²\) alone adds Jm / lever² = (\d+) g of M11", text)
+    span_rad = 5.0 * 0.050 / (re35.torque_continuous_mNm * 1e-3)
+    lever_m = 0.050 / span_rad
+    _printed(m[1], re35.torque_continuous_mNm)
+    _printed(m[2], math.degrees(span_rad))
+    _printed(m[3], re35.rotor_inertia_g_cm2)
+    _printed(m[4], re35.rotor_inertia_g_cm2 * 1e-7 / lever_m**2 * 1e3)
+    front = json.loads((ROOT / "docs/codesign/hoeken_prototype.json").read_text())["prototype"]["fronts"]
+    pts = {p["trial"]: p for f in front.values() for p in f["points"]}
+    m = re.search(r"The nearest design, trial (\d+) \(carbon-fibre bars, RE 40, (\d+)° of crank\)", text)
+    _printed(m[2], pts[int(m[1])]["crank_span_deg"])
