@@ -147,14 +147,12 @@ def test_capture_saves_a_command_json_with_its_provenance(tmp_path):
     assert not (tmp_path / "b.json").exists()
 
 
-def test_typed_layer_order_row_equals_the_optimum_json():
-    """The one typed table left in the light-device section (layer orders) agrees with the
-    generated optimum on its chosen row."""
+def test_layer_order_sentence_equals_the_optimum_json():
+    """The light-device section says the search settles on the planner's automatic order for
+    the Hoeken family: the committed optimum's layer order is the one the page names."""
     data = json.loads((readme.ROOT / "docs/codesign/hoeken_light_optimize.json").read_text())
-    b = data["best"]
-    row = (f"| {', '.join(b['layer_order'])} (chosen) | {b['cheap']['M11_max_g']:.2f} g | "
-           f"**{b['exact']['M11_min_g']:.2f} – {b['exact']['M11_max_g']:.2f} g** |")
-    assert row in TEXT
+    order = ", ".join(data["best"]["layer_order"])
+    assert f"automatic order ({order}) is also what the search settles on" in " ".join(TEXT.split())
 
 
 def test_codesign_motor_row_shows_the_run_limit_and_the_current_catalog():
