@@ -40,3 +40,23 @@ def test_simulation_default_substep_is_within_its_stated_error_of_mujoco():
     rel = abs(row["K_max_N_per_m"] / ref - 1)
     assert abs(rel - abs(row["rel_error"])) < 1e-12
     assert rel < err_pct / 100
+
+
+def test_ordering_allowances_are_the_ones_the_stock_column_adds():
+    """docs/ordering.md's allowance column against the constants cad.export.order adds
+    (cad/tolerances.py STOCK_*, the radius mesh deflection) and its mass rounding rule."""
+    from cad import tolerances as tol
+    from cad.export import order
+    text = page("docs/ordering.md")
+    assert number(text, r"\| (\d+) mm per side on W, L;") == tol.STOCK_PLATE_MARGIN_MM
+    mesh = re.findall(r"mesh at ([\d.]+) mm \+ ([\d.]+) mm, so never below the solid\), \+ (\d+) mm; L \+ (\d+) mm",
+                      text)
+    assert [tuple(map(float, m)) for m in mesh] == [(order.RADIUS_MESH_DEFLECTION_MM, order.RADIUS_MESH_DEFLECTION_MM,
+                                                     tol.STOCK_ROD_DIAMETER_ALLOWANCE_MM, tol.STOCK_LENGTH_ALLOWANCE_MM)]
+    assert number(text, r"the exact radii of the cylinders about the part's axis; L \+ (\d+) mm") == \
+        tol.STOCK_LENGTH_ALLOWANCE_MM
+    assert number(text, r"\| (\d+) mm per side \|") == tol.STOCK_BLOCK_MARGIN_MM
+    step, below = re.findall(r"whole grams, ([\d.]+) g below (\d+) g", text)[0]
+    limit = float(below)
+    assert order._grams(limit - 0.06) == f"{limit - 0.06:.1f}" and float(step) == 0.1
+    assert order._grams(limit + 0.4) == f"{limit:.0f}"
