@@ -60,3 +60,119 @@ def test_ordering_allowances_are_the_ones_the_stock_column_adds():
     limit = float(below)
     assert order._grams(limit - 0.06) == f"{limit - 0.06:.1f}" and float(step) == 0.1
     assert order._grams(limit + 0.4) == f"{limit:.0f}"
+
+
+def table_row(name: str, first_cell: str) -> list[str]:
+    """The cells of the one table row of page ``name`` whose first cell starts with ``first_cell``."""
+    rows = [[c.strip() for c in line.strip().strip("|").split("|")]
+            for line in (ROOT / name).read_text(encoding="utf-8").splitlines() if line.startswith("|")]
+    found = [r for r in rows if r[0].startswith(first_cell)]
+    assert len(found) == 1, f"{name}: {len(found)} rows start with {first_cell!r}"
+    return found[0]
+
+
+def _pct(a: float, b: float) -> str:
+    """``b`` against ``a`` as the page prints it (``+0.3 %``, ``−0.2 %``; a real minus sign)."""
+    return f"{100 * (b / a - 1):+.{1 if abs(b / a - 1) >= 1e-3 else 2}f} %".replace("-", "−")
+
+
+def test_datasheet_structure_proofs_table_is_what_the_proofs_compute():
+    """docs/datasheet.md's "Independent proofs" table: each device figure, its independent value
+    and their difference at the printed rounding, recomputed by the proofs' own functions
+    (tests/unit/structure/test_structure_proofs.py: the force method, unit loads and statics by
+    hand, none calling cad.structure.frame) and the device model now."""
+    import numpy as np
+
+    from cad.kinematics.metrics import path_frame
+    from tests.unit.structure import test_structure_proofs as proofs
+    dev = proofs.hoeken_device_at_mid_stroke()
+    d, el, rho, end_r, pose, st = dev
+    cz_m_per_N, f1_Hz = proofs._hoeken_out_of_plane(d, el, rho, end_r, pose)
+    ex = np.asarray(path_frame(d.linkage, d.phi1_min_rad, d.phi1_max_rad).x_hat, float)
+    cx_um = proofs._hoeken_inplane_compliance_m_per_N(d, el, end_r, pose, ex) * 1e6
+    stress_dev, stress_hand = proofs.hoeken_beam_stress_MPa(dev)
+    name = "docs/datasheet.md"
+    mode = table_row(name, "Hoeken first mode, crank held")
+    assert f"{1e3 * proofs.KNOB_KG:g} g knob at P" in mode[0]
+    assert mode[1] == f"{st['first_mode_Hz']:.2f} Hz" and mode[3] == f"{f1_Hz:.2f} Hz, {_pct(st['first_mode_Hz'], f1_Hz)}"
+    z = table_row(name, "Hoeken handle compliance out of plane")
+    cz = st["compliance_um_per_N"]["z"]
+    assert z[1] == f"{cz:.2f} um/N" and z[3] == f"{cz_m_per_N * 1e6:.2f} um/N, {_pct(cz, cz_m_per_N * 1e6)}"
+    x = table_row(name, "Hoeken handle compliance along the path")
+    cx = st["compliance_um_per_N"]["x"]
+    assert x[1] == f"{cx:.3f} um/N" and x[3] == f"{cx_um:.3f} um/N, {_pct(cx, cx_um)}"
+    s = table_row(name, "Hoeken peak stress at")
+    assert f"= {d.force_N:g} N" in s[0]
+    assert s[1] == f"{stress_dev:.3f} MPa" and s[3] == f"{stress_hand:.3f} MPa, {_pct(stress_dev, stress_hand)}"
+    fb, *_, pst = proofs._pantograph_home()
+    home = pst["per_pose"]["home"]
+    c = table_row(name, "5-bar at home: handle compliance x / y")
+    assert c[1] == f"{home['compliance_um_per_N']['x']:.3f} / {home['compliance_um_per_N']['y']:.3f} um/N"
+    p = table_row(name, "5-bar at home: peak in-plane stress at")
+    assert p[0].endswith(f"at {float(fb.actuators['force_max_N']):g} N")
+    assert p[1] == f"{home['max_stress_in_plane_MPa']:.3f} MPa"
+
+
+def _continuous_force_N(design_path: Path) -> tuple[float, float]:
+    """(continuous force at the handle, force_N) of a four-bar design: the motor's continuous
+    torque over the largest lever max |dx/dphi1| of the handle along the path, the lever a
+    central finite difference of the solved coupler point (independent of the datasheet's
+    analytic Jacobian; tests/docs/test_readme_numbers.py does the same for README)."""
+    import numpy as np
+
+    from cad.data.catalog import MOTORS
+    from cad.design import load_design
+    from cad.kinematics.fourbar import solve
+    from cad.kinematics.metrics import path_frame
+    d = load_design(design_path)
+    fr = path_frame(d.linkage, d.phi1_min_rad, d.phi1_max_rad)
+    phi = np.linspace(d.phi1_min_rad, d.phi1_max_rad, 2001)
+    h = 1e-6
+    x = lambda p: fr.to_path(solve(d.linkage, p).P_mm)[:, 0]  # noqa: E731
+    lever_m = np.abs(x(phi + h) - x(phi - h)) / (2 * h) * 1e-3
+    return MOTORS[d.parts.motor].torque_continuous_mNm * 1e-3 / lever_m.max(), float(d.force_N)
+
+
+def test_datasheet_continuous_force_warnings_match_the_designs():
+    """docs/datasheet.md: the Hoeken's continuous-force warning and the hoeken_pla case's row
+    (tests/cases/silent-limits) state the force each design's motor gives through its lever,
+    and the design's force_N as the limit."""
+    text = page("docs/datasheet.md")
+    f, lim = _continuous_force_N(ROOT / "designs/hoeken.toml")
+    assert f"It warns once: `continuous force at the handle = {f:.2f} N, limit >= {lim:g} N" in text
+    f, lim = _continuous_force_N(ROOT / "tests/cases/silent-limits/hoeken_pla.toml")
+    assert f"| `hoeken_pla.toml` (every made part PLA) | continuous force {f:.2f} N < {lim:g} N;" in text
+    f, lim = _continuous_force_N(ROOT / "tests/cases/silent-limits/cheb80.toml")
+    assert f < 1.0 and f"(Chebyshev, 80 mm, {lim:g} N) | continuous force < 1 N (limit {lim:g} N);" in text
+
+
+def test_datasheet_motor_sentences_match_the_catalog():
+    """docs/datasheet.md's motor paragraph: the RE 35 winding's Kt, R, continuous torque and its
+    stall torque Kt U / R, and the RE 40's Kt, as cad/data/catalog.py states them (the sources
+    are named there and walked by tests/unit/data/test_catalog_sources.py)."""
+    from cad.data.catalog import MOTORS
+    text = page("docs/datasheet.md")
+    re35, re40 = MOTORS["maxon-re35"], MOTORS["maxon-re40"]
+    volts = number(text, r"RE 35: a (\d+) V winding")
+    assert f"{volts:g} V winding" in re35.winding
+    assert (f"(Kt {re35.torque_constant_mNm_per_A:g} mN·m/A, R {re35.terminal_resistance_ohm:g} Ω, "
+            f"{re35.torque_continuous_mNm:g} mN·m continuous") in text
+    stall = re35.torque_constant_mNm_per_A * volts / re35.terminal_resistance_ohm
+    assert abs(stall - re35.stall_torque_mNm) < 1e-9
+    assert f"its stall torque (Kt·U/R = {stall:.0f} mN·m" in text
+    assert f"RE 35's {re35.torque_continuous_mNm:g} / {re35.torque_peak_mNm:g} mN m" in text
+    order, v40 = re.findall(r"RE 40: order number (\d+) \((\d+) V\)", text)[0]
+    assert f"order number {order}, {v40} V" in re40.winding
+    assert f"Kt {re40.torque_constant_mNm_per_A:g} mN·m/A" in text
+
+
+def test_datasheet_five_bar_forces_match_the_committed_datasheet_run():
+    """docs/datasheet.md: the bundled 5-bar's continuous and peak force in every direction and
+    the GII normalisation's force, against the committed capture docs/datasheets/pantograph.json
+    (the run the page's structure table renders; a regression pin of our own run)."""
+    rows = {r["key"]: r for r in json.loads((ROOT / "docs/datasheets/pantograph.json").read_text())
+            ["datasheet"]["rows"]}
+    text = page("docs/datasheet.md")
+    assert (f"(the bundled 5-bar: {rows['continuous_force_N']['value']:.3f} N continuous, "
+            f"{rows['peak_force_N']['value']:.2f} N peak from the") in text
+    assert f"`[actuators] torque_max_Nm = 1` gives {rows['force_any_dir_N']['value']:.2f} N" in text
