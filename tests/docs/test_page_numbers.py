@@ -176,3 +176,65 @@ def test_datasheet_five_bar_forces_match_the_committed_datasheet_run():
     assert (f"(the bundled 5-bar: {rows['continuous_force_N']['value']:.3f} N continuous, "
             f"{rows['peak_force_N']['value']:.2f} N peak from the") in text
     assert f"`[actuators] torque_max_Nm = 1` gives {rows['force_any_dir_N']['value']:.2f} N" in text
+
+
+PANTOGRAPH_PAGE = "docs/families/pantograph-powermouse.md"
+
+
+def _capture_rows(name: str) -> dict[str, dict]:
+    return {r["key"]: r for r in json.loads((ROOT / f"docs/datasheets/{name}.json").read_text())["datasheet"]["rows"]}
+
+
+def test_pantograph_forces_match_the_committed_datasheet_runs():
+    """The 5-bar's and the haptic mouse's continuous / peak force in every direction, and the 5-bar's
+    force_max_N that the continuous force misses, against the committed captures
+    docs/datasheets/pantograph.json and haptic_mouse.json (regression pins of our own runs)."""
+    text = page(PANTOGRAPH_PAGE)
+    five, mouse = _capture_rows("pantograph"), _capture_rows("haptic_mouse")
+    assert (f"(the bundled 5-bar with the RE 35: {five['continuous_force_N']['value']:.3f} N continuous, "
+            f"{five['peak_force_N']['value']:.2f} N peak; the haptic mouse "
+            f"{mouse['continuous_force_N']['value']:.3f} N / {mouse['peak_force_N']['value']:.2f} N)") in text
+    lim = five["continuous_force_N"]["limit"]["value"]
+    assert five["continuous_force_N"]["verdict"] == "miss"
+    assert (f"the bundled 5-bar asks for {lim:g} N and its two RE 35 motors give "
+            f"{five['continuous_force_N']['value']:.3f} N in the worst direction") in text
+
+
+def test_powermouse_flotor_figures_match_the_committed_datasheet_run():
+    """The flotor's mass, peak acceleration and the motion check's touching clearance, against
+    docs/datasheets/powermouse.json (the page names it; a regression pin of our own run)."""
+    text = page(PANTOGRAPH_PAGE)
+    pm = _capture_rows("powermouse")
+    assert (f"the flotor weighs {pm['flotor_mass_g']['value']:.1f} g (peak acceleration "
+            f"{pm['peak_acceleration_G']['value']:.2f} G;") in text
+    assert f"The motion check finds {pm['min_clearance_mm']['value']:g} mm (touching)" in text
+
+
+def test_powermouse_corner_holes_are_the_excursion_bound():
+    """The PowerMouse's corner-hole sentences: the stem's and the post's largest distance off
+    the diagonal (cad.actuators.powermouse.diagonal_excursion_mm), the hole sizes they give
+    with the margin, the advised limits rounded inwards, the bundled corner hole and the coil
+    gap = motion range, all from the bundled design now (pure numpy, no CAD)."""
+    import math
+
+    from cad.design import load_design
+    from cad.families.powermouse import parts as pp
+    from cad.families.powermouse.build import actuator_gap_mm
+    d = load_design(ROOT / "designs/powermouse.toml")
+    g = pp.geometry(d, actuator_gap_mm(d))
+    text = page(PANTOGRAPH_PAGE)
+    Ho = g.housing_inner_half_mm + g.housing_wall_mm
+    stem, post = g.excursion_mm(Ho * math.sqrt(3.0)), g.excursion_mm(g.flotor_edge_mm / 2 * math.sqrt(3.0))
+    m = pp.HOLE_MARGIN_MM
+    assert f"move the handle stem **{stem:.2f} mm** off the axis" in text
+    assert f"and the post **{post:.2f} mm** off the axis" in text
+    assert f"the stem + 2 × ({stem:.2f} + {m:g}) mm = {g.housing_hole_mm:.1f} mm" in text
+    assert g.handle_diameter_mm + 2 * (stem + m) == g.housing_hole_mm
+    room = 2 * (g._coil_distance_mm() - pp.COIL_WALL_MM)
+    assert (f"the post + 2 × ({post:.2f} + {m:g}) = {pp._up(g.corner_hole_min_mm):.2f} mm and "
+            f"≤ {pp._down(room):.2f} mm") in text
+    assert f"The bundled design has **{g.corner_hole_mm:g} mm**." in text
+    assert f"`handle.diameter_mm` ≤ {pp._down(room - 2 * pp.HANDLE_BOSS_WALL_MM):.1f})" in text
+    gap = (g.gap_mm - g.coil_width_mm) / 2
+    assert f"nominal coil–magnet gap is {gap:.1f} mm = `motion.range_mm`" in text and gap == g.range_mm
+    assert f"±{g.range_mm:g} mm / ±{g.range_deg:g}° range" in text
