@@ -238,3 +238,31 @@ def test_powermouse_corner_holes_are_the_excursion_bound():
     gap = (g.gap_mm - g.coil_width_mm) / 2
     assert f"nominal coil–magnet gap is {gap:.1f} mm = `motion.range_mm`" in text and gap == g.range_mm
     assert f"±{g.range_mm:g} mm / ±{g.range_deg:g}° range" in text
+
+
+def test_pen_numbers_table_is_the_committed_datasheet_run():
+    """docs/families/pen.md's "Numbers" table, our column: moving mass, effective masses and
+    inertias at home, force in every direction (GII normalisation, continuous, peak), against
+    docs/datasheets/haptic_pen.json (the run the page names; a regression pin of our own run).
+    The paper's column is the isotropy paper's Table 3 (ledger `paper:`)."""
+    from cad.data.catalog import MOTORS
+    rows = _capture_rows("haptic_pen")
+    v = {k: r["value"] for k, r in rows.items()}
+
+    def ours(first_cell: str) -> str:
+        return table_row("docs/families/pen.md", first_cell)[1]
+
+    assert ours("moving mass").startswith(f"{v['moving_mass_g']:.0f} g")
+    assert ours("effective mass at home, x") == f"{v['effective_mass_home.mass_x_g_apparent']:.0f} g (apparent)"
+    assert ours("effective mass at home, y") == f"{v['effective_mass_home.mass_y_g_diag']:.0f} g"
+    assert ours("effective mass at home, z") == f"{v['effective_mass_home.mass_z_g_diag']:.0f} g"
+    assert ours("effective inertia at home") == (f"{v['effective_mass_home.inertia_yaw_g_cm2_apparent']:.0f} / "
+                                                 f"{v['effective_mass_home.inertia_pitch_g_cm2_apparent']:.0f} g cm²")
+    assert ours("force in every direction") == f"{v['force_any_dir_N']:.1f} N"
+    assert ours("continuous force in every direction") == f"{v['continuous_force_N']:.2f} N"
+    assert ours("peak force in every direction") == f"{v['peak_force_N']:.1f} N"
+    re40, re35 = MOTORS["maxon-re40"], MOTORS["maxon-re35"]
+    assert (f"RE 40 waists {re40.torque_continuous_mNm:g} mN m, RE 35 shoulders {re35.torque_continuous_mNm:g} mN m"
+            in table_row("docs/families/pen.md", "continuous force in every direction")[0])
+    assert (f"(stall torques {re40.stall_torque_mNm:g} / {re35.stall_torque_mNm:g} mN m)"
+            in table_row("docs/families/pen.md", "peak force in every direction")[0])
