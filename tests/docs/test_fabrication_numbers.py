@@ -134,8 +134,8 @@ def test_largest_laser_plate_is_the_datasheet_base_plate():
     import json
     rows = json.loads((ROOT / "docs/datasheets/hoeken_laser.json").read_text())["datasheet"]["rows"]
     fig, = (r["figure"] for r in rows if r["key"] == "footprint_mm2")
-    w, l = re.search(r"base plate (\d+) x (\d+) mm", fig).groups()
-    assert f"(largest: the {w} × {l} mm base plate)" in TEXT
+    width, length = re.search(r"base plate (\d+) x (\d+) mm", fig).groups()
+    assert f"(largest: the {width} × {length} mm base plate)" in TEXT
 
 
 def test_handle_screw_engagement_is_the_thinnest_coupler_sheet():
