@@ -27,7 +27,7 @@ from cad.device import encoder_bom_rows, resolve_device
 from cad.errors import DesignError
 from cad.families.pen import assemble
 from cad.families.pen import layout as L
-from cad.families.pen.dynamics import effective_mass, mass_breakdown
+from cad.families.pen.dynamics import PenDynamics, dynamics, mass_breakdown
 from cad.families.pen.layout import body_poses, stroke_task
 from cad.families.pen.sim import write_mjcf
 from cad.pipeline.run import Stages, run_family
@@ -79,9 +79,9 @@ def interference(model, allow_interference: bool = False) -> dict:
     return out
 
 
-def _dynamics(b):
-    """The 5 x 5 operational mass matrix at home (:func:`cad.families.pen.dynamics.effective_mass`)."""
-    return effective_mass(b.design, b.bodies, b.model.extra.home_task)
+def _dynamics(b) -> PenDynamics:
+    """The 5 x 5 operational mass matrix at home (:func:`cad.families.pen.dynamics.dynamics`)."""
+    return dynamics(b.design, b.bodies, b.model.extra.home_task)
 
 
 def _mjcf(b) -> list[str]:
@@ -110,7 +110,7 @@ def _stages():
     """The pen's stages of the one build driver (:class:`cad.pipeline.run.Stages`)."""
     return Stages(
         check_options=check_options, assemble=_assemble, interference=lambda b: interference(b.model, b.allow_interference),
-        report=lambda b: {**_report(b.design, b.model, b.bodies, b.dyn, b.itf, b.bom, b.fidelity, b.low),
+        report=lambda b: {**_report(b.design, b.model, b.bodies, b.dyn.effective_mass_home, b.itf, b.bom, b.fidelity, b.low),
                           "effective_mass_breakdown": mass_breakdown_report(b.design, b.model, b.props)},
         md_rows=_md_rows, stroke=_stroke, motion_label="motion",
         preview_title=lambda b: f"{b.design.name}: haptic pen at the workspace centre",
