@@ -14,7 +14,9 @@ from pathlib import Path
 from typing import Any
 
 from cad.data.families import FAMILIES
-from cad.design.fields import load_toml, require_str, require_table
+from cad.design.bounds import check_raw_design
+from cad.design.fields import load_toml, optional_table, require_str, require_table
+from cad.design.prices import price_table
 
 
 def family_of(raw: dict[str, Any]) -> str:
@@ -32,9 +34,6 @@ def family_of(raw: dict[str, Any]) -> str:
 def design_prices(raw: dict[str, Any]) -> dict | None:
     """The design's ``[prices]`` table, validated (:func:`cad.design.prices.price_table`:
     ``"designation" = unit price``, optional ``currency``), or None without one."""
-    from cad.design.fields import optional_table
-    from cad.design.prices import price_table
-
     if "prices" not in raw:
         return None
     return price_table(optional_table(raw, "prices", ""), "prices")
@@ -42,8 +41,6 @@ def design_prices(raw: dict[str, Any]) -> dict | None:
 
 def parse_design(raw: dict[str, Any], source: str = "<design>"):
     """Validate a raw design mapping and return the family's design object."""
-    from cad.design.bounds import check_raw_design
-
     fam = family_of(raw)
     check_raw_design(raw)  # every number against cad/design/bounds.py, before the schema
     design_prices(raw)  # [prices] (any family): cad.design.prices.price_table

@@ -14,6 +14,7 @@ from pathlib import Path
 from typing import Any
 
 from cad.errors import DesignError
+from cad.io import guard
 
 
 def _path(prefix: str, key: str) -> str:
@@ -24,8 +25,6 @@ def load_toml(path: str | Path) -> dict[str, Any]:
     """Read a design's TOML through :func:`cad.io.guard.load_toml` (a regular file of at most
     1 MiB, nested at most 64 levels); a missing file, a folder, a FIFO or device, or bad
     syntax is a DesignError (field ``design``) naming the file and the reason."""
-    from cad.io import guard
-
     p = Path(path)
     if p.is_dir():
         raise DesignError("design", f"{p} is a folder, not a design file (give the .toml file)")
@@ -59,7 +58,7 @@ def _process_hint(table: dict[str, Any], key: str, prefix: str) -> str:
     named = key if prefix.endswith("parts") and fourbar(key) else next(filter(fourbar, sub), None)
     if named is None:
         return ""
-    from cad.kinematics.families import FAMILIES
+    from cad.kinematics.families import FAMILIES  # numpy: a design loads without it
 
     return (f"{named} is a four-bar [parts] key (families {', '.join([*FAMILIES, 'custom'])}: "
             f"parts.process = \"printed\" or \"laser\"); this family's parts are machined; ")

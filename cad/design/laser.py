@@ -18,7 +18,11 @@ from __future__ import annotations
 
 from typing import Any
 
+from cad.data import catalog
+from cad.data.materials import SHEETS
+from cad.design import bounds
 from cad.errors import DesignError
+from cad.printing import is_printed
 
 
 def plate_groups(v: dict[str, Any]) -> list[tuple[str, str, str, tuple[str, ...]]]:
@@ -35,8 +39,6 @@ def plate_groups(v: dict[str, Any]) -> list[tuple[str, str, str, tuple[str, ...]
 
 def _feature(v: dict[str, Any], names: str, feat: str) -> str:
     """The one feature ``feat`` of plate parts ``names`` as the shop calls it."""
-    from cad.data import catalog
-
     if feat == "tap":
         if names == "base plate":  # (their size is cad.parts.motor.MOUNT_SCREW: design imports no part)
             return "tapped motor-mount screw holes x4"
@@ -52,9 +54,6 @@ def _feature(v: dict[str, Any], names: str, feat: str) -> str:
 def check_laser(v: dict[str, Any], prefix: str) -> None:
     """Refuse or warn (module docstring) for resolved ``[parts]`` values ``v`` under
     ``process = "laser"``; ``prefix`` the table's dotted path ("parts")."""
-    from cad.data.materials import SHEETS
-    from cad.design import bounds
-
     def f(key: str) -> str:
         return f"{prefix}.{key}" if prefix else key
 
@@ -88,8 +87,6 @@ def check_laser(v: dict[str, Any], prefix: str) -> None:
                 bounds.warn(f"{said} {_feature(v, names, 'seat')} are milled after cutting (a "
                             f"laser cuts no blind step); J7 is not held in {mat}: bond the bearings "
                             f"(aluminium sheet in {f(mkey)} holds J7)")
-    from cad.printing import is_printed
-
     keys = {"hub": "hub_material", "post": "post_material", "spacers": "spacer_material",
             "handle": "handle_material"}  # (a PLA or PETG one is printed: its own warning)
     turned = [n for n in ("hub", "post", "spacers", "legs", "handle")

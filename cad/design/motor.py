@@ -28,6 +28,8 @@ from __future__ import annotations
 from dataclasses import replace
 from typing import Any
 
+from cad import tolerances as tol
+from cad.data.catalog import get_motor
 from cad.design.fields import check_text, check_unknown, optional_number
 from cad.errors import DesignError
 
@@ -86,8 +88,6 @@ def _check_continuous(m, changes: dict, ov: dict) -> None:
     current carries, Kt (I_N - I0) <= T_N <= Kt I_N (maxon's relation I_N = T_N / Kt + I0, or
     without the no-load current), to MOTOR_CONTINUOUS_REL; checked when ``[motor]`` gives one
     of them (the catalog's are consistent by derivation). DesignError naming the key given."""
-    from cad import tolerances as tol
-
     given = [k for k in _CONTINUOUS_KEYS if k in ov]
     if not given:
         return
@@ -113,8 +113,6 @@ def _check_continuous(m, changes: dict, ov: dict) -> None:
 def resolve_motor(catalog_key: str, overrides: tuple[tuple[str, Any], ...] = (), field: str = "parts.motor"):
     """The :class:`cad.data.catalog.MotorSpec` a design uses: the catalog winding with the
     ``[motor]`` overrides applied, each overridden value sourced to the design file."""
-    from cad.data.catalog import get_motor
-
     m = get_motor(catalog_key, field)
     ov = dict(overrides)
     if not ov:

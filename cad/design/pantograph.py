@@ -48,7 +48,9 @@ from typing import Any
 
 import numpy as np
 
-from cad.data.catalog import PAPER_MOUSE_ENCODER
+from cad.data.catalog import PAPER_MOUSE_ENCODER, get_bearing, get_motor
+from cad.data.materials import get_material
+from cad.design.bounds import check_work
 from cad.design.fields import (
     check_name,
     check_unknown,
@@ -61,9 +63,13 @@ from cad.design.fields import (
     require_positive,
     require_table,
 )
+from cad.design.firmware import parse_firmware
 from cad.design.motor import parse_motor_table
 from cad.design.replace import TableReplace, ValidatedReplace
+from cad.design.targets import PANTOGRAPH_TARGET_KEYS, parse_targets
 from cad.errors import DesignError
+from cad.isotropy import problems
+from cad.kinematics.haptic_pen import HapticPen, pen_gii
 
 FAMILIES = ("pantograph", "twin-pantograph", "haptic-pen")
 
@@ -173,9 +179,6 @@ _PART_STR = (
 
 def parse_parts(table: dict[str, Any], prefix: str = "parts") -> PantographParts:
     """Validate the ``[parts]`` table of a twin-pantograph (an empty one gives the defaults)."""
-    from cad.data.catalog import get_bearing, get_motor
-    from cad.data.materials import get_material
-
     default = PantographParts()
     allowed = list(PantographParts.__dataclass_fields__)
     check_unknown(table, allowed, prefix)
@@ -323,8 +326,6 @@ class PantographDesign(ValidatedReplace):
                 act["force_max_N"],
                 act["moment_max_Nm"],
             )
-        from cad.kinematics.haptic_pen import pen_gii
-
         return pen_gii(
             self.mechanism,
             ws["center_mm"],
@@ -347,8 +348,6 @@ class PantographDesign(ValidatedReplace):
     # ------------------------------------------------------------- optimize
     def problem(self):
         """The ``[optimize]`` candidate set x workspace, as a culling problem."""
-        from cad.isotropy import problems
-
         if not self.optimize:
             raise DesignError(
                 "optimize", "no free parameters: add e.g. base_mm = [min, max, count]"
@@ -463,8 +462,6 @@ def _check_sizes(
     family: str, workspace: dict[str, Any], optimize: dict[str, tuple[float, float, int]]
 ) -> None:
     """Workspace samples and (candidate, sample) pairs within :data:`cad.design.bounds.WORK`."""
-    from cad.design.bounds import check_work
-
     g = workspace["grid"]
     if family == "pantograph":
         factors = [("workspace.grid", g), ("workspace.grid", g)]
@@ -523,8 +520,6 @@ def _elbow(mech: dict[str, Any], key: str, default: int) -> int:
 
 def _parse_targets(raw: dict[str, Any]) -> tuple:
     """``[targets]``: keys of :data:`cad.design.targets.PANTOGRAPH_TARGET_KEYS`."""
-    from cad.design.targets import PANTOGRAPH_TARGET_KEYS, parse_targets
-
     return parse_targets(optional_table(raw, "targets", ""), "targets", PANTOGRAPH_TARGET_KEYS)
 
 
@@ -658,8 +653,6 @@ def _parse_pen(mech: dict, ws: dict, act: dict) -> tuple:
 
     Raises DesignError naming the field.
     """
-    from cad.kinematics.haptic_pen import HapticPen
-
     l1 = require_positive(mech, "shoulder_base_mm", "mechanism")
     l2 = require_positive(mech, "proximal_mm", "mechanism")
     l3 = require_positive(mech, "distal_mm", "mechanism")
@@ -704,8 +697,6 @@ def _parse_pen(mech: dict, ws: dict, act: dict) -> tuple:
 
 def _parse_firmware(raw: dict[str, Any], family: str):
     """``[firmware]`` (:mod:`cad.design.firmware`) of the families that build; None otherwise."""
-    from cad.design.firmware import parse_firmware
-
     tab = optional_table(raw, "firmware", "")
     if family == "haptic-pen":  # no firmware generator yet: only the encoder the BOM orders
         extra = sorted(set(tab) - {"encoder_counts_per_rev"})

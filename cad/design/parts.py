@@ -163,10 +163,13 @@ from __future__ import annotations
 from dataclasses import asdict, dataclass, fields
 from typing import Any
 
+from cad.data import catalog
+from cad.data.materials import get_material
+from cad.design import bounds
 from cad.design.fields import check_unknown, optional_int, optional_number
 from cad.design.replace import TableReplace
 from cad.errors import DesignError
-from cad.printing import PrintSettings
+from cad.printing import FILAMENTS, PROCESSES, PrintSettings, is_printed
 
 LINK_NAMES = ("crank", "coupler", "rocker")
 FIDELITIES = ("fabrication", "inertia", "preview")
@@ -246,8 +249,6 @@ class PartsSpec(TableReplace):
 
     def printed(self, material: str) -> bool:
         """A made part of ``material`` is FDM printed (:func:`cad.printing.is_printed`)."""
-        from cad.printing import is_printed
-
         return is_printed(self.process, material)
 
     def as_dict(self, report: bool = False) -> dict[str, Any]:
@@ -369,8 +370,6 @@ def parse_parts(table: dict[str, Any] | None, prefix: str = "parts") -> PartsSpe
     )
     vals["encoder_counts_per_rev"] = parse_encoder(table, prefix, vals["encoder"])
 
-    from cad.data.materials import get_material
-
     for key in _MATERIALS:
         name = _string(table, key, prefix, getattr(d, key))
         vals[key] = get_material(name, _f(prefix, key)).name
@@ -439,9 +438,6 @@ _MATERIAL_PARTS = {
 
 def _print_keys(table: dict[str, Any], prefix: str, vals: dict[str, Any]) -> None:
     """``process`` and the ``print_*`` settings; the filament warning (module docstring)."""
-    from cad.design import bounds
-    from cad.printing import FILAMENTS, PROCESSES
-
     proc = _string(table, "process", prefix, "machined")
     if proc not in PROCESSES:
         raise DesignError(_f(prefix, "process"), f"must be one of {', '.join(PROCESSES)}, got {proc!r}")
@@ -498,8 +494,6 @@ def _laser_sheet(table: dict[str, Any], prefix: str) -> tuple[float, float] | No
 def parse_encoder(table: dict[str, Any], prefix: str, encoder: str | None) -> int | None:
     """``encoder_counts_per_rev`` checked (an integer >= 1), and ``encoder`` a catalog key;
     both at once is refused (one encoder per crank)."""
-    from cad.data import catalog
-
     if encoder is not None:
         catalog.get_encoder(encoder, _f(prefix, "encoder"))
     if "encoder_counts_per_rev" not in table:
@@ -539,8 +533,6 @@ SLEEVE_MIN_WALL_MM = 0.5
 
 def _check_hardware(v: dict[str, Any], prefix: str, end_radius_given: bool) -> None:
     """Cross-checks between bars and bought hardware (catalog dimensions)."""
-    from cad.data import catalog
-
     brg = catalog.get_bearing(v["bearing"], _f(prefix, "bearing"))
     v["bearing"] = brg.size  # an ISO designation ("608") is kept in its catalog form
     pin = catalog.get_shoulder_screw(v["pin"], _f(prefix, "pin"))

@@ -53,6 +53,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
+from cad.actuators.voicecoil import VoiceCoilParams
+from cad.data.materials import get_material
 from cad.design.fields import (
     check_name,
     check_unknown,
@@ -109,8 +111,6 @@ class ActuatorSpec(TableReplace):
 
     def params(self, power_W: float | None = None):
         """The :class:`cad.actuators.voicecoil.VoiceCoilParams` of this actuator."""
-        from cad.actuators.voicecoil import VoiceCoilParams
-
         return VoiceCoilParams(
             self.magnet_length_mm,
             self.magnet_width_mm,
@@ -180,8 +180,6 @@ class PowerMouseDesign(ValidatedReplace):
 def _material(table: dict, key: str, prefix: str, default: str) -> str:
     if key not in table:
         return default
-    from cad.data.materials import get_material
-
     return get_material(require_str(table, key, prefix), f"{prefix}.{key}").name
 
 

@@ -30,6 +30,7 @@ import dataclasses
 from collections.abc import Mapping
 from typing import Any
 
+from cad.design import bounds, parse_design
 from cad.errors import DesignError
 
 
@@ -72,8 +73,6 @@ def with_slip_hint(load, *args):
     (:func:`cad.design.bounds.reset`), and a DesignError carries the unit-slip hint the
     command's error line gives (:func:`cad.design.bounds.error_line`: "did you give
     metres?")."""
-    from cad.design import bounds
-
     bounds.reset()
     try:
         return load(*args)
@@ -110,8 +109,6 @@ def replace_design(design, changes: Mapping[str, Any]):
                                             f"give each key once")
             leaves[leaf] = v
         _apply(raw, key.split("."), value)
-    from cad.design import parse_design
-
     return parse_design(_through_toml(raw), design.source)
 
 

@@ -9,6 +9,7 @@ is a :class:`cad.errors.GeometryError` naming the type received.
 from __future__ import annotations
 
 from cad.errors import GeometryError
+from cad.io.derived_cache import register_placed
 
 
 def to_topods(obj, what: str = "shape"):
@@ -122,8 +123,6 @@ def placed(shape, tf_world_part):
     import numpy as np
     from OCP.gp import gp_Trsf
     from OCP.TopLoc import TopLoc_Location
-
-    from cad.io.derived_cache import register_placed
 
     T = np.asarray(tf_world_part, dtype=float)
     tr = gp_Trsf()

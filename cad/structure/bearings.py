@@ -39,6 +39,10 @@ import math
 
 import numpy as np
 
+from cad.data import catalog
+from cad.kinematics.fourbar import solve
+from cad.kinematics.metrics import path_frame
+
 #: Palmgren's coefficient in SI (mm, N): 0.002 mm kgf^(-2/3) mm^(1/3) x 9.80665^(-2/3).
 PALMGREN_MM = 0.002 * 9.80665 ** (-2.0 / 3.0)
 #: Stribeck's factor for the most loaded ball (Q = 5 Fr / Z).
@@ -51,8 +55,6 @@ FORMULA = ("Palmgren (1959) radial deflection of a deep-groove ball bearing: del
 
 def ball_set(bearing: str) -> tuple[int, float]:
     """(ball count Z, ball diameter Dw mm) of bd_warehouse's model of a catalog bearing."""
-    from cad.data import catalog
-
     b = catalog.get_bearing(bearing)
     dw = 0.625 * (b.D1_mm - b.d1_mm)
     r = (b.D1_mm + b.d1_mm) / 4.0
@@ -69,8 +71,6 @@ def radial_deflection_mm(Fr_N, Z: int, Dw_mm: float):
 def joint_forces_per_N(fb, phi1_rad: np.ndarray, direction: np.ndarray) -> dict[str, np.ndarray]:
     """|joint force| per newton at P along ``direction`` (unit, R0), shape (N,), at A2, A3 and
     A4 (rigid links, crank held at A1, rocker a two-force member; module docstring)."""
-    from cad.kinematics.fourbar import solve
-
     p = solve(fb, np.asarray(phi1_rad, dtype=float))
     f = np.broadcast_to(np.asarray(direction, dtype=float), p.P_mm.shape)
 
@@ -86,8 +86,6 @@ def joint_forces_per_N(fb, phi1_rad: np.ndarray, direction: np.ndarray) -> dict[
 def bearing_compliance(design, phi1_rad: np.ndarray) -> dict:
     """The estimate (module docstring) at the poses ``phi1_rad``: ``x_um_per_N`` (worst pose),
     ``joint_deflection_um`` at that pose, ``force_N``, ball set, ``formula``."""
-    from cad.kinematics.metrics import path_frame
-
     fb, parts, F = design.linkage, design.parts, float(design.force_N)
     ex = path_frame(fb, design.phi1_min_rad, design.phi1_max_rad).x_hat
     Z, dw = ball_set(parts.bearing)

@@ -45,10 +45,19 @@ import math
 
 import numpy as np
 
+from cad.data import catalog
+from cad.data.materials import get_material
+
 # Default structural limits: defined with their reasons in cad.datasheet.limits, the one
 # place of every default limit (overridable in [targets]: first_mode_Hz = { min = ... },
 # max_stress_MPa = { max = ... }).
 from cad.datasheet.limits import FIRST_MODE_MIN_HZ, STRESS_SAFETY_FACTOR
+from cad.families.fourbar.pose import planar_transforms
+from cad.kinematics.linkgeom import link_joints_mm
+from cad.kinematics.metrics import path_frame
+from cad.structure import fem
+from cad.structure.bearings import bearing_compliance
+from cad.structure.elastic import bar_elastic, get_elastic
 from cad.structure.frame import Section, rect_torsion_J
 from cad.structure.graph import Beam, LinkGraph, Lumped, frame_at  # noqa: F401 (Lumped: public here)
 
@@ -111,8 +120,6 @@ def link_edges(J: dict) -> dict[str, list[tuple[str, str]]]:
 
 def end_radius_mm(parts, joint: str) -> float:
     """Radius of the solid region around a joint before a pocket may start (mm)."""
-    from cad.data import catalog
-
     if joint == "P":
         return parts.handle_diameter_mm / 2 + parts.bar_pocket_web_mm
     if joint == "A1":
@@ -131,8 +138,6 @@ def fem_section(parts, s: Section, L_mm: float, ends: tuple[str, str], nu: float
 
 @functools.lru_cache(maxsize=256)
 def _fem_compliances(parts, L_mm: float, ends: tuple[str, str], E: float, nu: float):
-    from cad.structure import fem
-
     wp = pocket_width_mm(parts)
     a = max(end_radius_mm(parts, ends[0]), end_radius_mm(parts, ends[1]))
     slot = wp if (wp > 0 and L_mm - 2 * a > wp) else 0.0
@@ -146,10 +151,6 @@ def link_graph(design, bar_mass_kg: dict, method: str) -> LinkGraph:
 
     ``bar_mass_kg``: link -> bar mass spread along its beams; a link not in it gets the
     section area times the bar material's density."""
-    from cad.data.materials import get_material
-    from cad.kinematics.linkgeom import link_joints_mm
-    from cad.structure.elastic import bar_elastic
-
     parts = design.parts
     el = bar_elastic(parts)
     J = link_joints_mm(design.linkage)
@@ -185,11 +186,6 @@ def analyse(design, lumped: list[Lumped], bar_mass_kg: dict, method: str = "beam
             M11_max_kg: float | None = None, targets=None, poses: int = POSES) -> dict:
     """The ``structure`` report (module docstring). ``targets``: the design's Target tuple
     (``first_mode_Hz`` min, ``max_stress_MPa`` max override the defaults, :func:`limits`)."""
-    from cad.families.fourbar.pose import planar_transforms
-    from cad.kinematics.metrics import path_frame
-    from cad.structure.bearings import bearing_compliance
-    from cad.structure.elastic import bar_elastic, get_elastic
-
     if method not in METHODS:
         raise ValueError(f"method: must be one of {METHODS}, got {method!r}")
     fb = design.linkage
@@ -236,8 +232,6 @@ def analyse(design, lumped: list[Lumped], bar_mass_kg: dict, method: str = "beam
 def limits(material: str, targets=None) -> dict:
     """Structural limits: the defaults (module constants) unless the design's [targets]
     bound them: ``first_mode_Hz = { min = ... }``, ``max_stress_MPa = { max = ... }``."""
-    from cad.structure.elastic import get_elastic
-
     lim = {"first_mode_min_Hz": FIRST_MODE_MIN_HZ,
            "max_stress_max_MPa": get_elastic(material).strength_MPa / STRESS_SAFETY_FACTOR}
     for t in targets or ():

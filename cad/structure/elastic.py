@@ -10,7 +10,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from cad.data.materials import get_material
 from cad.errors import DesignError
+from cad.printing import filament, printed_bar_modulus_GPa
 
 
 @dataclass(frozen=True)
@@ -68,8 +70,6 @@ def get_elastic(material: str, field: str = "parts.bar_material") -> Elastic:
 
     Raises DesignError(field, ...) when the material has no elastic data here.
     """
-    from cad.data.materials import get_material
-
     key = get_material(material, field).name
     if key not in ELASTIC:
         raise DesignError(
@@ -83,8 +83,6 @@ def bar_elastic(parts) -> Elastic:
     plate bars (``parts.printed``) the filament's printed XY modulus reduced by the wall/infill
     rule of mixtures over the bar section (:func:`cad.printing.printed_bar_modulus_GPa`)."""
     from dataclasses import replace
-
-    from cad.printing import filament, printed_bar_modulus_GPa
 
     mat = parts.tube_material if parts.bar_style == "tube" else parts.bar_material
     el = get_elastic(mat)

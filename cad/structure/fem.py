@@ -28,6 +28,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from cad.io import derived_cache
+
 
 @dataclass(frozen=True)
 class BarGeometry:
@@ -137,8 +139,6 @@ def cached_cantilever(
     by every input (geometry, E, nu, direction, mesh) and this module's source: a build of a
     design whose bars were analysed before neither imports scikit-fem nor assembles."""
     import dataclasses
-
-    from cad.io import derived_cache
 
     key = [dataclasses.asdict(g), float(E_Pa), float(nu), direction, list(n)]
     return float(derived_cache.cached_json(

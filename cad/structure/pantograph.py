@@ -40,6 +40,14 @@ import math
 
 import numpy as np
 
+from cad.data.materials import get_material
+from cad.datasheet.limits import STRESS_SAFETY_FACTOR
+from cad.isotropy.gii import workspace_half_mm
+from cad.kinematics import fivebar as fb5
+from cad.kinematics import twin_pantograph as tw
+from cad.structure.bearings import ball_set, radial_deflection_mm
+from cad.structure.device import tube_section
+from cad.structure.elastic import get_elastic
 from cad.structure.frame import Section, rect_torsion_J
 from cad.structure.graph import (
     Beam,
@@ -71,8 +79,6 @@ def poses(design) -> tuple[np.ndarray, tuple[str, ...]]:
     home and the four corners of the workspace square; and their labels."""
     ws = design.workspace
     home = np.asarray(ws.get("home_mm", ws["center_mm"]), float)
-    from cad.isotropy.gii import workspace_half_mm
-
     (cx, cy), (hx, hy) = ws["center_mm"], workspace_half_mm(ws)
     pts = [home, *[np.array([cx + sx * hx, cy + sy * hy]) for sy in (-1, 1) for sx in (-1, 1)]]
     labels = ("home", "corner -x -y", "corner +x -y", "corner -x +y", "corner +x +y")
@@ -84,10 +90,6 @@ def poses(design) -> tuple[np.ndarray, tuple[str, ...]]:
 
 def tube_and_crank_sections(design, web_width_mm: float, rho_tube: float) -> tuple[Section, Section]:
     """(tube section with density ``rho_tube``, crankshaft web section), SI."""
-    from cad.data.materials import get_material
-    from cad.structure.device import tube_section
-    from cad.structure.elastic import get_elastic
-
     p = design.parts
     et = get_elastic(p.tube_material, "parts.tube_material")
     tube = tube_section(p, et.E_Pa, et.G_Pa, rho_tube)
@@ -103,8 +105,6 @@ def tube_mass_kg(design, length_mm: float) -> float:
     """Mass (kg) of the tube of a link ``length_mm`` joint to joint: the tube runs from
     ``clevis_length_mm - socket_depth_mm`` after the first joint to as far before the second
     (:mod:`cad.families.pantograph.placement`)."""
-    from cad.data.materials import get_material
-
     p = design.parts
     L = length_mm - 2 * (p.clevis_length_mm - p.socket_depth_mm)
     A = math.pi * (p.tube_od_mm**2 - p.tube_id_mm**2) / 4
@@ -114,9 +114,6 @@ def tube_mass_kg(design, length_mm: float) -> float:
 def link_graph(design, web_width_mm: float) -> tuple[LinkGraph, dict[str, float]]:
     """The moving links as a :class:`~cad.structure.graph.LinkGraph` (module docstring) with
     the tube's mass in the tube beams' density, and ``{link: length_mm}``."""
-    from cad.structure.device import tube_section
-    from cad.structure.elastic import get_elastic
-
     et = get_elastic(design.parts.tube_material, "parts.tube_material")
     A = tube_section(design.parts, et.E_Pa, et.G_Pa, 0.0).A
     joints, beams, ties, fixed, lengths = {}, [], [], {}, {}
@@ -171,9 +168,6 @@ def lumped_from_bodies(graph: LinkGraph, bodies: dict, lengths: dict[str, float]
 def link_poses(design, X: np.ndarray) -> dict[str, np.ndarray]:
     """``{link: (N, 3, 3)}`` planar world transforms (mm) at the task points ``X``; raises
     ValueError naming a point the mechanism cannot reach (non-zero IK status)."""
-    from cad.kinematics import fivebar as fb5
-    from cad.kinematics import twin_pantograph as tw
-
     X = np.atleast_2d(np.asarray(X, float))
     if design.family == "twin-pantograph":
         ik = tw.ik(design.mechanism, X)
@@ -211,9 +205,6 @@ def bearing_compliance(design, X: np.ndarray, force_N: float) -> dict:
     u = sum_i 2 |s_i| delta_r(F |s_i| / 2); worst of x and y over the poses. The mouse: the
     knob pantograph alone carries the force (the crank pantograph's parallel path through
     the crankshaft neglected: an upper bound)."""
-    from cad.kinematics import fivebar as fb5
-    from cad.structure.bearings import ball_set, radial_deflection_mm
-
     Z, dw = ball_set(design.parts.bearing)
     fb = groups(design)[0][1]
     ik = fb5.ik(fb, np.atleast_2d(X)[:, :2])
@@ -268,9 +259,6 @@ def analyse(design, bodies: dict, force_N: float, web_width_mm: float) -> dict:
     bodies: ``report["bodies"]`` ({body: {"mass_kg", "com_mm"}}, link frames); force_N: the
     handle force of the stress figure (N); web_width_mm: the mouse's crankshaft web width
     (``report["layout_mm"]["web_width_mm"]``; unused for the plain 5-bar)."""
-    from cad.datasheet.limits import STRESS_SAFETY_FACTOR
-    from cad.structure.elastic import get_elastic
-
     g, lengths = link_graph(design, web_width_mm)
     lumped = lumped_from_bodies(g, bodies, lengths)
     X, labels = poses(design)

@@ -53,6 +53,12 @@ import math
 
 import numpy as np
 
+from cad.datasheet.limits import STRESS_SAFETY_FACTOR
+from cad.families.pen.layout import motion_task
+from cad.kinematics import fivebar as fb5
+from cad.kinematics import haptic_pen as hp
+from cad.structure.device import tube_section
+from cad.structure.elastic import get_elastic
 from cad.structure.graph import (
     Beam,
     LinkGraph,
@@ -62,6 +68,7 @@ from cad.structure.graph import (
     plane_modes,
     worst_stress_Pa,
 )
+from cad.structure.pantograph import lumped_from_bodies, tube_mass_kg
 
 ARMS = ("A", "B")
 SIDES = ("lower", "upper")
@@ -87,10 +94,6 @@ def end_force_N(force_N: float, moment_arm_mm: float, pen_mm: float) -> float:
 def arm_graph(design, arm: str) -> tuple[LinkGraph, dict[str, float]]:
     """One arm's links as a :class:`~cad.structure.graph.LinkGraph` (module docstring; link
     names those of the build's bodies, ``A_proximal_lower`` ...) and ``{link: length_mm}``."""
-    from cad.structure.device import tube_section
-    from cad.structure.elastic import get_elastic
-    from cad.structure.pantograph import tube_mass_kg
-
     p = design.parts
     et = get_elastic(p.tube_material, "parts.tube_material")
     A = tube_section(p, et.E_Pa, et.G_Pa, 0.0).A
@@ -123,8 +126,6 @@ def pen_share_kg(design, bodies: dict) -> dict[str, float]:
 
 def arm_lumped(design, graph: LinkGraph, bodies: dict, lengths: dict, arm: str) -> tuple[list[Lumped], float]:
     """The arm's point masses (module docstring) and the mass at its pen end E (kg)."""
-    from cad.structure.pantograph import lumped_from_bodies
-
     out = lumped_from_bodies(graph, bodies, lengths)
     m_end = pen_share_kg(design, bodies)[arm]
     m_end += sum(float(bodies[k]["mass_kg"]) for k in (f"{arm}_yoke", f"{arm}_ring") if k in bodies)
@@ -135,9 +136,6 @@ def arm_lumped(design, graph: LinkGraph, bodies: dict, lengths: dict, arm: str) 
 def arm_poses(design, X: np.ndarray, arm: str) -> dict[str, np.ndarray]:
     """``{link: (N, 3, 3)}`` planar transforms (mm) of one arm's links in its plane (x = world
     z, y = rho) at the pen poses ``X`` (N, 5); ValueError when a pose cannot be reached."""
-    from cad.kinematics import fivebar as fb5
-    from cad.kinematics import haptic_pen as hp
-
     pen = design.mechanism
     X = np.atleast_2d(np.asarray(X, float))
     if np.any(hp.ik(pen, X)[1] != 0):
@@ -185,10 +183,6 @@ def analyse(design, bodies: dict, force_N: float) -> dict:
     :func:`cad.families.pen.layout.body_poses`); force_N: ``[actuators] force_max_N`` (N),
     with ``[actuators] moment_arm_mm`` giving the end load :func:`end_force_N`. Raises
     ValueError naming the first pose the arms cannot reach."""
-    from cad.datasheet.limits import STRESS_SAFETY_FACTOR
-    from cad.families.pen.layout import motion_task
-    from cad.structure.elastic import get_elastic
-
     X, labels = motion_task(design)
     arm_mm = float(design.actuators.get("moment_arm_mm", design.mechanism.pen_mm / 2))
     f_end = end_force_N(force_N, arm_mm, design.mechanism.pen_mm)

@@ -21,7 +21,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[2]
 #: Function-level imports of ``cad`` outside cad/api.py and cad/cli/ at the commit that hoisted
 #: the rest (measured with :func:`function_level_imports`); lower it when you hoist more.
-MAX_FUNCTION_LEVEL = 263
+MAX_FUNCTION_LEVEL = 190
 EXEMPT = ("cad/api.py", "cad/cli/")
 
 

@@ -18,6 +18,7 @@ from cad.data.catalog import clearance_hole_mm, get_cap_screw, get_motor, tap_dr
 from cad.data.fits import fit
 from cad.device import parts_motor
 from cad.families.pen import layout as L
+from cad.families.pen.fasteners import bracket_bolt_xz_mm, place_screws, screw_kinds
 from cad.kinematics import haptic_pen as hp
 from cad.parts import PartInstance, PartKind, base, joints, translation
 from cad.parts import motor as pm
@@ -134,7 +135,6 @@ def _gimbal_kinds(design, lay: dict, add) -> None:
 
 def _ground_kinds(design, lay: dict, gl: dict, add) -> None:
     """Waist bracket and hub (moving with the waist), base plate, waist motor mounts, legs."""
-    from cad.families.pen.fasteners import bracket_bolt_xz_mm
     p = design.parts
     sm, wm = get_motor(p.motor), get_motor(p.waist_motor)
     l1 = design.mechanism.shoulder_base_mm
@@ -249,8 +249,6 @@ def kinds(design, lay: dict, gl: dict, fidelity: str) -> dict:
         K[name] = PartKind(name=name, shape=shape, material=material, made=made,
                            description=description, process=process, **kw)
 
-    from cad.families.pen.fasteners import screw_kinds
-
     _link_kinds(design, lay, fidelity, add)
     _gimbal_kinds(design, lay, add)
     _ground_kinds(design, lay, gl, add)
@@ -304,8 +302,6 @@ def assemble(design, fidelity: str = "fabrication"):
             place(f"pen.{arm}_{kind}{k}", kind, "pen", T @ tf)
     sock = lay["pen_hub_radius_mm"]
     place("pen.pen_rod", "pen_rod", "pen", _tr(2 * sock - sock))
-    from cad.families.pen.fasteners import place_screws
-
     holes = place_screws(design, lay, gl, K["_screws"], place, _rot)
     home = {b: T[0] for b, T in motion.items()}
     return AssemblyModel(
