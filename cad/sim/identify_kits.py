@@ -1,0 +1,119 @@
+"""What ``hapticad identify`` and ``hapticad bench-log`` need of a kinematic layout (issue 37):
+one :class:`IdentifyKit` per layout, given by its :class:`cad.firmware.model.KinematicModel`
+(``identification``), so that :mod:`cad.api` dispatches without naming a family.
+
+* :data:`ONE_MOTOR` -- the four-bars (:mod:`cad.sim.identify_device`, :mod:`cad.sim.bench`);
+* :data:`FIVEBAR` -- the 5-bar pantograph (:mod:`cad.sim.identify_fivebar`,
+  :mod:`cad.sim.bench_fivebar`).
+
+Every hook imports its modules when called (the firmware model imports this module).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+from types import SimpleNamespace
+from typing import Any
+
+Hook = Callable[..., Any]
+
+
+@dataclass(frozen=True)
+class IdentifyKit:
+    """The hooks of one layout.
+
+    n_joints : motors (the log's ``counts_i`` / ``current_A_i`` columns).
+    models : the bench's device models, the default first (``bench-log --model``).
+    check_build_dir : ``(design, build_dir) -> None``; DesignError naming ``--build-dir``.
+    predict_from_build : ``(design, build_dir | None) -> prediction`` (``design_hash``, ``Te_s``).
+    identify : ``(prediction, log, path) -> (result dict, plot view | None)``: the view has
+        ``t_s`` (N,), ``mask`` (N,), ``tau_meas`` and ``tau_fit`` (N,) or (N, n_joints) N m.
+    bench : ``(design, perturb, seed, build_dir | None, model) -> (prediction, t_s, counts,
+        currents, truth, extra truth)``.
+    """
+
+    n_joints: int
+    models: tuple[str, ...]
+    check_build_dir: Hook
+    predict_from_build: Hook
+    identify: Hook
+    bench: Hook
+
+
+# ------------------------------------------------------------------ one motor (four-bars)
+def _check_build_dir_1(design, build_dir: Path) -> None:
+    from cad.sim.device import device_build
+
+    device_build(design, Path(build_dir))
+
+
+def _predict_1(design, build_dir):
+    from cad.sim.identify_device import predict_from_build
+
+    return predict_from_build(design, build_dir)
+
+
+def _identify_1(pred, log, path):
+    from cad.sim.identify_device import identify
+
+    return identify(pred, log, path)
+
+
+def _bench_1(design, p: dict, seed: int, build_dir, model: str):
+    import numpy as np
+
+    from cad.sim import bench
+    from cad.sim.device import device_build
+    from cad.sim.identify_device import predict_from_build
+
+    folder = device_build(design, None if build_dir is None else Path(build_dir))
+    pred = predict_from_build(design, folder)
+    mjcf = folder / f"{design.name}.xml" if model == "mujoco" else None
+    t, counts, cmd, tr = bench.simulate(pred, p, seed, mjcf)
+    q_poses = [float(np.quantile(pred.angles(counts), x)) for x in (0.05, 0.5, 0.95)] if len(counts) else []
+    extra = {"M11_g_at": {f"{math.degrees(q):.1f}": float(bench.true_apparent_mass_g(pred, tr, q)) for q in q_poses}}
+    return pred, t, counts, cmd, tr, extra
+
+
+ONE_MOTOR = IdentifyKit(1, ("mujoco", "reduced"), _check_build_dir_1, _predict_1, _identify_1, _bench_1)
+
+
+# ------------------------------------------------------------------ the 5-bar
+def _check_build_dir_5(design, build_dir: Path) -> None:
+    from cad.sim.identify_fivebar import build_report
+
+    build_report(design, Path(build_dir))
+
+
+def _predict_5(design, build_dir):
+    from cad.sim.identify_fivebar import predict_from_build
+
+    return predict_from_build(design, build_dir)
+
+
+def _identify_5(pred, log, path):
+    from cad.sim.identify_fivebar import identify
+
+    res, f = identify(pred, log, path)
+    if f is None:
+        return res, None
+    # the report's plots take one mask per row: rows where a joint was fitted (the other
+    # joint's column is NaN where it was not)
+    return res, SimpleNamespace(t_s=f.t_s, mask=f.mask.any(axis=1), tau_meas=f.tau_meas, tau_fit=f.tau_fit)
+
+
+def _bench_5(design, p: dict, seed: int, build_dir, model: str):
+    from cad.isotropy.gii import workspace_half_mm
+    from cad.sim import bench_fivebar
+    from cad.sim.identify_fivebar import predict_from_build
+
+    pred = predict_from_build(design, None if build_dir is None else Path(build_dir))
+    half_y_m = 1e-3 * workspace_half_mm(design.workspace)[1]
+    t, counts, cmd, tr = bench_fivebar.simulate(pred, p, seed, half_y_m)
+    return pred, t, counts, cmd, tr, {}
+
+
+FIVEBAR = IdentifyKit(2, ("reduced",), _check_build_dir_5, _predict_5, _identify_5, _bench_5)
