@@ -51,13 +51,14 @@ extern "C" {{
 #define HC_IDENT_ALPHA {lit(p.alpha)}         /* velocity low-pass per sample ({p.fc_Hz:g} Hz) */
 #define HC_IDENT_HAND_MIN_RAD {lit(p.hand_min_rad)}
 #define HC_IDENT_N_SAMPLES {p.n_samples}L
-/* per joint: hold gains, home (the hold's target), range (leaving it stops the routine), the
- * safe range (the chirps run only while every joint is inside), the sign of the +y hand move */
+/* per joint: hold gains, home (the hold's target), range and hold envelope about home (leaving
+ * either stops the routine: beyond the envelope the hold is at the current clamp), the safe range (the chirps run only while every joint is inside), the sign of the +y hand move */
 {_per_joint("HC_IDENT_KP_NM_PER_RAD", p.kp_Nm_per_rad)}
 {_per_joint("HC_IDENT_KD_NM_S_PER_RAD", p.kd_Nm_s_per_rad)}
 {_per_joint("HC_IDENT_Q_HOME_RAD", p.q_home_rad)}
 {_per_joint("HC_IDENT_Q_MIN_RAD", p.q_min_rad)}
 {_per_joint("HC_IDENT_Q_MAX_RAD", p.q_max_rad)}
+{_per_joint("HC_IDENT_ENVELOPE_RAD", p.envelope_rad)}
 {_per_joint("HC_IDENT_Q_SAFE_LO_RAD", [s[0] for s in safe])}
 {_per_joint("HC_IDENT_Q_SAFE_HI_RAD", [s[1] for s in safe])}
 {_per_joint("HC_IDENT_HAND_SIGN", p.hand_sign, str)}
@@ -90,6 +91,7 @@ static const hc_real KD[2] = { HC_IDENT_KD_NM_S_PER_RAD_0, HC_IDENT_KD_NM_S_PER_
 static const hc_real HOME[2] = { HC_IDENT_Q_HOME_RAD_0, HC_IDENT_Q_HOME_RAD_1 };
 static const hc_real QMIN[2] = { HC_IDENT_Q_MIN_RAD_0, HC_IDENT_Q_MIN_RAD_1 };
 static const hc_real QMAX[2] = { HC_IDENT_Q_MAX_RAD_0, HC_IDENT_Q_MAX_RAD_1 };
+static const hc_real ENV[2] = { HC_IDENT_ENVELOPE_RAD_0, HC_IDENT_ENVELOPE_RAD_1 };
 static const hc_real SLO[2] = { HC_IDENT_Q_SAFE_LO_RAD_0, HC_IDENT_Q_SAFE_LO_RAD_1 };
 static const hc_real SHI[2] = { HC_IDENT_Q_SAFE_HI_RAD_0, HC_IDENT_Q_SAFE_HI_RAD_1 };
 static const int HAND_SIGN[2] = { HC_IDENT_HAND_SIGN_0, HC_IDENT_HAND_SIGN_1 };
@@ -120,7 +122,7 @@ static int hc_ident_check(const hc_ident_t *s, const hc_real q[2], hc_real sp)
     for (j = 0; j < 2; ++j)
         if (s->hand[j] * HAND_SIGN[j] <= -HC_IDENT_HAND_MIN_RAD) return HC_IDENT_ENCODER;
     for (j = 0; j < 2; ++j)
-        if (q[j] < QMIN[j] || q[j] > QMAX[j]) return HC_IDENT_RANGE;
+        if (q[j] < QMIN[j] || q[j] > QMAX[j] || fabs(q[j] - HOME[j]) > ENV[j]) return HC_IDENT_RANGE;
     return (sp >= 2 * HC_IDENT_T_SETTLE_S + HC_IDENT_T_CHIRP_S) ? HC_IDENT_DONE : HC_IDENT_RUNNING;
 }
 

@@ -18,8 +18,13 @@ per joint, at the control period ``Te_s`` (time t = k Te from the first sample):
 4. ``rest`` (T_settle): the hold alone, then 0 A and done.
 
 Stops (0 A on every motor from then on): ``ENCODER`` when at the end of the hand phase a
-joint moved at least ``hand_min_rad`` against its ``hand_sign``; ``RANGE`` when a joint leaves
-its range during the hold or the chirp. Every current is clamped at +-``i_max_A``.
+joint moved at least ``hand_min_rad`` against its ``hand_sign``; ``RANGE`` when during the
+hold or the chirp a joint leaves its range or the hold envelope, ``envelope_rad`` from home
+(:data:`HOLD_ENVELOPE_FRACTION` of its smaller half-range): the hold alone reaches the current
+clamp at (1 / AMPLITUDE_FRACTION) TRAVEL_FRACTION = 0.58 of it, so a joint beyond is not held
+(a reversed current gain pushes it there; the chirp moves a joint at most ~0.45 of it, its
+static deflection 0.35 times the resonant gain 1 / (2 ZETA)). Every current is clamped at
++-``i_max_A``.
 """
 
 from __future__ import annotations
@@ -48,6 +53,9 @@ from cad.identify.excitation import (
     ZETA,
 )
 
+#: The hold envelope as a fraction of a joint's smaller half-range about home (module docstring).
+HOLD_ENVELOPE_FRACTION = 0.6
+
 __all__ = ["DONE", "ENCODER", "RANGE", "RUNNING", "Plan2", "State2", "plan2", "run_on_angles", "step"]
 
 
@@ -67,6 +75,7 @@ class Plan2:
     kp_Nm_per_rad: tuple[float, ...]
     kd_Nm_s_per_rad: tuple[float, ...]
     hand_sign: tuple[int, ...]
+    envelope_rad: tuple[float, ...]
     T_hand_s: float = T_HAND_S
     T_settle_s: float = T_SETTLE_S
     T_chirp_s: float = T_CHIRP_S
@@ -112,14 +121,15 @@ def plan2(Te_s: float, kt_Nm_per_A: float, i_max_A: float, q_min_rad, q_max_rad,
     encoder counts per turn. Hold stiffness: the chirp amplitude deflects a joint by
     ``TRAVEL_FRACTION`` of its smaller half-range about home; damping ratio ``ZETA``."""
     A = AMPLITUDE_FRACTION * i_max_A
-    kp, kd = [], []
+    kp, kd, env = [], [], []
     for lo, hi, h, J in zip(q_min_rad, q_max_rad, q_home_rad, inertia_kg_m2, strict=True):
         half = min(h - lo, hi - h)
+        env.append(HOLD_ENVELOPE_FRACTION * half)
         kp.append(A * kt_Nm_per_A / (TRAVEL_FRACTION * half))
         kd.append(2.0 * ZETA * math.sqrt(kp[-1] * J))
     return Plan2(Te_s, kt_Nm_per_A, i_max_A, tuple(map(float, q_min_rad)), tuple(map(float, q_max_rad)),
                  tuple(map(float, q_home_rad)), A, tuple(kp), tuple(kd), tuple(int(s) for s in hand_sign),
-                 hand_min_rad=HAND_MIN_COUNTS * 2.0 * math.pi / counts_per_rev)
+                 tuple(env), hand_min_rad=HAND_MIN_COUNTS * 2.0 * math.pi / counts_per_rev)
 
 
 @dataclass
@@ -151,7 +161,7 @@ def _check(p: Plan2, st: State2, q, s: float) -> int:
         if st.hand[j] * p.hand_sign[j] <= -p.hand_min_rad:
             return ENCODER
     for j in range(p.n_joints):
-        if q[j] < p.q_min_rad[j] or q[j] > p.q_max_rad[j]:
+        if q[j] < p.q_min_rad[j] or q[j] > p.q_max_rad[j] or abs(q[j] - p.q_home_rad[j]) > p.envelope_rad[j]:
             return RANGE
     return DONE if s >= 2 * p.T_settle_s + p.T_chirp_s else RUNNING
 

@@ -196,7 +196,7 @@ def simulate(pred, p: dict, seed: int = 0, half_y_m: float = 0.05) -> tuple[np.n
         if t >= plan.T_hand_s:
             late = cmd[k - delay] if k >= delay else (0.0, 0.0)
             plant.advance([ktt * (late[j] + noise[k][j]) for j in range(2)], Te)
-    tr["status"] = {excitation2.DONE: "done", excitation2.RANGE: "stopped: a joint left its range",
+    tr["status"] = {excitation2.DONE: "done", excitation2.RANGE: "stopped: a joint left its range (or the hold envelope)",
                     excitation2.ENCODER: "stopped: a joint moved against the +y hand move"}.get(st.status, "running")
     tr["model"] = "reduced"
     return np.arange(n) * Te, counts[:n], cmd[:n], tr

@@ -36,7 +36,7 @@ from cad.tolerances import (
 )
 
 #: Control period of the pantograph's routine (s): 1 kHz, the rate of the Pantograph Mk-II's
-#: haptic loop (Campion, Wang & Hayward, IROS 2005) and of common haptic servo loops.
+#: haptic loop (Campion, Wang & Hayward, IROS 2005), inside the 1-4 kHz of haptic servo loops.
 TE_S = 1e-3
 #: Samples per side of the workspace grid whose inverse kinematics gives the joint ranges.
 RANGE_GRID = 21
@@ -302,15 +302,17 @@ def _base(pred: Prediction5, log: Log) -> dict:
 
 def _stopped(pred: Prediction5, log: Log, q, k0: int, enc) -> dict | None:
     """The result of a log whose routine stopped early (None when it ran through): after the
-    hand phase (an encoder reversed), or with a joint out of its range (its hold pushed it
-    away: that motor's current gain reversed when its commanded torque drove the motion)."""
+    hand phase (an encoder reversed), or with a joint out of its range or hold envelope (its
+    hold pushed it away: that motor's current gain reversed when its commanded torque drove
+    the motion)."""
     base = _base(pred, log)
     if k0 >= len(q) and min(enc) < 0:
         sig = [r for r in _signs(enc, None)]
         return {**base, "stopped": "after the hand phase: a joint moved against the +y hand move", "figures": sig,
                 "misses": [r["key"] for r in sig if r["verdict"] == "MISS"]}
     lo, hi = np.asarray(pred.q_min_rad), np.asarray(pred.q_max_rad)
-    out = np.flatnonzero(np.any((q[k0:] < lo) | (q[k0:] > hi), axis=1))
+    env = np.abs(q[k0:] - np.asarray(pred.q_home_rad)) > np.asarray(pred.plan.envelope_rad)
+    out = np.flatnonzero(np.any((q[k0:] < lo) | (q[k0:] > hi) | env, axis=1))
     if out.size == 0 or len(q) - k0 < 10:
         return None
     end = k0 + int(out[0])
@@ -322,7 +324,7 @@ def _stopped(pred: Prediction5, log: Log, q, k0: int, enc) -> dict | None:
         moved = float(np.sum(np.cumsum(pred.kt_Nm_per_A * log.current_A[seg, j] / Mq[j, j]))) * Te**2
         gain.append(1 if moved * (q[end, j] - q[k0, j]) >= 0 else -1)
     sig = _signs(enc, gain)
-    return {**base, "stopped": f"at t = {log.t_s[end]:.3f} s: a joint left its range", "figures": sig,
+    return {**base, "stopped": f"at t = {log.t_s[end]:.3f} s: a joint left its range (or the hold envelope)", "figures": sig,
             "misses": [r["key"] for r in sig if r["verdict"] == "MISS"]}
 
 
