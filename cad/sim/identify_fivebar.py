@@ -247,8 +247,21 @@ def _gravity_rows(pred: Prediction5, f: Fit2) -> list[dict]:
     if "cg" not in f.theta:
         return offs
     i = f.names.index("cg")
+    q_med = np.median(f.q[f.mask.any(axis=1)], axis=0)
+    g_med = pred.gravity(q_med[None, :])[0]
+    loads = []
+    for j in range(2):
+        k = f.names.index(f"T0{j}_Nm")
+        w = np.zeros(len(f.names))
+        w[i], w[k] = g_med[j], 1.0
+        loads.append(_row(f"gravity_load{j}_mNm", f"gravity load and offset at motor {j} at q = "
+                          f"({math.degrees(q_med[0]):.1f}, {math.degrees(q_med[1]):.1f}) deg",
+                          1e3 * (f.theta["cg"] * g_med[j] + f.theta[f"T0{j}_Nm"]),
+                          1e3 * math.sqrt(max(float(w @ f.cov @ w), 0.0)), "mN m", 1e3 * float(g_med[j]),
+                          tol_rel=IDENT_GRAVITY_TOL_REL, explain="gravity"))
     cg = _row("gravity_scale", "gravity load / the solids' prediction", f.theta["cg"], f.sigma("cg"), "1", 1.0,
               tol_rel=IDENT_GRAVITY_TOL_REL, explain="gravity")
+
     def corr(j):
         k = f.names.index(f"T0{j}_Nm")
         return abs(f.cov[i, k]) / math.sqrt(max(f.cov[i, i] * f.cov[k, k], 1e-300))
@@ -256,10 +269,10 @@ def _gravity_rows(pred: Prediction5, f: Fit2) -> list[dict]:
     rho = max(corr(j) for j in range(2))
     if rho > SEPARABLE_CORRELATION:
         why = (f"not separable on this log (correlation {rho:.3f}): the gravity torques vary too little over "
-               "the poses visited")
+               "the poses visited; gravity_load*_mNm hold both")
         for r in (cg, *offs):
             r.update(verdict="n/a", explain=why)
-    return [cg, *offs]
+    return [*loads, cg, *offs]
 
 
 def _signs(enc, gain) -> list[dict]:

@@ -33,12 +33,12 @@ def pred(hoeken, paper_H):
     return predict(hoeken, paper_H)
 
 
-def bar_report(design, handle_kg: float = 0.015) -> dict:
+def bar_report(design, handle_kg: float = 0.015, rho_kg_per_m: float = 0.2) -> dict:
     """report.json ``bodies`` of a 5-bar made of uniform bars (closed form: mass rho*l, COM at
     l/2 on the link's x axis -- the distal links 3 and 1 mm off it, bars with a boss --, Izz =
-    m l^2/12 about the COM) and a handle of ``handle_kg``: the prediction without a CAD build."""
+    m l^2/12 about the COM; ``rho_kg_per_m`` per metre) and a handle of ``handle_kg``: the prediction without a CAD build."""
     m = design.mechanism
-    rho = 0.2  # kg/m: a 10 x 8 mm aluminium bar
+    rho = rho_kg_per_m  # 0.2 kg/m: a 10 x 8 mm aluminium bar
     bodies = {}
     for name, l_mm, cy in (("proximal_left", m.proximal_left_mm, 0.0), ("proximal_right", m.proximal_right_mm, 0.0),
                            ("distal_left", m.distal_left_mm, 3.0), ("distal_right", m.distal_right_mm, 1.0)):

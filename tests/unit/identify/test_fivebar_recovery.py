@@ -12,12 +12,17 @@ constant torque offsets ("gravity offset"; and gravity itself on a vertical devi
   feed-forward, no hand phase), a rounding encoder.
 
 Stated tolerances (the regression's bias on these logs, measured, with margin): apparent
-mass at home 2 %, Coulomb friction 10 %, offsets 0.3 mN m, gravity scale 3 %. Reversed
-encoders and reversed current gains are diagnosed.
+mass at home 2 % on bench logs; on the independent logs 1 % with a 40 000-count encoder
+(measured +0.1 %) and 4 % with the design's 4 000 counts (measured -2.2 % along x, -3.3 %
+along y: the encoder's quantization noise in the accelerations biases least squares low,
+errors in the regressors; the bench's chirp, with larger accelerations, -0.8 %); Coulomb
+friction 10 %, offsets and gravity loads 0.3 mN m. Reversed encoders and reversed current
+gains are diagnosed.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from pathlib import Path
 
@@ -30,7 +35,8 @@ from cad.sim import bench, bench_fivebar
 from cad.sim.identify_fivebar import identify, predict
 
 ROOT = Path(__file__).resolve().parents[3]
-MASS_REL, TC_REL, OFFSET_NM, CG_REL = 0.02, 0.10, 3e-4, 0.03
+MASS_REL, TC_REL, OFFSET_NM = 0.02, 0.10, 3e-4
+MASS_REL_FINE, MASS_REL_COARSE = 0.01, 0.04
 #: The independent simulation's hold (N m/rad, N m s/rad) and multisine amplitude per sine (A).
 KP, KD, AMP_A = 0.15, 0.004, 0.3
 
@@ -44,12 +50,12 @@ def _fig(res, key):
     return next(r for r in res["figures"] if r["key"] == key)
 
 
-def _check(res, M_true_g, Tc_true, T0_true):
+def _check(res, M_true_g, Tc_true, T0_true, mass_rel=MASS_REL):
     for k, ax in enumerate("xy"):
         r = _fig(res, f"M{ax}{ax}_g@home")
-        assert r["value"] == pytest.approx(M_true_g[k], rel=MASS_REL)
+        assert r["value"] == pytest.approx(M_true_g[k], rel=mass_rel)
         assert r["verdict"] == "MISS" and "heavier" in r["explain"]  # +15 % is outside 10 %
-        assert 0 < r["sigma"] < MASS_REL * r["value"]
+        assert 0 < r["sigma"] < mass_rel * r["value"]
     for j in range(2):
         assert _fig(res, f"Tc{j}_mNm")["value"] * 1e-3 == pytest.approx(Tc_true[j], rel=TC_REL)
         assert _fig(res, f"offset{j}_mNm")["value"] * 1e-3 == pytest.approx(T0_true[j], abs=OFFSET_NM)
@@ -174,7 +180,7 @@ class _Independent:
         return np.array([d * r[0] - b * r[1], a * r[1] - b * r[0]]) / det
 
 
-def _independent_log(design, report, pred, *, mass, Tc, T0, gravity=None, seed=0, T_s=10.0):
+def _independent_log(design, report, pred, *, mass, Tc, T0, gravity=None, seed=0, T_s=10.0, amp_A=None):
     """(t, counts (N, 2), currents (N, 2), true task mass at home (g)) at 1 kHz."""
     rng = np.random.default_rng(seed)
     dev = _Independent(design, report, pred, mass, gravity)
@@ -200,7 +206,7 @@ def _independent_log(design, report, pred, *, mass, Tc, T0, gravity=None, seed=0
         v = (qr - q_prev) / Te
         q_prev = qr
         ff = dev.gravity(qr) / kt
-        ms = np.array([AMP_A * np.sum(np.sin(2 * np.pi * freqs[j] * t + phase[j])) for j in range(2)])
+        ms = np.array([(AMP_A if amp_A is None else amp_A) * np.sum(np.sin(2 * np.pi * freqs[j] * t + phase[j])) for j in range(2)])
         cur[k] = np.clip((-kp * (qr - home) - kd * v) / kt + ff + ms, -pred.i_max_A, pred.i_max_A)
         tau = kt * (prev + rng.normal(0, 0.005 * pred.i_max_A, 2))  # one period of delay, noise
         prev = cur[k]
@@ -220,11 +226,12 @@ def _independent_log(design, report, pred, *, mass, Tc, T0, gravity=None, seed=0
 
 
 def test_independent_simulation_horizontal(panto, panto_pred, bars):
-    pred = panto_pred
+    """A 40 000-count encoder (a 10 000-line encoder read x4): the model's own accuracy."""
+    pred = dataclasses.replace(panto_pred, counts_per_rev=40000)
     Tc, T0 = (2 * pred.Tc_Nm, 2 * pred.Tc_Nm), (3e-3, -2e-3)
     t, c, i, M_true = _independent_log(panto, bars(panto), pred, mass=1.15, Tc=Tc, T0=T0)
     res, _ = identify(pred, _log(pred, t, c, i), "t.csv")
-    _check(res, M_true, Tc, T0)
+    _check(res, M_true, Tc, T0, MASS_REL_FINE)
     assert [_fig(res, f"encoder_direction_{j}")["value"] for j in range(2)] == ["not determined"] * 2
 
 
@@ -236,15 +243,33 @@ def vertical(tmp_path_factory, bars):
     p = tmp_path_factory.mktemp("v") / "vertical.toml"
     p.write_text(text)
     d = load_design(p)
-    return d, bars(d), predict(d, bars(d))
+    # printed bars and a 5 g knob: the hold carries a third of the continuous torque against
+    # gravity (the aluminium bars of the horizontal tests weigh 73 % of it)
+    rep = bars(d, handle_kg=0.005, rho_kg_per_m=0.08)
+    return d, rep, predict(d, rep)
 
 
 def test_independent_simulation_vertical_recovers_gravity(vertical):
+    """A vertical device 15 % heavier with constant offsets: the gravity load and offset at
+    each motor (their sum: what the log determines near one pose) within 0.3 mN m of the
+    truth, which the identification's own gravity model does not know (COM heights written
+    here); the scale and the offsets alone are flagged not separable, never a false verdict."""
     d, rep, pred = vertical
     assert pred.vertical
     Tc, T0 = (2 * pred.Tc_Nm, 2 * pred.Tc_Nm), (3e-3, -2e-3)
-    t, c, i, M_true = _independent_log(d, rep, pred, mass=1.15, Tc=Tc, T0=T0, gravity=pred.spec.gravity_m_s2, seed=2)
-    res, _ = identify(pred, _log(pred, t, c, i), "t.csv")
-    _check(res, M_true, Tc, T0)
-    cg = _fig(res, "gravity_scale")
-    assert cg["value"] == pytest.approx(1.15, rel=CG_REL)  # the links weigh 15 % more
+    t, c, i, M_true = _independent_log(d, rep, pred, mass=1.15, Tc=Tc, T0=T0, gravity=pred.spec.gravity_m_s2, seed=2,
+                                       amp_A=0.2)
+    res, fit = identify(pred, _log(pred, t, c, i), "t.csv")
+    for k, ax in enumerate("xy"):
+        assert _fig(res, f"M{ax}{ax}_g@home")["value"] == pytest.approx(M_true[k], rel=MASS_REL_COARSE)
+    dev = _Independent(d, rep, pred, 1.15, pred.spec.gravity_m_s2)
+    q_med = np.median(fit.q[fit.mask.any(axis=1)], axis=0)
+    true_load = dev.gravity(q_med) + np.array(T0)
+    for j in range(2):
+        r = _fig(res, f"gravity_load{j}_mNm")
+        assert r["value"] * 1e-3 == pytest.approx(true_load[j], abs=OFFSET_NM)
+        assert abs(r["value"]) > 20  # a real load: ~30 mN m
+        assert _fig(res, f"Tc{j}_mNm")["value"] * 1e-3 == pytest.approx(Tc[j], rel=TC_REL)
+        off = _fig(res, f"offset{j}_mNm")
+        assert off["verdict"] == "n/a" and "not separable" in off["explain"]
+    assert _fig(res, "gravity_scale")["verdict"] == "n/a"
