@@ -29,6 +29,7 @@ import numpy as np
 
 from cad.identify import excitation2
 from cad.sim.bench import HAND_FRACTION, OMEGA_S, STOP_FRACTION, SUBSTEP_MAX_S
+from cad.sim.identify_fivebar import jacobian
 
 #: Bench Coulomb friction per motor when the prediction has none (fraction of Kt i_cont).
 NOMINAL_TC_FRACTION = 0.03
@@ -149,8 +150,6 @@ def hand_path(pred, half_y_m: float, n: int) -> np.ndarray:
     """Joint angles (n, 2) of the operator's hand move: E from home along +y by HAND_FRACTION
     of the workspace height (``2 half_y_m``) and back, sin^2 in time; followed from home in
     the design's working modes by dq = (dE/dq)^-1 dE in small steps."""
-    from cad.sim.identify_fivebar import jacobian
-
     s = np.sin(np.pi * np.arange(n) / n) ** 2
     dy = np.diff(s * HAND_FRACTION * 2 * half_y_m, prepend=0.0)
     q = np.empty((n, 2))

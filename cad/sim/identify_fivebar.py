@@ -18,15 +18,26 @@ friction and offset, the gravity scale, each encoder's direction and each curren
 from __future__ import annotations
 
 import math
+import os
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
+import cad
+from cad.device import resolve_device
+from cad.errors import DesignError, FileDamaged
+from cad.firmware import linkage_model, reference
+from cad.firmware.device import device_spec
+from cad.firmware.spec import motor_data
 from cad.identify import excitation2, joint2
 from cad.identify.joint2 import FiveBarGeom, Fit2, NotExcited
 from cad.identify.logfile import Log
-from cad.sim.identify_device import EXPLAIN, SEPARABLE_CORRELATION, _row, excitation_start
+from cad.io import guard
+from cad.isotropy.gii import workspace_half_mm
+from cad.kinematics import fivebar as fb5
+from cad.sim.device import device_build
+from cad.sim.identify_device import EXPLAIN, SEPARABLE_CORRELATION, excitation_start, figure_row
 from cad.tolerances import (
     IDENT_FRICTION_TOL_REL,
     IDENT_GRAVITY_TOL_REL,
@@ -73,8 +84,6 @@ class Prediction5:
         """Predicted gravity torques (N, 2) N m at q (N, 2); None for a horizontal device."""
         if not self.vertical:
             return None
-        from cad.firmware import reference
-
         return reference.gravity_torques(self.spec, np.atleast_2d(q))
 
     def angles(self, counts) -> np.ndarray:
@@ -135,9 +144,6 @@ def beta_of(geom: FiveBarGeom, bodies: dict) -> np.ndarray:
 
 def joint_ranges(design, geom_mm) -> tuple[tuple[float, float], tuple[float, float]]:
     """(q_min, q_max) (rad, per joint) over a :data:`RANGE_GRID` grid of the workspace rectangle."""
-    from cad.isotropy.gii import workspace_half_mm
-    from cad.kinematics import fivebar as fb5
-
     (cx, cy), (hx, hy) = design.workspace["center_mm"], workspace_half_mm(design.workspace)
     X, Y = np.meshgrid(np.linspace(cx - hx, cx + hx, RANGE_GRID), np.linspace(cy - hy, cy + hy, RANGE_GRID))
     ik = fb5.ik(geom_mm, np.column_stack([X.ravel(), Y.ravel()]))
@@ -156,16 +162,11 @@ def _friction(device) -> tuple[float | None, str]:
 def predict(design, report: dict) -> Prediction5:
     """The :class:`Prediction5` of a 5-bar ``design`` built into ``report`` (report.json:
     its ``bodies``)."""
-    import cad
-    from cad.device import resolve_device
-    from cad.families.pantograph.firmware import FIVEBAR
-    from cad.firmware.device import device_spec
-    from cad.firmware.spec import motor_data
-    from cad.pipeline import design_hash
+    from cad.pipeline import design_hash  # cad.pipeline imports the family packages: a cycle
 
     device = resolve_device(design)
     h = design_hash(design)
-    spec = device_spec(design, report, h, cad.__version__, device, FIVEBAR)
+    spec = device_spec(design, report, h, cad.__version__, device, linkage_model(design))
     g = geom_of(spec.params)
     beta = beta_of(g, spec.bodies)
     motor = motor_data(device.motor.spec)
@@ -186,12 +187,6 @@ def build_report(design, build_dir: Path | None) -> dict:
     """report.json of the design's build: ``build_dir`` (a finished ``build --formats mjcf``
     of this design; DesignError naming ``--build-dir`` otherwise) or the cached simulator
     build (:func:`cad.sim.device.device_build`)."""
-    import os
-
-    from cad.errors import DesignError
-    from cad.io import guard
-    from cad.sim.device import device_build
-
     if build_dir is not None:
         build_dir = Path(build_dir)
         if not (os.path.lexists(build_dir / "report.json") and os.path.lexists(build_dir / f"{design.name}.xml")):
@@ -223,7 +218,7 @@ def _mass_rows(pred: Prediction5, f: Fit2) -> list[dict]:
     rows = []
     for k, ax in ((0, "x"), (1, "y")):
         w = np.array([t[k, k] for t in terms])
-        rows.append(_row(f"M{ax}{ax}_g@home", f"apparent mass at the handle along {ax} at home (other axis held)",
+        rows.append(figure_row(f"M{ax}{ax}_g@home", f"apparent mass at the handle along {ax} at home (other axis held)",
                          1e3 * float(w @ th), 1e3 * math.sqrt(max(float(w @ C @ w), 0.0)), "g",
                          1e3 * float(M_pred[k, k]), tol_rel=IDENT_MASS_TOL_REL, explain="apparent_mass"))
     return rows
@@ -232,17 +227,17 @@ def _mass_rows(pred: Prediction5, f: Fit2) -> list[dict]:
 def _friction_rows(pred: Prediction5, f: Fit2) -> list[dict]:
     rows = []
     for j in range(2):
-        rows.append(_row(f"Tc{j}_mNm", f"Coulomb friction at motor {j}", 1e3 * f.theta[f"Tc{j}_Nm"],
+        rows.append(figure_row(f"Tc{j}_mNm", f"Coulomb friction at motor {j}", 1e3 * f.theta[f"Tc{j}_Nm"],
                          1e3 * f.sigma(f"Tc{j}_Nm"), "mN m", None if pred.Tc_Nm is None else 1e3 * pred.Tc_Nm,
                          tol_rel=IDENT_FRICTION_TOL_REL, explain="friction"))
-        rows.append(_row(f"b{j}_mNm_s_per_rad", f"viscous friction at motor {j}", 1e3 * f.theta[f"b{j}_Nm_s_per_rad"],
+        rows.append(figure_row(f"b{j}_mNm_s_per_rad", f"viscous friction at motor {j}", 1e3 * f.theta[f"b{j}_Nm_s_per_rad"],
                          1e3 * f.sigma(f"b{j}_Nm_s_per_rad"), "mN m s/rad", None))
     return rows
 
 
 def _gravity_rows(pred: Prediction5, f: Fit2) -> list[dict]:
     tol0 = 1e3 * IDENT_OFFSET_TOL_FRACTION * pred.kt_Nm_per_A * pred.i_max_A
-    offs = [_row(f"offset{j}_mNm", f"constant torque offset at motor {j}", 1e3 * f.theta[f"T0{j}_Nm"],
+    offs = [figure_row(f"offset{j}_mNm", f"constant torque offset at motor {j}", 1e3 * f.theta[f"T0{j}_Nm"],
                  1e3 * f.sigma(f"T0{j}_Nm"), "mN m", 0.0, tol_abs=tol0, explain="offset") for j in range(2)]
     if "cg" not in f.theta:
         return offs
@@ -254,12 +249,12 @@ def _gravity_rows(pred: Prediction5, f: Fit2) -> list[dict]:
         k = f.names.index(f"T0{j}_Nm")
         w = np.zeros(len(f.names))
         w[i], w[k] = g_med[j], 1.0
-        loads.append(_row(f"gravity_load{j}_mNm", f"gravity load and offset at motor {j} at q = "
+        loads.append(figure_row(f"gravity_load{j}_mNm", f"gravity load and offset at motor {j} at q = "
                           f"({math.degrees(q_med[0]):.1f}, {math.degrees(q_med[1]):.1f}) deg",
                           1e3 * (f.theta["cg"] * g_med[j] + f.theta[f"T0{j}_Nm"]),
                           1e3 * math.sqrt(max(float(w @ f.cov @ w), 0.0)), "mN m", 1e3 * float(g_med[j]),
                           tol_rel=IDENT_GRAVITY_TOL_REL, explain="gravity"))
-    cg = _row("gravity_scale", "gravity load / the solids' prediction", f.theta["cg"], f.sigma("cg"), "1", 1.0,
+    cg = figure_row("gravity_scale", "gravity load / the solids' prediction", f.theta["cg"], f.sigma("cg"), "1", 1.0,
               tol_rel=IDENT_GRAVITY_TOL_REL, explain="gravity")
 
     def corr(j):
@@ -344,8 +339,6 @@ def _stopped(pred: Prediction5, log: Log, q, k0: int, enc) -> dict | None:
 def identify(pred: Prediction5, log: Log, path) -> tuple[dict, Fit2 | None]:
     """(result, fit) of a parsed 2-motor log of the design of ``pred`` (fit None when the
     routine stopped early); FileDamaged (field LOG) when the log excites too little."""
-    from cad.errors import FileDamaged
-
     q = pred.angles(log.counts)
     k0 = excitation_start(log.current_A)
     enc = hand_directions(pred, q[:k0]) if k0 > 0 else (0, 0)

@@ -6,7 +6,6 @@ one :class:`IdentifyKit` per layout, given by its :class:`cad.firmware.model.Kin
 * :data:`FIVEBAR` -- the 5-bar pantograph (:mod:`cad.sim.identify_fivebar`,
   :mod:`cad.sim.bench_fivebar`).
 
-Every hook imports its modules when called (the firmware model imports this module).
 """
 
 from __future__ import annotations
@@ -17,6 +16,12 @@ from dataclasses import dataclass
 from pathlib import Path
 from types import SimpleNamespace
 from typing import Any
+
+import numpy as np
+
+from cad.isotropy.gii import workspace_half_mm
+from cad.sim import bench, bench_fivebar, identify_device, identify_fivebar
+from cad.sim.device import device_build
 
 Hook = Callable[..., Any]
 
@@ -45,32 +50,12 @@ class IdentifyKit:
 
 # ------------------------------------------------------------------ one motor (four-bars)
 def _check_build_dir_1(design, build_dir: Path) -> None:
-    from cad.sim.device import device_build
-
     device_build(design, Path(build_dir))
 
 
-def _predict_1(design, build_dir):
-    from cad.sim.identify_device import predict_from_build
-
-    return predict_from_build(design, build_dir)
-
-
-def _identify_1(pred, log, path):
-    from cad.sim.identify_device import identify
-
-    return identify(pred, log, path)
-
-
 def _bench_1(design, p: dict, seed: int, build_dir, model: str):
-    import numpy as np
-
-    from cad.sim import bench
-    from cad.sim.device import device_build
-    from cad.sim.identify_device import predict_from_build
-
     folder = device_build(design, None if build_dir is None else Path(build_dir))
-    pred = predict_from_build(design, folder)
+    pred = identify_device.predict_from_build(design, folder)
     mjcf = folder / f"{design.name}.xml" if model == "mujoco" else None
     t, counts, cmd, tr = bench.simulate(pred, p, seed, mjcf)
     q_poses = [float(np.quantile(pred.angles(counts), x)) for x in (0.05, 0.5, 0.95)] if len(counts) else []
@@ -78,26 +63,17 @@ def _bench_1(design, p: dict, seed: int, build_dir, model: str):
     return pred, t, counts, cmd, tr, extra
 
 
-ONE_MOTOR = IdentifyKit(1, ("mujoco", "reduced"), _check_build_dir_1, _predict_1, _identify_1, _bench_1)
+ONE_MOTOR = IdentifyKit(1, ("mujoco", "reduced"), _check_build_dir_1, identify_device.predict_from_build,
+                        identify_device.identify, _bench_1)
 
 
 # ------------------------------------------------------------------ the 5-bar
 def _check_build_dir_5(design, build_dir: Path) -> None:
-    from cad.sim.identify_fivebar import build_report
-
-    build_report(design, Path(build_dir))
-
-
-def _predict_5(design, build_dir):
-    from cad.sim.identify_fivebar import predict_from_build
-
-    return predict_from_build(design, build_dir)
+    identify_fivebar.build_report(design, Path(build_dir))
 
 
 def _identify_5(pred, log, path):
-    from cad.sim.identify_fivebar import identify
-
-    res, f = identify(pred, log, path)
+    res, f = identify_fivebar.identify(pred, log, path)
     if f is None:
         return res, None
     # the report's plots take one mask per row: rows where a joint was fitted (the other
@@ -106,14 +82,11 @@ def _identify_5(pred, log, path):
 
 
 def _bench_5(design, p: dict, seed: int, build_dir, model: str):
-    from cad.isotropy.gii import workspace_half_mm
-    from cad.sim import bench_fivebar
-    from cad.sim.identify_fivebar import predict_from_build
-
-    pred = predict_from_build(design, None if build_dir is None else Path(build_dir))
+    pred = identify_fivebar.predict_from_build(design, None if build_dir is None else Path(build_dir))
     half_y_m = 1e-3 * workspace_half_mm(design.workspace)[1]
     t, counts, cmd, tr = bench_fivebar.simulate(pred, p, seed, half_y_m)
     return pred, t, counts, cmd, tr, {}
 
 
-FIVEBAR = IdentifyKit(2, ("reduced",), _check_build_dir_5, _predict_5, _identify_5, _bench_5)
+FIVEBAR = IdentifyKit(2, ("reduced",), _check_build_dir_5, identify_fivebar.predict_from_build, _identify_5,
+                      _bench_5)

@@ -11,6 +11,7 @@ import math
 import numpy as np
 
 from cad import tolerances as tol
+from cad.firmware import identify2_c
 from cad.firmware.csrc import JT_F, lit
 from cad.firmware.model import KinematicModel, SpecParams, perp, rot
 from cad.firmware.reference import STATUS
@@ -19,6 +20,7 @@ from cad.isotropy.gii import workspace_half_mm
 from cad.kinematics import fivebar as fb5
 from cad.kinematics import pantograph_tolerances as ptol
 from cad.kinematics import twin_pantograph as tw
+from cad.sim import identify_fivebar
 from cad.sim.identify_kits import FIVEBAR as FIVEBAR_KIT
 
 #: The four moving links of a 5-bar (body names of report.json, prefixed knob_/crank_ in the twin).
@@ -183,10 +185,7 @@ def fivebar_poses_bad(spec, q_ok, rng, n: int) -> np.ndarray:
 def fivebar_identify_files(design, report: dict, spec) -> dict[str, str]:
     """The 2-motor identification routine (:mod:`cad.firmware.identify2_c`), its constants from
     the same plan as the virtual bench (:func:`cad.sim.identify_fivebar.predict`)."""
-    from cad.firmware import identify2_c
-    from cad.sim.identify_fivebar import predict
-
-    return identify2_c.files(spec, predict(design, report).plan)
+    return identify2_c.files(spec, identify_fivebar.predict(design, report).plan)
 
 
 def workspace_radius_m(spec, design) -> float:
