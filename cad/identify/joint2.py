@@ -87,15 +87,15 @@ def closure(g: FiveBarGeom, q) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.n
     return E, psi, Psi, ok
 
 
-def arm_regressor(l, a, b, va, vb, aa, ab) -> tuple[np.ndarray, np.ndarray]:
+def arm_regressor(l_m, a, b, va, vb, aa, ab) -> tuple[np.ndarray, np.ndarray]:
     """(tau_a (N, 4), tau_b (N, 4)) per unit of (Ip, Id, mx, my) of one arm (module docstring):
-    proximal length ``l`` m, absolute angles, rates and accelerations of the proximal (a) and
+    proximal length ``l_m``, absolute angles, rates and accelerations of the proximal (a) and
     distal (b) links."""
     d = b - a
     c, s = np.cos(d), np.sin(d)
     z = np.zeros_like(a)
-    ta = np.column_stack([aa, z, l * (c * ab - s * vb * vb), l * (-s * ab - c * vb * vb)])
-    tb = np.column_stack([z, ab, l * (c * aa + s * va * va), l * (-s * aa + c * va * va)])
+    ta = np.column_stack([aa, z, l_m * (c * ab - s * vb * vb), l_m * (-s * ab - c * vb * vb)])
+    tb = np.column_stack([z, ab, l_m * (c * aa + s * va * va), l_m * (-s * aa + c * va * va)])
     return ta, tb
 
 

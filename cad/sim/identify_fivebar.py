@@ -31,7 +31,7 @@ from cad.firmware import linkage_model, reference
 from cad.firmware.device import device_spec
 from cad.firmware.spec import motor_data
 from cad.identify import excitation2, joint2
-from cad.identify.joint2 import FiveBarGeom, Fit2, NotExcited
+from cad.identify.joint2 import Fit2, FiveBarGeom, NotExcited
 from cad.identify.logfile import Log
 from cad.io import guard
 from cad.isotropy.gii import workspace_half_mm

@@ -29,7 +29,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from cad.identify import joint2, logfile
+from cad.identify import logfile
 from cad.kinematics import fivebar as fb5
 from cad.sim import bench, bench_fivebar
 from cad.sim.identify_fivebar import identify, predict
