@@ -854,8 +854,8 @@ def bench_log(design, out_csv: str | Path, seed: int = 0, perturb=(),
     firmware's identification routine with the perturbations ``perturb`` (``KEY=VALUE``
     strings, :func:`cad.sim.bench.parse_perturb`); ``model``: a four-bar's ``mujoco`` (its
     exported MJCF, the default) or ``reduced`` (the 1-DOF crank model, :mod:`cad.sim.bench`),
-    a 5-bar's ``reduced`` (its joint-space dynamics, :mod:`cad.sim.bench_fivebar`); None: the
-    layout's default. Writes the log to ``out_csv`` and the true parameters to
+    a 5-bar's ``mujoco`` (its MJCF, the default) or ``reduced`` (its joint-space dynamics,
+    :mod:`cad.sim.bench_fivebar`); None: the layout's default. Writes the log to ``out_csv`` and the true parameters to
     ``<out_csv stem>.true.json`` beside it. Returns the true parameters and the paths.
     Raises DesignError naming ``--perturb``, ``--seed``, ``--model`` or ``mechanism.family``."""
     import json

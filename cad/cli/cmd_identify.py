@@ -106,8 +106,8 @@ def register(app: typer.Typer) -> None:
                                           help="KEY=VALUE, repeatable: mass, rotor, friction, coulomb, viscous, "
                                                "gravity, kt (factors), encoder (1 or -1), offset_mNm, delay "
                                                "(periods), noise (fraction of the continuous current)."),
-        model: str = typer.Option(None, "--model", help="mujoco (a four-bar's exported MJCF, its default) | "
-                                                         "reduced (a four-bar's 1-DOF model; the 5-bar's model)."),
+        model: str = typer.Option(None, "--model", help="mujoco (the exported MJCF, the default) | "
+                                                         "reduced (the 1-DOF crank or the 5-bar's joint-space model, fast)."),
         build_dir: Path = typer.Option(None, "--build-dir",
                                        help="A finished `build --formats mjcf` of DESIGN (default: the cached build)."),
         json_out: bool = typer.Option(False, "--json", help="Print one JSON object."),

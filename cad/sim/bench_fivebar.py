@@ -4,7 +4,8 @@ perturbed parameters, running the firmware's 2-motor identification routine
 true parameters (the four-bar's bench: :mod:`cad.sim.bench`, whose perturbation keys this
 one takes).
 
-Device model ``reduced``: the 5-bar's rigid-body dynamics in joint space (the tree of
+Device models: ``mujoco`` (the default), the build's exported MJCF (:class:`MujocoPlant5`);
+``reduced``, the 5-bar's rigid-body dynamics in joint space (the tree of
 :mod:`cad.identify.joint2` closed by virtual work), evaluated in closed form per step::
 
     (W^T M_tree W + diag(J)) q'' = s Kt i_applied - W^T (M_tree [0; psi''_0] + c_tree)
@@ -28,8 +29,10 @@ import math
 import numpy as np
 
 from cad.identify import excitation2
+from cad.sim import mj
 from cad.sim.bench import HAND_FRACTION, OMEGA_S, STOP_FRACTION, SUBSTEP_MAX_S
 from cad.sim.identify_fivebar import jacobian
+from cad.sim.wall import MJ_STEP_MAX_S
 
 #: Bench Coulomb friction per motor when the prediction has none (fraction of Kt i_cont).
 NOMINAL_TC_FRACTION = 0.03
@@ -146,6 +149,75 @@ class Plant5:
         self.q, self.w = q, w
 
 
+class MujocoPlant5:
+    """The exported MJCF in MuJoCo (every link, the closed loop at E, the handle on its pin,
+    the rotors as the motor joints' armature): link masses and inertias scaled by ``mass``,
+    the armature set to the true rotor inertia, Coulomb friction as each motor joint's
+    ``frictionloss`` (hard, as :class:`cad.sim.bench._MujocoPlant`), viscous as its
+    ``damping``, the offsets as constant applied torques, gravity in the device plane for a
+    vertical device (``[firmware] gravity_direction`` times ``gravity``; the MJCF's own -z
+    gravity is normal to the plane: no joint torque); the stops as in :class:`Plant5`."""
+
+    JOINTS = ("q_left", "q_right")
+    MOTORS = ("motor_left", "motor_right")
+
+    def __init__(self, mjcf, pred, tr: dict, lo, hi, tau_max_Nm: float):
+        import mujoco
+
+        self.mujoco = mujoco
+        self.m, self.d = mj.load(mjcf)
+        m = self.m
+        self.iq = [mj.joint_qpos(m, j) for j in self.JOINTS]
+        self.iv = [mj.joint_dof(m, j) for j in self.JOINTS]
+        self.ia = [mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_ACTUATOR, a) for a in self.MOTORS]
+        m.body_mass[1:] *= tr["c_link"]
+        m.body_inertia[1:] *= tr["c_link"]
+        for k, v in enumerate(self.iv):
+            m.dof_armature[v] = tr["J_kg_m2"][k]
+            m.dof_damping[v] = tr["b_Nm_s_per_rad"][k]
+            m.dof_frictionloss[v] = tr["Tc_Nm"][k]
+        g = pred.spec.gravity_m_s2
+        m.opt.gravity[:] = (0.0, 0.0, 0.0) if g is None else (g[0] * tr["gravity_scale"], g[1] * tr["gravity_scale"], 0.0)
+        for a in self.ia:
+            m.actuator_ctrlrange[a] = m.actuator_forcerange[a] = (-tau_max_Nm, tau_max_Nm)
+        self.T0, self.lo, self.hi = tr["offset_Nm"], list(lo), list(hi)
+        self._Te = None
+
+    def _timestep(self, Te: float) -> int:
+        nsub = max(1, math.ceil(Te / MJ_STEP_MAX_S))
+        if self._Te != Te:
+            self._Te = Te
+            self.m.opt.timestep = Te / nsub
+            for v in self.iv:
+                self.m.dof_solref[v] = (2.0 * self.m.opt.timestep, 1.0)
+                self.m.dof_solimp[v] = (0.9999, 0.9999, 0.001, 0.5, 2.0)
+        return nsub
+
+    @property
+    def q(self) -> list[float]:
+        return [float(self.d.qpos[i]) for i in self.iq]
+
+    def place(self, q) -> None:
+        for i, v in zip(self.iq, q, strict=True):
+            self.d.qpos[i] = v
+        mj.close_loops(self.m, self.d, list(self.JOINTS))
+        self.d.qvel[:] = 0.0
+        self.mujoco.mj_forward(self.m, self.d)
+
+    def advance(self, tau, Te: float) -> None:
+        nsub = self._timestep(Te)
+        for a, t in zip(self.ia, tau, strict=True):
+            self.d.ctrl[a] = t
+        self.d.qfrc_applied[:] = 0.0
+        for v, t0 in zip(self.iv, self.T0, strict=True):
+            self.d.qfrc_applied[v] = -t0
+        for _ in range(nsub):
+            self.mujoco.mj_step(self.m, self.d)
+            q = self.q
+            if any(not self.lo[j] <= q[j] <= self.hi[j] for j in range(2)):  # an inelastic stop
+                self.place([min(max(q[j], self.lo[j]), self.hi[j]) for j in range(2)])
+
+
 def hand_path(pred, half_y_m: float, n: int) -> np.ndarray:
     """Joint angles (n, 2) of the operator's hand move: E from home along +y by HAND_FRACTION
     of the workspace height (``2 half_y_m``) and back, sin^2 in time; followed from home in
@@ -160,17 +232,20 @@ def hand_path(pred, half_y_m: float, n: int) -> np.ndarray:
     return q
 
 
-def simulate(pred, p: dict, seed: int = 0, half_y_m: float = 0.05) -> tuple[np.ndarray, np.ndarray, np.ndarray, dict]:
+def simulate(pred, p: dict, seed: int = 0, half_y_m: float = 0.05,
+             mjcf=None) -> tuple[np.ndarray, np.ndarray, np.ndarray, dict]:
     """(t_s (N,), counts (N, 2), commanded currents (N, 2) A, truth) of one run of the
-    2-motor routine on the reduced 5-bar with perturbations ``p``
-    (:func:`cad.sim.bench.parse_perturb`); ``half_y_m`` half the workspace height (the hand move)."""
+    2-motor routine with perturbations ``p`` (:func:`cad.sim.bench.parse_perturb`) on the
+    reduced 5-bar, or on MuJoCo with the MJCF file ``mjcf``; ``half_y_m`` half the workspace
+    height (the hand move)."""
     rng = np.random.default_rng(seed)
     tr = truth(pred, p)
     plan = pred.plan
     rng_j = [STOP_FRACTION * (h - lo) for lo, h in zip(plan.q_min_rad, plan.q_max_rad, strict=True)]
     lo = [a - d for a, d in zip(plan.q_min_rad, rng_j, strict=True)]
     hi = [b + d for b, d in zip(plan.q_max_rad, rng_j, strict=True)]
-    plant = Plant5(pred, tr, lo, hi)
+    plant = (Plant5(pred, tr, lo, hi) if mjcf is None else
+             MujocoPlant5(mjcf, pred, tr, lo, hi, 2 * abs(tr["kt_Nm_per_A"]) * pred.i_max_A))
     n, Te = plan.n_samples, plan.Te_s
     n_hand = int(math.ceil(plan.T_hand_s / Te))
     qh = hand_path(pred, half_y_m, n_hand)
@@ -197,5 +272,5 @@ def simulate(pred, p: dict, seed: int = 0, half_y_m: float = 0.05) -> tuple[np.n
             plant.advance([ktt * (late[j] + noise[k][j]) for j in range(2)], Te)
     tr["status"] = {excitation2.DONE: "done", excitation2.RANGE: "stopped: a joint left its range (or the hold envelope)",
                     excitation2.ENCODER: "stopped: a joint moved against the +y hand move"}.get(st.status, "running")
-    tr["model"] = "reduced"
+    tr["model"] = "reduced" if mjcf is None else "mujoco"
     return np.arange(n) * Te, counts[:n], cmd[:n], tr

@@ -184,9 +184,15 @@ def predict(design, report: dict) -> Prediction5:
 
 
 def build_report(design, build_dir: Path | None) -> dict:
-    """report.json of the design's build: ``build_dir`` (a finished ``build --formats mjcf``
-    of this design; DesignError naming ``--build-dir`` otherwise) or the cached simulator
-    build (:func:`cad.sim.device.device_build`)."""
+    """report.json of the design's build (:func:`build_folder`)."""
+    return build_folder(design, build_dir)[1]
+
+
+def build_folder(design, build_dir: Path | None) -> tuple[Path, dict]:
+    """(folder, report.json) of the design's build: ``build_dir`` (a finished ``build
+    --formats mjcf`` of this design; DesignError naming ``--build-dir`` otherwise) or the
+    cached simulator build (:func:`cad.sim.device.device_build`); the folder holds
+    ``<name>.xml``."""
     if build_dir is not None:
         build_dir = Path(build_dir)
         if not (os.path.lexists(build_dir / "report.json") and os.path.lexists(build_dir / f"{design.name}.xml")):
@@ -199,7 +205,7 @@ def build_report(design, build_dir: Path | None) -> dict:
     if not isinstance(rep, dict) or rep.get("name") != design.name or not isinstance(rep.get("bodies"), dict):
         raise DesignError("--build-dir", f"{folder} is not a build of {design.name!r} (its report.json "
                           "names another design or has no bodies)")
-    return rep
+    return folder, rep
 
 
 def predict_from_build(design, build_dir=None) -> Prediction5:

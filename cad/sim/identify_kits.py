@@ -82,11 +82,13 @@ def _identify_5(pred, log, path):
 
 
 def _bench_5(design, p: dict, seed: int, build_dir, model: str):
-    pred = identify_fivebar.predict_from_build(design, None if build_dir is None else Path(build_dir))
+    folder, rep = identify_fivebar.build_folder(design, None if build_dir is None else Path(build_dir))
+    pred = identify_fivebar.predict(design, rep)
     half_y_m = 1e-3 * workspace_half_mm(design.workspace)[1]
-    t, counts, cmd, tr = bench_fivebar.simulate(pred, p, seed, half_y_m)
+    mjcf = folder / f"{design.name}.xml" if model == "mujoco" else None
+    t, counts, cmd, tr = bench_fivebar.simulate(pred, p, seed, half_y_m, mjcf)
     return pred, t, counts, cmd, tr, {}
 
 
-FIVEBAR = IdentifyKit(2, ("reduced",), _check_build_dir_5, identify_fivebar.predict_from_build, _identify_5,
+FIVEBAR = IdentifyKit(2, ("mujoco", "reduced"), _check_build_dir_5, identify_fivebar.predict_from_build, _identify_5,
                       _bench_5)

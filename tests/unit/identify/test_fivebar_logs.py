@@ -75,9 +75,9 @@ def test_a_motor_that_does_not_move_is_too_little_excitation(panto_pred):
         identify(panto_pred, _log(panto_pred, t, c, i), "t.csv")
 
 
-def test_bench_log_refuses_the_mujoco_model_for_the_five_bar(tmp_path):
-    code, _, err = hapticad("bench-log", PANTO, "--out", tmp_path / "b.csv", "--model", "mujoco")
-    assert_one_line_error(code, err, "--model", "reduced")
+def test_bench_log_refuses_an_unknown_model(tmp_path):
+    code, _, err = hapticad("bench-log", PANTO, "--out", tmp_path / "b.csv", "--model", "adams")
+    assert_one_line_error(code, err, "--model", "mujoco")
     assert not (tmp_path / "b.csv").exists()
 
 
@@ -97,8 +97,9 @@ def test_log_rows_are_the_documented_columns(panto_pred):
 
 @pytest.mark.slow
 def test_the_day_on_the_bench_five_bar(tmp_path):
-    """build --formats mjcf, bench-log, identify --out on the bundled 5-bar (one CAD build;
-    covered cheaply without a build by test_fivebar_recovery.py and the cases above)."""
+    """build --formats mjcf, bench-log (MuJoCo: the exported MJCF, the default), identify --out
+    on the bundled 5-bar (one CAD build; covered cheaply without a build, on the reduced bench,
+    by test_fivebar_recovery.py and the cases above)."""
     import json
 
     build = tmp_path / "build"
@@ -109,7 +110,7 @@ def test_the_day_on_the_bench_five_bar(tmp_path):
                               "--perturb", "friction=2", "--perturb", "offset_mNm=3", "--json")
     assert code == 0, err
     truth = json.loads((tmp_path / "log.true.json").read_text())
-    assert truth["perturb"]["mass"] == 1.15 and truth["status"] == "done" and truth["model"] == "reduced"
+    assert truth["perturb"]["mass"] == 1.15 and truth["status"] == "done" and truth["model"] == "mujoco"
     code, out, err = hapticad("identify", PANTO, log, "--build-dir", build, "--out", tmp_path / "id", "--json")
     assert code == 0, err
     res = json.loads(out)
@@ -121,3 +122,8 @@ def test_the_day_on_the_bench_five_bar(tmp_path):
     # the prediction is the datasheet's effective mass at home (report.json)
     assert mxx["predicted"] == pytest.approx(rep["effective_mass_home"]["mass_x_g_diag"], rel=1e-9)
     assert mxx["value"] == pytest.approx(truth["Mxx_g_home"], rel=0.02)
+    for j in range(2):  # the tolerances of test_fivebar_recovery.py, on the MuJoCo bench
+        tc = next(r for r in res["figures"] if r["key"] == f"Tc{j}_mNm")
+        off = next(r for r in res["figures"] if r["key"] == f"offset{j}_mNm")
+        assert tc["value"] * 1e-3 == pytest.approx(truth["Tc_Nm"][j], rel=0.10)
+        assert off["value"] * 1e-3 == pytest.approx(truth["offset_Nm"][j], abs=3e-4)
