@@ -51,6 +51,7 @@ extern "C" {{
 #define HC_IDENT_ALPHA {lit(p.alpha)}         /* velocity low-pass per sample ({p.fc_Hz:g} Hz) */
 #define HC_IDENT_HAND_MIN_RAD {lit(p.hand_min_rad)}
 #define HC_IDENT_N_SAMPLES {p.n_samples}L
+#define HC_IDENT_GRAVITY_FF {int(p.gravity_ff)}  /* 1: the hold adds hc_gravity_torques (a vertical device) */
 /* per joint: hold gains, home (the hold's target), range and hold envelope about home (leaving
  * either stops the routine: beyond the envelope the hold is at the current clamp), the safe range (the chirps run only while every joint is inside), the sign of the +y hand move */
 {_per_joint("HC_IDENT_KP_NM_PER_RAD", p.kp_Nm_per_rad)}
@@ -128,7 +129,7 @@ static int hc_ident_check(const hc_ident_t *s, const hc_real q[2], hc_real sp)
 
 int hc_ident_step(hc_ident_t *s, const hc_encoder_t *enc, const long counts[2], hc_real amps[2])
 {
-    hc_real q[HC_N_JOINTS], t, sp, g, ch;
+    hc_real q[HC_N_JOINTS], tg[HC_N_JOINTS], t, sp, g, ch;
     int j, inside;
     hc_counts_to_angles(enc, counts, q);
     t = (hc_real)s->k * HC_IDENT_TE_S;
@@ -154,9 +155,12 @@ int hc_ident_step(hc_ident_t *s, const hc_encoder_t *enc, const long counts[2], 
     g = sp / HC_IDENT_T_SETTLE_S;
     if (g > HC_R(1.0)) g = HC_R(1.0);
     ch = sp - HC_IDENT_T_SETTLE_S;
+    tg[0] = tg[1] = HC_R(0.0);
+    if (HC_IDENT_GRAVITY_FF) (void)hc_gravity_torques(q, tg);  /* a refused pose: 0, as the reference */
     inside = q[0] >= SLO[0] && q[0] <= SHI[0] && q[1] >= SLO[1] && q[1] <= SHI[1];
     for (j = 0; j < 2; ++j) {
         hc_real i = -g * (KP[j] * (q[j] - HOME[j]) + KD[j] * s->v_f[j]) / HC_IDENT_KT_NM_PER_A;
+        if (HC_IDENT_GRAVITY_FF) i += tg[j] / HC_IDENT_KT_NM_PER_A;
         if (ch >= HC_R(0.0) && ch < HC_IDENT_T_CHIRP_S && inside) {
             hc_real fa = (j == 0) ? HC_IDENT_F0_HZ : HC_IDENT_F1_HZ;
             hc_real fb = (j == 0) ? HC_IDENT_F1_HZ : HC_IDENT_F0_HZ;

@@ -9,7 +9,10 @@ per joint, at the control period ``Te_s`` (time t = k Te from the first sample):
    motors (the device frame's +y) and back: each joint's largest excursion from its first
    angle shows its encoder direction (``hand_sign``: the sign each joint must show, from the
    prediction's Jacobian at home);
-2. ``hold`` (T_settle): a PD hold of each joint to its home angle, gains ramped from 0 to 1;
+2. ``hold`` (T_settle): a PD hold of each joint to its home angle, gains ramped from 0 to 1,
+   plus, on a vertical device (``gravity_ff``), the gravity torques at the angles read
+   (``hc_gravity_torques`` of the device code; not ramped: the device must not fall when the
+   operator lets go);
 3. ``chirp`` (T_chirp): the hold plus a tapered chirp per motor, amplitude ``A``; motor 0
    sweeps up (f0 -> f1), motor 1 down (f1 -> f0), so that at every instant the two motors
    drive at different frequencies (the joint-space mass matrix is separable: a common
@@ -76,6 +79,7 @@ class Plan2:
     kd_Nm_s_per_rad: tuple[float, ...]
     hand_sign: tuple[int, ...]
     envelope_rad: tuple[float, ...]
+    gravity_ff: bool = False
     T_hand_s: float = T_HAND_S
     T_settle_s: float = T_SETTLE_S
     T_chirp_s: float = T_CHIRP_S
@@ -114,13 +118,19 @@ class Plan2:
 
 
 def plan2(Te_s: float, kt_Nm_per_A: float, i_max_A: float, q_min_rad, q_max_rad, q_home_rad,
-          inertia_kg_m2, hand_sign, counts_per_rev: int) -> Plan2:
+          inertia_kg_m2, hand_sign, counts_per_rev: int, gravity_ff: bool = False,
+          gravity_A: float = 0.0) -> Plan2:
     """The :class:`Plan2` of a 2-motor device: control period (s), torque constant (N m/A),
     continuous current (A), joint ranges and home (rad, per joint), the predicted joint
     inertias at home (diagonal of the joint-space mass matrix, kg m^2), the hand-move signs,
-    encoder counts per turn. Hold stiffness: the chirp amplitude deflects a joint by
+    encoder counts per turn, whether the hold adds the gravity torques and the largest gravity
+    current at home ``gravity_A`` (A): the chirp amplitude is AMPLITUDE_FRACTION of the current
+    left beside it (raises ValueError when gravity alone takes the continuous current). Hold stiffness: the chirp amplitude deflects a joint by
     ``TRAVEL_FRACTION`` of its smaller half-range about home; damping ratio ``ZETA``."""
-    A = AMPLITUDE_FRACTION * i_max_A
+    if gravity_A >= i_max_A:
+        raise ValueError(f"holding the device against gravity takes {gravity_A:.3g} A, the motors' continuous "
+                         f"current is {i_max_A:.3g} A")
+    A = AMPLITUDE_FRACTION * (i_max_A - gravity_A)
     kp, kd, env = [], [], []
     for lo, hi, h, J in zip(q_min_rad, q_max_rad, q_home_rad, inertia_kg_m2, strict=True):
         half = min(h - lo, hi - h)
@@ -129,7 +139,7 @@ def plan2(Te_s: float, kt_Nm_per_A: float, i_max_A: float, q_min_rad, q_max_rad,
         kd.append(2.0 * ZETA * math.sqrt(kp[-1] * J))
     return Plan2(Te_s, kt_Nm_per_A, i_max_A, tuple(map(float, q_min_rad)), tuple(map(float, q_max_rad)),
                  tuple(map(float, q_home_rad)), A, tuple(kp), tuple(kd), tuple(int(s) for s in hand_sign),
-                 tuple(env), hand_min_rad=HAND_MIN_COUNTS * 2.0 * math.pi / counts_per_rev)
+                 tuple(env), bool(gravity_ff), hand_min_rad=HAND_MIN_COUNTS * 2.0 * math.pi / counts_per_rev)
 
 
 @dataclass
@@ -166,9 +176,10 @@ def _check(p: Plan2, st: State2, q, s: float) -> int:
     return DONE if s >= 2 * p.T_settle_s + p.T_chirp_s else RUNNING
 
 
-def step(p: Plan2, st: State2, q_rad) -> tuple[list[float], int]:
-    """([current A per motor], status) for the joint angles ``q_rad`` read this period;
-    advances ``st``. The C function ``hc_ident_step`` does the same arithmetic in the same order."""
+def step(p: Plan2, st: State2, q_rad, tau_g=None) -> tuple[list[float], int]:
+    """([current A per motor], status) for the joint angles ``q_rad`` read this period and,
+    when ``p.gravity_ff``, the gravity torques ``tau_g`` (N m per motor) at them; advances
+    ``st``. The C function ``hc_ident_step`` does the same arithmetic in the same order."""
     n = p.n_joints
     t = st.k * p.Te_s
     for j in range(n):
@@ -197,14 +208,19 @@ def step(p: Plan2, st: State2, q_rad) -> tuple[list[float], int]:
     out = []
     for j in range(n):
         i = -g * (p.kp_Nm_per_rad[j] * (q_rad[j] - p.q_home_rad[j]) + p.kd_Nm_s_per_rad[j] * st.v_f[j]) / p.kt_Nm_per_A
+        if p.gravity_ff:
+            i += tau_g[j] / p.kt_Nm_per_A
         if 0.0 <= c < p.T_chirp_s and inside:
             i += p.amplitude_A * _taper(p, c) * math.sin(_phase(p, j, c))
         out.append(max(-p.i_max_A, min(p.i_max_A, i)))
     return out, RUNNING
 
 
-def run_on_angles(p: Plan2, q_rad) -> np.ndarray:
+def run_on_angles(p: Plan2, q_rad, tau_g=None) -> np.ndarray:
     """Currents (N, n) A the routine commands for a given sequence of read angles (N, n) rad
-    (open loop: the reference the compiled C routine is compared with)."""
+    and gravity torques (N, n) N m (open loop: the reference the compiled C routine is
+    compared with)."""
     st = State2()
-    return np.array([step(p, st, [float(x) for x in row])[0] for row in np.asarray(q_rad, dtype=float)])
+    q = np.asarray(q_rad, dtype=float)
+    tg = np.zeros_like(q) if tau_g is None else np.asarray(tau_g, float)
+    return np.array([step(p, st, [float(x) for x in row], list(g))[0] for row, g in zip(q, tg, strict=True)])

@@ -16,7 +16,9 @@ integrated by semi-implicit Euler in sub-steps of at most :data:`cad.sim.bench.S
 Gravity (a vertical device) is the prediction's table (bilinear on a joint grid) times
 ``gravity``. The log is what the firmware sees: counts floored in each encoder's true
 direction, the commanded currents; the applied current is the command ``delay`` periods late
-plus Gaussian noise. During the hand phase the handle follows a hand move along +y of
+plus Gaussian noise. A vertical device's routine adds the predicted gravity torques at the
+angles read (the firmware's ``hc_gravity_torques``; here from a :class:`GravityTable`, within
+~1e-5 N m of them). During the hand phase the handle follows a hand move along +y of
 :data:`cad.sim.bench.HAND_FRACTION` of the workspace height and back. Where the motor has no
 friction data the bench's Coulomb friction is :data:`NOMINAL_TC_FRACTION` of the continuous
 torque (an assumption of the bench, said in the sidecar).
@@ -57,6 +59,29 @@ def truth(pred, p: dict) -> dict:
             "Mxx_g_home": 1e3 * float(M[0, 0]), "Myy_g_home": 1e3 * float(M[1, 1])}
 
 
+class GravityTable:
+    """The prediction's gravity torques (N m) times ``scale`` on a :data:`GRAVITY_GRID` joint
+    grid over [lo, hi] (rad), bilinear in between (plain floats: a fast scalar loop)."""
+
+    def __init__(self, pred, lo, hi, scale: float = 1.0):
+        self.q0 = [float(x) for x in lo]
+        self.dq = [(h - low) / (GRAVITY_GRID - 1) for low, h in zip(lo, hi, strict=True)]
+        a, b = np.meshgrid(*(np.linspace(low, h, GRAVITY_GRID) for low, h in zip(lo, hi, strict=True)), indexing="ij")
+        tab = scale * pred.gravity(np.column_stack([a.ravel(), b.ravel()]))
+        self.t = [tab[:, j].reshape(GRAVITY_GRID, GRAVITY_GRID).tolist() for j in range(2)]
+
+    def __call__(self, q) -> tuple[float, float]:
+        u = [(q[j] - self.q0[j]) / self.dq[j] for j in range(2)]
+        i = [min(max(int(math.floor(u[j])), 0), GRAVITY_GRID - 2) for j in range(2)]
+        f = [u[j] - i[j] for j in range(2)]
+        out = []
+        for t in self.t:
+            a, b = t[i[0]][i[1]], t[i[0] + 1][i[1]]
+            c, d = t[i[0]][i[1] + 1], t[i[0] + 1][i[1] + 1]
+            out.append((1 - f[0]) * ((1 - f[1]) * a + f[1] * c) + f[0] * ((1 - f[1]) * b + f[1] * d))
+        return out[0], out[1]
+
+
 class Plant5:
     """The reduced 5-bar (plain floats: a fast scalar loop). ``place(q)`` (the hand holds
     the joints at q, at rest), ``advance(tau (2,), Te)``, ``q`` (2,) rad."""
@@ -69,25 +94,7 @@ class Plant5:
         self.Tc, self.b, self.T0 = list(tr["Tc_Nm"]), list(tr["b_Nm_s_per_rad"]), list(tr["offset_Nm"])
         self.lo, self.hi = list(lo), list(hi)
         self.q, self.w = list(pred.q_home_rad), [0.0, 0.0]
-        self.grav = None
-        if pred.vertical:
-            self.q0 = [float(x) for x in lo]
-            self.dq = [(h - low) / (GRAVITY_GRID - 1) for low, h in zip(lo, hi, strict=True)]
-            a, b = np.meshgrid(*(np.linspace(low, h, GRAVITY_GRID) for low, h in zip(lo, hi, strict=True)),
-                               indexing="ij")
-            tab = tr["gravity_scale"] * pred.gravity(np.column_stack([a.ravel(), b.ravel()]))
-            self.grav = [tab[:, j].reshape(GRAVITY_GRID, GRAVITY_GRID).tolist() for j in range(2)]
-
-    def _gravity(self, q) -> tuple[float, float]:
-        u = [(q[j] - self.q0[j]) / self.dq[j] for j in range(2)]
-        i = [min(max(int(math.floor(u[j])), 0), GRAVITY_GRID - 2) for j in range(2)]
-        f = [u[j] - i[j] for j in range(2)]
-        out = []
-        for t in self.grav:
-            a, b = t[i[0]][i[1]], t[i[0] + 1][i[1]]
-            c, d = t[i[0]][i[1] + 1], t[i[0] + 1][i[1] + 1]
-            out.append((1 - f[0]) * ((1 - f[1]) * a + f[1] * c) + f[0] * ((1 - f[1]) * b + f[1] * d))
-        return out[0], out[1]
+        self.grav = GravityTable(pred, lo, hi, tr["gravity_scale"]) if pred.vertical else None
 
     def accel(self, q, w, tau) -> tuple[float, float]:
         g, (IpL, IdL, mxL, myL, IpR, IdR, mxR, myR) = self.g, self.beta
@@ -126,7 +133,7 @@ class Plant5:
         M12 = hL * P12 + hR * P21 + IdL * P11 * P12 + IdR * P21 * P22
         f = [tau[j] - self.Tc[j] * math.tanh(w[j] / OMEGA_S) - self.b[j] * w[j] - self.T0[j] for j in range(2)]
         if self.grav is not None:
-            gv = self._gravity(q)
+            gv = self.grav(q)
             f = [f[0] - gv[0], f[1] - gv[1]]
         f1, f2 = f[0] - h1, f[1] - h2
         dm = M11 * M22 - M12 * M12
@@ -254,6 +261,7 @@ def simulate(pred, p: dict, seed: int = 0, half_y_m: float = 0.05,
     noise = rng.normal(0.0, tr["current_noise_A"], (n, 2)).tolist()
     delay, ktt = tr["delay_samples"], tr["kt_Nm_per_A"]
     counts, cmd = np.zeros((n, 2), np.int64), np.zeros((n, 2))
+    ff = GravityTable(pred, lo, hi) if plan.gravity_ff else None  # the firmware's feed-forward
     st = excitation2.State2()
     for k in range(n):
         t = k * Te
@@ -262,7 +270,8 @@ def simulate(pred, p: dict, seed: int = 0, half_y_m: float = 0.05,
         c = [math.floor(sgn[j] * (plant.q[j] - pred.zero_rad[j]) / step) for j in range(2)]
         counts[k] = c
         q_read = pred.angles(np.array(c))[0]
-        i, status = excitation2.step(plan, st, [float(q_read[0]), float(q_read[1])])
+        tg = ff(q_read) if ff is not None else None
+        i, status = excitation2.step(plan, st, [float(q_read[0]), float(q_read[1])], tg)
         cmd[k] = i
         if status != excitation2.RUNNING:
             n = k + 1

@@ -159,6 +159,13 @@ def _friction(device) -> tuple[float | None, str]:
     return 1e-3 * f, f"{device.motor.name}: brushes and bearings Kt I0 (the motor's no-load current)"
 
 
+def _gravity_A(spec, motor) -> float:
+    """The largest motor current holding the device against gravity at home (A; 0 when horizontal)."""
+    if spec.gravity_m_s2 is None:
+        return 0.0
+    return float(np.max(np.abs(reference.gravity_torques(spec, np.array([spec.q_home_rad]))))) / motor.kt_Nm_per_A
+
+
 def predict(design, report: dict) -> Prediction5:
     """The :class:`Prediction5` of a 5-bar ``design`` built into ``report`` (report.json:
     its ``bodies``)."""
@@ -175,7 +182,8 @@ def predict(design, report: dict) -> Prediction5:
     Mq = joint2.mass_matrix(g, beta, (device.motor.rotor_inertia_kg_m2,) * 2, home)[0]
     dq = np.linalg.solve(jacobian(g, home)[0], np.array([0.0, 1.0]))  # the hand move: +y
     plan = excitation2.plan2(TE_S, motor.kt_Nm_per_A, motor.current_continuous_A, lo, hi, spec.q_home_rad,
-                             np.diag(Mq), np.sign(dq), device.encoder.counts_per_rev)
+                             np.diag(Mq), np.sign(dq), device.encoder.counts_per_rev,
+                             gravity_ff=spec.gravity_m_s2 is not None, gravity_A=_gravity_A(spec, motor))
     Tc, src = _friction(device)
     return Prediction5(design.name, h, g, beta, device.motor.rotor_inertia_kg_m2, TE_S, motor.kt_Nm_per_A,
                        motor.current_continuous_A, device.encoder.counts_per_rev,
@@ -316,9 +324,10 @@ def _base(pred: Prediction5, log: Log) -> dict:
 
 def _stopped(pred: Prediction5, log: Log, q, k0: int, enc) -> dict | None:
     """The result of a log whose routine stopped early (None when it ran through): after the
-    hand phase (an encoder reversed), or with a joint out of its range or hold envelope (its
-    hold pushed it away: that motor's current gain reversed when its commanded torque drove
-    the motion)."""
+    hand phase (an encoder reversed), or with a joint out of its range or hold envelope: a
+    motor's current gain is reversed when the motion seen from the hold's start is closer to
+    what the reversed commanded current would cause (with the predicted gravity, from rest,
+    the joint's own inertia) than to what the current as configured would."""
     base = _base(pred, log)
     if k0 >= len(q) and min(enc) < 0:
         sig = [r for r in _signs(enc, None)]
@@ -333,10 +342,13 @@ def _stopped(pred: Prediction5, log: Log, q, k0: int, enc) -> dict | None:
     seg = slice(k0, end + 1)
     Te = float(np.median(np.diff(log.t_s[seg]))) if end > k0 else pred.Te_s
     Mq = joint2.mass_matrix(pred.geom, pred.beta_links, (pred.rotor_kg_m2,) * 2, np.array([pred.q_home_rad]))[0]
+    grav = pred.gravity(q[seg]) if pred.vertical else np.zeros((end + 1 - k0, 2))
     gain = []
-    for j in range(2):  # from rest at the hold's start: the motion the commanded torque alone causes
-        moved = float(np.sum(np.cumsum(pred.kt_Nm_per_A * log.current_A[seg, j] / Mq[j, j]))) * Te**2
-        gain.append(1 if moved * (q[end, j] - q[k0, j]) >= 0 else -1)
+    for j in range(2):  # from rest at the hold's start: the motion each sign of the current would cause
+        seen = q[end, j] - q[k0, j]
+        moved = [float(np.sum(np.cumsum((s * pred.kt_Nm_per_A * log.current_A[seg, j] - grav[:, j]) / Mq[j, j])))
+                 * Te**2 for s in (1, -1)]
+        gain.append(1 if abs(moved[0] - seen) <= abs(moved[1] - seen) else -1)
     sig = _signs(enc, gain)
     return {**base, "stopped": f"at t = {log.t_s[end]:.3f} s: a joint left its range (or the hold envelope)", "figures": sig,
             "misses": [r["key"] for r in sig if r["verdict"] == "MISS"]}
