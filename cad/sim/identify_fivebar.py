@@ -168,7 +168,8 @@ def _gravity_A(spec, motor) -> float:
 
 def predict(design, report: dict) -> Prediction5:
     """The :class:`Prediction5` of a 5-bar ``design`` built into ``report`` (report.json:
-    its ``bodies``)."""
+    its ``bodies``). DesignError naming ``firmware.plane`` when a vertical device's weight at
+    home takes the motors' whole continuous current (no current is left to excite it)."""
     from cad.pipeline import design_hash  # cad.pipeline imports the family packages: a cycle
 
     device = resolve_device(design)
@@ -181,9 +182,13 @@ def predict(design, report: dict) -> Prediction5:
     home = np.array([spec.q_home_rad])
     Mq = joint2.mass_matrix(g, beta, (device.motor.rotor_inertia_kg_m2,) * 2, home)[0]
     dq = np.linalg.solve(jacobian(g, home)[0], np.array([0.0, 1.0]))  # the hand move: +y
-    plan = excitation2.plan2(TE_S, motor.kt_Nm_per_A, motor.current_continuous_A, lo, hi, spec.q_home_rad,
-                             np.diag(Mq), np.sign(dq), device.encoder.counts_per_rev,
-                             gravity_ff=spec.gravity_m_s2 is not None, gravity_A=_gravity_A(spec, motor))
+    try:
+        plan = excitation2.plan2(TE_S, motor.kt_Nm_per_A, motor.current_continuous_A, lo, hi, spec.q_home_rad,
+                                 np.diag(Mq), np.sign(dq), device.encoder.counts_per_rev,
+                                 gravity_ff=spec.gravity_m_s2 is not None, gravity_A=_gravity_A(spec, motor))
+    except ValueError as exc:
+        raise DesignError("firmware.plane", f"the identification routine cannot run: {exc} "
+                          "(counterbalance the links, lighter links or a stronger motor)") from None
     Tc, src = _friction(device)
     return Prediction5(design.name, h, g, beta, device.motor.rotor_inertia_kg_m2, TE_S, motor.kt_Nm_per_A,
                        motor.current_continuous_A, device.encoder.counts_per_rev,

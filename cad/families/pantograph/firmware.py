@@ -11,6 +11,8 @@ import math
 import numpy as np
 
 from cad import tolerances as tol
+from cad.design import bounds
+from cad.errors import DesignError
 from cad.firmware import identify2_c
 from cad.firmware.csrc import JT_F, lit
 from cad.firmware.model import KinematicModel, SpecParams, perp, rot
@@ -184,8 +186,14 @@ def fivebar_poses_bad(spec, q_ok, rng, n: int) -> np.ndarray:
 
 def fivebar_identify_files(design, report: dict, spec) -> dict[str, str]:
     """The 2-motor identification routine (:mod:`cad.firmware.identify2_c`), its constants from
-    the same plan as the virtual bench (:func:`cad.sim.identify_fivebar.predict`)."""
-    return identify2_c.files(spec, identify_fivebar.predict(design, report).plan)
+    the same plan as the virtual bench (:func:`cad.sim.identify_fivebar.predict`); none, with a
+    warning, for a vertical device whose weight takes the motors' continuous current."""
+    try:
+        pred = identify_fivebar.predict(design, report)
+    except DesignError as exc:  # a vertical device too heavy to excite: the rest is written
+        bounds.warn(f"firmware: no identify/ routine: {exc}")
+        return {}
+    return identify2_c.files(spec, pred.plan)
 
 
 def workspace_radius_m(spec, design) -> float:

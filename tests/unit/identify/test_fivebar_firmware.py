@@ -163,3 +163,27 @@ def test_vertical_routine_adds_the_gravity_torques(bars, tmp_path):
     # the bench's feed-forward (a bilinear table of the same torques): measured 1.0e-4 A off it
     np.testing.assert_allclose(cmd, ref, rtol=0, atol=3e-4)
     assert np.max(np.abs(ref[2000:])) > 0.5  # the hold carries the links: ~0.8 A
+
+
+def test_a_vertical_device_too_heavy_to_excite(bars, tmp_path):
+    """Heavy links on a vertical 5-bar whose weight at home takes more than the motors'
+    continuous current: predict names firmware.plane in one line; the firmware is written
+    without identify/, with a warning."""
+    from cad.design import bounds, load_design
+    from cad.errors import DesignError
+    from cad.firmware import firmware_files
+    from cad.pipeline import design_hash
+    from cad.sim.identify_fivebar import predict
+    from tests.unit.identify.conftest import ROOT
+
+    p = tmp_path / "heavy.toml"
+    p.write_text((ROOT / "designs" / "pantograph.toml").read_text() + '\n[firmware]\nplane = "vertical"\n')
+    d = load_design(p)
+    rep = bars(d, handle_kg=0.1, rho_kg_per_m=0.3)
+    with pytest.raises(DesignError, match="firmware.plane: the identification routine cannot run"):
+        predict(d, rep)
+    bounds.reset()
+    files = firmware_files(d, rep, design_hash(d))
+    assert "firmware/hapticad_device.c" in files and not any("identify/" in f for f in files)
+    assert any("no identify/ routine" in w and "firmware.plane" in w for w in bounds.collected())
+    bounds.reset()
