@@ -82,6 +82,19 @@ def test_bench_unperturbed_is_within_every_tolerance(panto_pred):
     assert res["misses"] == []
 
 
+def test_a_log_with_one_motors_current_negated_names_that_motor(panto_pred):
+    """A logger that writes motor 1's current with the opposite sign (the routine itself ran
+    fine): the fit's sign search names current_gain_sign_1 reversed, motor 0 as configured,
+    and still finds the mass."""
+    pred = panto_pred
+    t, c, i, tr = bench_fivebar.simulate(pred, bench.parse_perturb(["mass=1.15"]), 5)
+    res, _ = identify(pred, _log(pred, t, c, i * np.array([1.0, -1.0])), "t.csv")
+    assert _fig(res, "current_gain_sign_0")["value"] == "+"
+    assert _fig(res, "current_gain_sign_1")["value"] == "reversed"
+    assert res["misses"] == ["Mxx_g@home", "Myy_g@home", "current_gain_sign_1"]
+    assert _fig(res, "Mxx_g@home")["value"] == pytest.approx(tr["Mxx_g_home"], rel=MASS_REL)
+
+
 def test_bench_excitation_stays_within_limits(panto_pred):
     p = panto_pred.plan
     t, c, i, tr = bench_fivebar.simulate(panto_pred, bench.parse_perturb(["mass=1.15"]), 0)
