@@ -392,4 +392,4 @@ def identify(pred: Prediction5, log: Log, path) -> tuple[dict, Fit2 | None]:
     return res, f
 
 
-__all__ = ["EXPLAIN", "Prediction5", "identify", "predict", "predict_from_build"]
+__all__ = ["Prediction5", "build_folder", "build_report", "identify", "predict", "predict_from_build"]
