@@ -801,14 +801,23 @@ def run_bench(out_dir: str | Path = "exports/bench", quick: bool = False, only: 
     return _run(Path(out_dir), quick, only, echo)
 
 
+def _ident_kit(design):
+    """The design's :class:`cad.sim.identify_kits.IdentifyKit` (its kinematic model's)."""
+    from cad.firmware import linkage_model
+
+    return linkage_model(design).identification
+
+
 def identify_device(design, log_path: str | Path, build_dir: str | Path | None = None,
              out: str | Path | None = None) -> dict:
-    """Identify a built four-bar from a log in the identification format (``hapticad identify
-    --json``; docs/identify.md): apparent mass at the log's poses, Coulomb and viscous friction,
-    gravity load and offset, encoder direction and current-gain sign, each with one standard
-    deviation and a verdict against the prediction of the design's build (``build_dir``: a
-    finished ``build --formats mjcf``, default the cached simulator build). With ``out``
-    writes ``identify.json``, ``identify.md`` and the fit and residual plots there.
+    """Identify a built device (a four-bar or a 5-bar pantograph) from a log in the
+    identification format (``hapticad identify --json``; docs/identify.md): the apparent mass
+    (four-bar: along the path at the log's poses; 5-bar: at the handle along x and y at
+    home), Coulomb and viscous friction, gravity and offsets, each encoder's direction and each
+    current gain's sign, each with one standard deviation and a verdict against the prediction
+    of the design's build (``build_dir``: a finished ``build --formats mjcf``, default the
+    cached simulator build). With ``out`` writes ``identify.json``, ``identify.md`` and the
+    fit and residual plots there.
     Raises DesignError for another family (``mechanism.family``), FileRefused / FileDamaged
     (field ``LOG``) for a log that is not a regular file, too large, or bad (its one line)."""
     from cad.data.families import require
@@ -816,24 +825,22 @@ def identify_device(design, log_path: str | Path, build_dir: str | Path | None =
     from cad.firmware.spec import motor_data
     from cad.identify.logfile import parse_log
     from cad.io import guard
-    from cad.sim.identify_device import identify as run
-    from cad.sim.identify_device import predict_from_build
 
     _need_design(design)
     require("identify", design.family)
+    kit = _ident_kit(design)
     if build_dir is not None:  # a bad --build-dir is named before the log is read
-        from cad.sim.device import device_build
-
-        device_build(design, Path(build_dir))
+        kit.check_build_dir(design, Path(build_dir))
     text = guard.read_text(log_path, "log", "LOG")
-    log = parse_log(text, log_path, 1, motor_data(resolve_device(design).motor.spec).current_continuous_A)
-    pred = predict_from_build(design, None if build_dir is None else Path(build_dir))
+    log = parse_log(text, log_path, kit.n_joints,
+                    motor_data(resolve_device(design).motor.spec).current_continuous_A)
+    pred = kit.predict_from_build(design, None if build_dir is None else Path(build_dir))
     if log.design_hash != pred.design_hash:
         from cad.design import bounds
 
         bounds.warn(f"LOG: {log_path} names design hash {log.design_hash[:12]}..., not {design.name}'s "
                     f"{pred.design_hash[:12]}...: recorded with another design?")
-    res, fit = run(pred, log, log_path)
+    res, fit = kit.identify(pred, log, log_path)
     if out is not None:
         from cad.report.identify import write
 
@@ -842,44 +849,37 @@ def identify_device(design, log_path: str | Path, build_dir: str | Path | None =
 
 
 def bench_log(design, out_csv: str | Path, seed: int = 0, perturb=(),
-              build_dir: str | Path | None = None, model: str = "mujoco") -> dict:
-    """The virtual bench (``hapticad bench-log``, :mod:`cad.sim.bench`): simulate the built
-    four-bar (``model`` mujoco: its exported MJCF; reduced: the 1-DOF crank model) with the
-    perturbations ``perturb`` (``KEY=VALUE`` strings) running the firmware's identification
-    routine; write the log to ``out_csv`` and the true parameters to ``<out_csv stem>.true.json``
-    beside it. Returns the true parameters and the paths.
+              build_dir: str | Path | None = None, model: str | None = None) -> dict:
+    """The virtual bench (``hapticad bench-log``): simulate the built device running the
+    firmware's identification routine with the perturbations ``perturb`` (``KEY=VALUE``
+    strings, :func:`cad.sim.bench.parse_perturb`); ``model``: a four-bar's ``mujoco`` (its
+    exported MJCF, the default) or ``reduced`` (the 1-DOF crank model, :mod:`cad.sim.bench`),
+    a 5-bar's ``mujoco`` (its MJCF, the default) or ``reduced`` (its joint-space dynamics,
+    :mod:`cad.sim.bench_fivebar`); None: the layout's default. Writes the log to ``out_csv`` and the true parameters to
+    ``<out_csv stem>.true.json`` beside it. Returns the true parameters and the paths.
     Raises DesignError naming ``--perturb``, ``--seed``, ``--model`` or ``mechanism.family``."""
     import json
-    import math
-
-    import numpy as np
 
     from cad.data.families import require
     from cad.identify.logfile import format_log, header_line
     from cad.io.atomic import write_text_atomic
     from cad.sim import bench
-    from cad.sim.identify_device import predict_from_build
 
     _need_design(design)
     require("bench-log", design.family)
-    _choice("--model", model, ("mujoco", "reduced"))
+    kit = _ident_kit(design)
+    model = kit.models[0] if model is None else model
+    _choice("--model", model, kit.models)
     p = bench.parse_perturb(perturb)
     if not isinstance(seed, int) or isinstance(seed, bool) or not 0 <= seed < 2**32:
         from cad.errors import DesignError
 
         raise DesignError("--seed", f"must be an integer in [0, 2^32), got {seed!r}")
-    from cad.sim.device import device_build
-
-    folder = device_build(design, None if build_dir is None else Path(build_dir))
-    pred = predict_from_build(design, folder)
-    mjcf = folder / f"{design.name}.xml" if model == "mujoco" else None
-    t, counts, cmd, tr = bench.simulate(pred, p, seed, mjcf)
+    pred, t, counts, cmd, tr, extra = kit.bench(design, p, seed, build_dir, model)
     out_csv = Path(out_csv)
     side = out_csv.with_name(out_csv.stem + ".true.json")
     head = header_line(design.name, pred.design_hash, f"virtual bench ({model} model, seed {seed})", pred.Te_s)
     write_text_atomic(out_csv, format_log(head, t, counts, cmd))
-    q_poses = [float(np.quantile(pred.angles(counts), x)) for x in (0.05, 0.5, 0.95)] if len(counts) else []
-    tr = {**tr, "design": design.name, "design_hash": pred.design_hash, "seed": seed, "rows": len(t),
-          "M11_g_at": {f"{math.degrees(q):.1f}": float(bench.true_apparent_mass_g(pred, tr, q)) for q in q_poses}}
+    tr = {**tr, "design": design.name, "design_hash": pred.design_hash, "seed": seed, "rows": len(t), **extra}
     write_text_atomic(side, json.dumps(tr, indent=1))
     return {**tr, "log": str(out_csv), "truth": str(side)}

@@ -4,8 +4,8 @@
 identify: the built device against its prediction (issue 37, docs/identify.md): a table of
 every identified figure beside the datasheet's, with its verdict; ``--out`` writes
 ``identify.json``, ``identify.md`` and the fit and residual plots. bench-log: the virtual
-bench (:mod:`cad.sim.bench`), the log and ``<LOG>.true.json``. Four-bars only (one motor);
-other families are refused in one line. A bad log: one line naming the problem, exit 2.
+bench (:mod:`cad.sim.bench`, :mod:`cad.sim.bench_fivebar`), the log and ``<LOG>.true.json``.
+Four-bars (one motor) and the 5-bar pantograph (two motors); other families are refused in one line. A bad log: one line naming the problem, exit 2.
 """
 
 from __future__ import annotations
@@ -68,7 +68,7 @@ def _owned_or_absent(path: Path, prefix: str, flag: str) -> None:
 def register(app: typer.Typer) -> None:
     @app.command("identify")
     def identify_cmd(
-        design: Path = typer.Argument(..., help="Four-bar TOML design the device was built from."),
+        design: Path = typer.Argument(..., help="TOML design the device was built from (a four-bar or a 5-bar pantograph)."),
         log: Path = typer.Argument(..., help="Log in the identification format (docs/identify.md)."),
         out: Path = typer.Option(None, "--out", help=OUT_HELP),
         build_dir: Path = typer.Option(None, "--build-dir",
@@ -99,14 +99,15 @@ def register(app: typer.Typer) -> None:
 
     @app.command("bench-log")
     def bench_log_cmd(
-        design: Path = typer.Argument(..., help="Four-bar TOML design to simulate."),
+        design: Path = typer.Argument(..., help="TOML design to simulate (a four-bar or a 5-bar pantograph)."),
         out: Path = typer.Option(..., "--out", help="The log to write (CSV); <stem>.true.json beside it."),
         seed: int = typer.Option(0, "--seed", help="Seed of the current noise."),
         perturb: list[str] = typer.Option(None, "--perturb",
                                           help="KEY=VALUE, repeatable: mass, rotor, friction, coulomb, viscous, "
                                                "gravity, kt (factors), encoder (1 or -1), offset_mNm, delay "
                                                "(periods), noise (fraction of the continuous current)."),
-        model: str = typer.Option("mujoco", "--model", help="mujoco (the exported MJCF) | reduced (1-DOF, fast)."),
+        model: str = typer.Option(None, "--model", help="mujoco (the exported MJCF, the default) | "
+                                                         "reduced (the 1-DOF crank or the 5-bar's joint-space model, fast)."),
         build_dir: Path = typer.Option(None, "--build-dir",
                                        help="A finished `build --formats mjcf` of DESIGN (default: the cached build)."),
         json_out: bool = typer.Option(False, "--json", help="Print one JSON object."),
@@ -117,7 +118,8 @@ def register(app: typer.Typer) -> None:
         from cad.sim.bench import parse_perturb
 
         flags.out_path("--out", out, folder=False)
-        flags.choice("--model", model, ("mujoco", "reduced"))
+        if model is not None:
+            flags.choice("--model", model, ("mujoco", "reduced"))
         parse_perturb(perturb)
         _owned_or_absent(out, "# hapticad identification log", "--out")
         _owned_or_absent(out.with_name(out.stem + ".true.json"), "{", "--out")

@@ -13,8 +13,9 @@ Pure generation code (numpy; no CAD import). :func:`write_firmware` writes into
 * ``test_vectors.json`` (>= 1000 poses from the numpy model, :mod:`cad.firmware.vectors`)
   and ``test_device.c`` that checks the C code against it;
 * ``wall_example/wall_example.ino`` and ``chai3d_device.json`` (:mod:`cad.firmware.extras`);
-* four-bars: ``identify/`` -- the identification routine, its CSV log writer and an example
-  sketch (:mod:`cad.firmware.identify_c`, issue 37).
+* four-bars and the 5-bar pantograph: ``identify/`` -- the identification routine, its CSV
+  log writer and an example sketch (:mod:`cad.firmware.identify_c`, one motor;
+  :mod:`cad.firmware.identify2_c`, two motors; issue 37).
 
 The family's firmware hook chooses the generator (:func:`firmware_files`): the linkages use
 :func:`linkage_files`, the PowerMouse its current-to-wrench map

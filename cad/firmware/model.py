@@ -76,6 +76,8 @@ class KinematicModel:
     senses_rotation : the task has a rotation the device senses and renders (CHAI3D).
     identify : ``(design, report, spec) -> {file: text}``: the identification routine's files
         under ``firmware/`` (None: not generated).
+    identification : the :class:`cad.sim.identify_kits.IdentifyKit` of ``hapticad identify``
+        and ``bench-log`` (None: the layout is not identified).
     """
 
     kind: str
@@ -97,3 +99,4 @@ class KinematicModel:
     wall_normal: Hook | None = None
     senses_rotation: bool = False
     identify: Hook | None = None
+    identification: Any = None

@@ -22,6 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from cad.errors import FileDamaged
 from cad.identify import excitation
 from cad.identify.logfile import Log
 from cad.identify.regression import Fit, NotExcited, fit, hand_direction
@@ -180,7 +181,11 @@ EXPLAIN = {
 }
 
 
-def _row(key, what, value, sigma, unit, pred, tol_rel=None, tol_abs=None, explain=None) -> dict:
+def figure_row(key, what, value, sigma, unit, pred, tol_rel=None, tol_abs=None, explain=None) -> dict:
+    """One figure of the result: measured ``value`` +- ``sigma`` beside the prediction ``pred``
+    (None: no prediction), the verdict within ``tol_abs`` or ``tol_rel`` of it (n/a without a
+    prediction, or a relative tolerance of 0), and for a miss what would explain it
+    (:data:`EXPLAIN` ``explain``, by the sign of the gap)."""
     if pred is None or (tol_rel is not None and pred == 0):
         ok = None
     else:
@@ -195,6 +200,7 @@ def _row(key, what, value, sigma, unit, pred, tol_rel=None, tol_abs=None, explai
     return out
 
 
+
 def _mass_rows(pred: Prediction, f: Fit) -> list[dict]:
     c = f.names.index("c0_kg_m2"), f.names.index("c1")
     C = f.cov[np.ix_(c, c)]
@@ -204,7 +210,7 @@ def _mass_rows(pred: Prediction, f: Fit) -> list[dict]:
         D, M = float(pred.D(q)), float(pred.M11_g(q))
         m = (f.theta["c0_kg_m2"] + f.theta["c1"] * D) / D * M  # M11 scales with D at a pose
         s = math.sqrt(max(float(np.array([1.0, D]) @ C @ np.array([1.0, D])), 0.0)) / D * M
-        rows.append({**_row(f"M11_g@{math.degrees(q):.1f}deg", f"apparent mass along the path at "
+        rows.append({**figure_row(f"M11_g@{math.degrees(q):.1f}deg", f"apparent mass along the path at "
                             f"phi1 = {math.degrees(q):.1f} deg", m, s, "g", M,
                             tol_rel=IDENT_MASS_TOL_REL, explain="apparent_mass"), "phi1_deg": math.degrees(q)})
     return rows
@@ -214,9 +220,9 @@ def _figures(pred: Prediction, f: Fit) -> list[dict]:
     J = pred.J_mid
     th = f.theta
     rows = _mass_rows(pred, f)
-    rows.append(_row("Fs_N", "Coulomb friction at the handle (mid-stroke)", th["Tc_Nm"] / J,
+    rows.append(figure_row("Fs_N", "Coulomb friction at the handle (mid-stroke)", th["Tc_Nm"] / J,
                      f.sigma("Tc_Nm") / J, "N", pred.Fs_N, tol_rel=IDENT_FRICTION_TOL_REL, explain="friction"))
-    rows.append(_row("Fv_N_s_per_m", "viscous friction at the handle (mid-stroke)", th["b_Nm_s_per_rad"] / J**2,
+    rows.append(figure_row("Fv_N_s_per_m", "viscous friction at the handle (mid-stroke)", th["b_Nm_s_per_rad"] / J**2,
                      f.sigma("b_Nm_s_per_rad") / J**2, "N s/m", pred.Fv_N_s_per_m,
                      tol_rel=IDENT_FRICTION_TOL_REL, explain="viscous"))
     rows += _gravity_rows(pred, f)
@@ -234,7 +240,7 @@ def _gravity_rows(pred: Prediction, f: Fit) -> list[dict]:
     (and the offset's) is n/a when the two are not separable on this log."""
     th = f.theta
     tol0 = 1e3 * IDENT_OFFSET_TOL_FRACTION * pred.tau_cont_Nm
-    off = _row("offset_mNm", "constant torque offset on the crank", 1e3 * th["T0_Nm"], 1e3 * f.sigma("T0_Nm"),
+    off = figure_row("offset_mNm", "constant torque offset on the crank", 1e3 * th["T0_Nm"], 1e3 * f.sigma("T0_Nm"),
                "mN m", 0.0, tol_abs=tol0, explain="offset")
     if "cg" not in th:
         return [off]
@@ -243,10 +249,10 @@ def _gravity_rows(pred: Prediction, f: Fit) -> list[dict]:
     gm = float(pred.g(q))
     w = np.zeros(len(f.names))
     w[i], w[j] = gm, 1.0
-    load = _row("gravity_load_mNm", f"gravity load and offset at phi1 = {math.degrees(q):.1f} deg",
+    load = figure_row("gravity_load_mNm", f"gravity load and offset at phi1 = {math.degrees(q):.1f} deg",
                 1e3 * (th["cg"] * gm + th["T0_Nm"]), 1e3 * math.sqrt(max(float(w @ f.cov @ w), 0.0)),
                 "mN m", 1e3 * gm, tol_rel=IDENT_GRAVITY_TOL_REL, explain="gravity")
-    cg = _row("gravity_scale", "gravity load / the solids' prediction", th["cg"], f.sigma("cg"), "1", 1.0,
+    cg = figure_row("gravity_scale", "gravity load / the solids' prediction", th["cg"], f.sigma("cg"), "1", 1.0,
               tol_rel=IDENT_GRAVITY_TOL_REL, explain="gravity")
     rho = f.cov[i, j] / math.sqrt(max(f.cov[i, i] * f.cov[j, j], 1e-300))
     if abs(rho) > SEPARABLE_CORRELATION:
@@ -308,8 +314,6 @@ def identify(pred: Prediction, log: Log, path) -> tuple[dict, Fit | None]:
     """(result, fit) of a parsed log of the design of ``pred`` (fit None when the routine
     stopped early: ``stopped`` says why, the figures are the signs); FileDamaged (field LOG)
     when the log excites too little (module docstring of :mod:`cad.identify.regression`)."""
-    from cad.errors import FileDamaged
-
     q = pred.angles(log.counts[:, 0])
     k0 = excitation_start(log.current_A)
     enc = hand_direction(q[:k0], 5 * 2 * math.pi / pred.counts_per_rev) if k0 > 0 else 0

@@ -18,6 +18,7 @@ from cad.firmware.reference import STATUS
 from cad.firmware.spec import body_from_report
 from cad.kinematics import fourbar as k4
 from cad.sim.identify_device import predict
+from cad.sim.identify_kits import ONE_MOTOR
 from cad.tolerances import TOGGLE_SIN
 
 
@@ -286,7 +287,7 @@ MODEL = KinematicModel(
     spec_params=spec_params, forward=forward, jacobian=jacobian, com_rates=com_rates,
     mass_matrix=mass_matrix, c_source=c_source, poses_ok=poses_ok, poses_bad=poses_bad,
     workspace_radius_m=workspace_radius_m, apparent_mass_kg=apparent_mass_kg,
-    wall_normal=wall_normal, identify=identify_files,
+    wall_normal=wall_normal, identify=identify_files, identification=ONE_MOTOR,
 )
 
 

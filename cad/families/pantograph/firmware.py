@@ -11,6 +11,9 @@ import math
 import numpy as np
 
 from cad import tolerances as tol
+from cad.design import bounds
+from cad.errors import DesignError
+from cad.firmware import identify2_c
 from cad.firmware.csrc import JT_F, lit
 from cad.firmware.model import KinematicModel, SpecParams, perp, rot
 from cad.firmware.reference import STATUS
@@ -19,6 +22,8 @@ from cad.isotropy.gii import workspace_half_mm
 from cad.kinematics import fivebar as fb5
 from cad.kinematics import pantograph_tolerances as ptol
 from cad.kinematics import twin_pantograph as tw
+from cad.sim import identify_fivebar
+from cad.sim.identify_kits import FIVEBAR as FIVEBAR_KIT
 
 #: The four moving links of a 5-bar (body names of report.json, prefixed knob_/crank_ in the twin).
 FIVEBAR_LINKS = ("proximal_left", "proximal_right", "distal_left", "distal_right")
@@ -177,6 +182,18 @@ def fivebar_poses_bad(spec, q_ok, rng, n: int) -> np.ndarray:
     q, third = _folded(q_ok, rng, n)
     q[2 * third:, :] += np.array([0.9, -0.9])
     return q
+
+
+def fivebar_identify_files(design, report: dict, spec) -> dict[str, str]:
+    """The 2-motor identification routine (:mod:`cad.firmware.identify2_c`), its constants from
+    the same plan as the virtual bench (:func:`cad.sim.identify_fivebar.predict`); none, with a
+    warning, for a vertical device whose weight takes the motors' continuous current."""
+    try:
+        pred = identify_fivebar.predict(design, report)
+    except DesignError as exc:  # a vertical device too heavy to excite: the rest is written
+        bounds.warn(f"firmware: no identify/ routine: {exc}")
+        return {}
+    return identify2_c.files(spec, pred.plan)
 
 
 def workspace_radius_m(spec, design) -> float:
@@ -671,7 +688,8 @@ FIVEBAR = KinematicModel(
     spec_params=fivebar_spec_params, forward=fivebar_forward, jacobian=fivebar_jacobian,
     com_rates=fivebar_com_rates, mass_matrix=fivebar_mass_matrix, c_source=c_plain,
     poses_ok=fivebar_poses_ok, poses_bad=fivebar_poses_bad,
-    workspace_radius_m=workspace_radius_m,
+    workspace_radius_m=workspace_radius_m, identify=fivebar_identify_files,
+    identification=FIVEBAR_KIT,
 )
 
 #: The twin-pantograph haptic mouse's model.

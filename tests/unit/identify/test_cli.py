@@ -1,5 +1,5 @@
 """``hapticad identify`` and ``hapticad bench-log`` at the command line: the refusal of the
-families they do not cover, bad flags in one line, and (slow: one simulator build) the whole
+families they do not cover (the 5-bar pantograph's own: tests/unit/identify/test_fivebar_logs.py), bad flags in one line, and (slow: one simulator build) the whole
 day on the bench -- bench-log, identify --out, the files and the verdicts."""
 
 from __future__ import annotations
@@ -14,7 +14,7 @@ from tests.unit.identify.conftest import ROOT
 HOEKEN = ROOT / "designs" / "hoeken.toml"
 
 
-@pytest.mark.parametrize("design", ["pantograph.toml", "haptic_mouse.toml", "haptic_pen.toml", "powermouse.toml"])
+@pytest.mark.parametrize("design", ["haptic_mouse.toml", "haptic_pen.toml", "powermouse.toml"])
 def test_other_families_are_refused_in_one_line(tmp_path, design):
     path = ROOT / "designs" / design
     log = tmp_path / "log.csv"

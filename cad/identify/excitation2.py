@@ -1,0 +1,226 @@
+"""The excitation the generated firmware runs on a 2-motor device (the 5-bar pantograph), and
+its Python reference (the C routine ``hc_ident_step`` of :mod:`cad.firmware.identify2_c`
+computes the same numbers, tests/unit/identify).
+
+The phases and the safety rules of the 1-motor routine (:mod:`cad.identify.excitation`),
+per joint, at the control period ``Te_s`` (time t = k Te from the first sample):
+
+1. ``hand`` (0 <= t < T_hand): current 0; the operator moves the handle by hand away from the
+   motors (the device frame's +y) and back: each joint's largest excursion from its first
+   angle shows its encoder direction (``hand_sign``: the sign each joint must show, from the
+   prediction's Jacobian at home);
+2. ``hold`` (T_settle): a PD hold of each joint to its home angle, gains ramped from 0 to 1,
+   plus, on a vertical device (``gravity_ff``), the gravity torques at the angles read
+   (``hc_gravity_torques`` of the device code; not ramped: the device must not fall when the
+   operator lets go);
+3. ``chirp`` (T_chirp): the hold plus a tapered chirp per motor, amplitude ``A``; motor 0
+   sweeps up (f0 -> f1), motor 1 down (f1 -> f0), so that at every instant the two motors
+   drive at different frequencies (the joint-space mass matrix is separable: a common
+   excitation would move the device along one direction of joint space only); both chirp
+   terms are off while any joint is outside its safe range (the position-hold envelope);
+4. ``rest`` (T_settle): the hold alone, then 0 A and done.
+
+Stops (0 A on every motor from then on): ``ENCODER`` when at the end of the hand phase a
+joint moved at least ``hand_min_rad`` against its ``hand_sign``; ``RANGE`` when during the
+hold or the chirp a joint leaves its range or the hold envelope, ``envelope_rad`` from home
+(:data:`HOLD_ENVELOPE_FRACTION` of its smaller half-range): the hold alone reaches the current
+clamp at (1 / AMPLITUDE_FRACTION) TRAVEL_FRACTION = 0.58 of it, so a joint beyond is not held
+(a reversed current gain pushes it there; the chirp moves a joint at most ~0.45 of it, its
+static deflection 0.35 times the resonant gain 1 / (2 ZETA)). Every current is clamped at
++-``i_max_A``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass, field
+
+import numpy as np
+
+from cad.identify.excitation import (
+    AMPLITUDE_FRACTION,
+    DONE,
+    ENCODER,
+    F0_HZ,
+    F1_HZ,
+    FC_HZ,
+    HAND_MIN_COUNTS,
+    RANGE,
+    RUNNING,
+    SAFE_FRACTION,
+    T_CHIRP_S,
+    T_HAND_S,
+    T_SETTLE_S,
+    T_TAPER_S,
+    TRAVEL_FRACTION,
+    ZETA,
+)
+
+#: The hold envelope as a fraction of a joint's smaller half-range about home (module docstring).
+HOLD_ENVELOPE_FRACTION = 0.6
+
+__all__ = ["DONE", "ENCODER", "RANGE", "RUNNING", "Plan2", "State2", "plan2", "run_on_angles", "step"]
+
+
+@dataclass(frozen=True)
+class Plan2:
+    """Every constant of the 2-motor routine (SI; tuples per joint): the C code is written
+    from these. ``q_home_rad``: the hold's target; ``hand_sign``: +1/-1, the sign of each
+    joint's move when the handle goes +y."""
+
+    Te_s: float
+    kt_Nm_per_A: float
+    i_max_A: float
+    q_min_rad: tuple[float, ...]
+    q_max_rad: tuple[float, ...]
+    q_home_rad: tuple[float, ...]
+    amplitude_A: float
+    kp_Nm_per_rad: tuple[float, ...]
+    kd_Nm_s_per_rad: tuple[float, ...]
+    hand_sign: tuple[int, ...]
+    envelope_rad: tuple[float, ...]
+    gravity_ff: bool = False
+    T_hand_s: float = T_HAND_S
+    T_settle_s: float = T_SETTLE_S
+    T_chirp_s: float = T_CHIRP_S
+    f0_Hz: float = F0_HZ
+    f1_Hz: float = F1_HZ
+    fc_Hz: float = FC_HZ
+    T_taper_s: float = T_TAPER_S
+    safe_fraction: float = SAFE_FRACTION
+    hand_min_rad: float = 0.0
+
+    @property
+    def n_joints(self) -> int:
+        return len(self.q_min_rad)
+
+    @property
+    def safe_rad(self) -> tuple[tuple[float, float], ...]:
+        """(lo, hi) of each joint: the range less ``safe_fraction`` of it at each end."""
+        out = []
+        for lo, hi in zip(self.q_min_rad, self.q_max_rad, strict=True):
+            d = self.safe_fraction * (hi - lo)
+            out.append((lo + d, hi - d))
+        return tuple(out)
+
+    @property
+    def alpha(self) -> float:
+        """Velocity filter gain per sample, Te / (Te + 1 / (2 pi fc))."""
+        return self.Te_s / (self.Te_s + 1.0 / (2.0 * math.pi * self.fc_Hz))
+
+    @property
+    def n_samples(self) -> int:
+        """Periods until the routine reports done (that period included)."""
+        return int(math.ceil((self.T_hand_s + 2 * self.T_settle_s + self.T_chirp_s) / self.Te_s)) + 1
+
+    def as_dict(self) -> dict:
+        return asdict(self)
+
+
+def plan2(Te_s: float, kt_Nm_per_A: float, i_max_A: float, q_min_rad, q_max_rad, q_home_rad,
+          inertia_kg_m2, hand_sign, counts_per_rev: int, gravity_ff: bool = False,
+          gravity_A: float = 0.0) -> Plan2:
+    """The :class:`Plan2` of a 2-motor device: control period (s), torque constant (N m/A),
+    continuous current (A), joint ranges and home (rad, per joint), the predicted joint
+    inertias at home (diagonal of the joint-space mass matrix, kg m^2), the hand-move signs,
+    encoder counts per turn, whether the hold adds the gravity torques and the largest gravity
+    current at home ``gravity_A`` (A): the chirp amplitude is AMPLITUDE_FRACTION of the current
+    left beside it (raises ValueError when gravity alone takes the continuous current). Hold stiffness: the chirp amplitude deflects a joint by
+    ``TRAVEL_FRACTION`` of its smaller half-range about home; damping ratio ``ZETA``."""
+    if gravity_A >= i_max_A:
+        raise ValueError(f"holding the device against gravity takes {gravity_A:.3g} A, the motors' continuous "
+                         f"current is {i_max_A:.3g} A")
+    A = AMPLITUDE_FRACTION * (i_max_A - gravity_A)
+    kp, kd, env = [], [], []
+    for lo, hi, h, J in zip(q_min_rad, q_max_rad, q_home_rad, inertia_kg_m2, strict=True):
+        half = min(h - lo, hi - h)
+        env.append(HOLD_ENVELOPE_FRACTION * half)
+        kp.append(A * kt_Nm_per_A / (TRAVEL_FRACTION * half))
+        kd.append(2.0 * ZETA * math.sqrt(kp[-1] * J))
+    return Plan2(Te_s, kt_Nm_per_A, i_max_A, tuple(map(float, q_min_rad)), tuple(map(float, q_max_rad)),
+                 tuple(map(float, q_home_rad)), A, tuple(kp), tuple(kd), tuple(int(s) for s in hand_sign),
+                 tuple(env), bool(gravity_ff), hand_min_rad=HAND_MIN_COUNTS * 2.0 * math.pi / counts_per_rev)
+
+
+@dataclass
+class State2:
+    """The routine's state: sample index, previous angles, filtered velocities, first angles,
+    largest hand excursions (signed), status."""
+
+    k: int = 0
+    q_prev: list = field(default_factory=lambda: [0.0, 0.0])
+    v_f: list = field(default_factory=lambda: [0.0, 0.0])
+    q_first: list = field(default_factory=lambda: [0.0, 0.0])
+    hand: list = field(default_factory=lambda: [0.0, 0.0])
+    status: int = RUNNING
+
+
+def _taper(p: Plan2, s: float) -> float:
+    u = min(1.0, s / p.T_taper_s, (p.T_chirp_s - s) / p.T_taper_s)
+    return math.sin(0.5 * math.pi * max(u, 0.0)) ** 2
+
+
+def _phase(p: Plan2, j: int, c: float) -> float:
+    """Chirp phase (rad) of motor j at time c in the chirp: motor 0 up, motor 1 down."""
+    fa, fb = (p.f0_Hz, p.f1_Hz) if j % 2 == 0 else (p.f1_Hz, p.f0_Hz)
+    return 2.0 * math.pi * (fa * c + (fb - fa) * c * c / (2.0 * p.T_chirp_s))
+
+
+def _check(p: Plan2, st: State2, q, s: float) -> int:
+    for j in range(p.n_joints):
+        if st.hand[j] * p.hand_sign[j] <= -p.hand_min_rad:
+            return ENCODER
+    for j in range(p.n_joints):
+        if q[j] < p.q_min_rad[j] or q[j] > p.q_max_rad[j] or abs(q[j] - p.q_home_rad[j]) > p.envelope_rad[j]:
+            return RANGE
+    return DONE if s >= 2 * p.T_settle_s + p.T_chirp_s else RUNNING
+
+
+def step(p: Plan2, st: State2, q_rad, tau_g=None) -> tuple[list[float], int]:
+    """([current A per motor], status) for the joint angles ``q_rad`` read this period and,
+    when ``p.gravity_ff``, the gravity torques ``tau_g`` (N m per motor) at them; advances
+    ``st``. The C function ``hc_ident_step`` does the same arithmetic in the same order."""
+    n = p.n_joints
+    t = st.k * p.Te_s
+    for j in range(n):
+        v = 0.0 if st.k == 0 else (q_rad[j] - st.q_prev[j]) / p.Te_s
+        if st.k == 0:
+            st.q_first[j] = q_rad[j]
+        st.v_f[j] += p.alpha * (v - st.v_f[j])
+        st.q_prev[j] = q_rad[j]
+    st.k += 1
+    zero = [0.0] * n
+    if st.status != RUNNING:
+        return zero, st.status
+    s = t - p.T_hand_s
+    if s < 0.0:
+        for j in range(n):
+            d = q_rad[j] - st.q_first[j]
+            if abs(d) > abs(st.hand[j]):
+                st.hand[j] = d
+        return zero, RUNNING
+    st.status = _check(p, st, q_rad, s)
+    if st.status != RUNNING:
+        return zero, st.status
+    g = min(1.0, s / p.T_settle_s)
+    c = s - p.T_settle_s
+    inside = all(lo <= q_rad[j] <= hi for j, (lo, hi) in enumerate(p.safe_rad))
+    out = []
+    for j in range(n):
+        i = -g * (p.kp_Nm_per_rad[j] * (q_rad[j] - p.q_home_rad[j]) + p.kd_Nm_s_per_rad[j] * st.v_f[j]) / p.kt_Nm_per_A
+        if p.gravity_ff:
+            i += tau_g[j] / p.kt_Nm_per_A
+        if 0.0 <= c < p.T_chirp_s and inside:
+            i += p.amplitude_A * _taper(p, c) * math.sin(_phase(p, j, c))
+        out.append(max(-p.i_max_A, min(p.i_max_A, i)))
+    return out, RUNNING
+
+
+def run_on_angles(p: Plan2, q_rad, tau_g=None) -> np.ndarray:
+    """Currents (N, n) A the routine commands for a given sequence of read angles (N, n) rad
+    and gravity torques (N, n) N m (open loop: the reference the compiled C routine is
+    compared with)."""
+    st = State2()
+    q = np.asarray(q_rad, dtype=float)
+    tg = np.zeros_like(q) if tau_g is None else np.asarray(tau_g, float)
+    return np.array([step(p, st, [float(x) for x in row], list(g))[0] for row, g in zip(q, tg, strict=True)])
