@@ -3,7 +3,7 @@
 are :func:`cad.families.delta.assembly.assemble` (base, three motors in brackets, upper arms,
 parallelogram rods with ball joints, effector with a handle); every pair of solids is checked
 at every point of the design's workspace grid; the dynamics are the task-space mass matrix
-Lambda(x) from the solids' body mass properties and the catalog rotor inertia
+Lambda(x) from the solids' body mass properties and the resolved device's rotor inertia
 (:func:`cad.families.delta.dynamics.mass_matrix_from_bodies_kg`, eq 1) over that grid, and
 the first structural mode at the workspace centre
 (:func:`cad.families.delta.structure.first_mode`).
@@ -12,8 +12,9 @@ Report keys (units in names): ``moving_mass_g``, ``bodies`` (each moving body's 
 properties, body frames), ``apparent_mass`` (``Lambda_max_eig_g`` / ``Lambda_min_eig_g``:
 the largest and smallest eigenvalue of Lambda over the grid, where), ``structure``
 (``first_mode_Hz``, ``compliance_max_um_per_N``, the boundary conditions),
-``workspace_points``, ``interference``, ``bom``, ``notes``. No encoder, firmware or
-simulator model yet (``--formats firmware / mjcf / urdf`` are refused in one line).
+``workspace_points``, ``interference``, ``bom`` (with the resolved device's encoders),
+``notes``. The motors and encoders are the resolved device's
+(:func:`cad.device.resolve_device`: ``parts.motor`` with ``[motor]``, ``parts.encoder``).
 """
 
 from __future__ import annotations
@@ -24,9 +25,8 @@ from pathlib import Path
 import numpy as np
 
 from cad.assembly import interference as itf
-from cad.data.catalog import get_motor
+from cad.device import encoder_bom_rows, resolve_device
 from cad.errors import DesignError
-from cad.families.delta import hardware as hw
 from cad.families.delta.assembly import assemble
 from cad.families.delta.dynamics import mass_matrix_from_bodies_kg
 from cad.families.delta.layout import body_poses
@@ -73,10 +73,11 @@ class DeltaDynamics:
 
 
 def _dynamics(b) -> DeltaDynamics:
-    """Lambda(x) over the workspace grid from the body mass properties (rotor of the catalog
-    motor, direct drive) and the first mode at the centre."""
+    """Lambda(x) over the workspace grid from the body mass properties (the rotor of the
+    resolved device's motor, direct drive) and the first mode at the centre."""
     d, X = b.design, b.model.extra.workspace_mm
-    rotor = get_motor(hw.MOTOR).rotor_inertia_g_cm2 * 1e-7
+    mot = resolve_device(d).motor  # the motor the BOM orders, [motor] table applied
+    rotor = mot.rotor_inertia_kg_m2
     lam = mass_matrix_from_bodies_kg(d.mechanism, X, d.parallelogram_width_mm, b.bodies, rotor)
     eig = np.linalg.eigvalsh(0.5 * (lam + np.swapaxes(lam, 1, 2)))
     hi, lo = int(np.argmax(eig[:, -1])), int(np.argmin(eig[:, 0]))
@@ -85,7 +86,7 @@ def _dynamics(b) -> DeltaDynamics:
     return DeltaDynamics(
         Lambda_max_eig_g=float(eig[hi, -1] * 1e3), at_max_mm=X[hi].tolist(),
         Lambda_min_eig_g=float(eig[lo, 0] * 1e3), at_min_mm=X[lo].tolist(),
-        rotor_inertia_kg_m2=rotor, motor=hw.MOTOR,
+        rotor_inertia_kg_m2=rotor, motor=mot.name,
         structure={"first_mode_Hz": st["first_mode_Hz"],
                    "compliance_max_um_per_N": st["compliance_max_um_per_N"],
                    "boundary": st["boundary"]})
@@ -104,8 +105,7 @@ def _report(b) -> dict:
         "interference": b.itf, "min_clearance_mm": b.itf.get("min_clearance_mm"),
         "overlap_volume_mm3": b.itf.get("overlap_volume_mm3"), "bom": b.bom,
         "notes": [f"Lambda(x) from the solids and the {dy.motor} rotor over "
-                  f"{len(b.model.extra.workspace_mm)} workspace points (eq 1, base frame)",
-                  "no encoder, firmware or simulator model for the delta yet"]}
+                  f"{len(b.model.extra.workspace_mm)} workspace points (eq 1, base frame)"]}
 
 
 def _md_rows(r: dict) -> list[tuple[str, str]]:
@@ -126,10 +126,17 @@ def _stroke(design) -> dict:
     return body_poses(design.mechanism, P, design.parallelogram_width_mm)
 
 
+def _encoder_rows(design) -> list[dict]:
+    """The bought encoders (no solid: on each motor's rear shaft), the resolved device's
+    (:func:`cad.device.encoder_bom_rows`)."""
+    return encoder_bom_rows(resolve_device(design))
+
+
 STAGES = Stages(
     check_options=check_options, assemble=assemble, interference=interference, report=_report,
     md_rows=_md_rows, stroke=_stroke, motion_label="workspace grid", dynamics=_dynamics,
-    preview_title=lambda b: f"{b.design.name}: delta at the workspace centre")
+    preview_title=lambda b: f"{b.design.name}: delta at the workspace centre",
+    no_solid_rows=_encoder_rows)
 
 
 def build(design, out_dir: Path, formats: set[str], *, fidelity: str = "fabrication",
