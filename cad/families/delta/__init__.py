@@ -4,7 +4,7 @@
 :mod:`.parts`, :mod:`.layout`, :mod:`.hardware`), Lambda(x) from the solids
 (:mod:`.dynamics`), the 3-D frame (:mod:`.structure`), the build (:mod:`.build`) and its
 datasheet rows (:mod:`.datasheet`), the firmware's kinematic model (:mod:`.firmware`:
-``--formats firmware``). Its :data:`FAMILY` gives build, datasheet, firmware and the GII
+``--formats firmware``), the MuJoCo model (:mod:`.sim`: ``--formats mjcf``). Its :data:`FAMILY` gives build, datasheet, firmware and the GII
 optimiser; ``check``/``fit`` refuse a delta in one line."""
 
 from cad.families import SHARED_CODE_DEPS
@@ -18,6 +18,7 @@ FAMILY = FamilyPackage(
     assemble=Lazy(f"{_P}.assembly:assemble"),
     check_options=Lazy(f"{_P}.build:check_options"),
     code_deps=SHARED_CODE_DEPS + ("firmware", "kinematics", "dynamics", "isotropy", "structure"),
+    sim_formats=frozenset({"mjcf"}),
     view_formats=True,
     datasheet_rows=Lazy(f"{_P}.datasheet:rows_and_limits"),
     optimize=Lazy("cad.studies.gii_optimize:optimize"),

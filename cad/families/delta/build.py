@@ -126,6 +126,16 @@ def _stroke(design) -> dict:
     return body_poses(design.mechanism, P, design.parallelogram_width_mm)
 
 
+def _sim_files(b) -> list[str]:
+    """``<name>.xml`` (MJCF) when asked: :func:`cad.families.delta.sim.sim_model` at the
+    workspace centre, masses from the build's bodies, motors of the resolved device."""
+    from cad.families.delta.sim import sim_model
+    from cad.pipeline.views import write_sim_model
+
+    return write_sim_model(lambda: sim_model(b.design, b.bodies, resolve_device(b.design)),
+                           b.out_dir, b.formats, b.design.name)
+
+
 def _encoder_rows(design) -> list[dict]:
     """The bought encoders (no solid: on each motor's rear shaft), the resolved device's
     (:func:`cad.device.encoder_bom_rows`)."""
@@ -136,7 +146,7 @@ STAGES = Stages(
     check_options=check_options, assemble=assemble, interference=interference, report=_report,
     md_rows=_md_rows, stroke=_stroke, motion_label="workspace grid", dynamics=_dynamics,
     preview_title=lambda b: f"{b.design.name}: delta at the workspace centre",
-    no_solid_rows=_encoder_rows)
+    no_solid_rows=_encoder_rows, more_files=_sim_files)
 
 
 def build(design, out_dir: Path, formats: set[str], *, fidelity: str = "fabrication",
