@@ -157,7 +157,7 @@ def eq25_K_max(st: dict) -> float:
 # ------------------------------------------------------------------------ the builds
 FOURBAR_FORMATS = {"firmware", "mjcf"}
 FORMATS = {"hoeken": FOURBAR_FORMATS, "pantograph": {"firmware", "mjcf"}, "twin-pantograph": {"firmware", "mjcf"},
-           "haptic-pen": {"mjcf"}, "powermouse": {"firmware"}, "delta": set()}
+           "haptic-pen": {"mjcf"}, "powermouse": {"firmware"}, "delta": {"firmware", "mjcf"}}
 #: Bundled designs built by default (the rest: slow).
 FAST = ("hoeken.toml", "pantograph.toml", "haptic_mouse.toml", "powermouse.toml")
 SLOW = tuple(sorted(p.name for p in DESIGNS.glob("*.toml") if p.name not in FAST and buildable(p)))
@@ -504,4 +504,16 @@ def test_outputs_agree_random_variants(tmp_path, seed):
     text = _random_fourbar(rng) if seed % 2 == 0 else _random_mouse(rng, rng.choice(["pantograph.toml",
                                                                                      "haptic_mouse.toml"]))
     toml, out = _build(text, tmp_path, f"v{seed}")
+    check_agree(toml, out)
+
+
+@pytest.mark.slow  # a delta build (every pair of solids at 125 points); cheap share:
+# tests/families/delta/test_delta_device.py, test_delta_firmware.py, test_delta_sim.py
+def test_outputs_agree_delta_with_motor_table_and_encoder(tmp_path):
+    """The delta with a [motor] table, another catalog motor and an encoder count: BOM,
+    datasheet, firmware header, CHAI3D file, test vectors and MJCF state the same device."""
+    text = ((DESIGNS / "delta.toml").read_text()
+            + '\n[parts]\nmotor = "maxon-re40"\nencoder_counts_per_rev = 4096\n' + MOTOR_TABLE)
+    toml, out = _build(text, tmp_path, "delta_variant")
+    assert expected_counts(toml) == 4096
     check_agree(toml, out)

@@ -8,7 +8,8 @@ Lambda(x) from the solids' body mass properties and the resolved device's rotor 
 the first structural mode at the workspace centre
 (:func:`cad.families.delta.structure.first_mode`).
 
-Report keys (units in names): ``moving_mass_g``, ``bodies`` (each moving body's mass
+Report keys (units in names): ``moving_mass_g``, ``total_mass_g`` (the BOM's lines),
+``bodies`` (each moving body's mass
 properties, body frames), ``apparent_mass`` (``Lambda_max_eig_g`` / ``Lambda_min_eig_g``:
 the largest and smallest eigenvalue of Lambda over the grid, where), ``structure``
 (``first_mode_Hz``, ``compliance_max_um_per_N``, the boundary conditions),
@@ -97,6 +98,7 @@ def _report(b) -> dict:
     moving = sum(mp.mass_kg for k, mp in b.bodies.items() if k != "ground")
     return {
         "name": b.design.name, "family": b.design.family, "moving_mass_g": moving * 1e3,
+        "total_mass_g": sum(r["mass_g"] * r["quantity"] for r in b.bom),
         "bodies": {k: mp.to_dict() for k, mp in b.bodies.items() if k != "ground"},
         "apparent_mass": {k: getattr(dy, k) for k in ("Lambda_max_eig_g", "at_max_mm",
                                                       "Lambda_min_eig_g", "at_min_mm",
@@ -111,6 +113,7 @@ def _report(b) -> dict:
 def _md_rows(r: dict) -> list[tuple[str, str]]:
     a, s = r["apparent_mass"], r["structure"]
     return [("moving mass", f"{r['moving_mass_g']:.1f} g"),
+            ("total mass", f"{r['total_mass_g']:.1f} g"),
             ("apparent mass, largest eigenvalue of Lambda", f"{a['Lambda_max_eig_g']:.1f} g"),
             ("apparent mass, smallest eigenvalue of Lambda", f"{a['Lambda_min_eig_g']:.1f} g"),
             ("first structural mode (centre)", f"{s['first_mode_Hz']:.1f} Hz"),

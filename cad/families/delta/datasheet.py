@@ -88,6 +88,9 @@ def rows_and_limits(design, report: dict, out_dir=None, simulate_wall: bool = Tr
             s.get("compliance_max_um_per_N"), "um/N", "the same frame model, static"),
         row("moving_mass_g", "moving mass", report.get("moving_mass_g"), "g",
             "every body but the base, from the solids"),
+        row("total_mass_g", "total mass", report.get("total_mass_g"), "g",
+            "BOM: made parts from the solids, bought parts their catalog masses (encoders: mass "
+            "not known, not in the total)"),
         row("overlap_volume_mm3", "largest solid overlap over the workspace",
             itf.get("overlap_volume_mm3"), "mm^3",
             f"every pair of solids at {itf.get('n_poses')} workspace points"),
