@@ -31,8 +31,10 @@ from cad.errors import DesignError
 from cad.families.delta.assembly import assemble
 from cad.families.delta.dynamics import mass_matrix_from_bodies_kg
 from cad.families.delta.layout import body_poses
+from cad.families.delta.sim import sim_model
 from cad.families.delta.structure import first_mode
 from cad.pipeline.run import Stages, run_family
+from cad.pipeline.views import write_sim_model
 
 
 def check_options(design, fidelity: str, phi1_deg, formats=frozenset()) -> None:
@@ -132,9 +134,6 @@ def _stroke(design) -> dict:
 def _sim_files(b) -> list[str]:
     """``<name>.xml`` (MJCF) when asked: :func:`cad.families.delta.sim.sim_model` at the
     workspace centre, masses from the build's bodies, motors of the resolved device."""
-    from cad.families.delta.sim import sim_model
-    from cad.pipeline.views import write_sim_model
-
     return write_sim_model(lambda: sim_model(b.design, b.bodies, resolve_device(b.design)),
                            b.out_dir, b.formats, b.design.name)
 

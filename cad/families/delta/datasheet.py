@@ -11,14 +11,14 @@ import."""
 
 from __future__ import annotations
 
-import numpy as np
-
 import math
+
+import numpy as np
 
 from cad.datasheet import row
 from cad.datasheet.limits import FIRST_MODE_MIN_HZ, MODE_REASON, Limit, with_targets
 from cad.device import resolve_device
-from cad.kinematics.delta import jacobian_rad_per_m
+from cad.kinematics.delta import ik, jacobian_rad_per_m, require_ok
 
 #: What changes the delta's force and first mode (the sections are the family's fixed
 #: choices in cad/families/delta/hardware.py).
@@ -34,8 +34,6 @@ def force_in_every_direction_N(design, torque_Nm: float) -> tuple[float, list[fl
     X = design.workspace_points()
     J, status = jacobian_rad_per_m(design.mechanism, X)
     if np.any(status != 0):
-        from cad.kinematics.delta import ik, require_ok
-
         require_ok(ik(design.mechanism, X))
     s_min = np.linalg.svd(np.swapaxes(J, 1, 2), compute_uv=False)[:, -1]
     i = int(np.argmin(s_min))
@@ -49,8 +47,6 @@ def resolution_um(design, counts: int) -> tuple[float, float, list[float]]:
     X = design.workspace_points()
     J, status = jacobian_rad_per_m(design.mechanism, X)
     if np.any(status != 0):
-        from cad.kinematics.delta import ik, require_ok
-
         require_ok(ik(design.mechanism, X))
     step = np.linalg.svd(np.linalg.inv(J), compute_uv=False)[:, 0] * 2 * math.pi / counts * 1e6
     i = int(np.argmax(step))

@@ -37,9 +37,12 @@ from typing import Any
 
 import numpy as np
 
+from cad.data.catalog import get_motor
 from cad.design.bounds import ANGLE_DEG, COORD_MM, GRID, LINK_MM, check_number
 from cad.design.fields import check_name, check_unknown, number_list, optional_table, require_table
+from cad.design.firmware import parse_firmware
 from cad.design.motor import parse_motor_table
+from cad.design.parts import parse_encoder
 from cad.errors import DesignError
 
 MECH_KEYS = ("family", "base_radius_mm", "effector_radius_mm", "upper_arm_mm", "lower_arm_mm",
@@ -180,7 +183,7 @@ def _workspace(ws: dict[str, Any]) -> dict[str, Any]:
     if shape not in ("box", "cylinder"):
         raise DesignError("workspace.shape", f"must be 'box' or 'cylinder', got {shape!r}")
     center = number_list(ws, "center_mm", "workspace", length=3)
-    for k, v in zip("xyz", center):
+    for k, v in zip("xyz", center, strict=True):
         check_number(f"workspace.center_mm[{k}]", v, COORD_MM)
     grid = int(check_number("workspace.grid", ws.get("grid", 5), GRID))
     if grid < 2:
@@ -193,7 +196,7 @@ def _workspace(ws: dict[str, Any]) -> dict[str, Any]:
     if shape == "box":
         size = number_list(ws, "size_mm", "workspace", length=3)
         out["size_mm"] = [check_number(f"workspace.size_mm[{k}]", v, LINK_MM)
-                          for k, v in zip("xyz", size)]
+                          for k, v in zip("xyz", size, strict=True)]
     else:
         for key in ("diameter_mm", "height_mm"):
             if key not in ws:
@@ -216,9 +219,6 @@ def _actuators(act: dict[str, Any]) -> dict[str, Any]:
 
 
 def _parts(table: dict[str, Any]) -> DeltaParts:
-    from cad.data.catalog import get_motor
-    from cad.design.parts import parse_encoder
-
     check_unknown(table, PARTS_KEYS, "parts")
     motor = table.get("motor", DeltaParts.motor)
     if not isinstance(motor, str) or not motor:
@@ -231,8 +231,6 @@ def _parts(table: dict[str, Any]) -> DeltaParts:
 
 
 def _firmware(table: dict[str, Any]):
-    from cad.design.firmware import parse_firmware
-
     for key in FIRMWARE_PLANAR:
         if key in table:
             raise DesignError(f"firmware.{key}", "a delta's gravity is -z of its base frame (z up): "

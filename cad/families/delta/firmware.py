@@ -31,11 +31,13 @@ import numpy as np
 from cad import tolerances as tol
 from cad.dynamics.delta import G_M_S2, DeltaMass, gravity_torques_Nm, mass_matrix_kg
 from cad.errors import DesignError
+from cad.families.delta.dynamics import delta_mass_from_bodies
 from cad.firmware.csrc import JT_F
 from cad.firmware.model import KinematicModel, SpecParams
 from cad.firmware.reference import STATUS
 from cad.io.escape import c_comment
 from cad.kinematics import delta as D
+from cad.massprops.props import MassProps
 
 MM = 1e-3
 #: The delta's gravity in its base frame (z up): m/s^2.
@@ -64,8 +66,6 @@ def mass_of(spec) -> DeltaMass:
 
 
 def _props(report: dict) -> dict:
-    from cad.massprops.props import MassProps
-
     return {k: MassProps(v["mass_kg"], np.asarray(v["com_mm"], float) * MM,
                          np.asarray(v["inertia_com_kg_m2"], float))
             for k, v in (report.get("bodies") or {}).items()}
@@ -85,8 +85,6 @@ def spec_params(design, report: dict, device) -> SpecParams:
     and the resolved device's rotor and transmission ratio), the home pose (IK at the
     workspace centre) and gravity -z. DesignError for a joint offset g > 0 (no mass model
     of the knee) or a workspace centre out of reach."""
-    from cad.families.delta.dynamics import delta_mass_from_bodies
-
     d = design.mechanism
     mass = delta_mass_from_bodies(d, _props(report), device.motor.rotor_inertia_kg_m2,
                                   device.transmissions[0].ratio)

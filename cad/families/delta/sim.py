@@ -30,6 +30,7 @@ import numpy as np
 from cad.errors import DesignError
 from cad.export.sim import SimBody, SimLoop, SimModel, SimMotor
 from cad.families.delta.layout import ARMS, body_poses
+from cad.kinematics.delta import ik
 
 MM = 1e-3
 #: Columns: the MJCF upper-arm frame's axes in the layout's upper_i frame (x, -z, y): its z
@@ -98,21 +99,19 @@ def sim_model(design, bodies: dict, device, P_mm=None) -> SimModel:
     out: list[SimBody] = []
     loops, motors = [], []
     w = design.parallelogram_width_mm
-    from cad.kinematics.delta import ik
-
     th = ik(d, P[None]).theta_rad[0]
     for i in ARMS:
         j = f"theta_{i}"
         pos, rot = _local(world, T[f"upper_{i}"])
-        m, c, I = _props(bodies.get(f"upper_{i}"), ARM_AXES)
-        out.append(SimBody(f"upper_{i}", "world", pos, rot, j, float(th[i]), m, c, I,
+        m, c, inertia = _props(bodies.get(f"upper_{i}"), ARM_AXES)
+        out.append(SimBody(f"upper_{i}", "world", pos, rot, j, float(th[i]), m, c, inertia,
                            armature_kg_m2=theta[j].rotor_inertia_kg_m2 * ratio[j] ** 2))
         motors.append(SimMotor(f"motor_{i}", j, torque[j]))
         for s in ("a", "b"):
             name = f"lower_{i}_{s}"
             pos, rot = _local(T[f"upper_{i}"], T[name])
-            m, c, I = _props(bodies.get(name), np.eye(3))
-            out.append(SimBody(name, f"upper_{i}", pos, rot, f"ball_{i}_{s}", 0.0, m, c, I,
+            m, c, inertia = _props(bodies.get(name), np.eye(3))
+            out.append(SimBody(name, f"upper_{i}", pos, rot, f"ball_{i}_{s}", 0.0, m, c, inertia,
                                sites={f"{name}_end": np.array([d.lower_arm_mm * MM, 0.0, 0.0])},
                                joint_type="ball"))
     pos, rot = _local(T["lower_0_a"], T["effector"])
@@ -126,8 +125,8 @@ def sim_model(design, bodies: dict, device, P_mm=None) -> SimModel:
             if (i, s) != (0, "a"):
                 loops.append(SimLoop(f"loop_{i}_{s}", f"lower_{i}_{s}", f"lower_{i}_{s}_end",
                                      "effector", f"joint_{i}_{s}"))
-    m, c, I = _props(bodies.get("effector"), np.eye(3), origin - P_m)
-    out.append(SimBody("effector", "lower_0_a", pos, rot, "ball_effector", 0.0, m, c, I,
+    m, c, inertia = _props(bodies.get("effector"), np.eye(3), origin - P_m)
+    out.append(SimBody("effector", "lower_0_a", pos, rot, "ball_effector", 0.0, m, c, inertia,
                        sites=sites, joint_type="ball"))
     return SimModel(name=design.name, bodies=tuple(out), world_meshes=(), loops=tuple(loops),
                     motors=tuple(motors), meshdir="parts",

@@ -223,12 +223,12 @@ def _report_bodies() -> dict:
     """Moving bodies of a delta as report.json states them (body frames of
     cad.families.delta.layout; values plausible, not from a build: the C is checked against
     the numpy model of the same numbers)."""
-    I = np.diag([1e-6, 2e-5, 2e-5]).tolist()
-    b = {f"upper_{i}": {"mass_kg": 0.05, "com_mm": [40.0, 0.0, 0.0], "inertia_com_kg_m2": I}
+    inertia = np.diag([1e-6, 2e-5, 2e-5]).tolist()
+    b = {f"upper_{i}": {"mass_kg": 0.05, "com_mm": [40.0, 0.0, 0.0], "inertia_com_kg_m2": inertia}
          for i in range(3)}
-    b |= {f"lower_{i}_{s}": {"mass_kg": 0.015, "com_mm": [95.0, 0.0, 0.0], "inertia_com_kg_m2": I}
+    b |= {f"lower_{i}_{s}": {"mass_kg": 0.015, "com_mm": [95.0, 0.0, 0.0], "inertia_com_kg_m2": inertia}
           for i in range(3) for s in "ab"}
-    b["effector"] = {"mass_kg": 0.08, "com_mm": [0.0, 0.0, -10.0], "inertia_com_kg_m2": I}
+    b["effector"] = {"mass_kg": 0.08, "com_mm": [0.0, 0.0, -10.0], "inertia_com_kg_m2": inertia}
     return {"bodies": b}
 
 

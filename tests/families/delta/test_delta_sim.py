@@ -41,8 +41,8 @@ def _box(rng, m: float) -> MassProps:
     """A solid box of mass m (random sides 1-10 cm, random orientation, centre off the origin)."""
     a, b, c = rng.uniform(0.01, 0.1, 3)
     Q, _ = np.linalg.qr(rng.normal(size=(3, 3)))
-    I = Q @ np.diag([b * b + c * c, a * a + c * c, a * a + b * b]) * m / 12 @ Q.T
-    return MassProps(m, rng.normal(size=3) * 0.01, I)
+    inertia = Q @ np.diag([b * b + c * c, a * a + c * c, a * a + b * b]) * m / 12 @ Q.T
+    return MassProps(m, rng.normal(size=3) * 0.01, inertia)
 
 
 def _bodies(rng) -> dict:
