@@ -1,0 +1,95 @@
+"""The Falcon's knee (Stamper's joint offset g > 0): its fold angle over the workspace and
+where the knee's cross bar meets the upper arm's fork plates (cad/families/delta/knee.py).
+
+References: the fold angle against the layout's body frames (arccos of -x_upper . x_knee,
+:func:`cad.families.delta.layout.body_poses`: a second path through the kinematics); the
+clash limit of eq (1) against OCCT's exact common volume of the posed solids (slow: the
+every-pair check at one layer of the Falcon's workspace just below and just above the limit:
+knee pairs collide at the layer whose fold is under the limit and at no other).
+"""
+
+from __future__ import annotations
+
+import copy
+import math
+import tomllib
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from cad.design import parse_design
+from cad.errors import DesignError
+from cad.families.delta import hardware as hw
+from cad.families.delta.knee import fold_deg, fold_limit_deg, knee_clash
+from cad.families.delta.layout import body_poses
+
+ROOT = Path(__file__).resolve().parents[3]
+RAW = tomllib.loads((ROOT / "designs" / "delta_falcon.toml").read_text())
+
+
+def _layer(z_mm: float):
+    """The Falcon with its workspace one thin layer (90 x 90 mm, 1 mm high) whose top is z."""
+    raw = copy.deepcopy(RAW)
+    raw["workspace"] = {"shape": "box", "center_mm": [0.0, 0.0, z_mm - 0.5],
+                        "size_mm": [90.0, 90.0, 1.0], "grid": 5}
+    return parse_design(raw, "falcon_layer.toml")
+
+
+def test_fold_angle_against_the_layout_frames():
+    d = parse_design(copy.deepcopy(RAW), "f.toml")
+    X = d.workspace_points()
+    psi = fold_deg(d.mechanism, X)
+    tf = body_poses(d.mechanism, X, d.parallelogram_width_mm)
+    for i in range(3):
+        ref = np.degrees(np.arccos(-np.einsum("nj,nj->n", tf[f"upper_{i}"][:, :3, 0],
+                                              tf[f"knee_{i}"][:, :3, 0])))
+        assert np.allclose(psi[:, i], ref, rtol=0, atol=1e-9)
+    # the Falcon's workspace top folds the knees almost flat (8 deg), its bottom opens them
+    assert psi.min() == pytest.approx(7.86, abs=0.01) and psi.max() > 100
+
+
+def test_fold_limit_of_eq1():
+    # the bar's axis g sin(psi) from the arm's centre line = half the plate + the bar's radius
+    lim = fold_limit_deg(22.5)
+    assert 22.5 * math.sin(math.radians(lim)) == pytest.approx((hw.ARM_WIDTH_MM + hw.CROSS_BAR_D_MM) / 2,
+                                                                rel=1e-12)
+    assert fold_limit_deg(0.0) == 0.0
+    assert fold_limit_deg((hw.ARM_WIDTH_MM + hw.CROSS_BAR_D_MM) / 2 * 0.99) == 180.0
+
+
+@pytest.mark.parametrize("z_mm,clash", [(-81.5, False), (-80.0, True)])
+def test_knee_clash_edges(z_mm, clash):
+    d = _layer(z_mm)
+    psi = fold_deg(d.mechanism, d.workspace_points()).min()
+    assert (psi < fold_limit_deg(22.5)) == clash  # the two layers straddle the limit
+    assert abs(psi - fold_limit_deg(22.5)) < 1.5
+    msg = knee_clash(d)
+    assert (msg is not None) == clash
+    if clash:
+        assert "folds to 31.3 deg" in msg and "below 32.2 deg" in msg and "\n" not in msg
+
+
+def test_the_falcon_refusal_names_the_knee_clash(tmp_path):
+    import cad
+
+    d = cad.load_design(ROOT / "designs" / "delta_falcon.toml")
+    with pytest.raises(DesignError, match="mechanism.joint_offset_mm") as e:
+        cad.build_design(d, tmp_path / "f", formats="step")
+    assert "knee 0 folds to 7.9 deg" in str(e.value) and "25 of 125 workspace points" in str(e.value)
+    assert "\n" not in str(e.value)
+
+
+@pytest.mark.slow  # two every-pair checks of the Falcon's solids at 50 poses (~2 min)
+@pytest.mark.parametrize("z_mm,clash", [(-81.5, False), (-80.0, True)])
+def test_knee_limit_against_the_solids(z_mm, clash):
+    from cad.assembly import interference as itf
+    from cad.families.delta.assembly import assemble
+
+    d = _layer(z_mm)
+    rep = itf.check_model(assemble(d, "preview"), fail_fast=False).as_dict()
+    knee = [c for c in rep.get("collisions") or [] if any(".cross_bar" in p and p.startswith("knee_")
+                                                          for p in c["parts"])]
+    assert bool(knee) == clash, knee[:3]
+    if clash:
+        assert {tuple(sorted(c["parts"]))[1].split(".")[1].startswith("upper_arm") for c in knee} == {True}
