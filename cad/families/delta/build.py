@@ -29,8 +29,8 @@ from cad.assembly import interference as itf
 from cad.device import encoder_bom_rows, resolve_device
 from cad.errors import DesignError
 from cad.families.delta.assembly import assemble
+from cad.families.delta.clearance import layout_clashes
 from cad.families.delta.dynamics import mass_matrix_from_bodies_kg
-from cad.families.delta.knee import knee_clash
 from cad.families.delta.layout import body_poses
 from cad.families.delta.sim import sim_model
 from cad.families.delta.structure import first_mode
@@ -43,11 +43,11 @@ def check_options(design, fidelity: str, phi1_deg, formats=frozenset()) -> None:
     if phi1_deg is not None:
         raise DesignError("--phi1-deg", "a delta has no crank: its pose is the workspace centre")
     if design.mechanism.joint_offset_mm > 0:
-        clash = knee_clash(design)
+        clash = "; ".join(layout_clashes(design))
         raise DesignError("mechanism.joint_offset_mm", f"{design.mechanism.joint_offset_mm:g} mm: "
                           "the delta's frame model, firmware mass model and MJCF take "
                           "joint_offset_mm = 0 only (a knee link is laid out, not yet analysed)"
-                          + (f"; and {clash}" if clash else ""))
+                          + (f"; and the layout clashes: {clash}" if clash else ""))
 
 
 def interference(b) -> dict:

@@ -1,5 +1,5 @@
 """The Falcon's knee (Stamper's joint offset g > 0): its fold angle over the workspace and
-where the knee's cross bar meets the upper arm's fork plates (cad/families/delta/knee.py).
+where the knee's cross bar meets the upper arm's fork plates (cad.families.delta.clearance.py).
 
 References: the fold angle against the layout's body frames (arccos of -x_upper . x_knee,
 :func:`cad.families.delta.layout.body_poses`: a second path through the kinematics); the
@@ -21,7 +21,13 @@ import pytest
 from cad.design import parse_design
 from cad.errors import DesignError
 from cad.families.delta import hardware as hw
-from cad.families.delta.knee import fold_deg, fold_limit_deg, knee_clash
+from cad.families.delta.clearance import (
+    fold_deg,
+    fold_limit_deg,
+    knee_clash,
+    rod_bracket_clash,
+    rod_bracket_gap_mm,
+)
 from cad.families.delta.layout import body_poses
 
 ROOT = Path(__file__).resolve().parents[3]
@@ -77,19 +83,44 @@ def test_the_falcon_refusal_names_the_knee_clash(tmp_path):
     with pytest.raises(DesignError, match="mechanism.joint_offset_mm") as e:
         cad.build_design(d, tmp_path / "f", formats="step")
     assert "knee 0 folds to 7.9 deg" in str(e.value) and "25 of 125 workspace points" in str(e.value)
+    assert "inner rod of arm 2 meets its motor bracket" in str(e.value)
     assert "\n" not in str(e.value)
 
 
-@pytest.mark.slow  # two every-pair checks of the Falcon's solids at 50 poses (~2 min)
-@pytest.mark.parametrize("z_mm,clash", [(-81.5, False), (-80.0, True)])
-def test_knee_limit_against_the_solids(z_mm, clash):
+@pytest.mark.parametrize("z_mm,pairs", [(-88.5, 0), (-86.0, 3), (-80.0, 37)])
+def test_rod_bracket_pairs_by_layer(z_mm, pairs):
+    d = _layer(z_mm)
+    gap = rod_bracket_gap_mm(d, d.workspace_points())
+    assert int((gap < 0).sum()) == pairs
+    assert (rod_bracket_clash(d) is None) == (pairs == 0)
+
+
+def test_the_bundled_delta_clears_both():
+    d = parse_design(tomllib.loads((ROOT / "designs" / "delta.toml").read_text()), "delta.toml")
+    assert knee_clash(d) is None and rod_bracket_clash(d) is None
+    assert rod_bracket_gap_mm(d, d.workspace_points()).min() > 30.0  # mm: far from its brackets
+
+
+def _label(P) -> str:
+    return "P = ({:.1f}, {:.1f}, {:.1f}) mm".format(*P)
+
+
+@pytest.mark.slow  # four every-pair checks of the Falcon's solids at 50 poses each (~4 min)
+@pytest.mark.parametrize("z_mm", [-88.5, -86.0, -81.5, -80.0])
+def test_predictions_against_the_solids(z_mm):
     from cad.assembly import interference as itf
     from cad.families.delta.assembly import assemble
 
     d = _layer(z_mm)
+    X = d.workspace_points()
     rep = itf.check_model(assemble(d, "preview"), fail_fast=False).as_dict()
-    knee = [c for c in rep.get("collisions") or [] if any(".cross_bar" in p and p.startswith("knee_")
-                                                          for p in c["parts"])]
-    assert bool(knee) == clash, knee[:3]
-    if clash:
-        assert {tuple(sorted(c["parts"]))[1].split(".")[1].startswith("upper_arm") for c in knee} == {True}
+    hits = rep.get("collisions") or []
+    knee = [c for c in hits if any(p.startswith("knee_") and ".cross_bar" in p for p in c["parts"])]
+    assert bool(knee) == (fold_deg(d.mechanism, X).min() < fold_limit_deg(22.5))
+    rod_hits = [c for c in hits if sorted(p.split(".")[0][:-1] for p in c["parts"]) == ["lower_", "motor_bracket_"]]
+    rod = {(c["pose"], int(c["parts"][0][-1])) for c in rod_hits}
+    assert all(sorted(c["parts"]) == [f"lower_{i}_a.rod", f"motor_bracket_{i}"] for c in rod_hits
+               for i in [int(c["parts"][0][-1])])
+    gap = rod_bracket_gap_mm(d, X)
+    assert rod == {(_label(X[n]), i) for n, i in zip(*np.nonzero(gap < 0), strict=True)}
+    assert len(hits) == len(knee) + len(rod_hits)  # nothing else meets
