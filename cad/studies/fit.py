@@ -2,7 +2,7 @@
 
 The objective is the largest target violation (0 when every target is met,
 :func:`cad.checks.violation`); ties go to the smallest change from the start. The default
-datasheet limits (``limit_targets``, :func:`cad.datasheet.limits.default_limit_targets` for
+datasheet limits (``limit_targets``, :func:`cad.families.fourbar.limits.default_limit_targets` for
 four-bars) are hard: a candidate meeting them all ranks before any that misses one. The
 pre-CAD checks (:func:`precad_checks`) reject a candidate before any solid is made; it is
 counted apart and not in the evaluation budget.
@@ -272,7 +272,7 @@ def fit(raw: dict, source: str, targets: tuple[Target, ...], free: list[FreePara
     """Search ``free`` on the raw design with optuna (see module docstring).
 
     ``limit_targets(design)``: the default limits a candidate must also meet (e.g.
-    :func:`cad.datasheet.limits.default_limit_targets`: continuous force, first mode, stress
+    :func:`cad.families.fourbar.limits.default_limit_targets`: continuous force, first mode, stress
     for its material, clearance). They are hard: a candidate missing one ranks after every
     candidate that meets them all, whatever its target violation.
 

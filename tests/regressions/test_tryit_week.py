@@ -102,8 +102,8 @@ def test_band_wider_than_the_thread_window_is_not_printed_as_a_range(tmp_path):
     """5 mm cast acrylic (5 +- (0.4 + 0.1 x 5) = 4.1..5.9 mm, ISO 7823-1) on the maxon's face
     holes (2.5 mm minimum engagement, 3.5 mm of thread): L >= 5.9 + 2.5 = 8.4 and L <= 4.1 +
     3.5 = 7.6 -- no length; the warning says so instead of "needs L in 8.4..7.6 mm"."""
-    from cad.families.fourbar.mechanism import check_plate_screws
     from cad.design import bounds
+    from cad.families.fourbar.mechanism import check_plate_screws
 
     d, _ = _load(_laser(tmp_path, motor_mount_material='"acrylic-cast"'))
     try:
@@ -141,7 +141,7 @@ def test_a_targets_limit_names_the_design_keys_that_move_it():
     (2 pi / counts) |dx/dphi1| (the encoder), no-load friction = Kt I0 / |dx/dphi1| (the motor),
     K_max of the wall model at Te and the encoder (docs/datasheet.md)."""
     import cad
-    from cad.datasheet.limits import MODE_CHANGE, fourbar_limits
+    from cad.families.fourbar.limits import MODE_CHANGE, fourbar_limits
 
     d = cad.load_design(HOEKEN).replace(targets={
         "resolution_um": {"max": 10.0}, "friction_N": {"max": 0.1},

@@ -8,14 +8,14 @@ Lambda(x) from the solids' body mass properties and the resolved device's rotor 
 the first structural mode at the workspace centre
 (:func:`cad.families.delta.structure.first_mode`).
 
-Report keys (units in names): ``moving_mass_g``, ``total_mass_g`` (the BOM's lines),
-``bodies`` (each moving body's mass
-properties, body frames), ``apparent_mass`` (``Lambda_max_eig_g`` / ``Lambda_min_eig_g``:
-the largest and smallest eigenvalue of Lambda over the grid, where), ``structure``
-(``first_mode_Hz``, ``compliance_max_um_per_N``, the boundary conditions),
-``workspace_points``, ``interference``, ``bom`` (with the resolved device's encoders),
-``notes``. The motors and encoders are the resolved device's
-(:func:`cad.device.resolve_device`: ``parts.motor`` with ``[motor]``, ``parts.encoder``).
+Report keys the delta adds to the driver's common ones (``moving_mass_g``, ``total_mass_g``,
+``bodies``, ``interference``, ``bom`` with the resolved device's encoders, ...;
+:class:`cad.families.delta.contract.DeltaReport`): ``apparent_mass``
+(``Lambda_max_eig_g`` / ``Lambda_min_eig_g``: the largest and smallest eigenvalue of Lambda
+over the grid, where), ``structure`` (``first_mode_Hz``, ``compliance_max_um_per_N``, the
+boundary conditions), ``workspace_points``, ``notes``. The motors and encoders are the
+resolved device's (:func:`cad.device.resolve_device`: ``parts.motor`` with ``[motor]``,
+``parts.encoder``).
 """
 
 from __future__ import annotations
@@ -100,17 +100,11 @@ def _dynamics(b) -> DeltaDynamics:
 
 def _report(b) -> dict:
     dy = b.dyn
-    moving = sum(mp.mass_kg for k, mp in b.bodies.items() if k != "ground")
     return {
-        "name": b.design.name, "family": b.design.family, "moving_mass_g": moving * 1e3,
-        "total_mass_g": sum(r["mass_g"] * r["quantity"] for r in b.bom),
-        "bodies": {k: mp.to_dict() for k, mp in b.bodies.items() if k != "ground"},
         "apparent_mass": {k: getattr(dy, k) for k in ("Lambda_max_eig_g", "at_max_mm",
                                                       "Lambda_min_eig_g", "at_min_mm",
                                                       "rotor_inertia_kg_m2", "motor")},
         "structure": dy.structure, "workspace_points": len(b.model.extra.workspace_mm),
-        "interference": b.itf, "min_clearance_mm": b.itf.get("min_clearance_mm"),
-        "overlap_volume_mm3": b.itf.get("overlap_volume_mm3"), "bom": b.bom,
         "notes": [f"Lambda(x) from the solids and the {dy.motor} rotor over "
                   f"{len(b.model.extra.workspace_mm)} workspace points (eq 1, base frame)"]}
 

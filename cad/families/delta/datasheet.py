@@ -6,7 +6,7 @@ the position resolution from the resolved encoder (sigma_max(J^-1) 2 pi / counts
 apparent mass (eigenvalues of Lambda(x) from the solids), the first structural mode and
 the effector compliance at the workspace centre, the moving mass, the largest solid overlap
 over the workspace; with the default first-mode limit and, from ``[actuators]
-force_max_N``, the force limit (:func:`cad.datasheet.limits.pantograph_limits`). No CAD
+force_max_N``, the force limit (:func:`cad.families.pantograph.limits.pantograph_limits`). No CAD
 import."""
 
 from __future__ import annotations

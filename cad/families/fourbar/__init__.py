@@ -27,12 +27,13 @@ FAMILY = FamilyPackage(
         values=Lazy(f"{_P}.targets:check_values"),
         fit_values=Lazy(f"{_P}.targets:fit_values"),
         parse_free=Lazy("cad.studies.fit:parse_free_parts"),
-        fit_limits=Lazy("cad.datasheet.limits:default_limit_targets"),
+        fit_limits=Lazy("cad.families.fourbar.limits:default_limit_targets"),
         precad=Lazy("cad.studies.fit:precad_checks"),
     ),
     optimize=Lazy(f"{_P}.targets:optimize"),
     firmware=Lazy("cad.firmware:linkage_files"),
     firmware_model=Lazy(f"{_P}.firmware:model"),
+    report_type=Lazy("cad.families.fourbar.contract:FourBarReport"),
 )
 
 #: ``assemble(design, fidelity="fabrication") -> AssemblyModel`` (:func:`.layout.assemble`).

@@ -36,6 +36,7 @@ from cad.data import catalog
 from cad.datasheet import row
 from cad.device import resolve_device
 from cad.dynamics.inertia import InertiaCoefficients
+from cad.families.fourbar.limits import PAPER_FS_N, fourbar_limits
 from cad.io import derived_cache
 from cad.kinematics.fourbar import jacobian_mm_per_rad, solve, velocity_ratios
 from cad.kinematics.metrics import path_frame
@@ -57,8 +58,6 @@ SKF_MU = 0.0015
 #: Hoeken prototype's values (paper §III.B.4: Te = 0.33 ms, xdot_max = 0.04 m/s).
 TE_DEFAULT_S = 0.33e-3
 XDOT_DEFAULT_M_PER_S = 0.04
-#: The Hoeken paper's measured Coulomb friction of the prototype (eq 24, Fig. 10), N.
-PAPER_FS_N = 0.083
 PAPER_CONT_FORCE_N = 3.3
 
 
@@ -307,8 +306,6 @@ def mass_rows(report) -> list[dict]:
 
 def rows_and_limits(design, report: dict, out_dir=None, simulate_wall: bool = True):
     """(rows, limits, notes) of a four-bar build report (module docstring)."""
-    from cad.datasheet.limits import fourbar_limits
-
     m = resolve_device(design).motor.spec  # the motor the BOM orders, [motor] applied
     phi, Jx, pose, a2, a3 = lever(design)
     rows = [row("stroke_mm", "stroke", report.get("stroke_mm"), "mm", "|P(phi1_max) - P(phi1_min)| (Table I)")]

@@ -77,7 +77,7 @@ from cad.families.pantograph.clearances import (  # noqa: F401
     pt_seg,
     seg_seg_distance,
 )
-from cad.families.pantograph.dynamics import effective_mass, planar_props  # noqa: F401
+from cad.families.pantograph.dynamics import dynamics, effective_mass, planar_props  # noqa: F401
 from cad.families.pantograph.kinds import part_kinds  # noqa: F401
 from cad.families.pantograph.layout import (  # noqa: F401
     KNOB_BORE_DEPTH_MM,
@@ -240,8 +240,7 @@ def _prepare(design) -> tuple[dict, dict]:
 def _report_of(b) -> dict:
     """The family's report dict (:func:`cad.families.pantograph.report.build_report`)."""
     lay, clr = b.pre
-    eff, eff_bare = b.dyn
-    return build_report(b.design, lay, clr, b.bodies, eff, eff_bare, b.itf, b.bom,
+    return build_report(b.design, lay, clr, b.bodies, b.dyn.effective, b.dyn.bare, b.itf, b.bom,
                    b.model.extra.home_mm, b.fidelity, b.low)
 
 
@@ -275,7 +274,7 @@ def _stages():
         check_options=check_options, assemble=assemble, interference=lambda b: interference(b.model, b.allow_interference),
         report=_report_of, md_rows=report_md_rows, stroke=stroke_poses, preview_title=_title,
         motion_label="workspace", prepare=_prepare, prepare_label="layout and clearances",
-        dynamics=lambda b: effective_mass(b.design, b.bodies, b.model.extra.home_mm),
+        dynamics=lambda b: dynamics(b.design, b.bodies, b.model.extra.home_mm),
         bench_z_mm=lambda b: b.pre[0]["bench_z_mm"],
         marks=lambda b: [("workspace", workspace_square(b.design.workspace))],
         more_files=_sim_files, assembly=lambda design: (None, ASSEMBLY_CHECKS),

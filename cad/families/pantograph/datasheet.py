@@ -25,8 +25,8 @@ import math
 import numpy as np
 
 from cad.datasheet import row
-from cad.datasheet.limits import pantograph_limits
 from cad.device import resolve_device
+from cad.families.pantograph.limits import pantograph_limits
 from cad.families.pantograph.mode_ceiling import mode_ceiling
 from cad.io.escape import mathtext
 from cad.structure.pantograph import WEB_WIDTH_MIN_MM, analyse

@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -21,6 +22,24 @@ def planar_props(mp):
         (float(mp.com_m[0]), float(mp.com_m[1])),
         float(mp.inertia_com_kg_m2[2, 2]),
     )
+
+
+@dataclass(frozen=True)
+class PantographDynamics:
+    """The pantograph families' dynamics from the solids (``Build.dyn``): the effective mass
+    at home (``effective``: the 5-bar's 2 x 2 mass matrix in g, or the twin pantograph's
+    isotropy paper Table 1 figures) and, for the twin pantograph, the same without the rotor
+    inertia (``bare``; None for the 5-bar). Report keys: ``effective_mass_home``,
+    ``effective_mass_home_without_rotor``."""
+
+    effective: dict
+    bare: dict | None
+
+
+def dynamics(design, bodies: dict, home: np.ndarray) -> PantographDynamics:
+    """:class:`PantographDynamics` of ``design`` from its bodies' mass properties (link
+    frames, SI) at the home task position ``home`` (mm)."""
+    return PantographDynamics(*effective_mass(design, bodies, home))
 
 
 def effective_mass(design, bodies: dict, home: np.ndarray) -> tuple[dict, dict | None]:

@@ -6,9 +6,8 @@ itself (:func:`interference`)."""
 from __future__ import annotations
 
 import dataclasses
-from typing import Any
-
 import math
+from typing import Any
 
 import numpy as np
 

@@ -8,9 +8,8 @@ waist bracket, gimbal and pen are :mod:`cad.parts.pen`.
 from __future__ import annotations
 
 import dataclasses
-from typing import Any
-
 import math
+from typing import Any
 
 import numpy as np
 

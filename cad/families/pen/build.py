@@ -27,7 +27,7 @@ from cad.device import encoder_bom_rows, resolve_device
 from cad.errors import DesignError
 from cad.families.pen import assemble
 from cad.families.pen import layout as L
-from cad.families.pen.dynamics import effective_mass, mass_breakdown
+from cad.families.pen.dynamics import PenDynamics, dynamics, mass_breakdown
 from cad.families.pen.layout import body_poses, stroke_task
 from cad.families.pen.sim import write_mjcf
 from cad.pipeline.run import Stages, run_family
@@ -79,9 +79,9 @@ def interference(model, allow_interference: bool = False) -> dict:
     return out
 
 
-def _dynamics(b):
-    """The 5 x 5 operational mass matrix at home (:func:`cad.families.pen.dynamics.effective_mass`)."""
-    return effective_mass(b.design, b.bodies, b.model.extra.home_task)
+def _dynamics(b) -> PenDynamics:
+    """The 5 x 5 operational mass matrix at home (:func:`cad.families.pen.dynamics.dynamics`)."""
+    return dynamics(b.design, b.bodies, b.model.extra.home_task)
 
 
 def _mjcf(b) -> list[str]:
@@ -110,7 +110,7 @@ def _stages():
     """The pen's stages of the one build driver (:class:`cad.pipeline.run.Stages`)."""
     return Stages(
         check_options=check_options, assemble=_assemble, interference=lambda b: interference(b.model, b.allow_interference),
-        report=lambda b: {**_report(b.design, b.model, b.bodies, b.dyn, b.itf, b.bom, b.fidelity, b.low),
+        report=lambda b: {**_report(b.design, b.model, b.bodies, b.dyn.effective_mass_home, b.itf, b.bom, b.fidelity, b.low),
                           "effective_mass_breakdown": mass_breakdown_report(b.design, b.model, b.props)},
         md_rows=_md_rows, stroke=_stroke, motion_label="motion",
         preview_title=lambda b: f"{b.design.name}: haptic pen at the workspace centre",
@@ -140,21 +140,14 @@ def _report(design, model, bodies, eff, itf, bom, fidelity, low) -> dict:
     gl = model.extra.ground_mm
     home = model.extra.home_task
     return {
-        "name": design.name, "design": design.name, "family": design.family,
-        "fidelity": fidelity,
+        "design": design.name,
         "gii": {"gii": g.gii, "sigma_min": g.sigma_min, "sigma_max": g.sigma_max},
         "layout_mm": lay, "ground_mm": gl,
         "home": {"x_mm": float(home[0]), "y_mm": float(home[1]), "z_mm": float(home[2]),
                  "yaw_deg": 0.0, "pitch_deg": 0.0},
-        "interference": itf, "overlap_volume_mm3": itf["overlap_volume_mm3"],
-        "min_clearance_mm": itf["min_clearance_mm"],
         "bench_z_mm": gl["bench_z_mm"], "lowest_z_mm": low,
-        "bodies": {k: v.to_dict() for k, v in bodies.items()},
-        "moving_mass_g": sum(v.mass_kg for v in bodies.values()) * 1e3,
-        "total_mass_g": sum(r["mass_g"] * r["quantity"] for r in bom),
         "effective_mass_home": eff,
         "paper_table3": PAPER_TABLE3,
-        "bom": bom,
         "notes": [
             "Every pair of bodies is checked at every pose of the motion (home, the eight "
             "corners of the workspace box at two rotation extremes each, the four rotation "

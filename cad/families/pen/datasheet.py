@@ -8,15 +8,15 @@ free), with Table 3 of the isotropy paper beside the figures it gives, the inter
 check over the motion, and the structure rows (:func:`cad.structure.pen.analyse`: first mode,
 pen-end compliance, peak stress; each arm's 5-bar a planar beam frame, motors held, pen end
 free, the lower arm's figure) with the default limits of the planar pantographs
-(:func:`cad.datasheet.limits.pantograph_limits` with ``structure=True``). No CAD import.
+(:func:`cad.families.pantograph.limits.pantograph_limits` with ``structure=True``). No CAD import.
 """
 
 from __future__ import annotations
 
 from cad.datasheet import row
-from cad.datasheet.limits import pantograph_limits
 from cad.families.pantograph.datasheet import motor_force_rows as rows_of
 from cad.families.pantograph.datasheet import rows_and_limits as pantograph_rows
+from cad.families.pantograph.limits import pantograph_limits
 from cad.structure.pen import analyse
 
 #: report key of our figure -> the Table 3 key beside it.

@@ -17,6 +17,7 @@ No CAD import.
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -79,6 +80,24 @@ def rotor_inertias(design) -> np.ndarray:
     """(6,) rotor inertia (kg m^2) on the joints (q1 waist A, q2, q3, q4 waist B, q5, q6)."""
     jm = {m.joint: m.rotor_inertia_kg_m2 for m in resolve_device(design).motors}
     return np.array([jm[f"{a}_q_{j}"] for a in ("A", "B") for j in ("waist", "lower", "upper")])
+
+
+@dataclass(frozen=True)
+class PenDynamics:
+    """The pen's dynamics from the solids (``Build.dyn``): the 5 x 5 operational mass matrix
+    at the home task pose ``at_task`` (x, y, z mm; yaw, pitch rad) in SI (``mass_matrix_si``:
+    kg for the translations, kg m^2 for the rotations, :func:`mass_matrix_si`) and its report
+    entry ``effective_mass_home`` (:func:`effective_mass`)."""
+
+    at_task: tuple
+    mass_matrix_si: np.ndarray
+    effective_mass_home: dict
+
+
+def dynamics(design, bodies: dict, X) -> PenDynamics:
+    """:class:`PenDynamics` at task pose ``X`` from the bodies' mass properties (SI)."""
+    eff = effective_mass(design, bodies, X)
+    return PenDynamics(tuple(float(v) for v in X), np.asarray(eff["mass_matrix_si"]), eff)
 
 
 def effective_mass(design, bodies: dict, X) -> dict:

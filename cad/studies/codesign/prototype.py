@@ -1,5 +1,5 @@
 """``hapticad optimize --beat-prototype``: the co-design with the Hoeken prototype's figures as
-constraints (issue 24 §4, :func:`cad.datasheet.limits.prototype_limits`), and, when no design
+constraints (issue 24 §4, :func:`cad.families.fourbar.limits.prototype_limits`), and, when no design
 meets them all, the Pareto front of the two figures that conflict.
 
 The brief becomes a design whose ``[targets]`` are those limits (so the datasheet of the
@@ -19,8 +19,8 @@ from __future__ import annotations
 import copy
 
 from cad.data.catalog import DEFAULT_ENCODER, MOTORS
-from cad.datasheet.limits import PROTOTYPE_FORCE_MIN_N, prototype_limits
 from cad.design import parse_design
+from cad.families.fourbar.limits import PROTOTYPE_FORCE_MIN_N, prototype_limits
 
 #: The fronts reported, each (name, x key, y key, figures relaxed besides the two): the pair
 #: the motor data make exclusive, continuous force up and friction down, every other limit

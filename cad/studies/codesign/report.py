@@ -6,10 +6,10 @@ import time
 from pathlib import Path
 
 from cad.bench.common import save_chart
-from cad.datasheet.limits import prototype_limits
 from cad.datasheet.run import device_datasheet
 from cad.design import parse_design
 from cad.errors import HapticadError
+from cad.families.fourbar.limits import prototype_limits
 from cad.studies.codesign import exact, prototype, search
 from cad.studies.codesign.prototype import judged
 

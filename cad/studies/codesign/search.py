@@ -48,7 +48,7 @@ import numpy as np
 
 from cad.data import catalog as cat
 from cad.data.catalog import MOTORS
-from cad.datasheet.limits import Limit, fourbar_limits
+from cad.datasheet.limits import Limit
 from cad.design import bounds
 from cad.design.parts import PartsSpec, parse_parts
 from cad.design.writer import custom_mechanism_table
@@ -56,6 +56,7 @@ from cad.dynamics.inertia import InertiaCoefficients
 from cad.errors import HapticadError
 from cad.families.fourbar.datasheet import force_rows, friction, lever, stiffness_inputs
 from cad.families.fourbar.layers import choose_layers
+from cad.families.fourbar.limits import fourbar_limits
 from cad.families.fourbar.pose import planar_transforms
 from cad.io import signals
 from cad.kinematics.linkgeom import link_joints_mm
@@ -324,7 +325,7 @@ def cheap_figures(design, samples: int = 201) -> dict:
 
 def design_limits(design, m11: bool = True) -> dict:
     """{key: Limit} a candidate must meet: the datasheet's default limits of its material
-    (:func:`cad.datasheet.limits.fourbar_limits`, the design's ``[targets]`` bounds over
+    (:func:`cad.families.fourbar.limits.fourbar_limits`, the design's ``[targets]`` bounds over
     them) and, with ``m11``, an ``M11_max_g`` max target of the brief (the plain search
     minimizes M11 and checks its target on the exact optimum instead)."""
     lim = fourbar_limits(design, get_elastic(link_material(design.parts)).strength_MPa)

@@ -172,8 +172,8 @@ def test_first_mode_and_handle_mode_consistent_with_rayleigh(method):
     structure's first mode and the crank-held handle mode along x (handle_mode_x_Hz)
     within 10 % of a lumped Rayleigh estimate (static deflection shape out of plane / along
     x) on the bundled Hoeken's frame with a 30 g knob at P."""
-    from cad.families.fourbar.pose import planar_transforms
     from cad.design import load_design
+    from cad.families.fourbar.pose import planar_transforms
     from cad.kinematics.metrics import path_frame
     from cad.structure import device
 
@@ -340,8 +340,8 @@ def test_check_without_targets_checks_default_limits():
 def test_force_basis_peak_and_motor_table(tmp_path):
     """force_basis = "peak" judges the peak force instead; [motor] replaces catalog values with
     the design's source; bad [motor] values are one-line errors naming the key."""
-    from cad.datasheet.limits import fourbar_limits
     from cad.design import load_design
+    from cad.families.fourbar.limits import fourbar_limits
 
     text = (ROOT / "designs" / "hoeken.toml").read_text()
     p = tmp_path / "peak.toml"
@@ -367,9 +367,10 @@ def test_fit_with_a_free_bar_material_respects_the_structural_limits():
     """fit --free parts.bar_material: the lightest material (PLA) meets an apparent-mass target
     but not the default first-mode limit, so the fit takes the material closest to meeting
     both (the evaluation is a stand-in table here: the search logic, not the physics, is tested)."""
-    from cad.datasheet.limits import FIRST_MODE_MIN_HZ, structure_targets
+    from cad.datasheet.limits import FIRST_MODE_MIN_HZ
     from cad.design import load_design
     from cad.design.targets import Target
+    from cad.families.fourbar.limits import structure_targets
     from cad.studies.fit import fit, parse_free
 
     d = load_design(ROOT / "designs" / "hoeken.toml")

@@ -23,8 +23,8 @@ def test_fit_free_material_never_returns_one_that_misses_a_limit():
     not traded against the targets (the bug of issue 24 §2: PLA won on max violation). The
     evaluation is a stand-in table; the verdict of the result is the datasheet's own judge."""
     from cad.datasheet import judge, row
-    from cad.datasheet.limits import fourbar_limits, structure_targets
     from cad.design.targets import Target
+    from cad.families.fourbar.limits import fourbar_limits, structure_targets
     from cad.structure.elastic import get_elastic
     from cad.studies.fit import fit, parse_free
 
@@ -79,11 +79,8 @@ def test_precad_rejections_are_counted_apart_and_spare_the_budget():
 def test_optimize_limits_come_from_the_datasheet():
     """The co-design judges the datasheet's default limits (one source) and the §4 preset
     sets the paper's figures as the brief's targets."""
-    from cad.datasheet.limits import (
-        FIRST_MODE_MIN_HZ,
-        PROTOTYPE_FIRST_MODE_MIN_HZ,
-        prototype_limits,
-    )
+    from cad.datasheet.limits import FIRST_MODE_MIN_HZ
+    from cad.families.fourbar.limits import PROTOTYPE_FIRST_MODE_MIN_HZ, prototype_limits
     from cad.studies.codesign import prototype, search
 
     d = _hoeken()
@@ -118,7 +115,7 @@ def test_prototype_fronts_are_mutually_non_dominated():
     no point dominates another (independent pairwise check, max x, min y), every point meets
     the limits outside its pair and relaxed figures, and no point has a continuous force /
     friction ratio above its motor's data-sheet bound T_cont / (Kt I0)."""
-    from cad.datasheet.limits import prototype_limits
+    from cad.families.fourbar.limits import prototype_limits
     from cad.studies.codesign.prototype import motor_bound
 
     data = json.loads(FRONT_JSON.read_text())
