@@ -88,7 +88,9 @@ class SimBody:
     meshes: tuple[SimMesh, ...] = ()
     sites: dict[str, np.ndarray] = field(default_factory=dict)
     #: "hinge" (about the body z axis) or "free" (6 DOF, a body on the world: the PowerMouse's
-    #: levitated flotor; MJCF ``<freejoint>``, no ref or armature).
+    #: levitated flotor; MJCF ``<freejoint>``, no ref or armature) or "ball" (3 rotations
+    #: about the body origin: the delta's ball joints; MJCF ``type="ball"``, no ref or
+    #: armature; no URDF form).
     joint_type: str = "hinge"
 
 
@@ -211,6 +213,8 @@ def mjcf_text(model: SimModel) -> str:
         out.append(f'{ind}<body name={quoteattr(b.name)} pos="{_v(b.pos_m)}" quat="{_v(rot_to_quat(b.rot))}">')
         if b.joint_type == "free":
             out.append(f"{ind}  <freejoint name={quoteattr(b.joint)}/>")
+        elif b.joint_type == "ball":
+            out.append(f'{ind}  <joint name={quoteattr(b.joint)} type="ball" pos="0 0 0" damping="0"/>')
         else:
             out.append(
                 f'{ind}  <joint name={quoteattr(b.joint)} type="hinge" axis="0 0 1" pos="0 0 0" '

@@ -105,7 +105,7 @@ int hc_apparent_mass(const hc_real q[HC_N_JOINTS], hc_real *mass_kg);
 /* task mass matrix (row-major HC_N_TASK^2; kg, the twin's theta entries kg m and kg m^2), rotors
  * included: feed-forward F = M a_desired */
 int hc_mass_matrix(const hc_real q[HC_N_JOINTS], hc_real M[HC_N_TASK * HC_N_TASK]);
-
+{spec.model.header_extra}
 #ifdef __cplusplus
 }}
 #endif

@@ -41,6 +41,6 @@ def device_spec(design, report: dict, design_hash: str, version: str, device=Non
         q_home_rad=sp.q_home_rad, encoder_counts_per_rev=device.encoder.counts_per_rev,
         encoder_direction=tuple(opts.encoder_direction),
         encoder_zero_rad=encoder_zero(opts, sp.q_home_rad), motor=motor,
-        gravity_m_s2=gravity_vector(opts), bodies=sp.bodies,
+        gravity_m_s2=sp.gravity_m_s2 if sp.gravity_m_s2 is not None else gravity_vector(opts), bodies=sp.bodies,
         rotor_kg_m2=device.motor.rotor_inertia_kg_m2, model=model,
     )

@@ -27,8 +27,9 @@ PAPER_EQ25 = {"Fv_N_s_per_m": 0.12, "Fs_N": 0.083, "Te_s": 0.00033, "xdot_max_m_
 
 
 def encoder_step_m(spec: DeviceSpec) -> float:
-    """Largest handle displacement of one encoder count at home (m): max_j |J[:, j]| 2 pi / counts."""
-    J = ref.jacobian(spec, np.asarray(spec.q_home_rad)[None, :])[0][:2]
+    """Largest handle displacement of one encoder count at home (m): max_j |J[:, j]| 2 pi / counts
+    (J: the translational rows, :attr:`cad.firmware.model.KinematicModel.n_translation`)."""
+    J = ref.jacobian(spec, np.asarray(spec.q_home_rad)[None, :])[0][: spec.model.n_translation]
     return float(np.max(np.linalg.norm(J, axis=0))) * 2 * math.pi / spec.encoder_counts_per_rev
 
 
@@ -61,7 +62,7 @@ def max_forces_N(spec: DeviceSpec, q_ok: np.ndarray) -> dict:
     """Force the motors give in every direction at every test pose (continuous / peak torque):
     min over poses of tau / sigma_max(J^T) for the translational rows."""
     fj = spec.model.force_jacobian
-    J = fj(spec, q_ok) if fj is not None else ref.jacobian(spec, q_ok)[:, :2, :]
+    J = fj(spec, q_ok) if fj is not None else ref.jacobian(spec, q_ok)[:, : spec.model.n_translation, :]
     smax = np.linalg.svd(J, compute_uv=False)[:, 0]
     m = spec.motor
     return {"continuous_N": float(np.min(m.torque_continuous_Nm / smax)),
@@ -91,7 +92,8 @@ def chai3d_json(spec: DeviceSpec, design, wall: dict, forces: dict) -> str:
                                       "the count hapticad_device.h is compiled for",
             "m_maxLinearDamping": "passivity at K -> 0 (Colgate and Schenkel): B < Fv; Fv from "
                                   + wall["source"],
-            "m_workspaceRadius": "four-bar: half the stroke; pantographs: half the workspace side",
+            "m_workspaceRadius": spec.model.workspace_note or "four-bar: half the stroke; pantographs: "
+                                                              "half the workspace side",
             "frame": "the device frame of hapticad_device.h (m)",
         },
     }

@@ -40,13 +40,16 @@ def rot(a, c) -> np.ndarray:
 class SpecParams:
     """What a model reads off a built design for the :class:`cad.firmware.spec.DeviceSpec`:
     ``params`` (the C constants, m / rad / mode signs), ``q_home_rad``, ``bodies``
-    (``{name: Body}`` from report.json), ``n_joints``, ``n_task``."""
+    (``{name: Body}`` from report.json), ``n_joints``, ``n_task``; ``gravity_m_s2``: the
+    device's own gravity vector (a spatial device, e.g. the delta's (0, 0, -g)), None: from
+    the design's ``[firmware] plane`` (:func:`cad.firmware.spec.gravity_vector`)."""
 
     params: dict
     q_home_rad: tuple[float, ...]
     bodies: dict
     n_joints: int
     n_task: int
+    gravity_m_s2: tuple[float, ...] | None = None
 
 
 @dataclasses.dataclass(frozen=True)
@@ -78,6 +81,11 @@ class KinematicModel:
         under ``firmware/`` (None: not generated).
     identification : the :class:`cad.sim.identify_kits.IdentifyKit` of ``hapticad identify``
         and ``bench-log`` (None: the layout is not identified).
+    n_translation : the first task coordinates that are handle translations (m): the encoder
+        step and the force limits read these rows of the Jacobian (2: planar; the delta 3).
+    header_extra : C declarations of the layout's own functions in ``hapticad_device.h``
+        (the delta's ``hc_inverse``).
+    workspace_note : the CHAI3D file's note on ``m_workspaceRadius`` (None: the planar one).
     """
 
     kind: str
@@ -100,3 +108,6 @@ class KinematicModel:
     senses_rotation: bool = False
     identify: Hook | None = None
     identification: Any = None
+    n_translation: int = 2
+    header_extra: str = ""
+    workspace_note: str | None = None

@@ -53,7 +53,7 @@ class DeviceSpec:
     ``params``: the kinematic constants (m, rad, mode signs) named as in the C code;
     ``q_home_rad``: joint angles at the home pose; ``encoder_*``: defaults of the encoder
     parameters; ``gravity_m_s2``: the gravity vector in the device plane (None when the
-    device works in a horizontal plane); ``bodies``: moving bodies by name; ``rotor_kg_m2``:
+    device works in a horizontal plane; a spatial device's: 3-D, base frame); ``bodies``: moving bodies by name; ``rotor_kg_m2``:
     each motor's rotor inertia (the build's Jm); ``model``: the family's
     :class:`cad.firmware.model.KinematicModel` (``kind`` is its name).
     """
@@ -71,7 +71,7 @@ class DeviceSpec:
     encoder_direction: tuple[int, ...]
     encoder_zero_rad: tuple[float, ...]
     motor: MotorData
-    gravity_m_s2: tuple[float, float] | None
+    gravity_m_s2: tuple[float, ...] | None
     bodies: dict[str, Body] = field(default_factory=dict)
     rotor_kg_m2: float = 0.0
     wall: dict[str, float] = field(default_factory=dict)

@@ -141,6 +141,8 @@ def expected_counts(toml: dict) -> int:
         return toml["firmware"]["encoder_counts_per_rev"]
     if fam in ("pantograph", "twin-pantograph", "haptic-pen"):
         return MOUSE_PAPER_COUNTS
+    if fam == "delta":  # maxon pairs the HEDL 5540 with the RE 35 (maxon catalog)
+        return HEDL_COUNTS
     if "stiffness" in toml:
         J = lever_fd(toml, 3)[1]
         return round(2 * math.pi * J / toml["stiffness"]["encoder_resolution_m"])
@@ -156,7 +158,7 @@ def eq25_K_max(st: dict) -> float:
 # ------------------------------------------------------------------------ the builds
 FOURBAR_FORMATS = {"firmware", "mjcf"}
 FORMATS = {"hoeken": FOURBAR_FORMATS, "pantograph": {"firmware", "mjcf"}, "twin-pantograph": {"firmware", "mjcf"},
-           "haptic-pen": {"mjcf"}, "powermouse": {"firmware"}, "delta": set()}
+           "haptic-pen": {"mjcf"}, "powermouse": {"firmware"}, "delta": {"firmware", "mjcf"}}
 #: Bundled designs built by default (the rest: slow).
 FAST = ("hoeken.toml", "pantograph.toml", "haptic_mouse.toml", "powermouse.toml")
 SLOW = tuple(sorted(p.name for p in DESIGNS.glob("*.toml") if p.name not in FAST and buildable(p)))
@@ -204,9 +206,7 @@ def check_agree(toml: dict, out: Path) -> None:
     fam = toml["mechanism"].get("family", "")
     assert contract.problems(rep, report_type(rep["family"])) == []  # the typed report, read back
     dev = rep["device"]
-    if fam in ("powermouse", "delta"):  # no encoder: the PowerMouse's flotor is sensed
-        # optically; the delta's motors are its fixed hardware (no [parts] yet) and it orders
-        # no encoder yet (its report says so)
+    if fam == "powermouse":  # no encoder: the PowerMouse's flotor is sensed optically
         assert dev["encoders"] == [] and not [r for r in bom_rows(out) if r["part"] == "encoder"]
         return
     n = expected_counts(toml)
@@ -224,6 +224,8 @@ def check_agree(toml: dict, out: Path) -> None:
         assert jread(fw / "test_vectors.json")["encoder"]["counts_per_rev"] == n
     if "linkage" in toml or fam in ("hoeken", "roberts", "chebyshev", "chebyshev-v", "custom"):
         _check_fourbar(toml, out, rep, n)
+    if fam == "delta":
+        _check_delta(toml, out, rep, n)
     _check_masses(out, rep)
 
 
@@ -265,6 +267,47 @@ def _check_fourbar(toml: dict, out: Path, rep: dict, n: int) -> None:
     for link in ("crank", "coupler", "rocker"):
         mass = float(bodies[link].find("inertial").get("mass"))
         assert mass == pytest.approx(rep["links"][link]["mass_kg"], rel=EXACT_REL)
+
+
+def delta_jacobian_fd(toml: dict) -> np.ndarray:
+    """dx/dtheta (N, 3, 3) m/rad at the design's workspace grid: central finite differences of
+    the delta's forward kinematics (a second path beside the analytic Jacobian)."""
+    from cad.design import parse_design
+    from cad.kinematics.delta import fk, ik
+
+    d = parse_design(toml)
+    th = ik(d.mechanism, d.workspace_points()).theta_rad
+    cols = []
+    for k in range(3):
+        e = np.zeros(3)
+        e[k] = FD_STEP_RAD
+        cols.append((fk(d.mechanism, th + e).P_mm - fk(d.mechanism, th - e).P_mm) / (2 * FD_STEP_RAD) * 1e-3)
+    return np.stack(cols, axis=-1)
+
+
+def _check_delta(toml: dict, out: Path, rep: dict, n: int) -> None:
+    """Resolution and force from finite differences of the FK and the design's motor data;
+    the MJCF's armature and force range and the header's motor constants from that data."""
+    smax = np.linalg.svd(delta_jacobian_fd(toml), compute_uv=False)[:, 0].max()
+    assert ds_row(rep, "resolution_um")["value"] == pytest.approx(smax * 2 * math.pi / n * 1e6, rel=FD_REL)
+    m = _motor_data(toml)
+    t_cont = toml.get("motor", {}).get("torque_continuous_mNm")
+    if t_cont is not None:
+        assert ds_row(rep, "continuous_force_N")["value"] == pytest.approx(t_cont * 1e-3 / smax, rel=FD_REL)
+    if [p for p in out.glob("*.xml") if "<mujoco" in p.read_text()[:400]]:
+        root = mjcf(out)
+        for j in ("theta_0", "theta_1", "theta_2"):
+            joint = next(x for x in root.iter("joint") if x.get("name") == j)
+            assert float(joint.get("armature")) == pytest.approx(m["Jm"], rel=EXACT_REL)
+        motors = list(root.iter("motor"))
+        assert len(motors) == 3
+        for mo in motors:
+            assert float(mo.get("forcerange").split()[1]) == pytest.approx(m["tau_peak"], rel=EXACT_REL)
+    if (out / "firmware").is_dir():
+        h = header(out)
+        assert h["kt"] == pytest.approx(m["kt"], rel=EXACT_REL)
+        assert h["i_cont"] == pytest.approx(m["i_cont"], rel=EXACT_REL)
+        assert h["i_peak"] == pytest.approx(m["tau_peak"] / m["kt"], rel=EXACT_REL)
 
 
 def _check_K(toml: dict, out: Path, rep: dict) -> None:
@@ -471,4 +514,16 @@ def test_outputs_agree_random_variants(tmp_path, seed):
     text = _random_fourbar(rng) if seed % 2 == 0 else _random_mouse(rng, rng.choice(["pantograph.toml",
                                                                                      "haptic_mouse.toml"]))
     toml, out = _build(text, tmp_path, f"v{seed}")
+    check_agree(toml, out)
+
+
+@pytest.mark.slow  # a delta build (every pair of solids at 125 points); cheap share:
+# tests/families/delta/test_delta_device.py, test_delta_firmware.py, test_delta_sim.py
+def test_outputs_agree_delta_with_motor_table_and_encoder(tmp_path):
+    """The delta with a [motor] table, another catalog motor and an encoder count: BOM,
+    datasheet, firmware header, CHAI3D file, test vectors and MJCF state the same device."""
+    text = ((DESIGNS / "delta.toml").read_text()
+            + '\n[parts]\nmotor = "maxon-re40"\nencoder_counts_per_rev = 4096\n' + MOTOR_TABLE)
+    toml, out = _build(text, tmp_path, "delta_variant")
+    assert expected_counts(toml) == 4096
     check_agree(toml, out)

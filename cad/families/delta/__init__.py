@@ -3,9 +3,9 @@
 :mod:`cad.isotropy.problems` (``DeltaProblem``); parts and assembly (:mod:`.assembly`,
 :mod:`.parts`, :mod:`.layout`, :mod:`.hardware`), Lambda(x) from the solids
 (:mod:`.dynamics`), the 3-D frame (:mod:`.structure`), the build (:mod:`.build`) and its
-datasheet rows (:mod:`.datasheet`), generated C kinematics (:mod:`.firmware`, not yet a build
-format). Its :data:`FAMILY` gives build, datasheet and the GII optimiser; ``check``/``fit``,
-firmware and simulator formats refuse a delta in one line."""
+datasheet rows (:mod:`.datasheet`), the firmware's kinematic model (:mod:`.firmware`:
+``--formats firmware``), the MuJoCo model (:mod:`.sim`: ``--formats mjcf``). Its :data:`FAMILY` gives build, datasheet, firmware and the GII
+optimiser; ``check``/``fit`` refuse a delta in one line."""
 
 from cad.families import SHARED_CODE_DEPS
 from cad.families.protocol import FamilyPackage, Lazy
@@ -17,10 +17,13 @@ FAMILY = FamilyPackage(
     build=Lazy(f"{_P}.build:build"),
     assemble=Lazy(f"{_P}.assembly:assemble"),
     check_options=Lazy(f"{_P}.build:check_options"),
-    code_deps=SHARED_CODE_DEPS + ("kinematics", "dynamics", "isotropy", "structure"),
+    code_deps=SHARED_CODE_DEPS + ("firmware", "kinematics", "dynamics", "isotropy", "structure"),
+    sim_formats=frozenset({"mjcf"}),
     view_formats=True,
     datasheet_rows=Lazy(f"{_P}.datasheet:rows_and_limits"),
     optimize=Lazy("cad.studies.gii_optimize:optimize"),
+    firmware=Lazy("cad.firmware:linkage_files"),
+    firmware_model=Lazy(f"{_P}.firmware:model"),
     report_type=Lazy("cad.families.delta.contract:DeltaReport"),
 )
 

@@ -27,7 +27,8 @@ import math
 import numpy as np
 
 from cad.assembly.model import AssemblyModel
-from cad.data.catalog import clearance_hole_mm, get_motor
+from cad.data.catalog import clearance_hole_mm
+from cad.device import parts_motor
 from cad.families.delta import hardware as hw
 from cad.families.delta import parts as dp
 from cad.families.delta.layout import ARMS, body_poses
@@ -86,7 +87,7 @@ def stack_mm(width_mm: float, fork: bool) -> dict[str, float]:
 def kinds(design, fidelity: str = "fabrication") -> dict[str, PartKind]:
     """``{kind name: PartKind}`` of every distinct part of the delta."""
     d, w = design.mechanism, design.parallelogram_width_mm
-    m = get_motor(hw.MOTOR)
+    m = parts_motor(design)[0]  # parts.motor with the [motor] table (the resolved device's)
     bj = hw.BALL_JOINT
     K: dict[str, PartKind] = {}
 

@@ -3,17 +3,19 @@
 are :func:`cad.families.delta.assembly.assemble` (base, three motors in brackets, upper arms,
 parallelogram rods with ball joints, effector with a handle); every pair of solids is checked
 at every point of the design's workspace grid; the dynamics are the task-space mass matrix
-Lambda(x) from the solids' body mass properties and the catalog rotor inertia
+Lambda(x) from the solids' body mass properties and the resolved device's rotor inertia
 (:func:`cad.families.delta.dynamics.mass_matrix_from_bodies_kg`, eq 1) over that grid, and
 the first structural mode at the workspace centre
 (:func:`cad.families.delta.structure.first_mode`).
 
-Report keys (units in names): ``moving_mass_g``, ``bodies`` (each moving body's mass
-properties, body frames), ``apparent_mass`` (``Lambda_max_eig_g`` / ``Lambda_min_eig_g``:
-the largest and smallest eigenvalue of Lambda over the grid, where), ``structure``
-(``first_mode_Hz``, ``compliance_max_um_per_N``, the boundary conditions),
-``workspace_points``, ``interference``, ``bom``, ``notes``. No encoder, firmware or
-simulator model yet (``--formats firmware / mjcf / urdf`` are refused in one line).
+Report keys the delta adds to the driver's common ones (``moving_mass_g``, ``total_mass_g``,
+``bodies``, ``interference``, ``bom`` with the resolved device's encoders, ...;
+:class:`cad.families.delta.contract.DeltaReport`): ``apparent_mass``
+(``Lambda_max_eig_g`` / ``Lambda_min_eig_g``: the largest and smallest eigenvalue of Lambda
+over the grid, where), ``structure`` (``first_mode_Hz``, ``compliance_max_um_per_N``, the
+boundary conditions), ``workspace_points``, ``notes``. The motors and encoders are the
+resolved device's (:func:`cad.device.resolve_device`: ``parts.motor`` with ``[motor]``,
+``parts.encoder``).
 """
 
 from __future__ import annotations
@@ -24,14 +26,16 @@ from pathlib import Path
 import numpy as np
 
 from cad.assembly import interference as itf
-from cad.data.catalog import get_motor
+from cad.device import encoder_bom_rows, resolve_device
 from cad.errors import DesignError
-from cad.families.delta import hardware as hw
 from cad.families.delta.assembly import assemble
+from cad.families.delta.clearance import layout_clashes
 from cad.families.delta.dynamics import mass_matrix_from_bodies_kg
 from cad.families.delta.layout import body_poses
+from cad.families.delta.sim import sim_model
 from cad.families.delta.structure import first_mode
 from cad.pipeline.run import Stages, run_family
+from cad.pipeline.views import write_sim_model
 
 
 def check_options(design, fidelity: str, phi1_deg, formats=frozenset()) -> None:
@@ -39,9 +43,11 @@ def check_options(design, fidelity: str, phi1_deg, formats=frozenset()) -> None:
     if phi1_deg is not None:
         raise DesignError("--phi1-deg", "a delta has no crank: its pose is the workspace centre")
     if design.mechanism.joint_offset_mm > 0:
+        clash = "; ".join(layout_clashes(design))
         raise DesignError("mechanism.joint_offset_mm", f"{design.mechanism.joint_offset_mm:g} mm: "
-                          "the delta's structure model and mass matrix from the solids take "
-                          "joint_offset_mm = 0 only (a knee link is laid out, not yet analysed)")
+                          "the delta's frame model, firmware mass model and MJCF take "
+                          "joint_offset_mm = 0 only (a knee link is laid out, not yet analysed)"
+                          + (f"; and the layout clashes: {clash}" if clash else ""))
 
 
 def interference(b) -> dict:
@@ -73,10 +79,11 @@ class DeltaDynamics:
 
 
 def _dynamics(b) -> DeltaDynamics:
-    """Lambda(x) over the workspace grid from the body mass properties (rotor of the catalog
-    motor, direct drive) and the first mode at the centre."""
+    """Lambda(x) over the workspace grid from the body mass properties (the rotor of the
+    resolved device's motor, direct drive) and the first mode at the centre."""
     d, X = b.design, b.model.extra.workspace_mm
-    rotor = get_motor(hw.MOTOR).rotor_inertia_g_cm2 * 1e-7
+    mot = resolve_device(d).motor  # the motor the BOM orders, [motor] table applied
+    rotor = mot.rotor_inertia_kg_m2
     lam = mass_matrix_from_bodies_kg(d.mechanism, X, d.parallelogram_width_mm, b.bodies, rotor)
     eig = np.linalg.eigvalsh(0.5 * (lam + np.swapaxes(lam, 1, 2)))
     hi, lo = int(np.argmax(eig[:, -1])), int(np.argmin(eig[:, 0]))
@@ -85,7 +92,7 @@ def _dynamics(b) -> DeltaDynamics:
     return DeltaDynamics(
         Lambda_max_eig_g=float(eig[hi, -1] * 1e3), at_max_mm=X[hi].tolist(),
         Lambda_min_eig_g=float(eig[lo, 0] * 1e3), at_min_mm=X[lo].tolist(),
-        rotor_inertia_kg_m2=rotor, motor=hw.MOTOR,
+        rotor_inertia_kg_m2=rotor, motor=mot.name,
         structure={"first_mode_Hz": st["first_mode_Hz"],
                    "compliance_max_um_per_N": st["compliance_max_um_per_N"],
                    "boundary": st["boundary"]})
@@ -99,13 +106,13 @@ def _report(b) -> dict:
                                                       "rotor_inertia_kg_m2", "motor")},
         "structure": dy.structure, "workspace_points": len(b.model.extra.workspace_mm),
         "notes": [f"Lambda(x) from the solids and the {dy.motor} rotor over "
-                  f"{len(b.model.extra.workspace_mm)} workspace points (eq 1, base frame)",
-                  "no encoder, firmware or simulator model for the delta yet"]}
+                  f"{len(b.model.extra.workspace_mm)} workspace points (eq 1, base frame)"]}
 
 
 def _md_rows(r: dict) -> list[tuple[str, str]]:
     a, s = r["apparent_mass"], r["structure"]
     return [("moving mass", f"{r['moving_mass_g']:.1f} g"),
+            ("total mass", f"{r['total_mass_g']:.1f} g"),
             ("apparent mass, largest eigenvalue of Lambda", f"{a['Lambda_max_eig_g']:.1f} g"),
             ("apparent mass, smallest eigenvalue of Lambda", f"{a['Lambda_min_eig_g']:.1f} g"),
             ("first structural mode (centre)", f"{s['first_mode_Hz']:.1f} Hz"),
@@ -121,10 +128,24 @@ def _stroke(design) -> dict:
     return body_poses(design.mechanism, P, design.parallelogram_width_mm)
 
 
+def _sim_files(b) -> list[str]:
+    """``<name>.xml`` (MJCF) when asked: :func:`cad.families.delta.sim.sim_model` at the
+    workspace centre, masses from the build's bodies, motors of the resolved device."""
+    return write_sim_model(lambda: sim_model(b.design, b.bodies, resolve_device(b.design)),
+                           b.out_dir, b.formats, b.design.name)
+
+
+def _encoder_rows(design) -> list[dict]:
+    """The bought encoders (no solid: on each motor's rear shaft), the resolved device's
+    (:func:`cad.device.encoder_bom_rows`)."""
+    return encoder_bom_rows(resolve_device(design))
+
+
 STAGES = Stages(
     check_options=check_options, assemble=assemble, interference=interference, report=_report,
     md_rows=_md_rows, stroke=_stroke, motion_label="workspace grid", dynamics=_dynamics,
-    preview_title=lambda b: f"{b.design.name}: delta at the workspace centre")
+    preview_title=lambda b: f"{b.design.name}: delta at the workspace centre",
+    no_solid_rows=_encoder_rows, more_files=_sim_files)
 
 
 def build(design, out_dir: Path, formats: set[str], *, fidelity: str = "fabrication",

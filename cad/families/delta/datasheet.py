@@ -1,7 +1,9 @@
 """Datasheet rows of the delta (issue 36 §4): the continuous and peak force in the worst
-direction over the workspace grid from the catalog motor's data-sheet torques (f = J^T tau,
+direction over the workspace grid from the data-sheet torques of the resolved device's motor
+(``parts.motor`` with the ``[motor]`` table, :func:`cad.device.resolve_device`; f = J^T tau,
 eq 2: the force every direction gets with |tau|_2 at the motor limit is tau sigma_min(J^T)),
-the apparent mass (eigenvalues of Lambda(x) from the solids), the first structural mode and
+the position resolution from the resolved encoder (sigma_max(J^-1) 2 pi / counts), the
+apparent mass (eigenvalues of Lambda(x) from the solids), the first structural mode and
 the effector compliance at the workspace centre, the moving mass, the largest solid overlap
 over the workspace; with the default first-mode limit and, from ``[actuators]
 force_max_N``, the force limit (:func:`cad.families.pantograph.limits.pantograph_limits`). No CAD
@@ -9,18 +11,19 @@ import."""
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
-from cad.data.catalog import get_motor
 from cad.datasheet import row
 from cad.datasheet.limits import FIRST_MODE_MIN_HZ, MODE_REASON, Limit, with_targets
-from cad.families.delta import hardware as hw
-from cad.kinematics.delta import jacobian_rad_per_m
+from cad.device import resolve_device
+from cad.kinematics.delta import ik, jacobian_rad_per_m, require_ok
 
-#: What changes the delta's force and first mode (the motor and sections are the family's
-#: fixed choices in cad/families/delta/hardware.py until the design takes [parts]).
-CHANGE = ("mechanism.upper_arm_mm (shorter: more force, stiffer) or the workspace; the motor "
-          "and sections: cad/families/delta/hardware.py")
+#: What changes the delta's force and first mode (the sections are the family's fixed
+#: choices in cad/families/delta/hardware.py).
+CHANGE = ("mechanism.upper_arm_mm (shorter: more force, stiffer), the workspace, parts.motor "
+          "or [motor]; the sections: cad/families/delta/hardware.py")
 
 
 def force_in_every_direction_N(design, torque_Nm: float) -> tuple[float, list[float]]:
@@ -31,18 +34,31 @@ def force_in_every_direction_N(design, torque_Nm: float) -> tuple[float, list[fl
     X = design.workspace_points()
     J, status = jacobian_rad_per_m(design.mechanism, X)
     if np.any(status != 0):
-        from cad.kinematics.delta import ik, require_ok
-
         require_ok(ik(design.mechanism, X))
     s_min = np.linalg.svd(np.swapaxes(J, 1, 2), compute_uv=False)[:, -1]
     i = int(np.argmin(s_min))
     return float(torque_Nm * s_min[i]), X[i].tolist()
 
 
+def resolution_um(design, counts: int) -> tuple[float, float, list[float]]:
+    """(worst, best, where the worst is (mm)) over the workspace grid of the effector step of
+    one encoder count: sigma_max(J^-1) 2 pi / ``counts`` (um; J^-1 = dx/dtheta, m/rad).
+    Raises KinematicsError naming a point out of reach."""
+    X = design.workspace_points()
+    J, status = jacobian_rad_per_m(design.mechanism, X)
+    if np.any(status != 0):
+        require_ok(ik(design.mechanism, X))
+    step = np.linalg.svd(np.linalg.inv(J), compute_uv=False)[:, 0] * 2 * math.pi / counts * 1e6
+    i = int(np.argmax(step))
+    return float(step[i]), float(step.min()), X[i].tolist()
+
+
 def rows_and_limits(design, report: dict, out_dir=None, simulate_wall: bool = True):
     """(rows, limits, notes) of a delta build report (module docstring)."""
-    m = get_motor(hw.MOTOR)
-    src = f"{m.description} data sheet (cad.data.catalog: {m.key})"
+    dev = resolve_device(design)  # the motors and encoders the BOM orders
+    m, enc = dev.motor.spec, dev.encoder
+    src = f"{m.description} data sheet (cad.data.catalog: {m.key}; resolved device)"
+    res, res_lo, at_res = resolution_um(design, enc.counts_per_rev)
     fc, at_c = force_in_every_direction_N(design, m.torque_continuous_mNm * 1e-3)
     fp, _ = force_in_every_direction_N(design, m.torque_peak_mNm * 1e-3)
     a, s = report.get("apparent_mass") or {}, report.get("structure") or {}
@@ -53,9 +69,13 @@ def rows_and_limits(design, report: dict, out_dir=None, simulate_wall: bool = Tr
             f"T_cont {m.torque_continuous_mNm:g} mN m, {src}"),
         row("peak_force_N", "peak force in every direction", fp, "N",
             f"as the continuous force with the peak torque {m.torque_peak_mNm:g} mN m, {src}"),
+        row("resolution_um", "position resolution at the effector", res, "um",
+            f"sigma_max(J^-1) 2 pi / {enc.counts_per_rev} counts per joint, worst over the "
+            f"workspace grid at {at_res} mm; {enc.source}", lo=res_lo, hi=res),
         row("apparent_mass_max_g", "apparent mass, worst direction", a.get("Lambda_max_eig_g"), "g",
-            f"largest eigenvalue of Lambda(x) from the solids and the rotors over the grid, at "
-            f"{a.get('at_max_mm')} mm (eq 1)"),
+            f"largest eigenvalue of Lambda(x) from the solids and the rotors "
+            f"({a.get('rotor_inertia_kg_m2', 0) * 1e7:.4g} g cm^2 each, {dev.motor.name}) over the "
+            f"grid, at {a.get('at_max_mm')} mm (eq 1)"),
         row("apparent_mass_min_g", "apparent mass, best direction", a.get("Lambda_min_eig_g"), "g",
             "smallest eigenvalue of Lambda(x) over the grid"),
         row("first_mode_Hz", "first structural mode (workspace centre)", s.get("first_mode_Hz"), "Hz",
@@ -64,6 +84,9 @@ def rows_and_limits(design, report: dict, out_dir=None, simulate_wall: bool = Tr
             s.get("compliance_max_um_per_N"), "um/N", "the same frame model, static"),
         row("moving_mass_g", "moving mass", report.get("moving_mass_g"), "g",
             "every body but the base, from the solids"),
+        row("total_mass_g", "total mass", report.get("total_mass_g"), "g",
+            "BOM: made parts from the solids, bought parts their catalog masses (encoders: mass "
+            "not known, not in the total)"),
         row("overlap_volume_mm3", "largest solid overlap over the workspace",
             itf.get("overlap_volume_mm3"), "mm^3",
             f"every pair of solids at {itf.get('n_poses')} workspace points"),

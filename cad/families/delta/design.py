@@ -12,11 +12,21 @@ Schema (mm, deg, N, N m; * = required)::
                  normalisation S_J, S_T (isotropy paper eqs 3-4), not a motor
     [optimize]   base_radius_mm / effector_radius_mm / upper_arm_mm / lower_arm_mm =
                  [min, max, count]
+    [parts]      motor ("maxon-re35", a key of cad.data.catalog.MOTORS: one per arm, direct
+                 drive), encoder (a key of cad.data.catalog.ENCODERS) or
+                 encoder_counts_per_rev (not both; default: maxon-hedl5540-500, the encoder
+                 maxon pairs with the RE 35)
+    [motor]      the data of the motor parts.motor names, replacing catalog values
+                 (:mod:`cad.design.motor`)
+    [firmware]   encoder_counts_per_rev, encoder_direction, encoder_zero_deg,
+                 wall_stiffness_N_per_m, wall_damping_N_s_per_m (:mod:`cad.design.firmware`;
+                 ``plane`` and ``gravity_direction`` are refused: a delta's gravity is -z of
+                 its base frame)
 
 Frames and angles: :mod:`cad.kinematics.delta` (base frame z up, effector below, theta from
-the horizontal, positive down, elbow-out branch). ``[parts]``, ``[motor]``,
-``[transmission]`` and ``[targets]`` are refused with one line until the family has parts.
-No CAD import.
+the horizontal, positive down, elbow-out branch). ``[transmission]``, ``[targets]`` and
+``[prices]`` are refused with one line. Joints of the motors (the resolved device, the
+MJCF): ``theta_0``, ``theta_1``, ``theta_2``. No CAD import.
 """
 
 from __future__ import annotations
@@ -27,8 +37,12 @@ from typing import Any
 
 import numpy as np
 
+from cad.data.catalog import get_motor
 from cad.design.bounds import ANGLE_DEG, COORD_MM, GRID, LINK_MM, check_number
 from cad.design.fields import check_name, check_unknown, number_list, optional_table, require_table
+from cad.design.firmware import parse_firmware
+from cad.design.motor import parse_motor_table
+from cad.design.parts import parse_encoder
 from cad.errors import DesignError
 
 MECH_KEYS = ("family", "base_radius_mm", "effector_radius_mm", "upper_arm_mm", "lower_arm_mm",
@@ -38,7 +52,26 @@ MECH_DEFAULTS = {"parallelogram_width_mm": 30.0, "motor_angle_min_deg": -40.0,
                  "motor_angle_max_deg": 85.0}
 WS_KEYS = ("shape", "center_mm", "size_mm", "diameter_mm", "height_mm", "grid")
 OPTIMIZABLE = ("base_radius_mm", "effector_radius_mm", "upper_arm_mm", "lower_arm_mm")
-NOT_YET = ("parts", "motor", "transmission", "targets", "firmware", "prices")
+NOT_YET = ("transmission", "targets", "prices")
+PARTS_KEYS = ("motor", "encoder", "encoder_counts_per_rev")
+#: The encoder a delta that states none gets: maxon's HEDL 5540 (500 CPT, 2000 counts/rev
+#: after x4 decoding), the encoder maxon combines with the RE 35 the delta's arms default to.
+DEFAULT_ENCODER = "maxon-hedl5540-500"
+#: [firmware] keys of a planar device the delta does not take (gravity is -z, base frame).
+FIRMWARE_PLANAR = ("plane", "gravity_direction")
+#: The motor joints (one per arm): the resolved device's and the MJCF's joint names.
+JOINTS = ("theta_0", "theta_1", "theta_2")
+
+
+@dataclass(frozen=True)
+class DeltaParts:
+    """The delta's ``[parts]``: ``motor`` (catalog key, one per arm, direct drive),
+    ``encoder`` (catalog key) or ``encoder_counts_per_rev`` (counts per motor turn after x4
+    decoding), None when not stated (:func:`cad.device.resolve_device` chooses)."""
+
+    motor: str = "maxon-re35"
+    encoder: str | None = None
+    encoder_counts_per_rev: int | None = None
 
 
 @dataclass(frozen=True)
@@ -59,6 +92,20 @@ class DeltaDesign:
     raw: dict = field(repr=False)
     #: the delta takes no [targets] yet (refused at load): optimize checks none on its optimum
     targets: tuple = ()
+    parts: DeltaParts = field(default_factory=DeltaParts)
+    #: ``[motor]`` overrides of ``parts.motor`` (:func:`cad.design.motor.parse_motor_table`)
+    motor: tuple = ()
+    #: ``[firmware]`` (:class:`cad.design.firmware.FirmwareOptions`)
+    firmware: Any = None
+
+    def motor_joints(self) -> tuple[tuple[str, str], ...]:
+        """(joint, parts field naming its motor) of the three arm motors."""
+        return tuple((j, "motor") for j in JOINTS)
+
+    def default_encoder(self) -> tuple[str, str]:
+        """(catalog encoder, hint) a design that states no encoder gets
+        (:data:`DEFAULT_ENCODER`)."""
+        return DEFAULT_ENCODER, "; set parts.encoder"
 
     def workspace_points(self) -> np.ndarray:
         """Workspace samples (N, 3) mm, base frame (box: C order of ``grid_shape``)."""
@@ -136,7 +183,7 @@ def _workspace(ws: dict[str, Any]) -> dict[str, Any]:
     if shape not in ("box", "cylinder"):
         raise DesignError("workspace.shape", f"must be 'box' or 'cylinder', got {shape!r}")
     center = number_list(ws, "center_mm", "workspace", length=3)
-    for k, v in zip("xyz", center):
+    for k, v in zip("xyz", center, strict=True):
         check_number(f"workspace.center_mm[{k}]", v, COORD_MM)
     grid = int(check_number("workspace.grid", ws.get("grid", 5), GRID))
     if grid < 2:
@@ -149,7 +196,7 @@ def _workspace(ws: dict[str, Any]) -> dict[str, Any]:
     if shape == "box":
         size = number_list(ws, "size_mm", "workspace", length=3)
         out["size_mm"] = [check_number(f"workspace.size_mm[{k}]", v, LINK_MM)
-                          for k, v in zip("xyz", size)]
+                          for k, v in zip("xyz", size, strict=True)]
     else:
         for key in ("diameter_mm", "height_mm"):
             if key not in ws:
@@ -171,6 +218,26 @@ def _actuators(act: dict[str, Any]) -> dict[str, Any]:
     return out
 
 
+def _parts(table: dict[str, Any]) -> DeltaParts:
+    check_unknown(table, PARTS_KEYS, "parts")
+    motor = table.get("motor", DeltaParts.motor)
+    if not isinstance(motor, str) or not motor:
+        raise DesignError("parts.motor", f"must be a catalog key (a string), got {motor!r}")
+    get_motor(motor, "parts.motor")
+    enc = table.get("encoder")
+    if enc is not None and (not isinstance(enc, str) or not enc):
+        raise DesignError("parts.encoder", f"must be a catalog key (a string), got {enc!r}")
+    return DeltaParts(motor, enc, parse_encoder(table, "parts", enc))
+
+
+def _firmware(table: dict[str, Any]):
+    for key in FIRMWARE_PLANAR:
+        if key in table:
+            raise DesignError(f"firmware.{key}", "a delta's gravity is -z of its base frame (z up): "
+                              "remove the planar device's key")
+    return parse_firmware(table, 3)
+
+
 def _optimize(raw: dict[str, Any]) -> dict[str, tuple[float, float, int]]:
     table = optional_table(raw, "optimize", "")
     check_unknown(table, OPTIMIZABLE, "optimize")
@@ -189,11 +256,11 @@ def _optimize(raw: dict[str, Any]) -> dict[str, tuple[float, float, int]]:
 def parse(raw: dict[str, Any], source: str = "<design>") -> DeltaDesign:
     """Validate a raw delta design; every problem is a :class:`DesignError` naming the key."""
     check_unknown(raw, ("name", "description", "mechanism", "workspace", "actuators", "optimize",
-                        *NOT_YET), "")
+                        "parts", "motor", "firmware", *NOT_YET), "")
     for key in NOT_YET:
         if key in raw:
-            raise DesignError(key, "the delta has no parts, firmware or checks yet (issue 36): "
-                                   "gii and optimize take a delta design")
+            raise DesignError(key, "the delta takes no [transmission], [targets] or [prices] yet "
+                                   "(direct drive; `check` does not take a delta)")
     mech = require_table(raw, "mechanism", "")
     if mech.get("family") != "delta":
         raise DesignError("mechanism.family", f"must be 'delta', got {mech.get('family')!r}")
@@ -203,4 +270,6 @@ def parse(raw: dict[str, Any], source: str = "<design>") -> DeltaDesign:
         params=params, parallelogram_width_mm=width,
         workspace=_workspace(require_table(raw, "workspace", "")),
         actuators=_actuators(optional_table(raw, "actuators", "")), optimize=_optimize(raw),
-        raw=raw)
+        raw=raw, parts=_parts(optional_table(raw, "parts", "")),
+        motor=parse_motor_table(optional_table(raw, "motor", ""), "motor"),
+        firmware=_firmware(optional_table(raw, "firmware", "")))

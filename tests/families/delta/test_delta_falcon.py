@@ -46,7 +46,7 @@ def test_bundled_falcon_is_stampers_geometry():
                            rng.uniform(-150, -80, 60)])
     pose = D.ik(d, pts)
     assert np.all(pose.ok)
-    for P, theta in zip(pts, pose.theta_rad):
+    for P, theta in zip(pts, pose.theta_rad, strict=True):
         np.testing.assert_allclose(theta, _stamper_theta1(P), atol=1e-12)
 
 

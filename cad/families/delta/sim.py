@@ -1,0 +1,134 @@
+"""The delta as a MuJoCo model (``hapticad build --formats mjcf``, issue 36 §5).
+
+World frame: the delta's base frame (metres, z up, the effector below; MuJoCo's gravity is
+-z). Bodies (the spanning tree; mass properties from the solids, ``report.json`` ``bodies``,
+turned into each MJCF body frame):
+
+* ``upper_i`` on the world: hinge ``theta_i`` about motor axis t_i (value = the motor angle
+  theta_i of :mod:`cad.kinematics.delta`, ref = its value at the written pose), armature
+  n^2 J_m (the resolved device's rotor through its transmission), motor ``motor_i`` with
+  force range the peak torque through the transmission. Body frame: the layout's upper_i
+  frame (:mod:`cad.families.delta.layout`) with z along the motor axis (x along the arm,
+  y = -z_layout, z = t_i);
+* ``lower_i_a`` / ``lower_i_b`` on ``upper_i``: ball joint ``ball_i_a`` / ``ball_i_b`` at
+  the rod's top ball (the layout's rod frames); site ``lower_i_s_end`` at its lower ball;
+* ``effector`` on ``lower_0_a``: ball joint ``ball_effector`` at rod 0a's lower ball (the
+  body frame: base axes, origin there); sites ``joint_i_s`` at its six ball studs and
+  ``handle`` at the effector centre P.
+
+The five other lower balls close the loops: MJCF ``connect`` ``loop_i_s`` (site
+``lower_i_s_end`` on ``joint_i_s``). The 24 joint coordinates less 15 loop equations leave 9
+motions: the effector's three translations and each rod's spin about its own axis (free in
+the hardware too; it carries the rod's axial inertia only). No meshes: the model is for the
+dynamics (the part STLs and the assembly STEP show the shapes). No URDF (ball joints).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from cad.errors import DesignError
+from cad.export.sim import SimBody, SimLoop, SimModel, SimMotor
+from cad.families.delta.layout import ARMS, body_poses
+from cad.kinematics.delta import ik
+
+MM = 1e-3
+#: Columns: the MJCF upper-arm frame's axes in the layout's upper_i frame (x, -z, y): its z
+#: is the motor axis t_i, the hinge's axis.
+ARM_AXES = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, -1.0, 0.0]])
+
+
+def _frames(design, P_mm) -> dict[str, np.ndarray]:
+    """{body: (4, 4) tf_world_mjcf in metres} at effector point ``P_mm`` (3,)."""
+    d = design.mechanism
+    w = design.parallelogram_width_mm
+    tf = {k: v[0].copy() for k, v in body_poses(d, np.asarray(P_mm, float)[None], w).items()}
+    out = {}
+    for k, T in tf.items():
+        T[:3, 3] *= MM
+        if k.startswith("upper_"):
+            T[:3, :3] = T[:3, :3] @ ARM_AXES
+        out[k] = T
+    eff = out["effector"]
+    eff[:3, 3] = eff[:3, 3] + (d.effector_radius_mm * d.radial[0] - w / 2 * d.tangential[0]) * MM
+    return out
+
+
+def _local(T_parent: np.ndarray, T_child: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    rel = np.linalg.inv(T_parent) @ T_child
+    return rel[:3, 3], rel[:3, :3]
+
+
+def _props(mp, R_body_mjcf: np.ndarray, shift_m=np.zeros(3)) -> tuple:
+    """(mass, com (3,), inertia about the com (3, 3)) in an MJCF frame whose axes are the
+    columns ``R_body_mjcf`` of the body frame and whose origin is at ``shift_m`` (body)."""
+    if mp is None:
+        return 0.0, np.zeros(3), np.zeros((3, 3))
+    R = np.asarray(R_body_mjcf)
+    return (mp.mass_kg, R.T @ (np.asarray(mp.com_m) - shift_m),
+            R.T @ np.asarray(mp.inertia_com_kg_m2) @ R)
+
+
+def _peak_torques(device) -> dict[str, float]:
+    ratio = {t.motor_joint: t.ratio for t in device.transmissions}
+    out = {}
+    for m in device.motors:
+        if m.spec.torque_peak_mNm is None:
+            raise DesignError("parts.motor", f"{m.catalog_key!r} states no peak torque: the mjcf "
+                              "force range needs one (add torque_peak_mNm to [motor])")
+        out[m.joint] = m.spec.torque_peak_mNm * 1e-3 * ratio[m.joint]
+    return out
+
+
+def sim_model(design, bodies: dict, device, P_mm=None) -> SimModel:
+    """The :class:`cad.export.sim.SimModel` of the delta (module docstring) with the effector
+    centre at ``P_mm`` (3,) mm (None: the workspace centre). ``bodies``: ``{body: MassProps}``
+    in the layout's body frames (SI), as the build's ``Build.bodies``. Raises
+    KinematicsError for a point out of reach, DesignError for a joint offset g > 0 (the knee
+    link is not modelled) or a motor without a peak torque."""
+    d = design.mechanism
+    if d.joint_offset_mm > 0:
+        raise DesignError("mechanism.joint_offset_mm", "the delta's MJCF takes joint_offset_mm = 0 "
+                          "only (no knee link)")
+    P = np.asarray(design.workspace["center_mm"] if P_mm is None else P_mm, float)
+    T = _frames(design, P)
+    theta = {m.joint: m for m in device.motors}
+    ratio = {t.motor_joint: t.ratio for t in device.transmissions}
+    torque = _peak_torques(device)
+    world = np.eye(4)
+    out: list[SimBody] = []
+    loops, motors = [], []
+    w = design.parallelogram_width_mm
+    th = ik(d, P[None]).theta_rad[0]
+    for i in ARMS:
+        j = f"theta_{i}"
+        pos, rot = _local(world, T[f"upper_{i}"])
+        m, c, inertia = _props(bodies.get(f"upper_{i}"), ARM_AXES)
+        out.append(SimBody(f"upper_{i}", "world", pos, rot, j, float(th[i]), m, c, inertia,
+                           armature_kg_m2=theta[j].rotor_inertia_kg_m2 * ratio[j] ** 2))
+        motors.append(SimMotor(f"motor_{i}", j, torque[j]))
+        for s in ("a", "b"):
+            name = f"lower_{i}_{s}"
+            pos, rot = _local(T[f"upper_{i}"], T[name])
+            m, c, inertia = _props(bodies.get(name), np.eye(3))
+            out.append(SimBody(name, f"upper_{i}", pos, rot, f"ball_{i}_{s}", 0.0, m, c, inertia,
+                               sites={f"{name}_end": np.array([d.lower_arm_mm * MM, 0.0, 0.0])},
+                               joint_type="ball"))
+    pos, rot = _local(T["lower_0_a"], T["effector"])
+    origin = T["effector"][:3, 3]
+    P_m = P * MM
+    sites = {"handle": P_m - origin}
+    for i in ARMS:
+        for s, sign in (("a", -0.5), ("b", 0.5)):
+            sites[f"joint_{i}_{s}"] = P_m + (d.effector_radius_mm * d.radial[i]
+                                             + sign * w * d.tangential[i]) * MM - origin
+            if (i, s) != (0, "a"):
+                loops.append(SimLoop(f"loop_{i}_{s}", f"lower_{i}_{s}", f"lower_{i}_{s}_end",
+                                     "effector", f"joint_{i}_{s}"))
+    m, c, inertia = _props(bodies.get("effector"), np.eye(3), origin - P_m)
+    out.append(SimBody("effector", "lower_0_a", pos, rot, "ball_effector", 0.0, m, c, inertia,
+                       sites=sites, joint_type="ball"))
+    return SimModel(name=design.name, bodies=tuple(out), world_meshes=(), loops=tuple(loops),
+                    motors=tuple(motors), meshdir="parts",
+                    comment=f"hapticad delta '{design.name}': base frame (m, z up), effector centre "
+                            f"at {P.tolist()} mm; masses from the solids; loops closed by connect")

@@ -1,0 +1,126 @@
+"""The Falcon's knee (Stamper's joint offset g > 0): its fold angle over the workspace and
+where the knee's cross bar meets the upper arm's fork plates (cad.families.delta.clearance.py).
+
+References: the fold angle against the layout's body frames (arccos of -x_upper . x_knee,
+:func:`cad.families.delta.layout.body_poses`: a second path through the kinematics); the
+clash limit of eq (1) against OCCT's exact common volume of the posed solids (slow: the
+every-pair check at one layer of the Falcon's workspace just below and just above the limit:
+knee pairs collide at the layer whose fold is under the limit and at no other).
+"""
+
+from __future__ import annotations
+
+import copy
+import math
+import tomllib
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from cad.design import parse_design
+from cad.errors import DesignError
+from cad.families.delta import hardware as hw
+from cad.families.delta.clearance import (
+    fold_deg,
+    fold_limit_deg,
+    knee_clash,
+    rod_bracket_clash,
+    rod_bracket_gap_mm,
+)
+from cad.families.delta.layout import body_poses
+
+ROOT = Path(__file__).resolve().parents[3]
+RAW = tomllib.loads((ROOT / "designs" / "delta_falcon.toml").read_text())
+
+
+def _layer(z_mm: float):
+    """The Falcon with its workspace one thin layer (90 x 90 mm, 1 mm high) whose top is z."""
+    raw = copy.deepcopy(RAW)
+    raw["workspace"] = {"shape": "box", "center_mm": [0.0, 0.0, z_mm - 0.5],
+                        "size_mm": [90.0, 90.0, 1.0], "grid": 5}
+    return parse_design(raw, "falcon_layer.toml")
+
+
+def test_fold_angle_against_the_layout_frames():
+    d = parse_design(copy.deepcopy(RAW), "f.toml")
+    X = d.workspace_points()
+    psi = fold_deg(d.mechanism, X)
+    tf = body_poses(d.mechanism, X, d.parallelogram_width_mm)
+    for i in range(3):
+        ref = np.degrees(np.arccos(-np.einsum("nj,nj->n", tf[f"upper_{i}"][:, :3, 0],
+                                              tf[f"knee_{i}"][:, :3, 0])))
+        assert np.allclose(psi[:, i], ref, rtol=0, atol=1e-9)
+    # the Falcon's workspace top folds the knees almost flat (8 deg), its bottom opens them
+    assert psi.min() == pytest.approx(7.86, abs=0.01) and psi.max() > 100
+
+
+def test_fold_limit_of_eq1():
+    # the bar's axis g sin(psi) from the arm's centre line = half the plate + the bar's radius
+    lim = fold_limit_deg(22.5)
+    assert 22.5 * math.sin(math.radians(lim)) == pytest.approx((hw.ARM_WIDTH_MM + hw.CROSS_BAR_D_MM) / 2,
+                                                                rel=1e-12)
+    assert fold_limit_deg(0.0) == 0.0
+    assert fold_limit_deg((hw.ARM_WIDTH_MM + hw.CROSS_BAR_D_MM) / 2 * 0.99) == 180.0
+
+
+@pytest.mark.parametrize("z_mm,clash", [(-81.5, False), (-80.0, True)])
+def test_knee_clash_edges(z_mm, clash):
+    d = _layer(z_mm)
+    psi = fold_deg(d.mechanism, d.workspace_points()).min()
+    assert (psi < fold_limit_deg(22.5)) == clash  # the two layers straddle the limit
+    assert abs(psi - fold_limit_deg(22.5)) < 1.5
+    msg = knee_clash(d)
+    assert (msg is not None) == clash
+    if clash:
+        assert "folds to 31.3 deg" in msg and "below 32.2 deg" in msg and "\n" not in msg
+
+
+def test_the_falcon_refusal_names_the_knee_clash(tmp_path):
+    import cad
+
+    d = cad.load_design(ROOT / "designs" / "delta_falcon.toml")
+    with pytest.raises(DesignError, match="mechanism.joint_offset_mm") as e:
+        cad.build_design(d, tmp_path / "f", formats="step")
+    assert "knee 0 folds to 7.9 deg" in str(e.value) and "25 of 125 workspace points" in str(e.value)
+    assert "inner rod of arm 2 meets its motor bracket" in str(e.value)
+    assert "\n" not in str(e.value)
+
+
+@pytest.mark.parametrize("z_mm,pairs", [(-88.5, 0), (-86.0, 3), (-80.0, 37)])
+def test_rod_bracket_pairs_by_layer(z_mm, pairs):
+    d = _layer(z_mm)
+    gap = rod_bracket_gap_mm(d, d.workspace_points())
+    assert int((gap < 0).sum()) == pairs
+    assert (rod_bracket_clash(d) is None) == (pairs == 0)
+
+
+def test_the_bundled_delta_clears_both():
+    d = parse_design(tomllib.loads((ROOT / "designs" / "delta.toml").read_text()), "delta.toml")
+    assert knee_clash(d) is None and rod_bracket_clash(d) is None
+    assert rod_bracket_gap_mm(d, d.workspace_points()).min() > 30.0  # mm: far from its brackets
+
+
+def _label(P) -> str:
+    return "P = ({:.1f}, {:.1f}, {:.1f}) mm".format(*P)
+
+
+@pytest.mark.slow  # four every-pair checks of the Falcon's solids at 125 poses each (~2 min)
+@pytest.mark.parametrize("z_mm", [-88.5, -86.0, -81.5, -80.0])
+def test_predictions_against_the_solids(z_mm):
+    from cad.assembly import interference as itf
+    from cad.families.delta.assembly import assemble
+
+    d = _layer(z_mm)
+    X = d.workspace_points()
+    rep = itf.check_model(assemble(d, "preview"), fail_fast=False).as_dict()
+    hits = rep.get("collisions") or []
+    knee = [c for c in hits if any(p.startswith("knee_") and ".cross_bar" in p for p in c["parts"])]
+    assert bool(knee) == (fold_deg(d.mechanism, X).min() < fold_limit_deg(22.5))
+    rod_hits = [c for c in hits for i in range(3)
+                if sorted(c["parts"]) == [f"lower_{i}_a.rod", f"motor_bracket_{i}"]]
+    rod = {(c["pose"], int(c["parts"][0][-1] if c["parts"][0].startswith("motor") else c["parts"][1][-1]))
+           for c in rod_hits}
+    gap = rod_bracket_gap_mm(d, X)
+    assert rod == {(_label(X[n]), i) for n, i in zip(*np.nonzero(gap < 0), strict=True)}
+    assert len(hits) == len(knee) + len(rod_hits)  # nothing else meets
