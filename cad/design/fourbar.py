@@ -49,7 +49,7 @@ from cad.design.firmware import FirmwareOptions, parse_firmware
 from cad.design.motor import parse_motor_table
 from cad.design.replace import ValidatedReplace
 from cad.design.targets import Target, parse_targets
-from cad.design.transmission import DIRECT, Transmission, parse_transmissions
+from cad.design.transmission import Transmission, parse_transmissions
 from cad.dynamics.inertia import InertiaCoefficients
 from cad.dynamics.stiffness import StiffnessInputs
 from cad.errors import DesignError, KinematicsError
@@ -88,9 +88,13 @@ class FourBarDesign(ValidatedReplace):
     firmware: FirmwareOptions = field(default_factory=FirmwareOptions)
     force_basis: str = "continuous"
     motor: tuple = ()
-    #: one :class:`cad.design.transmission.Transmission` per motor (the crank's): direct drive
-    #: unless the design has a ``[transmission]`` table
-    transmissions: tuple[Transmission, ...] = (DIRECT,)
+
+    @property
+    def transmissions(self) -> tuple[Transmission, ...]:
+        """One :class:`cad.design.transmission.Transmission` per motor (the crank's): the
+        ``[transmission]`` table of the design file (validated at load), direct drive without
+        one. Read from ``raw`` (not a field of its own: a direct design's hash is unchanged)."""
+        return parse_transmissions(self.raw.get("transmission"), 1)
 
     def motor_spec(self):
         """The motor this design drives: ``parts.motor`` with the ``[motor]`` overrides."""
@@ -301,8 +305,8 @@ def parse(raw: dict[str, Any], source: str = "<design>") -> FourBarDesign:
         parts=parts, targets=targets, fit_free=tuple(free), raw=raw,
         firmware=parse_firmware(optional_table(raw, "firmware", ""), 1),
         force_basis=basis, motor=parse_motor_table(optional_table(raw, "motor", ""), "motor"),
-        transmissions=parse_transmissions(raw.get("transmission"), 1),
     )
+    parse_transmissions(raw.get("transmission"), 1)  # refused here, at load (DesignError)
     design = _delta_of_the_encoder(design)
     from cad.design.bounds import warn
 
