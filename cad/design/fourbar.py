@@ -32,6 +32,8 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from cad import tolerances as tol
+from cad.actuators.capstan import bend_ratio_warning
+from cad.data.cables import get_cable
 from cad.data.catalog import DEFAULT_ENCODER
 from cad.design.fields import (
     check_name,
@@ -324,9 +326,6 @@ def _warn_transmission(design: FourBarDesign, warn) -> None:
     t = design.transmissions[0]
     if not t.is_capstan:
         return
-    from cad.actuators.capstan import bend_ratio_warning
-    from cad.data.cables import get_cable
-
     bend = bend_ratio_warning(get_cable(t.cable), t.capstan_diameter_mm)
     if bend is not None:
         warn(f"transmission: {bend}")

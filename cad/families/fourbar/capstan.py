@@ -257,7 +257,7 @@ def _row(part: str, desc: str, quantity: int, made: bool, process: str, material
             "order_code": "", "stock": stock}
 
 
-def bom_rows(design, device=None) -> list[dict]:
+def bom_lines(design, device=None) -> list[dict]:
     """The crank's capstan as BOM lines (the bom.csv row form of
     :func:`cad.device.encoder_bom_rows`): the rope with its cut length, the capstan and the drum
     (made: their stock from this module's layout choices), the two anchors and the tensioner

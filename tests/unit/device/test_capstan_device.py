@@ -210,7 +210,7 @@ def test_bom_lines_of_the_capstan():
     from cad.families.fourbar import capstan as fc
 
     d = load_design(CAPSTAN)
-    rows = {r["part"]: r for r in fc.bom_rows(d)}
+    rows = {r["part"]: r for r in fc.bom_lines(d)}
     assert set(rows) == {"capstan_cable", "capstan", "capstan_drum", "capstan_anchor", "capstan_tensioner"}
     L = math.sqrt(50 ** 2 - 16 ** 2)
     sector = 84 + 2 * math.degrees(20 / 64)
@@ -221,7 +221,7 @@ def test_bom_lines_of_the_capstan():
     assert rows["capstan_anchor"]["quantity"] == 2
     assert all("not drawn as a solid yet" in r["description"] for k, r in rows.items() if k != "capstan_cable")
     assert rows["capstan_drum"]["stock"] == "plate 10 x 74 x 74 mm aluminium-6061"
-    assert fc.bom_rows(load_design(ROOT / "designs" / "hoeken.toml")) == []
+    assert fc.bom_lines(load_design(ROOT / "designs" / "hoeken.toml")) == []
 
 
 def test_mjcf_motor_gear_and_the_reader_take_the_ratio():
