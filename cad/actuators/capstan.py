@@ -287,6 +287,21 @@ def capstan_joint_figures(capstan_diameter_mm: float, drum_diameter_mm: float, c
 
 
 # --------------------------------------------------------------------------- layout of the rope
+#: Gap between the capstan's rim and the drum's rim, mm: the rope (up to 1.6 mm) passes
+#: between them without rubbing. A layout choice (no part is drawn yet).
+CAPSTAN_GAP_MM = 2.0
+
+
+def rope_stiffness_Nm_per_rad(capstan_diameter_mm: float, drum_diameter_mm: float,
+                              EA_N: float) -> float:
+    """The two free runs as a torsional spring at the joint (N m/rad) with the capstan
+    :data:`CAPSTAN_GAP_MM` from the drum (centre distance r_d + r_c + gap, open-belt runs):
+    :func:`cable_torsional_stiffness_Nm_per_rad` of :func:`free_run_length_mm` twice."""
+    C = 0.5 * (capstan_diameter_mm + drum_diameter_mm) + CAPSTAN_GAP_MM
+    L = float(free_run_length_mm(capstan_diameter_mm, drum_diameter_mm, C))
+    return float(cable_torsional_stiffness_Nm_per_rad(EA_N, drum_diameter_mm, (L, L)))
+
+
 def free_run_length_mm(capstan_diameter_mm, drum_diameter_mm, centre_distance_mm):
     """Length of each free run of rope between its tangent points on the capstan and the drum,
     both runs on the outside (an open belt): L = sqrt(C^2 - (r_d - r_c)^2), mm."""

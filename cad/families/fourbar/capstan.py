@@ -7,18 +7,19 @@ The motor stands beside the drum with its capstan :data:`CAPSTAN_GAP_MM` from th
 L = sqrt(C^2 - (r_d - r_c)^2). The rope lies on the drum over the crank's range plus an
 anchor of :data:`ANCHOR_LENGTH_MM` at each end; :data:`ANCHOR_TAIL_MM` of rope is left beyond
 each anchor. These three are layout choices of this module (no part is drawn yet), stated in
-every row that uses them.
+every row that uses them (the gap is :data:`cad.actuators.capstan.CAPSTAN_GAP_MM`).
 
 Figures at the peak load (the motor's peak torque through the ratio): the rope load
 dT = n tau_peak / r_d, the pretension (the design's ``pretension_N``, else the smallest that
 holds dT at the stated wraps: slip margin 1), the slip margin from the capstan equation, the
 rope's safety factor against its breaking load, the bend ratio against the rope's minimum, the
 drum sector. With the rope's ``cable_EA_N`` the two runs are a torsional spring at the crank,
-k_q = EA (2 / L) r_d^2, in series with the structure: the handle's compliance gains
-Jx^2 / k_q, the renderable stiffness is bounded by k_q / Jx^2 in series with K_max, and the
-crank's inertia on that spring, D_links(phi1) (the linkage's without the rotor: the servo
-holds the motor), has its own mode sqrt(k_q / D_links) / 2 pi, combined with the structure's
-first mode by Dunkerley's formula 1 / f^2 = 1 / f_s^2 + 1 / f_c^2 (a lower bound).
+k_q = EA (2 / L) r_d^2, holding the crank at A1 in the structure's frame
+(:func:`cad.structure.device.crank_rope_stiffness_Nm_per_rad`: the first mode and the handle's
+compliance include it), the renderable stiffness is bounded by k_q / Jx^2 in series with
+K_max, and the crank's inertia on that spring with the links rigid, D_links(phi1) (the
+linkage's without the rotor: the servo holds the motor), has its own mode
+sqrt(k_q / D_links) / 2 pi.
 
 Pure numpy (no CAD import).
 """
@@ -32,14 +33,12 @@ import numpy as np
 
 from cad.actuators import capstan as cap
 from cad.datasheet import row
-from cad.datasheet.limits import FIRST_MODE_MIN_HZ, MODE_REASON, Limit
+from cad.datasheet.limits import Limit
 from cad.device import Transmission, resolve_device
 from cad.dynamics.inertia import InertiaCoefficients, equivalent_inertia
 from cad.kinematics.fourbar import solve
 
-#: Gap between the capstan's rim and the drum's rim, mm: the rope (up to 1.6 mm) passes
-#: between them without rubbing. A layout choice (no part drawn yet).
-CAPSTAN_GAP_MM = 2.0
+CAPSTAN_GAP_MM = cap.CAPSTAN_GAP_MM
 #: Arc length an anchor (a clamping screw and washer) takes on the drum at each end, mm.
 ANCHOR_LENGTH_MM = 10.0
 #: Rope left beyond each anchor to clamp and trim, mm (cut length).
@@ -118,11 +117,6 @@ def links_inertia_kg_m2(design, report: dict, phi1_rad: np.ndarray) -> np.ndarra
     return equivalent_inertia(design.linkage, solve(design.linkage, phi1_rad), H)
 
 
-def dunkerley_Hz(*f_Hz: float) -> float:
-    """Dunkerley's lower bound of a system's first mode from its parts' own: 1 / f^2 = sum 1 / f_i^2."""
-    return 1.0 / math.sqrt(sum(1.0 / (f * f) for f in f_Hz))
-
-
 def datasheet_rows(design, report: dict, phi1_rad, Jx, device=None,
                    K_max_N_per_m: float | None = None) -> tuple[list[dict], dict]:
     """(rows, limits) of the crank's capstan (module docstring); ``([], {})`` for direct drive.
@@ -177,7 +171,7 @@ def datasheet_rows(design, report: dict, phi1_rad, Jx, device=None,
         "drum_sector_deg": Limit("<=", 360.0, "the rope and both anchors fit on one drum",
                                  "transmission.drum_diameter_mm"),
     }
-    rows += _spring_rows(design, report, t, lay, phi1_rad, Jx, limits)
+    rows += _spring_rows(design, report, t, lay, phi1_rad, Jx)
     k = cable_stiffness_Nm_per_rad(t, lay)
     if k is not None and K_max_N_per_m is not None:
         rows.append(row("K_max_with_cable_N_per_m", "renderable stiffness, rope in series",
@@ -194,8 +188,8 @@ def _cut_text(t: Transmission, lay: CapstanLayout) -> str:
             f"{CAPSTAN_GAP_MM:g} mm) + drum arc {p['drum']:.0f} + anchor tails {p['anchors']:.0f} mm")
 
 
-def _spring_rows(design, report, t, lay, phi1_rad, Jx, limits) -> list[dict]:
-    """The rope as a spring: at the crank, the handle's compliance, K_max bound, first mode."""
+def _spring_rows(design, report, t, lay, phi1_rad, Jx) -> list[dict]:
+    """The rope as a spring: at the crank, at the handle, the crank's own mode on it."""
     k = cable_stiffness_Nm_per_rad(t, lay)
     if k is None:
         return [row("cable_stiffness_Nm_per_rad", "rope stiffness at the crank", None, "N m/rad",
@@ -208,26 +202,13 @@ def _spring_rows(design, report, t, lay, phi1_rad, Jx, limits) -> list[dict]:
            row("cable_handle_stiffness_N_per_m", "rope stiffness at the handle", float((k / J2).min()), "N/m",
                f"k_q / (dx/dphi1)^2, weakest over the stroke; {src}", lo=float((k / J2).min()),
                hi=float((k / J2).max()))]
-    st = report.get("structure") or {}
-    held = "motor held by the servo, rope elastic, rocker pinned at A4"
-    if "compliance_um_per_N" in st:
-        cx = st["compliance_um_per_N"]["x"] + float(J2.max() / k) * 1e6
-        out.append(row("compliance_x_with_cable_um_per_N", "handle compliance along the path, rope included",
-                       cx, "um/N", "frame compliance (worst pose) + (dx/dphi1)^2 / k_q (worst pose): springs "
-                       "in series", boundary=f"{held}; force at the handle"))
     D = links_inertia_kg_m2(design, report, np.asarray(phi1_rad, float))
     fc = float(np.sqrt(k / D.max()) / (2 * math.pi))
-    out.append(row("cable_mode_Hz", "crank mode on the rope", fc, "Hz",
+    out.append(row("cable_mode_Hz", "crank mode on the rope (links rigid)", fc, "Hz",
                    "sqrt(k_q / D_links) / 2 pi, D_links(phi1) the linkage's inertia at the crank without the "
-                   "rotor (Hoeken paper eq 14), lowest over the stroke", boundary=f"{held}; handle free"))
-    if st.get("first_mode_Hz"):
-        f = dunkerley_Hz(st["first_mode_Hz"], fc)
-        out.append(row("first_mode_with_cable_Hz", "first mode, rope included", f, "Hz",
-                       f"Dunkerley 1 / f^2 = 1 / f_frame^2 + 1 / f_rope^2 (lower bound), f_frame = "
-                       f"{st['first_mode_Hz']:.4g} Hz, f_rope = {fc:.4g} Hz", boundary=f"{held}; handle free"))
-        limits["first_mode_with_cable_Hz"] = Limit(">=", FIRST_MODE_MIN_HZ, MODE_REASON,
-                                                   "transmission.cable_EA_N (a stiffer rope), "
-                                                   "transmission.drum_diameter_mm")
+                   "rotor (Hoeken paper eq 14), lowest over the stroke; the first mode and the compliance above "
+                   "take the rope in the frame (crank held at A1 by k_q)",
+                   boundary="motor held by the servo, rope elastic, rocker pinned at A4; handle free"))
     return out
 
 

@@ -9,7 +9,8 @@ the MJCF motor, each against a hand formula written here:
 * free run L = sqrt(C^2 - (r_d - r_c)^2) with C = r_d + r_c + gap; cut length pi d_c wraps + 2 L
   + pi d_d sector / 360 + 2 tails; sector = range + 2 (2 L_a / d_d) in degrees;
 * two runs of stiffness EA / L each, both pulling at r_d: k_q = 2 (EA / L) r_d^2 (two springs in
-  parallel); in series at the handle with K: 1 / (1/K + Jx^2 / k_q);
+  parallel); in series at the handle with K: 1 / (1/K + Jx^2 / k_q); in the structure's frame
+  the handle's compliance gains Jx^2 / k_q (Jx by central finite differences);
 * the crank's mode on the rope sqrt(k_q / D) / 2 pi with D(phi1) from Hoeken paper eq (14),
   its velocity ratios a2, a3 by central finite differences of the loop closure.
 """
@@ -177,7 +178,7 @@ def _D_links(design, H: dict, phi: np.ndarray) -> np.ndarray:
             + H["H22"] * a2 ** 2 + H["H33"] * a3 ** 2)
 
 
-def test_rope_spring_in_series_against_two_spring_closed_forms(tmp_path):
+def test_rope_spring_against_two_spring_closed_forms(tmp_path):
     from cad.families.fourbar import capstan as fc
     from cad.families.fourbar.datasheet import lever
 
@@ -188,9 +189,8 @@ def test_rope_spring_in_series_against_two_spring_closed_forms(tmp_path):
     # the Hoeken paper's CAD coefficients (§III.B.2) as the report's H, its rotor n^2 J_m in H11
     H = {"H11": 2.97e-5, "H12": 3.22e-5, "H22": 1.17e-4, "H33": 7.09e-5, "beta2": 0.0}
     rep = {"H11_kg_m2": H["H11"] + 4 * JM, "H12_kg_m2": H["H12"], "H22_kg_m2": H["H22"],
-           "H33_kg_m2": H["H33"], "beta2_deg": 0.0, "Jm_kg_m2": 4 * JM,
-           "structure": {"first_mode_Hz": 300.0, "compliance_um_per_N": {"x": 2.0, "z": 5.0}}}
-    rows, limits = fc.datasheet_rows(d, rep, phi, Jx, K_max_N_per_m=1.0e5)
+           "H33_kg_m2": H["H33"], "beta2_deg": 0.0, "Jm_kg_m2": 4 * JM}
+    rows, _ = fc.datasheet_rows(d, rep, phi, Jx, K_max_N_per_m=1.0e5)
     v = {r["key"]: r["value"] for r in rows}
     L = math.sqrt(50 ** 2 - 16 ** 2) * 1e-3
     k_run = EA / L  # one run in tension, N/m
@@ -198,12 +198,44 @@ def test_rope_spring_in_series_against_two_spring_closed_forms(tmp_path):
     assert v["cable_stiffness_Nm_per_rad"] == pytest.approx(k_q, rel=1e-12)
     J2 = np.asarray(Jx) ** 2
     assert v["cable_handle_stiffness_N_per_m"] == pytest.approx((k_q / J2).min(), rel=1e-12)
-    assert v["compliance_x_with_cable_um_per_N"] == pytest.approx(2.0 + J2.max() / k_q * 1e6, rel=1e-12)
     assert v["K_max_with_cable_N_per_m"] == pytest.approx(1 / (1 / 1e5 + J2.max() / k_q), rel=1e-12)
     f_c = math.sqrt(k_q / _D_links(d, H, np.asarray(phi)).max()) / (2 * math.pi)
     assert v["cable_mode_Hz"] == pytest.approx(f_c, rel=1e-6)  # FD a2, a3: ~1e-9
-    assert v["first_mode_with_cable_Hz"] == pytest.approx((300.0 ** -2 + f_c ** -2) ** -0.5, rel=1e-6)
-    assert limits["first_mode_with_cable_Hz"].value == 150.0
+
+
+def test_frame_holds_the_crank_through_the_rope(tmp_path):
+    """The structure's frame with the rope at A1: the handle compliance along the path is the
+    crank-held frame's plus Jx^2 / k_q (a spring in series through the lever: the reaction
+    moment at A1 is Jx F by virtual work), at each pose; no mode rises, one drops."""
+    from cad.families.fourbar.pose import planar_transforms
+    from cad.kinematics.metrics import path_frame
+    from cad.structure import device as sd
+
+    held = load_design(CAPSTAN)
+    rope = _design(tmp_path, 'kind = "capstan"\ncapstan_diameter_mm = 32.0\ndrum_diameter_mm = 64.0\n'
+                             'cable = "steel-7x7-0.8"\ncable_EA_N = 20000.0')
+    assert sd.crank_rope_stiffness_Nm_per_rad(held) is None
+    k_q = sd.crank_rope_stiffness_Nm_per_rad(rope)
+    assert k_q == pytest.approx(2 * 20000.0 / (math.sqrt(50 ** 2 - 16 ** 2) * 1e-3) * 0.032 ** 2, rel=1e-12)
+    fb = held.linkage
+    ex = path_frame(fb, held.phi1_min_rad, held.phi1_max_rad).x_hat
+    phis = np.linspace(held.phi1_min_rad, held.phi1_max_rad, 3)
+    tfs = planar_transforms(fb, phis)
+    h = 1e-6
+    for i, phi in enumerate(phis):
+        c, f1 = [], []
+        for d in (held, rope):
+            fr, P = sd.build_frame(d, {k: v[i] for k, v in tfs.items()}, [], {}, "beam")
+            u = fr.solve({P: np.r_[ex[0], ex[1], 0, 0, 0, 0]})
+            c.append(float(u[6 * P:6 * P + 2] @ ex))
+            f1.append(fr.modes_Hz(6))
+        from cad.kinematics.fourbar import coupler_point_and_jacobian
+
+        Pp, Pm = (coupler_point_and_jacobian(fb, np.array([phi + s]))[0][0] * 1e-3 for s in (h, -h))
+        Jx = float((Pp - Pm) @ ex / (2 * h))
+        assert c[1] - c[0] == pytest.approx(Jx * Jx / k_q, rel=1e-6)
+        # a softer support lowers every mode (Rayleigh), at least one of them visibly
+        assert np.all(f1[1] <= f1[0] * (1 + 1e-9)) and np.any(f1[1] < 0.99 * f1[0]), (f1[0], f1[1])
 
 
 def test_bom_lines_of_the_capstan():
