@@ -362,6 +362,21 @@ def test_the_capstan_hoeken_meets_every_limit_and_states_its_rope(builds):
     assert t["cable"]["min_breaking_load_N"]["source"]
 
 
+def test_the_capstan_page_states_the_builds_figures(builds):
+    """docs/capstan.md's worked example (typed numbers, tests/docs/typed_numbers.json): the
+    figures of the capstan Hoeken's datasheet and the direct Hoeken's M11 as this module's
+    builds give them, at the digits the page types."""
+    text = (ROOT / "docs" / "capstan.md").read_text(encoding="utf-8")
+    rep = jread(builds["hoeken_capstan.toml"][1] / "report.json")
+    rep_d = jread(builds["hoeken.toml"][1] / "report.json")
+    m, md = ds_row(rep, "M11_g"), ds_row(rep_d, "M11_g")
+    for typed in (f"{ds_row(rep, 'continuous_force_N')['value']:.2f} N",
+                  f"{ds_row(rep, 'friction_N')['value']:.3f} N",
+                  f"{ds_row(rep, 'resolution_um')['value']:.1f} µm",
+                  f"{md['min']:.0f}–{md['max']:.0f} g to {m['min']:.0f}–{m['max']:.0f} g"):
+        assert typed in text, typed
+
+
 def test_encoder_counts_bom_vs_firmware(builds):
     """Reproducer outputs-agree/encoder-counts-bom-vs-firmware: with the BOM's encoder fitted,
     the firmware's crank angle from the counts is the real crank angle to one count over the
