@@ -244,9 +244,11 @@ class ResolvedDevice:
 
     def joint_counts_per_rev(self, joint: str | None = None) -> float:
         """Encoder counts per turn of ``joint`` (default: the first motor's): the motor encoder's
-        counts times the transmission ratio n (the encoder sits on the motor shaft)."""
+        counts times the transmission ratio n (the encoder sits on the motor shaft); an int when
+        the product is whole (direct drive: the encoder's own count)."""
         e = self.encoder if joint is None else next(x for x in self.encoders if x.joint == joint)
-        return e.counts_per_rev * self.transmission(e.joint).ratio
+        c = e.counts_per_rev * self.transmission(e.joint).ratio
+        return int(c) if float(c).is_integer() else c
 
     def as_dict(self) -> dict:
         """report.json ``device``: every resolved fact with its source (plain JSON types)."""
