@@ -284,3 +284,40 @@ def capstan_joint_figures(capstan_diameter_mm: float, drum_diameter_mm: float, c
         strength=cable_strength_verdict(cable, dT, T0),
         warnings=() if bend is None else (bend,),
     )
+
+
+# --------------------------------------------------------------------------- layout of the rope
+#: Gap between the capstan's rim and the drum's rim, mm: the rope (up to 1.6 mm) passes
+#: between them without rubbing. A layout choice (no part is drawn yet).
+CAPSTAN_GAP_MM = 2.0
+
+
+def rope_stiffness_Nm_per_rad(capstan_diameter_mm: float, drum_diameter_mm: float,
+                              EA_N: float) -> float:
+    """The two free runs as a torsional spring at the joint (N m/rad) with the capstan
+    :data:`CAPSTAN_GAP_MM` from the drum (centre distance r_d + r_c + gap, open-belt runs):
+    :func:`cable_torsional_stiffness_Nm_per_rad` of :func:`free_run_length_mm` twice."""
+    C = 0.5 * (capstan_diameter_mm + drum_diameter_mm) + CAPSTAN_GAP_MM
+    L = float(free_run_length_mm(capstan_diameter_mm, drum_diameter_mm, C))
+    return float(cable_torsional_stiffness_Nm_per_rad(EA_N, drum_diameter_mm, (L, L)))
+
+
+def free_run_length_mm(capstan_diameter_mm, drum_diameter_mm, centre_distance_mm):
+    """Length of each free run of rope between its tangent points on the capstan and the drum,
+    both runs on the outside (an open belt): L = sqrt(C^2 - (r_d - r_c)^2), mm."""
+    rc = 0.5 * np.asarray(capstan_diameter_mm, float)
+    rd = 0.5 * np.asarray(drum_diameter_mm, float)
+    return np.sqrt(np.asarray(centre_distance_mm, float) ** 2 - (rd - rc) ** 2)
+
+
+def cable_cut_length_mm(capstan_diameter_mm: float, drum_diameter_mm: float, wraps_: float,
+                        run_length_mm: float, drum_arc_deg: float, anchor_tail_mm: float) -> dict:
+    """The rope to cut for one capstan joint, mm, by part: ``wraps`` (pi d_c per turn), ``runs``
+    (the two free runs, 2 L), ``drum`` (the arc the rope lies on the drum: the sector the joint
+    sweeps plus both anchors' arcs, pi d_d sector / 360), ``anchors`` (a tail of
+    ``anchor_tail_mm`` beyond each anchor to clamp and trim) and their sum ``total``."""
+    parts = {"wraps": math.pi * capstan_diameter_mm * wraps_, "runs": 2.0 * run_length_mm,
+             "drum": math.pi * drum_diameter_mm * drum_arc_deg / 360.0,
+             "anchors": 2.0 * anchor_tail_mm}
+    parts["total"] = sum(parts.values())
+    return parts

@@ -22,6 +22,7 @@ Schema (units in key names; see docs/design-files.md)::
     [targets]    see cad/design/targets.py
     [fit]        free = ["parts.bar_thickness_mm", ...] (see `hapticad fit`)
     [firmware]   plane, encoders, wall of the generated firmware (cad/design/firmware.py)
+    [transmission]  the crank's drive: direct (default) or a capstan (cad/design/transmission.py)
 """
 
 from __future__ import annotations
@@ -31,6 +32,8 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from cad import tolerances as tol
+from cad.actuators.capstan import bend_ratio_warning
+from cad.data.cables import get_cable
 from cad.data.catalog import DEFAULT_ENCODER
 from cad.design.fields import (
     check_name,
@@ -48,6 +51,7 @@ from cad.design.firmware import FirmwareOptions, parse_firmware
 from cad.design.motor import parse_motor_table
 from cad.design.replace import ValidatedReplace
 from cad.design.targets import Target, parse_targets
+from cad.design.transmission import Transmission, parse_transmissions
 from cad.dynamics.inertia import InertiaCoefficients
 from cad.dynamics.stiffness import StiffnessInputs
 from cad.errors import DesignError, KinematicsError
@@ -59,7 +63,7 @@ FOURBAR_FAMILIES = (*FAMILIES, "custom")
 CUSTOM_KEYS = ("l1_mm", "l2_mm", "l3_mm", "l4_mm", "l5_mm", "le_mm", "phi_e_deg",
                "phi1_min_deg", "phi1_max_deg", "branch")
 TOP_KEYS = ("name", "description", "mechanism", "analysis", "inertia", "stiffness", "parts",
-            "targets", "fit", "firmware", "motor", "prices")
+            "targets", "fit", "firmware", "motor", "prices", "transmission")
 #: ``[mechanism] force_basis``: which motor torque must deliver ``force_N`` (datasheet verdict).
 FORCE_BASES = ("continuous", "peak")
 
@@ -86,6 +90,13 @@ class FourBarDesign(ValidatedReplace):
     firmware: FirmwareOptions = field(default_factory=FirmwareOptions)
     force_basis: str = "continuous"
     motor: tuple = ()
+
+    @property
+    def transmissions(self) -> tuple[Transmission, ...]:
+        """One :class:`cad.design.transmission.Transmission` per motor (the crank's): the
+        ``[transmission]`` table of the design file (validated at load), direct drive without
+        one. Read from ``raw`` (not a field of its own: a direct design's hash is unchanged)."""
+        return parse_transmissions(self.raw.get("transmission"), 1)
 
     def motor_spec(self):
         """The motor this design drives: ``parts.motor`` with the ``[motor]`` overrides."""
@@ -297,10 +308,27 @@ def parse(raw: dict[str, Any], source: str = "<design>") -> FourBarDesign:
         firmware=parse_firmware(optional_table(raw, "firmware", ""), 1),
         force_basis=basis, motor=parse_motor_table(optional_table(raw, "motor", ""), "motor"),
     )
+    parse_transmissions(raw.get("transmission"), 1)  # refused here, at load (DesignError)
     design = _delta_of_the_encoder(design)
     from cad.design.bounds import warn
 
     gaps = design.hardware_gaps()
     if gaps:
         warn(f"mechanism: {design._hardware_text(gaps)}")
+    _warn_transmission(design, warn)
     return design
+
+
+def _warn_transmission(design: FourBarDesign, warn) -> None:
+    """The capstan's load-time warnings: the rope below its bend ratio (naming the rope, the
+    ratio and the fix, :func:`cad.actuators.capstan.bend_ratio_warning`) and the parts not
+    drawn as solids yet (the build draws the direct-drive hub)."""
+    t = design.transmissions[0]
+    if not t.is_capstan:
+        return
+    bend = bend_ratio_warning(get_cable(t.cable), t.capstan_diameter_mm)
+    if bend is not None:
+        warn(f"transmission: {bend}")
+    warn(f"transmission: capstan drawn as its ratio, rope and BOM lines, not as a solid yet "
+         f"(drum {t.drum_diameter_mm:g} mm, capstan {t.capstan_diameter_mm:g} mm, rope "
+         f"{t.cable}: the parts, drawings and interference check show the direct-drive hub)")

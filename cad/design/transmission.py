@@ -6,6 +6,9 @@ actuated joint (issue 35, a public contract)::
     capstan_diameter_mm = 10.0
     drum_diameter_mm = 120.0   # or ratio = 12.0 (exactly one of the two)
     cable = "steel-7x19-0.6"   # a key of cad.data.cables.CABLES
+    wraps = 3.0                # optional: turns of rope on the capstan (default DEFAULT_WRAPS)
+    pretension_N = 40.0        # optional: the tensioner's setting (default: none stated)
+    cable_EA_N = 20000.0       # optional: the rope's axial stiffness E A when its maker states it
 
 :func:`parse_transmission` validates one such table and returns a frozen :class:`Transmission`.
 Bad input is a one-line :class:`cad.errors.DesignError` naming the field, the value, the reason
@@ -24,7 +27,8 @@ from cad.design.fields import check_unknown
 from cad.errors import DesignError
 
 KINDS = ("direct", "capstan")
-KEYS = ("kind", "capstan_diameter_mm", "drum_diameter_mm", "ratio", "cable")
+KEYS = ("kind", "capstan_diameter_mm", "drum_diameter_mm", "ratio", "cable", "wraps",
+        "pretension_N", "cable_EA_N")
 _CAPSTAN_ONLY = KEYS[1:]
 _LEN_SLIPS = (("metres", 1000.0), ("cm", 10.0), ("inches", 25.4))
 
@@ -46,6 +50,21 @@ RATIO = Bound("", 1.0, 50.0, "the ratio is drum / capstan diameter, a reduction 
               lo_open=True)
 
 
+#: Turns of rope on the capstan when the design states none: a tool default, not data. At
+#: mu = 0.12 (cad.actuators.capstan.MU_STEEL_ROPE_ON_STEEL) 3 turns hold T_t / T_s up to
+#: e^(0.12 * 6 pi) = 9.6, so the pretension at peak load is 0.62 of the rope load.
+DEFAULT_WRAPS = 3.0
+WRAPS = Bound("turns", 0.25, 20.0, "rope turns on a capstan are 0.25 to 20", 1.0, 10.0,
+              "capstan drives wrap 1 to 10 turns")
+#: The tensioner's pretension: a rope of a desktop device carries up to a few hundred N.
+PRETENSION_N = Bound("N", 0.0, 5000.0, "a rope pretension is 0 to 5 kN", 1.0, 500.0,
+                     "haptic capstan pretensions are 1 to 500 N", lo_open=True)
+#: Axial stiffness E A of a sub-millimetre to 2 mm steel rope: E ~ 100-200 GPa on a metallic
+#: area of 0.05-2 mm^2 gives 5 kN .. 400 kN; the bound allows 0.1 kN .. 10 MN.
+CABLE_EA_N = Bound("N", 100.0, 1.0e7, "a rope's E A is 100 N to 10 MN", 1.0e3, 1.0e6,
+                   "steel ropes of 0.3 to 2 mm have E A of 1 kN to 1 MN")
+
+
 @dataclass(frozen=True)
 class Transmission:
     """A validated ``[transmission]`` table.
@@ -61,6 +80,9 @@ class Transmission:
     capstan_diameter_mm: float | None = None
     drum_diameter_mm: float | None = None
     cable: str | None = None
+    wraps: float | None = None
+    pretension_N: float | None = None
+    cable_EA_N: float | None = None
 
     @property
     def is_capstan(self) -> bool:
@@ -124,7 +146,13 @@ def _parse_capstan(tab: dict[str, Any], prefix: str) -> Transmission:
     if not isinstance(cable, str):
         raise DesignError(f"{prefix}.cable", f"must be a catalog key (a string), got {cable!r}")
     get_cable(cable, f"{prefix}.cable")
-    return Transmission("capstan", n, dc, dd, cable)
+    wraps = (check_number(f"{prefix}.wraps", tab["wraps"], WRAPS) if "wraps" in tab
+             else DEFAULT_WRAPS)
+    t0 = (check_number(f"{prefix}.pretension_N", tab["pretension_N"], PRETENSION_N)
+          if "pretension_N" in tab else None)
+    ea = (check_number(f"{prefix}.cable_EA_N", tab["cable_EA_N"], CABLE_EA_N)
+          if "cable_EA_N" in tab else None)
+    return Transmission("capstan", n, dc, dd, cable, float(wraps), t0, ea)
 
 
 def _ratio(value: Any, field: str) -> float:

@@ -31,6 +31,7 @@ from dataclasses import dataclass, replace
 from typing import Any
 
 from cad.data import catalog
+from cad.data.cables import CABLE_DATA_FIELDS, get_cable
 from cad.data.catalog import get_motor
 from cad.design.motor import resolve_motor
 from cad.errors import DesignError
@@ -105,10 +106,15 @@ class ResolvedEncoder:
 
 @dataclass(frozen=True)
 class Transmission:
-    """Motor -> joint transmission. ``kind`` "direct" (ratio 1) today; a capstan states its
-    ``ratio`` (joint turn per motor turn inverse: joint torque = ratio * motor torque), its
-    cable and drum/capstan diameters (mm). Writers multiply torques and divide counts by
-    ``ratio``, so a capstan needs no new code path."""
+    """Motor -> joint transmission of ``motor_joint``: ``kind`` "direct" (ratio 1) or
+    "capstan" (a rope wrapped on a capstan on the motor shaft, anchored on a drum on the link;
+    :mod:`cad.actuators.capstan`). ``ratio`` n = drum / capstan diameter: joint torque = n *
+    motor torque, joint angle = motor angle / n (counts per joint turn = n * counts per motor
+    turn), rotor inertia at the joint n^2 J_m. A capstan states its diameters (mm), the rope's
+    diameter (mm) and ``cable`` (the :class:`cad.data.cables.CableSpec`, every value with its
+    source), and ``wraps`` / ``pretension_N`` / ``cable_EA_N`` when the design gives them.
+    Writers multiply torques and divide angles by ``ratio``; :func:`joint_motor_spec` gives the
+    motor as the joint sees it."""
 
     motor_joint: str
     kind: str = "direct"
@@ -117,6 +123,69 @@ class Transmission:
     drum_diameter_mm: float | None = None
     capstan_diameter_mm: float | None = None
     source: str = "direct drive: the motor shaft is the joint (Hoeken paper §III.A; isotropy paper §3.2)"
+    cable: Any = None
+    wraps: float | None = None
+    pretension_N: float | None = None
+    cable_EA_N: float | None = None
+
+    @property
+    def is_capstan(self) -> bool:
+        return self.kind == "capstan"
+
+    def as_dict(self) -> dict:
+        """report.json ``device.transmissions[i]``: a direct drive as before (kind, ratio,
+        source, no diameters); a capstan adds its rope's catalog record with each value's
+        source and the fields it leaves unverified."""
+        d = {k: getattr(self, k) for k in ("motor_joint", "kind", "ratio", "cable_diameter_mm",
+                                           "drum_diameter_mm", "capstan_diameter_mm", "source")}
+        if not self.is_capstan:
+            return d
+        c = self.cable
+        d["cable"] = {"key": c.key, "description": c.description, "construction": c.construction,
+                      **{f: {"value": getattr(c, f), "source": c.source_of(f),
+                             **({"unverified": True} if c.is_unverified(f) else {})}
+                         for f in CABLE_DATA_FIELDS}}
+        d.update(wraps=self.wraps, pretension_N=self.pretension_N, cable_EA_N=self.cable_EA_N)
+        return d
+
+
+def transmission_of(design, joint: str, index: int) -> Transmission:
+    """The resolved :class:`Transmission` of motor ``index`` (on ``joint``): the design's
+    ``transmissions`` (:func:`cad.design.transmission.parse_transmissions`), direct drive
+    when the design has none."""
+    ts = getattr(design, "transmissions", None) or ()
+    t = ts[index] if index < len(ts) else None
+    if t is None or not t.is_capstan:
+        return Transmission(joint)
+    cable = get_cable(t.cable)
+    src = (f"design file [transmission]: capstan {t.capstan_diameter_mm:g} mm, drum "
+           f"{t.drum_diameter_mm:g} mm, n = drum / capstan = {t.ratio:.6g}, rope {cable.key} "
+           "(cad.data.cables); model cad.actuators.capstan")
+    return Transmission(joint, "capstan", float(t.ratio), cable.diameter_mm, t.drum_diameter_mm,
+                        t.capstan_diameter_mm, src, cable, t.wraps, t.pretension_N, t.cable_EA_N)
+
+
+#: MotorSpec torque fields scaled by n at the joint (torque = n * motor torque).
+_TORQUE_FIELDS = ("torque_constant_mNm_per_A", "torque_continuous_mNm", "torque_peak_mNm",
+                  "stall_torque_mNm")
+
+
+def joint_motor_spec(spec, t: Transmission):
+    """The motor ``spec`` (:class:`cad.data.catalog.MotorSpec`) as its joint sees it through
+    ``t``: torques and the torque constant times n (so force per ampere, friction K_t I_0 and
+    the current for a joint torque follow), rotor inertia times n^2; currents, resistance and
+    thermal data unchanged. Each scaled value's source says "x n". Direct drive: ``spec``
+    itself (the same object)."""
+    if t.ratio == 1.0:
+        return spec
+    n = t.ratio
+    ch = {f: getattr(spec, f) * n for f in _TORQUE_FIELDS if getattr(spec, f) is not None}
+    ch["rotor_inertia_g_cm2"] = spec.rotor_inertia_g_cm2 * n * n
+    sources = dict(spec.sources)
+    for f in ch:
+        k = "n^2" if f == "rotor_inertia_g_cm2" else "n"
+        sources[f] = f"{spec.source_of(f) or spec.source} x {k} (capstan, n = {n:.4g})"
+    return replace(spec, sources=tuple(sorted(sources.items())), **ch)
 
 
 @dataclass(frozen=True)
@@ -153,12 +222,40 @@ class ResolvedDevice:
         """The first encoder (every encoder of a device has the same count)."""
         return self.encoders[0] if self.encoders else None
 
+    def transmission(self, joint: str) -> Transmission:
+        """The transmission of the motor on ``joint`` (KeyError naming it when none)."""
+        for t in self.transmissions:
+            if t.motor_joint == joint:
+                return t
+        raise KeyError(f"no motor on joint {joint!r}")
+
+    def joint_motor(self, joint: str | None = None):
+        """The MotorSpec of the motor on ``joint`` (default: the first) as that joint sees it
+        through its transmission (:func:`joint_motor_spec`): what the datasheet's force,
+        friction, thermal and apparent-mass figures read."""
+        m = self.motor if joint is None else next(x for x in self.motors if x.joint == joint)
+        return joint_motor_spec(m.spec, self.transmission(m.joint))
+
+    def joint_rotor_inertia_kg_m2(self, joint: str | None = None) -> float:
+        """The rotor inertia on ``joint`` (default: the first motor's) reflected through its
+        transmission, n^2 J_m (kg m^2): the Jm of H11."""
+        m = self.motor if joint is None else next(x for x in self.motors if x.joint == joint)
+        return m.rotor_inertia_kg_m2 * self.transmission(m.joint).ratio ** 2
+
+    def joint_counts_per_rev(self, joint: str | None = None) -> float:
+        """Encoder counts per turn of ``joint`` (default: the first motor's): the motor encoder's
+        counts times the transmission ratio n (the encoder sits on the motor shaft); an int when
+        the product is whole (direct drive: the encoder's own count)."""
+        e = self.encoder if joint is None else next(x for x in self.encoders if x.joint == joint)
+        c = e.counts_per_rev * self.transmission(e.joint).ratio
+        return int(c) if float(c).is_integer() else c
+
     def as_dict(self) -> dict:
         """report.json ``device``: every resolved fact with its source (plain JSON types)."""
         return {"name": self.name, "family": self.family, "fidelity": self.fidelity,
                 "motors": [m.as_dict() for m in self.motors],
                 "encoders": [e.as_dict() for e in self.encoders],
-                "transmissions": [t.__dict__.copy() for t in self.transmissions],
+                "transmissions": [t.as_dict() for t in self.transmissions],
                 "parts": [p.__dict__.copy() for p in self.parts],
                 "limits": dict(self.limits)}
 
@@ -195,7 +292,8 @@ def _resolve_uncached(design) -> ResolvedDevice:
     encoders = _encoders(design, motors)
     return ResolvedDevice(
         name=design.name, family=design.family, motors=motors, encoders=encoders,
-        transmissions=tuple(Transmission(m.joint) for m in motors), parts=_parts(design),
+        transmissions=tuple(transmission_of(design, m.joint, i) for i, m in enumerate(motors)),
+        parts=_parts(design),
         limits=tuple(sorted(_limits(design).items())), fidelity="fabrication")
 
 

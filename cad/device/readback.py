@@ -69,7 +69,8 @@ def bom_encoders(path: Path) -> list[tuple[int | None, int]]:
 
 
 def mjcf_motors(path: Path) -> dict[str, dict]:
-    """``{joint: {"armature": kg m^2, "forcerange": N m}}`` of every motor of an MJCF file."""
+    """``{joint: {"armature": kg m^2, "forcerange": N m}}`` of every motor of an MJCF file; the
+    force range at the joint: the motor's ``forcerange`` times its ``gear`` (a capstan's n)."""
     root = ET.parse(path).getroot()
     arm = {j.get("name"): float(j.get("armature", 0.0)) for j in root.iter("joint")}
     out = {}
@@ -78,7 +79,8 @@ def mjcf_motors(path: Path) -> dict[str, dict]:
         if j is None:  # a force actuator at a site (the PowerMouse's coils): no joint, no armature
             continue
         hi = float((m.get("forcerange") or "0 0").split()[-1])
-        out[j] = {"armature": arm.get(j), "forcerange": hi}
+        gear = float((m.get("gear") or "1").split()[0])
+        out[j] = {"armature": arm.get(j), "forcerange": hi * gear}
     return out
 
 

@@ -110,13 +110,16 @@ class SimMotor:
     """A direct-drive motor on ``joint`` with torque limit ``torque_max_Nm``; or, with
     ``site`` set (``joint`` then ""), a force actuator at that site along the unit direction
     ``direction`` (3,) in the site's body frame, limit ``torque_max_Nm`` read as N (a Lorentz
-    coil: MJCF ``<motor site gear="dx dy dz 0 0 0">``)."""
+    coil: MJCF ``<motor site gear="dx dy dz 0 0 0">``). ``gear``: the joint motor's
+    transmission ratio n (a capstan: joint torque = n motor torque, MJCF ``gear="n"``;
+    ``torque_max_Nm`` is then the motor's own limit)."""
 
     name: str
     joint: str
     torque_max_Nm: float
     site: str | None = None
     direction: tuple[float, float, float] = (1.0, 0.0, 0.0)
+    gear: float = 1.0
 
 
 @dataclass(frozen=True)
@@ -243,7 +246,7 @@ def mjcf_text(model: SimModel) -> str:
     for m in model.motors:
         t = _f(m.torque_max_Nm)
         where = (f'site={quoteattr(m.site)} gear="{_v([*m.direction, 0.0, 0.0, 0.0])}"' if m.site
-                 else f'joint={quoteattr(m.joint)} gear="1"')
+                 else f'joint={quoteattr(m.joint)} gear="{1 if m.gear == 1.0 else _f(m.gear)}"')
         out.append(
             f'    <motor name={quoteattr(m.name)} {where} '
             f'ctrllimited="true" ctrlrange="-{t} {t}" forcelimited="true" forcerange="-{t} {t}"/>'
@@ -282,7 +285,7 @@ def urdf_text(model: SimModel) -> str:
     out.append(f"  <link name={quoteattr(base)}>")
     visuals(model.world_meshes, "    ")
     out.append("  </link>")
-    torque = {m.joint: m.torque_max_Nm for m in model.motors}
+    torque = {m.joint: m.torque_max_Nm * m.gear for m in model.motors}  # at the joint
     for b in model.bodies:
         t = b.inertia_com_kg_m2
         out += [

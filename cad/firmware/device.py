@@ -43,4 +43,6 @@ def device_spec(design, report: dict, design_hash: str, version: str, device=Non
         encoder_zero_rad=encoder_zero(opts, sp.q_home_rad), motor=motor,
         gravity_m_s2=sp.gravity_m_s2 if sp.gravity_m_s2 is not None else gravity_vector(opts), bodies=sp.bodies,
         rotor_kg_m2=device.motor.rotor_inertia_kg_m2, model=model,
+        gear=(() if all(t.ratio == 1.0 for t in device.transmissions)
+              else tuple(float(t.ratio) for t in device.transmissions)),
     )

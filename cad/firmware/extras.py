@@ -28,8 +28,9 @@ PAPER_EQ25 = {"Fv_N_s_per_m": 0.12, "Fs_N": 0.083, "Te_s": 0.00033, "xdot_max_m_
 
 def encoder_step_m(spec: DeviceSpec) -> float:
     """Largest handle displacement of one encoder count at home (m): max_j |J[:, j]| 2 pi / counts
-    (J: the translational rows, :attr:`cad.firmware.model.KinematicModel.n_translation`)."""
-    J = ref.jacobian(spec, np.asarray(spec.q_home_rad)[None, :])[0][: spec.model.n_translation]
+    (J: the translational rows, :attr:`cad.firmware.model.KinematicModel.n_translation`, its
+    columns divided by each joint's transmission ratio: the encoder turns with the motor)."""
+    J = ref.jacobian(spec, np.asarray(spec.q_home_rad)[None, :])[0][: spec.model.n_translation] / spec.gear_of()
     return float(np.max(np.linalg.norm(J, axis=0))) * 2 * math.pi / spec.encoder_counts_per_rev
 
 
@@ -60,9 +61,12 @@ def wall_numbers(spec: DeviceSpec, design) -> dict:
 
 def max_forces_N(spec: DeviceSpec, q_ok: np.ndarray) -> dict:
     """Force the motors give in every direction at every test pose (continuous / peak torque):
-    min over poses of tau / sigma_max(J^T) for the translational rows."""
+    min over poses of tau / sigma_max(J^T) for the translational rows, J's columns divided by
+    each joint's transmission ratio n (the motor's torque is n times larger at its joint)."""
     fj = spec.model.force_jacobian
     J = fj(spec, q_ok) if fj is not None else ref.jacobian(spec, q_ok)[:, : spec.model.n_translation, :]
+    if spec.gear:
+        J = J / spec.gear_of()[None, None, :]
     smax = np.linalg.svd(J, compute_uv=False)[:, 0]
     m = spec.motor
     return {"continuous_N": float(np.min(m.torque_continuous_Nm / smax)),
@@ -97,6 +101,11 @@ def chai3d_json(spec: DeviceSpec, design, wall: dict, forces: dict) -> str:
             "frame": "the device frame of hapticad_device.h (m)",
         },
     }
+    if spec.gear:
+        doc["transmission_ratio"] = list(spec.gear)
+        doc["notes"]["transmission_ratio"] = ("each joint's motor through its capstan (report.json "
+                                              "device.transmissions): joint torque = n motor torque, "
+                                              "counts per joint turn = n encoder_counts_per_rev")
     return json.dumps(doc, indent=2, sort_keys=True) + "\n"
 
 

@@ -77,6 +77,13 @@ class DeviceSpec:
     wall: dict[str, float] = field(default_factory=dict)
     device: dict[str, float] = field(default_factory=dict)
     model: Any = field(default=None, compare=False, repr=False)
+    #: transmission ratio n of each joint's motor (joint torque = n motor torque, joint angle =
+    #: motor angle / n: :class:`cad.device.Transmission`); empty: every joint driven directly
+    gear: tuple[float, ...] = ()
+
+    def gear_of(self) -> np.ndarray:
+        """(n_joints,) ratios, ones for a direct-drive device."""
+        return np.asarray(self.gear, float) if self.gear else np.ones(self.n_joints)
 
 
 def motor_data(motor) -> MotorData:
@@ -120,8 +127,17 @@ def encoder_zero(opts, q_home) -> tuple[float, ...]:
 
 
 def angles_from_counts(spec: DeviceSpec, counts) -> np.ndarray:
-    """q = zero + direction * 2 pi * counts / counts_per_rev, (N, n_joints) rad."""
+    """q = zero + direction * 2 pi * counts / (counts_per_rev * n), (N, n_joints) rad: the
+    encoder on the motor shaft turns n times per joint turn (n = 1 for direct drive)."""
     c = np.asarray(counts, dtype=float)
     d = np.asarray(spec.encoder_direction, dtype=float)
     z = np.asarray(spec.encoder_zero_rad, dtype=float)
-    return z + d * (2.0 * math.pi / spec.encoder_counts_per_rev) * c
+    if not spec.gear:
+        return z + d * (2.0 * math.pi / spec.encoder_counts_per_rev) * c
+    return z + d * (2.0 * math.pi / spec.encoder_counts_per_rev) * c / spec.gear_of()
+
+
+def motor_currents_A(spec: DeviceSpec, tau_Nm) -> np.ndarray:
+    """Unsaturated motor currents of joint torques ``tau_Nm`` (N, n_joints): i = tau / (n kt), A
+    (the reference of ``hc_motor_currents`` below its limit)."""
+    return np.asarray(tau_Nm, float) / (spec.gear_of() * spec.motor.kt_Nm_per_A)

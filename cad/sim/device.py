@@ -18,6 +18,7 @@ import tempfile
 import time
 from pathlib import Path
 
+from cad.device import resolve_device
 from cad.errors import DesignError, HapticadError
 
 
@@ -135,7 +136,7 @@ def wall_inputs(design) -> tuple[dict, str]:
     _, Jx, pose, a2, a3 = lever(design)
     if design.stiffness is not None:
         return stiffness_inputs(design, Jx, None)
-    m = design.motor_spec()
+    m = resolve_device(design).joint_motor("crank")  # through a capstan: n K_t I_0
     Fm, _ = friction(design, m, Jx, pose, a2, a3)
     if Fm is None:
         raise DesignError("stiffness", f"no [stiffness] table and no friction data for {m.key} (torque constant "
@@ -159,7 +160,7 @@ def wall_report(design, *, K: float | None = None, B: float = 0.0, Te_s: float |
                             math.radians(rep["beta2_deg"]))
     from cad.families.fourbar.sim import motor_torque_Nm
 
-    tau = motor_torque_Nm(design.motor_spec())
+    tau = motor_torque_Nm(resolve_device(design).joint_motor("crank"))  # n tau_peak at the crank
     tab = wall.device_tables(design, H)
     Te = s["Te"] if Te_s is None else Te_s
     counts = s["counts"] if counts_per_rev is None else counts_per_rev

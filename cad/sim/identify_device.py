@@ -129,7 +129,8 @@ def predict(design, H, report: dict | None = None) -> Prediction:
     from cad.sim.wall import device_tables
 
     device = resolve_device(design)
-    motor = motor_data(device.motor.spec)
+    motor = motor_data(device.joint_motor("crank"))  # K_t, torques at the crank (x n through a capstan)
+    counts = device.joint_counts_per_rev("crank")  # per crank turn
     s, src = _friction_inputs(design)
     from cad.dynamics.inertia import equivalent_inertia
     from cad.kinematics.fourbar import solve
@@ -140,11 +141,10 @@ def predict(design, H, report: dict | None = None) -> Prediction:
     h = design_hash(design)
     zero = encoder_zero(design.firmware, (0.5 * (lo + hi),))[0]
     D_mid = float(tab.at(D, 0.5 * (lo + hi)))
-    plan = excitation.plan(s["Te"], motor.kt_Nm_per_A, motor.current_continuous_A, lo, hi, D_mid,
-                           device.encoder.counts_per_rev)
+    plan = excitation.plan(s["Te"], motor.kt_Nm_per_A, motor.current_continuous_A, lo, hi, D_mid, counts)
     return Prediction(design.name, h, tab, s["Te"], motor.kt_Nm_per_A, motor.current_continuous_A,
-                      device.encoder.counts_per_rev, int(design.firmware.encoder_direction[0]), zero,
-                      lo, hi, device.motor.rotor_inertia_kg_m2, s["Fs"], s["Fv"], src,
+                      counts, int(design.firmware.encoder_direction[0]), zero,
+                      lo, hi, device.joint_rotor_inertia_kg_m2("crank"), s["Fs"], s["Fv"], src,
                       _gravity_table(design, report, device, h, tab), plan, D, np.gradient(D, tab.h))
 
 

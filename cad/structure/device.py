@@ -9,7 +9,10 @@ A = (w - wp) t, Iz (in plane) = t (w^3 - wp^3) / 12, Iy (out of plane) = (w - wp
 J = 2 J_rect(web, t). Joints A2, A3 tie the links in every DOF but the rotation about z
 (rigid pins; bd_warehouse's SKT table carries no bearing stiffness, so bearing radial
 compliance is not included). Supports: the crank is clamped at A1 (motor shaft held by
-the servo, its compliance not modelled) and the rocker pinned at A4 (rigid post).
+the servo, its compliance not modelled; through a capstan with the rope's ``cable_EA_N`` the
+crank's rotation at A1 is held by the rope's torsional spring k_q instead,
+:func:`crank_rope_stiffness_Nm_per_rad`, ``crank_rope_stiffness_Nm_per_rad`` in the report)
+and the rocker pinned at A4 (rigid post).
 
 Two methods, same frame (:mod:`cad.structure.frame`):
 
@@ -45,13 +48,14 @@ import math
 
 import numpy as np
 
-from cad.data import catalog
-from cad.data.materials import get_material
-
 # Default structural limits: defined with their reasons in cad.datasheet.limits, the one
 # place of every default limit (overridable in [targets]: first_mode_Hz = { min = ... },
 # max_stress_MPa = { max = ... }).
+from cad.actuators.capstan import rope_stiffness_Nm_per_rad
+from cad.data import catalog
+from cad.data.materials import get_material
 from cad.datasheet.limits import FIRST_MODE_MIN_HZ, STRESS_SAFETY_FACTOR
+from cad.device import resolve_device
 from cad.families.fourbar.pose import planar_transforms
 from cad.kinematics.linkgeom import link_joints_mm
 from cad.kinematics.metrics import path_frame
@@ -154,6 +158,7 @@ def link_graph(design, bar_mass_kg: dict, method: str) -> LinkGraph:
     parts = design.parts
     el = bar_elastic(parts)
     J = link_joints_mm(design.linkage)
+    k_rope = crank_rope_stiffness_Nm_per_rad(design)
     beams = []
     edges = link_edges(J)
     for link, ed in edges.items():
@@ -170,8 +175,21 @@ def link_graph(design, bar_mass_kg: dict, method: str) -> LinkGraph:
     return LinkGraph(
         joints_mm={k: dict(v) for k, v in J.items()}, beams=beams,
         ties=[(("crank", "A2"), ("coupler", "A2")), (("coupler", "A3"), ("rocker", "A3"))],
-        fixed={("crank", "A1"): (0, 1, 2, 3, 4, 5), ("rocker", "A4"): (0, 1, 2, 3, 4)},
-        handle=("coupler", "P"))
+        fixed={("crank", "A1"): (0, 1, 2, 3, 4, 5) if k_rope is None else (0, 1, 2, 3, 4),
+               ("rocker", "A4"): (0, 1, 2, 3, 4)},
+        handle=("coupler", "P"),
+        springs={} if k_rope is None else {("crank", "A1", 5): k_rope})
+
+
+def crank_rope_stiffness_Nm_per_rad(design) -> float | None:
+    """The rope of a capstan on the crank as a torsional spring holding the crank's rotation at
+    A1 (N m/rad, :func:`cad.actuators.capstan.rope_stiffness_Nm_per_rad`), the motor held by
+    the servo; None for direct drive or a rope without ``transmission.cable_EA_N`` (the frame
+    then holds the crank rigidly, as the datasheet says)."""
+    t = resolve_device(design).transmission("crank")
+    if not t.is_capstan or t.cable_EA_N is None:
+        return None
+    return rope_stiffness_Nm_per_rad(t.capstan_diameter_mm, t.drum_diameter_mm, t.cable_EA_N)
 
 
 def build_frame(design, pose_tf: dict, lumped: list[Lumped], bar_mass_kg: dict, method: str):
@@ -221,6 +239,9 @@ def analyse(design, lumped: list[Lumped], bar_mass_kg: dict, method: str = "beam
         "bearing_compliance_estimate": bearing_compliance(design, phis),
         "poses": len(phis),
     }
+    k_rope = crank_rope_stiffness_Nm_per_rad(design)
+    if k_rope is not None:  # the crank held at A1 through its capstan's rope
+        out["crank_rope_stiffness_Nm_per_rad"] = k_rope
     el = bar_elastic(design.parts)
     if el.E_GPa != get_elastic(link_material(design.parts)).E_GPa:  # printed bars
         out["printed_bar_modulus"] = {"E_GPa": el.E_GPa, "source": el.source}

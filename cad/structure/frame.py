@@ -103,6 +103,9 @@ class Frame:
     ties: list[tuple[int, int]] = field(default_factory=list)
     fixed: dict[int, tuple[int, ...]] = field(default_factory=dict)
     point_mass_kg: dict[int, float] = field(default_factory=dict)
+    #: grounded springs ``(node, dof) -> k`` (N/m or N m/rad): a support that yields, e.g. a
+    #: capstan's rope holding the crank's rotation (dof 5, rz)
+    springs: dict[tuple[int, int], float] = field(default_factory=dict)
 
     def node(self, xy) -> int:
         self.nodes.append(np.asarray(xy, float)[:2])
@@ -163,6 +166,8 @@ class Frame:
         idx, r = self.dof_map()
         K = np.zeros((r, r))
         np.add.at(K, (idx[:, None], idx[None, :]), self.stiffness())
+        for (i, d), k in self.springs.items():
+            K[idx[6 * i + d], idx[6 * i + d]] += k
         m = np.repeat(self.masses()[:, None], 6, axis=1)
         m[:, 3:] = 0.0
         mr = np.zeros(r)

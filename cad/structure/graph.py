@@ -55,14 +55,16 @@ class LinkGraph:
 
     joints_mm: link -> joint name -> (2,) xy in the link frame (mm); beams: in build order
     (link by link); ties: ``((link, joint), (link, joint))`` revolute joints; fixed:
-    ``(link, joint) -> DOFs held`` (0..5 = ux, uy, uz, rx, ry, rz); handle: ``(link, joint)``
-    where the force is applied."""
+    ``(link, joint) -> DOFs held`` (0..5 = ux, uy, uz, rx, ry, rz); springs: ``(link, joint,
+    dof) -> k`` grounded springs (N/m, N m/rad); handle: ``(link, joint)`` where the force is
+    applied."""
 
     joints_mm: dict[str, dict[str, np.ndarray]]
     beams: list[Beam]
     ties: list[tuple[tuple[str, str], tuple[str, str]]] = field(default_factory=list)
     fixed: dict[tuple[str, str], tuple[int, ...]] = field(default_factory=dict)
     handle: tuple[str, str] = ("", "")
+    springs: dict[tuple[str, str, int], float] = field(default_factory=dict)
 
 
 def frame_at(graph: LinkGraph, tf_world_link: dict, lumped=()) -> tuple[Frame, dict]:
@@ -90,6 +92,8 @@ def frame_at(graph: LinkGraph, tf_world_link: dict, lumped=()) -> tuple[Frame, d
     fr.ties += [(ids[a], ids[b]) for a, b in graph.ties]
     for j, dofs in graph.fixed.items():
         fr.fixed[ids[j]] = tuple(dofs)
+    for (link, joint, dof), k in graph.springs.items():
+        fr.springs[(ids[(link, joint)], dof)] = k
     for lp in lumped:
         if lp.link not in order:
             continue

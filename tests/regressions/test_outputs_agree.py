@@ -19,7 +19,11 @@ other and with independent references:
   the peak current as T_peak / Kt (closed form);
 * K: eq (25) by hand from the design's ``[stiffness]`` table against the wall sketch, the
   CHAI3D file and the datasheet's eq (25) row; each other K labelled for what it is;
-* masses: the BOM's lines summed against report.json; the MJCF bodies against report.json.
+* masses: the BOM's lines summed against report.json; the MJCF bodies against report.json;
+* a capstan on the crank (``[transmission]``, issue 35): its ratio n = drum / capstan read from
+  the TOML here; the datasheet's force and force per ampere n times the motor's over the lever,
+  the resolution 1 / n, the crank's armature and report.json Jm n^2 J_m, the MJCF motor's gear n
+  with the motor's own torque range, HC_GEAR = n beside the motor's own Kt.
 
 The two reproducers of ``cases/outputs-agree/encoder-counts-bom-vs-firmware`` and
 ``cases/reliability3/firmware-ignores-motor-table`` are tests here (their design changes are
@@ -200,6 +204,13 @@ def report_type(family: str) -> type:
     return rt.resolve() if rt is not None else contract.CommonReport
 
 
+@pytest.fixture(scope="module")
+def capstan_build(tmp_path_factory):
+    """designs/hoeken_capstan.toml built as the others (its own fixture: issue 35)."""
+    name = "hoeken_capstan.toml"
+    return _build((DESIGNS / name).read_text(), tmp_path_factory.mktemp("agree_capstan"), "hoeken_capstan")
+
+
 def check_agree(toml: dict, out: Path) -> None:
     """Every cross-file comparison of the module docstring on one build."""
     rep = jread(out / "report.json")
@@ -229,6 +240,15 @@ def check_agree(toml: dict, out: Path) -> None:
     _check_masses(out, rep)
 
 
+def _ratio(toml: dict) -> float:
+    """The crank's transmission ratio the design states: drum / capstan (or ``ratio``), 1 for
+    direct drive."""
+    t = toml.get("transmission") or {}
+    if t.get("kind", "direct") == "direct":
+        return 1.0
+    return t["ratio"] if "ratio" in t else t["drum_diameter_mm"] / t["capstan_diameter_mm"]
+
+
 def _motor_data(toml: dict) -> dict:
     """Kt (N m/A), continuous current (A), peak torque (N m), rotor inertia (kg m^2) the
     design states: its [motor] table, else the catalog entry (data, not our computation)."""
@@ -239,26 +259,33 @@ def _motor_data(toml: dict) -> dict:
     return {"kt": t.get("torque_constant_mNm_per_A", m.torque_constant_mNm_per_A) * 1e-3,
             "i_cont": t.get("current_continuous_A", m.current_continuous_A),
             "tau_peak": t.get("torque_peak_mNm", m.torque_peak_mNm) * 1e-3,
+            "tau_cont": t.get("torque_continuous_mNm", m.torque_continuous_mNm) * 1e-3,
             "Jm": t.get("rotor_inertia_g_cm2", toml.get("parts", {}).get("motor_rotor_inertia_g_cm2",
                                                                         m.rotor_inertia_g_cm2)) * 1e-7}
 
 
 def _check_fourbar(toml: dict, out: Path, rep: dict, n: int) -> None:
     L = lever_fd(toml)
+    g = _ratio(toml)
     res = ds_row(rep, "resolution_um")
-    assert res["value"] == pytest.approx(2 * math.pi / n * L.max() * 1e6, rel=FD_REL)
+    assert res["value"] == pytest.approx(2 * math.pi / (n * g) * L.max() * 1e6, rel=FD_REL)
     m = _motor_data(toml)
-    fpa = ds_row(rep, "force_per_ampere_N_per_A")  # Kt / |dx/dphi1|, min over the stroke
-    assert fpa["value"] * L.max() == pytest.approx(m["kt"], rel=FD_REL)
-    assert rep["Jm_kg_m2"] == pytest.approx(m["Jm"], rel=EXACT_REL)
+    fpa = ds_row(rep, "force_per_ampere_N_per_A")  # n Kt / |dx/dphi1|, min over the stroke
+    assert fpa["value"] * L.max() == pytest.approx(m["kt"] * g, rel=FD_REL)
+    cont = ds_row(rep, "continuous_force_N")  # n T_cont / |dx/dphi1|, min over the stroke
+    assert cont["value"] * L.max() == pytest.approx(m["tau_cont"] * g, rel=FD_REL)
+    assert rep["Jm_kg_m2"] == pytest.approx(m["Jm"] * g * g, rel=EXACT_REL)
     assert rep["motor"]["rotor_inertia_g_cm2"] == pytest.approx(m["Jm"] * 1e7, rel=EXACT_REL)
     root = mjcf(out)
     crank = next(j for j in root.iter("joint") if j.get("name") == "crank")
-    assert float(crank.get("armature")) == pytest.approx(m["Jm"], rel=EXACT_REL)
+    assert float(crank.get("armature")) == pytest.approx(m["Jm"] * g * g, rel=EXACT_REL)
     (motor,) = list(root.iter("motor"))
+    assert float(motor.get("gear")) == g
     assert float(motor.get("forcerange").split()[1]) == pytest.approx(m["tau_peak"], rel=EXACT_REL)
     if (out / "firmware").is_dir():
         h = header(out)
+        gear = defines((out / "firmware" / "hapticad_device.h").read_text()).get("HC_GEAR")
+        assert gear == (None if g == 1.0 else f"{{ HC_R({g!r}) }}")
         assert h["kt"] == pytest.approx(m["kt"], rel=EXACT_REL)
         assert h["i_cont"] == pytest.approx(m["i_cont"], rel=EXACT_REL)
         assert h["i_peak"] == pytest.approx(m["tau_peak"] / m["kt"], rel=EXACT_REL)
@@ -364,6 +391,54 @@ def _check_masses(out: Path, rep: dict) -> None:
 def test_outputs_agree(builds, name):
     toml, out = builds[name]
     check_agree(toml, out)
+
+
+def test_outputs_agree_with_a_capstan(capstan_build):
+    check_agree(*capstan_build)
+
+
+def test_the_capstan_hoeken_meets_every_limit_and_states_its_rope(builds, capstan_build):
+    """designs/hoeken_capstan.toml (issue 35): the Hoeken's solids with a capstan on the crank.
+    Against the direct Hoeken's build (the same solids), H11 gains the reflected rotor only,
+    (n^2 - 1) J_m; every datasheet verdict is met (continuous force >= 5 N); the rope's cut
+    length is the same number in the datasheet, bom.csv and order.csv; report.json ``device``
+    states the ratio and the rope with its source."""
+    toml, out = capstan_build
+    _, out_d = builds["hoeken.toml"]
+    rep, rep_d = jread(out / "report.json"), jread(out_d / "report.json")
+    g, m = _ratio(toml), _motor_data(toml)
+    assert rep["H11_kg_m2"] - rep_d["H11_kg_m2"] == pytest.approx((g * g - 1) * m["Jm"], rel=1e-9)
+    for k in ("H12_kg_m2", "H22_kg_m2", "H33_kg_m2"):
+        assert rep[k] == rep_d[k]
+    assert rep["datasheet"]["warnings"] == [] and rep["datasheet"]["ok"]
+    assert ds_row(rep, "continuous_force_N")["value"] >= toml["mechanism"]["force_N"]
+    judged = [r for r in rep["datasheet"]["rows"] if r["limit"] is not None]
+    assert {r["key"] for r in judged} >= {"continuous_force_N", "first_mode_Hz", "bend_ratio",
+                                          "cable_slip_margin", "cable_safety_factor", "drum_sector_deg"}
+    assert all(r["verdict"] == "ok" for r in judged), [(r["key"], r["verdict"]) for r in judged]
+    cut = f"{ds_row(rep, 'cable_cut_length_mm')['value']:.0f}"
+    (rope,) = [r for r in bom_rows(out) if r["part"] == "capstan_cable"]
+    assert f"cut length {cut} mm" in rope["description"]
+    assert [o["designation"] for o in bom_rows(out, "order.csv") if o["parts"] == "capstan_cable"] == [
+        f"wire rope 7x7 0.8 mm x {cut} mm"]
+    t = rep["device"]["transmissions"][0]
+    assert (t["kind"], t["ratio"], t["cable"]["key"]) == ("capstan", g, toml["transmission"]["cable"])
+    assert t["cable"]["min_breaking_load_N"]["source"]
+
+
+def test_the_capstan_page_states_the_builds_figures(builds, capstan_build):
+    """docs/capstan.md's worked example (typed numbers, tests/docs/typed_numbers.json): the
+    figures of the capstan Hoeken's datasheet and the direct Hoeken's M11 as this module's
+    builds give them, at the digits the page types."""
+    text = (ROOT / "docs" / "capstan.md").read_text(encoding="utf-8")
+    rep = jread(capstan_build[1] / "report.json")
+    rep_d = jread(builds["hoeken.toml"][1] / "report.json")
+    m, md = ds_row(rep, "M11_g"), ds_row(rep_d, "M11_g")
+    for typed in (f"{ds_row(rep, 'continuous_force_N')['value']:.2f} N",
+                  f"{ds_row(rep, 'friction_N')['value']:.3f} N",
+                  f"{ds_row(rep, 'resolution_um')['value']:.1f} µm",
+                  f"{md['min']:.0f}–{md['max']:.0f} g to {m['min']:.0f}–{m['max']:.0f} g"):
+        assert typed in text, typed
 
 
 def test_encoder_counts_bom_vs_firmware(builds):

@@ -113,7 +113,8 @@ def inertia_model(design, fidelity: str = "inertia", samples: int = 401) -> dict
     asm = inertia_assembly(design, fidelity)
     props = family.kind_props(asm.instances)
     link_props = family.body_props(asm.instances, props)
-    Jm = resolve_device(design).motor.rotor_inertia_kg_m2  # [motor] / parts overrides applied
+    # [motor] / parts overrides applied; through a capstan the crank feels n^2 Jm (cad.device)
+    Jm = resolve_device(design).joint_rotor_inertia_kg_m2("crank")
     H, planar_links = inertia_from_links(design, link_props, Jm)
 
     shares: list[PartShare] = []

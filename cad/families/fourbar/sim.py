@@ -17,6 +17,7 @@ import math
 import numpy as np
 
 from cad.data.materials import get_material
+from cad.device import resolve_device
 from cad.errors import DesignError
 from cad.export.sim import SimBody, SimLoop, SimMesh, SimModel, SimMotor
 from cad.families.fourbar.pose import body_transforms
@@ -43,7 +44,11 @@ def sim_model(design, asm, link_props: dict, Jm_kg_m2: float, motor, phi1_rad: f
 
     ``asm``: the build's :class:`cad.assembly.model.AssemblyModel`; ``link_props``: MassProps
     per body in the link frame (SI); mesh files are ``parts/<kind>.stl`` of made parts.
+    ``Jm_kg_m2``: the rotor inertia at the crank (the crank's armature: n^2 J_m through a
+    capstan of ratio n, :meth:`cad.device.ResolvedDevice.joint_rotor_inertia_kg_m2`); the
+    motor's gear is n (the resolved device's transmission), its torque limit the motor's own.
     """
+    n = resolve_device(design).transmission("crank").ratio
     fb = design.linkage
     pose = solve(fb, np.array([phi1_rad]))
     tf = {b: v[0] for b, v in body_transforms(fb, [phi1_rad]).items()}
@@ -85,7 +90,7 @@ def sim_model(design, asm, link_props: dict, Jm_kg_m2: float, motor, phi1_rad: f
         bodies=bodies,
         world_meshes=tuple(meshes["ground"]),
         loops=(SimLoop("loop_A3", "coupler", "A3_coupler", "rocker", "A3_rocker"),),
-        motors=(SimMotor("motor", "crank", motor_torque_Nm(motor)),),
+        motors=(SimMotor("motor", "crank", motor_torque_Nm(motor), gear=n),),
         meshdir="parts",
         comment=(
             f"hapticad {design.family} four-bar '{design.name}': world = R0 (origin A1, m), written at "

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import pytest
 
-from cad.design.transmission import DIRECT, Transmission, parse_transmission
+from cad.design.transmission import DEFAULT_WRAPS, DIRECT, Transmission, parse_transmission
 from cad.errors import DesignError
 
 ISSUE_TABLE = {"kind": "capstan", "capstan_diameter_mm": 10.0, "drum_diameter_mm": 120.0,
@@ -15,8 +15,13 @@ ISSUE_TABLE = {"kind": "capstan", "capstan_diameter_mm": 10.0, "drum_diameter_mm
 
 def test_the_issue_table_parses_to_ratio_12():
     t = parse_transmission(ISSUE_TABLE)
-    assert t == Transmission("capstan", 12.0, 10.0, 120.0, "steel-7x19-0.6")
-    assert t.is_capstan
+    assert t == Transmission("capstan", 12.0, 10.0, 120.0, "steel-7x19-0.6", DEFAULT_WRAPS)
+    assert t.is_capstan and t.pretension_N is None and t.cable_EA_N is None
+
+
+def test_wraps_pretension_and_rope_stiffness_are_read_when_given():
+    t = parse_transmission({**ISSUE_TABLE, "wraps": 4.5, "pretension_N": 40, "cable_EA_N": 2.0e4})
+    assert (t.wraps, t.pretension_N, t.cable_EA_N) == (4.5, 40.0, 2.0e4)
 
 
 def test_ratio_instead_of_drum_gives_the_drum():
