@@ -51,6 +51,7 @@ from cad.device import encoder_bom_rows, resolve_device
 from cad.dynamics.inertia import PlanarLinkInertia, apparent_mass_summary, h_from_links
 from cad.export import STL_ANGULAR_TOLERANCE_RAD
 from cad.export.nesting import plan_sheets, sheets_report
+from cad.families.fourbar import capstan
 from cad.families.fourbar.layout import LINKS, PREVIEW_POSES, check_layout, sweep_angles
 from cad.families.fourbar.pose import body_transforms
 from cad.families.fourbar.sim import sim_model
@@ -176,8 +177,9 @@ def _dynamics(b) -> FourBarDynamics:
     """From the driver's mass properties (``b.props`` per kind, ``b.bodies`` per body in the
     link frame, SI): Jm, H and the apparent mass, the fidelity costs and the structure."""
     design, model = b.design, b.model
-    dm = resolve_device(design).motor  # [motor] and parts.motor_rotor_inertia_g_cm2 applied
-    Jm = dm.rotor_inertia_kg_m2
+    dev = resolve_device(design)
+    dm = dev.motor  # [motor] and parts.motor_rotor_inertia_g_cm2 applied
+    Jm = dev.joint_rotor_inertia_kg_m2("crank")  # n^2 J_m through a capstan
     H, planar = inertia_from_links(design, b.bodies, Jm)
     am = apparent_mass(design, H)
     return FourBarDynamics(
@@ -269,7 +271,7 @@ def _stages(phi1_deg: float | None, allow_interference: bool):
         assembly=lambda design: (None, ASSEMBLY_CHECKS),
         children=_same_body, children_after_props=_preview,
         export_kw=lambda b: {**_mesh_kw(b), "preview": False}, view_kw=_mesh_kw,
-        no_solid_rows=lambda design: [encoder_bom_row(design)],
+        no_solid_rows=lambda design: [encoder_bom_row(design), *capstan.bom_lines(design)],
         md_images=(("coupler curve, deviation and torque", "kinematics.png"),
                    ("apparent mass over the stroke (eq 22, H from the solids)",
                     "apparent_mass.png")))
@@ -368,7 +370,8 @@ def _report(b) -> dict:
             "key": motor.key,
             **({"name": motor.winding} if dict(b.design.motor).get("name") else {}),
             "mass_kg": motor.mass_kg,
-            "rotor_inertia_g_cm2": mp.Jm_kg_m2 * 1e7,
+            # the rotor's own (Jm_kg_m2 is n^2 J_m at the crank)
+            "rotor_inertia_g_cm2": mp.Jm_kg_m2 * 1e7 / resolve_device(b.design).transmission("crank").ratio ** 2,
             "source": (motor.source if not b.design.motor else
                        f"the design's [motor] table over the mount of {motor.key} ({motor.source})"),
         },

@@ -36,6 +36,7 @@ from cad.data import catalog
 from cad.datasheet import row
 from cad.device import resolve_device
 from cad.dynamics.inertia import InertiaCoefficients
+from cad.families.fourbar import capstan
 from cad.families.fourbar.limits import PAPER_FS_N, fourbar_limits
 from cad.io import derived_cache
 from cad.kinematics.fourbar import jacobian_mm_per_rad, solve, velocity_ratios
@@ -148,9 +149,11 @@ def encoder_counts(design, Jx=None) -> tuple[int, str, str | None]:
 
 def resolution_row(design, Jx) -> dict:
     counts, src, _ = encoder_counts(design, Jx)
-    r = 2 * math.pi / counts * np.abs(Jx) * 1e6
+    n = resolve_device(design).transmission("crank").ratio
+    r = 2 * math.pi / (counts * n) * np.abs(Jx) * 1e6
+    via = "" if n == 1.0 else f" / n = {n:.4g} (capstan: the encoder turns n times per crank turn)"
     return row("resolution_um", "position resolution at the handle", r.max(), "um",
-               f"(2 pi / {counts} counts) |dx/dphi1|, worst over the stroke; {src}", lo=r.min(), hi=r.max())
+               f"(2 pi / {counts} counts{via}) |dx/dphi1|, worst over the stroke; {src}", lo=r.min(), hi=r.max())
 
 
 def friction(design, m, Jx, pose, a2, a3) -> tuple[np.ndarray | None, np.ndarray]:
@@ -191,6 +194,7 @@ def friction_rows(design, m, Jx, pose, a2, a3) -> list[dict]:
 def stiffness_inputs(design, Jx, friction_N: float | None) -> tuple[dict, str]:
     """(Fv, Fs, Te, Delta, xdot, counts) for eq (25) and the wall, and where they come from."""
     counts, src, _ = encoder_counts(design, Jx)
+    counts = resolve_device(design).joint_counts_per_rev("crank")  # per crank turn (x n through a capstan)
     J_mid = abs(float(Jx[len(Jx) // 2]))
     st = design.stiffness
     if st is not None:
@@ -306,7 +310,8 @@ def mass_rows(report) -> list[dict]:
 
 def rows_and_limits(design, report: dict, out_dir=None, simulate_wall: bool = True):
     """(rows, limits, notes) of a four-bar build report (module docstring)."""
-    m = resolve_device(design).motor.spec  # the motor the BOM orders, [motor] applied
+    dev = resolve_device(design)
+    m = dev.joint_motor("crank")  # the motor the BOM orders, [motor] applied, seen at the crank (x n)
     phi, Jx, pose, a2, a3 = lever(design)
     rows = [row("stroke_mm", "stroke", report.get("stroke_mm"), "mm", "|P(phi1_max) - P(phi1_min)| (Table I)")]
     rows += force_rows(design, m, Jx) + thermal_rows(design, m, Jx)
@@ -317,8 +322,10 @@ def rows_and_limits(design, report: dict, out_dir=None, simulate_wall: bool = Tr
         rows.append(row("min_clearance_mm", "smallest clearance between parts over the motion",
                         report["min_clearance_mm"], "mm", "interference sweep of the build"))
     rows += stiffness_rows(design, report, m, Jx, fr[0]["value"], simulate_wall)
+    cap_rows, cap_limits = capstan.datasheet_rows(design, report, phi, Jx, dev, rows[-1]["value"])
+    rows += cap_rows
     st = report.get("structure") or {}
     notes = [f"motor: {m.description}, {m.winding}"]
     if m.unverified:
         notes.append(f"unverified motor data (no public source read): {', '.join(m.unverified)}")
-    return rows, fourbar_limits(design, st.get("strength_MPa")), notes
+    return rows, {**fourbar_limits(design, st.get("strength_MPa")), **cap_limits}, notes
