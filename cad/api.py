@@ -674,6 +674,10 @@ def fit_run(design, setup: dict, fidelity: str, dest: Path, name: str, echo=None
     # datasheet (the search already ranked every candidate meeting the limits first)
     missed = [f"{r.key} = {'not computed' if r.computed is None else f'{r.computed:.4g}'}, limit {r.target}"
               for r in rows[len(targets):] if not r.ok]
+    if limits is None and rep.get("bodies"):  # a family without fit limits: its datasheet's, said
+        from cad.datasheet import datasheet, default_limit_misses
+
+        missed += default_limit_misses(rep.get("datasheet") or datasheet(final, rep, simulate_wall=False))
     return {"name": design.name, "start": res.start, "fitted": res.values,
             "met": all(r.ok for r in rows[:len(targets)]), "limits_met": not missed,
             "limit_warnings": missed, "max_violation": res.objective,

@@ -27,6 +27,7 @@ from typing import Any
 
 import numpy as np
 
+from cad.data.families import family
 from cad.design.bounds import ANGLE_DEG, COORD_MM, GRID, LINK_MM, check_number
 from cad.design.fields import check_name, check_unknown, number_list, optional_table, require_table
 from cad.errors import DesignError
@@ -192,8 +193,10 @@ def parse(raw: dict[str, Any], source: str = "<design>") -> DeltaDesign:
                         *NOT_YET), "")
     for key in NOT_YET:
         if key in raw:
-            raise DesignError(key, "the delta has no parts, firmware or checks yet (issue 36): "
-                                   "gii and optimize take a delta design")
+            cmds = ", ".join(family("delta").commands)
+            raise DesignError(key, f"a delta design takes no [{key}] table yet: its parts and motor "
+                                   f"are fixed (cad/families/delta/hardware.py); {cmds} take "
+                                   "a delta design")
     mech = require_table(raw, "mechanism", "")
     if mech.get("family") != "delta":
         raise DesignError("mechanism.family", f"must be 'delta', got {mech.get('family')!r}")
