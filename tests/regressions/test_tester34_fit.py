@@ -112,3 +112,25 @@ def test_delta_refuses_a_table_it_does_not_take_without_denying_its_parts(tmp_pa
     assert len(lines) == 1 and lines[0].startswith(f"hapticad: error: {table}: ")
     assert "no parts" not in lines[0] and "build" in lines[0] and "Traceback" not in err
     assert not out.exists()
+
+
+def test_unnamed_motor_table_is_said_on_the_bom_line(tmp_path):
+    """A ``[motor]`` table without ``name`` (a measured mass of the catalog motor) changes the
+    BOM's mass; its line said only "maxon RE 35, 90 W, ..." (the catalog's text) beside the
+    design's 300 g. Now it names the data the design gave, and the order still orders the
+    catalog motor (same motor, the design's data). Reference: the TOML written here."""
+    import csv
+
+    design = tmp_path / "p.toml"
+    design.write_text(PANTOGRAPH.read_text() + "\n[motor]\nmass_g = 300.0\n")
+    out = tmp_path / "out"
+    code, _o, err = hapticad("build", str(design), "--out", str(out), "--formats", "step")
+    assert code == 0, err
+    with (out / "bom.csv").open(newline="") as f:
+        motor = [r for r in csv.DictReader(f) if r["part"] == "motor"]
+    assert len(motor) == 1 and motor[0]["quantity"] == "2" and motor[0]["mass_g"] == "300.00"
+    assert motor[0]["description"].startswith("maxon RE 35, 90 W")
+    assert "data of [motor]: mass_g" in motor[0]["description"]
+    with (out / "order.csv").open(newline="") as f:
+        order = [r for r in csv.DictReader(f) if r["group"] == "motors"]
+    assert [(r["designation"], r["quantity"]) for r in order] == [("maxon RE 35", "2")]
