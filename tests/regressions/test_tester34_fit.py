@@ -164,3 +164,22 @@ def test_fit_keeps_a_limit_the_start_met_when_another_cannot_be_met():
     res = fit(raw, str(src), (Target("M11_max_g", max=20.0),), free, values, limit_targets=limits)
     assert res.values == {"parts.bar_thickness_mm": t0}  # 5 mm: 2 limits missed; 6 mm: only the force
     assert not res.met
+
+
+@pytest.mark.parametrize("design, key", [
+    ("haptic_pen.toml", "compliance_x_um_per_N"),
+    pytest.param("pantograph.toml", "inertia_theta_g_cm2_apparent", marks=pytest.mark.slow)])
+def test_check_refuses_a_target_its_family_does_not_compute(design, key):
+    """The pen takes the pantographs' target keys; `check designs/haptic_pen.toml --target
+    compliance_x_um_per_N<=100` printed a row "computed —, NO" and exited 1 (a missed target)
+    although the pen's datasheet has no such figure (its compliance rows are vertical, radial
+    and normal; the 5-bar has no theta axis). Bad input: one line naming the target, exit 2.
+    Reference: the family's own datasheet (`hapticad datasheet --json`) has no row of that key."""
+    import json
+
+    code, out, err = hapticad("check", str(ROOT / "designs" / design), "--target", f"{key}<=100")
+    assert code == 2, (out, err)
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith(f"hapticad: error: --target.{key}: not computed")
+    code, out, _ = hapticad("datasheet", str(ROOT / "designs" / design), "--json")
+    assert key not in {r["key"] for r in json.loads(out)["datasheet"]["rows"]}
