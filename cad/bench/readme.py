@@ -309,6 +309,47 @@ def render_datasheet(sources: list[tuple[str, str | None, dict[str, Any]]]) -> s
     return "\n".join(lines)
 
 
+#: Datasheet row keys a ``structure`` block shows (the structural figures, in this order of kinds).
+STRUCTURE_KEYS = ("first_mode", "compliance_", "max_stress_MPa")
+#: Datasheet row keys a ``figures`` block shows: the headline figures of a fabricated device.
+FIGURE_KEYS = ("M11_g", "total_mass_g", "first_mode_Hz", "max_stress_MPa", "continuous_force_N")
+
+
+def _side_by_side(sources: list[tuple[str, str | None, dict[str, Any]]], kinds: tuple[str, ...]) -> str:
+    """The rows of ``datasheet --json`` captures whose key starts with one of ``kinds`` (in that
+    order), one column per device (``value unit`` with the verdict where the row has a limit);
+    a figure one device does not state reads "—"."""
+    rows: dict[str, dict[int, dict[str, Any]]] = {}
+    for kind in kinds:
+        for i, (_, _, d) in enumerate(sources):
+            for r in d["datasheet"]["rows"]:
+                if r["key"].startswith(kind) and r["value"] is not None:
+                    rows.setdefault(r["key"], {})[i] = r
+    heads = [f"[{i}] {d['name']}" for i, (_, _, d) in enumerate(sources, 1)]
+    lines = ["| figure | " + " | ".join(heads) + " |", "|---|" + "---|" * len(heads)]
+    for by in rows.values():
+        first = next(iter(by.values()))
+        cells = []
+        for i in range(len(sources)):
+            r = by.get(i)
+            v = "—" if r is None else f"{fmt_value(r)} {r['unit']}"
+            cells.append(v if r is None or r.get("limit") is None else f"{v}, {verdict_text(r)}")
+        lines.append(f"| {first['figure']} | " + " | ".join(cells) + " |")
+    return "\n".join(lines)
+
+
+def render_structure(sources: list[tuple[str, str | None, dict[str, Any]]]) -> str:
+    """The structural rows (first modes, handle compliances, peak stress) of ``datasheet --json``
+    captures side by side (:data:`STRUCTURE_KEYS`)."""
+    return _side_by_side(sources, STRUCTURE_KEYS)
+
+
+def render_figures(sources: list[tuple[str, str | None, dict[str, Any]]]) -> str:
+    """The headline rows (apparent mass, total mass, first mode, stress, continuous force) of
+    ``datasheet --json`` captures side by side (:data:`FIGURE_KEYS`)."""
+    return _side_by_side(sources, FIGURE_KEYS)
+
+
 def render_wall(sources: list[tuple[str, str | None, dict[str, Any]]]) -> str:
     """``wall --json`` captures, one row each: K_max with its sampling error and intermittent
     band, beside eq (25) and the passivity bound."""
@@ -352,6 +393,7 @@ RENDERERS: dict[str, Callable[[list], str]] = {
     "massprops": render_massprops, "voicecoil": render_voicecoil, "families": render_families,
     "synth": render_synth, "check": render_check, "tolerance": render_tolerance,
     "swap": render_swap, "datasheet": render_datasheet, "wall": render_wall,
+    "structure": render_structure, "figures": render_figures,
 }
 
 

@@ -184,7 +184,7 @@ STL_ANGLE_DEG = Bound(
     5.0, 45.0, "5-45 deg is what slicers use",
 )
 POSES = Bound("", 2, 5000,
-              "the sweep needs both ends; each pose costs ~3 ms and memory for all part pairs",
+              "the sweep needs both ends; each pose costs a distance check and memory for all part pairs",
               None, 1000,
               "over 1000 poses adds nothing to a 60-pose sweep but time", integer=True)
 GRID = Bound("", 1, 1_000_000, "one GII takes at most 1e6 workspace samples (~0.5 GB)", integer=True)
@@ -475,9 +475,8 @@ WORK: dict[str, Work] = {
     "tolerance": Work(
         "tolerance", "`--samples` × `--angles`", _tol.MC_SAMPLES_MAX * 401,
         "sample-angle evaluations",
-        "2e6 samples at the default 401 angles, the largest run the --samples bound allows: "
-        "0.75-1.1 us per sample-angle measured (1e5 samples x 401 angles in 30-46 s), "
-        "so 10-15 min; more is hours",
+        "2e6 samples at the default 401 angles, the largest run the --samples bound allows, "
+        "runs for minutes (the cost is per sample-angle); more is hours",
         (("--samples", MC_SAMPLES), ("--angles", MC_ANGLES))),
     "workspace": Work(
         "every command loading a pantograph-family design",

@@ -118,6 +118,9 @@ class FamilyPackage:
         under ``firmware/``, :mod:`cad.firmware`), or None (no firmware).
     firmware_model : ``firmware_model(design) -> cad.firmware.model.KinematicModel``: the
         linkage's kinematic model :func:`cad.firmware.linkage_files` generates from, or None.
+    report_type : the ``TypedDict`` (extending :class:`cad.report.contract.CommonReport`) its
+        ``report.json`` keeps to, checked before a build is published; None: the common keys
+        only.
     """
 
     package: str
@@ -134,3 +137,4 @@ class FamilyPackage:
     optimize: Hook | None = None
     firmware: Hook | None = None
     firmware_model: Hook | None = None
+    report_type: Hook | None = None

@@ -354,12 +354,15 @@ def _check_before_cad(fam, design, formats: set[str], fidelity: str, phi1_deg: f
 def _write_report_files(fam, design, report: dict, tmp: Path, formats, build: dict, viewer_glb,
                         device) -> None:
     """Into the build's temporary folder: the firmware (when asked), report.json (with
-    ``device``: the resolved device), report.html and the manifest; ``report["files"]`` lists
-    them, ``report["build"]`` is ``build`` (formats, fidelity, allow_interference, build_key).
+    ``device``: the resolved device; its keys and types checked against the family's
+    ``report_type``, :mod:`cad.report.contract`), report.html and the manifest;
+    ``report["files"]`` lists them, ``report["build"]`` is ``build`` (formats, fidelity,
+    allow_interference, build_key).
     Then the written files are read back (:func:`cad.device.readback.check_outputs`): a file
     that disagrees with ``device`` raises OutputsDisagree and nothing is published."""
     from cad.device.readback import check_outputs
     from cad.export.manifest import write_manifest
+    from cad.report import contract
     from cad.report.html import write_report_html
 
     if "firmware" in formats:  # from the report's mass properties (the family's hook, no CAD)
@@ -372,6 +375,8 @@ def _write_report_files(fam, design, report: dict, tmp: Path, formats, build: di
     report["build"] = build
     report["device"] = device.as_dict()
     doc = _jsonable(report)
+    contract.check(doc, fam.report_type.resolve() if fam.report_type is not None
+                   else contract.CommonReport)  # ReportContractError: nothing is published
     write_text_atomic(tmp / REPORT_NAME, json.dumps(doc, indent=2, sort_keys=True) + "\n")
     write_report_html(doc, tmp, viewer_glb)
     write_manifest(tmp, {"build_key": build["build_key"]})

@@ -65,7 +65,8 @@ class Stages:
 
     Required: ``check_options(design, fidelity, phi1_deg, formats)`` (DesignError),
     ``assemble(design, fidelity) -> AssemblyModel``, ``interference(build)`` (the family's
-    result, kept as ``Build.itf``; InterferenceError), ``report(build) -> dict`` (the
+    result as a dict, :meth:`cad.assembly.interference.InterferenceReport.as_dict`, kept as
+    ``Build.itf``; InterferenceError), ``report(build) -> dict`` (the
     family's keys, with ``"notes"``: list of str), ``md_rows(report) -> [(quantity,
     value)]`` (report.md's table), ``preview_title(build)`` (preview.png's title),
     ``stroke(design) -> {body: (n, 4, 4)}`` (the viewer's motion, mm), ``motion_label``
@@ -326,6 +327,24 @@ def _views(stages: Stages, b: Build) -> tuple[list[str], bytes]:
     return figures + files, glb
 
 
+def _common_keys(b: Build) -> dict:
+    """The report keys every family shares, written here once (:mod:`cad.report.contract`):
+    name, family, ``source`` (the design file's name: no path of this machine), fidelity, ``bodies`` (each moving body's mass properties in its body
+    frame, SI), ``moving_mass_g`` (their sum), ``total_mass_g`` (the BOM's mass, bought
+    parts with no solid included), ``bom`` and the interference check (``interference``,
+    ``min_clearance_mm``, ``overlap_volume_mm3``)."""
+    moving = {k: mp for k, mp in b.bodies.items() if k != "ground"}
+    itf = b.itf
+    src = b.design.source
+    return {"name": b.design.name, "family": b.design.family, "fidelity": b.fidelity,
+            **({"source": Path(str(src)).name} if src else {}),
+            "bodies": {k: mp.to_dict() for k, mp in moving.items()},
+            "moving_mass_g": sum(mp.mass_kg for mp in moving.values()) * 1e3,
+            "total_mass_g": sum(r["mass_g"] * r["quantity"] for r in b.bom), "bom": b.bom,
+            "interference": itf, "min_clearance_mm": itf.get("min_clearance_mm"),
+            "overlap_volume_mm3": itf.get("overlap_volume_mm3")}
+
+
 def _report(stages: Stages, b: Build, fasteners: dict, files: list[str]) -> dict:
     """The family's report dict with the common tail and its part of report.md (under
     ``"_report_md"``, written by the dispatcher with the datasheet and the order); writes
@@ -336,6 +355,8 @@ def _report(stages: Stages, b: Build, fasteners: dict, files: list[str]) -> dict
                 "placement": family.placement_report(inst, b.tfs, b.props)}
     report = stages.report(b)
     report.update(b.common)  # the keys the family did not place go last
+    report.update(_common_keys(b))
+    report.setdefault("notes", [])
     report["files"] = sorted(files + ["report.md", "bom.csv"])
     title = f"{d.name} ({d.family})"
     report["_report_md"] = family.report_md_lines(title, stages.md_rows(report), b.bom,

@@ -75,3 +75,42 @@ def test_swap_sentence_matches_the_swapped_design_and_its_json(hoeken_metrics):
     data = json.loads((ROOT / "docs/swap/hoeken_to_roberts.json").read_text())
     box = [" × ".join(f"{v:.1f}" for v in data[k]["bbox_mm"]) for k in ("new", "old")]
     assert f"bounding box {box[0]} mm against {box[1]} mm" in text
+
+
+def _datasheet_rows(path: str) -> dict[str, dict]:
+    import json
+    return {r["key"]: r for r in json.loads((ROOT / path).read_text())["datasheet"]["rows"]}
+
+
+def test_datasheet_sentence_matches_the_committed_datasheet_run():
+    """README's datasheet sentence (first mode, peak stress, M11 range and their limits) at its
+    printed rounding, against the committed capture docs/datasheets/hoeken.json (the run whose
+    every row docs/datasheet.md's generated table shows; a regression pin of our own run, so the
+    README cannot disagree with that table)."""
+    import json
+    text = " ".join(README.split())
+    data = json.loads((ROOT / "docs/datasheets/hoeken.json").read_text())
+    assert data["command"] == "hapticad datasheet designs/hoeken.toml --fidelity fabrication --json"
+    rows = _datasheet_rows("docs/datasheets/hoeken.json")
+    mode, stress, m11 = rows["first_mode_Hz"], rows["max_stress_MPa"], rows["M11_g"]
+    assert (f"a first structural mode of {mode['value']:.0f} Hz (ok, ≥ {mode['limit']['value']:g} Hz)"
+            in text) and mode["verdict"] == "ok"
+    assert (f"a peak stress of {stress['value']:.1f} MPa (ok, ≤ {stress['limit']['value']:.0f} MPa)"
+            in text) and stress["verdict"] == "ok"
+    assert f"an apparent mass of {m11['min']:.0f}–{m11['max']:.0f} g" in text
+
+
+def test_check_sentence_matches_the_committed_check_run():
+    """README's check sentence: the Hoeken's M11 maximum against its target, every target missed
+    (exit 1), against the committed capture docs/check/hoeken.json (the run docs/check-fit.md's
+    generated table shows; a regression pin of our own run)."""
+    import json
+    data = json.loads((ROOT / "docs/check/hoeken.json").read_text())
+    row, = (r for r in data["rows"] if r["key"] == "M11_max_g")
+    t = row["target"]
+    text = " ".join(README.split())
+    assert (f"M11 up to {row['computed']:.1f} g against the target {t['value']:g} g ± "
+            f"{100 * t['tol_rel']:.0f} %") in text
+    n = {1: "one", 2: "two", 3: "three", 4: "four", 5: "five", 6: "six"}[len(data["rows"])]
+    assert f"all {n} targets are missed and it exits 1" in text
+    assert data["exit_code"] == 1 and not any(r["ok"] for r in data["rows"])

@@ -40,6 +40,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from cad.report import contract
 from tests.bundled import buildable
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -189,10 +190,19 @@ def builds(tmp_path_factory):
     return {k: _build(v, tmp, Path(k).stem) for k, v in texts.items()}
 
 
+def report_type(family: str) -> type:
+    """The ``TypedDict`` a ``family`` design's report.json keeps to (its package's)."""
+    from cad.families import family_package
+
+    rt = family_package(family).report_type
+    return rt.resolve() if rt is not None else contract.CommonReport
+
+
 def check_agree(toml: dict, out: Path) -> None:
     """Every cross-file comparison of the module docstring on one build."""
     rep = jread(out / "report.json")
     fam = toml["mechanism"].get("family", "")
+    assert contract.problems(rep, report_type(rep["family"])) == []  # the typed report, read back
     dev = rep["device"]
     if fam in ("powermouse", "delta"):  # no encoder: the PowerMouse's flotor is sensed
         # optically; the delta's motors are its fixed hardware (no [parts] yet) and it orders

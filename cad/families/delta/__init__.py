@@ -21,6 +21,7 @@ FAMILY = FamilyPackage(
     view_formats=True,
     datasheet_rows=Lazy(f"{_P}.datasheet:rows_and_limits"),
     optimize=Lazy("cad.studies.gii_optimize:optimize"),
+    report_type=Lazy("cad.families.delta.contract:DeltaReport"),
 )
 
 __all__ = ["FAMILY"]

@@ -93,16 +93,11 @@ def _dynamics(b) -> DeltaDynamics:
 
 def _report(b) -> dict:
     dy = b.dyn
-    moving = sum(mp.mass_kg for k, mp in b.bodies.items() if k != "ground")
     return {
-        "name": b.design.name, "family": b.design.family, "moving_mass_g": moving * 1e3,
-        "bodies": {k: mp.to_dict() for k, mp in b.bodies.items() if k != "ground"},
         "apparent_mass": {k: getattr(dy, k) for k in ("Lambda_max_eig_g", "at_max_mm",
                                                       "Lambda_min_eig_g", "at_min_mm",
                                                       "rotor_inertia_kg_m2", "motor")},
         "structure": dy.structure, "workspace_points": len(b.model.extra.workspace_mm),
-        "interference": b.itf, "min_clearance_mm": b.itf.get("min_clearance_mm"),
-        "overlap_volume_mm3": b.itf.get("overlap_volume_mm3"), "bom": b.bom,
         "notes": [f"Lambda(x) from the solids and the {dy.motor} rotor over "
                   f"{len(b.model.extra.workspace_mm)} workspace points (eq 1, base frame)",
                   "no encoder, firmware or simulator model for the delta yet"]}

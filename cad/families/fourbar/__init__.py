@@ -33,6 +33,7 @@ FAMILY = FamilyPackage(
     optimize=Lazy(f"{_P}.targets:optimize"),
     firmware=Lazy("cad.firmware:linkage_files"),
     firmware_model=Lazy(f"{_P}.firmware:model"),
+    report_type=Lazy("cad.families.fourbar.contract:FourBarReport"),
 )
 
 #: ``assemble(design, fidelity="fabrication") -> AssemblyModel`` (:func:`.layout.assemble`).

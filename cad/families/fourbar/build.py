@@ -261,7 +261,7 @@ def _stages(phi1_deg: float | None, allow_interference: bool):
         assemble=lambda design, fidelity: assemble(design, fidelity, phi1_deg=phi1_deg,
                                                    strict=not allow_interference),
         interference=lambda b: interference(b.design, b.model, b.fidelity, b.allow_interference,
-                                     b.child("same_body")),
+                                            b.child("same_body")).as_dict(),
         report=_report, md_rows=_md_rows, preview_title=_preview_title,
         stroke=lambda d: body_transforms(d.linkage, sweep_angles(d, STROKE_POSES)),
         motion_label="crank range", moving_bodies=lambda model: list(model.bodies),
@@ -337,14 +337,12 @@ def _report(b) -> dict:
     """report.json's content from the build's results (the driver adds ``files``, the
     dispatcher the rest); the driver's common keys (``b.common``) placed among the
     four-bar's; ``sheets`` (the nested stock sheets) when ``parts.process = "laser"``."""
-    design, model, mp, rep, bom, c = b.design, b.model, b.dyn, b.itf, b.bom, b.common
+    design, model, mp, bom, c = b.design, b.model, b.dyn, b.bom, b.common
     fb, parts, H, motor = design.linkage, design.parts, mp.H, mp.motor
     m = compute_metrics(fb, design.phi1_min_rad, design.phi1_max_rad, force_N=design.force_N,
                         samples=design.samples).as_dict()
     script = model.extra.handle_script
     report = {
-        "name": design.name,
-        "source": Path(str(design.source)).name,  # the file name: no path of this machine
         **design.resolved_linkage(),
         "force_N": design.force_N,
         **{k: m[k] for k in METRIC_KEYS if k in m},
@@ -361,16 +359,8 @@ def _report(b) -> dict:
         # material of every solid of assembly.step, by its name there (hapticad massprops)
         "part_materials": c["part_materials"],
         "ground_mass_g": mp.links["ground"].mass_kg * 1e3,
-        "total_mass_g": sum(r["mass_g"] * r["quantity"] for r in bom),
-        "bom": bom,
-        "min_clearance_mm": rep.min_clearance_mm,
-        "overlap_volume_mm3": rep.overlap_volume_mm3,
-        "interference": rep.as_dict(),
         **{k: c[k] for k in ("fasteners", "tapped_holes")},
         "fits": c["fits"],
-        # every family's "bodies": each moving body's mass properties in its body frame (the
-        # part -> body map is placement.instances)
-        "bodies": {k: v.to_dict() for k, v in b.bodies.items() if k != "ground"},
         "placement": c["placement"],
         "layers": _layers_report(model.extra.plan, parts),
         "base_plate_mm": list(model.extra.base_rect_mm),
@@ -382,7 +372,6 @@ def _report(b) -> dict:
             "source": (motor.source if not b.design.motor else
                        f"the design's [motor] table over the mount of {motor.key} ({motor.source})"),
         },
-        "fidelity": b.fidelity,
         "fidelity_costs": mp.fidelity_costs,
         "handle": "user script " + script.name if script is not None else "built-in knob",
         "parts_spec": parts.as_dict(report=True),

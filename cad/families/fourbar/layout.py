@@ -27,9 +27,8 @@ on the base plate's top face; ``tf_world_body`` maps body coordinates into the w
 from __future__ import annotations
 
 import dataclasses
-from typing import Any
-
 import math
+from typing import Any
 
 import numpy as np
 

@@ -28,6 +28,7 @@ FAMILY = FamilyPackage(
     optimize=Lazy("cad.studies.gii_optimize:optimize"),
     firmware=Lazy("cad.firmware:linkage_files"),
     firmware_model=Lazy(f"{_P}.firmware:model"),
+    report_type=Lazy("cad.families.pantograph.contract:PantographReport"),
 )
 
 #: ``assemble(design, fidelity="fabrication") -> AssemblyModel``.

@@ -20,10 +20,7 @@ def build_report(design, lay, clr, bodies, eff, eff_bare, itf, bom, home, fideli
     g = design.gii()
     mot = resolve_device(design).motor.spec  # the motor the BOM orders
     report = {
-        "name": design.name,
         "design": design.name,
-        "family": design.family,
-        "fidelity": fidelity,
         "gii": {
             "gii": g.gii,
             "sigma_min": g.sigma_min,
@@ -33,14 +30,8 @@ def build_report(design, lay, clr, bodies, eff, eff_bare, itf, bom, home, fideli
         },
         "layout_mm": lay,
         "clearances_mm": clr,
-        "interference": itf,
-        "min_clearance_mm": itf["min_clearance_mm"],
-        "overlap_volume_mm3": itf["overlap_volume_mm3"],
         "bench_z_mm": lay["bench_z_mm"],
         "lowest_z_mm": low,
-        "bodies": {k: v.to_dict() for k, v in bodies.items()},
-        "moving_mass_g": sum(v.mass_kg for v in bodies.values()) * 1e3,
-        "total_mass_g": sum(r["mass_g"] * r["quantity"] for r in bom),
         "motor": {
             "key": mot.key,
             "rotor_inertia_g_cm2": mot.rotor_inertia_g_cm2,
@@ -48,7 +39,6 @@ def build_report(design, lay, clr, bodies, eff, eff_bare, itf, bom, home, fideli
         },
         "home": {"x_mm": float(home[0]), "y_mm": float(home[1])},
         "effective_mass_home": eff,
-        "bom": bom,
         "notes": [
             "The base plate stands on four leg standoffs: no solid lies below the bench plane "
             f"z = {lay['bench_z_mm']:.1f} mm (lowest solid at {low:.1f} mm).",

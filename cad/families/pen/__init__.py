@@ -27,6 +27,7 @@ FAMILY = FamilyPackage(
         parse_free=Lazy("cad.studies.fit:parse_free_pantograph"),
     ),
     optimize=Lazy("cad.studies.gii_optimize:optimize"),
+    report_type=Lazy("cad.families.pen.contract:PenReport"),
 )
 
 #: ``assemble(design, fidelity="fabrication") -> AssemblyModel``.

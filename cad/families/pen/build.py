@@ -140,21 +140,14 @@ def _report(design, model, bodies, eff, itf, bom, fidelity, low) -> dict:
     gl = model.extra.ground_mm
     home = model.extra.home_task
     return {
-        "name": design.name, "design": design.name, "family": design.family,
-        "fidelity": fidelity,
+        "design": design.name,
         "gii": {"gii": g.gii, "sigma_min": g.sigma_min, "sigma_max": g.sigma_max},
         "layout_mm": lay, "ground_mm": gl,
         "home": {"x_mm": float(home[0]), "y_mm": float(home[1]), "z_mm": float(home[2]),
                  "yaw_deg": 0.0, "pitch_deg": 0.0},
-        "interference": itf, "overlap_volume_mm3": itf["overlap_volume_mm3"],
-        "min_clearance_mm": itf["min_clearance_mm"],
         "bench_z_mm": gl["bench_z_mm"], "lowest_z_mm": low,
-        "bodies": {k: v.to_dict() for k, v in bodies.items()},
-        "moving_mass_g": sum(v.mass_kg for v in bodies.values()) * 1e3,
-        "total_mass_g": sum(r["mass_g"] * r["quantity"] for r in bom),
         "effective_mass_home": eff,
         "paper_table3": PAPER_TABLE3,
-        "bom": bom,
         "notes": [
             "Every pair of bodies is checked at every pose of the motion (home, the eight "
             "corners of the workspace box at two rotation extremes each, the four rotation "

@@ -18,6 +18,7 @@ FAMILY = FamilyPackage(
     view_formats=True,
     datasheet_rows=Lazy(f"{_P}.datasheet:rows_and_limits"),
     firmware=Lazy(f"{_P}.firmware:device_files"),
+    report_type=Lazy("cad.families.powermouse.contract:PowerMouseReport"),
 )
 
 #: ``assemble(design, fidelity="fabrication") -> AssemblyModel``.

@@ -148,7 +148,7 @@ def _wrench(design, act: dict, g, flotor_mp) -> tuple:
 def _report_of(b) -> dict:
     """The family's report dict (:func:`cad.families.powermouse.report.build_report`)."""
     x, dy = b.model.extra, b.dyn
-    itf, cl = b.itf
+    itf, cl = b.itf, b.itf["poses"]
     return build_report(b.design, x.actuator, x.actuator_geometry, x.geometry, dy.W,
                    dy.iso, dy.W_com, dy.flotor_mp, dy.parts_mass,
                    dy.stator_mass_kg, itf, cl, b.bom, dy.rig_bom,

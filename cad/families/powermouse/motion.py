@@ -103,14 +103,14 @@ def pose_group(label: str) -> str:
     return "centre" if label == "centre" else label[:1]
 
 
-def interference(model, allow_interference: bool = False) -> tuple[dict, dict]:
+def interference(model, allow_interference: bool = False) -> dict:
     """The one interference check (:func:`cad.assembly.interference.check_model`) over the
     flotor's motion: the flotor against the stator at the centre and every excursion, every
     pair of parts on one body once; touching allowed (the flotor touches at its limits by
     design), a common volume above :data:`cad.assembly.interference.OVERLAP_MIN_MM3` is a
     clash; the closest pose of each group (centre, translations, rotations, combined) is
-    measured exactly. Returns ``(interference dict, {label: (clearance_mm, "flotor
-    part/stator part", how)})``; InterferenceError naming the pair, the pose and the volume
+    measured exactly. Returns the interference dict, with ``poses``: ``{label: (clearance_mm,
+    "flotor part/stator part", how)}`` (:func:`pose_clearances`); InterferenceError naming the pair, the pose and the volume
     of the first clash unless allow_interference."""
     rep = itf.check_model(model, fail_fast=not allow_interference, groups=pose_group)
     if not allow_interference:
@@ -118,7 +118,8 @@ def interference(model, allow_interference: bool = False) -> tuple[dict, dict]:
     out = rep.as_dict()
     out["parts"] = len(model.instances)
     out["overlap_threshold_mm3"] = itf.OVERLAP_MIN_MM3
-    return out, rep.poses or {}
+    out["poses"] = dict(rep.poses or {})
+    return out
 
 
 def pose_clearances(design, poses: dict) -> dict:

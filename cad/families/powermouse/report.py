@@ -3,8 +3,6 @@ of the paper beside ours."""
 
 from __future__ import annotations
 
-from pathlib import Path
-
 from cad.actuators import powermouse as pm
 from cad.data.materials import get_material
 from cad.families.powermouse.motion import pose_clearances
@@ -66,9 +64,6 @@ def build_report(
     peak_F = pm.peak_force_N(act["peak_force_N"])
     acc = pm.peak_acceleration_m_s2(act["peak_force_N"], flotor_mp.mass_kg)
     return {
-        "name": design.name,
-        "family": design.family,
-        "source": Path(design.source).name,  # the file name: no path of this machine
         "actuator": act,
         "actuator_geometry_mm": {
             "gap_mm": ag.gap_mm,
@@ -106,12 +101,8 @@ def build_report(
         "peak_force_N": peak_F,
         "peak_acceleration_m_s2": acc,
         "peak_acceleration_G": acc / pm.G0_M_S2,
-        "interference": itf,
-        "overlap_volume_mm3": itf["overlap_volume_mm3"],
         "clearances_mm": pose_clearances(design, cl),
-        "min_clearance_mm": itf["min_clearance_mm"],
         "paper_table4": PAPER_TABLE4,
-        "bom": bom,
         "rig_bom": rig_bom,
         "notes": _notes(design),
         "gain_N_per_ampere_turn": gain_per_At,

@@ -56,8 +56,7 @@ def _interference(b):
 
 def _report(b) -> dict:
     mass_g = b.bodies["slider"].mass_kg * 1e3
-    return {"moving_mass_g": mass_g, "interference": b.itf, "bom": b.bom,
-            "notes": [f"slider block of {mass_g:.1f} g"]}
+    return {"notes": [f"slider block of {mass_g:.1f} g"]}
 
 
 def _check_options(design, fidelity, phi1_deg, formats) -> None:

@@ -315,6 +315,11 @@ def _hoeken_out_of_plane(d, el, rho, end_r, pose, n_mass: int = 8):
 @pytest.fixture(scope="module")
 def hoeken_device():
     """The device model at the middle crank angle, fem method, the knob at P (analyse level)."""
+    return hoeken_device_at_mid_stroke()
+
+
+def hoeken_device_at_mid_stroke():
+    """(design, elastic, density, end radius, pose, device figures) of :func:`hoeken_device`."""
     from cad.kinematics.fourbar import solve
     from cad.structure import device
 
@@ -424,6 +429,13 @@ def test_hoeken_beam_stress_is_m_c_over_i_at_the_critical_section(hoeken_device)
     plane, the grillage's redundants at A4 by compatibility (:func:`_hoeken_grillage_flexibility`),
     sigma = |Mb| c_z / I_y, tau = |T| t / J (t the web, the thinner side), von Mises
     sqrt(sigma^2 + 3 tau^2)."""
+    device_MPa, hand_MPa = hoeken_beam_stress_MPa(hoeken_device)
+    assert device_MPa == pytest.approx(hand_MPa, rel=STRUCTURE_PROOF_REL)
+
+
+def hoeken_beam_stress_MPa(hoeken_device) -> tuple[float, float]:
+    """(device model, by hand) peak stress of the Hoeken at force_N, ``beam`` method (MPa): the
+    computation of :func:`test_hoeken_beam_stress_is_m_c_over_i_at_the_critical_section`."""
     from cad.kinematics.metrics import path_frame
     from cad.structure import device
 
@@ -461,5 +473,4 @@ def test_hoeken_beam_stress_is_m_c_over_i_at_the_critical_section(hoeken_device)
             Mb, T = _unit_moments(mem, name, np.r_[p0 + s * e, 0.0], s, pts + red)
             mb, tq = Mb[0] + Mb[1:] @ X, T[0] + T[1:] @ X
             sig_z = max(sig_z, math.hypot(abs(mb) * (t / 2) / Iy, math.sqrt(3) * abs(tq) * min(web, t) / Jt))
-    hand = float(d.force_N) * max(sig_x, sig_z) * 1e-6
-    assert st["max_stress_MPa"] == pytest.approx(hand, rel=STRUCTURE_PROOF_REL)
+    return float(st["max_stress_MPa"]), float(d.force_N) * max(sig_x, sig_z) * 1e-6
