@@ -192,7 +192,8 @@ def check(design, targets: tuple[str, ...] | list[str] = (), fidelity: str = "in
     with targets also ``limits_met`` and ``limit_warnings`` (the datasheet's default limits the
     design misses outside its targets: warning lines; ``ok`` follows the targets).
     Without targets the rows are the default limits (:mod:`cad.datasheet.limits`).
-    Raises DesignError when the family has no check.
+    Raises DesignError when the family has no check, or for a target whose figure the family
+    does not compute (naming ``--target.KEY`` / ``targets.KEY``).
     """
     from cad.checks import evaluate, merge_targets
     from cad.design.targets import parse_cli_target
@@ -220,6 +221,7 @@ def check(design, targets: tuple[str, ...] | list[str] = (), fidelity: str = "in
                 "checked": "default limits (no [targets]): cad/datasheet/limits.py"}
     wanted = {t.key for t in merged}
     values, report = hooks.values(design, fidelity, wanted)
+    _refuse_not_computed(design, merged, values, {t.key for t in given})
     rows = evaluate(merged, values)
     warnings = _missed_limits(design, fidelity, wanted)
     if hooks.blockers is not None:  # a missed target: what in the layout blocks it
@@ -674,12 +676,30 @@ def fit_run(design, setup: dict, fidelity: str, dest: Path, name: str, echo=None
     # datasheet (the search already ranked every candidate meeting the limits first)
     missed = [f"{r.key} = {'not computed' if r.computed is None else f'{r.computed:.4g}'}, limit {r.target}"
               for r in rows[len(targets):] if not r.ok]
+    if limits is None and rep.get("bodies"):  # a family without fit limits: its datasheet's, said
+        from cad.datasheet import datasheet, default_limit_misses
+
+        missed += default_limit_misses(rep.get("datasheet") or datasheet(final, rep, simulate_wall=False))
     return {"name": design.name, "start": res.start, "fitted": res.values,
             "met": all(r.ok for r in rows[:len(targets)]), "limits_met": not missed,
             "limit_warnings": missed, "max_violation": res.objective,
             "evaluations": len(res.log) - res.rejected_pre_cad, "rejected_pre_cad": res.rejected_pre_cad,
             "iterations": res.log, "rows": [r.as_dict() for r in rows], "blockers": blockers,
             "design": final, "raw": fitted}
+
+
+def _refuse_not_computed(design, targets, values: dict, given_keys: set) -> None:
+    """DesignError for the first target whose key the family never computes for ``design``
+    (no value after its evaluation: e.g. ``compliance_x_um_per_N`` of a haptic pen, whose
+    compliance rows are vertical / radial / normal), naming ``--target.KEY`` or
+    ``targets.KEY`` -- bad input (exit 2), not a missed target (exit 1)."""
+    from cad.errors import DesignError
+
+    for t in targets:
+        if values.get(t.key) is None:
+            field = f"--target.{t.key}" if t.key in given_keys else f"targets.{t.key}"
+            raise DesignError(field, f"not computed for a {design.family} design: its build gives no "
+                                     "such figure (`hapticad datasheet` lists the figures it gives)")
 
 
 def _targets_table(table: dict, given) -> dict:

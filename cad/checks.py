@@ -7,6 +7,8 @@ with the targets and returns one row per target.
 
 from __future__ import annotations
 
+import math
+from collections.abc import Iterable
 from dataclasses import asdict, dataclass
 from typing import Any
 
@@ -93,6 +95,16 @@ def miss_line(key: str, target_text: str, best: float | None, written: float | N
     if written is not None and written != best:
         line += f", written design {fmt(written)}"
     return line
+
+
+def best_reached(t: Target, seen: Iterable[Any]) -> float | None:
+    """The figure among ``seen`` (the values of ``t.key`` over the candidates a search
+    evaluated; None, NaN and non-numbers skipped) closest to meeting ``t``: the smallest
+    :func:`violation` (for ``>= min`` the largest, for ``<= max`` the smallest); None when no
+    candidate computed it. Ties keep the first seen."""
+    vals = [float(v) for v in seen
+            if isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)]
+    return min(vals, key=lambda v: violation(t, v)) if vals else None
 
 
 def violation(t: Target, computed: float) -> float:

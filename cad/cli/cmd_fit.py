@@ -48,11 +48,15 @@ def register(app: typer.Typer) -> None:
         fitted = res.pop("raw")
         res.pop("design")
         # the design file last: it is the command's output (cad.io.signals commit point)
-        from cad.checks import miss_line
+        from cad.checks import best_reached, miss_line
 
-        wanted = {t.key for t in setup["targets"]}  # a missed default limit is a warning line below
-        missed = [miss_line(r["key"], r["target_text"], r["computed"]) for r in res["rows"]
-                  if not r["ok"] and r["key"] in wanted]
+        wanted = {t.key: t for t in setup["targets"]}  # a missed default limit is a warning line below
+        built = [e for e in res["iterations"] if not e.get("pre_cad_rejected")]
+        # best reached: over every candidate evaluated (as optimize says it), then the written one's
+        missed = [miss_line(r["key"], r["target_text"],
+                            best_reached(wanted[r["key"]], [e.get(r["key"]) for e in built] + [r["computed"]]),
+                            r["computed"])
+                  for r in res["rows"] if not r["ok"] and r["key"] in wanted]
         write_text_atomic(dst, dumps_design(fitted, f"Fitted by `hapticad fit {design}`: "
                                             + ", ".join(f"{k}={v}" for k, v in res["fitted"].items())
                                             + "".join(f"\n{m}" for m in missed)

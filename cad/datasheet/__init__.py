@@ -74,6 +74,20 @@ def warning_line(r: dict, lim: Limit) -> str:
             f"change {lim.change}")
 
 
+def default_limit_misses(ds: dict) -> list[str]:
+    """The warning lines (:func:`warning_line`'s form) of the rows of ``ds`` (:func:`datasheet`)
+    that miss a default limit (``limit["origin"] == "default"``; a limit the design's
+    ``[targets]`` set is the caller's target, not listed here)."""
+    out = []
+    for r in ds["rows"]:
+        lim = r.get("limit") or {}
+        if lim.get("origin") == "default" and r.get("verdict") == "miss":
+            v = "not computed" if r["value"] is None else f"{r['value']:.4g} {r['unit']}"
+            out.append(f"{r['figure']} = {v}, limit {lim['op']} {lim['value']:.4g} {r['unit']} "
+                       f"({lim['reason']}); change {lim['change']}")
+    return out
+
+
 def datasheet(design, report: dict, out_dir=None, simulate_wall: bool = True) -> dict[str, Any]:
     """The datasheet of a built device (module docstring), dispatched on the family.
     ``out_dir``: where a family may write its chart (the pantographs' force ellipses);

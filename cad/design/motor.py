@@ -132,7 +132,10 @@ def resolve_motor(catalog_key: str, overrides: tuple[tuple[str, Any], ...] = (),
         unverified.discard("torque_peak_mNm")
     _check_continuous(m, changes, ov)
     name = ov.get("name")
+    # unnamed: the catalog motor ordered as such, its line saying which data are the design's
+    given = ", ".join(k for k in NUMERIC if k in ov)
+    desc = (f"{name} (data of [motor]; mount of {m.key})" if name is not None
+            else f"{m.description}; data of [motor]: {given}" if given else m.description)
     return replace(m, **changes, sources=tuple(sorted(sources.items())),
-                   unverified=tuple(sorted(unverified)),
-                   description=m.description if name is None else f"{name} (data of [motor]; mount of {m.key})",
+                   unverified=tuple(sorted(unverified)), description=desc,
                    winding=m.winding if name is None else name)

@@ -341,7 +341,8 @@ class _FitSearch:
         self.cad_evaluations = 0
         self.rejected_pre_cad = 0
         self.budget: int | None = None
-        self.best_limit_violation = math.inf
+        #: (limits missed, largest limit violation) of the best candidate evaluated so far
+        self.best_limit_rank: tuple[float, float] = (math.inf, math.inf)
         start_design = parse_design(raw, source)
         self.start_vals = {p.path: current_value(start_design, p.path) for p in free}
 
@@ -363,17 +364,19 @@ class _FitSearch:
                 if why:
                     raise DesignError("pre-CAD", why)
                 pre = max((violation(t, vals[t.key]) for t in limits if t.key in vals), default=0.0)
-                if pre > self.best_limit_violation:  # bound: it cannot rank above the best so far
+                # bound: missing a limit by `pre` it ranks at best (1 missed, pre), after the best so far
+                if pre > 0 and (1, pre) > self.best_limit_rank:
                     raise DesignError("pre-CAD", f"a limit violation of {pre:.3g} before CAD, worse than "
-                                                 f"{self.best_limit_violation:.3g} of an evaluated candidate")
+                                                 f"{self.best_limit_rank[1]:.3g} of an evaluated candidate")
                 pre_cad = False
                 vals = {**vals, **self.evaluate_values(d)}
                 obj = max((violation(t, vals[t.key]) if t.key in vals else math.inf) for t in targets)
                 lim = max((violation(t, vals[t.key]) if t.key in vals else math.inf for t in limits), default=0.0)
-                vals["limit_violation"] = lim
-                self.best_limit_violation = min(self.best_limit_violation, lim)
+                missed = sum(1 for t in limits if t.key not in vals or violation(t, vals[t.key]) > 0)
+                vals["limit_violation"], vals["limits_missed"] = lim, missed
+                self.best_limit_rank = min(self.best_limit_rank, (missed, lim))
             except HapticadError as exc:
-                vals, obj = {"error": str(exc), "limit_violation": math.inf}, math.inf
+                vals, obj = {"error": str(exc), "limit_violation": math.inf, "limits_missed": math.inf}, math.inf
         self.warned[key] = said
         self.cad_evaluations += not pre_cad
         self.rejected_pre_cad += pre_cad
@@ -424,18 +427,20 @@ class _FitSearch:
 
     def study_objective(self, trial) -> float:
         """Optuna's objective: max target violation plus FIT_CHANGE_WEIGHT x change (ties go to
-        the smallest change) when every limit is met; 1e6 (1 + limit violation) when one is
-        missed; 1e9 for an infeasible value set."""
+        the smallest change) when every limit is met; 1e6 (limits missed + largest limit
+        violation) when one is missed; 1e9 for an infeasible value set."""
         vals = self.suggest(trial)
         obj, got = self.objective(self.with_values(vals))
-        lim = got["limit_violation"]
+        lim, missed = got["limit_violation"], got["limits_missed"]
+        # fewer limits missed first: a limit no candidate can meet (the motor's force) must not
+        # let the search give up another limit the start met
         self.scored[repr(sorted(vals.items(), key=lambda kv: kv[0]))] = (
-            lim > 0, lim, obj, self.change(vals), vals)
+            missed, lim, obj, self.change(vals), vals)
         if self.budget is not None and self.cad_evaluations >= self.budget:
             trial.study.stop()
         if not (math.isfinite(obj) and math.isfinite(lim)):
             return 1e9
-        return obj + FIT_CHANGE_WEIGHT * self.change(vals) if lim == 0 else 1e6 * (1.0 + lim)
+        return obj + FIT_CHANGE_WEIGHT * self.change(vals) if lim == 0 else 1e6 * (missed + lim)
 
     def first_trial(self) -> dict:
         """Optuna parameters of the start (choices by index, numbers clipped to their range)."""

@@ -38,6 +38,7 @@ from typing import Any
 import numpy as np
 
 from cad.data.catalog import get_motor
+from cad.data.families import family
 from cad.design.bounds import ANGLE_DEG, COORD_MM, GRID, LINK_MM, check_number
 from cad.design.fields import check_name, check_unknown, number_list, optional_table, require_table
 from cad.design.firmware import parse_firmware
@@ -259,8 +260,9 @@ def parse(raw: dict[str, Any], source: str = "<design>") -> DeltaDesign:
                         "parts", "motor", "firmware", *NOT_YET), "")
     for key in NOT_YET:
         if key in raw:
-            raise DesignError(key, "the delta takes no [transmission], [targets] or [prices] yet "
-                                   "(direct drive; `check` does not take a delta)")
+            cmds = ", ".join(family("delta").commands)
+            raise DesignError(key, f"a delta design takes no [{key}] table yet (direct drive, no "
+                                   f"targets or prices); {cmds} take a delta design")
     mech = require_table(raw, "mechanism", "")
     if mech.get("family") != "delta":
         raise DesignError("mechanism.family", f"must be 'delta', got {mech.get('family')!r}")
