@@ -29,14 +29,19 @@ from cad.tolerances import RANGE_SAME_REL
 
 
 def row(key: str, figure: str, value, unit: str, model: str, *, lo=None, hi=None,
-        boundary: str = "", unverified: bool = False, paper=None) -> dict[str, Any]:
-    """One datasheet row (module docstring); ``value`` None: not computable (model says why)."""
+        boundary: str = "", unverified: bool = False, paper=None, inputs=None) -> dict[str, Any]:
+    """One datasheet row (module docstring); ``value`` None: not computable (model says why).
+    ``inputs``: the model's input values (SI, named), for a row another output reads them from
+    (``eq25_K_max_N_per_m``: the firmware's wall)."""
     def f(v):
         return None if v is None else float(v)
 
-    return {"key": key, "figure": figure, "value": f(value), "min": f(lo), "max": f(hi),
-            "unit": unit, "model": model, "boundary": boundary, "unverified": bool(unverified),
-            "paper": paper, "limit": None, "verdict": "info"}
+    out = {"key": key, "figure": figure, "value": f(value), "min": f(lo), "max": f(hi),
+           "unit": unit, "model": model, "boundary": boundary, "unverified": bool(unverified),
+           "paper": paper, "limit": None, "verdict": "info"}
+    if inputs is not None:
+        out["inputs"] = {k: float(v) for k, v in inputs.items()}
+    return out
 
 
 def judge(rows: list[dict], limits: dict[str, Limit]) -> list[str]:

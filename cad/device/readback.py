@@ -324,7 +324,8 @@ def file_disagreements(out: Path) -> list[str]:
     made part on its drawing, in ``bom.csv`` and in ``order.csv``; the process in ``bom.csv``
     against the stock form ordered (printed: filament, wound: wire) and against its fits (a
     printed part states no ISO 286 fit); the quantity of each bought part against its
-    instances in ``assembly.step`` and against what ``order.csv`` orders."""
+    instances in ``assembly.step`` and against what ``order.csv`` orders; the wall stiffness of
+    ``chai3d_device.json`` and the wall sketch against the datasheet's eq (25) K_max."""
     out = Path(out)
     bad: list[str] = []
     if not (out / "bom.csv").is_file():
@@ -335,7 +336,29 @@ def file_disagreements(out: Path) -> list[str]:
     _bought_counts(out, bom, bad)
     if (out / "order.csv").is_file():
         _order_stock(out, bom, bad)
+    _wall_stiffness(out, bad)
     return bad
+
+
+def _wall_stiffness(out: Path, bad: list) -> None:
+    """The firmware's wall K (``chai3d_device.json``, ``WALL_K_N_PER_M`` of the sketch) is the
+    datasheet's ``eq25_K_max_N_per_m`` unless the design sets ``[firmware]
+    wall_stiffness_N_per_m`` (the CHAI3D note says which)."""
+    chai_p, rep_p = out / "firmware" / "chai3d_device.json", out / "report.json"
+    if not (chai_p.is_file() and rep_p.is_file()):
+        return
+    chai, rep = json.loads(chai_p.read_text()), json.loads(rep_p.read_text())
+    row = next((r for r in rep.get("datasheet", {}).get("rows", []) if r["key"] == "eq25_K_max_N_per_m"), None)
+    note = str(chai.get("notes", {}).get("m_maxLinearStiffness", ""))
+    if row is None or row.get("value") is None or "wall_stiffness_N_per_m" in note:
+        return
+    K = {"chai3d_device.json m_maxLinearStiffness": chai["m_maxLinearStiffness"]}
+    ino = out / "firmware" / "wall_example" / "wall_example.ino"
+    if ino.is_file():
+        K["wall_example.ino WALL_K_N_PER_M"] = float(_define(ino.read_text(), "WALL_K_N_PER_M"))
+    for where, k in K.items():
+        if not math.isclose(k, row["value"], rel_tol=OUTPUT_AGREE_REL):
+            bad.append(f"{where} = {k:.6g} N/m, the datasheet's eq25_K_max_N_per_m {row['value']:.6g} N/m")
 
 
 #: bom.csv prints a mass with 2 decimals (g): half a unit of the last digit.

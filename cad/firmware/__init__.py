@@ -65,6 +65,17 @@ def linkage_model(design):
     return hook(design)
 
 
+def _datasheet_row(report: dict, key: str) -> dict | None:
+    """The row ``key`` of the report's datasheet, or None."""
+    return next((r for r in (report.get("datasheet") or {}).get("rows", []) if r.get("key") == key), None)
+
+
+def _datasheet_step_m(report: dict) -> float | None:
+    """The datasheet's ``resolution_um`` (worst over the workspace) in m, or None."""
+    r = _datasheet_row(report, "resolution_um")
+    return float(r["value"]) * 1e-6 if r is not None and r.get("value") is not None else None
+
+
 def linkage_files(design, report: dict, design_hash: str, device=None) -> dict[str, str]:
     """The firmware of a linkage (joint encoders, motors on joints) through its family's
     kinematic model (:func:`linkage_model`): ``{relative path: text}`` under ``firmware/``
@@ -78,7 +89,7 @@ def linkage_files(design, report: dict, design_hash: str, device=None) -> dict[s
                        linkage_model(design))
     rows, summary = vectors.rows(spec, design)
     q_ok = np.array([r[1 + 2 * spec.n_joints: 1 + 3 * spec.n_joints] for r in rows if r[0] == 0])
-    wall = extras.wall_numbers(spec, design)
+    wall = extras.wall_numbers(spec, design, _datasheet_step_m(report), _datasheet_row(report, "eq25_K_max_N_per_m"))
     forces = extras.max_forces_N(spec, q_ok)
     layout = ["status", f"counts[{spec.n_joints}]", f"q_from_counts_rad[{spec.n_joints}]",
               f"q_rad[{spec.n_joints}]", f"F[{spec.n_task}]", f"X[{spec.n_task}]",

@@ -34,16 +34,33 @@ def encoder_step_m(spec: DeviceSpec) -> float:
     return float(np.max(np.linalg.norm(J, axis=0))) * 2 * math.pi / spec.encoder_counts_per_rev
 
 
-def wall_numbers(spec: DeviceSpec, design) -> dict:
-    """K, B of the sketch's wall and the eq (25) range they come from (module docstring)."""
+def paper_eq25_inputs(step_m: float) -> StiffnessInputs:
+    """Eq (25)'s inputs of a device with no ``[stiffness]`` table: the Hoeken paper's Fv, Fs, Te,
+    xdot_max (§III.B.4, identified on its prototype: unverified for another device) and
+    ``step_m`` (m) as Delta. The datasheet's K_max row of such a device and its firmware's
+    wall use these same inputs (one K_max figure)."""
+    return StiffnessInputs(PAPER_EQ25["Fv_N_s_per_m"], PAPER_EQ25["Fs_N"], PAPER_EQ25["Te_s"],
+                           step_m, PAPER_EQ25["xdot_max_m_per_s"])
+
+
+def wall_numbers(spec: DeviceSpec, design, step_m: float | None = None,
+                 eq25_row: dict | None = None) -> dict:
+    """K, B of the sketch's wall and the eq (25) range they come from (module docstring).
+    ``eq25_row``: the datasheet's ``eq25_K_max_N_per_m`` row with its ``inputs`` (the one
+    K_max figure of the build: the wall reads it); else ``step_m``: Delta (m), the datasheet's
+    position resolution (worst over the workspace), or None: one encoder count at home
+    (:func:`encoder_step_m`)."""
+    if eq25_row is not None and eq25_row.get("value") is not None and "inputs" in eq25_row:
+        return _wall_from_row(spec, design, eq25_row)
     st = getattr(design, "stiffness", None)
     if st is not None:
         inputs, source = st, "eq (25) with the design's [stiffness] table"
     else:
-        inputs = StiffnessInputs(PAPER_EQ25["Fv_N_s_per_m"], PAPER_EQ25["Fs_N"], PAPER_EQ25["Te_s"],
-                                 encoder_step_m(spec), PAPER_EQ25["xdot_max_m_per_s"])
+        where = ("the datasheet's resolution_um (worst over the workspace)" if step_m is not None
+                 else "one encoder count at home")
+        inputs = paper_eq25_inputs(step_m if step_m is not None else encoder_step_m(spec))
         source = ("eq (25) with the Hoeken paper's Fv, Fs, Te, xdot_max (§III.B.4; unverified for "
-                  "this device) and Delta = one encoder count at home")
+                  f"this device) and Delta = {where}")
     k_min, k_max = stiffness_range_N_per_m(inputs)
     opts = design.firmware
     K = opts.wall_stiffness_N_per_m or k_max
@@ -57,6 +74,26 @@ def wall_numbers(spec: DeviceSpec, design) -> dict:
     return {"K_N_per_m": K, "B_N_s_per_m": B, "eq25_K_min_N_per_m": k_min,
             "eq25_K_max_N_per_m": k_max, "Te_s": inputs.Te_s, "Fv_N_s_per_m": inputs.Fv_N_s_per_m,
             "encoder_step_m": inputs.encoder_resolution_m, "source": source, "K_is": what}
+
+
+def _wall_from_row(spec: DeviceSpec, design, r: dict) -> dict:
+    """:func:`wall_numbers` from the datasheet's eq (25) row: K = its value (unless
+    ``[firmware] wall_stiffness_N_per_m``), B = max(0, Fv - K Te / 2) from its inputs."""
+    i, opts = r["inputs"], design.firmware
+    k_max = float(r["value"])
+    k_min = 2 * i["Fv_N_s_per_m"] / i["Te_s"]
+    K = opts.wall_stiffness_N_per_m or k_max
+    what = ("[firmware] wall_stiffness_N_per_m" if opts.wall_stiffness_N_per_m else
+            "eq (25)'s K_max, the datasheet's eq25_K_max_N_per_m (a conservative bound, not the "
+            f"datasheet's simulated K_max) with Delta = {i['encoder_resolution_m']:.4g} m; the "
+            f"device's encoder: {spec.encoder_counts_per_rev} counts/rev")
+    B = opts.wall_damping_N_s_per_m
+    if B is None:
+        B = max(0.0, i["Fv_N_s_per_m"] - K * i["Te_s"] / 2)
+    return {"K_N_per_m": K, "B_N_s_per_m": B, "eq25_K_min_N_per_m": k_min,
+            "eq25_K_max_N_per_m": k_max, "Te_s": i["Te_s"], "Fv_N_s_per_m": i["Fv_N_s_per_m"],
+            "encoder_step_m": i["encoder_resolution_m"], "source": "the datasheet's eq25_K_max_N_per_m: " + r["model"],
+            "K_is": what}
 
 
 def max_forces_N(spec: DeviceSpec, q_ok: np.ndarray) -> dict:

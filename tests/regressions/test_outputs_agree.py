@@ -233,6 +233,10 @@ def check_agree(toml: dict, out: Path) -> None:
         assert h["counts"] == n
         assert jread(fw / "chai3d_device.json")["encoder_counts_per_rev"] == n
         assert jread(fw / "test_vectors.json")["encoder"]["counts_per_rev"] == n
+        if "wall_stiffness_N_per_m" not in toml.get("firmware", {}):  # one K: the datasheet's eq (25) row
+            K_ino = float(defines((fw / "wall_example" / "wall_example.ino").read_text())["WALL_K_N_PER_M"])
+            assert jread(fw / "chai3d_device.json")["m_maxLinearStiffness"] == pytest.approx(K_ino, rel=EXACT_REL)
+            assert ds_row(rep, "eq25_K_max_N_per_m")["value"] == pytest.approx(K_ino, rel=EXACT_REL)
     if "linkage" in toml or fam in ("hoeken", "roberts", "chebyshev", "chebyshev-v", "custom"):
         _check_fourbar(toml, out, rep, n)
     if fam == "delta":

@@ -207,6 +207,14 @@ def stiffness_inputs(design, Jx, friction_N: float | None) -> tuple[dict, str]:
             f"Te = {TE_DEFAULT_S:g} s and xdot_max = {XDOT_DEFAULT_M_PER_S:g} m/s (Hoeken paper §III.B.4), encoder {src}")
 
 
+def eq25_inputs(s: dict) -> dict:
+    """Eq (25)'s inputs of :func:`stiffness_inputs` under the names of
+    :class:`cad.dynamics.stiffness.StiffnessInputs` (SI): the datasheet row carries them, and
+    the firmware's wall reads them there (one K_max figure)."""
+    return {"Fv_N_s_per_m": s["Fv"], "Fs_N": s["Fs"], "Te_s": s["Te"],
+            "encoder_resolution_m": s["delta"], "xdot_max_m_per_s": s["xdot"]}
+
+
 def eq25_K_max(s: dict) -> float:
     """Hoeken paper eq (25) upper bound, N/m (Fv may be 0)."""
     return 2.0 * (s["Fs"] + s["Fv"] * s["xdot"]) / (s["delta"] + s["xdot"] * s["Te"])
@@ -237,7 +245,7 @@ def stiffness_rows(design, report, m, Jx, friction_N, simulate: bool = True) -> 
     s, src = stiffness_inputs(design, Jx, friction_N)
     out = [row("eq25_K_max_N_per_m", "renderable stiffness, eq (25) bound", eq25_K_max(s), "N/m",
                f"Hoeken paper eq (25) (Diolaiti et al.): 2 (Fs + Fv xdot_max) / (Delta + xdot_max Te), a "
-               f"conservative bound; {src}"),
+               f"conservative bound; {src}", inputs=eq25_inputs(s)),
            row("passivity_K_max_N_per_m", "renderable stiffness, passivity bound", 2 * s["Fv"] / s["Te"], "N/m",
                f"Colgate and Schenkel: passive iff K < 2 Fv / Te (viscous friction only, Coulomb ignored); {src}")]
 

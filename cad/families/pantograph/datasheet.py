@@ -20,14 +20,17 @@ the BOM orders); the worst over the workspace. No CAD import.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
 
 from cad.datasheet import row
 from cad.device import resolve_device
+from cad.dynamics.stiffness import stiffness_range_N_per_m
 from cad.families.pantograph.limits import pantograph_limits
 from cad.families.pantograph.mode_ceiling import mode_ceiling
+from cad.firmware.extras import paper_eq25_inputs
 from cad.io.escape import mathtext
 from cad.structure.pantograph import WEB_WIDTH_MIN_MM, analyse
 
@@ -199,6 +202,23 @@ def structure_rows(st: dict) -> list[dict]:
     ]
 
 
+def k_max_row(step_m: float | None) -> dict:
+    """``eq25_K_max_N_per_m``: eq (25) (Hoeken paper §III.B.4) with the paper's Fv, Fs, Te, xdot_max
+    (unverified for this device) and Delta = ``step_m`` (m), the position resolution worst over
+    the workspace: the wall stiffness the firmware's sketch and ``chai3d_device.json`` state
+    (:func:`cad.firmware.extras.wall_numbers`, the same inputs)."""
+    if step_m is None:
+        return row("eq25_K_max_N_per_m", "renderable stiffness, eq (25) bound", None, "N/m",
+                   "no reachable workspace sample: no encoder step")
+    inputs = paper_eq25_inputs(step_m)
+    k_min, k_max = stiffness_range_N_per_m(inputs)
+    return row("eq25_K_max_N_per_m", "renderable stiffness, eq (25) bound", k_max, "N/m",
+               f"eq (25) 2 (Fs + Fv xdot) / (Delta + xdot Te), Delta = {step_m * 1e6:.4g} um (the "
+               "resolution above), Hoeken paper's Fv, Fs, Te, xdot_max (§III.B.4, identified on its "
+               "prototype); the firmware's wall reads it", lo=k_min, hi=k_max, unverified=True,
+               inputs=dataclasses.asdict(inputs))
+
+
 def rows_and_limits(design, report: dict, out_dir=None, simulate_wall: bool = True):
     """(rows, limits, notes) of a pantograph-family build (module docstring)."""
     A, sig, ok = force_ellipses(design)
@@ -232,6 +252,7 @@ def rows_and_limits(design, report: dict, out_dir=None, simulate_wall: bool = Tr
                     f"sigma_max(J^+) 2 pi / {enc.counts_per_rev} counts per joint, worst over the workspace; "
                     f"{enc.source}",
                     lo=good.min() if good.size else None, hi=good.max() if good.size else None))
+    rows.append(k_max_row(good.max() * 1e-6 if good.size else None))
     rows.append(row("friction_N", "Coulomb friction at the handle", None, "N",
                     "not modelled: [actuators] gives torque limits only (no motor data sheet)"))
     em = report.get("effective_mass_home") or {}
@@ -270,8 +291,6 @@ def mode_blocker(design, report: dict, st: dict | None, limits: dict) -> list[di
     row (:func:`cad.families.pantograph.mode_ceiling.mode_ceiling`: what limits the mode and
     the best figure the link tubes reach in this layout) and the same line in the limit's
     keys to change (so the datasheet warning and ``hapticad check`` say it); none otherwise."""
-    import dataclasses
-
     lim = limits.get("first_mode_Hz")
     if st is None or lim is None or lim.met(st["first_mode_Hz"]):
         return []
