@@ -60,6 +60,9 @@ def test_the_bundled_delta_meets_the_force_and_mode_limits_by_its_models():
     sampled = sampled_force_in_every_direction_N(d, tau)
     assert sampled >= exact * (1 - 1e-12) and sampled == pytest.approx(exact, rel=2e-3)
     assert exact >= d.actuators["force_max_N"] == 1.0
+    assert exact == pytest.approx(1.2189, abs=5e-5)  # regression pin (docs/families/delta.md: 1.22 N)
+    re35 = get_motor("maxon-re35").torque_continuous_mNm * 1e-3  # data sheet, 97.2 mN m
+    assert force_in_every_direction_N(d, re35)[0] == pytest.approx(0.6336, abs=5e-5)  # regression pin
     st = first_mode(d.mechanism, np.asarray(d.workspace["center_mm"]), d.parallelogram_width_mm)
     assert st["first_mode_Hz"] >= FIRST_MODE_MIN_HZ == 150.0
 
