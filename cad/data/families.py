@@ -67,7 +67,7 @@ FAMILIES: dict[str, Family] = {
                _PANTOGRAPH_CMDS),
         Family("haptic-pen", "haptic-pen", "cad.families.pen.design", "pen", _PANTOGRAPH_CMDS),
         Family("powermouse", "powermouse", "cad.design.powermouse", "powermouse",
-               ("build", "render", "datasheet")),
+               ("check", "fit", "build", "render", "datasheet")),
         Family("delta", "delta", "cad.families.delta.design", "delta",
                ("build", "gii", "optimize", "render", "datasheet")),
     )

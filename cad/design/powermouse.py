@@ -66,10 +66,11 @@ from cad.design.fields import (
     require_table,
 )
 from cad.design.replace import TableReplace, ValidatedReplace
+from cad.design.targets import POWERMOUSE_TARGET_KEYS, parse_targets
 from cad.errors import DesignError
 
 TOP_KEYS = ("name", "description", "mechanism", "actuator", "flotor", "stator", "handle", "motion",
-            "prices")
+            "prices", "targets")
 ACTUATOR_KEYS = (
     "magnet_length_mm",
     "magnet_width_mm",
@@ -175,6 +176,7 @@ class PowerMouseDesign(ValidatedReplace):
     handle: HandleSpec
     motion: MotionSpec
     raw: dict
+    targets: tuple = ()
 
 
 def _material(table: dict, key: str, prefix: str, default: str) -> str:
@@ -294,4 +296,5 @@ def parse(raw: dict[str, Any], source: str = "<design>") -> PowerMouseDesign:
         )
     if motion.range_deg >= 30:
         raise DesignError("motion.range_deg", f"must be < 30 deg, got {motion.range_deg!r}")
-    return PowerMouseDesign(name, source, family, act, flotor, stator, handle, motion, raw)
+    targets = parse_targets(optional_table(raw, "targets", ""), "targets", POWERMOUSE_TARGET_KEYS)
+    return PowerMouseDesign(name, source, family, act, flotor, stator, handle, motion, raw, targets)

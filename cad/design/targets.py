@@ -159,6 +159,13 @@ def parse_target(key: str, spec: Any, prefix: str = "targets",
     return Target(key, min=vals.get("min"), max=vals.get("max"))
 
 
+#: ``[targets]`` / ``--target`` keys of a PowerMouse: its datasheet's figures (``hapticad check``
+#: and ``fit`` compute them on a build, :mod:`cad.studies.build_targets`).
+POWERMOUSE_TARGET_KEYS = ("continuous_force_N", "peak_force_N", "force_per_At_N", "torque_per_At_mNm",
+                          "flotor_mass_g", "peak_acceleration_G", "min_clearance_mm", "total_mass_g",
+                          "moving_mass_g")
+
+
 def parse_targets(table: dict[str, Any], prefix: str = "targets",
                   allowed_keys: tuple[str, ...] = TARGET_KEYS) -> tuple[Target, ...]:
     return tuple(parse_target(k, v, prefix, allowed_keys) for k, v in table.items())

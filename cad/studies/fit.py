@@ -104,13 +104,14 @@ def _set(raw: dict, path: str, value: Any) -> dict:
 
 def current_value(design, path: str) -> Any:
     """The design's value of a free parameter: ``parts.KEY`` from its parts spec,
-    ``mechanism.KEY`` (pantograph families) from its mechanism parameters."""
+    ``mechanism.KEY`` (pantograph families) from its mechanism parameters, ``TABLE.KEY`` from
+    the design's table of that name (the PowerMouse's ``[actuator]``, ``[flotor]``, ...)."""
     section, name = path.split(".", 1)
     if section == "mechanism":
         return design.params[name]
     if name == "layer_order":
         return layer_order_of(design)
-    return getattr(design.parts, name)
+    return getattr(getattr(design, section), name)
 
 
 def layer_order_of(design) -> list[str]:
@@ -148,7 +149,7 @@ def parse_free_pantograph(spec: str, design) -> FreeParam:
         return FreeParam(key, "choice", choices=MATERIAL_CHOICES)
     if isinstance(current, (str, bool)):
         raise DesignError(f"--free {spec}", f"{name} is not a numeric or material parameter")
-    return _numeric(spec, key, rng, float(current))
+    return numeric_free(spec, key, rng, float(current))
 
 
 def _range(spec: str, key: str, rng: str, lo: float, hi: float) -> tuple[float, float]:
@@ -170,7 +171,7 @@ def _range(spec: str, key: str, rng: str, lo: float, hi: float) -> tuple[float, 
     return lo, hi
 
 
-def _numeric(spec: str, key: str, rng: str, current: float) -> FreeParam:
+def numeric_free(spec: str, key: str, rng: str, current: float) -> FreeParam:
     """Numeric free parameter: LO:HI from the flag, else 0.5x..1.5x the current value."""
     lo, hi = _range(spec, key, rng, current * NUMERIC_DEFAULT_SPAN[0],
                     current * NUMERIC_DEFAULT_SPAN[1])
@@ -225,7 +226,7 @@ def parse_free(spec: str, parts_spec) -> FreeParam:
         return _stock_thickness(spec, key, rng, parts_spec)
     if not isinstance(current, (int, float)) or current is None:
         raise DesignError(f"--free {spec}", f"{name} is not a numeric, material or boolean parameter")
-    return _numeric(spec, key, rng, float(current))
+    return numeric_free(spec, key, rng, float(current))
 
 
 def parse_free_parts(spec: str, design) -> FreeParam:
