@@ -2,10 +2,10 @@
 and its bill-of-materials lines, all from the resolved device's transmission
 (:class:`cad.device.Transmission`) and the model of :mod:`cad.actuators.capstan`.
 
-The motor stands beside the drum with its capstan :data:`CAPSTAN_GAP_MM` from the drum's rim
-(centre distance C = r_d + r_c + gap); each free run of rope is the open-belt tangent
-L = sqrt(C^2 - (r_d - r_c)^2). The rope lies on the drum over the crank's range plus an
-anchor of :data:`ANCHOR_LENGTH_MM` at each end; :data:`ANCHOR_TAIL_MM` of rope is left beyond
+The motor stands beside the drum at the design's ``transmission.centre_distance_mm``, else with
+its capstan :data:`CAPSTAN_GAP_MM` from the drum (C = r_d + r_c + gap, pitch radii); each free
+run of rope is the open-belt tangent L = sqrt(C^2 - (r_d - r_c)^2). The rope lies on the drum
+over the crank's range plus an anchor of :data:`ANCHOR_LENGTH_MM` at each end; :data:`ANCHOR_TAIL_MM` of rope is left beyond
 each anchor. These three are layout choices of this module (no part is drawn yet), stated in
 every row that uses them (the gap is :data:`cad.actuators.capstan.CAPSTAN_GAP_MM`).
 
@@ -71,7 +71,7 @@ def layout(design, t: Transmission) -> CapstanLayout:
     """The rope's layout of a capstan transmission ``t`` on ``design``'s crank (module
     docstring)."""
     dc, dd = t.capstan_diameter_mm, t.drum_diameter_mm
-    C = 0.5 * (dc + dd) + CAPSTAN_GAP_MM
+    C = cap.centre_distance_mm(dc, dd, t.centre_distance_mm)
     L = float(cap.free_run_length_mm(dc, dd, C))
     rng = math.degrees(design.phi1_max_rad - design.phi1_min_rad)
     sector = float(cap.drum_sector_needed_deg(rng, dd, ANCHOR_LENGTH_MM))
@@ -183,9 +183,11 @@ def datasheet_rows(design, report: dict, phi1_rad, Jx, device=None,
 
 def _cut_text(t: Transmission, lay: CapstanLayout) -> str:
     p = lay.cut_mm
+    gap = ("transmission.centre_distance_mm" if t.centre_distance_mm is not None
+           else f"rim gap {CAPSTAN_GAP_MM:g} mm")
     return (f"{t.wraps:g} turns on the capstan {p['wraps']:.0f} + two free runs {p['runs']:.0f} (L = "
-            f"{lay.run_length_mm:.1f} mm, centre distance {lay.centre_distance_mm:.1f} mm, rim gap "
-            f"{CAPSTAN_GAP_MM:g} mm) + drum arc {p['drum']:.0f} + anchor tails {p['anchors']:.0f} mm")
+            f"{lay.run_length_mm:.1f} mm, centre distance {lay.centre_distance_mm:.1f} mm, "
+            f"{gap}) + drum arc {p['drum']:.0f} + anchor tails {p['anchors']:.0f} mm")
 
 
 def _spring_rows(design, report, t, lay, phi1_rad, Jx) -> list[dict]:

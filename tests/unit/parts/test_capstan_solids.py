@@ -7,6 +7,7 @@ external tangents."""
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -146,3 +147,35 @@ def test_drum_arc_covers_both_tangent_points_over_the_range():
         for tp in (-90.0 + math.degrees(g) - q, -90.0 - math.degrees(g) - q):
             rel = (tp - start) % 360.0
             assert anchor - 1e-9 <= rel <= span - anchor + 1e-9
+
+
+# ----------------------------------------------------------------------------- the design key
+CAPSTAN_HOEKEN = {"kind": "capstan", "capstan_diameter_mm": 32.0, "drum_diameter_mm": 64.0,
+                  "cable": "steel-7x7-0.8", "wraps": 3.0}
+
+
+def test_centre_distance_key_sets_the_runs_and_is_refused_when_the_pitch_circles_overlap():
+    from cad.design.transmission import parse_transmission
+
+    t = parse_transmission({**CAPSTAN_HOEKEN, "centre_distance_mm": 60.0})
+    assert t.centre_distance_mm == 60.0
+    # run length sqrt(C^2 - (r_d - r_c)^2) = sqrt(3600 - 256)
+    assert cap.free_run_length_mm(32.0, 64.0, cap.centre_distance_mm(32.0, 64.0, 60.0)) == \
+        pytest.approx(math.sqrt(3344.0))
+    assert cap.centre_distance_mm(32.0, 64.0) == 50.0  # r_d + r_c + CAPSTAN_GAP_MM (2 mm)
+    with pytest.raises(DesignError) as e:
+        parse_transmission({**CAPSTAN_HOEKEN, "centre_distance_mm": 47.0})
+    msg = str(e.value)
+    assert "\n" not in msg and msg.startswith("transmission.centre_distance_mm: 47 mm")
+    assert "rims overlap by 0.2 mm" in msg and "at least 48.00 mm" in msg
+
+
+def test_too_short_centre_distance_refused_by_the_cli_in_one_line(tmp_path):
+    from tests.cli_helpers import assert_one_line_error, hapticad
+
+    src = (Path(__file__).resolve().parents[3] / "designs" / "hoeken_capstan.toml").read_text()
+    bad = tmp_path / "short.toml"
+    bad.write_text(src.replace('wraps = 3.0', 'wraps = 3.0\ncentre_distance_mm = 40.0'))
+    code, _, err = hapticad("check", str(bad))
+    assert_one_line_error(code, err, "transmission.centre_distance_mm: 40 mm",
+                          "rims overlap by 7.2 mm", "use at least 48.00 mm")
