@@ -16,11 +16,13 @@ from cad.data.catalog import tap_drill_mm
 
 
 def drum_sector_shape(r_rim_mm: float, r_bore_mm: float, start_deg: float, span_deg: float,
-                      thickness_mm: float):
+                      thickness_mm: float, radial_holes=()):
     """Annular sector plate: radii ``r_bore_mm``..``r_rim_mm``, arc ``span_deg`` from
     ``start_deg``, z 0..``thickness_mm``. Volume (span / 2)(r_rim^2 - r_bore^2) t
-    (:func:`cad.actuators.capstan_geometry.sector_mass_kg`)."""
-    from build123d import Line, ThreePointArc, extrude, make_face
+    (:func:`cad.actuators.capstan_geometry.sector_mass_kg`) without ``radial_holes``:
+    ``((angle_deg, diameter_mm, depth_mm), ...)`` drilled from the rim towards the centre at
+    mid-thickness (the rope anchors' tapped holes)."""
+    from build123d import Align, Cylinder, Line, Pos, Rot, ThreePointArc, extrude, make_face
 
     a0, a1 = math.radians(start_deg), math.radians(start_deg + span_deg)
 
@@ -32,8 +34,13 @@ def drum_sector_shape(r_rim_mm: float, r_bore_mm: float, start_deg: float, span_
              ThreePointArc(p(r_rim_mm, a0), p(r_rim_mm, am), p(r_rim_mm, a1)),
              Line(p(r_rim_mm, a1), p(r_bore_mm, a1)),
              ThreePointArc(p(r_bore_mm, a1), p(r_bore_mm, am), p(r_bore_mm, a0))]
-    face = make_face(edges)
-    return extrude(face, thickness_mm).solids()[0].wrapped
+    part = extrude(make_face(edges), thickness_mm)
+    a = (Align.CENTER, Align.CENTER, Align.MIN)
+    tools = [Rot(0, 0, ang) * Pos(r_rim_mm - depth, 0, thickness_mm / 2) * Rot(0, 90, 0)
+             * Cylinder(dia / 2, depth + 1.0, align=a) for ang, dia, depth in radial_holes]
+    if tools:
+        part = part.cut(*tools)
+    return part.solids()[0].wrapped
 
 
 def capstan_shape(r_rim_mm: float, bore_diameter_mm: float, length_mm: float,

@@ -241,10 +241,12 @@ def _row(part: str, desc: str, quantity: int, made: bool, process: str, material
 
 
 def bom_lines(design, device=None) -> list[dict]:
-    """The crank's capstan as BOM lines (the bom.csv row form of
-    :func:`cad.device.encoder_bom_rows`): the rope with its cut length, the capstan and the drum
-    (made: their stock from this module's layout choices), the two anchors and the tensioner
-    (bought). Empty for direct drive. None of them is drawn as a solid yet (each line says so)."""
+    """The crank's capstan parts that are not solids of the assembly, as BOM lines (the bom.csv
+    row form of :func:`cad.device.encoder_bom_rows`): the rope with its cut length (its free runs
+    are drawn, as part of this line) and the tensioner (not drawn; its line says so). The drum,
+    the capstan, its set screw and the anchor screws are solids
+    (:mod:`cad.families.fourbar.capstan_solids`): their lines come from the solids. Empty for
+    direct drive."""
     dev = device if device is not None else resolve_device(design)
     t = dev.transmission("crank")
     if not t.is_capstan:
@@ -254,24 +256,10 @@ def bom_lines(design, device=None) -> list[dict]:
            f"breaking load {c.min_breaking_load_N:.0f} N" + (" (unverified)" if c.is_unverified(
                "min_breaking_load_N") else ""))
     cut = lay.cut_mm["total"]
-    shaft = dev.motor.spec.shaft_diameter_mm
-    cap_len = GROOVE_PITCH_D * c.diameter_mm * t.wraps + CAPSTAN_HUB_MM
     return [
         _row("capstan_cable", f"{c.description}, cut length {cut:.0f} mm ({_cut_text(t, lay)}); {mbl}; "
              f"source: cad.data.cables ({c.source_of('min_breaking_load_N')})", 1, False,
              "bought; cut to length", "steel", f"wire rope {c.construction} {c.diameter_mm:g} mm x {cut:.0f} mm"),
-        _row("capstan", f"capstan {t.capstan_diameter_mm:g} mm on the motor shaft ({shaft:g} mm bore, "
-             f"ISO 4026 M3 set screw), helical groove for {t.wraps:g} turns of the {c.diameter_mm:g} mm "
-             f"rope at {GROOVE_PITCH_D:g} d pitch; {_NOT_DRAWN}", 1, True, "turned (no drawing yet)",
-             "steel-1018", "", stock=f"rod {math.ceil(t.capstan_diameter_mm + 2)} x "
-             f"{math.ceil(cap_len + 5)} mm steel-1018"),
-        _row("capstan_drum", f"drum {t.drum_diameter_mm:g} mm on the crank at A1, sector "
-             f"{lay.sector_deg:.0f} deg (crank range + anchors), {DRUM_THICKNESS_MM:g} mm thick; {_NOT_DRAWN}",
-             1, True, "machined (no drawing yet)", "aluminium-6061", "",
-             stock=f"plate {DRUM_THICKNESS_MM:g} x {math.ceil(t.drum_diameter_mm + 10)} x "
-             f"{math.ceil(t.drum_diameter_mm + 10)} mm aluminium-6061"),
-        _row("capstan_anchor", "rope anchor on the drum: ISO 4762 M3 x 8 screw clamping the rope under an "
-             f"ISO 7089 3 washer; {_NOT_DRAWN}", 2, False, "bought", "steel", "ISO 4762 M3 x 8 + ISO 7089 3"),
         _row("capstan_tensioner", "rope tensioner at one anchor: ISO 4762 M3 x 20 screw pulling the rope's "
              "end through a compression spring (spring rate unverified: no sheet read); set to the "
              f"datasheet's rope pretension; {_NOT_DRAWN}", 1, False, "bought", "steel",
