@@ -294,10 +294,14 @@ def _capstan_and_set_screw(design, t, pl: CapstanPlacement, m) -> list[PartInsta
                      f"{fcap.CAPSTAN_HUB_MM:g} mm set-screw hub"),
         process=f"turned; tap {motor.SET_SCREW.split('-')[0]} x1 (radial)",
         fits=(fit("hub shaft bore", m.shaft_diameter_mm, "shaft bore"),))
-    wall = rc - m.shaft_diameter_mm / 2
-    sk = PartKind("capstan_set_screw", motor.set_screw_shape(wall - 0.5, motor.SET_SCREW),
+    from cad.assembly.fasteners import size_set_screw
+
+    size, L, _ = size_set_screw(m.shaft_diameter_mm / 2, rc, (motor.SET_SCREW,),
+                                "capstan set screw onto the motor shaft",
+                                "transmission.capstan_diameter_mm")
+    sk = PartKind("capstan_set_screw", motor.set_screw_shape(L, size),
                   material=cat.FASTENER_MATERIAL, made=False,
-                  description=f"set screw ISO 4026 {motor.SET_SCREW.split('-')[0]} x {wall - 0.5:g} "
+                  description=f"set screw ISO 4026 {size.split('-')[0]} x {L:g} "
                               "(capstan on the motor shaft)", process="bought")
     tf_c = translation(ox, oy, z0)
     return [PartInstance("capstan", ck, "ground", tf_c),
