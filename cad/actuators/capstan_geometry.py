@@ -52,7 +52,7 @@ def check_centre_distance(centre_distance_mm: float, capstan_diameter_mm: float,
     raise DesignError(field, f"{centre_distance_mm:g} mm between the drum's and the capstan's "
                       f"centres: {what} (drum {drum_diameter_mm:g} mm, capstan "
                       f"{capstan_diameter_mm:g} mm, rope {rope_diameter_mm:g} mm); use at least "
-                      f"{need:.2f} mm (r_d + r_c + {clearance_mm:g} mm)")
+                      f"{need:.2f} mm (r_d + r_c" + (f" + {clearance_mm:g} mm)" if clearance_mm else ")"))
 
 
 def tangent_half_angle_rad(drum_diameter_mm: float, capstan_diameter_mm: float,
