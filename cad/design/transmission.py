@@ -21,6 +21,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
+from cad.actuators.capstan_geometry import check_centre_distance
 from cad.data.cables import CABLES, get_cable
 from cad.design.bounds import Bound, check_number
 from cad.design.fields import check_unknown
@@ -171,8 +172,6 @@ def _centre_distance(tab: dict[str, Any], prefix: str, dc: float, dd: float,
     stand less than one rope diameter apart: the rope is pinched between them)."""
     if "centre_distance_mm" not in tab:
         return None
-    from cad.actuators.capstan_geometry import check_centre_distance
-
     field = f"{prefix}.centre_distance_mm"
     C = check_number(field, tab["centre_distance_mm"], CENTRE_DISTANCE_MM)
     return check_centre_distance(C, dc, dd, get_cable(cable).diameter_mm, 0.0, field)

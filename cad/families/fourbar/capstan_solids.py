@@ -25,14 +25,24 @@ import numpy as np
 
 from cad.actuators import capstan as cap
 from cad.actuators import capstan_geometry as cg
+from cad.assembly.fasteners import size_set_screw
+from cad.data import catalog as cat
+from cad.data.fits import fit
+from cad.errors import DesignError
 from cad.families.fourbar import capstan as fcap
-from cad.parts import PartInstance, PartKind, translation
+from cad.families.fourbar.mechanism import Assembly
+from cad.parts import PartInstance, PartKind, base, joints, motor, translation
+from cad.parts import capstan as shapes
 
 #: Candidate motor directions tried by :func:`motor_direction_deg`, deg (every 5 deg).
 _ALPHA_STEP_DEG = 5.0
 #: Anchor screw: ISO 4762 M3 x 8 radial in the drum's rim (the BOM line of
 #: :func:`cad.families.fourbar.capstan.bom_lines`).
 ANCHOR_SCREW, ANCHOR_SCREW_LENGTH_MM = "M3-0.5", 8.0
+#: Radius about A2 kept clear of the drum's arc when the motor's direction is chosen (mm): the A2
+#: pin's nut and washer hang under the crank there. A layout choice; the interference check of
+#: the build is what proves the drum clear of them.
+A2_HARDWARE_RADIUS_MM = 6.0
 #: Names of the motor group's instances moved with the motor.
 _MOTOR_GROUP = ("motor", "motor_mount", "motor_screw_", "mount_screw_")
 
@@ -104,8 +114,6 @@ def motor_direction_deg(design, J, gamma_rad: float, anchor_deg: float, keep_out
         if d >= best_d:
             best, best_d = float(alpha), d
     if best is None:
-        from cad.errors import DesignError
-
         arc = 2 * math.degrees(gamma_rad) + hi - lo + 2 * anchor_deg
         raise DesignError("transmission.centre_distance_mm",
                           f"{centre_distance_mm:g} mm: no place for the motor clears both the crank's "
@@ -121,9 +129,7 @@ def placement(design, t, J, plan) -> CapstanPlacement:
     g = cg.tangent_half_angle_rad(dd, dc, C)
     anchor = math.degrees(2.0 * fcap.ANCHOR_LENGTH_MM / dd)
     a2 = float(np.hypot(*J["crank"]["A2"]))
-    keep = math.degrees(math.asin(min(1.0, 6.0 / max(a2, 6.0))))  # A2's nut and washer
-    from cad.data import catalog as cat
-    from cad.parts import motor
+    keep = math.degrees(math.asin(min(1.0, A2_HARDWARE_RADIUS_MM / max(a2, A2_HARDWARE_RADIUS_MM))))
 
     half = motor.mount_side_mm(cat.get_motor(design.parts.motor)) / 2
     post = cat.get_cap_screw(cat.standoff_screw(design.parts.pin), "parts.pin").dk_mm / 2
@@ -137,8 +143,6 @@ def placement(design, t, J, plan) -> CapstanPlacement:
     top = plan.hub_z_mm[1]
     zc, zr = _capstan_z_mm(design, t)
     if not top - fcap.DRUM_THICKNESS_MM + d <= zr <= top - d:
-        from cad.errors import DesignError
-
         raise DesignError("transmission.wraps", f"{t.wraps:g} turns put the rope at z = {zr:.2f} "
                           f"mm, off the drum's rim (z {top - fcap.DRUM_THICKNESS_MM:g} to {top:g} mm); "
                           "use fewer turns")
@@ -151,8 +155,6 @@ def _capstan_z_mm(design, t) -> tuple[float, float]:
     """(the capstan's bottom, the rope's plane), mm: the capstan starts ``clearance_min_mm``
     above the heads of the motor's face screws (their heads on the mount plate, under the base
     plate's top); the rope runs at the middle of its turns above the set-screw hub."""
-    from cad.data import catalog as cat
-
     p = design.parts
     m = cat.get_motor(p.motor)
     head = cat.get_cap_screw(m.bolt_size, "parts.motor").k_mm
@@ -166,7 +168,6 @@ def add_capstan(asm, design, J, plan, t, motor_kind_shaft=None):
     ``t`` drawn (module docstring); ``asm`` unchanged for direct drive."""
     if not t.is_capstan:
         return asm
-    from cad.families.fourbar.mechanism import Assembly
 
     parts = design.parts
     pl = placement(design, t, J, plan)
@@ -189,9 +190,6 @@ def add_capstan(asm, design, J, plan, t, motor_kind_shaft=None):
 
 def _rect(rect, pl: CapstanPlacement, parts):
     """The base plate's rectangle grown to carry the moved motor's mount plate."""
-    from cad.data import catalog as cat
-    from cad.parts import base, motor
-
     h = motor.mount_side_mm(cat.get_motor(parts.motor)) / 2
     m = max(parts.base_margin_mm, base.LEG_INSET_MM + base.LEG_DIAMETER_MM / 2)
     ox, oy = pl.motor_xy_mm
@@ -202,9 +200,6 @@ def _rect(rect, pl: CapstanPlacement, parts):
 def _base_kind(kind: PartKind, parts, J, rect, pl: CapstanPlacement) -> PartKind:
     """The base plate with its motor opening and mount holes at the moved motor; the A1
     opening stays for the crank's axle."""
-    from cad.data import catalog as cat
-    from cad.parts import base, motor
-
     m = cat.get_motor(parts.motor)
     head_d = cat.get_cap_screw(m.bolt_size, "parts.motor").dk_mm
     opening = max(m.bolt_circle_mm + head_d + 2.0, m.pilot_diameter_mm + 2.0)
@@ -217,7 +212,6 @@ def _base_kind(kind: PartKind, parts, J, rect, pl: CapstanPlacement) -> PartKind
 
 
 def _moved_leg(i: PartInstance, rect) -> PartInstance:
-    from cad.parts import base
 
     k = int(i.name.rsplit("_", 1)[1]) - 1
     x, y = base.leg_xy_mm(rect)[k]
@@ -241,10 +235,6 @@ _RY90 = np.array([[0.0, 0.0, 1.0, 0.0], [0.0, 1.0, 0.0, 0.0], [-1.0, 0.0, 0.0, 0
 def _capstan_parts(design, t, pl: CapstanPlacement) -> list[PartInstance]:
     """The drum and its two anchor screws (crank), the capstan, its set screw and the two
     runs of rope (ground)."""
-    from cad.data import catalog as cat
-    from cad.parts import capstan as shapes
-    from cad.parts import joints, motor
-
     parts, d = design.parts, t.cable_diameter_mm
     m = cat.get_motor(parts.motor)
     z0, z1 = pl.z_mm
@@ -274,10 +264,6 @@ def _capstan_parts(design, t, pl: CapstanPlacement) -> list[PartInstance]:
 
 
 def _capstan_and_set_screw(design, t, pl: CapstanPlacement, m) -> list[PartInstance]:
-    from cad.data import catalog as cat
-    from cad.data.fits import fit
-    from cad.parts import capstan as shapes
-    from cad.parts import motor
 
     d = t.cable_diameter_mm
     rc = cg.rim_radius_mm(t.capstan_diameter_mm, d)
@@ -294,7 +280,6 @@ def _capstan_and_set_screw(design, t, pl: CapstanPlacement, m) -> list[PartInsta
                      f"{fcap.CAPSTAN_HUB_MM:g} mm set-screw hub"),
         process=f"turned; tap {motor.SET_SCREW.split('-')[0]} x1 (radial)",
         fits=(fit("hub shaft bore", m.shaft_diameter_mm, "shaft bore"),))
-    from cad.assembly.fasteners import size_set_screw
 
     size, L, _ = size_set_screw(m.shaft_diameter_mm / 2, rc, (motor.SET_SCREW,),
                                 "capstan set screw onto the motor shaft",
@@ -313,8 +298,6 @@ def _capstan_and_set_screw(design, t, pl: CapstanPlacement, m) -> list[PartInsta
 def _rope_runs(design, t, pl: CapstanPlacement) -> list[PartInstance]:
     """The two free runs of rope on the drum's mid-plane (ground: fixed while the crank turns),
     each with a collision envelope trimmed by :func:`run_trim_mm` at both ends."""
-    from cad.parts import capstan as shapes
-
     d, c = t.cable_diameter_mm, design.parts.clearance_min_mm + 0.1
     z = pl.rope_z_mm
     s0, s1 = run_trim_mm(0.5 * t.drum_diameter_mm, c), run_trim_mm(0.5 * t.capstan_diameter_mm, c)
