@@ -265,3 +265,25 @@ def bom_lines(design, device=None) -> list[dict]:
              f"datasheet's rope pretension; {_NOT_DRAWN}", 1, False, "bought", "steel",
              "ISO 4762 M3 x 20 + compression spring (unverified)"),
     ]
+
+
+def assembly_checks(design, device=None) -> tuple[str, ...]:
+    """``assembly.md``'s winding and tensioning steps of the crank's capstan (empty for direct
+    drive): the rope's cut length, its path from one anchor over the drum, round the capstan and
+    back to the other anchor, and the tensioner's setting (the datasheet's pretension)."""
+    dev = device if device is not None else resolve_device(design)
+    t = dev.transmission("crank")
+    if not t.is_capstan:
+        return ()
+    lay, fig = layout(design, t), figures(design, dev)
+    return (
+        f"wind the rope: cut {lay.cut_mm['total']:.0f} mm of {t.cable.key} (bom.csv capstan_cable); "
+        "clamp one end under capstan_anchor_1 with the crank at the end of its range nearest that "
+        f"anchor, lay it on the drum's rim to the tangent point, wind {t.wraps:g} turns on the capstan "
+        "(its helical groove, side by side), lay it back on the drum's rim and pass it through "
+        "capstan_anchor_2 into the tensioner",
+        f"tension the rope: set the tensioner to at least {fig.pretension_N:.1f} N (datasheet "
+        "cable_pretension_N), tighten capstan_anchor_2, then turn the crank over its whole range: "
+        "the rope stays on the drum's rim and in the capstan's turns, no anchor reaches a tangent "
+        "point",
+    )

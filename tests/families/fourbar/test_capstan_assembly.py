@@ -149,3 +149,18 @@ def test_bom_quantities_equal_the_instances_in_assembly_step(built):
             continue
         assert int(float(r["quantity"])) == count[r["part"]], r["part"]
     assert count["capstan_anchor_screw"] == 2 and count["capstan_rope_run_1"] == 1
+
+
+def test_assembly_md_has_the_winding_and_tensioning_steps(built):
+    from cad.actuators import capstan as cap
+
+    rep, out = built
+    text = (out / "assembly.md").read_text(encoding="utf-8")
+    cut = next(r for r in rep["datasheet"]["rows"] if r["key"] == "cable_cut_length_mm")["value"]
+    T0 = next(r for r in rep["datasheet"]["rows"] if r["key"] == "cable_pretension_N")["value"]
+    # the smallest pretension that holds the peak load, by hand: (dT / 2)(e + 1)/(e - 1)
+    e = math.exp(cap.MU_STEEL_ROPE_ON_STEEL * 2 * math.pi * 3)
+    assert T0 == pytest.approx(0.5 * 0.9725 / 0.016 * (e + 1) / (e - 1), rel=1e-9)
+    assert f"wind the rope: cut {cut:.0f} mm of steel-7x7-0.8" in text
+    assert f"set the tensioner to at least {T0:.1f} N" in text
+    assert "`capstan_drum`" in text and "`capstan_cable`" in text  # the runs belong to the rope's line
