@@ -43,8 +43,10 @@ ANCHOR_SCREW, ANCHOR_SCREW_LENGTH_MM = "M3-0.5", 8.0
 #: pin's nut and washer hang under the crank there. A layout choice; the interference check of
 #: the build is what proves the drum clear of them.
 A2_HARDWARE_RADIUS_MM = 6.0
-#: Names of the motor group's instances moved with the motor.
-_MOTOR_GROUP = ("motor", "motor_mount", "motor_screw_", "mount_screw_")
+#: The motor group's instances moved with the motor: names, and prefixes of numbered ones (the
+#: direct-drive shaft's envelope stays at A1 as the crank's axle).
+_MOTOR_GROUP = ("motor", "motor_mount")
+_MOTOR_SCREWS = ("motor_screw_", "mount_screw_")
 
 
 @dataclasses.dataclass(frozen=True)
@@ -163,19 +165,18 @@ def _capstan_z_mm(design, t) -> tuple[float, float]:
     return zc, zc + fcap.CAPSTAN_HUB_MM + 0.5 * turns
 
 
-def add_capstan(asm, design, J, plan, t, motor_kind_shaft=None):
+def add_capstan(asm, design, J, plan, t):
     """``asm`` (:class:`cad.families.fourbar.mechanism.Assembly`) with the crank's capstan
     ``t`` drawn (module docstring); ``asm`` unchanged for direct drive."""
     if not t.is_capstan:
         return asm
-
     parts = design.parts
     pl = placement(design, t, J, plan)
     ox, oy = pl.motor_xy_mm
     shift = translation(ox, oy, 0.0)
     inst, rect = [], _rect(asm.base_rect_mm, pl, parts)
     for i in asm.instances:
-        if i.name.startswith(_MOTOR_GROUP):
+        if i.name in _MOTOR_GROUP or i.name.startswith(_MOTOR_SCREWS):
             i = dataclasses.replace(i, tf_body_part=shift @ i.tf_body_part)
         elif i.name == "base_plate":
             i = dataclasses.replace(i, kind=_base_kind(i.kind, parts, J, rect, pl))
