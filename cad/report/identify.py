@@ -19,20 +19,27 @@ def _plots(fit, out: Path) -> None:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-
     t = fit.t_s
     m = fit.mask
+    meas, model = np.asarray(fit.tau_meas).reshape(len(t), -1), np.asarray(fit.tau_fit).reshape(len(t), -1)
+    many = meas.shape[1] > 1  # one column per motor (the 5-bar: two)
     fig, ax = plt.subplots(figsize=(9, 3.5))
-    ax.plot(t, 1e3 * fit.tau_meas, lw=0.6, label="motor torque s Kt i (filtered)")
-    ax.plot(t[m], 1e3 * fit.tau_fit[m], ".", ms=1.0, label="model with the identified parameters")
+    for j in range(meas.shape[1]):
+        who = f"motor {j}: " if many else ""
+        ax.plot(t, 1e3 * meas[:, j], lw=0.6, label=f"{who}motor torque s Kt i (filtered)")
+        ax.plot(t[m], 1e3 * model[m, j], ".", ms=1.0, label=f"{who}model with the identified parameters")
     ax.set_xlabel("t (s)")
-    ax.set_ylabel("torque on the crank (mN m)")
+    ax.set_ylabel("torque at each motor's joint (mN m)" if many else "torque on the crank (mN m)")
     ax.legend(loc="upper right", fontsize=8)
     fig.tight_layout()
     save_figure(fig, out / "identify_fit.svg")
     plt.close(fig)
     fig, ax = plt.subplots(figsize=(9, 3.0))
-    ax.plot(t[m], 1e3 * (fit.tau_meas[m] - fit.tau_fit[m]), ".", ms=1.0)
+    for j in range(meas.shape[1]):
+        ax.plot(t[m], 1e3 * (meas[m, j] - model[m, j]), ".", ms=1.0,
+                label=f"motor {j}" if many else None)
+    if many:
+        ax.legend(loc="upper right", fontsize=8)
     ax.set_xlabel("t (s)")
     ax.set_ylabel("residual (mN m)")
     fig.tight_layout()

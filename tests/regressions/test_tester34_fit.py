@@ -97,11 +97,11 @@ def test_fit_best_reached_names_the_best_candidate_not_the_written_one(tmp_path)
                     "written design 0.70708")
 
 
-@pytest.mark.parametrize("table", ["parts", "motor", "firmware"])
+@pytest.mark.parametrize("table", ["targets"])
 def test_delta_refuses_a_table_it_does_not_take_without_denying_its_parts(tmp_path, table):
-    """The delta builds parts (assembly.step, bom.csv: three RE 35 motors), so a [motor] /
-    [parts] / [firmware] table is refused in one line naming the table and the commands that
-    take a delta, not "the delta has no parts" (the message before); exit 2, nothing written."""
+    """The delta builds parts (assembly.step, bom.csv: three motors), so a table it does not
+    take yet is refused in one line naming the table and the commands that take a delta, not
+    "the delta has no parts" (the message before); exit 2, nothing written."""
     text = (ROOT / "designs" / "delta.toml").read_text() + f"\n[{table}]\nname = \"x\"\n"
     design = tmp_path / "delta.toml"
     design.write_text(text)
