@@ -292,12 +292,22 @@ def capstan_joint_figures(capstan_diameter_mm: float, drum_diameter_mm: float, c
 CAPSTAN_GAP_MM = 2.0
 
 
+def centre_distance_mm(capstan_diameter_mm: float, drum_diameter_mm: float,
+                       given_mm: float | None = None) -> float:
+    """The drum's axis to the capstan's, mm: ``given_mm`` (the design's
+    ``transmission.centre_distance_mm``) or the pitch circles :data:`CAPSTAN_GAP_MM` apart,
+    r_d + r_c + gap."""
+    if given_mm is not None:
+        return float(given_mm)
+    return 0.5 * (capstan_diameter_mm + drum_diameter_mm) + CAPSTAN_GAP_MM
+
+
 def rope_stiffness_Nm_per_rad(capstan_diameter_mm: float, drum_diameter_mm: float,
-                              EA_N: float) -> float:
-    """The two free runs as a torsional spring at the joint (N m/rad) with the capstan
-    :data:`CAPSTAN_GAP_MM` from the drum (centre distance r_d + r_c + gap, open-belt runs):
-    :func:`cable_torsional_stiffness_Nm_per_rad` of :func:`free_run_length_mm` twice."""
-    C = 0.5 * (capstan_diameter_mm + drum_diameter_mm) + CAPSTAN_GAP_MM
+                              EA_N: float, centre_distance_given_mm: float | None = None) -> float:
+    """The two free runs as a torsional spring at the joint (N m/rad) at the
+    :func:`centre_distance_mm` (open-belt runs): :func:`cable_torsional_stiffness_Nm_per_rad`
+    of :func:`free_run_length_mm` twice."""
+    C = centre_distance_mm(capstan_diameter_mm, drum_diameter_mm, centre_distance_given_mm)
     L = float(free_run_length_mm(capstan_diameter_mm, drum_diameter_mm, C))
     return float(cable_torsional_stiffness_Nm_per_rad(EA_N, drum_diameter_mm, (L, L)))
 

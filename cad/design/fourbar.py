@@ -322,13 +322,13 @@ def parse(raw: dict[str, Any], source: str = "<design>") -> FourBarDesign:
 def _warn_transmission(design: FourBarDesign, warn) -> None:
     """The capstan's load-time warnings: the rope below its bend ratio (naming the rope, the
     ratio and the fix, :func:`cad.actuators.capstan.bend_ratio_warning`) and the parts not
-    drawn as solids yet (the build draws the direct-drive hub)."""
+    drawn as solids yet (the tensioner, the crank's axle bearings)."""
     t = design.transmissions[0]
     if not t.is_capstan:
         return
     bend = bend_ratio_warning(get_cable(t.cable), t.capstan_diameter_mm)
     if bend is not None:
         warn(f"transmission: {bend}")
-    warn(f"transmission: capstan drawn as its ratio, rope and BOM lines, not as a solid yet "
-         f"(drum {t.drum_diameter_mm:g} mm, capstan {t.capstan_diameter_mm:g} mm, rope "
-         f"{t.cable}: the parts, drawings and interference check show the direct-drive hub)")
+    warn("transmission: the rope's tensioner and the crank's axle bearings at A1 are not drawn "
+         "as solids yet (BOM line for the tensioner; the drum, capstan, moved motor, rope runs "
+         "and anchors are drawn)")

@@ -21,6 +21,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
+from cad.actuators.capstan_geometry import check_centre_distance
 from cad.data.cables import CABLES, get_cable
 from cad.design.bounds import Bound, check_number
 from cad.design.fields import check_unknown
@@ -28,7 +29,7 @@ from cad.errors import DesignError
 
 KINDS = ("direct", "capstan")
 KEYS = ("kind", "capstan_diameter_mm", "drum_diameter_mm", "ratio", "cable", "wraps",
-        "pretension_N", "cable_EA_N")
+        "pretension_N", "cable_EA_N", "centre_distance_mm")
 _CAPSTAN_ONLY = KEYS[1:]
 _LEN_SLIPS = (("metres", 1000.0), ("cm", 10.0), ("inches", 25.4))
 
@@ -63,6 +64,12 @@ PRETENSION_N = Bound("N", 0.0, 5000.0, "a rope pretension is 0 to 5 kN", 1.0, 50
 #: area of 0.05-2 mm^2 gives 5 kN .. 400 kN; the bound allows 0.1 kN .. 10 MN.
 CABLE_EA_N = Bound("N", 100.0, 1.0e7, "a rope's E A is 100 N to 10 MN", 1.0e3, 1.0e6,
                    "steel ropes of 0.3 to 2 mm have E A of 1 kN to 1 MN")
+#: Distance between the drum's and the capstan's axes: at most the desktop part bound (1 m);
+#: the smallest that fits is checked against the two pitch radii
+#: (:func:`cad.actuators.capstan_geometry.check_centre_distance`).
+CENTRE_DISTANCE_MM = Bound(
+    "mm", 1.0, 1000.0, "the drum-to-capstan centre distance is 1 mm to 1 m", 5.0, 300.0,
+    "haptic capstan drives sit 5 to 300 mm apart", _LEN_SLIPS)
 
 
 @dataclass(frozen=True)
@@ -73,7 +80,9 @@ class Transmission:
     joint torque = n * motor torque, joint angle = motor angle / n). capstan_diameter_mm :
     the capstan on the motor shaft; drum_diameter_mm : the drum or sector on the link (given,
     or n * capstan when the design gave ``ratio``). cable : key of
-    :data:`cad.data.cables.CABLES`. The three are None for direct drive."""
+    :data:`cad.data.cables.CABLES`. The three are None for direct drive. centre_distance_mm :
+    the drum's axis to the capstan's (mm); None: the pitch circles
+    :data:`cad.actuators.capstan.CAPSTAN_GAP_MM` apart."""
 
     kind: str = "direct"
     ratio: float = 1.0
@@ -83,6 +92,7 @@ class Transmission:
     wraps: float | None = None
     pretension_N: float | None = None
     cable_EA_N: float | None = None
+    centre_distance_mm: float | None = None
 
     @property
     def is_capstan(self) -> bool:
@@ -152,7 +162,19 @@ def _parse_capstan(tab: dict[str, Any], prefix: str) -> Transmission:
           if "pretension_N" in tab else None)
     ea = (check_number(f"{prefix}.cable_EA_N", tab["cable_EA_N"], CABLE_EA_N)
           if "cable_EA_N" in tab else None)
-    return Transmission("capstan", n, dc, dd, cable, float(wraps), t0, ea)
+    C = _centre_distance(tab, prefix, dc, dd, cable)
+    return Transmission("capstan", n, dc, dd, cable, float(wraps), t0, ea, C)
+
+
+def _centre_distance(tab: dict[str, Any], prefix: str, dc: float, dd: float,
+                     cable: str) -> float | None:
+    """``centre_distance_mm`` when given, refused when the pitch circles overlap (the rims then
+    stand less than one rope diameter apart: the rope is pinched between them)."""
+    if "centre_distance_mm" not in tab:
+        return None
+    field = f"{prefix}.centre_distance_mm"
+    C = check_number(field, tab["centre_distance_mm"], CENTRE_DISTANCE_MM)
+    return check_centre_distance(C, dc, dd, get_cable(cable).diameter_mm, 0.0, field)
 
 
 def _ratio(value: Any, field: str) -> float:

@@ -127,6 +127,7 @@ class Transmission:
     wraps: float | None = None
     pretension_N: float | None = None
     cable_EA_N: float | None = None
+    centre_distance_mm: float | None = None
 
     @property
     def is_capstan(self) -> bool:
@@ -146,6 +147,8 @@ class Transmission:
                              **({"unverified": True} if c.is_unverified(f) else {})}
                          for f in CABLE_DATA_FIELDS}}
         d.update(wraps=self.wraps, pretension_N=self.pretension_N, cable_EA_N=self.cable_EA_N)
+        if self.centre_distance_mm is not None:
+            d["centre_distance_mm"] = self.centre_distance_mm
         return d
 
 
@@ -162,7 +165,8 @@ def transmission_of(design, joint: str, index: int) -> Transmission:
            f"{t.drum_diameter_mm:g} mm, n = drum / capstan = {t.ratio:.6g}, rope {cable.key} "
            "(cad.data.cables); model cad.actuators.capstan")
     return Transmission(joint, "capstan", float(t.ratio), cable.diameter_mm, t.drum_diameter_mm,
-                        t.capstan_diameter_mm, src, cable, t.wraps, t.pretension_N, t.cable_EA_N)
+                        t.capstan_diameter_mm, src, cable, t.wraps, t.pretension_N, t.cable_EA_N,
+                        getattr(t, "centre_distance_mm", None))
 
 
 #: MotorSpec torque fields scaled by n at the joint (torque = n * motor torque).

@@ -57,13 +57,17 @@ def base_plate_shape(
     mount_holes_xy,
     mount_screw: str,
     post_screw: str,
+    extra_openings=(),
 ):
-    """The base plate, z from -thickness to 0 (world frame)."""
+    """The base plate, z from -thickness to 0 (world frame); ``extra_openings``:
+    ``((x, y, d), ...)`` more round openings (mm), e.g. a capstan's motor beside A1."""
     from build123d import Circle, Pos, Rectangle, extrude
 
     xmin, ymin, xmax, ymax = rect
     sk = Pos((xmin + xmax) / 2, (ymin + ymax) / 2) * Rectangle(xmax - xmin, ymax - ymin)
     sk = sk - Circle(opening_d_mm / 2)
+    for x, y, d in extra_openings:
+        sk = sk - Pos(x, y) * Circle(d / 2)
     for x, y in mount_holes_xy:
         sk = sk - Pos(x, y) * Circle(tap_drill_mm(mount_screw) / 2)
     sk = sk - Pos(float(a4_xy[0]), float(a4_xy[1])) * Circle(clearance_hole_mm(post_screw) / 2)

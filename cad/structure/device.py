@@ -189,7 +189,8 @@ def crank_rope_stiffness_Nm_per_rad(design) -> float | None:
     t = resolve_device(design).transmission("crank")
     if not t.is_capstan or t.cable_EA_N is None:
         return None
-    return rope_stiffness_Nm_per_rad(t.capstan_diameter_mm, t.drum_diameter_mm, t.cable_EA_N)
+    return rope_stiffness_Nm_per_rad(t.capstan_diameter_mm, t.drum_diameter_mm, t.cable_EA_N,
+                                     t.centre_distance_mm)
 
 
 def build_frame(design, pose_tf: dict, lumped: list[Lumped], bar_mass_kg: dict, method: str):

@@ -403,15 +403,23 @@ def test_outputs_agree_with_a_capstan(capstan_build):
 
 def test_the_capstan_hoeken_meets_every_limit_and_states_its_rope(builds, capstan_build):
     """designs/hoeken_capstan.toml (issue 35): the Hoeken's solids with a capstan on the crank.
-    Against the direct Hoeken's build (the same solids), H11 gains the reflected rotor only,
-    (n^2 - 1) J_m; every datasheet verdict is met (continuous force >= 5 N); the rope's cut
+    Against the direct Hoeken's build, H11 gains the reflected rotor, (n^2 - 1) J_m, and the
+    drum sector with its two anchor screws on the crank (the sector m (r_o^2 + r_i^2) / 2 about
+    A1 in closed form, the anchors bounded by their radii); H12..H33 are unchanged; every
+    datasheet verdict is met (continuous force >= 5 N); the rope's cut
     length is the same number in the datasheet, bom.csv and order.csv; report.json ``device``
     states the ratio and the rope with its source."""
     toml, out = capstan_build
     _, out_d = builds["hoeken.toml"]
     rep, rep_d = jread(out / "report.json"), jread(out_d / "report.json")
     g, m = _ratio(toml), _motor_data(toml)
-    assert rep["H11_kg_m2"] - rep_d["H11_kg_m2"] == pytest.approx((g * g - 1) * m["Jm"], rel=1e-9)
+    r_o, r_i = 31.6, 10.0  # the drum's rim (64 mm pitch - 0.8 mm rope) and bore (the hub), mm
+    m_drum = rep["part_masses_g"]["capstan_drum"] * 1e-3
+    I_drum = 0.5 * m_drum * (r_o ** 2 + r_i ** 2) * 1e-6  # holes: 0.4 % of the mass, bounded below
+    m_a = rep["part_masses_g"]["capstan_anchor_screw"] * 1e-3  # radial M3 x 8, head out
+    gain = rep["H11_kg_m2"] - rep_d["H11_kg_m2"] - (g * g - 1) * m["Jm"]
+    assert I_drum * 0.995 + 2 * m_a * ((r_o - 8) * 1e-3) ** 2 < gain
+    assert gain < I_drum + 2 * m_a * ((r_o + 3) * 1e-3) ** 2
     for k in ("H12_kg_m2", "H22_kg_m2", "H33_kg_m2"):
         assert rep[k] == rep_d[k]
     assert rep["datasheet"]["warnings"] == [] and rep["datasheet"]["ok"]

@@ -268,7 +268,7 @@ def _stages(phi1_deg: float | None, allow_interference: bool):
         stroke=lambda d: body_transforms(d.linkage, sweep_angles(d, STROKE_POSES)),
         motion_label="crank range", moving_bodies=lambda model: list(model.bodies),
         dynamics=_dynamics, more_files=_sim_files,
-        assembly=lambda design: (None, ASSEMBLY_CHECKS),
+        assembly=lambda design: (None, ASSEMBLY_CHECKS + capstan.assembly_checks(design)),
         children=_same_body, children_after_props=_preview,
         export_kw=lambda b: {**_mesh_kw(b), "preview": False}, view_kw=_mesh_kw,
         no_solid_rows=lambda design: [encoder_bom_row(design), *capstan.bom_lines(design)],

@@ -2,10 +2,10 @@
 and its bill-of-materials lines, all from the resolved device's transmission
 (:class:`cad.device.Transmission`) and the model of :mod:`cad.actuators.capstan`.
 
-The motor stands beside the drum with its capstan :data:`CAPSTAN_GAP_MM` from the drum's rim
-(centre distance C = r_d + r_c + gap); each free run of rope is the open-belt tangent
-L = sqrt(C^2 - (r_d - r_c)^2). The rope lies on the drum over the crank's range plus an
-anchor of :data:`ANCHOR_LENGTH_MM` at each end; :data:`ANCHOR_TAIL_MM` of rope is left beyond
+The motor stands beside the drum at the design's ``transmission.centre_distance_mm``, else with
+its capstan :data:`CAPSTAN_GAP_MM` from the drum (C = r_d + r_c + gap, pitch radii); each free
+run of rope is the open-belt tangent L = sqrt(C^2 - (r_d - r_c)^2). The rope lies on the drum
+over the crank's range plus an anchor of :data:`ANCHOR_LENGTH_MM` at each end; :data:`ANCHOR_TAIL_MM` of rope is left beyond
 each anchor. These three are layout choices of this module (no part is drawn yet), stated in
 every row that uses them (the gap is :data:`cad.actuators.capstan.CAPSTAN_GAP_MM`).
 
@@ -71,7 +71,7 @@ def layout(design, t: Transmission) -> CapstanLayout:
     """The rope's layout of a capstan transmission ``t`` on ``design``'s crank (module
     docstring)."""
     dc, dd = t.capstan_diameter_mm, t.drum_diameter_mm
-    C = 0.5 * (dc + dd) + CAPSTAN_GAP_MM
+    C = cap.centre_distance_mm(dc, dd, t.centre_distance_mm)
     L = float(cap.free_run_length_mm(dc, dd, C))
     rng = math.degrees(design.phi1_max_rad - design.phi1_min_rad)
     sector = float(cap.drum_sector_needed_deg(rng, dd, ANCHOR_LENGTH_MM))
@@ -183,9 +183,11 @@ def datasheet_rows(design, report: dict, phi1_rad, Jx, device=None,
 
 def _cut_text(t: Transmission, lay: CapstanLayout) -> str:
     p = lay.cut_mm
+    gap = ("transmission.centre_distance_mm" if t.centre_distance_mm is not None
+           else f"rim gap {CAPSTAN_GAP_MM:g} mm")
     return (f"{t.wraps:g} turns on the capstan {p['wraps']:.0f} + two free runs {p['runs']:.0f} (L = "
-            f"{lay.run_length_mm:.1f} mm, centre distance {lay.centre_distance_mm:.1f} mm, rim gap "
-            f"{CAPSTAN_GAP_MM:g} mm) + drum arc {p['drum']:.0f} + anchor tails {p['anchors']:.0f} mm")
+            f"{lay.run_length_mm:.1f} mm, centre distance {lay.centre_distance_mm:.1f} mm, "
+            f"{gap}) + drum arc {p['drum']:.0f} + anchor tails {p['anchors']:.0f} mm")
 
 
 def _spring_rows(design, report, t, lay, phi1_rad, Jx) -> list[dict]:
@@ -239,10 +241,12 @@ def _row(part: str, desc: str, quantity: int, made: bool, process: str, material
 
 
 def bom_lines(design, device=None) -> list[dict]:
-    """The crank's capstan as BOM lines (the bom.csv row form of
-    :func:`cad.device.encoder_bom_rows`): the rope with its cut length, the capstan and the drum
-    (made: their stock from this module's layout choices), the two anchors and the tensioner
-    (bought). Empty for direct drive. None of them is drawn as a solid yet (each line says so)."""
+    """The crank's capstan parts that are not solids of the assembly, as BOM lines (the bom.csv
+    row form of :func:`cad.device.encoder_bom_rows`): the rope with its cut length (its free runs
+    are drawn, as part of this line) and the tensioner (not drawn; its line says so). The drum,
+    the capstan, its set screw and the anchor screws are solids
+    (:mod:`cad.families.fourbar.capstan_solids`): their lines come from the solids. Empty for
+    direct drive."""
     dev = device if device is not None else resolve_device(design)
     t = dev.transmission("crank")
     if not t.is_capstan:
@@ -252,26 +256,34 @@ def bom_lines(design, device=None) -> list[dict]:
            f"breaking load {c.min_breaking_load_N:.0f} N" + (" (unverified)" if c.is_unverified(
                "min_breaking_load_N") else ""))
     cut = lay.cut_mm["total"]
-    shaft = dev.motor.spec.shaft_diameter_mm
-    cap_len = GROOVE_PITCH_D * c.diameter_mm * t.wraps + CAPSTAN_HUB_MM
     return [
         _row("capstan_cable", f"{c.description}, cut length {cut:.0f} mm ({_cut_text(t, lay)}); {mbl}; "
              f"source: cad.data.cables ({c.source_of('min_breaking_load_N')})", 1, False,
              "bought; cut to length", "steel", f"wire rope {c.construction} {c.diameter_mm:g} mm x {cut:.0f} mm"),
-        _row("capstan", f"capstan {t.capstan_diameter_mm:g} mm on the motor shaft ({shaft:g} mm bore, "
-             f"ISO 4026 M3 set screw), helical groove for {t.wraps:g} turns of the {c.diameter_mm:g} mm "
-             f"rope at {GROOVE_PITCH_D:g} d pitch; {_NOT_DRAWN}", 1, True, "turned (no drawing yet)",
-             "steel-1018", "", stock=f"rod {math.ceil(t.capstan_diameter_mm + 2)} x "
-             f"{math.ceil(cap_len + 5)} mm steel-1018"),
-        _row("capstan_drum", f"drum {t.drum_diameter_mm:g} mm on the crank at A1, sector "
-             f"{lay.sector_deg:.0f} deg (crank range + anchors), {DRUM_THICKNESS_MM:g} mm thick; {_NOT_DRAWN}",
-             1, True, "machined (no drawing yet)", "aluminium-6061", "",
-             stock=f"plate {DRUM_THICKNESS_MM:g} x {math.ceil(t.drum_diameter_mm + 10)} x "
-             f"{math.ceil(t.drum_diameter_mm + 10)} mm aluminium-6061"),
-        _row("capstan_anchor", "rope anchor on the drum: ISO 4762 M3 x 8 screw clamping the rope under an "
-             f"ISO 7089 3 washer; {_NOT_DRAWN}", 2, False, "bought", "steel", "ISO 4762 M3 x 8 + ISO 7089 3"),
         _row("capstan_tensioner", "rope tensioner at one anchor: ISO 4762 M3 x 20 screw pulling the rope's "
              "end through a compression spring (spring rate unverified: no sheet read); set to the "
              f"datasheet's rope pretension; {_NOT_DRAWN}", 1, False, "bought", "steel",
              "ISO 4762 M3 x 20 + compression spring (unverified)"),
     ]
+
+
+def assembly_checks(design, device=None) -> tuple[str, ...]:
+    """``assembly.md``'s winding and tensioning steps of the crank's capstan (empty for direct
+    drive): the rope's cut length, its path from one anchor over the drum, round the capstan and
+    back to the other anchor, and the tensioner's setting (the datasheet's pretension)."""
+    dev = device if device is not None else resolve_device(design)
+    t = dev.transmission("crank")
+    if not t.is_capstan:
+        return ()
+    lay, fig = layout(design, t), figures(design, dev)
+    return (
+        f"wind the rope: cut {lay.cut_mm['total']:.0f} mm of {t.cable.key} (bom.csv capstan_cable); "
+        "clamp one end under capstan_anchor_1 with the crank at the end of its range nearest that "
+        f"anchor, lay it on the drum's rim to the tangent point, wind {t.wraps:g} turns on the capstan "
+        "(its helical groove, side by side), lay it back on the drum's rim and pass it through "
+        "capstan_anchor_2 into the tensioner",
+        f"tension the rope: set the tensioner to at least {fig.pretension_N:.1f} N (datasheet "
+        "cable_pretension_N), tighten capstan_anchor_2, then turn the crank over its whole range: "
+        "the rope stays on the drum's rim and in the capstan's turns, no anchor reaches a tangent "
+        "point",
+    )

@@ -35,6 +35,7 @@ import numpy as np
 from cad.assembly.model import AssemblyModel
 from cad.device import resolve_device
 from cad.errors import DesignError
+from cad.families.fourbar.capstan_solids import add_capstan
 from cad.families.fourbar.mechanism import build_assembly, check_plate_screws
 from cad.families.fourbar.pose import body_transforms, planar_transforms
 from cad.kinematics.linkgeom import link_joints_mm
@@ -174,10 +175,11 @@ def _parts(design, J, plan, footprint, fidelity: str, deferred: bool, script):
         user_handle = user_handle_shape(script, handle_params(parts, floor))
     # deferred: solids only where a part's mass properties are not cached
     with deferred_shapes() if deferred else contextlib.nullcontext():
+        dev = resolve_device(design)
         asm = build_assembly(J, plan, parts, footprint, fidelity=fidelity,
                              handle_shape=user_handle, design_label=design.name,
-                             motor_spec=resolve_device(design).motor.spec)
-    return asm
+                             motor_spec=dev.motor.spec)
+    return add_capstan(asm, design, J, plan, dev.transmission("crank"))
 
 
 def assemble(

@@ -1,0 +1,317 @@
+"""The crank's capstan as solids of the four-bar's assembly (issue 35): the drum sector on the
+crank, the capstan on the motor's shaft, the motor moved beside A1, the two free runs of rope
+and the two anchors, added to the one instance list (:func:`add_capstan`), so mass properties,
+the interference check over the crank range, the files, the BOM and assembly.md read them.
+
+Layout (mm, world R0, z = 0 on the base plate's top): the drum (:mod:`cad.parts.capstan`) is
+:data:`cad.families.fourbar.capstan.DRUM_THICKNESS_MM` thick under the crank, round the hub
+(z up to the hub's top, its bore the hub's diameter); the motor, its mount plate and their
+screws move by the centre distance C (:func:`cad.actuators.capstan.centre_distance_mm`) in the
+direction ``alpha`` (:func:`motor_direction_deg`); the base plate opens for the moved motor and
+grows to carry its mount plate (the legs move to its corners). The rope's runs lie on the drum's
+mid-plane between the external tangent points of the two pitch circles
+(:func:`cad.actuators.capstan_geometry.external_tangent_points_mm`), fixed in the world while
+the crank turns; each run's collision envelope stops where the rope comes within
+``clearance_min_mm`` of the pulley it lies on (:func:`run_trim_mm`). The crank turns on the
+direct-drive shaft's envelope at A1 (the crank's axle; its bearings are not drawn).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+
+from cad.actuators import capstan as cap
+from cad.actuators import capstan_geometry as cg
+from cad.assembly.fasteners import size_set_screw
+from cad.data import catalog as cat
+from cad.data.fits import fit
+from cad.errors import DesignError
+from cad.families.fourbar import capstan as fcap
+from cad.families.fourbar.mechanism import Assembly
+from cad.parts import PartInstance, PartKind, base, joints, motor, translation
+from cad.parts import capstan as shapes
+
+#: Candidate motor directions tried by :func:`motor_direction_deg`, deg (every 5 deg).
+_ALPHA_STEP_DEG = 5.0
+#: Anchor screw: ISO 4762 M3 x 8 radial in the drum's rim (the BOM line of
+#: :func:`cad.families.fourbar.capstan.bom_lines`).
+ANCHOR_SCREW, ANCHOR_SCREW_LENGTH_MM = "M3-0.5", 8.0
+#: Radius about A2 kept clear of the drum's arc when the motor's direction is chosen (mm): the A2
+#: pin's nut and washer hang under the crank there. A layout choice; the interference check of
+#: the build is what proves the drum clear of them.
+A2_HARDWARE_RADIUS_MM = 6.0
+#: The motor group's instances moved with the motor: names, and prefixes of numbered ones (the
+#: direct-drive shaft's envelope stays at A1 as the crank's axle).
+_MOTOR_GROUP = ("motor", "motor_mount")
+_MOTOR_SCREWS = ("motor_screw_", "mount_screw_")
+
+
+@dataclasses.dataclass(frozen=True)
+class CapstanPlacement:
+    """Where the capstan's parts sit (mm, deg, world): ``alpha_deg`` the motor's direction
+    from A1, ``centre_distance_mm`` C, ``motor_xy_mm`` its axis, ``gamma_rad`` the tangent
+    points' half angle, ``tangents_mm`` (2, 2, 2) the runs' end points (drum, capstan),
+    ``arc_start_deg`` / ``arc_span_deg`` the drum sector in the crank's frame,
+    ``anchors_deg`` the anchors' crank-frame angles, ``z_mm`` (bottom, top) of the drum,
+    ``capstan_z_mm`` the capstan's bottom (above the motor's face screws, in the base plate's
+    opening), ``rope_z_mm`` the rope's plane (the middle of the capstan's turns, above its
+    set-screw hub)."""
+
+    alpha_deg: float
+    centre_distance_mm: float
+    motor_xy_mm: tuple
+    gamma_rad: float
+    tangents_mm: np.ndarray
+    arc_start_deg: float
+    arc_span_deg: float
+    anchors_deg: tuple
+    z_mm: tuple
+    capstan_z_mm: float
+    rope_z_mm: float
+
+
+def run_trim_mm(pitch_radius_mm: float, clearance_mm: float) -> float:
+    """Length by which a run's collision envelope stops short of its tangent point: at s from
+    the tangent point the rope's axis is sqrt(r^2 + s^2) from the pulley's centre, so rope and
+    rim stand sqrt(r^2 + s^2) - r apart; s = sqrt((r + c)^2 - r^2) gives ``clearance_mm``."""
+    r = pitch_radius_mm
+    return math.sqrt((r + clearance_mm) ** 2 - r * r)
+
+
+def _segment_distance_mm(p, a, b) -> float:
+    """Distance from point ``p`` to the segment ``a``-``b`` (2-D, mm)."""
+    ab, ap = b - a, p - a
+    s = float(np.clip(ap @ ab / (ab @ ab), 0.0, 1.0))
+    return float(np.hypot(*(ap - s * ab)))
+
+
+def motor_direction_deg(design, J, gamma_rad: float, anchor_deg: float, keep_out_deg: float,
+                        centre_distance_mm: float, mount_half_mm: float, a4_keep_mm: float,
+                        radii_mm=(0.0, 0.0), post_keep_mm: float = 0.0) -> float:
+    """The motor's direction from A1 (deg): of the directions every :data:`_ALPHA_STEP_DEG`,
+    those whose drum sector leaves the crank's own line (crank-frame angle 0, where A2's
+    hardware hangs under the crank) at least ``keep_out_deg`` outside the arc; of these, the one
+    whose motor mount plate (a square of half side ``mount_half_mm`` round the motor) stands
+    farthest from A4's post screw (at least ``a4_keep_mm``), both runs of rope between the
+    pitch circles of ``radii_mm`` (drum, capstan) at least ``post_keep_mm`` from A4's axis
+    (the post). DesignError naming
+    ``transmission.drum_diameter_mm`` when none does."""
+    lo, hi = math.degrees(design.phi1_min_rad), math.degrees(design.phi1_max_rad)
+    a4 = np.asarray(J["ground"]["A4"], float)
+    best, best_d = None, a4_keep_mm
+    for alpha in np.arange(-180.0, 180.0, _ALPHA_STEP_DEG):
+        start, span = cg.drum_arc_link_deg(float(alpha), gamma_rad, lo, hi, anchor_deg)
+        rel = (0.0 - start) % 360.0
+        if not (span + keep_out_deg <= rel <= 360.0 - keep_out_deg):
+            continue
+        a = math.radians(alpha)
+        o = centre_distance_mm * np.array([math.cos(a), math.sin(a)])
+        d = float(np.hypot(*np.maximum(np.abs(o - a4) - mount_half_mm, 0.0)))
+        runs = cg.external_tangent_points_mm((0.0, 0.0), radii_mm[0], o, radii_mm[1])
+        if min(_segment_distance_mm(a4, r[0], r[1]) for r in runs) < post_keep_mm:
+            continue
+        if d >= best_d:
+            best, best_d = float(alpha), d
+    if best is None:
+        arc = 2 * math.degrees(gamma_rad) + hi - lo + 2 * anchor_deg
+        raise DesignError("transmission.centre_distance_mm",
+                          f"{centre_distance_mm:g} mm: no place for the motor clears both the crank's "
+                          f"A2 hardware (the drum arc is {arc:.0f} deg) and the A4 post (the "
+                          f"{2 * mount_half_mm:g} mm mount plate); set a longer centre_distance_mm")
+    return best
+
+
+def placement(design, t, J, plan) -> CapstanPlacement:
+    """:class:`CapstanPlacement` of the crank's capstan ``t`` (the resolved transmission)."""
+    dd, dc, d = t.drum_diameter_mm, t.capstan_diameter_mm, t.cable_diameter_mm
+    C = cap.centre_distance_mm(dc, dd, t.centre_distance_mm)
+    g = cg.tangent_half_angle_rad(dd, dc, C)
+    anchor = math.degrees(2.0 * fcap.ANCHOR_LENGTH_MM / dd)
+    a2 = float(np.hypot(*J["crank"]["A2"]))
+    keep = math.degrees(math.asin(min(1.0, A2_HARDWARE_RADIUS_MM / max(a2, A2_HARDWARE_RADIUS_MM))))
+
+    half = motor.mount_side_mm(cat.get_motor(design.parts.motor)) / 2
+    post = cat.get_cap_screw(cat.standoff_screw(design.parts.pin), "parts.pin").dk_mm / 2
+    clr = design.parts.clearance_min_mm
+    alpha = motor_direction_deg(design, J, g, anchor, keep, C, half, post + clr, (0.5 * dd, 0.5 * dc),
+                                0.5 * (design.parts.post_diameter_mm + d) + clr)
+    o = (C * math.cos(math.radians(alpha)), C * math.sin(math.radians(alpha)))
+    tang = cg.external_tangent_points_mm((0.0, 0.0), 0.5 * dd, o, 0.5 * dc)
+    lo, hi = math.degrees(design.phi1_min_rad), math.degrees(design.phi1_max_rad)
+    start, span = cg.drum_arc_link_deg(alpha, g, lo, hi, anchor)
+    top = plan.hub_z_mm[1]
+    zc, zr = _capstan_z_mm(design, t)
+    if not top - fcap.DRUM_THICKNESS_MM + d <= zr <= top - d:
+        raise DesignError("transmission.wraps", f"{t.wraps:g} turns put the rope at z = {zr:.2f} "
+                          f"mm, off the drum's rim (z {top - fcap.DRUM_THICKNESS_MM:g} to {top:g} mm); "
+                          "use fewer turns")
+    return CapstanPlacement(alpha, C, o, g, tang, start, span,
+                            cg.anchor_angles_link_deg(alpha, g, lo, hi, anchor),
+                            (top - fcap.DRUM_THICKNESS_MM, top), zc, zr)
+
+
+def _capstan_z_mm(design, t) -> tuple[float, float]:
+    """(the capstan's bottom, the rope's plane), mm: the capstan starts ``clearance_min_mm``
+    above the heads of the motor's face screws (their heads on the mount plate, under the base
+    plate's top); the rope runs at the middle of its turns above the set-screw hub."""
+    p = design.parts
+    m = cat.get_motor(p.motor)
+    head = cat.get_cap_screw(m.bolt_size, "parts.motor").k_mm
+    zc = -p.base_thickness_mm + head + p.clearance_min_mm
+    turns = fcap.GROOVE_PITCH_D * t.cable_diameter_mm * t.wraps
+    return zc, zc + fcap.CAPSTAN_HUB_MM + 0.5 * turns
+
+
+def add_capstan(asm, design, J, plan, t):
+    """``asm`` (:class:`cad.families.fourbar.mechanism.Assembly`) with the crank's capstan
+    ``t`` drawn (module docstring); ``asm`` unchanged for direct drive."""
+    if not t.is_capstan:
+        return asm
+    parts = design.parts
+    pl = placement(design, t, J, plan)
+    ox, oy = pl.motor_xy_mm
+    shift = translation(ox, oy, 0.0)
+    inst, rect = [], _rect(asm.base_rect_mm, pl, parts)
+    for i in asm.instances:
+        if i.name in _MOTOR_GROUP or i.name.startswith(_MOTOR_SCREWS):
+            i = dataclasses.replace(i, tf_body_part=shift @ i.tf_body_part)
+        elif i.name == "base_plate":
+            i = dataclasses.replace(i, kind=_base_kind(i.kind, parts, J, rect, pl))
+        elif i.name.startswith(("leg_", "leg_screw_")):
+            i = _moved_leg(i, rect)
+        inst.append(i)
+    shaft = next(i for i in asm.instances if i.name == "motor_shaft")
+    inst.append(PartInstance("capstan_motor_shaft", shaft.kind, "ground", shift @ shaft.tf_body_part))
+    inst += _capstan_parts(design, t, pl)
+    return Assembly(tuple(inst), rect, asm.notes, asm.holes)
+
+
+def _rect(rect, pl: CapstanPlacement, parts):
+    """The base plate's rectangle grown to carry the moved motor's mount plate."""
+    h = motor.mount_side_mm(cat.get_motor(parts.motor)) / 2
+    m = max(parts.base_margin_mm, base.LEG_INSET_MM + base.LEG_DIAMETER_MM / 2)
+    ox, oy = pl.motor_xy_mm
+    return (min(rect[0], ox - h - m), min(rect[1], oy - h - m),
+            max(rect[2], ox + h + m), max(rect[3], oy + h + m))
+
+
+def _base_kind(kind: PartKind, parts, J, rect, pl: CapstanPlacement) -> PartKind:
+    """The base plate with its motor opening and mount holes at the moved motor; the A1
+    opening stays for the crank's axle."""
+    m = cat.get_motor(parts.motor)
+    head_d = cat.get_cap_screw(m.bolt_size, "parts.motor").dk_mm
+    opening = max(m.bolt_circle_mm + head_d + 2.0, m.pilot_diameter_mm + 2.0)
+    ox, oy = pl.motor_xy_mm
+    holes = [(x + ox, y + oy) for x, y in motor.mount_hole_xy_mm(m)]
+    shape = base.base_plate_shape(rect, parts.base_thickness_mm, J["ground"]["A4"], opening, holes,
+                                  motor.MOUNT_SCREW, cat.standoff_screw(parts.pin),
+                                  extra_openings=((ox, oy, opening),))
+    return dataclasses.replace(kind, shape=shape)
+
+
+def _moved_leg(i: PartInstance, rect) -> PartInstance:
+
+    k = int(i.name.rsplit("_", 1)[1]) - 1
+    x, y = base.leg_xy_mm(rect)[k]
+    tf = np.array(i.tf_body_part, float)
+    tf[0, 3], tf[1, 3] = x, y
+    return dataclasses.replace(i, tf_body_part=tf)
+
+
+def _rz(deg: float) -> np.ndarray:
+    c, s = math.cos(math.radians(deg)), math.sin(math.radians(deg))
+    R = np.eye(4)
+    R[:2, :2] = [[c, -s], [s, c]]
+    return R
+
+
+#: 4x4 rotation by +90 deg about y: a part's +z axis onto +x (a radial screw or hole).
+_RY90 = np.array([[0.0, 0.0, 1.0, 0.0], [0.0, 1.0, 0.0, 0.0], [-1.0, 0.0, 0.0, 0.0],
+                  [0.0, 0.0, 0.0, 1.0]])
+
+
+def _capstan_parts(design, t, pl: CapstanPlacement) -> list[PartInstance]:
+    """The drum and its two anchor screws (crank), the capstan, its set screw and the two
+    runs of rope (ground)."""
+    parts, d = design.parts, t.cable_diameter_mm
+    m = cat.get_motor(parts.motor)
+    z0, z1 = pl.z_mm
+    th = z1 - z0
+    rd = cg.rim_radius_mm(t.drum_diameter_mm, d)
+    tap = cat.tap_drill_mm(ANCHOR_SCREW)
+    depth = ANCHOR_SCREW_LENGTH_MM + motor.TAP_LEADOUT_MM
+    drum = PartKind(
+        "capstan_drum",
+        shapes.drum_sector_shape(rd, parts.hub_diameter_mm / 2, pl.arc_start_deg, pl.arc_span_deg,
+                                 th, tuple((a, tap, depth) for a in pl.anchors_deg)),
+        material="aluminium-6061", made=True,
+        description=(f"drum sector {t.drum_diameter_mm:g} mm pitch (rim {2 * rd:g} mm), "
+                     f"{pl.arc_span_deg:.0f} deg arc, {th:g} mm thick, round the crank hub at A1"),
+        process=f"machined from {th:g} mm plate; drill and tap {ANCHOR_SCREW.split('-')[0]} x2 "
+                "radial (rope anchors); fixed under the crank")
+    out = [PartInstance("capstan_drum", drum, "crank", translation(0, 0, z0))]
+    screw = dataclasses.replace(joints.cap_screw_kind(ANCHOR_SCREW, ANCHOR_SCREW_LENGTH_MM,
+                                                      "transmission", note="rope anchor on the drum"),
+                                name="capstan_anchor_screw")
+    for k, a in enumerate(pl.anchors_deg):
+        tf = translation(0, 0, z0 + th / 2) @ _rz(a) @ translation(rd, 0, 0) @ _RY90
+        out.append(PartInstance(f"capstan_anchor_{k + 1}", screw, "crank", tf))
+    out += _capstan_and_set_screw(design, t, pl, m)
+    out += _rope_runs(design, t, pl)
+    return out
+
+
+def _capstan_and_set_screw(design, t, pl: CapstanPlacement, m) -> list[PartInstance]:
+
+    d = t.cable_diameter_mm
+    rc = cg.rim_radius_mm(t.capstan_diameter_mm, d)
+    length = fcap.GROOVE_PITCH_D * d * t.wraps + fcap.CAPSTAN_HUB_MM
+    z0 = pl.capstan_z_mm
+    z_set = fcap.CAPSTAN_HUB_MM / 2
+    ox, oy = pl.motor_xy_mm
+    ck = PartKind(
+        "capstan", shapes.capstan_shape(rc, m.shaft_diameter_mm, length, z_set, motor.SET_SCREW),
+        material="steel-1018", made=True,
+        description=(f"capstan {t.capstan_diameter_mm:g} mm pitch (rim {2 * rc:g} mm) on the motor "
+                     f"shaft ({m.shaft_diameter_mm:g} mm bore), {length:g} mm long: {t.wraps:g} turns "
+                     f"of the {d:g} mm rope at {fcap.GROOVE_PITCH_D:g} d pitch above a "
+                     f"{fcap.CAPSTAN_HUB_MM:g} mm set-screw hub"),
+        process=f"turned; tap {motor.SET_SCREW.split('-')[0]} x1 (radial)",
+        fits=(fit("hub shaft bore", m.shaft_diameter_mm, "shaft bore"),))
+
+    size, L, _ = size_set_screw(m.shaft_diameter_mm / 2, rc, (motor.SET_SCREW,),
+                                "capstan set screw onto the motor shaft",
+                                "transmission.capstan_diameter_mm")
+    sk = PartKind("capstan_set_screw", motor.set_screw_shape(L, size),
+                  material=cat.FASTENER_MATERIAL, made=False,
+                  description=f"set screw ISO 4026 {size.split('-')[0]} x {L:g} "
+                              "(capstan on the motor shaft)", process="bought")
+    tf_c = translation(ox, oy, z0)
+    return [PartInstance("capstan", ck, "ground", tf_c),
+            PartInstance("capstan_set_screw", sk, "ground",
+                         tf_c @ translation(0, 0, z_set) @ _RY90
+                         @ translation(0, 0, m.shaft_diameter_mm / 2))]
+
+
+def _rope_runs(design, t, pl: CapstanPlacement) -> list[PartInstance]:
+    """The two free runs of rope on the drum's mid-plane (ground: fixed while the crank turns),
+    each with a collision envelope trimmed by :func:`run_trim_mm` at both ends."""
+    d, c = t.cable_diameter_mm, design.parts.clearance_min_mm + 0.1
+    z = pl.rope_z_mm
+    s0, s1 = run_trim_mm(0.5 * t.drum_diameter_mm, c), run_trim_mm(0.5 * t.capstan_diameter_mm, c)
+    mpm = t.cable.mass_g_per_m
+    out = []
+    for k in range(2):
+        p0, p1 = (np.append(p, z) for p in pl.tangents_mm[k])
+        L = float(np.linalg.norm(p1 - p0))
+        u = (p1 - p0) / L
+        kind = PartKind(
+            f"capstan_rope_run_{k + 1}", shapes.rope_run_shape(p0, p1, d), material="steel-1018",
+            made=False, listed=False, mass_kg=None if mpm is None else mpm * L * 1e-6,
+            description=f"free run {k + 1} of the rope ({L:.1f} mm; part of the rope's BOM line)",
+            collision=(("self", shapes.rope_run_shape(p0 + s0 * u, p1 - s1 * u, d)),))
+        out.append(PartInstance(kind.name, kind, "ground", np.eye(4)))
+    return out

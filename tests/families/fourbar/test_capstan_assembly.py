@@ -1,0 +1,166 @@
+"""The capstan Hoeken's transmission drawn in the assembly (issue 35): the drum sector, the
+capstan, the moved motor, the rope's runs and anchors are instances of the one model, so the
+interference check over the crank range, the mass properties (H11), the BOM and assembly.step
+all carry them. References: the rope's tangent points by the homothety construction of two
+circles' external tangents; the drum's mass and inertia about A1 in closed form (annular sector,
+(theta / 2)(r_o^2 - r_i^2) t rho and m (r_o^2 + r_i^2) / 2, minus the anchors' radial holes by
+quadrature); the BOM's quantities against the instances read back from assembly.step."""
+
+from __future__ import annotations
+
+import csv
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from cad.actuators import capstan_geometry as cg
+from cad.data.catalog import tap_drill_mm
+from cad.data.materials import get_material
+
+ROOT = Path(__file__).resolve().parents[3]
+DESIGN = ROOT / "designs" / "hoeken_capstan.toml"
+
+
+@pytest.fixture(scope="module")
+def design():
+    from cad.design import load_design
+
+    return load_design(DESIGN)
+
+
+@pytest.fixture(scope="module")
+def built(design, tmp_path_factory):
+    """hoeken_capstan built in-process (inertia fidelity: exact interference, STEP)."""
+    from cad.pipeline import build_design
+
+    out = tmp_path_factory.mktemp("capstan") / "b"
+    rep = build_design(design, out, {"step"}, fidelity="inertia", use_cache=False)
+    return rep, out
+
+
+def _placement(design):
+    from cad.device import resolve_device
+    from cad.families.fourbar.capstan_solids import placement
+    from cad.families.fourbar.layout import assemble
+
+    model = assemble(design, "preview")
+    t = resolve_device(design).transmission("crank")
+    return model, t, placement(design, t, model.extra.joints_mm, model.extra.plan)
+
+
+def test_no_clash_over_the_crank_range_with_drum_rope_and_capstan(built):
+    rep, _ = built
+    assert rep["interference"]["collisions"] == [] and rep["overlap_volume_mm3"] == 0.0
+    placed = rep["placement"]["instances"]
+    assert placed["capstan_drum"]["body"] == "crank"
+    assert {placed[n]["body"] for n in ("capstan", "capstan_rope_run_1", "capstan_rope_run_2",
+                                        "capstan_motor_shaft", "motor")} == {"ground"}
+
+
+def _homothety_points(c1, r1, c2, r2):
+    H = (r1 * c2 - r2 * c1) / (r1 - r2)
+    pts = []
+    for c, r in ((c1, r1), (c2, r2)):
+        e = H - c
+        dist = np.linalg.norm(e)
+        w, wp = e / dist, np.array([-e[1], e[0]]) / dist
+        pts.append([c + r * r / dist * w + s * r * math.sqrt(1 - (r / dist) ** 2) * wp for s in (1, -1)])
+    return pts
+
+
+def test_rope_runs_lie_between_the_closed_form_tangent_points(design):
+    from cad.massprops.occt import volume_props_mm
+
+    model, t, pl = _placement(design)
+    C = pl.centre_distance_mm
+    assert C == 85.0 and np.hypot(*pl.motor_xy_mm) == pytest.approx(C)
+    motor = next(i for i in model.instances if i.name == "motor")
+    np.testing.assert_allclose(motor.tf_body_part[:2, 3], pl.motor_xy_mm, atol=1e-12)
+    on_drum, on_capstan = _homothety_points(np.zeros(2), 32.0, np.asarray(pl.motor_xy_mm), 16.0)
+    kinds = model.kinds()
+    for k in (1, 2):
+        vol, com, _ = volume_props_mm(kinds[f"capstan_rope_run_{k}"].shape)
+        # each run joins one drum tangent point to the capstan tangent point on the same side
+        ends = min(((a, b) for a in on_drum for b in on_capstan),
+                   key=lambda ab: np.linalg.norm((ab[0] + ab[1]) / 2 - com[:2]))
+        np.testing.assert_allclose(com[:2], (ends[0] + ends[1]) / 2, atol=1e-9)
+        L = np.linalg.norm(ends[1] - ends[0])
+        assert L == pytest.approx(math.sqrt(C ** 2 - 16.0 ** 2), rel=1e-12)
+        assert vol == pytest.approx(math.pi * 0.4 ** 2 * L, rel=1e-9)
+        assert com[2] == pytest.approx(pl.rope_z_mm)
+
+
+def _radial_hole_mm3(r_h, r_rim, depth):
+    """A radial hole of radius r_h drilled from a rim of radius r_rim to depth (flat bottom at
+    r_rim - depth): the integral over the hole's disc of sqrt(r_rim^2 - y^2) - (r_rim - depth)."""
+    x, w = np.polynomial.legendre.leggauss(200)
+    th = 0.5 * math.pi * x
+    y = r_h * np.sin(th)
+    chord = np.sqrt(r_rim ** 2 - y ** 2) - (r_rim - depth)
+    return float(np.sum(w * 2.0 * r_h ** 2 * np.cos(th) ** 2 * chord) * 0.5 * math.pi)
+
+
+def test_drum_mass_and_inertia_about_A1_closed_form(design, built):
+    rep, _ = built
+    _, t, pl = _placement(design)
+    r_o, r_i, th = cg.rim_radius_mm(64.0, 0.8), design.parts.hub_diameter_mm / 2, 10.0
+    rho = get_material("aluminium-6061").density_kg_m3
+    hole = _radial_hole_mm3(tap_drill_mm("M3-0.5") / 2, r_o, 9.0)
+    m_ref = cg.sector_mass_kg(pl.arc_span_deg, r_o, r_i, th, rho) - 2 * hole * 1e-9 * rho
+    # the build integrates in OCCT's default Gauss mode, which is off by ~0.07 mm^3 per hole on
+    # the holes' B-spline faces (1e-5 of the part); the adaptive mode matches the closed form
+    assert rep["part_masses_g"]["capstan_drum"] == pytest.approx(m_ref * 1e3, rel=2e-5)
+    from cad.families.fourbar.layout import assemble
+    from cad.massprops.occt import volume_props_mm
+
+    shape = assemble(design, "preview").kinds()["capstan_drum"].shape
+    assert volume_props_mm(shape, eps=1e-9)[0] * 1e-9 * rho == pytest.approx(m_ref, rel=1e-9)
+    from cad.families.fourbar.inertia import inertia_model
+
+    row = next(r for r in inertia_model(design)["budget"] if r["kind"] == "capstan_drum")
+    # the sector's inertia about its centre is m (r_o^2 + r_i^2) / 2 whatever its arc, less the
+    # two holes as point masses at their mid-depth r_o - 4.5 mm (their own inertia, ~1e-9 kg m^2,
+    # and the Gauss-mode error bound the tolerance)
+    I_sector = 0.5 * cg.sector_mass_kg(pl.arc_span_deg, r_o, r_i, th, rho) * (r_o ** 2 + r_i ** 2) * 1e-6
+    I_holes = 2 * hole * 1e-9 * rho * ((r_o - 4.5) * 1e-3) ** 2
+    assert row["link"] == "crank"
+    assert row["H11_kg_m2"] == pytest.approx(I_sector - I_holes, rel=1e-4)
+
+
+def test_bom_quantities_equal_the_instances_in_assembly_step(built):
+    from cad.device.readback import step_instances
+
+    rep, out = built
+    placed = rep["placement"]["instances"]
+    count: dict[str, int] = {}
+    for name in step_instances(out / "assembly.step"):
+        if name in placed:
+            count[placed[name]["kind"]] = count.get(placed[name]["kind"], 0) + 1
+    with open(out / "bom.csv", newline="", encoding="utf-8") as f:
+        rows = [r for r in csv.DictReader(f) if r["part"].startswith("capstan")]
+    parts = [r["part"] for r in rows]
+    assert len(parts) == len(set(parts))  # one line each
+    assert set(parts) == {"capstan_drum", "capstan_anchor_screw", "capstan", "capstan_set_screw",
+                          "capstan_cable", "capstan_tensioner"}
+    for r in rows:
+        if r["part"] in ("capstan_cable", "capstan_tensioner"):  # the rope: its runs are drawn
+            continue
+        assert int(float(r["quantity"])) == count[r["part"]], r["part"]
+    assert count["capstan_anchor_screw"] == 2 and count["capstan_rope_run_1"] == 1
+
+
+def test_assembly_md_has_the_winding_and_tensioning_steps(built):
+    from cad.actuators import capstan as cap
+
+    rep, out = built
+    text = (out / "assembly.md").read_text(encoding="utf-8")
+    cut = next(r for r in rep["datasheet"]["rows"] if r["key"] == "cable_cut_length_mm")["value"]
+    T0 = next(r for r in rep["datasheet"]["rows"] if r["key"] == "cable_pretension_N")["value"]
+    # the smallest pretension that holds the peak load, by hand: (dT / 2)(e + 1)/(e - 1)
+    e = math.exp(cap.MU_STEEL_ROPE_ON_STEEL * 2 * math.pi * 3)
+    assert T0 == pytest.approx(0.5 * 0.9725 / 0.016 * (e + 1) / (e - 1), rel=1e-9)
+    assert f"wind the rope: cut {cut:.0f} mm of steel-7x7-0.8" in text
+    assert f"set the tensioner to at least {T0:.1f} N" in text
+    assert "`capstan_drum`" in text and "`capstan_cable`" in text  # the runs belong to the rope's line
