@@ -325,7 +325,8 @@ def file_disagreements(out: Path) -> list[str]:
     against the stock form ordered (printed: filament, wound: wire) and against its fits (a
     printed part states no ISO 286 fit); the quantity of each bought part against its
     instances in ``assembly.step`` and against what ``order.csv`` orders; the wall stiffness of
-    ``chai3d_device.json`` and the wall sketch against the datasheet's eq (25) K_max."""
+    ``chai3d_device.json`` and the wall sketch against the datasheet's eq (25) K_max, and its
+    largest force against the datasheet's continuous force."""
     out = Path(out)
     bad: list[str] = []
     if not (out / "bom.csv").is_file():
@@ -337,7 +338,22 @@ def file_disagreements(out: Path) -> list[str]:
     if (out / "order.csv").is_file():
         _order_stock(out, bom, bad)
     _wall_stiffness(out, bad)
+    _max_force(out, bad)
     return bad
+
+
+def _max_force(out: Path, bad: list) -> None:
+    """``chai3d_device.json``'s ``m_maxLinearForce`` is the datasheet's ``continuous_force_N``
+    (the force in every direction, worst over the stroke or the workspace)."""
+    chai_p, rep_p = out / "firmware" / "chai3d_device.json", out / "report.json"
+    if not (chai_p.is_file() and rep_p.is_file()):
+        return
+    chai, rep = json.loads(chai_p.read_text()), json.loads(rep_p.read_text())
+    force = next((r for r in rep.get("datasheet", {}).get("rows", []) if r["key"] == "continuous_force_N"), None)
+    if force is not None and force.get("value") is not None and "m_maxLinearForce" in chai and not math.isclose(
+            chai["m_maxLinearForce"], force["value"], rel_tol=OUTPUT_AGREE_REL):
+        bad.append(f"chai3d_device.json m_maxLinearForce = {chai['m_maxLinearForce']:.6g} N, the "
+                   f"datasheet's continuous_force_N {force['value']:.6g} N")
 
 
 def _wall_stiffness(out: Path, bad: list) -> None:
@@ -359,6 +375,7 @@ def _wall_stiffness(out: Path, bad: list) -> None:
     for where, k in K.items():
         if not math.isclose(k, row["value"], rel_tol=OUTPUT_AGREE_REL):
             bad.append(f"{where} = {k:.6g} N/m, the datasheet's eq25_K_max_N_per_m {row['value']:.6g} N/m")
+
 
 
 #: bom.csv prints a mass with 2 decimals (g): half a unit of the last digit.

@@ -70,6 +70,17 @@ def _datasheet_row(report: dict, key: str) -> dict | None:
     return next((r for r in (report.get("datasheet") or {}).get("rows", []) if r.get("key") == key), None)
 
 
+def _datasheet_forces(report: dict) -> dict | None:
+    """The datasheet's continuous and peak force in every direction (worst over the stroke or
+    the workspace: the one figure the CHAI3D file states), or None without both rows."""
+    rows = [_datasheet_row(report, k) for k in ("continuous_force_N", "peak_force_N")]
+    if any(r is None or r.get("value") is None for r in rows):
+        return None
+    return {"continuous_N": float(rows[0]["value"]), "peak_N": float(rows[1]["value"]),
+            "source": "the datasheet's continuous_force_N / peak_force_N (worst over the stroke or "
+                      "the workspace, every direction)"}
+
+
 def _datasheet_step_m(report: dict) -> float | None:
     """The datasheet's ``resolution_um`` (worst over the workspace) in m, or None."""
     r = _datasheet_row(report, "resolution_um")
@@ -90,7 +101,7 @@ def linkage_files(design, report: dict, design_hash: str, device=None) -> dict[s
     rows, summary = vectors.rows(spec, design)
     q_ok = np.array([r[1 + 2 * spec.n_joints: 1 + 3 * spec.n_joints] for r in rows if r[0] == 0])
     wall = extras.wall_numbers(spec, design, _datasheet_step_m(report), _datasheet_row(report, "eq25_K_max_N_per_m"))
-    forces = extras.max_forces_N(spec, q_ok)
+    forces = _datasheet_forces(report) or extras.max_forces_N(spec, q_ok)
     layout = ["status", f"counts[{spec.n_joints}]", f"q_from_counts_rad[{spec.n_joints}]",
               f"q_rad[{spec.n_joints}]", f"F[{spec.n_task}]", f"X[{spec.n_task}]",
               f"J[{spec.n_task}x{spec.n_joints}] row-major", f"tau_Nm[{spec.n_joints}]",

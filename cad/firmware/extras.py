@@ -125,8 +125,8 @@ def chai3d_json(spec: DeviceSpec, design, wall: dict, forces: dict) -> str:
         "m_sensedRotation": spec.model.senses_rotation,
         "m_actuatedRotation": spec.model.senses_rotation,
         "notes": {
-            "m_maxLinearForce": "min over the test poses of the continuous motor torque / "
-                                "sigma_max(J^T) (every direction); _peak: the same at peak torque",
+            "m_maxLinearForce": forces.get("source", "min over the test poses of the continuous motor "
+                                "torque / sigma_max(J^T) (every direction)") + "; _peak: the same at peak torque",
             "m_maxLinearStiffness": "eq (25) K_max, the conservative bound (not the datasheet's "
                                     "simulated K_max): " + wall["source"],
             "encoder_counts_per_rev": "the device's encoder (report.json device.encoders), "
