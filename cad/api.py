@@ -653,7 +653,9 @@ def fit_run(design, setup: dict, fidelity: str, dest: Path, name: str, echo=None
     # every default datasheet limit the family names is a constraint of each candidate (its
     # own material's stress limit); the pre-CAD checks reject candidates before any build
     limits = hooks.fit_limits
-    wanted = {t.key for t in targets}
+    # the limits' figures are evaluated with the targets' (a family that builds only for the
+    # figures asked would otherwise leave them uncomputed)
+    wanted = {t.key for t in targets} | {t.key for t in (limits(design) if limits else ())}
     values = hooks.fit_values or hooks.values
 
     def values_of(dd) -> dict:

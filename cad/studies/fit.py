@@ -283,14 +283,14 @@ def fit(raw: dict, source: str, targets: tuple[Target, ...], free: list[FreePara
     rank above it); a rejected candidate does not count in the evaluation budget
     (``FitResult.rejected_pre_cad`` counts it).
 
-    Score of a value set: (limits missed, max target violation, change from the start); the
-    best by that order is returned. Only choices: every combination (optuna ``GridSampler``)
-    when there are at most :data:`GRID_MAX` of them; otherwise TPE (seeded) until ``trials``
+    Score of a value set: (limits missed, max target violation, largest limit violation, change
+    from the start); the best by that order is returned. Only choices: every combination
+    (optuna ``GridSampler``) when there are at most :data:`GRID_MAX` of them; otherwise TPE (seeded) until ``trials``
     candidates were evaluated (default ``12 + 6 x len(free)``), the start evaluated first.
     """
     search = _FitSearch(raw, source, targets, free, evaluate_values, echo, limit_targets, precad)
     _run_study(search, trials, seed)
-    _, _, obj, _, vals = min(search.scored.values(), key=lambda t: t[:4])
+    _, obj, _, _, vals = min(search.scored.values(), key=lambda t: t[:4])
     cur = search.with_values(vals)
     final_vals = search.objective(cur)[1]
     for text in search.warned.get(search.key(cur), ()):  # the fitted design's own warnings
@@ -322,7 +322,7 @@ class _FitSearch:
     """The objective of :func:`fit` over value sets of ``free``, with its cache and log.
 
     ``scored``: every value set the study evaluated, keyed by its sorted items, as
-    (limits missed, limit violation, max target violation, change from the start, values);
+    (limits missed, max target violation, limit violation, change from the start, values);
     ``cad_evaluations`` / ``rejected_pre_cad``: candidates evaluated / rejected before CAD.
     """
 
@@ -427,20 +427,22 @@ class _FitSearch:
 
     def study_objective(self, trial) -> float:
         """Optuna's objective: max target violation plus FIT_CHANGE_WEIGHT x change (ties go to
-        the smallest change) when every limit is met; 1e6 (limits missed + largest limit
-        violation) when one is missed; 1e9 for an infeasible value set."""
+        the smallest change) when every limit is met; 1e6 x limits missed + max target
+        violation + largest limit violation when one is missed (among candidates that miss as
+        many limits, the targets decide: a limit none can meet must not pull the search off
+        them); 1e9 for an infeasible value set."""
         vals = self.suggest(trial)
         obj, got = self.objective(self.with_values(vals))
         lim, missed = got["limit_violation"], got["limits_missed"]
         # fewer limits missed first: a limit no candidate can meet (the motor's force) must not
         # let the search give up another limit the start met
         self.scored[repr(sorted(vals.items(), key=lambda kv: kv[0]))] = (
-            missed, lim, obj, self.change(vals), vals)
+            missed, obj, lim, self.change(vals), vals)
         if self.budget is not None and self.cad_evaluations >= self.budget:
             trial.study.stop()
         if not (math.isfinite(obj) and math.isfinite(lim)):
             return 1e9
-        return obj + FIT_CHANGE_WEIGHT * self.change(vals) if lim == 0 else 1e6 * (missed + lim)
+        return obj + FIT_CHANGE_WEIGHT * self.change(vals) if lim == 0 else 1e6 * missed + obj + lim
 
     def first_trial(self) -> dict:
         """Optuna parameters of the start (choices by index, numbers clipped to their range)."""

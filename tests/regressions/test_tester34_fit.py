@@ -68,7 +68,7 @@ def test_fit_of_a_pantograph_says_the_default_limits_its_design_misses(tmp_path)
     """~20 inertia builds (about a minute): the fit cannot reach moving_mass_g <= 50 g with a
     PLA tube of 6.01..6.03 mm over a 6 mm bore; it exits 1, names the target with the best
     mass reached, and warns that the written design misses its stress limit (the thin-wall
-    cantilever estimate is hundreds of times the limit)."""
+    cantilever estimate is many times the limit)."""
     design = _thin_pantograph(tmp_path, 6.02)
     out = tmp_path / "fit.toml"
     code, _o, err = hapticad("fit", str(design), "--target", "moving_mass_g<=50",
@@ -76,12 +76,14 @@ def test_fit_of_a_pantograph_says_the_default_limits_its_design_misses(tmp_path)
     assert code == 1, err
     miss = [ln for ln in err.splitlines() if "target missed: moving_mass_g" in ln]
     assert len(miss) == 1
-    stress = [ln for ln in err.splitlines() if "misses a default datasheet limit: peak stress" in ln]
+    # the fit holds every candidate to the default limits (FamilyPackage.targets.fit_limits);
+    # none here meets them, and the written one says which it misses
+    stress = [ln for ln in err.splitlines() if "misses a default datasheet limit: max_stress_MPa" in ln]
     assert len(stress) == 1, err
-    got = float(re.search(r"= ([\d.e+]+) MPa, limit <= ([\d.]+) MPa", stress[0]).group(1))
+    got = float(re.search(r"max_stress_MPa = ([\d.e+]+), limit <= ([\d.]+)", stress[0]).group(1))
     od = float(re.search(r"tube_od_mm=([\d.]+)", out.read_text()).group(1))
     z_mm3 = math.pi * (od**4 - 6.0**4) / (32 * od)
-    assert 175.0 * 1.0 / z_mm3 > 100 * 8.667  # closed form: the limit is missed many times over
+    assert 175.0 * 1.0 / z_mm3 > 10 * 8.667  # closed form: the limit is missed many times over
     assert got == pytest.approx(175.0 / z_mm3, rel=0.1)
 
 

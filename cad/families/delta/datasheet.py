@@ -11,6 +11,7 @@ import."""
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -18,6 +19,8 @@ import numpy as np
 from cad.datasheet import row
 from cad.datasheet.limits import FIRST_MODE_MIN_HZ, MODE_REASON, Limit, with_targets
 from cad.device import resolve_device
+from cad.dynamics.stiffness import stiffness_range_N_per_m
+from cad.firmware.extras import paper_eq25_inputs
 from cad.kinematics.delta import ik, jacobian_rad_per_m, require_ok
 
 #: What changes the delta's force and first mode (the sections are the family's fixed
@@ -53,6 +56,20 @@ def resolution_um(design, counts: int) -> tuple[float, float, list[float]]:
     return float(step[i]), float(step.min()), X[i].tolist()
 
 
+def k_max_row(resolution_um_: float) -> dict:
+    """``eq25_K_max_N_per_m``: eq (25) (Hoeken paper §III.B.4) with the paper's Fv, Fs, Te,
+    xdot_max (identified on its prototype: unverified for a delta) and Delta = the position
+    resolution worst over the workspace (um in, N/m out); the firmware's wall sketch and
+    ``chai3d_device.json`` read this row (:func:`cad.firmware.extras.wall_numbers`)."""
+    inputs = paper_eq25_inputs(resolution_um_ * 1e-6)
+    k_min, k_max = stiffness_range_N_per_m(inputs)
+    return row("eq25_K_max_N_per_m", "renderable stiffness, eq (25) bound", k_max, "N/m",
+               f"eq (25) 2 (Fs + Fv xdot) / (Delta + xdot Te), Delta = {resolution_um_:.4g} um (the "
+               "resolution above, worst direction and point), Hoeken paper's Fv, Fs, Te, xdot_max "
+               "(§III.B.4, identified on its prototype); the firmware's wall reads it",
+               lo=k_min, hi=k_max, unverified=True, inputs=dataclasses.asdict(inputs))
+
+
 def rows_and_limits(design, report: dict, out_dir=None, simulate_wall: bool = True):
     """(rows, limits, notes) of a delta build report (module docstring)."""
     dev = resolve_device(design)  # the motors and encoders the BOM orders
@@ -72,6 +89,7 @@ def rows_and_limits(design, report: dict, out_dir=None, simulate_wall: bool = Tr
         row("resolution_um", "position resolution at the effector", res, "um",
             f"sigma_max(J^-1) 2 pi / {enc.counts_per_rev} counts per joint, worst over the "
             f"workspace grid at {at_res} mm; {enc.source}", lo=res_lo, hi=res),
+        k_max_row(res),
         row("apparent_mass_max_g", "apparent mass, worst direction", a.get("Lambda_max_eig_g"), "g",
             f"largest eigenvalue of Lambda(x) from the solids and the rotors "
             f"({a.get('rotor_inertia_kg_m2', 0) * 1e7:.4g} g cm^2 each, {dev.motor.name}) over the "

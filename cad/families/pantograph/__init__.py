@@ -24,6 +24,7 @@ FAMILY = FamilyPackage(
         values=Lazy(f"{_P}.targets:pantograph_target_values"),
         parse_free=Lazy("cad.studies.fit:parse_free_pantograph"),
         blockers=Lazy(f"{_P}.targets:mode_blocker_lines"),
+        fit_limits=Lazy(f"{_P}.limits:default_limit_targets"),
     ),
     optimize=Lazy("cad.studies.gii_optimize:optimize"),
     firmware=Lazy("cad.firmware:linkage_files"),

@@ -11,6 +11,8 @@ from cad.datasheet.limits import (
     Limit,
     with_targets,
 )
+from cad.design.targets import Target
+from cad.structure.elastic import get_elastic
 
 PANTO_FORCE_CHANGE = "parts.motor or [motor] (a stronger motor), actuators.force_max_N or the link lengths"
 PANTO_MODE_CHANGE = ("parts.tube_od_mm, parts.tube_id_mm, parts.tube_material (stiffer, lighter links), "
@@ -35,3 +37,25 @@ def pantograph_limits(design, force_N: float | None, strength_MPa: float | None 
                                           "workspace, from the continuous torque of the motors the BOM orders",
                                           PANTO_FORCE_CHANGE)
     return with_targets(lim, getattr(design, "targets", ()))
+
+
+def _weakest_strength_MPa(design) -> float | None:
+    """The smallest strength (MPa) of the link materials a pantograph-family candidate names
+    (``parts.tube_material``; the twin pantograph's ``parts.crank_material``): the stress limit
+    the fit holds every link to (conservative: the datasheet judges the critical link's own)."""
+    names = [design.parts.tube_material]
+    if design.family == "twin-pantograph":
+        names.append(design.parts.crank_material)
+    strengths = [get_elastic(n).strength_MPa for n in names]
+    return min((s for s in strengths if s is not None), default=None)
+
+
+def default_limit_targets(design) -> tuple:
+    """Every default limit of a 5-bar or twin pantograph candidate (:func:`pantograph_limits`:
+    first mode, stress of the weakest link material, continuous force from the ordered motors)
+    as ``[targets]`` bounds, except keys its targets set: the constraints of ``hapticad fit``
+    (a candidate that misses one ranks after every candidate that misses fewer)."""
+    lim = pantograph_limits(design, design.actuators.get("force_max_N"), _weakest_strength_MPa(design),
+                            structure=True)
+    return tuple(Target(k, min=v.value) if v.op.startswith(">") else Target(k, max=v.value)
+                 for k, v in lim.items() if v.origin == "default")

@@ -111,3 +111,18 @@ def test_the_built_delta_mjcf_against_eq1_over_the_grid(tmp_path):
                                          dev.motor.rotor_inertia_kg_m2)[0]
         worst = max(worst, float(np.abs(lam - ref).max() / np.abs(ref).max()))
     assert worst == pytest.approx(0.0028, abs=0.00005)  # regression pin of the measured 0.28 %
+
+
+def test_k_max_row_is_eq25_at_the_worst_resolution():
+    """The delta's K_max row (issue 36 §4): eq (25) of the Hoeken paper, 2 (Fs + Fv xdot) /
+    (Delta + xdot Te), with the paper's Fv 0.12 N s/m, Fs 0.083 N, Te 0.33 ms, xdot 0.04 m/s
+    (§III.B.4, typed here from the paper) and Delta the datasheet's worst resolution."""
+    from cad.families.delta.datasheet import rows_and_limits
+
+    d = cad.load_design(ROOT / "designs" / "delta.toml")
+    rows = {r["key"]: r for r in rows_and_limits(d, {})[0]}
+    delta_m = rows["resolution_um"]["value"] * 1e-6
+    k = rows["eq25_K_max_N_per_m"]
+    assert k["value"] == pytest.approx(2 * (0.083 + 0.12 * 0.04) / (delta_m + 0.04 * 0.33e-3), rel=1e-12)
+    assert k["min"] == pytest.approx(2 * 0.12 / 0.33e-3, rel=1e-12) and k["unverified"]
+    assert k["inputs"]["encoder_resolution_m"] == pytest.approx(delta_m, rel=1e-15)

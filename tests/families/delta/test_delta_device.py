@@ -58,9 +58,18 @@ def fd_jacobian_m_per_rad(d, X_mm) -> np.ndarray:
 
 
 def test_default_device_is_the_re35_with_the_hedl_encoder_on_each_arm():
-    dev = resolve_device(_design())
+    raw = {k: v for k, v in RAW.items() if k != "parts"}  # the bundled file names the RE 40
+    dev = resolve_device(parse_design(raw, "variant.toml"))
     assert [m.joint for m in dev.motors] == ["theta_0", "theta_1", "theta_2"]
     assert {m.catalog_key for m in dev.motors} == {"maxon-re35"}
+    assert [e.counts_per_rev for e in dev.encoders] == [HEDL_COUNTS] * 3
+    assert dev.encoder.catalog_key == "maxon-hedl5540-500"
+
+
+def test_the_bundled_delta_orders_three_re40_with_the_hedl_encoder():
+    dev = resolve_device(_design())
+    assert [m.joint for m in dev.motors] == ["theta_0", "theta_1", "theta_2"]
+    assert {m.catalog_key for m in dev.motors} == {RAW["parts"]["motor"]} == {"maxon-re40"}
     assert [e.counts_per_rev for e in dev.encoders] == [HEDL_COUNTS] * 3
     assert dev.encoder.catalog_key == "maxon-hedl5540-500"
 
