@@ -551,16 +551,28 @@ _printed: set[str] = set()  # warning texts already printed
 
 
 def warn(text: str, record: _Implausible | None = None) -> None:
-    """Record one warning (deduplicated); the CLI prints it and puts it in ``--json``.
+    """Record one warning (deduplicated: the same text, or the same implausible value of the
+    same key, :func:`_said`); the CLI prints it and puts it in ``--json``.
 
     ``record`` marks an implausible value (:func:`check_number`): if the command then fails
     (exit 2) the warning is not printed on its own line; :func:`error_line` puts its hint
     into the error line instead.
     """
-    if text not in _warnings:
-        _warnings.append(text)
-        if record is not None:
-            _implausible[text] = record
+    if text in _warnings or (record is not None and _said(record)):
+        return
+    _warnings.append(text)
+    if record is not None:
+        _implausible[text] = record
+
+
+def _said(record: _Implausible) -> bool:
+    """Whether an implausible value of this run already says ``record``: the same value
+    against the same bound under the same key, one naming the list (``workspace.size_mm``,
+    :func:`check_raw_design`) and one an element of it (``workspace.size_mm[x]``, the
+    family's schema) -- one slip, one warning."""
+    key = record.field.split("[", 1)[0]
+    return any(r.field.split("[", 1)[0] == key and r.value == record.value and r.bound == record.bound
+               for r in _implausible.values())
 
 
 def computed(*fields: str) -> None:

@@ -412,7 +412,9 @@ def stated_encoder_counts(design) -> int | None:
 def encoder_bom_rows(device: ResolvedDevice) -> list[dict]:
     """The device's encoders as bought BOM lines (no solid: each sits on its motor's rear
     shaft), one line per distinct encoder with its quantity; the description states the
-    counts per turn and where they come from; mass not in the catalog (0 in the totals)."""
+    counts per turn and where they come from; mass not in the catalog (0 in the totals);
+    material empty (no catalog states what the encoder is made of; the process column says
+    "bought", as for every bought part)."""
     rows: dict[tuple, dict] = {}
     for e in device.encoders:
         key = (e.catalog_key, e.counts_per_rev)
@@ -420,7 +422,7 @@ def encoder_bom_rows(device: ResolvedDevice) -> list[dict]:
             rows[key]["quantity"] += 1
             continue
         rows[key] = {"part": "encoder", "description": f"{e.description} ({e.source.split(';')[0]}; mass not "
-                     "known, not in the totals)", "material": "bought", "quantity": 1,
+                     "known, not in the totals)", "material": "", "quantity": 1,
                      "made_or_bought": "bought", "process": "bought", "fits": "", "mass_g": 0.0,
                      "group": "encoders", "designation": e.description, "order_code": "", "stock": ""}
     return list(rows.values())

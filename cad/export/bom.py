@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import csv
 import io
+from decimal import Decimal
 from pathlib import Path
 
 from cad.export.order import money, unit_money
@@ -37,8 +38,20 @@ BOM_COLUMNS = (
 _TEXT_COLUMNS = ("part", "description", "material", "designation", "order_code", "process")
 
 
+def mass_cells(mass_g: float, quantity: int) -> tuple[str, str]:
+    """The ``mass_g`` and ``total_mass_g`` cells of a BOM line: the unit mass (g) printed
+    to 0.01 g, and ``quantity`` x that printed unit mass, exact (as
+    :func:`cad.export.order.line_cents` does for prices), so a reader multiplying the two
+    printed columns gets the printed total (0.915 g x 4 -> "0.92", "3.68"; not the unrounded
+    3.66). The line total differs from quantity x the exact mass by at most
+    quantity x 0.005 g."""
+    unit = Decimal(f"{float(mass_g):.2f}")
+    return str(unit), str(unit * int(quantity))
+
+
 def bom_csv(rows: list[dict]) -> str:
-    """CSV text of the BOM rows (columns :data:`BOM_COLUMNS`; masses to 0.01 g)."""
+    """CSV text of the BOM rows (columns :data:`BOM_COLUMNS`; unit masses to 0.01 g, each
+    line's total mass = quantity x the printed unit mass, :func:`mass_cells`)."""
     buf = io.StringIO()
     w = csv.DictWriter(buf, fieldnames=BOM_COLUMNS, lineterminator="\n", extrasaction="ignore")
     w.writeheader()
@@ -49,8 +62,7 @@ def bom_csv(rows: list[dict]) -> str:
         r.setdefault("fits", "")
         r["unit_price"] = unit_money(r.get("unit_price", ""))
         r["line_price"] = money(r.get("line_price", ""))
-        r["total_mass_g"] = f"{float(r['mass_g']) * int(r['quantity']):.2f}"
-        r["mass_g"] = f"{float(r['mass_g']):.2f}"
+        r["mass_g"], r["total_mass_g"] = mass_cells(r["mass_g"], r["quantity"])
         w.writerow({k: csv_cell(v) if k in _TEXT_COLUMNS and isinstance(v, str) else v
                     for k, v in r.items()})
     return buf.getvalue()

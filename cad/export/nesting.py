@@ -13,7 +13,8 @@ near-rectangular.
 through profile exactly as ``parts/<part>.dxf`` draws it (:func:`cad.export.dxf.plate_profile_dxf`:
 bores to be reamed cut undersize, tap drills), rotated and moved into place; ``ENGRAVE`` one
 TEXT per part with its instance name, placed where its box lies in material
-(:func:`label_spot`); ``SHEET`` the sheet's outline (not cut); ``NOTES`` material, thickness
+(:func:`label_spot`); ``SHEET`` the sheet's outline (not cut); ``NOTES`` the sheet's name
+and the order line it is bought on (:func:`sheet_designation`), material, thickness
 and its stock band, sheet size, units, kerf, gap and margin, the parts. The milled seats,
 reaming and tapping after cutting are on each part's own DXF.
 """
@@ -30,6 +31,7 @@ from cad import tolerances as tol
 from cad.data.materials import LASER_CUT_SIZES_SOURCE, SHEETS
 from cad.errors import DesignError
 from cad.export.dxf import plate_profile_dxf
+from cad.export.order import NESTED_STOCK
 from cad.io.atomic import write_text_atomic
 
 #: ACI colour of each sheet layer (laser software maps operations by colour): CUT red,
@@ -242,9 +244,29 @@ def sheets_report(sheets: list[Sheet], written: bool = True) -> dict:
     }
 
 
+def sheet_name(i: int) -> str:
+    """Name of sheet ``i`` (0-based): ``"sheet_01"``; its DXF is ``sheets/<name>.dxf``."""
+    return f"sheet_{i + 1:02d}"
+
+
 def sheet_file(i: int) -> str:
     """Path of sheet ``i`` (0-based) under the output folder."""
-    return f"sheets/sheet_{i + 1:02d}.dxf"
+    return f"sheets/{sheet_name(i)}.dxf"
+
+
+def sheet_designation(sheet: Sheet) -> str:
+    """What to order for ``sheet``: ``"sheet 6 x 500 x 300 mm aluminium-5083"`` (thickness x
+    width x length, mm, material) -- the ``designation`` of its BOM and ``order.csv`` line."""
+    w, h = sheet.size_mm
+    return f"sheet {sheet.thickness_mm:g} x {w:g} x {h:g} mm {sheet.material}"
+
+
+def nested_stock(i: int, sheet: Sheet) -> str:
+    """The stock text of a part nested on sheet ``i`` (0-based): the sheet's name, its file and
+    the order line it is bought on, named as that line is named
+    (``"nested on sheet_01 (sheets/sheet_01.dxf), ordered as sheet 6 x 500 x 300 mm
+    aluminium-5083"``; starts with :data:`cad.export.order.NESTED_STOCK`)."""
+    return f"{NESTED_STOCK}{sheet_name(i)} ({sheet_file(i)}), ordered as {sheet_designation(sheet)}"
 
 
 def _segments(msp) -> np.ndarray:
@@ -363,7 +385,8 @@ def sheet_dxf(sheet: Sheet, index: int, count: int, profiles: dict) -> str:
         for p in sheet.parts:
             names[p.kind.name] = names.get(p.kind.name, 0) + 1
         notes = [
-            f"sheet {index + 1} of {count}", "units: mm", f"material: {sheet.material}",
+            f"{sheet_name(index)} (sheet {index + 1} of {count}), ordered as {sheet_designation(sheet)}",
+            "units: mm", f"material: {sheet.material}",
             f"thickness: {sheet.thickness_mm:g} mm (stock {lo:g} .. {hi:g} mm)",
             f"sheet size: {W:g} x {H:g} mm",
             f"kerf: {st.kerf_mm:g} mm; drawn at finished size: offset the beam by kerf / 2 "

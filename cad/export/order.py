@@ -18,7 +18,8 @@ parts, and an optional price table (``hapticad build --prices FILE.csv`` or a de
   one :class:`cad.errors.DesignError` naming the file, row, column and value;
 * :func:`apply_prices` -- ``unit_price`` and ``line_price`` on the BOM rows; nothing is
   invented: an unpriced line keeps empty cells and the summary counts it;
-* :func:`order_csv` -- ``order.csv``: one line per BOM line, bought parts grouped by kind,
+* :func:`order_csv` -- ``order.csv``: one line per stock or bought designation (identical
+  stock of several BOM lines is one line, quantities summed), bought parts grouped by kind,
   made parts by stock form, then a ``total`` line.
 """
 
@@ -351,15 +352,16 @@ def _price_of(prices: dict, keys) -> str | None:
 def apply_prices(rows: list[dict], table: dict | None) -> dict:
     """Set ``unit_price`` / ``line_price`` (quantity x unit) on every BOM row priced by
     ``table`` (:func:`load_prices`; a row is looked up by its designation, then its part
-    name); unpriced rows get empty cells. Every bought part is its own BOM row (a pin's
+    name); unpriced rows get empty cells. ``priced_lines`` / ``unpriced_lines`` count the
+    lines of ``order.csv`` (:func:`order_lines`: identical stock is one line). Every bought part is its own BOM row (a pin's
     retaining rings are instances of their own), so no line is bought with another. Returns the summary:
-    ``total_price`` (sum of the priced lines, each rounded half-up to the cent:
+    ``total_price`` (sum of the priced order lines, each rounded half-up to the cent:
     :func:`line_cents`), ``currency``, ``priced_lines``,
     ``unpriced_lines``, ``unpriced`` (part names or designations), ``unused_prices`` (keys
     matching no line; each one is also a warning naming its row), ``price_source``.
     """
     prices = (table or {}).get("prices", {})
-    used, unpriced, total = set(), [], Decimal(0)
+    used, unpriced = set(), []
     lines = [(r, (r.get("designation", ""), r["part"]), r["part"]) for r in rows if ordered(r)]
     for r in rows:
         if not ordered(r):
@@ -373,13 +375,16 @@ def apply_prices(rows: list[dict], table: dict | None) -> dict:
         used.add(key)
         line["unit_price"] = prices[key]
         line["line_price"] = float(line_cents(prices[key], line["quantity"]))
-        total += line_cents(prices[key], line["quantity"])
     _warn_unused(table, sorted(set(prices) - used))
+    merged = order_lines(rows)
+    n_unpriced = sum(o["unit_price"] in ("", None) for o in merged)
+    total = sum((line_cents(o["unit_price"], o["quantity"]) for o in merged
+                 if o["unit_price"] not in ("", None)), Decimal(0))
     return {
         "total_price": float(total),
         "currency": (table or {}).get("currency", ""),
-        "priced_lines": len(lines) - len(unpriced),
-        "unpriced_lines": len(unpriced),
+        "priced_lines": len(merged) - n_unpriced,
+        "unpriced_lines": n_unpriced,
         "unpriced": unpriced,
         "unused_prices": sorted(set(prices) - used),
         "price_source": (table or {}).get("source", ""),
@@ -436,19 +441,37 @@ def total_text(summary: dict) -> str:
 def order_lines(rows: list[dict]) -> list[dict]:
     """Order lines of the BOM rows: bought parts
     sorted by group then designation, made parts (group ``"stock: <form>"``, designation =
-    the stock) after them."""
-    out = []
+    the stock) after them. BOM rows of the same stock text (form, section, size and material:
+    each piece already carries its cutting allowance, :func:`stock`) or the same bought
+    designation and order code, at the same unit price, are one line: quantities summed,
+    ``parts`` = their part names separated by spaces."""
+    out: dict[tuple, dict] = {}
     for r in rows:
         if not ordered(r):
             continue
         made = r["made_or_bought"] == "made"
-        group = f"stock: {r['stock'].split(' ', 1)[0]}" if made and r.get("stock") else r["group"]
-        out.append({"group": group, "designation": r["stock"] if made else r["designation"],
-                    "order_code": r.get("order_code", ""), "quantity": r["quantity"],
-                    "unit_price": r.get("unit_price", ""), "line_price": r.get("line_price", ""),
-                    "parts": r["part"]})
-    return sorted(out, key=lambda o: (o["group"].startswith("stock:"), o["group"],
-                                      o["designation"]))
+        group = f"stock: {r['stock'].split(' ', 1)[0]}" if made and r.get("stock") else r.get("group", "")
+        o = {"group": group, "designation": r["stock"] if made else r["designation"],
+             "order_code": r.get("order_code", ""), "quantity": r["quantity"],
+             "unit_price": r.get("unit_price", ""), "line_price": r.get("line_price", ""),
+             "parts": r["part"]}
+        key = (group, o["designation"], o["order_code"], unit_money(o["unit_price"]))
+        if key in out:
+            _merge(out[key], o)
+        else:
+            out[key] = o
+    return sorted(out.values(), key=lambda o: (o["group"].startswith("stock:"), o["group"],
+                                               o["designation"]))
+
+
+def _merge(line: dict, other: dict) -> None:
+    """Add ``other`` to order ``line`` of the same stock (or designation) at the same unit
+    price: quantities summed, the line price = the summed quantity x the unit price
+    (:func:`line_cents`, so the printed columns multiply), parts listed in BOM order."""
+    line["quantity"] = int(line["quantity"]) + int(other["quantity"])
+    if line["unit_price"] not in ("", None):
+        line["line_price"] = float(line_cents(line["unit_price"], line["quantity"]))
+    line["parts"] = f"{line['parts']} {other['parts']}"
 
 
 def order_csv(rows: list[dict], summary: dict) -> str:

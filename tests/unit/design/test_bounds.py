@@ -467,3 +467,27 @@ def test_bounds_run_before_any_cad_import():
     r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                        cwd=ROOT, env={"PYTHONPATH": str(ROOT), "PATH": "/usr/bin:/bin"})
     assert r.returncode == 0, r.stderr
+
+
+def test_a_list_slip_is_one_warning_not_one_per_name():
+    """A delta's ``workspace.size_mm = [0.1, 0.1, 0.1]`` (metres typed as mm) is checked as
+    the list (``workspace.size_mm``) and per element (``workspace.size_mm[x]``...): one slip,
+    one warning line (the tester's case printed it four times)."""
+    raw = tomllib.loads((DESIGNS / "delta.toml").read_text())
+    raw["workspace"]["size_mm"] = [0.1, 0.1, 0.1]
+    bounds.reset()
+    try:
+        parse_design(raw, "delta.toml")
+        said = [w for w in bounds.collected() if "size_mm" in w]
+    finally:
+        bounds.reset()
+    assert len(said) == 1, said
+    assert said[0].startswith("workspace.size_mm = 0.1 mm ") and "0.1 metres = 100 mm" in said[0]
+    # a different value of the same list is its own warning
+    raw["workspace"]["size_mm"] = [0.1, 0.2, 0.1]
+    try:
+        parse_design(raw, "delta.toml")
+        said = [w for w in bounds.collected() if "size_mm" in w]
+    finally:
+        bounds.reset()
+    assert [w.split(" is ")[0] for w in said] == ["workspace.size_mm = 0.1 mm", "workspace.size_mm = 0.2 mm"]

@@ -94,3 +94,16 @@ def test_the_device_is_frozen_and_resolved_once_per_design(tmp_path):
     assert a.encoders is b.encoders and (a.fidelity, b.fidelity) == ("inertia", "preview")
     with pytest.raises(dataclasses.FrozenInstanceError):
         a.fidelity = "fabrication"
+
+
+@pytest.mark.parametrize("name", ["pantograph", "delta"])
+def test_encoder_bom_line_fills_material_as_other_bought_parts_do(name):
+    """The encoder line reads like every other bought line: its process is "bought" and its
+    material column names a material or is empty -- never "bought" (bearings read steel-1018,
+    screws the fastener steel; no catalog states an encoder's material, so it is empty)."""
+    from cad.data.materials import MATERIALS
+    from cad.device import encoder_bom_rows
+
+    rows = encoder_bom_rows(resolve_device(load_design(DESIGNS / f"{name}.toml")))
+    assert rows and all(r["process"] == "bought" and r["made_or_bought"] == "bought" for r in rows)
+    assert all(r["material"] == "" or r["material"] in MATERIALS for r in rows)

@@ -230,3 +230,22 @@ def test_stl_and_step_are_byte_identical_across_processes(tmp_path):
         for d in ("a", "b")
     ]
     assert outs[0] == outs[1] and len(outs[0].split()) == 3
+
+
+def test_bom_line_mass_is_quantity_times_printed_unit_mass(tmp_path):
+    """A reader multiplies the printed columns: Hoeken's M3x10 cap screw (0.915 g, printed
+    0.92) x 4 is 3.68 on the line, not the unrounded 3.66; M6x16 (5.744 g, printed 5.74) x 5
+    is 28.70 (hand arithmetic on the printed cells, read back from the csv)."""
+    from cad.export import write_bom
+
+    p = write_bom(
+        [{"part": "cap_screw_M3-0.5x10", "material": "steel", "quantity": 4,
+          "made_or_bought": "bought", "mass_g": 0.9154},
+         {"part": "cap_screw_M6-1x16", "material": "steel", "quantity": 5,
+          "made_or_bought": "bought", "mass_g": 5.7441}],
+        tmp_path,
+    )
+    rows = list(csv.DictReader(p.read_text().splitlines()))
+    assert [(r["mass_g"], r["total_mass_g"]) for r in rows] == [("0.92", "3.68"), ("5.74", "28.70")]
+    for r in rows:
+        assert float(r["total_mass_g"]) == pytest.approx(float(r["mass_g"]) * int(r["quantity"]), abs=1e-12)

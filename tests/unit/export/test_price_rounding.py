@@ -72,3 +72,28 @@ def test_design_prices_table_unused_key_is_a_warning_naming_the_key():
     assert [w for w in bounds.collected() if "gone" in w] == [
         "[prices] key: designation 'gone' matches no BOM or order line (a BOM designation or "
         "part name); its price is not used"]
+
+
+def test_identical_stock_is_one_order_line_with_summed_quantity():
+    """Two BOM lines of the same stock text (form, section, size, material; each piece with
+    its cutting allowance) are one order.csv line: 2 + 3 = 5 pieces of "rod 11 x 21 mm
+    aluminium-6061", priced 0.0125 each: 5 x 0.0125 = 0.0625 -> 0.06 (not 0.03 + 0.04 = 0.07);
+    a different stock stays its own line (hand arithmetic, csv read-back)."""
+    rod = "rod 11 x 21 mm aluminium-6061"
+    rows = [{"part": p, "designation": p, "quantity": q, "made_or_bought": "made", "group": "made",
+             "order_code": "", "stock": st}
+            for p, q, st in (("pin_a", 2, rod), ("pin_b", 3, rod), ("hub", 1, "rod 15 x 23 mm aluminium-6061"))]
+    table = {"prices": {"pin_a": 0.0125, "pin_b": 0.0125}, "currency": "EUR", "source": "t"}
+    summary = apply_prices(rows, table)
+    order = list(csv.DictReader(io.StringIO(order_csv(rows, summary))))
+    assert [(o["designation"], o["quantity"], o["unit_price"], o["line_price"], o["parts"])
+            for o in order[:-1]] == [(rod, "5", "0.0125", "0.06", "pin_a pin_b"),
+                                     ("rod 15 x 23 mm aluminium-6061", "1", "", "", "hub")]
+    assert order[-1]["line_price"] == "0.06" and order[-1]["parts"] == "1 unpriced lines"
+    assert (summary["priced_lines"], summary["unpriced_lines"]) == (1, 1)
+    # the same stock at two unit prices is two lines (a reader multiplies each)
+    table["prices"]["pin_b"] = 0.02
+    summary = apply_prices(rows, table)
+    order = list(csv.DictReader(io.StringIO(order_csv(rows, summary))))
+    assert [(o["quantity"], o["line_price"]) for o in order[:-1] if o["designation"] == rod] == [
+        ("2", "0.03"), ("3", "0.06")]

@@ -85,3 +85,21 @@ def test_bom_row_says_why_this_size():
     assert "least sheet area" in a[0]["description"] and "a-e-mag.com" in a[0]["description"]
     assert "304.8 x 609.6, 609.6 x 609.6, 1000 x 2000" in a[0]["description"]
     assert "parts.laser_sheet_mm" in b[0]["description"] and "least" not in b[0]["description"]
+
+
+def test_a_nested_part_names_its_sheet_as_the_dxf_and_the_order_line_do():
+    """One name per sheet in every file: the part's stock names the sheet (``sheet_02``), its
+    DXF (``sheets/sheet_02.dxf``) and the order line by that line's own designation, which
+    is the sheet BOM row's designation (thickness x width x length mm material, by hand)."""
+    from cad.export.nesting import nested_stock, sheet_designation, sheet_file, sheet_name
+    from cad.export.order import NESTED_STOCK
+
+    s = Sheet("aluminium-5083", 6.0, (500.0, 300.0))
+    assert sheet_designation(s) == "sheet 6 x 500 x 300 mm aluminium-5083"
+    assert (sheet_name(1), sheet_file(1)) == ("sheet_02", "sheets/sheet_02.dxf")
+    text = nested_stock(1, s)
+    assert text == ("nested on sheet_02 (sheets/sheet_02.dxf), ordered as "
+                    "sheet 6 x 500 x 300 mm aluminium-5083") and text.startswith(NESTED_STOCK)
+    row = sheet_rows([Sheet("aluminium-5083", 6.0, (500.0, 300.0)), s])[0]
+    assert row["designation"] == sheet_designation(s) and row["quantity"] == 2
+    assert "sheet_01, sheet_02" in row["description"]
