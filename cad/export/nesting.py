@@ -262,11 +262,11 @@ def sheet_designation(sheet: Sheet) -> str:
 
 
 def nested_stock(i: int, sheet: Sheet) -> str:
-    """The stock text of a part nested on sheet ``i`` (0-based): the sheet's name, its file and
-    the order line it is bought on, named as that line is named
-    (``"nested on sheet_01 (sheets/sheet_01.dxf), ordered as sheet 6 x 500 x 300 mm
-    aluminium-5083"``; starts with :data:`cad.export.order.NESTED_STOCK`)."""
-    return f"{NESTED_STOCK}{sheet_name(i)} ({sheet_file(i)}), ordered as {sheet_designation(sheet)}"
+    """The stock text of a part nested on sheet ``i`` (0-based): the sheet's name (its DXF,
+    when written, is :func:`sheet_file`) and the order line it is bought on, named as that
+    line is named (``"nested on sheet_01, ordered as sheet 6 x 500 x 300 mm aluminium-5083"``;
+    starts with :data:`cad.export.order.NESTED_STOCK`)."""
+    return f"{NESTED_STOCK}{sheet_name(i)}, ordered as {sheet_designation(sheet)}"
 
 
 def _segments(msp) -> np.ndarray:

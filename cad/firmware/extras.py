@@ -133,8 +133,10 @@ def chai3d_json(spec: DeviceSpec, design, wall: dict, forces: dict) -> str:
                                       "the count hapticad_device.h is compiled for",
             "m_maxLinearDamping": "passivity at K -> 0 (Colgate and Schenkel): B < Fv; Fv from "
                                   + wall["source"],
-            "m_workspaceRadius": spec.model.workspace_note or "four-bar: half the stroke; pantographs: "
-                                                              "half the workspace side",
+            "m_workspaceRadius": spec.model.workspace_note or (
+                "the largest circle enclosed in the workspace (CHAI3D cHapticDeviceInfo::"
+                "m_workspaceRadius): four-bar: half the stroke; pantographs: half the shorter "
+                "workspace side"),
             "frame": "the device frame of hapticad_device.h (m)",
         },
     }

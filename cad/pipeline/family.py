@@ -55,7 +55,7 @@ from cad.export import (
 )
 from cad.export.drawings import SheetPart, write_drawings
 from cad.export.gltf import kind_meshes
-from cad.export.order import NESTED_STOCK, bought_designation, stock, stock_is_mass
+from cad.export.order import bought_designation, stock, stock_is_mass
 from cad.export.shapes import placed
 from cad.io.atomic import write_text_atomic
 from cad.io.escape import md
@@ -259,8 +259,9 @@ def kind_stock(instances, props: dict | None = None, sheets=None) -> dict[str, s
     """``{kind name: stock text}`` of every made, listed kind: the one stock of a build, which
     the BOM, ``order.csv``, the drawings' title blocks and the DXF notes all state.
 
-    A laser-cut part's stock is the sheet it is nested on (``"nested on sheet_01 (sheet stock
-    line)"``, :data:`cad.export.order.NESTED_STOCK`; ``sheets`` from
+    A laser-cut part's stock is the sheet it is nested on and the order line of that sheet
+    (:func:`cad.export.nesting.nested_stock`, ``"nested on sheet_01, ordered as sheet 6 x 500 x
+    300 mm aluminium-5083"``; ``sheets`` from
     :func:`cad.export.nesting.plan_sheets`, planned here when None); any other part's is
     :func:`cad.export.order.stock` of the kind with its mass (g): ``props[name]`` (:func:`kind_props`)
     or, when ``props`` is None (a writer running beside the mass properties), the same
@@ -274,14 +275,14 @@ def kind_stock(instances, props: dict | None = None, sheets=None) -> dict[str, s
             mass_g = mp.mass_kg * 1e3 if mp is not None else 0.0
         out[name] = stock(k, mass_g)
     if any(n in made for n in laser_kinds(instances)):
-        if sheets is None:
-            from cad.export.nesting import plan_sheets
+        from cad.export.nesting import nested_stock, plan_sheets
 
+        if sheets is None:
             sheets = plan_sheets(instances)
         for i, s in enumerate(sheets):
             for p in s.parts:
                 if p.kind.name in out:
-                    out[p.kind.name] = f"{NESTED_STOCK}sheet_{i + 1:02d} (sheet stock line)"
+                    out[p.kind.name] = nested_stock(i, s)
     return out
 
 
@@ -308,16 +309,19 @@ def sheet_rows(sheets) -> list[dict]:
     """BOM rows of the stock sheets the laser-cut parts are nested on
     (:func:`cad.export.nesting.plan_sheets`): one bought row per material, thickness and size,
     quantity = number of sheets."""
+    from cad.export.nesting import sheet_designation, sheet_name
+
     rows: dict = {}
     notes: dict = {}
+    des_of: dict = {}
     for i, s in enumerate(sheets):
         key = (s.material, s.thickness_mm, tuple(s.size_mm))
-        rows.setdefault(key, []).append(f"sheet_{i + 1:02d}")
-        notes[key] = s.size_note()
+        rows.setdefault(key, []).append(sheet_name(i))
+        notes[key], des_of[key] = s.size_note(), sheet_designation(s)
     out = []
     for (mat, t, (w, h)), names in rows.items():
-        des = f"sheet {t:g} x {w:g} x {h:g} mm {mat}"
-        out.append({"part": f"sheet_{t:g}mm_{mat}", "description": f"stock {des}, laser-cut parts "
+        des = des_of[(mat, t, (w, h))]
+        out.append({"part": f"sheet_{t:g}x{w:g}x{h:g}mm_{mat}", "description": f"stock {des}, laser-cut parts "
                     f"nested on {', '.join(names)} (sheets/); {notes[(mat, t, (w, h))]}", "material": mat,
                     "quantity": len(names), "made_or_bought": "bought",
                     "process": "bought: sheet stock for the laser-cut parts", "fits": "",

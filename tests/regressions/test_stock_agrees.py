@@ -75,9 +75,11 @@ def test_every_made_part_has_one_stock_in_every_file(builds, name):
         stock = row["stock"]
         assert drawn[part] == stock, (part, drawn[part], stock)
         if stock.startswith("nested on "):  # laser: the sheet is ordered, on its own line
-            sheet = stock.split()[2]
+            sheet, _, des = stock[len("nested on "):].partition(", ordered as ")
             assert part not in order
-            assert any(sheet in r["description"] and r["group"] == "sheet stock" for r in bom.values())
+            # the sheet's BOM line lists the sheet and is ordered under the designation named
+            assert any(sheet in r["description"] and r["group"] == "sheet stock" and r["designation"] == des
+                       for r in bom.values()), (part, stock)
         else:
             assert [o["designation"] for o in order[part]] == [stock], (part, order[part])
             assert [o["group"] for o in order[part]] == [f"stock: {stock.split()[0]}"]

@@ -89,7 +89,7 @@ def _rows():
     from cad.pipeline.family import sheet_rows
 
     made = [{"part": n, "designation": n, "made_or_bought": "made", "quantity": 1,
-             "group": "made", "order_code": "", "stock": f"{NESTED_STOCK}sheet_01 (sheet stock line)"}
+             "group": "made", "order_code": "", "stock": f"{NESTED_STOCK}sheet_01, ordered as sheet 6 x 400 x 300 mm aluminium-5083"}
             for n in ("crank", "coupler")]
     bearing = {"part": "bearing", "designation": "618/8", "made_or_bought": "bought",
                "quantity": 3, "group": "ball bearings", "order_code": "SKF 618/8", "stock": ""}
@@ -111,7 +111,7 @@ def test_order_lists_the_sheet_not_each_nested_part():
     body = [r for r in lines if r["group"] != "total"]
     assert [r["designation"] for r in body] == ["618/8", "sheet 6 x 400 x 300 mm aluminium-5083"]
     assert summary["priced_lines"] == 1 and summary["unpriced_lines"] == 1
-    assert summary["unpriced"] == ["sheet_6mm_aluminium-5083"]
+    assert summary["unpriced"] == ["sheet_6x400x300mm_aluminium-5083"]
     assert summary["total_price"] == 3 * 4.0
 
 

@@ -197,8 +197,9 @@ def fivebar_identify_files(design, report: dict, spec) -> dict[str, str]:
 
 
 def workspace_radius_m(spec, design) -> float:
-    """Half the workspace side (a rectangle: half its longer side), m."""
-    return max(workspace_half_mm(design.workspace)) * 1e-3
+    """Radius of the largest circle inside the workspace (CHAI3D ``cHapticDeviceInfo::
+    m_workspaceRadius``, src/devices/CGenericHapticDevice.h): half the shorter side, m."""
+    return min(workspace_half_mm(design.workspace)) * 1e-3
 
 
 # ------------------------------------------------------------------ twin pantograph

@@ -98,7 +98,7 @@ def test_a_nested_part_names_its_sheet_as_the_dxf_and_the_order_line_do():
     assert sheet_designation(s) == "sheet 6 x 500 x 300 mm aluminium-5083"
     assert (sheet_name(1), sheet_file(1)) == ("sheet_02", "sheets/sheet_02.dxf")
     text = nested_stock(1, s)
-    assert text == ("nested on sheet_02 (sheets/sheet_02.dxf), ordered as "
+    assert text == ("nested on sheet_02, ordered as "
                     "sheet 6 x 500 x 300 mm aluminium-5083") and text.startswith(NESTED_STOCK)
     row = sheet_rows([Sheet("aluminium-5083", 6.0, (500.0, 300.0)), s])[0]
     assert row["designation"] == sheet_designation(s) and row["quantity"] == 2

@@ -427,3 +427,18 @@ def test_wall_sketch_first_sample_has_no_damping_spike(request, tmp_path):
                                            capture_output=True, text=True).stdout.split()
     assert int(counts) > 0 and float(first) != 0.0
     assert float(first) == float(second)
+
+
+def test_workspace_radius_is_the_largest_circle_inside_a_rectangle(tmp_path):
+    """CHAI3D's ``m_workspaceRadius`` is the radius of the largest circle enclosed in the
+    workspace (chai3d src/devices/CGenericHapticDevice.h): a 120 x 60 mm workspace gives
+    half the shorter side, 0.03 m (it gave 0.06 m, half the longer side)."""
+    from cad.design import load_design
+    from cad.families.pantograph.firmware import workspace_radius_m
+
+    text = (ROOT / "designs" / "haptic_mouse.toml").read_text().replace(
+        "side_mm = 100.0", "size_mm = [120.0, 60.0]")
+    p = tmp_path / "rect.toml"
+    p.write_text(text)
+    assert workspace_radius_m(None, load_design(p)) == pytest.approx(0.030, rel=1e-12)
+    assert workspace_radius_m(None, load_design(ROOT / "designs" / "haptic_mouse.toml")) == pytest.approx(0.050, rel=1e-12)
