@@ -11,6 +11,7 @@ import tempfile
 from pathlib import Path
 
 from cad.errors import DesignError
+from cad.pipeline import build_design
 from cad.studies.fit import MATERIAL_CHOICES, FreeParam, numeric_free
 
 
@@ -18,8 +19,6 @@ def build_target_values(design, fidelity: str, wanted: set[str]) -> tuple[dict, 
     """(``{key: value}`` of every datasheet row with a value, plus ``moving_mass_g`` and
     ``total_mass_g`` of the report; the build report) of ``design`` built at ``fidelity``
     into a temporary folder (no files kept). Raises what the build raises."""
-    from cad.pipeline import build_design
-
     with tempfile.TemporaryDirectory() as tmp:
         rep = build_design(design, Path(tmp) / "b", set(), fidelity=fidelity, use_cache=False,
                            simulate_wall=False)
