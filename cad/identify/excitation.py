@@ -51,8 +51,28 @@ HAND_MIN_COUNTS = 5
 RUNNING, DONE, RANGE, ENCODER = 0, 1, 2, 3
 
 
+class RoutineTiming:
+    """What every identification routine's plan derives from its period ``Te_s``, its velocity
+    filter corner ``fc_Hz`` and its phase lengths (``T_hand_s``, ``T_settle_s``,
+    ``T_chirp_s``): the 1-motor :class:`Plan` and the 2-motor
+    :class:`cad.identify.excitation2.Plan2` share it."""
+
+    @property
+    def alpha(self) -> float:
+        """Velocity filter gain per sample, Te / (Te + 1 / (2 pi fc))."""
+        return self.Te_s / (self.Te_s + 1.0 / (2.0 * math.pi * self.fc_Hz))
+
+    @property
+    def n_samples(self) -> int:
+        """Periods until the routine reports done (that period included)."""
+        return int(math.ceil((self.T_hand_s + 2 * self.T_settle_s + self.T_chirp_s) / self.Te_s)) + 1
+
+    def as_dict(self) -> dict:
+        return asdict(self)
+
+
 @dataclass(frozen=True)
-class Plan:
+class Plan(RoutineTiming):
     """Every constant of the routine (SI): the generated C code is written from these."""
 
     Te_s: float
@@ -81,19 +101,6 @@ class Plan:
     def safe_rad(self) -> tuple[float, float]:
         d = self.safe_fraction * (self.q_max_rad - self.q_min_rad)
         return self.q_min_rad + d, self.q_max_rad - d
-
-    @property
-    def alpha(self) -> float:
-        """Velocity filter gain per sample, Te / (Te + 1 / (2 pi fc))."""
-        return self.Te_s / (self.Te_s + 1.0 / (2.0 * math.pi * self.fc_Hz))
-
-    @property
-    def n_samples(self) -> int:
-        """Periods until the routine reports done (that period included)."""
-        return int(math.ceil((self.T_hand_s + 2 * self.T_settle_s + self.T_chirp_s) / self.Te_s)) + 1
-
-    def as_dict(self) -> dict:
-        return asdict(self)
 
 
 def plan(Te_s: float, kt_Nm_per_A: float, i_max_A: float, q_min_rad: float, q_max_rad: float,

@@ -33,7 +33,7 @@ static deflection 0.35 times the resonant gain 1 / (2 ZETA)). Every current is c
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass, field
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -54,6 +54,7 @@ from cad.identify.excitation import (
     T_TAPER_S,
     TRAVEL_FRACTION,
     ZETA,
+    RoutineTiming,
 )
 
 #: The hold envelope as a fraction of a joint's smaller half-range about home (module docstring).
@@ -63,7 +64,7 @@ __all__ = ["DONE", "ENCODER", "RANGE", "RUNNING", "Plan2", "State2", "plan2", "r
 
 
 @dataclass(frozen=True)
-class Plan2:
+class Plan2(RoutineTiming):
     """Every constant of the 2-motor routine (SI; tuples per joint): the C code is written
     from these. ``q_home_rad``: the hold's target; ``hand_sign``: +1/-1, the sign of each
     joint's move when the handle goes +y."""
@@ -102,19 +103,6 @@ class Plan2:
             d = self.safe_fraction * (hi - lo)
             out.append((lo + d, hi - d))
         return tuple(out)
-
-    @property
-    def alpha(self) -> float:
-        """Velocity filter gain per sample, Te / (Te + 1 / (2 pi fc))."""
-        return self.Te_s / (self.Te_s + 1.0 / (2.0 * math.pi * self.fc_Hz))
-
-    @property
-    def n_samples(self) -> int:
-        """Periods until the routine reports done (that period included)."""
-        return int(math.ceil((self.T_hand_s + 2 * self.T_settle_s + self.T_chirp_s) / self.Te_s)) + 1
-
-    def as_dict(self) -> dict:
-        return asdict(self)
 
 
 def plan2(Te_s: float, kt_Nm_per_A: float, i_max_A: float, q_min_rad, q_max_rad, q_home_rad,
