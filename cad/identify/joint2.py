@@ -40,7 +40,14 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from cad.identify.regression import EDGE_ROWS, FILTER_HZ, NotExcited, derivatives, lowpass
+from cad.identify.regression import (
+    EDGE_ROWS,
+    FILTER_HZ,
+    Estimates,
+    NotExcited,
+    derivatives,
+    lowpass,
+)
 from cad.tolerances import IDENT_CONDITION_MAX, IDENT_SLOW_FRACTION
 
 
@@ -150,7 +157,7 @@ def signals(g: FiveBarGeom, q, Te_s: float) -> dict:
 
 
 @dataclass(frozen=True)
-class Fit2:
+class Fit2(Estimates):
     """Estimates ``theta`` {name: value}, covariance ``cov`` (order of ``names``), the delay
     (periods), the current-gain sign of each motor, the signals the fit saw (``t_s``, ``q``
     rad (N, 2), ``tau_meas``/``tau_fit`` N m (N, 2), ``mask`` (N, 2))."""
@@ -167,10 +174,6 @@ class Fit2:
     tau_meas: np.ndarray
     tau_fit: np.ndarray
     extra: dict = field(default_factory=dict)
-
-    def sigma(self, name: str) -> float:
-        i = self.names.index(name)
-        return float(math.sqrt(max(self.cov[i, i], 0.0)))
 
 
 def _moving(v: np.ndarray, Te: float) -> np.ndarray:

@@ -45,8 +45,19 @@ class NotExcited(ValueError):
     """The log does not excite the model enough to fit it (the message says how)."""
 
 
+class Estimates:
+    """What every identification result gives from its estimates' names and covariance
+    (``names``, ``cov``): the 1-motor :class:`Fit` and the 2-motor
+    :class:`cad.identify.joint2.Fit2` share it."""
+
+    def sigma(self, name: str) -> float:
+        """One standard deviation of the estimate ``name``."""
+        i = self.names.index(name)
+        return float(math.sqrt(max(self.cov[i, i], 0.0)))
+
+
 @dataclass(frozen=True)
-class Fit:
+class Fit(Estimates):
     """Estimates ``theta`` {name: value}, their covariance ``cov`` (names order of
     ``names``), the rows used (``mask``), the delay, the current-gain sign, the signals the fit
     saw (``q``, ``v``, ``a`` rad, rad/s, rad/s^2, ``tau_meas`` and ``tau_fit`` N m)."""
@@ -65,11 +76,6 @@ class Fit:
     tau_meas: np.ndarray
     tau_fit: np.ndarray
     extra: dict = field(default_factory=dict)
-
-    def sigma(self, name: str) -> float:
-        """One standard deviation of the estimate ``name``."""
-        i = self.names.index(name)
-        return float(math.sqrt(max(self.cov[i, i], 0.0)))
 
 
 def lowpass(x: np.ndarray, Te_s: float, fc_Hz: float = FILTER_HZ) -> np.ndarray:
