@@ -6,7 +6,7 @@ motor (the catalog entry named by ``parts.motor`` with the design's ``[motor]`` 
 ``parts.motor_rotor_inertia_g_cm2`` applied, every constant with its source), each encoder
 (counts per turn after quadrature decoding, the joint it sits on, catalog key, source), the
 transmission of each motor, each part group's material and process, the design's limits
-(``[targets]``) and the build fidelity. Every writer of a build (BOM, datasheet, firmware, CHAI3D file,
+(``[targets]``), the build fidelity and the deflections of the exported meshes. Every writer of a build (BOM, datasheet, firmware, CHAI3D file,
 MJCF/URDF, report.json) reads its facts from here and keeps no default of its own;
 ``report.json`` carries :meth:`ResolvedDevice.as_dict` under ``device``.
 
@@ -35,6 +35,7 @@ from cad.data.cables import CABLE_DATA_FIELDS, get_cable
 from cad.data.catalog import get_motor
 from cad.design.motor import resolve_motor
 from cad.errors import DesignError
+from cad.tolerances import PREVIEW_STL_TOL_MM, STL_ANGULAR_TOLERANCE_RAD, STL_TOLERANCE_MM
 
 #: MotorSpec fields a resolved motor states (value and source each), in report order.
 MOTOR_FIELDS = ("torque_constant_mNm_per_A", "current_continuous_A", "torque_continuous_mNm",
@@ -205,7 +206,9 @@ class PartMaterial:
 @dataclass(frozen=True)
 class ResolvedDevice:
     """The device of one build (module docstring). ``limits``: the design's ``[targets]`` as
-    ``(key, bound text)`` pairs; ``fidelity``: the build fidelity."""
+    ``(key, bound text)`` pairs; ``fidelity``: the build fidelity; ``stl_tolerance_mm`` /
+    ``stl_angular_tolerance_rad``: the chordal (mm) and angular (rad) deflections of every
+    exported mesh (part STL, parts.3mf, the viewer files; :func:`mesh_deflections`)."""
 
     name: str
     family: str
@@ -215,6 +218,8 @@ class ResolvedDevice:
     parts: tuple[PartMaterial, ...]
     limits: tuple[tuple[str, Any], ...]
     fidelity: str
+    stl_tolerance_mm: float = STL_TOLERANCE_MM
+    stl_angular_tolerance_rad: float = STL_ANGULAR_TOLERANCE_RAD
 
     @property
     def motor(self) -> ResolvedMotor | None:
@@ -271,7 +276,23 @@ def resolve_device(design, fidelity: str = "fabrication") -> ResolvedDevice:
     ``parts.motor_rotor_inertia_g_cm2`` and ``[motor] rotor_inertia_g_cm2`` disagree.
     Cached per design object (a build resolves once; its writers read the same object).
     """
-    return replace(_resolve(design), fidelity=fidelity)
+    tol_mm, ang_rad = mesh_deflections(getattr(design, "parts", None), fidelity)
+    return replace(_resolve(design), fidelity=fidelity, stl_tolerance_mm=tol_mm,
+                   stl_angular_tolerance_rad=ang_rad)
+
+
+def mesh_deflections(parts, fidelity: str) -> tuple[float, float]:
+    """(chordal mm, angular rad) deflections of a build's exported meshes, for every family:
+    ``parts.stl_tolerance_mm`` / ``parts.stl_angular_tolerance_deg`` where the family's
+    ``[parts]`` takes them (the four-bar's), else :data:`cad.tolerances.STL_TOLERANCE_MM` /
+    :data:`cad.tolerances.STL_ANGULAR_TOLERANCE_RAD`; at ``preview`` fidelity the chordal one
+    is at least :data:`cad.tolerances.PREVIEW_STL_TOL_MM` (a preview is looked at, not made)."""
+    tol = getattr(parts, "stl_tolerance_mm", None) or STL_TOLERANCE_MM
+    deg = getattr(parts, "stl_angular_tolerance_deg", None)
+    ang = math.radians(deg) if deg else STL_ANGULAR_TOLERANCE_RAD
+    if fidelity == "preview":
+        tol = max(tol, PREVIEW_STL_TOL_MM)
+    return tol, ang
 
 
 #: id(design) -> (design, device): the designs of the pantograph families hold dicts (not

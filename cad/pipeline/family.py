@@ -499,6 +499,7 @@ def write_outputs(
     marks=None,
     preview: bool = True,
     holes=(),
+    hide_ground_below_mm: float | None = None,
 ) -> list[str]:
     """Part files, assembly STEP, BOM and preview of one assembly; returns the paths written
     (relative to ``out_dir``).
@@ -509,7 +510,8 @@ def write_outputs(
     bom : the rows of ``bom.csv`` (None: not written here). stl_tolerance_mm,
     angular_tolerance_rad : STL deflections (default :data:`cad.export.STL_TOLERANCE_MM`,
     :data:`cad.export.STL_ANGULAR_TOLERANCE_RAD`). holes : the tapped holes
-    (:class:`cad.assembly.fasteners.TappedHole`) for the DXF thread notes.
+    (:class:`cad.assembly.fasteners.TappedHole`) for the DXF thread notes. preview,
+    marks, hide_ground_below_mm : write ``preview.png`` (:func:`write_preview`).
     Raises MeshError (a part's mesh not watertight: nothing of that part written)."""
     out_dir = Path(out_dir)
     files: list[str] = []
@@ -551,7 +553,8 @@ def write_outputs(
         files.append("bom.csv")
     if not preview:
         return files
-    write_preview(instances, tf_world_body, out_dir / "preview.png", title, marks)
+    write_preview(instances, tf_world_body, out_dir / "preview.png", title, marks,
+                  hide_ground_below_mm)
     return files + ["preview.png"]
 
 

@@ -17,13 +17,13 @@ Order (each family callback receives the :class:`Build` filled so far)::
     [prepare_label]  pre = prepare(design)                    layout, 2-D figures (optional)
     "solids"         model = assemble(design, fidelity)       AssemblyModel
                      fastener_report(instances, holes)        DesignError: two in a hole ...
-    fork: exports    write_outputs(...) + more_exports(build) (the PowerMouse rig)
-    fork: views      write_viewer_outputs(stroke, cutaway) + figures(build) (Fig. 8)
-    fork: children(build)                                     (the four-bar's same-body check)
+    fork: exports    write_outputs(...) + more_exports(build) (preview.png with marks(build))
+    fork: views      write_viewer_outputs(stroke, cutaway)
+    fork: same_body  every pair of solids on one body         (read by interference: Build.same_body)
     mass_label       props = kind_props, bodies = body_props(moving_bodies(model))
                      dyn = dynamics(build)                    the family's (optional)
                      bom = bom_rows(instances, props, formats) + no_solid_rows(design)
-    fork: children_after_props(build)                         (the four-bar's preview, plots)
+    fork: figures    figures(build)                           (plots that may read dyn)
     "every pair of solids over the " + motion_label
                      itf = interference(build)
                      low = lowest z, GeometryError below bench_z_mm(build) (optional)
@@ -31,6 +31,9 @@ Order (each family callback receives the :class:`Build` filled so far)::
     "report"         report(build) + the common tail; report.md's family part (md_rows),
                      assembly.md
     "done"
+
+Every exported mesh (part STL, parts.3mf, the viewer files) has the deflections of the
+resolved device (:func:`cad.device.mesh_deflections`).
 
 The report carries the wall times of the stages under ``"_timings_s"`` and the family's part
 of ``report.md`` under ``"_report_md"`` (both popped by the dispatcher, which writes
@@ -49,6 +52,8 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
+from cad.assembly import interference as itf
+from cad.device import resolve_device
 from cad.errors import GeometryError
 from cad.pipeline import family, forked
 from cad.pipeline.views import write_viewer_outputs
@@ -66,31 +71,27 @@ class Stages:
     Required: ``check_options(design, fidelity, phi1_deg, formats)`` (DesignError),
     ``assemble(design, fidelity) -> AssemblyModel``, ``interference(build)`` (the family's
     result as a dict, :meth:`cad.assembly.interference.InterferenceReport.as_dict`, kept as
-    ``Build.itf``; InterferenceError), ``report(build) -> dict`` (the
-    family's keys, with ``"notes"``: list of str), ``md_rows(report) -> [(quantity,
-    value)]`` (report.md's table), ``preview_title(build)`` (preview.png's title),
-    ``stroke(design) -> {body: (n, 4, 4)}`` (the viewer's motion, mm), ``motion_label``
-    (progress: "every pair of solids over the <motion_label>").
+    ``Build.itf``; it passes :meth:`Build.same_body` to the check; InterferenceError),
+    ``report(build) -> dict`` (the family's keys, with ``"notes"``: list of str),
+    ``md_rows(report) -> [(quantity, value)]`` (report.md's table), ``preview_title(build)``
+    (preview.png's title), ``stroke(design) -> {body: (n, 4, 4)}`` (the viewer's motion,
+    mm), ``motion_label`` (progress: "every pair of solids over the <motion_label>").
     Optional: ``prepare(design)`` (kept as ``Build.pre``) and its progress label,
     ``moving_bodies(model)`` (bodies whose mass properties are summed; default every body but
     ground), ``dynamics(build)`` (kept as ``Build.dyn``), ``bench_z_mm(build)`` (mm; the
     lowest solid must not reach below it), ``marks(build)`` (preview polylines),
-    ``thread_notes`` (tapped holes to the DXF notes), ``more_exports(build)`` (in the export
-    child), ``figures(build)`` (in the views child), ``more_files(build)`` (after the exports),
-    ``cutaway`` (instance name patterns drawn cut away in the pictures), ``assembly(design) ->
-    (plan, checks)`` (``assembly.md``; None: not written), ``no_solid_rows(design)`` (bought
-    BOM rows with no solid, e.g. an encoder: appended to the BOM, a last step of
-    assembly.md), ``md_images`` (``(alt text, file)`` pairs of report.md),
-    ``children(build)`` / ``children_after_props(build)`` (``{name: fn}``: further forked
-    children started with the exports / after the mass properties; ``fn() -> (files,
-    value)``, the value read with :meth:`Build.child`), ``export_kw(build)`` /
-    ``view_kw(build)`` (further keyword arguments of
-    :func:`cad.pipeline.family.write_outputs` / :func:`cad.pipeline.views.write_viewer_outputs`:
-    STL deflections, ``preview=False``).
-    The exports and views start right after the solids, beside the mass properties and the
-    interference check: the check leaves every solid untouched (its Booleans work on copies,
-    :mod:`cad.occ.boolean`), so a file does not depend on when it is written, and no export
-    needs a mass property (``bom.csv`` is the dispatcher's).
+    ``preview_hide_ground_below_mm`` (ground parts wholly below this world z, mm, are left out
+    of preview.png's top view; None: every part drawn), ``thread_notes`` (tapped holes to the
+    DXF notes), ``more_exports(build)`` (in the export child), ``figures(build)`` (plots, in a
+    child forked after the dynamics: they may read ``Build.dyn``), ``more_files(build)`` (after
+    the exports), ``cutaway`` (instance name patterns drawn cut away in the pictures),
+    ``assembly(design) -> (plan, checks)`` (``assembly.md``; None: not written),
+    ``no_solid_rows(design)`` (bought BOM rows with no solid, e.g. an encoder: appended to the
+    BOM, a last step of assembly.md), ``md_images`` (``(alt text, file)`` pairs of report.md).
+    The exports, the views and the same-body check start right after the solids, beside the
+    mass properties and the interference check: the checks leave every solid untouched (their
+    Booleans work on copies, :mod:`cad.occ.boolean`), so a file does not depend on when it is
+    written, and no export needs a mass property (``bom.csv`` is the dispatcher's).
     Each file callback returns the paths it wrote, relative to the output folder."""
 
     check_options: Callable[..., None]
@@ -108,16 +109,13 @@ class Stages:
     dynamics: Callable[[Build], Any] | None = None
     bench_z_mm: Callable[[Build], float] | None = None
     marks: Callable[[Build], list] | None = None
+    preview_hide_ground_below_mm: float | None = None
     thread_notes: bool = True
     more_exports: Callable[[Build], list[str]] | None = None
     figures: Callable[[Build], list[str]] | None = None
     more_files: Callable[[Build], list[str]] | None = None
     cutaway: tuple[str, ...] = ()
     assembly: Callable[[Any], tuple] | None = None
-    children: Callable[[Build], dict] | None = None
-    children_after_props: Callable[[Build], dict] | None = None
-    export_kw: Callable[[Build], dict] | None = None
-    view_kw: Callable[[Build], dict] | None = None
     no_solid_rows: Callable[[Any], list] | None = None
     md_images: tuple = ()
 
@@ -132,8 +130,8 @@ class Build:
     :attr:`Stages.interference`'s result; ``low``: lowest world z of any solid (mm, None
     without a bench plane); ``extra_rows``: :attr:`Stages.no_solid_rows`; ``common``: the
     common tail of the report (fastener keys, ``part_materials``, ``fits``, ``placement``),
-    set before :attr:`Stages.report` so a family may place its keys; ``files``: files
-    written in this process or by the further children; ``timings``: wall times (s)."""
+    set before :attr:`Stages.report` so a family may place its keys; ``timings``: wall
+    times (s); ``tasks``: the forked children by name (exports, views, same_body, figures)."""
 
     design: Any
     out_dir: Path
@@ -150,22 +148,23 @@ class Build:
     low: float | None = None
     extra_rows: list = dataclasses.field(default_factory=list)
     common: dict = dataclasses.field(default_factory=dict)
-    files: list = dataclasses.field(default_factory=list)
     timings: dict = dataclasses.field(default_factory=dict)
     tasks: dict = dataclasses.field(default_factory=dict)
     results: dict = dataclasses.field(default_factory=dict)
-    further: set = dataclasses.field(default_factory=set)
 
     def child(self, name: str) -> Any:
         """The value of the forked child ``name`` (waited for once; its wall time kept in
-        ``timings``; a further child's files added to ``files``). Raises what it raised."""
+        ``timings``). Raises what it raised."""
         if name not in self.results:
-            value, self.timings[name] = self.tasks[name].result()
-            if name in self.further:
-                files, value = value
-                self.files += files
-            self.results[name] = value
+            self.results[name], self.timings[name] = self.tasks[name].result()
         return self.results[name]
+
+    def same_body(self):
+        """The same-body check of the solids (every pair of parts on one body,
+        :func:`cad.assembly.interference.same_body_check`), run in a child forked beside the
+        mass properties: what a family's ``interference`` passes to
+        :func:`cad.assembly.interference.check_model` as ``same_body``."""
+        return self.child("same_body")
 
     @property
     def instances(self) -> list:
@@ -216,10 +215,13 @@ def run_family(stages: Stages, design, out_dir: Path, formats: set[str], *,
     b.model = stages.assemble(design, fidelity)
     b.timings["parts"] = time.perf_counter() - t0
     fasteners = family.fastener_report(b.instances, b.model.holes)  # DesignError: two in a hole
-    _start_children(stages, b, stages.children)  # the exports need no mass property
+    _start(b, {"exports": lambda: _exports(stages, b),  # they need no mass property
+               "views": lambda: _views(stages, b),
+               "same_body": lambda: itf.same_body_check(itf.static_items(b.instances))})
     with forked.cancel_on_error(*b.tasks.values()):
         _mass_properties(stages, b, step)
-    _start_children(stages, b, stages.children_after_props, files=False)
+    if stages.figures is not None:
+        _start(b, {"figures": lambda: stages.figures(b)})
     files, viewer_glb = _checks_and_files(stages, b, step)
     step("report")
     report = _report(stages, b, fasteners, files)
@@ -254,16 +256,10 @@ def timed_call(fn: Callable[[], Any]) -> Callable[[], tuple[Any, float]]:
     return run
 
 
-def _start_children(stages: Stages, b: Build, further, files: bool = True) -> None:
-    """Fork the exports and the views (with ``files``) and the ``further`` children (``further(b) -> {name: fn}``) into ``b.tasks``
-    (:mod:`cad.pipeline.forked`: deferred where forking is off)."""
-    todo = {}
-    if files:
-        todo["exports"] = lambda: _exports(stages, b)
-        todo["views"] = lambda: _views(stages, b)
-    more = further(b) if further is not None else {}
-    b.further |= set(more)
-    for name, fn in {**todo, **more}.items():
+def _start(b: Build, children: dict) -> None:
+    """Fork ``children`` (``{name: fn}``) into ``b.tasks`` (:mod:`cad.pipeline.forked`:
+    deferred where forking is off)."""
+    for name, fn in children.items():
         b.tasks[name] = forked.start(timed_call(fn), name)
 
 
@@ -282,11 +278,9 @@ def _checks_and_files(stages: Stages, b: Build, step) -> tuple[list[str], bytes]
         files = b.child("exports")
         if stages.more_files is not None:
             files += stages.more_files(b)
-        for name in b.tasks:
-            if name in b.further:
-                b.child(name)
+        figures = b.child("figures") if "figures" in b.tasks else []
         view_files, viewer_glb = b.child("views")
-    return files + b.files + view_files, viewer_glb
+    return files + figures + view_files, viewer_glb
 
 
 def check_bench(instances, tfs: dict, bench_z_mm: float) -> float:
@@ -302,29 +296,31 @@ def check_bench(instances, tfs: dict, bench_z_mm: float) -> float:
 def _exports(stages: Stages, b: Build) -> list[str]:
     """Part files, assembly STEP, BOM, preview (:func:`cad.pipeline.family.write_outputs`)
     and the family's further exports."""
-    kw = dict(name=b.design.name, title=stages.preview_title(b),
-              bom=None,  # bom.csv: the dispatcher, once, priced (cad.pipeline.write_order)
-              marks=stages.marks(b) if stages.marks is not None else None,
-              holes=tuple(b.model.holes.values()) if stages.thread_notes else ())
-    kw.update(stages.export_kw(b) if stages.export_kw is not None else {})
-    files = family.write_outputs(b.instances, b.tfs, b.out_dir, b.formats, **kw)
+    dev = resolve_device(b.design, b.fidelity)
+    files = family.write_outputs(
+        b.instances, b.tfs, b.out_dir, b.formats, name=b.design.name,
+        title=stages.preview_title(b),
+        bom=None,  # bom.csv: the dispatcher, once, priced (cad.pipeline.write_order)
+        marks=stages.marks(b) if stages.marks is not None else None,
+        hide_ground_below_mm=stages.preview_hide_ground_below_mm,
+        holes=tuple(b.model.holes.values()) if stages.thread_notes else (),
+        stl_tolerance_mm=dev.stl_tolerance_mm, angular_tolerance_rad=dev.stl_angular_tolerance_rad)
     if stages.more_exports is not None:
         files += stages.more_exports(b)
     return files
 
 
 def _views(stages: Stages, b: Build) -> tuple[list[str], bytes]:
-    """The viewer files (:func:`cad.pipeline.views.write_viewer_outputs`) and the family's
-    figures; returns (files, glb bytes)."""
+    """The viewer files (:func:`cad.pipeline.views.write_viewer_outputs`); returns (files,
+    glb bytes)."""
     d = b.design
+    dev = resolve_device(d, b.fidelity)
     cutaway = [i.name for i in b.instances
                if any(fnmatch.fnmatchcase(i.name, p) for p in stages.cutaway)]
-    files, glb = write_viewer_outputs(
+    return write_viewer_outputs(
         b.instances, b.tfs, b.out_dir, b.formats, name=d.name, title=f"{d.name} ({d.family})",
-        stroke=stages.stroke(d), cutaway=cutaway or (),
-        **(stages.view_kw(b) if stages.view_kw is not None else {}))
-    figures = stages.figures(b) if stages.figures is not None else []
-    return figures + files, glb
+        stroke=stages.stroke(d), cutaway=cutaway or (), stl_tolerance_mm=dev.stl_tolerance_mm,
+        angular_tolerance_rad=dev.stl_angular_tolerance_rad)
 
 
 def _common_keys(b: Build) -> dict:

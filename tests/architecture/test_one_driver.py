@@ -1,7 +1,7 @@
 """One build driver (issue 23 "one pipeline"): a family adds layout code, never its own copy of
 a check or an export. The pen, pantograph, PowerMouse and four-bar builders are one call to
 :func:`cad.pipeline.run.run_family` (the four-bar's extra stages are the driver's optional
-hooks: further forked children, a sweep given the build, the encoder row); none of their
+hooks: its plots after the dynamics, a sweep given the build, the encoder row); none of their
 modules calls the shared stages the driver owns (read from the source with :mod:`ast`,
 function-level calls included).
 """

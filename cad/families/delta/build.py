@@ -54,7 +54,7 @@ def interference(b) -> dict:
     """Every pair of solids at every workspace point (:func:`cad.assembly.interference.
     check_model`); InterferenceError naming the pair, the point and the volume unless
     allowed."""
-    rep = itf.check_model(b.model, fail_fast=not b.allow_interference)
+    rep = itf.check_model(b.model, fail_fast=not b.allow_interference, same_body=b.same_body())
     if not b.allow_interference:
         itf.raise_on_collision(rep, 0.0)
     out = rep.as_dict()

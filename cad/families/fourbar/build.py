@@ -23,9 +23,8 @@ Pipeline (``hapticad build designs/hoeken.toml``):
 (:func:`cad.pipeline.run.run_family`) with the four-bar's stages (:func:`_stages`). Once the
 parts exist, the part files + assembly STEP, the viewer files (glb, 3mf, GIF, still) and the
 same-body check run in forked children beside the mass properties (as for every family);
-once H is known, ``preview.png`` and the paper's plots run in
-a further child beside the sweep (:mod:`cad.pipeline.forked`; serial where forking is off,
-same bytes either way). The report carries the stages' wall times (``_timings_s``).
+once H is known, the paper's plots run in a further child beside the sweep
+(:mod:`cad.pipeline.forked`; serial where forking is off, same bytes either way). The report carries the stages' wall times (``_timings_s``).
 
 Fidelity (issue 7): ``fabrication`` -- every feature, bd_warehouse bearings with balls,
 exact interference confirmation; ``inertia`` -- cosmetic features dropped (knob round,
@@ -108,49 +107,22 @@ def joint_axes(J) -> dict:
     }
 
 
-def _stl_tolerances(parts, fidelity: str) -> tuple[float, float]:
-    """(chordal mm, angular rad) deflections of the part STL and parts.3mf meshes."""
-    tol = parts.stl_tolerance_mm
-    if fidelity == "preview":
-        tol = max(tol, PREVIEW_STL_TOL_MM)
-    ang = (math.radians(parts.stl_angular_tolerance_deg) if parts.stl_angular_tolerance_deg
-           else STL_ANGULAR_TOLERANCE_RAD)
-    return tol, ang
-
-
-def _mesh_kw(b) -> dict:
-    """The STL deflections of the part files and the viewer files (:func:`_stl_tolerances`)."""
-    tol, ang = _stl_tolerances(b.design.parts, b.fidelity)
-    return {"stl_tolerance_mm": tol, "angular_tolerance_rad": ang}
-
-
-def _same_body(b) -> dict:
-    """The forked child of the same-body check (every pair of solids on one body), read by
-    the sweep (:func:`interference`)."""
-    return {"same_body": lambda: ([], itf.same_body_check(itf.static_items(b.model.instances)))}
-
-
 def _preview_title(b) -> str:
     phi_deg = math.degrees(b.model.extra.pose_phi1_rad)
     return f"{b.design.name}: {b.design.family}, phi1 = {phi_deg:.1f} deg"
 
 
-def _preview(b) -> dict:
-    """The forked child of ``preview.png`` (posed assembly with the coupler point's path) and
-    the paper's plots from the solids (coupler curve, y deviation and torque; M11 / M12 / M22
-    over x, Fig. 6), which need H."""
-    design, model = b.design, b.model
+def _marks(b) -> list:
+    """The coupler point's path on preview.png's top view."""
+    return [("P path", solve(b.design.linkage, sweep_angles(b.design, 200)).P_mm)]
 
-    def run():
-        P_path = solve(design.linkage, sweep_angles(design, 200)).P_mm
-        family.write_preview(model.instances, model.tf_world_body, b.out_dir / "preview.png",
-                             _preview_title(b), marks=[("P path", P_path)],
-                             hide_ground_below_mm=-1.0)
-        plot_kinematics(design, b.out_dir / "kinematics.png")
-        plot_apparent_mass(design, b.dyn.H, b.out_dir / "apparent_mass.png")
-        return ["preview.png", "kinematics.png", "apparent_mass.png"], None
 
-    return {"preview": run}
+def _figures(b) -> list[str]:
+    """The paper's plots from the solids (coupler curve, y deviation and torque; M11 / M12 /
+    M22 over x, Fig. 6, which needs H)."""
+    plot_kinematics(b.design, b.out_dir / "kinematics.png")
+    plot_apparent_mass(b.design, b.dyn.H, b.out_dir / "apparent_mass.png")
+    return ["kinematics.png", "apparent_mass.png"]
 
 
 @dataclasses.dataclass(frozen=True)
@@ -214,7 +186,7 @@ def _fidelity_costs(design, model, props: dict, H, am: dict, Jm: float, fidelity
     return out
 
 
-def interference(design, model, fidelity: str, allow_interference: bool, same_body):
+def interference(design, model, fidelity: str, allow_interference: bool, same_body=None):
     """The one interference check of every family (:func:`cad.assembly.interference.check_model`)
     on the four-bar: every body pair over ``model.motion`` by crank angle (the closest pose
     refined between samples), exact (``preview``: mesh-only), contact or a distance under
@@ -253,24 +225,22 @@ def check_options(design, fidelity: str, phi1_deg, formats=frozenset()) -> None:
 
 
 def _stages(phi1_deg: float | None, allow_interference: bool):
-    """The four-bar's stages of the one build driver (:class:`cad.pipeline.run.Stages`):
-    its children (the same-body check beside the mass properties; the preview and the
-    paper's plots, which need H, beside the sweep), its dynamics (H, M, structure), the
-    encoder row, its report."""
+    """The four-bar's stages of the one build driver (:class:`cad.pipeline.run.Stages`): its
+    layout, the coupler path on the preview, the paper's plots (which need H), its dynamics
+    (H, M, structure), the encoder and capstan rows, its report."""
     from cad.families.fourbar.layout import assemble
     return Stages(
         check_options=check_options,
         assemble=lambda design, fidelity: assemble(design, fidelity, phi1_deg=phi1_deg,
                                                    strict=not allow_interference),
         interference=lambda b: interference(b.design, b.model, b.fidelity, b.allow_interference,
-                                            b.child("same_body")).as_dict(),
+                                            b.same_body()).as_dict(),
         report=_report, md_rows=_md_rows, preview_title=_preview_title,
         stroke=lambda d: body_transforms(d.linkage, sweep_angles(d, STROKE_POSES)),
         motion_label="crank range", moving_bodies=lambda model: list(model.bodies),
         dynamics=_dynamics, more_files=_sim_files,
         assembly=lambda design: (None, ASSEMBLY_CHECKS + capstan.assembly_checks(design)),
-        children=_same_body, children_after_props=_preview,
-        export_kw=lambda b: {**_mesh_kw(b), "preview": False}, view_kw=_mesh_kw,
+        marks=_marks, preview_hide_ground_below_mm=-1.0, figures=_figures,
         no_solid_rows=lambda design: [encoder_bom_row(design), *capstan.bom_lines(design)],
         md_images=(("coupler curve, deviation and torque", "kinematics.png"),
                    ("apparent mass over the stroke (eq 22, H from the solids)",

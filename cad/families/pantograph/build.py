@@ -271,7 +271,7 @@ def _encoder_rows(design) -> list[dict]:
 def _stages():
     """The family's stages of the one build driver (:class:`cad.pipeline.run.Stages`)."""
     return Stages(
-        check_options=check_options, assemble=assemble, interference=lambda b: interference(b.model, b.allow_interference),
+        check_options=check_options, assemble=assemble, interference=lambda b: interference(b.model, b.allow_interference, b.same_body()),
         report=_report_of, md_rows=report_md_rows, stroke=stroke_poses, preview_title=_title,
         motion_label="workspace", prepare=_prepare, prepare_label="layout and clearances",
         dynamics=lambda b: dynamics(b.design, b.bodies, b.model.extra.home_mm),

@@ -168,16 +168,17 @@ def assemble(design, fidelity: str = "fabrication"):
                          extra=PantographLayout(lay, home))
 
 
-def interference(model, allow_interference: bool = False) -> dict:
+def interference(model, allow_interference: bool = False, same_body=None) -> dict:
     """The one interference check (:func:`cad.assembly.interference.check_model`) of the
     model over its workspace motion: every pair of bodies at every pose, every pair of parts
     on one body once; touching allowed, a common volume above
     :data:`cad.assembly.interference.OVERLAP_MIN_MM3` is a clash. Returns the report's
     ``interference`` dict (``min_clearance_mm``, ``overlap_volume_mm3``, ``pairs``,
     ``collisions`` with parts, pose label and volume, ``n_poses`` ...). InterferenceError
-    naming the pair, the pose and the volume of the first clash unless allow_interference."""
+    naming the pair, the pose and the volume of the first clash unless allow_interference. ``same_body``: the build's same-body result (:meth:`cad.pipeline.run.Build.same_body`;
+    None: computed here)."""
     rep = itf.check_model(model, joints=motor_joints(model.design),
-                          fail_fast=not allow_interference)
+                          fail_fast=not allow_interference, same_body=same_body)
     if not allow_interference:
         itf.raise_on_collision(rep, 0.0)
     out = rep.as_dict()

@@ -62,15 +62,16 @@ def check_options(design, fidelity: str, phi1_deg, formats=frozenset()) -> None:
     L.layout(design)  # hardware that does not fit: named before any CAD
 
 
-def interference(model, allow_interference: bool = False) -> dict:
+def interference(model, allow_interference: bool = False, same_body=None) -> dict:
     """The one interference check (:func:`cad.assembly.interference.check_model`) of the pen
     over its motion: every pair of bodies at each pose of ``model.motion`` (labelled), every
     pair of parts on one body once; touching allowed, a common volume above
     :data:`cad.assembly.interference.OVERLAP_MIN_MM3` is a clash. Returns the report's
     ``interference`` dict (``min_clearance_mm``, ``overlap_volume_mm3``, ``pairs``,
     ``collisions`` with parts, pose label and volume, ``n_poses`` ...); InterferenceError
-    naming the pair, the pose and the volume of the first clash unless allow_interference."""
-    rep = itf.check_model(model, fail_fast=not allow_interference)
+    naming the pair, the pose and the volume of the first clash unless allow_interference. ``same_body``: the build's same-body result (:meth:`cad.pipeline.run.Build.same_body`;
+    None: computed here)."""
+    rep = itf.check_model(model, fail_fast=not allow_interference, same_body=same_body)
     if not allow_interference:
         itf.raise_on_collision(rep, 0.0)
     out = rep.as_dict()
@@ -109,7 +110,7 @@ def _encoder_rows(design) -> list[dict]:
 def _stages():
     """The pen's stages of the one build driver (:class:`cad.pipeline.run.Stages`)."""
     return Stages(
-        check_options=check_options, assemble=_assemble, interference=lambda b: interference(b.model, b.allow_interference),
+        check_options=check_options, assemble=_assemble, interference=lambda b: interference(b.model, b.allow_interference, b.same_body()),
         report=lambda b: {**_report(b.design, b.model, b.bodies, b.dyn.effective_mass_home, b.itf, b.bom, b.fidelity, b.low),
                           "effective_mass_breakdown": mass_breakdown_report(b.design, b.model, b.props)},
         md_rows=_md_rows, stroke=_stroke, motion_label="motion",

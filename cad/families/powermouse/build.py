@@ -167,7 +167,7 @@ def _assembly(design) -> tuple:
 def _stages():
     """The PowerMouse's stages of the one build driver (:class:`cad.pipeline.run.Stages`)."""
     return Stages(
-        check_options=check_options, assemble=assemble, interference=lambda b: interference(b.model, b.allow_interference),
+        check_options=check_options, assemble=assemble, interference=lambda b: interference(b.model, b.allow_interference, b.same_body()),
         report=_report_of, md_rows=report_md_rows, stroke=stroke_poses,
         preview_title=lambda b: f"{b.design.name}: PowerMouse at the centre pose",
         motion_label="motion range", mass_label="mass properties and wrench map",

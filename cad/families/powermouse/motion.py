@@ -103,7 +103,7 @@ def pose_group(label: str) -> str:
     return "centre" if label == "centre" else label[:1]
 
 
-def interference(model, allow_interference: bool = False) -> dict:
+def interference(model, allow_interference: bool = False, same_body=None) -> dict:
     """The one interference check (:func:`cad.assembly.interference.check_model`) over the
     flotor's motion: the flotor against the stator at the centre and every excursion, every
     pair of parts on one body once; touching allowed (the flotor touches at its limits by
@@ -111,8 +111,9 @@ def interference(model, allow_interference: bool = False) -> dict:
     clash; the closest pose of each group (centre, translations, rotations, combined) is
     measured exactly. Returns the interference dict, with ``poses``: ``{label: (clearance_mm,
     "flotor part/stator part", how)}`` (:func:`pose_clearances`); InterferenceError naming the pair, the pose and the volume
-    of the first clash unless allow_interference."""
-    rep = itf.check_model(model, fail_fast=not allow_interference, groups=pose_group)
+    of the first clash unless allow_interference. ``same_body``: the build's same-body result (:meth:`cad.pipeline.run.Build.same_body`;
+    None: computed here)."""
+    rep = itf.check_model(model, fail_fast=not allow_interference, same_body=same_body, groups=pose_group)
     if not allow_interference:
         itf.raise_on_collision(rep, 0.0)
     out = rep.as_dict()

@@ -48,7 +48,7 @@ def assemble(design, fidelity: str = "fabrication") -> AssemblyModel:
 def _interference(b):
     from cad.assembly import interference as itf
 
-    rep = itf.check_model(b.model, fail_fast=not b.allow_interference)
+    rep = itf.check_model(b.model, fail_fast=not b.allow_interference, same_body=b.same_body())
     if not b.allow_interference:
         itf.raise_on_collision(rep, 0.0)
     return rep.as_dict()
