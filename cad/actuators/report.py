@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import math
 
+from cad.actuators import voicecoil as vc
 from cad.errors import DesignError
 
 
@@ -23,7 +24,6 @@ def voicecoil_report(params, model: str = "closed-form", gap_mm: float | None = 
     """
     import numpy as np
 
-    from cad.actuators import voicecoil as vc
 
     dr = params.rattle_mm
     if gap_mm is not None and not (math.isfinite(gap_mm) and gap_mm > dr):

@@ -565,7 +565,6 @@ def separated_boxes(box_a, Ta, box_b, Tb, eps_mm: float = 1e-9) -> bool:
 def _tight_body_box(p: PartMesh) -> np.ndarray:
     """(2, 3) tight OCCT box of a part in its body frame (computed once per part)."""
     if p.tight_box is None:
-        from cad.occ.bbox import tight_box
 
         p.tight_box = tight_box(p.shape)
     return p.tight_box

@@ -21,6 +21,7 @@ from typing import Any
 import numpy as np
 
 from cad.data.materials import get_material
+from cad.errors import DesignError
 from cad.export.shapes import placed
 from cad.export.step import labelled_shape  # a labelled, coloured Solid, as part files are
 from cad.occ.compound import deep_copy, labelled_compound
@@ -77,7 +78,6 @@ class AssemblyModel:
         n = len(self.pose_labels) if self.motion is None else \
             max((len(m) for m in self.motion.values()), default=0)
         if isinstance(pose, bool) or not isinstance(pose, (int, np.integer)) or not 0 <= pose < n:
-            from cad.errors import DesignError
 
             raise DesignError("pose", f"must be an index of the motion's {n} poses, got {pose!r}")
         if self.motion is not None and body in self.motion:

@@ -462,7 +462,6 @@ def main(argv: list[str] | None = None) -> int:
             continue
         new = regenerate(text)
         if new != text:
-            from cad.io.atomic import write_text_atomic
 
             write_text_atomic(page, new)
         print(f"{name}: {len(BLOCK.findall(new))} generated blocks")

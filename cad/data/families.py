@@ -11,6 +11,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from cad.errors import DesignError
+
 #: Commands that take a design, in the order of the commands x families table (docs/commands.md).
 DESIGN_COMMANDS = ("analyze", "synth", "swap", "check", "fit", "build", "gii", "optimize",
                    "tolerance", "sweep", "wall", "render", "datasheet", "identify", "bench-log")
@@ -114,6 +116,5 @@ def require(command: str, family: str) -> None:
     """Raise :class:`cad.errors.DesignError` (``mechanism.family``, :func:`refusal`) when
     ``command`` does not accept designs of ``family``."""
     if family not in command_families().get(command, ()):
-        from cad.errors import DesignError
 
         raise DesignError("mechanism.family", refusal(command, family))

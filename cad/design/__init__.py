@@ -17,6 +17,7 @@ from cad.data.families import FAMILIES
 from cad.design.bounds import check_raw_design
 from cad.design.fields import load_toml, optional_table, require_str, require_table
 from cad.design.prices import price_table
+from cad.errors import DesignError
 
 
 def family_of(raw: dict[str, Any]) -> str:
@@ -25,7 +26,6 @@ def family_of(raw: dict[str, Any]) -> str:
     fam = require_str(mech, "family", "mechanism")
     if fam not in FAMILIES:
         known = ", ".join(sorted(FAMILIES))
-        from cad.errors import DesignError
 
         raise DesignError("mechanism.family", f"unknown family {fam!r} (known: {known})")
     return fam

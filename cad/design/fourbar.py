@@ -34,7 +34,8 @@ from typing import Any
 from cad import tolerances as tol
 from cad.actuators.capstan import bend_ratio_warning
 from cad.data.cables import get_cable
-from cad.data.catalog import DEFAULT_ENCODER
+from cad.data.catalog import DEFAULT_ENCODER, get_bearing
+from cad.design.bounds import LINK_MM, STROKE_MM, warn
 from cad.design.fields import (
     check_name,
     check_unknown,
@@ -48,10 +49,12 @@ from cad.design.fields import (
     require_table,
 )
 from cad.design.firmware import FirmwareOptions, parse_firmware
-from cad.design.motor import parse_motor_table
+from cad.design.motor import parse_motor_table, resolve_motor
+from cad.design.parts import parse_parts
 from cad.design.replace import ValidatedReplace
 from cad.design.targets import Target, parse_targets
 from cad.design.transmission import Transmission, parse_transmissions
+from cad.device import stated_encoder_counts
 from cad.dynamics.inertia import InertiaCoefficients
 from cad.dynamics.stiffness import StiffnessInputs
 from cad.errors import DesignError, KinematicsError
@@ -100,7 +103,6 @@ class FourBarDesign(ValidatedReplace):
 
     def motor_spec(self):
         """The motor this design drives: ``parts.motor`` with the ``[motor]`` overrides."""
-        from cad.design.motor import resolve_motor
 
         return resolve_motor(self.parts.motor, self.motor)
 
@@ -125,7 +127,6 @@ class FourBarDesign(ValidatedReplace):
         seats: it is listed only below the pin bore; whether the A2 hardware clears the hub
         is the layer planner's check (:func:`cad.families.fourbar.build.check_layout`, before CAD).
         """
-        from cad.data.catalog import get_bearing
 
         brg = get_bearing(self.parts.bearing, "parts.bearing")
         fb = self.linkage
@@ -134,7 +135,6 @@ class FourBarDesign(ValidatedReplace):
         return [(k, v, brg.d_mm, brg.D_mm) for k, v, lim in lengths if v < lim]
 
     def _hardware_text(self, gaps: list[tuple[str, float, float, float]]) -> str:
-        from cad.design.bounds import LINK_MM, STROKE_MM
 
         s = self.stroke_mm_requested
         if s is not None:
@@ -243,7 +243,6 @@ def _delta_of_the_encoder(design: FourBarDesign) -> FourBarDesign:
     the BOM, the firmware, eq (25), the simulated K_max and the wall sketch."""
     from dataclasses import replace
 
-    from cad.device import stated_encoder_counts
 
     counts = stated_encoder_counts(design) if design.stiffness is not None else None
     if counts is None:
@@ -253,7 +252,6 @@ def _delta_of_the_encoder(design: FourBarDesign) -> FourBarDesign:
     if round(2 * math.pi * lever / delta) == counts:
         return design
     own = 2 * math.pi * lever / counts
-    from cad.design.bounds import warn
 
     warn(f"stiffness.encoder_resolution_m = {delta:g} m is the mid-stroke step of "
          f"{round(2 * math.pi * lever / delta)} counts/rev, not of the design's encoder ({counts} "
@@ -290,7 +288,6 @@ def parse(raw: dict[str, Any], source: str = "<design>") -> FourBarDesign:
     samples = optional_int(analysis, "samples", "analysis", 2001, minimum=3)
     if samples > tol.SAMPLES_MAX:
         raise DesignError("analysis.samples", f"must be <= {tol.SAMPLES_MAX}, got {samples}")
-    from cad.design.parts import parse_parts
 
     parts = parse_parts(optional_table(raw, "parts", ""), "parts")
     targets = parse_targets(optional_table(raw, "targets", ""), "targets")
@@ -310,7 +307,6 @@ def parse(raw: dict[str, Any], source: str = "<design>") -> FourBarDesign:
     )
     parse_transmissions(raw.get("transmission"), 1)  # refused here, at load (DesignError)
     design = _delta_of_the_encoder(design)
-    from cad.design.bounds import warn
 
     gaps = design.hardware_gaps()
     if gaps:

@@ -69,6 +69,10 @@ from cad.design.replace import TableReplace, ValidatedReplace
 from cad.design.targets import PANTOGRAPH_TARGET_KEYS, parse_targets
 from cad.errors import DesignError
 from cad.isotropy import problems
+from cad.isotropy.gii import fivebar_gii, square_grid_mm
+from cad.kinematics import haptic_pen as kpen
+from cad.kinematics import twin_pantograph as ktwin
+from cad.kinematics.fivebar import FiveBar
 from cad.kinematics.haptic_pen import HapticPen, pen_gii
 
 FAMILIES = ("pantograph", "twin-pantograph", "haptic-pen")
@@ -286,16 +290,10 @@ class PantographDesign(ValidatedReplace):
         """Workspace samples (N, d) in task coordinates (mm, rad)."""
         ws = self.workspace
         if self.family == "pantograph":
-            from cad.isotropy.gii import square_grid_mm
-
             return square_grid_mm(ws["center_mm"], ws["size_mm"], ws["grid"])
         if self.family == "twin-pantograph":
-            from cad.kinematics.twin_pantograph import workspace_grid
-
-            return workspace_grid(ws["center_mm"], ws["size_mm"], ws["grid"], ws["theta_grid"])
-        from cad.kinematics.haptic_pen import workspace_grid
-
-        return workspace_grid(
+            return ktwin.workspace_grid(ws["center_mm"], ws["size_mm"], ws["grid"], ws["theta_grid"])
+        return kpen.workspace_grid(
             ws["center_mm"], ws["size_mm"], ws["grid"], ws["rotation_deg"], ws["rotation_grid"]
         )
 
@@ -303,8 +301,6 @@ class PantographDesign(ValidatedReplace):
         """GII of this design (isotropy paper eq 5) as a :class:`cad.isotropy.gii.GIIResult`."""
         ws, act = self.workspace, self.actuators
         if self.family == "pantograph":
-            from cad.isotropy.gii import fivebar_gii
-
             return fivebar_gii(
                 self.mechanism,
                 ws["center_mm"],
@@ -314,9 +310,7 @@ class PantographDesign(ValidatedReplace):
                 act["force_max_N"],
             )
         if self.family == "twin-pantograph":
-            from cad.kinematics.twin_pantograph import twin_gii
-
-            return twin_gii(
+            return ktwin.twin_gii(
                 self.mechanism,
                 ws["center_mm"],
                 ws["size_mm"],
@@ -608,8 +602,6 @@ def _parse_planar(raw: dict[str, Any], family: str, mech: dict, ws: dict, act: d
         workspace["side_mm"] = size[0]
     force = optional_positive(act, "force_max_N", "actuators", 1.0)
     if family == "pantograph":
-        from cad.kinematics.fivebar import FiveBar
-
         l2r = optional_positive(mech, "proximal_right_mm", "mechanism", l2)
         l3r = optional_positive(mech, "distal_right_mm", "mechanism", l3)
         mechanism = FiveBar(
@@ -624,11 +616,9 @@ def _parse_planar(raw: dict[str, Any], family: str, mech: dict, ws: dict, act: d
         )
         actuators = {"torque_max_Nm": _torque(act, 2), "force_max_N": force}
     else:
-        from cad.kinematics.twin_pantograph import TwinPantograph, crank_length_mm
-
         knob = optional_positive(mech, "knob_diameter_mm", "mechanism", 12.5)
-        crank = optional_positive(mech, "crank_mm", "mechanism", crank_length_mm(knob))
-        mechanism = TwinPantograph.symmetric(base, l2, l3, knob, crank)
+        crank = optional_positive(mech, "crank_mm", "mechanism", ktwin.crank_length_mm(knob))
+        mechanism = ktwin.TwinPantograph.symmetric(base, l2, l3, knob, crank)
         params.update(knob_diameter_mm=knob, crank_mm=crank)
         workspace["theta_grid"] = optional_int(ws, "theta_grid", "workspace", 8, minimum=1)
         workspace["home_mm"] = (

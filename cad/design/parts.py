@@ -167,6 +167,7 @@ from cad.data import catalog
 from cad.data.materials import get_material
 from cad.design import bounds
 from cad.design.fields import check_unknown, optional_int, optional_number
+from cad.design.laser import check_laser
 from cad.design.replace import TableReplace
 from cad.errors import DesignError
 from cad.printing import FILAMENTS, PROCESSES, PrintSettings, is_printed
@@ -448,7 +449,6 @@ def _print_keys(table: dict[str, Any], prefix: str, vals: dict[str, Any]) -> Non
                     f"no part is laser-cut and the sheet size is not used (set "
                     f"{_f(prefix, 'process')} = \"laser\" to nest the plates on sheets)")
     if proc == "laser":
-        from cad.design.laser import check_laser
 
         check_laser(vals, prefix)
     for key in ("print_layer_height_mm", "print_line_width_mm"):

@@ -19,6 +19,7 @@ import math
 from dataclasses import dataclass
 from typing import Any
 
+from cad.design.bounds import TARGETS, check_number
 from cad.errors import DesignError
 from cad.tolerances import TARGET_TOL_REL_DEFAULT
 
@@ -181,7 +182,6 @@ def parse_cli_target(text: str, allowed_keys: tuple[str, ...] = TARGET_KEYS) -> 
                 v = float(val)
             except ValueError:
                 raise DesignError(f"--target {text}", f"value {val!r} is not a number") from None
-            from cad.design.bounds import TARGETS, check_number
 
             if key in TARGETS:
                 check_number(f"--target {key}", v, TARGETS[key])

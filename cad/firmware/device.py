@@ -10,6 +10,7 @@ from __future__ import annotations
 from dataclasses import replace
 
 from cad.device import resolve_device
+from cad.firmware import linkage_model
 from cad.firmware.spec import (
     DeviceSpec,
     encoder_zero,
@@ -26,7 +27,6 @@ def device_spec(design, report: dict, design_hash: str, version: str, device=Non
     count are the resolved device's (:func:`cad.device.resolve_device`; resolved here when
     ``device`` is None). Raises DesignError naming ``--formats`` for a family without one."""
     if model is None:
-        from cad.firmware import linkage_model
 
         model = linkage_model(design)
     opts = design.firmware

@@ -20,6 +20,7 @@ import shutil
 import sys
 from pathlib import Path
 
+from cad.design import bounds
 from cad.io.cache_limit import cache_root
 
 #: one byte shared with forked children (MAP_SHARED | MAP_ANONYMOUS): 1 once a write failed
@@ -54,7 +55,6 @@ def write_failed(what: str, exc: BaseException) -> None:
     text = (f"cache {root}: cannot write {what} ({_reason(exc, root)}); this command works "
             "without the cache (every value computed afresh, same results)")
     if os.getpid() == _OWNER_PID:
-        from cad.design import bounds
 
         bounds.warn(text)
     else:

@@ -24,6 +24,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from cad.errors import DesignError
+from cad.kinematics import delta as kdelta
+from cad.kinematics import fivebar as kfivebar
 
 
 def scale_vector(values, n: int, name: str) -> np.ndarray:
@@ -326,11 +328,9 @@ def fivebar_gii(
     (S_J); force_max_N: (2,) or scalar (S_T). Equal scalars leave the GII that
     of the plain Jacobian (uniform scaling does not change it).
     """
-    from cad.kinematics.fivebar import STATUS_NAMES, jacobian_rad_per_m
-
     pts = square_grid_mm(center_mm, side_mm, grid)
-    J, status = jacobian_rad_per_m(fb, pts)
-    return gii_from_jacobians(J, status, pts, torque_max_Nm, force_max_N, STATUS_NAMES)
+    J, status = kfivebar.jacobian_rad_per_m(fb, pts)
+    return gii_from_jacobians(J, status, pts, torque_max_Nm, force_max_N, kfivebar.STATUS_NAMES)
 
 
 def delta_gii(d, points_mm, torque_max_Nm=1.0, force_max_N=1.0) -> GIIResult:
@@ -340,8 +340,6 @@ def delta_gii(d, points_mm, torque_max_Nm=1.0, force_max_N=1.0) -> GIIResult:
     force_max_N (3,) or scalar (S_T). A point outside the reachable, regular, in-limits
     workspace makes the GII 0 and is named (:data:`cad.kinematics.delta.STATUS_NAMES`).
     """
-    from cad.kinematics.delta import STATUS_NAMES, jacobian_rad_per_m
-
-    J, status = jacobian_rad_per_m(d, points_mm)
+    J, status = kdelta.jacobian_rad_per_m(d, points_mm)
     return gii_from_jacobians(J, status, np.asarray(points_mm, float), torque_max_Nm,
-                              force_max_N, STATUS_NAMES)
+                              force_max_N, kdelta.STATUS_NAMES)

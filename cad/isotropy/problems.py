@@ -16,7 +16,11 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 
 from cad.errors import DesignError
-from cad.isotropy.gii import scale_vector, boundary_first_order, singular_value_extremes
+from cad.isotropy.gii import boundary_first_order, scale_vector, singular_value_extremes
+from cad.kinematics import fivebar as kfivebar
+from cad.kinematics import haptic_pen as kpen
+from cad.kinematics import twin_pantograph as ktwin
+from cad.kinematics.delta import STATUS_OK, DeltaArrays, jacobian_kernel
 
 
 def _params(params, names: Sequence[str], nonnegative: Sequence[str] = ()) -> dict[str, np.ndarray]:
@@ -132,13 +136,11 @@ class FiveBarProblem:
         self.st = scale_vector(force_max_N, 2, "actuators.force_max_N")
 
     def sigma(self, cand: np.ndarray, point: np.ndarray):
-        from cad.kinematics.fivebar import jacobian_arrays
-
         a = self.a[cand]
         l2 = self.l2[cand]
         l3 = self.l3[cand]
         p = self.points_mm[point]
-        J, status = jacobian_arrays(
+        J, status = kfivebar.jacobian_arrays(
             -a / 2, 0.0, a / 2, 0.0, l2, l2, l3, l3, 1.0, -1.0, p[:, 0], p[:, 1]
         )
         Jh = J * 1e3 * self.sj[:, None] / self.st[None, :]
@@ -190,15 +192,13 @@ class TwinPantographProblem:
         )
 
     def sigma(self, cand, point):
-        from cad.kinematics.twin_pantograph import jacobian_arrays
-
         a = self.p["base_mm"][cand]
         l2 = self.p["proximal_mm"][cand]
         l3 = self.p["distal_mm"][cand]
         l6 = self.p["crank_mm"][cand]
         fb = (-a / 2, 0.0, a / 2, 0.0, l2, l2, l3, l3, 1.0, -1.0)
         X = self.points[point]
-        J, status = jacobian_arrays(fb, fb, l6, X[:, 0], X[:, 1], X[:, 2])
+        J, status = ktwin.jacobian_arrays(fb, fb, l6, X[:, 0], X[:, 1], X[:, 2])
         M = self.F * l6 * 1e-3 / 2 if self.M is None else np.full(l6.shape, self.M)
         st = np.stack([np.full(l6.shape, self.F), np.full(l6.shape, self.F), M], axis=-1)
         Jh = J * self.sj[None, :, None] / st[:, None, :]
@@ -247,11 +247,9 @@ class PenProblem:
         self.st = scale_vector([F, F, F, M, M], 5, "actuators.moment_arm_mm")
 
     def sigma(self, cand, point):
-        from cad.kinematics.haptic_pen import jacobian_arrays
-
         p = {k: v[cand] for k, v in self.p.items()}
         X = self.points[point]
-        J, status = jacobian_arrays(
+        J, status = kpen.jacobian_arrays(
             p["shoulder_base_mm"],
             p["proximal_mm"],
             p["distal_mm"],
@@ -305,8 +303,6 @@ class DeltaProblem:
         self.st = scale_vector(force_max_N, 3, "actuators.force_max_N")
 
     def sigma(self, cand: np.ndarray, point: np.ndarray):
-        from cad.kinematics.delta import STATUS_OK, DeltaArrays, jacobian_kernel
-
         t = self.template
         d = DeltaArrays(*(self.p[n][cand] for n in self.param_names),
                         motor_azimuth_rad=t.motor_azimuth_rad, theta_min_rad=t.theta_min_rad,

@@ -45,7 +45,13 @@ from dataclasses import dataclass
 import numpy as np
 
 from cad.errors import DesignError, KinematicsError
-from cad.tolerances import DELTA_PARALLEL_SINGULAR, DELTA_SERIAL_SINGULAR, REACH_REL_EPS
+from cad.tolerances import (
+    DELTA_FK_NEWTON_STEPS,
+    DELTA_FK_RESIDUAL_REL,
+    DELTA_PARALLEL_SINGULAR,
+    DELTA_SERIAL_SINGULAR,
+    REACH_REL_EPS,
+)
 
 STATUS_OK = 0
 STATUS_UNREACHABLE = 1
@@ -318,7 +324,6 @@ def _sphere_point(d: Delta, t: np.ndarray, radius_mm: float) -> tuple[np.ndarray
 def _newton_fk(d: Delta, t: np.ndarray, P: np.ndarray, bad: np.ndarray):
     """Newton's method on f_i(P) = (rho_i - g)^2 + y'_i^2 - L_b^2 = 0 from P (N, 3); points
     whose residual stays above round-off (or whose Jacobian is singular) join ``bad``."""
-    from cad.tolerances import DELTA_FK_NEWTON_STEPS, DELTA_FK_RESIDUAL_REL
 
     def residual(X):
         C = _shifted_elbows(d, t)

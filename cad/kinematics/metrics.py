@@ -35,6 +35,7 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
+from cad.errors import KinematicsError
 from cad.kinematics.fourbar import (
     FourBar,
     coupler_point_and_jacobian,
@@ -69,7 +70,6 @@ def path_frame(fb: FourBar, phi1_min_rad: float, phi1_max_rad: float) -> PathFra
     chord = ends[1] - ends[0]
     n = np.linalg.norm(chord)
     if n == 0:
-        from cad.errors import KinematicsError
 
         raise KinematicsError("P(phi1_min) == P(phi1_max): the range has no stroke")
     x_hat = chord / n

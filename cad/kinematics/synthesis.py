@@ -40,6 +40,7 @@ import numpy as np
 from cad import tolerances as tol
 from cad.errors import DesignError, KinematicsError
 from cad.kinematics.fourbar import FourBar, check_range, closure_margin, solve
+from cad.kinematics.max_stroke import global_max_stroke
 from cad.kinematics.metrics import Metrics, compute_metrics
 from cad.tolerances import (
     ROOT_XTOL_RAD,
@@ -243,7 +244,6 @@ def synthesize(
     starts = [x0] + [x0 * (1 + 0.05 * rng.standard_normal(x0.size)) for _ in range(restarts)]
     bound = None
     if objective == "max-stroke" and stroke_mm is None:
-        from cad.kinematics.max_stroke import global_max_stroke
 
         g = global_max_stroke(fb0, dy_tol_mm, mu_min_deg, force_N)
         counter["n"] += 0 if g is None else g.cells

@@ -42,7 +42,7 @@ from cad.errors import FileRefused
 from cad.io import cache_faults, guard
 from cad.io.atomic import write_text_atomic
 from cad.io.cache_limit import touch
-from cad.massprops.occt import check_valid, to_si, volume_props_mm
+from cad.massprops.occt import cached_unit_props, check_valid, to_si, volume_props_mm
 from cad.parts.part_cache import DeferredShape, shape_key
 from cad.parts.shape_cache import cache_dir, library_versions
 
@@ -125,7 +125,6 @@ def unit_volume_props(shape) -> tuple[float, np.ndarray, np.ndarray]:
     :class:`cad.errors.GeometryError` for an invalid solid."""
     key = shape_key(shape)
     if key is None:
-        from cad.massprops.occt import cached_unit_props
 
         return cached_unit_props(shape)
     hit = _MEMO.get(key)

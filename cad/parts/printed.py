@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import math
 
+from cad.errors import DesignError
 from cad.occ.boolean import common
 from cad.printing import PrintSettings
 from cad.tolerances import (
@@ -158,7 +159,6 @@ def printed_core_mm3(shape, s: PrintSettings) -> float:
     z0, T = bb.min.Z, bb.max.Z - bb.min.Z
     n_layers = max(1, round(T / s.layer_height_mm))
     if n_layers > PRINT_LAYERS_MAX:  # refused before any section is cut: the work is per layer
-        from cad.errors import DesignError
 
         raise DesignError("parts.print_layer_height_mm", f"{s.layer_height_mm:g} mm layers make "
                           f"{n_layers} layers of a {T:.4g} mm tall printed part, over "

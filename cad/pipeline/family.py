@@ -55,6 +55,13 @@ from cad.export import (
 )
 from cad.export.drawings import SheetPart, write_drawings
 from cad.export.gltf import kind_meshes
+from cad.export.nesting import (
+    nested_stock,
+    plan_sheets,
+    sheet_designation,
+    sheet_name,
+    write_sheets,
+)
 from cad.export.order import bought_designation, stock, stock_is_mass
 from cad.export.shapes import placed
 from cad.io.atomic import write_text_atomic
@@ -221,7 +228,6 @@ def bom_rows(instances, props: dict, formats=None) -> list[dict]:
     q = quantities(instances)
     sheets = None
     if laser_kinds(instances):
-        from cad.export.nesting import plan_sheets
 
         sheets = plan_sheets(instances)
     stocks = kind_stock(instances, props, sheets)
@@ -275,7 +281,6 @@ def kind_stock(instances, props: dict | None = None, sheets=None) -> dict[str, s
             mass_g = mp.mass_kg * 1e3 if mp is not None else 0.0
         out[name] = stock(k, mass_g)
     if any(n in made for n in laser_kinds(instances)):
-        from cad.export.nesting import nested_stock, plan_sheets
 
         if sheets is None:
             sheets = plan_sheets(instances)
@@ -309,7 +314,6 @@ def sheet_rows(sheets) -> list[dict]:
     """BOM rows of the stock sheets the laser-cut parts are nested on
     (:func:`cad.export.nesting.plan_sheets`): one bought row per material, thickness and size,
     quantity = number of sheets."""
-    from cad.export.nesting import sheet_designation, sheet_name
 
     rows: dict = {}
     notes: dict = {}
@@ -533,7 +537,6 @@ def write_outputs(
         )
         files += [p.relative_to(out_dir).as_posix() for p in paths]
     if "dxf" in formats and laser_kinds(instances):
-        from cad.export.nesting import write_sheets
 
         files += write_sheets(instances, out_dir,
                               {n: shop_args(k, instances, holes, stocks)

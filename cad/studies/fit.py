@@ -42,6 +42,7 @@ from cad.design.parts import ALLOWED_KEYS
 from cad.design.targets import Target
 from cad.errors import DesignError, HapticadError
 from cad.families.fourbar.datasheet import force_rows, lever
+from cad.printing import FILAMENTS
 from cad.studies.codesign import cheap
 from cad.studies.codesign.cheap import layer_plan
 from cad.studies.codesign.search import STOCK_THICKNESS_MM, layer_problem, optimize_study
@@ -192,11 +193,9 @@ def material_choices(parts_spec, name: str) -> tuple[str, ...]:
     process = getattr(parts_spec, "process", "machined")
     if process == "laser" and name in LASER_PLATE_KEYS and not (
             name == "bar_material" and getattr(parts_spec, "bar_style", "plate") != "plate"):
-        from cad.data.materials import SHEETS
 
         return tuple(k for k, s in SHEETS.items() if s.tappable or not LASER_PLATE_KEYS[name])
     if process == "printed" and name not in ("pin_material",):
-        from cad.printing import FILAMENTS
 
         return tuple(FILAMENTS)
     return MATERIAL_CHOICES

@@ -5,12 +5,17 @@ CAD, plotting or other heavy library at module level: ``tests/architecture/test_
 The exceptions are counted, not listed: ``cad/api.py`` (the lazy facade of every command:
 importing all it reaches costs each ``hapticad`` call about 0.5 s), ``cad/cli/`` (the same,
 per command), the package ``__init__`` modules that every submodule import runs
-(``cad/pipeline``, ``cad/export``, ``cad/export/drawings``, ``cad/firmware``), the modules
-the CLI imports at start-up or an up-to-date build runs (``cad/isotropy/report.py``,
-``cad/bench/run.py``, ``cad/families/fourbar/swap.py``, ``cad/pipeline/file_props.py``,
-``cad/pipeline/render.py``, ``cad/sim/device.py``: hoisted, they cost an unchanged build
-0.15 s), the imports that break an import cycle and those in modules other work was changing
-when the rest were hoisted. The count may only go down (a ratchet).
+(``cad/pipeline``, ``cad/export``, ``cad/firmware``), the modules the CLI imports at start-up
+or an up-to-date build runs (``cad/isotropy/report.py``, ``cad/bench/run.py``,
+``cad/families/fourbar/swap.py``, ``cad/pipeline/file_props.py``, ``cad/pipeline/render.py``,
+``cad/sim/device.py``, ``cad/design/fields.py``: hoisted, they load numpy or the build's
+modules on every call), the imports that break an import cycle (``cad/actuators/voicecoil.py``
+with its magpylib field model, ``cad/io/derived_cache.py`` with the shape cache, the pen's
+fasteners with its assembly), and those in modules other work was changing when the rest
+were hoisted (``cad/sim/identify_*``, ``cad/studies/codesign``, the delta's, the pen's and the
+PowerMouse's). Two imports of the same name from two modules are module imports
+(``from cad.kinematics import fivebar as kfivebar``), not function-level ones. The count may
+only go down (a ratchet).
 """
 
 from __future__ import annotations
@@ -21,7 +26,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[2]
 #: Function-level imports of ``cad`` outside cad/api.py and cad/cli/ at the commit that hoisted
 #: the rest (measured with :func:`function_level_imports`); lower it when you hoist more.
-MAX_FUNCTION_LEVEL = 190
+MAX_FUNCTION_LEVEL = 119
 EXEMPT = ("cad/api.py", "cad/cli/")
 
 

@@ -12,7 +12,8 @@ from __future__ import annotations
 import io
 from pathlib import Path
 
-from cad.export.drawings.sheet import SheetPart
+from cad.export.drawings.sheet import SheetPart, draw_sheet
+from cad.io.atomic import write_bytes_atomic
 
 PDF_NAME = "drawings.pdf"
 SVG_DIR = "drawings"
@@ -29,8 +30,6 @@ def write_drawings(parts: list[SheetPart], out_dir: Path, design: str) -> list[P
     import matplotlib.pyplot as plt
     from matplotlib.backends.backend_pdf import PdfPages
 
-    from cad.export.drawings.sheet import draw_sheet
-    from cad.io.atomic import write_bytes_atomic
 
     out_dir = Path(out_dir)
     pdf_buf = io.BytesIO()

@@ -48,11 +48,18 @@ from cad.analysis import METRIC_KEYS, apparent_mass_curves
 from cad.assembly import interference as itf
 from cad.device import encoder_bom_rows, resolve_device
 from cad.dynamics.inertia import PlanarLinkInertia, apparent_mass_summary, h_from_links
-from cad.export import STL_ANGULAR_TOLERANCE_RAD
 from cad.export.nesting import plan_sheets, sheets_report
 from cad.families.fourbar import capstan
-from cad.families.fourbar.layout import LINKS, PREVIEW_POSES, check_layout, sweep_angles
+from cad.families.fourbar.layout import (
+    LINKS,
+    PREVIEW_POSES,
+    assemble,
+    check_layout,
+    exported_phi1_rad,
+    sweep_angles,
+)
 from cad.families.fourbar.pose import body_transforms
+from cad.families.fourbar.sheet_tolerance import handle_floor_mm, tolerance_report
 from cad.families.fourbar.sim import sim_model
 from cad.kinematics.fourbar import solve
 from cad.kinematics.metrics import compute_metrics
@@ -167,7 +174,6 @@ def _fidelity_costs(design, model, props: dict, H, am: dict, Jm: float, fidelity
     if model.extra.handle_script is not None or design.parts.handle_fillet_mm <= 0:
         out["handle_round"] = "not applicable"
         return out
-    from cad.families.fourbar.sheet_tolerance import handle_floor_mm
     floor = handle_floor_mm(model.extra.plan, design.parts)
     other = knob_shape(design.parts, floor, cosmetic=fidelity != "fabrication")
     kind = model.kinds()["handle"]
@@ -219,7 +225,6 @@ def _sim_files(b) -> list[str]:
 
 def check_options(design, fidelity: str, phi1_deg, formats=frozenset()) -> None:
     """A bad ``--phi1-deg`` (outside the crank range) before any CAD (DesignError)."""
-    from cad.families.fourbar.layout import exported_phi1_rad
 
     exported_phi1_rad(design, phi1_deg)
 
@@ -228,7 +233,6 @@ def _stages(phi1_deg: float | None, allow_interference: bool):
     """The four-bar's stages of the one build driver (:class:`cad.pipeline.run.Stages`): its
     layout, the coupler path on the preview, the paper's plots (which need H), its dynamics
     (H, M, structure), the encoder and capstan rows, its report."""
-    from cad.families.fourbar.layout import assemble
     return Stages(
         check_options=check_options,
         assemble=lambda design, fidelity: assemble(design, fidelity, phi1_deg=phi1_deg,
@@ -360,7 +364,6 @@ def _sheets(b, report: dict) -> None:
     model = b.model
     if not family.laser_kinds(model.instances):
         return
-    from cad.families.fourbar.sheet_tolerance import tolerance_report
 
     report["sheets"] = sheets_report(plan_sheets(model.instances), "dxf" in b.formats)
     report["sheets"]["thickness_tolerance"] = tolerance_report(

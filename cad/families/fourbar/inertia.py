@@ -39,7 +39,7 @@ from cad.kinematics.fourbar import jacobian_mm_per_rad, solve, velocity_ratios
 from cad.kinematics.metrics import compute_metrics, path_frame
 from cad.parts.part_cache import DeferredShape
 from cad.parts.part_props import unit_volume_props
-from cad.pipeline import family
+from cad.pipeline import build_design, family
 
 LINKS = ("crank", "coupler", "rocker")
 
@@ -184,7 +184,6 @@ def target_values(design, fidelity: str, need_clearance: bool) -> tuple[dict, di
                         force_N=design.force_N)
     report = {**model, **m.as_dict()}
     if need_clearance:
-        from cad.pipeline import build_design
 
         with tempfile.TemporaryDirectory() as tmp:
             rep = build_design(design, Path(tmp) / "b", set(), fidelity=fidelity, simulate_wall=False,

@@ -42,7 +42,9 @@ from cad.assembly.fasteners import MIN_ENGAGEMENT_ALU_D, alu_hole, size_set_scre
 from cad.data import catalog
 from cad.design.parts import LINK_NAMES, PartsSpec
 from cad.errors import DesignError
+from cad.families.fourbar.pins import pin_window
 from cad.families.fourbar.pose import planar_transforms
+from cad.families.fourbar.sheet_tolerance import sheet_bands, size_over_band, thinnest_mm
 from cad.kinematics.families import family_linkage
 from cad.kinematics.linkgeom import link_joints_mm
 from cad.parts.base import STANDOFF_TAP_DEPTH_MM
@@ -66,8 +68,6 @@ JOINTS = {"A2": ("crank", "coupler"), "A3": ("coupler", "rocker"), "A4": ("rocke
 #: (bore 0.5 mm past the relief, hole b + 1 mm).
 POST_THREAD_EXTRA_MM = 1.5
 POST_WEB_MM = 1.0
-#: Shoulder must enter the lower link by at least this (mm) to locate it.
-SHOULDER_MIN_ENTRY_MM = 1.0
 #: Knob floor under the handle screw head (mm): the screw goes down through it into the
 #: tapped coupler, so nothing hangs under the coupler at P.
 HANDLE_SCREW_FLOOR_MM = 5.0
@@ -254,23 +254,6 @@ _HULL_MEMO: dict[tuple, float] = {}
 
 
 # --------------------------------------------------------------------------- stack
-def pin_window(parts: PartsSpec, t: float, on_post: bool) -> tuple[float, float]:
-    pin = catalog.get_shoulder_screw(parts.pin)
-    if on_post:
-        return SHOULDER_MIN_ENTRY_MM, np.inf
-    w = catalog.get_washer(parts.pin)
-    nut = catalog.get_nut(parts.pin)
-    lo = max(SHOULDER_MIN_ENTRY_MM, t + w.h_mm + nut.m_mm - pin.b_mm)
-    hi = min(t - 0.5, t + w.h_mm - pin.g2_mm)
-    if lo > hi:
-        raise DesignError(
-            "parts.bar_thickness_mm",
-            f"a {t:g} mm bar cannot be clamped by the {parts.pin} shoulder screw and nut "
-            f"(shoulder entry window {lo:g}..{hi:g} mm is empty)",
-        )
-    return lo, hi
-
-
 def joint_stack(
     joint: str, upper: str, lower: str, z_upper: float, z_lower_top: float, parts: PartsSpec
 ) -> JointStack:
@@ -316,7 +299,6 @@ def hub_screw_length(parts: PartsSpec) -> tuple[float, float]:
     (1.5 d minimum in aluminium, :mod:`cad.assembly.fasteners`); the hub is made tall
     enough for the hole (:func:`plan_for_order`). Engagement: at the thinnest crank sheet in a
     laser build (:func:`cad.families.fourbar.sheet_tolerance.thinnest_mm`), the nominal otherwise."""
-    from cad.families.fourbar.sheet_tolerance import sheet_bands, size_over_band, thinnest_mm
 
     hole = alu_hole("crank_hub:screw", "crank_hub", parts.hub_screw, math.inf)
     bands = sheet_bands(parts)  # a laser-cut crank: long enough at its thickest, the hole

@@ -36,8 +36,17 @@ from cad.assembly.model import AssemblyModel
 from cad.device import resolve_device
 from cad.errors import DesignError
 from cad.families.fourbar.capstan_solids import add_capstan
+from cad.families.fourbar.layers import (
+    JOINTS,
+    NoLayout,
+    choose_layers,
+    clearing_stroke_mm,
+    footprint_bbox_mm,
+    hub_set_screw,
+)
 from cad.families.fourbar.mechanism import build_assembly, check_plate_screws
 from cad.families.fourbar.pose import body_transforms, planar_transforms
+from cad.families.fourbar.sheet_tolerance import handle_floor_mm
 from cad.kinematics.linkgeom import link_joints_mm
 from cad.parts.handle import handle_params, resolve_script, user_handle_shape
 from cad.parts.part_cache import deferred_shapes
@@ -98,7 +107,6 @@ def check_layout(design, fidelity: str, allow_interference: bool) -> None:
     (:func:`plan_layers`) or whose jointed bars sit closer than ``parts.clearance_min_mm``
     (:func:`check_joint_gaps`); the last two skipped with ``allow_interference``: the build
     then exports the clash and reports it)."""
-    from cad.families.fourbar.layers import hub_set_screw
 
     hub_set_screw(design.parts)
     check_plate_screws(design.parts)
@@ -119,7 +127,6 @@ def check_joint_gaps(plan, parts) -> None:
     (:func:`cad.assembly.interference.raise_on_collision`) would refuse the build at every
     pose, after the CAD work (``layer_gap_mm = 0.002`` typed in metres).
     """
-    from cad.families.fourbar.layers import JOINTS
 
     level = {name: i for i, name in enumerate(plan.order)}
     for joint, (a, b) in JOINTS.items():
@@ -140,7 +147,6 @@ def plan_layers(design, J, planar, n_poses: int, strict: bool):
     """:func:`cad.families.fourbar.layers.choose_layers`; when ``strict`` and no layer order is clear,
     the refusal (before any CAD import) names the joint and parts and, for a family scaled
     by ``stroke_mm``, the smallest stroke whose layout is clear (the crank length with it)."""
-    from cad.families.fourbar.layers import NoLayout, choose_layers, clearing_stroke_mm
 
     try:
         return choose_layers(J, design.parts, planar, strict=strict)
@@ -169,7 +175,6 @@ def _parts(design, J, plan, footprint, fidelity: str, deferred: bool, script):
     parts = design.parts
     user_handle = None
     if script is not None:
-        from cad.families.fourbar.sheet_tolerance import handle_floor_mm
 
         floor = handle_floor_mm(plan, parts)
         user_handle = user_handle_shape(script, handle_params(parts, floor))
@@ -213,7 +218,6 @@ def assemble(
     Raises DesignError: ``--phi1-deg`` outside the crank range, no layer order when
     ``strict`` (:func:`plan_layers`), a fastener that cannot be sized, a bad user handle.
     """
-    from cad.families.fourbar.layers import footprint_bbox_mm
     fb = design.linkage
     pose_phi = exported_phi1_rad(design, phi1_deg)
     script = resolve_script(design.parts, design.source)

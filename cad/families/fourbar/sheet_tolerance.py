@@ -19,7 +19,7 @@ the keys to change).
 
 ISO 7379 pin stacks (:func:`pin_rows`): the clamp (head spacer, bearing ring, gap spacer) holds
 no sheet, but the shoulder ends inside the lower bar with the nut on full thread, a window
-that moves with the lower bar's thickness (:func:`cad.families.fourbar.layers.pin_window` at its
+that moves with the lower bar's thickness (:func:`cad.families.fourbar.pins.pin_window` at its
 ``hi`` and ``lo``), and the screw head stands above the upper bar by the head clearance less
 what the upper bar's lip grows.
 
@@ -35,6 +35,7 @@ from cad.assembly.fasteners import size_cap_screw
 from cad.data import catalog
 from cad.data.materials import SHEETS
 from cad.design import bounds
+from cad.families.fourbar.pins import pin_window
 
 #: The standard (or source) each sheet material's thickness band is from
 #: (:data:`cad.data.materials.SHEETS` ``source["thickness_range_mm"]`` gives the full text).
@@ -188,7 +189,6 @@ def pin_rows(plan, parts, bands: dict[str, SheetBand]) -> list[dict]:
     the lower bar ``L - c`` against its window at the lower bar's ``hi`` (nut on full thread)
     and ``lo`` (shoulder inside the bar), the head's clearance above the upper bar at its
     ``hi``, and the stack height (lower bar bottom to head top) over the lower bar's band."""
-    from cad.families.fourbar.layers import pin_window
 
     pin = catalog.get_shoulder_screw(parts.pin)
     brg = catalog.get_bearing(parts.bearing)

@@ -63,6 +63,7 @@ from pathlib import Path
 
 import numpy as np
 
+from cad.data.families import refusal
 from cad.data.materials import get_material
 from cad.device import encoder_bom_rows, resolve_device
 from cad.errors import DesignError
@@ -120,9 +121,10 @@ from cad.families.pantograph.placement import (  # noqa: F401
     place_set_screw,
 )
 from cad.families.pantograph.report import PAPER_TABLE1, build_report, report_md_rows  # noqa: F401
-from cad.families.pantograph.sim import sim_model
+from cad.families.pantograph.sim import fivebar_sim_model, sim_model
 from cad.kinematics import twin_pantograph as tw
 from cad.pipeline.run import Stages, run_family
+from cad.pipeline.views import write_sim_model
 
 #: Families this module builds (others of cad.design.pantograph are refused at load).
 FAMILIES = ("pantograph", "twin-pantograph")
@@ -139,7 +141,6 @@ ASSEMBLY_CHECKS = (
 def check_options(design, fidelity: str, phi1_deg, formats=frozenset()) -> None:
     """Refuse what this builder cannot do, before any CAD import (DesignError)."""
     if design.family not in FAMILIES:
-        from cad.data.families import refusal
 
         raise DesignError("mechanism.family", refusal("build", design.family))
     if phi1_deg is not None:
@@ -248,8 +249,6 @@ def _sim_files(b) -> list[str]:
     """MJCF / URDF when asked: the twin pantograph (:func:`_write_sim`), the plain 5-bar
     (:func:`cad.families.pantograph.sim.fivebar_sim_model`, from the assembly model)."""
     if not is_twin(b.design):
-        from cad.families.pantograph.sim import fivebar_sim_model
-        from cad.pipeline.views import write_sim_model
 
         return write_sim_model(lambda: fivebar_sim_model(b.design, b.model, b.bodies), b.out_dir,
                                b.formats, b.design.name)

@@ -32,6 +32,9 @@ from cad.families.pantograph.limits import pantograph_limits
 from cad.families.pantograph.mode_ceiling import mode_ceiling
 from cad.firmware.extras import paper_eq25_inputs
 from cad.io.escape import mathtext
+from cad.kinematics import fivebar as kfivebar
+from cad.kinematics import haptic_pen as kpen
+from cad.kinematics import twin_pantograph as ktwin
 from cad.structure.pantograph import WEB_WIDTH_MIN_MM, analyse
 
 #: Translational task coordinates (columns of J) per family.
@@ -43,23 +46,15 @@ def jacobian_and_limits(design) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     X = design.workspace_points()
     act = design.actuators
     if design.family == "pantograph":
-        from cad.kinematics.fivebar import STATUS_OK, jacobian_rad_per_m
-
-        J, st = jacobian_rad_per_m(design.mechanism, X)
+        J, st = kfivebar.jacobian_rad_per_m(design.mechanism, X)
         tau = np.broadcast_to(np.asarray(act["torque_max_Nm"], float), (2,))
     elif design.family == "twin-pantograph":
-        from cad.kinematics.fivebar import STATUS_OK
-        from cad.kinematics.twin_pantograph import jacobian_si
-
-        J, st = jacobian_si(design.mechanism, X)
+        J, st = ktwin.jacobian_si(design.mechanism, X)
         tau = np.broadcast_to(np.asarray(act["torque_max_Nm"], float), (4,))
     else:
-        from cad.kinematics.fivebar import STATUS_OK
-        from cad.kinematics.haptic_pen import actuator_scale, jacobian_si
-
-        J, st = jacobian_si(design.mechanism, X)
-        tau = actuator_scale(design.params["waist_torque_ratio"], float(np.atleast_1d(act["torque_max_Nm"])[0]))
-    return np.asarray(J), np.asarray(tau, float), np.asarray(st) == STATUS_OK
+        J, st = kpen.jacobian_si(design.mechanism, X)
+        tau = kpen.actuator_scale(design.params["waist_torque_ratio"], float(np.atleast_1d(act["torque_max_Nm"])[0]))
+    return np.asarray(J), np.asarray(tau, float), np.asarray(st) == kfivebar.STATUS_OK
 
 
 def force_ellipses(design) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

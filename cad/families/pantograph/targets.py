@@ -11,6 +11,7 @@ from __future__ import annotations
 from cad.design.targets import PANTOGRAPH_DATASHEET_KEYS
 from cad.families import family_package
 from cad.families.pantograph.mode_ceiling import mode_ceiling
+from cad.pipeline import build_design
 from cad.structure.pantograph import WEB_WIDTH_MIN_MM
 
 #: Datasheet figures that need no build (the Jacobian, the motors, the encoder).
@@ -32,7 +33,6 @@ def pantograph_target_values(design, fidelity: str, wanted: set[str]) -> tuple[d
         return values, {}
     rep: dict = {}
     if rest - NO_BUILD_KEYS:
-        from cad.pipeline import build_design
 
         with tempfile.TemporaryDirectory() as tmp:
             rep = build_design(design, Path(tmp) / "b", set(), fidelity=fidelity, use_cache=False,

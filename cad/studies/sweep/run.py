@@ -40,6 +40,7 @@ from cad.errors import DesignError, HapticadError
 from cad.families.fourbar.inertia import warm_part_cache
 from cad.io import signals
 from cad.io.escape import mathtext
+from cad.occ.threads import limit_occt_threads
 from cad.parts.lazy_import import import_build123d
 from cad.report.figures import save_figure
 from cad.studies.sweep.spec import Vary, apply, assignments, design_hash
@@ -346,7 +347,6 @@ def _setup_worker(one_core: bool) -> None:
     import_build123d()
 
     if one_core:
-        from cad.occ.threads import limit_occt_threads
 
         limit_occt_threads(1)
 

@@ -13,7 +13,12 @@ import os
 import time
 from typing import Any
 
+from cad.checks import evaluate, merge_targets
+from cad.design import parse_design
+from cad.design.fourbar import FourBarDesign
 from cad.design.targets import TARGET_KEYS
+from cad.errors import DesignError, HapticadError
+from cad.families.fourbar.inertia import target_values
 
 #: metric and target columns of every row (float, NaN when not computed): every target key
 #: of :data:`cad.design.targets.TARGET_KEYS` plus the apparent-mass bounds without a target key
@@ -36,11 +41,6 @@ def evaluate_variant(raw: dict[str, Any], source: str, fidelity: str, cli_target
     t0, c0 = time.perf_counter(), time.process_time()
     row: dict[str, Any] = {"status": "error", "error": "", "targets_missed": ""}
     try:
-        from cad.checks import evaluate, merge_targets
-        from cad.design import parse_design
-        from cad.design.fourbar import FourBarDesign
-        from cad.errors import DesignError
-        from cad.families.fourbar.inertia import target_values
 
         d = parse_design(raw, source)
         if not isinstance(d, FourBarDesign):
@@ -59,7 +59,6 @@ def evaluate_variant(raw: dict[str, Any], source: str, fidelity: str, cli_target
             row["error"] = (f"interference: {overlap:.3g} mm^3 of overlap, min clearance "
                             f"{values.get('min_clearance_mm', float('nan')):.3g} mm")
     except Exception as exc:  # every failure is a row, never the end of the sweep
-        from cad.errors import HapticadError
 
         msg = " ".join(str(exc).split())
         row["error"] = msg if isinstance(exc, HapticadError) else f"{type(exc).__name__}: {msg}"
