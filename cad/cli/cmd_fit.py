@@ -73,7 +73,7 @@ def register(app: typer.Typer) -> None:
                 comp = "—" if r["computed"] is None else f"{r['computed']:.4g}"
                 print(f"  {r['key']}: {comp} (target {r['target_text']}) {'ok' if r['ok'] else 'MISSED'}")
             print(f"{payload['evaluations']} candidates evaluated, {payload['rejected_pre_cad']} rejected "
-                  "before CAD (layer planner, part checks, force limit)")
+                  "before CAD (the family's pre-CAD checks: the fit log names each reason)")
             print(f"{'replaced' if replaced else 'wrote'} {dst}")
         import sys
 

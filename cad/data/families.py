@@ -71,7 +71,7 @@ FAMILIES: dict[str, Family] = {
         Family("powermouse", "powermouse", "cad.design.powermouse", "powermouse",
                ("check", "fit", "build", "render", "datasheet")),
         Family("delta", "delta", "cad.families.delta.design", "delta",
-               ("build", "gii", "optimize", "render", "datasheet")),
+               ("check", "fit", "build", "gii", "optimize", "render", "datasheet")),
     )
 }
 

@@ -166,6 +166,14 @@ POWERMOUSE_TARGET_KEYS = ("continuous_force_N", "peak_force_N", "force_per_At_N"
                           "flotor_mass_g", "peak_acceleration_G", "min_clearance_mm", "total_mass_g",
                           "moving_mass_g")
 
+#: ``[targets]`` / ``--target`` keys of a delta: its datasheet's figures (``hapticad check`` and
+#: ``fit`` compute them on a build, :mod:`cad.studies.build_targets`;
+#: :mod:`cad.families.delta.datasheet`).
+DELTA_TARGET_KEYS = ("continuous_force_N", "peak_force_N", "resolution_um", "eq25_K_max_N_per_m",
+                     "apparent_mass_max_g", "apparent_mass_min_g", "first_mode_Hz",
+                     "compliance_max_um_per_N", "moving_mass_g", "total_mass_g",
+                     "overlap_volume_mm3")
+
 
 def parse_targets(table: dict[str, Any], prefix: str = "targets",
                   allowed_keys: tuple[str, ...] = TARGET_KEYS) -> tuple[Target, ...]:

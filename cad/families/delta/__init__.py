@@ -5,10 +5,11 @@
 (:mod:`.dynamics`), the 3-D frame (:mod:`.structure`), the build (:mod:`.build`) and its
 datasheet rows (:mod:`.datasheet`), the firmware's kinematic model (:mod:`.firmware`:
 ``--formats firmware``), the MuJoCo model (:mod:`.sim`: ``--formats mjcf``). Its :data:`FAMILY` gives build, datasheet, firmware and the GII
-optimiser; ``check``/``fit`` refuse a delta in one line."""
+optimiser, and ``check``/``fit`` on its datasheet's figures (:mod:`.targets`)."""
 
 from cad.families import SHARED_CODE_DEPS
-from cad.families.protocol import FamilyPackage, Lazy
+from cad.design.targets import DELTA_TARGET_KEYS
+from cad.families.protocol import FamilyPackage, Lazy, TargetHooks
 
 _P = "cad.families.delta"
 
@@ -21,6 +22,13 @@ FAMILY = FamilyPackage(
     sim_formats=frozenset({"mjcf"}),
     view_formats=True,
     datasheet_rows=Lazy(f"{_P}.datasheet:rows_and_limits"),
+    targets=TargetHooks(
+        keys=DELTA_TARGET_KEYS,
+        values=Lazy("cad.studies.build_targets:build_target_values"),
+        parse_free=Lazy(f"{_P}.targets:parse_free"),
+        fit_limits=Lazy(f"{_P}.targets:default_limit_targets"),
+        precad=Lazy(f"{_P}.targets:precad"),
+    ),
     optimize=Lazy("cad.studies.gii_optimize:optimize"),
     firmware=Lazy("cad.firmware:linkage_files"),
     firmware_model=Lazy(f"{_P}.firmware:model"),

@@ -24,7 +24,8 @@ Schema (mm, deg, N, N m; * = required)::
                  its base frame)
 
 Frames and angles: :mod:`cad.kinematics.delta` (base frame z up, effector below, theta from
-the horizontal, positive down, elbow-out branch). ``[transmission]``, ``[targets]`` and
+the horizontal, positive down, elbow-out branch). ``[targets]``: the datasheet figures
+(``check``, ``fit``); ``[transmission]`` and
 ``[prices]`` are refused with one line. Joints of the motors (the resolved device, the
 MJCF): ``theta_0``, ``theta_1``, ``theta_2``. No CAD import.
 """
@@ -44,6 +45,7 @@ from cad.design.fields import check_name, check_unknown, number_list, optional_t
 from cad.design.firmware import parse_firmware
 from cad.design.motor import parse_motor_table
 from cad.design.parts import parse_encoder
+from cad.design.targets import DELTA_TARGET_KEYS, parse_targets
 from cad.errors import DesignError
 
 MECH_KEYS = ("family", "base_radius_mm", "effector_radius_mm", "upper_arm_mm", "lower_arm_mm",
@@ -53,7 +55,7 @@ MECH_DEFAULTS = {"parallelogram_width_mm": 30.0, "motor_angle_min_deg": -40.0,
                  "motor_angle_max_deg": 85.0}
 WS_KEYS = ("shape", "center_mm", "size_mm", "diameter_mm", "height_mm", "grid")
 OPTIMIZABLE = ("base_radius_mm", "effector_radius_mm", "upper_arm_mm", "lower_arm_mm")
-NOT_YET = ("transmission", "targets", "prices")
+NOT_YET = ("transmission", "prices")
 PARTS_KEYS = ("motor", "encoder", "encoder_counts_per_rev")
 #: The encoder a delta that states none gets: maxon's HEDL 5540 (500 CPT, 2000 counts/rev
 #: after x4 decoding), the encoder maxon combines with the RE 35 the delta's arms default to.
@@ -91,7 +93,7 @@ class DeltaDesign:
     actuators: dict[str, Any]
     optimize: dict[str, tuple[float, float, int]]
     raw: dict = field(repr=False)
-    #: the delta takes no [targets] yet (refused at load): optimize checks none on its optimum
+    #: ``[targets]`` (:data:`cad.design.targets.DELTA_TARGET_KEYS`): ``check`` / ``fit`` bounds
     targets: tuple = ()
     parts: DeltaParts = field(default_factory=DeltaParts)
     #: ``[motor]`` overrides of ``parts.motor`` (:func:`cad.design.motor.parse_motor_table`)
@@ -257,12 +259,12 @@ def _optimize(raw: dict[str, Any]) -> dict[str, tuple[float, float, int]]:
 def parse(raw: dict[str, Any], source: str = "<design>") -> DeltaDesign:
     """Validate a raw delta design; every problem is a :class:`DesignError` naming the key."""
     check_unknown(raw, ("name", "description", "mechanism", "workspace", "actuators", "optimize",
-                        "parts", "motor", "firmware", *NOT_YET), "")
+                        "parts", "motor", "firmware", "targets", *NOT_YET), "")
     for key in NOT_YET:
         if key in raw:
             cmds = ", ".join(family("delta").commands)
             raise DesignError(key, f"a delta design takes no [{key}] table yet (direct drive, no "
-                                   f"targets or prices); {cmds} take a delta design")
+                                   f"prices table); {cmds} take a delta design")
     mech = require_table(raw, "mechanism", "")
     if mech.get("family") != "delta":
         raise DesignError("mechanism.family", f"must be 'delta', got {mech.get('family')!r}")
@@ -274,4 +276,5 @@ def parse(raw: dict[str, Any], source: str = "<design>") -> DeltaDesign:
         actuators=_actuators(optional_table(raw, "actuators", "")), optimize=_optimize(raw),
         raw=raw, parts=_parts(optional_table(raw, "parts", "")),
         motor=parse_motor_table(optional_table(raw, "motor", ""), "motor"),
-        firmware=_firmware(optional_table(raw, "firmware", "")))
+        firmware=_firmware(optional_table(raw, "firmware", "")),
+        targets=parse_targets(optional_table(raw, "targets", ""), allowed_keys=DELTA_TARGET_KEYS))

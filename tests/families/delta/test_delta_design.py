@@ -91,10 +91,11 @@ def test_bad_input_names_the_field(edit, field):
     assert err.value.field == field
 
 
-@pytest.mark.parametrize("command", ["check", "fit", "wall"])
+@pytest.mark.parametrize("command", ["wall", "analyze"])
 def test_commands_without_a_delta_model_refuse_in_one_line(command):
-    """build and datasheet take a delta (tests/families/delta/test_delta_build.py); check,
-    fit and the four-bar's commands refuse it, naming the commands that take it."""
+    """build, datasheet, check and fit take a delta (tests/families/delta/test_delta_build.py,
+    test_delta_targets.py); the four-bar's commands refuse it, naming the commands that take it."""
     code, _, err = hapticad(command, DESIGN)
     assert_one_line_error(code, err, "mechanism.family",
-                          "for a delta design use: hapticad build, hapticad gii")
+                          "for a delta design use: hapticad check, hapticad fit, hapticad build, "
+                          "hapticad gii")
