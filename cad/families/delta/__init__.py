@@ -7,8 +7,8 @@ datasheet rows (:mod:`.datasheet`), the firmware's kinematic model (:mod:`.firmw
 ``--formats firmware``), the MuJoCo model (:mod:`.sim`: ``--formats mjcf``). Its :data:`FAMILY` gives build, datasheet, firmware and the GII
 optimiser, and ``check``/``fit`` on its datasheet's figures (:mod:`.targets`)."""
 
-from cad.families import SHARED_CODE_DEPS
 from cad.design.targets import DELTA_TARGET_KEYS
+from cad.families import SHARED_CODE_DEPS
 from cad.families.protocol import FamilyPackage, Lazy, TargetHooks
 
 _P = "cad.families.delta"
