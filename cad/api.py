@@ -589,13 +589,16 @@ def tolerance_run(design, tols, given, H, samples: int, seed: int, angles: int):
     return res, m, merged
 
 
-def fit_design(design, targets=(), free=(), fidelity: str = "inertia", echo=None) -> dict:
+def fit_design(design, targets=(), free=(), fidelity: str = "inertia", echo=None,
+               trials: int | None = None) -> dict:
     """Adjust free parameters of a design to meet targets (``hapticad fit``).
 
     ``targets``: ``"KEY=VALUE"``, ``"KEY<=V"``, ``"KEY>=V"`` strings (default the design's
     ``[targets]``); ``free``: ``"parts.KEY"`` or ``"parts.KEY=LO:HI"`` (pantographs also
     ``mechanism.KEY``; default the design's ``[fit] free``); ``fidelity``: inertia |
-    fabrication; ``echo``: None or a callable receiving one progress line per evaluation.
+    fabrication; ``echo``: None or a callable receiving one progress line per evaluation;
+    ``trials``: the evaluation budget of a TPE search (default ``12 + 6 x`` the free
+    parameters; a grid of choices is always evaluated whole).
     Returns the ``hapticad fit --json`` object without the file keys (``start``, ``fitted``,
     ``met`` (the targets), ``limits_met``, ``limit_warnings``, ``max_violation``,
     ``evaluations`` (built), ``rejected_pre_cad``, ``iterations``, ``rows``: the targets, then
@@ -608,8 +611,10 @@ def fit_design(design, targets=(), free=(), fidelity: str = "inertia", echo=None
     if fidelity not in ("inertia", "fabrication"):
         raise DesignError("--fidelity", f"must be inertia or fabrication, got {fidelity!r}")
     _need_design(design)
+    _flag_numbers(trials=trials)
     setup = fit_setup(design, _targets(targets), _targets(free, "free"))
-    return fit_run(design, setup, fidelity, Path(design.source), f"{design.name}_fit", echo)
+    return fit_run(design, setup, fidelity, Path(design.source), f"{design.name}_fit", echo,
+                   trials)
 
 
 def fit_setup(design, targets: tuple[str, ...], free: tuple[str, ...]) -> dict:
@@ -639,9 +644,11 @@ def fit_setup(design, targets: tuple[str, ...], free: tuple[str, ...]) -> dict:
     return {"hooks": hooks, "given": given, "targets": merged, "params": params}
 
 
-def fit_run(design, setup: dict, fidelity: str, dest: Path, name: str, echo=None) -> dict:
-    """Run the fit of ``setup`` (:func:`fit_setup`); the fitted mapping as a file at
-    ``dest`` named ``name`` would hold it (relative paths rebased)."""
+def fit_run(design, setup: dict, fidelity: str, dest: Path, name: str, echo=None,
+            trials: int | None = None) -> dict:
+    """Run the fit of ``setup`` (:func:`fit_setup`) with the evaluation budget ``trials``
+    (None: the default, :func:`fit_design`); the fitted mapping as a file at ``dest`` named
+    ``name`` would hold it (relative paths rebased)."""
     import copy
 
     from cad.checks import evaluate
@@ -664,7 +671,7 @@ def fit_run(design, setup: dict, fidelity: str, dest: Path, name: str, echo=None
     if echo:
         echo(f"fit {design.name}: {len(params)} free parameter(s), {len(targets)} target(s)")
     res = _fit(dict(design.raw), str(design.source), targets, params, values_of, echo=echo,
-               limit_targets=limits, precad=hooks.precad)
+               limit_targets=limits, precad=hooks.precad, trials=trials)
     fitted = rebase_paths(copy.deepcopy(res.raw), design.source, dest)
     fitted["name"] = name
     if setup["given"]:  # keep the targets the fit was made for

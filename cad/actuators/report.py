@@ -24,7 +24,6 @@ def voicecoil_report(params, model: str = "closed-form", gap_mm: float | None = 
     """
     import numpy as np
 
-
     dr = params.rattle_mm
     if gap_mm is not None and not (math.isfinite(gap_mm) and gap_mm > dr):
         raise DesignError("gap_mm", f"must exceed rattle_mm {dr:g} (no room for a coil), "

@@ -430,7 +430,6 @@ def capture(out: Path, argv: list[str]) -> int:
     import subprocess
     import time
 
-
     # through the entry point, as a user runs it (nothing outside cad/cli imports the CLI)
     proc = subprocess.run([sys.executable, "-m", "cad", *argv], stdout=subprocess.PIPE, text=True)
     code = proc.returncode

@@ -17,6 +17,7 @@ def register(app: typer.Typer) -> None:
         free: list[str] = typer.Option(None, "--free", help="parts.KEY or parts.KEY=LO:HI (repeatable); default: the design's [fit] free."),
         out: Path = typer.Option(None, "--out", help="Fitted design (default: <design>.fit.toml beside it)."),
         fidelity: str = typer.Option("inertia", "--fidelity", help="inertia | fabrication."),
+        trials: int = typer.Option(None, "--trials", help="Evaluation budget of the search (default 12 + 6 x the free parameters; a grid of choices is evaluated whole)."),
         json_out: bool = typer.Option(False, "--json", help="Print one JSON object."),
         allow_scripts: bool = typer.Option(
             False, "--allow-scripts", help="Run the design's [parts] handle_script (inside its folder)."
@@ -37,6 +38,7 @@ def register(app: typer.Typer) -> None:
         from cad.io.outdir import check_out_file
 
         flags.choice("--fidelity", fidelity, ("inertia", "fabrication"))
+        flags.number("--trials", trials)
         flags.out_path("--out", out, folder=False)
         d = load_design(design)
         setup = fit_setup(d, tuple(target or ()), tuple(free or ()))
@@ -44,7 +46,7 @@ def register(app: typer.Typer) -> None:
         replaced = check_out_file(dst, design)
         echo = None if json_out else (lambda s: print(s, flush=True))
         name = f"{d.name}_fit" if out is None else out.name.split(".")[0]
-        res = fit_run(d, setup, fidelity, dst, name, echo)
+        res = fit_run(d, setup, fidelity, dst, name, echo, trials)
         fitted = res.pop("raw")
         res.pop("design")
         # the design file last: it is the command's output (cad.io.signals commit point)

@@ -243,7 +243,6 @@ def _delta_of_the_encoder(design: FourBarDesign) -> FourBarDesign:
     the BOM, the firmware, eq (25), the simulated K_max and the wall sketch."""
     from dataclasses import replace
 
-
     counts = stated_encoder_counts(design) if design.stiffness is not None else None
     if counts is None:
         return design

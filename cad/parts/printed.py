@@ -44,7 +44,6 @@ def _section(shape, z: float, size: float) -> list:
     that sections at different heights intersect)."""
     from build123d import Face, Location, Plane, Shape
 
-
     plane = Face.make_rect(size, size, Plane.XY).moved(Location((0, 0, z)))
     cut = common(shape, plane.wrapped)  # on a copy: ``shape`` keeps its tolerances
     down = Location((0, 0, -z))

@@ -131,7 +131,6 @@ def parse_free_pantograph(spec: str, design) -> FreeParam:
     (numeric) / ``parts.*_material`` (choice)."""
     import dataclasses
 
-
     key, _, rng = spec.partition("=")
     key = key.strip()
     section, _, name = key.partition(".")
@@ -460,7 +459,6 @@ def _run_study(search: _FitSearch, trials: int | None, seed: int) -> None:
     import warnings
 
     import optuna
-
 
     free = search.free
     n_grid = math.prod(len(p.choices) for p in free) if all(p.kind == "choice" for p in free) else None

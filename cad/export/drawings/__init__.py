@@ -30,7 +30,6 @@ def write_drawings(parts: list[SheetPart], out_dir: Path, design: str) -> list[P
     import matplotlib.pyplot as plt
     from matplotlib.backends.backend_pdf import PdfPages
 
-
     out_dir = Path(out_dir)
     pdf_buf = io.BytesIO()
     written = []

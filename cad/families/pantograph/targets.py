@@ -26,7 +26,6 @@ def pantograph_target_values(design, fidelity: str, wanted: set[str]) -> tuple[d
     import tempfile
     from pathlib import Path
 
-
     values = {"gii": float(design.gii().gii)}
     rest = wanted - {"gii"}
     if not rest:

@@ -192,7 +192,6 @@ def _shutdown(client, cluster) -> None:
     import gc
     import multiprocessing.util as mpu
 
-
     with signals.deferred():
         try:
             if client is not None:

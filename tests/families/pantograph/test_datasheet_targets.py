@@ -35,17 +35,17 @@ def _force_by_hand_N(design_path: Path) -> float:
 
 def test_fit_moves_the_links_to_a_motor_force_target(tmp_path):
     out = tmp_path / "fit.toml"
-    code, _, err = hapticad("fit", DESIGNS / "pantograph.toml", "--target", "continuous_force_N>=0.72",
-                            "--free", "mechanism.proximal_mm=100:140", "--out", out)
+    code, _, err = hapticad("fit", DESIGNS / "pantograph.toml", "--target", "continuous_force_N>=0.69",
+                            "--free", "mechanism.proximal_mm=100:140", "--trials", "5", "--out", out)
     assert code == 0, err
-    assert _force_by_hand_N(out) >= 0.72  # the written design, evaluated independently
-    assert _force_by_hand_N(DESIGNS / "pantograph.toml") < 0.72  # the start did not meet it
+    assert _force_by_hand_N(out) >= 0.69  # the written design, evaluated independently
+    assert _force_by_hand_N(DESIGNS / "pantograph.toml") < 0.69  # the start did not meet it
 
 
 def test_fit_that_cannot_meet_a_datasheet_target_exits_1_with_the_best_figure(tmp_path):
     out = tmp_path / "fit.toml"
     code, _, err = hapticad("fit", DESIGNS / "pantograph.toml", "--target", "continuous_force_N>=5",
-                            "--free", "mechanism.proximal_mm=100:140", "--out", out)
+                            "--free", "mechanism.proximal_mm=100:140", "--trials", "3", "--out", out)
     assert code == 1
     (line,) = [ln for ln in err.splitlines() if "target missed:" in ln]
     best = float(line.rsplit("best reached ", 1)[1].split(",")[0])
@@ -131,3 +131,9 @@ def test_optimize_says_which_targets_its_gii_optimum_misses(tmp_path):
     src.write_text(text.replace("min = 2.0", "min = 0.5"))  # met: exit 0, nothing said
     code, _, err = hapticad("optimize", src, "--out", tmp_path / "opt2.toml")
     assert code == 0 and "target missed" not in err
+
+
+def test_fit_trials_flag_is_checked_before_any_search():
+    code, _, err = hapticad("fit", DESIGNS / "pantograph.toml", "--target", "gii>=0.7",
+                            "--free", "mechanism.proximal_mm=100:140", "--trials", "0")
+    assert code == 2 and "--trials" in err and len(err.strip().splitlines()) == 1, err
