@@ -25,41 +25,23 @@ HOEKEN_SIM_FORMATS = ("mjcf", "urdf", "stl", "step", "firmware")
 
 
 @pytest.fixture(scope="session")
-def family_builds(tmp_path_factory):
-    """One build per non-four-bar family, shared by the test modules: ``{family: (design,
-    out_dir, report)}`` at the cheap ``inertia`` fidelity (plain bearing rings, 12 PowerMouse
-    poses), every format."""
-    from pathlib import Path
-
-    from cad.design import load_design
-    from cad.pipeline import build_design
-
-    root = Path(__file__).resolve().parents[1]
-    out = {}
-    for fam, fn in FAMILY_DESIGNS.items():
-        d = load_design(root / "designs" / fn)
-        target = tmp_path_factory.mktemp(fam) / "out"
-        rep = build_design(d, target, set(FAMILY_FORMATS), fidelity="inertia", use_cache=False)
-        out[fam] = (d, target, rep)
-    return out
+def family_builds(shared_build):
+    """One build per non-four-bar family, shared by the test modules and both xdist workers
+    (:func:`shared_build`): ``{family: (design, out_dir, report)}`` at the cheap ``inertia``
+    fidelity (plain bearing rings, 12 PowerMouse poses), every format; ``report`` is its
+    ``report.json`` read back. Read-only for tests."""
+    return {fam: shared_build(fn, FAMILY_FORMATS, "inertia") for fam, fn in FAMILY_DESIGNS.items()}
 
 
 @pytest.fixture(scope="session")
-def hoeken_sim_build(tmp_path_factory):
+def hoeken_sim_build(shared_build):
     """The bundled Hoeken built with the simulator formats and STEP (preview fidelity: same
     mass properties as inertia), shared by tests/unit/export/test_sim_export.py, tests/unit/sim/test_wall.py,
-    tests/families/fourbar/test_fourbar_set_screw.py (its assembly.step) and tests/unit/firmware/test_firmware.py."""
-    import json
-    from pathlib import Path
-
-    from cad.design import load_design
-    from cad.pipeline import build_design
-
-    out = tmp_path_factory.mktemp("hoeken_sim")
-    d = load_design(Path(__file__).resolve().parents[1] / "designs" / "hoeken.toml")
-    rep = build_design(d, out, set(HOEKEN_SIM_FORMATS), fidelity="preview",
-                       use_cache=False)
-    return d, out, json.loads((out / "report.json").read_text()), rep
+    tests/families/fourbar/test_fourbar_set_screw.py (its assembly.step), tests/unit/firmware/test_firmware.py
+    and both xdist workers (:func:`shared_build`): ``(design, out_dir, report, report)``, the
+    report read back from report.json (twice: the tuple's historical shape). Read-only."""
+    d, out, rep = shared_build("hoeken.toml", HOEKEN_SIM_FORMATS, "preview")
+    return d, out, rep, rep
 
 
 @pytest.fixture(scope="session")

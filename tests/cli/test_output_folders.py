@@ -16,7 +16,7 @@ from pathlib import Path
 
 import pytest
 from cli_helpers import assert_one_line_error, hapticad
-from conftest import FAMILY_FORMATS, HOEKEN_SIM_FORMATS
+from tests.conftest import FAMILY_FORMATS, HOEKEN_SIM_FORMATS
 
 ROOT = Path(__file__).resolve().parents[2]
 MOUSE = ROOT / "designs" / "haptic_mouse.toml"  # the quickest family to build
