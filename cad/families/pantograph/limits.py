@@ -51,7 +51,7 @@ def _weakest_strength_MPa(design) -> float | None:
 
 
 def default_limit_targets(design) -> tuple:
-    """Every default limit of a 5-bar or twin pantograph candidate (:func:`pantograph_limits`:
+    """Every default limit of a 5-bar, twin pantograph or haptic-pen candidate (:func:`pantograph_limits`:
     first mode, stress of the weakest link material, continuous force from the ordered motors)
     as ``[targets]`` bounds, except keys its targets set: the constraints of ``hapticad fit``
     (a candidate that misses one ranks after every candidate that misses fewer)."""

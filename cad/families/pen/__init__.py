@@ -25,6 +25,7 @@ FAMILY = FamilyPackage(
         keys=PANTOGRAPH_TARGET_KEYS,
         values=Lazy("cad.families.pantograph.targets:pantograph_target_values"),
         parse_free=Lazy("cad.studies.fit:parse_free_pantograph"),
+        fit_limits=Lazy("cad.families.pantograph.limits:default_limit_targets"),
     ),
     optimize=Lazy("cad.studies.gii_optimize:optimize"),
     report_type=Lazy("cad.families.pen.contract:PenReport"),
