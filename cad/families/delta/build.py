@@ -141,11 +141,24 @@ def _encoder_rows(design) -> list[dict]:
     return encoder_bom_rows(resolve_device(design))
 
 
+#: The final checks of the delta's assembly.md (the steps are the driver's, from the parts).
+ASSEMBLY_CHECKS = (
+    "each upper arm turned by hand over its motor angle range moves the effector over the "
+    "whole workspace box (report.md) with no binding, the effector level at every point",
+    "every ball stud sits in its socket with the running clearance; the two rods of each "
+    "parallelogram are held onto their balls (the preload, e.g. a spring across the pair, is "
+    "not drawn)",
+    "the arm hubs do not slip on their motor shafts under a hand load at the effector (their "
+    "fastening, a clamp or a bond, is not drawn)",
+)
+
+
 STAGES = Stages(
     check_options=check_options, assemble=assemble, interference=interference, report=_report,
     md_rows=_md_rows, stroke=_stroke, motion_label="workspace grid", dynamics=_dynamics,
     preview_title=lambda b: f"{b.design.name}: delta at the workspace centre",
-    no_solid_rows=_encoder_rows, more_files=_sim_files)
+    no_solid_rows=_encoder_rows, more_files=_sim_files,
+    assembly=lambda design: (None, ASSEMBLY_CHECKS))
 
 
 def build(design, out_dir: Path, formats: set[str], *, fidelity: str = "fabrication",

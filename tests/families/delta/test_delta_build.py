@@ -54,15 +54,12 @@ def test_the_falcon_layout_is_refused_before_any_cad(tmp_path):
 
 
 @pytest.mark.slow  # a minute: every pair of solids at 125 workspace points (the cheap checks above)
-def test_the_bundled_delta_builds_and_its_report_reads_back(tmp_path):
+def test_the_bundled_delta_builds_and_its_report_reads_back(shared_build):
     from cad.families.delta.dynamics import mass_matrix_from_bodies_kg
     from cad.families.delta.structure import first_mode
     from cad.massprops.props import MassProps
 
-    d = cad.load_design(ROOT / "designs" / "delta.toml")
-    out = tmp_path / "delta"
-    cad.build_design(d, out, formats="step", fidelity="preview")
-    rep = json.loads((out / "report.json").read_text())
+    d, out, rep = shared_build("delta.toml", ("step",), "preview")  # report.json read back
     bodies = {k: MassProps(v["mass_kg"], np.asarray(v["com_mm"]) * 1e-3,
                            np.asarray(v["inertia_com_kg_m2"]))
               for k, v in rep["placement"]["bodies"].items()}

@@ -21,15 +21,17 @@ _BULLET = re.compile(r"^- `([^`]+)` \(([^)]+)\): ")
 
 
 @pytest.fixture(scope="module")
-def builds(family_builds, tmp_path_factory):
-    """``{family: out_dir}``: the shared family builds and the bundled Hoeken (inertia)."""
+def builds(family_builds, shared_build, tmp_path_factory):
+    """``{family: out_dir}``: the shared family builds, the bundled delta (preview, shared with
+    tests/families/delta/test_delta_build.py) and the bundled Hoeken (inertia)."""
     from cad.design import load_design
     from cad.pipeline import build_design
 
     out = tmp_path_factory.mktemp("steps") / "hoeken"
     build_design(load_design(ROOT / "designs" / "hoeken.toml"), out, {"dxf"},
                  fidelity="inertia", use_cache=False)
-    return {"hoeken": out, **{fam: o for fam, (_, o, _) in family_builds.items()}}
+    return {"hoeken": out, "delta": shared_build("delta.toml", ("step",), "preview")[1],
+            **{fam: o for fam, (_, o, _) in family_builds.items()}}
 
 
 def _steps(out: Path) -> list[tuple[str, list[tuple[str, str]], list[str]]]:
@@ -45,7 +47,7 @@ def _steps(out: Path) -> list[tuple[str, list[tuple[str, str]], list[str]]]:
     return steps
 
 
-@pytest.mark.parametrize("fam", ["hoeken", "pantograph", "twin-pantograph", "powermouse"])
+@pytest.mark.parametrize("fam", ["hoeken", "pantograph", "twin-pantograph", "powermouse", "delta"])
 def test_steps_place_every_bom_instance_exactly_once(builds, fam):
     out = builds[fam]
     placed = [p for _, new, _ in _steps(out) for p in new]
@@ -63,7 +65,7 @@ def test_steps_place_every_bom_instance_exactly_once(builds, fam):
 
     no_solid = {n for t, new, _ in _steps(out) if t.endswith(NO_SOLID_STEP) for n, _ in new}
     assert set(names) - no_solid <= set(rep["part_materials"])
-    n_motors = {"hoeken": 1, "pantograph": 2, "twin-pantograph": 4, "powermouse": 0}[fam]
+    n_motors = {"hoeken": 1, "pantograph": 2, "twin-pantograph": 4, "powermouse": 0, "delta": 3}[fam]
     assert no_solid == ({"encoder"} if n_motors == 1 else {f"encoder_{i}" for i in range(1, n_motors + 1)})
 
 
