@@ -110,6 +110,32 @@ def anchor_angles_link_deg(alpha_deg: float, gamma_rad: float, q_min_deg: float,
             alpha_deg - g - q_max_deg - 0.5 * anchor_arc_deg)
 
 
+#: Axial pitch of the rope's turns in the capstan's helical groove, in rope diameters (turns
+#: side by side with a gap), and the capstan's length beyond its turns (set-screw hub), mm.
+GROOVE_PITCH_D = 1.5
+CAPSTAN_HUB_MM = 8.0
+#: The capstan's material (turned steel): its solid's (:mod:`cad.parts.capstan`) and the
+#: closed-form inertia's (:func:`capstan_izz_kg_m2`).
+CAPSTAN_MATERIAL = "steel-1018"
+
+
+def capstan_length_mm(rope_diameter_mm: float, wraps: float) -> float:
+    """The capstan's length (mm): its turns at :data:`GROOVE_PITCH_D` rope diameters each and
+    the set-screw hub :data:`CAPSTAN_HUB_MM`."""
+    return GROOVE_PITCH_D * rope_diameter_mm * wraps + CAPSTAN_HUB_MM
+
+
+def capstan_izz_kg_m2(capstan_diameter_mm: float, rope_diameter_mm: float, wraps: float,
+                      bore_mm: float, density_kg_m3: float) -> float:
+    """The capstan's inertia about the motor shaft (kg m^2): a tube from the bore to the rim
+    (:func:`rim_radius_mm`), :func:`capstan_length_mm` long, m (r_o^2 + r_i^2) / 2; its
+    set-screw hole (a few mm^3) left out. The reflected motor-side inertia at the joint is
+    n^2 (J_rotor + this) (:meth:`cad.device.ResolvedDevice.joint_rotor_inertia_kg_m2`)."""
+    ro, ri = rim_radius_mm(capstan_diameter_mm, rope_diameter_mm), bore_mm / 2
+    m = tube_mass_kg(ro, ri, capstan_length_mm(rope_diameter_mm, wraps), density_kg_m3)
+    return tube_izz_kg_m2(m, ro, ri)
+
+
 def sector_mass_kg(span_deg: float, r_out_mm: float, r_in_mm: float, thickness_mm: float,
                    density_kg_m3: float) -> float:
     """Mass of an annular sector plate: (theta / 2)(r_o^2 - r_i^2) t rho, kg (theta in rad)."""

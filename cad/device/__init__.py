@@ -30,9 +30,11 @@ import math
 from dataclasses import dataclass, replace
 from typing import Any
 
+from cad.actuators.capstan_geometry import CAPSTAN_MATERIAL, capstan_izz_kg_m2
 from cad.data import catalog
 from cad.data.cables import CABLE_DATA_FIELDS, get_cable
 from cad.data.catalog import get_motor
+from cad.data.materials import get_material
 from cad.design.motor import resolve_motor
 from cad.errors import DesignError
 from cad.tolerances import PREVIEW_STL_TOL_MM, STL_ANGULAR_TOLERANCE_RAD, STL_TOLERANCE_MM
@@ -133,6 +135,15 @@ class Transmission:
     @property
     def is_capstan(self) -> bool:
         return self.kind == "capstan"
+
+    def capstan_inertia_kg_m2(self, bore_mm: float) -> float:
+        """The capstan's inertia about the motor shaft (kg m^2; 0 for a direct drive): the
+        turned steel tube on a shaft of ``bore_mm``
+        (:func:`cad.actuators.capstan_geometry.capstan_izz_kg_m2`)."""
+        if not self.is_capstan:
+            return 0.0
+        return capstan_izz_kg_m2(self.capstan_diameter_mm, self.cable_diameter_mm, self.wraps,
+                                 bore_mm, get_material(CAPSTAN_MATERIAL).density_kg_m3)
 
     def as_dict(self) -> dict:
         """report.json ``device.transmissions[i]``: a direct drive as before (kind, ratio,
@@ -246,10 +257,14 @@ class ResolvedDevice:
         return joint_motor_spec(m.spec, self.transmission(m.joint))
 
     def joint_rotor_inertia_kg_m2(self, joint: str | None = None) -> float:
-        """The rotor inertia on ``joint`` (default: the first motor's) reflected through its
-        transmission, n^2 J_m (kg m^2): the Jm of H11."""
+        """The motor side's inertia on ``joint`` (default: the first motor's) reflected through
+        its transmission, n^2 (J_m + J_capstan) (kg m^2; direct drive: J_m): the Jm of H11, the
+        MJCF armature. The capstan turns with the rotor (:meth:`Transmission.capstan_inertia_kg_m2`);
+        the drum is a part of the link, in the link's own mass properties."""
         m = self.motor if joint is None else next(x for x in self.motors if x.joint == joint)
-        return m.rotor_inertia_kg_m2 * self.transmission(m.joint).ratio ** 2
+        t = self.transmission(m.joint)
+        j_c = t.capstan_inertia_kg_m2(m.spec.shaft_diameter_mm) if t.is_capstan else 0.0
+        return (m.rotor_inertia_kg_m2 + j_c) * t.ratio ** 2
 
     def joint_counts_per_rev(self, joint: str | None = None) -> float:
         """Encoder counts per turn of ``joint`` (default: the first motor's): the motor encoder's

@@ -158,7 +158,7 @@ def device_values(device) -> dict:
                     current_peak_A=m.current_peak_A, motor_key=m.catalog_key,
                     rotor_inertia_g_cm2=m.spec.rotor_inertia_g_cm2)
     for t, m in zip(device.transmissions, device.motors, strict=True):
-        vals[f"armature:{m.joint}"] = m.rotor_inertia_kg_m2 * t.ratio ** 2  # reflected to the joint
+        vals[f"armature:{m.joint}"] = device.joint_rotor_inertia_kg_m2(m.joint)  # n^2 (J_m + J_c)
         if m.spec.torque_peak_mNm is not None:
             vals[f"forcerange:{m.joint}"] = m.spec.torque_peak_mNm * 1e-3 * t.ratio
     return vals

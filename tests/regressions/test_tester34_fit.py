@@ -99,7 +99,7 @@ def test_fit_best_reached_names_the_best_candidate_not_the_written_one(tmp_path)
                     "written design 0.70708")
 
 
-@pytest.mark.parametrize("table", ["targets"])
+@pytest.mark.parametrize("table", ["transmission"])
 def test_delta_refuses_a_table_it_does_not_take_without_denying_its_parts(tmp_path, table):
     """The delta builds parts (assembly.step, bom.csv: three motors), so a table it does not
     take yet is refused in one line naming the table and the commands that take a delta, not

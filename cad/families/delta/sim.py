@@ -92,8 +92,6 @@ def sim_model(design, bodies: dict, device, P_mm=None) -> SimModel:
                           "only (no knee link)")
     P = np.asarray(design.workspace["center_mm"] if P_mm is None else P_mm, float)
     T = _frames(design, P)
-    theta = {m.joint: m for m in device.motors}
-    ratio = {t.motor_joint: t.ratio for t in device.transmissions}
     torque = _peak_torques(device)
     world = np.eye(4)
     out: list[SimBody] = []
@@ -105,7 +103,7 @@ def sim_model(design, bodies: dict, device, P_mm=None) -> SimModel:
         pos, rot = _local(world, T[f"upper_{i}"])
         m, c, inertia = _props(bodies.get(f"upper_{i}"), ARM_AXES)
         out.append(SimBody(f"upper_{i}", "world", pos, rot, j, float(th[i]), m, c, inertia,
-                           armature_kg_m2=theta[j].rotor_inertia_kg_m2 * ratio[j] ** 2))
+                           armature_kg_m2=device.joint_rotor_inertia_kg_m2(j)))
         motors.append(SimMotor(f"motor_{i}", j, torque[j]))
         for s in ("a", "b"):
             name = f"lower_{i}_{s}"

@@ -344,8 +344,8 @@ def _report(b) -> dict:
             "key": motor.key,
             **({"name": motor.winding} if dict(b.design.motor).get("name") else {}),
             "mass_kg": motor.mass_kg,
-            # the rotor's own (Jm_kg_m2 is n^2 J_m at the crank)
-            "rotor_inertia_g_cm2": mp.Jm_kg_m2 * 1e7 / resolve_device(b.design).transmission("crank").ratio ** 2,
+            # the rotor's own (Jm_kg_m2 is n^2 (J_m + J_capstan) at the crank)
+            "rotor_inertia_g_cm2": resolve_device(b.design).motor.rotor_inertia_kg_m2 * 1e7,
             "source": (motor.source if not b.design.motor else
                        f"the design's [motor] table over the mount of {motor.key} ({motor.source})"),
         },

@@ -225,10 +225,6 @@ def k_max_with_cable_N_per_m(K_max_N_per_m: float | None, k_q: float | None, Jx)
 #: Drum (or sector) thickness along the shaft, mm: room for the rope's turns on the drum side
 #: and the anchors' screws. A layout choice (no part drawn yet).
 DRUM_THICKNESS_MM = 10.0
-#: Axial pitch of the rope's turns in the capstan's helical groove, in rope diameters (turns
-#: side by side with a gap), and the capstan's length beyond its turns (set-screw hub), mm.
-GROOVE_PITCH_D = 1.5
-CAPSTAN_HUB_MM = 8.0
 _NOT_DRAWN = "not drawn as a solid yet; mass not known, not in the totals"
 
 

@@ -161,8 +161,8 @@ def _capstan_z_mm(design, t) -> tuple[float, float]:
     m = cat.get_motor(p.motor)
     head = cat.get_cap_screw(m.bolt_size, "parts.motor").k_mm
     zc = -p.base_thickness_mm + head + p.clearance_min_mm
-    turns = fcap.GROOVE_PITCH_D * t.cable_diameter_mm * t.wraps
-    return zc, zc + fcap.CAPSTAN_HUB_MM + 0.5 * turns
+    turns = cg.GROOVE_PITCH_D * t.cable_diameter_mm * t.wraps
+    return zc, zc + cg.CAPSTAN_HUB_MM + 0.5 * turns
 
 
 def add_capstan(asm, design, J, plan, t):
@@ -268,17 +268,17 @@ def _capstan_and_set_screw(design, t, pl: CapstanPlacement, m) -> list[PartInsta
 
     d = t.cable_diameter_mm
     rc = cg.rim_radius_mm(t.capstan_diameter_mm, d)
-    length = fcap.GROOVE_PITCH_D * d * t.wraps + fcap.CAPSTAN_HUB_MM
+    length = cg.capstan_length_mm(d, t.wraps)
     z0 = pl.capstan_z_mm
-    z_set = fcap.CAPSTAN_HUB_MM / 2
+    z_set = cg.CAPSTAN_HUB_MM / 2
     ox, oy = pl.motor_xy_mm
     ck = PartKind(
         "capstan", shapes.capstan_shape(rc, m.shaft_diameter_mm, length, z_set, motor.SET_SCREW),
-        material="steel-1018", made=True,
+        material=cg.CAPSTAN_MATERIAL, made=True,
         description=(f"capstan {t.capstan_diameter_mm:g} mm pitch (rim {2 * rc:g} mm) on the motor "
                      f"shaft ({m.shaft_diameter_mm:g} mm bore), {length:g} mm long: {t.wraps:g} turns "
-                     f"of the {d:g} mm rope at {fcap.GROOVE_PITCH_D:g} d pitch above a "
-                     f"{fcap.CAPSTAN_HUB_MM:g} mm set-screw hub"),
+                     f"of the {d:g} mm rope at {cg.GROOVE_PITCH_D:g} d pitch above a "
+                     f"{cg.CAPSTAN_HUB_MM:g} mm set-screw hub"),
         process=f"turned; tap {motor.SET_SCREW.split('-')[0]} x1 (radial)",
         fits=(fit("hub shaft bore", m.shaft_diameter_mm, "shaft bore"),))
 

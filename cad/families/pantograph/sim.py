@@ -194,8 +194,7 @@ def fivebar_sim_model(design, model, bodies: dict) -> SimModel:
     T = model.tf_world_body
     l3 = design.params["distal_mm"] * 1e-3
     dev = resolve_device(design)
-    ratio = {t.motor_joint: t.ratio for t in dev.transmissions}
-    arm = {m.joint: m.rotor_inertia_kg_m2 * ratio[m.joint] ** 2 for m in dev.motors}
+    arm = {m.joint: dev.joint_rotor_inertia_kg_m2(m.joint) for m in dev.motors}
     made = {i.kind.name for i in model.instances if i.kind.made and i.kind.listed}
 
     def meshes(body):

@@ -129,6 +129,32 @@ def test_drum_mass_and_inertia_about_A1_closed_form(design, built):
     assert row["H11_kg_m2"] == pytest.approx(I_sector - I_holes, rel=1e-4)
 
 
+def test_capstan_inertia_in_h11_is_its_solids(design, built):
+    """The motor side's inertia at the crank, n^2 (J_m + J_capstan), takes the capstan's
+    closed form (:meth:`cad.device.Transmission.capstan_inertia_kg_m2`); checked here against
+    the capstan's solid (OCCT, adaptive integration: its set-screw hole included) and read back
+    from the MJCF armature and report.json's Jm."""
+    from cad.device import resolve_device
+    from cad.families.fourbar.layout import assemble
+    from cad.massprops.occt import volume_props_mm
+
+    dev = resolve_device(design)
+    t, m = dev.transmission("crank"), dev.motor
+    shape = assemble(design, "preview").kinds()["capstan"].shape
+    vol_mm3, _, inertia_mm5 = volume_props_mm(shape, eps=1e-9)
+    rho = get_material("steel-1018").density_kg_m3
+    izz_solid = inertia_mm5[2][2] * rho * 1e-15  # about the capstan's own axis (its frame's z)
+    closed = t.capstan_inertia_kg_m2(m.spec.shaft_diameter_mm)
+    # the closed form leaves out the set screw's radial tap-drill hole (M3: 2.5 mm) through the
+    # wall, bore 3 mm to rim 15.6 mm: rho pi r_h^2 int r^2 dr (0.6 % of the capstan here)
+    r_h, r0, r1 = tap_drill_mm("M3-0.5") / 2, 3.0, (32.0 - 0.8) / 2
+    hole = rho * math.pi * r_h ** 2 * (r1 ** 3 - r0 ** 3) / 3 * 1e-15
+    assert closed - hole == pytest.approx(izz_solid, rel=1e-3)
+    jm = (m.rotor_inertia_kg_m2 + closed) * 4.0
+    rep, _ = built
+    assert rep["Jm_kg_m2"] == pytest.approx(jm, rel=1e-12)
+
+
 def test_bom_quantities_equal_the_instances_in_assembly_step(built):
     from cad.device.readback import step_instances
 

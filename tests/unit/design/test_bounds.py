@@ -269,6 +269,7 @@ BAD_FLAGS: dict[tuple[str, str], list[str]] = {
     ("fit", "--free"): ["parts.bar_width_mm=1:1e7", "parts.nothing", "parts.bar_width_mm=a:b"],
     ("fit", "--out"): ["/dev/null/x", FOLDER],
     ("fit", "--fidelity"): ["ultra"],
+    ("fit", "--trials"): ["0", "1000000"],
     ("massprops", "--density"): ["1e308", "nan", "-1", "abc", "0"],
     ("massprops", "--material"): ["unobtainium"],
     ("voicecoil", "--magnet-length-mm"): ["1e300", "0.02", "nan", "-1", "x"],
