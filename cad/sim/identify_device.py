@@ -22,10 +22,22 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from cad.errors import FileDamaged
+import cad
+from cad.device import resolve_device
+from cad.dynamics.inertia import InertiaCoefficients, equivalent_inertia
+from cad.errors import DesignError, FileDamaged
+from cad.families.fourbar.datasheet import lever, stiffness_inputs
+from cad.firmware import reference
+from cad.firmware.device import device_spec
+from cad.firmware.spec import encoder_zero, motor_data
 from cad.identify import excitation
 from cad.identify.logfile import Log
 from cad.identify.regression import Fit, NotExcited, fit, hand_direction
+from cad.io import guard
+from cad.kinematics.fourbar import solve
+from cad.pipeline import design_hash
+from cad.sim.device import device_build, read_device_report, wall_inputs
+from cad.sim.wall import device_tables
 from cad.tolerances import (
     IDENT_FRICTION_TOL_REL,
     IDENT_GRAVITY_TOL_REL,
@@ -95,9 +107,6 @@ class Prediction:
 def _gravity_table(design, report: dict | None, device, h: str, tab) -> np.ndarray | None:
     if not design.firmware.vertical:
         return None
-    import cad
-    from cad.firmware import reference
-    from cad.firmware.device import device_spec
 
     spec = device_spec(design, report, h, cad.__version__, device)
     phi = tab.phi0 + tab.h * np.arange(tab.x.size)
@@ -108,9 +117,6 @@ def _friction_inputs(design) -> tuple[dict, str]:
     """Te and the friction prediction of :func:`cad.sim.device.wall_inputs`; a motor without
     friction data gives Fs = Fv = 0 (their verdicts n/a) instead of an error: the firmware
     and the bench do not need a friction prediction."""
-    from cad.errors import DesignError
-    from cad.families.fourbar.datasheet import lever, stiffness_inputs
-    from cad.sim.device import wall_inputs
 
     try:
         return wall_inputs(design)
@@ -123,17 +129,11 @@ def predict(design, H, report: dict | None = None) -> Prediction:
     """The :class:`Prediction` of a four-bar design with inertia coefficients ``H``
     (:class:`cad.dynamics.inertia.InertiaCoefficients`, from its build); ``report`` (the build's
     report.json) is needed for a vertical device's gravity torque only."""
-    from cad.device import resolve_device
-    from cad.firmware.spec import encoder_zero, motor_data
-    from cad.pipeline import design_hash
-    from cad.sim.wall import device_tables
 
     device = resolve_device(design)
     motor = motor_data(device.joint_motor("crank"))  # K_t, torques at the crank (x n through a capstan)
     counts = device.joint_counts_per_rev("crank")  # per crank turn
     s, src = _friction_inputs(design)
-    from cad.dynamics.inertia import equivalent_inertia
-    from cad.kinematics.fourbar import solve
 
     tab = device_tables(design, H, 4001)
     lo, hi = design.phi1_min_rad, design.phi1_max_rad
@@ -150,9 +150,6 @@ def predict(design, H, report: dict | None = None) -> Prediction:
 
 def predict_from_build(design, build_dir=None) -> Prediction:
     """:func:`predict` with H of the design's simulator build (:func:`cad.sim.device.device_build`)."""
-    from cad.dynamics.inertia import InertiaCoefficients
-    from cad.io import guard
-    from cad.sim.device import device_build, read_device_report
 
     folder = device_build(design, build_dir)
     rep = read_device_report(folder, "--build-dir" if build_dir is not None else "identify")

@@ -36,8 +36,9 @@ from cad.identify.logfile import Log
 from cad.io import guard
 from cad.isotropy.gii import workspace_half_mm
 from cad.kinematics import fivebar as fb5
+from cad.pipeline import design_hash
 from cad.sim.device import device_build
-from cad.sim.identify_device import EXPLAIN, SEPARABLE_CORRELATION, excitation_start, figure_row
+from cad.sim.identify_device import SEPARABLE_CORRELATION, excitation_start, figure_row
 from cad.tolerances import (
     IDENT_FRICTION_TOL_REL,
     IDENT_GRAVITY_TOL_REL,
@@ -170,7 +171,6 @@ def predict(design, report: dict) -> Prediction5:
     """The :class:`Prediction5` of a 5-bar ``design`` built into ``report`` (report.json:
     its ``bodies``). DesignError naming ``firmware.plane`` when a vertical device's weight at
     home takes the motors' whole continuous current (no current is left to excite it)."""
-    from cad.pipeline import design_hash  # cad.pipeline imports the family packages: a cycle
 
     device = resolve_device(design)
     h = design_hash(design)

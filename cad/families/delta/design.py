@@ -47,6 +47,9 @@ from cad.design.motor import parse_motor_table
 from cad.design.parts import parse_encoder
 from cad.design.targets import DELTA_TARGET_KEYS, parse_targets
 from cad.errors import DesignError
+from cad.isotropy.gii import delta_gii
+from cad.isotropy.problems import DeltaProblem, candidate_grid
+from cad.kinematics.delta import Delta, box_grid_mm, cylinder_grid_mm
 
 MECH_KEYS = ("family", "base_radius_mm", "effector_radius_mm", "upper_arm_mm", "lower_arm_mm",
              "parallelogram_width_mm", "motor_angle_min_deg", "motor_angle_max_deg",
@@ -112,7 +115,6 @@ class DeltaDesign:
 
     def workspace_points(self) -> np.ndarray:
         """Workspace samples (N, 3) mm, base frame (box: C order of ``grid_shape``)."""
-        from cad.kinematics.delta import box_grid_mm, cylinder_grid_mm
 
         ws = self.workspace
         if ws["shape"] == "box":
@@ -126,7 +128,6 @@ class DeltaDesign:
 
     def gii(self):
         """GII (isotropy paper eq 5) over the workspace: a :class:`cad.isotropy.gii.GIIResult`."""
-        from cad.isotropy.gii import delta_gii
 
         act = self.actuators
         return delta_gii(self.mechanism, self.workspace_points(), act["torque_max_Nm"],
@@ -138,7 +139,6 @@ class DeltaDesign:
 
     def problem(self):
         """The ``[optimize]`` candidate grid x workspace as a culling problem (eq 6)."""
-        from cad.isotropy.problems import DeltaProblem, candidate_grid
 
         if not self.optimize:
             raise DesignError("optimize", "no free parameters: add e.g. upper_arm_mm = [min, max, count]")
@@ -148,7 +148,6 @@ class DeltaDesign:
 
 
 def _mechanism(mech: dict[str, Any]):
-    from cad.kinematics.delta import Delta
 
     check_unknown(mech, MECH_KEYS, "mechanism")
     vals = {}

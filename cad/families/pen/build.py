@@ -27,6 +27,7 @@ from cad.device import encoder_bom_rows, resolve_device
 from cad.errors import DesignError
 from cad.families.pen import assemble
 from cad.families.pen import layout as L
+from cad.families.pen.datasheet import breakdown_text
 from cad.families.pen.dynamics import PenDynamics, dynamics, mass_breakdown
 from cad.families.pen.layout import body_poses, stroke_task
 from cad.families.pen.sim import write_mjcf
@@ -221,7 +222,6 @@ def _md_rows(r: dict) -> list[tuple[str, str]]:
             rows.append((f"effective mass at home: {k}", f"{v:.4g}"))
     bd = r.get("effective_mass_breakdown")
     if bd:
-        from cad.families.pen.datasheet import breakdown_text
 
         rows.append(("effective mass along x: where it comes from", breakdown_text(bd)))
     return rows

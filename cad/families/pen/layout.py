@@ -211,7 +211,6 @@ def body_poses(design, X) -> dict[str, np.ndarray]:
     n = len(X)
     q, st = hp.ik(pen, X)
     if np.any(st != 0):  # a DesignError (a ValueError): the design's workspace is the fault
-        from cad.errors import DesignError
 
         x = X[int(np.argmax(st != 0))]
         raise DesignError("workspace", f"{int(np.sum(st != 0))} of the {n} pen poses cannot be "

@@ -10,8 +10,10 @@ from cad.actuators import powermouse as pm
 from cad.assembly.fasteners import Fastener, TappedHole
 from cad.data.catalog import FASTENER_MATERIAL
 from cad.data.fits import fit
+from cad.data.materials import get_material
 from cad.export.shapes import placed
 from cad.families.powermouse import parts as pp
+from cad.massprops.occt import solid_mass_props
 from cad.occ.bbox import tight_box
 from cad.parts import PartInstance, PartKind, flip_x, joints, translation
 from cad.parts.motor import set_screw_shape
@@ -115,8 +117,6 @@ def part_kind(name, shape, role, design, labels=None, **kw):
     topo = getattr(shape, "wrapped", shape)
     mat = materials(design)[role]
     if role == "coil":  # wound coil: conductor fraction eta_pack (insulation neglected)
-        from cad.data.materials import get_material
-        from cad.massprops.occt import solid_mass_props
 
         rho = get_material(mat).density_kg_m3
         kw["mass_kg"] = design.actuator.eta_pack * solid_mass_props(topo, rho).mass_kg

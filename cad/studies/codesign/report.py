@@ -11,7 +11,7 @@ from cad.design import parse_design
 from cad.errors import HapticadError
 from cad.families.fourbar.limits import prototype_limits
 from cad.studies.codesign import exact, prototype, search
-from cad.studies.codesign.prototype import judged
+from cad.studies.codesign.prototype import judged, motor_bound, prototype_design
 
 
 def optimize_fourbar(design, objective: str, trials: int, seed: int, top: int, chart_dir: Path | None,
@@ -27,7 +27,6 @@ def optimize_fourbar(design, objective: str, trials: int, seed: int, top: int, c
     or None)."""
     t0 = time.perf_counter()
     if beat_prototype:
-        from cad.studies.codesign.prototype import prototype_design
 
         design = prototype_design(design)
     pb = search.problem_from(design)
@@ -154,7 +153,6 @@ def plot_fronts(records, fronts: dict, lim, stem: Path) -> list[str]:
         ax.plot([r[y] for r in f["points"]], [r[x] for r in f["points"]], "o-", color="C0", ms=4,
                 label="Pareto front")
         if (x, y) == ("continuous_force_N", "friction_N"):  # F_cont / F_s <= T_cont / (Kt I0)
-            from cad.studies.codesign.prototype import motor_bound
 
             fs = np.linspace(lim[y].value * 0.9, max([r[y] for r in pts] + [lim[y].value]) * 1.05, 2)
             for i, k in enumerate(search.MOTOR_CONTINUOUS_TORQUE_MNM):

@@ -48,6 +48,7 @@ import numpy as np
 
 from cad.data import catalog as cat
 from cad.data.catalog import MOTORS
+from cad.data.materials import SHEETS
 from cad.datasheet.limits import Limit
 from cad.design import bounds
 from cad.design.parts import PartsSpec, parse_parts
@@ -61,6 +62,7 @@ from cad.families.fourbar.pose import planar_transforms
 from cad.io import signals
 from cad.kinematics.linkgeom import link_joints_mm
 from cad.kinematics.metrics import compute_metrics
+from cad.printing import FILAMENTS
 from cad.sim import wall
 from cad.structure import device
 from cad.structure.device import link_material
@@ -100,11 +102,9 @@ def bar_stock(process: str = "machined") -> dict[str, tuple[float, ...]]:
     printing filaments of :data:`STOCK_THICKNESS_MM` (:data:`cad.printing.FILAMENTS`);
     otherwise :data:`STOCK_THICKNESS_MM`."""
     if process == "laser":
-        from cad.data.materials import SHEETS
 
         return {k: tuple(s.thicknesses_mm) for k, s in SHEETS.items() if s.tappable}
     if process == "printed":
-        from cad.printing import FILAMENTS
 
         return {k: v for k, v in STOCK_THICKNESS_MM.items() if k in FILAMENTS}
     return dict(STOCK_THICKNESS_MM)
@@ -113,7 +113,6 @@ def bar_stock(process: str = "machined") -> dict[str, tuple[float, ...]]:
 def handle_materials(process: str = "machined") -> tuple[str, ...]:
     """Handle materials searched: printed, the filaments of :data:`HANDLE_MATERIALS`."""
     if process == "printed":
-        from cad.printing import FILAMENTS
 
         return tuple(m for m in HANDLE_MATERIALS if m in FILAMENTS)
     return HANDLE_MATERIALS
