@@ -195,7 +195,6 @@ def test_no_friction_data_gives_no_friction_verdict(paper_H, monkeypatch):
     the prediction, the firmware's plan and the bench still work; the friction verdicts are
     n/a (nothing to compare with)."""
     from cad.design import load_design
-    from cad.sim import device as sim_device
     from cad.sim.identify_device import predict
     from tests.unit.identify.conftest import ROOT
 
@@ -205,7 +204,7 @@ def test_no_friction_data_gives_no_friction_verdict(paper_H, monkeypatch):
     def refuse(design):
         raise DesignError("stiffness", "no friction data")
 
-    monkeypatch.setattr(sim_device, "wall_inputs", refuse)
+    monkeypatch.setattr("cad.sim.identify_device.wall_inputs", refuse)  # its caller
     p = predict(hoeken, paper_H)
     assert p.Fs_N == 0.0 and p.Fv_N_s_per_m == 0.0 and "no friction prediction" in p.friction_source
     t, c, i, tr = bench.simulate(p, bench.parse_perturb([]), seed=0)
