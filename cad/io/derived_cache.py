@@ -41,7 +41,7 @@ import numpy as np
 from cad.errors import FileRefused
 from cad.io import cache_faults, guard
 from cad.io.atomic import write_bytes_atomic, write_text_atomic
-from cad.io.cache_limit import touch
+from cad.io.cache_limit import cache_root, touch
 from cad.occ.shape_io import brep_bytes
 
 #: Folder beside the shape cache's ``shapes-v2`` (bump to drop every derived entry); entries
@@ -56,10 +56,10 @@ STATS = {"hits": 0, "misses": 0, "digests_computed": 0}
 
 
 def cache_dir() -> Path | None:
-    from cad.parts.shape_cache import cache_dir as shapes_dir
-
-    d = shapes_dir()
-    return None if d is None else d.parent / SCHEMA
+    """This cache's folder under the caches' parent (:func:`cad.io.cache_limit.cache_root`),
+    beside the shape cache's; None when ``HAPTICAD_CACHE_DIR=off``."""
+    root = cache_root()
+    return None if root is None else root / SCHEMA
 
 
 def enabled() -> bool:

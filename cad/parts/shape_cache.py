@@ -21,7 +21,6 @@ from __future__ import annotations
 
 import functools
 import hashlib
-import os
 from collections.abc import Callable
 from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
@@ -29,7 +28,8 @@ from pathlib import Path
 from cad.errors import FileRefused
 from cad.io import cache_faults, guard
 from cad.io.atomic import atomic_path, write_text_atomic
-from cad.io.cache_limit import touch
+from cad.io.cache_limit import cache_root, touch
+from cad.io.derived_cache import register_digest
 from cad.parts.lazy_import import import_build123d
 
 #: v2: every ``<key>.brep`` has ``<key>.brep.sha256`` beside it, checked before reading.
@@ -37,11 +37,10 @@ CACHE_SCHEMA = "shapes-v2"
 
 
 def cache_dir() -> Path | None:
-    env = os.environ.get("HAPTICAD_CACHE_DIR")
-    if env is not None and env.strip().lower() in ("off", "0", "none", ""):
-        return None
-    base = Path(env) if env else Path.home() / ".cache" / "hapticad"
-    return base / CACHE_SCHEMA
+    """The shape cache's folder under the caches' parent (:func:`cad.io.cache_limit.cache_root`);
+    None when ``HAPTICAD_CACHE_DIR=off``."""
+    root = cache_root()
+    return None if root is None else root / CACHE_SCHEMA
 
 
 @functools.cache
@@ -77,7 +76,6 @@ def _read(path: Path):
         return None
     if not ok or shape.IsNull():
         return None
-    from cad.io.derived_cache import register_digest
 
     register_digest(shape, want)  # what is derived from it is cached by this digest
 

@@ -10,8 +10,7 @@ or an up-to-date build runs (``cad/isotropy/report.py``, ``cad/bench/run.py``,
 ``cad/families/fourbar/swap.py``, ``cad/pipeline/file_props.py``, ``cad/pipeline/render.py``,
 ``cad/sim/device.py``, ``cad/design/fields.py``: hoisted, they load numpy or the build's
 modules on every call), the imports that break an import cycle (``cad/actuators/voicecoil.py``
-with its magpylib field model, ``cad/io/derived_cache.py`` with the shape cache, the pen's
-fasteners with its assembly, ``cad/studies/codesign/exact.py`` with the checks). Two imports of the same name from two modules are module imports
+with its magpylib field model, ``cad/studies/codesign/exact.py`` with the checks). Two imports of the same name from two modules are module imports
 (``from cad.kinematics import fivebar as kfivebar``), not function-level ones. The count may
 only go down (a ratchet).
 """
@@ -24,7 +23,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[2]
 #: Function-level imports of ``cad`` outside cad/api.py and cad/cli/ at the commit that hoisted
 #: the rest (measured with :func:`function_level_imports`); lower it when you hoist more.
-MAX_FUNCTION_LEVEL = 90
+MAX_FUNCTION_LEVEL = 87
 EXEMPT = ("cad/api.py", "cad/cli/")
 
 

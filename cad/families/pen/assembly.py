@@ -17,6 +17,7 @@ from cad.assembly.model import AssemblyModel
 from cad.data.catalog import clearance_hole_mm, get_cap_screw, get_motor, tap_drill_mm
 from cad.data.fits import fit
 from cad.device import parts_motor
+from cad.families.pantograph.layout import leg_xy
 from cad.families.pen import layout as L
 from cad.families.pen.fasteners import bracket_bolt_xz_mm, place_screws, screw_kinds
 from cad.kinematics import haptic_pen as hp
@@ -174,11 +175,6 @@ def _ground_kinds(design, lay: dict, gl: dict, add) -> None:
     add("leg", base.leg_shape(gl["leg_height_mm"]), p.plate_material, True,
         f"leg standoff d{base.LEG_DIAMETER_MM:g} x {gl['leg_height_mm']:g}",
         f"turned; tap {base.LEG_SCREW.split('-')[0]} both ends")
-
-
-def leg_xy(gl: dict):
-    (x0, x1), (y0, y1) = gl["base_plate_x_mm"], gl["base_plate_y_mm"]
-    return base.leg_xy_mm((x0, y0, x1, y1))
 
 
 def _link_parts(which: str, side: str, lay: dict, design) -> list[tuple[str, np.ndarray]]:

@@ -15,6 +15,7 @@ from cad.assembly.fasteners import Fastener, TappedHole
 from cad.data.catalog import FASTENER_MATERIAL, get_cap_screw, get_motor
 from cad.errors import DesignError
 from cad.families.pantograph.build import screw_plan
+from cad.families.pantograph.layout import leg_xy
 from cad.parts import joints
 from cad.parts import motor as pm
 from cad.parts import translation as tr
@@ -60,7 +61,6 @@ def place_screws(design, lay: dict, gl: dict, kinds: dict, place, rot) -> dict:
         place(name, kinds[group], body, tf,
               Fastener("ISO 4762", sp["size"], sp["length_mm"], clamps, hole, sp["engagement_mm"]))
 
-    from cad.families.pen.assembly import leg_xy
 
     for i, (x, y) in enumerate(leg_xy(gl)):
         screw("leg", f"leg_screw_{i + 1}", "ground", tr(x, y, gl["base_top_z_mm"]),
