@@ -266,6 +266,18 @@ class ResolvedDevice:
         j_c = t.capstan_inertia_kg_m2(m.spec.shaft_diameter_mm) if t.is_capstan else 0.0
         return (m.rotor_inertia_kg_m2 + j_c) * t.ratio ** 2
 
+    def joint_peak_torques_Nm(self) -> dict[str, float]:
+        """``{joint: N m}``: each motor's peak torque (catalog / ``[motor]``) through its
+        transmission, n T_peak: the simulators' force range (MJCF) and effort (URDF).
+        DesignError (``parts.motor``) when a motor states none."""
+        out = {}
+        for m in self.motors:
+            if m.spec.torque_peak_mNm is None:
+                raise DesignError("parts.motor", f"{m.catalog_key!r} states no peak torque: the "
+                                  "mjcf/urdf force range needs one (add torque_peak_mNm to [motor])")
+            out[m.joint] = m.spec.torque_peak_mNm * 1e-3 * self.transmission(m.joint).ratio
+        return out
+
     def joint_counts_per_rev(self, joint: str | None = None) -> float:
         """Encoder counts per turn of ``joint`` (default: the first motor's): the motor encoder's
         counts times the transmission ratio n (the encoder sits on the motor shaft); an int when

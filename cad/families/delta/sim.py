@@ -69,17 +69,6 @@ def _props(mp, R_body_mjcf: np.ndarray, shift_m=np.zeros(3)) -> tuple:
             R.T @ np.asarray(mp.inertia_com_kg_m2) @ R)
 
 
-def _peak_torques(device) -> dict[str, float]:
-    ratio = {t.motor_joint: t.ratio for t in device.transmissions}
-    out = {}
-    for m in device.motors:
-        if m.spec.torque_peak_mNm is None:
-            raise DesignError("parts.motor", f"{m.catalog_key!r} states no peak torque: the mjcf "
-                              "force range needs one (add torque_peak_mNm to [motor])")
-        out[m.joint] = m.spec.torque_peak_mNm * 1e-3 * ratio[m.joint]
-    return out
-
-
 def sim_model(design, bodies: dict, device, P_mm=None) -> SimModel:
     """The :class:`cad.export.sim.SimModel` of the delta (module docstring) with the effector
     centre at ``P_mm`` (3,) mm (None: the workspace centre). ``bodies``: ``{body: MassProps}``
@@ -92,7 +81,7 @@ def sim_model(design, bodies: dict, device, P_mm=None) -> SimModel:
                           "only (no knee link)")
     P = np.asarray(design.workspace["center_mm"] if P_mm is None else P_mm, float)
     T = _frames(design, P)
-    torque = _peak_torques(device)
+    torque = device.joint_peak_torques_Nm()
     world = np.eye(4)
     out: list[SimBody] = []
     loops, motors = [], []

@@ -28,7 +28,6 @@ import numpy as np
 
 from cad.data.materials import get_material
 from cad.device import resolve_device
-from cad.errors import DesignError
 from cad.export.sim import SimBody, SimLoop, SimMesh, SimModel, SimMotor, rot_z
 
 
@@ -53,17 +52,10 @@ def _meshes(bodies_parts: dict, made: set[str], color, prefix: str, link_type: s
 
 
 def peak_torque_Nm(device) -> dict[str, float]:
-    """``{joint: N m}``: each motor's peak torque (the catalog / ``[motor]`` value of the
-    resolved device) through its transmission -- the MJCF force range and the URDF effort.
-    DesignError (``parts.motor``) when the motor states none."""
-    ratio = {t.motor_joint: t.ratio for t in device.transmissions}
-    out = {}
-    for m in device.motors:
-        if m.spec.torque_peak_mNm is None:
-            raise DesignError("parts.motor", f"{m.catalog_key!r} states no peak torque: the mjcf/urdf "
-                              "force range needs one (add torque_peak_mNm to [motor])")
-        out[m.joint] = m.spec.torque_peak_mNm * 1e-3 * ratio[m.joint]
-    return out
+    """``{joint: N m}``: each motor's peak torque through its transmission
+    (:meth:`cad.device.ResolvedDevice.joint_peak_torques_Nm`) -- the MJCF force range and the
+    URDF effort. DesignError (``parts.motor``) when the motor states none."""
+    return device.joint_peak_torques_Nm()
 
 
 def _link_bodies(design, bodies: dict, lay: dict, ik, rotor_kg_m2: float, meshes) -> tuple:
