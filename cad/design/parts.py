@@ -475,6 +475,20 @@ def _print_keys(table: dict[str, Any], prefix: str, vals: dict[str, Any]) -> Non
                         f"({tail})")
         elif change:
             bounds.warn(f"{_f(prefix, 'process')} = \"printed\": {names} ({vals[key]}): {change}")
+    if proc == "printed":
+        _warn_unprintable(prefix, vals)
+
+
+def _warn_unprintable(prefix: str, vals: dict[str, Any]) -> None:
+    """Under ``process = "printed"``, name the made parts whose material is no filament: they
+    stay machined (the BOM says so), as ``"laser"`` names the parts it does not cut."""
+    kept = [f"{names} ({vals[key]})" for key, (names, _) in _MATERIAL_PARTS.items()
+            if FILAMENTS.get(vals[key]) is None]
+    if kept:
+        bounds.warn(f"{_f(prefix, 'process')} = \"printed\": {', '.join(kept)} are not in a printing "
+                    f"filament ({', '.join(sorted(FILAMENTS))}): they stay machined, as the BOM "
+                    f"process column says (set their {_f(prefix, '*_material')} to a filament to "
+                    f"print them)")
 
 
 def _laser_sheet(table: dict[str, Any], prefix: str) -> tuple[float, float] | None:
