@@ -38,6 +38,16 @@ def stiffness_range_N_per_m(s: StiffnessInputs) -> tuple[float, float]:
     return k_min, k_max
 
 
+def range_text(k_min_N_per_m: float, k_max_N_per_m: float) -> str:
+    """Eq (25)'s two sides in words (N/m in): ``"eq (25) range A .. B N/m"``, or, when the upper
+    side lies below the lower one (a coarse encoder step Delta), that the range is empty: no
+    stiffness meets both sides, and a reader must not take ``A .. B`` for an interval."""
+    if k_max_N_per_m >= k_min_N_per_m:
+        return f"eq (25) range {k_min_N_per_m:.4g} .. {k_max_N_per_m:.4g} N/m"
+    return (f"eq (25) range empty: its upper side {k_max_N_per_m:.4g} N/m is below its lower side "
+            f"2 Fv / Te = {k_min_N_per_m:.4g} N/m (a finer encoder step Delta raises the upper side)")
+
+
 def encoder_resolution_m(counts_per_rev: float, dx_dphi1_m_per_rad: float) -> float:
     """Elementary translation of an encoder on the crank: dx/dphi1 * 2 pi / counts."""
     if not (math.isfinite(counts_per_rev) and counts_per_rev > 0):

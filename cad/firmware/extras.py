@@ -17,7 +17,7 @@ import math
 
 import numpy as np
 
-from cad.dynamics.stiffness import StiffnessInputs, stiffness_range_N_per_m
+from cad.dynamics.stiffness import StiffnessInputs, range_text, stiffness_range_N_per_m
 from cad.firmware import reference as ref
 from cad.firmware.csrc import banner
 from cad.firmware.spec import DeviceSpec
@@ -162,7 +162,7 @@ def sketch(spec: DeviceSpec, wall: dict) -> str:
  * direction of motion at home, pantographs: +x); with the penetration s = N . (X - X0) > 0
  * the handle feels F = -(K s + B s_dot) N. K and B: {wall['source']};
  * WALL_K_N_PER_M is {wall['K_is']};
- * eq (25) range {wall['eq25_K_min_N_per_m']:.4g} .. {wall['eq25_K_max_N_per_m']:.4g} N/m at Te = {wall['Te_s']:g} s.
+ * {range_text(wall['eq25_K_min_N_per_m'], wall['eq25_K_max_N_per_m'])} at Te = {wall['Te_s']:g} s.
  * Run the loop every SAMPLE_PERIOD_US (the Te of eq 25); a slower loop needs a smaller K.
  * Copy hapticad_device.h / hapticad_device.c beside this sketch; on an 8-bit AVR define
  * HAPTICAD_USE_FLOAT (double is float there anyway), on a Teensy 4 keep double. */

@@ -10,6 +10,8 @@ import json
 import re
 from pathlib import Path
 
+import pytest
+
 from tests.cli_helpers import hapticad
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -54,3 +56,83 @@ def test_machined_process_with_metal_parts_adds_no_such_warning():
     code, _, err = hapticad("check", str(ROOT / "designs" / "hoeken.toml"))
     assert code in (0, 1), err
     assert "are not in a printing filament" not in err
+
+
+FIVEBAR = """name = "fivebar-rect"
+[mechanism]
+family = "pantograph"
+base_mm = 75.0
+proximal_mm = 125.0
+distal_mm = 175.0
+[workspace]
+size_mm = [120.0, 60.0]
+center_mm = [0.0, 200.0]
+grid = 11
+[actuators]
+torque_max_Nm = 1.0
+force_max_N = 1.0
+[firmware]
+encoder_counts_per_rev = {counts}
+"""
+
+
+def _fivebar_worst_step_m(counts: int) -> float:
+    """Worst encoder step at the handle over the 11 x 11 grid: sigma_max(dE/dq) 2 pi / counts,
+    dE/dq from a circle-intersection inverse kinematics by central differences (elbows out),
+    written here independently of cad/."""
+    import numpy as np
+
+    a, l2, l3 = 75.0, 125.0, 175.0
+
+    def ik(E):
+        q = []
+        for s, bx in ((1, -a / 2), (-1, a / 2)):
+            d = E - np.array([bx, 0.0])
+            r = np.hypot(*d)
+            q.append(np.arctan2(d[1], d[0]) + s * np.arccos((l2**2 + r**2 - l3**2) / (2 * l2 * r)))
+        return np.array(q)
+
+    worst, h = 0.0, 1e-6
+    for x in np.linspace(-60.0, 60.0, 11):
+        for y in np.linspace(170.0, 230.0, 11):
+            E = np.array([x, y])
+            dq = np.column_stack([(ik(E + e) - ik(E - e)) / (2 * h) for e in (np.array([h, 0]), np.array([0, h]))])
+            worst = max(worst, np.linalg.svd(np.linalg.inv(dq), compute_uv=False)[0])
+    return worst * 1e-3 * 2 * np.pi / counts
+
+
+def _eq25_hand(step_m: float) -> tuple[float, float]:
+    """Hoeken paper eq (25) with its §III.B.4 numbers: Fv 0.12, Fs 0.083, Te 0.33 ms, xdot 0.04."""
+    return 2 * 0.12 / 0.00033, 2 * (0.083 + 0.12 * 0.04) / (step_m + 0.04 * 0.00033)
+
+
+def _build_fivebar(tmp_path, counts: int):
+    d = tmp_path / f"p{counts}.toml"
+    d.write_text(FIVEBAR.format(counts=counts))
+    out = tmp_path / f"o{counts}"
+    code, _, err = hapticad("build", str(d), "--fidelity", "preview", "--formats", "firmware", "--out", str(out))
+    assert code == 0, err
+    rep = json.loads((out / "report.json").read_text())
+    row = next(r for r in rep["datasheet"]["rows"] if r["key"] == "eq25_K_max_N_per_m")
+    ino = (out / "firmware" / "wall_example" / "wall_example.ino").read_text()
+    return row, ino, (out / "report.md").read_text()
+
+
+def test_fivebar_eq25_row_with_a_coarse_encoder_says_its_range_is_empty(tmp_path):
+    k_min, k_max = _eq25_hand(_fivebar_worst_step_m(1024))
+    assert k_max < k_min  # 199 N/m against 727 N/m: no stiffness meets both sides
+    row, ino, md = _build_fivebar(tmp_path, 1024)
+    assert row["value"] == pytest.approx(k_max, rel=1e-6)
+    assert row["min"] is None and row["max"] is None  # not a range over the workspace
+    assert f"eq (25) range empty: its upper side {k_max:.4g} N/m is below its lower side 2 Fv / Te = {k_min:.4g} N/m" in row["model"]
+    assert f" * eq (25) range empty: its upper side {k_max:.4g} N/m" in ino
+    assert f"({k_min:.4g} .. {k_max:.4g})" not in md and f"{k_min:.4g} .. {k_max:.4g}" not in ino
+
+
+def test_fivebar_eq25_row_with_a_fine_encoder_states_both_sides(tmp_path):
+    k_min, k_max = _eq25_hand(_fivebar_worst_step_m(4000))
+    assert k_max > k_min
+    row, ino, _ = _build_fivebar(tmp_path, 4000)
+    assert row["value"] == pytest.approx(k_max, rel=1e-6)
+    assert f"eq (25) range {k_min:.4g} .. {k_max:.4g} N/m" in row["model"]
+    assert f" * eq (25) range {k_min:.4g} .. {k_max:.4g} N/m at Te = 0.00033 s." in ino

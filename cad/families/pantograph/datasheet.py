@@ -27,7 +27,7 @@ import numpy as np
 
 from cad.datasheet import row
 from cad.device import resolve_device
-from cad.dynamics.stiffness import stiffness_range_N_per_m
+from cad.dynamics.stiffness import range_text, stiffness_range_N_per_m
 from cad.families.pantograph.limits import pantograph_limits
 from cad.families.pantograph.mode_ceiling import mode_ceiling
 from cad.firmware.extras import paper_eq25_inputs
@@ -201,7 +201,9 @@ def k_max_row(step_m: float | None) -> dict:
     """``eq25_K_max_N_per_m``: eq (25) (Hoeken paper §III.B.4) with the paper's Fv, Fs, Te, xdot_max
     (unverified for this device) and Delta = ``step_m`` (m), the position resolution worst over
     the workspace: the wall stiffness the firmware's sketch and ``chai3d_device.json`` state
-    (:func:`cad.firmware.extras.wall_numbers`, the same inputs)."""
+    (:func:`cad.firmware.extras.wall_numbers`, the same inputs). No ``min``/``max``: those are a
+    figure's range over the workspace in every other row, and eq (25)'s lower side 2 Fv / Te is
+    no such bound (the model text states both sides, or that the range is empty)."""
     if step_m is None:
         return row("eq25_K_max_N_per_m", "renderable stiffness, eq (25) bound", None, "N/m",
                    "no reachable workspace sample: no encoder step")
@@ -210,7 +212,7 @@ def k_max_row(step_m: float | None) -> dict:
     return row("eq25_K_max_N_per_m", "renderable stiffness, eq (25) bound", k_max, "N/m",
                f"eq (25) 2 (Fs + Fv xdot) / (Delta + xdot Te), Delta = {step_m * 1e6:.4g} um (the "
                "resolution above), Hoeken paper's Fv, Fs, Te, xdot_max (§III.B.4, identified on its "
-               "prototype); the firmware's wall reads it", lo=k_min, hi=k_max, unverified=True,
+               f"prototype); the firmware's wall reads it; {range_text(k_min, k_max)}", unverified=True,
                inputs=dataclasses.asdict(inputs))
 
 
