@@ -136,3 +136,42 @@ def test_fivebar_eq25_row_with_a_fine_encoder_states_both_sides(tmp_path):
     assert row["value"] == pytest.approx(k_max, rel=1e-6)
     assert f"eq (25) range {k_min:.4g} .. {k_max:.4g} N/m" in row["model"]
     assert f" * eq (25) range {k_min:.4g} .. {k_max:.4g} N/m at Te = 0.00033 s." in ino
+
+
+MOTOR_TABLE = """[motor]
+name = "bench motor X"
+source = "a made-up data sheet (test)"
+torque_constant_mNm_per_A = 50.0
+terminal_resistance_ohm = 2.0
+torque_continuous_mNm = 150.0
+torque_peak_mNm = 600.0
+stall_torque_mNm = 1200.0
+current_continuous_A = 3.1
+no_load_current_mA = 100.0
+rotor_inertia_g_cm2 = 40.0
+mass_g = 250.0
+"""
+
+
+def test_fivebar_motor_table_is_named_as_the_bom_orders_it(tmp_path):
+    """The datasheet's force rows and report.json's ``motor`` name the motor of the BOM's motor
+    line (the ``[motor]`` table), not the catalog key whose mount it keeps; the force itself is
+    the table's 150 mN m over sigma_max(dE/dq) worst on the grid (independent kinematics)."""
+    d = tmp_path / "m.toml"
+    d.write_text(FIVEBAR.format(counts=4000) + MOTOR_TABLE)
+    out = tmp_path / "o"
+    code, _, err = hapticad("build", str(d), "--fidelity", "preview", "--formats", "step", "--out", str(out))
+    assert code == 0, err
+    with open(out / "bom.csv", encoding="utf-8") as fh:
+        motor_line = next(r for r in csv.DictReader(fh) if r["group"] == "motors")
+    assert motor_line["designation"] == "bench motor X"
+    rep = json.loads((out / "report.json").read_text())
+    assert rep["motor"]["name"] == motor_line["designation"]
+    assert "[motor] table" in rep["motor"]["source"]
+    rows = {r["key"]: r for r in rep["datasheet"]["rows"]}
+    sigma_max_m = _fivebar_worst_step_m(4000) * 4000 / (2 * 3.141592653589793)
+    assert rows["continuous_force_N"]["value"] == pytest.approx(0.150 / sigma_max_m, rel=1e-6)
+    for key in ("continuous_force_N", "peak_force_N"):
+        model = rows[key]["model"]
+        assert "bench motor X" in model, model
+        assert not re.search(r"orders: maxon-re35 \(", model), model

@@ -90,6 +90,18 @@ def motor_torques_mNm(design, field: str) -> tuple[np.ndarray | None, tuple]:
     return (None if any(v is None for v in vals) else np.asarray(vals, float)), specs
 
 
+def motor_label(m) -> str:
+    """A :class:`cad.device.ResolvedMotor` in a row, as the four-bar's rows name it: the catalog
+    key; a ``[motor]`` table's name (the BOM's motor line) when the table names its motor; else
+    the key "with the [motor] data" -- a row never credits the catalog motor with a table's
+    torques."""
+    if not m.from_motor_table:
+        return m.catalog_key
+    if "(data of [motor]" in m.spec.description:
+        return f"{m.name} ([motor], on the {m.catalog_key} mount)"
+    return f"{m.catalog_key} with the [motor] data"
+
+
 def motor_force_rows(design, paper: dict | None = None) -> list[dict]:
     """``continuous_force_N`` and ``peak_force_N``: the force available in every direction at
     the handle, the worst over the workspace, from the data-sheet torques of the motors the
@@ -111,7 +123,8 @@ def motor_force_rows(design, paper: dict | None = None) -> list[dict]:
             continue
         A = np.swapaxes(J, -1, -2)[:, cols, :] * (tau * 1e-3)[None, None, :]
         sig = np.linalg.svd(A[ok], compute_uv=False)[:, -1]
-        named = dict.fromkeys(f"{m.key} ({getattr(m, field):g} mN m)" for m in specs)
+        named = dict.fromkeys(f"{motor_label(r)} ({getattr(r.spec, field):g} mN m)"
+                              for r in resolve_device(design).motors)
         ref = [(paper or {}).get(f"{label}_force_{a}_N") for a in "xyz"]
         rows.append(row(key, f"{label} force in every direction", sig.min(), "N",
                         f"min over the workspace of sigma_min(J^T S_J), S_J = the {label} torques "

@@ -18,7 +18,8 @@ PAPER_TABLE1 = {
 
 def build_report(design, lay, clr, bodies, eff, eff_bare, itf, bom, home, fidelity, low) -> dict:
     g = design.gii()
-    mot = resolve_device(design).motor.spec  # the motor the BOM orders
+    dev_motor = resolve_device(design).motor  # the motor the BOM orders
+    mot = dev_motor.spec
     report = {
         "design": design.name,
         "gii": {
@@ -34,8 +35,11 @@ def build_report(design, lay, clr, bodies, eff, eff_bare, itf, bom, home, fideli
         "lowest_z_mm": low,
         "motor": {
             "key": mot.key,
+            **({"name": dev_motor.name} if dev_motor.from_motor_table else {}),
             "rotor_inertia_g_cm2": mot.rotor_inertia_g_cm2,
-            "source": mot.source,
+            # as the four-bar's report: a [motor] table is named, never the catalog's source alone
+            "source": (mot.source if not dev_motor.from_motor_table else
+                       f"the design's [motor] table over the mount of {mot.key} ({mot.source})"),
         },
         "home": {"x_mm": float(home[0]), "y_mm": float(home[1])},
         "effective_mass_home": eff,
