@@ -76,7 +76,7 @@ encoder_counts_per_rev = {counts}
 """
 
 
-def _fivebar_worst_step_m(counts: int) -> float:
+def _fivebar_worst_step_m(counts: int, size_mm=(120.0, 60.0)) -> float:
     """Worst encoder step at the handle over the 11 x 11 grid: sigma_max(dE/dq) 2 pi / counts,
     dE/dq from a circle-intersection inverse kinematics by central differences (elbows out),
     written here independently of cad/."""
@@ -93,8 +93,8 @@ def _fivebar_worst_step_m(counts: int) -> float:
         return np.array(q)
 
     worst, h = 0.0, 1e-6
-    for x in np.linspace(-60.0, 60.0, 11):
-        for y in np.linspace(170.0, 230.0, 11):
+    for x in np.linspace(-size_mm[0] / 2, size_mm[0] / 2, 11):
+        for y in np.linspace(200.0 - size_mm[1] / 2, 200.0 + size_mm[1] / 2, 11):
             E = np.array([x, y])
             dq = np.column_stack([(ik(E + e) - ik(E - e)) / (2 * h) for e in (np.array([h, 0]), np.array([0, h]))])
             worst = max(worst, np.linalg.svd(np.linalg.inv(dq), compute_uv=False)[0])
@@ -175,3 +175,19 @@ def test_fivebar_motor_table_is_named_as_the_bom_orders_it(tmp_path):
         model = rows[key]["model"]
         assert "bench motor X" in model, model
         assert not re.search(r"orders: maxon-re35 \(", model), model
+
+
+def test_firmware_page_numbers_of_an_empty_eq25_range():
+    """docs/firmware.md: the bundled 5-bar (100 mm square) with a 1024-count encoder has eq (25)'s
+    upper side at 196 N/m, below its lower side 727 N/m (closed form with independent kinematics);
+    the datasheet's row function gives the same figure and says the range is empty."""
+    from cad.families.pantograph.datasheet import k_max_row
+
+    text = (ROOT / "docs" / "firmware.md").read_text()
+    step = _fivebar_worst_step_m(1024, (100.0, 100.0))
+    k_min, k_max = _eq25_hand(step)
+    assert f"{k_max:.0f} N/m" == "196 N/m" and "196 N/m" in text
+    assert f"{k_min:.0f} N/m" == "727 N/m" and "727 N/m" in text
+    row = k_max_row(step)
+    assert row["value"] == pytest.approx(k_max, rel=1e-12)
+    assert "eq (25) range empty" in row["model"]
