@@ -62,7 +62,9 @@ def register(app: typer.Typer) -> None:
         write_text_atomic(dst, dumps_design(fitted, f"Fitted by `hapticad fit {design}`: "
                                             + ", ".join(f"{k}={v}" for k, v in res["fitted"].items())
                                             + "".join(f"\n{m}" for m in missed)
-                                            + "".join(f"\n{b}" for b in res["blockers"])),
+                                            + "".join(f"\n{b}" for b in res["blockers"])
+                                            + "".join(f"\ndefault limit missed: {w}"
+                                                      for w in res["limit_warnings"])),
                           final=True)
         payload = {"name": res["name"], "out": str(dst), "replaced": replaced,
                    **{k: v for k, v in res.items() if k != "name"}}

@@ -40,7 +40,8 @@ def write_optimum(design, rep: dict, out: Path, command: str) -> bool:
     raw["name"] = out.stem
     parse_design(raw, str(out))  # its own family's schema; validated before anything is written
     write_design(out, raw, f"Optimum of `{command}`: GII {rep['gii']:.6f} ({rep['method']})"
-                 + "".join(f"\n{m}" for m in rep.get("misses", ())))
+                 + "".join(f"\n{m}" for m in rep.get("misses", ()))
+                 + "".join(f"\ndefault limit missed: {w}" for w in rep.get("limit_warnings", ())))
     return replaced
 
 
@@ -192,23 +193,22 @@ def register(app: typer.Typer) -> None:
         if objective is not None:
             raise DesignError("--objective", f"min-apparent-mass is for four-bar designs, not "
                                              f"{loaded.family!r} (use --method)")
-        _pantograph(design, method or "culling", out, json_out)
+        _pantograph(loaded, design, method or "culling", out, json_out)
 
 
-def _pantograph(design: Path, method: str, out: Path | None, json_out: bool) -> None:
-    """``hapticad optimize`` of a pantograph-family design: the GII optimum by ``method``
-    (culling | brute), written to ``out`` when given, printed."""
-    from cad.cli.cmd_gii import load_pantograph_design
+def _pantograph(d, design: Path, method: str, out: Path | None, json_out: bool) -> None:
+    """``hapticad optimize`` of a GII-family design: the GII optimum by ``method``
+    (culling | brute) with its targets and default limits (:func:`cad.api.optimize`),
+    written to ``out`` when given (misses and limit warnings in its comment), printed."""
+    import sys
 
-    d = load_pantograph_design(design)
+    from cad.api import optimize
+
     if out is not None:
         from cad.io.outdir import check_out_file
 
         check_out_file(out, design)  # before the search, as for four-bars
-    rep = optimize_report(d, method)
-    from cad.studies.gii_optimize import optimum_misses
-
-    rep["targets"], rep["misses"] = optimum_misses(d, rep)  # the design's [targets] on the optimum
+    rep = optimize(d, method=method)
     if out is not None:
         rep["replaced"] = write_optimum(
             d, rep, out, f"hapticad optimize {design.name} --method {method}"
@@ -216,8 +216,14 @@ def _pantograph(design: Path, method: str, out: Path | None, json_out: bool) -> 
         rep["out"] = str(out)
     if json_out:
         print_json(rep)
-        _exit_on_misses(rep)
-        return
+    else:
+        _print_gii(rep, out)
+    for w in rep["limit_warnings"]:  # said, never silent; the exit status follows the targets
+        print(f"hapticad: warning: the optimum misses a default datasheet limit: {w}", file=sys.stderr)
+    _exit_on_misses(rep)
+
+
+def _print_gii(rep: dict, out: Path | None) -> None:
     print(f"{rep['design']} ({rep['family']}), {rep['method']}: GII = {rep['gii']:.6f}")
     print(f"  best: {rep['best']}")
     print(
@@ -229,7 +235,6 @@ def _pantograph(design: Path, method: str, out: Path | None, json_out: bool) -> 
         print(f"  note: optimum at the range bound of {', '.join(rep['at_bound'])}")
     if out is not None:
         print(f"  {'replaced' if rep['replaced'] else 'wrote'} {out}")
-    _exit_on_misses(rep)
 
 
 def _exit_on_misses(rep: dict) -> None:

@@ -40,6 +40,16 @@ def test_fit_moves_the_links_to_a_motor_force_target(tmp_path):
     assert code == 0, err
     assert _force_by_hand_N(out) >= 0.69  # the written design, evaluated independently
     assert _force_by_hand_N(DESIGNS / "pantograph.toml") < 0.69  # the start did not meet it
+    # the written design still misses the default first-mode limit: said in the file, and
+    # `hapticad check` of the written file (a second command reading it) agrees
+    (line,) = [ln for ln in out.read_text().splitlines() if ln.startswith("# default limit missed:")]
+    code, o, _ = hapticad("check", out, "--json")  # checks the file's [targets], warns on the limits
+    res = json.loads(o)
+    assert code == 0 and res["ok"] and not res["limits_met"]
+    (warning,) = [w for w in res["limit_warnings"] if w.startswith("first structural mode")]
+    check_Hz = float(warning.split(") = ", 1)[1].split(" Hz", 1)[0])
+    fit_Hz = float(line.split("first_mode_Hz = ", 1)[1].split(",", 1)[0])
+    assert fit_Hz == pytest.approx(check_Hz, rel=1e-3) and fit_Hz < 150
 
 
 def test_fit_that_cannot_meet_a_datasheet_target_exits_1_with_the_best_figure(tmp_path):
@@ -131,6 +141,24 @@ def test_optimize_says_which_targets_its_gii_optimum_misses(tmp_path):
     src.write_text(text.replace("min = 2.0", "min = 0.5"))  # met: exit 0, nothing said
     code, _, err = hapticad("optimize", src, "--out", tmp_path / "opt2.toml")
     assert code == 0 and "target missed" not in err
+
+
+def test_optimize_says_which_default_limits_its_gii_optimum_misses(tmp_path):
+    """The bundled 5-bar has no [targets]: its GII optimum is written (exit 0) and every
+    default limit it misses is said on stderr and in the file, with the figures `hapticad
+    check` computes on the written file and the force computed by hand."""
+    out = tmp_path / "opt.toml"
+    code, _, err = hapticad("optimize", DESIGNS / "pantograph.toml", "--out", out)
+    assert code == 0, err
+    said = [ln for ln in err.splitlines() if "misses a default datasheet limit" in ln]
+    in_file = [ln for ln in out.read_text().splitlines() if ln.startswith("# default limit missed:")]
+    code, o, _ = hapticad("check", out, "--json")
+    missed = [r for r in json.loads(o)["rows"] if not r["ok"]]
+    assert code == 1 and {r["key"] for r in missed} == {"continuous_force_N", "first_mode_Hz"}
+    assert len(said) == len(in_file) == len(missed)
+    force = next(r["computed"] for r in missed if r["key"] == "continuous_force_N")
+    assert force == pytest.approx(_force_by_hand_N(out), rel=1e-4)
+    assert f"= {force:.4g} N" in said[0] and f"= {force:.4g} N" in in_file[0]
 
 
 def test_fit_trials_flag_is_checked_before_any_search():
