@@ -29,6 +29,8 @@ max_stress_MPa         <=    strength / :data:`STRESS_SAFETY_FACTOR`       stati
                              link's material, force ``[actuators]
                              force_max_N``)
 min_clearance_mm       >=    ``parts.clearance_min_mm``                    the build's own clearance rule
+winding_rise_at_       <=    100 K (four-bars whose motor gives its        125 C winding at 25 C ambient (maxon
+force_K                      thermal resistances; continuous basis)        RE 35 / RE 40 sheets) holding force_N
 resolution_um,         only where ``[targets]`` asks                       a resolution or a wall stiffness is a
 K_max_N_per_m,                                                             requirement of the application, not
 friction_N                                                                 of every device

@@ -34,10 +34,11 @@ import numpy as np
 
 from cad.data import catalog
 from cad.datasheet import row
+from cad.datasheet.limits import Limit
 from cad.device import resolve_device
 from cad.dynamics.inertia import InertiaCoefficients
 from cad.families.fourbar import capstan
-from cad.families.fourbar.limits import PAPER_FS_N, fourbar_limits
+from cad.families.fourbar.limits import FORCE_CHANGE, PAPER_FS_N, fourbar_limits
 from cad.io import derived_cache
 from cad.kinematics.fourbar import jacobian_mm_per_rad, solve, velocity_ratios
 from cad.kinematics.metrics import path_frame
@@ -48,7 +49,7 @@ SAMPLES = 401
 #: Duty cycle of the duty-cycle force row.
 DUTY = 0.25
 #: Winding temperature rise allowed by the RE 35 / RE 40 data (max. winding temperature
-#: +125 C, ambient 25 C), K: a row reference, not a limit.
+#: +125 C, ambient 25 C), K: the row's default limit (:func:`thermal_limit`).
 WINDING_RISE_MAX_K = 100.0
 #: SKF simplified frictional moment M = 0.5 mu P d, constant coefficient of friction of an
 #: open deep groove ball bearing (SKF Rolling bearings catalogue, "Friction": estimating
@@ -336,4 +337,17 @@ def rows_and_limits(design, report: dict, out_dir=None, simulate_wall: bool = Tr
     notes = [f"motor: {m.description}, {m.winding}"]
     if m.unverified:
         notes.append(f"unverified motor data (no public source read): {', '.join(m.unverified)}")
-    return rows, {**fourbar_limits(design, st.get("strength_MPa")), **cap_limits}, notes
+    lim = {**fourbar_limits(design, st.get("strength_MPa")), **cap_limits, **thermal_limit(design, rows)}
+    return rows, lim, notes
+
+
+def thermal_limit(design, rows: list[dict]) -> dict[str, Limit]:
+    """The winding-rise limit (:data:`WINDING_RISE_MAX_K`) where the row is computed (the
+    motor gives its thermal resistances) and the design holds ``force_N`` continuously."""
+    r = next(r for r in rows if r["key"] == "winding_rise_at_force_K")
+    if r["value"] is None or design.force_basis == "peak":
+        return {}
+    lim = {"winding_rise_at_force_K": Limit(
+        "<=", WINDING_RISE_MAX_K, "holding force_N continuously must keep the winding below its 125 C "
+        "maximum at 25 C ambient (the motor data sheet's thermal data)", FORCE_CHANGE)}
+    return lim
