@@ -19,7 +19,7 @@ import numpy as np
 from cad.datasheet import row
 from cad.datasheet.limits import FIRST_MODE_MIN_HZ, MODE_REASON, Limit, with_targets
 from cad.device import resolve_device
-from cad.dynamics.stiffness import stiffness_range_N_per_m
+from cad.dynamics.stiffness import range_text, stiffness_range_N_per_m
 from cad.firmware.extras import paper_eq25_inputs
 from cad.kinematics.delta import ik, jacobian_rad_per_m, require_ok
 
@@ -60,14 +60,16 @@ def k_max_row(resolution_um_: float) -> dict:
     """``eq25_K_max_N_per_m``: eq (25) (Hoeken paper §III.B.4) with the paper's Fv, Fs, Te,
     xdot_max (identified on its prototype: unverified for a delta) and Delta = the position
     resolution worst over the workspace (um in, N/m out); the firmware's wall sketch and
-    ``chai3d_device.json`` read this row (:func:`cad.firmware.extras.wall_numbers`)."""
+    ``chai3d_device.json`` read this row (:func:`cad.firmware.extras.wall_numbers`). No
+    ``min``/``max`` (a figure's range over the workspace in every other row): the model text
+    states both sides of eq (25)'s range, or that it is empty."""
     inputs = paper_eq25_inputs(resolution_um_ * 1e-6)
     k_min, k_max = stiffness_range_N_per_m(inputs)
     return row("eq25_K_max_N_per_m", "renderable stiffness, eq (25) bound", k_max, "N/m",
                f"eq (25) 2 (Fs + Fv xdot) / (Delta + xdot Te), Delta = {resolution_um_:.4g} um (the "
                "resolution above, worst direction and point), Hoeken paper's Fv, Fs, Te, xdot_max "
-               "(§III.B.4, identified on its prototype); the firmware's wall reads it",
-               lo=k_min, hi=k_max, unverified=True, inputs=dataclasses.asdict(inputs))
+               f"(§III.B.4, identified on its prototype); the firmware's wall reads it; "
+               f"{range_text(k_min, k_max)}", unverified=True, inputs=dataclasses.asdict(inputs))
 
 
 def rows_and_limits(design, report: dict, out_dir=None, simulate_wall: bool = True):

@@ -121,5 +121,20 @@ def test_k_max_row_is_eq25_at_the_worst_resolution():
     delta_m = rows["resolution_um"]["value"] * 1e-6
     k = rows["eq25_K_max_N_per_m"]
     assert k["value"] == pytest.approx(2 * (0.083 + 0.12 * 0.04) / (delta_m + 0.04 * 0.33e-3), rel=1e-12)
-    assert k["min"] == pytest.approx(2 * 0.12 / 0.33e-3, rel=1e-12) and k["unverified"]
+    k_lo = 2 * 0.12 / 0.33e-3  # eq (25)'s lower side 2 Fv / Te, stated in words, not as a range
+    assert k["min"] is None and k["max"] is None and k["unverified"]
+    assert (f"eq (25) range {k_lo:.4g} .. {k['value']:.4g} N/m" in k["model"] if k["value"] >= k_lo
+            else f"range empty: its upper side {k['value']:.4g} N/m" in k["model"])
     assert k["inputs"]["encoder_resolution_m"] == pytest.approx(delta_m, rel=1e-15)
+
+
+def test_k_max_row_with_a_coarse_encoder_says_its_range_is_empty():
+    """A resolution Delta coarse enough (1.5x the step where the two sides meet, by hand) that
+    eq (25)'s upper side falls below 2 Fv / Te: the row says the range is empty."""
+    from cad.families.delta.datasheet import k_max_row
+
+    k_lo = 2 * 0.12 / 0.33e-3
+    delta_um = 2 * (0.083 + 0.12 * 0.04) / k_lo * 1e6 * 1.5  # Delta putting the upper side below
+    k = k_max_row(delta_um)
+    assert k["value"] == pytest.approx(2 * (0.083 + 0.12 * 0.04) / (delta_um * 1e-6 + 0.04 * 0.33e-3))
+    assert k["value"] < k_lo and "range empty" in k["model"] and k["min"] is None
