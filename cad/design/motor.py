@@ -110,6 +110,27 @@ def _check_continuous(m, changes: dict, ov: dict) -> None:
                       "current_continuous_A of the same data sheet)")
 
 
+def _check_peak(m, changes: dict, ov: dict) -> None:
+    """continuous <= peak <= stall torque: the drive's peak is what the winding gives at its
+    nominal voltage at most (the data sheet's stall torque), and no less than its continuous
+    torque; checked when ``[motor]`` gives one of them, against the catalog's others.
+    DesignError naming the key given."""
+    keys = ("torque_continuous_mNm", "torque_peak_mNm", "stall_torque_mNm")
+    given = [k for k in keys if k in ov]
+    if not given:
+        return
+    cont, peak, stall = (changes.get(k, getattr(m, k)) for k in keys)
+    bad = ([(cont, "torque_continuous_mNm", stall, "stall_torque_mNm")] if None not in (cont, stall) else []) \
+        + ([(peak, "torque_peak_mNm", stall, "stall_torque_mNm")] if None not in (peak, stall) else [])
+    for lo, lo_k, hi, hi_k in bad:
+        if lo > hi:
+            key = lo_k if lo_k in ov else hi_k
+            said = {k: f"{k} = {v:g} mN m" + ("" if k in ov else f" ({m.key})") for k, v in ((lo_k, lo), (hi_k, hi))}
+            raise DesignError(f"motor.{key}", f"{said[lo_k]} is above {said[hi_k]}: the winding "
+                                              "gives no more than its stall torque at nominal voltage (mN m "
+                                              "from the same data sheet? a N m value would read 1000x small)")
+
+
 def resolve_motor(catalog_key: str, overrides: tuple[tuple[str, Any], ...] = (), field: str = "parts.motor"):
     """The :class:`cad.data.catalog.MotorSpec` a design uses: the catalog winding with the
     ``[motor]`` overrides applied, each overridden value sourced to the design file."""
@@ -131,6 +152,7 @@ def resolve_motor(catalog_key: str, overrides: tuple[tuple[str, Any], ...] = (),
         sources["torque_peak_mNm"] = f"the stall torque of {src}"
         unverified.discard("torque_peak_mNm")
     _check_continuous(m, changes, ov)
+    _check_peak(m, changes, ov)
     name = ov.get("name")
     # unnamed: the catalog motor ordered as such, its line saying which data are the design's
     given = ", ".join(k for k in NUMERIC if k in ov)
