@@ -141,6 +141,14 @@ SYNTH_STROKE_REL = 1e-6
 #: assembly error; beyond 1 mm (5 % of the eq-7 crank of 20 mm) the readings disagree and
 #: hc_forward refuses them (HC_ERR_CRANK).
 FIRMWARE_CRANK_TOL_M = 1e-3
+#: Generated firmware, haptic pen: the two arm ends found by the arms' FK may lie off the pen
+#: length l6 by encoder quantization and assembly error; beyond 1 mm (1.4 % of the paper's
+#: 70 mm pen, Table 2) the readings disagree and hc_forward refuses them (HC_ERR_CRANK).
+FIRMWARE_PEN_LENGTH_TOL_M = 1e-3
+#: Generated firmware, haptic pen: yaw = atan2(u_y, u_x) is undefined for a vertical pen; below
+#: cos(pitch) = 0.01 (pitch beyond 89.4 deg, far outside any workspace of rotation_deg < 90)
+#: hc_forward calls the pose singular.
+FIRMWARE_PEN_COS_PITCH_MIN = 1e-2
 #: Generated firmware, double build against hapticad's numpy model (issue 26): 1e-9 m and
 #: 1e-9 N m at every test pose (rounding of the same closed forms is ~1e-15).
 FIRMWARE_DOUBLE_POSITION_M = 1e-9

@@ -59,13 +59,7 @@ def register(app: typer.Typer) -> None:
                             best_reached(wanted[r["key"]], [e.get(r["key"]) for e in built] + [r["computed"]]),
                             r["computed"])
                   for r in res["rows"] if not r["ok"] and r["key"] in wanted]
-        write_text_atomic(dst, dumps_design(fitted, f"Fitted by `hapticad fit {design}`: "
-                                            + ", ".join(f"{k}={v}" for k, v in res["fitted"].items())
-                                            + "".join(f"\n{m}" for m in missed)
-                                            + "".join(f"\n{b}" for b in res["blockers"])
-                                            + "".join(f"\ndefault limit missed: {w}"
-                                                      for w in res["limit_warnings"])),
-                          final=True)
+        write_text_atomic(dst, dumps_design(fitted, fitted_comment(design, res, missed)), final=True)
         payload = {"name": res["name"], "out": str(dst), "replaced": replaced,
                    **{k: v for k, v in res.items() if k != "name"}}
         if json_out:
@@ -90,3 +84,11 @@ def register(app: typer.Typer) -> None:
             for b in payload["blockers"]:  # what blocks it and by how much (pantograph first mode)
                 print(f"hapticad: {b}", file=sys.stderr)
             raise typer.Exit(1)
+
+
+def fitted_comment(design, res: dict, missed: list[str]) -> str:
+    """The fitted file's comment: the command and the fitted values, each missed target's
+    line, what blocks it, and each default datasheet limit the written design misses."""
+    return (f"Fitted by `hapticad fit {design}`: " + ", ".join(f"{k}={v}" for k, v in res["fitted"].items())
+            + "".join(f"\n{m}" for m in missed) + "".join(f"\n{b}" for b in res["blockers"])
+            + "".join(f"\ndefault limit missed: {w}" for w in res["limit_warnings"]))

@@ -113,13 +113,15 @@ def _check_continuous(m, changes: dict, ov: dict) -> None:
 def _check_peak(m, changes: dict, ov: dict) -> None:
     """continuous <= peak <= stall torque: the drive's peak is what the winding gives at its
     nominal voltage at most (the data sheet's stall torque), and no less than its continuous
-    torque; checked when ``[motor]`` gives one of them, against the catalog's others.
-    DesignError naming the key given."""
+    torque; checked when ``[motor]`` gives one of them, against the others it gives and, for
+    a table without ``name`` (corrections to the catalog winding), the catalog's; a named
+    table is another motor, whose catalog values do not apply. DesignError naming the key."""
     keys = ("torque_continuous_mNm", "torque_peak_mNm", "stall_torque_mNm")
     given = [k for k in keys if k in ov]
     if not given:
         return
-    cont, peak, stall = (changes.get(k, getattr(m, k)) for k in keys)
+    own = "name" in ov
+    cont, peak, stall = (changes.get(k, None if own else getattr(m, k)) for k in keys)
     bad = ([(cont, "torque_continuous_mNm", stall, "stall_torque_mNm")] if None not in (cont, stall) else []) \
         + ([(peak, "torque_peak_mNm", stall, "stall_torque_mNm")] if None not in (peak, stall) else [])
     for lo, lo_k, hi, hi_k in bad:

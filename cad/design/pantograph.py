@@ -688,12 +688,12 @@ def _parse_pen(mech: dict, ws: dict, act: dict) -> tuple:
 def _parse_firmware(raw: dict[str, Any], family: str):
     """``[firmware]`` (:mod:`cad.design.firmware`) of the families that build; None otherwise."""
     tab = optional_table(raw, "firmware", "")
-    if family == "haptic-pen":  # no firmware generator yet: only the encoder the BOM orders
-        extra = sorted(set(tab) - {"encoder_counts_per_rev"})
-        if extra:
-            raise DesignError(f"firmware.{extra[0]}", "the haptic pen has no firmware generator: its "
-                              "[firmware] takes encoder_counts_per_rev only (the encoder the BOM orders)")
-        return parse_firmware(tab, 6) if tab else None
+    if family == "haptic-pen":  # spatial: gravity is -z of its base frame (z up)
+        for key in ("plane", "gravity_direction"):
+            if key in tab:
+                raise DesignError(f"firmware.{key}", "the haptic pen's gravity is -z of its base "
+                                  "frame (z up, cad/families/pen/firmware.py): no plane to choose")
+        return parse_firmware(tab, 6)
     if family not in ("pantograph", "twin-pantograph"):
         if tab:
             raise DesignError("firmware", f"firmware is generated for built devices, not {family!r}")

@@ -43,7 +43,8 @@ def _define(text: str, name: str) -> str | None:
 
 def header_facts(text: str) -> dict:
     """``HC_ENCODER_DEFAULT`` counts, ``HC_KT_NM_PER_A``, ``HC_CURRENT_CONTINUOUS_A``,
-    ``HC_CURRENT_PEAK_A`` of a generated ``hapticad_device.h`` (SI), None when absent."""
+    ``HC_CURRENT_PEAK_A`` of a generated ``hapticad_device.h`` (SI), None when absent; and
+    ``<key>_joints``: the lists of ``HC_*_JOINTS`` (a device whose motors differ), or None."""
     out: dict = {}
     enc = _define(text, "HC_ENCODER_DEFAULT")
     m = re.match(r"\{\s*(\d+)L", enc or "")
@@ -52,6 +53,9 @@ def header_facts(text: str) -> dict:
                       ("current_peak_A", "HC_CURRENT_PEAK_A")):
         v = re.match(r"HC_R\(([^)]+)\)", _define(text, name) or "")
         out[key] = float(v.group(1)) if v else None
+        arr = _define(text, name + "_JOINTS")  # motors that differ: one value per joint
+        out[key + "_joints"] = (None if arr is None else
+                                [float(x) for x in re.findall(r"HC_R\(([^)]+)\)", arr)])
     return out
 
 
@@ -110,7 +114,13 @@ def _encoder_facts(out: Path, facts: list) -> None:
                       "encoder"))
         for k, name in (("kt_Nm_per_A", "HC_KT_NM_PER_A"), ("current_continuous_A", "HC_CURRENT_CONTINUOUS_A"),
                         ("current_peak_A", "HC_CURRENT_PEAK_A")):
-            facts.append(("firmware/hapticad_device.h", name, h[k], k))
+            if h[k + "_joints"] is None:
+                facts.append(("firmware/hapticad_device.h", name, h[k], k))
+                continue
+            facts.append(("firmware/hapticad_device.h", f"{name}_JOINTS entries", len(h[k + "_joints"]),
+                          "n_motors"))
+            facts += [("firmware/hapticad_device.h", f"{name}_JOINTS[{i}]", v, f"{k}:{i}")
+                      for i, v in enumerate(h[k + "_joints"])]
     for rel, keys in (("chai3d_device.json", ("encoder_counts_per_rev",)),
                       ("test_vectors.json", ("encoder", "counts_per_rev"))):
         if (fw / rel).is_file():
@@ -156,7 +166,14 @@ def device_values(device) -> dict:
         m = device.motor
         vals.update(kt_Nm_per_A=m.kt_Nm_per_A, current_continuous_A=m.spec.current_continuous_A,
                     current_peak_A=m.current_peak_A, motor_key=m.catalog_key,
-                    rotor_inertia_g_cm2=m.spec.rotor_inertia_g_cm2)
+                    rotor_inertia_g_cm2=m.spec.rotor_inertia_g_cm2, n_motors=len(device.motors))
+        for i, j in enumerate(device.motors):  # each joint's motor (a header with one per joint)
+            vals.update({f"kt_Nm_per_A:{i}": j.kt_Nm_per_A, f"current_peak_A:{i}": j.current_peak_A,
+                         f"current_continuous_A:{i}": j.spec.current_continuous_A})
+        if len({(j.catalog_key, j.name, j.spec) for j in device.motors}) > 1:
+            # motors that differ: one header value for every joint disagrees with some joint
+            vals.update(kt_Nm_per_A="one per joint", current_continuous_A="one per joint",
+                        current_peak_A="one per joint")
     for t, m in zip(device.transmissions, device.motors, strict=True):
         vals[f"armature:{m.joint}"] = device.joint_rotor_inertia_kg_m2(m.joint)  # n^2 (J_m + J_c)
         if m.spec.torque_peak_mNm is not None:

@@ -44,7 +44,6 @@ def header(spec: DeviceSpec) -> str:
     codes = "\n".join(f"#define {k} {v}" for k, v in STATUS.items())
     enc_d = ", ".join(str(d) for d in spec.encoder_direction)
     enc_z = ", ".join(lit(z) for z in spec.encoder_zero_rad)
-    m = spec.motor
     gear = _gear_header(spec)
     return banner(spec, "hapticad_device.h: kinematics, Jacobian, torques and motor currents") + f"""
 #ifndef HAPTICAD_DEVICE_H
@@ -72,10 +71,7 @@ typedef HAPTICAD_REAL hc_real;
 /* status codes of every function (0 = ok) */
 {codes}
 
-/* motor {c_comment(m.key)}: torque constant (N m/A) and limits ({c_comment(m.source)}) */
-#define HC_KT_NM_PER_A {lit(m.kt_Nm_per_A)}
-#define HC_CURRENT_CONTINUOUS_A {lit(m.current_continuous_A)}
-#define HC_CURRENT_PEAK_A {lit(m.current_peak_A)}
+{_motor_header(spec)}
 #define HC_LIMIT_CONTINUOUS 0
 #define HC_LIMIT_PEAK 1
 {gear}
@@ -185,6 +181,42 @@ JT_F = """int hc_joint_torques(const hc_real q[HC_N_JOINTS], const hc_real F[HC_
 """
 
 
+def _motor_header(spec: DeviceSpec) -> str:
+    """The motor constants of the header: one motor for every joint, or (motors that differ,
+    ``spec.joint_motors``) one value per joint in ``report.json`` ``device.motors`` order."""
+    m = spec.motor
+    if not spec.joint_motors:
+        return (f"/* motor {c_comment(m.key)}: torque constant (N m/A) and limits ({c_comment(m.source)}) */\n"
+                f"#define HC_KT_NM_PER_A {lit(m.kt_Nm_per_A)}\n"
+                f"#define HC_CURRENT_CONTINUOUS_A {lit(m.current_continuous_A)}\n"
+                f"#define HC_CURRENT_PEAK_A {lit(m.current_peak_A)}")
+    ms = spec.joint_motors
+    names = "\n".join(f" *   joint {', '.join(str(i) for i, j in enumerate(ms) if j == m)}: "
+                      f"{c_comment(m.key)} ({c_comment(m.source)})" for m in dict.fromkeys(ms))
+    row = lambda f: ", ".join(lit(getattr(j, f)) for j in ms)  # noqa: E731
+    return ("/* motors, one per joint (they differ): torque constant (N m/A) and limits\n" + names + " */\n"
+            f"#define HC_KT_NM_PER_A_JOINTS {{ {row('kt_Nm_per_A')} }}\n"
+            f"#define HC_CURRENT_CONTINUOUS_A_JOINTS {{ {row('current_continuous_A')} }}\n"
+            f"#define HC_CURRENT_PEAK_A_JOINTS {{ {row('current_peak_A')} }}")
+
+
+#: hc_motor_currents with each joint's motor constants (spec.joint_motors): the currents are
+#: scaled down together until none exceeds its own motor's limit.
+_PER_JOINT_CURRENTS = (
+    ("    hc_real imax = (limit == HC_LIMIT_PEAK) ? HC_CURRENT_PEAK_A : HC_CURRENT_CONTINUOUS_A;\n",
+     "    static const hc_real kt[HC_N_JOINTS] = HC_KT_NM_PER_A_JOINTS;\n"
+     "    static const hc_real ic[HC_N_JOINTS] = HC_CURRENT_CONTINUOUS_A_JOINTS;\n"
+     "    static const hc_real ip[HC_N_JOINTS] = HC_CURRENT_PEAK_A_JOINTS;\n"
+     "    const hc_real *imax = (limit == HC_LIMIT_PEAK) ? ip : ic;\n"),
+    ("        amps[i] = tau[i] / HC_KT_NM_PER_A;\n", "        amps[i] = tau[i] / kt[i];\n"),
+    ("        else if (HC_FABS(amps[i]) > worst) worst = HC_FABS(amps[i]);\n",
+     "        else if (HC_FABS(amps[i]) / imax[i] > worst) worst = HC_FABS(amps[i]) / imax[i];\n"),
+    ("    if (worst <= imax) return 0;\n    for (i = 0; i < HC_N_JOINTS; ++i) amps[i] *= imax / worst;\n",
+     "    if (worst <= HC_R(1.0)) return 0;   /* worst: the largest |i| / its limit */\n"
+     "    for (i = 0; i < HC_N_JOINTS; ++i) amps[i] /= worst;\n"),
+)
+
+
 def _gear_header(spec: DeviceSpec) -> str:
     """The transmission ratios' lines of the header (empty for a direct-drive device)."""
     if not spec.gear:
@@ -200,6 +232,7 @@ _GEARED = (
     ("               / (hc_real)enc->counts_per_rev;",
      "               / ((hc_real)enc->counts_per_rev * hc_gear[i]);"),
     ("        amps[i] = tau[i] / HC_KT_NM_PER_A;", "        amps[i] = tau[i] / (hc_gear[i] * HC_KT_NM_PER_A);"),
+    ("        amps[i] = tau[i] / kt[i];", "        amps[i] = tau[i] / (hc_gear[i] * kt[i]);"),  # per-joint motors
     ('#define HC_TWO_PI HC_R(6.283185307179586)\n',
      '#define HC_TWO_PI HC_R(6.283185307179586)\nstatic const hc_real hc_gear[HC_N_JOINTS] = HC_GEAR;\n'),
 )
@@ -209,6 +242,11 @@ def source(spec: DeviceSpec) -> str:
     """``hapticad_device.c``: the banner, the common code, the model's part."""
     body = spec.model.c_source(spec)
     common = _COMMON
+    if spec.joint_motors:
+        for old, new in _PER_JOINT_CURRENTS:
+            if old not in common:  # the generator's own text: a broken pattern is a bug here
+                raise RuntimeError(f"hc_motor_currents template changed: {old.strip()!r}")
+            common = common.replace(old, new)
     if spec.gear:
         for old, new in _GEARED:
             common = common.replace(old, new)

@@ -31,10 +31,10 @@ def device_spec(design, report: dict, design_hash: str, version: str, device=Non
         model = linkage_model(design)
     opts = design.firmware
     device = device if device is not None else resolve_device(design)
-    motor = motor_data(device.motor.spec)
-    if device.motor.from_motor_table:  # the header names the motor the device uses
-        motor = replace(motor, key=device.motor.name)
+    motor = _motor_data(device.motor)
     sp = model.spec_params(design, report, device)
+    per_joint = tuple(_motor_data(m) for m in device.motors)
+    joint_motors = per_joint if len(set(per_joint)) > 1 else ()
     return DeviceSpec(
         kind=model.kind, name=design.name, family=design.family, design_hash=design_hash,
         version=version, n_joints=sp.n_joints, n_task=sp.n_task, params=sp.params,
@@ -45,4 +45,12 @@ def device_spec(design, report: dict, design_hash: str, version: str, device=Non
         rotor_kg_m2=device.motor.rotor_inertia_kg_m2, model=model,
         gear=(() if all(t.ratio == 1.0 for t in device.transmissions)
               else tuple(float(t.ratio) for t in device.transmissions)),
+        joint_motors=joint_motors,
     )
+
+
+def _motor_data(m):
+    """The :class:`MotorData` of a resolved motor (named by its ``[motor]`` table's name when
+    it has one: the header names the motor the device uses)."""
+    data = motor_data(m.spec)
+    return replace(data, key=m.name) if m.from_motor_table else data

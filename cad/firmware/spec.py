@@ -80,6 +80,15 @@ class DeviceSpec:
     #: transmission ratio n of each joint's motor (joint torque = n motor torque, joint angle =
     #: motor angle / n: :class:`cad.device.Transmission`); empty: every joint driven directly
     gear: tuple[float, ...] = ()
+    #: each joint's motor where they differ (the haptic pen: RE 40 waists, RE 35 shoulders;
+    #: ``report.json`` ``device.motors`` order); empty: every joint has ``motor``
+    joint_motors: tuple[MotorData, ...] = ()
+
+    def kt_of(self) -> np.ndarray:
+        """(n_joints,) torque constants (N m/A) of the joints' motors."""
+        if not self.joint_motors:
+            return np.full(self.n_joints, self.motor.kt_Nm_per_A)
+        return np.array([m.kt_Nm_per_A for m in self.joint_motors])
 
     def gear_of(self) -> np.ndarray:
         """(n_joints,) ratios, ones for a direct-drive device."""
@@ -139,5 +148,6 @@ def angles_from_counts(spec: DeviceSpec, counts) -> np.ndarray:
 
 def motor_currents_A(spec: DeviceSpec, tau_Nm) -> np.ndarray:
     """Unsaturated motor currents of joint torques ``tau_Nm`` (N, n_joints): i = tau / (n kt), A
+    (kt of each joint's motor)
     (the reference of ``hc_motor_currents`` below its limit)."""
-    return np.asarray(tau_Nm, float) / (spec.gear_of() * spec.motor.kt_Nm_per_A)
+    return np.asarray(tau_Nm, float) / (spec.gear_of() * spec.kt_of())

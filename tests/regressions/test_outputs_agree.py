@@ -96,9 +96,18 @@ def c_real(v: str) -> float:
 
 def header(out: Path) -> dict:
     d = defines((out / "firmware" / "hapticad_device.h").read_text())
+
+    def one(name):  # None in a header with one value per joint (motors that differ)
+        return c_real(d[name]) if name in d else None
+
+    def joints(name):
+        return [float(v) for v in re.findall(r"HC_R\(([^)]+)\)", d[name])] if name in d else None
+
     return {"counts": int(re.match(r"\{\s*(\d+)L", d["HC_ENCODER_DEFAULT"]).group(1)),
-            "kt": c_real(d["HC_KT_NM_PER_A"]), "i_cont": c_real(d["HC_CURRENT_CONTINUOUS_A"]),
-            "i_peak": c_real(d["HC_CURRENT_PEAK_A"]),
+            "kt": one("HC_KT_NM_PER_A"), "i_cont": one("HC_CURRENT_CONTINUOUS_A"),
+            "i_peak": one("HC_CURRENT_PEAK_A"), "kt_joints": joints("HC_KT_NM_PER_A_JOINTS"),
+            "i_cont_joints": joints("HC_CURRENT_CONTINUOUS_A_JOINTS"),
+            "i_peak_joints": joints("HC_CURRENT_PEAK_A_JOINTS"),
             "zero": [float(z) for z in re.findall(r"HC_R\(([^)]+)\)", d["HC_ENCODER_DEFAULT"])],
             "motor_comment": re.search(r"/\* motor (\S+):", (out / "firmware" / "hapticad_device.h").read_text())}
 
@@ -162,7 +171,7 @@ def eq25_K_max(st: dict) -> float:
 # ------------------------------------------------------------------------ the builds
 FOURBAR_FORMATS = {"firmware", "mjcf"}
 FORMATS = {"hoeken": FOURBAR_FORMATS, "pantograph": {"firmware", "mjcf"}, "twin-pantograph": {"firmware", "mjcf"},
-           "haptic-pen": {"mjcf"}, "powermouse": {"firmware"}, "delta": {"firmware", "mjcf"}}
+           "haptic-pen": {"firmware", "mjcf"}, "powermouse": {"firmware"}, "delta": {"firmware", "mjcf"}}
 #: Bundled designs built by default (the rest: slow).
 FAST = ("hoeken.toml", "pantograph.toml", "haptic_mouse.toml", "powermouse.toml")
 SLOW = tuple(sorted(p.name for p in DESIGNS.glob("*.toml") if p.name not in FAST and buildable(p)))
@@ -241,7 +250,28 @@ def check_agree(toml: dict, out: Path) -> None:
         _check_fourbar(toml, out, rep, n)
     if fam == "delta":
         _check_delta(toml, out, rep, n)
+    if fam == "haptic-pen" and (out / "firmware").is_dir():
+        _check_pen_motors(out, rep)
     _check_masses(out, rep)
+
+
+def _check_pen_motors(out: Path, rep: dict) -> None:
+    """The pen's header states each joint's motor (RE 40 waists, RE 35 shoulders): the
+    constants report.json's device section gives per motor, in its order; the BOM orders
+    those motors (2 + 4)."""
+    h, mot = header(out), rep["device"]["motors"]
+    assert h["kt"] is None and len(h["kt_joints"]) == len(mot) == 6
+    for i, m in enumerate(mot):
+        c = {k: v["value"] for k, v in m["constants"].items()}
+        kt = c["torque_constant_mNm_per_A"] * 1e-3
+        assert h["kt_joints"][i] == pytest.approx(kt, rel=EXACT_REL)
+        assert h["i_cont_joints"][i] == pytest.approx(c["current_continuous_A"], rel=EXACT_REL)
+        assert h["i_peak_joints"][i] == pytest.approx(c["torque_peak_mNm"] * 1e-3 / kt, rel=EXACT_REL)
+    with (out / "bom.csv").open(newline="") as f:
+        bom = [r for r in csv.DictReader(f) if r["group"] == "motors"]
+    ordered = {r["designation"]: int(r["quantity"]) for r in bom}
+    assert ordered == {"maxon RE 40": 2, "maxon RE 35": 4}
+    assert [m["catalog_key"] for m in mot] == ["maxon-re40", "maxon-re35", "maxon-re35"] * 2
 
 
 def _ratio(toml: dict) -> float:

@@ -104,7 +104,7 @@ def link_masses(spec, pre=""):
     return fb5.FiveBarMass(*links, jm)
 
 
-def _params(fb: fb5.FiveBar, home_mm, pre: str = "") -> tuple[dict, np.ndarray]:
+def fivebar_params(fb: fb5.FiveBar, home_mm, pre: str = "") -> tuple[dict, np.ndarray]:
     """SI parameters of one 5-bar with the working modes of its pose at ``home_mm``."""
     ik = fb5.ik(fb, np.asarray(home_mm, dtype=float)[None, :])
     fb5.require_ok(ik)
@@ -149,7 +149,7 @@ def fivebar_mass_matrix(spec, q_ok, X_ok) -> np.ndarray:
 def fivebar_spec_params(design, report: dict, device) -> SpecParams:
     """The 5-bar's lengths and working modes at home, its bodies from report.json."""
     bodies = {k: body_from_report(v) for k, v in report["bodies"].items()}
-    params, q = _params(design.mechanism, _home_mm(design))
+    params, q = fivebar_params(design.mechanism, _home_mm(design))
     return SpecParams(params, tuple(float(v) for v in q), bodies, 2, 2)
 
 
@@ -308,8 +308,8 @@ def twin_spec_params(design, report: dict, device) -> SpecParams:
     tp, home = design.mechanism, _home_mm(design)
     th = math.radians(design.workspace["home_theta_deg"])
     pin = np.asarray(home) + tp.crank_mm * np.array([math.cos(th), math.sin(th)])
-    params, qk = _params(tp.knob, home, "knob_")
-    pc, qc = _params(tp.crank, pin, "crank_")
+    params, qk = fivebar_params(tp.knob, home, "knob_")
+    pc, qc = fivebar_params(tp.crank, pin, "crank_")
     params.update(pc, l6=tp.crank_mm * 1e-3, crank_tol=tol.FIRMWARE_CRANK_TOL_M)
     return SpecParams(params, tuple(float(v) for v in np.concatenate([qk, qc])), bodies, 4, 3)
 

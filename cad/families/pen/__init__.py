@@ -4,7 +4,7 @@ with parts, behind one :class:`cad.families.protocol.FamilyPackage`, :data:`FAMI
 :mod:`.assembly` lays it out (``assemble(design, fidelity) -> AssemblyModel``), :mod:`.build`
 builds it, :mod:`.datasheet` gives its rows, :mod:`.sim` its MJCF, :mod:`.design` its
 ``[parts]`` schema, :mod:`.layout` its numbers and body poses, :mod:`.parts` its part
-scripts. It has no firmware generator yet (``--formats firmware`` is refused)."""
+scripts, :mod:`.firmware` its firmware model (the generic writers of :mod:`cad.firmware`)."""
 
 from cad.design.targets import PANTOGRAPH_TARGET_KEYS
 from cad.families import SHARED_CODE_DEPS
@@ -17,8 +17,10 @@ FAMILY = FamilyPackage(
     build=Lazy(f"{_P}.build:build"),
     assemble=Lazy(f"{_P}.assembly:assemble"),
     check_options=Lazy(f"{_P}.build:check_options"),
-    code_deps=SHARED_CODE_DEPS + ("kinematics", "isotropy", "sim"),
+    code_deps=SHARED_CODE_DEPS + ("firmware", "kinematics", "isotropy", "sim"),
     sim_formats=frozenset({"mjcf"}),
+    firmware=Lazy("cad.firmware:linkage_files"),
+    firmware_model=Lazy(f"{_P}.firmware:model"),
     view_formats=True,
     datasheet_rows=Lazy(f"{_P}.datasheet:rows_and_limits"),
     targets=TargetHooks(

@@ -126,4 +126,4 @@ def test_pen_firmware_encoder_count_reaches_the_bom_encoder_and_the_resolution(t
     from tests.cli_helpers import assert_one_line_error, hapticad
 
     code, _, err = hapticad("check", src)
-    assert_one_line_error(code, err, "firmware.plane", "encoder_counts_per_rev only")
+    assert_one_line_error(code, err, "firmware.plane", "no plane to choose")

@@ -1,6 +1,7 @@
 """A [motor] table whose torques contradict each other is refused in one line (exit 2): the
 continuous and the peak torque are at most the stall torque (the winding's torque at nominal
-voltage, maxon data sheet definitions); the catalog value fills the side not given."""
+voltage, maxon data sheet definitions); for a table without ``name`` (corrections to the
+catalog winding) the catalog value fills the side not given, a named table is its own motor."""
 
 from __future__ import annotations
 
@@ -15,16 +16,23 @@ HOEKEN = Path(__file__).resolve().parents[3] / "designs" / "hoeken.toml"
 
 
 @pytest.mark.parametrize(("table", "field"), [
-    ('torque_peak_mNm = 1500.0\nstall_torque_mNm = 800.0', "motor.torque_peak_mNm"),
+    ('name = "m"\ntorque_peak_mNm = 1500.0\nstall_torque_mNm = 800.0', "motor.torque_peak_mNm"),
     ("stall_torque_mNm = 0.5", "motor.stall_torque_mNm"),  # a N m value: below the RE 35's 97.2 continuous
     ("torque_peak_mNm = 5000.0", "motor.torque_peak_mNm"),  # above the RE 35's stall torque
 ])
 def test_contradicting_torques_are_refused_in_one_line(tmp_path, table, field):
     p = tmp_path / "d.toml"
-    p.write_text(HOEKEN.read_text() + f"\n[motor]\nname = \"m\"\n{table}\n")
+    p.write_text(HOEKEN.read_text() + f"\n[motor]\n{table}\n")
     code, out, err = hapticad("datasheet", p)
     assert code == 2 and out == "" and len(err.strip().splitlines()) == 1, err
     assert err.startswith(f"hapticad: error: {field}:") and "stall" in err and "Traceback" not in err
+
+
+def test_a_named_motor_is_not_held_to_the_catalog_stall_torque(tmp_path):
+    p = tmp_path / "d.toml"
+    p.write_text(HOEKEN.read_text() + '\n[motor]\nname = "acme"\ntorque_peak_mNm = 1500.0\n')
+    code, _, err = hapticad("datasheet", p)
+    assert code == 0, err
 
 
 def test_the_catalog_motors_hold_the_same_order():

@@ -277,7 +277,7 @@ def _powermouse(request):
 @pytest.mark.parametrize("design, table, field", [
     ("pantograph.toml", "encoder_direction = [1, 1, 1]", "firmware.encoder_direction"),
     ("haptic_mouse.toml", "plane = 3", "firmware.plane"),
-    ("haptic_pen.toml", 'plane = "vertical"', "firmware"),
+    ("haptic_pen.toml", 'plane = "vertical"', "firmware.plane"),
 ])
 def test_bad_firmware_table_of_the_pantographs(tmp_path, design, table, field):
     from cli_helpers import assert_one_line_error, hapticad
