@@ -126,12 +126,21 @@ def _dynamics(b) -> PowerMouseDynamics:
         parts_mass={i.name: props[i.kind.name].mass_kg for i in inst if i.body == "flotor"},
         stator_mass_kg=sum(props[i.kind.name].mass_kg for i in inst if i.body == "ground"),
         gain_per_At=gain_per_At, W=W, iso=iso, W_com=W_com,
-        rig_bom=rig_bom(b.model.extra.rig))  # report.json (the export child writes its own)
+        rig_bom=list(b.model.extra.rig_bom))  # report.json: the rows rig/bom.csv holds
 
 
 def rig_bom(rig) -> list[dict]:
     """The BOM rows of the single-actuator test rig's instances (its own kinds' masses)."""
     return family.bom_rows(rig, family.kind_props(rig))
+
+
+def assemble_built(design, fidelity: str):
+    """:func:`assemble` with the rig's BOM rows in its layout record (``extra.rig_bom``),
+    computed once in the build's process before the export child forks: ``rig/bom.csv``
+    and report.json's ``rig_bom`` are the same rows."""
+    model = assemble(design, fidelity)
+    extra = dataclasses.replace(model.extra, rig_bom=tuple(rig_bom(model.extra.rig)))
+    return dataclasses.replace(model, extra=extra)
 
 
 def _wrench(design, act: dict, g, flotor_mp) -> tuple:
@@ -167,7 +176,7 @@ def _assembly(design) -> tuple:
 def _stages():
     """The PowerMouse's stages of the one build driver (:class:`cad.pipeline.run.Stages`)."""
     return Stages(
-        check_options=check_options, assemble=assemble, interference=lambda b: interference(b.model, b.allow_interference, b.same_body()),
+        check_options=check_options, assemble=assemble_built, interference=lambda b: interference(b.model, b.allow_interference, b.same_body()),
         report=_report_of, md_rows=report_md_rows, stroke=stroke_poses,
         preview_title=lambda b: f"{b.design.name}: PowerMouse at the centre pose",
         motion_label="motion range", mass_label="mass properties and wrench map",
@@ -255,7 +264,7 @@ def _write_rig(b) -> list[str]:
             b.formats,
             name=f"{b.design.name}_rig",
             title="single-actuator test rig (Fig. 7), not part of the device",
-            bom=rig_bom(b.model.extra.rig),  # forked before the mass properties: its own
+            bom=list(b.model.extra.rig_bom),
             preview=False,
         )
     ]

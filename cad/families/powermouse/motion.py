@@ -24,13 +24,16 @@ class PowerMouseLayout:
     """The PowerMouse's layout record (``AssemblyModel.extra``): the actuator optimum
     (``actuator``, eqs 8-9), the flotor/stator ``geometry``, the actuator's
     ``actuator_geometry`` and ``actuator_solids``, the single-actuator test ``rig``'s
-    instances (Fig. 7)."""
+    instances (Fig. 7) and, in a build, their BOM rows."""
 
     actuator: dict
     geometry: Any
     actuator_geometry: Any
     actuator_solids: Any
     rig: Any
+    #: the rig's BOM rows, once per build (:func:`cad.families.powermouse.build.assemble_built`:
+    #: before the export child forks, so it and report.json read the same rows); empty here
+    rig_bom: tuple = ()
 
 
 
@@ -80,7 +83,8 @@ def assemble(design, fidelity: str = "fabrication"):
     :func:`motion_poses`; ``pose_labels``: ``"centre"`` and the poses' labels), the lid's
     tapped holes; ``extra``: ``actuator`` (:func:`actuator_optimum`), ``geometry``
     (:class:`cad.families.powermouse.parts.PowerMouseGeometry`), ``actuator_geometry``,
-    ``actuator_solids`` and ``rig`` (the test rig's instances, not part of the device)."""
+    ``actuator_solids`` and ``rig`` (the test rig's instances, not part of the device);
+    ``rig_bom`` empty (a build fills it)."""
     act = actuator_optimum(design)
     gap = act["gap_mm"]
     g = pp.geometry(design, gap)
