@@ -21,7 +21,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from cad.actuators.voicecoil import MAGPYLIB_IMAGE_SLABS, VoiceCoilParams, gauss_box, leg_boxes_mm
+from cad.actuators import voicecoil as vc  # a cycle: vc's names are read at call time only
+
+#: Image slabs per side in the magpylib model: with the opposite-polarity
+#: neighbour pair the far slabs cancel as quadrupoles (tail ~ 1/K^4), so 32
+#: slabs leave < 1e-6 relative (measured in cad/bench/voicecoil.py).
+MAGPYLIB_IMAGE_SLABS = 32
 
 
 @dataclass(frozen=True)
@@ -136,7 +141,7 @@ def bg_center_T(
 
 def actuator_bz_fn(
     gap_mm: float,
-    params: VoiceCoilParams,
+    params: vc.VoiceCoilParams,
     n_slabs: int = MAGPYLIB_IMAGE_SLABS,
     neighbour: bool = True,
 ):
@@ -159,7 +164,7 @@ def actuator_bz_fn(
 
 def coil_mean_bz_T(
     gap_mm: float,
-    params: VoiceCoilParams,
+    params: vc.VoiceCoilParams,
     n_slabs: int = MAGPYLIB_IMAGE_SLABS,
     neighbour: bool = True,
     n_quad: tuple[int, int, int] = (6, 4, 4),
@@ -170,8 +175,8 @@ def coil_mean_bz_T(
     that makes eq (8) exact for the real field (under assumption ii).
     Gauss-Legendre product rule with n_quad points per axis.
     """
-    (lo, hi), _ = leg_boxes_mm(gap_mm, params, 0.0)
-    pts, w = gauss_box(lo, hi, n_quad)
+    (lo, hi), _ = vc.leg_boxes_mm(gap_mm, params, 0.0)
+    pts, w = vc.gauss_box(lo, hi, n_quad)
     bz = actuator_bz_fn(gap_mm, params, n_slabs, neighbour)(pts)
     return float(np.dot(w, bz) / np.sum(w))
 
@@ -187,7 +192,7 @@ def material_response_available() -> bool:
 
 def bg_finite_iron_T(
     gap_mm: float,
-    params: VoiceCoilParams,
+    params: vc.VoiceCoilParams,
     *,
     plate_thickness_mm: float,
     susceptibility: float = 1000.0,

@@ -58,6 +58,7 @@ from typing import Literal
 
 import numpy as np
 
+from cad.actuators import field_magpylib as fm
 from cad.errors import DesignError
 from cad.tolerances import (
     GAP_XATOL_REL,
@@ -84,10 +85,6 @@ POWER_DEFAULT_W = 8.0
 #: asymptotic tail is added (the tail at this K is < 1e-10 of B_g for any
 #: geometry with t_m >= 0.01 d; the remainder after the tail ~ 1/K^4).
 IMAGE_SERIES_CONVERGED_TERMS = 4096
-#: Image slabs per side in the magpylib model: with the opposite-polarity
-#: neighbour pair the far slabs cancel as quadrupoles (tail ~ 1/K^4), so 32
-#: slabs leave < 1e-6 relative (measured in cad/bench/voicecoil.py).
-MAGPYLIB_IMAGE_SLABS = 32
 #: Tenfold extensions of the default gap search before giving up: the optimum
 #: lies below d_r + 10 (l_m + w_m + t_m + d_r) for every geometry tried
 #: (tests/unit/actuators/test_stability_actuators.py), so this is a safety net.
@@ -349,7 +346,7 @@ def gap_field_T(gap_mm, params: VoiceCoilParams, model: Model = "closed-form", *
     images: the converged two-plate image series at the gap centre
         (kw: n_slabs to truncate instead).
     magpylib: magpylib cuboids of the whole actuator (both magnet pairs,
-        opposite polarity) with MAGPYLIB_IMAGE_SLABS image slabs per side,
+        opposite polarity) with fm.MAGPYLIB_IMAGE_SLABS image slabs per side,
         B_z averaged over the coil leg's volume (w_m x l_m x d_c) at mid-stroke;
         eq (8) is exact for that mean under the paper's assumption (ii).
         kw: n_slabs, neighbour (False: one pair only), average="centre" for the
@@ -372,9 +369,7 @@ def gap_field_T(gap_mm, params: VoiceCoilParams, model: Model = "closed-form", *
             return float(bg_image_converged_T(gap_mm, lm, w, t, br))
         return bg_image_series_T(gap_mm, lm, w, t, br, n)
     if model == "magpylib":
-        from cad.actuators import field_magpylib as fm
-
-        n_slabs = kw.get("n_slabs", MAGPYLIB_IMAGE_SLABS)
+        n_slabs = kw.get("n_slabs", fm.MAGPYLIB_IMAGE_SLABS)
         neighbour = kw.get("neighbour", True)
         if kw.get("average", "coil") == "centre":
             return fm.bg_center_T(gap_mm, lm, w, t, br, n_slabs=n_slabs, neighbour=neighbour)
@@ -856,8 +851,6 @@ def stroke_force(
     eq (8): F = B_g (N I) 2 l_m.
     """
     if bz_fn is None:
-        from cad.actuators import field_magpylib as fm
-
         bz_fn = fm.actuator_bz_fn(gap_mm, params)
     xs = np.atleast_1d(np.asarray(x_mm, dtype=float))
     dc = float(gap_mm) - params.rattle_mm

@@ -9,8 +9,9 @@ per command), the package ``__init__`` modules that every submodule import runs
 or an up-to-date build runs (``cad/isotropy/report.py``, ``cad/bench/run.py``,
 ``cad/families/fourbar/swap.py``, ``cad/pipeline/file_props.py``, ``cad/pipeline/render.py``,
 ``cad/sim/device.py``, ``cad/design/fields.py``: hoisted, they load numpy or the build's
-modules on every call), the imports that break an import cycle (``cad/actuators/voicecoil.py``
-with its magpylib field model, ``cad/studies/codesign/exact.py`` with the checks). Two imports of the same name from two modules are module imports
+modules on every call), the import that breaks an import cycle (``cad/studies/codesign/exact.py``
+with the checks; the voice-coil model and its magpylib field model import each other as
+modules at module level, each reading the other's names at call time only). Two imports of the same name from two modules are module imports
 (``from cad.kinematics import fivebar as kfivebar``), not function-level ones. The count may
 only go down (a ratchet).
 """
@@ -23,7 +24,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[2]
 #: Function-level imports of ``cad`` outside cad/api.py and cad/cli/ at the commit that hoisted
 #: the rest (measured with :func:`function_level_imports`); lower it when you hoist more.
-MAX_FUNCTION_LEVEL = 87
+MAX_FUNCTION_LEVEL = 85
 EXEMPT = ("cad/api.py", "cad/cli/")
 
 
