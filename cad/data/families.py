@@ -37,6 +37,8 @@ class Family:
         ``FAMILY`` (:class:`cad.families.protocol.FamilyPackage`) gives every hook: build,
         datasheet rows, targets, optimiser, firmware, simulator.
     commands : the ``hapticad`` commands that accept its designs.
+    why_not : ``(command, reason)`` pairs: why a command does not take the family, where
+        that is a property of the device (said in the refusal), not work still to do.
     """
 
     name: str
@@ -44,11 +46,19 @@ class Family:
     design_module: str
     package: str | None
     commands: tuple[str, ...]
+    why_not: tuple[tuple[str, str], ...] = ()
 
     @property
     def package_module(self) -> str:
         """The importable module of :attr:`package`."""
         return self.package if "." in self.package else f"cad.families.{self.package}"
+
+
+#: The PowerMouse senses no position: its firmware maps coil currents to the flotor's wrench
+#: (cad/families/powermouse/firmware.py), so there are no encoder counts to log or identify.
+_NO_POSITION = ("the PowerMouse's firmware reads no position: no encoder, its coil currents map "
+                "to the flotor's wrench, so a log has no counts to identify from")
+_POWERMOUSE_WHY_NOT = (("identify", _NO_POSITION), ("bench-log", _NO_POSITION))
 
 
 def _fourbar(name: str) -> Family:
@@ -69,7 +79,7 @@ FAMILIES: dict[str, Family] = {
                _PANTOGRAPH_CMDS),
         Family("haptic-pen", "haptic-pen", "cad.families.pen.design", "pen", _PANTOGRAPH_CMDS),
         Family("powermouse", "powermouse", "cad.design.powermouse", "powermouse",
-               ("check", "fit", "build", "render", "datasheet")),
+               ("check", "fit", "build", "render", "datasheet"), why_not=_POWERMOUSE_WHY_NOT),
         Family("delta", "delta", "cad.families.delta.design", "delta",
                ("check", "fit", "build", "gii", "optimize", "render", "datasheet")),
     )
@@ -109,7 +119,9 @@ def refusal(command: str, family: str) -> str:
     cols = [g for g, members in groups().items() if set(members) <= fams]
     others = [c for c, f in accepts.items() if family in f and c != command]
     hint = ", ".join(f"hapticad {c}" for c in others) or "no design command"
-    return f"{command} works on {' / '.join(cols)} designs; for a {family} design use: {hint}"
+    why = dict(FAMILIES[family].why_not).get(command) if family in FAMILIES else None
+    return (f"{command} works on {' / '.join(cols)} designs" + (f" ({why})" if why else "")
+            + f"; for a {family} design use: {hint}")
 
 
 def require(command: str, family: str) -> None:
