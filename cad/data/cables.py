@@ -10,10 +10,13 @@ so (:mod:`cad.actuators.capstan`).
 What was searched (issue 35): the stored public pages and docs for the miniature-cable tables of
 Carl Stahl Sava Industries (Design Guide for Cable Solutions DG1609), Loos & Co and Lexco, and
 the WoodenHaptics repositories. The Sava guide is stored only as a cover page (its tables were
-not readable); no sub-millimetre table of breaking load, EA or mass per metre was found. The
-one rope value read from a public page is the 1/16 in (1.59 mm) 7x7 type-304 breaking strength
-(480 lbf, :data:`_BREAK_1_16_SOURCE`); the sub-millimetre breaking loads below are that value
-scaled by d^2 (same construction and wire grade, area ratio) and so marked unverified.
+not readable); no sub-millimetre table of breaking load or mass per metre was found. The
+one breaking load read from a public page is the 1/16 in (1.59 mm) 7x7 type-304 breaking
+strength (480 lbf, :data:`_BREAK_1_16_SOURCE`); the sub-millimetre breaking loads below are that
+value scaled by d^2 (same construction and wire grade, area ratio) and so marked unverified.
+The axial stiffness EA is the rope maker's own elastic-stretch formula (Loos & Co / Strand Core,
+:data:`_EA_SOURCE`): stretch E [% of length] = W [lbf] G / D^2 [in^2] with the maker's G factor
+per construction, so EA = W / strain = 100 D^2 / G lbf (:func:`stretch_EA_N`).
 
 Units: diameters mm, forces N, EA N, mass g/m.
 """
@@ -38,6 +41,15 @@ _BREAK_1_16_SOURCE = ("https://www.0685.com/continuing-education/be-self-taught/
 #: (7x19)"); the makers' tables themselves were not read.
 _BEND_SOURCE = ("issue 35 text: rope makers ask for D/d about 40 (7x7) or 25-28 (7x19); "
                 "no maker's table read (no public source found)")
+#: Loos & Co's "G" stretch factors for 302/304 stainless rope (% of length x in^2 / lbf); the
+#: 7x19 value is also the one aeroassemblies.com's calculator uses in its worked example.
+STRETCH_G_FACTOR = {"7x7": 0.0000120, "7x19": 0.0000162}
+_EA_SOURCE = ("the rope maker's elastic-stretch formula E% = W G / D^2 (W lbf, D in) with G = {g} "
+              "for {c} 302/304 stainless (https://strandcore.com/resources/technical-resources/"
+              "wire-rope-stretch/, Loos & Co, 'an approximation'; the 7x19 G also in "
+              "https://aeroassemblies.com/elastic-stretch-calculator/): EA = 100 D^2 / G lbf x "
+              "4.448222 N/lbf; elastic stretch only (structural stretch, < 1 % once, is taken "
+              "out by pretensioning)")
 _NOT_FOUND = "no public source found (stored pages and docs searched, issue 35)"
 #: WoodenHaptics: 10 mm capstans and 160 / 120 / 120 mm drums (diameter_capstan_a..c,
 #: diameter_body_a..c of default_woody()); the 0.54 mm 7x7 rope is as issue 35 states it.
@@ -83,6 +95,13 @@ def _scaled_break_N(d_mm: float) -> float:
     return 480.0 * LBF_N * (d_mm / 1.5875) ** 2
 
 
+def stretch_EA_N(construction: str, d_mm: float) -> float:
+    """Axial stiffness E A (N) of a stainless rope of ``construction`` and diameter ``d_mm`` from
+    the maker's stretch formula: strain = W G / (100 D^2), so EA = 100 D^2 / G (lbf, D in
+    inches), converted with :data:`LBF_N`. KeyError for a construction with no G factor."""
+    return 100.0 * (d_mm / 25.4) ** 2 / STRETCH_G_FACTOR[construction] * LBF_N
+
+
 def _rope(construction: str, d_mm: float, extra: str = "") -> CableSpec:
     seven = construction == "7x7"
     key = f"steel-{construction}-{d_mm:g}"
@@ -95,18 +114,18 @@ def _rope(construction: str, d_mm: float, extra: str = "") -> CableSpec:
         construction=construction,
         diameter_mm=d_mm,
         min_breaking_load_N=mbl,
-        axial_stiffness_EA_N=None,
+        axial_stiffness_EA_N=stretch_EA_N(construction, d_mm),
         mass_g_per_m=None,
         min_bend_ratio=40.0 if seven else 26.0,
         sources=(
             ("diameter_mm", "the catalog key (nominal diameter ordered)"),
             ("min_breaking_load_N", mbl_src),
-            ("axial_stiffness_EA_N", _NOT_FOUND),
+            ("axial_stiffness_EA_N", _EA_SOURCE.format(g=STRETCH_G_FACTOR[construction],
+                                                       c=construction)),
             ("mass_g_per_m", _NOT_FOUND),
             ("min_bend_ratio", _BEND_SOURCE + ("" if seven else "; 26 = middle of 25-28")),
         ),
-        unverified=("min_breaking_load_N", "axial_stiffness_EA_N", "mass_g_per_m",
-                    "min_bend_ratio"),
+        unverified=("min_breaking_load_N", "mass_g_per_m", "min_bend_ratio"),
     )
 
 
@@ -116,11 +135,11 @@ def _rope_1_16() -> CableSpec:
     return CableSpec(
         key="steel-7x7-1.6", description="stainless steel (304) wire rope 7x7, 1/16 in (1.59 mm)",
         construction="7x7", diameter_mm=1.5875, min_breaking_load_N=480.0 * LBF_N,
-        axial_stiffness_EA_N=None, mass_g_per_m=None, min_bend_ratio=40.0,
+        axial_stiffness_EA_N=base.axial_stiffness_EA_N, mass_g_per_m=None, min_bend_ratio=40.0,
         sources=(("diameter_mm", "1/16 in nominal (the size ordered)"),
                  ("min_breaking_load_N", _BREAK_1_16_SOURCE + "; 480 lbf x 4.448222 N/lbf"),
                  *base.sources[2:]),
-        unverified=("axial_stiffness_EA_N", "mass_g_per_m", "min_bend_ratio"),
+        unverified=("mass_g_per_m", "min_bend_ratio"),
     )
 
 

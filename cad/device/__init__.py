@@ -115,8 +115,9 @@ class Transmission:
     motor torque, joint angle = motor angle / n (counts per joint turn = n * counts per motor
     turn), rotor inertia at the joint n^2 J_m. A capstan states its diameters (mm), the rope's
     diameter (mm) and ``cable`` (the :class:`cad.data.cables.CableSpec`, every value with its
-    source), and ``wraps`` / ``pretension_N`` / ``cable_EA_N`` when the design gives them.
-    Writers multiply torques and divide angles by ``ratio``; :func:`joint_motor_spec` gives the
+    source), ``wraps`` / ``pretension_N`` when the design gives them, and ``cable_EA_N`` (N)
+    with ``cable_EA_source``: the design's ``transmission.cable_EA_N`` when given, else the
+    rope catalog's axial stiffness (:func:`cad.data.cables.stretch_EA_N`). Writers multiply torques and divide angles by ``ratio``; :func:`joint_motor_spec` gives the
     motor as the joint sees it."""
 
     motor_joint: str
@@ -131,6 +132,7 @@ class Transmission:
     pretension_N: float | None = None
     cable_EA_N: float | None = None
     centre_distance_mm: float | None = None
+    cable_EA_source: str = ""
 
     @property
     def is_capstan(self) -> bool:
@@ -158,7 +160,8 @@ class Transmission:
                       **{f: {"value": getattr(c, f), "source": c.source_of(f),
                              **({"unverified": True} if c.is_unverified(f) else {})}
                          for f in CABLE_DATA_FIELDS}}
-        d.update(wraps=self.wraps, pretension_N=self.pretension_N, cable_EA_N=self.cable_EA_N)
+        d.update(wraps=self.wraps, pretension_N=self.pretension_N, cable_EA_N=self.cable_EA_N,
+                 cable_EA_source=self.cable_EA_source)
         if self.centre_distance_mm is not None:
             d["centre_distance_mm"] = self.centre_distance_mm
         return d
@@ -176,9 +179,20 @@ def transmission_of(design, joint: str, index: int) -> Transmission:
     src = (f"design file [transmission]: capstan {t.capstan_diameter_mm:g} mm, drum "
            f"{t.drum_diameter_mm:g} mm, n = drum / capstan = {t.ratio:.6g}, rope {cable.key} "
            "(cad.data.cables); model cad.actuators.capstan")
+    ea, ea_src = _cable_EA(t, cable)
     return Transmission(joint, "capstan", float(t.ratio), cable.diameter_mm, t.drum_diameter_mm,
-                        t.capstan_diameter_mm, src, cable, t.wraps, t.pretension_N, t.cable_EA_N,
-                        getattr(t, "centre_distance_mm", None))
+                        t.capstan_diameter_mm, src, cable, t.wraps, t.pretension_N, ea,
+                        getattr(t, "centre_distance_mm", None), ea_src)
+
+
+def _cable_EA(t, cable) -> tuple[float | None, str]:
+    """The rope's E A (N) and where it comes from: the design's ``cable_EA_N`` over the
+    catalog's (the design states its own rope maker's sheet)."""
+    if t.cable_EA_N is not None:
+        return float(t.cable_EA_N), "transmission.cable_EA_N (the design file)"
+    ea = cable.axial_stiffness_EA_N
+    return ea, (f"{cable.key} in cad.data.cables: " + cable.source_of("axial_stiffness_EA_N")
+                if ea is not None else "")
 
 
 #: MotorSpec torque fields scaled by n at the joint (torque = n * motor torque).

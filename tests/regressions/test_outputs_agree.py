@@ -500,7 +500,13 @@ def test_the_capstan_page_states_the_builds_figures(builds, capstan_build):
     for typed in (f"{ds_row(rep, 'continuous_force_N')['value']:.2f} N",
                   f"{ds_row(rep, 'friction_N')['value']:.3f} N",
                   f"{ds_row(rep, 'resolution_um')['value']:.1f} µm",
-                  f"{md['min']:.0f}–{md['max']:.0f} g to {m['min']:.0f}–{m['max']:.0f} g"):
+                  f"{md['min']:.0f}–{md['max']:.0f} g to {m['min']:.0f}–{m['max']:.0f} g",
+                  f"first mode ({ds_row(rep, 'first_mode_Hz')['value']:.0f} Hz",
+                  f"k_q = {ds_row(rep, 'cable_stiffness_Nm_per_rad')['value']:.0f} N·m/rad",
+                  f"{ds_row(rep, 'cable_handle_stiffness_N_per_m')['value'] / 1e3:.0f} kN/m at the handle",
+                  f"from {ds_row(rep_d, 'compliance_x_um_per_N')['value']:.2f} to "
+                  f"{ds_row(rep, 'compliance_x_um_per_N')['value']:.2f} µm/N",
+                  f"links rigid, is\n{ds_row(rep, 'cable_mode_Hz')['value']:.0f} Hz"):
         assert typed in text, typed
 
 

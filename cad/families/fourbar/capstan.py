@@ -101,7 +101,8 @@ def _friction_Nm(spec) -> float | None:
 
 def cable_stiffness_Nm_per_rad(t: Transmission, lay: CapstanLayout) -> float | None:
     """k_q = EA (1/L + 1/L) r_d^2 of the two free runs at the crank (N m/rad); None without the
-    rope's E A (the catalog has no public value; ``transmission.cable_EA_N``)."""
+    rope's E A (the resolved device's: the design's ``transmission.cable_EA_N`` or the rope
+    catalog's)."""
     if t.cable_EA_N is None:
         return None
     return float(cap.cable_torsional_stiffness_Nm_per_rad(
@@ -195,11 +196,12 @@ def _spring_rows(design, report, t, lay, phi1_rad, Jx) -> list[dict]:
     k = cable_stiffness_Nm_per_rad(t, lay)
     if k is None:
         return [row("cable_stiffness_Nm_per_rad", "rope stiffness at the crank", None, "N m/rad",
-                    f"not computed: no E A for {t.cable.key} (no public source); give "
+                    f"not computed: no E A for {t.cable.key} in the rope catalog; give "
                     "transmission.cable_EA_N from the rope maker's sheet. The first mode, compliance "
                     "and K_max above take the rope as rigid", unverified=True)]
     J2 = np.asarray(Jx, float) ** 2
-    src = f"k_q = EA (2 / L) r_d^2, EA = {t.cable_EA_N:g} N (transmission.cable_EA_N), L = {lay.run_length_mm:.1f} mm"
+    src = (f"k_q = EA (2 / L) r_d^2, EA = {t.cable_EA_N:.4g} N, L = {lay.run_length_mm:.1f} mm; EA from "
+           f"{t.cable_EA_source}")
     out = [row("cable_stiffness_Nm_per_rad", "rope stiffness at the crank", k, "N m/rad", src),
            row("cable_handle_stiffness_N_per_m", "rope stiffness at the handle", float((k / J2).min()), "N/m",
                f"k_q / (dx/dphi1)^2, weakest over the stroke; {src}", lo=float((k / J2).min()),

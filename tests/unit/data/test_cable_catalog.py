@@ -10,7 +10,7 @@ import re
 
 import pytest
 
-from cad.data.cables import CABLE_DATA_FIELDS, CABLES, get_cable, largest_rope_for
+from cad.data.cables import CABLE_DATA_FIELDS, CABLES, get_cable, largest_rope_for, stretch_EA_N
 from cad.errors import DesignError
 
 UNSTATED = re.compile(r"not identified|no public source|not found|derived|recalled|assumed|"
@@ -42,8 +42,20 @@ def test_sub_millimetre_breaking_loads_are_scaled_and_unverified():
     # (0.54 / 1.5875)^2 * 2135.15 N = 247.05 N by hand
     assert c.min_breaking_load_N == pytest.approx(2135.15 * (0.54 / 1.5875) ** 2, rel=1e-5)
     assert c.is_unverified("min_breaking_load_N") and "derived" in c.source_of("min_breaking_load_N")
-    assert c.axial_stiffness_EA_N is None and c.is_unverified("axial_stiffness_EA_N")
     assert get_cable("steel-7x19-0.6").min_breaking_load_N is None
+
+
+def test_EA_reproduces_the_stretch_calculators_worked_example():
+    """aeroassemblies.com's elastic stretch calculator: a 1/8 in 7x19 stainless rope, 20 in
+    long, under 500 lbf, is 20.10368 in long (E = W G / D^2 = 500 x 0.0000162 / 0.015625 =
+    0.5184 % of length); the catalog's EA (from Loos & Co's G table) stretches it as much."""
+    ea = stretch_EA_N("7x19", 25.4 / 8)
+    assert 20.0 * (1.0 + 500 * 4.448222 / ea) == pytest.approx(20.10368, abs=1e-5)
+    for c in CABLES.values():   # every catalog rope: EA = 100 D^2 / G lbf (D in inches), sourced
+        g = {"7x7": 0.0000120, "7x19": 0.0000162}[c.construction]
+        assert c.axial_stiffness_EA_N == pytest.approx(100 * (c.diameter_mm / 25.4) ** 2 / g * 4.448222)
+        assert not c.is_unverified("axial_stiffness_EA_N")
+        assert "strandcore.com" in c.source_of("axial_stiffness_EA_N")
 
 
 def test_bend_ratio_minimums_as_the_issue_quotes_the_rope_makers():

@@ -33,6 +33,16 @@ TC_NM, TP_NM, KT, JM = 97.2e-3, 972.5e-3, 38.9e-3, 79.2e-7
 MU = 0.12  # Tribology Handbook B12, wire rope on steel (the value cad.actuators.capstan states)
 #: 480 lbf (1/16 in 7x7, the catalog's source) x 4.448222 N/lbf x (0.8 / 1.5875)^2
 MBL_08_N = 480 * 4.448222 * (0.8 / 1.5875) ** 2
+#: Loos & Co's stretch formula (E% = W G / D^2, G = 0.0000120 for 7x7 stainless, D in inches):
+#: EA = 100 D^2 / G lbf for the 0.8 mm rope, in N.
+EA_08_N = 100 * (0.8 / 25.4) ** 2 / 0.0000120 * 4.448222
+
+
+#: the Hoeken paper's CAD coefficients (§III.B.2) as a report's H, its rotor n^2 J_m (n = 2) in H11
+PAPER_H = {"H11": 2.97e-5, "H12": 3.22e-5, "H22": 1.17e-4, "H33": 7.09e-5, "beta2": 0.0}
+PAPER_REPORT = {"H11_kg_m2": PAPER_H["H11"] + 4 * JM, "H12_kg_m2": PAPER_H["H12"],
+                "H22_kg_m2": PAPER_H["H22"], "H33_kg_m2": PAPER_H["H33"], "beta2_deg": 0.0,
+                "Jm_kg_m2": 4 * JM}
 
 
 def _design(tmp_path: Path, table: str, name: str = "cap") -> object:
@@ -66,8 +76,9 @@ def test_bundled_capstan_design_resolves_its_transmission_once():
     rec = dev.as_dict()["transmissions"][0]
     assert rec["cable"]["min_breaking_load_N"]["unverified"] is True
     assert "480 lbf" in rec["cable"]["min_breaking_load_N"]["source"]
-    assert rec["cable"]["axial_stiffness_EA_N"] == {"value": None, "unverified": True,
-                                                    "source": rec["cable"]["axial_stiffness_EA_N"]["source"]}
+    assert rec["cable"]["axial_stiffness_EA_N"]["value"] == pytest.approx(EA_08_N, rel=1e-12)
+    assert "unverified" not in rec["cable"]["axial_stiffness_EA_N"]
+    assert t.cable_EA_N == pytest.approx(EA_08_N, rel=1e-12) and "strandcore.com" in rec["cable_EA_source"]
 
 
 def test_direct_drive_device_record_is_unchanged():
@@ -129,7 +140,7 @@ def test_capstan_rows_against_hand_formulas():
 
     d = load_design(CAPSTAN)
     phi, Jx, *_ = lever(d)
-    rows, limits = fc.datasheet_rows(d, {}, phi, Jx)
+    rows, limits = fc.datasheet_rows(d, PAPER_REPORT, phi, Jx)
     v = {r["key"]: r["value"] for r in rows}
     dT = TP_NM / 0.016  # tau_peak / r_c
     e = math.exp(MU * 2 * math.pi * 3)
@@ -146,7 +157,7 @@ def test_capstan_rows_against_hand_formulas():
     L = math.sqrt(85 ** 2 - (32 - 16) ** 2)  # the design's transmission.centre_distance_mm
     cut = math.pi * 32 * 3 + 2 * L + math.pi * 64 * sector / 360 + 2 * 20
     assert v["cable_cut_length_mm"] == pytest.approx(cut, rel=1e-9)
-    assert v["cable_stiffness_Nm_per_rad"] is None  # no public EA: not computed, said so
+    assert v["cable_stiffness_Nm_per_rad"] == pytest.approx(2 * EA_08_N / (L * 1e-3) * 0.032 ** 2, rel=1e-12)
     assert {k: limits[k].value for k in limits} == {"bend_ratio": 40.0, "cable_slip_margin": 1.0,
                                                      "cable_safety_factor": 5.0, "drum_sector_deg": 360.0}
     from cad.datasheet import judge
@@ -162,7 +173,7 @@ def test_rope_below_its_bend_ratio_misses_with_a_warning_line(tmp_path):
     d = _design(tmp_path, 'kind = "capstan"\ncapstan_diameter_mm = 10.0\ndrum_diameter_mm = 120.0\n'
                           'cable = "steel-7x7-0.54"')
     phi, Jx, *_ = lever(d)
-    rows, limits = fc.datasheet_rows(d, {}, phi, Jx)
+    rows, limits = fc.datasheet_rows(d, PAPER_REPORT, phi, Jx)
     w = judge(rows, limits)
     assert any(x.startswith("bend ratio D/d of steel-7x7-0.54 on the capstan = 18.52") and
                "transmission.capstan_diameter_mm" in x for x in w), w
@@ -191,11 +202,8 @@ def test_rope_spring_against_two_spring_closed_forms(tmp_path):
     d = _design(tmp_path, 'kind = "capstan"\ncapstan_diameter_mm = 32.0\ndrum_diameter_mm = 64.0\n'
                           f'cable = "steel-7x7-0.8"\ncable_EA_N = {EA}')
     phi, Jx, *_ = lever(d)
-    # the Hoeken paper's CAD coefficients (§III.B.2) as the report's H, its rotor n^2 J_m in H11
-    H = {"H11": 2.97e-5, "H12": 3.22e-5, "H22": 1.17e-4, "H33": 7.09e-5, "beta2": 0.0}
-    rep = {"H11_kg_m2": H["H11"] + 4 * JM, "H12_kg_m2": H["H12"], "H22_kg_m2": H["H22"],
-           "H33_kg_m2": H["H33"], "beta2_deg": 0.0, "Jm_kg_m2": 4 * JM}
-    rows, _ = fc.datasheet_rows(d, rep, phi, Jx, K_max_N_per_m=1.0e5)
+    H = PAPER_H
+    rows, _ = fc.datasheet_rows(d, PAPER_REPORT, phi, Jx, K_max_N_per_m=1.0e5)
     v = {r["key"]: r["value"] for r in rows}
     L = math.sqrt(50 ** 2 - 16 ** 2) * 1e-3
     k_run = EA / L  # one run in tension, N/m
@@ -211,7 +219,9 @@ def test_rope_spring_against_two_spring_closed_forms(tmp_path):
 def test_frame_holds_the_crank_through_the_rope(tmp_path):
     """The structure's frame with the rope at A1: the handle compliance along the path is the
     crank-held frame's plus Jx^2 / k_q (a spring in series through the lever: the reaction
-    moment at A1 is Jx F by virtual work), at each pose; no mode rises, one drops."""
+    moment at A1 is Jx F by virtual work), at each pose: between the catalog rope (EA from
+    Loos & Co's formula, 85 mm centres) and a softer one (EA 20 kN, 50 mm centres) the handle's
+    compliance differs by Jx^2 (1/k_soft - 1/k_stiff); no mode rises, one drops."""
     from cad.families.fourbar.pose import planar_transforms
     from cad.kinematics.metrics import path_frame
     from cad.structure import device as sd
@@ -219,7 +229,8 @@ def test_frame_holds_the_crank_through_the_rope(tmp_path):
     held = load_design(CAPSTAN)
     rope = _design(tmp_path, 'kind = "capstan"\ncapstan_diameter_mm = 32.0\ndrum_diameter_mm = 64.0\n'
                              'cable = "steel-7x7-0.8"\ncable_EA_N = 20000.0')
-    assert sd.crank_rope_stiffness_Nm_per_rad(held) is None
+    k_held = sd.crank_rope_stiffness_Nm_per_rad(held)
+    assert k_held == pytest.approx(2 * EA_08_N / (math.sqrt(85 ** 2 - 16 ** 2) * 1e-3) * 0.032 ** 2, rel=1e-12)
     k_q = sd.crank_rope_stiffness_Nm_per_rad(rope)
     assert k_q == pytest.approx(2 * 20000.0 / (math.sqrt(50 ** 2 - 16 ** 2) * 1e-3) * 0.032 ** 2, rel=1e-12)
     fb = held.linkage
@@ -238,7 +249,7 @@ def test_frame_holds_the_crank_through_the_rope(tmp_path):
 
         Pp, Pm = (coupler_point_and_jacobian(fb, np.array([phi + s]))[0][0] * 1e-3 for s in (h, -h))
         Jx = float((Pp - Pm) @ ex / (2 * h))
-        assert c[1] - c[0] == pytest.approx(Jx * Jx / k_q, rel=1e-6)
+        assert c[1] - c[0] == pytest.approx(Jx * Jx * (1 / k_q - 1 / k_held), rel=1e-6)
         # a softer support lowers every mode (Rayleigh), at least one of them visibly
         assert np.all(f1[1] <= f1[0] * (1 + 1e-9)) and np.any(f1[1] < 0.99 * f1[0]), (f1[0], f1[1])
 
