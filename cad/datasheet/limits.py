@@ -105,4 +105,5 @@ DATASHEET_TARGETS = {
     "first_mode_Hz": ">=", "max_stress_MPa": "<=", "min_clearance_mm": ">=",
     "continuous_force_N": ">=", "peak_force_N": ">=", "force_any_dir_N": ">=",
     "resolution_um": "<=", "K_max_N_per_m": ">=", "friction_N": "<=",
+    "rod_buckling_margin": ">=",
 }

@@ -58,6 +58,23 @@ def rect_torsion_J(b: float, h: float) -> float:
     return a * c**3 * (16.0 / 3.0 - 3.36 * c / a * (1.0 - c**4 / (12.0 * a**4)))
 
 
+def von_mises_of_end_forces(f: np.ndarray, sections) -> np.ndarray:
+    """Largest von Mises stress (Pa) at the two ends of each beam element from its local end
+    forces ``f`` (..., n_elements, 12; order of :func:`local_stiffness`: N, Vy, Vz, T, My, Mz
+    at each end) and its :class:`Section`: normal N/A + |My| cz/Iy + |Mz| cy/Iz (the extreme
+    fibre, both bending stresses added: conservative for a round section), shear from torsion
+    T t / J, sqrt(sig^2 + 3 tau^2), the larger of the two ends."""
+    A, Iy, Iz, J = (np.array([getattr(e, k) for e in sections]) for k in ("A", "Iy", "Iz", "J"))
+    cy, cz, t = (np.array([getattr(e, k) for e in sections]) for k in ("cy", "cz", "t_torsion"))
+    best = np.zeros(np.shape(f)[:-1])
+    for b in (0, 6):
+        N, Tq, My, Mz = f[..., b], f[..., b + 3], f[..., b + 4], f[..., b + 5]
+        sig = np.abs(N) / A + np.abs(My) * cz / Iy + np.abs(Mz) * cy / Iz
+        tau = np.abs(Tq) * t / J
+        best = np.maximum(best, np.sqrt(sig * sig + 3 * tau * tau))
+    return best
+
+
 def local_stiffness(L: float, s: Section) -> np.ndarray:
     """12 x 12 local stiffness of a 3D Euler-Bernoulli beam element (module docstring)."""
     E, G = s.E, s.G
@@ -212,18 +229,8 @@ class Frame:
 
     def stress_of_end_forces(self, f: np.ndarray) -> np.ndarray:
         """Largest von Mises stress (Pa) at the ends of every element from its local end
-        forces ``f`` (..., n_elements, 12): normal N/A + |My| cz/Iy + |Mz| cy/Iz, shear
-        torsion T t / J, sqrt(sig^2 + 3 tau^2), the larger of the two ends."""
-        s = self.elements
-        A, Iy, Iz, J = (np.array([getattr(e[2], k) for e in s]) for k in ("A", "Iy", "Iz", "J"))
-        cy, cz, t = (np.array([getattr(e[2], k) for e in s]) for k in ("cy", "cz", "t_torsion"))
-        best = np.zeros(np.shape(f)[:-1])
-        for b in (0, 6):
-            N, Tq, My, Mz = f[..., b], f[..., b + 3], f[..., b + 4], f[..., b + 5]
-            sig = np.abs(N) / A + np.abs(My) * cz / Iy + np.abs(Mz) * cy / Iz
-            tau = np.abs(Tq) * t / J
-            best = np.maximum(best, np.sqrt(sig * sig + 3 * tau * tau))
-        return best
+        forces ``f`` (..., n_elements, 12) (:func:`von_mises_of_end_forces`)."""
+        return von_mises_of_end_forces(f, [e[2] for e in self.elements])
 
     def element_stress_Pa(self, u: np.ndarray) -> np.ndarray:
         """Largest von Mises stress at the ends of every element (normal: N/A + |My| cz/Iy +

@@ -17,8 +17,11 @@ import math
 import numpy as np
 
 from cad.datasheet import row
-from cad.datasheet.limits import FIRST_MODE_MIN_HZ, MODE_REASON, Limit, with_targets
+from cad.datasheet.limits import (FIRST_MODE_MIN_HZ, MODE_REASON, STRESS_REASON,
+                                  STRESS_SAFETY_FACTOR, Limit, with_targets)
 from cad.device import resolve_device
+from cad.families.delta import hardware as hw
+from cad.structure.elastic import get_elastic
 from cad.dynamics.stiffness import range_text, stiffness_range_N_per_m
 from cad.firmware.extras import paper_eq25_inputs
 from cad.kinematics.delta import ik, jacobian_rad_per_m, require_ok
@@ -102,6 +105,7 @@ def rows_and_limits(design, report: dict, out_dir=None, simulate_wall: bool = Tr
             "3-D beam and truss frame of the solids' sections: " + str(s.get("boundary", ""))),
         row("compliance_max_um_per_N", "effector compliance, worst direction",
             s.get("compliance_max_um_per_N"), "um/N", "the same frame model, static"),
+        *stress_rows(s, design),
         row("moving_mass_g", "moving mass", report.get("moving_mass_g"), "g",
             "every body but the base, from the solids"),
         row("total_mass_g", "total mass", report.get("total_mass_g"), "g",
@@ -114,10 +118,42 @@ def rows_and_limits(design, report: dict, out_dir=None, simulate_wall: bool = Tr
     return rows, delta_limits(design), []
 
 
+def stress_rows(s: dict, design) -> list[dict]:
+    """The frame's stress rows at the workspace centre with every motor at +-its peak torque
+    (the eight corners; :func:`cad.families.delta.structure.peak_stress`): the beams' peak von
+    Mises stress and the rods' Euler buckling margin (absent from a report without them)."""
+    if s.get("max_stress_MPa") is None:
+        return []
+    load = (f"the effector held, every motor at +-{s['stress_torque_Nm'] * 1e3:.4g} mN m (peak "
+            "torque, the 8 sign combinations: f = J^T tau at the workspace centre)")
+    return [
+        row("max_stress_MPa", "peak stress at the motors' peak torque, worst combination",
+            s["max_stress_MPa"], "MPa",
+            f"von Mises, beam stresses of the 3-D frame (arms, cross bars, effector plate), "
+            f"critical: {s['critical_member']} at f = {np.round(s['critical_load_N'], 2).tolist()} N; "
+            f"{load}; material strength {_strength_MPa(hw.ARM_MATERIAL):g} MPa ({hw.ARM_MATERIAL})"),
+        row("rod_buckling_margin", "rod buckling margin at the motors' peak torque",
+            s["rod_buckling_margin"], "",
+            f"Euler load of a pin-ended rod pi^2 E I / L^2 = {s['rod_buckling_N']:.4g} N "
+            f"({hw.ROD_OD_MM:g}/{hw.ROD_ID_MM:g} mm {hw.ROD_MATERIAL} tube, L = lower_arm_mm) over "
+            f"the largest rod compression {s['rod_compression_max_N']:.4g} N (rod axial stress at "
+            f"most {s['rod_stress_max_MPa']:.3g} MPa); {load}"),
+    ]
+
+
+def _strength_MPa(material: str) -> float:
+    return get_elastic(material, "delta.structure").strength_MPa
+
+
 def delta_limits(design) -> dict:
     """The default first-mode limit and, with ``[actuators] force_max_N``, the force limit
     (the force asked for in every direction at every workspace point), then ``[targets]``."""
-    lim = {"first_mode_Hz": Limit(">=", FIRST_MODE_MIN_HZ, MODE_REASON, CHANGE)}
+    lim = {"first_mode_Hz": Limit(">=", FIRST_MODE_MIN_HZ, MODE_REASON, CHANGE),
+           "max_stress_MPa": Limit("<=", _strength_MPa(hw.ARM_MATERIAL) / STRESS_SAFETY_FACTOR,
+                                   STRESS_REASON.replace("force_N", "the peak torque"), CHANGE),
+           "rod_buckling_margin": Limit(">=", STRESS_SAFETY_FACTOR,
+                                        f"static safety factor {STRESS_SAFETY_FACTOR:g} against "
+                                        "Euler buckling at the peak torque", CHANGE)}
     force = design.actuators.get("force_max_N")
     if force is not None:
         lim["continuous_force_N"] = Limit(

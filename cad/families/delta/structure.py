@@ -28,9 +28,9 @@ from cad.data.materials import get_material
 from cad.errors import DesignError
 from cad.families.delta import hardware as hw
 from cad.families.delta.layout import arm_points_mm
-from cad.kinematics.delta import Delta, ik, require_ok
+from cad.kinematics.delta import Delta, ik, jacobian_rad_per_m, require_ok
 from cad.structure.elastic import get_elastic
-from cad.structure.frame import Section, local_stiffness, rect_torsion_J
+from cad.structure.frame import Section, local_stiffness, rect_torsion_J, von_mises_of_end_forces
 
 MM = 1e-3
 
@@ -60,18 +60,21 @@ class Frame3D:
     trusses: list[tuple[int, int, float, float]] = field(default_factory=list)
     clamped: set[int] = field(default_factory=set)
     point_mass_kg: dict[int, float] = field(default_factory=dict)
+    beam_labels: list[str] = field(default_factory=list)
 
     def node(self, xyz_m) -> int:
         self.nodes.append(np.asarray(xyz_m, float).reshape(3))
         return len(self.nodes) - 1
 
-    def beam(self, i: int, j: int, s: Section, ref, n_sub: int = 1) -> None:
-        """Beam i -> j split into ``n_sub`` elements (finer mass lumping)."""
+    def beam(self, i: int, j: int, s: Section, ref, n_sub: int = 1, label: str = "") -> None:
+        """Beam i -> j split into ``n_sub`` elements (finer mass lumping), each named ``label``
+        in :attr:`beam_labels`."""
         s.check()
         prev = i
         for k in range(1, n_sub + 1):
             nxt = j if k == n_sub else self.node(self.nodes[i] + (self.nodes[j] - self.nodes[i]) * k / n_sub)
             self.beams.append((prev, nxt, s, np.asarray(ref, float)))
+            self.beam_labels.append(label)
             prev = nxt
 
     def truss(self, i: int, j: int, EA_N: float, mass_kg: float) -> None:
@@ -98,6 +101,27 @@ class Frame3D:
             d = np.r_[6 * i:6 * i + 3, 6 * j:6 * j + 3]
             K[np.ix_(d, d)] += np.block([[kk, -kk], [-kk, kk]])
         return K
+
+    def beam_end_forces(self, u: np.ndarray) -> np.ndarray:
+        """(n_beams, 12) local end forces k_local T u_e of every beam (N, N m; the order of
+        :func:`cad.structure.frame.local_stiffness`)."""
+        out = np.zeros((len(self.beams), 12))
+        for k, (i, j, s, ref) in enumerate(self.beams):
+            T = np.kron(np.eye(4), element_axes(self.nodes[i], self.nodes[j], ref))
+            L = float(np.linalg.norm(self.nodes[j] - self.nodes[i]))
+            d = np.r_[6 * i:6 * i + 6, 6 * j:6 * j + 6]
+            out[k] = local_stiffness(L, s) @ (T @ u[d])
+        return out
+
+    def truss_forces_N(self, u: np.ndarray) -> np.ndarray:
+        """(n_trusses,) axial force of every truss (N, tension > 0): EA / L times its
+        elongation along its own axis."""
+        out = np.zeros(len(self.trusses))
+        for k, (i, j, EA, _) in enumerate(self.trusses):
+            v = self.nodes[j] - self.nodes[i]
+            L = float(np.linalg.norm(v))
+            out[k] = EA / L * float((u[6 * j:6 * j + 3] - u[6 * i:6 * i + 3]) @ v / L)
+        return out
 
     def masses(self) -> np.ndarray:
         """Lumped translational mass per node (kg)."""
@@ -217,13 +241,13 @@ def delta_frame(d: Delta, P_mm, width_mm: float, sec: DeltaSections) -> tuple[Fr
         t, u = d.tangential[i], d.radial[i]
         a, e = f.node(pts["axis"][i]), f.node(pts["elbow"][i])
         f.clamped.add(a)
-        f.beam(a, e, sec.arm, t, n_sub=4)
+        f.beam(a, e, sec.arm, t, n_sub=4, label=f"upper arm {i}")
         bc = f.node(pts["bottom"][i])
-        f.beam(c, bc, sec.effector, np.array([0.0, 0.0, 1.0]))
+        f.beam(c, bc, sec.effector, np.array([0.0, 0.0, 1.0]), label=f"effector plate {i}")
         for s in (-1.0, 1.0):
             top, bot = f.node(pts["top"][i] + s * half * t), f.node(pts["bottom"][i] + s * half * t)
-            f.beam(e, top, sec.cross_bar, u)
-            f.beam(bc, bot, sec.cross_bar, u)
+            f.beam(e, top, sec.cross_bar, u, label=f"elbow cross bar {i}")
+            f.beam(bc, bot, sec.cross_bar, u, label=f"effector cross bar {i}")
             f.truss(top, bot, sec.rod_EA_N, sec.rod_kg_per_m * d.lower_arm_mm * MM)
             f.add_mass(top, sec.joint_kg / 2)
             f.add_mass(bot, sec.joint_kg / 2)
@@ -247,3 +271,52 @@ def first_mode(d: Delta, P_mm, width_mm: float, sec: DeltaSections | None = None
             "boundary": "upper arms clamped at the motor axes (motors held, base rigid); "
                         "rods pin-ended between the ball-joint centres; effector and handle "
                         "a point mass at its centre"}
+
+
+def euler_buckling_N(od_mm: float, id_mm: float, length_mm: float, E_Pa: float) -> float:
+    """Euler load of a pin-ended tube, pi^2 E I / L^2 (N; Euler's column, K = 1)."""
+    I = math.pi / 64 * ((od_mm * MM) ** 4 - (id_mm * MM) ** 4)
+    return math.pi ** 2 * E_Pa * I / (length_mm * MM) ** 2
+
+
+def peak_torque_loads_N(d: Delta, P_mm, torque_Nm: float) -> np.ndarray:
+    """(8, 3) effector forces (N, base frame) the motors exert at ``P_mm`` with every joint at
+    +-``torque_Nm`` (the eight corners of the torque box): f = J^T tau (J: theta_dot = J
+    x_dot, rad/m; isotropy paper eq 2). KinematicsError when P is out of reach."""
+    J, status = jacobian_rad_per_m(d, np.asarray(P_mm, float).reshape(1, 3))
+    if status[0] != 0:
+        require_ok(ik(d, np.asarray(P_mm, float).reshape(1, 3)))
+    signs = np.array(np.meshgrid(*[[-1.0, 1.0]] * 3)).reshape(3, -1).T
+    return signs * torque_Nm @ J[0]
+
+
+def peak_stress(d: Delta, P_mm, width_mm: float, loads_N,
+                sec: DeltaSections | None = None) -> dict:
+    """Stresses of the frame of :func:`delta_frame` at ``P_mm`` under each effector force of
+    ``loads_N`` (n, 3) N at the effector centre, the worst of them (superposition of three
+    unit loads):
+    {"max_stress_MPa" the largest von Mises stress of the beams (arms, cross bars, effector
+    plate: :func:`cad.structure.frame.von_mises_of_end_forces`), "critical_member",
+    "rod_compression_max_N" / "rod_tension_max_N" the largest rod forces,
+    "rod_stress_max_MPa", "rod_buckling_N" (Euler, pin-ended carbon tube of
+    :mod:`.hardware`), "rod_buckling_margin" its ratio to the largest compression (inf
+    without compression), "critical_load_N" (3,), "at_mm"}. KinematicsError / DesignError as
+    :func:`delta_frame`."""
+    sec = sec or default_sections(d.effector_radius_mm, width_mm)
+    f, c = delta_frame(d, P_mm, width_mm, sec)
+    U = [f.solve({c: e}) for e in np.eye(3)]
+    fb = np.stack([f.beam_end_forces(u) for u in U])          # (3, n_beams, 12) per unit load
+    ft = np.stack([f.truss_forces_N(u) for u in U])           # (3, n_trusses)
+    D = np.asarray(loads_N, float).reshape(-1, 3)
+    vm = von_mises_of_end_forces(np.einsum("dk,kbe->dbe", D, fb), [b[2] for b in f.beams])
+    rods = D @ ft
+    k = np.unravel_index(int(np.argmax(vm)), vm.shape)
+    el = get_elastic(hw.ROD_MATERIAL, "delta.structure")
+    p_cr = euler_buckling_N(hw.ROD_OD_MM, hw.ROD_ID_MM, d.lower_arm_mm, el.E_Pa)
+    comp = float(max(0.0, -rods.min()))
+    return {"max_stress_MPa": float(vm.max() * 1e-6), "critical_member": f.beam_labels[k[1]],
+            "critical_load_N": D[k[0]].tolist(),
+            "rod_compression_max_N": comp, "rod_tension_max_N": float(max(0.0, rods.max())),
+            "rod_stress_max_MPa": float(np.abs(rods).max() / (sec.rod_EA_N / el.E_Pa) * 1e-6),
+            "rod_buckling_N": p_cr, "rod_buckling_margin": p_cr / comp if comp > 0 else math.inf,
+            "at_mm": np.asarray(P_mm, float).tolist()}

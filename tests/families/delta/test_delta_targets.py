@@ -61,8 +61,11 @@ def test_free_takes_the_link_lengths_only():
 def test_fit_limits_are_the_default_limits():
     d = cad.load_design(DESIGN)
     got = {t.key: (t.min, t.max) for t in default_limit_targets(d)}
+    # aluminium-6061 (the arms' material): strength 276 MPa / safety factor 3 = 92 MPa
     assert got == {"first_mode_Hz": (FIRST_MODE_MIN_HZ, None),
-                   "continuous_force_N": (d.actuators["force_max_N"], None)}
+                   "continuous_force_N": (d.actuators["force_max_N"], None),
+                   "max_stress_MPa": (None, pytest.approx(276.0 / 3)),
+                   "rod_buckling_margin": (3.0, None)}
 
 
 def test_precad_force_is_the_sampled_statics_and_an_unreachable_candidate_is_refused(tmp_path):
