@@ -7,7 +7,7 @@ from pathlib import Path
 
 from cad.bench.common import save_chart
 from cad.datasheet.run import device_datasheet
-from cad.design import parse_design
+from cad.design import bounds, parse_design
 from cad.errors import HapticadError
 from cad.families.fourbar.limits import prototype_limits
 from cad.studies.codesign import exact, prototype, search
@@ -23,7 +23,8 @@ def optimize_fourbar(design, objective: str, trials: int, seed: int, top: int, c
     ``beat_prototype``: the brief of :mod:`cad.studies.codesign.prototype` (every trial judged
     on every limit; without an accepted design, the report's ``prototype_front``).
     The report's ``misses``: the design's targets the accepted optimum misses
-    (:func:`cad.studies.codesign.exact.misses`). Returns (JSON-able report, accepted Candidate
+    (:func:`cad.studies.codesign.exact.misses`). Warnings of the exact re-evaluations are
+    dropped but the accepted candidate's (the design ``--out`` writes), said once. Returns (JSON-able report, accepted Candidate
     or None)."""
     t0 = time.perf_counter()
     if beat_prototype:
@@ -35,7 +36,7 @@ def optimize_fourbar(design, objective: str, trials: int, seed: int, top: int, c
     pb.all_limits = beat_prototype
     cands, records = search.run(pb, trials, seed, starts=starts)
     t_search = time.perf_counter() - t0
-    checked, best = [], None
+    checked, best, best_said = [], None, []
     seen = set()
     for c in cands:
         key = (repr(sorted(c.parts.items())), round(c.mechanism["phi1_min_deg"], 1))
@@ -46,17 +47,20 @@ def optimize_fourbar(design, objective: str, trials: int, seed: int, top: int, c
             break
         if progress:
             progress(f"exact re-evaluation {len(checked) + 1}/{top} (cheap M11 {c.cheap['M11_max_g']:.2f} g)")
-        try:
-            ex = exact.evaluate(design, c, f"{design.name}_candidate")
-        except HapticadError as exc:
-            checked.append({"trial": c.number, "parts": c.parts, "mechanism": c.mechanism,
-                            "rejected": str(exc)})
-            continue
-        checked.append({"trial": c.number, "parts": c.parts, "mechanism": c.mechanism, "exact": ex})
-        if beat_prototype:
-            ex["datasheet"] = _datasheet_check(design, c)
+        with bounds.muted() as said:  # a candidate's warnings: re-said only for the one written
+            try:
+                ex = exact.evaluate(design, c, f"{design.name}_candidate")
+            except HapticadError as exc:
+                checked.append({"trial": c.number, "parts": c.parts, "mechanism": c.mechanism,
+                                "rejected": str(exc)})
+                continue
+            checked.append({"trial": c.number, "parts": c.parts, "mechanism": c.mechanism, "exact": ex})
+            if beat_prototype:
+                ex["datasheet"] = _datasheet_check(design, c)
         if exact.accepted(ex) and (not beat_prototype or ex["datasheet"]["ok"]) and (best is None or ex["M11_max_g"] < best[1]["M11_max_g"]):
-            best = (c, ex)
+            best, best_said = (c, ex), said
+    for w in best_said:
+        bounds.warn(w)
     front = search.pareto(records)
     rep = {
         "design": design.name, "family": design.family, "objective": objective,

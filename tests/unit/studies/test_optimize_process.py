@@ -69,3 +69,31 @@ def test_optimize_laser_returns_a_design_the_laser_build_accepts(tmp_path):
     assert code == 0, err
     bom = (tmp_path / "b" / "bom.csv").read_text()
     assert "laser" in bom and "carbon-fibre" not in bom
+
+
+def _warnings(err: str) -> list[str]:
+    """The design warnings of a command's stderr; the datasheet's verdicts (check's
+    ``warning: datasheet:`` lines, optimize's ``the optimum misses a default datasheet
+    limit`` lines) are each command's own report and left out."""
+    return [s for s in err.splitlines() if s.startswith("hapticad: warning:")
+            and not s.startswith(("hapticad: warning: datasheet:",
+                                  "hapticad: warning: the optimum misses"))]
+
+
+def test_optimize_says_the_written_designs_warnings_only(tmp_path):
+    """The exact re-evaluations build several candidates (laser bars, different pins and
+    handles); what optimize warns about is the source design and the one design it writes,
+    nothing a rejected candidate would have said: its design warnings are those ``check``
+    gives for the source design and the written design, together (a second reader:
+    ``check``)."""
+    src = tmp_path / "laser.toml"
+    src.write_text((DESIGNS / "hoeken_laser.toml").read_text() + "\n[targets]\nM11_max_g = { max = 25.0 }\n")
+    out = tmp_path / "opt.toml"
+    code, _, err = hapticad("optimize", src, "--trials", "60", "--exact-top", "2", "--out", out)
+    assert code == 1, err  # 25 g is out of reach: said, exit 1
+    said = set(_warnings(err))
+    expected = set()
+    for design in (src, out):
+        c, _, e = hapticad("check", design)
+        expected |= set(_warnings(e))
+    assert said == expected, (said ^ expected)
