@@ -316,14 +316,14 @@ def parse(raw: dict[str, Any], source: str = "<design>") -> FourBarDesign:
 
 def _warn_transmission(design: FourBarDesign, warn) -> None:
     """The capstan's load-time warnings: the rope below its bend ratio (naming the rope, the
-    ratio and the fix, :func:`cad.actuators.capstan.bend_ratio_warning`) and the parts not
-    drawn as solids yet (the tensioner, the crank's axle bearings)."""
+    ratio and the fix, :func:`cad.actuators.capstan.bend_ratio_warning`) and the part not
+    drawn as a solid yet (the tensioner)."""
     t = design.transmissions[0]
     if not t.is_capstan:
         return
     bend = bend_ratio_warning(get_cable(t.cable), t.capstan_diameter_mm)
     if bend is not None:
         warn(f"transmission: {bend}")
-    warn("transmission: the rope's tensioner and the crank's axle bearings at A1 are not drawn "
-         "as solids yet (BOM line for the tensioner; the drum, capstan, moved motor, rope runs "
-         "and anchors are drawn)")
+    warn("transmission: the rope's tensioner is not drawn as a solid yet (its BOM line; the drum, "
+         "capstan, moved motor, rope runs, anchors and the crank's axle in its bearing block at A1 "
+         "are drawn)")

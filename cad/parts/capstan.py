@@ -5,7 +5,8 @@ an OCP solid out; where they sit is :mod:`cad.actuators.capstan_geometry`.
 Frames (mm): drum sector -- its centre (the joint axis) at the origin, z 0..thickness, the arc
 counter-clockwise from ``start_deg`` about +z; capstan -- the shaft axis z, z 0..length, the
 set screw's radial hole along +x at ``set_screw_z_mm``; rope run -- world coordinates (the run
-is placed by its end points).
+is placed by its end points); A1 bearing block -- the axle z, z 0..height (its top face under
+the base plate), the square flange at the top; axle -- z 0..length.
 """
 
 from __future__ import annotations
@@ -67,3 +68,34 @@ def rope_run_shape(p0_mm, p1_mm, rope_diameter_mm: float):
     d = p1 - p0
     cyl = Cylinder(rope_diameter_mm / 2, d.length, align=(Align.CENTER, Align.CENTER, Align.MIN))
     return cyl.moved(Location(Plane(origin=p0, z_dir=d.normalized()))).solids()[0].wrapped
+
+
+def bearing_block_shape(side_mm: float, flange_mm: float, corner_xy, hole_d_mm: float,
+                        seat_d_mm: float, seat_depth_mm: float, lip_mm: float, lip_bore_mm: float,
+                        wall_mm: float, extra_holes=()):
+    """Bearing block of a crank axle: a square flange ``side_mm`` x ``flange_mm`` at the top
+    (z from height - flange to height, height = 2 seats + lip) with clearance holes
+    ``hole_d_mm`` at ``corner_xy`` and ``extra_holes`` ``[(x, y, diameter)]``, a boss of
+    diameter seat + 2 ``wall_mm`` down to z = 0; a bearing seat ``seat_d_mm`` x
+    ``seat_depth_mm`` from each end, a lip of ``lip_mm`` between them with bore
+    ``lip_bore_mm`` (the bearings' housing abutment diameter Da)."""
+    from build123d import Align, Box, Cylinder, Pos
+
+    a = (Align.CENTER, Align.CENTER, Align.MIN)
+    h = 2 * seat_depth_mm + lip_mm
+    fl = min(flange_mm, h)
+    s = Pos(0, 0, h - fl) * Box(side_mm, side_mm, fl, align=a)
+    s = s + Cylinder(seat_d_mm / 2 + wall_mm, h, align=a)
+    s = s - Cylinder(lip_bore_mm / 2, h, align=a)
+    for z in (0.0, h - seat_depth_mm):
+        s = s - Pos(0, 0, z) * Cylinder(seat_d_mm / 2, seat_depth_mm, align=a)
+    for x, y, d in [(x, y, hole_d_mm) for x, y in corner_xy] + list(extra_holes):
+        s = s - Pos(x, y, h - fl) * Cylinder(d / 2, fl, align=a)
+    return s.solids()[0].wrapped
+
+
+def axle_shape(diameter_mm: float, length_mm: float):
+    """Plain round axle, z 0..``length_mm``."""
+    from build123d import Align, Cylinder
+
+    return Cylinder(diameter_mm / 2, length_mm, align=(Align.CENTER, Align.CENTER, Align.MIN)).wrapped

@@ -12,8 +12,11 @@ grows to carry its mount plate (the legs move to its corners). The rope's runs l
 mid-plane between the external tangent points of the two pitch circles
 (:func:`cad.actuators.capstan_geometry.external_tangent_points_mm`), fixed in the world while
 the crank turns; each run's collision envelope stops where the rope comes within
-``clearance_min_mm`` of the pulley it lies on (:func:`run_trim_mm`). The crank turns on the
-direct-drive shaft's envelope at A1 (the crank's axle; its bearings are not drawn).
+``clearance_min_mm`` of the pulley it lies on (:func:`run_trim_mm`). The crank turns on its
+own axle at A1 (:func:`a1_support`): a steel axle of the motor shaft's diameter (the hub's
+bore and set screw as in direct drive) in two deep groove ball bearings of that bore, seated
+in a bearing block screwed under the base plate where the motor mount plate sat (its corner
+screws into the same tapped holes; a lip between the bearings).
 """
 
 from __future__ import annotations
@@ -43,8 +46,11 @@ ANCHOR_SCREW, ANCHOR_SCREW_LENGTH_MM = "M3-0.5", 8.0
 #: pin's nut and washer hang under the crank there. A layout choice; the interference check of
 #: the build is what proves the drum clear of them.
 A2_HARDWARE_RADIUS_MM = 6.0
+#: The A1 bearing block: the lip between its two bearing seats and the wall round them (mm),
+#: layout choices.
+A1_LIP_MM, A1_WALL_MM = 2.0, 3.0
 #: The motor group's instances moved with the motor: names, and prefixes of numbered ones (the
-#: direct-drive shaft's envelope stays at A1 as the crank's axle).
+#: direct-drive shaft's envelope at A1 becomes the crank's axle, :func:`a1_support`).
 _MOTOR_GROUP = ("motor", "motor_mount")
 _MOTOR_SCREWS = ("motor_screw_", "mount_screw_")
 
@@ -185,8 +191,105 @@ def add_capstan(asm, design, J, plan, t):
         inst.append(i)
     shaft = next(i for i in asm.instances if i.name == "motor_shaft")
     inst.append(PartInstance("capstan_motor_shaft", shaft.kind, "ground", shift @ shaft.tf_body_part))
+    inst, holes = a1_support(design, J, inst, asm.instances, asm.holes)
     inst += _capstan_parts(design, t, pl)
-    return Assembly(tuple(inst), rect, asm.notes, asm.holes)
+    return Assembly(tuple(inst), rect, asm.notes, holes)
+
+
+def a1_bearing(shaft_d_mm: float) -> cat.BearingSpec:
+    """The crank axle's bearing: the widest catalog deep groove ball bearing of bore
+    ``shaft_d_mm`` (626 for the maxon RE 35 / RE 40's 6 mm shaft). DesignError naming
+    parts.motor when the catalog has none."""
+    sizes = [cat.get_bearing(k) for k in cat.bearing_sizes() if k.startswith(f"M{shaft_d_mm:g}-")]
+    if not sizes:
+        raise DesignError("parts.motor", f"no catalog bearing of bore {shaft_d_mm:g} mm for the "
+                          "crank's axle at A1 (capstan drive)")
+    return max(sizes, key=lambda b: (b.B_mm, b.D_mm))
+
+
+def a1_support(design, J, inst: list[PartInstance], direct: tuple, holes: tuple):
+    """(``inst`` with the crank's support at A1, ``holes`` with its tapped holes) (module
+    docstring): the shaft envelope on the crank becomes ``crank_axle`` (made, steel; the hub's
+    set screw now holds it), the ``a1_bearing_block`` takes the motor mount plate's place with
+    its four corner screws (``a1_block_screw_i`` into ``base_plate:a1_block_i``; the A4 post
+    screw passes through it where it passed through the mount plate), ``a1_bearing_1`` / ``_2``
+    in its seats (outer ring ground, inner ring crank)."""
+    parts = design.parts
+    m = cat.get_motor(parts.motor)
+    brg = a1_bearing(m.shaft_diameter_mm)
+    bt, h = parts.base_thickness_mm, 2 * brg.B_mm + A1_LIP_MM
+    z0 = -bt - h
+    axle_len = direct_flange_z(direct) + m.shaft_length_mm - z0  # to the shaft envelope's top
+    axle = PartKind(
+        "crank_axle", shapes.axle_shape(m.shaft_diameter_mm, axle_len), material=CRANK_AXLE_MATERIAL,
+        made=True, description=f"crank axle d{m.shaft_diameter_mm:g} x {axle_len:g} mm at A1 (in "
+        f"two {brg.designation} bearings, the crank hub's set screw on it)", process="turned; grind the journals",
+        fits=(fit("journal", m.shaft_diameter_mm, "bearing journal"),), revolution=True)
+    out = []
+    for i in inst:
+        if i.name == "motor_shaft":
+            i = PartInstance("crank_axle", axle, "crank", translation(0, 0, z0))
+        elif i.fastener is not None and "motor_shaft" in i.fastener.clamps:
+            i = dataclasses.replace(i, fastener=dataclasses.replace(i.fastener, clamps=("crank_axle",)))
+        elif i.name == "post_screw" and "motor_mount" in i.fastener.clamps:
+            i = dataclasses.replace(i, fastener=dataclasses.replace(
+                i.fastener, clamps=tuple("a1_bearing_block" if c == "motor_mount" else c
+                                         for c in i.fastener.clamps)))
+        out.append(i)
+    through = any(i.name == "post_screw" and "a1_bearing_block" in i.fastener.clamps for i in out)
+    out += _a1_block(design, m, brg, z0, J["ground"]["A4"] if through else None)
+    by_name = {h.name: h for h in holes}
+    new = []
+    for i in direct:
+        if i.name.startswith("mount_screw_"):
+            k = i.name.rsplit("_", 1)[1]
+            hole = dataclasses.replace(by_name[i.fastener.hole], name=f"base_plate:a1_block_{k}")
+            new.append(hole)
+            f = dataclasses.replace(i.fastener, clamps=("a1_bearing_block",), hole=hole.name)
+            out.append(dataclasses.replace(i, name=f"a1_block_screw_{k}", fastener=f))
+    return out, tuple(holes) + tuple(new)
+
+
+#: The crank axle's material (a turned steel axle: the capstan's material).
+CRANK_AXLE_MATERIAL = cg.CAPSTAN_MATERIAL
+
+
+def direct_flange_z(direct) -> float:
+    """The motor's mounting face in the direct-drive layout (mm, world z): the mount plate's
+    bottom, the shaft envelope's origin."""
+    return float(next(i for i in direct if i.name == "motor_mount").tf_body_part[2, 3])
+
+
+def _a1_block(design, m, brg, z0: float, a4_through) -> list[PartInstance]:
+    """The bearing block (with a hole for the A4 post screw at ``a4_through``, or None) and
+    its two bearings, bottom at ``z0``."""
+    parts = design.parts
+    extra = (() if a4_through is None else
+             ((a4_through[0], a4_through[1], cat.clearance_hole_mm(cat.standoff_screw(parts.pin))),))
+    block = PartKind(
+        "a1_bearing_block",
+        shapes.bearing_block_shape(motor.mount_side_mm(m), parts.motor_mount_thickness_mm,
+                                   motor.mount_hole_xy_mm(m), cat.clearance_hole_mm(motor.MOUNT_SCREW),
+                                   brg.D_mm, brg.B_mm, A1_LIP_MM, brg.Da_mm, A1_WALL_MM, extra),
+        material=parts.motor_mount_material, made=True,
+        description=(f"A1 bearing block: {motor.mount_side_mm(m):g} mm square flange, boss with two "
+                     f"{brg.designation} bearing seats and a {A1_LIP_MM:g} mm lip (the crank's axle)"),
+        process=f"machined from {2 * brg.B_mm + A1_LIP_MM:g} mm plate: mill the boss, bore the seats "
+                f"from both sides; drill {motor.MOUNT_SCREW.split('-')[0]} clearance x4",
+        fits=(fit("bearing seat", brg.D_mm),))
+    rings = joints.bearing_rings(brg.size)
+    bk = PartKind(
+        f"bearing_{brg.size}", joints.bearing_shape(brg.size, True), material=cat.BEARING_MATERIAL,
+        made=False, description=f"deep groove ball bearing {brg.designation} ({brg.d_mm:g}x"
+        f"{brg.D_mm:g}x{brg.B_mm:g}), crank axle at A1", process="bought", inertia_model="ring",
+        mass_kg=brg.mass_kg, ring_mm=(brg.d_mm / 2, brg.D_mm / 2, brg.B_mm),
+        collision=(("other", rings[0]), ("self", rings[1])), revolution=True,
+        hull=joints.bearing_shape(brg.size, False))
+    h = 2 * brg.B_mm + A1_LIP_MM
+    return [PartInstance("a1_bearing_block", block, "ground", translation(0, 0, z0)),
+            *[PartInstance(f"a1_bearing_{k + 1}", bk, "ground", translation(0, 0, z),
+                           "crank", translation(0, 0, z))
+              for k, z in enumerate((z0 + h - brg.B_mm, z0))]]
 
 
 def _rect(rect, pl: CapstanPlacement, parts):
@@ -200,16 +303,18 @@ def _rect(rect, pl: CapstanPlacement, parts):
 
 def _base_kind(kind: PartKind, parts, J, rect, pl: CapstanPlacement) -> PartKind:
     """The base plate with its motor opening and mount holes at the moved motor; the A1
-    opening stays for the crank's axle."""
+    opening and its tapped corner holes stay for the crank's axle and its bearing block."""
     m = cat.get_motor(parts.motor)
     head_d = cat.get_cap_screw(m.bolt_size, "parts.motor").dk_mm
     opening = max(m.bolt_circle_mm + head_d + 2.0, m.pilot_diameter_mm + 2.0)
     ox, oy = pl.motor_xy_mm
-    holes = [(x + ox, y + oy) for x, y in motor.mount_hole_xy_mm(m)]
+    holes = motor.mount_hole_xy_mm(m) + [(x + ox, y + oy) for x, y in motor.mount_hole_xy_mm(m)]
     shape = base.base_plate_shape(rect, parts.base_thickness_mm, J["ground"]["A4"], opening, holes,
                                   motor.MOUNT_SCREW, cat.standoff_screw(parts.pin),
                                   extra_openings=((ox, oy, opening),))
-    return dataclasses.replace(kind, shape=shape)
+    ms = motor.MOUNT_SCREW.split("-")[0]
+    return dataclasses.replace(kind, shape=shape,
+                               process=kind.process.replace(f"tap {ms} x4", f"tap {ms} x{len(holes)}"))
 
 
 def _moved_leg(i: PartInstance, rect) -> PartInstance:

@@ -190,3 +190,50 @@ def test_assembly_md_has_the_winding_and_tensioning_steps(built):
     assert f"wind the rope: cut {cut:.0f} mm of steel-7x7-0.8" in text
     assert f"set the tensioner to at least {T0:.1f} N" in text
     assert "`capstan_drum`" in text and "`capstan_cable`" in text  # the runs belong to the rope's line
+
+
+def test_crank_axle_turns_in_two_bearings_in_the_a1_block(design, built):
+    """The crank's support at A1 (the motor is moved away): the axle is the crank's and passes
+    through both bearings, whose outer rings sit in the ground's block and inner rings turn
+    with the crank; the block's solid is its closed form (a square flange and a boss, less the
+    seats, the lip's bore and the corner holes: prisms and cylinders by hand); the BOM orders
+    two 626 bearings and the block's four screws (read back from assembly.step's instances)."""
+    from cad.data import catalog as cat
+    from cad.families.fourbar.capstan_solids import A1_LIP_MM, A1_WALL_MM
+    from cad.families.fourbar.layout import assemble
+    from cad.massprops.occt import volume_props_mm
+    from cad.parts import motor
+
+    rep, out = built
+    placed = rep["placement"]["instances"]
+    assert placed["crank_axle"]["body"] == "crank" and "motor_shaft" not in placed
+    model = assemble(design, "preview")
+    inst = {i.name: i for i in model.instances}
+    for k in (1, 2):
+        b = inst[f"a1_bearing_{k}"]
+        assert (b.body, b.other_body) == ("ground", "crank")
+    brg, m = cat.get_bearing("626"), cat.get_motor(design.parts.motor)
+    h = 2 * brg.B_mm + A1_LIP_MM
+    z_axle = inst["crank_axle"].tf_body_part[2, 3]
+    z_block = inst["a1_bearing_block"].tf_body_part[2, 3]
+    assert z_block == pytest.approx(-design.parts.base_thickness_mm - h)  # its top under the base plate
+    for k, z in ((1, z_block + h - brg.B_mm), (2, z_block)):  # both bearings on the axle
+        assert inst[f"a1_bearing_{k}"].tf_body_part[2, 3] == pytest.approx(z)
+        assert z_axle <= z
+    side, fl = motor.mount_side_mm(m), design.parts.motor_mount_thickness_mm
+    r_boss = brg.D_mm / 2 + A1_WALL_MM
+    v_ref = (side * side * fl + math.pi * r_boss ** 2 * (h - fl)
+             - math.pi * (brg.Da_mm / 2) ** 2 * h
+             - 2 * math.pi * ((brg.D_mm / 2) ** 2 - (brg.Da_mm / 2) ** 2) * brg.B_mm
+             - 4 * math.pi * (cat.clearance_hole_mm("M3-0.5") / 2) ** 2 * fl)
+    shape = model.kinds()["a1_bearing_block"].shape
+    assert volume_props_mm(shape, eps=1e-9)[0] == pytest.approx(v_ref, rel=1e-9)
+    axle = model.kinds()["crank_axle"].shape
+    L = m.shaft_length_mm - (design.parts.motor_mount_thickness_mm + design.parts.base_thickness_mm) - z_axle
+    assert volume_props_mm(axle, eps=1e-9)[0] == pytest.approx(math.pi * (m.shaft_diameter_mm / 2) ** 2 * L, rel=1e-9)
+    with open(out / "bom.csv", newline="", encoding="utf-8") as f:
+        bom = {r["part"]: r for r in csv.DictReader(f)}
+    assert int(float(bom["bearing_M6-19-6"]["quantity"])) == 2 and "626" in bom["bearing_M6-19-6"]["designation"]
+    assert "bearing seat 19 J7" in bom["a1_bearing_block"]["fits"] and "bearing journal 6 js5" in bom["crank_axle"]["fits"]
+    screws = [n for n in placed if n.startswith("a1_block_screw_")]
+    assert len(screws) == 4 and {placed[n]["kind"] for n in screws} == {placed["mount_screw_1"]["kind"]}

@@ -131,7 +131,7 @@ def test_woodenhaptics_joint_warns_at_load_naming_rope_ratio_and_fix(tmp_path):
     assert len(w) == 1
     assert "steel-7x7-0.54" in w[0] and f"D/d = {10 / 0.54:.1f}" in w[0]
     assert f"at least {40 * 0.54:.1f} mm" in w[0]
-    assert any("tensioner and the crank's axle bearings at A1 are not drawn" in x for x in collected())
+    assert any("the rope's tensioner is not drawn as a solid yet" in x for x in collected())
 
 
 def test_capstan_rows_against_hand_formulas():
