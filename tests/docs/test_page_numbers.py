@@ -349,3 +349,21 @@ def test_codesign_re35_span_and_rotor_mass():
     pts = {p["trial"]: p for f in front.values() for p in f["points"]}
     m = re.search(r"The nearest design, trial (\d+) \(carbon-fibre bars, RE 40, (\d+)° of crank\)", text)
     _printed(m[2], pts[int(m[1])]["crank_span_deg"])
+
+
+def test_codesign_capstan_run_is_the_json_of_that_run():
+    """docs/codesign.md's capstan optimum: the figures typed there are those of the run's JSON
+    (docs/codesign/hoeken_capstan_optimize.json, written by the command the page shows)."""
+    import json
+
+    rec = json.loads((ROOT / "docs" / "codesign" / "hoeken_capstan_optimize.json").read_text())
+    text = (ROOT / "docs" / "codesign.md").read_text(encoding="utf-8")
+    b = rec["best"]
+    assert rec["command"].startswith("hapticad optimize designs/hoeken_capstan.toml --objective "
+                                     "min-apparent-mass --trials 300") and rec["misses"] == []
+    t = b["transmission"]
+    for typed in (f"{b['exact']['M11_min_g']:.1f}–{b['exact']['M11_max_g']:.1f} g",
+                  f"{t['capstan_diameter_mm']:.0f} mm capstan, {t['drum_diameter_mm']:.0f} mm drum",
+                  f"at {t['centre_distance_mm']:.0f} mm", f"{b['parts']['bar_thickness_mm']:.0f} mm",
+                  f"continuous force {b['cheap']['continuous_force_N']:.2f} N"):
+        assert typed in text, typed

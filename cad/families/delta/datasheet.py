@@ -17,14 +17,20 @@ import math
 import numpy as np
 
 from cad.datasheet import row
-from cad.datasheet.limits import (FIRST_MODE_MIN_HZ, MODE_REASON, STRESS_REASON,
-                                  STRESS_SAFETY_FACTOR, Limit, with_targets)
+from cad.datasheet.limits import (
+    FIRST_MODE_MIN_HZ,
+    MODE_REASON,
+    STRESS_REASON,
+    STRESS_SAFETY_FACTOR,
+    Limit,
+    with_targets,
+)
 from cad.device import resolve_device
-from cad.families.delta import hardware as hw
-from cad.structure.elastic import get_elastic
 from cad.dynamics.stiffness import range_text, stiffness_range_N_per_m
+from cad.families.delta import hardware as hw
 from cad.firmware.extras import paper_eq25_inputs
 from cad.kinematics.delta import ik, jacobian_rad_per_m, require_ok
+from cad.structure.elastic import get_elastic
 
 #: What changes the delta's force and first mode (the sections are the family's fixed
 #: choices in cad/families/delta/hardware.py).

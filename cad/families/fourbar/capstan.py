@@ -227,6 +227,8 @@ def k_max_with_cable_N_per_m(K_max_N_per_m: float | None, k_q: float | None, Jx)
 #: Drum (or sector) thickness along the shaft, mm: room for the rope's turns on the drum side
 #: and the anchors' screws. A layout choice (no part drawn yet).
 DRUM_THICKNESS_MM = 10.0
+#: The drum sector's material (machined plate): its solid's and the cheap model's.
+DRUM_MATERIAL = "aluminium-6061"
 _NOT_DRAWN = "not drawn as a solid yet; mass not known, not in the totals"
 
 

@@ -103,8 +103,9 @@ def motor_direction_deg(design, J, gamma_rad: float, anchor_deg: float, keep_out
     whose motor mount plate (a square of half side ``mount_half_mm`` round the motor) stands
     farthest from A4's post screw (at least ``a4_keep_mm``), both runs of rope between the
     pitch circles of ``radii_mm`` (drum, capstan) at least ``post_keep_mm`` from A4's axis
-    (the post). DesignError naming
-    ``transmission.drum_diameter_mm`` when none does."""
+    (the post), and the mount plate clear of the A1 bearing block's flange (the same square at
+    A1) by ``design.parts.clearance_min_mm``. DesignError naming
+    ``transmission.centre_distance_mm`` when none does."""
     lo, hi = math.degrees(design.phi1_min_rad), math.degrees(design.phi1_max_rad)
     a4 = np.asarray(J["ground"]["A4"], float)
     best, best_d = None, a4_keep_mm
@@ -115,6 +116,8 @@ def motor_direction_deg(design, J, gamma_rad: float, anchor_deg: float, keep_out
             continue
         a = math.radians(alpha)
         o = centre_distance_mm * np.array([math.cos(a), math.sin(a)])
+        if float(np.abs(o).max()) < 2 * mount_half_mm + design.parts.clearance_min_mm:
+            continue  # the mount plate on the A1 bearing block's flange
         d = float(np.hypot(*np.maximum(np.abs(o - a4) - mount_half_mm, 0.0)))
         runs = cg.external_tangent_points_mm((0.0, 0.0), radii_mm[0], o, radii_mm[1])
         if min(_segment_distance_mm(a4, r[0], r[1]) for r in runs) < post_keep_mm:
@@ -125,8 +128,9 @@ def motor_direction_deg(design, J, gamma_rad: float, anchor_deg: float, keep_out
         arc = 2 * math.degrees(gamma_rad) + hi - lo + 2 * anchor_deg
         raise DesignError("transmission.centre_distance_mm",
                           f"{centre_distance_mm:g} mm: no place for the motor clears both the crank's "
-                          f"A2 hardware (the drum arc is {arc:.0f} deg) and the A4 post (the "
-                          f"{2 * mount_half_mm:g} mm mount plate); set a longer centre_distance_mm")
+                          f"A2 hardware (the drum arc is {arc:.0f} deg), the A4 post and the A1 bearing "
+                          f"block (the {2 * mount_half_mm:g} mm mount plate); set a longer "
+                          "centre_distance_mm")
     return best
 
 
@@ -149,7 +153,7 @@ def placement(design, t, J, plan) -> CapstanPlacement:
     lo, hi = math.degrees(design.phi1_min_rad), math.degrees(design.phi1_max_rad)
     start, span = cg.drum_arc_link_deg(alpha, g, lo, hi, anchor)
     top = plan.hub_z_mm[1]
-    zc, zr = _capstan_z_mm(design, t)
+    zc, zr = _capstan_z_mm(design, t, top - fcap.DRUM_THICKNESS_MM + d)
     if not top - fcap.DRUM_THICKNESS_MM + d <= zr <= top - d:
         raise DesignError("transmission.wraps", f"{t.wraps:g} turns put the rope at z = {zr:.2f} "
                           f"mm, off the drum's rim (z {top - fcap.DRUM_THICKNESS_MM:g} to {top:g} mm); "
@@ -159,15 +163,22 @@ def placement(design, t, J, plan) -> CapstanPlacement:
                             (top - fcap.DRUM_THICKNESS_MM, top), zc, zr)
 
 
-def _capstan_z_mm(design, t) -> tuple[float, float]:
+def _capstan_z_mm(design, t, rope_min_z_mm: float = -math.inf) -> tuple[float, float]:
     """(the capstan's bottom, the rope's plane), mm: the capstan starts ``clearance_min_mm``
     above the heads of the motor's face screws (their heads on the mount plate, under the base
-    plate's top); the rope runs at the middle of its turns above the set-screw hub."""
+    plate's top), or higher on the shaft when the rope's plane (the middle of its turns above
+    the set-screw hub) must reach ``rope_min_z_mm`` (the drum's rim: a tall hub stack), as long
+    as the set-screw hub stays on the motor shaft (else the rope is left low: the caller
+    refuses it)."""
     p = design.parts
     m = cat.get_motor(p.motor)
     head = cat.get_cap_screw(m.bolt_size, "parts.motor").k_mm
     zc = -p.base_thickness_mm + head + p.clearance_min_mm
     turns = cg.GROOVE_PITCH_D * t.cable_diameter_mm * t.wraps
+    lift = rope_min_z_mm - (zc + cg.CAPSTAN_HUB_MM + 0.5 * turns)
+    shaft_top = -p.base_thickness_mm - p.motor_mount_thickness_mm + m.shaft_length_mm
+    if lift > 0 and zc + lift + cg.CAPSTAN_HUB_MM <= shaft_top:
+        zc += lift
     return zc, zc + cg.CAPSTAN_HUB_MM + 0.5 * turns
 
 
@@ -352,7 +363,7 @@ def _capstan_parts(design, t, pl: CapstanPlacement) -> list[PartInstance]:
         "capstan_drum",
         shapes.drum_sector_shape(rd, parts.hub_diameter_mm / 2, pl.arc_start_deg, pl.arc_span_deg,
                                  th, tuple((a, tap, depth) for a in pl.anchors_deg)),
-        material="aluminium-6061", made=True,
+        material=fcap.DRUM_MATERIAL, made=True,
         description=(f"drum sector {t.drum_diameter_mm:g} mm pitch (rim {2 * rd:g} mm), "
                      f"{pl.arc_span_deg:.0f} deg arc, {th:g} mm thick, round the crank hub at A1"),
         process=f"machined from {th:g} mm plate; drill and tap {ANCHOR_SCREW.split('-')[0]} x2 "
@@ -387,9 +398,7 @@ def _capstan_and_set_screw(design, t, pl: CapstanPlacement, m) -> list[PartInsta
         process=f"turned; tap {motor.SET_SCREW.split('-')[0]} x1 (radial)",
         fits=(fit("hub shaft bore", m.shaft_diameter_mm, "shaft bore"),))
 
-    size, L, _ = size_set_screw(m.shaft_diameter_mm / 2, rc, (motor.SET_SCREW,),
-                                "capstan set screw onto the motor shaft",
-                                "transmission.capstan_diameter_mm")
+    size, L = capstan_set_screw(design, t)
     sk = PartKind("capstan_set_screw", motor.set_screw_shape(L, size),
                   material=cat.FASTENER_MATERIAL, made=False,
                   description=f"set screw ISO 4026 {size.split('-')[0]} x {L:g} "
@@ -399,6 +408,18 @@ def _capstan_and_set_screw(design, t, pl: CapstanPlacement, m) -> list[PartInsta
             PartInstance("capstan_set_screw", sk, "ground",
                          tf_c @ translation(0, 0, z_set) @ _RY90
                          @ translation(0, 0, m.shaft_diameter_mm / 2))]
+
+
+def capstan_set_screw(design, t) -> tuple[str, float]:
+    """(size, length mm) of the ISO 4026 set screw holding the capstan on the motor shaft
+    (:func:`cad.assembly.fasteners.size_set_screw`); DesignError naming
+    transmission.capstan_diameter_mm when the capstan's wall cannot hold one."""
+    m = cat.get_motor(design.parts.motor)
+    rc = cg.rim_radius_mm(t.capstan_diameter_mm, t.cable_diameter_mm)
+    size, L, _ = size_set_screw(m.shaft_diameter_mm / 2, rc, (motor.SET_SCREW,),
+                                "capstan set screw onto the motor shaft",
+                                "transmission.capstan_diameter_mm")
+    return size, L
 
 
 def _rope_runs(design, t, pl: CapstanPlacement) -> list[PartInstance]:

@@ -33,8 +33,11 @@ import math
 
 import numpy as np
 
+from cad.actuators import capstan as cap
+from cad.actuators import capstan_geometry as cg
 from cad.data import catalog as cat
 from cad.data.materials import get_material
+from cad.device import resolve_device
 from cad.dynamics.inertia import (
     PlanarLinkInertia,
     apparent_mass_matrix,
@@ -42,6 +45,7 @@ from cad.dynamics.inertia import (
     h_from_links,
 )
 from cad.errors import HapticadError
+from cad.families.fourbar import capstan as fcap
 from cad.families.fourbar.layers import choose_layers, spacer_od_mm
 from cad.families.fourbar.pose import planar_transforms
 from cad.kinematics.fourbar import solve
@@ -263,6 +267,34 @@ def rotor_inertia_kg_m2(parts) -> float:
     return cat.get_motor(parts.motor).rotor_inertia_kg_m2
 
 
+def rotor_of(design, parts=None) -> float:
+    """The motor side's inertia at the crank (kg m^2): the rotor (``parts`` overrides) for a
+    direct drive; through a capstan the resolved device's n^2 (J_m + J_capstan)
+    (:meth:`cad.device.ResolvedDevice.joint_rotor_inertia_kg_m2`)."""
+    dev = resolve_device(design)
+    if not dev.transmission("crank").is_capstan:
+        return rotor_inertia_kg_m2(parts or design.parts)
+    return dev.joint_rotor_inertia_kg_m2("crank")
+
+
+def drum_izz_kg_m2(design, span_deg: float | None = None) -> float:
+    """The capstan drum sector's inertia about A1 (kg m^2; 0 for a direct drive): an annular
+    sector (hub bore to rim, :data:`cad.families.fourbar.capstan.DRUM_THICKNESS_MM` thick, its
+    anchors' holes left out) of the arc the rope needs with the tangent points' 2 gamma,
+    m (r_o^2 + r_i^2) / 2 (:func:`cad.actuators.capstan_geometry.sector_mass_kg`)."""
+    t = resolve_device(design).transmission("crank")
+    if not t.is_capstan:
+        return 0.0
+    C = cap.centre_distance_mm(t.capstan_diameter_mm, t.drum_diameter_mm, t.centre_distance_mm)
+    g = math.degrees(cg.tangent_half_angle_rad(t.drum_diameter_mm, t.capstan_diameter_mm, C))
+    rng = math.degrees(design.phi1_max_rad - design.phi1_min_rad)
+    span = 2 * g + rng + 2 * math.degrees(2.0 * fcap.ANCHOR_LENGTH_MM / t.drum_diameter_mm)
+    r_o, r_i = cg.rim_radius_mm(t.drum_diameter_mm, t.cable_diameter_mm), design.parts.hub_diameter_mm / 2
+    m = cg.sector_mass_kg(min(span, 360.0), r_o, r_i, fcap.DRUM_THICKNESS_MM,
+                          get_material(fcap.DRUM_MATERIAL).density_kg_m3)
+    return 0.5 * m * (r_o ** 2 + r_i ** 2) * 1e-6
+
+
 def apparent_mass(design, parts=None, samples: int = 201, plan=False) -> dict:
     """Cheap-model H11..H33 and M11 range (g) of ``design`` (optionally other ``parts``);
     ``plan``: the layer plan (:func:`layer_plan`), computed when not given (False), None for
@@ -271,7 +303,8 @@ def apparent_mass(design, parts=None, samples: int = 201, plan=False) -> dict:
     if plan is False:
         plan = layer_plan(design, parts)
     li = link_inertias(design, parts, plan)
-    H = h_from_links(design.linkage, li["crank"], li["coupler"], li["rocker"], rotor_inertia_kg_m2(parts))
+    H = h_from_links(design.linkage, li["crank"], li["coupler"], li["rocker"],
+                     rotor_of(design, parts) + drum_izz_kg_m2(design))
     phi = np.linspace(design.phi1_min_rad, design.phi1_max_rad, samples)
     fr = path_frame(design.linkage, design.phi1_min_rad, design.phi1_max_rad)
     M = apparent_mass_matrix(design.linkage, solve(design.linkage, phi), H, fr)

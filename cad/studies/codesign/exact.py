@@ -30,6 +30,8 @@ def candidate_raw(design, cand, name: str) -> dict:
     parts = dict(raw.get("parts") or {})
     parts.update(cand.parts)
     raw["parts"] = parts
+    if getattr(cand, "transmission", None) is not None:  # a searched capstan (the brief's was one)
+        raw["transmission"] = dict(cand.transmission)
     return raw
 
 

@@ -51,10 +51,11 @@ def optimize_fourbar(design, objective: str, trials: int, seed: int, top: int, c
             try:
                 ex = exact.evaluate(design, c, f"{design.name}_candidate")
             except HapticadError as exc:
-                checked.append({"trial": c.number, "parts": c.parts, "mechanism": c.mechanism,
+                checked.append({"trial": c.number, "parts": c.parts, "mechanism": c.mechanism, "transmission": c.transmission,
                                 "rejected": str(exc)})
                 continue
-            checked.append({"trial": c.number, "parts": c.parts, "mechanism": c.mechanism, "exact": ex})
+            checked.append({"trial": c.number, "parts": c.parts, "mechanism": c.mechanism,
+                            "transmission": c.transmission, "exact": ex})
             if beat_prototype:
                 ex["datasheet"] = _datasheet_check(design, c)
         if exact.accepted(ex) and (not beat_prototype or ex["datasheet"]["ok"]) and (best is None or ex["M11_max_g"] < best[1]["M11_max_g"]):
@@ -72,7 +73,8 @@ def optimize_fourbar(design, objective: str, trials: int, seed: int, top: int, c
                          "motor_continuous_torque_mNm": search.MOTOR_CONTINUOUS_TORQUE_MNM},
         "search_wall_s": t_search, "exact_checked": checked,
         "best": None if best is None else {"trial": best[0].number, "mechanism": best[0].mechanism,
-                                           "parts": best[0].parts, "layer_order": best[1]["layers"],
+                                           "parts": best[0].parts, "transmission": best[0].transmission,
+                                           "layer_order": best[1]["layers"],
                                            "cheap": _clean(best[0].cheap), "exact": best[1]},
         "layer_orders_searched": None if "layer_order" in pb.fixed_parts else list(search.LAYER_ORDERS),
         "pareto_front": [{k: r[k] for k in ("trial", "M11_max_g", "torque_variation", "footprint_mm2")}

@@ -17,6 +17,16 @@ Free (per trial):
   rocker (:data:`LAYER_ORDERS`), unless the brief fixes it. The cheap model sees it: each
   joint's hardware rides on the link the plan gives it (bearing on the upper link, pin,
   spacers, nut on the lower) with the plan's stack heights (:mod:`cad.studies.codesign.cheap`);
+* a capstan on the crank, when the brief's ``[transmission]`` is one (issue 35): the
+  capstan's diameter from :data:`CAPSTAN_STOCK_MM`, the ratio n (drum / capstan, steps of
+  0.5 in :data:`CAPSTAN_RATIO_RANGE`) and the gap added to r_d + r_c for the centre distance
+  (:data:`CAPSTAN_GAP_CHOICES_MM`); the rope the thickest of the brief rope's construction
+  that the capstan's bend ratio allows (:func:`cad.data.cables.largest_rope_for`: strongest
+  and stiffest; none allowed keeps the brief's, which then misses its bend ratio); the
+  brief's ``wraps`` kept. The cheap figures see it through the resolved device (torques x n, counts
+  x n, rotor and capstan n^2 (J_m + J_c), the drum sector on the crank); its own limits
+  (bend ratio, slip margin, safety factor, drum arc) and a place for the moved motor are
+  checks like the others (:func:`capstan_problem`);
 * tube bars, when the brief sets ``[parts] bar_style = "tube"``: a stock tube of
   :data:`TUBE_STOCK_MM` and a clevis height of :data:`CLEVIS_STOCK_MM` that holds it with 1 mm walls, the clevis
   length the shortest that clears the joint features (:func:`suggest_tube`).
@@ -46,15 +56,20 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from cad.actuators import capstan as cap
 from cad.data import catalog as cat
+from cad.data.cables import get_cable, largest_rope_for
 from cad.data.catalog import MOTORS
 from cad.data.materials import SHEETS
 from cad.datasheet.limits import Limit
 from cad.design import bounds
 from cad.design.parts import PartsSpec, parse_parts
 from cad.design.writer import custom_mechanism_table
+from cad.device import resolve_device
 from cad.dynamics.inertia import InertiaCoefficients
 from cad.errors import HapticadError
+from cad.families.fourbar import capstan as fcap
+from cad.families.fourbar.capstan_solids import capstan_set_screw, placement
 from cad.families.fourbar.datasheet import force_rows, friction, lever, stiffness_inputs
 from cad.families.fourbar.layers import choose_layers
 from cad.families.fourbar.limits import fourbar_limits
@@ -92,6 +107,15 @@ CLEVIS_STOCK_MM = (6.0, 8.0, 10.0, 12.0)
 #: Socket depth of the searched tube bars (mm), >= the tube's outside diameter.
 TUBE_SOCKET_MM = 6.0
 HANDLE_MATERIALS = ("abs", "delrin", "pla")
+#: Capstan diameters searched (mm): turned from round bar, whole sizes a workshop stocks; those
+#: whose wall cannot hold the set screw on a searched motor's shaft are left out
+#: (:func:`capstan_stock_mm`).
+CAPSTAN_STOCK_MM = (8.0, 10.0, 12.0, 16.0, 20.0, 24.0, 32.0)
+#: Capstan ratio n = drum / capstan searched: [lo, hi] in steps of 0.5 (the drum must pass the
+#: A4 post: a few times the capstan).
+CAPSTAN_RATIO_RANGE = (1.5, 5.0)
+#: Centre distance = r_d + r_c + one of these gaps (mm): the moved motor needs room.
+CAPSTAN_GAP_CHOICES_MM = (2.0, 10.0, 20.0, 30.0, 40.0, 60.0)
 
 
 def bar_stock(process: str = "machined") -> dict[str, tuple[float, ...]]:
@@ -180,6 +204,10 @@ class Problem:
     all_limits: bool = False
     #: with ``all_limits``: every trial that reached the limits, {trial number: Candidate}
     evaluated: dict = field(default_factory=dict)
+    #: the brief's ``[transmission]`` table when it is a capstan (searched), else None
+    capstan: dict | None = None
+    #: the capstan diameters searched (:func:`capstan_stock_mm`, computed once by :func:`run`)
+    capstan_stock: tuple = ()
 
 
 #: [parts] keys of the brief the search keeps as given (the rest it chooses).
@@ -213,9 +241,88 @@ def problem_from(design) -> Problem:
     stroke = tg["stroke_mm"].value if "stroke_mm" in tg and tg["stroke_mm"].value else m.stroke_mm
     if "stroke_mm" in tg and tg["stroke_mm"].min is not None:
         stroke = max(stroke, tg["stroke_mm"].min)
+    tr = design.raw.get("transmission")
+    capstan = dict(tr) if isinstance(tr, dict) and tr.get("kind") == "capstan" else None
     return Problem(design, float(stroke), float(bound("dy_max_mm", DEFAULT_DY_MAX_MM, "max")),
                    float(bound("min_transmission_angle_deg", DEFAULT_MU_MIN_DEG, "min")),
-                   design.phi1_min_rad, design.phi1_max_rad)
+                   design.phi1_min_rad, design.phi1_max_rad, capstan=capstan)
+
+
+def capstan_stock_mm(pb: Problem) -> list[float]:
+    """:data:`CAPSTAN_STOCK_MM` less the diameters whose wall holds no set screw on the shaft
+    of some searched motor (:func:`cad.families.fourbar.capstan_solids.capstan_set_screw` with
+    the brief's rope)."""
+    out = []
+    for dc in CAPSTAN_STOCK_MM:
+        t = replace(resolve_device(pb.design).transmission("crank"), capstan_diameter_mm=dc)
+        try:
+            for motor in MOTOR_CONTINUOUS_TORQUE_MNM:
+                capstan_set_screw(replace(pb.design, parts=replace(pb.design.parts, motor=motor)), t)
+        except HapticadError:
+            continue
+        out.append(dc)
+    return out
+
+
+def capstan_start(pb: Problem) -> dict:
+    """The brief's own capstan as the searched parameters (for the hand-written starts): its
+    diameter (the nearest searched stock), ratio (to 0.5) and centre-distance gap (the
+    nearest choice)."""
+    if pb.capstan is None:
+        return {}
+    t = resolve_device(pb.design).transmission("crank")
+    lo, hi = CAPSTAN_RATIO_RANGE
+    C = cap.centre_distance_mm(t.capstan_diameter_mm, t.drum_diameter_mm, t.centre_distance_mm)
+    gap = C - 0.5 * (t.capstan_diameter_mm + t.drum_diameter_mm)
+    return {"capstan_diameter_mm": min(capstan_stock_mm(pb), key=lambda d: abs(d - t.capstan_diameter_mm)),
+            "capstan_ratio": min(max(round(t.ratio * 2) / 2, lo), hi),
+            "capstan_gap_mm": min(CAPSTAN_GAP_CHOICES_MM, key=lambda g: abs(g - gap))}
+
+
+def brief_start(pb: Problem) -> dict | None:
+    """The brief itself as a trial (its crank range, parts, layer order and capstan), enqueued
+    first for a capstan brief (whose feasible region is narrow: a rope strong enough at the
+    motor's peak torque, a hub stack tall enough for the drum, a place for the motor); None
+    when one of its values is outside the searched choices."""
+    d, p = pb.design, pb.design.parts
+    joint = next((k for k, js in enumerate(JOINT_SETS) if js == (p.bearing, p.pin)), None)
+    plan, why = layer_problem(d)
+    stock = bar_stock(pb.fixed_parts.get("process", "machined"))
+    ok = (joint is not None and why is None and p.bar_thickness_mm in stock.get(p.bar_material, ())
+          and p.pin_material in PIN_MATERIALS and p.handle_screw in HANDLE_SCREWS
+          and p.motor in MOTOR_CONTINUOUS_TORQUE_MNM and 8 <= p.bar_width_mm <= 24
+          and p.handle_material in handle_materials(pb.fixed_parts.get("process", "machined")))
+    if not ok:
+        return None
+    start = {"span_deg": math.degrees(d.phi1_max_rad - d.phi1_min_rad), "shift_deg": 0.0,
+             "joint": joint, "bar_material": p.bar_material,
+             f"thickness_{p.bar_material}": p.bar_thickness_mm, "bar_width_mm": int(p.bar_width_mm),
+             "pin_material": p.pin_material, "bar_pockets": p.bar_pockets,
+             "handle_material": p.handle_material, "handle_diameter_mm": int(p.handle_diameter_mm),
+             "handle_height_mm": int(p.handle_height_mm), "handle_screw": p.handle_screw,
+             "motor": p.motor, **capstan_start(pb)}
+    if "layer_order" not in pb.fixed_parts:
+        start["layer_order"] = "/".join(plan.order)
+    return start
+
+
+def suggest_transmission(trial, pb: Problem) -> dict | None:
+    """The ``[transmission]`` table of one trial: None for a direct-drive brief, else a
+    capstan of searched diameter, ratio, rope and centre distance (module docstring)."""
+    if pb.capstan is None:
+        return None
+    dc = trial.suggest_categorical("capstan_diameter_mm", list(pb.capstan_stock or capstan_stock_mm(pb)))
+    lo, hi = CAPSTAN_RATIO_RANGE
+    n = trial.suggest_float("capstan_ratio", lo, hi, step=0.5)
+    gap = trial.suggest_categorical("capstan_gap_mm", list(CAPSTAN_GAP_CHOICES_MM))
+    rope = largest_rope_for(dc, get_cable(pb.capstan["cable"]).construction)
+    dd = round(n * dc, 3)
+    out = {"kind": "capstan", "capstan_diameter_mm": dc, "drum_diameter_mm": dd,
+           "cable": pb.capstan["cable"] if rope is None else rope.key,
+           "centre_distance_mm": round(0.5 * (dc + dd) + gap, 3)}
+    if "wraps" in pb.capstan:
+        out["wraps"] = pb.capstan["wraps"]
+    return out
 
 
 #: Link dimensions whose ratio to the coupler l2 the search perturbs (``--proportions-tol``).
@@ -300,20 +407,22 @@ def suggest_tube(trial, parts: dict) -> dict:
 
 @dataclass(frozen=True)
 class Candidate:
-    """One evaluated trial: the mechanism table, the parts table and the cheap numbers."""
+    """One evaluated trial: the mechanism table, the parts table, the cheap numbers and the
+    ``[transmission]`` table (None: direct drive)."""
 
     number: int
     mechanism: dict
     parts: dict
     cheap: dict
+    transmission: dict | None = None
 
 
 def cheap_figures(design, samples: int = 201) -> dict:
     """Datasheet figures of a candidate that need no solids (numpy): ``continuous_force_N``,
     ``peak_force_N`` (motor torque / |dx/dphi1|, minimum over the stroke) and ``friction_N``
     (motor Kt I0 / |dx/dphi1|, maximum), by the datasheet's own functions
-    (:mod:`cad.families.fourbar.datasheet`)."""
-    m = design.motor_spec()
+    (:mod:`cad.families.fourbar.datasheet`), with the motor as the crank sees it."""
+    m = resolve_device(design).joint_motor("crank")  # the motor at the crank (x n via a capstan)
     _, Jx, pose, a2, a3 = lever(design, samples)
     out = {r["key"]: r["value"] for r in force_rows(design, m, Jx) if r["value"] is not None}
     fm, _ = friction(design, m, Jx, pose, a2, a3)
@@ -345,12 +454,13 @@ def misses(limits: dict, figures: dict) -> dict:
 
 
 def evaluate(pb: Problem, span_deg: float, shift_deg: float, parts: dict, best: float | None = None,
-             ratios: dict | None = None):  # long-function: the checks in order, cheapest first
+             ratios: dict | None = None, transmission: dict | None = None):  # long-function: the checks in order, cheapest first
     """Cheap evaluation: (objective M11_max_g or inf, info dict). The checks run cheapest
     first; the datasheet limits (:func:`design_limits`) on the figures known before any
     solid (:func:`cheap_figures`), then on the cheap M11 and the beam-frame structure (run only
     when the trial could beat ``best``, the best feasible M11 so far). ``info["misses"]``:
-    {limit key: relative violation} of the limits missed."""
+    {limit key: relative violation} of the limits missed. ``transmission``: the trial's
+    ``[transmission]`` table (:func:`suggest_transmission`), None for direct drive."""
     k = kinematics(pb, span_deg, shift_deg, ratios)
     if k is None:
         return math.inf, {"infeasible": "crank range"}
@@ -374,6 +484,8 @@ def evaluate(pb: Problem, span_deg: float, shift_deg: float, parts: dict, best: 
         info["infeasible"] = "; ".join(viol)
         return math.inf, info
     d = replace(pb.design, linkage=fb, phi1_min_rad=lo, phi1_max_rad=hi, parts=ps)
+    if transmission is not None:
+        d = replace(d, raw={**d.raw, "transmission": transmission})  # in range by construction
     limits = design_limits(d, m11=pb.all_limits)
     info.update(cheap_figures(d))
     info["misses"] = misses(limits, info)
@@ -389,10 +501,19 @@ def evaluate(pb: Problem, span_deg: float, shift_deg: float, parts: dict, best: 
         info["infeasible"] = f"layers: {why}"
         return math.inf, info
     info["layer_order"] = list(plan.order)
+    why = capstan_problem(d, plan) if transmission is not None else None
+    if why:
+        info["infeasible"] = f"capstan: {why}"
+        return math.inf, info
     am = cheap.apparent_mass(d, plan=plan)
     info.update({"M11_max_g": am["M11_max_g"], "M11_min_g": am["M11_min_g"],
                  "M11_variation": (am["M11_max_g"] - am["M11_min_g"]) / am["M11_max_g"],
                  **{h: am[h] for h in ("H11_kg_m2", "H12_kg_m2", "H22_kg_m2", "H33_kg_m2")}})
+    if transmission is not None:
+        limits, why = _capstan_limits(d, am, limits, info)
+        if why:
+            info["infeasible"] = why
+            return math.inf, info
     info["misses"] = misses(limits, info)
     if best is not None and am["M11_max_g"] > best and not info["misses"]:
         return am["M11_max_g"], info  # cannot become the optimum: skip the structure check
@@ -409,13 +530,67 @@ def evaluate(pb: Problem, span_deg: float, shift_deg: float, parts: dict, best: 
     return am["M11_max_g"], info
 
 
+def capstan_problem(design, plan) -> str | None:
+    """None when a capstan candidate's capstan holds its set screw, its moved motor has a place
+    (the build's own checks, numpy: :func:`cad.families.fourbar.capstan_solids.
+    capstan_set_screw`, :func:`~cad.families.fourbar.capstan_solids.placement`) and its drum
+    sector, swept over the crank's range, stays off the A4 post in plan view (conservative:
+    whatever their heights); else the reason."""
+    t = resolve_device(design).transmission("crank")
+    J = link_joints_mm(design.linkage)
+    try:
+        capstan_set_screw(design, t)
+        pl = placement(design, t, J, plan)
+    except HapticadError as exc:
+        return str(exc)
+    return _drum_meets_post(design, t, pl, J["ground"]["A4"])
+
+
+def _drum_meets_post(design, t, pl, a4) -> str | None:
+    """The reason when the drum's swept sector (plan view) reaches the A4 post, else None."""
+    p = design.parts
+    d4 = float(np.hypot(*a4))
+    keep = 0.5 * p.post_diameter_mm + p.clearance_min_mm
+    if 0.5 * t.drum_diameter_mm + keep <= d4:
+        return None
+    half = math.degrees(math.asin(min(1.0, keep / d4)))
+    lo, hi = math.degrees(design.phi1_min_rad), math.degrees(design.phi1_max_rad)
+    swept = pl.arc_span_deg + hi - lo
+    rel = (math.degrees(math.atan2(a4[1], a4[0])) - pl.arc_start_deg - lo) % 360.0
+    if swept + 2 * half >= 360.0 or rel <= swept + half or rel >= 360.0 - half:
+        return f"the {t.drum_diameter_mm:g} mm drum sweeps over the A4 post ({d4:.1f} mm from A1)"
+    return None
+
+
+def _capstan_limits(design, am: dict, limits: dict, info: dict) -> tuple[dict, str | None]:
+    """(``limits`` with the capstan's, None) with its figures added to ``info``, or (limits,
+    the reason) when a limited capstan figure cannot be computed (the datasheet calls that a
+    miss: a rope with no breaking load)."""
+    figs, cap_limits = capstan_figures(design, am)
+    unknown = [k for k in cap_limits if figs.get(k) is None]
+    if unknown:
+        return limits, f"capstan: {', '.join(unknown)} not computed (rope data missing)"
+    info.update(figs)
+    return {**limits, **cap_limits}, None
+
+
+def capstan_figures(design, am: dict) -> tuple[dict, dict]:
+    """({key: value}, {key: Limit}) of the capstan's limited figures of a candidate (bend
+    ratio, slip margin, safety factor, drum arc: the rows and limits of
+    :func:`cad.families.fourbar.capstan.datasheet_rows`, the datasheet's own) with the cheap
+    model's H as its report."""
+    phi, Jx, *_ = lever(design)
+    rows, limits = fcap.datasheet_rows(design, {**am, "Jm_kg_m2": cheap.rotor_of(design)}, phi, Jx)
+    return {r["key"]: r["value"] for r in rows if r["key"] in limits}, limits
+
+
 def wall_stable(design, info: dict, K_N_per_m: float) -> bool:
     """Is a virtual wall of stiffness ``K_N_per_m`` stable on the reduced 1-DOF model
     (:mod:`cad.sim.wall`: one simulation, the datasheet's inputs without a ``[stiffness]``
     table: Te 0.33 ms, the design's encoder, Fs = its friction estimate, Fv = 0) with the
     cheap model's H (``info``)? The datasheet's K_max is the stability threshold of such walls
     (:func:`cad.sim.wall.k_max_estimate`, with its sampling error)."""
-    m = design.motor_spec()
+    m = resolve_device(design).joint_motor("crank")
     Jx = lever(design)[1]
     s, _ = stiffness_inputs(design, Jx, info.get("friction_N"))
     H = InertiaCoefficients(info["H11_kg_m2"], info["H12_kg_m2"], info["H22_kg_m2"], info["H33_kg_m2"], 0.0)
@@ -478,25 +653,31 @@ def run(pb: Problem, trials: int, seed: int = 0,
         span = trial.suggest_float("span_deg", 60.0, 200.0)
         shift = trial.suggest_float("shift_deg", -40.0, 40.0)
         parts = suggest_parts(trial, pb)
+        tr = suggest_transmission(trial, pb)
         tol = pb.proportions_tol
         ratios = ({k: trial.suggest_float(f"ratio_{k}", 1.0 - tol, 1.0 + tol) for k in PROPORTIONS}
                   if tol > 0 else None)
         best = min((c.cheap["M11_max_g"] for c in cands), default=None)
-        val, info = evaluate(pb, span, shift, parts, best, ratios)
+        val, info = evaluate(pb, span, shift, parts, best, ratios, tr)
         records.append({"trial": trial.number, "value": val if math.isfinite(val) else None,
                         **{k: v for k, v in info.items() if k != "mechanism"}})
         if pb.all_limits and "misses" in info:
-            pb.evaluated[trial.number] = Candidate(trial.number, info["mechanism"], parts, info)
+            pb.evaluated[trial.number] = Candidate(trial.number, info["mechanism"], parts, info, tr)
         if math.isfinite(val):
-            cands.append(Candidate(trial.number, info["mechanism"], parts, info))
+            cands.append(Candidate(trial.number, info["mechanism"], parts, info, tr))
             return val
         if pb.all_limits and info.get("misses") and "first_mode_Hz" in info:
             # judged on every limit: toward them (the sum of their relative violations)
             return 1e3 + sum(v for v in info["misses"].values() if v is not None)
         return 1e6
 
+    if pb.capstan is not None:
+        pb.capstan_stock = tuple(capstan_stock_mm(pb))
+        first = brief_start(pb) if starts else None
+        if first is not None:
+            study.enqueue_trial(first)
     for start in starts_for(pb.fixed_parts.get("process", "machined")) if starts else ():
-        study.enqueue_trial(start)
+        study.enqueue_trial({**start, **capstan_start(pb)})
     optimize_study(study, objective, trials)
     cands.sort(key=lambda c: c.cheap["M11_max_g"])
     return cands, records
