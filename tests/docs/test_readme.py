@@ -233,7 +233,7 @@ def test_readme_is_the_front_door_and_its_links_resolve():
     text = README.read_text()
     assert len(text.splitlines()) <= 250
     assert text.startswith("```\npython3 -m venv .venv && .venv/bin/pip install -q -c constraints.txt -e . && "
-                           ".venv/bin/hapticad build designs/hoeken.toml\n")
+                           ".venv/bin/hapticad build designs/hoeken_capstan.toml\n")
     links = re.findall(r"\]\((docs/[^)#]+)(?:#([^)]+))?\)", text) + re.findall(r'src="(docs/[^"]+)"()', text)
     assert len(links) >= 20
     for path, anchor in links:
@@ -242,3 +242,24 @@ def test_readme_is_the_front_door_and_its_links_resolve():
         if anchor:
             heads = re.findall(r"^#{1,6} (.+)$", page.read_text(), flags=re.M)
             assert anchor in {_anchor(h) for h in heads}, (path, anchor)
+
+
+def test_the_first_command_builds_a_device_meeting_every_limit(tmp_path):
+    """Issue 35 item 5: the README's first command builds a design whose datasheet meets every
+    limit; read back from ``hapticad datasheet --json`` (the datasheet's own verdicts), with the
+    continuous force the README types beside the picture."""
+    import json
+    import subprocess
+    import sys
+
+    first = README.read_text().splitlines()[1]
+    design = re.search(r"hapticad build (\S+)$", first).group(1)
+    r = subprocess.run([sys.executable, "-m", "cad", "datasheet", design, "--json"], cwd=ROOT,
+                       capture_output=True, text=True, timeout=600)
+    assert r.returncode == 0, r.stderr
+    rows = json.loads(r.stdout)["datasheet"]["rows"]
+    limited = [x for x in rows if x.get("limit") is not None]
+    assert len(limited) >= 8 and all(x["verdict"] == "ok" for x in limited), [
+        (x["key"], x["value"], x["verdict"]) for x in limited if x["verdict"] != "ok"]
+    cont = next(x for x in rows if x["key"] == "continuous_force_N")["value"]
+    assert f"{cont:.2f} N continuous at the handle" in README.read_text()
