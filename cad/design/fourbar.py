@@ -315,15 +315,11 @@ def parse(raw: dict[str, Any], source: str = "<design>") -> FourBarDesign:
 
 
 def _warn_transmission(design: FourBarDesign, warn) -> None:
-    """The capstan's load-time warnings: the rope below its bend ratio (naming the rope, the
-    ratio and the fix, :func:`cad.actuators.capstan.bend_ratio_warning`) and the part not
-    drawn as a solid yet (the tensioner)."""
+    """The capstan's load-time warning: the rope below its bend ratio (naming the rope, the
+    ratio and the fix, :func:`cad.actuators.capstan.bend_ratio_warning`)."""
     t = design.transmissions[0]
     if not t.is_capstan:
         return
     bend = bend_ratio_warning(get_cable(t.cable), t.capstan_diameter_mm)
     if bend is not None:
         warn(f"transmission: {bend}")
-    warn("transmission: the rope's tensioner is not drawn as a solid yet (its BOM line; the drum, "
-         "capstan, moved motor, rope runs, anchors and the crank's axle in its bearing block at A1 "
-         "are drawn)")

@@ -455,8 +455,9 @@ def test_the_capstan_hoeken_meets_every_limit_and_states_its_rope(builds, capsta
     """designs/hoeken_capstan.toml (issue 35): the Hoeken's solids with a capstan on the crank.
     Against the direct Hoeken's build, H11 gains the reflected rotor, (n^2 - 1) J_m, the
     capstan turning with it, n^2 J_capstan, and the
-    drum sector with its two anchor screws on the crank (the sector m (r_o^2 + r_i^2) / 2 about
-    A1 in closed form, the anchors bounded by their radii); H12..H33 are unchanged; every
+    drum sector with its anchor screw and tensioner on the crank (the sector m (r_o^2 + r_i^2) / 2
+    about A1 in closed form, the rim's hardware bounded by its radii) and the crank's axle;
+    H12..H33 are unchanged; every
     datasheet verdict is met (continuous force >= 5 N); the rope's cut
     length is the same number in the datasheet, bom.csv and order.csv; report.json ``device``
     states the ratio and the rope with its source."""
@@ -467,10 +468,14 @@ def test_the_capstan_hoeken_meets_every_limit_and_states_its_rope(builds, capsta
     r_o, r_i = 31.6, 10.0  # the drum's rim (64 mm pitch - 0.8 mm rope) and bore (the hub), mm
     m_drum = rep["part_masses_g"]["capstan_drum"] * 1e-3
     I_drum = 0.5 * m_drum * (r_o ** 2 + r_i ** 2) * 1e-6  # holes: 0.4 % of the mass, bounded below
-    m_a = rep["part_masses_g"]["capstan_anchor_screw"] * 1e-3  # radial M3 x 8, head out
+    # on the rim: the anchor screw (radial M3 x 8, head out), the tensioner's screw (its head
+    # 4.8 mm out, on its lock nut) and nut, each between 8 mm inside the rim and its head's top
+    m_rim = sum(rep["part_masses_g"][k] for k in ("capstan_anchor_screw", "capstan_tensioner_screw",
+                                                   "capstan_tensioner_nut")) * 1e-3
+    m_ax = rep["part_masses_g"]["crank_axle"] * 1e-3  # the crank's own axle at A1, 6 mm: m r^2 / 2
     gain = rep["H11_kg_m2"] - rep_d["H11_kg_m2"] - (g * g - 1) * m["Jm"] - g * g * _capstan_izz_kg_m2(toml)
-    assert I_drum * 0.995 + 2 * m_a * ((r_o - 8) * 1e-3) ** 2 < gain
-    assert gain < I_drum + 2 * m_a * ((r_o + 3) * 1e-3) ** 2
+    assert I_drum * 0.995 + m_rim * ((r_o - 8) * 1e-3) ** 2 < gain
+    assert gain < I_drum + m_rim * ((r_o + 4.8 + 3) * 1e-3) ** 2 + 0.5 * m_ax * (3e-3) ** 2
     for k in ("H12_kg_m2", "H22_kg_m2", "H33_kg_m2"):
         assert rep[k] == rep_d[k]
     assert rep["datasheet"]["warnings"] == [] and rep["datasheet"]["ok"]

@@ -229,7 +229,6 @@ def k_max_with_cable_N_per_m(K_max_N_per_m: float | None, k_q: float | None, Jx)
 DRUM_THICKNESS_MM = 10.0
 #: The drum sector's material (machined plate): its solid's and the cheap model's.
 DRUM_MATERIAL = "aluminium-6061"
-_NOT_DRAWN = "not drawn as a solid yet; mass not known, not in the totals"
 
 
 def _row(part: str, desc: str, quantity: int, made: bool, process: str, material: str,
@@ -241,12 +240,11 @@ def _row(part: str, desc: str, quantity: int, made: bool, process: str, material
 
 
 def bom_lines(design, device=None) -> list[dict]:
-    """The crank's capstan parts that are not solids of the assembly, as BOM lines (the bom.csv
+    """The crank's capstan part that is not a solid of the assembly, as a BOM line (the bom.csv
     row form of :func:`cad.device.encoder_bom_rows`): the rope with its cut length (its free runs
-    are drawn, as part of this line) and the tensioner (not drawn; its line says so). The drum,
-    the capstan, its set screw and the anchor screws are solids
-    (:mod:`cad.families.fourbar.capstan_solids`): their lines come from the solids. Empty for
-    direct drive."""
+    are drawn, as part of this line). The drum, the capstan, its set screw, the anchor screw and
+    the tensioner (screw and lock nut) are solids (:mod:`cad.families.fourbar.capstan_solids`):
+    their lines come from the solids. Empty for direct drive."""
     dev = device if device is not None else resolve_device(design)
     t = dev.transmission("crank")
     if not t.is_capstan:
@@ -260,10 +258,6 @@ def bom_lines(design, device=None) -> list[dict]:
         _row("capstan_cable", f"{c.description}, cut length {cut:.0f} mm ({_cut_text(t, lay)}); {mbl}; "
              f"source: cad.data.cables ({c.source_of('min_breaking_load_N')})", 1, False,
              "bought; cut to length", "steel", f"wire rope {c.construction} {c.diameter_mm:g} mm x {cut:.0f} mm"),
-        _row("capstan_tensioner", "rope tensioner at one anchor: ISO 4762 M3 x 20 screw pulling the rope's "
-             "end through a compression spring (spring rate unverified: no sheet read); set to the "
-             f"datasheet's rope pretension; {_NOT_DRAWN}", 1, False, "bought", "steel",
-             "ISO 4762 M3 x 20 + compression spring (unverified)"),
     ]
 
 
@@ -280,10 +274,12 @@ def assembly_checks(design, device=None) -> tuple[str, ...]:
         f"wind the rope: cut {lay.cut_mm['total']:.0f} mm of {t.cable.key} (bom.csv capstan_cable); "
         "clamp one end under capstan_anchor_1 with the crank at the end of its range nearest that "
         f"anchor, lay it on the drum's rim to the tangent point, wind {t.wraps:g} turns on the capstan "
-        "(its helical groove, side by side), lay it back on the drum's rim and pass it through "
-        "capstan_anchor_2 into the tensioner",
-        f"tension the rope: set the tensioner to at least {fig.pretension_N:.1f} N (datasheet "
-        "cable_pretension_N), tighten capstan_anchor_2, then turn the crank over its whole range: "
-        "the rope stays on the drum's rim and in the capstan's turns, no anchor reaches a tangent "
-        "point",
+        "(its helical groove, side by side), lay it back on the drum's rim to capstan_tensioner and "
+        "wind its tail on the tensioner screw's shank between the lock nut and the head (the 20 mm "
+        "tail: about two turns)",
+        f"tension the rope: turn capstan_tensioner (it winds the rope on its shank) until the rope "
+        f"holds at least {fig.pretension_N:.1f} N (datasheet cable_pretension_N; a spring scale on "
+        "a free run), lock it with capstan_tensioner_nut against the rim, then turn the crank over "
+        "its whole range: the rope stays on the drum's rim and in the capstan's turns, no anchor "
+        "reaches a tangent point",
     )

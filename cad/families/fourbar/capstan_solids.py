@@ -42,6 +42,10 @@ _ALPHA_STEP_DEG = 5.0
 #: Anchor screw: ISO 4762 M3 x 8 radial in the drum's rim (the BOM line of
 #: :func:`cad.families.fourbar.capstan.bom_lines`).
 ANCHOR_SCREW, ANCHOR_SCREW_LENGTH_MM = "M3-0.5", 8.0
+#: The tensioner at anchor 2: the same radial tapped hole holds a longer ISO 4762 screw whose
+#: shank stands out of the rim by an ISO 4032 lock nut and this many rope diameters; the rope's
+#: end is wound on that shank (turning the screw winds it: the tension), the nut locks it.
+TENSIONER_WIND_D = 3.0
 #: Radius about A2 kept clear of the drum's arc when the motor's direction is chosen (mm): the A2
 #: pin's nut and washer hang under the crank there. A layout choice; the interference check of
 #: the build is what proves the drum clear of them.
@@ -350,8 +354,8 @@ _RY90 = np.array([[0.0, 0.0, 1.0, 0.0], [0.0, 1.0, 0.0, 0.0], [-1.0, 0.0, 0.0, 0
 
 
 def _capstan_parts(design, t, pl: CapstanPlacement) -> list[PartInstance]:
-    """The drum and its two anchor screws (crank), the capstan, its set screw and the two
-    runs of rope (ground)."""
+    """The drum, its anchor screw and the tensioner (crank), the capstan, its set screw and the
+    two runs of rope (ground)."""
     parts, d = design.parts, t.cable_diameter_mm
     m = cat.get_motor(parts.motor)
     z0, z1 = pl.z_mm
@@ -372,12 +376,41 @@ def _capstan_parts(design, t, pl: CapstanPlacement) -> list[PartInstance]:
     screw = dataclasses.replace(joints.cap_screw_kind(ANCHOR_SCREW, ANCHOR_SCREW_LENGTH_MM,
                                                       "transmission", note="rope anchor on the drum"),
                                 name="capstan_anchor_screw")
-    for k, a in enumerate(pl.anchors_deg):
-        tf = translation(0, 0, z0 + th / 2) @ _rz(a) @ translation(rd, 0, 0) @ _RY90
-        out.append(PartInstance(f"capstan_anchor_{k + 1}", screw, "crank", tf))
+    at = [translation(0, 0, z0 + th / 2) @ _rz(a) @ translation(rd, 0, 0) @ _RY90 for a in pl.anchors_deg]
+    out.append(PartInstance("capstan_anchor_1", screw, "crank", at[0]))
+    out += _tensioner(t, at[1])
     out += _capstan_and_set_screw(design, t, pl, m)
     out += _rope_runs(design, t, pl)
     return out
+
+
+def tensioner_screw_mm(t) -> tuple[float, float]:
+    """(length, head face's height above the rim) of the tensioner's ISO 4762 screw (mm): its
+    thread engaged at least 1.5 d in the anchor's tapped hole (at most the hole's full thread),
+    the lock nut and :data:`TENSIONER_WIND_D` rope diameters of shank above the rim; the
+    shortest catalog length. DesignError naming transmission.cable when none fits."""
+    cs = cat.get_cap_screw(ANCHOR_SCREW, "transmission")
+    out = cat.get_nut(ANCHOR_SCREW).m_mm + TENSIONER_WIND_D * t.cable_diameter_mm
+    L = cat.shortest_length(cs.lengths_mm, out + 1.5 * cs.d_mm)
+    if L is None or L - out > ANCHOR_SCREW_LENGTH_MM:
+        raise DesignError("transmission.cable", f"no ISO 4762 {ANCHOR_SCREW} length winds the "
+                          f"{t.cable_diameter_mm:g} mm rope on the tensioner and holds in the anchor hole")
+    return L, out
+
+
+def _tensioner(t, tf_hole) -> list[PartInstance]:
+    """The tensioner at anchor 2 (:data:`TENSIONER_WIND_D`): its screw, head out, the lock
+    nut on the rim (both on the crank)."""
+    L, out = tensioner_screw_mm(t)
+    screw = dataclasses.replace(
+        joints.cap_screw_kind(ANCHOR_SCREW, L, "transmission",
+                              note="rope tensioner: the rope's end wound on its shank"),
+        name="capstan_tensioner_screw")
+    nut = PartKind("capstan_tensioner_nut", joints.nut_shape(ANCHOR_SCREW), material=cat.FASTENER_MATERIAL,
+                   made=False, description=f"hex nut ISO 4032 {ANCHOR_SCREW} (locks the rope tensioner)",
+                   process="bought", revolution=True)
+    return [PartInstance("capstan_tensioner", screw, "crank", tf_hole @ translation(0, 0, out)),
+            PartInstance("capstan_tensioner_nut", nut, "crank", tf_hole)]
 
 
 def _capstan_and_set_screw(design, t, pl: CapstanPlacement, m) -> list[PartInstance]:

@@ -169,12 +169,13 @@ def test_bom_quantities_equal_the_instances_in_assembly_step(built):
     parts = [r["part"] for r in rows]
     assert len(parts) == len(set(parts))  # one line each
     assert set(parts) == {"capstan_drum", "capstan_anchor_screw", "capstan", "capstan_set_screw",
-                          "capstan_cable", "capstan_tensioner"}
+                          "capstan_cable", "capstan_tensioner_screw", "capstan_tensioner_nut"}
     for r in rows:
-        if r["part"] in ("capstan_cable", "capstan_tensioner"):  # the rope: its runs are drawn
+        if r["part"] == "capstan_cable":  # the rope: its runs are drawn
             continue
         assert int(float(r["quantity"])) == count[r["part"]], r["part"]
-    assert count["capstan_anchor_screw"] == 2 and count["capstan_rope_run_1"] == 1
+    assert count["capstan_anchor_screw"] == 1 and count["capstan_rope_run_1"] == 1
+    assert count["capstan_tensioner_screw"] == 1 and count["capstan_tensioner_nut"] == 1
 
 
 def test_assembly_md_has_the_winding_and_tensioning_steps(built):
@@ -188,7 +189,7 @@ def test_assembly_md_has_the_winding_and_tensioning_steps(built):
     e = math.exp(cap.MU_STEEL_ROPE_ON_STEEL * 2 * math.pi * 3)
     assert T0 == pytest.approx(0.5 * 0.9725 / 0.016 * (e + 1) / (e - 1), rel=1e-9)
     assert f"wind the rope: cut {cut:.0f} mm of steel-7x7-0.8" in text
-    assert f"set the tensioner to at least {T0:.1f} N" in text
+    assert f"until the rope holds at least {T0:.1f} N" in text
     assert "`capstan_drum`" in text and "`capstan_cable`" in text  # the runs belong to the rope's line
 
 
@@ -237,3 +238,22 @@ def test_crank_axle_turns_in_two_bearings_in_the_a1_block(design, built):
     assert "bearing seat 19 J7" in bom["a1_bearing_block"]["fits"] and "bearing journal 6 js5" in bom["crank_axle"]["fits"]
     screws = [n for n in placed if n.startswith("a1_block_screw_")]
     assert len(screws) == 4 and {placed[n]["kind"] for n in screws} == {placed["mount_screw_1"]["kind"]}
+
+
+def test_tensioner_screw_winds_the_rope_and_holds_in_the_anchor_hole(design):
+    """The tensioner at anchor 2: the shortest ISO 4762 M3 length that stands out of the rim by
+    the lock nut (ISO 4032 M3: m = 2.4 mm) and three rope diameters and still engages 1.5 d in
+    the anchor's tapped hole (8 mm of full thread): 2.4 + 2.4 + 4.5 = 9.3 -> 10 mm."""
+    from cad.device import resolve_device
+    from cad.families.fourbar.capstan_solids import tensioner_screw_mm
+    from cad.families.fourbar.layout import assemble
+
+    L, out = tensioner_screw_mm(resolve_device(design).transmission("crank"))
+    assert (L, out) == (10.0, pytest.approx(2.4 + 3 * 0.8))
+    assert 1.5 * 3 <= L - out <= 8.0
+    inst = {i.name: i for i in assemble(design, "preview").instances}
+    nut, screw = inst["capstan_tensioner_nut"], inst["capstan_tensioner"]
+    assert nut.body == screw.body == "crank"
+    # the head's face stands `out` further out along the hole's axis than the nut's (on the rim)
+    axis = nut.tf_body_part[:3, 2]
+    assert (screw.tf_body_part[:3, 3] - nut.tf_body_part[:3, 3]) @ axis == pytest.approx(out)

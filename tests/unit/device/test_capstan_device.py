@@ -131,7 +131,7 @@ def test_woodenhaptics_joint_warns_at_load_naming_rope_ratio_and_fix(tmp_path):
     assert len(w) == 1
     assert "steel-7x7-0.54" in w[0] and f"D/d = {10 / 0.54:.1f}" in w[0]
     assert f"at least {40 * 0.54:.1f} mm" in w[0]
-    assert any("the rope's tensioner is not drawn as a solid yet" in x for x in collected())
+    assert not any("not drawn" in x for x in collected())  # every capstan part is a solid
 
 
 def test_capstan_rows_against_hand_formulas():
@@ -259,15 +259,14 @@ def test_bom_lines_of_the_capstan():
 
     d = load_design(CAPSTAN)
     rows = {r["part"]: r for r in fc.bom_lines(d)}
-    # the drum, the capstan and the anchors are solids now: their lines come from the solids
-    assert set(rows) == {"capstan_cable", "capstan_tensioner"}
+    # the drum, the capstan, the anchor and the tensioner are solids: their lines come from them
+    assert set(rows) == {"capstan_cable"}
     L = math.sqrt(85 ** 2 - 16 ** 2)  # the design's transmission.centre_distance_mm
     sector = 84 + 2 * math.degrees(20 / 64)
     cut = math.pi * 32 * 3 + 2 * L + math.pi * 64 * sector / 360 + 40
     assert f"cut length {cut:.0f} mm" in rows["capstan_cable"]["description"]
     assert rows["capstan_cable"]["designation"] == f"wire rope 7x7 0.8 mm x {cut:.0f} mm"
     assert "unverified" in rows["capstan_cable"]["description"]
-    assert "not drawn as a solid yet" in rows["capstan_tensioner"]["description"]
     assert fc.bom_lines(load_design(ROOT / "designs" / "hoeken.toml")) == []
 
 
