@@ -92,8 +92,30 @@ def _fourbar(d, path: Path, objective: str, trials: int, seed: int, top: int, ou
         _print_fourbar(rep)
     for m in rep["misses"]:  # one line per missed target of the design (the optimum was not enough)
         print(f"hapticad: {exact.miss_line(m)}", file=sys.stderr)
-    if (best is None and not beat_prototype) or rep["misses"]:
+    if beat_prototype and best is None:
+        print(f"hapticad: prototype not beaten: {prototype_blocker(rep['prototype'])}", file=sys.stderr)
+    if best is None or rep["misses"]:
         raise typer.Exit(1)
+
+
+def prototype_blocker(proto: dict) -> str:
+    """One line naming the figure that keeps every design from the prototype's limits and by
+    how much: the friction every linkage has at the force limit with the best catalog motor
+    (``motor_bounds``: F_cont / F_s <= T_cont / (Kt I0) whatever the linkage or a capstan
+    ratio, both figures scale alike), against the friction limit."""
+    lim = proto["limits"]
+    f_lim, force = lim["friction_N"]["value"], lim["continuous_force_N"]["value"]
+    mb = max(proto["motor_bounds"], key=lambda b: b["ratio"])
+    need = force / f_lim
+    if mb["ratio"] >= need:
+        return (f"no trial of this search met all {len(lim)} limits (judged: {proto['judged_trials']}); "
+                "more --trials may find one")
+    over = 100 * (mb["friction_at_force_limit_N"] / f_lim - 1)
+    return (f"friction_N: at the {force:g} N continuous-force limit every linkage has at least "
+            f"{mb['friction_at_force_limit_N']:.3g} N of friction with the best catalog motor "
+            f"({mb['motor']}) against the {f_lim:g} N limit (+{over:.0f} %): continuous force / "
+            f"friction <= T_cont / (Kt I0) = {mb['ratio']:.1f} for any linkage or capstan ratio, "
+            f"{need:.1f} needed (docs/codesign.md)")
 
 
 def chart_replaceable(chart: Path, design: Path) -> bool:
@@ -116,7 +138,12 @@ def _print_fourbar(rep: dict) -> None:
           f"{rep['library']}")
     b = rep["best"]
     if b is None:
-        print("  no candidate passed interference and the structural limits on the exact solids")
+        if rep["feasible_trials"] == 0:
+            print("  no trial met every check on the cheap model; the commonest reasons:")
+            for r in rep.get("infeasible_reasons", ()):
+                print(f"    {r['trials']:>4} trials: {r['reason']}")
+        else:
+            print("  no candidate passed interference and the structural limits on the exact solids")
         return
     ex = b["exact"]
     print(f"  M11 {ex['M11_min_g']:.2f} .. {ex['M11_max_g']:.2f} g on the solids "

@@ -81,6 +81,7 @@ def optimize_fourbar(design, objective: str, trials: int, seed: int, top: int, c
                          for r in front],
         "wall_s": time.perf_counter() - t0,
         "misses": [] if best is None else exact.misses(best[1], checked),
+        "infeasible_reasons": infeasible_reasons(records),
     }
     if beat_prototype:
         rep["prototype"] = _prototype_report(design, pb, records, best, chart_dir, out_stem)
@@ -88,6 +89,19 @@ def optimize_fourbar(design, objective: str, trials: int, seed: int, top: int, c
     if chart_dir is not None:
         rep["chart"] = plot_pareto(records, front, best, chart_dir / f"{out_stem or design.name}_pareto")
     return rep, (best[0] if best else None)
+
+
+def infeasible_reasons(records: list[dict], most: int = 5) -> list[dict]:
+    """The commonest reasons trials were infeasible on the cheap model, most first: [{"reason"
+    (the reason's first two clauses: the check and the field), "trials"}]."""
+    count: dict[str, int] = {}
+    for r in records:
+        why = r.get("infeasible")
+        if why:
+            key = ": ".join(why.split(": ")[:2])[:100]
+            count[key] = count.get(key, 0) + 1
+    top = sorted(count.items(), key=lambda kv: -kv[1])[:most]
+    return [{"reason": k, "trials": n} for k, n in top]
 
 
 def _datasheet_check(design, cand) -> dict:

@@ -81,3 +81,34 @@ def test_optimize_writes_a_capstan_design_its_datasheet_passes(tmp_path):
     assert {"bend_ratio", "cable_safety_factor", "continuous_force_N"} <= {r["key"] for r in limited}
     m11 = next(r for r in rows if r["key"] == "M11_g")["value"]
     assert m11 < 154.0  # lighter than the bundled capstan Hoeken it started from (155 g)
+
+
+def test_beat_prototype_names_the_blocking_figure_and_exits_1(tmp_path):
+    """No linkage or capstan ratio beats the prototype with the catalog motors: --beat-prototype
+    exits 1 with one line naming friction_N and by how much. The bound by hand from the
+    catalog's data: F_cont / F_s <= T_cont / (Kt I0) (both scale with the lever and the ratio);
+    the RE 40's 187 mN m / (60.3 mN m/A x 68.6 mA) = 45.2 against 5 N / 0.083 N = 60.2."""
+    from cad.data.catalog import MOTORS
+
+    code, _, err = hapticad("optimize", CAPSTAN, "--beat-prototype", "--trials", "30", "--exact-top", "1")
+    assert code == 1, err
+    (line,) = [s for s in err.splitlines() if s.startswith("hapticad: prototype not beaten:")]
+    m = MOTORS["maxon-re40"]
+    ratio = m.torque_continuous_mNm / (m.torque_constant_mNm_per_A * m.no_load_current_mA * 1e-3)
+    assert f"= {ratio:.1f} for any linkage or capstan ratio, {5 / 0.083:.1f} needed" in line
+    assert f"at least {5 / ratio:.3g} N of friction" in line and "friction_N" in line
+
+
+def test_a_search_with_no_feasible_trial_says_why(tmp_path):
+    """A 7x19 brief (no breaking load in the catalog: its safety factor cannot be judged) finds
+    no feasible trial; the terminal and the JSON list the commonest reasons, most first."""
+    brief = tmp_path / "b19.toml"
+    brief.write_text(CAPSTAN.read_text().replace('"steel-7x7-0.8"', '"steel-7x19-0.8"'))
+    code, out, err = hapticad("optimize", brief, "--trials", "40", "--exact-top", "1", "--json")
+    assert code == 1, err
+    rep = json.loads(out)
+    assert rep["feasible_trials"] == 0 and rep["best"] is None
+    n = [r["trials"] for r in rep["infeasible_reasons"]]
+    assert n == sorted(n, reverse=True) and 0 < sum(n) <= 40
+    code, out, _ = hapticad("optimize", brief, "--trials", "40", "--exact-top", "1")
+    assert "no trial met every check on the cheap model; the commonest reasons:" in out
