@@ -743,9 +743,11 @@ def _is_clash(de: float, vol: float, clearance_min_mm: float, contact_ok: bool) 
 # overlap and collision list (split further it would pass all of them back and forth)
 def _exact_pass(prepared: Prepared, fast: dict, tfs: dict, names: _PoseNames, *, threshold: float,
                 slack: float, clearance_min_mm: float, exact: bool, contact_ok: bool,
-                fail_fast: bool = False, groups=None, raw=None) -> dict:
+                fail_fast: bool = False, groups=None, raw=None, joints=None) -> dict:
     """Exact pass: near contacts, and the closest pose of every pair that may hold the
     minimum (OCCT distance; common volume at contact). Returns the report fields.
+    ``joints`` (:func:`sweep`): the part pairs whose distance does not change with the pose
+    (:func:`split_invariant`) are checked at a body pair's first checked pose only.
     ``fail_fast``: stop at the first collision (the build is refused anyway). ``groups``
     (labelled poses): ``label -> group``; the closest pose of each group is checked too.
     ``raw``: ``{pair: (distances or lower bounds (N,), measured (N,))}`` of the fast pass."""
@@ -772,9 +774,10 @@ def _exact_pass(prepared: Prepared, fast: dict, tfs: dict, names: _PoseNames, *,
                 if i != i_min
             ]
             ex_min, ex_parts, ex_v = np.inf, ("", ""), v_min
-            for v, Ta, Tb, within in checks:
-                de, vol, pa, pb, vp = exact_check_pair(prepared.bodies[a], prepared.bodies[b],
-                                                       Ta, Tb, within, certify_touch=contact_ok)
+            moving = split_invariant(prepared.bodies[a], prepared.bodies[b], (joints or {}).get((a, b)))[:2]
+            for k, (v, Ta, Tb, within) in enumerate(checks):
+                pa_, pb_ = (prepared.bodies[a], prepared.bodies[b]) if k == 0 else moving
+                de, vol, pa, pb, vp = exact_check_pair(pa_, pb_, Ta, Tb, within, certify_touch=contact_ok)
                 n_exact += 1
                 table.exact((a, b), v, de, pa, pb)
                 if de < ex_min:
@@ -909,7 +912,7 @@ def sweep(
     t_fast = time.perf_counter() - t1
     r = _exact_pass(prepared, fast, tf_world_body, names, threshold=threshold, slack=slack,
                     clearance_min_mm=clearance_min_mm, exact=exact, contact_ok=contact_ok,
-                    fail_fast=fail_fast, groups=groups, raw=raw)
+                    fail_fast=fail_fast, groups=groups, raw=raw, joints=joints)
     return InterferenceReport(
         min_clearance_mm=r["min_clearance_mm"],
         overlap_volume_mm3=r["overlap_volume_mm3"],

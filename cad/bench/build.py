@@ -65,7 +65,7 @@ def _children_cpu_s() -> float:
     return r.ru_utime + r.ru_stime
 
 
-def _run(args: list[str], env: dict, skip_same_body: bool = False) -> float:
+def run_process(args: list[str], env: dict, skip_same_body: bool = False) -> float:
     """Process wall time (s) of ``hapticad ARGS``; its CPU (children included) is appended
     to ``_LAST_CPU``."""
     cmd = ["-c", _SKIP_SAME_BODY] if skip_same_body else ["-m", "cad"]
@@ -93,16 +93,16 @@ def run(quick: bool, out_dir: Path, design: str = "designs/hoeken.toml") -> dict
         empty = []
         for i in range(empty_repeats):
             env = {**os.environ, "HAPTICAD_CACHE_DIR": str(tmp / f"shapes{i}")}
-            empty.append(_run(["build", design, "--out", str(out), "--no-cache", "--json"], env))
+            empty.append(run_process(["build", design, "--out", str(out), "--no-cache", "--json"], env))
         env = {**os.environ, "HAPTICAD_CACHE_DIR": str(tmp / "shapes0")}
         args = ["build", design, "--out", str(out), "--no-cache", "--json"]
         cold, skip, cold_cpu, skip_cpu = [], [], [], []
         for _ in range(repeats):  # interleaved: the machine's load drifts alike for both
-            cold.append(_run(args, env))
+            cold.append(run_process(args, env))
             cold_cpu.append(_LAST_CPU[-1])
-            skip.append(_run(args, env, skip_same_body=True))
+            skip.append(run_process(args, env, skip_same_body=True))
             skip_cpu.append(_LAST_CPU[-1])
-        cached = [_run(["build", design, "--out", str(out), "--json"], env) for _ in range(repeats)]
+        cached = [run_process(["build", design, "--out", str(out), "--json"], env) for _ in range(repeats)]
     med = statistics.median
     share = (med(cold) - med(skip)) / med(cold)
     share_cpu = (med(cold_cpu) - med(skip_cpu)) / med(cold_cpu)

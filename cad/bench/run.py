@@ -21,6 +21,7 @@ TOPICS = {
     "families": "cad.bench.families",
     "evaluations": "cad.bench.evaluations",
     "sweep": "cad.bench.sweep",
+    "capstan": "cad.bench.capstan",
 }
 #: topics run only when named in --only (minutes of worker processes each)
 OPT_IN = ("sweep",)
@@ -57,6 +58,11 @@ def goal_rows(results: dict) -> list[tuple[str, str, str, bool | None]]:
         rows.append(("every-pair same-body check, share of the cold Hoeken build",
                      f"{100 * b['same_body_share']:.1f} % wall ({100 * b['same_body_share_cpu']:.1f} % CPU)",
                      "<= 10 %", b["same_body_share"] <= b["same_body_share_goal"]))
+    c = results.get("capstan", {})
+    if "ratio" in c:
+        rows.append(("capstan Hoeken cold build / direct Hoeken's (medians, one run)",
+                     f"{c['ratio']:.2f}x ({c['capstan_cold_s']:.2f} / {c['direct_cold_s']:.2f} s)",
+                     f"<= {c['ratio_goal']:g}x", c["meets_goal"]))
     f = results.get("families", {})
     if "powermouse_cold_s" in f:
         t = f["powermouse_cold_s"]

@@ -14,8 +14,10 @@ from __future__ import annotations
 import math
 
 from cad.data.catalog import tap_drill_mm
+from cad.parts.part_cache import part_cached
 
 
+@part_cached
 def drum_sector_shape(r_rim_mm: float, r_bore_mm: float, start_deg: float, span_deg: float,
                       thickness_mm: float, radial_holes=()):
     """Annular sector plate: radii ``r_bore_mm``..``r_rim_mm``, arc ``span_deg`` from
@@ -44,6 +46,7 @@ def drum_sector_shape(r_rim_mm: float, r_bore_mm: float, start_deg: float, span_
     return part.solids()[0].wrapped
 
 
+@part_cached
 def capstan_shape(r_rim_mm: float, bore_diameter_mm: float, length_mm: float,
                   set_screw_z_mm: float, set_screw: str = "M3-0.5"):
     """Capstan on the motor shaft: a tube ``bore_diameter_mm``..2 ``r_rim_mm``, z 0..``length_mm``,
@@ -59,6 +62,7 @@ def capstan_shape(r_rim_mm: float, bore_diameter_mm: float, length_mm: float,
     return body.cut(bore, hole).solids()[0].wrapped
 
 
+@part_cached
 def rope_run_shape(p0_mm, p1_mm, rope_diameter_mm: float):
     """A free run of rope: a cylinder of ``rope_diameter_mm`` from ``p0_mm`` to ``p1_mm``
     ((3,), mm, world)."""
@@ -70,6 +74,7 @@ def rope_run_shape(p0_mm, p1_mm, rope_diameter_mm: float):
     return cyl.moved(Location(Plane(origin=p0, z_dir=d.normalized()))).solids()[0].wrapped
 
 
+@part_cached
 def bearing_block_shape(side_mm: float, flange_mm: float, corner_xy, hole_d_mm: float,
                         seat_d_mm: float, seat_depth_mm: float, lip_mm: float, lip_bore_mm: float,
                         wall_mm: float, extra_holes=()):
@@ -94,6 +99,7 @@ def bearing_block_shape(side_mm: float, flange_mm: float, corner_xy, hole_d_mm: 
     return s.solids()[0].wrapped
 
 
+@part_cached
 def axle_shape(diameter_mm: float, length_mm: float):
     """Plain round axle, z 0..``length_mm``."""
     from build123d import Align, Cylinder
