@@ -367,3 +367,16 @@ def test_codesign_capstan_run_is_the_json_of_that_run():
                   f"at {t['centre_distance_mm']:.0f} mm", f"{b['parts']['bar_thickness_mm']:.0f} mm",
                   f"continuous force {b['cheap']['continuous_force_N']:.2f} N"):
         assert typed in text, typed
+
+
+def test_performance_capstan_build_is_the_bench_json():
+    """docs/performance.md's capstan build figures are those of docs/bench/capstan.json."""
+    import json
+
+    rec = json.loads((ROOT / "docs" / "bench" / "capstan.json").read_text())
+    c = rec["capstan"]
+    text = (ROOT / "docs" / "performance.md").read_text(encoding="utf-8")
+    assert rec["command"] == "hapticad bench --only capstan"
+    assert f"{c['capstan_cold_s']:.2f} s against {c['direct_cold_s']:.2f} s" in text
+    assert f"a ratio of\n{c['ratio']:.2f} (goal" in text or f"a ratio of {c['ratio']:.2f} (goal" in text
+    assert c["ratio"] == c["capstan_cold_s"] / c["direct_cold_s"]
