@@ -519,6 +519,10 @@ def _parse_targets(raw: dict[str, Any]) -> tuple:
 
 def parse(raw: dict[str, Any], source: str = "<design>") -> PantographDesign:
     """Validate a raw pantograph-family design; every problem is a DesignError."""
+    if "transmission" in raw:  # a public key of the four-bars: say what it is missing here
+        raise DesignError("transmission", "a capstan on the pantograph families' motors is not built "
+                          "yet (direct drive only); [transmission] works on four-bar designs "
+                          "(docs/capstan.md)")
     check_unknown(
         raw,
         ("name", "description", "mechanism", "workspace", "actuators", "optimize", "parts", "targets",
