@@ -184,8 +184,9 @@ def link_graph(design, bar_mass_kg: dict, method: str) -> LinkGraph:
 def crank_rope_stiffness_Nm_per_rad(design) -> float | None:
     """The rope of a capstan on the crank as a torsional spring holding the crank's rotation at
     A1 (N m/rad, :func:`cad.actuators.capstan.rope_stiffness_Nm_per_rad`), the motor held by
-    the servo; None for direct drive or a rope without ``transmission.cable_EA_N`` (the frame
-    then holds the crank rigidly, as the datasheet says)."""
+    the servo, the rope's E A the resolved device's (the design's ``transmission.cable_EA_N``,
+    else the rope catalog's); None for direct drive or a rope with no E A at all (the frame then
+    holds the crank rigidly, as the datasheet says)."""
     t = resolve_device(design).transmission("crank")
     if not t.is_capstan or t.cable_EA_N is None:
         return None

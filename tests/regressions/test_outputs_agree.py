@@ -671,8 +671,8 @@ def test_outputs_agree_random_variants(tmp_path, seed):
 def test_outputs_agree_delta_with_motor_table_and_encoder(tmp_path):
     """The delta with a [motor] table, another catalog motor and an encoder count: BOM,
     datasheet, firmware header, CHAI3D file, test vectors and MJCF state the same device."""
-    bundled = (DESIGNS / "delta.toml").read_text()  # its [parts] names the RE 40: swap it
-    text = (re.sub(r"\n\[parts\]\n[^\[]*", "\n", bundled)
+    bundled = (DESIGNS / "delta.toml").read_text()  # its [parts] and [motor] are the RE 40's: swap
+    text = (re.sub(r"^\[(parts|motor)\]\n[^\[]*", "", bundled, flags=re.M)
             + '\n[parts]\nmotor = "maxon-re35"\nencoder_counts_per_rev = 4096\n' + MOTOR_TABLE)
     toml, out = _build(text, tmp_path, "delta_variant")
     assert expected_counts(toml) == 4096

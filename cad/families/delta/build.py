@@ -33,7 +33,7 @@ from cad.families.delta.clearance import layout_clashes
 from cad.families.delta.dynamics import mass_matrix_from_bodies_kg
 from cad.families.delta.layout import body_poses
 from cad.families.delta.sim import sim_model
-from cad.families.delta.structure import first_mode, peak_stress, peak_torque_loads_N
+from cad.families.delta.structure import first_mode, peak_stress_over
 from cad.pipeline.run import Stages, run_family
 from cad.pipeline.views import write_sim_model
 
@@ -68,7 +68,8 @@ class DeltaDynamics:
     eigenvalue of Lambda(x) over the workspace grid (g) and where (mm), the rotor inertia
     used (kg m^2) and its motor, the structure at the centre (first mode Hz, compliance
     um/N, boundary conditions; the stresses with every motor at +-its peak torque
-    ``stress_torque_Nm``: :func:`cad.families.delta.structure.peak_stress`)."""
+    ``stress_torque_Nm``, worst over the workspace grid:
+    :func:`cad.families.delta.structure.peak_stress_over`)."""
 
     Lambda_max_eig_g: float
     at_max_mm: list
@@ -91,8 +92,7 @@ def _dynamics(b) -> DeltaDynamics:
     centre = np.asarray(d.workspace["center_mm"], float)
     st = first_mode(d.mechanism, centre, d.parallelogram_width_mm)
     tau = mot.spec.torque_peak_mNm * 1e-3
-    ps = peak_stress(d.mechanism, centre, d.parallelogram_width_mm,
-                     peak_torque_loads_N(d.mechanism, centre, tau))
+    ps = peak_stress_over(d.mechanism, X, d.parallelogram_width_mm, tau)
     return DeltaDynamics(
         Lambda_max_eig_g=float(eig[hi, -1] * 1e3), at_max_mm=X[hi].tolist(),
         Lambda_min_eig_g=float(eig[lo, 0] * 1e3), at_min_mm=X[lo].tolist(),
@@ -102,7 +102,8 @@ def _dynamics(b) -> DeltaDynamics:
                    "boundary": st["boundary"], "stress_torque_Nm": tau,
                    **{k: ps[k] for k in ("max_stress_MPa", "critical_member", "critical_load_N",
                                          "rod_compression_max_N", "rod_stress_max_MPa",
-                                         "rod_buckling_N", "rod_buckling_margin")}})
+                                         "rod_buckling_N", "rod_buckling_margin", "points")},
+                   "stress_at_mm": ps["at_mm"], "buckling_at_mm": ps["buckling_at_mm"]})
 
 
 def _report(b) -> dict:

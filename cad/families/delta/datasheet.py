@@ -36,6 +36,10 @@ from cad.structure.elastic import get_elastic
 #: choices in cad/families/delta/hardware.py).
 CHANGE = ("mechanism.upper_arm_mm (shorter: more force, stiffer), the workspace, parts.motor "
           "or [motor]; the sections: cad/families/delta/hardware.py")
+#: What lowers the stress and raises the rods' buckling margin at the motors' peak torque.
+STRESS_CHANGE = ("[motor] torque_peak_mNm (the drive's current limit), mechanism.lower_arm_mm "
+                 "(shorter rods: Euler load ~ 1 / L^2), the workspace; the sections: "
+                 "cad/families/delta/hardware.py")
 
 
 def force_in_every_direction_N(design, torque_Nm: float) -> tuple[float, list[float]]:
@@ -125,25 +129,29 @@ def rows_and_limits(design, report: dict, out_dir=None, simulate_wall: bool = Tr
 
 
 def stress_rows(s: dict, design) -> list[dict]:
-    """The frame's stress rows at the workspace centre with every motor at +-its peak torque
-    (the eight corners; :func:`cad.families.delta.structure.peak_stress`): the beams' peak von
-    Mises stress and the rods' Euler buckling margin (absent from a report without them)."""
+    """The frame's stress rows with every motor at +-its peak torque (the eight sign
+    combinations, f = J^T tau), worst over the workspace grid
+    (:func:`cad.families.delta.structure.peak_stress_over`): the beams' peak von Mises stress
+    and the rods' Euler buckling margin (absent from a report without them)."""
     if s.get("max_stress_MPa") is None:
         return []
     load = (f"the effector held, every motor at +-{s['stress_torque_Nm'] * 1e3:.4g} mN m (peak "
-            "torque, the 8 sign combinations: f = J^T tau at the workspace centre)")
+            f"torque, the 8 sign combinations: f = J^T tau), worst over the {s['points']} points "
+            "of the workspace grid")
     return [
-        row("max_stress_MPa", "peak stress at the motors' peak torque, worst combination",
+        row("max_stress_MPa", "peak stress at the motors' peak torque, worst point and combination",
             s["max_stress_MPa"], "MPa",
             f"von Mises, beam stresses of the 3-D frame (arms, cross bars, effector plate), "
-            f"critical: {s['critical_member']} at f = {np.round(s['critical_load_N'], 2).tolist()} N; "
-            f"{load}; material strength {_strength_MPa(hw.ARM_MATERIAL):g} MPa ({hw.ARM_MATERIAL})"),
-        row("rod_buckling_margin", "rod buckling margin at the motors' peak torque",
+            f"critical: {s['critical_member']} at {s['stress_at_mm']} mm, f = "
+            f"{np.round(s['critical_load_N'], 2).tolist()} N; {load}; material strength "
+            f"{_strength_MPa(hw.ARM_MATERIAL):g} MPa ({hw.ARM_MATERIAL})"),
+        row("rod_buckling_margin", "rod buckling margin at the motors' peak torque, worst point",
             s["rod_buckling_margin"], "",
             f"Euler load of a pin-ended rod pi^2 E I / L^2 = {s['rod_buckling_N']:.4g} N "
             f"({hw.ROD_OD_MM:g}/{hw.ROD_ID_MM:g} mm {hw.ROD_MATERIAL} tube, L = lower_arm_mm) over "
-            f"the largest rod compression {s['rod_compression_max_N']:.4g} N (rod axial stress at "
-            f"most {s['rod_stress_max_MPa']:.3g} MPa); {load}"),
+            f"the largest rod compression {s['rod_compression_max_N']:.4g} N at "
+            f"{s['buckling_at_mm']} mm (rod axial stress at most {s['rod_stress_max_MPa']:.3g} "
+            f"MPa); {load}"),
     ]
 
 
@@ -156,10 +164,10 @@ def delta_limits(design) -> dict:
     (the force asked for in every direction at every workspace point), then ``[targets]``."""
     lim = {"first_mode_Hz": Limit(">=", FIRST_MODE_MIN_HZ, MODE_REASON, CHANGE),
            "max_stress_MPa": Limit("<=", _strength_MPa(hw.ARM_MATERIAL) / STRESS_SAFETY_FACTOR,
-                                   STRESS_REASON.replace("force_N", "the peak torque"), CHANGE),
+                                   STRESS_REASON.replace("force_N", "the peak torque"), STRESS_CHANGE),
            "rod_buckling_margin": Limit(">=", STRESS_SAFETY_FACTOR,
                                         f"static safety factor {STRESS_SAFETY_FACTOR:g} against "
-                                        "Euler buckling at the peak torque", CHANGE)}
+                                        "Euler buckling at the peak torque", STRESS_CHANGE)}
     force = design.actuators.get("force_max_N")
     if force is not None:
         lim["continuous_force_N"] = Limit(

@@ -320,3 +320,20 @@ def peak_stress(d: Delta, P_mm, width_mm: float, loads_N,
             "rod_stress_max_MPa": float(np.abs(rods).max() / (sec.rod_EA_N / el.E_Pa) * 1e-6),
             "rod_buckling_N": p_cr, "rod_buckling_margin": p_cr / comp if comp > 0 else math.inf,
             "at_mm": np.asarray(P_mm, float).tolist()}
+
+
+def peak_stress_over(d: Delta, X_mm, width_mm: float, torque_Nm: float,
+                     sec: DeltaSections | None = None) -> dict:
+    """:func:`peak_stress` under the motors' ±``torque_Nm`` (:func:`peak_torque_loads_N`) at
+    every point of ``X_mm`` (n, 3) mm: the largest stress and the smallest buckling margin
+    over the points, each with its point (``at_mm`` / ``buckling_at_mm``) and figures, and
+    ``points`` the number of points."""
+    sec = sec or default_sections(d.effector_radius_mm, width_mm)
+    runs = [peak_stress(d, P, width_mm, peak_torque_loads_N(d, P, torque_Nm), sec)
+            for P in np.asarray(X_mm, float).reshape(-1, 3)]
+    s = max(runs, key=lambda r: r["max_stress_MPa"])
+    b = min(runs, key=lambda r: r["rod_buckling_margin"])
+    return {**s, **{k: b[k] for k in ("rod_compression_max_N", "rod_tension_max_N",
+                                      "rod_stress_max_MPa", "rod_buckling_N",
+                                      "rod_buckling_margin")},
+            "buckling_at_mm": b["at_mm"], "points": len(runs)}

@@ -96,3 +96,63 @@ def test_bundled_delta_stress_rows_and_verdicts():
     # regression pins (recorded from this build, 2026-12-05): 12.2 MPa (arm 1), margin 4.05
     assert r["max_stress_MPa"] == pytest.approx(12.24, abs=0.01)
     assert r["rod_buckling_margin"] == pytest.approx(4.05, abs=0.01)
+
+
+def _rod_compression_by_statics(d, P, tau):
+    """Largest rod compression (N) at effector point P under every motor at +-tau, by the
+    effector's statics alone: six pin-ended rods (each parallelogram's two, +-w/2 along its
+    motor axis) hold the effector against F = J^T tau applied at its centre: the rods' forces
+    sum to -F and their moments about the centre to zero (6 equations, 6 unknowns)."""
+    from cad.families.delta.layout import arm_points_mm
+    from cad.kinematics.delta import ik
+
+    pose = ik(d.mechanism, np.asarray(P, float).reshape(1, 3))
+    pts = arm_points_mm(d.mechanism, pose.P_mm, pose.theta_rad)
+    half = d.parallelogram_width_mm / 2
+    A = np.zeros((6, 6))
+    k = 0
+    for i in range(3):
+        for sgn in (-1.0, 1.0):
+            off = sgn * half * d.mechanism.tangential[i]
+            top, bot = pts["top"][i, 0] + off, pts["bottom"][i, 0] + off
+            e = (top - bot) / np.linalg.norm(top - bot)  # tension pulls the effector toward top
+            A[:3, k], A[3:, k] = e, np.cross((bot - np.asarray(P, float)) * 1e-3, e)
+            k += 1
+    worst = 0.0
+    for F in peak_torque_loads_N(d.mechanism, P, tau):
+        N = np.linalg.solve(A, np.r_[-F, 0.0, 0.0, 0.0])
+        worst = max(worst, float(-N.min()))
+    return worst
+
+
+def test_over_the_workspace_the_worst_point_is_found_and_is_the_statics():
+    """The datasheet's stress rows are the worst over the workspace grid (a tester found the
+    centre alone hid the cube's corners): the largest rod compression equals the statics of the
+    three parallelograms at the worst point, and no grid point is worse."""
+    from cad.data.catalog import get_motor
+    from cad.families.delta.structure import peak_stress_over
+
+    d = load_design(DELTA)
+    tau = get_motor("maxon-re40").torque_peak_mNm * 1e-3  # the stall torque, no drive limit
+    X = d.workspace_points()
+    r = peak_stress_over(d.mechanism, X, d.parallelogram_width_mm, tau)
+    by_hand = [_rod_compression_by_statics(d, P, tau) for P in X]
+    assert r["rod_compression_max_N"] == pytest.approx(max(by_hand), rel=1e-6)
+    assert r["buckling_at_mm"] == pytest.approx(X[int(np.argmax(by_hand))].tolist())
+    assert r["points"] == len(X) == 125
+    # at the stall torque the cube's top corners buckle the rods below the margin of 3
+    assert r["rod_buckling_margin"] < 3.0 < peak_stress(
+        d.mechanism, np.asarray(d.workspace["center_mm"], float), d.parallelogram_width_mm,
+        peak_torque_loads_N(d.mechanism, np.asarray(d.workspace["center_mm"], float), tau))["rod_buckling_margin"]
+    # the bundled design's drive limit ([motor] torque_peak_mNm) keeps every point above it
+    from cad.device import resolve_device
+
+    t_lim = resolve_device(d).motor.spec.torque_peak_mNm * 1e-3
+    assert t_lim == 1.5
+    lim = peak_stress_over(d.mechanism, X, d.parallelogram_width_mm, t_lim)
+    assert lim["rod_buckling_margin"] >= 3.0
+    # regression pins (recorded from this code, 2026-12-05; docs/families/delta.md types them):
+    assert r["rod_compression_max_N"] == pytest.approx(55.3, abs=0.05)
+    assert r["rod_buckling_margin"] == pytest.approx(1.91, abs=0.005)
+    assert (lim["max_stress_MPa"], lim["rod_buckling_margin"]) == (pytest.approx(17.54, abs=0.01),
+                                                                    pytest.approx(3.26, abs=0.005))
