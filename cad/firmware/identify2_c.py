@@ -1,18 +1,19 @@
-"""C99 text of the identification routine of a 2-motor device (the 5-bar pantograph, issue 37):
-``identify/hapticad_identify.h``, ``identify/hapticad_identify.c`` and
+"""C99 text of the identification routine of a device of n >= 2 motors (the 5-bar pantograph,
+the delta; issue 37): ``identify/hapticad_identify.h``, ``identify/hapticad_identify.c`` and
 ``identify/identify_example.ino``.
 
 ``hc_ident_step`` is :func:`cad.identify.excitation2.step` in C (same arithmetic, same
 order; tests/unit/identify compiles it and compares the currents), with the constants of the
 plan :func:`cad.sim.identify_fivebar.predict` makes from the resolved device;
 ``hc_ident_log_header`` and ``hc_ident_log_row`` write the public log format
-(:mod:`cad.identify.logfile`) with two ``counts_i`` and two ``current_A_i`` columns.
+(:mod:`cad.identify.logfile`) with n ``counts_i`` and n ``current_A_i`` columns. The arrays
+have ``HC_N_JOINTS`` entries (the device header's joint count, = the plan's).
 """
 
 from __future__ import annotations
 
 from cad.firmware.csrc import banner, lit
-from cad.identify.excitation2 import DONE, ENCODER, RANGE, RUNNING, Plan2
+from cad.identify.excitation2 import DONE, ENCODER, RANGE, RUNNING, SWEEPS, Plan2
 
 FOLDER = "identify"
 
@@ -23,7 +24,8 @@ def _per_joint(name: str, values, fmt=lit) -> str:
 
 def header(spec, p: Plan2) -> str:
     safe = p.safe_rad
-    return banner(spec, "hapticad_identify.h: the 2-motor identification routine and its CSV log") + f"""
+    n = p.n_joints
+    return banner(spec, f"hapticad_identify.h: the {n}-motor identification routine and its CSV log") + f"""
 #ifndef HAPTICAD_IDENTIFY_H
 #define HAPTICAD_IDENTIFY_H
 #include <stddef.h>
@@ -36,13 +38,13 @@ extern "C" {{
 #define HC_IDENT_RUNNING {RUNNING}   /* keep calling it every control period */
 #define HC_IDENT_DONE {DONE}      /* finished: 0 A */
 #define HC_IDENT_RANGE {RANGE}     /* stopped: a joint left its range (a reversed current gain?) */
-#define HC_IDENT_ENCODER {ENCODER}   /* stopped: a joint moved against the +y hand move (encoder reversed) */
+#define HC_IDENT_ENCODER {ENCODER}   /* stopped: a joint moved against the hand move (encoder reversed) */
 
 #define HC_IDENT_TE_S {lit(p.Te_s)}            /* control period (s): call hc_ident_step at this rate */
-#define HC_IDENT_T_HAND_S {lit(p.T_hand_s)}      /* phase 1: move the handle by hand along +y and back */
+#define HC_IDENT_T_HAND_S {lit(p.T_hand_s)}      /* phase 1: move the handle by hand {p.hand_move} and back */
 #define HC_IDENT_T_SETTLE_S {lit(p.T_settle_s)}
 #define HC_IDENT_T_CHIRP_S {lit(p.T_chirp_s)}
-#define HC_IDENT_F0_HZ {lit(p.f0_Hz)}   /* motor 0 sweeps F0 -> F1, motor 1 F1 -> F0 */
+#define HC_IDENT_F0_HZ {lit(p.f0_Hz)}   /* motor j sweeps by HC_IDENT_SWEEP_j: 0 F0 -> F1, 1 F1 -> F0, +2 back at half time */
 #define HC_IDENT_F1_HZ {lit(p.f1_Hz)}
 #define HC_IDENT_T_TAPER_S {lit(p.T_taper_s)}
 #define HC_IDENT_AMPLITUDE_A {lit(p.amplitude_A)}  /* chirp amplitude (A) */
@@ -63,17 +65,18 @@ extern "C" {{
 {_per_joint("HC_IDENT_Q_SAFE_LO_RAD", [s[0] for s in safe])}
 {_per_joint("HC_IDENT_Q_SAFE_HI_RAD", [s[1] for s in safe])}
 {_per_joint("HC_IDENT_HAND_SIGN", p.hand_sign, str)}
+{_per_joint("HC_IDENT_SWEEP", [_sweep(j) for j in range(n)], str)}
 
-typedef struct {{ long k; hc_real q_prev[2], v_f[2], q_first[2], hand[2]; int status; }} hc_ident_t;
+typedef struct {{ long k; hc_real q_prev[HC_N_JOINTS], v_f[HC_N_JOINTS], q_first[HC_N_JOINTS], hand[HC_N_JOINTS]; int status; }} hc_ident_t;
 
 void hc_ident_init(hc_ident_t *s);
-/* one control period: both encoders' counts in, both motor currents to command out (A);
+/* one control period: every encoder's counts in, every motor current to command out (A);
  * returns HC_IDENT_* (the currents are 0 unless HC_IDENT_RUNNING) */
-int hc_ident_step(hc_ident_t *s, const hc_encoder_t *enc, const long counts[2], hc_real amps[2]);
-/* the log's two header lines / one row (t_s, counts_0, counts_1, current_A_0, current_A_1),
+int hc_ident_step(hc_ident_t *s, const hc_encoder_t *enc, const long counts[HC_N_JOINTS], hc_real amps[HC_N_JOINTS]);
+/* the log's two header lines / one row ({_columns(n)}),
  * '\\n'-terminated, into buf (n bytes); return the snprintf length */
 int hc_ident_log_header(char *buf, size_t n);
-int hc_ident_log_row(char *buf, size_t n, hc_real t_s, const long counts[2], const hc_real amps[2]);
+int hc_ident_log_row(char *buf, size_t n, hc_real t_s, const long counts[HC_N_JOINTS], const hc_real amps[HC_N_JOINTS]);
 
 #ifdef __cplusplus
 }}
@@ -87,21 +90,12 @@ SOURCE = r"""
 #include <stdio.h>
 #include "hapticad_identify.h"
 
-static const hc_real KP[2] = { HC_IDENT_KP_NM_PER_RAD_0, HC_IDENT_KP_NM_PER_RAD_1 };
-static const hc_real KD[2] = { HC_IDENT_KD_NM_S_PER_RAD_0, HC_IDENT_KD_NM_S_PER_RAD_1 };
-static const hc_real HOME[2] = { HC_IDENT_Q_HOME_RAD_0, HC_IDENT_Q_HOME_RAD_1 };
-static const hc_real QMIN[2] = { HC_IDENT_Q_MIN_RAD_0, HC_IDENT_Q_MIN_RAD_1 };
-static const hc_real QMAX[2] = { HC_IDENT_Q_MAX_RAD_0, HC_IDENT_Q_MAX_RAD_1 };
-static const hc_real ENV[2] = { HC_IDENT_ENVELOPE_RAD_0, HC_IDENT_ENVELOPE_RAD_1 };
-static const hc_real SLO[2] = { HC_IDENT_Q_SAFE_LO_RAD_0, HC_IDENT_Q_SAFE_LO_RAD_1 };
-static const hc_real SHI[2] = { HC_IDENT_Q_SAFE_HI_RAD_0, HC_IDENT_Q_SAFE_HI_RAD_1 };
-static const int HAND_SIGN[2] = { HC_IDENT_HAND_SIGN_0, HC_IDENT_HAND_SIGN_1 };
-
+@ARRAYS@
 void hc_ident_init(hc_ident_t *s)
 {
     int j;
     s->k = 0;
-    for (j = 0; j < 2; ++j) {
+    for (j = 0; j < HC_N_JOINTS; ++j) {
         s->q_prev[j] = HC_R(0.0); s->v_f[j] = HC_R(0.0); s->q_first[j] = HC_R(0.0); s->hand[j] = HC_R(0.0);
     }
     s->status = HC_IDENT_RUNNING;
@@ -117,34 +111,50 @@ static hc_real hc_ident_taper(hc_real c)
     return w * w;
 }
 
-static int hc_ident_check(const hc_ident_t *s, const hc_real q[2], hc_real sp)
+/* chirp phase (rad) at time c in the chirp: linear frequency fa -> fb over the chirp, or over
+ * each half and back (sweep & 2); sweep & 1: fa = F1 (down) */
+static hc_real hc_ident_phase(int sweep, hc_real c)
+{
+    hc_real fa = (sweep & 1) ? HC_IDENT_F1_HZ : HC_IDENT_F0_HZ;
+    hc_real fb = (sweep & 1) ? HC_IDENT_F0_HZ : HC_IDENT_F1_HZ;
+    hc_real h = HC_R(0.5) * HC_IDENT_T_CHIRP_S, u;
+    if (!(sweep & 2))
+        return HC_R(2.0) * HC_R(3.141592653589793) * (fa * c + (fb - fa) * c * c / (HC_R(2.0) * HC_IDENT_T_CHIRP_S));
+    if (c <= h)
+        return HC_R(2.0) * HC_R(3.141592653589793) * (fa * c + (fb - fa) * c * c / (HC_R(2.0) * h));
+    u = c - h;
+    return HC_R(2.0) * HC_R(3.141592653589793) * (fa * h + (fb - fa) * h / HC_R(2.0) + fb * u
+                                                  - (fb - fa) * u * u / (HC_R(2.0) * h));
+}
+
+static int hc_ident_check(const hc_ident_t *s, const hc_real q[HC_N_JOINTS], hc_real sp)
 {
     int j;
-    for (j = 0; j < 2; ++j)
+    for (j = 0; j < HC_N_JOINTS; ++j)
         if (s->hand[j] * HAND_SIGN[j] <= -HC_IDENT_HAND_MIN_RAD) return HC_IDENT_ENCODER;
-    for (j = 0; j < 2; ++j)
+    for (j = 0; j < HC_N_JOINTS; ++j)
         if (q[j] < QMIN[j] || q[j] > QMAX[j] || fabs(q[j] - HOME[j]) > ENV[j]) return HC_IDENT_RANGE;
     return (sp >= 2 * HC_IDENT_T_SETTLE_S + HC_IDENT_T_CHIRP_S) ? HC_IDENT_DONE : HC_IDENT_RUNNING;
 }
 
-int hc_ident_step(hc_ident_t *s, const hc_encoder_t *enc, const long counts[2], hc_real amps[2])
+int hc_ident_step(hc_ident_t *s, const hc_encoder_t *enc, const long counts[HC_N_JOINTS], hc_real amps[HC_N_JOINTS])
 {
     hc_real q[HC_N_JOINTS], tg[HC_N_JOINTS], t, sp, g, ch;
     int j, inside;
     hc_counts_to_angles(enc, counts, q);
     t = (hc_real)s->k * HC_IDENT_TE_S;
-    for (j = 0; j < 2; ++j) {
+    for (j = 0; j < HC_N_JOINTS; ++j) {
         hc_real v = (s->k == 0) ? HC_R(0.0) : (q[j] - s->q_prev[j]) / HC_IDENT_TE_S;
         if (s->k == 0) s->q_first[j] = q[j];
         s->v_f[j] += HC_IDENT_ALPHA * (v - s->v_f[j]);
         s->q_prev[j] = q[j];
     }
     s->k += 1;
-    amps[0] = amps[1] = HC_R(0.0);
+    for (j = 0; j < HC_N_JOINTS; ++j) amps[j] = HC_R(0.0);
     if (s->status != HC_IDENT_RUNNING) return s->status;
     sp = t - HC_IDENT_T_HAND_S;
     if (sp < HC_R(0.0)) {
-        for (j = 0; j < 2; ++j) {
+        for (j = 0; j < HC_N_JOINTS; ++j) {
             hc_real d = q[j] - s->q_first[j];
             if (fabs(d) > fabs(s->hand[j])) s->hand[j] = d;
         }
@@ -155,18 +165,16 @@ int hc_ident_step(hc_ident_t *s, const hc_encoder_t *enc, const long counts[2], 
     g = sp / HC_IDENT_T_SETTLE_S;
     if (g > HC_R(1.0)) g = HC_R(1.0);
     ch = sp - HC_IDENT_T_SETTLE_S;
-    tg[0] = tg[1] = HC_R(0.0);
+    for (j = 0; j < HC_N_JOINTS; ++j) tg[j] = HC_R(0.0);
     if (HC_IDENT_GRAVITY_FF) (void)hc_gravity_torques(q, tg);  /* a refused pose: 0, as the reference */
-    inside = q[0] >= SLO[0] && q[0] <= SHI[0] && q[1] >= SLO[1] && q[1] <= SHI[1];
-    for (j = 0; j < 2; ++j) {
+    inside = 1;
+    for (j = 0; j < HC_N_JOINTS; ++j)
+        if (q[j] < SLO[j] || q[j] > SHI[j]) inside = 0;
+    for (j = 0; j < HC_N_JOINTS; ++j) {
         hc_real i = -g * (KP[j] * (q[j] - HOME[j]) + KD[j] * s->v_f[j]) / HC_IDENT_KT_NM_PER_A;
         if (HC_IDENT_GRAVITY_FF) i += tg[j] / HC_IDENT_KT_NM_PER_A;
         if (ch >= HC_R(0.0) && ch < HC_IDENT_T_CHIRP_S && inside) {
-            hc_real fa = (j == 0) ? HC_IDENT_F0_HZ : HC_IDENT_F1_HZ;
-            hc_real fb = (j == 0) ? HC_IDENT_F1_HZ : HC_IDENT_F0_HZ;
-            hc_real ph = HC_R(2.0) * HC_R(3.141592653589793) * (fa * ch + (fb - fa) * ch * ch
-                         / (HC_R(2.0) * HC_IDENT_T_CHIRP_S));
-            i += HC_IDENT_AMPLITUDE_A * hc_ident_taper(ch) * sin(ph);
+            i += HC_IDENT_AMPLITUDE_A * hc_ident_taper(ch) * sin(hc_ident_phase(SWEEP[j], ch));
         }
         if (i > HC_IDENT_I_MAX_A) i = HC_IDENT_I_MAX_A;
         if (i < -HC_IDENT_I_MAX_A) i = -HC_IDENT_I_MAX_A;
@@ -175,19 +183,7 @@ int hc_ident_step(hc_ident_t *s, const hc_encoder_t *enc, const long counts[2], 
     return HC_IDENT_RUNNING;
 }
 
-int hc_ident_log_header(char *buf, size_t n)
-{
-    return snprintf(buf, n, "# hapticad identification log; design %s; design hash sha256:%s; "
-                    "firmware routine hc_ident_step; control period %.9g s\n"
-                    "t_s,counts_0,counts_1,current_A_0,current_A_1\n",
-                    HC_DEVICE_NAME, HC_DESIGN_HASH, (double)HC_IDENT_TE_S);
-}
-
-int hc_ident_log_row(char *buf, size_t n, hc_real t_s, const long counts[2], const hc_real amps[2])
-{
-    return snprintf(buf, n, "%.9g,%ld,%ld,%.9g,%.9g\n", (double)t_s, counts[0], counts[1],
-                    (double)amps[0], (double)amps[1]);
-}
+@LOG@
 """
 
 
@@ -198,14 +194,14 @@ SKETCH = r"""
  * Board I/O: replace read_counts() and write_currents() with your encoder counters and drivers. */
 #include "hapticad_identify.h"
 
-static void read_counts(long c[2]) { c[0] = 0; c[1] = 0; }          /* your encoder counters */
-static void write_currents(const hc_real a[2]) { (void)a; }        /* your current drivers */
+static void read_counts(long c[HC_N_JOINTS]) { int j; for (j = 0; j < HC_N_JOINTS; ++j) c[j] = 0; }  /* your encoder counters */
+static void write_currents(const hc_real a[HC_N_JOINTS]) { (void)a; }  /* your current drivers */
 
 void setup(void)
 {
     Serial.begin(921600);
-    Serial.println("hapticad identification: in the next 2 s move the handle by hand straight away");
-    Serial.println("from the motors (+y) by a few cm and back to the middle, then let go. log:");
+    Serial.println("hapticad identification: in the next 2 s move the handle by hand");
+    Serial.println("@HAND@ by a few cm and back to the middle, then let go. log:");
 }
 
 void loop(void)
@@ -214,10 +210,10 @@ void loop(void)
     static int started = 0, status = HC_IDENT_RUNNING;
     static const hc_encoder_t enc = HC_ENCODER_DEFAULT;
     static unsigned long next;
-    static const hc_real zero[2] = { HC_R(0.0), HC_R(0.0) };
-    char line[128];
-    long counts[2];
-    hc_real amps[2];
+    static const hc_real zero[HC_N_JOINTS] = { HC_R(0.0) };
+    char line[256];
+    long counts[HC_N_JOINTS];
+    hc_real amps[HC_N_JOINTS];
     if (!started) {
         hc_ident_init(&s);
         hc_ident_log_header(line, sizeof line);
@@ -237,8 +233,52 @@ void loop(void)
 """
 
 
+def _sweep(j: int) -> int:
+    """Motor j's sweep code (bit 0: down, bit 1: back at half time; :data:`SWEEPS`)."""
+    down, turn = SWEEPS[j % 4]
+    return int(down) + 2 * int(turn)
+
+
+def _columns(n: int) -> str:
+    return ", ".join(["t_s", *(f"counts_{j}" for j in range(n)), *(f"current_A_{j}" for j in range(n))])
+
+
+_ARRAYS = (("hc_real", "KP", "HC_IDENT_KP_NM_PER_RAD"), ("hc_real", "KD", "HC_IDENT_KD_NM_S_PER_RAD"),
+           ("hc_real", "HOME", "HC_IDENT_Q_HOME_RAD"), ("hc_real", "QMIN", "HC_IDENT_Q_MIN_RAD"),
+           ("hc_real", "QMAX", "HC_IDENT_Q_MAX_RAD"), ("hc_real", "ENV", "HC_IDENT_ENVELOPE_RAD"),
+           ("hc_real", "SLO", "HC_IDENT_Q_SAFE_LO_RAD"), ("hc_real", "SHI", "HC_IDENT_Q_SAFE_HI_RAD"),
+           ("int", "HAND_SIGN", "HC_IDENT_HAND_SIGN"), ("int", "SWEEP", "HC_IDENT_SWEEP"))
+
+
+def _arrays(n: int) -> str:
+    return "\n".join(f"static const {t} {name}[HC_N_JOINTS] = {{ " + ", ".join(f"{m}_{j}" for j in range(n)) + " };"
+                     for t, name, m in _ARRAYS)
+
+
+def _log(n: int) -> str:
+    """hc_ident_log_header and hc_ident_log_row for n joints."""
+    head = ",".join(c.strip() for c in _columns(n).split(","))
+    fmt = "%.9g" + ",%ld" * n + ",%.9g" * n
+    args = ", ".join([*(f"counts[{j}]" for j in range(n)), *(f"(double)amps[{j}]" for j in range(n))])
+    return f"""int hc_ident_log_header(char *buf, size_t n)
+{{
+    return snprintf(buf, n, "# hapticad identification log; design %s; design hash sha256:%s; "
+                    "firmware routine hc_ident_step; control period %.9g s\\n"
+                    "{head}\\n",
+                    HC_DEVICE_NAME, HC_DESIGN_HASH, (double)HC_IDENT_TE_S);
+}}
+
+int hc_ident_log_row(char *buf, size_t n, hc_real t_s, const long counts[HC_N_JOINTS], const hc_real amps[HC_N_JOINTS])
+{{
+    return snprintf(buf, n, "{fmt}\\n", (double)t_s, {args});
+}}
+"""
+
+
 def files(spec, p: Plan2) -> dict[str, str]:
-    """``{path under firmware/: text}`` of the 2-motor routine for ``spec`` and ``p``."""
+    """``{path under firmware/: text}`` of the n-motor routine for ``spec`` and ``p``."""
+    n = p.n_joints
+    src = SOURCE.replace("@ARRAYS@", _arrays(n)).replace("@LOG@", _log(n))
     return {f"{FOLDER}/hapticad_identify.h": header(spec, p),
-            f"{FOLDER}/hapticad_identify.c": banner(spec, "hapticad_identify.c") + SOURCE,
-            f"{FOLDER}/identify_example.ino": banner(spec, "identify_example.ino") + SKETCH}
+            f"{FOLDER}/hapticad_identify.c": banner(spec, "hapticad_identify.c") + src,
+            f"{FOLDER}/identify_example.ino": banner(spec, "identify_example.ino") + SKETCH.replace("@HAND@", p.hand_move)}

@@ -1,23 +1,25 @@
-"""The excitation the generated firmware runs on a 2-motor device (the 5-bar pantograph), and
-its Python reference (the C routine ``hc_ident_step`` of :mod:`cad.firmware.identify2_c`
-computes the same numbers, tests/unit/identify).
+"""The excitation the generated firmware runs on a device of n >= 2 motors (the 5-bar
+pantograph, the delta), and its Python reference (the C routine ``hc_ident_step`` of
+:mod:`cad.firmware.identify2_c` computes the same numbers, tests/unit/identify).
 
 The phases and the safety rules of the 1-motor routine (:mod:`cad.identify.excitation`),
 per joint, at the control period ``Te_s`` (time t = k Te from the first sample):
 
-1. ``hand`` (0 <= t < T_hand): current 0; the operator moves the handle by hand away from the
-   motors (the device frame's +y) and back: each joint's largest excursion from its first
-   angle shows its encoder direction (``hand_sign``: the sign each joint must show, from the
-   prediction's Jacobian at home);
+1. ``hand`` (0 <= t < T_hand): current 0; the operator moves the handle by hand along the
+   plan's ``hand_move`` (a planar device: away from the motors, +y; the delta: straight up,
+   +z) and back: each joint's largest excursion from its first angle shows its encoder
+   direction (``hand_sign``: the sign each joint must show, from the prediction's Jacobian at
+   home);
 2. ``hold`` (T_settle): a PD hold of each joint to its home angle, gains ramped from 0 to 1,
    plus, on a vertical device (``gravity_ff``), the gravity torques at the angles read
    (``hc_gravity_torques`` of the device code; not ramped: the device must not fall when the
    operator lets go);
-3. ``chirp`` (T_chirp): the hold plus a tapered chirp per motor, amplitude ``A``; motor 0
-   sweeps up (f0 -> f1), motor 1 down (f1 -> f0), so that at every instant the two motors
-   drive at different frequencies (the joint-space mass matrix is separable: a common
-   excitation would move the device along one direction of joint space only); both chirp
-   terms are off while any joint is outside its safe range (the position-hold envelope);
+3. ``chirp`` (T_chirp): the hold plus a tapered chirp per motor, amplitude ``A``; motor j
+   sweeps by :data:`SWEEPS` ``[j % 4]``: up (f0 -> f1), down (f1 -> f0), up then down, down
+   then up (linear in time, each leg half the chirp), so that the motors drive at different
+   frequencies nearly all the time (the joint-space mass matrix is separable: a common
+   excitation would move the device along one direction of joint space only); every chirp
+   term is off while any joint is outside its safe range (the position-hold envelope);
 4. ``rest`` (T_settle): the hold alone, then 0 A and done.
 
 Stops (0 A on every motor from then on): ``ENCODER`` when at the end of the hand phase a
@@ -57,6 +59,11 @@ from cad.identify.excitation import (
     RoutineTiming,
 )
 
+#: Sweep of motor j: ``SWEEPS[j % 4]`` = (starts at f1 instead of f0, turns back at half time).
+SWEEPS = ((False, False), (True, False), (False, True), (True, True))
+#: The hand move of a planar device (the delta's: "straight up (+z)").
+HAND_MOVE_PLANAR = "straight away from the motors (+y)"
+
 #: The hold envelope as a fraction of a joint's smaller half-range about home (module docstring).
 HOLD_ENVELOPE_FRACTION = 0.6
 
@@ -65,7 +72,7 @@ __all__ = ["DONE", "ENCODER", "RANGE", "RUNNING", "Plan2", "State2", "plan2", "r
 
 @dataclass(frozen=True)
 class Plan2(RoutineTiming):
-    """Every constant of the 2-motor routine (SI; tuples per joint): the C code is written
+    """Every constant of the n-motor routine (SI; tuples per joint): the C code is written
     from these. ``q_home_rad``: the hold's target; ``hand_sign``: +1/-1, the sign of each
     joint's move when the handle goes +y."""
 
@@ -90,6 +97,7 @@ class Plan2(RoutineTiming):
     T_taper_s: float = T_TAPER_S
     safe_fraction: float = SAFE_FRACTION
     hand_min_rad: float = 0.0
+    hand_move: str = HAND_MOVE_PLANAR
 
     @property
     def n_joints(self) -> int:
@@ -107,12 +115,12 @@ class Plan2(RoutineTiming):
 
 def plan2(Te_s: float, kt_Nm_per_A: float, i_max_A: float, q_min_rad, q_max_rad, q_home_rad,
           inertia_kg_m2, hand_sign, counts_per_rev: int, gravity_ff: bool = False,
-          gravity_A: float = 0.0) -> Plan2:
-    """The :class:`Plan2` of a 2-motor device: control period (s), torque constant (N m/A),
+          gravity_A: float = 0.0, hand_move: str = HAND_MOVE_PLANAR) -> Plan2:
+    """The :class:`Plan2` of an n-motor device: control period (s), torque constant (N m/A),
     continuous current (A), joint ranges and home (rad, per joint), the predicted joint
     inertias at home (diagonal of the joint-space mass matrix, kg m^2), the hand-move signs,
-    encoder counts per turn, whether the hold adds the gravity torques and the largest gravity
-    current at home ``gravity_A`` (A): the chirp amplitude is AMPLITUDE_FRACTION of the current
+    encoder counts per turn, whether the hold adds the gravity torques, the largest gravity
+    current at home ``gravity_A`` (A) and the hand move's words (``hand_move``): the chirp amplitude is AMPLITUDE_FRACTION of the current
     left beside it (raises ValueError when gravity alone takes the continuous current). Hold stiffness: the chirp amplitude deflects a joint by
     ``TRAVEL_FRACTION`` of its smaller half-range about home; damping ratio ``ZETA``."""
     if gravity_A >= i_max_A:
@@ -127,13 +135,15 @@ def plan2(Te_s: float, kt_Nm_per_A: float, i_max_A: float, q_min_rad, q_max_rad,
         kd.append(2.0 * ZETA * math.sqrt(kp[-1] * J))
     return Plan2(Te_s, kt_Nm_per_A, i_max_A, tuple(map(float, q_min_rad)), tuple(map(float, q_max_rad)),
                  tuple(map(float, q_home_rad)), A, tuple(kp), tuple(kd), tuple(int(s) for s in hand_sign),
-                 tuple(env), bool(gravity_ff), hand_min_rad=HAND_MIN_COUNTS * 2.0 * math.pi / counts_per_rev)
+                 tuple(env), bool(gravity_ff), hand_min_rad=HAND_MIN_COUNTS * 2.0 * math.pi / counts_per_rev,
+                 hand_move=hand_move)
 
 
 @dataclass
 class State2:
     """The routine's state: sample index, previous angles, filtered velocities, first angles,
-    largest hand excursions (signed), status."""
+    largest hand excursions (signed), status (lists of two; :func:`step` sizes them to the
+    plan's joints on its first call)."""
 
     k: int = 0
     q_prev: list = field(default_factory=lambda: [0.0, 0.0])
@@ -149,9 +159,18 @@ def _taper(p: Plan2, s: float) -> float:
 
 
 def _phase(p: Plan2, j: int, c: float) -> float:
-    """Chirp phase (rad) of motor j at time c in the chirp: motor 0 up, motor 1 down."""
-    fa, fb = (p.f0_Hz, p.f1_Hz) if j % 2 == 0 else (p.f1_Hz, p.f0_Hz)
-    return 2.0 * math.pi * (fa * c + (fb - fa) * c * c / (2.0 * p.T_chirp_s))
+    """Chirp phase (rad) of motor j at time c in the chirp (:data:`SWEEPS`): the integral of
+    its instantaneous frequency, linear from fa to fb over the chirp (or over each half, and
+    back)."""
+    down, turn = SWEEPS[j % 4]
+    fa, fb = (p.f1_Hz, p.f0_Hz) if down else (p.f0_Hz, p.f1_Hz)
+    if not turn:
+        return 2.0 * math.pi * (fa * c + (fb - fa) * c * c / (2.0 * p.T_chirp_s))
+    h = 0.5 * p.T_chirp_s
+    if c <= h:
+        return 2.0 * math.pi * (fa * c + (fb - fa) * c * c / (2.0 * h))
+    u = c - h
+    return 2.0 * math.pi * (fa * h + (fb - fa) * h / 2.0 + fb * u - (fb - fa) * u * u / (2.0 * h))
 
 
 def _check(p: Plan2, st: State2, q, s: float) -> int:
@@ -169,6 +188,8 @@ def step(p: Plan2, st: State2, q_rad, tau_g=None) -> tuple[list[float], int]:
     when ``p.gravity_ff``, the gravity torques ``tau_g`` (N m per motor) at them; advances
     ``st``. The C function ``hc_ident_step`` does the same arithmetic in the same order."""
     n = p.n_joints
+    if st.k == 0 and len(st.q_prev) != n:
+        st.q_prev, st.v_f, st.q_first, st.hand = ([0.0] * n for _ in range(4))
     t = st.k * p.Te_s
     for j in range(n):
         v = 0.0 if st.k == 0 else (q_rad[j] - st.q_prev[j]) / p.Te_s
