@@ -176,7 +176,7 @@ class Fit2(Estimates):
     extra: dict = field(default_factory=dict)
 
 
-def _moving(v: np.ndarray, Te: float) -> np.ndarray:
+def moving_rows(v: np.ndarray, Te: float) -> np.ndarray:
     """Rows (N,) where a joint moves: faster than IDENT_SLOW_FRACTION of its peak, away from
     reversals by the filter's impulse response, away from the log's edges."""
     slow = np.abs(v) <= IDENT_SLOW_FRACTION * np.max(np.abs(v))
@@ -217,7 +217,9 @@ def design_matrix(g: FiveBarGeom, sig: dict, beta_links, grav, Te: float) -> tup
     return np.stack(cols, axis=-1), tuple(names)
 
 
-def _lstsq(X, y):
+def scaled_lstsq(X, y):
+    """(theta, X with unit columns, the column scales, its condition number) of the least
+    squares ``X theta = y`` solved on unit columns."""
     scale = np.linalg.norm(X, axis=0)
     scale[scale == 0] = 1.0
     Xn = X / scale
@@ -236,7 +238,7 @@ def fit(t_s, q_rad, current_A, kt_Nm_per_A: float, g: FiveBarGeom, beta_links, g
     t_s = np.asarray(t_s, float)
     Te = float(np.median(np.diff(t_s)))
     sig = signals(g, np.asarray(q_rad, float), Te)
-    mask = np.column_stack([_moving(sig["v"][:, j], Te) for j in range(2)]) & sig["ok"][:, None]
+    mask = np.column_stack([moving_rows(sig["v"][:, j], Te) for j in range(2)]) & sig["ok"][:, None]
     if mask.sum(axis=0).min() < 50:
         raise NotExcited(f"only {int(mask.sum(axis=0).min())} samples of a joint move faster than "
                          f"{100 * IDENT_SLOW_FRACTION:g} % of its peak rate")
@@ -249,7 +251,7 @@ def fit(t_s, q_rad, current_A, kt_Nm_per_A: float, g: FiveBarGeom, beta_links, g
         X = np.concatenate([X3[mask[:, j], j, :] for j in range(2)])
         X = np.column_stack([X, np.concatenate([dtau[mask[:, j], j] for j in range(2)])])
         y = np.concatenate([tau[mask[:, j], j] for j in range(2)])
-        th, Xn, scale, cond = _lstsq(X, y)
+        th, Xn, scale, cond = scaled_lstsq(X, y)
         rss = float(np.sum((y - X @ th) ** 2))
         if best is None or rss < best[0]:
             best = (rss, s1, th, Xn, scale, cond, X, y, tau, dtau)
