@@ -20,7 +20,7 @@ plus Gaussian noise. A vertical device's routine adds the predicted gravity torq
 angles read (the firmware's ``hc_gravity_torques``; here from a :class:`GravityTable`, within
 ~1e-5 N m of them). During the hand phase the handle follows a hand move along +y of
 :data:`cad.sim.bench.HAND_FRACTION` of the workspace height and back. Where the motor has no
-friction data the bench's Coulomb friction is :data:`NOMINAL_TC_FRACTION` of the continuous
+friction data the bench's Coulomb friction is :data:`cad.sim.bench_joints.NOMINAL_TC_FRACTION` of the continuous
 torque (an assumption of the bench, said in the sidecar).
 """
 
@@ -30,33 +30,13 @@ import math
 
 import numpy as np
 
-from cad.identify import excitation2
-from cad.sim import mj
+from cad.sim import bench_joints, mj
 from cad.sim.bench import HAND_FRACTION, OMEGA_S, STOP_FRACTION, SUBSTEP_MAX_S
 from cad.sim.identify_fivebar import jacobian
 from cad.sim.wall import MJ_STEP_MAX_S
 
-#: Bench Coulomb friction per motor when the prediction has none (fraction of Kt i_cont).
-NOMINAL_TC_FRACTION = 0.03
 #: Joint grid of the gravity table (points per joint).
 GRAVITY_GRID = 41
-
-
-def truth(pred, p: dict) -> dict:
-    """The true parameters of the simulated 5-bar (the sidecar JSON), SI."""
-    Tc0 = pred.Tc_Nm if pred.Tc_Nm is not None else NOMINAL_TC_FRACTION * pred.kt_Nm_per_A * pred.i_max_A
-    Tc = Tc0 * p["friction"] * p["coulomb"]
-    J = pred.rotor_kg_m2 * p["rotor"]
-    home = np.array([pred.q_home_rad])
-    M = pred.task_mass_kg(home, p["mass"], (J, J))
-    return {"perturb": p, "c_link": p["mass"], "J_kg_m2": [J, J], "Tc_Nm": [Tc, Tc],
-            "Tc_source": "prediction" if pred.Tc_Nm is not None else
-            f"bench assumption: {NOMINAL_TC_FRACTION:g} of the continuous torque",
-            "b_Nm_s_per_rad": [0.0, 0.0], "offset_Nm": [1e-3 * p["offset_mNm"]] * 2, "gravity_scale": p["gravity"],
-            "kt_Nm_per_A": pred.kt_Nm_per_A * p["kt"], "encoder_direction": int(p["encoder"]),
-            "current_gain_sign": 1 if p["kt"] > 0 else -1, "delay_samples": int(p["delay"]),
-            "current_noise_A": p["noise"] * pred.i_max_A,
-            "Mxx_g_home": 1e3 * float(M[0, 0]), "Myy_g_home": 1e3 * float(M[1, 1])}
 
 
 class GravityTable:
@@ -245,41 +225,15 @@ def simulate(pred, p: dict, seed: int = 0, half_y_m: float = 0.05,
     2-motor routine with perturbations ``p`` (:func:`cad.sim.bench.parse_perturb`) on the
     reduced 5-bar, or on MuJoCo with the MJCF file ``mjcf``; ``half_y_m`` half the workspace
     height (the hand move)."""
-    rng = np.random.default_rng(seed)
-    tr = truth(pred, p)
+    tr = bench_joints.truth(pred, p)
     plan = pred.plan
     rng_j = [STOP_FRACTION * (h - lo) for lo, h in zip(plan.q_min_rad, plan.q_max_rad, strict=True)]
     lo = [a - d for a, d in zip(plan.q_min_rad, rng_j, strict=True)]
     hi = [b + d for b, d in zip(plan.q_max_rad, rng_j, strict=True)]
     plant = (Plant5(pred, tr, lo, hi) if mjcf is None else
              MujocoPlant5(mjcf, pred, tr, lo, hi, 2 * abs(tr["kt_Nm_per_A"]) * pred.i_max_A))
-    n, Te = plan.n_samples, plan.Te_s
-    n_hand = int(math.ceil(plan.T_hand_s / Te))
-    qh = hand_path(pred, half_y_m, n_hand)
-    step = 2 * math.pi / pred.counts_per_rev
-    sgn = [d * tr["encoder_direction"] for d in pred.direction]
-    noise = rng.normal(0.0, tr["current_noise_A"], (n, 2)).tolist()
-    delay, ktt = tr["delay_samples"], tr["kt_Nm_per_A"]
-    counts, cmd = np.zeros((n, 2), np.int64), np.zeros((n, 2))
+    qh = hand_path(pred, half_y_m, int(math.ceil(plan.T_hand_s / plan.Te_s)))
     ff = GravityTable(pred, lo, hi) if plan.gravity_ff else None  # the firmware's feed-forward
-    st = excitation2.State2()
-    for k in range(n):
-        t = k * Te
-        if k < n_hand:
-            plant.place(qh[k])
-        c = [math.floor(sgn[j] * (plant.q[j] - pred.zero_rad[j]) / step) for j in range(2)]
-        counts[k] = c
-        q_read = pred.angles(np.array(c))[0]
-        tg = ff(q_read) if ff is not None else None
-        i, status = excitation2.step(plan, st, [float(q_read[0]), float(q_read[1])], tg)
-        cmd[k] = i
-        if status != excitation2.RUNNING:
-            n = k + 1
-            break
-        if t >= plan.T_hand_s:
-            late = cmd[k - delay] if k >= delay else (0.0, 0.0)
-            plant.advance([ktt * (late[j] + noise[k][j]) for j in range(2)], Te)
-    tr["status"] = {excitation2.DONE: "done", excitation2.RANGE: "stopped: a joint left its range (or the hold envelope)",
-                    excitation2.ENCODER: "stopped: a joint moved against the +y hand move"}.get(st.status, "running")
+    t, counts, cmd = bench_joints.run(pred, plant, tr, qh, ff, seed)
     tr["model"] = "reduced" if mjcf is None else "mujoco"
-    return np.arange(n) * Te, counts[:n], cmd[:n], tr
+    return t, counts, cmd, tr

@@ -31,7 +31,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from cad.dynamics.delta import DeltaMass
+from cad.dynamics.delta import G_M_S2, DeltaMass
 from cad.errors import DesignError
 from cad.families.delta.layout import ARMS, arm_points_mm, poses_at
 from cad.kinematics.delta import Delta, ik, jacobian_rad_per_m, require_ok
@@ -108,21 +108,45 @@ def mass_matrix_from_bodies_kg(d: Delta, P_mm, width_mm: float, props: dict,
         raise DesignError("rotor_kg_m2", f"must be finite and >= 0, got {rotor_kg_m2!r}")
     if not (np.isfinite(ratio) and ratio > 0):
         raise DesignError("ratio", f"must be finite and > 0, got {ratio!r}")
+    J, bodies = com_jacobians(d, P_mm, width_mm, props)
+    Lam = ratio**2 * rotor_kg_m2 * np.einsum("nik,nil->nkl", J, J)
+    for mp, Jcom, Jw, I_w in bodies:
+        Lam += mp.mass_kg * np.swapaxes(Jcom, 1, 2) @ Jcom + np.swapaxes(Jw, 1, 2) @ I_w @ Jw
+    return Lam
+
+
+def com_jacobians(d: Delta, P_mm, width_mm: float, props: dict) -> tuple[np.ndarray, list[tuple]]:
+    """(J (N, 3, 3) rad/m, [(MassProps, Jcom (N, 3, 3), Jw (N, 3, 3), I about the centre in the
+    base frame (N, 3, 3))] per moving body with mass): each body centre's velocity and angular
+    velocity per effector velocity, base frame, at effector points ``P_mm`` (N, 3).
+    KinematicsError naming the first point not ok."""
     pose = ik(d, P_mm)
     require_ok(pose)
     J, _ = jacobian_rad_per_m(d, pose.P_mm)
     tfs = poses_at(d, pose.P_mm, pose.theta_rad, width_mm)
-    jac = body_jacobians(d, pose.P_mm, pose.theta_rad, J)
-    Lam = ratio**2 * rotor_kg_m2 * np.einsum("nik,nil->nkl", J, J)
-    for body, (Jo, Jw) in jac.items():
+    out = []
+    for body, (Jo, Jw) in body_jacobians(d, pose.P_mm, pose.theta_rad, J).items():
         mp = props.get(body)
         if mp is None or mp.mass_kg == 0 and not np.any(mp.inertia_com_kg_m2):
             continue
         R = tfs[body][:, :3, :3]
         Jcom = Jo - _skew(R @ np.asarray(mp.com_m)) @ Jw
-        I_w = R @ np.asarray(mp.inertia_com_kg_m2) @ np.swapaxes(R, 1, 2)
-        Lam += mp.mass_kg * np.swapaxes(Jcom, 1, 2) @ Jcom + np.swapaxes(Jw, 1, 2) @ I_w @ Jw
-    return Lam
+        out.append((mp, Jcom, Jw, R @ np.asarray(mp.inertia_com_kg_m2) @ np.swapaxes(R, 1, 2)))
+    return J, out
+
+
+def gravity_hold_torques_Nm(d: Delta, P_mm, width_mm: float, props: dict,
+                            g_m_s2=(0.0, 0.0, -G_M_S2)) -> np.ndarray:
+    """Joint torques (N, 3) N m holding the solids still at effector points ``P_mm`` (N, 3)
+    mm: J^-T grad_x V with grad_x V = -sum_b m_b Jcom_b^T g (every body's weight at its
+    centre, :func:`com_jacobians`; the point-mass model's
+    :func:`cad.dynamics.delta.gravity_torques_Nm` for slender rods and a point effector)."""
+    J, bodies = com_jacobians(d, P_mm, width_mm, props)
+    g = np.asarray(g_m_s2, float)
+    grad = np.zeros((J.shape[0], 3))
+    for mp, Jcom, _, _ in bodies:
+        grad -= mp.mass_kg * np.einsum("nji,j->ni", Jcom, g)
+    return np.linalg.solve(np.swapaxes(J, -1, -2), grad[..., None])[..., 0]
 
 
 def delta_mass_from_bodies(d: Delta, props: dict, rotor_kg_m2: float = 0.0,
