@@ -81,7 +81,7 @@ FAMILIES: dict[str, Family] = {
         Family("powermouse", "powermouse", "cad.design.powermouse", "powermouse",
                ("check", "fit", "build", "render", "datasheet"), why_not=_POWERMOUSE_WHY_NOT),
         Family("delta", "delta", "cad.families.delta.design", "delta",
-               ("check", "fit", "build", "gii", "optimize", "render", "datasheet")),
+               ("check", "fit", "build", "gii", "optimize", "render", "datasheet", "identify", "bench-log")),
     )
 }
 

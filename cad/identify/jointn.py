@@ -20,7 +20,8 @@ tau = M q'' + sum_k (dM/dq_k q'_k) q' - 1/2 [q'^T dM/dq_k q']_k (the Euler-Lagra
 of T = 1/2 q'^T M q', dM/dq_k by central differences).
 
 The signal path (filter, derivatives, slow rows left out, delay column, covariance) is the
-5-bar fit's (:mod:`cad.identify.joint2`), per joint.
+5-bar fit's (:mod:`cad.identify.joint2`), per joint, with the filter at
+:data:`FIT_FILTER_HZ`.
 """
 
 from __future__ import annotations
@@ -33,11 +34,16 @@ from dataclasses import dataclass
 import numpy as np
 
 from cad.identify.joint2 import Fit2, moving_rows, scaled_lstsq
-from cad.identify.regression import FILTER_HZ, NotExcited, derivatives, lowpass
+from cad.identify.regression import NotExcited, derivatives, lowpass
 from cad.tolerances import IDENT_CONDITION_MAX, IDENT_SLOW_FRACTION
 
 #: Central-difference step of dM/dq (rad).
 DQ_RAD = 1e-5
+#: The fit's low-pass cut-off (Hz): 5/3 of the chirp's top frequency (F1_HZ = 15 Hz). Measured
+#: on the delta's bench logs (2000-count encoders, links +15 %): at the 1- and 2-motor fits'
+#: 40 Hz the encoder's quantization noise in the accelerations (errors in the regressors)
+#: biased the apparent mass low by 4-5 %, at 25 Hz by 0.3 % (a 400 000-count encoder: +0.2 %).
+FIT_FILTER_HZ = 25.0
 
 
 @dataclass(frozen=True)
@@ -68,11 +74,12 @@ def lagrange_torques(mass_matrix: Callable, q, v, a, dq: float = DQ_RAD) -> np.n
 
 
 def filtered(q_rad, Te_s: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(q, q', q'') (N, n) of the log's angles, each joint through the fit's filter."""
+    """(q, q', q'') (N, n) of the log's angles, each joint through the fit's filter
+    (:data:`FIT_FILTER_HZ`)."""
     q = np.asarray(q_rad, float)
     out = [np.empty_like(q) for _ in range(3)]
     for j in range(q.shape[1]):
-        out[0][:, j], out[1][:, j], out[2][:, j] = derivatives(q[:, j], Te_s)
+        out[0][:, j], out[1][:, j], out[2][:, j] = derivatives(q[:, j], Te_s, FIT_FILTER_HZ)
     return out[0], out[1], out[2]
 
 
@@ -90,7 +97,7 @@ def design_matrix(model: JointModel, q, v, a, Te: float) -> tuple[np.ndarray, tu
         cols.append(on(j, a[:, j]))
         names.append(f"J{j}_kg_m2")
     for j in range(n):
-        cols += [on(j, lowpass(np.sign(v[:, j]), Te)), on(j, v[:, j])]
+        cols += [on(j, lowpass(np.sign(v[:, j]), Te, FIT_FILTER_HZ)), on(j, v[:, j])]
         names += [f"Tc{j}_Nm", f"b{j}_Nm_s_per_rad"]
     if model.gravity is not None:
         cols.append(np.asarray(model.gravity(q), float))
@@ -134,14 +141,15 @@ def fit(t_s, q_rad, current_A, kt_Nm_per_A: float, model: JointModel) -> Fit2:
         raise NotExcited(f"only {int(mask.sum(axis=0).min())} samples of a joint move faster than "
                          f"{100 * IDENT_SLOW_FRACTION:g} % of its peak rate")
     X3, names = design_matrix(model, q, v, a, Te)
-    tau_raw = kt_Nm_per_A * np.column_stack([lowpass(np.asarray(current_A, float)[:, j], Te) for j in range(n)])
+    tau_raw = kt_Nm_per_A * np.column_stack([lowpass(np.asarray(current_A, float)[:, j], Te, FIT_FILTER_HZ)
+                                             for j in range(n)])
     b = _best_signs(X3, mask, tau_raw, Te)
     if b["cond"] > IDENT_CONDITION_MAX:
         raise NotExcited(f"the regressors are ill-conditioned (condition {b['cond']:.3g} > {IDENT_CONDITION_MAX:.3g}): "
                          "the motion does not separate inertia, friction and offsets")
     th, p = b["th"], len(names)
     dof = max(1, len(b["y"]) - len(th))
-    inflate = max(1.0, 1.0 / (2.0 * FILTER_HZ * Te))
+    inflate = max(1.0, 1.0 / (2.0 * FIT_FILTER_HZ * Te))
     cov = b["rss"] / dof * inflate * np.linalg.inv(b["Xn"].T @ b["Xn"]) / np.outer(b["scale"], b["scale"])
     s0 = 1 if th[names.index("c_link")] >= 0 else -1
     tau_fit = np.full_like(b["tau"], np.nan)

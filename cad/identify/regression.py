@@ -86,9 +86,10 @@ def lowpass(x: np.ndarray, Te_s: float, fc_Hz: float = FILTER_HZ) -> np.ndarray:
     return sosfiltfilt(butter(4, wn, output="sos"), x)
 
 
-def derivatives(q: np.ndarray, Te_s: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(filtered q, q', q'') of a sampled angle (rad, rad/s, rad/s^2)."""
-    qf = lowpass(q, Te_s)
+def derivatives(q: np.ndarray, Te_s: float, fc_Hz: float = FILTER_HZ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(filtered q, q', q'') of a sampled angle (rad, rad/s, rad/s^2); ``fc_Hz`` the filter's
+    cut-off."""
+    qf = lowpass(q, Te_s, fc_Hz)
     v = np.gradient(qf, Te_s)
     return qf, v, np.gradient(v, Te_s)
 

@@ -78,14 +78,18 @@ def _split(m, indep: list[str]) -> tuple[np.ndarray, np.ndarray]:
 
 def close_loops(m, d, indep: list[str]) -> float:
     """Solve the loop closure for the dependent joints (Newton on MuJoCo's own constraint
-    rows), keeping the ``indep`` joints where they are. Returns the residual (m)."""
+    rows), keeping the ``indep`` joints where they are; hinge and ball joints. Returns the
+    residual (m)."""
+    import mujoco
+
     u, dep = _split(m, indep)
-    qadr = np.array([int(m.jnt_qposadr[m.dof_jntid[k]]) for k in dep])
     for _ in range(CLOSE_MAX_ITER):
         J, r = equality_rows(m, d)
         if np.abs(r).max() < CLOSE_TOL_M:
             break
-        d.qpos[qadr] -= np.linalg.lstsq(J[:, dep], r, rcond=None)[0]
+        dv = np.zeros(m.nv)
+        dv[dep] = -np.linalg.lstsq(J[:, dep], r, rcond=None)[0]
+        mujoco.mj_integratePos(m, d.qpos, dv, 1.0)  # ball joints: their quaternions turned by dv
     return loop_residual_m(m, d)
 
 

@@ -65,7 +65,9 @@ def mass_of(spec) -> DeltaMass:
     return DeltaMass(**{k: spec.params[k] for k in MASS})
 
 
-def _props(report: dict) -> dict:
+def props_of(report: dict) -> dict:
+    """``{body: MassProps}`` (SI, body frames of :mod:`cad.families.delta.layout`) of
+    report.json ``bodies``."""
     return {k: MassProps(v["mass_kg"], np.asarray(v["com_mm"], float) * MM,
                          np.asarray(v["inertia_com_kg_m2"], float))
             for k, v in (report.get("bodies") or {}).items()}
@@ -86,7 +88,7 @@ def spec_params(design, report: dict, device) -> SpecParams:
     workspace centre) and gravity -z. DesignError for a joint offset g > 0 (no mass model
     of the knee) or a workspace centre out of reach."""
     d = design.mechanism
-    mass = delta_mass_from_bodies(d, _props(report), device.motor.rotor_inertia_kg_m2,
+    mass = delta_mass_from_bodies(d, props_of(report), device.motor.rotor_inertia_kg_m2,
                                   device.transmissions[0].ratio)
     pose = D.ik(d, np.asarray(design.workspace["center_mm"], float)[None, :])
     if not pose.ok[0]:
