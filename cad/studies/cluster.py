@@ -35,17 +35,17 @@ def check_flags(workers: int | None, scheduler: str | None) -> None:
         raise DesignError("--scheduler", f"expected tcp://HOST:PORT, got {scheduler!r}")
 
 
-def connect(workers: int, scheduler: str | None, command: str, timeout_s: float = CONNECT_TIMEOUT_S):
+def connect(workers: int, scheduler: str | None, command: str, timeout_s: float | None = None):
     """(client, embedded cluster or None). Call it with SIGINT/SIGTERM deferred and assign
     its result inside that block: an interrupt during the cluster's start-up then acts once
     both exist and :func:`shutdown` can close them. Raises DesignError (``--scheduler``:
-    not reached within ``timeout_s`` seconds) or HapticadError (the LocalCluster did not
+    not reached within ``timeout_s`` seconds, default :data:`CONNECT_TIMEOUT_S`) or HapticadError (the LocalCluster did not
     start; ``command`` names the command in the message)."""
     from dask.distributed import Client, LocalCluster
 
     if scheduler:
         try:
-            return Client(scheduler, timeout=f"{timeout_s}s"), None
+            return Client(scheduler, timeout=f"{timeout_s or CONNECT_TIMEOUT_S}s"), None
         except OSError as exc:
             raise DesignError("--scheduler", f"cannot reach {scheduler}: {exc}") from None
     # SIGINT/SIGTERM blocked in the threads the cluster starts (its event loop, the

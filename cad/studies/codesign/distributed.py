@@ -4,7 +4,7 @@
   (:class:`optuna.storages.JournalStorage` over a
   :class:`optuna.storages.journal.JournalFileBackend`: append-only, locked by a symbolic link,
   so it works on the shared file systems of a SLURM cluster), beside ``DIR/study.json`` naming
-  the design and the search options it belongs to (:func:`open_study_dir` refuses a folder
+  the design and the search options it belongs to (:func:`check_study_dir` refuses a folder
   holding another study). The study's name is ``<design name>-<study key>``: the key hashes
   the design mapping, the seed and the search options (``--trials`` excluded).
 * The Dask cluster is the sweep's (:mod:`cad.studies.cluster`: an embedded LocalCluster of
@@ -43,6 +43,8 @@ JOURNAL = "journal.log"
 META = "study.json"
 #: the trial user attribute holding its record and candidate tables (:func:`trial_attr`)
 ATTR = "hapticad"
+#: seconds after which a journal lock nobody wrote under is broken (optuna's default: 30)
+LOCK_GRACE_S = 10
 
 
 def study_key(design, seed: int, options: dict) -> str:
@@ -52,10 +54,11 @@ def study_key(design, seed: int, options: dict) -> str:
     return hashlib.sha256(text.encode()).hexdigest()[:16]
 
 
-def open_study_dir(folder: Path, design, seed: int, options: dict) -> tuple[str, Path]:
-    """(study name, journal path) of ``folder`` for this search, creating the folder and its
-    ``study.json`` when new. Raises DesignError (``--study``) when the folder is a file, holds
-    files but no ``study.json``, or holds the study of another design, seed or options."""
+def check_study_dir(folder: Path, design, seed: int, options: dict) -> dict:
+    """The ``study.json`` of ``folder`` for this search (written by :func:`run` only once the
+    cluster is reached: a refusal creates nothing). Raises DesignError (``--study``) when
+    the folder is a file, holds files but no ``study.json``, or holds the study of another
+    design, seed or search options."""
     key = study_key(design, seed, options)
     meta = {"study_name": f"{design.name}-{key}", "study_key": key, "design": design.name,
             "design_source": str(design.source), "seed": seed, "options": options}
@@ -74,17 +77,47 @@ def open_study_dir(folder: Path, design, seed: int, options: dict) -> tuple[str,
     elif folder.is_dir() and any(folder.iterdir()):
         raise DesignError("--study", f"{folder} is not a study folder (files but no {META}); "
                           "name a new or empty folder")
-    else:
-        write_text_atomic(mp, json.dumps(meta, indent=1))
-    return meta["study_name"], folder / JOURNAL
+    return meta
 
 
 def journal_storage(path: Path):
-    """The optuna storage of the journal file ``path`` (created on first write)."""
+    """The optuna storage of the journal file ``path`` (created on first write), locked by a
+    symbolic link (NFS-safe) that a waiting process breaks after :data:`LOCK_GRACE_S` seconds
+    without a write (a worker killed while holding it)."""
     from optuna.storages import JournalStorage
-    from optuna.storages.journal import JournalFileBackend
+    from optuna.storages.journal import JournalFileBackend, JournalFileSymlinkLock
 
-    return JournalStorage(JournalFileBackend(str(path)))
+    lock = JournalFileSymlinkLock(str(path), grace_period=LOCK_GRACE_S)
+    return JournalStorage(JournalFileBackend(str(path), lock_obj=lock))
+
+
+def repair_journal(path: Path) -> list[str]:
+    """Before a resume: remove the journal's lock when older than :data:`LOCK_GRACE_S` (its
+    holder was killed: a write holds it for milliseconds) and cut a last line left half-written
+    by a killed worker (optuna refuses the journal once a line follows it). Returns what was
+    done, in words."""
+    done = []
+    lock = Path(str(path) + ".lock")
+    try:
+        if time.time() - lock.lstat().st_mtime > LOCK_GRACE_S:
+            lock.unlink()
+            done.append(f"removed the stale lock {lock}")
+    except FileNotFoundError:
+        pass
+    if path.is_file():
+        from optuna.storages.journal import JournalFileSymlinkLock
+
+        held = JournalFileSymlinkLock(str(path), grace_period=LOCK_GRACE_S)
+        held.acquire()  # no append under way while the tail is read and cut
+        try:
+            data = path.read_bytes()
+            if data and not data.endswith(b"\n"):
+                with path.open("r+b") as f:
+                    f.truncate(data.rfind(b"\n") + 1)
+                done.append(f"cut a half-written last line of {path}")
+        finally:
+            held.release()
+    return done
 
 
 def batch_seed(seed: int, done: int, batch: int) -> int:
@@ -199,14 +232,17 @@ def run(pb: Problem, trials: int, seed: int, starts: bool, where: dict,
     import optuna
 
     optuna.logging.set_verbosity(optuna.logging.WARNING)
-    name, journal = open_study_dir(Path(where["study"]), pb.design, seed, where["options"])
-    study = optuna.create_study(study_name=name, storage=journal_storage(journal), direction="minimize",
-                                load_if_exists=True, sampler=search.tpe_sampler(seed))
-    if not study.get_trials(deepcopy=False):
-        search.enqueue_starts(study, pb, starts)
-    elif pb.capstan is not None:
+    folder = Path(where["study"])
+    meta = check_study_dir(folder, pb.design, seed, where["options"])
+    name, journal = meta["study_name"], folder / JOURNAL
+    if pb.capstan is not None:
         pb.capstan_stock = tuple(search.capstan_stock_mm(pb))
-    done = completed(study)
+    for said in repair_journal(journal):
+        if progress:
+            progress(said)
+    study = (optuna.load_study(study_name=name, storage=journal_storage(journal))
+             if journal.is_file() else None)
+    done = 0 if study is None else completed(study)
     todo = max(0, trials - done)
     info = {"storage": str(journal), "study_name": name, "workers": where.get("workers"),
             "scheduler": where.get("scheduler") or "LocalCluster", "resumed_trials": done,
@@ -214,27 +250,47 @@ def run(pb: Problem, trials: int, seed: int, starts: bool, where: dict,
     if todo:
         if progress:
             progress(f"{todo} trials on Dask ({done} in {journal} already)")
-        info.update(_evaluate(pb, journal, name, todo, trials, (seed, done), where))
-    cands, records = trials_from(study, pb)
+        info.update(_evaluate(pb, (folder, meta, starts), todo, trials, (seed, done), where))
+        study = optuna.load_study(study_name=name, storage=journal_storage(journal))
+    cands, records = trials_from(study, pb) if study is not None else ([], [])
     info["completed_trials"] = len(records)
     return cands, records, info
 
 
-def _evaluate(pb: Problem, journal: Path, name: str, todo: int, total: int, seeds: tuple[int, int],
+def create_study(folder: Path, meta: dict, pb: Problem, starts: bool):
+    """The study of ``meta`` in ``folder`` (``study.json`` written first), its starting trials
+    enqueued when it is new (:func:`search.enqueue_starts`)."""
+    import optuna
+
+    write_text_atomic(folder / META, json.dumps(meta, indent=1))
+    study = optuna.create_study(study_name=meta["study_name"], storage=journal_storage(folder / JOURNAL),
+                                direction="minimize", load_if_exists=True)
+    if not study.get_trials(deepcopy=False):
+        search.enqueue_starts(study, pb, starts)
+    return study
+
+
+def _evaluate(pb: Problem, made: tuple, todo: int, total: int, seeds: tuple[int, int],
               where: dict) -> dict:
-    """Run ``todo`` trials as one batch per worker (:func:`run_batch`); the timings."""
+    """Reach the cluster, create the study (``made``: folder, ``study.json`` mapping, starts),
+    run ``todo`` trials as one batch per worker (:func:`run_batch`); the timings."""
+    from dask.distributed import as_completed
+
+    folder, meta, starts = made
+    name, journal = meta["study_name"], folder / JOURNAL
     t0 = time.perf_counter()
     client = dask_cluster = None
     try:
         with signals.deferred():
             client, dask_cluster = cluster.connect(where.get("workers") or 1, where.get("scheduler"), "optimize")
+        create_study(folder, meta, pb, starts)
         n = max(1, len(cluster.worker_addresses(client)))  # a scheduler's workers at the start
         client.run(warm_up)
         t1 = time.perf_counter()
         futs = [client.submit(run_batch, pb, str(journal), name, q, total, batch_seed(*seeds, i), pure=False)
                 for i, q in enumerate(quotas(todo, n))]
-        try:
-            ran = sum(client.gather(futs))
+        try:  # as they complete (an interrupt while waiting leaves no pending gather behind)
+            ran = sum(f.result() for f in as_completed(futs))
         except Exception as exc:  # KilledWorker after repeated deaths, a lost connection
             raise HapticadError(f"optimize: a trial batch failed on Dask ({type(exc).__name__}: "
                                 f"{' '.join(str(exc).split())[:200]}); the completed trials are kept in "
