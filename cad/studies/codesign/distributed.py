@@ -248,9 +248,7 @@ def run(pb: Problem, trials: int, seed: int, starts: bool, where: dict,
             "scheduler": where.get("scheduler") or "LocalCluster", "resumed_trials": done,
             "new_trials": 0, "startup_s": None, "evaluation_s": None, "trials_per_s": None}
     if todo:
-        if progress:
-            progress(f"{todo} trials on Dask ({done} in {journal} already)")
-        info.update(_evaluate(pb, (folder, meta, starts), todo, trials, (seed, done), where))
+        info.update(_evaluate(pb, (folder, meta, starts), todo, trials, (seed, done), where, progress))
         study = optuna.load_study(study_name=name, storage=journal_storage(journal))
     cands, records = trials_from(study, pb) if study is not None else ([], [])
     info["completed_trials"] = len(records)
@@ -271,7 +269,7 @@ def create_study(folder: Path, meta: dict, pb: Problem, starts: bool):
 
 
 def _evaluate(pb: Problem, made: tuple, todo: int, total: int, seeds: tuple[int, int],
-              where: dict) -> dict:
+              where: dict, progress=None) -> dict:
     """Reach the cluster, create the study (``made``: folder, ``study.json`` mapping, starts),
     run ``todo`` trials as one batch per worker (:func:`run_batch`); the timings."""
     from dask.distributed import as_completed
@@ -285,6 +283,8 @@ def _evaluate(pb: Problem, made: tuple, todo: int, total: int, seeds: tuple[int,
             client, dask_cluster = cluster.connect(where.get("workers") or 1, where.get("scheduler"), "optimize")
         create_study(folder, meta, pb, starts)
         n = max(1, len(cluster.worker_addresses(client)))  # a scheduler's workers at the start
+        if progress:
+            progress(f"{todo} trials on Dask, {n} batches ({seeds[1]} in {journal} already)")
         client.run(warm_up)
         t1 = time.perf_counter()
         futs = [client.submit(run_batch, pb, str(journal), name, q, total, batch_seed(*seeds, i), pure=False)
