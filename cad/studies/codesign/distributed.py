@@ -32,6 +32,7 @@ import math
 import time
 from pathlib import Path
 
+from cad.design import bounds
 from cad.errors import DesignError, HapticadError
 from cad.io import signals
 from cad.io.atomic import write_text_atomic
@@ -169,8 +170,6 @@ def run_batch(pb: Problem, journal: str, name: str, n_trials: int, total: int, s
     import optuna
     from optuna.study import MaxTrialsCallback
 
-    from cad.design import bounds
-
     optuna.logging.set_verbosity(optuna.logging.WARNING)
     study = optuna.load_study(study_name=name, storage=journal_storage(Path(journal)),
                               sampler=search.tpe_sampler(seed))
@@ -303,8 +302,6 @@ def _evaluate(pb: Problem, made: tuple, todo: int, total: int, seeds: tuple[int,
 
 
 def warm_up() -> None:
-    """On a worker, before the clock: import optuna and the cheap model (what the first batch
-    would otherwise pay)."""
+    """On a worker, before the clock: import optuna and the search with its cheap model (what
+    the first batch would otherwise pay: this module imports them)."""
     import optuna  # noqa: F401
-
-    from cad.studies.codesign import cheap  # noqa: F401
