@@ -770,10 +770,9 @@ def sweep_design(design: str | Path, vary, out_dir: str | Path, samples: int | N
         raise DesignError("--samples", f"must be in [1, 100000], got {samples}")
     if fidelity not in ("inertia", "fabrication"):
         raise DesignError("--fidelity", f"must be inertia or fabrication, got {fidelity!r}")
-    if scheduler is None and not 1 <= workers <= 256:
-        raise DesignError("--workers", f"must be in [1, 256], got {workers}")
-    if scheduler is not None and not scheduler.startswith(("tcp://", "tls://", "inproc://", "ucx://")):
-        raise DesignError("--scheduler", f"expected tcp://HOST:PORT, got {scheduler!r}")
+    from cad.studies.cluster import check_flags
+
+    check_flags(workers, scheduler)
     xy = tuple(c.strip() for c in chart.split(","))
     if len(xy) != 2 or not all(c in VALUE_KEYS for c in xy):
         raise DesignError("--chart", f"expected X,Y with X and Y in {', '.join(VALUE_KEYS)}, got {chart!r}")

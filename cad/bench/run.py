@@ -22,9 +22,10 @@ TOPICS = {
     "evaluations": "cad.bench.evaluations",
     "sweep": "cad.bench.sweep",
     "capstan": "cad.bench.capstan",
+    "optimize": "cad.bench.optimize",
 }
 #: topics run only when named in --only (minutes of worker processes each)
-OPT_IN = ("sweep",)
+OPT_IN = ("sweep", "optimize")
 
 
 def _cpu_s() -> float:
@@ -80,6 +81,11 @@ def goal_rows(results: dict) -> list[tuple[str, str, str, bool | None]]:
         rows.append(("sweep throughput, 2 workers / 1 worker",
                      f"{sw['speedup_2_workers']:.2f}x ({sw['variants_per_s_1']:.2f} -> {sw['variants_per_s_2']:.2f} variants/s)",
                      ">= 1.7x", sw["speedup_2_workers"] >= 1.7))
+    o = results.get("optimize", {})
+    if "ratio_2_workers" in o:
+        rows.append(("optimize trials per second on Dask, 2 workers / 1 worker (medians, one run)",
+                     f"{o['ratio_2_workers']:.2f}x ({o['trials_per_s_1']:.1f} -> {o['trials_per_s_2']:.1f} "
+                     f"trials/s; in-process {o['trials_per_s_in_process']:.1f})", "(measured)", None))
     i = results.get("interference", {})
     if "sweep_200_s" in i:
         rows.append(("interference sweep 200 poses x all pairs", f"{i['sweep_200_s']:.2f} s, {i.get('missed', '?')} missed",

@@ -50,8 +50,9 @@ def write_optimum(design, rep: dict, out: Path, command: str) -> bool:
 
 def _fourbar(d, path: Path, objective: str, trials: int, seed: int, top: int, out: Path | None,
              json_out: bool, proportions_tol: float = 0.0, starts: bool = True,
-             beat_prototype: bool = False) -> None:
-    """The four-bar co-design path (module docstring); exit 1 when no candidate is accepted."""
+             beat_prototype: bool = False, where: dict | None = None) -> None:
+    """The four-bar co-design path (module docstring); exit 1 when no candidate is accepted.
+    ``where``: the search on Dask (:func:`dask_where`), None in this process."""
     import sys
     import time
 
@@ -69,10 +70,11 @@ def _fourbar(d, path: Path, objective: str, trials: int, seed: int, top: int, ou
     replaced_charts = [str(c) for c in charts if chart_replaceable(c, path)]  # said, never silent
     rep, best = optimize_fourbar(d, objective, trials, seed, top, chart_dir, progress,
                                  out.stem if out is not None else None, proportions_tol, starts,
-                                 beat_prototype)
+                                 beat_prototype, where)
     cmd = (f"hapticad optimize {path} --objective {objective} --trials {trials} --seed {seed} "
            f"--exact-top {top}" + (f" --proportions-tol {proportions_tol:g}" if proportions_tol else "")
            + ("" if starts else " --no-starts") + (" --beat-prototype" if beat_prototype else "")
+           + "".join(f" --{k} {where[k]}" for k in ("workers", "scheduler", "study") if (where or {}).get(k))
            + (f" --out {out}" if out is not None else ""))
     rep["command"] = cmd
     rep["measured"] = time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())  # the docs' generated tables (cad.bench.readme)
@@ -96,6 +98,34 @@ def _fourbar(d, path: Path, objective: str, trials: int, seed: int, top: int, ou
         print(f"hapticad: prototype not beaten: {prototype_blocker(rep['prototype'])}", file=sys.stderr)
     if best is None or rep["misses"]:
         raise typer.Exit(1)
+
+
+def dask_where(workers: int | None, scheduler: str | None, study: Path | None,
+               out: Path | None) -> dict | None:
+    """The Dask placement of a four-bar search (:func:`cad.studies.codesign.distributed.run`):
+    None without ``--workers`` and ``--scheduler`` (in this process); the study folder is
+    ``--study`` or, without it, ``<--out stem>_study`` beside ``--out``. Raises DesignError
+    naming the flag: both given, ``--workers`` out of range, ``--scheduler`` not an address,
+    ``--study`` without either or missing with no ``--out``, ``--study`` not a folder."""
+    from cad.cli import flags
+    from cad.errors import DesignError
+    from cad.studies.cluster import check_flags
+
+    if workers is not None and scheduler is not None:
+        raise DesignError("--workers", f"give --workers {workers} or --scheduler {scheduler}, not both "
+                                       "(the scheduler's workers run the trials)")
+    check_flags(workers, scheduler)
+    if workers is None and scheduler is None:
+        if study is not None:
+            raise DesignError("--study", f"{study}: only with --workers N or --scheduler ADDRESS "
+                                         "(the in-process search keeps its trials in memory)")
+        return None
+    if study is None and out is None:
+        raise DesignError("--study", "missing: the Dask search keeps its trials in a folder every "
+                                     "worker reaches; give --study DIR (or --out, then <out>_study)")
+    study = study if study is not None else out.parent / f"{out.stem}_study"
+    flags.out_path("--study", study, folder=True)
+    return {"workers": workers, "scheduler": scheduler, "study": str(study)}
 
 
 def prototype_blocker(proto: dict) -> str:
@@ -184,6 +214,16 @@ def register(app: typer.Typer) -> None:
             help="Four-bars: every figure of the Hoeken prototype as a limit (M11 <= 30 g, stroke >= 50 mm, "
                  "dy <= 0.2 mm, first mode >= 250 Hz, continuous force >= 5 N, K_max >= 15 kN/m, friction "
                  "<= 0.083 N); without a design meeting all, the Pareto front of the two that conflict."),
+        workers: int = typer.Option(
+            None, "--workers",
+            help="Four-bars: run the trials on an embedded Dask LocalCluster of N worker processes "
+                 "(the study in a journal under --study; resumable)."),
+        scheduler: str = typer.Option(
+            None, "--scheduler", help="Four-bars: tcp://HOST:PORT of an existing Dask scheduler instead."),
+        study: Path = typer.Option(
+            None, "--study",
+            help="Four-bars, with --workers/--scheduler: folder of the optuna journal every worker "
+                 "reaches (default: <--out stem>_study beside --out); rerun to resume."),
         allow_scripts: bool = typer.Option(
             False, "--allow-scripts", help="Run the design's [parts] handle_script (inside its folder)."
         ),
@@ -206,6 +246,7 @@ def register(app: typer.Typer) -> None:
         flags.number("--seed", seed)
         flags.number("--exact-top", exact_top)
         flags.number("--proportions-tol", proportions_tol)
+        where = dask_where(workers, scheduler, study, out)
         from cad.design import load_design
 
         loaded = load_design(design)
@@ -215,8 +256,12 @@ def register(app: typer.Typer) -> None:
                 raise DesignError("--method", f"{method!r} is for pantograph designs; a four-bar "
                                               "takes --objective min-apparent-mass")
             _fourbar(loaded, design, objective or "min-apparent-mass", trials, seed, exact_top, out,
-                     json_out, proportions_tol, not no_starts, beat_prototype)
+                     json_out, proportions_tol, not no_starts, beat_prototype, where)
             return
+        if where is not None:
+            flag = "--scheduler" if scheduler is not None else "--workers"
+            raise DesignError(flag, f"the Dask search is for four-bar designs, not {loaded.family!r} "
+                                    "(the GII culling runs in this process)")
         if objective is not None:
             raise DesignError("--objective", f"min-apparent-mass is for four-bar designs, not "
                                              f"{loaded.family!r} (use --method)")

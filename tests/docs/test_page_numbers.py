@@ -380,3 +380,20 @@ def test_performance_capstan_build_is_the_bench_json():
     assert f"{c['capstan_cold_s']:.2f} s against {c['direct_cold_s']:.2f} s" in text
     assert f"a ratio of\n{c['ratio']:.2f} (goal" in text or f"a ratio of {c['ratio']:.2f} (goal" in text
     assert c["ratio"] == c["capstan_cold_s"] / c["direct_cold_s"]
+
+
+def test_performance_optimize_dask_is_the_bench_json():
+    """docs/bench/optimize.json (the table of docs/performance.md is generated from it): the
+    command the page names, one run of 1 and 2 workers, and its ratio of their medians."""
+    import json
+    import statistics
+
+    rec = json.loads((ROOT / "docs" / "bench" / "optimize.json").read_text())
+    o = rec["optimize"]
+    assert rec["command"] == "hapticad bench --only optimize"
+    pts = {p["method"]: p for p in o["points"]}
+    for w, key in (("1 worker", "trials_per_s_1"), ("2 workers", "trials_per_s_2")):
+        assert len(pts[w]["trials_per_s_runs"]) == o["repeats"]
+        assert o[key] == statistics.median(pts[w]["trials_per_s_runs"])
+    assert o["ratio_2_workers"] == o["trials_per_s_2"] / o["trials_per_s_1"]
+    assert "<!-- generated: goals docs/bench/optimize.json -->" in (ROOT / "docs" / "performance.md").read_text()

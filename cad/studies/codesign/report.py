@@ -10,14 +10,14 @@ from cad.datasheet.run import device_datasheet
 from cad.design import bounds, parse_design
 from cad.errors import HapticadError
 from cad.families.fourbar.limits import prototype_limits
-from cad.studies.codesign import exact, prototype, search
+from cad.studies.codesign import distributed, exact, prototype, search
 from cad.studies.codesign.prototype import judged, motor_bound, prototype_design
 
 
 def optimize_fourbar(design, objective: str, trials: int, seed: int, top: int, chart_dir: Path | None,
                      progress=None, out_stem: str | None = None,
                      proportions_tol: float = 0.0, starts: bool = True,
-                     beat_prototype: bool = False) -> tuple[dict, object]:
+                     beat_prototype: bool = False, where: dict | None = None) -> tuple[dict, object]:
     """Search (cheap model), re-evaluate the best ``top`` candidates exactly, pick the lightest
     accepted one. ``starts=False``: without the hand-written :data:`search.STARTS`.
     ``beat_prototype``: the brief of :mod:`cad.studies.codesign.prototype` (every trial judged
@@ -25,7 +25,9 @@ def optimize_fourbar(design, objective: str, trials: int, seed: int, top: int, c
     The report's ``misses``: the design's targets the accepted optimum misses
     (:func:`cad.studies.codesign.exact.misses`). Warnings of the exact re-evaluations are
     dropped but the accepted candidate's (the design ``--out`` writes), said once. Returns (JSON-able report, accepted Candidate
-    or None)."""
+    or None). ``where``: run the search on Dask (:func:`cad.studies.codesign.distributed.run`:
+    ``study`` folder, ``workers`` or ``scheduler``); the report then has a ``study`` entry.
+    None: in this process, as always."""
     t0 = time.perf_counter()
     if beat_prototype:
 
@@ -34,7 +36,9 @@ def optimize_fourbar(design, objective: str, trials: int, seed: int, top: int, c
     pb.fixed_parts = search.fixed_parts(design)
     pb.proportions_tol = proportions_tol
     pb.all_limits = beat_prototype
-    cands, records = search.run(pb, trials, seed, starts=starts)
+    cands, records, study = _search(pb, trials, seed, starts, where, progress,
+                                    {"objective": objective, "proportions_tol": proportions_tol,
+                                     "starts": starts, "beat_prototype": beat_prototype})
     t_search = time.perf_counter() - t0
     checked, best, best_said = [], None, []
     seen = set()
@@ -82,6 +86,7 @@ def optimize_fourbar(design, objective: str, trials: int, seed: int, top: int, c
         "wall_s": time.perf_counter() - t0,
         "misses": [] if best is None else exact.misses(best[1], checked),
         "infeasible_reasons": infeasible_reasons(records),
+        **({} if study is None else {"study": study}),  # on Dask: the journal, workers, timings
     }
     if beat_prototype:
         rep["prototype"] = _prototype_report(design, pb, records, best, chart_dir, out_stem)
@@ -89,6 +94,16 @@ def optimize_fourbar(design, objective: str, trials: int, seed: int, top: int, c
     if chart_dir is not None:
         rep["chart"] = plot_pareto(records, front, best, chart_dir / f"{out_stem or design.name}_pareto")
     return rep, (best[0] if best else None)
+
+
+def _search(pb, trials: int, seed: int, starts: bool, where: dict | None, progress,
+            options: dict) -> tuple[list, list[dict], dict | None]:
+    """(candidates, records, the report's ``study`` entry or None): the search in this process
+    (``where`` None) or on Dask (:func:`cad.studies.codesign.distributed.run`, ``options``
+    the search options that name its study)."""
+    if where is None:
+        return (*search.run(pb, trials, seed, starts=starts), None)
+    return distributed.run(pb, trials, seed, starts, {**where, "options": options}, progress)
 
 
 def infeasible_reasons(records: list[dict], most: int = 5) -> list[dict]:

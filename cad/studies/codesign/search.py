@@ -631,46 +631,53 @@ def cheap_structure(design, M11_max_g: float, plan=None) -> dict:
     return device.analyse(design, lumped, bars, "fem", M11_max_g * 1e-3, design.targets, poses=1)
 
 
-def run(pb: Problem, trials: int, seed: int = 0,
-        starts: bool = True) -> tuple[list[Candidate], list[dict]]:
-    """Run the study; return feasible candidates (best first) and every trial's record.
-
-    ``starts=False`` leaves out the hand-written :data:`STARTS` (TPE from its own random
-    start-up trials only); with them, the first ``len(STARTS)`` trials are those guesses."""
-    import optuna
-
-    optuna.logging.set_verbosity(optuna.logging.WARNING)
+def tpe_sampler(seed: int):
+    """The search's sampler: optuna TPE, seeded, multivariate over grouped (conditional) spaces."""
     import warnings
+
+    import optuna
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # optuna's ExperimentalWarning for multivariate / group TPE
-        sampler = optuna.samplers.TPESampler(seed=seed, multivariate=True, group=True)
-    study = optuna.create_study(direction="minimize", sampler=sampler)
-    records: list[dict] = []
-    cands: list[Candidate] = []
+        return optuna.samplers.TPESampler(seed=seed, multivariate=True, group=True)
 
-    def objective(trial):
-        span = trial.suggest_float("span_deg", 60.0, 200.0)
-        shift = trial.suggest_float("shift_deg", -40.0, 40.0)
-        parts = suggest_parts(trial, pb)
-        tr = suggest_transmission(trial, pb)
-        tol = pb.proportions_tol
-        ratios = ({k: trial.suggest_float(f"ratio_{k}", 1.0 - tol, 1.0 + tol) for k in PROPORTIONS}
-                  if tol > 0 else None)
-        best = min((c.cheap["M11_max_g"] for c in cands), default=None)
-        val, info = evaluate(pb, span, shift, parts, best, ratios, tr)
-        records.append({"trial": trial.number, "value": val if math.isfinite(val) else None,
-                        **{k: v for k, v in info.items() if k != "mechanism"}})
-        if pb.all_limits and "misses" in info:
-            pb.evaluated[trial.number] = Candidate(trial.number, info["mechanism"], parts, info, tr)
-        if math.isfinite(val):
-            cands.append(Candidate(trial.number, info["mechanism"], parts, info, tr))
-            return val
-        if pb.all_limits and info.get("misses") and "first_mode_Hz" in info:
-            # judged on every limit: toward them (the sum of their relative violations)
-            return 1e3 + sum(v for v in info["misses"].values() if v is not None)
-        return 1e6
 
+def suggest_and_evaluate(trial, pb: Problem, best: float | None):
+    """One trial: its suggested crank range, parts, transmission and proportions evaluated on
+    the cheap model (:func:`evaluate`, ``best`` the best feasible M11 so far, g). Returns
+    (objective M11_max_g or inf, info, parts table, transmission table or None)."""
+    span = trial.suggest_float("span_deg", 60.0, 200.0)
+    shift = trial.suggest_float("shift_deg", -40.0, 40.0)
+    parts = suggest_parts(trial, pb)
+    tr = suggest_transmission(trial, pb)
+    tol = pb.proportions_tol
+    ratios = ({k: trial.suggest_float(f"ratio_{k}", 1.0 - tol, 1.0 + tol) for k in PROPORTIONS}
+              if tol > 0 else None)
+    val, info = evaluate(pb, span, shift, parts, best, ratios, tr)
+    return val, info, parts, tr
+
+
+def trial_record(number: int, val: float, info: dict) -> dict:
+    """The record of one trial (every trial's, for the Pareto chart and the report): its
+    number, ``value`` (M11_max_g, g; None when infeasible) and the cheap figures but the
+    mechanism table."""
+    return {"trial": number, "value": val if math.isfinite(val) else None,
+            **{k: v for k, v in info.items() if k != "mechanism"}}
+
+
+def study_value(pb: Problem, val: float, info: dict) -> float:
+    """What optuna minimizes for a trial: its M11 when feasible; with ``pb.all_limits`` and
+    every limit judged, 1000 + the sum of the relative violations (toward the limits); else 1e6."""
+    if math.isfinite(val):
+        return val
+    if pb.all_limits and info.get("misses") and "first_mode_Hz" in info:
+        return 1e3 + sum(v for v in info["misses"].values() if v is not None)
+    return 1e6
+
+
+def enqueue_starts(study, pb: Problem, starts: bool) -> None:
+    """Set ``pb.capstan_stock`` (capstan briefs) and enqueue the hand-written starting trials
+    (the brief itself first for a capstan brief, then :data:`STARTS`) unless ``starts`` is False."""
     if pb.capstan is not None:
         pb.capstan_stock = tuple(capstan_stock_mm(pb))
         first = brief_start(pb) if starts else None
@@ -678,6 +685,33 @@ def run(pb: Problem, trials: int, seed: int = 0,
             study.enqueue_trial(first)
     for start in starts_for(pb.fixed_parts.get("process", "machined")) if starts else ():
         study.enqueue_trial({**start, **capstan_start(pb)})
+
+
+def run(pb: Problem, trials: int, seed: int = 0,
+        starts: bool = True) -> tuple[list[Candidate], list[dict]]:
+    """Run the study; return feasible candidates (best first) and every trial's record.
+
+    ``starts=False`` leaves out the hand-written :data:`STARTS` (TPE from its own random
+    start-up trials only); with them, the first ``len(STARTS)`` trials are those guesses.
+    In this process, in memory; :mod:`cad.studies.codesign.distributed` runs it on Dask."""
+    import optuna
+
+    optuna.logging.set_verbosity(optuna.logging.WARNING)
+    study = optuna.create_study(direction="minimize", sampler=tpe_sampler(seed))
+    records: list[dict] = []
+    cands: list[Candidate] = []
+
+    def objective(trial):
+        best = min((c.cheap["M11_max_g"] for c in cands), default=None)
+        val, info, parts, tr = suggest_and_evaluate(trial, pb, best)
+        records.append(trial_record(trial.number, val, info))
+        if pb.all_limits and "misses" in info:
+            pb.evaluated[trial.number] = Candidate(trial.number, info["mechanism"], parts, info, tr)
+        if math.isfinite(val):
+            cands.append(Candidate(trial.number, info["mechanism"], parts, info, tr))
+        return study_value(pb, val, info)
+
+    enqueue_starts(study, pb, starts)
     optimize_study(study, objective, trials)
     cands.sort(key=lambda c: c.cheap["M11_max_g"])
     return cands, records

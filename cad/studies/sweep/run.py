@@ -24,10 +24,8 @@
 from __future__ import annotations
 
 import json
-import logging
 import math
 import pickle
-import signal
 import sys
 import time
 from dataclasses import dataclass, field
@@ -36,13 +34,13 @@ from typing import Any
 
 import cad.families.fourbar.inertia  # noqa: F401
 from cad.design import parse_design
-from cad.errors import DesignError, HapticadError
 from cad.families.fourbar.inertia import warm_part_cache
 from cad.io import signals
 from cad.io.escape import mathtext
 from cad.occ.threads import limit_occt_threads
 from cad.parts.lazy_import import import_build123d
 from cad.report.figures import save_figure
+from cad.studies import cluster as cluster_mod
 from cad.studies.sweep.spec import Vary, apply, assignments, design_hash
 from cad.studies.sweep.table import DONE, MANIFEST, OWNED, TABLE, publish, read_table
 from cad.studies.sweep.task import VALUE_KEYS, evaluate_variant
@@ -143,65 +141,9 @@ def table_writers(rows: list[dict[str, Any]], cols: list[str]) -> dict[str, Any]
     return {TABLE: lambda p: pq.write_table(table, p), "results.csv": lambda p: pacsv.write_csv(table, p)}
 
 
-#: how long ``--scheduler ADDRESS`` is tried before the sweep is refused (Dask retries
-#: within it: a scheduler still starting is reached)
-CONNECT_TIMEOUT_S = 10.0
-#: no dashboard, and the scheduler's small HTTP server (metrics) on a free port: two sweeps
-#: (or a sweep beside another Dask cluster) must not fight over port 8787
-NO_HTTP_PORT = {"dashboard_address": ":0"}
-
-
-def _client(workers: int, scheduler: str | None):
-    """(client, embedded cluster or None). Call it with SIGINT/SIGTERM deferred and assign
-    its result inside that block (:func:`run_sweep`): an interrupt during the cluster's
-    start-up then acts once both exist and :func:`_shutdown` can close them."""
-    from dask.distributed import Client, LocalCluster
-
-    if scheduler:
-        try:
-            return Client(scheduler, timeout=f"{CONNECT_TIMEOUT_S}s"), None
-        except OSError as exc:
-            raise DesignError("--scheduler", f"cannot reach {scheduler}: {exc}") from None
-    # SIGINT/SIGTERM blocked in the threads the cluster starts (its event loop, the
-    # threads that spawn the workers) and so in every worker process: a Ctrl-C reaches
-    # the whole process group, and workers that handled it would print tracebacks after
-    # `hapticad: aborted`. The client closes them (Dask stops a worker by a message,
-    # then SIGKILL), and they exit by themselves when this process dies.
-    from multiprocessing import resource_tracker
-
-    resource_tracker.ensure_running()  # started here: its start unblocks both in the caller
-    old = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT, signal.SIGTERM})
-    try:
-        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                               dashboard_address=None, silence_logs=logging.CRITICAL,
-                               scheduler_kwargs=NO_HTTP_PORT)
-    except Exception as exc:  # e.g. a console script without its __main__ guard: spawn fails
-        raise HapticadError(f"sweep: the local Dask cluster did not start ({type(exc).__name__}: "
-                            f"{' '.join(str(exc).split())[:200]})") from None
-    finally:
-        signal.pthread_sigmask(signal.SIG_SETMASK, old)
-    return Client(cluster), cluster
-
-
-def _shutdown(client, cluster) -> None:
-    """Close the client and the embedded cluster (signals deferred), then release the
-    multiprocessing semaphores the cluster made: an aborted command leaves through
-    ``os._exit`` (:func:`cad.io.signals.exit_now`), which skips multiprocessing's exit
-    hook, and its resource tracker would print a "leaked semaphore" warning after
-    ``hapticad: aborted``."""
-    import gc
-    import multiprocessing.util as mpu
-
-    with signals.deferred():
-        try:
-            if client is not None:
-                client.close()
-            if cluster is not None:
-                cluster.close()
-        finally:
-            gc.collect()
-            if cluster is not None or signals.received() is not None:
-                mpu._run_finalizers(0)  # noqa: SLF001 - the exit hook's own step (unlinks + unregisters)
+#: how long ``--scheduler ADDRESS`` is tried before the sweep is refused (read at each call)
+CONNECT_TIMEOUT_S = cluster_mod.CONNECT_TIMEOUT_S
+NO_HTTP_PORT = cluster_mod.NO_HTTP_PORT  # the embedded cluster's (tests start their own alike)
 
 
 def _evaluate(spec: SweepSpec, out: Path, todo: list, rows: list, cols: list[str],
@@ -256,7 +198,7 @@ def run_sweep(spec: SweepSpec, out: Path, workers: int, scheduler: str | None) -
     try:
         if todo:
             with signals.deferred():
-                client, cluster = _client(workers, scheduler)
+                client, cluster = cluster_mod.connect(workers, scheduler, "sweep", CONNECT_TIMEOUT_S)
             timing = _evaluate(spec, out, todo, rows, cols, prog, client, cluster is not None)
             timing["startup_s"] = timing["t_eval"] - t0
         prog.stop()
@@ -270,7 +212,7 @@ def run_sweep(spec: SweepSpec, out: Path, workers: int, scheduler: str | None) -
         publish(out, writers)
     finally:
         prog.stop()
-        _shutdown(client, cluster)
+        cluster_mod.shutdown(client, cluster)
     return summary
 
 
@@ -330,7 +272,7 @@ def warm_up(client, raw: dict[str, Any], source: str, fidelity: str, one_core: b
 
     try:
         client.run(_setup_worker, one_core)
-        addrs = sorted(client.scheduler_info()["workers"])
+        addrs = cluster_mod.worker_addresses(client)
         futs = [client.submit(_warm_share, raw, source, fidelity, (i, len(addrs)), workers=[a],
                               allow_other_workers=False, pure=False) for i, a in enumerate(addrs)]
         wait(futs)
