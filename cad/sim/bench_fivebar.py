@@ -30,10 +30,9 @@ import math
 
 import numpy as np
 
-from cad.sim import bench_joints, mj
+from cad.sim import bench_joints
 from cad.sim.bench import HAND_FRACTION, OMEGA_S, STOP_FRACTION, SUBSTEP_MAX_S
 from cad.sim.identify_fivebar import jacobian
-from cad.sim.wall import MJ_STEP_MAX_S
 
 #: Joint grid of the gravity table (points per joint).
 GRAVITY_GRID = 41
@@ -136,73 +135,18 @@ class Plant5:
         self.q, self.w = q, w
 
 
-class MujocoPlant5:
+class MujocoPlant5(bench_joints.MujocoPlant):
     """The exported MJCF in MuJoCo (every link, the closed loop at E, the handle on its pin,
-    the rotors as the motor joints' armature): link masses and inertias scaled by ``mass``,
-    the armature set to the true rotor inertia, Coulomb friction as each motor joint's
-    ``frictionloss`` (hard, as :class:`cad.sim.bench._MujocoPlant`), viscous as its
-    ``damping``, the offsets as constant applied torques, gravity in the device plane for a
-    vertical device (``[firmware] gravity_direction`` times ``gravity``; the MJCF's own -z
-    gravity is normal to the plane: no joint torque); the stops as in :class:`Plant5`."""
+    the rotors as the motor joints' armature; :class:`cad.sim.bench_joints.MujocoPlant`),
+    gravity in the device plane for a vertical device (``[firmware] gravity_direction``;
+    the MJCF's own -z gravity is normal to the plane: no joint torque)."""
 
     JOINTS = ("q_left", "q_right")
     MOTORS = ("motor_left", "motor_right")
 
     def __init__(self, mjcf, pred, tr: dict, lo, hi, tau_max_Nm: float):
-        import mujoco
-
-        self.mujoco = mujoco
-        self.m, self.d = mj.load(mjcf)
-        m = self.m
-        self.iq = [mj.joint_qpos(m, j) for j in self.JOINTS]
-        self.iv = [mj.joint_dof(m, j) for j in self.JOINTS]
-        self.ia = [mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_ACTUATOR, a) for a in self.MOTORS]
-        m.body_mass[1:] *= tr["c_link"]
-        m.body_inertia[1:] *= tr["c_link"]
-        for k, v in enumerate(self.iv):
-            m.dof_armature[v] = tr["J_kg_m2"][k]
-            m.dof_damping[v] = tr["b_Nm_s_per_rad"][k]
-            m.dof_frictionloss[v] = tr["Tc_Nm"][k]
         g = pred.spec.gravity_m_s2
-        m.opt.gravity[:] = (0.0, 0.0, 0.0) if g is None else (g[0] * tr["gravity_scale"], g[1] * tr["gravity_scale"], 0.0)
-        for a in self.ia:
-            m.actuator_ctrlrange[a] = m.actuator_forcerange[a] = (-tau_max_Nm, tau_max_Nm)
-        self.T0, self.lo, self.hi = tr["offset_Nm"], list(lo), list(hi)
-        self._Te = None
-
-    def _timestep(self, Te: float) -> int:
-        nsub = max(1, math.ceil(Te / MJ_STEP_MAX_S))
-        if self._Te != Te:
-            self._Te = Te
-            self.m.opt.timestep = Te / nsub
-            for v in self.iv:
-                self.m.dof_solref[v] = (2.0 * self.m.opt.timestep, 1.0)
-                self.m.dof_solimp[v] = (0.9999, 0.9999, 0.001, 0.5, 2.0)
-        return nsub
-
-    @property
-    def q(self) -> list[float]:
-        return [float(self.d.qpos[i]) for i in self.iq]
-
-    def place(self, q) -> None:
-        for i, v in zip(self.iq, q, strict=True):
-            self.d.qpos[i] = v
-        mj.close_loops(self.m, self.d, list(self.JOINTS))
-        self.d.qvel[:] = 0.0
-        self.mujoco.mj_forward(self.m, self.d)
-
-    def advance(self, tau, Te: float) -> None:
-        nsub = self._timestep(Te)
-        for a, t in zip(self.ia, tau, strict=True):
-            self.d.ctrl[a] = t
-        self.d.qfrc_applied[:] = 0.0
-        for v, t0 in zip(self.iv, self.T0, strict=True):
-            self.d.qfrc_applied[v] = -t0
-        for _ in range(nsub):
-            self.mujoco.mj_step(self.m, self.d)
-            q = self.q
-            if any(not self.lo[j] <= q[j] <= self.hi[j] for j in range(2)):  # an inelastic stop
-                self.place([min(max(q[j], self.lo[j]), self.hi[j]) for j in range(2)])
+        super().__init__(mjcf, tr, lo, hi, tau_max_Nm, (0.0, 0.0, 0.0) if g is None else (g[0], g[1], 0.0))
 
 
 def hand_path(pred, half_y_m: float, n: int) -> np.ndarray:

@@ -19,6 +19,8 @@ import math
 import numpy as np
 
 from cad.identify import excitation2
+from cad.sim import mj
+from cad.sim.wall import MJ_STEP_MAX_S
 
 #: Bench Coulomb friction per motor when the prediction has none (fraction of Kt i_cont).
 NOMINAL_TC_FRACTION = 0.03
@@ -77,3 +79,77 @@ def run(pred, plant, tr: dict, qh: np.ndarray, ff, seed: int) -> tuple[np.ndarra
             plant.advance([ktt * (late[j] + noise[k][j]) for j in range(n_j)], Te)
     tr["status"] = STATUS_WORDS.get(st.status, "running")
     return np.arange(n) * Te, counts[:n], cmd[:n]
+
+
+class MujocoPlant:
+    """A build's MJCF in MuJoCo, driven by its motor joints :attr:`JOINTS` through the
+    actuators :attr:`MOTORS` (a subclass names them): link masses and inertias scaled by
+    ``c_link``, each motor joint's armature the true rotor inertia, Coulomb friction its
+    ``frictionloss`` (hard: solref at 2 time steps; MuJoCo's default softness is 20 ms),
+    viscous its ``damping``, the offsets constant applied torques; gravity ``gravity_m_s2``
+    (None: the model's own) times ``gravity_scale``; the loops re-closed after a placement
+    (:func:`cad.sim.mj.close_loops`: hinge and ball joints); a motor joint beyond [lo, hi]
+    is put back at the stop at rest (an inelastic stop), checked every MuJoCo step."""
+
+    JOINTS: tuple[str, ...] = ()
+    MOTORS: tuple[str, ...] = ()
+
+    def __init__(self, mjcf, tr: dict, lo, hi, tau_max_Nm: float, gravity_m_s2=None):
+        import mujoco
+
+        self.mujoco = mujoco
+        self.m, self.d = mj.load(mjcf)
+        m = self.m
+        self.iq = [mj.joint_qpos(m, j) for j in self.JOINTS]
+        self.iv = [mj.joint_dof(m, j) for j in self.JOINTS]
+        self.ia = [mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_ACTUATOR, a) for a in self.MOTORS]
+        m.body_mass[1:] *= tr["c_link"]
+        m.body_inertia[1:] *= tr["c_link"]
+        for k, v in enumerate(self.iv):
+            m.dof_armature[v] = tr["J_kg_m2"][k]
+            m.dof_damping[v] = tr["b_Nm_s_per_rad"][k]
+            m.dof_frictionloss[v] = tr["Tc_Nm"][k]
+        g = np.asarray(m.opt.gravity if gravity_m_s2 is None else gravity_m_s2, float)
+        m.opt.gravity[:] = g * tr["gravity_scale"]
+        for a in self.ia:
+            m.actuator_ctrlrange[a] = m.actuator_forcerange[a] = (-tau_max_Nm, tau_max_Nm)
+        self.T0, self.lo, self.hi = tr["offset_Nm"], list(lo), list(hi)
+        self._Te = None
+
+    def _timestep(self, Te: float) -> int:
+        nsub = max(1, math.ceil(Te / MJ_STEP_MAX_S))
+        if self._Te != Te:
+            self._Te = Te
+            self.m.opt.timestep = Te / nsub
+            for v in self.iv:
+                self.m.dof_solref[v] = (2.0 * self.m.opt.timestep, 1.0)
+                self.m.dof_solimp[v] = (0.9999, 0.9999, 0.001, 0.5, 2.0)
+        return nsub
+
+    @property
+    def q(self) -> list[float]:
+        """The motor joints' angles (rad)."""
+        return [float(self.d.qpos[i]) for i in self.iq]
+
+    def place(self, q) -> None:
+        """Put the motor joints at ``q`` at rest, the loops closed."""
+        for i, v in zip(self.iq, q, strict=True):
+            self.d.qpos[i] = v
+        mj.close_loops(self.m, self.d, list(self.JOINTS))
+        self.d.qvel[:] = 0.0
+        self.mujoco.mj_forward(self.m, self.d)
+
+    def advance(self, tau, Te: float) -> None:
+        """One control period ``Te`` (s) with the joint torques ``tau`` (N m) applied."""
+        nsub = self._timestep(Te)
+        for a, t in zip(self.ia, tau, strict=True):
+            self.d.ctrl[a] = t
+        self.d.qfrc_applied[:] = 0.0
+        for v, t0 in zip(self.iv, self.T0, strict=True):
+            self.d.qfrc_applied[v] = -t0
+        n = len(self.iq)
+        for _ in range(nsub):
+            self.mujoco.mj_step(self.m, self.d)
+            q = self.q
+            if any(not self.lo[j] <= q[j] <= self.hi[j] for j in range(n)):  # an inelastic stop
+                self.place([min(max(q[j], self.lo[j]), self.hi[j]) for j in range(n)])

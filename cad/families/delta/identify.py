@@ -44,11 +44,10 @@ from cad.identify import excitation2, jointn
 from cad.identify.joint2 import Fit2
 from cad.kinematics.delta import Delta, fk, ik, jacobian_rad_per_m
 from cad.pipeline import design_hash
-from cad.sim import bench_joints, identify_joints, mj
+from cad.sim import bench_joints, identify_joints
 from cad.sim.bench import HAND_FRACTION, STOP_FRACTION
 from cad.sim.identify_fivebar import TE_S, build_folder
 from cad.sim.identify_kits import IdentifyKit
-from cad.sim.wall import MJ_STEP_MAX_S
 
 #: The operator's hand move in the first phase (every arm turns up with it).
 HAND_MOVE = "straight up (+z)"
@@ -183,63 +182,13 @@ def predict_from_build(design, build_dir=None) -> PredictionDelta:
 
 
 # ------------------------------------------------------------------ the virtual bench
-class MujocoPlantDelta:
-    """The build's MJCF in MuJoCo (three upper arms on hinges, six rods on ball joints, the
-    effector; the loops closed by ``connect`` equalities; the rotors as the hinges'
-    armature): link masses and inertias scaled by ``c_link``, the armature the true rotor,
-    Coulomb friction each hinge's ``frictionloss``, viscous its ``damping``, the offsets
-    constant applied torques, gravity -z times ``gravity_scale``; a hinge beyond [lo, hi]
-    is put back at the stop at rest (an inelastic stop)."""
+class MujocoPlantDelta(bench_joints.MujocoPlant):
+    """The build's MJCF in MuJoCo (:class:`cad.sim.bench_joints.MujocoPlant`): three upper
+    arms on hinges, six rods on ball joints, the effector; the loops closed by ``connect``
+    equalities; the rotors as the hinges' armature; the model's -z gravity."""
 
     JOINTS = ("theta_0", "theta_1", "theta_2")
     MOTORS = ("motor_0", "motor_1", "motor_2")
-
-    def __init__(self, mjcf, tr: dict, lo, hi, tau_max_Nm: float):
-        import mujoco
-
-        self.mujoco = mujoco
-        self.m, self.d = mj.load(mjcf)
-        m = self.m
-        self.iq = [mj.joint_qpos(m, j) for j in self.JOINTS]
-        self.iv = [mj.joint_dof(m, j) for j in self.JOINTS]
-        self.ia = [mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_ACTUATOR, a) for a in self.MOTORS]
-        m.body_mass[1:] *= tr["c_link"]
-        m.body_inertia[1:] *= tr["c_link"]
-        for k, v in enumerate(self.iv):
-            m.dof_armature[v] = tr["J_kg_m2"][k]
-            m.dof_damping[v] = tr["b_Nm_s_per_rad"][k]
-            m.dof_frictionloss[v] = tr["Tc_Nm"][k]
-        m.opt.gravity[:] = np.asarray(m.opt.gravity) * tr["gravity_scale"]
-        for a in self.ia:
-            m.actuator_ctrlrange[a] = m.actuator_forcerange[a] = (-tau_max_Nm, tau_max_Nm)
-        m.opt.timestep = MJ_STEP_MAX_S
-        for v in self.iv:  # hard Coulomb friction (MuJoCo's default friction-loss softness is 20 ms)
-            m.dof_solref[v] = (2.0 * m.opt.timestep, 1.0)
-            m.dof_solimp[v] = (0.9999, 0.9999, 0.001, 0.5, 2.0)
-        self.T0, self.lo, self.hi = tr["offset_Nm"], list(lo), list(hi)
-
-    @property
-    def q(self) -> list[float]:
-        return [float(self.d.qpos[i]) for i in self.iq]
-
-    def place(self, q) -> None:
-        for i, v in zip(self.iq, q, strict=True):
-            self.d.qpos[i] = v
-        mj.close_loops(self.m, self.d, list(self.JOINTS))
-        self.d.qvel[:] = 0.0
-        self.mujoco.mj_forward(self.m, self.d)
-
-    def advance(self, tau, Te: float) -> None:
-        for a, t in zip(self.ia, tau, strict=True):
-            self.d.ctrl[a] = t
-        self.d.qfrc_applied[:] = 0.0
-        for v, t0 in zip(self.iv, self.T0, strict=True):
-            self.d.qfrc_applied[v] = -t0
-        for _ in range(max(1, math.ceil(Te / MJ_STEP_MAX_S))):
-            self.mujoco.mj_step(self.m, self.d)
-        q = self.q
-        if any(not self.lo[j] <= q[j] <= self.hi[j] for j in range(3)):
-            self.place([min(max(q[j], self.lo[j]), self.hi[j]) for j in range(3)])
 
 
 def hand_path(pred: PredictionDelta, design, n: int) -> np.ndarray:
