@@ -51,11 +51,22 @@ class JointModel:
     """A device's links for the fit: ``n`` motors; ``link_torques(q, v, a)`` -> (N, n) N m,
     the solids' links' inverse dynamics (no rotor, no gravity) at joint angles, rates and
     accelerations (N, n) rad, rad/s, rad/s^2; ``gravity(q)`` -> (N, n) N m, the torques
-    holding the solids against gravity (None: no gravity load)."""
+    holding the solids against gravity (None: no gravity load).
+
+    An over-actuated device (more motors than degrees of freedom: the twin pantograph, the
+    pen) gives ``basis(q)`` -> W (N, n, k): joint rates per unit rate of k independent
+    coordinates (q' = W X'). Its motors can push against each other without moving it (the
+    loop's internal force), so only W^T tau is seen: the fit's equations are the k rows of
+    W^T tau (Khalil & Dombre §7.10: the closed chain's dynamics in independent coordinates),
+    ``link_torques`` and ``gravity`` may give any joint torques with the right W^T tau (the
+    least-norm ones), and the constant offsets are identified as k generalized offsets spread
+    over the motors by least norm at the log's middle pose (a torque pattern W^T cancels is
+    not observable)."""
 
     n: int
     link_torques: Callable
     gravity: Callable | None = None
+    basis: Callable | None = None
 
 
 def lagrange_torques(mass_matrix: Callable, q, v, a, dq: float = DQ_RAD) -> np.ndarray:
@@ -83,8 +94,10 @@ def filtered(q_rad, Te_s: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return out[0], out[1], out[2]
 
 
-def design_matrix(model: JointModel, q, v, a, Te: float) -> tuple[np.ndarray, tuple[str, ...]]:
-    """X (N, n, p) and the parameter names of the model (module docstring)."""
+def design_matrix(model: JointModel, q, v, a, Te: float, offsets=None) -> tuple[np.ndarray, tuple[str, ...]]:
+    """X (N, n, p) and the parameter names of the model (module docstring); ``offsets``
+    (n, k): the joint torques of k generalized offsets ``F0{i}`` in place of the n per-motor
+    ``T0{j}_Nm`` (an over-actuated device, :class:`JointModel`)."""
     n, rows = model.n, len(q)
     cols, names = [model.link_torques(q, v, a)], ["c_link"]
 
@@ -102,22 +115,31 @@ def design_matrix(model: JointModel, q, v, a, Te: float) -> tuple[np.ndarray, tu
     if model.gravity is not None:
         cols.append(np.asarray(model.gravity(q), float))
         names.append("cg")
-    for j in range(n):
-        cols.append(on(j, np.ones(rows)))
-        names.append(f"T0{j}_Nm")
+    if offsets is None:
+        for j in range(n):
+            cols.append(on(j, np.ones(rows)))
+            names.append(f"T0{j}_Nm")
+    else:
+        for i in range(offsets.shape[1]):
+            cols.append(np.broadcast_to(offsets[:, i], (rows, n)).copy())
+            names.append(f"F0{i}")
     return np.stack(cols, axis=-1), tuple(names)
 
 
-def _best_signs(X3, mask, tau_raw, Te):
-    """The least-squares solution of the sign pattern (motor 0 +, others +/-) that fits best."""
+def _best_signs(X3, mask, tau_raw, Te, P=None):
+    """The least-squares solution of the sign pattern (motor 0 +, others +/-) that fits best;
+    ``P`` (N, k, n): the equations' projection W^T (None: one equation per motor)."""
     n = tau_raw.shape[1]
     best = None
     for signs in itertools.product((1, -1), repeat=n - 1):
         tau = tau_raw * np.array((1, *signs))
+        if P is not None:
+            tau = np.einsum("nkj,nj->nk", P, tau)
+        eqs = range(tau.shape[1])
         dtau = np.gradient(tau, Te, axis=0)
-        X = np.concatenate([X3[mask[:, j], j, :] for j in range(n)])
-        X = np.column_stack([X, np.concatenate([dtau[mask[:, j], j] for j in range(n)])])
-        y = np.concatenate([tau[mask[:, j], j] for j in range(n)])
+        X = np.concatenate([X3[mask[:, j], j, :] for j in eqs])
+        X = np.column_stack([X, np.concatenate([dtau[mask[:, j], j] for j in eqs])])
+        y = np.concatenate([tau[mask[:, j], j] for j in eqs])
         th, Xn, scale, cond = scaled_lstsq(X, y)
         rss = float(np.sum((y - X @ th) ** 2))
         if best is None or rss < best["rss"]:
@@ -126,12 +148,37 @@ def _best_signs(X3, mask, tau_raw, Te):
     return best
 
 
+def _offsets(model: JointModel, q, mask) -> tuple[np.ndarray | None, np.ndarray | None]:
+    """(P (N, k, n) = W^T, C (n, k) the least-norm joint torques of unit generalized offsets
+    at the middle moving pose) of an over-actuated model; (None, None) otherwise."""
+    if model.basis is None:
+        return None, None
+    W = np.asarray(model.basis(q), float)
+    Wm = np.asarray(model.basis(np.median(q[mask.any(axis=1)], axis=0)[None]), float)[0]
+    return np.swapaxes(W, 1, 2), Wm @ np.linalg.inv(Wm.T @ Wm)
+
+
+def _per_motor(names, th, cov, C):
+    """(names, theta, cov) with the generalized offsets ``F0{i}`` turned into per-motor
+    ``T0{j}_Nm`` = C F0 (covariance C cov C^T)."""
+    if C is None:
+        return names, th, cov
+    k = [i for i, m in enumerate(names) if m.startswith("F0")]
+    keep = [i for i in range(len(names)) if i not in k]
+    L = np.zeros((len(keep) + C.shape[0], len(names)))
+    L[np.arange(len(keep)), keep] = 1.0
+    L[len(keep):, k] = C
+    out = tuple(names[i] for i in keep) + tuple(f"T0{j}_Nm" for j in range(C.shape[0]))
+    return out, L @ th, L @ cov @ L.T
+
+
 def fit(t_s, q_rad, current_A, kt_Nm_per_A: float, model: JointModel) -> Fit2:
     """Fit the model to a log segment: times (s, uniform), joint angles (N, n) rad, commanded
     currents (N, n) A. The current-gain signs: the pattern of the 2^(n-1) with motor 0's as
     configured that fits best, all negated when the link scale comes out negative. Raises
     :class:`NotExcited` when a joint has fewer than 50 moving rows or the regressors are
-    ill-conditioned (condition > IDENT_CONDITION_MAX)."""
+    ill-conditioned (condition > IDENT_CONDITION_MAX). An over-actuated model's equations,
+    torques and mask are the k rows of W^T tau (:class:`JointModel`)."""
     t_s = np.asarray(t_s, float)
     Te = float(np.median(np.diff(t_s)))
     q, v, a = filtered(q_rad, Te)
@@ -140,10 +187,14 @@ def fit(t_s, q_rad, current_A, kt_Nm_per_A: float, model: JointModel) -> Fit2:
     if mask.sum(axis=0).min() < 50:
         raise NotExcited(f"only {int(mask.sum(axis=0).min())} samples of a joint move faster than "
                          f"{100 * IDENT_SLOW_FRACTION:g} % of its peak rate")
-    X3, names = design_matrix(model, q, v, a, Te)
+    P, C = _offsets(model, q, mask)
+    X3, names = design_matrix(model, q, v, a, Te, C)
+    if P is not None:
+        X3 = np.einsum("nkj,njp->nkp", P, X3)
+        mask = np.repeat(mask.any(axis=1)[:, None], P.shape[1], axis=1)
     tau_raw = kt_Nm_per_A * np.column_stack([lowpass(np.asarray(current_A, float)[:, j], Te, FIT_FILTER_HZ)
                                              for j in range(n)])
-    b = _best_signs(X3, mask, tau_raw, Te)
+    b = _best_signs(X3, mask, tau_raw, Te, P)
     if b["cond"] > IDENT_CONDITION_MAX:
         raise NotExcited(f"the regressors are ill-conditioned (condition {b['cond']:.3g} > {IDENT_CONDITION_MAX:.3g}): "
                          "the motion does not separate inertia, friction and offsets")
@@ -153,8 +204,9 @@ def fit(t_s, q_rad, current_A, kt_Nm_per_A: float, model: JointModel) -> Fit2:
     cov = b["rss"] / dof * inflate * np.linalg.inv(b["Xn"].T @ b["Xn"]) / np.outer(b["scale"], b["scale"])
     s0 = 1 if th[names.index("c_link")] >= 0 else -1
     tau_fit = np.full_like(b["tau"], np.nan)
-    for j in range(n):
+    for j in range(tau_fit.shape[1]):
         tau_fit[mask[:, j], j] = s0 * (X3[mask[:, j], j, :] @ th[:p])
-    return Fit2(dict(zip(names, map(float, s0 * th[:p]), strict=True)), cov[:p, :p], names, float(th[-1] / Te),
+    names_out, th_out, cov_out = _per_motor(names, s0 * th[:p], cov[:p, :p], C)
+    return Fit2(dict(zip(names_out, map(float, th_out), strict=True)), cov_out, names_out, float(th[-1] / Te),
                 tuple(s0 * s for s in (1, *b["signs"])), math.sqrt(b["rss"] / len(b["y"])), mask, t_s, q,
                 s0 * (b["tau"] - th[-1] * b["dtau"]), tau_fit, {"condition": b["cond"], "rows_used": int(mask.sum())})

@@ -19,7 +19,7 @@ import math
 import numpy as np
 
 from cad.identify import excitation2
-from cad.sim import mj
+from cad.sim import identify_joints, mj
 from cad.sim.wall import MJ_STEP_MAX_S
 
 #: Bench Coulomb friction per motor when the prediction has none (fraction of Kt i_cont).
@@ -41,7 +41,8 @@ def truth(pred, p: dict) -> dict:
             "kt_Nm_per_A": pred.kt_Nm_per_A * p["kt"], "encoder_direction": int(p["encoder"]),
             "current_gain_sign": 1 if p["kt"] > 0 else -1, "delay_samples": int(p["delay"]),
             "current_noise_A": p["noise"] * pred.i_max_A,
-            **{f"M{a}{a}_g_home": 1e3 * float(M[k, k]) for k, a in enumerate(pred.axes)}}
+            **{key.replace("@home", "_home"): scale * float(M[k, k])
+               for k, (key, _, _, scale) in enumerate(identify_joints.mass_keys(pred))}}
 
 
 STATUS_WORDS = {excitation2.DONE: "done", excitation2.RANGE: "stopped: a joint left its range (or the hold envelope)",

@@ -44,8 +44,17 @@ def motor_friction(device) -> tuple[float | None, str]:
     return 1e-3 * f, f"{device.motor.name}: brushes and bearings Kt I0 (the motor's no-load current)"
 
 
+def mass_keys(pred) -> tuple[tuple[str, str, str, float], ...]:
+    """(key, words, unit, SI -> unit factor) of each diagonal entry of the task mass matrix
+    the identification reports: the prediction's ``mass_keys`` or, by default, an apparent
+    mass in g along each of its ``axes``."""
+    return getattr(pred, "mass_keys", None) or tuple(
+        (f"M{a}{a}_g@home", f"apparent mass at the handle along {a} at {pred.home_words} (other axes held)", "g", 1e3)
+        for a in pred.axes)
+
+
 def mass_rows(pred, f: Fit2) -> list[dict]:
-    """The apparent mass at the handle along each task axis at home (the other axes held)."""
+    """The task mass matrix's diagonal at home (:func:`mass_keys`), the other axes held."""
     home = np.array([pred.q_home_rad])
     terms = pred.task_mass_terms(home)
     idx = [f.names.index(k) for k in ("c_link", *(f"J{j}_kg_m2" for j in range(pred.n_joints)))]
@@ -53,11 +62,10 @@ def mass_rows(pred, f: Fit2) -> list[dict]:
     th = np.array([f.theta[f.names[i]] for i in idx])
     M_pred = pred.task_mass_kg(home)
     rows = []
-    for k, ax in enumerate(pred.axes):
+    for k, (key, words, unit, scale) in enumerate(mass_keys(pred)):
         w = np.array([t[k, k] for t in terms])
-        rows.append(figure_row(f"M{ax}{ax}_g@home", f"apparent mass at the handle along {ax} at {pred.home_words} "
-                               "(other axes held)", 1e3 * float(w @ th), 1e3 * math.sqrt(max(float(w @ C @ w), 0.0)),
-                               "g", 1e3 * float(M_pred[k, k]), tol_rel=IDENT_MASS_TOL_REL, explain="apparent_mass"))
+        rows.append(figure_row(key, words, scale * float(w @ th), scale * math.sqrt(max(float(w @ C @ w), 0.0)),
+                               unit, scale * float(M_pred[k, k]), tol_rel=IDENT_MASS_TOL_REL, explain="apparent_mass"))
     return rows
 
 

@@ -28,7 +28,7 @@ FAMILY = FamilyPackage(
     ),
     optimize=Lazy("cad.studies.gii_optimize:optimize"),
     firmware=Lazy("cad.firmware:linkage_files"),
-    firmware_model=Lazy(f"{_P}.firmware:model"),
+    firmware_model=Lazy(f"{_P}.identify_twin:firmware_model"),
     report_type=Lazy("cad.families.pantograph.contract:PantographReport"),
 )
 
