@@ -207,6 +207,9 @@ def fit(t_s, q_rad, current_A, kt_Nm_per_A: float, model: JointModel) -> Fit2:
     for j in range(tau_fit.shape[1]):
         tau_fit[mask[:, j], j] = s0 * (X3[mask[:, j], j, :] @ th[:p])
     names_out, th_out, cov_out = _per_motor(names, s0 * th[:p], cov[:p, :p], C)
+    extra = {"condition": b["cond"], "rows_used": int(mask.sum())}
+    if C is not None:  # W^T at the pose the offsets were spread at: F0 = W^T T0
+        extra["offset_W"] = np.linalg.pinv(C)
     return Fit2(dict(zip(names_out, map(float, th_out), strict=True)), cov_out, names_out, float(th[-1] / Te),
                 tuple(s0 * s for s in (1, *b["signs"])), math.sqrt(b["rss"] / len(b["y"])), mask, t_s, q,
-                s0 * (b["tau"] - th[-1] * b["dtau"]), tau_fit, {"condition": b["cond"], "rows_used": int(mask.sum())})
+                s0 * (b["tau"] - th[-1] * b["dtau"]), tau_fit, extra)

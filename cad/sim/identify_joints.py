@@ -97,13 +97,40 @@ def _loads(pred, f: Fit2, i: int) -> list[dict]:
     return out
 
 
+#: What an over-actuated device's per-motor offsets are (their verdict is the generalized offsets').
+LEAST_NORM = ("the motors can hold a torque pattern against each other that moves nothing (an over-actuated "
+              "device): only the generalized offsets are observable; these are the least-norm motor offsets with "
+              "the same effect")
+
+
+def generalized_offset_rows(pred, f: Fit2, tol0_mNm: float) -> list[dict]:
+    """An over-actuated device's offsets along its independent coordinates, F0 = W^T T0,
+    against 0 within what motor offsets of ``tol0_mNm`` each can give (sum_j |W_ji| tol0)."""
+    W = f.extra["offset_W"]  # (k, n): F0 = W T0
+    idx = [f.names.index(f"T0{j}_Nm") for j in range(pred.n_joints)]
+    T0 = np.array([f.theta[f.names[i]] for i in idx])
+    C = f.cov[np.ix_(idx, idx)]
+    rows = []
+    for i, (ax, unit, scale) in enumerate(pred.force_axes):
+        w = W[i]
+        rows.append(figure_row(f"offset_{ax}", f"constant generalized force along {ax} (the motors' offsets)",
+                               scale * float(w @ T0), scale * math.sqrt(max(float(w @ C @ w), 0.0)), unit, 0.0,
+                               tol_abs=scale * 1e-3 * tol0_mNm * float(np.sum(np.abs(w))), explain="offset"))
+    return rows
+
+
 def gravity_rows(pred, f: Fit2) -> list[dict]:
-    """Each motor's offset; with gravity, its load at the log's median pose and the scale
-    (n/a with the reason when the log cannot separate the scale from the offsets)."""
+    """Each motor's offset (an over-actuated device's: the least-norm ones, n/a, and its
+    generalized offsets with the verdicts); with gravity, its load at the log's median pose
+    and the scale (n/a with the reason when the log cannot separate them from the offsets)."""
     n = pred.n_joints
     tol0 = 1e3 * IDENT_OFFSET_TOL_FRACTION * pred.kt_Nm_per_A * pred.i_max_A
     offs = [figure_row(f"offset{j}_mNm", f"constant torque offset at motor {j}", 1e3 * f.theta[f"T0{j}_Nm"],
                        1e3 * f.sigma(f"T0{j}_Nm"), "mN m", 0.0, tol_abs=tol0, explain="offset") for j in range(n)]
+    if "offset_W" in f.extra:
+        for r in offs:
+            r.update(verdict="n/a", explain=LEAST_NORM)
+        offs += generalized_offset_rows(pred, f, tol0)
     if "cg" not in f.theta:
         return offs
     i = f.names.index("cg")

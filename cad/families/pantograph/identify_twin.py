@@ -91,6 +91,8 @@ class PredictionTwin:
     mass_keys = (("Mxx_g@home", "apparent mass at the knob along x at home (y, theta held)", "g", 1e3),
                  ("Myy_g@home", "apparent mass at the knob along y at home (x, theta held)", "g", 1e3),
                  ("Itheta_g_cm2@home", "inertia about the knob axis at home (x, y held)", "g cm2", 1e7))
+    #: The generalized forces W^T tau along X: (name, unit, SI -> unit factor).
+    force_axes = (("x_N", "N", 1.0), ("y_N", "N", 1.0), ("theta_mNm", "mN m", 1e3))
     home_words = "home"
     model_words = MODEL_WORDS
 
@@ -121,11 +123,14 @@ class PredictionTwin:
         return reference.gravity_torques(self.spec, np.atleast_2d(q)) if self.vertical else None
 
     def joint_mass_kg(self, q) -> np.ndarray:
-        """A joint-space inertia (N, 4, 4): W^+T Lambda W^+ and the rotors (the stopped-log
-        heuristics and the hold's damping read its diagonal)."""
-        Wp = np.linalg.pinv(self.basis(q))
-        lam = self.link_mass_X(self.task(q))
-        return np.swapaxes(Wp, 1, 2) @ lam @ Wp + self.rotor_kg_m2 * np.eye(4)
+        """(N, 4, 4) diagonal: the inertia each motor meets alone, the others free,
+        1 / (W Lambda^-1 W^T)_jj with the rotors in Lambda (the hold's damping and the
+        stopped-log heuristics read it)."""
+        q = np.atleast_2d(np.asarray(q, float))
+        W = self.basis(q)
+        lam = self.link_mass_X(self.task(q)) + self.rotor_kg_m2 * np.swapaxes(W, 1, 2) @ W
+        mob = np.einsum("nij,njk,nlk->nil", W, np.linalg.inv(lam), W)
+        return np.einsum("ni,ij->nij", 1.0 / np.diagonal(mob, axis1=1, axis2=2), np.eye(4))
 
     def angles(self, counts) -> np.ndarray:
         """Joint angles (N, 4) rad the firmware reads from ``counts``."""
