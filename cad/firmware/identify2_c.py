@@ -50,6 +50,9 @@ extern "C" {{
 #define HC_IDENT_AMPLITUDE_A {lit(p.amplitude_A)}  /* chirp amplitude (A) */
 #define HC_IDENT_I_MAX_A {lit(p.i_max_A)}      /* clamp: the motor's continuous current (A) */
 #define HC_IDENT_KT_NM_PER_A {lit(p.kt_Nm_per_A)}
+/* per joint (the motors may differ): torque per ampere and current clamp */
+{_per_joint("HC_IDENT_KT_NM_PER_A", [p.kt(j) for j in range(n)])}
+{_per_joint("HC_IDENT_I_MAX_A", [p.i_max(j) for j in range(n)])}
 #define HC_IDENT_ALPHA {lit(p.alpha)}         /* velocity low-pass per sample ({p.fc_Hz:g} Hz) */
 #define HC_IDENT_HAND_MIN_RAD {lit(p.hand_min_rad)}
 #define HC_IDENT_N_SAMPLES {p.n_samples}L
@@ -171,13 +174,13 @@ int hc_ident_step(hc_ident_t *s, const hc_encoder_t *enc, const long counts[HC_N
     for (j = 0; j < HC_N_JOINTS; ++j)
         if (q[j] < SLO[j] || q[j] > SHI[j]) inside = 0;
     for (j = 0; j < HC_N_JOINTS; ++j) {
-        hc_real i = -g * (KP[j] * (q[j] - HOME[j]) + KD[j] * s->v_f[j]) / HC_IDENT_KT_NM_PER_A;
-        if (HC_IDENT_GRAVITY_FF) i += tg[j] / HC_IDENT_KT_NM_PER_A;
+        hc_real i = -g * (KP[j] * (q[j] - HOME[j]) + KD[j] * s->v_f[j]) / KT[j];
+        if (HC_IDENT_GRAVITY_FF) i += tg[j] / KT[j];
         if (ch >= HC_R(0.0) && ch < HC_IDENT_T_CHIRP_S && inside) {
             i += HC_IDENT_AMPLITUDE_A * hc_ident_taper(ch) * sin(hc_ident_phase(SWEEP[j], ch));
         }
-        if (i > HC_IDENT_I_MAX_A) i = HC_IDENT_I_MAX_A;
-        if (i < -HC_IDENT_I_MAX_A) i = -HC_IDENT_I_MAX_A;
+        if (i > IMAX[j]) i = IMAX[j];
+        if (i < -IMAX[j]) i = -IMAX[j];
         amps[j] = i;
     }
     return HC_IDENT_RUNNING;
@@ -247,7 +250,8 @@ _ARRAYS = (("hc_real", "KP", "HC_IDENT_KP_NM_PER_RAD"), ("hc_real", "KD", "HC_ID
            ("hc_real", "HOME", "HC_IDENT_Q_HOME_RAD"), ("hc_real", "QMIN", "HC_IDENT_Q_MIN_RAD"),
            ("hc_real", "QMAX", "HC_IDENT_Q_MAX_RAD"), ("hc_real", "ENV", "HC_IDENT_ENVELOPE_RAD"),
            ("hc_real", "SLO", "HC_IDENT_Q_SAFE_LO_RAD"), ("hc_real", "SHI", "HC_IDENT_Q_SAFE_HI_RAD"),
-           ("int", "HAND_SIGN", "HC_IDENT_HAND_SIGN"), ("int", "SWEEP", "HC_IDENT_SWEEP"))
+           ("int", "HAND_SIGN", "HC_IDENT_HAND_SIGN"), ("int", "SWEEP", "HC_IDENT_SWEEP"),
+           ("hc_real", "KT", "HC_IDENT_KT_NM_PER_A"), ("hc_real", "IMAX", "HC_IDENT_I_MAX_A"))
 
 
 def _arrays(n: int) -> str:

@@ -29,7 +29,7 @@ hold or the chirp a joint leaves its range or the hold envelope, ``envelope_rad`
 clamp at (1 / AMPLITUDE_FRACTION) TRAVEL_FRACTION = 0.58 of it, so a joint beyond is not held
 (a reversed current gain pushes it there; the chirp moves a joint at most ~0.45 of it, its
 static deflection 0.35 times the resonant gain 1 / (2 ZETA)). Every current is clamped at
-+-``i_max_A``.
++-``i_max_A`` (each joints own where the motors differ).
 """
 
 from __future__ import annotations
@@ -98,10 +98,22 @@ class Plan2(RoutineTiming):
     safe_fraction: float = SAFE_FRACTION
     hand_min_rad: float = 0.0
     hand_move: str = HAND_MOVE_PLANAR
+    #: per joint where the motors differ (the pen: RE 40 waists, RE 35 shoulders); empty: every
+    #: joint's are ``kt_Nm_per_A`` and ``i_max_A``
+    kt_joint_Nm_per_A: tuple[float, ...] = ()
+    i_max_joint_A: tuple[float, ...] = ()
 
     @property
     def n_joints(self) -> int:
         return len(self.q_min_rad)
+
+    def kt(self, j: int) -> float:
+        """Joint j's torque per ampere (N m/A)."""
+        return self.kt_joint_Nm_per_A[j] if self.kt_joint_Nm_per_A else self.kt_Nm_per_A
+
+    def i_max(self, j: int) -> float:
+        """Joint j's current clamp (A): its motor's continuous current."""
+        return self.i_max_joint_A[j] if self.i_max_joint_A else self.i_max_A
 
     @property
     def safe_rad(self) -> tuple[tuple[float, float], ...]:
@@ -113,30 +125,37 @@ class Plan2(RoutineTiming):
         return tuple(out)
 
 
-def plan2(Te_s: float, kt_Nm_per_A: float, i_max_A: float, q_min_rad, q_max_rad, q_home_rad,
+def plan2(Te_s: float, kt_Nm_per_A, i_max_A, q_min_rad, q_max_rad, q_home_rad,
           inertia_kg_m2, hand_sign, counts_per_rev: int, gravity_ff: bool = False,
-          gravity_A: float = 0.0, hand_move: str = HAND_MOVE_PLANAR) -> Plan2:
+          gravity_A=0.0, hand_move: str = HAND_MOVE_PLANAR) -> Plan2:
     """The :class:`Plan2` of an n-motor device: control period (s), torque constant (N m/A),
-    continuous current (A), joint ranges and home (rad, per joint), the predicted joint
-    inertias at home (diagonal of the joint-space mass matrix, kg m^2), the hand-move signs,
-    encoder counts per turn, whether the hold adds the gravity torques, the largest gravity
-    current at home ``gravity_A`` (A) and the hand move's words (``hand_move``): the chirp amplitude is AMPLITUDE_FRACTION of the current
-    left beside it (raises ValueError when gravity alone takes the continuous current). Hold stiffness: the chirp amplitude deflects a joint by
-    ``TRAVEL_FRACTION`` of its smaller half-range about home; damping ratio ``ZETA``."""
-    if gravity_A >= i_max_A:
-        raise ValueError(f"holding the device against gravity takes {gravity_A:.3g} A, the motors' continuous "
-                         f"current is {i_max_A:.3g} A")
-    A = AMPLITUDE_FRACTION * (i_max_A - gravity_A)
+    continuous current (A) (each a number, or one per joint where the motors differ), joint
+    ranges and home (rad, per joint), the predicted joint inertias at home (kg m^2), the
+    hand-move signs, encoder counts per turn, whether the hold adds the gravity torques, the
+    gravity current at home ``gravity_A`` (A; a number or per joint) and the hand move's words:
+    the chirp amplitude is AMPLITUDE_FRACTION of the smallest current left beside gravity
+    (raises ValueError when gravity alone takes a motor's continuous current). Hold stiffness:
+    the chirp amplitude deflects a joint by ``TRAVEL_FRACTION`` of its smaller half-range
+    about home; damping ratio ``ZETA``."""
+    n = len(q_min_rad)
+    kt, im, gA = (np.broadcast_to(np.asarray(x, float), (n,)) for x in (kt_Nm_per_A, i_max_A, gravity_A))
+    if np.any(gA >= im):
+        j = int(np.argmax(gA - im))
+        raise ValueError(f"holding the device against gravity takes {gA[j]:.3g} A, the motors' continuous "
+                         f"current is {im[j]:.3g} A")
+    A = AMPLITUDE_FRACTION * float(np.min(im - gA))
     kp, kd, env = [], [], []
-    for lo, hi, h, J in zip(q_min_rad, q_max_rad, q_home_rad, inertia_kg_m2, strict=True):
+    for lo, hi, h, J, k in zip(q_min_rad, q_max_rad, q_home_rad, inertia_kg_m2, kt, strict=True):
         half = min(h - lo, hi - h)
         env.append(HOLD_ENVELOPE_FRACTION * half)
-        kp.append(A * kt_Nm_per_A / (TRAVEL_FRACTION * half))
+        kp.append(A * float(k) / (TRAVEL_FRACTION * half))
         kd.append(2.0 * ZETA * math.sqrt(kp[-1] * J))
-    return Plan2(Te_s, kt_Nm_per_A, i_max_A, tuple(map(float, q_min_rad)), tuple(map(float, q_max_rad)),
+    same = bool(np.all(kt == kt[0]) and np.all(im == im[0]))
+    return Plan2(Te_s, float(kt[0]), float(im[0]), tuple(map(float, q_min_rad)), tuple(map(float, q_max_rad)),
                  tuple(map(float, q_home_rad)), A, tuple(kp), tuple(kd), tuple(int(s) for s in hand_sign),
                  tuple(env), bool(gravity_ff), hand_min_rad=HAND_MIN_COUNTS * 2.0 * math.pi / counts_per_rev,
-                 hand_move=hand_move)
+                 hand_move=hand_move, kt_joint_Nm_per_A=() if same else tuple(map(float, kt)),
+                 i_max_joint_A=() if same else tuple(map(float, im)))
 
 
 @dataclass
@@ -216,12 +235,12 @@ def step(p: Plan2, st: State2, q_rad, tau_g=None) -> tuple[list[float], int]:
     inside = all(lo <= q_rad[j] <= hi for j, (lo, hi) in enumerate(p.safe_rad))
     out = []
     for j in range(n):
-        i = -g * (p.kp_Nm_per_rad[j] * (q_rad[j] - p.q_home_rad[j]) + p.kd_Nm_s_per_rad[j] * st.v_f[j]) / p.kt_Nm_per_A
+        i = -g * (p.kp_Nm_per_rad[j] * (q_rad[j] - p.q_home_rad[j]) + p.kd_Nm_s_per_rad[j] * st.v_f[j]) / p.kt(j)
         if p.gravity_ff:
-            i += tau_g[j] / p.kt_Nm_per_A
+            i += tau_g[j] / p.kt(j)
         if 0.0 <= c < p.T_chirp_s and inside:
             i += p.amplitude_A * _taper(p, c) * math.sin(_phase(p, j, c))
-        out.append(max(-p.i_max_A, min(p.i_max_A, i)))
+        out.append(max(-p.i_max(j), min(p.i_max(j), i)))
     return out, RUNNING
 
 

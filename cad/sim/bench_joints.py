@@ -28,19 +28,22 @@ NOMINAL_TC_FRACTION = 0.03
 
 def truth(pred, p: dict) -> dict:
     """The true parameters of the simulated device (the sidecar JSON), SI, and its apparent
-    mass along each task axis at home."""
+    mass along each task axis at home. Per-motor values are lists; ``kt_Nm_per_A`` is a number
+    when every motor has the same (a list otherwise)."""
     n = pred.n_joints
-    Tc0 = pred.Tc_Nm if pred.Tc_Nm is not None else NOMINAL_TC_FRACTION * pred.kt_Nm_per_A * pred.i_max_A
-    Tc = Tc0 * p["friction"] * p["coulomb"]
-    J = pred.rotor_kg_m2 * p["rotor"]
-    M = pred.task_mass_kg(np.array([pred.q_home_rad]), p["mass"], (J,) * n)
-    return {"perturb": p, "c_link": p["mass"], "J_kg_m2": [J] * n, "Tc_Nm": [Tc] * n,
+    kt, im = identify_joints.per_joint(pred.kt_Nm_per_A, n), identify_joints.per_joint(pred.i_max_A, n)
+    Tc0 = (identify_joints.per_joint(pred.Tc_Nm, n) if pred.Tc_Nm is not None else
+           [NOMINAL_TC_FRACTION * kt[j] * im[j] for j in range(n)])
+    J = [x * p["rotor"] for x in identify_joints.per_joint(pred.rotor_kg_m2, n)]
+    M = pred.task_mass_kg(np.array([pred.q_home_rad]), p["mass"], J)
+    kt_true = [k * p["kt"] for k in kt]
+    return {"perturb": p, "c_link": p["mass"], "J_kg_m2": J, "Tc_Nm": [t * p["friction"] * p["coulomb"] for t in Tc0],
             "Tc_source": "prediction" if pred.Tc_Nm is not None else
             f"bench assumption: {NOMINAL_TC_FRACTION:g} of the continuous torque",
             "b_Nm_s_per_rad": [0.0] * n, "offset_Nm": [1e-3 * p["offset_mNm"]] * n, "gravity_scale": p["gravity"],
-            "kt_Nm_per_A": pred.kt_Nm_per_A * p["kt"], "encoder_direction": int(p["encoder"]),
+            "kt_Nm_per_A": kt_true[0] if len(set(kt_true)) == 1 else kt_true, "encoder_direction": int(p["encoder"]),
             "current_gain_sign": 1 if p["kt"] > 0 else -1, "delay_samples": int(p["delay"]),
-            "current_noise_A": p["noise"] * pred.i_max_A,
+            "current_noise_A": p["noise"] * min(im),
             **{key.replace("@home", "_home"): scale * float(M[k, k])
                for k, (key, _, _, scale) in enumerate(identify_joints.mass_keys(pred))}}
 
@@ -60,7 +63,7 @@ def run(pred, plant, tr: dict, qh: np.ndarray, ff, seed: int) -> tuple[np.ndarra
     step = 2 * math.pi / pred.counts_per_rev
     sgn = [d * tr["encoder_direction"] for d in pred.direction]
     noise = rng.normal(0.0, tr["current_noise_A"], (n, n_j)).tolist()
-    delay, ktt = tr["delay_samples"], tr["kt_Nm_per_A"]
+    delay, ktt = tr["delay_samples"], identify_joints.per_joint(tr["kt_Nm_per_A"], n_j)
     counts, cmd = np.zeros((n, n_j), np.int64), np.zeros((n, n_j))
     st = excitation2.State2()
     for k in range(n):
@@ -77,7 +80,7 @@ def run(pred, plant, tr: dict, qh: np.ndarray, ff, seed: int) -> tuple[np.ndarra
             break
         if k * Te >= plan.T_hand_s:
             late = cmd[k - delay] if k >= delay else (0.0,) * n_j
-            plant.advance([ktt * (late[j] + noise[k][j]) for j in range(n_j)], Te)
+            plant.advance([ktt[j] * (late[j] + noise[k][j]) for j in range(n_j)], Te)
     tr["status"] = STATUS_WORDS.get(st.status, "running")
     return np.arange(n) * Te, counts[:n], cmd[:n]
 

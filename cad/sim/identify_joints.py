@@ -35,6 +35,11 @@ from cad.tolerances import (
 )
 
 
+def per_joint(x, n: int) -> list[float]:
+    """A prediction's value per motor: a number for every motor, or one per motor (the pen)."""
+    return [float(v) for v in np.broadcast_to(np.asarray(x, float), (n,))]
+
+
 def motor_friction(device) -> tuple[float | None, str]:
     """(Coulomb friction at each motor N m (Kt I0 of its data sheet; None without I0), its source)."""
     m = device.motor.spec
@@ -72,9 +77,10 @@ def mass_rows(pred, f: Fit2) -> list[dict]:
 def friction_rows(pred, f: Fit2) -> list[dict]:
     """Each motor's Coulomb (against the data sheet's Kt I0) and viscous friction."""
     rows = []
+    Tc = [None] * pred.n_joints if pred.Tc_Nm is None else per_joint(pred.Tc_Nm, pred.n_joints)
     for j in range(pred.n_joints):
         rows.append(figure_row(f"Tc{j}_mNm", f"Coulomb friction at motor {j}", 1e3 * f.theta[f"Tc{j}_Nm"],
-                               1e3 * f.sigma(f"Tc{j}_Nm"), "mN m", None if pred.Tc_Nm is None else 1e3 * pred.Tc_Nm,
+                               1e3 * f.sigma(f"Tc{j}_Nm"), "mN m", None if Tc[j] is None else 1e3 * Tc[j],
                                tol_rel=IDENT_FRICTION_TOL_REL, explain="friction"))
         rows.append(figure_row(f"b{j}_mNm_s_per_rad", f"viscous friction at motor {j}", 1e3 * f.theta[f"b{j}_Nm_s_per_rad"],
                                1e3 * f.sigma(f"b{j}_Nm_s_per_rad"), "mN m s/rad", None))
@@ -103,9 +109,9 @@ LEAST_NORM = ("the motors can hold a torque pattern against each other that move
               "the same effect")
 
 
-def generalized_offset_rows(pred, f: Fit2, tol0_mNm: float) -> list[dict]:
+def generalized_offset_rows(pred, f: Fit2, tol0_mNm: np.ndarray) -> list[dict]:
     """An over-actuated device's offsets along its independent coordinates, F0 = W^T T0,
-    against 0 within what motor offsets of ``tol0_mNm`` each can give (sum_j |W_ji| tol0)."""
+    against 0 within what motor offsets of ``tol0_mNm`` (n,) can give (sum_j |W_ji| tol0_j)."""
     W = f.extra["offset_W"]  # (k, n): F0 = W T0
     idx = [f.names.index(f"T0{j}_Nm") for j in range(pred.n_joints)]
     T0 = np.array([f.theta[f.names[i]] for i in idx])
@@ -115,7 +121,7 @@ def generalized_offset_rows(pred, f: Fit2, tol0_mNm: float) -> list[dict]:
         w = W[i]
         rows.append(figure_row(f"offset_{ax}", f"constant generalized force along {ax} (the motors' offsets)",
                                scale * float(w @ T0), scale * math.sqrt(max(float(w @ C @ w), 0.0)), unit, 0.0,
-                               tol_abs=scale * 1e-3 * tol0_mNm * float(np.sum(np.abs(w))), explain="offset"))
+                               tol_abs=scale * 1e-3 * float(np.abs(w) @ tol0_mNm), explain="offset"))
     return rows
 
 
@@ -124,13 +130,14 @@ def gravity_rows(pred, f: Fit2) -> list[dict]:
     generalized offsets with the verdicts); with gravity, its load at the log's median pose
     and the scale (n/a with the reason when the log cannot separate them from the offsets)."""
     n = pred.n_joints
-    tol0 = 1e3 * IDENT_OFFSET_TOL_FRACTION * pred.kt_Nm_per_A * pred.i_max_A
+    kt, im = per_joint(pred.kt_Nm_per_A, n), per_joint(pred.i_max_A, n)
+    tol0 = [1e3 * IDENT_OFFSET_TOL_FRACTION * kt[j] * im[j] for j in range(n)]
     offs = [figure_row(f"offset{j}_mNm", f"constant torque offset at motor {j}", 1e3 * f.theta[f"T0{j}_Nm"],
-                       1e3 * f.sigma(f"T0{j}_Nm"), "mN m", 0.0, tol_abs=tol0, explain="offset") for j in range(n)]
+                       1e3 * f.sigma(f"T0{j}_Nm"), "mN m", 0.0, tol_abs=tol0[j], explain="offset") for j in range(n)]
     if "offset_W" in f.extra:
         for r in offs:
             r.update(verdict="n/a", explain=LEAST_NORM)
-        offs += generalized_offset_rows(pred, f, tol0)
+        offs += generalized_offset_rows(pred, f, np.asarray(tol0))
     if "cg" not in f.theta:
         return offs
     i = f.names.index("cg")
@@ -197,10 +204,10 @@ def _gain_signs(pred, log: Log, q, k0: int, end: int) -> list[int]:
     Te = float(np.median(np.diff(log.t_s[seg]))) if end > k0 else pred.Te_s
     Mq = pred.joint_mass_kg(np.array([pred.q_home_rad]))[0]
     grav = pred.gravity(q[seg]) if pred.vertical else np.zeros((end + 1 - k0, pred.n_joints))
-    gain = []
+    gain, kt = [], per_joint(pred.kt_Nm_per_A, pred.n_joints)
     for j in range(pred.n_joints):
         seen = q[end, j] - q[k0, j]
-        moved = [float(np.sum(np.cumsum((s * pred.kt_Nm_per_A * log.current_A[seg, j] - grav[:, j]) / Mq[j, j])))
+        moved = [float(np.sum(np.cumsum((s * kt[j] * log.current_A[seg, j] - grav[:, j]) / Mq[j, j])))
                  * Te**2 for s in (1, -1)]
         gain.append(1 if abs(moved[0] - seen) <= abs(moved[1] - seen) else -1)
     return gain
