@@ -860,8 +860,8 @@ def identify_device(design, log_path: str | Path, build_dir: str | Path | None =
     if build_dir is not None:  # a bad --build-dir is named before the log is read
         kit.check_build_dir(design, Path(build_dir))
     text = guard.read_text(log_path, "log", "LOG")
-    log = parse_log(text, log_path, kit.n_joints,
-                    motor_data(resolve_device(design).motor.spec).current_continuous_A)
+    limits = [motor_data(m.spec).current_continuous_A for m in resolve_device(design).motors]
+    log = parse_log(text, log_path, kit.n_joints, limits if len(limits) == kit.n_joints else limits[0])
     pred = kit.predict_from_build(design, None if build_dir is None else Path(build_dir))
     if log.design_hash != pred.design_hash:
         from cad.design import bounds

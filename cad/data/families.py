@@ -22,7 +22,7 @@ NO_DESIGN_COMMANDS = ("massprops", "voicecoil", "bench", "cache")
 _FOURBAR_CMDS = ("analyze", "synth", "swap", "check", "fit", "build", "optimize", "tolerance",
                  "sweep", "wall", "render", "datasheet", "identify", "bench-log")
 _PANTOGRAPH_CMDS = ("check", "fit", "build", "gii", "optimize", "render", "datasheet")
-#: The 5-bar and the twin pantograph also run identify and bench-log (issue 37).
+#: The 5-bar, the twin pantograph and the pen also run identify and bench-log (issue 37).
 _FIVEBAR_CMDS = _PANTOGRAPH_CMDS + ("identify", "bench-log")
 
 
@@ -77,7 +77,7 @@ FAMILIES: dict[str, Family] = {
                _FIVEBAR_CMDS),
         Family("twin-pantograph", "twin-pantograph", "cad.design.pantograph", "pantograph",
                _FIVEBAR_CMDS),
-        Family("haptic-pen", "haptic-pen", "cad.families.pen.design", "pen", _PANTOGRAPH_CMDS),
+        Family("haptic-pen", "haptic-pen", "cad.families.pen.design", "pen", _FIVEBAR_CMDS),
         Family("powermouse", "powermouse", "cad.design.powermouse", "powermouse",
                ("check", "fit", "build", "render", "datasheet"), why_not=_POWERMOUSE_WHY_NOT),
         Family("delta", "delta", "cad.families.delta.design", "delta",

@@ -53,6 +53,7 @@ extern "C" {{
 /* per joint (the motors may differ): torque per ampere and current clamp */
 {_per_joint("HC_IDENT_KT_NM_PER_A", [p.kt(j) for j in range(n)])}
 {_per_joint("HC_IDENT_I_MAX_A", [p.i_max(j) for j in range(n)])}
+{_per_joint("HC_IDENT_AMPLITUDE_A", [p.amplitude(j) for j in range(n)])}
 #define HC_IDENT_ALPHA {lit(p.alpha)}         /* velocity low-pass per sample ({p.fc_Hz:g} Hz) */
 #define HC_IDENT_HAND_MIN_RAD {lit(p.hand_min_rad)}
 #define HC_IDENT_N_SAMPLES {p.n_samples}L
@@ -177,7 +178,7 @@ int hc_ident_step(hc_ident_t *s, const hc_encoder_t *enc, const long counts[HC_N
         hc_real i = -g * (KP[j] * (q[j] - HOME[j]) + KD[j] * s->v_f[j]) / KT[j];
         if (HC_IDENT_GRAVITY_FF) i += tg[j] / KT[j];
         if (ch >= HC_R(0.0) && ch < HC_IDENT_T_CHIRP_S && inside) {
-            i += HC_IDENT_AMPLITUDE_A * hc_ident_taper(ch) * sin(hc_ident_phase(SWEEP[j], ch));
+            i += AMP[j] * hc_ident_taper(ch) * sin(hc_ident_phase(SWEEP[j], ch));
         }
         if (i > IMAX[j]) i = IMAX[j];
         if (i < -IMAX[j]) i = -IMAX[j];
@@ -251,7 +252,8 @@ _ARRAYS = (("hc_real", "KP", "HC_IDENT_KP_NM_PER_RAD"), ("hc_real", "KD", "HC_ID
            ("hc_real", "QMAX", "HC_IDENT_Q_MAX_RAD"), ("hc_real", "ENV", "HC_IDENT_ENVELOPE_RAD"),
            ("hc_real", "SLO", "HC_IDENT_Q_SAFE_LO_RAD"), ("hc_real", "SHI", "HC_IDENT_Q_SAFE_HI_RAD"),
            ("int", "HAND_SIGN", "HC_IDENT_HAND_SIGN"), ("int", "SWEEP", "HC_IDENT_SWEEP"),
-           ("hc_real", "KT", "HC_IDENT_KT_NM_PER_A"), ("hc_real", "IMAX", "HC_IDENT_I_MAX_A"))
+           ("hc_real", "KT", "HC_IDENT_KT_NM_PER_A"), ("hc_real", "IMAX", "HC_IDENT_I_MAX_A"),
+           ("hc_real", "AMP", "HC_IDENT_AMPLITUDE_A"))
 
 
 def _arrays(n: int) -> str:

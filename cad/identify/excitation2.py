@@ -64,6 +64,12 @@ SWEEPS = ((False, False), (True, False), (False, True), (True, True))
 #: The hand move of a planar device (the delta's: "straight up (+z)").
 HAND_MOVE_PLANAR = "straight away from the motors (+y)"
 
+#: A joint's chirp reaches at least :data:`BAND_COUNTS` encoder counts of amplitude (an
+#: inertia-dominated joint: A Kt / (J (2 pi f)^2)) up to 1/BAND_MARGIN of the top frequency;
+#: the top frequency is lowered from F1_HZ only for a joint that would not (the pen's waists,
+#: which swing both arms: 5 Hz instead of 15 Hz; every other bundled device keeps 15 Hz).
+BAND_COUNTS, BAND_MARGIN = 10, 2.5
+
 #: The hold envelope as a fraction of a joint's smaller half-range about home (module docstring).
 HOLD_ENVELOPE_FRACTION = 0.6
 
@@ -102,6 +108,7 @@ class Plan2(RoutineTiming):
     #: joint's are ``kt_Nm_per_A`` and ``i_max_A``
     kt_joint_Nm_per_A: tuple[float, ...] = ()
     i_max_joint_A: tuple[float, ...] = ()
+    amplitude_joint_A: tuple[float, ...] = ()
 
     @property
     def n_joints(self) -> int:
@@ -114,6 +121,10 @@ class Plan2(RoutineTiming):
     def i_max(self, j: int) -> float:
         """Joint j's current clamp (A): its motor's continuous current."""
         return self.i_max_joint_A[j] if self.i_max_joint_A else self.i_max_A
+
+    def amplitude(self, j: int) -> float:
+        """Joint j's chirp amplitude (A)."""
+        return self.amplitude_joint_A[j] if self.amplitude_joint_A else self.amplitude_A
 
     @property
     def safe_rad(self) -> tuple[tuple[float, float], ...]:
@@ -133,29 +144,39 @@ def plan2(Te_s: float, kt_Nm_per_A, i_max_A, q_min_rad, q_max_rad, q_home_rad,
     ranges and home (rad, per joint), the predicted joint inertias at home (kg m^2), the
     hand-move signs, encoder counts per turn, whether the hold adds the gravity torques, the
     gravity current at home ``gravity_A`` (A; a number or per joint) and the hand move's words:
-    the chirp amplitude is AMPLITUDE_FRACTION of the smallest current left beside gravity
+    each motor's chirp amplitude is AMPLITUDE_FRACTION of the current gravity leaves it
     (raises ValueError when gravity alone takes a motor's continuous current). Hold stiffness:
     the chirp amplitude deflects a joint by ``TRAVEL_FRACTION`` of its smaller half-range
-    about home; damping ratio ``ZETA``."""
+    about home; damping ratio ``ZETA``; the top frequency F1_HZ, lower where a joint would move
+    less than :data:`BAND_COUNTS` counts (:data:`BAND_MARGIN`)."""
     n = len(q_min_rad)
     kt, im, gA = (np.broadcast_to(np.asarray(x, float), (n,)) for x in (kt_Nm_per_A, i_max_A, gravity_A))
     if np.any(gA >= im):
         j = int(np.argmax(gA - im))
         raise ValueError(f"holding the device against gravity takes {gA[j]:.3g} A, the motors' continuous "
                          f"current is {im[j]:.3g} A")
-    A = AMPLITUDE_FRACTION * float(np.min(im - gA))
+    amp = AMPLITUDE_FRACTION * (im - gA)
     kp, kd, env = [], [], []
-    for lo, hi, h, J, k in zip(q_min_rad, q_max_rad, q_home_rad, inertia_kg_m2, kt, strict=True):
+    for lo, hi, h, J, k, A in zip(q_min_rad, q_max_rad, q_home_rad, inertia_kg_m2, kt, amp, strict=True):
         half = min(h - lo, hi - h)
         env.append(HOLD_ENVELOPE_FRACTION * half)
-        kp.append(A * float(k) / (TRAVEL_FRACTION * half))
+        kp.append(float(A * k) / (TRAVEL_FRACTION * half))
         kd.append(2.0 * ZETA * math.sqrt(kp[-1] * J))
     same = bool(np.all(kt == kt[0]) and np.all(im == im[0]))
+    step = 2.0 * math.pi / counts_per_rev
+    f_counts = np.sqrt(amp * kt / (np.asarray(inertia_kg_m2, float) * BAND_COUNTS * step)) / (2.0 * math.pi)
+    f1 = float(min(F1_HZ, BAND_MARGIN * float(np.min(f_counts))))
+    if f1 < F1_HZ:  # the sweep lingers longer near the hold's resonance: less current
+        amp = amp * math.sqrt(f1 / F1_HZ)
+        kp = [k * math.sqrt(f1 / F1_HZ) for k in kp]
+        kd = [2.0 * ZETA * math.sqrt(k * J) for k, J in zip(kp, inertia_kg_m2, strict=True)]
+    one = bool(np.all(amp == amp[0]))
     return Plan2(Te_s, float(kt[0]), float(im[0]), tuple(map(float, q_min_rad)), tuple(map(float, q_max_rad)),
-                 tuple(map(float, q_home_rad)), A, tuple(kp), tuple(kd), tuple(int(s) for s in hand_sign),
+                 tuple(map(float, q_home_rad)), float(amp[0]), tuple(kp), tuple(kd), tuple(int(s) for s in hand_sign),
                  tuple(env), bool(gravity_ff), hand_min_rad=HAND_MIN_COUNTS * 2.0 * math.pi / counts_per_rev,
                  hand_move=hand_move, kt_joint_Nm_per_A=() if same else tuple(map(float, kt)),
-                 i_max_joint_A=() if same else tuple(map(float, im)))
+                 i_max_joint_A=() if same else tuple(map(float, im)),
+                 amplitude_joint_A=() if one else tuple(map(float, amp)), f1_Hz=f1)
 
 
 @dataclass
@@ -239,7 +260,7 @@ def step(p: Plan2, st: State2, q_rad, tau_g=None) -> tuple[list[float], int]:
         if p.gravity_ff:
             i += tau_g[j] / p.kt(j)
         if 0.0 <= c < p.T_chirp_s and inside:
-            i += p.amplitude_A * _taper(p, c) * math.sin(_phase(p, j, c))
+            i += p.amplitude(j) * _taper(p, c) * math.sin(_phase(p, j, c))
         out.append(max(-p.i_max(j), min(p.i_max(j), i)))
     return out, RUNNING
 

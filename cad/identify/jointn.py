@@ -33,6 +33,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from cad.identify.excitation import F1_HZ
 from cad.identify.joint2 import Fit2, moving_rows, scaled_lstsq
 from cad.identify.regression import NotExcited, derivatives, lowpass
 from cad.tolerances import IDENT_CONDITION_MAX, IDENT_SLOW_FRACTION
@@ -84,17 +85,17 @@ def lagrange_torques(mass_matrix: Callable, q, v, a, dq: float = DQ_RAD) -> np.n
     return tau
 
 
-def filtered(q_rad, Te_s: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(q, q', q'') (N, n) of the log's angles, each joint through the fit's filter
-    (:data:`FIT_FILTER_HZ`)."""
+def filtered(q_rad, Te_s: float, fc_Hz: float = FIT_FILTER_HZ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(q, q', q'') (N, n) of the log's angles, each joint through the fit's filter."""
     q = np.asarray(q_rad, float)
     out = [np.empty_like(q) for _ in range(3)]
     for j in range(q.shape[1]):
-        out[0][:, j], out[1][:, j], out[2][:, j] = derivatives(q[:, j], Te_s, FIT_FILTER_HZ)
+        out[0][:, j], out[1][:, j], out[2][:, j] = derivatives(q[:, j], Te_s, fc_Hz)
     return out[0], out[1], out[2]
 
 
-def design_matrix(model: JointModel, q, v, a, Te: float, offsets=None) -> tuple[np.ndarray, tuple[str, ...]]:
+def design_matrix(model: JointModel, q, v, a, Te: float, offsets=None,
+                  fc_Hz: float = FIT_FILTER_HZ) -> tuple[np.ndarray, tuple[str, ...]]:
     """X (N, n, p) and the parameter names of the model (module docstring); ``offsets``
     (n, k): the joint torques of k generalized offsets ``F0{i}`` in place of the n per-motor
     ``T0{j}_Nm`` (an over-actuated device, :class:`JointModel`)."""
@@ -110,7 +111,7 @@ def design_matrix(model: JointModel, q, v, a, Te: float, offsets=None) -> tuple[
         cols.append(on(j, a[:, j]))
         names.append(f"J{j}_kg_m2")
     for j in range(n):
-        cols += [on(j, lowpass(np.sign(v[:, j]), Te, FIT_FILTER_HZ)), on(j, v[:, j])]
+        cols += [on(j, lowpass(np.sign(v[:, j]), Te, fc_Hz)), on(j, v[:, j])]
         names += [f"Tc{j}_Nm", f"b{j}_Nm_s_per_rad"]
     if model.gravity is not None:
         cols.append(np.asarray(model.gravity(q), float))
@@ -150,11 +151,14 @@ def _best_signs(X3, mask, tau_raw, Te, P=None):
 
 def _offsets(model: JointModel, q, mask) -> tuple[np.ndarray | None, np.ndarray | None]:
     """(P (N, k, n) = W^T, C (n, k) the least-norm joint torques of unit generalized offsets
-    at the middle moving pose) of an over-actuated model; (None, None) otherwise."""
+    at the logged pose nearest the moving rows' median) of an over-actuated model; (None,
+    None) otherwise."""
     if model.basis is None:
         return None, None
     W = np.asarray(model.basis(q), float)
-    Wm = np.asarray(model.basis(np.median(q[mask.any(axis=1)], axis=0)[None]), float)[0]
+    moving = q[mask.any(axis=1)]
+    mid = moving[np.argmin(np.sum((moving - np.median(moving, axis=0)) ** 2, axis=1))]  # a pose of the log
+    Wm = np.asarray(model.basis(mid[None]), float)[0]
     return np.swapaxes(W, 1, 2), Wm @ np.linalg.inv(Wm.T @ Wm)
 
 
@@ -172,35 +176,38 @@ def _per_motor(names, th, cov, C):
     return out, L @ th, L @ cov @ L.T
 
 
-def fit(t_s, q_rad, current_A, kt_Nm_per_A: float, model: JointModel) -> Fit2:
+def fit(t_s, q_rad, current_A, kt_Nm_per_A, model: JointModel, top_Hz: float | None = None) -> Fit2:
     """Fit the model to a log segment: times (s, uniform), joint angles (N, n) rad, commanded
     currents (N, n) A. The current-gain signs: the pattern of the 2^(n-1) with motor 0's as
     configured that fits best, all negated when the link scale comes out negative. Raises
     :class:`NotExcited` when a joint has fewer than 50 moving rows or the regressors are
     ill-conditioned (condition > IDENT_CONDITION_MAX). An over-actuated model's equations,
-    torques and mask are the k rows of W^T tau (:class:`JointModel`)."""
+    torques and mask are the k rows of W^T tau (:class:`JointModel`). ``kt_Nm_per_A``: a
+    number or one per motor; ``top_Hz``: the excitation's top frequency when lowered from
+    F1_HZ (the filter then sits at 5/3 of it)."""
     t_s = np.asarray(t_s, float)
     Te = float(np.median(np.diff(t_s)))
-    q, v, a = filtered(q_rad, Te)
+    fc = FIT_FILTER_HZ if top_Hz is None else min(FIT_FILTER_HZ, FIT_FILTER_HZ / F1_HZ * top_Hz)
+    q, v, a = filtered(q_rad, Te, fc)
     n = model.n
     mask = np.column_stack([moving_rows(v[:, j], Te) for j in range(n)])
     if mask.sum(axis=0).min() < 50:
         raise NotExcited(f"only {int(mask.sum(axis=0).min())} samples of a joint move faster than "
                          f"{100 * IDENT_SLOW_FRACTION:g} % of its peak rate")
     P, C = _offsets(model, q, mask)
-    X3, names = design_matrix(model, q, v, a, Te, C)
+    X3, names = design_matrix(model, q, v, a, Te, C, fc)
     if P is not None:
         X3 = np.einsum("nkj,njp->nkp", P, X3)
         mask = np.repeat(mask.any(axis=1)[:, None], P.shape[1], axis=1)
-    tau_raw = kt_Nm_per_A * np.column_stack([lowpass(np.asarray(current_A, float)[:, j], Te, FIT_FILTER_HZ)
-                                             for j in range(n)])
+    tau_raw = np.asarray(kt_Nm_per_A, float) * np.column_stack([lowpass(np.asarray(current_A, float)[:, j], Te, fc)
+                                                                for j in range(n)])
     b = _best_signs(X3, mask, tau_raw, Te, P)
     if b["cond"] > IDENT_CONDITION_MAX:
         raise NotExcited(f"the regressors are ill-conditioned (condition {b['cond']:.3g} > {IDENT_CONDITION_MAX:.3g}): "
                          "the motion does not separate inertia, friction and offsets")
     th, p = b["th"], len(names)
     dof = max(1, len(b["y"]) - len(th))
-    inflate = max(1.0, 1.0 / (2.0 * FIT_FILTER_HZ * Te))
+    inflate = max(1.0, 1.0 / (2.0 * fc * Te))
     cov = b["rss"] / dof * inflate * np.linalg.inv(b["Xn"].T @ b["Xn"]) / np.outer(b["scale"], b["scale"])
     s0 = 1 if th[names.index("c_link")] >= 0 else -1
     tau_fit = np.full_like(b["tau"], np.nan)

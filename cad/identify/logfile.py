@@ -90,9 +90,10 @@ def _rows(lines: list[str], path, n_cols: int) -> np.ndarray:
     return data
 
 
-def parse_log(text: str, path, n_joints: int, current_limit_A: float) -> Log:
+def parse_log(text: str, path, n_joints: int, current_limit_A) -> Log:
     """A :class:`Log` from the CSV ``text`` of ``path`` for a device with ``n_joints``
-    motors whose commanded current is clamped at ``current_limit_A`` (A). Raises
+    motors whose commanded current is clamped at ``current_limit_A`` (A; one number, or one per
+    motor where they differ). Raises
     FileDamaged (field ``LOG``) naming the first problem (module docstring)."""
     lines = [ln.rstrip("\r") for ln in text.split("\n")]
     while lines and not lines[-1].strip():
@@ -118,10 +119,12 @@ def parse_log(text: str, path, n_joints: int, current_limit_A: float) -> Log:
     if np.any(counts != np.round(counts)):
         k = int(np.argmax(np.any(counts != np.round(counts), axis=1)))
         raise _refuse(path, f"line {k + 3}: encoder counts must be integers (raw counter values)")
-    at_clamp = np.abs(cur) >= current_limit_A * (1.0 - 1e-9)
+    lim = np.broadcast_to(np.asarray(current_limit_A, float), (n_joints,))
+    at_clamp = np.abs(cur) >= lim * (1.0 - 1e-9)
     frac = float(at_clamp.any(axis=1).mean())
     if frac > IDENT_SATURATION_FRACTION_MAX:
-        raise _refuse(path, f"is saturated: the current is at the {current_limit_A:.4g} A limit in "
+        said = " / ".join(f"{x:.4g}" for x in dict.fromkeys(lim.tolist()))
+        raise _refuse(path, f"is saturated: the current is at the {said} A limit in "
                             f"{100 * frac:.1f} % of the rows (at most "
                             f"{100 * IDENT_SATURATION_FRACTION_MAX:g} %): lower the excitation or free the handle")
     return Log(t, counts.astype(np.int64), cur, m.group(1), lines[0])

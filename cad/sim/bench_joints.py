@@ -93,12 +93,14 @@ class MujocoPlant:
     viscous its ``damping``, the offsets constant applied torques; gravity ``gravity_m_s2``
     (None: the model's own) times ``gravity_scale``; the loops re-closed after a placement
     (:func:`cad.sim.mj.close_loops`: hinge and ball joints); a motor joint beyond [lo, hi]
-    is put back at the stop at rest (an inelastic stop), checked every MuJoCo step."""
+    is put back at the stop at rest (an inelastic stop), checked every MuJoCo step. Where the
+    MJCF's hinge values are not the firmware's joint angles (the pen's), ``joint_map`` (s, c)
+    gives q = s q_mjcf + c per motor joint."""
 
     JOINTS: tuple[str, ...] = ()
     MOTORS: tuple[str, ...] = ()
 
-    def __init__(self, mjcf, tr: dict, lo, hi, tau_max_Nm: float, gravity_m_s2=None):
+    def __init__(self, mjcf, tr: dict, lo, hi, tau_max_Nm: float, gravity_m_s2=None, joint_map=None):
         import mujoco
 
         self.mujoco = mujoco
@@ -118,6 +120,7 @@ class MujocoPlant:
         for a in self.ia:
             m.actuator_ctrlrange[a] = m.actuator_forcerange[a] = (-tau_max_Nm, tau_max_Nm)
         self.T0, self.lo, self.hi = tr["offset_Nm"], list(lo), list(hi)
+        self.s, self.c = ([1.0] * len(self.iq), [0.0] * len(self.iq)) if joint_map is None else joint_map
         self._Te = None
 
     def _timestep(self, Te: float) -> int:
@@ -133,12 +136,12 @@ class MujocoPlant:
     @property
     def q(self) -> list[float]:
         """The motor joints' angles (rad)."""
-        return [float(self.d.qpos[i]) for i in self.iq]
+        return [s * float(self.d.qpos[i]) + c for i, s, c in zip(self.iq, self.s, self.c, strict=True)]
 
     def place(self, q) -> None:
         """Put the motor joints at ``q`` at rest, the loops closed."""
-        for i, v in zip(self.iq, q, strict=True):
-            self.d.qpos[i] = v
+        for i, v, s, c in zip(self.iq, q, self.s, self.c, strict=True):
+            self.d.qpos[i] = (v - c) / s
         mj.close_loops(self.m, self.d, list(self.JOINTS))
         self.d.qvel[:] = 0.0
         self.mujoco.mj_forward(self.m, self.d)
@@ -146,11 +149,11 @@ class MujocoPlant:
     def advance(self, tau, Te: float) -> None:
         """One control period ``Te`` (s) with the joint torques ``tau`` (N m) applied."""
         nsub = self._timestep(Te)
-        for a, t in zip(self.ia, tau, strict=True):
-            self.d.ctrl[a] = t
+        for a, t, sj in zip(self.ia, tau, self.s, strict=True):  # tau q' = tau_mjcf q_mjcf'
+            self.d.ctrl[a] = sj * t
         self.d.qfrc_applied[:] = 0.0
-        for v, t0 in zip(self.iv, self.T0, strict=True):
-            self.d.qfrc_applied[v] = -t0
+        for v, t0, sj in zip(self.iv, self.T0, self.s, strict=True):
+            self.d.qfrc_applied[v] = -sj * t0
         n = len(self.iq)
         for _ in range(nsub):
             self.mujoco.mj_step(self.m, self.d)

@@ -87,8 +87,18 @@ def friction_rows(pred, f: Fit2) -> list[dict]:
     return rows
 
 
+def middle_pose(pred, f: Fit2) -> np.ndarray:
+    """The joint angles (n,) the gravity loads are stated at: the moving rows' median; for an
+    over-actuated device (whose joint angles must close its loop) the logged pose nearest it."""
+    moving = f.q[f.mask.any(axis=1)]
+    q_med = np.median(moving, axis=0)
+    if getattr(pred, "basis", None) is None:
+        return q_med
+    return moving[np.argmin(np.sum((moving - q_med) ** 2, axis=1))]
+
+
 def _loads(pred, f: Fit2, i: int) -> list[dict]:
-    q_med = np.median(f.q[f.mask.any(axis=1)], axis=0)
+    q_med = middle_pose(pred, f)
     g_med = pred.gravity(q_med[None, :])[0]
     at = ", ".join(f"{math.degrees(x):.1f}" for x in q_med)
     out = []

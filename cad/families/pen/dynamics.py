@@ -146,3 +146,37 @@ def mass_breakdown(design, parts_by_body: dict, X, axis: str = "x", rotor_kg_m2=
     rotors = [(j, float(jm * J[0][k, i] ** 2)) for k, (j, jm) in enumerate(zip(joints, rotor_kg_m2, strict=True))]
     total = sum(v for *_, v in parts) + sum(v for _, v in rotors)
     return {"axis": axis, "total": total, "parts": parts, "rotors": rotors}
+
+
+def link_mass_matrix_X(design, bodies: dict, X_si, step: float = FD_STEP) -> np.ndarray:
+    """Lambda (N, 5, 5) of the solids (no rotors) over the task coordinates X = (x, y, z m,
+    yaw, pitch rad) at poses ``X_si`` (N, 5): sum_b m_b Jc_b^T Jc_b + Jw_b^T I_b Jw_b with each
+    body's centre and angular velocity per unit X' by central differences of
+    :func:`cad.families.pen.layout.body_poses` (all poses in one batch). ``bodies``:
+    ``{body: MassProps}`` in the body frames (SI). :func:`mass_matrix_si` is the same in the
+    quasi-velocities v (w_yaw = cos(pitch) yaw')."""
+    X = np.atleast_2d(np.asarray(X_si, float))
+    n = len(X)
+    Xmm = X * np.array([1e3, 1e3, 1e3, 1.0, 1.0])
+    E = np.eye(5) * step
+    P = np.concatenate([Xmm, *(Xmm + e for e in E), *(Xmm - e for e in E)])
+    per_unit = np.array([1e3, 1e3, 1e3, 1.0, 1.0]) / (2 * step)  # d(X_mm) per unit X, over 2 step
+    lam = np.zeros((n, 5, 5))
+    for b, Tb in body_poses(design, P).items():
+        mp = bodies.get(b)
+        if b == "ground" or mp is None:
+            continue
+        T0 = Tb[:n]
+        Jv, Jw = np.zeros((n, 3, 5)), np.zeros((n, 3, 5))
+        for i in range(5):
+            Tp, Tm = Tb[n * (1 + i):n * (2 + i)], Tb[n * (6 + i):n * (7 + i)]
+            Jv[:, :, i] = (Tp[:, :3, 3] - Tm[:, :3, 3]) * 1e-3 * per_unit[i]
+            Wk = (Tp[:, :3, :3] - Tm[:, :3, :3]) @ np.swapaxes(T0[:, :3, :3], 1, 2)
+            Jw[:, :, i] = 0.5 * np.stack([Wk[:, 2, 1] - Wk[:, 1, 2], Wk[:, 0, 2] - Wk[:, 2, 0],
+                                          Wk[:, 1, 0] - Wk[:, 0, 1]], axis=-1) * per_unit[i]
+        R = T0[:, :3, :3]
+        c = R @ np.asarray(mp.com_m, float)
+        Jc = Jv - np.cross(c[:, None, :], np.swapaxes(Jw, 1, 2)).swapaxes(1, 2)
+        Iw = R @ np.asarray(mp.inertia_com_kg_m2, float) @ np.swapaxes(R, 1, 2)
+        lam += mp.mass_kg * np.swapaxes(Jc, 1, 2) @ Jc + np.swapaxes(Jw, 1, 2) @ Iw @ Jw
+    return lam

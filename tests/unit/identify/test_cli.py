@@ -14,7 +14,7 @@ from tests.unit.identify.conftest import ROOT
 HOEKEN = ROOT / "designs" / "hoeken.toml"
 
 
-@pytest.mark.parametrize("design", ["haptic_pen.toml", "powermouse.toml"])
+@pytest.mark.parametrize("design", ["powermouse.toml"])
 def test_other_families_are_refused_in_one_line(tmp_path, design):
     path = ROOT / "designs" / design
     log = tmp_path / "log.csv"
