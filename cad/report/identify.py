@@ -14,6 +14,8 @@ FILES = ("identify.json", "identify.md", "identify_fit.svg", "identify_residual.
 
 
 def _plots(fit, out: Path) -> None:
+    """The fit and residual plots: one column per motor, or (an over-actuated device: the
+    view's ``labels``) per independent coordinate, the equations W^T tau."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -23,25 +25,27 @@ def _plots(fit, out: Path) -> None:
     m = fit.mask
     meas, model = np.asarray(fit.tau_meas).reshape(len(t), -1), np.asarray(fit.tau_fit).reshape(len(t), -1)
     many = meas.shape[1] > 1  # one column per motor (the 5-bar: two)
+    labels = getattr(fit, "labels", None) or [f"motor {j}" for j in range(meas.shape[1])]
+    ylabel = getattr(fit, "ylabel", None) or ("torque at each motor's joint (mN m)" if many else
+                                              "torque on the crank (mN m)")
     fig, ax = plt.subplots(figsize=(9, 3.5))
     for j in range(meas.shape[1]):
-        who = f"motor {j}: " if many else ""
-        ax.plot(t, 1e3 * meas[:, j], lw=0.6, label=f"{who}motor torque s Kt i (filtered)")
+        who = f"{labels[j]}: " if many else ""
+        ax.plot(t, 1e3 * meas[:, j], lw=0.6, label=f"{who}measured s Kt i (filtered)")
         ax.plot(t[m], 1e3 * model[m, j], ".", ms=1.0, label=f"{who}model with the identified parameters")
     ax.set_xlabel("t (s)")
-    ax.set_ylabel("torque at each motor's joint (mN m)" if many else "torque on the crank (mN m)")
+    ax.set_ylabel(ylabel)
     ax.legend(loc="upper right", fontsize=8)
     fig.tight_layout()
     save_figure(fig, out / "identify_fit.svg")
     plt.close(fig)
     fig, ax = plt.subplots(figsize=(9, 3.0))
     for j in range(meas.shape[1]):
-        ax.plot(t[m], 1e3 * (meas[m, j] - model[m, j]), ".", ms=1.0,
-                label=f"motor {j}" if many else None)
+        ax.plot(t[m], 1e3 * (meas[m, j] - model[m, j]), ".", ms=1.0, label=labels[j] if many else None)
     if many:
         ax.legend(loc="upper right", fontsize=8)
     ax.set_xlabel("t (s)")
-    ax.set_ylabel("residual (mN m)")
+    ax.set_ylabel("residual (" + ylabel.rsplit("(", 1)[-1] if "(" in ylabel else "residual")
     fig.tight_layout()
     save_figure(fig, out / "identify_residual.svg")
     plt.close(fig)

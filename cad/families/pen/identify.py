@@ -300,7 +300,9 @@ def _identify(pred: PredictionPen, log, path):
     res, f = identify_joints.identify(pred, log, path)
     if f is None:
         return res, None
-    return res, SimpleNamespace(t_s=f.t_s, mask=f.mask.any(axis=1), tau_meas=f.tau_meas, tau_fit=f.tau_fit)
+    return res, SimpleNamespace(t_s=f.t_s, mask=f.mask.any(axis=1), tau_meas=f.tau_meas, tau_fit=f.tau_fit,
+                                labels=["x (mN)", "y (mN)", "z (mN)", "yaw (mN m)", "pitch (mN m)"],
+                                ylabel="generalized force W^T tau along each coordinate (mN, mN m)")
 
 
 #: ``hapticad identify`` / ``bench-log`` of the haptic pen.
