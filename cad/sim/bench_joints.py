@@ -20,6 +20,7 @@ import numpy as np
 
 from cad.identify import excitation2
 from cad.sim import identify_joints, mj
+from cad.sim.bench import STOP_FRACTION
 from cad.sim.wall import MJ_STEP_MAX_S
 
 #: Bench Coulomb friction per motor when the prediction has none (fraction of Kt i_cont).
@@ -46,6 +47,14 @@ def truth(pred, p: dict) -> dict:
             "current_noise_A": p["noise"] * min(im),
             **{key.replace("@home", "_home"): scale * float(M[k, k])
                for k, (key, _, _, scale) in enumerate(identify_joints.mass_keys(pred))}}
+
+
+def stop_range(plan) -> tuple[list[float], list[float]]:
+    """(lo, hi) rad per joint of the bench's mechanical stops: the plan's range widened by
+    :data:`cad.sim.bench.STOP_FRACTION` of it at each end."""
+    span = [STOP_FRACTION * (h - lo) for lo, h in zip(plan.q_min_rad, plan.q_max_rad, strict=True)]
+    return ([a - d for a, d in zip(plan.q_min_rad, span, strict=True)],
+            [b + d for b, d in zip(plan.q_max_rad, span, strict=True)])
 
 
 STATUS_WORDS = {excitation2.DONE: "done", excitation2.RANGE: "stopped: a joint left its range (or the hold envelope)",

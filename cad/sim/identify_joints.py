@@ -23,6 +23,7 @@ import math
 import numpy as np
 
 from cad.errors import FileDamaged
+from cad.identify import jointn
 from cad.identify.joint2 import Fit2, NotExcited
 from cad.identify.logfile import Log
 from cad.sim.identify_device import SEPARABLE_CORRELATION, excitation_start, figure_row
@@ -33,6 +34,48 @@ from cad.tolerances import (
     IDENT_MIN_TRAVEL_COUNTS,
     IDENT_OFFSET_TOL_FRACTION,
 )
+
+#: Central-difference step of J' q' (s): J(q +- eps q').
+DT_JDOT_S = 1e-6
+
+
+class OverActuated:
+    """The model methods of an over-actuated device's prediction (the twin pantograph, the
+    pen), from its ``n_joints``, ``task(q)`` -> X (N, k), ``task_jacobian(q)`` -> dX/dq
+    (N, k, n), ``basis(q)`` -> W = dq/dX (N, n, k), ``link_mass_X(X)`` -> Lambda of the
+    solids (N, k, k) and ``rotor_kg_m2`` (a number or per motor)."""
+
+    def link_torques(self, q, v, a) -> np.ndarray:
+        """Least-norm joint torques (N, n) whose W^T is the links' Euler-Lagrange force in X
+        (X' = J q', X'' = J q'' + J' q', :func:`cad.identify.jointn.lagrange_torques`)."""
+        J = self.task_jacobian(q)
+        Jdv = (self.task_jacobian(q + DT_JDOT_S * v) - self.task_jacobian(q - DT_JDOT_S * v)) / (2 * DT_JDOT_S)
+        Xd = np.einsum("nij,nj->ni", J, v)
+        Xdd = np.einsum("nij,nj->ni", J, a) + np.einsum("nij,nj->ni", Jdv, v)
+        F = jointn.lagrange_torques(self.link_mass_X, self.task(q), Xd, Xdd)
+        return np.einsum("nij,nj->ni", np.linalg.pinv(np.swapaxes(self.basis(q), 1, 2)), F)
+
+    def joint_mass_kg(self, q) -> np.ndarray:
+        """(N, n, n) diagonal: the inertia each motor meets alone, the others free,
+        1 / (W Lambda^-1 W^T)_jj with the rotors in Lambda (the hold's damping and the
+        stopped-log heuristics read it)."""
+        q = np.atleast_2d(np.asarray(q, float))
+        W = self.basis(q)
+        rot = np.asarray(per_joint(self.rotor_kg_m2, self.n_joints))
+        lam = self.link_mass_X(self.task(q)) + np.einsum("nji,j,njk->nik", W, rot, W)
+        mob = np.einsum("nij,njk,nlk->nil", W, np.linalg.inv(lam), W)
+        return np.einsum("ni,ij->nij", 1.0 / np.diagonal(mob, axis1=1, axis2=2), np.eye(self.n_joints))
+
+    def task_mass_terms(self, q) -> tuple[np.ndarray, ...]:
+        """(A, B_0 .. B_{n-1}) (k, k): Lambda at q (1, n) = c_link A + sum_j J_j B_j."""
+        W = self.basis(q)[0]
+        return (self.link_mass_X(self.task(q))[0], *(np.outer(W[j], W[j]) for j in range(self.n_joints)))
+
+    def task_mass_kg(self, q, c_link: float = 1.0, J=None) -> np.ndarray:
+        """Lambda (k, k) at q (1, n) of the given parameters (default: the prediction)."""
+        J = per_joint(self.rotor_kg_m2, self.n_joints) if J is None else J
+        A, *B = self.task_mass_terms(q)
+        return c_link * A + sum(j * b for j, b in zip(J, B, strict=True))
 
 
 def per_joint(x, n: int) -> list[float]:

@@ -4,7 +4,10 @@ one :class:`IdentifyKit` per layout, given by its :class:`cad.firmware.model.Kin
 
 * :data:`ONE_MOTOR` -- the four-bars (:mod:`cad.sim.identify_device`, :mod:`cad.sim.bench`);
 * :data:`FIVEBAR` -- the 5-bar pantograph (:mod:`cad.sim.identify_fivebar`,
-  :mod:`cad.sim.bench_fivebar`).
+  :mod:`cad.sim.bench_fivebar`);
+* :func:`joint_kit` and :func:`routine_files` -- the kit and the firmware routine of a family
+  identified by the n-motor run (:mod:`cad.sim.identify_joints`): the delta, the twin
+  pantograph, the pen; the family gives its ``predict`` and its bench's ``simulate``.
 
 """
 
@@ -19,8 +22,11 @@ from typing import Any
 
 import numpy as np
 
+from cad.design import bounds
+from cad.errors import DesignError
+from cad.firmware import identify2_c
 from cad.isotropy.gii import workspace_half_mm
-from cad.sim import bench, bench_fivebar, identify_device, identify_fivebar
+from cad.sim import bench, bench_fivebar, identify_device, identify_fivebar, identify_joints
 from cad.sim.device import device_build
 
 Hook = Callable[..., Any]
@@ -92,3 +98,46 @@ def _bench_5(design, p: dict, seed: int, build_dir, model: str):
 
 FIVEBAR = IdentifyKit(2, ("mujoco", "reduced"), _check_build_dir_5, identify_fivebar.predict_from_build, _identify_5,
                       _bench_5)
+
+
+# ------------------------------------------------------------------ n motors (delta, twin, pen)
+def joint_kit(n: int, predict: Hook, simulate: Hook, labels=None, ylabel: str | None = None) -> IdentifyKit:
+    """The :class:`IdentifyKit` of an n-motor family benched on its MJCF in MuJoCo:
+    ``predict(design, report)`` its prediction, ``simulate(design, pred, perturb, seed, mjcf)``
+    its bench run; ``labels``/``ylabel`` name the plots' columns (an over-actuated device's
+    independent coordinates; None: per motor)."""
+    def check(design, build_dir: Path) -> None:
+        identify_fivebar.build_folder(design, Path(build_dir))
+
+    def from_build(design, build_dir=None):
+        return predict(design, identify_fivebar.build_folder(design, None if build_dir is None else Path(build_dir))[1])
+
+    def ident(pred, log, path):
+        res, f = identify_joints.identify(pred, log, path)
+        if f is None:
+            return res, None
+        return res, SimpleNamespace(t_s=f.t_s, mask=f.mask.any(axis=1), tau_meas=f.tau_meas, tau_fit=f.tau_fit,
+                                    labels=labels, ylabel=ylabel)
+
+    def run(design, p: dict, seed: int, build_dir, model: str):
+        folder, rep = identify_fivebar.build_folder(design, None if build_dir is None else Path(build_dir))
+        pred = predict(design, rep)
+        t, counts, cmd, tr = simulate(design, pred, p, seed, folder / f"{design.name}.xml")
+        return pred, t, counts, cmd, tr, {}
+
+    return IdentifyKit(n, ("mujoco",), check, from_build, ident, run)
+
+
+def routine_files(predict: Hook) -> Hook:
+    """The firmware model's ``identify`` hook ``(design, report, spec) -> {file: text}``: the
+    n-motor routine (:mod:`cad.firmware.identify2_c`) with the plan of ``predict(design,
+    report)``; none, with a warning, when the design cannot run it (DesignError)."""
+    def files(design, report: dict, spec) -> dict[str, str]:
+        try:
+            pred = predict(design, report)
+        except DesignError as exc:
+            bounds.warn(f"firmware: no identify/ routine: {exc}")
+            return {}
+        return identify2_c.files(spec, pred.plan)
+
+    return files

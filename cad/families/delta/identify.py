@@ -24,19 +24,15 @@ from __future__ import annotations
 import dataclasses
 import math
 from dataclasses import dataclass
-from pathlib import Path
-from types import SimpleNamespace
 
 import numpy as np
 
 import cad
-from cad.design import bounds
 from cad.device import resolve_device
 from cad.dynamics.delta import DeltaMass, gravity_torques_Nm
 from cad.errors import DesignError
 from cad.families.delta.dynamics import gravity_hold_torques_Nm, mass_matrix_from_bodies_kg
 from cad.families.delta.firmware import DELTA, mass_of, props_of
-from cad.firmware import identify2_c
 from cad.firmware.device import device_spec
 from cad.firmware.model import KinematicModel
 from cad.firmware.spec import angles_from_counts, motor_data
@@ -45,9 +41,9 @@ from cad.identify.joint2 import Fit2
 from cad.kinematics.delta import Delta, fk, ik, jacobian_rad_per_m
 from cad.pipeline import design_hash
 from cad.sim import bench_joints, identify_joints
-from cad.sim.bench import HAND_FRACTION, STOP_FRACTION
-from cad.sim.identify_fivebar import TE_S, build_folder
-from cad.sim.identify_kits import IdentifyKit
+from cad.sim.bench import HAND_FRACTION
+from cad.sim.identify_fivebar import TE_S
+from cad.sim.identify_kits import joint_kit, routine_files
 
 #: The operator's hand move in the first phase (every arm turns up with it).
 HAND_MOVE = "straight up (+z)"
@@ -175,12 +171,6 @@ def predict(design, report: dict) -> PredictionDelta:
     return dataclasses.replace(pred, plan=_plan(pred, device))
 
 
-def predict_from_build(design, build_dir=None) -> PredictionDelta:
-    """:func:`predict` with the bodies of the design's build (``build_dir`` or the cached
-    simulator build)."""
-    return predict(design, build_folder(design, None if build_dir is None else Path(build_dir))[1])
-
-
 # ------------------------------------------------------------------ the virtual bench
 class MujocoPlantDelta(bench_joints.MujocoPlant):
     """The build's MJCF in MuJoCo (:class:`cad.sim.bench_joints.MujocoPlant`): three upper
@@ -207,9 +197,7 @@ def simulate(design, pred: PredictionDelta, p: dict, seed: int, mjcf) -> tuple:
     the MJCF ``mjcf`` with perturbations ``p`` (:func:`cad.sim.bench.parse_perturb`)."""
     tr = bench_joints.truth(pred, p)
     plan = pred.plan
-    span = [STOP_FRACTION * (h - lo) for lo, h in zip(plan.q_min_rad, plan.q_max_rad, strict=True)]
-    lo = [a - d for a, d in zip(plan.q_min_rad, span, strict=True)]
-    hi = [b + d for b, d in zip(plan.q_max_rad, span, strict=True)]
+    lo, hi = bench_joints.stop_range(plan)
     plant = MujocoPlantDelta(mjcf, tr, lo, hi, 2 * abs(tr["kt_Nm_per_A"]) * pred.i_max_A)
     qh = hand_path(pred, design, int(math.ceil(plan.T_hand_s / plan.Te_s)))
     t, counts, cmd = bench_joints.run(pred, plant, tr, qh, pred.gravity_ff, seed)
@@ -217,40 +205,10 @@ def simulate(design, pred: PredictionDelta, p: dict, seed: int, mjcf) -> tuple:
     return t, counts, cmd, tr
 
 
-def bench(design, p: dict, seed: int, build_dir, model: str):
-    """The :class:`cad.sim.identify_kits.IdentifyKit` ``bench`` hook of the delta."""
-    folder, rep = build_folder(design, None if build_dir is None else Path(build_dir))
-    pred = predict(design, rep)
-    t, counts, cmd, tr = simulate(design, pred, p, seed, folder / f"{design.name}.xml")
-    return pred, t, counts, cmd, tr, {}
-
-
 # ------------------------------------------------------------------ hooks
-def _check_build_dir(design, build_dir: Path) -> None:
-    build_folder(design, Path(build_dir))
-
-
-def _identify(pred: PredictionDelta, log, path):
-    res, f = identify_joints.identify(pred, log, path)
-    if f is None:
-        return res, None
-    return res, SimpleNamespace(t_s=f.t_s, mask=f.mask.any(axis=1), tau_meas=f.tau_meas, tau_fit=f.tau_fit)
-
-
-#: ``hapticad identify`` / ``bench-log`` of the delta (its firmware model's ``identification``).
-KIT = IdentifyKit(3, ("mujoco",), _check_build_dir, predict_from_build, _identify, bench)
-
-
-def identify_files(design, report: dict, spec) -> dict[str, str]:
-    """The 3-motor identification routine (:mod:`cad.firmware.identify2_c`), its constants
-    from the same plan as the virtual bench; none, with a warning, when gravity at home takes
-    the motors' continuous current."""
-    try:
-        pred = predict(design, report)
-    except DesignError as exc:
-        bounds.warn(f"firmware: no identify/ routine: {exc}")
-        return {}
-    return identify2_c.files(spec, pred.plan)
+#: ``hapticad identify`` / ``bench-log`` of the family (its firmware model's ``identification``).
+KIT = joint_kit(3, predict, simulate)
+identify_files = routine_files(predict)
 
 
 def firmware_model(design) -> KinematicModel:

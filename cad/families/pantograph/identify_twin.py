@@ -23,13 +23,10 @@ from __future__ import annotations
 import dataclasses
 import math
 from dataclasses import dataclass
-from pathlib import Path
-from types import SimpleNamespace
 
 import numpy as np
 
 import cad
-from cad.design import bounds
 from cad.device import resolve_device
 from cad.errors import DesignError
 from cad.families.pantograph.firmware import (
@@ -41,7 +38,7 @@ from cad.families.pantograph.firmware import (
     twin_of,
     twin_task_jacobian,
 )
-from cad.firmware import identify2_c, reference
+from cad.firmware import reference
 from cad.firmware.device import device_spec
 from cad.firmware.model import KinematicModel
 from cad.firmware.spec import angles_from_counts, motor_data
@@ -51,21 +48,19 @@ from cad.isotropy.gii import workspace_half_mm
 from cad.kinematics import twin_pantograph as tw
 from cad.pipeline import design_hash
 from cad.sim import bench_joints, identify_joints
-from cad.sim.bench import HAND_FRACTION, STOP_FRACTION
-from cad.sim.identify_fivebar import TE_S, build_folder
-from cad.sim.identify_kits import IdentifyKit
+from cad.sim.bench import HAND_FRACTION
+from cad.sim.identify_fivebar import TE_S
+from cad.sim.identify_kits import joint_kit, routine_files
 
 #: Samples per side of the workspace square and crank angles whose IK gives the joint ranges.
 RANGE_GRID, RANGE_THETA = 11, 8
-#: Central-difference step of J' q' (s): J(q +- eps q') .
-DT_JDOT_S = 1e-6
 MODEL_WORDS = ("W^T s Kt i(t - n Te) = W^T [c_link tau_links(Lambda_solids(X), Euler-Lagrange in X = (x, y, theta)) "
                "+ J_j q_j'' + Tc_j sign(q_j') + b_j q_j' + T0] (twin pantograph, q' = W X', "
                "cad.identify.jointn)")
 
 
 @dataclass(frozen=True)
-class PredictionTwin:
+class PredictionTwin(identify_joints.OverActuated):
     """A twin pantograph's predicted figures (module docstring); SI, tuples per motor."""
 
     name: str
@@ -108,44 +103,17 @@ class PredictionTwin:
         """Lambda (N, 3, 3) of the solids without rotors at X (N, 3) (kg, kg m, kg m^2)."""
         return twin_mass_matrix(self.spec, None, np.atleast_2d(X))
 
-    def link_torques(self, q, v, a) -> np.ndarray:
-        """Least-norm joint torques (N, 4) whose W^T is the links' Euler-Lagrange force in X."""
-        J = twin_jacobian(self.spec, q)
-        Jdv = (twin_jacobian(self.spec, q + DT_JDOT_S * v) - twin_jacobian(self.spec, q - DT_JDOT_S * v)) \
-            / (2 * DT_JDOT_S)
-        Xd = np.einsum("nij,nj->ni", J, v)
-        Xdd = np.einsum("nij,nj->ni", J, a) + np.einsum("nij,nj->ni", Jdv, v)
-        F = jointn.lagrange_torques(self.link_mass_X, self.task(q), Xd, Xdd)
-        return np.einsum("nij,nj->ni", np.linalg.pinv(np.swapaxes(self.basis(q), 1, 2)), F)
+    def task_jacobian(self, q) -> np.ndarray:
+        """dX/dq (N, k, n) at q (N, n) (the firmware's)."""
+        return twin_jacobian(self.spec, np.atleast_2d(np.asarray(q, float)))
 
     def gravity(self, q):
         """Gravity torques (N, 4) N m of a vertical device (the firmware's); None: horizontal."""
         return reference.gravity_torques(self.spec, np.atleast_2d(q)) if self.vertical else None
 
-    def joint_mass_kg(self, q) -> np.ndarray:
-        """(N, 4, 4) diagonal: the inertia each motor meets alone, the others free,
-        1 / (W Lambda^-1 W^T)_jj with the rotors in Lambda (the hold's damping and the
-        stopped-log heuristics read it)."""
-        q = np.atleast_2d(np.asarray(q, float))
-        W = self.basis(q)
-        lam = self.link_mass_X(self.task(q)) + self.rotor_kg_m2 * np.swapaxes(W, 1, 2) @ W
-        mob = np.einsum("nij,njk,nlk->nil", W, np.linalg.inv(lam), W)
-        return np.einsum("ni,ij->nij", 1.0 / np.diagonal(mob, axis1=1, axis2=2), np.eye(4))
-
     def angles(self, counts) -> np.ndarray:
         """Joint angles (N, 4) rad the firmware reads from ``counts``."""
         return angles_from_counts(self.spec, np.asarray(counts, float).reshape(-1, 4))
-
-    def task_mass_terms(self, q) -> tuple[np.ndarray, ...]:
-        """(A, B_0..B_3) (3, 3): Lambda at q (1, 4) = c_link A + sum_j J_j B_j."""
-        W = self.basis(q)[0]
-        return (self.link_mass_X(self.task(q))[0], *(np.outer(W[j], W[j]) for j in range(4)))
-
-    def task_mass_kg(self, q, c_link: float = 1.0, J=None) -> np.ndarray:
-        """Lambda (3, 3) at q (1, 4) of the given parameters (default: the prediction)."""
-        J = (self.rotor_kg_m2,) * 4 if J is None else J
-        A, *B = self.task_mass_terms(q)
-        return c_link * A + sum(j * b for j, b in zip(J, B, strict=True))
 
     def fit_log(self, t_s, q_rad, current_A) -> Fit2:
         """:func:`cad.identify.jointn.fit` with this prediction's over-actuated model."""
@@ -189,11 +157,6 @@ def predict(design, report: dict) -> PredictionTwin:
     return dataclasses.replace(pred, plan=_plan(pred))
 
 
-def predict_from_build(design, build_dir=None) -> PredictionTwin:
-    """:func:`predict` with the bodies of the design's build (or the cached simulator build)."""
-    return predict(design, build_folder(design, None if build_dir is None else Path(build_dir))[1])
-
-
 # ------------------------------------------------------------------ the virtual bench
 class MujocoPlantTwin(bench_joints.MujocoPlant):
     """The build's MJCF in MuJoCo (:class:`cad.sim.bench_joints.MujocoPlant`): both 5-bars,
@@ -217,9 +180,7 @@ def simulate(design, pred: PredictionTwin, p: dict, seed: int, mjcf) -> tuple:
     """(t_s, counts (N, 4), commanded currents (N, 4) A, truth) of one bench run on ``mjcf``."""
     tr = bench_joints.truth(pred, p)
     plan = pred.plan
-    span = [STOP_FRACTION * (h - lo) for lo, h in zip(plan.q_min_rad, plan.q_max_rad, strict=True)]
-    lo = [a - d for a, d in zip(plan.q_min_rad, span, strict=True)]
-    hi = [b + d for b, d in zip(plan.q_max_rad, span, strict=True)]
+    lo, hi = bench_joints.stop_range(plan)
     g = pred.spec.gravity_m_s2
     plant = MujocoPlantTwin(mjcf, tr, lo, hi, 2 * abs(tr["kt_Nm_per_A"]) * pred.i_max_A,
                             (0.0, 0.0, 0.0) if g is None else (g[0], g[1], 0.0))
@@ -230,40 +191,11 @@ def simulate(design, pred: PredictionTwin, p: dict, seed: int, mjcf) -> tuple:
     return t, counts, cmd, tr
 
 
-def bench(design, p: dict, seed: int, build_dir, model: str):
-    """The :class:`cad.sim.identify_kits.IdentifyKit` ``bench`` hook of the twin pantograph."""
-    folder, rep = build_folder(design, None if build_dir is None else Path(build_dir))
-    pred = predict(design, rep)
-    t, counts, cmd, tr = simulate(design, pred, p, seed, folder / f"{design.name}.xml")
-    return pred, t, counts, cmd, tr, {}
-
-
 # ------------------------------------------------------------------ hooks
-def _check_build_dir(design, build_dir: Path) -> None:
-    build_folder(design, Path(build_dir))
-
-
-def _identify(pred: PredictionTwin, log, path):
-    res, f = identify_joints.identify(pred, log, path)
-    if f is None:
-        return res, None
-    return res, SimpleNamespace(t_s=f.t_s, mask=f.mask.any(axis=1), tau_meas=f.tau_meas, tau_fit=f.tau_fit,
-                                labels=["x (mN)", "y (mN)", "theta (mN m)"],
-                                ylabel="generalized force W^T tau along each coordinate (mN, mN m)")
-
-
-#: ``hapticad identify`` / ``bench-log`` of the twin pantograph.
-KIT = IdentifyKit(4, ("mujoco",), _check_build_dir, predict_from_build, _identify, bench)
-
-
-def identify_files(design, report: dict, spec) -> dict[str, str]:
-    """The 4-motor identification routine (:mod:`cad.firmware.identify2_c`) from the bench's plan."""
-    try:
-        pred = predict(design, report)
-    except DesignError as exc:
-        bounds.warn(f"firmware: no identify/ routine: {exc}")
-        return {}
-    return identify2_c.files(spec, pred.plan)
+#: ``hapticad identify`` / ``bench-log`` of the family (its firmware model's ``identification``).
+KIT = joint_kit(4, predict, simulate, labels=["x (mN)", "y (mN)", "theta (mN m)"],
+                ylabel="generalized force W^T tau along each coordinate (mN, mN m)")
+identify_files = routine_files(predict)
 
 
 def firmware_model(design) -> KinematicModel:

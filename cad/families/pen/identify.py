@@ -21,7 +21,6 @@ from __future__ import annotations
 import dataclasses
 import math
 from dataclasses import dataclass
-from pathlib import Path
 from types import SimpleNamespace
 
 import numpy as np
@@ -34,7 +33,7 @@ from cad.families.delta.firmware import props_of
 from cad.families.pen.dynamics import link_mass_matrix_X
 from cad.families.pen.firmware import PEN, state
 from cad.families.pen.layout import body_poses
-from cad.firmware import identify2_c, reference
+from cad.firmware import reference
 from cad.firmware.device import device_spec
 from cad.firmware.model import KinematicModel
 from cad.firmware.spec import angles_from_counts, motor_data
@@ -43,17 +42,17 @@ from cad.identify.joint2 import Fit2
 from cad.kinematics import haptic_pen as hp
 from cad.pipeline import design_hash
 from cad.sim import bench_joints, identify_joints
-from cad.sim.bench import HAND_FRACTION, STOP_FRACTION
-from cad.sim.identify_fivebar import TE_S, build_folder
-from cad.sim.identify_kits import IdentifyKit
+from cad.sim.bench import HAND_FRACTION
+from cad.sim.identify_fivebar import TE_S
+from cad.sim.identify_kits import joint_kit, routine_files
 
 HAND_MOVE = "up and to the right (+x and +z together)"
 #: Above this fraction of a motor's continuous current spent on gravity at home, say so.
 GRAVITY_WARN_FRACTION = 0.5
 #: The hand move's direction in X (unit, mm).
 HAND_DIR = np.array([1.0, 0.0, 1.0, 0.0, 0.0]) / math.sqrt(2.0)
-#: Central-difference steps: of dq/dX through the IK (mm, rad), of J' q' (s).
-IK_STEP, DT_JDOT_S = 1e-4, 1e-6
+#: Central-difference step of dq/dX through the IK (mm, rad).
+IK_STEP = 1e-4
 SI = np.array([1e-3, 1e-3, 1e-3, 1.0, 1.0])  # X in mm, rad -> m, rad
 MODEL_WORDS = ("W^T s_j Kt_j i_j(t - n Te) = W^T [c_link tau_links(Lambda_solids(X), Euler-Lagrange in X = (x, y, z, "
                "yaw, pitch)) + J_j q_j'' + Tc_j sign(q_j') + b_j q_j' + cg g(q) + T0] (haptic pen, q' = W X', "
@@ -61,7 +60,7 @@ MODEL_WORDS = ("W^T s_j Kt_j i_j(t - n Te) = W^T [c_link tau_links(Lambda_solids
 
 
 @dataclass(frozen=True)
-class PredictionPen:
+class PredictionPen(identify_joints.OverActuated):
     """A haptic pen's predicted figures (module docstring); SI, tuples per motor."""
 
     name: str
@@ -115,41 +114,17 @@ class PredictionPen:
         """Lambda (N, 5, 5) of the solids without rotors at X (N, 5) (m, rad)."""
         return link_mass_matrix_X(self.design, self.props, X)
 
-    def link_torques(self, q, v, a) -> np.ndarray:
-        """Least-norm joint torques (N, 6) whose W^T is the links' Euler-Lagrange force in X."""
-        J = state(self.spec, q)[1]
-        Jdv = (state(self.spec, q + DT_JDOT_S * v)[1] - state(self.spec, q - DT_JDOT_S * v)[1]) / (2 * DT_JDOT_S)
-        Xd = np.einsum("nij,nj->ni", J, v)
-        Xdd = np.einsum("nij,nj->ni", J, a) + np.einsum("nij,nj->ni", Jdv, v)
-        F = jointn.lagrange_torques(self.link_mass_X, self.task(q), Xd, Xdd)
-        return np.einsum("nij,nj->ni", np.linalg.pinv(np.swapaxes(self.basis(q), 1, 2)), F)
+    def task_jacobian(self, q) -> np.ndarray:
+        """dX/dq (N, k, n) at q (N, n) (the firmware's)."""
+        return state(self.spec, np.atleast_2d(np.asarray(q, float)))[1]
 
     def gravity(self, q) -> np.ndarray:
         """The firmware's gravity torques (N, 6) N m (every body's weight)."""
         return reference.gravity_torques(self.spec, np.atleast_2d(q))
 
-    def joint_mass_kg(self, q) -> np.ndarray:
-        """(N, 6, 6) diagonal: the inertia each motor meets alone, 1 / (W Lambda^-1 W^T)_jj."""
-        q = np.atleast_2d(np.asarray(q, float))
-        W = self.basis(q)
-        lam = self.link_mass_X(self.task(q)) + np.einsum("nji,j,njk->nik", W, np.asarray(self.rotor_kg_m2), W)
-        mob = np.einsum("nij,njk,nlk->nil", W, np.linalg.inv(lam), W)
-        return np.einsum("ni,ij->nij", 1.0 / np.diagonal(mob, axis1=1, axis2=2), np.eye(6))
-
     def angles(self, counts) -> np.ndarray:
         """Joint angles (N, 6) rad the firmware reads from ``counts``."""
         return angles_from_counts(self.spec, np.asarray(counts, float).reshape(-1, 6))
-
-    def task_mass_terms(self, q) -> tuple[np.ndarray, ...]:
-        """(A, B_0..B_5) (5, 5): Lambda at q (1, 6) = c_link A + sum_j J_j B_j."""
-        W = self.basis(q)[0]
-        return (self.link_mass_X(self.task(q))[0], *(np.outer(W[j], W[j]) for j in range(6)))
-
-    def task_mass_kg(self, q, c_link: float = 1.0, J=None) -> np.ndarray:
-        """Lambda (5, 5) at q (1, 6) of the given parameters (default: the prediction)."""
-        J = self.rotor_kg_m2 if J is None else J
-        A, *B = self.task_mass_terms(q)
-        return c_link * A + sum(j * b for j, b in zip(J, B, strict=True))
 
     def fit_log(self, t_s, q_rad, current_A) -> Fit2:
         """:func:`cad.identify.jointn.fit` with this prediction's over-actuated model."""
@@ -214,11 +189,6 @@ def _warn_gravity(pred: PredictionPen) -> None:
                     "identify (a stronger shoulder motor, e.g. parts.motor = \"maxon-re40\", or counterbalanced arms)")
 
 
-def predict_from_build(design, build_dir=None) -> PredictionPen:
-    """:func:`predict` with the bodies of the design's build (or the cached simulator build)."""
-    return predict(design, build_folder(design, None if build_dir is None else Path(build_dir))[1])
-
-
 # ------------------------------------------------------------------ the virtual bench
 class MujocoPlantPen(bench_joints.MujocoPlant):
     """The build's MJCF in MuJoCo (:class:`cad.sim.bench_joints.MujocoPlant`): both arms, the
@@ -270,9 +240,7 @@ def simulate(design, pred: PredictionPen, p: dict, seed: int, mjcf) -> tuple:
     """(t_s, counts (N, 6), commanded currents (N, 6) A, truth) of one bench run on ``mjcf``."""
     tr = bench_joints.truth(pred, p)
     plan = pred.plan
-    span = [STOP_FRACTION * (h - lo) for lo, h in zip(plan.q_min_rad, plan.q_max_rad, strict=True)]
-    lo = [a - d for a, d in zip(plan.q_min_rad, span, strict=True)]
-    hi = [b + d for b, d in zip(plan.q_max_rad, span, strict=True)]
+    lo, hi = bench_joints.stop_range(plan)
     tau_max = 2 * max(abs(k) * i for k, i in zip(pred.kt_Nm_per_A, pred.i_max_A, strict=True)) * abs(p["kt"])
     plant = MujocoPlantPen(mjcf, tr, lo, hi, tau_max)
     plant.s, plant.c = joint_map(pred, design, [float(plant.m.qpos0[i]) for i in plant.iq])
@@ -283,40 +251,11 @@ def simulate(design, pred: PredictionPen, p: dict, seed: int, mjcf) -> tuple:
     return t, counts, cmd, tr
 
 
-def bench(design, p: dict, seed: int, build_dir, model: str):
-    """The :class:`cad.sim.identify_kits.IdentifyKit` ``bench`` hook of the pen."""
-    folder, rep = build_folder(design, None if build_dir is None else Path(build_dir))
-    pred = predict(design, rep)
-    t, counts, cmd, tr = simulate(design, pred, p, seed, folder / f"{design.name}.xml")
-    return pred, t, counts, cmd, tr, {}
-
-
 # ------------------------------------------------------------------ hooks
-def _check_build_dir(design, build_dir: Path) -> None:
-    build_folder(design, Path(build_dir))
-
-
-def _identify(pred: PredictionPen, log, path):
-    res, f = identify_joints.identify(pred, log, path)
-    if f is None:
-        return res, None
-    return res, SimpleNamespace(t_s=f.t_s, mask=f.mask.any(axis=1), tau_meas=f.tau_meas, tau_fit=f.tau_fit,
-                                labels=["x (mN)", "y (mN)", "z (mN)", "yaw (mN m)", "pitch (mN m)"],
-                                ylabel="generalized force W^T tau along each coordinate (mN, mN m)")
-
-
-#: ``hapticad identify`` / ``bench-log`` of the haptic pen.
-KIT = IdentifyKit(6, ("mujoco",), _check_build_dir, predict_from_build, _identify, bench)
-
-
-def identify_files(design, report: dict, spec) -> dict[str, str]:
-    """The 6-motor identification routine (:mod:`cad.firmware.identify2_c`) from the bench's plan."""
-    try:
-        pred = predict(design, report)
-    except DesignError as exc:
-        bounds.warn(f"firmware: no identify/ routine: {exc}")
-        return {}
-    return identify2_c.files(spec, pred.plan)
+#: ``hapticad identify`` / ``bench-log`` of the family (its firmware model's ``identification``).
+KIT = joint_kit(6, predict, simulate, labels=["x (mN)", "y (mN)", "z (mN)", "yaw (mN m)", "pitch (mN m)"],
+                ylabel="generalized force W^T tau along each coordinate (mN, mN m)")
+identify_files = routine_files(predict)
 
 
 def firmware_model(design) -> KinematicModel:

@@ -26,6 +26,7 @@ import pytest
 from cad.design import load_design
 from cad.identify import jointn, logfile
 from cad.sim.bench import parse_perturb
+from cad.sim.identify_fivebar import build_folder
 from tests.cli_helpers import assert_one_line_error, hapticad, hapticad_json
 
 ROOT = Path(__file__).resolve().parents[3]
@@ -41,7 +42,7 @@ def delta():
 def built(delta):
     from cad.families.delta import identify as di
 
-    folder, rep = di.build_folder(delta, None)
+    folder, rep = build_folder(delta, None)
     return folder, rep, di.predict(delta, rep)
 
 

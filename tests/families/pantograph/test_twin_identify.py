@@ -24,6 +24,7 @@ import pytest
 from cad.design import load_design
 from cad.identify import logfile
 from cad.sim.bench import parse_perturb
+from cad.sim.identify_fivebar import build_folder
 from tests.cli_helpers import assert_one_line_error, hapticad
 
 ROOT = Path(__file__).resolve().parents[3]
@@ -39,7 +40,7 @@ def twin():
 def built(twin):
     from cad.families.pantograph import identify_twin as it
 
-    folder, rep = it.build_folder(twin, None)
+    folder, rep = build_folder(twin, None)
     return folder, rep, it.predict(twin, rep)
 
 

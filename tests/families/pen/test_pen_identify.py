@@ -28,6 +28,7 @@ import pytest
 from cad.design import load_design
 from cad.identify import logfile
 from cad.sim.bench import parse_perturb
+from cad.sim.identify_fivebar import build_folder
 
 ROOT = Path(__file__).resolve().parents[3]
 mujoco = pytest.importorskip("mujoco")
@@ -47,7 +48,7 @@ def pen_re40(tmp_path_factory):
 def built(pen_re40):
     from cad.families.pen import identify as it
 
-    folder, rep = it.build_folder(pen_re40, None)
+    folder, rep = build_folder(pen_re40, None)
     return folder, rep, it.predict(pen_re40, rep)
 
 
