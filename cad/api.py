@@ -409,7 +409,8 @@ def wall(design, K_N_per_m: float | None = None, B_N_s_per_m: float = 0.0,
 
 def optimize(design, method: str | None = None, objective: str | None = None, trials: int = 300,
              seed: int = 0, exact_top: int = 3, proportions_tol: float = 0.0,
-             starts: bool = True, beat_prototype: bool = False) -> dict:
+             starts: bool = True, beat_prototype: bool = False, workers: int | None = None,
+             scheduler: str | None = None, study: str | Path | None = None) -> dict:
     """Maximize the GII (pantograph families: ``method`` culling | brute, isotropy paper eq 6
     over the design's ``[optimize]`` grid) or minimize the apparent mass (four-bars:
     ``objective`` min-apparent-mass, the co-design search of :mod:`cad.studies.codesign`).
@@ -422,18 +423,29 @@ def optimize(design, method: str | None = None, objective: str | None = None, tr
     ``misses`` (the design's ``[targets]`` the chosen optimum misses on the exact solids:
     ``key``, ``target_text``, ``written``, ``best`` reached; the CLI exits 1 when not empty);
     ``beat_prototype``: the issue 24 §4 limits (:mod:`cad.studies.codesign.prototype`), the
-    report's ``prototype`` entry.
+    report's ``prototype`` entry. ``workers`` (an embedded Dask LocalCluster) or ``scheduler``
+    (``tcp://HOST:PORT``) run a four-bar's trials on Dask with the optuna journal in the folder
+    ``study`` (resumable: the same call again tops up to ``trials``;
+    :mod:`cad.studies.codesign.distributed`, ``hapticad optimize --workers/--scheduler/--study``).
     Raises DesignError naming the option or ``mechanism.family``.
     """
-    from cad.data.families import require
+    from cad.data.families import family, require
+    from cad.errors import DesignError
     from cad.families import family_package
 
     _need_design(design)
     require("optimize", design.family)
     _flag_numbers(trials=trials, exact_top=exact_top, proportions_tol=proportions_tol)
+    from cad.studies.codesign.distributed import placement
+
+    where = placement(workers, scheduler, study)
+    if where is not None and family(design.family).group != "four-bar":
+        raise DesignError("--scheduler" if scheduler is not None else "--workers",
+                          f"the Dask search is for four-bar designs, not {design.family!r} (the GII culling "
+                          "runs in this process)")
     options = {"method": method, "objective": objective, "trials": trials, "seed": seed,
                "exact_top": exact_top, "proportions_tol": proportions_tol, "starts": starts,
-               "beat_prototype": beat_prototype}
+               "beat_prototype": beat_prototype, "where": where}
     return family_package(design.family).optimize(design, options)
 
 

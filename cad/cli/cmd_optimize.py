@@ -108,24 +108,12 @@ def dask_where(workers: int | None, scheduler: str | None, study: Path | None,
     naming the flag: both given, ``--workers`` out of range, ``--scheduler`` not an address,
     ``--study`` without either or missing with no ``--out``, ``--study`` not a folder."""
     from cad.cli import flags
-    from cad.errors import DesignError
-    from cad.studies.cluster import check_flags
+    from cad.studies.codesign.distributed import placement
 
-    if workers is not None and scheduler is not None:
-        raise DesignError("--workers", f"give --workers {workers} or --scheduler {scheduler}, not both "
-                                       "(the scheduler's workers run the trials)")
-    check_flags(workers, scheduler)
-    if workers is None and scheduler is None:
-        if study is not None:
-            raise DesignError("--study", f"{study}: only with --workers N or --scheduler ADDRESS "
-                                         "(the in-process search keeps its trials in memory)")
-        return None
-    if study is None and out is None:
-        raise DesignError("--study", "missing: the Dask search keeps its trials in a folder every "
-                                     "worker reaches; give --study DIR (or --out, then <out>_study)")
-    study = study if study is not None else out.parent / f"{out.stem}_study"
-    flags.out_path("--study", study, folder=True)
-    return {"workers": workers, "scheduler": scheduler, "study": str(study)}
+    where = placement(workers, scheduler, study, out)
+    if where is not None:
+        flags.out_path("--study", Path(where["study"]), folder=True)
+    return where
 
 
 def prototype_blocker(proto: dict) -> str:

@@ -50,5 +50,5 @@ def optimize(design, options: dict) -> dict:
         raise DesignError("--objective", f"must be min-apparent-mass, got {objective!r}")
     rep, _ = optimize_fourbar(design, objective, options["trials"], options["seed"],
                               options["exact_top"], None, None, None, options["proportions_tol"],
-                              options["starts"], options["beat_prototype"])
+                              options["starts"], options["beat_prototype"], options.get("where"))
     return rep

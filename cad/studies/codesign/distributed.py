@@ -48,6 +48,28 @@ ATTR = "hapticad"
 LOCK_GRACE_S = 10
 
 
+def placement(workers: int | None, scheduler: str | None, study, out=None) -> dict | None:
+    """Where a four-bar search runs (:func:`run`'s ``where``): None without ``workers`` and
+    ``scheduler`` (in this process); else ``{"workers", "scheduler", "study"}`` with the study
+    folder ``study`` or, without it, ``<out stem>_study`` beside ``out``. Raises DesignError
+    naming the flag: both given, ``--workers`` out of range, ``--scheduler`` not an address,
+    ``--study`` without either, or missing with no ``out``."""
+    if workers is not None and scheduler is not None:
+        raise DesignError("--workers", f"give --workers {workers} or --scheduler {scheduler}, not both "
+                                       "(the scheduler's workers run the trials)")
+    cluster.check_flags(workers, scheduler)
+    if workers is None and scheduler is None:
+        if study is not None:
+            raise DesignError("--study", f"{study}: only with --workers N or --scheduler ADDRESS "
+                                         "(the in-process search keeps its trials in memory)")
+        return None
+    if study is None and out is None:
+        raise DesignError("--study", "missing: the Dask search keeps its trials in a folder every "
+                                     "worker reaches; give --study DIR (or --out, then <out>_study)")
+    study = Path(study) if study is not None else Path(out).parent / f"{Path(out).stem}_study"
+    return {"workers": workers, "scheduler": scheduler, "study": str(study)}
+
+
 def study_key(design, seed: int, options: dict) -> str:
     """SHA-256 (hex, 16 chars) of the design mapping, ``seed`` and the search ``options``
     (what makes two searches the same study; ``--trials`` is not among them)."""

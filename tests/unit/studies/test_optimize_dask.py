@@ -167,3 +167,21 @@ def test_pantographs_refuse_the_dask_search(tmp_path):
     code, _, err = hapticad("optimize", ROOT / "designs" / "pantograph.toml", "--workers", "2",
                             "--study", tmp_path / "s")
     assert_one_line_error(code, err, "--workers", "for four-bar designs, not 'pantograph'")
+
+
+def test_the_python_api_takes_the_dask_flags(tmp_path, scheduler):
+    """cad.api.optimize(..., scheduler=, study=) runs the trials on the cluster into the
+    study's journal (optuna reads them back); the refusals name the flag as the CLI's."""
+    import cad
+    from cad.design import load_design
+    from cad.errors import DesignError
+
+    d = load_design(BRIEF)
+    rep = cad.api.optimize(d, trials=6, exact_top=1, scheduler=scheduler, study=tmp_path / "s")
+    assert rep["study"]["completed_trials"] == 6 == len(_complete(_journal_study(tmp_path / "s")))
+    with pytest.raises(DesignError) as e:
+        cad.api.optimize(d, trials=6, workers=1)
+    assert e.value.field == "--study"
+    with pytest.raises(DesignError) as e:
+        cad.api.optimize(load_design(ROOT / "designs" / "pantograph.toml"), workers=2, study=tmp_path / "p")
+    assert e.value.field == "--workers"
