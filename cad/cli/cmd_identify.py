@@ -42,11 +42,13 @@ def _print(res: dict) -> None:
     for r in res["figures"]:
         if r.get("explain"):
             said.setdefault(r["explain"], []).append(r["key"])
+    from rich.markup import escape
+
     for text, keys in said.items():
-        c.print(f"{', '.join(keys)}: {text}")
+        c.print(escape(f"{', '.join(keys)}: {text}"))  # "[firmware]" is text, not markup
     if "delay_samples" in res:
-        c.print(f"delay {res['delay_samples']} periods, rms residual {res['rms_residual_mNm']:.3g} mN m "
-                f"over {res['rows_fitted']} rows")
+        c.print(f"delay {res['delay_samples']:.2f} periods, rms residual {res['rms_residual_mNm']:.3g} mN m "
+                f"over {res['rows_fitted']} fitted rows (log rows x equations, moving)")
 
 
 def _owned_or_absent(path: Path, prefix: str, flag: str) -> None:

@@ -59,7 +59,7 @@ extern "C" {{
 #define HC_IDENT_N_SAMPLES {p.n_samples}L
 #define HC_IDENT_GRAVITY_FF {int(p.gravity_ff)}  /* 1: the hold adds hc_gravity_torques (a vertical device) */
 /* per joint: hold gains, home (the hold's target), range and hold envelope about home (leaving
- * either stops the routine: beyond the envelope the hold is at the current clamp), the safe range (the chirps run only while every joint is inside), the sign of the +y hand move */
+ * either stops the routine: beyond the envelope the hold is at the current clamp), the safe range (the chirps run only while every joint is inside), the sign of the hand move */
 {_per_joint("HC_IDENT_KP_NM_PER_RAD", p.kp_Nm_per_rad)}
 {_per_joint("HC_IDENT_KD_NM_S_PER_RAD", p.kd_Nm_s_per_rad)}
 {_per_joint("HC_IDENT_Q_HOME_RAD", p.q_home_rad)}
@@ -215,7 +215,7 @@ void loop(void)
     static const hc_encoder_t enc = HC_ENCODER_DEFAULT;
     static unsigned long next;
     static const hc_real zero[HC_N_JOINTS] = { HC_R(0.0) };
-    char line[256];
+    char line[1024];  /* the header: ~170 characters + the design name + the columns */
     long counts[HC_N_JOINTS];
     hc_real amps[HC_N_JOINTS];
     if (!started) {

@@ -170,7 +170,7 @@ void loop(void)
     static int started = 0, status = HC_IDENT_RUNNING;
     static const hc_encoder_t enc = HC_ENCODER_DEFAULT;
     static unsigned long t0, next;
-    char line[96];
+    char line[1024];  /* the header: ~170 characters + the design name */
     long counts[1];
     hc_real amps[1];
     if (!started) {

@@ -115,7 +115,7 @@ def parse_log(text: str, path, n_joints: int, current_limit_A) -> Log:
     dt = np.diff(t)
     if np.any(dt <= 0):
         k = int(np.argmax(dt <= 0))
-        raise _refuse(path, f"time is not increasing: line {k + 4} has t_s = {t[k + 1]!r} after {t[k]!r}")
+        raise _refuse(path, f"time is not increasing: line {k + 4} has t_s = {float(t[k + 1])!r} after {float(t[k])!r}")
     if np.any(counts != np.round(counts)):
         k = int(np.argmax(np.any(counts != np.round(counts), axis=1)))
         raise _refuse(path, f"line {k + 3}: encoder counts must be integers (raw counter values)")

@@ -163,9 +163,10 @@ def predict_from_build(design, build_dir=None) -> Prediction:
 #: What in the design would explain a miss, per figure and direction (measured above / below).
 EXPLAIN = {
     "apparent_mass": ("a heavier part than the solids: the knob or handle, a denser material than "
-                      "the design's, extra fasteners, a larger motor rotor (check the BOM masses)",
+                      "the design's, extra fasteners, a larger motor rotor (check the BOM masses); or "
+                      "a weaker torque constant than the data sheet (the same current moves it less)",
                       "a lighter part than the solids: a hollow or printed part at low infill, a "
-                      "missing knob or motor rotor; or a weaker torque constant than the data sheet"),
+                      "missing knob or motor rotor; or a stronger torque constant than the data sheet"),
     "friction": ("a stiff bearing (preload, misalignment, a press fit too tight), a cable or shaft "
                  "rubbing, the motor's brushes", "less friction than predicted (the prediction is "
                  "an estimate: record the measured value in [stiffness])"),
@@ -182,7 +183,7 @@ def figure_row(key, what, value, sigma, unit, pred, tol_rel=None, tol_abs=None, 
     """One figure of the result: measured ``value`` +- ``sigma`` beside the prediction ``pred``
     (None: no prediction), the verdict within ``tol_abs`` or ``tol_rel`` of it (n/a without a
     prediction, or a relative tolerance of 0), and for a miss what would explain it
-    (:data:`EXPLAIN` ``explain``, by the sign of the gap)."""
+    (:data:`EXPLAIN` ``explain``, by whether the measured figure is larger in size)."""
     if pred is None or (tol_rel is not None and pred == 0):
         ok = None
     else:
@@ -193,7 +194,7 @@ def figure_row(key, what, value, sigma, unit, pred, tol_rel=None, tol_abs=None, 
            "predicted": pred, "tol_rel": tol_rel, "tol_abs": tol_abs,
            "verdict": "n/a" if ok is None else ("within" if ok else "MISS")}
     if ok is False and explain is not None:
-        out["explain"] = EXPLAIN[explain][0 if value > pred else 1]
+        out["explain"] = EXPLAIN[explain][0 if abs(value) > abs(pred) else 1]  # larger in size (loads < 0)
     return out
 
 
