@@ -44,6 +44,7 @@ def connect(workers: int, scheduler: str | None, command: str, timeout_s: float 
     from dask.distributed import Client, LocalCluster
 
     if scheduler:
+        probe_scheduler(scheduler, timeout_s or CONNECT_TIMEOUT_S)
         try:
             return Client(scheduler, timeout=f"{timeout_s or CONNECT_TIMEOUT_S}s"), None
         except OSError as exc:
@@ -67,6 +68,56 @@ def connect(workers: int, scheduler: str | None, command: str, timeout_s: float 
     finally:
         signal.pthread_sigmask(signal.SIG_SETMASK, old)
     return Client(cluster), cluster
+
+
+def probe_scheduler(scheduler: str, timeout_s: float) -> None:
+    """Refuse (DesignError naming ``--scheduler``) a ``tcp://`` address where nothing
+    listens or where a server answers that is not a Dask scheduler, within ``timeout_s``
+    seconds: a Dask scheduler sends its handshake (a msgpack frame with the keys
+    ``compression`` and ``pickle-protocol``, distributed.comm.core) as soon as a connection
+    opens, and Dask's own client would wait for it without end on an HTTP or silent server.
+    Other schemes (tls, ucx, inproc) go straight to Dask's client."""
+    import time
+
+    from distributed.comm.addressing import parse_address, parse_host_port
+
+    scheme, loc = parse_address(scheduler)
+    if scheme != "tcp":
+        return
+    host, port = parse_host_port(loc)
+    end = time.monotonic() + timeout_s
+    while True:  # a scheduler still starting refuses connections for a moment: retry
+        try:
+            got = _first_bytes(host, port, end)
+            break
+        except OSError as exc:
+            if time.monotonic() >= end:
+                raise DesignError("--scheduler", f"cannot reach {scheduler} within "
+                                  f"{timeout_s:g} s: {exc}") from None
+            time.sleep(0.2)
+    if b"compression" not in got or b"pickle-protocol" not in got:
+        raise DesignError("--scheduler", f"{scheduler} is not a Dask scheduler: no Dask handshake "
+                          f"within {timeout_s:g} s (another server on that port?)")
+
+
+def _first_bytes(host: str, port: int, end: float) -> bytes:
+    """What a server at ``host:port`` sends first, read until monotonic time ``end`` (or
+    until a Dask handshake is in, or the server closes); OSError if no connection opens."""
+    import socket
+    import time
+
+    got = b""
+    with socket.create_connection((host, port), timeout=max(end - time.monotonic(), 0.01)) as s:
+        while b"pickle-protocol" not in got and len(got) < 4096:
+            s.settimeout(max(end - time.monotonic(), 0.01))
+            try:
+                chunk = s.recv(4096)
+            except TimeoutError:
+                break
+            if not chunk:
+                break
+            got += chunk
+    return got
 
 
 def shutdown(client, cluster) -> None:

@@ -163,6 +163,44 @@ def test_refusals_are_one_line_and_create_nothing(tmp_path, monkeypatch, args, f
     assert sorted(p.relative_to(tmp_path) for p in tmp_path.rglob("*")) == before
 
 
+@pytest.fixture(params=["silent", "http"])
+def not_dask(request):
+    """A tcp:// address where a server that is not a Dask scheduler listens: one that
+    accepts and says nothing, or Python's own HTTP server."""
+    import http.server
+    import socket
+    import threading
+
+    if request.param == "http":
+        srv = http.server.HTTPServer(("127.0.0.1", 0), http.server.SimpleHTTPRequestHandler)
+        threading.Thread(target=srv.serve_forever, daemon=True).start()
+        yield f"tcp://127.0.0.1:{srv.server_address[1]}"
+        srv.shutdown()
+        srv.server_close()
+        return
+    s = socket.create_server(("127.0.0.1", 0))
+    s.settimeout(30.0)
+    held = []
+    threading.Thread(target=lambda: held.append(s.accept()[0]), daemon=True).start()
+    yield f"tcp://127.0.0.1:{s.getsockname()[1]}"
+    for c in held:
+        c.close()
+    s.close()
+
+
+def test_a_server_that_is_not_dask_is_refused_within_the_timeout(tmp_path, monkeypatch, not_dask):
+    """Dask's client waits without end for the handshake of a server that is not a
+    scheduler (found by a tester: an HTTP server's port hung the command): refused in one
+    line naming --scheduler once the timeout has passed, nothing created."""
+    from cad.studies import cluster
+
+    monkeypatch.setattr(cluster, "CONNECT_TIMEOUT_S", 1.0)
+    code, _, err = hapticad("optimize", BRIEF, "--trials", "4", "--scheduler", not_dask,
+                            "--study", tmp_path / "s")
+    assert_one_line_error(code, err, "--scheduler", "is not a Dask scheduler")
+    assert not (tmp_path / "s").exists()
+
+
 def test_pantographs_refuse_the_dask_search(tmp_path):
     code, _, err = hapticad("optimize", ROOT / "designs" / "pantograph.toml", "--workers", "2",
                             "--study", tmp_path / "s")
