@@ -283,6 +283,19 @@ def excitation_start(current_A: np.ndarray) -> int:
     return int(nz[0]) if nz.size else len(current_A)
 
 
+def cut_short(plan, log: Log, k0: int) -> str:
+    """"" when the log runs through the routine's hold, chirp and rest after the current
+    starts at row ``k0`` (``plan``: :class:`cad.identify.excitation.Plan` or ``Plan2``, phase
+    lengths in s), else the clause that says it ends early (a log cut mid-chirp excites too
+    little because it is cut, not because the device is stiff)."""
+    want = 2 * plan.T_settle_s + plan.T_chirp_s
+    got = float(log.t_s[-1] - log.t_s[k0]) if k0 < len(log.t_s) else 0.0
+    if got >= 0.95 * want:
+        return ""
+    return (f"; the log ends {got:.2f} s after the current starts, the routine runs {want:.2f} s "
+            "from there: it was cut short (log until the routine reports done)")
+
+
 def _stopped(pred: Prediction, log: Log, q: np.ndarray, k0: int, enc: int) -> dict | None:
     """The result of a log whose routine stopped early (None when it ran through): after the
     hand phase with no current (a reversed encoder), or with the crank out of its range (the
@@ -323,12 +336,14 @@ def identify(pred: Prediction, log: Log, path) -> tuple[dict, Fit | None]:
     travel = int(np.ptp(log.counts[k0:, 0])) if k0 < len(q) else 0
     if travel < IDENT_MIN_TRAVEL_COUNTS:
         raise FileDamaged("LOG", path, f"has too little excitation: the crank travelled {travel} counts "
-                                       f"under current (at least {IDENT_MIN_TRAVEL_COUNTS})")
+                                       f"under current (at least {IDENT_MIN_TRAVEL_COUNTS})"
+                                       + cut_short(pred.plan, log, k0))
     try:
         f = fit(log.t_s[k0:], q[k0:], log.current_A[k0:, 0], pred.kt_Nm_per_A, pred.D, pred.dD,
                 pred.g if pred.g_table is not None else None)
     except NotExcited as exc:
-        raise FileDamaged("LOG", path, f"has too little excitation: {exc}") from None
+        raise FileDamaged("LOG", path, f"has too little excitation: {exc}"
+                          + cut_short(pred.plan, log, k0)) from None
     figs = _figures(pred, f) + _signs(enc, f.current_sign)
     res = {
         "design": pred.name, "design_hash": pred.design_hash, "log_design_hash": log.design_hash,

@@ -26,7 +26,7 @@ from cad.errors import FileDamaged
 from cad.identify import jointn
 from cad.identify.joint2 import Fit2, NotExcited
 from cad.identify.logfile import Log
-from cad.sim.identify_device import SEPARABLE_CORRELATION, excitation_start, figure_row
+from cad.sim.identify_device import SEPARABLE_CORRELATION, cut_short, excitation_start, figure_row
 from cad.tolerances import (
     IDENT_FRICTION_TOL_REL,
     IDENT_GRAVITY_TOL_REL,
@@ -290,11 +290,13 @@ def _fit(pred, log: Log, q, k0: int, path) -> Fit2:
     travel = int(np.ptp(log.counts[k0:], axis=0).min()) if k0 < len(q) else 0
     if travel < IDENT_MIN_TRAVEL_COUNTS:
         raise FileDamaged("LOG", path, f"has too little excitation: a joint travelled {travel} counts under "
-                                       f"current (at least {IDENT_MIN_TRAVEL_COUNTS})")
+                                       f"current (at least {IDENT_MIN_TRAVEL_COUNTS})"
+                                       + cut_short(pred.plan, log, k0))
     try:
         return pred.fit_log(log.t_s[k0:], q[k0:], log.current_A[k0:])
     except NotExcited as exc:
-        raise FileDamaged("LOG", path, f"has too little excitation: {exc}") from None
+        raise FileDamaged("LOG", path, f"has too little excitation: {exc}"
+                          + cut_short(pred.plan, log, k0)) from None
 
 
 def identify(pred, log: Log, path) -> tuple[dict, Fit2 | None]:

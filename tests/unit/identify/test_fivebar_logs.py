@@ -71,8 +71,23 @@ def test_a_motor_that_does_not_move_is_too_little_excitation(panto_pred):
     t, c, i, _ = bench_fivebar.simulate(panto_pred, bench.parse_perturb([]), 0)
     c = c.copy()
     c[:, 1] = c[0, 1]
-    with pytest.raises(FileDamaged, match="too little excitation: a joint travelled 0 counts"):
+    with pytest.raises(FileDamaged, match="too little excitation: a joint travelled 0 counts") as err:
         identify(panto_pred, _log(panto_pred, t, c, i), "t.csv")
+    assert "cut short" not in str(err.value)  # the whole routine is in the log
+
+
+def test_a_log_cut_short_says_so(panto_pred):
+    """A log that stops 0.3 s after the current starts (a tester's log cut mid-routine): the
+    refusal says it ends early and how long the routine runs from there (the plan's 2 T_settle
+    + T_chirp), not only that it excites too little."""
+    t, c, i, _ = bench_fivebar.simulate(panto_pred, bench.parse_perturb([]), 0)
+    k0 = int(np.flatnonzero(np.any(i != 0.0, axis=1))[0])
+    keep = k0 + int(round(0.3 / panto_pred.Te_s))
+    p = panto_pred.plan
+    with pytest.raises(FileDamaged, match="too little excitation") as err:
+        identify(panto_pred, _log(panto_pred, t[:keep], c[:keep], i[:keep]), "t.csv")
+    assert "cut short" in str(err.value)
+    assert f"the routine runs {2 * p.T_settle_s + p.T_chirp_s:.2f} s" in str(err.value)
 
 
 def test_bench_log_refuses_an_unknown_model(tmp_path):
