@@ -19,17 +19,18 @@ from cad.cli.app import print_json
 OUT_HELP = "Folder for identify.json, identify.md and the fit and residual plots (only a folder hapticad wrote)."
 
 
-def _print(res: dict) -> None:
-    from rich.console import Console
+def figures_table(res: dict):
+    """The terminal's rich Table of ``res["figures"]``: each figure's key whole (a per-motor key
+    such as ``friction_motor_3_mNm`` is never cut to fit an 80-column terminal; the unit
+    column folds instead)."""
     from rich.table import Table
 
-    c = Console()
-    if res.get("stopped"):
-        c.print(f"the routine stopped {res['stopped']}")
     t = Table(title=f"{res['design']}: identified against the prediction")
-    for col, just in (("figure", "left"), ("measured", "right"), ("1 sigma", "right"), ("unit", "left"),
+    width = max((len(r["key"]) for r in res["figures"]), default=6)
+    t.add_column("figure", no_wrap=True, min_width=width)
+    for col, just in (("measured", "right"), ("1 sigma", "right"), ("unit", "left"),
                       ("predicted", "right"), ("verdict", "left")):
-        t.add_column(col, justify=just)
+        t.add_column(col, justify=just, overflow="fold")
 
     def f(v):
         return "-" if v is None else (f"{v:.4g}" if isinstance(v, float) else str(v))
@@ -37,7 +38,16 @@ def _print(res: dict) -> None:
     for r in res["figures"]:
         t.add_row(r["key"], f(r.get("value")), f(r.get("sigma")), r.get("unit", ""), f(r.get("predicted")),
                   r["verdict"])
-    c.print(t)
+    return t
+
+
+def _print(res: dict) -> None:
+    from rich.console import Console
+
+    c = Console()
+    if res.get("stopped"):
+        c.print(f"the routine stopped {res['stopped']}")
+    c.print(figures_table(res))
     said: dict[str, list[str]] = {}
     for r in res["figures"]:
         if r.get("explain"):
