@@ -63,10 +63,10 @@ def page(res: dict) -> str:
                   f"{res['design_hash'][:12]}...: it was recorded with another design.**", ""]
     if res.get("stopped"):
         lines += [f"The routine stopped {res['stopped']}; nothing else was identified.", ""]
-    lines += ["| figure | measured | 1 sigma | unit | predicted | verdict | what would explain a miss |",
-              "|---|---|---|---|---|---|---|"]
-    for r in res["figures"]:
-        lines.append(f"| {r.get('what', r['key'])} | {_fmt(r.get('value'))} | {_fmt(r.get('sigma'))} | "
+    lines += ["| figure | what | measured | 1 sigma | unit | predicted | verdict | what would explain a miss |",
+              "|---|---|---|---|---|---|---|---|"]
+    for r in res["figures"]:  # the key as identify.json, the terminal and docs/identify.md name it
+        lines.append(f"| `{r['key']}` | {r.get('what', '')} | {_fmt(r.get('value'))} | {_fmt(r.get('sigma'))} | "
                      f"{r.get('unit', '')} | {_fmt(r.get('predicted'))} | {r['verdict']} | {r.get('explain', '')} |")
     if "delay_samples" in res:
         lines += ["", f"Model: `{res['model']}`; delay {res['delay_samples']} periods; rms residual "

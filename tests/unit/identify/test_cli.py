@@ -60,4 +60,10 @@ def test_the_day_on_the_bench(hoeken_sim_build, tmp_path):
     fs = next(r for r in res["figures"] if r["key"] == "Fs_N")
     assert fs["value"] == pytest.approx(truth["Fs_N"], rel=0.10)
     assert all(r["verdict"] == "MISS" for r in res["figures"] if r["key"].startswith("M11_g@"))
-    assert "identify_fit.svg" in (tmp_path / "id" / "identify.md").read_text()
+    page = (tmp_path / "id" / "identify.md").read_text()
+    assert "identify_fit.svg" in page
+    # each figure's row starts with its key as identify.json names it (a tester found the page
+    # gave only the description), then its description
+    rows = [ln for ln in page.splitlines() if ln.startswith("| `")]
+    assert [ln.split("`")[1] for ln in rows] == [r["key"] for r in res["figures"]]
+    assert all(r["what"] in ln for r, ln in zip(res["figures"], rows, strict=True) if r.get("what"))
