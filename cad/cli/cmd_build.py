@@ -12,6 +12,7 @@ stderr (and in ``--json`` ``warnings``). Exit 0, or 1 with ``--strict`` when a l
 
 from __future__ import annotations
 
+import sys
 import time
 from pathlib import Path
 
@@ -65,6 +66,7 @@ def _summary(rep: dict, out: Path, wall_s: float) -> None:
 
 def datasheet_table(ds: dict, title: str):
     """The datasheet as a rich table: figure, value (min .. max), unit, verdict (red on a miss)."""
+    from rich.markup import escape
     from rich.table import Table
 
     from cad.datasheet import fmt_value, verdict_text
@@ -73,22 +75,30 @@ def datasheet_table(ds: dict, title: str):
     for c in ("figure", "value (min .. max)", "unit", "verdict"):
         t.add_column(c, justify="right" if c.startswith("value") else "left")
     for r in ds["rows"]:
-        v = verdict_text(r)
+        v = escape(verdict_text(r))  # "[targets]" is text, not markup
         style = {"ok": "green", "miss": "bold red"}.get(r["verdict"])
         mark = " *" if r["unverified"] else ""
-        t.add_row(r["figure"] + mark, fmt_value(r), r["unit"], f"[{style}]{v}[/]" if style else v)
+        t.add_row(escape(r["figure"]) + mark, fmt_value(r), escape(r["unit"]), f"[{style}]{v}[/]" if style else v)
     t.caption = "* uses unverified data; models and sources: report.md / report.html / --json"
     return t
 
 
-def datasheet_warnings(rep: dict, strict: bool) -> None:
-    """One ``warning:`` per missed limit (:func:`cad.design.bounds.warn`); ``strict``: exit 1."""
+def datasheet_warnings(rep: dict, strict: bool, notes: bool = True) -> None:
+    """One ``warning:`` per missed limit (:func:`cad.design.bounds.warn`); ``strict``: exit 1.
+    ``notes``: one ``note:`` line on stderr per limit that the design's [targets] loosens
+    (:func:`cad.datasheet.limits.loosened_notes`)."""
     from cad.design import bounds
     from cad.errors import TargetMissed
 
-    missed = (rep.get("datasheet") or {}).get("warnings") or []
+    ds = rep.get("datasheet") or {}
+    missed = ds.get("warnings") or []
     for w in missed:
         bounds.warn(f"datasheet: {w}")
+    if notes:
+        from cad.datasheet.limits import loosened_notes
+
+        for n in loosened_notes(ds.get("rows") or []):
+            print(f"hapticad: note: datasheet: {n}", file=sys.stderr)
     if strict and missed:
         raise TargetMissed(f"{len(missed)} datasheet limit(s) missed (--strict)")
 
@@ -162,7 +172,7 @@ def register(app: typer.Typer) -> None:
             rep.pop("timings_s", None)
             datasheet_warnings(rep, False)  # in the JSON's warnings list
             print_json(rep, sort_keys=True, default=str)
-            datasheet_warnings(rep, strict)
+            datasheet_warnings(rep, strict, notes=False)
             return
         from cad.cli.progress import stages
 

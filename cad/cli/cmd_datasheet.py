@@ -47,4 +47,4 @@ def register(app: typer.Typer) -> None:
             from rich.console import Console
 
             Console().print(datasheet_table(ds, f"{rep['name']} ({rep['family']}): datasheet ({fidelity})"))
-        datasheet_warnings(rep, strict)
+        datasheet_warnings(rep, strict, notes=not json_out)

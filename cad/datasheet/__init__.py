@@ -22,7 +22,7 @@ from __future__ import annotations
 import math
 from typing import Any
 
-from cad.datasheet.limits import Limit
+from cad.datasheet.limits import Limit, loosened_notes
 from cad.families import family_package
 from cad.io.escape import md
 from cad.tolerances import RANGE_SAME_REL
@@ -104,8 +104,8 @@ def datasheet(design, report: dict, out_dir=None, simulate_wall: bool = True) ->
     rows += cost_rows(report)
     warnings = judge(rows, limits)
     charts = [n.rsplit(": ", 1)[1] for n in notes if n.startswith("force ellipses")]
-    return {"family": fam, "rows": rows, "warnings": warnings, "ok": not warnings, "notes": notes,
-            "charts": charts}
+    return {"family": fam, "rows": rows, "warnings": warnings, "ok": not warnings,
+            "notes": loosened_notes(rows) + notes, "charts": charts}
 
 
 def cost_rows(report: dict) -> list[dict]:
@@ -143,7 +143,8 @@ def verdict_text(r: dict) -> str:
     if lim is None:
         return "—"
     word = {"ok": "ok", WITHIN_ERROR: WITHIN_ERROR}.get(r["verdict"], "MISS")
-    return f"{word} ({lim['op']} {lim['value']:.4g})"
+    looser = f"; [targets], looser than the default {lim['loosens'].split(' (')[0]}" if lim.get("loosens") else ""
+    return f"{word} ({lim['op']} {lim['value']:.4g}{looser})"
 
 
 def markdown(ds: dict) -> list[str]:

@@ -65,6 +65,9 @@ class Limit:
     reason: str
     change: str
     origin: str = "default"
+    #: a ``[targets]`` bound looser than the default it replaces: that default's
+    #: ``"<op> <value> (<reason>)"``, said beside every verdict it gives (never silent)
+    loosens: str = ""
 
     def met(self, v: float | None) -> bool:
         if v is None:
@@ -72,8 +75,9 @@ class Limit:
         return {">=": v >= self.value, ">": v > self.value, "<=": v <= self.value}[self.op]
 
     def as_dict(self) -> dict:
-        return {"op": self.op, "value": self.value, "reason": self.reason, "change": self.change,
-                "origin": self.origin}
+        d = {"op": self.op, "value": self.value, "reason": self.reason, "change": self.change,
+             "origin": self.origin}
+        return {**d, "loosens": self.loosens} if self.loosens else d
 
 
 FORCE_REASON = ("force_N must be available continuously at every point of the stroke "
@@ -86,7 +90,9 @@ def with_targets(lim: dict[str, Limit], targets, change: dict[str, str] | None =
     """A ``[targets]`` bound of a limited key (``min`` for a ``>=`` figure, ``max`` for a
     ``<=`` one) replaces its default limit; ``value +/- tol`` targets stay check rows only.
     Its keys to change: the design keys of the default it replaces (or ``change[key]``),
-    then the target itself."""
+    then the target itself. A bound looser than the default (a tube brief's lower first
+    mode, a higher stress) carries that default in ``loosens``: the verdict, the datasheet's
+    notes and report.html say so."""
     out = dict(lim)
     for t in targets or ():
         op = DATASHEET_TARGETS.get(t.key)
@@ -94,9 +100,25 @@ def with_targets(lim: dict[str, Limit], targets, change: dict[str, str] | None =
             continue
         bound = t.min if op == ">=" else t.max
         if bound is not None:
-            keys = lim[t.key].change if t.key in lim else (change or {}).get(t.key)
+            d = lim.get(t.key)
+            keys = d.change if d is not None else (change or {}).get(t.key)
+            looser = d is not None and not Limit(op, d.value, "", "").met(float(bound))
             out[t.key] = Limit(op, float(bound), "[targets]",
-                               f"{keys}, or targets.{t.key}" if keys else f"targets.{t.key}", "targets")
+                               f"{keys}, or targets.{t.key}" if keys else f"targets.{t.key}", "targets",
+                               f"{d.op} {d.value:.4g} ({d.reason})" if looser else "")
+    return out
+
+
+def loosened_notes(rows: list[dict]) -> list[str]:
+    """One line per judged row whose ``[targets]`` bound loosens its default limit
+    (:func:`with_targets`): ``<figure>: judged against [targets] <op> <value> <unit>, looser
+    than the default limit <op> <value> (<reason>)``."""
+    out = []
+    for r in rows:
+        lim = r.get("limit") or {}
+        if lim.get("loosens"):
+            out.append(f"{r['figure']}: judged against [targets] {lim['op']} {lim['value']:.4g} "
+                       f"{r['unit']}, looser than the default limit {lim['loosens']}")
     return out
 
 

@@ -28,6 +28,7 @@ import json
 from pathlib import Path
 
 from cad.datasheet import fmt_value, verdict_text
+from cad.datasheet.limits import loosened_notes
 from cad.io.atomic import write_text_atomic
 
 STATIC = Path(__file__).resolve().parent / "vendor"
@@ -172,7 +173,7 @@ h1{margin:18px 0 4px} h2{margin-top:28px;border-bottom:1px solid #ddd}
 #stroke{flex:1}
 table{border-collapse:collapse;font-size:14px} td,th{border:1px solid #ddd;padding:3px 8px;text-align:left}
 td.num{text-align:right;font-variant-numeric:tabular-nums}
-.ok{color:#1a7f37;font-weight:600} .bad{color:#c62828;font-weight:600}
+.ok{color:#1a7f37;font-weight:600} .bad{color:#c62828;font-weight:600} .warn{color:#a15c00;font-weight:600}
 img.chart{max-width:100%;border:1px solid #eee;margin:6px 0}
 img.step{max-width:100%;border:1px solid #eee}
 pre{background:#f6f8fa;padding:8px;overflow:auto;max-height:480px;font-size:12px}
@@ -313,6 +314,9 @@ def datasheet_html(report: dict) -> str:
                    + "</ul>")
     else:
         out.append("<p class='ok'>every figure with a limit meets it</p>")
+    loose = loosened_notes(ds["rows"])
+    if loose:
+        out.append("<ul>" + "".join(f"<li class='warn'>{html.escape(n)}</li>" for n in loose) + "</ul>")
     rows = []
     for r in ds["rows"]:
         model = r["model"] + (f"; {r['boundary']}" if r["boundary"] else "")
@@ -323,7 +327,7 @@ def datasheet_html(report: dict) -> str:
         cls = {"ok": "ok", "miss": "bad"}.get(r["verdict"], "")
         rows.append([r["figure"], (fmt_value(r), "num"), r["unit"], model, (verdict_text(r), cls)])
     out.append(_table(rows, ["figure", "value (min .. max)", "unit", "model / source", "verdict"]))
-    out += [f"<p class='muted'>{html.escape(n)}</p>" for n in ds.get("notes", ())]
+    out += [f"<p class='muted'>{html.escape(n)}</p>" for n in ds.get("notes", ()) if n not in loose]
     return "".join(out)
 
 
