@@ -72,10 +72,15 @@ def within_sampling_error(r: dict, lim: Limit) -> bool:
     return bool(e) and v is not None and (lim.met(v * (1.0 + e)) or lim.met(v * (1.0 - e)))
 
 
+def with_unit(x: float, unit: str) -> str:
+    """``x`` to 4 significant digits, then its unit (nothing after a unitless figure)."""
+    return f"{x:.4g} {unit}" if unit else f"{x:.4g}"
+
+
 def warning_line(r: dict, lim: Limit) -> str:
-    """``<figure> = <value> <unit>, limit <op> <limit> (<reason>); change <keys>``."""
-    v = "not computed" if r["value"] is None else f"{r['value']:.4g} {r['unit']}"
-    return (f"{r['figure']} = {v}, limit {lim.op} {lim.value:.4g} {r['unit']} ({lim.reason}); "
+    """``<figure> = <value> <unit>, limit <op> <limit> <unit> (<reason>); change <keys>``."""
+    v = "not computed" if r["value"] is None else with_unit(r["value"], r["unit"])
+    return (f"{r['figure']} = {v}, limit {lim.op} {with_unit(lim.value, r['unit'])} ({lim.reason}); "
             f"change {lim.change}")
 
 
@@ -87,8 +92,8 @@ def default_limit_misses(ds: dict) -> list[str]:
     for r in ds["rows"]:
         lim = r.get("limit") or {}
         if lim.get("origin") == "default" and r.get("verdict") == "miss":
-            v = "not computed" if r["value"] is None else f"{r['value']:.4g} {r['unit']}"
-            out.append(f"{r['figure']} = {v}, limit {lim['op']} {lim['value']:.4g} {r['unit']} "
+            v = "not computed" if r["value"] is None else with_unit(r["value"], r["unit"])
+            out.append(f"{r['figure']} = {v}, limit {lim['op']} {with_unit(lim['value'], r['unit'])} "
                        f"({lim['reason']}); change {lim['change']}")
     return out
 

@@ -117,8 +117,9 @@ def loosened_notes(rows: list[dict]) -> list[str]:
     for r in rows:
         lim = r.get("limit") or {}
         if lim.get("loosens"):
-            out.append(f"{r['figure']}: judged against [targets] {lim['op']} {lim['value']:.4g} "
-                       f"{r['unit']}, looser than the default limit {lim['loosens']}")
+            bound = f"{lim['value']:.4g} {r['unit']}" if r["unit"] else f"{lim['value']:.4g}"
+            out.append(f"{r['figure']}: judged against [targets] {lim['op']} {bound}, "
+                       f"looser than the default limit {lim['loosens']}")
     return out
 
 

@@ -55,3 +55,12 @@ def test_build_says_it_in_the_table_and_report_html(tmp_path):
     rep = json.loads((tmp_path / "b" / "report.json").read_text())
     mode = next(r for r in rep["datasheet"]["rows"] if r["key"] == "first_mode_Hz")
     assert mode["limit"]["value"] == 100.0 and mode["limit"]["loosens"].startswith(">= 150")
+
+
+def test_a_unitless_figure_has_no_stray_space():
+    """A tester found ``= 1.91 , limit >= 3  (...)`` on the rod buckling margin's warning."""
+    from cad.datasheet import warning_line
+
+    r = row("rod_buckling_margin", "rod buckling margin", 1.91, "", "Euler")
+    line = warning_line(r, Limit(">=", 3.0, "why", "parts.motor"))
+    assert line == "rod buckling margin = 1.91, limit >= 3 (why); change parts.motor"
