@@ -66,14 +66,17 @@ def force_ellipses(design) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return A, sig, ok
 
 
-def resolution_m(design, counts: float) -> np.ndarray:
-    """Worst handle step (m) of one encoder count on every joint, per workspace sample."""
+def resolution_m(design, counts) -> np.ndarray:
+    """Worst handle step (m) of one encoder count on every joint, per workspace sample:
+    ``sigma_max(J_pos^+ diag(2 pi / counts))``; ``counts``: counts per joint turn, one number
+    or one per joint (a capstan's joint counts n times its motor encoder's)."""
     J, _, ok = jacobian_and_limits(design)
     cols = FORCE_COLS[design.family]
     Jp = J[:, :, cols]
+    step = 2 * math.pi / np.broadcast_to(np.asarray(counts, float), (J.shape[1],))
     out = np.full(len(J), np.nan)
     for i in np.flatnonzero(ok):
-        out[i] = np.linalg.norm(np.linalg.pinv(Jp[i]), 2) * 2 * math.pi / counts
+        out[i] = np.linalg.norm(np.linalg.pinv(Jp[i]) * step[None, :], 2)
     return out
 
 
@@ -84,8 +87,10 @@ def motor_torques_mNm(design, field: str) -> tuple[np.ndarray | None, tuple]:
     field: a :class:`cad.data.catalog.MotorSpec` torque (``torque_continuous_mNm``,
     ``torque_peak_mNm``). Source: the resolved device (:func:`cad.device.resolve_device`:
     ``parts.motor`` / ``parts.waist_motor`` with the ``[motor]`` table), the one read of the
-    motors for these rows."""
-    specs = tuple(m.spec for m in resolve_device(design).motors)
+    motors for these rows), each through its transmission: a capstan of ratio n gives its joint
+    n times the motor's torque (:meth:`cad.device.ResolvedDevice.joint_motor`; f = J^-T n tau)."""
+    dev = resolve_device(design)
+    specs = tuple(dev.joint_motor(m.joint) for m in dev.motors)
     vals = [getattr(m, field) for m in specs]
     return (None if any(v is None for v in vals) else np.asarray(vals, float)), specs
 
@@ -123,7 +128,7 @@ def motor_force_rows(design, paper: dict | None = None) -> list[dict]:
             continue
         A = np.swapaxes(J, -1, -2)[:, cols, :] * (tau * 1e-3)[None, None, :]
         sig = np.linalg.svd(A[ok], compute_uv=False)[:, -1]
-        named = dict.fromkeys(f"{motor_label(r)} ({getattr(r.spec, field):g} mN m)"
+        named = dict.fromkeys(f"{motor_label(r)} ({getattr(r.spec, field):g} mN m{_through(design, r)})"
                               for r in resolve_device(design).motors)
         ref = [(paper or {}).get(f"{label}_force_{a}_N") for a in "xyz"]
         rows.append(row(key, f"{label} force in every direction", sig.min(), "N",
@@ -132,6 +137,20 @@ def motor_force_rows(design, paper: dict | None = None) -> list[dict]:
                         lo=sig.min(), hi=sig.max(), unverified=any(m.is_unverified(field) for m in specs),
                         paper=min(v for v in ref if v is not None) if any(ref) else None))
     return rows
+
+
+def _through(design, m) -> str:
+    """`` x n = ... at the joint`` of a motor behind a capstan (empty for direct drive)."""
+    t = resolve_device(design).transmission(m.joint)
+    return "" if not t.is_capstan else f" x capstan n = {t.ratio:.4g} at {m.joint}"
+
+
+def joint_counts(design) -> np.ndarray:
+    """Encoder counts per joint turn (m,), in the order of J's columns: each motor encoder's
+    counts times its transmission ratio (the encoder turns with the motor,
+    :meth:`cad.device.ResolvedDevice.joint_counts_per_rev`)."""
+    dev = resolve_device(design)
+    return np.asarray([float(dev.joint_counts_per_rev(e.joint)) for e in dev.encoders], float)
 
 
 def write_ellipse_chart(design, out_dir, A, ok) -> str | None:
@@ -256,11 +275,14 @@ def rows_and_limits(design, report: dict, out_dir=None, simulate_wall: bool = Tr
     if design.family != "haptic-pen":  # the pen adds its own, with Table 3 beside
         rows += motor_force_rows(design)
     enc = resolve_device(design).encoder  # the encoder the BOM orders
-    res = resolution_m(design, enc.counts_per_rev) * 1e6
+    counts = joint_counts(design)
+    res = resolution_m(design, counts) * 1e6
     good = res[np.isfinite(res)]
+    geared = "" if np.all(counts == enc.counts_per_rev) else (
+        f" through the capstans: {', '.join(f'{c:.6g}' for c in counts)} counts per joint turn")
     rows.append(row("resolution_um", "position resolution at the handle", good.max() if good.size else None, "um",
-                    f"sigma_max(J^+) 2 pi / {enc.counts_per_rev} counts per joint, worst over the workspace; "
-                    f"{enc.source}",
+                    f"sigma_max(J^+) 2 pi / {enc.counts_per_rev} counts per joint{geared}, worst over the "
+                    f"workspace; {enc.source}",
                     lo=good.min() if good.size else None, hi=good.max() if good.size else None))
     rows.append(k_max_row(good.max() * 1e-6 if good.size else None))
     rows.append(row("friction_N", "Coulomb friction at the handle", None, "N",

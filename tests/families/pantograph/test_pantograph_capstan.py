@@ -1,0 +1,218 @@
+"""A capstan on each motor of the plain 5-bar pantograph (issue 35 items 1 and 5): the design
+takes ``[transmission]`` (one table or one per motor), and every output reads the resolved
+device's ratio n.
+
+References, each independent of the code under test:
+
+* force in every direction: the Jacobian by central finite differences of the 5-bar's inverse
+  kinematics (not the analytic Jacobian the datasheet uses), J = dq/dx, F = sigma_min(J^T diag(n
+  tau_c)) (= (dx/dq)^-T n tau);
+* reflected inertia: n^2 (J_m + J_c) with J_c the capstan tube's m (r_o^2 + r_i^2) / 2 written
+  out here (pi (r_o^2 - r_i^2) L rho) from the catalog motor's rotor inertia (data);
+* MuJoCo: its joint-space inertia reduced onto the loop (``cad.sim.mj``) against the report's
+  apparent mass, which includes n^2 (J_m + J_c); its gear and force range against the catalog
+  motor's peak torque (data);
+* firmware: the generated C compiled with gcc and run: counts -> angle and torque -> current
+  through n against the hand formulas, its mass matrix at home against the report's.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import subprocess
+from pathlib import Path
+
+import numpy as np
+import pytest
+from cli_helpers import assert_one_line_error, hapticad
+
+from tests.compilers import compiler
+
+ROOT = Path(__file__).resolve().parents[3]
+N = 6.0
+DC_MM, ROPE = 32.0, "steel-7x7-0.8"
+CAPSTAN = (f'\n[transmission]\nkind = "capstan"\ncapstan_diameter_mm = {DC_MM}\nratio = {N}\n'
+           f'cable = "{ROPE}"\n')
+#: Same mechanics in double precision, two methods (measured ~1e-13 relative).
+DYN_REL = 1e-9
+
+
+def _plain() -> str:
+    """designs/pantograph.toml without its [optimize] table (a built design)."""
+    text = (ROOT / "designs" / "pantograph.toml").read_text()
+    return text[:text.index("\n[optimize]") + 1]
+
+
+def _load(tmp_path: Path, extra: str, name: str = "p.toml"):
+    from cad.design import load_design
+
+    p = tmp_path / name
+    p.write_text(_plain() + extra)
+    return load_design(p)
+
+
+@pytest.fixture(scope="module")
+def built(tmp_path_factory):
+    from cad.pipeline import build_design
+
+    tmp = tmp_path_factory.mktemp("pcap")
+    d = _load(tmp, CAPSTAN)
+    out = tmp / "out"
+    build_design(d, out, {"mjcf", "stl", "firmware"}, fidelity="preview", use_cache=False)
+    return d, out, json.loads((out / "report.json").read_text())
+
+
+def _capstan_izz_by_hand(rope_d: float, wraps: float, bore_mm: float) -> float:
+    """J_c of the capstan: a steel tube from the bore to the rim (pitch minus one rope), its
+    length the turns at 1.5 rope diameters plus an 8 mm hub (cad.actuators.capstan_geometry)."""
+    from cad.data.materials import get_material
+
+    ro, ri = (DC_MM - rope_d) / 2e3, bore_mm / 2e3
+    L = (1.5 * rope_d * wraps + 8.0) * 1e-3
+    m = math.pi * (ro * ro - ri * ri) * L * get_material("steel-1018").density_kg_m3
+    return 0.5 * m * (ro * ro + ri * ri)
+
+
+def _fd_jacobian(fb, xy_mm: np.ndarray, h_mm: float = 1e-4) -> np.ndarray:
+    """dq/dx (2, 2) rad/m by central differences of the inverse kinematics."""
+    from cad.kinematics import fivebar as fb5
+
+    J = np.empty((2, 2))
+    for k in range(2):
+        e = np.zeros(2)
+        e[k] = h_mm
+        qp, qm = fb5.ik(fb, (xy_mm + e)[None]).q_rad[0], fb5.ik(fb, (xy_mm - e)[None]).q_rad[0]
+        J[:, k] = (qp - qm) / (2 * h_mm * 1e-3)
+    return J
+
+
+# ----------------------------------------------------------------------------- the design
+def test_both_forms_reach_the_resolved_device(tmp_path):
+    from cad.device import resolve_device
+
+    one = resolve_device(_load(tmp_path, CAPSTAN, "a.toml"))
+    assert [t.motor_joint for t in one.transmissions] == ["q_left", "q_right"]
+    assert all(t.is_capstan and t.ratio == N and t.cable.key == ROPE for t in one.transmissions)
+    per = (f'\n[[transmission]]\nkind = "direct"\n\n[[transmission]]\nkind = "capstan"\n'
+           f'capstan_diameter_mm = {DC_MM}\ndrum_diameter_mm = 128.0\ncable = "{ROPE}"\n')
+    two = resolve_device(_load(tmp_path, per, "b.toml"))
+    assert [t.ratio for t in two.transmissions] == [1.0, 4.0]
+    assert two.joint_counts_per_rev("q_right") == 4 * two.joint_counts_per_rev("q_left")
+
+
+@pytest.mark.parametrize("extra, field", [
+    (CAPSTAN.replace(f"ratio = {N}", "ratio = 0.25"), "transmission.ratio"),
+    (CAPSTAN.replace(ROPE, "nylon-1"), "transmission.cable"),
+    ('\n[[transmission]]\nkind = "capstan"\n', "transmission"),
+    ('\n[[transmission]]\nkind = "direct"\n\n[[transmission]]\nkind = "belt"\n', "transmission.1.kind"),
+])
+def test_a_bad_transmission_exits_2_naming_the_field(tmp_path, extra, field):
+    p = tmp_path / "bad.toml"
+    p.write_text(_plain() + extra)
+    code, _, err = hapticad("check", p)
+    assert_one_line_error(code, err, field)
+
+
+# ----------------------------------------------------------------------------- force
+def test_motor_force_is_n_times_through_the_ratio_against_finite_differences(tmp_path):
+    from cad.data.catalog import get_motor
+    from cad.families.pantograph.datasheet import motor_force_rows
+
+    d = _load(tmp_path, CAPSTAN)
+    rows = {r["key"]: r for r in motor_force_rows(d)}
+    tau = get_motor(d.parts.motor).torque_continuous_mNm * 1e-3
+    X = d.workspace_points()
+    by_hand = []
+    for xy in X:
+        J = _fd_jacobian(d.mechanism, xy)
+        A = J.T @ np.diag([N * tau, N * tau])  # f = (dx/dq)^-T n tau, J = dq/dx
+        by_hand.append(np.linalg.svd(A, compute_uv=False)[-1])
+    assert rows["continuous_force_N"]["value"] == pytest.approx(min(by_hand), rel=1e-6)  # FD step error
+    assert rows["continuous_force_N"]["max"] == pytest.approx(max(by_hand), rel=1e-6)
+    assert "x capstan n = 6" in rows["continuous_force_N"]["model"]
+
+
+def test_resolution_is_n_times_finer(tmp_path):
+    from cad.families.pantograph.datasheet import resolution_m
+
+    d = _load(tmp_path, CAPSTAN)
+    xy = np.asarray(d.workspace["center_mm"], float)
+    J = _fd_jacobian(d.mechanism, xy)
+    k = len(d.workspace_points()) // 2  # the grid's centre sample
+    np.testing.assert_allclose(d.workspace_points()[k], xy)
+    want = np.linalg.norm(np.linalg.inv(J), 2) * 2 * math.pi / (4000 * N)
+    assert resolution_m(d, 4000 * N)[k] == pytest.approx(want, rel=1e-6)
+
+
+# ----------------------------------------------------------------------------- inertia
+def test_reflected_rotor_inertia_in_the_apparent_mass(built):
+    """report.json's apparent mass at home = the links' (the dynamics module on the report's
+    bodies) + J^T diag(n^2 (J_m + J_c)) J with J from finite differences and J_c by hand."""
+    from cad.data.catalog import get_motor
+    from cad.kinematics import fivebar as fb5
+
+    d, _, rep = built
+    m = get_motor(d.parts.motor)
+    jq = N * N * (m.rotor_inertia_g_cm2 * 1e-7 + _capstan_izz_by_hand(0.8, 3.0, m.shaft_diameter_mm))
+
+    def lm(b):
+        mp = rep["bodies"][b]
+        return fb5.LinkMass(mp["mass_kg"], (mp["com_mm"][0] * 1e-3, mp["com_mm"][1] * 1e-3),
+                            mp["inertia_com_kg_m2"][2][2])
+
+    home = np.asarray(rep["effective_mass_home"]["at_mm"], float)
+    links = fb5.FiveBarMass(lm("proximal_left"), lm("proximal_right"), lm("distal_left"), lm("distal_right"))
+    M_links = fb5.mass_matrix_kg(d.mechanism, home[None], links)[0] + rep["bodies"]["handle"]["mass_kg"] * np.eye(2)
+    J = _fd_jacobian(d.mechanism, home)
+    want_g = (M_links + jq * J.T @ J) * 1e3
+    got_g = np.asarray(rep["effective_mass_home"]["mass_matrix_g"])
+    np.testing.assert_allclose(got_g, want_g, rtol=1e-6)  # FD Jacobian
+    assert got_g[0, 0] > M_links[0, 0] * 1e3 + 30.0  # the rotors count: ~40 g more at n = 6
+
+
+def test_mjcf_in_mujoco_has_gear_n_and_the_reflected_armature(built):
+    from cad.data.catalog import get_motor
+    from cad.sim import mj
+
+    d, out, rep = built
+    spec = get_motor(d.parts.motor)
+    m, data = mj.load(out / f"{d.name}.xml")
+    jq = N * N * (spec.rotor_inertia_g_cm2 * 1e-7 + _capstan_izz_by_hand(0.8, 3.0, spec.shaft_diameter_mm))
+    for i, joint in enumerate(("q_left", "q_right")):
+        assert m.actuator_gear[i, 0] == N
+        np.testing.assert_allclose(m.actuator_forcerange[i], [-spec.torque_peak_mNm * 1e-3,
+                                                             spec.torque_peak_mNm * 1e-3], rtol=1e-12)
+        assert m.dof_armature[mj.joint_dof(m, joint)] == pytest.approx(jq, rel=1e-9)
+    r = mj.fivebar_task_mass_matrix(m, data)
+    home = np.array(rep["effective_mass_home"]["mass_matrix_g"])
+    np.testing.assert_allclose(r["M_xy"] * 1e3, home, rtol=DYN_REL, atol=DYN_REL * np.abs(home).max())
+
+
+# ----------------------------------------------------------------------------- firmware
+def test_firmware_compiled_with_gcc_goes_through_the_ratio(built, tmp_path):
+    d, out, rep = built
+    fw = out / "firmware"
+    h = (fw / "hapticad_device.h").read_text()
+    assert f"#define HC_GEAR {{ HC_R({N!r}), HC_R({N!r}) }}" in h
+    (tmp_path / "m.c").write_text(
+        '#include <stdio.h>\n#include "hapticad_device.h"\nint main(void){hc_encoder_t e = HC_ENCODER_DEFAULT;'
+        'long c[2]={1000,-500};hc_real q[2],q0[2],t[2]={0.3,-0.1},a[2],M[4];long z[2]={0,0};int s;'
+        'hc_counts_to_angles(&e,c,q);hc_counts_to_angles(&e,z,q0);s=hc_motor_currents(t,HC_LIMIT_PEAK,a);'
+        'hc_mass_matrix(q0,M);printf("%.17g %.17g %.17g %.17g %d %.17g %.17g %.17g %.17g %.17g %.17g\\n",'
+        'q[0],q[1],q0[0],q0[1],s,a[0],a[1],M[0],M[1],M[2],M[3]);return 0;}\n')
+    exe = tmp_path / "m"
+    subprocess.run([compiler(), "-std=c99", "-Wall", "-Wextra", "-pedantic", "-Werror", f"-I{fw}", "-o",
+                    str(exe), str(tmp_path / "m.c"), str(fw / "hapticad_device.c"), "-lm"], check=True, timeout=120)
+    v = [float(x) for x in subprocess.run([str(exe)], capture_output=True, text=True, check=True).stdout.split()]
+    q, q0, s, a, M = v[0:2], v[2:4], int(v[4]), v[5:7], np.reshape(v[7:11], (2, 2))
+    step = 2 * math.pi / (4000 * N)  # the motor encoder's count through the ratio
+    assert q[0] - q0[0] == pytest.approx(1000 * step, rel=1e-12)
+    assert q[1] - q0[1] == pytest.approx(-500 * step, rel=1e-12)
+    kt = 38.9e-3  # maxon RE 35 catalog (cad.data.catalog maxon-re35)
+    assert s == 0 and a == pytest.approx([0.3 / (N * kt), -0.1 / (N * kt)], rel=1e-12)
+    np.testing.assert_allclose(M * 1e3, rep["effective_mass_home"]["mass_matrix_g"], rtol=1e-9)
+    ch = json.loads((fw / "chai3d_device.json").read_text())
+    cont = next(r for r in rep["datasheet"]["rows"] if r["key"] == "continuous_force_N")
+    assert ch["m_maxLinearForce"] == pytest.approx(cont["value"], rel=1e-12)
+    assert ch["transmission_ratio"] == [N, N]
