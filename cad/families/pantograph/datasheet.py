@@ -203,14 +203,27 @@ HELD = ("motors held (each proximal link clamped at its motor axis B in all six 
         "revolute joints rigid but in z rotation")
 
 
+def held_text(st: dict) -> str:
+    """The boundary condition of the structure rows: :data:`HELD`, or with the capstans' ropes
+    (``st["rope_stiffness_Nm_per_rad"]``: joint -> k_q) the links they drive held at B in five
+    DOFs and about z by the rope's spring, the motor held by its servo."""
+    ropes = st.get("rope_stiffness_Nm_per_rad") or {}
+    if not ropes:
+        return HELD
+    ks = ", ".join(f"{j} {k:.4g} N m/rad" for j, k in ropes.items())
+    return (f"{HELD}, except at a capstan: the link on its axle at B held in five DOFs, its turn about z "
+            f"through the rope to the held motor (torsional spring k_q = EA (2 / L) r_d^2: {ks})")
+
+
 def structure_rows(st: dict) -> list[dict]:
     """Datasheet rows of :func:`structure` (boundary conditions stated per row)."""
     at = f"worst of {len(st['poses'])} poses ({', '.join(st['poses'])})"
     if st["poses_skipped"]:
         at += f"; not reachable, skipped: {', '.join(st['poses_skipped'])}"
     frame = "beam frame of the links (carbon tubes joint to joint, clevises not credited)"
-    free = f"{HELD}; handle free"
-    load = f"{HELD}; force at the handle"
+    held = held_text(st)
+    free = f"{held}; handle free"
+    load = f"{held}; force at the handle"
     b = st["bearing_compliance_estimate"]
     return [
         row("first_mode_Hz", "first structural mode (lower of in plane and out of plane)", st["first_mode_Hz"],

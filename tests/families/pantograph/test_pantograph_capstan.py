@@ -216,3 +216,35 @@ def test_firmware_compiled_with_gcc_goes_through_the_ratio(built, tmp_path):
     cont = next(r for r in rep["datasheet"]["rows"] if r["key"] == "continuous_force_N")
     assert ch["m_maxLinearForce"] == pytest.approx(cont["value"], rel=1e-12)
     assert ch["transmission_ratio"] == [N, N]
+
+
+# ----------------------------------------------------------------------------- structure
+def test_rope_spring_in_series_against_the_two_spring_closed_form(built, tmp_path):
+    """The handle compliance with the ropes = the frame's with the links held rigidly at B +
+    the two rope springs through the linkage, J^-1 diag(1 / k_q) J^-T (J = dq/dx; the distal
+    links are two-force members, so the joint torques are J^-T F whatever the frame's
+    elasticity), with k_q = EA (2 / L) r_d^2 by hand."""
+    from cad.data.cables import CABLES
+    from cad.structure import pantograph as sp
+
+    d, _, rep = built
+    direct = _load(tmp_path, "", "direct.toml")
+    rd, rc = N * DC_MM / 2, DC_MM / 2
+    C = rd + rc + 2.0  # the pitch circles 2 mm apart (cad.actuators.capstan.CAPSTAN_GAP_MM)
+    L = math.sqrt(C * C - (rd - rc) ** 2) * 1e-3
+    k = CABLES[ROPE].axial_stiffness_EA_N * 2 / L * (rd * 1e-3) ** 2
+    with_rope = sp.analyse(d, rep["bodies"], 1.0, 10.0)
+    rigid = sp.analyse(direct, rep["bodies"], 1.0, 10.0)
+    assert with_rope["rope_stiffness_Nm_per_rad"] == pytest.approx({"q_left": k, "q_right": k}, rel=1e-12)
+    assert rigid["rope_stiffness_Nm_per_rad"] == {}
+    X, labels = sp.poses(d)
+    for x, lab in zip(X, labels, strict=True):
+        Jinv = np.linalg.inv(_fd_jacobian(d.mechanism, x))
+        extra = Jinv @ np.diag([1 / k, 1 / k]) @ Jinv.T  # m/N
+        for i, ax in enumerate("xy"):
+            got = with_rope["per_pose"][lab]["compliance_um_per_N"][ax]
+            want = rigid["per_pose"][lab]["compliance_um_per_N"][ax] + extra[i, i] * 1e6
+            assert got == pytest.approx(want, rel=1e-5), (lab, ax)  # FD Jacobian
+        assert with_rope["per_pose"][lab]["compliance_um_per_N"]["z"] == pytest.approx(
+            rigid["per_pose"][lab]["compliance_um_per_N"]["z"], rel=1e-9)  # the ropes act in plane only
+    assert with_rope["first_mode_in_plane_Hz"] < rigid["first_mode_in_plane_Hz"]
