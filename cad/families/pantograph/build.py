@@ -68,6 +68,7 @@ from cad.data.materials import get_material
 from cad.device import encoder_bom_rows, resolve_device
 from cad.errors import DesignError
 from cad.export.sim import SIM_FORMATS, write_sim_files
+from cad.families.pantograph.capstan_solids import check_capstan_z
 
 # every name of the former single-module builder stays importable from here
 from cad.families.pantograph.clearances import (  # noqa: F401
@@ -235,6 +236,8 @@ def _prepare(design) -> tuple[dict, dict]:
     motor shaft engages less than half its hub."""
     lay = layout(design)
     _check_shafts(design, lay)
+    if "capstan" in lay:
+        check_capstan_z(design, lay)
     return lay, clearances(design, lay)
 
 

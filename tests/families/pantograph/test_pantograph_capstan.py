@@ -52,23 +52,38 @@ def _load(tmp_path: Path, extra: str, name: str = "p.toml"):
     return load_design(p)
 
 
+BUNDLED = ROOT / "designs" / "pantograph_capstan.toml"
+#: The bundled design's capstan (its file): ratio drum / capstan, rope diameter, wraps.
+NB, DC_B, ROPE_D_B, WRAPS_B = 128.0 / 32.0, 32.0, 0.8, 3.0
+
+
 @pytest.fixture(scope="module")
 def built(tmp_path_factory):
+    """designs/pantograph_capstan.toml built once (MJCF, meshes, firmware)."""
+    from cad.design import load_design
     from cad.pipeline import build_design
 
-    tmp = tmp_path_factory.mktemp("pcap")
-    d = _load(tmp, CAPSTAN)
-    out = tmp / "out"
+    out = tmp_path_factory.mktemp("pcap") / "out"
+    d = load_design(BUNDLED)
     build_design(d, out, {"mjcf", "stl", "firmware"}, fidelity="preview", use_cache=False)
     return d, out, json.loads((out / "report.json").read_text())
 
 
-def _capstan_izz_by_hand(rope_d: float, wraps: float, bore_mm: float) -> float:
+def test_bundled_file_states_its_capstan():
+    import tomllib
+
+    t = tomllib.loads(BUNDLED.read_text())["transmission"]
+    assert (t["drum_diameter_mm"] / t["capstan_diameter_mm"], t["capstan_diameter_mm"], t["wraps"]) == (
+        NB, DC_B, WRAPS_B)
+    assert t["cable"] == "steel-7x7-0.8"
+
+
+def _capstan_izz_by_hand(rope_d: float, wraps: float, bore_mm: float, dc_mm: float = DC_B) -> float:
     """J_c of the capstan: a steel tube from the bore to the rim (pitch minus one rope), its
     length the turns at 1.5 rope diameters plus an 8 mm hub (cad.actuators.capstan_geometry)."""
     from cad.data.materials import get_material
 
-    ro, ri = (DC_MM - rope_d) / 2e3, bore_mm / 2e3
+    ro, ri = (dc_mm - rope_d) / 2e3, bore_mm / 2e3
     L = (1.5 * rope_d * wraps + 8.0) * 1e-3
     m = math.pi * (ro * ro - ri * ri) * L * get_material("steel-1018").density_kg_m3
     return 0.5 * m * (ro * ro + ri * ri)
@@ -154,7 +169,7 @@ def test_reflected_rotor_inertia_in_the_apparent_mass(built):
 
     d, _, rep = built
     m = get_motor(d.parts.motor)
-    jq = N * N * (m.rotor_inertia_g_cm2 * 1e-7 + _capstan_izz_by_hand(0.8, 3.0, m.shaft_diameter_mm))
+    jq = NB * NB * (m.rotor_inertia_g_cm2 * 1e-7 + _capstan_izz_by_hand(ROPE_D_B, WRAPS_B, m.shaft_diameter_mm))
 
     def lm(b):
         mp = rep["bodies"][b]
@@ -168,7 +183,7 @@ def test_reflected_rotor_inertia_in_the_apparent_mass(built):
     want_g = (M_links + jq * J.T @ J) * 1e3
     got_g = np.asarray(rep["effective_mass_home"]["mass_matrix_g"])
     np.testing.assert_allclose(got_g, want_g, rtol=1e-6)  # FD Jacobian
-    assert got_g[0, 0] > M_links[0, 0] * 1e3 + 30.0  # the rotors count: ~40 g more at n = 6
+    assert got_g[0, 0] > M_links[0, 0] * 1e3 + 30.0  # the rotors count (n = 4)
 
 
 def test_mjcf_in_mujoco_has_gear_n_and_the_reflected_armature(built):
@@ -178,9 +193,9 @@ def test_mjcf_in_mujoco_has_gear_n_and_the_reflected_armature(built):
     d, out, rep = built
     spec = get_motor(d.parts.motor)
     m, data = mj.load(out / f"{d.name}.xml")
-    jq = N * N * (spec.rotor_inertia_g_cm2 * 1e-7 + _capstan_izz_by_hand(0.8, 3.0, spec.shaft_diameter_mm))
+    jq = NB * NB * (spec.rotor_inertia_g_cm2 * 1e-7 + _capstan_izz_by_hand(ROPE_D_B, WRAPS_B, spec.shaft_diameter_mm))
     for i, joint in enumerate(("q_left", "q_right")):
-        assert m.actuator_gear[i, 0] == N
+        assert m.actuator_gear[i, 0] == NB
         np.testing.assert_allclose(m.actuator_forcerange[i], [-spec.torque_peak_mNm * 1e-3,
                                                              spec.torque_peak_mNm * 1e-3], rtol=1e-12)
         assert m.dof_armature[mj.joint_dof(m, joint)] == pytest.approx(jq, rel=1e-9)
@@ -194,7 +209,7 @@ def test_firmware_compiled_with_gcc_goes_through_the_ratio(built, tmp_path):
     d, out, rep = built
     fw = out / "firmware"
     h = (fw / "hapticad_device.h").read_text()
-    assert f"#define HC_GEAR {{ HC_R({N!r}), HC_R({N!r}) }}" in h
+    assert f"#define HC_GEAR {{ HC_R({NB!r}), HC_R({NB!r}) }}" in h
     (tmp_path / "m.c").write_text(
         '#include <stdio.h>\n#include "hapticad_device.h"\nint main(void){hc_encoder_t e = HC_ENCODER_DEFAULT;'
         'long c[2]={1000,-500};hc_real q[2],q0[2],t[2]={0.3,-0.1},a[2],M[4];long z[2]={0,0};int s;'
@@ -206,16 +221,16 @@ def test_firmware_compiled_with_gcc_goes_through_the_ratio(built, tmp_path):
                     str(exe), str(tmp_path / "m.c"), str(fw / "hapticad_device.c"), "-lm"], check=True, timeout=120)
     v = [float(x) for x in subprocess.run([str(exe)], capture_output=True, text=True, check=True).stdout.split()]
     q, q0, s, a, M = v[0:2], v[2:4], int(v[4]), v[5:7], np.reshape(v[7:11], (2, 2))
-    step = 2 * math.pi / (4000 * N)  # the motor encoder's count through the ratio
+    step = 2 * math.pi / (4000 * NB)  # the motor encoder's count through the ratio
     assert q[0] - q0[0] == pytest.approx(1000 * step, rel=1e-12)
     assert q[1] - q0[1] == pytest.approx(-500 * step, rel=1e-12)
     kt = 38.9e-3  # maxon RE 35 catalog (cad.data.catalog maxon-re35)
-    assert s == 0 and a == pytest.approx([0.3 / (N * kt), -0.1 / (N * kt)], rel=1e-12)
+    assert s == 0 and a == pytest.approx([0.3 / (NB * kt), -0.1 / (NB * kt)], rel=1e-12)
     np.testing.assert_allclose(M * 1e3, rep["effective_mass_home"]["mass_matrix_g"], rtol=1e-9)
     ch = json.loads((fw / "chai3d_device.json").read_text())
     cont = next(r for r in rep["datasheet"]["rows"] if r["key"] == "continuous_force_N")
     assert ch["m_maxLinearForce"] == pytest.approx(cont["value"], rel=1e-12)
-    assert ch["transmission_ratio"] == [N, N]
+    assert ch["transmission_ratio"] == [NB, NB]
 
 
 # ----------------------------------------------------------------------------- structure
@@ -225,14 +240,17 @@ def test_rope_spring_in_series_against_the_two_spring_closed_form(built, tmp_pat
     links are two-force members, so the joint torques are J^-T F whatever the frame's
     elasticity), with k_q = EA (2 / L) r_d^2 by hand."""
     from cad.data.cables import CABLES
+    from cad.design import load_design
     from cad.structure import pantograph as sp
 
     d, _, rep = built
-    direct = _load(tmp_path, "", "direct.toml")
-    rd, rc = N * DC_MM / 2, DC_MM / 2
+    text = BUNDLED.read_text()
+    (tmp_path / "direct.toml").write_text(text[:text.index("\n[transmission]") + 1])
+    direct = load_design(tmp_path / "direct.toml")
+    rd, rc = NB * DC_B / 2, DC_B / 2
     C = rd + rc + 2.0  # the pitch circles 2 mm apart (cad.actuators.capstan.CAPSTAN_GAP_MM)
     L = math.sqrt(C * C - (rd - rc) ** 2) * 1e-3
-    k = CABLES[ROPE].axial_stiffness_EA_N * 2 / L * (rd * 1e-3) ** 2
+    k = CABLES["steel-7x7-0.8"].axial_stiffness_EA_N * 2 / L * (rd * 1e-3) ** 2
     with_rope = sp.analyse(d, rep["bodies"], 1.0, 10.0)
     rigid = sp.analyse(direct, rep["bodies"], 1.0, 10.0)
     assert with_rope["rope_stiffness_Nm_per_rad"] == pytest.approx({"q_left": k, "q_right": k}, rel=1e-12)
@@ -248,3 +266,30 @@ def test_rope_spring_in_series_against_the_two_spring_closed_form(built, tmp_pat
         assert with_rope["per_pose"][lab]["compliance_um_per_N"]["z"] == pytest.approx(
             rigid["per_pose"][lab]["compliance_um_per_N"]["z"], rel=1e-9)  # the ropes act in plane only
     assert with_rope["first_mode_in_plane_Hz"] < rigid["first_mode_in_plane_Hz"]
+
+
+def test_one_capstan_and_one_direct_motor_is_refused_before_cad(tmp_path):
+    """Both motors through a capstan or neither (the motors would sit at different heights):
+    one line naming ``transmission``, at the layout (no solid made)."""
+    from cad.errors import DesignError
+    from cad.families.pantograph.capstan import layout
+
+    per = (f'\n[[transmission]]\nkind = "direct"\n\n[[transmission]]\nkind = "capstan"\n'
+           f'capstan_diameter_mm = {DC_MM}\ndrum_diameter_mm = 128.0\ncable = "{ROPE}"\n')
+    with pytest.raises(DesignError, match=r"^transmission: .*give both motors a capstan"):
+        layout(_load(tmp_path, per))
+
+
+def test_bundled_design_meets_every_default_limit(built):
+    """designs/pantograph_capstan.toml: >= 4 N continuous in every direction over its workspace,
+    first mode >= 150 Hz, and every limit of its datasheet (report.json) met, no warning."""
+    _, _, rep = built
+    ds = rep["datasheet"]
+    rows = {r["key"]: r for r in ds["rows"]}
+    assert rows["continuous_force_N"]["value"] >= 4.0 and rows["continuous_force_N"]["limit"]["value"] == 4.0
+    assert rows["first_mode_Hz"]["value"] >= 150.0 and rows["first_mode_Hz"]["limit"]["value"] == 150.0
+    judged = [r for r in ds["rows"] if r.get("limit")]
+    assert {"continuous_force_N", "first_mode_Hz", "max_stress_MPa"} <= {r["key"] for r in judged}
+    assert [r["key"] for r in judged if r["verdict"] != "ok"] == []
+    assert ds["ok"] and ds["warnings"] == []
+    assert rep["interference"]["collisions"] == []
