@@ -84,7 +84,7 @@ def _clevis_kinds(add, K: dict, c) -> None:
                         set_screw_drill_mm=tap_drill_mm(ss["size"]), **cl),
         cm,
         True,
-        f"clevis on the motor shaft ({sz} set screw)",
+        f"clevis on the {'link axle' if 'capstan' in lay else 'motor shaft'} ({sz} set screw)",
         f"CNC milled; ream shaft bore; tap {sz} x1 (radial)",
         fits=(fit("hub shaft bore", mot.shaft_diameter_mm, "shaft bore"),),
     )
