@@ -293,3 +293,12 @@ def test_bundled_design_meets_every_default_limit(built):
     assert [r["key"] for r in judged if r["verdict"] != "ok"] == []
     assert ds["ok"] and ds["warnings"] == []
     assert rep["interference"]["collisions"] == []
+
+
+def test_bundled_design_figures_regression_pin(built):
+    """Regression pin (our own run of designs/pantograph_capstan.toml, typed in
+    docs/families/pantograph-powermouse.md and the design's header): 4.99 N continuous in every
+    direction, first mode 203 Hz."""
+    rows = {r["key"]: r for r in built[2]["datasheet"]["rows"]}
+    assert round(rows["continuous_force_N"]["value"], 2) == 4.99
+    assert round(rows["first_mode_Hz"]["value"]) == 203
