@@ -302,3 +302,20 @@ def test_bundled_design_figures_regression_pin(built):
     rows = {r["key"]: r for r in built[2]["datasheet"]["rows"]}
     assert round(rows["continuous_force_N"]["value"], 2) == 4.99
     assert round(rows["first_mode_Hz"]["value"]) == 203
+
+
+def test_identification_prediction_sees_the_motors_through_the_ratio(built):
+    """The 5-bar's identification prediction (cad.sim.identify_fivebar.predict) of the bundled
+    design: K_t, counts, rotor and Coulomb friction at the joints, n K_t, n 4000, n^2 (J_m +
+    J_c) and n K_t I_0 from the catalog motor (data) and the hand formula of J_c."""
+    from cad.data.catalog import get_motor
+    from cad.sim.identify_fivebar import predict
+
+    d, _, rep = built
+    m = get_motor(d.parts.motor)
+    p = predict(d, rep)
+    assert p.kt_Nm_per_A == pytest.approx(NB * m.torque_constant_mNm_per_A * 1e-3, rel=1e-12)
+    assert p.counts_per_rev == 4000 * NB
+    jq = NB * NB * (m.rotor_inertia_g_cm2 * 1e-7 + _capstan_izz_by_hand(ROPE_D_B, WRAPS_B, m.shaft_diameter_mm))
+    assert p.rotor_kg_m2 == pytest.approx(jq, rel=1e-9)
+    assert p.Tc_Nm == pytest.approx(NB * m.torque_constant_mNm_per_A * m.no_load_current_mA * 1e-6, rel=1e-9)
