@@ -68,6 +68,8 @@ from cad.data.materials import get_material
 from cad.device import encoder_bom_rows, resolve_device
 from cad.errors import DesignError
 from cad.export.sim import SIM_FORMATS, write_sim_files
+from cad.families.pantograph.capstan import bom_lines as capstan_bom_lines
+from cad.families.pantograph.capstan import winding_steps
 from cad.families.pantograph.capstan_solids import check_capstan_z
 
 # every name of the former single-module builder stays importable from here
@@ -270,6 +272,12 @@ def _encoder_rows(design) -> list[dict]:
     return encoder_bom_rows(resolve_device(design))
 
 
+def _no_solid_rows(design) -> list[dict]:
+    """BOM lines with no solid: the joint encoders and, through capstans, each motor's rope
+    with its cut length (:func:`cad.families.pantograph.capstan.bom_lines`)."""
+    return _encoder_rows(design) + (capstan_bom_lines(design) if design.family == "pantograph" else [])
+
+
 def _stages():
     """The family's stages of the one build driver (:class:`cad.pipeline.run.Stages`)."""
     return Stages(
@@ -279,8 +287,8 @@ def _stages():
         dynamics=lambda b: dynamics(b.design, b.bodies, b.model.extra.home_mm),
         bench_z_mm=lambda b: b.pre[0]["bench_z_mm"],
         marks=lambda b: [("workspace", workspace_square(b.design.workspace))],
-        more_files=_sim_files, assembly=lambda design: (None, ASSEMBLY_CHECKS),
-        no_solid_rows=_encoder_rows)
+        more_files=_sim_files, assembly=lambda design: (None, ASSEMBLY_CHECKS + winding_steps(design)),
+        no_solid_rows=_no_solid_rows)
 
 
 def build(

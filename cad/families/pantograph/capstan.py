@@ -36,6 +36,8 @@ import numpy as np
 from cad.actuators import capstan as cap
 from cad.actuators import capstan_geometry as cg
 from cad.data.catalog import get_cap_screw, get_motor, get_nut
+from cad.datasheet import capstan_rows as cr
+from cad.datasheet import row
 from cad.device import resolve_device
 from cad.errors import DesignError
 from cad.families.fourbar.capstan_solids import ANCHOR_SCREW, TENSIONER_WIND_D
@@ -219,3 +221,69 @@ def layout(design) -> dict:
     g = design.parts.layer_gap_mm
     return {"sides": motor_directions_deg(design), "rope_z_mm": rope_plane_z_mm(design),
             "drum_z_mm": (g, g + DRUM_THICKNESS_MM), "lift_mm": lift_mm(design)}
+
+
+def capstan_joints(design) -> tuple:
+    """Each capstan-driven motor of the 5-bar as a :class:`cad.datasheet.capstan_rows.CapstanJoint`
+    (its link's range over the workspace, :func:`joint_ranges_deg`; rows, BOM lines and
+    assembly steps suffixed ``_1`` left, ``_2`` right); empty for direct drive."""
+    if not is_capstan(design):
+        return ()
+    dev = resolve_device(design)
+    rng = joint_ranges_deg(design)
+    return tuple(cr.capstan_joint(dev, j, float(rng[i, 1] - rng[i, 0]), f"{j.split('_')[1]} proximal link",
+                                  f"_{i + 1}")
+                 for i, j in enumerate(("q_left", "q_right")) if dev.transmission(j).is_capstan)
+
+
+def rope_compliance_m_per_N(design, k_q: dict) -> np.ndarray:
+    """The handle's compliance from the ropes alone over the workspace grid, largest
+    eigenvalue of J^-1 diag(1 / k_q) J^-T (m/N, (N,)); J = dq/dx (rad/m): the links rigid, the
+    motors held, each rope a torsional spring ``k_q[joint]`` (N m/rad) at its joint."""
+    J, st = fb5.jacobian_rad_per_m(design.mechanism, design.workspace_points())
+    ok = np.asarray(st) == fb5.STATUS_OK
+    kinv = np.array([1.0 / k_q[j] if k_q.get(j) else 0.0 for j in ("q_left", "q_right")])
+    Jinv = np.linalg.inv(np.asarray(J)[ok])
+    C = np.einsum("nij,j,nkj->nik", Jinv, kinv, Jinv)
+    return np.linalg.eigvalsh(C)[:, -1]
+
+
+def capstan_rows(design, k_max_N_per_m: float | None) -> tuple[list[dict], dict]:
+    """(rows, limits) of the 5-bar's capstans: each motor's rows at the peak load and its rope's
+    stiffness (:mod:`cad.datasheet.capstan_rows`, suffixed ``_1`` / ``_2``), the ropes'
+    stiffness at the handle (weakest direction and pose, :func:`rope_compliance_m_per_N`) and
+    ``k_max_N_per_m`` (the datasheet's eq (25) K_max) in series with it; ``([], {})`` for direct drive."""
+    rows, limits, k_q = [], {}, {}
+    for j in capstan_joints(design):
+        r, lim = cr.datasheet_rows(j)
+        st_row, k, _ = cr.stiffness_row(j, cr.layout(j))
+        rows += [*r, st_row]
+        limits.update(lim)
+        if k is not None:
+            k_q[j.name] = k
+    if not k_q:
+        return rows, limits
+    c = rope_compliance_m_per_N(design, k_q)
+    k_h = float(1.0 / c.max())
+    src = ("1 / lambda_max(J^-1 diag(1 / k_q) J^-T), J = dq/dx, weakest direction and pose over the workspace "
+           "grid (links rigid, motors held)")
+    rows.append(row("cable_handle_stiffness_N_per_m", "rope stiffness at the handle", k_h, "N/m", src,
+                    lo=k_h, hi=float(1.0 / c.min())))
+    if k_max_N_per_m is not None:
+        rows.append(row("K_max_with_cable_N_per_m", "renderable stiffness, ropes in series",
+                        float(cap.series_stiffness(k_max_N_per_m, k_h)), "N/m",
+                        f"1 / (1 / K_max + 1 / k_handle): the eq (25) K_max {k_max_N_per_m:.4g} N/m in series "
+                        f"with the ropes' {k_h:.4g} N/m at the handle ({src})"))
+    return rows, limits
+
+
+def bom_lines(design) -> list[dict]:
+    """The ropes (one per capstan motor, with its cut length), as bom.csv rows
+    (:func:`cad.datasheet.capstan_rows.cable_bom_line`); empty for direct drive."""
+    return [cr.cable_bom_line(j) for j in capstan_joints(design)]
+
+
+def winding_steps(design) -> tuple[str, ...]:
+    """``assembly.md``'s winding and tensioning steps of each capstan
+    (:func:`cad.datasheet.capstan_rows.winding_steps`)."""
+    return tuple(s for j in capstan_joints(design) for s in cr.winding_steps(j))

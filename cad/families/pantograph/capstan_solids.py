@@ -206,11 +206,12 @@ def drum_parts(design, K: dict, lay: dict, sd, t) -> list[PartInstance]:
     rd = cg.rim_radius_mm(t.drum_diameter_mm, t.cable_diameter_mm)
     out = [PartInstance(f"{body}.capstan_drum", K[f"drum_{sd.joint}"], body, translation(0, 0, z0))]
     at = [translation(0, 0, 0.5 * (z0 + z1)) @ _rz(a) @ translation(rd, 0, 0) @ _RY90 for a in sd.anchors_deg]
-    out.append(PartInstance(f"{body}.capstan_anchor", K["anchor_screw"], body, at[0]))
+    s = "_1" if side == "left" else "_2"  # the names assembly.md's winding steps use
+    out.append(PartInstance(f"capstan_anchor{s}_1", K["anchor_screw"], body, at[0]))
     _, up = tensioner_screw_mm(t)
-    out.append(PartInstance(f"{body}.capstan_tensioner", K[f"tensioner{kind_suffix(design, sd.joint)}"], body,
+    out.append(PartInstance(f"capstan_tensioner{s}", K[f"tensioner{kind_suffix(design, sd.joint)}"], body,
                             at[1] @ translation(0, 0, up)))
-    out.append(PartInstance(f"{body}.capstan_tensioner_nut", K["tensioner_nut"], body, at[1]))
+    out.append(PartInstance(f"capstan_tensioner_nut{s}", K["tensioner_nut"], body, at[1]))
     return out
 
 

@@ -28,6 +28,7 @@ import numpy as np
 from cad.datasheet import row
 from cad.device import resolve_device
 from cad.dynamics.stiffness import range_text, stiffness_range_N_per_m
+from cad.families.pantograph.capstan import capstan_rows
 from cad.families.pantograph.limits import pantograph_limits
 from cad.families.pantograph.mode_ceiling import mode_ceiling
 from cad.firmware.extras import paper_eq25_inputs
@@ -297,7 +298,8 @@ def rows_and_limits(design, report: dict, out_dir=None, simulate_wall: bool = Tr
                     f"sigma_max(J^+) 2 pi / {enc.counts_per_rev} counts per joint{geared}, worst over the "
                     f"workspace; {enc.source}",
                     lo=good.min() if good.size else None, hi=good.max() if good.size else None))
-    rows.append(k_max_row(good.max() * 1e-6 if good.size else None))
+    k25 = k_max_row(good.max() * 1e-6 if good.size else None)
+    rows.append(k25)
     rows.append(row("friction_N", "Coulomb friction at the handle", None, "N",
                     "not modelled: [actuators] gives torque limits only (no motor data sheet)"))
     em = report.get("effective_mass_home") or {}
@@ -327,6 +329,10 @@ def rows_and_limits(design, report: dict, out_dir=None, simulate_wall: bool = Tr
             notes.append(f"force ellipses over the workspace: {chart}")
     limits = pantograph_limits(design, design.actuators.get("force_max_N"), st and st["strength_MPa"],
                                structure=st is not None)
+    if design.family == "pantograph":  # the 5-bar's capstans: rows at the peak load, the ropes' springs
+        crows, climits = capstan_rows(design, k25["value"])
+        rows += crows
+        limits.update(climits)
     rows += mode_blocker(design, report, st, limits)
     return rows, limits, notes
 

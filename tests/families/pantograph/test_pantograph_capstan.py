@@ -289,7 +289,8 @@ def test_bundled_design_meets_every_default_limit(built):
     assert rows["continuous_force_N"]["value"] >= 4.0 and rows["continuous_force_N"]["limit"]["value"] == 4.0
     assert rows["first_mode_Hz"]["value"] >= 150.0 and rows["first_mode_Hz"]["limit"]["value"] == 150.0
     judged = [r for r in ds["rows"] if r.get("limit")]
-    assert {"continuous_force_N", "first_mode_Hz", "max_stress_MPa"} <= {r["key"] for r in judged}
+    assert {"continuous_force_N", "first_mode_Hz", "max_stress_MPa", "bend_ratio_1", "cable_slip_margin_2",
+            "cable_safety_factor_1", "drum_sector_deg_2"} <= {r["key"] for r in judged}
     assert [r["key"] for r in judged if r["verdict"] != "ok"] == []
     assert ds["ok"] and ds["warnings"] == []
     assert rep["interference"]["collisions"] == []
@@ -319,3 +320,57 @@ def test_identification_prediction_sees_the_motors_through_the_ratio(built):
     jq = NB * NB * (m.rotor_inertia_g_cm2 * 1e-7 + _capstan_izz_by_hand(ROPE_D_B, WRAPS_B, m.shaft_diameter_mm))
     assert p.rotor_kg_m2 == pytest.approx(jq, rel=1e-9)
     assert p.Tc_Nm == pytest.approx(NB * m.torque_constant_mNm_per_A * m.no_load_current_mA * 1e-6, rel=1e-9)
+
+
+def test_capstan_rows_bom_and_winding_steps_of_each_motor(built):
+    """Each motor's capstan rows (the shared cad.datasheet.capstan_rows) against hand figures
+    of the bundled design: bend ratio D/d, the rope load and safety factor at the RE 35's peak
+    torque (its header's numbers), the rope's cut length part by part, the ropes' stiffness at
+    the handle from finite-difference Jacobians, K_max in series; one rope line per motor in
+    bom.csv and order.csv, the winding steps naming the anchors and tensioners the solids carry."""
+    import csv
+
+    from cad.data.cables import CABLES
+    from cad.data.catalog import get_motor
+
+    d, out, rep = built
+    rows = {r["key"]: r for r in rep["datasheet"]["rows"]}
+    rope = CABLES["steel-7x7-0.8"]
+    tau = get_motor(d.parts.motor).torque_peak_mNm * 1e-3
+    dT = tau / (DC_B / 2e3)  # n tau / r_d = tau / r_c
+    e = math.exp(0.12 * 2 * math.pi * WRAPS_B)
+    T0 = dT / 2 * (e + 1) / (e - 1)
+    rd, rc = NB * DC_B / 2, DC_B / 2
+    L = math.sqrt((rd + rc + 2.0) ** 2 - (rd - rc) ** 2)
+    k = rope.axial_stiffness_EA_N * 2 / (L * 1e-3) * (rd * 1e-3) ** 2
+    sides = {s["joint"]: s for s in rep["layout_mm"]["capstan"]["sides"]}
+    for s, joint in (("_1", "q_left"), ("_2", "q_right")):
+        assert rows["transmission_ratio" + s]["value"] == NB
+        assert rows["bend_ratio" + s]["value"] == DC_B / 0.8 and rows["bend_ratio" + s]["verdict"] == "ok"
+        assert rows["cable_pretension_N" + s]["value"] == pytest.approx(T0, rel=1e-9)
+        assert rows["cable_safety_factor" + s]["value"] == pytest.approx(
+            rope.min_breaking_load_N / (T0 + dT / 2), rel=1e-9)
+        rng = np.subtract(*sides[joint]["joint_range_deg"][::-1])
+        arc = rng + 2 * math.degrees(2 * 10.0 / (NB * DC_B))
+        cut = math.pi * DC_B * WRAPS_B + 2 * L + math.pi * NB * DC_B * arc / 360 + 2 * 20.0
+        assert rows["cable_cut_length_mm" + s]["value"] == pytest.approx(cut, rel=1e-9)
+        assert rows["cable_stiffness_Nm_per_rad" + s]["value"] == pytest.approx(k, rel=1e-9)
+    worst = math.inf
+    for xy in d.workspace_points():
+        Jinv = np.linalg.inv(_fd_jacobian(d.mechanism, xy))
+        worst = min(worst, 1.0 / np.linalg.eigvalsh(Jinv @ Jinv.T / k)[-1])
+    assert rows["cable_handle_stiffness_N_per_m"]["value"] == pytest.approx(worst, rel=1e-5)  # FD
+    K = rows["eq25_K_max_N_per_m"]["value"]
+    assert rows["K_max_with_cable_N_per_m"]["value"] == pytest.approx(1 / (1 / K + 1 / rows[
+        "cable_handle_stiffness_N_per_m"]["value"]), rel=1e-12)
+    bom = list(csv.DictReader((out / "bom.csv").read_text().splitlines()))
+    ropes = [r for r in bom if r["part"].startswith("capstan_cable")]
+    assert [r["part"] for r in ropes] == ["capstan_cable_1", "capstan_cable_2"]
+    assert all(f"cut length {rows['cable_cut_length_mm_1']['value']:.0f} mm" in r["description"] for r in ropes)
+    order = (out / "order.csv").read_text()
+    assert f"wire rope 7x7 0.8 mm x {rows['cable_cut_length_mm_1']['value']:.0f} mm" in order
+    names = {i for i in (out / "assembly.md").read_text().split("`")}
+    steps = (out / "assembly.md").read_text()
+    for s in ("_1", "_2"):
+        assert f"capstan_anchor{s}_1" in names and f"capstan_tensioner{s}" in names
+        assert f"until the rope holds at least {T0:.1f} N (datasheet cable_pretension_N{s}" in steps
