@@ -68,7 +68,7 @@ def build_report(design, lay, clr, bodies, eff, eff_bare, itf, bom, home, fideli
             "Every screw is sized from its stack (fasteners, tapped_holes): catalog ISO 4762 "
             "length, engagement between 1.5 d (aluminium; the maker's minimum in the motor "
             "face) and the tapped hole's depth, one screw per hole. Each hub clevis is locked on "
-            f"its motor shaft by an ISO 4026 {lay['set_screw']['size']} x "
+            f"its {'link axle' if 'capstan' in lay else 'motor shaft'} by an ISO 4026 {lay['set_screw']['size']} x "
             f"{lay['set_screw']['length_mm']:g} set screw tapped radially through its wall "
             "(the longest catalog length not proud of the round end, >= 1.5 d).",
         ],
