@@ -374,3 +374,29 @@ def test_capstan_rows_bom_and_winding_steps_of_each_motor(built):
     for s in ("_1", "_2"):
         assert f"capstan_anchor{s}_1" in names and f"capstan_tensioner{s}" in names
         assert f"until the rope holds at least {T0:.1f} N (datasheet cable_pretension_N{s}" in steps
+
+
+def test_one_ratio_per_motor_scales_each_joint_torque(tmp_path):
+    """``[[transmission]]`` with two ratios: S_J = diag(n_left tau, n_right tau), the force in
+    every direction against finite-difference Jacobians; the per-joint rotor inertias of the
+    firmware's mass matrix n_i^2 (J_m + J_c)."""
+    from cad.data.catalog import get_motor
+    from cad.device import resolve_device
+    from cad.families.pantograph.datasheet import motor_force_rows
+
+    per = (f'\n[[transmission]]\nkind = "capstan"\ncapstan_diameter_mm = {DC_MM}\ndrum_diameter_mm = 128.0\n'
+           f'cable = "{ROPE}"\n\n[[transmission]]\nkind = "capstan"\ncapstan_diameter_mm = {DC_MM}\n'
+           f'drum_diameter_mm = 112.0\ncable = "{ROPE}"\n')
+    d = _load(tmp_path, per)
+    m = get_motor(d.parts.motor)
+    n = np.array([128.0 / DC_MM, 112.0 / DC_MM])
+    tau = m.torque_continuous_mNm * 1e-3
+    by_hand = [np.linalg.svd(_fd_jacobian(d.mechanism, xy).T @ np.diag(n * tau), compute_uv=False)[-1]
+               for xy in d.workspace_points()]
+    rows = {r["key"]: r for r in motor_force_rows(d)}
+    assert rows["continuous_force_N"]["value"] == pytest.approx(min(by_hand), rel=1e-6)
+    dev = resolve_device(d)
+    jc = _capstan_izz_by_hand(0.8, 3.0, m.shaft_diameter_mm, DC_MM)
+    for j, nj in zip(("q_left", "q_right"), n, strict=True):
+        assert dev.joint_rotor_inertia_kg_m2(j) == pytest.approx(nj * nj * (m.rotor_inertia_g_cm2 * 1e-7 + jc),
+                                                                 rel=1e-9)
