@@ -400,3 +400,25 @@ def test_one_ratio_per_motor_scales_each_joint_torque(tmp_path):
     for j, nj in zip(("q_left", "q_right"), n, strict=True):
         assert dev.joint_rotor_inertia_kg_m2(j) == pytest.approx(nj * nj * (m.rotor_inertia_g_cm2 * 1e-7 + jc),
                                                                  rel=1e-9)
+
+
+def test_generated_test_program_passes_the_vectors_with_gcc(built, tmp_path):
+    """The build's own firmware/test_device.c, compiled with gcc, checks hapticad_device.c against
+    test_vectors.json (the numpy model: counts through the ratio, the mass matrix with the
+    rotors n^2 (J_m + J_c) at their joints): no failure."""
+    _, out, _ = built
+    fw = out / "firmware"
+    exe = tmp_path / "td"
+    subprocess.run([compiler(), "-std=c99", "-Wall", "-Wextra", "-pedantic", "-Werror", f"-I{fw}", "-o", str(exe),
+                    str(fw / "test_device.c"), str(fw / "hapticad_device.c"), "-lm"], check=True, timeout=120)
+    r = subprocess.run([str(exe), str(fw / "test_vectors.json"), "1e-9", "1e-9", "1e-7"], capture_output=True,
+                       text=True, timeout=120)
+    assert r.returncode == 0, r.stdout + r.stderr
+    assert " failures 0 " in r.stdout and " ok " in r.stdout
+    vec = json.loads((fw / "test_vectors.json").read_text())
+    assert vec["layout"][:3] == ["status", "counts[2]", "q_from_counts_rad[2]"]
+    enc = vec["encoder"]
+    assert enc["counts_per_rev"] == 4000  # the motor's encoder; the joint turns n times slower
+    for row in vec["rows"][:20]:
+        want = np.asarray(enc["zero_rad"]) + 2 * math.pi * np.asarray(row[1:3]) / (4000 * NB)
+        np.testing.assert_allclose(row[3:5], want, rtol=0, atol=1e-12)
