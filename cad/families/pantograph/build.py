@@ -69,6 +69,7 @@ from cad.device import encoder_bom_rows, resolve_device
 from cad.errors import DesignError
 from cad.export.sim import SIM_FORMATS, write_sim_files
 from cad.families.pantograph.capstan import bom_lines as capstan_bom_lines
+from cad.families.pantograph.capstan import layout as capstan_layout
 from cad.families.pantograph.capstan import winding_steps
 from cad.families.pantograph.capstan_solids import check_capstan_z
 
@@ -154,6 +155,8 @@ def check_options(design, fidelity: str, phi1_deg, formats=frozenset()) -> None:
         )
     screw_plan(design)  # a stack no catalog screw fastens: named before any CAD
     set_screw_plan(design)  # a clevis wall no set screw fits: named before any CAD
+    if design.family == "pantograph":  # capstans whose drums cannot be placed: named before any CAD
+        capstan_layout(design)
 
 
 

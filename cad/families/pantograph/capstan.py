@@ -205,8 +205,14 @@ def motor_directions_deg(design) -> tuple[CapstanSide, CapstanSide]:
                           f"{ts[0].drum_diameter_mm:g} mm: no pair of motor directions keeps the two swept "
                           f"drums (radius {max(rims):.1f} mm, joints {design.params['base_mm']:g} mm apart) "
                           "clear of each other and of the other joint; use a smaller drum (ratio or capstan), "
-                          "a longer base_mm or a smaller workspace")
+                          "a shorter centre_distance_mm (the arc 2 gamma grows with it), a longer base_mm or a "
+                          "smaller workspace")
     return best
+
+
+#: The last design laid out and its layout: the build's pre-CAD check and its layout stage ask
+#: for the same design object (the direction search takes a second or two).
+_LAST: list = [None, None]
 
 
 def layout(design) -> dict:
@@ -215,6 +221,14 @@ def layout(design) -> dict:
     needs a capstan on both motors or on neither (DesignError naming ``transmission``)."""
     if not is_capstan(design):
         return {}
+    if _LAST[0] is design:
+        return _LAST[1]
+    out = _layout(design)
+    _LAST[:] = [design, out]
+    return out
+
+
+def _layout(design) -> dict:
     if not all(t.is_capstan for t in _transmissions(design)):
         raise DesignError("transmission", "a 5-bar with one motor through a capstan and one direct is not "
                           "built (the motors sit at different heights): give both motors a capstan")

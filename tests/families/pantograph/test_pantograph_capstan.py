@@ -422,3 +422,17 @@ def test_generated_test_program_passes_the_vectors_with_gcc(built, tmp_path):
     for row in vec["rows"][:20]:
         want = np.asarray(enc["zero_rad"]) + 2 * math.pi * np.asarray(row[1:3]) / (4000 * NB)
         np.testing.assert_allclose(row[3:5], want, rtol=0, atol=1e-12)
+
+
+def test_drums_that_would_meet_are_refused_in_one_line(tmp_path):
+    """The bundled capstan 5-bar with its motors 300 mm off the joints (centre_distance_mm): the
+    tangent points' half angle gamma = acos((r_d - r_c) / C) grows to 81 deg, each drum's arc to
+    2 gamma + the link's range + anchors, and no pair of motor directions keeps the two drums
+    apart over the workspace; the build exits 2 naming transmission.drum_diameter_mm, nothing
+    written."""
+    p = tmp_path / "far.toml"
+    p.write_text(BUNDLED.read_text().replace("wraps = 3.0", "wraps = 3.0\ncentre_distance_mm = 300.0"))
+    out = tmp_path / "out"
+    code, _, err = hapticad("build", p, "--out", out)
+    assert_one_line_error(code, err, "transmission.drum_diameter_mm", "128 mm", "centre_distance_mm")
+    assert not out.exists() or not any(out.iterdir())
