@@ -436,3 +436,17 @@ def test_drums_that_would_meet_are_refused_in_one_line(tmp_path):
     code, _, err = hapticad("build", p, "--out", out)
     assert_one_line_error(code, err, "transmission.drum_diameter_mm", "128 mm", "centre_distance_mm")
     assert not out.exists() or not any(out.iterdir())
+
+
+def test_written_files_agree_with_the_resolved_device(built):
+    """bom.csv, the datasheet, hapticad_device.h and the MJCF read back state the resolved
+    device's facts (encoder counts, K_t and currents, armature n^2 (J_m + J_c), force range
+    n T_peak through the gear): cad.device.readback finds no disagreement."""
+    from cad.device import resolve_device
+    from cad.device.readback import device_values, disagreements, output_facts
+
+    d, out, _ = built
+    dev = resolve_device(d)
+    assert disagreements(dev, out) == []
+    keys = {f[3] for f in output_facts(out)}
+    assert {"armature:q_left", "forcerange:q_right"} <= keys & set(device_values(dev))
