@@ -24,6 +24,12 @@ workspace grid (each arc widened by :data:`CAPSTAN_RANGE_MARGIN_DEG`) and leave 
 hub clevis (radius ``clevis_width_mm / 2`` + ``clearance``) free, whose motor mount plates stand clear of both bearing blocks and of each
 other, the motors farthest from the workspace (the smallest y). The build's interference check
 over the motion is what proves the solids clear.
+
+Each capstan motor is also a :class:`cad.datasheet.capstan_rows.CapstanJoint`
+(:func:`capstan_joints`, suffix ``_1`` left, ``_2`` right): its datasheet rows and limits at the
+peak load and the ropes' stiffness at the handle (:func:`capstan_rows`), its rope's BOM line
+(:func:`bom_lines`) and assembly.md's winding steps (:func:`winding_steps`), all from the shared
+module.
 """
 
 from __future__ import annotations
@@ -40,16 +46,17 @@ from cad.datasheet import capstan_rows as cr
 from cad.datasheet import row
 from cad.device import resolve_device
 from cad.errors import DesignError
+from cad.families.fourbar import capstan as fcap
 from cad.families.fourbar.capstan_solids import ANCHOR_SCREW, TENSIONER_WIND_D
 from cad.kinematics import fivebar as fb5
 from cad.parts.motor import mount_side_mm
 from cad.tolerances import CAPSTAN_RANGE_MARGIN_DEG
 
-#: The drum sector's thickness along its axis, mm: the rope's plane at its middle and the
-#: anchors' M3 radial screws (the four-bar's :data:`cad.families.fourbar.capstan.DRUM_THICKNESS_MM`).
-DRUM_THICKNESS_MM = 10.0
-#: Arc an anchor takes on the drum at each end, mm (the four-bar's choice).
-ANCHOR_LENGTH_MM = 10.0
+#: The drum sector's thickness along its axis (mm; the rope's plane at its middle, the anchors'
+#: M3 radial screws) and its material: the four-bar's.
+DRUM_THICKNESS_MM, DRUM_MATERIAL = fcap.DRUM_THICKNESS_MM, fcap.DRUM_MATERIAL
+#: Arc an anchor takes on the drum at each end, mm: the capstan rows' (their drum arc and cut length).
+ANCHOR_LENGTH_MM = cr.ANCHOR_LENGTH_MM
 #: Candidate motor directions (deg) tried by :func:`motor_directions_deg`.
 ALPHA_STEP_DEG = 5.0
 #: Clearance kept between parts by the direction search (mm): the interference check's gap.

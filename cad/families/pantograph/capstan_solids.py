@@ -32,7 +32,7 @@ from cad.families.fourbar.capstan_solids import (
     run_trim_mm,
     tensioner_screw_mm,
 )
-from cad.families.pantograph.capstan import DRUM_THICKNESS_MM
+from cad.families.pantograph.capstan import DRUM_MATERIAL, DRUM_THICKNESS_MM
 from cad.parts import PartInstance, PartKind, joints, motor, translation
 from cad.parts import capstan as shapes
 
@@ -143,7 +143,7 @@ def _drum_kind(design, t, sd) -> PartKind:
         f"capstan_drum_{sd.joint.split('_')[1]}",
         shapes.drum_sector_shape(rd, bore, sd.arc_start_deg, sd.arc_span_deg, th,
                                  tuple((a, tap, depth) for a in sd.anchors_deg)),
-        material="aluminium-6061", made=True,
+        material=DRUM_MATERIAL, made=True,
         description=(f"drum sector {t.drum_diameter_mm:g} mm pitch (rim {2 * rd:g} mm), {sd.arc_span_deg:.0f} deg "
                      f"arc, {th:g} mm thick, on the {sd.joint.split('_')[1]} proximal link's axle at B"),
         process=f"machined from {th:g} mm plate; drill and tap {ANCHOR_SCREW.split('-')[0]} x2 radial (rope "
