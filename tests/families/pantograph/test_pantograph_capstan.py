@@ -450,3 +450,12 @@ def test_written_files_agree_with_the_resolved_device(built):
     assert disagreements(dev, out) == []
     keys = {f[3] for f in output_facts(out)}
     assert {"armature:q_left", "forcerange:q_right"} <= keys & set(device_values(dev))
+
+
+def test_the_haptic_pen_keeps_the_refusal(tmp_path):
+    """The haptic pen's capstans are not built: its design with [transmission] is one line
+    naming the table, exit 2 (the twin pantograph's: tests/unit/design/test_transmission.py)."""
+    p = tmp_path / "pen.toml"
+    p.write_text((ROOT / "designs" / "haptic_pen.toml").read_text() + CAPSTAN)
+    code, _, err = hapticad("check", p)
+    assert_one_line_error(code, err, "transmission", "not built yet", "haptic-pen")
