@@ -576,3 +576,9 @@ IDENT_MASS_TOL_REL = 0.10
 IDENT_FRICTION_TOL_REL = 0.50
 IDENT_GRAVITY_TOL_REL = 0.15
 IDENT_OFFSET_TOL_FRACTION = 0.05
+
+#: A 5-bar capstan's joint range (cad.families.pantograph.capstan) is the proximal link's angle
+#: over the workspace grid widened by this on each side (deg): the handle a little outside the
+#: square, and the motion between grid samples, still keep the rope on the drum and the drums
+#: clear of each other.
+CAPSTAN_RANGE_MARGIN_DEG = 2.0

@@ -12,6 +12,8 @@ Schema (mm, N, N m; every key optional unless marked *):
     [actuators]  torque_max_Nm (1.0, or [left, right]), force_max_N (1.0)
     [optimize]   base_mm / proximal_mm / distal_mm = [min, max, count]
     [parts]      see :class:`PantographParts` (the mouse's lower group and a handle at E)
+    [transmission]  a capstan on both motors, or ``[[transmission]]`` one per motor (left,
+                 right): :mod:`cad.design.transmission` (omitted: direct drive)
 
 ``twin-pantograph`` (haptic mouse, §4.1)::
 
@@ -67,6 +69,7 @@ from cad.design.firmware import parse_firmware
 from cad.design.motor import parse_motor_table
 from cad.design.replace import TableReplace, ValidatedReplace
 from cad.design.targets import PANTOGRAPH_TARGET_KEYS, parse_targets
+from cad.design.transmission import Transmission, parse_transmissions
 from cad.errors import DesignError
 from cad.isotropy import problems
 from cad.isotropy.gii import fivebar_gii, square_grid_mm
@@ -268,6 +271,14 @@ class PantographDesign(ValidatedReplace):
     #: ``[motor]`` overrides of ``parts.motor`` (:func:`cad.design.motor.parse_motor_table`;
     #: the pen's waist motor stays its catalog entry)
     motor: tuple = ()
+
+    @property
+    def transmissions(self) -> tuple[Transmission, ...]:
+        """One :class:`cad.design.transmission.Transmission` per motor (:meth:`motor_joints`
+        order): the 5-bar's ``[transmission]`` (the same on both motors) or
+        ``[[transmission]]`` (left, right), validated at load; direct drive without one (and
+        on the twin pantograph and the pen, which refuse the table)."""
+        return parse_transmissions(self.raw.get("transmission"), len(self.motor_joints()))
 
     # ------------------------------------------------------------------ GII
     def motor_joints(self) -> tuple[tuple[str, str], ...]:
@@ -519,14 +530,10 @@ def _parse_targets(raw: dict[str, Any]) -> tuple:
 
 def parse(raw: dict[str, Any], source: str = "<design>") -> PantographDesign:
     """Validate a raw pantograph-family design; every problem is a DesignError."""
-    if "transmission" in raw:  # a public key of the four-bars: say what it is missing here
-        raise DesignError("transmission", "a capstan on the pantograph families' motors is not built "
-                          "yet (direct drive only); [transmission] works on four-bar designs "
-                          "(docs/capstan.md)")
     check_unknown(
         raw,
         ("name", "description", "mechanism", "workspace", "actuators", "optimize", "parts", "targets",
-         "firmware", "prices", "motor"),
+         "firmware", "prices", "motor", "transmission"),
         "",
     )
     mech = require_table(raw, "mechanism", "")
@@ -535,6 +542,7 @@ def parse(raw: dict[str, Any], source: str = "<design>") -> PantographDesign:
         raise DesignError(
             "mechanism.family", f"must be one of {', '.join(FAMILIES)}, got {family!r}"
         )
+    _check_transmission(raw, family)
     check_unknown(mech, MECH_KEYS[family], "mechanism")
     _check_magnitudes(family, mech, {}, {}, {})  # before derived values (crank = 1.6 knob) exist
     ws = require_table(raw, "workspace", "")
@@ -569,6 +577,19 @@ def parse(raw: dict[str, Any], source: str = "<design>") -> PantographDesign:
         firmware=_parse_firmware(raw, family),
         motor=parse_motor_table(optional_table(raw, "motor", ""), "motor"),
     )
+
+
+def _check_transmission(raw: dict[str, Any], family: str) -> None:
+    """``[transmission]`` / ``[[transmission]]`` of a 5-bar validated at load
+    (:func:`cad.design.transmission.parse_transmissions`, two motors: left, right); refused on
+    the twin pantograph and the pen (their capstans are not built)."""
+    if "transmission" not in raw:
+        return
+    if family != "pantograph":
+        raise DesignError("transmission", f"a capstan on the {family}'s motors is not built yet (direct "
+                          "drive only); [transmission] works on four-bar and 5-bar pantograph designs "
+                          "(docs/capstan.md)")
+    parse_transmissions(raw["transmission"], 2)
 
 
 def _planar_size(ws: dict) -> tuple[float, float]:

@@ -46,6 +46,8 @@ def device_spec(design, report: dict, design_hash: str, version: str, device=Non
         gear=(() if all(t.ratio == 1.0 for t in device.transmissions)
               else tuple(float(t.ratio) for t in device.transmissions)),
         joint_motors=joint_motors,
+        rotor_joints_kg_m2=(() if all(t.ratio == 1.0 for t in device.transmissions) else
+                            tuple(device.joint_rotor_inertia_kg_m2(m.joint) for m in device.motors)),
     )
 
 

@@ -80,6 +80,10 @@ class DeviceSpec:
     #: transmission ratio n of each joint's motor (joint torque = n motor torque, joint angle =
     #: motor angle / n: :class:`cad.device.Transmission`); empty: every joint driven directly
     gear: tuple[float, ...] = ()
+    #: each joint's motor side at its joint through its transmission, n^2 (J_m + J_capstan)
+    #: (kg m^2, :meth:`cad.device.ResolvedDevice.joint_rotor_inertia_kg_m2`); empty: every
+    #: joint driven directly, ``rotor_kg_m2`` on each
+    rotor_joints_kg_m2: tuple[float, ...] = ()
     #: each joint's motor where they differ (the haptic pen: RE 40 waists, RE 35 shoulders;
     #: ``report.json`` ``device.motors`` order); empty: every joint has ``motor``
     joint_motors: tuple[MotorData, ...] = ()

@@ -374,7 +374,9 @@ class FiveBarMass:
     """Mass properties of a 5-bar's moving links plus actuator rotor inertia.
 
     proximal_*: frame origin Bi, x towards Ci; distal_*: origin Ci, x towards E;
-    rotor_kg_m2: inertia of each actuator rotor about its axis (adds J_m q_dot^2).
+    rotor_kg_m2: inertia of each actuator rotor about its joint axis, kg m^2 (adds J_m q_dot^2):
+    one number for both, or (left, right) -- a rotor behind a capstan of ratio n counts
+    n^2 J_m at its joint (:meth:`cad.device.ResolvedDevice.joint_rotor_inertia_kg_m2`).
     The end-effector hardware (journal, bearings) belongs to the body it drives.
     """
 
@@ -382,7 +384,7 @@ class FiveBarMass:
     proximal_right: LinkMass
     distal_left: LinkMass
     distal_right: LinkMass
-    rotor_kg_m2: float = 0.0
+    rotor_kg_m2: float | tuple[float, float] = 0.0
 
 
 def _rot(angle, v):
@@ -458,5 +460,6 @@ def mass_matrix_kg(fb: FiveBar, E_mm, mass: FiveBarMass) -> np.ndarray:
         M += lm.mass_kg * np.einsum("nik,nil->nkl", Av, Av)
         M += lm.izz_com_kg_m2 * np.einsum("nk,nl->nkl", Aw, Aw)
     J, _ = jacobian_rad_per_m(fb, E)
-    M += mass.rotor_kg_m2 * np.einsum("nik,nil->nkl", J, J)
+    jm = np.broadcast_to(np.asarray(mass.rotor_kg_m2, float), (2,))
+    M += np.einsum("i,nik,nil->nkl", jm, J, J)
     return M

@@ -171,6 +171,23 @@ def _gravity_A(spec, motor) -> float:
     return float(np.max(np.abs(reference.gravity_torques(spec, np.array([spec.q_home_rad]))))) / motor.kt_Nm_per_A
 
 
+
+def _joint_side(device):
+    """(MotorData, counts per joint turn, rotor inertia at the joint kg m^2) of the 5-bar's
+    motors as their joints see them: through a capstan of ratio n, K_t and the torques x n
+    (:meth:`cad.device.ResolvedDevice.joint_motor`), the encoder's counts x n and the rotor
+    with its capstan x n^2 (direct drive: the motor's own). DesignError naming
+    ``transmission`` when the two joints' transmissions differ (one prediction for both)."""
+    ts = device.transmissions
+    if len({(t.ratio, t.capstan_diameter_mm, t.wraps, t.cable_diameter_mm) for t in ts}) > 1:
+        raise DesignError("transmission", "identifying a 5-bar whose two motors have different "
+                          "transmissions is not built (give both motors the same [transmission])")
+    j = device.motors[0].joint
+    c = device.joint_counts_per_rev(j)
+    return motor_data(device.joint_motor(j)), (int(c) if float(c).is_integer() else c), \
+        device.joint_rotor_inertia_kg_m2(j)
+
+
 def predict(design, report: dict) -> Prediction5:
     """The :class:`Prediction5` of a 5-bar ``design`` built into ``report`` (report.json:
     its ``bodies``). DesignError naming ``firmware.plane`` when a vertical device's weight at
@@ -181,21 +198,23 @@ def predict(design, report: dict) -> Prediction5:
     spec = device_spec(design, report, h, cad.__version__, device, linkage_model(design))
     g = geom_of(spec.params)
     beta = beta_of(g, spec.bodies)
-    motor = motor_data(device.motor.spec)
+    motor, counts, rotor = _joint_side(device)  # through the capstans (x n, x n^2)
     lo, hi = joint_ranges(design, design.mechanism)
     home = np.array([spec.q_home_rad])
-    Mq = joint2.mass_matrix(g, beta, (device.motor.rotor_inertia_kg_m2,) * 2, home)[0]
+    Mq = joint2.mass_matrix(g, beta, (rotor,) * 2, home)[0]
     dq = np.linalg.solve(jacobian(g, home)[0], np.array([0.0, 1.0]))  # the hand move: +y
     try:
         plan = excitation2.plan2(TE_S, motor.kt_Nm_per_A, motor.current_continuous_A, lo, hi, spec.q_home_rad,
-                                 np.diag(Mq), np.sign(dq), device.encoder.counts_per_rev,
+                                 np.diag(Mq), np.sign(dq), counts,
                                  gravity_ff=spec.gravity_m_s2 is not None, gravity_A=_gravity_A(spec, motor))
     except ValueError as exc:
         raise DesignError("firmware.plane", f"the identification routine cannot run: {exc} "
                           "(counterbalance the links, lighter links or a stronger motor)") from None
     Tc, src = identify_joints.motor_friction(device)
-    return Prediction5(design.name, h, g, beta, device.motor.rotor_inertia_kg_m2, TE_S, motor.kt_Nm_per_A,
-                       motor.current_continuous_A, device.encoder.counts_per_rev,
+    n = device.transmissions[0].ratio  # the motor's friction at its joint: n K_t I_0
+    Tc = None if Tc is None else n * Tc
+    return Prediction5(design.name, h, g, beta, rotor, TE_S, motor.kt_Nm_per_A,
+                       motor.current_continuous_A, counts,
                        tuple(int(d) for d in spec.encoder_direction), tuple(spec.encoder_zero_rad), lo, hi,
                        tuple(spec.q_home_rad), Tc, src, spec, plan)
 

@@ -194,6 +194,21 @@ def crank_rope_stiffness_Nm_per_rad(design) -> float | None:
                                      t.centre_distance_mm)
 
 
+def motor_rope_stiffness_Nm_per_rad(design) -> dict[str, float]:
+    """``{motor joint: k_q}`` (N m/rad) of every motor of ``design`` driving its joint through a
+    capstan whose rope has an E A: the two free runs as a torsional spring at the joint
+    (:func:`cad.actuators.capstan.rope_stiffness_Nm_per_rad`, the resolved device's diameters,
+    E A and centre distance), the motor held by its servo. Direct-drive joints (and ropes with
+    no E A) are left out: the frame holds them rigidly. Any family's motors (the 5-bar's
+    ``q_left`` / ``q_right``)."""
+    out = {}
+    for t in resolve_device(design).transmissions:
+        if t.is_capstan and t.cable_EA_N is not None:
+            out[t.motor_joint] = rope_stiffness_Nm_per_rad(
+                t.capstan_diameter_mm, t.drum_diameter_mm, t.cable_EA_N, t.centre_distance_mm)
+    return out
+
+
 def build_frame(design, pose_tf: dict, lumped: list[Lumped], bar_mass_kg: dict, method: str):
     """The frame at one pose (``pose_tf``: link -> 3x3 planar transform, mm) and its P node
     (:func:`link_graph` posed by :func:`cad.structure.graph.frame_at`)."""

@@ -12,7 +12,11 @@ Model (world = the kinematic base frame, SI inside, mm / g / um at the edges):
   and bearings in the frame, the stacked layers' z offsets ignored: one plane); the mouse's
   two E points tie to the crankshaft's journal (knob pantograph) and pin (crank pantograph);
 * boundary conditions, every figure: **motors held** (each proximal link clamped at its
-  motor's axis B in all six DOFs: shaft locked by the servo, motor bearings rigid),
+  motor's axis B in all six DOFs: shaft locked by the servo, motor bearings rigid; a 5-bar
+  link driven through a capstan turns on its own axle at B, held in the five other DOFs,
+  its turn about z held by the rope's two free runs, a torsional spring k_q =
+  EA (2 / L) r_d^2 (:func:`cad.structure.device.motor_rope_stiffness_Nm_per_rad`) in
+  series with the held motor),
   **handle free** (loads at E / the main journal, no support there);
 * masses: from the build's bodies (``report["bodies"]``: mass and COM of every moving body
   in its link frame): the tube's (the crankshaft's web's) own mass spread along its beam,
@@ -46,7 +50,7 @@ from cad.isotropy.gii import workspace_half_mm
 from cad.kinematics import fivebar as fb5
 from cad.kinematics import twin_pantograph as tw
 from cad.structure.bearings import ball_set, radial_deflection_mm
-from cad.structure.device import tube_section
+from cad.structure.device import motor_rope_stiffness_Nm_per_rad, tube_section
 from cad.structure.elastic import get_elastic
 from cad.structure.frame import Section, rect_torsion_J
 from cad.structure.graph import (
@@ -116,7 +120,8 @@ def link_graph(design, web_width_mm: float) -> tuple[LinkGraph, dict[str, float]
     the tube's mass in the tube beams' density, and ``{link: length_mm}``."""
     et = get_elastic(design.parts.tube_material, "parts.tube_material")
     A = tube_section(design.parts, et.E_Pa, et.G_Pa, 0.0).A
-    joints, beams, ties, fixed, lengths = {}, [], [], {}, {}
+    joints, beams, ties, fixed, lengths, springs = {}, [], [], {}, {}, {}
+    ropes = motor_rope_stiffness_Nm_per_rad(design)
     web = tube_and_crank_sections(design, web_width_mm, 0.0)[1]
     for pre, fb in groups(design):
         for side in SIDES:
@@ -128,7 +133,10 @@ def link_graph(design, web_width_mm: float) -> tuple[LinkGraph, dict[str, float]
                 tube = tube_and_crank_sections(design, web_width_mm,
                                                tube_mass_kg(design, L) / (A * L * 1e-3))[0]
                 beams.append(Beam(link, a, b, tube))
-            fixed[(f"{pre}proximal_{side}", "B")] = (0, 1, 2, 3, 4, 5)
+            k_rope = ropes.get(f"{pre}q_{side}")
+            fixed[(f"{pre}proximal_{side}", "B")] = (0, 1, 2, 3, 4, 5) if k_rope is None else (0, 1, 2, 3, 4)
+            if k_rope is not None:  # the link on its own axle, turned through its capstan's rope
+                springs[(f"{pre}proximal_{side}", "B", 5)] = k_rope
             ties.append(((f"{pre}proximal_{side}", "C"), (f"{pre}distal_{side}", "C")))
         ties.append(((f"{pre}distal_left", "E"), (f"{pre}distal_right", "E")))
     handle = ("distal_left", "E")
@@ -140,7 +148,7 @@ def link_graph(design, web_width_mm: float) -> tuple[LinkGraph, dict[str, float]
         ties += [(("knob_distal_left", "E"), ("crankshaft", "J")),
                  (("crank_distal_left", "E"), ("crankshaft", "K"))]
         handle = ("crankshaft", "J")
-    return LinkGraph(joints, beams, ties, fixed, handle), lengths
+    return LinkGraph(joints, beams, ties, fixed, handle, springs), lengths
 
 
 def lumped_from_bodies(graph: LinkGraph, bodies: dict, lengths: dict[str, float]) -> list[Lumped]:
@@ -303,5 +311,6 @@ def analyse(design, bodies: dict, force_N: float, web_width_mm: float) -> dict:
         "max_stress_MPa": smax, "critical_link": link, "critical_pose": at, "strength_MPa": st,
         "stress_limit_MPa": st / STRESS_SAFETY_FACTOR, "force_N": float(force_N),
         "poses": used, "poses_skipped": skipped, "per_pose": per_pose, "method": "beam",
+        "rope_stiffness_Nm_per_rad": motor_rope_stiffness_Nm_per_rad(design),
         "bearing_compliance_estimate": bearing_compliance(design, X[[labels.index(x) for x in used]], force_N),
     }

@@ -68,6 +68,10 @@ from cad.data.materials import get_material
 from cad.device import encoder_bom_rows, resolve_device
 from cad.errors import DesignError
 from cad.export.sim import SIM_FORMATS, write_sim_files
+from cad.families.pantograph.capstan import bom_lines as capstan_bom_lines
+from cad.families.pantograph.capstan import layout as capstan_layout
+from cad.families.pantograph.capstan import winding_steps
+from cad.families.pantograph.capstan_solids import check_capstan_z
 
 # every name of the former single-module builder stays importable from here
 from cad.families.pantograph.clearances import (  # noqa: F401
@@ -151,6 +155,8 @@ def check_options(design, fidelity: str, phi1_deg, formats=frozenset()) -> None:
         )
     screw_plan(design)  # a stack no catalog screw fastens: named before any CAD
     set_screw_plan(design)  # a clevis wall no set screw fits: named before any CAD
+    if design.family == "pantograph":  # capstans whose drums cannot be placed: named before any CAD
+        capstan_layout(design)
 
 
 
@@ -235,6 +241,8 @@ def _prepare(design) -> tuple[dict, dict]:
     motor shaft engages less than half its hub."""
     lay = layout(design)
     _check_shafts(design, lay)
+    if "capstan" in lay:
+        check_capstan_z(design, lay)
     return lay, clearances(design, lay)
 
 
@@ -267,6 +275,12 @@ def _encoder_rows(design) -> list[dict]:
     return encoder_bom_rows(resolve_device(design))
 
 
+def _no_solid_rows(design) -> list[dict]:
+    """BOM lines with no solid: the joint encoders and, through capstans, each motor's rope
+    with its cut length (:func:`cad.families.pantograph.capstan.bom_lines`)."""
+    return _encoder_rows(design) + (capstan_bom_lines(design) if design.family == "pantograph" else [])
+
+
 def _stages():
     """The family's stages of the one build driver (:class:`cad.pipeline.run.Stages`)."""
     return Stages(
@@ -276,8 +290,8 @@ def _stages():
         dynamics=lambda b: dynamics(b.design, b.bodies, b.model.extra.home_mm),
         bench_z_mm=lambda b: b.pre[0]["bench_z_mm"],
         marks=lambda b: [("workspace", workspace_square(b.design.workspace))],
-        more_files=_sim_files, assembly=lambda design: (None, ASSEMBLY_CHECKS),
-        no_solid_rows=_encoder_rows)
+        more_files=_sim_files, assembly=lambda design: (None, ASSEMBLY_CHECKS + winding_steps(design)),
+        no_solid_rows=_no_solid_rows)
 
 
 def build(

@@ -28,6 +28,7 @@ import numpy as np
 from cad.datasheet import row
 from cad.device import resolve_device
 from cad.dynamics.stiffness import range_text, stiffness_range_N_per_m
+from cad.families.pantograph.capstan import capstan_rows
 from cad.families.pantograph.limits import pantograph_limits
 from cad.families.pantograph.mode_ceiling import mode_ceiling
 from cad.firmware.extras import paper_eq25_inputs
@@ -66,14 +67,17 @@ def force_ellipses(design) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return A, sig, ok
 
 
-def resolution_m(design, counts: float) -> np.ndarray:
-    """Worst handle step (m) of one encoder count on every joint, per workspace sample."""
+def resolution_m(design, counts) -> np.ndarray:
+    """Worst handle step (m) of one encoder count on every joint, per workspace sample:
+    ``sigma_max(J_pos^+ diag(2 pi / counts))``; ``counts``: counts per joint turn, one number
+    or one per joint (a capstan's joint counts n times its motor encoder's)."""
     J, _, ok = jacobian_and_limits(design)
     cols = FORCE_COLS[design.family]
     Jp = J[:, :, cols]
+    step = 2 * math.pi / np.broadcast_to(np.asarray(counts, float), (J.shape[1],))
     out = np.full(len(J), np.nan)
     for i in np.flatnonzero(ok):
-        out[i] = np.linalg.norm(np.linalg.pinv(Jp[i]), 2) * 2 * math.pi / counts
+        out[i] = np.linalg.norm(np.linalg.pinv(Jp[i]) * step[None, :], 2)
     return out
 
 
@@ -84,8 +88,10 @@ def motor_torques_mNm(design, field: str) -> tuple[np.ndarray | None, tuple]:
     field: a :class:`cad.data.catalog.MotorSpec` torque (``torque_continuous_mNm``,
     ``torque_peak_mNm``). Source: the resolved device (:func:`cad.device.resolve_device`:
     ``parts.motor`` / ``parts.waist_motor`` with the ``[motor]`` table), the one read of the
-    motors for these rows."""
-    specs = tuple(m.spec for m in resolve_device(design).motors)
+    motors for these rows), each through its transmission: a capstan of ratio n gives its joint
+    n times the motor's torque (:meth:`cad.device.ResolvedDevice.joint_motor`; f = J^-T n tau)."""
+    dev = resolve_device(design)
+    specs = tuple(dev.joint_motor(m.joint) for m in dev.motors)
     vals = [getattr(m, field) for m in specs]
     return (None if any(v is None for v in vals) else np.asarray(vals, float)), specs
 
@@ -123,7 +129,7 @@ def motor_force_rows(design, paper: dict | None = None) -> list[dict]:
             continue
         A = np.swapaxes(J, -1, -2)[:, cols, :] * (tau * 1e-3)[None, None, :]
         sig = np.linalg.svd(A[ok], compute_uv=False)[:, -1]
-        named = dict.fromkeys(f"{motor_label(r)} ({getattr(r.spec, field):g} mN m)"
+        named = dict.fromkeys(f"{motor_label(r)} ({getattr(r.spec, field):g} mN m{_through(design, r)})"
                               for r in resolve_device(design).motors)
         ref = [(paper or {}).get(f"{label}_force_{a}_N") for a in "xyz"]
         rows.append(row(key, f"{label} force in every direction", sig.min(), "N",
@@ -132,6 +138,20 @@ def motor_force_rows(design, paper: dict | None = None) -> list[dict]:
                         lo=sig.min(), hi=sig.max(), unverified=any(m.is_unverified(field) for m in specs),
                         paper=min(v for v in ref if v is not None) if any(ref) else None))
     return rows
+
+
+def _through(design, m) -> str:
+    """`` x n = ... at the joint`` of a motor behind a capstan (empty for direct drive)."""
+    t = resolve_device(design).transmission(m.joint)
+    return "" if not t.is_capstan else f" x capstan n = {t.ratio:.4g} at {m.joint}"
+
+
+def joint_counts(design) -> np.ndarray:
+    """Encoder counts per joint turn (m,), in the order of J's columns: each motor encoder's
+    counts times its transmission ratio (the encoder turns with the motor,
+    :meth:`cad.device.ResolvedDevice.joint_counts_per_rev`)."""
+    dev = resolve_device(design)
+    return np.asarray([float(dev.joint_counts_per_rev(e.joint)) for e in dev.encoders], float)
 
 
 def write_ellipse_chart(design, out_dir, A, ok) -> str | None:
@@ -184,14 +204,27 @@ HELD = ("motors held (each proximal link clamped at its motor axis B in all six 
         "revolute joints rigid but in z rotation")
 
 
+def held_text(st: dict) -> str:
+    """The boundary condition of the structure rows: :data:`HELD`, or with the capstans' ropes
+    (``st["rope_stiffness_Nm_per_rad"]``: joint -> k_q) the links they drive held at B in five
+    DOFs and about z by the rope's spring, the motor held by its servo."""
+    ropes = st.get("rope_stiffness_Nm_per_rad") or {}
+    if not ropes:
+        return HELD
+    ks = ", ".join(f"{j} {k:.4g} N m/rad" for j, k in ropes.items())
+    return (f"{HELD}, except at a capstan: the link on its axle at B held in five DOFs, its turn about z "
+            f"through the rope to the held motor (torsional spring k_q = EA (2 / L) r_d^2: {ks})")
+
+
 def structure_rows(st: dict) -> list[dict]:
     """Datasheet rows of :func:`structure` (boundary conditions stated per row)."""
     at = f"worst of {len(st['poses'])} poses ({', '.join(st['poses'])})"
     if st["poses_skipped"]:
         at += f"; not reachable, skipped: {', '.join(st['poses_skipped'])}"
     frame = "beam frame of the links (carbon tubes joint to joint, clevises not credited)"
-    free = f"{HELD}; handle free"
-    load = f"{HELD}; force at the handle"
+    held = held_text(st)
+    free = f"{held}; handle free"
+    load = f"{held}; force at the handle"
     b = st["bearing_compliance_estimate"]
     return [
         row("first_mode_Hz", "first structural mode (lower of in plane and out of plane)", st["first_mode_Hz"],
@@ -256,13 +289,17 @@ def rows_and_limits(design, report: dict, out_dir=None, simulate_wall: bool = Tr
     if design.family != "haptic-pen":  # the pen adds its own, with Table 3 beside
         rows += motor_force_rows(design)
     enc = resolve_device(design).encoder  # the encoder the BOM orders
-    res = resolution_m(design, enc.counts_per_rev) * 1e6
+    counts = joint_counts(design)
+    res = resolution_m(design, counts) * 1e6
     good = res[np.isfinite(res)]
+    geared = "" if np.all(counts == enc.counts_per_rev) else (
+        f" through the capstans: {', '.join(f'{c:.6g}' for c in counts)} counts per joint turn")
     rows.append(row("resolution_um", "position resolution at the handle", good.max() if good.size else None, "um",
-                    f"sigma_max(J^+) 2 pi / {enc.counts_per_rev} counts per joint, worst over the workspace; "
-                    f"{enc.source}",
+                    f"sigma_max(J^+) 2 pi / {enc.counts_per_rev} counts per joint{geared}, worst over the "
+                    f"workspace; {enc.source}",
                     lo=good.min() if good.size else None, hi=good.max() if good.size else None))
-    rows.append(k_max_row(good.max() * 1e-6 if good.size else None))
+    k25 = k_max_row(good.max() * 1e-6 if good.size else None)
+    rows.append(k25)
     rows.append(row("friction_N", "Coulomb friction at the handle", None, "N",
                     "not modelled: [actuators] gives torque limits only (no motor data sheet)"))
     em = report.get("effective_mass_home") or {}
@@ -292,6 +329,10 @@ def rows_and_limits(design, report: dict, out_dir=None, simulate_wall: bool = Tr
             notes.append(f"force ellipses over the workspace: {chart}")
     limits = pantograph_limits(design, design.actuators.get("force_max_N"), st and st["strength_MPa"],
                                structure=st is not None)
+    if design.family == "pantograph":  # the 5-bar's capstans: rows at the peak load, the ropes' springs
+        crows, climits = capstan_rows(design, k25["value"])
+        rows += crows
+        limits.update(climits)
     rows += mode_blocker(design, report, st, limits)
     return rows, limits, notes
 

@@ -43,8 +43,11 @@ def dynamics(design, bodies: dict, home: np.ndarray) -> PantographDynamics:
 
 
 def effective_mass(design, bodies: dict, home: np.ndarray) -> tuple[dict, dict | None]:
-    """Effective mass at home (with and, for the mouse, without rotor inertia)."""
-    rotor = resolve_device(design).motor.rotor_inertia_kg_m2  # the motors the BOM orders
+    """Effective mass at home (with and, for the mouse, without rotor inertia). The 5-bar's
+    rotors count at their joints through their transmissions, n^2 (J_m + J_capstan) each
+    (:meth:`cad.device.ResolvedDevice.joint_rotor_inertia_kg_m2`; J_m for direct drive)."""
+    dev = resolve_device(design)  # the motors the BOM orders, through their transmissions
+    rotor = dev.motor.rotor_inertia_kg_m2
 
     def fbm(pre: str, jm: float):
         d = [planar_props(bodies[f"{pre}distal_{s}"]) for s in ("left", "right")]
@@ -52,7 +55,8 @@ def effective_mass(design, bodies: dict, home: np.ndarray) -> tuple[dict, dict |
         return fb5.FiveBarMass(pr[0], pr[1], d[0], d[1], jm)
 
     if not is_twin(design):
-        M = fb5.mass_matrix_kg(design.mechanism, home[None, :], fbm("", rotor))[0]
+        jm = tuple(dev.joint_rotor_inertia_kg_m2(m.joint) for m in dev.motors)  # n^2 (J_m + J_c)
+        M = fb5.mass_matrix_kg(design.mechanism, home[None, :], fbm("", jm))[0]
         M = M + bodies["handle"].mass_kg * np.eye(2)  # the handle translates with E
         return {
             "at_mm": home.tolist(),

@@ -97,8 +97,22 @@ def link_com_rates(spec, q, pre=""):
     return ok, E_m, Jx, status, out
 
 
+#: First joint of each 5-bar of a device in the joint order (the twin: knob q0 q1, crank q2 q3).
+_FIRST_JOINT = {"": 0, "knob_": 0, "crank_": 2}
+
+
+def rotor_pair(spec, pre: str = "") -> tuple[float, float]:
+    """(left, right) rotor inertia at the joints of the 5-bar ``pre`` (kg m^2): each motor's
+    through its transmission (``spec.rotor_joints_kg_m2``, n^2 (J_m + J_capstan)), else the
+    motor's own ``spec.rotor_kg_m2`` on both."""
+    if not spec.rotor_joints_kg_m2:
+        return (spec.rotor_kg_m2, spec.rotor_kg_m2)
+    i = _FIRST_JOINT[pre]
+    return tuple(float(v) for v in spec.rotor_joints_kg_m2[i:i + 2])
+
+
 def link_masses(spec, pre=""):
-    b, jm = spec.bodies, spec.rotor_kg_m2
+    b, jm = spec.bodies, rotor_pair(spec, pre)
     links = [fb5.LinkMass(b[pre + n].mass_kg, b[pre + n].com_m, b[pre + n].izz_kg_m2) for n in
              FIVEBAR_LINKS]
     return fb5.FiveBarMass(*links, jm)
@@ -424,7 +438,7 @@ static void hc5_gravity(const hc5_t *k, const hc_real *mass, const hc5_pose_t *p
 
 /* task mass matrix of one 5-bar (kg, 2x2 row-major), rotors jm included: the kinetic energy
  * of each link, v_G = A_v E_dot, omega = A_w E_dot (cad.kinematics.fivebar.link_twist_maps) */
-static void hc5_mass(const hc5_t *k, const hc_real *mass, hc_real jm, const hc5_pose_t *p,
+static void hc5_mass(const hc5_t *k, const hc_real *mass, const hc_real jm[2], const hc5_pose_t *p,
                      hc_real q1, hc_real q2, hc_real M[4])
 {
     hc_real q[2], l2[2], l3[2], cx[2], cy[2], den[2];
@@ -440,7 +454,7 @@ static void hc5_mass(const hc5_t *k, const hc_real *mass, hc_real jm, const hc5_
         r[0] = dx / den[i]; r[1] = dy / den[i];                 /* q_dot_i = r . E_dot */
         c2 = pm[1] * pm[1] + pm[2] * pm[2];                      /* proximal: |v_G| = |c| q_dot */
         for (a = 0; a < 2; ++a)
-            for (b = 0; b < 2; ++b) M[2 * a + b] += (pm[0] * c2 + pm[3] + jm) * r[a] * r[b];
+            for (b = 0; b < 2; ++b) M[2 * a + b] += (pm[0] * c2 + pm[3] + jm[i]) * r[a] * r[b];
         /* distal: C_dot = l2 perp(u) q_dot_i, psi_dot = n^T (E_dot - C_dot) / l3^2, n = perp(d) */
         for (a = 0; a < 2; ++a) {
             hc_real cdx = -l2[i] * sq * r[a], cdy = l2[i] * cq * r[a];   /* column a of C_dot */
@@ -487,7 +501,7 @@ def c_plain(spec) -> str:
 #define GY {lit(g[1])}
 #define M_HANDLE {lit(hm)}   /* the handle translates with E */
 #define JM {lit(spec.rotor_kg_m2)}         /* rotor inertia of each motor (kg m^2) */
-""" + """
+{_jm_line(spec, "JM2", "")}""" + """
 int hc_forward(const hc_real q[2], hc_real X[2])
 {
     hc5_pose_t p;
@@ -523,7 +537,7 @@ int hc_mass_matrix(const hc_real q[2], hc_real M[4])
     hc5_pose_t p;
     int st = hc5_pose(&K5, q[0], q[1], &p);
     if (st) return st;
-    hc5_mass(&K5, K5_MASS, JM, &p, q[0], q[1], M);
+    hc5_mass(&K5, K5_MASS, JM2, &p, q[0], q[1], M);
     M[0] += M_HANDLE; M[3] += M_HANDLE;
     return HC_OK;
 }
@@ -638,8 +652,8 @@ int hc_mass_matrix(const hc_real q[4], hc_real M[9])
     hc_real Mk[4], Mc[4], Tc[6], Tg[6], ct, stt, rx, ry;
     int i, j, a, b, st = hc_twin(q, &t);
     if (st) return st;
-    hc5_mass(&KNOB, KNOB_MASS, JM, &t.k, q[0], q[1], Mk);
-    hc5_mass(&CRANK, CRANK_MASS, JM, &t.c, q[2], q[3], Mc);
+    hc5_mass(&KNOB, KNOB_MASS, JM_KNOB, &t.k, q[0], q[1], Mk);
+    hc5_mass(&CRANK, CRANK_MASS, JM_CRANK, &t.c, q[2], q[3], Mc);
     ct = t.dx / HC_SQRT(t.r2); stt = t.dy / HC_SQRT(t.r2);
     rx = ct * CX_CS - stt * CY_CS; ry = stt * CX_CS + ct * CY_CS;
     for (i = 0; i < 6; ++i) Tc[i] = Tg[i] = HC_R(0.0);
@@ -677,7 +691,15 @@ def c_twin(spec) -> str:
 #define CY_CS {lit(cs.com_m[1])}
 #define IZZ_CS {lit(cs.izz_kg_m2)}
 #define JM {lit(spec.rotor_kg_m2)}         /* rotor inertia of each motor (kg m^2) */
-""" + _TWIN_C)
+{_jm_line(spec, "JM_KNOB", "knob_")}{_jm_line(spec, "JM_CRANK", "crank_")}""" + _TWIN_C)
+
+
+def _jm_line(spec, name: str, pre: str) -> str:
+    """The C array ``name`` of the (left, right) rotor inertias at the joints of the 5-bar
+    ``pre`` (:func:`rotor_pair`: n^2 (J_m + J_capstan) behind a capstan)."""
+    a, b = rotor_pair(spec, pre)
+    return (f"static const hc_real {name}[2] = {{ {lit(a)}, {lit(b)} }};  /* rotor inertia at each "
+            "joint, n^2 (J_m + J_capstan) through a capstan (kg m^2) */\n")
 
 
 #: The plain 5-bar's model.

@@ -13,6 +13,7 @@ from cad.data.catalog import (
 )
 from cad.data.fits import fit
 from cad.device import parts_motor
+from cad.families.pantograph.capstan_solids import capstan_kinds
 from cad.families.pantograph.layout import (
     KNOB_BORE_DEPTH_MM,
     PLAIN_KNOB_DIAMETER_MM,
@@ -59,6 +60,8 @@ def part_kinds(design, lay: dict, fidelity: str) -> dict:
     _knob_kinds(add, K, c)
     if c.twin:
         _twin_kinds(add, K, c, holes)
+    if "capstan" in lay:  # a capstan on each motor (cad.families.pantograph.capstan_solids)
+        K.update(capstan_kinds(design, lay))
     return K
 
 
@@ -81,7 +84,7 @@ def _clevis_kinds(add, K: dict, c) -> None:
                         set_screw_drill_mm=tap_drill_mm(ss["size"]), **cl),
         cm,
         True,
-        f"clevis on the motor shaft ({sz} set screw)",
+        f"clevis on the {'link axle' if 'capstan' in lay else 'motor shaft'} ({sz} set screw)",
         f"CNC milled; ream shaft bore; tap {sz} x1 (radial)",
         fits=(fit("hub shaft bore", mot.shaft_diameter_mm, "shaft bore"),),
     )
@@ -209,6 +212,8 @@ def _plate_holes(c) -> tuple:
     thickness mm)``."""
     p, lay, mot, B = c.p, c.lay, c.mot, c.B
     pt = p.plate_thickness_mm
+    # a capstan drive: the bearing blocks at B, the motors moved off B (both on mount holes)
+    B = list(B) + [sd.motor_xy_mm for sd in lay.get("capstan", {}).get("sides", ())]
     mount_holes = [
         (bx + x, by + y, tap_drill_mm(pm.MOUNT_SCREW))
         for bx, by in B

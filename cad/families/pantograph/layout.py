@@ -16,6 +16,7 @@ import numpy as np
 from cad.assembly import fasteners as fs
 from cad.data.catalog import get_bearing, get_motor, thread_diameter_mm
 from cad.errors import DesignError
+from cad.families.pantograph import capstan as pcap
 from cad.isotropy.gii import workspace_half_mm
 from cad.parts import base
 from cad.parts import motor as pm
@@ -113,9 +114,10 @@ def set_screw_plan(design) -> dict:
                                        "hub clevis set screw onto the motor shaft",
                                        "parts.clevis_width_mm")
     d = thread_diameter_mm(size)
-    # shaft length inside a hub clevis (the same for the crank and knob pantographs)
+    # shaft length inside a hub clevis (the same for the crank and knob pantographs); a link
+    # turned through a capstan sits on its own axle, cut to the hub's top (no such bound)
     engaged = m.shaft_length_mm - p.plate_thickness_mm - p.motor_mount_thickness_mm - p.layer_gap_mm
-    if engaged - p.clevis_height_mm / 2 < d / 2:
+    if not pcap.is_capstan(design) and engaged - p.clevis_height_mm / 2 < d / 2:
         raise DesignError(
             "parts.clevis_height_mm",
             f"the {p.motor} shaft ends {engaged:g} mm into the {p.clevis_height_mm:g} mm hub "
@@ -137,7 +139,8 @@ def layout(design) -> dict:
     m = get_motor(p.motor)
     h, g, t = p.clevis_height_mm, p.layer_gap_mm, p.crank_thickness_mm
     pitch = h + g
-    L0 = g + h / 2
+    cap = pcap.layout(design)  # a capstan on each motor: the drums' band under the linkage
+    L0 = g + h / 2 + cap.get("lift_mm", 0.0)
     L = [L0, L0 + pitch, L0 + 2 * pitch]
     ms = mount_side_mm(m)
     ws = design.workspace
@@ -152,6 +155,7 @@ def layout(design) -> dict:
         max(reach_x, cx + half_x + l6 + 20, a / 2 + ms / 2) + margin,
     )
     base_y = (y_back - margin, cy + half_y + l6 + p.clevis_width_mm + 20 + margin)
+    base_x, base_y = _grown(base_x, base_y, cap, ms / 2 + margin)
     leg_h = p.motor_mount_thickness_mm + m.body_length_mm + base.LEG_GROUND_CLEARANCE_MM
     pt, mt = p.plate_thickness_mm, p.motor_mount_thickness_mm
     shaft_tip = -pt - mt + m.shaft_length_mm
@@ -172,6 +176,7 @@ def layout(design) -> dict:
         "screws": screw_plan(design),
         "set_screw": set_screw_plan(design),
     }
+    _with_capstan(out, cap)
     if not twin:
         knob_z = L[2] + h / 2 + g
         out.update(
@@ -202,6 +207,24 @@ def layout(design) -> dict:
         upper_shaft_engagement_mm=(U[0] + h / 2) - (z_bridge + pt + mt - m.shaft_length_mm),
     )
     return out
+
+
+def _with_capstan(out: dict, cap: dict) -> None:
+    """The layout ``out`` of a 5-bar with capstans (``cap``, :func:`cad.families.pantograph.capstan.layout`):
+    their layout under ``capstan``, no motor shaft in the hubs (each sits on its link's axle)."""
+    if cap:
+        out["capstan"] = cap
+        del out["lower_shaft_engagement_mm"]
+
+
+def _grown(base_x, base_y, cap: dict, half: float):
+    """The base plate's extents grown to carry each capstan drive's moved motor mount plate
+    (a square of ``half`` side plus margin round the motor axis)."""
+    for sd in cap.get("sides", ()):
+        mx, my = sd.motor_xy_mm
+        base_x = (min(base_x[0], mx - half), max(base_x[1], mx + half))
+        base_y = (min(base_y[0], my - half), max(base_y[1], my + half))
+    return base_x, base_y
 
 
 def rz(angle: float, x: float = 0.0, y: float = 0.0, z: float = 0.0) -> np.ndarray:

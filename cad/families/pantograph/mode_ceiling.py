@@ -27,6 +27,7 @@ import copy
 import dataclasses
 
 from cad.data.catalog import get_motor, thread_diameter_mm
+from cad.families.pantograph.capstan import is_capstan
 from cad.families.pantograph.layout import set_screw_plan
 from cad.structure.pantograph import first_modes, pose_frames, tube_mass_kg
 
@@ -58,8 +59,12 @@ def _rebased(design0, design, bodies: dict) -> dict:
 
 
 def clevis_height_max_mm(design) -> float:
-    """Largest ``clevis_height_mm`` the motor shaft allows (module docstring), mm."""
+    """Largest ``clevis_height_mm`` the motor shaft allows (module docstring), mm. A 5-bar with
+    capstans: its hub clevis sits on the link's own axle, cut to length, so the shaft sets no
+    bound: the design's own clevis height (the tubes it holds are searched, not larger ones)."""
     p = design.parts
+    if is_capstan(design):
+        return p.clevis_height_mm
     m = get_motor(p.motor)
     engaged = m.shaft_length_mm - p.plate_thickness_mm - p.motor_mount_thickness_mm - p.layer_gap_mm
     return 2 * engaged - thread_diameter_mm(set_screw_plan(design)["size"])
@@ -107,14 +112,18 @@ def _text(design, c: dict) -> str:
     p, b, now = design.parts, c["best"], c["now"]
     head = (f"first mode {now['first_mode_Hz']:.1f} Hz: {now['plane']} bending of the link tubes "
             f"({p.tube_od_mm:g}/{p.tube_id_mm:g} mm {p.tube_material}, motors held, at {now['pose']})")
+    bound = (f"clevis_height_mm <= {c['clevis_height_max_mm']:g} mm, where the {p.motor} shaft still carries "
+             "the hub's set screw" if not is_capstan(design) else
+             f"clevis_height_mm = {p.clevis_height_mm:g} mm as designed (the hubs sit on the links' axles: a "
+             "taller clevis takes a larger tube)")
     reach = (f"best the tubes reach in this layout ~{b['first_mode_Hz']:.0f} Hz ({b['plane']}; "
              f"{b['tube_od_mm']:g}/{b['tube_id_mm']:g} mm {b['tube_material']}: tube_od_mm <= "
-             f"clevis_height_mm - 2 and clevis_height_mm <= {c['clevis_height_max_mm']:g} mm, where the "
-             f"{p.motor} shaft still carries the hub's set screw; estimate, the build's clevis masses kept)")
+             f"clevis_height_mm - 2 and {bound}; estimate, the build's clevis masses kept)")
     if b["first_mode_Hz"] >= c["limit_Hz"]:
         return f"{head}; {reach}: {c['limit_Hz']:g} Hz is reachable"
     if c["od_needed_mm"] is None:
         return f"{head}; {reach}; {c['limit_Hz']:g} Hz is out of reach of any tube up to {OD_SEARCH_MAX_MM:g} mm"
+    fix = "a taller clevis or shorter links" if is_capstan(design) else (
+        "a longer motor shaft, thinner plates, or shorter links")
     return (f"{head}; {reach}; {c['limit_Hz']:g} Hz needs tube_od_mm ~{c['od_needed_mm']:.1f} mm, so "
-            f"clevis_height_mm >= {c['od_needed_mm'] + 2 * CLEVIS_WALL_MM:.1f} mm: a longer motor shaft, thinner "
-            "plates, or shorter links")
+            f"clevis_height_mm >= {c['od_needed_mm'] + 2 * CLEVIS_WALL_MM:.1f} mm: {fix}")

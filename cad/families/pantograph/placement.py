@@ -14,6 +14,8 @@ import numpy as np
 
 from cad.assembly.fasteners import Fastener, TappedHole
 from cad.data.catalog import get_motor
+from cad.device import resolve_device
+from cad.families.pantograph import capstan_solids as pcs
 from cad.families.pantograph.kinds import part_kinds
 from cad.families.pantograph.layout import (
     flip_matrix,
@@ -104,7 +106,10 @@ def assembly(design, lay: dict, fidelity: str):
             pin = "pin_short" if side == "left" else "pin_long"
             for k, (kind, tf) in enumerate(link_parts("proximal", side, K, lay, p, pin)):
                 place(f"{body}.{kind.name}{k}", kind, body, translation(0, 0, zs[0]) @ F @ tf)
-            place(f"{body}.motor_shaft", K["motor_shaft"], body, shaft_tf)
+            if "capstan" in lay:  # the link on its own axle at B
+                place(f"{body}.axle", K["proximal_axle"], body, translation(0, 0, pcs.axle_z_mm(design)))
+            else:
+                place(f"{body}.motor_shaft", K["motor_shaft"], body, shaft_tf)
             place_set_screw(place, set_holes, K, lay, body, translation(0, 0, zs[0]) @ F)
             body = f"{pre}distal_{side}"
             tfs[body] = rz(math.atan2(E[1] - C[i][1], E[0] - C[i][0]), C[i][0], C[i][1])
@@ -118,9 +123,28 @@ def assembly(design, lay: dict, fidelity: str):
         tfs["handle"] = translation(home[0], home[1])
         place("handle_pin", K["handle_pin"], "handle", translation(0, 0, lay["handle_pin_z_mm"]))
         place("knob", K["knob"], "handle", translation(0, 0, lay["knob_bottom_z_mm"]))
-    holes = ground_parts(place, K, lay, p, B, twin)
+    stations = [sd.motor_xy_mm for sd in lay["capstan"]["sides"]] if "capstan" in lay else B
+    holes = ground_parts(place, K, lay, p, stations, twin)
+    if "capstan" in lay:
+        holes.update(capstan_parts(design, K, lay, inst, tfs, B))
     return journal_parts(inst, tfs, "crankshaft" if twin else "handle"), tfs, home, {
         **holes, **set_holes}
+
+
+def capstan_parts(design, K: dict, lay: dict, inst: list, tfs: dict, B) -> dict:
+    """A capstan drive's instances appended to ``inst`` (:mod:`cad.families.pantograph.capstan_solids`:
+    the bearing blocks at B with their bearings and screws, the drums with their anchors and
+    tensioners, the capstans with their set screws, the motor shafts, the rope runs); returns
+    the blocks' tapped holes in the base plate."""
+    dev = resolve_device(design)
+    holes: dict = {}
+    for i, (sd, b) in enumerate(zip(lay["capstan"]["sides"], B, strict=True)):
+        side = sd.joint.split("_")[1]
+        t = dev.transmission(sd.joint)
+        blk, h = pcs.block_parts(design, K, lay, i + 1, side, b, K["_mount_screw"], tfs[f"proximal_{side}"])
+        inst += blk + pcs.drum_parts(design, K, lay, sd, t) + pcs.motor_side_parts(design, K, lay, sd, t, i + 1)
+        holes.update(h)
+    return holes
 
 
 def journal_parts(inst: list, tfs: dict, end_body: str) -> list:
@@ -162,8 +186,8 @@ def place_set_screw(place, holes, K, lay, body: str, tf_clevis) -> None:
     T = np.eye(4)
     T[:3, :3] = [[0, 0, -1], [0, 1, 0], [1, 0, 0]]  # part z (point -> end) -> clevis -x
     T[0, 3] = -ss["shaft_radius_mm"]
-    f = Fastener("ISO 4026", ss["size"], ss["length_mm"], (f"{body}.motor_shaft",), hole,
-                 ss["engagement_mm"])
+    shaft = f"{body}.axle" if "capstan" in lay else f"{body}.motor_shaft"
+    f = Fastener("ISO 4026", ss["size"], ss["length_mm"], (shaft,), hole, ss["engagement_mm"])
     place(f"{body}.set_screw", K["set_screw"], body, tf_clevis @ T, fastener=f)
 
 

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import numpy as np
+
 from cad.device import resolve_device
 from cad.families.pantograph.layout import is_twin
 
@@ -14,6 +16,17 @@ PAPER_TABLE1 = {
     "peak_force_y_N": 22.0,
     "continuous_force_x_N": 2.4,
 }
+
+
+def capstan_json(cap: dict) -> dict:
+    """The layout's ``capstan`` entry (:func:`cad.families.pantograph.capstan.layout`) as plain
+    JSON: each motor's direction, centre distance, position, joint range and drum arc (mm, deg)."""
+    sides = [{"joint": sd.joint, "alpha_deg": sd.alpha_deg, "centre_distance_mm": sd.centre_distance_mm,
+              "motor_xy_mm": [float(v) for v in sd.motor_xy_mm], "joint_range_deg": list(sd.q_range_deg),
+              "drum_arc_link_deg": [sd.arc_start_deg, sd.arc_span_deg],
+              "tangents_mm": np.asarray(sd.tangents_mm).tolist()} for sd in cap["sides"]]
+    return {"sides": sides, "rope_z_mm": cap["rope_z_mm"], "drum_z_mm": list(cap["drum_z_mm"]),
+            "lift_mm": cap["lift_mm"]}
 
 
 def build_report(design, lay, clr, bodies, eff, eff_bare, itf, bom, home, fidelity, low) -> dict:
@@ -29,7 +42,7 @@ def build_report(design, lay, clr, bodies, eff, eff_bare, itf, bom, home, fideli
             "sigma_min_at": g.sigma_min_at.tolist(),
             "sigma_max_at": g.sigma_max_at.tolist(),
         },
-        "layout_mm": lay,
+        "layout_mm": {k: (capstan_json(v) if k == "capstan" else v) for k, v in lay.items()},
         "clearances_mm": clr,
         "bench_z_mm": lay["bench_z_mm"],
         "lowest_z_mm": low,
@@ -55,7 +68,7 @@ def build_report(design, lay, clr, bodies, eff, eff_bare, itf, bom, home, fideli
             "Every screw is sized from its stack (fasteners, tapped_holes): catalog ISO 4762 "
             "length, engagement between 1.5 d (aluminium; the maker's minimum in the motor "
             "face) and the tapped hole's depth, one screw per hole. Each hub clevis is locked on "
-            f"its motor shaft by an ISO 4026 {lay['set_screw']['size']} x "
+            f"its {'link axle' if 'capstan' in lay else 'motor shaft'} by an ISO 4026 {lay['set_screw']['size']} x "
             f"{lay['set_screw']['length_mm']:g} set screw tapped radially through its wall "
             "(the longest catalog length not proud of the round end, >= 1.5 d).",
         ],

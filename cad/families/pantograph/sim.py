@@ -180,8 +180,10 @@ def fivebar_sim_model(design, model, bodies: dict) -> SimModel:
     Fig. 2; ``handle_spin`` = the handle pin's free turn in its bearings). One loop,
     ``loop_E``: the right distal tip meets the left distal tip at E (both hinges parallel
     to z, so one point closes it). Motors ``motor_left`` / ``motor_right``: armature = the
-    BOM motor's rotor inertia reflected through its transmission, force range = its peak
-    torque (:func:`cad.device.resolve_device`), not the GII's ``[actuators]`` normalisation.
+    BOM motor's rotor inertia reflected through its transmission (n^2 (J_m + J_capstan)),
+    ``gear`` = the transmission's ratio n (a capstan: joint torque = n motor torque), force
+    range = the motor's own peak torque (:func:`cad.device.resolve_device`), not the GII's
+    ``[actuators]`` normalisation.
     """
     T = model.tf_world_body
     l3 = design.params["distal_mm"] * 1e-3
@@ -207,7 +209,10 @@ def fivebar_sim_model(design, model, bodies: dict) -> SimModel:
                            mass_kg=float(mp.mass_kg), com_m=np.asarray(mp.com_m),
                            inertia_com_kg_m2=np.asarray(mp.inertia_com_kg_m2),
                            armature_kg_m2=arm.get(joint, 0.0), meshes=meshes(name), sites=sites))
-    motors = tuple(SimMotor(f"motor_{m.joint.split('_', 1)[1]}", m.joint, peak_torque_Nm(dev)[m.joint])
+    peak = peak_torque_Nm(dev)  # at the joints, n T_peak
+    motors = tuple(SimMotor(f"motor_{m.joint.split('_', 1)[1]}", m.joint,
+                            peak[m.joint] / dev.transmission(m.joint).ratio,
+                            gear=dev.transmission(m.joint).ratio)
                    for m in dev.motors)
     ground = meshes("ground")
     home = model.extra.home_mm

@@ -86,16 +86,17 @@ def test_one_table_per_motor_or_one_for_all():
         parse_transmissions("capstan", 1)
 
 
-def test_a_pantograph_with_a_transmission_is_refused_saying_what_is_missing(tmp_path):
-    """[transmission] is a four-bar key so far: a pantograph design with one gets one line naming
-    the table and that its capstan is not built yet (not a bare 'unknown key'), exit 2."""
+def test_a_twin_pantograph_with_a_transmission_is_refused_saying_what_is_missing(tmp_path):
+    """[transmission] is built on the four-bar and the plain 5-bar: a twin-pantograph (haptic
+    mouse) design with one gets one line naming the table and that its capstan is not built yet
+    (not a bare 'unknown key'), exit 2."""
     from pathlib import Path
 
     from cli_helpers import assert_one_line_error, hapticad
 
-    src = Path(__file__).resolve().parents[3] / "designs" / "pantograph.toml"
+    src = Path(__file__).resolve().parents[3] / "designs" / "haptic_mouse.toml"
     p = tmp_path / "p.toml"
     p.write_text(src.read_text() + '\n[transmission]\nkind = "capstan"\ncapstan_diameter_mm = 20.0\n'
                  'ratio = 3.0\ncable = "steel-7x7-0.45"\n')
     code, _, err = hapticad("check", p)
-    assert_one_line_error(code, err, "transmission", "not built yet", "four-bar")
+    assert_one_line_error(code, err, "transmission", "not built yet", "5-bar pantograph")

@@ -1,0 +1,264 @@
+"""The capstans of a 5-bar pantograph as solids of its one assembly (issue 35): at each joint B
+the proximal link's own axle (the hub clevis's set screw on it) in two deep groove ball bearings
+seated in a bearing block screwed under the base plate where the motor's mount plate sat; the
+drum sector on the link about B in the drums' band with its rope anchor and tensioner; the motor
+(with its mount plate and screws) moved to ``B + C (cos alpha, sin alpha)``, the capstan and its
+set screw on its shaft in the rope's plane, the two free runs of rope. Where each sits:
+:mod:`cad.families.pantograph.capstan`; the solids: :mod:`cad.parts.capstan`; the anchors,
+tensioner, capstan set screw and axle bearing as on the four-bar
+(:mod:`cad.families.fourbar.capstan_solids`). mm, world z = 0 on the base plate's top.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+
+from cad.actuators import capstan_geometry as cg
+from cad.assembly.fasteners import Fastener, TappedHole
+from cad.data import catalog as cat
+from cad.data.fits import fit
+from cad.device import resolve_device
+from cad.errors import DesignError
+from cad.families.fourbar.capstan_solids import (
+    A1_LIP_MM,
+    A1_WALL_MM,
+    ANCHOR_SCREW,
+    ANCHOR_SCREW_LENGTH_MM,
+    a1_bearing,
+    capstan_set_screw,
+    run_trim_mm,
+    tensioner_screw_mm,
+)
+from cad.families.pantograph.capstan import DRUM_MATERIAL, DRUM_THICKNESS_MM
+from cad.parts import PartInstance, PartKind, joints, motor, translation
+from cad.parts import capstan as shapes
+
+#: 4x4 rotation by +90 deg about y: a part's +z onto +x (a radial screw).
+_RY90 = np.array([[0.0, 0.0, 1.0, 0.0], [0.0, 1.0, 0.0, 0.0], [-1.0, 0.0, 0.0, 0.0], [0.0, 0.0, 0.0, 1.0]])
+
+
+def _rz(deg: float) -> np.ndarray:
+    c, s = math.cos(math.radians(deg)), math.sin(math.radians(deg))
+    R = np.eye(4)
+    R[:2, :2] = [[c, -s], [s, c]]
+    return R
+
+
+def block_height_mm(design) -> float:
+    """The bearing block's height (mm): two bearing seats and the lip between them."""
+    brg = a1_bearing(cat.get_motor(design.parts.motor).shaft_diameter_mm)
+    return 2 * brg.B_mm + A1_LIP_MM
+
+
+def axle_kind(design, lay: dict) -> PartKind:
+    """The proximal link's axle: the motor shaft's diameter, from the bearing block's bottom to
+    the hub clevis's top."""
+    p = design.parts
+    m = cat.get_motor(p.motor)
+    brg = a1_bearing(m.shaft_diameter_mm)
+    z0 = -p.plate_thickness_mm - block_height_mm(design)
+    top = lay["lower_layers_z_mm"][0] + p.clevis_height_mm / 2
+    L = top - z0
+    return PartKind("proximal_axle", shapes.axle_shape(m.shaft_diameter_mm, L), material=cg.CAPSTAN_MATERIAL,
+                    made=True, description=f"proximal link axle d{m.shaft_diameter_mm:g} x {L:g} mm at B (in two "
+                    f"{brg.designation} bearings, the hub clevis's set screw on it)",
+                    process="turned; grind the journals",
+                    fits=(fit("journal", m.shaft_diameter_mm, "bearing journal"),), revolution=True)
+
+
+def axle_z_mm(design) -> float:
+    """The axle's bottom (mm, world z): the bearing block's bottom."""
+    return -design.parts.plate_thickness_mm - block_height_mm(design)
+
+
+def capstan_kinds(design, lay: dict) -> dict[str, PartKind]:
+    """The capstan drive's part kinds by name (the axle, bearing block and its bearing, each
+    side's drum, the anchor screw, the tensioner screw and nut, the capstan and its set screw)."""
+    p = design.parts
+    m = cat.get_motor(p.motor)
+    brg = a1_bearing(m.shaft_diameter_mm)
+    rings = joints.bearing_rings(brg.size)
+    K = {"proximal_axle": axle_kind(design, lay)}
+    K["bearing_block"] = PartKind(
+        "bearing_block",
+        shapes.bearing_block_shape(motor.mount_side_mm(m), p.motor_mount_thickness_mm, motor.mount_hole_xy_mm(m),
+                                   cat.clearance_hole_mm(motor.MOUNT_SCREW), brg.D_mm, brg.B_mm, A1_LIP_MM,
+                                   brg.Da_mm, A1_WALL_MM),
+        material=p.plate_material, made=True,
+        description=(f"bearing block at B: {motor.mount_side_mm(m):g} mm square flange, boss with two "
+                     f"{brg.designation} bearing seats and a {A1_LIP_MM:g} mm lip (the proximal link's axle)"),
+        process=(f"machined from {block_height_mm(design):g} mm plate: mill the boss, bore the seats from both "
+                 f"sides; drill {motor.MOUNT_SCREW.split('-')[0]} clearance x4"),
+        fits=(fit("bearing seat", brg.D_mm),))
+    K["axle_bearing"] = PartKind(
+        f"bearing_{brg.size}", joints.bearing_shape(brg.size, True), material=cat.BEARING_MATERIAL, made=False,
+        description=f"deep groove ball bearing {brg.designation} ({brg.d_mm:g}x{brg.D_mm:g}x{brg.B_mm:g}), "
+        "proximal link axle at B", process="bought", inertia_model="ring", mass_kg=brg.mass_kg,
+        ring_mm=(brg.d_mm / 2, brg.D_mm / 2, brg.B_mm), collision=(("other", rings[0]), ("self", rings[1])),
+        revolution=True, hull=joints.bearing_shape(brg.size, False))
+    dev = resolve_device(design)
+    for sd in lay["capstan"]["sides"]:
+        K[f"drum_{sd.joint}"] = _drum_kind(design, dev.transmission(sd.joint), sd)
+    for sd in lay["capstan"]["sides"]:
+        t = dev.transmission(sd.joint)
+        sfx = kind_suffix(design, sd.joint)
+        K[f"capstan{sfx}"] = _capstan_kind(design, t, sfx)
+        size, Ls = capstan_set_screw(design, t)
+        K[f"capstan_set_screw{sfx}"] = PartKind(
+            f"capstan_set_screw{sfx}", motor.set_screw_shape(Ls, size), material=cat.FASTENER_MATERIAL,
+            made=False, process="bought",
+            description=f"set screw ISO 4026 {size.split('-')[0]} x {Ls:g} (capstan on the motor shaft)")
+        L, _ = tensioner_screw_mm(t)
+        K[f"tensioner{sfx}"] = dataclasses.replace(
+            joints.cap_screw_kind(ANCHOR_SCREW, L, "transmission",
+                                  note="rope tensioner: the rope's end wound on its shank"),
+            name=f"capstan_tensioner_screw{sfx}")
+    K["anchor_screw"] = dataclasses.replace(
+        joints.cap_screw_kind(ANCHOR_SCREW, ANCHOR_SCREW_LENGTH_MM, "transmission", note="rope anchor on the drum"),
+        name="capstan_anchor_screw")
+    K["tensioner_nut"] = PartKind("capstan_tensioner_nut", joints.nut_shape(ANCHOR_SCREW),
+                                  material=cat.FASTENER_MATERIAL, made=False, process="bought", revolution=True,
+                                  description=f"hex nut ISO 4032 {ANCHOR_SCREW} (locks the rope tensioner)")
+    return K
+
+
+def kind_suffix(design, joint: str) -> str:
+    """``""`` when both motors' transmissions are the same (one part kind for both), else
+    ``_left`` / ``_right``."""
+    ts = resolve_device(design).transmissions
+    same = all(dataclasses.replace(t, motor_joint="") == dataclasses.replace(ts[0], motor_joint="") for t in ts)
+    return "" if same else f"_{joint.split('_')[1]}"
+
+
+def _drum_kind(design, t, sd) -> PartKind:
+    rd = cg.rim_radius_mm(t.drum_diameter_mm, t.cable_diameter_mm)
+    bore = cat.get_motor(design.parts.motor).shaft_diameter_mm / 2
+    tap = cat.tap_drill_mm(ANCHOR_SCREW)
+    depth = ANCHOR_SCREW_LENGTH_MM + motor.TAP_LEADOUT_MM
+    th = DRUM_THICKNESS_MM
+    return PartKind(
+        f"capstan_drum_{sd.joint.split('_')[1]}",
+        shapes.drum_sector_shape(rd, bore, sd.arc_start_deg, sd.arc_span_deg, th,
+                                 tuple((a, tap, depth) for a in sd.anchors_deg)),
+        material=DRUM_MATERIAL, made=True,
+        description=(f"drum sector {t.drum_diameter_mm:g} mm pitch (rim {2 * rd:g} mm), {sd.arc_span_deg:.0f} deg "
+                     f"arc, {th:g} mm thick, on the {sd.joint.split('_')[1]} proximal link's axle at B"),
+        process=f"machined from {th:g} mm plate; drill and tap {ANCHOR_SCREW.split('-')[0]} x2 radial (rope "
+                "anchors); ream the axle bore, pinned to the axle")
+
+
+def _capstan_kind(design, t, sfx: str) -> PartKind:
+    m = cat.get_motor(design.parts.motor)
+    d = t.cable_diameter_mm
+    rc = cg.rim_radius_mm(t.capstan_diameter_mm, d)
+    length = cg.capstan_length_mm(d, t.wraps)
+    return PartKind(
+        f"capstan{sfx}", shapes.capstan_shape(rc, m.shaft_diameter_mm, length, cg.CAPSTAN_HUB_MM / 2, motor.SET_SCREW),
+        material=cg.CAPSTAN_MATERIAL, made=True,
+        description=(f"capstan {t.capstan_diameter_mm:g} mm pitch (rim {2 * rc:g} mm) on the motor shaft, "
+                     f"{length:g} mm long: {t.wraps:g} turns of the {d:g} mm rope at {cg.GROOVE_PITCH_D:g} d "
+                     f"pitch above a {cg.CAPSTAN_HUB_MM:g} mm set-screw hub"),
+        process=f"turned; tap {motor.SET_SCREW.split('-')[0]} x1 (radial)",
+        fits=(fit("hub shaft bore", m.shaft_diameter_mm, "shaft bore"),))
+
+
+def capstan_z_mm(design, t, rope_z_mm: float) -> float:
+    """The capstan's bottom (mm, world z): the middle of its turns in the rope's plane."""
+    return rope_z_mm - cg.CAPSTAN_HUB_MM - 0.5 * cg.GROOVE_PITCH_D * t.cable_diameter_mm * t.wraps
+
+
+def block_parts(design, K: dict, lay: dict, i: int, side: str, b, screw_kind,
+                tf_world_link: np.ndarray) -> tuple[list, dict]:
+    """The bearing block at joint ``b`` with its two bearings (inner ring on the proximal link)
+    and its four screws into the base plate's tapped holes; (instances, tapped holes)."""
+    p = design.parts
+    m = cat.get_motor(p.motor)
+    z0, h = axle_z_mm(design), block_height_mm(design)
+    B = K["axle_bearing"].ring_mm[2]
+    name, body = f"bearing_block_{i}", f"proximal_{side}"
+    out = [PartInstance(name, K["bearing_block"], "ground", translation(b[0], b[1], z0))]
+    tf_link = np.linalg.inv(tf_world_link)
+    for k, z in enumerate((z0 + h - B, z0)):
+        tf = translation(b[0], b[1], z)
+        out.append(PartInstance(f"{name}.bearing_{k + 1}", K["axle_bearing"], "ground", tf, body, tf_link @ tf))
+    sp = lay["screws"]["mount"]
+    holes = {}
+    for k, (x, y) in enumerate(motor.mount_hole_xy_mm(m)):
+        hole = f"base_plate:block_{i}_{k + 1}"
+        holes[hole] = TappedHole(hole, "base_plate", sp["size"], sp["depth_mm"], sp["min_engagement_mm"])
+        f = Fastener("ISO 4762", sp["size"], sp["length_mm"], (name,), hole, sp["engagement_mm"])
+        flip = np.diag([1.0, -1.0, -1.0, 1.0])
+        out.append(PartInstance(f"{name}.screw_{k + 1}", screw_kind, "ground",
+                                translation(b[0] + x, b[1] + y, -p.plate_thickness_mm - p.motor_mount_thickness_mm)
+                                @ flip, fastener=f))
+    return out, holes
+
+
+def drum_parts(design, K: dict, lay: dict, sd, t) -> list[PartInstance]:
+    """The drum on the proximal link (link frame), its anchor screw and the tensioner with its
+    lock nut."""
+    side = sd.joint.split("_")[1]
+    body = f"proximal_{side}"
+    z0, z1 = lay["capstan"]["drum_z_mm"]
+    rd = cg.rim_radius_mm(t.drum_diameter_mm, t.cable_diameter_mm)
+    out = [PartInstance(f"{body}.capstan_drum", K[f"drum_{sd.joint}"], body, translation(0, 0, z0))]
+    at = [translation(0, 0, 0.5 * (z0 + z1)) @ _rz(a) @ translation(rd, 0, 0) @ _RY90 for a in sd.anchors_deg]
+    s = "_1" if side == "left" else "_2"  # the names assembly.md's winding steps use
+    out.append(PartInstance(f"capstan_anchor{s}_1", K["anchor_screw"], body, at[0]))
+    _, up = tensioner_screw_mm(t)
+    out.append(PartInstance(f"capstan_tensioner{s}", K[f"tensioner{kind_suffix(design, sd.joint)}"], body,
+                            at[1] @ translation(0, 0, up)))
+    out.append(PartInstance(f"capstan_tensioner_nut{s}", K["tensioner_nut"], body, at[1]))
+    return out
+
+
+def motor_side_parts(design, K: dict, lay: dict, sd, t, i: int) -> list[PartInstance]:
+    """The capstan and its set screw on the moved motor's shaft, the shaft itself, and the two
+    free runs of rope (ground), each run's collision envelope trimmed at both ends
+    (:func:`cad.families.fourbar.capstan_solids.run_trim_mm`)."""
+    p = design.parts
+    m = cat.get_motor(p.motor)
+    ox, oy = sd.motor_xy_mm
+    zr = lay["capstan"]["rope_z_mm"]
+    zc = capstan_z_mm(design, t, zr)
+    tf_c = translation(ox, oy, zc)
+    sfx = kind_suffix(design, sd.joint)
+    out = [PartInstance(f"capstan_{i}", K[f"capstan{sfx}"], "ground", tf_c),
+           PartInstance(f"capstan_{i}.set_screw", K[f"capstan_set_screw{sfx}"], "ground",
+                        tf_c @ translation(0, 0, cg.CAPSTAN_HUB_MM / 2) @ _RY90
+                        @ translation(0, 0, m.shaft_diameter_mm / 2)),
+           PartInstance(f"lower_motor_{i}.shaft", K["motor_shaft"], "ground",
+                        translation(ox, oy, -p.plate_thickness_mm - p.motor_mount_thickness_mm))]
+    d, c = t.cable_diameter_mm, 1.1  # the check's clearance and a tenth
+    s0, s1 = run_trim_mm(0.5 * t.drum_diameter_mm, c), run_trim_mm(0.5 * t.capstan_diameter_mm, c)
+    mpm = t.cable.mass_g_per_m
+    for k in range(2):
+        p0, p1 = (np.append(q, zr) for q in sd.tangents_mm[k])
+        L = float(np.linalg.norm(p1 - p0))
+        u = (p1 - p0) / L
+        kind = PartKind(
+            f"capstan_rope_run_{i}_{k + 1}", shapes.rope_run_shape(p0, p1, d), material="steel-1018",
+            made=False, listed=False, mass_kg=None if mpm is None else mpm * L * 1e-6,
+            description=f"free run {k + 1} of rope {i} ({L:.1f} mm; part of the rope's BOM line)",
+            collision=(("self", shapes.rope_run_shape(p0 + s0 * u, p1 - s1 * u, d)),))
+        out.append(PartInstance(kind.name, kind, "ground", np.eye(4)))
+    return out
+
+
+def check_capstan_z(design, lay: dict) -> None:
+    """DesignError (``transmission.wraps``) when a capstan in the rope's plane would leave the
+    motor shaft (its set-screw hub above the shaft's tip) or reach down onto the motor face
+    screws' heads."""
+    p = design.parts
+    m = cat.get_motor(p.motor)
+    tip = -p.plate_thickness_mm - p.motor_mount_thickness_mm + m.shaft_length_mm
+    heads = -p.plate_thickness_mm + cat.get_cap_screw(m.bolt_size, "parts.motor").k_mm
+    for t in resolve_device(design).transmissions:
+        zc = capstan_z_mm(design, t, lay["capstan"]["rope_z_mm"])
+        if zc + cg.CAPSTAN_HUB_MM > tip or zc < heads:
+            raise DesignError("transmission.wraps", f"{t.wraps:g} turns put the capstan at z {zc:.2f} .. "
+                              f"{zc + cg.capstan_length_mm(t.cable_diameter_mm, t.wraps):.2f} mm: its hub must sit on "
+                              f"the {p.motor} shaft (tip at z {tip:g} mm) above the face screws' heads (z {heads:g} mm)")
