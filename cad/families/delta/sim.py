@@ -93,7 +93,8 @@ def sim_model(design, bodies: dict, device, P_mm=None) -> SimModel:
         m, c, inertia = _props(bodies.get(f"upper_{i}"), ARM_AXES)
         out.append(SimBody(f"upper_{i}", "world", pos, rot, j, float(th[i]), m, c, inertia,
                            armature_kg_m2=device.joint_rotor_inertia_kg_m2(j)))
-        motors.append(SimMotor(f"motor_{i}", j, torque[j]))
+        n = device.transmission(j).ratio  # a capstan: gear n, the motor's own limit
+        motors.append(SimMotor(f"motor_{i}", j, torque[j] / n, gear=n))
         for s in ("a", "b"):
             name = f"lower_{i}_{s}"
             pos, rot = _local(T[f"upper_{i}"], T[name])
