@@ -156,6 +156,23 @@ def test_capstan_rows_against_hand_formulas():
     assert all(lim[k].met(v[k]) for k in lim)
 
 
+def test_bundled_capstan_delta_figures_docs_state():
+    """docs/families/delta.md "Capstan": the figures of designs/delta_capstan.toml it types (a
+    regression pin at the docs' precision; each figure's model is checked above)."""
+    d = _design()
+    dev = resolve_device(d)
+    v = {r["key"]: r["value"] for r in dcap.datasheet_rows(d, dev, None)[0]}
+    fc = force_in_every_direction_N(d, dev.motor.spec.torque_continuous_mNm * 1e-3, [2.5] * 3)[0]
+    assert (round(fc, 2), round(fc / 2.5, 3)) == (1.58, 0.634)
+    assert round(v["cable_slip_margin"], 1) == 3.2 and round(v["cable_safety_factor"], 1) == 18.8
+    assert round(v["drum_sector_deg"], 1) == 147.9 and round(v["cable_cut_length_mm"]) == 677
+    assert round(v["cable_stiffness_Nm_per_rad"]) == 4389
+    c = np.asarray(d.workspace["center_mm"], float)
+    k = dcap.rope_stiffness_Nm_per_rad(d, dev)
+    assert round(first_mode(d.mechanism, c, d.parallelogram_width_mm, rope_k_Nm_per_rad=k)["first_mode_Hz"], 1) == 162.6
+    assert round(first_mode(d.mechanism, c, d.parallelogram_width_mm)["first_mode_Hz"]) == 199
+
+
 def test_per_motor_transmissions_give_one_row_set_per_arm():
     d = _design(_per_motor())
     rows, lim = dcap.datasheet_rows(d, resolve_device(d), None)
