@@ -13,7 +13,7 @@ Schema (mm, deg, N, N m; * = required)::
     [optimize]   base_radius_mm / effector_radius_mm / upper_arm_mm / lower_arm_mm =
                  [min, max, count]
     [parts]      motor ("maxon-re35", a key of cad.data.catalog.MOTORS: one per arm, direct
-                 drive), encoder (a key of cad.data.catalog.ENCODERS) or
+                 drive or through [transmission]), encoder (a key of cad.data.catalog.ENCODERS) or
                  encoder_counts_per_rev (not both; default: maxon-hedl5540-500, the encoder
                  maxon pairs with the RE 35)
     [motor]      the data of the motor parts.motor names, replacing catalog values
@@ -73,7 +73,8 @@ JOINTS = ("theta_0", "theta_1", "theta_2")
 
 @dataclass(frozen=True)
 class DeltaParts:
-    """The delta's ``[parts]``: ``motor`` (catalog key, one per arm, direct drive),
+    """The delta's ``[parts]``: ``motor`` (catalog key, one per arm, direct drive or through
+    ``[transmission]``),
     ``encoder`` (catalog key) or ``encoder_counts_per_rev`` (counts per motor turn after x4
     decoding), None when not stated (:func:`cad.device.resolve_device` chooses)."""
 

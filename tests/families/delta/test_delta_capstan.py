@@ -247,6 +247,8 @@ def test_firmware_counts_and_currents_through_the_ratio_in_c(tmp_path):
     n = 2.5
     h = files["firmware/hapticad_device.h"]
     assert re.search(r"#define HC_GEAR \{ (.+) \}", h).group(1) == ", ".join([f"HC_R({n!r})"] * 3)
+    import json
+    assert json.loads(files["firmware/chai3d_device.json"])["transmission_ratio"] == [n] * 3
     fw = tmp_path / "fw"
     fw.mkdir()
     for rel, text in files.items():
