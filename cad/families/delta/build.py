@@ -51,7 +51,6 @@ def check_options(design, fidelity: str, phi1_deg, formats=frozenset()) -> None:
                           "the delta's frame model, firmware mass model and MJCF take "
                           "joint_offset_mm = 0 only (a knee link is laid out, not yet analysed)"
                           + (f"; and the layout clashes: {clash}" if clash else ""))
-    capstan.refuse_solids(design)
 
 
 def interference(b) -> dict:

@@ -19,7 +19,6 @@ import numpy as np
 from cad.actuators import capstan as cap
 from cad.datasheet import capstan_rows as cr
 from cad.datasheet import row
-from cad.errors import DesignError
 from cad.families.delta.structure import PIVOT_PENALTY
 from cad.kinematics.delta import jacobian_rad_per_m
 
@@ -103,19 +102,6 @@ def datasheet_rows(design, device, K_max_N_per_m: float | None) -> tuple[list[di
                             f"1 / (1 / K_max + 1 / K_rope): the eq (25) K_max {K_max_N_per_m:.4g} N/m in series "
                             f"with the ropes' weakest stiffness at the effector {lo:.4g} N/m"))
     return rows, limits
-
-
-def refuse_solids(design) -> None:
-    """DesignError naming ``transmission`` for a delta with a capstan on any arm: its solids
-    (a drum sector on each upper arm about its motor axis, the arm on its own axle in
-    bearings, the motor at the centre distance with the capstan on its shaft, the rope runs)
-    are not drawn yet, so the build (its interference check, mass properties, BOM) refuses it
-    before any CAD; the figures of this module read the design and the device alone."""
-    if any(t.is_capstan for t in design.transmissions):
-        raise DesignError("transmission", "a delta with a capstan is not built yet: the drum "
-                          "sectors, the moved motors and the rope runs are not drawn (its force, "
-                          "Lambda, rope and first-mode figures: cad.families.delta.capstan); "
-                          "`hapticad build` takes a direct-drive delta (no [transmission])")
 
 
 def bom_lines(design, device) -> list[dict]:
