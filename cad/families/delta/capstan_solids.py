@@ -29,6 +29,7 @@ from cad.data.fits import fit
 from cad.datasheet import capstan_rows as cr
 from cad.families.delta import hardware as hw
 from cad.families.delta import parts as dp
+from cad.families.delta.capstan import shared
 from cad.families.delta.layout import ARMS, body_poses
 from cad.families.fourbar import capstan as fcap
 from cad.families.fourbar import capstan_solids as fcs
@@ -209,27 +210,39 @@ def add_capstans(design, K: dict, inst: list[PartInstance], device, stack: dict)
     mspec = cat.get_motor(design.parts.motor)
     brg = a1_bearing(mspec.shaft_diameter_mm)
     out = list(inst)
+    one = shared(device)
     for i in ARMS:
         t = device.transmission(f"theta_{i}")
         if not t.is_capstan:
             continue
+        # arms with their own transmissions get their own capstan kinds (names "..._i")
+        Ki = K if one else {k: v for k, v in K.items() if not k.startswith("capstan")}
         C = cap.centre_distance_mm(t.capstan_diameter_mm, t.drum_diameter_mm, t.centre_distance_mm)
         shift = translation(*(C * motor_direction(d, i)))
+        new = []
         for k, x in enumerate(out):
             if x.name == f"motor_{i}":
                 out[k] = dataclasses.replace(x, tf_body_part=shift @ x.tf_body_part)
             elif x.name == f"motor_bracket_{i}":  # moved for the motor; the arm's own: a bearing seat
-                out.append(dataclasses.replace(x, name=f"capstan_motor_bracket_{i}", kind=_bracket(design, K, C),
+                new.append(dataclasses.replace(x, name=f"capstan_motor_bracket_{i}", kind=_bracket(design, Ki, C),
                                                tf_body_part=shift @ x.tf_body_part))
                 out[k] = dataclasses.replace(x, kind=_bearing_bracket(design, K, brg))
             elif x.name == f"upper_{i}.motor_shaft":
                 out[k] = dataclasses.replace(x, name=f"upper_{i}.arm_axle", kind=_axle(K, x.kind, mspec))
                 out.append(PartInstance(f"capstan_motor_shaft_{i}", x.kind, "ground",
                                         shift @ _body_at_zero(design, i) @ x.tf_body_part))
-        out += [PartInstance(n, k, f"upper_{i}", tf) for n, k, tf in arm_parts(design, i, t, K, stack)]
+        new += [PartInstance(n, k, f"upper_{i}", tf) for n, k, tf in arm_parts(design, i, t, Ki, stack)]
+        new += [PartInstance(n, k, "ground", tf) for n, k, tf in ground_parts(design, i, t, Ki, stack, mspec)]
+        out += new if one else [_tagged(x, f"_{i}") for x in new]
         out.append(_bearing(design, i, K, brg, stack))
-        out += [PartInstance(n, k, "ground", tf) for n, k, tf in ground_parts(design, i, t, K, stack, mspec)]
     return _grown_base(design, K, out, device, stack)
+
+
+def _tagged(x: PartInstance, tag: str) -> PartInstance:
+    """``x`` with its capstan kind named for its arm (rope runs are per arm already)."""
+    if "rope_run" in x.kind.name:
+        return x
+    return dataclasses.replace(x, kind=dataclasses.replace(x.kind, name=x.kind.name + tag))
 
 
 def _bracket(design, K: dict, C: float) -> PartKind:

@@ -239,6 +239,33 @@ def test_the_built_capstan_delta_is_clean_and_its_solids_carry_the_capstans(shar
     assert "wind the rope: cut 677 mm of steel-7x7-1" in md and "at least 30.0 N" in md
 
 
+@pytest.mark.slow  # a delta build (~1 min)
+def test_per_motor_capstans_build_with_their_own_parts(tmp_path):
+    """[[transmission]] with a 110 mm drum on arm 2: each arm's capstan parts are its own BOM
+    kinds (arm 2's drum 110 mm pitch), the ropes one line per arm, no overlap."""
+    import csv
+
+    from cad.design import load_design
+    from cad.pipeline import build_design
+
+    raw = _per_motor((2.5, 2.5, 2.75))
+    lines = []
+    for t in raw.pop("transmission"):
+        lines += ["[[transmission]]", *(f"{k} = {v!r}".replace("'", '"') for k, v in t.items())]
+    text = (ROOT / "designs" / "delta_capstan.toml").read_text()
+    text = text[:text.index("[transmission]")] + "\n".join(lines) + "\n\n" + text[text.index("[parts]"):]
+    (tmp_path / "pm.toml").write_text(text)
+    build_design(load_design(tmp_path / "pm.toml"), tmp_path / "o", {"step"}, fidelity="preview", use_cache=False)
+    import json
+    rep = json.loads((tmp_path / "o" / "report.json").read_text())
+    assert rep["overlap_volume_mm3"] == 0.0
+    with (tmp_path / "o" / "bom.csv").open(encoding="utf-8", newline="") as f:
+        bom = {r["part"]: r for r in csv.DictReader(f)}
+    assert [bom[f"capstan_drum_{i}"]["description"].startswith(f"drum sector {p} mm pitch")
+            for i, p in enumerate((100, 100, 110))] == [True] * 3
+    assert all(int(bom[f"capstan_cable_{i}"]["quantity"]) == 1 for i in range(3))
+
+
 mujoco = pytest.importorskip("mujoco")
 
 
