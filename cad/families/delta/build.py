@@ -172,12 +172,27 @@ ASSEMBLY_CHECKS = (
 )
 
 
+#: The capstan delta's third check: the arms turn on their own axles.
+AXLE_CHECK = ("each arm turns freely on its axle in its bearing and its hub does not slip on the "
+              "axle under a hand load at the effector (the hub's fastening, a clamp or a bond, is "
+              "not drawn)")
+
+
+def assembly_checks(design) -> tuple[str, ...]:
+    """assembly.md's final checks: :data:`ASSEMBLY_CHECKS`, with capstans the axle check for
+    the motor-shaft one and each capstan's winding and tensioning steps."""
+    dev = resolve_device(design)
+    if not any(t.is_capstan for t in dev.transmissions):
+        return ASSEMBLY_CHECKS
+    return ASSEMBLY_CHECKS[:2] + (AXLE_CHECK,) + capstan.assembly_steps(design, dev)
+
+
 STAGES = Stages(
     check_options=check_options, assemble=assemble, interference=interference, report=_report,
     md_rows=_md_rows, stroke=_stroke, motion_label="workspace grid", dynamics=_dynamics,
     preview_title=lambda b: f"{b.design.name}: delta at the workspace centre",
     no_solid_rows=_encoder_rows, more_files=_sim_files,
-    assembly=lambda design: (None, ASSEMBLY_CHECKS + capstan.assembly_steps(design, resolve_device(design))))
+    assembly=lambda design: (None, assembly_checks(design)))
 
 
 def build(design, out_dir: Path, formats: set[str], *, fidelity: str = "fabrication",
