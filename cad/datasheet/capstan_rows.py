@@ -63,7 +63,8 @@ class CapstanJoint:
     rows use, "crank"), ``range_deg`` its motor-angle range (deg), ``transmission`` the resolved
     :class:`cad.device.Transmission`, ``motor`` the :class:`cad.device.ResolvedMotor` on it,
     ``suffix`` appended to every row key and BOM part name ("" for a one-motor device, "_1" ...
-    for one row set per motor)."""
+    for one row set per motor), ``inertia_in`` where the reflected rotor inertia enters (the
+    rows' words)."""
 
     name: str
     label: str
@@ -71,16 +72,18 @@ class CapstanJoint:
     transmission: Transmission
     motor: object
     suffix: str = ""
+    inertia_in: str = "H11 and M11"
 
 
 def capstan_joint(device, joint: str, range_deg: float, label: str | None = None,
-                  suffix: str = "") -> CapstanJoint:
+                  suffix: str = "", inertia_in: str = "H11 and M11") -> CapstanJoint:
     """The :class:`CapstanJoint` of the motor on ``joint`` of the resolved ``device``
     (KeyError naming the joint when it has no motor)."""
     m = next((x for x in device.motors if x.joint == joint), None)
     if m is None:
         raise KeyError(f"no motor on joint {joint!r}")
-    return CapstanJoint(joint, label or joint, float(range_deg), device.transmission(joint), m, suffix)
+    return CapstanJoint(joint, label or joint, float(range_deg), device.transmission(joint), m, suffix,
+                        inertia_in)
 
 
 def layout(j: CapstanJoint) -> CapstanLayout:
@@ -144,7 +147,7 @@ def datasheet_rows(j: CapstanJoint) -> tuple[list[dict], dict]:
             "friction above are through it"),
         row("reflected_rotor_inertia_g_cm2" + s, f"rotor inertia at the {lab} (n^2 J_m)",
             fig.reflected_inertia_kg_m2 * 1e7, "g cm^2",
-            f"n^2 J_m = {t.ratio:.4g}^2 x {j.motor.spec.rotor_inertia_g_cm2:g} g cm^2, in H11 and M11"),
+            f"n^2 J_m = {t.ratio:.4g}^2 x {j.motor.spec.rotor_inertia_g_cm2:g} g cm^2, in {j.inertia_in}"),
         row("bend_ratio" + s, f"bend ratio D/d of {c.key} on the capstan", bend, "",
             f"capstan {t.capstan_diameter_mm:g} mm / rope {c.diameter_mm:g} mm against the rope's minimum "
             f"{c.min_bend_ratio:g} ({c.source_of('min_bend_ratio')})", unverified=c.is_unverified("min_bend_ratio")),

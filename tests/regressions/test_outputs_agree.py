@@ -369,21 +369,24 @@ def delta_jacobian_fd(toml: dict) -> np.ndarray:
 def _check_delta(toml: dict, out: Path, rep: dict, n: int) -> None:
     """Resolution and force from finite differences of the FK and the design's motor data;
     the MJCF's armature and force range and the header's motor constants from that data."""
+    g = _ratio(toml)  # one [transmission] on every arm: the same n on each
     smax = np.linalg.svd(delta_jacobian_fd(toml), compute_uv=False)[:, 0].max()
-    assert ds_row(rep, "resolution_um")["value"] == pytest.approx(smax * 2 * math.pi / n * 1e6, rel=FD_REL)
+    assert ds_row(rep, "resolution_um")["value"] == pytest.approx(smax * 2 * math.pi / (n * g) * 1e6, rel=FD_REL)
     m = _motor_data(toml)
     t_cont = toml.get("motor", {}).get("torque_continuous_mNm")
     if t_cont is not None:
-        assert ds_row(rep, "continuous_force_N")["value"] == pytest.approx(t_cont * 1e-3 / smax, rel=FD_REL)
+        assert ds_row(rep, "continuous_force_N")["value"] == pytest.approx(g * t_cont * 1e-3 / smax, rel=FD_REL)
     if [p for p in out.glob("*.xml") if "<mujoco" in p.read_text()[:400]]:
         root = mjcf(out)
         for j in ("theta_0", "theta_1", "theta_2"):
             joint = next(x for x in root.iter("joint") if x.get("name") == j)
-            assert float(joint.get("armature")) == pytest.approx(m["Jm"], rel=EXACT_REL)
+            assert float(joint.get("armature")) == pytest.approx(g * g * (m["Jm"] + _capstan_izz_kg_m2(toml)),
+                                                                  rel=EXACT_REL)
         motors = list(root.iter("motor"))
         assert len(motors) == 3
         for mo in motors:
             assert float(mo.get("forcerange").split()[1]) == pytest.approx(m["tau_peak"], rel=EXACT_REL)
+            assert float(mo.get("gear")) == g
     if (out / "firmware").is_dir():
         h = header(out)
         assert h["kt"] == pytest.approx(m["kt"], rel=EXACT_REL)

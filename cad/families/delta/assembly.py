@@ -15,6 +15,9 @@ scripts: :mod:`.parts` and :mod:`cad.parts.motor` (catalog motor, its shaft).
 * effector: the effector cross bars and their ball studs, the effector plate under them,
   the handle below.
 
+With a ``[transmission]`` capstan the solids of :mod:`.capstan_solids` are added (drum
+sectors, arm axles in bearings, moved motors with their capstans, rope runs).
+
 Tangential stack along motor axis i (body y of upper_i, 0 = the arm's plane):
 :func:`stack_mm`.
 """
@@ -28,9 +31,10 @@ import numpy as np
 
 from cad.assembly.model import AssemblyModel
 from cad.data.catalog import clearance_hole_mm
-from cad.device import parts_motor
+from cad.device import parts_motor, resolve_device
 from cad.families.delta import hardware as hw
 from cad.families.delta import parts as dp
+from cad.families.delta.capstan_solids import add_capstans
 from cad.families.delta.layout import ARMS, body_poses
 from cad.parts import PartInstance, PartKind, translation
 from cad.parts import motor as pm
@@ -253,6 +257,9 @@ def assemble(design, fidelity: str = "fabrication") -> AssemblyModel:
         for side in ("a", "b"):
             place(_rod_parts(design, f"lower_{i}_{side}", side), f"lower_{i}_{side}")
     place(_effector_parts(design), "effector")
+    if any(t.is_capstan for t in design.transmissions):  # the capstans' solids
+        inst = add_capstans(design, K, inst, resolve_device(design),
+                            stack_mm(design.parallelogram_width_mm, d.joint_offset_mm > 0))
     labels = tuple(f"P = ({x:.1f}, {y:.1f}, {z:.1f}) mm" for x, y, z in X)
     return AssemblyModel(design=design, instances=tuple(inst), tf_world_body=tf_home,
                          motion={b: T for b, T in motion.items() if b != "ground"},

@@ -28,8 +28,11 @@ import numpy as np
 from cad.assembly import interference as itf
 from cad.device import encoder_bom_rows, resolve_device
 from cad.errors import DesignError
+from cad.families.delta import capstan
 from cad.families.delta.assembly import assemble
+from cad.families.delta.capstan import rope_stiffness_Nm_per_rad
 from cad.families.delta.clearance import layout_clashes
+from cad.families.delta.design import JOINTS
 from cad.families.delta.dynamics import mass_matrix_from_bodies_kg
 from cad.families.delta.layout import body_poses
 from cad.families.delta.sim import sim_model
@@ -81,18 +84,24 @@ class DeltaDynamics:
 
 
 def _dynamics(b) -> DeltaDynamics:
-    """Lambda(x) over the workspace grid from the body mass properties (the rotor of the
-    resolved device's motor, direct drive) and the first mode at the centre."""
+    """Lambda(x) over the workspace grid from the body mass properties and each motor's rotor
+    through its transmission (n^2 (J_m + J_capstan), the resolved device's), the first mode at
+    the centre (the capstans' ropes as springs at the motor axes), the stresses at each
+    motor's peak torque through its ratio."""
     d, X = b.design, b.model.extra.workspace_mm
-    mot = resolve_device(d).motor  # the motor the BOM orders, [motor] table applied
-    rotor = mot.rotor_inertia_kg_m2
-    lam = mass_matrix_from_bodies_kg(d.mechanism, X, d.parallelogram_width_mm, b.bodies, rotor)
+    dev = resolve_device(d)
+    mot = dev.motor  # the motor the BOM orders, [motor] table applied
+    rotors = [dev.joint_rotor_inertia_kg_m2(j) for j in JOINTS]  # n^2 (J_m + J_capstan) each
+    rotor = rotors[0]
+    lam = mass_matrix_from_bodies_kg(d.mechanism, X, d.parallelogram_width_mm, b.bodies, rotors)
     eig = np.linalg.eigvalsh(0.5 * (lam + np.swapaxes(lam, 1, 2)))
     hi, lo = int(np.argmax(eig[:, -1])), int(np.argmin(eig[:, 0]))
     centre = np.asarray(d.workspace["center_mm"], float)
-    st = first_mode(d.mechanism, centre, d.parallelogram_width_mm)
-    tau = mot.spec.torque_peak_mNm * 1e-3
-    ps = peak_stress_over(d.mechanism, X, d.parallelogram_width_mm, tau)
+    st = first_mode(d.mechanism, centre, d.parallelogram_width_mm,
+                    rope_k_Nm_per_rad=rope_stiffness_Nm_per_rad(d, dev))
+    taus = np.array([mot.spec.torque_peak_mNm * 1e-3 * dev.transmission(j).ratio for j in JOINTS])
+    tau = float(taus.max())
+    ps = peak_stress_over(d.mechanism, X, d.parallelogram_width_mm, taus if taus.min() < tau else tau)
     return DeltaDynamics(
         Lambda_max_eig_g=float(eig[hi, -1] * 1e3), at_max_mm=X[hi].tolist(),
         Lambda_min_eig_g=float(eig[lo, 0] * 1e3), at_min_mm=X[lo].tolist(),
@@ -145,8 +154,10 @@ def _sim_files(b) -> list[str]:
 
 def _encoder_rows(design) -> list[dict]:
     """The bought encoders (no solid: on each motor's rear shaft), the resolved device's
-    (:func:`cad.device.encoder_bom_rows`)."""
-    return encoder_bom_rows(resolve_device(design))
+    (:func:`cad.device.encoder_bom_rows`), and the capstans' ropes with their cut lengths
+    (:func:`cad.families.delta.capstan.bom_lines`)."""
+    dev = resolve_device(design)
+    return encoder_bom_rows(dev) + capstan.bom_lines(design, dev)
 
 
 #: The final checks of the delta's assembly.md (the steps are the driver's, from the parts).
@@ -161,12 +172,27 @@ ASSEMBLY_CHECKS = (
 )
 
 
+#: The capstan delta's third check: the arms turn on their own axles.
+AXLE_CHECK = ("each arm turns freely on its axle in its bearing and its hub does not slip on the "
+              "axle under a hand load at the effector (the hub's fastening, a clamp or a bond, is "
+              "not drawn)")
+
+
+def assembly_checks(design) -> tuple[str, ...]:
+    """assembly.md's final checks: :data:`ASSEMBLY_CHECKS`, with capstans the axle check for
+    the motor-shaft one and each capstan's winding and tensioning steps."""
+    dev = resolve_device(design)
+    if not any(t.is_capstan for t in dev.transmissions):
+        return ASSEMBLY_CHECKS
+    return ASSEMBLY_CHECKS[:2] + (AXLE_CHECK,) + capstan.assembly_steps(design, dev)
+
+
 STAGES = Stages(
     check_options=check_options, assemble=assemble, interference=interference, report=_report,
     md_rows=_md_rows, stroke=_stroke, motion_label="workspace grid", dynamics=_dynamics,
     preview_title=lambda b: f"{b.design.name}: delta at the workspace centre",
     no_solid_rows=_encoder_rows, more_files=_sim_files,
-    assembly=lambda design: (None, ASSEMBLY_CHECKS))
+    assembly=lambda design: (None, assembly_checks(design)))
 
 
 def build(design, out_dir: Path, formats: set[str], *, fidelity: str = "fabrication",

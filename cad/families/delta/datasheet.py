@@ -27,7 +27,9 @@ from cad.datasheet.limits import (
 )
 from cad.device import resolve_device
 from cad.dynamics.stiffness import range_text, stiffness_range_N_per_m
+from cad.families.delta import capstan
 from cad.families.delta import hardware as hw
+from cad.families.delta.design import JOINTS
 from cad.firmware.extras import paper_eq25_inputs
 from cad.kinematics.delta import ik, jacobian_rad_per_m, require_ok
 from cad.structure.elastic import get_elastic
@@ -42,28 +44,34 @@ STRESS_CHANGE = ("[motor] torque_peak_mNm (the drive's current limit), mechanism
                  "cad/families/delta/hardware.py")
 
 
-def force_in_every_direction_N(design, torque_Nm: float) -> tuple[float, list[float]]:
+def force_in_every_direction_N(design, torque_Nm: float, ratios=None) -> tuple[float, list[float]]:
     """(the force the effector exerts in every direction at every workspace point with each
-    joint torque vector bounded by |tau|_2 <= ``torque_Nm``: min over the grid of
-    torque_Nm * sigma_min(J^T) (J: theta_dot = J x_dot, rad/m, f = J^T tau), the point
-    where it is smallest (mm)). Raises KinematicsError naming a point out of reach."""
+    motor torque vector bounded by |tau_m|_2 <= ``torque_Nm``: min over the grid of
+    torque_Nm * sigma_min(J^T N) (J: theta_dot = J x_dot, rad/m, f = J^T tau, joint torque
+    tau = N tau_m, N = diag(``ratios``) the transmissions' n, default 1), the point where it
+    is smallest (mm)). Raises KinematicsError naming a point out of reach."""
     X = design.workspace_points()
     J, status = jacobian_rad_per_m(design.mechanism, X)
     if np.any(status != 0):
         require_ok(ik(design.mechanism, X))
+    if ratios is not None:
+        J = J * np.asarray(ratios, float)[None, :, None]
     s_min = np.linalg.svd(np.swapaxes(J, 1, 2), compute_uv=False)[:, -1]
     i = int(np.argmin(s_min))
     return float(torque_Nm * s_min[i]), X[i].tolist()
 
 
-def resolution_um(design, counts: int) -> tuple[float, float, list[float]]:
+def resolution_um(design, counts: int, ratios=None) -> tuple[float, float, list[float]]:
     """(worst, best, where the worst is (mm)) over the workspace grid of the effector step of
-    one encoder count: sigma_max(J^-1) 2 pi / ``counts`` (um; J^-1 = dx/dtheta, m/rad).
-    Raises KinematicsError naming a point out of reach."""
+    one encoder count: sigma_max(J^-1 N^-1) 2 pi / ``counts`` (um; J^-1 = dx/dtheta, m/rad;
+    ``counts`` per motor turn, N = diag(``ratios``) the transmissions' n: a joint turn is n
+    motor turns). Raises KinematicsError naming a point out of reach."""
     X = design.workspace_points()
     J, status = jacobian_rad_per_m(design.mechanism, X)
     if np.any(status != 0):
         require_ok(ik(design.mechanism, X))
+    if ratios is not None:
+        J = J * np.asarray(ratios, float)[None, :, None]
     step = np.linalg.svd(np.linalg.inv(J), compute_uv=False)[:, 0] * 2 * math.pi / counts * 1e6
     i = int(np.argmax(step))
     return float(step[i]), float(step.min()), X[i].tolist()
@@ -90,23 +98,27 @@ def rows_and_limits(design, report: dict, out_dir=None, simulate_wall: bool = Tr
     dev = resolve_device(design)  # the motors and encoders the BOM orders
     m, enc = dev.motor.spec, dev.encoder
     src = f"{m.description} data sheet (cad.data.catalog: {m.key}; resolved device)"
-    res, res_lo, at_res = resolution_um(design, enc.counts_per_rev)
-    fc, at_c = force_in_every_direction_N(design, m.torque_continuous_mNm * 1e-3)
-    fp, _ = force_in_every_direction_N(design, m.torque_peak_mNm * 1e-3)
+    n = ratios_of(dev)
+    res, res_lo, at_res = resolution_um(design, enc.counts_per_rev, n)
+    fc, at_c = force_in_every_direction_N(design, m.torque_continuous_mNm * 1e-3, n)
+    fp, _ = force_in_every_direction_N(design, m.torque_peak_mNm * 1e-3, n)
+    thru = "" if n is None else f"; through the capstans' ratios n = {', '.join(f'{v:.4g}' for v in n)} (J^T N)"
     a, s = report.get("apparent_mass") or {}, report.get("structure") or {}
     itf = report.get("interference") or {}
     rows = [
         row("continuous_force_N", "continuous force in every direction", fc, "N",
             f"min over the workspace grid of T_cont sigma_min(J^T) (eq 2), at {at_c} mm; "
-            f"T_cont {m.torque_continuous_mNm:g} mN m, {src}"),
+            f"T_cont {m.torque_continuous_mNm:g} mN m, {src}{thru}"),
         row("peak_force_N", "peak force in every direction", fp, "N",
-            f"as the continuous force with the peak torque {m.torque_peak_mNm:g} mN m, {src}"),
+            f"as the continuous force with the peak torque {m.torque_peak_mNm:g} mN m, {src}{thru}"),
         row("resolution_um", "position resolution at the effector", res, "um",
             f"sigma_max(J^-1) 2 pi / {enc.counts_per_rev} counts per joint, worst over the "
-            f"workspace grid at {at_res} mm; {enc.source}", lo=res_lo, hi=res),
-        k_max_row(res),
+            f"workspace grid at {at_res} mm; {enc.source}" + ("" if n is None else
+            f"; counts per joint turn n x {enc.counts_per_rev} (J^-1 N^-1)"), lo=res_lo, hi=res),
+        kmax := k_max_row(res),
         row("apparent_mass_max_g", "apparent mass, worst direction", a.get("Lambda_max_eig_g"), "g",
             f"largest eigenvalue of Lambda(x) from the solids and the rotors "
+            f"{'' if n is None else 'through the capstans, n^2 (J_m + J_capstan) '}"
             f"({a.get('rotor_inertia_kg_m2', 0) * 1e7:.4g} g cm^2 each, {dev.motor.name}) over the "
             f"grid, at {a.get('at_max_mm')} mm (eq 1)"),
         row("apparent_mass_min_g", "apparent mass, best direction", a.get("Lambda_min_eig_g"), "g",
@@ -125,7 +137,14 @@ def rows_and_limits(design, report: dict, out_dir=None, simulate_wall: bool = Tr
             itf.get("overlap_volume_mm3"), "mm^3",
             f"every pair of solids at {itf.get('n_poses')} workspace points"),
     ]
-    return rows, delta_limits(design), []
+    cap_rows, cap_limits = capstan.datasheet_rows(design, dev, kmax["value"])
+    return rows + cap_rows, {**delta_limits(design), **cap_limits}, []
+
+
+def ratios_of(device):
+    """(3,) the arms' transmission ratios n (joint order), None when every arm is direct."""
+    n = [device.transmission(j).ratio for j in JOINTS]
+    return None if all(v == 1.0 for v in n) else n
 
 
 def stress_rows(s: dict, design) -> list[dict]:

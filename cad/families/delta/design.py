@@ -13,7 +13,7 @@ Schema (mm, deg, N, N m; * = required)::
     [optimize]   base_radius_mm / effector_radius_mm / upper_arm_mm / lower_arm_mm =
                  [min, max, count]
     [parts]      motor ("maxon-re35", a key of cad.data.catalog.MOTORS: one per arm, direct
-                 drive), encoder (a key of cad.data.catalog.ENCODERS) or
+                 drive or through [transmission]), encoder (a key of cad.data.catalog.ENCODERS) or
                  encoder_counts_per_rev (not both; default: maxon-hedl5540-500, the encoder
                  maxon pairs with the RE 35)
     [motor]      the data of the motor parts.motor names, replacing catalog values
@@ -25,8 +25,9 @@ Schema (mm, deg, N, N m; * = required)::
 
 Frames and angles: :mod:`cad.kinematics.delta` (base frame z up, effector below, theta from
 the horizontal, positive down, elbow-out branch). ``[targets]``: the datasheet figures
-(``check``, ``fit``); ``[transmission]`` and
-``[prices]`` are refused with one line. Joints of the motors (the resolved device, the
+(``check``, ``fit``); ``[transmission]`` (one table: the same capstan on every arm, or
+``[[transmission]]``, three tables in motor order; :mod:`cad.design.transmission`, validated
+at load) drives each upper arm through a capstan; ``[prices]`` is refused with one line. Joints of the motors (the resolved device, the
 MJCF): ``theta_0``, ``theta_1``, ``theta_2``. No CAD import.
 """
 
@@ -46,6 +47,7 @@ from cad.design.firmware import parse_firmware
 from cad.design.motor import parse_motor_table
 from cad.design.parts import parse_encoder
 from cad.design.targets import DELTA_TARGET_KEYS, parse_targets
+from cad.design.transmission import parse_transmissions
 from cad.errors import DesignError
 from cad.isotropy.gii import delta_gii
 from cad.isotropy.problems import DeltaProblem, candidate_grid
@@ -58,7 +60,7 @@ MECH_DEFAULTS = {"parallelogram_width_mm": 30.0, "motor_angle_min_deg": -40.0,
                  "motor_angle_max_deg": 85.0}
 WS_KEYS = ("shape", "center_mm", "size_mm", "diameter_mm", "height_mm", "grid")
 OPTIMIZABLE = ("base_radius_mm", "effector_radius_mm", "upper_arm_mm", "lower_arm_mm")
-NOT_YET = ("transmission", "prices")
+NOT_YET = ("prices",)
 PARTS_KEYS = ("motor", "encoder", "encoder_counts_per_rev")
 #: The encoder a delta that states none gets: maxon's HEDL 5540 (500 CPT, 2000 counts/rev
 #: after x4 decoding), the encoder maxon combines with the RE 35 the delta's arms default to.
@@ -71,7 +73,8 @@ JOINTS = ("theta_0", "theta_1", "theta_2")
 
 @dataclass(frozen=True)
 class DeltaParts:
-    """The delta's ``[parts]``: ``motor`` (catalog key, one per arm, direct drive),
+    """The delta's ``[parts]``: ``motor`` (catalog key, one per arm, direct drive or through
+    ``[transmission]``),
     ``encoder`` (catalog key) or ``encoder_counts_per_rev`` (counts per motor turn after x4
     decoding), None when not stated (:func:`cad.device.resolve_device` chooses)."""
 
@@ -107,6 +110,13 @@ class DeltaDesign:
     def motor_joints(self) -> tuple[tuple[str, str], ...]:
         """(joint, parts field naming its motor) of the three arm motors."""
         return tuple((j, "motor") for j in JOINTS)
+
+    @property
+    def transmissions(self) -> tuple:
+        """One :class:`cad.design.transmission.Transmission` per motor (:data:`JOINTS` order):
+        the ``[transmission]`` table or ``[[transmission]]`` array (validated at load), direct
+        drive without one. Read from ``raw`` (a direct design's hash is unchanged)."""
+        return parse_transmissions(self.raw.get("transmission"), len(JOINTS))
 
     def default_encoder(self) -> tuple[str, str]:
         """(catalog encoder, hint) a design that states no encoder gets
@@ -258,16 +268,17 @@ def _optimize(raw: dict[str, Any]) -> dict[str, tuple[float, float, int]]:
 def parse(raw: dict[str, Any], source: str = "<design>") -> DeltaDesign:
     """Validate a raw delta design; every problem is a :class:`DesignError` naming the key."""
     check_unknown(raw, ("name", "description", "mechanism", "workspace", "actuators", "optimize",
-                        "parts", "motor", "firmware", "targets", *NOT_YET), "")
+                        "parts", "motor", "firmware", "targets", "transmission", *NOT_YET), "")
     for key in NOT_YET:
         if key in raw:
             cmds = ", ".join(family("delta").commands)
-            raise DesignError(key, f"a delta design takes no [{key}] table yet (direct drive, no "
-                                   f"prices table); {cmds} take a delta design")
+            raise DesignError(key, f"a delta design takes no [{key}] table yet (no prices "
+                                   f"table); {cmds} take a delta design")
     mech = require_table(raw, "mechanism", "")
     if mech.get("family") != "delta":
         raise DesignError("mechanism.family", f"must be 'delta', got {mech.get('family')!r}")
     d, params, width = _mechanism(mech)
+    parse_transmissions(raw.get("transmission"), len(JOINTS))  # refused here, at load
     return DeltaDesign(
         name=check_name(raw.get("name", "delta")), source=source, family="delta", mechanism=d,
         params=params, parallelogram_width_mm=width,

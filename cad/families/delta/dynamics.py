@@ -99,17 +99,19 @@ def mass_matrix_from_bodies_kg(d: Delta, P_mm, width_mm: float, props: dict,
     props : ``{body: cad.massprops.props.MassProps}`` in each body's frame of
         :mod:`cad.families.delta.layout` (SI: com_m in m, inertia about the centre in
         kg m^2), as :func:`cad.pipeline.family.body_props` returns; a moving body missing
-        from it counts as massless. rotor_kg_m2 : each motor's rotor inertia about its axis;
-        ratio : motor turns per arm turn (1 = direct drive).
+        from it counts as massless. rotor_kg_m2 : each motor's rotor inertia about its axis
+        (one value, or (3,) one per motor in joint order); ratio : motor turns per arm turn
+        (1 = direct drive; one value or (3,)): Lambda += J^T diag(n_i^2 J_m,i) J.
     Raises :class:`cad.errors.KinematicsError` naming the first point that is unreachable,
     singular or outside the joint limits; DesignError for a negative rotor or ratio <= 0.
     """
-    if not (np.isfinite(rotor_kg_m2) and rotor_kg_m2 >= 0):
+    rotor, n = (np.broadcast_to(np.asarray(v, float), (3,)) for v in (rotor_kg_m2, ratio))
+    if not np.all(np.isfinite(rotor) & (rotor >= 0)):
         raise DesignError("rotor_kg_m2", f"must be finite and >= 0, got {rotor_kg_m2!r}")
-    if not (np.isfinite(ratio) and ratio > 0):
+    if not np.all(np.isfinite(n) & (n > 0)):
         raise DesignError("ratio", f"must be finite and > 0, got {ratio!r}")
     J, bodies = com_jacobians(d, P_mm, width_mm, props)
-    Lam = ratio**2 * rotor_kg_m2 * np.einsum("nik,nil->nkl", J, J)
+    Lam = np.einsum("nik,i,nil->nkl", J, n**2 * rotor, J)
     for mp, Jcom, Jw, I_w in bodies:
         Lam += mp.mass_kg * np.swapaxes(Jcom, 1, 2) @ Jcom + np.swapaxes(Jw, 1, 2) @ I_w @ Jw
     return Lam

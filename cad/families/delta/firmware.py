@@ -88,14 +88,25 @@ def spec_params(design, report: dict, device) -> SpecParams:
     workspace centre) and gravity -z. DesignError for a joint offset g > 0 (no mass model
     of the knee) or a workspace centre out of reach."""
     d = design.mechanism
-    mass = delta_mass_from_bodies(d, props_of(report), device.motor.rotor_inertia_kg_m2,
-                                  device.transmissions[0].ratio)
+    n = uniform_ratio(device)
+    mass = delta_mass_from_bodies(d, props_of(report), device.joint_rotor_inertia_kg_m2("theta_0") / n ** 2, n)
     pose = D.ik(d, np.asarray(design.workspace["center_mm"], float)[None, :])
     if not pose.ok[0]:
         raise DesignError("workspace.center_mm", f"{design.workspace['center_mm']} mm: the home "
                           f"pose is {D.STATUS_NAMES[int(pose.status[0])]}")
     return SpecParams(params_of(d, mass), tuple(float(t) for t in pose.theta_rad[0]), {}, 3, 3,
                       gravity_m_s2=GRAVITY_M_S2)
+
+
+def uniform_ratio(device) -> float:
+    """The transmission ratio n the three arms share (the firmware's and the identification's
+    mass model take one arm for all three); DesignError naming ``transmission`` when the
+    ``[[transmission]]`` tables give the arms different ratios."""
+    ns = {t.ratio for t in device.transmissions}
+    if len(ns) != 1:
+        raise DesignError("transmission", f"the arms' ratios differ ({sorted(ns)}): the delta's "
+                          "firmware mass model takes one transmission for all three arms")
+    return ns.pop()
 
 
 _CODE = {D.STATUS_OK: STATUS["HC_OK"], D.STATUS_UNREACHABLE: STATUS["HC_ERR_CLOSURE"],

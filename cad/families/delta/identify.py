@@ -32,7 +32,7 @@ from cad.device import resolve_device
 from cad.dynamics.delta import DeltaMass, gravity_torques_Nm
 from cad.errors import DesignError
 from cad.families.delta.dynamics import gravity_hold_torques_Nm, mass_matrix_from_bodies_kg
-from cad.families.delta.firmware import DELTA, mass_of, props_of
+from cad.families.delta.firmware import DELTA, mass_of, props_of, uniform_ratio
 from cad.firmware.device import device_spec
 from cad.firmware.model import KinematicModel
 from cad.firmware.spec import angles_from_counts, motor_data
@@ -160,7 +160,7 @@ def predict(design, report: dict) -> PredictionDelta:
     d = design.mechanism
     wide = dataclasses.replace(d, theta_min_rad=-math.pi, theta_max_rad=math.pi)  # limits are not physics
     lo, hi = _ranges(design, d)
-    n = device.transmissions[0].ratio
+    n = uniform_ratio(device)
     motor = motor_data(device.motor.spec)
     Tc, src = identify_joints.motor_friction(device)
     pred = PredictionDelta(design.name, h, wide, design.parallelogram_width_mm, props_of(report), mass_of(spec),

@@ -6,8 +6,9 @@ turned into each MJCF body frame):
 
 * ``upper_i`` on the world: hinge ``theta_i`` about motor axis t_i (value = the motor angle
   theta_i of :mod:`cad.kinematics.delta`, ref = its value at the written pose), armature
-  n^2 J_m (the resolved device's rotor through its transmission), motor ``motor_i`` with
-  force range the peak torque through the transmission. Body frame: the layout's upper_i
+  n^2 (J_m + J_capstan) (the resolved device's rotor through its transmission), motor
+  ``motor_i`` with ``gear`` n and force range the motor's own peak torque (the joint gets n
+  times it). Body frame: the layout's upper_i
   frame (:mod:`cad.families.delta.layout`) with z along the motor axis (x along the arm,
   y = -z_layout, z = t_i);
 * ``lower_i_a`` / ``lower_i_b`` on ``upper_i``: ball joint ``ball_i_a`` / ``ball_i_b`` at
@@ -93,7 +94,8 @@ def sim_model(design, bodies: dict, device, P_mm=None) -> SimModel:
         m, c, inertia = _props(bodies.get(f"upper_{i}"), ARM_AXES)
         out.append(SimBody(f"upper_{i}", "world", pos, rot, j, float(th[i]), m, c, inertia,
                            armature_kg_m2=device.joint_rotor_inertia_kg_m2(j)))
-        motors.append(SimMotor(f"motor_{i}", j, torque[j]))
+        n = device.transmission(j).ratio  # a capstan: gear n, the motor's own limit
+        motors.append(SimMotor(f"motor_{i}", j, torque[j] / n, gear=n))
         for s in ("a", "b"):
             name = f"lower_{i}_{s}"
             pos, rot = _local(T[f"upper_{i}"], T[name])

@@ -61,6 +61,9 @@ class Frame3D:
     clamped: set[int] = field(default_factory=set)
     point_mass_kg: dict[int, float] = field(default_factory=dict)
     beam_labels: list[str] = field(default_factory=list)
+    #: (node, 6 x 6 stiffness to ground, base frame): a pivot held in bearings with a spring
+    #: about its axis (:func:`pivot_spring`)
+    ground_springs: list[tuple[int, np.ndarray]] = field(default_factory=list)
 
     def node(self, xyz_m) -> int:
         self.nodes.append(np.asarray(xyz_m, float).reshape(3))
@@ -100,6 +103,8 @@ class Frame3D:
             kk = EA / L * np.outer(v, v) / (L * L)
             d = np.r_[6 * i:6 * i + 3, 6 * j:6 * j + 3]
             K[np.ix_(d, d)] += np.block([[kk, -kk], [-kk, kk]])
+        for i, k6 in self.ground_springs:
+            K[6 * i:6 * i + 6, 6 * i:6 * i + 6] += k6
         return K
 
     def beam_end_forces(self, u: np.ndarray) -> np.ndarray:
@@ -223,9 +228,13 @@ def default_sections(effector_radius_mm: float, width_mm: float) -> DeltaSection
         joint_kg=hw.BALL_JOINT.mass_g * 1e-3)
 
 
-def delta_frame(d: Delta, P_mm, width_mm: float, sec: DeltaSections) -> tuple[Frame3D, int]:
+def delta_frame(d: Delta, P_mm, width_mm: float, sec: DeltaSections,
+                rope_k_Nm_per_rad=None) -> tuple[Frame3D, int]:
     """(frame, index of the effector-centre node) of the delta at effector point ``P_mm``
-    (3,) mm (module docstring). KinematicsError when P is not ok; DesignError for g > 0."""
+    (3,) mm (module docstring). ``rope_k_Nm_per_rad`` (3,) N m/rad: each upper arm on a pivot
+    held by its capstan's rope (:func:`pivot_spring` about the motor axis t_i, the motor held
+    by the servo: the rope in series with the arm), None: clamped. KinematicsError when P is
+    not ok; DesignError for g > 0."""
     if d.joint_offset_mm > 0:
         raise DesignError("mechanism.joint_offset_mm",
                           f"the frame model covers g = 0 only, got {d.joint_offset_mm!r} mm")
@@ -240,7 +249,10 @@ def delta_frame(d: Delta, P_mm, width_mm: float, sec: DeltaSections) -> tuple[Fr
     for i in range(3):
         t, u = d.tangential[i], d.radial[i]
         a, e = f.node(pts["axis"][i]), f.node(pts["elbow"][i])
-        f.clamped.add(a)
+        if rope_k_Nm_per_rad is None:
+            f.clamped.add(a)
+        else:
+            f.ground_springs.append((a, pivot_spring(t, rope_k_Nm_per_rad[i])))
         f.beam(a, e, sec.arm, t, n_sub=4, label=f"upper arm {i}")
         bc = f.node(pts["bottom"][i])
         f.beam(c, bc, sec.effector, np.array([0.0, 0.0, 1.0]), label=f"effector plate {i}")
@@ -254,22 +266,45 @@ def delta_frame(d: Delta, P_mm, width_mm: float, sec: DeltaSections) -> tuple[Fr
     return f, c
 
 
-def first_mode(d: Delta, P_mm, width_mm: float, sec: DeltaSections | None = None) -> dict:
+#: Stiffness of a pivot's bearings in the directions they hold (N/m and N m/rad): a penalty
+#: far above the frame's (its beams are 1e4 to 1e7), so the pivot is rigid but about its axis.
+PIVOT_PENALTY = 1e12
+
+
+def pivot_spring(axis, k_Nm_per_rad: float) -> np.ndarray:
+    """6 x 6 ground stiffness of a node on a pivot (base frame): rigid in translation and in
+    rotation normal to the unit ``axis`` (:data:`PIVOT_PENALTY`), ``k_Nm_per_rad`` about it
+    (a capstan's rope: :func:`cad.datasheet.capstan_rows.cable_stiffness_Nm_per_rad`)."""
+    a = np.asarray(axis, float) / np.linalg.norm(axis)
+    aa = np.outer(a, a)
+    k = np.zeros((6, 6))
+    k[:3, :3] = PIVOT_PENALTY * np.eye(3)
+    k[3:, 3:] = PIVOT_PENALTY * (np.eye(3) - aa) + float(k_Nm_per_rad) * aa
+    return k
+
+
+def first_mode(d: Delta, P_mm, width_mm: float, sec: DeltaSections | None = None,
+               rope_k_Nm_per_rad=None) -> dict:
     """First structural mode and the effector's compliance at ``P_mm`` (3,) mm:
     {"first_mode_Hz", "modes_Hz" (3,), "mode_direction" (3,) unit effector motion of the
     first mode, "compliance_m_per_N" (3, 3) effector displacement per force at its centre,
     "compliance_max_um_per_N" its largest eigenvalue (worst direction), "boundary":
-    sentence}. Sections default to :func:`default_sections`."""
+    sentence}. Sections default to :func:`default_sections`; ``rope_k_Nm_per_rad`` (3,) the
+    capstans' rope springs at the motor axes (:func:`delta_frame`), None: clamped."""
     sec = sec or default_sections(d.effector_radius_mm, width_mm)
-    f, c = delta_frame(d, P_mm, width_mm, sec)
+    f, c = delta_frame(d, P_mm, width_mm, sec, rope_k_Nm_per_rad)
     hz, shapes = f.modes(3)
     C = np.stack([f.solve({c: e})[6 * c:6 * c + 3] for e in np.eye(3)], axis=1)
     v = shapes[0, 6 * c:6 * c + 3]
     return {"first_mode_Hz": float(hz[0]), "modes_Hz": hz, "mode_direction": v / np.linalg.norm(v),
             "compliance_m_per_N": C,
             "compliance_max_um_per_N": float(np.linalg.eigvalsh(0.5 * (C + C.T))[-1] * 1e6),
-            "boundary": "upper arms clamped at the motor axes (motors held, base rigid); "
-                        "rods pin-ended between the ball-joint centres; effector and handle "
+            "boundary": ("upper arms clamped at the motor axes (motors held, base rigid); "
+                         if rope_k_Nm_per_rad is None else
+                         "upper arms on pivots at the motor axes held by the capstans' rope springs k_q "
+                         f"{', '.join(f'{k:.4g}' for k in rope_k_Nm_per_rad)} N m/rad (motors held, base "
+                         "rigid); ")
+                        + "rods pin-ended between the ball-joint centres; effector and handle "
                         "a point mass at its centre"}
 
 

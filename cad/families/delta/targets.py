@@ -9,7 +9,7 @@ from __future__ import annotations
 from cad.design.targets import Target
 from cad.device import resolve_device
 from cad.errors import DesignError, KinematicsError
-from cad.families.delta.datasheet import delta_limits, force_in_every_direction_N
+from cad.families.delta.datasheet import delta_limits, force_in_every_direction_N, ratios_of
 from cad.families.delta.design import OPTIMIZABLE
 from cad.studies.fit import FreeParam, numeric_free
 
@@ -41,11 +41,13 @@ def precad(design) -> tuple[dict, str | None]:
     """(values, reason or None) of a fit candidate before any CAD: a workspace point out of
     reach (outside the motor angle range, singular) is a reason, the build would refuse it;
     else the continuous and peak force in every direction (no CAD needed,
-    :func:`cad.families.delta.datasheet.force_in_every_direction_N` with the resolved motor)."""
-    m = resolve_device(design).motor.spec
+    :func:`cad.families.delta.datasheet.force_in_every_direction_N` with the resolved motor
+    through its transmissions)."""
+    dev = resolve_device(design)
+    m, n = dev.motor.spec, ratios_of(dev)
     try:
-        fc, _ = force_in_every_direction_N(design, m.torque_continuous_mNm * 1e-3)
-        fp, _ = force_in_every_direction_N(design, m.torque_peak_mNm * 1e-3)
+        fc, _ = force_in_every_direction_N(design, m.torque_continuous_mNm * 1e-3, n)
+        fp, _ = force_in_every_direction_N(design, m.torque_peak_mNm * 1e-3, n)
     except KinematicsError as e:
         return {}, f"workspace: {e}"
     return {"continuous_force_N": fc, "peak_force_N": fp}, None

@@ -79,7 +79,10 @@ def test_cylinder_workspace_and_its_keys():
      "parts.encoder_counts_per_rev"),
     (lambda r: r.update(motor={"torque_peak_mNm": -1.0}), "motor.torque_peak_mNm"),
     (lambda r: r.update(firmware={"plane": "vertical"}), "firmware.plane"),
-    (lambda r: r.update(transmission={"kind": "direct"}), "transmission"),
+    (lambda r: r.update(transmission={"kind": "capstan", "capstan_diameter_mm": 40.0, "ratio": 0.5,
+                                      "cable": "steel-7x7-1"}), "transmission.ratio"),
+    (lambda r: r.update(transmission=[{"kind": "direct"}] * 2), "transmission"),
+    (lambda r: r.update(prices={}), "prices"),
     (lambda r: r["optimize"].update(upper_arm_mm=[120, 60, 3]), "optimize.upper_arm_mm"),
     (lambda r: r["actuators"].update(torque_max_Nm=[1, 1]), "actuators.torque_max_Nm"),
 ])
