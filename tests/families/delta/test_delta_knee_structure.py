@@ -131,3 +131,19 @@ def test_falcon_figures_at_the_centre():
     assert np.all(np.linalg.eigvalsh(C) > 0)
     assert r["first_mode_Hz"] == pytest.approx(PIN_HZ, rel=1e-6)
     assert r["compliance_max_um_per_N"] == pytest.approx(PIN_UM_PER_N, rel=1e-6)
+
+
+def test_falcon_stress_rows_at_the_default_motors_peak_torque():
+    """The datasheet's stress rows of the Falcon with the resolved default motor (RE 35) at its
+    peak torque over the grid: regression pins (our own run, 2026-12-05), and the rods'
+    bending counted in their stress (larger than the axial stress alone)."""
+    from cad.device import resolve_device
+    from cad.families.delta.structure import peak_stress_over
+
+    tau = resolve_device(FALCON).motor.spec.torque_peak_mNm * 1e-3
+    ps = peak_stress_over(FALCON.mechanism, FALCON.workspace_points(), FALCON.parallelogram_width_mm, tau)
+    assert ps["max_stress_MPa"] == pytest.approx(32.87, abs=0.01)
+    assert ps["rod_buckling_margin"] == pytest.approx(4.583, abs=0.001)
+    assert not ps["critical_member"].startswith("rod")
+    axial = ps["rod_compression_max_N"] / (np.pi / 4 * (4.0**2 - 3.0**2))
+    assert ps["rod_stress_max_MPa"] > axial
