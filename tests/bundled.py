@@ -12,8 +12,8 @@ DESIGNS = Path(__file__).resolve().parents[1] / "designs"
 
 
 def buildable(p: Path) -> bool:
-    """The family takes ``build`` and the design passes its pre-CAD refusals (the Falcon
-    delta's knee link is laid out, not analysed: refused in one line, tested in
+    """The family takes ``build`` and the design passes its pre-CAD refusals (a delta whose
+    knee layout clashes over its workspace: refused in one line, tested in
     tests/families/delta/test_delta_build.py)."""
     from cad.design import load_design
     from cad.errors import DesignError

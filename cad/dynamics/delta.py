@@ -13,9 +13,20 @@ over (symbols of :mod:`cad.kinematics.delta`; theta_dot = J x_dot):
   G_i = e_i J_i (3x3) its share of Lambda is (m/3)(G^T G + (G + G^T)/2 + I);
 * the effector, translating: m_e I.
 
-Gravity (g along -z): the potential V(x) = g [m_e z_P + sum_i (m_arm z_G,i + m_rods
-(z_E,i + z_P)/2)], and the force the motors must add at the effector to hold it is
-grad_x V; the joint torques that do so are J^-T grad_x V (the gravity compensation).
+With Stamper's knee (``joint_offset_mm`` g > 0, the Falcon): the knee link turns about
+t_i at the elbow with the rate w_i = q_i . x_dot, q_i = (n_i - (n_i . e_i) J_i) / rho_i
+(k_i the unit in-plane direction elbow -> effector joint, n_i = t_i x k_i, rho_i that
+in-plane distance: the knee stays in line with it, :mod:`cad.kinematics.delta`); its
+centre at c_k along it moves with G_k = e_i J_i^T + c_k n_i q_i^T, so its share is
+m_k G_k^T G_k + (I_k - m_k c_k^2) q_i q_i^T (I_k about the knee pin); the rods' top ends
+move with G = e_i J_i^T + g n_i q_i^T in the rod formula above. g = 0 and no knee mass
+give the Clavel model.
+
+Gravity (g along -z): the potential V(x) = g [m_e z_P + sum_i (m_arm z_G,i + m_k z_K,i +
+m_rods (z_S,i + z_P)/2)] (z_S,i the rods' top ends, z_E,i for g = 0), and the force the
+motors must add at the effector to hold it is grad_x V = g [m_e z + sum_i (m_arm (c_a / L_a)
+e_i,z J_i + m_k G_k[z] + (m_rods / 2) (G[z] + z))]; the joint torques that do so are
+J^-T grad_x V (the gravity compensation).
 """
 
 from __future__ import annotations
@@ -39,7 +50,9 @@ class DeltaMass:
     upper_arm_kg and upper_arm_com_mm: its mass and its centre's distance from the motor
     axis along the arm (gravity). lower_arm_kg: one parallelogram (both rods and their
     joints, as uniform slender rods). effector_kg: effector and handle. rotor_kg_m2: each
-    motor's rotor; ratio: transmission ratio n (1 = direct drive).
+    motor's rotor; ratio: transmission ratio n (1 = direct drive). With Stamper's knee
+    (g > 0): knee_kg, knee_com_mm (its centre's distance from the knee pin along the knee
+    link) and knee_kg_m2 (about the knee pin's axis t_i); 0 without a knee.
     """
 
     upper_arm_kg_m2: float
@@ -49,6 +62,9 @@ class DeltaMass:
     effector_kg: float
     rotor_kg_m2: float = 0.0
     ratio: float = 1.0
+    knee_kg: float = 0.0
+    knee_com_mm: float = 0.0
+    knee_kg_m2: float = 0.0
 
     def __post_init__(self) -> None:
         for name, v in vars(self).items():
@@ -65,42 +81,77 @@ def _elbow_rate_m(d: Delta, theta: np.ndarray) -> np.ndarray:
     return e * MM
 
 
+def arm_rates(d: Delta, P_mm, theta, J: np.ndarray) -> list[tuple]:
+    """Per arm i, at consistent effector points ``P_mm`` (N, 3) mm, joint angles ``theta``
+    (N, 3) rad and Jacobian ``J`` (N, 3, 3) rad/m: (Ge (N, 3, 3) the elbow's velocity per
+    effector velocity e_i J_i^T, n_i (N, 3) unit t_i x k_i, q_i (N, 3) the knee's rate
+    rad/s per m/s; module docstring). q_i is zero for g = 0 (no knee)."""
+    P = np.asarray(P_mm, float)
+    e = _elbow_rate_m(d, theta)
+    out = []
+    for i in range(3):
+        a, ei, t, u = J[:, i, :], e[:, i, :], d.tangential[i], d.radial[i]
+        Ge = np.einsum("nk,nl->nkl", ei, a)
+        if d.joint_offset_mm <= 0:
+            out.append((Ge, np.zeros_like(P), np.zeros_like(P)))
+            continue
+        E = d.base_radius_mm * u + d.axis_offset_mm * t + d.upper_arm_mm * (
+            np.cos(theta[:, i])[:, None] * u - np.sin(theta[:, i])[:, None] * np.array([0, 0, 1.0]))
+        w = P + d.effector_radius_mm * u - E
+        wp = w - (w @ t)[:, None] * t
+        rho = np.linalg.norm(wp, axis=1)
+        n = np.cross(t, wp / rho[:, None])
+        q = (n - np.sum(n * ei, axis=1)[:, None] * a) / (rho * MM)[:, None]
+        out.append((Ge, n, q))
+    return out
+
+
+def _pose(d: Delta, P_mm):
+    pose = ik(d, P_mm)
+    require_ok(pose)
+    J, _ = jacobian_rad_per_m(d, pose.P_mm)
+    return pose, J
+
+
 def mass_matrix_kg(d: Delta, P_mm, mass: DeltaMass) -> np.ndarray:
-    """Lambda (N, 3, 3) kg at effector points ``P_mm`` (N, 3) mm, base frame.
+    """Lambda (N, 3, 3) kg at effector points ``P_mm`` (N, 3) mm, base frame (module
+    docstring; with the knee for g > 0).
 
     Raises :class:`cad.errors.KinematicsError` naming the first point that is unreachable,
     singular or outside the joint limits.
     """
-    pose = ik(d, P_mm)
-    require_ok(pose)
-    J, _ = jacobian_rad_per_m(d, pose.P_mm)
-    e = _elbow_rate_m(d, pose.theta_rad)
+    pose, J = _pose(d, P_mm)
     n = pose.P_mm.shape[0]
     arm = mass.upper_arm_kg_m2 + mass.ratio**2 * mass.rotor_kg_m2
+    g, ck = d.joint_offset_mm * MM, mass.knee_com_mm * MM
     Lam = np.broadcast_to(mass.effector_kg * np.eye(3), (n, 3, 3)).copy()
-    for i in range(3):
+    TT = lambda A: np.swapaxes(A, 1, 2)  # noqa: E731
+    for i, (Ge, nv, q) in enumerate(arm_rates(d, pose.P_mm, pose.theta_rad, J)):
         Ji = J[:, i, :]
         Lam += arm * np.einsum("nk,nl->nkl", Ji, Ji)
-        G = np.einsum("nk,nl->nkl", e[:, i, :], Ji)
-        rod = np.einsum("nki,nkl->nil", G, G) + 0.5 * (G + np.swapaxes(G, 1, 2)) + np.eye(3)
-        Lam += mass.lower_arm_kg / 3.0 * rod
+        G = Ge + g * np.einsum("nk,nl->nkl", nv, q)
+        Lam += mass.lower_arm_kg / 3.0 * (TT(G) @ G + 0.5 * (G + TT(G)) + np.eye(3))
+        if mass.knee_kg > 0 or mass.knee_kg_m2 > 0:
+            Gk = Ge + ck * np.einsum("nk,nl->nkl", nv, q)
+            Lam += mass.knee_kg * TT(Gk) @ Gk + (mass.knee_kg_m2 - mass.knee_kg * ck**2) * \
+                np.einsum("nk,nl->nkl", q, q)
     return Lam
 
 
 def gravity_force_N(d: Delta, P_mm, mass: DeltaMass) -> np.ndarray:
     """grad_x V (N, 3) [N]: the force the motors must add at the effector to hold it still
-    against gravity at ``P_mm`` (N, 3) mm (its z component is the weight carried)."""
-    pose = ik(d, P_mm)
-    require_ok(pose)
-    J, _ = jacobian_rad_per_m(d, pose.P_mm)
-    theta = pose.theta_rad
-    dzE = -d.upper_arm_mm * np.cos(theta) * MM  # dz_E,i/dtheta_i, m/rad
-    dzG = dzE * mass.upper_arm_com_mm / d.upper_arm_mm
-    dV_dtheta = G_M_S2 * (mass.upper_arm_kg * dzG + 0.5 * mass.lower_arm_kg * dzE)
-    direct = G_M_S2 * (mass.effector_kg + 1.5 * mass.lower_arm_kg)
-    F = np.einsum("ni,nik->nk", dV_dtheta, J)
-    F[:, 2] += direct
-    return F
+    against gravity at ``P_mm`` (N, 3) mm (its z component is the weight carried; module
+    docstring, with the knee for g > 0)."""
+    pose, J = _pose(d, P_mm)
+    g, ck = d.joint_offset_mm * MM, mass.knee_com_mm * MM
+    F = np.zeros((pose.P_mm.shape[0], 3))
+    F[:, 2] = mass.effector_kg + 1.5 * mass.lower_arm_kg
+    for Ge, nv, q in arm_rates(d, pose.P_mm, pose.theta_rad, J):
+        zE = Ge[:, 2, :]  # dz_E/dx: e_i,z J_i
+        F += mass.upper_arm_kg * mass.upper_arm_com_mm / d.upper_arm_mm * zE
+        F += 0.5 * mass.lower_arm_kg * (zE + g * nv[:, 2:3] * q)
+        F += mass.knee_kg * (zE + ck * nv[:, 2:3] * q)
+    return G_M_S2 * F
 
 
 def gravity_torques_Nm(d: Delta, P_mm, mass: DeltaMass) -> np.ndarray:

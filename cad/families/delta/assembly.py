@@ -82,6 +82,8 @@ def stack_mm(width_mm: float, fork: bool) -> dict[str, float]:
     arm_end = -(fork_mid + t / 2) if fork else -t / 2
     bracket0 = -(width_mm / 2 + hw.BALL_JOINT.socket_d_mm / 2 + hw.BRACKET_CLEARANCE_MM)
     bracket0 = min(bracket0, arm_end - hw.HUB_GAP_MM - 5.0)
+    if fork:
+        bracket0 -= hw.KNEE_BRACKET_OFFSET_MM
     hub1 = bracket0 + hw.HUB_GAP_MM
     return {"hub_mid": (arm_end + hub1) / 2, "hub_length": arm_end - hub1,
             "bracket_near": bracket0, "motor_face": bracket0 - hw.BRACKET_THICKNESS_MM,
@@ -123,9 +125,16 @@ def kinds(design, fidelity: str = "fabrication") -> dict[str, PartKind]:
     if fork:
         add("arm_spacer", dp.bar_shape(hw.HUB_D_MM, st["spacer_length"]), hw.ARM_MATERIAL, True,
             f"spacer between the fork plates d{hw.HUB_D_MM:g} x {st['spacer_length']:g}", "turned")
-    add("upper_arm", dp.arm_shape(d.upper_arm_mm, hw.ARM_WIDTH_MM, hw.ARM_THICKNESS_MM,
-                                  m.shaft_diameter_mm, hw.CROSS_BAR_D_MM),
-        hw.ARM_MATERIAL, True, f"upper arm, {d.upper_arm_mm:g} mm between bores",
+    if fork:  # cranked away from the knee (hardware.CRANK_ANGLE_DEG)
+        shape = dp.cranked_arm_shape(d.upper_arm_mm, hw.crank_vertex_mm(d.upper_arm_mm,
+                                                                         d.joint_offset_mm),
+                                     hw.ARM_WIDTH_MM, hw.ARM_THICKNESS_MM, m.shaft_diameter_mm,
+                                     hw.CROSS_BAR_D_MM)
+    else:
+        shape = dp.arm_shape(d.upper_arm_mm, hw.ARM_WIDTH_MM, hw.ARM_THICKNESS_MM,
+                             m.shaft_diameter_mm, hw.CROSS_BAR_D_MM)
+    add("upper_arm", shape, hw.ARM_MATERIAL, True,
+        f"upper arm{', cranked' if fork else ''}, {d.upper_arm_mm:g} mm between bores",
         "waterjet/laser plate; ream both bores", plate=True)
     bar = w - 2 * bj.neck_mm
     add("cross_bar", dp.bar_shape(hw.CROSS_BAR_D_MM, bar), hw.ARM_MATERIAL, True,

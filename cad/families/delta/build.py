@@ -45,12 +45,10 @@ def check_options(design, fidelity: str, phi1_deg, formats=frozenset()) -> None:
     """Refuse what the delta's build cannot do, before any CAD (DesignError)."""
     if phi1_deg is not None:
         raise DesignError("--phi1-deg", "a delta has no crank: its pose is the workspace centre")
-    if design.mechanism.joint_offset_mm > 0:
-        clash = "; ".join(layout_clashes(design))
+    clash = "; ".join(layout_clashes(design)) if design.mechanism.joint_offset_mm > 0 else ""
+    if clash:
         raise DesignError("mechanism.joint_offset_mm", f"{design.mechanism.joint_offset_mm:g} mm: "
-                          "the delta's frame model, firmware mass model and MJCF take "
-                          "joint_offset_mm = 0 only (a knee link is laid out, not yet analysed)"
-                          + (f"; and the layout clashes: {clash}" if clash else ""))
+                          f"the knee's layout clashes over the workspace: {clash}")
 
 
 def interference(b) -> dict:

@@ -5,16 +5,23 @@ and each parallelogram's inner rod against its motor bracket.
 
 The knee link (length g, from the elbow's knee pin to the parallelogram's top cross bar)
 turns about the knee pin, parallel to the motor axis. Its fold angle psi is the angle at the
-elbow between the arm (elbow -> motor axis) and the knee link (elbow -> top bar): 180 deg
-straight on, 0 deg folded back onto the arm. The cross bar (diameter d_c, along the motor
-axis) crosses the planes of both fork plates (width w_a in the arm's plane, from the motor
-axis to the knee pin, :mod:`cad.families.delta.hardware`); its axis is g sin(psi) from the
-arm's centre line, so it clears the plates while
+elbow between the arm (elbow -> motor axis) and the knee link (elbow -> top bar), signed:
+positive on the side the knee folds to (body -z of upper_i, below the arm line), negative
+across it; 180 deg straight on, 0 deg folded back onto the arm line. The cross bar
+(diameter d_c, along the motor axis) crosses the planes of both fork plates (width w_a in
+the arm's plane, :mod:`cad.families.delta.hardware`), which are cranked away from the knee's
+side: from the knee pin each plate runs out at beta = ``CRANK_ANGLE_DEG`` off the arm line to
+a vertex g + (w_a + d_c)/2 away (:func:`cad.families.delta.hardware.crank_vertex_mm`), then
+back to the hub. The bar's axis is g sin(psi + beta) from that leg's centre line, so it
+clears the plates while
 
-    g sin(psi) >= w_a / 2 + d_c / 2,   i.e.   psi >= psi_min = asin((w_a + d_c) / (2 g))   (1)
+    g sin(psi + beta) >= w_a / 2 + d_c / 2,
+    i.e.   psi >= psi_min = asin((w_a + d_c) / (2 g)) - beta                         (1)
 
-(for psi > 90 deg the bar is past the plates' rounded end, g >= w_a / 2 + d_c / 2 from the
-pin). A g shorter than w_a / 2 + d_c / 2 always puts the bar into the plates.
+(for psi + beta > 90 deg the bar is past the plates' rounded end at the pin, g >= w_a / 2 +
+d_c / 2 from it; the leg from the vertex to the hub lies beyond the bar's reach g + d_c / 2
+from the pin on the crank's side). A g shorter than w_a / 2 + d_c / 2 always puts the bar
+into the plates. beta = 0 is a straight fork.
 
 The inner rod (side a, towards the motor) against the bracket: the bracket is a box in arm
 i's frame (u_i, t_i, z about the motor axis point): |u| <= s/2, t in [t_b - T_b, t_b], z in
@@ -40,17 +47,18 @@ from cad.parts.motor import mount_side_mm
 
 
 def fold_limit_deg(joint_offset_mm: float) -> float:
-    """psi_min of eq (1) (deg) for the family's arm plate and cross bar; 180 when the knee
-    link is too short for its bar ever to clear the plates; 0 for g = 0 (no knee)."""
+    """psi_min of eq (1) (deg) for the family's cranked fork and cross bar; 180 when the knee
+    link is too short for its bar ever to clear the plates; -180 for g = 0 (no knee)."""
     if joint_offset_mm <= 0:
-        return 0.0
+        return -180.0
     s = (hw.ARM_WIDTH_MM + hw.CROSS_BAR_D_MM) / (2 * joint_offset_mm)
-    return 180.0 if s > 1 else math.degrees(math.asin(s))
+    return 180.0 if s > 1 else math.degrees(math.asin(s)) - hw.CRANK_ANGLE_DEG
 
 
 def fold_deg(d: Delta, P_mm) -> np.ndarray:
-    """psi (N, 3) deg, the knee's fold angle of each arm at effector points ``P_mm`` (N, 3) mm
-    (elbow-out IK). Raises KinematicsError naming the first point that is not ok."""
+    """psi (N, 3) deg, the knee's signed fold angle of each arm at effector points ``P_mm``
+    (N, 3) mm (elbow-out IK; module docstring). Raises KinematicsError naming the first point
+    that is not ok."""
     pose = ik(d, P_mm)
     require_ok(pose)
     pts = arm_points_mm(d, pose.P_mm, pose.theta_rad)
@@ -58,7 +66,9 @@ def fold_deg(d: Delta, P_mm) -> np.ndarray:
     for i in ARMS:
         back = pts["axis"][i] - pts["elbow"][i]
         back /= np.linalg.norm(back, axis=1, keepdims=True)
-        out.append(np.degrees(np.arccos(np.clip(np.sum(back * pts["knee_dir"][i], axis=1), -1, 1))))
+        k = pts["knee_dir"][i]
+        side = np.where(np.cross(back, k) @ d.tangential[i] > 0, -1.0, 1.0)
+        out.append(side * np.degrees(np.arccos(np.clip(np.sum(back * k, axis=1), -1, 1))))
     return np.stack(out, axis=1)
 
 

@@ -31,7 +31,7 @@ from cad.families.delta import capstan
 from cad.families.delta import hardware as hw
 from cad.families.delta.design import JOINTS
 from cad.firmware.extras import paper_eq25_inputs
-from cad.kinematics.delta import ik, jacobian_rad_per_m, require_ok
+from cad.kinematics.delta import ik, jacobian_rad_per_m, largest_cube_mm, require_ok
 from cad.structure.elastic import get_elastic
 
 #: What changes the delta's force and first mode (the sections are the family's fixed
@@ -42,6 +42,44 @@ CHANGE = ("mechanism.upper_arm_mm (shorter: more force, stiffer), the workspace,
 STRESS_CHANGE = ("[motor] torque_peak_mNm (the drive's current limit), mechanism.lower_arm_mm "
                  "(shorter rods: Euler load ~ 1 / L^2), the workspace; the sections: "
                  "cad/families/delta/hardware.py")
+
+
+#: The Novint Falcon's geometry as the open driver libnifalcon publishes it
+#: (include/falcon/core/FalconGeometry.h, after R. E. Stamper's thesis, 1997; the design keys
+#: of designs/delta_falcon.toml, mm): a design with these keys gets :func:`published_notes`.
+FALCON_GEOMETRY_MM = {"base_radius_mm": 37.233758, "effector_radius_mm": 14.0, "upper_arm_mm": 60.0,
+                      "lower_arm_mm": 102.5, "joint_offset_mm": 22.5, "axis_offset_mm": -2.330909}
+#: What Novint states of the product: the workspace, a 4 x 4 x 4 in cube (101.6 mm; as
+#: designs/delta_falcon.toml states it); its force: no source found (unknown).
+FALCON_PUBLISHED_CUBE_MM = 4 * 25.4
+
+
+def published_notes(design, dev, force_N: float, peak_N: float) -> list[str]:
+    """Notes of the datasheet: the motors when the design states none (``[parts] motor`` and
+    ``[motor]`` absent: the family's default is used, named); and for the Falcon's geometry
+    (:data:`FALCON_GEOMETRY_MM`) this build's workspace and force beside Novint's figures."""
+    raw = getattr(design, "raw", None) or {}
+    notes = []
+    stated = "motor" in (raw.get("parts") or {}) or bool(raw.get("motor"))
+    if not stated:
+        notes.append(f"motors: the design states none; the family's default {dev.motor.name} is "
+                     "used (BOM, forces, rotor inertia, firmware): not the motors of a published "
+                     "device the geometry may come from")
+    d = design.mechanism
+    if all(abs(float(getattr(d, k)) - v) < 1e-6 for k, v in FALCON_GEOMETRY_MM.items()):
+        cube = largest_cube_mm(d, (-200.0, -60.0))
+        ws = design.workspace
+        here = (" x ".join(f"{v:g}" for v in ws["size_mm"]) + " mm box" if ws["shape"] == "box"
+                else f"d{ws['diameter_mm']:g} x {ws['height_mm']:g} mm cylinder")
+        notes.append(
+            f"Novint Falcon geometry (libnifalcon FalconGeometry.h): workspace here a {here} "
+            f"(the largest cube this geometry reaches on the axis: "
+            f"{math.floor(cube['side_mm'] * 10) / 10:.1f} mm) "
+            f"beside Novint's {FALCON_PUBLISHED_CUBE_MM:g} mm (4 in) cube; force here "
+            f"{force_N:.3g} N continuous / {peak_N:.3g} N peak in every direction with the "
+            f"{dev.motor.name}{'' if stated else ', not the Falcon' + chr(39) + 's motors (not published)'}; "
+            "Novint's force: unknown (no source found)")
+    return notes
 
 
 def force_in_every_direction_N(design, torque_Nm: float, ratios=None) -> tuple[float, list[float]]:
@@ -138,7 +176,7 @@ def rows_and_limits(design, report: dict, out_dir=None, simulate_wall: bool = Tr
             f"every pair of solids at {itf.get('n_poses')} workspace points"),
     ]
     cap_rows, cap_limits = capstan.datasheet_rows(design, dev, kmax["value"])
-    return rows + cap_rows, {**delta_limits(design), **cap_limits}, []
+    return rows + cap_rows, {**delta_limits(design), **cap_limits}, published_notes(design, dev, fc, fp)
 
 
 def ratios_of(device):

@@ -156,16 +156,23 @@ def delta_mass_from_bodies(d: Delta, props: dict, rotor_kg_m2: float = 0.0,
     """The :class:`cad.dynamics.delta.DeltaMass` (gravity, firmware) of body mass properties
     ``props`` ({body: MassProps}, body frames of :mod:`.layout`, SI), from arm 0 (the three
     arms are alike): the upper arm's inertia about its motor axis (parallel axes), its mass
-    and its centre's distance along the arm; both rods of parallelogram 0; the effector.
-    DesignError for a joint offset g > 0 (the knee has no place in that model)."""
-    if d.joint_offset_mm > 0:
-        raise DesignError("mechanism.joint_offset_mm",
-                          f"the point-mass model has no knee link, got g = {d.joint_offset_mm!r} mm")
+    and its centre's distance along the arm; both rods of parallelogram 0; the effector; with
+    Stamper's knee (g > 0) knee_0's mass, its centre's distance along the knee link and its
+    inertia about the knee pin (body y = t_0, parallel axes). The lumped model drops each
+    centre's offset across its link and the rods' shape (uniform slender rods)."""
     arm = props["upper_0"]
     c = np.asarray(arm.com_m)
-    y = np.array([0.0, 1.0, 0.0])  # the motor axis in the upper arm's frame
+    y = np.array([0.0, 1.0, 0.0])  # the motor axis (knee pin axis) in the body frame
     I_axis = float(y @ np.asarray(arm.inertia_com_kg_m2) @ y + arm.mass_kg * (c[0] ** 2 + c[2] ** 2))
     rods = sum(props[b].mass_kg for b in ("lower_0_a", "lower_0_b") if b in props)
+    knee = {}
+    if d.joint_offset_mm > 0 and "knee_0" in props:
+        k = props["knee_0"]
+        ck = np.asarray(k.com_m)
+        knee = {"knee_kg": k.mass_kg, "knee_com_mm": float(ck[0]) / MM,
+                "knee_kg_m2": float(y @ np.asarray(k.inertia_com_kg_m2) @ y
+                                    + k.mass_kg * (ck[0] ** 2 + ck[2] ** 2))}
     return DeltaMass(upper_arm_kg_m2=I_axis, upper_arm_kg=arm.mass_kg,
                      upper_arm_com_mm=float(c[0]) / MM, lower_arm_kg=rods,
-                     effector_kg=props["effector"].mass_kg, rotor_kg_m2=rotor_kg_m2, ratio=ratio)
+                     effector_kg=props["effector"].mass_kg, rotor_kg_m2=rotor_kg_m2, ratio=ratio,
+                     **knee)

@@ -9,7 +9,8 @@ The C (:func:`c_source`, C99, no allocation, ``double`` or ``float``): forward k
 by Newton's method, as :func:`cad.kinematics.delta.fk`), inverse kinematics ``hc_inverse``
 (elbow out: the root with the larger cos theta), the Jacobian dX/dtheta (3x3, m/rad),
 tau = J^T F, the gravity compensation of :func:`cad.dynamics.delta.gravity_torques_Nm` and
-the task mass matrix of :func:`cad.dynamics.delta.mass_matrix_kg` (a
+the task mass matrix of :func:`cad.dynamics.delta.mass_matrix_kg` (both with Stamper's knee
+link for g > 0: its mass, centre and inertia about the knee pin; a
 :class:`cad.dynamics.delta.DeltaMass` from the build's body mass properties,
 :func:`cad.families.delta.dynamics.delta_mass_from_bodies`, and the resolved device's rotor
 inertia). Symbols, frames and the status precedence (reach, joint limits, serial, parallel
@@ -46,7 +47,7 @@ GRAVITY_M_S2 = (0.0, 0.0, -G_M_S2)
 GEOMETRY = ("base_radius_mm", "effector_radius_mm", "upper_arm_mm", "lower_arm_mm",
             "theta_min_rad", "theta_max_rad", "joint_offset_mm", "axis_offset_mm")
 MASS = ("upper_arm_kg_m2", "upper_arm_kg", "upper_arm_com_mm", "lower_arm_kg", "effector_kg",
-        "rotor_kg_m2", "ratio")
+        "rotor_kg_m2", "ratio", "knee_kg", "knee_com_mm", "knee_kg_m2")
 
 
 def _lit(x: float) -> str:
@@ -85,8 +86,8 @@ def params_of(d: D.Delta, mass: DeltaMass) -> dict[str, float]:
 def spec_params(design, report: dict, device) -> SpecParams:
     """The delta's constants (geometry mm/rad, :class:`DeltaMass` from report.json ``bodies``
     and the resolved device's rotor and transmission ratio), the home pose (IK at the
-    workspace centre) and gravity -z. DesignError for a joint offset g > 0 (no mass model
-    of the knee) or a workspace centre out of reach."""
+    workspace centre) and gravity -z (with Stamper's knee, g > 0, the knee's mass too).
+    DesignError for a workspace centre out of reach."""
     d = design.mechanism
     n = uniform_ratio(device)
     mass = delta_mass_from_bodies(d, props_of(report), device.joint_rotor_inertia_kg_m2("theta_0") / n ** 2, n)
@@ -230,6 +231,9 @@ static const hc_real M_ARM = {_lit(mass.upper_arm_kg)}, COM_ARM = {_lit(mass.upp
 static const hc_real M_LOWER = {_lit(mass.lower_arm_kg)}, M_EFF = {_lit(mass.effector_kg)};
 /* each arm about its motor axis with the rotor through the transmission: I_arm + n^2 J_m */
 static const hc_real ARM_AXIS = {_lit(mass.upper_arm_kg_m2 + mass.ratio ** 2 * mass.rotor_kg_m2)};
+/* Stamper's knee (0 without): its mass, its centre along it, its inertia about the knee pin */
+static const hc_real M_KNEE = {_lit(mass.knee_kg)}, COM_KNEE = {_lit(mass.knee_com_mm * MM)};
+static const hc_real I_KNEE = {_lit(mass.knee_kg_m2)};
 """
 
 
@@ -431,46 +435,92 @@ int hc_jacobian(const hc_real theta[3], hc_real Jx[9])
     return HC_OK;
 }
 
-/* dV/dtheta of V = g [m_e z_P + sum_i (m_arm z_G,i + m_lower (z_E,i + z_P) / 2)] */
-int hc_gravity_torques(const hc_real theta[3], hc_real tau[3])
+/* P (m), Jx = dX/dtheta (m/rad) and Jt = Jx^-1 (rad/m, rows J_i) at theta */
+static int task_rates(const hc_real theta[3], hc_real P[3], hc_real Jx[9], hc_real Jt[9])
 {
-    hc_real Jx[9];
-    int st = hc_jacobian(theta, Jx), i;
+    hc_real unit[3], col[3];
+    int st = hc_jacobian(theta, Jx), i, a;
     if (st) return st;
-    for (i = 0; i < 3; ++i) {
-        hc_real dzE = -LA * (hc_real)cos(theta[i]);
-        tau[i] = G0 * (M_ARM * dzE * COM_ARM / LA + HC_R(0.5) * M_LOWER * dzE
-                       + (M_EFF + HC_R(1.5) * M_LOWER) * Jx[6 + i]);
-    }
-    return HC_OK;
-}
-
-/* Lambda = M_EFF I + sum_i [(I_ARM + n^2 J_m) J_i J_i^T + (M_LOWER / 3) (G^T G + (G + G^T) / 2 + I)],
- * J_i = row i of dtheta/dx, G = e_i J_i^T, e_i = dE_i/dtheta_i (cad.dynamics.delta.mass_matrix_kg) */
-int hc_mass_matrix(const hc_real theta[3], hc_real M[9])
-{
-    hc_real Jx[9], Jt[9], unit[3], col[3];
-    int st = hc_jacobian(theta, Jx), i, a, b;
+    st = hc_forward(theta, P);
     if (st) return st;
-    for (a = 0; a < 3; ++a) {          /* Jt = Jx^-1 (rad/m), column a */
+    for (a = 0; a < 3; ++a) {
         unit[0] = unit[1] = unit[2] = HC_R(0.0);
         unit[a] = HC_R(1.0);
         solve3(Jx, unit, col);
         for (i = 0; i < 3; ++i) Jt[3 * i + a] = col[i];
     }
+    return HC_OK;
+}
+
+/* arm i at (P, theta) with J_i = Ji: e = dE_i/dtheta_i (m/rad); with the knee (G_OFF > 0)
+ * n = t_i x k_i (k_i the unit in-plane direction elbow -> effector joint) and the knee's rate
+ * q = (n - (n.e) J_i) / rho_i (rad/s per m/s), else n = q = 0 (cad.dynamics.delta.arm_rates) */
+static void arm_rates(int i, const hc_real P[3], const hc_real th[3], const hc_real Ji[3],
+                      hc_real e[3], hc_real n[3], hc_real q[3])
+{
+    hc_real C[3], w[3], k[3], y, rho, ne;
+    const hc_real *t = &T[3 * i];
+    int j;
+    e[0] = -LA * (hc_real)sin(th[i]) * U[3 * i];
+    e[1] = -LA * (hc_real)sin(th[i]) * U[3 * i + 1];
+    e[2] = -LA * (hc_real)cos(th[i]);
+    for (j = 0; j < 3; ++j) n[j] = q[j] = HC_R(0.0);
+    if (!(G_OFF > 0)) return;
+    shifted_elbow(i, th[i], C);
+    for (j = 0; j < 3; ++j) w[j] = P[j] - C[j];
+    y = dot3(w, t);
+    for (j = 0; j < 3; ++j) w[j] -= y * t[j];
+    rho = (hc_real)sqrt(dot3(w, w));
+    for (j = 0; j < 3; ++j) k[j] = w[j] / rho;
+    n[0] = t[1] * k[2] - t[2] * k[1]; n[1] = t[2] * k[0] - t[0] * k[2]; n[2] = t[0] * k[1] - t[1] * k[0];
+    ne = dot3(n, e);
+    for (j = 0; j < 3; ++j) q[j] = (n[j] - ne * Ji[j]) / rho;
+}
+
+/* tau = Jx^T grad_x V, V = g [m_e z_P + sum_i (m_arm z_G,i + m_knee z_K,i + m_lower (z_S,i + z_P) / 2)]
+ * (z_S the rods' top ends: the elbow for G_OFF = 0; cad.dynamics.delta.gravity_force_N) */
+int hc_gravity_torques(const hc_real theta[3], hc_real tau[3])
+{
+    hc_real Jx[9], Jt[9], P[3], F[3], e[3], n[3], q[3];
+    int st = task_rates(theta, P, Jx, Jt), i, j;
+    if (st) return st;
+    F[0] = F[1] = HC_R(0.0);
+    F[2] = M_EFF + HC_R(1.5) * M_LOWER;
+    for (i = 0; i < 3; ++i) {
+        arm_rates(i, P, theta, &Jt[3 * i], e, n, q);
+        for (j = 0; j < 3; ++j)
+            F[j] += e[2] * Jt[3 * i + j] * (M_ARM * COM_ARM / LA + HC_R(0.5) * M_LOWER + M_KNEE)
+                  + n[2] * q[j] * (HC_R(0.5) * M_LOWER * G_OFF + M_KNEE * COM_KNEE);
+    }
+    for (i = 0; i < 3; ++i) tau[i] = G0 * (Jx[i] * F[0] + Jx[3 + i] * F[1] + Jx[6 + i] * F[2]);
+    return HC_OK;
+}
+
+/* Lambda = M_EFF I + sum_i [(I_ARM + n^2 J_m) J_i J_i^T + (M_LOWER / 3) (G^T G + (G + G^T) / 2 + I)
+ *          + M_KNEE G_k^T G_k + (I_KNEE - M_KNEE COM_KNEE^2) q q^T],
+ * G = e J_i^T + G_OFF n q^T (the rods' top ends), G_k = e J_i^T + COM_KNEE n q^T (the knee's
+ * centre); J_i = row i of dtheta/dx, e = dE_i/dtheta_i (cad.dynamics.delta.mass_matrix_kg) */
+int hc_mass_matrix(const hc_real theta[3], hc_real M[9])
+{
+    hc_real Jx[9], Jt[9], P[3];
+    int st = task_rates(theta, P, Jx, Jt), i, a, b;
+    if (st) return st;
     for (a = 0; a < 9; ++a) M[a] = HC_R(0.0);
     for (a = 0; a < 3; ++a) M[4 * a] = M_EFF + M_LOWER;   /* effector, and the rods' I term */
     for (i = 0; i < 3; ++i) {
         const hc_real *Ji = &Jt[3 * i];
-        hc_real e[3], ee;
-        e[0] = -LA * (hc_real)sin(theta[i]) * U[3 * i];
-        e[1] = -LA * (hc_real)sin(theta[i]) * U[3 * i + 1];
-        e[2] = -LA * (hc_real)cos(theta[i]);
+        hc_real e[3], n[3], q[3], ee, s, cJq, cqq;
+        arm_rates(i, P, theta, Ji, e, n, q);
         ee = dot3(e, e);
+        s = dot3(e, n);
+        cJq = (M_LOWER / 3 * G_OFF + M_KNEE * COM_KNEE) * s;
+        cqq = M_LOWER / 3 * G_OFF * G_OFF + I_KNEE;
         for (a = 0; a < 3; ++a)
             for (b = 0; b < 3; ++b)
-                M[3 * a + b] += (ARM_AXIS + M_LOWER / 3 * ee) * Ji[a] * Ji[b]
-                                + M_LOWER / 6 * (e[a] * Ji[b] + e[b] * Ji[a]);
+                M[3 * a + b] += (ARM_AXIS + (M_LOWER / 3 + M_KNEE) * ee) * Ji[a] * Ji[b]
+                                + M_LOWER / 6 * (e[a] * Ji[b] + e[b] * Ji[a])
+                                + cJq * (Ji[a] * q[b] + q[a] * Ji[b]) + cqq * q[a] * q[b]
+                                + M_LOWER / 6 * G_OFF * (n[a] * q[b] + q[a] * n[b]);
     }
     return HC_OK;
 }

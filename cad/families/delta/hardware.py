@@ -51,7 +51,20 @@ ARM_MATERIAL = "aluminium-6061"
 HUB_D_MM = 12.0
 #: Cross bars (elbow and effector): round bar along the motor axis, aluminium.
 CROSS_BAR_D_MM = 8.0
-#: Knee link (Stamper's joint offset g > 0): a plate bar like the upper arm.
+#: Knee link (Stamper's joint offset g > 0): a plate bar like the upper arm. With a knee the
+#: upper arm is a fork of two plates, cranked away from the side the knee folds to (the
+#: knee's cross bar crosses the fork's planes when the knee folds back onto the arm): each
+#: plate runs from the hub to a vertex seen from the knee pin at CRANK_ANGLE_DEG off the
+#: arm line and g + (w_a + d_c)/2 away (:func:`crank_vertex_mm`), then to the pin, so the
+#: cross bar clears the plates down to a fold of asin((w_a + d_c) / (2 g)) - CRANK_ANGLE_DEG
+#: (eq 1 of :mod:`.clearance`): -7.8 deg for the Falcon, whose knees fold to 7.9 deg.
+CRANK_ANGLE_DEG = 40.0
+#: With a knee the motor brackets stand this much farther out along the motor axes (the
+#: hub longer by as much): the rods hang from the knee, higher and farther in than from an
+#: elbow, and the inner one sweeps the bracket's plane when the arm swings up (23.8 mm is the
+#: least that clears the Falcon's 90 mm cube, :func:`.clearance.rod_bracket_gap_mm`; 30 leaves
+#: 5.3 mm).
+KNEE_BRACKET_OFFSET_MM = 30.0
 #: Lower-arm rods: carbon tubes between the sockets.
 ROD_OD_MM = 4.0
 ROD_ID_MM = 3.0
@@ -83,3 +96,12 @@ def base_plate_z_mm(upper_arm_mm: float, theta_min_rad: float, joint_offset_mm: 
     lowest motor angle), the knee link, half the arm or socket, and the clearance."""
     up = upper_arm_mm * max(0.0, math.sin(-theta_min_rad)) + joint_offset_mm
     return up + max(ARM_WIDTH_MM, BALL_JOINT.socket_d_mm) / 2 + PLATE_CLEARANCE_MM
+
+
+def crank_vertex_mm(upper_arm_mm: float, joint_offset_mm: float) -> tuple[float, float]:
+    """(x, y) mm of the cranked fork plate's vertex in the plate's frame (x from the motor
+    axis to the knee pin at (L_a, 0), y towards the side away from the knee): at
+    CRANK_ANGLE_DEG off the arm line seen from the pin, g + (w_a + d_c)/2 from it."""
+    r = joint_offset_mm + (ARM_WIDTH_MM + CROSS_BAR_D_MM) / 2
+    a = math.radians(CRANK_ANGLE_DEG)
+    return upper_arm_mm - r * math.cos(a), r * math.sin(a)

@@ -43,6 +43,25 @@ def arm_shape(length_mm: float, width_mm: float, thickness_mm: float, bore0_mm: 
     return (Pos(0, 0, -thickness_mm / 2) * extrude(sk, amount=thickness_mm)).solids()[0].wrapped
 
 
+def cranked_arm_shape(length_mm: float, vertex_mm, width_mm: float, thickness_mm: float,
+                      bore0_mm: float, bore1_mm: float):
+    """Cranked plate bar: two stadiums of ``width_mm``, (0, 0) -> ``vertex_mm`` (x, y) ->
+    (length, 0), z -t/2..t/2, bores at (0, 0) and (length, 0)."""
+    import math
+
+    from build123d import Circle, Pos, Rot, SlotCenterToCenter, extrude
+
+    def slot(p, q):
+        dx, dy = q[0] - p[0], q[1] - p[1]
+        return (Pos((p[0] + q[0]) / 2, (p[1] + q[1]) / 2) * Rot(0, 0, math.degrees(math.atan2(dy, dx)))
+                * SlotCenterToCenter(math.hypot(dx, dy), width_mm))
+
+    v = (float(vertex_mm[0]), float(vertex_mm[1]))
+    sk = slot((0.0, 0.0), v) + slot(v, (length_mm, 0.0))
+    sk = sk - Circle(bore0_mm / 2) - Pos(length_mm, 0) * Circle(bore1_mm / 2)
+    return (Pos(0, 0, -thickness_mm / 2) * extrude(sk, amount=thickness_mm)).solids()[0].wrapped
+
+
 def bar_shape(diameter_mm: float, length_mm: float, bore_mm: float = 0.0):
     """Round bar (or hub with a bore), axis z, centred on the origin."""
     from build123d import Cylinder

@@ -13,6 +13,14 @@ turned into each MJCF body frame):
   y = -z_layout, z = t_i);
 * ``lower_i_a`` / ``lower_i_b`` on ``upper_i``: ball joint ``ball_i_a`` / ``ball_i_b`` at
   the rod's top ball (the layout's rod frames); site ``lower_i_s_end`` at its lower ball;
+* with Stamper's joint offset g > 0 (the Falcon): ``knee_i`` on ``upper_i``, hinge
+  ``knee_i`` about t_i at the elbow (body frame: the layout's knee_i frame with z along
+  t_i, as the upper arm's), and the rods on ``knee_i``, each on a hinge ``rod_i_s`` about
+  its own z (the normal of the parallelogram's plane span(k_i, t_i), the rod frame of
+  :mod:`cad.families.delta.layout`) at its top joint: the rods swing in the plane of the
+  knee, which holds the knee in line with the rods' projection on the arm's plane (the
+  Falcon's universal joints, Stamper's model that the kinematics and eq (1) state; with
+  balls at both ends of the rods the knee would turn freely);
 * ``effector`` on ``lower_0_a``: ball joint ``ball_effector`` at rod 0a's lower ball (the
   body frame: base axes, origin there); sites ``joint_i_s`` at its six ball studs and
   ``handle`` at the effector centre P.
@@ -20,7 +28,9 @@ turned into each MJCF body frame):
 The five other lower balls close the loops: MJCF ``connect`` ``loop_i_s`` (site
 ``lower_i_s_end`` on ``joint_i_s``). The 24 joint coordinates less 15 loop equations leave 9
 motions: the effector's three translations and each rod's spin about its own axis (free in
-the hardware too; it carries the rod's axial inertia only). No meshes: the model is for the
+the hardware too; it carries the rod's axial inertia only). With the knee: 15 joint
+coordinates, 15 loop equations of rank 12 (each parallelogram is a planar loop: one of its
+connect rows is redundant), 3 motions. No meshes: the model is for the
 dynamics (the part STLs and the assembly STEP show the shapes). No URDF (ball joints).
 """
 
@@ -28,7 +38,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from cad.errors import DesignError
 from cad.export.sim import SimBody, SimLoop, SimModel, SimMotor
 from cad.families.delta.layout import ARMS, body_poses
 from cad.kinematics.delta import ik
@@ -47,7 +56,7 @@ def _frames(design, P_mm) -> dict[str, np.ndarray]:
     out = {}
     for k, T in tf.items():
         T[:3, 3] *= MM
-        if k.startswith("upper_"):
+        if k.startswith(("upper_", "knee_")):
             T[:3, :3] = T[:3, :3] @ ARM_AXES
         out[k] = T
     eff = out["effector"]
@@ -70,16 +79,23 @@ def _props(mp, R_body_mjcf: np.ndarray, shift_m=np.zeros(3)) -> tuple:
             R.T @ np.asarray(mp.inertia_com_kg_m2) @ R)
 
 
+def knee_body(bodies: dict, T: dict, i: int) -> SimBody:
+    """``knee_i`` on ``upper_i`` (g > 0): hinge ``knee_i`` about t_i (the body's z) at the
+    elbow, ref = the knee's angle from the upper arm's x about t_i at the written pose;
+    ``T``: the frames of :func:`_frames`; ``bodies`` as :func:`sim_model`'s."""
+    pos, rot = _local(T[f"upper_{i}"], T[f"knee_{i}"])
+    m, c, inertia = _props(bodies.get(f"knee_{i}"), ARM_AXES)
+    return SimBody(f"knee_{i}", f"upper_{i}", pos, rot, f"knee_{i}",
+                   float(np.arctan2(rot[1, 0], rot[0, 0])), m, c, inertia)
+
+
 def sim_model(design, bodies: dict, device, P_mm=None) -> SimModel:
     """The :class:`cad.export.sim.SimModel` of the delta (module docstring) with the effector
     centre at ``P_mm`` (3,) mm (None: the workspace centre). ``bodies``: ``{body: MassProps}``
     in the layout's body frames (SI), as the build's ``Build.bodies``. Raises
-    KinematicsError for a point out of reach, DesignError for a joint offset g > 0 (the knee
-    link is not modelled) or a motor without a peak torque."""
+    KinematicsError for a point out of reach, DesignError for a motor without a peak
+    torque."""
     d = design.mechanism
-    if d.joint_offset_mm > 0:
-        raise DesignError("mechanism.joint_offset_mm", "the delta's MJCF takes joint_offset_mm = 0 "
-                          "only (no knee link)")
     P = np.asarray(design.workspace["center_mm"] if P_mm is None else P_mm, float)
     T = _frames(design, P)
     torque = device.joint_peak_torques_Nm()
@@ -96,13 +112,18 @@ def sim_model(design, bodies: dict, device, P_mm=None) -> SimModel:
                            armature_kg_m2=device.joint_rotor_inertia_kg_m2(j)))
         n = device.transmission(j).ratio  # a capstan: gear n, the motor's own limit
         motors.append(SimMotor(f"motor_{i}", j, torque[j] / n, gear=n))
+        knee = d.joint_offset_mm > 0
+        parent = f"knee_{i}" if knee else f"upper_{i}"
+        if knee:
+            out.append(knee_body(bodies, T, i))
         for s in ("a", "b"):
             name = f"lower_{i}_{s}"
-            pos, rot = _local(T[f"upper_{i}"], T[name])
+            pos, rot = _local(T[parent], T[name])
             m, c, inertia = _props(bodies.get(name), np.eye(3))
-            out.append(SimBody(name, f"upper_{i}", pos, rot, f"ball_{i}_{s}", 0.0, m, c, inertia,
+            out.append(SimBody(name, parent, pos, rot, f"{'rod' if knee else 'ball'}_{i}_{s}", 0.0,
+                               m, c, inertia,
                                sites={f"{name}_end": np.array([d.lower_arm_mm * MM, 0.0, 0.0])},
-                               joint_type="ball"))
+                               joint_type="hinge" if knee else "ball"))
     pos, rot = _local(T["lower_0_a"], T["effector"])
     origin = T["effector"][:3, 3]
     P_m = P * MM

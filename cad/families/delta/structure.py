@@ -13,19 +13,20 @@ massless DOFs, exact for lumped translational masses.
 clamped at its motor axis (boundary condition: motors held by the servo at infinite gain,
 base and brackets rigid), the elbow and effector cross bars and the effector plate
 beams, the twelve rods trusses between the ball-joint centres, the effector with its
-handle a point mass at the effector centre. Stamper's joint offset (g > 0) is not
-modelled (a DesignError names it). Dimensions and materials: :mod:`.hardware`.
+handle a point mass at the effector centre. With Stamper's joint offset (g > 0, the Falcon)
+each arm is a fork with a knee link on a pin and the rods are beams hinged at the knee
+(:func:`knee_arm`). Dimensions and materials: :mod:`.hardware`.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from cad.data.materials import get_material
-from cad.errors import DesignError
 from cad.families.delta import hardware as hw
 from cad.families.delta.layout import arm_points_mm
 from cad.kinematics.delta import Delta, ik, jacobian_rad_per_m, require_ok
@@ -64,6 +65,9 @@ class Frame3D:
     #: (node, 6 x 6 stiffness to ground, base frame): a pivot held in bearings with a spring
     #: about its axis (:func:`pivot_spring`)
     ground_springs: list[tuple[int, np.ndarray]] = field(default_factory=list)
+    #: beam index -> its released local DOFs (0-11, the order of
+    #: :func:`cad.structure.frame.local_stiffness`): a pin or ball at that end.
+    releases: dict[int, tuple[int, ...]] = field(default_factory=dict)
 
     def node(self, xyz_m) -> int:
         self.nodes.append(np.asarray(xyz_m, float).reshape(3))
@@ -80,6 +84,27 @@ class Frame3D:
             self.beam_labels.append(label)
             prev = nxt
 
+    def released_beam(self, i: int, j: int, s: Section, ref, release, label: str = "") -> None:
+        """One beam element i -> j whose local DOFs ``release`` (indices 0-11 of
+        :func:`cad.structure.frame.local_stiffness`) carry no force: a hinge about local z at
+        end i is (5,), a ball at end j (9, 10, 11). Local z is ``ref`` made normal to the beam."""
+        self.beam(i, j, s, ref, label=label)
+        self.releases[len(self.beams) - 1] = tuple(int(r) for r in release)
+
+    def element_stiffness(self, k: int, L: float, s: Section) -> np.ndarray:
+        """12 x 12 local stiffness of beam ``k``: :func:`cad.structure.frame.local_stiffness`
+        with its released DOFs condensed out (static condensation, K_cc - K_cr K_rr^-1
+        K_rc; zero rows and columns at the released DOFs: the end force there is 0)."""
+        kl = local_stiffness(L, s)
+        r = list(self.releases.get(k, ()))
+        if not r:
+            return kl
+        c = [q for q in range(12) if q not in r]
+        out = np.zeros((12, 12))
+        out[np.ix_(c, c)] = kl[np.ix_(c, c)] - kl[np.ix_(c, r)] @ np.linalg.solve(
+            kl[np.ix_(r, r)], kl[np.ix_(r, c)])
+        return out
+
     def truss(self, i: int, j: int, EA_N: float, mass_kg: float) -> None:
         if not EA_N > 0:
             raise ValueError(f"truss E A must be > 0, got {EA_N!r}")
@@ -91,12 +116,12 @@ class Frame3D:
     def stiffness(self) -> np.ndarray:
         """Assembled stiffness (6 DOFs per node, N/m, N m/rad)."""
         K = np.zeros((6 * len(self.nodes),) * 2)
-        for i, j, s, ref in self.beams:
+        for k, (i, j, s, ref) in enumerate(self.beams):
             R = element_axes(self.nodes[i], self.nodes[j], ref)
             T = np.kron(np.eye(4), R)
             L = float(np.linalg.norm(self.nodes[j] - self.nodes[i]))
             d = np.r_[6 * i:6 * i + 6, 6 * j:6 * j + 6]
-            K[np.ix_(d, d)] += T.T @ local_stiffness(L, s) @ T
+            K[np.ix_(d, d)] += T.T @ self.element_stiffness(k, L, s) @ T
         for i, j, EA, _ in self.trusses:
             v = self.nodes[j] - self.nodes[i]
             L = float(np.linalg.norm(v))
@@ -115,7 +140,7 @@ class Frame3D:
             T = np.kron(np.eye(4), element_axes(self.nodes[i], self.nodes[j], ref))
             L = float(np.linalg.norm(self.nodes[j] - self.nodes[i]))
             d = np.r_[6 * i:6 * i + 6, 6 * j:6 * j + 6]
-            out[k] = local_stiffness(L, s) @ (T @ u[d])
+            out[k] = self.element_stiffness(k, L, s) @ (T @ u[d])
         return out
 
     def truss_forces_N(self, u: np.ndarray) -> np.ndarray:
@@ -210,6 +235,9 @@ class DeltaSections:
     rod_kg_per_m: float
     effector_kg: float
     joint_kg: float
+    #: the rods as beams (their section), used with Stamper's knee (g > 0) only: None ->
+    #: the carbon tube of :mod:`.hardware`.
+    rod: Section | None = None
 
 
 def default_sections(effector_radius_mm: float, width_mm: float) -> DeltaSections:
@@ -225,19 +253,69 @@ def default_sections(effector_radius_mm: float, width_mm: float) -> DeltaSection
         cross_bar=round_section(hw.CROSS_BAR_D_MM * MM, 0.0, hw.ARM_MATERIAL),
         effector=rect_section(2 * r_disk, hw.EFFECTOR_THICKNESS_MM * MM, hw.PLATE_MATERIAL),
         rod_EA_N=rod.E * rod.A, rod_kg_per_m=rod.rho * rod.A, effector_kg=eff_kg,
-        joint_kg=hw.BALL_JOINT.mass_g * 1e-3)
+        joint_kg=hw.BALL_JOINT.mass_g * 1e-3, rod=rod)
+
+
+def fork_section(plate: Section) -> Section:
+    """The arm of a delta with a knee: a fork of two plates of section ``plate`` (joined only
+    at the hub's spacer and by the knee pin, so no composite action is counted: A, Iy, Iz and
+    J twice the plate's, the extreme fibres the plate's; each plate carries half the load) --
+    a lower bound of its stiffness."""
+    return dataclasses.replace(plate, A=2 * plate.A, Iz=2 * plate.Iz, Iy=2 * plate.Iy,
+                               J=2 * plate.J)
+
+
+def knee_arm(f: Frame3D, d: Delta, i: int, pts: dict, sec: DeltaSections, c: int,
+             half_m: float, rope_k_Nm_per_rad: float | None = None) -> None:
+    """Arm ``i`` of a delta with Stamper's knee (g > 0) into ``f`` (``pts``: the joint points
+    of :func:`cad.families.delta.layout.arm_points_mm` at one pose, in metres; ``c`` the
+    effector-centre node, ``half_m`` half the parallelogram's width). Members and joints:
+    the arm fork (:func:`fork_section`) clamped at the motor axis; the knee plate (the arm's
+    plate section) from the elbow to the knee cross bar, on the knee pin: a hinge about
+    t_i at the elbow; the knee cross bar; each rod a beam of the rod tube, hinged at the
+    knee cross bar about the normal n_i = k_i x t_i of the parallelogram's plane (the joint
+    that holds the knee in line with the rods, Stamper's model: :mod:`cad.families.delta.sim`)
+    and on a ball at the effector cross bar (all three rotations free); the effector's cross
+    bar and plate beam as for g = 0. ``rope_k_Nm_per_rad``: the arm on a pivot held by its
+    capstan's rope (:func:`pivot_spring`) instead of clamped."""
+    t, k = d.tangential[i], pts["knee_dir"][i] / np.linalg.norm(pts["knee_dir"][i])
+    n = np.cross(k, t)
+    rod = sec.rod or round_section(hw.ROD_OD_MM * MM, hw.ROD_ID_MM * MM, hw.ROD_MATERIAL)
+    a, e = f.node(pts["axis"][i]), f.node(pts["elbow"][i])
+    if rope_k_Nm_per_rad is None:
+        f.clamped.add(a)
+    else:
+        f.ground_springs.append((a, pivot_spring(t, rope_k_Nm_per_rad)))
+    f.beam(a, e, fork_section(sec.arm), t, n_sub=4, label=f"upper arm {i}")
+    top, bc = f.node(pts["top"][i]), f.node(pts["bottom"][i])
+    f.released_beam(e, top, sec.arm, t, (5,), label=f"knee {i}")
+    f.beam(c, bc, sec.effector, np.array([0.0, 0.0, 1.0]), label=f"effector plate {i}")
+    for s in (-1.0, 1.0):
+        tb, bb = f.node(pts["top"][i] + s * half_m * t), f.node(pts["bottom"][i] + s * half_m * t)
+        f.beam(top, tb, sec.cross_bar, k, label=f"knee cross bar {i}")
+        f.beam(bc, bb, sec.cross_bar, d.radial[i], label=f"effector cross bar {i}")
+        f.released_beam(tb, bb, rod, n, (5, 9, 10, 11), label=f"rod {i}")
+        f.add_mass(tb, sec.joint_kg / 2)
+        f.add_mass(bb, sec.joint_kg / 2)
+
+
+def rod_forces_N(f: Frame3D, u: np.ndarray) -> np.ndarray:
+    """Axial force (N, tension > 0) of every rod of a delta frame under displacements ``u``:
+    the trusses (g = 0), or the beams labelled ``rod`` (g > 0: the end force along the
+    rod at its lower end)."""
+    if f.trusses:
+        return f.truss_forces_N(u)
+    fe = f.beam_end_forces(u)
+    return np.array([fe[k, 6] for k, lab in enumerate(f.beam_labels) if lab.startswith("rod")])
 
 
 def delta_frame(d: Delta, P_mm, width_mm: float, sec: DeltaSections,
                 rope_k_Nm_per_rad=None) -> tuple[Frame3D, int]:
     """(frame, index of the effector-centre node) of the delta at effector point ``P_mm``
-    (3,) mm (module docstring). ``rope_k_Nm_per_rad`` (3,) N m/rad: each upper arm on a pivot
-    held by its capstan's rope (:func:`pivot_spring` about the motor axis t_i, the motor held
-    by the servo: the rope in series with the arm), None: clamped. KinematicsError when P is
-    not ok; DesignError for g > 0."""
-    if d.joint_offset_mm > 0:
-        raise DesignError("mechanism.joint_offset_mm",
-                          f"the frame model covers g = 0 only, got {d.joint_offset_mm!r} mm")
+    (3,) mm (module docstring; with Stamper's knee, g > 0, each arm is :func:`knee_arm`).
+    ``rope_k_Nm_per_rad`` (3,) N m/rad: each upper arm on a pivot held by its capstan's rope
+    (:func:`pivot_spring` about the motor axis t_i, the motor held by the servo: the rope in
+    series with the arm), None: clamped. KinematicsError when P is not ok."""
     pose = ik(d, np.asarray(P_mm, float).reshape(1, 3))
     require_ok(pose)
     pts = {k: v[:, 0] * MM for k, v in arm_points_mm(d, pose.P_mm, pose.theta_rad).items()}
@@ -247,6 +325,10 @@ def delta_frame(d: Delta, P_mm, width_mm: float, sec: DeltaSections,
     f.add_mass(c, sec.effector_kg)
     half = width_mm / 2 * MM
     for i in range(3):
+        if d.joint_offset_mm > 0:
+            knee_arm(f, d, i, pts, sec, c, half,
+                     None if rope_k_Nm_per_rad is None else rope_k_Nm_per_rad[i])
+            continue
         t, u = d.tangential[i], d.radial[i]
         a, e = f.node(pts["axis"][i]), f.node(pts["elbow"][i])
         if rope_k_Nm_per_rad is None:
@@ -310,8 +392,8 @@ def first_mode(d: Delta, P_mm, width_mm: float, sec: DeltaSections | None = None
 
 def euler_buckling_N(od_mm: float, id_mm: float, length_mm: float, E_Pa: float) -> float:
     """Euler load of a pin-ended tube, pi^2 E I / L^2 (N; Euler's column, K = 1)."""
-    I = math.pi / 64 * ((od_mm * MM) ** 4 - (id_mm * MM) ** 4)
-    return math.pi ** 2 * E_Pa * I / (length_mm * MM) ** 2
+    i_m4 = math.pi / 64 * ((od_mm * MM) ** 4 - (id_mm * MM) ** 4)
+    return math.pi ** 2 * E_Pa * i_m4 / (length_mm * MM) ** 2
 
 
 def peak_torque_loads_N(d: Delta, P_mm, torque_Nm: float) -> np.ndarray:
@@ -331,9 +413,10 @@ def peak_stress(d: Delta, P_mm, width_mm: float, loads_N,
     ``loads_N`` (n, 3) N at the effector centre, the worst of them (superposition of three
     unit loads):
     {"max_stress_MPa" the largest von Mises stress of the beams (arms, cross bars, effector
-    plate: :func:`cad.structure.frame.von_mises_of_end_forces`), "critical_member",
+    plate, knees: :func:`cad.structure.frame.von_mises_of_end_forces`), "critical_member",
     "rod_compression_max_N" / "rod_tension_max_N" the largest rod forces,
-    "rod_stress_max_MPa", "rod_buckling_N" (Euler, pin-ended carbon tube of
+    "rod_stress_max_MPa" (axial; with a knee, g > 0, the rods also bend: their largest von
+    Mises stress), "rod_buckling_N" (Euler, pin-ended carbon tube of
     :mod:`.hardware`), "rod_buckling_margin" its ratio to the largest compression (inf
     without compression), "critical_load_N" (3,), "at_mm"}. KinematicsError / DesignError as
     :func:`delta_frame`."""
@@ -341,18 +424,22 @@ def peak_stress(d: Delta, P_mm, width_mm: float, loads_N,
     f, c = delta_frame(d, P_mm, width_mm, sec)
     U = [f.solve({c: e}) for e in np.eye(3)]
     fb = np.stack([f.beam_end_forces(u) for u in U])          # (3, n_beams, 12) per unit load
-    ft = np.stack([f.truss_forces_N(u) for u in U])           # (3, n_trusses)
+    ft = np.stack([rod_forces_N(f, u) for u in U])           # (3, n_rods)
     D = np.asarray(loads_N, float).reshape(-1, 3)
     vm = von_mises_of_end_forces(np.einsum("dk,kbe->dbe", D, fb), [b[2] for b in f.beams])
+    is_rod = np.array([lab.startswith("rod") for lab in f.beam_labels], bool)
+    labels = [lab for lab, r in zip(f.beam_labels, is_rod, strict=True) if not r]
+    vm, vm_rod = vm[:, ~is_rod], vm[:, is_rod]
     rods = D @ ft
     k = np.unravel_index(int(np.argmax(vm)), vm.shape)
     el = get_elastic(hw.ROD_MATERIAL, "delta.structure")
     p_cr = euler_buckling_N(hw.ROD_OD_MM, hw.ROD_ID_MM, d.lower_arm_mm, el.E_Pa)
     comp = float(max(0.0, -rods.min()))
-    return {"max_stress_MPa": float(vm.max() * 1e-6), "critical_member": f.beam_labels[k[1]],
+    rod_axial = np.abs(rods).max() / (sec.rod_EA_N / el.E_Pa)
+    return {"max_stress_MPa": float(vm.max() * 1e-6), "critical_member": labels[k[1]],
             "critical_load_N": D[k[0]].tolist(),
             "rod_compression_max_N": comp, "rod_tension_max_N": float(max(0.0, rods.max())),
-            "rod_stress_max_MPa": float(np.abs(rods).max() / (sec.rod_EA_N / el.E_Pa) * 1e-6),
+            "rod_stress_max_MPa": float(max(rod_axial, vm_rod.max(initial=0.0)) * 1e-6),
             "rod_buckling_N": p_cr, "rod_buckling_margin": p_cr / comp if comp > 0 else math.inf,
             "at_mm": np.asarray(P_mm, float).tolist()}
 

@@ -46,7 +46,13 @@ def test_force_in_every_direction_matches_sampled_directions():
     assert any(np.allclose(where, P) for P in X)
 
 
-def test_the_falcon_layout_is_refused_before_any_cad(tmp_path):
+def test_a_clashing_knee_layout_is_refused_before_any_cad(tmp_path, monkeypatch):
+    """The Falcon on the layout before the crank (straight fork, brackets at the g = 0 stack:
+    its knees fold under eq (1)'s limit) is refused in one line, nothing written."""
+    from cad.families.delta import hardware as hw
+
+    monkeypatch.setattr(hw, "CRANK_ANGLE_DEG", 0.0)
+    monkeypatch.setattr(hw, "KNEE_BRACKET_OFFSET_MM", 0.0)
     d = cad.load_design(ROOT / "designs" / "delta_falcon.toml")
     with pytest.raises(DesignError, match="mechanism.joint_offset_mm") as e:
         cad.build_design(d, tmp_path / "f", formats="step")

@@ -1,11 +1,16 @@
 """The Falcon's knee (Stamper's joint offset g > 0): its fold angle over the workspace and
-where the knee's cross bar meets the upper arm's fork plates (cad.families.delta.clearance.py).
+where the knee's cross bar meets the upper arm's fork plates, and the inner rods against the
+motor brackets (cad.families.delta.clearance.py).
 
 References: the fold angle against the layout's body frames (arccos of -x_upper . x_knee,
-:func:`cad.families.delta.layout.body_poses`: a second path through the kinematics); the
-clash limit of eq (1) against OCCT's exact common volume of the posed solids (slow: the
-every-pair check at one layer of the Falcon's workspace just below and just above the limit:
-knee pairs collide at the layer whose fold is under the limit and at no other).
+signed by the knee's side, :func:`cad.families.delta.layout.body_poses`: a second path
+through the kinematics); the clash limit of eq (1) against OCCT's exact common volume of the
+posed solids (slow). Eq (1) is checked at its crank angle beta = 0 (a straight fork and the
+brackets at the g = 0 stack, ``hardware`` patched: the layout before issue 36's fix, whose
+knee folds under the limit at the top of the Falcon's cube) layer by layer -- knee pairs
+collide at the layer whose fold is under the limit and at no other, rod pairs where the
+predicted gap is negative -- and with the family's hardware (the cranked fork, the brackets
+30 mm out) over the Falcon's whole 90 mm cube: nothing meets.
 """
 
 from __future__ import annotations
@@ -34,6 +39,14 @@ ROOT = Path(__file__).resolve().parents[3]
 RAW = tomllib.loads((ROOT / "designs" / "delta_falcon.toml").read_text())
 
 
+@pytest.fixture
+def straight_fork(monkeypatch):
+    """The layout before the crank: a straight fork (beta = 0), the brackets at the g = 0
+    stack."""
+    monkeypatch.setattr(hw, "CRANK_ANGLE_DEG", 0.0)
+    monkeypatch.setattr(hw, "KNEE_BRACKET_OFFSET_MM", 0.0)
+
+
 def _layer(z_mm: float):
     """The Falcon with its workspace one thin layer (90 x 90 mm, 1 mm high) whose top is z."""
     raw = copy.deepcopy(RAW)
@@ -48,24 +61,41 @@ def test_fold_angle_against_the_layout_frames():
     psi = fold_deg(d.mechanism, X)
     tf = body_poses(d.mechanism, X, d.parallelogram_width_mm)
     for i in range(3):
-        ref = np.degrees(np.arccos(-np.einsum("nj,nj->n", tf[f"upper_{i}"][:, :3, 0],
-                                              tf[f"knee_{i}"][:, :3, 0])))
+        x_up, x_k = tf[f"upper_{i}"][:, :3, 0], tf[f"knee_{i}"][:, :3, 0]
+        ref = np.degrees(np.arccos(-np.einsum("nj,nj->n", x_up, x_k)))
+        # the knee's side: below the arm line (body -z of upper_i) is positive
+        ref *= np.where(np.einsum("nj,nj->n", tf[f"upper_{i}"][:, :3, 2], x_k) > 0, -1.0, 1.0)
         assert np.allclose(psi[:, i], ref, rtol=0, atol=1e-9)
-    # the Falcon's workspace top folds the knees almost flat (8 deg), its bottom opens them
+    # the Falcon's workspace top folds the knees almost flat (8 deg), its bottom opens them;
+    # they stay on one side of the arm (the side the fork is cranked away from)
     assert psi.min() == pytest.approx(7.86, abs=0.01) and psi.max() > 100
 
 
-def test_fold_limit_of_eq1():
-    # the bar's axis g sin(psi) from the arm's centre line = half the plate + the bar's radius
+def test_fold_limit_of_eq1(straight_fork):
+    # the bar's axis g sin(psi + beta) from the plate leg's centre line = half the plate + the
+    # bar's radius; beta = 0 here (straight fork)
     lim = fold_limit_deg(22.5)
     assert 22.5 * math.sin(math.radians(lim)) == pytest.approx((hw.ARM_WIDTH_MM + hw.CROSS_BAR_D_MM) / 2,
                                                                 rel=1e-12)
-    assert fold_limit_deg(0.0) == 0.0
+    assert fold_limit_deg(0.0) == -180.0
     assert fold_limit_deg((hw.ARM_WIDTH_MM + hw.CROSS_BAR_D_MM) / 2 * 0.99) == 180.0
 
 
+def test_fold_limit_with_the_crank():
+    lim = fold_limit_deg(22.5)
+    beta = hw.CRANK_ANGLE_DEG
+    assert 22.5 * math.sin(math.radians(lim + beta)) == pytest.approx(
+        (hw.ARM_WIDTH_MM + hw.CROSS_BAR_D_MM) / 2, rel=1e-12)
+    assert lim == pytest.approx(-7.77, abs=0.01)  # under the Falcon's 7.86 deg: clear
+    # the crank's vertex: beta off the arm line seen from the pin, g + (w_a + d_c)/2 from it
+    x, y = hw.crank_vertex_mm(60.0, 22.5)
+    r = 22.5 + (hw.ARM_WIDTH_MM + hw.CROSS_BAR_D_MM) / 2
+    assert math.hypot(60.0 - x, y) == pytest.approx(r, rel=1e-12)
+    assert math.degrees(math.atan2(y, 60.0 - x)) == pytest.approx(beta, rel=1e-12)
+
+
 @pytest.mark.parametrize("z_mm,clash", [(-81.5, False), (-80.0, True)])
-def test_knee_clash_edges(z_mm, clash):
+def test_knee_clash_edges(z_mm, clash, straight_fork):
     d = _layer(z_mm)
     psi = fold_deg(d.mechanism, d.workspace_points()).min()
     assert (psi < fold_limit_deg(22.5)) == clash  # the two layers straddle the limit
@@ -76,7 +106,8 @@ def test_knee_clash_edges(z_mm, clash):
         assert "folds to 31.3 deg" in msg and "below 32.2 deg" in msg and "\n" not in msg
 
 
-def test_the_falcon_refusal_names_the_knee_clash(tmp_path):
+def test_the_falcon_refusal_names_the_knee_clash(tmp_path, straight_fork):
+    """The refusal before any CAD, on the layout before the crank."""
     import cad
 
     d = cad.load_design(ROOT / "designs" / "delta_falcon.toml")
@@ -88,11 +119,18 @@ def test_the_falcon_refusal_names_the_knee_clash(tmp_path):
 
 
 @pytest.mark.parametrize("z_mm,pairs", [(-88.5, 0), (-86.0, 3), (-80.0, 37)])
-def test_rod_bracket_pairs_by_layer(z_mm, pairs):
+def test_rod_bracket_pairs_by_layer(z_mm, pairs, straight_fork):
     d = _layer(z_mm)
     gap = rod_bracket_gap_mm(d, d.workspace_points())
     assert int((gap < 0).sum()) == pairs
     assert (rod_bracket_clash(d) is None) == (pairs == 0)
+
+
+def test_the_falcon_clears_with_the_family_hardware():
+    d = parse_design(copy.deepcopy(RAW), "delta_falcon.toml")
+    assert knee_clash(d) is None and rod_bracket_clash(d) is None
+    # mm: the inner rods' closest approach to the brackets 30 mm out; regression pin (measured)
+    assert rod_bracket_gap_mm(d, d.workspace_points()).min() == pytest.approx(5.26, abs=0.01)
 
 
 def test_the_bundled_delta_clears_both():
@@ -108,7 +146,7 @@ def _label(P) -> str:
 
 @pytest.mark.slow  # four every-pair checks of the Falcon's solids at 125 poses each (~2 min)
 @pytest.mark.parametrize("z_mm", [-88.5, -86.0, -81.5, -80.0])
-def test_predictions_against_the_solids(z_mm):
+def test_predictions_against_the_solids(z_mm, straight_fork):
     from cad.assembly import interference as itf
     from cad.families.delta.assembly import assemble
 
@@ -125,3 +163,24 @@ def test_predictions_against_the_solids(z_mm):
     gap = rod_bracket_gap_mm(d, X)
     assert rod == {(_label(X[n]), i) for n, i in zip(*np.nonzero(gap < 0), strict=True)}
     assert len(hits) == len(knee) + len(rod_hits)  # nothing else meets
+
+
+@pytest.mark.slow  # one every-pair check of the Falcon's solids at 125 poses (~40 s)
+def test_the_falcon_cube_clears_with_the_solids():
+    """The family's hardware (cranked fork, brackets 30 mm out) over the Falcon's 90 mm cube:
+    OCCT finds no pair of solids meeting at any of its 125 points."""
+    from cad.assembly import interference as itf
+    from cad.families.delta.assembly import assemble
+
+    d = parse_design(copy.deepcopy(RAW), "delta_falcon.toml")
+    rep = itf.check_model(assemble(d, "preview"), fail_fast=False).as_dict()
+    assert not rep.get("collisions")
+    assert rep["n_poses"] == 125
+
+
+@pytest.mark.parametrize("offset_mm,clear", [(23.7, False), (23.8, True)])
+def test_the_least_bracket_offset_for_the_falcon_cube(monkeypatch, offset_mm, clear):
+    """hardware.KNEE_BRACKET_OFFSET_MM's comment: 23.8 mm is the least offset that clears."""
+    monkeypatch.setattr(hw, "KNEE_BRACKET_OFFSET_MM", offset_mm)
+    d = parse_design(copy.deepcopy(RAW), "delta_falcon.toml")
+    assert (rod_bracket_gap_mm(d, d.workspace_points()).min() >= 0) == clear

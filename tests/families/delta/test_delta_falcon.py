@@ -80,3 +80,34 @@ def test_published_four_inch_cube_is_not_fully_reachable():
     assert not np.all(pose.ok) and "unreachable" in pose.describe(int(np.flatnonzero(~pose.ok)[0]))
     inside = D.box_grid_mm([0, 0, best["center_z_mm"]], [best["side_mm"]] * 3, 9)
     assert np.all(D.ik(d, inside).ok)
+
+
+def test_datasheet_force_and_notes_with_the_default_motor():
+    """The Falcon states no motor: the datasheet's force is the resolved default's (the
+    catalog's maxon RE 35), by the force row's own model checked against sampled force
+    directions, and the notes say the motor is not the Falcon's and set the workspace and
+    force beside Novint's figures (the force unknown: no source found)."""
+    from cad.device import resolve_device
+    from cad.families.delta.datasheet import force_in_every_direction_N, published_notes
+
+    des = load_design(ROOT / "designs" / "delta_falcon.toml")
+    dev = resolve_device(des)
+    assert dev.motor.spec.key == "maxon-re35"
+    tc = dev.motor.spec.torque_continuous_mNm * 1e-3
+    fc, at = force_in_every_direction_N(des, tc)
+    # sampled directions: the torque each needs at the worst point, |tau|_2 at the limit
+    rng = np.random.default_rng(3)
+    u = rng.normal(size=(4000, 3))
+    u /= np.linalg.norm(u, axis=1, keepdims=True)
+    t = D.joint_torques_Nm(des.mechanism, np.repeat(np.asarray(at)[None], len(u), 0), u)
+    sampled = float(np.min(tc / np.linalg.norm(t, axis=1)))
+    assert sampled >= fc * (1 - 1e-12) and sampled == pytest.approx(fc, rel=2e-3)
+    assert fc == pytest.approx(0.4726, abs=5e-4)  # N, regression pin (RE 35, 90 mm cube)
+    notes = published_notes(des, dev, fc, 10 * fc)
+    assert any(n.startswith("motors: the design states none") and dev.motor.name in n for n in notes)
+    falcon = [n for n in notes if n.startswith("Novint Falcon geometry")]
+    assert len(falcon) == 1 and "101.6 mm (4 in) cube" in falcon[0] and "91.8 mm" in falcon[0]
+    assert "not the Falcon's motors" in falcon[0] and "Novint's force: unknown" in falcon[0]
+    # a design with its own motor and another geometry gets neither note
+    other = load_design(ROOT / "designs" / "delta.toml")
+    assert published_notes(other, resolve_device(other), 1.0, 2.0) == []

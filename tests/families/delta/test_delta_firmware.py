@@ -48,6 +48,8 @@ from tests.compilers import compiler
 ROOT = Path(__file__).resolve().parents[3]
 MASS = DeltaMass(upper_arm_kg_m2=2e-4, upper_arm_kg=0.05, upper_arm_com_mm=40.0,
                  lower_arm_kg=0.03, effector_kg=0.08, rotor_kg_m2=7.92e-6)
+#: The Falcon's (g > 0) with a knee link: its mass, centre along it and inertia about its pin.
+MASS_KNEE = DeltaMass(**{**vars(MASS), "knee_kg": 0.012, "knee_com_mm": 16.0, "knee_kg_m2": 5e-6})
 
 MAIN = r"""
 #include <math.h>
@@ -147,11 +149,12 @@ def test_c_matches_numpy(tmp_path, name, use_float):
     rng = np.random.default_rng(7)
     P = _points(des, rng)
     F = rng.normal(scale=5.0, size=P.shape)
-    vec = reference_vectors(des.mechanism, MASS, P, F)
+    mass = MASS_KNEE if des.mechanism.joint_offset_mm > 0 else MASS
+    vec = reference_vectors(des.mechanism, mass, P, F)
     n_ok = int(np.sum(vec["ik_status"] == 0))
     assert 0 < n_ok < len(P)  # both kinds of row are exercised
     assert set(vec["ik_status"]) >= {0, 2}  # ok and out of reach
-    got = _run(tmp_path, device_spec(des), vectors_c(vec), use_float)
+    got = _run(tmp_path, device_spec(des, mass), vectors_c(vec), use_float)
     assert got["ok"] == n_ok
     assert got["fk"] >= len(des.workspace_points())  # the whole grid, and some points more
     if use_float:
@@ -200,14 +203,36 @@ int main(void)
 """
 
 
-def test_gravity_torques_are_the_derivative_of_the_potential(tmp_path):
-    des = load_design(ROOT / "designs" / "delta.toml")
+def potential_knee_J(d, theta: np.ndarray, m: DeltaMass) -> np.ndarray:
+    """V(theta) (N,) J of a delta with Stamper's knee, written out from the FK: as
+    :func:`potential_J` with each parallelogram's centre halfway between its top bar (the knee's
+    end, z_E + g k_z) and the effector joint, and each knee's centre at z_E + c_k k_z, k the unit
+    in-plane direction elbow -> effector joint (the knee in line with the rods' projection)."""
+    P = fk(d, theta).P_mm * 1e-3
+    V = m.effector_kg * P[:, 2]
+    for i in range(3):
+        u, t = d.radial[i], d.tangential[i]
+        E = (d.base_radius_mm * u + d.axis_offset_mm * t) * 1e-3 + d.upper_arm_mm * 1e-3 * (
+            np.cos(theta[:, i])[:, None] * u - np.sin(theta[:, i])[:, None] * np.array([0, 0, 1.0]))
+        w = P + d.effector_radius_mm * 1e-3 * u - E
+        wp = w - (w @ t)[:, None] * t
+        kz = wp[:, 2] / np.linalg.norm(wp, axis=1)
+        zS = E[:, 2] + d.joint_offset_mm * 1e-3 * kz
+        V += m.upper_arm_kg * (-m.upper_arm_com_mm * 1e-3 * np.sin(theta[:, i]))
+        V += m.knee_kg * (E[:, 2] + m.knee_com_mm * 1e-3 * kz) + m.lower_arm_kg * (zS + P[:, 2]) / 2
+    return G_M_S2 * V
+
+
+@pytest.mark.parametrize("name", ["delta.toml", "delta_falcon.toml"])
+def test_gravity_torques_are_the_derivative_of_the_potential(tmp_path, name):
+    des = load_design(ROOT / "designs" / name)
     d, X = des.mechanism, des.workspace_points()
     th = ik(d, X).theta_rad
     h = 1e-6
-    fd = np.stack([(potential_J(d, th + h * e, MASS) - potential_J(d, th - h * e, MASS)) / (2 * h)
+    mass, pot = (MASS_KNEE, potential_knee_J) if d.joint_offset_mm > 0 else (MASS, potential_J)
+    fd = np.stack([(pot(d, th + h * e, mass) - pot(d, th - h * e, mass)) / (2 * h)
                    for e in np.eye(3)], axis=1)
-    spec = device_spec(des)
+    spec = device_spec(des, mass)
     files = {"hapticad_device.h": csrc.header(spec), "hapticad_device.c": csrc.source(spec),
              "vectors.h": f"#define V_N {len(th)}\nstatic const double V_theta_rad[] = "
                           f"{{{', '.join(repr(float(v)) for v in th.ravel())}}};\n"}

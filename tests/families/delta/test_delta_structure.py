@@ -19,7 +19,6 @@ import numpy as np
 import pytest
 
 from cad.design import load_design
-from cad.errors import DesignError
 from cad.families.delta.layout import arm_points_mm
 from cad.families.delta.structure import (
     Frame3D,
@@ -109,9 +108,3 @@ def test_bundled_delta_first_mode_regression_pin():
 
 PIN_HZ = 199.25191285776407  # Hz, double lateral mode (x-y), 2026-12-04
 PIN_UM_PER_N = 5.141712297419138  # um/N, worst direction
-
-
-def test_joint_offset_is_refused_with_the_field():
-    des = load_design(ROOT / "designs" / "delta_falcon.toml")
-    with pytest.raises(DesignError, match="joint_offset_mm"):
-        first_mode(des.mechanism, des.workspace["center_mm"], des.parallelogram_width_mm)
