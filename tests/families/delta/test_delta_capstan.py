@@ -354,3 +354,20 @@ def test_bad_transmission_exits_2_naming_the_field(tmp_path, table, field):
     assert r.returncode == 2, r.stderr
     assert field in r.stderr and "Traceback" not in r.stderr
     assert len(r.stderr.strip().splitlines()) == 1
+
+
+def test_a_knee_arm_on_its_rope_adds_the_same_series_compliance():
+    """The Falcon's knee arms (Stamper's joint offset) on capstans: each arm's pivot is held by
+    its rope, not clamped (found at the merge of the knee and capstan work: the knee arm
+    clamped its axis whatever the rope); the same two-springs-in-series closed form as above."""
+    falcon = parse_design(tomllib.loads((ROOT / "designs" / "delta_falcon.toml").read_text()))
+    m = falcon.mechanism
+    c = np.asarray(falcon.workspace["center_mm"], float)
+    k = (900.0, 1200.0, 1500.0)
+    rope = first_mode(m, c, falcon.parallelogram_width_mm, rope_k_Nm_per_rad=k)
+    clamped = first_mode(m, c, falcon.parallelogram_width_mm)
+    assert rope["first_mode_Hz"] < clamped["first_mode_Hz"]
+    J, _ = jacobian_rad_per_m(m, c[None])
+    Ji = np.linalg.inv(J[0])
+    added = Ji @ np.diag(1 / np.asarray(k)) @ Ji.T
+    assert rope["compliance_m_per_N"] == pytest.approx(clamped["compliance_m_per_N"] + added, rel=1e-5, abs=1e-12)
