@@ -347,8 +347,11 @@ def first_mode(d: Delta, P_mm, width_mm: float, sec: DeltaSections | None = None
             "compliance_m_per_N": C,
             "compliance_max_um_per_N": float(np.linalg.eigvalsh(0.5 * (C + C.T))[-1] * 1e6),
             "boundary": "upper arms clamped at the motor axes (motors held, base rigid); "
-                        "rods pin-ended between the ball-joint centres; effector and handle "
-                        "a point mass at its centre"}
+                        + ("knees on their pins; rods hinged at the knees (about the normal of "
+                           "the parallelogram's plane) and on balls at the effector; "
+                           if d.joint_offset_mm > 0 else
+                           "rods pin-ended between the ball-joint centres; ")
+                        + "effector and handle a point mass at its centre"}
 
 
 def euler_buckling_N(od_mm: float, id_mm: float, length_mm: float, E_Pa: float) -> float:
