@@ -386,8 +386,11 @@ def first_mode(d: Delta, P_mm, width_mm: float, sec: DeltaSections | None = None
                          "upper arms on pivots at the motor axes held by the capstans' rope springs k_q "
                          f"{', '.join(f'{k:.4g}' for k in rope_k_Nm_per_rad)} N m/rad (motors held, base "
                          "rigid); ")
-                        + "rods pin-ended between the ball-joint centres; effector and handle "
-                        "a point mass at its centre"}
+                        + ("knees on their pins; rods hinged at the knees (about the normal of "
+                           "the parallelogram's plane) and on balls at the effector; "
+                           if d.joint_offset_mm > 0 else
+                           "rods pin-ended between the ball-joint centres; ")
+                        + "effector and handle a point mass at its centre"}
 
 
 def euler_buckling_N(od_mm: float, id_mm: float, length_mm: float, E_Pa: float) -> float:

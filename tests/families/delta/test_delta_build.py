@@ -144,3 +144,44 @@ def test_k_max_row_with_a_coarse_encoder_says_its_range_is_empty():
     k = k_max_row(delta_um)
     assert k["value"] == pytest.approx(2 * (0.083 + 0.12 * 0.04) / (delta_um * 1e-6 + 0.04 * 0.33e-3))
     assert k["value"] < k_lo and "range empty" in k["model"] and k["min"] is None
+
+
+@pytest.mark.slow  # the Falcon's build (every pair of solids at 125 points), ~45 s
+def test_the_falcon_builds_and_its_mjcf_and_firmware_carry_the_knee(tmp_path):
+    """The Falcon (g = 22.5 mm) builds clean over its 90 mm cube; its written MJCF (knee
+    hinges, rods hinged at the knee) in MuJoCo equals Lambda(x) of eq (1) from the built bodies
+    at every grid point to 1e-10 (the rods' spin is held by their hinges: no free spin here,
+    unlike g = 0); the firmware's mass model reads the built knee; the datasheet's mode is the
+    frame model's; the notes say the motor is not the Falcon's."""
+    from cad.device import resolve_device
+    from cad.export.sim import mjcf_text
+    from cad.families.delta.dynamics import delta_mass_from_bodies, mass_matrix_from_bodies_kg
+    from cad.families.delta.sim import sim_model
+    from cad.families.delta.structure import first_mode
+    from cad.massprops.props import MassProps
+    from tests.families.delta.test_delta_sim import nullspace_lambda
+
+    d = cad.load_design(ROOT / "designs" / "delta_falcon.toml")
+    out = tmp_path / "falcon"
+    cad.build_design(d, out, formats="step,mjcf,firmware", fidelity="preview")
+    rep = json.loads((out / "report.json").read_text())
+    assert rep["overlap_volume_mm3"] == 0.0
+    bodies = {k: MassProps(v["mass_kg"], np.asarray(v["com_mm"]) * 1e-3, np.asarray(v["inertia_com_kg_m2"]))
+              for k, v in rep["bodies"].items()}
+    assert bodies["knee_0"].mass_kg > 0
+    dev = resolve_device(d)
+    lam0, residual, _, rank = nullspace_lambda((out / "delta_falcon.xml").read_text())
+    assert residual < 1e-12 and rank == 12
+    for P in d.workspace_points():
+        lam = lam0 if np.allclose(P, d.workspace["center_mm"]) else nullspace_lambda(
+            mjcf_text(sim_model(d, bodies, dev, P)))[0]
+        ref = mass_matrix_from_bodies_kg(d.mechanism, P[None], d.parallelogram_width_mm, bodies,
+                                         dev.motor.rotor_inertia_kg_m2)[0]
+        assert np.abs(lam - ref).max() < 1e-10 * np.abs(ref).max()
+    mass = delta_mass_from_bodies(d.mechanism, bodies, dev.motor.rotor_inertia_kg_m2)
+    c = (out / "firmware" / "hapticad_device.c").read_text()
+    assert f"M_KNEE = HC_R({mass.knee_kg!r})" in c and mass.knee_kg == bodies["knee_0"].mass_kg
+    rows = {r["key"]: r for r in rep["datasheet"]["rows"]}
+    st = first_mode(d.mechanism, np.asarray(d.workspace["center_mm"]), d.parallelogram_width_mm)
+    assert rows["first_mode_Hz"]["value"] == pytest.approx(st["first_mode_Hz"], rel=1e-12)
+    assert any("not the Falcon's motors" in n for n in rep["datasheet"]["notes"])
