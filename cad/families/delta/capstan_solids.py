@@ -24,6 +24,7 @@ import numpy as np
 
 from cad.actuators import capstan as cap
 from cad.actuators import capstan_geometry as cg
+from cad.assembly import capstan_hardware as fcs
 from cad.data import catalog as cat
 from cad.data.fits import fit
 from cad.datasheet import capstan_rows as cr
@@ -31,9 +32,6 @@ from cad.families.delta import hardware as hw
 from cad.families.delta import parts as dp
 from cad.families.delta.capstan import shared
 from cad.families.delta.layout import ARMS, body_poses
-from cad.families.fourbar import capstan as fcap
-from cad.families.fourbar import capstan_solids as fcs
-from cad.families.fourbar.capstan_solids import a1_bearing
 from cad.kinematics.delta import ik
 from cad.parts import PartInstance, PartKind, joints, translation
 from cad.parts import capstan as shapes
@@ -110,14 +108,14 @@ def arm_parts(design, i: int, t, K: dict, stack: dict) -> list[tuple[str, PartKi
     gd = math.degrees(g)
     start, span = lo - gd - anchor, (hi - lo) + 2 * gd + 2 * anchor
     _, yr = rope_plane_mm(design, t, stack)
-    th = fcap.DRUM_THICKNESS_MM
+    th = fcs.DRUM_THICKNESS_MM
     rd = cg.rim_radius_mm(dd, rope)
     anchors = (start + 0.5 * anchor, start + span - 0.5 * anchor)
     tap, depth = cat.tap_drill_mm(fcs.ANCHOR_SCREW), fcs.ANCHOR_SCREW_LENGTH_MM + pm.TAP_LEADOUT_MM
     kind = K.get("capstan_drum") or PartKind(
         "capstan_drum", shapes.drum_sector_shape(rd, hw.HUB_D_MM / 2, start, span, th,
                                                  tuple((a, tap, depth) for a in anchors)),
-        material=fcap.DRUM_MATERIAL, made=True,
+        material=fcs.DRUM_MATERIAL, made=True,
         description=(f"drum sector {dd:g} mm pitch (rim {2 * rd:g} mm), {span:.0f} deg arc, {th:g} mm "
                      "thick, round the arm hub (bonded)"),
         process=f"machined from {th:g} mm plate; drill and tap 2 radial (rope anchors)")
@@ -184,21 +182,15 @@ def ground_parts(design, i: int, t, K: dict, stack: dict, motor) -> list[tuple[s
     tang = cg.external_tangent_points_mm((0.0, 0.0), 0.5 * dd, (C * math.cos(a), C * math.sin(a)), 0.5 * dc)
     for k in range(2):
         p0, p1 = (axis + p[0] * u + p[1] * z + yr * tt for p in tang[k])
-        L = float(np.linalg.norm(p1 - p0))
-        w = (p1 - p0) / L
-        s0 = _trim(0.5 * dd)
-        s1 = _trim(0.5 * dc)
-        kind = PartKind(
-            f"capstan_rope_run_{i}_{k + 1}", shapes.rope_run_shape(tuple(p0), tuple(p1), rope),
-            material="steel-1018", made=False, listed=False, mass_kg=None,
-            description=f"free run {k + 1} of arm {i}'s rope ({L:.1f} mm; part of the rope's BOM line)",
-            collision=(("self", shapes.rope_run_shape(tuple(p0 + s0 * w), tuple(p1 - s1 * w), rope)),))
+        kind = fcs.rope_run_kind(f"capstan_rope_run_{i}_{k + 1}", p0, p1, t, ROPE_TRIM_CLEARANCE_MM,
+                                 f"free run {k + 1} of arm {i}'s rope")
         out.append((kind.name, kind, np.eye(4)))
     return out
 
 
-def _trim(r: float, clearance_mm: float = 0.2) -> float:
-    return math.sqrt((r + clearance_mm) ** 2 - r * r)
+#: Clearance at which a rope run's collision envelope stops short of its pulleys (mm,
+#: :func:`cad.assembly.capstan_hardware.run_trim_mm`).
+ROPE_TRIM_CLEARANCE_MM = 0.2
 
 
 def add_capstans(design, K: dict, inst: list[PartInstance], device, stack: dict) -> list[PartInstance]:
@@ -208,7 +200,7 @@ def add_capstans(design, K: dict, inst: list[PartInstance], device, stack: dict)
     ``stack``: :func:`cad.families.delta.assembly.stack_mm` of the design."""
     d = design.mechanism
     mspec = cat.get_motor(design.parts.motor)
-    brg = a1_bearing(mspec.shaft_diameter_mm)
+    brg = fcs.axle_bearing(mspec.shaft_diameter_mm)
     out = list(inst)
     one = shared(device)
     for i in ARMS:

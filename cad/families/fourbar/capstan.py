@@ -18,6 +18,7 @@ import math
 import numpy as np
 
 from cad.actuators import capstan as cap
+from cad.assembly import capstan_hardware as hwc
 from cad.datasheet import capstan_rows as cr
 from cad.datasheet import row
 from cad.device import Transmission, resolve_device
@@ -111,11 +112,8 @@ def _spring_rows(design, report, j, lay, phi1_rad, Jx) -> list[dict]:
     return out
 
 
-#: Drum (or sector) thickness along the shaft, mm: room for the rope's turns on the drum side
-#: and the anchors' screws. A layout choice (no part drawn yet).
-DRUM_THICKNESS_MM = 10.0
-#: The drum sector's material (machined plate): its solid's and the cheap model's.
-DRUM_MATERIAL = "aluminium-6061"
+#: Drum thickness and material: every family's (:mod:`cad.assembly.capstan_hardware`).
+DRUM_THICKNESS_MM, DRUM_MATERIAL = hwc.DRUM_THICKNESS_MM, hwc.DRUM_MATERIAL
 
 
 def bom_lines(design, device=None) -> list[dict]:

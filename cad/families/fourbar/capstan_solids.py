@@ -28,7 +28,18 @@ import numpy as np
 
 from cad.actuators import capstan as cap
 from cad.actuators import capstan_geometry as cg
-from cad.assembly.fasteners import size_set_screw
+from cad.assembly.capstan_hardware import (  # noqa: F401 - re-exported: the four-bar's names
+    A1_LIP_MM,
+    A1_WALL_MM,
+    ANCHOR_SCREW,
+    ANCHOR_SCREW_LENGTH_MM,
+    TENSIONER_WIND_D,
+    capstan_set_screw,
+    rope_run_kind,
+    run_trim_mm,
+    tensioner_screw_mm,
+)
+from cad.assembly.capstan_hardware import axle_bearing as a1_bearing
 from cad.data import catalog as cat
 from cad.data.fits import fit
 from cad.errors import DesignError
@@ -39,20 +50,10 @@ from cad.parts import capstan as shapes
 
 #: Candidate motor directions tried by :func:`motor_direction_deg`, deg (every 5 deg).
 _ALPHA_STEP_DEG = 5.0
-#: Anchor screw: ISO 4762 M3 x 8 radial in the drum's rim (the BOM line of
-#: :func:`cad.families.fourbar.capstan.bom_lines`).
-ANCHOR_SCREW, ANCHOR_SCREW_LENGTH_MM = "M3-0.5", 8.0
-#: The tensioner at anchor 2: the same radial tapped hole holds a longer ISO 4762 screw whose
-#: shank stands out of the rim by an ISO 4032 lock nut and this many rope diameters; the rope's
-#: end is wound on that shank (turning the screw winds it: the tension), the nut locks it.
-TENSIONER_WIND_D = 3.0
 #: Radius about A2 kept clear of the drum's arc when the motor's direction is chosen (mm): the A2
 #: pin's nut and washer hang under the crank there. A layout choice; the interference check of
 #: the build is what proves the drum clear of them.
 A2_HARDWARE_RADIUS_MM = 6.0
-#: The A1 bearing block: the lip between its two bearing seats and the wall round them (mm),
-#: layout choices.
-A1_LIP_MM, A1_WALL_MM = 2.0, 3.0
 #: The motor group's instances moved with the motor: names, and prefixes of numbered ones (the
 #: direct-drive shaft's envelope at A1 becomes the crank's axle, :func:`a1_support`).
 _MOTOR_GROUP = ("motor", "motor_mount")
@@ -81,14 +82,6 @@ class CapstanPlacement:
     z_mm: tuple
     capstan_z_mm: float
     rope_z_mm: float
-
-
-def run_trim_mm(pitch_radius_mm: float, clearance_mm: float) -> float:
-    """Length by which a run's collision envelope stops short of its tangent point: at s from
-    the tangent point the rope's axis is sqrt(r^2 + s^2) from the pulley's centre, so rope and
-    rim stand sqrt(r^2 + s^2) - r apart; s = sqrt((r + c)^2 - r^2) gives ``clearance_mm``."""
-    r = pitch_radius_mm
-    return math.sqrt((r + clearance_mm) ** 2 - r * r)
 
 
 def _segment_distance_mm(p, a, b) -> float:
@@ -209,17 +202,6 @@ def add_capstan(asm, design, J, plan, t):
     inst, holes = a1_support(design, J, inst, asm.instances, asm.holes)
     inst += _capstan_parts(design, t, pl)
     return Assembly(tuple(inst), rect, asm.notes, holes)
-
-
-def a1_bearing(shaft_d_mm: float) -> cat.BearingSpec:
-    """The crank axle's bearing: the widest catalog deep groove ball bearing of bore
-    ``shaft_d_mm`` (626 for the maxon RE 35 / RE 40's 6 mm shaft). DesignError naming
-    parts.motor when the catalog has none."""
-    sizes = [cat.get_bearing(k) for k in cat.bearing_sizes() if k.startswith(f"M{shaft_d_mm:g}-")]
-    if not sizes:
-        raise DesignError("parts.motor", f"no catalog bearing of bore {shaft_d_mm:g} mm for the "
-                          "crank's axle at A1 (capstan drive)")
-    return max(sizes, key=lambda b: (b.B_mm, b.D_mm))
 
 
 def a1_support(design, J, inst: list[PartInstance], direct: tuple, holes: tuple):
@@ -384,20 +366,6 @@ def _capstan_parts(design, t, pl: CapstanPlacement) -> list[PartInstance]:
     return out
 
 
-def tensioner_screw_mm(t) -> tuple[float, float]:
-    """(length, head face's height above the rim) of the tensioner's ISO 4762 screw (mm): its
-    thread engaged at least 1.5 d in the anchor's tapped hole (at most the hole's full thread),
-    the lock nut and :data:`TENSIONER_WIND_D` rope diameters of shank above the rim; the
-    shortest catalog length. DesignError naming transmission.cable when none fits."""
-    cs = cat.get_cap_screw(ANCHOR_SCREW, "transmission")
-    out = cat.get_nut(ANCHOR_SCREW).m_mm + TENSIONER_WIND_D * t.cable_diameter_mm
-    L = cat.shortest_length(cs.lengths_mm, out + 1.5 * cs.d_mm)
-    if L is None or L - out > ANCHOR_SCREW_LENGTH_MM:
-        raise DesignError("transmission.cable", f"no ISO 4762 {ANCHOR_SCREW} length winds the "
-                          f"{t.cable_diameter_mm:g} mm rope on the tensioner and holds in the anchor hole")
-    return L, out
-
-
 def _tensioner(t, tf_hole) -> list[PartInstance]:
     """The tensioner at anchor 2 (:data:`TENSIONER_WIND_D`): its screw, head out, the lock
     nut on the rim (both on the crank)."""
@@ -443,34 +411,13 @@ def _capstan_and_set_screw(design, t, pl: CapstanPlacement, m) -> list[PartInsta
                          @ translation(0, 0, m.shaft_diameter_mm / 2))]
 
 
-def capstan_set_screw(design, t) -> tuple[str, float]:
-    """(size, length mm) of the ISO 4026 set screw holding the capstan on the motor shaft
-    (:func:`cad.assembly.fasteners.size_set_screw`); DesignError naming
-    transmission.capstan_diameter_mm when the capstan's wall cannot hold one."""
-    m = cat.get_motor(design.parts.motor)
-    rc = cg.rim_radius_mm(t.capstan_diameter_mm, t.cable_diameter_mm)
-    size, L, _ = size_set_screw(m.shaft_diameter_mm / 2, rc, (motor.SET_SCREW,),
-                                "capstan set screw onto the motor shaft",
-                                "transmission.capstan_diameter_mm")
-    return size, L
-
-
 def _rope_runs(design, t, pl: CapstanPlacement) -> list[PartInstance]:
     """The two free runs of rope on the drum's mid-plane (ground: fixed while the crank turns),
     each with a collision envelope trimmed by :func:`run_trim_mm` at both ends."""
-    d, c = t.cable_diameter_mm, design.parts.clearance_min_mm + 0.1
-    z = pl.rope_z_mm
-    s0, s1 = run_trim_mm(0.5 * t.drum_diameter_mm, c), run_trim_mm(0.5 * t.capstan_diameter_mm, c)
-    mpm = t.cable.mass_g_per_m
+    c = design.parts.clearance_min_mm + 0.1
     out = []
     for k in range(2):
-        p0, p1 = (np.append(p, z) for p in pl.tangents_mm[k])
-        L = float(np.linalg.norm(p1 - p0))
-        u = (p1 - p0) / L
-        kind = PartKind(
-            f"capstan_rope_run_{k + 1}", shapes.rope_run_shape(p0, p1, d), material="steel-1018",
-            made=False, listed=False, mass_kg=None if mpm is None else mpm * L * 1e-6,
-            description=f"free run {k + 1} of the rope ({L:.1f} mm; part of the rope's BOM line)",
-            collision=(("self", shapes.rope_run_shape(p0 + s0 * u, p1 - s1 * u, d)),))
+        p0, p1 = (np.append(p, pl.rope_z_mm) for p in pl.tangents_mm[k])
+        kind = rope_run_kind(f"capstan_rope_run_{k + 1}", p0, p1, t, c, f"free run {k + 1} of the rope")
         out.append(PartInstance(kind.name, kind, "ground", np.eye(4)))
     return out

@@ -41,20 +41,20 @@ import numpy as np
 
 from cad.actuators import capstan as cap
 from cad.actuators import capstan_geometry as cg
+from cad.assembly import capstan_hardware as hwc
+from cad.assembly.capstan_hardware import ANCHOR_SCREW, TENSIONER_WIND_D
 from cad.data.catalog import get_cap_screw, get_motor, get_nut
 from cad.datasheet import capstan_rows as cr
 from cad.datasheet import row
 from cad.device import resolve_device
 from cad.errors import DesignError
-from cad.families.fourbar import capstan as fcap
-from cad.families.fourbar.capstan_solids import ANCHOR_SCREW, TENSIONER_WIND_D
 from cad.kinematics import fivebar as fb5
 from cad.parts.motor import mount_side_mm
 from cad.tolerances import CAPSTAN_RANGE_MARGIN_DEG
 
 #: The drum sector's thickness along its axis (mm; the rope's plane at its middle, the anchors'
 #: M3 radial screws) and its material: the four-bar's.
-DRUM_THICKNESS_MM, DRUM_MATERIAL = fcap.DRUM_THICKNESS_MM, fcap.DRUM_MATERIAL
+DRUM_THICKNESS_MM, DRUM_MATERIAL = hwc.DRUM_THICKNESS_MM, hwc.DRUM_MATERIAL
 #: Arc an anchor takes on the drum at each end, mm: the capstan rows' (their drum arc and cut length).
 ANCHOR_LENGTH_MM = cr.ANCHOR_LENGTH_MM
 #: Candidate motor directions (deg) tried by :func:`motor_directions_deg`.

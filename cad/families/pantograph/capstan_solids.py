@@ -17,21 +17,21 @@ import math
 import numpy as np
 
 from cad.actuators import capstan_geometry as cg
+from cad.assembly.capstan_hardware import (
+    A1_LIP_MM,
+    A1_WALL_MM,
+    ANCHOR_SCREW,
+    ANCHOR_SCREW_LENGTH_MM,
+    capstan_set_screw,
+    rope_run_kind,
+    tensioner_screw_mm,
+)
+from cad.assembly.capstan_hardware import axle_bearing as a1_bearing
 from cad.assembly.fasteners import Fastener, TappedHole
 from cad.data import catalog as cat
 from cad.data.fits import fit
 from cad.device import resolve_device
 from cad.errors import DesignError
-from cad.families.fourbar.capstan_solids import (
-    A1_LIP_MM,
-    A1_WALL_MM,
-    ANCHOR_SCREW,
-    ANCHOR_SCREW_LENGTH_MM,
-    a1_bearing,
-    capstan_set_screw,
-    run_trim_mm,
-    tensioner_screw_mm,
-)
 from cad.families.pantograph.capstan import DRUM_MATERIAL, DRUM_THICKNESS_MM
 from cad.parts import PartInstance, PartKind, joints, motor, translation
 from cad.parts import capstan as shapes
@@ -218,7 +218,7 @@ def drum_parts(design, K: dict, lay: dict, sd, t) -> list[PartInstance]:
 def motor_side_parts(design, K: dict, lay: dict, sd, t, i: int) -> list[PartInstance]:
     """The capstan and its set screw on the moved motor's shaft, the shaft itself, and the two
     free runs of rope (ground), each run's collision envelope trimmed at both ends
-    (:func:`cad.families.fourbar.capstan_solids.run_trim_mm`)."""
+    (:func:`cad.assembly.capstan_hardware.run_trim_mm`)."""
     p = design.parts
     m = cat.get_motor(p.motor)
     ox, oy = sd.motor_xy_mm
@@ -232,18 +232,10 @@ def motor_side_parts(design, K: dict, lay: dict, sd, t, i: int) -> list[PartInst
                         @ translation(0, 0, m.shaft_diameter_mm / 2)),
            PartInstance(f"lower_motor_{i}.shaft", K["motor_shaft"], "ground",
                         translation(ox, oy, -p.plate_thickness_mm - p.motor_mount_thickness_mm))]
-    d, c = t.cable_diameter_mm, 1.1  # the check's clearance and a tenth
-    s0, s1 = run_trim_mm(0.5 * t.drum_diameter_mm, c), run_trim_mm(0.5 * t.capstan_diameter_mm, c)
-    mpm = t.cable.mass_g_per_m
+    c = 1.1  # the check's clearance and a tenth
     for k in range(2):
         p0, p1 = (np.append(q, zr) for q in sd.tangents_mm[k])
-        L = float(np.linalg.norm(p1 - p0))
-        u = (p1 - p0) / L
-        kind = PartKind(
-            f"capstan_rope_run_{i}_{k + 1}", shapes.rope_run_shape(p0, p1, d), material="steel-1018",
-            made=False, listed=False, mass_kg=None if mpm is None else mpm * L * 1e-6,
-            description=f"free run {k + 1} of rope {i} ({L:.1f} mm; part of the rope's BOM line)",
-            collision=(("self", shapes.rope_run_shape(p0 + s0 * u, p1 - s1 * u, d)),))
+        kind = rope_run_kind(f"capstan_rope_run_{i}_{k + 1}", p0, p1, t, c, f"free run {k + 1} of rope {i}")
         out.append(PartInstance(kind.name, kind, "ground", np.eye(4)))
     return out
 
