@@ -329,7 +329,7 @@ def rows_and_limits(design, report: dict, out_dir=None, simulate_wall: bool = Tr
             notes.append(f"force ellipses over the workspace: {chart}")
     limits = pantograph_limits(design, design.actuators.get("force_max_N"), st and st["strength_MPa"],
                                structure=st is not None)
-    if design.family == "pantograph":  # the 5-bar's capstans: rows at the peak load, the ropes' springs
+    if design.family != "haptic-pen":  # the 5-bar's and the twin's capstans: rows at the peak load, the ropes' springs
         crows, climits = capstan_rows(design, k25["value"])
         rows += crows
         limits.update(climits)

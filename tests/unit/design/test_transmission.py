@@ -86,10 +86,11 @@ def test_one_table_per_motor_or_one_for_all():
         parse_transmissions("capstan", 1)
 
 
-def test_a_twin_pantograph_with_a_transmission_is_refused_saying_what_is_missing(tmp_path):
-    """[transmission] is built on the four-bar and the plain 5-bar: a twin-pantograph (haptic
-    mouse) design with one gets one line naming the table and that its capstan is not built yet
-    (not a bare 'unknown key'), exit 2."""
+def test_a_twin_pantograph_takes_a_transmission_on_its_four_motors_and_builds_no_solid(tmp_path):
+    """[transmission] on a twin-pantograph (haptic mouse) design: validated at load for its four
+    motors (``check`` gets past the design), the build of its solids refused in one line naming
+    the table (the capstan solids are not drawn yet), exit 2; the analyses:
+    tests/families/pantograph/test_twin_capstan.py."""
     from pathlib import Path
 
     from cli_helpers import assert_one_line_error, hapticad
@@ -99,4 +100,7 @@ def test_a_twin_pantograph_with_a_transmission_is_refused_saying_what_is_missing
     p.write_text(src.read_text() + '\n[transmission]\nkind = "capstan"\ncapstan_diameter_mm = 20.0\n'
                  'ratio = 3.0\ncable = "steel-7x7-0.45"\n')
     code, _, err = hapticad("check", p)
-    assert_one_line_error(code, err, "transmission", "not built yet", "5-bar pantograph")
+    assert_one_line_error(code, err, "transmission", "capstan solids", "not built yet")
+    p.write_text(src.read_text() + '\n[[transmission]]\nkind = "direct"\n\n[[transmission]]\nkind = "direct"\n')
+    code, _, err = hapticad("check", p)
+    assert_one_line_error(code, err, "transmission: must be one table or 4 (one per motor), got 2 tables")
