@@ -292,6 +292,8 @@ def capstan_rows(design, k_max_N_per_m: float | None) -> tuple[list[dict], dict]
     if not k_q:
         return rows, limits
     c = rope_compliance_m_per_N(design, k_q)
+    if not c.size or c.max() <= 0:  # direct motors hold the handle (a twin with three): no rope compliance there
+        return rows, limits
     k_h = float(1.0 / c.max())
     src = ("1 / lambda_max(J^-1 diag(1 / k_q) J^-T), J = dq/dx, weakest direction and pose over the workspace "
            "grid (links rigid, motors held)")

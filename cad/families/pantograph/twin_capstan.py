@@ -77,12 +77,15 @@ def capstan_joints(design) -> tuple:
 def handle_compliance_m_per_N(J: np.ndarray, kinv: np.ndarray) -> np.ndarray:
     """Translational compliance (2, 2) m/N at the main journal of one pose, the knob's moment
     free: the (x, y) block of ``K_X^-1``, ``K_X = J^T diag(1 / kinv) J`` restricted to the null
-    space of the rigid joints' rows (``kinv`` 0). ``J`` (4, 3) dq/dX (SI), ``kinv`` (4,) rad/(N m)."""
+    space of the rigid joints' rows (``kinv`` 0; zero when they hold the handle, three direct
+    motors). ``J`` (4, 3) dq/dX (SI), ``kinv`` (4,) rad/(N m)."""
     rope = kinv > 0
     basis = np.eye(J.shape[1])
     if not rope.all():
         _, s, vt = np.linalg.svd(J[~rope])
         basis = vt[int(np.sum(s > s.max() * 1e-12)):].T  # (3, r) null space of the held joints
+        if basis.shape[1] == 0:  # the held joints hold the handle: the ropes add nothing there
+            return np.zeros((2, 2))
     Jr = J[rope] @ basis
     K = Jr.T @ (Jr / kinv[rope][:, None])
     C = basis @ np.linalg.inv(K) @ basis.T

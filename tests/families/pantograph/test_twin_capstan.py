@@ -495,3 +495,20 @@ def test_bundled_design_figures_regression_pin():
     assert force == pytest.approx(NB * direct, rel=1e-12)  # one ratio on every motor: f = J^-T n tau
     v = {r["key"]: r["value"] for r in capstan_rows(d, None)[0]}
     assert [round(v[f"drum_sector_deg_{i}"]) for i in range(1, 5)] == [90, 90, 113, 113]
+
+
+def test_three_direct_motors_hold_the_handle_so_one_rope_adds_no_handle_compliance():
+    """[[transmission]] with only the crank's right motor through a capstan: the three direct
+    joints' rows of dq/dX (finite differences) have rank 3 at every sample, so they hold the
+    handle alone; the fourth motor's rows are there, no rope stiffness at the handle and no
+    K_max in series (not an infinite figure)."""
+    from cad.families.pantograph.capstan import capstan_rows
+
+    raw = _per_motor()
+    raw["transmission"][:3] = [{"kind": "direct"}] * 3
+    d = _design(raw)
+    s = np.linalg.svd(_fd_jacobian(d.mechanism, d.workspace_points())[:, :3, :], compute_uv=False)
+    assert (s[:, -1] > 1e-6 * s[:, 0]).all()  # well above the FD error (~1e-8 relative)
+    keys = {r["key"] for r in capstan_rows(d, 900.0)[0]}
+    assert "transmission_ratio_4" in keys and "transmission_ratio_1" not in keys
+    assert not keys & {"cable_handle_stiffness_N_per_m", "K_max_with_cable_N_per_m"}
