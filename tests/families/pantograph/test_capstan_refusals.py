@@ -83,3 +83,15 @@ def test_every_family_warns_at_load_of_a_rope_below_its_bend_ratio(design):
     w = [x for x in bounds.collected() if x.startswith("transmission:")]
     assert len(w) == 1, w
     assert re.search(r"steel-7x7-0\.8 on a 20 mm capstan: bend ratio D/d = 25\.0 .* at least 32\.0 mm", w[0])
+
+
+def test_the_powermouse_refuses_a_capstan_with_its_reason(tmp_path):
+    """The PowerMouse has no motor shaft: [transmission] is refused naming the table and why,
+    not as an unknown key."""
+    p = tmp_path / "pm.toml"
+    p.write_text((ROOT / "designs" / "powermouse.toml").read_text()
+                 + '\n[transmission]\nkind = "capstan"\ncapstan_diameter_mm = 32.0\nratio = 4.0\n'
+                 'cable = "steel-7x7-0.8"\n')
+    code, _, err = hapticad("check", p)
+    assert_one_line_error(code, err, "transmission", "voice coils", "remove [transmission]")
+    assert "unknown key" not in err
