@@ -150,7 +150,9 @@ def datasheet_rows(j: CapstanJoint) -> tuple[list[dict], dict]:
             f"n^2 J_m = {t.ratio:.4g}^2 x {j.motor.spec.rotor_inertia_g_cm2:g} g cm^2, in {j.inertia_in}"),
         row("bend_ratio" + s, f"bend ratio D/d of {c.key} on the capstan", bend, "",
             f"capstan {t.capstan_diameter_mm:g} mm / rope {c.diameter_mm:g} mm against the rope's minimum "
-            f"{c.min_bend_ratio:g} ({c.source_of('min_bend_ratio')})", unverified=c.is_unverified("min_bend_ratio")),
+            f"{c.min_bend_ratio:g} ({c.source_of('min_bend_ratio')})"
+            + ("" if (fix := cap.bend_ratio_fix(c, t.capstan_diameter_mm)) is None else f"; {fix}"),
+            unverified=c.is_unverified("min_bend_ratio")),
         row("cable_pretension_N" + s, "rope pretension (the tensioner's setting)", fig.pretension_N, "N",
             ("transmission.pretension_N" if given else
              f"the smallest that holds the peak load: T0 = (dT / 2)(e^(mu theta) + 1) / (e^(mu theta) - 1), "

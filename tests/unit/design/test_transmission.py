@@ -50,6 +50,11 @@ def test_omitted_or_direct_is_direct_drive():
      "8 mm must be larger than capstan_diameter_mm = 10 mm"),
     ({"kind": "capstan", "capstan_diameter_mm": 10, "ratio": 0.25, "cable": "steel-7x7-0.54"},
      "transmission.ratio", "did you give capstan / drum? (1 / 0.25 = 4)"),
+    # 0 and below: the same lower bound as 0.25 (a new user found "> 0" for 0, "> 1" for 0.25)
+    ({"kind": "capstan", "capstan_diameter_mm": 10, "ratio": 0, "cable": "steel-7x7-0.54"},
+     "transmission.ratio", "must be > 1 (drum / capstan), got 0"),
+    ({"kind": "capstan", "capstan_diameter_mm": 10, "ratio": -4.0, "cable": "steel-7x7-0.54"},
+     "transmission.ratio", "must be > 1 (drum / capstan), got -4.0"),
     ({"kind": "capstan", "capstan_diameter_mm": 10, "ratio": 80, "cable": "steel-7x7-0.54"},
      "transmission.ratio", "must be in (1, 50], got 80"),
     ({**ISSUE_TABLE, "cable": "steel-7x19-0.54"}, "transmission.cable", "unknown cable 'steel-7x19-0.54'"),
