@@ -512,3 +512,23 @@ def test_three_direct_motors_hold_the_handle_so_one_rope_adds_no_handle_complian
     keys = {r["key"] for r in capstan_rows(d, 900.0)[0]}
     assert "transmission_ratio_4" in keys and "transmission_ratio_1" not in keys
     assert not keys & {"cable_handle_stiffness_N_per_m", "K_max_with_cable_N_per_m"}
+
+
+def test_motor_friction_at_the_handle_is_n_times_the_direct_mouses():
+    """friction_N: each motor's K_t I_0 reaches its joint n times (the rope's lever), so with one
+    ratio on every motor the handle's Coulomb friction is n times the direct mouse's (F = J^T
+    diag(n f) s, linear in n); a sweep of directions of motion (J = dq/dX by finite
+    differences) never exceeds it (an upper bound for the redundant twin)."""
+    from cad.data.catalog import get_motor
+    from cad.families.pantograph.datasheet import friction_row
+
+    d = _design()
+    r, r0 = friction_row(d), friction_row(_design(DIRECT))
+    assert r["value"] == pytest.approx(NB * r0["value"], rel=1e-12) and "x capstan n = 4.25" in r["model"]
+    m = get_motor(d.parts.motor)
+    f = NB * m.torque_constant_mNm_per_A * m.no_load_current_mA * 1e-6  # n K_t I_0, N m
+    J = _fd_jacobian(d.mechanism, d.workspace_points()[::9])
+    v = np.random.default_rng(40).normal(size=(2000, 3))
+    s = np.sign(np.einsum("nia,ka->nki", J, v))  # each joint's direction of turn (n, k, 4)
+    F = np.einsum("nia,nki->nka", J, f * s)[..., :2]  # J^T diag(f) s, the translational rows
+    assert np.linalg.norm(F, axis=-1).max() <= r["value"] * (1 + 1e-6)
