@@ -591,8 +591,8 @@ def _check_transmission(raw: dict[str, Any], family: str) -> None:
         return
     if family == "haptic-pen":
         raise DesignError("transmission", f"a capstan on the {family}'s motors is not built yet (direct "
-                          "drive only); [transmission] works on four-bar, 5-bar pantograph and "
-                          "twin-pantograph designs (docs/capstan.md)")
+                          "drive only); [transmission] works on four-bar, 5-bar pantograph and delta "
+                          "designs, and in the analyses of the twin pantograph (docs/capstan.md)")
     parse_transmissions(raw["transmission"], 2 if family == "pantograph" else 4)
 
 

@@ -458,4 +458,4 @@ def test_the_haptic_pen_keeps_the_refusal(tmp_path):
     p = tmp_path / "pen.toml"
     p.write_text((ROOT / "designs" / "haptic_pen.toml").read_text() + CAPSTAN)
     code, _, err = hapticad("check", p)
-    assert_one_line_error(code, err, "transmission", "not built yet", "haptic-pen")
+    assert_one_line_error(code, err, "transmission", "not built yet", "haptic-pen", "delta")

@@ -43,7 +43,7 @@ from cad.kinematics import twin_pantograph as tw
 from tests.compilers import compiler
 
 ROOT = Path(__file__).resolve().parents[3]
-BUNDLED = ROOT / "designs" / "twin_pantograph_capstan.toml"
+BUNDLED = ROOT / "designs" / "analysis-only" / "twin_pantograph_capstan.toml"
 RAW = tomllib.loads(BUNDLED.read_text())
 DIRECT = tomllib.loads((ROOT / "designs" / "haptic_mouse.toml").read_text())
 JOINTS = ("knob_q_left", "knob_q_right", "crank_q_left", "crank_q_right")
