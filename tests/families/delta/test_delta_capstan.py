@@ -371,3 +371,66 @@ def test_a_knee_arm_on_its_rope_adds_the_same_series_compliance():
     Ji = np.linalg.inv(J[0])
     added = Ji @ np.diag(1 / np.asarray(k)) @ Ji.T
     assert rope["compliance_m_per_N"] == pytest.approx(clamped["compliance_m_per_N"] + added, rel=1e-5, abs=1e-12)
+
+
+def test_firmware_with_a_ratio_per_arm_in_c_against_the_rotors_kinetic_energy(tmp_path):
+    """[[transmission]] with n = 2, 2.5, 3: the firmware carries each arm's ratio (HC_GEAR) and
+    its own reflected rotor in the mass model (ARM_AXIS[i] = I_arm + n_i^2 (J_m + J_capstan,i),
+    J_capstan from the capstan's own closed form); the compiled C passes the build's vectors
+    and finite differences (test_device.c), and its hc_mass_matrix minus the links' Lambda
+    (no rotor) is the rotors' kinetic energy from finite differences of the IK:
+    v^T dLambda v = sum_i n_i^2 (J_m + J_c,i) theta_dot_i^2."""
+    from cad import tolerances as tol
+    from cad.dynamics.delta import mass_matrix_kg
+    from cad.families.delta.dynamics import delta_mass_from_bodies
+    from cad.families.delta.firmware import props_of
+    from cad.firmware import linkage_files
+    from tests.compilers import compiler
+    from tests.families.delta.test_delta_firmware import _report_bodies
+
+    ns = np.array([2.0, 2.5, 3.0])
+    d = _design(_per_motor(tuple(ns)))
+    dev = resolve_device(d)
+    files = linkage_files(d, _report_bodies(), "cap3", dev)
+    h, c = files["firmware/hapticad_device.h"], files["firmware/hapticad_device.c"]
+    assert re.search(r"#define HC_GEAR \{ (.+) \}", h).group(1) == ", ".join(f"HC_R({float(n)!r})" for n in ns)
+    jm = dev.motor.spec.rotor_inertia_g_cm2 * 1e-7
+    rho = get_material(CAPSTAN_MATERIAL).density_kg_m3
+    jc = [capstan_izz_kg_m2(t["capstan_diameter_mm"], get_cable(t["cable"]).diameter_mm, t["wraps"],
+                            dev.motor.spec.shaft_diameter_mm, rho) for t in _per_motor(tuple(ns))["transmission"]]
+    refl = ns**2 * (jm + np.asarray(jc))
+    links = delta_mass_from_bodies(d.mechanism, props_of(_report_bodies()))
+    axis = [float(v) for v in re.findall(r"HC_R\(([^)]+)\)", re.search(r"ARM_AXIS\[3\] = \{(.+)\};", c).group(1))]
+    assert axis == pytest.approx((links.upper_arm_kg_m2 + refl).tolist(), rel=1e-12)
+    fw = tmp_path / "fw"
+    fw.mkdir()
+    for rel, text in files.items():
+        (fw / Path(rel).name).write_text(text)
+    exe = tmp_path / "td"
+    subprocess.run([compiler("c"), "-std=c99", "-O2", "-o", str(exe), str(fw / "test_device.c"),
+                    str(fw / "hapticad_device.c"), "-lm"], check=True, capture_output=True, timeout=120)
+    r = subprocess.run([str(exe), str(fw / "test_vectors.json"), *map(repr, (
+        tol.FIRMWARE_DOUBLE_POSITION_M, tol.FIRMWARE_DOUBLE_TORQUE_NM, tol.FIRMWARE_FD_JACOBIAN))],
+        capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0 and "failures 0" in r.stdout, r.stdout + r.stderr
+    # hc_mass_matrix at three points against the links' Lambda plus the rotors from the IK's rates
+    P = np.asarray(d.workspace["center_mm"], float) + np.array([[0.0, 0.0, 0.0], [30.0, -20.0, 25.0],
+                                                                  [-40.0, 35.0, -30.0]])
+    th = ik(d.mechanism, P).theta_rad
+    (tmp_path / "m.c").write_text(
+        '#include <stdio.h>\n#include "hapticad_device.h"\nint main(void){static const double th[] = {'
+        + ", ".join(repr(float(v)) for v in th.ravel()) + '};hc_real q[3], M[9];int n, i;for (n = 0; n < 3; ++n)'
+        '{for (i = 0; i < 3; ++i) q[i] = th[3 * n + i];if (hc_mass_matrix(q, M)) return 1;for (i = 0; i < 9; ++i)'
+        ' printf("%.17g ", (double)M[i]);printf("\\n");}return 0;}\n')
+    exe2 = tmp_path / "m"
+    subprocess.run([compiler("c"), "-std=c99", "-Wall", "-Wextra", "-pedantic", "-Werror", f"-I{fw}", "-o",
+                    str(exe2), str(tmp_path / "m.c"), str(fw / "hapticad_device.c"), "-lm"], check=True, timeout=120)
+    out = subprocess.run([str(exe2)], capture_output=True, text=True, check=True).stdout.split("\n")
+    h_mm = 1e-4
+    for k, (line, p) in enumerate(zip(out[:3], P, strict=True)):
+        M = np.array(line.split(), float).reshape(3, 3)
+        rot = M - mass_matrix_kg(d.mechanism, p[None], links)[0]
+        for v in np.eye(3):
+            dth = (ik(d.mechanism, (p + h_mm * v)[None]).theta_rad[0]
+                   - ik(d.mechanism, (p - h_mm * v)[None]).theta_rad[0]) / (2 * h_mm * 1e-3)  # rad/m
+            assert v @ rot @ v == pytest.approx(float(np.sum(refl * dth**2)), rel=1e-6), k
