@@ -434,3 +434,28 @@ def test_firmware_with_a_ratio_per_arm_in_c_against_the_rotors_kinetic_energy(tm
             dth = (ik(d.mechanism, (p + h_mm * v)[None]).theta_rad[0]
                    - ik(d.mechanism, (p - h_mm * v)[None]).theta_rad[0]) / (2 * h_mm * 1e-3)  # rad/m
             assert v @ rot @ v == pytest.approx(float(np.sum(refl * dth**2)), rel=1e-6), k
+
+
+def test_per_motor_rows_of_the_shared_helper_against_hand_formulas():
+    """cad.datasheet.capstan_rows.joints_rows (the per-motor rows the delta reads): with n = 2,
+    2.5, 3 each arm's ratio row, its rope's k_q = EA (2 / L) r_d^2 at C = r_d + r_c + gap, in
+    the arms' order, keys suffixed _0, _1, _2, and a slip limit per arm."""
+    from cad.actuators.capstan import CAPSTAN_GAP_MM
+    from cad.datasheet import capstan_rows as cr
+
+    ns = (2.0, 2.5, 3.0)
+    d = _design(_per_motor(ns))
+    rows, lim, k_q = cr.joints_rows(dcap.joints(d, resolve_device(d)))
+    v = {r["key"]: r["value"] for r in rows}
+    rope = get_cable(RAW["transmission"]["cable"])
+    rc = RAW["transmission"]["capstan_diameter_mm"] / 2
+    for i, n in enumerate(ns):
+        rd = rc * n
+        L = math.sqrt((rd + rc + CAPSTAN_GAP_MM) ** 2 - (rd - rc) ** 2) * 1e-3
+        kq = rope.axial_stiffness_EA_N * 2 / L * (rd * 1e-3) ** 2
+        assert v[f"transmission_ratio_{i}"] == n
+        assert k_q[f"theta_{i}"] == pytest.approx(kq, rel=1e-12) == v[f"cable_stiffness_Nm_per_rad_{i}"]
+        assert f"cable_slip_margin_{i}" in lim
+    order = [r["key"] for r in rows]
+    assert order.index("cable_stiffness_Nm_per_rad_0") < order.index("transmission_ratio_1")
+    assert cr.joints_rows(()) == ([], {}, {})
