@@ -110,9 +110,10 @@ def _dynamics(b) -> DeltaDynamics:
     eig = np.linalg.eigvalsh(0.5 * (lam + np.swapaxes(lam, 1, 2)))
     hi, lo = int(np.argmax(eig[:, -1])), int(np.argmin(eig[:, 0]))
     centre = np.asarray(d.workspace["center_mm"], float)
+    on_arms = [x for x in b.model.instances if x.body.startswith("upper_") and ".capstan_" in x.name]
     st = first_mode(d.mechanism, centre, d.parallelogram_width_mm,
                     rope_k_Nm_per_rad=rope_stiffness_Nm_per_rad(d, dev),
-                    drums=drum_props(b.instances, b.props))
+                    drums=drum_props(on_arms, b.props) if on_arms else None)
     taus = np.array([mot.spec.torque_peak_mNm * 1e-3 * dev.transmission(j).ratio for j in JOINTS])
     tau = float(taus.max())
     ps = peak_stress_over(d.mechanism, X, d.parallelogram_width_mm, taus if taus.min() < tau else tau)

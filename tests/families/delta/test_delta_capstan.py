@@ -167,6 +167,8 @@ def test_bundled_capstan_delta_figures_docs_state():
     assert round(v["cable_slip_margin"], 1) == 3.2 and round(v["cable_safety_factor"], 1) == 18.8
     assert round(v["drum_sector_deg"], 1) == 147.9 and round(v["cable_cut_length_mm"]) == 677
     assert round(v["cable_stiffness_Nm_per_rad"]) == 4389
+    from cad.families.delta.datasheet import friction_row
+    assert round(friction_row(d, dev.motor.spec, [2.5] * 3)["value"], 3) == 0.296
     c = np.asarray(d.workspace["center_mm"], float)
     k = dcap.rope_stiffness_Nm_per_rad(d, dev)
     assert round(first_mode(d.mechanism, c, d.parallelogram_width_mm, rope_k_Nm_per_rad=k)["first_mode_Hz"], 1) == 162.6
@@ -459,3 +461,32 @@ def test_per_motor_rows_of_the_shared_helper_against_hand_formulas():
     order = [r["key"] for r in rows]
     assert order.index("cable_stiffness_Nm_per_rad_0") < order.index("transmission_ratio_1")
     assert cr.joints_rows(()) == ([], {}, {})
+
+
+def test_friction_at_the_effector_through_the_ratios_against_the_dissipation_over_directions():
+    """friction_N: each motor's Coulomb torque tau_f through its ratio at its joint; moving the
+    effector along a unit v the friction dissipates sum_i n_i tau_f |J_i . v| per unit speed, so
+    the resisting force along v is that sum (virtual work); its largest over a sweep of 4000
+    directions and the workspace grid against the sign-corner form, the same point; one ratio n
+    on every arm: n times the direct drive's; the datasheet row with K_t I_0 of the RE 35."""
+    from cad.data.catalog import get_motor
+    from cad.families.delta.datasheet import friction_N, friction_row
+
+    ns = np.array([2.0, 2.5, 3.0])
+    d = _design(_per_motor(tuple(ns)))
+    hi, lo, at = friction_N(d, 0.01, ns)
+    X = d.workspace_points()
+    J, _ = jacobian_rad_per_m(d.mechanism, X)
+    u = np.random.default_rng(11).normal(size=(4000, 3))
+    u /= np.linalg.norm(u, axis=1)[:, None]
+    F = np.abs(np.einsum("i,nik,vk->nvi", ns * 0.01, J, u)).sum(axis=2)
+    sweep = F.max()
+    assert hi >= sweep * (1 - 1e-12) and hi < sweep * (1 + 2e-3)   # sampled directions undershoot
+    assert np.allclose(X[int(np.argmax(F.max(axis=1)))], at)
+    assert lo <= hi
+    d1 = _design()
+    assert friction_N(d1, 0.01, [2.5] * 3)[0] == pytest.approx(2.5 * friction_N(d1, 0.01)[0], rel=1e-12)
+    m = get_motor("maxon-re35")
+    r = friction_row(d1, m, [2.5] * 3)
+    tf = m.torque_constant_mNm_per_A * m.no_load_current_mA * 1e-6   # Kt I0, N m
+    assert r["key"] == "friction_N" and r["value"] == pytest.approx(friction_N(d1, tf, [2.5] * 3)[0], rel=1e-12)
