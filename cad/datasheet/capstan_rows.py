@@ -218,6 +218,26 @@ def stiffness_row(j: CapstanJoint, lay: CapstanLayout) -> tuple[dict, float | No
     return row("cable_stiffness_Nm_per_rad" + s, f"rope stiffness at the {j.label}", k, "N m/rad", src), k, src
 
 
+def joints_rows(joints) -> tuple[list[dict], dict, dict[str, float]]:
+    """(rows, limits, k_q) of several capstan joints (one per motor): each joint's
+    :func:`datasheet_rows` followed by its :func:`stiffness_row`, in the joints' order, the
+    limits of all (keys carry each joint's suffix), and ``{joint name: k_q}`` (N m/rad) of the
+    joints whose rope states its E A (capstan joints: :func:`capstan_joint` of capstan
+    transmissions). ``([], {}, {})`` for no joint. The delta's per-arm rows use it
+    (:func:`cad.families.delta.capstan.datasheet_rows`)."""
+    rows: list[dict] = []
+    lims: dict = {}
+    k_q: dict[str, float] = {}
+    for j in joints:
+        r, lim = datasheet_rows(j)
+        st_row, k, _ = stiffness_row(j, layout(j))
+        rows += [*r, st_row]
+        lims.update(lim)
+        if k is not None:
+            k_q[j.name] = k
+    return rows, lims, k_q
+
+
 def bom_row(part: str, desc: str, quantity: int, made: bool, process: str, material: str,
             designation: str, stock: str = "") -> dict:
     """One bom.csv row of the capstan transmission group (no solid: mass 0)."""

@@ -35,7 +35,7 @@ from cad.device import parts_motor, resolve_device
 from cad.families.delta import hardware as hw
 from cad.families.delta import parts as dp
 from cad.families.delta.capstan_solids import add_capstans
-from cad.families.delta.layout import ARMS, body_poses
+from cad.families.delta.layout import ARMS, body_poses, rot_x, rot_z
 from cad.parts import PartInstance, PartKind, translation
 from cad.parts import motor as pm
 
@@ -47,20 +47,6 @@ class DeltaLayout:
 
     workspace_mm: np.ndarray
     home_mm: np.ndarray
-
-
-def _rot_x(deg: float) -> np.ndarray:
-    c, s = math.cos(math.radians(deg)), math.sin(math.radians(deg))
-    T = np.eye(4)
-    T[1, 1], T[1, 2], T[2, 1], T[2, 2] = c, -s, s, c
-    return T
-
-
-def _rot_z(deg: float) -> np.ndarray:
-    c, s = math.cos(math.radians(deg)), math.sin(math.radians(deg))
-    T = np.eye(4)
-    T[0, 0], T[0, 1], T[1, 0], T[1, 1] = c, -s, s, c
-    return T
 
 
 def _frame(x, z, origin) -> np.ndarray:
@@ -185,7 +171,7 @@ def _studs(prefix: str, T_bar: np.ndarray, half_w: float) -> list[tuple[str, str
     out = [(f"{prefix}.cross_bar", "cross_bar", T_bar)]
     for side, s in (("a", -1.0), ("b", 1.0)):
         out.append((f"{prefix}.ball_stud_{side}", "ball_stud",
-                    T_bar @ translation(0, 0, s * half_w) @ _rot_x(0.0 if s < 0 else 180.0)))
+                    T_bar @ translation(0, 0, s * half_w) @ rot_x(0.0 if s < 0 else 180.0)))
     return out
 
 
@@ -194,33 +180,33 @@ def _upper_parts(design, i: int) -> list[tuple[str, str, np.ndarray]]:
     d, w = design.mechanism, design.parallelogram_width_mm
     fork = d.joint_offset_mm > 0
     st = stack_mm(w, fork)
-    along_y = _rot_x(-90.0)  # part z -> body y
+    along_y = rot_x(-90.0)  # part z -> body y
     p = f"upper_{i}"
     out = [(f"{p}.motor_shaft", "motor_shaft", translation(0, st["motor_face"], 0) @ along_y),
            (f"{p}.hub", "hub", translation(0, st["hub_mid"], 0) @ along_y)]
     if not fork:
-        out.append((f"{p}.upper_arm", "upper_arm", _rot_x(90.0)))
+        out.append((f"{p}.upper_arm", "upper_arm", rot_x(90.0)))
         return out + _studs(p, translation(d.upper_arm_mm, 0, 0) @ along_y, w / 2)
-    out += [(f"{p}.upper_arm_{k}", "upper_arm", translation(0, s * st["fork_mid"], 0) @ _rot_x(90.0))
+    out += [(f"{p}.upper_arm_{k}", "upper_arm", translation(0, s * st["fork_mid"], 0) @ rot_x(90.0))
             for k, s in enumerate((-1.0, 1.0))]
     return out + [(f"{p}.arm_spacer", "arm_spacer", along_y)]
 
 
 def _knee_parts(design, i: int) -> list[tuple[str, str, np.ndarray]]:
     d, w = design.mechanism, design.parallelogram_width_mm
-    along_y = _rot_x(-90.0)
+    along_y = rot_x(-90.0)
     p = f"knee_{i}"
-    out = [(f"{p}.knee_pin", "knee_pin", along_y), (f"{p}.knee_plate", "knee_plate", _rot_x(90.0))]
+    out = [(f"{p}.knee_pin", "knee_pin", along_y), (f"{p}.knee_plate", "knee_plate", rot_x(90.0))]
     return out + _studs(p, translation(d.joint_offset_mm, 0, 0) @ along_y, w / 2)
 
 
 def _rod_parts(design, body: str, side: str) -> list[tuple[str, str, np.ndarray]]:
     """Sockets open towards the cross bar (+y for side a, -y for side b) and the tube."""
     Lb = design.mechanism.lower_arm_mm
-    open_y = _rot_x(-90.0 if side == "a" else 90.0)
+    open_y = rot_x(-90.0 if side == "a" else 90.0)
     return [(f"{body}.socket_top", "ball_socket", open_y),
             (f"{body}.rod", "rod", np.eye(4)),
-            (f"{body}.socket_bottom", "ball_socket", translation(Lb, 0, 0) @ open_y @ _rot_z(180.0))]
+            (f"{body}.socket_bottom", "ball_socket", translation(Lb, 0, 0) @ open_y @ rot_z(180.0))]
 
 
 def _effector_parts(design) -> list[tuple[str, str, np.ndarray]]:

@@ -37,6 +37,7 @@ from cad.families.delta.dynamics import mass_matrix_from_bodies_kg
 from cad.families.delta.layout import body_poses
 from cad.families.delta.sim import sim_model
 from cad.families.delta.structure import first_mode, peak_stress_over
+from cad.pipeline import family
 from cad.pipeline.run import Stages, run_family
 from cad.pipeline.views import write_sim_model
 
@@ -81,10 +82,24 @@ class DeltaDynamics:
     structure: dict
 
 
+def drum_props(instances, props: dict) -> list | None:
+    """(3,) the mass properties (:class:`cad.massprops.props.MassProps`, SI, upper_i's body
+    frame) of the capstan parts on each upper arm (instances ``upper_i.capstan_*``: the drum
+    sector, its anchor screw, tensioner and nut; None on a direct-drive arm), from the same
+    per-kind properties Lambda(x) sums (``props``: :func:`cad.pipeline.family.kind_props`);
+    None when no arm carries a drum."""
+    out = []
+    for i in range(3):
+        mine = [x for x in instances if x.body == f"upper_{i}" and x.name.startswith(f"upper_{i}.capstan_")]
+        out.append(family.body_props(mine, props).get(f"upper_{i}") if mine else None)
+    return None if all(v is None for v in out) else out
+
+
 def _dynamics(b) -> DeltaDynamics:
     """Lambda(x) over the workspace grid from the body mass properties and each motor's rotor
     through its transmission (n^2 (J_m + J_capstan), the resolved device's), the first mode at
-    the centre (the capstans' ropes as springs at the motor axes), the stresses at each
+    the centre (the capstans' ropes as springs at the motor axes, the drums' solids on the
+    arms: :func:`drum_props`), the stresses at each
     motor's peak torque through its ratio."""
     d, X = b.design, b.model.extra.workspace_mm
     dev = resolve_device(d)
@@ -95,8 +110,10 @@ def _dynamics(b) -> DeltaDynamics:
     eig = np.linalg.eigvalsh(0.5 * (lam + np.swapaxes(lam, 1, 2)))
     hi, lo = int(np.argmax(eig[:, -1])), int(np.argmin(eig[:, 0]))
     centre = np.asarray(d.workspace["center_mm"], float)
+    on_arms = [x for x in b.model.instances if x.body.startswith("upper_") and ".capstan_" in x.name]
     st = first_mode(d.mechanism, centre, d.parallelogram_width_mm,
-                    rope_k_Nm_per_rad=rope_stiffness_Nm_per_rad(d, dev))
+                    rope_k_Nm_per_rad=rope_stiffness_Nm_per_rad(d, dev),
+                    drums=drum_props(on_arms, b.props) if on_arms else None)
     taus = np.array([mot.spec.torque_peak_mNm * 1e-3 * dev.transmission(j).ratio for j in JOINTS])
     tau = float(taus.max())
     ps = peak_stress_over(d.mechanism, X, d.parallelogram_width_mm, taus if taus.min() < tau else tau)

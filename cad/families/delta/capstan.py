@@ -81,13 +81,7 @@ def effector_rope_stiffness_N_per_m(design, k_q) -> tuple[float, float, list[flo
 def datasheet_rows(design, device, K_max_N_per_m: float | None) -> tuple[list[dict], dict]:
     """(rows, limits) of the delta's capstans (module docstring); ``([], {})`` for direct
     drive. ``K_max_N_per_m``: the datasheet's eq (25) K_max (the ropes' springs in series)."""
-    rows: list[dict] = []
-    limits: dict = {}
-    for j in joints(design, device):
-        r, lim = cr.datasheet_rows(j)
-        first, _, _ = cr.stiffness_row(j, cr.layout(j))
-        rows += [*r, first]
-        limits.update(lim)
+    rows, limits, _ = cr.joints_rows(joints(design, device))
     if not rows:
         return [], {}
     k_q = rope_stiffness_Nm_per_rad(design, device)

@@ -31,7 +31,7 @@ from cad.datasheet import capstan_rows as cr
 from cad.families.delta import hardware as hw
 from cad.families.delta import parts as dp
 from cad.families.delta.capstan import shared
-from cad.families.delta.layout import ARMS, body_poses
+from cad.families.delta.layout import ARMS, body_poses, rot_x, rot_z
 from cad.kinematics.delta import ik
 from cad.parts import PartInstance, PartKind, joints, translation
 from cad.parts import capstan as shapes
@@ -51,24 +51,10 @@ def motor_direction(d, i: int) -> np.ndarray:
     return math.cos(a) * d.radial[i] + math.sin(a) * np.array([0.0, 0.0, 1.0])
 
 
-def _rot_x(deg: float) -> np.ndarray:
-    c, s = math.cos(math.radians(deg)), math.sin(math.radians(deg))
-    T = np.eye(4)
-    T[1, 1], T[1, 2], T[2, 1], T[2, 2] = c, -s, s, c
-    return T
-
-
-def _rot_z(deg: float) -> np.ndarray:
-    c, s = math.cos(math.radians(deg)), math.sin(math.radians(deg))
-    T = np.eye(4)
-    T[0, 0], T[0, 1], T[1, 0], T[1, 1] = c, -s, s, c
-    return T
-
-
 #: Part z -> part -x (a radial screw pointing at the axis, head out), as the four-bar's.
 RY90 = np.array([[0.0, 0.0, 1.0, 0.0], [0.0, 1.0, 0.0, 0.0], [-1.0, 0.0, 0.0, 0.0], [0.0, 0.0, 0.0, 1.0]])
 #: The drum's and capstan's part frame (z their axis) -> the upper arm's body frame (z -> y).
-ALONG_Y = _rot_x(-90.0)
+ALONG_Y = rot_x(-90.0)
 
 
 def rope_plane_mm(design, t, stack: dict) -> tuple[float, float]:
@@ -121,7 +107,7 @@ def arm_parts(design, i: int, t, K: dict, stack: dict) -> list[tuple[str, PartKi
         process=f"machined from {th:g} mm plate; drill and tap 2 radial (rope anchors)")
     K["capstan_drum"] = kind
     tf = translation(0, yr - th / 2, 0) @ ALONG_Y
-    at = [tf @ translation(0, 0, th / 2) @ _rot_z(a) @ translation(rd, 0, 0) @ RY90 for a in anchors]
+    at = [tf @ translation(0, 0, th / 2) @ rot_z(a) @ translation(rd, 0, 0) @ RY90 for a in anchors]
     return [(f"upper_{i}.capstan_drum", kind, tf), *_anchor_parts(i, t, K, at)]
 
 

@@ -115,6 +115,46 @@ def resolution_um(design, counts: int, ratios=None) -> tuple[float, float, list[
     return float(step[i]), float(step.min()), X[i].tolist()
 
 
+def friction_N(design, torque_Nm: float, ratios=None) -> tuple[float, float, list[float]]:
+    """(worst, best, where the worst is (mm)) over the workspace grid of the Coulomb friction
+    the hand feels at the effector, worst direction: each motor's friction torque
+    ``torque_Nm`` through its ratio n_i at its joint, n_i tau_f sign(theta_dot_i), seen at the
+    effector through f = J^T tau (J: theta_dot = J x_dot, rad/m): moving along a unit v the
+    friction dissipates sum_i n_i tau_f |J_i . v|, so the largest resisting force is
+    max over the sign vectors s in {-1, 1}^3 of |J^T diag(n) tau_f s| (the eight corners of
+    the torque box). N = diag(``ratios``), default 1. KinematicsError naming a point out of
+    reach."""
+    X = design.workspace_points()
+    J, status = jacobian_rad_per_m(design.mechanism, X)
+    if np.any(status != 0):
+        require_ok(ik(design.mechanism, X))
+    n = np.ones(3) if ratios is None else np.asarray(ratios, float)
+    signs = np.array(np.meshgrid(*[[-1.0, 1.0]] * 3)).reshape(3, -1).T          # (8, 3)
+    f = np.linalg.norm(np.einsum("sk,nkl->nsl", signs * n * torque_Nm, J), axis=2).max(axis=1)
+    i = int(np.argmax(f))
+    return float(f[i]), float(f.min()), X[i].tolist()
+
+
+def friction_row(design, motor, ratios=None) -> dict:
+    """``friction_N``: :func:`friction_N` with the motor's brush and bearing friction
+    K_t I_0 (no-load current at no-load speed taken as Coulomb, as the four-bar's row:
+    :meth:`cad.data.catalog.MotorSpec.friction_torque_mNm`), through the transmissions'
+    ratios; value None (unverified) without K_t or I_0."""
+    tf = motor.friction_torque_mNm()
+    fields = ("torque_constant_mNm_per_A", "no_load_current_mA")
+    src = "; ".join(f"{f}: {motor.source_of(f)}" for f in fields)
+    if tf is None:
+        return row("friction_N", "Coulomb friction at the effector (no load), worst direction", None, "N",
+                   f"not computed: {motor.key} has no torque constant or no-load current", unverified=True)
+    hi, lo, at = friction_N(design, tf * 1e-3, ratios)
+    thru = "" if ratios is None else f" through n = {', '.join(f'{v:.4g}' for v in ratios)} (n_i tau_f at joint i)"
+    return row("friction_N", "Coulomb friction at the effector (no load), worst direction", hi, "N",
+               f"motor brushes and bearings tau_f = Kt I0 = {tf:.4g} mN m per motor{thru}, at the effector "
+               f"max over signs |J^T N tau_f s| (f = J^T tau), worst over the workspace grid at {at} mm; "
+               f"the joints' bearings and ball links not counted; {motor.winding or motor.key} ({src})",
+               lo=lo, hi=hi, unverified=any(motor.is_unverified(f) for f in fields))
+
+
 def k_max_row(resolution_um_: float) -> dict:
     """``eq25_K_max_N_per_m``: eq (25) (Hoeken paper §III.B.4) with the paper's Fv, Fs, Te,
     xdot_max (identified on its prototype: unverified for a delta) and Delta = the position
@@ -153,6 +193,7 @@ def rows_and_limits(design, report: dict, out_dir=None, simulate_wall: bool = Tr
             f"sigma_max(J^-1) 2 pi / {enc.counts_per_rev} counts per joint, worst over the "
             f"workspace grid at {at_res} mm; {enc.source}" + ("" if n is None else
             f"; counts per joint turn n x {enc.counts_per_rev} (J^-1 N^-1)"), lo=res_lo, hi=res),
+        friction_row(design, m, n),
         kmax := k_max_row(res),
         row("apparent_mass_max_g", "apparent mass, worst direction", a.get("Lambda_max_eig_g"), "g",
             f"largest eigenvalue of Lambda(x) from the solids and the rotors "

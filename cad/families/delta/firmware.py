@@ -12,8 +12,11 @@ tau = J^T F, the gravity compensation of :func:`cad.dynamics.delta.gravity_torqu
 the task mass matrix of :func:`cad.dynamics.delta.mass_matrix_kg` (both with Stamper's knee
 link for g > 0: its mass, centre and inertia about the knee pin; a
 :class:`cad.dynamics.delta.DeltaMass` from the build's body mass properties,
-:func:`cad.families.delta.dynamics.delta_mass_from_bodies`, and the resolved device's rotor
-inertia). Symbols, frames and the status precedence (reach, joint limits, serial, parallel
+:func:`cad.families.delta.dynamics.delta_mass_from_bodies`) plus each arm's rotor through its
+own transmission, J^T diag(n_i^2 (J_m + J_capstan,i)) J (the resolved device's
+:meth:`cad.device.ResolvedDevice.joint_rotor_inertia_kg_m2`, one per arm: the arms may have
+different ratios; ``ARM_AXIS[i]`` in the C). The counts -> angles and torques -> currents go
+through each joint's own ratio (``HC_GEAR``, :mod:`cad.firmware.csrc`). Symbols, frames and the status precedence (reach, joint limits, serial, parallel
 singularity) are those of :mod:`cad.kinematics.delta`; units SI (m, rad, N, N m, kg).
 Status codes: :data:`cad.firmware.reference.STATUS` (unreachable or no assembly:
 HC_ERR_CLOSURE; joint limits: HC_ERR_RANGE; singular: HC_ERR_SINGULAR).
@@ -25,6 +28,7 @@ IK's own test; the build's ``test_vectors.json`` holds the FK side).
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -48,6 +52,8 @@ GEOMETRY = ("base_radius_mm", "effector_radius_mm", "upper_arm_mm", "lower_arm_m
             "theta_min_rad", "theta_max_rad", "joint_offset_mm", "axis_offset_mm")
 MASS = ("upper_arm_kg_m2", "upper_arm_kg", "upper_arm_com_mm", "lower_arm_kg", "effector_kg",
         "rotor_kg_m2", "ratio", "knee_kg", "knee_com_mm", "knee_kg_m2")
+#: Each arm's rotor through its own transmission, n_i^2 (J_m + J_capstan,i) (kg m^2) in the spec.
+REFLECTED = ("reflected_0_kg_m2", "reflected_1_kg_m2", "reflected_2_kg_m2")
 
 
 def _lit(x: float) -> str:
@@ -62,8 +68,14 @@ def delta_of(spec) -> D.Delta:
 
 
 def mass_of(spec) -> DeltaMass:
-    """The :class:`cad.dynamics.delta.DeltaMass` of a spec's ``params``."""
+    """The :class:`cad.dynamics.delta.DeltaMass` of a spec's ``params``: the links (its rotor
+    0; the rotors through each arm's ratio: :func:`reflected_of`)."""
     return DeltaMass(**{k: spec.params[k] for k in MASS})
+
+
+def reflected_of(spec) -> np.ndarray:
+    """(3,) each arm's reflected rotor inertia n_i^2 (J_m + J_capstan,i) (kg m^2) of a spec."""
+    return np.array([spec.params[k] for k in REFLECTED])
 
 
 def props_of(report: dict) -> dict:
@@ -74,39 +86,49 @@ def props_of(report: dict) -> dict:
             for k, v in (report.get("bodies") or {}).items()}
 
 
-def params_of(d: D.Delta, mass: DeltaMass) -> dict[str, float]:
-    """The spec's ``params`` of delta ``d`` with moving masses ``mass`` (:func:`delta_of`,
-    :func:`mass_of` read them back)."""
+def params_of(d: D.Delta, mass: DeltaMass, reflected_kg_m2=None) -> dict[str, float]:
+    """The spec's ``params`` of delta ``d`` with moving masses ``mass`` and each arm's rotor
+    through its transmission ``reflected_kg_m2`` (3,) kg m^2, n_i^2 (J_m + J_capstan,i)
+    (None: ``mass``'s one rotor and ratio on every arm, n^2 J_m). The links go in with no
+    rotor (:func:`mass_of`), the rotors per arm (:func:`reflected_of`). DesignError for a
+    reflected inertia that is not (3,) finite and >= 0."""
+    if reflected_kg_m2 is None:
+        reflected_kg_m2 = (mass.ratio ** 2 * mass.rotor_kg_m2,) * 3
+    r = np.asarray(reflected_kg_m2, float)
+    if r.shape != (3,) or not np.all(np.isfinite(r) & (r >= 0)):
+        raise DesignError("reflected_kg_m2", f"must be 3 finite values >= 0, got {reflected_kg_m2!r}")
+    links = dataclasses.replace(mass, rotor_kg_m2=0.0, ratio=1.0)
     params = {k: float(getattr(d, k)) for k in GEOMETRY}
     params.update({f"azimuth_{i}_rad": float(a) for i, a in enumerate(d.motor_azimuth_rad)})
-    params.update({k: float(getattr(mass, k)) for k in MASS})
+    params.update({k: float(getattr(links, k)) for k in MASS})
+    params.update({k: float(v) for k, v in zip(REFLECTED, r, strict=True)})
     return params
 
 
 def spec_params(design, report: dict, device) -> SpecParams:
-    """The delta's constants (geometry mm/rad, :class:`DeltaMass` from report.json ``bodies``
-    and the resolved device's rotor and transmission ratio), the home pose (IK at the
-    workspace centre) and gravity -z (with Stamper's knee, g > 0, the knee's mass too).
-    DesignError for a workspace centre out of reach."""
+    """The delta's constants (geometry mm/rad, :class:`DeltaMass` from report.json ``bodies``,
+    each arm's rotor through its own transmission from the resolved device, n_i^2 (J_m +
+    J_capstan,i)), the home pose (IK at the workspace centre) and gravity -z (with Stamper's
+    knee, g > 0, the knee's mass too). DesignError for a workspace centre out of reach."""
     d = design.mechanism
-    n = uniform_ratio(device)
-    mass = delta_mass_from_bodies(d, props_of(report), device.joint_rotor_inertia_kg_m2("theta_0") / n ** 2, n)
+    mass = delta_mass_from_bodies(d, props_of(report))
+    reflected = [device.joint_rotor_inertia_kg_m2(f"theta_{i}") for i in range(3)]
     pose = D.ik(d, np.asarray(design.workspace["center_mm"], float)[None, :])
     if not pose.ok[0]:
         raise DesignError("workspace.center_mm", f"{design.workspace['center_mm']} mm: the home "
                           f"pose is {D.STATUS_NAMES[int(pose.status[0])]}")
-    return SpecParams(params_of(d, mass), tuple(float(t) for t in pose.theta_rad[0]), {}, 3, 3,
+    return SpecParams(params_of(d, mass, reflected), tuple(float(t) for t in pose.theta_rad[0]), {}, 3, 3,
                       gravity_m_s2=GRAVITY_M_S2)
 
 
 def uniform_ratio(device) -> float:
-    """The transmission ratio n the three arms share (the firmware's and the identification's
-    mass model take one arm for all three); DesignError naming ``transmission`` when the
+    """The transmission ratio n the three arms share (the identification's model takes one
+    ratio for all three motors); DesignError naming ``transmission`` when the
     ``[[transmission]]`` tables give the arms different ratios."""
     ns = {t.ratio for t in device.transmissions}
     if len(ns) != 1:
         raise DesignError("transmission", f"the arms' ratios differ ({sorted(ns)}): the delta's "
-                          "firmware mass model takes one transmission for all three arms")
+                          "identification takes one transmission for all three arms")
     return ns.pop()
 
 
@@ -158,8 +180,21 @@ def gravity_extra(spec, q, g) -> tuple[np.ndarray, np.ndarray]:
 
 
 def mass_matrix(spec, q_ok, X_ok) -> np.ndarray:
-    """Lambda (n_ok, 3, 3) kg of :func:`cad.dynamics.delta.mass_matrix_kg` at the ok rows."""
-    return mass_matrix_kg(delta_of(spec), np.asarray(X_ok) / MM, mass_of(spec))
+    """Lambda (n_ok, 3, 3) kg at the ok rows: :func:`task_mass_kg` of the spec's links and
+    rotors."""
+    return task_mass_kg(delta_of(spec), np.asarray(X_ok) / MM, mass_of(spec), reflected_of(spec))
+
+
+def task_mass_kg(d: D.Delta, P_mm, mass: DeltaMass, reflected_kg_m2=None) -> np.ndarray:
+    """Lambda (N, 3, 3) kg at effector points ``P_mm`` (N, 3): :func:`cad.dynamics.delta.
+    mass_matrix_kg` of ``mass`` plus J^T diag(``reflected_kg_m2``) J (each arm's rotor through
+    its own ratio, (3,) kg m^2; J: theta_dot = J x_dot, rad/m; None: ``mass``'s own rotor term
+    only). KinematicsError naming a point not ok."""
+    lam = mass_matrix_kg(d, P_mm, mass)
+    if reflected_kg_m2 is None:
+        return lam
+    J, _ = D.jacobian_rad_per_m(d, np.asarray(P_mm, float).reshape(-1, 3))
+    return lam + np.einsum("nik,i,nil->nkl", J, np.asarray(reflected_kg_m2, float), J)
 
 
 def _extent_mm(design) -> tuple[np.ndarray, np.ndarray]:
@@ -229,8 +264,8 @@ static const hc_real EPS_RESIDUAL = {_lit(tol.DELTA_FK_RESIDUAL_REL)};
 static const hc_real G0 = {_lit(G_M_S2)};
 static const hc_real M_ARM = {_lit(mass.upper_arm_kg)}, COM_ARM = {_lit(mass.upper_arm_com_mm * MM)};
 static const hc_real M_LOWER = {_lit(mass.lower_arm_kg)}, M_EFF = {_lit(mass.effector_kg)};
-/* each arm about its motor axis with the rotor through the transmission: I_arm + n^2 J_m */
-static const hc_real ARM_AXIS = {_lit(mass.upper_arm_kg_m2 + mass.ratio ** 2 * mass.rotor_kg_m2)};
+/* each arm about its motor axis with its rotor through its own transmission: I_arm + n_i^2 J_m,i */
+static const hc_real ARM_AXIS[3] = {{{", ".join(_lit(mass.upper_arm_kg_m2 + r) for r in reflected_of(spec))}}};
 /* Stamper's knee (0 without): its mass, its centre along it, its inertia about the knee pin */
 static const hc_real M_KNEE = {_lit(mass.knee_kg)}, COM_KNEE = {_lit(mass.knee_com_mm * MM)};
 static const hc_real I_KNEE = {_lit(mass.knee_kg_m2)};
@@ -496,7 +531,7 @@ int hc_gravity_torques(const hc_real theta[3], hc_real tau[3])
     return HC_OK;
 }
 
-/* Lambda = M_EFF I + sum_i [(I_ARM + n^2 J_m) J_i J_i^T + (M_LOWER / 3) (G^T G + (G + G^T) / 2 + I)
+/* Lambda = M_EFF I + sum_i [(I_ARM + n_i^2 J_m,i) J_i J_i^T + (M_LOWER / 3) (G^T G + (G + G^T) / 2 + I)
  *          + M_KNEE G_k^T G_k + (I_KNEE - M_KNEE COM_KNEE^2) q q^T],
  * G = e J_i^T + G_OFF n q^T (the rods' top ends), G_k = e J_i^T + COM_KNEE n q^T (the knee's
  * centre); J_i = row i of dtheta/dx, e = dE_i/dtheta_i (cad.dynamics.delta.mass_matrix_kg) */
@@ -517,7 +552,7 @@ int hc_mass_matrix(const hc_real theta[3], hc_real M[9])
         cqq = M_LOWER / 3 * G_OFF * G_OFF + I_KNEE;
         for (a = 0; a < 3; ++a)
             for (b = 0; b < 3; ++b)
-                M[3 * a + b] += (ARM_AXIS + (M_LOWER / 3 + M_KNEE) * ee) * Ji[a] * Ji[b]
+                M[3 * a + b] += (ARM_AXIS[i] + (M_LOWER / 3 + M_KNEE) * ee) * Ji[a] * Ji[b]
                                 + M_LOWER / 6 * (e[a] * Ji[b] + e[b] * Ji[a])
                                 + cJq * (Ji[a] * q[b] + q[a] * Ji[b]) + cqq * q[a] * q[b]
                                 + M_LOWER / 6 * G_OFF * (n[a] * q[b] + q[a] * n[b]);
@@ -553,9 +588,11 @@ def model(design) -> KinematicModel:
     return DELTA
 
 
-def reference_vectors(d: D.Delta, mass: DeltaMass, P_mm, force_N) -> dict[str, np.ndarray]:
+def reference_vectors(d: D.Delta, mass: DeltaMass, P_mm, force_N,
+                      reflected_kg_m2=None) -> dict[str, np.ndarray]:
     """Reference values (SI) at effector points ``P_mm`` (N, 3) mm and forces ``force_N``
-    (N, 3) N, from :mod:`cad.kinematics.delta` and :mod:`cad.dynamics.delta`:
+    (N, 3) N, from :mod:`cad.kinematics.delta` and :mod:`cad.dynamics.delta` (the mass
+    matrix :func:`task_mass_kg`, ``reflected_kg_m2`` each arm's rotor through its ratio):
     {"P_m", "theta_rad" and "ik_status" (C codes) of the IK at P; "P_fk_m" and "fk_status"
     of the FK at those angles (the lower assembly mode: a point above the elbows' plane
     comes back mirrored); at the FK point, where ok (0 elsewhere): "Jx_m_per_rad" (N, 3, 3)
@@ -572,7 +609,7 @@ def reference_vectors(d: D.Delta, mass: DeltaMass, P_mm, force_N) -> dict[str, n
         J, _ = D.jacobian_rad_per_m(d, fwd.P_mm[ok])
         Jx[ok] = np.linalg.inv(J)
         tg[ok] = gravity_torques_Nm(d, fwd.P_mm[ok], mass)
-        M[ok] = mass_matrix_kg(d, fwd.P_mm[ok], mass)
+        M[ok] = task_mass_kg(d, fwd.P_mm[ok], mass, reflected_kg_m2)
     tau = np.einsum("nik,ni->nk", Jx, F)
     return {"P_m": P * MM, "theta_rad": pose.theta_rad, "ik_status": _codes(pose.status),
             "P_fk_m": fwd.P_mm * MM, "fk_status": _codes(fwd.status), "Jx_m_per_rad": Jx,

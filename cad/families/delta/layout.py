@@ -27,12 +27,31 @@ parallelogram share one direction; the effector is level at every pose.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from cad.errors import DesignError
 from cad.kinematics.delta import Delta, ik, require_ok
 
 ARMS = (0, 1, 2)
+
+
+def rot_x(deg: float) -> np.ndarray:
+    """4 x 4 homogeneous rotation by ``deg`` degrees about x (right hand; maps part
+    coordinates into the parent frame, as ``tf_body_part``)."""
+    c, s = math.cos(math.radians(deg)), math.sin(math.radians(deg))
+    T = np.eye(4)
+    T[1, 1], T[1, 2], T[2, 1], T[2, 2] = c, -s, s, c
+    return T
+
+
+def rot_z(deg: float) -> np.ndarray:
+    """4 x 4 homogeneous rotation by ``deg`` degrees about z (right hand), as :func:`rot_x`."""
+    c, s = math.cos(math.radians(deg)), math.sin(math.radians(deg))
+    T = np.eye(4)
+    T[0, 0], T[0, 1], T[1, 0], T[1, 1] = c, -s, s, c
+    return T
 
 
 def body_names(d: Delta) -> tuple[str, ...]:

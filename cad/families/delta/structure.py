@@ -7,13 +7,16 @@ frame by the element's own axes: local x along it, local z a given reference dir
 made normal to x) and pin-ended trusses (axial E A / L only: a rod between two ball
 joints carries no moment). Masses are lumped (half of each element at each end, point
 masses at nodes); modes solve K phi = w^2 M phi after static (Guyan) condensation of the
-massless DOFs, exact for lumped translational masses.
+massless DOFs, exact for lumped masses. A rigid body fixed to a node (its mass at an offset
+centre, its rotary inertia about that centre: :meth:`Frame3D.rigid_mass`) adds the node's
+6 x 6 rigid-body mass block (Przemieniecki §11.2, a rigid mass offset from the node).
 
 :func:`delta_frame` builds the delta at one effector point: each upper arm a beam
 clamped at its motor axis (boundary condition: motors held by the servo at infinite gain,
 base and brackets rigid), the elbow and effector cross bars and the effector plate
 beams, the twelve rods trusses between the ball-joint centres, the effector with its
-handle a point mass at the effector centre. With Stamper's joint offset (g > 0, the Falcon)
+handle a point mass at the effector centre, each capstan's drum sector (the solids' mass
+properties) a rigid mass on its upper arm at the motor axis. With Stamper's joint offset (g > 0, the Falcon)
 each arm is a fork with a knee link on a pin and the rods are beams hinged at the knee
 (:func:`knee_arm`). Dimensions and materials: :mod:`.hardware`.
 """
@@ -28,7 +31,7 @@ import numpy as np
 
 from cad.data.materials import get_material
 from cad.families.delta import hardware as hw
-from cad.families.delta.layout import arm_points_mm
+from cad.families.delta.layout import arm_points_mm, poses_at
 from cad.kinematics.delta import Delta, ik, jacobian_rad_per_m, require_ok
 from cad.structure.elastic import get_elastic
 from cad.structure.frame import Section, local_stiffness, rect_torsion_J, von_mises_of_end_forces
@@ -68,6 +71,8 @@ class Frame3D:
     #: beam index -> its released local DOFs (0-11, the order of
     #: :func:`cad.structure.frame.local_stiffness`): a pin or ball at that end.
     releases: dict[int, tuple[int, ...]] = field(default_factory=dict)
+    #: (node, 6 x 6 mass block, base frame): rigid bodies fixed to a node (:meth:`rigid_mass`)
+    rigid_blocks: list[tuple[int, np.ndarray]] = field(default_factory=list)
 
     def node(self, xyz_m) -> int:
         self.nodes.append(np.asarray(xyz_m, float).reshape(3))
@@ -113,6 +118,29 @@ class Frame3D:
     def add_mass(self, i: int, m_kg: float) -> None:
         self.point_mass_kg[i] = self.point_mass_kg.get(i, 0.0) + m_kg
 
+    def rigid_mass(self, i: int, m_kg: float, offset_m, inertia_kg_m2) -> None:
+        """Fix a rigid body to node ``i``: mass ``m_kg`` with its centre at ``offset_m`` (3,) m
+        from the node and rotary inertia ``inertia_kg_m2`` (3, 3) about that centre (base frame
+        axes). The centre moves with v = u_dot - [r]x w (u, w the node's translation and
+        rotation), so the node's mass block is m [I, -[r]x]^T [I, -[r]x] + diag(0, I_c)
+        (kinetic energy of a rigid body, Koenig's theorem)."""
+        r = np.asarray(offset_m, float).reshape(3)
+        S = np.array([[0.0, -r[2], r[1]], [r[2], 0.0, -r[0]], [-r[1], r[0], 0.0]])
+        T = np.hstack([np.eye(3), -S])
+        block = float(m_kg) * T.T @ T
+        block[3:, 3:] += np.asarray(inertia_kg_m2, float).reshape(3, 3)
+        self.rigid_blocks.append((int(i), block))
+
+    def mass_matrix(self) -> np.ndarray:
+        """(6 N, 6 N) mass matrix (kg, kg m, kg m^2): the lumped translational masses of
+        :meth:`masses` on the diagonal plus the rigid bodies' blocks (:meth:`rigid_mass`)."""
+        m = np.repeat(self.masses()[:, None], 6, axis=1)
+        m[:, 3:] = 0.0
+        M = np.diag(m.ravel())
+        for i, block in self.rigid_blocks:
+            M[6 * i:6 * i + 6, 6 * i:6 * i + 6] += block
+        return M
+
     def stiffness(self) -> np.ndarray:
         """Assembled stiffness (6 DOFs per node, N/m, N m/rad)."""
         K = np.zeros((6 * len(self.nodes),) * 2)
@@ -154,7 +182,8 @@ class Frame3D:
         return out
 
     def masses(self) -> np.ndarray:
-        """Lumped translational mass per node (kg)."""
+        """Lumped translational mass per node (kg; the rigid bodies of :meth:`rigid_mass` are
+        in :meth:`mass_matrix` only)."""
         m = np.zeros(len(self.nodes))
         for i, j, s, _ in self.beams:
             me = s.rho * s.A * float(np.linalg.norm(self.nodes[j] - self.nodes[i]))
@@ -187,15 +216,14 @@ class Frame3D:
         from scipy.linalg import eigh
 
         K, free = self.stiffness(), self._free()
-        m = np.repeat(self.masses()[:, None], 6, axis=1)
-        m[:, 3:] = 0.0
-        m = m.ravel()[free]
+        M = self.mass_matrix()[np.ix_(free, free)]
         Kf = K[np.ix_(free, free)]
-        t = m > 0
+        t = np.diag(M) > 0  # a DOF with no mass has a zero row (M is positive semi-definite)
         Ktr, Krr = Kf[np.ix_(t, ~t)], Kf[np.ix_(~t, ~t)]
         Kc = Kf[np.ix_(t, t)] - Ktr @ np.linalg.solve(Krr, Ktr.T)
         n = min(k, int(t.sum()))
-        w2, V = eigh(0.5 * (Kc + Kc.T), np.diag(m[t]), subset_by_index=[0, n - 1])
+        Mt = M[np.ix_(t, t)]
+        w2, V = eigh(0.5 * (Kc + Kc.T), 0.5 * (Mt + Mt.T), subset_by_index=[0, n - 1])
         shapes = np.zeros((n, K.shape[0]))
         shapes[:, free[t]] = V.T
         shapes[:, free[~t]] = -np.linalg.solve(Krr, Ktr.T @ V).T
@@ -266,7 +294,7 @@ def fork_section(plate: Section) -> Section:
 
 
 def knee_arm(f: Frame3D, d: Delta, i: int, pts: dict, sec: DeltaSections, c: int,
-             half_m: float, rope_k_Nm_per_rad: float | None = None) -> None:
+             half_m: float, rope_k_Nm_per_rad: float | None = None) -> int:
     """Arm ``i`` of a delta with Stamper's knee (g > 0) into ``f`` (``pts``: the joint points
     of :func:`cad.families.delta.layout.arm_points_mm` at one pose, in metres; ``c`` the
     effector-centre node, ``half_m`` half the parallelogram's width). Members and joints:
@@ -277,7 +305,7 @@ def knee_arm(f: Frame3D, d: Delta, i: int, pts: dict, sec: DeltaSections, c: int
     that holds the knee in line with the rods, Stamper's model: :mod:`cad.families.delta.sim`)
     and on a ball at the effector cross bar (all three rotations free); the effector's cross
     bar and plate beam as for g = 0. ``rope_k_Nm_per_rad``: the arm on a pivot held by its
-    capstan's rope (:func:`pivot_spring`) instead of clamped."""
+    capstan's rope (:func:`pivot_spring`) instead of clamped. Returns the motor-axis node."""
     t, k = d.tangential[i], pts["knee_dir"][i] / np.linalg.norm(pts["knee_dir"][i])
     n = np.cross(k, t)
     rod = sec.rod or round_section(hw.ROD_OD_MM * MM, hw.ROD_ID_MM * MM, hw.ROD_MATERIAL)
@@ -297,6 +325,7 @@ def knee_arm(f: Frame3D, d: Delta, i: int, pts: dict, sec: DeltaSections, c: int
         f.released_beam(tb, bb, rod, n, (5, 9, 10, 11), label=f"rod {i}")
         f.add_mass(tb, sec.joint_kg / 2)
         f.add_mass(bb, sec.joint_kg / 2)
+    return a
 
 
 def rod_forces_N(f: Frame3D, u: np.ndarray) -> np.ndarray:
@@ -310,24 +339,36 @@ def rod_forces_N(f: Frame3D, u: np.ndarray) -> np.ndarray:
 
 
 def delta_frame(d: Delta, P_mm, width_mm: float, sec: DeltaSections,
-                rope_k_Nm_per_rad=None) -> tuple[Frame3D, int]:
+                rope_k_Nm_per_rad=None, drums=None) -> tuple[Frame3D, int]:
     """(frame, index of the effector-centre node) of the delta at effector point ``P_mm``
     (3,) mm (module docstring; with Stamper's knee, g > 0, each arm is :func:`knee_arm`).
     ``rope_k_Nm_per_rad`` (3,) N m/rad: each upper arm on a pivot held by its capstan's rope
     (:func:`pivot_spring` about the motor axis t_i, the motor held by the servo: the rope in
-    series with the arm), None: clamped. KinematicsError when P is not ok."""
+    series with the arm), None: clamped. ``drums`` (3,) :class:`cad.massprops.props.MassProps`
+    or None per arm (SI, in upper_i's body frame of :mod:`cad.families.delta.layout`): each
+    a rigid body on its arm's motor-axis node (:meth:`Frame3D.rigid_mass`), the capstan's drum
+    sector turning with the arm. KinematicsError when P is not ok."""
     pose = ik(d, np.asarray(P_mm, float).reshape(1, 3))
     require_ok(pose)
     pts = {k: v[:, 0] * MM for k, v in arm_points_mm(d, pose.P_mm, pose.theta_rad).items()}
+    tfs = poses_at(d, pose.P_mm, pose.theta_rad, width_mm)
     P = pose.P_mm[0] * MM
     f = Frame3D()
     c = f.node(P)
     f.add_mass(c, sec.effector_kg)
     half = width_mm / 2 * MM
     for i in range(3):
+        if drums is not None and drums[i] is not None:
+            R = tfs[f"upper_{i}"][0, :3, :3]
+            dr = drums[i]
+            drum_at = (R @ np.asarray(dr.com_m), R @ np.asarray(dr.inertia_com_kg_m2) @ R.T)
+        else:
+            drum_at = None
         if d.joint_offset_mm > 0:
-            knee_arm(f, d, i, pts, sec, c, half,
-                     None if rope_k_Nm_per_rad is None else rope_k_Nm_per_rad[i])
+            a = knee_arm(f, d, i, pts, sec, c, half,
+                         None if rope_k_Nm_per_rad is None else rope_k_Nm_per_rad[i])
+            if drum_at is not None:
+                f.rigid_mass(a, drums[i].mass_kg, *drum_at)
             continue
         t, u = d.tangential[i], d.radial[i]
         a, e = f.node(pts["axis"][i]), f.node(pts["elbow"][i])
@@ -336,6 +377,8 @@ def delta_frame(d: Delta, P_mm, width_mm: float, sec: DeltaSections,
         else:
             f.ground_springs.append((a, pivot_spring(t, rope_k_Nm_per_rad[i])))
         f.beam(a, e, sec.arm, t, n_sub=4, label=f"upper arm {i}")
+        if drum_at is not None:
+            f.rigid_mass(a, drums[i].mass_kg, *drum_at)
         bc = f.node(pts["bottom"][i])
         f.beam(c, bc, sec.effector, np.array([0.0, 0.0, 1.0]), label=f"effector plate {i}")
         for s in (-1.0, 1.0):
@@ -366,15 +409,17 @@ def pivot_spring(axis, k_Nm_per_rad: float) -> np.ndarray:
 
 
 def first_mode(d: Delta, P_mm, width_mm: float, sec: DeltaSections | None = None,
-               rope_k_Nm_per_rad=None) -> dict:
+               rope_k_Nm_per_rad=None, drums=None) -> dict:
     """First structural mode and the effector's compliance at ``P_mm`` (3,) mm:
     {"first_mode_Hz", "modes_Hz" (3,), "mode_direction" (3,) unit effector motion of the
     first mode, "compliance_m_per_N" (3, 3) effector displacement per force at its centre,
     "compliance_max_um_per_N" its largest eigenvalue (worst direction), "boundary":
     sentence}. Sections default to :func:`default_sections`; ``rope_k_Nm_per_rad`` (3,) the
-    capstans' rope springs at the motor axes (:func:`delta_frame`), None: clamped."""
+    capstans' rope springs at the motor axes (:func:`delta_frame`), None: clamped; ``drums``
+    (3,) the drum sectors' mass properties on the upper arms (:func:`delta_frame`)."""
     sec = sec or default_sections(d.effector_radius_mm, width_mm)
-    f, c = delta_frame(d, P_mm, width_mm, sec, rope_k_Nm_per_rad)
+    f, c = delta_frame(d, P_mm, width_mm, sec, rope_k_Nm_per_rad, drums)
+    drum_kg = [dr.mass_kg for dr in drums if dr is not None] if drums is not None else []
     hz, shapes = f.modes(3)
     C = np.stack([f.solve({c: e})[6 * c:6 * c + 3] for e in np.eye(3)], axis=1)
     v = shapes[0, 6 * c:6 * c + 3]
@@ -390,7 +435,10 @@ def first_mode(d: Delta, P_mm, width_mm: float, sec: DeltaSections | None = None
                            "the parallelogram's plane) and on balls at the effector; "
                            if d.joint_offset_mm > 0 else
                            "rods pin-ended between the ball-joint centres; ")
-                        + "effector and handle a point mass at its centre"}
+                        + "effector and handle a point mass at its centre"
+                        + ("; each capstan drum sector with its anchor screws a rigid mass and "
+                           "inertia on its upper arm (the solids' mass properties, "
+                           f"{', '.join(f'{1e3 * m:.4g}' for m in drum_kg)} g)" if drum_kg else "")}
 
 
 def euler_buckling_N(od_mm: float, id_mm: float, length_mm: float, E_Pa: float) -> float:

@@ -20,7 +20,7 @@ from cad.design import load_design
 from cad.dynamics.delta import DeltaMass, mass_matrix_kg
 from cad.errors import DesignError
 from cad.families.delta.dynamics import delta_mass_from_bodies, mass_matrix_from_bodies_kg
-from cad.families.delta.layout import body_names, body_poses
+from cad.families.delta.layout import body_names, body_poses, rot_x, rot_z
 from cad.kinematics import delta as D
 from cad.massprops.props import MassProps
 
@@ -145,3 +145,16 @@ def test_bad_rotor_and_ratio_are_named():
         mass_matrix_from_bodies_kg(des.mechanism, P, 30.0, {}, -1.0)
     with pytest.raises(DesignError, match="ratio"):
         mass_matrix_from_bodies_kg(des.mechanism, P, 30.0, {}, 0.0, 0.0)
+
+
+def test_rot_x_and_rot_z_against_scipy():
+    """The layout's 4 x 4 rotations (degrees, right hand) against scipy's Rotation, and a
+    quarter turn by hand (rot_x(90): y -> z; rot_z(90): x -> y)."""
+    from scipy.spatial.transform import Rotation
+
+    for deg in (-90.0, 30.0, 180.0, 247.5):
+        for T, axis in ((rot_x(deg), "x"), (rot_z(deg), "z")):
+            assert np.allclose(T[:3, :3], Rotation.from_euler(axis, deg, degrees=True).as_matrix(), atol=1e-15)
+            assert np.array_equal(T[3], [0.0, 0.0, 0.0, 1.0]) and np.array_equal(T[:3, 3], np.zeros(3))
+    assert np.allclose(rot_x(90.0)[:3, :3] @ [0, 1, 0], [0, 0, 1], atol=1e-15)
+    assert np.allclose(rot_z(90.0)[:3, :3] @ [1, 0, 0], [0, 1, 0], atol=1e-15)

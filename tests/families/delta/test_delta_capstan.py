@@ -167,6 +167,8 @@ def test_bundled_capstan_delta_figures_docs_state():
     assert round(v["cable_slip_margin"], 1) == 3.2 and round(v["cable_safety_factor"], 1) == 18.8
     assert round(v["drum_sector_deg"], 1) == 147.9 and round(v["cable_cut_length_mm"]) == 677
     assert round(v["cable_stiffness_Nm_per_rad"]) == 4389
+    from cad.families.delta.datasheet import friction_row
+    assert round(friction_row(d, dev.motor.spec, [2.5] * 3)["value"], 3) == 0.296
     c = np.asarray(d.workspace["center_mm"], float)
     k = dcap.rope_stiffness_Nm_per_rad(d, dev)
     assert round(first_mode(d.mechanism, c, d.parallelogram_width_mm, rope_k_Nm_per_rad=k)["first_mode_Hz"], 1) == 162.6
@@ -371,3 +373,120 @@ def test_a_knee_arm_on_its_rope_adds_the_same_series_compliance():
     Ji = np.linalg.inv(J[0])
     added = Ji @ np.diag(1 / np.asarray(k)) @ Ji.T
     assert rope["compliance_m_per_N"] == pytest.approx(clamped["compliance_m_per_N"] + added, rel=1e-5, abs=1e-12)
+
+
+def test_firmware_with_a_ratio_per_arm_in_c_against_the_rotors_kinetic_energy(tmp_path):
+    """[[transmission]] with n = 2, 2.5, 3: the firmware carries each arm's ratio (HC_GEAR) and
+    its own reflected rotor in the mass model (ARM_AXIS[i] = I_arm + n_i^2 (J_m + J_capstan,i),
+    J_capstan from the capstan's own closed form); the compiled C passes the build's vectors
+    and finite differences (test_device.c), and its hc_mass_matrix minus the links' Lambda
+    (no rotor) is the rotors' kinetic energy from finite differences of the IK:
+    v^T dLambda v = sum_i n_i^2 (J_m + J_c,i) theta_dot_i^2."""
+    from cad import tolerances as tol
+    from cad.dynamics.delta import mass_matrix_kg
+    from cad.families.delta.dynamics import delta_mass_from_bodies
+    from cad.families.delta.firmware import props_of
+    from cad.firmware import linkage_files
+    from tests.compilers import compiler
+    from tests.families.delta.test_delta_firmware import _report_bodies
+
+    ns = np.array([2.0, 2.5, 3.0])
+    d = _design(_per_motor(tuple(ns)))
+    dev = resolve_device(d)
+    files = linkage_files(d, _report_bodies(), "cap3", dev)
+    h, c = files["firmware/hapticad_device.h"], files["firmware/hapticad_device.c"]
+    assert re.search(r"#define HC_GEAR \{ (.+) \}", h).group(1) == ", ".join(f"HC_R({float(n)!r})" for n in ns)
+    jm = dev.motor.spec.rotor_inertia_g_cm2 * 1e-7
+    rho = get_material(CAPSTAN_MATERIAL).density_kg_m3
+    jc = [capstan_izz_kg_m2(t["capstan_diameter_mm"], get_cable(t["cable"]).diameter_mm, t["wraps"],
+                            dev.motor.spec.shaft_diameter_mm, rho) for t in _per_motor(tuple(ns))["transmission"]]
+    refl = ns**2 * (jm + np.asarray(jc))
+    links = delta_mass_from_bodies(d.mechanism, props_of(_report_bodies()))
+    axis = [float(v) for v in re.findall(r"HC_R\(([^)]+)\)", re.search(r"ARM_AXIS\[3\] = \{(.+)\};", c).group(1))]
+    assert axis == pytest.approx((links.upper_arm_kg_m2 + refl).tolist(), rel=1e-12)
+    fw = tmp_path / "fw"
+    fw.mkdir()
+    for rel, text in files.items():
+        (fw / Path(rel).name).write_text(text)
+    exe = tmp_path / "td"
+    subprocess.run([compiler("c"), "-std=c99", "-O2", "-o", str(exe), str(fw / "test_device.c"),
+                    str(fw / "hapticad_device.c"), "-lm"], check=True, capture_output=True, timeout=120)
+    r = subprocess.run([str(exe), str(fw / "test_vectors.json"), *map(repr, (
+        tol.FIRMWARE_DOUBLE_POSITION_M, tol.FIRMWARE_DOUBLE_TORQUE_NM, tol.FIRMWARE_FD_JACOBIAN))],
+        capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0 and "failures 0" in r.stdout, r.stdout + r.stderr
+    # hc_mass_matrix at three points against the links' Lambda plus the rotors from the IK's rates
+    P = np.asarray(d.workspace["center_mm"], float) + np.array([[0.0, 0.0, 0.0], [30.0, -20.0, 25.0],
+                                                                  [-40.0, 35.0, -30.0]])
+    th = ik(d.mechanism, P).theta_rad
+    (tmp_path / "m.c").write_text(
+        '#include <stdio.h>\n#include "hapticad_device.h"\nint main(void){static const double th[] = {'
+        + ", ".join(repr(float(v)) for v in th.ravel()) + '};hc_real q[3], M[9];int n, i;for (n = 0; n < 3; ++n)'
+        '{for (i = 0; i < 3; ++i) q[i] = th[3 * n + i];if (hc_mass_matrix(q, M)) return 1;for (i = 0; i < 9; ++i)'
+        ' printf("%.17g ", (double)M[i]);printf("\\n");}return 0;}\n')
+    exe2 = tmp_path / "m"
+    subprocess.run([compiler("c"), "-std=c99", "-Wall", "-Wextra", "-pedantic", "-Werror", f"-I{fw}", "-o",
+                    str(exe2), str(tmp_path / "m.c"), str(fw / "hapticad_device.c"), "-lm"], check=True, timeout=120)
+    out = subprocess.run([str(exe2)], capture_output=True, text=True, check=True).stdout.split("\n")
+    h_mm = 1e-4
+    for k, (line, p) in enumerate(zip(out[:3], P, strict=True)):
+        M = np.array(line.split(), float).reshape(3, 3)
+        rot = M - mass_matrix_kg(d.mechanism, p[None], links)[0]
+        for v in np.eye(3):
+            dth = (ik(d.mechanism, (p + h_mm * v)[None]).theta_rad[0]
+                   - ik(d.mechanism, (p - h_mm * v)[None]).theta_rad[0]) / (2 * h_mm * 1e-3)  # rad/m
+            assert v @ rot @ v == pytest.approx(float(np.sum(refl * dth**2)), rel=1e-6), k
+
+
+def test_per_motor_rows_of_the_shared_helper_against_hand_formulas():
+    """cad.datasheet.capstan_rows.joints_rows (the per-motor rows the delta reads): with n = 2,
+    2.5, 3 each arm's ratio row, its rope's k_q = EA (2 / L) r_d^2 at C = r_d + r_c + gap, in
+    the arms' order, keys suffixed _0, _1, _2, and a slip limit per arm."""
+    from cad.actuators.capstan import CAPSTAN_GAP_MM
+    from cad.datasheet import capstan_rows as cr
+
+    ns = (2.0, 2.5, 3.0)
+    d = _design(_per_motor(ns))
+    rows, lim, k_q = cr.joints_rows(dcap.joints(d, resolve_device(d)))
+    v = {r["key"]: r["value"] for r in rows}
+    rope = get_cable(RAW["transmission"]["cable"])
+    rc = RAW["transmission"]["capstan_diameter_mm"] / 2
+    for i, n in enumerate(ns):
+        rd = rc * n
+        L = math.sqrt((rd + rc + CAPSTAN_GAP_MM) ** 2 - (rd - rc) ** 2) * 1e-3
+        kq = rope.axial_stiffness_EA_N * 2 / L * (rd * 1e-3) ** 2
+        assert v[f"transmission_ratio_{i}"] == n
+        assert k_q[f"theta_{i}"] == pytest.approx(kq, rel=1e-12) == v[f"cable_stiffness_Nm_per_rad_{i}"]
+        assert f"cable_slip_margin_{i}" in lim
+    order = [r["key"] for r in rows]
+    assert order.index("cable_stiffness_Nm_per_rad_0") < order.index("transmission_ratio_1")
+    assert cr.joints_rows(()) == ([], {}, {})
+
+
+def test_friction_at_the_effector_through_the_ratios_against_the_dissipation_over_directions():
+    """friction_N: each motor's Coulomb torque tau_f through its ratio at its joint; moving the
+    effector along a unit v the friction dissipates sum_i n_i tau_f |J_i . v| per unit speed, so
+    the resisting force along v is that sum (virtual work); its largest over a sweep of 4000
+    directions and the workspace grid against the sign-corner form, the same point; one ratio n
+    on every arm: n times the direct drive's; the datasheet row with K_t I_0 of the RE 35."""
+    from cad.data.catalog import get_motor
+    from cad.families.delta.datasheet import friction_N, friction_row
+
+    ns = np.array([2.0, 2.5, 3.0])
+    d = _design(_per_motor(tuple(ns)))
+    hi, lo, at = friction_N(d, 0.01, ns)
+    X = d.workspace_points()
+    J, _ = jacobian_rad_per_m(d.mechanism, X)
+    u = np.random.default_rng(11).normal(size=(4000, 3))
+    u /= np.linalg.norm(u, axis=1)[:, None]
+    F = np.abs(np.einsum("i,nik,vk->nvi", ns * 0.01, J, u)).sum(axis=2)
+    sweep = F.max()
+    assert hi >= sweep * (1 - 1e-12) and hi < sweep * (1 + 2e-3)   # sampled directions undershoot
+    assert np.allclose(X[int(np.argmax(F.max(axis=1)))], at)
+    assert lo <= hi
+    d1 = _design()
+    assert friction_N(d1, 0.01, [2.5] * 3)[0] == pytest.approx(2.5 * friction_N(d1, 0.01)[0], rel=1e-12)
+    m = get_motor("maxon-re35")
+    r = friction_row(d1, m, [2.5] * 3)
+    tf = m.torque_constant_mNm_per_A * m.no_load_current_mA * 1e-6   # Kt I0, N m
+    assert r["key"] == "friction_N" and r["value"] == pytest.approx(friction_N(d1, tf, [2.5] * 3)[0], rel=1e-12)

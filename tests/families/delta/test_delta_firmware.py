@@ -276,8 +276,9 @@ def test_build_files_state_the_resolved_device_and_pass_their_own_test(tmp_path)
     assert h["current_peak_A"] == pytest.approx(0.500 / 0.060, rel=1e-15)
     assert "int hc_inverse(" in files["firmware/hapticad_device.h"]
     # each arm about its motor axis: I_yy + m c^2 (parallel axes) + the [motor] rotor (direct)
-    arm = float(re.search(r"ARM_AXIS = HC_R\(([^)]+)\)", files["firmware/hapticad_device.c"]).group(1))
-    assert arm == pytest.approx(2e-5 + 0.05 * 0.040**2 + 20.0e-7, rel=1e-12)
+    arms = re.search(r"ARM_AXIS\[3\] = \{(.+)\};", files["firmware/hapticad_device.c"]).group(1)
+    arms = [float(v) for v in re.findall(r"HC_R\(([^)]+)\)", arms)]
+    assert arms == pytest.approx([2e-5 + 0.05 * 0.040**2 + 20.0e-7] * 3, rel=1e-12)
     chai = json.loads(files["firmware/chai3d_device.json"])
     assert chai["encoder_counts_per_rev"] == 4096
     assert chai["m_workspaceRadius"] == pytest.approx(0.05, rel=1e-12)  # half the 100 mm cube
