@@ -223,8 +223,9 @@ def joints_rows(joints) -> tuple[list[dict], dict, dict[str, float]]:
     :func:`datasheet_rows` followed by its :func:`stiffness_row`, in the joints' order, the
     limits of all (keys carry each joint's suffix), and ``{joint name: k_q}`` (N m/rad) of the
     joints whose rope states its E A (capstan joints: :func:`capstan_joint` of capstan
-    transmissions). ``([], {}, {})`` for no joint. The delta's per-arm rows use it
-    (:func:`cad.families.delta.capstan.datasheet_rows`)."""
+    transmissions). ``([], {}, {})`` for no joint. The delta's per-arm rows and the 5-bar's and
+    twin's per-motor rows use it (:func:`cad.families.delta.capstan.datasheet_rows`,
+    :func:`cad.families.pantograph.capstan.capstan_rows`)."""
     rows: list[dict] = []
     lims: dict = {}
     k_q: dict[str, float] = {}

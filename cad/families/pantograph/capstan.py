@@ -319,14 +319,7 @@ def capstan_rows(design, k_max_N_per_m: float | None) -> tuple[list[dict], dict]
     stiffness (:mod:`cad.datasheet.capstan_rows`, suffixed ``_1`` / ``_2``), the ropes'
     stiffness at the handle (weakest direction and pose, :func:`rope_compliance_m_per_N`) and
     ``k_max_N_per_m`` (the datasheet's eq (25) K_max) in series with it; ``([], {})`` for direct drive."""
-    rows, limits, k_q = [], {}, {}
-    for j in capstan_joints(design):
-        r, lim = cr.datasheet_rows(j)
-        st_row, k, _ = cr.stiffness_row(j, cr.layout(j))
-        rows += [*r, st_row]
-        limits.update(lim)
-        if k is not None:
-            k_q[j.name] = k
+    rows, limits, k_q = cr.joints_rows(capstan_joints(design))
     if not k_q:
         return rows, limits
     c = rope_compliance_m_per_N(design, k_q)
