@@ -106,3 +106,11 @@ def capstan_set_screw(design, t) -> tuple[str, float]:
                                 "capstan set screw onto the motor shaft",
                                 "transmission.capstan_diameter_mm")
     return size, L
+
+
+def drum_process(thickness_mm: float, fixing: str) -> str:
+    """The drum sector's process line of every family: the plate it is machined from, the two
+    radial tapped holes of the rope anchors (:data:`ANCHOR_SCREW`'s thread), then ``fixing``
+    (how the family fixes it to its link)."""
+    return (f"machined from {thickness_mm:g} mm plate; drill and tap {ANCHOR_SCREW.split('-')[0]} x2 "
+            f"radial (rope anchors); {fixing}")

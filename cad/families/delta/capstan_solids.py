@@ -104,7 +104,7 @@ def arm_parts(design, i: int, t, K: dict, stack: dict) -> list[tuple[str, PartKi
         material=fcs.DRUM_MATERIAL, made=True,
         description=(f"drum sector {dd:g} mm pitch (rim {2 * rd:g} mm), {span:.0f} deg arc, {th:g} mm "
                      "thick, round the arm hub (bonded)"),
-        process=f"machined from {th:g} mm plate; drill and tap 2 radial (rope anchors)")
+        process=fcs.drum_process(th, "bonded round the arm hub"))
     K["capstan_drum"] = kind
     tf = translation(0, yr - th / 2, 0) @ ALONG_Y
     at = [tf @ translation(0, 0, th / 2) @ rot_z(a) @ translation(rd, 0, 0) @ RY90 for a in anchors]

@@ -35,6 +35,7 @@ from cad.assembly.capstan_hardware import (  # noqa: F401 - re-exported: the fou
     ANCHOR_SCREW_LENGTH_MM,
     TENSIONER_WIND_D,
     capstan_set_screw,
+    drum_process,
     rope_run_kind,
     run_trim_mm,
     tensioner_screw_mm,
@@ -352,8 +353,7 @@ def _capstan_parts(design, t, pl: CapstanPlacement) -> list[PartInstance]:
         material=fcap.DRUM_MATERIAL, made=True,
         description=(f"drum sector {t.drum_diameter_mm:g} mm pitch (rim {2 * rd:g} mm), "
                      f"{pl.arc_span_deg:.0f} deg arc, {th:g} mm thick, round the crank hub at A1"),
-        process=f"machined from {th:g} mm plate; drill and tap {ANCHOR_SCREW.split('-')[0]} x2 "
-                "radial (rope anchors); fixed under the crank")
+        process=drum_process(th, "fixed under the crank"))
     out = [PartInstance("capstan_drum", drum, "crank", translation(0, 0, z0))]
     screw = dataclasses.replace(joints.cap_screw_kind(ANCHOR_SCREW, ANCHOR_SCREW_LENGTH_MM,
                                                       "transmission", note="rope anchor on the drum"),

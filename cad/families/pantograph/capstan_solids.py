@@ -23,6 +23,7 @@ from cad.assembly.capstan_hardware import (
     ANCHOR_SCREW,
     ANCHOR_SCREW_LENGTH_MM,
     capstan_set_screw,
+    drum_process,
     rope_run_kind,
     tensioner_screw_mm,
 )
@@ -146,8 +147,7 @@ def _drum_kind(design, t, sd) -> PartKind:
         material=DRUM_MATERIAL, made=True,
         description=(f"drum sector {t.drum_diameter_mm:g} mm pitch (rim {2 * rd:g} mm), {sd.arc_span_deg:.0f} deg "
                      f"arc, {th:g} mm thick, on the {sd.joint.split('_')[1]} proximal link's axle at B"),
-        process=f"machined from {th:g} mm plate; drill and tap {ANCHOR_SCREW.split('-')[0]} x2 radial (rope "
-                "anchors); ream the axle bore, pinned to the axle")
+        process=drum_process(th, "ream the axle bore, pinned to the axle"))
 
 
 def _capstan_kind(design, t, sfx: str) -> PartKind:
