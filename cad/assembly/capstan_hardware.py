@@ -16,7 +16,7 @@ import math
 import numpy as np
 
 from cad.actuators import capstan_geometry as cg
-from cad.assembly.fasteners import size_set_screw
+from cad.assembly.fasteners import min_boss_radius_mm, size_set_screw
 from cad.data import catalog as cat
 from cad.errors import DesignError
 from cad.parts import PartKind, motor
@@ -102,9 +102,14 @@ def capstan_set_screw(design, t) -> tuple[str, float]:
     transmission.capstan_diameter_mm when the capstan's wall cannot hold one."""
     m = cat.get_motor(design.parts.motor)
     rc = cg.rim_radius_mm(t.capstan_diameter_mm, t.cable_diameter_mm)
-    size, L, _ = size_set_screw(m.shaft_diameter_mm / 2, rc, (motor.SET_SCREW,),
-                                "capstan set screw onto the motor shaft",
-                                "transmission.capstan_diameter_mm")
+    try:
+        size, L, _ = size_set_screw(m.shaft_diameter_mm / 2, rc, (motor.SET_SCREW,),
+                                    "the capstan's set screw onto the motor shaft",
+                                    "transmission.capstan_diameter_mm")
+    except DesignError as e:  # the fix in the user's terms: the capstan's pitch diameter
+        need = 2 * min_boss_radius_mm(m.shaft_diameter_mm / 2, (motor.SET_SCREW,)) + t.cable_diameter_mm
+        raise DesignError(e.field, f"{e.reason}: a capstan of at least {need:.1f} mm (its rim is the "
+                          f"pitch diameter less the {t.cable_diameter_mm:g} mm rope)") from None
     return size, L
 
 

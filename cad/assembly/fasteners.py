@@ -227,5 +227,15 @@ def size_set_screw(
         f"{joint}: a {2 * outer_mm:g} mm wide round end leaves a {outer_mm - bore_mm:g} mm wall "
         f"({depth:.2f} mm of full {small.size.split('-')[0]} thread), less than the smallest "
         f"ISO 4026 set screw {small.size.split('-')[0]} needs (1.5 d = "
-        f"{MIN_ENGAGEMENT_ALU_D * small.d_mm:g} mm, catalog lengths from {small.lengths_mm[0]:g} mm)",
+        f"{MIN_ENGAGEMENT_ALU_D * small.d_mm:g} mm, catalog lengths from {small.lengths_mm[0]:g} mm); "
+        f"a round end of at least {2 * min_boss_radius_mm(bore_mm, sizes):.1f} mm holds one",
     )
+
+
+def min_boss_radius_mm(bore_mm: float, sizes: tuple[str, ...]) -> float:
+    """The smallest radius of a round boss on a shaft of radius ``bore_mm`` that holds the
+    smallest of ``sizes`` by :func:`size_set_screw`'s rule: its full thread reaches the shortest
+    catalog length L >= 1.5 d, radius sqrt((bore + L)^2 + (d / 2)^2), mm."""
+    ss = catalog.get_set_screw(min(sizes, key=catalog.thread_diameter_mm), "")
+    L = min(x for x in ss.lengths_mm if x >= MIN_ENGAGEMENT_ALU_D * ss.d_mm - 1e-9)
+    return ((bore_mm + L) ** 2 + (ss.d_mm / 2) ** 2) ** 0.5

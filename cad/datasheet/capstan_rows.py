@@ -140,6 +140,7 @@ def datasheet_rows(j: CapstanJoint) -> tuple[list[dict], dict]:
     fig, lay, c, s, lab = figures(j), layout(j), t.cable, j.suffix, j.label
     bend = t.capstan_diameter_mm / c.diameter_mm
     given = t.pretension_N is not None
+    jc = t.capstan_inertia_kg_m2(j.motor.spec.shaft_diameter_mm) * t.ratio ** 2 * 1e7  # g cm^2
     rows = [
         row("transmission_ratio" + s, "capstan ratio n (drum / capstan)", t.ratio, "",
             f"{t.drum_diameter_mm:g} mm drum / {t.capstan_diameter_mm:g} mm capstan; joint torque = n "
@@ -147,7 +148,9 @@ def datasheet_rows(j: CapstanJoint) -> tuple[list[dict], dict]:
             "friction above are through it"),
         row("reflected_rotor_inertia_g_cm2" + s, f"rotor inertia at the {lab} (n^2 J_m)",
             fig.reflected_inertia_kg_m2 * 1e7, "g cm^2",
-            f"n^2 J_m = {t.ratio:.4g}^2 x {j.motor.spec.rotor_inertia_g_cm2:g} g cm^2, in {j.inertia_in}"),
+            f"n^2 J_m = {t.ratio:.4g}^2 x {j.motor.spec.rotor_inertia_g_cm2:g} g cm^2; with the capstan's own "
+            f"n^2 J_c = {jc:.4g} g cm^2 (it turns with the rotor), n^2 (J_m + J_c) = "
+            f"{fig.reflected_inertia_kg_m2 * 1e7 + jc:.4g} g cm^2 is what {j.inertia_in} take"),
         row("bend_ratio" + s, f"bend ratio D/d of {c.key} on the capstan", bend, "",
             f"capstan {t.capstan_diameter_mm:g} mm / rope {c.diameter_mm:g} mm against the rope's minimum "
             f"{c.min_bend_ratio:g} ({c.source_of('min_bend_ratio')})"
@@ -169,7 +172,7 @@ def datasheet_rows(j: CapstanJoint) -> tuple[list[dict], dict]:
             unverified=c.is_unverified("min_breaking_load_N")),
         row("drum_sector_deg" + s, "drum arc the rope needs", lay.sector_deg, "deg",
             f"{lab} range {lay.joint_range_deg:.4g} deg + two anchors of {ANCHOR_LENGTH_MM:g} mm "
-            f"(2 L_a / r_d each) on the {t.drum_diameter_mm:g} mm drum"),
+            f"(2 L_a / d_d = L_a / r_d each) on the {t.drum_diameter_mm:g} mm drum"),
         row("cable_cut_length_mm" + s, f"rope {c.key} to cut", lay.cut_mm["total"], "mm", cut_text(t, lay)),
     ]
     return rows, limits(j)

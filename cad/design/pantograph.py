@@ -585,15 +585,16 @@ def parse(raw: dict[str, Any], source: str = "<design>") -> PantographDesign:
 def _check_transmission(raw: dict[str, Any], family: str) -> None:
     """``[transmission]`` / ``[[transmission]]`` of a 5-bar (two motors: left, right) or a twin
     pantograph (four: knob left, knob right, crank left, crank right, :meth:`PantographDesign.motor_joints`)
-    validated at load (:func:`cad.design.transmission.parse_transmissions`); refused on the pen
-    (its capstans are not built)."""
+    validated at load (:func:`cad.design.transmission.parse_transmissions`); a capstan refused on
+    the pen (its capstans are not built; a direct-drive table is taken)."""
     if "transmission" not in raw:
         return
-    if family == "haptic-pen":
+    n = {"pantograph": 2, "twin-pantograph": 4}.get(family, 6)
+    ts = parse_transmissions(raw["transmission"], n)
+    if family == "haptic-pen" and any(t.is_capstan for t in ts):
         raise DesignError("transmission", f"a capstan on the {family}'s motors is not built yet (direct "
                           "drive only); [transmission] works on four-bar, 5-bar pantograph and delta "
                           "designs, and in the analyses of the twin pantograph (docs/capstan.md)")
-    parse_transmissions(raw["transmission"], 2 if family == "pantograph" else 4)
 
 
 def _planar_size(ws: dict) -> tuple[float, float]:

@@ -199,8 +199,9 @@ def parse_transmissions(value: Any, n_motors: int,
         raise DesignError(prefix, f"must be a table or an array of {n_motors} tables (one per "
                           f"motor), got {value!r}")
     if len(value) != n_motors:
-        raise DesignError(prefix, f"must be one table or {n_motors} (one per motor), got "
-                          f"{len(value)} tables")
+        k = len(value)
+        raise DesignError(prefix, f"must be one table or {n_motors} (one per motor), got an array of "
+                          f"{k} table{'' if k == 1 else 's'}")
     return tuple(parse_transmission(t, f"{prefix}.{i}") for i, t in enumerate(value))
 
 

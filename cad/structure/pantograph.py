@@ -311,6 +311,7 @@ def analyse(design, bodies: dict, force_N: float, web_width_mm: float) -> dict:
         "max_stress_MPa": smax, "critical_link": link, "critical_pose": at, "strength_MPa": st,
         "stress_limit_MPa": st / STRESS_SAFETY_FACTOR, "force_N": float(force_N),
         "poses": used, "poses_skipped": skipped, "per_pose": per_pose, "method": "beam",
+        "tube_material": design.parts.tube_material,
         "rope_stiffness_Nm_per_rad": motor_rope_stiffness_Nm_per_rad(design),
         "bearing_compliance_estimate": bearing_compliance(design, X[[labels.index(x) for x in used]], force_N),
     }

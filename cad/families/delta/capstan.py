@@ -42,7 +42,7 @@ def joints(design, device) -> list[cr.CapstanJoint]:
     for i, j in enumerate(JOINTS[:1] if one else JOINTS):
         if device.transmission(j).is_capstan:
             out.append(cr.capstan_joint(device, j, rng, "arm" if one else f"arm {i}",
-                                        "" if one else f"_{i}", "Lambda(x) (J^T diag(n^2 J_m) J)"))
+                                        "" if one else f"_{i}", "Lambda(x), the MJCF armature and the firmware's mass matrix"))
     return out
 
 

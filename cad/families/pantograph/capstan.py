@@ -295,7 +295,8 @@ def capstan_joints(design) -> tuple:
     dev = resolve_device(design)
     rng = joint_ranges_deg(design)
     return tuple(cr.capstan_joint(dev, j, float(rng[i, 1] - rng[i, 0]), f"{j.split('_')[1]} proximal link",
-                                  f"_{i + 1}")
+                                  f"_{i + 1}", inertia_in="the effective mass, the MJCF armature and the "
+                                  "firmware's mass matrix")
                  for i, j in enumerate(("q_left", "q_right")) if dev.transmission(j).is_capstan)
 
 

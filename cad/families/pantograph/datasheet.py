@@ -158,8 +158,11 @@ def friction_row(design) -> dict:
     each = ", ".join(dict.fromkeys(f"{motor_label(r)} {r.spec.friction_torque_mNm():.4g} mN m{_through(design, r)}"
                                    for r in dev.motors))
     return row("friction_N", "Coulomb friction at the handle (no load)", F.max(), "N",
-               f"the motors' K_t I_0 at each joint ({each}) through J^T, worst over the directions "
-               "of motion and the workspace; the link bearings' friction not included",
+               f"the motors' K_t I_0 at each joint ({each}; I_0 the no-load current, at speed: an upper "
+               "estimate of the friction at rest) through J^T, J = dq/dx, the largest over the sign patterns "
+               "of the joints' rates (every direction of motion; an upper bound where the motors outnumber "
+               "the coordinates) and over the workspace; the link and capstan-axle bearings and the rope's "
+               "own losses not included",
                lo=F.min(), hi=F.max(), unverified=any(m.is_unverified("no_load_current_mA") for m in specs))
 
 
@@ -244,7 +247,8 @@ def structure_rows(st: dict) -> list[dict]:
     at = f"worst of {len(st['poses'])} poses ({', '.join(st['poses'])})"
     if st["poses_skipped"]:
         at += f"; not reachable, skipped: {', '.join(st['poses_skipped'])}"
-    frame = "beam frame of the links (carbon tubes joint to joint, clevises not credited)"
+    frame = (f"beam frame of the links ({st.get('tube_material', 'carbon-fibre')} tubes joint to joint, "
+             "clevises not credited)")
     held = held_text(st)
     free = f"{held}; handle free"
     load = f"{held}; force at the handle"

@@ -109,4 +109,5 @@ def refuse_solids(design) -> None:
     if has_capstan(design):
         raise DesignError("transmission", "the twin pantograph's capstan solids (drums on the links, motors "
                           "moved under the base plate and on the bridge) are not built yet: build it with direct "
-                          "drive, or see docs/capstan.md for what its capstan analyses give")
+                          "drive, or see docs/families/pantograph-powermouse.md (Capstan on the twin pantograph) for "
+                          "what its capstan analyses give and how to get them")

@@ -38,6 +38,27 @@ def test_a_capstan_too_small_for_its_set_screw_is_refused_on_its_diameter(tmp_pa
     assert not out.exists() or not any(out.iterdir())
 
 
+def test_the_set_screw_refusal_names_the_smallest_capstan_that_holds_one(tmp_path):
+    """The capstan named by the refusal is the inverse of the set-screw rule: the forward check
+    (cad.assembly.capstan_hardware.capstan_set_screw) accepts it and refuses 0.2 mm less."""
+    import re
+    from types import SimpleNamespace
+
+    from cad.assembly.capstan_hardware import capstan_set_screw
+    from cad.errors import DesignError
+
+    code, _, err = hapticad("check", _variant(tmp_path, "8.0", "ratio = 4.0"))
+    need = float(re.search(r"a capstan of at least ([0-9.]+) mm \(its rim", err).group(1))
+    d = SimpleNamespace(parts=SimpleNamespace(motor="maxon-re35"))
+
+    def t(dc):
+        return SimpleNamespace(capstan_diameter_mm=dc, cable_diameter_mm=ROPE_MM)
+
+    capstan_set_screw(d, t(need))
+    with pytest.raises(DesignError, match="a capstan of at least"):
+        capstan_set_screw(d, t(need - 0.2))
+
+
 def test_a_centre_distance_inside_the_mount_plates_is_refused_with_the_distance_needed(tmp_path):
     """24 mm capstan, ratio 2 (48 mm drum): C = r_c + r_d + gap is shorter than the motor's
     mount plate side plus the clearance, so each plate meets its own joint's bearing block in
@@ -95,3 +116,44 @@ def test_the_powermouse_refuses_a_capstan_with_its_reason(tmp_path):
     code, _, err = hapticad("check", p)
     assert_one_line_error(code, err, "transmission", "voice coils", "remove [transmission]")
     assert "unknown key" not in err
+
+
+def test_the_pen_takes_a_direct_drive_table_and_refuses_a_capstan():
+    """A direct-drive [transmission] on the pen is what it already is (six direct motors); a
+    capstan in one of its six tables is refused naming the table."""
+    from cad.design import parse_design
+    from cad.design.fields import load_toml
+    from cad.errors import DesignError
+
+    raw = load_toml(ROOT / "designs" / "haptic_pen.toml")
+    raw["transmission"] = {"kind": "direct"}
+    d = parse_design(raw, "pen")
+    assert [t.ratio for t in d.transmissions] == [1.0] * 6
+    raw["transmission"] = [{"kind": "direct"}] * 5 + [
+        {"kind": "capstan", "capstan_diameter_mm": 32.0, "ratio": 4.0, "cable": "steel-7x7-0.8"}]
+    with pytest.raises(DesignError, match="^transmission: a capstan on the haptic-pen"):
+        parse_design(raw, "pen")
+
+
+@pytest.mark.parametrize("design", ["pantograph_capstan.toml", "hoeken_capstan.toml"])
+def test_the_rotor_row_states_the_inertia_the_models_take(design):
+    """The datasheet's reflected-rotor row gives n^2 J_m and, in its note, the n^2 (J_m + J_c)
+    the effective mass / H11, the MJCF armature and the firmware take: the resolved device's
+    joint_rotor_inertia_kg_m2 (a new user read only half of it from the row)."""
+    import re
+
+    from cad.datasheet import capstan_rows as cr
+    from cad.design import load_design
+    from cad.device import resolve_device
+    from cad.families.pantograph.capstan import capstan_joints
+
+    d = load_design(ROOT / "designs" / design)
+    dev = resolve_device(d)
+    joints = ([cr.capstan_joint(dev, "crank", 90.0)] if "hoeken" in design else
+              capstan_joints(d))
+    for j in joints:
+        rows, _ = cr.datasheet_rows(j)
+        (r,) = [x for x in rows if x["key"].startswith("reflected_rotor_inertia_g_cm2")]
+        total = float(re.search(r"n\^2 \(J_m \+ J_c\) = ([0-9.]+) g cm\^2", r["model"]).group(1))
+        assert total == pytest.approx(dev.joint_rotor_inertia_kg_m2(j.name) * 1e7, rel=1e-3)  # 4 digits
+        assert r["value"] == pytest.approx(j.transmission.ratio ** 2 * j.motor.spec.rotor_inertia_g_cm2)

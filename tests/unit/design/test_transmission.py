@@ -83,7 +83,7 @@ def test_one_table_per_motor_or_one_for_all():
     assert both[0] == both[1] and both[0].ratio == 12.0
     mixed = parse_transmissions([{"kind": "direct"}, ISSUE_TABLE], 2)
     assert mixed[0] is DIRECT and mixed[1].is_capstan
-    with pytest.raises(DesignError, match=r"^transmission: must be one table or 2 \(one per motor\), got 3"):
+    with pytest.raises(DesignError, match=r"^transmission: must be one table or 2 \(one per motor\), got an array of 3 tables"):
         parse_transmissions([ISSUE_TABLE] * 3, 2)
     with pytest.raises(DesignError, match=r"^transmission\.1\.kind: must be one of"):
         parse_transmissions([ISSUE_TABLE, {"kind": "belt"}], 2)
@@ -108,4 +108,4 @@ def test_a_twin_pantograph_takes_a_transmission_on_its_four_motors_and_builds_no
     assert_one_line_error(code, err, "transmission", "capstan solids", "not built yet")
     p.write_text(src.read_text() + '\n[[transmission]]\nkind = "direct"\n\n[[transmission]]\nkind = "direct"\n')
     code, _, err = hapticad("check", p)
-    assert_one_line_error(code, err, "transmission: must be one table or 4 (one per motor), got 2 tables")
+    assert_one_line_error(code, err, "transmission: must be one table or 4 (one per motor), got an array of 2 tables")
