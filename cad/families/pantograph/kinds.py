@@ -94,7 +94,7 @@ def _clevis_kinds(add, K: dict, c) -> None:
         FASTENER_MATERIAL,
         False,
         f"set screw ISO 4026 {ss['size']} x {ss['length_mm']:g} (locks the clevis on the "
-        "motor shaft)",
+        f"{'link axle' if 'capstan' in lay else 'motor shaft'})",
         "bought",
     )
     add(
