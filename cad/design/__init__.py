@@ -16,6 +16,7 @@ from typing import Any
 from cad.data.families import FAMILIES
 from cad.design.bounds import check_raw_design
 from cad.design.fields import load_toml, optional_table, require_str, require_table
+from cad.design.motor import check_motor_data
 from cad.design.prices import price_table
 from cad.errors import DesignError
 
@@ -45,7 +46,9 @@ def parse_design(raw: dict[str, Any], source: str = "<design>"):
     check_raw_design(raw)  # every number against cad/design/bounds.py, before the schema
     design_prices(raw)  # [prices] (any family): cad.design.prices.price_table
     module = importlib.import_module(FAMILIES[fam].design_module)
-    return module.parse(raw, source)
+    design = module.parse(raw, source)
+    check_motor_data(design)  # every motor has the constants a build reads (catalog or [motor])
+    return design
 
 
 def load_design(path: str | Path):
