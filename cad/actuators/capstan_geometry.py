@@ -119,21 +119,92 @@ CAPSTAN_HUB_MM = 8.0
 CAPSTAN_MATERIAL = "steel-1018"
 
 
+#: Rope groove depth below the crests, in rope diameters: our choice in the 0.3-0.4 d of
+#: usual capstan practice (deep enough to guide the turns, shallow enough that turns side by
+#: side at :data:`GROOVE_PITCH_D` leave a crest between them). The groove's profile is a
+#: circle of the rope's radius centred on the pitch circle, so its bottom is the drawn rim of
+#: :func:`rim_radius_mm` (the rope's centre line stays on the pitch diameter: the ratio is
+#: unchanged) and the crests stand ``GROOVE_DEPTH_D d`` above it.
+GROOVE_DEPTH_D = 0.35
+
+
+def groove_depth_mm(rope_diameter_mm: float) -> float:
+    """Depth of the rope groove below the crests, :data:`GROOVE_DEPTH_D` d (mm)."""
+    return GROOVE_DEPTH_D * float(rope_diameter_mm)
+
+
+def crest_radius_mm(pitch_diameter_mm: float, rope_diameter_mm: float) -> float:
+    """Outer radius of a grooved pulley: the groove bottom (:func:`rim_radius_mm`) plus the
+    groove depth (mm)."""
+    return rim_radius_mm(pitch_diameter_mm, rope_diameter_mm) + groove_depth_mm(rope_diameter_mm)
+
+
+def groove_section_mm(pitch_diameter_mm: float, rope_diameter_mm: float) -> tuple[float, float]:
+    """(area mm^2, centroid radius mm) of the groove's cross-section: the circular segment of
+    the rope-radius circle (centre on the pitch circle) inside the crest radius, height
+    h = :func:`groove_depth_mm`. Segment of half-angle a, cos a = (r - h) / r:
+    A = r^2 (a - sin a cos a), its centroid 4 r sin^3 a / (3 (2a - sin 2a)) from the circle's
+    centre towards the axis."""
+    r, h = 0.5 * float(rope_diameter_mm), groove_depth_mm(rope_diameter_mm)
+    a = math.acos((r - h) / r)
+    area = r * r * (a - math.sin(a) * math.cos(a))
+    ybar = 4.0 * r * math.sin(a) ** 3 / (3.0 * (2.0 * a - math.sin(2.0 * a)))
+    return area, 0.5 * float(pitch_diameter_mm) - ybar
+
+
+def ring_groove_volume_mm3(pitch_diameter_mm: float, rope_diameter_mm: float, span_deg: float) -> float:
+    """Volume of a plain rope groove round ``span_deg`` of a drum (mm^3): Pappus, the section's
+    area times the path of its centroid (:func:`groove_section_mm`)."""
+    area, rbar = groove_section_mm(pitch_diameter_mm, rope_diameter_mm)
+    return area * rbar * math.radians(span_deg)
+
+
+def helix_groove_volume_mm3(pitch_diameter_mm: float, rope_diameter_mm: float, wraps: float) -> float:
+    """Volume of the capstan's helical groove (mm^3): the section's area times the length of
+    the helix its centroid runs on, ``wraps`` turns of radius r_bar at the axial pitch
+    :data:`GROOVE_PITCH_D` d, wraps sqrt((2 pi r_bar)^2 + p^2) (the section swept normal to the
+    helix; exact up to the twist of a section small against r_bar)."""
+    area, rbar = groove_section_mm(pitch_diameter_mm, rope_diameter_mm)
+    p = GROOVE_PITCH_D * float(rope_diameter_mm)
+    return area * wraps * math.hypot(2.0 * math.pi * rbar, p)
+
+
 def capstan_length_mm(rope_diameter_mm: float, wraps: float) -> float:
     """The capstan's length (mm): its turns at :data:`GROOVE_PITCH_D` rope diameters each and
     the set-screw hub :data:`CAPSTAN_HUB_MM`."""
     return GROOVE_PITCH_D * rope_diameter_mm * wraps + CAPSTAN_HUB_MM
 
 
+def groove_section_moment(pitch_diameter_mm: float, rope_diameter_mm: float, k: int) -> float:
+    """Integral of r^k over the groove's section (mm^(2+k)), r the distance from the pulley's
+    axis (the segment of :func:`groove_section_mm`): with u = -rho cos(phi) from the section
+    circle's centre (radius rho = d / 2, phi from 0 at the groove's bottom to a at the crest),
+    the chord 2 rho sin(phi): int_0^a (r_p - rho cos phi)^k 2 rho^2 sin^2(phi) dphi, by 64-point
+    Gauss-Legendre (a polynomial in cos, sin: exact to rounding)."""
+    rho, h = 0.5 * float(rope_diameter_mm), groove_depth_mm(rope_diameter_mm)
+    a = math.acos((rho - h) / rho)
+    x, w = np.polynomial.legendre.leggauss(64)
+    phi = 0.5 * a * (x + 1.0)
+    f = (0.5 * float(pitch_diameter_mm) - rho * np.cos(phi)) ** k * 2.0 * rho * rho * np.sin(phi) ** 2
+    return float(0.5 * a * np.sum(w * f))
+
+
 def capstan_izz_kg_m2(capstan_diameter_mm: float, rope_diameter_mm: float, wraps: float,
                       bore_mm: float, density_kg_m3: float) -> float:
-    """The capstan's inertia about the motor shaft (kg m^2): a tube from the bore to the rim
-    (:func:`rim_radius_mm`), :func:`capstan_length_mm` long, m (r_o^2 + r_i^2) / 2; its
-    set-screw hole (a few mm^3) left out. The reflected motor-side inertia at the joint is
-    n^2 (J_rotor + this) (:meth:`cad.device.ResolvedDevice.joint_rotor_inertia_kg_m2`)."""
-    ro, ri = rim_radius_mm(capstan_diameter_mm, rope_diameter_mm), bore_mm / 2
+    """The capstan's inertia about the motor shaft (kg m^2): a tube from the bore to the crests
+    (:func:`crest_radius_mm`), :func:`capstan_length_mm` long, m (r_o^2 + r_i^2) / 2, less its
+    helical rope groove (:mod:`cad.parts.capstan`): rho times the groove section's int r^3 dA
+    (:func:`groove_section_moment`) swept round ``wraps`` turns, 2 pi wraps, stretched along the
+    helix by sqrt(1 + (p / (2 pi r_bar))^2) (r_bar the section's centroid radius, p the axial
+    pitch); its set-screw hole (a few mm^3) left out. The reflected motor-side inertia at the
+    joint is n^2 (J_rotor + this) (:meth:`cad.device.ResolvedDevice.joint_rotor_inertia_kg_m2`)."""
+    ro, ri = crest_radius_mm(capstan_diameter_mm, rope_diameter_mm), bore_mm / 2
     m = tube_mass_kg(ro, ri, capstan_length_mm(rope_diameter_mm, wraps), density_kg_m3)
-    return tube_izz_kg_m2(m, ro, ri)
+    _, rbar = groove_section_mm(capstan_diameter_mm, rope_diameter_mm)
+    stretch = math.hypot(1.0, GROOVE_PITCH_D * rope_diameter_mm / (2.0 * math.pi * rbar))
+    groove = (density_kg_m3 * 1e-15 * 2.0 * math.pi * wraps * stretch
+              * groove_section_moment(capstan_diameter_mm, rope_diameter_mm, 3))
+    return tube_izz_kg_m2(m, ro, ri) - groove
 
 
 def sector_mass_kg(span_deg: float, r_out_mm: float, r_in_mm: float, thickness_mm: float,

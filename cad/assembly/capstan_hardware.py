@@ -50,22 +50,37 @@ def run_trim_mm(pitch_radius_mm: float, clearance_mm: float) -> float:
     return math.sqrt((r + clearance_mm) ** 2 - r * r)
 
 
-def rope_run_kind(name: str, p0_mm, p1_mm, t, clearance_mm: float, what: str) -> PartKind:
+def drum_groove_arc_deg(r_rim_mm: float, rope_diameter_mm: float, anchors_deg) -> tuple[float, float]:
+    """(start, span) deg of the drum's rope groove: between the two anchors' radial holes, a
+    land of one anchor tap drill plus one rope diameter of rim (at ``r_rim_mm``) short of each
+    hole's axis, so the groove meets neither hole (the rope leaves it for its anchor there)."""
+    lo, hi = sorted(float(a) for a in anchors_deg)
+    m = math.degrees((cat.tap_drill_mm(ANCHOR_SCREW) + rope_diameter_mm) / r_rim_mm)
+    return lo + m, hi - lo - 2.0 * m
+
+
+def rope_run_kind(name: str, p0_mm, p1_mm, t, clearance_mm: float, what: str,
+                  groove_depth_mm: float = 0.0) -> PartKind:
     """The free run of rope ``name`` from its drum tangent point ``p0_mm`` to its capstan
     tangent point ``p1_mm`` ((3,) mm) of transmission ``t`` (:class:`cad.device.Transmission`):
     a cylinder of the rope's diameter, its mass from the rope catalog's mass per metre (None
     when the catalog has none), not a BOM line of its own (``what`` names it in the
     description), its collision envelope trimmed by :func:`run_trim_mm` at both ends so the
-    rope on its pulley is not a clash."""
+    rope on its pulley is not a clash (by ``clearance_mm`` plus ``groove_depth_mm`` on grooved
+    pulleys, whose crests stand that much above the rope's inner side). On a grooved capstan
+    the drawn run itself stops where it meets the crests (:func:`run_trim_mm` with the groove
+    depth): both runs are drawn at one height while the helical groove carries the turns along
+    the capstan, so the run's last millimetres would lie on a crest, not in the groove."""
     p0, p1 = np.asarray(p0_mm, float), np.asarray(p1_mm, float)
     d = t.cable_diameter_mm
     L = float(np.linalg.norm(p1 - p0))
     u = (p1 - p0) / L
-    s0 = run_trim_mm(0.5 * t.drum_diameter_mm, clearance_mm)
-    s1 = run_trim_mm(0.5 * t.capstan_diameter_mm, clearance_mm)
+    s0 = run_trim_mm(0.5 * t.drum_diameter_mm, clearance_mm + groove_depth_mm)
+    s1 = run_trim_mm(0.5 * t.capstan_diameter_mm, clearance_mm + groove_depth_mm)
     mpm = t.cable.mass_g_per_m
+    p1_drawn = p1 - run_trim_mm(0.5 * t.capstan_diameter_mm, groove_depth_mm) * u
     return PartKind(
-        name, shapes.rope_run_shape(tuple(p0), tuple(p1), d), material=ROPE_MATERIAL,
+        name, shapes.rope_run_shape(tuple(p0), tuple(p1_drawn), d), material=ROPE_MATERIAL,
         made=False, listed=False, mass_kg=None if mpm is None else mpm * L * 1e-6,
         description=f"{what} ({L:.1f} mm; part of the rope's BOM line)",
         collision=(("self", shapes.rope_run_shape(tuple(p0 + s0 * u), tuple(p1 - s1 * u), d)),))
@@ -113,9 +128,10 @@ def capstan_set_screw(design, t) -> tuple[str, float]:
     return size, L
 
 
-def drum_process(thickness_mm: float, fixing: str) -> str:
-    """The drum sector's process line of every family: the plate it is machined from, the two
-    radial tapped holes of the rope anchors (:data:`ANCHOR_SCREW`'s thread), then ``fixing``
-    (how the family fixes it to its link)."""
-    return (f"machined from {thickness_mm:g} mm plate; drill and tap {ANCHOR_SCREW.split('-')[0]} x2 "
+def drum_process(thickness_mm: float, fixing: str, groove: str = "") -> str:
+    """The drum sector's process line of every family: the plate it is machined from, the rope
+    groove when one is cut (``groove``: its words), the two radial tapped holes of the rope
+    anchors (:data:`ANCHOR_SCREW`'s thread), then ``fixing`` (how the family fixes it)."""
+    g = f"{groove}; " if groove else ""
+    return (f"machined from {thickness_mm:g} mm plate; {g}drill and tap {ANCHOR_SCREW.split('-')[0]} x2 "
             f"radial (rope anchors); {fixing}")

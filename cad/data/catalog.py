@@ -330,6 +330,19 @@ MOTOR_DATA_FIELDS = (
     "thermal_resistance_housing_K_per_W", "thermal_resistance_winding_K_per_W",
     "no_load_current_mA", "rotor_inertia_g_cm2", "mass_kg",
 )
+#: MotorSpec data fields every build reads (datasheet forces, firmware current limits, simulator
+#: actuator limits, the rotor in the dynamics, the motor's mass): a catalog motor without one of
+#: them builds only when the design's ``[motor]`` table gives it (:func:`missing_build_fields`).
+MOTOR_BUILD_FIELDS = (
+    "torque_constant_mNm_per_A", "torque_continuous_mNm", "torque_peak_mNm",
+    "current_continuous_A", "rotor_inertia_g_cm2", "mass_kg",
+)
+#: MotorSpec mounting dimensions (the solids of the motor, its mount and the capstan bore).
+MOTOR_DIMENSION_FIELDS = (
+    "body_diameter_mm", "body_length_mm", "pilot_diameter_mm", "pilot_height_mm",
+    "bolt_circle_mm", "bolt_count", "bolt_size", "shaft_diameter_mm", "shaft_length_mm",
+    "bolt_thread_depth_mm",
+)
 
 
 @dataclass(frozen=True)
@@ -342,7 +355,11 @@ class MotorSpec:
     bolt_thread_depth_mm : their usable thread depth (maxon RE 35 / RE 40 drawings: M3, 3.5 mm
     deep -- check the sheet of the exact order number).
     shaft_diameter_mm / shaft_length_mm : output shaft, length beyond the mounting face.
-    mass_kg : catalog weight. rotor_inertia_g_cm2 : catalog rotor inertia Jm.
+    mass_kg : catalog weight. rotor_inertia_g_cm2 : catalog rotor inertia Jm (None, like any
+    data field, when no public source read states it: the design's ``[motor]`` must give it).
+    dimension_notes : (dimension field, where its number comes from) for every mounting
+    dimension of :data:`MOTOR_DIMENSION_FIELDS` that no public drawing read states (a recalled
+    or assumed number): the BOM line names them, check the drawing before machining a mount.
 
     Electrical and thermal data of one winding (``winding``: order number and nominal voltage):
 
@@ -374,8 +391,8 @@ class MotorSpec:
     bolt_size: str
     shaft_diameter_mm: float
     shaft_length_mm: float
-    mass_kg: float
-    rotor_inertia_g_cm2: float
+    mass_kg: float | None
+    rotor_inertia_g_cm2: float | None
     source: str
     bolt_thread_depth_mm: float = 3.5
     winding: str = ""
@@ -391,9 +408,13 @@ class MotorSpec:
     #: (field, source) pairs, one per data field (tuple so the spec stays hashable).
     sources: tuple[tuple[str, str], ...] = ()
     unverified: tuple[str, ...] = ()
+    dimension_notes: tuple[tuple[str, str], ...] = ()
 
     @property
     def rotor_inertia_kg_m2(self) -> float:
+        if self.rotor_inertia_g_cm2 is None:
+            raise DesignError("motor.rotor_inertia_g_cm2",
+                              f"{self.key} has no rotor inertia from a public source: give it in [motor]")
         return self.rotor_inertia_g_cm2 * 1e-7
 
     @property
@@ -411,10 +432,19 @@ class MotorSpec:
 
     def bom_description(self) -> str:
         """The BOM description: ``description``, then the data fields no public source states
-        (``unverified``), so an order and a datasheet read from the same line say so."""
-        if not self.unverified:
-            return self.description
-        return f"{self.description}; unverified data (no public source read): {', '.join(self.unverified)}"
+        (``unverified``) and the mounting dimensions no drawing read states
+        (``dimension_notes``), so an order and a datasheet read from the same line say so."""
+        out = self.description
+        if self.unverified:
+            out += f"; unverified data (no public source read): {', '.join(self.unverified)}"
+        if self.dimension_notes:
+            out += f"; unverified mount dimensions: {', '.join(f for f, _ in self.dimension_notes)}"
+        return out
+
+    def missing_build_fields(self) -> tuple[str, ...]:
+        """The fields of :data:`MOTOR_BUILD_FIELDS` without a value (a build refuses the motor
+        until the design's ``[motor]`` table gives them)."""
+        return tuple(f for f in MOTOR_BUILD_FIELDS if getattr(self, f) is None)
 
     def friction_torque_mNm(self) -> float | None:
         """Brush and bearing friction of the motor, Kt * I0 (mN m); None without data."""
@@ -542,6 +572,165 @@ MOTORS: dict[str, MotorSpec] = {
                     "mass_kg"),
     ),
 }
+
+
+#: maxon DCX 22 L (coreless, graphite brushes), 9 V configuration: the public motor-constant
+#: file mattchg/ELEC441 ``MotorSpecs.m`` (commit 6defeac3), headed "MAXON CONFIGURABLE DCX 22 L
+#: Ø22 mm", which lists the configurator's sheet: 9 V, 27 mN m nominal torque, 4 A nominal
+#: current, 371 mN m stall torque, 53.4 A stall current, 0.168 ohm, 6.95 mN m/A, 9.37 g cm^2,
+#: 95 g, Ø22 x 47.2 mm (no order number: the DCX is configured online).
+_DCX22L_FILE = ("mattchg/ELEC441 MotorSpecs.m (commit 6defeac37499, 'MAXON CONFIGURABLE DCX 22 L Ø22 mm', "
+                "9 V configuration, order number not stated)")
+#: maxon RE 30 of the WoodenHaptics kit: BOM v1.1 "Maxon 30mm (310009) & 500 CPR Encoder
+#: combination" and the 2017 edition notes (RE 40 -> RE 30: "RE30 has a 5 mm shaft"; "M3 screws
+#: on a Ø22 bolt circle", marked there as shared with the RE 40) of WoodenHaptics/TEI_2015
+#: (commit 5b13c398); the torque constant 0.0259 N m/A of the kit's 2016-edition driver
+#: configuration WoodenHaptics/woody-experimental ``woodenhaptics_2016ed.json`` (commit
+#: 03cf1787), which does not name the winding.
+_WOODY_BOM = ("WoodenHaptics/TEI_2015 '2017-edition/bom/WoodenHaptics Bill of Materials - 2017 Edition "
+              "(Ver 1.1 with 30mm motors and USB).csv' (commit 5b13c39896bb): 'Maxon 30mm (310009)'")
+_WOODY_NOTES = "WoodenHaptics/TEI_2015 2017-edition/README.md (commit 5b13c39896bb)"
+_WOODY_JSON = ("WoodenHaptics/woody-experimental woodenhaptics_2016ed.json (commit 03cf1787dc6a): "
+               "torque_constant_motor_a/b/c 0.0259 N m/A (winding not named there)")
+#: maxon EC 45 flat 50 W, order number 339285: the public constants file vhsabino/MATLAB
+#: ``PIDMaxon/constants.m`` (commit f1d40f8f), "Maxon EC-45 flat 50W parameters, Ref. 339285":
+#: R 0.464 ohm phase to phase, Kt 25.1 mN m/A, speed constant 380 rpm/V, mechanical time
+#: constant 9.92 ms, rotor inertia 135 g cm^2 (no voltage, torque or current values).
+_EC45_FILE = ("vhsabino/MATLAB PIDMaxon/constants.m (commit f1d40f8f5cfe, 'Maxon EC-45 flat 50W parameters, "
+              "Ref. 339285')")
+_NO_SOURCE = "no public source read states it (give it in [motor] from the sheet of your order number)"
+
+
+def _missing(*fields: str) -> tuple[tuple[str, str], ...]:
+    return tuple((f, _NO_SOURCE) for f in fields)
+
+
+_RECALLED = "recalled from the maxon drawing, not read in a public source: check the drawing"
+_ASSUMED = "assumed (no drawing read): check the drawing of the order number"
+
+MOTORS["maxon-dcx22l"] = MotorSpec(
+    key="maxon-dcx22l",
+    description="maxon DCX 22 L, coreless, graphite brushes, 9 V (configurable)",
+    body_diameter_mm=22.0,
+    body_length_mm=47.2,
+    pilot_diameter_mm=10.0,
+    pilot_height_mm=1.0,
+    bolt_circle_mm=16.0,
+    bolt_count=3,
+    bolt_size="M2-0.4",
+    shaft_diameter_mm=4.0,
+    # the DCX is configured online, its shaft length too: order a 20 mm front shaft
+    shaft_length_mm=20.0,
+    mass_kg=0.095,
+    rotor_inertia_g_cm2=9.37,
+    source=_DCX22L_FILE,
+    bolt_thread_depth_mm=3.0,
+    winding="DCX 22 L, 9 V configuration (configured online; order number not stated)",
+    torque_constant_mNm_per_A=6.95,
+    terminal_resistance_ohm=0.168,
+    torque_continuous_mNm=27.0,
+    stall_torque_mNm=371.0,
+    torque_peak_mNm=371.0,
+    current_continuous_A=4.0,
+    # the file's third line, "118 % Nominal Current (mA)", sits where the sheet lists the
+    # no-load current (mA) and is one: 27 / 6.95 + 0.118 = 4.003 A, the nominal current
+    no_load_current_mA=118.0,
+    sources=(
+        ("torque_constant_mNm_per_A", _DCX22L_FILE + ": 6.95 Torque Constant mNm/A"),
+        ("terminal_resistance_ohm", _DCX22L_FILE + ": 0.168 Term ROhms"),
+        ("torque_continuous_mNm", _DCX22L_FILE + ": 27 Nominal Torque (mNm)"),
+        ("stall_torque_mNm", _DCX22L_FILE + ": 371 Stall Torque (mNm)"),
+        ("torque_peak_mNm", "the stall torque of " + _DCX22L_FILE + " (no drive current limit stated)"),
+        ("current_continuous_A", _DCX22L_FILE + ": 4 Nominal Current (A)"),
+        ("thermal_resistance_housing_K_per_W", _NO_SOURCE),
+        ("thermal_resistance_winding_K_per_W", _NO_SOURCE),
+        ("no_load_current_mA", _DCX22L_FILE + ": '118 % Nominal Current (mA)', the no-load current line "
+         "of the sheet (mislabelled there; T_N / Kt + I0 = 4.00 A = the nominal current)"),
+        ("rotor_inertia_g_cm2", _DCX22L_FILE + ": 9.37 Rotor Inertia gcm^2"),
+        ("mass_kg", _DCX22L_FILE + ": 95 Weight g"),
+    ),
+    unverified=("thermal_resistance_housing_K_per_W", "thermal_resistance_winding_K_per_W",
+                "no_load_current_mA"),
+    dimension_notes=(
+        ("body_diameter_mm", _DCX22L_FILE + ": 22 Diameter mm (read)"),
+        ("body_length_mm", _DCX22L_FILE + ": 47.2 Length mm (read)"),
+        ("pilot_diameter_mm", _RECALLED), ("pilot_height_mm", _ASSUMED),
+        ("bolt_circle_mm", _RECALLED), ("bolt_count", _RECALLED), ("bolt_size", _RECALLED),
+        ("bolt_thread_depth_mm", _ASSUMED), ("shaft_diameter_mm", _RECALLED),
+        ("shaft_length_mm", "our choice: the DCX is configured online, its front shaft length too "
+         "(order 20 mm)"),
+    ),
+)
+
+MOTORS["maxon-re30"] = MotorSpec(
+    key="maxon-re30",
+    description="maxon RE 30, 60 W, graphite brushes (WoodenHaptics kit, 2017 edition: 310009)",
+    body_diameter_mm=30.0,
+    body_length_mm=68.0,
+    pilot_diameter_mm=16.0,
+    pilot_height_mm=2.0,
+    bolt_circle_mm=22.0,
+    bolt_count=3,
+    bolt_size="M3-0.5",
+    shaft_diameter_mm=5.0,
+    shaft_length_mm=20.0,
+    mass_kg=None,
+    rotor_inertia_g_cm2=None,
+    source=_WOODY_BOM,
+    winding="RE 30 of the WoodenHaptics kit (BOM v1.1: 310009; the driver's Kt names no winding)",
+    torque_constant_mNm_per_A=25.9,
+    sources=(("torque_constant_mNm_per_A", _WOODY_JSON),
+             *_missing("terminal_resistance_ohm", "torque_continuous_mNm", "torque_peak_mNm",
+                       "stall_torque_mNm", "current_continuous_A", "thermal_resistance_housing_K_per_W",
+                       "thermal_resistance_winding_K_per_W", "no_load_current_mA", "rotor_inertia_g_cm2",
+                       "mass_kg")),
+    # the Kt is the kit's driver configuration, not a sheet of 310009 (a 48 V winding per the
+    # kit's BOM; the value is not stated to be that winding's): unverified for that order number
+    unverified=("torque_constant_mNm_per_A",),
+    dimension_notes=(
+        ("body_diameter_mm", _WOODY_BOM + " (the 30 mm of the name)"),
+        ("body_length_mm", _RECALLED),
+        ("pilot_diameter_mm", _ASSUMED), ("pilot_height_mm", _ASSUMED),
+        ("bolt_circle_mm", _WOODY_NOTES + ": 'M3 screws on a Ø22 bolt circle' (a kit note, not a drawing)"),
+        ("bolt_count", _ASSUMED), ("bolt_size", _WOODY_NOTES + ": 'M3 screws'"),
+        ("bolt_thread_depth_mm", _ASSUMED),
+        ("shaft_diameter_mm", _WOODY_NOTES + ": 'RE30 has a 5 mm shaft'"),
+        ("shaft_length_mm", _ASSUMED),
+    ),
+)
+
+MOTORS["maxon-ec45flat"] = MotorSpec(
+    key="maxon-ec45flat",
+    description="maxon EC 45 flat, 50 W, brushless, order number 339285",
+    body_diameter_mm=42.8,
+    body_length_mm=21.3,
+    pilot_diameter_mm=18.0,
+    pilot_height_mm=1.0,
+    bolt_circle_mm=34.0,
+    bolt_count=3,
+    bolt_size="M3-0.5",
+    shaft_diameter_mm=3.0,
+    shaft_length_mm=10.0,
+    mass_kg=None,
+    rotor_inertia_g_cm2=135.0,
+    source=_EC45_FILE,
+    winding="EC 45 flat 50 W, order number 339285",
+    torque_constant_mNm_per_A=25.1,
+    terminal_resistance_ohm=0.464,
+    sources=(("torque_constant_mNm_per_A", _EC45_FILE + ": Kt = 25.1e-3 N m/A"),
+             ("terminal_resistance_ohm", _EC45_FILE + ": R = 0.464 ohm, phase to phase"),
+             ("rotor_inertia_g_cm2", _EC45_FILE + ": J = 135e-7 kg m^2"),
+             *_missing("torque_continuous_mNm", "torque_peak_mNm", "stall_torque_mNm",
+                       "current_continuous_A", "thermal_resistance_housing_K_per_W",
+                       "thermal_resistance_winding_K_per_W", "no_load_current_mA", "mass_kg")),
+    dimension_notes=(
+        ("body_diameter_mm", _RECALLED), ("body_length_mm", _RECALLED),
+        ("pilot_diameter_mm", _ASSUMED), ("pilot_height_mm", _ASSUMED),
+        ("bolt_circle_mm", _ASSUMED), ("bolt_count", _ASSUMED), ("bolt_size", _ASSUMED),
+        ("bolt_thread_depth_mm", _ASSUMED), ("shaft_diameter_mm", _RECALLED),
+        ("shaft_length_mm", _ASSUMED),
+    ),
+)
 
 
 def get_motor(key: str, field: str = "parts.motor") -> MotorSpec:

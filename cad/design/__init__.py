@@ -16,6 +16,7 @@ from typing import Any
 from cad.data.families import FAMILIES
 from cad.design.bounds import check_raw_design, warn
 from cad.design.fields import load_toml, optional_table, require_str, require_table
+from cad.design.motor import check_motor_data
 from cad.design.prices import price_table
 from cad.design.transmission import warn_transmissions
 from cad.errors import DesignError
@@ -48,6 +49,7 @@ def parse_design(raw: dict[str, Any], source: str = "<design>"):
     module = importlib.import_module(FAMILIES[fam].design_module)
     design = module.parse(raw, source)
     warn_transmissions(getattr(design, "transmissions", ()), warn)  # every family's capstans
+    check_motor_data(design)  # every motor has the constants a build reads (catalog or [motor])
     return design
 
 

@@ -163,3 +163,34 @@ def resolve_motor(catalog_key: str, overrides: tuple[tuple[str, Any], ...] = (),
     return replace(m, **changes, sources=tuple(sorted(sources.items())),
                    unverified=tuple(sorted(unverified)), description=desc,
                    winding=m.winding if name is None else name)
+
+
+#: MotorSpec field -> the ``[motor]`` key that gives it.
+_KEY_OF = {f: k for k, f in NUMERIC.items()}
+
+
+def check_motor_data(design) -> None:
+    """Refuse a design whose motor lacks a value every build reads.
+
+    For each motor of ``design.motor_joints()`` (none: nothing to check) the catalog winding
+    ``parts.<field>`` names, with the design's ``[motor]`` overrides (which describe
+    ``parts.motor``) and ``parts.motor_rotor_inertia_g_cm2`` applied, every field of
+    :data:`cad.data.catalog.MOTOR_BUILD_FIELDS` must have a value: a catalog motor whose public
+    sources state only some constants (``maxon-re30``, ``maxon-ec45flat``) builds when the
+    design gives the rest. Raises DesignError naming ``parts.<field>`` and the ``[motor]`` keys
+    to add."""
+    joints = getattr(design, "motor_joints", None)
+    for _, fld in (joints() if joints is not None else ()):
+        key = getattr(design.parts, fld)
+        table = tuple(getattr(design, "motor", ()) or ()) if fld == "motor" else ()
+        m = resolve_motor(key, table, f"parts.{fld}")
+        missing = [f for f in m.missing_build_fields()
+                   if not (f == "rotor_inertia_g_cm2"
+                           and getattr(design.parts, "motor_rotor_inertia_g_cm2", None) is not None)]
+        if missing:
+            keys = ", ".join(_KEY_OF[f] for f in missing)
+            where = "[motor]" if fld == "motor" else "the catalog (the [motor] table describes parts.motor)"
+            raise DesignError(f"parts.{fld}", f"{key!r}: no public source read states {keys}; give "
+                              f"{'them' if len(missing) > 1 else 'it'} in {where} from the data "
+                              "sheet of the order number you buy")
+

@@ -300,21 +300,20 @@ def _motor_data(toml: dict) -> dict:
 
 def _capstan_izz_kg_m2(toml: dict) -> float:
     """The capstan's inertia about the motor shaft from the design's numbers (0: direct drive):
-    a steel tube (catalog steel-1018) from the motor's shaft to the rim (pitch diameter less
-    one rope diameter), 1.5 rope diameters per wrap + an 8 mm hub long, m (r_o^2 + r_i^2) / 2."""
+    the grooved steel capstan (catalog steel-1018) of :func:`tests.capstan_ref.grooved_capstan_izz_kg_m2`
+    on the motor's shaft."""
     from cad.data.cables import get_cable
     from cad.data.catalog import get_motor
     from cad.data.materials import get_material
+    from tests.capstan_ref import grooved_capstan_izz_kg_m2
 
     t = toml.get("transmission", {})
     if t.get("kind") != "capstan":
         return 0.0
     d = get_cable(t["cable"]).diameter_mm
-    ro = (t["capstan_diameter_mm"] - d) / 2 * 1e-3
-    ri = get_motor(toml.get("parts", {}).get("motor", "maxon-re35")).shaft_diameter_mm / 2 * 1e-3
-    m = math.pi * (ro ** 2 - ri ** 2) * (1.5 * d * t["wraps"] + 8.0) * 1e-3 * get_material(
-        "steel-1018").density_kg_m3
-    return 0.5 * m * (ro ** 2 + ri ** 2)
+    bore = get_motor(toml.get("parts", {}).get("motor", "maxon-re35")).shaft_diameter_mm
+    return grooved_capstan_izz_kg_m2(t["capstan_diameter_mm"], d, t["wraps"], bore,
+                                     get_material("steel-1018").density_kg_m3)
 
 
 def _check_fourbar(toml: dict, out: Path, rep: dict, n: int) -> None:

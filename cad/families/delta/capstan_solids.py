@@ -146,7 +146,8 @@ def ground_parts(design, i: int, t, K: dict, stack: dict, motor) -> list[tuple[s
     rc = cg.rim_radius_mm(dc, rope)
     length = cg.capstan_length_mm(rope, t.wraps)
     ck = K.get("capstan") or PartKind(
-        "capstan", shapes.capstan_shape(rc, motor.shaft_diameter_mm, length, cg.CAPSTAN_HUB_MM / 2, pm.SET_SCREW),
+        "capstan", shapes.capstan_shape(rc, motor.shaft_diameter_mm, length, cg.CAPSTAN_HUB_MM / 2, pm.SET_SCREW,
+                                        rope_diameter_mm=rope, wraps=t.wraps),
         material=cg.CAPSTAN_MATERIAL, made=True,
         description=(f"capstan {dc:g} mm pitch (rim {2 * rc:g} mm) on the motor shaft "
                      f"({motor.shaft_diameter_mm:g} mm bore), {length:g} mm long: {t.wraps:g} turns"),
@@ -169,7 +170,8 @@ def ground_parts(design, i: int, t, K: dict, stack: dict, motor) -> list[tuple[s
     for k in range(2):
         p0, p1 = (axis + p[0] * u + p[1] * z + yr * tt for p in tang[k])
         kind = fcs.rope_run_kind(f"capstan_rope_run_{i}_{k + 1}", p0, p1, t, ROPE_TRIM_CLEARANCE_MM,
-                                 f"free run {k + 1} of arm {i}'s rope")
+                                 f"free run {k + 1} of arm {i}'s rope",
+                                 groove_depth_mm=cg.groove_depth_mm(t.cable_diameter_mm))
         out.append((kind.name, kind, np.eye(4)))
     return out
 

@@ -35,6 +35,7 @@ from cad.assembly.capstan_hardware import (  # noqa: F401 - re-exported: the fou
     ANCHOR_SCREW_LENGTH_MM,
     TENSIONER_WIND_D,
     capstan_set_screw,
+    drum_groove_arc_deg,
     drum_process,
     rope_run_kind,
     run_trim_mm,
@@ -349,16 +350,21 @@ def _capstan_parts(design, t, pl: CapstanPlacement) -> list[PartInstance]:
     drum = PartKind(
         "capstan_drum",
         shapes.drum_sector_shape(rd, parts.hub_diameter_mm / 2, pl.arc_start_deg, pl.arc_span_deg,
-                                 th, tuple((a, tap, depth) for a in pl.anchors_deg)),
+                                 th, tuple((a, tap, depth) for a in pl.anchors_deg),
+                                 rope_diameter_mm=d, groove_arc_deg=drum_groove_arc_deg(rd, d, pl.anchors_deg)),
         material=fcap.DRUM_MATERIAL, made=True,
-        description=(f"drum sector {t.drum_diameter_mm:g} mm pitch (rim {2 * rd:g} mm), "
+        description=(f"drum sector {t.drum_diameter_mm:g} mm pitch (groove bottom {2 * rd:g} mm, "
+                     f"crests {2 * (rd + cg.groove_depth_mm(d)):.4g} mm), "
                      f"{pl.arc_span_deg:.0f} deg arc, {th:g} mm thick, round the crank hub at A1"),
-        process=drum_process(th, "fixed under the crank"))
+        process=drum_process(th, "fixed under the crank",
+                             f"turn the rope groove ({d:g} mm rope, {cg.groove_depth_mm(d):.3g} mm deep) "
+                             "at mid-thickness between the anchors"))
     out = [PartInstance("capstan_drum", drum, "crank", translation(0, 0, z0))]
     screw = dataclasses.replace(joints.cap_screw_kind(ANCHOR_SCREW, ANCHOR_SCREW_LENGTH_MM,
                                                       "transmission", note="rope anchor on the drum"),
                                 name="capstan_anchor_screw")
-    at = [translation(0, 0, z0 + th / 2) @ _rz(a) @ translation(rd, 0, 0) @ _RY90 for a in pl.anchors_deg]
+    seat = rd + cg.groove_depth_mm(d)  # the heads and the tensioner's nut sit on the crests
+    at = [translation(0, 0, z0 + th / 2) @ _rz(a) @ translation(seat, 0, 0) @ _RY90 for a in pl.anchors_deg]
     out.append(PartInstance("capstan_anchor_1", screw, "crank", at[0]))
     out += _tensioner(t, at[1])
     out += _capstan_and_set_screw(design, t, pl, m)
@@ -390,13 +396,16 @@ def _capstan_and_set_screw(design, t, pl: CapstanPlacement, m) -> list[PartInsta
     z_set = cg.CAPSTAN_HUB_MM / 2
     ox, oy = pl.motor_xy_mm
     ck = PartKind(
-        "capstan", shapes.capstan_shape(rc, m.shaft_diameter_mm, length, z_set, motor.SET_SCREW),
+        "capstan", shapes.capstan_shape(rc, m.shaft_diameter_mm, length, z_set, motor.SET_SCREW,
+                                        rope_diameter_mm=d, wraps=t.wraps),
         material=cg.CAPSTAN_MATERIAL, made=True,
-        description=(f"capstan {t.capstan_diameter_mm:g} mm pitch (rim {2 * rc:g} mm) on the motor "
+        description=(f"capstan {t.capstan_diameter_mm:g} mm pitch (groove bottom {2 * rc:g} mm, crests "
+                     f"{2 * (rc + cg.groove_depth_mm(d)):.4g} mm) on the motor "
                      f"shaft ({m.shaft_diameter_mm:g} mm bore), {length:g} mm long: {t.wraps:g} turns "
-                     f"of the {d:g} mm rope at {cg.GROOVE_PITCH_D:g} d pitch above a "
+                     f"of the {d:g} mm rope in a helical groove at {cg.GROOVE_PITCH_D:g} d pitch above a "
                      f"{cg.CAPSTAN_HUB_MM:g} mm set-screw hub"),
-        process=f"turned; tap {motor.SET_SCREW.split('-')[0]} x1 (radial)",
+        process=(f"turned; cut the helical rope groove ({cg.GROOVE_PITCH_D * d:.3g} mm pitch, "
+                 f"{cg.groove_depth_mm(d):.3g} mm deep); tap {motor.SET_SCREW.split('-')[0]} x1 (radial)"),
         fits=(fit("hub shaft bore", m.shaft_diameter_mm, "shaft bore"),))
 
     size, L = capstan_set_screw(design, t)
@@ -418,6 +427,7 @@ def _rope_runs(design, t, pl: CapstanPlacement) -> list[PartInstance]:
     out = []
     for k in range(2):
         p0, p1 = (np.append(p, pl.rope_z_mm) for p in pl.tangents_mm[k])
-        kind = rope_run_kind(f"capstan_rope_run_{k + 1}", p0, p1, t, c, f"free run {k + 1} of the rope")
+        kind = rope_run_kind(f"capstan_rope_run_{k + 1}", p0, p1, t, c, f"free run {k + 1} of the rope",
+                             groove_depth_mm=cg.groove_depth_mm(t.cable_diameter_mm))
         out.append(PartInstance(kind.name, kind, "ground", np.eye(4)))
     return out

@@ -156,7 +156,8 @@ def _capstan_kind(design, t, sfx: str) -> PartKind:
     rc = cg.rim_radius_mm(t.capstan_diameter_mm, d)
     length = cg.capstan_length_mm(d, t.wraps)
     return PartKind(
-        f"capstan{sfx}", shapes.capstan_shape(rc, m.shaft_diameter_mm, length, cg.CAPSTAN_HUB_MM / 2, motor.SET_SCREW),
+        f"capstan{sfx}", shapes.capstan_shape(rc, m.shaft_diameter_mm, length, cg.CAPSTAN_HUB_MM / 2, motor.SET_SCREW,
+                                           rope_diameter_mm=d, wraps=t.wraps),
         material=cg.CAPSTAN_MATERIAL, made=True,
         description=(f"capstan {t.capstan_diameter_mm:g} mm pitch (rim {2 * rc:g} mm) on the motor shaft, "
                      f"{length:g} mm long: {t.wraps:g} turns of the {d:g} mm rope at {cg.GROOVE_PITCH_D:g} d "
@@ -235,7 +236,8 @@ def motor_side_parts(design, K: dict, lay: dict, sd, t, i: int) -> list[PartInst
     c = 1.1  # the check's clearance and a tenth
     for k in range(2):
         p0, p1 = (np.append(q, zr) for q in sd.tangents_mm[k])
-        kind = rope_run_kind(f"capstan_rope_run_{i}_{k + 1}", p0, p1, t, c, f"free run {k + 1} of rope {i}")
+        kind = rope_run_kind(f"capstan_rope_run_{i}_{k + 1}", p0, p1, t, c, f"free run {k + 1} of rope {i}",
+                             groove_depth_mm=cg.groove_depth_mm(t.cable_diameter_mm))
         out.append(PartInstance(kind.name, kind, "ground", np.eye(4)))
     return out
 

@@ -279,9 +279,12 @@ def rotor_of(design, parts=None) -> float:
 
 def drum_izz_kg_m2(design, span_deg: float | None = None) -> float:
     """The capstan drum sector's inertia about A1 (kg m^2; 0 for a direct drive): an annular
-    sector (hub bore to rim, :data:`cad.families.fourbar.capstan.DRUM_THICKNESS_MM` thick, its
-    anchors' holes left out) of the arc the rope needs with the tangent points' 2 gamma,
-    m (r_o^2 + r_i^2) / 2 (:func:`cad.actuators.capstan_geometry.sector_mass_kg`)."""
+    sector (hub bore to the rim's crests, :func:`cad.actuators.capstan_geometry.crest_radius_mm`,
+    :data:`cad.families.fourbar.capstan.DRUM_THICKNESS_MM` thick, its anchors' holes left out) of
+    the arc the rope needs with the tangent points' 2 gamma, m (r_o^2 + r_i^2) / 2
+    (:func:`cad.actuators.capstan_geometry.sector_mass_kg`), less its rope groove taken round the
+    whole arc at its section's centroid radius (:func:`cad.actuators.capstan_geometry.ring_groove_volume_mm3`;
+    the solid stops it short of the anchors: a few 1e-10 kg m^2)."""
     t = resolve_device(design).transmission("crank")
     if not t.is_capstan:
         return 0.0
@@ -289,10 +292,12 @@ def drum_izz_kg_m2(design, span_deg: float | None = None) -> float:
     g = math.degrees(cg.tangent_half_angle_rad(t.drum_diameter_mm, t.capstan_diameter_mm, C))
     rng = math.degrees(design.phi1_max_rad - design.phi1_min_rad)
     span = 2 * g + rng + 2 * math.degrees(2.0 * fcap.ANCHOR_LENGTH_MM / t.drum_diameter_mm)
-    r_o, r_i = cg.rim_radius_mm(t.drum_diameter_mm, t.cable_diameter_mm), design.parts.hub_diameter_mm / 2
-    m = cg.sector_mass_kg(min(span, 360.0), r_o, r_i, fcap.DRUM_THICKNESS_MM,
-                          get_material(fcap.DRUM_MATERIAL).density_kg_m3)
-    return 0.5 * m * (r_o ** 2 + r_i ** 2) * 1e-6
+    r_o, r_i = cg.crest_radius_mm(t.drum_diameter_mm, t.cable_diameter_mm), design.parts.hub_diameter_mm / 2
+    rho = get_material(fcap.DRUM_MATERIAL).density_kg_m3
+    m = cg.sector_mass_kg(min(span, 360.0), r_o, r_i, fcap.DRUM_THICKNESS_MM, rho)
+    _, rbar = cg.groove_section_mm(t.drum_diameter_mm, t.cable_diameter_mm)
+    groove = cg.ring_groove_volume_mm3(t.drum_diameter_mm, t.cable_diameter_mm, min(span, 360.0)) * 1e-9 * rho
+    return 0.5 * m * (r_o ** 2 + r_i ** 2) * 1e-6 - groove * (rbar * 1e-3) ** 2
 
 
 def apparent_mass(design, parts=None, samples: int = 201, plan=False) -> dict:

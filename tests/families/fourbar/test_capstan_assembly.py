@@ -80,15 +80,19 @@ def test_rope_runs_lie_between_the_closed_form_tangent_points(design):
     np.testing.assert_allclose(motor.tf_body_part[:2, 3], pl.motor_xy_mm, atol=1e-12)
     on_drum, on_capstan = _homothety_points(np.zeros(2), 32.0, np.asarray(pl.motor_xy_mm), 16.0)
     kinds = model.kinds()
+    # the drawn run stops where it meets the capstan's crests, 0.35 d = 0.28 mm above the groove's
+    # bottom: its axis sqrt(16^2 + s^2) = 16.28 mm from the capstan's axis
+    s_c = math.sqrt(16.28 ** 2 - 16.0 ** 2)
     for k in (1, 2):
         vol, com, _ = volume_props_mm(kinds[f"capstan_rope_run_{k}"].shape)
         # each run joins one drum tangent point to the capstan tangent point on the same side
         ends = min(((a, b) for a in on_drum for b in on_capstan),
                    key=lambda ab: np.linalg.norm((ab[0] + ab[1]) / 2 - com[:2]))
-        np.testing.assert_allclose(com[:2], (ends[0] + ends[1]) / 2, atol=1e-9)
         L = np.linalg.norm(ends[1] - ends[0])
+        u = (ends[1] - ends[0]) / L
+        np.testing.assert_allclose(com[:2], (ends[0] + ends[1] - s_c * u) / 2, atol=1e-9)
         assert L == pytest.approx(math.sqrt(C ** 2 - 16.0 ** 2), rel=1e-12)
-        assert vol == pytest.approx(math.pi * 0.4 ** 2 * L, rel=1e-9)
+        assert vol == pytest.approx(math.pi * 0.4 ** 2 * (L - s_c), rel=1e-9)
         assert com[2] == pytest.approx(pl.rope_z_mm)
 
 
@@ -103,12 +107,27 @@ def _radial_hole_mm3(r_h, r_rim, depth):
 
 
 def test_drum_mass_and_inertia_about_A1_closed_form(design, built):
+    """The drum sector to its crests (groove bottom 31.6 mm + 0.35 x 0.8 mm), less its rope groove
+    between the anchors (Pappus: the groove section's area round its centroid's arc, section and
+    centroid by quadrature here) and the two anchor holes drilled 9 mm below the groove's bottom
+    out through the crests."""
     rep, _ = built
     _, t, pl = _placement(design)
-    r_o, r_i, th = cg.rim_radius_mm(64.0, 0.8), design.parts.hub_diameter_mm / 2, 10.0
+    r_b, r_i, th = cg.rim_radius_mm(64.0, 0.8), design.parts.hub_diameter_mm / 2, 10.0
+    r_o = r_b + 0.28
     rho = get_material("aluminium-6061").density_kg_m3
-    hole = _radial_hole_mm3(tap_drill_mm("M3-0.5") / 2, r_o, 9.0)
-    m_ref = cg.sector_mass_kg(pl.arc_span_deg, r_o, r_i, th, rho) - 2 * hole * 1e-9 * rho
+    hole = _radial_hole_mm3(tap_drill_mm("M3-0.5") / 2, r_o, 9.0 + 0.28)
+    # groove section: the part of the 0.4 mm circle centred at 32 mm inside r_o, by quadrature
+    x, w = np.polynomial.legendre.leggauss(400)
+    u = -0.4 + 0.5 * 0.28 * (x + 1.0)  # radial offset from the circle's centre, -0.4 .. -0.12
+    chord = 2.0 * np.sqrt(0.16 - u * u)
+    area = 0.5 * 0.28 * np.sum(w * chord)
+    rbar = 0.5 * 0.28 * np.sum(w * chord * (32.0 + u)) / area
+    lo, hi = sorted(pl.anchors_deg)
+    land = math.degrees((tap_drill_mm("M3-0.5") + 0.8) / r_b)
+    groove = area * rbar * math.radians(hi - lo - 2 * land)
+    assert groove == pytest.approx(cg.ring_groove_volume_mm3(64.0, 0.8, hi - lo - 2 * land), rel=1e-6)
+    m_ref = cg.sector_mass_kg(pl.arc_span_deg, r_o, r_i, th, rho) - (2 * hole + groove) * 1e-9 * rho
     # the build integrates in OCCT's default Gauss mode, which is off by ~0.07 mm^3 per hole on
     # the holes' B-spline faces (1e-5 of the part); the adaptive mode matches the closed form
     assert rep["part_masses_g"]["capstan_drum"] == pytest.approx(m_ref * 1e3, rel=2e-5)
@@ -124,9 +143,10 @@ def test_drum_mass_and_inertia_about_A1_closed_form(design, built):
     # two holes as point masses at their mid-depth r_o - 4.5 mm (their own inertia, ~1e-9 kg m^2,
     # and the Gauss-mode error bound the tolerance)
     I_sector = 0.5 * cg.sector_mass_kg(pl.arc_span_deg, r_o, r_i, th, rho) * (r_o ** 2 + r_i ** 2) * 1e-6
-    I_holes = 2 * hole * 1e-9 * rho * ((r_o - 4.5) * 1e-3) ** 2
+    I_holes = 2 * hole * 1e-9 * rho * ((r_o - 4.64) * 1e-3) ** 2
+    I_groove = groove * 1e-9 * rho * (rbar * 1e-3) ** 2
     assert row["link"] == "crank"
-    assert row["H11_kg_m2"] == pytest.approx(I_sector - I_holes, rel=1e-4)
+    assert row["H11_kg_m2"] == pytest.approx(I_sector - I_holes - I_groove, rel=1e-4)
 
 
 def test_capstan_inertia_in_h11_is_its_solids(design, built):
@@ -146,8 +166,8 @@ def test_capstan_inertia_in_h11_is_its_solids(design, built):
     izz_solid = inertia_mm5[2][2] * rho * 1e-15  # about the capstan's own axis (its frame's z)
     closed = t.capstan_inertia_kg_m2(m.spec.shaft_diameter_mm)
     # the closed form leaves out the set screw's radial tap-drill hole (M3: 2.5 mm) through the
-    # wall, bore 3 mm to rim 15.6 mm: rho pi r_h^2 int r^2 dr (0.6 % of the capstan here)
-    r_h, r0, r1 = tap_drill_mm("M3-0.5") / 2, 3.0, (32.0 - 0.8) / 2
+    # wall, bore 3 mm to the crests 15.6 + 0.28 mm: rho pi r_h^2 int r^2 dr (0.6 % of the capstan)
+    r_h, r0, r1 = tap_drill_mm("M3-0.5") / 2, 3.0, (32.0 - 0.8) / 2 + 0.28
     hole = rho * math.pi * r_h ** 2 * (r1 ** 3 - r0 ** 3) / 3 * 1e-15
     assert closed - hole == pytest.approx(izz_solid, rel=1e-3)
     jm = (m.rotor_inertia_kg_m2 + closed) * 4.0

@@ -79,14 +79,13 @@ def test_bundled_file_states_its_capstan():
 
 
 def _capstan_izz_by_hand(rope_d: float, wraps: float, bore_mm: float, dc_mm: float = DC_B) -> float:
-    """J_c of the capstan: a steel tube from the bore to the rim (pitch minus one rope), its
-    length the turns at 1.5 rope diameters plus an 8 mm hub (cad.actuators.capstan_geometry)."""
+    """J_c of the capstan: the grooved steel capstan of
+    :func:`tests.capstan_ref.grooved_capstan_izz_kg_m2` (cad.actuators.capstan_geometry's
+    dimensions: pitch less one rope to the groove's bottom, 0.35 d crests, 1.5 d per turn + 8 mm hub)."""
     from cad.data.materials import get_material
+    from tests.capstan_ref import grooved_capstan_izz_kg_m2
 
-    ro, ri = (dc_mm - rope_d) / 2e3, bore_mm / 2e3
-    L = (1.5 * rope_d * wraps + 8.0) * 1e-3
-    m = math.pi * (ro * ro - ri * ri) * L * get_material("steel-1018").density_kg_m3
-    return 0.5 * m * (ro * ro + ri * ri)
+    return grooved_capstan_izz_kg_m2(dc_mm, rope_d, wraps, bore_mm, get_material("steel-1018").density_kg_m3)
 
 
 def _fd_jacobian(fb, xy_mm: np.ndarray, h_mm: float = 1e-4) -> np.ndarray:

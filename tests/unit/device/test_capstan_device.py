@@ -66,12 +66,12 @@ def test_bundled_capstan_design_resolves_its_transmission_once():
     assert j.torque_constant_mNm_per_A == pytest.approx(2 * 38.9, rel=1e-15)
     assert j.current_continuous_A == dev.motor.spec.current_continuous_A  # currents unchanged
     assert "x n (capstan, n = 2)" in j.source_of("torque_continuous_mNm")
-    # n^2 (J_m + J_capstan): the capstan a steel tube (7870 kg/m^3, catalog steel-1018) from the
-    # RE 35's 6 mm shaft to its rim (32 - 0.8 mm diameter), 1.5 x 0.8 x 3 turns + 8 mm hub long
-    ro, ri, length = (32.0 - 0.8) / 2 * 1e-3, 3.0e-3, (1.5 * 0.8 * 3 + 8.0) * 1e-3
-    m_c = math.pi * (ro ** 2 - ri ** 2) * length * 7870.0
+    # n^2 (J_m + J_capstan): the capstan grooved steel (7870 kg/m^3, catalog steel-1018) from the
+    # RE 35's 6 mm shaft to its crests, 3 turns of the 0.8 mm rope (tests/capstan_ref.py)
+    from tests.capstan_ref import grooved_capstan_izz_kg_m2
+
     assert dev.joint_rotor_inertia_kg_m2("crank") == pytest.approx(
-        4 * (JM + 0.5 * m_c * (ro ** 2 + ri ** 2)), rel=1e-12)
+        4 * (JM + grooved_capstan_izz_kg_m2(32.0, 0.8, 3.0, 6.0, 7870.0)), rel=1e-9)
     assert dev.joint_counts_per_rev("crank") == 2 * dev.encoder.counts_per_rev
     rec = dev.as_dict()["transmissions"][0]
     assert rec["cable"]["min_breaking_load_N"]["unverified"] is True

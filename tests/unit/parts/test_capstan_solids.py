@@ -182,3 +182,92 @@ def test_too_short_centre_distance_refused_by_the_cli_in_one_line(tmp_path):
     code, _, err = hapticad("check", str(bad))
     assert_one_line_error(code, err, "transmission.centre_distance_mm: 40 mm",
                           "rims overlap by 7.2 mm", "use at least 48.00 mm")
+
+
+# ----------------------------------------------------------------------------- rope grooves
+def _section_profile(shape, tol_mm=0.002, side=1.0):
+    """(z, |x|) of the solid's outline in the half-plane y = 0, side * x > 0 (trimesh section of
+    a fine OCCT tessellation)."""
+    import trimesh
+    from build123d import Solid
+
+    v, f = Solid(shape).tessellate(tol_mm, 0.05)
+    m = trimesh.Trimesh([(p.X, p.Y, p.Z) for p in v], f)
+    pts = m.section(plane_origin=[0, 0, 0], plane_normal=[0, 1, 0]).vertices
+    pts = pts[side * pts[:, 0] > 0]
+    return np.column_stack([pts[:, 2], np.abs(pts[:, 0])])
+
+
+def test_capstan_groove_pitch_depth_and_volume_from_the_solid():
+    """The helical groove measured back from the solid: in a meridian half-plane the outline
+    dips to the groove's bottom (the drawn rim, (32 - 0.8) / 2 = 15.6 mm) once per turn, the dips
+    1.5 d = 1.2 mm apart and 0.35 d = 0.28 mm below the crests; the volume it removes (OCCT,
+    adaptive) is the section's area times the helix its centroid runs on (closed form: the
+    circular segment r^2 (a - sin a cos a), centroid 4 r sin^3 a / (3 (2a - sin 2a)))."""
+    from cad.parts.capstan import capstan_shape
+
+    d, wraps, bore = 0.8, 4.0, 6.0
+    rc, L = (32.0 - d) / 2, 1.5 * d * wraps + 8.0
+    grooved = capstan_shape(rc, bore, L, 4.0, "M3-0.5", rope_diameter_mm=d, wraps=wraps)
+    plain = capstan_shape(rc + 0.28, bore, L, 4.0, "M3-0.5")
+    zx = _section_profile(grooved, side=-1.0)  # at 180 deg: the helix starts and ends at 0 deg
+    outer = zx[zx[:, 1] > rc - 0.01]
+    assert outer[:, 1].max() == pytest.approx(rc + 0.28, abs=1e-6)
+    assert outer[:, 1].min() == pytest.approx(rc, abs=3e-3)  # the bottom of the groove, to the mesh
+    bottoms = np.sort(outer[outer[:, 1] < rc + 0.01][:, 0])
+    centres = [grp.mean() for grp in np.split(bottoms, np.where(np.diff(bottoms) > 0.3)[0] + 1)]
+    assert len(centres) == wraps
+    np.testing.assert_allclose(np.diff(centres), 1.5 * d, atol=5e-3)
+    # the closed form by hand: the segment of the 0.4 mm circle 0.28 mm deep
+    r, h = d / 2, 0.28
+    a = math.acos((r - h) / r)
+    area = r * r * (a - math.sin(a) * math.cos(a))
+    rbar = 32.0 / 2 - 4 * r * math.sin(a) ** 3 / (3 * (2 * a - math.sin(2 * a)))
+    helix = wraps * math.hypot(2 * math.pi * rbar, 1.5 * d)
+    removed = _props_exact(plain)[0] - _props_exact(grooved)[0]
+    assert removed == pytest.approx(area * helix, rel=1e-4)
+    assert cg.helix_groove_volume_mm3(32.0, d, wraps) == pytest.approx(area * helix, rel=1e-12)
+    assert cg.groove_section_moment(32.0, d, 0) == pytest.approx(area, rel=1e-12)
+
+
+def test_capstan_closed_form_inertia_is_its_grooved_solids():
+    """J_c of the device (:func:`capstan_izz_kg_m2`: tube to the crests less the helical groove)
+    against the grooved solid's Izz (OCCT, adaptive), the set screw's hole added back by hand
+    (rho pi r_h^2 int r^2 dr from the bore to the crests)."""
+    from cad.parts.capstan import capstan_shape
+
+    d, wraps, bore, dc = 0.8, 4.0, 6.0, 32.0
+    rc = (dc - d) / 2
+    s = capstan_shape(rc, bore, 1.5 * d * wraps + 8.0, 4.0, "M3-0.5", rope_diameter_mm=d, wraps=wraps)
+    izz_solid = _props_exact(s)[2][2, 2] * RHO_ST * 1e-15
+    r_h = tap_drill_mm("M3-0.5") / 2
+    hole = RHO_ST * math.pi * r_h ** 2 * ((rc + 0.28) ** 3 - (bore / 2) ** 3) / 3 * 1e-15
+    assert cg.capstan_izz_kg_m2(dc, d, wraps, bore, RHO_ST) - hole == pytest.approx(izz_solid, rel=2e-4)
+
+
+def test_drum_groove_depth_and_volume_from_the_solid():
+    """The drum's groove: the sector's outline at its mid-angle dips from the crests (31.6 + 0.28
+    mm) to the groove's bottom (31.6 mm) at mid-thickness, the groove as wide as the chord of the
+    0.4 mm circle at the crests, 2 sqrt(2 r h - h^2); its volume Pappus's over the groove's arc."""
+    from cad.parts.capstan import drum_sector_shape
+
+    d = 0.8
+    grooved = drum_sector_shape(31.6, 4.0, -90.0, 180.0, 10.0, rope_diameter_mm=d, groove_arc_deg=(-80.0, 160.0))
+    plain = drum_sector_shape(31.88, 4.0, -90.0, 180.0, 10.0)
+    zx = _section_profile(grooved)  # the half-plane at 0 deg, mid-arc
+    outer = zx[zx[:, 1] > 31.5]
+    assert outer[:, 1].max() == pytest.approx(31.88, abs=1e-6)
+    assert outer[:, 1].min() == pytest.approx(31.6, abs=3e-3)
+    low = outer[outer[:, 1] < 31.88 - 1e-6][:, 0]
+    assert low.mean() == pytest.approx(5.0, abs=1e-3)
+    crest = outer[np.abs(outer[:, 1] - 31.88) < 1e-6][:, 0]
+    width = crest[crest > 5.0].min() - crest[crest < 5.0].max()  # between the groove's edges
+    assert width == pytest.approx(2 * math.sqrt(2 * 0.4 * 0.28 - 0.28 ** 2), abs=1e-6)
+    removed = _props_exact(plain)[0] - _props_exact(grooved)[0]
+    assert removed == pytest.approx(cg.ring_groove_volume_mm3(64.0, d, 160.0), rel=1e-8)
+
+
+def _props_exact(shape):
+    from cad.massprops.occt import volume_props_mm
+
+    return volume_props_mm(shape, eps=1e-9)

@@ -14,6 +14,7 @@ import json
 import tomllib
 from pathlib import Path
 
+import numpy as np
 import pytest
 from cli_helpers import hapticad
 
@@ -35,17 +36,25 @@ def test_cheap_drum_inertia_is_the_drum_solids():
     d = load_design(CAPSTAN)
     row = next(r for r in inertia_model(d)["budget"] if r["kind"] == "capstan_drum")
     rho = get_material("aluminium-6061").density_kg_m3
-    r_o, r_i = cg.rim_radius_mm(64.0, 0.8), d.parts.hub_diameter_mm / 2
+    r_o, r_i = cg.rim_radius_mm(64.0, 0.8) + 0.35 * 0.8, d.parts.hub_diameter_mm / 2  # to the crests
     # the arc: 2 gamma (cos gamma = (r_d - r_c) / C, C = 85 mm) + the crank's 84 deg + two
     # anchors of 2 x 10 mm / 64 mm rad each
     span = 2 * math.degrees(math.acos(16.0 / 85.0)) + 84.0 + 2 * math.degrees(20.0 / 64.0)
     m = math.radians(span) / 2 * (r_o ** 2 - r_i ** 2) * 10.0 * 1e-9 * rho
     I_sector = 0.5 * m * (r_o ** 2 + r_i ** 2) * 1e-6
-    assert cheap.drum_izz_kg_m2(d) == pytest.approx(I_sector, rel=1e-12)
+    # less the groove round the whole arc: the part of the 0.4 mm circle centred at 32 mm inside
+    # the crests (31.88 mm), its area and centroid radius by Gauss-Legendre over the radial offset
+    x, w = np.polynomial.legendre.leggauss(400)
+    u = -0.4 + 0.14 * (x + 1.0)
+    chord = 2.0 * np.sqrt(0.16 - u * u)
+    area = 0.14 * np.sum(w * chord)
+    rbar = 0.14 * np.sum(w * chord * (32.0 + u)) / area
+    g = area * rbar * math.radians(span) * 1e-9 * rho * (rbar * 1e-3) ** 2
+    assert cheap.drum_izz_kg_m2(d) == pytest.approx(I_sector - g, rel=1e-9)
     # the solid less its two anchors' radial tap-drill holes (9 mm deep, point masses at mid-depth)
-    hole = math.pi * (tap_drill_mm("M3-0.5") / 2) ** 2 * 9.0 * 1e-9 * rho
+    hole = math.pi * (tap_drill_mm("M3-0.5") / 2) ** 2 * 9.28 * 1e-9 * rho
     assert cheap.drum_izz_kg_m2(d) - row["H11_kg_m2"] == pytest.approx(
-        2 * hole * ((r_o - 4.5) * 1e-3) ** 2, rel=0.1)
+        2 * hole * ((r_o - 4.64) * 1e-3) ** 2, rel=0.1)
     # and the motor side n^2 (J_m + J_capstan) is the resolved device's
     from cad.device import resolve_device
 
