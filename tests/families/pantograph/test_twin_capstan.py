@@ -68,14 +68,12 @@ def _per_motor(ns=NS) -> dict:
 
 
 def _capstan_izz_by_hand(bore_mm: float, dc_mm: float = DC_MM) -> float:
-    """J_c of the capstan: a steel tube from the bore to the rim (pitch minus one rope), its
-    length the turns at 1.5 rope diameters plus an 8 mm hub (cad.actuators.capstan_geometry)."""
+    """J_c of the grooved capstan by hand (tests/capstan_ref.py: a steel tube from the bore to
+    the crests, the turns at 1.5 rope diameters plus an 8 mm hub, less the helical groove)."""
     from cad.data.materials import get_material
+    from tests.capstan_ref import grooved_capstan_izz_kg_m2
 
-    ro, ri = (dc_mm - ROPE_D) / 2e3, bore_mm / 2e3
-    L = (1.5 * ROPE_D * WRAPS + 8.0) * 1e-3
-    m = math.pi * (ro * ro - ri * ri) * L * get_material("steel-1018").density_kg_m3
-    return 0.5 * m * (ro * ro + ri * ri)
+    return grooved_capstan_izz_kg_m2(dc_mm, ROPE_D, WRAPS, bore_mm, get_material("steel-1018").density_kg_m3)
 
 
 def _jq_by_hand(d, n: float) -> float:
