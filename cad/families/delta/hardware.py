@@ -9,6 +9,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from cad.data.catalog import get_bearing
+
 #: The motor of every arm (:data:`cad.data.catalog.MOTORS`): direct drive.
 MOTOR = "maxon-re35"
 
@@ -105,3 +107,51 @@ def crank_vertex_mm(upper_arm_mm: float, joint_offset_mm: float) -> tuple[float,
     r = joint_offset_mm + (ARM_WIDTH_MM + CROSS_BAR_D_MM) / 2
     a = math.radians(CRANK_ANGLE_DEG)
     return upper_arm_mm - r * math.cos(a), r * math.sin(a)
+
+
+#: Stamper's knee hinge (g > 0): each rod's top end turns about the normal n_i of its
+#: parallelogram's plane (the analyses' joint: :mod:`cad.families.delta.sim`,
+#: :func:`cad.families.delta.structure.knee_arm`). The rod ends in an eye holding a deep
+#: groove ball bearing (catalog designation, :func:`cad.data.catalog.get_bearing`) on a
+#: ground pin along n_i through a clevis at the knee cross bar's end: two ears beside the
+#: eye (an axial gap each side) and a bridge past the eye's radius towards the cross bar.
+#: Layout choices (not a vendor part): the eye's wall round the bearing seat, the gaps, the
+#: ears' thickness and radius round the pin, the bridge's depth.
+KNEE_HINGE_BEARING = "623"
+KNEE_EYE_WALL_MM = 1.5
+KNEE_HINGE_GAP_MM = 0.5
+KNEE_EYE_CLEARANCE_MM = 1.0
+KNEE_EAR_THICKNESS_MM = 2.0
+KNEE_EAR_RADIUS_MM = 3.5
+KNEE_BRIDGE_MM = 3.0
+KNEE_PIN_MATERIAL = "steel-1018"
+
+
+@dataclass(frozen=True)
+class KneeHinge:
+    """The knee hinge's dimensions (mm), in the clevis's frame (origin the pin's centre, z the
+    pin axis n_i, +y towards the cross bar's middle): the pin (the bearing's bore) and its
+    length, the bearing (bore d, outside D, width B), the eye's radius, the ears' faces
+    (z from ``ear_z0_mm`` to ``ear_z1_mm`` and mirrored), the bridge (y from ``bridge_y0_mm``
+    to ``bridge_y1_mm``)."""
+
+    bearing: str
+    pin_d_mm: float
+    pin_length_mm: float
+    D_mm: float
+    B_mm: float
+    eye_r_mm: float
+    ear_z0_mm: float
+    ear_z1_mm: float
+    bridge_y0_mm: float
+    bridge_y1_mm: float
+
+
+def knee_hinge() -> KneeHinge:
+    """:class:`KneeHinge` of :data:`KNEE_HINGE_BEARING` and the layout choices above."""
+    b = get_bearing(KNEE_HINGE_BEARING, "delta knee hinge bearing")
+    z0 = b.B_mm / 2 + KNEE_HINGE_GAP_MM
+    r_eye = b.D_mm / 2 + KNEE_EYE_WALL_MM
+    y0 = r_eye + KNEE_EYE_CLEARANCE_MM
+    return KneeHinge(b.designation, b.d_mm, 2 * (z0 + KNEE_EAR_THICKNESS_MM), b.D_mm, b.B_mm, r_eye,
+                     z0, z0 + KNEE_EAR_THICKNESS_MM, y0, y0 + KNEE_BRIDGE_MM)
