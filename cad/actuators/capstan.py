@@ -101,26 +101,34 @@ def bend_ratio(capstan_diameter_mm, cable_diameter_mm):
     return np.asarray(capstan_diameter_mm, float) / np.asarray(cable_diameter_mm, float)
 
 
-def bend_ratio_warning(cable: CableSpec, capstan_diameter_mm: float) -> str | None:
-    """A one-line warning when the capstan bends ``cable`` (a :class:`cad.data.cables.CableSpec`)
-    below its minimum bend ratio, naming the rope, the ratio, the capstan diameter that meets
-    the minimum and the 7x19 alternative; None when D/d meets it.
-
-    D/d_min = cable.min_bend_ratio (rope makers: about 40 for 7x7, 25-28 for 7x19)."""
-    dd = float(bend_ratio(capstan_diameter_mm, cable.diameter_mm))
-    if dd >= cable.min_bend_ratio:
+def bend_ratio_fix(cable: CableSpec, capstan_diameter_mm: float) -> str | None:
+    """What fixes a rope bent below its minimum on the capstan: "use a capstan of at least
+    ... mm, or a 7x19 rope of the same diameter (...)"; None when D/d meets the minimum."""
+    if float(bend_ratio(capstan_diameter_mm, cable.diameter_mm)) >= cable.min_bend_ratio:
         return None
-    need = cable.min_capstan_diameter_mm()
-    fix = f"a capstan of at least {need:.1f} mm"
+    fix = f"use a capstan of at least {cable.min_capstan_diameter_mm():.1f} mm"
     alt = next((c for c in CABLES.values() if c.construction == "7x19"
                 and c.diameter_mm == cable.diameter_mm), None)
     if cable.construction != "7x19":
         alt_need = 26.0 * cable.diameter_mm if alt is None else alt.min_capstan_diameter_mm()
         fix += (f", or a 7x19 rope of the same diameter ({alt.key if alt else 'not in the catalog'}"
                 f", D/d >= {(alt.min_bend_ratio if alt else 26.0):g}: capstan >= {alt_need:.1f} mm)")
+    return fix
+
+
+def bend_ratio_warning(cable: CableSpec, capstan_diameter_mm: float) -> str | None:
+    """A one-line warning when the capstan bends ``cable`` (a :class:`cad.data.cables.CableSpec`)
+    below its minimum bend ratio, naming the rope, the ratio, the capstan diameter that meets
+    the minimum and the 7x19 alternative (:func:`bend_ratio_fix`); None when D/d meets it.
+
+    D/d_min = cable.min_bend_ratio (rope makers: about 40 for 7x7, 25-28 for 7x19)."""
+    fix = bend_ratio_fix(cable, capstan_diameter_mm)
+    if fix is None:
+        return None
+    dd = float(bend_ratio(capstan_diameter_mm, cable.diameter_mm))
     mark = " (unverified)" if cable.is_unverified("min_bend_ratio") else ""
     return (f"cable {cable.key} on a {capstan_diameter_mm:g} mm capstan: bend ratio D/d = "
-            f"{dd:.1f} is below the rope's minimum {cable.min_bend_ratio:g}{mark}; use {fix}")
+            f"{dd:.1f} is below the rope's minimum {cable.min_bend_ratio:g}{mark}; {fix}")
 
 
 # --------------------------------------------------------------------------- capstan equation

@@ -150,7 +150,9 @@ def datasheet_rows(j: CapstanJoint) -> tuple[list[dict], dict]:
             f"n^2 J_m = {t.ratio:.4g}^2 x {j.motor.spec.rotor_inertia_g_cm2:g} g cm^2, in {j.inertia_in}"),
         row("bend_ratio" + s, f"bend ratio D/d of {c.key} on the capstan", bend, "",
             f"capstan {t.capstan_diameter_mm:g} mm / rope {c.diameter_mm:g} mm against the rope's minimum "
-            f"{c.min_bend_ratio:g} ({c.source_of('min_bend_ratio')})", unverified=c.is_unverified("min_bend_ratio")),
+            f"{c.min_bend_ratio:g} ({c.source_of('min_bend_ratio')})"
+            + ("" if (fix := cap.bend_ratio_fix(c, t.capstan_diameter_mm)) is None else f"; {fix}"),
+            unverified=c.is_unverified("min_bend_ratio")),
         row("cable_pretension_N" + s, "rope pretension (the tensioner's setting)", fig.pretension_N, "N",
             ("transmission.pretension_N" if given else
              f"the smallest that holds the peak load: T0 = (dT / 2)(e^(mu theta) + 1) / (e^(mu theta) - 1), "
@@ -221,8 +223,9 @@ def joints_rows(joints) -> tuple[list[dict], dict, dict[str, float]]:
     :func:`datasheet_rows` followed by its :func:`stiffness_row`, in the joints' order, the
     limits of all (keys carry each joint's suffix), and ``{joint name: k_q}`` (N m/rad) of the
     joints whose rope states its E A (capstan joints: :func:`capstan_joint` of capstan
-    transmissions). ``([], {}, {})`` for no joint. The delta's per-arm rows use it
-    (:func:`cad.families.delta.capstan.datasheet_rows`)."""
+    transmissions). ``([], {}, {})`` for no joint. The delta's per-arm rows and the 5-bar's and
+    twin's per-motor rows use it (:func:`cad.families.delta.capstan.datasheet_rows`,
+    :func:`cad.families.pantograph.capstan.capstan_rows`)."""
     rows: list[dict] = []
     lims: dict = {}
     k_q: dict[str, float] = {}

@@ -14,9 +14,10 @@ from pathlib import Path
 from typing import Any
 
 from cad.data.families import FAMILIES
-from cad.design.bounds import check_raw_design
+from cad.design.bounds import check_raw_design, warn
 from cad.design.fields import load_toml, optional_table, require_str, require_table
 from cad.design.prices import price_table
+from cad.design.transmission import warn_transmissions
 from cad.errors import DesignError
 
 
@@ -45,7 +46,9 @@ def parse_design(raw: dict[str, Any], source: str = "<design>"):
     check_raw_design(raw)  # every number against cad/design/bounds.py, before the schema
     design_prices(raw)  # [prices] (any family): cad.design.prices.price_table
     module = importlib.import_module(FAMILIES[fam].design_module)
-    return module.parse(raw, source)
+    design = module.parse(raw, source)
+    warn_transmissions(getattr(design, "transmissions", ()), warn)  # every family's capstans
+    return design
 
 
 def load_design(path: str | Path):

@@ -32,8 +32,6 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from cad import tolerances as tol
-from cad.actuators.capstan import bend_ratio_warning
-from cad.data.cables import get_cable
 from cad.data.catalog import DEFAULT_ENCODER, get_bearing
 from cad.design.bounds import LINK_MM, STROKE_MM, warn
 from cad.design.fields import (
@@ -310,16 +308,5 @@ def parse(raw: dict[str, Any], source: str = "<design>") -> FourBarDesign:
     gaps = design.hardware_gaps()
     if gaps:
         warn(f"mechanism: {design._hardware_text(gaps)}")
-    _warn_transmission(design, warn)
     return design
 
-
-def _warn_transmission(design: FourBarDesign, warn) -> None:
-    """The capstan's load-time warning: the rope below its bend ratio (naming the rope, the
-    ratio and the fix, :func:`cad.actuators.capstan.bend_ratio_warning`)."""
-    t = design.transmissions[0]
-    if not t.is_capstan:
-        return
-    bend = bend_ratio_warning(get_cable(t.cable), t.capstan_diameter_mm)
-    if bend is not None:
-        warn(f"transmission: {bend}")

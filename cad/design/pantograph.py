@@ -24,6 +24,9 @@ Schema (mm, N, N m; every key optional unless marked *):
     [actuators]  torque_max_Nm (1.0), force_max_N (1.0), moment_max_Nm (F * crank / 2)
     [optimize]   base_mm / proximal_mm / distal_mm = [min, max, count]
     [parts]      see :class:`PantographParts`
+    [transmission]  a capstan on all four motors, or ``[[transmission]]`` one per motor (knob
+                 left, knob right, crank left, crank right): :mod:`cad.design.transmission`
+                 (omitted: direct drive; the solids are not built yet, the analyses are)
     [firmware]   (both families) plane, encoders, wall: :mod:`cad.design.firmware`
     [motor]      (every family here) the data of the motor ``parts.motor`` names, replacing
                  catalog values: :mod:`cad.design.motor` (the pen's waist motor keeps its own)
@@ -275,9 +278,9 @@ class PantographDesign(ValidatedReplace):
     @property
     def transmissions(self) -> tuple[Transmission, ...]:
         """One :class:`cad.design.transmission.Transmission` per motor (:meth:`motor_joints`
-        order): the 5-bar's ``[transmission]`` (the same on both motors) or
-        ``[[transmission]]`` (left, right), validated at load; direct drive without one (and
-        on the twin pantograph and the pen, which refuse the table)."""
+        order): the 5-bar's and the twin pantograph's ``[transmission]`` (the same on every
+        motor) or ``[[transmission]]`` (one per motor), validated at load; direct drive without
+        one (and on the pen, which refuses the table)."""
         return parse_transmissions(self.raw.get("transmission"), len(self.motor_joints()))
 
     # ------------------------------------------------------------------ GII
@@ -580,16 +583,17 @@ def parse(raw: dict[str, Any], source: str = "<design>") -> PantographDesign:
 
 
 def _check_transmission(raw: dict[str, Any], family: str) -> None:
-    """``[transmission]`` / ``[[transmission]]`` of a 5-bar validated at load
-    (:func:`cad.design.transmission.parse_transmissions`, two motors: left, right); refused on
-    the twin pantograph and the pen (their capstans are not built)."""
+    """``[transmission]`` / ``[[transmission]]`` of a 5-bar (two motors: left, right) or a twin
+    pantograph (four: knob left, knob right, crank left, crank right, :meth:`PantographDesign.motor_joints`)
+    validated at load (:func:`cad.design.transmission.parse_transmissions`); refused on the pen
+    (its capstans are not built)."""
     if "transmission" not in raw:
         return
-    if family != "pantograph":
+    if family == "haptic-pen":
         raise DesignError("transmission", f"a capstan on the {family}'s motors is not built yet (direct "
-                          "drive only); [transmission] works on four-bar and 5-bar pantograph designs "
-                          "(docs/capstan.md)")
-    parse_transmissions(raw["transmission"], 2)
+                          "drive only); [transmission] works on four-bar, 5-bar pantograph and delta "
+                          "designs, and in the analyses of the twin pantograph (docs/capstan.md)")
+    parse_transmissions(raw["transmission"], 2 if family == "pantograph" else 4)
 
 
 def _planar_size(ws: dict) -> tuple[float, float]:

@@ -233,6 +233,10 @@ def _parse_actuator(t: dict) -> ActuatorSpec:
 
 def parse(raw: dict[str, Any], source: str = "<design>") -> PowerMouseDesign:
     """Validate a raw PowerMouse design mapping (see module docstring)."""
+    if "transmission" in raw:
+        raise DesignError("transmission", "the PowerMouse's actuators are voice coils pushing the "
+                          "flotor directly (no motor shaft or joint to put a capstan on); remove "
+                          "[transmission] (docs/capstan.md)")
     check_unknown(raw, TOP_KEYS, "")
     name = check_name(require_str(raw, "name", ""))
     mech = require_table(raw, "mechanism", "")

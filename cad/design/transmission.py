@@ -21,6 +21,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
+from cad.actuators.capstan import bend_ratio_warning
 from cad.actuators.capstan_geometry import check_centre_distance
 from cad.data.cables import CABLES, get_cable
 from cad.design.bounds import Bound, check_number
@@ -178,10 +179,11 @@ def _centre_distance(tab: dict[str, Any], prefix: str, dc: float, dd: float,
 
 
 def _ratio(value: Any, field: str) -> float:
-    """The ratio with its slip: below 1 it is likely capstan / drum given the wrong way up."""
-    if (isinstance(value, (int, float)) and not isinstance(value, bool) and 0 < value < 1):
-        raise DesignError(field, f"must be > 1 (drum / capstan), got {value!r}; did you give "
-                          f"capstan / drum? (1 / {value:g} = {1 / value:g})")
+    """The ratio with its slip: below 1 it is likely capstan / drum given the wrong way up; at
+    or below 0 the same lower bound (> 1) is named, not the generic "> 0"."""
+    if isinstance(value, (int, float)) and not isinstance(value, bool) and value < 1:
+        slip = (f"; did you give capstan / drum? (1 / {value:g} = {1 / value:g})" if value > 0 else "")
+        raise DesignError(field, f"must be > 1 (drum / capstan), got {value!r}{slip}")
     return check_number(field, value, RATIO)
 
 
@@ -200,3 +202,19 @@ def parse_transmissions(value: Any, n_motors: int,
         raise DesignError(prefix, f"must be one table or {n_motors} (one per motor), got "
                           f"{len(value)} tables")
     return tuple(parse_transmission(t, f"{prefix}.{i}") for i, t in enumerate(value))
+
+
+def warn_transmissions(transmissions: tuple[Transmission, ...], warn) -> None:
+    """The capstans' load-time warning, once per distinct rope and capstan: a rope below its
+    bend ratio, naming the rope, the ratio and the capstan diameter or rope that fixes it
+    (:func:`cad.actuators.capstan.bend_ratio_warning`); ``warn(text)`` records it. Every family
+    calls it through :func:`cad.design.parse_design`."""
+    seen = set()
+    for t in transmissions:
+        key = (t.cable, t.capstan_diameter_mm)
+        if not t.is_capstan or key in seen:
+            continue
+        seen.add(key)
+        bend = bend_ratio_warning(get_cable(t.cable), t.capstan_diameter_mm)
+        if bend is not None:
+            warn(f"transmission: {bend}")

@@ -172,16 +172,17 @@ def _gravity_A(spec, motor) -> float:
 
 
 
-def _joint_side(device):
-    """(MotorData, counts per joint turn, rotor inertia at the joint kg m^2) of the 5-bar's
-    motors as their joints see them: through a capstan of ratio n, K_t and the torques x n
-    (:meth:`cad.device.ResolvedDevice.joint_motor`), the encoder's counts x n and the rotor
-    with its capstan x n^2 (direct drive: the motor's own). DesignError naming
-    ``transmission`` when the two joints' transmissions differ (one prediction for both)."""
+def joint_side(device):
+    """(MotorData, counts per joint turn, rotor inertia at the joint kg m^2) of the device's
+    motors (the 5-bar's two, the twin pantograph's four) as their joints see them: through a
+    capstan of ratio n, K_t and the torques x n (:meth:`cad.device.ResolvedDevice.joint_motor`),
+    the encoder's counts x n and the rotor with its capstan x n^2 (direct drive: the motor's
+    own). DesignError naming ``transmission`` when the joints' transmissions differ (one
+    prediction for every motor)."""
     ts = device.transmissions
     if len({(t.ratio, t.capstan_diameter_mm, t.wraps, t.cable_diameter_mm) for t in ts}) > 1:
-        raise DesignError("transmission", "identifying a 5-bar whose two motors have different "
-                          "transmissions is not built (give both motors the same [transmission])")
+        raise DesignError("transmission", f"identifying a {device.family} whose motors have different "
+                          "transmissions is not built (give every motor the same [transmission])")
     j = device.motors[0].joint
     c = device.joint_counts_per_rev(j)
     return motor_data(device.joint_motor(j)), (int(c) if float(c).is_integer() else c), \
@@ -198,7 +199,7 @@ def predict(design, report: dict) -> Prediction5:
     spec = device_spec(design, report, h, cad.__version__, device, linkage_model(design))
     g = geom_of(spec.params)
     beta = beta_of(g, spec.bodies)
-    motor, counts, rotor = _joint_side(device)  # through the capstans (x n, x n^2)
+    motor, counts, rotor = joint_side(device)  # through the capstans (x n, x n^2)
     lo, hi = joint_ranges(design, design.mechanism)
     home = np.array([spec.q_home_rad])
     Mq = joint2.mass_matrix(g, beta, (rotor,) * 2, home)[0]

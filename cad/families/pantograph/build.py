@@ -126,6 +126,7 @@ from cad.families.pantograph.placement import (  # noqa: F401
 )
 from cad.families.pantograph.report import PAPER_TABLE1, build_report, report_md_rows  # noqa: F401
 from cad.families.pantograph.sim import fivebar_sim_model, sim_model
+from cad.families.pantograph.twin_capstan import refuse_solids as refuse_twin_capstan_solids
 from cad.kinematics import twin_pantograph as tw
 from cad.pipeline.run import Stages, run_family
 from cad.pipeline.views import write_sim_model
@@ -157,6 +158,7 @@ def check_options(design, fidelity: str, phi1_deg, formats=frozenset()) -> None:
     set_screw_plan(design)  # a clevis wall no set screw fits: named before any CAD
     if design.family == "pantograph":  # capstans whose drums cannot be placed: named before any CAD
         capstan_layout(design)
+    refuse_twin_capstan_solids(design)  # the twin's capstan solids are not drawn yet: one line
 
 
 
@@ -214,7 +216,6 @@ def _write_sim(design, out_dir, formats, instances, bodies, lay, home) -> list[s
         lay,
         [*home, th],
         ik,
-        resolve_device(design).motor.rotor_inertia_kg_m2,
         made,
         lambda kind: get_material(K[kind].material).color_rgb,
     )
@@ -278,7 +279,7 @@ def _encoder_rows(design) -> list[dict]:
 def _no_solid_rows(design) -> list[dict]:
     """BOM lines with no solid: the joint encoders and, through capstans, each motor's rope
     with its cut length (:func:`cad.families.pantograph.capstan.bom_lines`)."""
-    return _encoder_rows(design) + (capstan_bom_lines(design) if design.family == "pantograph" else [])
+    return _encoder_rows(design) + capstan_bom_lines(design)
 
 
 def _stages():

@@ -48,6 +48,7 @@ from cad.datasheet import capstan_rows as cr
 from cad.datasheet import row
 from cad.device import resolve_device
 from cad.errors import DesignError
+from cad.families.pantograph import twin_capstan
 from cad.kinematics import fivebar as fb5
 from cad.parts.motor import mount_side_mm
 from cad.tolerances import CAPSTAN_RANGE_MARGIN_DEG
@@ -153,12 +154,19 @@ def anchor_protrusion_mm(t) -> float:
             + get_cap_screw(ANCHOR_SCREW, "transmission").k_mm)
 
 
-def _clear(design, sides, rims, keep: float, half: float, q_deg: np.ndarray) -> bool:
-    """The pair of sides' drums clear of each other and of the other joint's axle and hub
-    clevis at every pose of the workspace grid (``q_deg`` (K, 2) the links' angles there), each
-    drum's arc widened by :data:`CAPSTAN_RANGE_MARGIN_DEG` at both ends (the motion between grid samples),
-    and the motor mount plates clear of the bearing blocks and of each other (module docstring)."""
+def _clear(design, sides, rims, keep: float, half: float, q_deg: np.ndarray) -> str | None:
+    """None when the pair of sides' drums are clear of each other and of the other joint's axle
+    and hub clevis at every pose of the workspace grid (``q_deg`` (K, 2) the links' angles
+    there), each drum's arc widened by :data:`CAPSTAN_RANGE_MARGIN_DEG` at both ends (the motion
+    between grid samples), and the motor mount plates clear of the bearing blocks and of each
+    other (module docstring); else what meets (one of :data:`CLASHES`' keys)."""
     b = [np.asarray(s.b_mm, float) for s in sides]
+    m = [np.asarray(s.motor_xy_mm, float) for s in sides]
+    squares = b + m  # bearing blocks at B, mount plates at the motors: squares of half side `half`
+    for k, mk in enumerate(m):
+        for j, q in enumerate(squares):
+            if j != 2 + k and np.abs(mk - q).max() < 2 * half + CLEARANCE_MM:
+                return "mounts"
     R = max(rims) + keep
     lo, hi = np.minimum(*b) - R, np.maximum(*b) + R
     xs, ys = np.arange(lo[0], hi[0], SAMPLE_MM), np.arange(lo[1], hi[1], SAMPLE_MM)
@@ -172,32 +180,54 @@ def _clear(design, sides, rims, keep: float, half: float, q_deg: np.ndarray) -> 
         masks.append(near[None, :] & (((ang[None, :] - start[:, None]) % 360.0)
                                       <= s.arc_span_deg + 2 * CAPSTAN_RANGE_MARGIN_DEG))
         if s.arc_span_deg + 2 * CAPSTAN_RANGE_MARGIN_DEG >= 360.0:
-            return False
+            return "circle"
     if np.any(masks[0] & masks[1]):
-        return False
+        return "drums"
     for k in range(2):  # the other joint's axle and hub clevis
         if np.any(masks[k] & (np.hypot(*(pts - b[1 - k]).T) <= keep)[None, :]):
-            return False
-    m = [np.asarray(s.motor_xy_mm, float) for s in sides]
-    squares = b + m  # bearing blocks at B, mount plates at the motors: squares of half side `half`
-    for k, mk in enumerate(m):
-        for j, q in enumerate(squares):
-            if j != 2 + k and np.abs(mk - q).max() < 2 * half + CLEARANCE_MM:
-                return False
-    return True
+            return "joint"
+    return None
+
+
+#: What :func:`_clear` finds meeting, as the refusal words it.
+CLASHES = {"mounts": "a motor's mount plate meets a bearing block or the other mount",
+           "circle": "a drum's swept arc closes a full circle",
+           "drums": "the two swept drums meet",
+           "joint": "a swept drum meets the other joint's axle and hub clevis"}
+
+
+def check_centre_distance(design, t, half: float) -> None:
+    """DesignError naming ``transmission.centre_distance_mm`` when the motor's mount plate (half
+    side ``half`` mm) would meet its own joint's bearing block in every direction: the centre
+    distance C below 2 half + :data:`CLEARANCE_MM` (the mount square's side, plus the gap)."""
+    C = cap.centre_distance_mm(t.capstan_diameter_mm, t.drum_diameter_mm, t.centre_distance_mm)
+    need = 2 * half + CLEARANCE_MM
+    if C < need:
+        how = ("given" if t.centre_distance_mm is not None else
+               f"the pitch circles of the {t.capstan_diameter_mm:g} mm capstan and the "
+               f"{t.drum_diameter_mm:g} mm drum")
+        raise DesignError("transmission.centre_distance_mm",
+                          f"{C:g} mm ({how}) puts each motor's {2 * half:g} mm mount plate on its own "
+                          f"link's bearing block in every direction: give centre_distance_mm >= {need:g} "
+                          "or a larger drum (ratio or drum_diameter_mm)")
 
 
 def motor_directions_deg(design) -> tuple[CapstanSide, CapstanSide]:
     """The two sides' :class:`CapstanSide` (module docstring). Direct-drive sides are None.
-    DesignError naming ``transmission.drum_diameter_mm`` when no pair of directions clears."""
+    First the capstans' own checks (the set screw's wall, the centre distance against the mount
+    plates); DesignError naming ``transmission`` with what met in each direction tried when no
+    pair of directions clears."""
     ts = _transmissions(design)
     rng = joint_ranges_deg(design)
     q_deg = np.degrees(np.unwrap(fb5.ik(design.mechanism, design.workspace_points()).q_rad, axis=0))
     half = mount_side_mm(get_motor(design.parts.motor)) / 2
+    for t in ts:
+        hwc.capstan_set_screw(design, t)
+        check_centre_distance(design, t, half)
     keep = design.parts.clevis_width_mm / 2 + CLEARANCE_MM
     rims = [cg.rim_radius_mm(t.drum_diameter_mm, t.cable_diameter_mm) + anchor_protrusion_mm(t)
             if t.is_capstan else 0.0 for t in ts]
-    best, best_y = None, math.inf
+    best, best_y, why = None, math.inf, {}
     for al in np.arange(-180.0, 180.0, ALPHA_STEP_DEG):
         ar = (180.0 - al + 180.0) % 360.0 - 180.0  # the mirror about the y axis
         sides = [_side(design, t, i, a, rng[i]) if t.is_capstan else None
@@ -205,16 +235,25 @@ def motor_directions_deg(design) -> tuple[CapstanSide, CapstanSide]:
         if any(s is None for s in sides):
             continue
         y = max(s.motor_xy_mm[1] for s in sides)
-        if y < best_y and _clear(design, sides, rims, keep, half, q_deg):
-            best, best_y = tuple(sides), y
+        if y < best_y:
+            clash = _clear(design, sides, rims, keep, half, q_deg)
+            why[clash] = why.get(clash, 0) + 1
+            if clash is None:
+                best, best_y = tuple(sides), y
     if best is None:
-        raise DesignError("transmission.drum_diameter_mm",
-                          f"{ts[0].drum_diameter_mm:g} mm: no pair of motor directions keeps the two swept "
-                          f"drums (radius {max(rims):.1f} mm, joints {design.params['base_mm']:g} mm apart) "
-                          "clear of each other and of the other joint; use a smaller drum (ratio or capstan), "
-                          "a shorter centre_distance_mm (the arc 2 gamma grows with it), a longer base_mm or a "
-                          "smaller workspace")
+        raise DesignError("transmission", _placement_refusal(design, ts, rims, why))
     return best
+
+
+def _placement_refusal(design, ts, rims, why: dict) -> str:
+    """The one line of :func:`motor_directions_deg`'s refusal: the drums' swept radius, the
+    joints' distance and, for the directions tried, how many met in each way."""
+    counts = "; ".join(f"{CLASHES[k]} in {n}" for k, n in sorted(why.items(), key=lambda kv: -kv[1]))
+    return (f"no pair of motor directions (every {ALPHA_STEP_DEG:g} deg) places the capstans "
+            f"(drum {ts[0].drum_diameter_mm:g} mm, swept radius {max(rims):.1f} mm with the "
+            f"tensioner, joints {design.params['base_mm']:g} mm apart): of {sum(why.values())} "
+            f"directions, {counts}; use a smaller drum (ratio or capstan), a shorter "
+            "centre_distance_mm (the arc 2 gamma grows with it), a longer base_mm or a smaller workspace")
 
 
 #: The last design laid out and its layout: the build's pre-CAD check and its layout stage ask
@@ -247,7 +286,10 @@ def _layout(design) -> dict:
 def capstan_joints(design) -> tuple:
     """Each capstan-driven motor of the 5-bar as a :class:`cad.datasheet.capstan_rows.CapstanJoint`
     (its link's range over the workspace, :func:`joint_ranges_deg`; rows, BOM lines and
-    assembly steps suffixed ``_1`` left, ``_2`` right); empty for direct drive."""
+    assembly steps suffixed ``_1`` left, ``_2`` right); empty for direct drive. The twin
+    pantograph's four: :func:`cad.families.pantograph.twin_capstan.capstan_joints`."""
+    if design.family == "twin-pantograph":
+        return twin_capstan.capstan_joints(design)
     if not is_capstan(design):
         return ()
     dev = resolve_device(design)
@@ -260,7 +302,10 @@ def capstan_joints(design) -> tuple:
 def rope_compliance_m_per_N(design, k_q: dict) -> np.ndarray:
     """The handle's compliance from the ropes alone over the workspace grid, largest
     eigenvalue of J^-1 diag(1 / k_q) J^-T (m/N, (N,)); J = dq/dx (rad/m): the links rigid, the
-    motors held, each rope a torsional spring ``k_q[joint]`` (N m/rad) at its joint."""
+    motors held, each rope a torsional spring ``k_q[joint]`` (N m/rad) at its joint. The twin
+    pantograph's: :func:`cad.families.pantograph.twin_capstan.rope_compliance_m_per_N`."""
+    if design.family == "twin-pantograph":
+        return twin_capstan.rope_compliance_m_per_N(design, k_q)
     J, st = fb5.jacobian_rad_per_m(design.mechanism, design.workspace_points())
     ok = np.asarray(st) == fb5.STATUS_OK
     kinv = np.array([1.0 / k_q[j] if k_q.get(j) else 0.0 for j in ("q_left", "q_right")])
@@ -274,20 +319,17 @@ def capstan_rows(design, k_max_N_per_m: float | None) -> tuple[list[dict], dict]
     stiffness (:mod:`cad.datasheet.capstan_rows`, suffixed ``_1`` / ``_2``), the ropes'
     stiffness at the handle (weakest direction and pose, :func:`rope_compliance_m_per_N`) and
     ``k_max_N_per_m`` (the datasheet's eq (25) K_max) in series with it; ``([], {})`` for direct drive."""
-    rows, limits, k_q = [], {}, {}
-    for j in capstan_joints(design):
-        r, lim = cr.datasheet_rows(j)
-        st_row, k, _ = cr.stiffness_row(j, cr.layout(j))
-        rows += [*r, st_row]
-        limits.update(lim)
-        if k is not None:
-            k_q[j.name] = k
+    rows, limits, k_q = cr.joints_rows(capstan_joints(design))
     if not k_q:
         return rows, limits
     c = rope_compliance_m_per_N(design, k_q)
+    if not c.size or c.max() <= 0:  # direct motors hold the handle (a twin with three): no rope compliance there
+        return rows, limits
     k_h = float(1.0 / c.max())
     src = ("1 / lambda_max(J^-1 diag(1 / k_q) J^-T), J = dq/dx, weakest direction and pose over the workspace "
            "grid (links rigid, motors held)")
+    if design.family == "twin-pantograph":  # four ropes on three task coordinates
+        src = twin_capstan.HANDLE_STIFFNESS_SOURCE
     rows.append(row("cable_handle_stiffness_N_per_m", "rope stiffness at the handle", k_h, "N/m", src,
                     lo=k_h, hi=float(1.0 / c.min())))
     if k_max_N_per_m is not None:

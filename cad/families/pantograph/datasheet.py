@@ -27,6 +27,7 @@ import numpy as np
 
 from cad.datasheet import row
 from cad.device import resolve_device
+from cad.dynamics.friction import coulomb_friction_at_handle_N
 from cad.dynamics.stiffness import range_text, stiffness_range_N_per_m
 from cad.families.pantograph.capstan import capstan_rows
 from cad.families.pantograph.limits import pantograph_limits
@@ -138,6 +139,28 @@ def motor_force_rows(design, paper: dict | None = None) -> list[dict]:
                         lo=sig.min(), hi=sig.max(), unverified=any(m.is_unverified(field) for m in specs),
                         paper=min(v for v in ref if v is not None) if any(ref) else None))
     return rows
+
+
+def friction_row(design) -> dict:
+    """``friction_N``: the motors' Coulomb friction (brush and bearing, K_t I_0 each, times n
+    through a capstan) felt at the handle, the worst over the directions of motion and over the
+    workspace (:func:`cad.dynamics.friction.coulomb_friction_at_handle_N`, F = J^T tau); the
+    link bearings' friction is not in it."""
+    J, _, ok = jacobian_and_limits(design)
+    dev = resolve_device(design)
+    specs = [dev.joint_motor(m.joint) for m in dev.motors]
+    f = [m.friction_torque_mNm() for m in specs]
+    if any(v is None for v in f) or not ok.any():
+        return row("friction_N", "Coulomb friction at the handle (no load)", None, "N",
+                   "no K_t or no-load current for a motor" if ok.any() else "no reachable sample")
+    A = np.swapaxes(J, -1, -2)[:, FORCE_COLS[design.family], :] * (np.asarray(f) * 1e-3)[None, None, :]
+    F = coulomb_friction_at_handle_N(A[ok])
+    each = ", ".join(dict.fromkeys(f"{motor_label(r)} {r.spec.friction_torque_mNm():.4g} mN m{_through(design, r)}"
+                                   for r in dev.motors))
+    return row("friction_N", "Coulomb friction at the handle (no load)", F.max(), "N",
+               f"the motors' K_t I_0 at each joint ({each}) through J^T, worst over the directions "
+               "of motion and the workspace; the link bearings' friction not included",
+               lo=F.min(), hi=F.max(), unverified=any(m.is_unverified("no_load_current_mA") for m in specs))
 
 
 def _through(design, m) -> str:
@@ -300,8 +323,7 @@ def rows_and_limits(design, report: dict, out_dir=None, simulate_wall: bool = Tr
                     lo=good.min() if good.size else None, hi=good.max() if good.size else None))
     k25 = k_max_row(good.max() * 1e-6 if good.size else None)
     rows.append(k25)
-    rows.append(row("friction_N", "Coulomb friction at the handle", None, "N",
-                    "not modelled: [actuators] gives torque limits only (no motor data sheet)"))
+    rows.append(friction_row(design))
     em = report.get("effective_mass_home") or {}
     for k, v in em.items():
         if isinstance(v, (int, float)) and not isinstance(v, bool):
@@ -329,7 +351,7 @@ def rows_and_limits(design, report: dict, out_dir=None, simulate_wall: bool = Tr
             notes.append(f"force ellipses over the workspace: {chart}")
     limits = pantograph_limits(design, design.actuators.get("force_max_N"), st and st["strength_MPa"],
                                structure=st is not None)
-    if design.family == "pantograph":  # the 5-bar's capstans: rows at the peak load, the ropes' springs
+    if design.family != "haptic-pen":  # the 5-bar's and the twin's capstans: rows at the peak load, the ropes' springs
         crows, climits = capstan_rows(design, k25["value"])
         rows += crows
         limits.update(climits)

@@ -43,20 +43,22 @@ def dynamics(design, bodies: dict, home: np.ndarray) -> PantographDynamics:
 
 
 def effective_mass(design, bodies: dict, home: np.ndarray) -> tuple[dict, dict | None]:
-    """Effective mass at home (with and, for the mouse, without rotor inertia). The 5-bar's
-    rotors count at their joints through their transmissions, n^2 (J_m + J_capstan) each
+    """Effective mass at home (with and, for the mouse, without rotor inertia). Every rotor
+    counts at its joint through its transmission, n^2 (J_m + J_capstan) each
     (:meth:`cad.device.ResolvedDevice.joint_rotor_inertia_kg_m2`; J_m for direct drive)."""
     dev = resolve_device(design)  # the motors the BOM orders, through their transmissions
-    rotor = dev.motor.rotor_inertia_kg_m2
 
-    def fbm(pre: str, jm: float):
+    def rotors(pre: str) -> tuple[float, float]:
+        """(left, right) rotor inertia at the joints of the 5-bar ``pre`` (kg m^2)."""
+        return tuple(dev.joint_rotor_inertia_kg_m2(f"{pre}q_{s}") for s in ("left", "right"))
+
+    def fbm(pre: str, jm):
         d = [planar_props(bodies[f"{pre}distal_{s}"]) for s in ("left", "right")]
         pr = [planar_props(bodies[f"{pre}proximal_{s}"]) for s in ("left", "right")]
         return fb5.FiveBarMass(pr[0], pr[1], d[0], d[1], jm)
 
     if not is_twin(design):
-        jm = tuple(dev.joint_rotor_inertia_kg_m2(m.joint) for m in dev.motors)  # n^2 (J_m + J_c)
-        M = fb5.mass_matrix_kg(design.mechanism, home[None, :], fbm("", jm))[0]
+        M = fb5.mass_matrix_kg(design.mechanism, home[None, :], fbm("", rotors("")))[0]  # n^2 (J_m + J_c)
         M = M + bodies["handle"].mass_kg * np.eye(2)  # the handle translates with E
         return {
             "at_mm": home.tolist(),
@@ -74,7 +76,7 @@ def effective_mass(design, bodies: dict, home: np.ndarray) -> tuple[dict, dict |
     )
     tm = design.mechanism
     eff = tw.effective_mass_home(
-        tm, X, tw.TwinMass(fbm("knob_", rotor), fbm("crank_", rotor), crank)
+        tm, X, tw.TwinMass(fbm("knob_", rotors("knob_")), fbm("crank_", rotors("crank_")), crank)
     )
     bare = tw.effective_mass_home(tm, X, tw.TwinMass(fbm("knob_", 0.0), fbm("crank_", 0.0), crank))
     return eff, bare

@@ -41,7 +41,7 @@ from cad.families.pantograph.firmware import (
 from cad.firmware import reference
 from cad.firmware.device import device_spec
 from cad.firmware.model import KinematicModel
-from cad.firmware.spec import angles_from_counts, motor_data
+from cad.firmware.spec import angles_from_counts
 from cad.identify import excitation2, jointn
 from cad.identify.joint2 import Fit2
 from cad.isotropy.gii import workspace_half_mm
@@ -49,7 +49,7 @@ from cad.kinematics import twin_pantograph as tw
 from cad.pipeline import design_hash
 from cad.sim import bench_joints, identify_joints
 from cad.sim.bench import HAND_FRACTION
-from cad.sim.identify_fivebar import TE_S
+from cad.sim.identify_fivebar import TE_S, joint_side
 from cad.sim.identify_kits import joint_kit, routine_files
 
 #: Samples per side of the workspace square and crank angles whose IK gives the joint ranges.
@@ -70,7 +70,7 @@ class PredictionTwin(identify_joints.OverActuated):
     Te_s: float
     kt_Nm_per_A: float
     i_max_A: float
-    counts_per_rev: int
+    counts_per_rev: float  # per joint turn: the motor encoder's x n through a capstan
     direction: tuple[int, ...]
     zero_rad: tuple[float, ...]
     q_min_rad: tuple[float, ...]
@@ -143,15 +143,19 @@ def _plan(pred: PredictionTwin) -> excitation2.Plan2:
 
 
 def predict(design, report: dict) -> PredictionTwin:
-    """The :class:`PredictionTwin` of a twin pantograph built into ``report`` (its bodies)."""
+    """The :class:`PredictionTwin` of a twin pantograph built into ``report`` (its bodies); its
+    motors as their joints see them through the capstans (:func:`cad.sim.identify_fivebar.joint_side`:
+    n K_t, n counts, n^2 (J_m + J_c), n K_t I_0)."""
     device = resolve_device(design)
     h = design_hash(design)
-    spec = dataclasses.replace(device_spec(design, report, h, cad.__version__, device, TWIN), rotor_kg_m2=0.0)
-    motor = motor_data(device.motor.spec)
+    spec = dataclasses.replace(device_spec(design, report, h, cad.__version__, device, TWIN),
+                               rotor_kg_m2=0.0, rotor_joints_kg_m2=())  # the links alone
+    motor, counts, rotor = joint_side(device)  # through the capstans (x n, x n^2)
     lo, hi = _ranges(design, spec)
     Tc, src = identify_joints.motor_friction(device)
-    pred = PredictionTwin(design.name, h, spec, device.motor.rotor_inertia_kg_m2, TE_S, motor.kt_Nm_per_A,
-                          motor.current_continuous_A, device.encoder.counts_per_rev,
+    Tc = None if Tc is None else device.transmissions[0].ratio * Tc  # the motor's friction at its joint
+    pred = PredictionTwin(design.name, h, spec, rotor, TE_S, motor.kt_Nm_per_A,
+                          motor.current_continuous_A, counts,
                           tuple(int(d) for d in spec.encoder_direction), tuple(spec.encoder_zero_rad), lo, hi,
                           tuple(spec.q_home_rad), Tc, src, spec.gravity_m_s2 is not None, None)
     return dataclasses.replace(pred, plan=_plan(pred))

@@ -6,9 +6,10 @@ z = 0 on the base plate's top). Bodies (spanning tree), for each group ``g`` in
 (``crank``, ``knob``) and side ``s`` in (``left``, ``right``):
 
 * ``g_proximal_s``: hinge ``g_q_s`` at B_s on the world (value = the actuated angle q,
-  isotropy paper Fig. 1), the motor ``g_motor_s`` (rotor inertia as armature, torque limit
-  the BOM motor's peak torque, :func:`peak_torque_Nm`; ``[actuators] torque_max_Nm`` stays
-  the GII's normalisation);
+  isotropy paper Fig. 1), the motor ``g_motor_s`` (armature = the rotor inertia at the joint
+  through its transmission, n^2 (J_m + J_capstan); ``gear`` = the ratio n; force range = the
+  BOM motor's own peak torque, so the joint gets n T_peak, :func:`peak_torque_Nm`;
+  ``[actuators] torque_max_Nm`` stays the GII's normalisation);
 * ``g_distal_s``: hinge ``g_elbow_s`` at the elbow C_s (value = distal angle - q);
 * ``crankshaft``: hinge ``theta`` at the main journal, on ``knob_distal_left`` (value =
   theta - the distal angle). Sites ``handle`` (main journal, the knob axis) and
@@ -58,15 +59,17 @@ def peak_torque_Nm(device) -> dict[str, float]:
     return device.joint_peak_torques_Nm()
 
 
-def _link_bodies(design, bodies: dict, lay: dict, ik, rotor_kg_m2: float, meshes) -> tuple:
+def _link_bodies(design, bodies: dict, lay: dict, ik, meshes) -> tuple:
     """The eight link bodies (proximal on the world, distal on its proximal) with their
-    motors: ``(bodies, {distal body: 4x4 world mm}, motors)``."""
+    motors: ``(bodies, {distal body: 4x4 world mm}, motors)``; each motor's armature and gear
+    through its transmission (:func:`cad.device.resolve_device`)."""
     a = design.params["base_mm"]
     l3 = design.params["distal_mm"]
     B = [(-a / 2, 0.0), (a / 2, 0.0)]
     flip = np.diag([1.0, -1.0, -1.0, 1.0])
 
-    torque = peak_torque_Nm(resolve_device(design))  # the BOM's motors, not [actuators]
+    dev = resolve_device(design)
+    torque = peak_torque_Nm(dev)  # the BOM's motors through their transmissions, not [actuators]
     out: list[SimBody] = []
     world = {}
     motors = []
@@ -85,7 +88,8 @@ def _link_bodies(design, bodies: dict, lay: dict, ik, rotor_kg_m2: float, meshes
             out.append(SimBody(
                 name=pn, parent="world", pos_m=Tp[:3, 3] * 1e-3, rot=Tp[:3, :3], joint=f"{grp}_q_{side}",
                 joint_ref_rad=q, mass_kg=float(bodies[pn].mass_kg), com_m=np.asarray(bodies[pn].com_m),
-                inertia_com_kg_m2=np.asarray(bodies[pn].inertia_com_kg_m2), armature_kg_m2=rotor_kg_m2,
+                inertia_com_kg_m2=np.asarray(bodies[pn].inertia_com_kg_m2),
+                armature_kg_m2=dev.joint_rotor_inertia_kg_m2(f"{grp}_q_{side}"),
                 meshes=meshes(pn, f"proximal_{side}", F)))
             rel = np.linalg.inv(Tp) @ Td
             tip = {f"{grp}_tip_{side}": np.array([l3 * 1e-3, 0.0, 0.0])}
@@ -95,12 +99,13 @@ def _link_bodies(design, bodies: dict, lay: dict, ik, rotor_kg_m2: float, meshes
                 com_m=np.asarray(bodies[f"{grp}_distal"].com_m),
                 inertia_com_kg_m2=np.asarray(bodies[f"{grp}_distal"].inertia_com_kg_m2),
                 meshes=meshes(dn, "distal", F), sites=tip))
-            motors.append(SimMotor(f"{grp}_motor_{side}", f"{grp}_q_{side}", torque[f"{grp}_q_{side}"]))
+            n = dev.transmission(f"{grp}_q_{side}").ratio  # joint torque = n motor torque
+            motors.append(SimMotor(f"{grp}_motor_{side}", f"{grp}_q_{side}", torque[f"{grp}_q_{side}"] / n, gear=n))
     return out, world, motors
 
 
 def sim_model(design, bodies: dict, bodies_parts: dict, ground_items, lay: dict, home, ik,
-              rotor_kg_m2: float, made: set[str], color) -> SimModel:
+              made: set[str], color) -> SimModel:
     """SimModel of the twin pantograph written at ``home`` (module docstring).
 
     ``bodies``: MassProps per body (link frame, SI); ``bodies_parts``: (kind, 4x4 mm) per
@@ -112,7 +117,7 @@ def sim_model(design, bodies: dict, bodies_parts: dict, ground_items, lay: dict,
     def meshes(prefix, link_type, F):
         return _meshes(bodies_parts, made, color, prefix, link_type, F)
 
-    out, world, motors = _link_bodies(design, bodies, lay, ik, rotor_kg_m2, meshes)
+    out, world, motors = _link_bodies(design, bodies, lay, ik, meshes)
     th = float(home[2])
     Tc = _T(rot_z(th), (home[0], home[1], lay["web_z_mm"]))
     Tk = world["knob_distal_left"]

@@ -428,13 +428,13 @@ def test_drums_that_would_meet_are_refused_in_one_line(tmp_path):
     """The bundled capstan 5-bar with its motors 300 mm off the joints (centre_distance_mm): the
     tangent points' half angle gamma = acos((r_d - r_c) / C) grows to 81 deg, each drum's arc to
     2 gamma + the link's range + anchors, and no pair of motor directions keeps the two drums
-    apart over the workspace; the build exits 2 naming transmission.drum_diameter_mm, nothing
-    written."""
+    apart over the workspace; the build exits 2 naming the transmission, the drum and what met,
+    nothing written."""
     p = tmp_path / "far.toml"
     p.write_text(BUNDLED.read_text().replace("wraps = 3.0", "wraps = 3.0\ncentre_distance_mm = 300.0"))
     out = tmp_path / "out"
     code, _, err = hapticad("build", p, "--out", out)
-    assert_one_line_error(code, err, "transmission.drum_diameter_mm", "128 mm", "centre_distance_mm")
+    assert_one_line_error(code, err, "transmission", "drum 128 mm", "swept drums meet", "centre_distance_mm")
     assert not out.exists() or not any(out.iterdir())
 
 
@@ -458,4 +458,4 @@ def test_the_haptic_pen_keeps_the_refusal(tmp_path):
     p = tmp_path / "pen.toml"
     p.write_text((ROOT / "designs" / "haptic_pen.toml").read_text() + CAPSTAN)
     code, _, err = hapticad("check", p)
-    assert_one_line_error(code, err, "transmission", "not built yet", "haptic-pen")
+    assert_one_line_error(code, err, "transmission", "not built yet", "haptic-pen", "delta")

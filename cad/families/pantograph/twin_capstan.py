@@ -1,0 +1,112 @@
+"""The capstans of a twin-pantograph haptic mouse (issue 35 §1): a capstan on any of its four
+motors (knob left, knob right, crank left, crank right: :meth:`PantographDesign.motor_joints`).
+Pure numpy (no CAD import); the rows, BOM lines and winding steps are the shared ones
+(:mod:`cad.datasheet.capstan_rows`, through :mod:`cad.families.pantograph.capstan`), this
+module only says where the twin's joints turn and how its ropes reach the handle.
+
+* each joint's range: the proximal link's angle over the workspace grid (x, y and the full
+  crank turn, ``[workspace]``, boundary included), widened by
+  :data:`cad.tolerances.CAPSTAN_RANGE_MARGIN_DEG` on each side, as on the 5-bar;
+* the ropes at the handle: with the motors held and the links rigid, each rope a torsional
+  spring ``k_q`` at its joint, the handle's stiffness is ``K_X = J^T diag(k_q) J`` (J = dq/dX,
+  (4, 3), rad/m and rad/rad, :func:`cad.kinematics.twin_pantograph.jacobian_si`: four springs
+  on three task coordinates, the redundant actuation of isotropy paper §4.1); a force at the
+  main journal with the knob's moment free sees the translational block of ``K_X^-1``. A
+  direct-drive joint holds rigidly: the handle then moves only in the null space of its rows.
+
+The solids (drums on the links, moved motors under the base plate and on the bridge) are not
+built yet: the build refuses a twin pantograph with a capstan in one line naming
+``transmission`` (:func:`refuse_solids`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from cad.datasheet import capstan_rows as cr
+from cad.device import resolve_device
+from cad.errors import DesignError
+from cad.kinematics import fivebar as fb5
+from cad.kinematics import twin_pantograph as ktwin
+from cad.tolerances import CAPSTAN_RANGE_MARGIN_DEG
+
+#: How the ropes' stiffness at the handle is computed (the datasheet row's model text).
+HANDLE_STIFFNESS_SOURCE = (
+    "1 / lambda_max of the (x, y) block of (J^T diag(k_q) J)^-1, J = dq/dX (4 x 3), the knob's moment free, "
+    "weakest direction and pose over the workspace grid (links rigid, motors held; a direct-drive joint rigid)")
+#: The twin's motor joints in the resolved device's order (knob pantograph first).
+JOINTS = ("knob_q_left", "knob_q_right", "crank_q_left", "crank_q_right")
+
+
+def has_capstan(design) -> bool:
+    """True when a motor of the twin pantograph drives its joint through a capstan."""
+    return design.family == "twin-pantograph" and any(
+        t.is_capstan for t in resolve_device(design).transmissions)
+
+
+def joint_ranges_deg(design) -> np.ndarray:
+    """(4, 2) [[q_min, q_max]] of the four proximal links (:data:`JOINTS` order) over the
+    workspace grid, deg, widened by :data:`CAPSTAN_RANGE_MARGIN_DEG` (module docstring).
+    DesignError (``workspace``) when a sample cannot be reached."""
+    ik = ktwin.ik(design.mechanism, design.workspace_points())
+    bad = int(np.sum(ik.status != 0))
+    if bad:
+        raise DesignError("workspace", f"a capstan's drum needs the whole workspace reachable: {bad} grid "
+                          "points are not")
+    q = np.degrees(np.unwrap(ik.q_rad, axis=0))
+    return np.column_stack([q.min(axis=0) - CAPSTAN_RANGE_MARGIN_DEG, q.max(axis=0) + CAPSTAN_RANGE_MARGIN_DEG])
+
+
+def capstan_joints(design) -> tuple:
+    """Each capstan-driven motor of the twin as a :class:`cad.datasheet.capstan_rows.CapstanJoint`
+    (its link's range, :func:`joint_ranges_deg`; rows, BOM lines and assembly steps suffixed
+    ``_1`` .. ``_4`` in :data:`JOINTS` order); empty for direct drive."""
+    if not has_capstan(design):
+        return ()
+    dev = resolve_device(design)
+    rng = joint_ranges_deg(design)
+    out = []
+    for i, j in enumerate(JOINTS):
+        if dev.transmission(j).is_capstan:
+            grp, _, side = j.split("_")
+            out.append(cr.capstan_joint(dev, j, float(rng[i, 1] - rng[i, 0]), f"{grp} {side} proximal link",
+                                        f"_{i + 1}", inertia_in="the effective mass at home"))
+    return tuple(out)
+
+
+def handle_compliance_m_per_N(J: np.ndarray, kinv: np.ndarray) -> np.ndarray:
+    """Translational compliance (2, 2) m/N at the main journal of one pose, the knob's moment
+    free: the (x, y) block of ``K_X^-1``, ``K_X = J^T diag(1 / kinv) J`` restricted to the null
+    space of the rigid joints' rows (``kinv`` 0; zero when they hold the handle, three direct
+    motors). ``J`` (4, 3) dq/dX (SI), ``kinv`` (4,) rad/(N m)."""
+    rope = kinv > 0
+    basis = np.eye(J.shape[1])
+    if not rope.all():
+        _, s, vt = np.linalg.svd(J[~rope])
+        basis = vt[int(np.sum(s > s.max() * 1e-12)):].T  # (3, r) null space of the held joints
+        if basis.shape[1] == 0:  # the held joints hold the handle: the ropes add nothing there
+            return np.zeros((2, 2))
+    Jr = J[rope] @ basis
+    K = Jr.T @ (Jr / kinv[rope][:, None])
+    C = basis @ np.linalg.inv(K) @ basis.T
+    return C[:2, :2]
+
+
+def rope_compliance_m_per_N(design, k_q: dict) -> np.ndarray:
+    """The handle's compliance from the ropes alone over the workspace grid, largest eigenvalue
+    of :func:`handle_compliance_m_per_N` (m/N, (N,) over the reachable samples): the links rigid,
+    the motors held, each rope a torsional spring ``k_q[joint]`` (N m/rad) at its joint."""
+    J, st = ktwin.jacobian_si(design.mechanism, design.workspace_points())
+    ok = np.asarray(st) == fb5.STATUS_OK
+    kinv = np.array([1.0 / k_q[j] if k_q.get(j) else 0.0 for j in JOINTS])
+    return np.array([np.linalg.eigvalsh(handle_compliance_m_per_N(Ji, kinv))[-1] for Ji in np.asarray(J)[ok]])
+
+
+def refuse_solids(design) -> None:
+    """DesignError (``transmission``) when the twin pantograph has a capstan: its solids are
+    not built yet (the analyses are: force, resolution, effective mass, capstan rows, the ropes
+    in the frame, firmware and MJCF through the ratio)."""
+    if has_capstan(design):
+        raise DesignError("transmission", "the twin pantograph's capstan solids (drums on the links, motors "
+                          "moved under the base plate and on the bridge) are not built yet: build it with direct "
+                          "drive, or see docs/capstan.md for what its capstan analyses give")
