@@ -30,13 +30,14 @@ import math
 import numpy as np
 
 from cad.assembly.model import AssemblyModel
+from cad.data import catalog as cat
 from cad.data.catalog import clearance_hole_mm
 from cad.device import parts_motor, resolve_device
 from cad.families.delta import hardware as hw
 from cad.families.delta import parts as dp
 from cad.families.delta.capstan_solids import add_capstans
 from cad.families.delta.layout import ARMS, body_poses, rot_x, rot_z
-from cad.parts import PartInstance, PartKind, translation
+from cad.parts import PartInstance, PartKind, joints, translation
 from cad.parts import motor as pm
 
 
@@ -133,7 +134,6 @@ def kinds(design, fidelity: str = "fabrication") -> dict[str, PartKind]:
         pin = 2 * (st["fork_mid"] + hw.ARM_THICKNESS_MM / 2)
         add("knee_pin", dp.bar_shape(hw.CROSS_BAR_D_MM, pin), "steel-1018", True,
             f"knee pin d{hw.CROSS_BAR_D_MM:g} x {pin:g}", "ground dowel, cut")
-    if fork:
         _knee_hinge_kinds(K, w)
     add("ball_stud", dp.ball_stud_shape(bj.ball_d_mm, bj.neck_d_mm, bj.neck_mm), "steel-1018",
         False, f"{bj.designation}: stud ({bj.source})", "bought", mass_kg=bj.mass_g / 2e3)
@@ -162,9 +162,6 @@ def kinds(design, fidelity: str = "fabrication") -> dict[str, PartKind]:
 def _knee_hinge_kinds(K: dict, w: float) -> None:
     """The knee hinge's kinds (:func:`cad.families.delta.hardware.knee_hinge`): the knee's cross
     bar between the two clevises, the clevis, its pin, the bearing, the rod's eye."""
-    from cad.data import catalog as cat
-    from cad.parts import joints
-
     h = hw.knee_hinge()
     bar = w - 2 * h.bridge_y1_mm
 

@@ -57,9 +57,11 @@ CROSS_BAR_D_MM = 8.0
 #: upper arm is a fork of two plates, cranked away from the side the knee folds to (the
 #: knee's cross bar crosses the fork's planes when the knee folds back onto the arm): each
 #: plate runs from the hub to a vertex seen from the knee pin at CRANK_ANGLE_DEG off the
-#: arm line and g + (w_a + d_c)/2 away (:func:`crank_vertex_mm`), then to the pin, so the
-#: cross bar clears the plates down to a fold of asin((w_a + d_c) / (2 g)) - CRANK_ANGLE_DEG
-#: (eq 1 of :mod:`.clearance`): -7.8 deg for the Falcon, whose knees fold to 7.9 deg.
+#: arm line and g + w_a/2 + r_k away (:func:`crank_vertex_mm`; r_k the knee's outline about
+#: its cross bar's axis, :func:`knee_outline_radius_mm`), then to the pin, so the knee's
+#: cross bar and clevises clear the plates down to a fold of asin((w_a/2 + r_k) / g) -
+#: CRANK_ANGLE_DEG (eq 1 of :mod:`.clearance`): -2.5 deg for the Falcon, whose knees fold to
+#: 7.9 deg.
 CRANK_ANGLE_DEG = 40.0
 #: With a knee the motor brackets stand this much farther out along the motor axes (the
 #: hub longer by as much): the rods hang from the knee, higher and farther in than from an
@@ -103,8 +105,9 @@ def base_plate_z_mm(upper_arm_mm: float, theta_min_rad: float, joint_offset_mm: 
 def crank_vertex_mm(upper_arm_mm: float, joint_offset_mm: float) -> tuple[float, float]:
     """(x, y) mm of the cranked fork plate's vertex in the plate's frame (x from the motor
     axis to the knee pin at (L_a, 0), y towards the side away from the knee): at
-    CRANK_ANGLE_DEG off the arm line seen from the pin, g + (w_a + d_c)/2 from it."""
-    r = joint_offset_mm + (ARM_WIDTH_MM + CROSS_BAR_D_MM) / 2
+    CRANK_ANGLE_DEG off the arm line seen from the pin, g + w_a/2 + r_k from it (r_k:
+    :func:`knee_outline_radius_mm`)."""
+    r = joint_offset_mm + ARM_WIDTH_MM / 2 + knee_outline_radius_mm()
     a = math.radians(CRANK_ANGLE_DEG)
     return upper_arm_mm - r * math.cos(a), r * math.sin(a)
 
@@ -155,3 +158,14 @@ def knee_hinge() -> KneeHinge:
     y0 = r_eye + KNEE_EYE_CLEARANCE_MM
     return KneeHinge(b.designation, b.d_mm, 2 * (z0 + KNEE_EAR_THICKNESS_MM), b.D_mm, b.B_mm, r_eye,
                      z0, z0 + KNEE_EAR_THICKNESS_MM, y0, y0 + KNEE_BRIDGE_MM)
+
+
+def knee_outline_radius_mm() -> float:
+    """r_k (mm): the largest radius about the knee cross bar's axis of the knee's parts that
+    cross the fork plates' planes -- the cross bar (d_c / 2) and the clevis at each end, whose
+    section across the bar is 2 ``KNEE_EAR_RADIUS_MM`` (along the knee link) by 2 ear_z1
+    (along the pin, :class:`KneeHinge`): its corner, hypot(r_ear, z1), 5.70 mm with the 623
+    bearing. The eye and bearing stay within it where they cross the plates (the slow solid
+    checks of ``tests/families/delta/test_delta_clearance.py``)."""
+    h = knee_hinge()
+    return max(CROSS_BAR_D_MM / 2, math.hypot(KNEE_EAR_RADIUS_MM, h.ear_z1_mm))
