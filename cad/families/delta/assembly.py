@@ -30,13 +30,14 @@ import math
 import numpy as np
 
 from cad.assembly.model import AssemblyModel
+from cad.data import catalog as cat
 from cad.data.catalog import clearance_hole_mm
 from cad.device import parts_motor, resolve_device
 from cad.families.delta import hardware as hw
 from cad.families.delta import parts as dp
 from cad.families.delta.capstan_solids import add_capstans
 from cad.families.delta.layout import ARMS, body_poses, rot_x, rot_z
-from cad.parts import PartInstance, PartKind, translation
+from cad.parts import PartInstance, PartKind, joints, translation
 from cad.parts import motor as pm
 
 
@@ -133,6 +134,7 @@ def kinds(design, fidelity: str = "fabrication") -> dict[str, PartKind]:
         pin = 2 * (st["fork_mid"] + hw.ARM_THICKNESS_MM / 2)
         add("knee_pin", dp.bar_shape(hw.CROSS_BAR_D_MM, pin), "steel-1018", True,
             f"knee pin d{hw.CROSS_BAR_D_MM:g} x {pin:g}", "ground dowel, cut")
+        _knee_hinge_kinds(K, w)
     add("ball_stud", dp.ball_stud_shape(bj.ball_d_mm, bj.neck_d_mm, bj.neck_mm), "steel-1018",
         False, f"{bj.designation}: stud ({bj.source})", "bought", mass_kg=bj.mass_g / 2e3)
     add("ball_socket", dp.socket_shape(bj.ball_d_mm, bj.clearance_mm, bj.socket_d_mm,
@@ -140,6 +142,11 @@ def kinds(design, fidelity: str = "fabrication") -> dict[str, PartKind]:
         "delrin", False, f"{bj.designation}: socket ({bj.source})", "bought",
         mass_kg=bj.mass_g / 2e3)
     rs = bj.socket_d_mm / 2
+    if fork:
+        r_eye = hw.knee_hinge().eye_r_mm
+        add("knee_rod", dp.tube_shape(hw.ROD_OD_MM, hw.ROD_ID_MM, r_eye, d.lower_arm_mm - rs),
+            hw.ROD_MATERIAL, True, f"rod tube {hw.ROD_OD_MM:g}/{hw.ROD_ID_MM:g} x "
+            f"{d.lower_arm_mm - rs - r_eye:g}", "cut to length, bonded on the eye's and the socket's shanks")
     add("rod", dp.tube_shape(hw.ROD_OD_MM, hw.ROD_ID_MM, rs, d.lower_arm_mm - rs),
         hw.ROD_MATERIAL, True, f"rod tube {hw.ROD_OD_MM:g}/{hw.ROD_ID_MM:g} x "
         f"{d.lower_arm_mm - 2 * rs:g}", "cut to length, bonded on the socket shanks")
@@ -150,6 +157,37 @@ def kinds(design, fidelity: str = "fabrication") -> dict[str, PartKind]:
     add("handle", dp.bar_shape(hw.HANDLE_D_MM, hw.HANDLE_LENGTH_MM), hw.PLATE_MATERIAL, True,
         f"handle d{hw.HANDLE_D_MM:g} x {hw.HANDLE_LENGTH_MM:g}", "turned")
     return K
+
+
+def _knee_hinge_kinds(K: dict, w: float) -> None:
+    """The knee hinge's kinds (:func:`cad.families.delta.hardware.knee_hinge`): the knee's cross
+    bar between the two clevises, the clevis, its pin, the bearing, the rod's eye."""
+    h = hw.knee_hinge()
+    bar = w - 2 * h.bridge_y1_mm
+
+    def add(name, shape, material, made, description, process, **kw):
+        K[name] = PartKind(name=name, shape=shape, material=material, made=made,
+                           description=description, process=process, **kw)
+
+    add("knee_cross_bar", dp.bar_shape(hw.CROSS_BAR_D_MM, bar), hw.ARM_MATERIAL, True,
+        f"knee cross bar d{hw.CROSS_BAR_D_MM:g} x {bar:g}, the clevises bonded on both ends", "turned")
+    add("knee_clevis", dp.clevis_shape(hw.KNEE_EAR_RADIUS_MM, h.pin_d_mm, h.ear_z0_mm, h.ear_z1_mm,
+                                       h.bridge_y0_mm, h.bridge_y1_mm), hw.ARM_MATERIAL, True,
+        f"knee clevis: ears {hw.KNEE_EAR_THICKNESS_MM:g} mm, gap {2 * h.ear_z0_mm:g} mm, pin bore "
+        f"d{h.pin_d_mm:g} (the rod's hinge about the parallelogram's normal)",
+        "milled; ream the pin bore through both ears")
+    add("knee_hinge_pin", dp.bar_shape(h.pin_d_mm, h.pin_length_mm), hw.KNEE_PIN_MATERIAL, True,
+        f"knee hinge pin d{h.pin_d_mm:g} x {h.pin_length_mm:g}", "ground dowel, cut")
+    brg = cat.get_bearing(hw.KNEE_HINGE_BEARING, "delta knee hinge bearing")
+    rings = joints.bearing_rings(brg.size)
+    add("knee_bearing", joints.bearing_shape(brg.size, True), cat.BEARING_MATERIAL, False,
+        f"deep groove ball bearing {brg.designation} ({brg.d_mm:g}x{brg.D_mm:g}x{brg.B_mm:g}), the "
+        "knee hinge", "bought", inertia_model="ring", mass_kg=brg.mass_kg,
+        ring_mm=(brg.d_mm / 2, brg.D_mm / 2, brg.B_mm), collision=(("other", rings[0]), ("self", rings[1])),
+        revolution=True, hull=joints.bearing_shape(brg.size, False))
+    add("rod_eye", dp.eye_shape(h.eye_r_mm, h.D_mm, h.B_mm, hw.ROD_ID_MM, 3.0), hw.ARM_MATERIAL, True,
+        f"rod eye d{2 * h.eye_r_mm:g} x {h.B_mm:g}, the {brg.designation} bearing's seat d{h.D_mm:g}",
+        "turned and milled; bore the bearing seat; the rod tube bonded on its shank")
 
 
 def _ground_parts(design) -> list[tuple[str, str, np.ndarray]]:
@@ -193,17 +231,37 @@ def _upper_parts(design, i: int) -> list[tuple[str, str, np.ndarray]]:
 
 
 def _knee_parts(design, i: int) -> list[tuple[str, str, np.ndarray]]:
+    """knee_i: its pin in the fork, its plate, the cross bar and at each end a clevis with
+    its hinge pin along the knee's z (the parallelogram's normal n_i = k_i x t_i), centred on
+    the rod's joint point (g, -+w/2, 0); each clevis's bridge towards the bar's middle."""
     d, w = design.mechanism, design.parallelogram_width_mm
     along_y = rot_x(-90.0)
-    p = f"knee_{i}"
-    out = [(f"{p}.knee_pin", "knee_pin", along_y), (f"{p}.knee_plate", "knee_plate", rot_x(90.0))]
-    return out + _studs(p, translation(d.joint_offset_mm, 0, 0) @ along_y, w / 2)
+    p, g = f"knee_{i}", d.joint_offset_mm
+    out = [(f"{p}.knee_pin", "knee_pin", along_y), (f"{p}.knee_plate", "knee_plate", rot_x(90.0)),
+           (f"{p}.cross_bar", "knee_cross_bar", translation(g, 0, 0) @ along_y)]
+    for side, s in (("a", -1.0), ("b", 1.0)):
+        at = knee_hinge_tf(g, w, side)
+        out += [(f"{p}.clevis_{side}", "knee_clevis", at @ (np.eye(4) if s < 0 else rot_z(180.0))),
+                (f"{p}.hinge_pin_{side}", "knee_hinge_pin", at)]
+    return out
+
+
+def knee_hinge_tf(g_mm: float, w_mm: float, side: str) -> np.ndarray:
+    """tf_knee_hinge: the hinge of rod ``side`` (``a`` at -w/2, ``b`` at +w/2) in knee_i's
+    frame of :mod:`cad.families.delta.layout` (mm): origin the rod's joint point (g, -+w/2, 0),
+    z the pin axis = the knee's z = the parallelogram's normal n_i."""
+    return translation(g_mm, (-0.5 if side == "a" else 0.5) * w_mm, 0.0)
 
 
 def _rod_parts(design, body: str, side: str) -> list[tuple[str, str, np.ndarray]]:
-    """Sockets open towards the cross bar (+y for side a, -y for side b) and the tube."""
+    """Sockets open towards the cross bar (+y for side a, -y for side b) and the tube; with
+    Stamper's knee (g > 0) the top end is the hinge's eye about the rod's z (the
+    parallelogram's normal) instead of a socket."""
     Lb = design.mechanism.lower_arm_mm
     open_y = rot_x(-90.0 if side == "a" else 90.0)
+    if design.mechanism.joint_offset_mm > 0:
+        return [(f"{body}.eye", "rod_eye", np.eye(4)), (f"{body}.rod", "knee_rod", np.eye(4)),
+                (f"{body}.socket_bottom", "ball_socket", translation(Lb, 0, 0) @ open_y @ rot_z(180.0))]
     return [(f"{body}.socket_top", "ball_socket", open_y),
             (f"{body}.rod", "rod", np.eye(4)),
             (f"{body}.socket_bottom", "ball_socket", translation(Lb, 0, 0) @ open_y @ rot_z(180.0))]
@@ -252,6 +310,13 @@ def assemble(design, fidelity: str = "fabrication") -> AssemblyModel:
         for side in ("a", "b"):
             place(_rod_parts(design, f"lower_{i}_{side}", side), f"lower_{i}_{side}")
     place(_effector_parts(design), "effector")
+    if d.joint_offset_mm > 0:  # the knee hinges' bearings: outer ring in the eye, inner on the pin
+        b_mm = K["knee_bearing"].ring_mm[2]
+        inst += [PartInstance(f"lower_{i}_{s}.knee_bearing", K["knee_bearing"], f"lower_{i}_{s}",
+                              translation(0, 0, -b_mm / 2), f"knee_{i}",
+                              knee_hinge_tf(d.joint_offset_mm, design.parallelogram_width_mm, s)
+                              @ translation(0, 0, -b_mm / 2))
+                 for i in ARMS for s in ("a", "b")]
     if any(t.is_capstan for t in design.transmissions):  # the capstans' solids
         inst = add_capstans(design, K, inst, resolve_device(design),
                             stack_mm(design.parallelogram_width_mm, d.joint_offset_mm > 0))

@@ -8,20 +8,22 @@ turns about the knee pin, parallel to the motor axis. Its fold angle psi is the 
 elbow between the arm (elbow -> motor axis) and the knee link (elbow -> top bar), signed:
 positive on the side the knee folds to (body -z of upper_i, below the arm line), negative
 across it; 180 deg straight on, 0 deg folded back onto the arm line. The cross bar
-(diameter d_c, along the motor axis) crosses the planes of both fork plates (width w_a in
-the arm's plane, :mod:`cad.families.delta.hardware`), which are cranked away from the knee's
-side: from the knee pin each plate runs out at beta = ``CRANK_ANGLE_DEG`` off the arm line to
-a vertex g + (w_a + d_c)/2 away (:func:`cad.families.delta.hardware.crank_vertex_mm`), then
-back to the hub. The bar's axis is g sin(psi + beta) from that leg's centre line, so it
-clears the plates while
+(diameter d_c, along the motor axis) and the hinge clevises on its ends cross the planes of
+both fork plates (width w_a in the arm's plane, :mod:`cad.families.delta.hardware`); r_k is
+their outline, the largest radius about the bar's axis
+(:func:`cad.families.delta.hardware.knee_outline_radius_mm`: the clevis's corner, d_c / 2
+without a clevis). The plates are cranked away from the knee's side: from the knee pin each
+runs out at beta = ``CRANK_ANGLE_DEG`` off the arm line to a vertex g + w_a / 2 + r_k away
+(:func:`cad.families.delta.hardware.crank_vertex_mm`), then back to the hub. The bar's axis
+is g sin(psi + beta) from that leg's centre line, so the knee clears the plates while
 
-    g sin(psi + beta) >= w_a / 2 + d_c / 2,
-    i.e.   psi >= psi_min = asin((w_a + d_c) / (2 g)) - beta                         (1)
+    g sin(psi + beta) >= w_a / 2 + r_k,
+    i.e.   psi >= psi_min = asin((w_a / 2 + r_k) / g) - beta                         (1)
 
 (for psi + beta > 90 deg the bar is past the plates' rounded end at the pin, g >= w_a / 2 +
-d_c / 2 from it; the leg from the vertex to the hub lies beyond the bar's reach g + d_c / 2
-from the pin on the crank's side). A g shorter than w_a / 2 + d_c / 2 always puts the bar
-into the plates. beta = 0 is a straight fork.
+r_k from it; the leg from the vertex to the hub lies beyond the knee's reach g + r_k from
+the pin on the crank's side). A g shorter than w_a / 2 + r_k always puts the knee into the
+plates. beta = 0 is a straight fork.
 
 The inner rod (side a, towards the motor) against the bracket: the bracket is a box in arm
 i's frame (u_i, t_i, z about the motor axis point): |u| <= s/2, t in [t_b - T_b, t_b], z in
@@ -47,11 +49,12 @@ from cad.parts.motor import mount_side_mm
 
 
 def fold_limit_deg(joint_offset_mm: float) -> float:
-    """psi_min of eq (1) (deg) for the family's cranked fork and cross bar; 180 when the knee
-    link is too short for its bar ever to clear the plates; -180 for g = 0 (no knee)."""
+    """psi_min of eq (1) (deg) for the family's cranked fork and the knee's outline r_k (cross
+    bar and clevises); 180 when the knee link is too short for the knee ever to clear the
+    plates; -180 for g = 0 (no knee)."""
     if joint_offset_mm <= 0:
         return -180.0
-    s = (hw.ARM_WIDTH_MM + hw.CROSS_BAR_D_MM) / (2 * joint_offset_mm)
+    s = (hw.ARM_WIDTH_MM / 2 + hw.knee_outline_radius_mm()) / joint_offset_mm
     return 180.0 if s > 1 else math.degrees(math.asin(s)) - hw.CRANK_ANGLE_DEG
 
 
@@ -106,9 +109,9 @@ def rod_bracket_gap_mm(design, P_mm) -> np.ndarray:
 
 
 def knee_clash(design) -> str | None:
-    """One line naming the workspace point, arm and fold angle where the knee's cross bar
-    meets the fork plates (eq 1) and how many points do; None when every point clears (or
-    g = 0)."""
+    """One line naming the workspace point, arm and fold angle where the knee's cross bar or
+    its clevises meet the fork plates (eq 1) and how many points do; None when every point
+    clears (or g = 0)."""
     d = design.mechanism
     if d.joint_offset_mm <= 0:
         return None
@@ -120,7 +123,7 @@ def knee_clash(design) -> str | None:
         return None
     n, i = divmod(int(np.argmin(psi)), 3)
     return (f"at P = {np.round(X[n], 2).tolist()} mm knee {i} folds to {psi[n, i]:.1f} deg and "
-            f"its cross bar meets the fork plates below {lim:.1f} deg (eq 1 of "
+            f"its cross bar and clevises meet the fork plates below {lim:.1f} deg (eq 1 of "
             f"cad/families/delta/clearance.py), {int(bad.sum())} of {len(X)} workspace points")
 
 

@@ -9,6 +9,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from cad.data.catalog import get_bearing
+
 #: The motor of every arm (:data:`cad.data.catalog.MOTORS`): direct drive.
 MOTOR = "maxon-re35"
 
@@ -55,9 +57,11 @@ CROSS_BAR_D_MM = 8.0
 #: upper arm is a fork of two plates, cranked away from the side the knee folds to (the
 #: knee's cross bar crosses the fork's planes when the knee folds back onto the arm): each
 #: plate runs from the hub to a vertex seen from the knee pin at CRANK_ANGLE_DEG off the
-#: arm line and g + (w_a + d_c)/2 away (:func:`crank_vertex_mm`), then to the pin, so the
-#: cross bar clears the plates down to a fold of asin((w_a + d_c) / (2 g)) - CRANK_ANGLE_DEG
-#: (eq 1 of :mod:`.clearance`): -7.8 deg for the Falcon, whose knees fold to 7.9 deg.
+#: arm line and g + w_a/2 + r_k away (:func:`crank_vertex_mm`; r_k the knee's outline about
+#: its cross bar's axis, :func:`knee_outline_radius_mm`), then to the pin, so the knee's
+#: cross bar and clevises clear the plates down to a fold of asin((w_a/2 + r_k) / g) -
+#: CRANK_ANGLE_DEG (eq 1 of :mod:`.clearance`): -2.5 deg for the Falcon, whose knees fold to
+#: 7.9 deg.
 CRANK_ANGLE_DEG = 40.0
 #: With a knee the motor brackets stand this much farther out along the motor axes (the
 #: hub longer by as much): the rods hang from the knee, higher and farther in than from an
@@ -101,7 +105,67 @@ def base_plate_z_mm(upper_arm_mm: float, theta_min_rad: float, joint_offset_mm: 
 def crank_vertex_mm(upper_arm_mm: float, joint_offset_mm: float) -> tuple[float, float]:
     """(x, y) mm of the cranked fork plate's vertex in the plate's frame (x from the motor
     axis to the knee pin at (L_a, 0), y towards the side away from the knee): at
-    CRANK_ANGLE_DEG off the arm line seen from the pin, g + (w_a + d_c)/2 from it."""
-    r = joint_offset_mm + (ARM_WIDTH_MM + CROSS_BAR_D_MM) / 2
+    CRANK_ANGLE_DEG off the arm line seen from the pin, g + w_a/2 + r_k from it (r_k:
+    :func:`knee_outline_radius_mm`)."""
+    r = joint_offset_mm + ARM_WIDTH_MM / 2 + knee_outline_radius_mm()
     a = math.radians(CRANK_ANGLE_DEG)
     return upper_arm_mm - r * math.cos(a), r * math.sin(a)
+
+
+#: Stamper's knee hinge (g > 0): each rod's top end turns about the normal n_i of its
+#: parallelogram's plane (the analyses' joint: :mod:`cad.families.delta.sim`,
+#: :func:`cad.families.delta.structure.knee_arm`). The rod ends in an eye holding a deep
+#: groove ball bearing (catalog designation, :func:`cad.data.catalog.get_bearing`) on a
+#: ground pin along n_i through a clevis at the knee cross bar's end: two ears beside the
+#: eye (an axial gap each side) and a bridge past the eye's radius towards the cross bar.
+#: Layout choices (not a vendor part): the eye's wall round the bearing seat, the gaps, the
+#: ears' thickness and radius round the pin, the bridge's depth.
+KNEE_HINGE_BEARING = "623"
+KNEE_EYE_WALL_MM = 1.5
+KNEE_HINGE_GAP_MM = 0.5
+KNEE_EYE_CLEARANCE_MM = 1.0
+KNEE_EAR_THICKNESS_MM = 2.0
+KNEE_EAR_RADIUS_MM = 3.5
+KNEE_BRIDGE_MM = 3.0
+KNEE_PIN_MATERIAL = "steel-1018"
+
+
+@dataclass(frozen=True)
+class KneeHinge:
+    """The knee hinge's dimensions (mm), in the clevis's frame (origin the pin's centre, z the
+    pin axis n_i, +y towards the cross bar's middle): the pin (the bearing's bore) and its
+    length, the bearing (bore d, outside D, width B), the eye's radius, the ears' faces
+    (z from ``ear_z0_mm`` to ``ear_z1_mm`` and mirrored), the bridge (y from ``bridge_y0_mm``
+    to ``bridge_y1_mm``)."""
+
+    bearing: str
+    pin_d_mm: float
+    pin_length_mm: float
+    D_mm: float
+    B_mm: float
+    eye_r_mm: float
+    ear_z0_mm: float
+    ear_z1_mm: float
+    bridge_y0_mm: float
+    bridge_y1_mm: float
+
+
+def knee_hinge() -> KneeHinge:
+    """:class:`KneeHinge` of :data:`KNEE_HINGE_BEARING` and the layout choices above."""
+    b = get_bearing(KNEE_HINGE_BEARING, "delta knee hinge bearing")
+    z0 = b.B_mm / 2 + KNEE_HINGE_GAP_MM
+    r_eye = b.D_mm / 2 + KNEE_EYE_WALL_MM
+    y0 = r_eye + KNEE_EYE_CLEARANCE_MM
+    return KneeHinge(b.designation, b.d_mm, 2 * (z0 + KNEE_EAR_THICKNESS_MM), b.D_mm, b.B_mm, r_eye,
+                     z0, z0 + KNEE_EAR_THICKNESS_MM, y0, y0 + KNEE_BRIDGE_MM)
+
+
+def knee_outline_radius_mm() -> float:
+    """r_k (mm): the largest radius about the knee cross bar's axis of the knee's parts that
+    cross the fork plates' planes -- the cross bar (d_c / 2) and the clevis at each end, whose
+    section across the bar is 2 ``KNEE_EAR_RADIUS_MM`` (along the knee link) by 2 ear_z1
+    (along the pin, :class:`KneeHinge`): its corner, hypot(r_ear, z1), 5.70 mm with the 623
+    bearing. The eye and bearing stay within it where they cross the plates (the slow solid
+    checks of ``tests/families/delta/test_delta_clearance.py``)."""
+    h = knee_hinge()
+    return max(CROSS_BAR_D_MM / 2, math.hypot(KNEE_EAR_RADIUS_MM, h.ear_z1_mm))

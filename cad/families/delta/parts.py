@@ -103,3 +103,32 @@ def socket_shape(ball_d_mm: float, clearance_mm: float, socket_d_mm: float, cone
         shank_d_mm / 2, rs + shank_mm - rs / 2)
     s = Sphere(rs) + shank - Sphere(ball_d_mm / 2 + clearance_mm) - cone
     return s.solids()[0].wrapped
+
+
+def clevis_shape(ear_r_mm: float, pin_d_mm: float, z0_mm: float, z1_mm: float, y0_mm: float,
+                 y1_mm: float):
+    """Clevis (the knee hinge's, :class:`cad.families.delta.hardware.KneeHinge`): two ears, each
+    a stadium of radius ``ear_r_mm`` round (0, 0) and (0, y1 - r) with the pin's bore at the origin,
+    z0..z1 and -z1..-z0; a bridge x -r..r, y y0..y1, z -z1..z1 joining them (the cross bar's
+    end sits on its +y face)."""
+    from build123d import Box, Circle, Pos, Rot, SlotCenterToCenter, extrude
+
+    c = y1_mm - ear_r_mm  # the ear's far round end at y1, on the bridge
+    ear = Pos(0, c / 2) * Rot(0, 0, 90) * SlotCenterToCenter(c, 2 * ear_r_mm) - Circle(pin_d_mm / 2)
+    t = z1_mm - z0_mm
+    s = (Pos(0, 0, z0_mm) * extrude(ear, amount=t)) + (Pos(0, 0, -z1_mm) * extrude(ear, amount=t))
+    s = s + Pos(0, (y0_mm + y1_mm) / 2, 0) * Box(2 * ear_r_mm, y1_mm - y0_mm, 2 * z1_mm)
+    return s.solids()[0].wrapped
+
+
+def eye_shape(eye_r_mm: float, seat_d_mm: float, width_mm: float, shank_d_mm: float, shank_mm: float):
+    """Rod eye (the knee hinge's): a disk of radius ``eye_r_mm``, z -w/2..w/2, with the
+    bearing's seat (``seat_d_mm``) through it, and a shank along +x from inside the disk to
+    x = eye_r + shank_mm (the rod tube slides over it)."""
+    from build123d import Cylinder, Pos, Rot
+
+    x0 = seat_d_mm / 2 + 0.5 * (eye_r_mm - seat_d_mm / 2)
+    shank = Pos((x0 + eye_r_mm + shank_mm) / 2, 0, 0) * Rot(0, 90, 0) * Cylinder(
+        shank_d_mm / 2, eye_r_mm + shank_mm - x0)
+    s = Cylinder(eye_r_mm, width_mm) + shank - Cylinder(seat_d_mm / 2, width_mm)
+    return s.solids()[0].wrapped

@@ -8,6 +8,7 @@ the bundled delta (the whole 5 x 5 x 5 grid in the slow test).
 
 from __future__ import annotations
 
+import math
 from dataclasses import replace
 from pathlib import Path
 
@@ -27,16 +28,20 @@ def models():
     return {n: assemble(load_design(ROOT / "designs" / f"{n}.toml")) for n in ("delta", "delta_falcon")}
 
 
-@pytest.mark.parametrize("name, n_inst, n_bodies", [("delta", 54, 11), ("delta_falcon", 66, 14)])
-def test_counts(models, name, n_inst, n_bodies):
+@pytest.mark.parametrize("name, n_inst, n_bodies, n_balls, n_hinges", [("delta", 54, 11, 12, 0),
+                                                                       ("delta_falcon", 78, 14, 6, 6)])
+def test_counts(models, name, n_inst, n_bodies, n_balls, n_hinges):
     m = models[name]
     assert len(m.instances) == n_inst
     # ground, 3 upper arms, (3 knees with a joint offset), 6 rods, the effector
     assert len(m.bodies) == n_bodies
     n = len(m.design.workspace_points())
     assert all(T.shape == (n, 4, 4) for T in m.motion.values()) and len(m.pose_labels) == n
-    assert sum(i.kind.name == "ball_socket" for i in m.instances) == 12
-    assert sum(i.kind.name == "ball_stud" for i in m.instances) == 12
+    # ball joints at the effector (and the elbows without a knee); the knee's hinges otherwise
+    assert sum(i.kind.name == "ball_socket" for i in m.instances) == n_balls
+    assert sum(i.kind.name == "ball_stud" for i in m.instances) == n_balls
+    for kind in ("knee_clevis", "knee_hinge_pin", "knee_bearing", "rod_eye"):
+        assert sum(i.kind.name == kind for i in m.instances) == n_hinges
     assert sum(i.kind.name == "motor" for i in m.instances) == 3
 
 
@@ -54,6 +59,41 @@ def test_effector_and_joints_sit_where_the_kinematics_put_them(models, name):
         for s in sockets:
             c = m.tf_world_part(s, pose)[:3, 3]
             assert np.min(np.linalg.norm(ball - c, axis=1)) < 1e-9, s.name
+
+
+def test_the_drawn_knee_pins_are_the_models_hinge_axes(models):
+    """The Falcon's knee: at every workspace pose each rod's top end turns on a pin whose
+    axis is the analyses' hinge axis, the normal n_i = k_i x t_i of the parallelogram's plane
+    (k_i the unit in-plane direction elbow -> effector joint, written out here from the IK's
+    angles: :func:`cad.families.delta.structure.knee_arm`, the MJCF's hinge), through the
+    rod's joint point (the top bar's centre -+ w/2 t_i); the pin (knee body), the bearing's
+    two rings (knee and rod) and the rod's eye (rod body) share that axis and centre."""
+    m = models["delta_falcon"]
+    d, w = m.design.mechanism, m.design.parallelogram_width_mm
+    X = m.extra.workspace_mm
+    th = D.ik(d, X).theta_rad
+    by = {i.name: i for i in m.instances}
+    for pose in range(len(X)):
+        for i in range(3):
+            u, t = d.radial[i], d.tangential[i]
+            elbow = d.base_radius_mm * u + d.axis_offset_mm * t + d.upper_arm_mm * (
+                math.cos(th[pose, i]) * u - math.sin(th[pose, i]) * np.array([0.0, 0.0, 1.0]))
+            wv = X[pose] + d.effector_radius_mm * u - elbow
+            k = wv - (wv @ t) * t
+            k /= np.linalg.norm(k)
+            n = np.cross(k, t)
+            for side, s in (("a", -0.5), ("b", 0.5)):
+                c = elbow + d.joint_offset_mm * k + s * w * t
+                pin = m.tf_world_part(by[f"knee_{i}.hinge_pin_{side}"], pose)
+                eye = m.tf_world_part(by[f"lower_{i}_{side}.eye"], pose)
+                assert np.allclose(pin[:3, 2], n, atol=1e-12) and np.allclose(pin[:3, 3], c, atol=1e-9)
+                assert np.allclose(eye[:3, 2], n, atol=1e-12) and np.allclose(eye[:3, 3], c, atol=1e-9)
+                brg = by[f"lower_{i}_{side}.knee_bearing"]
+                outer = m.tf_world_part(brg, pose)
+                inner = m.motion[f"knee_{i}"][pose] @ brg.tf_other_part
+                for T in (outer, inner):
+                    assert np.allclose(T[:3, 2], n, atol=1e-12)
+                    assert np.allclose(T[:3, 3] + 2.0 * n, c, atol=1e-9)  # 623: B = 4 mm, z 0..B
 
 
 def _corners_and_centre(m):
