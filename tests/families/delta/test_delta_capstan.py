@@ -329,14 +329,7 @@ def test_firmware_counts_and_currents_through_the_ratio_in_c(tmp_path):
         assert q == pytest.approx(sign * 2 * math.pi * c / (cpr * n), rel=1e-15)
         assert a == pytest.approx(tau / (n * kt), rel=1e-15)
     # the build's own vectors pass in the compiled C (the mass model with n^2 (J_m + J_c))
-    exe2 = tmp_path / "td"
-    subprocess.run([compiler("c"), "-std=c99", "-O2", "-o", str(exe2), str(fw / "test_device.c"),
-                    str(fw / "hapticad_device.c"), "-lm"], check=True, capture_output=True, timeout=120)
-    from cad import tolerances as tol
-    r = subprocess.run([str(exe2), str(fw / "test_vectors.json"), *map(repr, (
-        tol.FIRMWARE_DOUBLE_POSITION_M, tol.FIRMWARE_DOUBLE_TORQUE_NM, tol.FIRMWARE_FD_JACOBIAN))],
-        capture_output=True, text=True, timeout=120)
-    assert r.returncode == 0 and "failures 0" in r.stdout, r.stdout + r.stderr
+    _assert_test_device_passes(fw, tmp_path / "td")
 
 
 @pytest.mark.parametrize("table,field", [
@@ -382,7 +375,6 @@ def test_firmware_with_a_ratio_per_arm_in_c_against_the_rotors_kinetic_energy(tm
     and finite differences (test_device.c), and its hc_mass_matrix minus the links' Lambda
     (no rotor) is the rotors' kinetic energy from finite differences of the IK:
     v^T dLambda v = sum_i n_i^2 (J_m + J_c,i) theta_dot_i^2."""
-    from cad import tolerances as tol
     from cad.dynamics.delta import mass_matrix_kg
     from cad.families.delta.dynamics import delta_mass_from_bodies
     from cad.families.delta.firmware import props_of
@@ -408,13 +400,7 @@ def test_firmware_with_a_ratio_per_arm_in_c_against_the_rotors_kinetic_energy(tm
     fw.mkdir()
     for rel, text in files.items():
         (fw / Path(rel).name).write_text(text)
-    exe = tmp_path / "td"
-    subprocess.run([compiler("c"), "-std=c99", "-O2", "-o", str(exe), str(fw / "test_device.c"),
-                    str(fw / "hapticad_device.c"), "-lm"], check=True, capture_output=True, timeout=120)
-    r = subprocess.run([str(exe), str(fw / "test_vectors.json"), *map(repr, (
-        tol.FIRMWARE_DOUBLE_POSITION_M, tol.FIRMWARE_DOUBLE_TORQUE_NM, tol.FIRMWARE_FD_JACOBIAN))],
-        capture_output=True, text=True, timeout=120)
-    assert r.returncode == 0 and "failures 0" in r.stdout, r.stdout + r.stderr
+    _assert_test_device_passes(fw, tmp_path / "td")
     # hc_mass_matrix at three points against the links' Lambda plus the rotors from the IK's rates
     P = np.asarray(d.workspace["center_mm"], float) + np.array([[0.0, 0.0, 0.0], [30.0, -20.0, 25.0],
                                                                   [-40.0, 35.0, -30.0]])
@@ -490,3 +476,17 @@ def test_friction_at_the_effector_through_the_ratios_against_the_dissipation_ove
     r = friction_row(d1, m, [2.5] * 3)
     tf = m.torque_constant_mNm_per_A * m.no_load_current_mA * 1e-6   # Kt I0, N m
     assert r["key"] == "friction_N" and r["value"] == pytest.approx(friction_N(d1, tf, [2.5] * 3)[0], rel=1e-12)
+
+
+def _assert_test_device_passes(fw: Path, exe: Path) -> None:
+    """Compile the generated test_device.c with hapticad_device.c (gcc) and run it on its own
+    test_vectors.json at the firmware tolerances: no failure."""
+    from cad import tolerances as tol
+    from tests.compilers import compiler
+
+    subprocess.run([compiler("c"), "-std=c99", "-O2", "-o", str(exe), str(fw / "test_device.c"),
+                    str(fw / "hapticad_device.c"), "-lm"], check=True, capture_output=True, timeout=120)
+    r = subprocess.run([str(exe), str(fw / "test_vectors.json"), *map(repr, (
+        tol.FIRMWARE_DOUBLE_POSITION_M, tol.FIRMWARE_DOUBLE_TORQUE_NM, tol.FIRMWARE_FD_JACOBIAN))],
+        capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0 and "failures 0" in r.stdout, r.stdout + r.stderr
