@@ -1,5 +1,13 @@
 import os
 
+# One BLAS thread per test process (as the CLI sets, cad/cli/entry.py): the suite runs on two
+# xdist workers on two cores, and OpenBLAS's own threads in each worker oversubscribe them and
+# spin on the small solves the frame and Jacobian tests make (measured on this 2-core machine
+# under load: the delta structure and stress tests 24.2 s -> 13.6 s). Set before numpy loads
+# (nothing imports it before this file); subprocesses inherit it.
+for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
+    os.environ.setdefault(_var, "1")
+
 from hypothesis import HealthCheck, settings
 
 # derandomized (same examples every run); no timing health checks: a loaded 2-core machine
