@@ -609,3 +609,27 @@ def test_bundled_design_figures_regression_pin():
     v = {r["key"]: r["value"] for r in capstan_rows(d, None)[0]}
     assert [round(v[f"drum_sector_deg_{i}"]) for i in range(1, 7)] == [89, 119, 119, 89, 119, 119]
     assert f"{v['cable_handle_stiffness_N_per_m']:.3g}" == "1.68e+05"
+
+
+def test_the_pens_datasheet_rows_carry_the_capstan_rows_limits_and_ropes():
+    """The pen's datasheet (the rows a build would print, here from seeded bodies): each motor's
+    capstan rows with their default limits, the ropes at the pen and K_max in series with the
+    datasheet's own eq (25) row, and the structure rows' boundary naming each rope's k_q (by
+    hand); the direct pen has none of them."""
+    from cad.families.pen.datasheet import rows_and_limits
+
+    d = _design()
+    rep = {"bodies": _bodies(d, np.random.default_rng(43))}
+    rows, limits, _ = rows_and_limits(d, rep, None, simulate_wall=False)
+    v = {r["key"]: r for r in rows}
+    for i in range(1, 7):
+        assert {f"bend_ratio_{i}", f"cable_safety_factor_{i}", f"drum_sector_deg_{i}"} <= limits.keys()
+        assert v[f"transmission_ratio_{i}"]["value"] == NB[i - 1]
+    k25, kh = v["eq25_K_max_N_per_m"]["value"], v["cable_handle_stiffness_N_per_m"]["value"]
+    assert v["K_max_with_cable_N_per_m"]["value"] == pytest.approx(1 / (1 / k25 + 1 / kh), rel=1e-12)
+    assert {"first_mode_Hz", "max_stress_MPa", "continuous_force_N"} <= limits.keys()
+    kw = _k_q_by_hand("A_q_waist", 3.0)
+    assert f"A_q_waist {kw:.4g} N m/rad" in v["first_mode_Hz"]["boundary"]
+    rows0, limits0, _ = rows_and_limits(_design(DIRECT), rep, None, simulate_wall=False)
+    assert not any(r["key"].startswith(("transmission_ratio", "cable_")) for r in rows0)
+    assert "bend_ratio_1" not in limits0 and "k_q" not in {r["key"]: r for r in rows0}["first_mode_Hz"]["boundary"]
