@@ -21,8 +21,9 @@ edges):
   k_q = EA (2 / L) r_d^2 (:func:`cad.structure.device.motor_rope_stiffness_Nm_per_rad`), and a
   waist rope lets the whole arm turn about its waist axis (the frame's x axis, through both B)
   on its k_q: both B nodes share that rotation (the waist bracket rigid, :func:`arm_supports`).
-  The waist bracket's own inertia about its axis is not counted (the frame lumps translational
-  masses only; it sits on the axis);
+  The waist body's inertia about that axis (bracket and shoulder motors) is not in the frame
+  (it carries the links' masses only): with a waist rope the out-of-plane mode is an upper
+  bound;
 * masses: each link body of the build report (``report["bodies"]``, link frames) as the
   pantographs' (:func:`cad.structure.pantograph.lumped_from_bodies`: tube along the beam,
   the rest split between the two joints by the lever rule); at E the arm's gimbal (yoke

@@ -78,6 +78,8 @@ APPROX = ("planar, per pantograph: each arm's 5-bar a beam frame in its own plan
           "and waists rigid the arms coupled through the rod have their first mode at or above it: Rayleigh); "
           "out-of-plane coupling through the pen, the waist brackets' and gimbals' compliance and the rod's "
           "bending not modelled")
+
+
 def held_text(st: dict) -> str:
     """The boundary condition of the structure rows: :data:`HELD`, or with the capstans' ropes
     (``st["rope_stiffness_Nm_per_rad"]``: joint -> k_q) the joints they turn on their springs,
@@ -88,7 +90,8 @@ def held_text(st: dict) -> str:
     ks = ", ".join(f"{j} {k:.4g} N m/rad" for j, k in ropes.items())
     return (f"{HELD}, except at a capstan: a shoulder link turns at B about its plane's normal, a waist "
             f"bracket with its arm about the waist axis, through the rope to the held motor (torsional spring "
-            f"k_q = EA (2 / L) r_d^2: {ks}; the waist bracket's own inertia about its axis not counted)")
+            f"k_q = EA (2 / L) r_d^2: {ks}; the waist body's inertia about its axis, bracket and shoulder motors, "
+            "not in the frame: with a waist rope the out-of-plane mode is an upper bound)")
 
 
 #: The short form on the rows after the first.
