@@ -280,7 +280,7 @@ class PantographDesign(ValidatedReplace):
         """One :class:`cad.design.transmission.Transmission` per motor (:meth:`motor_joints`
         order): the 5-bar's and the twin pantograph's ``[transmission]`` (the same on every
         motor) or ``[[transmission]]`` (one per motor), validated at load; direct drive without
-        one (and on the pen, which refuses the table)."""
+        one. The pen's six motors take it too (arm A waist, lower, upper, then arm B's)."""
         return parse_transmissions(self.raw.get("transmission"), len(self.motor_joints()))
 
     # ------------------------------------------------------------------ GII
@@ -583,18 +583,15 @@ def parse(raw: dict[str, Any], source: str = "<design>") -> PantographDesign:
 
 
 def _check_transmission(raw: dict[str, Any], family: str) -> None:
-    """``[transmission]`` / ``[[transmission]]`` of a 5-bar (two motors: left, right) or a twin
-    pantograph (four: knob left, knob right, crank left, crank right, :meth:`PantographDesign.motor_joints`)
-    validated at load (:func:`cad.design.transmission.parse_transmissions`); a capstan refused on
-    the pen (its capstans are not built; a direct-drive table is taken)."""
+    """``[transmission]`` / ``[[transmission]]`` of a 5-bar (two motors: left, right), a twin
+    pantograph (four: knob left, knob right, crank left, crank right) or a haptic pen (six: arm
+    A waist, lower, upper, then arm B's, :meth:`PantographDesign.motor_joints`) validated at load
+    (:func:`cad.design.transmission.parse_transmissions`). The twin's and the pen's capstan
+    solids are not built: their builds refuse a capstan (``refuse_solids`` of
+    :mod:`cad.families.pantograph.twin_capstan`, :mod:`cad.families.pen.capstan`)."""
     if "transmission" not in raw:
         return
-    n = {"pantograph": 2, "twin-pantograph": 4}.get(family, 6)
-    ts = parse_transmissions(raw["transmission"], n)
-    if family == "haptic-pen" and any(t.is_capstan for t in ts):
-        raise DesignError("transmission", f"a capstan on the {family}'s motors is not built yet (direct "
-                          "drive only); [transmission] works on four-bar, 5-bar pantograph and delta "
-                          "designs, and in the analyses of the twin pantograph (docs/capstan.md)")
+    parse_transmissions(raw["transmission"], {"pantograph": 2, "twin-pantograph": 4}.get(family, 6))
 
 
 def _planar_size(ws: dict) -> tuple[float, float]:

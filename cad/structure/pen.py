@@ -16,7 +16,14 @@ edges):
 * boundary conditions, every figure: **motors held** (each proximal link clamped at its
   shoulder axis B in all six DOFs: shoulder shafts locked by the servo, motor bearings,
   waist bracket and waist motor shaft rigid: the waist held), **pen end free** (load at E,
-  no support there);
+  no support there). Behind a capstan (issue 35) the motor is held and its rope yields: a
+  shoulder link turns at B about the plane's normal on the rope's torsional spring
+  k_q = EA (2 / L) r_d^2 (:func:`cad.structure.device.motor_rope_stiffness_Nm_per_rad`), and a
+  waist rope lets the whole arm turn about its waist axis (the frame's x axis, through both B)
+  on its k_q: both B nodes share that rotation (the waist bracket rigid, :func:`arm_supports`).
+  The waist body's inertia about that axis (bracket and shoulder motors) is not in the frame
+  (it carries the links' masses only): with a waist rope the out-of-plane mode is an upper
+  bound;
 * masses: each link body of the build report (``report["bodies"]``, link frames) as the
   pantographs' (:func:`cad.structure.pantograph.lumped_from_bodies`: tube along the beam,
   the rest split between the two joints by the lever rule); at E the arm's gimbal (yoke
@@ -57,7 +64,7 @@ from cad.datasheet.limits import STRESS_SAFETY_FACTOR
 from cad.families.pen.layout import motion_task
 from cad.kinematics import fivebar as fb5
 from cad.kinematics import haptic_pen as hp
-from cad.structure.device import tube_section
+from cad.structure.device import motor_rope_stiffness_Nm_per_rad, tube_section
 from cad.structure.elastic import get_elastic
 from cad.structure.graph import (
     Beam,
@@ -98,7 +105,7 @@ def arm_graph(design, arm: str) -> tuple[LinkGraph, dict[str, float]]:
     et = get_elastic(p.tube_material, "parts.tube_material")
     A = tube_section(p, et.E_Pa, et.G_Pa, 0.0).A
     pen = design.mechanism
-    joints, beams, ties, fixed, lengths = {}, [], [], {}, {}
+    joints, beams, ties, lengths = {}, [], [], {}
     for side in SIDES:
         for kind, a, b, L in (("proximal", "B", "C", pen.proximal_mm), ("distal", "C", "E", pen.distal_mm)):
             link = f"{arm}_{kind}_{side}"
@@ -106,10 +113,32 @@ def arm_graph(design, arm: str) -> tuple[LinkGraph, dict[str, float]]:
             joints[link] = {a: np.zeros(2), b: np.array([float(L), 0.0])}
             rho = tube_mass_kg(design, L) / (A * L * 1e-3)
             beams.append(Beam(link, a, b, tube_section(p, et.E_Pa, et.G_Pa, rho)))
-        fixed[(f"{arm}_proximal_{side}", "B")] = (0, 1, 2, 3, 4, 5)
         ties.append(((f"{arm}_proximal_{side}", "C"), (f"{arm}_distal_{side}", "C")))
     ties.append(((f"{arm}_distal_lower", "E"), (f"{arm}_distal_upper", "E")))
-    return LinkGraph(joints, beams, ties, fixed, (f"{arm}_distal_lower", "E")), lengths
+    fixed, springs, waist_tie = arm_supports(design, arm)
+    return LinkGraph(joints, beams, ties + waist_tie, fixed, (f"{arm}_distal_lower", "E"), springs), lengths
+
+
+def arm_supports(design, arm: str) -> tuple[dict, dict, list]:
+    """(fixed, springs, ties) of one arm's shoulder supports B (module docstring): clamped in
+    all six DOFs with direct drive; behind a capstan (:func:`cad.structure.device.motor_rope_stiffness_Nm_per_rad`,
+    the motor held) a shoulder link turns about the plane's normal (DOF 5) on its rope's
+    torsional spring k_q, and a waist rope lets the two B nodes (both on the waist axis, the
+    frame's x axis) turn together about that axis (DOF 3, one tie: the rigid waist bracket) on
+    the waist rope's k_q."""
+    ropes = motor_rope_stiffness_Nm_per_rad(design)
+    k_waist = ropes.get(f"{arm}_q_waist")
+    fixed, springs = {}, {}
+    for side in SIDES:
+        node = (f"{arm}_proximal_{side}", "B")
+        k = ropes.get(f"{arm}_q_{side}")
+        fixed[node] = tuple(d for d in range(6) if not (d == 5 and k is not None) and not (d == 3 and k_waist is not None))
+        if k is not None:
+            springs[(*node, 5)] = k
+    if k_waist is None:
+        return fixed, springs, []
+    springs[(f"{arm}_proximal_lower", "B", 3)] = k_waist
+    return fixed, springs, [((f"{arm}_proximal_lower", "B"), (f"{arm}_proximal_upper", "B"))]
 
 
 def pen_share_kg(design, bodies: dict) -> dict[str, float]:
@@ -222,4 +251,5 @@ def analyse(design, bodies: dict, force_N: float) -> dict:
         "stress_limit_MPa": strength / STRESS_SAFETY_FACTOR, "force_N": float(force_N),
         "end_force_N": f_end, "moment_arm_mm": arm_mm, "pen_share_kg": pen_share_kg(design, bodies),
         "poses": list(labels), "per_arm": per_arm, "method": "beam",
+        "rope_stiffness_Nm_per_rad": motor_rope_stiffness_Nm_per_rad(design),
     }

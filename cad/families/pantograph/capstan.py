@@ -49,6 +49,7 @@ from cad.datasheet import row
 from cad.device import resolve_device
 from cad.errors import DesignError
 from cad.families.pantograph import twin_capstan
+from cad.families.pen import capstan as pen_capstan
 from cad.kinematics import fivebar as fb5
 from cad.parts.motor import mount_side_mm
 from cad.tolerances import CAPSTAN_RANGE_MARGIN_DEG
@@ -287,9 +288,12 @@ def capstan_joints(design) -> tuple:
     """Each capstan-driven motor of the 5-bar as a :class:`cad.datasheet.capstan_rows.CapstanJoint`
     (its link's range over the workspace, :func:`joint_ranges_deg`; rows, BOM lines and
     assembly steps suffixed ``_1`` left, ``_2`` right); empty for direct drive. The twin
-    pantograph's four: :func:`cad.families.pantograph.twin_capstan.capstan_joints`."""
+    pantograph's four: :func:`cad.families.pantograph.twin_capstan.capstan_joints`; the pen's
+    six: :func:`cad.families.pen.capstan.capstan_joints`."""
     if design.family == "twin-pantograph":
         return twin_capstan.capstan_joints(design)
+    if design.family == "haptic-pen":
+        return pen_capstan.capstan_joints(design)
     if not is_capstan(design):
         return ()
     dev = resolve_device(design)
@@ -304,9 +308,12 @@ def rope_compliance_m_per_N(design, k_q: dict) -> np.ndarray:
     """The handle's compliance from the ropes alone over the workspace grid, largest
     eigenvalue of J^-1 diag(1 / k_q) J^-T (m/N, (N,)); J = dq/dx (rad/m): the links rigid, the
     motors held, each rope a torsional spring ``k_q[joint]`` (N m/rad) at its joint. The twin
-    pantograph's: :func:`cad.families.pantograph.twin_capstan.rope_compliance_m_per_N`."""
+    pantograph's: :func:`cad.families.pantograph.twin_capstan.rope_compliance_m_per_N`; the
+    pen's: :func:`cad.families.pen.capstan.rope_compliance_m_per_N`."""
     if design.family == "twin-pantograph":
         return twin_capstan.rope_compliance_m_per_N(design, k_q)
+    if design.family == "haptic-pen":
+        return pen_capstan.rope_compliance_m_per_N(design, k_q)
     J, st = fb5.jacobian_rad_per_m(design.mechanism, design.workspace_points())
     ok = np.asarray(st) == fb5.STATUS_OK
     kinv = np.array([1.0 / k_q[j] if k_q.get(j) else 0.0 for j in ("q_left", "q_right")])
@@ -331,6 +338,8 @@ def capstan_rows(design, k_max_N_per_m: float | None) -> tuple[list[dict], dict]
            "grid (links rigid, motors held)")
     if design.family == "twin-pantograph":  # four ropes on three task coordinates
         src = twin_capstan.HANDLE_STIFFNESS_SOURCE
+    elif design.family == "haptic-pen":  # six ropes on five task coordinates
+        src = pen_capstan.HANDLE_STIFFNESS_SOURCE
     rows.append(row("cable_handle_stiffness_N_per_m", "rope stiffness at the handle", k_h, "N/m", src,
                     lo=k_h, hi=float(1.0 / c.min())))
     if k_max_N_per_m is not None:

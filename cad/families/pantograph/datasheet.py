@@ -355,10 +355,9 @@ def rows_and_limits(design, report: dict, out_dir=None, simulate_wall: bool = Tr
             notes.append(f"force ellipses over the workspace: {chart}")
     limits = pantograph_limits(design, design.actuators.get("force_max_N"), st and st["strength_MPa"],
                                structure=st is not None)
-    if design.family != "haptic-pen":  # the 5-bar's and the twin's capstans: rows at the peak load, the ropes' springs
-        crows, climits = capstan_rows(design, k25["value"])
-        rows += crows
-        limits.update(climits)
+    crows, climits = capstan_rows(design, k25["value"])  # every capstan: rows at the peak load, the ropes' springs
+    rows += crows
+    limits.update(climits)
     rows += mode_blocker(design, report, st, limits)
     return rows, limits, notes
 

@@ -74,22 +74,24 @@ def capstan_joints(design) -> tuple:
     return tuple(out)
 
 
-def handle_compliance_m_per_N(J: np.ndarray, kinv: np.ndarray) -> np.ndarray:
-    """Translational compliance (2, 2) m/N at the main journal of one pose, the knob's moment
-    free: the (x, y) block of ``K_X^-1``, ``K_X = J^T diag(1 / kinv) J`` restricted to the null
-    space of the rigid joints' rows (``kinv`` 0; zero when they hold the handle, three direct
-    motors). ``J`` (4, 3) dq/dX (SI), ``kinv`` (4,) rad/(N m)."""
+def handle_compliance_m_per_N(J: np.ndarray, kinv: np.ndarray, n_trans: int = 2) -> np.ndarray:
+    """Translational compliance (n_trans, n_trans) m/N at the handle of one pose, the other
+    coordinates' generalized forces (moments) free: the leading block of ``K_X^-1``,
+    ``K_X = J^T diag(1 / kinv) J`` restricted to the null space of the rigid joints' rows
+    (``kinv`` 0; zero when they hold the handle, three direct motors of the twin). ``J`` (m, d)
+    dq/dX (SI; the twin's (4, 3) with ``n_trans`` 2 at the main journal, the pen's (6, 5) with
+    ``n_trans`` 3 at its centre, :mod:`cad.families.pen.capstan`), ``kinv`` (m,) rad/(N m)."""
     rope = kinv > 0
     basis = np.eye(J.shape[1])
     if not rope.all():
         _, s, vt = np.linalg.svd(J[~rope])
         basis = vt[int(np.sum(s > s.max() * 1e-12)):].T  # (3, r) null space of the held joints
         if basis.shape[1] == 0:  # the held joints hold the handle: the ropes add nothing there
-            return np.zeros((2, 2))
+            return np.zeros((n_trans, n_trans))
     Jr = J[rope] @ basis
     K = Jr.T @ (Jr / kinv[rope][:, None])
     C = basis @ np.linalg.inv(K) @ basis.T
-    return C[:2, :2]
+    return C[:n_trans, :n_trans]
 
 
 def rope_compliance_m_per_N(design, k_q: dict) -> np.ndarray:

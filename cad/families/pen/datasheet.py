@@ -8,7 +8,10 @@ free), with Table 3 of the isotropy paper beside the figures it gives, the inter
 check over the motion, and the structure rows (:func:`cad.structure.pen.analyse`: first mode,
 pen-end compliance, peak stress; each arm's 5-bar a planar beam frame, motors held, pen end
 free, the lower arm's figure) with the default limits of the planar pantographs
-(:func:`cad.families.pantograph.limits.pantograph_limits` with ``structure=True``). No CAD import.
+(:func:`cad.families.pantograph.limits.pantograph_limits` with ``structure=True``). Behind
+capstans (``[transmission]``) the planar rows already go through each ratio and add the shared
+capstan rows and their limits (:func:`cad.families.pantograph.capstan.capstan_rows` with the
+pen's joints and ropes, :mod:`cad.families.pen.capstan`), kept here. No CAD import.
 """
 
 from __future__ import annotations
@@ -27,7 +30,7 @@ _PAPER = {"effective_mass_home.mass_x_g_apparent": "mass_x_g",
 
 def rows_and_limits(design, report: dict, out_dir=None, simulate_wall: bool = True):
     """(rows, limits, notes) of a haptic-pen build report (module docstring)."""
-    rows, _, notes = pantograph_rows(design, report, out_dir, simulate_wall)
+    rows, planar_limits, notes = pantograph_rows(design, report, out_dir, simulate_wall)
     paper = report.get("paper_table3") or {}
     st = structure(design, report)
     out = []
@@ -53,6 +56,7 @@ def rows_and_limits(design, report: dict, out_dir=None, simulate_wall: bool = Tr
                        "(home, box corners at the rotation extremes)"))
     limits = pantograph_limits(design, design.actuators.get("force_max_N"), st and st["strength_MPa"],
                                structure=st is not None)
+    limits.update({k: v for k, v in planar_limits.items() if k not in limits})  # the capstan rows' limits
     return out, limits, notes
 
 
@@ -74,6 +78,22 @@ APPROX = ("planar, per pantograph: each arm's 5-bar a beam frame in its own plan
           "and waists rigid the arms coupled through the rod have their first mode at or above it: Rayleigh); "
           "out-of-plane coupling through the pen, the waist brackets' and gimbals' compliance and the rod's "
           "bending not modelled")
+
+
+def held_text(st: dict) -> str:
+    """The boundary condition of the structure rows: :data:`HELD`, or with the capstans' ropes
+    (``st["rope_stiffness_Nm_per_rad"]``: joint -> k_q) the joints they turn on their springs,
+    the motors held by their servos (:func:`cad.structure.pen.arm_supports`)."""
+    ropes = st.get("rope_stiffness_Nm_per_rad") or {}
+    if not ropes:
+        return HELD
+    ks = ", ".join(f"{j} {k:.4g} N m/rad" for j, k in ropes.items())
+    return (f"{HELD}, except at a capstan: a shoulder link turns at B about its plane's normal, a waist "
+            f"bracket with its arm about the waist axis, through the rope to the held motor (torsional spring "
+            f"k_q = EA (2 / L) r_d^2: {ks}; the waist body's inertia about its axis, bracket and shoulder motors, "
+            "not in the frame: with a waist rope the out-of-plane mode is an upper bound)")
+
+
 #: The short form on the rows after the first.
 PLANAR = "planar, per pantograph (model as first_mode_Hz)"
 
@@ -81,7 +101,8 @@ PLANAR = "planar, per pantograph (model as first_mode_Hz)"
 def structure_rows(st: dict) -> list[dict]:
     """Datasheet rows of :func:`structure` (boundary conditions and approximation per row)."""
     at = f"worst of arms A, B over the {len(st['poses'])} poses of the interference check"
-    free, load = f"{HELD}; pen end free", f"{HELD}; force at the pen end"
+    held = held_text(st)
+    free, load = f"{held}; pen end free", f"{held}; force at the pen end"
     arm = st["per_arm"][st["first_mode_arm"]]
     pose = arm["in_plane_Hz_pose" if arm["in_plane_Hz"] <= arm["out_of_plane_Hz"] else "out_of_plane_Hz_pose"]
     share = ", ".join(f"{a} {v * 1e3:.3g} g" for a, v in st["pen_share_kg"].items())

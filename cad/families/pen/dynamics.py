@@ -10,7 +10,8 @@ Kinetic energy ``T = 1/2 v^T M v`` with
 velocity (rad/s per unit v), both by central differences of the body poses of
 :func:`cad.families.pen.layout.body_poses`; ``I_b`` its inertia about the COM in its body
 frame (:class:`cad.massprops.props.MassProps`); ``J`` the pen Jacobian (6 x 5, q_dot = J v)
-and ``Jm`` the rotors' inertia (waist motors on q1, q4, shoulder motors on the others).
+and ``Jm`` the rotors' inertia (waist motors on q1, q4, shoulder motors on the others), each
+n^2 (J_m + J_capstan) behind a capstan of ratio n (:func:`rotor_inertias`).
 No CAD import.
 """
 
@@ -77,9 +78,11 @@ def mass_matrix_si(design, bodies: dict, X, rotor_kg_m2=None) -> np.ndarray:
 
 
 def rotor_inertias(design) -> np.ndarray:
-    """(6,) rotor inertia (kg m^2) on the joints (q1 waist A, q2, q3, q4 waist B, q5, q6)."""
-    jm = {m.joint: m.rotor_inertia_kg_m2 for m in resolve_device(design).motors}
-    return np.array([jm[f"{a}_q_{j}"] for a in ("A", "B") for j in ("waist", "lower", "upper")])
+    """(6,) rotor inertia (kg m^2) on the joints (q1 waist A, q2, q3, q4 waist B, q5, q6), each
+    through its transmission: n^2 (J_m + J_capstan) behind a capstan, J_m for direct drive
+    (:meth:`cad.device.ResolvedDevice.joint_rotor_inertia_kg_m2`)."""
+    dev = resolve_device(design)
+    return np.array([dev.joint_rotor_inertia_kg_m2(f"{a}_q_{j}") for a in ("A", "B") for j in ("waist", "lower", "upper")])
 
 
 @dataclass(frozen=True)

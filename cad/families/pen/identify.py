@@ -72,7 +72,7 @@ class PredictionPen(identify_joints.OverActuated):
     Te_s: float
     kt_Nm_per_A: tuple[float, ...]
     i_max_A: tuple[float, ...]
-    counts_per_rev: int
+    counts_per_rev: float  # per joint turn: the motor encoder's x n through a capstan
     direction: tuple[int, ...]
     zero_rad: tuple[float, ...]
     q_min_rad: tuple[float, ...]
@@ -156,23 +156,43 @@ def _plan(pred: PredictionPen) -> excitation2.Plan2:
 
 
 def _motors(device) -> tuple[tuple[float, ...], tuple[float, ...], tuple[float, ...] | None, str]:
-    data = [motor_data(m.spec) for m in device.motors]
-    fr = [identify_joints.motor_friction(SimpleNamespace(motor=m)) for m in device.motors]
+    """(K_t, continuous current, Coulomb friction or None, its source) of each motor as its joint
+    sees it through its transmission (:meth:`cad.device.ResolvedDevice.joint_motor`: n K_t,
+    n K_t I_0; the current unchanged)."""
+    seen = [SimpleNamespace(name=m.name, spec=device.joint_motor(m.joint)) for m in device.motors]
+    data = [motor_data(m.spec) for m in seen]
+    fr = [identify_joints.motor_friction(SimpleNamespace(motor=m)) for m in seen]
     Tc = None if any(f[0] is None for f in fr) else tuple(f[0] for f in fr)
     return (tuple(m.kt_Nm_per_A for m in data), tuple(m.current_continuous_A for m in data), Tc,
             "; ".join(dict.fromkeys(f[1] for f in fr)))
 
 
+def joint_counts(device) -> int | float:
+    """Encoder counts per joint turn, the same on the six joints (the motor encoder's x n,
+    :meth:`cad.device.ResolvedDevice.joint_counts_per_rev`). DesignError naming
+    ``transmission`` when the joints' counts differ (the routine and the bench read one step
+    for every joint: give every motor the same ratio to identify it)."""
+    counts = {device.joint_counts_per_rev(m.joint) for m in device.motors}
+    if len(counts) > 1:
+        raise DesignError("transmission", "identifying a haptic pen whose joints count different encoder steps "
+                          f"per turn ({', '.join(f'{c:g}' for c in sorted(counts))}: different capstan ratios) is "
+                          "not built (give every motor the same ratio)")
+    return counts.pop()
+
+
 def predict(design, report: dict) -> PredictionPen:
-    """The :class:`PredictionPen` of a haptic pen built into ``report`` (its bodies)."""
+    """The :class:`PredictionPen` of a haptic pen built into ``report`` (its bodies); its motors
+    as their joints see them through the capstans: n K_t, n counts, n^2 (J_m + J_c), n K_t I_0
+    (:func:`_motors`, :func:`joint_counts`)."""
     device = resolve_device(design)
     h = design_hash(design)
     spec = device_spec(design, report, h, cad.__version__, device, PEN)
     kt, im, Tc, src = _motors(device)
+    counts = joint_counts(device)
     lo, hi = _ranges(design)
-    rotors = tuple(float(m.rotor_inertia_kg_m2) for m in device.motors)
+    rotors = tuple(float(device.joint_rotor_inertia_kg_m2(m.joint)) for m in device.motors)  # n^2 (J_m + J_c)
     pred = PredictionPen(design.name, h, design, spec, props_of(report), rotors, TE_S, kt, im,
-                         device.encoder.counts_per_rev, tuple(int(d) for d in spec.encoder_direction),
+                         counts, tuple(int(d) for d in spec.encoder_direction),
                          tuple(spec.encoder_zero_rad), lo, hi, tuple(spec.q_home_rad), Tc, src, None)
     _warn_gravity(pred)
     return dataclasses.replace(pred, plan=_plan(pred))

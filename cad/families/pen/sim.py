@@ -11,6 +11,11 @@ waist motor) -> ``X_proximal_lower`` (``X_q_lower``, motor) -> ``X_distal_lower`
 Loops (MJCF ``connect``): ``X_loop_E`` -- the upper distal tip to the lower distal tip (the
 5-bar; its hinges are parallel so one point closes it); ``B_loop_b1`` / ``B_loop_b2`` -- two
 points of the b axis of B's ring on the pen (a hinge closed by two points on its axis).
+
+Motors: on each motor hinge the armature is the rotor's inertia at the joint through its
+transmission, n^2 (J_m + J_capstan) (:meth:`cad.device.ResolvedDevice.joint_rotor_inertia_kg_m2`),
+``gear`` = the ratio n and the force range the BOM motor's own peak torque (the joint gets
+n T_peak); direct drive: n = 1, J_m.
 """
 
 from __future__ import annotations
@@ -44,10 +49,12 @@ def sim_model(design, model, bodies: dict) -> SimModel:
     l3 = design.params["distal_mm"] * 1e-3
     l6 = design.mechanism.pen_mm * 1e-3
     made = {i.kind.name for i in model.instances if i.kind.made and i.kind.listed}
-    jm = {m.joint: m.rotor_inertia_kg_m2 for m in resolve_device(design).motors}  # the BOM's motors
-    rotor = {j: jm[f"A_q_{j}"] for j in ("waist", "lower", "upper")}
-    # actuator limits: each BOM motor's peak torque (N m), not the GII's [actuators] normalisation
-    tau = {m.joint: m.spec.torque_peak_mNm * 1e-3 for m in resolve_device(design).motors}
+    dev = resolve_device(design)  # the BOM's motors through their transmissions
+    rotor = {m.joint: dev.joint_rotor_inertia_kg_m2(m.joint) for m in dev.motors}  # n^2 (J_m + J_c)
+    gear = {m.joint: dev.transmission(m.joint).ratio for m in dev.motors}
+    # actuator limits: each BOM motor's own peak torque (N m; the joint gets n times it through
+    # gear), not the GII's [actuators] normalisation
+    tau = {j: t / gear[j] for j, t in dev.joint_peak_torques_Nm().items()}
 
     def meshes(body):
         return tuple(SimMesh(i.name, f"{i.kind.name}.stl", i.tf_body_part[:3, 3] * 1e-3,
@@ -76,9 +83,10 @@ def sim_model(design, model, bodies: dict) -> SimModel:
                 sites = {f"B_ring_b{k}": np.array([0.0, s * B_AXIS_POINT_M, 0.0])
                          for k, s in ((1, 1), (2, -1))}
             add(name, par, f"{arm}_q_{motor}" if motor else f"{arm}_j_{part}", sites,
-                rotor[motor] if motor else 0.0)
+                rotor[f"{arm}_q_{motor}"] if motor else 0.0)
             if motor:
-                motors.append(SimMotor(f"{arm}_motor_{motor}", f"{arm}_q_{motor}", tau[f"{arm}_q_{motor}"]))
+                j = f"{arm}_q_{motor}"
+                motors.append(SimMotor(f"{arm}_motor_{motor}", j, tau[j], gear=gear[j]))
     add("pen", "A_ring", "A_j_pen", {f"pen_b{k}": np.array([l6, 0.0, s * B_AXIS_POINT_M])
                                      for k, s in ((1, 1), (2, -1))})
     loops = [SimLoop(f"{a}_loop_E", f"{a}_distal_upper", f"{a}_distal_upper_tip",

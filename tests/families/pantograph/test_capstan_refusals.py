@@ -85,7 +85,8 @@ def test_no_direction_that_places_the_drums_says_what_met(tmp_path):
     assert_one_line_error(code, err, "transmission", "of 72 directions", "the two swept drums meet in")
 
 
-@pytest.mark.parametrize("design", ["pantograph_capstan.toml", "delta_capstan.toml", "hoeken_capstan.toml"])
+@pytest.mark.parametrize("design", ["pantograph_capstan.toml", "delta_capstan.toml", "hoeken_capstan.toml",
+                                    "analysis-only/haptic_pen_capstan.toml"])
 def test_every_family_warns_at_load_of_a_rope_below_its_bend_ratio(design):
     """A 20 mm capstan bends the 0.8 mm 7x7 rope at D/d = 25 < 40: loading the design (any family
     with capstans) records one warning naming the rope, the ratio and the 32 mm capstan
@@ -118,21 +119,26 @@ def test_the_powermouse_refuses_a_capstan_with_its_reason(tmp_path):
     assert "unknown key" not in err
 
 
-def test_the_pen_takes_a_direct_drive_table_and_refuses_a_capstan():
+def test_the_pen_takes_a_direct_drive_table_and_a_capstan_whose_solids_it_refuses():
     """A direct-drive [transmission] on the pen is what it already is (six direct motors); a
-    capstan in one of its six tables is refused naming the table."""
+    capstan in one of its six tables loads (its analyses read it: tests/families/pen/
+    test_pen_capstan.py) and the build's pre-CAD check refuses its solids naming the table."""
     from cad.design import parse_design
     from cad.design.fields import load_toml
     from cad.errors import DesignError
+    from cad.families.pen.build import check_options
 
     raw = load_toml(ROOT / "designs" / "haptic_pen.toml")
     raw["transmission"] = {"kind": "direct"}
     d = parse_design(raw, "pen")
     assert [t.ratio for t in d.transmissions] == [1.0] * 6
+    check_options(d, "fabrication", None)
     raw["transmission"] = [{"kind": "direct"}] * 5 + [
         {"kind": "capstan", "capstan_diameter_mm": 32.0, "ratio": 4.0, "cable": "steel-7x7-0.8"}]
-    with pytest.raises(DesignError, match="^transmission: a capstan on the haptic-pen"):
-        parse_design(raw, "pen")
+    d = parse_design(raw, "pen")
+    assert [t.ratio for t in d.transmissions] == [1.0] * 5 + [4.0]
+    with pytest.raises(DesignError, match="^transmission: the haptic pen's capstan solids"):
+        check_options(d, "fabrication", None)
 
 
 @pytest.mark.parametrize("design", ["pantograph_capstan.toml", "hoeken_capstan.toml"])

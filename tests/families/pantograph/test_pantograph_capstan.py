@@ -451,10 +451,10 @@ def test_written_files_agree_with_the_resolved_device(built):
     assert {"armature:q_left", "forcerange:q_right"} <= keys & set(device_values(dev))
 
 
-def test_the_haptic_pen_keeps_the_refusal(tmp_path):
-    """The haptic pen's capstans are not built: its design with [transmission] is one line
-    naming the table, exit 2 (the twin pantograph's: tests/unit/design/test_transmission.py)."""
+def test_the_haptic_pens_capstan_solids_are_refused(tmp_path):
+    """The haptic pen's capstan solids are not built: check on its design with [transmission]
+    is one line naming the table, exit 2 (its analyses: tests/families/pen/test_pen_capstan.py)."""
     p = tmp_path / "pen.toml"
     p.write_text((ROOT / "designs" / "haptic_pen.toml").read_text() + CAPSTAN)
     code, _, err = hapticad("check", p)
-    assert_one_line_error(code, err, "transmission", "not built yet", "haptic-pen", "delta")
+    assert_one_line_error(code, err, "transmission", "the haptic pen's capstan solids", "not built yet")
