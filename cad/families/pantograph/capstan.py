@@ -19,7 +19,7 @@ Frames and units (mm, deg; world = the kinematic base frame, z = 0 on the base p
 
 ``alpha`` of each motor (:func:`motor_directions_deg`): of the directions every
 :data:`ALPHA_STEP_DEG`, mirrored about the y axis for the right motor, the pair whose two drums
-(rim plus the tensioner standing out of it) share no point of the plane at any pose of the
+(the rope groove's crests plus the tensioner standing out of them) share no point of the plane at any pose of the
 workspace grid (each arc widened by :data:`CAPSTAN_RANGE_MARGIN_DEG`) and leave the other joint's axle and
 hub clevis (radius ``clevis_width_mm / 2`` + ``clearance``) free, whose motor mount plates stand clear of both bearing blocks and of each
 other, the motors farthest from the workspace (the smallest y). The build's interference check
@@ -147,7 +147,7 @@ def _side(design, t, i: int, alpha: float, rng) -> CapstanSide:
 
 
 def anchor_protrusion_mm(t) -> float:
-    """How far the tensioner stands out of the drum's rim (mm): its lock nut, the rope's
+    """How far the tensioner stands out of the drum's crests (mm): its lock nut, the rope's
     ``TENSIONER_WIND_D`` diameters of shank and its screw head (the four-bar's anchors and
     tensioner, :mod:`cad.families.fourbar.capstan_solids`)."""
     return (get_nut(ANCHOR_SCREW).m_mm + TENSIONER_WIND_D * t.cable_diameter_mm
@@ -225,7 +225,7 @@ def motor_directions_deg(design) -> tuple[CapstanSide, CapstanSide]:
         hwc.capstan_set_screw(design, t)
         check_centre_distance(design, t, half)
     keep = design.parts.clevis_width_mm / 2 + CLEARANCE_MM
-    rims = [cg.rim_radius_mm(t.drum_diameter_mm, t.cable_diameter_mm) + anchor_protrusion_mm(t)
+    rims = [cg.crest_radius_mm(t.drum_diameter_mm, t.cable_diameter_mm) + anchor_protrusion_mm(t)
             if t.is_capstan else 0.0 for t in ts]
     best, best_y, why = None, math.inf, {}
     for al in np.arange(-180.0, 180.0, ALPHA_STEP_DEG):
