@@ -94,3 +94,35 @@ def posts_in_swept_drums(design, sides, group: str) -> list[bool]:
             hit = hit or bool(np.any(inside[None, :] & on_arc))
         out.append(hit)
     return out
+
+
+def two_band_directions_deg(design, group: str) -> tuple[list[float], list[float]]:
+    """The directions (deg, every :data:`cad.families.pantograph.capstan.ALPHA_STEP_DEG`) of the
+    ``group``'s left and right motors whose swept drum (its reach
+    :func:`cad.families.pantograph.capstan.swept_radius_mm`, its arc widened by
+    :data:`cad.tolerances.CAPSTAN_RANGE_MARGIN_DEG`) keeps the other joint's axle (the motor
+    shaft's radius + :data:`cad.families.pantograph.capstan.CLEARANCE_MM`) clear at every
+    workspace sample: with the two drums in two bands, the other drum is not in its band, the
+    other link's axle is (its hub clevis above both bands)."""
+    cols = list(GROUPS[group])
+    dev = resolve_device(design)
+    fb = getattr(design.mechanism, group)
+    rng = tc.joint_ranges_deg(design)[cols]
+    q = np.degrees(np.unwrap(ktwin.ik(design.mechanism, design.workspace_points()).q_rad, axis=0))[:, cols]
+    r_axle = get_motor(design.parts.motor).shaft_diameter_mm / 2 + pcap.CLEARANCE_MM
+    ring = np.linspace(0.0, 2 * np.pi, 73)[:-1]
+    out: tuple[list[float], list[float]] = ([], [])
+    for k in range(2):
+        t = dev.transmission(tc.JOINTS[cols[k]])
+        other = np.asarray((fb.base_left_mm, fb.base_right_mm)[1 - k], float)
+        pts = np.vstack([other + r_axle * np.column_stack([np.cos(ring), np.sin(ring)]), other])
+        for al in np.arange(-180.0, 180.0, pcap.ALPHA_STEP_DEG):
+            s = pcap.capstan_side(fb, t, k, float(al), rng[k])
+            d = pts - np.asarray(s.b_mm, float)
+            inside = np.hypot(d[:, 0], d[:, 1]) <= pcap.swept_radius_mm(t)
+            ang = np.degrees(np.arctan2(d[:, 1], d[:, 0]))
+            start = s.arc_start_deg + q[:, k] - CAPSTAN_RANGE_MARGIN_DEG
+            on_arc = ((ang[None, :] - start[:, None]) % 360.0) <= s.arc_span_deg + 2 * CAPSTAN_RANGE_MARGIN_DEG
+            if not np.any(inside[None, :] & on_arc):
+                out[k].append(float(al))
+    return out

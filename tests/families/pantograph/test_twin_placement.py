@@ -41,7 +41,7 @@ def _angles(design, cols):
 def _swept(s, q_deg, step_deg=1.0, step_mm=1.0):
     """(K, N, 2) the drum's sector at each pose, its arc widened by the margin: polar samples."""
     a = np.radians(np.arange(0.0, s.arc_span_deg + 2 * MARGIN_DEG + 1e-9, step_deg))
-    r = np.arange(0.0, REACH_MM + 1e-9, step_mm)
+    r = np.append(np.arange(0.0, REACH_MM, step_mm), REACH_MM)  # out to the rim
     A, Rr = np.meshgrid(a, r)
     start = np.radians(s.arc_start_deg + q_deg - MARGIN_DEG)[:, None]
     ang = start + A.ravel()[None, :]
@@ -137,3 +137,43 @@ def test_every_bridge_post_stands_where_the_knob_drums_sweep(design, knob):
     for x, y in [(sx * 37.5 + dx, -41.5) for sx in (-1, 1) for dx in (-22.0, 22.0)]:
         assert math.hypot(22.0, 41.5) < REACH_MM
         assert any(_inside(np.array([[x, y]]), s, q[k, i])[0] for i, s in enumerate(sides) for k in range(len(q)))
+
+
+def _sector_distance(p, s, q) -> float:
+    """Distance (mm) from point ``p`` to the drum ``s``'s widened sector (radius 0..reach) at
+    link angle ``q`` (deg)."""
+    v = np.asarray(p, float) - np.asarray(s.b_mm, float)
+    a0 = s.arc_start_deg + q - MARGIN_DEG
+    span = s.arc_span_deg + 2 * MARGIN_DEG
+    if (math.degrees(math.atan2(v[1], v[0])) - a0) % 360.0 <= span:
+        return max(float(np.hypot(*v)) - REACH_MM, 0.0)
+    out = math.inf
+    for a in (a0, a0 + span):
+        u = np.array([math.cos(math.radians(a)), math.sin(math.radians(a))])
+        out = min(out, float(np.hypot(*(v - np.clip(v @ u, 0.0, REACH_MM) * u))))
+    return out
+
+
+def test_in_two_bands_the_crank_drums_keep_clear_of_the_other_axle(design):
+    """With the crank pantograph's drums in two bands, each drum meets only the other link's axle
+    (3 mm + 1 mm): the directions that keep it clear are mirror images left / right (the links'
+    ranges are, 90..186 and -6..90 deg), a non-empty set pointing away from the other joint
+    (left about 180 deg, right about 0 deg); each kept direction's drum stays
+    more than 4 mm from the other axle's centre at every pose, and each dropped one comes within
+    (the exact distance from a point to the widened annular sector: past the rim inside the arc,
+    else to the nearer end radius)."""
+    from cad.device import resolve_device
+    from cad.families.pantograph import capstan as pcap
+    from cad.families.pantograph import twin_placement as tp
+    from cad.families.pantograph.twin_capstan import joint_ranges_deg
+
+    left, right = tp.two_band_directions_deg(design, "crank")
+    assert left and sorted(left) == sorted(((180.0 - a + 180.0) % 360.0 - 180.0) for a in right)
+    assert all(abs(((a - 180.0 + 180.0) % 360.0) - 180.0) <= 90.0 for a in left)
+    t = resolve_device(design).transmission("crank_q_left")
+    rng = joint_ranges_deg(design)[[2, 3]]
+    q = _angles(design, [2, 3])
+    for al in np.arange(-180.0, 180.0, 5.0):
+        s = pcap.capstan_side(design.mechanism.crank, t, 0, al, rng[0])
+        near = min(_sector_distance((37.5, 0.0), s, q[k, 0]) for k in range(len(q)))
+        assert (near > 4.0) == (al in left), (al, near)
