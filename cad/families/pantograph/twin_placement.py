@@ -74,26 +74,40 @@ def posts_in_swept_drums(design, sides, group: str) -> list[bool]:
     True when a drum of ``sides`` (the ``group``'s, :func:`group_directions`) sweeps over any
     point of the post's circle (its diameter plus the clearance) at a workspace sample, its arc
     widened by :data:`cad.tolerances.CAPSTAN_RANGE_MARGIN_DEG` at both ends."""
-    cols = list(GROUPS[group])
-    q = np.degrees(np.unwrap(ktwin.ik(design.mechanism, design.workspace_points()).q_rad, axis=0))[:, cols]
+    return [post_in_swept_drums(design, xy, {group: sides}) for xy in layout(design)["posts_xy_mm"]]
+
+
+def post_in_swept_drums(design, xy_mm, sides_by_group: dict) -> bool:
+    """True when a drum of ``sides_by_group`` (group -> its two :class:`CapstanSide`, in any
+    band) sweeps over the circle of a bridge post at ``xy_mm`` (its diameter plus
+    :data:`cad.families.pantograph.capstan.CLEARANCE_MM`) at a workspace sample, each drum's arc
+    widened by :data:`cad.tolerances.CAPSTAN_RANGE_MARGIN_DEG` at both ends."""
+    q_all = np.degrees(np.unwrap(ktwin.ik(design.mechanism, design.workspace_points()).q_rad, axis=0))
     dev = resolve_device(design)
-    radii = [pcap.swept_radius_mm(dev.transmission(tc.JOINTS[c])) for c in cols]
     r_post = design.parts.post_diameter_mm / 2 + pcap.CLEARANCE_MM
     ring = np.linspace(0.0, 2 * np.pi, 73)[:-1]
-    out = []
-    for xy in layout(design)["posts_xy_mm"]:
-        pts = np.asarray(xy, float) + r_post * np.column_stack([np.cos(ring), np.sin(ring)])
-        pts = np.vstack([pts, xy])
-        hit = False
-        for k, s in enumerate(sides):
+    pts = np.vstack([np.asarray(xy_mm, float) + r_post * np.column_stack([np.cos(ring), np.sin(ring)]), xy_mm])
+    for group, sides in sides_by_group.items():
+        for col, s in zip(GROUPS[group], sides, strict=True):
             d = pts - np.asarray(s.b_mm, float)
-            inside = np.hypot(d[:, 0], d[:, 1]) <= radii[k]
+            inside = np.hypot(d[:, 0], d[:, 1]) <= pcap.swept_radius_mm(dev.transmission(tc.JOINTS[col]))
             ang = np.degrees(np.arctan2(d[:, 1], d[:, 0]))
-            start = s.arc_start_deg + q[:, k] - CAPSTAN_RANGE_MARGIN_DEG
+            start = s.arc_start_deg + q_all[:, col] - CAPSTAN_RANGE_MARGIN_DEG
             on_arc = ((ang[None, :] - start[:, None]) % 360.0) <= s.arc_span_deg + 2 * CAPSTAN_RANGE_MARGIN_DEG
-            hit = hit or bool(np.any(inside[None, :] & on_arc))
-        out.append(hit)
-    return out
+            if np.any(inside[None, :] & on_arc):
+                return True
+    return False
+
+
+def clear_post_y_mm(design, x_mm: float, sides_by_group: dict, step_mm: float = 0.05) -> float:
+    """The first y (mm, world), stepping back by ``step_mm`` from the layout's post line
+    (``posts_xy_mm``), where a bridge post at ``x_mm`` stands clear of every drum of
+    ``sides_by_group`` (:func:`post_in_swept_drums`); drums only: the rope runs, capstans and
+    the bridge's own extent are not in it."""
+    y = layout(design)["posts_xy_mm"][0][1]
+    while post_in_swept_drums(design, (x_mm, y), sides_by_group):
+        y -= step_mm
+    return float(y)
 
 
 def two_band_directions_deg(design, group: str) -> tuple[list[float], list[float]]:

@@ -177,3 +177,25 @@ def test_in_two_bands_the_crank_drums_keep_clear_of_the_other_axle(design):
         s = pcap.capstan_side(design.mechanism.crank, t, 0, al, rng[0])
         near = min(_sector_distance((37.5, 0.0), s, q[k, 0]) for k in range(len(q)))
         assert (near > 4.0) == (al in left), (al, near)
+
+
+def test_the_posts_clear_every_drum_once_out_of_its_reach(design, knob):
+    """With the knob pantograph's drums in one band (the search's) and the crank pantograph's in
+    two bands (directions -175 and -5 deg, kept by :func:`two_band_directions_deg`), a bridge
+    post (12 mm, 1 mm clearance) at x = B_x +- 22 and B_x stands clear first where its distance
+    to the nearer joint reaches the drum's reach plus 7 mm (the sweeps cover straight back):
+    y = -sqrt(82.68^2 - dx^2), dx = 22 or 0 mm, to the 0.05 mm step."""
+    from cad.device import resolve_device
+    from cad.families.pantograph import capstan as pcap
+    from cad.families.pantograph import twin_placement as tp
+    from cad.families.pantograph.twin_capstan import joint_ranges_deg
+
+    left, right = tp.two_band_directions_deg(design, "crank")
+    assert -175.0 in left and -5.0 in right
+    t = resolve_device(design).transmission("crank_q_left")
+    rng = joint_ranges_deg(design)[[2, 3]]
+    crank = tuple(pcap.capstan_side(design.mechanism.crank, t, i, a, rng[i]) for i, a in enumerate((-175.0, -5.0)))
+    both = {"knob": knob[0], "crank": crank}
+    for x, dx in ((-59.5, 22.0), (-37.5, 0.0), (-15.5, 22.0)):
+        y = tp.clear_post_y_mm(design, x, both)
+        assert y == pytest.approx(-math.sqrt((REACH_MM + 7.0) ** 2 - dx * dx), abs=0.051)
