@@ -19,7 +19,7 @@ Frames and units (mm, deg; world = the kinematic base frame, z = 0 on the base p
 
 ``alpha`` of each motor (:func:`motor_directions_deg`): of the directions every
 :data:`ALPHA_STEP_DEG`, mirrored about the y axis for the right motor, the pair whose two drums
-(rim plus the tensioner standing out of it) share no point of the plane at any pose of the
+(the rope groove's crests plus the tensioner standing out of them) share no point of the plane at any pose of the
 workspace grid (each arc widened by :data:`CAPSTAN_RANGE_MARGIN_DEG`) and leave the other joint's axle and
 hub clevis (radius ``clevis_width_mm / 2`` + ``clearance``) free, whose motor mount plates stand clear of both bearing blocks and of each
 other, the motors farthest from the workspace (the smallest y). The build's interference check
@@ -131,8 +131,7 @@ def _swept_mask(pts: np.ndarray, b, r_in: float, r_out: float, start_deg: float,
     return (r >= r_in) & (r <= r_out) & (a <= span_deg)
 
 
-def _side(design, t, i: int, alpha: float, rng) -> CapstanSide:
-    fb = design.mechanism
+def capstan_side(fb, t, i: int, alpha: float, rng) -> CapstanSide:
     b = (fb.base_left_mm, fb.base_right_mm)[i]
     dd, dc = t.drum_diameter_mm, t.capstan_diameter_mm
     C = cap.centre_distance_mm(dc, dd, t.centre_distance_mm)
@@ -148,14 +147,14 @@ def _side(design, t, i: int, alpha: float, rng) -> CapstanSide:
 
 
 def anchor_protrusion_mm(t) -> float:
-    """How far the tensioner stands out of the drum's rim (mm): its lock nut, the rope's
+    """How far the tensioner stands out of the drum's crests (mm): its lock nut, the rope's
     ``TENSIONER_WIND_D`` diameters of shank and its screw head (the four-bar's anchors and
     tensioner, :mod:`cad.families.fourbar.capstan_solids`)."""
     return (get_nut(ANCHOR_SCREW).m_mm + TENSIONER_WIND_D * t.cable_diameter_mm
             + get_cap_screw(ANCHOR_SCREW, "transmission").k_mm)
 
 
-def _clear(design, sides, rims, keep: float, half: float, q_deg: np.ndarray) -> str | None:
+def _clear(sides, rims, keep: float, half: float, q_deg: np.ndarray) -> str | None:
     """None when the pair of sides' drums are clear of each other and of the other joint's axle
     and hub clevis at every pose of the workspace grid (``q_deg`` (K, 2) the links' angles
     there), each drum's arc widened by :data:`CAPSTAN_RANGE_MARGIN_DEG` at both ends (the motion
@@ -226,24 +225,43 @@ def motor_directions_deg(design) -> tuple[CapstanSide, CapstanSide]:
         hwc.capstan_set_screw(design, t)
         check_centre_distance(design, t, half)
     keep = design.parts.clevis_width_mm / 2 + CLEARANCE_MM
-    rims = [cg.rim_radius_mm(t.drum_diameter_mm, t.cable_diameter_mm) + anchor_protrusion_mm(t)
-            if t.is_capstan else 0.0 for t in ts]
+    best, why = search_directions(design.mechanism, ts, rng, q_deg, half, keep)
+    if best is None:
+        rims = [swept_radius_mm(t) if t.is_capstan else 0.0 for t in ts]
+        raise DesignError("transmission", _placement_refusal(design, ts, rims, why))
+    return best
+
+
+def swept_radius_mm(t) -> float:
+    """How far a drum of transmission ``t`` reaches from its joint (mm): the rope groove's crests
+    and the tensioner standing out of them (:func:`anchor_protrusion_mm`)."""
+    return cg.crest_radius_mm(t.drum_diameter_mm, t.cable_diameter_mm) + anchor_protrusion_mm(t)
+
+
+def search_directions(fb, ts, rng, q_deg: np.ndarray, half: float, keep: float):
+    """``(sides, why)`` of the direction search on the 5-bar ``fb`` (``base_left_mm``,
+    ``base_right_mm``; a twin's crank or knob pantograph alike): of the left motor's directions
+    every :data:`ALPHA_STEP_DEG`, the right's its mirror about the y axis, the clear pair
+    (:func:`_clear`: mount plates of half side ``half`` mm, the other joint kept ``keep`` mm
+    clear) whose motors are farthest from the workspace; ``sides`` None when none clears.
+    ``ts`` the two transmissions, ``rng`` (2, 2) their links' ranges (deg), ``q_deg`` (K, 2)
+    the links' angles at the workspace samples; ``why`` counts each clash kind
+    (:data:`CLASHES`; None for a clear pair) over the directions tried."""
+    rims = [swept_radius_mm(t) if t.is_capstan else 0.0 for t in ts]
     best, best_y, why = None, math.inf, {}
     for al in np.arange(-180.0, 180.0, ALPHA_STEP_DEG):
         ar = (180.0 - al + 180.0) % 360.0 - 180.0  # the mirror about the y axis
-        sides = [_side(design, t, i, a, rng[i]) if t.is_capstan else None
+        sides = [capstan_side(fb, t, i, a, rng[i]) if t.is_capstan else None
                  for i, (t, a) in enumerate(zip(ts, (al, ar), strict=True))]
         if any(s is None for s in sides):
             continue
         y = max(s.motor_xy_mm[1] for s in sides)
         if y < best_y:
-            clash = _clear(design, sides, rims, keep, half, q_deg)
+            clash = _clear(sides, rims, keep, half, q_deg)
             why[clash] = why.get(clash, 0) + 1
             if clash is None:
                 best, best_y = tuple(sides), y
-    if best is None:
-        raise DesignError("transmission", _placement_refusal(design, ts, rims, why))
-    return best
+    return best, why
 
 
 def _placement_refusal(design, ts, rims, why: dict) -> str:

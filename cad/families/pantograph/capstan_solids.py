@@ -23,6 +23,7 @@ from cad.assembly.capstan_hardware import (
     ANCHOR_SCREW,
     ANCHOR_SCREW_LENGTH_MM,
     capstan_set_screw,
+    drum_groove_arc_deg,
     drum_process,
     rope_run_kind,
     tensioner_screw_mm,
@@ -135,19 +136,25 @@ def kind_suffix(design, joint: str) -> str:
 
 
 def _drum_kind(design, t, sd) -> PartKind:
-    rd = cg.rim_radius_mm(t.drum_diameter_mm, t.cable_diameter_mm)
+    d = t.cable_diameter_mm
+    rd = cg.rim_radius_mm(t.drum_diameter_mm, d)
     bore = cat.get_motor(design.parts.motor).shaft_diameter_mm / 2
     tap = cat.tap_drill_mm(ANCHOR_SCREW)
     depth = ANCHOR_SCREW_LENGTH_MM + motor.TAP_LEADOUT_MM
     th = DRUM_THICKNESS_MM
+    side = sd.joint.split("_")[1]
     return PartKind(
-        f"capstan_drum_{sd.joint.split('_')[1]}",
+        f"capstan_drum_{side}",
         shapes.drum_sector_shape(rd, bore, sd.arc_start_deg, sd.arc_span_deg, th,
-                                 tuple((a, tap, depth) for a in sd.anchors_deg)),
+                                 tuple((a, tap, depth) for a in sd.anchors_deg),
+                                 rope_diameter_mm=d, groove_arc_deg=drum_groove_arc_deg(rd, d, sd.anchors_deg)),
         material=DRUM_MATERIAL, made=True,
-        description=(f"drum sector {t.drum_diameter_mm:g} mm pitch (rim {2 * rd:g} mm), {sd.arc_span_deg:.0f} deg "
-                     f"arc, {th:g} mm thick, on the {sd.joint.split('_')[1]} proximal link's axle at B"),
-        process=drum_process(th, "ream the axle bore, pinned to the axle"))
+        description=(f"drum sector {t.drum_diameter_mm:g} mm pitch (groove bottom {2 * rd:g} mm, crests "
+                     f"{2 * (rd + cg.groove_depth_mm(d)):.4g} mm), {sd.arc_span_deg:.0f} deg arc, {th:g} mm "
+                     f"thick, on the {side} proximal link's axle at B"),
+        process=drum_process(th, "ream the axle bore, pinned to the axle",
+                             f"turn the rope groove ({d:g} mm rope, {cg.groove_depth_mm(d):.3g} mm deep) "
+                             "at mid-thickness between the anchors"))
 
 
 def _capstan_kind(design, t, sfx: str) -> PartKind:
@@ -204,9 +211,9 @@ def drum_parts(design, K: dict, lay: dict, sd, t) -> list[PartInstance]:
     side = sd.joint.split("_")[1]
     body = f"proximal_{side}"
     z0, z1 = lay["capstan"]["drum_z_mm"]
-    rd = cg.rim_radius_mm(t.drum_diameter_mm, t.cable_diameter_mm)
+    seat = cg.crest_radius_mm(t.drum_diameter_mm, t.cable_diameter_mm)  # heads and nut on the crests
     out = [PartInstance(f"{body}.capstan_drum", K[f"drum_{sd.joint}"], body, translation(0, 0, z0))]
-    at = [translation(0, 0, 0.5 * (z0 + z1)) @ _rz(a) @ translation(rd, 0, 0) @ _RY90 for a in sd.anchors_deg]
+    at = [translation(0, 0, 0.5 * (z0 + z1)) @ _rz(a) @ translation(seat, 0, 0) @ _RY90 for a in sd.anchors_deg]
     s = "_1" if side == "left" else "_2"  # the names assembly.md's winding steps use
     out.append(PartInstance(f"capstan_anchor{s}_1", K["anchor_screw"], body, at[0]))
     _, up = tensioner_screw_mm(t)

@@ -16,7 +16,8 @@ module only says where the twin's joints turn and how its ropes reach the handle
 
 The solids (drums on the links, moved motors under the base plate and on the bridge) are not
 built yet: the build refuses a twin pantograph with a capstan in one line naming
-``transmission`` (:func:`refuse_solids`).
+``transmission`` (:func:`refuse_solids`); where they could sit and what stops them:
+:mod:`cad.families.pantograph.twin_placement`.
 """
 
 from __future__ import annotations

@@ -18,6 +18,7 @@ import pytest
 from cad.actuators import capstan_geometry as cg
 from cad.data.catalog import tap_drill_mm
 from cad.data.materials import get_material
+from tests.capstan_ref import radial_hole_mm3
 
 ROOT = Path(__file__).resolve().parents[3]
 DESIGN = ROOT / "designs" / "hoeken_capstan.toml"
@@ -96,16 +97,6 @@ def test_rope_runs_lie_between_the_closed_form_tangent_points(design):
         assert com[2] == pytest.approx(pl.rope_z_mm)
 
 
-def _radial_hole_mm3(r_h, r_rim, depth):
-    """A radial hole of radius r_h drilled from a rim of radius r_rim to depth (flat bottom at
-    r_rim - depth): the integral over the hole's disc of sqrt(r_rim^2 - y^2) - (r_rim - depth)."""
-    x, w = np.polynomial.legendre.leggauss(200)
-    th = 0.5 * math.pi * x
-    y = r_h * np.sin(th)
-    chord = np.sqrt(r_rim ** 2 - y ** 2) - (r_rim - depth)
-    return float(np.sum(w * 2.0 * r_h ** 2 * np.cos(th) ** 2 * chord) * 0.5 * math.pi)
-
-
 def test_drum_mass_and_inertia_about_A1_closed_form(design, built):
     """The drum sector to its crests (groove bottom 31.6 mm + 0.35 x 0.8 mm), less its rope groove
     between the anchors (Pappus: the groove section's area round its centroid's arc, section and
@@ -116,7 +107,7 @@ def test_drum_mass_and_inertia_about_A1_closed_form(design, built):
     r_b, r_i, th = cg.rim_radius_mm(64.0, 0.8), design.parts.hub_diameter_mm / 2, 10.0
     r_o = r_b + 0.28
     rho = get_material("aluminium-6061").density_kg_m3
-    hole = _radial_hole_mm3(tap_drill_mm("M3-0.5") / 2, r_o, 9.0 + 0.28)
+    hole = radial_hole_mm3(tap_drill_mm("M3-0.5") / 2, r_o, 9.0 + 0.28)
     # groove section: the part of the 0.4 mm circle centred at 32 mm inside r_o, by quadrature
     x, w = np.polynomial.legendre.leggauss(400)
     u = -0.4 + 0.5 * 0.28 * (x + 1.0)  # radial offset from the circle's centre, -0.4 .. -0.12

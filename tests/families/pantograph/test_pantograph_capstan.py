@@ -304,6 +304,55 @@ def test_bundled_design_figures_regression_pin(built):
     assert round(rows["first_mode_Hz"]["value"]) == 203
 
 
+def test_drums_carry_the_rope_groove_read_back_from_the_solid(built):
+    """Each drum of the bundled design carries the rope's groove between its anchors: OCCT's
+    exact section at the groove's mid-angle dips from the crests ((128 - 0.8) / 2 + 0.35 x 0.8 =
+    63.88 mm) to the groove's bottom (63.6 mm) at mid-thickness (z 5 mm of the 10 mm drum), as
+    wide as the 0.4 mm circle's chord at the crests, 2 sqrt(2 r h - h^2); the drum's mass in
+    report.json's BOM (from the grooved solid) is the annular sector to the crests less the two
+    anchor holes (9 mm below the groove's bottom, out through the crests) and the groove
+    (Pappus: its section's area and centroid by quadrature here, round the arc between the
+    anchors less a land of one tap drill and one rope diameter each side)."""
+    from cad.data.catalog import tap_drill_mm
+    from cad.data.materials import get_material
+    from cad.families.pantograph import capstan_solids as pcs
+    from cad.families.pantograph.layout import layout
+    from cad.massprops.occt import volume_props_mm
+    from tests.capstan_ref import radial_hole_mm3, section_profile
+
+    d, _, rep = built
+    lay = layout(d)
+    kinds = pcs.capstan_kinds(d, lay)
+    bom = {r["part"]: r for r in rep["bom"]}
+    rho = get_material("aluminium-6061").density_kg_m3
+    r_b, r_o, r_i = (128.0 - 0.8) / 2, (128.0 - 0.8) / 2 + 0.28, 6.0 / 2  # the RE 35's 6 mm shaft
+    x, w = np.polynomial.legendre.leggauss(400)
+    u = -0.4 + 0.5 * 0.28 * (x + 1.0)  # radial offset from the section circle's centre at 64 mm
+    chord = 2.0 * np.sqrt(0.16 - u * u)
+    area = 0.5 * 0.28 * np.sum(w * chord)
+    rbar = 0.5 * 0.28 * np.sum(w * chord * (64.0 + u)) / area
+    hole = radial_hole_mm3(tap_drill_mm("M3-0.5") / 2, r_o, 9.0 + 0.28)
+    land = math.degrees((tap_drill_mm("M3-0.5") + 0.8) / r_b)
+    for sd in lay["capstan"]["sides"]:
+        side = sd.joint.split("_")[1]
+        shape = kinds[f"drum_{sd.joint}"].shape
+        lo, hi = sorted(sd.anchors_deg)
+        zr = section_profile(shape, 0.5 * (lo + hi))
+        outer = zr[zr[:, 1] > r_b - 0.1]
+        assert outer[:, 1].max() == pytest.approx(r_o, abs=1e-6)
+        assert outer[:, 1].min() == pytest.approx(r_b, abs=3e-3)
+        assert outer[outer[:, 1] < r_o - 1e-6][:, 0].mean() == pytest.approx(5.0, abs=1e-3)
+        crest = outer[np.abs(outer[:, 1] - r_o) < 1e-6][:, 0]
+        width = crest[crest > 5.0].min() - crest[crest < 5.0].max()
+        assert width == pytest.approx(2 * math.sqrt(2 * 0.4 * 0.28 - 0.28 ** 2), abs=1e-6)
+        groove = area * rbar * math.radians(hi - lo - 2 * land)
+        sector = 0.5 * math.radians(sd.arc_span_deg) * (r_o ** 2 - r_i ** 2) * 10.0
+        m_ref = (sector - 2 * hole - groove) * 1e-9 * rho
+        assert volume_props_mm(shape, eps=1e-9)[0] * 1e-9 * rho == pytest.approx(m_ref, rel=1e-9)
+        # the build integrates in OCCT's default Gauss mode: ~1e-5 of the part on the holes' faces
+        assert bom[f"capstan_drum_{side}"]["mass_g"] == pytest.approx(m_ref * 1e3, rel=2e-5)
+
+
 def test_identification_prediction_sees_the_motors_through_the_ratio(built):
     """The 5-bar's identification prediction (cad.sim.identify_fivebar.predict) of the bundled
     design: K_t, counts, rotor and Coulomb friction at the joints, n K_t, n 4000, n^2 (J_m +

@@ -17,6 +17,7 @@ from cad.actuators import capstan_geometry as cg
 from cad.data.catalog import tap_drill_mm
 from cad.data.materials import get_material
 from cad.errors import DesignError
+from tests.capstan_ref import section_profile
 
 RHO_AL = get_material("aluminium-6061").density_kg_m3
 RHO_ST = get_material("steel-1018").density_kg_m3
@@ -185,32 +186,6 @@ def test_too_short_centre_distance_refused_by_the_cli_in_one_line(tmp_path):
 
 
 # ----------------------------------------------------------------------------- rope grooves
-def _section_profile(shape, side=1.0, n=400):
-    """(z, |x|) of the solid's outline in the half-plane y = 0, side * x > 0: OCCT's exact
-    section of the solid with the plane (BRepAlgoAPI_Section), each edge sampled at ``n``
-    parameters, a straight edge at its ends (a 0.002 mm tessellation took 45 s for the same
-    profile)."""
-    from OCP.BRepAdaptor import BRepAdaptor_Curve
-    from OCP.BRepAlgoAPI import BRepAlgoAPI_Section
-    from OCP.GeomAbs import GeomAbs_Line
-    from OCP.gp import gp_Dir, gp_Pln, gp_Pnt
-    from OCP.TopAbs import TopAbs_EDGE
-    from OCP.TopExp import TopExp_Explorer
-    from OCP.TopoDS import TopoDS
-
-    sec = BRepAlgoAPI_Section(getattr(shape, "wrapped", shape), gp_Pln(gp_Pnt(0, 0, 0), gp_Dir(0, 1, 0)))
-    sec.Build()
-    ex, pts = TopExp_Explorer(sec.Shape(), TopAbs_EDGE), []
-    while ex.More():
-        c = BRepAdaptor_Curve(TopoDS.Edge_s(ex.Current()))
-        k = 2 if c.GetType() == GeomAbs_Line else n  # a straight edge: its two ends
-        pts += [(p.X(), p.Y(), p.Z()) for p in map(c.Value, np.linspace(c.FirstParameter(), c.LastParameter(), k))]
-        ex.Next()
-    pts = np.asarray(pts)
-    pts = pts[side * pts[:, 0] > 0]
-    return np.column_stack([pts[:, 2], np.abs(pts[:, 0])])
-
-
 def test_capstan_groove_pitch_depth_and_volume_from_the_solid():
     """The helical groove measured back from the solid: in a meridian half-plane the outline
     dips to the groove's bottom (the drawn rim, (32 - 0.8) / 2 = 15.6 mm) once per turn, the dips
@@ -223,7 +198,7 @@ def test_capstan_groove_pitch_depth_and_volume_from_the_solid():
     rc, L = (32.0 - d) / 2, 1.5 * d * wraps + 8.0
     grooved = capstan_shape(rc, bore, L, 4.0, "M3-0.5", rope_diameter_mm=d, wraps=wraps)
     plain = capstan_shape(rc + 0.28, bore, L, 4.0, "M3-0.5")
-    zx = _section_profile(grooved, side=-1.0)  # at 180 deg: the helix starts and ends at 0 deg
+    zx = section_profile(grooved, 180.0)  # at 180 deg: the helix starts and ends at 0 deg
     outer = zx[zx[:, 1] > rc - 0.01]
     assert outer[:, 1].max() == pytest.approx(rc + 0.28, abs=1e-6)
     assert outer[:, 1].min() == pytest.approx(rc, abs=3e-3)  # the bottom of the groove, to the mesh
@@ -267,7 +242,7 @@ def test_drum_groove_depth_and_volume_from_the_solid():
     d = 0.8
     grooved = drum_sector_shape(31.6, 4.0, -90.0, 180.0, 10.0, rope_diameter_mm=d, groove_arc_deg=(-80.0, 160.0))
     plain = drum_sector_shape(31.88, 4.0, -90.0, 180.0, 10.0)
-    zx = _section_profile(grooved)  # the half-plane at 0 deg, mid-arc
+    zx = section_profile(grooved)  # the half-plane at 0 deg, mid-arc
     outer = zx[zx[:, 1] > 31.5]
     assert outer[:, 1].max() == pytest.approx(31.88, abs=1e-6)
     assert outer[:, 1].min() == pytest.approx(31.6, abs=3e-3)
