@@ -61,6 +61,16 @@ STATUS_WORDS = {excitation2.DONE: "done", excitation2.RANGE: "stopped: a joint l
                 excitation2.ENCODER: "stopped: a joint moved against the hand move"}
 
 
+def count_steps_rad(pred) -> list[float]:
+    """Each joint's angle per encoder count (rad), as the firmware reads it (``pred.angles``:
+    2 pi / (counts_per_rev n_j), n_j the joint's transmission ratio; 2 pi / counts_per_rev
+    where the encoder is on the joint)."""
+    n, motor = pred.n_joints, 2 * math.pi / pred.counts_per_rev
+    d = pred.angles(np.eye(n)) - pred.angles(np.zeros((1, n)))
+    return [motor if math.isclose(abs(float(d[j, j])), motor, rel_tol=1e-12) else abs(float(d[j, j]))
+            for j in range(n)]
+
+
 def run(pred, plant, tr: dict, qh: np.ndarray, ff, seed: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(t_s (N,), counts (N, n), commanded currents (N, n) A) of one run of the routine on
     ``plant`` (``place(q)``, ``advance(tau, Te)``, ``q``) with the true parameters ``tr``,
@@ -69,7 +79,7 @@ def run(pred, plant, tr: dict, qh: np.ndarray, ff, seed: int) -> tuple[np.ndarra
     rng = np.random.default_rng(seed)
     plan, n_j = pred.plan, pred.n_joints
     n, Te = plan.n_samples, plan.Te_s
-    step = 2 * math.pi / pred.counts_per_rev
+    step = count_steps_rad(pred)
     sgn = [d * tr["encoder_direction"] for d in pred.direction]
     noise = rng.normal(0.0, tr["current_noise_A"], (n, n_j)).tolist()
     delay, ktt = tr["delay_samples"], identify_joints.per_joint(tr["kt_Nm_per_A"], n_j)
@@ -78,7 +88,7 @@ def run(pred, plant, tr: dict, qh: np.ndarray, ff, seed: int) -> tuple[np.ndarra
     for k in range(n):
         if k < len(qh):
             plant.place(qh[k])
-        c = [math.floor(sgn[j] * (plant.q[j] - pred.zero_rad[j]) / step) for j in range(n_j)]
+        c = [math.floor(sgn[j] * (plant.q[j] - pred.zero_rad[j]) / step[j]) for j in range(n_j)]
         counts[k] = c
         q_read = pred.angles(np.array(c))[0]
         tg = ff(q_read) if ff is not None else None
