@@ -109,7 +109,9 @@ class MujocoPlant:
     actuators :attr:`MOTORS` (a subclass names them): link masses and inertias scaled by
     ``c_link``, each motor joint's armature the true rotor inertia, Coulomb friction its
     ``frictionloss`` (hard: solref at 2 time steps; MuJoCo's default softness is 20 ms),
-    viscous its ``damping``, the offsets constant applied torques; gravity ``gravity_m_s2``
+    viscous its ``damping``, the offsets constant applied torques, each motor driven with its
+    joint torque over its MJCF ``gear`` (a capstan's n: MuJoCo applies gear x ctrl at the
+    joint; ``tau_max_Nm`` is the joint's bound); gravity ``gravity_m_s2``
     (None: the model's own) times ``gravity_scale``; the loops re-closed after a placement
     (:func:`cad.sim.mj.close_loops`: hinge and ball joints); a motor joint beyond [lo, hi]
     is put back at the stop at rest (an inelastic stop), checked every MuJoCo step. Where the
@@ -136,8 +138,11 @@ class MujocoPlant:
             m.dof_frictionloss[v] = tr["Tc_Nm"][k]
         g = np.asarray(m.opt.gravity if gravity_m_s2 is None else gravity_m_s2, float)
         m.opt.gravity[:] = g * tr["gravity_scale"]
-        for a in self.ia:
-            m.actuator_ctrlrange[a] = m.actuator_forcerange[a] = (-tau_max_Nm, tau_max_Nm)
+        # a joint motor with a transmission (MJCF gear n: joint torque = n ctrl) is driven by the
+        # joint torque / n; its range is the joint's over n
+        self.gear = [float(m.actuator_gear[a, 0]) for a in self.ia]
+        for a, n in zip(self.ia, self.gear, strict=True):
+            m.actuator_ctrlrange[a] = m.actuator_forcerange[a] = (-tau_max_Nm / n, tau_max_Nm / n)
         self.T0, self.lo, self.hi = tr["offset_Nm"], list(lo), list(hi)
         self.s, self.c = ([1.0] * len(self.iq), [0.0] * len(self.iq)) if joint_map is None else joint_map
         self._Te = None
@@ -168,8 +173,8 @@ class MujocoPlant:
     def advance(self, tau, Te: float) -> None:
         """One control period ``Te`` (s) with the joint torques ``tau`` (N m) applied."""
         nsub = self._timestep(Te)
-        for a, t, sj in zip(self.ia, tau, self.s, strict=True):  # tau q' = tau_mjcf q_mjcf'
-            self.d.ctrl[a] = sj * t
+        for a, t, sj, n in zip(self.ia, tau, self.s, self.gear, strict=True):  # tau q' = tau_mjcf q_mjcf'
+            self.d.ctrl[a] = sj * t / n
         self.d.qfrc_applied[:] = 0.0
         for v, t0, sj in zip(self.iv, self.T0, self.s, strict=True):
             self.d.qfrc_applied[v] = -sj * t0

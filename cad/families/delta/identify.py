@@ -207,7 +207,8 @@ def simulate(design, pred: PredictionDelta, p: dict, seed: int, mjcf) -> tuple:
     tr = bench_joints.truth(pred, p)
     plan = pred.plan
     lo, hi = bench_joints.stop_range(plan)
-    plant = MujocoPlantDelta(mjcf, tr, lo, hi, 2 * abs(tr["kt_Nm_per_A"]) * pred.i_max_A)
+    kt = max(abs(k) for k in identify_joints.per_joint(tr["kt_Nm_per_A"], 3))  # the largest joint's
+    plant = MujocoPlantDelta(mjcf, tr, lo, hi, 2 * kt * pred.i_max_A)
     qh = hand_path(pred, design, int(math.ceil(plan.T_hand_s / plan.Te_s)))
     t, counts, cmd = bench_joints.run(pred, plant, tr, qh, pred.gravity_ff, seed)
     tr["model"] = "mujoco"
