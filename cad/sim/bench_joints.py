@@ -61,6 +61,16 @@ STATUS_WORDS = {excitation2.DONE: "done", excitation2.RANGE: "stopped: a joint l
                 excitation2.ENCODER: "stopped: a joint moved against the hand move"}
 
 
+def count_steps_rad(pred) -> list[float]:
+    """Each joint's angle per encoder count (rad), as the firmware reads it (``pred.angles``:
+    2 pi / (counts_per_rev n_j), n_j the joint's transmission ratio; 2 pi / counts_per_rev
+    where the encoder is on the joint)."""
+    n, motor = pred.n_joints, 2 * math.pi / pred.counts_per_rev
+    d = pred.angles(np.eye(n)) - pred.angles(np.zeros((1, n)))
+    return [motor if math.isclose(abs(float(d[j, j])), motor, rel_tol=1e-12) else abs(float(d[j, j]))
+            for j in range(n)]
+
+
 def run(pred, plant, tr: dict, qh: np.ndarray, ff, seed: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(t_s (N,), counts (N, n), commanded currents (N, n) A) of one run of the routine on
     ``plant`` (``place(q)``, ``advance(tau, Te)``, ``q``) with the true parameters ``tr``,
@@ -69,7 +79,7 @@ def run(pred, plant, tr: dict, qh: np.ndarray, ff, seed: int) -> tuple[np.ndarra
     rng = np.random.default_rng(seed)
     plan, n_j = pred.plan, pred.n_joints
     n, Te = plan.n_samples, plan.Te_s
-    step = 2 * math.pi / pred.counts_per_rev
+    step = count_steps_rad(pred)
     sgn = [d * tr["encoder_direction"] for d in pred.direction]
     noise = rng.normal(0.0, tr["current_noise_A"], (n, n_j)).tolist()
     delay, ktt = tr["delay_samples"], identify_joints.per_joint(tr["kt_Nm_per_A"], n_j)
@@ -78,7 +88,7 @@ def run(pred, plant, tr: dict, qh: np.ndarray, ff, seed: int) -> tuple[np.ndarra
     for k in range(n):
         if k < len(qh):
             plant.place(qh[k])
-        c = [math.floor(sgn[j] * (plant.q[j] - pred.zero_rad[j]) / step) for j in range(n_j)]
+        c = [math.floor(sgn[j] * (plant.q[j] - pred.zero_rad[j]) / step[j]) for j in range(n_j)]
         counts[k] = c
         q_read = pred.angles(np.array(c))[0]
         tg = ff(q_read) if ff is not None else None
@@ -99,7 +109,9 @@ class MujocoPlant:
     actuators :attr:`MOTORS` (a subclass names them): link masses and inertias scaled by
     ``c_link``, each motor joint's armature the true rotor inertia, Coulomb friction its
     ``frictionloss`` (hard: solref at 2 time steps; MuJoCo's default softness is 20 ms),
-    viscous its ``damping``, the offsets constant applied torques; gravity ``gravity_m_s2``
+    viscous its ``damping``, the offsets constant applied torques, each motor driven with its
+    joint torque over its MJCF ``gear`` (a capstan's n: MuJoCo applies gear x ctrl at the
+    joint; ``tau_max_Nm`` is the joint's bound); gravity ``gravity_m_s2``
     (None: the model's own) times ``gravity_scale``; the loops re-closed after a placement
     (:func:`cad.sim.mj.close_loops`: hinge and ball joints); a motor joint beyond [lo, hi]
     is put back at the stop at rest (an inelastic stop), checked every MuJoCo step. Where the
@@ -126,8 +138,11 @@ class MujocoPlant:
             m.dof_frictionloss[v] = tr["Tc_Nm"][k]
         g = np.asarray(m.opt.gravity if gravity_m_s2 is None else gravity_m_s2, float)
         m.opt.gravity[:] = g * tr["gravity_scale"]
-        for a in self.ia:
-            m.actuator_ctrlrange[a] = m.actuator_forcerange[a] = (-tau_max_Nm, tau_max_Nm)
+        # a joint motor with a transmission (MJCF gear n: joint torque = n ctrl) is driven by the
+        # joint torque / n; its range is the joint's over n
+        self.gear = [float(m.actuator_gear[a, 0]) for a in self.ia]
+        for a, n in zip(self.ia, self.gear, strict=True):
+            m.actuator_ctrlrange[a] = m.actuator_forcerange[a] = (-tau_max_Nm / n, tau_max_Nm / n)
         self.T0, self.lo, self.hi = tr["offset_Nm"], list(lo), list(hi)
         self.s, self.c = ([1.0] * len(self.iq), [0.0] * len(self.iq)) if joint_map is None else joint_map
         self._Te = None
@@ -158,8 +173,8 @@ class MujocoPlant:
     def advance(self, tau, Te: float) -> None:
         """One control period ``Te`` (s) with the joint torques ``tau`` (N m) applied."""
         nsub = self._timestep(Te)
-        for a, t, sj in zip(self.ia, tau, self.s, strict=True):  # tau q' = tau_mjcf q_mjcf'
-            self.d.ctrl[a] = sj * t
+        for a, t, sj, n in zip(self.ia, tau, self.s, self.gear, strict=True):  # tau q' = tau_mjcf q_mjcf'
+            self.d.ctrl[a] = sj * t / n
         self.d.qfrc_applied[:] = 0.0
         for v, t0, sj in zip(self.iv, self.T0, self.s, strict=True):
             self.d.qfrc_applied[v] = -sj * t0

@@ -36,7 +36,7 @@ from cad.families.delta.design import JOINTS
 from cad.families.delta.dynamics import mass_matrix_from_bodies_kg
 from cad.families.delta.layout import body_poses
 from cad.families.delta.sim import sim_model
-from cad.families.delta.structure import first_mode, peak_stress_over
+from cad.families.delta.structure import first_mode, peak_stress_over, sections_from_parts
 from cad.pipeline import family
 from cad.pipeline.run import Stages, run_family
 from cad.pipeline.views import write_sim_model
@@ -99,7 +99,8 @@ def _dynamics(b) -> DeltaDynamics:
     """Lambda(x) over the workspace grid from the body mass properties and each motor's rotor
     through its transmission (n^2 (J_m + J_capstan), the resolved device's), the first mode at
     the centre (the capstans' ropes as springs at the motor axes, the drums' solids on the
-    arms: :func:`drum_props`), the stresses at each
+    arms: :func:`drum_props`, the rods' end joints the drawn parts' masses:
+    :func:`cad.families.delta.structure.sections_from_parts`), the stresses at each
     motor's peak torque through its ratio."""
     d, X = b.design, b.model.extra.workspace_mm
     dev = resolve_device(d)
@@ -111,7 +112,8 @@ def _dynamics(b) -> DeltaDynamics:
     hi, lo = int(np.argmax(eig[:, -1])), int(np.argmin(eig[:, 0]))
     centre = np.asarray(d.workspace["center_mm"], float)
     on_arms = [x for x in b.model.instances if x.body.startswith("upper_") and ".capstan_" in x.name]
-    st = first_mode(d.mechanism, centre, d.parallelogram_width_mm,
+    sec = sections_from_parts(d.mechanism.effector_radius_mm, d.parallelogram_width_mm, b.instances, b.props)
+    st = first_mode(d.mechanism, centre, d.parallelogram_width_mm, sec,
                     rope_k_Nm_per_rad=rope_stiffness_Nm_per_rad(d, dev),
                     drums=drum_props(on_arms, b.props) if on_arms else None)
     taus = np.array([mot.spec.torque_peak_mNm * 1e-3 * dev.transmission(j).ratio for j in JOINTS])

@@ -12,7 +12,11 @@ the arm's hub (its bore the hub's diameter). The drum's arc covers both tangent 
 the design's whole motor-angle range plus an anchor at each end
 (:func:`cad.actuators.capstan_geometry.drum_arc_link_deg`: span 2 gamma + range + 2 anchor
 arcs). The runs are fixed in the base frame between the external tangent points of the two
-pitch circles (:func:`cad.actuators.capstan_geometry.external_tangent_points_mm`).
+pitch circles (:func:`cad.actuators.capstan_geometry.external_tangent_points_mm`). The drum's
+rim carries the rope's groove between its anchors as the four-bar's (:func:`cad.parts.capstan.
+drum_sector_shape`: the groove's bottom the rope's inner side, the crests
+:func:`cad.actuators.capstan_geometry.groove_depth_mm` above it, the arc
+:func:`cad.assembly.capstan_hardware.drum_groove_arc_deg`), the capstan its helical groove.
 """
 
 from __future__ import annotations
@@ -95,19 +99,23 @@ def arm_parts(design, i: int, t, K: dict, stack: dict) -> list[tuple[str, PartKi
     start, span = lo - gd - anchor, (hi - lo) + 2 * gd + 2 * anchor
     _, yr = rope_plane_mm(design, t, stack)
     th = fcs.DRUM_THICKNESS_MM
-    rd = cg.rim_radius_mm(dd, rope)
+    rd, h = cg.rim_radius_mm(dd, rope), cg.groove_depth_mm(rope)  # the groove's bottom, its depth
     anchors = (start + 0.5 * anchor, start + span - 0.5 * anchor)
     tap, depth = cat.tap_drill_mm(fcs.ANCHOR_SCREW), fcs.ANCHOR_SCREW_LENGTH_MM + pm.TAP_LEADOUT_MM
     kind = K.get("capstan_drum") or PartKind(
         "capstan_drum", shapes.drum_sector_shape(rd, hw.HUB_D_MM / 2, start, span, th,
-                                                 tuple((a, tap, depth) for a in anchors)),
+                                                 tuple((a, tap, depth) for a in anchors), rope_diameter_mm=rope,
+                                                 groove_arc_deg=fcs.drum_groove_arc_deg(rd, rope, anchors)),
         material=fcs.DRUM_MATERIAL, made=True,
-        description=(f"drum sector {dd:g} mm pitch (rim {2 * rd:g} mm), {span:.0f} deg arc, {th:g} mm "
-                     "thick, round the arm hub (bonded)"),
-        process=fcs.drum_process(th, "bonded round the arm hub"))
+        description=(f"drum sector {dd:g} mm pitch (groove bottom {2 * rd:g} mm, crests {2 * (rd + h):.4g} mm), "
+                     f"{span:.0f} deg arc, {th:g} mm thick, round the arm hub (bonded)"),
+        process=fcs.drum_process(th, "bonded round the arm hub",
+                                 f"turn the rope groove ({rope:g} mm rope, {h:.3g} mm deep) at mid-thickness "
+                                 "between the anchors"))
     K["capstan_drum"] = kind
     tf = translation(0, yr - th / 2, 0) @ ALONG_Y
-    at = [tf @ translation(0, 0, th / 2) @ rot_z(a) @ translation(rd, 0, 0) @ RY90 for a in anchors]
+    seat = rd + h  # the heads and the tensioner's nut sit on the crests
+    at = [tf @ translation(0, 0, th / 2) @ rot_z(a) @ translation(seat, 0, 0) @ RY90 for a in anchors]
     return [(f"upper_{i}.capstan_drum", kind, tf), *_anchor_parts(i, t, K, at)]
 
 

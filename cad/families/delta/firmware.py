@@ -121,17 +121,6 @@ def spec_params(design, report: dict, device) -> SpecParams:
                       gravity_m_s2=GRAVITY_M_S2)
 
 
-def uniform_ratio(device) -> float:
-    """The transmission ratio n the three arms share (the identification's model takes one
-    ratio for all three motors); DesignError naming ``transmission`` when the
-    ``[[transmission]]`` tables give the arms different ratios."""
-    ns = {t.ratio for t in device.transmissions}
-    if len(ns) != 1:
-        raise DesignError("transmission", f"the arms' ratios differ ({sorted(ns)}): the delta's "
-                          "identification takes one transmission for all three arms")
-    return ns.pop()
-
-
 _CODE = {D.STATUS_OK: STATUS["HC_OK"], D.STATUS_UNREACHABLE: STATUS["HC_ERR_CLOSURE"],
          D.STATUS_NO_ASSEMBLY: STATUS["HC_ERR_CLOSURE"], D.STATUS_JOINT_LIMIT: STATUS["HC_ERR_RANGE"],
          D.STATUS_SINGULAR_SERIAL: STATUS["HC_ERR_SINGULAR"],

@@ -7,7 +7,12 @@ Prediction (:func:`predict`, from the build's ``report.json`` bodies and the res
 * the links' joint-space mass matrix M(q) = J_x^T Lambda_links(x) J_x (J_x = dx/dq = J^-1,
   Lambda of the solids without the rotors, :func:`cad.families.delta.dynamics.
   mass_matrix_from_bodies_kg`), their inverse dynamics by Euler-Lagrange
-  (:func:`cad.identify.jointn.lagrange_torques`), the rotors n^2 J_m on each motor;
+  (:func:`cad.identify.jointn.lagrange_torques`), each arm's rotor through its own
+  transmission, n_i^2 (J_m + J_capstan,i) (:meth:`cad.device.ResolvedDevice.
+  joint_rotor_inertia_kg_m2`);
+* each arm's own ratio n_i (``[[transmission]]`` may give the arms different ones): counts ->
+  joint angle through n_i (the firmware's ``HC_GEAR``, :func:`cad.firmware.spec.
+  angles_from_counts`), current -> joint torque n_i K_t, Coulomb friction n_i K_t I_0;
 * the solids' gravity hold torques (:func:`cad.families.delta.dynamics.gravity_hold_torques_Nm`),
   the firmware's feed-forward (the point-mass model ``hc_gravity_torques``,
   :func:`cad.dynamics.delta.gravity_torques_Nm`);
@@ -32,7 +37,7 @@ from cad.device import resolve_device
 from cad.dynamics.delta import DeltaMass, gravity_torques_Nm
 from cad.errors import DesignError
 from cad.families.delta.dynamics import gravity_hold_torques_Nm, mass_matrix_from_bodies_kg
-from cad.families.delta.firmware import DELTA, mass_of, props_of, uniform_ratio
+from cad.families.delta.firmware import DELTA, mass_of, props_of
 from cad.firmware.device import device_spec
 from cad.firmware.model import KinematicModel
 from cad.firmware.spec import angles_from_counts, motor_data
@@ -53,7 +58,9 @@ MODEL_WORDS = ("s_j Kt i_j(t - n Te) = c_link tau_links_j(q, q', q'') (Euler-Lag
 
 @dataclass(frozen=True)
 class PredictionDelta:
-    """A delta's predicted figures (module docstring); SI units, tuples per motor."""
+    """A delta's predicted figures (module docstring); SI units, tuples per motor: the
+    reflected rotor n_i^2 (J_m + J_capstan,i) (kg m^2), the joint torque per ampere n_i K_t
+    (N m/A) and the Coulomb friction n_i K_t I_0 (N m) of each arm's own ratio n_i."""
 
     name: str
     design_hash: str
@@ -61,9 +68,9 @@ class PredictionDelta:
     width_mm: float
     props: dict
     mass: DeltaMass
-    rotor_kg_m2: float
+    rotor_kg_m2: tuple[float, ...]
     Te_s: float
-    kt_Nm_per_A: float
+    kt_Nm_per_A: tuple[float, ...]
     i_max_A: float
     counts_per_rev: int
     direction: tuple[int, ...]
@@ -71,7 +78,7 @@ class PredictionDelta:
     q_min_rad: tuple[float, ...]
     q_max_rad: tuple[float, ...]
     q_home_rad: tuple[float, ...]
-    Tc_Nm: float | None
+    Tc_Nm: tuple[float, ...] | None
     friction_source: str
     spec: object  # cad.firmware.spec.DeviceSpec
     plan: excitation2.Plan2 | None
@@ -94,8 +101,8 @@ class PredictionDelta:
         return np.swapaxes(Jx, 1, 2) @ lam @ Jx
 
     def joint_mass_kg(self, q) -> np.ndarray:
-        """:meth:`link_mass_kg` plus each motor's rotor (n^2 J_m) on the diagonal."""
-        return self.link_mass_kg(q) + self.rotor_kg_m2 * np.eye(3)
+        """:meth:`link_mass_kg` plus each arm's rotor (n_i^2 (J_m + J_c,i)) on the diagonal."""
+        return self.link_mass_kg(q) + np.diag(self.rotor_kg_m2)
 
     def gravity(self, q) -> np.ndarray:
         """The solids' gravity hold torques (N, 3) N m at q (N, 3)."""
@@ -118,7 +125,7 @@ class PredictionDelta:
 
     def task_mass_kg(self, q, c_link: float = 1.0, J=None) -> np.ndarray:
         """Lambda (3, 3) kg at q (1, 3) of the given parameters (default: the prediction)."""
-        J = (self.rotor_kg_m2,) * 3 if J is None else J
+        J = self.rotor_kg_m2 if J is None else J
         A, *B = self.task_mass_terms(q)
         return c_link * A + sum(j * b for j, b in zip(J, B, strict=True))
 
@@ -141,7 +148,7 @@ def _plan(pred: PredictionDelta, device) -> excitation2.Plan2:
     motor = motor_data(device.motor.spec)
     home = np.array([pred.q_home_rad])
     J = jacobian_rad_per_m(pred.delta, pred.points_mm(home))[0][0]
-    g_A = float(np.max(np.abs(pred.gravity_ff(home[0])))) / pred.kt_Nm_per_A
+    g_A = float(np.max(np.abs(pred.gravity_ff(home[0])) / np.asarray(pred.kt_Nm_per_A)))
     try:
         return excitation2.plan2(TE_S, pred.kt_Nm_per_A, motor.current_continuous_A, pred.q_min_rad, pred.q_max_rad,
                                  pred.q_home_rad, np.diag(pred.joint_mass_kg(home)[0]), np.sign(J[:, 2]),
@@ -160,14 +167,16 @@ def predict(design, report: dict) -> PredictionDelta:
     d = design.mechanism
     wide = dataclasses.replace(d, theta_min_rad=-math.pi, theta_max_rad=math.pi)  # limits are not physics
     lo, hi = _ranges(design, d)
-    n = uniform_ratio(device)
+    joints = tuple(f"theta_{i}" for i in range(3))
+    n = [device.transmission(j).ratio for j in joints]  # each arm's own
     motor = motor_data(device.motor.spec)
     Tc, src = identify_joints.motor_friction(device)
     pred = PredictionDelta(design.name, h, wide, design.parallelogram_width_mm, props_of(report), mass_of(spec),
-                           device.joint_rotor_inertia_kg_m2("theta_0"), TE_S, n * motor.kt_Nm_per_A,
-                           motor.current_continuous_A, device.encoder.counts_per_rev,
-                           tuple(int(x) for x in spec.encoder_direction), tuple(spec.encoder_zero_rad), lo, hi,
-                           tuple(spec.q_home_rad), None if Tc is None else n * Tc, src, spec, None)
+                           tuple(device.joint_rotor_inertia_kg_m2(j) for j in joints), TE_S,
+                           tuple(k * motor.kt_Nm_per_A for k in n), motor.current_continuous_A,
+                           device.encoder.counts_per_rev, tuple(int(x) for x in spec.encoder_direction),
+                           tuple(spec.encoder_zero_rad), lo, hi, tuple(spec.q_home_rad),
+                           None if Tc is None else tuple(k * Tc for k in n), src, spec, None)
     return dataclasses.replace(pred, plan=_plan(pred, device))
 
 
@@ -198,7 +207,8 @@ def simulate(design, pred: PredictionDelta, p: dict, seed: int, mjcf) -> tuple:
     tr = bench_joints.truth(pred, p)
     plan = pred.plan
     lo, hi = bench_joints.stop_range(plan)
-    plant = MujocoPlantDelta(mjcf, tr, lo, hi, 2 * abs(tr["kt_Nm_per_A"]) * pred.i_max_A)
+    kt = max(abs(k) for k in identify_joints.per_joint(tr["kt_Nm_per_A"], 3))  # the largest joint's
+    plant = MujocoPlantDelta(mjcf, tr, lo, hi, 2 * kt * pred.i_max_A)
     qh = hand_path(pred, design, int(math.ceil(plan.T_hand_s / plan.Te_s)))
     t, counts, cmd = bench_joints.run(pred, plant, tr, qh, pred.gravity_ff, seed)
     tr["model"] = "mujoco"

@@ -15,8 +15,9 @@ centre, its rotary inertia about that centre: :meth:`Frame3D.rigid_mass`) adds t
 clamped at its motor axis (boundary condition: motors held by the servo at infinite gain,
 base and brackets rigid), the elbow and effector cross bars and the effector plate
 beams, the twelve rods trusses between the ball-joint centres, the effector with its
-handle a point mass at the effector centre, each capstan's drum sector (the solids' mass
-properties) a rigid mass on its upper arm at the motor axis. With Stamper's joint offset (g > 0, the Falcon)
+handle a point mass at the effector centre, the joint parts at each rod end a point mass at
+that end (a build's drawn parts: :func:`sections_from_parts`), each capstan's drum sector (the
+solids' mass properties) a rigid mass on its upper arm at the motor axis. With Stamper's joint offset (g > 0, the Falcon)
 each arm is a fork with a knee link on a pin and the rods are beams hinged at the knee
 (:func:`knee_arm`). Dimensions and materials: :mod:`.hardware`.
 """
@@ -254,7 +255,10 @@ def round_section(od_m: float, id_m: float, material: str) -> Section:
 class DeltaSections:
     """Sections of the delta's members and its lumped masses (SI): arm, cross bar, effector
     plate beams (centre -> cross bar), rod E A (N) and mass per metre (kg/m), effector with
-    handle (kg, at the centre), one ball joint (kg, half at each rod end)."""
+    handle (kg, at the centre), the joint parts at each rod's top end (the elbow's ball stud
+    and socket; with a knee, g > 0, the knee hinge: clevis, hinge pin, bearing and the rod's
+    eye) and at its bottom end (the effector's ball stud and socket), kg at that end's node.
+    A build reads both from its drawn parts (:func:`sections_from_parts`)."""
 
     arm: Section
     cross_bar: Section
@@ -262,7 +266,8 @@ class DeltaSections:
     rod_EA_N: float
     rod_kg_per_m: float
     effector_kg: float
-    joint_kg: float
+    top_joint_kg: float
+    bottom_joint_kg: float
     #: the rods as beams (their section), used with Stamper's knee (g > 0) only: None ->
     #: the carbon tube of :mod:`.hardware`.
     rod: Section | None = None
@@ -270,7 +275,10 @@ class DeltaSections:
 
 def default_sections(effector_radius_mm: float, width_mm: float) -> DeltaSections:
     """The :mod:`.hardware` members: arm plate, cross bars, effector plate (width = the
-    effector disk's diameter), carbon rods, aluminium effector disk + handle, ball joints."""
+    effector disk's diameter), carbon rods, aluminium effector disk + handle, and at each rod
+    end one ball joint (stud + socket, :data:`.hardware.BALL_JOINT` ``mass_g``: the parts a
+    delta without a knee draws there). Without the solids a knee's hinge is not known: a
+    build takes the joints' masses from its parts (:func:`sections_from_parts`)."""
     rod = round_section(hw.ROD_OD_MM * MM, hw.ROD_ID_MM * MM, hw.ROD_MATERIAL)
     rho_al = get_material(hw.PLATE_MATERIAL).density_kg_m3
     r_disk = hw.effector_disk_radius_mm(effector_radius_mm, width_mm) * MM
@@ -281,7 +289,41 @@ def default_sections(effector_radius_mm: float, width_mm: float) -> DeltaSection
         cross_bar=round_section(hw.CROSS_BAR_D_MM * MM, 0.0, hw.ARM_MATERIAL),
         effector=rect_section(2 * r_disk, hw.EFFECTOR_THICKNESS_MM * MM, hw.PLATE_MATERIAL),
         rod_EA_N=rod.E * rod.A, rod_kg_per_m=rod.rho * rod.A, effector_kg=eff_kg,
-        joint_kg=hw.BALL_JOINT.mass_g * 1e-3, rod=rod)
+        top_joint_kg=hw.BALL_JOINT.mass_g * 1e-3, bottom_joint_kg=hw.BALL_JOINT.mass_g * 1e-3, rod=rod)
+
+
+#: The instances (names after the body's ``lower_{i}_{side}`` / ``knee_{i}`` / ``upper_{i}`` /
+#: ``effector`` prefix, :mod:`.assembly`) lumped at each rod end of the frame model.
+TOP_JOINT_PARTS = ("lower_{i}_{s}.socket_top", "upper_{i}.ball_stud_{s}",  # ball joint (g = 0)
+                   "lower_{i}_{s}.eye", "lower_{i}_{s}.knee_bearing",       # knee hinge (g > 0)
+                   "knee_{i}.clevis_{s}", "knee_{i}.hinge_pin_{s}")
+BOTTOM_JOINT_PARTS = ("lower_{i}_{s}.socket_bottom", "effector.arm_{i}.ball_stud_{s}")
+
+
+def rod_end_masses_kg(instances, props: dict) -> np.ndarray:
+    """(3, 2, 2) kg: the joint parts drawn at each rod's (arm i, side a/b) top and bottom end
+    (:data:`TOP_JOINT_PARTS`, :data:`BOTTOM_JOINT_PARTS`), summed from the per-kind mass
+    properties the bodies, the BOM and Lambda(x) read (``props``:
+    :func:`cad.pipeline.family.kind_props`: the solids' or a bought part's stated mass)."""
+    mass = {x.name: props[x.kind.name].mass_kg for x in instances if props.get(x.kind.name) is not None}
+    out = np.zeros((3, 2, 2))
+    for i in range(3):
+        for k, s in enumerate("ab"):
+            for e, names in enumerate((TOP_JOINT_PARTS, BOTTOM_JOINT_PARTS)):
+                out[i, k, e] = sum(mass.get(n.format(i=i, s=s), 0.0) for n in names)
+    return out
+
+
+def sections_from_parts(effector_radius_mm: float, width_mm: float, instances, props: dict) -> DeltaSections:
+    """:func:`default_sections` with the rod ends' joint masses of the drawn parts
+    (:func:`rod_end_masses_kg`: the six rods' ends alike; ValueError, a layout bug, when they
+    differ by more than 1e-9 relative)."""
+    m = rod_end_masses_kg(instances, props).reshape(6, 2)
+    if np.ptp(m, axis=0).max() > 1e-9 * m.max():
+        raise ValueError(f"the six rods' joint masses differ: {m.tolist()} kg")
+    top, bottom = m.mean(axis=0)
+    return dataclasses.replace(default_sections(effector_radius_mm, width_mm), top_joint_kg=float(top),
+                               bottom_joint_kg=float(bottom))
 
 
 def fork_section(plate: Section) -> Section:
@@ -323,8 +365,8 @@ def knee_arm(f: Frame3D, d: Delta, i: int, pts: dict, sec: DeltaSections, c: int
         f.beam(top, tb, sec.cross_bar, k, label=f"knee cross bar {i}")
         f.beam(bc, bb, sec.cross_bar, d.radial[i], label=f"effector cross bar {i}")
         f.released_beam(tb, bb, rod, n, (5, 9, 10, 11), label=f"rod {i}")
-        f.add_mass(tb, sec.joint_kg / 2)
-        f.add_mass(bb, sec.joint_kg / 2)
+        f.add_mass(tb, sec.top_joint_kg)
+        f.add_mass(bb, sec.bottom_joint_kg)
     return a
 
 
@@ -386,8 +428,8 @@ def delta_frame(d: Delta, P_mm, width_mm: float, sec: DeltaSections,
             f.beam(e, top, sec.cross_bar, u, label=f"elbow cross bar {i}")
             f.beam(bc, bot, sec.cross_bar, u, label=f"effector cross bar {i}")
             f.truss(top, bot, sec.rod_EA_N, sec.rod_kg_per_m * d.lower_arm_mm * MM)
-            f.add_mass(top, sec.joint_kg / 2)
-            f.add_mass(bot, sec.joint_kg / 2)
+            f.add_mass(top, sec.top_joint_kg)
+            f.add_mass(bot, sec.bottom_joint_kg)
     return f, c
 
 
@@ -414,7 +456,8 @@ def first_mode(d: Delta, P_mm, width_mm: float, sec: DeltaSections | None = None
     {"first_mode_Hz", "modes_Hz" (3,), "mode_direction" (3,) unit effector motion of the
     first mode, "compliance_m_per_N" (3, 3) effector displacement per force at its centre,
     "compliance_max_um_per_N" its largest eigenvalue (worst direction), "boundary":
-    sentence}. Sections default to :func:`default_sections`; ``rope_k_Nm_per_rad`` (3,) the
+    sentence}. Sections default to :func:`default_sections` (a build passes
+    :func:`sections_from_parts`: the rods' end joints as drawn); ``rope_k_Nm_per_rad`` (3,) the
     capstans' rope springs at the motor axes (:func:`delta_frame`), None: clamped; ``drums``
     (3,) the drum sectors' mass properties on the upper arms (:func:`delta_frame`)."""
     sec = sec or default_sections(d.effector_radius_mm, width_mm)
@@ -435,7 +478,9 @@ def first_mode(d: Delta, P_mm, width_mm: float, sec: DeltaSections | None = None
                            "the parallelogram's plane) and on balls at the effector; "
                            if d.joint_offset_mm > 0 else
                            "rods pin-ended between the ball-joint centres; ")
-                        + "effector and handle a point mass at its centre"
+                        + "effector and handle a point mass at its centre; the joint parts at each rod's "
+                          f"top and bottom end point masses ({1e3 * sec.top_joint_kg:.4g} g, "
+                          f"{1e3 * sec.bottom_joint_kg:.4g} g)"
                         + ("; each capstan drum sector with its anchor screws a rigid mass and "
                            "inertia on its upper arm (the solids' mass properties, "
                            f"{', '.join(f'{1e3 * m:.4g}' for m in drum_kg)} g)" if drum_kg else "")}

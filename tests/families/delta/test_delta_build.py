@@ -155,10 +155,12 @@ def test_the_falcon_builds_and_its_mjcf_and_firmware_carry_the_knee(tmp_path):
     frame model's; the notes say the motor is not the Falcon's."""
     from cad.device import resolve_device
     from cad.export.sim import mjcf_text
+    from cad.families.delta.assembly import assemble
     from cad.families.delta.dynamics import delta_mass_from_bodies, mass_matrix_from_bodies_kg
     from cad.families.delta.sim import sim_model
-    from cad.families.delta.structure import first_mode
+    from cad.families.delta.structure import first_mode, sections_from_parts
     from cad.massprops.props import MassProps
+    from cad.pipeline import family
     from tests.families.delta.test_delta_sim import nullspace_lambda
 
     d = cad.load_design(ROOT / "designs" / "delta_falcon.toml")
@@ -182,6 +184,8 @@ def test_the_falcon_builds_and_its_mjcf_and_firmware_carry_the_knee(tmp_path):
     c = (out / "firmware" / "hapticad_device.c").read_text()
     assert f"M_KNEE = HC_R({mass.knee_kg!r})" in c and mass.knee_kg == bodies["knee_0"].mass_kg
     rows = {r["key"]: r for r in rep["datasheet"]["rows"]}
-    st = first_mode(d.mechanism, np.asarray(d.workspace["center_mm"]), d.parallelogram_width_mm)
+    inst = assemble(d, "preview").instances  # the knee hinges' drawn parts at the rods' top ends
+    sec = sections_from_parts(d.mechanism.effector_radius_mm, d.parallelogram_width_mm, inst, family.kind_props(inst))
+    st = first_mode(d.mechanism, np.asarray(d.workspace["center_mm"]), d.parallelogram_width_mm, sec)
     assert rows["first_mode_Hz"]["value"] == pytest.approx(st["first_mode_Hz"], rel=1e-12)
     assert any("not the Falcon's motors" in n for n in rep["datasheet"]["notes"])
