@@ -117,7 +117,8 @@ def test_apparent_mass_takes_the_resolved_rotor():
     d = _design(parts={"motor": "maxon-re40"}, motor={"rotor_inertia_g_cm2": 20.0})
     X = d.workspace_points()
     b = types.SimpleNamespace(design=d, model=types.SimpleNamespace(
-        extra=types.SimpleNamespace(workspace_mm=X), instances=()), bodies={})  # no solid: no drum
+        extra=types.SimpleNamespace(workspace_mm=X), instances=()), bodies={},
+        instances=(), props={})  # no solid: no drum, the rods' end joints by default
     dyn = _dynamics(b)
     assert dyn.rotor_inertia_kg_m2 == pytest.approx(20.0e-7, rel=1e-15)
     assert get_motor("maxon-re40").rotor_inertia_g_cm2 != 20.0  # the table, not the catalog
