@@ -148,7 +148,8 @@ class _MujocoPlant:
     link masses and inertias scaled by ``mass``, the rotor's armature by ``rotor``, Coulomb
     friction as the crank's ``frictionloss`` (hard, as :class:`cad.sim.wall.MujocoWall`),
     viscous as its ``damping``, the offset as a constant applied torque, gravity scaled; the
-    stops as in the reduced model."""
+    stops as in the reduced model. ``tau_max_Nm`` and the torques :meth:`advance` takes are the
+    crank's (through a capstan's n: :func:`cad.sim.mj.joint_torque_drive`)."""
 
     def __init__(self, mjcf, tr: dict, lo: float, hi: float, tau_max_Nm: float):
         import mujoco
@@ -164,7 +165,7 @@ class _MujocoPlant:
         m.dof_damping[self.iv] = tr["b_Nm_s_per_rad"]
         m.dof_frictionloss[self.iv] = tr["Tc_Nm"]
         m.opt.gravity[:] = m.opt.gravity * tr["gravity_scale"]
-        m.actuator_ctrlrange[0] = m.actuator_forcerange[0] = (-tau_max_Nm, tau_max_Nm)
+        self.gear = mj.joint_torque_drive(m, 0, tau_max_Nm)  # a capstan's n: ctrl = tau / n
         self.T0, self.lo, self.hi = tr["offset_Nm"], lo, hi
 
     def _timestep(self, Te: float) -> int:
@@ -187,7 +188,7 @@ class _MujocoPlant:
 
     def advance(self, tau: float, Te: float) -> None:
         nsub = self._timestep(Te)
-        self.d.ctrl[0] = tau
+        self.d.ctrl[0] = tau / self.gear
         self.d.qfrc_applied[:] = 0.0
         self.d.qfrc_applied[self.iv] = -self.T0
         for _ in range(nsub):

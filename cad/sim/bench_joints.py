@@ -140,9 +140,7 @@ class MujocoPlant:
         m.opt.gravity[:] = g * tr["gravity_scale"]
         # a joint motor with a transmission (MJCF gear n: joint torque = n ctrl) is driven by the
         # joint torque / n; its range is the joint's over n
-        self.gear = [float(m.actuator_gear[a, 0]) for a in self.ia]
-        for a, n in zip(self.ia, self.gear, strict=True):
-            m.actuator_ctrlrange[a] = m.actuator_forcerange[a] = (-tau_max_Nm / n, tau_max_Nm / n)
+        self.gear = [mj.joint_torque_drive(m, a, tau_max_Nm) for a in self.ia]
         self.T0, self.lo, self.hi = tr["offset_Nm"], list(lo), list(hi)
         self.s, self.c = ([1.0] * len(self.iq), [0.0] * len(self.iq)) if joint_map is None else joint_map
         self._Te = None

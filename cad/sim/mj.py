@@ -46,6 +46,16 @@ def joint_qpos(m, name: str) -> int:
     return int(m.jnt_qposadr[m.joint(name).id])
 
 
+def joint_torque_drive(m, a: int, tau_max_Nm: float) -> float:
+    """The MJCF ``gear`` n of joint motor ``a`` (a capstan's ratio: MuJoCo applies n x ctrl at the
+    joint, :mod:`cad.export.sim`; 1 for direct drive), with its control and force range set to the
+    joint's torque bound over n (``tau_max_Nm`` N m at the joint, so the motor's at the actuator).
+    Drive it with ``ctrl = tau_joint / n``; every MuJoCo plant (the wall, the benches) does."""
+    n = float(m.actuator_gear[a, 0])
+    m.actuator_ctrlrange[a] = m.actuator_forcerange[a] = (-tau_max_Nm / n, tau_max_Nm / n)
+    return n
+
+
 def equality_rows(m, d) -> tuple[np.ndarray, np.ndarray]:
     """(Jc (n_eq_rows, nv), residual (n_eq_rows,)) of the equality constraints at d."""
     import mujoco

@@ -94,8 +94,8 @@ MODELS = ("reduced", "mujoco")
 @dataclass(frozen=True)
 class WallSpec:
     """Controller and device parameters (SI). ``counts_per_rev``: encoder steps per crank
-    turn; ``tau_max_Nm``: motor peak torque; ``Fv``/``Fs``: eq (23) friction at the handle;
-    ``v0``: initial velocity into the wall."""
+    turn; ``tau_max_Nm``: peak torque at the crank (n x the motor's through a capstan);
+    ``Fv``/``Fs``: eq (23) friction at the handle; ``v0``: initial velocity into the wall."""
 
     Te_s: float
     counts_per_rev: float
@@ -247,8 +247,8 @@ class MujocoWall:
         self._load(mjcf_path)
         self.nsub = max(1, math.ceil(spec.Te_s / MJ_STEP_MAX_S))
         self.m.opt.timestep = spec.Te_s / self.nsub
-        self.m.actuator_ctrlrange[0] = (-spec.tau_max_Nm, spec.tau_max_Nm)
-        self.m.actuator_forcerange[0] = (-spec.tau_max_Nm, spec.tau_max_Nm)
+        # the crank's torque bound and commands through the MJCF gear (a capstan's n)
+        self.gear = self.mj.joint_torque_drive(self.m, 0, spec.tau_max_Nm)
         self.xhat = np.array([*tab.x_axis, 0.0])
 
     def _load(self, mjcf_path) -> None:
@@ -283,6 +283,11 @@ class MujocoWall:
         self.m.dof_solimp[self.v] = (0.9999, 0.9999, 0.001, 0.5, 2.0)
         self.mujoco.mj_forward(self.m, self.d)
 
+    def apply(self, tau_Nm: float) -> None:
+        """Command the crank torque ``tau_Nm`` (N m at the crank): the actuator's control is
+        tau / n through the MJCF gear n (:func:`cad.sim.mj.joint_torque_drive`)."""
+        self.d.ctrl[0] = tau_Nm / self.gear
+
     def handle_x(self) -> float:
         """Path coordinate of the handle site (m)."""
         return float((self.d.site_xpos[self.site, :2] - self.tab.origin_m) @ self.tab.x_axis)
@@ -307,7 +312,7 @@ class MujocoWall:
             en[k] = 0.5 * self.d.qvel @ M @ self.d.qvel
             if control:
                 tau, x_prev = _controller(tab, spec, np.array([self.d.qpos[self.q]]), x_prev, Ka, Ba)
-                self.d.ctrl[0] = float(tau[0])
+                self.apply(float(tau[0]))
             if hand:
                 self.mujoco.mj_jacSite(self.m, self.d, jp, None, self.site)
                 self.d.qfrc_applied[:] = jp.T @ (spec.hand_N * self.xhat)
