@@ -397,10 +397,11 @@ def suggest_parts(trial, pb: Problem) -> dict:
         "handle_height_mm": float(trial.suggest_int("handle_height_mm", 12, 25)),
         "handle_screw": trial.suggest_categorical("handle_screw", list(HANDLE_SCREWS)),
         # screened (:func:`screen_motor`) after the suggestions: until then the thickest shaft
-        # (the tube clevis is sized for it)
+        # (the tube clevis is sized for it), of those the strongest
         "motor": (trial.suggest_categorical("motor", list(MOTOR_CONTINUOUS_TORQUE_MNM))
                   if pb.motor_choice == "categorical"
-                  else max(MOTOR_CONTINUOUS_TORQUE_MNM, key=lambda k: MOTORS[k].shaft_diameter_mm)),
+                  else max(MOTOR_CONTINUOUS_TORQUE_MNM, key=lambda k: (MOTORS[k].shaft_diameter_mm,
+                                                                      MOTORS[k].torque_continuous_mNm))),
     })
     hub_d = parts.get("hub_diameter_mm", 20.0)
     parts["bar_end_radius_mm"] = end_radius_mm(bearing, w, parts.get("bar_min_wall_mm", 2.0), hub_d,
