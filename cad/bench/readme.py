@@ -387,13 +387,29 @@ def render_prototype_front(sources: list[tuple[str, str | None, dict[str, Any]]]
     return "\n".join(lines)
 
 
+def render_motor_choice(sources: list[tuple[str, str | None, dict[str, Any]]]) -> str:
+    """``hapticad bench --only motor_choice``: per brief and method, the best feasible cheap M11
+    of each seed, their mean and the seeds with no feasible trial (:mod:`cad.bench.motor_choice`)."""
+    lines = ["| brief (trials) | motor by | best cheap M11 per seed | mean | no feasible trial |",
+             "|---|---|---|---|---|"]
+    for _, _, d in sources:
+        mc = d.get("motor_choice", d)
+        for b in mc["briefs"]:
+            for method, m in b["methods"].items():
+                per = ", ".join("—" if r["best_M11_g"] is None else f"{r['best_M11_g']:.1f}" for r in m["runs"])
+                mean = "—" if m["mean_best_M11_g"] is None else f"**{m['mean_best_M11_g']:.1f} g**"
+                lines.append(f"| {Path(b['brief']).stem} ({b['trials']}) | {method} | {per} | {mean} | "
+                             f"{m['no_feasible']} of {len(m['runs'])} |")
+    return "\n".join(lines)
+
+
 RENDERERS: dict[str, Callable[[list], str]] = {
     "prototype-front": render_prototype_front,
     "goals": render_goals, "codesign": render_codesign, "candidates": render_candidates,
     "massprops": render_massprops, "voicecoil": render_voicecoil, "families": render_families,
     "synth": render_synth, "check": render_check, "tolerance": render_tolerance,
     "swap": render_swap, "datasheet": render_datasheet, "wall": render_wall,
-    "structure": render_structure, "figures": render_figures,
+    "structure": render_structure, "figures": render_figures, "motor-choice": render_motor_choice,
 }
 
 

@@ -23,9 +23,10 @@ TOPICS = {
     "sweep": "cad.bench.sweep",
     "capstan": "cad.bench.capstan",
     "optimize": "cad.bench.optimize",
+    "motor_choice": "cad.bench.motor_choice",
 }
 #: topics run only when named in --only (minutes of worker processes each)
-OPT_IN = ("sweep", "optimize")
+OPT_IN = ("sweep", "optimize", "motor_choice")
 
 
 def _cpu_s() -> float:

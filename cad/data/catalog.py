@@ -733,6 +733,48 @@ MOTORS["maxon-ec45flat"] = MotorSpec(
 )
 
 
+#: maxon RE 25, 20 W, graphite brushes, order number 118752 (24 V): the public motor-model file
+#: oliv5/apbteam ``digital/asserv/models/motor.m`` (commit 4839708f, "Maxon RE25G 20W 24V
+#: 118752"): speed constant 407 rpm/V, Kt 23.4 mN m/A, R 2.32 ohm, L 0.24 mH, J 10.3 g cm^2.
+#: It states no torque, current, no-load current or weight (nor does any other source read:
+#: issue 35 §2), so a build asks the design's [motor] for them and the search leaves it out.
+_RE25_FILE = ("oliv5/apbteam digital/asserv/models/motor.m (commit 4839708f1d60, 'Maxon RE25G 20W 24V "
+              "118752')")
+
+MOTORS["maxon-re25"] = MotorSpec(
+    key="maxon-re25",
+    description="maxon RE 25, 20 W, graphite brushes, 24 V, order number 118752",
+    body_diameter_mm=25.0,
+    body_length_mm=54.0,
+    pilot_diameter_mm=10.0,
+    pilot_height_mm=1.0,
+    bolt_circle_mm=16.0,
+    bolt_count=2,
+    bolt_size="M2-0.4",
+    shaft_diameter_mm=4.0,
+    shaft_length_mm=12.0,
+    mass_kg=None,
+    rotor_inertia_g_cm2=10.3,
+    source=_RE25_FILE,
+    bolt_thread_depth_mm=3.0,
+    winding="RE 25, 20 W, graphite brushes, order number 118752, 24 V",
+    torque_constant_mNm_per_A=23.4,
+    terminal_resistance_ohm=2.32,
+    sources=(("torque_constant_mNm_per_A", _RE25_FILE + ": Km = 23.4 / 1000 N m/A"),
+             ("terminal_resistance_ohm", _RE25_FILE + ": R = 2.32 ohm"),
+             ("rotor_inertia_g_cm2", _RE25_FILE + ": J = 10.3 g cm^2 (10.3 / 1000 / 10000 kg m^2)"),
+             *_missing("torque_continuous_mNm", "torque_peak_mNm", "stall_torque_mNm",
+                       "current_continuous_A", "thermal_resistance_housing_K_per_W",
+                       "thermal_resistance_winding_K_per_W", "no_load_current_mA", "mass_kg")),
+    dimension_notes=(
+        ("body_diameter_mm", _RE25_FILE + " (the 25 mm of the name)"),
+        ("body_length_mm", _ASSUMED), ("pilot_diameter_mm", _ASSUMED), ("pilot_height_mm", _ASSUMED),
+        ("bolt_circle_mm", _ASSUMED), ("bolt_count", _ASSUMED), ("bolt_size", _ASSUMED),
+        ("bolt_thread_depth_mm", _ASSUMED), ("shaft_diameter_mm", _ASSUMED), ("shaft_length_mm", _ASSUMED),
+    ),
+)
+
+
 def get_motor(key: str, field: str = "parts.motor") -> MotorSpec:
     if key not in MOTORS:
         raise DesignError(field, f"unknown motor {key!r} (catalog: {', '.join(MOTORS)})")

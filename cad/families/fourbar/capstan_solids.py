@@ -52,9 +52,10 @@ from cad.parts import capstan as shapes
 
 #: Candidate motor directions tried by :func:`motor_direction_deg`, deg (every 5 deg).
 _ALPHA_STEP_DEG = 5.0
-#: Radius about A2 kept clear of the drum's arc when the motor's direction is chosen (mm): the A2
-#: pin's nut and washer hang under the crank there. A layout choice; the interference check of
-#: the build is what proves the drum clear of them.
+#: Least radius about A2 kept clear of the drum's arc when the motor's direction is chosen (mm): the
+#: A2 pin's nut and washer hang under the crank there (the larger of this and the washer's or ring's
+#: radius plus ``clearance_min_mm``, :func:`a2_hardware_radius_mm`). A layout choice; the
+#: interference check of the build is what proves the drum clear of them.
 A2_HARDWARE_RADIUS_MM = 6.0
 #: The motor group's instances moved with the motor: names, and prefixes of numbered ones (the
 #: direct-drive shaft's envelope at A1 becomes the crank's axle, :func:`a1_support`).
@@ -91,6 +92,16 @@ def _segment_distance_mm(p, a, b) -> float:
     ab, ap = b - a, p - a
     s = float(np.clip(ap @ ab / (ab @ ab), 0.0, 1.0))
     return float(np.hypot(*(ap - s * ab)))
+
+
+def a2_hardware_radius_mm(parts) -> float:
+    """Plan radius (mm) of the A2 pin's washer and nut or retaining ring under its lower link:
+    the washer's outside diameter (catalog) or the ring's fitted outside diameter, whichever is
+    larger (issue 35: an M8 joint's 16 mm washer met the drum kept 6 mm off)."""
+    r = cat.get_washer(parts.pin).d2_mm / 2
+    if cat.is_dowel(parts.pin):
+        r = max(r, cat.get_retaining_ring(cat.dowel_diameter_mm(parts.pin)).d4_mm / 2)
+    return r
 
 
 def motor_direction_deg(design, J, gamma_rad: float, anchor_deg: float, keep_out_deg: float,
@@ -140,7 +151,8 @@ def placement(design, t, J, plan) -> CapstanPlacement:
     g = cg.tangent_half_angle_rad(dd, dc, C)
     anchor = math.degrees(2.0 * fcap.ANCHOR_LENGTH_MM / dd)
     a2 = float(np.hypot(*J["crank"]["A2"]))
-    keep = math.degrees(math.asin(min(1.0, A2_HARDWARE_RADIUS_MM / max(a2, A2_HARDWARE_RADIUS_MM))))
+    r_a2 = max(A2_HARDWARE_RADIUS_MM, a2_hardware_radius_mm(design.parts) + design.parts.clearance_min_mm)
+    keep = math.degrees(math.asin(min(1.0, r_a2 / max(a2, r_a2))))
 
     half = motor.mount_side_mm(cat.get_motor(design.parts.motor)) / 2
     post = cat.get_cap_screw(cat.standoff_screw(design.parts.pin), "parts.pin").dk_mm / 2

@@ -106,12 +106,37 @@ def check_study_dir(folder: Path, design, seed: int, options: dict) -> dict:
 def journal_storage(path: Path):
     """The optuna storage of the journal file ``path`` (created on first write), locked by a
     symbolic link (NFS-safe) that a waiting process breaks after :data:`LOCK_GRACE_S` seconds
-    without a write (a worker killed while holding it)."""
+    without a write (a worker killed while holding it); appends without fsync
+    (:func:`unsynced_backend`)."""
     from optuna.storages import JournalStorage
-    from optuna.storages.journal import JournalFileBackend, JournalFileSymlinkLock
+    from optuna.storages.journal import JournalFileSymlinkLock
 
     lock = JournalFileSymlinkLock(str(path), grace_period=LOCK_GRACE_S)
-    return JournalStorage(JournalFileBackend(str(path), lock_obj=lock))
+    return JournalStorage(unsynced_backend(str(path), lock))
+
+
+def unsynced_backend(path: str, lock):
+    """optuna's :class:`~optuna.storages.journal.JournalFileBackend` of ``path`` whose appends
+    write and flush each batch of log lines under ``lock`` and close the file, without
+    optuna's ``os.fsync`` per append (issue 35 §4: one fsync per suggested parameter, ~17 per
+    trial, took 63 % of a trial of the cheap model in one worker -- 3.47 of 5.51 s for 60
+    trials, in memory 1.42 s -- and serialized the workers on the disk under the lock). A
+    killed worker loses nothing written (the kernel holds it; a half line is cut on resume,
+    :func:`repair_journal`); a power cut may lose the last trials, which a resume runs again.
+    NFS clients flush on close, so other hosts read each append after it."""
+    from optuna.storages.journal import JournalFileBackend
+
+    class UnsyncedJournalFileBackend(JournalFileBackend):
+        def append_logs(self, logs: list[dict]) -> None:
+            text = "\n".join(json.dumps(log, separators=(",", ":")) for log in logs) + "\n"
+            lock.acquire()
+            try:
+                with open(path, "ab") as f:
+                    f.write(text.encode("utf-8"))
+            finally:
+                lock.release()
+
+    return UnsyncedJournalFileBackend(path, lock_obj=lock)
 
 
 def repair_journal(path: Path) -> list[str]:

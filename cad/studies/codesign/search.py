@@ -12,7 +12,9 @@ Free (per trial):
   brief's ``parts.process`` only what that process makes: :func:`bar_stock`, laser sheets or
   printing filaments; the process and its sheet / print settings are kept),
   width, pockets on/off (end radius: the smallest that holds the bearing seat and hub);
-* handle: material, diameter, height, screw; the motor (:data:`MOTOR_CONTINUOUS_TORQUE_MNM`);
+* handle: material, diameter, height, screw;
+* the motor: every catalog motor with the constants a build reads (:func:`searched_motors`),
+  screened per trial on the cheap model, least rotor inertia first (:func:`screen_motor`);
 * the layer order (``[parts] layer_order``): one of the 6 stackings of crank, coupler and
   rocker (:data:`LAYER_ORDERS`), unless the brief fixes it. The cheap model sees it: each
   joint's hardware rides on the link the plan gives it (bearing on the upper link, pin,
@@ -57,6 +59,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from cad.actuators import capstan as cap
+from cad.actuators import capstan_geometry as cap_geometry
 from cad.data import catalog as cat
 from cad.data.cables import get_cable, largest_rope_for
 from cad.data.catalog import MOTORS
@@ -69,7 +72,7 @@ from cad.device import resolve_device
 from cad.dynamics.inertia import InertiaCoefficients
 from cad.errors import HapticadError
 from cad.families.fourbar import capstan as fcap
-from cad.families.fourbar.capstan_solids import capstan_set_screw, placement
+from cad.families.fourbar.capstan_solids import a2_hardware_radius_mm, capstan_set_screw, placement
 from cad.families.fourbar.datasheet import force_rows, friction, lever, stiffness_inputs
 from cad.families.fourbar.layers import choose_layers
 from cad.families.fourbar.limits import fourbar_limits
@@ -143,9 +146,26 @@ def handle_materials(process: str = "machined") -> tuple[str, ...]:
 #: Layer orders searched (bottom to top), as optuna categorical strings "crank/coupler/rocker".
 LAYER_ORDERS = tuple("/".join(o) for o in itertools.permutations(("crank", "coupler", "rocker")))
 HANDLE_SCREWS = ("M3-0.5", "M4-0.7")
-#: Nominal (max. continuous) torque, mN m, of the searched motors: the catalog winding's
-#: ``torque_continuous_mNm`` (:data:`cad.data.catalog.MOTORS`, each with its data-sheet source).
-MOTOR_CONTINUOUS_TORQUE_MNM = {k: MOTORS[k].torque_continuous_mNm for k in ("maxon-re35", "maxon-re40")}
+
+
+def searched_motors() -> tuple[str, ...]:
+    """The catalog motors the search chooses among: every :data:`cad.data.catalog.MOTORS` entry
+    with each constant a build reads (:meth:`~cad.data.catalog.MotorSpec.missing_build_fields`
+    empty) and its friction torque Kt I0 (the datasheet's friction figure and the
+    ``--beat-prototype`` bound), ordered by rotor inertia J_m, least first (the screen's order:
+    :func:`screen_motor`)."""
+    ok = [k for k, m in MOTORS.items() if not m.missing_build_fields() and m.friction_torque_mNm() is not None]
+    return tuple(sorted(ok, key=lambda k: (MOTORS[k].rotor_inertia_g_cm2, k)))
+
+
+#: Nominal (max. continuous) torque, mN m, of the searched motors (:func:`searched_motors`): the
+#: catalog winding's ``torque_continuous_mNm`` (:data:`cad.data.catalog.MOTORS`, each with its
+#: data-sheet source).
+MOTOR_CONTINUOUS_TORQUE_MNM = {k: MOTORS[k].torque_continuous_mNm for k in searched_motors()}
+#: How a trial gets its motor: ``"screen"`` (default: every searched motor evaluated on the
+#: trial's linkage, parts and transmission, least rotor inertia first, the first that meets
+#: every check taken: :func:`screen_motor`) or ``"categorical"`` (one more TPE categorical).
+MOTOR_CHOICES = ("screen", "categorical")
 #: Starting points enqueued before the TPE search (a workshop's light guesses: the smallest
 #: joint set, carbon-fibre or aluminium plate, a small knob, both motors, two layer orders that
 #: keep the coupler above the crank hub).
@@ -208,6 +228,8 @@ class Problem:
     capstan: dict | None = None
     #: the capstan diameters searched (:func:`capstan_stock_mm`, computed once by :func:`run`)
     capstan_stock: tuple = ()
+    #: how a trial gets its motor (:data:`MOTOR_CHOICES`)
+    motor_choice: str = "screen"
 
 
 #: [parts] keys of the brief the search keeps as given (the rest it chooses).
@@ -374,7 +396,12 @@ def suggest_parts(trial, pb: Problem) -> dict:
         "handle_diameter_mm": float(trial.suggest_int("handle_diameter_mm", 12, 24, step=2)),
         "handle_height_mm": float(trial.suggest_int("handle_height_mm", 12, 25)),
         "handle_screw": trial.suggest_categorical("handle_screw", list(HANDLE_SCREWS)),
-        "motor": trial.suggest_categorical("motor", list(MOTOR_CONTINUOUS_TORQUE_MNM)),
+        # screened (:func:`screen_motor`) after the suggestions: until then the thickest shaft
+        # (the tube clevis is sized for it), of those the strongest
+        "motor": (trial.suggest_categorical("motor", list(MOTOR_CONTINUOUS_TORQUE_MNM))
+                  if pb.motor_choice == "categorical"
+                  else max(MOTOR_CONTINUOUS_TORQUE_MNM, key=lambda k: (MOTORS[k].shaft_diameter_mm,
+                                                                      MOTORS[k].torque_continuous_mNm))),
     })
     hub_d = parts.get("hub_diameter_mm", 20.0)
     parts["bar_end_radius_mm"] = end_radius_mm(bearing, w, parts.get("bar_min_wall_mm", 2.0), hub_d,
@@ -533,9 +560,12 @@ def evaluate(pb: Problem, span_deg: float, shift_deg: float, parts: dict, best: 
 def capstan_problem(design, plan) -> str | None:
     """None when a capstan candidate's capstan holds its set screw, its moved motor has a place
     (the build's own checks, numpy: :func:`cad.families.fourbar.capstan_solids.
-    capstan_set_screw`, :func:`~cad.families.fourbar.capstan_solids.placement`) and its drum
-    sector, swept over the crank's range, stays off the A4 post in plan view (conservative:
-    whatever their heights); else the reason."""
+    capstan_set_screw`, :func:`~cad.families.fourbar.capstan_solids.placement`), its drum
+    stays above the base clearance (the hub's foot), its sector, swept over the crank's range,
+    stays off the A4 post in plan view (conservative: whatever their heights) and clears the A2
+    pin's washer and nut under the crank (:func:`drum_meets_a2`); else the reason. The last two
+    the build's interference check refused on searched optima (issue 35 §1: the drum against
+    the washer at A2 and against the base plate)."""
     t = resolve_device(design).transmission("crank")
     J = link_joints_mm(design.linkage)
     try:
@@ -543,7 +573,39 @@ def capstan_problem(design, plan) -> str | None:
         pl = placement(design, t, J, plan)
     except HapticadError as exc:
         return str(exc)
-    return _drum_meets_post(design, t, pl, J["ground"]["A4"])
+    if pl.z_mm[0] < plan.hub_z_mm[0] - 1e-9:  # the drum hangs under the crank hub's stack
+        return (f"the {pl.z_mm[1] - pl.z_mm[0]:g} mm drum reaches z = {pl.z_mm[0]:g} mm, below the hub's "
+                f"{plan.hub_z_mm[0]:g} mm clearance over the base plate (a taller hub stack holds it)")
+    return _drum_meets_post(design, t, pl, J["ground"]["A4"]) or drum_meets_a2(design, t, pl, J, plan)
+
+
+def drum_meets_a2(design, t, pl, J, plan) -> str | None:
+    """The reason when the drum sector (on the crank, crank frame: hub bore to the groove's
+    crests, ``pl.arc_start_deg`` over ``pl.arc_span_deg``, ``pl.z_mm`` high) comes nearer than
+    ``clearance_min_mm`` to the A2 pin's hardware below the crank (a disc of
+    :func:`a2_hardware_radius_mm` at A2, from the pin's lowest end up to the crank): both ride
+    on the crank, so they meet at every pose (the build's interference check refuses it); else
+    None. Plan distance from the disc's centre to the annular sector, in closed form."""
+    s, p = plan.joints["A2"], design.parts
+    z_lo = min(s.thread_end_mm, s.head_face_mm, s.head_top_mm)
+    if z_lo >= pl.z_mm[1] + p.clearance_min_mm:
+        return None
+    c = np.asarray(J["crank"]["A2"], float)
+    r_in, r_out = p.hub_diameter_mm / 2, cap_geometry.crest_radius_mm(t.drum_diameter_mm, t.cable_diameter_mm)
+    rc = float(np.hypot(*c))
+    rel = (math.degrees(math.atan2(c[1], c[0])) - pl.arc_start_deg) % 360.0
+    if rel <= pl.arc_span_deg:
+        dist = max(0.0, r_in - rc, rc - r_out)
+    else:  # the nearer radial edge of the sector
+        dist = math.inf
+        for a in (pl.arc_start_deg, pl.arc_start_deg + pl.arc_span_deg):
+            u = np.array([math.cos(math.radians(a)), math.sin(math.radians(a))])
+            dist = min(dist, float(np.hypot(*(c - min(max(float(c @ u), r_in), r_out) * u))))
+    need = a2_hardware_radius_mm(p) + p.clearance_min_mm
+    if dist < need:
+        return (f"the drum sector comes {dist:.1f} mm from A2, where the pin's washer and nut hang "
+                f"under the crank ({need:.1f} mm needed)")
+    return None
 
 
 def _drum_meets_post(design, t, pl, a4) -> str | None:
@@ -653,8 +715,43 @@ def suggest_and_evaluate(trial, pb: Problem, best: float | None):
     tol = pb.proportions_tol
     ratios = ({k: trial.suggest_float(f"ratio_{k}", 1.0 - tol, 1.0 + tol) for k in PROPORTIONS}
               if tol > 0 else None)
-    val, info = evaluate(pb, span, shift, parts, best, ratios, tr)
-    return val, info, parts, tr
+    if pb.motor_choice == "categorical":
+        val, info = evaluate(pb, span, shift, parts, best, ratios, tr)
+        return val, info, parts, tr
+    val, info, motor = screen_motor(pb, span, shift, parts, best, ratios, tr)
+    return val, info, {**parts, "motor": motor}, tr
+
+
+#: Infeasibility reasons no motor changes (the linkage's own figures): the screen stops there.
+MOTOR_FREE_REASONS = ("crank range", "dy_max_mm", "min_transmission_angle_deg")
+
+
+def screen_motor(pb: Problem, span_deg: float, shift_deg: float, parts: dict, best: float | None = None,
+                 ratios: dict | None = None, transmission: dict | None = None):
+    """(value, info, motor): the trial evaluated (:func:`evaluate`) with each searched motor
+    (:func:`searched_motors`, least rotor inertia J_m first), the first that meets every check
+    taken. Why the first: the motor enters the cheap M11 through the crank-side rotor
+    inertia only (J_m, x n^2 through a capstan, plus the capstan's bore: its shaft) and the
+    crank's shaft hole, so the feasible motor of least J_m is the lightest one (the catalog's
+    J_m differ by 8x and more; a brute force over the motors checks it:
+    tests/unit/studies/test_optimize_motors.py). No motor meeting every check: the one of least
+    :func:`study_value` (with ``pb.all_limits``, the least summed violation), the first on a
+    tie. ``info["motor_screen"]``: {motor: why it was passed over} of the motors tried before.
+    A linkage that fails on its own figures (:data:`MOTOR_FREE_REASONS`) is tried once."""
+    tried: dict[str, str] = {}
+    pick = None
+    for motor in MOTOR_CONTINUOUS_TORQUE_MNM:
+        val, info = evaluate(pb, span_deg, shift_deg, {**parts, "motor": motor}, best, ratios, transmission)
+        if math.isfinite(val):
+            return val, {**info, "motor_screen": tried}, motor
+        if pick is None or study_value(pb, val, info) < study_value(pb, pick[0], pick[1]):
+            pick = (val, info, motor)
+        why = info.get("infeasible", "")
+        if "mechanism" not in info or any(r in why for r in MOTOR_FREE_REASONS):
+            break
+        tried[motor] = why
+    val, info, motor = pick
+    return val, {**info, "motor_screen": {k: v for k, v in tried.items() if k != motor}}, motor
 
 
 def trial_record(number: int, val: float, info: dict) -> dict:
@@ -677,14 +774,16 @@ def study_value(pb: Problem, val: float, info: dict) -> float:
 
 def enqueue_starts(study, pb: Problem, starts: bool) -> None:
     """Set ``pb.capstan_stock`` (capstan briefs) and enqueue the hand-written starting trials
-    (the brief itself first for a capstan brief, then :data:`STARTS`) unless ``starts`` is False."""
+    (the brief itself first for a capstan brief, then :data:`STARTS`) unless ``starts`` is False;
+    their motor only when the motor is a TPE parameter (``pb.motor_choice``)."""
+    drop = ("motor",) if pb.motor_choice == "screen" else ()  # screened, not a parameter
     if pb.capstan is not None:
         pb.capstan_stock = tuple(capstan_stock_mm(pb))
         first = brief_start(pb) if starts else None
         if first is not None:
-            study.enqueue_trial(first)
+            study.enqueue_trial({k: v for k, v in first.items() if k not in drop})
     for start in starts_for(pb.fixed_parts.get("process", "machined")) if starts else ():
-        study.enqueue_trial({**start, **capstan_start(pb)})
+        study.enqueue_trial({k: v for k, v in {**start, **capstan_start(pb)}.items() if k not in drop})
 
 
 def run(pb: Problem, trials: int, seed: int = 0,

@@ -43,7 +43,19 @@ def test_ec45flat_values_are_one_winding():
     assert m.terminal_resistance_ohm * m.rotor_inertia_kg_m2 / kt**2 == pytest.approx(9.92e-3, rel=0.005)
 
 
-@pytest.mark.parametrize("key", ["maxon-dcx22l", "maxon-re30", "maxon-ec45flat"])
+def test_re25_values_are_one_winding():
+    """oliv5/apbteam motor.m, 118752: speed constant 407 rpm/V and nominal voltage 24 V (the
+    file's, not stored) against the stored Kt (maxon: k_n k_M = 30000 / pi); the stall torque
+    Kt U_N / R = 242 mN m is not stated there, so none is stored and the build asks [motor]."""
+    m = get_motor("maxon-re25")
+    assert 30000.0 / (math.pi * m.torque_constant_mNm_per_A) == pytest.approx(407.0, rel=0.005)
+    assert m.rotor_inertia_kg_m2 == pytest.approx(10.3 / 1000 / 10000)
+    assert set(m.missing_build_fields()) == {"torque_continuous_mNm", "torque_peak_mNm",
+                                             "current_continuous_A", "mass_kg"}
+    assert m.stall_torque_mNm is None and m.no_load_current_mA is None
+
+
+@pytest.mark.parametrize("key", ["maxon-dcx22l", "maxon-re30", "maxon-ec45flat", "maxon-re25"])
 def test_kit_motor_sources_and_dimensions(key):
     """Every stated constant names a repository file at a commit; every mounting dimension that
     no drawing read states says where its number comes from and reaches the BOM line."""
@@ -68,7 +80,7 @@ def _hoeken_with(motor: str, table: dict | None = None):
     return parse_design(raw, str(HOEKEN))
 
 
-@pytest.mark.parametrize("key", ["maxon-re30", "maxon-ec45flat"])
+@pytest.mark.parametrize("key", ["maxon-re30", "maxon-ec45flat", "maxon-re25"])
 def test_partial_motor_refused_then_completed_by_motor_table(key):
     with pytest.raises(DesignError) as e:
         _hoeken_with(key)
