@@ -33,6 +33,8 @@ from cad.actuators import capstan as cap
 from cad.datasheet import row
 from cad.datasheet.limits import Limit
 from cad.device import Transmission
+from cad.errors import DesignError
+from cad.tolerances import CAPSTAN_RANGE_MARGIN_DEG
 
 CAPSTAN_GAP_MM = cap.CAPSTAN_GAP_MM
 #: Arc length an anchor (a clamping screw and washer) takes on the drum at each end, mm.
@@ -84,6 +86,28 @@ def capstan_joint(device, joint: str, range_deg: float, label: str | None = None
         raise KeyError(f"no motor on joint {joint!r}")
     return CapstanJoint(joint, label or joint, float(range_deg), device.transmission(joint), m, suffix,
                         inertia_in)
+
+
+def ik_ranges_deg(q_rad, status) -> np.ndarray:
+    """(n_joints, 2) [[q_min, q_max]] deg of joint angles ``q_rad`` (n_samples, n_joints) over a
+    workspace grid, unwrapped along the samples and widened by
+    :data:`cad.tolerances.CAPSTAN_RANGE_MARGIN_DEG` on each side: a drum's arc covers them.
+    DesignError (``workspace``) when a sample's ``status`` is not 0 (not reached)."""
+    bad = int(np.sum(np.asarray(status) != 0))
+    if bad:
+        raise DesignError("workspace", f"a capstan's drum needs the whole workspace reachable: {bad} grid "
+                          "points are not")
+    q = np.degrees(np.unwrap(np.asarray(q_rad, float), axis=0))
+    return np.column_stack([q.min(axis=0) - CAPSTAN_RANGE_MARGIN_DEG, q.max(axis=0) + CAPSTAN_RANGE_MARGIN_DEG])
+
+
+def capstan_joints_of(device, joints, ranges_deg, labels, inertia_in: str) -> tuple:
+    """A :class:`CapstanJoint` for each capstan-driven joint of ``joints`` (names, in the
+    family's motor order, their rows suffixed ``_1`` .. ``_k`` by position): ``ranges_deg``
+    (len(joints), 2) deg (:func:`ik_ranges_deg`), ``labels`` the joints' names in the rows."""
+    return tuple(capstan_joint(device, j, float(r[1] - r[0]), lab, f"_{i + 1}", inertia_in=inertia_in)
+                 for i, (j, r, lab) in enumerate(zip(joints, ranges_deg, labels, strict=True))
+                 if device.transmission(j).is_capstan)
 
 
 def layout(j: CapstanJoint) -> CapstanLayout:

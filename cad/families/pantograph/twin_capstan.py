@@ -29,7 +29,6 @@ from cad.device import resolve_device
 from cad.errors import DesignError
 from cad.kinematics import fivebar as fb5
 from cad.kinematics import twin_pantograph as ktwin
-from cad.tolerances import CAPSTAN_RANGE_MARGIN_DEG
 
 #: How the ropes' stiffness at the handle is computed (the datasheet row's model text).
 HANDLE_STIFFNESS_SOURCE = (
@@ -50,12 +49,7 @@ def joint_ranges_deg(design) -> np.ndarray:
     workspace grid, deg, widened by :data:`CAPSTAN_RANGE_MARGIN_DEG` (module docstring).
     DesignError (``workspace``) when a sample cannot be reached."""
     ik = ktwin.ik(design.mechanism, design.workspace_points())
-    bad = int(np.sum(ik.status != 0))
-    if bad:
-        raise DesignError("workspace", f"a capstan's drum needs the whole workspace reachable: {bad} grid "
-                          "points are not")
-    q = np.degrees(np.unwrap(ik.q_rad, axis=0))
-    return np.column_stack([q.min(axis=0) - CAPSTAN_RANGE_MARGIN_DEG, q.max(axis=0) + CAPSTAN_RANGE_MARGIN_DEG])
+    return cr.ik_ranges_deg(ik.q_rad, ik.status)
 
 
 def capstan_joints(design) -> tuple:
@@ -64,15 +58,9 @@ def capstan_joints(design) -> tuple:
     ``_1`` .. ``_4`` in :data:`JOINTS` order); empty for direct drive."""
     if not has_capstan(design):
         return ()
-    dev = resolve_device(design)
-    rng = joint_ranges_deg(design)
-    out = []
-    for i, j in enumerate(JOINTS):
-        if dev.transmission(j).is_capstan:
-            grp, _, side = j.split("_")
-            out.append(cr.capstan_joint(dev, j, float(rng[i, 1] - rng[i, 0]), f"{grp} {side} proximal link",
-                                        f"_{i + 1}", inertia_in="the effective mass at home"))
-    return tuple(out)
+    labels = [f"{j.split('_')[0]} {j.split('_')[2]} proximal link" for j in JOINTS]
+    return cr.capstan_joints_of(resolve_device(design), JOINTS, joint_ranges_deg(design), labels,
+                                "the effective mass at home")
 
 
 def handle_compliance_m_per_N(J: np.ndarray, kinv: np.ndarray, n_trans: int = 2) -> np.ndarray:

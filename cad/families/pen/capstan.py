@@ -31,7 +31,6 @@ from cad.device import resolve_device
 from cad.errors import DesignError
 from cad.families.pantograph.twin_capstan import handle_compliance_m_per_N
 from cad.kinematics import haptic_pen as kpen
-from cad.tolerances import CAPSTAN_RANGE_MARGIN_DEG
 
 #: The pen's motor joints in the resolved device's order (arm A first).
 JOINTS = tuple(f"{a}_q_{j}" for a in ("A", "B") for j in ("waist", "lower", "upper"))
@@ -54,12 +53,7 @@ def joint_ranges_deg(design) -> np.ndarray:
     workspace grid, deg, widened by :data:`CAPSTAN_RANGE_MARGIN_DEG` (module docstring).
     DesignError (``workspace``) when a sample cannot be reached."""
     q, st = kpen.ik(design.mechanism, design.workspace_points())
-    bad = int(np.sum(np.asarray(st) != 0))
-    if bad:
-        raise DesignError("workspace", f"a capstan's drum needs the whole workspace reachable: {bad} grid "
-                          "points are not")
-    q = np.degrees(np.unwrap(np.asarray(q), axis=0))
-    return np.column_stack([q.min(axis=0) - CAPSTAN_RANGE_MARGIN_DEG, q.max(axis=0) + CAPSTAN_RANGE_MARGIN_DEG])
+    return cr.ik_ranges_deg(q, st)
 
 
 def capstan_joints(design) -> tuple:
@@ -68,15 +62,9 @@ def capstan_joints(design) -> tuple:
     ``_1`` .. ``_6`` in :data:`JOINTS` order); empty for direct drive."""
     if not has_capstan(design):
         return ()
-    dev = resolve_device(design)
-    rng = joint_ranges_deg(design)
-    out = []
-    for i, j in enumerate(JOINTS):
-        if dev.transmission(j).is_capstan:
-            arm, _, which = j.split("_")
-            out.append(cr.capstan_joint(dev, j, float(rng[i, 1] - rng[i, 0]), f"arm {arm} {LINKS[which]}",
-                                        f"_{i + 1}", inertia_in="the effective mass at home and the MJCF armature"))
-    return tuple(out)
+    labels = [f"arm {j.split('_')[0]} {LINKS[j.split('_')[2]]}" for j in JOINTS]
+    return cr.capstan_joints_of(resolve_device(design), JOINTS, joint_ranges_deg(design), labels,
+                                "the effective mass at home and the MJCF armature")
 
 
 def rope_compliance_m_per_N(design, k_q: dict) -> np.ndarray:
