@@ -40,6 +40,7 @@ from cad.families.delta.structure import first_mode, peak_stress_over, sections_
 from cad.pipeline import family
 from cad.pipeline.run import Stages, run_family
 from cad.pipeline.views import write_sim_model
+from cad.report.delta import APPARENT_MASS_MAP, plot_apparent_mass_map
 
 
 def check_options(design, fidelity: str, phi1_deg, formats=frozenset()) -> None:
@@ -80,6 +81,8 @@ class DeltaDynamics:
     rotor_inertia_kg_m2: float
     motor: str
     structure: dict
+    #: (n, 3) Lambda's eigenvalues (g, ascending) at each workspace grid point (the report's map)
+    eig_g: tuple = ()
 
 
 def drum_props(instances, props: dict) -> list | None:
@@ -122,7 +125,7 @@ def _dynamics(b) -> DeltaDynamics:
     return DeltaDynamics(
         Lambda_max_eig_g=float(eig[hi, -1] * 1e3), at_max_mm=X[hi].tolist(),
         Lambda_min_eig_g=float(eig[lo, 0] * 1e3), at_min_mm=X[lo].tolist(),
-        rotor_inertia_kg_m2=rotor, motor=mot.name,
+        rotor_inertia_kg_m2=rotor, motor=mot.name, eig_g=tuple(map(tuple, eig * 1e3)),
         structure={"first_mode_Hz": st["first_mode_Hz"],
                    "compliance_max_um_per_N": st["compliance_max_um_per_N"],
                    "boundary": st["boundary"], "stress_torque_Nm": tau,
@@ -151,6 +154,12 @@ def _md_rows(r: dict) -> list[tuple[str, str]]:
             ("apparent mass, smallest eigenvalue of Lambda", f"{a['Lambda_min_eig_g']:.1f} g"),
             ("first structural mode (centre)", f"{s['first_mode_Hz']:.1f} Hz"),
             ("workspace points checked", str(r["workspace_points"]))]
+
+
+def _figures(b) -> list[str]:
+    """The apparent-mass map over the workspace grid (:mod:`cad.report.delta`)."""
+    plot_apparent_mass_map(b.design.name, b.model.extra.workspace_mm, b.dyn.eig_g, b.out_dir / APPARENT_MASS_MAP)
+    return [APPARENT_MASS_MAP]
 
 
 def _stroke(design) -> dict:
@@ -208,7 +217,9 @@ STAGES = Stages(
     check_options=check_options, assemble=assemble, interference=interference, report=_report,
     md_rows=_md_rows, stroke=_stroke, motion_label="workspace grid", dynamics=_dynamics,
     preview_title=lambda b: f"{b.design.name}: delta at the workspace centre",
-    no_solid_rows=_encoder_rows, more_files=_sim_files,
+    no_solid_rows=_encoder_rows, more_files=_sim_files, figures=_figures,
+    md_images=(("apparent mass over the workspace: Lambda's largest and smallest eigenvalue at "
+                "every grid point, one panel per height", APPARENT_MASS_MAP),),
     assembly=lambda design: (None, assembly_checks(design)))
 
 

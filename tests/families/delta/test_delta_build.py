@@ -81,6 +81,35 @@ def test_the_bundled_delta_builds_and_its_report_reads_back(shared_build):
     assert rep["overlap_volume_mm3"] == 0.0 and (out / "bom.csv").is_file()
 
 
+def test_the_report_maps_the_apparent_mass_over_the_workspace(shared_build):
+    """The map (issue 36 §4): apparent_mass_map.png written, listed and shown in report.md;
+    read back as an image of one panel per grid height (5 for the 5 x 5 x 5 box); its layers
+    hold Lambda's eigenvalues at every grid point, recomputed here from report.json's bodies,
+    and the extremes are report.json's."""
+    import matplotlib.image as mpimg
+
+    from cad.families.delta.dynamics import mass_matrix_from_bodies_kg
+    from cad.massprops.props import MassProps
+    from cad.report.delta import APPARENT_MASS_MAP, map_layers
+
+    d, out, rep = shared_build("delta.toml", ("step",), "preview")
+    assert APPARENT_MASS_MAP in rep["files"]
+    assert f"]({APPARENT_MASS_MAP})" in (out / "report.md").read_text()
+    img = mpimg.imread(out / APPARENT_MASS_MAP)
+    assert img.shape[:2] == (480, round((2.3 * 5 + 1.2) * 100))
+    bodies = {k: MassProps(v["mass_kg"], np.asarray(v["com_mm"]) * 1e-3, np.asarray(v["inertia_com_kg_m2"]))
+              for k, v in rep["placement"]["bodies"].items()}
+    X = d.workspace_points()
+    eig = np.linalg.eigvalsh(mass_matrix_from_bodies_kg(d.mechanism, X, d.parallelogram_width_mm, bodies,
+                                                        rep["apparent_mass"]["rotor_inertia_kg_m2"])) * 1e3
+    layers = map_layers(X, eig)
+    assert len(layers) == 5 and sum(len(xy) for _, xy, _ in layers) == len(X)
+    assert max(e[:, -1].max() for *_, e in layers) == pytest.approx(rep["apparent_mass"]["Lambda_max_eig_g"],
+                                                                     rel=1e-9)
+    assert min(e[:, 0].min() for *_, e in layers) == pytest.approx(rep["apparent_mass"]["Lambda_min_eig_g"],
+                                                                   rel=1e-9)
+
+
 @pytest.mark.slow  # a delta build (every pair of solids at 125 points); cheap share: test_delta_sim.py
 def test_the_built_delta_mjcf_against_eq1_over_the_grid(tmp_path):
     """The written MJCF (workspace centre) and the MJCF of the built bodies at every grid
