@@ -59,6 +59,12 @@ def register(app: typer.Typer) -> None:
         )
         print(f"  sigma_min = {rep['sigma_min']:.6g} at {point_text(rep['sigma_min_at'])}")
         print(f"  sigma_max = {rep['sigma_max']:.6g} at {point_text(rep['sigma_max_at'])}")
+        if "workspace_volumes" in rep:
+            v = rep["workspace_volumes"]
+            print(f"  reachable workspace below the base {v['reachable_cm3']:.0f} cm3, well conditioned "
+                  f"(sigma_min / sigma_max >= {v['threshold']:g}) {v['well_conditioned_cm3']:.0f} cm3 "
+                  f"({v['step_mm']:g} mm cells); worst over the design's workspace "
+                  f"{rep['workspace_inverse_condition_min']:.3f}")
         if rep["failure"]:
             at = point_text(rep["failed_at"])
             print(f"  GII = 0: {rep['failure']} at {at} ({rep['n_failed']} samples)")

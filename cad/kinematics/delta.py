@@ -462,3 +462,41 @@ def largest_cube_mm(d: Delta, z_range_mm: tuple[float, float], n: int = 5,
         if lo > best["side_mm"]:
             best = {"side_mm": float(lo), "center_z_mm": float(zc)}
     return best
+
+
+#: The inverse condition number sigma_min / sigma_max of J above which a point counts as
+#: well conditioned (:func:`workspace_volumes`): our choice (no standard value read); the
+#: bundled delta's worst over its 100 mm cube is 0.46.
+WELL_CONDITIONED_MIN = 0.3
+#: Grid step of :func:`workspace_volumes` (mm): docs/families/delta.md gives its volumes
+#: at 10, 5 and 2.5 mm.
+VOLUME_STEP_MM = 10.0
+
+
+def reach_box_mm(d: Delta) -> tuple[np.ndarray, np.ndarray]:
+    """(lo, hi) (3,) mm, base frame: a box holding every point the effector can reach below
+    the base plane (z <= 0): |x|, |y| <= R + r + L_a + L_b + g + |delta|, z >= -(L_a + L_b + g)."""
+    a = (d.base_radius_mm + d.effector_radius_mm + d.upper_arm_mm + d.lower_arm_mm
+         + abs(d.joint_offset_mm) + abs(d.axis_offset_mm))
+    return np.array([-a, -a, -(d.upper_arm_mm + d.lower_arm_mm + abs(d.joint_offset_mm))]), np.array([a, a, 0.0])
+
+
+def workspace_volumes(d: Delta, step_mm: float = VOLUME_STEP_MM,
+                      threshold: float = WELL_CONDITIONED_MIN, chunk: int = 200_000) -> dict:
+    """The reachable and the well-conditioned workspace below the base plane, by counting
+    the centres of a regular grid of cells ``step_mm`` over :func:`reach_box_mm`:
+    ``reachable_cm3`` (IK status ok: reached, inside the motor angle range, not singular),
+    ``well_conditioned_cm3`` (also sigma_min / sigma_max of J >= ``threshold``,
+    :func:`inverse_condition`), ``points``, ``step_mm``, ``threshold``. The error is the
+    boundary's cells: it falls as the step (docs/families/delta.md)."""
+    lo, hi = reach_box_mm(d)
+    axes = [np.arange(a + step_mm / 2, b, step_mm) for a, b in zip(lo, hi, strict=True)]
+    grid = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, 3)
+    n_ok = n_good = 0
+    for k in range(0, len(grid), chunk):
+        ratio, status = inverse_condition(d, grid[k:k + chunk])
+        n_ok += int(np.sum(status == STATUS_OK))
+        n_good += int(np.sum((status == STATUS_OK) & (ratio >= threshold)))
+    cell_cm3 = step_mm ** 3 * 1e-3
+    return {"reachable_cm3": n_ok * cell_cm3, "well_conditioned_cm3": n_good * cell_cm3,
+            "points": int(len(grid)), "step_mm": float(step_mm), "threshold": float(threshold)}
