@@ -86,6 +86,13 @@ MODE_REASON = "above the 150 Hz force bandwidth of the Hoeken prototype (paper Â
 STRESS_REASON = f"strength / {STRESS_SAFETY_FACTOR:g} (static safety factor at force_N)"
 
 
+#: The ``overlap_volume_mm3`` row's limit (every family with that row): no two solids overlap at
+#: any pose of the motion. A build refuses such a device; a datasheet read from a build made with
+#: ``--allow-interference`` (or a cached one) says MISS instead of leaving the row without a verdict.
+OVERLAP_LIMIT = Limit("<=", 0.0, "no two solids may overlap at any pose of the motion (the build's every-pair check)",
+                      "the layout: the arm lengths, the transmission's drum and capstan diameters, the parts' sizes")
+
+
 def with_targets(lim: dict[str, Limit], targets, change: dict[str, str] | None = None) -> dict[str, Limit]:
     """A ``[targets]`` bound of a limited key (``min`` for a ``>=`` figure, ``max`` for a
     ``<=`` one) replaces its default limit; ``value +/- tol`` targets stay check rows only.

@@ -20,6 +20,7 @@ from cad.datasheet import row
 from cad.datasheet.limits import (
     FIRST_MODE_MIN_HZ,
     MODE_REASON,
+    OVERLAP_LIMIT,
     STRESS_REASON,
     STRESS_SAFETY_FACTOR,
     Limit,
@@ -265,7 +266,8 @@ def delta_limits(design) -> dict:
                                    STRESS_REASON.replace("force_N", "the peak torque"), STRESS_CHANGE),
            "rod_buckling_margin": Limit(">=", STRESS_SAFETY_FACTOR,
                                         f"static safety factor {STRESS_SAFETY_FACTOR:g} against "
-                                        "Euler buckling at the peak torque", STRESS_CHANGE)}
+                                        "Euler buckling at the peak torque", STRESS_CHANGE),
+           "overlap_volume_mm3": OVERLAP_LIMIT}
     force = design.actuators.get("force_max_N")
     if force is not None:
         lim["continuous_force_N"] = Limit(

@@ -17,6 +17,7 @@ pen's joints and ropes, :mod:`cad.families.pen.capstan`), kept here. No CAD impo
 from __future__ import annotations
 
 from cad.datasheet import row
+from cad.datasheet.limits import OVERLAP_LIMIT
 from cad.families.pantograph.datasheet import motor_force_rows as rows_of
 from cad.families.pantograph.datasheet import rows_and_limits as pantograph_rows
 from cad.families.pantograph.limits import pantograph_limits
@@ -57,6 +58,8 @@ def rows_and_limits(design, report: dict, out_dir=None, simulate_wall: bool = Tr
     limits = pantograph_limits(design, design.actuators.get("force_max_N"), st and st["strength_MPa"],
                                structure=st is not None)
     limits.update({k: v for k, v in planar_limits.items() if k not in limits})  # the capstan rows' limits
+    if itf:
+        limits["overlap_volume_mm3"] = OVERLAP_LIMIT
     return out, limits, notes
 
 

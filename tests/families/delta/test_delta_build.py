@@ -218,3 +218,23 @@ def test_the_falcon_builds_and_its_mjcf_and_firmware_carry_the_knee(tmp_path):
     st = first_mode(d.mechanism, np.asarray(d.workspace["center_mm"]), d.parallelogram_width_mm, sec)
     assert rows["first_mode_Hz"]["value"] == pytest.approx(st["first_mode_Hz"], rel=1e-12)
     assert any("not the Falcon's motors" in n for n in rep["datasheet"]["notes"])
+
+
+def test_an_overlap_in_the_report_is_a_datasheet_miss(shared_build):
+    """A tester found a delta built with overlapping solids (a cached or --allow-interference
+    build) got a datasheet with the overlap row and no verdict: the row has a limit (<= 0 mm^3,
+    cad.datasheet.limits.OVERLAP_LIMIT), a MISS and a warning naming it."""
+    import copy
+
+    from cad.datasheet import datasheet
+
+    d, _, rep = shared_build("delta.toml", ("step",), "preview")
+    ok = datasheet(d, rep, simulate_wall=False)
+    row = next(r for r in ok["rows"] if r["key"] == "overlap_volume_mm3")
+    assert row["value"] == 0.0 and not any("overlap" in w for w in ok["warnings"])
+    bad = copy.deepcopy(rep)
+    bad["interference"]["overlap_volume_mm3"] = 1593.3
+    ds = datasheet(d, bad, simulate_wall=False)
+    assert not ds["ok"]
+    assert [w for w in ds["warnings"] if "overlap" in w and "1593" in w and "<= 0" in w], ds["warnings"]
+
