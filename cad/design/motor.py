@@ -29,7 +29,7 @@ from dataclasses import replace
 from typing import Any
 
 from cad import tolerances as tol
-from cad.data.catalog import get_motor
+from cad.data.catalog import MOTORS, get_motor
 from cad.design.fields import check_text, check_unknown, optional_number
 from cad.errors import DesignError
 
@@ -133,6 +133,16 @@ def _check_peak(m, changes: dict, ov: dict) -> None:
                                               "from the same data sheet? a N m value would read 1000x small)")
 
 
+def _check_name(name, key: str) -> None:
+    """DesignError (``motor.name``) when ``[motor] name`` is a catalog key other than the motor
+    the table describes (``parts.motor``): its rows would be labelled that motor with the
+    other's data (a tester's finding)."""
+    if name is not None and name != key and name in MOTORS:
+        raise DesignError("motor.name", f"{name!r} is a catalog motor, but the [motor] table describes "
+                                        f"parts.motor = {key!r} (its data and mount): set parts.motor = "
+                                        f"{name!r} to use that motor, or give the table a name of its own")
+
+
 def resolve_motor(catalog_key: str, overrides: tuple[tuple[str, Any], ...] = (), field: str = "parts.motor"):
     """The :class:`cad.data.catalog.MotorSpec` a design uses: the catalog winding with the
     ``[motor]`` overrides applied, each overridden value sourced to the design file."""
@@ -156,6 +166,7 @@ def resolve_motor(catalog_key: str, overrides: tuple[tuple[str, Any], ...] = (),
     _check_continuous(m, changes, ov)
     _check_peak(m, changes, ov)
     name = ov.get("name")
+    _check_name(name, m.key)
     # unnamed: the catalog motor ordered as such, its line saying which data are the design's
     given = ", ".join(k for k in NUMERIC if k in ov)
     desc = (f"{name} (data of [motor]; mount of {m.key})" if name is not None

@@ -39,3 +39,18 @@ def test_the_catalog_motors_hold_the_same_order():
     for key in ("maxon-re35", "maxon-re40"):
         m = get_motor(key)
         assert m.torque_continuous_mNm <= m.torque_peak_mNm <= m.stall_torque_mNm
+
+
+@pytest.mark.parametrize("name", ["maxon-re25", "maxon-re40"])
+def test_a_table_named_after_another_catalog_motor_is_refused(tmp_path, name):
+    """A tester's finding: ``[motor] name = "maxon-re25"`` over the RE 35 labelled every row
+    RE 25 with the RE 35's data. The name of another catalog motor is refused naming the fix;
+    the ordered motor's own key is taken (a table of corrections named as the catalog does)."""
+    p = tmp_path / "d.toml"
+    p.write_text(HOEKEN.read_text() + f'\n[motor]\nname = "{name}"\n')
+    code, out, err = hapticad("datasheet", p)
+    assert code == 2 and out == "" and len(err.strip().splitlines()) == 1, err
+    assert err.startswith("hapticad: error: motor.name:") and f"set parts.motor = '{name}'" in err
+    p.write_text(HOEKEN.read_text() + '\n[motor]\nname = "maxon-re35"\n')
+    code, _, err = hapticad("datasheet", p)
+    assert code == 0, err
