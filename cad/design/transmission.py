@@ -151,6 +151,10 @@ def _parse_capstan(tab: dict[str, Any], prefix: str) -> Transmission:
     else:
         n = _ratio(tab["ratio"], f"{prefix}.ratio")
         dd = n * dc
+        if dd > DRUM_DIAMETER_MM.hi:  # the drum it implies, held to the drum's own bound
+            raise DesignError(f"{prefix}.ratio", f"{n:g} on a {dc:g} mm capstan asks for a {dd:g} mm drum, "
+                              f"above {DRUM_DIAMETER_MM.hi:g} mm ({DRUM_DIAMETER_MM.reason}): a smaller "
+                              "ratio or capstan")
     if "cable" not in tab:
         raise DesignError(f"{prefix}.cable", f"missing (a catalog key: {', '.join(CABLES)})")
     cable = tab["cable"]

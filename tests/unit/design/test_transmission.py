@@ -57,6 +57,10 @@ def test_omitted_or_direct_is_direct_drive():
      "transmission.ratio", "must be > 1 (drum / capstan), got -4.0"),
     ({"kind": "capstan", "capstan_diameter_mm": 10, "ratio": 80, "cable": "steel-7x7-0.54"},
      "transmission.ratio", "must be in (1, 50], got 80"),
+    # the drum a ratio implies is held to the drum's own bound (a tester: ratio 50 on a 32 mm
+    # capstan passed with a warning while drum_diameter_mm = 1600 was refused)
+    ({"kind": "capstan", "capstan_diameter_mm": 32, "ratio": 50, "cable": "steel-7x7-0.54"},
+     "transmission.ratio", "50 on a 32 mm capstan asks for a 1600 mm drum, above 1000 mm"),
     ({**ISSUE_TABLE, "cable": "steel-7x19-0.54"}, "transmission.cable", "unknown cable 'steel-7x19-0.54'"),
     ({**ISSUE_TABLE, "cable": 0.6}, "transmission.cable", "must be a catalog key"),
     ({k: v for k, v in ISSUE_TABLE.items() if k != "cable"}, "transmission.cable", "missing"),
