@@ -8,7 +8,7 @@ import os
 for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ.setdefault(_var, "1")
 
-from hypothesis import HealthCheck, settings
+from hypothesis import HealthCheck, settings  # noqa: E402 - after the thread limits above
 
 # derandomized (same examples every run); no timing health checks: a loaded 2-core machine
 # must not turn a slow example into a failure (performance is measured by `hapticad bench`)
