@@ -65,7 +65,8 @@ def test_fit_limits_are_the_default_limits():
     assert got == {"first_mode_Hz": (FIRST_MODE_MIN_HZ, None),
                    "continuous_force_N": (d.actuators["force_max_N"], None),
                    "max_stress_MPa": (None, pytest.approx(276.0 / 3)),
-                   "rod_buckling_margin": (3.0, None)}
+                   "rod_buckling_margin": (3.0, None),
+                   "overlap_volume_mm3": (None, 0.0)}  # no two solids overlap (OVERLAP_LIMIT)
 
 
 def test_precad_force_is_the_sampled_statics_and_an_unreachable_candidate_is_refused(tmp_path):
