@@ -33,6 +33,7 @@ def _entry_cmd() -> list[str]:
     return [sys.executable, "-c", "from cad.cli.entry import main; main()"]
 
 
+@pytest.mark.slow  # an end-to-end search or build run (20-40 s): CI's slow set keeps the default suite under 10 min
 def test_a_signal_after_the_publish_ends_the_build_with_exit_0(tmp_path):
     env = _env(tmp_path)
     args = ["build", str(ROOT / "designs" / "hoeken.toml"), "--fidelity", "preview",

@@ -72,6 +72,7 @@ def _load(path: Path):
         bounds.reset()
 
 
+@pytest.mark.slow  # an end-to-end search or build run (20-40 s): CI's slow set keeps the default suite under 10 min
 def test_optimize_does_not_report_the_trials_warnings(tmp_path):
     """The 40 seeded trials include PLA and PETG bars: their filament warnings are not the
     aluminium Hoeken's; the JSON's warnings and stderr hold the design's own (none)."""
@@ -85,6 +86,7 @@ def test_optimize_does_not_report_the_trials_warnings(tmp_path):
     assert "printing filament" not in err
 
 
+@pytest.mark.slow  # an end-to-end search or build run (20-40 s): CI's slow set keeps the default suite under 10 min
 def test_fit_reports_the_fitted_designs_warnings_only(tmp_path):
     """``--free parts.bar_material`` evaluates every material (PLA and PETG among them); the
     fitted design (carbon fibre, the documented result) is no filament: no filament warning."""

@@ -43,6 +43,7 @@ def test_gii_of_the_bundled_delta_against_a_hand_grid():
     assert rep["gii"] == pytest.approx(d.gii().gii, rel=1e-15) and rep["failure"] is None
 
 
+@pytest.mark.slow  # an end-to-end search or build run (20-40 s): CI's slow set keeps the default suite under 10 min
 def test_optimize_returns_the_bundled_geometry_and_culling_equals_brute_force():
     d = load_design(DESIGN)
     prob = d.problem()

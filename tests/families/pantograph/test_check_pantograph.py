@@ -65,6 +65,7 @@ def test_twin_pantograph_effective_mass_from_the_build(family_builds):
     assert vals["moving_mass_g"] == pytest.approx(rep["moving_mass_g"], rel=1e-9)
 
 
+@pytest.mark.slow  # an end-to-end search or build run (20-40 s): CI's slow set keeps the default suite under 10 min
 def test_fit_a_pantograph_to_a_gii_target(tmp_path):
     """fit moves the 5-bar's link lengths until the GII target is met (the start's GII is
     0.6232); the written design, evaluated on its own by `hapticad gii`, meets it too. The

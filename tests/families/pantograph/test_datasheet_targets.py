@@ -33,6 +33,7 @@ def _force_by_hand_N(design_path: Path) -> float:
     return per_Nm * get_motor(d.parts.motor).torque_continuous_mNm * 1e-3
 
 
+@pytest.mark.slow  # an end-to-end search or build run (20-40 s): CI's slow set keeps the default suite under 10 min
 def test_fit_moves_the_links_to_a_motor_force_target(tmp_path):
     out = tmp_path / "fit.toml"
     code, _, err = hapticad("fit", DESIGNS / "pantograph.toml", "--target", "continuous_force_N>=0.69",

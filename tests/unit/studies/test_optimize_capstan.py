@@ -72,6 +72,7 @@ def test_capstan_stock_holds_a_set_screw_and_the_brief_starts_the_search():
     assert start["span_deg"] == pytest.approx(216 - 132)
 
 
+@pytest.mark.slow  # an end-to-end search or build run (20-40 s): CI's slow set keeps the default suite under 10 min
 def test_optimize_writes_a_capstan_design_its_datasheet_passes(tmp_path):
     out = tmp_path / "opt.toml"
     code, o, err = hapticad("optimize", CAPSTAN, "--trials", "150", "--exact-top", "2", "--out", out)

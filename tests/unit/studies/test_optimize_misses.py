@@ -7,6 +7,8 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+import pytest
+
 from tests.cli_helpers import hapticad
 
 ROOT = Path(__file__).resolve().parents[3]
@@ -66,6 +68,7 @@ def test_without_out_nothing_is_written_and_met_targets_exit_0(tmp_path):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["brief.toml"]
 
 
+@pytest.mark.slow  # an end-to-end search or build run (20-40 s): CI's slow set keeps the default suite under 10 min
 def test_fit_miss_is_one_line_per_target_and_check_agrees(tmp_path):
     """`fit` with a target its free parameter cannot reach (M11 <= 1 g by the handle material
     alone): exit 1, one 'target missed' line naming the written design's figure, and `check` of
