@@ -135,3 +135,16 @@ def drum_process(thickness_mm: float, fixing: str, groove: str = "") -> str:
     g = f"{groove}; " if groove else ""
     return (f"machined from {thickness_mm:g} mm plate; {g}drill and tap {ANCHOR_SCREW.split('-')[0]} x2 "
             f"radial (rope anchors); {fixing}")
+
+
+def grooved_drum_texts(drum_diameter_mm: float, rim_radius_mm: float, rope_diameter_mm: float,
+                       arc_deg: float, thickness_mm: float, where: str, fixing: str) -> tuple[str, str]:
+    """(description, process) of a grooved drum sector, every family's: its pitch, the groove's
+    bottom (``rim_radius_mm``, mm) and crests, arc, thickness and ``where`` it sits; the process
+    line of :func:`drum_process` with the rope groove turned between the anchors."""
+    h = cg.groove_depth_mm(rope_diameter_mm)
+    desc = (f"drum sector {drum_diameter_mm:g} mm pitch (groove bottom {2 * rim_radius_mm:g} mm, crests "
+            f"{2 * (rim_radius_mm + h):.4g} mm), {arc_deg:.0f} deg arc, {thickness_mm:g} mm thick, {where}")
+    groove = (f"turn the rope groove ({rope_diameter_mm:g} mm rope, {h:.3g} mm deep) at mid-thickness "
+              "between the anchors")
+    return desc, drum_process(thickness_mm, fixing, groove)

@@ -102,16 +102,14 @@ def arm_parts(design, i: int, t, K: dict, stack: dict) -> list[tuple[str, PartKi
     rd, h = cg.rim_radius_mm(dd, rope), cg.groove_depth_mm(rope)  # the groove's bottom, its depth
     anchors = (start + 0.5 * anchor, start + span - 0.5 * anchor)
     tap, depth = cat.tap_drill_mm(fcs.ANCHOR_SCREW), fcs.ANCHOR_SCREW_LENGTH_MM + pm.TAP_LEADOUT_MM
+    desc, process = fcs.grooved_drum_texts(dd, rd, rope, span, th, "round the arm hub (bonded)",
+                                           "bonded round the arm hub")
     kind = K.get("capstan_drum") or PartKind(
         "capstan_drum", shapes.drum_sector_shape(rd, hw.HUB_D_MM / 2, start, span, th,
                                                  tuple((a, tap, depth) for a in anchors), rope_diameter_mm=rope,
                                                  groove_arc_deg=fcs.drum_groove_arc_deg(rd, rope, anchors)),
         material=fcs.DRUM_MATERIAL, made=True,
-        description=(f"drum sector {dd:g} mm pitch (groove bottom {2 * rd:g} mm, crests {2 * (rd + h):.4g} mm), "
-                     f"{span:.0f} deg arc, {th:g} mm thick, round the arm hub (bonded)"),
-        process=fcs.drum_process(th, "bonded round the arm hub",
-                                 f"turn the rope groove ({rope:g} mm rope, {h:.3g} mm deep) at mid-thickness "
-                                 "between the anchors"))
+        description=desc, process=process)
     K["capstan_drum"] = kind
     tf = translation(0, yr - th / 2, 0) @ ALONG_Y
     seat = rd + h  # the heads and the tensioner's nut sit on the crests

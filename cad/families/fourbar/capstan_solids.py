@@ -36,7 +36,7 @@ from cad.assembly.capstan_hardware import (  # noqa: F401 - re-exported: the fou
     TENSIONER_WIND_D,
     capstan_set_screw,
     drum_groove_arc_deg,
-    drum_process,
+    grooved_drum_texts,
     rope_run_kind,
     run_trim_mm,
     tensioner_screw_mm,
@@ -359,18 +359,15 @@ def _capstan_parts(design, t, pl: CapstanPlacement) -> list[PartInstance]:
     rd = cg.rim_radius_mm(t.drum_diameter_mm, d)
     tap = cat.tap_drill_mm(ANCHOR_SCREW)
     depth = ANCHOR_SCREW_LENGTH_MM + motor.TAP_LEADOUT_MM
+    desc, process = grooved_drum_texts(t.drum_diameter_mm, rd, d, pl.arc_span_deg, th,
+                                       "round the crank hub at A1", "fixed under the crank")
     drum = PartKind(
         "capstan_drum",
         shapes.drum_sector_shape(rd, parts.hub_diameter_mm / 2, pl.arc_start_deg, pl.arc_span_deg,
                                  th, tuple((a, tap, depth) for a in pl.anchors_deg),
                                  rope_diameter_mm=d, groove_arc_deg=drum_groove_arc_deg(rd, d, pl.anchors_deg)),
         material=fcap.DRUM_MATERIAL, made=True,
-        description=(f"drum sector {t.drum_diameter_mm:g} mm pitch (groove bottom {2 * rd:g} mm, "
-                     f"crests {2 * (rd + cg.groove_depth_mm(d)):.4g} mm), "
-                     f"{pl.arc_span_deg:.0f} deg arc, {th:g} mm thick, round the crank hub at A1"),
-        process=drum_process(th, "fixed under the crank",
-                             f"turn the rope groove ({d:g} mm rope, {cg.groove_depth_mm(d):.3g} mm deep) "
-                             "at mid-thickness between the anchors"))
+        description=desc, process=process)
     out = [PartInstance("capstan_drum", drum, "crank", translation(0, 0, z0))]
     screw = dataclasses.replace(joints.cap_screw_kind(ANCHOR_SCREW, ANCHOR_SCREW_LENGTH_MM,
                                                       "transmission", note="rope anchor on the drum"),

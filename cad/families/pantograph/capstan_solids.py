@@ -24,7 +24,7 @@ from cad.assembly.capstan_hardware import (
     ANCHOR_SCREW_LENGTH_MM,
     capstan_set_screw,
     drum_groove_arc_deg,
-    drum_process,
+    grooved_drum_texts,
     rope_run_kind,
     tensioner_screw_mm,
 )
@@ -143,18 +143,16 @@ def _drum_kind(design, t, sd) -> PartKind:
     depth = ANCHOR_SCREW_LENGTH_MM + motor.TAP_LEADOUT_MM
     th = DRUM_THICKNESS_MM
     side = sd.joint.split("_")[1]
+    desc, process = grooved_drum_texts(t.drum_diameter_mm, rd, d, sd.arc_span_deg, th,
+                                       f"on the {side} proximal link's axle at B",
+                                       "ream the axle bore, pinned to the axle")
     return PartKind(
         f"capstan_drum_{side}",
         shapes.drum_sector_shape(rd, bore, sd.arc_start_deg, sd.arc_span_deg, th,
                                  tuple((a, tap, depth) for a in sd.anchors_deg),
                                  rope_diameter_mm=d, groove_arc_deg=drum_groove_arc_deg(rd, d, sd.anchors_deg)),
         material=DRUM_MATERIAL, made=True,
-        description=(f"drum sector {t.drum_diameter_mm:g} mm pitch (groove bottom {2 * rd:g} mm, crests "
-                     f"{2 * (rd + cg.groove_depth_mm(d)):.4g} mm), {sd.arc_span_deg:.0f} deg arc, {th:g} mm "
-                     f"thick, on the {side} proximal link's axle at B"),
-        process=drum_process(th, "ream the axle bore, pinned to the axle",
-                             f"turn the rope groove ({d:g} mm rope, {cg.groove_depth_mm(d):.3g} mm deep) "
-                             "at mid-thickness between the anchors"))
+        description=desc, process=process)
 
 
 def _capstan_kind(design, t, sfx: str) -> PartKind:
