@@ -5,6 +5,7 @@ with a line break refused at load (report-md-injection-from-design-strings)."""
 
 from __future__ import annotations
 
+import os
 import struct
 from pathlib import Path
 
@@ -45,6 +46,24 @@ def test_bad_price_file_is_one_line_through_the_cli(tmp_path, content, expect):
                             "--formats", "step", "--out", str(tmp_path / "o"), "--prices", str(tmp_path / "p.csv"))
     assert code == 2 and err.strip().count("\n") == 0 and "--prices" in err and expect in err
     assert "Traceback" not in err and not (tmp_path / "o").exists()
+
+
+@pytest.mark.parametrize("kind", ["fifo", "dev-zero"])
+def test_price_file_not_a_regular_file_is_one_line_through_the_cli(tmp_path, kind):
+    """Case prices-file-unguarded-hang-memory: a FIFO hung ``build --prices`` for ever, a link to
+    /dev/zero died with a MemoryError traceback. Now one line at once naming --prices, the file
+    and what it is (docs/reliability.md "Files hapticad reads"), exit 2, nothing written."""
+    p = tmp_path / "p.csv"
+    if kind == "fifo":
+        os.mkfifo(p)
+    else:
+        p.symlink_to("/dev/zero")
+    code, _, err = hapticad("build", str(ROOT / "designs" / "hoeken.toml"), "--fidelity", "preview",
+                            "--formats", "step", "--out", str(tmp_path / "o"), "--prices", str(p))
+    what = "is a FIFO (named pipe)" if kind == "fifo" else "character device (a symbolic link to /dev/zero)"
+    assert code == 2 and err.strip().count("\n") == 0 and "Traceback" not in err, err
+    assert err.startswith("hapticad: error: --prices: ") and "p.csv" in err and what in err, err
+    assert not (tmp_path / "o").exists()
 
 
 def test_encoder_zero_beyond_two_turns_is_refused(tmp_path):
