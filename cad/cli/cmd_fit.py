@@ -41,7 +41,6 @@ def register(app: typer.Typer) -> None:
         flags.number("--trials", trials)
         flags.out_path("--out", out, folder=False)
         d = load_design(design)
-        flags.design_script(d)  # exit 2 naming the opt-in at load, before the search (as build)
         setup = fit_setup(d, tuple(target or ()), tuple(free or ()))
         dst = out if out is not None else design.with_suffix(".fit.toml")
         replaced = check_out_file(dst, design)

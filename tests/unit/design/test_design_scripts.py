@@ -149,3 +149,23 @@ def test_every_command_that_builds_refuses_a_script_at_load(stranger, argv):
                           "HAPTICAD_ALLOW_SCRIPTS=1")
     assert out == "" and not (stranger / "script_ran.txt").exists()
     assert sorted(p.name for p in stranger.iterdir()) == before
+
+
+def test_the_api_searches_refuse_a_script_before_their_first_candidate(stranger):
+    """The same kind through the Python API (``cad.api.fit_design`` / ``cad.api.optimize``):
+    with no opt-in, ``optimize`` returned ``best`` None (every candidate refused, reliability
+    case optimize-script-design-misleading-exit1) and ``fit_design`` ran its search before
+    the refusal. Now both raise DesignError ``parts.handle_script`` before the first candidate."""
+    from cad.api import fit_design, load_design, optimize
+    from cad.parts.handle import script_policy
+
+    assert script_policy() == "off"  # the fixture removed HAPTICAD_ALLOW_SCRIPTS; no CLI override
+    d = load_design(stranger / "from_a_stranger.toml")
+    said: list[str] = []
+    with pytest.raises(DesignError) as e:
+        fit_design(d, free=("parts.bar_width_mm",), trials=3, echo=said.append)
+    assert e.value.field == "parts.handle_script" and said == []
+    with pytest.raises(DesignError) as e:
+        optimize(d, objective="min-apparent-mass", trials=2, exact_top=1)
+    assert e.value.field == "parts.handle_script" and "HAPTICAD_ALLOW_SCRIPTS=1" in str(e.value)
+    assert not (stranger / "script_ran.txt").exists()
