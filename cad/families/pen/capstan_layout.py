@@ -212,3 +212,39 @@ def refuse_solids(design) -> None:
     why = refusal(design)
     if why is not None:
         raise DesignError("transmission", why)
+
+
+def arm_sign(joint: str) -> float:
+    """-1 for arm A's joints, +1 for arm B's (:mod:`cad.families.pen.layout`: arm A's waist
+    axis at x = -l4/2)."""
+    return -1.0 if joint.startswith("A_") else 1.0
+
+
+def motor_in_body_mm(side) -> tuple[float, float]:
+    """Where the moved motor's axis meets the plane of its drum, in the frame of the body that
+    carries the motor (mm): a waist motor's (x, y) in the world (the ground; its axis vertical);
+    a shoulder motor's (x, z) in its arm's waist frame (x = -sign e_r, z up,
+    :func:`cad.families.pen.layout.body_poses`; its axis along the waist frame's y = n_out, the
+    motor plate's offset along it is the solids'). From the pair's plane (module docstring):
+    a shoulder's (x5, y5) = (z, rho) is the waist frame's (-sign rho, z)."""
+    x, y = side.motor_xy_mm
+    if side.joint.endswith("_waist"):
+        return float(x), float(y)
+    return -arm_sign(side.joint) * float(y), float(x)
+
+
+def drum_arc_body_deg(side) -> tuple[float, float, tuple[float, float]]:
+    """``(start, span, anchors)`` of the drum sector in the frame of the body that carries it
+    (deg about that frame's z, counter-clockwise): a waist drum in its waist frame (z up,
+    x = -sign e_r: the search's link angle psi is e_r's, so angles shift by 0 for arm A and
+    180 deg for arm B); a shoulder drum in its proximal link's frame (z = n_out, which is the
+    pair plane's normal e_z x e_r for arm A and its opposite for arm B: arm B's angles are
+    mirrored, start -> -(start + span))."""
+    s0, sp, an = side.arc_start_deg, side.arc_span_deg, tuple(side.anchors_deg)
+    sign = arm_sign(side.joint)
+    if side.joint.endswith("_waist"):
+        off = 0.0 if sign < 0 else 180.0
+        return s0 - off, sp, tuple(a - off for a in an)
+    if sign < 0:
+        return s0, sp, an
+    return -(s0 + sp), sp, tuple(-a for a in an)
