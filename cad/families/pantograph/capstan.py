@@ -140,8 +140,10 @@ def swept_drum_mask(pts: np.ndarray, side: CapstanSide, rim_mm: float, q_deg: np
     near = np.hypot(d[:, 0], d[:, 1]) <= rim_mm + CLEARANCE_MM / 2
     ang = np.degrees(np.arctan2(d[:, 1], d[:, 0]))
     start = side.arc_start_deg + np.asarray(q_deg, float) - CAPSTAN_RANGE_MARGIN_DEG  # (K,) world start of the arc
-    return near[None, :] & (((ang[None, :] - start[:, None]) % 360.0)
-                            <= side.arc_span_deg + 2 * CAPSTAN_RANGE_MARGIN_DEG)
+    idx = np.flatnonzero(near)  # the arc's test on the points within reach only (the same mask, half the work)
+    out = np.zeros((len(start), len(pts)), dtype=bool)
+    out[:, idx] = ((ang[None, idx] - start[:, None]) % 360.0) <= side.arc_span_deg + 2 * CAPSTAN_RANGE_MARGIN_DEG
+    return out
 
 
 def capstan_side(fb, t, i: int, alpha: float, rng) -> CapstanSide:
@@ -185,15 +187,18 @@ def _clear(sides, rims, keep: float, half: float, q_deg: np.ndarray, shared_band
     lo, hi = np.minimum(*b) - R, np.maximum(*b) + R
     xs, ys = np.arange(lo[0], hi[0], SAMPLE_MM), np.arange(lo[1], hi[1], SAMPLE_MM)
     pts = np.stack(np.meshgrid(xs, ys), -1).reshape(-1, 2)
-    masks = []
-    for k, (s, r) in enumerate(zip(sides, rims, strict=True)):
-        masks.append(swept_drum_mask(pts, s, r, q_deg[:, k]))
-        if s.arc_span_deg + 2 * CAPSTAN_RANGE_MARGIN_DEG >= 360.0:
-            return "circle"
-    if shared_band and np.any(masks[0] & masks[1]):
-        return "drums"
+    if any(s.arc_span_deg + 2 * CAPSTAN_RANGE_MARGIN_DEG >= 360.0 for s in sides):
+        return "circle"
+    # each test on the plane points that can meet (within both drums' reach, within the other
+    # axle's): the same answer as on the whole grid, a fraction of the work
+    reach = [np.hypot(*(pts - b[k]).T) <= rims[k] + CLEARANCE_MM / 2 for k in range(2)]
+    if shared_band:
+        p = pts[reach[0] & reach[1]]
+        if np.any(swept_drum_mask(p, sides[0], rims[0], q_deg[:, 0]) & swept_drum_mask(p, sides[1], rims[1], q_deg[:, 1])):
+            return "drums"
     for k in range(2):  # the other joint's axle and hub clevis
-        if np.any(masks[k] & (np.hypot(*(pts - b[1 - k]).T) <= keep)[None, :]):
+        p = pts[np.hypot(*(pts - b[1 - k]).T) <= keep]
+        if np.any(swept_drum_mask(p, sides[k], rims[k], q_deg[:, k])):
             return "joint"
     return None
 
