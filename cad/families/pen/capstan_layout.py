@@ -21,6 +21,10 @@ The pairs and their planes (mm, deg):
   by the other motor's shaft and capstan, which it must leave free (:func:`shaft_clash`, both
   orders tried).
 
+In both, each free run of rope must leave the other joint's axle free too
+(:func:`run_clearance_mm`; the search does not look at the runs, so a pair whose best
+directions fail this is refused, not searched further).
+
 A motor direction ``alpha`` is measured in its pair's plane from the x axis towards y (the
 waists: world x towards y; the shoulders: up the waist axis towards the pen). The search keeps
 the motors farthest from the workspace (smallest y). These are plane checks over the workspace
@@ -95,6 +99,21 @@ def shaft_clash(sides, rims, q_deg: np.ndarray, k: int, capstan_rims) -> bool:
     return bool(np.any(pcap.swept_drum_mask(pts, sides[k], rims[k], q_deg[:, k])))
 
 
+def run_clearance_mm(sides, rope_diameters_mm) -> float:
+    """The least distance (mm) from either side's two free runs of rope (the rope's surface:
+    its axis, a segment between the tangent points ``tangents_mm``, less half the rope) to the
+    other side's joint: the runs stay put in the pair's plane while the joints turn (motor and
+    joint axes are both fixed there), so one distance holds at every pose."""
+    out = math.inf
+    for k, sd in enumerate(sides):
+        c = np.asarray(sides[1 - k].b_mm, float)
+        for p0, p1 in np.asarray(sd.tangents_mm, float):
+            u = p1 - p0
+            t = float(np.clip((c - p0) @ u / (u @ u), 0.0, 1.0))
+            out = min(out, float(np.hypot(*(p0 + t * u - c))) - 0.5 * rope_diameters_mm[k])
+    return out
+
+
 def _pair_layout(design, name, joints, centres, motor, keep, shared, ts, rng, q_deg) -> PairLayout:
     """The pair's :class:`PairLayout` (module docstring); DesignError from the capstans' own
     checks (the centre distance against the mount plates)."""
@@ -113,6 +132,12 @@ def _pair_layout(design, name, joints, centres, motor, keep, shared, ts, rng, q_
                           f"the tensioner, joints {gap:g} mm apart): of {sum(why.values())} directions, {counts}; "
                           f"fix: {FIXES['waists' if shared else 'shoulders']}")
     sides = tuple(dataclasses.replace(s, joint=j) for s, j in zip(best, joints, strict=True))
+    near = run_clearance_mm(sides, [t.cable_diameter_mm for t in ts]) - keep
+    if near <= 0.0:
+        return PairLayout(name, joints, None,
+                          f"{name}: the directions found ({sides[0].alpha_deg:g} and {sides[1].alpha_deg:g} deg) run a "
+                          f"rope {-near:.1f} mm into the other joint's axle and hub clevis (radius {keep:g} mm); "
+                          f"fix: {FIXES['waists' if shared else 'shoulders']}")
     if shared:
         return PairLayout(name, joints, sides, None)
     crests = [cg.crest_radius_mm(t.capstan_diameter_mm, t.cable_diameter_mm) for t in ts]

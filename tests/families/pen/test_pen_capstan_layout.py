@@ -219,3 +219,48 @@ def test_a_pair_with_one_direct_motor_is_named_and_the_others_laid_out():
         ("waists", True), ("arm A shoulders", False), ("arm B shoulders", False)]
     msg = cl.refusal(d)
     assert "waists: A_q_waist is direct" in msg and "fix: give both a capstan or neither" in msg
+
+
+def _shoulder_sides(alphas, q_range=(-2.0, 2.0)):
+    """Two shoulder sides of the bundled file's 128 / 32 mm capstan at joints (-30, 0) and
+    (30, 0), motors at ``alphas`` (deg), each link's range ``q_range`` (deg)."""
+    import types
+
+    from cad.families.pantograph.capstan import capstan_side
+
+    d = parse_design(copy.deepcopy(RAW), "pen")
+    t = resolve_device(d).transmission("A_q_lower")
+    fb = types.SimpleNamespace(base_left_mm=(-30.0, 0.0), base_right_mm=(30.0, 0.0))
+    return t, tuple(capstan_side(fb, t, i, a, q_range) for i, a in enumerate(alphas))
+
+
+def test_the_other_motors_capstan_in_a_drums_arc_by_hand():
+    """Left motor at 0 deg: 82 mm from (-30, 0), at (52, 0), 22 mm beyond the right joint. The
+    right drum facing it (alpha 0, arc 0 +- (gamma + 2 deg + an anchor), out to 71.7 mm) covers
+    its capstan (its crests 15.88 mm and the 0.5 mm half gap: a 16.4 mm disc 22 mm away); facing
+    away (alpha 180) it does not (the disc lies within asin(16.4 / 22) = 48 deg of 0 deg, the
+    arc within 180 +- 65 deg)."""
+    t, facing = _shoulder_sides((0.0, 0.0))
+    _, away = _shoulder_sides((0.0, 180.0))
+    assert facing[0].motor_xy_mm == pytest.approx((52.0, 0.0))
+    crest = [16.0 - 0.8 / 2 + 0.35 * 0.8] * 2  # the capstan's crests: pitch radius less half a rope plus the groove depth
+    rims = [swept_radius_mm(t)] * 2
+    q = np.zeros((1, 2))
+    assert cl.shaft_clash(facing, rims, q, 1, crest)
+    assert not cl.shaft_clash(away, rims, q, 1, crest)
+
+
+def test_rope_runs_clearance_against_sampled_runs(bundled):
+    """The least distance from a rope run to the other joint, by projection
+    (:func:`run_clearance_mm`), against 20001 points sampled along each run."""
+    d, pairs = bundled
+    dev = resolve_device(d)
+    for pair in pairs:
+        ds = [dev.transmission(s.joint).cable_diameter_mm for s in pair.sides]
+        ref = math.inf
+        for k, sd in enumerate(pair.sides):
+            c = np.asarray(pair.sides[1 - k].b_mm)
+            for p0, p1 in np.asarray(sd.tangents_mm):
+                s = np.linspace(0.0, 1.0, 20001)[:, None]
+                ref = min(ref, np.min(np.linalg.norm(p0 + s * (p1 - p0) - c, axis=1)) - ds[k] / 2)
+        assert cl.run_clearance_mm(pair.sides, ds) == pytest.approx(ref, abs=0.02)
