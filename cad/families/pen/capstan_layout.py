@@ -45,6 +45,7 @@ from cad.data.catalog import get_motor
 from cad.device import resolve_device
 from cad.errors import DesignError
 from cad.families.pantograph import capstan as pcap
+from cad.families.pantograph import twin_placement as tp
 from cad.families.pen import capstan as pen_capstan
 from cad.families.pen.layout import WAIST_HUB_MM
 from cad.kinematics import haptic_pen as kpen
@@ -55,8 +56,10 @@ from cad.parts.motor import mount_side_mm
 class PairLayout:
     """One pair of capstan motors of the pen: ``name`` (``waists``, ``arm A shoulders`` ..),
     ``joints`` (two of :data:`cad.families.pen.capstan.JOINTS`), ``sides`` the two
-    :class:`cad.families.pantograph.capstan.CapstanSide` (None when they cannot be laid out),
-    ``clash`` the refusal's words then (None when laid out), ``plate_band`` the joint whose drum
+    :class:`cad.families.pantograph.capstan.CapstanSide` the direction search found (None when
+    no direction clears), ``clash`` the refusal's words when the pair cannot be laid out (no
+    direction, a rope run on the other axle, a capstan in the other drum's arc, a motor shaft
+    too short for its capstan's band; None when laid out), ``plate_band`` the joint whose drum
     turns in the band by the motor plate (the shoulders; None for the waists' shared band)."""
 
     name: str
@@ -132,22 +135,49 @@ def _pair_layout(design, name, joints, centres, motor, keep, shared, ts, rng, q_
                           f"the tensioner, joints {gap:g} mm apart): of {sum(why.values())} directions, {counts}; "
                           f"fix: {FIXES['waists' if shared else 'shoulders']}")
     sides = tuple(dataclasses.replace(s, joint=j) for s, j in zip(best, joints, strict=True))
+    found = f"{name}: the directions found ({sides[0].alpha_deg:g} and {sides[1].alpha_deg:g} deg)"
     near = run_clearance_mm(sides, [t.cable_diameter_mm for t in ts]) - keep
     if near <= 0.0:
-        return PairLayout(name, joints, None,
-                          f"{name}: the directions found ({sides[0].alpha_deg:g} and {sides[1].alpha_deg:g} deg) run a "
-                          f"rope {-near:.1f} mm into the other joint's axle and hub clevis (radius {keep:g} mm); "
-                          f"fix: {FIXES['waists' if shared else 'shoulders']}")
-    if shared:
+        return PairLayout(name, joints, sides,
+                          f"{found} run a rope {-near:.1f} mm into the other joint's axle and hub clevis (radius "
+                          f"{keep:g} mm); fix: {FIXES['waists' if shared else 'shoulders']}")
+    if shared:  # the waists' band above the base plate, the motors under it and their mount plates
+        short = max(tp.shaft_shortfall_mm(design, t, 1, motor) for t in ts)
+        if short > 0.0:
+            return PairLayout(name, joints, sides, f"{found}: {_short_words(design, motor, 1, short, True)}")
         return PairLayout(name, joints, sides, None)
     crests = [cg.crest_radius_mm(t.capstan_diameter_mm, t.cable_diameter_mm) for t in ts]
+    plates = design.parts.motor_mount_thickness_mm  # the shoulder motors stand on the bracket's motor plate
+    why = []
     for k in (1, 0):  # the upper drum by the plate first (the lower link's layer is the outer one)
-        if not shaft_clash(sides, rims, q_deg, k, crests):
+        short = tp.shaft_shortfall_mm(design, ts[1 - k], 2, motor, plates)  # the other motor reaches band 2
+        if shaft_clash(sides, rims, q_deg, k, crests):
+            why.append("capstan turns in the swept arc of the drum by the plate")
+        elif short > 0.0:
+            why.append(_short_words(design, motor, 2, short, False))
+        else:
             return PairLayout(name, joints, sides, None, joints[k])
-    return PairLayout(name, joints, None,
-                      f"{name}: the directions found ({sides[0].alpha_deg:g} and {sides[1].alpha_deg:g} deg) put "
-                      "each motor's capstan in the other drum's swept arc, whichever drum turns by the motor plate; "
-                      f"fix: {FIXES['shoulders']}")
+    if why[0] == why[1]:
+        return PairLayout(name, joints, sides, f"{found}: whichever drum turns by the motor plate, the other motor's "
+                          f"{why[0]}")
+    return PairLayout(name, joints, sides, f"{found}: " + "; ".join(
+        f"with {joints[k]}'s drum by the plate, {joints[1 - k]}'s {w}" for k, w in zip((1, 0), why, strict=True)))
+
+
+def _short_words(design, motor: str, band: int, short: float, under_base: bool) -> str:
+    """The refusal's words for a motor shaft ``short`` mm too short for its capstan's hub in drum
+    band ``band`` (:func:`cad.families.pantograph.twin_placement.shaft_shortfall_mm`), with the fix."""
+    p = design.parts
+    off = tp.band_rope_offset_mm(design, band)
+    plates = (f"the {p.plate_thickness_mm:g} mm base plate and the {p.motor_mount_thickness_mm:g} mm mount plate"
+              if under_base else f"the {p.motor_mount_thickness_mm:g} mm motor plate")
+    fix = (f"parts.motor_mount_thickness_mm <= {p.motor_mount_thickness_mm - short:.2f}, a smaller "
+           "parts.layer_gap_mm or fewer wraps" if not under_base else
+           f"parts.plate_thickness_mm + motor_mount_thickness_mm <= "
+           f"{p.plate_thickness_mm + p.motor_mount_thickness_mm - short:.2f} or fewer wraps")
+    return (f"capstan hub in drum band {band} (its rope {off:g} mm past the plate) stands {short:.1f} mm past "
+            f"the {motor} shaft's tip ({get_motor(motor).shaft_length_mm:g} mm from its face, through {plates}); "
+            f"fix: {fix}")
 
 
 #: The last design laid out and its layout: the build's pre-CAD check and the commands after it
@@ -204,6 +234,8 @@ def _renamed(pair: PairLayout, name: str, joints: tuple) -> PairLayout:
                                                    for s, j in zip(pair.sides, joints, strict=True))
     plate = None if pair.plate_band is None else joints[pair.joints.index(pair.plate_band)]
     clash = None if pair.clash is None else name + pair.clash[len(pair.name):]
+    for a, b in zip(pair.joints, joints, strict=True):
+        clash = None if clash is None else clash.replace(a, b)
     return PairLayout(name, joints, sides, clash, plate)
 
 
@@ -222,8 +254,8 @@ def refusal(design) -> str | None:
     pairs = layout(design)
     if not pairs:
         return None
-    ok = [describe(p) for p in pairs if p.sides is not None]
-    bad = [p.clash for p in pairs if p.sides is None]
+    ok = [describe(p) for p in pairs if p.clash is None]
+    bad = [p.clash for p in pairs if p.clash is not None]
     where = (f"the layout places the motors of {', '.join(ok)}" if ok else "")
     stop = (f"{'; ' if ok else ''}not laid out: {' | '.join(bad)}" if bad else "")
     return (f"the haptic pen's capstan solids are not built yet ({where}{stop}): build it with direct drive, "

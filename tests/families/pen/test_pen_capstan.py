@@ -194,7 +194,8 @@ def test_every_command_that_needs_the_solids_is_refused_in_one_line(tmp_path, ar
     extra = ("--out", str(out)) if args[0] in ("build", "render", "fit") else ()
     code, _, err = hapticad(args[0], BUNDLED, *args[1:], *extra)
     assert_one_line_error(code, err, "transmission", "capstan solids", "not built yet",
-                          "the layout places the motors of waists at", "arm B shoulders at")
+                          "the layout places the motors of waists at", "arm B shoulders: the directions found",
+                          "mm past the maxon-re35 shaft's tip")
     assert not out.exists() or not any(out.iterdir())
 
 

@@ -64,19 +64,49 @@ def _wrap(a):
     return (np.asarray(a) + 180.0) % 360.0 - 180.0
 
 
-def test_the_bundled_pen_lays_out_all_three_pairs(bundled):
-    """The bundled design's three pairs are laid out (no clash), the shoulder drums in bands of
-    their own, and the build's pre-CAD check refuses the solids in one line naming each pair."""
-    d, pairs = bundled
-    assert [p.name for p in pairs] == ["waists", "arm A shoulders", "arm B shoulders"]
-    assert all(p.sides is not None and p.clash is None for p in pairs)
-    assert [p.plate_band is None for p in pairs] == [True, False, False]
+def _refusal_line(d) -> str:
     with pytest.raises(DesignError) as e:
         check_options(d, "fabrication", None)
     msg = str(e.value)
     assert "\n" not in msg and msg.startswith("transmission: the haptic pen's capstan solids are not built yet")
+    return msg
+
+
+def test_the_bundled_pens_shoulder_capstans_are_2_2_mm_past_the_shaft(bundled):
+    """The bundled file: the waists are laid out; each arm's shoulder directions are found, but
+    whichever shoulder drum turns by the motor plate, the other's turns in band 2, its rope's
+    plane 2 gaps + a drum + half a drum = 2 x 3 + 10 + 5 = 21 mm past the plate, the capstan's
+    hub half the turns below it (1.5 x 0.8 x 3 / 2 = 1.8 mm), at 19.2 mm; the RE 35's shaft
+    reaches 22 - 5 = 17 mm past the 5 mm motor plate: 2.2 mm short, fixed by a motor plate of at
+    most 5 - 2.2 = 2.8 mm. The build's pre-CAD line says all of it."""
+    d, pairs = bundled
+    assert [p.name for p in pairs] == ["waists", "arm A shoulders", "arm B shoulders"]
+    assert all(p.sides is not None for p in pairs)
+    assert [p.clash is None for p in pairs] == [True, False, False]
+    short = (2 * 3.0 + 10.0 + 5.0) - 1.5 * 0.8 * 3.0 / 2 - (22.0 - 5.0)
+    assert short == pytest.approx(2.2)
+    msg = _refusal_line(d)
+    assert "the layout places the motors of waists at" in msg
+    for arm in ("A", "B"):
+        seg = msg.split(f"arm {arm} shoulders: ")[1]
+        assert "whichever drum turns by the motor plate" in seg
+        assert f"stands {short:.1f} mm past the maxon-re35 shaft's tip" in seg
+        assert f"parts.motor_mount_thickness_mm <= {5.0 - short:.2f}" in seg
+
+
+def test_with_a_2_5_mm_motor_plate_every_pair_is_laid_out():
+    """A 2.5 mm motor plate lets the RE 35's shaft reach 19.5 mm >= 19.2 mm: the three pairs are
+    laid out, each arm's upper drum by the plate, and the line names all three."""
+    raw = copy.deepcopy(RAW)
+    raw["parts"]["motor_mount_thickness_mm"] = 2.5
+    d = parse_design(raw, "thin")
+    pairs = cl.layout(d)
+    assert all(p.clash is None for p in pairs)
+    assert [p.plate_band for p in pairs] == [None, "A_q_upper", "B_q_upper"]
+    msg = _refusal_line(d)
     for name in ("waists at", "arm A shoulders at", "arm B shoulders at"):
         assert name in msg
+    assert "not laid out" not in msg
 
 
 def test_moved_motors_and_rope_tangents_against_the_3d_frames(bundled):
@@ -195,10 +225,7 @@ def test_a_clashing_shoulder_pair_is_refused_with_its_counts_and_fix():
     for i in (0, 3):
         raw["transmission"][i] = {"kind": "direct"}
     d = parse_design(raw, "clash")
-    with pytest.raises(DesignError) as e:
-        check_options(d, "fabrication", None)
-    msg = str(e.value)
-    assert "\n" not in msg and msg.startswith("transmission: the haptic pen's capstan solids are not built yet")
+    msg = _refusal_line(d)
     assert "waists" not in msg
     for arm in ("A", "B"):
         seg = msg.split(f"arm {arm} shoulders: ")[1]
