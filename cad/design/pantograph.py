@@ -588,7 +588,7 @@ def _check_transmission(raw: dict[str, Any], family: str) -> None:
     A waist, lower, upper, then arm B's, :meth:`PantographDesign.motor_joints`) validated at load
     (:func:`cad.design.transmission.parse_transmissions`). The twin's and the pen's capstan
     solids are not built: their builds refuse a capstan (``refuse_solids`` of
-    :mod:`cad.families.pantograph.twin_capstan`, :mod:`cad.families.pen.capstan`)."""
+    :mod:`cad.families.pantograph.twin_capstan`, :mod:`cad.families.pen.capstan_layout`)."""
     if "transmission" not in raw:
         return
     parse_transmissions(raw["transmission"], {"pantograph": 2, "twin-pantograph": 4}.get(family, 6))
