@@ -30,6 +30,26 @@ FAMILY_DESIGNS = {
 #: Formats of the shared builds below (tests that rebuild them elsewhere pass the same set).
 FAMILY_FORMATS = ("step", "stl", "dxf", "glb", "firmware", "drawings")
 HOEKEN_SIM_FORMATS = ("mjcf", "urdf", "stl", "step", "firmware")
+#: The simulator builds (preview fidelity) of the bundled 5-bars and the PowerMouse, read by
+#: tests/unit/export/test_sim_fivebar_powermouse.py, tests/unit/export/test_sim_export.py and
+#: tests/regressions/test_outputs_agree.py through ``shared_build(name, SIM_FORMATS[name],
+#: "preview")``: one build per design and run where each module made its own with a subset of
+#: these formats (the formats are written independently of each other: a format more does not
+#: change the others' files).
+SIM_FORMATS = {
+    "pantograph.toml": ("mjcf", "urdf", "stl", "firmware"),
+    "haptic_mouse.toml": ("mjcf", "urdf", "stl", "firmware"),
+    "powermouse.toml": ("mjcf", "stl", "firmware"),
+}
+#: The bundled delta's shared build (preview): STEP for tests/families/delta/test_delta_build.py
+#: and tests/unit/assembly/test_assembly_steps.py, the MJCF and its meshes for
+#: tests/families/delta/test_delta_identify.py (its ``--build-dir``); one delta build (the
+#: slowest bundled design to build) instead of two.
+DELTA_FORMATS = ("step", "mjcf", "stl")
+#: The bundled haptic pen's shared build (inertia): the firmware for
+#: tests/families/pen/test_pen_firmware.py, STEP (assembly and parts) for
+#: tests/regressions/test_tryit_t23.py; one build where each made its own.
+PEN_FORMATS = ("firmware", "step")
 
 
 @pytest.fixture(scope="session")

@@ -194,15 +194,41 @@ def _build(toml_text: str, tmp: Path, name: str) -> tuple[dict, Path]:
     return toml, out
 
 
+class _Builds(dict):
+    """``{name: (toml, out)}`` built on first use (a test reads only the builds it names: under
+    xdist a worker that runs some of this module's tests makes only theirs)."""
+
+    def __init__(self, make):
+        super().__init__()
+        self._make = make
+
+    def __missing__(self, name):
+        self[name] = self._make(name)
+        return self[name]
+
+
 @pytest.fixture(scope="module")
-def builds(tmp_path_factory):
+def builds(tmp_path_factory, shared_build):
+    """The bundled FAST designs are the run's shared simulator builds (tests/conftest.py
+    ``HOEKEN_SIM_FORMATS``, ``SIM_FORMATS``: preview, a superset of FORMATS, the same builds
+    the simulator export tests read); the Hoeken variants are built here."""
+    from tests.conftest import HOEKEN_SIM_FORMATS, SIM_FORMATS
+
     tmp = tmp_path_factory.mktemp("agree")
     hoeken = (DESIGNS / "hoeken.toml").read_text()
-    texts = {p: (DESIGNS / p).read_text() for p in FAST}
-    texts["hoeken_motor_table"] = hoeken + MOTOR_TABLE
-    texts["hoeken_enc4096"] = hoeken.replace("[parts]\n", "[parts]\nencoder_counts_per_rev = 4096\n")
-    texts["hoeken_hedl"] = hoeken.replace("[parts]\n", '[parts]\nencoder = "maxon-hedl5540-500"\n')
-    return {k: _build(v, tmp, Path(k).stem) for k, v in texts.items()}
+    texts = {"hoeken_motor_table": hoeken + MOTOR_TABLE,
+             "hoeken_enc4096": hoeken.replace("[parts]\n", "[parts]\nencoder_counts_per_rev = 4096\n"),
+             "hoeken_hedl": hoeken.replace("[parts]\n", '[parts]\nencoder = "maxon-hedl5540-500"\n')}
+    fmts = {"hoeken.toml": HOEKEN_SIM_FORMATS, **SIM_FORMATS}
+
+    def make(name):
+        if name in texts:
+            return _build(texts[name], tmp, name)
+        toml = tomllib.loads((DESIGNS / name).read_text())
+        assert set(fmts[name]) >= FORMATS.get(toml["mechanism"].get("family", ""), FOURBAR_FORMATS)
+        return toml, shared_build(name, fmts[name], "preview")[1]
+
+    return _Builds(make)
 
 
 def report_type(family: str) -> type:

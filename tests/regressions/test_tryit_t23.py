@@ -155,7 +155,7 @@ def test_pen_build_cli_out_of_reach_exits_2_in_one_line(tmp_path):
     assert not (tmp_path / "out").exists()
 
 
-def test_pen_report_places_every_part_file_as_assembly_step(tmp_path):
+def test_pen_report_places_every_part_file_as_assembly_step(shared_build):
     """report.json ``placement`` (issue 23: every per-part file in its instance frame, for every
     family) was missing from the haptic pen's report. Reference: each ``parts/<kind>.step``
     moved by ``tf_world_body @ tf_body_part`` has the volume and centroid of its instance in
@@ -168,9 +168,9 @@ def test_pen_report_places_every_part_file_as_assembly_step(tmp_path):
         unplaced_volume_props,
     )
 
-    out = tmp_path / "pen"
-    rep = cad.build_design(cad.load_design("designs/haptic_pen.toml"), out, formats=("step",),
-                           fidelity="inertia")
+    from tests.conftest import PEN_FORMATS
+
+    _, out, rep = shared_build("haptic_pen.toml", PEN_FORMATS, "inertia")  # report.json read back
     pl = rep["placement"]
     files = {n: unplaced_volume_props(read_step_solids(out / k["file"]))[:2]
              for n, k in pl["kinds"].items() if k["file"] is not None}

@@ -24,6 +24,7 @@ import cad
 from cad.errors import DesignError
 from cad.families.delta.datasheet import force_in_every_direction_N
 from cad.kinematics.delta import joint_torques_Nm
+from tests.conftest import DELTA_FORMATS
 
 ROOT = Path(__file__).resolve().parents[3]
 
@@ -65,7 +66,7 @@ def test_the_bundled_delta_builds_and_its_report_reads_back(shared_build):
     from cad.families.delta.structure import first_mode
     from cad.massprops.props import MassProps
 
-    d, out, rep = shared_build("delta.toml", ("step",), "preview")  # report.json read back
+    d, out, rep = shared_build("delta.toml", DELTA_FORMATS, "preview")  # report.json read back
     bodies = {k: MassProps(v["mass_kg"], np.asarray(v["com_mm"]) * 1e-3,
                            np.asarray(v["inertia_com_kg_m2"]))
               for k, v in rep["placement"]["bodies"].items()}
@@ -92,7 +93,7 @@ def test_the_report_maps_the_apparent_mass_over_the_workspace(shared_build):
     from cad.massprops.props import MassProps
     from cad.report.delta import APPARENT_MASS_MAP, map_layers
 
-    d, out, rep = shared_build("delta.toml", ("step",), "preview")
+    d, out, rep = shared_build("delta.toml", DELTA_FORMATS, "preview")
     assert APPARENT_MASS_MAP in rep["files"]
     assert f"]({APPARENT_MASS_MAP})" in (out / "report.md").read_text()
     img = mpimg.imread(out / APPARENT_MASS_MAP)
@@ -228,7 +229,7 @@ def test_an_overlap_in_the_report_is_a_datasheet_miss(shared_build):
 
     from cad.datasheet import datasheet
 
-    d, _, rep = shared_build("delta.toml", ("step",), "preview")
+    d, _, rep = shared_build("delta.toml", DELTA_FORMATS, "preview")
     ok = datasheet(d, rep, simulate_wall=False)
     row = next(r for r in ok["rows"] if r["key"] == "overlap_volume_mm3")
     assert row["value"] == 0.0 and not any("overlap" in w for w in ok["warnings"])

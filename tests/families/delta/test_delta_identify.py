@@ -28,6 +28,7 @@ from cad.identify import jointn, logfile
 from cad.sim.bench import parse_perturb
 from cad.sim.identify_fivebar import build_folder
 from tests.cli_helpers import assert_one_line_error, hapticad, hapticad_json
+from tests.conftest import DELTA_FORMATS
 
 ROOT = Path(__file__).resolve().parents[3]
 mujoco = pytest.importorskip("mujoco")
@@ -39,10 +40,12 @@ def delta():
 
 
 @pytest.fixture(scope="module")
-def built(delta):
+def built(delta, shared_build):
+    """The bundled delta's shared build (tests/conftest.py ``DELTA_FORMATS``: its MJCF and
+    meshes), read as ``--build-dir`` (one delta build per run, not one more here)."""
     from cad.families.delta import identify as di
 
-    folder, rep = build_folder(delta, None)
+    folder, rep = build_folder(delta, shared_build("delta.toml", DELTA_FORMATS, "preview")[1])
     return folder, rep, di.predict(delta, rep)
 
 

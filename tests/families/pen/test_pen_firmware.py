@@ -16,7 +16,6 @@ from __future__ import annotations
 import json
 import math
 import subprocess
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -31,11 +30,12 @@ from cad.firmware.device import device_spec
 from cad.firmware.spec import G0_M_S2
 from cad.kinematics import haptic_pen as hp
 from tests.compilers import compiler
+from tests.conftest import PEN_FORMATS
 
 
 @pytest.fixture(scope="module")
 def pen(shared_build):
-    d, out, rep = shared_build("haptic_pen.toml", ("firmware",), "inertia")
+    d, out, rep = shared_build("haptic_pen.toml", PEN_FORMATS, "inertia")
     spec = device_spec(d, rep, "test", "test", resolve_device(d), linkage_model(d))
     return d, out, rep, spec
 

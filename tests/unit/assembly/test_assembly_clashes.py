@@ -36,11 +36,25 @@ FOURBAR_DESIGNS = (
 SWAP_TO = ("roberts", "chebyshev", "chebyshev-v")
 
 _BUILT: dict[str, tuple[dict, Path]] = {}
+#: The bundled Hoeken's STEP and DXF: the run's shared preview build with these formats and its
+#: drawings (tests/regressions/test_stock_agrees.py, tests/conftest.py ``shared_build``), read-only.
+HOEKEN_SHARED = ("hoeken.toml", ("step", "dxf", "drawings"), "preview")
+_SHARED = {}
+
+
+@pytest.fixture(scope="module", autouse=True)
+def _shared(shared_build):
+    _SHARED["build"] = shared_build  # called by _build("hoeken") only: nothing built here
+    yield
+    _SHARED.clear()
 
 
 def _build(key: str, design, tmp_root: Path, fidelity: str = "preview", allow=False):
     from cad.pipeline import build_design
 
+    if key == "hoeken" and key not in _BUILT and (fidelity, allow) == ("preview", False):
+        _, out, rep = _SHARED["build"](*HOEKEN_SHARED)
+        _BUILT[key] = (rep, out)
     if key not in _BUILT:
         out = tmp_root / key
         formats = {"step", "dxf"} if key == "hoeken" else {"step"}

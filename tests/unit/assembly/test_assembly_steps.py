@@ -16,21 +16,17 @@ from pathlib import Path
 
 import pytest
 
-ROOT = Path(__file__).resolve().parents[3]
+from tests.conftest import DELTA_FORMATS
+
 _BULLET = re.compile(r"^- `([^`]+)` \(([^)]+)\): ")
 
 
 @pytest.fixture(scope="module")
-def builds(family_builds, shared_build, tmp_path_factory):
+def builds(family_builds, hoeken_sim_build, shared_build):
     """``{family: out_dir}``: the shared family builds, the bundled delta (preview, shared with
-    tests/families/delta/test_delta_build.py) and the bundled Hoeken (inertia)."""
-    from cad.design import load_design
-    from cad.pipeline import build_design
-
-    out = tmp_path_factory.mktemp("steps") / "hoeken"
-    build_design(load_design(ROOT / "designs" / "hoeken.toml"), out, {"dxf"},
-                 fidelity="inertia", use_cache=False)
-    return {"hoeken": out, "delta": shared_build("delta.toml", ("step",), "preview")[1],
+    tests/families/delta/test_delta_build.py) and the bundled Hoeken (preview, the shared
+    simulator build: its assembly.md, bom.csv and fastener records are the inertia build's)."""
+    return {"hoeken": hoeken_sim_build[1], "delta": shared_build("delta.toml", DELTA_FORMATS, "preview")[1],
             **{fam: o for fam, (_, o, _) in family_builds.items()}}
 
 

@@ -13,6 +13,7 @@ import pytest
 from cli_helpers import assert_one_line_error, hapticad
 
 from cad.data.catalog import get_motor
+from tests.conftest import SIM_FORMATS
 
 ROOT = Path(__file__).resolve().parents[3]
 
@@ -23,14 +24,10 @@ def hoeken(hoeken_sim_build):
 
 
 @pytest.fixture(scope="module")
-def mouse(tmp_path_factory):
-    from cad.design import load_design
-    from cad.pipeline import build_design
-
-    out = tmp_path_factory.mktemp("mouse_sim")
-    d = load_design(ROOT / "designs" / "haptic_mouse.toml")
-    build_design(d, out, {"mjcf", "urdf", "stl"}, fidelity="preview", use_cache=False)
-    return d, out, json.loads((out / "report.json").read_text())
+def mouse(shared_build):
+    """designs/haptic_mouse.toml's shared simulator build (tests/conftest.py ``SIM_FORMATS``:
+    preview, MJCF, URDF, STL): ``(design, out, report)``. Read-only."""
+    return shared_build("haptic_mouse.toml", SIM_FORMATS["haptic_mouse.toml"], "preview")
 
 
 def _floats(s: str) -> list[float]:

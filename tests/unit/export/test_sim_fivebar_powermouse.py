@@ -18,13 +18,14 @@ References, each independent of the writer:
 
 from __future__ import annotations
 
-import json
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
 import numpy as np
 import pytest
 from cli_helpers import assert_one_line_error, hapticad
+
+from tests.conftest import SIM_FORMATS
 
 ROOT = Path(__file__).resolve().parents[3]
 #: Exact float round trip (repr) of a written number.
@@ -35,25 +36,16 @@ DYN_REL = 1e-9
 
 
 @pytest.fixture(scope="module")
-def fivebar(tmp_path_factory):
-    from cad.design import load_design
-    from cad.pipeline import build_design
-
-    out = tmp_path_factory.mktemp("fivebar_sim")
-    d = load_design(ROOT / "designs" / "pantograph.toml")
-    build_design(d, out, {"mjcf", "urdf", "stl"}, fidelity="preview", use_cache=False)
-    return d, out, json.loads((out / "report.json").read_text())
+def fivebar(shared_build):
+    """designs/pantograph.toml's shared simulator build (tests/conftest.py ``SIM_FORMATS``:
+    preview, MJCF, URDF, STL): ``(design, out, report)``. Read-only."""
+    return shared_build("pantograph.toml", SIM_FORMATS["pantograph.toml"], "preview")
 
 
 @pytest.fixture(scope="module")
-def powermouse(tmp_path_factory):
-    from cad.design import load_design
-    from cad.pipeline import build_design
-
-    out = tmp_path_factory.mktemp("pm_sim")
-    d = load_design(ROOT / "designs" / "powermouse.toml")
-    build_design(d, out, {"mjcf", "stl"}, fidelity="preview", use_cache=False)
-    return d, out, json.loads((out / "report.json").read_text())
+def powermouse(shared_build):
+    """designs/powermouse.toml's shared simulator build (preview, MJCF, STL). Read-only."""
+    return shared_build("powermouse.toml", SIM_FORMATS["powermouse.toml"], "preview")
 
 
 def _closed_form_mass_g(design, rep: dict, xy_mm) -> np.ndarray:
