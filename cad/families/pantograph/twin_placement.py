@@ -1,8 +1,13 @@
 """Where the capstans of a twin-pantograph haptic mouse could sit (issue 35 §1), and what stops
 them: the 5-bar's direction search (:func:`cad.families.pantograph.capstan.search_directions`)
 applied to each of the twin's two 5-bars, the reach of a motor shaft into a stack of drum bands,
-and the bridge posts against the swept drums. Pure numpy (no CAD import); the solids are not
-built (:func:`cad.families.pantograph.twin_capstan.refuse_solids`).
+and the bridge posts against the swept drums. Pure numpy (no CAD import). :func:`group_layout`
+is the build's layout of the twin's capstans (the solids:
+:mod:`cad.families.pantograph.capstan_solids`, placed by :mod:`cad.families.pantograph.placement`):
+each 5-bar with capstans on both motors has its two drums in one band (the 5-bar's search); a
+5-bar whose drums meet in one band is refused in one line (two bands are not built: the RE 35's
+shaft does not reach a second band's capstan, :func:`shaft_shortfall_mm`); the bridge posts
+step back out of every drum's sweep (:func:`clear_post_y_mm`).
 
 Frames and units as :mod:`cad.families.pantograph.capstan` (mm, deg, world = the kinematic base
 frame, z = 0 on the base plate's top). The knob pantograph hangs under the bridge, its motors on
@@ -14,20 +19,39 @@ down from the bridge.
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 
 from cad.actuators import capstan_geometry as cg
+from cad.assembly import capstan_hardware as hwc
 from cad.data.catalog import get_motor
 from cad.device import resolve_device
+from cad.errors import DesignError
 from cad.families.pantograph import capstan as pcap
 from cad.families.pantograph import twin_capstan as tc
-from cad.families.pantograph.layout import layout
 from cad.kinematics import twin_pantograph as ktwin
 from cad.parts.motor import mount_side_mm
 from cad.tolerances import CAPSTAN_RANGE_MARGIN_DEG
 
 #: Each 5-bar of the twin: its columns in :data:`cad.families.pantograph.twin_capstan.JOINTS`.
 GROUPS = {"knob": (0, 1), "crank": (2, 3)}
+#: Bridge posts: offset along x from each actuated joint (mm).
+POST_DX_MM = 22.0
+#: Gap between a bridge post and the motor mount plates in front of it (mm), direct drive.
+POST_GAP_MM = 8.0
+
+
+def post_line_y_mm(design) -> float:
+    """The bridge posts' line of a direct-drive twin (mm, world y): :data:`POST_GAP_MM` behind
+    the mount plates of the motors at the joints (``-(mount side / 2 + post diameter / 2 + gap)``)."""
+    return -(mount_side_mm(get_motor(design.parts.motor)) / 2 + design.parts.post_diameter_mm / 2 + POST_GAP_MM)
+
+
+def posts_xy_mm(design, y_mm: float) -> list[tuple[float, float]]:
+    """The four bridge posts (mm, world): x = each joint's +- :data:`POST_DX_MM`, on the line ``y_mm``."""
+    a = design.params["base_mm"]
+    return [(sx * a / 2 + dx, float(y_mm)) for sx in (-1, 1) for dx in (-POST_DX_MM, POST_DX_MM)]
 
 
 def group_directions(design, group: str):
@@ -70,19 +94,20 @@ def shaft_shortfall_mm(design, t, band: int) -> float:
 
 
 def posts_in_swept_drums(design, sides, group: str) -> list[bool]:
-    """For each bridge post of the twin's layout (``posts_xy_mm``, :func:`cad.families.pantograph.layout.layout`):
+    """For each bridge post of the direct-drive twin (:func:`posts_xy_mm` on :func:`post_line_y_mm`):
     True when a drum of ``sides`` (the ``group``'s, :func:`group_directions`) sweeps over any
     point of the post's circle (its diameter plus the clearance) at a workspace sample, its arc
     widened by :data:`cad.tolerances.CAPSTAN_RANGE_MARGIN_DEG` at both ends."""
-    return [post_in_swept_drums(design, xy, {group: sides}) for xy in layout(design)["posts_xy_mm"]]
+    return [post_in_swept_drums(design, xy, {group: sides}) for xy in posts_xy_mm(design, post_line_y_mm(design))]
 
 
-def post_in_swept_drums(design, xy_mm, sides_by_group: dict) -> bool:
+def post_in_swept_drums(design, xy_mm, sides_by_group: dict, q_all_deg: np.ndarray | None = None) -> bool:
     """True when a drum of ``sides_by_group`` (group -> its two :class:`CapstanSide`, in any
     band) sweeps over the circle of a bridge post at ``xy_mm`` (its diameter plus
     :data:`cad.families.pantograph.capstan.CLEARANCE_MM`) at a workspace sample, each drum's arc
-    widened by :data:`cad.tolerances.CAPSTAN_RANGE_MARGIN_DEG` at both ends."""
-    q_all = np.degrees(np.unwrap(ktwin.ik(design.mechanism, design.workspace_points()).q_rad, axis=0))
+    widened by :data:`cad.tolerances.CAPSTAN_RANGE_MARGIN_DEG` at both ends. ``q_all_deg`` (K, 4)
+    the four links' angles at the samples (deg, :func:`link_angles_deg`; computed when None)."""
+    q_all = link_angles_deg(design) if q_all_deg is None else q_all_deg
     dev = resolve_device(design)
     r_post = design.parts.post_diameter_mm / 2 + pcap.CLEARANCE_MM
     ring = np.linspace(0.0, 2 * np.pi, 73)[:-1]
@@ -99,13 +124,20 @@ def post_in_swept_drums(design, xy_mm, sides_by_group: dict) -> bool:
     return False
 
 
+def link_angles_deg(design) -> np.ndarray:
+    """(K, 4) the four proximal links' angles (deg, unwrapped, :data:`cad.families.pantograph.twin_capstan.JOINTS`
+    order) at the workspace samples (x, y and the crank turn)."""
+    return np.degrees(np.unwrap(ktwin.ik(design.mechanism, design.workspace_points()).q_rad, axis=0))
+
+
 def clear_post_y_mm(design, x_mm: float, sides_by_group: dict, step_mm: float = 0.05) -> float:
-    """The first y (mm, world), stepping back by ``step_mm`` from the layout's post line
-    (``posts_xy_mm``), where a bridge post at ``x_mm`` stands clear of every drum of
+    """The first y (mm, world), stepping back by ``step_mm`` from the direct-drive post line
+    (:func:`post_line_y_mm`), where a bridge post at ``x_mm`` stands clear of every drum of
     ``sides_by_group`` (:func:`post_in_swept_drums`); drums only: the rope runs, capstans and
-    the bridge's own extent are not in it."""
-    y = layout(design)["posts_xy_mm"][0][1]
-    while post_in_swept_drums(design, (x_mm, y), sides_by_group):
+    the bridge's own extent are not in it (the build's interference check sees them)."""
+    q_all = link_angles_deg(design)
+    y = post_line_y_mm(design)
+    while post_in_swept_drums(design, (x_mm, y), sides_by_group, q_all):
         y -= step_mm
     return float(y)
 
@@ -140,3 +172,87 @@ def two_band_directions_deg(design, group: str) -> tuple[list[float], list[float
             if not np.any(inside[None, :] & on_arc):
                 out[k].append(float(al))
     return out
+
+
+#: Step of the bridge posts' search back out of the drums' sweep in the build's layout (mm).
+POST_STEP_MM = 0.5
+#: The last design laid out and its layout: the build's pre-CAD check and its layout stage ask
+#: for the same design object (each 5-bar's direction search takes seconds).
+_LAST: list = [None, None]
+
+
+def group_layout(design) -> dict:
+    """The twin's capstans as the build lays them out: ``{"groups": {group: {"sides",
+    "rope_offset_mm", "lift_mm"}}, "post_y_mm"}``; ``{}`` for a twin with direct drive only
+    (or another family). Each 5-bar (``"knob"`` / ``"crank"``) with capstans on both motors has
+    its two drums in one band (:func:`group_directions`; ``sides`` its two
+    :class:`cad.families.pantograph.capstan.CapstanSide` with ``joint`` the resolved device's
+    name, :data:`cad.families.pantograph.twin_capstan.JOINTS`), the rope's plane
+    ``rope_offset_mm`` (:func:`band_rope_offset_mm` band 1) from the face of the plate its
+    motors hang on, its layers moved off that plate by ``lift_mm`` (a drum and a gap). The
+    bridge posts' line ``post_y_mm``: the direct-drive line (:func:`post_line_y_mm`) stepped
+    back by :data:`POST_STEP_MM` until every post clears every drum's sweep
+    (:func:`clear_post_y_mm`). DesignError naming ``transmission`` (with the clash counts or
+    the shaft's shortfall, and what fixes it) when a 5-bar cannot be laid out."""
+    if design.family != "twin-pantograph" or not tc.has_capstan(design):
+        return {}
+    if _LAST[0] is design:
+        return _LAST[1]
+    groups = {}
+    for g in GROUPS:
+        sides = group_sides(design, g)
+        if sides:
+            groups[g] = {"sides": sides, "rope_offset_mm": band_rope_offset_mm(design, 1),
+                         "lift_mm": pcap.DRUM_THICKNESS_MM + design.parts.layer_gap_mm}
+    sbg = {g: v["sides"] for g, v in groups.items()}
+    xs = sorted({x for x, _ in posts_xy_mm(design, 0.0)})
+    out = {"groups": groups, "post_y_mm": min(clear_post_y_mm(design, x, sbg, POST_STEP_MM) for x in xs)}
+    _LAST[:] = [design, out]
+    return out
+
+
+def group_sides(design, group: str):
+    """The ``group``'s two :class:`cad.families.pantograph.capstan.CapstanSide` in one band
+    (joints named as the resolved device), or None for direct drive. DesignError naming
+    ``transmission`` for one capstan and one direct motor on a 5-bar, a capstan hub past the
+    shaft's tip in band 1 (:func:`shaft_shortfall_mm`), or no clear pair of directions (the
+    capstans' own checks first: the set screw's wall, the centre distance)."""
+    cols = GROUPS[group]
+    dev = resolve_device(design)
+    ts = [dev.transmission(tc.JOINTS[c]) for c in cols]
+    names = " and ".join(tc.JOINTS[c] for c in cols)
+    if not any(t.is_capstan for t in ts):
+        return None
+    if not all(t.is_capstan for t in ts):
+        raise DesignError("transmission", f"the twin's {group} pantograph with one motor through a capstan and one "
+                          f"direct is not built (its motors would sit at different heights): give {names} both a "
+                          "capstan or both direct drive")
+    half = mount_side_mm(get_motor(design.parts.motor)) / 2
+    for t in ts:
+        hwc.capstan_set_screw(design, t)
+        pcap.check_centre_distance(design, t, half)
+        short = shaft_shortfall_mm(design, t, 1)
+        if short > 0:
+            raise DesignError("transmission.wraps", f"{t.wraps:g} turns put the {group} pantograph's capstan hub "
+                              f"{short:.1f} mm past the {design.parts.motor} shaft's tip: fewer wraps or a thinner rope")
+    sides, why = group_directions(design, group)
+    if sides is None:
+        raise DesignError("transmission", one_band_refusal(design, group, ts, why))
+    return tuple(dataclasses.replace(s, joint=tc.JOINTS[c]) for s, c in zip(sides, cols, strict=True))
+
+
+def one_band_refusal(design, group: str, ts, why: dict) -> str:
+    """The one line refusing a twin whose ``group``'s drums meet in one band for every mirrored
+    pair of directions: the drum, its swept radius and the joints' distance, the clash counts
+    (:data:`cad.families.pantograph.capstan.CLASHES`), the second band's shaft shortfall
+    (:func:`shaft_shortfall_mm` band 2; two bands are not built) and what fixes it."""
+    counts = "; ".join(f"{pcap.CLASHES[k]} in {n}" for k, n in sorted(why.items(), key=lambda kv: -kv[1]))
+    short = max(shaft_shortfall_mm(design, t, 2) for t in ts)
+    second = (f"a second band would put its capstan's hub {short:.1f} mm past the {design.parts.motor} shaft's tip"
+              if short > 0 else "a second band is not built")
+    names = " and ".join(tc.JOINTS[c] for c in GROUPS[group])
+    return (f"the twin's {group} pantograph's two {ts[0].drum_diameter_mm:g} mm drums (swept radius "
+            f"{pcap.swept_radius_mm(ts[0]):.1f} mm with the tensioner, joints {design.params['base_mm']:g} mm apart) "
+            f"meet in one band for every mirrored pair of motor directions (every {pcap.ALPHA_STEP_DEG:g} deg: "
+            f"{counts}) and {second}: use a smaller drum (ratio or capstan), or direct drive on {names} "
+            "([[transmission]] kind = \"direct\" for those motors)")

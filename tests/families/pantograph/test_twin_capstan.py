@@ -1,9 +1,11 @@
 """A capstan on the motors of the twin-pantograph haptic mouse (issue 35 §1): the design takes
 ``[transmission]`` (one table for the four motors, or ``[[transmission]]`` one per motor: knob
 left, knob right, crank left, crank right), and every analysis reads the resolved device's ratio
-n. The solids are not drawn yet: the build is refused in one line naming ``transmission``, so
-the figures here read the design, the resolved device and seeded plausible bodies (not from a
-build), as tests/families/delta/test_delta_capstan.py does.
+n. This design's solids cannot be laid out (the crank pantograph's drums: the build is refused in
+one line naming ``transmission``; designs/twin_pantograph_capstan.toml builds the knob
+pantograph's, tests/families/pantograph/test_twin_capstan_build.py), so the figures here read
+the design, the resolved device and seeded plausible bodies (not from a build), as
+tests/families/delta/test_delta_capstan.py does.
 
 References, each independent of the code under test:
 
@@ -159,11 +161,14 @@ def test_a_bad_transmission_exits_2_naming_the_field(tmp_path, table, field):
 
 
 def test_the_build_is_refused_in_one_line_and_writes_nothing(tmp_path):
-    """The twin's capstan solids are not drawn: ``build`` exits 2 naming ``transmission``,
-    before any CAD, nothing written."""
+    """The crank pantograph's capstans cannot be laid out (its two drums meet in one band; a
+    second band's capstan hub would stand 19.2 - 11 = 8.2 mm past the RE 35 shaft's tip, by
+    hand: tests/families/pantograph/test_twin_placement.py): ``build`` exits 2 naming
+    ``transmission``, the clash, the shortfall and the fixes, before any CAD, nothing written."""
     out = tmp_path / "out"
     code, _, err = hapticad("build", BUNDLED, "--out", out)
-    assert_one_line_error(code, err, "transmission", "capstan solids", "not built yet")
+    assert_one_line_error(code, err, "transmission", "crank pantograph", "136 mm drums", "meet in one band",
+                          "8.2 mm past the maxon-re35 shaft", "smaller drum", "direct drive on crank_q_left")
     assert not out.exists() or not any(out.iterdir())
 
 
@@ -219,13 +224,16 @@ def test_reflected_rotor_inertia_in_the_effective_mass_at_home():
 
 
 def _sim_xml(d, rep: dict) -> str:
+    """The MJCF of ``d`` on the seeded bodies; the layers' heights from the same linkage's
+    direct-drive layout (the bodies carry no part here; these drums cannot be laid out: the
+    crank pantograph's meet in one band)."""
     from cad.export.sim import mjcf_text
     from cad.families.pantograph.layout import layout
     from cad.families.pantograph.sim import sim_model
 
     X = _home(d)
     parts = {k: [] for k in ("proximal_left", "proximal_right", "distal", "crankshaft")}
-    model = sim_model(d, _massprops(rep), parts, [], layout(d), X.tolist(), tw.ik(d.mechanism, X[None]), set(),
+    model = sim_model(d, _massprops(rep), parts, [], layout(_design(DIRECT)), X.tolist(), tw.ik(d.mechanism, X[None]), set(),
                       lambda kind: (0.5, 0.5, 0.5))
     return mjcf_text(model)
 

@@ -1,0 +1,317 @@
+"""The twin pantograph's capstan solids (issue 35 §1): designs/twin_pantograph_capstan.toml, the
+bundled mouse's linkage with a 4.25:1 capstan (32 mm capstan, 136 mm drum, 0.8 mm 7x7 rope, 3
+turns) on the knob pantograph's two motors and the crank pantograph's two direct. The knob
+pantograph's drums in one band under the bridge (its layers as the direct mouse's, the bridge
+10 mm drum + 3 mm gap higher), its motors moved on the bridge, the bridge posts stepped back out
+of the drums' sweep; the crank pantograph's capstans are refused in one line
+(tests/families/pantograph/test_twin_capstan.py).
+
+References, each independent of the code under test:
+
+* the mirror onto the knob side: the explicit reflection of points about z = z_b (seeded rigid
+  transforms), not the code's matrix product;
+* the layout: the direct mouse's layout (designs/haptic_mouse.toml, the same linkage) and the
+  drum band, motor places and bridge extent by hand from the design's and the catalog's numbers;
+* the posts: the exact distance from each post's centre to each drum's widened annular sector at
+  every workspace pose (a second method; the layout samples the post's circle against the arcs);
+* the build (slow): its own every-pair check over the motion, and assembly.step read back with
+  OCCT (the common volume of each drum, capstan and rope run with every plate, post, motor, mount,
+  bearing block and link part at home); the drum's volume in closed form (annular sector less the
+  anchors' radial holes and the groove by Pappus); the rope run's as a cylinder on the two pitch
+  circles' external tangent, sqrt(C^2 - (R - r)^2); the rope BOM lines and winding steps against
+  the shared capstan functions.
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+ROOT = Path(__file__).resolve().parents[3]
+DESIGN = ROOT / "designs" / "twin_pantograph_capstan.toml"
+MOUSE = ROOT / "designs" / "haptic_mouse.toml"
+#: The drum's reach by hand: crests (136 - 0.8) / 2 + 0.35 x 0.8 = 67.88 mm, and the tensioner out
+#: of them: ISO 4032 M3 nut 2.4 mm + 3 rope diameters 2.4 mm + ISO 4762 M3 head 3 mm.
+REACH_MM = 67.88 + 2.4 + 2.4 + 3.0
+MARGIN_DEG = 2.0  # cad.tolerances.CAPSTAN_RANGE_MARGIN_DEG
+#: Centre distance by hand: the pitch circles 136 / 2 + 32 / 2 = 84 mm plus the 2 mm rim gap.
+C_MM = 86.0
+
+
+@pytest.fixture(scope="module")
+def design():
+    from cad.design import load_design
+
+    return load_design(DESIGN)
+
+
+@pytest.fixture(scope="module")
+def lay(design):
+    from cad.families.pantograph.layout import layout
+
+    return layout(design)
+
+
+def _angles(design, cols):
+    from cad.kinematics import twin_pantograph as ktwin
+
+    return np.degrees(np.unwrap(ktwin.ik(design.mechanism, design.workspace_points()).q_rad, axis=0))[:, cols]
+
+
+def _sector_distance(p, s, q) -> float:
+    """Distance (mm) from point ``p`` to the drum ``s``'s widened sector (radius 0..reach) at
+    link angle ``q`` (deg): past the rim inside the arc, else to the nearer end radius."""
+    v = np.asarray(p, float) - np.asarray(s.b_mm, float)
+    a0 = s.arc_start_deg + q - MARGIN_DEG
+    span = s.arc_span_deg + 2 * MARGIN_DEG
+    if (math.degrees(math.atan2(v[1], v[0])) - a0) % 360.0 <= span:
+        return max(float(np.hypot(*v)) - REACH_MM, 0.0)
+    out = math.inf
+    for a in (a0, a0 + span):
+        u = np.array([math.cos(math.radians(a)), math.sin(math.radians(a))])
+        out = min(out, float(np.hypot(*(v - np.clip(v @ u, 0.0, REACH_MM) * u))))
+    return out
+
+
+# ----------------------------------------------------------------------------- fast: layout
+def test_mirrored_places_a_part_as_its_mirror_image_about_the_bridge_plane():
+    """For seeded planar placements (a turn about z and a shift), where the crank side's
+    placement puts a point (x, y, z) of a part at (X, Y, Z) (Z above the base plate's top), the
+    knob side's puts the part's mirror point (x, -y, z) at (X, Y, z_b - Z) (Z under the bridge's
+    bottom z_b): a part symmetric about its x-z plane lands as its mirror image; the placement
+    stays a rotation."""
+    from cad.families.pantograph.capstan_solids import mirrored
+
+    rng = np.random.default_rng(35)
+    for _ in range(20):
+        a, zb = rng.uniform(-math.pi, math.pi), rng.uniform(50.0, 150.0)
+        tf = np.eye(4)
+        tf[:2, :2] = [[math.cos(a), -math.sin(a)], [math.sin(a), math.cos(a)]]
+        tf[:3, 3] = rng.uniform(-100.0, 100.0, 3)
+        up = mirrored(tf, zb)
+        assert np.linalg.det(up[:3, :3]) == pytest.approx(1.0, abs=1e-12)
+        for p in rng.uniform(-20.0, 20.0, (5, 3)):
+            lo = tf @ np.append(p, 1.0)
+            got = up @ np.array([p[0], -p[1], p[2], 1.0])
+            np.testing.assert_allclose(got[:3], [lo[0], lo[1], zb - lo[2]], atol=1e-9)
+    assert np.array_equal(mirrored(tf, None), tf)
+
+
+def test_the_knob_drums_band_lifts_the_bridge_and_moves_its_motors(design, lay):
+    """Against the direct mouse (the same linkage): every layer where it was, the bridge 10 mm
+    (drum) + 3 mm (gap) higher; the rope's plane 3 + 10 / 2 = 8 mm under the bridge, the drums
+    from 13 to 3 mm under it; each knob motor at B + 86 mm (cos a, sin a), a = -175 and -5 deg
+    (mirrored about the y axis), on the bridge, which grows to its 55 mm mount plate plus 5 mm:
+    x = +-(37.5 + 86 cos 5 deg + 27.5 + 5); no motor shaft in a knob hub (each link on its own
+    axle), the crank's as the direct mouse's."""
+    from cad.design import load_design
+    from cad.families.pantograph.layout import layout
+
+    ref = layout(load_design(MOUSE))
+    assert lay["lower_layers_z_mm"] == ref["lower_layers_z_mm"]
+    assert lay["upper_layers_z_mm"] == ref["upper_layers_z_mm"]
+    zb = lay["bridge_bottom_z_mm"]
+    assert zb == pytest.approx(ref["bridge_bottom_z_mm"] + 13.0, abs=1e-12)
+    knob = lay["twin_capstan"]["knob"]
+    assert set(lay["twin_capstan"]) == {"knob"}
+    assert knob["rope_z_mm"] == pytest.approx(zb - 8.0, abs=1e-12)
+    np.testing.assert_allclose(knob["drum_z_mm"], (zb - 13.0, zb - 3.0), atol=1e-12)
+    for s, bx, a in zip(knob["sides"], (-37.5, 37.5), (-175.0, -5.0), strict=True):
+        assert s.joint.startswith("knob_q_") and s.alpha_deg == a
+        np.testing.assert_allclose(s.motor_xy_mm, (bx + C_MM * math.cos(math.radians(a)),
+                                                   C_MM * math.sin(math.radians(a))), atol=1e-9)
+    x_edge = 37.5 + C_MM * math.cos(math.radians(5.0)) + 27.5 + 5.0
+    np.testing.assert_allclose(lay["bridge_x_mm"], (-x_edge, x_edge), atol=1e-9)
+    assert "upper_shaft_engagement_mm" not in lay
+    assert lay["lower_shaft_engagement_mm"] == ref["lower_shaft_engagement_mm"]
+
+
+def test_the_bridge_posts_stand_clear_of_every_knob_drum_at_every_pose(design, lay):
+    """Each post (12 mm, the 1 mm clearance) on the layout's line stays more than 6 + 1 mm from
+    each knob drum's widened sector at every workspace pose (the exact point-to-sector distance),
+    where the direct mouse's line (y = -41.5 mm) is inside a sweep; the layout's line is the
+    numpy search's first clear y (0.05 mm step) rounded back to its own 0.5 mm step."""
+    from cad.families.pantograph import twin_placement as tp
+
+    sides = lay["twin_capstan"]["knob"]["sides"]
+    q = _angles(design, [0, 1])
+    posts = lay["posts_xy_mm"]
+    assert len({y for _, y in posts}) == 1
+    for p in posts:
+        near = min(_sector_distance(p, s, q[k, i]) for i, s in enumerate(sides) for k in range(len(q)))
+        assert near > 6.0 + 1.0, (p, near)
+    old = [(x, -41.5) for x, _ in posts]
+    assert any(_sector_distance(p, s, q[k, i]) == 0.0 for p in old for i, s in enumerate(sides) for k in range(len(q)))
+    fine = min(tp.clear_post_y_mm(design, x, {"knob": sides}) for x in sorted({x for x, _ in posts}))
+    y = posts[0][1]
+    assert fine - 0.5 < y <= fine + 1e-9
+
+
+def test_one_capstan_and_one_direct_motor_on_a_5bar_of_the_twin_is_refused(design):
+    """The knob pantograph with a capstan on its left motor only: refused before any search,
+    naming ``transmission`` and both joints."""
+    import copy
+    import tomllib
+
+    from cad.design import parse_design
+    from cad.errors import DesignError
+    from cad.families.pantograph import twin_placement as tp
+
+    raw = tomllib.loads(DESIGN.read_text())
+    raw["transmission"][1] = {"kind": "direct"}
+    with pytest.raises(DesignError, match=r"^transmission: the twin's knob pantograph with one motor through a "
+                       r"capstan and one direct is not built .* give knob_q_left and knob_q_right both"):
+        tp.group_sides(parse_design(copy.deepcopy(raw), "v.toml"), "knob")
+
+
+# ----------------------------------------------------------------------------- slow: the build
+@pytest.fixture(scope="module")
+def built(tmp_path_factory, design):
+    """The bundled design built once (preview fidelity: the bearings as plain rings, the
+    capstan parts as fabricated)."""
+    import json
+
+    from cad.pipeline import build_design
+
+    out = tmp_path_factory.mktemp("twincap") / "out"
+    build_design(design, out, {"stl"}, fidelity="preview", use_cache=False)
+    return out, json.loads((out / "report.json").read_text())
+
+
+@pytest.fixture(scope="module")
+def step_solids(built):
+    """assembly.step read back: {instance name ('.' as '_'): solid}."""
+    from build123d import import_step
+
+    back = import_step(str(built[0] / "assembly.step"))
+    return {c.label: c for c in back.children}
+
+
+def _common_mm3(a, b) -> float:
+    from OCP.BRepAlgoAPI import BRepAlgoAPI_Common
+    from OCP.BRepGProp import BRepGProp
+    from OCP.GProp import GProp_GProps
+
+    op = BRepAlgoAPI_Common(a.wrapped, b.wrapped)
+    g = GProp_GProps()
+    BRepGProp.VolumeProperties_s(op.Shape(), g)
+    return g.Mass()
+
+
+@pytest.mark.slow
+def test_the_build_checks_every_pair_of_solids_with_the_capstan_parts(built):
+    """The build's one check over the motion (every pair of bodies at every pose: home and the
+    7 x 7 square x 4 crank angles) finds no collision and no overlap; its parts include the drums
+    on the knob links, the capstans, the rope runs, the tensioners and the bearing blocks."""
+    out, rep = built
+    itf = rep["interference"]
+    assert itf["collisions"] == [] and rep["overlap_volume_mm3"] == 0.0
+    assert itf["n_poses"] == 1 + 7 * 7 * 4 and itf["min_clearance_mm"] >= 1.0 - 1e-9
+    names = set(rep["placement"]["instances"])
+    for n in ("knob_proximal_left.capstan_drum", "knob_proximal_right.capstan_drum", "capstan_1", "capstan_2",
+              "capstan_rope_run_1_1", "capstan_rope_run_2_2", "capstan_tensioner_1", "capstan_tensioner_2",
+              "bearing_block_1", "bearing_block_2", "upper_motor_1.shaft", "post_1"):
+        assert n in names, n
+
+
+@pytest.mark.slow
+def test_assembly_step_read_back_shares_no_volume_between_the_capstan_parts_and_the_frame(step_solids):
+    """assembly.step read back with OCCT: each drum, capstan and rope run has no common volume
+    (OCCT Boolean common, above 1e-4 mm^3) with any plate, post, motor, mount plate, bearing
+    block, link part or another capstan drive's part at the exported pose; its own rope on its
+    own drum and capstan is the rope's contact, not checked."""
+    cap = {k: v for k, v in step_solids.items()
+           if k.endswith("capstan_drum") or k in ("capstan_1", "capstan_2") or k.startswith("capstan_rope_run_")}
+    frame = {k: v for k, v in step_solids.items()
+             if k in ("bridge_plate", "base_plate") or k.startswith(("post_", "upper_motor", "lower_motor",
+                                                                      "bearing_block_"))
+             or ("proximal_" in k or "distal_" in k) and ("clevis" in k or "tube" in k)}
+    assert len(cap) == 2 + 2 + 4 and len(frame) > 30
+
+    def rope(k):
+        return k.split("_")[3] if k.startswith("capstan_rope_run_") else None
+
+    def own(a, b):  # a rope run and its own drum or capstan
+        r = rope(a) or rope(b)
+        other = b if rope(a) else a
+        return r is not None and (other == f"capstan_{r}" or other == f"knob_proximal_{('left', 'right')[int(r) - 1]}"
+                                  "_capstan_drum")
+
+    pairs = [(a, b) for a in cap for b in {**frame, **cap} if a < b or b not in cap]
+    checked = 0
+    for a, b in pairs:
+        if a == b or own(a, b):
+            continue
+        A, B = cap[a], step_solids[b]
+        if A.bounding_box().overlaps(B.bounding_box(), tolerance=0.0) is False:
+            continue
+        checked += 1
+        assert _common_mm3(A, B) <= 1e-4, (a, b)
+    assert checked > 0
+
+
+@pytest.mark.slow
+def test_drum_and_rope_run_volumes_against_closed_forms(design, step_solids):
+    """Each knob drum read back: the annular sector from the 6 mm axle bore to the crests
+    (136 - 0.8) / 2 + 0.28 = 67.88 mm over its arc, 10 mm thick, less the two anchors' radial
+    M3 tap holes (9 mm below the groove's bottom out through the crests) and the groove (Pappus:
+    the 0.4 mm circle's segment under the crests, by quadrature, round the arc between the
+    anchors less a land of one tap drill and one rope diameter each side). Each rope run: a
+    0.8 mm cylinder along the external tangent of the pitch circles, sqrt(86^2 - (68 - 16)^2) mm,
+    less its trim at the capstan's crests (the shared run_trim_mm)."""
+    from cad.assembly.capstan_hardware import run_trim_mm
+    from cad.data.catalog import tap_drill_mm
+    from cad.families.pantograph.layout import layout
+    from tests.capstan_ref import radial_hole_mm3
+
+    lay = layout(design)
+    r_b, r_o, r_i = (136.0 - 0.8) / 2, (136.0 - 0.8) / 2 + 0.28, 6.0 / 2
+    x, w = np.polynomial.legendre.leggauss(400)
+    u = -0.4 + 0.5 * 0.28 * (x + 1.0)  # radial offset from the section circle's centre at 68 mm
+    chord = 2.0 * np.sqrt(0.16 - u * u)
+    area = 0.5 * 0.28 * np.sum(w * chord)
+    rbar = 0.5 * 0.28 * np.sum(w * chord * (68.0 + u)) / area
+    hole = radial_hole_mm3(tap_drill_mm("M3-0.5") / 2, r_o, 9.0 + 0.28)
+    land = math.degrees((tap_drill_mm("M3-0.5") + 0.8) / r_b)
+    for sd in lay["twin_capstan"]["knob"]["sides"]:
+        side = sd.joint.split("_")[-1]
+        lo, hi = sorted(sd.anchors_deg)
+        groove = area * rbar * math.radians(hi - lo - 2 * land)
+        sector = 0.5 * math.radians(sd.arc_span_deg) * (r_o ** 2 - r_i ** 2) * 10.0
+        # the exported solid's volume by OCCT's default integration (~1e-5 on the holes' faces)
+        assert step_solids[f"knob_proximal_{side}_capstan_drum"].volume == pytest.approx(
+            sector - 2 * hole - groove, rel=2e-5)
+    tangent = math.sqrt(C_MM ** 2 - (68.0 - 16.0) ** 2)
+    from cad.actuators.capstan_geometry import groove_depth_mm
+
+    drawn = tangent - run_trim_mm(16.0, groove_depth_mm(0.8))
+    for k in ("1_1", "1_2", "2_1", "2_2"):
+        assert step_solids[f"capstan_rope_run_{k}"].volume == pytest.approx(math.pi * 0.4 ** 2 * drawn, rel=1e-6)
+
+
+@pytest.mark.slow
+def test_rope_bom_lines_and_winding_steps_come_from_the_shared_capstan_functions(design, built, step_solids):
+    """bom.csv's rope lines are :func:`cad.datasheet.capstan_rows.cable_bom_line` of the knob's
+    two capstan joints (cut length, description), the crank's direct motors have none; every
+    anchor, tensioner and lock nut assembly.md's winding steps name is an instance of
+    assembly.step."""
+    import re
+
+    from cad.families.pantograph.capstan import bom_lines
+
+    out, _ = built
+    with open(out / "bom.csv", newline="", encoding="utf-8") as f:
+        rows = {r["part"]: r for r in csv.DictReader(f)}
+    want = bom_lines(design)
+    assert [r["part"] for r in want] == ["capstan_cable_1", "capstan_cable_2"]
+    for r in want:
+        assert rows[r["part"]]["description"] == r["description"]
+    text = (out / "assembly.md").read_text(encoding="utf-8")
+    named = set(re.findall(r"capstan_(?:anchor_\d_1|tensioner_\d|tensioner_nut_\d)\b", text))
+    assert named == {"capstan_anchor_1_1", "capstan_anchor_2_1", "capstan_tensioner_1", "capstan_tensioner_2",
+                     "capstan_tensioner_nut_1", "capstan_tensioner_nut_2"}
+    assert named <= set(step_solids)
