@@ -149,6 +149,56 @@ def test_the_bridge_posts_stand_clear_of_every_knob_drum_at_every_pose(design, l
     fine = min(tp.clear_post_y_mm(design, x, {"knob": sides}) for x in sorted({x for x, _ in posts}))
     y = posts[0][1]
     assert fine - 0.5 < y <= fine + 1e-9
+    assert fine == pytest.approx(-79.7, abs=1e-6)  # the knob drums alone: as with the crank's in two bands
+    assert y == pytest.approx(-41.5 - 0.5 * 77, abs=1e-9)  # the first 0.5 mm step from -41.5 past -79.7: -80.0
+
+
+def _crank_drum(design, drum_mm: float):
+    """The bundled design with the crank pantograph's two motors through a ``drum_mm`` drum on
+    the same 32 mm capstan."""
+    import copy
+    import tomllib
+
+    from cad.design import parse_design
+
+    raw = tomllib.loads(DESIGN.read_text())
+    for k in (2, 3):
+        raw["transmission"][k] = {"kind": "capstan", "capstan_diameter_mm": 32.0, "drum_diameter_mm": drum_mm,
+                                  "cable": "steel-7x7-0.8", "wraps": 3.0}
+    return parse_design(copy.deepcopy(raw), "v.toml")
+
+
+def test_a_64_mm_crank_drum_puts_a_mount_plate_on_a_block_in_every_direction(design):
+    """A smaller drum does not clear the crank pantograph in one band: a 64 mm drum's motor sits
+    64 / 2 + 32 / 2 + 2 = 50 mm from its joint, under the RE 35's 55 mm mount plate plus 1 mm
+    from its own joint's block along the joints' line, and for every one of the 360 / 5 = 72
+    mirrored directions (by hand below: the two mount squares and the two blocks, 55 mm squares
+    at B and at the motors) a mount meets a block or the other mount; the search says the same."""
+    from cad.families.pantograph import twin_placement as tp
+
+    d = _crank_drum(design, 64.0)
+    sides, why = tp.group_directions(d, "crank")
+    assert sides is None and why == {"mounts": 72}
+    B = [np.array((-37.5, 0.0)), np.array((37.5, 0.0))]
+    for al in np.arange(-180.0, 180.0, 5.0):
+        ar = (180.0 - al + 180.0) % 360.0 - 180.0
+        m = [b + 50.0 * np.array((math.cos(math.radians(a)), math.sin(math.radians(a)))) for b, a in zip(B, (al, ar),
+                                                                                                     strict=True)]
+        squares = B + m
+        assert any(np.abs(mk - q).max() < 55.0 + 1.0 for k, mk in enumerate(m) for j, q in enumerate(squares)
+                   if j != 2 + k), al
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("drum_mm", [80.0, 96.0, 112.0])
+def test_crank_drums_of_80_to_112_mm_still_meet_in_one_band(design, drum_mm):
+    """80, 96 and 112 mm crank drums: no mirrored pair of directions clears in one band (the
+    direction search; tests/families/pantograph/test_twin_placement.py checks its 136 mm answer
+    against polar samples), some directions' swept drums meeting."""
+    from cad.families.pantograph import twin_placement as tp
+
+    sides, why = tp.group_directions(_crank_drum(design, drum_mm), "crank")
+    assert sides is None and None not in why and why.get("drums", 0) > 0
 
 
 def test_one_capstan_and_one_direct_motor_on_a_5bar_of_the_twin_is_refused(design):
@@ -178,7 +228,7 @@ def built(tmp_path_factory, design):
     from cad.pipeline import build_design
 
     out = tmp_path_factory.mktemp("twincap") / "out"
-    build_design(design, out, {"stl"}, fidelity="preview", use_cache=False)
+    build_design(design, out, {"step"}, fidelity="preview", use_cache=False)
     return out, json.loads((out / "report.json").read_text())
 
 
@@ -205,12 +255,12 @@ def _common_mm3(a, b) -> float:
 @pytest.mark.slow
 def test_the_build_checks_every_pair_of_solids_with_the_capstan_parts(built):
     """The build's one check over the motion (every pair of bodies at every pose: home and the
-    7 x 7 square x 4 crank angles) finds no collision and no overlap; its parts include the drums
+    5 x 5 square x 8 crank angles, cad.families.pantograph.motion) finds no collision and no overlap; its parts include the drums
     on the knob links, the capstans, the rope runs, the tensioners and the bearing blocks."""
     out, rep = built
     itf = rep["interference"]
     assert itf["collisions"] == [] and rep["overlap_volume_mm3"] == 0.0
-    assert itf["n_poses"] == 1 + 7 * 7 * 4 and itf["min_clearance_mm"] >= 1.0 - 1e-9
+    assert itf["n_poses"] == 1 + 5 * 5 * 8 and itf["min_clearance_mm"] >= 1.0 - 1e-9
     names = set(rep["placement"]["instances"])
     for n in ("knob_proximal_left.capstan_drum", "knob_proximal_right.capstan_drum", "capstan_1", "capstan_2",
               "capstan_rope_run_1_1", "capstan_rope_run_2_2", "capstan_tensioner_1", "capstan_tensioner_2",
@@ -291,6 +341,25 @@ def test_drum_and_rope_run_volumes_against_closed_forms(design, step_solids):
     drawn = tangent - run_trim_mm(16.0, groove_depth_mm(0.8))
     for k in ("1_1", "1_2", "2_1", "2_2"):
         assert step_solids[f"capstan_rope_run_{k}"].volume == pytest.approx(math.pi * 0.4 ** 2 * drawn, rel=1e-6)
+
+
+@pytest.mark.slow
+def test_bundled_design_figures_regression_pin(built):
+    """Regression pin (values recorded from our own build, 2026-12, preview fidelity: the
+    bearings' plain rings carry the catalog masses, so the masses and modes are the fabrication
+    build's): the datasheet's continuous force in every direction 2.955 N (MISS against 4 N: two
+    motors direct), first mode 35.8 Hz (MISS against 150 Hz), moving mass 661.1 g, the drum arc
+    the rope needs 89.6 deg, the smallest clearance 1 mm (the check's gap at the closest pair);
+    docs/families/pantograph-powermouse.md states them."""
+    _, rep = built
+    rows = {r["key"]: r for r in rep["datasheet"]["rows"]}
+    assert round(rows["continuous_force_N"]["value"], 3) == 2.955
+    assert round(rows["first_mode_Hz"]["value"], 1) == 35.8
+    assert round(rep["moving_mass_g"], 1) == 661.1
+    assert round(rows["drum_sector_deg_1"]["value"], 1) == 89.6
+    assert rep["min_clearance_mm"] == pytest.approx(1.0, abs=1e-9)
+    verdicts = {k: r.get("verdict") for k, r in rows.items()}
+    assert verdicts["continuous_force_N"] == "miss" and verdicts["first_mode_Hz"] == "miss"
 
 
 @pytest.mark.slow

@@ -1,5 +1,5 @@
 """Where the twin pantograph's capstans could sit and what stops them
-(:mod:`cad.families.pantograph.twin_placement`; the solids stay refused), on
+(:mod:`cad.families.pantograph.twin_placement`; the crank side's solids stay refused), on
 designs/analysis-only/twin_pantograph_capstan.toml (136 mm drums, 32 mm capstans, 0.8 mm rope,
 3 wraps, joints 75 mm apart, RE 35 motors).
 
