@@ -126,6 +126,7 @@ from cad.families.pantograph.placement import (  # noqa: F401
 )
 from cad.families.pantograph.report import PAPER_TABLE1, build_report, report_md_rows  # noqa: F401
 from cad.families.pantograph.sim import fivebar_sim_model, sim_model
+from cad.families.pantograph.twin_placement import band_rope_offset_mm
 from cad.families.pantograph.twin_placement import group_layout as twin_capstan_layout
 from cad.kinematics import twin_pantograph as tw
 from cad.pipeline.run import Stages, run_family
@@ -244,8 +245,9 @@ def _prepare(design) -> tuple[dict, dict]:
     _check_shafts(design, lay)
     if "capstan" in lay:
         check_capstan_z(design, lay)
-    for grp in lay.get("twin_capstan", {}):  # on the crank side's terms (band 1 from its motors' plate)
-        check_capstan_z(design, {"capstan": {"rope_z_mm": lay["twin_capstan"][grp]["rope_offset_mm"]}})
+    for cap in lay.get("twin_capstan", {}).values():  # on the crank side's terms, each side's band and raise
+        for band, up in zip(cap["bands"], cap["raise_mm"], strict=True):
+            check_capstan_z(design, {"capstan": {"rope_z_mm": band_rope_offset_mm(design, band) - up}})
     return lay, clearances(design, lay)
 
 

@@ -268,7 +268,9 @@ def motor_side_parts(design, K: dict, lay: dict, sd, t, i: int) -> list[PartInst
     free runs of rope (ground), each run's collision envelope trimmed at both ends
     (:func:`cad.assembly.capstan_hardware.run_trim_mm`); on the twin's knob pantograph
     (``lay["capstan"]["mirror_z_mm"]`` set) the capstan, its set screw and the shaft mirrored
-    onto the bridge (:func:`mirrored`), the ropes in its rope plane."""
+    onto the bridge (:func:`mirrored`), the ropes in its rope plane; a motor raised by
+    ``lay["capstan"]["raise_mm"]`` (its mount plate on the plate's top) has its shaft that much
+    higher."""
     p = design.parts
     m = cat.get_motor(p.motor)
     ox, oy = sd.motor_xy_mm
@@ -280,8 +282,9 @@ def motor_side_parts(design, K: dict, lay: dict, sd, t, i: int) -> list[PartInst
            PartInstance(f"capstan_{i}.set_screw", K[f"capstan_set_screw{sfx}"], "ground",
                         mirrored(tf_c @ translation(0, 0, cg.CAPSTAN_HUB_MM / 2) @ _RY90
                                  @ translation(0, 0, m.shaft_diameter_mm / 2), zm)),
-           PartInstance(f"{'lower' if zm is None else 'upper'}_motor_{i}.shaft", K["motor_shaft"], "ground",
-                        mirrored(translation(ox, oy, -p.plate_thickness_mm - p.motor_mount_thickness_mm), zm))]
+           PartInstance(f"{'lower' if zm is None else 'upper'}_motor_{(i - 1) % 2 + 1}.shaft", K["motor_shaft"], "ground",
+                        mirrored(translation(ox, oy, -p.plate_thickness_mm - p.motor_mount_thickness_mm
+                                             + lay["capstan"].get("raise_mm", 0.0)), zm))]
     c = 1.1  # the check's clearance and a tenth
     for k in range(2):
         p0, p1 = (np.append(q, zr) for q in sd.tangents_mm[k])

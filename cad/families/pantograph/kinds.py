@@ -229,6 +229,11 @@ def _plate_holes(c, group: str | None) -> tuple:
     opening = max(mot.pilot_diameter_mm + 2 * pp.OPENING_MARGIN_MM,
                   mot.bolt_circle_mm + head_d + 2 * pp.OPENING_MARGIN_MM)
     openings = [(bx, by, opening) for bx, by in B]
+    # a raised motor (its mount plate on the plate's top) passes its body down through its opening
+    body = mot.body_diameter_mm + 2 * pp.OPENING_MARGIN_MM
+    for sd, up in zip(cap.get("sides", ()), cap.get("raise_mm", ()), strict=False):
+        if up > 0:
+            openings = [(x, y, max(d, body) if (x, y) == tuple(sd.motor_xy_mm) else d) for x, y, d in openings]
     ms = pm.MOUNT_SCREW.split("-")[0]
     leg_holes = [(x, y, clearance_hole_mm(base.LEG_SCREW)) for x, y in leg_xy(lay)]
     post_holes = [(x, y, clearance_hole_mm(POST_SCREW)) for x, y in lay.get("posts_xy_mm", ())]

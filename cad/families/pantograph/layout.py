@@ -15,6 +15,7 @@ import numpy as np
 
 from cad.assembly import fasteners as fs
 from cad.data.catalog import get_bearing, get_motor, thread_diameter_mm
+from cad.device import resolve_device
 from cad.errors import DesignError
 from cad.families.pantograph import capstan as pcap
 from cad.families.pantograph import twin_placement as tpl
@@ -117,7 +118,8 @@ def set_screw_plan(design) -> dict:
     # shaft length inside a hub clevis (the same for the crank and knob pantographs); a link
     # turned through a capstan sits on its own axle, cut to the hub's top (no such bound)
     engaged = m.shaft_length_mm - p.plate_thickness_mm - p.motor_mount_thickness_mm - p.layer_gap_mm
-    if not pcap.is_capstan(design) and engaged - p.clevis_height_mm / 2 < d / 2:
+    direct = any(not t.is_capstan for t in resolve_device(design).transmissions)
+    if direct and engaged - p.clevis_height_mm / 2 < d / 2:
         raise DesignError(
             "parts.clevis_height_mm",
             f"the {p.motor} shaft ends {engaged:g} mm into the {p.clevis_height_mm:g} mm hub "
@@ -229,7 +231,8 @@ def _twin_heights(out: dict, design, tcap: dict, post_y: float) -> None:
 def _with_twin_capstan(out: dict, tcap: dict, design) -> None:
     """The layout ``out`` of a twin with capstans (``tcap``,
     :func:`cad.families.pantograph.twin_placement.group_layout`): each capstan 5-bar's layout
-    under ``twin_capstan[group]`` in world z (``rope_z_mm``, ``drum_z_mm`` (bottom, top),
+    under ``twin_capstan[group]`` in world z (``rope_z_mm``, ``drum_z_mm`` (bottom, top) of
+    band 1, ``side_z_mm`` each side's ``(rope_z_mm, (drum bottom, top))`` in its own band,
     ``mirror_z_mm``: None for the crank pantograph on the base plate, the bridge's bottom for
     the knob pantograph hanging under it, its parts the crank side's mirrored about z), no
     motor shaft in that group's hubs (each link sits on its own axle)."""
@@ -237,13 +240,13 @@ def _with_twin_capstan(out: dict, tcap: dict, design) -> None:
     zb = out["bridge_bottom_z_mm"]
     groups = {}
     for grp, v in tcap.get("groups", {}).items():
-        off = v["rope_offset_mm"]
-        if grp == "crank":
-            groups[grp] = {**v, "rope_z_mm": off, "drum_z_mm": (g, g + th), "mirror_z_mm": None}
-            del out["lower_shaft_engagement_mm"]
-        else:
-            groups[grp] = {**v, "rope_z_mm": zb - off, "drum_z_mm": (zb - g - th, zb - g), "mirror_z_mm": zb}
-            del out["upper_shaft_engagement_mm"]
+        zm = None if grp == "crank" else zb
+        sz = []
+        for band in v["bands"]:
+            rope, drum = tpl.band_rope_offset_mm(design, band), (band * g + (band - 1) * th, band * (g + th))
+            sz.append((rope, drum) if zm is None else (zm - rope, (zm - drum[1], zm - drum[0])))
+        groups[grp] = {**v, "rope_z_mm": sz[0][0], "drum_z_mm": sz[0][1], "side_z_mm": tuple(sz), "mirror_z_mm": zm}
+        del out["lower_shaft_engagement_mm" if zm is None else "upper_shaft_engagement_mm"]
     if groups:
         out["twin_capstan"] = groups
 

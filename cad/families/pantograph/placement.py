@@ -141,7 +141,8 @@ def fixed_parts(design, place, K: dict, lay: dict, inst: list, tfs: dict, B) -> 
     cap = lay.get("capstan", tcap.get("crank", {}))
     stations = [sd.motor_xy_mm for sd in cap["sides"]] if cap else B
     upper_stations = [sd.motor_xy_mm for sd in tcap["knob"]["sides"]] if "knob" in tcap else B
-    holes = ground_parts(place, K, lay, design.parts, stations, is_twin(design), upper_stations)
+    raised = [k for k, r in enumerate(tcap.get("crank", {}).get("raise_mm", ())) if r > 0]
+    holes = ground_parts(place, K, lay, design.parts, stations, is_twin(design), upper_stations, raised)
     if "capstan" in lay:
         holes.update(capstan_parts(design, K, lay, inst, tfs, B))
     for grp in tcap:  # the twin's 5-bars with capstans: the same solids (the knob's mirrored)
@@ -156,12 +157,17 @@ def capstan_parts(design, K: dict, lay: dict, inst: list, tfs: dict, B) -> dict:
     the blocks' tapped holes in the base plate."""
     dev = resolve_device(design)
     holes: dict = {}
-    for sd, b in zip(lay["capstan"]["sides"], B, strict=True):
+    cap = lay["capstan"]
+    for k, (sd, b) in enumerate(zip(cap["sides"], B, strict=True)):
         side = f"{pcs.joint_group(sd.joint)}{sd.joint.split('_')[-1]}"  # left, knob_left
         body = f"{pcs.joint_group(sd.joint)}proximal_{sd.joint.split('_')[-1]}"
         t, i = dev.transmission(sd.joint), pcs.rope_index(sd.joint)
-        blk, h = pcs.block_parts(design, K, lay, i, side, b, K["_mount_screw"], tfs[body])
-        inst += blk + pcs.drum_parts(design, K, lay, sd, t) + pcs.motor_side_parts(design, K, lay, sd, t, i)
+        ls = lay
+        if "side_z_mm" in cap:  # the twin: each side in its own band, its motor raised or not
+            rope, drum = cap["side_z_mm"][k]
+            ls = {**lay, "capstan": {**cap, "rope_z_mm": rope, "drum_z_mm": drum, "raise_mm": cap["raise_mm"][k]}}
+        blk, h = pcs.block_parts(design, K, ls, i, side, b, K["_mount_screw"], tfs[body])
+        inst += blk + pcs.drum_parts(design, K, ls, sd, t) + pcs.motor_side_parts(design, K, ls, sd, t, i)
         holes.update(h)
     return holes
 
@@ -213,10 +219,13 @@ def place_set_screw(place, holes, K, lay, body: str, tf_clevis, on_axle: bool | 
     place(f"{body}.set_screw", K["set_screw"], body, tf_clevis @ T, fastener=f)
 
 
-def motor_station(place, holes, K, lay, p, tag: str, i: int, bxy, z_mount: float, upper: bool):
+def motor_station(place, holes, K, lay, p, tag: str, i: int, bxy, z_mount: float, upper: bool,
+                  raised: bool = False):
     """One motor on its mount plate: the plate, the motor, the plate's screws into the
     base/bridge plate and the motor face screws (through the plate into the face's tapped
-    holes; heads in the base/bridge plate's opening)."""
+    holes; heads in the base/bridge plate's opening). ``raised``: a lower motor whose mount
+    plate sits on the base plate's top (``z_mount`` 0), its screws from above, the motor's body
+    down through the plate's opening."""
     mot = get_motor(p.motor)
     mt = p.motor_mount_thickness_mm
     bx, by = bxy
@@ -230,7 +239,7 @@ def motor_station(place, holes, K, lay, p, tag: str, i: int, bxy, z_mount: float
     tf_motor = translation(bx, by, z_face) @ (turn if upper else np.eye(4))
     motor = f"{tag}_motor_{i}"
     place(motor, K["motor"], "ground", tf_motor)
-    z_mount_head, f_mount = (z_mount + mt, np.eye(4)) if upper else (z_mount, flip_matrix())
+    z_mount_head, f_mount = (z_mount + mt, np.eye(4)) if upper or raised else (z_mount, flip_matrix())
     for k, (x, y) in enumerate(pm.mount_hole_xy_mm(mot)):
         place_screw(place, holes, K, lay, "mount", f"{tag}_mount_screw_{i}_{k + 1}",
                f"{plate}:{tag}_mount_{i}_{k + 1}", plate,
@@ -241,9 +250,11 @@ def motor_station(place, holes, K, lay, p, tag: str, i: int, bxy, z_mount: float
                f"{motor}:face_{k + 1}", motor, translation(bx + x, by + y, z_head) @ f_face)
 
 
-def ground_parts(place, K, lay, p, B, twin, B_upper=None) -> dict:
+def ground_parts(place, K, lay, p, B, twin, B_upper=None, raised=()) -> dict:
     """The fixed parts: base plate, legs, motors with their mounts (``B`` the lower motors'
-    axes, ``B_upper`` the bridge's, ``B`` when None), (mouse) posts and bridge.
+    axes, ``B_upper`` the bridge's, ``B`` when None; the lower motors numbered in ``raised``
+    (0-based) with their mount plate on the base plate's top, screwed from above, the body
+    down through the plate's opening), (mouse) posts and bridge.
     Returns the tapped holes the screws engage ({name: TappedHole})."""
     holes: dict = {}
     pt, mt = p.plate_thickness_mm, p.motor_mount_thickness_mm
@@ -256,7 +267,8 @@ def ground_parts(place, K, lay, p, B, twin, B_upper=None) -> dict:
     stations = [("lower", -pt - mt, False, B)] + ([("upper", zb + pt, True, B_upper or B)] if twin else [])
     for tag, z_mount, upper, axes in stations:
         for i, bxy in enumerate(axes):
-            motor_station(place, holes, K, lay, p, tag, i + 1, bxy, z_mount, upper)
+            up = not upper and i in raised
+            motor_station(place, holes, K, lay, p, tag, i + 1, bxy, 0.0 if up else z_mount, upper, up)
     if not twin:
         return holes
     place("bridge_plate", K["bridge_plate"], "ground", translation(0, 0, zb))

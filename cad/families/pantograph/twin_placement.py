@@ -193,17 +193,23 @@ def group_layout(design) -> dict:
     bridge posts' line ``post_y_mm``: the direct-drive line (:func:`post_line_y_mm`) stepped
     back by :data:`POST_STEP_MM` until every post clears every drum's sweep
     (:func:`clear_post_y_mm`). DesignError naming ``transmission`` (with the clash counts or
-    the shaft's shortfall, and what fixes it) when a 5-bar cannot be laid out."""
+    the shaft's shortfall, and what fixes it) when a 5-bar cannot be laid out. Each group also
+    carries ``bands`` (each side's drum band, 1 or 2: :func:`group_sides`) and ``raise_mm``
+    (each side's motor raised by :func:`motor_raise_mm` when its drum is in band 2); its
+    layers move off the plate by a drum and a gap per band (``lift_mm``)."""
     if design.family != "twin-pantograph" or not tc.has_capstan(design):
         return {}
     if _LAST[0] is design:
         return _LAST[1]
     groups = {}
     for g in GROUPS:
-        sides = group_sides(design, g)
-        if sides:
-            groups[g] = {"sides": sides, "rope_offset_mm": band_rope_offset_mm(design, 1),
-                         "lift_mm": pcap.DRUM_THICKNESS_MM + design.parts.layer_gap_mm}
+        placed = group_sides(design, g)
+        if placed:
+            sides, bands = placed
+            th, gap = pcap.DRUM_THICKNESS_MM, design.parts.layer_gap_mm
+            groups[g] = {"sides": sides, "bands": bands, "rope_offset_mm": band_rope_offset_mm(design, 1),
+                         "raise_mm": tuple(motor_raise_mm(design) if b > 1 else 0.0 for b in bands),
+                         "lift_mm": max(bands) * (th + gap)}
     sbg = {g: v["sides"] for g, v in groups.items()}
     xs = sorted({x for x, _ in posts_xy_mm(design, 0.0)})
     out = {"groups": groups, "post_y_mm": min(clear_post_y_mm(design, x, sbg, POST_STEP_MM) for x in xs)}
@@ -212,11 +218,13 @@ def group_layout(design) -> dict:
 
 
 def group_sides(design, group: str):
-    """The ``group``'s two :class:`cad.families.pantograph.capstan.CapstanSide` in one band
-    (joints named as the resolved device), or None for direct drive. DesignError naming
-    ``transmission`` for one capstan and one direct motor on a 5-bar, a capstan hub past the
-    shaft's tip in band 1 (:func:`shaft_shortfall_mm`), or no clear pair of directions (the
-    capstans' own checks first: the set screw's wall, the centre distance)."""
+    """``(sides, bands)``: the ``group``'s two :class:`cad.families.pantograph.capstan.CapstanSide`
+    (joints named as the resolved device) and each one's drum band, or None for direct drive.
+    One band when a mirrored pair of directions clears there (:func:`group_directions`), else,
+    on the crank pantograph, two (:func:`two_band_sides`: the right drum over the left, its
+    motor raised). DesignError naming ``transmission`` for one capstan and one direct motor on
+    a 5-bar, a capstan hub past the shaft's tip in band 1 (:func:`shaft_shortfall_mm`), or no
+    layout (the capstans' own checks first: the set screw's wall, the centre distance)."""
     cols = GROUPS[group]
     dev = resolve_device(design)
     ts = [dev.transmission(tc.JOINTS[c]) for c in cols]
@@ -236,9 +244,49 @@ def group_sides(design, group: str):
             raise DesignError("transmission.wraps", f"{t.wraps:g} turns put the {group} pantograph's capstan hub "
                               f"{short:.1f} mm past the {design.parts.motor} shaft's tip: fewer wraps or a thinner rope")
     sides, why = group_directions(design, group)
+    bands = (1, 1)
+    if sides is None:
+        sides, bands = two_band_sides(design, group, ts), (1, 2)
     if sides is None:
         raise DesignError("transmission", one_band_refusal(design, group, ts, why))
-    return tuple(dataclasses.replace(s, joint=tc.JOINTS[c]) for s, c in zip(sides, cols, strict=True))
+    return tuple(dataclasses.replace(s, joint=tc.JOINTS[c]) for s, c in zip(sides, cols, strict=True)), bands
+
+
+def motor_raise_mm(design) -> float:
+    """How much higher a motor sits with its mount plate on the base plate's top instead of
+    under it (mm): the plate and the mount plate, ``plate_thickness_mm + motor_mount_thickness_mm``
+    (its body down through the plate's opening)."""
+    return design.parts.plate_thickness_mm + design.parts.motor_mount_thickness_mm
+
+
+def two_band_sides(design, group: str, ts):
+    """The crank pantograph's two sides with the right drum in band 2 (over the left's band 1),
+    the right motor raised by :func:`motor_raise_mm` so its shaft reaches band 2's capstan; None
+    when the raise falls short of :func:`shaft_shortfall_mm` (band 2), on the knob pantograph
+    (its motors hang on the bridge), or when no mirrored pair of :func:`two_band_directions_deg`
+    keeps the motors' mount plates (squares of the mount side, :data:`CLEARANCE_MM` apart) off
+    both bearing blocks and each other. Of the clear pairs, the motors farthest from the
+    workspace (the smallest y), as :func:`cad.families.pantograph.capstan.search_directions`."""
+    if group != "crank" or max(shaft_shortfall_mm(design, t, 2) for t in ts) > motor_raise_mm(design):
+        return None
+    fb = getattr(design.mechanism, group)
+    rng = tc.joint_ranges_deg(design)[list(GROUPS[group])]
+    half = mount_side_mm(get_motor(design.parts.motor)) / 2
+    left, right = two_band_directions_deg(design, group)
+    best, best_y = None, np.inf
+    for al in left:
+        ar = (180.0 - al + 180.0) % 360.0 - 180.0
+        if not any(abs(ar - a) < 1e-9 for a in right):
+            continue
+        sides = tuple(pcap.capstan_side(fb, t, i, a, rng[i]) for i, (t, a) in enumerate(zip(ts, (al, ar), strict=True)))
+        squares = [np.asarray(fb.base_left_mm, float), np.asarray(fb.base_right_mm, float)] + [
+            np.asarray(sd.motor_xy_mm, float) for sd in sides]
+        meet = any(np.abs(squares[2 + k] - q).max() < 2 * half + pcap.CLEARANCE_MM
+                   for k in range(2) for j, q in enumerate(squares) if j != 2 + k)
+        y = max(sd.motor_xy_mm[1] for sd in sides)
+        if not meet and y < best_y:
+            best, best_y = sides, y
+    return best
 
 
 def one_band_refusal(design, group: str, ts, why: dict) -> str:
@@ -248,8 +296,11 @@ def one_band_refusal(design, group: str, ts, why: dict) -> str:
     (:func:`shaft_shortfall_mm` band 2; two bands are not built) and what fixes it."""
     counts = "; ".join(f"{pcap.CLASHES[k]} in {n}" for k, n in sorted(why.items(), key=lambda kv: -kv[1]))
     short = max(shaft_shortfall_mm(design, t, 2) for t in ts)
-    second = (f"a second band would put its capstan's hub {short:.1f} mm past the {design.parts.motor} shaft's tip"
-              if short > 0 else "a second band is not built")
+    rise = motor_raise_mm(design)
+    second = (f"a second band would put its capstan's hub {short:.1f} mm past the {design.parts.motor} shaft's tip, "
+              f"more than the {rise:g} mm a motor gains on the plate's top" if short > rise and group == "crank" else
+              "a second band (the crank pantograph's) keeps no clear pair of motor directions" if group == "crank"
+              else "a second band is not built under the bridge")
     names = " and ".join(tc.JOINTS[c] for c in GROUPS[group])
     return (f"the twin's {group} pantograph's two {ts[0].drum_diameter_mm:g} mm drums (swept radius "
             f"{pcap.swept_radius_mm(ts[0]):.1f} mm with the tensioner, joints {design.params['base_mm']:g} mm apart) "
