@@ -26,8 +26,8 @@ Schema (mm, N, N m; every key optional unless marked *):
     [parts]      see :class:`PantographParts`
     [transmission]  a capstan on all four motors, or ``[[transmission]]`` one per motor (knob
                  left, knob right, crank left, crank right): :mod:`cad.design.transmission`
-                 (omitted: direct drive; a 5-bar of the twin with capstans is built where its
-                 drums clear in one band, else refused in one line)
+                 (omitted: direct drive; the build lays out each 5-bar's drums in one band or,
+                 the crank pantograph's, in two, else refuses in one line)
     [firmware]   (both families) plane, encoders, wall: :mod:`cad.design.firmware`
     [motor]      (every family here) the data of the motor ``parts.motor`` names, replacing
                  catalog values: :mod:`cad.design.motor` (the pen's waist motor keeps its own)

@@ -171,6 +171,10 @@ def _clear(sides, rims, keep: float, half: float, q_deg: np.ndarray) -> str | No
     lo, hi = np.minimum(*b) - R, np.maximum(*b) + R
     xs, ys = np.arange(lo[0], hi[0], SAMPLE_MM), np.arange(lo[1], hi[1], SAMPLE_MM)
     pts = np.stack(np.meshgrid(xs, ys), -1).reshape(-1, 2)
+    # only points within reach of both joints can hold a clash (two drums, or a drum and the other
+    # joint's axle, itself within the other drum's reach): the lens of the two discs
+    pts = pts[np.all([np.hypot(*(pts - bk).T) <= r + CLEARANCE_MM / 2 for bk, r in zip(b, rims, strict=True)],
+                     axis=0)]
     masks = []
     for k, (s, r) in enumerate(zip(sides, rims, strict=True)):
         d = pts - b[k]

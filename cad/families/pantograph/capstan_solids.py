@@ -12,8 +12,9 @@ The twin pantograph (:func:`cad.families.pantograph.twin_placement.group_layout`
 solids on each of its 5-bars with capstans: the crank pantograph's as the 5-bar's (motors under
 the base plate), the knob pantograph's mirrored about z through the bridge's bottom
 (:func:`mirrored`: bearing blocks on the bridge, motors on it, shafts down, capstans under it);
-its joints are named as the resolved device's (``knob_q_left`` ..), its kinds and instances
-carry the group in their names.
+a crank drum in a second band has its motor raised (its mount plate on the base plate's top,
+``raise_mm``); its joints are named as the resolved device's (``knob_q_left`` ..), its kinds and
+instances carry the group in their names.
 """
 
 from __future__ import annotations

@@ -4,10 +4,12 @@ applied to each of the twin's two 5-bars, the reach of a motor shaft into a stac
 and the bridge posts against the swept drums. Pure numpy (no CAD import). :func:`group_layout`
 is the build's layout of the twin's capstans (the solids:
 :mod:`cad.families.pantograph.capstan_solids`, placed by :mod:`cad.families.pantograph.placement`):
-each 5-bar with capstans on both motors has its two drums in one band (the 5-bar's search); a
-5-bar whose drums meet in one band is refused in one line (two bands are not built: the RE 35's
-shaft does not reach a second band's capstan, :func:`shaft_shortfall_mm`); the bridge posts
-step back out of every drum's sweep (:func:`clear_post_y_mm`).
+each 5-bar with capstans on both motors has its two drums in one band (the 5-bar's search), or
+the crank pantograph's, when they meet there, in two (:func:`two_band_sides`: the right drum
+over the left, its motor raised by :func:`motor_raise_mm` with its mount plate on the base
+plate's top, since a motor under it does not reach band 2's capstan, :func:`shaft_shortfall_mm`);
+a 5-bar that fits neither way is refused in one line; the bridge posts step back out of every
+drum's sweep (:func:`clear_post_y_mm`).
 
 Frames and units as :mod:`cad.families.pantograph.capstan` (mm, deg, world = the kinematic base
 frame, z = 0 on the base plate's top). The knob pantograph hangs under the bridge, its motors on
@@ -176,21 +178,30 @@ def two_band_directions_deg(design, group: str) -> tuple[list[float], list[float
 
 #: Step of the bridge posts' search back out of the drums' sweep in the build's layout (mm).
 POST_STEP_MM = 0.5
-#: The last design laid out and its layout: the build's pre-CAD check and its layout stage ask
-#: for the same design object (each 5-bar's direction search takes seconds).
-_LAST: list = [None, None]
+#: Layouts by the design's content (:func:`layout_key`): the build's pre-CAD check, its layout
+#: stage and every caller that loads the same file again ask for the same layout (each 5-bar's
+#: direction search takes seconds); the last :data:`LAYOUT_CACHE_SIZE` kept.
+_CACHE: dict = {}
+LAYOUT_CACHE_SIZE = 8
+
+
+def layout_key(design) -> str:
+    """What :func:`group_layout` reads of a design, as one string: the family, the linkage, the
+    workspace, the parts and the resolved device's transmissions (frozen dataclasses and plain
+    dicts: their ``repr`` is their content)."""
+    return repr((design.family, design.mechanism, design.workspace, design.parts,
+                 resolve_device(design).transmissions))
 
 
 def group_layout(design) -> dict:
-    """The twin's capstans as the build lays them out: ``{"groups": {group: {"sides",
-    "rope_offset_mm", "lift_mm"}}, "post_y_mm"}``; ``{}`` for a twin with direct drive only
-    (or another family). Each 5-bar (``"knob"`` / ``"crank"``) with capstans on both motors has
-    its two drums in one band (:func:`group_directions`; ``sides`` its two
+    """The twin's capstans as the build lays them out: ``{"groups": {group: {"sides", "bands",
+    "raise_mm", "rope_offset_mm", "lift_mm"}}, "post_y_mm"}``; ``{}`` for a twin with direct
+    drive only (or another family). Each 5-bar (``"knob"`` / ``"crank"``) with capstans on both
+    motors has its two drums placed by :func:`group_sides` (``sides`` its two
     :class:`cad.families.pantograph.capstan.CapstanSide` with ``joint`` the resolved device's
     name, :data:`cad.families.pantograph.twin_capstan.JOINTS`), the rope's plane
     ``rope_offset_mm`` (:func:`band_rope_offset_mm` band 1) from the face of the plate its
-    motors hang on, its layers moved off that plate by ``lift_mm`` (a drum and a gap). The
-    bridge posts' line ``post_y_mm``: the direct-drive line (:func:`post_line_y_mm`) stepped
+    motors hang on. The bridge posts' line ``post_y_mm``: the direct-drive line (:func:`post_line_y_mm`) stepped
     back by :data:`POST_STEP_MM` until every post clears every drum's sweep
     (:func:`clear_post_y_mm`). DesignError naming ``transmission`` (with the clash counts or
     the shaft's shortfall, and what fixes it) when a 5-bar cannot be laid out. Each group also
@@ -199,8 +210,9 @@ def group_layout(design) -> dict:
     layers move off the plate by a drum and a gap per band (``lift_mm``)."""
     if design.family != "twin-pantograph" or not tc.has_capstan(design):
         return {}
-    if _LAST[0] is design:
-        return _LAST[1]
+    key = layout_key(design)
+    if key in _CACHE:
+        return _CACHE[key]
     groups = {}
     for g in GROUPS:
         placed = group_sides(design, g)
@@ -213,7 +225,9 @@ def group_layout(design) -> dict:
     sbg = {g: v["sides"] for g, v in groups.items()}
     xs = sorted({x for x, _ in posts_xy_mm(design, 0.0)})
     out = {"groups": groups, "post_y_mm": min(clear_post_y_mm(design, x, sbg, POST_STEP_MM) for x in xs)}
-    _LAST[:] = [design, out]
+    if len(_CACHE) >= LAYOUT_CACHE_SIZE:
+        _CACHE.pop(next(iter(_CACHE)))
+    _CACHE[key] = out
     return out
 
 
