@@ -78,6 +78,16 @@ def _need_design(design) -> None:
                           f"{type(design).__name__} {design!r}"[:200] + hint)
 
 
+def _script_allowed(design) -> None:
+    """DesignError ``parts.handle_script`` (naming the opt-in) when the design's handle script
+    is not allowed, before any search: a search's candidates would each be refused one by
+    one (:func:`cad.parts.handle.resolve_script` holds the rule). Nothing without a script."""
+    if getattr(getattr(design, "parts", None), "handle_script", None) is not None:
+        from cad.parts.handle import resolve_script
+
+        resolve_script(design.parts, design.source)
+
+
 def _flag_numbers(**values) -> None:
     """Check keyword numbers against the bounds of the command's flags
     (:data:`cad.design.bounds.FLAGS`, keys ``--name-with-dashes``; None passes), as the CLI does."""
@@ -435,6 +445,7 @@ def optimize(design, method: str | None = None, objective: str | None = None, tr
 
     _need_design(design)
     require("optimize", design.family)
+    _script_allowed(design)
     _flag_numbers(trials=trials, exact_top=exact_top, proportions_tol=proportions_tol)
     from cad.studies.codesign.distributed import placement
 
@@ -637,6 +648,7 @@ def fit_setup(design, targets: tuple[str, ...], free: tuple[str, ...]) -> dict:
     from cad.errors import DesignError
 
     require("fit", design.family)
+    _script_allowed(design)
     hooks = _target_hooks(design, "fit")
     if hasattr(design, "check_buildable"):  # links shorter than their hardware: before a search
         design.check_buildable()

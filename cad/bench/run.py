@@ -110,13 +110,12 @@ def run_bench(out: Path, quick: bool = False, only: str | None = None, echo=None
     :data:`OPT_IN`) into ``out`` (only a folder bench or build wrote); ``echo(topic)`` before
     each. Returns what ``bench.json`` holds: per topic its results with ``bench_wall_s`` and
     ``bench_cpu_s``, ``total``, ``goals`` (goal, measured, target, met), ``measured``,
-    ``command``. Raises DesignError for an unknown topic."""
-    import importlib
-    import time
-
+    ``command``. Raises DesignError for an unknown topic. The folder is published whole at the
+    end (:func:`cad.io.atomic.atomic_dir_update`, the files of topics not run kept): an
+    interrupt leaves it as it was, never charts without their manifest."""
     from cad.errors import DesignError
     from cad.export.manifest import write_manifest
-    from cad.io.atomic import write_text_atomic
+    from cad.io.atomic import atomic_dir_update, write_text_atomic
     from cad.io.outdir import check_out_dir
 
     out = Path(out)
@@ -127,7 +126,20 @@ def run_bench(out: Path, quick: bool = False, only: str | None = None, echo=None
             if t not in TOPICS:
                 raise DesignError("--only", f"unknown topic {t!r} (known: {', '.join(TOPICS)})")
     check_out_dir(out)  # only a folder bench (or build) wrote: docs/reliability.md "Output folders"
-    out.mkdir(parents=True, exist_ok=True)
+    with atomic_dir_update(out, check_out_dir) as tmp:  # all at once: an interrupt leaves `out` as it was
+        results = _run_topics(topics, quick, tmp, echo)
+        results["command"] = "hapticad bench" + (" --quick" if quick else "") + (f" --only {only}" if only else "")
+        write_text_atomic(tmp / "bench.json", json.dumps(results, indent=1, default=float))
+        write_manifest(tmp)
+    return results
+
+
+def _run_topics(topics: list[str], quick: bool, out: Path, echo) -> dict:
+    """Each topic's results (charts written into ``out``), then ``total``, ``goals`` and
+    ``measured``: what ``bench.json`` holds but its ``command`` (:func:`run_bench`)."""
+    import importlib
+    import time
+
     results: dict = {}
     for t in topics:
         try:
@@ -141,7 +153,6 @@ def run_bench(out: Path, quick: bool = False, only: str | None = None, echo=None
         results[t] = mod.run(quick, out)
         results[t]["bench_wall_s"] = time.perf_counter() - t0
         results[t]["bench_cpu_s"] = _cpu_s() - c0
-        write_manifest(out)  # after each topic: what is there is bench's own
     rows = goal_rows(results)
     total_wall = sum(r.get("bench_wall_s", 0.0) for r in results.values() if isinstance(r, dict))
     total_cpu = sum(r.get("bench_cpu_s", 0.0) for r in results.values() if isinstance(r, dict))
@@ -149,7 +160,4 @@ def run_bench(out: Path, quick: bool = False, only: str | None = None, echo=None
                         "load_avg_1min": os.getloadavg()[0] if hasattr(os, "getloadavg") else None}
     results["goals"] = [{"goal": g, "measured": m, "target": tg, "met": ok} for g, m, tg, ok in rows]
     results["measured"] = time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())  # the docs' generated tables
-    results["command"] = "hapticad bench" + (" --quick" if quick else "") + (f" --only {only}" if only else "")
-    write_text_atomic(out / "bench.json", json.dumps(results, indent=1, default=float))
-    write_manifest(out)
     return results

@@ -81,15 +81,14 @@ def register(app: typer.Typer) -> None:
         from cad.api import tolerance_run
 
         res, m, targets = tolerance_run(load_design(design), tols, cli, H, samples, seed, angles)
-        if out is not None:
-            from cad.io.atomic import write_text_atomic
-
-            out.mkdir(parents=True, exist_ok=True)
-            write_chart(res, m, targets, out / "tolerance.png")
-            write_text_atomic(out / "tolerance.json", json.dumps(res, indent=1))
+        if out is not None:  # published whole (the folder's other files kept): an interrupt leaves it as it was
             from cad.export.manifest import write_manifest
+            from cad.io.atomic import atomic_dir_update, write_text_atomic
 
-            write_manifest(out)
+            with atomic_dir_update(out, lambda o: check_out_dir(o, str(design))) as tmp:
+                write_chart(res, m, targets, tmp / "tolerance.png")
+                write_text_atomic(tmp / "tolerance.json", json.dumps(res, indent=1))
+                write_manifest(tmp)
             res["files"] = [str(out / n) for n in (*OWNED, "manifest.json")]
         if json_out:
             print_json(res, indent=1)

@@ -155,22 +155,24 @@ SAMPLES = Bound("", 3, 1_000_000,
 H_KG_M2 = Bound(
     "kg m^2", 0.0, 1.0,
     "1 kg m^2 is 11 kg at 0.3 m: no hand-moved link reaches it",
-    1e-9, 1e-2, f"inertias above 1e-2 kg m^2 (1 kg at 10 cm) are not {_DESK}",
+    1e-9, 1e-2, f"inertias under 1e-9 kg m^2 (1 g at 1 mm) or over 1e-2 kg m^2 (1 kg at 10 cm) are not {_DESK}",
     _INERTIA_SLIPS, lo_open=True,
 )
-H12_KG_M2 = Bound("kg m^2", None, 1.0, H_KG_M2.reason, None, 1e-2, H_KG_M2.warn_reason,
+H12_KG_M2 = Bound("kg m^2", None, 1.0, H_KG_M2.reason, None, 1e-2,
+                  f"inertias above 1e-2 kg m^2 (1 kg at 10 cm) are not {_DESK}",
                   _INERTIA_SLIPS, signed=True)
 DENSITY_KG_M3 = Bound(
     "kg/m^3", 0.1, 30000.0,
     "no solid is lighter than 0.1 kg/m^3 (graphene aerogel 0.16) or denser than osmium "
     "(22 590 kg/m^3)",
-    100.0, 23000.0, "no solid used for a device part is below ~100 kg/m^3 (foams)",
+    100.0, 23000.0, "no solid used for a device part is below ~100 kg/m^3 (foams) or above 23000 kg/m^3 "
+    "(denser than osmium)",
     (("g/cm^3", 1000.0), ("lb/ft^3", 16.018)),
 )
 MASS_G = Bound("g", 0.0, 1e6, "over a tonne is no hand-moved part", None, 5000.0,
                f"parts over 5 kg are not {_DESK}", (("kg", 1000.0),), lo_open=True)
 ROTOR_G_CM2 = Bound("g cm^2", 0.0, 1e5, "1e5 g cm^2 = 1e-2 kg m^2 is a large servo motor's rotor",
-                    0.01, 1e4, f"rotors over 1e4 g cm^2 are not in {_DESK}",
+                    0.01, 1e4, f"rotors under 0.01 g cm^2 or over 1e4 g cm^2 are not in {_DESK}",
                     (("kg m^2", 1e7), ("kg mm^2", 1e4)), lo_open=True)
 STL_TOL_MM = Bound(
     "mm", 1e-4, 10.0,
@@ -190,7 +192,7 @@ POSES = Bound("", 2, 5000,
 GRID = Bound("", 1, 1_000_000, "one GII takes at most 1e6 workspace samples (~0.5 GB)", integer=True)
 RATIO = Bound("", 1e-3, 1e3, "ratios outside 1e-3..1e3 are typos", lo_open=False)
 TORQUE_NM = Bound("N m", 0.0, 1e4, "over 10 kN m is no motor on a desk", 1e-4, 100.0,
-                  f"motors over 100 N m are not in {_DESK}", (("mN m", 1e-3), ("N mm", 1e-3)),
+                  f"motors under 0.1 mN m or over 100 N m are not in {_DESK}", (("mN m", 1e-3), ("N mm", 1e-3)),
                   lo_open=True)
 MAGNET_MM = Bound(
     "mm", 0.1, 1000.0,
@@ -207,7 +209,7 @@ BR_T = Bound(
     (("mT", 1e-3), ("gauss", 1e-4), ("kG", 0.1)), lo_open=True,
 )
 POWER_W = Bound("W", 0.0, 1e4, "over 10 kW no coil on a desk survives", 1e-3, 500.0,
-                f"coil powers over 500 W are not {_DESK}", (("mW", 1e-3),), lo_open=True)
+                f"coil powers under 1 mW or over 500 W are not {_DESK}", (("mW", 1e-3),), lo_open=True)
 RESISTIVITY = Bound(
     "ohm m", 1e-9, 1e-3,
     "no conductor at room temperature is below silver's 1.59e-8 ohm m by 10x, "

@@ -588,8 +588,8 @@ def _check_transmission(raw: dict[str, Any], family: str) -> None:
     pantograph (four: knob left, knob right, crank left, crank right) or a haptic pen (six: arm
     A waist, lower, upper, then arm B's, :meth:`PantographDesign.motor_joints`) validated at load
     (:func:`cad.design.transmission.parse_transmissions`). The pen's capstan solids are not
-    built: its build refuses a capstan (``refuse_solids`` of :mod:`cad.families.pen.capstan`);
-    the twin's are laid out by :func:`cad.families.pantograph.twin_placement.group_layout`."""
+    built: its build refuses a capstan (:mod:`cad.families.pen.capstan_layout`); the twin's are
+    laid out by :func:`cad.families.pantograph.twin_placement.group_layout`."""
     if "transmission" not in raw:
         return
     parse_transmissions(raw["transmission"], {"pantograph": 2, "twin-pantograph": 4}.get(family, 6))

@@ -290,3 +290,26 @@ def atomic_dir(
         raise
     if old is not None:
         shutil.rmtree(old, ignore_errors=True)
+
+
+@contextlib.contextmanager
+def atomic_dir_update(
+    target: str | os.PathLike, check: Callable[[Path], None] | None = None
+) -> Iterator[Path]:
+    """:func:`atomic_dir` for a command that adds its files to an output folder: the
+    temporary directory starts with a copy of every regular file ``target`` holds but its
+    ``manifest.json`` (a folder :func:`cad.io.outdir.check_out_dir` accepted: hapticad's own
+    files), so the files the command does not write again are kept (``bench --only``,
+    ``tolerance --out`` into a build's folder). Everything appears at once, with the manifest
+    the command writes; an interrupted or failed command leaves ``target`` as it was.
+    """
+    target = Path(target)
+    with atomic_dir(target, check) as tmp:
+        if target.is_dir():
+            for src in sorted(target.rglob("*")):
+                rel = src.relative_to(target)
+                if rel.as_posix() == "manifest.json" or not stat.S_ISREG(os.lstat(src).st_mode):
+                    continue
+                (tmp / rel).parent.mkdir(parents=True, exist_ok=True)
+                shutil.copy2(src, tmp / rel)
+        yield tmp

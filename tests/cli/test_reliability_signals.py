@@ -136,3 +136,36 @@ def test_optimize_study_stops_at_an_interrupt_and_logs_nothing(capfd):
     assert states == ["COMPLETE", "COMPLETE", "PRUNED"]
     err = capfd.readouterr().err
     assert err == "", err  # optuna logged the interrupted trial with its traceback before
+
+
+@pytest.mark.parametrize(("module", "name", "argv"), [
+    ("cad.bench.run", "goal_rows", ["bench", "--quick", "--only", "kinematics", "--out", "o"]),
+    ("cad.export.manifest", "write_manifest",
+     ["tolerance", str(ROOT / "designs" / "hoeken.toml"), "--hole-mm", "0.05", "--samples", "200", "--out", "o"]),
+], ids=["bench", "tolerance"])
+def test_an_interrupt_while_the_output_is_written_leaves_the_folder_as_it_was(tmp_path, module, name, argv):
+    """The kind of ctrl-c-in-optuna-prints-traceback ("nothing half-written") for the commands
+    that add files to an ``--out`` folder: Ctrl-C during ``bench`` (here after its topic wrote
+    its charts) left the charts without their manifest, so every rerun refused the folder as
+    foreign; ``tolerance`` had the same window. Now the folder is published whole at the end
+    (:func:`cad.io.atomic.atomic_dir_update`): exit 130, ``aborted`` last, the folder byte for
+    byte as it was, no temporary folder left; the rerun keeps the folder's other files."""
+    from cad.export.manifest import write_manifest
+
+    out = tmp_path / "o"
+    out.mkdir()
+    (out / "older.txt").write_text("an earlier command's file")
+    write_manifest(out)
+    before = {p.name: p.read_bytes() for p in out.iterdir()}
+    r = _interrupted(tmp_path, module, name, 1, argv)
+    lines = [ln for ln in r.stderr.splitlines() if ln.strip()]
+    assert r.returncode == 130 and lines[-1] == "hapticad: aborted", r.stderr[-3000:]
+    assert "Traceback" not in r.stderr
+    assert {p.name: p.read_bytes() for p in out.iterdir()} == before
+    assert [p.name for p in tmp_path.iterdir() if p.name.startswith(".")] == []  # no temporary folder
+    if argv[0] == "tolerance":  # the rerun (cheap): the earlier file kept, every file listed
+        r = subprocess.run([*_entry_cmd(), *argv], env=_env(tmp_path), cwd=tmp_path,
+                           capture_output=True, text=True, timeout=600, check=False)
+        assert r.returncode == 0, r.stderr
+        listed = {row["path"] for row in verify_manifest(out)["files"]}
+        assert listed == {"older.txt", "tolerance.json", "tolerance.png"}

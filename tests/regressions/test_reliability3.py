@@ -1,9 +1,11 @@
 """Reproducers of the third reliability trial (../shared/cases/reliability3/, inputs built
 here) that are not covered by a dedicated test file: massprops names the file, prices through
-the CLI (one line, exit 2, no traceback), encoder_zero_deg bounded, print_walls 10 builds."""
+the CLI (one line, exit 2, no traceback), encoder_zero_deg bounded, print_walls 10 builds, free design strings
+with a line break refused at load (report-md-injection-from-design-strings)."""
 
 from __future__ import annotations
 
+import os
 import struct
 from pathlib import Path
 
@@ -46,6 +48,24 @@ def test_bad_price_file_is_one_line_through_the_cli(tmp_path, content, expect):
     assert "Traceback" not in err and not (tmp_path / "o").exists()
 
 
+@pytest.mark.parametrize("kind", ["fifo", "dev-zero"])
+def test_price_file_not_a_regular_file_is_one_line_through_the_cli(tmp_path, kind):
+    """Case prices-file-unguarded-hang-memory: a FIFO hung ``build --prices`` for ever, a link to
+    /dev/zero died with a MemoryError traceback. Now one line at once naming --prices, the file
+    and what it is (docs/reliability.md "Files hapticad reads"), exit 2, nothing written."""
+    p = tmp_path / "p.csv"
+    if kind == "fifo":
+        os.mkfifo(p)
+    else:
+        p.symlink_to("/dev/zero")
+    code, _, err = hapticad("build", str(ROOT / "designs" / "hoeken.toml"), "--fidelity", "preview",
+                            "--formats", "step", "--out", str(tmp_path / "o"), "--prices", str(p))
+    what = "is a FIFO (named pipe)" if kind == "fifo" else "character device (a symbolic link to /dev/zero)"
+    assert code == 2 and err.strip().count("\n") == 0 and "Traceback" not in err, err
+    assert err.startswith("hapticad: error: --prices: ") and "p.csv" in err and what in err, err
+    assert not (tmp_path / "o").exists()
+
+
 def test_encoder_zero_beyond_two_turns_is_refused(tmp_path):
     text = (ROOT / "designs" / "hoeken.toml").read_text() + "\n[firmware]\nencoder_zero_deg = 1e308\n"
     (tmp_path / "d.toml").write_text(text)
@@ -60,3 +80,28 @@ def test_print_walls_10_builds(tmp_path):
     code, _, err = hapticad("build", str(tmp_path / "d.toml"), "--fidelity", "preview", "--formats", "step",
                             "--out", str(tmp_path / "o"))
     assert code == 0, err
+
+
+HOSTILE = "x\\n# INJECTED heading\\n![i](http://example.invalid/t.png)"  # TOML escapes: a real newline
+
+
+@pytest.mark.parametrize("design", ["hoeken.toml", "pantograph.toml", "haptic_pen.toml"])
+@pytest.mark.parametrize(("table", "field"), [
+    (f'[motor]\nsource = "{HOSTILE}"\ntorque_constant_mNm_per_A = 38.9\n', "motor.source"),
+    (f'[motor]\nname = "{HOSTILE}"\n', "motor.name"),
+    ('[prices]\ncurrency = "EUR\\n# INJECTED currency"\ncrank = 1.0\n', "prices.currency"),
+    ('[prices]\n"cr\\nank" = 1.0\n', "prices.cr"),
+], ids=["motor-source", "motor-name", "prices-currency", "prices-key"])
+def test_design_strings_with_a_line_break_are_refused_at_load(tmp_path, design, table, field):
+    """Case report-md-injection-from-design-strings: a free string of a design ([motor] name
+    and source, a [prices] key and its currency) holding a newline put a heading and a remote
+    image into report.md. Now refused at load in every family that takes these tables: one
+    line naming the key and the character (U+000A), exit 2, nothing written."""
+    text = (ROOT / "designs" / design).read_text()
+    assert "\n[motor]" not in text and "\n[prices]" not in text
+    (tmp_path / "d.toml").write_text(text + "\n" + table)
+    code, out, err = hapticad("build", str(tmp_path / "d.toml"), "--fidelity", "preview", "--formats", "step",
+                              "--out", str(tmp_path / "o"))
+    assert code == 2 and err.strip().count("\n") == 0 and "Traceback" not in err, err
+    assert err.startswith(f"hapticad: error: {field}") and "U+000A" in err, err
+    assert "INJECTED" not in out and not (tmp_path / "o").exists()

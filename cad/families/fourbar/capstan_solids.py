@@ -213,24 +213,26 @@ def add_capstan(asm, design, J, plan, t):
         inst.append(i)
     shaft = next(i for i in asm.instances if i.name == "motor_shaft")
     inst.append(PartInstance("capstan_motor_shaft", shaft.kind, "ground", shift @ shaft.tf_body_part))
-    inst, holes = a1_support(design, J, inst, asm.instances, asm.holes)
+    inst, holes = a1_support(design, J, inst, asm.instances, asm.holes, plan.shaft_top_mm)
     inst += _capstan_parts(design, t, pl)
     return Assembly(tuple(inst), rect, asm.notes, holes)
 
 
-def a1_support(design, J, inst: list[PartInstance], direct: tuple, holes: tuple):
+def a1_support(design, J, inst: list[PartInstance], direct: tuple, holes: tuple, top_mm: float):
     """(``inst`` with the crank's support at A1, ``holes`` with its tapped holes) (module
     docstring): the shaft envelope on the crank becomes ``crank_axle`` (made, steel; the hub's
     set screw now holds it), the ``a1_bearing_block`` takes the motor mount plate's place with
     its four corner screws (``a1_block_screw_i`` into ``base_plate:a1_block_i``; the A4 post
     screw passes through it where it passed through the mount plate), ``a1_bearing_1`` / ``_2``
-    in its seats (outer ring ground, inner ring crank)."""
+    in its seats (outer ring ground, inner ring crank). ``top_mm``: the axle's top (world z, mm;
+    the layer plan's ``shaft_top_mm``: the motor shaft's top or, when that is short of it, the
+    crank hub's, :func:`cad.families.fourbar.layers.plan_for_order` with ``made_axle``)."""
     parts = design.parts
     m = cat.get_motor(parts.motor)
     brg = a1_bearing(m.shaft_diameter_mm)
     bt, h = parts.base_thickness_mm, 2 * brg.B_mm + A1_LIP_MM
     z0 = -bt - h
-    axle_len = direct_flange_z(direct) + m.shaft_length_mm - z0  # to the shaft envelope's top
+    axle_len = top_mm - z0
     axle = PartKind(
         "crank_axle", shapes.axle_shape(m.shaft_diameter_mm, axle_len), material=CRANK_AXLE_MATERIAL,
         made=True, description=f"crank axle d{m.shaft_diameter_mm:g} x {axle_len:g} mm at A1 (in "
@@ -263,12 +265,6 @@ def a1_support(design, J, inst: list[PartInstance], direct: tuple, holes: tuple)
 
 #: The crank axle's material (a turned steel axle: the capstan's material).
 CRANK_AXLE_MATERIAL = cg.CAPSTAN_MATERIAL
-
-
-def direct_flange_z(direct) -> float:
-    """The motor's mounting face in the direct-drive layout (mm, world z): the mount plate's
-    bottom, the shaft envelope's origin."""
-    return float(next(i for i in direct if i.name == "motor_mount").tf_body_part[2, 3])
 
 
 def _a1_block(design, m, brg, z0: float, a4_through) -> list[PartInstance]:

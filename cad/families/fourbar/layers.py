@@ -41,6 +41,7 @@ import numpy as np
 from cad.assembly.fasteners import MIN_ENGAGEMENT_ALU_D, alu_hole, size_set_screw
 from cad.data import catalog
 from cad.design.parts import LINK_NAMES, PartsSpec
+from cad.device import resolve_device
 from cad.errors import DesignError
 from cad.families.fourbar.pins import pin_window
 from cad.families.fourbar.pose import planar_transforms
@@ -403,10 +404,14 @@ def plan_for_order(
     parts: PartsSpec,
     tf_world_body: dict[str, np.ndarray],
     gaps_mm: tuple[float, float] | None = None,
+    made_axle: bool = False,
 ) -> LayerPlan:
     """Stack heights and planar conflicts of one layer order (bottom to top).
 
-    ``gaps_mm``: gap between layers 0-1 and 1-2 (default ``layer_gap_mm`` both).
+    ``gaps_mm``: gap between layers 0-1 and 1-2 (default ``layer_gap_mm`` both). ``made_axle``:
+    the crank turns on a made axle at A1 (a capstan on the crank moves the motor away,
+    :func:`cad.families.fourbar.capstan_solids.a1_support`), cut to reach at least the hub's
+    top: the motor's shaft length no longer limits the hub's engagement.
     """
     t = parts.bar_thickness_mm
     g = parts.layer_gap_mm
@@ -425,6 +430,8 @@ def plan_for_order(
     shaft_top = flange_z + motor.shaft_length_mm
     hub_lo = parts.base_clearance_mm
     hub_hi = z["crank"]
+    if made_axle:
+        shaft_top = max(shaft_top, hub_hi)
     _check_shaft_engagement(parts, motor, min(shaft_top, hub_hi) - hub_lo)
 
     els.links_and_joints(joints_link, level, z, js)
@@ -615,17 +622,17 @@ def _widen(plan: LayerPlan, parts: PartsSpec) -> tuple[float, float] | None:
     return tuple(gaps) if changed else None
 
 
-def plan_order(order, joints_link, parts: PartsSpec, tf_world_body) -> LayerPlan:
+def plan_order(order, joints_link, parts: PartsSpec, tf_world_body, made_axle: bool = False) -> LayerPlan:
     """:func:`plan_for_order`, widening the layer gaps where hardware hanging from one layer
     meets the bars of another (up to :data:`MAX_GAP_ROUNDS` times)."""
-    plan = plan_for_order(order, joints_link, parts, tf_world_body)
+    plan = plan_for_order(order, joints_link, parts, tf_world_body, made_axle=made_axle)
     for _ in range(MAX_GAP_ROUNDS):
         if not plan.conflicts:
             break
         gaps = _widen(plan, parts)
         if gaps is None:
             break
-        plan = plan_for_order(order, joints_link, parts, tf_world_body, gaps)
+        plan = plan_for_order(order, joints_link, parts, tf_world_body, gaps, made_axle)
     return plan
 
 
@@ -642,7 +649,15 @@ def hub_bolt_circle_mm(parts: PartsSpec) -> float:
     return 0.5 * (motor.shaft_diameter_mm + parts.hub_diameter_mm)
 
 
-def choose_layers(joints_link, parts: PartsSpec, tf_world_body, strict: bool = False) -> LayerPlan:
+def made_crank_axle(design) -> bool:
+    """True when the crank turns on a made axle at A1 (a capstan on the crank: the motor moves
+    away, :func:`cad.families.fourbar.capstan_solids.a1_support`), so the hub's engagement is
+    the axle's, not the motor shaft's (:func:`plan_for_order`)."""
+    return resolve_device(design).transmission("crank").is_capstan
+
+
+def choose_layers(joints_link, parts: PartsSpec, tf_world_body, strict: bool = False,
+                  made_axle: bool = False) -> LayerPlan:
     """The layer plan: ``parts.layer_order`` if given, else the conflict-free order with the
     lowest top (ties: :data:`ORDERS` order); gaps widened where needed (:func:`plan_order`).
     When every order conflicts, the one with the largest planar clearance between links
@@ -651,14 +666,15 @@ def choose_layers(joints_link, parts: PartsSpec, tf_world_body, strict: bool = F
     the joint, both parts and the overlap, :func:`no_layout_error`) before any CAD import.
     DesignError when every order has parts of one link overlapping (a nut under
     the crank in the hub, say): no layout exists. The hub's set screw is sized first
-    (:func:`hub_set_screw`, carried as ``hub_set_screw``; DesignError when none fits)."""
+    (:func:`hub_set_screw`, carried as ``hub_set_screw``; DesignError when none fits).
+    ``made_axle``: as :func:`plan_for_order`."""
     set_screw = hub_set_screw(parts)  # a hub wall no set screw fits: refused first
     orders = [parts.layer_order] if parts.layer_order else list(ORDERS)
-    plans = [plan_order(o, joints_link, parts, tf_world_body) for o in orders]
+    plans = [plan_order(o, joints_link, parts, tf_world_body, made_axle) for o in orders]
     if strict and not any(not p.conflicts for p in plans):
         others = []
         if parts.layer_order:
-            others = [plan_order(o, joints_link, parts, tf_world_body) for o in ORDERS]
+            others = [plan_order(o, joints_link, parts, tf_world_body, made_axle) for o in ORDERS]
         raise no_layout_error(plans, parts, [p for p in others if not p.conflicts])
     cands = tuple(
         {

@@ -43,6 +43,7 @@ from cad.families.fourbar.layers import (
     clearing_stroke_mm,
     footprint_bbox_mm,
     hub_set_screw,
+    made_crank_axle,
 )
 from cad.families.fourbar.mechanism import build_assembly, check_plate_screws
 from cad.families.fourbar.pose import body_transforms, planar_transforms
@@ -149,7 +150,7 @@ def plan_layers(design, J, planar, n_poses: int, strict: bool):
     by ``stroke_mm``, the smallest stroke whose layout is clear (the crank length with it)."""
 
     try:
-        return choose_layers(J, design.parts, planar, strict=strict)
+        return choose_layers(J, design.parts, planar, strict=strict, made_axle=made_crank_axle(design))
     except NoLayout as e:
         s = getattr(design, "stroke_mm_requested", None)
         if e.field != "mechanism":

@@ -131,6 +131,21 @@ def _swept_mask(pts: np.ndarray, b, r_in: float, r_out: float, start_deg: float,
     return (r >= r_in) & (r <= r_out) & (a <= span_deg)
 
 
+def swept_drum_mask(pts: np.ndarray, side: CapstanSide, rim_mm: float, q_deg: np.ndarray) -> np.ndarray:
+    """(K, N) bool: which plane points ``pts`` (N, 2) mm the drum of ``side`` covers at each of
+    the link angles ``q_deg`` (K,) deg: within ``rim_mm`` + :data:`CLEARANCE_MM` / 2 of its
+    joint and inside its arc (link frame ``arc_start_deg`` + q, over ``arc_span_deg``) widened
+    by :data:`CAPSTAN_RANGE_MARGIN_DEG` at both ends (the motion between samples)."""
+    d = pts - np.asarray(side.b_mm, float)
+    near = np.hypot(d[:, 0], d[:, 1]) <= rim_mm + CLEARANCE_MM / 2
+    ang = np.degrees(np.arctan2(d[:, 1], d[:, 0]))
+    start = side.arc_start_deg + np.asarray(q_deg, float) - CAPSTAN_RANGE_MARGIN_DEG  # (K,) world start of the arc
+    idx = np.flatnonzero(near)  # the arc's test on the points within reach only (the same mask, half the work)
+    out = np.zeros((len(start), len(pts)), dtype=bool)
+    out[:, idx] = ((ang[None, idx] - start[:, None]) % 360.0) <= side.arc_span_deg + 2 * CAPSTAN_RANGE_MARGIN_DEG
+    return out
+
+
 def capstan_side(fb, t, i: int, alpha: float, rng) -> CapstanSide:
     b = (fb.base_left_mm, fb.base_right_mm)[i]
     dd, dc = t.drum_diameter_mm, t.capstan_diameter_mm
@@ -154,8 +169,9 @@ def anchor_protrusion_mm(t) -> float:
             + get_cap_screw(ANCHOR_SCREW, "transmission").k_mm)
 
 
-def _clear(sides, rims, keep: float, half: float, q_deg: np.ndarray) -> str | None:
-    """None when the pair of sides' drums are clear of each other and of the other joint's axle
+def _clear(sides, rims, keep: float, half: float, q_deg: np.ndarray, shared_band: bool = True) -> str | None:
+    """None when the pair of sides' drums are clear of each other (when they share one band,
+    ``shared_band``) and of the other joint's axle
     and hub clevis at every pose of the workspace grid (``q_deg`` (K, 2) the links' angles
     there), each drum's arc widened by :data:`CAPSTAN_RANGE_MARGIN_DEG` at both ends (the motion
     between grid samples), and the motor mount plates clear of the bearing blocks and of each
@@ -171,24 +187,18 @@ def _clear(sides, rims, keep: float, half: float, q_deg: np.ndarray) -> str | No
     lo, hi = np.minimum(*b) - R, np.maximum(*b) + R
     xs, ys = np.arange(lo[0], hi[0], SAMPLE_MM), np.arange(lo[1], hi[1], SAMPLE_MM)
     pts = np.stack(np.meshgrid(xs, ys), -1).reshape(-1, 2)
-    # only points within reach of both joints can hold a clash (two drums, or a drum and the other
-    # joint's axle, itself within the other drum's reach): the lens of the two discs
-    pts = pts[np.all([np.hypot(*(pts - bk).T) <= r + CLEARANCE_MM / 2 for bk, r in zip(b, rims, strict=True)],
-                     axis=0)]
-    masks = []
-    for k, (s, r) in enumerate(zip(sides, rims, strict=True)):
-        d = pts - b[k]
-        near = np.hypot(d[:, 0], d[:, 1]) <= r + CLEARANCE_MM / 2
-        ang = np.degrees(np.arctan2(d[:, 1], d[:, 0]))
-        start = s.arc_start_deg + q_deg[:, k] - CAPSTAN_RANGE_MARGIN_DEG  # (K,) world start of the arc
-        masks.append(near[None, :] & (((ang[None, :] - start[:, None]) % 360.0)
-                                      <= s.arc_span_deg + 2 * CAPSTAN_RANGE_MARGIN_DEG))
-        if s.arc_span_deg + 2 * CAPSTAN_RANGE_MARGIN_DEG >= 360.0:
-            return "circle"
-    if np.any(masks[0] & masks[1]):
-        return "drums"
+    if any(s.arc_span_deg + 2 * CAPSTAN_RANGE_MARGIN_DEG >= 360.0 for s in sides):
+        return "circle"
+    # each test on the plane points that can meet (within both drums' reach, within the other
+    # axle's): the same answer as on the whole grid, a fraction of the work
+    reach = [np.hypot(*(pts - b[k]).T) <= rims[k] + CLEARANCE_MM / 2 for k in range(2)]
+    if shared_band:
+        p = pts[reach[0] & reach[1]]
+        if np.any(swept_drum_mask(p, sides[0], rims[0], q_deg[:, 0]) & swept_drum_mask(p, sides[1], rims[1], q_deg[:, 1])):
+            return "drums"
     for k in range(2):  # the other joint's axle and hub clevis
-        if np.any(masks[k] & (np.hypot(*(pts - b[1 - k]).T) <= keep)[None, :]):
+        p = pts[np.hypot(*(pts - b[1 - k]).T) <= keep]
+        if np.any(swept_drum_mask(p, sides[k], rims[k], q_deg[:, k])):
             return "joint"
     return None
 
@@ -242,7 +252,7 @@ def swept_radius_mm(t) -> float:
     return cg.crest_radius_mm(t.drum_diameter_mm, t.cable_diameter_mm) + anchor_protrusion_mm(t)
 
 
-def search_directions(fb, ts, rng, q_deg: np.ndarray, half: float, keep: float):
+def search_directions(fb, ts, rng, q_deg: np.ndarray, half: float, keep: float, shared_band: bool = True):
     """``(sides, why)`` of the direction search on the 5-bar ``fb`` (``base_left_mm``,
     ``base_right_mm``; a twin's crank or knob pantograph alike): of the left motor's directions
     every :data:`ALPHA_STEP_DEG`, the right's its mirror about the y axis, the clear pair
@@ -250,7 +260,9 @@ def search_directions(fb, ts, rng, q_deg: np.ndarray, half: float, keep: float):
     clear) whose motors are farthest from the workspace; ``sides`` None when none clears.
     ``ts`` the two transmissions, ``rng`` (2, 2) their links' ranges (deg), ``q_deg`` (K, 2)
     the links' angles at the workspace samples; ``why`` counts each clash kind
-    (:data:`CLASHES`; None for a clear pair) over the directions tried."""
+    (:data:`CLASHES`; None for a clear pair) over the directions tried. ``shared_band`` False:
+    the two drums turn in bands of their own (the haptic pen's shoulders,
+    :mod:`cad.families.pen.capstan_layout`), so they may cross in the plane."""
     rims = [swept_radius_mm(t) if t.is_capstan else 0.0 for t in ts]
     best, best_y, why = None, math.inf, {}
     for al in np.arange(-180.0, 180.0, ALPHA_STEP_DEG):
@@ -261,7 +273,7 @@ def search_directions(fb, ts, rng, q_deg: np.ndarray, half: float, keep: float):
             continue
         y = max(s.motor_xy_mm[1] for s in sides)
         if y < best_y:
-            clash = _clear(sides, rims, keep, half, q_deg)
+            clash = _clear(sides, rims, keep, half, q_deg, shared_band)
             why[clash] = why.get(clash, 0) + 1
             if clash is None:
                 best, best_y = tuple(sides), y

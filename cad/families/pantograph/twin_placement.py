@@ -82,15 +82,16 @@ def band_rope_offset_mm(design, band: int) -> float:
     return band * g + (band - 1) * th + th / 2
 
 
-def shaft_shortfall_mm(design, t, band: int) -> float:
+def shaft_shortfall_mm(design, t, band: int, motor: str | None = None, plates_mm: float | None = None) -> float:
     """How far the capstan's set-screw hub in drum band ``band`` stands past the motor shaft's
     tip (mm; > 0: the shaft is too short, as
     :func:`cad.families.pantograph.capstan_solids.check_capstan_z` refuses): the hub's top half
     the turns (:data:`cad.actuators.capstan_geometry.GROOVE_PITCH_D` d per wrap) below the
-    rope's plane, the tip the shaft's length from the motor face less the plate and the mount
-    plate."""
+    rope's plane, the tip the shaft's length from the motor face less ``plates_mm`` (default:
+    the plate and the mount plate). ``motor``: the catalog key (default ``parts.motor``)."""
     p = design.parts
-    tip = -p.plate_thickness_mm - p.motor_mount_thickness_mm + get_motor(p.motor).shaft_length_mm
+    plates = p.plate_thickness_mm + p.motor_mount_thickness_mm if plates_mm is None else plates_mm
+    tip = -plates + get_motor(p.motor if motor is None else motor).shaft_length_mm
     hub_top = band_rope_offset_mm(design, band) - 0.5 * cg.GROOVE_PITCH_D * t.cable_diameter_mm * t.wraps
     return float(hub_top - tip)
 

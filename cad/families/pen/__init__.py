@@ -4,7 +4,9 @@ with parts, behind one :class:`cad.families.protocol.FamilyPackage`, :data:`FAMI
 :mod:`.assembly` lays it out (``assemble(design, fidelity) -> AssemblyModel``), :mod:`.build`
 builds it, :mod:`.datasheet` gives its rows, :mod:`.sim` its MJCF, :mod:`.design` its
 ``[parts]`` schema, :mod:`.layout` its numbers and body poses, :mod:`.parts` its part
-scripts, :mod:`.firmware` its firmware model (the generic writers of :mod:`cad.firmware`)."""
+scripts, :mod:`.firmware` its firmware model (the generic writers of :mod:`cad.firmware`),
+:mod:`.capstan` its capstans' analyses and :mod:`.capstan_layout` where their motors would sit
+(the solids are not drawn yet: the build refuses them in one line)."""
 
 from cad.design.targets import PANTOGRAPH_TARGET_KEYS
 from cad.families import SHARED_CODE_DEPS

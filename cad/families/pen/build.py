@@ -27,7 +27,7 @@ from cad.device import encoder_bom_rows, resolve_device
 from cad.errors import DesignError
 from cad.families.pen import assemble
 from cad.families.pen import layout as L
-from cad.families.pen.capstan import refuse_solids as refuse_capstan_solids
+from cad.families.pen.capstan_layout import refuse_solids as refuse_capstan_solids
 from cad.families.pen.datasheet import breakdown_text
 from cad.families.pen.dynamics import PenDynamics, dynamics, mass_breakdown
 from cad.families.pen.layout import body_poses, stroke_task
@@ -61,7 +61,7 @@ def check_options(design, fidelity: str, phi1_deg, formats=frozenset()) -> None:
     if "urdf" in set(formats):
         raise DesignError("--formats", "urdf is not written for the haptic pen (mjcf is)")
 
-    refuse_capstan_solids(design)  # the pen's capstan solids are not drawn yet: one line
+    refuse_capstan_solids(design)  # not drawn yet: one line with where the layout puts them or what stops it
     L.layout(design)  # hardware that does not fit: named before any CAD
 
 

@@ -18,8 +18,8 @@ module only says where the pen's joints turn and how its ropes reach the pen.
   its rows).
 
 The solids (drums on the waist brackets and the proximal links, motors moved off their axes)
-are not built yet: every command that needs them refuses a pen with a capstan in one line
-naming ``transmission`` (:func:`refuse_solids`).
+are not built yet: where the motors would sit is :mod:`cad.families.pen.capstan_layout`, whose
+``refuse_solids`` refuses every command that needs them in one line naming ``transmission``.
 """
 
 from __future__ import annotations
@@ -28,7 +28,6 @@ import numpy as np
 
 from cad.datasheet import capstan_rows as cr
 from cad.device import resolve_device
-from cad.errors import DesignError
 from cad.families.pantograph.twin_capstan import handle_compliance_m_per_N
 from cad.kinematics import haptic_pen as kpen
 
@@ -77,13 +76,3 @@ def rope_compliance_m_per_N(design, k_q: dict) -> np.ndarray:
     kinv = np.array([1.0 / k_q[j] if k_q.get(j) else 0.0 for j in JOINTS])
     return np.array([np.linalg.eigvalsh(handle_compliance_m_per_N(Ji, kinv, 3))[-1] for Ji in np.asarray(J)[ok]])
 
-
-def refuse_solids(design) -> None:
-    """DesignError (``transmission``) when the haptic pen has a capstan: its solids are not
-    built yet (the analyses are: force, resolution, friction, effective mass, capstan rows, the
-    ropes in the frame and K_max, firmware, MJCF and identification through the ratios)."""
-    if has_capstan(design):
-        raise DesignError("transmission", "the haptic pen's capstan solids (drums on the waist brackets and the "
-                          "proximal links, motors moved off their axes) are not built yet: build it with direct "
-                          "drive, or see docs/families/pen.md (Capstan on the pen) for what its capstan analyses "
-                          "give and how to get them")

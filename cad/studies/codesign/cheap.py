@@ -46,7 +46,7 @@ from cad.dynamics.inertia import (
 )
 from cad.errors import HapticadError
 from cad.families.fourbar import capstan as fcap
-from cad.families.fourbar.layers import choose_layers, spacer_od_mm
+from cad.families.fourbar.layers import choose_layers, made_crank_axle, spacer_od_mm
 from cad.families.fourbar.pose import planar_transforms
 from cad.kinematics.fourbar import solve
 from cad.kinematics.linkgeom import link_joints_mm
@@ -207,7 +207,8 @@ def layer_plan(design, parts=None):
     fb = design.linkage
     phi = np.linspace(design.phi1_min_rad, design.phi1_max_rad, parts.interference_poses)
     try:
-        return choose_layers(link_joints_mm(fb), parts, planar_transforms(fb, phi))
+        return choose_layers(link_joints_mm(fb), parts, planar_transforms(fb, phi),
+                             made_axle=made_crank_axle(design))
     except HapticadError:
         return None
 

@@ -74,7 +74,7 @@ from cad.errors import HapticadError
 from cad.families.fourbar import capstan as fcap
 from cad.families.fourbar.capstan_solids import a2_hardware_radius_mm, capstan_set_screw, placement
 from cad.families.fourbar.datasheet import force_rows, friction, lever, stiffness_inputs
-from cad.families.fourbar.layers import choose_layers
+from cad.families.fourbar.layers import choose_layers, made_crank_axle
 from cad.families.fourbar.limits import fourbar_limits
 from cad.families.fourbar.pose import planar_transforms
 from cad.io import signals
@@ -673,7 +673,7 @@ def layer_problem(design):
     try:
         plan = choose_layers(link_joints_mm(design.linkage), parts,
                              planar_transforms(design.linkage, phi),
-                             strict=parts.layer_order is None)
+                             strict=parts.layer_order is None, made_axle=made_crank_axle(design))
     except HapticadError as exc:
         return None, str(exc)
     if parts.layer_order is not None and plan.conflicts:

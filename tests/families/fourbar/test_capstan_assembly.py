@@ -268,3 +268,48 @@ def test_tensioner_screw_winds_the_rope_and_holds_in_the_anchor_hole(design):
     # the head's face stands `out` further out along the hole's axis than the nut's (on the rim)
     axis = nut.tf_body_part[:3, 2]
     assert (screw.tf_body_part[:3, 3] - nut.tf_body_part[:3, 3]) @ axis == pytest.approx(out)
+
+
+RE25_TABLE = """
+[motor]
+torque_continuous_mNm = 28.0
+torque_peak_mNm = 200.0
+current_continuous_A = 1.2
+mass_g = 130.0
+"""
+
+
+def _re25(tmp_path, text: str):
+    from cad.design import load_design
+
+    p = tmp_path / "re25.toml"
+    p.write_text(text.replace("[parts]\n", '[parts]\nmotor = "maxon-re25"\n', 1) + RE25_TABLE)
+    return load_design(p)
+
+
+def test_a_short_motor_shaft_does_not_limit_the_crank_on_its_made_axle(tmp_path):
+    """A tester's finding: the capstan Hoeken with the RE 25 (12 mm shaft; a [motor] table
+    with illustrative values for what the catalog lacks) was refused because the shaft
+    reached 0 mm into the crank hub, though with a capstan the crank turns on a made axle at
+    A1, not on the motor's shaft. The axle now reaches the hub's top (the hub's full height
+    engaged: hub top - hub bottom of the layer plan), its solid is that cylinder (closed form
+    pi r^2 L), and the direct-drive RE 25 Hoeken is still refused for its short shaft."""
+    from cad.data import catalog as cat
+    from cad.errors import DesignError
+    from cad.families.fourbar.layout import assemble
+    from cad.massprops.occt import volume_props_mm
+
+    d = _re25(tmp_path, DESIGN.read_text())
+    model = assemble(d, "preview")
+    plan = model.extra.plan
+    m = cat.get_motor("maxon-re25")
+    flange = -(d.parts.base_thickness_mm + d.parts.motor_mount_thickness_mm)
+    assert flange + m.shaft_length_mm < plan.hub_z_mm[1]  # the motor's own shaft falls short
+    assert plan.shaft_top_mm == pytest.approx(plan.hub_z_mm[1])
+    z_axle = {i.name: i for i in model.instances}["crank_axle"].tf_body_part[2, 3]
+    L = plan.hub_z_mm[1] - z_axle
+    v = volume_props_mm(model.kinds()["crank_axle"].shape, eps=1e-9)[0]
+    assert v == pytest.approx(math.pi * (m.shaft_diameter_mm / 2) ** 2 * L, rel=1e-9)
+    direct = _re25(tmp_path, (ROOT / "designs" / "hoeken.toml").read_text())
+    with pytest.raises(DesignError, match="maxon-re25 shaft reaches only"):
+        assemble(direct, "preview")

@@ -2,7 +2,7 @@
 (one table for the six motors, or ``[[transmission]]`` one per motor: arm A waist, lower, upper,
 then arm B's), and every analysis reads the resolved device's ratio n. The solids are not
 drawn yet: build, check, datasheet, render and fit are refused in one line naming
-``transmission``, so the figures here read the design, the resolved device and seeded plausible
+``transmission`` (with where the layout puts the motors, :mod:`cad.families.pen.capstan_layout`), so the figures here read the design, the resolved device and seeded plausible
 bodies (not from a build), as tests/families/pantograph/test_twin_capstan.py does.
 
 References, each independent of the code under test:
@@ -188,11 +188,14 @@ def test_a_bad_transmission_exits_2_naming_the_field(tmp_path, table, field):
                                   ("fit", "--target", "first_mode_Hz>=10", "--free", "mechanism.proximal_mm=130:150")])
 def test_every_command_that_needs_the_solids_is_refused_in_one_line(tmp_path, args):
     """The pen's capstan solids are not drawn: each command exits 2 naming ``transmission``
-    and the reason, nothing written."""
+    and the reason with where the layout puts each pair of motors
+    (tests/families/pen/test_pen_capstan_layout.py), nothing written."""
     out = tmp_path / "out"
     extra = ("--out", str(out)) if args[0] in ("build", "render", "fit") else ()
     code, _, err = hapticad(args[0], BUNDLED, *args[1:], *extra)
-    assert_one_line_error(code, err, "transmission", "capstan solids", "not built yet")
+    assert_one_line_error(code, err, "transmission", "capstan solids", "not built yet",
+                          "the layout places the motors of waists at", "arm B shoulders: the directions found",
+                          "mm past the maxon-re35 shaft's tip")
     assert not out.exists() or not any(out.iterdir())
 
 

@@ -15,6 +15,7 @@ import copy
 import dataclasses
 import json
 import math
+import re
 import tomllib
 from pathlib import Path
 
@@ -22,7 +23,7 @@ import pytest
 import tomli_w
 from cli_helpers import assert_one_line_error, hapticad
 
-from cad.design import bounds, parse_design
+from cad.design import bounds, load_design, parse_design
 from cad.errors import DesignError
 
 ROOT = Path(__file__).resolve().parents[3]
@@ -374,7 +375,7 @@ def test_flag_table_covers_every_option_of_every_command():
     """Every option that takes a value, of every command of the app, is in BAD_FLAGS."""
     import typer
 
-    from cad.cli.app import register_commands, app
+    from cad.cli.app import app, register_commands
 
     register_commands()
     group = typer.main.get_command(app)
@@ -495,3 +496,38 @@ def test_a_list_slip_is_one_warning_not_one_per_name():
     finally:
         bounds.reset()
     assert [w.split(" is ")[0] for w in said] == ["workspace.size_mm = 0.1 mm", "workspace.size_mm = 0.2 mm"]
+
+
+def _two_sided_warnings() -> dict[str, bounds.Bound]:
+    """Every key or flag whose bound warns on both sides (a plausible range inside the hard one)."""
+    named = [*bounds.FIELDS.items(), *((f"targets.{k}", b) for k, b in bounds.TARGETS.items()),
+             *bounds.FLAGS.items()]
+    return {k: b for k, b in named if b.warn_lo is not None and b.warn_hi is not None
+            and (b.lo is None or b.warn_lo > b.lo) and b.warn_hi < b.hi}
+
+
+def test_a_two_sided_warning_states_both_sides():
+    """The unit-slip warnings (case unit-slips) quote their bound's reason: a reason naming only
+    the upper side ("rotors over 1e4 g cm^2 ...") was printed for a value typed too SMALL (a
+    rotor inertia given in kg m^2). Every bound that warns on both sides states both: a lower
+    word (under, below, ``to``, a range ``a-b`` or ``a..b``) and an upper word (over, above, ...)."""
+    low = re.compile(r"\b(under|below|shorter|lighter|thinner|to)\b|\d-\d|\.\.")
+    high = re.compile(r"\b(over|above|beyond|longer|denser|to)\b|\d-\d|\.\.")
+    found = _two_sided_warnings()
+    assert {"--density", "motor.rotor_inertia_g_cm2", "inertia.H11_kg_m2", "actuator.power_W"} <= set(found)
+    for key, b in found.items():
+        assert low.search(b.warn_reason) and high.search(b.warn_reason), (key, b.warn_reason)
+
+
+@pytest.mark.parametrize(("table", "needle"), [
+    ("[motor]\nrotor_inertia_g_cm2 = 6.96e-6\n", "rotors under 0.01 g cm^2"),  # kg m^2 typed
+    ("[motor]\nrotor_inertia_g_cm2 = 2e4\n", "over 1e4 g cm^2"),
+])
+def test_the_warning_names_the_side_the_value_is_on(tmp_path, table, needle):
+    p = tmp_path / "d.toml"
+    p.write_text((DESIGNS / "hoeken.toml").read_text() + "\n" + table)
+    bounds.reset()
+    load_design(p)
+    w = [x for x in bounds.collected() if x.startswith("motor.rotor_inertia_g_cm2")]
+    bounds.reset()
+    assert len(w) == 1 and needle in w[0], w

@@ -131,3 +131,41 @@ def test_build_with_an_exiting_script_fails_and_publishes_nothing(stranger):
     assert lines[0] == f"hapticad: running design script {stranger / 'marker_handle.py'}"
     assert "parts.handle_script" in lines[-1] and "marker_handle.py called sys.exit(0)" in lines[-1]
     assert sorted(p.name for p in stranger.iterdir()) == ["from_a_stranger.toml", "marker_handle.py"]
+
+
+@pytest.mark.parametrize("argv", [
+    ("fit", "--free", "parts.bar_width_mm", "--trials", "3"),  # a key the script does not touch
+    ("datasheet",), ("wall",), ("tolerance", "--hole-mm", "0.05", "--samples", "100"),
+    ("render", "--out", "pictures"), ("bench-log", "--out", "bench"),
+], ids=lambda a: a[0] + ("-other-key" if a[0] == "fit" else ""))
+def test_every_command_that_builds_refuses_a_script_at_load(stranger, argv):
+    """Case unsafe-designs/from_a_stranger.toml, the whole kind: every command that builds the
+    design refuses its script at load, before any work. ``fit --free parts.bar_width_mm``
+    (a key the script does not touch) ran its whole search first, one log line per candidate
+    each naming the refusal, then exit 2; now one line and nothing printed, nothing run."""
+    before = sorted(p.name for p in stranger.iterdir())
+    code, out, err = hapticad(argv[0], "from_a_stranger.toml", *argv[1:])
+    assert_one_line_error(code, err, "parts.handle_script", str(stranger / "marker_handle.py"),
+                          "HAPTICAD_ALLOW_SCRIPTS=1")
+    assert out == "" and not (stranger / "script_ran.txt").exists()
+    assert sorted(p.name for p in stranger.iterdir()) == before
+
+
+def test_the_api_searches_refuse_a_script_before_their_first_candidate(stranger):
+    """The same kind through the Python API (``cad.api.fit_design`` / ``cad.api.optimize``):
+    with no opt-in, ``optimize`` returned ``best`` None (every candidate refused, reliability
+    case optimize-script-design-misleading-exit1) and ``fit_design`` ran its search before
+    the refusal. Now both raise DesignError ``parts.handle_script`` before the first candidate."""
+    from cad.api import fit_design, load_design, optimize
+    from cad.parts.handle import script_policy
+
+    assert script_policy() == "off"  # the fixture removed HAPTICAD_ALLOW_SCRIPTS; no CLI override
+    d = load_design(stranger / "from_a_stranger.toml")
+    said: list[str] = []
+    with pytest.raises(DesignError) as e:
+        fit_design(d, free=("parts.bar_width_mm",), trials=3, echo=said.append)
+    assert e.value.field == "parts.handle_script" and said == []
+    with pytest.raises(DesignError) as e:
+        optimize(d, objective="min-apparent-mass", trials=2, exact_top=1)
+    assert e.value.field == "parts.handle_script" and "HAPTICAD_ALLOW_SCRIPTS=1" in str(e.value)
+    assert not (stranger / "script_ran.txt").exists()
