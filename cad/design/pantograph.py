@@ -26,7 +26,8 @@ Schema (mm, N, N m; every key optional unless marked *):
     [parts]      see :class:`PantographParts`
     [transmission]  a capstan on all four motors, or ``[[transmission]]`` one per motor (knob
                  left, knob right, crank left, crank right): :mod:`cad.design.transmission`
-                 (omitted: direct drive; the solids are not built yet, the analyses are)
+                 (omitted: direct drive; the build lays out each 5-bar's drums in one band or,
+                 the crank pantograph's, in two, else refuses in one line)
     [firmware]   (both families) plane, encoders, wall: :mod:`cad.design.firmware`
     [motor]      (every family here) the data of the motor ``parts.motor`` names, replacing
                  catalog values: :mod:`cad.design.motor` (the pen's waist motor keeps its own)
@@ -586,9 +587,9 @@ def _check_transmission(raw: dict[str, Any], family: str) -> None:
     """``[transmission]`` / ``[[transmission]]`` of a 5-bar (two motors: left, right), a twin
     pantograph (four: knob left, knob right, crank left, crank right) or a haptic pen (six: arm
     A waist, lower, upper, then arm B's, :meth:`PantographDesign.motor_joints`) validated at load
-    (:func:`cad.design.transmission.parse_transmissions`). The twin's and the pen's capstan
-    solids are not built: their builds refuse a capstan (``refuse_solids`` of
-    :mod:`cad.families.pantograph.twin_capstan`, :mod:`cad.families.pen.capstan_layout`)."""
+    (:func:`cad.design.transmission.parse_transmissions`). The pen's capstan solids are not
+    built: its build refuses a capstan (:mod:`cad.families.pen.capstan_layout`); the twin's are
+    laid out by :func:`cad.families.pantograph.twin_placement.group_layout`."""
     if "transmission" not in raw:
         return
     parse_transmissions(raw["transmission"], {"pantograph": 2, "twin-pantograph": 4}.get(family, 6))

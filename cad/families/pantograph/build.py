@@ -126,7 +126,8 @@ from cad.families.pantograph.placement import (  # noqa: F401
 )
 from cad.families.pantograph.report import PAPER_TABLE1, build_report, report_md_rows  # noqa: F401
 from cad.families.pantograph.sim import fivebar_sim_model, sim_model
-from cad.families.pantograph.twin_capstan import refuse_solids as refuse_twin_capstan_solids
+from cad.families.pantograph.twin_placement import band_rope_offset_mm
+from cad.families.pantograph.twin_placement import group_layout as twin_capstan_layout
 from cad.kinematics import twin_pantograph as tw
 from cad.pipeline.run import Stages, run_family
 from cad.pipeline.views import write_sim_model
@@ -158,7 +159,7 @@ def check_options(design, fidelity: str, phi1_deg, formats=frozenset()) -> None:
     set_screw_plan(design)  # a clevis wall no set screw fits: named before any CAD
     if design.family == "pantograph":  # capstans whose drums cannot be placed: named before any CAD
         capstan_layout(design)
-    refuse_twin_capstan_solids(design)  # the twin's capstan solids are not drawn yet: one line
+    twin_capstan_layout(design)  # the twin's: a 5-bar whose drums cannot be placed named in one line
 
 
 
@@ -244,6 +245,9 @@ def _prepare(design) -> tuple[dict, dict]:
     _check_shafts(design, lay)
     if "capstan" in lay:
         check_capstan_z(design, lay)
+    for cap in lay.get("twin_capstan", {}).values():  # on the crank side's terms, each side's band and raise
+        for band, up in zip(cap["bands"], cap["raise_mm"], strict=True):
+            check_capstan_z(design, {"capstan": {"rope_z_mm": band_rope_offset_mm(design, band) - up}})
     return lay, clearances(design, lay)
 
 

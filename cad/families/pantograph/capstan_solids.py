@@ -7,6 +7,14 @@ set screw on its shaft in the rope's plane, the two free runs of rope. Where eac
 :mod:`cad.families.pantograph.capstan`; the solids: :mod:`cad.parts.capstan`; the anchors,
 tensioner, capstan set screw and axle bearing as on the four-bar
 (:mod:`cad.families.fourbar.capstan_solids`). mm, world z = 0 on the base plate's top.
+
+The twin pantograph (:func:`cad.families.pantograph.twin_placement.group_layout`) uses the same
+solids on each of its 5-bars with capstans: the crank pantograph's as the 5-bar's (motors under
+the base plate), the knob pantograph's mirrored about z through the bridge's bottom
+(:func:`mirrored`: bearing blocks on the bridge, motors on it, shafts down, capstans under it);
+a crank drum in a second band has its motor raised (its mount plate on the base plate's top,
+``raise_mm``); its joints are named as the resolved device's (``knob_q_left`` ..), its kinds and
+instances carry the group in their names.
 """
 
 from __future__ import annotations
@@ -34,6 +42,7 @@ from cad.data import catalog as cat
 from cad.data.fits import fit
 from cad.device import resolve_device
 from cad.errors import DesignError
+from cad.families.pantograph import twin_capstan
 from cad.families.pantograph.capstan import DRUM_MATERIAL, DRUM_THICKNESS_MM
 from cad.parts import PartInstance, PartKind, joints, motor, translation
 from cad.parts import capstan as shapes
@@ -47,6 +56,30 @@ def _rz(deg: float) -> np.ndarray:
     R = np.eye(4)
     R[:2, :2] = [[c, -s], [s, c]]
     return R
+
+
+def mirrored(tf: np.ndarray, z_mm: float | None) -> np.ndarray:
+    """A part's placement ``tf`` (4x4, mm) on the crank side mirrored about z onto the knob
+    side: a height z above the base plate's top becomes ``z_mm - z``, the same height under the
+    bridge's bottom ``z_mm``; the part turned over (its own y mirrored too, so the result is a
+    rotation: parts symmetric about their x-z plane land as their mirror image); ``tf`` itself
+    when ``z_mm`` is None."""
+    if z_mm is None:
+        return tf
+    return translation(0, 0, z_mm) @ np.diag([1.0, 1.0, -1.0, 1.0]) @ tf @ np.diag([1.0, -1.0, 1.0, 1.0])
+
+
+def joint_group(joint: str) -> str:
+    """The twin's 5-bar prefix of a motor joint (``"knob_"`` of ``knob_q_left``); ``""`` on the 5-bar."""
+    return joint[: joint.rindex("q_")]
+
+
+def rope_index(joint: str) -> int:
+    """The capstan's number in the rows, BOM lines and winding steps (``_1`` ..): the 5-bar's
+    left 1, right 2; the twin's in :data:`cad.families.pantograph.twin_capstan.JOINTS` order."""
+    if joint in twin_capstan.JOINTS:
+        return twin_capstan.JOINTS.index(joint) + 1
+    return ("q_left", "q_right").index(joint) + 1
 
 
 def block_height_mm(design) -> float:
@@ -129,10 +162,13 @@ def capstan_kinds(design, lay: dict) -> dict[str, PartKind]:
 
 def kind_suffix(design, joint: str) -> str:
     """``""`` when both motors' transmissions are the same (one part kind for both), else
-    ``_left`` / ``_right``."""
-    ts = resolve_device(design).transmissions
+    ``_left`` / ``_right``; on the twin the 5-bar's name first (``_knob``, ``_knob_left``), its
+    two motors compared."""
+    grp = joint_group(joint)
+    ts = [t for t in resolve_device(design).transmissions if t.motor_joint.startswith(grp)]
     same = all(dataclasses.replace(t, motor_joint="") == dataclasses.replace(ts[0], motor_joint="") for t in ts)
-    return "" if same else f"_{joint.split('_')[1]}"
+    pre = f"_{grp[:-1]}" if grp else ""
+    return pre if same else f"{pre}_{joint.split('_')[-1]}"
 
 
 def _drum_kind(design, t, sd) -> PartKind:
@@ -142,12 +178,12 @@ def _drum_kind(design, t, sd) -> PartKind:
     tap = cat.tap_drill_mm(ANCHOR_SCREW)
     depth = ANCHOR_SCREW_LENGTH_MM + motor.TAP_LEADOUT_MM
     th = DRUM_THICKNESS_MM
-    side = sd.joint.split("_")[1]
+    side, grp = sd.joint.split("_")[-1], joint_group(sd.joint)
     desc, process = grooved_drum_texts(t.drum_diameter_mm, rd, d, sd.arc_span_deg, th,
-                                       f"on the {side} proximal link's axle at B",
+                                       f"on the {grp.replace('_', ' ')}{side} proximal link's axle at B",
                                        "ream the axle bore, pinned to the axle")
     return PartKind(
-        f"capstan_drum_{side}",
+        f"{grp}capstan_drum_{side}",
         shapes.drum_sector_shape(rd, bore, sd.arc_start_deg, sd.arc_span_deg, th,
                                  tuple((a, tap, depth) for a in sd.anchors_deg),
                                  rope_diameter_mm=d, groove_arc_deg=drum_groove_arc_deg(rd, d, sd.anchors_deg)),
@@ -179,40 +215,47 @@ def capstan_z_mm(design, t, rope_z_mm: float) -> float:
 def block_parts(design, K: dict, lay: dict, i: int, side: str, b, screw_kind,
                 tf_world_link: np.ndarray) -> tuple[list, dict]:
     """The bearing block at joint ``b`` with its two bearings (inner ring on the proximal link)
-    and its four screws into the base plate's tapped holes; (instances, tapped holes)."""
+    and its four screws into the base plate's tapped holes; (instances, tapped holes). On the
+    twin's knob pantograph (``lay["capstan"]["mirror_z_mm"]`` set) all of it mirrored onto the
+    bridge (:func:`mirrored`), the screws in the bridge plate; ``side`` the link's body name
+    without ``proximal_`` (``left``, ``knob_left``)."""
     p = design.parts
     m = cat.get_motor(p.motor)
     z0, h = axle_z_mm(design), block_height_mm(design)
+    zm = lay["capstan"].get("mirror_z_mm")
+    plate = "base_plate" if zm is None else "bridge_plate"
     B = K["axle_bearing"].ring_mm[2]
     name, body = f"bearing_block_{i}", f"proximal_{side}"
-    out = [PartInstance(name, K["bearing_block"], "ground", translation(b[0], b[1], z0))]
+    if "_" in side:
+        body = f"{side.split('_')[0]}_proximal_{side.split('_')[1]}"
+    out = [PartInstance(name, K["bearing_block"], "ground", mirrored(translation(b[0], b[1], z0), zm))]
     tf_link = np.linalg.inv(tf_world_link)
     for k, z in enumerate((z0 + h - B, z0)):
-        tf = translation(b[0], b[1], z)
+        tf = mirrored(translation(b[0], b[1], z), zm)
         out.append(PartInstance(f"{name}.bearing_{k + 1}", K["axle_bearing"], "ground", tf, body, tf_link @ tf))
     sp = lay["screws"]["mount"]
     holes = {}
     for k, (x, y) in enumerate(motor.mount_hole_xy_mm(m)):
-        hole = f"base_plate:block_{i}_{k + 1}"
-        holes[hole] = TappedHole(hole, "base_plate", sp["size"], sp["depth_mm"], sp["min_engagement_mm"])
+        hole = f"{plate}:block_{i}_{k + 1}"
+        holes[hole] = TappedHole(hole, plate, sp["size"], sp["depth_mm"], sp["min_engagement_mm"])
         f = Fastener("ISO 4762", sp["size"], sp["length_mm"], (name,), hole, sp["engagement_mm"])
         flip = np.diag([1.0, -1.0, -1.0, 1.0])
         out.append(PartInstance(f"{name}.screw_{k + 1}", screw_kind, "ground",
-                                translation(b[0] + x, b[1] + y, -p.plate_thickness_mm - p.motor_mount_thickness_mm)
-                                @ flip, fastener=f))
+                                mirrored(translation(b[0] + x, b[1] + y, -p.plate_thickness_mm
+                                                     - p.motor_mount_thickness_mm) @ flip, zm), fastener=f))
     return out, holes
 
 
 def drum_parts(design, K: dict, lay: dict, sd, t) -> list[PartInstance]:
     """The drum on the proximal link (link frame), its anchor screw and the tensioner with its
     lock nut."""
-    side = sd.joint.split("_")[1]
-    body = f"proximal_{side}"
+    side = sd.joint.split("_")[-1]
+    body = f"{joint_group(sd.joint)}proximal_{side}"
     z0, z1 = lay["capstan"]["drum_z_mm"]
     seat = cg.crest_radius_mm(t.drum_diameter_mm, t.cable_diameter_mm)  # heads and nut on the crests
     out = [PartInstance(f"{body}.capstan_drum", K[f"drum_{sd.joint}"], body, translation(0, 0, z0))]
     at = [translation(0, 0, 0.5 * (z0 + z1)) @ _rz(a) @ translation(seat, 0, 0) @ _RY90 for a in sd.anchors_deg]
-    s = "_1" if side == "left" else "_2"  # the names assembly.md's winding steps use
+    s = f"_{rope_index(sd.joint)}"  # the names assembly.md's winding steps use
     out.append(PartInstance(f"capstan_anchor{s}_1", K["anchor_screw"], body, at[0]))
     _, up = tensioner_screw_mm(t)
     out.append(PartInstance(f"capstan_tensioner{s}", K[f"tensioner{kind_suffix(design, sd.joint)}"], body,
@@ -224,20 +267,25 @@ def drum_parts(design, K: dict, lay: dict, sd, t) -> list[PartInstance]:
 def motor_side_parts(design, K: dict, lay: dict, sd, t, i: int) -> list[PartInstance]:
     """The capstan and its set screw on the moved motor's shaft, the shaft itself, and the two
     free runs of rope (ground), each run's collision envelope trimmed at both ends
-    (:func:`cad.assembly.capstan_hardware.run_trim_mm`)."""
+    (:func:`cad.assembly.capstan_hardware.run_trim_mm`); on the twin's knob pantograph
+    (``lay["capstan"]["mirror_z_mm"]`` set) the capstan, its set screw and the shaft mirrored
+    onto the bridge (:func:`mirrored`), the ropes in its rope plane; a motor raised by
+    ``lay["capstan"]["raise_mm"]`` (its mount plate on the plate's top) has its shaft that much
+    higher."""
     p = design.parts
     m = cat.get_motor(p.motor)
     ox, oy = sd.motor_xy_mm
-    zr = lay["capstan"]["rope_z_mm"]
-    zc = capstan_z_mm(design, t, zr)
+    zr, zm = lay["capstan"]["rope_z_mm"], lay["capstan"].get("mirror_z_mm")
+    zc = capstan_z_mm(design, t, zr if zm is None else zm - zr)  # on the crank side's terms
     tf_c = translation(ox, oy, zc)
     sfx = kind_suffix(design, sd.joint)
-    out = [PartInstance(f"capstan_{i}", K[f"capstan{sfx}"], "ground", tf_c),
+    out = [PartInstance(f"capstan_{i}", K[f"capstan{sfx}"], "ground", mirrored(tf_c, zm)),
            PartInstance(f"capstan_{i}.set_screw", K[f"capstan_set_screw{sfx}"], "ground",
-                        tf_c @ translation(0, 0, cg.CAPSTAN_HUB_MM / 2) @ _RY90
-                        @ translation(0, 0, m.shaft_diameter_mm / 2)),
-           PartInstance(f"lower_motor_{i}.shaft", K["motor_shaft"], "ground",
-                        translation(ox, oy, -p.plate_thickness_mm - p.motor_mount_thickness_mm))]
+                        mirrored(tf_c @ translation(0, 0, cg.CAPSTAN_HUB_MM / 2) @ _RY90
+                                 @ translation(0, 0, m.shaft_diameter_mm / 2), zm)),
+           PartInstance(f"{'lower' if zm is None else 'upper'}_motor_{(i - 1) % 2 + 1}.shaft", K["motor_shaft"], "ground",
+                        mirrored(translation(ox, oy, -p.plate_thickness_mm - p.motor_mount_thickness_mm
+                                             + lay["capstan"].get("raise_mm", 0.0)), zm))]
     c = 1.1  # the check's clearance and a tenth
     for k in range(2):
         p0, p1 = (np.append(q, zr) for q in sd.tangents_mm[k])
@@ -256,6 +304,8 @@ def check_capstan_z(design, lay: dict) -> None:
     tip = -p.plate_thickness_mm - p.motor_mount_thickness_mm + m.shaft_length_mm
     heads = -p.plate_thickness_mm + cat.get_cap_screw(m.bolt_size, "parts.motor").k_mm
     for t in resolve_device(design).transmissions:
+        if not t.is_capstan:  # a twin's direct 5-bar
+            continue
         zc = capstan_z_mm(design, t, lay["capstan"]["rope_z_mm"])
         if zc + cg.CAPSTAN_HUB_MM > tip or zc < heads:
             raise DesignError("transmission.wraps", f"{t.wraps:g} turns put the capstan at z {zc:.2f} .. "

@@ -19,6 +19,7 @@ from cad.families.pantograph.layout import (
     PLAIN_KNOB_DIAMETER_MM,
     POST_SCREW,
     POST_TAP_DEPTH_MM,
+    group_lay,
     is_twin,
     leg_xy,
     lower_five_bar,
@@ -54,14 +55,16 @@ def part_kinds(design, lay: dict, fidelity: str) -> dict:
     _clevis_kinds(add, K, c)
     _link_kinds(add, K, c)
     _motor_kinds(add, K, c)
-    holes = _plate_holes(c)
+    holes = _plate_holes(c, "crank" if c.twin else None)
     _base_kinds(add, K, c, holes)
     _screws_kinds(add, K, c)
     _knob_kinds(add, K, c)
     if c.twin:
-        _twin_kinds(add, K, c, holes)
+        _twin_kinds(add, K, c, _plate_holes(c, "knob"))
     if "capstan" in lay:  # a capstan on each motor (cad.families.pantograph.capstan_solids)
         K.update(capstan_kinds(design, lay))
+    for grp in lay.get("twin_capstan", {}):  # the twin's: the same solids per 5-bar
+        K.update(capstan_kinds(design, group_lay(lay, grp)))
     return K
 
 
@@ -206,14 +209,16 @@ def _motor_kinds(add, K: dict, c) -> None:
     )
 
 
-def _plate_holes(c) -> tuple:
-    """Holes of the base and bridge plates ``(x_mm, y_mm, diameter_mm)``: ``(motor openings,
+def _plate_holes(c, group: str | None) -> tuple:
+    """Holes of the base or bridge plate ``(x_mm, y_mm, diameter_mm)``: ``(motor openings,
     mount screw taps, post clearance holes, leg clearance holes, mount screw size, plate
-    thickness mm)``."""
+    thickness mm)``; ``group`` the twin's 5-bar whose motors the plate carries (``"crank"``:
+    the base plate, ``"knob"``: the bridge), None on the 5-bar."""
     p, lay, mot, B = c.p, c.lay, c.mot, c.B
     pt = p.plate_thickness_mm
+    cap = lay.get("capstan", {}) if group is None else lay.get("twin_capstan", {}).get(group, {})
     # a capstan drive: the bearing blocks at B, the motors moved off B (both on mount holes)
-    B = list(B) + [sd.motor_xy_mm for sd in lay.get("capstan", {}).get("sides", ())]
+    B = list(B) + [sd.motor_xy_mm for sd in cap.get("sides", ())]
     mount_holes = [
         (bx + x, by + y, tap_drill_mm(pm.MOUNT_SCREW))
         for bx, by in B
@@ -224,6 +229,11 @@ def _plate_holes(c) -> tuple:
     opening = max(mot.pilot_diameter_mm + 2 * pp.OPENING_MARGIN_MM,
                   mot.bolt_circle_mm + head_d + 2 * pp.OPENING_MARGIN_MM)
     openings = [(bx, by, opening) for bx, by in B]
+    # a raised motor (its mount plate on the plate's top) passes its body down through its opening
+    body = mot.body_diameter_mm + 2 * pp.OPENING_MARGIN_MM
+    for sd, up in zip(cap.get("sides", ()), cap.get("raise_mm", ()), strict=False):
+        if up > 0:
+            openings = [(x, y, max(d, body) if (x, y) == tuple(sd.motor_xy_mm) else d) for x, y, d in openings]
     ms = pm.MOUNT_SCREW.split("-")[0]
     leg_holes = [(x, y, clearance_hole_mm(base.LEG_SCREW)) for x, y in leg_xy(lay)]
     post_holes = [(x, y, clearance_hole_mm(POST_SCREW)) for x, y in lay.get("posts_xy_mm", ())]

@@ -15,17 +15,18 @@ import numpy as np
 
 from cad.assembly import fasteners as fs
 from cad.data.catalog import get_bearing, get_motor, thread_diameter_mm
+from cad.device import resolve_device
 from cad.errors import DesignError
 from cad.families.pantograph import capstan as pcap
+from cad.families.pantograph import twin_placement as tpl
+from cad.families.pantograph.twin_placement import POST_DX_MM  # noqa: F401 (the post line's offset, re-exported)
 from cad.isotropy.gii import workspace_half_mm
 from cad.parts import base
 from cad.parts import motor as pm
 from cad.parts.motor import mount_side_mm
 
-#: Posts: offset along x from each actuated joint (mm), and their screws.
-POST_DX_MM = 22.0
-
-
+#: Posts: their screws (their offset along x from each actuated joint:
+#: :data:`cad.families.pantograph.twin_placement.POST_DX_MM`).
 POST_SCREW = "M4-0.7"
 
 
@@ -117,7 +118,8 @@ def set_screw_plan(design) -> dict:
     # shaft length inside a hub clevis (the same for the crank and knob pantographs); a link
     # turned through a capstan sits on its own axle, cut to the hub's top (no such bound)
     engaged = m.shaft_length_mm - p.plate_thickness_mm - p.motor_mount_thickness_mm - p.layer_gap_mm
-    if not pcap.is_capstan(design) and engaged - p.clevis_height_mm / 2 < d / 2:
+    direct = any(not t.is_capstan for t in resolve_device(design).transmissions)
+    if direct and engaged - p.clevis_height_mm / 2 < d / 2:
         raise DesignError(
             "parts.clevis_height_mm",
             f"the {p.motor} shaft ends {engaged:g} mm into the {p.clevis_height_mm:g} mm hub "
@@ -137,10 +139,12 @@ def layout(design) -> dict:
     l6 = design.mechanism.crank_mm if twin else 0.0
     b = get_bearing(p.bearing)
     m = get_motor(p.motor)
-    h, g, t = p.clevis_height_mm, p.layer_gap_mm, p.crank_thickness_mm
+    h, g = p.clevis_height_mm, p.layer_gap_mm
     pitch = h + g
     cap = pcap.layout(design)  # a capstan on each motor: the drums' band under the linkage
-    L0 = g + h / 2 + cap.get("lift_mm", 0.0)
+    tcap = tpl.group_layout(design)  # the twin's: each 5-bar's band next to its motors' plate
+    lifts = {k: v["lift_mm"] for k, v in tcap.get("groups", {}).items()}
+    L0 = g + h / 2 + cap.get("lift_mm", 0.0) + lifts.get("crank", 0.0)
     L = [L0, L0 + pitch, L0 + 2 * pitch]
     ms = mount_side_mm(m)
     ws = design.workspace
@@ -148,7 +152,7 @@ def layout(design) -> dict:
     half_x, half_y = workspace_half_mm(ws)
     reach_x = a / 2 + l2 + p.clevis_width_mm
     margin = base.LEG_INSET_MM + base.LEG_DIAMETER_MM / 2 + 4.0
-    post_y = -(ms / 2 + p.post_diameter_mm / 2 + 8.0)
+    post_y = tcap.get("post_y_mm", tpl.post_line_y_mm(design))
     y_back = (post_y - p.post_diameter_mm / 2) if twin else -ms / 2
     base_x = (
         min(-reach_x, cx - half_x - l6 - 20, -a / 2 - ms / 2) - margin,
@@ -156,6 +160,7 @@ def layout(design) -> dict:
     )
     base_y = (y_back - margin, cy + half_y + l6 + p.clevis_width_mm + 20 + margin)
     base_x, base_y = _grown(base_x, base_y, cap, ms / 2 + margin)
+    base_x, base_y = _grown(base_x, base_y, tcap.get("groups", {}).get("crank", {}), ms / 2 + margin)
     leg_h = p.motor_mount_thickness_mm + m.body_length_mm + base.LEG_GROUND_CLEARANCE_MM
     pt, mt = p.plate_thickness_mm, p.motor_mount_thickness_mm
     shaft_tip = -pt - mt + m.shaft_length_mm
@@ -185,28 +190,65 @@ def layout(design) -> dict:
             handle_pin_mm=knob_z + KNOB_BORE_DEPTH_MM - (L[1] - h / 2),
         )
         return out
+    _twin_heights(out, design, tcap, post_y)
+    return out
+
+
+def _twin_heights(out: dict, design, tcap: dict, post_y: float) -> None:
+    """The twin's upper half in ``out`` (:func:`layout`): the crankshaft's web over the crank
+    pantograph, the knob pantograph's layers over it (mirrored), the bridge over them (its
+    5-bar's drums' band between, when it has capstans), the posts on the line ``post_y``, the
+    bridge plate's extent (grown over moved motors) and, with capstans, ``twin_capstan``."""
+    p = design.parts
+    b, m = get_bearing(p.bearing), get_motor(p.motor)
+    h, g, t = p.clevis_height_mm, p.layer_gap_mm, p.crank_thickness_mm
+    pt, mt, ms = p.plate_thickness_mm, p.motor_mount_thickness_mm, out["motor_mount_side_mm"]
+    L, pitch = out["lower_layers_z_mm"], out["layer_pitch_mm"]
     zW = L[2] + h / 2 + g + t / 2
     U2 = zW + t / 2 + g + h / 2
     U = [U2 + 2 * pitch, U2 + pitch, U2]  # U0 (proximal, top), U1, U2
-    z_bridge = U[0] + h / 2 + g
-    posts = [(sx * a / 2 + dx, post_y) for sx in (-1, 1) for dx in (-POST_DX_MM, POST_DX_MM)]
+    z_bridge = U[0] + h / 2 + g + tcap.get("groups", {}).get("knob", {}).get("lift_mm", 0.0)
+    posts = tpl.posts_xy_mm(design, post_y)
+    bridge_x, bridge_y = _grown(
+        (min(x for x, _ in posts) - p.post_diameter_mm, max(x for x, _ in posts) + p.post_diameter_mm),
+        (post_y - p.post_diameter_mm, ms / 2 + 5), tcap.get("groups", {}).get("knob", {}), ms / 2 + 5.0)
     out.update(
         web_z_mm=zW,
         upper_layers_z_mm=U,
         bridge_bottom_z_mm=z_bridge,
         knob_bottom_z_mm=U[0] + h / 2 + g,
         posts_xy_mm=posts,
-        bridge_x_mm=(
-            min(x for x, _ in posts) - p.post_diameter_mm,
-            max(x for x, _ in posts) + p.post_diameter_mm,
-        ),
-        bridge_y_mm=(post_y - p.post_diameter_mm, ms / 2 + 5),
+        bridge_x_mm=bridge_x,
+        bridge_y_mm=bridge_y,
         journal_up_mm=(U[0] + h / 2 + g + KNOB_BORE_DEPTH_MM) - (zW + t / 2),
         crank_pin_down_mm=(zW - t / 2) - (L[1] - h / 2),
         web_width_mm=max(b.d_mm + 6.0, 10.0),
         upper_shaft_engagement_mm=(U[0] + h / 2) - (z_bridge + pt + mt - m.shaft_length_mm),
     )
-    return out
+    _with_twin_capstan(out, tcap, design)
+
+
+def _with_twin_capstan(out: dict, tcap: dict, design) -> None:
+    """The layout ``out`` of a twin with capstans (``tcap``,
+    :func:`cad.families.pantograph.twin_placement.group_layout`): each capstan 5-bar's layout
+    under ``twin_capstan[group]`` in world z (``rope_z_mm``, ``drum_z_mm`` (bottom, top) of
+    band 1, ``side_z_mm`` each side's ``(rope_z_mm, (drum bottom, top))`` in its own band,
+    ``mirror_z_mm``: None for the crank pantograph on the base plate, the bridge's bottom for
+    the knob pantograph hanging under it, its parts the crank side's mirrored about z), no
+    motor shaft in that group's hubs (each link sits on its own axle)."""
+    g, th = design.parts.layer_gap_mm, pcap.DRUM_THICKNESS_MM
+    zb = out["bridge_bottom_z_mm"]
+    groups = {}
+    for grp, v in tcap.get("groups", {}).items():
+        zm = None if grp == "crank" else zb
+        sz = []
+        for band in v["bands"]:
+            rope, drum = tpl.band_rope_offset_mm(design, band), (band * g + (band - 1) * th, band * (g + th))
+            sz.append((rope, drum) if zm is None else (zm - rope, (zm - drum[1], zm - drum[0])))
+        groups[grp] = {**v, "rope_z_mm": sz[0][0], "drum_z_mm": sz[0][1], "side_z_mm": tuple(sz), "mirror_z_mm": zm}
+        del out["lower_shaft_engagement_mm" if zm is None else "upper_shaft_engagement_mm"]
+    if groups:
+        out["twin_capstan"] = groups
 
 
 def _with_capstan(out: dict, cap: dict) -> None:
@@ -252,3 +294,13 @@ def workspace_square(ws: dict) -> np.ndarray:
     return np.array(
         [[cx - hx, cy - hy], [cx + hx, cy - hy], [cx + hx, cy + hy], [cx - hx, cy + hy], [cx - hx, cy - hy]]
     )
+
+
+def group_lay(lay: dict, group: str) -> dict:
+    """The layout ``lay`` as the 5-bar's capstan solids read it for the twin's ``group``
+    (:mod:`cad.families.pantograph.capstan_solids`): its capstans under ``capstan`` and its
+    proximal layer's height on the crank side's terms (the knob pantograph's measured down from
+    the bridge's bottom) under ``lower_layers_z_mm``."""
+    cap = lay["twin_capstan"][group]
+    L0 = lay["lower_layers_z_mm"][0] if cap["mirror_z_mm"] is None else cap["mirror_z_mm"] - lay["upper_layers_z_mm"][0]
+    return {**lay, "capstan": cap, "lower_layers_z_mm": [L0]}

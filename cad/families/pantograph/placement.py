@@ -19,6 +19,7 @@ from cad.families.pantograph import capstan_solids as pcs
 from cad.families.pantograph.kinds import part_kinds
 from cad.families.pantograph.layout import (
     flip_matrix,
+    group_lay,
     home_xy_mm,
     is_twin,
     leg_xy,
@@ -92,9 +93,11 @@ def assembly(design, lay: dict, fidelity: str):
         groups = [("", fb5.ik(fb, home[None, :]), lay["lower_layers_z_mm"], False)]
     pt, mt = p.plate_thickness_mm, p.motor_mount_thickness_mm
     zb = lay.get("bridge_bottom_z_mm", 0.0)
+    tcap = lay.get("twin_capstan", {})
     for grp, fp, zs, upper in groups:
         F = flip_matrix() if upper else np.eye(4)
         pre = f"{grp}_" if grp else ""
+        on_axle = "capstan" in lay or grp in tcap  # a link turned through a capstan: on its own axle
         C = [fp.C_left_mm[0], fp.C_right_mm[0]]
         E = fp.E_mm[0]
         shaft_tf = (
@@ -106,11 +109,12 @@ def assembly(design, lay: dict, fidelity: str):
             pin = "pin_short" if side == "left" else "pin_long"
             for k, (kind, tf) in enumerate(link_parts("proximal", side, K, lay, p, pin)):
                 place(f"{body}.{kind.name}{k}", kind, body, translation(0, 0, zs[0]) @ F @ tf)
-            if "capstan" in lay:  # the link on its own axle at B
-                place(f"{body}.axle", K["proximal_axle"], body, translation(0, 0, pcs.axle_z_mm(design)))
+            if on_axle:  # the link on its own axle at B (the knob pantograph's mirrored onto the bridge)
+                place(f"{body}.axle", K["proximal_axle"], body,
+                      pcs.mirrored(translation(0, 0, pcs.axle_z_mm(design)), zb if upper else None))
             else:
                 place(f"{body}.motor_shaft", K["motor_shaft"], body, shaft_tf)
-            place_set_screw(place, set_holes, K, lay, body, translation(0, 0, zs[0]) @ F)
+            place_set_screw(place, set_holes, K, lay, body, translation(0, 0, zs[0]) @ F, on_axle)
             body = f"{pre}distal_{side}"
             tfs[body] = rz(math.atan2(E[1] - C[i][1], E[0] - C[i][0]), C[i][0], C[i][1])
             for k, (kind, tf) in enumerate(link_parts("distal", side, K, lay, p, pin)):
@@ -123,12 +127,27 @@ def assembly(design, lay: dict, fidelity: str):
         tfs["handle"] = translation(home[0], home[1])
         place("handle_pin", K["handle_pin"], "handle", translation(0, 0, lay["handle_pin_z_mm"]))
         place("knob", K["knob"], "handle", translation(0, 0, lay["knob_bottom_z_mm"]))
-    stations = [sd.motor_xy_mm for sd in lay["capstan"]["sides"]] if "capstan" in lay else B
-    holes = ground_parts(place, K, lay, p, stations, twin)
-    if "capstan" in lay:
-        holes.update(capstan_parts(design, K, lay, inst, tfs, B))
+    holes = fixed_parts(design, place, K, lay, inst, tfs, B)
     return journal_parts(inst, tfs, "crankshaft" if twin else "handle"), tfs, home, {
         **holes, **set_holes}
+
+
+def fixed_parts(design, place, K: dict, lay: dict, inst: list, tfs: dict, B) -> dict:
+    """The ground's parts (:func:`ground_parts`: each motor at its joint ``B`` or, through a
+    capstan, moved to its direction) and every capstan drive's (:func:`capstan_parts`: the
+    5-bar's, or each of the twin's 5-bars with capstans, the knob pantograph's mirrored onto the
+    bridge); returns the tapped holes."""
+    tcap = lay.get("twin_capstan", {})
+    cap = lay.get("capstan", tcap.get("crank", {}))
+    stations = [sd.motor_xy_mm for sd in cap["sides"]] if cap else B
+    upper_stations = [sd.motor_xy_mm for sd in tcap["knob"]["sides"]] if "knob" in tcap else B
+    raised = [k for k, r in enumerate(tcap.get("crank", {}).get("raise_mm", ())) if r > 0]
+    holes = ground_parts(place, K, lay, design.parts, stations, is_twin(design), upper_stations, raised)
+    if "capstan" in lay:
+        holes.update(capstan_parts(design, K, lay, inst, tfs, B))
+    for grp in tcap:  # the twin's 5-bars with capstans: the same solids (the knob's mirrored)
+        holes.update(capstan_parts(design, K, group_lay(lay, grp), inst, tfs, B))
+    return holes
 
 
 def capstan_parts(design, K: dict, lay: dict, inst: list, tfs: dict, B) -> dict:
@@ -138,11 +157,17 @@ def capstan_parts(design, K: dict, lay: dict, inst: list, tfs: dict, B) -> dict:
     the blocks' tapped holes in the base plate."""
     dev = resolve_device(design)
     holes: dict = {}
-    for i, (sd, b) in enumerate(zip(lay["capstan"]["sides"], B, strict=True)):
-        side = sd.joint.split("_")[1]
-        t = dev.transmission(sd.joint)
-        blk, h = pcs.block_parts(design, K, lay, i + 1, side, b, K["_mount_screw"], tfs[f"proximal_{side}"])
-        inst += blk + pcs.drum_parts(design, K, lay, sd, t) + pcs.motor_side_parts(design, K, lay, sd, t, i + 1)
+    cap = lay["capstan"]
+    for k, (sd, b) in enumerate(zip(cap["sides"], B, strict=True)):
+        side = f"{pcs.joint_group(sd.joint)}{sd.joint.split('_')[-1]}"  # left, knob_left
+        body = f"{pcs.joint_group(sd.joint)}proximal_{sd.joint.split('_')[-1]}"
+        t, i = dev.transmission(sd.joint), pcs.rope_index(sd.joint)
+        ls = lay
+        if "side_z_mm" in cap:  # the twin: each side in its own band, its motor raised or not
+            rope, drum = cap["side_z_mm"][k]
+            ls = {**lay, "capstan": {**cap, "rope_z_mm": rope, "drum_z_mm": drum, "raise_mm": cap["raise_mm"][k]}}
+        blk, h = pcs.block_parts(design, K, ls, i, side, b, K["_mount_screw"], tfs[body])
+        inst += blk + pcs.drum_parts(design, K, ls, sd, t) + pcs.motor_side_parts(design, K, ls, sd, t, i)
         holes.update(h)
     return holes
 
@@ -175,10 +200,12 @@ def place_screw(place, holes, K, lay, group: str, name: str, hole: str, part: st
     place(name, K[f"_{group}_screw"], "ground", tf, fastener=f)
 
 
-def place_set_screw(place, holes, K, lay, body: str, tf_clevis) -> None:
+def place_set_screw(place, holes, K, lay, body: str, tf_clevis, on_axle: bool | None = None) -> None:
     """The set screw of the hub clevis of ``body`` (clevis frame ``tf_clevis``): axis along
     -x at z = 0, flat point on the shaft surface (x = -shaft radius), its other end at or
-    inside the clevis outer surface; the wall's tapped hole is its record's hole."""
+    inside the clevis outer surface; the wall's tapped hole is its record's hole. ``on_axle``:
+    the link sits on its own axle (a capstan), not on the motor shaft (None: the 5-bar's
+    ``capstan`` layout says)."""
     ss = lay["set_screw"]
     clevis = f"{body}.clevis_hub0"
     hole = f"{clevis}:set_screw"
@@ -186,15 +213,19 @@ def place_set_screw(place, holes, K, lay, body: str, tf_clevis) -> None:
     T = np.eye(4)
     T[:3, :3] = [[0, 0, -1], [0, 1, 0], [1, 0, 0]]  # part z (point -> end) -> clevis -x
     T[0, 3] = -ss["shaft_radius_mm"]
-    shaft = f"{body}.axle" if "capstan" in lay else f"{body}.motor_shaft"
+    on_axle = "capstan" in lay if on_axle is None else on_axle
+    shaft = f"{body}.axle" if on_axle else f"{body}.motor_shaft"
     f = Fastener("ISO 4026", ss["size"], ss["length_mm"], (shaft,), hole, ss["engagement_mm"])
     place(f"{body}.set_screw", K["set_screw"], body, tf_clevis @ T, fastener=f)
 
 
-def motor_station(place, holes, K, lay, p, tag: str, i: int, bxy, z_mount: float, upper: bool):
+def motor_station(place, holes, K, lay, p, tag: str, i: int, bxy, z_mount: float, upper: bool,
+                  raised: bool = False):
     """One motor on its mount plate: the plate, the motor, the plate's screws into the
     base/bridge plate and the motor face screws (through the plate into the face's tapped
-    holes; heads in the base/bridge plate's opening)."""
+    holes; heads in the base/bridge plate's opening). ``raised``: a lower motor whose mount
+    plate sits on the base plate's top (``z_mount`` 0), its screws from above, the motor's body
+    down through the plate's opening."""
     mot = get_motor(p.motor)
     mt = p.motor_mount_thickness_mm
     bx, by = bxy
@@ -208,7 +239,7 @@ def motor_station(place, holes, K, lay, p, tag: str, i: int, bxy, z_mount: float
     tf_motor = translation(bx, by, z_face) @ (turn if upper else np.eye(4))
     motor = f"{tag}_motor_{i}"
     place(motor, K["motor"], "ground", tf_motor)
-    z_mount_head, f_mount = (z_mount + mt, np.eye(4)) if upper else (z_mount, flip_matrix())
+    z_mount_head, f_mount = (z_mount + mt, np.eye(4)) if upper or raised else (z_mount, flip_matrix())
     for k, (x, y) in enumerate(pm.mount_hole_xy_mm(mot)):
         place_screw(place, holes, K, lay, "mount", f"{tag}_mount_screw_{i}_{k + 1}",
                f"{plate}:{tag}_mount_{i}_{k + 1}", plate,
@@ -219,8 +250,11 @@ def motor_station(place, holes, K, lay, p, tag: str, i: int, bxy, z_mount: float
                f"{motor}:face_{k + 1}", motor, translation(bx + x, by + y, z_head) @ f_face)
 
 
-def ground_parts(place, K, lay, p, B, twin) -> dict:
-    """The fixed parts: base plate, legs, motors with their mounts, (mouse) posts and bridge.
+def ground_parts(place, K, lay, p, B, twin, B_upper=None, raised=()) -> dict:
+    """The fixed parts: base plate, legs, motors with their mounts (``B`` the lower motors'
+    axes, ``B_upper`` the bridge's, ``B`` when None; the lower motors numbered in ``raised``
+    (0-based) with their mount plate on the base plate's top, screwed from above, the body
+    down through the plate's opening), (mouse) posts and bridge.
     Returns the tapped holes the screws engage ({name: TappedHole})."""
     holes: dict = {}
     pt, mt = p.plate_thickness_mm, p.motor_mount_thickness_mm
@@ -230,10 +264,11 @@ def ground_parts(place, K, lay, p, B, twin) -> dict:
         place_screw(place, holes, K, lay, "leg", f"leg_screw_{i + 1}", f"leg_{i + 1}:top",
                f"leg_{i + 1}", translation(x, y, 0.0))
     zb = lay.get("bridge_bottom_z_mm", 0.0)
-    stations = [("lower", -pt - mt, False)] + ([("upper", zb + pt, True)] if twin else [])
-    for tag, z_mount, upper in stations:
-        for i, bxy in enumerate(B):
-            motor_station(place, holes, K, lay, p, tag, i + 1, bxy, z_mount, upper)
+    stations = [("lower", -pt - mt, False, B)] + ([("upper", zb + pt, True, B_upper or B)] if twin else [])
+    for tag, z_mount, upper, axes in stations:
+        for i, bxy in enumerate(axes):
+            up = not upper and i in raised
+            motor_station(place, holes, K, lay, p, tag, i + 1, bxy, 0.0 if up else z_mount, upper, up)
     if not twin:
         return holes
     place("bridge_plate", K["bridge_plate"], "ground", translation(0, 0, zb))

@@ -14,10 +14,10 @@ module only says where the twin's joints turn and how its ropes reach the handle
   main journal with the knob's moment free sees the translational block of ``K_X^-1``. A
   direct-drive joint holds rigidly: the handle then moves only in the null space of its rows.
 
-The solids (drums on the links, moved motors under the base plate and on the bridge) are not
-built yet: the build refuses a twin pantograph with a capstan in one line naming
-``transmission`` (:func:`refuse_solids`); where they could sit and what stops them:
-:mod:`cad.families.pantograph.twin_placement`.
+The solids (drums on the links, moved motors on the bridge or under the base plate) are the
+5-bar's (:mod:`cad.families.pantograph.capstan_solids`), laid out for each of the twin's 5-bars
+by :func:`cad.families.pantograph.twin_placement.group_layout`, which refuses in one line naming
+``transmission`` a 5-bar whose drums cannot be placed.
 """
 
 from __future__ import annotations
@@ -26,7 +26,6 @@ import numpy as np
 
 from cad.datasheet import capstan_rows as cr
 from cad.device import resolve_device
-from cad.errors import DesignError
 from cad.kinematics import fivebar as fb5
 from cad.kinematics import twin_pantograph as ktwin
 
@@ -91,14 +90,3 @@ def rope_compliance_m_per_N(design, k_q: dict) -> np.ndarray:
     ok = np.asarray(st) == fb5.STATUS_OK
     kinv = np.array([1.0 / k_q[j] if k_q.get(j) else 0.0 for j in JOINTS])
     return np.array([np.linalg.eigvalsh(handle_compliance_m_per_N(Ji, kinv))[-1] for Ji in np.asarray(J)[ok]])
-
-
-def refuse_solids(design) -> None:
-    """DesignError (``transmission``) when the twin pantograph has a capstan: its solids are
-    not built yet (the analyses are: force, resolution, effective mass, capstan rows, the ropes
-    in the frame, firmware and MJCF through the ratio)."""
-    if has_capstan(design):
-        raise DesignError("transmission", "the twin pantograph's capstan solids (drums on the links, motors "
-                          "moved under the base plate and on the bridge) are not built yet: build it with direct "
-                          "drive, or see docs/families/pantograph-powermouse.md (Capstan on the twin pantograph) for "
-                          "what its capstan analyses give and how to get them")

@@ -1,9 +1,9 @@
 """A capstan on the motors of the twin-pantograph haptic mouse (issue 35 §1): the design takes
 ``[transmission]`` (one table for the four motors, or ``[[transmission]]`` one per motor: knob
 left, knob right, crank left, crank right), and every analysis reads the resolved device's ratio
-n. The solids are not drawn yet: the build is refused in one line naming ``transmission``, so
-the figures here read the design, the resolved device and seeded plausible bodies (not from a
-build), as tests/families/delta/test_delta_capstan.py does.
+n. The figures here read the design, the resolved device and seeded plausible bodies (not
+from a build), as tests/families/delta/test_delta_capstan.py does; the build of
+designs/twin_pantograph_capstan.toml (its capstan solids): tests/families/pantograph/test_twin_capstan_build.py.
 
 References, each independent of the code under test:
 
@@ -43,7 +43,7 @@ from cad.kinematics import twin_pantograph as tw
 from tests.compilers import compiler
 
 ROOT = Path(__file__).resolve().parents[3]
-BUNDLED = ROOT / "designs" / "analysis-only" / "twin_pantograph_capstan.toml"
+BUNDLED = ROOT / "designs" / "twin_pantograph_capstan.toml"
 RAW = tomllib.loads(BUNDLED.read_text())
 DIRECT = tomllib.loads((ROOT / "designs" / "haptic_mouse.toml").read_text())
 JOINTS = ("knob_q_left", "knob_q_right", "crank_q_left", "crank_q_right")
@@ -159,11 +159,21 @@ def test_a_bad_transmission_exits_2_naming_the_field(tmp_path, table, field):
 
 
 def test_the_build_is_refused_in_one_line_and_writes_nothing(tmp_path):
-    """The twin's capstan solids are not drawn: ``build`` exits 2 naming ``transmission``,
-    before any CAD, nothing written."""
+    """The bundled design with 5 mm layer gaps: the crank pantograph's drums meet in one band,
+    and band 2's rope plane 2 x 5 + 10 + 5 = 25 mm up puts the capstan's hub top at
+    25 - 1.5 x 0.8 x 3 / 2 = 23.2 mm, 23.2 - 11 = 12.2 mm past the RE 35 shaft's tip (22 mm
+    from its face, less the 6 mm plate and the 5 mm mount plate), more than the 6 + 5 = 11 mm
+    the motor gains with its mount plate on the base plate's top (by hand): ``build`` exits 2
+    naming ``transmission``, the clash, the shortfall and the fixes, before any CAD, nothing
+    written."""
+    p = tmp_path / "gap5.toml"
+    p.write_text(BUNDLED.read_text().replace('clevis_material = "aluminium-6061"',
+                                             'clevis_material = "aluminium-6061"\nlayer_gap_mm = 5.0'))
     out = tmp_path / "out"
-    code, _, err = hapticad("build", BUNDLED, "--out", out)
-    assert_one_line_error(code, err, "transmission", "capstan solids", "not built yet")
+    code, _, err = hapticad("build", p, "--out", out)
+    assert_one_line_error(code, err, "transmission", "crank pantograph", "136 mm drums", "meet in one band",
+                          "12.2 mm past the maxon-re35 shaft", "more than the 11 mm", "smaller drum",
+                          "direct drive on crank_q_left")
     assert not out.exists() or not any(out.iterdir())
 
 
@@ -219,13 +229,16 @@ def test_reflected_rotor_inertia_in_the_effective_mass_at_home():
 
 
 def _sim_xml(d, rep: dict) -> str:
+    """The MJCF of ``d`` on the seeded bodies; the layers' heights from the same linkage's
+    direct-drive layout (the bodies carry no part here; the per-motor drums, up to 192 mm, are
+    not laid out)."""
     from cad.export.sim import mjcf_text
     from cad.families.pantograph.layout import layout
     from cad.families.pantograph.sim import sim_model
 
     X = _home(d)
     parts = {k: [] for k in ("proximal_left", "proximal_right", "distal", "crankshaft")}
-    model = sim_model(d, _massprops(rep), parts, [], layout(d), X.tolist(), tw.ik(d.mechanism, X[None]), set(),
+    model = sim_model(d, _massprops(rep), parts, [], layout(_design(DIRECT)), X.tolist(), tw.ik(d.mechanism, X[None]), set(),
                       lambda kind: (0.5, 0.5, 0.5))
     return mjcf_text(model)
 

@@ -1,6 +1,6 @@
 """Where the twin pantograph's capstans could sit and what stops them
-(:mod:`cad.families.pantograph.twin_placement`; the solids stay refused), on
-designs/analysis-only/twin_pantograph_capstan.toml (136 mm drums, 32 mm capstans, 0.8 mm rope,
+(:mod:`cad.families.pantograph.twin_placement`; the crank side's solids stay refused), on
+designs/twin_pantograph_capstan.toml (136 mm drums, 32 mm capstans, 0.8 mm rope,
 3 wraps, joints 75 mm apart, RE 35 motors).
 
 References, independent of the direction search's plane grid: each drum's swept sector sampled
@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 
 ROOT = Path(__file__).resolve().parents[3]
-TWIN = ROOT / "designs" / "analysis-only" / "twin_pantograph_capstan.toml"
+TWIN = ROOT / "designs" / "twin_pantograph_capstan.toml"
 #: The drum's reach by hand: crests (136 - 0.8) / 2 + 0.35 x 0.8 = 67.88 mm, and the tensioner out
 #: of them: ISO 4032 M3 nut 2.4 mm + 3 rope diameters 2.4 mm + ISO 4762 M3 head 3 mm.
 REACH_MM = 67.88 + 2.4 + 2.4 + 3.0

@@ -95,11 +95,12 @@ def test_one_table_per_motor_or_one_for_all():
         parse_transmissions("capstan", 1)
 
 
-def test_a_twin_pantograph_takes_a_transmission_on_its_four_motors_and_builds_no_solid(tmp_path):
+def test_a_twin_pantograph_takes_a_transmission_on_its_four_motors_and_names_what_cannot_be_laid_out(tmp_path):
     """[transmission] on a twin-pantograph (haptic mouse) design: validated at load for its four
-    motors (``check`` gets past the design), the build of its solids refused in one line naming
-    the table (the capstan solids are not drawn yet), exit 2; the analyses:
-    tests/families/pantograph/test_twin_capstan.py."""
+    motors (``check`` gets past the design); a capstan whose solids cannot be placed is refused
+    in one line naming the field, exit 2: the 20 mm capstan on a 60 mm drum puts the motor
+    (20 + 60) / 2 + 2 = 42 mm from its joint, under the RE 35's 55 mm mount plate plus 1 mm;
+    the analyses and the built design: tests/families/pantograph/test_twin_capstan.py."""
     from pathlib import Path
 
     from cli_helpers import assert_one_line_error, hapticad
@@ -109,7 +110,7 @@ def test_a_twin_pantograph_takes_a_transmission_on_its_four_motors_and_builds_no
     p.write_text(src.read_text() + '\n[transmission]\nkind = "capstan"\ncapstan_diameter_mm = 20.0\n'
                  'ratio = 3.0\ncable = "steel-7x7-0.45"\n')
     code, _, err = hapticad("check", p)
-    assert_one_line_error(code, err, "transmission", "capstan solids", "not built yet")
+    assert_one_line_error(code, err, "transmission.centre_distance_mm", "42 mm", ">= 56")
     p.write_text(src.read_text() + '\n[[transmission]]\nkind = "direct"\n\n[[transmission]]\nkind = "direct"\n')
     code, _, err = hapticad("check", p)
     assert_one_line_error(code, err, "transmission: must be one table or 4 (one per motor), got an array of 2 tables")
