@@ -295,6 +295,19 @@ def motor_side_parts(design, K: dict, lay: dict, sd, t, i: int) -> list[PartInst
     return out
 
 
+def wraps_that_fit(t, rope_z_mm: float, tip_mm: float, heads_mm: float) -> str:
+    """The fix :func:`check_capstan_z` names: the turns of ``t``'s rope whose capstan (its middle
+    in the rope's plane ``rope_z_mm``, :func:`capstan_z_mm`) keeps its hub's top at or under the
+    shaft's tip ``tip_mm`` and its bottom at or over the face screws' heads ``heads_mm``
+    (world z, mm), rounded inwards to 0.1 turn; else a thinner rope."""
+    per_turn = 0.5 * cg.GROOVE_PITCH_D * t.cable_diameter_mm
+    lo = math.ceil(10.0 * (rope_z_mm - tip_mm) / per_turn - 1e-9) / 10.0  # 1e-9: a float hair
+    hi = math.floor(10.0 * (rope_z_mm - cg.CAPSTAN_HUB_MM - heads_mm) / per_turn + 1e-9) / 10.0
+    if max(lo, 0.1) <= hi:
+        return f"{max(lo, 0.1):g} .. {hi:g} turns of the {t.cable_diameter_mm:g} mm rope fit (transmission.wraps)"
+    return f"no number of turns of the {t.cable_diameter_mm:g} mm rope fits: a thinner rope (transmission.cable)"
+
+
 def check_capstan_z(design, lay: dict) -> None:
     """DesignError (``transmission.wraps``) when a capstan in the rope's plane would leave the
     motor shaft (its set-screw hub above the shaft's tip) or reach down onto the motor face
@@ -307,7 +320,8 @@ def check_capstan_z(design, lay: dict) -> None:
         if not t.is_capstan:  # a twin's direct 5-bar
             continue
         zc = capstan_z_mm(design, t, lay["capstan"]["rope_z_mm"])
-        if zc + cg.CAPSTAN_HUB_MM > tip or zc < heads:
+        if zc + cg.CAPSTAN_HUB_MM > tip + 1e-9 or zc < heads - 1e-9:  # a float hair, as wraps_that_fit
             raise DesignError("transmission.wraps", f"{t.wraps:g} turns put the capstan at z {zc:.2f} .. "
                               f"{zc + cg.capstan_length_mm(t.cable_diameter_mm, t.wraps):.2f} mm: its hub must sit on "
-                              f"the {p.motor} shaft (tip at z {tip:g} mm) above the face screws' heads (z {heads:g} mm)")
+                              f"the {p.motor} shaft (tip at z {tip:g} mm) above the face screws' heads (z {heads:g} mm); "
+                              + wraps_that_fit(t, lay["capstan"]["rope_z_mm"], tip, heads))

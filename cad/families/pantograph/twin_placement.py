@@ -22,6 +22,7 @@ down from the bridge.
 from __future__ import annotations
 
 import dataclasses
+import math
 
 import numpy as np
 
@@ -267,6 +268,17 @@ def group_sides(design, group: str):
     return tuple(dataclasses.replace(s, joint=tc.JOINTS[c]) for s, c in zip(sides, cols, strict=True)), bands
 
 
+def max_gap_for_band_2_mm(design, short_mm: float, rise_mm: float) -> float | None:
+    """The largest ``parts.layer_gap_mm`` (mm, floored to 0.01 mm) at which drum band 2's
+    capstan hub is back on a raised motor's shaft: band 2's rope plane sits two layer gaps up
+    (:func:`band_rope_offset_mm`), so the hub drops 2 mm per mm of gap; None when no positive
+    gap reaches (``short_mm``: :func:`shaft_shortfall_mm` band 2, ``rise_mm``:
+    :func:`motor_raise_mm`)."""
+    g = design.parts.layer_gap_mm - (short_mm - rise_mm) / 2.0
+    g = math.floor(g * 100.0) / 100.0
+    return g if g > 0 else None
+
+
 def motor_raise_mm(design) -> float:
     """How much higher a motor sits with its mount plate on the base plate's top instead of
     under it (mm): the plate and the mount plate, ``plate_thickness_mm + motor_mount_thickness_mm``
@@ -317,8 +329,10 @@ def one_band_refusal(design, group: str, ts, why: dict) -> str:
               "a second band (the crank pantograph's) keeps no clear pair of motor directions" if group == "crank"
               else "a second band is not built under the bridge")
     names = " and ".join(tc.JOINTS[c] for c in GROUPS[group])
+    gap = max_gap_for_band_2_mm(design, short, rise) if short > rise and group == "crank" else None
+    lower = f"set parts.layer_gap_mm <= {gap:.2f} (band 2 then reaches the raised shaft), " if gap else ""
     return (f"the twin's {group} pantograph's two {ts[0].drum_diameter_mm:g} mm drums (swept radius "
             f"{pcap.swept_radius_mm(ts[0]):.1f} mm with the tensioner, joints {design.params['base_mm']:g} mm apart) "
             f"meet in one band for every mirrored pair of motor directions (every {pcap.ALPHA_STEP_DEG:g} deg: "
-            f"{counts}) and {second}: use a smaller drum (ratio or capstan), or direct drive on {names} "
+            f"{counts}) and {second}: {lower}use a smaller drum (ratio or capstan), or direct drive on {names} "
             "([[transmission]] kind = \"direct\" for those motors)")

@@ -173,8 +173,48 @@ def test_the_build_is_refused_in_one_line_and_writes_nothing(tmp_path):
     code, _, err = hapticad("build", p, "--out", out)
     assert_one_line_error(code, err, "transmission", "crank pantograph", "136 mm drums", "meet in one band",
                           "12.2 mm past the maxon-re35 shaft", "more than the 11 mm", "smaller drum",
-                          "direct drive on crank_q_left")
+                          "direct drive on crank_q_left", "set parts.layer_gap_mm <= 4.40")
     assert not out.exists() or not any(out.iterdir())
+
+
+@pytest.mark.parametrize("swap, fix", [
+    (('cable = "steel-7x7-0.8"', 'cable = "steel-7x7-1.6"'), "0.1 .. 2.5 turns of the 1.5875 mm rope fit"),
+    (("wraps = 3.0", "wraps = 12.0"), "0.1 .. 5 turns of the 0.8 mm rope fit"),
+])
+def test_a_capstan_off_its_shaft_is_refused_with_the_turns_that_fit(tmp_path, swap, fix):
+    """A tester's finding: a thicker rope (or more turns) that puts the capstan off the motor
+    shaft was refused naming transmission.wraps with no fix. The line now gives the turns that
+    fit, by hand: the capstan's middle stays in the rope's plane, half the turns (1.5 d per
+    turn) below it is the hub's top, the hub (15.14 - 1.5 x 1.5875 x 3 mm) under that. The
+    1.6 mm rope's 3 turns start at z -3.57 mm, 0.57 mm under the face screws' heads (-3 mm):
+    3 - 0.57 / (0.75 x 1.5875) = 2.52, floored to 2.5 turns; 12 turns of the 0.8 mm rope start
+    at -7.20 mm: 12 - 4.20 / (0.75 x 0.8) = 5 turns, the capstan then on the heads exactly (the
+    check's limit); the hub's top stays under the shaft's tip (11 mm) down to 0 turns."""
+    p = tmp_path / "w.toml"
+    p.write_text(BUNDLED.read_text().replace(*swap))
+    code, _, err = hapticad("check", p)
+    assert_one_line_error(code, err, "transmission.wraps", "its hub must sit on the maxon-re35 shaft", fix)
+
+
+def test_the_layer_gap_the_refusal_names_lays_the_twin_out(tmp_path):
+    """A tester's finding: the refusal above sent the user round in a circle (a smaller drum
+    still clashes in one band) and never named the layer gap, the key that fixes it. Band 2's
+    hub drops 2 mm per mm of gap (its rope plane 2 g + 1.5 drums up), so 12.2 - 11 = 1.2 mm
+    over asks g <= 5 - 1.2 / 2 = 4.4 mm (by hand): at 4.40 mm the layout is found (the raised
+    motor's shaft reaches band 2's hub), at 4.45 mm it is still refused."""
+    from cad.design import load_design
+    from cad.errors import DesignError
+    from cad.families.pantograph.twin_placement import group_layout
+
+    def gap(g):
+        p = tmp_path / f"gap{g}.toml"
+        p.write_text(BUNDLED.read_text().replace('clevis_material = "aluminium-6061"',
+                                                 f'clevis_material = "aluminium-6061"\nlayer_gap_mm = {g}'))
+        return load_design(p)
+
+    assert group_layout(gap(4.4))
+    with pytest.raises(DesignError, match="parts.layer_gap_mm <= 4.40"):
+        group_layout(gap(4.45))
 
 
 # ----------------------------------------------------------------------------- force, resolution
