@@ -29,6 +29,23 @@ from cad.parts import motor as pm
 from cad.parts import pantograph as pp
 
 
+def hub_seat(lay: dict) -> str:
+    """What the hub clevis sits on, for its and its set screw's descriptions: the link's own
+    axle where a capstan turns the link (the 5-bar's ``capstan``; the twin's ``twin_capstan``
+    on both 5-bars), the motor shaft under direct drive, both named on a twin mixing them."""
+    tcap = lay.get("twin_capstan", {})
+    if "capstan" in lay or len(tcap) == 2:
+        return "link axle"
+    return "link axle (capstan 5-bar) or motor shaft (direct 5-bar)" if tcap else "motor shaft"
+
+
+def raised_note(lay: dict) -> str:
+    """``", one on its top through its opening"`` when a twin's capstan motor is raised
+    (its mount plate on the base plate's top, ``raise_mm`` > 0), else ``""``."""
+    raised = any(r > 0 for g in lay.get("twin_capstan", {}).values() for r in g.get("raise_mm", ()))
+    return ", one on its top through its opening" if raised else ""
+
+
 def part_kinds(design, lay: dict, fidelity: str) -> dict:
     """Every distinct part (:class:`cad.parts.PartKind`) of the design, by name (in the
     order the part groups below add them)."""
@@ -87,7 +104,7 @@ def _clevis_kinds(add, K: dict, c) -> None:
                         set_screw_drill_mm=tap_drill_mm(ss["size"]), **cl),
         cm,
         True,
-        f"clevis on the {'link axle' if 'capstan' in lay else 'motor shaft'} ({sz} set screw)",
+        f"clevis on the {hub_seat(lay)} ({sz} set screw)",
         f"CNC milled; ream shaft bore; tap {sz} x1 (radial)",
         fits=(fit("hub shaft bore", mot.shaft_diameter_mm, "shaft bore"),),
     )
@@ -97,7 +114,7 @@ def _clevis_kinds(add, K: dict, c) -> None:
         FASTENER_MATERIAL,
         False,
         f"set screw ISO 4026 {ss['size']} x {ss['length_mm']:g} (locks the clevis on the "
-        f"{'link axle' if 'capstan' in lay else 'motor shaft'})",
+        f"{hub_seat(lay)})",
         "bought",
     )
     add(
@@ -254,7 +271,7 @@ def _base_kinds(add, K: dict, c, holes) -> None:
         ),
         p.plate_material,
         True,
-        "base plate (motors under, legs at the corners)",
+        f"base plate (motors under{raised_note(lay)}, legs at the corners)",
         f"waterjet/laser plate; tap {ms} x{len(mount_holes)}",
         plate=True,
     )

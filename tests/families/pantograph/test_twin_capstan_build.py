@@ -427,3 +427,20 @@ def test_rope_bom_lines_and_winding_steps_come_from_the_shared_capstan_functions
     assert named == {f"capstan_{k}" for i in (1, 2, 3, 4) for k in (f"anchor_{i}_1", f"tensioner_{i}",
                                                                        f"tensioner_nut_{i}")}
     assert named <= set(step_solids)
+
+
+def test_part_descriptions_say_where_the_clevis_sits_and_the_raised_motor(design, lay):
+    """A tester's finding: the twin capstan's BOM said the hub clevis and its set screw sit
+    "on the motor shaft" (they sit on the link's own axle: the capstan turns the link) and the
+    base plate had "motors under" with one motor on its top. The descriptions follow the
+    layout: the capstan twin (raise_mm > 0 on the crank side) against the direct mouse."""
+    from cad.design import load_design
+    from cad.families.pantograph.kinds import hub_seat, raised_note
+    from cad.families.pantograph.layout import layout
+
+    assert lay["twin_capstan"]["crank"]["raise_mm"][1] > 0
+    assert hub_seat(lay) == "link axle" and raised_note(lay) == ", one on its top through its opening"
+    direct = layout(load_design(ROOT / "designs" / "haptic_mouse.toml"))
+    assert hub_seat(direct) == "motor shaft" and raised_note(direct) == ""
+    mixed = {**lay, "twin_capstan": {"knob": lay["twin_capstan"]["knob"]}}
+    assert "or motor shaft (direct 5-bar)" in hub_seat(mixed)
