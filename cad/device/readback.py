@@ -20,7 +20,9 @@ import re
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
+from cad.actuators.capstan import series_stiffness
 from cad.errors import HapticadError
+from cad.firmware.extras import rope_row
 from cad.io.escape import csv_cell
 from cad.tolerances import OUTPUT_AGREE_REL
 
@@ -374,25 +376,30 @@ def _max_force(out: Path, bad: list) -> None:
 
 
 def _wall_stiffness(out: Path, bad: list) -> None:
-    """The firmware's wall K (``chai3d_device.json``, ``WALL_K_N_PER_M`` of the sketch) is the
-    datasheet's ``eq25_K_max_N_per_m`` unless the design sets ``[firmware]
-    wall_stiffness_N_per_m`` (the CHAI3D note says which)."""
+    """The firmware's wall K (``WALL_K_N_PER_M`` of the sketch) is the datasheet's
+    ``eq25_K_max_N_per_m`` unless the design sets ``[firmware] wall_stiffness_N_per_m``; the
+    ``chai3d_device.json`` ``m_maxLinearStiffness`` is that eq (25) K_max, with a capstan in
+    series with the datasheet's ropes' stiffness at the handle
+    (:func:`cad.firmware.extras.chai3d_stiffness`)."""
     chai_p, rep_p = out / "firmware" / "chai3d_device.json", out / "report.json"
     if not (chai_p.is_file() and rep_p.is_file()):
         return
     chai, rep = json.loads(chai_p.read_text()), json.loads(rep_p.read_text())
     row = next((r for r in rep.get("datasheet", {}).get("rows", []) if r["key"] == "eq25_K_max_N_per_m"), None)
-    note = str(chai.get("notes", {}).get("m_maxLinearStiffness", ""))
-    if row is None or row.get("value") is None or "wall_stiffness_N_per_m" in note:
+    if row is None or row.get("value") is None:
         return
-    K = {"chai3d_device.json m_maxLinearStiffness": chai["m_maxLinearStiffness"]}
+    rope = rope_row(rep)
+    want = row["value"] if rope is None else float(series_stiffness(row["value"], rope["value"]))
+    what = "eq25_K_max_N_per_m" if rope is None else f"eq25_K_max_N_per_m in series with {rope['key']}"
+    if not math.isclose(chai["m_maxLinearStiffness"], want, rel_tol=OUTPUT_AGREE_REL):
+        bad.append(f"chai3d_device.json m_maxLinearStiffness = {chai['m_maxLinearStiffness']:.6g} N/m, the "
+                   f"datasheet's {what} {want:.6g} N/m")
     ino = out / "firmware" / "wall_example" / "wall_example.ino"
-    if ino.is_file():
-        K["wall_example.ino WALL_K_N_PER_M"] = float(_define(ino.read_text(), "WALL_K_N_PER_M"))
-    for where, k in K.items():
+    if ino.is_file() and "wall_stiffness_N_per_m" not in ino.read_text():
+        k = float(_define(ino.read_text(), "WALL_K_N_PER_M"))
         if not math.isclose(k, row["value"], rel_tol=OUTPUT_AGREE_REL):
-            bad.append(f"{where} = {k:.6g} N/m, the datasheet's eq25_K_max_N_per_m {row['value']:.6g} N/m")
-
+            bad.append(f"wall_example.ino WALL_K_N_PER_M = {k:.6g} N/m, the datasheet's eq25_K_max_N_per_m "
+                       f"{row['value']:.6g} N/m")
 
 
 #: bom.csv prints a mass with 2 decimals (g): half a unit of the last digit.

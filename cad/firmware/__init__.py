@@ -128,7 +128,7 @@ def linkage_files(design, report: dict, design_hash: str, device=None) -> dict[s
         p + "test_vectors.json": text,
         p + "test_device.c": csrc.banner(spec, "test_device.c") + vectors.TEST_PROGRAM,
         p + "wall_example/wall_example.ino": extras.sketch(spec, wall),
-        p + "chai3d_device.json": extras.chai3d_json(spec, design, wall, forces),
+        p + "chai3d_device.json": extras.chai3d_json(spec, design, wall, forces, extras.rope_row(report)),
     }
 
 

@@ -17,6 +17,7 @@ import math
 
 import numpy as np
 
+from cad.actuators.capstan import series_stiffness
 from cad.dynamics.stiffness import StiffnessInputs, range_text, stiffness_range_N_per_m
 from cad.firmware import reference as ref
 from cad.firmware.csrc import banner
@@ -110,15 +111,46 @@ def max_forces_N(spec: DeviceSpec, q_ok: np.ndarray) -> dict:
             "peak_N": float(np.min(m.torque_peak_Nm / smax))}
 
 
-def chai3d_json(spec: DeviceSpec, design, wall: dict, forces: dict) -> str:
-    """CHAI3D-style device description (cHapticDeviceInfo fields, SI)."""
+#: The datasheet rows of the capstans' ropes' stiffness where the force is felt (N/m; one per
+#: family: the handle of a four-bar, a 5-bar, the twin or the pen, the delta's effector), present
+#: when a capstan is (:mod:`cad.datasheet.capstan_rows` and each family's capstan module).
+ROPE_STIFFNESS_KEYS = ("cable_handle_stiffness_N_per_m", "cable_effector_stiffness_N_per_m")
+
+
+def rope_row(report: dict) -> dict | None:
+    """The report's datasheet row of the ropes' stiffness at the handle (:data:`ROPE_STIFFNESS_KEYS`)
+    with a value, or None (direct drive)."""
+    rows = {r.get("key"): r for r in (report.get("datasheet") or {}).get("rows", [])}
+    return next((rows[k] for k in ROPE_STIFFNESS_KEYS if rows.get(k, {}).get("value") is not None), None)
+
+
+def chai3d_stiffness(wall: dict, rope: dict | None) -> tuple[float, str]:
+    """``(N/m, note)``: the CHAI3D file's ``m_maxLinearStiffness``: eq (25)'s K_max (``wall``,
+    :func:`wall_numbers`, the conservative bound the wall sketch renders) and, with a capstan, in
+    series with the ropes' stiffness at the handle (``rope``, :func:`rope_row`): 1 / (1 / K_max
+    + 1 / k_rope) (:func:`cad.actuators.capstan.series_stiffness`) -- the datasheet's renderable
+    stiffness with the ropes in series (``K_max_with_cable_N_per_m`` of the 5-bar, the twin, the
+    delta; the four-bar's row puts its simulated K_max in series instead)."""
+    K = wall["eq25_K_max_N_per_m"]
+    note = "eq (25) K_max, the conservative bound (not the datasheet's simulated K_max): " + wall["source"]
+    if rope is None:
+        return K, note
+    return float(series_stiffness(K, rope["value"])), (
+        f"1 / (1 / K_max + 1 / k_rope), renderable stiffness with the ropes in series: the {note}; k_rope = "
+        f"the datasheet's {rope['key']} {rope['value']:.4g} N/m")
+
+
+def chai3d_json(spec: DeviceSpec, design, wall: dict, forces: dict, rope: dict | None = None) -> str:
+    """CHAI3D-style device description (cHapticDeviceInfo fields, SI); ``rope``: the datasheet's
+    row of the ropes' stiffness at the handle when a capstan is present (:func:`chai3d_stiffness`)."""
+    K, K_note = chai3d_stiffness(wall, rope)
     doc = {
         "generator": f"hapticad {spec.version}", "design": spec.name,
         "design_hash": spec.design_hash, "units": "SI",
         "m_modelName": f"hapticad {spec.family} '{spec.name}'", "m_manufacturerName": "hapticad",
         "m_maxLinearForce": forces["continuous_N"],
         "m_maxLinearForce_peak": forces["peak_N"],
-        "m_maxLinearStiffness": wall["eq25_K_max_N_per_m"],
+        "m_maxLinearStiffness": K,
         "encoder_counts_per_rev": spec.encoder_counts_per_rev,
         "m_maxLinearDamping": wall["Fv_N_s_per_m"],
         "m_workspaceRadius": spec.model.workspace_radius_m(spec, design),
@@ -127,8 +159,7 @@ def chai3d_json(spec: DeviceSpec, design, wall: dict, forces: dict) -> str:
         "notes": {
             "m_maxLinearForce": forces.get("source", "min over the test poses of the continuous motor "
                                 "torque / sigma_max(J^T) (every direction)") + "; _peak: the same at peak torque",
-            "m_maxLinearStiffness": "eq (25) K_max, the conservative bound (not the datasheet's "
-                                    "simulated K_max): " + wall["source"],
+            "m_maxLinearStiffness": K_note,
             "encoder_counts_per_rev": "the device's encoder (report.json device.encoders), "
                                       "the count hapticad_device.h is compiled for",
             "m_maxLinearDamping": "passivity at K -> 0 (Colgate and Schenkel): B < Fv; Fv from "

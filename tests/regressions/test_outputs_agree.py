@@ -270,7 +270,8 @@ def check_agree(toml: dict, out: Path) -> None:
         assert jread(fw / "test_vectors.json")["encoder"]["counts_per_rev"] == n
         if "wall_stiffness_N_per_m" not in toml.get("firmware", {}):  # one K: the datasheet's eq (25) row
             K_ino = float(defines((fw / "wall_example" / "wall_example.ino").read_text())["WALL_K_N_PER_M"])
-            assert jread(fw / "chai3d_device.json")["m_maxLinearStiffness"] == pytest.approx(K_ino, rel=EXACT_REL)
+            K_chai = _chai3d_K(rep, K_ino)
+            assert jread(fw / "chai3d_device.json")["m_maxLinearStiffness"] == pytest.approx(K_chai, rel=EXACT_REL)
             assert ds_row(rep, "eq25_K_max_N_per_m")["value"] == pytest.approx(K_ino, rel=EXACT_REL)
     if "linkage" in toml or fam in ("hoeken", "roberts", "chebyshev", "chebyshev-v", "custom"):
         _check_fourbar(toml, out, rep, n)
@@ -419,6 +420,15 @@ def _check_delta(toml: dict, out: Path, rep: dict, n: int) -> None:
         assert h["i_peak"] == pytest.approx(m["tau_peak"] / m["kt"], rel=EXACT_REL)
 
 
+def _chai3d_K(rep: dict, K_eq25: float) -> float:
+    """The CHAI3D stiffness: eq (25)'s K_max, with capstans in series with the datasheet's ropes'
+    stiffness at the handle (two springs, closed form 1 / (1 / K_max + 1 / K_rope))."""
+    keys = {r["key"] for r in rep["datasheet"]["rows"]}
+    rope = next((ds_row(rep, k)["value"] for k in ("cable_handle_stiffness_N_per_m",
+                                                   "cable_effector_stiffness_N_per_m") if k in keys), None)
+    return K_eq25 if rope is None else 1.0 / (1.0 / K_eq25 + 1.0 / rope)
+
+
 def _check_K(toml: dict, out: Path, rep: dict) -> None:
     fw = out / "firmware"
     ino = (fw / "wall_example" / "wall_example.ino").read_text()
@@ -433,10 +443,10 @@ def _check_K(toml: dict, out: Path, rep: dict) -> None:
         # the table's Delta: exact; Delta from the finite-difference lever: FD_REL
         rel = EXACT_REL if st == toml["stiffness"] else FD_REL
         assert K_ino == pytest.approx(eq25_K_max(st), rel=rel)
-        assert chai["m_maxLinearStiffness"] == pytest.approx(K_ino, rel=EXACT_REL)
+        assert chai["m_maxLinearStiffness"] == pytest.approx(_chai3d_K(rep, K_ino), rel=EXACT_REL)
         assert ds_row(rep, "eq25_K_max_N_per_m")["value"] == pytest.approx(K_ino, rel=EXACT_REL)
     else:
-        assert chai["m_maxLinearStiffness"] == pytest.approx(K_ino, rel=EXACT_REL)
+        assert chai["m_maxLinearStiffness"] == pytest.approx(_chai3d_K(rep, K_ino), rel=EXACT_REL)
 
 
 def _stiffness_of_the_encoder(toml: dict) -> dict:

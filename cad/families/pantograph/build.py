@@ -64,7 +64,6 @@ from pathlib import Path
 import numpy as np
 
 from cad.data.families import refusal
-from cad.data.materials import get_material
 from cad.device import encoder_bom_rows, resolve_device
 from cad.errors import DesignError
 from cad.export.sim import SIM_FORMATS, write_sim_files
@@ -175,8 +174,6 @@ def _write_sim(design, out_dir, formats, instances, bodies, lay, home) -> list[s
 
     th = math.radians(design.workspace["home_theta_deg"])
     ik = tw.ik(design.mechanism, np.array([[home[0], home[1], th]]))
-    K = {i.kind.name: i.kind for i in instances}
-    p = design.parts
     L, U = lay["lower_layers_z_mm"], lay["upper_layers_z_mm"]
     layer_z = {
         "crank_proximal": L[0],
@@ -193,33 +190,7 @@ def _write_sim(design, out_dir, formats, instances, bodies, lay, home) -> list[s
         shifted[b] = mp.transformed(np.eye(3), np.array([0.0, 0.0, -z * 1e-3]))
     for grp in ("crank", "knob"):
         shifted[f"{grp}_distal"] = shifted[f"{grp}_distal_left"]
-    lay2 = {
-        **lay,
-        "proximal_mm": design.params["proximal_mm"],
-        "distal_mm": design.params["distal_mm"],
-    }
-    parts = {
-        f"proximal_{s}": [(k.name, tf) for k, tf in link_parts("proximal", s, K, lay2, p, pin)]
-        for s, pin in (("left", "pin_short"), ("right", "pin_long"))
-    }
-    parts["distal"] = [(k.name, tf) for k, tf in link_parts("distal", "left", K, lay2, p, "")]
-    parts["crankshaft"] = [
-        ("crankshaft", np.eye(4)),
-        ("knob", rz(0.0, 0.0, 0.0, lay["knob_bottom_z_mm"] - lay["web_z_mm"])),
-    ]
-    ground = [(i.name, i.kind.name, i.tf_body_part) for i in instances if i.body == "ground"]
-    made = {k.name for k in K.values() if k.made and k.listed}
-    model = sim_model(
-        design,
-        shifted,
-        parts,
-        ground,
-        lay,
-        [*home, th],
-        ik,
-        made,
-        lambda kind: get_material(K[kind].material).color_rgb,
-    )
+    model = sim_model(design, shifted, instances, lay, [*home, th], ik)
     model = dataclasses.replace(model, meshdir="parts")
     return [q.name for q in write_sim_files(model, out_dir, formats, design.name)]
 

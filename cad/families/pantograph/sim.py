@@ -39,16 +39,19 @@ def _T(R: np.ndarray, p) -> np.ndarray:
     return T
 
 
-def _meshes(bodies_parts: dict, made: set[str], color, prefix: str, link_type: str, F) -> tuple:
-    """SimMesh of each made part of a link type (``bodies_parts``: (kind, 4x4 mm) per link
-    type), in the body frame turned by ``F`` (the upper group's flip)."""
+def body_meshes(instances, body: str, T=None) -> tuple:
+    """SimMesh of every instance of ``body`` with a solid (a made, listed kind: its STL is
+    ``<kind>.stl``), read from the assembly model's instances (no hand list of a link's parts):
+    placed by ``T @ tf_body_part`` (``T``: 4x4 mm, the sim body frame from the assembly's body
+    frame; identity when they coincide). Names are the instances' names."""
+    T = np.eye(4) if T is None else np.asarray(T, dtype=float)
     out = []
-    for k, (kind, tf) in enumerate(bodies_parts[link_type]):
-        if kind not in made:
+    for i in instances:
+        if i.body != body or not (i.kind.made and i.kind.listed):
             continue
-        T = F @ tf
-        out.append(SimMesh(f"{prefix}_{kind}_{k}", f"{kind}.stl", T[:3, 3] * 1e-3, T[:3, :3],
-                           (*color(kind), 1.0)))
+        tf = T @ i.tf_body_part
+        out.append(SimMesh(i.name, f"{i.kind.name}.stl", tf[:3, 3] * 1e-3, tf[:3, :3],
+                           (*get_material(i.kind.material).color_rgb, 1.0)))
     return tuple(out)
 
 
@@ -66,16 +69,14 @@ def _link_bodies(design, bodies: dict, lay: dict, ik, meshes) -> tuple:
     a = design.params["base_mm"]
     l3 = design.params["distal_mm"]
     B = [(-a / 2, 0.0), (a / 2, 0.0)]
-    flip = np.diag([1.0, -1.0, -1.0, 1.0])
 
     dev = resolve_device(design)
     torque = peak_torque_Nm(dev)  # the BOM's motors through their transmissions, not [actuators]
     out: list[SimBody] = []
     world = {}
     motors = []
-    for grp, fp, zs, upper in (("crank", ik.crank, lay["lower_layers_z_mm"], False),
-                               ("knob", ik.knob, lay["upper_layers_z_mm"], True)):
-        F = flip if upper else np.eye(4)
+    for grp, fp, zs in (("crank", ik.crank, lay["lower_layers_z_mm"]),
+                        ("knob", ik.knob, lay["upper_layers_z_mm"])):
         C = [fp.C_left_mm[0], fp.C_right_mm[0]]
         E = fp.E_mm[0]
         for i, side in enumerate(("left", "right")):
@@ -90,7 +91,7 @@ def _link_bodies(design, bodies: dict, lay: dict, ik, meshes) -> tuple:
                 joint_ref_rad=q, mass_kg=float(bodies[pn].mass_kg), com_m=np.asarray(bodies[pn].com_m),
                 inertia_com_kg_m2=np.asarray(bodies[pn].inertia_com_kg_m2),
                 armature_kg_m2=dev.joint_rotor_inertia_kg_m2(f"{grp}_q_{side}"),
-                meshes=meshes(pn, f"proximal_{side}", F)))
+                meshes=meshes(pn, zs[0])))
             rel = np.linalg.inv(Tp) @ Td
             tip = {f"{grp}_tip_{side}": np.array([l3 * 1e-3, 0.0, 0.0])}
             out.append(SimBody(
@@ -98,24 +99,24 @@ def _link_bodies(design, bodies: dict, lay: dict, ik, meshes) -> tuple:
                 joint_ref_rad=psi - q, mass_kg=float(bodies[f"{grp}_distal"].mass_kg),
                 com_m=np.asarray(bodies[f"{grp}_distal"].com_m),
                 inertia_com_kg_m2=np.asarray(bodies[f"{grp}_distal"].inertia_com_kg_m2),
-                meshes=meshes(dn, "distal", F), sites=tip))
+                meshes=meshes(dn, zs[1 + i]), sites=tip))
             n = dev.transmission(f"{grp}_q_{side}").ratio  # joint torque = n motor torque
             motors.append(SimMotor(f"{grp}_motor_{side}", f"{grp}_q_{side}", torque[f"{grp}_q_{side}"] / n, gear=n))
     return out, world, motors
 
 
-def sim_model(design, bodies: dict, bodies_parts: dict, ground_items, lay: dict, home, ik,
-              made: set[str], color) -> SimModel:
+def sim_model(design, bodies: dict, instances, lay: dict, home, ik) -> SimModel:
     """SimModel of the twin pantograph written at ``home`` (module docstring).
 
-    ``bodies``: MassProps per body (link frame, SI); ``bodies_parts``: (kind, 4x4 mm) per
-    link type; ``ground_items``: (name, kind, 4x4 mm world) of the fixed parts; ``made``:
-    kinds with an STL file; ``color(kind)``: rgb.
+    ``bodies``: MassProps per body (link frame at its layer height, SI); ``instances``: the
+    assembly model's part instances (body frames z = 0 on the base plate's top, mm), every
+    instance with a solid reaching its body's meshes (:func:`body_meshes`, the body frame
+    lifted to its layer height ``z``).
     """
     l6 = design.mechanism.crank_mm
 
-    def meshes(prefix, link_type, F):
-        return _meshes(bodies_parts, made, color, prefix, link_type, F)
+    def meshes(body, z_mm):
+        return body_meshes(instances, body, _T(np.eye(3), (0.0, 0.0, -z_mm)))
 
     out, world, motors = _link_bodies(design, bodies, lay, ik, meshes)
     th = float(home[2])
@@ -132,7 +133,7 @@ def sim_model(design, bodies: dict, bodies_parts: dict, ground_items, lay: dict,
         name="crankshaft", parent="knob_distal_left", pos_m=rel[:3, 3] * 1e-3, rot=rel[:3, :3],
         joint="theta", joint_ref_rad=th - psi_k, mass_kg=float(cs.mass_kg), com_m=np.asarray(cs.com_m),
         inertia_com_kg_m2=np.asarray(cs.inertia_com_kg_m2),
-        meshes=meshes("crankshaft", "crankshaft", np.eye(4)),
+        meshes=meshes("crankshaft", lay["web_z_mm"]),
         sites={"handle": np.zeros(3), "crank_pin": np.array([l6 * 1e-3, 0.0, 0.0]),
                # loop sites on the journal axes at the height of the distal tip they meet
                "journal": np.array([0.0, 0.0, dz(lay["upper_layers_z_mm"][2])]),
@@ -143,10 +144,7 @@ def sim_model(design, bodies: dict, bodies_parts: dict, ground_items, lay: dict,
         SimLoop("loop_crank_left", "crank_distal_left", "crank_tip_left", "crankshaft", "crank_pin_left"),
         SimLoop("loop_crank_right", "crank_distal_right", "crank_tip_right", "crankshaft", "crank_pin_right"),
     ]
-    wm = tuple(
-        SimMesh(name, f"{kind}.stl", T[:3, 3] * 1e-3, T[:3, :3], (*color(kind), 1.0))
-        for name, kind, T in ground_items if kind in made
-    )
+    wm = body_meshes(instances, "ground")
     return SimModel(
         name=design.name, bodies=tuple(out), world_meshes=wm, loops=tuple(loops), motors=tuple(motors),
         meshdir=".",
@@ -194,12 +192,9 @@ def fivebar_sim_model(design, model, bodies: dict) -> SimModel:
     l3 = design.params["distal_mm"] * 1e-3
     dev = resolve_device(design)
     arm = {m.joint: dev.joint_rotor_inertia_kg_m2(m.joint) for m in dev.motors}
-    made = {i.kind.name for i in model.instances if i.kind.made and i.kind.listed}
 
     def meshes(body):
-        return tuple(SimMesh(i.name, f"{i.kind.name}.stl", i.tf_body_part[:3, 3] * 1e-3,
-                             i.tf_body_part[:3, :3], (*get_material(i.kind.material).color_rgb, 1.0))
-                     for i in model.instances if i.body == body and i.kind.name in made)
+        return body_meshes(model.instances, body)
 
     out = []
     for name, parent in FIVEBAR_TREE.items():

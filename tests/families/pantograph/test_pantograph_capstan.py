@@ -507,3 +507,24 @@ def test_the_haptic_pens_capstan_solids_are_refused(tmp_path):
     p.write_text((ROOT / "designs" / "haptic_pen.toml").read_text() + CAPSTAN)
     code, _, err = hapticad("check", p)
     assert_one_line_error(code, err, "transmission", "the haptic pen's capstan solids", "not built yet")
+
+
+def test_chai3d_stiffness_is_the_datasheets_with_the_ropes_in_series(built):
+    """chai3d_device.json m_maxLinearStiffness read back = the datasheet's renderable stiffness
+    with the ropes in series (report.json ``K_max_with_cable_N_per_m``; tester finding: it stated
+    eq (25)'s K_max without the ropes) = the two-spring closed form 1 / (1 / K_max + 1 / K_rope)
+    on the datasheet's eq (25) K_max and its ropes' stiffness at the handle, each rope's k_q
+    = EA (2 / L) r_d^2 by hand."""
+    from cad.data.cables import CABLES
+
+    _, out, rep = built
+    ds = {r["key"]: r["value"] for r in rep["datasheet"]["rows"]}
+    rd, rc = NB * DC_B / 2, DC_B / 2
+    L = math.sqrt((rd + rc + 2.0) ** 2 - (rd - rc) ** 2) * 1e-3  # pitch circles 2 mm apart
+    k_q = CABLES["steel-7x7-0.8"].axial_stiffness_EA_N * 2 / L * (rd * 1e-3) ** 2
+    assert ds["cable_stiffness_Nm_per_rad_1"] == pytest.approx(k_q, rel=1e-12)
+    K = json.loads((out / "firmware" / "chai3d_device.json").read_text())["m_maxLinearStiffness"]
+    two_springs = 1.0 / (1.0 / ds["eq25_K_max_N_per_m"] + 1.0 / ds["cable_handle_stiffness_N_per_m"])
+    assert K == pytest.approx(two_springs, rel=1e-12)
+    assert K == pytest.approx(ds["K_max_with_cable_N_per_m"], rel=1e-12)
+    assert K < ds["eq25_K_max_N_per_m"]  # the ropes in series soften the wall

@@ -277,9 +277,7 @@ def _sim_xml(d, rep: dict) -> str:
     from cad.families.pantograph.sim import sim_model
 
     X = _home(d)
-    parts = {k: [] for k in ("proximal_left", "proximal_right", "distal", "crankshaft")}
-    model = sim_model(d, _massprops(rep), parts, [], layout(_design(DIRECT)), X.tolist(), tw.ik(d.mechanism, X[None]), set(),
-                      lambda kind: (0.5, 0.5, 0.5))
+    model = sim_model(d, _massprops(rep), [], layout(_design(DIRECT)), X.tolist(), tw.ik(d.mechanism, X[None]))
     return mjcf_text(model)
 
 
