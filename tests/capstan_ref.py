@@ -70,3 +70,20 @@ def section_profile(shape, angle_deg: float = 0.0, n: int = 400) -> np.ndarray:
     r = pts[:, 0] * c + pts[:, 1] * s
     keep = r > 0
     return np.column_stack([pts[keep, 2], r[keep]])
+
+
+def sector_distance_mm(p, s, q_deg: float, reach_mm: float, margin_deg: float) -> float:
+    """Distance (mm) from plan point ``p`` to drum side ``s``'s swept sector (radius 0 ..
+    ``reach_mm``, its arc widened by ``margin_deg`` at both ends) at link angle ``q_deg``: past
+    the rim inside the arc, else to the nearer end radius (plane geometry by hand, a second
+    method beside the sampled masks of :mod:`cad.families.pantograph.twin_placement`)."""
+    v = np.asarray(p, float) - np.asarray(s.b_mm, float)
+    a0 = s.arc_start_deg + q_deg - margin_deg
+    span = s.arc_span_deg + 2 * margin_deg
+    if (math.degrees(math.atan2(v[1], v[0])) - a0) % 360.0 <= span:
+        return max(float(np.hypot(*v)) - reach_mm, 0.0)
+    out = math.inf
+    for a in (a0, a0 + span):
+        u = np.array([math.cos(math.radians(a)), math.sin(math.radians(a))])
+        out = min(out, float(np.hypot(*(v - np.clip(v @ u, 0.0, reach_mm) * u))))
+    return out

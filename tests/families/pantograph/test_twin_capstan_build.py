@@ -32,6 +32,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from tests.capstan_ref import sector_distance_mm
+
 ROOT = Path(__file__).resolve().parents[3]
 DESIGN = ROOT / "designs" / "twin_pantograph_capstan.toml"
 MOUSE = ROOT / "designs" / "haptic_mouse.toml"
@@ -64,18 +66,8 @@ def _angles(design, cols):
 
 
 def _sector_distance(p, s, q) -> float:
-    """Distance (mm) from point ``p`` to the drum ``s``'s widened sector (radius 0..reach) at
-    link angle ``q`` (deg): past the rim inside the arc, else to the nearer end radius."""
-    v = np.asarray(p, float) - np.asarray(s.b_mm, float)
-    a0 = s.arc_start_deg + q - MARGIN_DEG
-    span = s.arc_span_deg + 2 * MARGIN_DEG
-    if (math.degrees(math.atan2(v[1], v[0])) - a0) % 360.0 <= span:
-        return max(float(np.hypot(*v)) - REACH_MM, 0.0)
-    out = math.inf
-    for a in (a0, a0 + span):
-        u = np.array([math.cos(math.radians(a)), math.sin(math.radians(a))])
-        out = min(out, float(np.hypot(*(v - np.clip(v @ u, 0.0, REACH_MM) * u))))
-    return out
+    """:func:`tests.capstan_ref.sector_distance_mm` with this design's reach and margin."""
+    return sector_distance_mm(p, s, q, REACH_MM, MARGIN_DEG)
 
 
 # ----------------------------------------------------------------------------- fast: layout

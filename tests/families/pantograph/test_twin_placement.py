@@ -17,6 +17,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from tests.capstan_ref import sector_distance_mm
+
 ROOT = Path(__file__).resolve().parents[3]
 TWIN = ROOT / "designs" / "twin_pantograph_capstan.toml"
 #: The drum's reach by hand: crests (136 - 0.8) / 2 + 0.35 x 0.8 = 67.88 mm, and the tensioner out
@@ -140,18 +142,8 @@ def test_every_bridge_post_stands_where_the_knob_drums_sweep(design, knob):
 
 
 def _sector_distance(p, s, q) -> float:
-    """Distance (mm) from point ``p`` to the drum ``s``'s widened sector (radius 0..reach) at
-    link angle ``q`` (deg)."""
-    v = np.asarray(p, float) - np.asarray(s.b_mm, float)
-    a0 = s.arc_start_deg + q - MARGIN_DEG
-    span = s.arc_span_deg + 2 * MARGIN_DEG
-    if (math.degrees(math.atan2(v[1], v[0])) - a0) % 360.0 <= span:
-        return max(float(np.hypot(*v)) - REACH_MM, 0.0)
-    out = math.inf
-    for a in (a0, a0 + span):
-        u = np.array([math.cos(math.radians(a)), math.sin(math.radians(a))])
-        out = min(out, float(np.hypot(*(v - np.clip(v @ u, 0.0, REACH_MM) * u))))
-    return out
+    """:func:`tests.capstan_ref.sector_distance_mm` with this design's reach and margin."""
+    return sector_distance_mm(p, s, q, REACH_MM, MARGIN_DEG)
 
 
 def test_in_two_bands_the_crank_drums_keep_clear_of_the_other_axle(design):
