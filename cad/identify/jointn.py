@@ -149,17 +149,17 @@ def _best_signs(X3, mask, tau_raw, Te, P=None):
     return best
 
 
-def _offsets(model: JointModel, q, mask) -> tuple[np.ndarray | None, np.ndarray | None]:
+def _offsets(model: JointModel, q, mask) -> tuple[np.ndarray | None, np.ndarray | None, np.ndarray | None]:
     """(P (N, k, n) = W^T, C (n, k) the least-norm joint torques of unit generalized offsets
-    at the logged pose nearest the moving rows' median) of an over-actuated model; (None,
-    None) otherwise."""
+    at the logged pose nearest the moving rows' median, that pose (n,) rad) of an
+    over-actuated model; (None, None, None) otherwise."""
     if model.basis is None:
-        return None, None
+        return None, None, None
     W = np.asarray(model.basis(q), float)
     moving = q[mask.any(axis=1)]
     mid = moving[np.argmin(np.sum((moving - np.median(moving, axis=0)) ** 2, axis=1))]  # a pose of the log
     Wm = np.asarray(model.basis(mid[None]), float)[0]
-    return np.swapaxes(W, 1, 2), Wm @ np.linalg.inv(Wm.T @ Wm)
+    return np.swapaxes(W, 1, 2), Wm @ np.linalg.inv(Wm.T @ Wm), mid
 
 
 def _per_motor(names, th, cov, C):
@@ -194,7 +194,7 @@ def fit(t_s, q_rad, current_A, kt_Nm_per_A, model: JointModel, top_Hz: float | N
     if mask.sum(axis=0).min() < 50:
         raise NotExcited(f"only {int(mask.sum(axis=0).min())} samples of a joint move faster than "
                          f"{100 * IDENT_SLOW_FRACTION:g} % of its peak rate")
-    P, C = _offsets(model, q, mask)
+    P, C, mid = _offsets(model, q, mask)
     X3, names = design_matrix(model, q, v, a, Te, C, fc)
     if P is not None:
         X3 = np.einsum("nkj,njp->nkp", P, X3)
@@ -216,7 +216,7 @@ def fit(t_s, q_rad, current_A, kt_Nm_per_A, model: JointModel, top_Hz: float | N
     names_out, th_out, cov_out = _per_motor(names, s0 * th[:p], cov[:p, :p], C)
     extra = {"condition": b["cond"], "rows_used": int(mask.sum())}
     if C is not None:  # W^T at the pose the offsets were spread at: F0 = W^T T0
-        extra["offset_W"] = np.linalg.pinv(C)
+        extra["offset_W"], extra["offset_pose_rad"] = np.linalg.pinv(C), mid
     return Fit2(dict(zip(names_out, map(float, th_out), strict=True)), cov_out, names_out, float(th[-1] / Te),
                 tuple(s0 * s for s in (1, *b["signs"])), math.sqrt(b["rss"] / len(b["y"])), mask, t_s, q,
                 s0 * (b["tau"] - th[-1] * b["dtau"]), tau_fit, extra)

@@ -163,16 +163,20 @@ LEAST_NORM = ("the motors can hold a torque pattern against each other that move
 
 
 def generalized_offset_rows(pred, f: Fit2, tol0_mNm: np.ndarray) -> list[dict]:
-    """An over-actuated device's offsets along its independent coordinates, F0 = W^T T0,
-    against 0 within what motor offsets of ``tol0_mNm`` (n,) can give (sum_j |W_ji| tol0_j)."""
+    """An over-actuated device's offsets along its independent coordinates, F0 = W^T T0 at
+    the log's middle pose (``f.extra["offset_pose_rad"]``, stated in the row: constant motor
+    offsets T0 give a generalized force that changes with the pose, W(q)^T T0), against 0
+    within what motor offsets of ``tol0_mNm`` (n,) can give (sum_j |W_ji| tol0_j)."""
     W = f.extra["offset_W"]  # (k, n): F0 = W T0
+    at = ", ".join(f"{math.degrees(x):.1f}" for x in f.extra["offset_pose_rad"])
     idx = [f.names.index(f"T0{j}_Nm") for j in range(pred.n_joints)]
     T0 = np.array([f.theta[f.names[i]] for i in idx])
     C = f.cov[np.ix_(idx, idx)]
     rows = []
     for i, (ax, unit, scale) in enumerate(pred.force_axes):
         w = W[i]
-        rows.append(figure_row(f"offset_{ax}", f"constant generalized force along {ax} (the motors' offsets)",
+        rows.append(figure_row(f"offset_{ax}", f"constant generalized force along {ax} (the motors' offsets) at the log's "
+                               f"middle pose q = ({at}) deg",
                                scale * float(w @ T0), scale * math.sqrt(max(float(w @ C @ w), 0.0)), unit, 0.0,
                                tol_abs=scale * 1e-3 * float(np.abs(w) @ tol0_mNm), explain="offset"))
     return rows
