@@ -130,7 +130,8 @@ def chai3d_stiffness(wall: dict, rope: dict | None) -> tuple[float, str]:
     series with the ropes' stiffness at the handle (``rope``, :func:`rope_row`): 1 / (1 / K_max
     + 1 / k_rope) (:func:`cad.actuators.capstan.series_stiffness`) -- the datasheet's renderable
     stiffness with the ropes in series (``K_max_with_cable_N_per_m`` of the 5-bar, the twin, the
-    delta; the four-bar's row puts its simulated K_max in series instead)."""
+    delta; the four-bar's ``eq25_K_max_with_cable_N_per_m``, its ``K_max_with_cable_N_per_m`` puts
+    the simulated K_max in series)."""
     K = wall["eq25_K_max_N_per_m"]
     note = "eq (25) K_max, the conservative bound (not the datasheet's simulated K_max): " + wall["source"]
     if rope is None:

@@ -72,11 +72,13 @@ def links_inertia_kg_m2(design, report: dict, phi1_rad: np.ndarray) -> np.ndarra
 
 
 def datasheet_rows(design, report: dict, phi1_rad, Jx, device=None,
-                   K_max_N_per_m: float | None = None) -> tuple[list[dict], dict]:
+                   K_max_N_per_m: float | None = None, eq25_N_per_m: float | None = None) -> tuple[list[dict], dict]:
     """(rows, limits) of the crank's capstan (module docstring); ``([], {})`` for direct drive.
     ``phi1_rad``, ``Jx`` (m/rad): the datasheet's crank angles and lever over the stroke;
-    ``K_max_N_per_m``: the datasheet's simulated K_max (the rope's spring in series bounds it).
-    The shared rows: :func:`cad.datasheet.capstan_rows.datasheet_rows`."""
+    ``K_max_N_per_m``: the datasheet's simulated K_max, ``eq25_N_per_m`` its eq (25) bound (the
+    rope's spring in series bounds each: the second is the CHAI3D file's stiffness,
+    :func:`cad.firmware.extras.chai3d_stiffness`). The shared rows:
+    :func:`cad.datasheet.capstan_rows.datasheet_rows`."""
     j = crank_joint(design, device)
     rows, limits = cr.datasheet_rows(j)
     if not rows:
@@ -89,6 +91,12 @@ def datasheet_rows(design, report: dict, phi1_rad, Jx, device=None,
                         k_max_with_cable_N_per_m(K_max_N_per_m, k, Jx), "N/m",
                         f"1 / (1 / K_max + (dx/dphi1)^2 / k_q), weakest over the stroke: the simulated "
                         f"K_max {K_max_N_per_m:.4g} N/m in series with the rope's spring at the handle"))
+    if k is not None and eq25_N_per_m is not None:
+        rows.append(row("eq25_K_max_with_cable_N_per_m", "renderable stiffness, eq (25) bound, rope in series",
+                        k_max_with_cable_N_per_m(eq25_N_per_m, k, Jx), "N/m",
+                        f"1 / (1 / K_max + (dx/dphi1)^2 / k_q), weakest over the stroke: the eq (25) bound "
+                        f"{eq25_N_per_m:.4g} N/m in series with the rope's spring at the handle (the CHAI3D file's "
+                        "m_maxLinearStiffness)"))
     return rows, limits
 
 

@@ -331,7 +331,8 @@ def rows_and_limits(design, report: dict, out_dir=None, simulate_wall: bool = Tr
         rows.append(row("min_clearance_mm", "smallest clearance between parts over the motion",
                         report["min_clearance_mm"], "mm", "interference sweep of the build"))
     rows += stiffness_rows(design, report, m, Jx, fr[0]["value"], simulate_wall)
-    cap_rows, cap_limits = capstan.datasheet_rows(design, report, phi, Jx, dev, rows[-1]["value"])
+    eq25 = next((r["value"] for r in rows if r["key"] == "eq25_K_max_N_per_m"), None)
+    cap_rows, cap_limits = capstan.datasheet_rows(design, report, phi, Jx, dev, rows[-1]["value"], eq25)
     rows += cap_rows
     st = report.get("structure") or {}
     notes = [f"motor: {m.description}, {m.winding}"]
