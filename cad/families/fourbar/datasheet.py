@@ -263,7 +263,7 @@ def stiffness_rows(design, report, m, Jx, friction_N, simulate: bool = True) -> 
     out.append(row("K_max_N_per_m", "renderable stiffness, simulated K_max", km["K"], "N/m",
                    f"{skipped}largest stable virtual wall (B = 0) of the reduced 1-DOF model (sampled, quantized encoder, "
                    f"Coulomb + viscous friction, motor saturation; `hapticad wall`), Te = {s['Te']:g} s, "
-                   f"{s['counts']:.5g} counts/rev, Fs = {s['Fs']:.3g} N; stable = contact oscillation "
+                   f"{s['counts']:.5g} counts per crank turn, Fs = {s['Fs']:.3g} N; stable = contact oscillation "
                    f"< {wall.AMPLITUDE_COUNTS:g} encoder steps{err}; {src}",
                    paper="15000 N/m measured (Hoeken paper §III.B.4)" if design.family == "hoeken" else None))
     out[-1]["sampling_error_rel"] = km["err"]
