@@ -259,8 +259,9 @@ def refusal(design) -> str | None:
     bad = [p.clash for p in pairs if p.clash is not None]
     where = (f"the layout places the motors of {', '.join(ok)}" if ok else "")
     stop = (f"{'; ' if ok else ''}not laid out: {' | '.join(bad)}" if bad else "")
-    return (f"the haptic pen's capstan solids are not built yet ({where}{stop}): build it with direct drive, "
-            "or see docs/families/pen.md (Capstan on the pen) for what its capstan analyses give")
+    return (f"the haptic pen's capstan solids are not built yet ({where}{stop}): build it with direct shoulders "
+            "(capstans on the waist joints alone build) or direct drive, or see docs/families/pen.md (Capstan on the pen) "
+            "for what its capstan analyses give")
 
 
 def refuse_solids(design) -> None:

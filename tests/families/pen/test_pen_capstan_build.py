@@ -35,7 +35,7 @@ from tests.capstan_ref import radial_hole_mm3
 HERE = Path(__file__).resolve().parent
 #: The test case, as ``shared_build`` reads it (a path under designs/).
 CASE = "../tests/families/pen/designs/pen_waist_capstan.toml"
-FORMATS = ("mjcf", "step", "stl")
+FORMATS = ("firmware", "mjcf", "step", "stl")
 #: By hand: the drum's pitch radius, the capstan's, the centre distance (pitch radii + 2 mm rim gap).
 R_D, R_C, C_MM = 60.0, 20.0, 82.0
 ROPE_D, WRAPS = 1.0, 3.0
@@ -306,6 +306,18 @@ def test_mjcf_in_mujoco_meshes_are_the_instances_gear_and_armature(design, built
         assert m.dof_armature[m.jnt_dofadr[j]] == pytest.approx(9.0 * (jm + jc), rel=1e-3)
         s = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_ACTUATOR, f"{arm}_motor_lower")
         assert m.actuator_gear[s, 0] == pytest.approx(1.0, rel=1e-12)  # the shoulders direct
+
+
+@pytest.mark.slow
+def test_firmware_gear_is_each_drum_over_its_capstan(built):
+    """The generated firmware's HC_GEAR, in the motor order (arm A waist, lower, upper, arm B's):
+    120 / 40 = 3 on the waists (the design's drum and capstan), 1 on the direct shoulders."""
+    import re
+
+    _, out, _ = built
+    text = "\n".join(p.read_text() for p in sorted((out / "firmware").glob("*.h")))
+    gear = re.search(r"#define HC_GEAR \{([^}]*)\}", text).group(1)
+    assert [float(v) for v in re.findall(r"HC_R\(([-\d.e]+)\)", gear)] == [120 / 40, 1.0, 1.0, 120 / 40, 1.0, 1.0]
 
 
 @pytest.mark.slow
