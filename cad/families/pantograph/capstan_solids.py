@@ -191,7 +191,13 @@ def capstan_kinds(design, lay: dict) -> dict[str, PartKind]:
 def kind_suffix(design, joint: str) -> str:
     """``""`` when both motors' transmissions are the same (one part kind for both), else
     ``_left`` / ``_right``; on the twin the 5-bar's name first (``_knob``, ``_knob_left``), its
-    two motors compared."""
+    two motors compared; on the haptic pen the joint's role (``_waist``: both arms' waists
+    compared, ``_A_waist`` when they differ)."""
+    if joint in PEN_JOINTS:
+        role = joint.split("_")[-1]
+        ts = [t for t in resolve_device(design).transmissions if t.motor_joint.endswith(f"_{role}")]
+        same = all(dataclasses.replace(t, motor_joint="") == dataclasses.replace(ts[0], motor_joint="") for t in ts)
+        return f"_{role}" if same else f"_{joint[0]}_{role}"
     grp = joint_group(joint)
     ts = [t for t in resolve_device(design).transmissions if t.motor_joint.startswith(grp)]
     same = all(dataclasses.replace(t, motor_joint="") == dataclasses.replace(ts[0], motor_joint="") for t in ts)

@@ -237,7 +237,8 @@ def test_drum_and_rope_run_volumes_against_closed_forms(design, step_solids):
 def test_bom_rope_lines_and_winding_steps_name_parts_of_the_assembly(design, built, step_solids):
     """bom.csv's rope lines are the shared :func:`cad.datasheet.capstan_rows.cable_bom_line`'s
     (the cut length checked above); the anchors, tensioners and lock nuts assembly.md's winding
-    steps name are instances of assembly.step; the tensioner hardware is ordered."""
+    steps name are instances of assembly.step; the tensioner hardware and the capstans are
+    ordered, two of each."""
     import re
 
     from cad.families.pantograph.capstan import bom_lines
@@ -248,6 +249,8 @@ def test_bom_rope_lines_and_winding_steps_name_parts_of_the_assembly(design, bui
     for r in bom_lines(design):
         assert rows[r["part"]]["description"] == r["description"]
     assert int(rows["capstan_tensioner_nut"]["quantity"]) == 2
+    # the design's two waist transmissions are the same: one capstan, one tensioner screw, ordered twice
+    assert int(rows["capstan_waist"]["quantity"]) == 2 and int(rows["capstan_tensioner_screw_waist"]["quantity"]) == 2
     text = (out / "assembly.md").read_text(encoding="utf-8")
     named = set(re.findall(r"capstan_(?:anchor_\d_1|tensioner_\d|tensioner_nut_\d)\b", text))
     assert named == {f"capstan_{k}" for i in (1, 4) for k in (f"anchor_{i}_1", f"tensioner_{i}",
