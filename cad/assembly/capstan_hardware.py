@@ -111,11 +111,11 @@ def tensioner_screw_mm(t) -> tuple[float, float]:
     return L, out
 
 
-def capstan_set_screw(design, t) -> tuple[str, float]:
-    """(size, length mm) of the ISO 4026 set screw holding the capstan on the motor shaft
-    (:func:`cad.assembly.fasteners.size_set_screw`); DesignError naming
-    transmission.capstan_diameter_mm when the capstan's wall cannot hold one."""
-    m = cat.get_motor(design.parts.motor)
+def capstan_set_screw(design, t, motor_key: str | None = None) -> tuple[str, float]:
+    """(size, length mm) of the ISO 4026 set screw holding the capstan on the shaft of
+    ``motor_key`` (default ``parts.motor``) (:func:`cad.assembly.fasteners.size_set_screw`);
+    DesignError naming transmission.capstan_diameter_mm when the capstan's wall cannot hold one."""
+    m = cat.get_motor(motor_key or design.parts.motor)
     rc = cg.rim_radius_mm(t.capstan_diameter_mm, t.cable_diameter_mm)
     try:
         size, L, _ = size_set_screw(m.shaft_diameter_mm / 2, rc, (motor.SET_SCREW,),

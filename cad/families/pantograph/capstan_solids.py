@@ -44,6 +44,7 @@ from cad.device import resolve_device
 from cad.errors import DesignError
 from cad.families.pantograph import twin_capstan
 from cad.families.pantograph.capstan import DRUM_MATERIAL, DRUM_THICKNESS_MM
+from cad.families.pen.capstan import JOINTS as PEN_JOINTS
 from cad.parts import PartInstance, PartKind, joints, motor, translation
 from cad.parts import capstan as shapes
 
@@ -69,6 +70,25 @@ def mirrored(tf: np.ndarray, z_mm: float | None) -> np.ndarray:
     return translation(0, 0, z_mm) @ np.diag([1.0, 1.0, -1.0, 1.0]) @ tf @ np.diag([1.0, -1.0, 1.0, 1.0])
 
 
+#: What a capstan's axle carries, by default the 5-bar's proximal link (``lay["capstan"]["carrier"]``
+#: overrides any key: the haptic pen's waist bracket): the axle kind's name, the body's words (and
+#: after the joint's group and side in the drum's words), what fixes the body on the axle, where
+#: the axle stands.
+CARRIER = {"axle": "proximal_axle", "link": "proximal link", "drum_link": "proximal link",
+           "fixing": "the hub clevis's set screw on it", "at": "B"}
+
+
+def carrier(lay: dict) -> dict:
+    """:data:`CARRIER` with ``lay["capstan"]["carrier"]``'s keys over it."""
+    return {**CARRIER, **lay.get("capstan", {}).get("carrier", {})}
+
+
+def motor_key(design, lay: dict) -> str:
+    """The catalog key of the motors a capstan layout moves: ``lay["capstan"]["motor"]`` (the
+    haptic pen's waist motors), else ``parts.motor``."""
+    return lay.get("capstan", {}).get("motor", design.parts.motor)
+
+
 def joint_group(joint: str) -> str:
     """The twin's 5-bar prefix of a motor joint (``"knob_"`` of ``knob_q_left``); ``""`` on the 5-bar."""
     return joint[: joint.rindex("q_")]
@@ -76,46 +96,54 @@ def joint_group(joint: str) -> str:
 
 def rope_index(joint: str) -> int:
     """The capstan's number in the rows, BOM lines and winding steps (``_1`` ..): the 5-bar's
-    left 1, right 2; the twin's in :data:`cad.families.pantograph.twin_capstan.JOINTS` order."""
+    left 1, right 2; the twin's in :data:`cad.families.pantograph.twin_capstan.JOINTS` order, the
+    haptic pen's in :data:`cad.families.pen.capstan.JOINTS` order."""
     if joint in twin_capstan.JOINTS:
         return twin_capstan.JOINTS.index(joint) + 1
+    if joint in PEN_JOINTS:
+        return PEN_JOINTS.index(joint) + 1
     return ("q_left", "q_right").index(joint) + 1
 
 
-def block_height_mm(design) -> float:
-    """The bearing block's height (mm): two bearing seats and the lip between them."""
-    brg = a1_bearing(cat.get_motor(design.parts.motor).shaft_diameter_mm)
+def block_height_mm(design, motor_key: str | None = None) -> float:
+    """The bearing block's height (mm): two bearing seats and the lip between them; the
+    bearings' bore the shaft's of ``motor_key`` (default ``parts.motor``)."""
+    brg = a1_bearing(cat.get_motor(motor_key or design.parts.motor).shaft_diameter_mm)
     return 2 * brg.B_mm + A1_LIP_MM
 
 
 def axle_kind(design, lay: dict) -> PartKind:
     """The proximal link's axle: the motor shaft's diameter, from the bearing block's bottom to
-    the hub clevis's top."""
+    the hub clevis's top (``lay["capstan"]["axle_top_mm"]`` when given, and the body it
+    carries :func:`carrier`)."""
     p = design.parts
-    m = cat.get_motor(p.motor)
+    m = cat.get_motor(motor_key(design, lay))
     brg = a1_bearing(m.shaft_diameter_mm)
-    z0 = -p.plate_thickness_mm - block_height_mm(design)
-    top = lay["lower_layers_z_mm"][0] + p.clevis_height_mm / 2
+    z0 = -p.plate_thickness_mm - block_height_mm(design, m.key)
+    top = lay.get("capstan", {}).get("axle_top_mm")
+    top = lay["lower_layers_z_mm"][0] + p.clevis_height_mm / 2 if top is None else top
     L = top - z0
-    return PartKind("proximal_axle", shapes.axle_shape(m.shaft_diameter_mm, L), material=cg.CAPSTAN_MATERIAL,
-                    made=True, description=f"proximal link axle d{m.shaft_diameter_mm:g} x {L:g} mm at B (in two "
-                    f"{brg.designation} bearings, the hub clevis's set screw on it)",
+    c = carrier(lay)
+    return PartKind(c["axle"], shapes.axle_shape(m.shaft_diameter_mm, L), material=cg.CAPSTAN_MATERIAL,
+                    made=True, description=f"{c['link']} axle d{m.shaft_diameter_mm:g} x {L:g} mm at {c['at']} (in two "
+                    f"{brg.designation} bearings, {c['fixing']})",
                     process="turned; grind the journals",
                     fits=(fit("journal", m.shaft_diameter_mm, "bearing journal"),), revolution=True)
 
 
-def axle_z_mm(design) -> float:
-    """The axle's bottom (mm, world z): the bearing block's bottom."""
-    return -design.parts.plate_thickness_mm - block_height_mm(design)
+def axle_z_mm(design, motor_key: str | None = None) -> float:
+    """The axle's bottom (mm, world z): the bearing block's bottom (:func:`block_height_mm`)."""
+    return -design.parts.plate_thickness_mm - block_height_mm(design, motor_key)
 
 
 def capstan_kinds(design, lay: dict) -> dict[str, PartKind]:
     """The capstan drive's part kinds by name (the axle, bearing block and its bearing, each
     side's drum, the anchor screw, the tensioner screw and nut, the capstan and its set screw)."""
     p = design.parts
-    m = cat.get_motor(p.motor)
+    m = cat.get_motor(motor_key(design, lay))
     brg = a1_bearing(m.shaft_diameter_mm)
     rings = joints.bearing_rings(brg.size)
+    c = carrier(lay)
     K = {"proximal_axle": axle_kind(design, lay)}
     K["bearing_block"] = PartKind(
         "bearing_block",
@@ -123,25 +151,25 @@ def capstan_kinds(design, lay: dict) -> dict[str, PartKind]:
                                    cat.clearance_hole_mm(motor.MOUNT_SCREW), brg.D_mm, brg.B_mm, A1_LIP_MM,
                                    brg.Da_mm, A1_WALL_MM),
         material=p.plate_material, made=True,
-        description=(f"bearing block at B: {motor.mount_side_mm(m):g} mm square flange, boss with two "
-                     f"{brg.designation} bearing seats and a {A1_LIP_MM:g} mm lip (the proximal link's axle)"),
-        process=(f"machined from {block_height_mm(design):g} mm plate: mill the boss, bore the seats from both "
+        description=(f"bearing block at {c['at']}: {motor.mount_side_mm(m):g} mm square flange, boss with two "
+                     f"{brg.designation} bearing seats and a {A1_LIP_MM:g} mm lip (the {c['link']}'s axle)"),
+        process=(f"machined from {block_height_mm(design, m.key):g} mm plate: mill the boss, bore the seats from both "
                  f"sides; drill {motor.MOUNT_SCREW.split('-')[0]} clearance x4"),
         fits=(fit("bearing seat", brg.D_mm),))
     K["axle_bearing"] = PartKind(
         f"bearing_{brg.size}", joints.bearing_shape(brg.size, True), material=cat.BEARING_MATERIAL, made=False,
         description=f"deep groove ball bearing {brg.designation} ({brg.d_mm:g}x{brg.D_mm:g}x{brg.B_mm:g}), "
-        "proximal link axle at B", process="bought", inertia_model="ring", mass_kg=brg.mass_kg,
+        f"{c['link']} axle at {c['at']}", process="bought", inertia_model="ring", mass_kg=brg.mass_kg,
         ring_mm=(brg.d_mm / 2, brg.D_mm / 2, brg.B_mm), collision=(("other", rings[0]), ("self", rings[1])),
         revolution=True, hull=joints.bearing_shape(brg.size, False))
     dev = resolve_device(design)
     for sd in lay["capstan"]["sides"]:
-        K[f"drum_{sd.joint}"] = _drum_kind(design, dev.transmission(sd.joint), sd)
+        K[f"drum_{sd.joint}"] = _drum_kind(design, dev.transmission(sd.joint), sd, lay)
     for sd in lay["capstan"]["sides"]:
         t = dev.transmission(sd.joint)
         sfx = kind_suffix(design, sd.joint)
-        K[f"capstan{sfx}"] = _capstan_kind(design, t, sfx)
-        size, Ls = capstan_set_screw(design, t)
+        K[f"capstan{sfx}"] = _capstan_kind(design, t, sfx, m.key)
+        size, Ls = capstan_set_screw(design, t, m.key)
         K[f"capstan_set_screw{sfx}"] = PartKind(
             f"capstan_set_screw{sfx}", motor.set_screw_shape(Ls, size), material=cat.FASTENER_MATERIAL,
             made=False, process="bought",
@@ -163,7 +191,13 @@ def capstan_kinds(design, lay: dict) -> dict[str, PartKind]:
 def kind_suffix(design, joint: str) -> str:
     """``""`` when both motors' transmissions are the same (one part kind for both), else
     ``_left`` / ``_right``; on the twin the 5-bar's name first (``_knob``, ``_knob_left``), its
-    two motors compared."""
+    two motors compared; on the haptic pen the joint's role (``_waist``: both arms' waists
+    compared, ``_A_waist`` when they differ)."""
+    if joint in PEN_JOINTS:
+        role = joint.split("_")[-1]
+        ts = [t for t in resolve_device(design).transmissions if t.motor_joint.endswith(f"_{role}")]
+        same = all(dataclasses.replace(t, motor_joint="") == dataclasses.replace(ts[0], motor_joint="") for t in ts)
+        return f"_{role}" if same else f"_{joint[0]}_{role}"
     grp = joint_group(joint)
     ts = [t for t in resolve_device(design).transmissions if t.motor_joint.startswith(grp)]
     same = all(dataclasses.replace(t, motor_joint="") == dataclasses.replace(ts[0], motor_joint="") for t in ts)
@@ -171,16 +205,16 @@ def kind_suffix(design, joint: str) -> str:
     return pre if same else f"{pre}_{joint.split('_')[-1]}"
 
 
-def _drum_kind(design, t, sd) -> PartKind:
+def _drum_kind(design, t, sd, lay: dict) -> PartKind:
     d = t.cable_diameter_mm
     rd = cg.rim_radius_mm(t.drum_diameter_mm, d)
-    bore = cat.get_motor(design.parts.motor).shaft_diameter_mm / 2
+    bore = cat.get_motor(motor_key(design, lay)).shaft_diameter_mm / 2
     tap = cat.tap_drill_mm(ANCHOR_SCREW)
     depth = ANCHOR_SCREW_LENGTH_MM + motor.TAP_LEADOUT_MM
     th = DRUM_THICKNESS_MM
     side, grp = sd.joint.split("_")[-1], joint_group(sd.joint)
     desc, process = grooved_drum_texts(t.drum_diameter_mm, rd, d, sd.arc_span_deg, th,
-                                       f"on the {grp.replace('_', ' ')}{side} proximal link's axle at B",
+                                       f"on the {grp.replace('_', ' ')}{side} {carrier(lay)['drum_link']}'s axle at {carrier(lay)['at']}",
                                        "ream the axle bore, pinned to the axle")
     return PartKind(
         f"{grp}capstan_drum_{side}",
@@ -191,8 +225,8 @@ def _drum_kind(design, t, sd) -> PartKind:
         description=desc, process=process)
 
 
-def _capstan_kind(design, t, sfx: str) -> PartKind:
-    m = cat.get_motor(design.parts.motor)
+def _capstan_kind(design, t, sfx: str, motor_key: str) -> PartKind:
+    m = cat.get_motor(motor_key)
     d = t.cable_diameter_mm
     rc = cg.rim_radius_mm(t.capstan_diameter_mm, d)
     length = cg.capstan_length_mm(d, t.wraps)
@@ -213,21 +247,23 @@ def capstan_z_mm(design, t, rope_z_mm: float) -> float:
 
 
 def block_parts(design, K: dict, lay: dict, i: int, side: str, b, screw_kind,
-                tf_world_link: np.ndarray) -> tuple[list, dict]:
+                tf_world_link: np.ndarray, body: str | None = None) -> tuple[list, dict]:
     """The bearing block at joint ``b`` with its two bearings (inner ring on the proximal link)
     and its four screws into the base plate's tapped holes; (instances, tapped holes). On the
     twin's knob pantograph (``lay["capstan"]["mirror_z_mm"]`` set) all of it mirrored onto the
     bridge (:func:`mirrored`), the screws in the bridge plate; ``side`` the link's body name
-    without ``proximal_`` (``left``, ``knob_left``)."""
+    without ``proximal_`` (``left``, ``knob_left``); ``body`` the body the bearings' inner rings
+    turn with (default: that link's)."""
     p = design.parts
-    m = cat.get_motor(p.motor)
-    z0, h = axle_z_mm(design), block_height_mm(design)
+    m = cat.get_motor(motor_key(design, lay))
+    z0, h = axle_z_mm(design, m.key), block_height_mm(design, m.key)
     zm = lay["capstan"].get("mirror_z_mm")
     plate = "base_plate" if zm is None else "bridge_plate"
     B = K["axle_bearing"].ring_mm[2]
-    name, body = f"bearing_block_{i}", f"proximal_{side}"
+    name, link = f"bearing_block_{i}", f"proximal_{side}"
     if "_" in side:
-        body = f"{side.split('_')[0]}_proximal_{side.split('_')[1]}"
+        link = f"{side.split('_')[0]}_proximal_{side.split('_')[1]}"
+    body = body or link
     out = [PartInstance(name, K["bearing_block"], "ground", mirrored(translation(b[0], b[1], z0), zm))]
     tf_link = np.linalg.inv(tf_world_link)
     for k, z in enumerate((z0 + h - B, z0)):
@@ -246,11 +282,11 @@ def block_parts(design, K: dict, lay: dict, i: int, side: str, b, screw_kind,
     return out, holes
 
 
-def drum_parts(design, K: dict, lay: dict, sd, t) -> list[PartInstance]:
-    """The drum on the proximal link (link frame), its anchor screw and the tensioner with its
-    lock nut."""
+def drum_parts(design, K: dict, lay: dict, sd, t, body: str | None = None) -> list[PartInstance]:
+    """The drum on the proximal link (link frame; ``body`` another body carrying it), its anchor
+    screw and the tensioner with its lock nut."""
     side = sd.joint.split("_")[-1]
-    body = f"{joint_group(sd.joint)}proximal_{side}"
+    body = body or f"{joint_group(sd.joint)}proximal_{side}"
     z0, z1 = lay["capstan"]["drum_z_mm"]
     seat = cg.crest_radius_mm(t.drum_diameter_mm, t.cable_diameter_mm)  # heads and nut on the crests
     out = [PartInstance(f"{body}.capstan_drum", K[f"drum_{sd.joint}"], body, translation(0, 0, z0))]
@@ -264,16 +300,17 @@ def drum_parts(design, K: dict, lay: dict, sd, t) -> list[PartInstance]:
     return out
 
 
-def motor_side_parts(design, K: dict, lay: dict, sd, t, i: int) -> list[PartInstance]:
+def motor_side_parts(design, K: dict, lay: dict, sd, t, i: int, motor_name: str | None = None) -> list[PartInstance]:
     """The capstan and its set screw on the moved motor's shaft, the shaft itself, and the two
     free runs of rope (ground), each run's collision envelope trimmed at both ends
     (:func:`cad.assembly.capstan_hardware.run_trim_mm`); on the twin's knob pantograph
     (``lay["capstan"]["mirror_z_mm"]`` set) the capstan, its set screw and the shaft mirrored
     onto the bridge (:func:`mirrored`), the ropes in its rope plane; a motor raised by
     ``lay["capstan"]["raise_mm"]`` (its mount plate on the plate's top) has its shaft that much
-    higher."""
+    higher. ``motor_name``: the motor's instance name (its shaft is ``<motor_name>.shaft``;
+    default ``lower_motor_<n>`` / ``upper_motor_<n>``)."""
     p = design.parts
-    m = cat.get_motor(p.motor)
+    m = cat.get_motor(motor_key(design, lay))
     ox, oy = sd.motor_xy_mm
     zr, zm = lay["capstan"]["rope_z_mm"], lay["capstan"].get("mirror_z_mm")
     zc = capstan_z_mm(design, t, zr if zm is None else zm - zr)  # on the crank side's terms
@@ -283,7 +320,8 @@ def motor_side_parts(design, K: dict, lay: dict, sd, t, i: int) -> list[PartInst
            PartInstance(f"capstan_{i}.set_screw", K[f"capstan_set_screw{sfx}"], "ground",
                         mirrored(tf_c @ translation(0, 0, cg.CAPSTAN_HUB_MM / 2) @ _RY90
                                  @ translation(0, 0, m.shaft_diameter_mm / 2), zm)),
-           PartInstance(f"{'lower' if zm is None else 'upper'}_motor_{(i - 1) % 2 + 1}.shaft", K["motor_shaft"], "ground",
+           PartInstance(f"{motor_name or ('lower' if zm is None else 'upper') + f'_motor_{(i - 1) % 2 + 1}'}.shaft",
+                        K["motor_shaft"], "ground",
                         mirrored(translation(ox, oy, -p.plate_thickness_mm - p.motor_mount_thickness_mm
                                              + lay["capstan"].get("raise_mm", 0.0)), zm))]
     c = 1.1  # the check's clearance and a tenth
@@ -313,15 +351,16 @@ def check_capstan_z(design, lay: dict) -> None:
     motor shaft (its set-screw hub above the shaft's tip) or reach down onto the motor face
     screws' heads."""
     p = design.parts
-    m = cat.get_motor(p.motor)
+    m = cat.get_motor(motor_key(design, lay))
     tip = -p.plate_thickness_mm - p.motor_mount_thickness_mm + m.shaft_length_mm
     heads = -p.plate_thickness_mm + cat.get_cap_screw(m.bolt_size, "parts.motor").k_mm
+    only = {sd.joint for sd in lay["capstan"].get("sides", ())} if "motor" in lay["capstan"] else None
     for t in resolve_device(design).transmissions:
-        if not t.is_capstan:  # a twin's direct 5-bar
+        if not t.is_capstan or (only is not None and t.motor_joint not in only):  # a twin's direct 5-bar
             continue
         zc = capstan_z_mm(design, t, lay["capstan"]["rope_z_mm"])
         if zc + cg.CAPSTAN_HUB_MM > tip + 1e-9 or zc < heads - 1e-9:  # a float hair, as wraps_that_fit
             raise DesignError("transmission.wraps", f"{t.wraps:g} turns put the capstan at z {zc:.2f} .. "
                               f"{zc + cg.capstan_length_mm(t.cable_diameter_mm, t.wraps):.2f} mm: its hub must sit on "
-                              f"the {p.motor} shaft (tip at z {tip:g} mm) above the face screws' heads (z {heads:g} mm); "
+                              f"the {m.key} shaft (tip at z {tip:g} mm) above the face screws' heads (z {heads:g} mm); "
                               + wraps_that_fit(t, lay["capstan"]["rope_z_mm"], tip, heads))

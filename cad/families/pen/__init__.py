@@ -5,8 +5,9 @@ with parts, behind one :class:`cad.families.protocol.FamilyPackage`, :data:`FAMI
 builds it, :mod:`.datasheet` gives its rows, :mod:`.sim` its MJCF, :mod:`.design` its
 ``[parts]`` schema, :mod:`.layout` its numbers and body poses, :mod:`.parts` its part
 scripts, :mod:`.firmware` its firmware model (the generic writers of :mod:`cad.firmware`),
-:mod:`.capstan` its capstans' analyses and :mod:`.capstan_layout` where their motors would sit
-(the solids are not drawn yet: the build refuses them in one line)."""
+:mod:`.capstan` its capstans' analyses, :mod:`.capstan_layout` where their motors sit and
+:mod:`.capstan_solids` the waists' capstan solids (the shoulders' are not drawn yet: the build
+refuses them in one line)."""
 
 from cad.design.targets import PANTOGRAPH_TARGET_KEYS
 from cad.families import SHARED_CODE_DEPS

@@ -17,7 +17,9 @@ from cad.assembly.model import AssemblyModel
 from cad.data.catalog import clearance_hole_mm, get_cap_screw, get_motor, tap_drill_mm
 from cad.data.fits import fit
 from cad.device import parts_motor
+from cad.families.pantograph.build import screw_plan
 from cad.families.pantograph.layout import leg_xy
+from cad.families.pen import capstan_solids as PCS
 from cad.families.pen import layout as L
 from cad.families.pen.fasteners import bracket_bolt_xz_mm, place_screws, screw_kinds
 from cad.kinematics import haptic_pen as hp
@@ -151,10 +153,14 @@ def _ground_kinds(design, lay: dict, gl: dict, add) -> None:
         "waist bracket: motor plate for both shoulder motors, foot under the links, boss",
         "CNC milled from block; bore both pilot seats", fits=(fit("pilot bore", sm.pilot_diameter_mm),))
     h0, h1 = gl["waist_hub_mm"]
+    on_axle = gl["waist_shaft_engagement_mm"] == 0.0  # a waist capstan: the hub on its own axle
     add("waist_hub", pp2.waist_hub_shape(hub_d, h1 - h0, wm.shaft_diameter_mm,
-                                         gl["waist_shaft_engagement_mm"]),
-        p.plate_material, True, "waist hub on the waist motor shaft (bracket screwed on)",
-        "turned; ream shaft bore", fits=(fit("hub shaft bore", wm.shaft_diameter_mm, "shaft bore"),))
+                                         h1 - h0 if on_axle else gl["waist_shaft_engagement_mm"]),
+        p.plate_material, True,
+        "waist hub pinned on the waist axle (bracket screwed on)" if on_axle else
+        "waist hub on the waist motor shaft (bracket screwed on)",
+        "turned; ream the axle bore, cross-drill for the pin" if on_axle else "turned; ream shaft bore",
+        fits=(fit("hub shaft bore", wm.shaft_diameter_mm, "shaft bore"),))
     add("motor_mount", pm.motor_mount_shape(wm, p.motor_mount_thickness_mm), p.plate_material, True,
         "waist motor mount plate", "waterjet/laser plate; bore the pilot seat", plate=True,
         fits=(fit("pilot bore", wm.pilot_diameter_mm),))
@@ -163,8 +169,13 @@ def _ground_kinds(design, lay: dict, gl: dict, add) -> None:
     opening = max(wm.pilot_diameter_mm + 2 * pp.OPENING_MARGIN_MM,
                   wm.bolt_circle_mm + get_cap_screw(wm.bolt_size, "parts.waist_motor").dk_mm
                   + 2 * pp.OPENING_MARGIN_MM)
-    holes = [(s * l4 / 2, 0.0, opening) for s in (-1, 1)]
-    holes += [(s * l4 / 2 + x, y, tap_drill_mm(pm.MOUNT_SCREW)) for s in (-1, 1)
+    st = PCS.stations_xy_mm(design)  # the waist motors' axes: on the waist axes or moved by a capstan
+    moved = [st[a] for a in L.ARMS] if PCS.waist_sides(design) else []
+    axes = [(s * l4 / 2, 0.0) for s in (-1, 1)]
+    holes = [(x, y, opening) for x, y in axes if not moved]
+    holes += [(x, y, max(opening, PCS.opening_mm(design))) for x, y in moved]
+    holes += [(x, y, PCS.axle_hole_mm(design)) for x, y in axes if moved]
+    holes += [(bx + x, by + y, tap_drill_mm(pm.MOUNT_SCREW)) for bx, by in axes + moved
               for x, y in pm.mount_hole_xy_mm(wm)]
     holes += [(x, y, clearance_hole_mm(base.LEG_SCREW)) for x, y in leg_xy(gl)]
     add("base_plate", pp.plate_shape(gl["base_plate_x_mm"], gl["base_plate_y_mm"],
@@ -211,26 +222,27 @@ def _gimbal_parts(lay: dict) -> dict[str, list[tuple[str, np.ndarray]]]:
 
 
 def _waist_parts(design, lay: dict, gl: dict) -> list[tuple[str, np.ndarray]]:
-    """``[(kind, tf_body_part)]`` of a waist body (waist frame)."""
+    """``[(kind, tf_body_part)]`` of a waist body (waist frame): the waist motor's shaft, or
+    with a waist capstan the waist axle (:mod:`cad.families.pen.capstan_solids`)."""
     p = design.parts
     l1 = design.mechanism.shoulder_base_mm
     y1 = lay["motor_plate_mm"][1]
     face = gl["base_top_z_mm"] - p.plate_thickness_mm - p.motor_mount_thickness_mm
+    shaft = (("motor_waist_shaft", _tr(0, 0, face)) if gl["waist_shaft_engagement_mm"] else
+             (PCS.CARRIER["axle"], _tr(0, 0, PCS.axle_z_mm(design, gl))))
     return [("waist_bracket", np.eye(4)), ("waist_hub", _tr(0, 0, gl["waist_hub_mm"][0])),
             ("motor_shoulder", _tr(0, y1, -l1 / 2) @ _rot("x", 90)),
-            ("motor_shoulder", _tr(0, y1, l1 / 2) @ _rot("x", 90)),
-            ("motor_waist_shaft", _tr(0, 0, face))]
+            ("motor_shoulder", _tr(0, y1, l1 / 2) @ _rot("x", 90)), shaft]
 
 
 def _ground_parts(design, gl: dict) -> list[tuple[str, str, np.ndarray]]:
     """``[(instance, kind, tf_world_part)]`` of the fixed parts."""
     p = design.parts
-    l4 = design.mechanism.l4_mm
     zb, pt, mt = gl["base_top_z_mm"], p.plate_thickness_mm, p.motor_mount_thickness_mm
     out = [("base_plate", "base_plate", _tr(0, 0, zb - pt))]
-    for arm, s in (("A", -1), ("B", 1)):
-        out.append((f"{arm}_waist_motor_mount", "motor_mount", _tr(s * l4 / 2, 0, zb - pt - mt)))
-        out.append((f"{arm}_waist_motor", "motor_waist", _tr(s * l4 / 2, 0, zb - pt - mt)))
+    for arm, (x, y) in PCS.stations_xy_mm(design).items():  # on the waist axis or moved by a capstan
+        out.append((f"{arm}_waist_motor_mount", "motor_mount", _tr(x, y, zb - pt - mt)))
+        out.append((f"{arm}_waist_motor", "motor_waist", _tr(x, y, zb - pt - mt)))
     for i, (x, y) in enumerate(leg_xy(gl)):
         out.append((f"leg_{i + 1}", "leg", _tr(x, y, gl["bench_z_mm"])))
     return out
@@ -238,7 +250,8 @@ def _ground_parts(design, gl: dict) -> list[tuple[str, str, np.ndarray]]:
 
 def kinds(design, lay: dict, gl: dict, fidelity: str) -> dict:
     """``{kind name: PartKind}`` of every distinct part of the pen (and ``"_screws"``: the
-    cap screw kind of each screw group)."""
+    cap screw kind of each screw group; ``"_capstan"``: the waist capstans' kinds by the shared
+    solids' keys, :func:`cad.families.pen.capstan_solids.kinds`, empty for direct waists)."""
     K: dict = {}
 
     def add(name, shape, material, made, description, process, **kw):
@@ -249,6 +262,9 @@ def kinds(design, lay: dict, gl: dict, fidelity: str) -> dict:
     _gimbal_kinds(design, lay, add)
     _ground_kinds(design, lay, gl, add)
     K["_screws"] = screw_kinds(design, add)
+    K["_capstan"] = PCS.kinds(design, gl, screw_plan(design)["mount"]) if PCS.waist_sides(design) else {}
+    if K["_capstan"]:
+        K[PCS.CARRIER["axle"]] = K["_capstan"]["proximal_axle"]
     return K
 
 
@@ -269,7 +285,9 @@ def assemble(design, fidelity: str = "fabrication"):
     grid = hp.workspace_grid(ws["center_mm"], ws["size_mm"], ws["grid"], ws["rotation_deg"],
                              ws["rotation_grid"])
     reach = np.vstack([X, grid[L.ik_elbows_ok(design, grid)]])
-    gl = L.ground_layout(design, lay, L.lowest_link_z_mm(design, lay, reach))
+    st = PCS.stations_xy_mm(design)
+    gl = L.ground_layout(design, lay, L.lowest_link_z_mm(design, lay, reach), PCS.band_mm(design),
+                         [st[a] for a in L.ARMS] if PCS.waist_sides(design) else ())
     K = kinds(design, lay, gl, fidelity)
     motion = L.body_poses(design, X)
     inst: list = []
@@ -300,6 +318,11 @@ def assemble(design, fidelity: str = "fabrication"):
     place("pen.pen_rod", "pen_rod", "pen", _tr(2 * sock - sock))
     holes = place_screws(design, lay, gl, K["_screws"], place, _rot)
     home = {b: T[0] for b, T in motion.items()}
+    if K["_capstan"]:  # the waist capstans (the 5-bar's solids about each waist axis)
+        more, h = PCS.instances(design, K["_capstan"], gl, screw_plan(design)["mount"],
+                                K[K["_screws"]["mount"]], K["motor_waist_shaft"], home)
+        inst += more
+        holes.update(h)
     return AssemblyModel(
         design=design, instances=tuple(inst), tf_world_body=home, motion=motion,
         pose_labels=labels, holes=holes,

@@ -25,6 +25,8 @@ from pathlib import Path
 from cad.assembly import interference as itf
 from cad.device import encoder_bom_rows, resolve_device
 from cad.errors import DesignError
+from cad.families.pantograph.capstan import bom_lines as capstan_bom_lines
+from cad.families.pantograph.capstan import winding_steps
 from cad.families.pen import assemble
 from cad.families.pen import layout as L
 from cad.families.pen.capstan_layout import refuse_solids as refuse_capstan_solids
@@ -61,7 +63,7 @@ def check_options(design, fidelity: str, phi1_deg, formats=frozenset()) -> None:
     if "urdf" in set(formats):
         raise DesignError("--formats", "urdf is not written for the haptic pen (mjcf is)")
 
-    refuse_capstan_solids(design)  # not drawn yet: one line with where the layout puts them or what stops it
+    refuse_capstan_solids(design)  # the shoulders' not drawn yet: one line with where the layout puts them
     L.layout(design)  # hardware that does not fit: named before any CAD
 
 
@@ -106,8 +108,9 @@ def _assemble(design, fidelity: str):
 
 def _encoder_rows(design) -> list[dict]:
     """The joint encoders the device carries (one per motor, no solid): BOM lines from the
-    resolved device (:func:`cad.device.encoder_bom_rows`)."""
-    return encoder_bom_rows(resolve_device(design))
+    resolved device (:func:`cad.device.encoder_bom_rows`); the capstans' ropes with their cut
+    lengths (:func:`cad.families.pantograph.capstan.bom_lines`, the shared rows)."""
+    return encoder_bom_rows(resolve_device(design)) + capstan_bom_lines(design)
 
 
 def _stages():
@@ -120,7 +123,7 @@ def _stages():
         preview_title=lambda b: f"{b.design.name}: haptic pen at the workspace centre",
         dynamics=_dynamics, bench_z_mm=lambda b: b.model.extra.ground_mm["bench_z_mm"],
         thread_notes=False,  # the pen's DXF/drawings carry no tapped-hole notes (as before)
-        more_files=_mjcf, assembly=lambda design: (None, ASSEMBLY_CHECKS),
+        more_files=_mjcf, assembly=lambda design: (None, ASSEMBLY_CHECKS + winding_steps(design)),
         no_solid_rows=_encoder_rows)
 
 

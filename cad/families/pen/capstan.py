@@ -17,8 +17,9 @@ module only says where the pen's joints turn and how its ropes reach the pen.
   function: a direct-drive joint holds rigidly, the pen then moves only in the null space of
   its rows).
 
-The solids (drums on the waist brackets and the proximal links, motors moved off their axes)
-are not built yet: where the motors would sit is :mod:`cad.families.pen.capstan_layout`, whose
+The waists' solids (drums on the waist brackets, the waist motors moved off their axes) are
+:mod:`cad.families.pen.capstan_solids`; the shoulders' (drums on the proximal links) are not
+built yet: where their motors would sit is :mod:`cad.families.pen.capstan_layout`, whose
 ``refuse_solids`` refuses every command that needs them in one line naming ``transmission``.
 """
 

@@ -249,23 +249,26 @@ def describe(pair: PairLayout) -> str:
 
 def refusal(design) -> str | None:
     """The one line (after ``transmission: ``) refusing the pen's capstan solids, None for a
-    direct pen: the solids are not built yet; each pair of capstan motors laid out
+    direct pen and for capstans on the waists alone when laid out (their solids:
+    :mod:`cad.families.pen.capstan_solids`): the shoulders' solids are not built yet; each pair of capstan motors laid out
     (:func:`describe`) or what stops it, with its count and fix (:func:`layout`)."""
     pairs = layout(design)
-    if not pairs:
+    if not pairs or all(p.name == "waists" and p.clash is None for p in pairs):  # the waists' are built
         return None
     ok = [describe(p) for p in pairs if p.clash is None]
     bad = [p.clash for p in pairs if p.clash is not None]
     where = (f"the layout places the motors of {', '.join(ok)}" if ok else "")
     stop = (f"{'; ' if ok else ''}not laid out: {' | '.join(bad)}" if bad else "")
-    return (f"the haptic pen's capstan solids are not built yet ({where}{stop}): build it with direct drive, "
-            "or see docs/families/pen.md (Capstan on the pen) for what its capstan analyses give")
+    return (f"the haptic pen's capstan solids are not built yet ({where}{stop}): build it with direct shoulders "
+            "(capstans on the waist joints alone build) or direct drive, or see docs/families/pen.md (Capstan on the pen) "
+            "for what its capstan analyses give")
 
 
 def refuse_solids(design) -> None:
-    """DesignError (``transmission``) in one line when the haptic pen has a capstan
-    (:func:`refusal`): its solids are not built yet (its analyses are:
-    :mod:`cad.families.pen.capstan`)."""
+    """DesignError (``transmission``) in one line when the haptic pen has a capstan on a
+    shoulder or its waists' capstans cannot be laid out (:func:`refusal`): the shoulders' solids
+    are not built yet (its analyses are: :mod:`cad.families.pen.capstan`; the waists' solids:
+    :mod:`cad.families.pen.capstan_solids`)."""
     why = refusal(design)
     if why is not None:
         raise DesignError("transmission", why)

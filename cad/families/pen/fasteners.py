@@ -16,6 +16,7 @@ from cad.data.catalog import FASTENER_MATERIAL, get_cap_screw, get_motor
 from cad.errors import DesignError
 from cad.families.pantograph.build import screw_plan
 from cad.families.pantograph.layout import leg_xy
+from cad.families.pen.capstan_solids import stations_xy_mm
 from cad.parts import joints
 from cad.parts import motor as pm
 from cad.parts import translation as tr
@@ -68,14 +69,13 @@ def place_screws(design, lay: dict, gl: dict, kinds: dict, place, rot) -> dict:
     wm = get_motor(p.waist_motor)
     zb, pt, mt = gl["base_top_z_mm"], p.plate_thickness_mm, p.motor_mount_thickness_mm
     flip = rot("x", 180)
-    for arm, s in (("A", -1), ("B", 1)):
-        bx = s * design.mechanism.l4_mm / 2
+    for arm, (bx, by) in stations_xy_mm(design).items():  # each waist motor, on its axis or moved
         for k, (x, y) in enumerate(pm.mount_hole_xy_mm(wm)):
             screw("mount", f"{arm}_mount_screw_{k + 1}", "ground",
-                  tr(bx + x, y, zb - pt - mt) @ flip, f"base_plate:{arm}_mount_{k + 1}",
+                  tr(bx + x, by + y, zb - pt - mt) @ flip, f"base_plate:{arm}_mount_{k + 1}",
                   "base_plate", (f"{arm}_waist_motor_mount",))
         for k, (x, y) in enumerate(pm.motor_bolt_xy_mm(wm)):
-            screw("motor", f"{arm}_waist_motor_screw_{k + 1}", "ground", tr(bx + x, y, zb - pt),
+            screw("motor", f"{arm}_waist_motor_screw_{k + 1}", "ground", tr(bx + x, by + y, zb - pt),
                   f"{arm}_waist_motor:face_{k + 1}", f"{arm}_waist_motor",
                   (f"{arm}_waist_motor_mount",))
         y0 = lay["motor_plate_mm"][0]

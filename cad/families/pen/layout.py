@@ -108,18 +108,23 @@ def layout(design) -> dict:
     }
 
 
-def ground_layout(design, lay: dict, z_low_mm: float) -> dict:
+def ground_layout(design, lay: dict, z_low_mm: float, band_mm: float = 0.0, stations_xy=()) -> dict:
     """Heights of the waist bracket's foot, the base plate and the bench (mm, world z), from
-    the lowest link point over the motion ``z_low_mm``."""
+    the lowest link point over the motion ``z_low_mm``. With waist capstans
+    (:mod:`cad.families.pen.capstan_solids`): ``band_mm`` the drums' band between the base plate
+    and the waist hub (the plate that much lower; the hub on its own axle, no shaft engagement:
+    ``waist_shaft_engagement_mm`` 0), ``stations_xy`` the moved waist motors' axes ((x, y) mm,
+    world) the base plate also covers with its margin."""
     p = design.parts
     wm = _motor(p.waist_motor)
     foot_top = z_low_mm - FOOT_MARGIN_MM
     foot_bottom = foot_top - p.plate_thickness_mm
     hub_h, hub_d, hub_gap = WAIST_HUB_MM
-    z_base = foot_bottom - hub_h - hub_gap
+    z_base = foot_bottom - hub_h - hub_gap - band_mm
+    z_hub = z_base + band_mm + hub_gap
     pt, mt = p.plate_thickness_mm, p.motor_mount_thickness_mm
     shaft_top = z_base - pt - mt + wm.shaft_length_mm
-    if shaft_top - (z_base + hub_gap) < hub_h / 2:
+    if not band_mm and shaft_top - z_hub < hub_h / 2:
         raise DesignError("parts.waist_motor", f"{p.waist_motor} shaft engages only "
                           f"{shaft_top - z_base - hub_gap:.1f} mm of the waist hub")
     l4 = design.mechanism.l4_mm
@@ -129,16 +134,18 @@ def ground_layout(design, lay: dict, z_low_mm: float) -> dict:
                           f"fit between the waist axes {l4:g} mm apart")
     margin = base.LEG_INSET_MM + base.LEG_DIAMETER_MM / 2 + 4.0
     leg_h = mt + wm.body_length_mm + base.LEG_GROUND_CLEARANCE_MM
+    xy = np.array([(-l4 / 2, 0.0), (l4 / 2, 0.0), *stations_xy], float)
+    lo, hi = xy.min(axis=0) - ms / 2 - margin, xy.max(axis=0) + ms / 2 + margin
     return {
         "foot_mm": (foot_bottom, foot_top),
         "base_top_z_mm": z_base,
-        "base_plate_x_mm": (-l4 / 2 - ms / 2 - margin, l4 / 2 + ms / 2 + margin),
-        "base_plate_y_mm": (-ms / 2 - margin, ms / 2 + margin),
+        "base_plate_x_mm": (float(lo[0]), float(hi[0])),
+        "base_plate_y_mm": (float(lo[1]), float(hi[1])),
         "leg_height_mm": leg_h,
         "bench_z_mm": z_base - pt - leg_h,
-        "waist_hub_mm": (z_base + hub_gap, z_base + hub_gap + hub_h),
+        "waist_hub_mm": (z_hub, z_hub + hub_h),
         "waist_hub_d_mm": hub_d,
-        "waist_shaft_engagement_mm": shaft_top - (z_base + hub_gap),
+        "waist_shaft_engagement_mm": 0.0 if band_mm else shaft_top - z_hub,
     }
 
 
