@@ -289,24 +289,31 @@ def cable_bom_line(j: CapstanJoint, quantity: int = 1) -> dict:
                    "bought; cut to length", "steel", f"wire rope {c.construction} {c.diameter_mm:g} mm x {cut:.0f} mm")
 
 
-def winding_steps(j: CapstanJoint) -> tuple[str, ...]:
+def winding_steps(j: CapstanJoint, parts: tuple[str, str, str] | None = None,
+                  label: str | None = None) -> tuple[str, ...]:
     """``assembly.md``'s winding and tensioning steps of ``j``'s capstan (empty for direct
     drive): the rope's cut length, its path from one anchor over the drum, round the capstan and
-    back to the other anchor, and the tensioner's setting (the datasheet's pretension)."""
+    back to the other anchor, and the tensioner's setting (the datasheet's pretension).
+    ``parts``: the instance names of its anchor screw, tensioner screw and lock nut (default
+    ``capstan_anchor<suffix>_1``, ``capstan_tensioner<suffix>``, ``capstan_tensioner_nut<suffix>``);
+    ``label``: the joint's words there (default ``j.label``) -- one rope of a transmission that
+    several joints share."""
     t, s = j.transmission, j.suffix
     if not t.is_capstan:
         return ()
+    anchor, tensioner, nut = parts or (f"capstan_anchor{s}_1", f"capstan_tensioner{s}", f"capstan_tensioner_nut{s}")
+    lab = label or j.label
     lay, fig = layout(j), figures(j)
     return (
         f"wind the rope: cut {lay.cut_mm['total']:.0f} mm of {t.cable.key} (bom.csv capstan_cable{s}); "
-        f"clamp one end under capstan_anchor{s}_1 with the {j.label} at the end of its range nearest that "
+        f"clamp one end under {anchor} with the {lab} at the end of its range nearest that "
         f"anchor, lay it on the drum's rim to the tangent point, wind {t.wraps:g} turns on the capstan "
-        f"(its helical groove, side by side), lay it back on the drum's rim to capstan_tensioner{s} and "
+        f"(its helical groove, side by side), lay it back on the drum's rim to {tensioner} and "
         "wind its tail on the tensioner screw's shank between the lock nut and the head (the 20 mm "
         "tail: about two turns)",
-        f"tension the rope: turn capstan_tensioner{s} (it winds the rope on its shank) until the rope "
+        f"tension the rope: turn {tensioner} (it winds the rope on its shank) until the rope "
         f"holds at least {fig.pretension_N:.1f} N (datasheet cable_pretension_N{s}; a spring scale on "
-        f"a free run), lock it with capstan_tensioner_nut{s} against the rim, then turn the {j.label} over "
+        f"a free run), lock it with {nut} against the rim, then turn the {lab} over "
         "its whole range: the rope stays on the drum's rim and in the capstan's turns, no anchor "
         "reaches a tangent point",
     )

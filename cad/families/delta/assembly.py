@@ -317,10 +317,11 @@ def assemble(design, fidelity: str = "fabrication") -> AssemblyModel:
                               knee_hinge_tf(d.joint_offset_mm, design.parallelogram_width_mm, s)
                               @ translation(0, 0, -b_mm / 2))
                  for i in ARMS for s in ("a", "b")]
+    holes: dict = {}
     if any(t.is_capstan for t in design.transmissions):  # the capstans' solids
-        inst = add_capstans(design, K, inst, resolve_device(design),
+        inst, holes = add_capstans(design, K, inst, resolve_device(design),
                             stack_mm(design.parallelogram_width_mm, d.joint_offset_mm > 0))
     labels = tuple(f"P = ({x:.1f}, {y:.1f}, {z:.1f}) mm" for x, y, z in X)
     return AssemblyModel(design=design, instances=tuple(inst), tf_world_body=tf_home,
                          motion={b: T for b, T in motion.items() if b != "ground"},
-                         pose_labels=labels, extra=DeltaLayout(X, home))
+                         pose_labels=labels, holes=holes, extra=DeltaLayout(X, home))

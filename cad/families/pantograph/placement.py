@@ -12,6 +12,7 @@ import math
 
 import numpy as np
 
+from cad.assembly.capstan_hardware import capstan_set_screw_fastening
 from cad.assembly.fasteners import Fastener, TappedHole
 from cad.data.catalog import get_motor
 from cad.device import resolve_device
@@ -167,8 +168,12 @@ def capstan_parts(design, K: dict, lay: dict, inst: list, tfs: dict, B) -> dict:
             rope, drum = cap["side_z_mm"][k]
             ls = {**lay, "capstan": {**cap, "rope_z_mm": rope, "drum_z_mm": drum, "raise_mm": cap["raise_mm"][k]}}
         blk, h = pcs.block_parts(design, K, ls, i, side, b, K["_mount_screw"], tfs[body])
-        inst += blk + pcs.drum_parts(design, K, ls, sd, t) + pcs.motor_side_parts(design, K, ls, sd, t, i)
+        ms = pcs.motor_side_parts(design, K, ls, sd, t, i)
+        inst += blk + pcs.drum_parts(design, K, ls, sd, t) + ms
         holes.update(h)
+        f = next(x.fastener for x in ms if x.name == f"capstan_{i}.set_screw")  # the capstan's tapped hole
+        hole = capstan_set_screw_fastening(design, t, f"capstan_{i}", f.clamps[0])[1]
+        holes[hole.name] = hole
     return holes
 
 
