@@ -25,7 +25,7 @@ import math
 
 import numpy as np
 
-from cad.datasheet import row
+from cad.datasheet import clearance_parts, row
 from cad.device import resolve_device
 from cad.dynamics.friction import coulomb_friction_at_handle_N
 from cad.dynamics.stiffness import range_text, stiffness_range_N_per_m
@@ -343,7 +343,7 @@ def rows_and_limits(design, report: dict, out_dir=None, simulate_wall: bool = Tr
     rows += footprint_rows(report)
     if report.get("min_clearance_mm") is not None:
         rows.append(row("min_clearance_mm", "smallest clearance between parts", report["min_clearance_mm"], "mm",
-                        "interference check of the build"))
+                        "interference check of the build" + clearance_parts(report)))
     st = structure(design, report)
     if st is None:
         rows.append(row("first_mode_Hz", "first structural mode", None, "Hz",
