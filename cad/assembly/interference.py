@@ -35,7 +35,7 @@ need OCCT):
 ``min_clearance_mm`` is the exact smallest distance found between two different parts on
 two different bodies (0 with ``overlap_volume_mm3 > 0`` for a collision); a bought part whose
 collision envelopes ride on two bodies (a bearing's outer ring in its seat, its inner ring on
-the journal) keeps its own gap out of it -- that gap is the maker's, inside one part -- and is
+the journal; a motor's shaft on the link, the motor on the ground) keeps its own gap out of it -- that gap is the maker's, inside one part -- and is
 checked for overlap on its own (:func:`own_part_gaps`, ``own_part_gaps`` in the report).
 
 Parts of ONE body do not move apart, so every such pair is checked once
@@ -92,6 +92,9 @@ class PartMesh:
     axis_xy: np.ndarray | None = None  # solid of revolution about this vertical axis (body frame)
     bvh: object = None  # fcl CollisionObject of this part alone (exact-pass pre-filter)
     tight_box: np.ndarray | None = None  # (2, 3) tight OCCT box in the body frame (lazy)
+    #: the bought item this envelope is part of (a motor's shaft: the motor's instance name);
+    #: None: its own instance (the name before ``[``): :func:`same_part`
+    owner: str | None = None
 
 
 @dataclass
@@ -141,14 +144,16 @@ class InterferenceReport:
         }
 
 
-def collision_items(instances) -> list[tuple[str, str, object, np.ndarray, bool]]:
-    """``(part name, body, TopoDS shape in the part frame, tf_body_part, revolution)`` for every
-    collision envelope of the assembly (bearings split into their two rings)."""
+def collision_items(instances) -> list[tuple[str, str, object, np.ndarray, bool, str | None]]:
+    """``(part name, body, TopoDS shape in the part frame, tf_body_part, revolution, owner)`` for
+    every collision envelope of the assembly (bearings split into their two rings; ``owner``:
+    the bought item a solid is part of, ``PartInstance.part_of``, else None)."""
     out = []
     for inst in instances:
         rev = bool(getattr(inst.kind, "revolution", False))
+        own = getattr(inst, "part_of", None)
         if inst.kind.collision is None:
-            out.append((inst.name, inst.body, inst.kind.shape, inst.tf_body_part, rev))
+            out.append((inst.name, inst.body, inst.kind.shape, inst.tf_body_part, rev, own))
             continue
         single = len(inst.kind.collision) == 1
         for role, shp in inst.kind.collision:
@@ -163,15 +168,20 @@ def collision_items(instances) -> list[tuple[str, str, object, np.ndarray, bool]
             label = (
                 inst.name if single else f"{inst.name}[{'inner' if role == 'other' else 'outer'}]"
             )
-            out.append((label, body, shp, tf, rev))
+            out.append((label, body, shp, tf, rev, own))
     return out
 
 
-def same_part(a: str, b: str) -> bool:
-    """Two collision envelopes of one part instance (a bearing's rings ``x[outer]`` and
-    ``x[inner]``, :func:`collision_items`): their gap is inside a bought part (the maker's), not
-    a clearance between two parts."""
-    return a.split("[", 1)[0] == b.split("[", 1)[0]
+def _owner(p: PartMesh) -> str:
+    return p.owner or p.name.split("[", 1)[0]
+
+
+def same_part(p: PartMesh, q: PartMesh) -> bool:
+    """Two collision envelopes of one bought part: of one part instance (a bearing's rings
+    ``x[outer]`` and ``x[inner]``, :func:`collision_items`), or one of them a solid of the other
+    (a motor's shaft and its motor: ``PartInstance.part_of``). Their gap is inside the part (the
+    maker's), not a clearance between two parts."""
+    return _owner(p) == _owner(q)
 
 
 def prepare(items, mesh_tol_mm: float = SWEEP_MESH_TOL_MM) -> Prepared:
@@ -182,6 +192,7 @@ def prepare(items, mesh_tol_mm: float = SWEEP_MESH_TOL_MM) -> Prepared:
     for item in items:
         name, body, shape, tf = item[:4]
         rev = bool(item[4]) if len(item) > 4 else False
+        owner = item[5] if len(item) > 5 else None
         key = id(shape)
         if key not in cache:
             cache[key] = mesh_shape(shape, mesh_tol_mm, 0.5)
@@ -198,6 +209,7 @@ def prepare(items, mesh_tol_mm: float = SWEEP_MESH_TOL_MM) -> Prepared:
                 f,
                 np.array([vb.min(axis=0), vb.max(axis=0)]),
                 axis,
+                owner=owner,
             )
         )
     return Prepared(bodies, mesh_tol_mm, time.perf_counter() - t0)
@@ -426,8 +438,8 @@ class _FclScene:
         if (a, b) not in self.objs:
             ka, kb, lb = cull_pair(self.prepared.bodies[a], self.prepared.bodies[b], self.margin)
             va, vb, inv = split_invariant(ka, kb, self.joints.get((a, b)))
-            inv = [(p, q) for p, q in inv if not same_part(p.name, q.name)]  # own_part_gaps checks them
-            self.skip[(a, b)] = np.array([[same_part(p.name, q.name) for q in vb] for p in va], bool)
+            inv = [(p, q) for p, q in inv if not same_part(p, q)]  # own_part_gaps checks them
+            self.skip[(a, b)] = np.array([[same_part(p, q) for q in vb] for p in va], bool)
             self.objs[(a, b)] = (_box_corners(va), _box_corners(vb)) if va and vb else None
             self.lower_bound[(a, b)] = lb
             self.corners[(a, b)] = (_corners(va), _corners(vb))
@@ -487,8 +499,8 @@ class _ManifoldScene:
         if (a, b) not in self.man:
             ka, kb, lb = cull_pair(self.prepared.bodies[a], self.prepared.bodies[b], self.margin)
             # a part with envelopes on both bodies: its own gap is not one (own_part_gaps)
-            ka, kb = ([p for p in ka if not any(same_part(p.name, q.name) for q in kb)],
-                      [q for q in kb if not any(same_part(p.name, q.name) for p in ka)])
+            ka, kb = ([p for p in ka if not any(same_part(p, q) for q in kb)],
+                      [q for q in kb if not any(same_part(p, q) for p in ka)])
             self.man[(a, b)] = (self._union(ka), self._union(kb)) if ka and kb else None
             self.lower_bound[(a, b)] = lb
             self.corners[(a, b)] = (_corners(ka), _corners(kb))
@@ -641,7 +653,7 @@ def exact_check_pair(
     boxes_b = [_world_aabb(p.aabb_mm, Tb) for p in pb]
     for i, p in enumerate(pa):
         for j, q in enumerate(pb):
-            if same_part(p.name, q.name) or _aabb_gap(boxes_a[i], boxes_b[j]) > within_mm:
+            if same_part(p, q) or _aabb_gap(boxes_a[i], boxes_b[j]) > within_mm:
                 continue
             dm = _part_mesh_distance(p, q, Ta, Tb) if use_fcl else np.inf
             if dm > within_mm:
@@ -967,7 +979,7 @@ def own_part_gaps(prepared: Prepared, tf_world_body: dict, names, joints=None) -
     for a, b in itertools.combinations(sorted(prepared.bodies), 2):
         axes = (joints or {}).get((a, b)) or []
         for p in prepared.bodies[a]:
-            for q in (q for q in prepared.bodies[b] if same_part(p.name, q.name)):
+            for q in (q for q in prepared.bodies[b] if same_part(p, q)):
                 Ta, Tb = tf_world_body[a], tf_world_body[b]
                 fixed = _axial([p], [xa for xa, _ in axes])[0] or _axial([q], [xb for _, xb in axes])[0]
                 i = 0

@@ -299,8 +299,9 @@ def assemble(design, fidelity: str = "fabrication") -> AssemblyModel:
     inst: list[PartInstance] = []
 
     def place(items, body):
-        for name, kind, tf in items:
-            inst.append(PartInstance(name, K[kind], body, np.asarray(tf, float)))
+        for name, kind, tf in items:  # an arm's motor shaft is its motor's own solid
+            own = f"motor_{body.split('_')[1]}" if kind == "motor_shaft" else None
+            inst.append(PartInstance(name, K[kind], body, np.asarray(tf, float), part_of=own))
 
     place(_ground_parts(design), "ground")
     for i in ARMS:

@@ -216,9 +216,10 @@ def add_capstans(design, K: dict, inst: list[PartInstance], device, stack: dict)
                                                tf_body_part=shift @ x.tf_body_part))
                 out[k] = dataclasses.replace(x, kind=_bearing_bracket(design, K, brg))
             elif x.name == f"upper_{i}.motor_shaft":
-                out[k] = dataclasses.replace(x, name=f"upper_{i}.arm_axle", kind=_axle(K, x.kind, mspec))
+                out[k] = dataclasses.replace(x, name=f"upper_{i}.arm_axle", kind=_axle(K, x.kind, mspec),
+                                             part_of=None)  # made, no longer the motor's
                 out.append(PartInstance(f"capstan_motor_shaft_{i}", x.kind, "ground",
-                                        shift @ _body_at_zero(design, i) @ x.tf_body_part))
+                                        shift @ _body_at_zero(design, i) @ x.tf_body_part, part_of=f"motor_{i}"))
         new += [PartInstance(n, k, f"upper_{i}", tf) for n, k, tf in arm_parts(design, i, t, Ki, stack)]
         f, hole = fcs.capstan_set_screw_fastening(design, t, f"capstan_{i}", f"capstan_motor_shaft_{i}")
         holes[hole.name] = hole

@@ -213,7 +213,7 @@ def add_capstan(asm, design, J, plan, t):
             i = _moved_leg(i, rect)
         inst.append(i)
     shaft = next(i for i in asm.instances if i.name == "motor_shaft")
-    inst.append(PartInstance("capstan_motor_shaft", shaft.kind, "ground", shift @ shaft.tf_body_part))
+    inst.append(PartInstance("capstan_motor_shaft", shaft.kind, "ground", shift @ shaft.tf_body_part, part_of="motor"))
     inst, holes = a1_support(design, J, inst, asm.instances, asm.holes, plan.shaft_top_mm)
     inst += _capstan_parts(design, t, pl)
     holes += (capstan_set_screw_fastening(design, t, "capstan", "capstan_motor_shaft")[1],)

@@ -78,8 +78,9 @@ def assembly(design, lay: dict, fidelity: str):
     tfs: dict[str, np.ndarray] = {"ground": np.eye(4)}
     set_holes: dict = {}
 
-    def place(name, kind, body, tf, fastener=None):
-        inst.append(PartInstance(name, kind, body, np.asarray(tf, dtype=float), fastener=fastener))
+    def place(name, kind, body, tf, fastener=None, part_of=None):
+        inst.append(PartInstance(name, kind, body, np.asarray(tf, dtype=float), fastener=fastener,
+                                 part_of=part_of))
 
     home = home_xy_mm(design)
     if twin:
@@ -114,7 +115,8 @@ def assembly(design, lay: dict, fidelity: str):
                 place(f"{body}.axle", K["proximal_axle"], body,
                       pcs.mirrored(translation(0, 0, pcs.axle_z_mm(design)), zb if upper else None))
             else:
-                place(f"{body}.motor_shaft", K["motor_shaft"], body, shaft_tf)
+                place(f"{body}.motor_shaft", K["motor_shaft"], body, shaft_tf,  # its motor's own solid
+                      part_of=f"{'upper' if upper else 'lower'}_motor_{i + 1}")
             place_set_screw(place, set_holes, K, lay, body, translation(0, 0, zs[0]) @ F, on_axle)
             body = f"{pre}distal_{side}"
             tfs[body] = rz(math.atan2(E[1] - C[i][1], E[0] - C[i][0]), C[i][0], C[i][1])

@@ -290,16 +290,22 @@ def _bearing_model(inner_offset_mm: float = 0.0):
     """A bearing at the crank's pivot (outer ring r 4..6 in the ground, inner ring r 1..3 on the
     crank, ``inner_offset_mm`` off its axis along the crank's x), a post r 2 at x = 20 in the
     ground and an arm r 2 at x = 14 on the crank, which turns about z by -0.4 .. 0.4 rad (0 a
-    sample)."""
+    sample); below them a motor (its housing's bore r 3.5) in the ground and its shaft (r 3,
+    ``part_of`` the motor) on the crank."""
     from cad.assembly.model import AssemblyModel
     from cad.parts import PartInstance, PartKind, translation
 
     brg = PartKind(name="bearing", shape=_ring(1.0, 6.0), material="steel-1018", made=False,
                    collision=(("self", _ring(4.0, 6.0)), ("other", _ring(1.0, 3.0))), revolution=True)
     post = PartKind(name="post", shape=cylinder(2.0), material="steel-1018", made=True)
+    motor = PartKind(name="motor", shape=_ring(3.5, 5.0), material="steel-1018", made=False)
+    shaft = PartKind(name="shaft", shape=cylinder(3.0), material="steel-1018", made=False, listed=False,
+                     revolution=True)
     inst = (PartInstance("bearing", brg, "ground", np.eye(4), "crank", translation(inner_offset_mm)),
             PartInstance("post", post, "ground", translation(20.0)),
-            PartInstance("arm", post, "crank", translation(14.0)))
+            PartInstance("arm", post, "crank", translation(14.0)),
+            PartInstance("motor", motor, "ground", translation(0, 0, -10.0)),
+            PartInstance("motor.shaft", shaft, "crank", translation(0, 0, -10.0), part_of="motor"))
     th = np.linspace(-0.4, 0.4, 9)
     T = np.repeat(np.eye(4)[None], len(th), axis=0)
     T[:, 0, 0], T[:, 0, 1], T[:, 1, 0], T[:, 1, 1] = np.cos(th), -np.sin(th), np.sin(th), np.cos(th)
@@ -309,20 +315,21 @@ def _bearing_model(inner_offset_mm: float = 0.0):
 
 
 def test_smallest_clearance_is_between_two_parts_not_inside_a_bearing():
-    """A bearing's own ring gap (1 mm: inner ring's 3 mm to the outer ring's 4 mm) is the
-    maker's, inside one bought part: the smallest clearance is the arm's to the post, 20 - 14 -
-    2 - 2 = 2 mm at theta = 0 (closed form; the arm's to the outer ring 14 - 2 - 6 = 6 mm), naming
-    those two parts; the ring gap is reported
-    apart (own_part_gaps) and still checked: rings pushed 1.5 mm off their common axis overlap
-    (3 + 1.5 > 4) and that is a collision naming the bearing's rings."""
+    """A bearing's own ring gap (1 mm: inner ring's 3 mm to the outer ring's 4 mm) and a motor
+    shaft's gap in its housing (0.5 mm: 3 to 3.5 mm) are the maker's, inside one bought part:
+    the smallest clearance is the arm's to the post, 20 - 14 - 2 - 2 = 2 mm at theta = 0 (closed
+    form; the arm's to the outer ring 14 - 2 - 6 = 6 mm), naming those two parts; the gaps are
+    reported apart (own_part_gaps, the smallest 0.5 mm) and still checked: rings pushed 1.5 mm
+    off their common axis overlap (3 + 1.5 > 4) and that is a collision naming the bearing's
+    rings."""
     from cad.assembly import interference as itf
 
     rep = itf.check_model(_bearing_model())
     assert rep.min_clearance_mm == pytest.approx(2.0, abs=1e-6)
     assert sorted(rep.closest["parts"]) == ["arm", "post"] and rep.collisions == []
     own = rep.as_dict()["own_part_gaps"]
-    assert own["pairs"] == 1 and own["min_gap_mm"] == pytest.approx(1.0, abs=1e-6)
-    assert sorted(own["parts"]) == ["bearing[inner]", "bearing[outer]"]
+    assert own["pairs"] == 2 and own["min_gap_mm"] == pytest.approx(0.5, abs=1e-6)
+    assert sorted(own["parts"]) == ["motor", "motor.shaft"]
     bad = itf.check_model(_bearing_model(1.5))
     assert bad.min_clearance_mm == pytest.approx(2.0, abs=1e-6)
     assert bad.overlap_volume_mm3 > 0.0
