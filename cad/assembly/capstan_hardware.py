@@ -16,7 +16,13 @@ import math
 import numpy as np
 
 from cad.actuators import capstan_geometry as cg
-from cad.assembly.fasteners import min_boss_radius_mm, size_set_screw
+from cad.assembly.fasteners import (
+    MIN_ENGAGEMENT_ALU_D,
+    Fastener,
+    TappedHole,
+    min_boss_radius_mm,
+    size_set_screw,
+)
 from cad.data import catalog as cat
 from cad.errors import DesignError
 from cad.parts import PartKind, motor
@@ -126,6 +132,26 @@ def capstan_set_screw(design, t, motor_key: str | None = None) -> tuple[str, flo
         raise DesignError(e.field, f"{e.reason}: a capstan of at least {need:.1f} mm (its rim is the "
                           f"pitch diameter less the {t.cable_diameter_mm:g} mm rope)") from None
     return size, L
+
+
+def capstan_set_screw_fastening(design, t, capstan: str, shaft: str,
+                                motor_key: str | None = None) -> tuple[Fastener, TappedHole]:
+    """(record, hole) of the set screw holding the capstan instance ``capstan`` on the motor
+    shaft instance ``shaft`` (every family's): the ISO 4026 screw of :func:`capstan_set_screw`
+    (L engaged, point on the shaft) in the capstan's radial tapped hole ``"<capstan>:set_screw"``
+    -- full-thread depth of :func:`cad.assembly.fasteners.size_set_screw`, minimum engagement
+    1.5 d, axis +x at :data:`cad.actuators.capstan_geometry.CAPSTAN_HUB_MM` / 2 in the
+    capstan's frame (:func:`cad.parts.capstan.capstan_shape`). With the record, assembly.md
+    fastens it in the step that puts the capstan on the shaft (:mod:`cad.assembly.steps`).
+    ``motor_key``: the shaft's motor (default ``parts.motor``)."""
+    size, L = capstan_set_screw(design, t, motor_key)
+    m = cat.get_motor(motor_key or design.parts.motor)
+    rc = cg.rim_radius_mm(t.capstan_diameter_mm, t.cable_diameter_mm)
+    _, _, depth = size_set_screw(m.shaft_diameter_mm / 2, rc, (size,), "the capstan's set screw onto the "
+                                 "motor shaft", "transmission.capstan_diameter_mm")
+    hole = TappedHole(f"{capstan}:set_screw", capstan, size, depth, MIN_ENGAGEMENT_ALU_D * cat.thread_diameter_mm(size),
+                      axis=(1.0, 0.0, 0.0), point_mm=(0.0, 0.0, cg.CAPSTAN_HUB_MM / 2))
+    return Fastener("ISO 4026", size, L, (shaft,), hole.name, L), hole
 
 
 def drum_process(thickness_mm: float, fixing: str, groove: str = "") -> str:

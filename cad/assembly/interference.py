@@ -32,8 +32,11 @@ need OCCT):
    whose bounding boxes come that close, and ``BRepAlgoAPI_Common`` volume where the
    distance is zero.
 
-``min_clearance_mm`` is the exact smallest distance found between two different bodies
-(0 with ``overlap_volume_mm3 > 0`` for a collision).
+``min_clearance_mm`` is the exact smallest distance found between two different parts on
+two different bodies (0 with ``overlap_volume_mm3 > 0`` for a collision); a bought part whose
+collision envelopes ride on two bodies (a bearing's outer ring in its seat, its inner ring on
+the journal; a motor's shaft on the link, the motor on the ground) keeps its own gap out of it -- that gap is the maker's, inside one part -- and is
+checked for overlap on its own (:func:`own_part_gaps`, ``own_part_gaps`` in the report).
 
 Parts of ONE body do not move apart, so every such pair is checked once
 (:func:`same_body_check`, on the real solids written to ``assembly.step``): tight OCCT
@@ -89,6 +92,9 @@ class PartMesh:
     axis_xy: np.ndarray | None = None  # solid of revolution about this vertical axis (body frame)
     bvh: object = None  # fcl CollisionObject of this part alone (exact-pass pre-filter)
     tight_box: np.ndarray | None = None  # (2, 3) tight OCCT box in the body frame (lazy)
+    #: the bought item this envelope is part of (a motor's shaft: the motor's instance name);
+    #: None: its own instance (the name before ``[``): :func:`same_part`
+    owner: str | None = None
 
 
 @dataclass
@@ -117,12 +123,16 @@ class InterferenceReport:
     #: distance between two bodies at each pose; ``how`` is "exact" (OCCT), "mesh" (fcl, off
     #: by at most 2 mesh tolerances) or "bound" (a lower bound: the pose was pruned)
     poses: dict | None = None
+    #: the gaps inside one bought part whose envelopes ride on two bodies (a bearing's rings),
+    #: not counted in ``min_clearance_mm`` (:func:`own_part_gaps`)
+    own_part_gaps: dict | None = None
 
     def as_dict(self) -> dict:
         return {
             "checked": CHECKED,
             "same_body": self.same_body,
             "min_clearance_mm": self.min_clearance_mm,
+            "own_part_gaps": self.own_part_gaps,
             "overlap_volume_mm3": self.overlap_volume_mm3,
             "closest": self.closest,
             "pairs": self.pairs,
@@ -134,14 +144,16 @@ class InterferenceReport:
         }
 
 
-def collision_items(instances) -> list[tuple[str, str, object, np.ndarray, bool]]:
-    """``(part name, body, TopoDS shape in the part frame, tf_body_part, revolution)`` for every
-    collision envelope of the assembly (bearings split into their two rings)."""
+def collision_items(instances) -> list[tuple[str, str, object, np.ndarray, bool, str | None]]:
+    """``(part name, body, TopoDS shape in the part frame, tf_body_part, revolution, owner)`` for
+    every collision envelope of the assembly (bearings split into their two rings; ``owner``:
+    the bought item a solid is part of, ``PartInstance.part_of``, else None)."""
     out = []
     for inst in instances:
         rev = bool(getattr(inst.kind, "revolution", False))
+        own = getattr(inst, "part_of", None)
         if inst.kind.collision is None:
-            out.append((inst.name, inst.body, inst.kind.shape, inst.tf_body_part, rev))
+            out.append((inst.name, inst.body, inst.kind.shape, inst.tf_body_part, rev, own))
             continue
         single = len(inst.kind.collision) == 1
         for role, shp in inst.kind.collision:
@@ -156,8 +168,20 @@ def collision_items(instances) -> list[tuple[str, str, object, np.ndarray, bool]
             label = (
                 inst.name if single else f"{inst.name}[{'inner' if role == 'other' else 'outer'}]"
             )
-            out.append((label, body, shp, tf, rev))
+            out.append((label, body, shp, tf, rev, own))
     return out
+
+
+def _owner(p: PartMesh) -> str:
+    return p.owner or p.name.split("[", 1)[0]
+
+
+def same_part(p: PartMesh, q: PartMesh) -> bool:
+    """Two collision envelopes of one bought part: of one part instance (a bearing's rings
+    ``x[outer]`` and ``x[inner]``, :func:`collision_items`), or one of them a solid of the other
+    (a motor's shaft and its motor: ``PartInstance.part_of``). Their gap is inside the part (the
+    maker's), not a clearance between two parts."""
+    return _owner(p) == _owner(q)
 
 
 def prepare(items, mesh_tol_mm: float = SWEEP_MESH_TOL_MM) -> Prepared:
@@ -168,6 +192,7 @@ def prepare(items, mesh_tol_mm: float = SWEEP_MESH_TOL_MM) -> Prepared:
     for item in items:
         name, body, shape, tf = item[:4]
         rev = bool(item[4]) if len(item) > 4 else False
+        owner = item[5] if len(item) > 5 else None
         key = id(shape)
         if key not in cache:
             cache[key] = mesh_shape(shape, mesh_tol_mm, 0.5)
@@ -184,6 +209,7 @@ def prepare(items, mesh_tol_mm: float = SWEEP_MESH_TOL_MM) -> Prepared:
                 f,
                 np.array([vb.min(axis=0), vb.max(axis=0)]),
                 axis,
+                owner=owner,
             )
         )
     return Prepared(bodies, mesh_tol_mm, time.perf_counter() - t0)
@@ -399,6 +425,7 @@ class _FclScene:
         self.invariant_min: dict[tuple[str, str], float] = {}
         self.corners: dict[tuple[str, str], tuple] = {}
         self.parts: dict[tuple[str, str], tuple] = {}
+        self.skip: dict[tuple[str, str], np.ndarray] = {}  # same-part pairs (:func:`same_part`)
 
     def pose_lower_bounds(self, a: str, b: str, Ta: np.ndarray, Tb: np.ndarray) -> np.ndarray:
         """(N,) lower bounds of :meth:`distance` at the poses ``Ta``, ``Tb`` (N, 4, 4): the
@@ -411,6 +438,8 @@ class _FclScene:
         if (a, b) not in self.objs:
             ka, kb, lb = cull_pair(self.prepared.bodies[a], self.prepared.bodies[b], self.margin)
             va, vb, inv = split_invariant(ka, kb, self.joints.get((a, b)))
+            inv = [(p, q) for p, q in inv if not same_part(p, q)]  # own_part_gaps checks them
+            self.skip[(a, b)] = np.array([[same_part(p, q) for q in vb] for p in va], bool)
             self.objs[(a, b)] = (_box_corners(va), _box_corners(vb)) if va and vb else None
             self.lower_bound[(a, b)] = lb
             self.corners[(a, b)] = (_corners(va), _corners(vb))
@@ -424,13 +453,14 @@ class _FclScene:
     def distance(self, a: str, b: str, Ta: np.ndarray, Tb: np.ndarray) -> float:
         """Mesh distance of the two bodies at one pose: the pose-invariant pairs' distance, or
         the closest swept part pair (part BVHs, measured in increasing order of their box gap
-        while a box gap is below the smallest distance found)."""
+        while a box gap is below the smallest distance found); two envelopes of one part
+        (:func:`same_part`) are not a pair here (:func:`own_part_gaps`)."""
         boxes = self.pair(a, b, Ta, Tb)
         best = self.invariant_min[(a, b)]
         if boxes is None:
             return best
         va, vb = self.parts[(a, b)]
-        gaps = _box_gaps(boxes[0], boxes[1], Ta, Tb)
+        gaps = np.where(self.skip[(a, b)], np.inf, _box_gaps(boxes[0], boxes[1], Ta, Tb))
         order = np.argsort(gaps, axis=None, kind="stable")
         flat = gaps.ravel()
         nb = len(vb)
@@ -468,6 +498,9 @@ class _ManifoldScene:
     def pair(self, a, b, Ta=None, Tb=None):
         if (a, b) not in self.man:
             ka, kb, lb = cull_pair(self.prepared.bodies[a], self.prepared.bodies[b], self.margin)
+            # a part with envelopes on both bodies: its own gap is not one (own_part_gaps)
+            ka, kb = ([p for p in ka if not any(same_part(p, q) for q in kb)],
+                      [q for q in kb if not any(same_part(p, q) for p in ka)])
             self.man[(a, b)] = (self._union(ka), self._union(kb)) if ka and kb else None
             self.lower_bound[(a, b)] = lb
             self.corners[(a, b)] = (_corners(ka), _corners(kb))
@@ -607,7 +640,8 @@ def exact_check_pair(
     pa: list[PartMesh], pb: list[PartMesh], Ta: np.ndarray, Tb: np.ndarray, within_mm: float,
     certify_touch: bool = False,
 ) -> tuple[float, float, str, str, float]:
-    """:func:`exact_check` and, last, the common volume (mm^3) of the closest pair alone.
+    """:func:`exact_check` and, last, the common volume (mm^3) of the closest pair alone; two
+    envelopes of one part (:func:`same_part`) are not a pair (:func:`own_part_gaps`).
     ``certify_touch`` (where touching is allowed): a pair whose meshes touch is taken as
     touching (distance 0; the true gap is under two mesh tolerances) and given volume 0
     without a boolean where a face plane separates their tight boxes
@@ -619,7 +653,7 @@ def exact_check_pair(
     boxes_b = [_world_aabb(p.aabb_mm, Tb) for p in pb]
     for i, p in enumerate(pa):
         for j, q in enumerate(pb):
-            if _aabb_gap(boxes_a[i], boxes_b[j]) > within_mm:
+            if same_part(p, q) or _aabb_gap(boxes_a[i], boxes_b[j]) > within_mm:
                 continue
             dm = _part_mesh_distance(p, q, Ta, Tb) if use_fcl else np.inf
             if dm > within_mm:
@@ -913,12 +947,14 @@ def sweep(
     r = _exact_pass(prepared, fast, tf_world_body, names, threshold=threshold, slack=slack,
                     clearance_min_mm=clearance_min_mm, exact=exact, contact_ok=contact_ok,
                     fail_fast=fail_fast, groups=groups, raw=raw, joints=joints)
+    own, own_clashes = own_part_gaps(prepared, tf_world_body, names, joints)
     return InterferenceReport(
         min_clearance_mm=r["min_clearance_mm"],
-        overlap_volume_mm3=r["overlap_volume_mm3"],
+        overlap_volume_mm3=max([r["overlap_volume_mm3"], *(c["overlap_volume_mm3"] for c in own_clashes)]),
         closest=r["closest"],
         pairs=r["pairs"],
-        collisions=r["collisions"],
+        collisions=r["collisions"] + own_clashes,
+        own_part_gaps=own,
         method=f"{method}{'+occt' if exact else ' (mesh only)'}",
         mesh_tol_mm=prepared.mesh_tol_mm,
         n_poses=names.n,
@@ -927,6 +963,37 @@ def sweep(
                 "exact": r["t_exact"]},
         poses=r["poses"],
     )
+
+
+def own_part_gaps(prepared: Prepared, tf_world_body: dict, names, joints=None) -> tuple[dict, list[dict]]:
+    """The gaps inside a bought part whose envelopes ride on two bodies (a bearing's outer ring
+    in its seat's body, its inner ring on the journal's: :func:`same_part`): not a clearance
+    between two parts, so outside ``min_clearance_mm``, but still checked over the motion --
+    the fcl mesh distance at every pose (once where either ring turns about the joint the two
+    bodies share, :func:`split_invariant`'s rule), then the exact OCCT distance and, at contact,
+    the common volume at the closest pose; a common volume above :data:`OVERLAP_MIN_MM3` is a
+    collision (the part's envelopes not where they belong over the motion). Returns
+    (``{"pairs", "min_gap_mm", "parts", "bodies"}``, collisions)."""
+    out: dict = {"pairs": 0, "min_gap_mm": None, "parts": [], "bodies": []}
+    clashes = []
+    for a, b in itertools.combinations(sorted(prepared.bodies), 2):
+        axes = (joints or {}).get((a, b)) or []
+        for p in prepared.bodies[a]:
+            for q in (q for q in prepared.bodies[b] if same_part(p, q)):
+                Ta, Tb = tf_world_body[a], tf_world_body[b]
+                fixed = _axial([p], [xa for xa, _ in axes])[0] or _axial([q], [xb for _, xb in axes])[0]
+                i = 0
+                if have_fcl() and not fixed:
+                    i = int(np.argmin([_part_mesh_distance(p, q, Ta[k], Tb[k]) for k in range(names.n)]))
+                de, vol = exact_pair(placed(p.shape, Ta[i]), placed(q.shape, Tb[i]))
+                out["pairs"] += 1
+                if out["min_gap_mm"] is None or de < out["min_gap_mm"]:
+                    out.update(min_gap_mm=float(max(de, 0.0)), parts=[p.name, q.name], bodies=[a, b])
+                if _is_clash(de, vol, 0.0, True):
+                    clashes.append({"bodies": [a, b], "parts": [p.name, q.name],
+                                    names.key: names.entry(names.value(i)), "distance_mm": max(de, 0.0),
+                                    "overlap_volume_mm3": vol})
+    return out, clashes
 
 
 def _at(c: dict) -> str:

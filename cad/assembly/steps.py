@@ -13,6 +13,9 @@ Order (:func:`assembly_steps`):
    instances that are not joint hardware;
    (joint hardware: a joint fastener's clamped revolution or bought parts -- spacers,
    bearings, washers -- and a bought hole part, its nut or retaining ring);
+   with it, the set screws (:data:`SET_SCREW`) of the parts it puts on a shaft (a capstan on
+   its motor shaft, a hub on its axle), each with its tightening and thread locker
+   (:func:`set_screw_check`): a part on a shaft is fixed in the step that puts it there;
 2. after each stage, every fastener whose clamped parts and hole part are all in place,
    identical ones (same designation, clamped kinds and hole part) as one step;
 3. the joints: one step per fastener that joins two bodies (a shoulder screw or pin), its
@@ -91,6 +94,18 @@ def fastener_line(inst, designation: str) -> str:
             f"clamps {clamps}; into `{f.hole}` ({f.engagement_mm:g} mm engaged)")
 
 
+#: The fastener kind that fixes a part on a shaft (ISO 4026 set screw, point on the shaft).
+SET_SCREW = "ISO 4026"
+
+
+def set_screw_check(names) -> str:
+    """The check of a step that puts parts on shafts with their set screws ``names``: each
+    tightened, its thread locked, before the shaft carries a load or a rope is wound on it."""
+    return (f"{', '.join(names)}: a drop of medium-strength (removable) thread locker on the thread, "
+            "the point tightened hard on the shaft in this step, before anything is wound on the part "
+            "or the shaft is loaded (a loose set screw lets the part slip on the shaft)")
+
+
 def assembly_steps(instances, designation, plan=None, final_checks=()) -> list[Step]:
     """Ordered :class:`Step` list (see the module doc). ``designation(kind) -> str`` names a
     part for the fastener lines (the BOM designation); ``plan``: optional stages
@@ -137,15 +152,24 @@ def assembly_steps(instances, designation, plan=None, final_checks=()) -> list[S
     stages = plan or _default_plan(listed)
     reserved = {i.name for i in listed for st in stages  # placed by a stage, not by fasten()
                 if any(fnmatch.fnmatchcase(i.name, p) for p in st[1])}
+    def set_screws(new: list[str]) -> list[str]:
+        """The set screws of the parts ``new`` puts on a shaft, all they need in place."""
+        return [i.name for i in listed if i.fastener is not None and i.fastener.kind == SET_SCREW
+                and i.name not in placed | joint_names
+                and {n.name for n in _resolve(i.fastener.hole.split(":", 1)[0], by_name, by_kind)} & set(new)
+                and all(n.name in placed for n in _needs(i, by_name, by_kind))]
+
     for title, patterns, *checks in stages:
         names = [i.name for i in listed if i.name not in hardware
                  and any(fnmatch.fnmatchcase(i.name, p) for p in patterns)]
         new = take(names)
+        screws = take(set_screws(new))
+        new += screws
         reserved -= set(new)
         if new or plan:
             steps.append(Step(title, new, [fastener_line(by_name[n], designation(by_name[n].kind))
                                            for n in new if by_name[n].fastener is not None],
-                              list(checks[0]) if checks else []))
+                              (list(checks[0]) if checks else []) + [set_screw_check(screws)] * bool(screws)))
         fasten()
     for j in joints:
         if j.name in placed:

@@ -8,6 +8,8 @@ a design whose family has no render yet is refused with exit 2, nothing written;
 design is built before any picture is written, so a build that fails writes none. ``DIR``
 is shared with other files: an existing ``<name>.png`` / ``.gif`` is replaced only when
 ``DIR/manifest.json`` says hapticad wrote it unchanged (:mod:`cad.io.outdir`), else exit 2.
+The pictures and the manifest are published at once, the folder whole
+(:func:`cad.io.atomic.atomic_dir_update`): an interrupt leaves it as it was.
 """
 
 from __future__ import annotations

@@ -44,6 +44,15 @@ def row(key: str, figure: str, value, unit: str, model: str, *, lo=None, hi=None
     return out
 
 
+def clearance_parts(report: dict) -> str:
+    """``"; between <part a> and <part b>"`` of the build's smallest clearance (its
+    interference report's closest pair: two different parts on two bodies; a bought part's own
+    gap, a bearing's rings, is not one: :func:`cad.assembly.interference.own_part_gaps`), or
+    ``""`` when the report names none."""
+    parts = [p for p in ((report.get("interference") or {}).get("closest") or {}).get("parts", ()) if p]
+    return f"; between {parts[0]} and {parts[1]}" if len(parts) == 2 else ""
+
+
 def judge(rows: list[dict], limits: dict[str, Limit]) -> list[str]:
     """Verdicts on ``rows`` from ``limits`` (in place); returns the warning lines."""
     warnings = []

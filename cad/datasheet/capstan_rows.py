@@ -185,11 +185,11 @@ def datasheet_rows(j: CapstanJoint) -> tuple[list[dict], dict]:
              f"the smallest that holds the peak load: T0 = (dT / 2)(e^(mu theta) + 1) / (e^(mu theta) - 1), "
              f"dT = {fig.tension_difference_N:.4g} N, {t.wraps:g} turns, mu = {cap.MU_STEEL_ROPE_ON_STEEL:g}; "
              "set the tensioner to at least this")),
-        row("cable_slip_margin" + s, "rope slip margin at the peak force", float(f"{fig.slip_margin:.9g}"), "",
+        row("cable_slip_margin" + s, f"rope slip margin at the {lab} (peak force)", float(f"{fig.slip_margin:.9g}"), "",
             f"e^(mu theta) / (T_t / T_s), capstan equation, {t.wraps:g} turns, mu = "
             f"{cap.MU_STEEL_ROPE_ON_STEEL:g} (Tribology Handbook B12), T0 = {fig.pretension_N:.4g} N, "
             f"dT = n tau_peak / r_d = {fig.tension_difference_N:.4g} N"),
-        row("cable_safety_factor" + s, "rope safety factor at the peak force",
+        row("cable_safety_factor" + s, f"rope safety factor at the {lab} (peak force)",
             None if c.min_breaking_load_N is None else
             float(cap.cable_safety_factor(c.min_breaking_load_N, fig.tension_difference_N, fig.pretension_N)),
             "", fig.strength[1] + f"; {c.source_of('min_breaking_load_N')}",
@@ -205,19 +205,41 @@ def datasheet_rows(j: CapstanJoint) -> tuple[list[dict], dict]:
 def limits(j: CapstanJoint) -> dict:
     """The capstan rows' limits (keys with ``j.suffix``): bend ratio >= the rope's minimum,
     slip margin >= 1, safety factor >= :data:`cad.actuators.capstan.CABLE_SAFETY_FACTOR`, drum
-    sector <= 360 deg."""
-    c, s = j.transmission.cable, j.suffix
+    sector <= 360 deg. Each reason names the joint (``j.label``): a device's joints each get
+    their own warning line; the safety factor's states the rope's breaking load and the tight
+    run's tension T0 + dT / 2 at the peak torque (N)."""
+    c, s, lab = j.transmission.cable, j.suffix, j.label
     return {
-        "bend_ratio" + s: Limit(">=", c.min_bend_ratio, f"rope makers' minimum D/d for {c.construction}",
+        "bend_ratio" + s: Limit(">=", c.min_bend_ratio, f"rope makers' minimum D/d for {c.construction}; the {lab}",
                                 "transmission.capstan_diameter_mm or transmission.cable"),
-        "cable_slip_margin" + s: Limit(">=", 1.0, "the rope must not slip on the capstan at the peak force",
+        "cable_slip_margin" + s: Limit(">=", 1.0, f"the rope must not slip on the capstan at the peak force; the {lab}",
                                        "transmission.pretension_N or transmission.wraps"),
-        "cable_safety_factor" + s: Limit(">=", cap.CABLE_SAFETY_FACTOR,
-                                         "breaking load over the tight run's tension (rope sellers: 4:1 or 5:1)",
-                                         CAPSTAN_CHANGE),
-        "drum_sector_deg" + s: Limit("<=", 360.0, "the rope and both anchors fit on one drum",
+        "cable_safety_factor" + s: Limit(">=", cap.CABLE_SAFETY_FACTOR, safety_reason(j), CAPSTAN_CHANGE),
+        "drum_sector_deg" + s: Limit("<=", 360.0, f"the rope and both anchors fit on one drum; the {lab}",
                                      "transmission.drum_diameter_mm"),
     }
+
+
+def safety_reason(j: CapstanJoint) -> str:
+    """The safety factor limit's reason for ``j``: the joint, its rope's breaking load and the
+    tight run's tension T0 + dT / 2 at the motor's peak torque (N, :func:`figures`), then the
+    rule (rope sellers: 4:1 or 5:1)."""
+    c, fig = j.transmission.cable, figures(j)
+    tight = fig.pretension_N + 0.5 * fig.tension_difference_N
+    mbl = ("breaking load not known" if c.min_breaking_load_N is None else
+           f"breaking load {c.min_breaking_load_N:.4g} N" + (" (unverified)" if c.is_unverified(
+               "min_breaking_load_N") else ""))
+    return (f"the {lab_of(j)} rope ({c.key}): {mbl} over the tight run's tension {tight:.4g} N "
+            f"(T0 {fig.pretension_N:.4g} N + dT/2 {0.5 * fig.tension_difference_N:.4g} N at the motor's peak "
+            "torque); rope sellers: 4:1 or 5:1")
+
+
+def lab_of(j: CapstanJoint) -> str:
+    """``"<label>'s"`` with the motor's number when the joint's rows carry one and the label
+    does not say it already (``"knob left proximal link's (motor 1)"``; the delta's ``"arm 1's"``)."""
+    n = j.suffix.lstrip("_")
+    said = j.label.split()[-1] == n
+    return f"{j.label}'s" + (f" (motor {n})" if n.isdigit() and not said else "")
 
 
 def cut_text(t: Transmission, lay: CapstanLayout) -> str:
@@ -289,24 +311,31 @@ def cable_bom_line(j: CapstanJoint, quantity: int = 1) -> dict:
                    "bought; cut to length", "steel", f"wire rope {c.construction} {c.diameter_mm:g} mm x {cut:.0f} mm")
 
 
-def winding_steps(j: CapstanJoint) -> tuple[str, ...]:
+def winding_steps(j: CapstanJoint, parts: tuple[str, str, str] | None = None,
+                  label: str | None = None) -> tuple[str, ...]:
     """``assembly.md``'s winding and tensioning steps of ``j``'s capstan (empty for direct
     drive): the rope's cut length, its path from one anchor over the drum, round the capstan and
-    back to the other anchor, and the tensioner's setting (the datasheet's pretension)."""
+    back to the other anchor, and the tensioner's setting (the datasheet's pretension).
+    ``parts``: the instance names of its anchor screw, tensioner screw and lock nut (default
+    ``capstan_anchor<suffix>_1``, ``capstan_tensioner<suffix>``, ``capstan_tensioner_nut<suffix>``);
+    ``label``: the joint's words there (default ``j.label``) -- one rope of a transmission that
+    several joints share."""
     t, s = j.transmission, j.suffix
     if not t.is_capstan:
         return ()
+    anchor, tensioner, nut = parts or (f"capstan_anchor{s}_1", f"capstan_tensioner{s}", f"capstan_tensioner_nut{s}")
+    lab = label or j.label
     lay, fig = layout(j), figures(j)
     return (
         f"wind the rope: cut {lay.cut_mm['total']:.0f} mm of {t.cable.key} (bom.csv capstan_cable{s}); "
-        f"clamp one end under capstan_anchor{s}_1 with the {j.label} at the end of its range nearest that "
+        f"clamp one end under {anchor} with the {lab} at the end of its range nearest that "
         f"anchor, lay it on the drum's rim to the tangent point, wind {t.wraps:g} turns on the capstan "
-        f"(its helical groove, side by side), lay it back on the drum's rim to capstan_tensioner{s} and "
+        f"(its helical groove, side by side), lay it back on the drum's rim to {tensioner} and "
         "wind its tail on the tensioner screw's shank between the lock nut and the head (the 20 mm "
         "tail: about two turns)",
-        f"tension the rope: turn capstan_tensioner{s} (it winds the rope on its shank) until the rope "
+        f"tension the rope: turn {tensioner} (it winds the rope on its shank) until the rope "
         f"holds at least {fig.pretension_N:.1f} N (datasheet cable_pretension_N{s}; a spring scale on "
-        f"a free run), lock it with capstan_tensioner_nut{s} against the rim, then turn the {j.label} over "
+        f"a free run), lock it with {nut} against the rim, then turn the {lab} over "
         "its whole range: the rope stays on the drum's rim and in the capstan's turns, no anchor "
         "reaches a tangent point",
     )

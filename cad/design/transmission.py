@@ -195,8 +195,9 @@ def parse_transmissions(value: Any, n_motors: int,
                         prefix: str = "transmission") -> tuple[Transmission, ...]:
     """One :class:`Transmission` per motor: ``value`` None (direct drive on every motor), one
     table (``[transmission]``: the same on every motor) or an array of ``n_motors`` tables
-    (``[[transmission]]``, in the family's motor order; field ``transmission.<i>.<key>``).
-    Raises DesignError(prefix) when the array's length is not ``n_motors``."""
+    (``[[transmission]]``, in the family's motor order; field ``transmission.<n>.<key>``, n
+    counted from 1 for the first table, as the capstan rows' and BOM lines' suffixes ``_n``
+    count the motors). Raises DesignError(prefix) when the array's length is not ``n_motors``."""
     if value is None or isinstance(value, dict):
         return (parse_transmission(value, prefix),) * n_motors
     if not isinstance(value, list):
@@ -206,7 +207,7 @@ def parse_transmissions(value: Any, n_motors: int,
         k = len(value)
         raise DesignError(prefix, f"must be one table or {n_motors} (one per motor), got an array of "
                           f"{k} table{'' if k == 1 else 's'}")
-    return tuple(parse_transmission(t, f"{prefix}.{i}") for i, t in enumerate(value))
+    return tuple(parse_transmission(t, f"{prefix}.{n}") for n, t in enumerate(value, 1))
 
 
 def warn_transmissions(transmissions: tuple[Transmission, ...], warn) -> None:

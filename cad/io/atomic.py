@@ -300,16 +300,25 @@ def atomic_dir_update(
     temporary directory starts with a copy of every regular file ``target`` holds but its
     ``manifest.json`` (a folder :func:`cad.io.outdir.check_out_dir` accepted: hapticad's own
     files), so the files the command does not write again are kept (``bench --only``,
-    ``tolerance --out`` into a build's folder). Everything appears at once, with the manifest
-    the command writes; an interrupted or failed command leaves ``target`` as it was.
+    ``tolerance --out`` into a build's folder); its sub-folders (empty ones too) and symbolic
+    links are kept as they are (a shared folder, ``render --out``, holds the user's files).
+    Everything appears at once, with the manifest the command writes; an interrupted or
+    failed command leaves ``target`` as it was.
     """
     target = Path(target)
     with atomic_dir(target, check) as tmp:
         if target.is_dir():
             for src in sorted(target.rglob("*")):
                 rel = src.relative_to(target)
-                if rel.as_posix() == "manifest.json" or not stat.S_ISREG(os.lstat(src).st_mode):
+                mode = os.lstat(src).st_mode
+                if rel.as_posix() == "manifest.json" or not (stat.S_ISREG(mode) or stat.S_ISDIR(mode)
+                                                              or stat.S_ISLNK(mode)):
                     continue
                 (tmp / rel).parent.mkdir(parents=True, exist_ok=True)
-                shutil.copy2(src, tmp / rel)
+                if stat.S_ISLNK(mode):
+                    os.symlink(os.readlink(src), tmp / rel)
+                elif stat.S_ISDIR(mode):
+                    (tmp / rel).mkdir(exist_ok=True)
+                else:
+                    shutil.copy2(src, tmp / rel)
         yield tmp

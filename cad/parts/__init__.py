@@ -88,6 +88,9 @@ class PartInstance:
     ``"other"`` role (a bearing's inner ring), placed there by ``tf_other_part``.
     ``fastener``: for screws, a :class:`cad.assembly.fasteners.Fastener` record (thread size,
     length, what it clamps, which hole it engages); None otherwise.
+    ``part_of``: the instance name of the bought item this solid is part of (a motor's shaft:
+    its motor), None otherwise; the gap between them is the maker's, not a clearance between
+    parts (:func:`cad.assembly.interference.same_part`).
     """
 
     name: str
@@ -97,6 +100,7 @@ class PartInstance:
     other_body: str | None = None
     tf_other_part: np.ndarray | None = None
     fastener: Any = None
+    part_of: str | None = None
 
 
 def translation(x: float = 0.0, y: float = 0.0, z: float = 0.0) -> np.ndarray:

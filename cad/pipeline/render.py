@@ -14,8 +14,8 @@ def render_designs(paths: list, out: Path, fidelity: str | None = None) -> list[
     returns one dict per design (``design``, ``name``, ``png``, ``gif``: paths)."""
     from cad.design import load_design
     from cad.errors import DesignError
-    from cad.io.atomic import write_bytes_atomic
-    from cad.io.outdir import check_shared_files, record_shared_files
+    from cad.io.atomic import atomic_dir_update, write_bytes_atomic
+    from cad.io.outdir import MANIFEST_NAME, check_shared_files, record_shared_files
     from cad.pipeline import FIDELITIES, build_design, family_of
 
     designs = []
@@ -46,18 +46,27 @@ def render_designs(paths: list, out: Path, fidelity: str | None = None) -> list[
                               f"write {d.name}.png and {d.name}.gif; rename one")
         designs.append((p, d, fid))
     names = [f"{d.name}{ext}" for _, d, _ in designs for ext in RENDER_FILES.values()]
-    check_shared_files(Path(out), names)
+    out = Path(out)
+    check_shared_files(out, names)
     done = []
     with tempfile.TemporaryDirectory(prefix="hapticad-render-") as tmp:
         for _, d, fid in designs:  # every build first: a failing one writes nothing at all
             build_design(d, Path(tmp) / d.name, set(), fidelity=fid, use_cache=False, simulate_wall=False)
-        check_shared_files(Path(out), names)  # again: the builds took a while
-        for p, d, _ in designs:
-            row = {"design": str(p), "name": d.name}
-            for src, ext in RENDER_FILES.items():
-                dst = Path(out) / f"{d.name}{ext}"
-                write_bytes_atomic(dst, (Path(tmp) / d.name / src).read_bytes())
-                row[ext[1:]] = str(dst)
-            done.append(row)
-        record_shared_files(Path(out), names)
+        check_shared_files(out, names)  # again: the builds took a while
+
+        def still_ours(target: Path) -> None:  # and once more as the folder is published
+            check_shared_files(target, names)
+
+        # the folder is published whole (pictures and manifest at once, the other files kept):
+        # an interrupt or a failure leaves it as it was (cad.io.atomic.atomic_dir_update)
+        with atomic_dir_update(out, still_ours) as new:
+            if (out / MANIFEST_NAME).is_file():  # its entries of other pictures are kept
+                write_bytes_atomic(new / MANIFEST_NAME, (out / MANIFEST_NAME).read_bytes())
+            for p, d, _ in designs:
+                row = {"design": str(p), "name": d.name}
+                for src, ext in RENDER_FILES.items():
+                    write_bytes_atomic(new / f"{d.name}{ext}", (Path(tmp) / d.name / src).read_bytes())
+                    row[ext[1:]] = str(out / f"{d.name}{ext}")
+                done.append(row)
+            record_shared_files(new, names)
     return done

@@ -13,9 +13,10 @@ build's still (:func:`cad.report.render.render_images`, same view direction):
   (:func:`explode`), each with a thin line from its assembled centre to where it is drawn;
 * instances of later steps are not drawn.
 
-Insertion axis: the first fastener of the step (screws and pins are modelled head up along
-their local +z, :mod:`cad.parts.joints`) -- its local +z in the world; a step with no
-fastener: world z. Along it a fastener moves towards its head; another instance moves away
+Insertion axis: the first fastener of the step that is not a set screw (screws and pins are
+modelled head up along their local +z, :mod:`cad.parts.joints`) -- its local +z in the world;
+a step with no such fastener: world z. Each fastener moves towards its own head (its own +z:
+the screws of one step driven from above and from below part on their sides); another instance moves away
 from a reference point along the axis -- the middle of the step's parts in a step with a
 fastener (a joint's stack opens about its middle: spacers above it up, the nut below it
 down), else the centre of the assembled parts -- by :data:`EXPLODE_FRACTION` of the scene's
@@ -30,6 +31,7 @@ from pathlib import Path
 
 import numpy as np
 
+from cad.assembly.steps import SET_SCREW
 from cad.io.atomic import write_bytes_atomic
 from cad.report.render import png_bytes, render_images
 
@@ -72,18 +74,28 @@ def _centre_mm(inst, tf_world_body, meshes) -> np.ndarray:
     return T[:3, :3] @ c + T[:3, 3]
 
 
+def _head_axis(inst, tf_world_body) -> np.ndarray:
+    """A fastener's local +z in the world (unit (3,)): the way to its head."""
+    T = np.asarray(tf_world_body[inst.body]).reshape(4, 4) @ inst.tf_body_part
+    return T[:3, 2] / np.linalg.norm(T[:3, 2])
+
+
 def _axis(new, tf_world_body) -> np.ndarray:
-    """The step's insertion axis (unit (3,), world): local +z of its first fastener, else z."""
+    """The step's insertion axis (unit (3,), world): local +z of its first fastener that is
+    not a set screw (:data:`cad.assembly.steps.SET_SCREW`, radial in a part the step puts on a
+    shaft), else world z."""
     for inst in new:
-        if inst.fastener is not None:
-            T = np.asarray(tf_world_body[inst.body]).reshape(4, 4) @ inst.tf_body_part
-            return T[:3, 2] / np.linalg.norm(T[:3, 2])
+        if inst.fastener is not None and inst.fastener.kind != SET_SCREW:
+            return _head_axis(inst, tf_world_body)
     return np.array([0.0, 0.0, 1.0])
 
 
 def explode(new, placed, tf_world_body, meshes, scene_mm: float):
     """``(axis (3,), {name: offset (3,) mm})`` of the instances ``new`` of one step
-    (module doc); ``placed``: instances assembled before; ``scene_mm``: the scene's size."""
+    (module doc); ``placed``: instances assembled before; ``scene_mm``: the scene's size. A
+    fastener moves towards its own head (:func:`_head_axis`: screws of one step driven from
+    above and from below each come out on their own side), by the same distance as along the
+    step's axis."""
     axis = _axis(new, tf_world_body)
     c_new = {i.name: _centre_mm(i, tf_world_body, meshes) @ axis for i in new}
     if any(i.fastener is not None for i in new):  # a joint's stack opens about its middle
@@ -95,8 +107,10 @@ def explode(new, placed, tf_world_body, meshes, scene_mm: float):
     out = {}
     for i in new:
         rel = c_new[i.name] - ref
-        sign = 1.0 if i.fastener is not None or rel >= 0 else -1.0
-        out[i.name] = sign * (EXPLODE_FRACTION * scene_mm + abs(rel)) * axis
+        if i.fastener is not None:
+            out[i.name] = (EXPLODE_FRACTION * scene_mm + abs(rel)) * _head_axis(i, tf_world_body)
+        else:
+            out[i.name] = (1.0 if rel >= 0 else -1.0) * (EXPLODE_FRACTION * scene_mm + abs(rel)) * axis
     return axis, out
 
 

@@ -299,8 +299,9 @@ def assemble(design, fidelity: str = "fabrication") -> AssemblyModel:
     inst: list[PartInstance] = []
 
     def place(items, body):
-        for name, kind, tf in items:
-            inst.append(PartInstance(name, K[kind], body, np.asarray(tf, float)))
+        for name, kind, tf in items:  # an arm's motor shaft is its motor's own solid
+            own = f"motor_{body.split('_')[1]}" if kind == "motor_shaft" else None
+            inst.append(PartInstance(name, K[kind], body, np.asarray(tf, float), part_of=own))
 
     place(_ground_parts(design), "ground")
     for i in ARMS:
@@ -317,10 +318,11 @@ def assemble(design, fidelity: str = "fabrication") -> AssemblyModel:
                               knee_hinge_tf(d.joint_offset_mm, design.parallelogram_width_mm, s)
                               @ translation(0, 0, -b_mm / 2))
                  for i in ARMS for s in ("a", "b")]
+    holes: dict = {}
     if any(t.is_capstan for t in design.transmissions):  # the capstans' solids
-        inst = add_capstans(design, K, inst, resolve_device(design),
+        inst, holes = add_capstans(design, K, inst, resolve_device(design),
                             stack_mm(design.parallelogram_width_mm, d.joint_offset_mm > 0))
     labels = tuple(f"P = ({x:.1f}, {y:.1f}, {z:.1f}) mm" for x, y, z in X)
     return AssemblyModel(design=design, instances=tuple(inst), tf_world_body=tf_home,
                          motion={b: T for b, T in motion.items() if b != "ground"},
-                         pose_labels=labels, extra=DeltaLayout(X, home))
+                         pose_labels=labels, holes=holes, extra=DeltaLayout(X, home))

@@ -106,5 +106,13 @@ def bom_lines(design, device) -> list[dict]:
 
 
 def assembly_steps(design, device) -> tuple[str, ...]:
-    """assembly.md's winding and tensioning steps of every capstan arm (empty: direct drive)."""
-    return tuple(s for j in joints(design, device) for s in cr.winding_steps(j))
+    """assembly.md's winding and tensioning steps of every capstan arm, each naming its own
+    arm's anchor, tensioner and lock nut (``upper_i.capstan_anchor_1`` ...; three ropes of
+    one cut when the arms share a transmission); empty: direct drive."""
+    out: list[str] = []
+    for j in joints(design, device):
+        arms = range(len(JOINTS)) if shared(device) else (JOINTS.index(j.name),)
+        for i in arms:
+            p = f"upper_{i}.capstan_"
+            out += cr.winding_steps(j, (f"{p}anchor_1", f"{p}tensioner", f"{p}tensioner_nut"), f"arm upper_{i}")
+    return tuple(out)

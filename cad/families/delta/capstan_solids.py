@@ -187,15 +187,17 @@ def ground_parts(design, i: int, t, K: dict, stack: dict, motor) -> list[tuple[s
 ROPE_TRIM_CLEARANCE_MM = 0.2
 
 
-def add_capstans(design, K: dict, inst: list[PartInstance], device, stack: dict) -> list[PartInstance]:
-    """``inst`` with every capstan arm's solids (module docstring): the motor and its bracket
-    moved out by C, the base plate grown to carry them, the motor shaft in the arm become the
-    arm's axle, the drum sector on the arm, the capstan and the rope runs on the ground.
+def add_capstans(design, K: dict, inst: list[PartInstance], device, stack: dict) -> tuple[list, dict]:
+    """(``inst`` with every capstan arm's solids, ``{name: TappedHole}`` of the capstans' set
+    screws) (module docstring): the motor and its bracket moved out by C, the base plate grown
+    to carry them, the motor shaft in the arm become the arm's axle, the drum sector on the
+    arm, the capstan (its set screw's record: :func:`cad.assembly.capstan_hardware.
+    capstan_set_screw_fastening`) and the rope runs on the ground.
     ``stack``: :func:`cad.families.delta.assembly.stack_mm` of the design."""
     d = design.mechanism
     mspec = cat.get_motor(design.parts.motor)
     brg = fcs.axle_bearing(mspec.shaft_diameter_mm)
-    out = list(inst)
+    out, holes = list(inst), {}
     one = shared(device)
     for i in ARMS:
         t = device.transmission(f"theta_{i}")
@@ -214,14 +216,18 @@ def add_capstans(design, K: dict, inst: list[PartInstance], device, stack: dict)
                                                tf_body_part=shift @ x.tf_body_part))
                 out[k] = dataclasses.replace(x, kind=_bearing_bracket(design, K, brg))
             elif x.name == f"upper_{i}.motor_shaft":
-                out[k] = dataclasses.replace(x, name=f"upper_{i}.arm_axle", kind=_axle(K, x.kind, mspec))
+                out[k] = dataclasses.replace(x, name=f"upper_{i}.arm_axle", kind=_axle(K, x.kind, mspec),
+                                             part_of=None)  # made, no longer the motor's
                 out.append(PartInstance(f"capstan_motor_shaft_{i}", x.kind, "ground",
-                                        shift @ _body_at_zero(design, i) @ x.tf_body_part))
+                                        shift @ _body_at_zero(design, i) @ x.tf_body_part, part_of=f"motor_{i}"))
         new += [PartInstance(n, k, f"upper_{i}", tf) for n, k, tf in arm_parts(design, i, t, Ki, stack)]
-        new += [PartInstance(n, k, "ground", tf) for n, k, tf in ground_parts(design, i, t, Ki, stack, mspec)]
+        f, hole = fcs.capstan_set_screw_fastening(design, t, f"capstan_{i}", f"capstan_motor_shaft_{i}")
+        holes[hole.name] = hole
+        new += [PartInstance(n, k, "ground", tf, fastener=f if n == f"capstan_set_screw_{i}" else None)
+                for n, k, tf in ground_parts(design, i, t, Ki, stack, mspec)]
         out += new if one else [_tagged(x, f"_{i}") for x in new]
         out.append(_bearing(design, i, K, brg, stack))
-    return _grown_base(design, K, out, device, stack)
+    return _grown_base(design, K, out, device, stack), holes
 
 
 def _tagged(x: PartInstance, tag: str) -> PartInstance:

@@ -35,6 +35,7 @@ from cad.assembly.capstan_hardware import (  # noqa: F401 - re-exported: the fou
     ANCHOR_SCREW_LENGTH_MM,
     TENSIONER_WIND_D,
     capstan_set_screw,
+    capstan_set_screw_fastening,
     drum_groove_arc_deg,
     grooved_drum_texts,
     rope_run_kind,
@@ -212,9 +213,10 @@ def add_capstan(asm, design, J, plan, t):
             i = _moved_leg(i, rect)
         inst.append(i)
     shaft = next(i for i in asm.instances if i.name == "motor_shaft")
-    inst.append(PartInstance("capstan_motor_shaft", shaft.kind, "ground", shift @ shaft.tf_body_part))
+    inst.append(PartInstance("capstan_motor_shaft", shaft.kind, "ground", shift @ shaft.tf_body_part, part_of="motor"))
     inst, holes = a1_support(design, J, inst, asm.instances, asm.holes, plan.shaft_top_mm)
     inst += _capstan_parts(design, t, pl)
+    holes += (capstan_set_screw_fastening(design, t, "capstan", "capstan_motor_shaft")[1],)
     return Assembly(tuple(inst), rect, asm.notes, holes)
 
 
@@ -419,10 +421,11 @@ def _capstan_and_set_screw(design, t, pl: CapstanPlacement, m) -> list[PartInsta
                   description=f"set screw ISO 4026 {size.split('-')[0]} x {L:g} "
                               "(capstan on the motor shaft)", process="bought")
     tf_c = translation(ox, oy, z0)
+    f, _ = capstan_set_screw_fastening(design, t, "capstan", "capstan_motor_shaft")
     return [PartInstance("capstan", ck, "ground", tf_c),
             PartInstance("capstan_set_screw", sk, "ground",
                          tf_c @ translation(0, 0, z_set) @ _RY90
-                         @ translation(0, 0, m.shaft_diameter_mm / 2))]
+                         @ translation(0, 0, m.shaft_diameter_mm / 2), fastener=f)]
 
 
 def _rope_runs(design, t, pl: CapstanPlacement) -> list[PartInstance]:

@@ -33,7 +33,7 @@ import math
 import numpy as np
 
 from cad.data import catalog
-from cad.datasheet import row
+from cad.datasheet import clearance_parts, row
 from cad.datasheet.limits import Limit
 from cad.device import resolve_device
 from cad.dynamics.inertia import InertiaCoefficients
@@ -329,7 +329,7 @@ def rows_and_limits(design, report: dict, out_dir=None, simulate_wall: bool = Tr
     rows += fr + mass_rows(report) + structure_rows(design, report.get("structure"))
     if report.get("min_clearance_mm") is not None:
         rows.append(row("min_clearance_mm", "smallest clearance between parts over the motion",
-                        report["min_clearance_mm"], "mm", "interference sweep of the build"))
+                        report["min_clearance_mm"], "mm", "interference sweep of the build" + clearance_parts(report)))
     rows += stiffness_rows(design, report, m, Jx, fr[0]["value"], simulate_wall)
     eq25 = next((r["value"] for r in rows if r["key"] == "eq25_K_max_N_per_m"), None)
     cap_rows, cap_limits = capstan.datasheet_rows(design, report, phi, Jx, dev, rows[-1]["value"], eq25)

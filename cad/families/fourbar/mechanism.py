@@ -123,7 +123,7 @@ class _Builder:
             self.kinds[name] = PartKind(name=name, shape=make(), **kw)
         return self.kinds[name]
 
-    def place(self, name, k, body, tf, other=None, tf_other=None, fastener=None):
+    def place(self, name, k, body, tf, other=None, tf_other=None, fastener=None, part_of=None):
         self.inst.append(
             PartInstance(
                 name,
@@ -133,6 +133,7 @@ class _Builder:
                 other,
                 None if tf_other is None else np.asarray(tf_other, dtype=float),
                 fastener,
+                part_of,
             )
         )
 
@@ -575,7 +576,7 @@ def _motor_and_hub(b: _Builder, motor_spec=None) -> None:
         listed=False,
         revolution=True,
     )
-    b.place("motor_shaft", shk, "crank", translation(0, 0, zf))
+    b.place("motor_shaft", shk, "crank", translation(0, 0, zf), part_of="motor")  # the motor's own solid
     for i, (x, y) in enumerate(motor.motor_bolt_xy_mm(m)):
         st = _motor_screw_stack(parts, i + 1)
         b.hole(st["hole"])

@@ -31,6 +31,7 @@ from cad.assembly.capstan_hardware import (
     ANCHOR_SCREW,
     ANCHOR_SCREW_LENGTH_MM,
     capstan_set_screw,
+    capstan_set_screw_fastening,
     drum_groove_arc_deg,
     grooved_drum_texts,
     rope_run_kind,
@@ -316,12 +317,13 @@ def motor_side_parts(design, K: dict, lay: dict, sd, t, i: int, motor_name: str 
     zc = capstan_z_mm(design, t, zr if zm is None else zm - zr)  # on the crank side's terms
     tf_c = translation(ox, oy, zc)
     sfx = kind_suffix(design, sd.joint)
+    shaft = f"{motor_name or ('lower' if zm is None else 'upper') + f'_motor_{(i - 1) % 2 + 1}'}.shaft"
+    f, _ = capstan_set_screw_fastening(design, t, f"capstan_{i}", shaft, motor_key(design, lay))  # hole: the caller's
     out = [PartInstance(f"capstan_{i}", K[f"capstan{sfx}"], "ground", mirrored(tf_c, zm)),
            PartInstance(f"capstan_{i}.set_screw", K[f"capstan_set_screw{sfx}"], "ground",
                         mirrored(tf_c @ translation(0, 0, cg.CAPSTAN_HUB_MM / 2) @ _RY90
-                                 @ translation(0, 0, m.shaft_diameter_mm / 2), zm)),
-           PartInstance(f"{motor_name or ('lower' if zm is None else 'upper') + f'_motor_{(i - 1) % 2 + 1}'}.shaft",
-                        K["motor_shaft"], "ground",
+                                 @ translation(0, 0, m.shaft_diameter_mm / 2), zm), fastener=f),
+           PartInstance(shaft, K["motor_shaft"], "ground",
                         mirrored(translation(ox, oy, -p.plate_thickness_mm - p.motor_mount_thickness_mm
                                              + lay["capstan"].get("raise_mm", 0.0)), zm))]
     c = 1.1  # the check's clearance and a tenth

@@ -25,7 +25,7 @@ import math
 
 import numpy as np
 
-from cad.datasheet import row
+from cad.datasheet import clearance_parts, row
 from cad.device import resolve_device
 from cad.dynamics.friction import coulomb_friction_at_handle_N
 from cad.dynamics.stiffness import range_text, stiffness_range_N_per_m
@@ -305,12 +305,14 @@ def rows_and_limits(design, report: dict, out_dir=None, simulate_wall: bool = Tr
         fig = (f"workspace square {w:g} mm" if w == h else f"workspace rectangle {w:g} x {h:g} mm") + (", full crank turn" if design.family == "twin-pantograph" else "")
     rows.append(row("workspace", fig, area, unit, f"[workspace] table; {share:.0%} of its {ok.size} samples "
                     "reachable and non-singular (the figures below hold there)"))
-    tau_txt = (f"[actuators] torque_max_Nm = {design.actuators['torque_max_Nm']} (the GII's normalisation, "
+    tau = design.actuators['torque_max_Nm']
+    tau_txt = (f"[actuators] torque_max_Nm = {tau} (the GII's normalisation, "
                "not the motors: continuous_force_N / peak_force_N)")
-    rows.append(row("force_any_dir_N", "force available in every direction", smin.min() if ok.any() else None, "N",
+    per = f"normalised to {tau:g} N m per joint (GII scale, not the motors' force)"
+    rows.append(row("force_any_dir_N", f"force in every direction {per}", smin.min() if ok.any() else None, "N",
                     f"min over the workspace of sigma_min(J^T S_J) (translational rows), {tau_txt}",
                     lo=smin.min() if ok.any() else None, hi=smin.max() if ok.any() else None))
-    rows.append(row("force_best_dir_N", "largest force (best direction)", smaxv.max() if ok.any() else None, "N",
+    rows.append(row("force_best_dir_N", f"largest force (best direction) {per}", smaxv.max() if ok.any() else None, "N",
                     f"max over the workspace of sigma_max(J^T S_J), {tau_txt}",
                     lo=smaxv.min() if ok.any() else None, hi=smaxv.max() if ok.any() else None))
     if design.family != "haptic-pen":  # the pen adds its own, with Table 3 beside
@@ -341,7 +343,7 @@ def rows_and_limits(design, report: dict, out_dir=None, simulate_wall: bool = Tr
     rows += footprint_rows(report)
     if report.get("min_clearance_mm") is not None:
         rows.append(row("min_clearance_mm", "smallest clearance between parts", report["min_clearance_mm"], "mm",
-                        "interference check of the build"))
+                        "interference check of the build" + clearance_parts(report)))
     st = structure(design, report)
     if st is None:
         rows.append(row("first_mode_Hz", "first structural mode", None, "Hz",

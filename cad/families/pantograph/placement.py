@@ -12,6 +12,7 @@ import math
 
 import numpy as np
 
+from cad.assembly.capstan_hardware import capstan_set_screw_fastening
 from cad.assembly.fasteners import Fastener, TappedHole
 from cad.data.catalog import get_motor
 from cad.device import resolve_device
@@ -77,8 +78,9 @@ def assembly(design, lay: dict, fidelity: str):
     tfs: dict[str, np.ndarray] = {"ground": np.eye(4)}
     set_holes: dict = {}
 
-    def place(name, kind, body, tf, fastener=None):
-        inst.append(PartInstance(name, kind, body, np.asarray(tf, dtype=float), fastener=fastener))
+    def place(name, kind, body, tf, fastener=None, part_of=None):
+        inst.append(PartInstance(name, kind, body, np.asarray(tf, dtype=float), fastener=fastener,
+                                 part_of=part_of))
 
     home = home_xy_mm(design)
     if twin:
@@ -113,7 +115,8 @@ def assembly(design, lay: dict, fidelity: str):
                 place(f"{body}.axle", K["proximal_axle"], body,
                       pcs.mirrored(translation(0, 0, pcs.axle_z_mm(design)), zb if upper else None))
             else:
-                place(f"{body}.motor_shaft", K["motor_shaft"], body, shaft_tf)
+                place(f"{body}.motor_shaft", K["motor_shaft"], body, shaft_tf,  # its motor's own solid
+                      part_of=f"{'upper' if upper else 'lower'}_motor_{i + 1}")
             place_set_screw(place, set_holes, K, lay, body, translation(0, 0, zs[0]) @ F, on_axle)
             body = f"{pre}distal_{side}"
             tfs[body] = rz(math.atan2(E[1] - C[i][1], E[0] - C[i][0]), C[i][0], C[i][1])
@@ -167,8 +170,12 @@ def capstan_parts(design, K: dict, lay: dict, inst: list, tfs: dict, B) -> dict:
             rope, drum = cap["side_z_mm"][k]
             ls = {**lay, "capstan": {**cap, "rope_z_mm": rope, "drum_z_mm": drum, "raise_mm": cap["raise_mm"][k]}}
         blk, h = pcs.block_parts(design, K, ls, i, side, b, K["_mount_screw"], tfs[body])
-        inst += blk + pcs.drum_parts(design, K, ls, sd, t) + pcs.motor_side_parts(design, K, ls, sd, t, i)
+        ms = pcs.motor_side_parts(design, K, ls, sd, t, i)
+        inst += blk + pcs.drum_parts(design, K, ls, sd, t) + ms
         holes.update(h)
+        f = next(x.fastener for x in ms if x.name == f"capstan_{i}.set_screw")  # the capstan's tapped hole
+        hole = capstan_set_screw_fastening(design, t, f"capstan_{i}", f.clamps[0])[1]
+        holes[hole.name] = hole
     return holes
 
 

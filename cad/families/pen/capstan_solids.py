@@ -29,7 +29,11 @@ import dataclasses
 import numpy as np
 
 from cad.actuators import capstan_geometry as cg
-from cad.assembly.capstan_hardware import DRUM_THICKNESS_MM, axle_bearing
+from cad.assembly.capstan_hardware import (
+    DRUM_THICKNESS_MM,
+    axle_bearing,
+    capstan_set_screw_fastening,
+)
 from cad.data import catalog as cat
 from cad.device import resolve_device
 from cad.families.pantograph import capstan_solids as pcs
@@ -120,6 +124,9 @@ def instances(design, Kc: dict, gl: dict, mount_plan: dict, screw_kind, motor_sh
         blk, h = pcs.block_parts(design, K, lay, i, arm, sd.b_mm, screw_kind,
                                  np.linalg.inv(lift) @ tf_world_body[body], body=body)
         ground = blk + pcs.motor_side_parts(design, K, lay, sd, t, i, motor_name=f"{arm}_waist_motor")
+        hole = capstan_set_screw_fastening(design, t, f"capstan_{i}", f"{arm}_waist_motor.shaft",
+                                           pcs.motor_key(design, lay))[1]  # the capstan's tapped hole
+        h = {**h, hole.name: hole}
         out += [lifted(x, zb) for x in ground]
         drum_lay = {**lay, "capstan": {**lay["capstan"], "drum_z_mm": tuple(zb + z for z in lay["capstan"]["drum_z_mm"])}}
         out += pcs.drum_parts(design, K, drum_lay, sd, t, body=body)

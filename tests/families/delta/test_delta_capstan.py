@@ -199,7 +199,13 @@ def test_rope_bom_line_and_winding_steps():
     assert line["quantity"] == 3 and line["part"] == "capstan_cable"
     assert f"x {cut:.0f} mm" in line["designation"]
     steps = dcap.assembly_steps(d, dev)
-    assert len(steps) == 2 and f"cut {cut:.0f} mm of steel-7x7-1" in steps[0] and "30.0 N" in steps[1]
+    # one rope per arm (three of one cut), each naming its own arm's anchor, tensioner and nut
+    assert len(steps) == 6
+    for i in range(3):
+        wind, tension = steps[2 * i], steps[2 * i + 1]
+        assert f"cut {cut:.0f} mm of steel-7x7-1" in wind and f"under upper_{i}.capstan_anchor_1 " in wind
+        assert "30.0 N" in tension and f"turn upper_{i}.capstan_tensioner " in tension
+        assert f"lock it with upper_{i}.capstan_tensioner_nut " in tension
 
 
 @pytest.mark.slow  # a delta build: every pair of solids at 125 workspace points (~1 min)

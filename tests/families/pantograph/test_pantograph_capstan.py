@@ -119,7 +119,7 @@ def test_both_forms_reach_the_resolved_device(tmp_path):
     (CAPSTAN.replace(f"ratio = {N}", "ratio = 0.25"), "transmission.ratio"),
     (CAPSTAN.replace(ROPE, "nylon-1"), "transmission.cable"),
     ('\n[[transmission]]\nkind = "capstan"\n', "transmission"),
-    ('\n[[transmission]]\nkind = "direct"\n\n[[transmission]]\nkind = "belt"\n', "transmission.1.kind"),
+    ('\n[[transmission]]\nkind = "direct"\n\n[[transmission]]\nkind = "belt"\n', "transmission.2.kind"),
 ])
 def test_a_bad_transmission_exits_2_naming_the_field(tmp_path, extra, field):
     p = tmp_path / "bad.toml"

@@ -149,7 +149,7 @@ def test_both_forms_reach_the_resolved_device():
      "transmission.cable"),
     ('[[transmission]]\nkind = "direct"\n[[transmission]]\nkind = "direct"\n', "transmission"),
     ('[[transmission]]\nkind = "direct"\n[[transmission]]\nkind = "direct"\n[[transmission]]\nkind = "direct"\n'
-     '[[transmission]]\nkind = "belt"\n', "transmission.3.kind"),
+     '[[transmission]]\nkind = "belt"\n', "transmission.4.kind"),
 ])
 def test_a_bad_transmission_exits_2_naming_the_field(tmp_path, table, field):
     p = tmp_path / "bad.toml"

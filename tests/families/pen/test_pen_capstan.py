@@ -175,7 +175,7 @@ def test_both_forms_reach_the_resolved_device():
     ('[transmission]\nkind = "capstan"\ncapstan_diameter_mm = 32.0\nratio = 4.0\ncable = "nylon-1"\n',
      "transmission.cable"),
     ('[[transmission]]\nkind = "direct"\n[[transmission]]\nkind = "direct"\n', "transmission"),
-    ('[[transmission]]\nkind = "direct"\n' * 5 + '[[transmission]]\nkind = "belt"\n', "transmission.5.kind"),
+    ('[[transmission]]\nkind = "direct"\n' * 5 + '[[transmission]]\nkind = "belt"\n', "transmission.6.kind"),
 ])
 def test_a_bad_transmission_exits_2_naming_the_field(tmp_path, table, field):
     p = tmp_path / "bad.toml"

@@ -197,9 +197,9 @@ def test_hull_distance_matches_dense_sampling(vals):
 
 @pytest.mark.parametrize("fam", ["hoeken", "roberts", "chebyshev", "chebyshev-v"])
 def test_layer_plan_is_conflict_free_for_the_paper_families(fam):
+    from cad.design.parts import PartsSpec
     from cad.families.fourbar.layers import choose_layers
     from cad.families.fourbar.pose import planar_transforms
-    from cad.design.parts import PartsSpec
     from cad.kinematics.families import family_linkage
     from cad.kinematics.linkgeom import link_joints_mm
 
@@ -277,3 +277,60 @@ def test_labelled_six_dof_motion_names_the_clash_pose_and_volume():
     assert rep.poses["resting"][0] == 0.0 and rep.poses["tilted"][0] > 0.0
     with pytest.raises(InterferenceError, match=r"base / top collide at pose pressed \(overlap 50\.000 mm\^3\)"):
         itf.raise_on_collision(rep, 0.0)
+
+
+def _ring(r_in: float, r_out: float):
+    from build123d import Align, Cylinder
+
+    a = (Align.CENTER, Align.CENTER, Align.MIN)
+    return (Cylinder(r_out, H, align=a) - Cylinder(r_in, H, align=a)).solids()[0].wrapped
+
+
+def _bearing_model(inner_offset_mm: float = 0.0):
+    """A bearing at the crank's pivot (outer ring r 4..6 in the ground, inner ring r 1..3 on the
+    crank, ``inner_offset_mm`` off its axis along the crank's x), a post r 2 at x = 20 in the
+    ground and an arm r 2 at x = 14 on the crank, which turns about z by -0.4 .. 0.4 rad (0 a
+    sample); below them a motor (its housing's bore r 3.5) in the ground and its shaft (r 3,
+    ``part_of`` the motor) on the crank."""
+    from cad.assembly.model import AssemblyModel
+    from cad.parts import PartInstance, PartKind, translation
+
+    brg = PartKind(name="bearing", shape=_ring(1.0, 6.0), material="steel-1018", made=False,
+                   collision=(("self", _ring(4.0, 6.0)), ("other", _ring(1.0, 3.0))), revolution=True)
+    post = PartKind(name="post", shape=cylinder(2.0), material="steel-1018", made=True)
+    motor = PartKind(name="motor", shape=_ring(3.5, 5.0), material="steel-1018", made=False)
+    shaft = PartKind(name="shaft", shape=cylinder(3.0), material="steel-1018", made=False, listed=False,
+                     revolution=True)
+    inst = (PartInstance("bearing", brg, "ground", np.eye(4), "crank", translation(inner_offset_mm)),
+            PartInstance("post", post, "ground", translation(20.0)),
+            PartInstance("arm", post, "crank", translation(14.0)),
+            PartInstance("motor", motor, "ground", translation(0, 0, -10.0)),
+            PartInstance("motor.shaft", shaft, "crank", translation(0, 0, -10.0), part_of="motor"))
+    th = np.linspace(-0.4, 0.4, 9)
+    T = np.repeat(np.eye(4)[None], len(th), axis=0)
+    T[:, 0, 0], T[:, 0, 1], T[:, 1, 0], T[:, 1, 1] = np.cos(th), -np.sin(th), np.sin(th), np.cos(th)
+    motion = {"ground": np.repeat(np.eye(4)[None], len(th), axis=0), "crank": T}
+    return AssemblyModel(None, inst, {"ground": np.eye(4), "crank": T[4]}, motion,
+                         tuple(f"theta = {t:.1f} rad" for t in th))
+
+
+def test_smallest_clearance_is_between_two_parts_not_inside_a_bearing():
+    """A bearing's own ring gap (1 mm: inner ring's 3 mm to the outer ring's 4 mm) and a motor
+    shaft's gap in its housing (0.5 mm: 3 to 3.5 mm) are the maker's, inside one bought part:
+    the smallest clearance is the arm's to the post, 20 - 14 - 2 - 2 = 2 mm at theta = 0 (closed
+    form; the arm's to the outer ring 14 - 2 - 6 = 6 mm), naming those two parts; the gaps are
+    reported apart (own_part_gaps, the smallest 0.5 mm) and still checked: rings pushed 1.5 mm
+    off their common axis overlap (3 + 1.5 > 4) and that is a collision naming the bearing's
+    rings."""
+    from cad.assembly import interference as itf
+
+    rep = itf.check_model(_bearing_model())
+    assert rep.min_clearance_mm == pytest.approx(2.0, abs=1e-6)
+    assert sorted(rep.closest["parts"]) == ["arm", "post"] and rep.collisions == []
+    own = rep.as_dict()["own_part_gaps"]
+    assert own["pairs"] == 2 and own["min_gap_mm"] == pytest.approx(0.5, abs=1e-6)
+    assert sorted(own["parts"]) == ["motor", "motor.shaft"]
+    bad = itf.check_model(_bearing_model(1.5))
+    assert bad.min_clearance_mm == pytest.approx(2.0, abs=1e-6)
+    assert bad.overlap_volume_mm3 > 0.0
+    assert [sorted(c["parts"]) for c in bad.collisions] == [["bearing[inner]", "bearing[outer]"]]

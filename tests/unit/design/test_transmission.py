@@ -89,7 +89,7 @@ def test_one_table_per_motor_or_one_for_all():
     assert mixed[0] is DIRECT and mixed[1].is_capstan
     with pytest.raises(DesignError, match=r"^transmission: must be one table or 2 \(one per motor\), got an array of 3 tables"):
         parse_transmissions([ISSUE_TABLE] * 3, 2)
-    with pytest.raises(DesignError, match=r"^transmission\.1\.kind: must be one of"):
+    with pytest.raises(DesignError, match=r"^transmission\.2\.kind: must be one of"):
         parse_transmissions([ISSUE_TABLE, {"kind": "belt"}], 2)
     with pytest.raises(DesignError, match=r"^transmission: must be a table or an array"):
         parse_transmissions("capstan", 1)

@@ -130,8 +130,9 @@ def _model(fam: str):
 @pytest.mark.parametrize("fam", ["hoeken", "powermouse"])
 def test_each_scene_displaces_exactly_its_steps_parts(builds, fam):
     """The data the renderer is given: per step, the instances drawn on a displaced body
-    are exactly the step's new instances; the others drawn are exactly those of earlier
-    steps; across the steps every listed instance is displaced once."""
+    are exactly the step's new instances (a fastener towards its own head, another part along
+    the step's axis); the others drawn are exactly those of earlier steps; across the steps
+    every listed instance is displaced once."""
     from cad.export.gltf import kind_meshes
     from cad.pipeline.family import build_steps
     from cad.pipeline.views import instance_colors
@@ -160,8 +161,11 @@ def test_each_scene_displaces_exactly_its_steps_parts(builds, fam):
                 shift = sc.tf_world_body[i.body][0] - T
                 assert np.allclose(shift[:3, 3], sc.displaced[i.name])
                 assert np.allclose(shift[:3, :3], 0.0) and np.linalg.norm(shift[:3, 3]) > 1.0
-                assert abs(abs(sc.displaced[i.name] @ sc.axis)
-                           - np.linalg.norm(sc.displaced[i.name])) < 1e-9  # along the axis
+                # a fastener towards its own head (its local +z), any other part along the axis
+                u = sc.axis if i.fastener is None else (T @ i.tf_body_part)[:3, 2]
+                u = u / np.linalg.norm(u)
+                d = sc.displaced[i.name]
+                assert abs(abs(d @ u) - np.linalg.norm(d)) < 1e-9 and (i.fastener is None or d @ u > 0)
         assert len(sc.lines) == len(new)
         seen += steps[k - 1].new
     displaced = [n for _, sc in scenes for n in sc.displaced]
@@ -233,3 +237,24 @@ def test_added_part_is_drawn_in_its_colour_away_from_its_place():
     assert not any(red(xa + dx, ya + dy) for dx in range(-6, 7) for dy in range(-6, 7))
     r, g, b = px[int(yp), int(xp)]  # the plate's top face: grey-blue, not red
     assert abs(r - g) < 40 and b >= r and g > 120
+
+
+def test_screws_driven_from_above_and_below_come_out_on_their_own_sides():
+    """A step fastening screws of which some are driven from below (head down, local +z turned
+    to world -z) and some from above (the twin's raised motor's mount screws): each moves
+    towards its own head, by EXPLODE_FRACTION x scene + its distance from the step's middle
+    along the axis (the first screw's +z), by hand."""
+    from cad.assembly.fasteners import Fastener
+    from cad.parts import PartInstance, PartKind, flip_x, translation
+    from cad.report.step_views import EXPLODE_FRACTION, explode
+
+    V = np.array([[-1.0, -1, 0], [1, 1, 10]])  # a 10 mm screw along its +z
+    kind = PartKind("screw", None, "steel", False)
+    f = Fastener("ISO 4762", "M3-0.5", 10.0, ("motor_mount",), "base_plate:h", 5.0)
+    below = PartInstance("below", kind, "ground", translation(0, 0, -5) @ flip_x(), fastener=f)
+    above = PartInstance("above", kind, "ground", translation(50, 0, 5), fastener=f)
+    axis, off = explode([below, above], [], {"ground": np.eye(4)}, {"screw": (V, None)}, 100.0)
+    assert axis == pytest.approx([0, 0, -1])
+    # centres along the axis (-z): below at z = -10 -> 10, above at z = 10 -> -10; middle 0
+    assert off["below"] == pytest.approx([0, 0, -(EXPLODE_FRACTION * 100 + 10)])
+    assert off["above"] == pytest.approx([0, 0, EXPLODE_FRACTION * 100 + 10])
