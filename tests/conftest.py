@@ -53,12 +53,13 @@ PEN_FORMATS = ("firmware", "step")
 
 
 @pytest.fixture(scope="session")
-def family_builds(shared_build):
+def family_builds(shared_builds):
     """One build per non-four-bar family, shared by the test modules and both xdist workers
     (:func:`shared_build`): ``{family: (design, out_dir, report)}`` at the cheap ``inertia``
     fidelity (plain bearing rings, 12 PowerMouse poses), every format; ``report`` is its
     ``report.json`` read back. Read-only for tests."""
-    return {fam: shared_build(fn, FAMILY_FORMATS, "inertia") for fam, fn in FAMILY_DESIGNS.items()}
+    got = shared_builds([(fn, FAMILY_FORMATS, "inertia") for fn in FAMILY_DESIGNS.values()])
+    return dict(zip(FAMILY_DESIGNS, got, strict=True))
 
 
 @pytest.fixture(scope="session")
@@ -79,7 +80,8 @@ def shared_build(tmp_path_factory):
     (``report``: its ``report.json`` read back), shared by every test module and both xdist
     workers (the first caller builds under a file lock in the run's common temporary folder,
     the others wait and read the same files). The folder is read-only for tests: a test that
-    edits or rebuilds an output builds its own."""
+    edits or rebuilds an output builds its own. ``wait=False``: None at once when another
+    worker is building it (:func:`shared_builds`)."""
     import fcntl
     import json
     from pathlib import Path
@@ -94,16 +96,35 @@ def shared_build(tmp_path_factory):
     common = common / "shared_builds"
     common.mkdir(exist_ok=True)
 
-    def build(name: str, formats, fidelity: str):
+    def build(name: str, formats, fidelity: str, wait: bool = True):
         fmts = sorted(set(formats))
         key = f"{Path(name).stem}-{fidelity}-{'+'.join(fmts)}"
         out, done = common / key / "out", common / f"{key}.done"
         d = load_design(root / "designs" / name)
         with (common / f"{key}.lock").open("w") as lock:
-            fcntl.flock(lock, fcntl.LOCK_EX)  # released when the file closes
+            try:  # released when the file closes
+                fcntl.flock(lock, fcntl.LOCK_EX | (0 if wait else fcntl.LOCK_NB))
+            except BlockingIOError:
+                return None  # wait=False: another worker is building it
             if not done.is_file():
                 build_design(d, out, set(fmts), fidelity=fidelity, use_cache=False)
                 done.write_text("built\n")
         return d, out, json.loads((out / "report.json").read_text())
 
     return build
+
+
+@pytest.fixture(scope="session")
+def shared_builds(shared_build):
+    """``shared_builds([(name, formats, fidelity), ...])`` -> ``[(design, out_dir, report)]``:
+    :func:`shared_build` of each, but every one that no other worker is building is built
+    first (a lock taken without waiting), then the rest are waited for: two workers asking
+    for the same builds at once build them side by side instead of one waiting out each."""
+
+    def builds(specs):
+        specs = list(specs)
+        for spec in specs:
+            shared_build(*spec, wait=False)
+        return [shared_build(*spec) for spec in specs]
+
+    return builds

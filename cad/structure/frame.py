@@ -106,9 +106,12 @@ def rotation(p: np.ndarray, q: np.ndarray) -> np.ndarray:
     L = float(np.hypot(d[0], d[1]))
     if L <= 0:
         raise ValueError("element of zero length")
-    ex = np.array([d[0] / L, d[1] / L, 0.0])
-    ez = np.array([0.0, 0.0, 1.0])
-    return np.vstack([ex, np.cross(ez, ex), ez])
+    x0, x1 = float(d[0] / L), float(d[1] / L)
+    # local y = z x x, written out in numpy.cross's own products (the same bits, zero signs
+    # included, without its array set-up: this runs for every element of every frame)
+    return np.array([[x0, x1, 0.0],
+                     [0.0 * 0.0 - 1.0 * x1, 1.0 * x0 - 0.0 * 0.0, 0.0 * x1 - 0.0 * x0],
+                     [0.0, 0.0, 1.0]])
 
 
 @dataclass
@@ -197,7 +200,7 @@ class Frame:
         """Lumped translational mass per node (kg)."""
         m = np.zeros(len(self.nodes))
         for e in self.elements:
-            _, L = self._T(e)
+            L = float(np.linalg.norm(self.nodes[e[1]] - self.nodes[e[0]]))  # as in _T
             me = e[2].rho * e[2].A * L
             m[e[0]] += me / 2
             m[e[1]] += me / 2

@@ -64,8 +64,15 @@ def pen_ring_body():
     return by_name[RING], [by_name[p] for p in PINS]
 
 
+@pytest.fixture(scope="module")
+def sheet_before(pen_ring_body, tmp_path_factory) -> bytes:
+    """The ring's sheet drawn from the solid as assembled, before any test below meshes or
+    intersects it (the reference bytes of both tests: one drawing, not one per test)."""
+    return _ring_sheet(pen_ring_body[0].kind, tmp_path_factory.mktemp("ring_before"))
+
+
 def test_ring_sheet_is_the_same_after_the_check_meshed_and_intersected_it(pen_ring_body,
-                                                                          tmp_path):
+                                                                          sheet_before, tmp_path):
     from cad.export.shapes import placed
     from cad.massprops.occt import triangulate
     from cad.occ.distance import common_volume_mm3, min_distance_mm
@@ -73,7 +80,6 @@ def test_ring_sheet_is_the_same_after_the_check_meshed_and_intersected_it(pen_ri
 
     ring, pins = pen_ring_body
     shape = ring.kind.shape
-    before = _ring_sheet(ring.kind, tmp_path / "before")
     brep0, tol0 = brep_bytes(shape), _max_tolerances(shape)
     # what the interference check does to the ring on a cold cache: mesh it (prepare), then
     # the exact distance and the common volume with each pin it touches
@@ -85,19 +91,19 @@ def test_ring_sheet_is_the_same_after_the_check_meshed_and_intersected_it(pen_ri
         assert common_volume_mm3(sa, sb) < 1e-3  # a press fit at the nominal size: no overlap
     assert _max_tolerances(shape) == tol0
     assert brep_bytes(shape) == brep0
-    assert _ring_sheet(ring.kind, tmp_path / "after") == before
+    assert _ring_sheet(ring.kind, tmp_path / "after") == sheet_before
 
 
-def test_ring_sheet_ignores_a_triangulation_stored_on_the_solid(pen_ring_body, tmp_path):
+def test_ring_sheet_ignores_a_triangulation_stored_on_the_solid(pen_ring_body, sheet_before,
+                                                                tmp_path):
     """A mesh stored on the shared solid itself (BRepMesh in place, coarse) does not reach
     the sheet: the views are the exact hidden-line projection of the B-rep."""
     from OCP.BRepMesh import BRepMesh_IncrementalMesh
 
     ring, _ = pen_ring_body
     shape = ring.kind.shape
-    before = _ring_sheet(ring.kind, tmp_path / "before")
     BRepMesh_IncrementalMesh(shape, 0.5, False, 0.8, False)
-    assert _ring_sheet(ring.kind, tmp_path / "after") == before
+    assert _ring_sheet(ring.kind, tmp_path / "after") == sheet_before
 
 
 def test_common_leaves_its_arguments_and_measures_the_overlap():

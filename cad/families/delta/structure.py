@@ -74,6 +74,8 @@ class Frame3D:
     releases: dict[int, tuple[int, ...]] = field(default_factory=dict)
     #: (node, 6 x 6 mass block, base frame): rigid bodies fixed to a node (:meth:`rigid_mass`)
     rigid_blocks: list[tuple[int, np.ndarray]] = field(default_factory=list)
+    #: beam index -> (its inputs, (T, local k, T^T k T)): :meth:`element` (not a field to set)
+    element_memo: dict = field(default_factory=dict, init=False, repr=False, compare=False)
 
     def node(self, xyz_m) -> int:
         self.nodes.append(np.asarray(xyz_m, float).reshape(3))
@@ -145,12 +147,9 @@ class Frame3D:
     def stiffness(self) -> np.ndarray:
         """Assembled stiffness (6 DOFs per node, N/m, N m/rad)."""
         K = np.zeros((6 * len(self.nodes),) * 2)
-        for k, (i, j, s, ref) in enumerate(self.beams):
-            R = element_axes(self.nodes[i], self.nodes[j], ref)
-            T = np.kron(np.eye(4), R)
-            L = float(np.linalg.norm(self.nodes[j] - self.nodes[i]))
+        for k, (i, j, _, _) in enumerate(self.beams):
             d = np.r_[6 * i:6 * i + 6, 6 * j:6 * j + 6]
-            K[np.ix_(d, d)] += T.T @ self.element_stiffness(k, L, s) @ T
+            K[np.ix_(d, d)] += self.element(k)[2]
         for i, j, EA, _ in self.trusses:
             v = self.nodes[j] - self.nodes[i]
             L = float(np.linalg.norm(v))
@@ -165,12 +164,28 @@ class Frame3D:
         """(n_beams, 12) local end forces k_local T u_e of every beam (N, N m; the order of
         :func:`cad.structure.frame.local_stiffness`)."""
         out = np.zeros((len(self.beams), 12))
-        for k, (i, j, s, ref) in enumerate(self.beams):
-            T = np.kron(np.eye(4), element_axes(self.nodes[i], self.nodes[j], ref))
-            L = float(np.linalg.norm(self.nodes[j] - self.nodes[i]))
+        for k, (i, j, _, _) in enumerate(self.beams):
+            T, kl, _ = self.element(k)
             d = np.r_[6 * i:6 * i + 6, 6 * j:6 * j + 6]
-            out[k] = self.element_stiffness(k, L, s) @ (T @ u[d])
+            out[k] = kl @ (T @ u[d])
         return out
+
+    def element(self, k: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Beam ``k``'s (T, k_local, T^T k_local T): its 12 x 12 rotation to local axes
+        (:func:`element_axes` on each 3-vector), local stiffness (:meth:`element_stiffness`)
+        and stiffness in the base frame. Made once while its end nodes, section, reference
+        and releases are unchanged (every load case of :meth:`solve` and
+        :meth:`beam_end_forces` on one frame reads the same arrays)."""
+        i, j, s, ref = self.beams[k]
+        key = (self.nodes[i].tobytes(), self.nodes[j].tobytes(), s, ref.tobytes(),
+               self.releases.get(k))
+        hit = self.element_memo.get(k)
+        if hit is not None and hit[0] == key:
+            return hit[1]
+        T = np.kron(np.eye(4), element_axes(self.nodes[i], self.nodes[j], ref))
+        kl = self.element_stiffness(k, float(np.linalg.norm(self.nodes[j] - self.nodes[i])), s)
+        self.element_memo[k] = (key, (T, kl, T.T @ kl @ T))
+        return self.element_memo[k][1]
 
     def truss_forces_N(self, u: np.ndarray) -> np.ndarray:
         """(n_trusses,) axial force of every truss (N, tension > 0): EA / L times its

@@ -16,18 +16,22 @@ from pathlib import Path
 
 import pytest
 
-from tests.conftest import DELTA_FORMATS
+from tests.conftest import DELTA_FORMATS, FAMILY_DESIGNS, FAMILY_FORMATS, HOEKEN_SIM_FORMATS
 
 _BULLET = re.compile(r"^- `([^`]+)` \(([^)]+)\): ")
 
 
 @pytest.fixture(scope="module")
-def builds(family_builds, hoeken_sim_build, shared_build):
-    """``{family: out_dir}``: the shared family builds, the bundled delta (preview, shared with
-    tests/families/delta/test_delta_build.py) and the bundled Hoeken (preview, the shared
-    simulator build: its assembly.md, bom.csv and fastener records are the inertia build's)."""
-    return {"hoeken": hoeken_sim_build[1], "delta": shared_build("delta.toml", DELTA_FORMATS, "preview")[1],
-            **{fam: o for fam, (_, o, _) in family_builds.items()}}
+def builds(shared_builds):
+    """``{family: out_dir}``: the shared family builds (``family_builds``), the bundled delta
+    (preview, shared with tests/families/delta/test_delta_build.py) and the bundled Hoeken
+    (preview, ``hoeken_sim_build``: its assembly.md, bom.csv and fastener records are the
+    inertia build's), asked for together (tests/conftest.py ``shared_builds``: the other
+    worker builds some of them at the same time)."""
+    specs = {"hoeken": ("hoeken.toml", HOEKEN_SIM_FORMATS, "preview"),
+             "delta": ("delta.toml", DELTA_FORMATS, "preview"),
+             **{fam: (fn, FAMILY_FORMATS, "inertia") for fam, fn in FAMILY_DESIGNS.items()}}
+    return {fam: b[1] for fam, b in zip(specs, shared_builds(specs.values()), strict=True)}
 
 
 def _steps(out: Path) -> list[tuple[str, list[tuple[str, str]], list[str]]]:
