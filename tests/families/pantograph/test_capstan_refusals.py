@@ -86,7 +86,7 @@ def test_no_direction_that_places_the_drums_says_what_met(tmp_path):
 
 
 @pytest.mark.parametrize("design", ["pantograph_capstan.toml", "delta_capstan.toml", "hoeken_capstan.toml",
-                                    "analysis-only/haptic_pen_capstan.toml"])
+                                    "haptic_pen_capstan.toml"])
 def test_every_family_warns_at_load_of_a_rope_below_its_bend_ratio(design):
     """A 20 mm capstan bends the 0.8 mm 7x7 rope at D/d = 25 < 40: loading the design (any family
     with capstans) records one warning naming the rope, the ratio and the 32 mm capstan

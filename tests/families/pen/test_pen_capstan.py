@@ -46,7 +46,7 @@ from cad.kinematics import haptic_pen as hp
 from tests.compilers import compiler
 
 ROOT = Path(__file__).resolve().parents[3]
-BUNDLED = ROOT / "designs" / "analysis-only" / "haptic_pen_capstan.toml"
+BUNDLED = ROOT / "designs" / "haptic_pen_capstan.toml"
 RAW = tomllib.loads(BUNDLED.read_text())
 DIRECT = tomllib.loads((ROOT / "designs" / "haptic_pen.toml").read_text())
 JOINTS = tuple(f"{a}_q_{j}" for a in ("A", "B") for j in ("waist", "lower", "upper"))

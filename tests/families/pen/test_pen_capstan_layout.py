@@ -39,7 +39,7 @@ from cad.families.pen.build import check_options
 from cad.families.pen.layout import body_poses
 
 ROOT = Path(__file__).resolve().parents[3]
-BUNDLED = ROOT / "designs" / "analysis-only" / "haptic_pen_capstan.toml"
+BUNDLED = ROOT / "designs" / "haptic_pen_capstan.toml"
 RAW = tomllib.loads(BUNDLED.read_text())
 #: The bundled file's pulleys (pitch diameters, mm) and the shared 2 mm gap between them.
 PULLEYS = {"waist": (120.0, 40.0), "lower": (128.0, 32.0), "upper": (128.0, 32.0)}
