@@ -236,14 +236,15 @@ def capstan_kinds(design, lay: dict) -> dict[str, PartKind]:
             name=f"capstan_tensioner_screw{sfx}")
     bf = block_fastening(design, lay) if "screws" in lay else {}
     if bf.get("through"):
-        K["block_bolt"] = joints.cap_screw_kind(bf["size"], bf["length_mm"], "parts",
-                                                note="bearing block through-bolt, nut under the flange")
+        K["block_bolt"] = dataclasses.replace(  # named apart from the tapped screws of one length
+            joints.cap_screw_kind(bf["size"], bf["length_mm"], "parts", note="bearing block through-bolt, nut under "
+                                  "the flange"), name=f"block_bolt_{bf['size']}x{bf['length_mm']:g}")
         w = cat.get_washer(bf["size"], "parts")
-        K["block_washer"] = PartKind(f"washer_{w.size}", joints.washer_shape(bf["size"]), material=cat.FASTENER_MATERIAL,
+        K["block_washer"] = PartKind(f"block_washer_{w.size}", joints.washer_shape(bf["size"]), material=cat.FASTENER_MATERIAL,
                                      made=False, process="bought", revolution=True,
                                      description=f"plain washer ISO 7089 {w.size}",
                                      collision=(("self", joints.ring_shape(0.0, w.d2_mm / 2, w.h_mm)),))
-        K["block_nut"] = PartKind(f"hex_nut_{bf['size'].split('-')[0]}", joints.nut_shape(bf["size"]),
+        K["block_nut"] = PartKind(f"block_nut_{bf['size'].split('-')[0]}", joints.nut_shape(bf["size"]),
                                   material=cat.FASTENER_MATERIAL, made=False, process="bought", revolution=True,
                                   description=f"hex nut ISO 4032 {bf['size']} (bearing block through-bolt)")
     K["anchor_screw"] = dataclasses.replace(

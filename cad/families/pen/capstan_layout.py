@@ -28,8 +28,8 @@ directions fail this is refused, not searched further).
 A motor direction ``alpha`` is measured in its pair's plane from the x axis towards y (the
 waists: world x towards y; the shoulders: up the waist axis towards the pen). The search keeps
 the motors farthest from the workspace (smallest y). These are plane checks over the workspace
-grid: necessary for the solids, not a proof (that is the build's every-pair interference check,
-which waits for the solids).
+grid: necessary for the solids, not a proof (that is the build's every-pair interference check
+over the solids, :mod:`cad.families.pen.capstan_solids` and :mod:`cad.families.pen.shoulder_capstan`).
 """
 
 from __future__ import annotations

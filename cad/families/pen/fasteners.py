@@ -17,6 +17,7 @@ from cad.errors import DesignError
 from cad.families.pantograph.build import screw_plan
 from cad.families.pantograph.layout import leg_xy
 from cad.families.pen.capstan_solids import stations_xy_mm
+from cad.families.pen.shoulder_capstan import motor_xz_mm
 from cad.parts import joints
 from cad.parts import motor as pm
 from cad.parts import translation as tr
@@ -47,8 +48,6 @@ def bracket_bolt_xz_mm(design, arm: str = "A") -> list[tuple[float, float]]:
     shoulder axis, or about the motor moved off it by a shoulder capstan
     (:func:`cad.families.pen.shoulder_capstan.motor_xz_mm`; the arms' waist frames are mirror
     images, so arm B's motors stand at the mirrored x)."""
-    from cad.families.pen.shoulder_capstan import motor_xz_mm
-
     l1 = design.mechanism.shoulder_base_mm
     st = motor_xz_mm(design)  # shoulder capstans: each motor moved off its axis
     centres = [st.get(f"{arm}_q_{r}", (0.0, z)) for r, z in (("lower", -l1 / 2), ("upper", l1 / 2))]

@@ -36,7 +36,9 @@ import math
 import numpy as np
 
 from cad.data.catalog import get_bearing, get_motor
+from cad.device import resolve_device
 from cad.errors import DesignError
+from cad.families.pantograph.capstan import DRUM_THICKNESS_MM
 from cad.kinematics import fivebar as fb5
 from cad.kinematics import haptic_pen as hp
 from cad.parts import base
@@ -65,9 +67,6 @@ def shoulder_band_mm(design) -> float:
     """How far the waist bracket's motor plate moves out for shoulder capstans (mm): two layer
     gaps and two drums (:data:`cad.families.pantograph.capstan.DRUM_THICKNESS_MM`), a band for
     each shoulder drum (:mod:`cad.families.pen.shoulder_capstan`); 0 with direct shoulders."""
-    from cad.device import resolve_device
-    from cad.families.pantograph.capstan import DRUM_THICKNESS_MM
-
     dev = resolve_device(design)
     if not any(dev.transmission(f"{a}_q_{s}").is_capstan for a in ARMS for s in ("lower", "upper")):
         return 0.0

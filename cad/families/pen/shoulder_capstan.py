@@ -33,12 +33,14 @@ import dataclasses
 
 import numpy as np
 
-from cad.assembly.capstan_hardware import DRUM_THICKNESS_MM
+from cad.assembly.capstan_hardware import DRUM_THICKNESS_MM, axle_bearing
+from cad.data import catalog as cat
 from cad.device import resolve_device
 from cad.families.pantograph import capstan_solids as pcs
 from cad.families.pantograph import twin_placement as tp
 from cad.families.pen import capstan_layout as cl
 from cad.families.pen.layout import ARMS
+from cad.parts import motor as pm
 
 ROLES = ("lower", "upper")
 
@@ -182,10 +184,6 @@ def plate_holes_xz_mm(design, lay: dict, plan: dict, arm: str) -> list[tuple[flo
     """``[(x, z, diameter)]`` (arm ``arm``'s waist frame, mm) its shoulder capstans need through
     the motor plate: each axle's clearance (the bearing's abutment diameter Da) and each block's
     four fastener clearance holes."""
-    from cad.assembly.capstan_hardware import axle_bearing
-    from cad.data import catalog as cat
-    from cad.parts import motor as pm
-
     m = cat.get_motor(design.parts.motor)
     da = axle_bearing(m.shaft_diameter_mm).Da_mm
     T = tf_waist_f(lay["motor_plate_mm"][0])
