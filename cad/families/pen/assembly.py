@@ -280,7 +280,9 @@ def _ground_parts(design, gl: dict) -> list[tuple[str, str, np.ndarray]]:
 def kinds(design, lay: dict, gl: dict, fidelity: str) -> dict:
     """``{kind name: PartKind}`` of every distinct part of the pen (and ``"_screws"``: the
     cap screw kind of each screw group; ``"_capstan"``: the waist capstans' kinds by the shared
-    solids' keys, :func:`cad.families.pen.capstan_solids.kinds`, empty for direct waists)."""
+    solids' keys, :func:`cad.families.pen.capstan_solids.kinds`, empty for direct waists;
+    ``"_shoulder"``: the shoulder capstans' kinds by role, :func:`cad.families.pen.shoulder_capstan.kinds`,
+    empty for direct shoulders)."""
     K: dict = {}
 
     def add(name, shape, material, made, description, process, **kw):
