@@ -587,9 +587,9 @@ def _check_transmission(raw: dict[str, Any], family: str) -> None:
     """``[transmission]`` / ``[[transmission]]`` of a 5-bar (two motors: left, right), a twin
     pantograph (four: knob left, knob right, crank left, crank right) or a haptic pen (six: arm
     A waist, lower, upper, then arm B's, :meth:`PantographDesign.motor_joints`) validated at load
-    (:func:`cad.design.transmission.parse_transmissions`). The pen's capstan solids are not
-    built: its build refuses a capstan (:mod:`cad.families.pen.capstan_layout`); the twin's are
-    laid out by :func:`cad.families.pantograph.twin_placement.group_layout`."""
+    (:func:`cad.design.transmission.parse_transmissions`). The pen's capstan motors are
+    laid out by :mod:`cad.families.pen.capstan_layout` (its build refuses a pair that cannot be);
+    the twin's by :func:`cad.families.pantograph.twin_placement.group_layout`."""
     if "transmission" not in raw:
         return
     parse_transmissions(raw["transmission"], {"pantograph": 2, "twin-pantograph": 4}.get(family, 6))

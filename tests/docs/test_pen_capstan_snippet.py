@@ -1,6 +1,6 @@
-"""The Python snippet that docs/families/pen.md gives for the haptic pen's capstan figures (its
-solids are not built, so the CLI's datasheet refuses it) runs as printed and prints the figures
-the page states."""
+"""The Python snippet that docs/families/pen.md gives for the haptic pen's capstan figures (the
+same functions the datasheet calls, without a build) runs as printed and prints the figures the
+page states."""
 
 from __future__ import annotations
 

@@ -38,7 +38,7 @@ from cad.assembly.capstan_hardware import (
     tensioner_screw_mm,
 )
 from cad.assembly.capstan_hardware import axle_bearing as a1_bearing
-from cad.assembly.fasteners import Fastener, TappedHole
+from cad.assembly.fasteners import Fastener, TappedHole, size_cap_screw
 from cad.data import catalog as cat
 from cad.data.fits import fit
 from cad.device import resolve_device
@@ -106,6 +106,60 @@ def rope_index(joint: str) -> int:
     return ("q_left", "q_right").index(joint) + 1
 
 
+def plate_mm(design, lay: dict) -> float:
+    """The thickness of the plate the bearing blocks and moved motors hang on (mm):
+    ``lay["capstan"]["plate_mm"]`` (the haptic pen's shoulders: the waist bracket's motor
+    plate), else ``parts.plate_thickness_mm`` (the base or bridge plate)."""
+    return lay.get("capstan", {}).get("plate_mm", design.parts.plate_thickness_mm)
+
+
+def mount_mm(design, lay: dict) -> float:
+    """The thickness of a moved motor's own mount plate under that plate (mm):
+    ``lay["capstan"]["mount_mm"]`` (0 for the haptic pen's shoulders: the motor face on the
+    bracket's motor plate), else ``parts.motor_mount_thickness_mm``."""
+    return lay.get("capstan", {}).get("mount_mm", design.parts.motor_mount_thickness_mm)
+
+
+#: A through-bolt's thread past its nut, in thread pitches: every thread of the nut engaged
+#: with the bolt's chamfered end out of it (rule of thumb; no standard cited: unverified).
+BOLT_TAIL_PITCHES = 1.0
+
+
+def block_fastening(design, lay: dict) -> dict:
+    """How the bearing blocks are fastened to the plate they hang on (:func:`plate_mm`), the
+    flange ``parts.motor_mount_thickness_mm`` thick: ``lay["screws"]["mount"]`` (the mount
+    screws' plan, :func:`cad.families.pantograph.layout.screw_plan`) when the plate holds its
+    minimum engagement (cap screws from the flange into tapped holes; resized by
+    :func:`cad.assembly.fasteners.size_cap_screw` when the plate is not the plan's), else a
+    through-bolt: the plan's thread from the plate's free side through a clearance hole in the
+    plate and the flange, an ISO 7089 washer and ISO 4032 nut under the flange (``through``
+    True; ``clamp_mm`` plate + flange, ``washer_h_mm``, ``nut_m_mm``, ``length_mm`` the shortest
+    catalog length >= clamp + washer + nut + :data:`BOLT_TAIL_PITCHES` pitch, ``engagement_mm``
+    the nut's height, ``tail_mm`` past the nut). mm. DesignError (``parts.motor_mount_thickness_mm``)
+    when no catalog length reaches."""
+    sp = lay["screws"]["mount"]
+    pl = plate_mm(design, lay)
+    if pl >= sp["min_engagement_mm"] - 1e-9:
+        if abs(pl - sp["depth_mm"]) < 1e-9:
+            return sp
+        hole = TappedHole("block", "plate", sp["size"], pl, sp["min_engagement_mm"])
+        L, e = size_cap_screw(sp["size"], sp["clamp_mm"], hole, sp["joint"], "parts.motor_mount_thickness_mm")
+        return {**sp, "length_mm": L, "engagement_mm": e, "depth_mm": pl}
+    size = sp["size"]
+    w, n = cat.get_washer(size, "parts"), cat.get_nut(size, "parts")
+    clamp = pl + design.parts.motor_mount_thickness_mm
+    tail = BOLT_TAIL_PITCHES * float(size.split("-")[1])
+    need = clamp + w.h_mm + n.m_mm + tail
+    L = cat.shortest_length(cat.get_cap_screw(size, "parts").lengths_mm, need)
+    if L is None:
+        raise DesignError("parts.motor_mount_thickness_mm", f"bearing block through-bolts: no ISO 4762 "
+                          f"{size.split('-')[0]} length reaches {need:g} mm (plate and flange {clamp:g} mm, "
+                          "washer, nut and a thread past it)")
+    return {"size": size, "through": True, "clamp_mm": clamp, "washer_h_mm": w.h_mm, "nut_m_mm": n.m_mm,
+            "length_mm": L, "engagement_mm": n.m_mm, "tail_mm": L - clamp - w.h_mm - n.m_mm,
+            "joint": "bearing block through-bolted to its plate"}
+
+
 def block_height_mm(design, motor_key: str | None = None) -> float:
     """The bearing block's height (mm): two bearing seats and the lip between them; the
     bearings' bore the shaft's of ``motor_key`` (default ``parts.motor``)."""
@@ -120,7 +174,7 @@ def axle_kind(design, lay: dict) -> PartKind:
     p = design.parts
     m = cat.get_motor(motor_key(design, lay))
     brg = a1_bearing(m.shaft_diameter_mm)
-    z0 = -p.plate_thickness_mm - block_height_mm(design, m.key)
+    z0 = -plate_mm(design, lay) - block_height_mm(design, m.key)
     top = lay.get("capstan", {}).get("axle_top_mm")
     top = lay["lower_layers_z_mm"][0] + p.clevis_height_mm / 2 if top is None else top
     L = top - z0
@@ -132,9 +186,10 @@ def axle_kind(design, lay: dict) -> PartKind:
                     fits=(fit("journal", m.shaft_diameter_mm, "bearing journal"),), revolution=True)
 
 
-def axle_z_mm(design, motor_key: str | None = None) -> float:
-    """The axle's bottom (mm, world z): the bearing block's bottom (:func:`block_height_mm`)."""
-    return -design.parts.plate_thickness_mm - block_height_mm(design, motor_key)
+def axle_z_mm(design, motor_key: str | None = None, plate: float | None = None) -> float:
+    """The axle's bottom (mm, world z): the bearing block's bottom (:func:`block_height_mm`)
+    under a plate ``plate`` mm thick (default ``parts.plate_thickness_mm``)."""
+    return -(design.parts.plate_thickness_mm if plate is None else plate) - block_height_mm(design, motor_key)
 
 
 def capstan_kinds(design, lay: dict) -> dict[str, PartKind]:
@@ -180,6 +235,19 @@ def capstan_kinds(design, lay: dict) -> dict[str, PartKind]:
             joints.cap_screw_kind(ANCHOR_SCREW, L, "transmission",
                                   note="rope tensioner: the rope's end wound on its shank"),
             name=f"capstan_tensioner_screw{sfx}")
+    bf = block_fastening(design, lay) if "screws" in lay else {}
+    if bf.get("through"):
+        K["block_bolt"] = dataclasses.replace(  # named apart from the tapped screws of one length
+            joints.cap_screw_kind(bf["size"], bf["length_mm"], "parts", note="bearing block through-bolt, nut under "
+                                  "the flange"), name=f"block_bolt_{bf['size']}x{bf['length_mm']:g}")
+        w = cat.get_washer(bf["size"], "parts")
+        K["block_washer"] = PartKind(f"block_washer_{w.size}", joints.washer_shape(bf["size"]), material=cat.FASTENER_MATERIAL,
+                                     made=False, process="bought", revolution=True,
+                                     description=f"plain washer ISO 7089 {w.size}",
+                                     collision=(("self", joints.ring_shape(0.0, w.d2_mm / 2, w.h_mm)),))
+        K["block_nut"] = PartKind(f"block_nut_{bf['size'].split('-')[0]}", joints.nut_shape(bf["size"]),
+                                  material=cat.FASTENER_MATERIAL, made=False, process="bought", revolution=True,
+                                  description=f"hex nut ISO 4032 {bf['size']} (bearing block through-bolt)")
     K["anchor_screw"] = dataclasses.replace(
         joints.cap_screw_kind(ANCHOR_SCREW, ANCHOR_SCREW_LENGTH_MM, "transmission", note="rope anchor on the drum"),
         name="capstan_anchor_screw")
@@ -247,19 +315,38 @@ def capstan_z_mm(design, t, rope_z_mm: float) -> float:
     return rope_z_mm - cg.CAPSTAN_HUB_MM - 0.5 * cg.GROOVE_PITCH_D * t.cable_diameter_mm * t.wraps
 
 
+def capstan_span_mm(design, t, lay: dict) -> tuple[float, float, float]:
+    """``(bottom, top, hub top)`` of the capstan on a moved motor's shaft (mm, the layout's z):
+    the middle of its turns in the rope's plane, its set-screw hub under the turns (towards the
+    motor, :func:`capstan_z_mm`), or turned over, the hub beyond the turns when
+    ``lay["capstan"]["hub_out"]`` (a rope plane so near the plate that the hub would reach
+    into it: the haptic pen's band by its shoulder motor plate)."""
+    zr = lay["capstan"]["rope_z_mm"]
+    zc = capstan_z_mm(design, t, zr)
+    n = cg.capstan_length_mm(t.cable_diameter_mm, t.wraps)
+    if lay["capstan"].get("hub_out"):
+        return 2 * zr - zc - n, 2 * zr - zc, 2 * zr - zc
+    return zc, zc + n, zc + cg.CAPSTAN_HUB_MM
+
+
 def block_parts(design, K: dict, lay: dict, i: int, side: str, b, screw_kind,
                 tf_world_link: np.ndarray, body: str | None = None) -> tuple[list, dict]:
     """The bearing block at joint ``b`` with its two bearings (inner ring on the proximal link)
-    and its four screws into the base plate's tapped holes; (instances, tapped holes). On the
-    twin's knob pantograph (``lay["capstan"]["mirror_z_mm"]`` set) all of it mirrored onto the
-    bridge (:func:`mirrored`), the screws in the bridge plate; ``side`` the link's body name
-    without ``proximal_`` (``left``, ``knob_left``); ``body`` the body the bearings' inner rings
-    turn with (default: that link's)."""
+    and its four fasteners (:func:`block_fastening`): screws into the plate's tapped holes
+    (``screw_kind``), or through-bolts from the plate's free side (their heads there) with a
+    washer and nut under the flange, each nut the hole its bolt engages; (instances, holes).
+    The plate :func:`plate_mm` thick, its free face at z = 0. On the twin's knob pantograph
+    (``lay["capstan"]["mirror_z_mm"]`` set) all of it mirrored onto the bridge (:func:`mirrored`),
+    the screws in the bridge plate; ``side`` the link's body name without ``proximal_``
+    (``left``, ``knob_left``); ``body`` the body the bearings' inner rings turn with (default:
+    that link's); ``lay["capstan"]["plate"]`` the plate's instance name (default
+    ``base_plate`` / ``bridge_plate``)."""
     p = design.parts
     m = cat.get_motor(motor_key(design, lay))
-    z0, h = axle_z_mm(design, m.key), block_height_mm(design, m.key)
+    pt = plate_mm(design, lay)
+    z0, h = axle_z_mm(design, m.key, pt), block_height_mm(design, m.key)
     zm = lay["capstan"].get("mirror_z_mm")
-    plate = "base_plate" if zm is None else "bridge_plate"
+    plate = lay["capstan"].get("plate", "base_plate" if zm is None else "bridge_plate")
     B = K["axle_bearing"].ring_mm[2]
     name, link = f"bearing_block_{i}", f"proximal_{side}"
     if "_" in side:
@@ -270,15 +357,27 @@ def block_parts(design, K: dict, lay: dict, i: int, side: str, b, screw_kind,
     for k, z in enumerate((z0 + h - B, z0)):
         tf = mirrored(translation(b[0], b[1], z), zm)
         out.append(PartInstance(f"{name}.bearing_{k + 1}", K["axle_bearing"], "ground", tf, body, tf_link @ tf))
-    sp = lay["screws"]["mount"]
+    sp = block_fastening(design, lay)
     holes = {}
+    flip = np.diag([1.0, -1.0, -1.0, 1.0])
     for k, (x, y) in enumerate(motor.mount_hole_xy_mm(m)):
+        if sp.get("through"):
+            nut, washer = f"{name}.nut_{k + 1}", f"{name}.washer_{k + 1}"
+            zf = -pt - p.motor_mount_thickness_mm  # the flange's free face
+            holes[nut] = TappedHole(nut, nut, sp["size"], sp["nut_m_mm"], sp["nut_m_mm"])
+            f = Fastener("ISO 4762", sp["size"], sp["length_mm"], (plate, name, washer), nut, sp["engagement_mm"])
+            out += [PartInstance(f"{name}.bolt_{k + 1}", K["block_bolt"], "ground",
+                                 mirrored(translation(b[0] + x, b[1] + y, 0.0), zm), fastener=f),
+                    PartInstance(washer, K["block_washer"], "ground",
+                                 mirrored(translation(b[0] + x, b[1] + y, zf - sp["washer_h_mm"]), zm)),
+                    PartInstance(nut, K["block_nut"], "ground", mirrored(
+                        translation(b[0] + x, b[1] + y, zf - sp["washer_h_mm"] - sp["nut_m_mm"]), zm))]
+            continue
         hole = f"{plate}:block_{i}_{k + 1}"
         holes[hole] = TappedHole(hole, plate, sp["size"], sp["depth_mm"], sp["min_engagement_mm"])
         f = Fastener("ISO 4762", sp["size"], sp["length_mm"], (name,), hole, sp["engagement_mm"])
-        flip = np.diag([1.0, -1.0, -1.0, 1.0])
         out.append(PartInstance(f"{name}.screw_{k + 1}", screw_kind, "ground",
-                                mirrored(translation(b[0] + x, b[1] + y, -p.plate_thickness_mm
+                                mirrored(translation(b[0] + x, b[1] + y, -pt
                                                      - p.motor_mount_thickness_mm) @ flip, zm), fastener=f))
     return out, holes
 
@@ -310,12 +409,13 @@ def motor_side_parts(design, K: dict, lay: dict, sd, t, i: int, motor_name: str 
     ``lay["capstan"]["raise_mm"]`` (its mount plate on the plate's top) has its shaft that much
     higher. ``motor_name``: the motor's instance name (its shaft is ``<motor_name>.shaft``;
     default ``lower_motor_<n>`` / ``upper_motor_<n>``)."""
-    p = design.parts
     m = cat.get_motor(motor_key(design, lay))
     ox, oy = sd.motor_xy_mm
     zr, zm = lay["capstan"]["rope_z_mm"], lay["capstan"].get("mirror_z_mm")
     zc = capstan_z_mm(design, t, zr if zm is None else zm - zr)  # on the crank side's terms
     tf_c = translation(ox, oy, zc)
+    if lay["capstan"].get("hub_out"):  # turned over about the rope's plane (:func:`capstan_span_mm`)
+        tf_c = translation(ox, oy, 2 * zr - zc) @ np.diag([1.0, -1.0, -1.0, 1.0])
     sfx = kind_suffix(design, sd.joint)
     shaft = f"{motor_name or ('lower' if zm is None else 'upper') + f'_motor_{(i - 1) % 2 + 1}'}.shaft"
     f, _ = capstan_set_screw_fastening(design, t, f"capstan_{i}", shaft, motor_key(design, lay))  # hole: the caller's
@@ -324,7 +424,7 @@ def motor_side_parts(design, K: dict, lay: dict, sd, t, i: int, motor_name: str 
                         mirrored(tf_c @ translation(0, 0, cg.CAPSTAN_HUB_MM / 2) @ _RY90
                                  @ translation(0, 0, m.shaft_diameter_mm / 2), zm), fastener=f),
            PartInstance(shaft, K["motor_shaft"], "ground",
-                        mirrored(translation(ox, oy, -p.plate_thickness_mm - p.motor_mount_thickness_mm
+                        mirrored(translation(ox, oy, -plate_mm(design, lay) - mount_mm(design, lay)
                                              + lay["capstan"].get("raise_mm", 0.0)), zm))]
     c = 1.1  # the check's clearance and a tenth
     for k in range(2):
@@ -352,17 +452,17 @@ def check_capstan_z(design, lay: dict) -> None:
     """DesignError (``transmission.wraps``) when a capstan in the rope's plane would leave the
     motor shaft (its set-screw hub above the shaft's tip) or reach down onto the motor face
     screws' heads."""
-    p = design.parts
     m = cat.get_motor(motor_key(design, lay))
-    tip = -p.plate_thickness_mm - p.motor_mount_thickness_mm + m.shaft_length_mm
-    heads = -p.plate_thickness_mm + cat.get_cap_screw(m.bolt_size, "parts.motor").k_mm
+    tip = -plate_mm(design, lay) - mount_mm(design, lay) + m.shaft_length_mm
+    seat = lay["capstan"].get("face_seat_mm", -plate_mm(design, lay))  # the face screws' heads sit on
+    heads = seat + cat.get_cap_screw(m.bolt_size, "parts.motor").k_mm
     only = {sd.joint for sd in lay["capstan"].get("sides", ())} if "motor" in lay["capstan"] else None
     for t in resolve_device(design).transmissions:
         if not t.is_capstan or (only is not None and t.motor_joint not in only):  # a twin's direct 5-bar
             continue
-        zc = capstan_z_mm(design, t, lay["capstan"]["rope_z_mm"])
-        if zc + cg.CAPSTAN_HUB_MM > tip + 1e-9 or zc < heads - 1e-9:  # a float hair, as wraps_that_fit
+        zc, z1, hub = capstan_span_mm(design, t, lay)
+        if hub > tip + 1e-9 or zc < heads - 1e-9:  # a float hair, as wraps_that_fit
             raise DesignError("transmission.wraps", f"{t.wraps:g} turns put the capstan at z {zc:.2f} .. "
-                              f"{zc + cg.capstan_length_mm(t.cable_diameter_mm, t.wraps):.2f} mm: its hub must sit on "
+                              f"{z1:.2f} mm: its hub must sit on "
                               f"the {m.key} shaft (tip at z {tip:g} mm) above the face screws' heads (z {heads:g} mm); "
                               + wraps_that_fit(t, lay["capstan"]["rope_z_mm"], tip, heads))

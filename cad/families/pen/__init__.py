@@ -6,8 +6,7 @@ builds it, :mod:`.datasheet` gives its rows, :mod:`.sim` its MJCF, :mod:`.design
 ``[parts]`` schema, :mod:`.layout` its numbers and body poses, :mod:`.parts` its part
 scripts, :mod:`.firmware` its firmware model (the generic writers of :mod:`cad.firmware`),
 :mod:`.capstan` its capstans' analyses, :mod:`.capstan_layout` where their motors sit and
-:mod:`.capstan_solids` the waists' capstan solids (the shoulders' are not drawn yet: the build
-refuses them in one line)."""
+:mod:`.capstan_solids` the waists' capstan solids, :mod:`.shoulder_capstan` the shoulders'."""
 
 from cad.design.targets import PANTOGRAPH_TARGET_KEYS
 from cad.families import SHARED_CODE_DEPS

@@ -21,6 +21,7 @@ from cad.families.pantograph.build import screw_plan
 from cad.families.pantograph.layout import leg_xy
 from cad.families.pen import capstan_solids as PCS
 from cad.families.pen import layout as L
+from cad.families.pen import shoulder_capstan as SC
 from cad.families.pen.fasteners import bracket_bolt_xz_mm, place_screws, screw_kinds
 from cad.kinematics import haptic_pen as hp
 from cad.parts import PartInstance, PartKind, base, joints, translation
@@ -57,14 +58,24 @@ def _tr(x=0.0, y=0.0, z=0.0) -> np.ndarray:
 def _link_kinds(design, lay: dict, fidelity: str, add) -> None:
     """Clevises, tubes, pins, bearings, shoulder motors (the twin pantograph's hardware)."""
     p = design.parts
-    b, mot = lay["bearing"], get_motor(p.motor)
+    _b, mot = lay["bearing"], get_motor(p.motor)
     cl = dict(length_mm=p.clevis_length_mm, width_mm=p.clevis_width_mm,
               height_mm=p.clevis_height_mm, socket_depth_mm=p.socket_depth_mm,
               tube_od_mm=p.tube_od_mm)
     cm = p.clevis_material
+    axles = bool(SC.pairs(design))  # shoulder capstans: each proximal link on its own axle
     add("clevis_hub", pp.clevis_shape("hub", bore_mm=mot.shaft_diameter_mm, **cl), cm, True,
-        "clevis on the lower shoulder motor shaft", "CNC milled; ream shaft bore",
-        fits=(fit("hub shaft bore", mot.shaft_diameter_mm, "shaft bore"),))
+        "clevis on the proximal link's own axle" if axles else "clevis on the lower shoulder motor shaft",
+        "CNC milled; ream shaft bore", fits=(fit("hub shaft bore", mot.shaft_diameter_mm, "shaft bore"),))
+    if not axles:
+        _spigot_kind(design, lay, cl, add)
+    _link_rest_kinds(design, lay, cl, fidelity, add)
+
+
+def _spigot_kind(design, lay: dict, cl: dict, add) -> None:
+    """The upper hub clevis with a spigot reaching layer 2 on the upper shoulder motor shaft."""
+    mot = get_motor(design.parts.motor)
+    cm = design.parts.clevis_material
     z2 = lay["layers_mm"]["proximal_upper"]
     top = lay["spigot_mm"][1] - z2
     eng = lay["spigot_mm"][1] - lay["shoulder_shaft_tip_mm"]
@@ -72,6 +83,13 @@ def _link_kinds(design, lay: dict, fidelity: str, add) -> None:
         True, "clevis with a spigot on the upper shoulder motor shaft (reaches layer 2)",
         "CNC milled + turned; ream shaft bore",
         fits=(fit("hub shaft bore", mot.shaft_diameter_mm, "shaft bore"),))
+
+
+def _link_rest_kinds(design, lay: dict, cl: dict, fidelity: str, add) -> None:
+    """Pin and bearing clevises, tubes, pins, bearings, shoulder motors."""
+    p = design.parts
+    b = lay["bearing"]
+    cm = p.clevis_material
     add("clevis_pin", pp.clevis_shape("pin", bore_mm=b.d_mm, **cl), cm, True,
         "clevis at the elbow, pin pressed in", "CNC milled; ream pin bore",
         fits=(fit("pin bore", b.d_mm),))
@@ -143,15 +161,22 @@ def _ground_kinds(design, lay: dict, gl: dict, add) -> None:
     l1 = design.mechanism.shoulder_base_mm
     side = lay["motor_plate_side_mm"]
     hub_d = gl["waist_hub_d_mm"]
-    add("waist_bracket",
-        pp2.waist_bracket_shape(gl["foot_mm"], lay["motor_plate_mm"], side, hub_d, hub_d,
-                                (-l1 / 2, l1 / 2), sm.pilot_diameter_mm + 2.0,
-                                wm.shaft_diameter_mm + 1.0, l1 / 2 + side / 2,
-                                [(x, z, clearance_hole_mm(sm.bolt_size))
-                                 for x, z in bracket_bolt_xz_mm(design)]),
-        p.plate_material, True,
-        "waist bracket: motor plate for both shoulder motors, foot under the links, boss",
-        "CNC milled from block; bore both pilot seats", fits=(fit("pilot bore", sm.pilot_diameter_mm),))
+    st = SC.motor_xz_mm(design)  # shoulder capstans: the motors moved off their axes
+    for arm in L.ARMS if st else ("A",):  # arm B's bracket the mirror image of A's (moved motors)
+        moved = [st[j] for j in st if j.startswith(arm)]
+        holes = [(x, z, clearance_hole_mm(sm.bolt_size)) for x, z in bracket_bolt_xz_mm(design, arm)]
+        holes += [(x, z, sm.pilot_diameter_mm + 2.0) for x, z in moved]
+        if moved:
+            holes += SC.plate_holes_xz_mm(design, lay, screw_plan(design)["mount"], arm)
+        top = max([l1 / 2] + [abs(z) for _, z in moved]) + side / 2
+        add("waist_bracket" + ("_B" if arm == "B" else ""),
+            pp2.waist_bracket_shape(gl["foot_mm"], lay["motor_plate_mm"], side, hub_d, hub_d,
+                                    () if moved else (-l1 / 2, l1 / 2), sm.pilot_diameter_mm + 2.0,
+                                    wm.shaft_diameter_mm + 1.0, top, holes),
+            p.plate_material, True,
+            "waist bracket: motor plate for both shoulder motors, foot under the links, boss"
+            + (f" (arm {arm}'s)" if moved else ""),
+            "CNC milled from block; bore both pilot seats", fits=(fit("pilot bore", sm.pilot_diameter_mm),))
     h0, h1 = gl["waist_hub_mm"]
     on_axle = gl["waist_shaft_engagement_mm"] == 0.0  # a waist capstan: the hub on its own axle
     add("waist_hub", pp2.waist_hub_shape(hub_d, h1 - h0, wm.shaft_diameter_mm,
@@ -196,10 +221,11 @@ def _link_parts(which: str, side: str, lay: dict, design) -> list[tuple[str, np.
     if which == "proximal":
         n = design.params["proximal_mm"]
         z0 = lay[f"pin_{side}_mm"][0]
-        hub = "clevis_hub" if side == "lower" else "clevis_hub_spigot"
-        return [(hub, _tr(0, 0, z)), ("tube_proximal", _tr(Lc - s, 0, z)),
-                ("clevis_pin", _tr(n, 0, z) @ _rot("z", 180)), (f"pin_{side}", _tr(n, 0, z0)),
-                ("motor_shoulder_shaft", _tr(0, 0, lay["motor_plate_mm"][1]) @ _rot("x", 180))]
+        axle = bool(L.shoulder_band_mm(design))  # shoulder capstans: the hub on its own axle
+        hub = "clevis_hub" if side == "lower" or axle else "clevis_hub_spigot"
+        out = [(hub, _tr(0, 0, z)), ("tube_proximal", _tr(Lc - s, 0, z)),
+               ("clevis_pin", _tr(n, 0, z) @ _rot("z", 180)), (f"pin_{side}", _tr(n, 0, z0))]
+        return out if axle else out + [("motor_shoulder_shaft", _tr(0, 0, lay["motor_plate_mm"][1]) @ _rot("x", 180))]
     n = design.params["distal_mm"]
     B = lay["bearing"].B_mm
     out = [("clevis_bearing", _tr(0, 0, z)), ("tube_distal", _tr(Lc - s, 0, z)),
@@ -221,7 +247,7 @@ def _gimbal_parts(lay: dict) -> dict[str, list[tuple[str, np.ndarray]]]:
     return {"yoke": yoke, "ring": ring, "pen_end": pen_end}
 
 
-def _waist_parts(design, lay: dict, gl: dict) -> list[tuple[str, np.ndarray]]:
+def _waist_parts(design, lay: dict, gl: dict, arm: str) -> list[tuple[str, np.ndarray]]:
     """``[(kind, tf_body_part)]`` of a waist body (waist frame): the waist motor's shaft, or
     with a waist capstan the waist axle (:mod:`cad.families.pen.capstan_solids`)."""
     p = design.parts
@@ -230,9 +256,12 @@ def _waist_parts(design, lay: dict, gl: dict) -> list[tuple[str, np.ndarray]]:
     face = gl["base_top_z_mm"] - p.plate_thickness_mm - p.motor_mount_thickness_mm
     shaft = (("motor_waist_shaft", _tr(0, 0, face)) if gl["waist_shaft_engagement_mm"] else
              (PCS.CARRIER["axle"], _tr(0, 0, PCS.axle_z_mm(design, gl))))
-    return [("waist_bracket", np.eye(4)), ("waist_hub", _tr(0, 0, gl["waist_hub_mm"][0])),
-            ("motor_shoulder", _tr(0, y1, -l1 / 2) @ _rot("x", 90)),
-            ("motor_shoulder", _tr(0, y1, l1 / 2) @ _rot("x", 90)), shaft]
+    st = SC.motor_xz_mm(design)  # shoulder capstans: the motors moved off their axes
+    lo, up = (st.get(f"{arm}_q_{r}", (0.0, z)) for r, z in (("lower", -l1 / 2), ("upper", l1 / 2)))
+    bracket = "waist_bracket_B" if st and arm == "B" else "waist_bracket"
+    return [(bracket, np.eye(4)), ("waist_hub", _tr(0, 0, gl["waist_hub_mm"][0])),
+            ("motor_shoulder", _tr(lo[0], y1, lo[1]) @ _rot("x", 90)),
+            ("motor_shoulder", _tr(up[0], y1, up[1]) @ _rot("x", 90)), shaft]
 
 
 def _ground_parts(design, gl: dict) -> list[tuple[str, str, np.ndarray]]:
@@ -251,7 +280,9 @@ def _ground_parts(design, gl: dict) -> list[tuple[str, str, np.ndarray]]:
 def kinds(design, lay: dict, gl: dict, fidelity: str) -> dict:
     """``{kind name: PartKind}`` of every distinct part of the pen (and ``"_screws"``: the
     cap screw kind of each screw group; ``"_capstan"``: the waist capstans' kinds by the shared
-    solids' keys, :func:`cad.families.pen.capstan_solids.kinds`, empty for direct waists)."""
+    solids' keys, :func:`cad.families.pen.capstan_solids.kinds`, empty for direct waists;
+    ``"_shoulder"``: the shoulder capstans' kinds by role, :func:`cad.families.pen.shoulder_capstan.kinds`,
+    empty for direct shoulders)."""
     K: dict = {}
 
     def add(name, shape, material, made, description, process, **kw):
@@ -265,6 +296,7 @@ def kinds(design, lay: dict, gl: dict, fidelity: str) -> dict:
     K["_capstan"] = PCS.kinds(design, gl, screw_plan(design)["mount"]) if PCS.waist_sides(design) else {}
     if K["_capstan"]:
         K[PCS.CARRIER["axle"]] = K["_capstan"]["proximal_axle"]
+    K["_shoulder"] = SC.kinds(design, lay, screw_plan(design)["mount"])
     return K
 
 
@@ -300,8 +332,8 @@ def assemble(design, fidelity: str = "fabrication"):
         place(name, kind, "ground", tf)
     gp = _gimbal_parts(lay)
     for arm in L.ARMS:
-        for k, (kind, tf) in enumerate(_waist_parts(design, lay, gl)):
-            place(f"{arm}_waist.{kind}{k}", kind, f"{arm}_waist", tf)
+        for k, (kind, tf) in enumerate(_waist_parts(design, lay, gl, arm)):
+            place(f"{arm}_waist.{kind.removesuffix('_B')}{k}", kind, f"{arm}_waist", tf)
         for which in ("proximal", "distal"):
             for side in ("lower", "upper"):
                 body = f"{arm}_{which}_{side}"
@@ -321,6 +353,10 @@ def assemble(design, fidelity: str = "fabrication"):
     if K["_capstan"]:  # the waist capstans (the 5-bar's solids about each waist axis)
         more, h = PCS.instances(design, K["_capstan"], gl, screw_plan(design)["mount"],
                                 K[K["_screws"]["mount"]], K["motor_waist_shaft"], home)
+        inst += more
+        holes.update(h)
+    if K["_shoulder"]:  # the shoulder capstans (the 5-bar's solids on each waist bracket's motor plate)
+        more, h = SC.instances(design, lay, K["_shoulder"], screw_plan(design)["mount"], K["motor_shoulder_shaft"], home)
         inst += more
         holes.update(h)
     return AssemblyModel(

@@ -63,7 +63,7 @@ def check_options(design, fidelity: str, phi1_deg, formats=frozenset()) -> None:
     if "urdf" in set(formats):
         raise DesignError("--formats", "urdf is not written for the haptic pen (mjcf is)")
 
-    refuse_capstan_solids(design)  # the shoulders' not drawn yet: one line with where the layout puts them
+    refuse_capstan_solids(design)  # capstan pairs that cannot be laid out: one line with where the layout puts them
     L.layout(design)  # hardware that does not fit: named before any CAD
 
 

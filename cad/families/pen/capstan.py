@@ -18,9 +18,11 @@ module only says where the pen's joints turn and how its ropes reach the pen.
   its rows).
 
 The waists' solids (drums on the waist brackets, the waist motors moved off their axes) are
-:mod:`cad.families.pen.capstan_solids`; the shoulders' (drums on the proximal links) are not
-built yet: where their motors would sit is :mod:`cad.families.pen.capstan_layout`, whose
-``refuse_solids`` refuses every command that needs them in one line naming ``transmission``.
+:mod:`cad.families.pen.capstan_solids`, the shoulders' (drums on the proximal links, the
+shoulder motors moved off their axes on the waist brackets' motor plates)
+:mod:`cad.families.pen.shoulder_capstan`; where their motors sit is
+:mod:`cad.families.pen.capstan_layout`, whose ``refuse_solids`` refuses every command that
+needs them in one line naming ``transmission`` when a pair cannot be laid out.
 """
 
 from __future__ import annotations

@@ -28,8 +28,8 @@ directions fail this is refused, not searched further).
 A motor direction ``alpha`` is measured in its pair's plane from the x axis towards y (the
 waists: world x towards y; the shoulders: up the waist axis towards the pen). The search keeps
 the motors farthest from the workspace (smallest y). These are plane checks over the workspace
-grid: necessary for the solids, not a proof (that is the build's every-pair interference check,
-which waits for the solids).
+grid: necessary for the solids, not a proof (that is the build's every-pair interference check
+over the solids, :mod:`cad.families.pen.capstan_solids` and :mod:`cad.families.pen.shoulder_capstan`).
 """
 
 from __future__ import annotations
@@ -249,26 +249,23 @@ def describe(pair: PairLayout) -> str:
 
 def refusal(design) -> str | None:
     """The one line (after ``transmission: ``) refusing the pen's capstan solids, None for a
-    direct pen and for capstans on the waists alone when laid out (their solids:
-    :mod:`cad.families.pen.capstan_solids`): the shoulders' solids are not built yet; each pair of capstan motors laid out
-    (:func:`describe`) or what stops it, with its count and fix (:func:`layout`)."""
+    direct pen and whenever every pair of capstan motors is laid out (their solids:
+    :mod:`cad.families.pen.capstan_solids` for the waists, :mod:`cad.families.pen.shoulder_capstan`
+    for the shoulders); else each pair laid out (:func:`describe`) and what stops the others,
+    with its count and fix (:func:`layout`)."""
     pairs = layout(design)
-    if not pairs or all(p.name == "waists" and p.clash is None for p in pairs):  # the waists' are built
+    if all(p.clash is None for p in pairs):
         return None
     ok = [describe(p) for p in pairs if p.clash is None]
     bad = [p.clash for p in pairs if p.clash is not None]
-    where = (f"the layout places the motors of {', '.join(ok)}" if ok else "")
-    stop = (f"{'; ' if ok else ''}not laid out: {' | '.join(bad)}" if bad else "")
-    return (f"the haptic pen's capstan solids are not built yet ({where}{stop}): build it with direct shoulders "
-            "(capstans on the waist joints alone build) or direct drive, or see docs/families/pen.md (Capstan on the pen) "
-            "for what its capstan analyses give")
+    where = f"the layout places the motors of {', '.join(ok)}; " if ok else ""
+    return (f"the haptic pen's capstans cannot be laid out ({where}not laid out: {' | '.join(bad)}); see "
+            "docs/families/pen.md (Capstan on the pen) for what its capstan analyses give")
 
 
 def refuse_solids(design) -> None:
-    """DesignError (``transmission``) in one line when the haptic pen has a capstan on a
-    shoulder or its waists' capstans cannot be laid out (:func:`refusal`): the shoulders' solids
-    are not built yet (its analyses are: :mod:`cad.families.pen.capstan`; the waists' solids:
-    :mod:`cad.families.pen.capstan_solids`)."""
+    """DesignError (``transmission``) in one line when a pair of the haptic pen's capstan
+    motors cannot be laid out (:func:`refusal`; its analyses: :mod:`cad.families.pen.capstan`)."""
     why = refusal(design)
     if why is not None:
         raise DesignError("transmission", why)

@@ -19,7 +19,7 @@ plate's top at ``ground_mm["base_top_z_mm"]``: the ground's parts are lifted by 
 (:func:`lifted`), the drum is placed in the waist frame (z = world z, origin on the waist axis).
 
 The shoulder capstans (drums on the proximal links, motors on the waist bracket's motor plate)
-are not built: :func:`cad.families.pen.capstan_layout.refuse_solids` refuses them in one line.
+are :mod:`cad.families.pen.shoulder_capstan`.
 """
 
 from __future__ import annotations

@@ -17,6 +17,7 @@ from cad.errors import DesignError
 from cad.families.pantograph.build import screw_plan
 from cad.families.pantograph.layout import leg_xy
 from cad.families.pen.capstan_solids import stations_xy_mm
+from cad.families.pen.shoulder_capstan import motor_xz_mm
 from cad.parts import joints
 from cad.parts import motor as pm
 from cad.parts import translation as tr
@@ -42,10 +43,15 @@ def screw_kinds(design, add) -> dict[str, str]:
     return out
 
 
-def bracket_bolt_xz_mm(design) -> list[tuple[float, float]]:
-    """(x, z) of the shoulder motor face screws in the waist frame (mm)."""
+def bracket_bolt_xz_mm(design, arm: str = "A") -> list[tuple[float, float]]:
+    """(x, z) of arm ``arm``'s shoulder motor face screws in its waist frame (mm): about each
+    shoulder axis, or about the motor moved off it by a shoulder capstan
+    (:func:`cad.families.pen.shoulder_capstan.motor_xz_mm`; the arms' waist frames are mirror
+    images, so arm B's motors stand at the mirrored x)."""
     l1 = design.mechanism.shoulder_base_mm
-    return [(x, zs + y) for zs in (-l1 / 2, l1 / 2)
+    st = motor_xz_mm(design)  # shoulder capstans: each motor moved off its axis
+    centres = [st.get(f"{arm}_q_{r}", (0.0, z)) for r, z in (("lower", -l1 / 2), ("upper", l1 / 2))]
+    return [(xs + x, zs + y) for xs, zs in centres
             for x, y in pm.motor_bolt_xy_mm(get_motor(design.parts.motor))]
 
 
@@ -80,7 +86,7 @@ def place_screws(design, lay: dict, gl: dict, kinds: dict, place, rot) -> dict:
                   (f"{arm}_waist_motor_mount",))
         y0 = lay["motor_plate_mm"][0]
         nb = get_motor(p.motor).bolt_count
-        for k, (x, z) in enumerate(bracket_bolt_xz_mm(design)):
+        for k, (x, z) in enumerate(bracket_bolt_xz_mm(design, arm)):
             motor = f"{arm}_waist.motor_shoulder{2 + k // nb}"
             screw("motor", f"{arm}_waist.shoulder_screw_{k + 1}", f"{arm}_waist",
                   tr(x, y0, z) @ rot("x", 90), f"{motor}:face_{k % nb + 1}", motor,

@@ -72,7 +72,7 @@ class PredictionPen(identify_joints.OverActuated):
     Te_s: float
     kt_Nm_per_A: tuple[float, ...]
     i_max_A: tuple[float, ...]
-    counts_per_rev: float  # per joint turn: the motor encoder's x n through a capstan
+    counts_per_rev: float  # per turn of the coarsest joint: the motor encoder's x n through a capstan
     direction: tuple[int, ...]
     zero_rad: tuple[float, ...]
     q_min_rad: tuple[float, ...]
@@ -168,16 +168,13 @@ def _motors(device) -> tuple[tuple[float, ...], tuple[float, ...], tuple[float, 
 
 
 def joint_counts(device) -> int | float:
-    """Encoder counts per joint turn, the same on the six joints (the motor encoder's x n,
-    :meth:`cad.device.ResolvedDevice.joint_counts_per_rev`). DesignError naming
-    ``transmission`` when the joints' counts differ (the routine and the bench read one step
-    for every joint: give every motor the same ratio to identify it)."""
-    counts = {device.joint_counts_per_rev(m.joint) for m in device.motors}
-    if len(counts) > 1:
-        raise DesignError("transmission", "identifying a haptic pen whose joints count different encoder steps "
-                          f"per turn ({', '.join(f'{c:g}' for c in sorted(counts))}: different capstan ratios) is "
-                          "not built (give every motor the same ratio)")
-    return counts.pop()
+    """Encoder counts per joint turn of the coarsest joint (the motor encoder's x n, the smallest
+    over the six joints, :meth:`cad.device.ResolvedDevice.joint_counts_per_rev`): the routine's
+    thresholds counted in encoder steps (the hand move's least excursion, the sweep's band) read
+    the largest step, so a joint through a larger ratio (finer steps) clears them with more
+    counts; the angles themselves each joint's own (:meth:`PredictionPen.angles`, the firmware's
+    HC_GEAR)."""
+    return min(device.joint_counts_per_rev(m.joint) for m in device.motors)
 
 
 def predict(design, report: dict) -> PredictionPen:

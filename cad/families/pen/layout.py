@@ -36,7 +36,9 @@ import math
 import numpy as np
 
 from cad.data.catalog import get_bearing, get_motor
+from cad.device import resolve_device
 from cad.errors import DesignError
+from cad.families.pantograph.capstan import DRUM_THICKNESS_MM
 from cad.kinematics import fivebar as fb5
 from cad.kinematics import haptic_pen as hp
 from cad.parts import base
@@ -61,8 +63,20 @@ def _motor(key: str):
     return get_motor(key)
 
 
+def shoulder_band_mm(design) -> float:
+    """How far the waist bracket's motor plate moves out for shoulder capstans (mm): two layer
+    gaps and two drums (:data:`cad.families.pantograph.capstan.DRUM_THICKNESS_MM`), a band for
+    each shoulder drum (:mod:`cad.families.pen.shoulder_capstan`); 0 with direct shoulders."""
+    dev = resolve_device(design)
+    if not any(dev.transmission(f"{a}_q_{s}").is_capstan for a in ARMS for s in ("lower", "upper")):
+        return 0.0
+    return 2 * (design.parts.layer_gap_mm + DRUM_THICKNESS_MM)
+
+
 def layout(design) -> dict:
-    """Offsets and sizes of the pen's assembly (mm), from the design only."""
+    """Offsets and sizes of the pen's assembly (mm), from the design only; with shoulder
+    capstans the motor plate :func:`shoulder_band_mm` further out (the proximal links on their
+    own axles: no shaft in a hub to check)."""
     p = design.parts
     b = get_bearing(p.bearing)
     h, g = p.clevis_height_mm, p.layer_gap_mm
@@ -75,12 +89,13 @@ def layout(design) -> dict:
     z4 = base1 + g + h / 2
     layers = {"distal_lower": z4, "distal_upper": z4 + pitch, "proximal_upper": z4 + 2 * pitch,
               "proximal_lower": z4 + 3 * pitch}
-    plate0 = layers["proximal_lower"] + h / 2 + g
+    band = shoulder_band_mm(design)
+    plate0 = layers["proximal_lower"] + h / 2 + g + band
     m = _motor(p.motor)
     plate1 = plate0 + p.motor_mount_thickness_mm
     shaft_tip = plate1 - m.shaft_length_mm
     low_eng = layers["proximal_lower"] + h / 2 - shaft_tip
-    if low_eng < h / 2:
+    if not band and low_eng < h / 2:
         raise DesignError("parts.motor", f"{p.motor} shaft engages only {low_eng:.1f} mm of the "
                           f"{h:g} mm hub; use a thinner motor_mount_thickness_mm")
     r_hub = b.D_mm / 2 + 1.5

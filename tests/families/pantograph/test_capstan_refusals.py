@@ -86,7 +86,7 @@ def test_no_direction_that_places_the_drums_says_what_met(tmp_path):
 
 
 @pytest.mark.parametrize("design", ["pantograph_capstan.toml", "delta_capstan.toml", "hoeken_capstan.toml",
-                                    "analysis-only/haptic_pen_capstan.toml"])
+                                    "haptic_pen_capstan.toml"])
 def test_every_family_warns_at_load_of_a_rope_below_its_bend_ratio(design):
     """A 20 mm capstan bends the 0.8 mm 7x7 rope at D/d = 25 < 40: loading the design (any family
     with capstans) records one warning naming the rope, the ratio and the 32 mm capstan
@@ -122,7 +122,8 @@ def test_the_powermouse_refuses_a_capstan_with_its_reason(tmp_path):
 def test_the_pen_takes_a_direct_drive_table_and_a_capstan_whose_solids_it_refuses():
     """A direct-drive [transmission] on the pen is what it already is (six direct motors); a
     capstan in one of its six tables loads (its analyses read it: tests/families/pen/
-    test_pen_capstan.py) and the build's pre-CAD check refuses its solids naming the table."""
+    test_pen_capstan.py) and the build's pre-CAD check refuses its solids naming the table (a
+    capstan shoulder beside a direct one cannot be laid out)."""
     from cad.design import parse_design
     from cad.design.fields import load_toml
     from cad.errors import DesignError
@@ -137,7 +138,7 @@ def test_the_pen_takes_a_direct_drive_table_and_a_capstan_whose_solids_it_refuse
         {"kind": "capstan", "capstan_diameter_mm": 32.0, "ratio": 4.0, "cable": "steel-7x7-0.8"}]
     d = parse_design(raw, "pen")
     assert [t.ratio for t in d.transmissions] == [1.0] * 5 + [4.0]
-    with pytest.raises(DesignError, match="^transmission: the haptic pen's capstan solids"):
+    with pytest.raises(DesignError, match="^transmission: the haptic pen's capstans cannot be laid out .*B_q_lower is direct"):
         check_options(d, "fabrication", None)
 
 

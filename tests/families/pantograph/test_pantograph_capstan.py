@@ -500,13 +500,16 @@ def test_written_files_agree_with_the_resolved_device(built):
     assert {"armature:q_left", "forcerange:q_right"} <= keys & set(device_values(dev))
 
 
-def test_the_haptic_pens_capstan_solids_are_refused(tmp_path):
-    """The haptic pen's capstan solids are not built: check on its design with [transmission]
-    is one line naming the table, exit 2 (its analyses: tests/families/pen/test_pen_capstan.py)."""
+def test_the_haptic_pens_capstans_off_the_shaft_are_refused(tmp_path):
+    """The haptic pen with one [transmission] for its six motors (and its 5 mm motor plate):
+    the far shoulder band's capstan leaves the RE 35 shaft, so check is one line naming the
+    table, exit 2 (the analyses: tests/families/pen/test_pen_capstan.py; the pen that builds:
+    designs/haptic_pen_capstan.toml)."""
     p = tmp_path / "pen.toml"
     p.write_text((ROOT / "designs" / "haptic_pen.toml").read_text() + CAPSTAN)
     code, _, err = hapticad("check", p)
-    assert_one_line_error(code, err, "transmission", "the haptic pen's capstan solids", "not built yet")
+    assert_one_line_error(code, err, "transmission", "the haptic pen's capstans cannot be laid out",
+                          "shaft's tip", "parts.motor_mount_thickness_mm <=")
 
 
 def test_chai3d_stiffness_is_the_datasheets_with_the_ropes_in_series(built):

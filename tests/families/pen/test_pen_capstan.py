@@ -1,8 +1,8 @@
 """A capstan on the motors of the haptic pen (issue 35): the design takes ``[transmission]``
 (one table for the six motors, or ``[[transmission]]`` one per motor: arm A waist, lower, upper,
 then arm B's), and every analysis reads the resolved device's ratio n. The solids are not
-drawn yet: build, check, datasheet, render and fit are refused in one line naming
-``transmission`` (with where the layout puts the motors, :mod:`cad.families.pen.capstan_layout`), so the figures here read the design, the resolved device and seeded plausible
+built (:mod:`cad.families.pen.capstan_solids`, :mod:`cad.families.pen.shoulder_capstan`;
+tests/families/pen/test_pen_full_capstan_build.py reads the build back); the figures here read the design, the resolved device and seeded plausible
 bodies (not from a build), as tests/families/pantograph/test_twin_capstan.py does.
 
 References, each independent of the code under test:
@@ -46,7 +46,7 @@ from cad.kinematics import haptic_pen as hp
 from tests.compilers import compiler
 
 ROOT = Path(__file__).resolve().parents[3]
-BUNDLED = ROOT / "designs" / "analysis-only" / "haptic_pen_capstan.toml"
+BUNDLED = ROOT / "designs" / "haptic_pen_capstan.toml"
 RAW = tomllib.loads(BUNDLED.read_text())
 DIRECT = tomllib.loads((ROOT / "designs" / "haptic_pen.toml").read_text())
 JOINTS = tuple(f"{a}_q_{j}" for a in ("A", "B") for j in ("waist", "lower", "upper"))
@@ -185,18 +185,47 @@ def test_a_bad_transmission_exits_2_naming_the_field(tmp_path, table, field):
 
 
 @pytest.mark.parametrize("args", [("build",), ("check",), ("datasheet",), ("render",),
-                                  ("fit", "--target", "first_mode_Hz>=10", "--free", "mechanism.proximal_mm=130:150")])
-def test_every_command_that_needs_the_solids_is_refused_in_one_line(tmp_path, args):
-    """The pen's capstan solids are not drawn: each command exits 2 naming ``transmission``
-    and the reason with where the layout puts each pair of motors
-    (tests/families/pen/test_pen_capstan_layout.py), nothing written."""
+                                  ("fit", "--target", "first_mode_Hz>=10", "--free", "mechanism.proximal_mm=130:150"),
+                                  ("optimize",), ("bench-log",), ("identify", "log.csv")])
+def test_every_command_that_needs_the_solids_passes_one_refusal(tmp_path, args):
+    """Every command that needs the pen's capstan solids goes through the one pre-CAD refusal
+    (:func:`cad.families.pen.capstan_layout.refuse_solids`): the bundled file with a 5 mm motor
+    plate (its far shoulder band's capstan 2.2 mm past the RE 35 shaft,
+    tests/families/pen/test_pen_capstan_layout.py) exits 2 from each in one line naming
+    ``transmission``, nothing written; the bundled file's 2.8 mm plate passes it
+    (:func:`test_the_bundled_file_is_not_refused`)."""
+    raw = copy.deepcopy(RAW)
+    p = tmp_path / "thick.toml"
+    p.write_text(BUNDLED.read_text().replace("motor_mount_thickness_mm = 2.8", "motor_mount_thickness_mm = 5.0"))
+    from cad.identify.logfile import columns
+
+    cols = columns(6)  # a well-formed log: the command reads it before the design's build
+    (tmp_path / "log.csv").write_text(f"# hapticad identification log sha256:{'0' * 64}\n{','.join(cols)}\n"
+                                      + "\n".join(",".join([f"{k * 1e-3:g}"] + ["0"] * (len(cols) - 1))
+                                                  for k in range(3)) + "\n")
     out = tmp_path / "out"
-    extra = ("--out", str(out)) if args[0] in ("build", "render", "fit") else ()
-    code, _, err = hapticad(args[0], BUNDLED, *args[1:], *extra)
-    assert_one_line_error(code, err, "transmission", "capstan solids", "not built yet",
+    extra = {"build": ("--out", str(out)), "render": ("--out", str(out)), "fit": ("--out", str(out)),
+             "optimize": ("--out", str(out)), "bench-log": ("--out", str(tmp_path / "bench.csv"))}.get(args[0], ())
+    rest = [str(tmp_path / a) if a.endswith(".csv") else a for a in args[1:]]
+    code, _, err = hapticad(args[0], p, *rest, *extra)
+    assert raw["parts"]["motor_mount_thickness_mm"] == 2.8
+    assert_one_line_error(code, err, "transmission", "capstans cannot be laid out",
                           "the layout places the motors of waists at", "arm B shoulders: the directions found",
-                          "mm past the maxon-re35 shaft's tip")
+                          "mm past the maxon-re35 shaft's tip", "parts.motor_mount_thickness_mm <= 2.80")
     assert not out.exists() or not any(out.iterdir())
+    assert not (tmp_path / "bench.csv").exists()
+
+
+def test_the_bundled_file_is_not_refused():
+    """The bundled file (2.8 mm motor plate): every pair of capstan motors laid out, the one
+    refusal every solid command passes returns None, the build's pre-CAD check passes."""
+    from cad.families.pen import capstan_layout as cl
+    from cad.families.pen.build import check_options
+
+    d = _design()
+    assert all(p.clash is None for p in cl.layout(d)) and len(cl.layout(d)) == 3
+    assert cl.refusal(d) is None
+    check_options(d, "fabrication", None)
 
 
 # ----------------------------------------------------------------------------- force, resolution
@@ -386,9 +415,9 @@ def test_firmware_compiled_with_gcc_goes_through_each_ratio(tmp_path):
 def test_identification_prediction_sees_the_motors_through_the_ratio():
     """K_t, counts, rotor and Coulomb friction at the joints: n K_t, n 4000, n^2 (J_m + J_c),
     n K_t I_0 from the catalog motors (data) and the hand J_c; its links' mass matrix without
-    the rotors (no rotor counted twice). Different ratios (different counts per joint turn)
-    are refused naming transmission."""
-    from cad.errors import DesignError
+    the rotors (no rotor counted twice). Different ratios (different counts per joint turn):
+    each joint's K_t through its own n, the routine's step the coarsest joint's, 4000 x 2.5
+    (the smallest of :data:`NS`)."""
     from cad.families.pen.dynamics import mass_matrix_si
     from cad.families.pen.identify import predict
 
@@ -411,8 +440,11 @@ def test_identification_prediction_sees_the_motors_through_the_ratio():
     S = np.diag(1.0 / np.sqrt(np.diag(bare)))  # each coordinate in its own unit: kg, kg m^2
     assert (np.diag(S @ rotors @ S) > 1e-2).all()
     np.testing.assert_allclose(S @ lam @ S, S @ bare @ S, rtol=1e-6, atol=1e-6)
-    with pytest.raises(DesignError, match="^transmission: identifying a haptic pen"):
-        predict(_design(_per_motor()), {"bodies": rep})
+    dp = _design(_per_motor())
+    per = predict(dp, {"bodies": rep})
+    assert per.counts_per_rev == 4000 * min(NS)
+    for k, j in enumerate(JOINTS):
+        assert per.kt_Nm_per_A[k] == pytest.approx(NS[k] * _motor(dp, j).torque_constant_mNm_per_A * 1e-3, rel=1e-12)
 
 
 # ----------------------------------------------------------------------------- the ropes

@@ -1,5 +1,5 @@
 """The haptic pen's waist capstans as solids (issue 35, stage 1): the test case
-tests/families/pen/designs/pen_waist_capstan.toml (the analysis-only capstan pen's waists, 3:1
+tests/families/pen/designs/pen_waist_capstan.toml (the bundled capstan pen's waists, 3:1
 through a 40 mm capstan, a 120 mm drum and a 1 mm 7x7 rope, 3 turns; its shoulders direct).
 
 References, each independent of the code under test:
@@ -70,19 +70,11 @@ def _psi_range_deg(design) -> np.ndarray:
 
 
 # ----------------------------------------------------------------------------- fast: no solids
-def test_waists_build_while_a_shoulder_capstan_is_still_refused(design, tmp_path):
-    """The waists' capstans lift the refusal; a capstan on a shoulder keeps it, in one line
-    naming transmission (the analysis-only design: all six)."""
-    from cad.design import load_design
-    from cad.errors import DesignError
+def test_waists_build_with_direct_shoulders(design):
+    """The waists' capstans with direct shoulders pass the build's pre-CAD check."""
     from cad.families.pen.build import check_options
 
-    check_options(design, "preview", None)  # no DesignError: the waists are built
-    full = load_design(HERE.parents[2] / "designs" / "analysis-only" / "haptic_pen_capstan.toml")
-    with pytest.raises(DesignError) as e:
-        check_options(full, "preview", None)
-    assert e.value.field == "transmission" and "\n" not in str(e.value)
-    assert "capstan solids are not built yet" in str(e.value)
+    check_options(design, "preview", None)  # no DesignError
 
 
 def test_the_ground_drops_by_the_drum_band_and_covers_the_moved_motors(design):
