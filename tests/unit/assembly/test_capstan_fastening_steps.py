@@ -1,6 +1,6 @@
 """Every fastener of a capstan build is fastened in some step of its ``assembly.md`` (a tester's
 finding: the capstans' set screws were listed in step 1 and never tightened), read back from the
-build folders of the four capstan families (5-bar, twin, four-bar, delta).
+build folders of the five capstan families (5-bar, twin, four-bar, delta, the pen: slow).
 
 ``assembly.md`` is parsed here (``## Step k`` headings, ``- `name` (kind): description``
 bullets, ``- fastener `name`: ...`` lines, ``- check: ...`` lines) and compared with
@@ -22,8 +22,9 @@ _FASTENER_LINE = re.compile(r"^- fastener `([^`]+)`: ")
 #: A bullet's description that makes it a fastener (the BOM's words for ISO 4762, 4026, 4032, 7379).
 _FASTENER_TEXT = re.compile(r"^(socket head cap screw|set screw|hex nut|shoulder screw) ISO \d+ ")
 
+#: The haptic pen's (six capstans, a slow build) shares tests/families/pen/test_pen_full_capstan_build.py's.
 CAPSTAN_DESIGNS = ("pantograph_capstan.toml", "twin_pantograph_capstan.toml", "hoeken_capstan.toml",
-                   "delta_capstan.toml")
+                   "delta_capstan.toml", pytest.param("haptic_pen_capstan.toml", marks=pytest.mark.slow))
 
 
 def parse_steps(text: str) -> list[dict]:
@@ -65,7 +66,8 @@ def fastening_step(steps: list[dict], name: str, listed_at: int) -> int | None:
 def capstan_build(request, shared_build):
     """``(steps, report)`` of one bundled capstan design (preview fidelity, no export format:
     assembly.md and report.json are written by every build)."""
-    _, out, rep = shared_build(request.param, (), "preview")
+    pen = request.param == "haptic_pen_capstan.toml"  # the pen build test's formats: one shared build
+    _, out, rep = shared_build(request.param, ("firmware", "mjcf", "step", "stl") if pen else (), "preview")
     return parse_steps((out / "assembly.md").read_text(encoding="utf-8")), rep
 
 
