@@ -174,20 +174,23 @@ def test_the_build_checks_every_pair_with_every_capstan_part(built):
 
 
 @pytest.mark.slow
-def test_assembly_step_read_back_shares_no_volume_between_a_shoulder_capstan_part_and_any_other(step_solids):
-    """assembly.step read back with OCCT: each shoulder drum, axle, bearing block and bearing, capstan, rope
-    run and through-bolt, washer and nut has no common volume (OCCT Boolean common, above
+def test_assembly_step_read_back_shares_no_volume_between_a_capstan_part_and_any_other(step_solids):
+    """assembly.step read back with OCCT: each drum, axle, bearing block and bearing, capstan, rope
+    run and block fastener (the shoulders' through-bolts, washers and nuts, the waists' screws)
+    of the six capstans has no common volume (OCCT Boolean common, above
     1e-4 mm^3; pairs BRepExtrema finds apart have none) with any other solid at the exported
     pose whose bounding box it meets, but a rope
-    run with its own drum and capstan (the rope in their grooves) and a bolt with its own nut
-    (the thread engaged)."""
-    idx = [str(i) for i in SHOULDERS.values()]
+    run with its own drum and capstan (the rope in their grooves), a bolt with its own nut and a
+    waist block's screw with the base plate's tapped hole (the thread engaged)."""
+    idx = [str(i) for i in range(1, 7)]
     cap = {k: v for k, v in step_solids.items()
-           if k.endswith(("proximal_lower_capstan_drum", "proximal_upper_capstan_drum", "shoulder_axle"))
+           if k.endswith(("capstan_drum", "shoulder_axle", "waist_axle4"))
            or any(k.startswith((f"capstan_rope_run_{i}_", f"bearing_block_{i}")) or k == f"capstan_{i}" for i in idx)}
-    # drum, axle, block and its two bearings, capstan, runs, bolt stacks
-    assert len(cap) == 4 * (1 + 1 + 1 + 2 + 1 + 2 + 3 * 4), sorted(cap)
+    # per shoulder: drum, axle, block and its two bearings, capstan, runs, bolt stacks; per
+    # waist the same with four tapped screws
+    assert len(cap) == 4 * (1 + 1 + 1 + 2 + 1 + 2 + 3 * 4) + 2 * (1 + 1 + 1 + 2 + 1 + 2 + 4), sorted(cap)
     drum = {i: f"{j[0]}_proximal_{j.split('_')[-1]}_capstan_drum" for j, i in SHOULDERS.items()}
+    drum.update({1: "A_waist_capstan_drum", 4: "B_waist_capstan_drum"})
     checked = 0
     for a, A in cap.items():
         for b, B in step_solids.items():
@@ -200,6 +203,8 @@ def test_assembly_step_read_back_shares_no_volume_between_a_shoulder_capstan_par
             bolt = next((x for x in pair if "_bolt_" in x), None)
             if bolt is not None and bolt.replace("_bolt_", "_nut_") in pair:
                 continue
+            if "base_plate" in pair and any("_screw_" in x for x in pair):
+                continue  # a waist block's screw in its tapped hole: the thread engaged
             if A.bounding_box().overlaps(B.bounding_box(), tolerance=0.0) is False:
                 continue
             checked += 1
