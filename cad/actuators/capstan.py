@@ -180,6 +180,14 @@ def cable_safety_factor(min_breaking_load_N, tension_difference_N, pretension_N)
         np.asarray(pretension_N, float) + 0.5 * np.asarray(tension_difference_N, float))
 
 
+def max_pretension_N(min_breaking_load_N, tension_difference_N, required: float | None = None):
+    """The largest pretension T0 (N) at which the tight run at peak force still meets the safety
+    factor ``required`` (default :data:`CABLE_SAFETY_FACTOR`): MBL / SF - dT/2, from
+    :func:`cable_safety_factor` solved for T0 (below 0: no pretension meets it)."""
+    sf = CABLE_SAFETY_FACTOR if required is None else required
+    return np.asarray(min_breaking_load_N, float) / sf - 0.5 * np.asarray(tension_difference_N, float)
+
+
 def cable_strength_verdict(cable: CableSpec, tension_difference_N: float, pretension_N: float,
                            required: float = CABLE_SAFETY_FACTOR) -> tuple[str, str]:
     """("ok" | "fails" | "unverified", one-line reason) of the tight run against the rope's

@@ -311,6 +311,22 @@ def cable_bom_line(j: CapstanJoint, quantity: int = 1) -> dict:
                    "bought; cut to length", "steel", f"wire rope {c.construction} {c.diameter_mm:g} mm x {cut:.0f} mm")
 
 
+def tension_ceiling(j: CapstanJoint) -> str:
+    """The winding step's words after its minimum tension (the pretension the capstan equation
+    asks, the datasheet's): at most the one at which the tight run at peak force still meets the
+    rope's safety factor (:func:`cad.actuators.capstan.max_pretension_N`), that the minimum
+    already misses it when the two cross, or that no maximum is known (no breaking load)."""
+    t, fig = j.transmission, figures(j)
+    lo, mbl = fig.pretension_N, t.cable.min_breaking_load_N
+    if mbl is None:
+        return " (no maximum known: the rope's breaking load has no source)"
+    hi = float(cap.max_pretension_N(mbl, fig.tension_difference_N))
+    sf = f"the safety factor {cap.CABLE_SAFETY_FACTOR:g} against the rope's {mbl:.0f} N breaking load"
+    if hi < lo:
+        return f"; at that the tight run at peak force already misses {sf} (the datasheet's safety factor row)"
+    return f" and at most {hi:.1f} N (above it the tight run at peak force misses {sf})"
+
+
 def winding_steps(j: CapstanJoint, parts: tuple[str, str, str] | None = None,
                   label: str | None = None) -> tuple[str, ...]:
     """``assembly.md``'s winding and tensioning steps of ``j``'s capstan (empty for direct
@@ -325,7 +341,7 @@ def winding_steps(j: CapstanJoint, parts: tuple[str, str, str] | None = None,
         return ()
     anchor, tensioner, nut = parts or (f"capstan_anchor{s}_1", f"capstan_tensioner{s}", f"capstan_tensioner_nut{s}")
     lab = label or j.label
-    lay, fig = layout(j), figures(j)
+    lay = layout(j)
     return (
         f"wind the rope: cut {lay.cut_mm['total']:.0f} mm of {t.cable.key} (bom.csv capstan_cable{s}); "
         f"clamp one end under {anchor} with the {lab} at the end of its range nearest that "
@@ -334,8 +350,8 @@ def winding_steps(j: CapstanJoint, parts: tuple[str, str, str] | None = None,
         "wind its tail on the tensioner screw's shank between the lock nut and the head (the 20 mm "
         "tail: about two turns)",
         f"tension the rope: turn {tensioner} (it winds the rope on its shank) until the rope "
-        f"holds at least {fig.pretension_N:.1f} N (datasheet cable_pretension_N{s}; a spring scale on "
-        f"a free run), lock it with {nut} against the rim, then turn the {lab} over "
+        f"holds at least {figures(j).pretension_N:.1f} N (datasheet cable_pretension_N{s}; a spring scale on "
+        f"a free run){tension_ceiling(j)}, lock it with {nut} against the rim, then turn the {lab} over "
         "its whole range: the rope stays on the drum's rim and in the capstan's turns, no anchor "
         "reaches a tangent point",
     )
