@@ -20,7 +20,8 @@ from cad.structure.elastic import get_elastic
 #: The Hoeken paper's measured Coulomb friction of the prototype (eq 24, Fig. 10), N.
 PAPER_FS_N = 0.083
 
-FORCE_CHANGE = "parts.motor or [motor] (a stronger motor), mechanism.force_N, or mechanism.force_basis = \"peak\""
+FORCE_CHANGE = ("parts.motor or [motor] (a stronger motor), a capstan reduction ([transmission] kind = \"capstan\", or a larger ratio / drum_diameter_mm), "
+                "mechanism.force_N, or mechanism.force_basis = \"peak\"")
 MODE_CHANGE = "parts.bar_material, parts.bar_thickness_mm, parts.bar_width_mm (stiffer, lighter bars)"
 STRESS_CHANGE = "parts.bar_material or parts.bar_thickness_mm / parts.bar_width_mm"
 CLEARANCE_CHANGE = "parts.layer_gap_mm, parts.pin_head_clearance_mm or parts.layer_order"

@@ -14,7 +14,8 @@ from cad.datasheet.limits import (
 from cad.design.targets import Target
 from cad.structure.elastic import get_elastic
 
-PANTO_FORCE_CHANGE = "parts.motor or [motor] (a stronger motor), actuators.force_max_N or the link lengths"
+PANTO_FORCE_CHANGE = ("parts.motor or [motor] (a stronger motor), a capstan reduction ([transmission] kind = \"capstan\", or a larger ratio / drum_diameter_mm), "
+                      "actuators.force_max_N or the link lengths")
 PANTO_MODE_CHANGE = ("parts.tube_od_mm, parts.tube_id_mm, parts.tube_material (stiffer, lighter links), "
                      "parts.clevis_height_mm / clevis_width_mm (room for a larger tube)")
 PANTO_STRESS_CHANGE = "parts.tube_od_mm / parts.tube_id_mm or parts.tube_material (parts.crank_material)"
