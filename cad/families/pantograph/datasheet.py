@@ -321,10 +321,11 @@ def rows_and_limits(design, report: dict, out_dir=None, simulate_wall: bool = Tr
     counts = joint_counts(design)
     res = resolution_m(design, counts) * 1e6
     good = res[np.isfinite(res)]
-    geared = "" if np.all(counts == enc.counts_per_rev) else (
-        f" through the capstans: {', '.join(f'{c:.6g}' for c in counts)} counts per joint turn")
+    steps = (f"{enc.counts_per_rev} counts per joint" if np.all(counts == enc.counts_per_rev) else
+             f"{enc.counts_per_rev} counts per motor turn x each capstan's ratio "
+             f"({', '.join(f'{c:.6g}' for c in counts)} counts per joint turn)")
     rows.append(row("resolution_um", "position resolution at the handle", good.max() if good.size else None, "um",
-                    f"sigma_max(J^+) 2 pi / {enc.counts_per_rev} counts per joint{geared}, worst over the "
+                    f"sigma_max(J^+) 2 pi / {steps}, worst over the "
                     f"workspace; {enc.source}",
                     lo=good.min() if good.size else None, hi=good.max() if good.size else None))
     k25 = k_max_row(good.max() * 1e-6 if good.size else None)
