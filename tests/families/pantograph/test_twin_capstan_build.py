@@ -33,6 +33,8 @@ import numpy as np
 import pytest
 
 from tests.capstan_ref import sector_distance_mm
+from tests.step_readback import common_mm3
+from tests.step_readback import step_solids as read_step_solids
 
 ROOT = Path(__file__).resolve().parents[3]
 DESIGN = ROOT / "designs" / "twin_pantograph_capstan.toml"
@@ -254,21 +256,8 @@ def built(tmp_path_factory, design):
 @pytest.fixture(scope="module")
 def step_solids(built):
     """assembly.step read back: {instance name ('.' as '_'): solid}."""
-    from build123d import import_step
+    return read_step_solids(built[0] / "assembly.step")
 
-    back = import_step(str(built[0] / "assembly.step"))
-    return {c.label: c for c in back.children}
-
-
-def _common_mm3(a, b) -> float:
-    from OCP.BRepAlgoAPI import BRepAlgoAPI_Common
-    from OCP.BRepGProp import BRepGProp
-    from OCP.GProp import GProp_GProps
-
-    op = BRepAlgoAPI_Common(a.wrapped, b.wrapped)
-    g = GProp_GProps()
-    BRepGProp.VolumeProperties_s(op.Shape(), g)
-    return g.Mass()
 
 
 @pytest.mark.slow
@@ -326,11 +315,11 @@ def test_assembly_step_read_back_shares_no_volume_between_the_capstan_parts_and_
         if A.bounding_box().overlaps(B.bounding_box(), tolerance=0.0) is False:
             continue
         checked += 1
-        assert _common_mm3(A, B) <= 1e-4, (a, b)
+        assert common_mm3(A, B) <= 1e-4, (a, b)
     assert checked > 0
     # the raised motor's body passes the base plate's opening; its mount plate lies on the plate
-    assert _common_mm3(step_solids["lower_motor_2"], step_solids["base_plate"]) <= 1e-4
-    assert _common_mm3(step_solids["lower_motor_mount_2"], step_solids["base_plate"]) <= 1e-4
+    assert common_mm3(step_solids["lower_motor_2"], step_solids["base_plate"]) <= 1e-4
+    assert common_mm3(step_solids["lower_motor_mount_2"], step_solids["base_plate"]) <= 1e-4
     z0 = step_solids["lower_motor_mount_2"].bounding_box().min.Z
     assert z0 == pytest.approx(0.0, abs=1e-6)  # on the base plate's top (the other at -6 - 5 mm)
     assert step_solids["lower_motor_mount_1"].bounding_box().min.Z == pytest.approx(-11.0, abs=1e-6)

@@ -31,6 +31,8 @@ import numpy as np
 import pytest
 
 from tests.capstan_ref import radial_hole_mm3
+from tests.step_readback import common_mm3
+from tests.step_readback import step_solids as read_step_solids
 
 HERE = Path(__file__).resolve().parent
 #: The test case, as ``shared_build`` reads it (a path under designs/).
@@ -125,24 +127,11 @@ def test_rope_cut_length_against_the_closed_form(design):
 
 
 # ----------------------------------------------------------------------------- the build
-def _common_mm3(a, b) -> float:
-    from OCP.BRepAlgoAPI import BRepAlgoAPI_Common
-    from OCP.BRepGProp import BRepGProp
-    from OCP.GProp import GProp_GProps
-
-    op = BRepAlgoAPI_Common(a.wrapped, b.wrapped)
-    g = GProp_GProps()
-    BRepGProp.VolumeProperties_s(op.Shape(), g)
-    return g.Mass()
-
 
 @pytest.fixture(scope="module")
 def step_solids(built):
     """assembly.step read back: {instance name ('.' as '_'): solid}."""
-    from build123d import import_step
-
-    back = import_step(str(built[1] / "assembly.step"))
-    return {c.label: c for c in back.children}
+    return read_step_solids(built[1] / "assembly.step")
 
 
 @pytest.mark.slow
@@ -186,7 +175,7 @@ def test_assembly_step_read_back_shares_no_volume_between_a_capstan_part_and_any
             if A.bounding_box().overlaps(B.bounding_box(), tolerance=0.0) is False:
                 continue
             checked += 1
-            assert _common_mm3(A, B) <= 1e-4, (a, b)
+            assert common_mm3(A, B) <= 1e-4, (a, b)
     assert checked >= len(cap)  # each part meets some solid's bounding box (18 pairs at home)
 
 

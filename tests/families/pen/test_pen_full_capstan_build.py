@@ -32,6 +32,8 @@ import numpy as np
 import pytest
 
 from tests.capstan_ref import radial_hole_mm3
+from tests.step_readback import common_mm3, dist_mm
+from tests.step_readback import step_solids as read_step_solids
 
 CASE = "haptic_pen_capstan.toml"
 FORMATS = ("firmware", "mjcf", "step", "stl")
@@ -62,28 +64,9 @@ def built(shared_build):
 @pytest.fixture(scope="module")
 def step_solids(built):
     """assembly.step read back: {instance name ('.' as '_'): solid}."""
-    from build123d import import_step
-
-    back = import_step(str(built[1] / "assembly.step"))
-    return {c.label: c for c in back.children}
+    return read_step_solids(built[1] / "assembly.step")
 
 
-def _common_mm3(a, b) -> float:
-    from OCP.BRepAlgoAPI import BRepAlgoAPI_Common
-    from OCP.BRepGProp import BRepGProp
-    from OCP.GProp import GProp_GProps
-
-    op = BRepAlgoAPI_Common(a.wrapped, b.wrapped)
-    g = GProp_GProps()
-    BRepGProp.VolumeProperties_s(op.Shape(), g)
-    return g.Mass()
-
-
-def _dist_mm(a, b) -> float:
-    from OCP.BRepExtrema import BRepExtrema_DistShapeShape
-
-    d = BRepExtrema_DistShapeShape(a.wrapped, b.wrapped)
-    return d.Value()
 
 
 # ----------------------------------------------------------------------------- fast: no solids
@@ -208,9 +191,9 @@ def test_assembly_step_read_back_shares_no_volume_between_a_capstan_part_and_any
             if A.bounding_box().overlaps(B.bounding_box(), tolerance=0.0) is False:
                 continue
             checked += 1
-            if _dist_mm(A, B) > 1e-6:  # apart (BRepExtrema, fast): no common volume to integrate
+            if dist_mm(A, B) > 1e-6:  # apart (BRepExtrema, fast): no common volume to integrate
                 continue
-            assert _common_mm3(A, B) <= 1e-4, (a, b)
+            assert common_mm3(A, B) <= 1e-4, (a, b)
     assert checked >= len(cap)
 
 
@@ -223,11 +206,11 @@ def test_the_nut_and_washer_sit_on_the_flange_a_clamp_from_the_plate(step_solids
         plate, block = step_solids[f"{j[0]}_waist_waist_bracket0"], step_solids[f"bearing_block_{i}"]
         for k in range(1, 5):
             nut, washer = step_solids[f"bearing_block_{i}_nut_{k}"], step_solids[f"bearing_block_{i}_washer_{k}"]
-            assert _dist_mm(washer, block) == pytest.approx(0.0, abs=1e-6)
-            assert _dist_mm(washer, plate) == pytest.approx(PLATE_MM, abs=1e-6)
-            assert _dist_mm(nut, block) == pytest.approx(WASHER_MM, abs=1e-6)
-            assert _dist_mm(nut, plate) == pytest.approx(PLATE_MM + WASHER_MM, abs=1e-6)
-            assert _dist_mm(step_solids[f"bearing_block_{i}_bolt_{k}"], plate) == pytest.approx(0.0, abs=1e-6)
+            assert dist_mm(washer, block) == pytest.approx(0.0, abs=1e-6)
+            assert dist_mm(washer, plate) == pytest.approx(PLATE_MM, abs=1e-6)
+            assert dist_mm(nut, block) == pytest.approx(WASHER_MM, abs=1e-6)
+            assert dist_mm(nut, plate) == pytest.approx(PLATE_MM + WASHER_MM, abs=1e-6)
+            assert dist_mm(step_solids[f"bearing_block_{i}_bolt_{k}"], plate) == pytest.approx(0.0, abs=1e-6)
 
 
 @pytest.mark.slow
