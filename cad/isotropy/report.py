@@ -7,7 +7,6 @@ return. Pure numpy (through the design's problem); no CAD import, no printing.
 from __future__ import annotations
 
 from cad.data.families import command_families
-from cad.kinematics.delta import inverse_condition, workspace_volumes
 
 #: The design families the GII is computed for (the registry's ``gii`` column).
 PANTOGRAPH_FAMILIES = command_families()["gii"]
@@ -47,16 +46,16 @@ def gii_report(design) -> dict:
         "failed_at": None if r.failed_at is None else _point(units, r.failed_at),
         "n_failed": r.n_failed,
         "wall_time_s": dt,
-        **(_delta_volumes(design) if design.family == "delta" else {}),
+        **gii_extras(design),
     }
 
 
-def _delta_volumes(design) -> dict:
-    """A delta's reachable and well-conditioned workspace (:func:`cad.kinematics.delta.workspace_volumes`)
-    and the worst inverse condition number over its ``[workspace]`` grid."""
-    ratio, _ = inverse_condition(design.mechanism, design.workspace_points())
-    return {"workspace_volumes": workspace_volumes(design.mechanism),
-            "workspace_inverse_condition_min": float(ratio.min())}
+def gii_extras(design) -> dict:
+    """A family's own rows of its GII report: the design's optional ``gii_extras()`` hook
+    (the delta's reachable and well-conditioned workspace,
+    :meth:`cad.families.delta.design.DeltaDesign.gii_extras`); ``{}`` when the family gives none."""
+    hook = getattr(design, "gii_extras", None)
+    return hook() if hook is not None else {}
 
 
 def optimize_report(design, method: str) -> dict:

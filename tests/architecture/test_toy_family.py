@@ -83,7 +83,8 @@ def test_a_toy_family_builds_checks_and_refuses_through_the_protocol_alone(toy, 
 
 #: The generic layers: they reach a family only through its FamilyPackage.
 GENERIC = ("cad/api.py", "cad/pipeline", "cad/firmware", "cad/datasheet", "cad/device",
-           "cad/design/__init__.py", "cad/export", "cad/report", "cad/io", "cad/assembly")
+           "cad/design/__init__.py", "cad/export", "cad/report", "cad/io", "cad/assembly",
+           "cad/isotropy")
 FAMILY_WORDS = re.compile(r"\b(hoeken|roberts|chebyshev|chebyshev-v|pantograph|"
                           r"twin-pantograph|haptic-pen|powermouse|delta|fourbar)\b")
 

@@ -51,7 +51,13 @@ from cad.design.transmission import parse_transmissions
 from cad.errors import DesignError
 from cad.isotropy.gii import delta_gii
 from cad.isotropy.problems import DeltaProblem, candidate_grid
-from cad.kinematics.delta import Delta, box_grid_mm, cylinder_grid_mm
+from cad.kinematics.delta import (
+    Delta,
+    box_grid_mm,
+    cylinder_grid_mm,
+    inverse_condition,
+    workspace_volumes,
+)
 
 MECH_KEYS = ("family", "base_radius_mm", "effector_radius_mm", "upper_arm_mm", "lower_arm_mm",
              "parallelogram_width_mm", "motor_angle_min_deg", "motor_angle_max_deg",
@@ -146,6 +152,14 @@ class DeltaDesign:
     def point_units(self) -> tuple[str, ...]:
         """Names of a workspace point's coordinates, with units."""
         return ("x_mm", "y_mm", "z_mm")
+
+    def gii_extras(self) -> dict:
+        """The delta's rows of the GII report (:func:`cad.isotropy.report.gii_extras`): the
+        reachable and well-conditioned workspace (cm^3, :func:`cad.kinematics.delta.workspace_volumes`)
+        and the worst inverse condition number over the ``[workspace]`` grid."""
+        ratio, _ = inverse_condition(self.mechanism, self.workspace_points())
+        return {"workspace_volumes": workspace_volumes(self.mechanism),
+                "workspace_inverse_condition_min": float(ratio.min())}
 
     def problem(self):
         """The ``[optimize]`` candidate grid x workspace as a culling problem (eq 6)."""
