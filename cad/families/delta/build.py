@@ -35,12 +35,12 @@ from cad.families.delta.clearance import layout_clashes
 from cad.families.delta.design import JOINTS
 from cad.families.delta.dynamics import mass_matrix_from_bodies_kg
 from cad.families.delta.layout import body_poses
+from cad.families.delta.report_map import APPARENT_MASS_MAP, plot_apparent_mass_map
 from cad.families.delta.sim import sim_model
 from cad.families.delta.structure import first_mode, peak_stress_over, sections_from_parts
 from cad.pipeline import family
 from cad.pipeline.run import Stages, run_family
 from cad.pipeline.views import write_sim_model
-from cad.report.delta import APPARENT_MASS_MAP, plot_apparent_mass_map
 
 
 def check_options(design, fidelity: str, phi1_deg, formats=frozenset()) -> None:
@@ -157,7 +157,7 @@ def _md_rows(r: dict) -> list[tuple[str, str]]:
 
 
 def _figures(b) -> list[str]:
-    """The apparent-mass map over the workspace grid (:mod:`cad.report.delta`)."""
+    """The apparent-mass map over the workspace grid (:mod:`cad.families.delta.report_map`)."""
     plot_apparent_mass_map(b.design.name, b.model.extra.workspace_mm, b.dyn.eig_g, b.out_dir / APPARENT_MASS_MAP)
     return [APPARENT_MASS_MAP]
 

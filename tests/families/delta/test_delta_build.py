@@ -90,8 +90,8 @@ def test_the_report_maps_the_apparent_mass_over_the_workspace(shared_build):
     import matplotlib.image as mpimg
 
     from cad.families.delta.dynamics import mass_matrix_from_bodies_kg
+    from cad.families.delta.report_map import APPARENT_MASS_MAP, map_layers
     from cad.massprops.props import MassProps
-    from cad.report.delta import APPARENT_MASS_MAP, map_layers
 
     d, out, rep = shared_build("delta.toml", DELTA_FORMATS, "preview")
     assert APPARENT_MASS_MAP in rep["files"]
