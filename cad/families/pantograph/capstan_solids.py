@@ -43,9 +43,7 @@ from cad.data import catalog as cat
 from cad.data.fits import fit
 from cad.device import resolve_device
 from cad.errors import DesignError
-from cad.families.pantograph import twin_capstan
 from cad.families.pantograph.capstan import DRUM_MATERIAL, DRUM_THICKNESS_MM
-from cad.families.pen.capstan import JOINTS as PEN_JOINTS
 from cad.parts import PartInstance, PartKind, joints, motor, translation
 from cad.parts import capstan as shapes
 
@@ -95,15 +93,11 @@ def joint_group(joint: str) -> str:
     return joint[: joint.rindex("q_")]
 
 
-def rope_index(joint: str) -> int:
-    """The capstan's number in the rows, BOM lines and winding steps (``_1`` ..): the 5-bar's
-    left 1, right 2; the twin's in :data:`cad.families.pantograph.twin_capstan.JOINTS` order, the
-    haptic pen's in :data:`cad.families.pen.capstan.JOINTS` order."""
-    if joint in twin_capstan.JOINTS:
-        return twin_capstan.JOINTS.index(joint) + 1
-    if joint in PEN_JOINTS:
-        return PEN_JOINTS.index(joint) + 1
-    return ("q_left", "q_right").index(joint) + 1
+def rope_index(design, joint: str) -> int:
+    """The capstan's number in the rows, BOM lines and winding steps (``_1`` ..): the joint's
+    place in the design's motor order (:meth:`motor_joints`: the 5-bar's left 1, right 2; the
+    twin's knob then crank motors; the haptic pen's arm A then arm B, waist, lower, upper)."""
+    return [j for j, _ in design.motor_joints()].index(joint) + 1
 
 
 def plate_mm(design, lay: dict) -> float:
@@ -223,7 +217,7 @@ def capstan_kinds(design, lay: dict) -> dict[str, PartKind]:
         K[f"drum_{sd.joint}"] = _drum_kind(design, dev.transmission(sd.joint), sd, lay)
     for sd in lay["capstan"]["sides"]:
         t = dev.transmission(sd.joint)
-        sfx = kind_suffix(design, sd.joint)
+        sfx = kind_suffix(design, sd.joint, lay)
         K[f"capstan{sfx}"] = _capstan_kind(design, t, sfx, m.key)
         size, Ls = capstan_set_screw(design, t, m.key)
         K[f"capstan_set_screw{sfx}"] = PartKind(
@@ -257,21 +251,26 @@ def capstan_kinds(design, lay: dict) -> dict[str, PartKind]:
     return K
 
 
-def kind_suffix(design, joint: str) -> str:
-    """``""`` when both motors' transmissions are the same (one part kind for both), else
-    ``_left`` / ``_right``; on the twin the 5-bar's name first (``_knob``, ``_knob_left``), its
-    two motors compared; on the haptic pen the joint's role (``_waist``: both arms' waists
-    compared, ``_A_waist`` when they differ)."""
-    if joint in PEN_JOINTS:
-        role = joint.split("_")[-1]
-        ts = [t for t in resolve_device(design).transmissions if t.motor_joint.endswith(f"_{role}")]
-        same = all(dataclasses.replace(t, motor_joint="") == dataclasses.replace(ts[0], motor_joint="") for t in ts)
-        return f"_{role}" if same else f"_{joint[0]}_{role}"
+def fivebar_kind_group(joint: str) -> tuple[str, str, str]:
+    """(group, suffix when the group's transmissions are the same, suffix when they differ) of a
+    motor joint, the 5-bar's and the twin's: the motors of one 5-bar share a part kind (``""`` /
+    ``_left``; the twin's ``_knob`` / ``_knob_left``). A family that groups its capstans otherwise
+    gives its own function as ``lay["capstan"]["kind_group"]`` (the haptic pen's
+    :func:`cad.families.pen.capstan.pen_kind_group`)."""
     grp = joint_group(joint)
-    ts = [t for t in resolve_device(design).transmissions if t.motor_joint.startswith(grp)]
-    same = all(dataclasses.replace(t, motor_joint="") == dataclasses.replace(ts[0], motor_joint="") for t in ts)
     pre = f"_{grp[:-1]}" if grp else ""
-    return pre if same else f"{pre}_{joint.split('_')[-1]}"
+    return grp, pre, f"{pre}_{joint.split('_')[-1]}"
+
+
+def kind_suffix(design, joint: str, lay: dict) -> str:
+    """The part-kind suffix of a joint's capstan, tensioner and set screw: one kind for every
+    motor of the joint's group when their transmissions are the same, else one per motor
+    (:func:`fivebar_kind_group`, or ``lay["capstan"]["kind_group"]``)."""
+    group_of = lay.get("capstan", {}).get("kind_group", fivebar_kind_group)
+    key, same_sfx, differ_sfx = group_of(joint)
+    ts = [t for t in resolve_device(design).transmissions if group_of(t.motor_joint)[0] == key]
+    same = all(dataclasses.replace(t, motor_joint="") == dataclasses.replace(ts[0], motor_joint="") for t in ts)
+    return same_sfx if same else differ_sfx
 
 
 def _drum_kind(design, t, sd, lay: dict) -> PartKind:
@@ -391,10 +390,10 @@ def drum_parts(design, K: dict, lay: dict, sd, t, body: str | None = None) -> li
     seat = cg.crest_radius_mm(t.drum_diameter_mm, t.cable_diameter_mm)  # heads and nut on the crests
     out = [PartInstance(f"{body}.capstan_drum", K[f"drum_{sd.joint}"], body, translation(0, 0, z0))]
     at = [translation(0, 0, 0.5 * (z0 + z1)) @ _rz(a) @ translation(seat, 0, 0) @ _RY90 for a in sd.anchors_deg]
-    s = f"_{rope_index(sd.joint)}"  # the names assembly.md's winding steps use
+    s = f"_{rope_index(design, sd.joint)}"  # the names assembly.md's winding steps use
     out.append(PartInstance(f"capstan_anchor{s}_1", K["anchor_screw"], body, at[0]))
     _, up = tensioner_screw_mm(t)
-    out.append(PartInstance(f"capstan_tensioner{s}", K[f"tensioner{kind_suffix(design, sd.joint)}"], body,
+    out.append(PartInstance(f"capstan_tensioner{s}", K[f"tensioner{kind_suffix(design, sd.joint, lay)}"], body,
                             at[1] @ translation(0, 0, up)))
     out.append(PartInstance(f"capstan_tensioner_nut{s}", K["tensioner_nut"], body, at[1]))
     return out
@@ -416,7 +415,7 @@ def motor_side_parts(design, K: dict, lay: dict, sd, t, i: int, motor_name: str 
     tf_c = translation(ox, oy, zc)
     if lay["capstan"].get("hub_out"):  # turned over about the rope's plane (:func:`capstan_span_mm`)
         tf_c = translation(ox, oy, 2 * zr - zc) @ np.diag([1.0, -1.0, -1.0, 1.0])
-    sfx = kind_suffix(design, sd.joint)
+    sfx = kind_suffix(design, sd.joint, lay)
     shaft = f"{motor_name or ('lower' if zm is None else 'upper') + f'_motor_{(i - 1) % 2 + 1}'}.shaft"
     f, _ = capstan_set_screw_fastening(design, t, f"capstan_{i}", shaft, motor_key(design, lay))  # hole: the caller's
     out = [PartInstance(f"capstan_{i}", K[f"capstan{sfx}"], "ground", mirrored(tf_c, zm)),

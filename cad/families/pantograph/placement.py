@@ -164,7 +164,7 @@ def capstan_parts(design, K: dict, lay: dict, inst: list, tfs: dict, B) -> dict:
     for k, (sd, b) in enumerate(zip(cap["sides"], B, strict=True)):
         side = f"{pcs.joint_group(sd.joint)}{sd.joint.split('_')[-1]}"  # left, knob_left
         body = f"{pcs.joint_group(sd.joint)}proximal_{sd.joint.split('_')[-1]}"
-        t, i = dev.transmission(sd.joint), pcs.rope_index(sd.joint)
+        t, i = dev.transmission(sd.joint), pcs.rope_index(design, sd.joint)
         ls = lay
         if "side_z_mm" in cap:  # the twin: each side in its own band, its motor raised or not
             rope, drum = cap["side_z_mm"][k]

@@ -45,6 +45,15 @@ HANDLE_STIFFNESS_SOURCE = (
     "motors held; a direct-drive joint rigid)")
 
 
+def pen_kind_group(joint: str) -> tuple[str, str, str]:
+    """(group, suffix when the group's transmissions are the same, suffix when they differ) of
+    a pen motor joint (``lay["capstan"]["kind_group"]`` of
+    :func:`cad.families.pantograph.capstan_solids.kind_suffix`): both arms' motors of one role
+    share a part kind (``_waist``), else one per arm (``_A_waist``)."""
+    role = joint.split("_")[-1]
+    return role, f"_{role}", f"_{joint[0]}_{role}"
+
+
 def has_capstan(design) -> bool:
     """True when a motor of the haptic pen drives its joint through a capstan."""
     return design.family == "haptic-pen" and any(t.is_capstan for t in resolve_device(design).transmissions)

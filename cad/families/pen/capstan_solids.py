@@ -39,6 +39,7 @@ from cad.device import resolve_device
 from cad.families.pantograph import capstan_solids as pcs
 from cad.families.pantograph.capstan import CLEARANCE_MM
 from cad.families.pen import capstan_layout as cl
+from cad.families.pen.capstan import pen_kind_group
 from cad.parts import translation
 
 #: The waist axle's words in the shared capstan solids' part texts (:data:`pcs.CARRIER`).
@@ -86,7 +87,8 @@ def capstan_lay(design, gl: dict, mount_plan: dict) -> dict:
     zb = gl["base_top_z_mm"]
     return {"capstan": {"sides": waist_sides(design), "rope_z_mm": g + DRUM_THICKNESS_MM / 2,
                         "drum_z_mm": (g, g + DRUM_THICKNESS_MM), "motor": design.parts.waist_motor,
-                        "axle_top_mm": gl["waist_hub_mm"][1] - zb, "carrier": CARRIER},
+                        "axle_top_mm": gl["waist_hub_mm"][1] - zb, "carrier": CARRIER,
+                        "kind_group": pen_kind_group},
             "screws": {"mount": mount_plan}}
 
 
@@ -120,7 +122,7 @@ def instances(design, Kc: dict, gl: dict, mount_plan: dict, screw_kind, motor_sh
     for sd in lay["capstan"]["sides"]:
         arm = sd.joint[0]
         body = f"{arm}_waist"
-        t, i = dev.transmission(sd.joint), pcs.rope_index(sd.joint)
+        t, i = dev.transmission(sd.joint), pcs.rope_index(design, sd.joint)
         blk, h = pcs.block_parts(design, K, lay, i, arm, sd.b_mm, screw_kind,
                                  np.linalg.inv(lift) @ tf_world_body[body], body=body)
         ground = blk + pcs.motor_side_parts(design, K, lay, sd, t, i, motor_name=f"{arm}_waist_motor")

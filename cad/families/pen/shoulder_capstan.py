@@ -43,6 +43,7 @@ from cad.device import resolve_device
 from cad.families.pantograph import capstan_solids as pcs
 from cad.families.pantograph import twin_placement as tp
 from cad.families.pen import capstan_layout as cl
+from cad.families.pen.capstan import pen_kind_group
 from cad.families.pen.layout import ARMS
 from cad.parts import motor as pm
 
@@ -123,7 +124,7 @@ def side_lay(design, lay: dict, pair, sd, plan: dict) -> dict:
                         "axle_top_mm": p0 - hub_far_mm(design, lay, role), "carrier": carrier(role),
                         "plate_mm": design.parts.motor_mount_thickness_mm, "mount_mm": 0.0,
                         "face_seat_mm": 0.0, "plate": f"{sd.joint[0]}_waist.waist_bracket0",
-                        "hub_out": k == 1},
+                        "hub_out": k == 1, "kind_group": pen_kind_group},
             "screws": {"mount": plan}}
 
 
@@ -160,7 +161,7 @@ def instances(design, lay: dict, Ks: dict, plan: dict, motor_shaft_kind, tf_worl
             role = sd.joint.split("_")[-1]
             link = f"{arm}_proximal_{role}"
             K = {**Ks[role], "motor_shaft": motor_shaft_kind}
-            t, i = dev.transmission(sd.joint), pcs.rope_index(sd.joint)
+            t, i = dev.transmission(sd.joint), pcs.rope_index(design, sd.joint)
             fs = f_side(sd)
             sl = side_lay(design, lay, pair, fs, plan)
             tf_f_link = np.linalg.inv(T) @ np.linalg.inv(tf_world_body[waist]) @ tf_world_body[link]
