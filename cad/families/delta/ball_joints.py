@@ -38,7 +38,8 @@ def range_check(design) -> dict:
     """The ball joints' tilt over the design's workspace grid against the catalog range of
     ``design.parts.ball_joint``: ``{joint, range_deg, max_tilt_deg, arm, rods, at_mm,
     points_past, verdict ("PASS" / "MISS"), line}``; ``line`` names the worst rods, the pose
-    and the angle (and, on a miss, how many grid points are past the range)."""
+    and the angle (and, on a miss, how many grid points are past the range; whether the
+    range has no source read)."""
     j = get_ball_joint(design.parts.ball_joint)
     X = design.workspace_points()
     a = rod_tilt_deg(design.mechanism, X)
@@ -52,6 +53,8 @@ def range_check(design) -> dict:
     line = (f"ball joints {j.key}: {verdict}, arm {i}'s rods ({rods}) tilt {worst:.2f} deg in "
             f"their joints at P = ({P}) mm, range {j.range_deg:g} deg (eq 1 of "
             "cad/families/delta/ball_joints.py)")
+    if "range_deg" in j.unverified:
+        line += "; the range is unverified (no source read)"
     if past:
         line += f"; {past} of {len(X)} workspace points past the range"
     return {"joint": j.key, "range_deg": j.range_deg, "max_tilt_deg": worst, "arm": i,

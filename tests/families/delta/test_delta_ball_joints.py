@@ -129,6 +129,7 @@ def test_range_check_at_its_failure_edge(monkeypatch, past):
     assert f"({', '.join(f'{v:.1f}' for v in X[n])}) mm" in r["line"] and f"{worst:.2f} deg" in r["line"]
     assert r["points_past"] == (int(np.count_nonzero((a > edge).any(axis=1))) if past else 0)
     assert (f"{r['points_past']} of {len(X)} workspace points past the range" in r["line"]) == past
+    assert "unverified" not in r["line"]  # DIN 71802's range has a source
 
 
 def test_bundled_delta_and_falcon_against_din71802_range():
@@ -140,7 +141,8 @@ def test_bundled_delta_and_falcon_against_din71802_range():
     for name, worst in (("delta.toml", 21.07), ("delta_falcon.toml", 40.06)):
         r = range_check(_design("din71802-8-m5-c", name))
         assert r["verdict"] == "MISS" and r["max_tilt_deg"] == pytest.approx(worst, abs=0.005)
-        assert range_check(_design(None, name))["verdict"] == "PASS"
+        r = range_check(_design(None, name))
+        assert r["verdict"] == "PASS" and r["line"].endswith("; the range is unverified (no source read)")
 
 
 def _bbox(shape) -> np.ndarray:
