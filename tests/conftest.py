@@ -43,9 +43,12 @@ SIM_FORMATS = {
 }
 #: The bundled delta's shared build (preview): STEP for tests/families/delta/test_delta_build.py
 #: and tests/unit/assembly/test_assembly_steps.py, the MJCF and its meshes for
-#: tests/families/delta/test_delta_identify.py (its ``--build-dir``); one delta build (the
-#: slowest bundled design to build) instead of two.
-DELTA_FORMATS = ("step", "mjcf", "stl")
+#: tests/families/delta/test_delta_identify.py (its ``--build-dir``), the DXFs, drawings, 3MF
+#: and step pictures for the read-back tests the other families' builds feed
+#: (tests/families/test_family_fits.py, tests/unit/export/test_drawings.py,
+#: tests/unit/report/test_report_html.py, tests/unit/report/test_step_views.py through
+#: :func:`delta_build`); one delta build (the slowest bundled design to build) instead of two.
+DELTA_FORMATS = ("step", "mjcf", "stl", "dxf", "drawings", "3mf")
 #: The bundled haptic pen's shared build (inertia): the firmware for
 #: tests/families/pen/test_pen_firmware.py, STEP (assembly and parts) for
 #: tests/regressions/test_tryit_t23.py; one build where each made its own.
@@ -60,6 +63,22 @@ def family_builds(shared_builds):
     ``report.json`` read back. Read-only for tests."""
     got = shared_builds([(fn, FAMILY_FORMATS, "inertia") for fn in FAMILY_DESIGNS.values()])
     return dict(zip(FAMILY_DESIGNS, got, strict=True))
+
+
+@pytest.fixture(scope="session")
+def delta_build(shared_build):
+    """The bundled delta's shared build (:data:`DELTA_FORMATS`, preview): ``(design, out_dir,
+    report)`` as :func:`family_builds`' entries. Read-only for tests."""
+    return shared_build("delta.toml", DELTA_FORMATS, "preview")
+
+
+def family_build(request, fam: str):
+    """``(design, out_dir, report)`` of ``fam``: the delta's :func:`delta_build` or the other
+    families' :func:`family_builds` entry, built only when a test asks (``request``: the
+    test's pytest request)."""
+    if fam == "delta":
+        return request.getfixturevalue("delta_build")
+    return request.getfixturevalue("family_builds")[fam]
 
 
 @pytest.fixture(scope="session")

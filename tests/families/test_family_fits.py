@@ -139,8 +139,17 @@ def test_each_stated_diameter_is_a_cylinder_of_the_part_read_back(family_builds,
                 assert any(abs(abs(a @ diag) - 1.0) < 1e-9 for a in axes), (kind, d)
 
 
-@pytest.mark.parametrize("fam", FAMS)
-def test_dxf_notes_state_the_fits_and_mill_layers_hold_no_outline(family_builds, fam):
+#: The plates each family's build must cut (a DXF each) and those with a fit on their NOTES
+#: (the delta: its bundled build, tests/conftest.py ``delta_build``; none of its plates holds
+#: a bearing or a motor pilot with a fit class).
+DXF_PLATES = {"pantograph": ({"base_plate", "motor_mount"}, {"motor_mount"}),
+              "twin-pantograph": ({"base_plate", "motor_mount"}, {"motor_mount"}),
+              "powermouse": ({"rig_base"}, None),
+              "delta": ({"base_plate", "motor_bracket", "upper_arm", "effector_plate"}, set())}
+
+
+@pytest.mark.parametrize("fam", list(DXF_PLATES))
+def test_dxf_notes_state_the_fits_and_mill_layers_hold_no_outline(request, fam):
     """Every plate DXF (ezdxf): its NOTES texts are its BOM fits + " (ISO 286)"; a MILL layer
     repeats no edge of the through profile; a plate without one is a plain extrusion (the
     through profile's area x thickness is the solid's volume, OCCT on the part's STEP)."""
@@ -151,13 +160,15 @@ def test_dxf_notes_state_the_fits_and_mill_layers_hold_no_outline(family_builds,
     from OCP.GProp import GProp_GProps
 
     from cad.export.dxf import dxf_profile_area_mm2
+    from tests.conftest import family_build
 
-    design, out, _ = family_builds[fam]
+    design, out, _ = family_build(request, fam)
     # the PowerMouse's plates are the Fig. 7 test rig's, in rig/ with its own BOM
     folders = [out] + ([out / "rig"] if fam == "powermouse" else [])
     dxfs = [(p, _bom(f)) for f in folders for p in sorted((f / "parts").glob("*.dxf"))]
     stems = {p.stem for p, _ in dxfs}
-    assert stems >= ({"rig_base"} if fam == "powermouse" else {"base_plate", "motor_mount"})
+    plates, with_fits = DXF_PLATES[fam]
+    assert stems >= plates
     noted = set()
     for path, rows in dxfs:
         doc = ezdxf.readfile(path)
@@ -192,8 +203,8 @@ def test_dxf_notes_state_the_fits_and_mill_layers_hold_no_outline(family_builds,
             area = dxf_profile_area_mm2(path.read_text()) - _stock_area_mm2(msp, fits)
             assert notes[3] == f"thickness: {z1 - z0:.2f} mm"
             assert area * (z1 - z0) == pytest.approx(g.Mass(), rel=1e-3), path.stem
-    if fam != "powermouse":
-        assert noted == {"motor_mount"}  # the only plate with a fit: its pilot bore
+    if with_fits is not None:  # the 5-bars' only plate with a fit: the motor mount's pilot bore
+        assert noted == with_fits
 
 
 def _stock_area_mm2(msp, fits) -> float:

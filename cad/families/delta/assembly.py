@@ -59,15 +59,16 @@ def _frame(x, z, origin) -> np.ndarray:
     return T
 
 
-def stack_mm(width_mm: float, fork: bool) -> dict[str, float]:
+def stack_mm(width_mm: float, fork: bool, socket_d_mm: float) -> dict[str, float]:
     """Positions along the motor axis (mm, 0 = the arm's plane, towards the motor negative):
     the arm plate (or, ``fork`` with a joint offset, the two fork plates and their spacer),
     the hub from the arm to the bracket less the gap, the bracket past the outer ball
-    socket, the motor's face."""
+    socket (``socket_d_mm``: :attr:`cad.families.delta.hardware.BallJoint.socket_d_mm`),
+    the motor's face."""
     t = hw.ARM_THICKNESS_MM
     fork_mid = t + 0.5
     arm_end = -(fork_mid + t / 2) if fork else -t / 2
-    bracket0 = -(width_mm / 2 + hw.BALL_JOINT.socket_d_mm / 2 + hw.BRACKET_CLEARANCE_MM)
+    bracket0 = -(width_mm / 2 + socket_d_mm / 2 + hw.BRACKET_CLEARANCE_MM)
     bracket0 = min(bracket0, arm_end - hw.HUB_GAP_MM - 5.0)
     if fork:
         bracket0 -= hw.KNEE_BRACKET_OFFSET_MM
@@ -81,7 +82,7 @@ def kinds(design, fidelity: str = "fabrication") -> dict[str, PartKind]:
     """``{kind name: PartKind}`` of every distinct part of the delta."""
     d, w = design.mechanism, design.parallelogram_width_mm
     m = parts_motor(design)[0]  # parts.motor with the [motor] table (the resolved device's)
-    bj = hw.BALL_JOINT
+    bj = hw.design_ball_joint(design)
     K: dict[str, PartKind] = {}
 
     def add(name, shape, material, made, description, process, **kw):
@@ -89,9 +90,9 @@ def kinds(design, fidelity: str = "fabrication") -> dict[str, PartKind]:
                            description=description, process=process, **kw)
 
     side = pm.mount_side_mm(m)
-    zb = hw.base_plate_z_mm(d.upper_arm_mm, d.theta_min_rad, d.joint_offset_mm)
+    zb = hw.base_plate_z_mm(d.upper_arm_mm, d.theta_min_rad, d.joint_offset_mm, bj.socket_d_mm)
     fork = d.joint_offset_mm > 0
-    st = stack_mm(w, fork)
+    st = stack_mm(w, fork, bj.socket_d_mm)
     r_base = math.hypot(d.base_radius_mm + abs(d.axis_offset_mm) + side / 2,
                         -st["motor_face"]) + hw.PLATE_RIM_MM
     add("base_plate", dp.disk_plate_shape(r_base, hw.PLATE_THICKNESS_MM), hw.PLATE_MATERIAL,
@@ -135,21 +136,7 @@ def kinds(design, fidelity: str = "fabrication") -> dict[str, PartKind]:
         add("knee_pin", dp.bar_shape(hw.CROSS_BAR_D_MM, pin), "steel-1018", True,
             f"knee pin d{hw.CROSS_BAR_D_MM:g} x {pin:g}", "ground dowel, cut")
         _knee_hinge_kinds(K, w)
-    add("ball_stud", dp.ball_stud_shape(bj.ball_d_mm, bj.neck_d_mm, bj.neck_mm), "steel-1018",
-        False, f"{bj.designation}: stud ({bj.source})", "bought", mass_kg=bj.mass_g / 2e3)
-    add("ball_socket", dp.socket_shape(bj.ball_d_mm, bj.clearance_mm, bj.socket_d_mm,
-                                       bj.cone_deg, hw.ROD_ID_MM, 3.0),
-        "delrin", False, f"{bj.designation}: socket ({bj.source})", "bought",
-        mass_kg=bj.mass_g / 2e3)
-    rs = bj.socket_d_mm / 2
-    if fork:
-        r_eye = hw.knee_hinge().eye_r_mm
-        add("knee_rod", dp.tube_shape(hw.ROD_OD_MM, hw.ROD_ID_MM, r_eye, d.lower_arm_mm - rs),
-            hw.ROD_MATERIAL, True, f"rod tube {hw.ROD_OD_MM:g}/{hw.ROD_ID_MM:g} x "
-            f"{d.lower_arm_mm - rs - r_eye:g}", "cut to length, bonded on the eye's and the socket's shanks")
-    add("rod", dp.tube_shape(hw.ROD_OD_MM, hw.ROD_ID_MM, rs, d.lower_arm_mm - rs),
-        hw.ROD_MATERIAL, True, f"rod tube {hw.ROD_OD_MM:g}/{hw.ROD_ID_MM:g} x "
-        f"{d.lower_arm_mm - 2 * rs:g}", "cut to length, bonded on the socket shanks")
+    _joint_and_rod_kinds(K, design, bj)
     r_eff = hw.effector_disk_radius_mm(d.effector_radius_mm, w)
     add("effector_plate", dp.disk_plate_shape(r_eff, hw.EFFECTOR_THICKNESS_MM),
         hw.PLATE_MATERIAL, True, f"effector plate d{2 * r_eff:.1f} x {hw.EFFECTOR_THICKNESS_MM:g}",
@@ -157,6 +144,36 @@ def kinds(design, fidelity: str = "fabrication") -> dict[str, PartKind]:
     add("handle", dp.bar_shape(hw.HANDLE_D_MM, hw.HANDLE_LENGTH_MM), hw.PLATE_MATERIAL, True,
         f"handle d{hw.HANDLE_D_MM:g} x {hw.HANDLE_LENGTH_MM:g}", "turned")
     return K
+
+
+def _joint_and_rod_kinds(K: dict, design, bj) -> None:
+    """The ball stud and socket of catalog joint ``bj`` (:class:`cad.families.delta.hardware.
+    BallJoint`) and the rod tubes between them (with a knee, from the eye to the socket)."""
+    d, fork = design.mechanism, design.mechanism.joint_offset_mm > 0
+
+    def add(name, shape, material, made, description, process, **kw):
+        K[name] = PartKind(name=name, shape=shape, material=material, made=made,
+                           description=description, process=process, **kw)
+
+    # the catalog joint: stud and socket each half its mass (the split is not stated: assumed)
+    add("ball_stud", dp.ball_stud_shape(bj.ball_d_mm, bj.neck_d_mm, bj.neck_mm), bj.material,
+        False, f"{bj.designation}: stud ({bj.source})", "bought", mass_kg=bj.mass_g / 2e3)
+    add("ball_socket", dp.socket_shape(bj.ball_d_mm, bj.clearance_mm, bj.socket_d_mm, bj.cone_deg,
+                                       bj.shank_d_mm, hw.socket_shank_arg_mm(bj)),
+        bj.socket_material, False, f"{bj.designation}: socket ({bj.source})", "bought",
+        mass_kg=bj.mass_g / 2e3)
+    rs = bj.tube_start_mm
+    inside = rs < bj.shank_end_mm  # the socket's shank inside the tube (the generic link)
+    if fork:
+        r_eye = hw.knee_hinge().eye_r_mm
+        add("knee_rod", dp.tube_shape(hw.ROD_OD_MM, hw.ROD_ID_MM, r_eye, d.lower_arm_mm - rs),
+            hw.ROD_MATERIAL, True, f"rod tube {hw.ROD_OD_MM:g}/{hw.ROD_ID_MM:g} x "
+            f"{d.lower_arm_mm - rs - r_eye:g}", "cut to length, bonded on the eye's and the socket's shanks" if inside else
+            "cut to length, bonded on the eye's shank, joined to the socket's female thread")
+    add("rod", dp.tube_shape(hw.ROD_OD_MM, hw.ROD_ID_MM, rs, d.lower_arm_mm - rs),
+        hw.ROD_MATERIAL, True, f"rod tube {hw.ROD_OD_MM:g}/{hw.ROD_ID_MM:g} x "
+        f"{d.lower_arm_mm - 2 * rs:g}", "cut to length, bonded on the socket shanks" if inside else
+        "cut to length, joined to the sockets' female threads")
 
 
 def _knee_hinge_kinds(K: dict, w: float) -> None:
@@ -192,8 +209,9 @@ def _knee_hinge_kinds(K: dict, w: float) -> None:
 
 def _ground_parts(design) -> list[tuple[str, str, np.ndarray]]:
     d = design.mechanism
-    st = stack_mm(design.parallelogram_width_mm, d.joint_offset_mm > 0)
-    zb = hw.base_plate_z_mm(d.upper_arm_mm, d.theta_min_rad, d.joint_offset_mm)
+    sd = hw.design_ball_joint(design).socket_d_mm
+    st = stack_mm(design.parallelogram_width_mm, d.joint_offset_mm > 0, sd)
+    zb = hw.base_plate_z_mm(d.upper_arm_mm, d.theta_min_rad, d.joint_offset_mm, sd)
     out = [("base_plate", "base_plate", translation(0, 0, zb))]
     for i in ARMS:
         u, t = d.radial[i], d.tangential[i]
@@ -217,7 +235,7 @@ def _upper_parts(design, i: int) -> list[tuple[str, str, np.ndarray]]:
     """``[(instance, kind, tf_body_part)]`` of upper_i (and knee_i's at key ``knee``)."""
     d, w = design.mechanism, design.parallelogram_width_mm
     fork = d.joint_offset_mm > 0
-    st = stack_mm(w, fork)
+    st = stack_mm(w, fork, hw.design_ball_joint(design).socket_d_mm)
     along_y = rot_x(-90.0)  # part z -> body y
     p = f"upper_{i}"
     out = [(f"{p}.motor_shaft", "motor_shaft", translation(0, st["motor_face"], 0) @ along_y),
@@ -269,7 +287,7 @@ def _rod_parts(design, body: str, side: str) -> list[tuple[str, str, np.ndarray]
 
 def _effector_parts(design) -> list[tuple[str, str, np.ndarray]]:
     d, w = design.mechanism, design.parallelogram_width_mm
-    zc = -hw.CROSS_BAR_D_MM / 2
+    zc = -hw.effector_plate_depth_mm(hw.design_ball_joint(design).socket_d_mm)
     out = [("effector.effector_plate", "effector_plate",
             translation(0, 0, zc - hw.EFFECTOR_THICKNESS_MM)),
            ("effector.handle", "handle",
@@ -321,7 +339,8 @@ def assemble(design, fidelity: str = "fabrication") -> AssemblyModel:
     holes: dict = {}
     if any(t.is_capstan for t in design.transmissions):  # the capstans' solids
         inst, holes = add_capstans(design, K, inst, resolve_device(design),
-                            stack_mm(design.parallelogram_width_mm, d.joint_offset_mm > 0))
+                            stack_mm(design.parallelogram_width_mm, d.joint_offset_mm > 0,
+                                     hw.design_ball_joint(design).socket_d_mm))
     labels = tuple(f"P = ({x:.1f}, {y:.1f}, {z:.1f}) mm" for x, y, z in X)
     return AssemblyModel(design=design, instances=tuple(inst), tf_world_body=tf_home,
                          motion={b: T for b, T in motion.items() if b != "ground"},

@@ -13,7 +13,9 @@ Report keys the delta adds to the driver's common ones (``moving_mass_g``, ``tot
 :class:`cad.families.delta.contract.DeltaReport`): ``apparent_mass``
 (``Lambda_max_eig_g`` / ``Lambda_min_eig_g``: the largest and smallest eigenvalue of Lambda
 over the grid, where), ``structure`` (``first_mode_Hz``, ``compliance_max_um_per_N``, the
-boundary conditions), ``workspace_points``, ``notes``. The motors and encoders are the
+boundary conditions), ``workspace_points``, ``ball_joints`` (the joints' tilt against their
+catalog range: :func:`cad.families.delta.ball_joints.range_check`), ``notes``. The motors and
+encoders are the
 resolved device's (:func:`cad.device.resolve_device`: ``parts.motor`` with ``[motor]``,
 ``parts.encoder``).
 """
@@ -30,6 +32,7 @@ from cad.device import encoder_bom_rows, resolve_device
 from cad.errors import DesignError
 from cad.families.delta import capstan
 from cad.families.delta.assembly import assemble
+from cad.families.delta.ball_joints import range_check
 from cad.families.delta.capstan import rope_stiffness_Nm_per_rad
 from cad.families.delta.clearance import layout_clashes
 from cad.families.delta.design import JOINTS
@@ -137,13 +140,15 @@ def _dynamics(b) -> DeltaDynamics:
 
 def _report(b) -> dict:
     dy = b.dyn
-    return {
+    joints = range_check(b.design)
+    return {"ball_joints": joints,
         "apparent_mass": {k: getattr(dy, k) for k in ("Lambda_max_eig_g", "at_max_mm",
                                                       "Lambda_min_eig_g", "at_min_mm",
                                                       "rotor_inertia_kg_m2", "motor")},
         "structure": dy.structure, "workspace_points": len(b.model.extra.workspace_mm),
         "notes": [f"Lambda(x) from the solids and the {dy.motor} rotor over "
-                  f"{len(b.model.extra.workspace_mm)} workspace points (eq 1, base frame)"]}
+                  f"{len(b.model.extra.workspace_mm)} workspace points (eq 1, base frame)",
+                  joints["line"]]}
 
 
 def _md_rows(r: dict) -> list[tuple[str, str]]:
@@ -153,6 +158,8 @@ def _md_rows(r: dict) -> list[tuple[str, str]]:
             ("apparent mass, largest eigenvalue of Lambda", f"{a['Lambda_max_eig_g']:.1f} g"),
             ("apparent mass, smallest eigenvalue of Lambda", f"{a['Lambda_min_eig_g']:.1f} g"),
             ("first structural mode (centre)", f"{s['first_mode_Hz']:.1f} Hz"),
+            ("ball joints' largest tilt (range)", f"{r['ball_joints']['max_tilt_deg']:.2f} deg "
+             f"({r['ball_joints']['range_deg']:g} deg: {r['ball_joints']['verdict']})"),
             ("workspace points checked", str(r["workspace_points"]))]
 
 

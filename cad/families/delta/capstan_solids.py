@@ -244,7 +244,8 @@ def _bracket(design, K: dict, C: float) -> PartKind:
         d = design.mechanism
         m = cat.get_motor(design.parts.motor)
         side = pm.mount_side_mm(m)
-        zb = hw.base_plate_z_mm(d.upper_arm_mm, d.theta_min_rad, d.joint_offset_mm) - C * math.sin(
+        zb = hw.base_plate_z_mm(d.upper_arm_mm, d.theta_min_rad, d.joint_offset_mm,
+                                hw.design_ball_joint(design).socket_d_mm) - C * math.sin(
             math.radians(MOTOR_ELEVATION_DEG))
         holes = [(x, -y, cat.clearance_hole_mm(m.bolt_size)) for x, y in pm.motor_bolt_xy_mm(m)]
         K["capstan_motor_bracket"] = dataclasses.replace(
@@ -261,7 +262,8 @@ def _bearing_bracket(design, K: dict, brg) -> PartKind:
     if "arm_bracket" not in K:
         d = design.mechanism
         side = pm.mount_side_mm(cat.get_motor(design.parts.motor))
-        zb = hw.base_plate_z_mm(d.upper_arm_mm, d.theta_min_rad, d.joint_offset_mm)
+        zb = hw.base_plate_z_mm(d.upper_arm_mm, d.theta_min_rad, d.joint_offset_mm,
+                                hw.design_ball_joint(design).socket_d_mm)
         K["arm_bracket"] = dataclasses.replace(
             K["motor_bracket"], name="arm_bracket",
             shape=dp.bracket_shape(side, -side / 2, zb, hw.BRACKET_THICKNESS_MM, brg.D_mm, []),

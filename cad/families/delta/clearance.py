@@ -88,9 +88,10 @@ def rod_bracket_gap_mm(design, P_mm) -> np.ndarray:
     pose = ik(d, P_mm)
     require_ok(pose)
     pts = arm_points_mm(d, pose.P_mm, pose.theta_rad)
-    st = stack_mm(w, d.joint_offset_mm > 0)
+    sd = hw.design_ball_joint(design).socket_d_mm
+    st = stack_mm(w, d.joint_offset_mm > 0, sd)
     s = mount_side_mm(parts_motor(design)[0])
-    zb = hw.base_plate_z_mm(d.upper_arm_mm, d.theta_min_rad, d.joint_offset_mm)
+    zb = hw.base_plate_z_mm(d.upper_arm_mm, d.theta_min_rad, d.joint_offset_mm, sd)
     lo = np.array([-s / 2, st["bracket_near"] - hw.BRACKET_THICKNESS_MM, -s / 2])
     hi = np.array([s / 2, st["bracket_near"], zb])
     out = []

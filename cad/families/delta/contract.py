@@ -6,8 +6,9 @@ from cad.report.contract import CommonReport
 
 
 class DeltaReport(CommonReport):
-    """The delta: the task-space mass matrix Lambda(x) (its extreme eigenvalues over the workspace, base frame), the 3-D structure model, the number of workspace points checked."""
+    """The delta: the task-space mass matrix Lambda(x) (its extreme eigenvalues over the workspace, base frame), the 3-D structure model, the number of workspace points checked, the ball joints' tilt against their catalog range (:func:`cad.families.delta.ball_joints.range_check`)."""
 
+    ball_joints: dict
     apparent_mass: dict
     structure: dict
     workspace_points: int

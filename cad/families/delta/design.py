@@ -15,7 +15,8 @@ Schema (mm, deg, N, N m; * = required)::
     [parts]      motor ("maxon-re35", a key of cad.data.catalog.MOTORS: one per arm, direct
                  drive or through [transmission]), encoder (a key of cad.data.catalog.ENCODERS) or
                  encoder_counts_per_rev (not both; default: maxon-hedl5540-500, the encoder
-                 maxon pairs with the RE 35)
+                 maxon pairs with the RE 35), ball_joint (a key of
+                 cad.data.ball_joints.BALL_JOINTS; default din71802-8-m5-c)
     [motor]      the data of the motor parts.motor names, replacing catalog values
                  (:mod:`cad.design.motor`)
     [firmware]   encoder_counts_per_rev, encoder_direction, encoder_zero_deg,
@@ -39,6 +40,7 @@ from typing import Any
 
 import numpy as np
 
+from cad.data.ball_joints import DEFAULT_BALL_JOINT, get_ball_joint
 from cad.data.catalog import get_motor
 from cad.data.families import family
 from cad.design.bounds import ANGLE_DEG, COORD_MM, GRID, LINK_MM, check_number
@@ -67,7 +69,7 @@ MECH_DEFAULTS = {"parallelogram_width_mm": 30.0, "motor_angle_min_deg": -40.0,
 WS_KEYS = ("shape", "center_mm", "size_mm", "diameter_mm", "height_mm", "grid")
 OPTIMIZABLE = ("base_radius_mm", "effector_radius_mm", "upper_arm_mm", "lower_arm_mm")
 NOT_YET = ("prices",)
-PARTS_KEYS = ("motor", "encoder", "encoder_counts_per_rev")
+PARTS_KEYS = ("motor", "encoder", "encoder_counts_per_rev", "ball_joint")
 #: The encoder a delta that states none gets: maxon's HEDL 5540 (500 CPT, 2000 counts/rev
 #: after x4 decoding), the encoder maxon combines with the RE 35 the delta's arms default to.
 DEFAULT_ENCODER = "maxon-hedl5540-500"
@@ -82,11 +84,14 @@ class DeltaParts:
     """The delta's ``[parts]``: ``motor`` (catalog key, one per arm, direct drive or through
     ``[transmission]``),
     ``encoder`` (catalog key) or ``encoder_counts_per_rev`` (counts per motor turn after x4
-    decoding), None when not stated (:func:`cad.device.resolve_device` chooses)."""
+    decoding), None when not stated (:func:`cad.device.resolve_device` chooses);
+    ``ball_joint`` the parallelogram's ball joints (a key of
+    :data:`cad.data.ball_joints.BALL_JOINTS`)."""
 
     motor: str = "maxon-re35"
     encoder: str | None = None
     encoder_counts_per_rev: int | None = None
+    ball_joint: str = DEFAULT_BALL_JOINT
 
 
 @dataclass(frozen=True)
@@ -253,7 +258,9 @@ def _parts(table: dict[str, Any]) -> DeltaParts:
     enc = table.get("encoder")
     if enc is not None and (not isinstance(enc, str) or not enc):
         raise DesignError("parts.encoder", f"must be a catalog key (a string), got {enc!r}")
-    return DeltaParts(motor, enc, parse_encoder(table, "parts", enc))
+    joint = table.get("ball_joint", DEFAULT_BALL_JOINT)
+    get_ball_joint(joint, "parts.ball_joint")
+    return DeltaParts(motor, enc, parse_encoder(table, "parts", enc), joint)
 
 
 def _firmware(table: dict[str, Any]):

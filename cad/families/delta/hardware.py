@@ -1,7 +1,8 @@
 """The delta's hardware dimensions and materials (pure data, no CAD import), shared by the
 part scripts (:mod:`.parts`), the assembly (:mod:`.assembly`) and the frame model
-(:mod:`.structure`). mm and catalog keys; the design file has no ``[parts]`` table for the
-delta yet, so these are the family's fixed choices.
+(:mod:`.structure`). mm and catalog keys: the motor and the ball joints are the design's
+``[parts]`` (``motor``, ``ball_joint``: :mod:`cad.data.ball_joints`), the rest the family's
+fixed choices.
 """
 
 from __future__ import annotations
@@ -9,39 +10,86 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from cad.data.ball_joints import DEFAULT_BALL_JOINT, GENERIC_BALL_LINK, get_ball_joint
 from cad.data.catalog import get_bearing
 
 #: The motor of every arm (:data:`cad.data.catalog.MOTORS`): direct drive.
 MOTOR = "maxon-re35"
 
 
+#: The ball joints' running clearance ball -> socket in the drawn socket (mm, a layout choice).
+BALL_CLEARANCE_MM = 0.05
+#: Half-angle of the drawn socket's opening about the stud's centred axis (a layout choice,
+#: the generic link's as before the catalog): the catalog's range less the neck's half-angle
+#: from the ball centre is not drawn as the opening, so the solids' interference check does
+#: not stand in for the range; :func:`cad.families.delta.ball_joints.range_check` checks the
+#: catalog's range against the rods' angles.
+BALL_OPENING_DEG = 78.0
+
+
 @dataclass(frozen=True)
 class BallJoint:
-    """A ball stud in a ball socket (the parallelogram's joints; all twelve alike).
+    """A ball stud in a ball socket (the parallelogram's joints; all twelve alike), the
+    drawing's record of a catalog joint (:mod:`cad.data.ball_joints`, ``key``).
 
-    ball_d_mm, neck_d_mm, neck_mm: the stud's ball, its neck's diameter and length from
-    the ball centre to the bar it is screwed into; socket_d_mm: the socket's outer sphere;
-    clearance_mm: radial running clearance ball -> socket; cone_deg: half-angle of the
-    socket's opening around its axis (the stud tilts up to about cone_deg - asin(neck_d /
-    ball_d) before its neck meets the rim); mass_g: stud + socket.
+    ball_d_mm, neck_d_mm, neck_mm: the stud's ball, its neck's diameter and length from the
+    ball centre to the shoulder on the bar it is screwed into; socket_d_mm: the socket's
+    outer sphere; shank_d_mm, shank_end_mm: the socket's shank towards the rod (the catalog's
+    spanner flats as a round) and its end from the ball centre; tube_start_mm: where the
+    rod tube starts (the generic link's shank runs inside the tube from the socket's sphere;
+    a DIN 71802 socket's female thread takes the rod at its shank end); clearance_mm: radial
+    running clearance ball -> socket; cone_deg: half-angle of the drawn opening
+    (:data:`BALL_OPENING_DEG`); range_deg: the catalog's tilt range; mass_g: the joint
+    (stud + socket + nut); source: the catalog's BOM text and sources.
     """
 
+    key: str
     designation: str
     ball_d_mm: float
     neck_d_mm: float
     neck_mm: float
     socket_d_mm: float
+    shank_d_mm: float
+    shank_end_mm: float
+    tube_start_mm: float
     clearance_mm: float
     cone_deg: float
+    range_deg: float
     mass_g: float
+    material: str
+    socket_material: str
     source: str
 
 
-BALL_JOINT = BallJoint(
-    designation="ball link, 4.8 mm ball, M2.5 stud (RC-model class)", ball_d_mm=4.8,
-    neck_d_mm=2.5, neck_mm=7.0, socket_d_mm=7.5, clearance_mm=0.05, cone_deg=78.0, mass_g=1.2,
-    source="unverified: generic dimensions of the 4.8 mm ball-link class, no vendor sheet "
-           "read; replace with an ordered part's drawing")
+def ball_joint(key: str = DEFAULT_BALL_JOINT) -> BallJoint:
+    """The :class:`BallJoint` of catalog joint ``key`` (a design's ``parts.ball_joint``;
+    DesignError naming the keys for an unknown one)."""
+    j = get_ball_joint(key)
+    generic = j.key == GENERIC_BALL_LINK.key
+    src = j.source_of("*") if generic else f"{j.bom_description()}; dimensions and mass: {j.source_of('ball_d_mm')}"
+    return BallJoint(key=j.key, designation=j.designation, ball_d_mm=j.ball_d_mm,
+                     neck_d_mm=j.neck_d_mm, neck_mm=j.shoulder_mm, socket_d_mm=j.socket_d_mm,
+                     shank_d_mm=j.af_mm, shank_end_mm=j.shank_end_mm,
+                     tube_start_mm=j.socket_d_mm / 2 if generic else j.shank_end_mm,
+                     clearance_mm=BALL_CLEARANCE_MM, cone_deg=BALL_OPENING_DEG,
+                     range_deg=j.range_deg, mass_g=j.mass_g, material=j.material,
+                     socket_material=j.socket_material, source=src)
+
+
+def socket_shank_arg_mm(bj: BallJoint) -> float:
+    """The ``shank_mm`` argument of :func:`cad.families.delta.parts.socket_shape` that ends
+    the drawn shank at ``bj.shank_end_mm`` from the ball centre: that function's shank runs
+    from 0.75 r_s to 1.25 r_s + shank_mm (r_s = socket_d / 2; its docstring says r_s +
+    shank_mm), so the generic link keeps its drawn 3 mm."""
+    if bj.key == GENERIC_BALL_LINK.key:
+        return 3.0
+    return bj.shank_end_mm - 1.25 * bj.socket_d_mm / 2
+
+
+def design_ball_joint(design) -> BallJoint:
+    """:func:`ball_joint` of the design's ``parts.ball_joint``."""
+    return ball_joint(design.parts.ball_joint)
+
 
 #: Upper arm: a plate bar in the arm's plane (width in that plane x thickness along the motor
 #: axis), joint bores at both ends; aluminium.
@@ -76,6 +124,8 @@ ROD_MATERIAL = "carbon-fibre"
 #: Effector: a disk of the effector radius + margin, thickness; handle: a knob below it.
 EFFECTOR_THICKNESS_MM = 5.0
 EFFECTOR_RIM_MM = 4.0
+#: Gap between the ball sockets' spheres and the effector plate below them (mm).
+EFFECTOR_SOCKET_GAP_MM = 1.0
 HANDLE_D_MM = 20.0
 HANDLE_LENGTH_MM = 40.0
 #: Ground: base plate thickness, margin past the motor brackets, bracket thickness, the gap
@@ -95,11 +145,23 @@ def effector_disk_radius_mm(effector_radius_mm: float, width_mm: float) -> float
     return math.hypot(effector_radius_mm, width_mm / 2) + EFFECTOR_RIM_MM
 
 
-def base_plate_z_mm(upper_arm_mm: float, theta_min_rad: float, joint_offset_mm: float) -> float:
+def base_plate_z_mm(upper_arm_mm: float, theta_min_rad: float, joint_offset_mm: float,
+                    socket_d_mm: float) -> float:
     """Height of the base plate's underside above the motor axes: the highest elbow (at the
-    lowest motor angle), the knee link, half the arm or socket, and the clearance."""
+    lowest motor angle), the knee link, half the arm or the ball socket (``socket_d_mm``,
+    :attr:`BallJoint.socket_d_mm`), and the clearance."""
     up = upper_arm_mm * max(0.0, math.sin(-theta_min_rad)) + joint_offset_mm
-    return up + max(ARM_WIDTH_MM, BALL_JOINT.socket_d_mm) / 2 + PLATE_CLEARANCE_MM
+    return up + max(ARM_WIDTH_MM, socket_d_mm) / 2 + PLATE_CLEARANCE_MM
+
+
+def effector_plate_depth_mm(socket_d_mm: float) -> float:
+    """Depth of the effector plate's top below the effector cross bars' axes (mm): on the
+    bars' underside, or, when the ball sockets' spheres (``socket_d_mm``) reach lower, under
+    them by :data:`EFFECTOR_SOCKET_GAP_MM` (a socket turns about its ball centre, on the bar's
+    axis, so its sphere's lowest point stays there; the bars then stand above the plate)."""
+    if socket_d_mm / 2 <= CROSS_BAR_D_MM / 2:
+        return CROSS_BAR_D_MM / 2  # the plate under the bars, the sockets within them
+    return socket_d_mm / 2 + EFFECTOR_SOCKET_GAP_MM
 
 
 def crank_vertex_mm(upper_arm_mm: float, joint_offset_mm: float) -> tuple[float, float]:

@@ -30,6 +30,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from cad.data.ball_joints import DEFAULT_BALL_JOINT
 from cad.data.materials import get_material
 from cad.families.delta import hardware as hw
 from cad.families.delta.layout import arm_points_mm, poses_at
@@ -288,13 +289,16 @@ class DeltaSections:
     rod: Section | None = None
 
 
-def default_sections(effector_radius_mm: float, width_mm: float) -> DeltaSections:
+def default_sections(effector_radius_mm: float, width_mm: float,
+                     ball_joint_key: str = DEFAULT_BALL_JOINT) -> DeltaSections:
     """The :mod:`.hardware` members: arm plate, cross bars, effector plate (width = the
     effector disk's diameter), carbon rods, aluminium effector disk + handle, and at each rod
-    end one ball joint (stud + socket, :data:`.hardware.BALL_JOINT` ``mass_g``: the parts a
+    end one ball joint (stud + socket of catalog joint ``ball_joint_key``,
+    :func:`.hardware.ball_joint` ``mass_g``, the catalog's mass: the parts a
     delta without a knee draws there). Without the solids a knee's hinge is not known: a
     build takes the joints' masses from its parts (:func:`sections_from_parts`)."""
     rod = round_section(hw.ROD_OD_MM * MM, hw.ROD_ID_MM * MM, hw.ROD_MATERIAL)
+    joint_kg = hw.ball_joint(ball_joint_key).mass_g * 1e-3
     rho_al = get_material(hw.PLATE_MATERIAL).density_kg_m3
     r_disk = hw.effector_disk_radius_mm(effector_radius_mm, width_mm) * MM
     eff_kg = rho_al * (math.pi * r_disk**2 * hw.EFFECTOR_THICKNESS_MM * MM
@@ -304,7 +308,7 @@ def default_sections(effector_radius_mm: float, width_mm: float) -> DeltaSection
         cross_bar=round_section(hw.CROSS_BAR_D_MM * MM, 0.0, hw.ARM_MATERIAL),
         effector=rect_section(2 * r_disk, hw.EFFECTOR_THICKNESS_MM * MM, hw.PLATE_MATERIAL),
         rod_EA_N=rod.E * rod.A, rod_kg_per_m=rod.rho * rod.A, effector_kg=eff_kg,
-        top_joint_kg=hw.BALL_JOINT.mass_g * 1e-3, bottom_joint_kg=hw.BALL_JOINT.mass_g * 1e-3, rod=rod)
+        top_joint_kg=joint_kg, bottom_joint_kg=joint_kg, rod=rod)
 
 
 #: The instances (names after the body's ``lower_{i}_{side}`` / ``knee_{i}`` / ``upper_{i}`` /

@@ -13,7 +13,7 @@ independent references:
     (master-slave nodes at every release, tests/families/delta/test_delta_knee_structure.py),
     which agrees to 1e-9; and the Falcon's first mode with the drawn masses: a regression pin;
 (4) without a knee (designs/delta.toml) the drawn ball joints are the default's (a stud and a
-    socket at each end, hardware.BALL_JOINT mass_g).
+    socket at each end, hardware.design_ball_joint(design).mass_g: the catalog joint's).
 """
 
 from __future__ import annotations
@@ -85,7 +85,7 @@ def test_knee_end_mass_is_the_hinge_parts_by_hand(falcon):
                + pin + get_bearing("623", "test").mass_kg)
     m = rod_end_masses_kg(inst, props)
     np.testing.assert_allclose(m[:, :, 0], by_hand, rtol=1e-9)
-    np.testing.assert_allclose(m[:, :, 1], hw.BALL_JOINT.mass_g * 1e-3, rtol=1e-12)
+    np.testing.assert_allclose(m[:, :, 1], hw.design_ball_joint(FALCON).mass_g * 1e-3, rtol=1e-12)
     sec = sections_from_parts(FALCON.mechanism.effector_radius_mm, FALCON.parallelogram_width_mm, inst, props)
     assert (sec.top_joint_kg, sec.bottom_joint_kg) == pytest.approx((by_hand, 1.2e-3), rel=1e-9)
     assert round(by_hand * 1e3, 3) == 3.853  # docs/families/delta.md (regression pin at the docs' precision)
@@ -121,7 +121,7 @@ def test_without_a_knee_the_drawn_joints_are_the_defaults():
     des = load_design(ROOT / "designs" / "delta.toml")
     inst, props, _ = _joint_props(des)
     m = rod_end_masses_kg(inst, props)
-    np.testing.assert_allclose(m, hw.BALL_JOINT.mass_g * 1e-3, rtol=1e-12)
+    np.testing.assert_allclose(m, hw.design_ball_joint(des).mass_g * 1e-3, rtol=1e-12)
     sec = sections_from_parts(des.mechanism.effector_radius_mm, des.parallelogram_width_mm, inst, props)
     base = default_sections(des.mechanism.effector_radius_mm, des.parallelogram_width_mm)
     assert (sec.top_joint_kg, sec.bottom_joint_kg) == pytest.approx((base.top_joint_kg, base.bottom_joint_kg),

@@ -229,9 +229,11 @@ def test_sheets_are_byte_identical_run_to_run(hoeken_drawings, tmp_path):
         assert (again / p.relative_to(out)).read_bytes() == p.read_bytes(), p.name
 
 
-@pytest.mark.parametrize("fam", ["pantograph", "twin-pantograph", "powermouse"])
-def test_every_made_part_of_every_family_has_a_sheet(family_builds, fam):
-    _, out, _ = family_builds[fam]
+@pytest.mark.parametrize("fam", ["pantograph", "twin-pantograph", "powermouse", "delta"])
+def test_every_made_part_of_every_family_has_a_sheet(request, fam):
+    from tests.conftest import family_build
+
+    _, out, _ = family_build(request, fam)
     folders = [out] + ([out / "rig"] if fam == "powermouse" else [])
     for f in folders:
         rows = bom(f)

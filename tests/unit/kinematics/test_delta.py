@@ -38,9 +38,9 @@ def test_fk_matches_least_squares_and_ik_inverts_it():
     theta = rng.uniform(-0.4, 1.1, (40, 3))
     pose = D.fk(DELTA, theta)
     assert np.all(pose.ok)
-    for t, P in zip(theta, pose.P_mm):
+    for t, P in zip(theta, pose.P_mm, strict=True):
         C = DELTA.shifted_elbows_mm(t)
-        sol = least_squares(lambda x: np.linalg.norm(x - C, axis=1) - LB, P + [3, -2, -4],
+        sol = least_squares(lambda x, C=C: np.linalg.norm(x - C, axis=1) - LB, P + [3, -2, -4],
                             xtol=1e-14, ftol=1e-14, gtol=1e-14)
         np.testing.assert_allclose(sol.x, P, atol=1e-8)
     back = D.ik(DELTA, pose.P_mm)
@@ -102,6 +102,47 @@ def test_parallel_singularity_lower_arms_horizontal():
     assert D.ik(d, P).status[0] == D.STATUS_SINGULAR_PARALLEL
     J, status = D.jacobian_rad_per_m(d, P)
     assert status[0] == D.STATUS_SINGULAR_PARALLEL and not np.any(J)
+
+
+def test_parallel_singularity_edge_just_inside_and_just_outside():
+    """Both sides of DELTA_PARALLEL_SINGULAR (cad/tolerances.py). On the z axis with equal
+    angles the lower arms are w_i = -rho u_i + h z (rho^2 + h^2 = L_b^2, h the effector's
+    height above the shifted elbows), so in closed form |det A_x| / L_b^3 = (3 sqrt(3) / 2)
+    rho^2 |h| / L_b^3 (the determinant of the rows (cos a_i, sin a_i, 1), a_i = 0, 120,
+    240 deg, is 3 sqrt(3) / 2). h at the tolerance, h_edge, from that form; 10 % below it
+    the pose is parallel-singular, 10 % above it regular."""
+    from cad.tolerances import DELTA_PARALLEL_SINGULAR
+
+    d = D.Delta(150.0, 20.0, 100.0, 200.0, theta_min_rad=-2, theta_max_rad=2)
+    k = 3 * np.sqrt(3) / 2
+    h_edge = DELTA_PARALLEL_SINGULAR * 200.0**3 / (k * 200.0**2)  # rho = L_b to 1e-15 relative
+    for factor, want in ((0.9, D.STATUS_SINGULAR_PARALLEL), (1.1, D.STATUS_OK)):
+        h = factor * h_edge
+        rho = np.sqrt(200.0**2 - h**2)
+        theta = np.arccos((rho - 150.0 + 20.0) / 100.0)
+        C = d.shifted_elbows_mm([theta] * 3)
+        P = np.array([0.0, 0.0, C[0, 2] + h])  # below the elbows' plane is -z: h > 0 is above
+        pose = D.ik(d, P)
+        np.testing.assert_allclose(pose.theta_rad[0], [theta] * 3, atol=1e-9)
+        A = P - d.shifted_elbows_mm(pose.theta_rad[0])
+        assert abs(np.linalg.det(A)) / 200.0**3 == pytest.approx(k * rho**2 * h / 200.0**3, rel=1e-3)
+        assert pose.status[0] == want, factor
+
+
+@pytest.mark.parametrize("side", ["max", "min"])
+def test_joint_limit_edge_just_inside_and_just_outside(side):
+    """The pose of equal angles theta0 (closed-form FK, :func:`_symmetric_z`) against a limit
+    set 1e-9 rad past theta0 (inside: ok) and 1e-9 rad short of it (outside: joint limit); the
+    IK returns theta0 to ~1e-13 rad, far below the 1e-9 step."""
+    theta0 = 1.35 if side == "max" else -0.95
+    P = np.array([0.0, 0.0, _symmetric_z(theta0)])
+    np.testing.assert_allclose(D.ik(DELTA, P).theta_rad[0], [theta0] * 3, atol=1e-12)
+    for shift, want in ((1e-9, D.STATUS_OK), (-1e-9, D.STATUS_JOINT_LIMIT)):
+        if side == "max":
+            d = D.Delta(R, r, LA, LB, theta_min_rad=-1.0, theta_max_rad=theta0 + shift)
+        else:
+            d = D.Delta(R, r, LA, LB, theta_min_rad=theta0 - shift, theta_max_rad=1.4)
+        assert D.ik(d, P).status[0] == want, (side, shift)
 
 
 def test_joint_limits_named_and_refused_in_statics():

@@ -1,6 +1,7 @@
 """glb / 3mf exports, the stroke GIF and report.html, each read back by a second tool.
 
-One Hoeken build (preview fidelity, formats glb + 3mf) feeds every test:
+One Hoeken build (preview fidelity, formats glb + 3mf) feeds every test (the 3MF read-back
+also reads the bundled delta's shared build, tests/conftest.py ``delta_build``):
 
 * ``assembly.glb`` read by trimesh (node names = the assembly's part instances, units in
   metres against the base plate's size in report.json) and by pygltflib (the ``stroke``
@@ -105,13 +106,19 @@ def test_glb_stroke_animation_turns_the_crank_over_its_range(hoeken):
     assert phi[-1] == pytest.approx(rep["phi1_min_deg"], abs=1e-3)  # forward then back
 
 
-def test_3mf_reads_back_with_lib3mf(hoeken):
+@pytest.mark.parametrize("fam", ["hoeken", "delta"])
+def test_3mf_reads_back_with_lib3mf(request, fam):
+    """The Hoeken's build above and the bundled delta's shared build (tests/conftest.py
+    ``delta_build``, its report read back from report.json)."""
     import lib3mf
     import trimesh
 
     from cad.data.materials import get_material
 
-    _, rep, out = hoeken
+    if fam == "hoeken":
+        _, rep, out = request.getfixturevalue("hoeken")
+    else:
+        _, out, rep = request.getfixturevalue("delta_build")
     model = lib3mf.get_wrapper().CreateModel()
     model.QueryReader("3mf").ReadFromFile(str(out / "parts.3mf"))
     assert model.GetUnit() == lib3mf.ModelUnit.MilliMeter

@@ -1,7 +1,7 @@
 """Exploded view per assembly step (issue 25 §4): ``steps/step_NN.png`` of every family.
 
-Read back from the shared builds (tests/conftest.py: ``family_builds``, ``hoeken_sim_build``;
-both ask for fabrication formats): ``assembly.md`` links one picture under every step that
+Read back from the shared builds (tests/conftest.py: ``family_builds``, ``hoeken_sim_build``,
+``delta_build``; all ask for fabrication formats): ``assembly.md`` links one picture under every step that
 places a part with a solid, each picture is read back with Pillow (non-blank: parts drawn
 in several colours), listed in report.json and the manifest and embedded in report.html's
 "Assembly steps" section (parsed with html.parser). The scenes the renderer is given
@@ -22,16 +22,22 @@ import numpy as np
 import pytest
 
 ROOT = Path(__file__).resolve().parents[3]
-FAMILIES = ["hoeken", "pantograph", "twin-pantograph", "powermouse"]
+FAMILIES = ["hoeken", "pantograph", "twin-pantograph", "powermouse", "delta"]
 _STEP = re.compile(r"^## Step (\d+): (.*)$")
 _BULLET = re.compile(r"^- `([^`]+)` \(([^)]+)\): ")
 _IMAGE = re.compile(r"^!\[[^\]]*\]\(([^)]+)\)$")
 
 
-@pytest.fixture(scope="module")
-def builds(family_builds, hoeken_sim_build):
-    """``{family: out_dir}``: the shared builds (fabrication formats asked: stl, step)."""
-    return {"hoeken": hoeken_sim_build[1], **{f: o for f, (_, o, _) in family_builds.items()}}
+@pytest.fixture
+def builds(request):
+    """``{family: out_dir}`` of the test's family (``fam``): the shared builds (fabrication
+    formats asked: stl, step; tests/conftest.py), only the one the test reads."""
+    from tests.conftest import family_build
+
+    fam = request.node.callspec.params["fam"]
+    if fam == "hoeken":
+        return {fam: request.getfixturevalue("hoeken_sim_build")[1]}
+    return {fam: family_build(request, fam)[1]}
 
 
 def _md_steps(out: Path) -> list[dict]:
