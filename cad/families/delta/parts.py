@@ -132,3 +132,16 @@ def eye_shape(eye_r_mm: float, seat_d_mm: float, width_mm: float, shank_d_mm: fl
         shank_d_mm / 2, eye_r_mm + shank_mm - x0)
     s = Cylinder(eye_r_mm, width_mm) + shank - Cylinder(seat_d_mm / 2, width_mm)
     return s.solids()[0].wrapped
+
+
+def drilled(shape, holes):
+    """``shape`` (an OCP solid, its part frame) with round holes cut: ``holes`` ``[(point, axis,
+    diameter, depth)]`` (mm), each a cylinder from ``point`` ``depth`` along the unit ``axis``
+    (into the material): a tapped hole's tap drill, a clearance hole through a plate."""
+    from build123d import Cylinder, Plane, Solid
+
+    s = Solid(shape)
+    for p, a, dia, depth in holes:
+        s = s - Plane(origin=tuple(map(float, p)), z_dir=tuple(map(float, a))) * Cylinder(
+            dia / 2, depth, align=_amin())
+    return s.solids()[0].wrapped
