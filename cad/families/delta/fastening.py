@@ -13,8 +13,8 @@ parts.drilled`). Groups (:func:`screw_plan`):
 * ``bracket``: :data:`BRACKET_SCREWS` screws per bracket (motor, arm or capstan motor
   bracket) from the base plate's top through its clearance holes into holes tapped in the
   bracket's top edge (:data:`BRACKET_SCREW`);
-* ``hub``: the arm hub's set screw on the motor shaft, radial, at the middle of the shaft's
-  length in the hub, as the four-bar's crank hub (direct-drive arms);
+* ``hub``: the arm hub's set screw on the motor shaft, radial, in a boss at the hub's bracket
+  end (:data:`HUB_BOSS_D_MM`), as the four-bar's crank hub (direct-drive arms);
 * ``handle``: one screw from the effector plate's top through its centre into the handle's
   axial tapped hole.
 
@@ -39,6 +39,7 @@ from cad.assembly.fasteners import (
 )
 from cad.data import catalog as cat
 from cad.device import resolve_device
+from cad.errors import DesignError
 from cad.families.delta import hardware as hw
 from cad.parts import PartInstance, PartKind, joints, translation
 from cad.parts import motor as pm
@@ -53,6 +54,13 @@ BRACKET_SCREW_INSET_MM = pm.MOUNT_HOLE_INSET_MM
 BRACKET_TAP_DEPTH_MM = 8.0
 #: ISO 4026 set screws that may lock an arm hub on its motor shaft, largest first tried.
 HUB_SET_SCREW_SIZES = (pm.SET_SCREW, "M2.5-0.45", "M2-0.4")
+#: The hub's set-screw boss (a layout choice): a collar at the hub's bracket end, the least even
+#: diameter whose wall holds an ISO 4026 screw on a 6 mm shaft by
+#: :func:`cad.assembly.fasteners.size_set_screw` (M2.5 x 4; the 12 mm hub itself holds none),
+#: 6 mm long (2.4 d of M2.5 round the hole). Only the boss is this wide: the Falcon's rods pass
+#: 6.2 mm from its motor axes along the rest of the hub.
+HUB_BOSS_D_MM = 16.0
+HUB_BOSS_LENGTH_MM = 6.0
 #: Effector plate to handle: ISO 4762 M3 into the handle's axial tapped hole, thread depth.
 HANDLE_SCREW = "M3-0.5"
 HANDLE_TAP_DEPTH_MM = 10.0
@@ -81,7 +89,7 @@ def screw_plan(design) -> dict[str, dict]:
         L, e = size_cap_screw(size, clamp, hole, joint, field)
         out[g] = {"size": size, "length_mm": L, "engagement_mm": e, "depth_mm": hole.depth_mm,
                   "min_engagement_mm": hole.min_engagement_mm, "clamp_mm": clamp}
-    size, L, depth = size_set_screw(m.shaft_diameter_mm / 2, hw.HUB_D_MM / 2, HUB_SET_SCREW_SIZES,
+    size, L, depth = size_set_screw(m.shaft_diameter_mm / 2, HUB_BOSS_D_MM / 2, HUB_SET_SCREW_SIZES,
                                     "the arm hub's set screw onto the motor shaft", "parts.motor")
     out["hub"] = {"size": size, "length_mm": L, "engagement_mm": L, "depth_mm": depth,
                   "min_engagement_mm": MIN_ENGAGEMENT_ALU_D * cat.thread_diameter_mm(size), "clamp_mm": 0.0}
@@ -170,16 +178,29 @@ def _face_and_bracket(design, K, by, plan, place) -> None:
 
 
 def _hub(design, K, by, plan, place, stack) -> None:
-    """The hub's radial set screw on each direct-drive arm: at the middle of the motor shaft's
-    length inside the hub, point on the shaft (the hub kind drilled with its tap drill)."""
+    """The hub's radial set screw on each direct-drive arm, in the boss at the hub's bracket end
+    (:data:`HUB_BOSS_D_MM`), point on the shaft (the hub kind with its boss and tap drill)."""
+    from cad.families.delta import parts as dp
+
     m = cat.get_motor(design.parts.motor)
     sp = plan["hub"]
-    r_s, R = m.shaft_diameter_mm / 2, hw.HUB_D_MM / 2
-    z = hub_set_screw_y_mm(stack, m.shaft_length_mm) - stack["hub_mid"]  # the hub's part z = body y
-    for i in direct_arms(design):
+    r_s, R = m.shaft_diameter_mm / 2, HUB_BOSS_D_MM / 2
+    z0 = -stack["hub_length"] / 2  # the hub's part z = body y - hub_mid: its bracket end
+    z = z0 + HUB_BOSS_LENGTH_MM / 2
+    if stack["motor_face"] + m.shaft_length_mm < stack["hub_mid"] + z + cat.thread_diameter_mm(sp["size"]):
+        raise DesignError("parts.motor", f"the {m.key} shaft ends short of the arm hub's set screw")
+    direct = direct_arms(design)
+    for i in direct:
         hub = by[f"upper_{i}.hub"]
-        tap = [((R, 0.0, z), (-1.0, 0.0, 0.0), cat.tap_drill_mm(sp["size"]), R - r_s + 0.5)]
-        by[hub.name] = hub = dataclasses.replace(hub, kind=_drill(K, hub, "set_screw", tap))
+        if "hub:set_screw" not in K:
+            tap = [((R, 0.0, z), (-1.0, 0.0, 0.0), cat.tap_drill_mm(sp["size"]), R - r_s + 0.5)]
+            K["hub:set_screw"] = dataclasses.replace(  # its own name beside a capstan arm's plain hub
+                hub.kind, name="hub" if len(direct) == 3 else "hub_bossed", shape=dp.drilled(dp.bossed_hub_shape(hw.HUB_D_MM, stack["hub_length"], m.shaft_diameter_mm,
+                                                               2 * R, z0, HUB_BOSS_LENGTH_MM), tap),
+                description=f"{hub.kind.description}, set-screw boss d{2 * R:g} x {HUB_BOSS_LENGTH_MM:g} at the "
+                            "bracket end",
+                process=f"{hub.kind.process}; tap {sp['size'].split('-')[0]} radial in the boss")
+        by[hub.name] = hub = dataclasses.replace(hub, kind=K["hub:set_screw"])
         h = TappedHole(f"{hub.name}:set_screw", hub.name, sp["size"], sp["depth_mm"], sp["min_engagement_mm"],
                        axis=(1.0, 0.0, 0.0), point_mm=(0.0, 0.0, z))
         place(f"upper_{i}.hub_set_screw", "hub", f"upper_{i}",
@@ -224,11 +245,3 @@ def place_fasteners(design, K: dict, inst: list[PartInstance], stack: dict) -> t
     _hub(design, K, by, plan, place, stack)
     _handle(K, by, plan, place)
     return [by[x.name] for x in inst] + new, holes
-
-
-def hub_set_screw_y_mm(stack: dict, shaft_length_mm: float) -> float:
-    """The set screw's place along the motor axis (body y of upper_i, mm): the middle of the
-    motor shaft's length inside the hub."""
-    hub_near = stack["hub_mid"] - stack["hub_length"] / 2
-    return 0.5 * (hub_near + min(stack["motor_face"] + shaft_length_mm, stack["hub_mid"] + stack["hub_length"] / 2))
-

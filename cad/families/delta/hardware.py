@@ -50,10 +50,7 @@ ARM_THICKNESS_MM = 6.0
 ARM_MATERIAL = "aluminium-6061"
 #: Hub clamping the arm on the motor shaft (along the axis, from the arm to the bracket less
 #: the gap); with a joint offset the arm is a fork of two plates with a spacer between them.
-#: 16 mm: the least even diameter whose wall holds an ISO 4026 set screw on a 6 mm shaft by
-#: :func:`cad.assembly.fasteners.size_set_screw` (M2.5 x 4; 12 mm held none:
-#: :mod:`cad.families.delta.fastening`).
-HUB_D_MM = 16.0
+HUB_D_MM = 12.0
 #: Cross bars (elbow and effector): round bar along the motor axis, aluminium.
 CROSS_BAR_D_MM = 8.0
 #: Knee link (Stamper's joint offset g > 0): a plate bar like the upper arm. With a knee the

@@ -145,3 +145,15 @@ def drilled(shape, holes):
         s = s - Plane(origin=tuple(map(float, p)), z_dir=tuple(map(float, a))) * Cylinder(
             dia / 2, depth, align=_amin())
     return s.solids()[0].wrapped
+
+
+def bossed_hub_shape(diameter_mm: float, length_mm: float, bore_mm: float, boss_d_mm: float,
+                     boss_z0_mm: float, boss_length_mm: float):
+    """Arm hub with a set-screw boss: a round bar of ``diameter_mm`` (axis z, centred on the
+    origin) and a collar of ``boss_d_mm`` from z = ``boss_z0_mm`` over ``boss_length_mm``, the
+    shaft bore ``bore_mm`` through both."""
+    from build123d import Cylinder, Pos
+
+    s = Cylinder(diameter_mm / 2, length_mm) + Pos(0, 0, boss_z0_mm) * Cylinder(
+        boss_d_mm / 2, boss_length_mm, align=_amin())
+    return (s - Cylinder(bore_mm / 2, length_mm)).solids()[0].wrapped

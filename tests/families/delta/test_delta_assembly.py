@@ -129,7 +129,7 @@ def test_lambda_from_the_solids_regression_pin(models):
     """Regression pin (our own run): Lambda(x) of the bundled delta from its solids' body mass
     properties (OCCT integration) and the RE 35 rotors, at the workspace centre and its
     extremes over the grid; the formula itself is checked in test_delta_bodies.py. Re-pinned
-    2026-12-06 with the fasteners drawn (the 16 mm hubs and their set screws on the arms, the
+    2026-12-06 with the fasteners drawn (the hubs' set-screw bosses and set screws on the arms, the
     handle's screw on the effector; was 0.0959427 / 0.0985726 at the centre, 0.1207128 and
     0.0871720 over the grid)."""
     from cad.data.catalog import get_motor
@@ -141,6 +141,6 @@ def test_lambda_from_the_solids_regression_pin(models):
     rotor = get_motor("maxon-re35").rotor_inertia_g_cm2 * 1e-7
     X = m.extra.workspace_mm
     ev = np.linalg.eigvalsh(mass_matrix_from_bodies_kg(m.design.mechanism, X, 30.0, bp, rotor))
-    np.testing.assert_allclose(ev[len(X) // 2], [0.0966078, 0.0966078, 0.0992395], rtol=1e-5)
-    assert ev[:, -1].max() == pytest.approx(0.1214043, rel=1e-5)
-    assert ev[:, 0].min() == pytest.approx(0.0878277, rel=1e-5)
+    np.testing.assert_allclose(ev[len(X) // 2], [0.0965957, 0.0965957, 0.0992262], rtol=1e-5)
+    assert ev[:, -1].max() == pytest.approx(0.1213748, rel=1e-5)
+    assert ev[:, 0].min() == pytest.approx(0.0878218, rel=1e-5)

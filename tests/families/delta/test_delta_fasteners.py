@@ -5,7 +5,7 @@ written build of designs/delta.toml (the shared preview build of tests/conftest.
   shortest ISO 4762 length of bd_warehouse's list at least the clamped plate's thickness plus
   the hole's minimum engagement (1.5 d in aluminium, min(face depth, 2.5 mm) in the maxon
   face), the engagement L - clamp within the hole's thread; the hub's ISO 4026 set screw by
-  the boss geometry (full thread sqrt(R^2 - (d/2)^2) - r_shaft, 1.5 d <= L <= it);
+  its 16 mm boss's geometry (full thread sqrt(R^2 - (d/2)^2) - r_shaft, 1.5 d <= L <= it);
 * report.json ``fasteners`` / ``tapped_holes``, bom.csv and order.csv counts in closed form
   (3 arms x the motor's 3 bolts, 3 brackets x 2, 3 hubs, 1 handle);
 * assembly.md fastens each screw in the step that mounts its part;
@@ -43,7 +43,7 @@ def expected() -> dict:
            "bracket": ("M2.5-0.45", _shortest("M2.5-0.45", 6.0 + 1.5 * 2.5), None, 8.0, 3.75, hw.PLATE_THICKNESS_MM),
            "handle": ("M3-0.5", _shortest("M3-0.5", 5.0 + 1.5 * 3.0), None, 10.0, 4.5, hw.EFFECTOR_THICKNESS_MM)}
     out = {g: (s, L, L - c, dep, mn, c) for g, (s, L, _, dep, mn, c) in out.items()}
-    # the hub: R = 8, shaft radius 3; M3's window 4.5 .. sqrt(64 - 2.25) - 3 = 4.86 holds no
+    # the hub's boss: R = 8, shaft radius 3; M3's window 4.5 .. sqrt(64 - 2.25) - 3 = 4.86 holds no
     # catalog length (4, 5), M2.5's 3.75 .. 4.90 holds 4
     depth = math.sqrt(8.0**2 - 1.25**2) - 3.0
     assert not [L for L in cat.get_set_screw("M3-0.5", "t").lengths_mm if 4.5 <= L <= math.sqrt(61.75) - 3.0]
@@ -53,10 +53,10 @@ def expected() -> dict:
 
 def test_the_plan_matches_the_catalog():
     from cad.design import load_design
-    from cad.families.delta.fastening import screw_plan
+    from cad.families.delta.fastening import HUB_BOSS_D_MM, screw_plan
 
     assert (RE40.bolt_size, RE40.bolt_count, RE40.bolt_thread_depth_mm, RE40.shaft_diameter_mm) == ("M3-0.5", 3, 3.5, 6.0)
-    assert hw.HUB_D_MM == 16.0 and (hw.PLATE_THICKNESS_MM, hw.BRACKET_THICKNESS_MM) == (6.0, 5.0)
+    assert HUB_BOSS_D_MM == 16.0 and (hw.PLATE_THICKNESS_MM, hw.BRACKET_THICKNESS_MM) == (6.0, 5.0)
     plan = screw_plan(load_design("designs/delta.toml"))
     for g, (size, L, e, depth, lo, clamp) in expected().items():
         p = plan[g]
