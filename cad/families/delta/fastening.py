@@ -41,6 +41,7 @@ from cad.data import catalog as cat
 from cad.device import resolve_device
 from cad.errors import DesignError
 from cad.families.delta import hardware as hw
+from cad.families.delta import parts as dp
 from cad.parts import PartInstance, PartKind, joints, translation
 from cad.parts import motor as pm
 
@@ -131,8 +132,6 @@ def _kind(K: dict, group: str, sp: dict) -> PartKind:
 def _drill(K: dict, inst: PartInstance, tag: str, holes) -> PartKind:
     """``inst``'s kind with ``holes`` ``[(point, into-material axis, diameter, depth)]`` (part
     frame, mm) cut (:func:`cad.families.delta.parts.drilled`), one kind per ``tag``."""
-    from cad.families.delta import parts as dp
-
     key = f"{inst.kind.name}:{tag}"
     if key not in K:
         K[key] = dataclasses.replace(inst.kind, shape=dp.drilled(inst.kind.shape, holes))
@@ -180,8 +179,6 @@ def _face_and_bracket(design, K, by, plan, place) -> None:
 def _hub(design, K, by, plan, place, stack) -> None:
     """The hub's radial set screw on each direct-drive arm, in the boss at the hub's bracket end
     (:data:`HUB_BOSS_D_MM`), point on the shaft (the hub kind with its boss and tap drill)."""
-    from cad.families.delta import parts as dp
-
     m = cat.get_motor(design.parts.motor)
     sp = plan["hub"]
     r_s, R = m.shaft_diameter_mm / 2, HUB_BOSS_D_MM / 2
