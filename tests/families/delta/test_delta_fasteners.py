@@ -162,3 +162,27 @@ def test_every_screw_is_clear_of_every_other_solid_in_the_step(built):
         for c in f["clamps"]:
             if c.replace(".", "_") in solids:  # the motor shaft is part of the motor's solid
                 assert dist_mm(s, solids[c.replace(".", "_")]) < 1e-6, (name, c)
+
+
+def test_the_capstan_delta_fastens_every_bracket_to_the_plate():
+    """designs/delta_capstan.toml's model (no build): the arm brackets and the capstans' moved
+    motor brackets each held by 2 bracket screws (3 x 2 + 3 x 2 = 12), the handle's screw, no
+    face screw or hub set screw on a capstan arm (its capstan sits where the face screws' heads
+    would), the capstans' own set screws kept; every record engages a hole of the model
+    (:func:`cad.assembly.fasteners.check_fasteners`)."""
+    from cad.assembly.fasteners import check_fasteners
+    from cad.design import load_design
+    from cad.families.delta.assembly import assemble
+    from cad.families.delta.fastening import screw_counts
+
+    d = load_design("designs/delta_capstan.toml")
+    m = assemble(d, "preview")
+    fast = {i.name: i.fastener for i in m.instances if i.fastener is not None}
+    check_fasteners(fast, m.holes)
+    assert screw_counts(d) == {"motor": 0, "hub": 0, "bracket": 12, "handle": 1}
+    brackets = [n for n, f in fast.items() if f.clamps == ("base_plate",)]
+    assert len(brackets) == 12 and {fast[n].hole.split(":")[0] for n in brackets} == {
+        *(f"motor_bracket_{i}" for i in range(3)), *(f"capstan_motor_bracket_{i}" for i in range(3))}
+    assert not [n for n in fast if n.startswith("motor_screw") or n.endswith("hub_set_screw")]
+    assert sorted(n for n in fast if n.startswith("capstan_set_screw")) == [f"capstan_set_screw_{i}" for i in range(3)]
+    assert len(fast) == 12 + 1 + 3
