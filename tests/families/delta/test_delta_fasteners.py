@@ -186,3 +186,15 @@ def test_the_capstan_delta_fastens_every_bracket_to_the_plate():
     assert not [n for n in fast if n.startswith("motor_screw") or n.endswith("hub_set_screw")]
     assert sorted(n for n in fast if n.startswith("capstan_set_screw")) == [f"capstan_set_screw_{i}" for i in range(3)]
     assert len(fast) == 12 + 1 + 3
+
+
+def test_the_drawings_thread_key_has_the_screws_tap_drill():
+    """The drawings name a hole's thread by its short key (``"M2.5"``, :func:`cad.data.fits.
+    metric_thread`) and match it to the solid's hole by that key's tap drill: with the ISO 261
+    coarse pitches (M2 0.4, M2.5 0.45) the short key's drill is the screw's, d - P (M2.5:
+    2.05 mm, the bracket's and the hub's holes; it was 2.125 with 0.15 d for a pitch)."""
+    from cad.data.fits import metric_thread
+
+    for size, d, p in (("M2-0.4", 2.0, 0.4), ("M2.5-0.45", 2.5, 0.45), ("M3-0.5", 3.0, 0.5)):
+        assert cat.tap_drill_mm(metric_thread(size)) == pytest.approx(d - p, abs=1e-12)
+        assert cat.tap_drill_mm(size) == pytest.approx(d - p, abs=1e-12)
