@@ -16,7 +16,10 @@ parts.drilled`). Groups (:func:`screw_plan`):
 * ``hub``: the arm hub's set screw on the motor shaft, radial, in a boss at the hub's bracket
   end (:data:`HUB_BOSS_D_MM`), as the four-bar's crank hub (direct-drive arms);
 * ``handle``: one screw from the effector plate's top through its centre into the handle's
-  axial tapped hole.
+  axial tapped hole;
+* ``effector_bar``: one screw per effector cross bar from under the effector plate into a
+  hole tapped radially through the bar's middle (the elbow cross bars sit in their arm's
+  reamed bore and stay as they were).
 
 Frames: each hole's axis and point in its part's own frame (mm). No CAD import here.
 """
@@ -65,6 +68,11 @@ HUB_BOSS_LENGTH_MM = 6.0
 #: Effector plate to handle: ISO 4762 M3 into the handle's axial tapped hole, thread depth.
 HANDLE_SCREW = "M3-0.5"
 HANDLE_TAP_DEPTH_MM = 10.0
+#: Effector cross bar to effector plate: ISO 4762 M3 from under the plate into a hole tapped
+#: radially through the bar's middle.
+EFFECTOR_BAR_SCREW = "M3-0.5"
+#: A screw turned over (part z -> -z): its head under a plate, the shank up.
+FLIP = np.diag([1.0, -1.0, -1.0, 1.0])
 #: Part z -> part +x (a radial set screw, its flat point at the origin end).
 RY90 = np.array([[0.0, 0.0, 1.0, 0.0], [0.0, 1.0, 0.0, 0.0], [-1.0, 0.0, 0.0, 0.0], [0.0, 0.0, 0.0, 1.0]])
 
@@ -85,6 +93,15 @@ def screw_plan(design) -> dict[str, dict]:
                    alu_hole("handle:top", "handle", HANDLE_SCREW, HANDLE_TAP_DEPTH_MM),
                    "handle to effector plate", "mechanism.effector_radius_mm"),
     }
+    # a hole tapped through the round bar from its bottom: the thread's first R - sqrt(R^2 - (d/2)^2)
+    # (0.29 mm for M3 in the 8 mm bar) is partial, under the curve, so the minimum counts it on top
+    # of 1.5 d, and the full thread ends as far past the axis: R + sqrt(R^2 - (d/2)^2) from the bottom
+    R, d = hw.CROSS_BAR_D_MM / 2, cat.thread_diameter_mm(EFFECTOR_BAR_SCREW)
+    chord = (R**2 - (d / 2) ** 2) ** 0.5
+    stacks["effector_bar"] = (EFFECTOR_BAR_SCREW, hw.EFFECTOR_THICKNESS_MM,
+                              TappedHole("cross_bar:screw", "cross_bar", EFFECTOR_BAR_SCREW, R + chord,
+                                         MIN_ENGAGEMENT_ALU_D * d + R - chord),
+                              "effector cross bar to effector plate", "parts.motor")
     out = {}
     for g, (size, clamp, hole, joint, field) in stacks.items():
         L, e = size_cap_screw(size, clamp, hole, joint, field)
@@ -101,11 +118,12 @@ def screw_counts(design) -> dict[str, int]:
     """``{group: number of screws}`` of :func:`place_fasteners` (closed form): per direct-drive
     arm its motor's bolts and one hub set screw, per bracket hanging from the base plate
     (three, and three more for capstans' moved motors) :data:`BRACKET_SCREWS`, one handle
-    screw."""
+    screw and one per effector cross bar."""
     m = cat.get_motor(design.parts.motor)
     direct = len(direct_arms(design))
     brackets = 3 + (3 - direct)
-    return {"motor": m.bolt_count * direct, "hub": direct, "bracket": BRACKET_SCREWS * brackets, "handle": 1}
+    return {"motor": m.bolt_count * direct, "hub": direct, "bracket": BRACKET_SCREWS * brackets, "handle": 1,
+            "effector_bar": 3}
 
 
 def direct_arms(design) -> list[int]:
@@ -205,21 +223,38 @@ def _hub(design, K, by, plan, place, stack) -> None:
               (f"upper_{i}.motor_shaft",))
 
 
-def _handle(K, by, plan, place) -> None:
-    """The handle's screw: head on the effector plate's top at its centre, into the handle's
-    top (the plate and the handle drilled)."""
+def _effector(design, K, by, plan, place) -> None:
+    """The handle's screw (head on the effector plate's top at its centre, into the handle's
+    top) and each effector cross bar's screw (head under the plate, up through it into a radial
+    hole tapped through the bar's middle); the plate, the handle and the bars drilled."""
     sp = plan["handle"]
     plate, handle = by["effector.effector_plate"], by["effector.handle"]
     top = hw.HANDLE_LENGTH_MM / 2  # the handle's part frame: centred, axis z
     tap = [((0.0, 0.0, top), (0.0, 0.0, -1.0), cat.tap_drill_mm(sp["size"]), sp["depth_mm"] + TAP_LEADOUT_MM)]
     by[handle.name] = dataclasses.replace(handle, kind=_drill(K, handle, "top", tap))
-    by[plate.name] = dataclasses.replace(plate, kind=_drill(
-        K, plate, "handle", [((0.0, 0.0, 0.0), (0.0, 0.0, 1.0), cat.clearance_hole_mm(sp["size"]),
-                              hw.EFFECTOR_THICKNESS_MM)]))
+    through = [((0.0, 0.0, 0.0), (0.0, 0.0, 1.0), cat.clearance_hole_mm(sp["size"]), hw.EFFECTOR_THICKNESS_MM)]
     h = TappedHole(f"{handle.name}:top", handle.name, sp["size"], sp["depth_mm"], sp["min_engagement_mm"],
                    axis=(0.0, 0.0, 1.0), point_mm=(0.0, 0.0, top))
     place("effector.handle_screw", "handle", "effector",
           plate.tf_body_part @ translation(0.0, 0.0, hw.EFFECTOR_THICKNESS_MM), h, (plate.name,))
+    sp, R = plan["effector_bar"], hw.CROSS_BAR_D_MM / 2
+    for i in range(3):
+        bar = by[f"effector.arm_{i}.cross_bar"]
+        if "effector_cross_bar" not in K:  # part y is down (-z of the effector), the bar's bottom at y = R
+            K["effector_cross_bar"] = dataclasses.replace(
+                _drill(K, bar, "screw", [((0.0, R, 0.0), (0.0, -1.0, 0.0), cat.tap_drill_mm(sp["size"]), 2 * R)]),
+                name="effector_cross_bar", description=f"{bar.kind.description}; {sp['size'].split('-')[0]} "
+                "tapped through its middle (screwed on the effector plate)")
+        by[bar.name] = bar = dataclasses.replace(bar, kind=K["effector_cross_bar"])
+        at = bar.tf_body_part @ np.array([0.0, R, 0.0, 1.0])  # the bar's bottom on the plate's top
+        h = TappedHole(f"{bar.name}:screw", bar.name, sp["size"], sp["depth_mm"], sp["min_engagement_mm"],
+                       axis=(0.0, 1.0, 0.0), point_mm=(0.0, R, 0.0))
+        place(f"effector.arm_{i}.bar_screw", "effector_bar", "effector",
+              translation(at[0], at[1], at[2] - hw.EFFECTOR_THICKNESS_MM) @ FLIP, h, (plate.name,))
+        p = np.linalg.inv(plate.tf_body_part) @ at
+        through.append(((p[0], p[1], 0.0), (0.0, 0.0, 1.0), cat.clearance_hole_mm(sp["size"]),
+                        hw.EFFECTOR_THICKNESS_MM))
+    by[plate.name] = dataclasses.replace(plate, kind=_drill(K, plate, "screws", through))
 
 
 def place_fasteners(design, K: dict, inst: list[PartInstance], stack: dict) -> tuple[list, dict]:
@@ -240,5 +275,5 @@ def place_fasteners(design, K: dict, inst: list[PartInstance], stack: dict) -> t
 
     _face_and_bracket(design, K, by, plan, place)
     _hub(design, K, by, plan, place, stack)
-    _handle(K, by, plan, place)
+    _effector(design, K, by, plan, place)
     return [by[x.name] for x in inst] + new, holes

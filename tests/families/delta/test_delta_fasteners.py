@@ -7,7 +7,7 @@ written build of designs/delta.toml (the shared preview build of tests/conftest.
   face), the engagement L - clamp within the hole's thread; the hub's ISO 4026 set screw by
   its 16 mm boss's geometry (full thread sqrt(R^2 - (d/2)^2) - r_shaft, 1.5 d <= L <= it);
 * report.json ``fasteners`` / ``tapped_holes``, bom.csv and order.csv counts in closed form
-  (3 arms x the motor's 3 bolts, 3 brackets x 2, 3 hubs, 1 handle);
+  (3 arms x the motor's 3 bolts, 3 brackets x 2, 3 hubs, 1 handle, 3 effector cross bars);
 * assembly.md fastens each screw in the step that mounts its part;
 * (slow) OCCT on assembly.step read back (tests/step_readback.py): every screw shares no
   volume with any other solid -- its hole is cut in the part it enters -- and touches the
@@ -42,6 +42,12 @@ def expected() -> dict:
     out = {"motor": ("M3-0.5", _shortest("M3-0.5", 5.0 + face_min), None, 3.5, face_min, hw.BRACKET_THICKNESS_MM),
            "bracket": ("M2.5-0.45", _shortest("M2.5-0.45", 6.0 + 1.5 * 2.5), None, 8.0, 3.75, hw.PLATE_THICKNESS_MM),
            "handle": ("M3-0.5", _shortest("M3-0.5", 5.0 + 1.5 * 3.0), None, 10.0, 4.5, hw.EFFECTOR_THICKNESS_MM)}
+    # the effector cross bar (8 mm round) tapped through from its bottom: the full M3 thread
+    # within sqrt(4^2 - 1.5^2) = 3.708 of its axis, so 4 - 3.708 = 0.292 mm of partial thread
+    # first, the minimum 4.5 + 0.292, the full thread ending 4 + 3.708 from the bottom
+    c = math.sqrt(16.0 - 2.25)
+    lo = 4.5 + 4.0 - c
+    out["effector_bar"] = ("M3-0.5", _shortest("M3-0.5", 5.0 + lo), None, 4.0 + c, lo, hw.EFFECTOR_THICKNESS_MM)
     out = {g: (s, L, L - c, dep, mn, c) for g, (s, L, _, dep, mn, c) in out.items()}
     # the hub's boss: R = 8, shaft radius 3; M3's window 4.5 .. sqrt(64 - 2.25) - 3 = 4.86 holds no
     # catalog length (4, 5), M2.5's 3.75 .. 4.90 holds 4
@@ -63,10 +69,13 @@ def test_the_plan_matches_the_catalog():
         assert (p["size"], p["length_mm"], p["engagement_mm"]) == (size, L, pytest.approx(e)), g
         assert p["depth_mm"] == pytest.approx(depth) and p["min_engagement_mm"] == pytest.approx(lo), g
         assert lo <= e <= depth + 1e-9 and p["clamp_mm"] == clamp, g
-    assert [plan[g]["length_mm"] for g in ("motor", "bracket", "handle", "hub")] == [8.0, 10.0, 10.0, 4.0]
+    assert [plan[g]["length_mm"] for g in ("motor", "bracket", "handle", "hub", "effector_bar")] == [
+        8.0, 10.0, 10.0, 4.0, 10.0]
 
 
 def _group(name: str) -> str:
+    if name.endswith("bar_screw"):
+        return "effector_bar"
     return {"motor": "motor", "bracket": "bracket", "effector": "handle", "upper": "hub"}[re.split(r"[_.]", name)[0]]
 
 
@@ -79,8 +88,8 @@ def test_report_bom_and_order_read_back(built):
     _, out, rep = built
     fast, holes = rep["fasteners"], rep["tapped_holes"]
     exp = expected()
-    counts = {"motor": 3 * 3, "bracket": 3 * 2, "hub": 3, "handle": 1}
-    assert {g: sum(_group(n) == g for n in fast) for g in counts} == counts and len(holes) == 19
+    counts = {"motor": 3 * 3, "bracket": 3 * 2, "hub": 3, "handle": 1, "effector_bar": 3}
+    assert {g: sum(_group(n) == g for n in fast) for g in counts} == counts and len(holes) == 22
     for name, f in fast.items():
         size, L, e, depth, lo, clamp = exp[_group(name)]
         h = holes[f["hole"]]
@@ -92,7 +101,7 @@ def test_report_bom_and_order_read_back(built):
         bom = {r["designation"]: r["quantity"] for r in csv.DictReader(fh)}
     with (out / "order.csv").open(encoding="utf-8", newline="") as fh:
         order = {r["designation"]: r["quantity"] for r in csv.DictReader(fh)}
-    lines = {"ISO 4762 M3-0.5 x 8": 9, "ISO 4762 M2.5-0.45 x 10": 6, "ISO 4762 M3-0.5 x 10": 1,
+    lines = {"ISO 4762 M3-0.5 x 8": 9, "ISO 4762 M2.5-0.45 x 10": 6, "ISO 4762 M3-0.5 x 10": 1 + 3,
              "ISO 4026 M2.5-0.45 x 4": 3}
     for des, n in lines.items():
         assert int(bom[des]) == n and int(order[des]) == n, des
@@ -135,7 +144,7 @@ def _box(solid):
     return (b.min.X, b.min.Y, b.min.Z), (b.max.X, b.max.Y, b.max.Z)
 
 
-@pytest.mark.slow  # OCCT Booleans of 19 screws against the solids near them (~1 min)
+@pytest.mark.slow  # OCCT Booleans of 22 screws against the solids near them (~1 min)
 def test_every_screw_is_clear_of_every_other_solid_in_the_step(built):
     from cad.assembly.interference import OVERLAP_MIN_MM3
     from tests.step_readback import common_mm3, dist_mm, step_solids
@@ -179,13 +188,13 @@ def test_the_capstan_delta_fastens_every_bracket_to_the_plate():
     m = assemble(d, "preview")
     fast = {i.name: i.fastener for i in m.instances if i.fastener is not None}
     check_fasteners(fast, m.holes)
-    assert screw_counts(d) == {"motor": 0, "hub": 0, "bracket": 12, "handle": 1}
+    assert screw_counts(d) == {"motor": 0, "hub": 0, "bracket": 12, "handle": 1, "effector_bar": 3}
     brackets = [n for n, f in fast.items() if f.clamps == ("base_plate",)]
     assert len(brackets) == 12 and {fast[n].hole.split(":")[0] for n in brackets} == {
         *(f"motor_bracket_{i}" for i in range(3)), *(f"capstan_motor_bracket_{i}" for i in range(3))}
     assert not [n for n in fast if n.startswith("motor_screw") or n.endswith("hub_set_screw")]
     assert sorted(n for n in fast if n.startswith("capstan_set_screw")) == [f"capstan_set_screw_{i}" for i in range(3)]
-    assert len(fast) == 12 + 1 + 3
+    assert len(fast) == 12 + 1 + 3 + 3
 
 
 def test_the_drawings_thread_key_has_the_screws_tap_drill():
