@@ -79,8 +79,9 @@ RY90 = np.array([[0.0, 0.0, 1.0, 0.0], [0.0, 1.0, 0.0, 0.0], [-1.0, 0.0, 0.0, 0.
 
 def screw_plan(design) -> dict[str, dict]:
     """Every screw group sized from its stack, before any CAD: ``{group: {size, length_mm,
-    engagement_mm, depth_mm, min_engagement_mm, clamp_mm}}`` (mm). DesignError naming the
-    field to change when no catalog length fits (module docstring)."""
+    engagement_mm, depth_mm, min_engagement_mm, clamp_mm}}`` (mm). DesignError when no catalog
+    length fits (module docstring): naming ``parts.motor`` for the motor face and the hub (its
+    bolts and shaft), ``parts`` for the family's fixed plates (a layout bug, never a user's)."""
     m = cat.get_motor(design.parts.motor)
     face = TappedHole("motor:face", "motor", m.bolt_size, m.bolt_thread_depth_mm,
                       min(m.bolt_thread_depth_mm, MIN_ENGAGEMENT_BOUGHT_MM))
@@ -88,10 +89,10 @@ def screw_plan(design) -> dict[str, dict]:
         "motor": (m.bolt_size, hw.BRACKET_THICKNESS_MM, face, "motor face to motor bracket", "parts.motor"),
         "bracket": (BRACKET_SCREW, hw.PLATE_THICKNESS_MM,
                     alu_hole("motor_bracket:top", "motor_bracket", BRACKET_SCREW, BRACKET_TAP_DEPTH_MM),
-                    "motor bracket to base plate", "parts.motor"),
+                    "motor bracket to base plate", "parts"),
         "handle": (HANDLE_SCREW, hw.EFFECTOR_THICKNESS_MM,
                    alu_hole("handle:top", "handle", HANDLE_SCREW, HANDLE_TAP_DEPTH_MM),
-                   "handle to effector plate", "mechanism.effector_radius_mm"),
+                   "handle to effector plate", "parts"),
     }
     # a hole tapped through the round bar from its bottom: the thread's first R - sqrt(R^2 - (d/2)^2)
     # (0.29 mm for M3 in the 8 mm bar) is partial, under the curve, so the minimum counts it on top
@@ -101,7 +102,7 @@ def screw_plan(design) -> dict[str, dict]:
     stacks["effector_bar"] = (EFFECTOR_BAR_SCREW, hw.EFFECTOR_THICKNESS_MM,
                               TappedHole("cross_bar:screw", "cross_bar", EFFECTOR_BAR_SCREW, R + chord,
                                          MIN_ENGAGEMENT_ALU_D * d + R - chord),
-                              "effector cross bar to effector plate", "parts.motor")
+                              "effector cross bar to effector plate", "parts")
     out = {}
     for g, (size, clamp, hole, joint, field) in stacks.items():
         L, e = size_cap_screw(size, clamp, hole, joint, field)
