@@ -302,7 +302,8 @@ def clearance_hole_mm(size: str, fit: str = "Normal") -> float:
 
 def tap_drill_mm(size: str) -> float:
     """Tap drill of a metric coarse thread: d - pitch (ISO rule of thumb), mm; a plain pin's
-    press-fit hole (reamed to d)."""
+    press-fit hole (reamed to d). Without a stated pitch the coarse pitch of ISO 261 (M2 0.4,
+    M2.5 0.45, ..., M8 1.25), so ``"M2.5"`` and ``"M2.5-0.45"`` give the same drill."""
     if is_dowel(size):
         return dowel_diameter_mm(size)
     parts = size[1:].split("-")
@@ -310,7 +311,7 @@ def tap_drill_mm(size: str) -> float:
     pitch = (
         float(parts[1])
         if len(parts) > 1
-        else {3: 0.5, 4: 0.7, 5: 0.8, 6: 1.0, 8: 1.25}.get(int(d), 0.15 * d)
+        else {2.0: 0.4, 2.5: 0.45, 3.0: 0.5, 4.0: 0.7, 5.0: 0.8, 6.0: 1.0, 8.0: 1.25}.get(d, 0.15 * d)
     )
     return d - pitch
 

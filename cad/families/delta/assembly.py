@@ -36,6 +36,7 @@ from cad.device import parts_motor, resolve_device
 from cad.families.delta import hardware as hw
 from cad.families.delta import parts as dp
 from cad.families.delta.capstan_solids import add_capstans
+from cad.families.delta.fastening import place_fasteners
 from cad.families.delta.layout import ARMS, body_poses, rot_x, rot_z
 from cad.parts import PartInstance, PartKind, joints, translation
 from cad.parts import motor as pm
@@ -341,6 +342,10 @@ def assemble(design, fidelity: str = "fabrication") -> AssemblyModel:
         inst, holes = add_capstans(design, K, inst, resolve_device(design),
                             stack_mm(design.parallelogram_width_mm, d.joint_offset_mm > 0,
                                      hw.design_ball_joint(design).socket_d_mm))
+    inst, screw_holes = place_fasteners(design, K, inst, stack_mm(design.parallelogram_width_mm,
+                                                                  d.joint_offset_mm > 0,
+                                                                  hw.design_ball_joint(design).socket_d_mm))
+    holes = {**holes, **screw_holes}
     labels = tuple(f"P = ({x:.1f}, {y:.1f}, {z:.1f}) mm" for x, y, z in X)
     return AssemblyModel(design=design, instances=tuple(inst), tf_world_body=tf_home,
                          motion={b: T for b, T in motion.items() if b != "ground"},

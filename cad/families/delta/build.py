@@ -200,8 +200,8 @@ ASSEMBLY_CHECKS = (
     "every ball stud sits in its socket with the running clearance; the two rods of each "
     "parallelogram are held onto their balls (the preload, e.g. a spring across the pair, is "
     "not drawn)",
-    "the arm hubs do not slip on their motor shafts under a hand load at the effector (their "
-    "fastening, a clamp or a bond, is not drawn)",
+    "the arm hubs do not slip on their motor shafts under a hand load at the effector (each "
+    "held by its set screw, tightened in its arm's step)",
 )
 
 

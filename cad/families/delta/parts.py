@@ -132,3 +132,28 @@ def eye_shape(eye_r_mm: float, seat_d_mm: float, width_mm: float, shank_d_mm: fl
         shank_d_mm / 2, eye_r_mm + shank_mm - x0)
     s = Cylinder(eye_r_mm, width_mm) + shank - Cylinder(seat_d_mm / 2, width_mm)
     return s.solids()[0].wrapped
+
+
+def drilled(shape, holes):
+    """``shape`` (an OCP solid, its part frame) with round holes cut: ``holes`` ``[(point, axis,
+    diameter, depth)]`` (mm), each a cylinder from ``point`` ``depth`` along the unit ``axis``
+    (into the material): a tapped hole's tap drill, a clearance hole through a plate."""
+    from build123d import Cylinder, Plane, Solid
+
+    s = Solid(shape)
+    for p, a, dia, depth in holes:
+        s = s - Plane(origin=tuple(map(float, p)), z_dir=tuple(map(float, a))) * Cylinder(
+            dia / 2, depth, align=_amin())
+    return s.solids()[0].wrapped
+
+
+def bossed_hub_shape(diameter_mm: float, length_mm: float, bore_mm: float, boss_d_mm: float,
+                     boss_z0_mm: float, boss_length_mm: float):
+    """Arm hub with a set-screw boss: a round bar of ``diameter_mm`` (axis z, centred on the
+    origin) and a collar of ``boss_d_mm`` from z = ``boss_z0_mm`` over ``boss_length_mm``, the
+    shaft bore ``bore_mm`` through both."""
+    from build123d import Cylinder, Pos
+
+    s = Cylinder(diameter_mm / 2, length_mm) + Pos(0, 0, boss_z0_mm) * Cylinder(
+        boss_d_mm / 2, boss_length_mm, align=_amin())
+    return (s - Cylinder(bore_mm / 2, length_mm)).solids()[0].wrapped
