@@ -50,6 +50,7 @@ from cad.design.parts import parse_encoder
 from cad.design.targets import DELTA_TARGET_KEYS, parse_targets
 from cad.design.transmission import parse_transmissions
 from cad.errors import DesignError
+from cad.families.delta import hardware as hw
 from cad.families.delta.sizes import check_sizes
 from cad.isotropy.gii import delta_gii
 from cad.isotropy.problems import DeltaProblem, candidate_grid
@@ -85,7 +86,7 @@ class DeltaParts:
     ``encoder`` (catalog key) or ``encoder_counts_per_rev`` (counts per motor turn after x4
     decoding), None when not stated (:func:`cad.device.resolve_device` chooses)."""
 
-    motor: str = "maxon-re35"
+    motor: str = hw.MOTOR
     encoder: str | None = None
     encoder_counts_per_rev: int | None = None
 

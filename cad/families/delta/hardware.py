@@ -1,7 +1,8 @@
 """The delta's hardware dimensions and materials (pure data, no CAD import), shared by the
 part scripts (:mod:`.parts`), the assembly (:mod:`.assembly`) and the frame model
-(:mod:`.structure`). mm and catalog keys; the design file has no ``[parts]`` table for the
-delta yet, so these are the family's fixed choices.
+(:mod:`.structure`). mm and catalog keys. The design's ``[parts]`` table chooses the motor and
+the encoder only (:class:`cad.families.delta.design.DeltaParts`); the dimensions below are the
+family's fixed choices (the least link lengths they need: :mod:`.sizes`).
 """
 
 from __future__ import annotations
@@ -11,7 +12,8 @@ from dataclasses import dataclass
 
 from cad.data.catalog import get_bearing
 
-#: The motor of every arm (:data:`cad.data.catalog.MOTORS`): direct drive.
+#: The family's default motor (:data:`cad.data.catalog.MOTORS`); a design's ``[parts] motor``
+#: chooses it (:class:`cad.families.delta.design.DeltaParts`).
 MOTOR = "maxon-re35"
 
 
