@@ -205,10 +205,14 @@ def _sim_files(b) -> list[str]:
 
 def _encoder_rows(design) -> list[dict]:
     """The bought encoders (no solid: on each motor's rear shaft), the resolved device's
-    (:func:`cad.device.encoder_bom_rows`), and the capstans' ropes with their cut lengths
+    (:func:`cad.device.encoder_bom_rows`; in assembly.md ``encoder_0`` .. ``encoder_2``, on
+    ``motor_0`` .. ``motor_2``: the delta numbers its arms, motors and joints theta_i from 0), and the capstans' ropes with their cut lengths
     (:func:`cad.families.delta.capstan.bom_lines`)."""
     dev = resolve_device(design)
-    return encoder_bom_rows(dev) + capstan.bom_lines(design, dev)
+    enc = encoder_bom_rows(dev)
+    if len(enc) == 1 and enc[0]["quantity"] == len(JOINTS):  # one per motor_i: numbered as the motors
+        enc[0]["instance_names"] = [f"encoder_{i}" for i in range(len(JOINTS))]
+    return enc + capstan.bom_lines(design, dev)
 
 
 #: The final checks of the delta's assembly.md (the steps are the driver's, from the parts).

@@ -145,3 +145,22 @@ def test_a_priced_delta_build_has_the_bom_cost_of_its_order(tmp_path):
     r = _rows(json.loads((out / "report.json").read_text())["datasheet"]["rows"])
     assert r["bom_cost"]["value"] == pytest.approx(sum(priced))
     assert r["bom_cost"]["unit"] == "EUR"
+
+
+def test_encoders_are_numbered_as_their_motors(shared_build):
+    """assembly.md names the delta's encoders encoder_0 .. encoder_2, one per motor_0 ..
+    motor_2 (the delta numbers arms, motors and joints theta_i from 0); a row without
+    instance names keeps the pipeline's encoder_1 .. encoder_n (the 5-bar's, whose motors are
+    numbered from 1)."""
+    from cad.pipeline.family import NO_SOLID_STEP, build_steps
+
+    _, out, rep = shared_build("delta.toml", DELTA_FORMATS, "preview")
+    text = (out / "assembly.md").read_text()
+    inst = rep["placement"]["instances"]
+    assert sorted(n for n, p in inst.items() if p["kind"] == "motor") == ["motor_0", "motor_1", "motor_2"]
+    for i in range(3):
+        assert f"`motor_{i}`" in text and f"`encoder_{i}` (encoder)" in text
+    assert "`encoder_3`" not in text
+    row = {"part": "encoder", "description": "e", "quantity": 2}
+    step = build_steps([], None, (), [row])[-1]
+    assert step.title == NO_SOLID_STEP and step.new == ["encoder_1", "encoder_2"]
