@@ -51,7 +51,7 @@ from cad.design.targets import DELTA_TARGET_KEYS, parse_targets
 from cad.design.transmission import parse_transmissions
 from cad.errors import DesignError
 from cad.families.delta import hardware as hw
-from cad.families.delta.sizes import check_sizes
+from cad.families.delta.sizes import check_sizes, minimums_mm
 from cad.isotropy.gii import delta_gii
 from cad.isotropy.problems import DeltaProblem, candidate_grid
 from cad.kinematics.delta import (
@@ -275,7 +275,10 @@ def _firmware(table: dict[str, Any]):
     return parse_firmware(table, 3)
 
 
-def _optimize(raw: dict[str, Any]) -> dict[str, tuple[float, float, int]]:
+def _optimize(raw: dict[str, Any], least: dict) -> dict[str, tuple[float, float, int]]:
+    """``[optimize]`` ranges; ``least``: :func:`cad.families.delta.sizes.minimums_mm` of the
+    design's width and joint offset (a range's min below it is refused: no candidate there
+    could be built, most often metres typed for mm)."""
     table = optional_table(raw, "optimize", "")
     check_unknown(table, OPTIMIZABLE, "optimize")
     out = {}
@@ -286,6 +289,9 @@ def _optimize(raw: dict[str, Any]) -> dict[str, tuple[float, float, int]]:
             raise DesignError(f, f"count must be an integer >= 1, got {table[key][2]!r}")
         if hi < lo or (lo < 0 if key == "effector_radius_mm" else lo <= 0):
             raise DesignError(f, f"needs 0 < min <= max, got [{lo}, {hi}]")
+        if key in least and (lo < least[key][0] or (least[key][1] and lo <= least[key][0])):
+            v, strict, why = least[key]
+            raise DesignError(f, f"the range's min must be {'>' if strict else '>='} {v:.4g} mm, got {lo:g}: {why}")
         out[key] = (lo, hi, int(count))
     return out
 
@@ -303,7 +309,8 @@ def parse(raw: dict[str, Any], source: str = "<design>") -> DeltaDesign:
         name=check_name(raw.get("name", "delta")), source=source, family="delta", mechanism=d,
         params=params, parallelogram_width_mm=width,
         workspace=_workspace(require_table(raw, "workspace", "")),
-        actuators=_actuators(optional_table(raw, "actuators", "")), optimize=_optimize(raw),
+        actuators=_actuators(optional_table(raw, "actuators", "")),
+        optimize=_optimize(raw, minimums_mm(width, d.joint_offset_mm)),
         raw=raw, parts=_parts(optional_table(raw, "parts", "")),
         motor=parse_motor_table(optional_table(raw, "motor", ""), "motor"),
         firmware=_firmware(optional_table(raw, "firmware", "")),

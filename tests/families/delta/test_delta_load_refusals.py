@@ -190,3 +190,13 @@ def test_the_bundled_deltas_pass_the_checks():
     for name in ("delta.toml", "delta_capstan.toml", "delta_falcon.toml"):
         raw = tomllib.loads((ROOT / "designs" / name).read_text())
         check_workspace(parse_design(raw, name))  # raises on a refusal
+
+
+def test_an_optimize_range_below_the_parts_is_one_line(tmp_path):
+    """[optimize] lower_arm_mm = [0.14, 0.26, 13] (metres): no candidate could be built."""
+    raw = copy.deepcopy(RAW)
+    raw["optimize"]["lower_arm_mm"] = [0.14, 0.26, 13]
+    code, stdout, err = hapticad("optimize", _write(tmp_path, raw))
+    assert_one_line_error(code, err, "hapticad: error: optimize.lower_arm_mm: ", "must be >= 13.5 mm",
+                          "got 0.14")
+    assert stdout == ""
