@@ -5,7 +5,9 @@ eq 2: the force every direction gets with |tau|_2 at the motor limit is tau sigm
 the position resolution from the resolved encoder (sigma_max(J^-1) 2 pi / counts), the
 apparent mass (eigenvalues of Lambda(x) from the solids), the first structural mode and
 the effector compliance at the workspace centre, the moving mass, the largest solid overlap
-over the workspace; with the default first-mode limit and, from ``[actuators]
+over the workspace, the workspace and the delta's reachable and well-conditioned volume
+(:func:`workspace_rows`), the motor torque gravity takes (:func:`gravity_rows`; the forces are
+before gravity compensation); with the default first-mode limit and, from ``[actuators]
 force_max_N``, the force limit (:func:`cad.families.pantograph.limits.pantograph_limits`). No CAD
 import."""
 

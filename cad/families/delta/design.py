@@ -30,7 +30,10 @@ the horizontal, positive down, elbow-out branch). ``[targets]``: the datasheet f
 at load) drives each upper arm through a capstan; ``[prices]`` (``"designation" = unit price``,
 ``currency``; validated for every family by :func:`cad.design.design_prices`) prices the BOM
 as ``--prices FILE.csv`` does (order.csv, the datasheet's ``bom_cost`` row). Joints of the motors (the resolved device, the
-MJCF): ``theta_0``, ``theta_1``, ``theta_2``. No CAD import.
+MJCF): ``theta_0``, ``theta_1``, ``theta_2``. The link lengths, the width and the
+``[optimize]`` ranges' mins are held to the least sizes the parts can be made at
+(:mod:`cad.families.delta.sizes`); whether the workspace is reached is the build's check
+before any solid (:mod:`cad.families.delta.reach`). No CAD import.
 """
 
 from __future__ import annotations
