@@ -136,6 +136,10 @@ LINK_MM = Bound(
 )
 COORD_MM = Bound("mm", None, 1e6, _FLOAT_MM, None, 2000.0,
                  f"farther than 2 m is not {_DESK}", _LEN_SLIPS, signed=True)
+WORKSPACE_MM = Bound(
+    "mm", 1e-3, 1e6, _FLOAT_MM, 1.0, 2000.0,
+    f"a workspace under 1 mm or over 2 m across is not {_DESK}", _LEN_SLIPS,
+)
 STROKE_MM = Bound(
     "mm", 1e-3, 1e6, _FLOAT_MM, 1.0, 1000.0,
     f"a stroke under a millimetre or over a metre is not {_DESK}", _LEN_SLIPS,
@@ -333,7 +337,8 @@ FIELDS: dict[str, Bound] = {
     "mechanism.crank_mm": LINK_MM, "mechanism.shoulder_base_mm": LINK_MM,
     "mechanism.pen_mm": LINK_MM, "mechanism.arm_spacing_mm": LINK_MM,
     "mechanism.waist_torque_ratio": RATIO,
-    "workspace.side_mm": LINK_MM, "workspace.size_mm": LINK_MM,
+    "workspace.side_mm": WORKSPACE_MM, "workspace.size_mm": WORKSPACE_MM,
+    "workspace.diameter_mm": WORKSPACE_MM, "workspace.height_mm": WORKSPACE_MM,
     "workspace.center_mm": COORD_MM, "workspace.home_mm": COORD_MM,
     "workspace.grid": GRID, "workspace.theta_grid": GRID, "workspace.rotation_grid": GRID,
     "workspace.home_theta_deg": ANGLE_DEG, "workspace.rotation_deg": ANGLE_DEG,

@@ -346,6 +346,11 @@ class PantographDesign(ValidatedReplace):
             act["moment_arm_mm"],
         )
 
+    def workspace_size_mm(self) -> list[float]:
+        """The ``[workspace]`` extents (mm) the GII report states: [W, H] (pantograph, twin)
+        or [x, y, z] (pen), the table's ``size_mm``."""
+        return [float(v) for v in self.workspace["size_mm"]]
+
     def point_units(self) -> tuple[str, ...]:
         """Names of the coordinates of a workspace point, with units."""
         return {

@@ -19,8 +19,9 @@ def _point(units: tuple[str, ...], p) -> dict[str, float]:
 def gii_report(design) -> dict:
     """GII report of a loaded pantograph-family design (isotropy paper eq 5 over its
     ``[workspace]`` grid): ``gii``, ``sigma_min`` / ``sigma_max`` and where they occur (mm
-    and the design's point units), the workspace's extents ``workspace_size_mm`` ([W, H] of
-    the planar families, [x, y, z] of the pen), the sample count, Jacobian evaluations, the failure (an
+    and the design's point units), the workspace's extents ``workspace_size_mm`` (the design's
+    ``workspace_size_mm()``: [W, H] of the planar families, [x, y, z] of the pen, the delta's
+    box [W, D, H] or cylinder [D, D, H]), the sample count, Jacobian evaluations, the failure (an
     unreachable or singular sample gives GII = 0 and is named) and the wall time (s)."""
     import time
 
@@ -39,7 +40,7 @@ def gii_report(design) -> dict:
         "sigma_max_at_mm": [float(v) for v in r.sigma_max_at[:npos]],
         "sigma_min_at": _point(units, r.sigma_min_at),
         "sigma_max_at": _point(units, r.sigma_max_at),
-        "workspace_size_mm": [float(v) for v in design.workspace["size_mm"]],
+        "workspace_size_mm": design.workspace_size_mm(),
         "n_points": r.n_points,
         "jacobian_evaluations": r.jacobian_evaluations,
         "failure": r.failure,

@@ -608,11 +608,17 @@ def build_steps(instances, plan=None, checks=(), no_solid_rows=()) -> list:
 
 def _no_solid_names(rows) -> dict[str, tuple[str, str]]:
     """``{instance name: (part, description)}`` of BOM rows with no solid: one instance per
-    unit of the row's quantity (``encoder``, or ``encoder_1`` ... ``encoder_n``)."""
+    unit of the row's quantity (``encoder``, or ``encoder_1`` ... ``encoder_n``; a row's own
+    ``instance_names`` when it has them, one per unit: e.g. the delta's encoders numbered as
+    its motors, ``encoder_0`` ... ``encoder_2``)."""
     out = {}
     for r in rows:
         q = int(r.get("quantity", 1))
         names = [r["part"]] if q == 1 else [f"{r['part']}_{i}" for i in range(1, q + 1)]
+        if r.get("instance_names"):
+            names = list(r["instance_names"])
+            if len(names) != q:
+                raise ValueError(f"{r['part']}: {len(names)} instance_names for quantity {q}")
         out |= {n: (r["part"], r["description"]) for n in names}
     return out
 

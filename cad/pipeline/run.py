@@ -87,7 +87,8 @@ class Stages:
     the exports), ``cutaway`` (instance name patterns drawn cut away in the pictures),
     ``assembly(design) -> (plan, checks)`` (``assembly.md``; None: not written),
     ``no_solid_rows(design)`` (bought BOM rows with no solid, e.g. an encoder: appended to the
-    BOM, a last step of assembly.md), ``md_images`` (``(alt text, file)`` pairs of report.md).
+    BOM, a last step of assembly.md, each unit named ``part_1`` .. ``part_n`` or, when the row
+    has them, by its ``instance_names``), ``md_images`` (``(alt text, file)`` pairs of report.md).
     The exports, the views and the same-body check start right after the solids, beside the
     mass properties and the interference check: the checks leave every solid untouched (their
     Booleans work on copies, :mod:`cad.occ.boolean`), so a file does not depend on when it is

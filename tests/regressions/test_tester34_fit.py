@@ -99,20 +99,18 @@ def test_fit_best_reached_names_the_best_candidate_not_the_written_one(tmp_path)
                     "written design 0.70708")
 
 
-@pytest.mark.parametrize("table", ["prices"])  # cad.families.delta.design.NOT_YET ([transmission]: taken since stop 45)
-def test_delta_refuses_a_table_it_does_not_take_without_denying_its_parts(tmp_path, table):
-    """The delta builds parts (assembly.step, bom.csv: three motors), so a table it does not
-    take yet is refused in one line naming the table and the commands that take a delta, not
-    "the delta has no parts" (the message before); exit 2, nothing written."""
-    text = (ROOT / "designs" / "delta.toml").read_text() + f"\n[{table}]\nmaxon-re40 = 250.0\n"
+def test_delta_takes_prices_and_a_bad_price_is_one_line(tmp_path):
+    """The delta takes [prices] as every family does (it was refused with "no [prices] table
+    yet"); a bad price is one line naming the key, exit 2, nothing written (load time)."""
+    text = (ROOT / "designs" / "delta.toml").read_text() + '\n[prices]\n"maxon RE 40" = -250.0\n'
     design = tmp_path / "delta.toml"
     design.write_text(text)
     out = tmp_path / "out"
     code, _o, err = hapticad("build", str(design), "--out", str(out))
     assert code == 2
     lines = err.strip().splitlines()
-    assert len(lines) == 1 and lines[0].startswith(f"hapticad: error: {table}: ")
-    assert "no parts" not in lines[0] and "build" in lines[0] and "Traceback" not in err
+    assert len(lines) == 1 and lines[0].startswith('hapticad: error: prices.maxon RE 40: ')
+    assert "-250" in lines[0] and "Traceback" not in err
     assert not out.exists()
 
 

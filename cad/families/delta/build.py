@@ -14,7 +14,8 @@ Report keys the delta adds to the driver's common ones (``moving_mass_g``, ``tot
 (``Lambda_max_eig_g`` / ``Lambda_min_eig_g``: the largest and smallest eigenvalue of Lambda
 over the grid, where), ``structure`` (``first_mode_Hz``, ``compliance_max_um_per_N``, the
 boundary conditions), ``workspace_points``, ``ball_joints`` (the joints' tilt against their
-catalog range: :func:`cad.families.delta.ball_joints.range_check`), ``notes``. The motors and
+catalog range: :func:`cad.families.delta.ball_joints.range_check`), ``gravity`` (the motor
+torques gravity takes over the grid: :func:`gravity_load`), ``notes``. The motors and
 encoders are the
 resolved device's (:func:`cad.device.resolve_device`: ``parts.motor`` with ``[motor]``,
 ``parts.encoder``).
@@ -29,6 +30,7 @@ import numpy as np
 
 from cad.assembly import interference as itf
 from cad.device import encoder_bom_rows, resolve_device
+from cad.dynamics.delta import G_M_S2
 from cad.errors import DesignError
 from cad.families.delta import capstan
 from cad.families.delta.assembly import assemble
@@ -36,8 +38,9 @@ from cad.families.delta.ball_joints import range_check
 from cad.families.delta.capstan import rope_stiffness_Nm_per_rad
 from cad.families.delta.clearance import layout_clashes
 from cad.families.delta.design import JOINTS
-from cad.families.delta.dynamics import mass_matrix_from_bodies_kg
+from cad.families.delta.dynamics import gravity_hold_torques_Nm, mass_matrix_from_bodies_kg
 from cad.families.delta.layout import body_poses
+from cad.families.delta.reach import check_workspace
 from cad.families.delta.report_map import APPARENT_MASS_MAP, plot_apparent_mass_map
 from cad.families.delta.sim import sim_model
 from cad.families.delta.structure import first_mode, peak_stress_over, sections_from_parts
@@ -50,6 +53,7 @@ def check_options(design, fidelity: str, phi1_deg, formats=frozenset()) -> None:
     """Refuse what the delta's build cannot do, before any CAD (DesignError)."""
     if phi1_deg is not None:
         raise DesignError("--phi1-deg", "a delta has no crank: its pose is the workspace centre")
+    check_workspace(design)  # the grid reached, before any solid (cad.families.delta.reach)
     clash = "; ".join(layout_clashes(design)) if design.mechanism.joint_offset_mm > 0 else ""
     if clash:
         raise DesignError("mechanism.joint_offset_mm", f"{design.mechanism.joint_offset_mm:g} mm: "
@@ -86,6 +90,25 @@ class DeltaDynamics:
     structure: dict
     #: (n, 3) Lambda's eigenvalues (g, ascending) at each workspace grid point (the report's map)
     eig_g: tuple = ()
+    #: the gravity load over the grid (:func:`gravity_load`), the report's ``gravity``
+    gravity: dict = dataclasses.field(default_factory=dict)
+
+
+def gravity_load(design, X, bodies: dict, ratios) -> dict:
+    """The motor torques that hold the solids still against gravity (-z, base frame) over the
+    workspace grid ``X`` (N, 3) mm: joint torques J^-T grad_x V of every moving body's weight
+    at its centre (:func:`cad.families.delta.dynamics.gravity_hold_torques_Nm`, ``bodies`` the
+    build's {body: MassProps}), at the motor divided by each transmission's ratio n_i.
+    ``joint_torque_max_Nm`` (3,): each joint's largest |tau| (N m) and ``at_mm`` where;
+    ``motor_torque_max_Nm`` / ``motor_at_mm`` / ``motor_joint``: the largest |tau_i| / n_i over
+    the joints and the grid, where and which joint; ``g_m_s2``."""
+    tau = np.abs(gravity_hold_torques_Nm(design.mechanism, X, design.parallelogram_width_mm, bodies))
+    motor = tau / np.asarray(ratios, float)[None, :]
+    k = np.argmax(tau, axis=0)
+    n, j = np.unravel_index(int(np.argmax(motor)), motor.shape)
+    return {"joint_torque_max_Nm": [float(tau[k[i], i]) for i in range(3)],
+            "at_mm": [X[k[i]].tolist() for i in range(3)], "motor_torque_max_Nm": float(motor[n, j]),
+            "motor_at_mm": X[n].tolist(), "motor_joint": JOINTS[j], "g_m_s2": G_M_S2}
 
 
 def drum_props(instances, props: dict) -> list | None:
@@ -125,7 +148,8 @@ def _dynamics(b) -> DeltaDynamics:
     taus = np.array([mot.spec.torque_peak_mNm * 1e-3 * dev.transmission(j).ratio for j in JOINTS])
     tau = float(taus.max())
     ps = peak_stress_over(d.mechanism, X, d.parallelogram_width_mm, taus if taus.min() < tau else tau)
-    return DeltaDynamics(
+    grav = gravity_load(d, X, b.bodies, [dev.transmission(j).ratio for j in JOINTS])
+    return DeltaDynamics(gravity=grav,
         Lambda_max_eig_g=float(eig[hi, -1] * 1e3), at_max_mm=X[hi].tolist(),
         Lambda_min_eig_g=float(eig[lo, 0] * 1e3), at_min_mm=X[lo].tolist(),
         rotor_inertia_kg_m2=rotor, motor=mot.name, eig_g=tuple(map(tuple, eig * 1e3)),
@@ -146,6 +170,7 @@ def _report(b) -> dict:
                                                       "Lambda_min_eig_g", "at_min_mm",
                                                       "rotor_inertia_kg_m2", "motor")},
         "structure": dy.structure, "workspace_points": len(b.model.extra.workspace_mm),
+        "gravity": dy.gravity,
         "notes": [f"Lambda(x) from the solids and the {dy.motor} rotor over "
                   f"{len(b.model.extra.workspace_mm)} workspace points (eq 1, base frame)",
                   joints["line"]]}
@@ -187,10 +212,14 @@ def _sim_files(b) -> list[str]:
 
 def _encoder_rows(design) -> list[dict]:
     """The bought encoders (no solid: on each motor's rear shaft), the resolved device's
-    (:func:`cad.device.encoder_bom_rows`), and the capstans' ropes with their cut lengths
+    (:func:`cad.device.encoder_bom_rows`; in assembly.md ``encoder_0`` .. ``encoder_2``, on
+    ``motor_0`` .. ``motor_2``: the delta numbers its arms, motors and joints theta_i from 0), and the capstans' ropes with their cut lengths
     (:func:`cad.families.delta.capstan.bom_lines`)."""
     dev = resolve_device(design)
-    return encoder_bom_rows(dev) + capstan.bom_lines(design, dev)
+    enc = encoder_bom_rows(dev)
+    if len(enc) == 1 and enc[0]["quantity"] == len(JOINTS):  # one per motor_i: numbered as the motors
+        enc[0]["instance_names"] = [f"encoder_{i}" for i in range(len(JOINTS))]
+    return enc + capstan.bom_lines(design, dev)
 
 
 #: The final checks of the delta's assembly.md (the steps are the driver's, from the parts).

@@ -12,3 +12,5 @@ class DeltaReport(CommonReport):
     apparent_mass: dict
     structure: dict
     workspace_points: int
+    #: the motor torques gravity takes over the workspace grid (N m; :func:`cad.families.delta.build.gravity_load`)
+    gravity: dict

@@ -5,7 +5,9 @@ eq 2: the force every direction gets with |tau|_2 at the motor limit is tau sigm
 the position resolution from the resolved encoder (sigma_max(J^-1) 2 pi / counts), the
 apparent mass (eigenvalues of Lambda(x) from the solids), the first structural mode and
 the effector compliance at the workspace centre, the moving mass, the largest solid overlap
-over the workspace; with the default first-mode limit and, from ``[actuators]
+over the workspace, the workspace and the delta's reachable and well-conditioned volume
+(:func:`workspace_rows`), the motor torque gravity takes (:func:`gravity_rows`; the forces are
+before gravity compensation); with the default first-mode limit and, from ``[actuators]
 force_max_N``, the force limit (:func:`cad.families.pantograph.limits.pantograph_limits`). No CAD
 import."""
 
@@ -32,7 +34,13 @@ from cad.families.delta import capstan
 from cad.families.delta import hardware as hw
 from cad.families.delta.design import JOINTS
 from cad.firmware.extras import paper_eq25_inputs
-from cad.kinematics.delta import ik, jacobian_rad_per_m, largest_cube_mm, require_ok
+from cad.kinematics.delta import (
+    ik,
+    jacobian_rad_per_m,
+    largest_cube_mm,
+    require_ok,
+    workspace_volumes,
+)
 from cad.structure.elastic import get_elastic
 
 #: What changes the delta's force and first mode (the sections are the family's fixed
@@ -185,9 +193,12 @@ def rows_and_limits(design, report: dict, out_dir=None, simulate_wall: bool = Tr
     a, s = report.get("apparent_mass") or {}, report.get("structure") or {}
     itf = report.get("interference") or {}
     rows = [
+        *workspace_rows(design),
         row("continuous_force_N", "continuous force in every direction", fc, "N",
             f"min over the workspace grid of T_cont sigma_min(J^T) (eq 2), at {at_c} mm; "
-            f"T_cont {m.torque_continuous_mNm:g} mN m, {src}{thru}"),
+            f"T_cont {m.torque_continuous_mNm:g} mN m, {src}{thru}; before gravity compensation: "
+            "the whole torque goes to the hand (the firmware's gravity compensation takes up to "
+            "gravity_torque_max_Nm of it)"),
         row("peak_force_N", "peak force in every direction", fp, "N",
             f"as the continuous force with the peak torque {m.torque_peak_mNm:g} mN m, {src}{thru}"),
         row("resolution_um", "position resolution at the effector", res, "um",
@@ -195,6 +206,7 @@ def rows_and_limits(design, report: dict, out_dir=None, simulate_wall: bool = Tr
             f"workspace grid at {at_res} mm; {enc.source}" + ("" if n is None else
             f"; counts per joint turn n x {enc.counts_per_rev} (J^-1 N^-1)"), lo=res_lo, hi=res),
         friction_row(design, m, n),
+        *gravity_rows(report.get("gravity") or {}, m.torque_continuous_mNm * 1e-3),
         kmax := k_max_row(res),
         row("apparent_mass_max_g", "apparent mass, worst direction", a.get("Lambda_max_eig_g"), "g",
             f"largest eigenvalue of Lambda(x) from the solids and the rotors "
@@ -219,6 +231,55 @@ def rows_and_limits(design, report: dict, out_dir=None, simulate_wall: bool = Tr
     ]
     cap_rows, cap_limits = capstan.datasheet_rows(design, dev, kmax["value"])
     return rows + cap_rows, {**delta_limits(design), **cap_limits}, published_notes(design, dev, fc, fp)
+
+
+def workspace_rows(design) -> list[dict]:
+    """The workspace: the ``[workspace]`` table's box or cylinder (``workspace_cm3``, its
+    volume; the grid every other row is taken over), and the delta's whole reachable and
+    well-conditioned volume below the base (``reachable_volume_cm3``,
+    ``well_conditioned_volume_cm3``: :func:`cad.kinematics.delta.workspace_volumes` on its
+    default 10 mm cells, about 1 s; the error is the boundary's cells, docs/families/delta.md)."""
+    ws = design.workspace
+    n = len(design.workspace_points())
+    if ws["shape"] == "box":
+        vol, fig = float(np.prod(ws["size_mm"])) * 1e-3, "workspace box " + " x ".join(f"{v:g}" for v in ws["size_mm"]) + " mm"
+    else:
+        vol = math.pi / 4 * ws["diameter_mm"] ** 2 * ws["height_mm"] * 1e-3
+        fig = f"workspace cylinder d{ws['diameter_mm']:g} x {ws['height_mm']:g} mm"
+    v = workspace_volumes(design.mechanism)
+    cells = (f"cells of {v['step_mm']:g} mm over the reach box below the base "
+             "(cad.kinematics.delta.workspace_volumes; the error is the boundary's cells)")
+    return [
+        row("workspace_cm3", fig, vol, "cm^3", f"[workspace] table, centre {ws['center_mm']} mm (base frame, "
+            f"z up); every one of its {n} grid points reached, regular and inside the motor range (checked "
+            "before the build); the figures below are taken over them"),
+        row("reachable_volume_cm3", "reachable workspace below the base", v["reachable_cm3"], "cm^3",
+            f"the cells whose centre is reached, regular and inside the motor angle range; {cells}"),
+        row("well_conditioned_volume_cm3", "well-conditioned workspace below the base",
+            v["well_conditioned_cm3"], "cm^3",
+            f"reachable cells with sigma_min / sigma_max of J >= {v['threshold']:g} (our choice); {cells}"),
+    ]
+
+
+def gravity_rows(g: dict, t_cont_Nm: float) -> list[dict]:
+    """The gravity load (the build's ``gravity``, :func:`cad.families.delta.build.gravity_load`):
+    ``gravity_torque_max_Nm``, the largest motor torque that holds the solids still over the
+    workspace grid (worst joint and point), and ``gravity_torque_share``, its share of the
+    motor's continuous torque ``t_cont_Nm`` (what gravity compensation leaves for the hand:
+    1 - share). Absent from a report without them."""
+    if not g:
+        return []
+    per = ", ".join(f"{t:.3g}" for t in g["joint_torque_max_Nm"])
+    tau = g["motor_torque_max_Nm"]
+    return [
+        row("gravity_torque_max_Nm", "motor torque gravity takes, worst joint and point", tau, "N m",
+            f"J^-T grad_x V of every moving solid's weight at its centre (g = {g['g_m_s2']:g} m/s^2, -z of "
+            f"the base frame), at the motor through the transmission; worst {g['motor_joint']} at "
+            f"{np.round(g['motor_at_mm'], 3).tolist()} mm; each joint's worst over the grid: {per} N m"),
+        row("gravity_torque_share", "share of the continuous torque gravity takes, worst", tau / t_cont_Nm, "",
+            f"gravity_torque_max_Nm / T_cont ({t_cont_Nm:.4g} N m): with gravity compensation that "
+            "motor has 1 - this share of its continuous torque left for the hand at that point"),
+    ]
 
 
 def ratios_of(device):

@@ -16,7 +16,7 @@ Schema (mm, deg, N, N m; * = required)::
                  drive or through [transmission]), encoder (a key of cad.data.catalog.ENCODERS) or
                  encoder_counts_per_rev (not both; default: maxon-hedl5540-500, the encoder
                  maxon pairs with the RE 35), ball_joint (a key of
-                 cad.data.ball_joints.BALL_JOINTS; default din71802-8-m5-c)
+                 cad.data.ball_joints.BALL_JOINTS; default ball-link-4.8)
     [motor]      the data of the motor parts.motor names, replacing catalog values
                  (:mod:`cad.design.motor`)
     [firmware]   encoder_counts_per_rev, encoder_direction, encoder_zero_deg,
@@ -28,8 +28,13 @@ Frames and angles: :mod:`cad.kinematics.delta` (base frame z up, effector below,
 the horizontal, positive down, elbow-out branch). ``[targets]``: the datasheet figures
 (``check``, ``fit``); ``[transmission]`` (one table: the same capstan on every arm, or
 ``[[transmission]]``, three tables in motor order; :mod:`cad.design.transmission`, validated
-at load) drives each upper arm through a capstan; ``[prices]`` is refused with one line. Joints of the motors (the resolved device, the
-MJCF): ``theta_0``, ``theta_1``, ``theta_2``. No CAD import.
+at load) drives each upper arm through a capstan; ``[prices]`` (``"designation" = unit price``,
+``currency``; validated for every family by :func:`cad.design.design_prices`) prices the BOM
+as ``--prices FILE.csv`` does (order.csv, the datasheet's ``bom_cost`` row). Joints of the motors (the resolved device, the
+MJCF): ``theta_0``, ``theta_1``, ``theta_2``. The link lengths, the width and the
+``[optimize]`` ranges' mins are held to the least sizes the parts can be made at
+(:mod:`cad.families.delta.sizes`); whether the workspace is reached is the build's check
+before any solid (:mod:`cad.families.delta.reach`). No CAD import.
 """
 
 from __future__ import annotations
@@ -42,8 +47,7 @@ import numpy as np
 
 from cad.data.ball_joints import DEFAULT_BALL_JOINT, get_ball_joint
 from cad.data.catalog import get_motor
-from cad.data.families import family
-from cad.design.bounds import ANGLE_DEG, COORD_MM, GRID, LINK_MM, check_number
+from cad.design.bounds import ANGLE_DEG, COORD_MM, GRID, LINK_MM, WORKSPACE_MM, check_number
 from cad.design.fields import check_name, check_unknown, number_list, optional_table, require_table
 from cad.design.firmware import parse_firmware
 from cad.design.motor import parse_motor_table
@@ -51,6 +55,8 @@ from cad.design.parts import parse_encoder
 from cad.design.targets import DELTA_TARGET_KEYS, parse_targets
 from cad.design.transmission import parse_transmissions
 from cad.errors import DesignError
+from cad.families.delta import hardware as hw
+from cad.families.delta.sizes import check_sizes, minimums_mm
 from cad.isotropy.gii import delta_gii
 from cad.isotropy.problems import DeltaProblem, candidate_grid
 from cad.kinematics.delta import (
@@ -68,7 +74,6 @@ MECH_DEFAULTS = {"parallelogram_width_mm": 30.0, "motor_angle_min_deg": -40.0,
                  "motor_angle_max_deg": 85.0}
 WS_KEYS = ("shape", "center_mm", "size_mm", "diameter_mm", "height_mm", "grid")
 OPTIMIZABLE = ("base_radius_mm", "effector_radius_mm", "upper_arm_mm", "lower_arm_mm")
-NOT_YET = ("prices",)
 PARTS_KEYS = ("motor", "encoder", "encoder_counts_per_rev", "ball_joint")
 #: The encoder a delta that states none gets: maxon's HEDL 5540 (500 CPT, 2000 counts/rev
 #: after x4 decoding), the encoder maxon combines with the RE 35 the delta's arms default to.
@@ -88,7 +93,7 @@ class DeltaParts:
     ``ball_joint`` the parallelogram's ball joints (a key of
     :data:`cad.data.ball_joints.BALL_JOINTS`)."""
 
-    motor: str = "maxon-re35"
+    motor: str = hw.MOTOR
     encoder: str | None = None
     encoder_counts_per_rev: int | None = None
     ball_joint: str = DEFAULT_BALL_JOINT
@@ -142,6 +147,14 @@ class DeltaDesign:
             return box_grid_mm(ws["center_mm"], ws["size_mm"], ws["grid"])
         return cylinder_grid_mm(ws["center_mm"], ws["diameter_mm"], ws["height_mm"], ws["grid"])
 
+    def workspace_size_mm(self) -> list[float]:
+        """The ``[workspace]`` extents along x, y, z (mm, base frame): the box's ``size_mm``
+        [W, D, H], a cylinder's bounding box [D, D, H] (diameter_mm twice, height_mm)."""
+        ws = self.workspace
+        if ws["shape"] == "box":
+            return [float(v) for v in ws["size_mm"]]
+        return [float(ws["diameter_mm"])] * 2 + [float(ws["height_mm"])]
+
     def grid_shape(self) -> tuple[int, ...]:
         """The sample grid's shape (box: (n, n, n); cylinder: (N,), axis and rings)."""
         n = self.workspace["grid"]
@@ -176,7 +189,7 @@ class DeltaDesign:
                             self.actuators["torque_max_Nm"], self.actuators["force_max_N"])
 
 
-def _mechanism(mech: dict[str, Any]):
+def _mechanism(mech: dict[str, Any], ball_joint: str = DEFAULT_BALL_JOINT):
 
     check_unknown(mech, MECH_KEYS, "mechanism")
     vals = {}
@@ -202,6 +215,8 @@ def _mechanism(mech: dict[str, Any]):
                for k in ("joint_offset_mm", "axis_offset_mm")}
     if offsets["joint_offset_mm"] < 0:
         raise DesignError("mechanism.joint_offset_mm", f"must be >= 0, got {offsets['joint_offset_mm']!r}")
+    check_sizes({**vals, "parallelogram_width_mm": width, "joint_offset_mm": offsets["joint_offset_mm"]},
+                ball_joint)
     d = Delta(vals["base_radius_mm"], vals["effector_radius_mm"], vals["upper_arm_mm"],
               vals["lower_arm_mm"], motor_azimuth_rad=tuple(math.radians(a) for a in az),
               theta_min_rad=math.radians(lo), theta_max_rad=math.radians(hi), **offsets)
@@ -226,13 +241,13 @@ def _workspace(ws: dict[str, Any]) -> dict[str, Any]:
             raise DesignError(f"workspace.{key}", f"is not a key of a {shape} workspace")
     if shape == "box":
         size = number_list(ws, "size_mm", "workspace", length=3)
-        out["size_mm"] = [check_number(f"workspace.size_mm[{k}]", v, LINK_MM)
+        out["size_mm"] = [check_number(f"workspace.size_mm[{k}]", v, WORKSPACE_MM)
                           for k, v in zip("xyz", size, strict=True)]
     else:
         for key in ("diameter_mm", "height_mm"):
             if key not in ws:
                 raise DesignError(f"workspace.{key}", "is required for a cylinder workspace (mm)")
-            out[key] = check_number(f"workspace.{key}", ws[key], LINK_MM)
+            out[key] = check_number(f"workspace.{key}", ws[key], WORKSPACE_MM)
     return out
 
 
@@ -271,7 +286,10 @@ def _firmware(table: dict[str, Any]):
     return parse_firmware(table, 3)
 
 
-def _optimize(raw: dict[str, Any]) -> dict[str, tuple[float, float, int]]:
+def _optimize(raw: dict[str, Any], least: dict) -> dict[str, tuple[float, float, int]]:
+    """``[optimize]`` ranges; ``least``: :func:`cad.families.delta.sizes.minimums_mm` of the
+    design's width and joint offset (a range's min below it is refused: no candidate there
+    could be built, most often metres typed for mm)."""
     table = optional_table(raw, "optimize", "")
     check_unknown(table, OPTIMIZABLE, "optimize")
     out = {}
@@ -282,6 +300,9 @@ def _optimize(raw: dict[str, Any]) -> dict[str, tuple[float, float, int]]:
             raise DesignError(f, f"count must be an integer >= 1, got {table[key][2]!r}")
         if hi < lo or (lo < 0 if key == "effector_radius_mm" else lo <= 0):
             raise DesignError(f, f"needs 0 < min <= max, got [{lo}, {hi}]")
+        if key in least and (lo < least[key][0] or (least[key][1] and lo <= least[key][0])):
+            v, strict, why = least[key]
+            raise DesignError(f, f"the range's min must be {'>' if strict else '>='} {v:.4g} mm, got {lo:g}: {why}")
         out[key] = (lo, hi, int(count))
     return out
 
@@ -289,23 +310,20 @@ def _optimize(raw: dict[str, Any]) -> dict[str, tuple[float, float, int]]:
 def parse(raw: dict[str, Any], source: str = "<design>") -> DeltaDesign:
     """Validate a raw delta design; every problem is a :class:`DesignError` naming the key."""
     check_unknown(raw, ("name", "description", "mechanism", "workspace", "actuators", "optimize",
-                        "parts", "motor", "firmware", "targets", "transmission", *NOT_YET), "")
-    for key in NOT_YET:
-        if key in raw:
-            cmds = ", ".join(family("delta").commands)
-            raise DesignError(key, f"a delta design takes no [{key}] table yet (no prices "
-                                   f"table); {cmds} take a delta design")
+                        "parts", "motor", "firmware", "targets", "transmission", "prices"), "")
     mech = require_table(raw, "mechanism", "")
     if mech.get("family") != "delta":
         raise DesignError("mechanism.family", f"must be 'delta', got {mech.get('family')!r}")
-    d, params, width = _mechanism(mech)
+    parts = _parts(optional_table(raw, "parts", ""))
+    d, params, width = _mechanism(mech, parts.ball_joint)
     parse_transmissions(raw.get("transmission"), len(JOINTS))  # refused here, at load
     return DeltaDesign(
         name=check_name(raw.get("name", "delta")), source=source, family="delta", mechanism=d,
         params=params, parallelogram_width_mm=width,
         workspace=_workspace(require_table(raw, "workspace", "")),
-        actuators=_actuators(optional_table(raw, "actuators", "")), optimize=_optimize(raw),
-        raw=raw, parts=_parts(optional_table(raw, "parts", "")),
+        actuators=_actuators(optional_table(raw, "actuators", "")),
+        optimize=_optimize(raw, minimums_mm(width, d.joint_offset_mm, parts.ball_joint)),
+        raw=raw, parts=parts,
         motor=parse_motor_table(optional_table(raw, "motor", ""), "motor"),
         firmware=_firmware(optional_table(raw, "firmware", "")),
         targets=parse_targets(optional_table(raw, "targets", ""), allowed_keys=DELTA_TARGET_KEYS))

@@ -1,8 +1,9 @@
 """The delta's hardware dimensions and materials (pure data, no CAD import), shared by the
 part scripts (:mod:`.parts`), the assembly (:mod:`.assembly`) and the frame model
-(:mod:`.structure`). mm and catalog keys: the motor and the ball joints are the design's
-``[parts]`` (``motor``, ``ball_joint``: :mod:`cad.data.ball_joints`), the rest the family's
-fixed choices.
+(:mod:`.structure`). mm and catalog keys: the design's ``[parts]`` table chooses the motor,
+the encoder and the ball joints (``ball_joint``: :mod:`cad.data.ball_joints`;
+:class:`cad.families.delta.design.DeltaParts`); the dimensions below are the family's fixed
+choices (the least link lengths they need: :mod:`.sizes`).
 """
 
 from __future__ import annotations
@@ -13,7 +14,8 @@ from dataclasses import dataclass
 from cad.data.ball_joints import DEFAULT_BALL_JOINT, GENERIC_BALL_LINK, get_ball_joint
 from cad.data.catalog import get_bearing
 
-#: The motor of every arm (:data:`cad.data.catalog.MOTORS`): direct drive.
+#: The family's default motor (:data:`cad.data.catalog.MOTORS`); a design's ``[parts] motor``
+#: chooses it (:class:`cad.families.delta.design.DeltaParts`).
 MOTOR = "maxon-re35"
 
 

@@ -83,7 +83,7 @@ def test_cylinder_workspace_and_its_keys():
     (lambda r: r.update(transmission={"kind": "capstan", "capstan_diameter_mm": 40.0, "ratio": 0.5,
                                       "cable": "steel-7x7-1"}), "transmission.ratio"),
     (lambda r: r.update(transmission=[{"kind": "direct"}] * 2), "transmission"),
-    (lambda r: r.update(prices={}), "prices"),
+    (lambda r: r.update(prices={"motor": -3.0}), "prices.motor"),  # [prices] as every family's
     (lambda r: r["optimize"].update(upper_arm_mm=[120, 60, 3]), "optimize.upper_arm_mm"),
     (lambda r: r["actuators"].update(torque_max_Nm=[1, 1]), "actuators.torque_max_Nm"),
 ])

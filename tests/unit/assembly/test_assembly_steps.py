@@ -66,7 +66,9 @@ def test_steps_place_every_bom_instance_exactly_once(builds, fam):
     no_solid = {n for t, new, _ in _steps(out) if t.endswith(NO_SOLID_STEP) for n, _ in new}
     assert set(names) - no_solid <= set(rep["part_materials"])
     n_motors = {"hoeken": 1, "pantograph": 2, "twin-pantograph": 4, "powermouse": 0, "delta": 3}[fam]
-    assert no_solid == ({"encoder"} if n_motors == 1 else {f"encoder_{i}" for i in range(1, n_motors + 1)})
+    # numbered as the family numbers its motors: the delta's motor_0 .. motor_2, the others from 1
+    first = 0 if fam == "delta" else 1
+    assert no_solid == ({"encoder"} if n_motors == 1 else {f"encoder_{i}" for i in range(first, first + n_motors)})
 
 
 @pytest.mark.parametrize("fam", ["hoeken", "powermouse"])
