@@ -38,13 +38,31 @@ CHENGHUI_RANGE_DEG = 18
 GANTER_D6 = {"din71802-8-m5-c": 12.8, "din71802-10-m6-c": 14.8, "din71802-13-m8-c": 19.3}
 
 
-def _design(key: str | None = None, name: str = "delta.toml"):
+def _design(key: str | None = None, name: str = "delta.toml", at_load: bool = False):
+    """A bundled design with ball joint ``key``: in its ``[parts]`` table (``at_load``: the
+    loader's checks see it), else put in after load (the range check and the part kinds read
+    the joint alone; the bundled lengths are below the DIN joints' least sizes:
+    :func:`test_a_din_joint_on_the_bundled_delta_is_refused_at_load`)."""
     from cad.families.delta.design import parse
 
     raw = tomllib.loads((ROOT / "designs" / name).read_text())
-    if key is not None:
+    if key is not None and at_load:
         raw.setdefault("parts", {})["ball_joint"] = key
-    return parse(raw)
+    d = parse(raw)
+    if key is not None and not at_load:
+        d = dataclasses.replace(d, parts=dataclasses.replace(d.parts, ball_joint=key))
+    return d
+
+
+def test_a_din_joint_on_the_bundled_delta_is_refused_at_load():
+    """DIN 71802's 8 mm joint (12.8 mm housing) on the bundled delta's 15 mm effector radius:
+    adjacent arms' sockets meet (r >= (w/2 + socket_d) / sqrt 3 = (15 + 12.8) / sqrt 3 =
+    16.05 mm, :func:`cad.families.delta.sizes.minimums_mm`); a build of it stopped on the
+    collision of two bottom sockets before the least sizes read the design's joint."""
+    with pytest.raises(DesignError) as err:
+        _design("din71802-8-m5-c", at_load=True)
+    assert err.value.field == "mechanism.effector_radius_mm"
+    assert f"{(15 + 12.8) / math.sqrt(3):.4g} mm" in str(err.value)
 
 
 @pytest.mark.parametrize("key", list(DDBARRY_ROWS))
@@ -73,7 +91,7 @@ def test_generic_link_is_the_default_and_wholly_unverified():
 
 def test_unknown_key_is_one_line_naming_the_keys():
     with pytest.raises(DesignError) as err:
-        _design("din71802-9-m5-c")
+        _design("din71802-9-m5-c", at_load=True)
     assert err.value.field == "parts.ball_joint"
     msg = str(err.value)
     assert "\n" not in msg and all(k in msg for k in bj.BALL_JOINTS), msg
