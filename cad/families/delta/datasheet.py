@@ -18,6 +18,7 @@ import math
 
 import numpy as np
 
+from cad.data.ball_joints import get_ball_joint
 from cad.datasheet import row
 from cad.datasheet.limits import (
     FIRST_MODE_MIN_HZ,
@@ -228,6 +229,7 @@ def rows_and_limits(design, report: dict, out_dir=None, simulate_wall: bool = Tr
         row("overlap_volume_mm3", "largest solid overlap over the workspace",
             itf.get("overlap_volume_mm3"), "mm^3",
             f"every pair of solids at {itf.get('n_poses')} workspace points"),
+        ball_joint_row(report.get("ball_joints") or {}),
     ]
     cap_rows, cap_limits = capstan.datasheet_rows(design, dev, kmax["value"])
     return rows + cap_rows, {**delta_limits(design), **cap_limits}, published_notes(design, dev, fc, fp)
@@ -315,8 +317,26 @@ def stress_rows(s: dict, design) -> list[dict]:
     ]
 
 
+def ball_joint_row(bj: dict) -> dict:
+    """``ball_joint_tilt_max_deg``: the rods' largest tilt in their ball joints over the
+    workspace grid (report.json ``ball_joints``, :func:`cad.families.delta.ball_joints.range_check`),
+    judged against the joint's catalog range (:func:`delta_limits`)."""
+    return row("ball_joint_tilt_max_deg", "ball joints' largest tilt over the workspace",
+               bj.get("max_tilt_deg"), "deg",
+               f"asin |t_i . x_i| of each arm's rods (eq 1 of cad/families/delta/ball_joints.py) over "
+               f"the workspace grid, arm {bj.get('arm')} at {bj.get('at_mm')} mm; joint {bj.get('joint')}")
+
+
 def _strength_MPa(material: str) -> float:
     return get_elastic(material, "delta.structure").strength_MPa
+
+
+def _ball_joint_limit(design) -> Limit:
+    j = get_ball_joint(design.parts.ball_joint)
+    src = ("unverified: no source read" if "range_deg" in j.unverified else j.source_of("range_deg"))
+    return Limit("<=", j.range_deg, f"the angular range of the ball joint {j.key} ({src})",
+                 "parts.ball_joint (a joint with a wider range), or a smaller [workspace] / longer "
+                 "mechanism.lower_arm_mm (the rods tilt less)")
 
 
 def delta_limits(design) -> dict:
@@ -328,7 +348,8 @@ def delta_limits(design) -> dict:
            "rod_buckling_margin": Limit(">=", STRESS_SAFETY_FACTOR,
                                         f"static safety factor {STRESS_SAFETY_FACTOR:g} against "
                                         "Euler buckling at the peak torque", STRESS_CHANGE),
-           "overlap_volume_mm3": OVERLAP_LIMIT}
+           "overlap_volume_mm3": OVERLAP_LIMIT,
+           "ball_joint_tilt_max_deg": _ball_joint_limit(design)}
     force = design.actuators.get("force_max_N")
     if force is not None:
         lim["continuous_force_N"] = Limit(

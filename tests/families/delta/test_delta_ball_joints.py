@@ -205,3 +205,25 @@ def test_the_shared_build_reports_the_check(delta_build):
     d, _, rep = delta_build
     want = range_check(d)
     assert rep["ball_joints"] == want and want["line"] in rep["notes"]
+
+
+def test_the_datasheet_judges_the_tilt_against_the_joint_range(delta_build):
+    """The datasheet row ``ball_joint_tilt_max_deg`` is report.json's largest tilt, judged
+    against the catalog range of the design's joint: ok with the default link (46.6 deg, its
+    drawing's, unverified: the limit says so), a MISS with a warning naming the row, the range
+    and the key to change with DIN 71802's 18 deg (the range from the cited table)."""
+    from cad.datasheet import judge
+    from cad.families.delta.datasheet import ball_joint_row, delta_limits
+
+    d, _, rep = delta_build
+    r = ball_joint_row(rep["ball_joints"])
+    assert r["value"] == rep["ball_joints"]["max_tilt_deg"] and r["unit"] == "deg"
+    lim = delta_limits(d)["ball_joint_tilt_max_deg"]
+    assert lim.value == bj.get_ball_joint(d.parts.ball_joint).range_deg and "unverified" in lim.reason
+    assert judge([dict(r)], {"ball_joint_tilt_max_deg": lim}) == []
+    din = delta_limits(_design("din71802-8-m5-c"))["ball_joint_tilt_max_deg"]
+    assert din.value == 18.0 and "unverified" not in din.reason
+    warnings = judge([dict(r)], {"ball_joint_tilt_max_deg": din})
+    assert len(warnings) == 1, warnings
+    assert "ball joints' largest tilt" in warnings[0] and "18" in warnings[0], warnings
+    assert "parts.ball_joint" in warnings[0], warnings
