@@ -122,14 +122,16 @@ def _check_peak(m, changes: dict, ov: dict) -> None:
         return
     own = "name" in ov
     cont, peak, stall = (changes.get(k, None if own else getattr(m, k)) for k in keys)
-    bad = ([(cont, "torque_continuous_mNm", stall, "stall_torque_mNm")] if None not in (cont, stall) else []) \
-        + ([(peak, "torque_peak_mNm", stall, "stall_torque_mNm")] if None not in (peak, stall) else [])
-    for lo, lo_k, hi, hi_k in bad:
-        if lo > hi:
+    stall_why = "the winding gives no more than its stall torque at nominal voltage"
+    pairs = ((cont, "torque_continuous_mNm", stall, "stall_torque_mNm", stall_why),
+             (peak, "torque_peak_mNm", stall, "stall_torque_mNm", stall_why),
+             (cont, "torque_continuous_mNm", peak, "torque_peak_mNm",
+              "a motor's peak torque is at least its continuous torque"))
+    for lo, lo_k, hi, hi_k, why in pairs:
+        if None not in (lo, hi) and lo > hi and (lo_k in ov or hi_k in ov):
             key = lo_k if lo_k in ov else hi_k
             said = {k: f"{k} = {v:g} mN m" + ("" if k in ov else f" ({m.key})") for k, v in ((lo_k, lo), (hi_k, hi))}
-            raise DesignError(f"motor.{key}", f"{said[lo_k]} is above {said[hi_k]}: the winding "
-                                              "gives no more than its stall torque at nominal voltage (mN m "
+            raise DesignError(f"motor.{key}", f"{said[lo_k]} is above {said[hi_k]}: {why} (mN m "
                                               "from the same data sheet? a N m value would read 1000x small)")
 
 

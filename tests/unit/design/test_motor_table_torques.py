@@ -8,9 +8,9 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
+from cli_helpers import hapticad
 
 from cad.data.catalog import get_motor
-from cli_helpers import hapticad
 
 HOEKEN = Path(__file__).resolve().parents[3] / "designs" / "hoeken.toml"
 
@@ -54,3 +54,16 @@ def test_a_table_named_after_another_catalog_motor_is_refused(tmp_path, name):
     p.write_text(HOEKEN.read_text() + '\n[motor]\nname = "maxon-re35"\n')
     code, _, err = hapticad("datasheet", p)
     assert code == 0, err
+
+
+@pytest.mark.parametrize("design", ["hoeken.toml", "delta_falcon.toml"])
+def test_a_peak_below_the_continuous_torque_is_refused(tmp_path, design):
+    """``torque_peak_mNm = 1.5`` (N m typed where mN m is asked) under the catalog motor's
+    continuous torque (the RE 35's 97.2 mN m, both designs' motor): refused in one line naming
+    the key and the slip, as a tester's build with it ran on with a 0.0098 N peak force."""
+    p = tmp_path / "d.toml"
+    p.write_text((HOEKEN.parent / design).read_text() + "\n[motor]\ntorque_peak_mNm = 1.5\n")
+    code, out, err = hapticad("datasheet", p)
+    assert code == 2 and out == "" and len(err.strip().splitlines()) == 1, err
+    assert err.startswith("hapticad: error: motor.torque_peak_mNm:") and "1000x" in err, err
+    assert "peak torque is at least its continuous torque" in err and "Traceback" not in err
