@@ -101,6 +101,7 @@ def check_sizes(values_mm: dict[str, float], ball_joint: str = DEFAULT_BALL_JOIN
         least, strict, why = mins[key]
         v = values_mm[key]
         if v < least or (strict and v <= least):
-            more = "" if key not in ("effector_radius_mm", "base_radius_mm") else " (or narrow parallelogram_width_mm)"
+            more = "" if key not in ("effector_radius_mm", "base_radius_mm") else (
+                f" (or narrow parallelogram_width_mm, or a parts.ball_joint with a smaller housing than {ball_joint}'s)")
             raise DesignError(f"mechanism.{key}", f"must be {'>' if strict else '>='} {least:.4g} mm{more}, "
                                                   f"got {v:g}: {why}")

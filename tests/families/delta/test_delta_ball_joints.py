@@ -63,6 +63,7 @@ def test_a_din_joint_on_the_bundled_delta_is_refused_at_load():
         _design("din71802-8-m5-c", at_load=True)
     assert err.value.field == "mechanism.effector_radius_mm"
     assert f"{(15 + 12.8) / math.sqrt(3):.4g} mm" in str(err.value)
+    assert "parts.ball_joint" in str(err.value) and "din71802-8-m5-c" in str(err.value)  # the other fix
 
 
 @pytest.mark.parametrize("key", list(DDBARRY_ROWS))
