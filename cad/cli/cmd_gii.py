@@ -26,6 +26,15 @@ def load_pantograph_design(path: Path):
     return design
 
 
+def workspace_text(rep: dict) -> str:
+    """``"100 x 100 x 100 mm workspace"``, a cylinder's ``"d100 x 80 mm cylinder workspace"``
+    (report ``workspace_shape``; its ``workspace_size_mm`` is then [D, D, H])."""
+    size = rep["workspace_size_mm"]
+    if rep.get("workspace_shape") == "cylinder":
+        return f"d{size[0]:g} x {size[2]:g} mm cylinder workspace"
+    return f"{' x '.join(f'{v:g}' for v in size)} mm workspace"
+
+
 def point_text(at: dict | None) -> str:
     """A workspace point for a reader: ``{"x_mm": 0.0, "y_mm": 150.0}`` ->
     ``"x = 0 mm, y = 150 mm"`` (a key with a unit suffix ``_<unit>`` prints the unit after
@@ -55,7 +64,7 @@ def register(app: typer.Typer) -> None:
             return
         print(
             f"{rep['design']} ({rep['family']}): GII = {rep['gii']:.6f} over {rep['n_points']} samples "
-            f"of a {' x '.join(f'{v:g}' for v in rep['workspace_size_mm'])} mm workspace"
+            f"of a {workspace_text(rep)}"
         )
         print(f"  sigma_min = {rep['sigma_min']:.6g} at {point_text(rep['sigma_min_at'])}")
         print(f"  sigma_max = {rep['sigma_max']:.6g} at {point_text(rep['sigma_max_at'])}")

@@ -41,6 +41,7 @@ def gii_report(design) -> dict:
         "sigma_min_at": _point(units, r.sigma_min_at),
         "sigma_max_at": _point(units, r.sigma_max_at),
         "workspace_size_mm": design.workspace_size_mm(),
+        "workspace_shape": design.workspace.get("shape", "box"),
         "n_points": r.n_points,
         "jacobian_evaluations": r.jacobian_evaluations,
         "failure": r.failure,

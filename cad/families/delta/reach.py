@@ -70,8 +70,8 @@ def _size_error(design, s: float, n_bad: int, first: str) -> DesignError:
         fit = [math.floor(v * s * 10) / 10 for v in now]
         to = f"shrink it to at most [{', '.join(f'{v:g}' for v in fit)}] mm"
     else:
-        field, now = "workspace.diameter_mm", [ws["diameter_mm"], ws["height_mm"]]
-        fit = [math.floor(v * s * 10) / 10 for v in now]
+        field, now = "workspace.diameter_mm", f"{ws['diameter_mm']:g} (height_mm {ws['height_mm']:g})"
+        fit = [math.floor(v * s * 10) / 10 for v in (ws["diameter_mm"], ws["height_mm"])]
         to = f"shrink diameter_mm / height_mm to at most {fit[0]:g} / {fit[1]:g} mm"
     return DesignError(field, f"{now} mm: {n_bad} of the {design.workspace_points().shape[0]} grid points "
                               f"are not ok, first {first}; {to} (about the same centre: every grid point "

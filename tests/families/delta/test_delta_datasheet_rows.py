@@ -58,8 +58,10 @@ def test_gii_and_optimize_take_a_cylinder_workspace(tmp_path):
     """`hapticad gii` on a cylinder crashed (KeyError 'size_mm'): its extents are [D, D, H]."""
     path = _cylinder_file(tmp_path)
     rep = hapticad_json("gii", path)
-    assert rep["workspace_size_mm"] == [100.0, 100.0, 80.0]
+    assert rep["workspace_size_mm"] == [100.0, 100.0, 80.0] and rep["workspace_shape"] == "cylinder"
     assert rep["n_points"] == 4 * (1 + 6 + 12 + 18)  # the axis and 3 rings on 4 levels
+    code, out, _ = hapticad("gii", path)  # the text names the shape (it read "100 x 100 x 80 mm")
+    assert code == 0 and "of a d100 x 80 mm cylinder workspace" in out.splitlines()[0], out
     # the optimize report (cad.isotropy.report; the CLI also builds the optimum for its
     # limits, a minute): the same grid, three candidates
     raw = copy.deepcopy(RAW)
