@@ -172,7 +172,9 @@ POWERMOUSE_TARGET_KEYS = ("continuous_force_N", "peak_force_N", "force_per_At_N"
 DELTA_TARGET_KEYS = ("continuous_force_N", "peak_force_N", "resolution_um", "eq25_K_max_N_per_m",
                      "apparent_mass_max_g", "apparent_mass_min_g", "first_mode_Hz",
                      "compliance_max_um_per_N", "moving_mass_g", "total_mass_g",
-                     "overlap_volume_mm3", "max_stress_MPa", "rod_buckling_margin")
+                     "overlap_volume_mm3", "max_stress_MPa", "rod_buckling_margin",
+                     "ball_joint_tilt_max_deg", "gravity_torque_max_Nm", "gravity_torque_share",
+                     "reachable_volume_cm3", "well_conditioned_volume_cm3")
 
 
 def parse_targets(table: dict[str, Any], prefix: str = "targets",

@@ -166,3 +166,16 @@ def test_encoders_are_numbered_as_their_motors(shared_build):
     row = {"part": "encoder", "description": "e", "quantity": 2}
     step = build_steps([], None, (), [row])[-1]
     assert step.title == NO_SOLID_STEP and step.new == ["encoder_1", "encoder_2"]
+
+
+def test_every_limited_row_is_a_target_key_and_every_target_key_a_row(delta_build):
+    """``hapticad check`` lists each limited row under "target key": each must be a key
+    ``[targets]`` / ``--target`` takes (a tester's ``--target 'ball_joint_tilt_max_deg<=20'``
+    was refused as unknown), and each target key a row of the delta's datasheet."""
+    from cad.design.targets import DELTA_TARGET_KEYS
+
+    d, _, rep = delta_build
+    rows, limits, _ = rows_and_limits(d, rep)
+    keys = {r["key"] for r in rows}
+    assert set(limits) <= set(DELTA_TARGET_KEYS), set(limits) - set(DELTA_TARGET_KEYS)
+    assert set(DELTA_TARGET_KEYS) <= keys, set(DELTA_TARGET_KEYS) - keys
