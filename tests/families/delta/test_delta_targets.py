@@ -13,6 +13,7 @@ Jacobian); the ``check`` build's figures against the build's datasheet rows read
 from __future__ import annotations
 
 import json
+import math
 import subprocess
 import sys
 from pathlib import Path
@@ -66,7 +67,9 @@ def test_fit_limits_are_the_default_limits():
                    "continuous_force_N": (d.actuators["force_max_N"], None),
                    "max_stress_MPa": (None, pytest.approx(276.0 / 3)),
                    "rod_buckling_margin": (3.0, None),
-                   "overlap_volume_mm3": (None, 0.0)}  # no two solids overlap (OVERLAP_LIMIT)
+                   "overlap_volume_mm3": (None, 0.0),  # no two solids overlap (OVERLAP_LIMIT)
+                   # the default ball link's range: its drawing's 78 deg opening less asin(2.5 / 4.8), to 0.1 deg
+                   "ball_joint_tilt_max_deg": (None, pytest.approx(78.0 - math.degrees(math.asin(2.5 / 4.8)), abs=0.05))}
 
 
 def test_precad_force_is_the_sampled_statics_and_an_unreachable_candidate_is_refused(tmp_path):
