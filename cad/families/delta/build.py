@@ -33,6 +33,7 @@ from cad.device import encoder_bom_rows, resolve_device
 from cad.dynamics.delta import G_M_S2
 from cad.errors import DesignError
 from cad.families.delta import capstan
+from cad.families.delta import hardware as hw
 from cad.families.delta.assembly import assemble
 from cad.families.delta.ball_joints import range_check
 from cad.families.delta.capstan import rope_stiffness_Nm_per_rad
@@ -54,10 +55,25 @@ def check_options(design, fidelity: str, phi1_deg, formats=frozenset()) -> None:
     if phi1_deg is not None:
         raise DesignError("--phi1-deg", "a delta has no crank: its pose is the workspace centre")
     check_workspace(design)  # the grid reached, before any solid (cad.families.delta.reach)
+    check_ball_joint_fits(design)
     clash = "; ".join(layout_clashes(design)) if design.mechanism.joint_offset_mm > 0 else ""
     if clash:
         raise DesignError("mechanism.joint_offset_mm", f"{design.mechanism.joint_offset_mm:g} mm: "
                           f"the knee's layout clashes over the workspace: {clash}")
+
+
+def check_ball_joint_fits(design) -> None:
+    """Refuse a ball joint whose housing reaches below the effector cross bars
+    (:func:`cad.families.delta.hardware.effector_plate_depth_mm` deeper than the bars' radius):
+    the effector plate would hang under the sockets and the bars stand above it on nothing (no
+    spacer is drawn yet). DesignError naming ``parts.ball_joint``."""
+    bj = hw.design_ball_joint(design)
+    if hw.effector_plate_depth_mm(bj.socket_d_mm) > hw.CROSS_BAR_D_MM / 2:
+        raise DesignError("parts.ball_joint", f"{bj.key}: its d{bj.socket_d_mm:g} mm housing reaches below the "
+                          f"d{hw.CROSS_BAR_D_MM:g} mm effector cross bars, so the effector plate would hang "
+                          "under the sockets with the bars on nothing (no spacer is drawn yet); a build takes a "
+                          "joint whose housing fits within the bars (ball-link-4.8); the analyses (gii, the "
+                          "tilt check) take any catalog joint")
 
 
 def interference(b) -> dict:

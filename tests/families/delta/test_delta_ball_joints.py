@@ -228,3 +228,23 @@ def test_the_datasheet_judges_the_tilt_against_the_joint_range(delta_build):
     assert len(warnings) == 1, warnings
     assert "ball joints' largest tilt" in warnings[0] and "18" in warnings[0], warnings
     assert "parts.ball_joint" in warnings[0], warnings
+
+
+def test_a_din_joint_that_fits_the_radii_is_refused_before_any_solid(tmp_path):
+    """DIN 71802's 8 mm joint on the bundled delta with its effector radius raised to 17 mm
+    (past the sockets' 16.05 mm): the 12.8 mm housing reaches below the 8 mm effector cross
+    bars, where the plate would hang with the bars on nothing and the bars' screws inside the
+    plate (a tester's build stopped on that overlap, 48.6 mm^3); ``build`` refuses it in one line
+    naming ``parts.ball_joint``, exit 2, nothing written."""
+    from tests.cli_helpers import hapticad
+
+    text = (ROOT / "designs" / "delta.toml").read_text()
+    text = text.replace("effector_radius_mm = 15.0", "effector_radius_mm = 17.0")
+    text = text.replace("effector_radius_mm = [15.0, 35.0, 5]", "effector_radius_mm = [17.0, 35.0, 5]")
+    text = text.replace("[parts]\n", '[parts]\nball_joint = "din71802-8-m5-c"\n')
+    p, out = tmp_path / "din17.toml", tmp_path / "out"
+    p.write_text(text)
+    code, stdout, err = hapticad("build", p, "--out", out)
+    assert code == 2 and len(err.strip().splitlines()) == 1, err
+    assert err.startswith("hapticad: error: parts.ball_joint: din71802-8-m5-c") and "d12.8 mm housing" in err, err
+    assert not out.exists() and "Traceback" not in err
