@@ -50,6 +50,15 @@ DELTA_FORMATS = ("step", "mjcf", "stl")
 #: tests/families/pen/test_pen_firmware.py, STEP (assembly and parts) for
 #: tests/regressions/test_tryit_t23.py; one build where each made its own.
 PEN_FORMATS = ("firmware", "step")
+#: The bundled capstan designs' shared builds (preview) where two modules read one:
+#: tests/unit/assembly/test_capstan_fastening_steps.py (assembly.md, report.json: written by
+#: every build) with tests/families/pantograph/test_pantograph_capstan.py (MJCF, meshes,
+#: firmware) and with tests/regressions/test_outputs_agree.py's capstan Hoeken (firmware, MJCF);
+#: one build each where every module made its own.
+CAPSTAN_FORMATS = {
+    "pantograph_capstan.toml": ("firmware", "mjcf", "stl"),
+    "hoeken_capstan.toml": ("firmware", "mjcf"),
+}
 
 
 @pytest.fixture(scope="session")
