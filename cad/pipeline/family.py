@@ -274,12 +274,17 @@ def kind_stock(instances, props: dict | None = None, sheets=None) -> dict[str, s
     :func:`kind_mass_props`, computed only for the parts whose stock is a mass (printed, wound)."""
     made = {n: k for n, k in kinds(instances).items() if k.listed and k.made}
     out = {}
+    # kinds that share one solid and every field stock() reads (the twin's two capstans, one
+    # shape object) are measured once: the same inputs, the same text; ``made`` holds every
+    # kind, so no id() is reused while this runs
+    same: dict[tuple, str] = {}
     for name, k in made.items():
         mass_g = 0.0
         if stock_is_mass(k):
             mp = props.get(name) if props is not None else kind_mass_props(k)
             mass_g = mp.mass_kg * 1e3 if mp is not None else 0.0
-        out[name] = stock(k, mass_g)
+        key = (id(k.shape), k.material, k.process, k.plate, k.description, mass_g)
+        out[name] = same[key] if key in same else same.setdefault(key, stock(k, mass_g))
     if any(n in made for n in laser_kinds(instances)):
 
         if sheets is None:
