@@ -19,6 +19,20 @@ settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
 
 import pytest  # noqa: E402
 
+
+@pytest.hookimpl(wrapper=True)
+def pytest_make_collect_report(collector):
+    """Collect with a first ``import build123d`` routed as a build routes it
+    (:func:`cad.parts.lazy_import.routed_first_import`: without scikit-learn, which
+    build123d's STL converter imports at its top): test modules that import build123d at
+    their top (tests/cli/test_massprops_cli.py and four more) no longer load scikit-learn in
+    every worker (measured: 0.5 s CPU of each worker's collection). Nothing is imported when
+    no module asks for build123d."""
+    from cad.parts.lazy_import import routed_first_import
+
+    with routed_first_import():
+        return (yield)
+
 #: Bundled designs of the non-four-bar families (tests/families/test_family_builds.py and others).
 FAMILY_DESIGNS = {
     "pantograph": "pantograph.toml",
