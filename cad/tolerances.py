@@ -582,3 +582,9 @@ IDENT_OFFSET_TOL_FRACTION = 0.05
 #: square, and the motion between grid samples, still keep the rope on the drum and the drums
 #: clear of each other.
 CAPSTAN_RANGE_MARGIN_DEG = 2.0
+
+#: How far below a placed solid's fast bounding box (OCCT ``BRepBndLib::Add``, which holds the
+#: solid) :func:`cad.pipeline.family.lowest_z_mm` still computes its exact one (mm): a margin
+#: for the fast box only (the answer is every exact box's); 5 mm is far above the shape
+#: tolerances (1e-7 .. 1e-3 mm) the fast box is enlarged by.
+LOOSE_BOX_MARGIN_MM = 5.0

@@ -3,6 +3,7 @@
 
 from __future__ import annotations
 
+import functools
 import tomllib
 from pathlib import Path
 
@@ -11,6 +12,7 @@ from cad.data import families as registry
 DESIGNS = Path(__file__).resolve().parents[1] / "designs"
 
 
+@functools.cache  # the design files do not change during a run: both modules above ask
 def buildable(p: Path) -> bool:
     """The family takes ``build`` and the design passes its pre-CAD refusals (a delta whose
     knee layout clashes over its workspace: refused in one line, tested in

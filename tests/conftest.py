@@ -19,6 +19,20 @@ settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
 
 import pytest  # noqa: E402
 
+
+@pytest.hookimpl(wrapper=True)
+def pytest_make_collect_report(collector):
+    """Collect with a first ``import build123d`` routed as a build routes it
+    (:func:`cad.parts.lazy_import.routed_first_import`: without scikit-learn, which
+    build123d's STL converter imports at its top): test modules that import build123d at
+    their top (tests/cli/test_massprops_cli.py and four more) no longer load scikit-learn in
+    every worker (measured: 0.5 s CPU of each worker's collection). Nothing is imported when
+    no module asks for build123d."""
+    from cad.parts.lazy_import import routed_first_import
+
+    with routed_first_import():
+        return (yield)
+
 #: Bundled designs of the non-four-bar families (tests/families/test_family_builds.py and others).
 FAMILY_DESIGNS = {
     "pantograph": "pantograph.toml",
@@ -53,6 +67,15 @@ DELTA_FORMATS = ("step", "mjcf", "stl", "dxf", "drawings", "3mf")
 #: tests/families/pen/test_pen_firmware.py, STEP (assembly and parts) for
 #: tests/regressions/test_tryit_t23.py; one build where each made its own.
 PEN_FORMATS = ("firmware", "step")
+#: The bundled capstan designs' shared builds (preview) where two modules read one:
+#: tests/unit/assembly/test_capstan_fastening_steps.py (assembly.md, report.json: written by
+#: every build) with tests/families/pantograph/test_pantograph_capstan.py (MJCF, meshes,
+#: firmware) and with tests/regressions/test_outputs_agree.py's capstan Hoeken (firmware, MJCF);
+#: one build each where every module made its own.
+CAPSTAN_FORMATS = {
+    "pantograph_capstan.toml": ("firmware", "mjcf", "stl"),
+    "hoeken_capstan.toml": ("firmware", "mjcf"),
+}
 
 
 @pytest.fixture(scope="session")

@@ -240,10 +240,15 @@ def report_type(family: str) -> type:
 
 
 @pytest.fixture(scope="module")
-def capstan_build(tmp_path_factory):
-    """designs/hoeken_capstan.toml built as the others (its own fixture: issue 35)."""
+def capstan_build(shared_build):
+    """designs/hoeken_capstan.toml built as the others (its own fixture: issue 35): the run's
+    shared preview build with ``FOURBAR_FORMATS`` (tests/conftest.py ``CAPSTAN_FORMATS``, the
+    one tests/unit/assembly/test_capstan_fastening_steps.py reads)."""
+    from tests.conftest import CAPSTAN_FORMATS
+
     name = "hoeken_capstan.toml"
-    return _build((DESIGNS / name).read_text(), tmp_path_factory.mktemp("agree_capstan"), "hoeken_capstan")
+    assert set(CAPSTAN_FORMATS[name]) == FOURBAR_FORMATS
+    return tomllib.loads((DESIGNS / name).read_text()), shared_build(name, CAPSTAN_FORMATS[name], "preview")[1]
 
 
 def check_agree(toml: dict, out: Path) -> None:

@@ -192,15 +192,23 @@ def _clear(sides, rims, keep: float, half: float, q_deg: np.ndarray, shared_band
     # each test on the plane points that can meet (within both drums' reach, within the other
     # axle's): the same answer as on the whole grid, a fraction of the work
     reach = [np.hypot(*(pts - b[k]).T) <= rims[k] + CLEARANCE_MM / 2 for k in range(2)]
+    # the poses a block of POSE_BLOCK at a time, stopping at the first that meets: the same rows
+    # of the same masks, so the same answer, without the rest of the poses once one meets
+    blocks = [slice(i, i + POSE_BLOCK) for i in range(0, len(q_deg), POSE_BLOCK)]
     if shared_band:
         p = pts[reach[0] & reach[1]]
-        if np.any(swept_drum_mask(p, sides[0], rims[0], q_deg[:, 0]) & swept_drum_mask(p, sides[1], rims[1], q_deg[:, 1])):
+        if any(np.any(swept_drum_mask(p, sides[0], rims[0], q_deg[r, 0]) & swept_drum_mask(p, sides[1], rims[1], q_deg[r, 1]))
+               for r in blocks):
             return "drums"
     for k in range(2):  # the other joint's axle and hub clevis
         p = pts[np.hypot(*(pts - b[1 - k]).T) <= keep]
-        if np.any(swept_drum_mask(p, sides[k], rims[k], q_deg[:, k])):
+        if any(np.any(swept_drum_mask(p, sides[k], rims[k], q_deg[r, k])) for r in blocks):
             return "joint"
     return None
+
+
+#: Poses per block of :func:`_clear`'s sweep (a working-set size only: the answer is the same).
+POSE_BLOCK = 48
 
 
 #: What :func:`_clear` finds meeting, as the refusal words it.
@@ -264,6 +272,10 @@ def search_directions(fb, ts, rng, q_deg: np.ndarray, half: float, keep: float, 
     the two drums turn in bands of their own (the haptic pen's shoulders,
     :mod:`cad.families.pen.capstan_layout`), so they may cross in the plane."""
     rims = [swept_radius_mm(t) if t.is_capstan else 0.0 for t in ts]
+    # each pose once: _clear asks whether any pose meets, so a repeated row of angles (the
+    # twin's knob 5-bar: the same (x, y) at every crank turn, 49 distinct rows of 392) adds
+    # nothing but work; the rows kept are the same floats, so every answer is unchanged
+    q_deg = np.unique(np.asarray(q_deg, float), axis=0)
     best, best_y, why = None, math.inf, {}
     for al in np.arange(-180.0, 180.0, ALPHA_STEP_DEG):
         ar = (180.0 - al + 180.0) % 360.0 - 180.0  # the mirror about the y axis

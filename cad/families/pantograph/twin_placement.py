@@ -121,7 +121,8 @@ def post_in_swept_drums(design, xy_mm, sides_by_group: dict, q_all_deg: np.ndarr
             d = pts - np.asarray(s.b_mm, float)
             inside = np.hypot(d[:, 0], d[:, 1]) <= pcap.swept_radius_mm(dev.transmission(tc.JOINTS[col]))
             ang = np.degrees(np.arctan2(d[:, 1], d[:, 0]))
-            start = s.arc_start_deg + q_all[:, col] - CAPSTAN_RANGE_MARGIN_DEG
+            # each angle once (any pose meeting is the answer; the knob's repeat over the crank turns)
+            start = s.arc_start_deg + np.unique(q_all[:, col]) - CAPSTAN_RANGE_MARGIN_DEG
             on_arc = ((ang[None, :] - start[:, None]) % 360.0) <= s.arc_span_deg + 2 * CAPSTAN_RANGE_MARGIN_DEG
             if np.any(inside[None, :] & on_arc):
                 return True

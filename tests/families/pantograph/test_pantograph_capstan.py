@@ -58,15 +58,15 @@ NB, DC_B, ROPE_D_B, WRAPS_B = 128.0 / 32.0, 32.0, 0.8, 3.0
 
 
 @pytest.fixture(scope="module")
-def built(tmp_path_factory):
-    """designs/pantograph_capstan.toml built once (MJCF, meshes, firmware)."""
-    from cad.design import load_design
-    from cad.pipeline import build_design
+def built(shared_build):
+    """designs/pantograph_capstan.toml built once (MJCF, meshes, firmware): the run's shared
+    preview build (tests/conftest.py ``CAPSTAN_FORMATS``, read-only), also read by
+    tests/unit/assembly/test_capstan_fastening_steps.py."""
+    from tests.conftest import CAPSTAN_FORMATS
 
-    out = tmp_path_factory.mktemp("pcap") / "out"
-    d = load_design(BUNDLED)
-    build_design(d, out, {"mjcf", "stl", "firmware"}, fidelity="preview", use_cache=False)
-    return d, out, json.loads((out / "report.json").read_text())
+    fmts = CAPSTAN_FORMATS[BUNDLED.name]
+    assert set(fmts) == {"mjcf", "stl", "firmware"}
+    return shared_build(BUNDLED.name, fmts, "preview")
 
 
 def test_bundled_file_states_its_capstan():

@@ -64,10 +64,14 @@ def fastening_step(steps: list[dict], name: str, listed_at: int) -> int | None:
 
 @pytest.fixture(scope="module", params=CAPSTAN_DESIGNS)
 def capstan_build(request, shared_build):
-    """``(steps, report)`` of one bundled capstan design (preview fidelity, no export format:
-    assembly.md and report.json are written by every build)."""
+    """``(steps, report)`` of one bundled capstan design (preview fidelity; assembly.md and
+    report.json are written by every build, so the formats are another module's where it reads
+    the same design's build: tests/conftest.py ``CAPSTAN_FORMATS``, else none)."""
+    from tests.conftest import CAPSTAN_FORMATS
+
     pen = request.param == "haptic_pen_capstan.toml"  # the pen build test's formats: one shared build
-    _, out, rep = shared_build(request.param, ("firmware", "mjcf", "step", "stl") if pen else (), "preview")
+    fmts = ("firmware", "mjcf", "step", "stl") if pen else CAPSTAN_FORMATS.get(request.param, ())
+    _, out, rep = shared_build(request.param, fmts, "preview")
     return parse_steps((out / "assembly.md").read_text(encoding="utf-8")), rep
 
 
