@@ -601,19 +601,22 @@ def report_md_lines(title: str, rows: list[tuple[str, str]], bom, notes=(),
     return lines
 
 
-#: Title of the last assembly step: BOM lines with no solid in the model (the encoder).
+#: Title of the assembly step before the final checks: BOM lines with no solid in the model
+#: (the encoder).
 NO_SOLID_STEP = "fit the bought parts that have no modelled solid"
 
 
 def build_steps(instances, plan=None, checks=(), no_solid_rows=()) -> list:
     """The :class:`cad.assembly.steps.Step` list of :func:`write_assembly_md` (fasteners
-    named by their BOM designation; ``no_solid_rows`` in a last step of their own)."""
+    named by their BOM designation; ``no_solid_rows`` in a step of their own before the final
+    checks, which turn the joints the encoders read)."""
     def designation(kind) -> str:
         return bought_designation(kind)[1] if not kind.made else kind.description or kind.name
 
     steps = assembly_steps(instances, designation, plan, checks)
     if no_solid_rows:
-        steps.append(Step(NO_SOLID_STEP, list(_no_solid_names(no_solid_rows))))
+        at = len(steps) - 1 if steps and steps[-1].title == "final checks" else len(steps)
+        steps.insert(at, Step(NO_SOLID_STEP, list(_no_solid_names(no_solid_rows))))
     return steps
 
 

@@ -60,10 +60,14 @@ def test_steps_place_every_bom_instance_exactly_once(builds, fam):
     assert "assembly.md" in rep["files"]
     assert "[assembly.md](assembly.md)" in (out / "report.md").read_text()
     # every instance of report.json's part list that has a BOM line is placed; the BOM lines
-    # with no solid (the joint encoders: one per motor) in the last step of their own
+    # with no solid (the joint encoders: one per motor) in a step of their own, right before
+    # the final checks (which turn the joints the encoders read)
     from cad.pipeline.family import NO_SOLID_STEP
 
-    no_solid = {n for t, new, _ in _steps(out) if t.endswith(NO_SOLID_STEP) for n, _ in new}
+    steps = _steps(out)
+    no_solid = {n for t, new, _ in steps if t.endswith(NO_SOLID_STEP) for n, _ in new}
+    assert steps[-1][0] == "final checks"
+    assert (steps[-2][0] == NO_SOLID_STEP) == bool(no_solid), [t for t, _, _ in steps[-2:]]
     assert set(names) - no_solid <= set(rep["part_materials"])
     n_motors = {"hoeken": 1, "pantograph": 2, "twin-pantograph": 4, "powermouse": 0, "delta": 3}[fam]
     # numbered as the family numbers its motors: the delta's motor_0 .. motor_2, the others from 1
