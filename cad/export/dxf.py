@@ -86,6 +86,25 @@ def _z_levels(shape) -> list[float]:
     return out
 
 
+#: Heights (fractions of the through band) the ``CUT`` section is taken at, the middle first:
+#: the one with the most material wins (:func:`cut_height_mm`).
+CUT_HEIGHT_FRACTIONS = (0.5, 0.05, 0.95)
+#: Half-height of the thin slab that measures a section's area (mm).
+SECTION_SLAB_MM = 0.01
+
+
+def cut_height_mm(shape, z0: float, z1: float) -> float:
+    """The height (mm) of the through band [z0, z1] whose section holds the most material, of
+    :data:`CUT_HEIGHT_FRACTIONS` (the middle unless another holds more): a hole drilled in the
+    plate's plane (a screw tapped into its edge) crosses the middle section and would be cut
+    into the profile as a slot; near a face the section keeps the outline, and the hole is
+    noted as "not on this profile" (drilled after cutting)."""
+    zs = [z0 + f * (z1 - z0) for f in CUT_HEIGHT_FRACTIONS]
+    areas = [_slab_area_mm2(shape, z - SECTION_SLAB_MM, z + SECTION_SLAB_MM) for z in zs]
+    best = max(range(len(zs)), key=lambda i: (round(areas[i], 6), -i))
+    return zs[best]
+
+
 def _slab_area_mm2(shape, z0: float, z1: float) -> float:
     """Mean cross-section area of ``shape`` between z0 and z1 (volume of the slab / height)."""
     from OCP.Bnd import Bnd_Box
@@ -215,7 +234,7 @@ def plate_profile_dxf(
         doc = ezdxf.new("R2000", setup=False)
         doc.header["$INSUNITS"] = 4  # millimetres
         msp = doc.modelspace()
-        z_cut = 0.5 * sum(bands[i_cut])
+        z_cut = cut_height_mm(shape, *bands[i_cut])
         cut_edges = _section_edges(shape, z_cut)
         found: dict = {}  # ShopHole -> [count, detail]
         for i, (a, b) in enumerate(bands):

@@ -202,9 +202,26 @@ def test_dxf_notes_state_the_fits_and_mill_layers_hold_no_outline(request, fam):
             BRepGProp.VolumeProperties_s(shape, g)
             area = dxf_profile_area_mm2(path.read_text()) - _stock_area_mm2(msp, fits)
             assert notes[3] == f"thickness: {z1 - z0:.2f} mm"
-            assert area * (z1 - z0) == pytest.approx(g.Mass(), rel=1e-3), path.stem
+            edge = _edge_holes_mm3(out, path.stem)  # drilled after cutting: noted, not cut
+            assert (edge > 0) == any(n.endswith(": not on this profile") for n in notes), path.stem
+            assert area * (z1 - z0) - edge == pytest.approx(g.Mass(), rel=1e-3), path.stem
     if with_fits is not None:  # the 5-bars' only plate with a fit: the motor mount's pilot bore
         assert noted == with_fits
+
+
+def _edge_holes_mm3(out: Path, kind: str) -> float:
+    """Volume (mm^3) of the tapped holes drilled in the plane of one ``kind`` plate (axis
+    normal to its thickness: a screw into its edge), report.json's records: each a flat
+    cylinder of the tap drill (d - P, ISO 261) and the thread's depth plus the lead-out."""
+    from cad.assembly.fasteners import TAP_LEADOUT_MM
+    from cad.data.catalog import tap_drill_mm
+
+    rep = json.loads((out / "report.json").read_text())
+    inst = rep.get("placement", {}).get("instances", {})
+    one = next((n for n, p in sorted(inst.items()) if p.get("kind") == kind), None)
+    holes = [h for h in (rep.get("tapped_holes") or {}).values()
+             if h.get("part") == one and h.get("axis") is not None and abs(h["axis"][2]) < 1e-9]
+    return sum(math.pi * (tap_drill_mm(h["size"]) / 2) ** 2 * (h["depth_mm"] + TAP_LEADOUT_MM) for h in holes)
 
 
 def _stock_area_mm2(msp, fits) -> float:
