@@ -93,7 +93,8 @@ def test_the_built_delta_datasheet_meets_every_default_limit(tmp_path):
     assert ds["ok"] is True and ds["warnings"] == []
     limited = {r["key"]: r for r in ds["rows"] if r["limit"]}
     assert set(limited) == {"continuous_force_N", "first_mode_Hz", "max_stress_MPa", "rod_buckling_margin",
-                            "overlap_volume_mm3"}  # no two solids overlap: 0 mm^3
+                            "overlap_volume_mm3",  # no two solids overlap: 0 mm^3
+                            "ball_joint_tilt_max_deg"}  # the rods within the joints' range
     assert all(r["verdict"] == "ok" and r["limit"]["origin"] == "default" for r in limited.values())
     force = limited["continuous_force_N"]
     assert force["limit"]["value"] == d.actuators["force_max_N"] and force["value"] >= 1.0
